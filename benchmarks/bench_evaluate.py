@@ -1,0 +1,72 @@
+"""Evaluations per second of a compiled 10-element circuit at 100 frequencies.
+
+Run: `.venv/bin/python benchmarks/bench_evaluate.py`. Prints a table; figures go to
+benchmarks/README.md. Timings are wall-clock medians on this machine, after compilation.
+"""
+
+from __future__ import annotations
+
+import time
+from functools import partial
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+import impedax as ix
+from impedax.circuits import CircuitProgram, evaluate_program
+
+CIRCUIT = "R0 + R1 || CPE1 + R2 || C2 + (R3 + W3) || CPE3 + L4 + Wo5"  # 10 elements
+FREQ = jnp.geomspace(1e-1, 1e6, 100)
+BATCH = 10_000
+
+
+def _median_time(fn, *args, repeat=7, number=1):
+    jax.block_until_ready(fn(*args))
+    times = []
+    for _ in range(repeat):
+        t = time.perf_counter()
+        for _ in range(number):
+            out = fn(*args)
+        jax.block_until_ready(out)
+        times.append((time.perf_counter() - t) / number)
+    return float(np.median(times))
+
+
+def main() -> list[tuple[str, float]]:
+    circuit = ix.parse(CIRCUIT)
+    compiled = ix.compile_circuit(circuit)
+    names = circuit.parameter_names()
+    assert len(list(circuit.elements())) == 10
+    rng = np.random.default_rng(0)
+    params = {n: (0.8 if n.endswith("alpha") else float(10 ** rng.uniform(-6, 3))) for n in names}
+    batch = {n: jnp.asarray(v * rng.uniform(0.5, 1.5, BATCH)) for n, v in params.items()}
+
+    single = jax.jit(compiled)
+    vmapped = jax.jit(jax.vmap(compiled, in_axes=(0, None)))
+    prog = CircuitProgram.build(circuit)
+    arrays = prog.arrays()
+    theta = jnp.asarray(prog.pack(params))
+    evaluate = partial(evaluate_program, layout=prog.layout)
+    prog_single = jax.jit(evaluate)
+    thetas = jnp.asarray(np.stack([prog.pack({n: float(batch[n][i]) for n in names}) for i in range(1000)]))
+    prog_vmapped = jax.jit(jax.vmap(evaluate, in_axes=(None, 0, None)))
+
+    rows = []
+    t = _median_time(single, params, FREQ, number=200)
+    rows.append(("compiled tree, one parameter set", 1.0 / t))
+    t = _median_time(vmapped, batch, FREQ, repeat=5)
+    rows.append((f"compiled tree, vmapped over {BATCH:,}", BATCH / t))
+    t = _median_time(prog_single, arrays, theta, FREQ, number=200)
+    rows.append(("padded program, one parameter set", 1.0 / t))
+    t = _median_time(prog_vmapped, arrays, thetas, FREQ, repeat=5)
+    rows.append(("padded program, vmapped over 1,000", 1000 / t))
+    print(f"10-element circuit {CIRCUIT!r} at {FREQ.size} frequencies, {jax.devices()[0].platform.upper()}")
+    print(f"{'evaluation':<40} {'spectra / s':>14}")
+    for name, rate in rows:
+        print(f"{name:<40} {rate:>14,.0f}")
+    return rows
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,45 @@
+"""impedax: equivalent-circuit modeling, fitting and diagnosis of impedance spectra on JAX.
+
+Importing impedax switches JAX to 64-bit floats (``jax_enable_x64``) for the whole process:
+impedance spectra span many decades and single precision loses the small arcs. Set
+``IMPEDAX_NO_X64=1`` before importing to leave JAX's setting alone (not recommended).
+"""
+
+from __future__ import annotations
+
+import os as _os
+
+import jax as _jax
+
+if _os.environ.get("IMPEDAX_NO_X64") != "1":
+    _jax.config.update("jax_enable_x64", True)
+
+from .circuits import (  # noqa: E402
+    Circuit as Circuit,
+    CircuitProgram as CircuitProgram,
+    DEFAULT_REGISTRY as DEFAULT_REGISTRY,
+    Element as Element,
+    ElementSpec as ElementSpec,
+    Parallel as Parallel,
+    ParameterSpec as ParameterSpec,
+    Registry as Registry,
+    Series as Series,
+    compile_circuit as compile_circuit,
+    current_through as current_through,
+    from_cdc as from_cdc,
+    from_impedance_py as from_impedance_py,
+    parse as parse,
+    voltage_across as voltage_across,
+)
+from .data import log_frequencies as log_frequencies, make_spectrum as make_spectrum, validate_spectrum as validate_spectrum  # noqa: E402
+from .errors import (  # noqa: E402
+    CircuitError as CircuitError,
+    CircuitSyntaxError as CircuitSyntaxError,
+    DataError as DataError,
+    FitError as FitError,
+    ImpedaxError as ImpedaxError,
+    ParameterError as ParameterError,
+)
+from .io import load as load, save as save  # noqa: E402
+
+__version__ = "0.1.0"

@@ -1,0 +1,82 @@
+"""Helpers shared by the CLI commands."""
+
+from __future__ import annotations
+
+import difflib
+import json
+import math
+import sys
+from typing import Iterable, Mapping
+
+import numpy as np
+
+from ..errors import ParameterError
+
+__all__ = ["parse_assignments", "check_parameter_names", "emit_json", "to_jsonable", "add_model_argument"]
+
+
+def parse_assignments(items: Iterable[str] | None, flag: str) -> dict[str, float]:
+    """``["R0=100", "C1=1e-6"]`` → ``{"R0": 100.0, "C1": 1e-06}`` with clear errors."""
+    out: dict[str, float] = {}
+    for item in items or ():
+        name, sep, value = item.partition("=")
+        name = name.strip()
+        if not sep or not name:
+            raise ParameterError(f"{flag} {item!r}: expected NAME=VALUE")
+        try:
+            number = float(value)
+        except ValueError:
+            raise ParameterError(f"{flag} {item!r}: {value!r} is not a number") from None
+        if not math.isfinite(number):
+            raise ParameterError(f"{flag} {item!r}: value must be finite")
+        if name in out:
+            raise ParameterError(f"{flag}: {name} given twice")
+        out[name] = number
+    return out
+
+
+def check_parameter_names(names: Iterable[str], known: Iterable[str], flag: str, model: str) -> None:
+    known = list(known)
+    for name in names:
+        if name not in known:
+            close = difflib.get_close_matches(name, known, n=1)
+            hint = f"; did you mean {close[0]}?" if close else ""
+            raise ParameterError(f"{flag}: unknown parameter {name!r} for model {model!r}{hint} (parameters: {', '.join(known)})")
+
+
+def check_bounds(values: Mapping[str, float], specs: Mapping, flag: str) -> None:
+    for name, value in values.items():
+        spec = specs[name]
+        if not spec.contains(value):
+            raise ParameterError(f"{flag}: {name}={value:g} is outside its bounds {spec.bounds_text()} [{spec.unit}]")
+
+
+def to_jsonable(obj):
+    if isinstance(obj, Mapping):
+        return {str(k): to_jsonable(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [to_jsonable(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return [to_jsonable(v) for v in obj.tolist()]
+    if isinstance(obj, (np.floating, float)):
+        v = float(obj)
+        return v if math.isfinite(v) else None
+    if isinstance(obj, (np.integer,)):
+        return int(obj)
+    if isinstance(obj, np.bool_):
+        return bool(obj)
+    return obj
+
+
+def emit_json(obj) -> None:
+    """Print ``obj`` as JSON (NaN/Inf become null, so the output is strict JSON)."""
+    json.dump(to_jsonable(obj), sys.stdout, indent=2, allow_nan=False)
+    sys.stdout.write("\n")
+
+
+def add_model_argument(parser, *, positional: bool = False) -> None:
+    help_text = "circuit text, e.g. 'R0 + R1 || C1' (quote it in the shell)"
+    if positional:
+        parser.add_argument("model", metavar="MODEL", help=help_text)
+    else:
+        parser.add_argument("--model", required=True, metavar="MODEL", help=help_text)

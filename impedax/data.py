@@ -1,0 +1,94 @@
+"""The spectrum data model: an `xarray.Dataset` with complex ``Z`` over ``frequency``.
+
+* ``Z`` — complex impedance [Ω], Z = Z' + jZ'' (Z'' < 0 for capacitive data), dimension
+  ``frequency`` plus any extra dimensions (trial, session, condition, ...);
+* ``frequency`` — coordinate in Hz, strictly positive, no duplicates;
+* ``sigma`` — optional per-point standard deviation [Ω] of Z (applies to Re and Im), e.g. the
+  standard error of the mean of repeated trials;
+* units in attrs; ``attrs["source"]`` names where the data came from.
+"""
+
+from __future__ import annotations
+
+from typing import Mapping, Sequence
+
+import numpy as np
+import xarray as xr
+
+from .errors import DataError
+
+__all__ = ["make_spectrum", "validate_spectrum", "log_frequencies"]
+
+
+def log_frequencies(fmin: float, fmax: float, points: int) -> np.ndarray:
+    """``points`` log-spaced frequencies [Hz] from ``fmin`` to ``fmax``, both ends included."""
+    if not (np.isfinite(fmin) and np.isfinite(fmax)) or fmin <= 0 or fmax <= 0:
+        raise DataError(f"frequencies must be positive and finite, got fmin={fmin}, fmax={fmax}")
+    if fmax < fmin:
+        raise DataError(f"fmax ({fmax}) is below fmin ({fmin})")
+    if points < 1 or (points == 1 and fmin != fmax):
+        raise DataError(f"need at least 2 points for a range (got {points}); use fmin == fmax for one point")
+    return np.geomspace(fmin, fmax, points) if points > 1 else np.array([float(fmin)])
+
+
+def make_spectrum(
+    frequency: Sequence[float],
+    Z,
+    *,
+    sigma=None,
+    dims: Sequence[str] = (),
+    coords: Mapping[str, Sequence] | None = None,
+    attrs: Mapping[str, object] | None = None,
+    source: str = "memory",
+) -> xr.Dataset:
+    """Build and validate a spectrum Dataset.
+
+    ``Z`` has shape ``(*extra, n_frequency)`` with the extra dimensions named by ``dims``.
+    """
+    frequency = np.asarray(frequency, dtype=np.float64)
+    Z = np.asarray(Z, dtype=np.complex128)
+    all_dims = (*dims, "frequency")
+    if Z.ndim != len(all_dims):
+        raise DataError(f"Z has {Z.ndim} dimensions but dims {all_dims} were given", path=source)
+    data_vars = {"Z": (all_dims, Z, {"units": "ohm", "long_name": "complex impedance Z' + jZ''"})}
+    if sigma is not None:
+        sigma = np.broadcast_to(np.asarray(sigma, dtype=np.float64), Z.shape)
+        data_vars["sigma"] = (all_dims, np.array(sigma), {"units": "ohm", "long_name": "standard deviation of Z"})
+    all_coords = {"frequency": ("frequency", frequency, {"units": "Hz"})}
+    for name, values in (coords or {}).items():
+        all_coords[name] = (name, np.asarray(values))
+    ds = xr.Dataset(data_vars, coords=all_coords, attrs={"source": source, **dict(attrs or {})})
+    return validate_spectrum(ds, source=source)
+
+
+def validate_spectrum(ds: xr.Dataset, *, source: str | None = None) -> xr.Dataset:
+    """Check the data model; raise `DataError` naming the problem. Returns ``ds`` unchanged."""
+    source = source or str(ds.attrs.get("source", "dataset"))
+    if not isinstance(ds, xr.Dataset):
+        raise DataError(f"expected an xarray.Dataset, got {type(ds).__name__}", path=source)
+    if "Z" not in ds:
+        raise DataError("dataset has no variable 'Z'", path=source)
+    if "frequency" not in ds["Z"].dims or "frequency" not in ds.coords:
+        raise DataError("'Z' must have a 'frequency' dimension with a coordinate in Hz", path=source)
+    if not np.iscomplexobj(ds["Z"].values):
+        raise DataError("'Z' must be complex (Z' + jZ'')", path=source)
+    f = np.asarray(ds["frequency"].values, dtype=np.float64)
+    if f.size == 0:
+        raise DataError("the spectrum has no frequencies", path=source)
+    bad = np.flatnonzero(~np.isfinite(f) | (f <= 0))
+    if bad.size:
+        raise DataError(f"frequency must be positive and finite; point {bad[0]} is {f[bad[0]]!r}", path=source)
+    values, counts = np.unique(f, return_counts=True)
+    if np.any(counts > 1):
+        dup = values[counts > 1][0]
+        where = np.flatnonzero(f == dup)
+        raise DataError(f"duplicate frequency {dup:g} Hz at points {', '.join(map(str, where))}", path=source)
+    z = ds["Z"].values
+    if not np.all(np.isfinite(z)):
+        idx = np.argwhere(~np.isfinite(z))[0]
+        raise DataError(f"Z has a non-finite value at index {tuple(int(i) for i in idx)}", path=source)
+    if "sigma" in ds:
+        s = ds["sigma"].values
+        if not (np.all(np.isfinite(s)) and np.all(s > 0)):
+            raise DataError("'sigma' must be positive and finite everywhere", path=source)
+    return ds

@@ -1,0 +1,70 @@
+"""`impedax simulate` and `impedax info`: outputs, JSON, and bad input → exit 2."""
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import impedax as ix
+from impedax.cli import main
+
+
+def run_cli(*args):
+    return subprocess.run([sys.executable, "-m", "impedax", *args], capture_output=True, text=True, timeout=300)
+
+
+def test_simulate_to_stdout_matches_formula(capsys):
+    code = main(["simulate", "R0 + R1 || C1", "--param", "R0=10", "--param", "R1=1000", "--param", "C1=1e-6", "--fmin", "1", "--fmax", "1e5", "--points", "11"])
+    assert code == 0
+    lines = capsys.readouterr().out.strip().splitlines()
+    assert lines[0] == "frequency_hz,z_real_ohm,z_imag_ohm" and len(lines) == 12
+    rows = np.array([[float(v) for v in ln.split(",")] for ln in lines[1:]])
+    f = rows[:, 0]
+    assert f[0] == 1.0 and f[-1] == pytest.approx(1e5, rel=1e-15)
+    z = 10 + 1000 / (1 + 1j * 2 * np.pi * f * 1e-3)
+    np.testing.assert_allclose(rows[:, 1] + 1j * rows[:, 2], z, rtol=1e-14)
+
+
+def test_simulate_to_file_and_plot(tmp_path):
+    out, png = tmp_path / "s.csv", tmp_path / "s.png"
+    assert main(["simulate", "R_EP || C_EP || C_gap", "--out", str(out), "--plot", str(png)]) == 0
+    ds = ix.load(out)
+    assert ds.sizes["frequency"] == 61 and png.stat().st_size > 1000
+
+
+def test_info_json(capsys):
+    assert main(["info", "R_f + R_sc || CPE_sc", "--json"]) == 0
+    info = json.loads(capsys.readouterr().out)
+    names = [p["name"] for p in info["parameters"]]
+    assert names == ["R_f", "R_sc", "CPE_sc.Q", "CPE_sc.alpha"]
+    alpha = info["parameters"][3]
+    assert alpha["lower"] == 0 and alpha["upper"] == 1 and alpha["upper_inclusive"] is True
+
+
+@pytest.mark.parametrize(
+    "args, fragment",
+    [
+        (["simulate", "Csc + R1"], "did you mean C_sc?"),
+        (["simulate", "R1", "--param", "R2=3"], "unknown parameter 'R2'"),
+        (["simulate", "R1", "--param", "R1=-3"], "outside its bounds"),
+        (["simulate", "R1", "--param", "R1=abc"], "is not a number"),
+        (["simulate", "R1", "--param", "R1"], "expected NAME=VALUE"),
+        (["simulate", "R1", "--fmin", "0"], "positive"),
+        (["simulate", "R1", "--fmin", "10", "--fmax", "1"], "below fmin"),
+        (["simulate", "R1", "--out", "/nonexistent/dir/x.csv"], "does not exist"),
+        (["info", "R1 + + C1"], "expected an element"),
+    ],
+)
+def test_bad_input_exit_2_one_message(args, fragment, capsys):
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert fragment in err and "Traceback" not in err
+
+
+def test_console_entry_point_runs_as_module():
+    result = run_cli("simulate", "R1", "--param", "R1=5", "--points", "2")
+    assert result.returncode == 0 and result.stdout.splitlines()[1].startswith("1,5,0")
+    bad = run_cli("simulate", "X1")
+    assert bad.returncode == 2 and "Traceback" not in bad.stderr

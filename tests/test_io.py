@@ -1,0 +1,144 @@
+"""Spectrum data model, CSV and netCDF readers/writers, and their errors."""
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import impedax as ix
+from impedax.io import read_csv, write_csv
+
+
+def _spectrum(n=12):
+    f = np.geomspace(1, 1e5, n)
+    z = 100 + 1000 / (1 + 1j * 2 * np.pi * f * 1e-4)
+    return ix.make_spectrum(f, z)
+
+
+def test_csv_round_trip_is_exact(tmp_path):
+    ds = _spectrum()
+    path = tmp_path / "s.csv"
+    ix.save(ds, path)
+    assert path.read_text().splitlines()[0] == "frequency_hz,z_real_ohm,z_imag_ohm"
+    back = ix.load(path)
+    np.testing.assert_array_equal(back["Z"].values, ds["Z"].values)
+    np.testing.assert_array_equal(back["frequency"].values, ds["frequency"].values)
+
+
+def test_netcdf_round_trip_is_lossless_with_extra_dims_and_sigma(tmp_path):
+    rng = np.random.default_rng(0)
+    f = np.geomspace(1, 1e6, 20)
+    z = rng.normal(size=(3, 10, 20)) + 1j * rng.normal(size=(3, 10, 20))
+    ds = ix.make_spectrum(f, z, sigma=np.abs(z) * 0.01 + 1e-3, dims=("session", "trial"), coords={"session": [1, 2, 3], "trial": np.arange(10)}, attrs={"synthetic": "yes", "meta": {"a": 1}})
+    path = tmp_path / "s.nc"
+    ix.save(ds, path)
+    back = ix.load(path)
+    assert back["Z"].dims == ("session", "trial", "frequency")
+    np.testing.assert_array_equal(back["Z"].values, z)
+    np.testing.assert_array_equal(back["sigma"].values, ds["sigma"].values)
+    np.testing.assert_array_equal(back["trial"].values, np.arange(10))
+    assert back["trial"].dtype == np.arange(10).dtype
+    assert back.attrs["meta"] == {"a": 1} and back.attrs["synthetic"] == "yes"
+    xr.testing.assert_identical(back.drop_attrs(deep=False), ds.drop_attrs(deep=False))
+
+
+@pytest.mark.parametrize(
+    "header, transform",
+    [
+        ("freq,Zreal,Zimag", lambda z: (z.real, z.imag)),
+        ("Frequency (Hz)\tZ' (Ohm)\t-Z'' (Ohm)", lambda z: (z.real, -z.imag)),
+        ("f;re(z);im(z)", lambda z: (z.real, z.imag)),
+        ("freq -Zimag Zreal", None),
+        ("Frequency (kHz),|Z|,phase", "polar"),
+    ],
+)
+def test_csv_header_variants(tmp_path, header, transform):
+    ds = _spectrum(6)
+    f, z = ds["frequency"].values, ds["Z"].values
+    delim = "\t" if "\t" in header else ";" if ";" in header else "," if "," in header else " "
+    rows = []
+    for fi, zi in zip(f, z):
+        if transform is None:
+            vals = (fi, -zi.imag, zi.real)
+        elif transform == "polar":
+            vals = (fi / 1e3, abs(zi), np.degrees(np.angle(zi)))
+        else:
+            vals = (fi, *transform(np.array(zi)))
+        rows.append(delim.join(f"{v:.17g}" for v in vals))
+    path = tmp_path / "v.txt"
+    path.write_text("# comment line\n" + header + "\n" + "\n".join(rows) + "\n")
+    back = read_csv(path)
+    np.testing.assert_allclose(back["frequency"].values, f, rtol=1e-15)
+    np.testing.assert_allclose(back["Z"].values, z, rtol=1e-13)
+
+
+@pytest.mark.parametrize(
+    "content, line, fragment",
+    [
+        ("", None, "empty"),
+        ("frequency_hz,z_real_ohm,z_imag_ohm\n", 1, "no data rows"),
+        ("frequency_hz,foo,bar\n1,2,3\n", 1, "cannot find impedance columns"),
+        ("foo,z_real_ohm,z_imag_ohm\n1,2,3\n", 1, "no frequency column"),
+        ("1,2,3\n4,5,6\n", 1, "not a header"),
+        ("frequency_hz,z_real_ohm,z_imag_ohm\n1,2,3\n2,abc,3\n", 3, "is not a number"),
+        ("frequency_hz,z_real_ohm,z_imag_ohm\n1,2,3\n2,nan,3\n", 3, "NaN/Inf"),
+        ("frequency_hz,z_real_ohm,z_imag_ohm\n1,2,3\n2,inf,3\n", 3, "NaN/Inf"),
+        ("frequency_hz,z_real_ohm,z_imag_ohm\n1,2,3\n0,2,3\n", 3, "positive"),
+        ("frequency_hz,z_real_ohm,z_imag_ohm\n1,2,3\n-5,2,3\n", 3, "positive"),
+        ("frequency_hz,z_real_ohm,z_imag_ohm\n1,2,3\n\n1,2,3\n", 4, "duplicate frequency 1 Hz (also on line 2)"),
+        ("frequency_hz,z_real_ohm,z_imag_ohm\n1,2,3\n2,2\n", 3, "2 fields"),
+        ("frequency_hz,z_real_ohm,z_imag_ohm,-z_imag_ohm\n1,2,3,4\n", 1, "keep one"),
+    ],
+)
+def test_bad_csv_names_file_and_line(tmp_path, content, line, fragment):
+    path = tmp_path / "bad.csv"
+    path.write_text(content)
+    with pytest.raises(ix.DataError) as info:
+        ix.load(path)
+    msg = str(info.value)
+    assert str(path) in msg and fragment in msg
+    if line is not None:
+        assert f"line {line}" in msg
+
+
+def test_binary_and_missing_files(tmp_path):
+    path = tmp_path / "garbage.csv"
+    path.write_bytes(bytes(range(256)) * 4)
+    with pytest.raises(ix.DataError, match="binary"):
+        ix.load(path)
+    with pytest.raises(ix.DataError, match="not found"):
+        ix.load(tmp_path / "nope.csv")
+    with pytest.raises(ix.DataError, match="not a readable netCDF"):
+        (tmp_path / "x.nc").write_text("hello")
+        ix.load(tmp_path / "x.nc")
+
+
+def test_data_model_validation():
+    f = np.array([1.0, 2.0, 3.0])
+    with pytest.raises(ix.DataError, match="duplicate"):
+        ix.make_spectrum([1.0, 1.0, 2.0], np.ones(3) + 0j)
+    with pytest.raises(ix.DataError, match="non-finite"):
+        ix.make_spectrum(f, np.array([1, np.nan, 2]) + 0j)
+    with pytest.raises(ix.DataError, match="dimensions"):
+        ix.make_spectrum(f, np.ones((2, 3)) + 0j)
+    ds = ix.make_spectrum(f[::-1], np.ones(3) * (1 - 1j))
+    assert list(ds["frequency"].values) == [3.0, 2.0, 1.0]  # order kept, never silently sorted
+    with pytest.raises(ix.DataError, match="one spectrum"):
+        write_csv(ix.make_spectrum(f, np.ones((2, 3)) + 0j, dims=("trial",)))
+
+
+def test_failed_write_leaves_no_partial_file(tmp_path, monkeypatch):
+    ds = _spectrum()
+    target = tmp_path / "keep.csv"
+    target.write_text("old content\n")
+
+    def boom(self, *a, **k):
+        raise OSError("disk full")
+
+    monkeypatch.setattr("pathlib.Path.write_text", boom)
+    with pytest.raises(OSError):
+        ix.save(ds, target)
+    monkeypatch.undo()
+    assert target.read_text() == "old content\n"
+    assert [p.name for p in tmp_path.iterdir()] == ["keep.csv"]
+    with pytest.raises(ix.DataError, match="does not exist"):
+        ix.save(ds, tmp_path / "no" / "dir.csv")
