@@ -40,6 +40,7 @@ from .errors import (  # noqa: E402
     ImpedaxError as ImpedaxError,
     ParameterError as ParameterError,
 )
+from .fitting import BatchFitResult as BatchFitResult, FitResult as FitResult, compare as compare, fit as fit  # noqa: E402
 from .io import load as load, save as save  # noqa: E402
 
 __version__ = "0.1.0"

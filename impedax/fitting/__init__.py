@@ -1,0 +1,5 @@
+"""Least-squares and Bayesian fitting, model comparison and diagnosis."""
+
+from ._batch import BatchFitResult as BatchFitResult
+from ._compare import Comparison as Comparison, compare as compare, is_nested as is_nested
+from ._fit import WEIGHTINGS as WEIGHTINGS, FitResult as FitResult, fit as fit, information_criteria as information_criteria

@@ -1,0 +1,179 @@
+"""Batch fits: every spectrum of a Dataset with extra dimensions in one jitted, vmapped call.
+
+Dask-backed data are fitted chunk by chunk through ``xarray.apply_ufunc(...,
+dask="parallelized")``, so the same call scales out on a ``dask.distributed`` cluster.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+
+import jax.numpy as jnp
+import numpy as np
+import xarray as xr
+
+from ..circuits import Circuit, DEFAULT_REGISTRY, Registry
+from ._core import tree_solver
+from ._fit import FitResult, _args, _result, _starts_for, _weights, information_criteria
+from ._parameters import ParameterTable
+
+__all__ = ["BatchFitResult", "fit_batch"]
+
+_STATS = ("chi2", "converged", "n_evaluations")
+
+
+@dataclass(frozen=True, eq=False)
+class BatchFitResult:
+    """Fits of one circuit to every spectrum of a Dataset with extra dimensions. Immutable.
+
+    ``dataset`` holds ``value``/``stderr`` over (param, *dims), ``rms_rel``, ``chi2``,
+    ``chi2_red``, ``aic``, ``bic``, ``converged`` over dims and ``Z_model`` over
+    (*dims, frequency). ``warnings`` maps a spectrum's index (a dict of coordinates, as text)
+    to its warnings.
+    """
+
+    circuit: Circuit
+    dataset: xr.Dataset
+    weighting: str
+    warnings: dict[str, tuple[str, ...]]
+    elapsed_s: float = 0.0
+
+    @property
+    def model(self) -> str:
+        return str(self.circuit)
+
+    @property
+    def dims(self) -> tuple[str, ...]:
+        return tuple(d for d in self.dataset["rms_rel"].dims)
+
+    @property
+    def n_spectra(self) -> int:
+        return int(self.dataset["rms_rel"].size)
+
+    def to_xarray(self) -> xr.Dataset:
+        return self.dataset
+
+    def values(self, name: str) -> xr.DataArray:
+        """Fitted values of parameter ``name`` over the batch dimensions."""
+        return self.dataset["value"].sel(param=name)
+
+    def summary(self) -> dict:
+        ds = self.dataset
+        return {
+            "model": self.model,
+            "dims": {d: int(ds.sizes[d]) for d in self.dims},
+            "n_spectra": self.n_spectra,
+            "params": {
+                str(p): {"median": float(ds["value"].sel(param=p).median()), "q16": float(ds["value"].sel(param=p).quantile(0.16)), "q84": float(ds["value"].sel(param=p).quantile(0.84))}
+                for p in ds["param"].values
+            },
+            "rms_rel_median": float(ds["rms_rel"].median()),
+            "converged_fraction": float(ds["converged"].mean()),
+            "warnings": sorted({w for ws in self.warnings.values() for w in ws}),
+        }
+
+    def report(self) -> str:
+        s = self.summary()
+        lines = [f"model {self.model}: {self.n_spectra} spectra over {s['dims']}", f"converged: {s['converged_fraction'] * 100:.1f}%   median rms_rel {s['rms_rel_median']:.4g}", "", f"{'parameter':<16} {'median':>12} {'16%':>12} {'84%':>12}"]
+        for p, v in s["params"].items():
+            lines.append(f"{p:<16} {v['median']:>12.5g} {v['q16']:>12.5g} {v['q84']:>12.5g}")
+        return "\n".join(lines)
+
+
+def _fit_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source) -> list[FitResult]:
+    """Fit a stack of spectra z (B, N) in one vmapped call; returns one FitResult each."""
+    b = z.shape[0]
+    starts, inv_re, inv_im = [], [], []
+    for i in range(b):
+        wr, wi = _weights(z[i], None if sigma is None else sigma[i], weighting, source)
+        inv_re.append(wr)
+        inv_im.append(wi)
+        starts.append(_starts_for(circuit, table, freq, z[i], n_starts, seed, registry))
+    args = _args(table, freq, z[0], inv_re[0], inv_im[0])
+    args["z"] = jnp.asarray(z)
+    args["inv_w_re"] = jnp.asarray(np.stack(inv_re))
+    args["inv_w_im"] = jnp.asarray(np.stack(inv_im))
+    args["x_fixed"] = jnp.broadcast_to(args["x_fixed"], (b, args["x_fixed"].shape[0]))
+    _, batched = tree_solver(circuit, registry, max_steps)
+    out = {k: np.asarray(v) for k, v in batched(jnp.asarray(np.stack(starts)), args).items()}
+    return [_result(circuit, table, freq, z[i], {k: v[i] for k, v in out.items()}, weighting, n_starts, 0.0, registry) for i in range(b)]
+
+
+def _pack(results: list[FitResult], names) -> np.ndarray:
+    """One row per fit: values, stderr, chi2, converged, evaluations, Re/Im of Z_model."""
+    rows = []
+    for r in results:
+        rows.append(np.concatenate([[r.values[n] for n in names], [r.stderr[n] for n in names], [r.chi2, float(r.converged), r.n_evaluations], r.z_model.real, r.z_model.imag]))
+    return np.array(rows)
+
+
+def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weighting: str, n_starts: int, max_steps: int, seed: int, registry: Registry = DEFAULT_REGISTRY, source: str = "data", t0: float | None = None) -> BatchFitResult:
+    t0 = time.perf_counter() if t0 is None else t0
+    extra = tuple(d for d in data["Z"].dims if d != "frequency")
+    freq = np.asarray(data["frequency"].values, float)
+    names = table.names
+    n_par, n_freq = len(names), freq.size
+    z_da = data["Z"].transpose(*extra, "frequency")
+    sigma_da = data["sigma"].transpose(*extra, "frequency") if "sigma" in data else None
+    warnings: dict[str, tuple[str, ...]] = {}
+
+    def fit_block(z_block, sigma_block=None):
+        shape = z_block.shape[:-1]
+        z2 = np.asarray(z_block).reshape(-1, n_freq)
+        s2 = None if sigma_block is None else np.asarray(sigma_block).reshape(-1, n_freq)
+        results = _fit_stack(circuit, table, freq, z2, s2, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
+        return _pack(results, names).reshape(*shape, -1), results
+
+    width = 2 * n_par + len(_STATS) + 2 * n_freq
+    if z_da.chunks is not None:
+        inputs = [z_da] + ([sigma_da] if sigma_da is not None else [])
+        packed = xr.apply_ufunc(
+            lambda *blocks: fit_block(*blocks)[0],
+            *inputs,
+            input_core_dims=[["frequency"]] * len(inputs),
+            output_core_dims=[["fit_output"]],
+            dask="parallelized",
+            output_dtypes=[np.float64],
+            dask_gufunc_kwargs={"output_sizes": {"fit_output": width}, "allow_rechunk": True},
+        ).compute()
+        packed = packed.transpose(*extra, "fit_output").values
+    else:
+        packed, results = fit_block(z_da.values, None if sigma_da is None else sigma_da.values)
+        for idx, r in zip(np.ndindex(*z_da.shape[:-1]), results):
+            if r.warnings:
+                key = ", ".join(f"{d}={data[d].values[i] if d in data.coords else i}" for d, i in zip(extra, idx))
+                warnings[key] = r.warnings
+    coords = {d: data[d].values for d in extra if d in data.coords}
+    values = packed[..., :n_par]
+    stderr = packed[..., n_par : 2 * n_par]
+    chi2, converged, n_eval = (packed[..., 2 * n_par + i] for i in range(3))
+    off = 2 * n_par + 3
+    z_model = packed[..., off : off + n_freq] + 1j * packed[..., off + n_freq :]
+    z_data = z_da.values if z_da.chunks is None else z_da.compute().values
+    rel = (z_model - z_data) / np.abs(z_data)
+    rms_rel = np.sqrt(np.mean(np.abs(rel) ** 2, axis=-1))
+    k = int((~table.fixed).sum())
+    n_res = 2 * n_freq
+    aic = np.vectorize(lambda c: information_criteria(c, n_res, k)[0])(chi2)
+    bic = np.vectorize(lambda c: information_criteria(c, n_res, k)[1])(chi2)
+    param_first = lambda a: np.moveaxis(a, -1, 0)  # noqa: E731
+    ds = xr.Dataset(
+        {
+            "value": (("param", *extra), param_first(values)),
+            "stderr": (("param", *extra), param_first(stderr)),
+            "fixed": ("param", table.fixed),
+            "chi2": (extra, chi2),
+            "chi2_red": (extra, chi2 / (n_res - k) if n_res > k else np.full(chi2.shape, math.nan)),
+            "aic": (extra, aic),
+            "bic": (extra, bic),
+            "rms_rel": (extra, rms_rel),
+            "converged": (extra, converged.astype(bool)),
+            "n_evaluations": (extra, n_eval.astype(np.int64)),
+            "Z_model": ((*extra, "frequency"), z_model, {"units": "ohm"}),
+        },
+        coords={"param": list(names), "frequency": ("frequency", freq, {"units": "Hz"}), **coords},
+        attrs={"model": str(circuit), "weighting": weighting, "n_free": k},
+    )
+    return BatchFitResult(circuit, ds, weighting, warnings, time.perf_counter() - t0)

@@ -1,0 +1,425 @@
+"""Least-squares fitting of a circuit to a spectrum (or to many at once).
+
+`fit` returns a frozen `FitResult` for a one-dimensional spectrum and a `BatchFitResult` when
+the data have extra dimensions (trial, subject, ...), which are fitted in one vmapped call.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from typing import Mapping, Sequence
+
+import jax.numpy as jnp
+import numpy as np
+import xarray as xr
+
+from ..circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
+from ..data import validate_spectrum
+from ..errors import DataError, FitError, ParameterError
+from ..io import load
+from ._core import solver_messages, tree_solver
+from ._parameters import ParameterTable, to_internal
+from ._starts import SpectrumFeatures, data_driven_guess, random_starts
+
+__all__ = ["fit", "FitResult", "WEIGHTINGS", "information_criteria"]
+
+WEIGHTINGS = {
+    "unit": "no weighting: absolute residuals Z_model − Z_data [Ω]",
+    "modulus": "both parts divided by |Z_data| (relative error; the default)",
+    "proportional": "Re divided by |Re Z_data| and Im by |Im Z_data| separately",
+    "sigma": "divided by the per-point standard deviation `sigma` of the data (true chi²)",
+}
+
+# identifiability thresholds (documented in the README)
+CORRELATION_LIMIT = 0.99
+RELATIVE_ERROR_LIMIT = 1.0
+SINGULAR_RATIO_LIMIT = 1e-8
+
+
+def information_criteria(chi2: float, n_residuals: int, n_free: int) -> tuple[float, float]:
+    """AIC = n ln(χ²/n) + 2k and BIC = n ln(χ²/n) + k ln n over the n = 2N real residuals
+    (the convention of lmfit; differences between models on the same data are what matter)."""
+    n = n_residuals
+    base = n * math.log(max(chi2, 1e-300) / n)
+    return base + 2 * n_free, base + n_free * math.log(n)
+
+
+def _weights(z: np.ndarray, sigma: np.ndarray | None, weighting: str, source: str):
+    if weighting not in WEIGHTINGS:
+        raise ParameterError(f"unknown weighting {weighting!r}; choose one of {', '.join(WEIGHTINGS)}")
+    if weighting == "unit":
+        w_re = w_im = np.ones(z.shape)
+    elif weighting == "modulus":
+        w_re = w_im = np.abs(z)
+    elif weighting == "proportional":
+        floor = 1e-9 * np.abs(z)
+        w_re, w_im = np.maximum(np.abs(z.real), floor), np.maximum(np.abs(z.imag), floor)
+    else:
+        if sigma is None:
+            raise DataError("weighting='sigma' needs a 'sigma' variable in the data (e.g. the SEM of repeated trials)", path=source)
+        w_re = w_im = sigma
+    if np.any(~np.isfinite(w_re) | (w_re <= 0)) or np.any(~np.isfinite(w_im) | (w_im <= 0)):
+        raise DataError(f"weighting {weighting!r}: zero or non-finite weights (|Z| = 0 somewhere?)", path=source)
+    return 1.0 / w_re, 1.0 / w_im
+
+
+def _select_band(ds: xr.Dataset, fmin, fmax, source):
+    f = ds["frequency"].values
+    keep = np.ones(f.shape, bool)
+    if fmin is not None:
+        keep &= f >= fmin
+    if fmax is not None:
+        keep &= f <= fmax
+    if not keep.any():
+        raise DataError(f"no frequencies between fmin={fmin} and fmax={fmax}", path=source)
+    return ds.isel(frequency=np.flatnonzero(keep)) if not keep.all() else ds
+
+
+@dataclass(frozen=True, eq=False)
+class FitResult:
+    """A least-squares fit of ``circuit`` to one spectrum. Immutable.
+
+    ``values``/``stderr`` are keyed by parameter name (stderr NaN for fixed parameters);
+    ``covariance``/``correlation`` are over ``free_names``. ``residuals`` are the complex
+    relative residuals r_k = (Z_model,k − Z_data,k)/|Z_data,k| and
+    ``rms_rel = sqrt(mean |r_k|²)`` (PHYSICS.md). ``chi2`` is the sum of the squared
+    weighted residuals, ``chi2_red = chi2/(2N − k)``; AIC/BIC see `information_criteria`.
+    """
+
+    circuit: Circuit
+    values: dict[str, float]
+    stderr: dict[str, float]
+    fixed: dict[str, bool]
+    free_names: tuple[str, ...]
+    covariance: np.ndarray
+    correlation: np.ndarray
+    frequency: np.ndarray
+    z_data: np.ndarray
+    z_model: np.ndarray
+    weighting: str
+    chi2: float
+    converged: bool
+    message: str
+    n_evaluations: int
+    warnings: tuple[str, ...] = ()
+    n_starts: int = 1
+    elapsed_s: float = 0.0
+    registry: Registry = field(default=DEFAULT_REGISTRY, repr=False)
+
+    @property
+    def model(self) -> str:
+        return str(self.circuit)
+
+    @property
+    def n_points(self) -> int:
+        return int(self.frequency.size)
+
+    @property
+    def n_params(self) -> int:
+        """Number of free parameters k."""
+        return len(self.free_names)
+
+    @property
+    def dof(self) -> int:
+        return 2 * self.n_points - self.n_params
+
+    @property
+    def chi2_red(self) -> float:
+        return self.chi2 / self.dof if self.dof > 0 else math.nan
+
+    @property
+    def aic(self) -> float:
+        return information_criteria(self.chi2, 2 * self.n_points, self.n_params)[0]
+
+    @property
+    def bic(self) -> float:
+        return information_criteria(self.chi2, 2 * self.n_points, self.n_params)[1]
+
+    @property
+    def residuals(self) -> np.ndarray:
+        return (self.z_model - self.z_data) / np.abs(self.z_data)
+
+    @property
+    def rms_rel(self) -> float:
+        return float(np.sqrt(np.mean(np.abs(self.residuals) ** 2)))
+
+    @property
+    def params(self) -> dict[str, float]:
+        return dict(self.values)
+
+    def predict(self, freq) -> np.ndarray:
+        """Model impedance [Ω] at ``freq`` [Hz] with the fitted parameters."""
+        return np.asarray(compile_circuit(self.circuit, self.registry)(self.values, np.asarray(freq, float)))
+
+    def summary(self) -> dict:
+        """The JSON summary used by ``impedax fit --json``."""
+        return {
+            "model": self.model,
+            "n_points": self.n_points,
+            "n_params": self.n_params,
+            "params": {n: {"value": self.values[n], "stderr": None if self.fixed[n] else self.stderr[n], "fixed": self.fixed[n]} for n in self.values},
+            "rms_rel": self.rms_rel,
+            "chi2": self.chi2,
+            "chi2_red": self.chi2_red,
+            "aic": self.aic,
+            "bic": self.bic,
+            "converged": self.converged,
+            "message": self.message,
+            "warnings": list(self.warnings),
+            "weighting": self.weighting,
+            "n_evaluations": self.n_evaluations,
+        }
+
+    def report(self) -> str:
+        """A readable table of the fit."""
+        specs = self.circuit.parameter_specs(self.registry)
+        width = max(len(n) for n in self.values)
+        lines = [
+            f"model      {self.model}",
+            f"weighting  {self.weighting}    points {self.n_points}    free parameters {self.n_params}",
+            f"rms_rel    {self.rms_rel:.4g}    chi2 {self.chi2:.4g}    chi2_red {self.chi2_red:.4g}    AIC {self.aic:.2f}    BIC {self.bic:.2f}",
+            f"status     {'converged' if self.converged else 'NOT converged'}: {self.message}",
+            "",
+            f"{'parameter':<{width}}  {'value':>12}  {'stderr':>10}  {'rel':>8}  unit",
+        ]
+        for n, v in self.values.items():
+            if self.fixed[n]:
+                lines.append(f"{n:<{width}}  {v:>12.5g}  {'(fixed)':>10}  {'':>8}  {specs[n].unit}")
+            else:
+                e = self.stderr[n]
+                rel = f"{abs(e / v) * 100:.2g}%" if v and np.isfinite(e) else "—"
+                lines.append(f"{n:<{width}}  {v:>12.5g}  {e:>10.3g}  {rel:>8}  {specs[n].unit}")
+        for w in self.warnings:
+            lines.append(f"warning: {w}")
+        return "\n".join(lines)
+
+    def plot(self, *, title: str | None = None, bands=None):
+        """Data vs model: Nyquist, Bode and relative residuals (matplotlib Figure)."""
+        from ..plotting import plot_spectrum
+
+        return plot_spectrum(
+            (self.frequency, self.z_data),
+            (self.frequency, self.z_model),
+            title=title or f"{self.model}   rms_rel = {self.rms_rel:.3g}",
+            bands=bands,
+            model_label="fit",
+        )
+
+    def to_xarray(self) -> xr.Dataset:
+        """Parameters (with stderr), covariance and the spectra as a Dataset."""
+        names = list(self.values)
+        free = list(self.free_names)
+        return xr.Dataset(
+            {
+                "value": ("param", [self.values[n] for n in names]),
+                "stderr": ("param", [self.stderr[n] for n in names]),
+                "fixed": ("param", [self.fixed[n] for n in names]),
+                "covariance": (("free_param", "free_param_2"), self.covariance),
+                "correlation": (("free_param", "free_param_2"), self.correlation),
+                "Z": ("frequency", self.z_data, {"units": "ohm"}),
+                "Z_model": ("frequency", self.z_model, {"units": "ohm"}),
+                "residual_rel": ("frequency", self.residuals),
+            },
+            coords={"param": names, "free_param": free, "free_param_2": free, "frequency": ("frequency", self.frequency, {"units": "Hz"})},
+            attrs={
+                "model": self.model, "weighting": self.weighting, "rms_rel": self.rms_rel, "chi2": self.chi2,
+                "chi2_red": self.chi2_red, "aic": self.aic, "bic": self.bic, "converged": int(self.converged),
+                "message": self.message, "warnings": list(self.warnings),
+            },
+        )
+
+
+def _uncertainties(jac: np.ndarray, chi2_red: float, weighting: str, names: Sequence[str]):
+    """Covariance from the Jacobian in parameter space (Tikhonov-regularised so that
+    undetermined directions show as huge variances and ±1 correlations, not as NaN)."""
+    k = len(names)
+    if k == 0:
+        return np.zeros((0, 0)), np.zeros((0, 0)), [], 0.0
+    # equilibrate the columns: proportional columns then give an evenly weighted null vector
+    norms = np.linalg.norm(jac, axis=0)
+    scale = np.where(norms > 0, 1.0 / np.where(norms > 0, norms, 1.0), 1.0)
+    js = jac * scale[None, :]
+    _, s, vt = np.linalg.svd(js, full_matrices=False)
+    s_max = s[0] if s.size and s[0] > 0 else 1.0
+    reg = (1e-13 * s_max) ** 2
+    cov_s = (vt.T * (1.0 / (s**2 + reg))) @ vt
+    cov = cov_s * np.outer(scale, scale)
+    if weighting != "sigma" and np.isfinite(chi2_red):
+        cov = cov * chi2_red  # unknown noise level: scale by the reduced chi² (as lmfit)
+    d = np.sqrt(np.clip(np.diag(cov), 0, None))
+    with np.errstate(all="ignore"):
+        corr = cov / np.outer(d, d)
+    corr = np.clip(np.nan_to_num(corr, nan=0.0), -1, 1)
+    np.fill_diagonal(corr, 1.0)
+    null = []
+    for j in np.flatnonzero(s < SINGULAR_RATIO_LIMIT * s_max):
+        null.append([names[i] for i in np.flatnonzero(np.abs(vt[j]) > 0.2)])
+    ratio = float(s[-1] / s_max) if s.size else 1.0
+    return cov, corr, null, ratio
+
+
+def _diagnose_identifiability(names, values, stderr, corr, null_sets, ratio) -> list[str]:
+    notes = []
+    flagged: set[frozenset] = set()
+    for group in null_sets:
+        notes.append(
+            f"{', '.join(group)} are not separately determined by the data (near-singular Jacobian, "
+            f"singular-value ratio {ratio:.1e}): only a combination of them changes Z; fix one of them"
+        )
+        flagged.add(frozenset(group))
+    for i in range(len(names)):
+        for j in range(i + 1, len(names)):
+            if abs(corr[i, j]) > CORRELATION_LIMIT and not any({names[i], names[j]} <= g for g in flagged):
+                why = " (a CPE's Q and α correlate when the data lie far from ω = 1 rad/s; both can still be well determined)" if names[i].rsplit(".", 1)[0] == names[j].rsplit(".", 1)[0] else "; the data barely tell them apart"
+                notes.append(f"{names[i]} and {names[j]} are strongly correlated (r = {corr[i, j]:+.3f}){why}")
+    for n in names:
+        v, e = values[n], stderr[n]
+        if v != 0 and (not np.isfinite(e) or abs(e / v) > RELATIVE_ERROR_LIMIT) and not any(n in g for g in flagged):
+            notes.append(f"{n} has a relative standard error of {abs(e / v) * 100:.3g}%: it is not determined by the data")
+    return notes
+
+
+def _prepare(circuit, data, *, init, fixed, bounds, weighting, fmin, fmax, registry):
+    circuit = parse(circuit, registry)
+    source = "data"
+    if not isinstance(data, xr.Dataset):
+        source = str(data)
+        data = load(data)
+    else:
+        source = str(data.attrs.get("source", "dataset"))
+        validate_spectrum(data, source=source)
+    data = _select_band(data, fmin, fmax, source)
+    table = ParameterTable.build(circuit, registry=registry, init=init, fixed=fixed, bounds=bounds)
+    n_points = data.sizes["frequency"]
+    k = int((~table.fixed).sum())
+    if k >= 2 * n_points:
+        raise FitError(f"{k} free parameters but only {2 * n_points} real data values ({n_points} frequencies); fix parameters or use more data")
+    return circuit, data, table, source
+
+
+def fit(
+    circuit: Circuit | str,
+    data: xr.Dataset | str,
+    *,
+    init: Mapping[str, float] | None = None,
+    fixed: Mapping[str, float] | None = None,
+    bounds: Mapping[str, tuple[float, float]] | None = None,
+    weighting: str = "modulus",
+    fmin: float | None = None,
+    fmax: float | None = None,
+    n_starts: int = 16,
+    max_steps: int = 400,
+    seed: int = 0,
+    registry: Registry = DEFAULT_REGISTRY,
+):
+    """Fit ``circuit`` to ``data`` by weighted least squares (optimistix Levenberg–Marquardt).
+
+    Parameters are fitted in an unconstrained space (log for positive quantities, logistic
+    for bounded ranges), float64. Without ``init``, starts are data-driven guesses plus
+    ``n_starts − 1`` further starts, all solved in one vmapped call; the best is kept.
+    ``fixed`` pins parameters; ``bounds`` narrows them; ``weighting`` is one of `WEIGHTINGS`.
+    ``data`` is a spectrum Dataset or a path. Extra dimensions (trial, subject, ...) are fitted
+    together and give a `BatchFitResult`; dask-backed data are fitted chunk by chunk.
+    Returns a `FitResult` for a single spectrum.
+    """
+    t0 = time.perf_counter()
+    circuit, data, table, source = _prepare(circuit, data, init=init, fixed=fixed, bounds=bounds, weighting=weighting, fmin=fmin, fmax=fmax, registry=registry)
+    if n_starts < 1:
+        raise ParameterError("n_starts must be at least 1")
+    extra = [d for d in data["Z"].dims if d != "frequency"]
+    if extra:
+        from ._batch import fit_batch
+
+        return fit_batch(circuit, data, table, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source, t0=t0)
+    freq = np.asarray(data["frequency"].values, float)
+    z = np.asarray(data["Z"].values, complex)
+    sigma = np.asarray(data["sigma"].values, float) if "sigma" in data else None
+    inv_re, inv_im = _weights(z, sigma, weighting, source)
+    starts = _starts_for(circuit, table, freq, z, n_starts, seed, registry)
+    single, _ = tree_solver(circuit, registry, max_steps)
+    args = _args(table, freq, z, inv_re, inv_im)
+    out = single(jnp.asarray(starts), args)
+    out = {k: np.asarray(v) for k, v in out.items()}
+    return _result(circuit, table, freq, z, out, weighting, n_starts, time.perf_counter() - t0, registry)
+
+
+def _starts_for(circuit, table, freq, z, n_starts, seed, registry) -> np.ndarray:
+    features = SpectrumFeatures(freq, z)
+    guess = data_driven_guess(circuit, table, features, registry)
+    starts = random_starts(table, features, guess, n_starts, seed)
+    free = table.free_index
+    return to_internal(starts[:, free], table.lower[free], table.upper[free], table.kind[free])
+
+
+def _args(table: ParameterTable, freq, z, inv_re, inv_im) -> dict:
+    free = table.free_index
+    x_fixed = np.where(np.isnan(table.values), 1.0, table.values)
+    return {
+        "freq": jnp.asarray(freq),
+        "z": jnp.asarray(z),
+        "inv_w_re": jnp.asarray(inv_re),
+        "inv_w_im": jnp.asarray(inv_im),
+        "x_fixed": jnp.asarray(x_fixed),
+        "free_index": jnp.asarray(free, jnp.int32),
+        "lower": jnp.asarray(table.lower[free]),
+        "upper": jnp.asarray(table.upper[free]),
+        "kind": jnp.asarray(table.kind[free]),
+        "model_args": None,
+    }
+
+
+def _result(circuit, table, freq, z, out, weighting, n_starts, elapsed, registry) -> FitResult:
+    names = table.names
+    free_names = table.free_names
+    x = out["x"]
+    chi2 = float(out["chi2"])
+    finite = np.isfinite(chi2) and np.all(np.isfinite(out["z_model"]))
+    n = 2 * len(freq)
+    k = len(free_names)
+    chi2_red = chi2 / (n - k) if n > k else math.nan
+    cov, corr, null_sets, ratio = _uncertainties(out["jacobian"], chi2_red, weighting, free_names)
+    stderr_free = np.sqrt(np.clip(np.diag(cov), 0, None)) if k else np.zeros(0)
+    values = {nm: float(v) for nm, v in zip(names, x)}
+    stderr = {nm: math.nan for nm in names}
+    stderr.update({nm: float(e) for nm, e in zip(free_names, stderr_free)})
+    code = int(out["code"])
+    converged = bool(finite and code == 0)
+    if not finite:
+        message = "the model gave non-finite impedance at every start; check bounds, fixed values and the frequency range"
+    elif code == 0:
+        message = f"converged in {int(out['steps'])} steps (best of {n_starts} starts)"
+    else:
+        message = solver_messages(code)
+    notes = _diagnose_identifiability(list(free_names), values, stderr, corr, null_sets, ratio) if finite else []
+    for i, nm in enumerate(free_names):
+        lo, hi = table.lower[table.free_index[i]], table.upper[table.free_index[i]]
+        v = values[nm]
+        if np.isfinite(hi) and abs(v - hi) <= 1e-4 * max(abs(hi), 1e-12):
+            notes.append(f"{nm} = {v:.6g} sits at its upper bound {hi:g}")
+        elif lo > 0 and abs(v - lo) <= 1e-4 * lo:
+            notes.append(f"{nm} = {v:.6g} sits at its lower bound {lo:g}")
+    if not converged:
+        notes.insert(0, f"fit did not converge: {message}")
+    return FitResult(
+        circuit=circuit,
+        values=values,
+        stderr=stderr,
+        fixed={nm: bool(f) for nm, f in zip(names, table.fixed)},
+        free_names=free_names,
+        covariance=cov,
+        correlation=corr,
+        frequency=np.asarray(freq),
+        z_data=np.asarray(z),
+        z_model=np.asarray(out["z_model"]),
+        weighting=weighting,
+        chi2=chi2,
+        converged=converged,
+        message=message,
+        n_evaluations=int(out["steps_total"]),
+        warnings=tuple(notes),
+        n_starts=n_starts,
+        elapsed_s=elapsed,
+        registry=registry,
+    )

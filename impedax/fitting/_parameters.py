@@ -1,0 +1,145 @@
+"""Parameter tables: names, bounds, fixed values, and the map to an unconstrained space.
+
+A bounded parameter x is fitted through an unconstrained u (lmfit's idea, with a log scale
+for positive quantities that span decades):
+
+* kind 0, (0, ∞):          x = e^u
+* kind 1, (a, b), 0 < a:   log x = log a + (log b − log a)·s(u),  s = logistic
+* kind 2, (a, b), a ≤ 0 or a fraction (unit "1"): x = a + (b − a)·s(u)
+* kind 3, (a, ∞), a > 0:   x = a + e^u
+* kind 4, (−∞, ∞):         x = u
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+from dataclasses import dataclass
+from typing import Mapping
+
+import jax.numpy as jnp
+import numpy as np
+
+from ..circuits import Circuit, DEFAULT_REGISTRY, Registry
+from ..errors import FitError, ParameterError
+
+__all__ = ["ParameterTable", "to_external", "to_internal"]
+
+
+@dataclass(frozen=True, eq=False)
+class ParameterTable:
+    """Everything a fitter needs to know about a circuit's parameters (all arrays length P)."""
+
+    names: tuple[str, ...]
+    units: tuple[str, ...]
+    lower: np.ndarray
+    upper: np.ndarray
+    kind: np.ndarray
+    fixed: np.ndarray  # bool
+    values: np.ndarray  # fixed values and user starts (NaN where no start was given)
+
+    @property
+    def free_names(self) -> tuple[str, ...]:
+        return tuple(n for n, f in zip(self.names, self.fixed) if not f)
+
+    @property
+    def free_index(self) -> np.ndarray:
+        return np.flatnonzero(~self.fixed)
+
+    @classmethod
+    def build(
+        cls,
+        circuit: Circuit,
+        *,
+        registry: Registry = DEFAULT_REGISTRY,
+        init: Mapping[str, float] | None = None,
+        fixed: Mapping[str, float] | None = None,
+        bounds: Mapping[str, tuple[float, float]] | None = None,
+    ) -> "ParameterTable":
+        specs = circuit.parameter_specs(registry)
+        names = tuple(specs)
+        for what, mapping in (("init", init), ("fixed", fixed), ("bounds", bounds)):
+            for name in mapping or {}:
+                if name not in specs:
+                    close = difflib.get_close_matches(name, names, n=1)
+                    hint = f"; did you mean {close[0]}?" if close else ""
+                    raise ParameterError(f"{what}: unknown parameter {name!r} for {circuit}{hint} (parameters: {', '.join(names)})")
+        lower = np.array([specs[n].lower for n in names], float)
+        upper = np.array([specs[n].upper for n in names], float)
+        inclusive = np.array([specs[n].upper_inclusive for n in names])
+        for name, (lo, hi) in (bounds or {}).items():
+            i = names.index(name)
+            lo, hi = float(lo), float(hi)
+            if not lo < hi:
+                raise ParameterError(f"bounds for {name}: lower {lo:g} must be below upper {hi:g}")
+            if lo < lower[i] or hi > upper[i]:
+                raise ParameterError(f"bounds for {name}: ({lo:g}, {hi:g}) reach outside the element's own bounds {specs[name].bounds_text()}")
+            lower[i], upper[i] = lo, hi
+            inclusive[i] = False
+        values = np.full(len(names), np.nan)
+        is_fixed = np.zeros(len(names), bool)
+        for what, mapping in (("init", init), ("fixed", fixed)):
+            for name, value in (mapping or {}).items():
+                i = names.index(name)
+                value = float(value)
+                ok = math.isfinite(value) and value > lower[i] and (value <= upper[i] if inclusive[i] else value < upper[i])
+                if not ok:
+                    raise ParameterError(f"{what}: {name}={value:g} is outside its bounds ({lower[i]:g}, {upper[i]:g}{']' if inclusive[i] else ')'}")
+                values[i] = value
+                is_fixed[i] |= what == "fixed"
+        kind = np.zeros(len(names), np.int32)
+        for i, n in enumerate(names):
+            lo, hi = lower[i], upper[i]
+            if math.isinf(lo) and math.isinf(hi):
+                kind[i] = 4
+            elif lo == 0 and math.isinf(hi):
+                kind[i] = 0
+            elif lo > 0 and math.isinf(hi):
+                kind[i] = 3
+            elif lo > 0 and specs[n].unit != "1":
+                kind[i] = 1
+            else:
+                kind[i] = 2
+        if is_fixed.all():
+            raise FitError("every parameter is fixed; nothing to fit")
+        return cls(names, tuple(specs[n].unit for n in names), lower, upper, kind, is_fixed, values)
+
+
+def _logistic(u):
+    return 1.0 / (1.0 + jnp.exp(-u))
+
+
+def to_external(u, lower, upper, kind):
+    """Unconstrained u → parameter x (elementwise; JAX). See the module docstring."""
+    finite_lo = jnp.where(jnp.isfinite(lower), lower, 0.0)
+    finite_hi = jnp.where(jnp.isfinite(upper), upper, 1.0)
+    pos_lo = jnp.where(finite_lo > 0, finite_lo, 1.0)
+    pos_hi = jnp.where(finite_hi > pos_lo, finite_hi, pos_lo * 10.0)
+    s = _logistic(u)
+    candidates = [
+        jnp.exp(u),
+        jnp.exp(jnp.log(pos_lo) + (jnp.log(pos_hi) - jnp.log(pos_lo)) * s),
+        finite_lo + (finite_hi - finite_lo) * s,
+        finite_lo + jnp.exp(u),
+        u,
+    ]
+    out = candidates[0]
+    for k in range(1, 5):
+        out = jnp.where(kind == k, candidates[k], out)
+    return out
+
+
+def to_internal(x, lower, upper, kind) -> np.ndarray:
+    """Inverse of `to_external` (numpy, broadcasting), with x nudged strictly inside its bounds."""
+    x, lower, upper, kind = np.broadcast_arrays(np.asarray(x, float), lower, upper, kind)
+
+    def logit(s, eps):
+        s = np.clip(s, eps, 1 - eps)
+        return np.log(s / (1 - s))
+
+    with np.errstate(all="ignore"):
+        u0 = np.log(np.maximum(x, 1e-300))
+        u1 = logit((np.log(x) - np.log(lower)) / (np.log(upper) - np.log(lower)), 1e-9)
+        u2 = logit((x - lower) / (upper - lower), 1e-6)
+        u3 = np.log(np.maximum(x - lower, 1e-300))
+    return np.select([kind == 0, kind == 1, kind == 2, kind == 3], [u0, u1, u2, u3], x)

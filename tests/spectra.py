@@ -1,0 +1,62 @@
+"""Synthetic test spectra from numpy formulas written independently of impedax's compiler."""
+
+import numpy as np
+
+
+def omega(f):
+    return 2 * np.pi * np.asarray(f, float)
+
+
+def z_cpe(f, q, alpha):
+    return 1.0 / (q * (1j * omega(f)) ** alpha)
+
+
+def z_parallel(*zs):
+    return 1.0 / sum(1.0 / z for z in zs)
+
+
+def rc(f, p):  # R0 + R1 || C1
+    return p["R0"] + z_parallel(p["R1"], 1 / (1j * omega(f) * p["C1"]))
+
+
+def r_cpe(f, p):  # R0 + R1 || CPE1
+    return p["R0"] + z_parallel(p["R1"], z_cpe(f, p["CPE1.Q"], p["CPE1.alpha"]))
+
+
+def randles(f, p):  # R0 + (R1 + W1) || C1
+    w = omega(f)
+    zw = p["W1.sigma"] * (1 - 1j) / np.sqrt(w)
+    return p["R0"] + z_parallel(p["R1"] + zw, 1 / (1j * w * p["C1"]))
+
+
+def two_arcs(f, p):  # R0 + R1 || CPE1 + R2 || CPE2
+    return p["R0"] + z_parallel(p["R1"], z_cpe(f, p["CPE1.Q"], p["CPE1.alpha"])) + z_parallel(p["R2"], z_cpe(f, p["CPE2.Q"], p["CPE2.alpha"]))
+
+
+def meyer(f, p):  # C_s + C_i + R_sc || C_sc + R_f
+    s = 1j * omega(f)
+    return 1 / (s * p["C_s"]) + 1 / (s * p["C_i"]) + p["R_sc"] / (1 + s * p["R_sc"] * p["C_sc"]) + p["R_f"]
+
+
+CASES = {
+    "rc": ("R0 + R1 || C1", rc, {"R0": 50.0, "R1": 2000.0, "C1": 1e-7}, (1.0, 1e6)),
+    "r_cpe": ("R0 + R1 || CPE1", r_cpe, {"R0": 20.0, "R1": 5000.0, "CPE1.Q": 3e-6, "CPE1.alpha": 0.8}, (0.1, 1e5)),
+    "randles": ("R0 + (R1 + W1) || C1", randles, {"R0": 15.0, "R1": 300.0, "W1.sigma": 150.0, "C1": 2e-5}, (0.01, 1e5)),
+    "two_arcs": ("R0 + R1 || CPE1 + R2 || CPE2", two_arcs, {"R0": 10.0, "R1": 400.0, "CPE1.Q": 1e-7, "CPE1.alpha": 0.9, "R2": 3000.0, "CPE2.Q": 5e-5, "CPE2.alpha": 0.75}, (0.01, 1e6)),
+}
+
+
+def noisy(z, rel_noise, rng):
+    """Proportional complex Gaussian noise: each of Re and Im gets N(0, rel_noise·|Z|)."""
+    return z + rel_noise * np.abs(z) * (rng.normal(size=z.shape) + 1j * rng.normal(size=z.shape))
+
+
+def perturb(params, rng, spread=0.5):
+    """Random true parameters around ``params``: scales ×10^U(−spread, spread), exponents ±0.1."""
+    out = {}
+    for k, v in params.items():
+        if k.endswith("alpha"):
+            out[k] = float(np.clip(v + rng.uniform(-0.1, 0.1), 0.5, 0.98))
+        else:
+            out[k] = float(v * 10 ** rng.uniform(-spread, spread))
+    return out
