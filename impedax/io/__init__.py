@@ -67,7 +67,7 @@ def load(path: str | os.PathLike) -> xr.Dataset:
     try:
         ds = read_csv(path)
     except UnrecognisedText as exc:
-        tried.append("delimited text: see above")
+        tried.append("delimited text: the reason given first")
         raise DataError(f"{exc.reason} — not a recognised spectrum file; formats tried: {'; '.join(tried)}", path=exc.path, line=exc.line) from None
     return validate_spectrum(ds, source=str(path))
 

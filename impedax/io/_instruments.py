@@ -129,7 +129,7 @@ def _sniff_gamry(path: Path, head: bytes) -> str | None:
     text = _head_text(head)
     if re.search(r"^ZCURVE\tTABLE", text, re.M) or text.startswith("EXPLAIN") or path.suffix.lower() == ".dta":
         return None
-    return "no 'EXPLAIN' first line and no 'ZCURVE<TAB>TABLE' line (Gamry .DTA)"
+    return "no 'EXPLAIN' first line and no 'ZCURVE<TAB>TABLE' line"
 
 
 def read_gamry(path: str | Path) -> xr.Dataset:
@@ -206,7 +206,7 @@ def _sniff_biologic(path: Path, head: bytes) -> str | None:
     first = _head_text(head).lstrip().split("\n", 1)[0].strip()
     if first in _MPT_MAGIC:
         return None
-    return "first line is not 'EC-Lab ASCII FILE' (BioLogic .mpt)"
+    return "first line is not 'EC-Lab ASCII FILE'"
 
 
 def read_biologic(path: str | Path) -> xr.Dataset:
@@ -268,7 +268,7 @@ def _sniff_zplot(path: Path, head: bytes) -> str | None:
     text = _head_text(head)
     if text.lstrip().upper().startswith("ZPLOT") or re.search(r"^End Comments\s*$", text, re.M):
         return None
-    return "no 'ZPLOT' first line and no 'End Comments' line (Scribner ZPlot .z)"
+    return "no 'ZPLOT' first line and no 'End Comments' line"
 
 
 def read_zplot(path: str | Path) -> xr.Dataset:
@@ -336,7 +336,7 @@ def _autolab_header(text: str):
 def _sniff_autolab(path: Path, head: bytes) -> str | None:
     if _autolab_header(_head_text(head)) is not None:
         return None
-    return "no header with 'Frequency (Hz)' and \"-Z'' (Ω)\" (Metrohm Autolab NOVA)"
+    return "no header with 'Frequency (Hz)' and \"-Z'' (Ω)\""
 
 
 def read_autolab(path: str | Path) -> xr.Dataset:
@@ -392,7 +392,7 @@ def _labone_layout(text: str):
 def _sniff_labone_csv(path: Path, head: bytes) -> str | None:
     if _labone_layout(_head_text(head)) is not None:
         return None
-    return "first line is neither 'chunk;timestamp;size;fieldname' nor a table with frequency, realz, imagz (LabOne)"
+    return "first line is neither 'chunk;timestamp;size;fieldname' nor a table with frequency, realz, imagz"
 
 
 def read_labone_csv(path: str | Path) -> xr.Dataset:
@@ -460,7 +460,7 @@ def read_labone_csv(path: str | Path) -> xr.Dataset:
         sweeps.append((chunk, freq, z, lines_of_points))
     if not sweeps:
         raise DataError("no sweep data after the header line", path=path, line=1)
-    attrs = {"format": "Zurich Instruments LabOne CSV", "instrument": "Zurich Instruments (LabOne)", "path": str(path)}
+    attrs = {"format": "Zurich Instruments LabOne CSV", "instrument": "Zurich Instruments", "path": str(path)}
     device = re.search(r"dev\d+", path.name, re.I)
     if device:
         attrs["device"] = device.group().lower()
@@ -480,7 +480,7 @@ _HDF5_MAGIC = b"\x89HDF\r\n\x1a\n"
 def _sniff_labone_hdf5(path: Path, head: bytes) -> str | None:
     if head.startswith(_HDF5_MAGIC) and path.suffix.lower() not in (".nc", ".nc4", ".cdf"):
         return None
-    return "no HDF5 signature (LabOne HDF5)"
+    return "no HDF5 signature"
 
 
 def read_labone_hdf5(path: str | Path) -> xr.Dataset:
@@ -527,7 +527,7 @@ def read_labone_hdf5(path: str | Path) -> xr.Dataset:
     if bad.size:
         raise DataError(f"{name}: point {bad[0]} is not finite (unfinished sweep?)", path=path)
     _check_frequencies(freq, list(range(freq.size)), path)
-    attrs = {"format": "Zurich Instruments LabOne HDF5", "instrument": "Zurich Instruments (LabOne)", "path": str(path), "hdf5_group": name}
+    attrs = {"format": "Zurich Instruments LabOne HDF5", "instrument": "Zurich Instruments", "path": str(path), "hdf5_group": name}
     return make_spectrum(freq, z, attrs=attrs, source=str(path))
 
 
