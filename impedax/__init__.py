@@ -40,6 +40,7 @@ from .errors import (  # noqa: E402
     ImpedaxError as ImpedaxError,
     ParameterError as ParameterError,
 )
+from .diagram import draw_circuit as draw_circuit, save_circuit_diagram as save_circuit_diagram  # noqa: E402
 from .fitting import BatchFitResult as BatchFitResult, FitResult as FitResult, compare as compare, fit as fit  # noqa: E402
 from .io import load as load, save as save  # noqa: E402
 

@@ -128,3 +128,61 @@ def test_tree_is_immutable_and_edits_build_new_trees():
     d = c.replace("C1", ix.parse("R2 || C1"))
     assert str(c) == "R0 + C1" and str(d) == "R0 + R2 || C1"
     assert hash(ix.parse("R0 + C1")) == hash(c)
+
+
+# --- robustness: hostile input raises impedax errors, never RecursionError -----------------
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.text(max_size=60))
+def test_random_unicode_raises_only_impedax_errors(text):
+    for convert in (ix.parse, from_impedance_py, from_cdc):
+        try:
+            convert(text)
+        except ix.ImpedaxError:
+            pass
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(1, 3000), st.sampled_from(["R1", "R1 + C1", "R1 || C1"]))
+def test_deep_parentheses_parse_or_raise_syntax_error(depth, core):
+    from impedax.circuits._parser import MAX_NESTING
+
+    text = "(" * depth + core + ")" * depth
+    if depth <= MAX_NESTING:
+        assert ix.parse(text) == ix.parse(core)
+    else:
+        with pytest.raises(ix.CircuitSyntaxError, match="nested deeper") as info:
+            ix.parse(text)
+        assert info.value.column == MAX_NESTING
+
+
+@pytest.mark.parametrize("depth", [65, 500, 5000])
+def test_deep_nesting_in_converters_is_a_syntax_error(depth):
+    with pytest.raises(ix.CircuitSyntaxError, match="nested deeper"):
+        from_impedance_py("R0-" + "p(" * depth + "C1" + ",R9)" * depth)
+    with pytest.raises(ix.CircuitSyntaxError, match="nested deeper"):
+        from_cdc("R" + "([" * depth + "C" + "]R)" * depth)
+
+
+def test_alternating_deep_tree_within_limit_round_trips():
+    text = "R0"
+    for k in range(1, 31):
+        text = f"(R{k} || ({text} + C{k}))"
+    c = ix.parse(text)
+    assert ix.parse(str(c)) == c and len(c.element_names) == 61
+
+
+def test_too_many_elements_and_very_long_inputs():
+    from impedax.circuits._parser import MAX_ELEMENTS
+
+    ok = " + ".join(f"R{k}" for k in range(MAX_ELEMENTS))
+    assert len(ix.parse(ok).element_names) == MAX_ELEMENTS
+    with pytest.raises(ix.CircuitSyntaxError, match=f"more than {MAX_ELEMENTS} elements"):
+        ix.parse(ok + f" + R{MAX_ELEMENTS}")
+    with pytest.raises(ix.CircuitSyntaxError, match="more than"):
+        ix.parse(" + ".join(f"R{k}" for k in range(100_000)))
+    with pytest.raises(ix.CircuitSyntaxError, match="unexpected character"):
+        ix.parse("R1 + " + "€" * 1_000_000)
+    with pytest.raises(ix.CircuitSyntaxError, match="more than"):
+        from_cdc("R" * 10_000)

@@ -21,7 +21,12 @@ from ..errors import CircuitSyntaxError
 from ._elements import DEFAULT_REGISTRY, Registry
 from ._tree import Circuit, Element, parallel, series
 
-__all__ = ["parse", "from_impedance_py", "from_cdc", "Token", "tokenize"]
+__all__ = ["parse", "from_impedance_py", "from_cdc", "Token", "tokenize", "MAX_NESTING", "MAX_ELEMENTS"]
+
+# Limits that keep every recursive walk of a tree (parser, str, compile) far from Python's
+# recursion limit, and a compile within seconds; real equivalent circuits are far smaller.
+MAX_NESTING = 64
+MAX_ELEMENTS = 256
 
 _IDENT_RE = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
 _NUMBERED_RE = re.compile(r"([A-Za-z]+)([0-9]+)\Z")
@@ -108,6 +113,10 @@ class _Parser:
         self.tokens = tokenize(source)
         self.pos = 0
         self.names: dict[str, int] = {}
+        self.depth = 0
+        elements = [t for t in self.tokens if t.kind == "element"]
+        if len(elements) > MAX_ELEMENTS:
+            raise CircuitSyntaxError(source, elements[MAX_ELEMENTS].column, f"more than {MAX_ELEMENTS} elements", "impedax circuits are limited to a few hundred elements")
 
     def peek(self) -> Token:
         return self.tokens[self.pos]
@@ -155,7 +164,11 @@ class _Parser:
             self.names[tok.text] = tok.column
             return Element(symbol, tok.text)
         if tok.kind == "(":
+            if self.depth >= MAX_NESTING:
+                raise CircuitSyntaxError(self.source, tok.column, f"parentheses nested deeper than {MAX_NESTING} levels", "flatten the circuit; nesting this deep is not a real network")
+            self.depth += 1
             inner = self.series()
+            self.depth -= 1
             close = self.take()
             if close.kind != ")":
                 self.pos -= 1
@@ -187,9 +200,12 @@ def from_impedance_py(text: str, registry: Registry = DEFAULT_REGISTRY) -> Circu
 
     ``-`` is series and ``p(a, b, ...)`` parallel; element names are kept (``CPE1`` → ``CPE1``).
     """
+    if not isinstance(text, str):
+        raise CircuitSyntaxError(repr(text), 0, f"a circuit must be text, got {type(text).__name__}")
     pos = 0
     src = text
     names: set[str] = set()
+    depth = 0
 
     def skip():
         nonlocal pos
@@ -210,7 +226,11 @@ def from_impedance_py(text: str, registry: Registry = DEFAULT_REGISTRY) -> Circu
         nonlocal pos
         skip()
         if src.startswith("p(", pos):
+            nonlocal depth
             start = pos
+            if depth >= MAX_NESTING:
+                raise CircuitSyntaxError(src, pos, f"p(...) nested deeper than {MAX_NESTING} levels")
+            depth += 1
             pos += 2
             parts = [parse_series()]
             skip()
@@ -221,6 +241,7 @@ def from_impedance_py(text: str, registry: Registry = DEFAULT_REGISTRY) -> Circu
             if pos >= len(src) or src[pos] != ")":
                 raise CircuitSyntaxError(src, pos, "expected ')' closing p(", f"p( opened at column {start + 1}")
             pos += 1
+            depth -= 1
             if len(parts) < 2:
                 raise CircuitSyntaxError(src, start, "p(...) needs at least two branches")
             return parallel(*parts)
@@ -234,6 +255,8 @@ def from_impedance_py(text: str, registry: Registry = DEFAULT_REGISTRY) -> Circu
         if name in names:
             raise CircuitSyntaxError(src, pos, f"duplicate element name {name!r}")
         names.add(name)
+        if len(names) > MAX_ELEMENTS:
+            raise CircuitSyntaxError(src, pos, f"more than {MAX_ELEMENTS} elements")
         pos = m.end()
         return Element(_IMPEDANCE_PY_SYMBOLS[sym], name)
 
@@ -257,12 +280,18 @@ def from_cdc(text: str, registry: Registry = DEFAULT_REGISTRY) -> Circuit:
     At the top level and inside ``[...]`` elements are in series; inside ``(...)`` in parallel.
     Elements are numbered per symbol in order of appearance: ``R1, R2, C1, CPE1``.
     """
+    if not isinstance(text, str):
+        raise CircuitSyntaxError(repr(text), 0, f"a circuit must be text, got {type(text).__name__}")
     counts: dict[str, int] = {}
     pos = 0
+    depth = 0
 
     def group(closing: str | None, kind) -> Circuit:
-        nonlocal pos
+        nonlocal pos, depth
         start = pos
+        if depth > MAX_NESTING:
+            raise CircuitSyntaxError(text, max(pos - 1, 0), f"groups nested deeper than {MAX_NESTING} levels")
+        depth += 1
         parts: list[Circuit] = []
         while pos < len(text):
             ch = text[pos]
@@ -282,6 +311,8 @@ def from_cdc(text: str, registry: Registry = DEFAULT_REGISTRY) -> Circuit:
             elif ch in _CDC_SYMBOLS:
                 sym = _CDC_SYMBOLS[ch]
                 counts[sym] = counts.get(sym, 0) + 1
+                if sum(counts.values()) > MAX_ELEMENTS:
+                    raise CircuitSyntaxError(text, pos, f"more than {MAX_ELEMENTS} elements")
                 parts.append(Element(sym, f"{sym}{counts[sym]}"))
                 pos += 1
             else:
@@ -291,6 +322,7 @@ def from_cdc(text: str, registry: Registry = DEFAULT_REGISTRY) -> Circuit:
                 raise CircuitSyntaxError(text, start - 1, f"unclosed group, expected {closing!r}")
         if not parts:
             raise CircuitSyntaxError(text, max(start - 1, 0), "empty group")
+        depth -= 1
         return kind(*parts)
 
     out = group(None, series)

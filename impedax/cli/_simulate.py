@@ -26,6 +26,7 @@ def run(args) -> int:
     from .._atomic import check_writable
     from ..circuits import compile_circuit
     from ..data import log_frequencies
+    from ..errors import ParameterError
     from ..io import save, write_csv
 
     circuit = parse(args.model)
@@ -42,6 +43,9 @@ def run(args) -> int:
         print(f"impedax simulate: defaults used for {', '.join(f'{n}={params[n]:g}' for n in defaulted)}", file=sys.stderr)
     freq = log_frequencies(args.fmin, args.fmax, args.points)
     z = np.asarray(compile_circuit(circuit)(params, freq))
+    bad = np.flatnonzero(~np.isfinite(z))
+    if bad.size:
+        raise ParameterError(f"the model's impedance is not finite (overflow) at {freq[bad[0]]:g} Hz and {bad.size - 1} other frequencies; check the parameter values ({', '.join(f'{n}={params[n]:g}' for n in specs)})")
     ds = make_spectrum(freq, z, attrs={"model": str(circuit), "synthetic": "simulated by impedax simulate"}, source="impedax simulate")
     if args.out:
         save(ds, args.out)

@@ -21,6 +21,14 @@ from ..errors import DataError
 
 __all__ = ["read_csv", "write_csv", "CSV_HEADER"]
 
+
+class UnrecognisedText(DataError):
+    """The file is not delimited text with a spectrum header (so `load` lists the other formats)."""
+
+    def __init__(self, message: str, *, path=None, line=None):
+        self.reason = message
+        super().__init__(message, path=path, line=line)
+
 CSV_HEADER = ("frequency_hz", "z_real_ohm", "z_imag_ohm")
 
 _ROLES = {
@@ -60,14 +68,14 @@ def read_csv(path: str | Path) -> xr.Dataset:
     except OSError as exc:
         raise DataError(f"cannot read file: {exc.strerror}", path=path) from None
     if b"\x00" in raw[:4096]:
-        raise DataError("binary file, not delimited text", path=path)
+        raise UnrecognisedText("binary file, not delimited text", path=path)
     try:
         text = raw.decode("utf-8-sig")
     except UnicodeDecodeError:
         text = raw.decode("latin-1")
     lines = [(i + 1, ln) for i, ln in enumerate(text.splitlines()) if ln.strip() and not ln.lstrip().startswith(("#", "%", "!"))]
     if not lines:
-        raise DataError("file is empty (no header, no data)", path=path)
+        raise UnrecognisedText("file is empty (no header, no data)", path=path)
     header_no, header = lines[0]
     delimiter = next((d for d in (",", "\t", ";") if d in header), None)
     cells = _split(header, delimiter)
@@ -84,13 +92,13 @@ def read_csv(path: str | Path) -> xr.Dataset:
             roles[role] = (col, scale)
     if "frequency" not in roles:
         _no_header_check(cells, path, header_no)
-        raise DataError(f"no frequency column in header {cells}; expected e.g. {','.join(CSV_HEADER)}", path=path, line=header_no)
+        raise UnrecognisedText(f"no frequency column in header {cells}; expected e.g. {','.join(CSV_HEADER)}", path=path, line=header_no)
     has_cartesian = "real" in roles and ("imag" in roles or "neg_imag" in roles)
     has_polar = "modulus" in roles and "phase" in roles
     if "imag" in roles and "neg_imag" in roles:
         raise DataError("both Z'' and -Z'' columns given; keep one", path=path, line=header_no)
     if not (has_cartesian or has_polar):
-        raise DataError(
+        raise UnrecognisedText(
             f"cannot find impedance columns in header {cells}; expected z_real_ohm and z_imag_ohm "
             "(or -z_imag_ohm, or |Z| and phase in degrees)",
             path=path,
@@ -151,7 +159,7 @@ def _no_header_check(cells, path, line_no):
         [float(c) for c in cells]
     except ValueError:
         return
-    raise DataError(f"the first line is numbers, not a header; start the file with {','.join(CSV_HEADER)}", path=path, line=line_no)
+    raise UnrecognisedText(f"the first line is numbers, not a header; start the file with {','.join(CSV_HEADER)}", path=path, line=line_no)
 
 
 def write_csv(ds: xr.Dataset, path: str | Path | None = None) -> str:

@@ -107,5 +107,7 @@ def read_netcdf(path: str | Path) -> xr.Dataset:
         with xr.open_dataset(path, engine="scipy") as raw:
             ds = decode_dataset(raw.load())
     except (OSError, ValueError, TypeError) as exc:
-        raise DataError(f"not a readable netCDF file ({exc})", path=path) from None
+        # the engine's own text spans several lines and suggests libraries impedax does not use
+        detail = (str(exc).strip().splitlines() or [type(exc).__name__])[0].replace(str(path), "the file")
+        raise DataError(f"not a readable netCDF file ({detail}); impedax reads the netCDF3 files that impedax save writes", path=path) from None
     return ds

@@ -1,0 +1,153 @@
+"""Circuit schematics drawn from the circuit tree with schemdraw (optional extra ``draw``).
+
+Layout, recursively: the elements of a series chain sit in one row, left to right; the branches
+of a parallel group are stacked downwards between two vertical rails, each branch padded with
+wire to the widest one. Every block's two terminals lie on its top line, so blocks nest
+without any search. Elements are labelled with their names and, when given, their values.
+"""
+
+from __future__ import annotations
+
+import os
+from typing import Mapping
+
+from .circuits import DEFAULT_REGISTRY, Circuit, Element, Parallel, Registry, Series, parse
+from .errors import ImpedaxError, ParameterError
+
+__all__ = ["draw_circuit", "save_circuit_diagram"]
+
+_UNIT = 3.0  # length of one element, schemdraw units
+_ROW = 2.6  # vertical pitch of stacked parallel branches (room for the labels above and below)
+_STUB = 0.75  # wire between a rail and a branch
+_SI = {"Ohm": "Ω", "F": "F", "H": "H"}
+_PREFIXES = [(1e12, "T"), (1e9, "G"), (1e6, "M"), (1e3, "k"), (1.0, ""), (1e-3, "m"), (1e-6, "µ"), (1e-9, "n"), (1e-12, "p"), (1e-15, "f")]
+_GREEK = {"alpha": "α", "beta": "β", "tau": "τ", "sigma": "σ"}
+
+
+def _schemdraw():
+    try:
+        import schemdraw
+        import schemdraw.elements as elm
+    except ImportError:
+        raise ImpedaxError("circuit diagrams need schemdraw: pip install impedax[draw]") from None
+    return schemdraw, elm
+
+
+def _size(node: Circuit) -> tuple[float, float]:
+    if isinstance(node, Element):
+        return _UNIT, _ROW
+    sizes = [_size(c) for c in node.children]
+    if isinstance(node, Series):
+        return sum(w for w, _ in sizes), max(h for _, h in sizes)
+    return max(w for w, _ in sizes) + 2 * _STUB, sum(h for _, h in sizes)
+
+
+def _si(value: float, unit: str) -> str:
+    symbol = _SI[unit]
+    magnitude = abs(value)
+    for scale, prefix in _PREFIXES:
+        if magnitude >= scale * 0.9995:
+            return f"{value / scale:.3g} {prefix}{symbol}"
+    return f"{value:.3g} {symbol}"
+
+
+def _value_text(element: Element, values: Mapping[str, float], registry: Registry) -> str:
+    spec = registry[element.symbol]
+    parts = []
+    for p in spec.parameters:
+        name = p.full_name(element.name)
+        if name not in values:
+            continue
+        v = float(values[name])
+        if p.suffix is None and p.unit in _SI:
+            parts.append(_si(v, p.unit))
+        else:
+            parts.append(f"{_GREEK.get(p.suffix, p.suffix or element.name)}={v:.3g}")
+    return "\n".join(parts)
+
+
+def _element(elm, element: Element, registry: Registry):
+    symbol = registry[element.symbol].symbol
+    maker = {"R": elm.Resistor, "C": elm.Capacitor, "L": elm.Inductor2, "CPE": elm.CPE}.get(symbol)
+    if maker is not None:
+        return maker()
+    return elm.RBox()  # Warburg, Gerischer, Cole–Cole, ...: a box; the name says which
+
+
+def _place(d, elm, node: Circuit, x: float, y: float, values, registry) -> None:
+    if isinstance(node, Element):
+        part = _element(elm, node, registry).at((x, y)).to((x + _UNIT, y)).label(node.name, loc="top")
+        if values:
+            text = _value_text(node, values, registry)
+            if text:
+                part = part.label(text, loc="bottom", fontsize=9)
+        d.add(part)
+        return
+    if isinstance(node, Series):
+        for child in node.children:
+            _place(d, elm, child, x, y, values, registry)
+            x += _size(child)[0]
+        return
+    width = _size(node)[0]
+    left, right = x, x + width
+    yi = y
+    for child in node.children:
+        cw, ch = _size(child)
+        d.add(elm.Line().at((left, yi)).to((left + _STUB, yi)))
+        _place(d, elm, child, left + _STUB, yi, values, registry)
+        d.add(elm.Line().at((left + _STUB + cw, yi)).to((right, yi)))
+        last = yi
+        yi -= ch
+    d.add(elm.Line().at((left, y)).to((left, last)))
+    d.add(elm.Line().at((right, y)).to((right, last)))
+    d.add(elm.Dot(radius=0.1).at((left, y)))
+    d.add(elm.Dot(radius=0.1).at((right, y)))
+
+
+def draw_circuit(circuit: Circuit | str, values: Mapping[str, float] | None = None, *, registry: Registry = DEFAULT_REGISTRY):
+    """Schematic of ``circuit`` as a matplotlib Figure.
+
+    Series elements in a row, parallel branches stacked, groups nested recursively; each element
+    labelled with its name and, for the parameters given in ``values`` (name → value, SI units,
+    e.g. fitted values), its value. Needs the optional ``schemdraw`` (``pip install impedax[draw]``).
+    """
+    circuit = parse(circuit, registry) if isinstance(circuit, str) else circuit
+    values = dict(values or {})
+    known = circuit.parameter_names(registry)
+    unknown = [n for n in values if n not in known]
+    if unknown:
+        raise ParameterError(f"unknown parameter(s) {unknown} for {circuit}; parameters: {', '.join(known)}")
+    schemdraw, elm = _schemdraw()
+    d = schemdraw.Drawing(canvas="matplotlib", show=False)
+    d.config(fontsize=11, lw=1.4)
+    width = _size(circuit)[0]
+    d.add(elm.Dot(open=True).at((0.0, 0.0)))
+    d.add(elm.Line().at((0.0, 0.0)).to((_STUB, 0.0)))
+    _place(d, elm, circuit, _STUB, 0.0, values, registry)
+    d.add(elm.Line().at((_STUB + width, 0.0)).to((2 * _STUB + width, 0.0)))
+    d.add(elm.Dot(open=True).at((2 * _STUB + width, 0.0)))
+    return d.draw(show=False).fig
+
+
+def save_circuit_diagram(circuit: Circuit | str, path: str | os.PathLike, values: Mapping[str, float] | None = None, *, registry: Registry = DEFAULT_REGISTRY) -> None:
+    """Draw ``circuit`` (see `draw_circuit`) and save it atomically as .png, .svg or .pdf.
+
+    SVG keeps the labels as text (searchable, editable), not as glyph outlines.
+    """
+    from ._atomic import check_writable
+    from .errors import DataError
+
+    path = check_writable(path)
+    if path.suffix.lower() not in (".png", ".svg", ".pdf"):
+        raise DataError(f"unknown diagram format {path.suffix!r}; use .png, .svg or .pdf", path=path)
+    import matplotlib
+    import matplotlib.pyplot as plt
+
+    from ._atomic import atomic_path
+
+    fig = draw_circuit(circuit, values, registry=registry)
+    try:
+        with matplotlib.rc_context({"svg.fonttype": "none"}), atomic_path(path) as tmp:
+            fig.savefig(tmp, format=path.suffix.lower()[1:], dpi=150, bbox_inches="tight", pad_inches=0.1)
+    finally:
+        plt.close(fig)

@@ -1,0 +1,61 @@
+"""Circuit diagrams: every topology draws, every element's name is in the SVG text."""
+
+import re
+import sys
+
+import pytest
+
+import impedax as ix
+from impedax.cli import main
+from impedax.diagram import draw_circuit, save_circuit_diagram
+
+pytest.importorskip("schemdraw")
+
+TOPOLOGIES = [
+    "R1",
+    "R_f + R_sc || CPE_sc",
+    "R0 + C1 + L1 + CPE1 + Q1 + W1 + Wo1 + Ws1 + G1 + CC1 + HN1",  # every element kind
+    "R0 || C0 || L0 || W0",
+    "(R1 + (R2 || (R3 + (R4 || (R5 + (R6 || (R7 + C7))))))) || C1",  # deeply nested
+    "R_EP || C_EP || C_gap + (R_s + C_s) || (R_t + (C_t || L_t))",
+]
+
+
+@pytest.mark.parametrize("model", TOPOLOGIES)
+@pytest.mark.parametrize("suffix", [".svg", ".png"])
+def test_every_topology_draws_with_all_labels(tmp_path, model, suffix):
+    path = tmp_path / f"c{suffix}"
+    save_circuit_diagram(model, path)
+    assert path.stat().st_size > 500
+    assert [p.name for p in tmp_path.iterdir()] == [path.name]  # no temporary file left
+    if suffix == ".svg":
+        texts = re.findall(r"<text[^>]*>([^<]*)", path.read_text())
+        for name in ix.parse(model).element_names:
+            assert name in texts
+
+
+def test_values_are_printed_with_units(tmp_path):
+    path = tmp_path / "v.svg"
+    save_circuit_diagram("R_f + R_sc || CPE_sc + C_gap", path, values={"R_sc": 130e3, "CPE_sc.alpha": 0.8, "C_gap": 413e-12})
+    texts = re.findall(r"<text[^>]*>([^<]*)", path.read_text())
+    assert "130 kΩ" in texts and "413 pF" in texts and "α=0.8" in texts
+
+
+def test_unknown_value_name_and_bad_format(tmp_path):
+    with pytest.raises(ix.ParameterError, match="R9"):
+        draw_circuit("R1 + C1", {"R9": 1.0})
+    with pytest.raises(ix.DataError, match="use .png, .svg or .pdf"):
+        save_circuit_diagram("R1", tmp_path / "c.jpg")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_missing_schemdraw_names_the_extra(monkeypatch):
+    monkeypatch.setitem(sys.modules, "schemdraw", None)
+    with pytest.raises(ix.ImpedaxError, match=r"pip install impedax\[draw\]"):
+        draw_circuit("R1")
+
+
+def test_cli_draw(tmp_path, capsys):
+    out = tmp_path / "d.svg"
+    assert main(["draw", "R_f + R_sc || C_sc", "-o", str(out), "--param", "R_sc=1e5"]) == 0
+    assert "100 kΩ" in out.read_text() and str(out) in capsys.readouterr().out
