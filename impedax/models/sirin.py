@@ -107,7 +107,8 @@ def remaining_impedance(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dat
     measurements, so the SEMs of Re and Im add in quadrature:
     σ_Re(Z_R)² = Σ_k SEM_Re,k², likewise Im. Returns a spectrum Dataset with the mean ``Z``,
     ``sigma_real``, ``sigma_imag`` and ``sigma`` = √((σ_Re² + σ_Im²)/2) (one sd for Re and Im,
-    as the data model's ``sigma``), or no ``sigma`` when an input has a single spectrum.
+    as the data model's ``sigma``); no ``sigma`` when an input has a single spectrum or the
+    trials do not scatter (a zero standard error cannot weight a fit).
     """
     parts = {"total": _spectrum(total, "total"), "skin": _spectrum(skin, "skin"), "touchscreen": _spectrum(touchscreen, "touchscreen")}
     freq = parts["total"]["frequency"].values
@@ -121,8 +122,9 @@ def remaining_impedance(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dat
     extra_dims = tuple(d for d in means["total"]["Z"].dims if d != "frequency")
     if extra_dims:
         raise DataError(f"total: dims {', '.join(extra_dims)} remain after averaging; name every replicate dim in `over`")
-    have_sigma = all(n >= 2 for n in counts.values())
-    sigma = np.sqrt((var_re + var_im) / 2.0) if have_sigma else None
+    sigma = np.sqrt((var_re + var_im) / 2.0)
+    have_sigma = all(n >= 2 for n in counts.values()) and bool(np.all(sigma > 0))
+    sigma = sigma if have_sigma else None
     ds = make_spectrum(
         freq,
         z_r,
@@ -131,7 +133,7 @@ def remaining_impedance(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dat
             "quantity": "remaining impedance Z_R = Z_total - Z_skin - Z_TS (Sirin et al. eq 5), trial means",
             "sigma_method": "SEM of Re and Im of each measurement over its trials, added in quadrature; sigma = sqrt((sigma_real^2 + sigma_imag^2)/2)"
             if have_sigma
-            else "not available: an input has a single spectrum",
+            else "not available: an input has a single spectrum, or the trials do not scatter",
             "n_trials_total": counts["total"],
             "n_trials_skin": counts["skin"],
             "n_trials_touchscreen": counts["touchscreen"],
