@@ -11,7 +11,7 @@ Model (true values in `SIRIN_SYNTHETIC_TRUTH`, also stored in the Dataset's attr
 * skin:        R_inf + R ∥ CPE   (β-dispersion; phase maximum tuned to 250 Hz)
 * touchscreen: R_inf + R ∥ CPE   (phase maximum tuned to 100 kHz)
 * remainder, sliding:    R_EP ∥ CPE_EP ∥ C_gap, C_gap = 413 pF; the EP branch (electrode
-  polarization) equals the gap admittance near 10 Hz and is negligible above ≈ 30 Hz;
+  polarization) equals the gap admittance near 20 Hz and fades above ≈ 30 Hz;
 * remainder, stationary: sweat shorts the gap — R_EP 200× smaller, the wet-gap capacitance 20×
   C_gap — and hydrates the skin (skin R 10× smaller), giving ≈ 10× lower total impedance.
 * total = skin + touchscreen + remainder (in series, Sirin eq 5), each total trial with its own
