@@ -1,0 +1,302 @@
+"""Meyer (2012 thesis): electrostatic force on a fingertip touching a 3M MicroTouch screen.
+
+Series chain from the source V_A to ground (thesis Fig 3.3 / A.1)::
+
+    C_s + C_i + R_sc || C_sc + R_f          (RC variant)
+    C_s + C_i + R_sc || CPE_sc + R_f        (fractional variant, thesis Fig 5.3 / ch. 6)
+
+C_s is the cable capacitor, C_i the SiO2 insulator, R_sc ∥ C_sc the stratum corneum and R_f the
+body. The finger voltage V_F (ITO to conductive tissue) is the voltage across {C_i, SC block};
+the leaked charge Q_f is the charge that went through R_sc, Q_f = I_Rsc/(jω).
+
+Force conventions: `force_time_average` is the time average over one period of eq 3.6/A.3 for a
+sinusoidal drive of amplitude V_A (½ of the expression with the phasor magnitudes |V_F|², |Q_f|²);
+the static forces (eqs 3.7–3.9) are instantaneous forces for a voltage V_F.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from dataclasses import dataclass, field, replace
+from typing import Mapping
+
+import jax.numpy as jnp
+import numpy as np
+import xarray as xr
+
+from ..circuits import Circuit, current_through, parse, voltage_across
+from ..errors import DataError, ParameterError
+from ._constants import EPSILON_0
+
+__all__ = [
+    "MeyerPhysical",
+    "MeyerModel",
+    "THESIS_PHYSICAL",
+    "THESIS_PARAMS",
+    "THESIS_DRIVE_V",
+    "meyer_circuit",
+    "meyer_parameters",
+    "meyer_model",
+    "finger_voltage",
+    "leaked_charge",
+    "force_time_average",
+    "force_from_charge",
+    "static_force_series",
+    "static_force_f1",
+    "static_force_f2",
+    "FrictionLine",
+    "friction_coefficient",
+    "force_from_friction",
+]
+
+THESIS_DRIVE_V = 140.0
+"""Drive amplitude V_A [V] of thesis Fig 3.4."""
+
+_REFERENCE_HZ = 1e3  # the thesis quotes ρ_sc, ε_sc "at 1 kHz" (eq 3.13 text)
+
+_CIRCUITS = {
+    "rc": "C_s + C_i + R_sc || C_sc + R_f",
+    "cpe": "C_s + C_i + R_sc || CPE_sc + R_f",
+}
+_SC_BLOCK = {"rc": ("C_i", "R_sc", "C_sc"), "cpe": ("C_i", "R_sc", "CPE_sc")}
+
+
+@dataclass(frozen=True)
+class MeyerPhysical:
+    """Physical description of finger and screen (thesis eq 3.13), SI units.
+
+    ``rho_sc`` [Ω·m] and ``eps_sc`` of the stratum corneum at 1 kHz, ``d_sc`` [m] its thickness;
+    ``eps_i``, ``d_i`` [m] of the SiO2 insulator; ``area`` [m²] the contact area (a 4 mm radius
+    disc); ``r_f`` [Ω] body resistance; ``c_s`` [F] cable capacitor.
+    """
+
+    rho_sc: float = 33e3
+    eps_sc: float = 1000.0
+    d_sc: float = 200e-6
+    eps_i: float = 3.9
+    d_i: float = 1e-6
+    area: float = math.pi * (4e-3) ** 2
+    r_f: float = 500.0
+    c_s: float = 140e-12
+
+    @property
+    def r_sc(self) -> float:
+        """R_sc = ρ_sc d_sc / A [Ω] (eq 3.13)."""
+        return self.rho_sc * self.d_sc / self.area
+
+    @property
+    def c_sc(self) -> float:
+        """C_sc = ε0 ε_sc A / d_sc [F] (eqs 3.5, 3.13)."""
+        return EPSILON_0 * self.eps_sc * self.area / self.d_sc
+
+    @property
+    def c_i(self) -> float:
+        """C_i = ε0 ε_i A / d_i [F] (eqs 3.5, 3.13)."""
+        return EPSILON_0 * self.eps_i * self.area / self.d_i
+
+
+THESIS_PHYSICAL = MeyerPhysical()
+"""The thesis's physical values (eq 3.13)."""
+
+THESIS_PARAMS: Mapping[str, float] = {"C_s": 140e-12, "C_i": 1.7e-9, "R_sc": 130e3, "C_sc": 2.2e-9, "R_f": 500.0}
+"""Circuit values as rounded in thesis eq 3.13 (these give Fig 3.4: 164 mN peak near 37 kHz)."""
+
+
+def meyer_circuit(variant: str = "rc") -> Circuit:
+    """The thesis circuit: ``"rc"`` → C_s + C_i + R_sc || C_sc + R_f (Fig 3.3); ``"cpe"`` →
+    the fractional variant with CPE_sc in place of C_sc."""
+    return parse(_CIRCUITS[_check_variant(variant)])
+
+
+def _check_variant(variant: str) -> str:
+    if variant not in _CIRCUITS:
+        raise ParameterError(f"unknown Meyer variant {variant!r}; use one of {', '.join(_CIRCUITS)}")
+    return variant
+
+
+def meyer_parameters(physical: MeyerPhysical = THESIS_PHYSICAL, *, variant: str = "rc", alpha: float = 0.8) -> dict[str, float]:
+    """Circuit parameters from a physical description (thesis eq 3.13).
+
+    RC: R_sc = ρ_sc d_sc/A, C_sc = ε0 ε_sc A/d_sc, C_i = ε0 ε_i A/d_i, plus R_f and C_s.
+    CPE: ``CPE_sc.alpha = alpha`` and ``CPE_sc.Q = C_sc ω_ref^(1−α)`` with ω_ref = 2π·1 kHz, so
+    the CPE has the capacitor's impedance magnitude at 1 kHz, where ρ_sc and ε_sc were quoted.
+    """
+    variant = _check_variant(variant)
+    params = {"C_s": physical.c_s, "C_i": physical.c_i, "R_sc": physical.r_sc, "R_f": physical.r_f}
+    if variant == "rc":
+        params["C_sc"] = physical.c_sc
+    else:
+        if not 0.0 < alpha <= 1.0:
+            raise ParameterError(f"CPE_sc.alpha must be in (0, 1], got {alpha}")
+        params["CPE_sc.Q"] = physical.c_sc * (2.0 * math.pi * _REFERENCE_HZ) ** (1.0 - alpha)
+        params["CPE_sc.alpha"] = float(alpha)
+    return params
+
+
+@dataclass(frozen=True)
+class MeyerModel:
+    """A Meyer finger–screen model: ``circuit``, its ``params`` and the contact ``area`` [m²]."""
+
+    variant: str
+    circuit: Circuit
+    params: Mapping[str, float]
+    area: float
+    physical: MeyerPhysical | None = field(default=None)
+
+    def with_params(self, **values: float) -> "MeyerModel":
+        """A copy with some circuit parameters replaced (names as in ``circuit``)."""
+        unknown = set(values) - set(self.params)
+        if unknown:
+            raise ParameterError(f"unknown parameter(s) {', '.join(sorted(unknown))}; parameters: {', '.join(self.params)}")
+        return replace(self, params={**self.params, **values})
+
+    def force(self, freq, *, v_a: float = THESIS_DRIVE_V):
+        """Time-averaged force [N] at ``freq`` [Hz] (see `force_time_average`)."""
+        return force_time_average(self.params, freq, area=self.area, v_a=v_a, variant=self.variant)
+
+    def to_xarray(self, freq, *, v_a: float = THESIS_DRIVE_V) -> xr.Dataset:
+        """Force, V_F/V_A and Q_f/V_A over ``freq`` as a Dataset."""
+        freq = np.asarray(freq, dtype=np.float64)
+        return xr.Dataset(
+            {
+                "force": ("frequency", np.asarray(self.force(freq, v_a=v_a)), {"units": "N", "convention": "time-average"}),
+                "finger_voltage_ratio": ("frequency", np.asarray(finger_voltage(self.params, freq, variant=self.variant))),
+                "leaked_charge_ratio": ("frequency", np.asarray(leaked_charge(self.params, freq, variant=self.variant)), {"units": "C/V"}),
+            },
+            coords={"frequency": ("frequency", freq, {"units": "Hz"})},
+            attrs={"model": str(self.circuit), "area_m2": self.area, "drive_amplitude_v": v_a, "source": "Meyer (2012) thesis model"},
+        )
+
+
+def meyer_model(variant: str = "rc", *, physical: MeyerPhysical | None = None, alpha: float = 0.8) -> MeyerModel:
+    """Meyer's model with the thesis parameters as defaults.
+
+    Without ``physical`` the circuit values are the rounded ones of eq 3.13 (`THESIS_PARAMS`;
+    for ``"cpe"``, Q from C_sc = 2.2 nF as in `meyer_parameters`) and A = π(4 mm)². With
+    ``physical`` (a `MeyerPhysical`) they are computed from ρ_sc, ε_sc, d_sc, ε_i, d_i, A.
+    """
+    variant = _check_variant(variant)
+    if physical is None:
+        params = dict(THESIS_PARAMS)
+        if variant == "cpe":
+            c_sc = params.pop("C_sc")
+            params["CPE_sc.Q"] = c_sc * (2.0 * math.pi * _REFERENCE_HZ) ** (1.0 - alpha)
+            params["CPE_sc.alpha"] = float(alpha)
+        area = THESIS_PHYSICAL.area
+    else:
+        params = meyer_parameters(physical, variant=variant, alpha=alpha)
+        area = physical.area
+    return MeyerModel(variant, meyer_circuit(variant), params, area, physical)
+
+
+@functools.lru_cache(maxsize=None)
+def _probes(variant: str):
+    text = _CIRCUITS[variant]
+    return voltage_across(text, set(_SC_BLOCK[variant])), current_through(text, "R_sc")
+
+
+def finger_voltage(params: Mapping[str, object], freq, *, variant: str = "rc"):
+    """V_F/V_A: voltage from the ITO to the finger tissue (across C_i and the stratum corneum)
+    per volt of drive, from the solved circuit (thesis eq 3.12 derived from A.1; the printed
+    numerator of eq 3.12/A.2 is wrong, see PHYSICS.md). Pure JAX, vmappable over draws."""
+    return _probes(_check_variant(variant))[0](params, freq)
+
+
+def leaked_charge(params: Mapping[str, object], freq, *, variant: str = "rc"):
+    """Q_f/V_A [C/V]: charge leaked through R_sc onto the glass, I_Rsc/(jω V_A) (eq 3.12)."""
+    omega = 2.0 * jnp.pi * jnp.asarray(freq)
+    return _probes(_check_variant(variant))[1](params, freq) / (1j * omega)
+
+
+def _effective_c_sc(params: Mapping[str, object], variant: str):
+    if variant == "rc":
+        return params["C_sc"]
+    # the electrostatic prefactor needs a capacitance: the CPE's value at the 1 kHz reference
+    return params["CPE_sc.Q"] * (2.0 * jnp.pi * _REFERENCE_HZ) ** (params["CPE_sc.alpha"] - 1.0)
+
+
+def force_from_charge(v_f, q_f, *, c_i, c_sc, area):
+    """Instantaneous force [N] of thesis eq 3.6/A.3:
+    F = (C_i C_sc/(C_i + C_sc))² / (2 A ε0) · (V_F² − Q_f²/C_i²), for real V_F [V], Q_f [C]."""
+    series = c_i * c_sc / (c_i + c_sc)
+    return series**2 / (2.0 * area * EPSILON_0) * (v_f**2 - q_f**2 / c_i**2)
+
+
+def force_time_average(params: Mapping[str, object], freq, *, area: float = THESIS_PHYSICAL.area, v_a: float = THESIS_DRIVE_V, variant: str = "rc"):
+    """Time-averaged electrostatic force [N] for a sinusoidal drive of amplitude ``v_a`` [V]
+    (thesis eq 3.6/A.3 averaged over a period, Fig 3.4):
+    F̄ = (C_i C_sc/(C_i + C_sc))²/(2Aε0) · ½ (|V_F|² − |Q_f|²/C_i²) with phasor amplitudes.
+
+    Convention: time-average (the peak of the oscillating force is larger). For the CPE
+    variant C_sc in the prefactor is the CPE's capacitance at 1 kHz. Pure JAX in ``params``
+    (vmap over posterior draws).
+    """
+    variant = _check_variant(variant)
+    v_f = finger_voltage(params, freq, variant=variant) * v_a
+    q_f = leaked_charge(params, freq, variant=variant) * v_a
+    c_i = params["C_i"]
+    series = c_i * _effective_c_sc(params, variant) / (c_i + _effective_c_sc(params, variant))
+    return series**2 / (2.0 * area * EPSILON_0) * 0.5 * (jnp.abs(v_f) ** 2 - jnp.abs(q_f) ** 2 / c_i**2)
+
+
+def static_force_series(v_f, *, area: float, d_i: float, eps_i: float, d_sc: float, eps_sc: float):
+    """Thesis eq 3.7: force [N] of two dielectrics in series with no leaked charge,
+    F = ε0 A V_F² / (2 (d_i/ε_i + d_sc/ε_sc)²)."""
+    return EPSILON_0 * area * jnp.asarray(v_f) ** 2 / (2.0 * (d_i / eps_i + d_sc / eps_sc) ** 2)
+
+
+def static_force_f1(v_f, *, area: float, d_sc: float, eps_sc: float):
+    """Thesis eq 3.8 (zero insulator thickness; the form Meyer argues is right for a solid
+    dielectric slab): F1 = ε0 A V_F² / (2 (d_sc/ε_sc)²) = Q²/(2 ε0 A)."""
+    return EPSILON_0 * area * jnp.asarray(v_f) ** 2 / (2.0 * (d_sc / eps_sc) ** 2)
+
+
+def static_force_f2(v_f, *, area: float, d_sc: float, eps_sc: float):
+    """Thesis eq 3.9 (the textbook parallel-plate form, correct only for a dielectric fluid):
+    F2 = ε0 ε_sc A V_F² / (2 d_sc²) = Q²/(2 ε0 ε_sc A) = F1/ε_sc."""
+    return EPSILON_0 * eps_sc * area * jnp.asarray(v_f) ** 2 / (2.0 * d_sc**2)
+
+
+@dataclass(frozen=True)
+class FrictionLine:
+    """Least-squares line friction = µ · normal + offset from no-voltage data (thesis §4.4)."""
+
+    mu: float
+    offset: float
+    mu_stderr: float
+    n_points: int
+
+    def to_xarray(self) -> xr.Dataset:
+        return xr.Dataset({"mu": self.mu, "offset": self.offset, "mu_stderr": self.mu_stderr}, attrs={"n_points": self.n_points, "offset_units": "N"})
+
+
+def friction_coefficient(normal_force, friction_force, *, through_origin: bool = False) -> FrictionLine:
+    """µ from a linear regression of friction force on normal force [N] measured without
+    voltage (thesis §4.4, Fig 4.8); ``through_origin`` forces the offset to zero."""
+    fn = np.asarray(normal_force, dtype=np.float64).ravel()
+    ft = np.asarray(friction_force, dtype=np.float64).ravel()
+    if fn.shape != ft.shape:
+        raise DataError(f"normal_force has {fn.size} values but friction_force has {ft.size}")
+    need = 2 if through_origin else 3
+    if fn.size < need:
+        raise DataError(f"need at least {need} (normal, friction) pairs for a line with an error estimate, got {fn.size}")
+    if not (np.all(np.isfinite(fn)) and np.all(np.isfinite(ft))):
+        raise DataError("normal and friction forces must be finite")
+    design = fn[:, None] if through_origin else np.stack([fn, np.ones_like(fn)], axis=1)
+    if np.ptp(fn) == 0 and not through_origin:
+        raise DataError("all normal forces are equal: the friction slope is undetermined")
+    coef, *_ = np.linalg.lstsq(design, ft, rcond=None)
+    resid = ft - design @ coef
+    dof = fn.size - design.shape[1]
+    cov = np.linalg.inv(design.T @ design) * (resid @ resid / dof)
+    return FrictionLine(float(coef[0]), 0.0 if through_origin else float(coef[1]), float(np.sqrt(cov[0, 0])), int(fn.size))
+
+
+def force_from_friction(delta_friction, mu):
+    """Thesis eq 4.1: electrostatic force F_e = ΔF/µ [N] from the friction increase ΔF [N]
+    under voltage at the same normal force; ``mu`` a float or a `FrictionLine`."""
+    mu = mu.mu if isinstance(mu, FrictionLine) else mu
+    if not np.all(np.asarray(mu) > 0):
+        raise ParameterError(f"friction coefficient must be positive, got {mu}")
+    return np.asarray(delta_friction, dtype=np.float64) / mu

@@ -1,0 +1,352 @@
+"""Sirin et al.: air-gap thickness and electrostatic force from impedance spectra.
+
+Measured separately: the finger skin Z_skin, the touchscreen Z_TS and the total Z_total of a
+finger sliding on the screen. In series (paper Fig 3d), the remaining impedance of the
+contact is Z_R = Z_total − Z_skin − Z_TS (eq 5), modeled as the EDL parallel model
+R_EP ∥ C_EP ∥ C_gap (or R_EP ∥ CPE_EP ∥ C_gap): electrode polarization in parallel with the
+air-gap capacitance.
+
+Force conventions: eq 1, F = ½ ε0 A ΔV_gap²/u², is evaluated at the voltage amplitude, so
+`gap_force_peak` is the PEAK force over a drive period; `gap_force_time_average` is its
+time average (½ of the peak for a sinusoid).
+"""
+
+from __future__ import annotations
+
+import functools
+from dataclasses import dataclass
+from typing import Mapping, Sequence
+
+import jax.numpy as jnp
+import numpy as np
+import xarray as xr
+
+from ..circuits import Circuit, compile_circuit, parse, voltage_across
+from ..data import make_spectrum, validate_spectrum
+from ..errors import DataError, ParameterError
+from ._constants import EPSILON_0, EPSILON_AIR
+
+__all__ = [
+    "SIRIN_AREA",
+    "SIRIN_DRIVE_V",
+    "SIRIN_C_GAP",
+    "trial_mean",
+    "remaining_impedance",
+    "admittance_spectrum",
+    "gap_capacitance_paper",
+    "gap_thickness",
+    "PaperGapEstimate",
+    "paper_gap_estimate",
+    "remainder_circuit",
+    "remainder_impedance",
+    "gap_voltage",
+    "gap_force_peak",
+    "gap_force_time_average",
+    "magnitude_ratio",
+    "phase_synchronization",
+    "impedance_contributions",
+    "force_from_friction_coefficients",
+]
+
+SIRIN_AREA = 130e-6
+"""Apparent contact area A_app [m²] of the participant's index finger (paper §2.3)."""
+SIRIN_DRIVE_V = 75.0
+"""Drive amplitude V0 [V] (paper §2.4)."""
+SIRIN_C_GAP = 413e-12
+"""Reported air-gap capacitance [F] (paper §2.3)."""
+
+_REMAINDERS = {
+    "C": "R_EP || C_EP || C_gap",
+    "CPE": "R_EP || CPE_EP || C_gap",
+    None: "C_gap",
+}
+
+
+# --- remaining impedance -------------------------------------------------------------------
+
+
+def _spectrum(ds, name: str) -> xr.Dataset:
+    if not isinstance(ds, xr.Dataset):
+        raise DataError(f"{name}: expected a spectrum Dataset with complex 'Z', got {type(ds).__name__}")
+    return validate_spectrum(ds, source=str(ds.attrs.get("source", name)))
+
+
+def trial_mean(ds: xr.Dataset, *, over: Sequence[str] | None = None) -> xr.Dataset:
+    """Mean complex Z per frequency over the replicate dims ``over`` (default: every dim of Z
+    but ``frequency``) with the standard error of the mean of Re and Im separately
+    (``sigma_real``, ``sigma_imag`` = sample sd/√n, ddof 1); attrs ``n_trials``."""
+    ds = _spectrum(ds, "spectrum")
+    z = ds["Z"]
+    dims = tuple(d for d in z.dims if d != "frequency") if over is None else tuple(over)
+    missing = [d for d in dims if d not in z.dims or d == "frequency"]
+    if missing:
+        raise DataError(f"cannot average over {', '.join(missing)}: Z has dims {', '.join(z.dims)}")
+    n = int(np.prod([z.sizes[d] for d in dims])) if dims else 1
+    mean = z.mean(dims) if dims else z
+    if n >= 2:
+        sem_re = z.real.std(dims, ddof=1) / np.sqrt(n)
+        sem_im = z.imag.std(dims, ddof=1) / np.sqrt(n)
+    else:
+        sem_re = sem_im = xr.zeros_like(z.real)
+    out = xr.Dataset({"Z": mean, "sigma_real": sem_re, "sigma_imag": sem_im})
+    out.attrs = {"n_trials": n, "averaged_over": list(dims), "source": ds.attrs.get("source", "spectrum")}
+    return out
+
+
+def _same_frequencies(reference: np.ndarray, other: np.ndarray, name: str) -> None:
+    if other.shape != reference.shape or not np.allclose(other, reference, rtol=1e-9, atol=0.0):
+        raise DataError(f"{name}: frequencies differ from the total spectrum's ({other.size} vs {reference.size} points); measure all three on one frequency grid")
+
+
+def remaining_impedance(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dataset, *, over: Sequence[str] | None = None) -> xr.Dataset:
+    """Remaining impedance Z_R = Z_total − Z_skin − Z_TS (Sirin eq 5), complex, from the
+    trial means, with its standard error.
+
+    Each input is a spectrum Dataset with replicate dims (e.g. ``session``, ``trial``;
+    ``over`` names them, default all but ``frequency``). The three are independent
+    measurements, so the SEMs of Re and Im add in quadrature:
+    σ_Re(Z_R)² = Σ_k SEM_Re,k², likewise Im. Returns a spectrum Dataset with the mean ``Z``,
+    ``sigma_real``, ``sigma_imag`` and ``sigma`` = √((σ_Re² + σ_Im²)/2) (one sd for Re and Im,
+    as the data model's ``sigma``); no ``sigma`` when an input has a single spectrum or the
+    trials do not scatter (a zero standard error cannot weight a fit).
+    """
+    parts = {"total": _spectrum(total, "total"), "skin": _spectrum(skin, "skin"), "touchscreen": _spectrum(touchscreen, "touchscreen")}
+    freq = parts["total"]["frequency"].values
+    for name in ("skin", "touchscreen"):
+        _same_frequencies(freq, parts[name]["frequency"].values, name)
+    means = {name: trial_mean(ds, over=over if name == "total" else None) for name, ds in parts.items()}
+    z_r = means["total"]["Z"].values - means["skin"]["Z"].values - means["touchscreen"]["Z"].values
+    var_re = sum(m["sigma_real"].values ** 2 for m in means.values())
+    var_im = sum(m["sigma_imag"].values ** 2 for m in means.values())
+    counts = {name: m.attrs["n_trials"] for name, m in means.items()}
+    extra_dims = tuple(d for d in means["total"]["Z"].dims if d != "frequency")
+    if extra_dims:
+        raise DataError(f"total: dims {', '.join(extra_dims)} remain after averaging; name every replicate dim in `over`")
+    sigma = np.sqrt((var_re + var_im) / 2.0)
+    have_sigma = all(n >= 2 for n in counts.values()) and bool(np.all(sigma > 0))
+    sigma = sigma if have_sigma else None
+    ds = make_spectrum(
+        freq,
+        z_r,
+        sigma=sigma,
+        attrs={
+            "quantity": "remaining impedance Z_R = Z_total - Z_skin - Z_TS (Sirin et al. eq 5), trial means",
+            "sigma_method": "SEM of Re and Im of each measurement over its trials, added in quadrature; sigma = sqrt((sigma_real^2 + sigma_imag^2)/2)"
+            if have_sigma
+            else "not available: an input has a single spectrum, or the trials do not scatter",
+            "n_trials_total": counts["total"],
+            "n_trials_skin": counts["skin"],
+            "n_trials_touchscreen": counts["touchscreen"],
+        },
+        source="remaining_impedance",
+    )
+    if have_sigma:
+        ds["sigma_real"] = ("frequency", np.sqrt(var_re), {"units": "ohm", "long_name": "standard error of Re Z_R"})
+        ds["sigma_imag"] = ("frequency", np.sqrt(var_im), {"units": "ohm", "long_name": "standard error of Im Z_R"})
+    return ds
+
+
+def _complex_and_freq(z, freq=None):
+    if isinstance(z, xr.Dataset):
+        z = _spectrum(z, "remaining impedance")
+        if any(d != "frequency" for d in z["Z"].dims):
+            z = trial_mean(z)
+        return np.asarray(z["Z"].values), np.asarray(z["frequency"].values, dtype=np.float64)
+    if freq is None:
+        raise DataError("pass the frequencies [Hz] with a bare impedance array")
+    return np.asarray(z, dtype=np.complex128), np.asarray(freq, dtype=np.float64)
+
+
+def admittance_spectrum(z_r, freq=None) -> xr.Dataset:
+    """Admittance Y = 1/Z, capacitance C(ω) = Im(Y)/ω and |Y|/ω [F] of a spectrum (a Dataset,
+    trial-averaged if it has replicate dims, or a complex array with ``freq``) — Sirin Fig 4a/b."""
+    z, f = _complex_and_freq(z_r, freq)
+    omega = 2.0 * np.pi * f
+    y = 1.0 / z
+    return xr.Dataset(
+        {
+            "Y": ("frequency", y, {"units": "S", "long_name": "admittance 1/Z"}),
+            "capacitance": ("frequency", y.imag / omega, {"units": "F", "long_name": "Im(Y)/omega"}),
+            "abs_capacitance": ("frequency", np.abs(y) / omega, {"units": "F", "long_name": "|Y|/omega (Sirin's C_R above 30 Hz)"}),
+        },
+        coords={"frequency": ("frequency", f, {"units": "Hz"})},
+    )
+
+
+def gap_capacitance_paper(z_r, freq=None, *, cutoff_hz: float = 30.0, fmax_hz: float | None = None) -> float:
+    """C_gap by Sirin's method (§2.3): the arithmetic mean, over the measured frequencies with
+    ``cutoff_hz`` ≤ f (≤ ``fmax_hz`` if given), of |Y_R(f)|/ω = 1/(2πf |Z_R(f)|), where Z_R is
+    the trial-mean remaining impedance. Equal weight per measured point (log-spaced grids weight
+    every decade alike). Returns farads."""
+    z, f = _complex_and_freq(z_r, freq)
+    keep = f >= cutoff_hz
+    if fmax_hz is not None:
+        keep &= f <= fmax_hz
+    if not np.any(keep):
+        raise DataError(f"no frequencies between the cutoff {cutoff_hz:g} Hz and {fmax_hz if fmax_hz is not None else f.max():g} Hz")
+    return float(np.mean(1.0 / (2.0 * np.pi * f[keep] * np.abs(z[keep]))))
+
+
+def gap_thickness(c_gap, *, area: float = SIRIN_AREA, eps_gap: float = EPSILON_AIR):
+    """Average air-gap thickness u = ε0 ε_gap A / C_gap [m] (Sirin §2.3); works on floats,
+    numpy and JAX arrays (e.g. posterior draws of C_gap)."""
+    return EPSILON_0 * eps_gap * area / c_gap
+
+
+@dataclass(frozen=True)
+class PaperGapEstimate:
+    """Sirin's gap estimate: C_gap and u from the trial means, and the bounds from the lowest-
+    and highest-impedance trials (§2.3). SI units (F, m)."""
+
+    c_gap: float
+    gap: float
+    c_gap_low_impedance: float
+    c_gap_high_impedance: float
+    gap_lower: float
+    gap_upper: float
+    cutoff_hz: float
+    area: float
+    eps_gap: float
+
+    def to_xarray(self) -> xr.Dataset:
+        return xr.Dataset(
+            {
+                "c_gap": ((), self.c_gap, {"units": "F"}),
+                "gap": ((), self.gap, {"units": "m"}),
+                "c_gap_low_impedance": ((), self.c_gap_low_impedance, {"units": "F"}),
+                "c_gap_high_impedance": ((), self.c_gap_high_impedance, {"units": "F"}),
+                "gap_lower": ((), self.gap_lower, {"units": "m"}),
+                "gap_upper": ((), self.gap_upper, {"units": "m"}),
+            },
+            attrs={"method": "Sirin et al. 2.3: mean |Y_R|/omega above the cutoff; bounds from extreme-impedance trials", "cutoff_hz": self.cutoff_hz, "area_m2": self.area, "eps_gap": self.eps_gap},
+        )
+
+
+def _extreme_trial(ds: xr.Dataset, keep: np.ndarray, pick: str) -> np.ndarray:
+    z = ds["Z"]
+    dims = tuple(d for d in z.dims if d != "frequency")
+    flat = z.transpose(*dims, "frequency").values.reshape(-1, z.sizes["frequency"])
+    score = np.mean(np.log(np.abs(flat[:, keep])), axis=1)
+    return flat[np.argmin(score) if pick == "lowest" else np.argmax(score)]
+
+
+def paper_gap_estimate(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dataset, *, area: float = SIRIN_AREA, cutoff_hz: float = 30.0, fmax_hz: float | None = None, eps_gap: float = EPSILON_AIR) -> PaperGapEstimate:
+    """Sirin §2.3 end to end: Z_R from the trial means (eq 5), C_gap = mean |Y_R|/ω above the
+    cutoff (`gap_capacitance_paper`), u = ε0 ε_gap A/C_gap; and the paper's bounds "from the
+    lowest and highest impedances measured for skin, touchscreen and the total": for each of the
+    three measurements take the trial with the lowest (highest) impedance — ranked by the mean of
+    log|Z| over the frequencies used — subtract, and convert as above. The bounds are the
+    smaller and larger of the two resulting thicknesses."""
+    z_r = remaining_impedance(total, skin, touchscreen)
+    freq = z_r["frequency"].values
+    c_gap = gap_capacitance_paper(z_r, cutoff_hz=cutoff_hz, fmax_hz=fmax_hz)
+    keep = freq >= cutoff_hz
+    if fmax_hz is not None:
+        keep &= freq <= fmax_hz
+    c_extreme = {}
+    for pick in ("lowest", "highest"):
+        z = _extreme_trial(total, keep, pick) - _extreme_trial(skin, keep, pick) - _extreme_trial(touchscreen, keep, pick)
+        c_extreme[pick] = gap_capacitance_paper(z, freq, cutoff_hz=cutoff_hz, fmax_hz=fmax_hz)
+    gaps = sorted(float(gap_thickness(c, area=area, eps_gap=eps_gap)) for c in c_extreme.values())
+    return PaperGapEstimate(
+        c_gap, float(gap_thickness(c_gap, area=area, eps_gap=eps_gap)), c_extreme["lowest"], c_extreme["highest"], gaps[0], gaps[1], float(cutoff_hz), float(area), float(eps_gap)
+    )
+
+
+# --- gap voltage and force (pure JAX) ------------------------------------------------------
+
+
+def remainder_circuit(ep: str | None = "C") -> Circuit:
+    """The remainder model: ``"C"`` → R_EP || C_EP || C_gap (Sirin Fig 2d), ``"CPE"`` →
+    R_EP || CPE_EP || C_gap, ``None`` → C_gap alone (no electrode polarization)."""
+    if ep not in _REMAINDERS:
+        raise ParameterError(f"unknown electrode-polarization branch {ep!r}; use 'C', 'CPE' or None")
+    return parse(_REMAINDERS[ep])
+
+
+@functools.lru_cache(maxsize=None)
+def _compiled_remainder(text: str):
+    return compile_circuit(text), voltage_across(text, "C_gap")
+
+
+def _remainder_fns(ep, remainder):
+    text = str(remainder_circuit(ep)) if remainder is None else str(parse(remainder))
+    return _compiled_remainder(text)
+
+
+def remainder_impedance(params: Mapping[str, object], freq, *, ep: str | None = "C", remainder: str | Circuit | None = None):
+    """Z_R [Ω] of the remainder model (see `remainder_circuit`; ``remainder`` overrides it
+    with any circuit holding a ``C_gap``). Pure JAX; extra entries in ``params`` are ignored."""
+    return _remainder_fns(ep, remainder)[0](params, freq)
+
+
+def gap_voltage(params: Mapping[str, object], freq, z_skin, z_ts, *, v0: float = SIRIN_DRIVE_V, ep: str | None = "C", remainder: str | Circuit | None = None):
+    """Complex amplitude [V] of the voltage across C_gap for a drive of amplitude ``v0`` (Sirin §2.4).
+
+    The chain Z_TS + Z_R + Z_skin is driven by V0: I = V0/Z_total, V1 = V0 − Z_TS I,
+    V2 = Z_skin I, ΔV = V1 − V2; the gap voltage is the voltage across the C_gap element of the
+    solved remainder (with ``ep=None`` the remainder is C_gap alone: no charge leakage). The
+    printed eq 2, ΔV_gap = ΔV − R_EP[I − (I_gap + I_EP)], is not used: for three elements in
+    parallel I − I_gap − I_EP is the R_EP current, so it gives zero. ``z_skin``, ``z_ts``: complex
+    arrays over ``freq`` (measured means or models). Pure JAX: vmap over posterior draws.
+    """
+    z_r, across_gap = _remainder_fns(ep, remainder)
+    z_r = z_r(params, freq)
+    current = v0 / (z_ts + z_r + z_skin)
+    delta_v = (v0 - z_ts * current) - z_skin * current
+    return delta_v * across_gap(params, freq)
+
+
+def gap_force_peak(params: Mapping[str, object], freq, z_skin, z_ts, *, area: float = SIRIN_AREA, v0: float = SIRIN_DRIVE_V, ep: str | None = "C", eps_gap: float = EPSILON_AIR, gap=None, remainder: str | Circuit | None = None):
+    """PEAK electrostatic force [N] over a drive period, Sirin eq 1 at the voltage amplitude:
+    F = ½ ε0 A |ΔV_gap|²/u², with u = ε0 ε_gap A/C_gap from ``params["C_gap"]`` unless ``gap``
+    [m] is given. Pure JAX in ``params`` (vmap over draws)."""
+    u = gap_thickness(params["C_gap"], area=area, eps_gap=eps_gap) if gap is None else gap
+    v_gap = gap_voltage(params, freq, z_skin, z_ts, v0=v0, ep=ep, remainder=remainder)
+    return 0.5 * EPSILON_0 * area * jnp.abs(v_gap) ** 2 / u**2
+
+
+def gap_force_time_average(params: Mapping[str, object], freq, z_skin, z_ts, **kwargs):
+    """TIME-AVERAGED electrostatic force [N] for a sinusoidal drive: ½ `gap_force_peak`
+    (same arguments)."""
+    return 0.5 * gap_force_peak(params, freq, z_skin, z_ts, **kwargs)
+
+
+# --- contributions and friction ------------------------------------------------------------
+
+
+def magnitude_ratio(z_i, z_total):
+    """MR_i = |Z_i|/|Z_total| (Sirin eq 3, Fig 4c)."""
+    return np.abs(np.asarray(z_i)) / np.abs(np.asarray(z_total))
+
+
+def phase_synchronization(z_i, z_total):
+    """Percent phase synchronization PPS_i = [1 − |Φ_i − Φ_total|/|Φ_total|]·100 (Sirin eq 4,
+    Fig 4d); phases Φ = arg Z."""
+    phi_i, phi_t = np.angle(np.asarray(z_i)), np.angle(np.asarray(z_total))
+    return (1.0 - np.abs(phi_i - phi_t) / np.abs(phi_t)) * 100.0
+
+
+def impedance_contributions(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dataset) -> xr.Dataset:
+    """MR and PPS of skin, touchscreen and remaining against the total (trial means), over
+    ``component`` × ``frequency`` (Sirin Fig 4c, 4d)."""
+    z_r = remaining_impedance(total, skin, touchscreen)
+    z_tot = trial_mean(total)["Z"].values
+    comps = {"skin": trial_mean(skin)["Z"].values, "touchscreen": trial_mean(touchscreen)["Z"].values, "remaining": z_r["Z"].values}
+    names = list(comps)
+    return xr.Dataset(
+        {
+            "magnitude_ratio": (("component", "frequency"), np.stack([magnitude_ratio(comps[n], z_tot) for n in names])),
+            "phase_synchronization": (("component", "frequency"), np.stack([phase_synchronization(comps[n], z_tot) for n in names]), {"units": "percent"}),
+        },
+        coords={"component": names, "frequency": ("frequency", z_r["frequency"].values, {"units": "Hz"})},
+    )
+
+
+def force_from_friction_coefficients(mu_off, mu_on, normal_force=1.0):
+    """Sirin eq 6: F_e = (1 − µ_OFF/µ_ON) F_n [N] from the coefficients of friction without
+    (µ_OFF) and with (µ_ON) voltage at normal force F_n (1 N in the paper)."""
+    mu_off, mu_on = np.asarray(mu_off, dtype=np.float64), np.asarray(mu_on, dtype=np.float64)
+    if not (np.all(mu_on > 0) and np.all(mu_off > 0)):
+        raise ParameterError("friction coefficients must be positive")
+    return (1.0 - mu_off / mu_on) * np.asarray(normal_force, dtype=np.float64)

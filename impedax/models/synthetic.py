@@ -1,0 +1,192 @@
+"""SYNTHETIC example measurements in the style of Sirin et al. (the default data of ``make demo``).
+
+Nothing here is measured data. `generate_sirin_synthetic` draws spectra from closed-form
+numpy formulas (written independently of impedax's circuit compiler) for the four measurement
+groups of Sirin et al.: finger skin, touchscreen, and the total impedance of a finger sliding or
+stationary on the screen. The shipped file ``impedax/data/sirin_synthetic.nc`` is its output for
+the default seed; `load_example` reads it.
+
+Model (true values in `SIRIN_SYNTHETIC_TRUTH`, also stored in the Dataset's attrs):
+
+* skin:        R_inf + R ∥ CPE   (β-dispersion; phase maximum tuned to 250 Hz)
+* touchscreen: R_inf + R ∥ CPE   (phase maximum tuned to 100 kHz)
+* remainder, sliding:    R_EP ∥ CPE_EP ∥ C_gap, C_gap = 413 pF; the EP branch (electrode
+  polarization) equals the gap admittance near 20 Hz and fades above ≈ 30 Hz;
+* remainder, stationary: sweat shorts the gap — R_EP 200× smaller, the wet-gap capacitance 20×
+  C_gap — and hydrates the skin (skin R 10× smaller), giving ≈ 10× lower total impedance.
+* total = skin + touchscreen + remainder (in series, Sirin eq 5), each total trial with its own
+  skin and touchscreen draws (skin, screen and total are separate measurements).
+
+The small series resistance R_inf is what gives an R ∥ CPE a phase maximum (a bare R ∥ CPE
+tends monotonically to −α·90°); the measured electrodes and tissue provide it.
+
+Scatter: 3 sessions × 10 trials. Each parameter gets a session factor and a per-trial factor
+(log-normal; skin R varies most, as electrodermal activity does); CPE exponents get small
+additive jitter. Measurement noise is complex Gaussian with relative standard deviation
+0.4 % + 3 %·(1 Hz/f)^½, so it is larger at low frequency. Fixed seed; deterministic.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from ..data import log_frequencies, make_spectrum
+from ..errors import DataError
+
+__all__ = [
+    "SIRIN_SYNTHETIC_SEED",
+    "SIRIN_SYNTHETIC_TRUTH",
+    "generate_sirin_synthetic",
+    "load_example",
+    "example_spectra",
+    "example_path",
+    "r_cpe_series",
+]
+
+SIRIN_SYNTHETIC_SEED = 20230413
+"""Seed of the shipped synthetic file."""
+
+SIRIN_SYNTHETIC_TRUTH: dict[str, dict[str, float]] = {
+    "skin": {"R_inf": 1.5e4, "R": 3.0e6, "Q": 2.737e-8, "alpha": 0.70},
+    "touchscreen": {"R_inf": 150.0, "R": 3.0e4, "Q": 5.573e-9, "alpha": 0.85},
+    "remainder_sliding": {"R_EP": 2.0e7, "CPE_EP.Q": 2.0e-9, "CPE_EP.alpha": 0.25, "C_gap": 413e-12},
+    "remainder_stationary": {"R_EP": 1.0e5, "CPE_EP.Q": 2.0e-8, "CPE_EP.alpha": 0.25, "C_gap": 8.26e-9},
+    "stationary_skin_r_factor": {"value": 0.1},
+    "geometry": {"area_m2": 130e-6, "eps_gap": 1.00059},
+}
+"""True parameters [SI] of the synthetic example (Q in F·s^(α−1))."""
+
+_SPREAD = {  # (session σ, trial σ) of log-normal factors, or additive σ for exponents
+    "R_inf": (0.05, 0.05),
+    "R_skin": (0.15, 0.25),
+    "R_ts": (0.05, 0.08),
+    "Q": (0.03, 0.05),
+    "alpha": (0.005, 0.01),
+    "R_EP": (0.10, 0.20),
+    "C_gap": (0.01, 0.02),
+}
+
+_FILE = Path(__file__).resolve().parent.parent / "data" / "sirin_synthetic.nc"
+
+
+def r_cpe_series(freq, r_inf, r, q, alpha):
+    """Z = R_inf + R/(1 + R Q (jω)^α): an R ∥ CPE with a series resistance (numpy)."""
+    jw = 1j * 2.0 * np.pi * np.asarray(freq, dtype=np.float64)
+    return r_inf + r / (1.0 + r * q * jw**alpha)
+
+
+def _remainder(freq, r_ep, q_ep, alpha_ep, c_gap):
+    jw = 1j * 2.0 * np.pi * np.asarray(freq, dtype=np.float64)
+    return 1.0 / (1.0 / r_ep + q_ep * jw**alpha_ep + jw * c_gap)
+
+
+def generate_sirin_synthetic(seed: int = SIRIN_SYNTHETIC_SEED, *, sessions: int = 3, trials: int = 10, points: int = 61, fmin: float = 1.0, fmax: float = 1e6) -> xr.Dataset:
+    """Generate the SYNTHETIC Sirin-style example (see the module docstring for the model).
+
+    Returns one Dataset over ``frequency`` [Hz] (``points`` log-spaced, ``fmin``–``fmax``),
+    ``session`` and ``trial`` with complex variables ``Z_total`` (extra dim ``contact`` =
+    sliding, stationary), ``Z_skin`` and ``Z_touchscreen`` [Ω]; attrs hold the truth, the seed
+    and the generator. `example_spectra` splits it into standard spectrum Datasets.
+    """
+    rng = np.random.default_rng(seed)
+    freq = log_frequencies(fmin, fmax, points)
+    shape = (sessions, trials)
+    truth = SIRIN_SYNTHETIC_TRUTH
+
+    def factor(kind):
+        s_sess, s_trial = _SPREAD[kind]
+        return np.exp(rng.normal(0.0, s_sess, (sessions, 1)) + rng.normal(0.0, s_trial, shape))[..., None]
+
+    def jitter(kind):
+        s_sess, s_trial = _SPREAD[kind]
+        return (rng.normal(0.0, s_sess, (sessions, 1)) + rng.normal(0.0, s_trial, shape))[..., None]
+
+    def skin(r_factor=1.0):
+        p = truth["skin"]
+        return r_cpe_series(freq, p["R_inf"] * factor("R_inf"), r_factor * p["R"] * factor("R_skin"), p["Q"] * factor("Q"), p["alpha"] + jitter("alpha"))
+
+    def screen():
+        p = truth["touchscreen"]
+        return r_cpe_series(freq, p["R_inf"] * factor("R_inf"), p["R"] * factor("R_ts"), p["Q"] * factor("Q"), p["alpha"] + jitter("alpha"))
+
+    def remainder(p):
+        return _remainder(freq, p["R_EP"] * factor("R_EP"), p["CPE_EP.Q"] * factor("Q"), p["CPE_EP.alpha"] + jitter("alpha"), p["C_gap"] * factor("C_gap"))
+
+    def measured(z):
+        rel = 0.004 + 0.03 / np.sqrt(freq)
+        noise = rng.normal(0.0, 1.0, z.shape + (2,)) @ np.array([1.0, 1j])
+        return z * (1.0 + rel * noise / np.sqrt(2.0))
+
+    z_skin = measured(skin())
+    z_ts = measured(screen())
+    sliding = measured(skin() + screen() + remainder(truth["remainder_sliding"]))
+    stationary = measured(skin(truth["stationary_skin_r_factor"]["value"]) + screen() + remainder(truth["remainder_stationary"]))
+    coords = {
+        "frequency": ("frequency", freq, {"units": "Hz"}),
+        "session": ("session", np.arange(1, sessions + 1)),
+        "trial": ("trial", np.arange(1, trials + 1)),
+        "contact": ("contact", np.array(["sliding", "stationary"])),
+    }
+    z_attrs = {"units": "ohm"}
+    return xr.Dataset(
+        {
+            "Z_total": (("contact", "session", "trial", "frequency"), np.stack([sliding, stationary]), {**z_attrs, "long_name": "total impedance, finger on touchscreen"}),
+            "Z_skin": (("session", "trial", "frequency"), z_skin, {**z_attrs, "long_name": "finger skin bioimpedance"}),
+            "Z_touchscreen": (("session", "trial", "frequency"), z_ts, {**z_attrs, "long_name": "touchscreen impedance"}),
+        },
+        coords=coords,
+        attrs={
+            "title": "SYNTHETIC finger-touchscreen impedance in the style of Sirin et al.",
+            "synthetic": "yes: generated by impedax.models.synthetic.generate_sirin_synthetic, not measured",
+            "generator": "impedax.models.synthetic.generate_sirin_synthetic",
+            "seed": int(seed),
+            "truth": json.loads(json.dumps(truth)),
+            "noise": "per-session and per-trial log-normal parameter factors; complex Gaussian noise, relative sd 0.4% + 3%*(1 Hz/f)^0.5",
+            "source": "impedax synthetic example (Sirin et al. style)",
+        },
+    )
+
+
+def example_path(name: str = "sirin") -> Path:
+    """Path of a shipped example file."""
+    if name != "sirin":
+        raise DataError(f"unknown example {name!r}; available: sirin")
+    return _FILE
+
+
+def load_example(name: str = "sirin") -> xr.Dataset:
+    """Load the shipped SYNTHETIC example Dataset (see `generate_sirin_synthetic`)."""
+    from ..io import read_netcdf
+
+    return read_netcdf(example_path(name))
+
+
+_PARTS = {
+    "total_sliding": ("Z_total", {"contact": "sliding"}, "total impedance, finger sliding"),
+    "total_stationary": ("Z_total", {"contact": "stationary"}, "total impedance, finger stationary"),
+    "skin": ("Z_skin", {}, "finger skin"),
+    "touchscreen": ("Z_touchscreen", {}, "touchscreen"),
+}
+
+
+def example_spectra(ds: xr.Dataset | None = None) -> dict[str, xr.Dataset]:
+    """The example as standard spectrum Datasets (complex ``Z`` over ``frequency`` with dims
+    ``session``, ``trial``): keys ``total_sliding``, ``total_stationary``, ``skin``,
+    ``touchscreen``. ``ds`` defaults to `load_example`."""
+    ds = load_example() if ds is None else ds
+    out = {}
+    for key, (var, sel, what) in _PARTS.items():
+        z = ds[var].sel(sel).transpose("session", "trial", "frequency")
+        out[key] = make_spectrum(
+            ds["frequency"].values,
+            z.values,
+            dims=("session", "trial"),
+            coords={"session": ds["session"].values, "trial": ds["trial"].values},
+            attrs={"synthetic": ds.attrs.get("synthetic", "yes"), "seed": ds.attrs.get("seed"), "measurement": what},
+            source=f"impedax synthetic example: {key}",
+        )
+    return out

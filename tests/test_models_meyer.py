@@ -1,0 +1,154 @@
+"""Meyer (2012 thesis) model: reference numbers of Fig 3.4, probes against the hand-derived
+divider, the time-average convention against a time-domain average, static forces, friction."""
+
+import math
+
+import jax
+import numpy as np
+import pytest
+
+from impedax.errors import DataError, ParameterError
+from impedax.models import meyer
+
+E0 = 8.8541878128e-12
+THESIS = {"C_s": 140e-12, "C_i": 1.7e-9, "R_sc": 130e3, "C_sc": 2.2e-9, "R_f": 500.0}
+AREA = math.pi * 0.004**2
+
+
+def _dense_force(params, area=AREA, variant="rc"):
+    f = np.geomspace(1.0, 1e9, 40001)
+    return f, np.asarray(meyer.force_time_average(params, f, area=area, v_a=140.0, variant=variant))
+
+
+def _half_points(f, force):
+    above = np.flatnonzero(force >= force.max() / 2)
+    lo, hi = above[0], above[-1]
+    # log-linear interpolation of the crossings
+    f_lo = np.exp(np.interp(force.max() / 2, [force[lo - 1], force[lo]], np.log([f[lo - 1], f[lo]])))
+    f_hi = np.exp(np.interp(force.max() / 2, [force[hi + 1], force[hi]], np.log([f[hi + 1], f[hi]])))
+    return f_lo, f_hi
+
+
+def test_thesis_reference_numbers():
+    f, force = _dense_force(THESIS)
+    k = np.argmax(force)
+    assert force[k] == pytest.approx(0.164, rel=0.02)
+    assert f[k] == pytest.approx(37e3, rel=0.05)
+    f_lo, f_hi = _half_points(f, force)
+    assert f_lo == pytest.approx(530.0, rel=0.03)
+    assert f_hi == pytest.approx(2.6e6, rel=0.03)
+    ten = float(meyer.force_time_average(THESIS, np.array([10.0]), area=AREA, v_a=140.0)[0])
+    assert ten == pytest.approx(0.06e-3, rel=0.05)
+
+
+def test_physical_parametrization_matches_eq_3_13():
+    p = meyer.meyer_parameters(meyer.THESIS_PHYSICAL)
+    assert p["R_sc"] == pytest.approx(130e3, rel=0.02)
+    assert p["C_sc"] == pytest.approx(2.2e-9, rel=0.02)
+    assert p["C_i"] == pytest.approx(1.7e-9, rel=0.03)
+    assert p["R_sc"] == pytest.approx(33e3 * 200e-6 / AREA, rel=1e-12)
+    assert p["C_i"] == pytest.approx(E0 * 3.9 * AREA / 1e-6, rel=1e-12)
+    f, force = _dense_force(p)
+    assert force.max() == pytest.approx(0.164, rel=0.03)
+    assert f[np.argmax(force)] == pytest.approx(37e3, rel=0.05)
+
+
+def test_model_factory_defaults_and_overrides():
+    model = meyer.meyer_model()
+    assert str(model.circuit) == "C_s + C_i + R_sc || C_sc + R_f"
+    assert dict(model.params) == THESIS and model.area == pytest.approx(AREA)
+    cpe = meyer.meyer_model("cpe", alpha=0.7)
+    assert "CPE_sc.Q" in cpe.params and cpe.params["CPE_sc.alpha"] == 0.7
+    changed = model.with_params(R_f=1000.0)
+    assert changed.params["R_f"] == 1000.0 and model.params["R_f"] == 500.0
+    with pytest.raises(ParameterError, match="R_f"):
+        model.with_params(Rf=1.0)
+    with pytest.raises(ParameterError, match="variant"):
+        meyer.meyer_circuit("rlc")
+    ds = model.to_xarray(np.geomspace(10, 1e6, 11))
+    assert ds["force"].attrs["convention"] == "time-average"
+
+
+def _divider(params, f):
+    """Hand-derived: V_F/V_A = C_s (1 + s R_sc (C_sc + C_i)) / D, Q_f/V_A = C_i C_s / D (A.1)."""
+    s = 2j * np.pi * f
+    cs, ci, r, csc, rf = (params[k] for k in ("C_s", "C_i", "R_sc", "C_sc", "R_f"))
+    d = ci + cs + (csc * r * (ci + cs) + ci * cs * (rf + r)) * s + ci * cs * csc * rf * r * s**2
+    return cs * (1 + s * r * (csc + ci)) / d, ci * cs / d, (cs + csc * r * (ci + cs) * s) / d
+
+
+def test_probes_match_circuit_derivation_not_printed_numerator():
+    f = np.geomspace(1.0, 1e8, 57)
+    v_f, q_f, printed = _divider(THESIS, f)
+    np.testing.assert_allclose(np.asarray(meyer.finger_voltage(THESIS, f)), v_f, rtol=1e-10)
+    np.testing.assert_allclose(np.asarray(meyer.leaked_charge(THESIS, f)), q_f, rtol=1e-10)
+    # the printed eq 3.12 numerator differs from the circuit (PHYSICS.md)
+    assert np.max(np.abs(printed / v_f - 1)) > 0.1
+
+
+def test_time_average_is_mean_of_eq_3_6_over_a_period():
+    for f0 in (300.0, 37e3, 3e6):
+        v_f = complex(meyer.finger_voltage(THESIS, np.array([f0]))[0]) * 140.0
+        q_f = complex(meyer.leaked_charge(THESIS, np.array([f0]))[0]) * 140.0
+        t = np.linspace(0.0, 1.0 / f0, 4001)[:-1]
+        phase = np.exp(2j * np.pi * f0 * t)
+        inst = meyer.force_from_charge(np.real(v_f * phase), np.real(q_f * phase), c_i=THESIS["C_i"], c_sc=THESIS["C_sc"], area=AREA)
+        avg = float(meyer.force_time_average(THESIS, np.array([f0]), area=AREA, v_a=140.0)[0])
+        assert np.mean(np.asarray(inst)) == pytest.approx(avg, rel=1e-9)
+
+
+def test_cpe_variant_with_alpha_one_is_the_rc_model():
+    p = dict(THESIS)
+    p_cpe = {k: v for k, v in p.items() if k != "C_sc"} | {"CPE_sc.Q": p["C_sc"], "CPE_sc.alpha": 1.0}
+    f = np.geomspace(10, 1e8, 31)
+    np.testing.assert_allclose(np.asarray(meyer.force_time_average(p_cpe, f, variant="cpe")), np.asarray(meyer.force_time_average(p, f)), rtol=1e-9)
+
+
+def test_force_vanishes_at_dc_and_vmaps_over_draws():
+    low = float(meyer.force_time_average(THESIS, np.array([1e-3]))[0])
+    assert low < 1e-9
+    rng = np.random.default_rng(3)
+    draws = {k: v * np.exp(rng.normal(0, 0.1, 8)) for k, v in THESIS.items()}
+    f = np.geomspace(10, 1e7, 13)
+    batched = jax.vmap(lambda p: meyer.force_time_average(p, f))(draws)
+    for i in (0, 5):
+        one = meyer.force_time_average({k: v[i] for k, v in draws.items()}, f)
+        np.testing.assert_allclose(np.asarray(batched[i]), np.asarray(one), rtol=1e-12)
+
+
+def test_static_forces_eq_3_7_to_3_9():
+    kw = dict(area=AREA, d_sc=200e-6, eps_sc=1000.0)
+    f37 = float(meyer.static_force_series(100.0, d_i=1e-6, eps_i=3.9, **kw))
+    # hand value: eps0 A V^2 / (2 (d_i/eps_i + d_sc/eps_sc)^2)
+    assert f37 == pytest.approx(E0 * AREA * 1e4 / (2 * (1e-6 / 3.9 + 2e-7) ** 2), rel=1e-12)
+    f1, f2 = float(meyer.static_force_f1(100.0, **kw)), float(meyer.static_force_f2(100.0, **kw))
+    assert f1 == pytest.approx(1000.0 * f2, rel=1e-12)
+    assert float(meyer.static_force_series(100.0, d_i=1e-12, eps_i=3.9, **kw)) == pytest.approx(f1, rel=1e-4)
+    # F1 = Q^2/(2 eps0 A) with Q = C V (eq 3.10)
+    q = E0 * 1000.0 * AREA / 200e-6 * 100.0
+    assert f1 == pytest.approx(q**2 / (2 * E0 * AREA), rel=1e-12)
+
+
+def test_friction_regression_and_force(rng):
+    normal = np.repeat([0.3, 0.5, 0.7, 0.9, 1.1], 8)
+    friction = 0.8 * normal + 0.02 + rng.normal(0, 0.01, normal.size)
+    line = meyer.friction_coefficient(normal, friction)
+    assert line.mu == pytest.approx(0.8, abs=4 * line.mu_stderr) and line.mu_stderr < 0.02
+    assert meyer.force_from_friction(0.08, line) == pytest.approx(0.08 / line.mu)
+    assert float(line.to_xarray()["mu"]) == line.mu
+    origin = meyer.friction_coefficient(normal, 0.8 * normal, through_origin=True)
+    assert origin.mu == pytest.approx(0.8) and origin.offset == 0.0
+
+
+@pytest.mark.parametrize(
+    "normal, friction, match",
+    [([0.1, 0.2], [0.1], "values"), ([0.5, 0.5, 0.5], [0.1, 0.2, 0.3], "equal"), ([0.1, 0.2], [0.1, 0.2], "at least 3"), ([0.1, np.nan, 0.3], [1, 2, 3], "finite")],
+)
+def test_friction_bad_input(normal, friction, match):
+    with pytest.raises(DataError, match=match):
+        meyer.friction_coefficient(normal, friction)
+
+
+def test_force_from_friction_rejects_nonpositive_mu():
+    with pytest.raises(ParameterError):
+        meyer.force_from_friction(0.1, 0.0)

@@ -1,0 +1,180 @@
+"""Sirin et al.: subtraction with SEM propagation (against a Monte Carlo), the paper's C_gap
+method, gap thickness, gap voltage against the node equations, force with and without EP."""
+
+import jax
+import numpy as np
+import pytest
+
+import impedax as ix
+from impedax.errors import DataError, ParameterError
+from impedax.models import sirin
+
+E0 = 8.8541878128e-12
+F61 = np.geomspace(1.0, 1e6, 61)
+
+
+def rcpe(f, r_inf, r, q, a):
+    return r_inf + r / (1 + r * q * (2j * np.pi * f) ** a)
+
+
+def edl(f, R_EP, C_EP, C_gap):  # noqa: N803 - circuit parameter names
+    r_ep, c_ep, c_gap = R_EP, C_EP, C_gap
+    w = 2 * np.pi * f
+    return 1 / (1 / r_ep + 1j * w * c_ep + 1j * w * c_gap)
+
+
+SKIN = rcpe(F61, 1.5e4, 3.0e6, 2.737e-8, 0.70)
+TS = rcpe(F61, 150.0, 3.0e4, 5.573e-9, 0.85)
+EDL = {"R_EP": 2e7, "C_EP": 50e-12, "C_gap": 413e-12}
+
+
+def test_gap_thickness_reference():
+    u = sirin.gap_thickness(413e-12, area=130e-6)
+    assert u == pytest.approx(2.79e-6, rel=0.003)
+    assert u == pytest.approx(E0 * 1.00059 * 130e-6 / 413e-12, rel=1e-12)
+    draws = np.array([400e-12, 413e-12, 430e-12])
+    np.testing.assert_allclose(np.asarray(sirin.gap_thickness(jax.numpy.asarray(draws))), E0 * 1.00059 * 130e-6 / draws)
+
+
+def _spectra(rng, z, n, rel_sd, freq):
+    noise = rng.normal(0, 1, (n, freq.size)) + 1j * rng.normal(0, 0.5, (n, freq.size))
+    return ix.make_spectrum(freq, z[None, :] + rel_sd * np.abs(z)[None, :] * noise, dims=("trial",))
+
+
+def test_subtraction_is_exact_without_noise():
+    zr = EDL_Z = edl(F61, **EDL)
+    one = lambda z: ix.make_spectrum(F61, np.stack([z, z]), dims=("trial",))  # noqa: E731
+    out = sirin.remaining_impedance(one(SKIN + TS + zr), one(SKIN), one(TS))
+    np.testing.assert_allclose(out["Z"].values, EDL_Z, rtol=1e-9)
+
+
+def test_sem_propagation_matches_monte_carlo():
+    rng = np.random.default_rng(11)
+    freq = np.geomspace(10, 1e5, 5)
+    z_tot, z_s, z_t = edl(freq, **EDL) + 1e5, rcpe(freq, 1e3, 1e5, 1e-8, 0.8), rcpe(freq, 100, 1e4, 1e-9, 0.9)
+    sizes = {"total": 30, "skin": 20, "ts": 12}
+    rel = {"total": 0.05, "skin": 0.2, "ts": 0.1}
+    predicted_re, predicted_im, means = [], [], []
+    for _ in range(400):
+        t = _spectra(rng, z_tot, sizes["total"], rel["total"], freq)
+        s = _spectra(rng, z_s, sizes["skin"], rel["skin"], freq)
+        m = _spectra(rng, z_t, sizes["ts"], rel["ts"], freq)
+        out = sirin.remaining_impedance(t, s, m)
+        predicted_re.append(out["sigma_real"].values)
+        predicted_im.append(out["sigma_imag"].values)
+        means.append(out["Z"].values)
+    means = np.array(means)
+    # the Monte Carlo spread of the mean Z_R against the mean predicted SEM (400 reps: ~4 % noise)
+    np.testing.assert_allclose(np.mean(predicted_re, axis=0), means.real.std(axis=0, ddof=1), rtol=0.12)
+    np.testing.assert_allclose(np.mean(predicted_im, axis=0), means.imag.std(axis=0, ddof=1), rtol=0.12)
+    # and against the closed form: sqrt(sum rel^2 |z|^2 var_part / n)
+    expected_re = np.sqrt(sum((rel[k] * np.abs(z)) ** 2 / sizes[k] for k, z in zip(sizes, (z_tot, z_s, z_t))))
+    np.testing.assert_allclose(np.mean(predicted_re, axis=0), expected_re, rtol=0.05)
+    assert np.all(out["sigma"].values == pytest.approx(np.sqrt((out["sigma_real"] ** 2 + out["sigma_imag"] ** 2) / 2).values))
+
+
+def test_subtraction_bad_input():
+    a = ix.make_spectrum(F61, np.stack([SKIN, SKIN]), dims=("trial",))
+    b = ix.make_spectrum(F61[:-1], np.stack([SKIN[:-1], SKIN[:-1]]), dims=("trial",))
+    with pytest.raises(DataError, match="skin: frequencies differ"):
+        sirin.remaining_impedance(a, b, a)
+    with pytest.raises(DataError, match="expected a spectrum Dataset"):
+        sirin.remaining_impedance(a, SKIN, a)
+    single = ix.make_spectrum(F61, SKIN)
+    out = sirin.remaining_impedance(single, a, a)
+    assert "sigma" not in out and "not available" in out.attrs["sigma_method"]
+
+
+def test_paper_capacitance_method():
+    pure = 1 / (2j * np.pi * F61 * 413e-12)
+    assert sirin.gap_capacitance_paper(pure, F61) == pytest.approx(413e-12, rel=1e-12)
+    z = edl(F61, 2e7, 0.0, 413e-12)
+    c = sirin.gap_capacitance_paper(z, F61)
+    # by hand: mean over f >= 30 Hz of sqrt(C^2 + (1/(w R))^2)
+    keep = F61 >= 30
+    w = 2 * np.pi * F61[keep]
+    assert c == pytest.approx(np.mean(np.sqrt(413e-12**2 + (1 / (w * 2e7)) ** 2)), rel=1e-12)
+    assert sirin.gap_capacitance_paper(z, F61, cutoff_hz=1e3, fmax_hz=1e4) == pytest.approx(413e-12, rel=1e-3)
+    with pytest.raises(DataError, match="no frequencies"):
+        sirin.gap_capacitance_paper(z, F61, cutoff_hz=2e6)
+    spec = sirin.admittance_spectrum(z, F61)
+    np.testing.assert_allclose(spec["capacitance"].values, np.full(61, 413e-12), rtol=1e-12)
+
+
+def test_paper_bounds_use_extreme_trials():
+    low, mid, high = 400e-12, 413e-12, 430e-12
+    trials = lambda zs: ix.make_spectrum(F61, np.stack(zs), dims=("trial",))  # noqa: E731
+    gap = lambda c: 1 / (2j * np.pi * F61 * c)  # noqa: E731
+    total = trials([SKIN + TS + gap(c) for c in (low, mid, high)])
+    est = sirin.paper_gap_estimate(total, trials([SKIN] * 3), trials([TS] * 3), area=130e-6)
+    # lowest total impedance = largest capacitance → smallest gap
+    assert est.gap_lower == pytest.approx(sirin.gap_thickness(high), rel=1e-9)
+    assert est.gap_upper == pytest.approx(sirin.gap_thickness(low), rel=1e-9)
+    assert est.gap_lower < est.gap < est.gap_upper
+    assert float(est.to_xarray()["gap"]) == est.gap
+
+
+def _node_voltage_gap(z_r, v0=75.0):
+    z_total = TS + z_r + SKIN
+    i = v0 / z_total
+    v1, v2 = v0 - TS * i, SKIN * i
+    return v1 - v2
+
+
+def test_gap_voltage_matches_node_equations():
+    v = np.asarray(sirin.gap_voltage(EDL, F61, SKIN, TS, ep="C"))
+    np.testing.assert_allclose(v, _node_voltage_gap(edl(F61, **EDL)), rtol=1e-10)
+    v_noep = np.asarray(sirin.gap_voltage(EDL, F61, SKIN, TS, ep=None))
+    np.testing.assert_allclose(v_noep, _node_voltage_gap(1 / (2j * np.pi * F61 * 413e-12)), rtol=1e-10)
+    # a remainder with a series element: the gap sees only its share of the remainder voltage
+    params = {**EDL, "R_s": 1e4}
+    z_par = edl(F61, **EDL)
+    v_series = np.asarray(sirin.gap_voltage(params, F61, SKIN, TS, remainder="R_s + R_EP || C_EP || C_gap"))
+    np.testing.assert_allclose(v_series, _node_voltage_gap(z_par + 1e4) * z_par / (z_par + 1e4), rtol=1e-10)
+
+
+def test_force_with_and_without_ep():
+    params = {"R_EP": 2e7, "CPE_EP.Q": 2e-9, "CPE_EP.alpha": 0.25, "C_gap": 413e-12}
+    with_ep = np.asarray(sirin.gap_force_peak(params, F61, SKIN, TS, ep="CPE"))
+    without = np.asarray(sirin.gap_force_peak(params, F61, SKIN, TS, ep=None))
+    low = F61 < 30
+    assert np.all(with_ep[low] < without[low])
+    assert np.all(with_ep[F61 <= 3] < 0.85 * without[F61 <= 3])
+    flat = F61 <= 250
+    assert without[flat].min() > 0.75 * without.max()
+    assert without.max() == pytest.approx(without[0], rel=1e-2)
+    above = F61 >= 250
+    assert np.all(np.diff(without[above]) < 0) and without[F61 >= 1e4][0] < 0.5 * without.max()
+    # eq 1 by hand at 1 Hz, no EP: 1/2 eps0 A |dV|^2 / u^2, u from C_gap
+    u = E0 * 1.00059 * 130e-6 / 413e-12
+    dv = _node_voltage_gap(1 / (2j * np.pi * F61 * 413e-12))
+    np.testing.assert_allclose(without, 0.5 * E0 * 130e-6 * np.abs(dv) ** 2 / u**2, rtol=1e-10)
+    np.testing.assert_allclose(np.asarray(sirin.gap_force_time_average(params, F61, SKIN, TS, ep=None)), without / 2, rtol=1e-12)
+
+
+def test_force_vmaps_over_posterior_draws():
+    rng = np.random.default_rng(5)
+    draws = {k: v * np.exp(rng.normal(0, 0.05, 16)) for k, v in EDL.items()}
+    batched = jax.vmap(lambda p: sirin.gap_force_peak(p, F61, SKIN, TS))(draws)
+    assert batched.shape == (16, 61)
+    one = sirin.gap_force_peak({k: v[3] for k, v in draws.items()}, F61, SKIN, TS)
+    np.testing.assert_allclose(np.asarray(batched[3]), np.asarray(one), rtol=1e-12)
+    with pytest.raises(ParameterError, match="electrode-polarization"):
+        sirin.remainder_circuit("L")
+
+
+def test_magnitude_ratio_phase_sync_and_friction():
+    z_t = np.array([100 * np.exp(-1j * np.pi / 3)])
+    assert sirin.magnitude_ratio(z_t / 4, z_t)[0] == pytest.approx(0.25)
+    assert sirin.phase_synchronization(z_t, z_t)[0] == pytest.approx(100.0)
+    assert sirin.phase_synchronization(np.array([np.exp(-1j * np.pi / 6)]), z_t)[0] == pytest.approx(50.0)
+    assert sirin.force_from_friction_coefficients(0.5, 0.625) == pytest.approx(0.2)
+    with pytest.raises(ParameterError):
+        sirin.force_from_friction_coefficients(0.5, 0.0)
+
+
+def test_contributions_dataset():
+    trials = lambda z: ix.make_spectrum(F61, np.stack([z, z]), dims=("trial",))  # noqa: E731
+    zr = edl(F61, **EDL)
+    ds = sirin.impedance_contributions(trials(SKIN + TS + zr), trials(SKIN), trials(TS))
+    np.testing.assert_allclose(ds["magnitude_ratio"].sel(component="remaining").values, np.abs(zr) / np.abs(SKIN + TS + zr), rtol=1e-9)
