@@ -1,6 +1,7 @@
 """Circuit language, element registry, compiler and probes."""
 
 from ._compile import (
+    PROGRAM_SCALES as PROGRAM_SCALES,
     ProgramLayout as ProgramLayout,
     default_theta as default_theta,
     CircuitProgram as CircuitProgram,

@@ -225,6 +225,20 @@ class ProgramLayout:
         return cls(registry, caps, 8 * scale)
 
 
+    @classmethod
+    def covering(cls, circuits, registry: Registry = DEFAULT_REGISTRY) -> "ProgramLayout":
+        """The smallest layout that holds every circuit in ``circuits`` (kind counts and nodes)."""
+        caps = [0] * len(registry.specs)
+        nodes = 1
+        for c in circuits:
+            counts = [0] * len(registry.specs)
+            for e in c.elements():
+                counts[registry.kind_index(e.symbol)] += 1
+            caps = [max(a, b) for a, b in zip(caps, counts)]
+            nodes = max(nodes, _count_nodes(c) + 1)
+        return cls(registry, tuple(caps), nodes)
+
+
 PROGRAM_SCALES = (1, 2, 4)
 
 

@@ -16,7 +16,7 @@ import jax.numpy as jnp
 import numpy as np
 import xarray as xr
 
-from ..circuits import PROGRAM_SCALES, Circuit, CircuitProgram, DEFAULT_REGISTRY, ProgramLayout, Registry, default_theta, parse
+from ..circuits import Circuit, CircuitProgram, DEFAULT_REGISTRY, ProgramLayout, Registry, default_theta, parse
 from ..errors import FitError
 from ._core import program_solver
 from ._fit import FitResult, _prepare, _result, _weights
@@ -154,12 +154,6 @@ def _inside(circuit: Circuit, values: Mapping[str, float], registry: Registry) -
 
 
 def _shared_layout(circuits: Sequence[Circuit], registry: Registry) -> ProgramLayout:
-    for scale in PROGRAM_SCALES:
-        layout = ProgramLayout.sized(scale, registry)
-        try:
-            for c in circuits:
-                CircuitProgram.build(c, registry, layout)
-        except Exception:  # noqa: BLE001 - too small: try the next size
-            continue
-        return layout
-    raise FitError("a candidate circuit is too large for a padded program")
+    """A tight layout: evaluation cost grows with the slot count, and a candidate set of one
+    diagnosis always yields the same layout (so the compilation is reused)."""
+    return ProgramLayout.covering(circuits, registry)
