@@ -41,5 +41,6 @@ from .errors import (  # noqa: E402
     ParameterError as ParameterError,
 )
 from .io import load as load, save as save  # noqa: E402
+from .fitting._kk import KKBatchResult as KKBatchResult, KKResult as KKResult, kk_test as kk_test, kk_test_batch as kk_test_batch  # noqa: E402
 
 __version__ = "0.1.0"

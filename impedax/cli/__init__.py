@@ -9,7 +9,7 @@ import importlib
 import os
 import sys
 
-_COMMAND_MODULES = ("simulate", "info", "demo")
+_COMMAND_MODULES = ("simulate", "info", "demo", "kk")
 
 
 def _configure_jax_cache() -> None:
