@@ -15,6 +15,7 @@ described in `kk_test` and docs/kk.md.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field
 from typing import Mapping
@@ -291,6 +292,13 @@ def _time_constants(freq: np.ndarray, m: int) -> np.ndarray:
     return tau_min * (tau_max / tau_min) ** (np.arange(m) / (m - 1))
 
 
+@functools.lru_cache(maxsize=16)
+def _design_cached(freq_bytes: bytes, m_values: tuple[int, ...], inductance: bool, capacitance: bool):
+    basis, taus, n_series = _design(np.frombuffer(freq_bytes), m_values, inductance, capacitance)
+    basis.flags.writeable = False
+    return basis, taus, n_series
+
+
 def _design(freq, m_values, inductance, capacitance):
     """Complex design matrices of every candidate M, padded to one width: (n_M, N, P).
 
@@ -340,18 +348,20 @@ def _solve_all(basis, m_values, n_series, z):
     r = np.linalg.qr(a, mode="r")
     b = np.concatenate([b, np.zeros((b.shape[0], p))], axis=1)  # pinned rows have zero target
     try:
-        x = _seminormal(a, r, b)
-        x = x + _seminormal(a, r, b[:, None, :] - np.einsum("bmnp,bmp->bmn", a, x))
+        r_inv = np.linalg.inv(r)  # triangular, (P, P): one batched inverse serves both solves
+        x = _seminormal(a, r_inv, b)
+        x = x + _seminormal(a, r_inv, b[:, None, :] - np.einsum("bmnp,bmp->bmn", a, x))
     except np.linalg.LinAlgError:  # rank-deficient design (e.g. nearly coincident frequencies)
         x = np.stack([np.stack([np.linalg.lstsq(a[i, j], b[i], rcond=None)[0] for j in range(n_m)]) for i in range(a.shape[0])])
     return x / np.where(unused, 1.0, scale)
 
 
-def _seminormal(a, r, b):
-    """Solve RᵀR x = Aᵀb for stacks a (B, n_M, rows, P), r (B, n_M, P, P), b (B, rows) or (B, n_M, rows)."""
+def _seminormal(a, r_inv, b):
+    """x = R⁻¹R⁻ᵀAᵀb, i.e. RᵀR x = Aᵀb, for stacks a (B, n_M, rows, P), r_inv (B, n_M, P, P) and
+    b (B, rows) or (B, n_M, rows)."""
     atb = np.einsum("bmnp,bn->bmp", a, b) if b.ndim == 2 else np.einsum("bmnp,bmn->bmp", a, b)
-    y = np.linalg.solve(np.swapaxes(r, -1, -2), atb[..., None])
-    return np.linalg.solve(r, y)[..., 0]
+    y = np.einsum("bmqp,bmq->bmp", r_inv, atb)  # R⁻ᵀ atb
+    return np.einsum("bmpq,bmq->bmp", r_inv, y)
 
 
 def _mu(resistances: np.ndarray) -> np.ndarray:
@@ -431,7 +441,7 @@ def _kk_arrays(freq, z, *, c, max_rc, n_rc, inductance, capacitance, floor):
     n_series = 1 + int(inductance) + int(capacitance)
     m_top = _check_options(n, c, max_rc, n_rc, n_series)
     m_values = [m_top] if n_rc is not None else list(range(1, m_top + 1))
-    basis, taus, n_series = _design(freq, m_values, inductance, capacitance)
+    basis, taus, n_series = _design_cached(np.ascontiguousarray(freq, dtype=np.float64).tobytes(), tuple(m_values), inductance, capacitance)
     chosen = []
     chunk = max(1, int(2e7 // (basis.size * 4)))  # bound the (B, n_M, 2N+P, P) work array
     for start in range(0, batch, chunk):
@@ -572,7 +582,7 @@ def _run(freq, z, shape, dims, coords, *, c, max_rc, n_rc, inductance, capacitan
                 threshold_scale=scale,
                 valid=not bands,
                 bad_bands=bands,
-                time_constants=taus,
+                time_constants=taus.copy(),
                 resistances=coef[n_series:].copy(),
                 series_resistance=float(coef[0]),
                 series_inductance=float(coef[1]) if inductance else 0.0,
