@@ -17,6 +17,7 @@ matplotlib.use("Agg")  # examples write files; they never open windows
 import matplotlib.pyplot as plt  # noqa: E402
 
 from impedax._atomic import atomic_path  # noqa: E402
+from impedax.cli import _configure_jax_cache  # noqa: E402
 
 DEFAULT_OUT = Path("out/examples")
 
@@ -29,6 +30,7 @@ def parse_args(description: str, argv=None) -> argparse.Namespace:
     parser.add_argument("--dpi", type=int, default=120, help="resolution of the PNG files (default: 120)")
     args = parser.parse_args(argv)
     args.out.mkdir(parents=True, exist_ok=True)
+    _configure_jax_cache()  # the CLI's persistent compilation cache: reruns skip the fitters' compile
     return args
 
 
