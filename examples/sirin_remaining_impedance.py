@@ -15,8 +15,9 @@ branch (above 100 kHz the remainder turns resistive: the residue of subtracting 
 the screen's series resistances, measured in other trials — cf. Fig 4d's loss of sync).
 What to look for: |Y_R| follows the one-decade-per-decade line above ≈ 30 Hz (the remainder is
 the air-gap capacitor) and bends flat below it (EP conductance); the EP capacitance dominates
-at low frequency and falls below C_gap above ≈ 30 Hz; C_gap ≈ 413 pF and u ≈ 2.79 µm
-(paper: 2.78 µm, bounds 2.57–3.28 µm). The fit's warnings say that the EP branch's split into
+at low frequency and falls below C_gap above ≈ 30 Hz; the paper method gives C_gap ≈ 413 pF
+and u ≈ 2.79 µm (paper: 2.78 µm, bounds 2.57–3.28 µm); the fit's C_gap (≈ 421 pF) follows the
+100 Hz–100 kHz plateau of |Y_R|/ω, which lies a little above the mean over 30 Hz–1 MHz. The fit's warnings say that the EP branch's split into
 R_EP and CPE_EP is poorly determined — its total admittance (drawn) is well determined.
 
 Run: python examples/sirin_remaining_impedance.py [OUT_DIR] [--fast]
