@@ -29,8 +29,7 @@ import numpy as np
 
 import _example
 import impedax
-from impedax.models import sirin
-from impedax.models import example_spectra
+from impedax.models import example_spectra, sirin
 
 FIT_FMAX_HZ = 1e5
 
