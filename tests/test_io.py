@@ -142,3 +142,14 @@ def test_failed_write_leaves_no_partial_file(tmp_path, monkeypatch):
     assert [p.name for p in tmp_path.iterdir()] == ["keep.csv"]
     with pytest.raises(ix.DataError, match="does not exist"):
         ix.save(ds, tmp_path / "no" / "dir.csv")
+
+
+def test_written_files_get_the_usual_permissions(tmp_path):
+    import os
+
+    umask = os.umask(0o022)
+    try:
+        ix.save(_spectrum(), tmp_path / "p.csv")
+    finally:
+        os.umask(umask)
+    assert (tmp_path / "p.csv").stat().st_mode & 0o777 == 0o644
