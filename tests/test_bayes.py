@@ -95,7 +95,7 @@ def test_posterior_contains_truth_and_reports_diagnostics(rcpe):
     assert all(0 < post.ess[n] <= post.n_walkers * post.n_draws for n in post.names)
     assert any("shorter than 50 autocorrelation times" in w for w in post.warnings)  # 350 kept steps
     assert post.samples["R0"].shape == (post.n_walkers * post.n_draws,)
-    assert post.draws.shape == (32, 350, 5)
+    assert post.draws.shape == (64, 350, 5)
     assert q["hdi90_low"].sel(param="R1") < q["median"].sel(param="R1") < q["hdi90_high"].sel(param="R1")
     ds = post.to_xarray()
     assert ds["draws"].dims == ("walker", "draw", "param") and ds["log_prob"].dims == ("walker", "draw")

@@ -16,7 +16,7 @@ def register(sub) -> None:
     )
     p.add_argument("data", metavar="DATA", help="spectrum file")
     add_model_argument(p)
-    p.add_argument("--walkers", type=int, metavar="N", help="number of walkers (even, at least 2 × parameters; default max(32, 4 × parameters))")
+    p.add_argument("--walkers", type=int, metavar="N", help="number of walkers (even, at least 2 × parameters; default max(64, 4 × parameters))")
     p.add_argument("--steps", type=int, default=2000, metavar="N", help="steps per walker (default 2000)")
     p.add_argument("--burn", type=int, metavar="N", help="steps discarded at the start (default steps/4)")
     p.add_argument("--thin", type=int, default=1, metavar="N", help="keep every N-th step (default 1)")

@@ -233,7 +233,7 @@ def sample(
     LSQ value ×/÷ 10³ for parameters unbounded above, uniform for exponents (α in (0, 1]), and
     log-uniform on [1e-5, 1] for ``sigma_rel``. ``reparametrization`` samples physical
     quantities behind some circuit parameters (`gap_thickness_reparametrization`).
-    ``walkers`` (default max(32, 4·P)) start in a small ball around the least-squares fit
+    ``walkers`` (default max(64, 4·P)) start in a small ball around the least-squares fit
     ``init`` (run by `fit` when not given); ``burn`` (default steps // 4) steps are discarded and
     every ``thin``-th kept. Returns a `Posterior` with diagnostics, Laplace log evidence and WAIC.
     """
@@ -314,7 +314,7 @@ def sample(
         if n in priors:
             _check_prior_inside(n, priors[n], lower[i], upper[i], inclusive[i])
     n_params = len(names)
-    walkers = max(32, 4 * n_params) if walkers is None else walkers
+    walkers = max(64, 4 * n_params) if walkers is None else walkers
     if not isinstance(walkers, (int, np.integer)) or walkers < 2 * n_params or walkers % 2:
         raise ParameterError(f"walkers must be an even number of at least 2 × {n_params} parameters = {2 * n_params} (got {walkers!r})")
 
