@@ -42,6 +42,15 @@ from .errors import (  # noqa: E402
 )
 from .diagram import draw_circuit as draw_circuit, save_circuit_diagram as save_circuit_diagram  # noqa: E402
 from .fitting import BatchFitResult as BatchFitResult, FitResult as FitResult, compare as compare, fit as fit  # noqa: E402
+from .fitting import (  # noqa: E402
+    Posterior as Posterior,
+    Prior as Prior,
+    Reparametrization as Reparametrization,
+    derive as derive,
+    gap_thickness_reparametrization as gap_thickness_reparametrization,
+    sample as sample,
+    stratum_corneum_reparametrization as stratum_corneum_reparametrization,
+)
 from .io import load as load, save as save  # noqa: E402
 from .fitting._kk import KKBatchResult as KKBatchResult, KKResult as KKResult, kk_test as kk_test, kk_test_batch as kk_test_batch  # noqa: E402
 

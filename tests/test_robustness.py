@@ -24,6 +24,7 @@ FILE_COMMANDS = [  # (id, argv template with {input})
     ("inspect-json", ["inspect", "{input}", "--json", "--out", "{tmp}/converted.nc"]),
     ("fit", ["fit", "{input}", "--model", "R1 + C1", "--json", "--out", "{tmp}/fit.nc"]),
     ("compare", ["compare", "{input}", "--model", "R1", "--model", "R1 + C1"]),
+    ("sample", ["sample", "{input}", "--model", "R1 + C1", "--steps", "20", "--json", "--out", "{tmp}/post.nc"]),
 ]
 MODEL_COMMANDS = [  # (id, argv template with {model})
     ("info", ["info", "{model}"]),
@@ -31,12 +32,16 @@ MODEL_COMMANDS = [  # (id, argv template with {model})
     ("draw", ["draw", "{model}", "-o", "{tmp}/out.svg"]),
     ("fit", ["fit", "{tmp}/good.csv", "--model", "{model}"]),
     ("compare", ["compare", "{tmp}/good.csv", "--model", "R1", "--model", "{model}"]),
+    ("sample", ["sample", "{tmp}/good.csv", "--model", "{model}", "--steps", "20"]),
 ]
 PARAM_COMMANDS = [  # (id, argv template with {model} and {param})
     ("simulate", ["simulate", "{model}", "--param", "{param}", "--out", "{tmp}/out.csv"]),
     ("draw", ["draw", "{model}", "--param", "{param}", "-o", "{tmp}/out.png"]),
     ("fit-fix", ["fit", "{tmp}/good.csv", "--model", "{model}", "--fix", "{param}"]),
     ("fit-init", ["fit", "{tmp}/good.csv", "--model", "{model}", "--init", "{param}"]),
+]
+PRIOR_COMMANDS = [  # (id, argv template with {prior})
+    ("sample", ["sample", "{tmp}/good.csv", "--model", "R1 + CPE1", "--steps", "20", "--prior", "{prior}", "--out", "{tmp}/post.nc"]),
 ]
 OUTPUT_COMMANDS = [  # (id, argv template with {output}, output extension)
     ("simulate", ["simulate", "R1 + C1", "--out", "{output}"], ".csv"),
@@ -46,6 +51,9 @@ OUTPUT_COMMANDS = [  # (id, argv template with {output}, output extension)
     ("fit-out", ["fit", "{good}", "--model", "R1 + C1", "--out", "{output}"], ".nc"),
     ("fit-plot", ["fit", "{good}", "--model", "R1 + C1", "--plot", "{output}"], ".png"),
     ("compare-plot", ["compare", "{good}", "--model", "R1", "--model", "R1 + C1", "--plot", "{output}"], ".png"),
+    ("sample-out", ["sample", "{good}", "--model", "R1 + C1", "--steps", "20", "--out", "{output}"], ".nc"),
+    ("sample-corner", ["sample", "{good}", "--model", "R1 + C1", "--steps", "20", "--corner", "{output}"], ".png"),
+    ("sample-plot", ["sample", "{good}", "--model", "R1 + C1", "--steps", "20", "--plot", "{output}"], ".png"),
 ]
 
 # --- bad inputs -----------------------------------------------------------------------------
@@ -103,6 +111,19 @@ BAD_PARAMS = [  # (id, model, --param value, message fragment)
     ("negative-resistance", "R1 + C1", "R1=-5", "outside its bounds"),
     ("alpha-above-one", "R1 + CPE1", "CPE1.alpha=1.5", "outside its bounds"),
     ("missing-equals", "R1 + C1", "R1", "expected NAME=VALUE"),
+]
+
+BAD_PRIORS = [  # (id, --prior value, message fragment)
+    ("unknown-parameter", "R2=uniform:1,2", "unknown parameter 'R2'"),
+    ("unknown-kind", "R1=beta:1,2", "unknown prior kind 'beta'"),
+    ("one-number", "R1=uniform:1", "takes two numbers"),
+    ("not-numbers", "R1=normal:a,b", "are not two numbers"),
+    ("reversed-bounds", "R1=uniform:5,1", "must be below"),
+    ("loguniform-from-zero", "R1=loguniform:0,10", "positive lower end"),
+    ("negative-sd", "R1=normal:1,-2", "standard deviation must be positive"),
+    ("infinite", "R1=uniform:1,inf", "must be finite"),
+    ("outside-bounds", "CPE1.alpha=uniform:0.5,2", "reaches outside"),
+    ("missing-equals", "R1", "expected NAME=KIND:ARGS"),
 ]
 
 BAD_OUTPUTS = [  # (id, output template without extension, message fragment)
@@ -183,6 +204,17 @@ def test_bad_parameter(command, case, workdir, capsys):
     _, model, param, fragment = case
     before = sorted(p.name for p in workdir.iterdir())
     argv = [model if a == "{model}" else param if a == "{param}" else a.format(tmp=str(workdir)) for a in template]
+    code, out, err = _run(argv, capsys)
+    _check_failure(code, out, err, fragment, workdir, before)
+
+
+@pytest.mark.parametrize("command", PRIOR_COMMANDS, ids=[c[0] for c in PRIOR_COMMANDS])
+@pytest.mark.parametrize("case", BAD_PRIORS, ids=[c[0] for c in BAD_PRIORS])
+def test_bad_prior(command, case, workdir, capsys):
+    _, template = command
+    _, prior, fragment = case
+    before = sorted(p.name for p in workdir.iterdir())
+    argv = [prior if a == "{prior}" else a.format(tmp=str(workdir)) for a in template]
     code, out, err = _run(argv, capsys)
     _check_failure(code, out, err, fragment, workdir, before)
 

@@ -195,6 +195,12 @@ class FitResult:
             lines.append(f"warning: {w}")
         return "\n".join(lines)
 
+    def derive(self, fn, freq=None):
+        """Propagate the fit to ``fn(params[, freq])`` by the delta method (`derive_fit`)."""
+        from ._derive import derive_fit
+
+        return derive_fit(self, fn, freq)
+
     def plot(self, *, title: str | None = None, bands=None):
         """Data vs model: Nyquist, Bode and relative residuals (matplotlib Figure)."""
         from ..plotting import plot_spectrum

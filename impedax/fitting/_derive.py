@@ -1,0 +1,135 @@
+"""Uncertainty propagation to any quantity computed from a circuit's parameters.
+
+``fn(params)`` or ``fn(params, freq)`` is a JAX function of the parameters dict (names → values)
+and optionally of frequency [Hz]; it returns a real scalar or array. For a posterior it is
+evaluated over every draw in one vmapped call; for a least-squares fit the delta method
+propagates the covariance: Cov[g] = J Σ Jᵀ with J = ∂g/∂θ from JAX at the fitted values.
+Both return an xarray Dataset with ``median``, ``q05``, ``q16``, ``q84``, ``q95``.
+"""
+
+from __future__ import annotations
+
+import inspect
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import xarray as xr
+
+from ..errors import ParameterError
+
+__all__ = ["derive", "derive_fit", "QUANTILES", "band_dataset"]
+
+QUANTILES = {"q05": 0.05, "q16": 0.16, "median": 0.5, "q84": 0.84, "q95": 0.95}
+
+
+def _takes_freq(fn) -> bool:
+    try:
+        return len(inspect.signature(fn).parameters) >= 2
+    except (TypeError, ValueError):
+        return False
+
+
+def needs_freq(fn) -> bool:
+    """Whether ``fn`` takes a second (frequency) argument without a default."""
+    return _takes_freq(fn) and not _has_default_second(fn)
+
+
+def _call(fn, freq):
+    """``params -> fn(params[, freq])`` as a real float array."""
+    if freq is None:
+        if needs_freq(fn):
+            raise ParameterError("derive: the function takes a frequency argument; pass freq=...")
+
+        def g(params):
+            return jnp.asarray(fn(params))
+    else:
+        f = jnp.asarray(np.asarray(freq, float))
+
+        def g(params):
+            return jnp.asarray(fn(params, f))
+
+    return g
+
+
+def _has_default_second(fn) -> bool:
+    params = list(inspect.signature(fn).parameters.values())
+    return len(params) >= 2 and params[1].default is not inspect.Parameter.empty
+
+
+def _check_real(out) -> None:
+    if jnp.iscomplexobj(out):
+        raise ParameterError("derive: the function returned complex values; derive a real quantity (e.g. jnp.abs(...) or jnp.angle(...))")
+
+
+def _dims(shape, freq) -> tuple[tuple[str, ...], dict]:
+    if freq is not None:
+        f = np.atleast_1d(np.asarray(freq, float))
+        if len(shape) >= 1 and shape[-1] == f.size:
+            dims = tuple(f"dim_{i}" for i in range(len(shape) - 1)) + ("frequency",)
+            return dims, {"frequency": ("frequency", f, {"units": "Hz"})}
+    return tuple(f"dim_{i}" for i in range(len(shape))), {}
+
+
+def band_dataset(draws: np.ndarray, freq=None, *, keep_draws: bool = False, attrs=None) -> xr.Dataset:
+    """Quantile bands (and optionally the draws, dim ``sample``) of ``draws`` (S, ...)."""
+    dims, coords = _dims(draws.shape[1:], freq)
+    qs = np.quantile(draws, list(QUANTILES.values()), axis=0)
+    data = {k: (dims, q) for k, q in zip(QUANTILES, qs)}
+    data["mean"] = (dims, draws.mean(axis=0))
+    data["sd"] = (dims, draws.std(axis=0, ddof=1) if draws.shape[0] > 1 else np.zeros(draws.shape[1:]))
+    if keep_draws:
+        data["draws"] = (("sample",) + dims, draws)
+    return xr.Dataset(data, coords=coords, attrs=dict(attrs or {}))
+
+
+def derive_fit(result, fn, freq=None) -> xr.Dataset:
+    """Delta-method propagation of a least-squares fit to ``fn(params[, freq])`` (``freq``
+    defaults to the fitted frequencies when ``fn`` takes one).
+
+    Var[g] = J Σ Jᵀ (J = ∂g/∂θ_free by JAX at the fitted values, Σ = ``result.covariance``);
+    the bands are the normal quantiles value ± z·stderr (q05/q95: z = 1.645, q16/q84: 0.994).
+    Returns a Dataset with ``value``, ``stderr``, ``median`` (= value), ``q05``, ``q16``,
+    ``q84``, ``q95`` and, for outputs of at most one dimension, ``covariance``.
+    """
+    if freq is None and needs_freq(fn):
+        freq = result.frequency
+    g = _call(fn, freq)
+    free = list(result.free_names)
+    base = {n: jnp.asarray(v) for n, v in result.values.items()}
+
+    def of_free(x):
+        params = dict(base)
+        params.update({n: x[i] for i, n in enumerate(free)})
+        return g(params)
+
+    x0 = jnp.asarray([result.values[n] for n in free])
+    value = of_free(x0)
+    _check_real(value)
+    value = np.asarray(value, float)
+    jac = np.asarray(jax.jacfwd(of_free)(x0), float).reshape(value.size, len(free))
+    cov = jac @ np.asarray(result.covariance, float) @ jac.T
+    stderr = np.sqrt(np.clip(np.diag(cov), 0, None)).reshape(value.shape)
+    from scipy import stats
+
+    dims, coords = _dims(value.shape, freq)
+    data = {"value": (dims, value), "stderr": (dims, stderr), "median": (dims, value)}
+    for k, q in QUANTILES.items():
+        if k != "median":
+            data[k] = (dims, value + stats.norm.ppf(q) * stderr)
+    if value.ndim <= 1:
+        d = dims[0] if dims else "dim_0"
+        data["covariance"] = ((d, d + "_2"), cov) if value.ndim == 1 else ((), cov.reshape(()))
+    data["jacobian"] = (dims + ("free_param",), jac.reshape(value.shape + (len(free),)))
+    coords["free_param"] = free
+    return xr.Dataset(data, coords=coords, attrs={"method": "delta method: Var = J Σ Jᵀ", "model": result.model})
+
+
+def derive(result, fn, freq=None, **kwargs) -> xr.Dataset:
+    """Propagate a fit or a posterior to ``fn(params[, freq])``: `Posterior.derive` for a
+    posterior (all draws, one vmapped call), `derive_fit` (delta method) for a `FitResult`."""
+    if hasattr(result, "draws") and hasattr(result, "derive"):
+        return result.derive(fn, freq, **kwargs)
+    if hasattr(result, "covariance") and hasattr(result, "free_names"):
+        return derive_fit(result, fn, freq)
+    raise ParameterError(f"derive: expected a FitResult or a Posterior, got {type(result).__name__}")
