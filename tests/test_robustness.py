@@ -25,6 +25,7 @@ FILE_COMMANDS = [  # (id, argv template with {input})
     ("fit", ["fit", "{input}", "--model", "R1 + C1", "--json", "--out", "{tmp}/fit.nc"]),
     ("compare", ["compare", "{input}", "--model", "R1", "--model", "R1 + C1"]),
     ("sample", ["sample", "{input}", "--model", "R1 + C1", "--steps", "20", "--json", "--out", "{tmp}/post.nc"]),
+    ("gap", ["gap", "{input}", "{tmp}/good.csv", "{tmp}/good.csv", "--area", "130e-6", "--json", "--out", "{tmp}/gap.nc"]),
 ]
 MODEL_COMMANDS = [  # (id, argv template with {model})
     ("info", ["info", "{model}"]),
