@@ -20,7 +20,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import xarray as xr
 
-from ..errors import DataError
+from ..circuits import parse
+from ..errors import CircuitError, DataError
 from ._constants import EPSILON_AIR
 from .sirin import SIRIN_AREA, SIRIN_DRIVE_V, PaperGapEstimate, gap_force_peak, paper_gap_estimate, remainder_circuit, remaining_impedance, trial_mean
 
@@ -172,11 +173,15 @@ def gap_analysis(
     walkers: int | None = None,
     seed: int = 0,
     progress: bool = True,
+    remainder=None,
+    edl_fit=None,
 ) -> GapAnalysis:
     """Run the Sirin workflow (module docstring) on three spectrum Datasets with trial
     dimensions, all on one frequency grid. ``ep`` picks the EP branch of the EDL model:
     ``"CPE"`` (R_EP || CPE_EP || C_gap, default) or ``"C"`` (R_EP || C_EP || C_gap — note that
-    two ideal capacitors in parallel are identified only as their sum). Returns a `GapAnalysis`.
+    two ideal capacitors in parallel are identified only as their sum). ``remainder`` replaces
+    the EDL model by any circuit holding a ``C_gap`` (e.g. the result of `impedax.refine`), and
+    ``edl_fit`` reuses a least-squares fit of it. Returns a `GapAnalysis`.
     """
     from ..fitting import fit, gap_thickness_reparametrization, sample
 
@@ -185,9 +190,11 @@ def gap_analysis(
     remaining = remaining_impedance(total, skin, touchscreen)
     paper = paper_gap_estimate(total, skin, touchscreen, area=area, cutoff_hz=cutoff_hz, eps_gap=eps_gap)
     weighting = "sigma" if "sigma" in remaining else "modulus"
-    circuit = remainder_circuit(ep)
+    circuit = remainder_circuit(ep) if remainder is None else parse(remainder)
+    if "C_gap" not in circuit.element_names:
+        raise CircuitError(f"the remainder model {circuit} has no element named C_gap")
     naive = fit(remainder_circuit(None), remaining, weighting=weighting)
-    edl = fit(circuit, remaining, weighting=weighting)
+    edl = edl_fit if edl_fit is not None else fit(circuit, remaining, weighting=weighting)
     posterior = sample(
         circuit,
         remaining,
@@ -203,8 +210,8 @@ def gap_analysis(
     z_skin = trial_mean(skin)["Z"].values
     z_ts = trial_mean(touchscreen)["Z"].values
     bands = []
-    for branch, branch_ep in (("with_ep", ep), ("without_ep", None)):
-        q = posterior.derive(lambda p, f, e=branch_ep: gap_force_peak(p, f, z_skin, z_ts, area=area, v0=v0, ep=e, eps_gap=eps_gap), freq)
+    for branch, model in (("with_ep", str(circuit)), ("without_ep", "C_gap")):
+        q = posterior.derive(lambda p, f, m=model: gap_force_peak(p, f, z_skin, z_ts, area=area, v0=v0, remainder=m, eps_gap=eps_gap), freq)
         bands.append(xr.Dataset({k: ("frequency", np.asarray(q[k].values)) for k in ("median", "q05", "q95")}, coords={"frequency": freq}))
     force = xr.concat(bands, dim=xr.DataArray(["with_ep", "without_ep"], dims="branch"))
     force["median"].attrs.update(units="N", convention=FORCE_CONVENTION)
