@@ -74,6 +74,15 @@ EXAMPLES = {
         ],
         (),
     ),
+    "sirin_gap_and_force.py": (
+        ["sirin_gap_and_fig2f_force.png"],
+        [
+            (r"paper method\s+C_gap = \S+ pF\s+u = " + _NUMBER + " µm", _near(2.79, 0.03)),  # Sirin: 2.78 µm
+            (r"Bayesian\s+u = " + _NUMBER + " µm", _within(2.6, 3.0)),
+            (None, lambda out: "with EP" in out and "without EP" in out),
+        ],
+        (),
+    ),
     "sirin_mr_pps.py": (
         ["sirin_fig4cd_mr_pps.png"],
         [(r"remaining\s+PPS peak\s+" + _NUMBER + " %", _within(90.0, 100.0))],
