@@ -6,14 +6,11 @@ and remaining impedance, against the total impedance of the sliding finger.
 Data: the SYNTHETIC Sirin-style example shipped with impedax (`example_spectra`: trial means
 over 3 sessions × 10 trials; skin phase maximum at 250 Hz, touchscreen at 100 kHz, remainder
 R_EP ∥ CPE_EP ∥ C_gap with C_gap = 413 pF). Nothing here is measured data.
-What to look for: the remaining impedance (the air gap) dominates the total at low and middle
-frequencies with its phase synchronized with the total's, then falls out of sync; the
-touchscreen and then the skin take over at high frequency; each of skin and touchscreen has
-one PPS peak. The paper finds the remainder dominating up to ≈ 100 kHz and the PPS peaks of
-skin and touchscreen near 250 Hz and 100 kHz (the frequencies of the two force peaks in
-Fig 2f). In this synthetic data set the same pattern sits lower in frequency (remainder up to
-≈ 16 kHz, peaks near 20 Hz and 16 kHz): its skin carries a 15 kΩ series resistance, large
-against the gap capacitor's impedance at high frequency. The script prints both.
+What to look for: as in the paper, the remaining impedance (the air gap) has the largest
+magnitude ratio up to ≈ 100 kHz with its phase synchronized with the total's, then falls out
+of sync; the touchscreen starts to contribute above ≈ 100 Hz and the skin above ≈ 10 kHz, and
+the skin takes over near 1 MHz; the PPS of skin and touchscreen peak near 250 Hz and 100 kHz
+(the frequencies of the two force peaks in the paper's Fig 2f). The script prints them.
 
 Run: python examples/sirin_mr_pps.py [OUT_DIR] [--fast]
 """

@@ -68,9 +68,12 @@ EXAMPLES = {
     "sirin_remaining_impedance.py": (
         ["sirin_fig3d_remaining_impedance.png", "sirin_fig4ab_admittance_capacitance.png"],
         [
-            (r"paper method\s+C_gap = " + _NUMBER + " pF", _near(413.0, 3.0)),  # Sirin: 413 pF
-            (r"paper method\s+C_gap = \S+ pF\s+u = " + _NUMBER + " µm", _near(2.79, 0.03)),  # 2.78 µm
-            (r"EDL fit\s+C_gap = " + _NUMBER + " ±", _within(400.0, 430.0)),
+            # Sirin: 413 pF, 2.78 µm; on the synthetic data (truth 413 pF) the paper method reads a
+            # few percent high, as the EP branch's tail above 30 Hz adds to |Y_R|/ω
+            (r"paper method\s+C_gap = " + _NUMBER + " pF", _within(413.0, 435.0)),
+            (r"paper method\s+C_gap = \S+ pF\s+u = " + _NUMBER + " µm", _within(2.65, 2.80)),
+            (r"EDL fit\s+C_gap = " + _NUMBER + " ±", _within(405.0, 425.0)),
+            (r"naive C_gap\s+C_gap = \S+ pF\s+rms_rel " + _NUMBER, _within(0.5, 5.0)),  # C_gap alone fails below 30 Hz
         ],
         (),
     ),
@@ -85,7 +88,12 @@ EXAMPLES = {
     ),
     "sirin_mr_pps.py": (
         ["sirin_fig4cd_mr_pps.png"],
-        [(r"remaining\s+PPS peak\s+" + _NUMBER + " %", _within(90.0, 100.0))],
+        [
+            (r"remaining\s+PPS peak\s+" + _NUMBER + " %", _within(90.0, 100.0)),
+            (r"skin\s+PPS peak\s+\S+ % at\s+" + _NUMBER + " Hz", _within(150.0, 400.0)),  # paper: ≈ 250 Hz
+            (r"touchscreen\s+PPS peak\s+\S+ % at\s+" + _NUMBER + " Hz", _within(5e4, 2e5)),  # paper: ≈ 100 kHz
+            (r"largest MR up to " + _NUMBER + " kHz", _within(60.0, 160.0)),  # paper: until ≈ 100 kHz
+        ],
         (),
     ),
     "vezzoli_electrovibration.py": (

@@ -23,8 +23,9 @@ def edl(f, R_EP, C_EP, C_gap):  # noqa: N803 - circuit parameter names
     return 1 / (1 / r_ep + 1j * w * c_ep + 1j * w * c_gap)
 
 
-SKIN = rcpe(F61, 1.5e4, 3.0e6, 2.737e-8, 0.70)
-TS = rcpe(F61, 150.0, 3.0e4, 5.573e-9, 0.85)
+# the synthetic example's skin and screen (phase maxima at 250 Hz and 100 kHz)
+SKIN = rcpe(F61, 800.0, 2.0e7, 1.049e-8, 0.90)
+TS = rcpe(F61, 90.0, 1.7e5, 1.184e-9, 0.92)
 EDL = {"R_EP": 2e7, "C_EP": 50e-12, "C_gap": 413e-12}
 
 
@@ -134,7 +135,7 @@ def test_gap_voltage_matches_node_equations():
 
 
 def test_force_with_and_without_ep():
-    params = {"R_EP": 2e7, "CPE_EP.Q": 2e-9, "CPE_EP.alpha": 0.25, "C_gap": 413e-12}
+    params = {"R_EP": 1e8, "CPE_EP.Q": 4e-9, "CPE_EP.alpha": 0.30, "C_gap": 413e-12}
     with_ep = np.asarray(sirin.gap_force_peak(params, F61, SKIN, TS, ep="CPE"))
     without = np.asarray(sirin.gap_force_peak(params, F61, SKIN, TS, ep=None))
     low = F61 < 30

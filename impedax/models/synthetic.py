@@ -8,22 +8,29 @@ the default seed; `load_example` reads it.
 
 Model (true values in `SIRIN_SYNTHETIC_TRUTH`, also stored in the Dataset's attrs):
 
-* skin:        R_inf + R ∥ CPE   (β-dispersion; phase maximum tuned to 250 Hz)
-* touchscreen: R_inf + R ∥ CPE   (phase maximum tuned to 100 kHz)
+* skin:        800 Ω + 20 MΩ ∥ CPE(α = 0.90), phase maximum at 250 Hz;
+* touchscreen: 90 Ω + 170 kΩ ∥ CPE(α = 0.92), phase maximum at 100 kHz (dispersion ≈ 10 kHz);
 * remainder, sliding:    R_EP ∥ CPE_EP ∥ C_gap, C_gap = 413 pF; the EP branch (electrode
-  polarization) equals the gap admittance near 20 Hz and fades above ≈ 30 Hz;
-* remainder, stationary: sweat shorts the gap — R_EP 200× smaller, the wet-gap capacitance 20×
-  C_gap — and hydrates the skin (skin R 10× smaller), giving ≈ 10× lower total impedance.
+  polarization, R_EP = 100 MΩ, CPE_EP α = 0.30) carries more admittance than the gap below
+  ≈ 10 Hz, its capacitance exceeds C_gap at 1 Hz, and it fades above ≈ 30 Hz. The CPE
+  dominates R_EP above ≈ 2 Hz, so the data determine R_EP, CPE_EP and C_gap separately.
+* remainder, stationary: sweat shorts the gap — R_EP 1000× smaller, the wet-gap capacitance
+  20× C_gap — and hydrates the skin (skin R 10× smaller), giving ≈ 10× lower total impedance.
 * total = skin + touchscreen + remainder (in series, Sirin eq 5), each total trial with its own
   skin and touchscreen draws (skin, screen and total are separate measurements).
 
-The small series resistance R_inf is what gives an R ∥ CPE a phase maximum (a bare R ∥ CPE
-tends monotonically to −α·90°); the measured electrodes and tissue provide it.
+Skin and screen are small against the gap capacitor up to ≈ 100 kHz (its impedance is 3.9 kΩ
+there), so the remainder dominates the total up to ≈ 100 kHz as in the paper's Fig 4c. The
+series resistance R_inf is what gives an R ∥ CPE a phase maximum (a bare R ∥ CPE tends
+monotonically to −α·90°); the measured electrodes and tissue provide it.
 
 Scatter: 3 sessions × 10 trials. Each parameter gets a session factor and a per-trial factor
 (log-normal; skin R varies most, as electrodermal activity does); CPE exponents get small
-additive jitter. Measurement noise is complex Gaussian with relative standard deviation
-0.4 % + 3 %·(1 Hz/f)^½, so it is larger at low frequency. Fixed seed; deterministic.
+additive jitter about each CPE's own characteristic frequency. Skin and screen keep their
+session factors across the skin, screen and total measurements of a session (same finger and
+screen on the same day); the trial factors are independent. Measurement noise is complex
+Gaussian with relative standard deviation 0.4 % + 3 %·(1 Hz/f)^½, so it is larger at low
+frequency. Fixed seed; deterministic.
 """
 
 from __future__ import annotations
@@ -51,24 +58,26 @@ SIRIN_SYNTHETIC_SEED = 20230413
 """Seed of the shipped synthetic file."""
 
 SIRIN_SYNTHETIC_TRUTH: dict[str, dict[str, float]] = {
-    "skin": {"R_inf": 1.5e4, "R": 3.0e6, "Q": 2.737e-8, "alpha": 0.70},
-    "touchscreen": {"R_inf": 150.0, "R": 3.0e4, "Q": 5.573e-9, "alpha": 0.85},
-    "remainder_sliding": {"R_EP": 2.0e7, "CPE_EP.Q": 2.0e-9, "CPE_EP.alpha": 0.25, "C_gap": 413e-12},
-    "remainder_stationary": {"R_EP": 1.0e5, "CPE_EP.Q": 2.0e-8, "CPE_EP.alpha": 0.25, "C_gap": 8.26e-9},
+    "skin": {"R_inf": 800.0, "R": 2.0e7, "Q": 1.049e-8, "alpha": 0.90},
+    "touchscreen": {"R_inf": 90.0, "R": 1.7e5, "Q": 1.184e-9, "alpha": 0.92},
+    "remainder_sliding": {"R_EP": 1.0e8, "CPE_EP.Q": 4.0e-9, "CPE_EP.alpha": 0.30, "C_gap": 413e-12},
+    "remainder_stationary": {"R_EP": 1.0e5, "CPE_EP.Q": 2.0e-8, "CPE_EP.alpha": 0.30, "C_gap": 8.26e-9},
     "stationary_skin_r_factor": {"value": 0.1},
     "geometry": {"area_m2": 130e-6, "eps_gap": 1.00059},
 }
 """True parameters [SI] of the synthetic example (Q in F·s^(α−1))."""
 
 _SPREAD = {  # (session σ, trial σ) of log-normal factors, or additive σ for exponents
-    "R_inf": (0.05, 0.05),
+    "R_inf": (0.02, 0.03),
     "R_skin": (0.15, 0.25),
-    "R_ts": (0.05, 0.08),
-    "Q": (0.03, 0.05),
-    "alpha": (0.005, 0.01),
-    "R_EP": (0.10, 0.20),
-    "C_gap": (0.01, 0.02),
+    "R_ts": (0.02, 0.06),
+    "Q": (0.01, 0.04),
+    "alpha": (0.002, 0.008),
+    "R_EP": (0.05, 0.15),
+    "C_gap": (0.005, 0.04),  # contact varies with the normal force (1 ± 0.15 N)
 }
+
+_PIVOT_HZ = {"skin": 250.0, "touchscreen": 1e5, "EP": 10.0}  # where each CPE's α jitter pivots
 
 _FILE = Path(__file__).resolve().parent.parent / "data" / "sirin_synthetic.nc"
 
@@ -97,24 +106,38 @@ def generate_sirin_synthetic(seed: int = SIRIN_SYNTHETIC_SEED, *, sessions: int 
     shape = (sessions, trials)
     truth = SIRIN_SYNTHETIC_TRUTH
 
-    def factor(kind):
+    def offsets(kind, day):
+        # ``day``: session offsets shared by every measurement of one component in a session
+        # (the same finger and screen on the same day); else drawn for this measurement
         s_sess, s_trial = _SPREAD[kind]
-        return np.exp(rng.normal(0.0, s_sess, (sessions, 1)) + rng.normal(0.0, s_trial, shape))[..., None]
+        sess = rng.normal(0.0, s_sess, (sessions, 1)) if day is None else day[kind]
+        return (sess + rng.normal(0.0, s_trial, shape))[..., None]
 
-    def jitter(kind):
-        s_sess, s_trial = _SPREAD[kind]
-        return (rng.normal(0.0, s_sess, (sessions, 1)) + rng.normal(0.0, s_trial, shape))[..., None]
+    def factor(kind, day=None):
+        return np.exp(offsets(kind, day))
+
+    def cpe(q, alpha, pivot_hz, day=None):
+        # α scatters about the pivot frequency, where |Q (jω)^α| keeps Q's own scatter only;
+        # jitter about ω = 1 rad/s would swing |Z_CPE| by ±15 % per trial at 1 MHz.
+        a = alpha + offsets("alpha", day)
+        return q * factor("Q", day) * (2.0 * np.pi * pivot_hz) ** (alpha - a), a
+
+    def day_offsets(*kinds):
+        return {kind: rng.normal(0.0, _SPREAD[kind][0], (sessions, 1)) for kind in kinds}
+
+    skin_days = day_offsets("R_inf", "R_skin", "Q", "alpha")
+    screen_days = day_offsets("R_inf", "R_ts", "Q", "alpha")
 
     def skin(r_factor=1.0):
         p = truth["skin"]
-        return r_cpe_series(freq, p["R_inf"] * factor("R_inf"), r_factor * p["R"] * factor("R_skin"), p["Q"] * factor("Q"), p["alpha"] + jitter("alpha"))
+        return r_cpe_series(freq, p["R_inf"] * factor("R_inf", skin_days), r_factor * p["R"] * factor("R_skin", skin_days), *cpe(p["Q"], p["alpha"], _PIVOT_HZ["skin"], skin_days))
 
     def screen():
         p = truth["touchscreen"]
-        return r_cpe_series(freq, p["R_inf"] * factor("R_inf"), p["R"] * factor("R_ts"), p["Q"] * factor("Q"), p["alpha"] + jitter("alpha"))
+        return r_cpe_series(freq, p["R_inf"] * factor("R_inf", screen_days), p["R"] * factor("R_ts", screen_days), *cpe(p["Q"], p["alpha"], _PIVOT_HZ["touchscreen"], screen_days))
 
     def remainder(p):
-        return _remainder(freq, p["R_EP"] * factor("R_EP"), p["CPE_EP.Q"] * factor("Q"), p["CPE_EP.alpha"] + jitter("alpha"), p["C_gap"] * factor("C_gap"))
+        return _remainder(freq, p["R_EP"] * factor("R_EP"), *cpe(p["CPE_EP.Q"], p["CPE_EP.alpha"], _PIVOT_HZ["EP"]), p["C_gap"] * factor("C_gap"))
 
     def measured(z):
         rel = 0.004 + 0.03 / np.sqrt(freq)
@@ -145,7 +168,7 @@ def generate_sirin_synthetic(seed: int = SIRIN_SYNTHETIC_SEED, *, sessions: int 
             "generator": "impedax.models.synthetic.generate_sirin_synthetic",
             "seed": int(seed),
             "truth": json.loads(json.dumps(truth)),
-            "noise": "per-session and per-trial log-normal parameter factors; complex Gaussian noise, relative sd 0.4% + 3%*(1 Hz/f)^0.5",
+            "noise": "per-session (shared by the skin, screen and total measurements of a session) and per-trial log-normal parameter factors; CPE exponent jitter pivots at 250 Hz (skin), 100 kHz (screen), 10 Hz (EP); complex Gaussian noise, relative sd 0.4% + 3%*(1 Hz/f)^0.5",
             "source": "impedax synthetic example (Sirin et al. style)",
         },
     )
