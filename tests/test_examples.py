@@ -80,8 +80,9 @@ EXAMPLES = {
     "sirin_gap_and_force.py": (
         ["sirin_gap_and_fig2f_force.png"],
         [
-            (r"paper method\s+C_gap = \S+ pF\s+u = " + _NUMBER + " µm", _near(2.79, 0.03)),  # Sirin: 2.78 µm
-            (r"Bayesian\s+u = " + _NUMBER + " µm", _within(2.6, 3.0)),
+            # truth 2.79 µm (413 pF); the paper method reads the EP tail above 30 Hz as gap (≈ +3 %)
+            (r"paper method\s+C_gap = \S+ pF\s+u = " + _NUMBER + " µm", _within(2.65, 2.85)),
+            (r"Bayesian\s+u = " + _NUMBER + " µm", _within(2.70, 2.85)),
             (None, lambda out: "with EP" in out and "without EP" in out),
         ],
         (),
