@@ -10,13 +10,14 @@ import math
 import time
 from dataclasses import dataclass
 
-import jax.numpy as jnp
+import jax
 import numpy as np
 import xarray as xr
 
 from ..circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ._core import tree_solver
-from ._fit import FitResult, _args, _result, _starts_for, _weights, information_criteria
+from ._fit import FitResult, _args, _guess_start, _result, _starts_for, _weights, at_noise_floor, information_criteria, _better
+from ._starts import SpectrumFeatures
 from ._parameters import ParameterTable
 
 __all__ = ["BatchFitResult", "fit_batch"]
@@ -83,22 +84,40 @@ class BatchFitResult:
 
 
 def _fit_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source) -> list[FitResult]:
-    """Fit a stack of spectra z (B, N) in one vmapped call; returns one FitResult each."""
+    """Fit a stack of spectra z (B, N) in vmapped calls; returns one FitResult each.
+
+    As `fit`: every spectrum from its data-driven guess first, then the multistart for those
+    whose fit is not at the noise level (in groups padded to a power of two, so that a few
+    compilations serve any number of them)."""
     b = z.shape[0]
-    starts, inv_re, inv_im = [], [], []
-    for i in range(b):
-        wr, wi = _weights(z[i], None if sigma is None else sigma[i], weighting, source)
-        inv_re.append(wr)
-        inv_im.append(wi)
-        starts.append(_starts_for(circuit, table, freq, z[i], n_starts, seed, registry))
-    args = _args(table, freq, z[0], inv_re[0], inv_im[0])
-    args["z"] = jnp.asarray(z)
-    args["inv_w_re"] = jnp.asarray(np.stack(inv_re))
-    args["inv_w_im"] = jnp.asarray(np.stack(inv_im))
-    args["x_fixed"] = jnp.broadcast_to(args["x_fixed"], (b, args["x_fixed"].shape[0]))
+    inv_re, inv_im = (np.stack(w) for w in zip(*(_weights(z[i], None if sigma is None else sigma[i], weighting, source) for i in range(b))))
+    features = [SpectrumFeatures(freq, z[i]) for i in range(b)]
     _, batched = tree_solver(circuit, registry, max_steps)
-    out = {k: np.asarray(v) for k, v in batched(jnp.asarray(np.stack(starts)), args).items()}
-    return [_result(circuit, table, freq, z[i], {k: v[i] for k, v in out.items()}, weighting, n_starts, 0.0, registry) for i in range(b)]
+
+    def solve(index, starts):
+        args = _args(table, freq, z[0], inv_re[0], inv_im[0])
+        args["z"], args["inv_w_re"], args["inv_w_im"] = z[index], inv_re[index], inv_im[index]
+        args["x_fixed"] = np.broadcast_to(args["x_fixed"], (len(index), args["x_fixed"].shape[0]))
+        return jax.device_get(batched(starts, args))
+
+    out = solve(np.arange(b), np.stack([_guess_start(circuit, table, features[i], registry) for i in range(b)]))
+    poor = np.flatnonzero(~at_noise_floor(freq, z, out["z_model"], inv_re, inv_im, out["code"])) if n_starts > 1 else np.zeros(0, int)
+    used = np.ones(b, int)
+    if poor.size:
+        padded = np.concatenate([poor, np.full(_bucket(poor.size) - poor.size, poor[0])])
+        multi = solve(padded, np.stack([_starts_for(circuit, table, features[i], n_starts, seed, registry) for i in padded]))
+        multi = {k: v[: poor.size] for k, v in multi.items()}
+        sub = _better({k: v[poor] for k, v in out.items()}, multi)
+        for k, v in sub.items():
+            if k in out:
+                out[k] = out[k].copy()
+                out[k][poor] = v
+        used[poor] = n_starts
+    return [_result(circuit, table, freq, z[i], {k: v[i] for k, v in out.items()}, weighting, int(used[i]), 0.0, registry) for i in range(b)]
+
+
+def _bucket(n: int) -> int:
+    return max(8, 1 << (n - 1).bit_length())
 
 
 def _pack(results: list[FitResult], names) -> np.ndarray:

@@ -11,7 +11,7 @@ import time
 from dataclasses import dataclass, field
 from typing import Mapping, Sequence
 
-import jax.numpy as jnp
+import jax
 import numpy as np
 import xarray as xr
 
@@ -337,35 +337,76 @@ def fit(
     z = np.asarray(data["Z"].values, complex)
     sigma = np.asarray(data["sigma"].values, float) if "sigma" in data else None
     inv_re, inv_im = _weights(z, sigma, weighting, source)
-    starts = _starts_for(circuit, table, freq, z, n_starts, seed, registry)
     single, _ = tree_solver(circuit, registry, max_steps)
     args = _args(table, freq, z, inv_re, inv_im)
-    out = single(jnp.asarray(starts), args)
-    out = {k: np.asarray(v) for k, v in out.items()}
-    return _result(circuit, table, freq, z, out, weighting, n_starts, time.perf_counter() - t0, registry)
-
-
-def _starts_for(circuit, table, freq, z, n_starts, seed, registry) -> np.ndarray:
+    # the data-driven guess alone first; the multistart only when its fit is not at the noise
     features = SpectrumFeatures(freq, z)
-    guess = data_driven_guess(circuit, table, features, registry)
-    starts = random_starts(table, features, guess, n_starts, seed)
+    out = jax.device_get(single(_guess_start(circuit, table, features, registry), args))
+    used = 1
+    if n_starts > 1 and not at_noise_floor(freq, z, out["z_model"], inv_re, inv_im, out["code"])[()]:
+        starts = _starts_for(circuit, table, features, n_starts, seed, registry)
+        out = _better(out, jax.device_get(single(starts, args)))
+        used = n_starts
+    return _result(circuit, table, freq, z, out, weighting, used, time.perf_counter() - t0, registry)
+
+
+# the guess's fit is accepted without a multistart when its weighted residuals look like noise:
+# lag-1 autocorrelation along frequency below this (white noise: ≈ 0 ± 1/√(2N); a misfit
+# that the multistart could improve leaves smooth, strongly correlated residuals)
+WHITENESS_LIMIT = 0.5
+MIN_POINTS_FOR_WHITENESS = 10
+
+
+def at_noise_floor(freq, z, z_model, inv_re, inv_im, code) -> np.ndarray:
+    """Whether fits (…, N) converged (``code == 0``) with residuals that look like white noise;
+    broadcasts over leading batch dimensions."""
+    order = np.argsort(freq)
+    dz = (np.asarray(z_model) - z)[..., order]
+    parts = [dz.real * np.asarray(inv_re)[..., order], dz.imag * np.asarray(inv_im)[..., order]]
+    num = sum(np.sum(p[..., 1:] * p[..., :-1], axis=-1) for p in parts)
+    den = sum(np.sum(p**2, axis=-1) for p in parts)
+    with np.errstate(all="ignore"):
+        rho = num / den
+    ok = (np.asarray(code) == 0) & np.isfinite(den) & (den > 0) & (rho < WHITENESS_LIMIT)
+    return ok & (len(order) >= MIN_POINTS_FOR_WHITENESS)
+
+
+def _better(a: dict, b: dict) -> dict:
+    """The solver output with the lower chi² (a on ties), elementwise over a batch axis
+    (the per-start chi² of the screen, which differ in shape, are dropped)."""
+    take_b = np.asarray(b["chi2"]) < np.asarray(a["chi2"])
+    return {k: np.where(take_b.reshape(take_b.shape + (1,) * (np.ndim(a[k]) - take_b.ndim)), b[k], a[k]) for k in a if k != "chi2_starts"}
+
+
+def _to_internal(table: ParameterTable, x: np.ndarray) -> np.ndarray:
     free = table.free_index
-    return to_internal(starts[:, free], table.lower[free], table.upper[free], table.kind[free])
+    return to_internal(x[..., free], table.lower[free], table.upper[free], table.kind[free])
+
+
+def _guess_start(circuit, table, features, registry) -> np.ndarray:
+    """The data-driven guess as one start in the solver's space, shape (1, K)."""
+    return _to_internal(table, data_driven_guess(circuit, table, features, registry)[None, :])
+
+
+def _starts_for(circuit, table, features, n_starts, seed, registry) -> np.ndarray:
+    guess = data_driven_guess(circuit, table, features, registry)
+    return _to_internal(table, random_starts(table, features, guess, n_starts, seed))
 
 
 def _args(table: ParameterTable, freq, z, inv_re, inv_im) -> dict:
+    # numpy arrays: jit transfers them on its fast path (jnp.asarray per array costs more)
     free = table.free_index
     x_fixed = np.where(np.isnan(table.values), 1.0, table.values)
     return {
-        "freq": jnp.asarray(freq),
-        "z": jnp.asarray(z),
-        "inv_w_re": jnp.asarray(inv_re),
-        "inv_w_im": jnp.asarray(inv_im),
-        "x_fixed": jnp.asarray(x_fixed),
-        "free_index": jnp.asarray(free, jnp.int32),
-        "lower": jnp.asarray(table.lower[free]),
-        "upper": jnp.asarray(table.upper[free]),
-        "kind": jnp.asarray(table.kind[free]),
+        "freq": np.asarray(freq, float),
+        "z": np.asarray(z, complex),
+        "inv_w_re": np.asarray(inv_re, float),
+        "inv_w_im": np.asarray(inv_im, float),
+        "x_fixed": x_fixed,
+        "free_index": np.asarray(free, np.int32),
+        "lower": table.lower[free],
+        "upper": table.upper[free],
+        "kind": table.kind[free],
         "model_args": None,
     }
 
@@ -389,7 +430,8 @@ def _result(circuit, table, freq, z, out, weighting, n_starts, elapsed, registry
     if not finite:
         message = "the model gave non-finite impedance at every start; check bounds, fixed values and the frequency range"
     elif code == 0:
-        message = f"converged in {int(out['steps'])} steps (best of {n_starts} starts)"
+        start = "from the data-driven start" if n_starts == 1 else f"best of {n_starts} starts"
+        message = f"converged in {int(out['steps'])} steps ({start})"
     else:
         message = solver_messages(code)
     notes = _diagnose_identifiability(list(free_names), values, stderr, corr, null_sets, ratio) if finite else []
