@@ -16,7 +16,7 @@ import xarray as xr
 
 from ..circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ._core import tree_solver
-from ._fit import FitResult, _args, _guess_start, _result, _starts_for, _weights, at_noise_floor, information_criteria, _better
+from ._fit import FitResult, _args, _guess_start, _result, _starts_for, _weights, at_noise_floor, information_criteria, _better, _unscale, residual_scale
 from ._starts import SpectrumFeatures
 from ._parameters import ParameterTable
 
@@ -94,11 +94,13 @@ def _fit_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_s
     features = [SpectrumFeatures(freq, z[i]) for i in range(b)]
     _, batched = tree_solver(circuit, registry, max_steps)
 
+    scale = residual_scale(z, inv_re, inv_im)
+
     def solve(index, starts):
         args = _args(table, freq, z[0], inv_re[0], inv_im[0])
-        args["z"], args["inv_w_re"], args["inv_w_im"] = z[index], inv_re[index], inv_im[index]
+        args["z"], args["inv_w_re"], args["inv_w_im"] = z[index], inv_re[index] * scale[index, None], inv_im[index] * scale[index, None]
         args["x_fixed"] = np.broadcast_to(args["x_fixed"], (len(index), args["x_fixed"].shape[0]))
-        return jax.device_get(batched(starts, args))
+        return _unscale(jax.device_get(batched(starts, args)), scale[index])
 
     out = solve(np.arange(b), np.stack([_guess_start(circuit, table, features[i], registry) for i in range(b)]))
     poor = np.flatnonzero(~at_noise_floor(freq, z, out["z_model"], inv_re, inv_im, out["code"])) if n_starts > 1 else np.zeros(0, int)

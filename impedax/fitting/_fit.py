@@ -338,16 +338,35 @@ def fit(
     sigma = np.asarray(data["sigma"].values, float) if "sigma" in data else None
     inv_re, inv_im = _weights(z, sigma, weighting, source)
     single, _ = tree_solver(circuit, registry, max_steps)
-    args = _args(table, freq, z, inv_re, inv_im)
+    scale = residual_scale(z, inv_re, inv_im)
+    args = _args(table, freq, z, inv_re * scale, inv_im * scale)
     # the data-driven guess alone first; the multistart only when its fit is not at the noise
     features = SpectrumFeatures(freq, z)
-    out = jax.device_get(single(_guess_start(circuit, table, features, registry), args))
+    out = _unscale(jax.device_get(single(_guess_start(circuit, table, features, registry), args)), scale)
     used = 1
     if n_starts > 1 and not at_noise_floor(freq, z, out["z_model"], inv_re, inv_im, out["code"])[()]:
         starts = _starts_for(circuit, table, features, n_starts, seed, registry)
-        out = _better(out, jax.device_get(single(starts, args)))
+        out = _better(out, _unscale(jax.device_get(single(starts, args)), scale))
         used = n_starts
     return _result(circuit, table, freq, z, out, weighting, used, time.perf_counter() - t0, registry)
+
+
+def residual_scale(z, inv_re, inv_im) -> np.ndarray:
+    """A constant per spectrum that brings the weighted residuals to the size of relative
+    ones (1 for modulus weighting). Levenberg–Marquardt's damping is absolute, so with
+    residuals of 1e10 Ω (unit weighting of teraohm data) it would take undamped Gauss–Newton
+    jumps; the minimiser is unchanged and chi² and the Jacobian are scaled back."""
+    typical = np.median(np.abs(z) * np.sqrt(0.5 * (np.asarray(inv_re) ** 2 + np.asarray(inv_im) ** 2)), axis=-1)
+    return 1.0 / np.where(np.isfinite(typical) & (typical > 0), typical, 1.0)
+
+
+def _unscale(out: dict, scale) -> dict:
+    scale = np.asarray(scale)
+    out = dict(out)
+    out["chi2"] = out["chi2"] / scale**2
+    out["chi2_starts"] = out["chi2_starts"] / scale.reshape(scale.shape + (1,) * (np.ndim(out["chi2_starts"]) - scale.ndim)) ** 2
+    out["jacobian"] = out["jacobian"] / scale.reshape(scale.shape + (1, 1))
+    return out
 
 
 # the guess's fit is accepted without a multistart when its weighted residuals look like noise:
@@ -361,11 +380,11 @@ def at_noise_floor(freq, z, z_model, inv_re, inv_im, code) -> np.ndarray:
     """Whether fits (…, N) converged (``code == 0``) with residuals that look like white noise;
     broadcasts over leading batch dimensions."""
     order = np.argsort(freq)
-    dz = (np.asarray(z_model) - z)[..., order]
-    parts = [dz.real * np.asarray(inv_re)[..., order], dz.imag * np.asarray(inv_im)[..., order]]
-    num = sum(np.sum(p[..., 1:] * p[..., :-1], axis=-1) for p in parts)
-    den = sum(np.sum(p**2, axis=-1) for p in parts)
     with np.errstate(all="ignore"):
+        dz = (np.asarray(z_model) - z)[..., order]
+        parts = [dz.real * np.asarray(inv_re)[..., order], dz.imag * np.asarray(inv_im)[..., order]]
+        num = sum(np.sum(p[..., 1:] * p[..., :-1], axis=-1) for p in parts)
+        den = sum(np.sum(p**2, axis=-1) for p in parts)
         rho = num / den
     ok = (np.asarray(code) == 0) & np.isfinite(den) & (den > 0) & (rho < WHITENESS_LIMIT)
     return ok & (len(order) >= MIN_POINTS_FOR_WHITENESS)
@@ -420,15 +439,23 @@ def _result(circuit, table, freq, z, out, weighting, n_starts, elapsed, registry
     n = 2 * len(freq)
     k = len(free_names)
     chi2_red = chi2 / (n - k) if n > k else math.nan
-    cov, corr, null_sets, ratio = _uncertainties(out["jacobian"], chi2_red, weighting, free_names)
-    stderr_free = np.sqrt(np.clip(np.diag(cov), 0, None)) if k else np.zeros(0)
+    z_model = np.asarray(out["z_model"])
+    if finite:
+        cov, corr, null_sets, ratio = _uncertainties(out["jacobian"], chi2_red, weighting, free_names)
+        stderr_free = np.sqrt(np.clip(np.diag(cov), 0, None)) if k else np.zeros(0)
+    else:
+        # overflow: nothing is determined; say so with infinities, never NaN dressed as a result
+        chi2 = math.inf
+        z_model = np.where(np.isfinite(z_model), z_model, np.inf)
+        cov, corr, null_sets, ratio = np.diag(np.full(k, np.inf)), np.eye(k), [], 0.0
+        stderr_free = np.full(k, np.inf)
     values = {nm: float(v) for nm, v in zip(names, x)}
     stderr = {nm: math.nan for nm in names}
     stderr.update({nm: float(e) for nm, e in zip(free_names, stderr_free)})
     code = int(out["code"])
     converged = bool(finite and code == 0)
     if not finite:
-        message = "the model gave non-finite impedance at every start; check bounds, fixed values and the frequency range"
+        message = "the model's impedance or weighted residuals are not finite (overflow) at every start; check bounds, fixed values and the frequency range"
     elif code == 0:
         start = "from the data-driven start" if n_starts == 1 else f"best of {n_starts} starts"
         message = f"converged in {int(out['steps'])} steps ({start})"
@@ -454,7 +481,7 @@ def _result(circuit, table, freq, z, out, weighting, n_starts, elapsed, registry
         correlation=corr,
         frequency=np.asarray(freq),
         z_data=np.asarray(z),
-        z_model=np.asarray(out["z_model"]),
+        z_model=z_model,
         weighting=weighting,
         chi2=chi2,
         converged=converged,

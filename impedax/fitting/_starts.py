@@ -142,7 +142,10 @@ def data_driven_guess(circuit: Circuit, table: ParameterTable, features: Spectru
 
 def _clip_inside(x, table: ParameterTable) -> np.ndarray:
     lo, hi = table.lower, table.upper
+    # (0, ∞) is fitted in log space: any positive value is inside (a floor of lower + 1e-6
+    # would lift every capacitance and CPE Q guess to 1 µF)
     span_lo = np.where(lo > 0, lo * (1 + 1e-6), lo + 1e-6 * np.where(np.isfinite(hi), hi - lo, 1.0))
+    span_lo = np.where((lo == 0) & ~np.isfinite(hi), 1e-300, span_lo)
     span_hi = np.where(np.isfinite(hi), np.where(hi > 0, hi * (1 - 1e-6), hi - 1e-6), np.inf)
     return np.clip(x, span_lo, span_hi)
 
