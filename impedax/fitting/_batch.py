@@ -173,8 +173,9 @@ def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weig
     off = 2 * n_par + 3
     z_model = packed[..., off : off + n_freq] + 1j * packed[..., off + n_freq :]
     z_data = z_da.values if z_da.chunks is None else z_da.compute().values
-    rel = (z_model - z_data) / np.abs(z_data)
-    rms_rel = np.sqrt(np.mean(np.abs(rel) ** 2, axis=-1))
+    with np.errstate(all="ignore"):  # overflowed fits carry +inf
+        rel = (z_model - z_data) / np.abs(z_data)
+        rms_rel = np.sqrt(np.mean(np.abs(rel) ** 2, axis=-1))
     k = int((~table.fixed).sum())
     n_res = 2 * n_freq
     aic = np.vectorize(lambda c: information_criteria(c, n_res, k)[0])(chi2)

@@ -139,11 +139,13 @@ class FitResult:
 
     @property
     def residuals(self) -> np.ndarray:
-        return (self.z_model - self.z_data) / np.abs(self.z_data)
+        with np.errstate(all="ignore"):  # an overflowed model is +inf: its residuals are too
+            return (self.z_model - self.z_data) / np.abs(self.z_data)
 
     @property
     def rms_rel(self) -> float:
-        return float(np.sqrt(np.mean(np.abs(self.residuals) ** 2)))
+        with np.errstate(over="ignore"):
+            return float(np.sqrt(np.mean(np.abs(self.residuals) ** 2)))
 
     @property
     def params(self) -> dict[str, float]:
