@@ -124,3 +124,26 @@ def test_batch_with_overflowing_fixed_value_reports_each_spectrum():
     assert not ds["converged"].values.any()
     assert not np.isnan(ds["value"].values).any()
     assert np.isinf(ds["stderr"].sel(param="R1").values).all()
+
+
+def test_vectorised_batch_statistics_equal_single_fits_warnings_included(rng):
+    """The batch computes uncertainties for all spectra in one stacked SVD and builds warning
+    text only for flagged spectra: values, stderr and warnings must match one-by-one fits.
+    Meyer's C_s/C_i pair is flagged; the fixed-C_i fits are not."""
+    from spectra import meyer
+
+    f = np.geomspace(10, 1e6, 50)
+    truth = {"C_s": 140e-12, "C_i": 1.7e-9, "R_sc": 130e3, "C_sc": 2.2e-9, "R_f": 500.0}
+    z = np.stack([noisy(meyer(f, truth), NOISE, rng) for _ in range(3)])
+    data = ix.make_spectrum(f, z, dims=("trial",), coords={"trial": [0, 1, 2]})
+    text = "C_s + C_i + R_sc || C_sc + R_f"
+    for fixed in (None, {"C_i": 1.7e-9}):
+        batch = ix.fit(text, data, fixed=fixed)
+        ds = batch.to_xarray()
+        for i in range(3):
+            single = ix.fit(text, data.isel(trial=i), fixed=fixed)
+            for name in single.values:
+                assert float(ds["value"].sel(param=name, trial=i)) == pytest.approx(single.values[name], rel=1e-6)
+                assert float(ds["stderr"].sel(param=name, trial=i)) == pytest.approx(single.stderr[name], rel=1e-4, nan_ok=True)
+            assert batch.warnings.get(f"trial={i}", ()) == single.warnings
+        assert bool(batch.warnings) == (fixed is None)

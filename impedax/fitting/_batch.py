@@ -17,6 +17,7 @@ import xarray as xr
 from ..circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ._core import tree_solver
 from ._fit import FitResult, _args, _guess_start, _result, _starts_for, _weights, at_noise_floor, information_criteria, _better, _unscale, residual_scale
+from ._fit import CORRELATION_LIMIT, RELATIVE_ERROR_LIMIT, SINGULAR_RATIO_LIMIT
 from ._starts import SpectrumFeatures
 from ._parameters import ParameterTable
 
@@ -84,7 +85,13 @@ class BatchFitResult:
 
 
 def _fit_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source) -> list[FitResult]:
-    """Fit a stack of spectra z (B, N) in vmapped calls; returns one FitResult each.
+    """Fit a stack of spectra z (B, N); returns one FitResult each."""
+    out, used = _solve_stack(circuit, table, freq, z, sigma, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
+    return [_result(circuit, table, freq, z[i], {k: v[i] for k, v in out.items()}, weighting, int(used[i]), 0.0, registry) for i in range(z.shape[0])]
+
+
+def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source) -> tuple[dict, np.ndarray]:
+    """Solver outputs (arrays over B) for a stack of spectra z (B, N), and the starts used.
 
     As `fit`: every spectrum from its data-driven guess first, then the multistart for those
     whose fit is not at the noise level (in groups padded to a power of two, so that a few
@@ -115,7 +122,50 @@ def _fit_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_s
                 out[k] = out[k].copy()
                 out[k][poor] = v
         used[poor] = n_starts
-    return [_result(circuit, table, freq, z[i], {k: v[i] for k, v in out.items()}, weighting, int(used[i]), 0.0, registry) for i in range(b)]
+    return out, used
+
+
+def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source) -> tuple[np.ndarray, list[tuple[str, ...]]]:
+    """Rows as `_pack` and warnings per spectrum, without a FitResult per spectrum: the
+    uncertainties of all spectra in one stacked SVD; only spectra that earn a warning (or did
+    not converge) go through `_result` for its text."""
+    out, used = _solve_stack(circuit, table, freq, z, sigma, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
+    b, k, n_res = z.shape[0], len(table.free_names), 2 * len(freq)
+    chi2 = np.array(out["chi2"], float)  # copies: device_get's arrays are read-only
+    finite = np.isfinite(chi2) & np.all(np.isfinite(out["z_model"]), axis=-1)
+    converged = finite & (np.asarray(out["code"]) == 0)
+    values = np.array(out["x"], float)
+    stderr = np.full(values.shape, np.nan)
+    flagged = ~converged
+    if k:
+        jac = np.where(finite[:, None, None], out["jacobian"], 0.0)
+        norms = np.linalg.norm(jac, axis=1)
+        col = np.where(norms > 0, 1.0 / np.where(norms > 0, norms, 1.0), 1.0)
+        _, sv, vt = np.linalg.svd(jac * col[:, None, :], full_matrices=False)
+        s_max = np.where(sv[:, :1] > 0, sv[:, :1], 1.0)
+        cov = np.einsum("bji,bj,bjl->bil", vt, 1.0 / (sv**2 + (1e-13 * s_max) ** 2), vt) * col[:, :, None] * col[:, None, :]
+        if weighting != "sigma" and n_res > k:
+            cov = cov * (chi2 / (n_res - k))[:, None, None]
+        err = np.sqrt(np.clip(np.einsum("bii->bi", cov), 0, None))
+        stderr[:, table.free_index] = err
+        with np.errstate(all="ignore"):
+            corr = np.abs(cov / (err[:, :, None] * err[:, None, :]))
+            rel = np.abs(err / values[:, table.free_index])
+        corr[:, np.arange(k), np.arange(k)] = 0.0
+        lo, hi = table.lower[table.free_index], table.upper[table.free_index]
+        v = values[:, table.free_index]
+        at_bound = (np.isfinite(hi) & (np.abs(v - hi) <= 1e-4 * np.maximum(np.abs(hi), 1e-12))) | ((lo > 0) & (np.abs(v - lo) <= 1e-4 * lo))
+        flagged |= np.any(sv < SINGULAR_RATIO_LIMIT * s_max, axis=1) | np.any(np.nan_to_num(corr) > CORRELATION_LIMIT, axis=(1, 2))
+        flagged |= np.any((v != 0) & ~(rel <= RELATIVE_ERROR_LIMIT), axis=1) | np.any(at_bound, axis=1)
+    notes: list[tuple[str, ...]] = [()] * b
+    z_model = np.array(out["z_model"])
+    for i in np.flatnonzero(flagged):  # the exact text (and overflow handling) of a single fit
+        r = _result(circuit, table, freq, z[i], {key: val[i] for key, val in out.items()}, weighting, int(used[i]), 0.0, registry)
+        values[i] = [r.values[n] for n in table.names]
+        stderr[i] = [r.stderr[n] for n in table.names]
+        chi2[i], converged[i], z_model[i], notes[i] = r.chi2, r.converged, r.z_model, r.warnings
+    stats = np.stack([chi2, converged.astype(float), np.asarray(out["steps_total"], float)], axis=-1)
+    return np.concatenate([values, stderr, stats, z_model.real, z_model.imag], axis=-1), notes
 
 
 def _bucket(n: int) -> int:
@@ -144,8 +194,8 @@ def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weig
         shape = z_block.shape[:-1]
         z2 = np.asarray(z_block).reshape(-1, n_freq)
         s2 = None if sigma_block is None else np.asarray(sigma_block).reshape(-1, n_freq)
-        results = _fit_stack(circuit, table, freq, z2, s2, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
-        return _pack(results, names).reshape(*shape, -1), results
+        packed, notes = _packed_stack(circuit, table, freq, z2, s2, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
+        return packed.reshape(*shape, -1), notes
 
     width = 2 * n_par + len(_STATS) + 2 * n_freq
     if z_da.chunks is not None:
@@ -161,11 +211,11 @@ def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weig
         ).compute()
         packed = packed.transpose(*extra, "fit_output").values
     else:
-        packed, results = fit_block(z_da.values, None if sigma_da is None else sigma_da.values)
-        for idx, r in zip(np.ndindex(*z_da.shape[:-1]), results):
-            if r.warnings:
+        packed, notes = fit_block(z_da.values, None if sigma_da is None else sigma_da.values)
+        for idx, note in zip(np.ndindex(*z_da.shape[:-1]), notes):
+            if note:
                 key = ", ".join(f"{d}={data[d].values[i] if d in data.coords else i}" for d, i in zip(extra, idx))
-                warnings[key] = r.warnings
+                warnings[key] = note
     coords = {d: data[d].values for d in extra if d in data.coords}
     values = packed[..., :n_par]
     stderr = packed[..., n_par : 2 * n_par]
