@@ -7,6 +7,7 @@ dask="parallelized")``, so the same call scales out on a ``dask.distributed`` cl
 from __future__ import annotations
 
 import math
+import os
 import time
 from dataclasses import dataclass
 
@@ -104,15 +105,25 @@ def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n
     scale = residual_scale(z, inv_re, inv_im)
 
     def solve(index, starts):
-        args = _args(table, freq, z[0], inv_re[0], inv_im[0])
-        args["z"], args["inv_w_re"], args["inv_w_im"] = z[index], inv_re[index] * scale[index, None], inv_im[index] * scale[index, None]
-        args["x_fixed"] = np.broadcast_to(args["x_fixed"], (len(index), args["x_fixed"].shape[0]))
-        return _unscale(jax.device_get(batched(starts, args)), scale[index])
+        # equal parts dispatched together run on separate cores (each part is a sequential loop)
+        n_parts = min(_PARTS, max(1, len(index) // 16))
+        size = -(-len(index) // n_parts)
+        pad = np.concatenate([np.arange(len(index)), np.zeros(size * n_parts - len(index), int)])
+        pending = []
+        for part in np.split(pad, n_parts):
+            i = index[part]
+            args = _args(table, freq, z[0], inv_re[0], inv_im[0])
+            args["z"], args["inv_w_re"], args["inv_w_im"] = z[i], inv_re[i] * scale[i, None], inv_im[i] * scale[i, None]
+            args["x_fixed"] = np.broadcast_to(args["x_fixed"], (len(i), args["x_fixed"].shape[0]))
+            pending.append(batched(starts[part], args))
+        parts = jax.device_get(pending)
+        out = {k: np.concatenate([p[k] for p in parts])[: len(index)] for k in parts[0]}
+        return _unscale(out, scale[index])
 
     out = solve(np.arange(b), np.stack([_guess_start(circuit, table, features[i], registry) for i in range(b)]))
     poor = np.flatnonzero(~at_noise_floor(freq, z, out["z_model"], inv_re, inv_im, out["code"])) if n_starts > 1 else np.zeros(0, int)
     used = np.ones(b, int)
-    if poor.size:
+    if poor.size:  # (the multistart's starts are built only for these)
         padded = np.concatenate([poor, np.full(_bucket(poor.size) - poor.size, poor[0])])
         multi = solve(padded, np.stack([_starts_for(circuit, table, features[i], n_starts, seed, registry) for i in padded]))
         multi = {k: v[: poor.size] for k, v in multi.items()}
@@ -166,6 +177,9 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
         chi2[i], converged[i], z_model[i], notes[i] = r.chi2, r.converged, r.z_model, r.warnings
     stats = np.stack([chi2, converged.astype(float), np.asarray(out["steps_total"], float)], axis=-1)
     return np.concatenate([values, stderr, stats, z_model.real, z_model.imag], axis=-1), notes
+
+
+_PARTS = max(1, min(os.cpu_count() or 1, 8))
 
 
 def _bucket(n: int) -> int:
