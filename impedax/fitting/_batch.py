@@ -137,7 +137,8 @@ def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n
 
 
 def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source) -> tuple[np.ndarray, list[tuple[str, ...]]]:
-    """Rows as `_pack` and warnings per spectrum, without a FitResult per spectrum: the
+    """One row per spectrum (values, stderr, chi2, converged, evaluations, Re/Im of Z_model)
+    and its warnings, without a FitResult per spectrum: the
     uncertainties of all spectra in one stacked SVD; only spectra that earn a warning (or did
     not converge) go through `_result` for its text."""
     out, used = _solve_stack(circuit, table, freq, z, sigma, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
@@ -184,14 +185,6 @@ _PARTS = max(1, min(os.cpu_count() or 1, 8))
 
 def _bucket(n: int) -> int:
     return max(8, 1 << (n - 1).bit_length())
-
-
-def _pack(results: list[FitResult], names) -> np.ndarray:
-    """One row per fit: values, stderr, chi2, converged, evaluations, Re/Im of Z_model."""
-    rows = []
-    for r in results:
-        rows.append(np.concatenate([[r.values[n] for n in names], [r.stderr[n] for n in names], [r.chi2, float(r.converged), r.n_evaluations], r.z_model.real, r.z_model.imag]))
-    return np.array(rows)
 
 
 def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weighting: str, n_starts: int, max_steps: int, seed: int, registry: Registry = DEFAULT_REGISTRY, source: str = "data", t0: float | None = None) -> BatchFitResult:
