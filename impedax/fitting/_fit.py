@@ -344,13 +344,18 @@ def fit(
     args = _args(table, freq, z, inv_re * scale, inv_im * scale)
     # the data-driven guess alone first; the multistart only when its fit is not at the noise
     features = SpectrumFeatures(freq, z)
-    out = _unscale(jax.device_get(single(_guess_start(circuit, table, features, registry), args)), scale)
+    out = _unscale(_fetch(single(_guess_start(circuit, table, features, registry), args)), scale)
     used = 1
     if n_starts > 1 and not at_noise_floor(freq, z, out["z_model"], inv_re, inv_im, out["code"])[()]:
         starts = _starts_for(circuit, table, features, n_starts, seed, registry)
-        out = _better(out, _unscale(jax.device_get(single(starts, args)), scale))
+        out = _better(out, _unscale(_fetch(single(starts, args)), scale))
         used = n_starts
     return _result(circuit, table, freq, z, out, weighting, used, time.perf_counter() - t0, registry)
+
+
+def _fetch(out: dict) -> dict:
+    """The solver outputs a fit uses, copied to the host in one call."""
+    return jax.device_get({k: v for k, v in out.items() if k != "x_free"})
 
 
 def residual_scale(z, inv_re, inv_im) -> np.ndarray:

@@ -37,7 +37,8 @@ class SpectrumFeatures:
         self.l_series = z.imag[-1] / w[-1] if z.imag[-1] > 0 else self.z_min / w[-1] * 1e-2
         k = min(3, len(f))
         if k >= 2 and np.all(neg_im[:k] > 0):
-            slope = np.polyfit(np.log(f[:k]), np.log(neg_im[:k]), 1)[0]
+            lx, ly = np.log(f[:k]), np.log(neg_im[:k])
+            slope = np.sum((lx - lx.mean()) * (ly - ly.mean())) / np.sum((lx - lx.mean()) ** 2)  # least-squares line
             self.alpha_lf = float(np.clip(-slope, 0.4, 1.0))
         else:
             self.alpha_lf = 0.85
