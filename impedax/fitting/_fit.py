@@ -319,8 +319,10 @@ def fit(
     """Fit ``circuit`` to ``data`` by weighted least squares (optimistix Levenberg–Marquardt).
 
     Parameters are fitted in an unconstrained space (log for positive quantities, logistic
-    for bounded ranges), float64. Without ``init``, starts are data-driven guesses plus
-    ``n_starts − 1`` further starts, all solved in one vmapped call; the best is kept.
+    for bounded ranges), float64. The data-driven guess (with any ``init`` values) is fitted
+    first; when its residuals do not look like white noise, ``n_starts − 1`` further starts
+    are solved with it in one vmapped call and the best is kept (``FitResult.n_starts`` says
+    how many were used).
     ``fixed`` pins parameters; ``bounds`` narrows them; ``weighting`` is one of `WEIGHTINGS`.
     ``data`` is a spectrum Dataset or a path. Extra dimensions (trial, subject, ...) are fitted
     together and give a `BatchFitResult`; dask-backed data are fitted chunk by chunk.
