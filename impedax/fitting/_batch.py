@@ -17,7 +17,7 @@ import xarray as xr
 
 from ..circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ._core import tree_solver
-from ._fit import FitResult, _args, _guess_start, _result, _starts_for, _weights, at_noise_floor, information_criteria, _better, _unscale, residual_scale
+from ._fit import FitResult, _args, _guess_start, _result, _starts_from, _weights, at_noise_floor, information_criteria, _better, _unscale, residual_scale
 from ._fit import CORRELATION_LIMIT, RELATIVE_ERROR_LIMIT, SINGULAR_RATIO_LIMIT
 from ._starts import SpectrumFeatures
 from ._parameters import ParameterTable
@@ -125,7 +125,7 @@ def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n
     used = np.ones(b, int)
     if poor.size:  # (the multistart's starts are built only for these)
         padded = np.concatenate([poor, np.full(_bucket(poor.size) - poor.size, poor[0])])
-        multi = solve(padded, np.stack([_starts_for(circuit, table, features[i], n_starts, seed, registry) for i in padded]))
+        multi = solve(padded, np.stack([_starts_from(circuit, table, features[i], n_starts, seed, registry) for i in padded]))
         multi = {k: v[: poor.size] for k, v in multi.items()}
         sub = _better({k: v[poor] for k, v in out.items()}, multi)
         for k, v in sub.items():

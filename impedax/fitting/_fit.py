@@ -349,7 +349,7 @@ def fit(
     out = _unscale(_fetch(single(_guess_start(circuit, table, features, registry), args)), scale)
     used = 1
     if n_starts > 1 and not at_noise_floor(freq, z, out["z_model"], inv_re, inv_im, out["code"])[()]:
-        starts = _starts_for(circuit, table, features, n_starts, seed, registry)
+        starts = _starts_from(circuit, table, features, n_starts, seed, registry)
         out = _better(out, _unscale(_fetch(single(starts, args)), scale))
         used = n_starts
     return _result(circuit, table, freq, z, out, weighting, used, time.perf_counter() - t0, registry)
@@ -416,7 +416,12 @@ def _guess_start(circuit, table, features, registry) -> np.ndarray:
     return _to_internal(table, data_driven_guess(circuit, table, features, registry)[None, :])
 
 
-def _starts_for(circuit, table, features, n_starts, seed, registry) -> np.ndarray:
+def _starts_for(circuit, table, freq, z, n_starts, seed, registry) -> np.ndarray:
+    """``n_starts`` starts (the guess first) in the solver's space, shape (n_starts, K)."""
+    return _starts_from(circuit, table, SpectrumFeatures(freq, z), n_starts, seed, registry)
+
+
+def _starts_from(circuit, table, features, n_starts, seed, registry) -> np.ndarray:
     guess = data_driven_guess(circuit, table, features, registry)
     return _to_internal(table, random_starts(table, features, guess, n_starts, seed))
 
