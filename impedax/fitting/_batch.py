@@ -7,16 +7,19 @@ dask="parallelized")``, so the same call scales out on a ``dask.distributed`` cl
 from __future__ import annotations
 
 import math
+import os
 import time
 from dataclasses import dataclass
 
-import jax.numpy as jnp
+import jax
 import numpy as np
 import xarray as xr
 
 from ..circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ._core import tree_solver
-from ._fit import FitResult, _args, _result, _starts_for, _weights, information_criteria
+from ._fit import FitResult, _args, _guess_start, _result, _starts_from, _weights, at_noise_floor, information_criteria, _better, _unscale, residual_scale
+from ._fit import CORRELATION_LIMIT, RELATIVE_ERROR_LIMIT, SINGULAR_RATIO_LIMIT
+from ._starts import SpectrumFeatures
 from ._parameters import ParameterTable
 
 __all__ = ["BatchFitResult", "fit_batch"]
@@ -83,30 +86,105 @@ class BatchFitResult:
 
 
 def _fit_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source) -> list[FitResult]:
-    """Fit a stack of spectra z (B, N) in one vmapped call; returns one FitResult each."""
+    """Fit a stack of spectra z (B, N); returns one FitResult each."""
+    out, used = _solve_stack(circuit, table, freq, z, sigma, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
+    return [_result(circuit, table, freq, z[i], {k: v[i] for k, v in out.items()}, weighting, int(used[i]), 0.0, registry) for i in range(z.shape[0])]
+
+
+def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source) -> tuple[dict, np.ndarray]:
+    """Solver outputs (arrays over B) for a stack of spectra z (B, N), and the starts used.
+
+    As `fit`: every spectrum from its data-driven guess first, then the multistart for those
+    whose fit is not at the noise level (in groups padded to a power of two, so that a few
+    compilations serve any number of them)."""
     b = z.shape[0]
-    starts, inv_re, inv_im = [], [], []
-    for i in range(b):
-        wr, wi = _weights(z[i], None if sigma is None else sigma[i], weighting, source)
-        inv_re.append(wr)
-        inv_im.append(wi)
-        starts.append(_starts_for(circuit, table, freq, z[i], n_starts, seed, registry))
-    args = _args(table, freq, z[0], inv_re[0], inv_im[0])
-    args["z"] = jnp.asarray(z)
-    args["inv_w_re"] = jnp.asarray(np.stack(inv_re))
-    args["inv_w_im"] = jnp.asarray(np.stack(inv_im))
-    args["x_fixed"] = jnp.broadcast_to(args["x_fixed"], (b, args["x_fixed"].shape[0]))
+    inv_re, inv_im = (np.stack(w) for w in zip(*(_weights(z[i], None if sigma is None else sigma[i], weighting, source) for i in range(b))))
+    features = [SpectrumFeatures(freq, z[i]) for i in range(b)]
     _, batched = tree_solver(circuit, registry, max_steps)
-    out = {k: np.asarray(v) for k, v in batched(jnp.asarray(np.stack(starts)), args).items()}
-    return [_result(circuit, table, freq, z[i], {k: v[i] for k, v in out.items()}, weighting, n_starts, 0.0, registry) for i in range(b)]
+
+    scale = residual_scale(z, inv_re, inv_im)
+
+    def solve(index, starts):
+        # equal parts dispatched together run on separate cores (each part is a sequential loop)
+        n_parts = min(_PARTS, max(1, len(index) // 16))
+        size = -(-len(index) // n_parts)
+        pad = np.concatenate([np.arange(len(index)), np.zeros(size * n_parts - len(index), int)])
+        pending = []
+        for part in np.split(pad, n_parts):
+            i = index[part]
+            args = _args(table, freq, z[0], inv_re[0], inv_im[0])
+            args["z"], args["inv_w_re"], args["inv_w_im"] = z[i], inv_re[i] * scale[i, None], inv_im[i] * scale[i, None]
+            args["x_fixed"] = np.broadcast_to(args["x_fixed"], (len(i), args["x_fixed"].shape[0]))
+            pending.append(batched(starts[part], args))
+        parts = jax.device_get(pending)
+        out = {k: np.concatenate([p[k] for p in parts])[: len(index)] for k in parts[0]}
+        return _unscale(out, scale[index])
+
+    out = solve(np.arange(b), np.stack([_guess_start(circuit, table, features[i], registry) for i in range(b)]))
+    poor = np.flatnonzero(~at_noise_floor(freq, z, out["z_model"], inv_re, inv_im, out["code"])) if n_starts > 1 else np.zeros(0, int)
+    used = np.ones(b, int)
+    if poor.size:  # (the multistart's starts are built only for these)
+        padded = np.concatenate([poor, np.full(_bucket(poor.size) - poor.size, poor[0])])
+        multi = solve(padded, np.stack([_starts_from(circuit, table, features[i], n_starts, seed, registry) for i in padded]))
+        multi = {k: v[: poor.size] for k, v in multi.items()}
+        sub = _better({k: v[poor] for k, v in out.items()}, multi)
+        for k, v in sub.items():
+            if k in out:
+                out[k] = out[k].copy()
+                out[k][poor] = v
+        used[poor] = n_starts
+    return out, used
 
 
-def _pack(results: list[FitResult], names) -> np.ndarray:
-    """One row per fit: values, stderr, chi2, converged, evaluations, Re/Im of Z_model."""
-    rows = []
-    for r in results:
-        rows.append(np.concatenate([[r.values[n] for n in names], [r.stderr[n] for n in names], [r.chi2, float(r.converged), r.n_evaluations], r.z_model.real, r.z_model.imag]))
-    return np.array(rows)
+def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source) -> tuple[np.ndarray, list[tuple[str, ...]]]:
+    """One row per spectrum (values, stderr, chi2, converged, evaluations, Re/Im of Z_model)
+    and its warnings, without a FitResult per spectrum: the
+    uncertainties of all spectra in one stacked SVD; only spectra that earn a warning (or did
+    not converge) go through `_result` for its text."""
+    out, used = _solve_stack(circuit, table, freq, z, sigma, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
+    b, k, n_res = z.shape[0], len(table.free_names), 2 * len(freq)
+    chi2 = np.array(out["chi2"], float)  # copies: device_get's arrays are read-only
+    finite = np.isfinite(chi2) & np.all(np.isfinite(out["z_model"]), axis=-1)
+    converged = finite & (np.asarray(out["code"]) == 0)
+    values = np.array(out["x"], float)
+    stderr = np.full(values.shape, np.nan)
+    flagged = ~converged
+    if k:
+        jac = np.where(finite[:, None, None], out["jacobian"], 0.0)
+        norms = np.linalg.norm(jac, axis=1)
+        col = np.where(norms > 0, 1.0 / np.where(norms > 0, norms, 1.0), 1.0)
+        _, sv, vt = np.linalg.svd(jac * col[:, None, :], full_matrices=False)
+        s_max = np.where(sv[:, :1] > 0, sv[:, :1], 1.0)
+        cov = np.einsum("bji,bj,bjl->bil", vt, 1.0 / (sv**2 + (1e-13 * s_max) ** 2), vt) * col[:, :, None] * col[:, None, :]
+        if weighting != "sigma" and n_res > k:
+            cov = cov * (chi2 / (n_res - k))[:, None, None]
+        err = np.sqrt(np.clip(np.einsum("bii->bi", cov), 0, None))
+        stderr[:, table.free_index] = err
+        with np.errstate(all="ignore"):
+            corr = np.abs(cov / (err[:, :, None] * err[:, None, :]))
+            rel = np.abs(err / values[:, table.free_index])
+        corr[:, np.arange(k), np.arange(k)] = 0.0
+        lo, hi = table.lower[table.free_index], table.upper[table.free_index]
+        v = values[:, table.free_index]
+        at_bound = (np.isfinite(hi) & (np.abs(v - hi) <= 1e-4 * np.maximum(np.abs(hi), 1e-12))) | ((lo > 0) & (np.abs(v - lo) <= 1e-4 * lo))
+        flagged |= np.any(sv < SINGULAR_RATIO_LIMIT * s_max, axis=1) | np.any(np.nan_to_num(corr) > CORRELATION_LIMIT, axis=(1, 2))
+        flagged |= np.any((v != 0) & ~(rel <= RELATIVE_ERROR_LIMIT), axis=1) | np.any(at_bound, axis=1)
+    notes: list[tuple[str, ...]] = [()] * b
+    z_model = np.array(out["z_model"])
+    for i in np.flatnonzero(flagged):  # the exact text (and overflow handling) of a single fit
+        r = _result(circuit, table, freq, z[i], {key: val[i] for key, val in out.items()}, weighting, int(used[i]), 0.0, registry)
+        values[i] = [r.values[n] for n in table.names]
+        stderr[i] = [r.stderr[n] for n in table.names]
+        chi2[i], converged[i], z_model[i], notes[i] = r.chi2, r.converged, r.z_model, r.warnings
+    stats = np.stack([chi2, converged.astype(float), np.asarray(out["steps_total"], float)], axis=-1)
+    return np.concatenate([values, stderr, stats, z_model.real, z_model.imag], axis=-1), notes
+
+
+_PARTS = max(1, min(os.cpu_count() or 1, 8))
+
+
+def _bucket(n: int) -> int:
+    return max(8, 1 << (n - 1).bit_length())
 
 
 def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weighting: str, n_starts: int, max_steps: int, seed: int, registry: Registry = DEFAULT_REGISTRY, source: str = "data", t0: float | None = None) -> BatchFitResult:
@@ -123,8 +201,8 @@ def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weig
         shape = z_block.shape[:-1]
         z2 = np.asarray(z_block).reshape(-1, n_freq)
         s2 = None if sigma_block is None else np.asarray(sigma_block).reshape(-1, n_freq)
-        results = _fit_stack(circuit, table, freq, z2, s2, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
-        return _pack(results, names).reshape(*shape, -1), results
+        packed, notes = _packed_stack(circuit, table, freq, z2, s2, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
+        return packed.reshape(*shape, -1), notes
 
     width = 2 * n_par + len(_STATS) + 2 * n_freq
     if z_da.chunks is not None:
@@ -140,11 +218,11 @@ def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weig
         ).compute()
         packed = packed.transpose(*extra, "fit_output").values
     else:
-        packed, results = fit_block(z_da.values, None if sigma_da is None else sigma_da.values)
-        for idx, r in zip(np.ndindex(*z_da.shape[:-1]), results):
-            if r.warnings:
+        packed, notes = fit_block(z_da.values, None if sigma_da is None else sigma_da.values)
+        for idx, note in zip(np.ndindex(*z_da.shape[:-1]), notes):
+            if note:
                 key = ", ".join(f"{d}={data[d].values[i] if d in data.coords else i}" for d, i in zip(extra, idx))
-                warnings[key] = r.warnings
+                warnings[key] = note
     coords = {d: data[d].values for d in extra if d in data.coords}
     values = packed[..., :n_par]
     stderr = packed[..., n_par : 2 * n_par]
@@ -152,8 +230,9 @@ def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weig
     off = 2 * n_par + 3
     z_model = packed[..., off : off + n_freq] + 1j * packed[..., off + n_freq :]
     z_data = z_da.values if z_da.chunks is None else z_da.compute().values
-    rel = (z_model - z_data) / np.abs(z_data)
-    rms_rel = np.sqrt(np.mean(np.abs(rel) ** 2, axis=-1))
+    with np.errstate(all="ignore"):  # overflowed fits carry +inf
+        rel = (z_model - z_data) / np.abs(z_data)
+        rms_rel = np.sqrt(np.mean(np.abs(rel) ** 2, axis=-1))
     k = int((~table.fixed).sum())
     n_res = 2 * n_freq
     aic = np.vectorize(lambda c: information_criteria(c, n_res, k)[0])(chi2)

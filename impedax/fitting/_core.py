@@ -97,7 +97,21 @@ def tree_solver(circuit: Circuit, registry: Registry, max_steps: int):
         return compiled.vector(x, freq)
 
     solve = _make(model, max_steps)
-    return jax.jit(solve), jax.jit(jax.vmap(solve, in_axes=(0, _BATCH_AXES)))
+    return jax.jit(solve), jax.jit(_map_spectra(solve))
+
+
+def _map_spectra(solve):
+    """Batched ``solve`` as a sequential loop inside one compiled program (``lax.map``), not a
+    ``vmap``: a vmapped solver loop runs every spectrum for as many steps as the slowest one
+    needs and evaluates both branches of each accept/reject, so per spectrum it costs several
+    times a lone solve."""
+
+    def batched(u0s, args):
+        mapped = {k: v for k, v in args.items() if _BATCH_AXES[k] == 0}
+        shared = {k: v for k, v in args.items() if _BATCH_AXES[k] is None}
+        return jax.lax.map(lambda item: solve(item[0], {**shared, **item[1]}), (u0s, mapped))
+
+    return batched
 
 
 @functools.lru_cache(maxsize=16)

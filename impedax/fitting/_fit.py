@@ -11,7 +11,7 @@ import time
 from dataclasses import dataclass, field
 from typing import Mapping, Sequence
 
-import jax.numpy as jnp
+import jax
 import numpy as np
 import xarray as xr
 
@@ -139,11 +139,13 @@ class FitResult:
 
     @property
     def residuals(self) -> np.ndarray:
-        return (self.z_model - self.z_data) / np.abs(self.z_data)
+        with np.errstate(all="ignore"):  # an overflowed model is +inf: its residuals are too
+            return (self.z_model - self.z_data) / np.abs(self.z_data)
 
     @property
     def rms_rel(self) -> float:
-        return float(np.sqrt(np.mean(np.abs(self.residuals) ** 2)))
+        with np.errstate(over="ignore"):
+            return float(np.sqrt(np.mean(np.abs(self.residuals) ** 2)))
 
     @property
     def params(self) -> dict[str, float]:
@@ -323,8 +325,10 @@ def fit(
     """Fit ``circuit`` to ``data`` by weighted least squares (optimistix Levenberg–Marquardt).
 
     Parameters are fitted in an unconstrained space (log for positive quantities, logistic
-    for bounded ranges), float64. Without ``init``, starts are data-driven guesses plus
-    ``n_starts − 1`` further starts, all solved in one vmapped call; the best is kept.
+    for bounded ranges), float64. The data-driven guess (with any ``init`` values) is fitted
+    first; when its residuals do not look like white noise, ``n_starts − 1`` further starts
+    are solved with it in one vmapped call and the best is kept (``FitResult.n_starts`` says
+    how many were used).
     ``fixed`` pins parameters; ``bounds`` narrows them; ``weighting`` is one of `WEIGHTINGS`.
     ``data`` is a spectrum Dataset or a path. Extra dimensions (trial, subject, ...) are fitted
     together and give a `BatchFitResult`; dask-backed data are fitted chunk by chunk.
@@ -343,35 +347,105 @@ def fit(
     z = np.asarray(data["Z"].values, complex)
     sigma = np.asarray(data["sigma"].values, float) if "sigma" in data else None
     inv_re, inv_im = _weights(z, sigma, weighting, source)
-    starts = _starts_for(circuit, table, freq, z, n_starts, seed, registry)
     single, _ = tree_solver(circuit, registry, max_steps)
-    args = _args(table, freq, z, inv_re, inv_im)
-    out = single(jnp.asarray(starts), args)
-    out = {k: np.asarray(v) for k, v in out.items()}
-    return _result(circuit, table, freq, z, out, weighting, n_starts, time.perf_counter() - t0, registry)
+    scale = residual_scale(z, inv_re, inv_im)
+    args = _args(table, freq, z, inv_re * scale, inv_im * scale)
+    # the data-driven guess alone first; the multistart only when its fit is not at the noise
+    features = SpectrumFeatures(freq, z)
+    out = _unscale(_fetch(single(_guess_start(circuit, table, features, registry), args)), scale)
+    used = 1
+    if n_starts > 1 and not at_noise_floor(freq, z, out["z_model"], inv_re, inv_im, out["code"])[()]:
+        starts = _starts_from(circuit, table, features, n_starts, seed, registry)
+        out = _better(out, _unscale(_fetch(single(starts, args)), scale))
+        used = n_starts
+    return _result(circuit, table, freq, z, out, weighting, used, time.perf_counter() - t0, registry)
+
+
+def _fetch(out: dict) -> dict:
+    """The solver outputs a fit uses, copied to the host in one call."""
+    return jax.device_get({k: v for k, v in out.items() if k != "x_free"})
+
+
+def residual_scale(z, inv_re, inv_im) -> np.ndarray:
+    """A constant per spectrum that brings the weighted residuals to the size of relative
+    ones (1 for modulus weighting). Levenberg–Marquardt's damping is absolute, so with
+    residuals of 1e10 Ω (unit weighting of teraohm data) it would take undamped Gauss–Newton
+    jumps; the minimiser is unchanged and chi² and the Jacobian are scaled back."""
+    typical = np.median(np.abs(z) * np.sqrt(0.5 * (np.asarray(inv_re) ** 2 + np.asarray(inv_im) ** 2)), axis=-1)
+    return 1.0 / np.where(np.isfinite(typical) & (typical > 0), typical, 1.0)
+
+
+def _unscale(out: dict, scale) -> dict:
+    scale = np.asarray(scale)
+    out = dict(out)
+    out["chi2"] = out["chi2"] / scale**2
+    out["chi2_starts"] = out["chi2_starts"] / scale.reshape(scale.shape + (1,) * (np.ndim(out["chi2_starts"]) - scale.ndim)) ** 2
+    out["jacobian"] = out["jacobian"] / scale.reshape(scale.shape + (1, 1))
+    return out
+
+
+# the guess's fit is accepted without a multistart when its weighted residuals look like noise:
+# lag-1 autocorrelation along frequency below this (white noise: ≈ 0 ± 1/√(2N); a misfit
+# that the multistart could improve leaves smooth, strongly correlated residuals)
+WHITENESS_LIMIT = 0.5
+MIN_POINTS_FOR_WHITENESS = 10
+
+
+def at_noise_floor(freq, z, z_model, inv_re, inv_im, code) -> np.ndarray:
+    """Whether fits (…, N) converged (``code == 0``) with residuals that look like white noise;
+    broadcasts over leading batch dimensions."""
+    order = np.argsort(freq)
+    with np.errstate(all="ignore"):
+        dz = (np.asarray(z_model) - z)[..., order]
+        parts = [dz.real * np.asarray(inv_re)[..., order], dz.imag * np.asarray(inv_im)[..., order]]
+        num = sum(np.sum(p[..., 1:] * p[..., :-1], axis=-1) for p in parts)
+        den = sum(np.sum(p**2, axis=-1) for p in parts)
+        rho = num / den
+    ok = (np.asarray(code) == 0) & np.isfinite(den) & (den > 0) & (rho < WHITENESS_LIMIT)
+    return ok & (len(order) >= MIN_POINTS_FOR_WHITENESS)
+
+
+def _better(a: dict, b: dict) -> dict:
+    """The solver output with the lower chi² (a on ties), elementwise over a batch axis
+    (the per-start chi² of the screen, which differ in shape, are dropped)."""
+    take_b = np.asarray(b["chi2"]) < np.asarray(a["chi2"])
+    return {k: np.where(take_b.reshape(take_b.shape + (1,) * (np.ndim(a[k]) - take_b.ndim)), b[k], a[k]) for k in a if k != "chi2_starts"}
+
+
+def _to_internal(table: ParameterTable, x: np.ndarray) -> np.ndarray:
+    free = table.free_index
+    return to_internal(x[..., free], table.lower[free], table.upper[free], table.kind[free])
+
+
+def _guess_start(circuit, table, features, registry) -> np.ndarray:
+    """The data-driven guess as one start in the solver's space, shape (1, K)."""
+    return _to_internal(table, data_driven_guess(circuit, table, features, registry)[None, :])
 
 
 def _starts_for(circuit, table, freq, z, n_starts, seed, registry) -> np.ndarray:
-    features = SpectrumFeatures(freq, z)
+    """``n_starts`` starts (the guess first) in the solver's space, shape (n_starts, K)."""
+    return _starts_from(circuit, table, SpectrumFeatures(freq, z), n_starts, seed, registry)
+
+
+def _starts_from(circuit, table, features, n_starts, seed, registry) -> np.ndarray:
     guess = data_driven_guess(circuit, table, features, registry)
-    starts = random_starts(table, features, guess, n_starts, seed)
-    free = table.free_index
-    return to_internal(starts[:, free], table.lower[free], table.upper[free], table.kind[free])
+    return _to_internal(table, random_starts(table, features, guess, n_starts, seed))
 
 
 def _args(table: ParameterTable, freq, z, inv_re, inv_im) -> dict:
+    # numpy arrays: jit transfers them on its fast path (jnp.asarray per array costs more)
     free = table.free_index
     x_fixed = np.where(np.isnan(table.values), 1.0, table.values)
     return {
-        "freq": jnp.asarray(freq),
-        "z": jnp.asarray(z),
-        "inv_w_re": jnp.asarray(inv_re),
-        "inv_w_im": jnp.asarray(inv_im),
-        "x_fixed": jnp.asarray(x_fixed),
-        "free_index": jnp.asarray(free, jnp.int32),
-        "lower": jnp.asarray(table.lower[free]),
-        "upper": jnp.asarray(table.upper[free]),
-        "kind": jnp.asarray(table.kind[free]),
+        "freq": np.asarray(freq, float),
+        "z": np.asarray(z, complex),
+        "inv_w_re": np.asarray(inv_re, float),
+        "inv_w_im": np.asarray(inv_im, float),
+        "x_fixed": x_fixed,
+        "free_index": np.asarray(free, np.int32),
+        "lower": table.lower[free],
+        "upper": table.upper[free],
+        "kind": table.kind[free],
         "model_args": None,
     }
 
@@ -385,17 +459,26 @@ def _result(circuit, table, freq, z, out, weighting, n_starts, elapsed, registry
     n = 2 * len(freq)
     k = len(free_names)
     chi2_red = chi2 / (n - k) if n > k else math.nan
-    cov, corr, null_sets, ratio = _uncertainties(out["jacobian"], chi2_red, weighting, free_names)
-    stderr_free = np.sqrt(np.clip(np.diag(cov), 0, None)) if k else np.zeros(0)
+    z_model = np.asarray(out["z_model"])
+    if finite:
+        cov, corr, null_sets, ratio = _uncertainties(out["jacobian"], chi2_red, weighting, free_names)
+        stderr_free = np.sqrt(np.clip(np.diag(cov), 0, None)) if k else np.zeros(0)
+    else:
+        # overflow: nothing is determined; say so with infinities, never NaN dressed as a result
+        chi2 = math.inf
+        z_model = np.where(np.isfinite(z_model), z_model, np.inf)
+        cov, corr, null_sets, ratio = np.diag(np.full(k, np.inf)), np.eye(k), [], 0.0
+        stderr_free = np.full(k, np.inf)
     values = {nm: float(v) for nm, v in zip(names, x)}
     stderr = {nm: math.nan for nm in names}
     stderr.update({nm: float(e) for nm, e in zip(free_names, stderr_free)})
     code = int(out["code"])
     converged = bool(finite and code == 0)
     if not finite:
-        message = "the model gave non-finite impedance at every start; check bounds, fixed values and the frequency range"
+        message = "the model's impedance or weighted residuals are not finite (overflow) at every start; check bounds, fixed values and the frequency range"
     elif code == 0:
-        message = f"converged in {int(out['steps'])} steps (best of {n_starts} starts)"
+        start = "from the data-driven start" if n_starts == 1 else f"best of {n_starts} starts"
+        message = f"converged in {int(out['steps'])} steps ({start})"
     else:
         message = solver_messages(code)
     notes = _diagnose_identifiability(list(free_names), values, stderr, corr, null_sets, ratio) if finite else []
@@ -418,7 +501,7 @@ def _result(circuit, table, freq, z, out, weighting, n_starts, elapsed, registry
         correlation=corr,
         frequency=np.asarray(freq),
         z_data=np.asarray(z),
-        z_model=np.asarray(out["z_model"]),
+        z_model=z_model,
         weighting=weighting,
         chi2=chi2,
         converged=converged,

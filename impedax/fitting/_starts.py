@@ -37,39 +37,76 @@ class SpectrumFeatures:
         self.l_series = z.imag[-1] / w[-1] if z.imag[-1] > 0 else self.z_min / w[-1] * 1e-2
         k = min(3, len(f))
         if k >= 2 and np.all(neg_im[:k] > 0):
-            slope = np.polyfit(np.log(f[:k]), np.log(neg_im[:k]), 1)[0]
+            lx, ly = np.log(f[:k]), np.log(neg_im[:k])
+            slope = np.sum((lx - lx.mean()) * (ly - ly.mean())) / np.sum((lx - lx.mean()) ** 2)  # least-squares line
             self.alpha_lf = float(np.clip(-slope, 0.4, 1.0))
         else:
             self.alpha_lf = 0.85
         self.warburg = mag[0] * np.sqrt(w[0]) * 0.3
+        self._f, self._neg_im = f, neg_im
+
+    def arcs(self, n_arc: int) -> tuple[np.ndarray, np.ndarray]:
+        """(R, τ) of ``n_arc`` arcs, highest frequency first: the tallest local maxima of −Z''
+        over log f give τ = 1/(2π f_peak) and R ∝ the peak height (−Z''_max = R/2 for an RC
+        arc); missing peaks are spread a decade apart. R sums to the low-minus-high-frequency
+        span."""
+        f, y = self._f, self._neg_im
+        r_total = max(self.r_lf - self.r_hf, 0.05 * self.z_max)
+        inner = np.flatnonzero((y[1:-1] > y[:-2]) & (y[1:-1] >= y[2:]) & (y[1:-1] > 0)) + 1
+        ends = [i for i in (0, len(f) - 1) if len(f) > 1 and y[i] > 0 and y[i] > y[1 if i == 0 else -2]]
+        peaks = np.concatenate([inner, np.asarray(ends, int)])
+        peaks = peaks[np.argsort(-y[peaks])][:n_arc] if peaks.size else np.asarray([], int)
+        f_peaks = list(f[peaks]) if peaks.size else [self.f_peak]
+        heights = list(y[peaks]) if peaks.size else [r_total / 2]
+        while len(f_peaks) < n_arc:  # overlapping arcs: split the dominant one a decade apart
+            f_peaks.append(f_peaks[0] / 10 ** len(f_peaks))
+            heights.append(heights[0])
+        order = np.argsort(f_peaks)[::-1]
+        f_peaks = np.asarray(f_peaks)[order]
+        r = np.asarray(heights, float)[order]
+        r = r_total * r / r.sum()
+        return r, 1.0 / (2 * np.pi * f_peaks)
 
 
 def _roles(circuit: Circuit):
-    """element name → (inside a parallel block?, number of resistive elements at that level)."""
+    """element name → index of the outermost parallel block (arc) holding it, or -1 for the
+    outer series chain; arcs are numbered in the order they are written."""
     roles = {}
+    count = [0]
 
-    def walk(node, in_parallel):
+    def walk(node, block):
         if isinstance(node, Element):
-            roles[node.name] = in_parallel
+            roles[node.name] = block
             return
+        if isinstance(node, Parallel) and block < 0:
+            block = count[0]
+            count[0] += 1
         for child in node.children:
-            walk(child, in_parallel or isinstance(node, Parallel))
+            walk(child, block)
 
-    walk(circuit, False)
-    return roles
+    walk(circuit, -1)
+    return roles, count[0]
 
 
 def data_driven_guess(circuit: Circuit, table: ParameterTable, features: SpectrumFeatures, registry: Registry = DEFAULT_REGISTRY) -> np.ndarray:
     """A starting value for every parameter (user starts and fixed values take precedence)."""
-    roles = _roles(circuit)
+    roles, n_blocks = _roles(circuit)
     elements = list(circuit.elements())
-    n_series_r = max(1, sum(1 for e in elements if e.symbol == "R" and not roles[e.name]))
-    n_arc = max(1, sum(1 for e in elements if roles[e.name] and registry[e.symbol].parameters[0].unit == "Ohm"))
-    r_arc = max(features.r_lf - features.r_hf, 0.05 * features.z_max) / n_arc
-    tau = 1.0 / (2 * np.pi * features.f_peak)
+    n_series_r = max(1, sum(1 for e in elements if e.symbol == "R" and roles[e.name] < 0))
+    # resistive elements per arc share that arc's resistance
+    n_res = np.ones(max(n_blocks, 1))
+    for e in elements:
+        if roles[e.name] >= 0 and registry[e.symbol].parameters[0].unit == "Ohm":
+            n_res[roles[e.name]] += 1
+    n_res = np.maximum(n_res - 1, 1)
+    r_arcs, taus = features.arcs(max(n_blocks, 1))
     guess: dict[str, float] = {}
     for e in elements:
-        inside = roles[e.name]
+        block = roles[e.name]
+        inside = block >= 0
+        r_arc = r_arcs[block] / n_res[block] if inside else r_arcs.sum()
+        tau = taus[block] if inside else 1.0 / (2 * np.pi * features.f_peak)
+        f_arc = 1.0 / (2 * np.pi * tau)
         spec = registry[e.symbol]
         names = spec.parameter_names(e.name)
         sym = registry[e.symbol].symbol
@@ -82,7 +119,7 @@ def data_driven_guess(circuit: Circuit, table: ParameterTable, features: Spectru
         elif sym == "CPE":
             alpha = 0.85 if inside else features.alpha_lf
             c = tau / r_arc if inside else features.c_series
-            guess[names[0]] = c * (2 * np.pi * (features.f_peak if inside else features.f_min)) ** (1 - alpha)
+            guess[names[0]] = c * (2 * np.pi * (f_arc if inside else features.f_min)) ** (1 - alpha)
             guess[names[1]] = alpha
         elif sym == "W":
             guess[names[0]] = features.warburg
@@ -106,7 +143,10 @@ def data_driven_guess(circuit: Circuit, table: ParameterTable, features: Spectru
 
 def _clip_inside(x, table: ParameterTable) -> np.ndarray:
     lo, hi = table.lower, table.upper
+    # (0, ∞) is fitted in log space: any positive value is inside (a floor of lower + 1e-6
+    # would lift every capacitance and CPE Q guess to 1 µF)
     span_lo = np.where(lo > 0, lo * (1 + 1e-6), lo + 1e-6 * np.where(np.isfinite(hi), hi - lo, 1.0))
+    span_lo = np.where((lo == 0) & ~np.isfinite(hi), 1e-300, span_lo)
     span_hi = np.where(np.isfinite(hi), np.where(hi > 0, hi * (1 - 1e-6), hi - 1e-6), np.inf)
     return np.clip(x, span_lo, span_hi)
 
