@@ -9,7 +9,7 @@ import importlib
 import os
 import sys
 
-_COMMAND_MODULES = ("simulate", "info", "fit", "compare", "force", "draw", "inspect", "demo")
+_COMMAND_MODULES = ("simulate", "info", "fit", "compare", "force", "draw", "inspect", "demo", "kk")
 
 
 def _configure_jax_cache() -> None:

@@ -1,0 +1,88 @@
+"""Time per spectrum of the linear Kramers–Kronig test: impedax vs impedance.py linKK vs pyimpspec.
+
+Run: `.venv/bin/python benchmarks/bench_kk.py` (pyimpspec and impedance are optional; missing
+peers are reported and skipped). All tools run in this process on identical synthetic spectra
+(61 points, 1 % noise), wall-clock medians; figures go to benchmarks/README.md.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import time
+import warnings
+
+import numpy as np
+
+import impedax as ix
+
+F_EIS = np.geomspace(0.1, 1e5, 61)
+F_FINGER = np.geomspace(1.0, 1e6, 61)
+
+
+def _spectra():
+    """Synthetic spectra from numpy formulas (RC, R-CPE, Randles+Warburg, two arcs, finger EDL)."""
+    w, wf = 2 * np.pi * F_EIS, 2 * np.pi * F_FINGER
+    cases = {
+        "RC": (F_EIS, 10 + 1000 / (1 + 1j * w * 1e-3)),
+        "R-CPE": (F_EIS, 10 + 1 / (1 / 1000 + 1e-5 * (1j * w) ** 0.8)),
+        "Randles+W": (F_EIS, 10 + 1 / (1j * w * 2e-5 + 1 / (100 + 50 * (1 - 1j) / np.sqrt(w)))),
+        "two arcs": (F_EIS, 10 + 500 / (1 + 1j * w * 1e-4) + 2000 / (1 + 1j * w * 1e-1)),
+        "finger EDL": (F_FINGER, 1 / (1 / 2e6 + 1j * wf * 2e-9 + 1j * wf * 413e-12)),
+    }
+    rng = np.random.default_rng(0)
+    return {k: (f, z + 0.01 * np.abs(z) * (rng.standard_normal(z.size) + 1j * rng.standard_normal(z.size))) for k, (f, z) in cases.items()}
+
+
+def _median_time(fn, repeat):
+    fn()  # warm-up (imports, caches)
+    times = []
+    for _ in range(repeat):
+        t = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t)
+    return float(np.median(times))
+
+
+def main() -> None:
+    spectra = _spectra()
+    tools = {"impedax kk_test": (lambda f, z: ix.kk_test((f, z)), 30)}
+    try:
+        from impedance import validation
+
+        # impedance.py eval()s model text built from repr() of numpy scalars ("np.float64(...)")
+        validation.circuit_elements.setdefault("np", np)
+        def run_linkk(f, z):
+            with contextlib.redirect_stdout(io.StringIO()):  # linKK prints progress every 10 M
+                return validation.linKK(f, z, c=0.85, max_M=50, fit_type="complex")
+
+        tools["impedance.py linKK (complex)"] = (run_linkk, 10)
+    except ImportError:
+        print("impedance.py not installed: skipped")
+    try:
+        import pyimpspec
+
+        def run_pyimpspec(f, z, **kw):
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                return pyimpspec.perform_kramers_kronig_test(pyimpspec.DataSet(f, z), num_procs=1, **kw)
+
+        tools["pyimpspec (defaults)"] = (run_pyimpspec, 3)
+        tools["pyimpspec (complex, no F_ext search)"] = (lambda f, z: run_pyimpspec(f, z, test="complex", num_F_ext_evaluations=0), 3)
+    except ImportError:
+        print("pyimpspec not installed: skipped")
+
+    batch = np.stack([z for f, z in spectra.values() if f is F_EIS] * 50)
+    t_batch = _median_time(lambda: ix.kk_test_batch((F_EIS, batch)), 5) / batch.shape[0]
+
+    times = {name: {case: _median_time(lambda: fn(f, z), repeat) for case, (f, z) in spectra.items()} for name, (fn, repeat) in tools.items()}
+    base = times["impedax kk_test"]
+    print(f"{'tool':40s}" + "".join(f"{c:>12s}" for c in spectra) + f"{'median ratio':>14s}")
+    for name, row in times.items():
+        ratio = np.median([row[c] / base[c] for c in spectra])
+        print(f"{name:40s}" + "".join(f"{row[c] * 1e3:10.2f}ms" for c in spectra) + f"{ratio:13.1f}×")
+    print(f"impedax kk_test_batch, {batch.shape[0]} EIS spectra at once: {t_batch * 1e3:.2f} ms per spectrum")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,594 @@
+"""Linear Kramers–Kronig test: is a spectrum causal, linear and stationary?
+
+A spectrum is fitted by a chain of M Voigt (R∥C) elements whose time constants are fixed and
+log-spaced over the measured range, plus a series resistance (and optionally a series
+inductance and capacitance). Every such circuit obeys the Kramers–Kronig relations, and the fit
+is linear in its parameters, so it is one least-squares solve per M. Residuals well above the
+noise, or structured ones, mark frequency bands where the data are not KK-consistent: drift
+during the sweep, electrodermal activity, movement — data problems, not model problems.
+
+Method: Schönleber, Klotz, Ivers-Tiffée, "A Method for Improving the Robustness of linear
+Kramers-Kronig Validity Tests", Electrochimica Acta 131 (2014) 20–27 (eqs 7–13 and the µ
+criterion, eq 21); the validity rule (noise estimate, thresholds, bands) is impedax's own and is
+described in `kk_test` and docs/kk.md.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from dataclasses import dataclass, field
+from typing import Mapping
+
+import numpy as np
+import xarray as xr
+
+from ..errors import DataError, ParameterError
+
+__all__ = ["KKResult", "KKBatchResult", "kk_test", "kk_test_batch", "DEFAULT_THRESHOLDS"]
+
+# Validity rule (see `kk_test`): scale = max(noise_estimate, noise_floor).
+DEFAULT_THRESHOLDS: Mapping[str, float] = {
+    "point": 5.0,  # one point with |Δ| > 5·scale is bad
+    "run": 3.0,  # ... or `run_length` consecutive points with |Δ| > 3·scale
+    "run_length": 3,
+    "window_mean": 4.5,  # ... or the mean of Δ' or Δ'' over `window` neighbours > 4.5·scale/sqrt(window)
+    "window": 9,
+    "noise_floor": 2e-3,  # relative; below this, residuals are Voigt-approximation error, not data problems
+}
+
+_MAD_TO_SIGMA = 1.482602218505602  # 1/Φ⁻¹(3/4): median(|x|)·this = σ for Gaussian x
+
+
+@dataclass(frozen=True, eq=False)
+class KKResult:
+    """Outcome of the linear Kramers–Kronig test on one spectrum (arrays in the data's order).
+
+    ``residuals_real``/``residuals_imag`` are Δ = (Z_data − Z_kk)/|Z_data| (dimensionless);
+    ``rms_rel = sqrt(mean |Δ|²)``; ``noise_estimate`` is the robust per-component standard
+    deviation of the random part of Δ; ``bad_bands`` are [(f_min, f_max)] in Hz.
+    """
+
+    frequency: np.ndarray
+    impedance: np.ndarray
+    kk_impedance: np.ndarray
+    residuals_real: np.ndarray
+    residuals_imag: np.ndarray
+    flagged: np.ndarray
+    n_rc: int
+    mu: float
+    mu_reached: bool
+    rms_rel: float
+    noise_estimate: float
+    threshold_scale: float
+    valid: bool
+    bad_bands: tuple[tuple[float, float], ...]
+    time_constants: np.ndarray
+    resistances: np.ndarray
+    series_resistance: float
+    series_inductance: float
+    inverse_series_capacitance: float
+    c: float
+    thresholds: Mapping[str, float] = field(default_factory=lambda: dict(DEFAULT_THRESHOLDS))
+
+    def to_xarray(self) -> xr.Dataset:
+        """Residuals, KK fit and flags over ``frequency``; scalars and settings as variables/attrs."""
+        f = ("frequency", self.frequency, {"units": "Hz"})
+        lo = np.array([b[0] for b in self.bad_bands], dtype=float)
+        hi = np.array([b[1] for b in self.bad_bands], dtype=float)
+        return xr.Dataset(
+            {
+                "Z": ("frequency", self.impedance, {"units": "ohm", "long_name": "measured impedance"}),
+                "Z_kk": ("frequency", self.kk_impedance, {"units": "ohm", "long_name": "fitted Kramers-Kronig (Voigt chain) impedance"}),
+                "residuals_real": ("frequency", self.residuals_real, {"units": "1", "long_name": "(Z'_data - Z'_kk)/|Z_data|"}),
+                "residuals_imag": ("frequency", self.residuals_imag, {"units": "1", "long_name": "(Z''_data - Z''_kk)/|Z_data|"}),
+                "flagged": ("frequency", self.flagged, {"long_name": "point inside a bad (non-KK) band"}),
+                "bad_band_f_min": ("band", lo, {"units": "Hz"}),
+                "bad_band_f_max": ("band", hi, {"units": "Hz"}),
+                "time_constant": ("rc", self.time_constants, {"units": "s"}),
+                "resistance": ("rc", self.resistances, {"units": "ohm"}),
+                "n_rc": ((), self.n_rc),
+                "mu": ((), self.mu),
+                "rms_rel": ((), self.rms_rel, {"units": "1"}),
+                "noise_estimate": ((), self.noise_estimate, {"units": "1"}),
+                "valid": ((), self.valid),
+            },
+            coords={"frequency": f},
+            attrs={
+                "method": "linear Kramers-Kronig test (Schoenleber et al. 2014), impedax validity rule",
+                "c": self.c,
+                "series_resistance_ohm": self.series_resistance,
+                "series_inductance_h": self.series_inductance,
+                "inverse_series_capacitance_per_f": self.inverse_series_capacitance,
+                **{f"threshold_{k}": v for k, v in self.thresholds.items()},
+            },
+        )
+
+    def summary(self) -> str:
+        """A few lines: M, µ, rms_rel, noise, verdict and bad bands."""
+        verdict = "valid (KK-consistent)" if self.valid else "NOT valid: data are not KK-consistent"
+        mu_note = "" if self.mu_reached else f" (µ never fell below c={self.c:g}; M capped)"
+        lines = [
+            f"linear KK test: M = {self.n_rc} RC elements, µ = {self.mu:.3f}{mu_note}",
+            f"rms_rel = {self.rms_rel * 100:.3g} %, noise estimate = {self.noise_estimate * 100:.3g} %",
+            f"verdict: {verdict}",
+        ]
+        for lo, hi in self.bad_bands:
+            lines.append(f"  bad band: {_fmt_hz(lo)} – {_fmt_hz(hi)}")
+        return "\n".join(lines)
+
+    def plot(self, *, title: str | None = None):
+        """Nyquist and Bode of data vs KK fit, and the residuals Δ [%] vs frequency with the
+        point threshold and the bad bands shaded. Returns a matplotlib Figure."""
+        import matplotlib.pyplot as plt
+
+        from ..plotting import plot_bode, plot_nyquist, shade_bands
+
+        data, model = (self.frequency, self.impedance), (self.frequency, self.kk_impedance)
+        fig = plt.figure(figsize=(11, 6.5), layout="constrained")
+        grid = fig.add_gridspec(3, 2, width_ratios=[1, 1.2])
+        ax_nyq = fig.add_subplot(grid[:, 0])
+        ax_mod = fig.add_subplot(grid[0, 1])
+        ax_ph = fig.add_subplot(grid[1, 1], sharex=ax_mod)
+        ax_res = fig.add_subplot(grid[2, 1], sharex=ax_mod)
+        plot_nyquist(ax_nyq, data, model, model_label=f"KK fit (M={self.n_rc})")
+        plot_bode(ax_mod, ax_ph, data, model, model_label=f"KK fit (M={self.n_rc})")
+        order = np.argsort(self.frequency)
+        f = self.frequency[order]
+        ax_res.semilogx(f, self.residuals_real[order] * 100, "o-", ms=3, lw=0.8, label="Δ re")
+        ax_res.semilogx(f, self.residuals_imag[order] * 100, "s-", ms=3, lw=0.8, label="Δ im")
+        limit = self.thresholds["point"] * self.threshold_scale * 100
+        for sign in (-1, 1):
+            ax_res.axhline(sign * limit, color="tab:red", lw=0.7, ls="--", label="point threshold" if sign > 0 else None)
+        ax_res.axhline(0, color="k", lw=0.6)
+        ax_res.set_ylabel("KK residual [%]")
+        ax_res.set_xlabel("frequency [Hz]")
+        ax_res.grid(alpha=0.3, which="both")
+        ax_res.legend(fontsize=8, ncol=3)
+        ax_ph.set_xlabel("")
+        if self.bad_bands:
+            shade_bands([ax_mod, ax_ph, ax_res], self.bad_bands, label="not KK-consistent")
+        verdict = "valid" if self.valid else "not valid"
+        fig.suptitle(title or f"linear KK test: {verdict}, rms_rel {self.rms_rel * 100:.2g} %, µ {self.mu:.2f}")
+        return fig
+
+
+@dataclass(frozen=True, eq=False)
+class KKBatchResult:
+    """KK tests of every spectrum of a Dataset with extra dimensions (trial, session, ...).
+
+    ``results`` holds one `KKResult` per spectrum in C order over ``dims``; index with
+    ``batch[i, j]`` (integer positions) and see ``valid``/``rms_rel`` as arrays over ``dims``.
+    """
+
+    dims: tuple[str, ...]
+    shape: tuple[int, ...]
+    coords: Mapping[str, np.ndarray]
+    results: tuple[KKResult, ...]
+
+    def __getitem__(self, index) -> KKResult:
+        index = index if isinstance(index, tuple) else (index,)
+        if not self.shape:
+            return self.results[0]
+        return self.results[int(np.ravel_multi_index(index, self.shape))]
+
+    def _array(self, name, dtype=float) -> np.ndarray:
+        return np.array([getattr(r, name) for r in self.results], dtype=dtype).reshape(self.shape)
+
+    @property
+    def valid(self) -> np.ndarray:
+        return self._array("valid", bool)
+
+    @property
+    def rms_rel(self) -> np.ndarray:
+        return self._array("rms_rel")
+
+    @property
+    def n_rc(self) -> np.ndarray:
+        return self._array("n_rc", int)
+
+    def to_xarray(self) -> xr.Dataset:
+        """Each spectrum's `KKResult.to_xarray()` stacked over ``dims`` (bands and RC elements
+        padded with NaN)."""
+        shape, dims = self.shape, self.dims
+        n_band = max([len(r.bad_bands) for r in self.results] + [0])
+        n_rc = max(r.n_rc for r in self.results)
+
+        def stack(get, width=None):
+            rows = [np.asarray(get(r), dtype=float) for r in self.results]
+            if width is not None:
+                rows = [np.pad(v, (0, width - v.size), constant_values=np.nan) for v in rows]
+            return np.stack(rows).reshape(*shape, *rows[0].shape)
+
+        per_freq = (*dims, "frequency")
+        first = self.results[0]
+        ds = xr.Dataset(
+            {
+                "Z": (per_freq, np.stack([r.impedance for r in self.results]).reshape(*shape, -1), {"units": "ohm"}),
+                "Z_kk": (per_freq, np.stack([r.kk_impedance for r in self.results]).reshape(*shape, -1), {"units": "ohm"}),
+                "residuals_real": (per_freq, stack(lambda r: r.residuals_real), {"units": "1"}),
+                "residuals_imag": (per_freq, stack(lambda r: r.residuals_imag), {"units": "1"}),
+                "flagged": (per_freq, stack(lambda r: r.flagged).astype(bool)),
+                "bad_band_f_min": ((*dims, "band"), stack(lambda r: [b[0] for b in r.bad_bands], n_band), {"units": "Hz"}),
+                "bad_band_f_max": ((*dims, "band"), stack(lambda r: [b[1] for b in r.bad_bands], n_band), {"units": "Hz"}),
+                "time_constant": ((*dims, "rc"), stack(lambda r: r.time_constants, n_rc), {"units": "s"}),
+                "resistance": ((*dims, "rc"), stack(lambda r: r.resistances, n_rc), {"units": "ohm"}),
+                "n_rc": (dims, self.n_rc),
+                "mu": (dims, self._array("mu")),
+                "rms_rel": (dims, self.rms_rel, {"units": "1"}),
+                "noise_estimate": (dims, self._array("noise_estimate"), {"units": "1"}),
+                "valid": (dims, self.valid),
+            },
+            coords={"frequency": ("frequency", first.frequency, {"units": "Hz"}), **{d: (d, np.asarray(v)) for d, v in self.coords.items()}},
+        )
+        ds.attrs.update({k: v for k, v in first.to_xarray().attrs.items() if not k.startswith("series")})
+        return ds
+
+
+def _fmt_hz(f: float) -> str:
+    for scale, unit in ((1e6, "MHz"), (1e3, "kHz"), (1.0, "Hz"), (1e-3, "mHz")):
+        if f >= scale or unit == "mHz":
+            return f"{f / scale:.3g} {unit}"
+    return f"{f:g} Hz"
+
+
+def _as_frequency_and_z(data) -> tuple[np.ndarray, np.ndarray, tuple[str, ...], dict, str]:
+    """(frequency (N,), Z (*extra, N), extra dims, extra coords, source) from a Dataset or pair."""
+    if isinstance(data, xr.Dataset):
+        from ..data import validate_spectrum
+
+        validate_spectrum(data)
+        z = data["Z"]
+        dims = tuple(d for d in z.dims if d != "frequency")
+        z = z.transpose(*dims, "frequency")
+        coords = {d: np.asarray(data[d].values) for d in dims if d in data.coords}
+        return np.asarray(data["frequency"].values, float), np.asarray(z.values, complex), dims, coords, str(data.attrs.get("source", "dataset"))
+    try:
+        f, z = data
+    except (TypeError, ValueError):
+        raise DataError(f"expected a spectrum Dataset or a (frequency, Z) pair, got {type(data).__name__}") from None
+    try:
+        f = np.asarray(f, dtype=float)
+        z = np.asarray(z, dtype=complex)
+    except (TypeError, ValueError) as exc:
+        raise DataError(f"frequency and Z must be numeric arrays ({exc})") from None
+    if f.ndim != 1 or z.ndim < 1 or z.shape[-1] != f.size:
+        raise DataError(f"frequency must be 1-D and Z must end with the frequency axis; got shapes {f.shape} and {z.shape}")
+    bad = np.flatnonzero(~np.isfinite(f) | (f <= 0))
+    if bad.size:
+        raise DataError(f"frequency must be positive and finite; point {bad[0]} is {f[bad[0]]!r}")
+    if np.unique(f).size != f.size:
+        raise DataError("duplicate frequencies")
+    if not np.all(np.isfinite(z)):
+        idx = np.argwhere(~np.isfinite(z))[0]
+        raise DataError(f"Z has a non-finite value at index {tuple(int(i) for i in idx)}")
+    dims = tuple(f"dim_{i}" for i in range(z.ndim - 1))
+    return f, z, dims, {}, "memory"
+
+
+def _check_options(n_points: int, c: float, max_rc, n_rc, n_series: int) -> int:
+    if not (isinstance(c, (int, float)) and 0.0 < c < 1.0):
+        raise ParameterError(f"c must be between 0 and 1 (exclusive), got {c!r}")
+    limit = n_points - n_series  # keep at least n_points extra equations (2N real equations)
+    if limit < 1:
+        raise DataError(f"the KK test needs at least {n_series + 1} frequencies, got {n_points}")
+    if n_rc is not None:
+        if not isinstance(n_rc, (int, np.integer)) or not 1 <= n_rc <= limit:
+            raise ParameterError(f"n_rc must be an integer from 1 to {limit} for {n_points} frequencies, got {n_rc!r}")
+        return int(n_rc)
+    if max_rc is None:
+        return max(1, min(n_points // 2, 100))
+    if not isinstance(max_rc, (int, np.integer)) or not 1 <= max_rc <= limit:
+        raise ParameterError(f"max_rc must be an integer from 1 to {limit} for {n_points} frequencies, got {max_rc!r}")
+    return int(max_rc)
+
+
+def _time_constants(freq: np.ndarray, m: int) -> np.ndarray:
+    """τ_k log-spaced from 1/ω_max to 1/ω_min (Schönleber 2014, eq 12); one RC sits at their
+    geometric mean."""
+    tau_min, tau_max = 1.0 / (2 * np.pi * freq.max()), 1.0 / (2 * np.pi * freq.min())
+    if m == 1:
+        return np.array([math.sqrt(tau_min * tau_max)])
+    return tau_min * (tau_max / tau_min) ** (np.arange(m) / (m - 1))
+
+
+@functools.lru_cache(maxsize=16)
+def _design_cached(freq_bytes: bytes, m_values: tuple[int, ...], inductance: bool, capacitance: bool):
+    basis, taus, n_series = _design(np.frombuffer(freq_bytes), m_values, inductance, capacitance)
+    basis.flags.writeable = False
+    return basis, taus, n_series
+
+
+def _design(freq, m_values, inductance, capacitance):
+    """Complex design matrices of every candidate M, padded to one width: (n_M, N, P).
+
+    Columns: R_0, (L), (1/C), then R_1..R_M; the columns beyond M are zero and are pinned to zero
+    by `_solve_all`, so all candidates share one batched QR.
+    """
+    omega = 2 * np.pi * freq
+    series = [np.ones_like(omega, dtype=complex)]
+    if inductance:
+        series.append(1j * omega)
+    if capacitance:
+        series.append(-1j / omega)
+    n_series = len(series)
+    m_max = max(m_values)
+    basis = np.zeros((len(m_values), freq.size, n_series + m_max), dtype=complex)
+    basis[:, :, :n_series] = np.stack(series, axis=1)[None]
+    taus = []
+    for i, m in enumerate(m_values):
+        tau = _time_constants(freq, m)
+        basis[i, :, n_series : n_series + m] = 1.0 / (1.0 + 1j * omega[:, None] * tau[None, :])
+        taus.append(tau)
+    return basis, taus, n_series
+
+
+def _solve_all(basis, m_values, n_series, z):
+    """Weighted linear least squares of every candidate for a stack of spectra z (B, N).
+
+    Rows [Re; Im] weighted by 1/|Z| (Schönleber 2014 eq 13). Columns are scaled to unit norm
+    (the ω/|Z| inductance column and the RC columns then share one scale) and padded columns are
+    pinned to zero by extra identity rows, so one batched QR solves all (spectrum, M) pairs.
+    Returns coefficients (B, n_M, P).
+    """
+    n_m, n, p = basis.shape
+    weight = 1.0 / np.abs(z)  # (B, N)
+    a = basis[None] * weight[:, None, :, None]  # (B, n_M, N, P)
+    a = np.concatenate([a.real, a.imag], axis=2)  # (B, n_M, 2N, P)
+    b = np.concatenate([z.real * weight, z.imag * weight], axis=1)  # (B, 2N)
+    scale = np.linalg.norm(a, axis=2)  # (B, n_M, P)
+    unused = scale == 0
+    a = a / np.where(unused, 1.0, scale)[:, :, None, :]
+    pin = np.zeros(unused.shape + (p,))
+    idx = np.arange(p)
+    pin[..., idx, idx] = unused  # identity rows for the padded columns only
+    a = np.concatenate([a, pin], axis=2)
+    # Corrected semi-normal equations: R from a Q-less QR, then RᵀR x = Aᵀb with one step of
+    # refinement; as accurate as a full QR here and ~3× faster (Q is never formed).
+    r = np.linalg.qr(a, mode="r")
+    b = np.concatenate([b, np.zeros((b.shape[0], p))], axis=1)  # pinned rows have zero target
+    try:
+        r_inv = np.linalg.inv(r)  # triangular, (P, P): one batched inverse serves both solves
+        x = _seminormal(a, r_inv, b)
+        x = x + _seminormal(a, r_inv, b[:, None, :] - np.einsum("bmnp,bmp->bmn", a, x))
+    except np.linalg.LinAlgError:  # rank-deficient design (e.g. nearly coincident frequencies)
+        x = np.stack([np.stack([np.linalg.lstsq(a[i, j], b[i], rcond=None)[0] for j in range(n_m)]) for i in range(a.shape[0])])
+    return x / np.where(unused, 1.0, scale)
+
+
+def _seminormal(a, r_inv, b):
+    """x = R⁻¹R⁻ᵀAᵀb, i.e. RᵀR x = Aᵀb, for stacks a (B, n_M, rows, P), r_inv (B, n_M, P, P) and
+    b (B, rows) or (B, n_M, rows)."""
+    atb = np.einsum("bmnp,bn->bmp", a, b) if b.ndim == 2 else np.einsum("bmnp,bmn->bmp", a, b)
+    y = np.einsum("bmqp,bmq->bmp", r_inv, atb)  # R⁻ᵀ atb
+    return np.einsum("bmpq,bmq->bmp", r_inv, y)
+
+
+def _mu(resistances: np.ndarray) -> np.ndarray:
+    """µ = 1 − Σ|R_k<0| / Σ|R_k≥0| (Schönleber 2014, eq 21); 0 when no R_k is positive."""
+    neg = np.sum(np.where(resistances < 0, -resistances, 0.0), axis=-1)
+    pos = np.sum(np.where(resistances >= 0, resistances, 0.0), axis=-1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(pos > 0, 1.0 - neg / np.where(pos > 0, pos, 1.0), 0.0)
+
+
+def _noise_estimate(res_re: np.ndarray, res_im: np.ndarray, order: np.ndarray, n_params: int) -> float:
+    """Robust σ of the random part of the residuals: median |first difference| in frequency
+    order, which a smooth (drift-like) deviation barely changes, scaled to σ and inflated by
+    sqrt(2N/(2N − P)) for the P fitted parameters."""
+    n = res_re.size
+    if n < 3:
+        return float("nan")
+    d = np.concatenate([np.diff(res_re[order]), np.diff(res_im[order])])
+    sigma = _MAD_TO_SIGMA * float(np.median(np.abs(d))) / math.sqrt(2.0)
+    dof = max(2 * n - n_params, 1)
+    return sigma * math.sqrt(2 * n / dof)
+
+
+def _bad_bands(freq, residual_real, residual_imag, order, scale, thresholds):
+    """Flags (data order) and bands [(f_min, f_max)] from Δ in frequency order."""
+    m = np.hypot(residual_real, residual_imag)[order]
+    flag = m > thresholds["point"] * scale
+    above = m > thresholds["run"] * scale
+    run_length = int(thresholds["run_length"])
+    start = None
+    for i, a in enumerate(np.append(above, False)):
+        if a and start is None:
+            start = i
+        elif not a and start is not None:
+            if i - start >= run_length:
+                flag[start:i] = True
+            start = None
+    # slow, smooth deviations (drift) hide under the point thresholds but not in a local mean
+    width = int(thresholds["window"])
+    if 1 < width <= m.size:
+        limit = thresholds["window_mean"] * scale / math.sqrt(width)
+        kernel = np.ones(width) / width
+        for component in (residual_real[order], residual_imag[order]):
+            local = np.convolve(component, kernel, mode="valid")
+            for start in np.flatnonzero(np.abs(local) > limit):
+                flag[start : start + width] = True
+    # join bands separated by a single unflagged point: one noisy dip does not split a drift band
+    for i in range(1, flag.size - 1):
+        if not flag[i] and flag[i - 1] and flag[i + 1]:
+            flag[i] = True
+    fs = freq[order]
+    bands = []
+    i = 0
+    while i < flag.size:
+        if not flag[i]:
+            i += 1
+            continue
+        j = i
+        while j + 1 < flag.size and flag[j + 1]:
+            j += 1
+        # band edges halfway (in log f) to the neighbouring good points, so one point has width
+        lo = fs[i] if i == 0 else math.sqrt(fs[i - 1] * fs[i])
+        hi = fs[j] if j == flag.size - 1 else math.sqrt(fs[j] * fs[j + 1])
+        bands.append((float(lo), float(hi)))
+        i = j + 1
+    flagged = np.empty_like(flag)
+    flagged[order] = flag
+    return flagged, tuple(bands)
+
+
+def _kk_arrays(freq, z, *, c, max_rc, n_rc, inductance, capacitance, floor):
+    """Fit every candidate M for a stack z (B, N) and pick one per spectrum.
+
+    Returns per spectrum (M, µ, µ-criterion met, τ, coefficients [R_0, (L), (1/C), R_1..R_M], Z_kk).
+    """
+    batch, n = z.shape
+    n_series = 1 + int(inductance) + int(capacitance)
+    m_top = _check_options(n, c, max_rc, n_rc, n_series)
+    m_values = [m_top] if n_rc is not None else list(range(1, m_top + 1))
+    basis, taus, n_series = _design_cached(np.ascontiguousarray(freq, dtype=np.float64).tobytes(), tuple(m_values), inductance, capacitance)
+    chosen = []
+    chunk = max(1, int(2e7 // (basis.size * 4)))  # bound the (B, n_M, 2N+P, P) work array
+    for start in range(0, batch, chunk):
+        zc = z[start : start + chunk]
+        coef = _solve_all(basis, m_values, n_series, zc)  # (b, n_M, P)
+        z_fit = np.einsum("mnp,bmp->bmn", basis, coef)
+        rms = np.sqrt(np.mean(np.abs((zc[:, None, :] - z_fit) / np.abs(zc)[:, None, :]) ** 2, axis=2))
+        mu = _mu(coef[:, :, n_series:])
+        n_params = np.array([n_series + m for m in m_values])
+        # rms_rel of pure noise shrinks as sqrt(1 − P/2N) with P fitted parameters: compare the
+        # candidates on the noise level they imply, not on their raw residual
+        implied = rms / np.sqrt(np.maximum(1.0 - n_params / (2.0 * n), 1e-3))[None, :]
+        for i in range(zc.shape[0]):
+            k = _pick(mu[i], implied[i], c, floor)
+            m = m_values[k]
+            coefficients = coef[i, k, : n_series + m]
+            chosen.append((m, float(mu[i, k]), bool(mu[i, k] < c), taus[k], coefficients, z_fit[i, k]))
+    return chosen
+
+
+_UNDERFIT_FACTOR = 1.25
+
+
+def _pick(mu: np.ndarray, rms: np.ndarray, c: float, floor: float) -> int:
+    """Index of the chosen candidate: the smallest M with µ < c among the fits that are not
+    underfitted, i.e. whose implied noise level rms_rel/sqrt(1 − P/2N) is within 1.25× of the
+    best over all M (or below the noise floor). Schönleber's rule alone (first M with µ < c) stops early on odd/even oscillations of
+    µ while a few RC elements still miss the spectrum by 10 % or more; this guard keeps its
+    protection against overfitting without that failure. Without such an M: the smallest
+    non-underfitted M (µ criterion not met)."""
+    if mu.size == 1:
+        return 0
+    fitted = rms <= max(_UNDERFIT_FACTOR * float(np.min(rms)), floor)
+    both = np.flatnonzero(fitted & (mu < c))
+    return int(both[0]) if both.size else int(np.flatnonzero(fitted)[0])
+
+
+def kk_test(
+    data,
+    *,
+    c: float = 0.85,
+    max_rc: int | None = None,
+    n_rc: int | None = None,
+    inductance: bool = True,
+    capacitance: bool = True,
+    thresholds: Mapping[str, float] | None = None,
+) -> KKResult:
+    """Linear Kramers–Kronig test of one spectrum (Schönleber et al. 2014).
+
+    Fits Z_kk(ω) = R_0 + Σ_k R_k/(1 + jωτ_k) [+ jωL] [+ 1/(jωC)] with τ_k log-spaced from
+    1/(2π f_max) to 1/(2π f_min), by linear least squares on Re and Im weighted by 1/|Z|. M grows
+    from 1 until µ = 1 − Σ|R_k<0|/Σ|R_k≥0| < ``c`` (µ criterion; capped at ``max_rc``, default
+    N/2), unless ``n_rc`` fixes it. Residuals Δ = (Z_data − Z_kk)/|Z_data| per frequency.
+
+    Validity rule (impedax): ``noise_estimate`` σ̂ = 1.4826·median|first differences of Δ' and Δ''
+    in frequency order|/√2, inflated by sqrt(2N/(2N−P)); scale s = max(σ̂, noise_floor = 0.2 %).
+    A point is bad when |Δ| > 5 s; every point of a run of ≥ 3 consecutive frequencies with
+    |Δ| > 3 s is bad; and the 9 points of any window where the mean of Δ' or of Δ'' exceeds
+    4.5 s/3 are bad (slow drift). Bad points (single good gaps closed) form ``bad_bands`` (edges
+    halfway in log f to the good neighbours); ``valid`` is True when there are none. On 100
+    synthetic spectra per case at 0.5 % and 2 % noise (RC, R-CPE, Randles, two arcs, finger EDL)
+    none was flagged. Override with ``thresholds={"point", "run", "run_length", "window_mean",
+    "window", "noise_floor"}``.
+
+    M: the smallest M with µ < c among fits that are not underfitted (implied noise
+    rms_rel/sqrt(1 − P/2N) within 1.25× of the best M); Schönleber's first-M rule alone can stop
+    on an early dip of µ with 10 % residuals.
+
+    ``data``: a spectrum Dataset with only the ``frequency`` dimension, or a (frequency, Z)
+    pair; for extra dimensions use `kk_test_batch`. ``inductance`` adds a series L (leads), and
+    ``capacitance`` a series C (needed when the data are capacitive at the lowest frequency, e.g.
+    blocking electrodes). Raises DataError/ParameterError on bad input.
+    """
+    freq, z, dims, _, source = _as_frequency_and_z(data)
+    if dims:
+        raise DataError(
+            f"Z has extra dimensions {dims}; kk_test takes one spectrum: use impedax.kk_test_batch(data) for one test per spectrum, or reduce them first (e.g. data.mean({dims[0]!r}))",
+            path=source,
+        )
+    return _run(freq, z[None, :], (), (), {}, c=c, max_rc=max_rc, n_rc=n_rc, inductance=inductance, capacitance=capacitance, thresholds=thresholds).results[0]
+
+
+def kk_test_batch(
+    data,
+    *,
+    c: float = 0.85,
+    max_rc: int | None = None,
+    n_rc: int | None = None,
+    inductance: bool = True,
+    capacitance: bool = True,
+    thresholds: Mapping[str, float] | None = None,
+) -> KKBatchResult:
+    """`kk_test` of every spectrum of a Dataset with extra dimensions (trial, session, ...).
+
+    All spectra are solved together (one batched QR per M), each stopping at its own M.
+    Same options and validity rule as `kk_test`; returns a `KKBatchResult`.
+    """
+    freq, z, dims, coords, _ = _as_frequency_and_z(data)
+    return _run(freq, z, z.shape[:-1], dims, coords, c=c, max_rc=max_rc, n_rc=n_rc, inductance=inductance, capacitance=capacitance, thresholds=thresholds)
+
+
+def _run(freq, z, shape, dims, coords, *, c, max_rc, n_rc, inductance, capacitance, thresholds) -> KKBatchResult:
+    rules = dict(DEFAULT_THRESHOLDS)
+    for key, value in (thresholds or {}).items():
+        if key not in rules:
+            raise ParameterError(f"unknown threshold {key!r}; known: {', '.join(rules)}")
+        if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+            raise ParameterError(f"threshold {key} must be a positive number, got {value!r}")
+        rules[key] = float(value)
+    for name, flag in (("inductance", inductance), ("capacitance", capacitance)):
+        if not isinstance(flag, (bool, np.bool_)):
+            raise ParameterError(f"{name} must be True or False, got {flag!r}")
+    if np.any(np.abs(z) == 0):
+        raise DataError("Z is exactly zero at some frequency; the 1/|Z| weighting needs |Z| > 0")
+    flat = z.reshape(-1, freq.size)
+    chosen = _kk_arrays(freq, flat, c=c, max_rc=max_rc, n_rc=n_rc, inductance=bool(inductance), capacitance=bool(capacitance), floor=rules["noise_floor"])
+    order = np.argsort(freq)
+    results = []
+    for zi, (m, mu, reached, taus, coef, z_kk) in zip(flat, chosen):
+        residual = (zi - z_kk) / np.abs(zi)
+        noise = _noise_estimate(residual.real, residual.imag, order, coef.size)
+        scale = max(noise, rules["noise_floor"]) if math.isfinite(noise) else rules["noise_floor"]
+        flagged, bands = _bad_bands(freq, residual.real, residual.imag, order, scale, rules)
+        n_series = 1 + int(inductance) + int(capacitance)
+        results.append(
+            KKResult(
+                frequency=freq.copy(),
+                impedance=zi.copy(),
+                kk_impedance=z_kk,
+                residuals_real=residual.real.copy(),
+                residuals_imag=residual.imag.copy(),
+                flagged=flagged,
+                n_rc=int(m),
+                mu=mu,
+                mu_reached=reached,
+                rms_rel=float(np.sqrt(np.mean(np.abs(residual) ** 2))),
+                noise_estimate=noise,
+                threshold_scale=scale,
+                valid=not bands,
+                bad_bands=bands,
+                time_constants=taus.copy(),
+                resistances=coef[n_series:].copy(),
+                series_resistance=float(coef[0]),
+                series_inductance=float(coef[1]) if inductance else 0.0,
+                inverse_series_capacitance=float(coef[n_series - 1]) if capacitance else 0.0,
+                c=float(c),
+                thresholds=rules,
+            )
+        )
+    return KKBatchResult(dims=dims, shape=shape, coords=coords, results=tuple(results))

@@ -1,0 +1,279 @@
+"""Linear Kramers–Kronig test: synthetic spectra written here with numpy formulas (not impedax's
+compiled circuits), relative Gaussian noise of known size, impedance.py's linKK as oracle."""
+
+import json
+import zlib
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import impedax as ix
+from impedax.cli import main
+from impedax.errors import DataError, ParameterError
+from impedax.fitting._kk import _time_constants
+from impedax.plotting import save_figure
+
+
+def add_noise(z, level, rng):
+    """Z + level·|Z|·(n' + j n''): independent relative noise of standard deviation `level`
+    on the real and on the imaginary part."""
+    return z + level * np.abs(z) * (rng.standard_normal(z.shape) + 1j * rng.standard_normal(z.shape))
+
+
+F_EIS = np.geomspace(0.1, 1e5, 61)
+F_FINGER = np.geomspace(1.0, 1e6, 61)
+
+
+def rc(f):
+    w = 2 * np.pi * f
+    return 10.0 + 1000.0 / (1 + 1j * w * 1e-3)
+
+
+def r_cpe(f):
+    jw = 2j * np.pi * f
+    return 10.0 + 1.0 / (1 / 1000.0 + 1e-5 * jw**0.8)
+
+
+def randles_warburg(f):
+    w = 2 * np.pi * f
+    warburg = 50.0 * (1 - 1j) / np.sqrt(w)
+    return 10.0 + 1.0 / (1j * w * 2e-5 + 1.0 / (100.0 + warburg))
+
+
+def two_arcs(f):
+    w = 2 * np.pi * f
+    return 10.0 + 500.0 / (1 + 1j * w * 1e-4) + 2000.0 / (1 + 1j * w * 1e-1)
+
+
+def finger_edl(f):
+    """Sirin-like remainder R_EP ∥ C_EP ∥ C_gap (C_gap = 413 pF, PHYSICS.md), 1 Hz–1 MHz."""
+    w = 2 * np.pi * f
+    return 1.0 / (1 / 2e6 + 1j * w * 2e-9 + 1j * w * 413e-12)
+
+
+def inductive_loop(f):
+    """R0 + R1∥C1 + R2∥L2: a causal spectrum with an inductive loop (Z'' > 0 at low f)."""
+    w = 2 * np.pi * f
+    return 5.0 + 100.0 / (1 + 1j * w * 1e-3) + (1j * w * 10.0 * 20.0) / (20.0 + 1j * w * 10.0)
+
+
+def drifting_rc(f, drift):
+    """The RC spectrum measured by a sweep from high to low frequency while R1 grows linearly in
+    time by the fraction `drift`: not stationary, so not KK-consistent."""
+    order = np.argsort(f)[::-1]  # measurement order: highest frequency first
+    elapsed = np.empty(f.size)
+    elapsed[order] = np.arange(f.size) / (f.size - 1)
+    w = 2 * np.pi * f
+    r1 = 1000.0 * (1 + drift * elapsed)
+    return 10.0 + r1 / (1 + 1j * w * 1e-3)
+
+
+VALID_CASES = [
+    ("RC", rc, F_EIS),
+    ("R-CPE", r_cpe, F_EIS),
+    ("Randles+Warburg", randles_warburg, F_EIS),
+    ("two arcs", two_arcs, F_EIS),
+    ("finger EDL", finger_edl, F_FINGER),
+    ("inductive loop", inductive_loop, np.geomspace(0.01, 1e5, 71)),
+]
+
+
+@pytest.mark.parametrize("noise", [0.005, 0.01, 0.02])
+@pytest.mark.parametrize("name,formula,freq", VALID_CASES, ids=[c[0] for c in VALID_CASES])
+def test_kk_consistent_spectra_are_valid_with_residuals_at_noise_level(name, formula, freq, noise):
+    rng = np.random.default_rng([zlib.crc32(name.encode()), int(noise * 1e4)])
+    z = add_noise(formula(freq), noise, rng)
+    result = ix.kk_test(ix.make_spectrum(freq, z))
+    assert result.valid, result.summary()
+    assert result.bad_bands == ()
+    # |Δ| of pure noise has rms √2·noise; the fit absorbs a fraction P/(2N) of it: loose factor 2.
+    expected = np.sqrt(2) * noise
+    assert expected / 2 < result.rms_rel < 2 * expected
+    assert noise / 2 < result.noise_estimate < 2 * noise
+    assert 1 <= result.n_rc <= freq.size // 2
+
+
+@pytest.mark.parametrize("noise", [0.005, 0.01])
+def test_drift_during_sweep_is_invalid_with_a_band_where_r1_matters(noise, rng):
+    z = add_noise(drifting_rc(F_EIS, drift=0.2), noise, rng)
+    result = ix.kk_test((F_EIS, z))
+    assert not result.valid
+    assert result.bad_bands
+    # R1 shapes the spectrum below a few kHz (corner at 159 Hz); above 20 kHz Z ≈ R0 and no
+    # drift can show, so the bands must sit below that.
+    assert all(hi <= 2e4 for lo, hi in result.bad_bands)
+    assert any(lo < 2e3 and hi > 10 for lo, hi in result.bad_bands)
+    # the same spectrum without drift, same noise: valid
+    clean = ix.kk_test((F_EIS, add_noise(drifting_rc(F_EIS, drift=0.0), noise, np.random.default_rng(7))))
+    assert clean.valid
+
+
+def test_anticausal_spectrum_is_invalid_across_the_band(rng):
+    """conj(Z) of an RC is the response of an anti-causal system: Z'' > 0 with the real-part
+    dispersion of a capacitor, which no Voigt chain reproduces."""
+    z = add_noise(np.conj(rc(F_EIS)), 0.005, rng)
+    result = ix.kk_test((F_EIS, z))
+    assert not result.valid
+    assert result.rms_rel > 0.3
+    covered = sum(np.log10(hi / lo) for lo, hi in result.bad_bands)
+    assert covered > 0.6 * np.log10(F_EIS[-1] / F_EIS[0])
+
+
+def test_exact_voigt_chain_is_recovered():
+    """Data made of the test's own basis (τ on the M = 8 grid, written out here) are fitted exactly."""
+    m = 8
+    tau = (1 / (2 * np.pi * 1e5)) * (1e6 ** (np.arange(m) / (m - 1)))  # 1/ω_max … 1/ω_min for 0.1 Hz–100 kHz
+    np.testing.assert_allclose(_time_constants(F_EIS, m), tau, rtol=1e-12)
+    resistances = np.array([3.0, 50.0, 7.0, 400.0, 20.0, 900.0, 60.0, 5.0])
+    w = 2 * np.pi * F_EIS
+    z = 12.0 + (resistances[None, :] / (1 + 1j * w[:, None] * tau[None, :])).sum(axis=1) + 1j * w * 2e-6
+    result = ix.kk_test((F_EIS, z), n_rc=m)
+    np.testing.assert_allclose(result.resistances, resistances, rtol=1e-7)
+    assert result.series_resistance == pytest.approx(12.0, rel=1e-8)
+    assert result.series_inductance == pytest.approx(2e-6, rel=1e-6)
+    assert result.rms_rel < 1e-10 and result.valid
+
+
+def _linkk():
+    validation = pytest.importorskip("impedance.validation")
+    # impedance.py builds its model text from repr() of numpy scalars and eval()s it; numpy ≥ 2
+    # prints "np.float64(...)", so its namespace needs `np`.
+    validation.circuit_elements.setdefault("np", np)
+    return validation.linKK
+
+
+@pytest.mark.parametrize("m", [3, 8, 15])
+def test_same_m_matches_impedance_py_linkk(m, rng):
+    """Same model (R0 + M RC + L, complex fit, 1/|Z| weights): same fit to rounding."""
+    linkk = _linkk()
+    z = add_noise(two_arcs(F_EIS), 0.01, rng)
+    m_ref, mu_ref, z_ref, res_re, res_im = linkk(F_EIS, z, c=None, max_M=m, fit_type="complex")
+    result = ix.kk_test((F_EIS, z), n_rc=m, capacitance=False)
+    assert result.n_rc == m_ref == m
+    assert result.mu == pytest.approx(mu_ref, abs=1e-6)
+    np.testing.assert_allclose(result.kk_impedance, z_ref, rtol=1e-7, atol=1e-9 * np.abs(z).max())
+    np.testing.assert_allclose(result.residuals_real, res_re, atol=1e-9)
+    np.testing.assert_allclose(result.residuals_imag, res_im, atol=1e-9)
+
+
+@pytest.mark.parametrize("noise", [0.005, 0.02])
+def test_automatic_m_agrees_with_linkk_or_fits_better(noise, rng):
+    """On an R-CPE spectrum both µ rules settle on a similar M; on an RC spectrum linKK stops on
+    an early dip of µ with 10 % residuals, where impedax's underfit guard goes on."""
+    linkk = _linkk()
+    z = add_noise(r_cpe(F_EIS), noise, rng)
+    m_ref, _, _, re_ref, im_ref = linkk(F_EIS, z, c=0.85, max_M=30, fit_type="complex")
+    ours = ix.kk_test((F_EIS, z), capacitance=False)
+    assert abs(ours.n_rc - m_ref) <= 6
+    assert ours.rms_rel == pytest.approx(np.sqrt(np.mean(re_ref**2 + im_ref**2)), rel=0.25)
+    z = add_noise(rc(F_EIS), noise, rng)
+    _, _, _, re_ref, im_ref = linkk(F_EIS, z, c=0.85, max_M=30, fit_type="complex")
+    ours = ix.kk_test((F_EIS, z), capacitance=False)
+    assert ours.rms_rel <= 1.05 * np.sqrt(np.mean(re_ref**2 + im_ref**2))
+    assert ours.valid
+
+
+def test_batched_over_trials_matches_single_tests(rng):
+    zs = np.stack([add_noise(rc(F_EIS), 0.005, rng), add_noise(drifting_rc(F_EIS, 0.2), 0.005, rng), add_noise(r_cpe(F_EIS), 0.005, rng)])
+    data = ix.make_spectrum(F_EIS, zs.reshape(1, 3, -1), dims=("session", "trial"), coords={"session": ["s1"], "trial": [10, 11, 12]})
+    batch = ix.kk_test_batch(data)
+    assert batch.shape == (1, 3) and batch.dims == ("session", "trial")
+    np.testing.assert_array_equal(batch.valid, [[True, False, True]])
+    for k in range(3):
+        single = ix.kk_test((F_EIS, zs[k]))
+        assert batch[0, k].n_rc == single.n_rc
+        np.testing.assert_allclose(batch[0, k].residuals_real, single.residuals_real, atol=1e-12)
+        assert batch[0, k].bad_bands == single.bad_bands
+    ds = batch.to_xarray()
+    assert ds["residuals_real"].dims == ("session", "trial", "frequency")
+    assert list(ds["trial"].values) == [10, 11, 12]
+    assert bool(ds["valid"].sel(session="s1", trial=11)) is False
+    with pytest.raises(DataError, match="kk_test_batch"):
+        ix.kk_test(data)
+
+
+def test_result_outputs(tmp_path, rng):
+    result = ix.kk_test((F_EIS, add_noise(drifting_rc(F_EIS, 0.2), 0.005, rng)))
+    ds = result.to_xarray()
+    assert isinstance(ds, xr.Dataset) and ds.sizes["frequency"] == F_EIS.size
+    assert ds.sizes["band"] == len(result.bad_bands) and ds.sizes["rc"] == result.n_rc
+    assert float(ds["rms_rel"]) == result.rms_rel
+    r = (result.impedance - result.kk_impedance) / np.abs(result.impedance)
+    assert result.rms_rel == pytest.approx(np.sqrt(np.mean(np.abs(r) ** 2)), rel=1e-12)
+    text = result.summary()
+    assert "NOT valid" in text and "bad band" in text and f"M = {result.n_rc}" in text
+    png = tmp_path / "kk.png"
+    save_figure(result.plot(), png)
+    assert png.stat().st_size > 5000
+    with pytest.raises(Exception):
+        result.valid = True  # frozen
+
+
+@pytest.mark.parametrize(
+    "kwargs,data,error,match",
+    [
+        ({"c": 1.5}, None, ParameterError, "c must be"),
+        ({"c": 0.0}, None, ParameterError, "c must be"),
+        ({"max_rc": 0}, None, ParameterError, "max_rc"),
+        ({"max_rc": 500}, None, ParameterError, "max_rc"),
+        ({"n_rc": 2.5}, None, ParameterError, "n_rc"),
+        ({"thresholds": {"pointy": 3}}, None, ParameterError, "unknown threshold"),
+        ({"thresholds": {"point": -1}}, None, ParameterError, "positive"),
+        ({"capacitance": "yes"}, None, ParameterError, "capacitance"),
+        ({}, (F_EIS[:2], rc(F_EIS[:2])), DataError, "at least"),
+        ({}, (F_EIS, np.where(F_EIS > 10, rc(F_EIS), 0)), DataError, "zero"),
+        ({}, (F_EIS, rc(F_EIS)[:-1]), DataError, "shapes"),
+        ({}, (-F_EIS, rc(F_EIS)), DataError, "positive"),
+        ({}, 42, DataError, "Dataset"),
+    ],
+)
+def test_bad_input_raises_impedax_errors(kwargs, data, error, match):
+    data = (F_EIS, rc(F_EIS)) if data is None else data
+    with pytest.raises(error, match=match):
+        ix.kk_test(data, **kwargs)
+
+
+@pytest.fixture
+def drift_csv(tmp_path):
+    rng = np.random.default_rng(3)
+    path = tmp_path / "drift.csv"
+    ix.save(ix.make_spectrum(F_EIS, add_noise(drifting_rc(F_EIS, 0.2), 0.005, rng)), path)
+    return path
+
+
+def test_cli_kk_text_and_plot(drift_csv, tmp_path, capsys):
+    png = tmp_path / "kk.png"
+    assert main(["kk", str(drift_csv), "--plot", str(png)]) == 0
+    out = capsys.readouterr().out
+    assert "M =" in out and "µ =" in out and "rms_rel" in out and "NOT valid" in out and "bad band" in out
+    assert png.stat().st_size > 5000
+
+
+def test_cli_kk_json_contract(drift_csv, capsys):
+    assert main(["kk", str(drift_csv), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert {"valid", "rms_rel", "bad_bands", "n_rc", "mu", "noise_estimate", "frequency_hz", "residuals_real", "residuals_imag"} <= set(out)
+    assert out["valid"] is False and out["bad_bands"] and all(len(b) == 2 and b[0] <= b[1] for b in out["bad_bands"])
+    result = ix.kk_test(ix.load(drift_csv))
+    assert out["rms_rel"] == pytest.approx(result.rms_rel) and out["n_rc"] == result.n_rc
+    assert len(out["residuals_real"]) == F_EIS.size
+
+
+@pytest.mark.parametrize(
+    "args,match",
+    [
+        (["kk", "missing.csv"], "not found"),
+        (["kk", "{csv}", "--c", "2"], "c must be"),
+        (["kk", "{csv}", "--max-rc", "0"], "max_rc"),
+        (["kk", "{nc}"], "extra dimensions"),
+        (["kk", "{csv}", "--plot", "/nonexistent-dir/x.png"], "does not exist"),
+    ],
+)
+def test_cli_kk_bad_input_exit_2(args, match, drift_csv, tmp_path, capsys):
+    nc = tmp_path / "trials.nc"
+    ix.save(ix.make_spectrum(F_EIS, np.stack([rc(F_EIS)] * 2), dims=("trial",)), nc)
+    args = [a.format(csv=drift_csv, nc=nc) for a in args]
+    assert main(args) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("impedax kk: error:") and match in err[0]
