@@ -11,6 +11,11 @@ share one compilation. Two model forms:
 * ``tree``: a circuit compiled by `compile_circuit` (parameters in ``parameter_names`` order);
 * ``program``: a `CircuitProgram` whose arrays travel as data, so one compilation serves every
   topology of a `ProgramLayout` (used by the diagnosis to fit many candidates).
+
+Warm-started candidate fits (the diagnosis) use ``program_solver(..., single_phase=True)``:
+every start runs one compact Levenberg–Marquardt loop (`levenberg_marquardt`, one
+linearisation per iteration, traced once) and the best is kept. Without the screening phase
+and with a single trace of the model's Jacobian it compiles several times faster.
 """
 
 from __future__ import annotations
@@ -26,7 +31,7 @@ import optimistix as optx
 from ..circuits import Circuit, ProgramLayout, Registry, compile_circuit, evaluate_program
 from ._parameters import to_external
 
-__all__ = ["tree_solver", "program_solver", "solver_messages", "SCREEN_STEPS"]
+__all__ = ["tree_solver", "program_solver", "levenberg_marquardt", "solver_messages", "SCREEN_STEPS"]
 
 SCREEN_STEPS = 40  # Levenberg–Marquardt steps every start gets before the best is refined
 
@@ -36,6 +41,102 @@ def _expand(u, args):
     x_free = to_external(u, args["lower"], args["upper"], args["kind"])
     x_ext = jnp.concatenate([args["x_fixed"], jnp.ones((1,))])
     return x_ext.at[args["free_index"]].set(x_free)[:-1]
+
+
+def _residuals(model: Callable):
+    def residual_x(x_free, args):
+        x_ext = jnp.concatenate([args["x_fixed"], jnp.ones((1,))])
+        x = x_ext.at[args["free_index"]].set(x_free)[:-1]
+        r = model(x, args["freq"], args["model_args"]) - args["z"]
+        return jnp.concatenate([r.real * args["inv_w_re"], r.imag * args["inv_w_im"]])
+
+    def residual_u(u, args):
+        return residual_x(to_external(u, args["lower"], args["upper"], args["kind"]), args)
+
+    return residual_x, residual_u
+
+
+def levenberg_marquardt(residual: Callable, u0, args, max_steps: int, *, rtol: float = 1e-8, xtol: float = 1e-10):
+    """Minimise ½‖residual(u, args)‖² from ``u0`` (dense Levenberg–Marquardt with Marquardt
+    scaling and Nielsen's damping update; Madsen, Nielsen & Tingleff 2004, alg. 3.16).
+
+    Each iteration linearises once at the trial point (``jacfwd``) and keeps it only when the
+    cost falls, so the model's Jacobian is traced once. Stops when an accepted step lowers the
+    cost by less than ``rtol`` relatively, when the step is below ``xtol``, or after
+    ``max_steps``. Returns (u, chi² = ‖r‖², converged, iterations, J(u), r(u)).
+    """
+
+    def with_aux(u):
+        r = residual(u, args)
+        return r, r
+
+    k = u0.shape[0]
+    m = jax.eval_shape(residual, u0, args).shape[0]
+
+    def cond(s):
+        return (s["i"] < max_steps) & ~s["done"]
+
+    def body(s):
+        j_try, r_try = jax.jacfwd(with_aux, has_aux=True)(s["u_try"])
+        c_try = 0.5 * jnp.sum(r_try**2)
+        c_try = jnp.where(jnp.isfinite(c_try) & jnp.all(jnp.isfinite(j_try)), c_try, jnp.inf)
+        first = s["i"] == 0
+        gain = s["cost"] - c_try
+        ok = first | ((gain > 0) & jnp.isfinite(c_try))
+        rho = gain / jnp.where(s["pred"] > 0, s["pred"], 1.0)
+        lam = jnp.where(first, s["lam"], jnp.where(ok, s["lam"] * jnp.maximum(1.0 / 3.0, 1.0 - (2.0 * rho - 1.0) ** 3), s["lam"] * s["nu"]))
+        nu = jnp.where(ok, 2.0, s["nu"] * 2.0)
+        keep = lambda new, old: jnp.where(ok, new, old)  # noqa: E731
+        u, jac, r, cost = keep(s["u_try"], s["u"]), keep(j_try, s["jac"]), keep(r_try, s["r"]), keep(c_try, s["cost"])
+        a = jac.T @ jac
+        g = jac.T @ r
+        dmax = jnp.maximum(jnp.diag(a), s["dmax"])
+        d = jnp.where(dmax > 0, dmax, 1.0)  # padded parameters have zero columns
+        delta = -jnp.linalg.solve(a + lam * jnp.diag(d), g)
+        delta = jnp.where(jnp.isfinite(delta), delta, 0.0)
+        pred = 0.5 * jnp.dot(delta, lam * d * delta - g)
+        flat = ~first & ok & (gain <= rtol * s["cost"])
+        tiny = jnp.sqrt(jnp.sum(delta**2)) <= xtol * (jnp.sqrt(jnp.sum(u**2)) + xtol)
+        done = flat | tiny | (lam > 1e15) | ~jnp.isfinite(cost)
+        return {"u": u, "jac": jac, "r": r, "cost": cost, "u_try": u + delta, "pred": pred, "lam": lam, "nu": nu, "i": s["i"] + 1, "done": done, "dmax": dmax}
+
+    s0 = {
+        "u": u0, "jac": jnp.zeros((m, k)), "r": jnp.zeros(m), "cost": jnp.asarray(jnp.inf), "u_try": u0, "pred": jnp.asarray(1.0),
+        "lam": jnp.asarray(1e-3), "nu": jnp.asarray(2.0), "i": jnp.asarray(0), "done": jnp.asarray(False), "dmax": jnp.zeros(k),
+    }
+    s = jax.lax.while_loop(cond, body, s0)
+    return s["u"], 2.0 * s["cost"], s["done"], s["i"], s["jac"], s["r"]
+
+
+_MAX_STEPS_CODE = int(optx.RESULTS.max_steps_reached._value)
+
+
+def _make_single_phase(model: Callable, max_steps: int):
+    _, residual_u = _residuals(model)
+
+    def solve(u0s, args):
+        us, chi2s, done, steps, jacs, rs = jax.vmap(levenberg_marquardt, in_axes=(None, 0, None, None))(residual_u, u0s, args, max_steps)
+        best = jnp.argmin(jnp.where(jnp.isfinite(chi2s), chi2s, jnp.inf))
+        u, r = us[best], rs[best]
+        x_free = to_external(u, args["lower"], args["upper"], args["kind"])
+        # chain rule back to parameter space: dr/dx = dr/du / (dx/du) (elementwise transform)
+        dx_du = jax.jvp(lambda v: to_external(v, args["lower"], args["upper"], args["kind"]), (u,), (jnp.ones_like(u),))[1]
+        jac = jnp.where(dx_du[None, :] != 0, jacs[best] / jnp.where(dx_du == 0, 1.0, dx_du)[None, :], 0.0)
+        n = args["z"].shape[0]
+        z_model = args["z"] + r[:n] / args["inv_w_re"] + 1j * (r[n:] / args["inv_w_im"])
+        return {
+            "x": _expand(u, args),
+            "x_free": x_free,
+            "chi2": chi2s[best],
+            "code": jnp.where(done[best], 0, _MAX_STEPS_CODE),
+            "steps": steps[best],
+            "chi2_starts": chi2s,
+            "steps_total": jnp.sum(steps),
+            "jacobian": jac,
+            "z_model": z_model,
+        }
+
+    return solve
 
 
 def _make(model: Callable, max_steps: int):
@@ -101,14 +202,15 @@ def tree_solver(circuit: Circuit, registry: Registry, max_steps: int):
 
 
 @functools.lru_cache(maxsize=16)
-def program_solver(layout: ProgramLayout, max_steps: int):
+def program_solver(layout: ProgramLayout, max_steps: int, single_phase: bool = False):
     """(single, batched) jitted solvers for any circuit of ``layout``; the program's arrays
-    are passed in ``args["model_args"]`` and its (S, 4) parameters flattened to P = 4S."""
+    are passed in ``args["model_args"]`` and its (S, 4) parameters flattened to P = 4S.
+    ``single_phase``: every start runs `levenberg_marquardt` to the end (for warm starts)."""
 
     def model(x, freq, program):
         return evaluate_program(program, x.reshape(layout.n_slots, -1), freq, layout=layout)
 
-    solve = _make(model, max_steps)
+    solve = (_make_single_phase if single_phase else _make)(model, max_steps)
     # candidates differ in program and in everything else: vmap over all of args
     return jax.jit(solve), jax.jit(jax.vmap(solve))
 

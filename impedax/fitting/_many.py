@@ -25,7 +25,7 @@ from ._starts import SpectrumFeatures, data_driven_guess, random_starts
 
 __all__ = ["fit_candidates"]
 
-_K_BUCKETS = (8, 16, 24, 32, 48)
+_K_BUCKETS = (4, 8, 12, 16, 24, 32, 48)  # the Jacobian costs one model pass per column
 _C_BUCKET = 8
 
 
@@ -40,7 +40,7 @@ def fit_candidates(
     circuits: Sequence[Circuit | str],
     data: xr.Dataset,
     *,
-    init: Sequence[Mapping[str, float] | None] | None = None,
+    init: Sequence[Mapping[str, float] | Sequence[Mapping[str, float]] | None] | None = None,
     fixed: Mapping[str, float] | None = None,
     weighting: str = "modulus",
     fmin: float | None = None,
@@ -49,12 +49,16 @@ def fit_candidates(
     max_steps: int = 400,
     seed: int = 0,
     registry: Registry = DEFAULT_REGISTRY,
+    single_phase: bool = False,
 ) -> list[FitResult]:
     """Fit every circuit in ``circuits`` to the one spectrum ``data`` in a single vmapped call.
 
     ``init[i]`` (optional) holds starting values for candidate i, e.g. a baseline fit's values
     plus a guess for an added element (warm start); remaining parameters are guessed from the
-    data. ``fixed`` values apply to candidates that have those parameters. Returns one
+    data. ``init[i]`` may also be a list of such mappings: several warm starts (they replace the
+    first random starts). ``fixed`` values apply to candidates that have those parameters.
+    ``single_phase`` runs every start to convergence with one compact Levenberg–Marquardt loop
+    (no screening phase; compiles several times faster; meant for warm starts). Returns one
     `FitResult` per circuit, in order, exactly as `impedax.fit` would report them.
     """
     t0 = time.perf_counter()
@@ -65,9 +69,13 @@ def fit_candidates(
     if len(init) != len(circuits):
         raise FitError("init must give one mapping (or None) per circuit")
     prepared = []
+    warm = []
     for circuit, start in zip(circuits, init):
         mine = {k: v for k, v in (fixed or {}).items() if k in circuit.parameter_names(registry)}
-        start = {k: v for k, v in (start or {}).items() if k in circuit.parameter_names(registry) and k not in mine}
+        starts = [start] if start is None or isinstance(start, Mapping) else list(start)
+        starts = [{k: v for k, v in (one or {}).items() if k in circuit.parameter_names(registry) and k not in mine} for one in starts] or [{}]
+        start = starts[0]
+        warm.append([_inside(circuit, one, registry) for one in starts[1:]])
         prepared.append(_prepare(circuit, data, init=_inside(circuit, start, registry), fixed=mine, bounds=None, weighting=weighting, fmin=fmin, fmax=fmax, registry=registry))
     data_sel = prepared[0][1]
     if any(d != "frequency" for d in data_sel["Z"].dims):
@@ -82,7 +90,7 @@ def fit_candidates(
     n_flat = layout.n_slots * 4
     features = SpectrumFeatures(freq, z)
     rows = []
-    for (circuit, _, table, _), program in zip(prepared, programs):
+    for (circuit, _, table, _), program, extra in zip(prepared, programs, warm):
         flat = np.array([s * 4 + i for s, i in (program.parameter_slots[n] for n in table.names)])
         x_fixed = default_theta(layout).ravel()
         guess = data_driven_guess(circuit, table, features, registry)
@@ -90,7 +98,12 @@ def fit_candidates(
         x_fixed[flat[table.fixed]] = table.values[table.fixed]
         free = table.free_index
         k = free.size
-        starts_x = random_starts(table, features, guess, n_starts, seed)[:, free]
+        starts_x = random_starts(table, features, guess, n_starts, seed)
+        for j, values in enumerate(extra[: n_starts - 1], start=1):
+            starts_x[j] = guess
+            for name, value in values.items():
+                starts_x[j, table.names.index(name)] = value
+        starts_x = starts_x[:, free]
         starts_u = np.zeros((n_starts, k_pad))
         starts_u[:, :k] = to_internal(starts_x, table.lower[free], table.upper[free], table.kind[free])
         pad = lambda a, fill: np.concatenate([a, np.full(k_pad - k, fill, dtype=np.asarray(a).dtype)])  # noqa: E731
@@ -122,7 +135,7 @@ def fit_candidates(
         "kind": stack("kind"),
         "model_args": {key: jnp.stack([r["program"][key] for r in rows]) for key in rows[0]["program"]},
     }
-    _, many = program_solver(layout, max_steps)
+    _, many = program_solver(layout, max_steps, bool(single_phase))
     out = {k: np.asarray(v) for k, v in many(stack("starts"), args).items()}
     elapsed = (time.perf_counter() - t0) / n_real
     results = []
