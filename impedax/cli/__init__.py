@@ -9,7 +9,7 @@ import importlib
 import os
 import sys
 
-_COMMAND_MODULES = ("simulate", "info", "fit", "compare", "force", "draw", "inspect", "demo", "kk")
+_COMMAND_MODULES = ("simulate", "info", "fit", "compare", "force", "draw", "inspect", "demo", "kk", "diagnose", "refine")
 
 
 def _configure_jax_cache() -> None:

@@ -8,7 +8,8 @@ refinement loop that adds effects until the residuals are noise (docs/diagnosis.
    each is described in words (data vs model: resistive/capacitive/inductive, phase, slope).
 3. Candidates: every effect of the catalog (`impedax.fitting._effects`) proposes augmented
    circuits, fitted together warm-started through `fit_candidates` (one compilation) and
-   ranked by ΔAIC.
+   ranked by ΔAIC; a candidate with more parameters outranks a simpler one only when it
+   lowers AIC by more than `DELTA_AIC_MIN` (the same rule as the verdict).
 4. Verdict: ``data_invalid`` when the KK test fails badly, ``missing_effect`` when a candidate is
    significant (ΔAIC < −`DELTA_AIC_MIN` and it explains at least `NOISE_FRACTION_MIN` of the
    noise variance) or the residuals are structured beyond the noise with nothing to fix them,
@@ -25,11 +26,11 @@ import numpy as np
 import xarray as xr
 from scipy import stats
 
-from ..circuits import Circuit
+from ..circuits import Circuit, DEFAULT_REGISTRY
 from ..data import make_spectrum, validate_spectrum
 from ..errors import DataError, FitError, ImpedaxError, ParameterError
 from ._effects import DEFAULT_EFFECTS, BaselineContext, EffectCatalog, Proposal, format_frequency
-from ._fit import FitResult, fit
+from ._fit import FitResult
 from ._many import fit_candidates
 
 __all__ = [
@@ -54,6 +55,8 @@ KK_INVALID_FRACTION = 0.2
 """The KK test 'fails badly' when it flags at least this fraction of the points (or the KK
 residuals exceed 3× the noise floor of 2 % at a minimum)."""
 KK_INVALID_RMS = 0.02
+BASELINE_STEPS = 300
+"""Levenberg–Marquardt step limit of the baseline's cold starts (warm candidates: ``max_steps``)."""
 
 
 @dataclass(frozen=True)
@@ -372,6 +375,76 @@ def _explain(effect, p: Proposal, base: FitResult, cand: FitResult, d_aic: float
     )
 
 
+def _proposed_circuits(circuit: Circuit, z_data, freq, effects: EffectCatalog, registry) -> list[Circuit]:
+    """The circuits the catalog proposes for ``circuit`` (they depend on its structure only)."""
+    order = np.argsort(freq)
+    ctx = BaselineContext(circuit, circuit.defaults(registry), freq[order], z_data[order], z_data[order] * (1 + 1e-3), registry)
+    seen, out = {str(circuit)}, []
+    for effect in effects:
+        for p in effect.propose(circuit, ctx):
+            if str(p.circuit) not in seen:
+                seen.add(str(p.circuit))
+                out.append(p.circuit)
+    return out
+
+
+def _shapes(circuits: Sequence[Circuit], registry):
+    """(layout, candidate count, free-parameter count) of one compiled candidate solver."""
+    from ..circuits import ProgramLayout
+    from ._many import _C_BUCKET, _K_BUCKETS, _bucket
+
+    layout = ProgramLayout.covering(circuits, registry)
+    n = -(-len(circuits) // _C_BUCKET) * _C_BUCKET
+    k = _bucket(max(len(c.parameter_names(registry)) for c in circuits), _K_BUCKETS)
+    return layout, n, k
+
+
+def _covers(layout, circuits, registry) -> bool:
+    from ..circuits import ProgramLayout
+
+    need = ProgramLayout.covering(circuits, registry)
+    return need.n_nodes <= layout.n_nodes and all(a <= b for a, b in zip(need.capacities, layout.capacities))
+
+
+def _fit_baseline(data, circuit, effects, *, weighting, n_starts, seed):
+    """Fit the user's circuit with the same compiled solver the candidates will use (every
+    padded slot a copy of the circuit with its own random starts): one compilation in all."""
+    from ..circuits import parse
+    from ..io import load
+
+    ds = load(data) if not isinstance(data, xr.Dataset) else data
+    source = str(ds.attrs.get("source", data if isinstance(data, str) else "data"))
+    validate_spectrum(ds, source=source)
+    if any(d != "frequency" for d in ds["Z"].dims):
+        raise DataError("diagnose takes one spectrum; select or average the extra dimensions (trial, session, ...) first", path=source)
+    circuit = parse(circuit)
+    freq = np.asarray(ds["frequency"].values, float)
+    z = np.asarray(ds["Z"].values, complex)
+    proposed = _proposed_circuits(circuit, z, freq, effects, DEFAULT_REGISTRY)
+    shapes = _shapes([circuit] + proposed, DEFAULT_REGISTRY)
+    copies = shapes[1]
+    fits = fit_candidates(
+        [circuit] * copies, ds, weighting=weighting, n_starts=n_starts, max_steps=BASELINE_STEPS, seeds=[seed + i for i in range(copies)],
+        single_phase=True, layout=shapes[0], pad_to=shapes[1], k_pad=shapes[2],
+    )
+    best = min(fits, key=lambda r: r.chi2 if np.isfinite(r.chi2) else np.inf)
+    return best, ds, shapes
+
+
+def _rank(cands: list[Suggestion]) -> list[Suggestion]:
+    """Best first by AIC, with the same parsimony rule as the verdict: a candidate with more
+    free parameters outranks a simpler one only if it lowers AIC by more than `DELTA_AIC_MIN`."""
+    rest = sorted(cands, key=lambda s: s.delta_aic)
+    out = []
+    while rest:
+        best_aic = rest[0].delta_aic
+        close = [s for s in rest if s.delta_aic <= best_aic + DELTA_AIC_MIN]
+        pick = min(close, key=lambda s: (s.fit.n_params, s.delta_aic))
+        out.append(pick)
+        rest.remove(pick)
+    return out
+
+
 def diagnose(
     fit_or_data,
     circuit: Circuit | str | None = None,
@@ -382,7 +455,7 @@ def diagnose(
     noise: float | None = None,
     weighting: str = "modulus",
     n_starts: int = 4,
-    max_steps: int = 150,
+    max_steps: int = 100,
     seed: int = 0,
 ) -> Diagnosis:
     """Diagnose a fit: where the model fails, which effect of ``effects`` is missing, verdict.
@@ -396,24 +469,19 @@ def diagnose(
     """
     from ._kk import kk_test
 
+    if n_starts < 1 or max_steps < 1:
+        raise ParameterError("n_starts and max_steps must be at least 1")
     if isinstance(fit_or_data, FitResult):
         base = fit_or_data
         if circuit is not None:
             raise ParameterError("give either a FitResult or data with a circuit, not both")
+        shapes = None
     else:
         if circuit is None:
             raise ParameterError("diagnose(data, circuit): the circuit to diagnose is missing")
         if data is not None:
             raise ParameterError("give the data once")
-        from ..io import load
-
-        data = load(fit_or_data) if not isinstance(fit_or_data, xr.Dataset) else fit_or_data
-        validate_spectrum(data, source=str(data.attrs.get("source", "data")))
-        base = fit(circuit, data, weighting=weighting, seed=seed)
-        if not isinstance(base, FitResult):
-            raise DataError("diagnose takes one spectrum; select or average the extra dimensions (trial, session, ...) first")
-    if n_starts < 1 or max_steps < 1:
-        raise ParameterError("n_starts and max_steps must be at least 1")
+        base, data, shapes = _fit_baseline(fit_or_data, circuit, effects, weighting=weighting, n_starts=n_starts, seed=seed)
     spectrum, sigma = _spectrum_of(base, data)
     notes: list[str] = []
     if kk is None:
@@ -455,7 +523,8 @@ def diagnose(
     kk_bad = kk.bad_bands if kk is not None else ()
     bands = failing_bands(base, sigma_rel, kk_bad_bands=kk_bad)
     order = np.argsort(base.frequency)
-    ctx = BaselineContext(base.circuit, base.values, base.frequency[order], base.z_data[order], base.z_model[order], base.registry)
+    undetermined = frozenset(k for k in base.free_names if not (np.isfinite(base.stderr[k]) and abs(base.stderr[k]) <= abs(base.values[k])))
+    ctx = BaselineContext(base.circuit, base.values, base.frequency[order], base.z_data[order], base.z_model[order], base.registry, undetermined)
     proposals: list[tuple[object, Proposal]] = []
     seen = {str(base.circuit)}
     for effect in effects:
@@ -465,14 +534,17 @@ def diagnose(
                 continue
             seen.add(key)
             proposals.append((effect, p))
-    n_free_max = max([len(p.circuit.parameter_names(base.registry)) for _, p in proposals] + [0])
-    if n_free_max >= 2 * base.n_points:
-        proposals = [(e, p) for e, p in proposals if len(p.circuit.parameter_names(base.registry)) < 2 * base.n_points]
+    proposals = [(e, p) for e, p in proposals if len(p.circuit.parameter_names(base.registry)) < 2 * base.n_points]
     fixed = {k: v for k, v in base.values.items() if base.fixed[k]}
     circuits = [base.circuit] + [p.circuit for _, p in proposals]
-    inits = [[dict(base.values)]] + [list(p.starts) for _, p in proposals]
+    inits = [[dict(base.values), ctx.start()]] + [list(p.starts) for _, p in proposals]
+    if shapes is None or not _covers(shapes[0], circuits, base.registry):
+        shapes = _shapes(circuits, base.registry)
     try:
-        fits = fit_candidates(circuits, spectrum, init=inits, fixed=fixed or None, weighting=base.weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=base.registry, single_phase=True)
+        fits = fit_candidates(
+            circuits, spectrum, init=inits, fixed=fixed or None, weighting=base.weighting, n_starts=n_starts, seed=seed,
+            registry=base.registry, single_phase=True, layout=shapes[0], pad_to=shapes[1], k_pad=shapes[2], max_steps=BASELINE_STEPS, step_limit=max_steps,
+        )
     except FitError as err:
         raise FitError(f"diagnosis: the candidate fits failed: {err}") from None
     refit = fits[0]
@@ -492,7 +564,7 @@ def diagnose(
         after = failing_bands(cf, sigma_rel)
         fixed_bands = tuple((b.f_min, b.f_max) for b in bands if not any(a.f_min < b.f_max and a.f_max > b.f_min for a in after))
         cands.append(Suggestion(effect.id, p.added, p.where, cf, d_aic, d_bic, significant, _explain(effect, p, base, cf, d_aic, fixed_bands), fixed_bands))
-    cands.sort(key=lambda s: s.delta_aic)
+    cands = _rank(cands)
     ratio = _noise_ratio(base, sigma_rel)
     model_bands = [b for b in bands if not b.data_problem]
     if any(s.significant for s in cands):
@@ -646,15 +718,15 @@ def refine(
     if not isinstance(max_steps, int) or max_steps < 0:
         raise ParameterError(f"max_steps must be a non-negative integer, got {max_steps!r}")
     ds = load(data) if not isinstance(data, xr.Dataset) else data
-    validate_spectrum(ds, source=str(ds.attrs.get("source", "data")))
-    current = fit(circuit, ds, weighting=weighting, seed=seed)
-    if not isinstance(current, FitResult):
-        raise DataError("refine takes one spectrum; select or average the extra dimensions (trial, session, ...) first")
     steps: list[RefinementStep] = []
     added = effect = None
     verdict = "missing_effect"
+    current = None
     for i in range(max_steps + 1):
-        d = diagnose(current, data=ds, effects=effects, kk=steps[0].diagnosis.kk if steps else None, noise=noise, n_starts=n_starts, seed=seed)
+        if current is None:
+            d = diagnose(ds, circuit, effects=effects, noise=noise, weighting=weighting, n_starts=n_starts, seed=seed)
+        else:
+            d = diagnose(current, data=ds, effects=effects, kk=steps[0].diagnosis.kk, noise=noise, n_starts=n_starts, seed=seed)
         steps.append(RefinementStep(d.baseline, added, effect, d))
         verdict = d.verdict
         if d.verdict != "missing_effect" or d.best is None or i == max_steps:

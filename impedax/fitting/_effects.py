@@ -44,6 +44,7 @@ class BaselineContext:
     z_data: np.ndarray
     z_model: np.ndarray
     registry: Registry = field(default=DEFAULT_REGISTRY, repr=False)
+    undetermined: frozenset = frozenset()  # baseline parameters the data did not determine
 
     @property
     def omega(self) -> np.ndarray:
@@ -69,7 +70,9 @@ class BaselineContext:
         return float(self.frequency[int(np.argmax(smooth))])
 
     def start(self, **new: float) -> dict[str, float]:
-        out = {k: float(v) for k, v in self.values.items()}
+        """Baseline values plus ``new``; undetermined baseline values are left to the data-driven
+        guess (a resistance that collapsed to ~0 in log space cannot come back from there)."""
+        out = {k: float(v) for k, v in self.values.items() if k not in self.undetermined}
         out.update({k: float(v) for k, v in new.items()})
         return out
 
@@ -254,21 +257,38 @@ def _constant_phase(circuit: Circuit, ctx: BaselineContext) -> list[Proposal]:
     return out
 
 
+def _arc_scan(ctx: BaselineContext, alpha: float, k: int = 3) -> list[tuple[float, float]]:
+    """The k best (R, τ) of one arc R/(1 + (jωτ)^α) matched to the misfit ΔZ = Z_data − Z_model
+    (for each τ on a log grid, R by weighted linear least squares; local minima of the rest)."""
+    dz = ctx.z_data - ctx.z_model
+    w2 = 1.0 / np.abs(ctx.z_data) ** 2
+    f_grid = np.logspace(np.log10(ctx.frequency[0] / 3), np.log10(ctx.frequency[-1] * 3), 48)
+    tau = 1.0 / (2 * np.pi * f_grid)
+    b = 1.0 / (1.0 + (1j * ctx.omega[None, :] * tau[:, None]) ** alpha)
+    r = np.maximum(np.sum(w2 * (np.conj(b) * dz).real, axis=1) / np.sum(w2 * np.abs(b) ** 2, axis=1), 0.0)
+    cost = np.sum(w2 * np.abs(dz[None, :] - r[:, None] * b) ** 2, axis=1)
+    cost = np.where(r > 0, cost, np.inf)
+    minima = [i for i in range(cost.size) if np.isfinite(cost[i]) and (i == 0 or cost[i] <= cost[i - 1]) and (i == cost.size - 1 or cost[i] <= cost[i + 1])]
+    minima.sort(key=lambda i: cost[i])
+    return [(float(r[i]), float(tau[i])) for i in minima[:k]]
+
+
 def _relaxation_starts(ctx: BaselineContext, r_name: str, c_name: str, cpe: bool) -> tuple[dict, ...]:
+    alpha = 0.8 if cpe else 1.0
     f_x = ctx.misfit_frequency()
     i = int(np.argmin(np.abs(ctx.frequency - f_x)))
     dz = np.abs(ctx.z_data - ctx.z_model)
     r0 = _positive(2 * dz[: i + 1].max(), 0.02 * np.abs(ctx.z_data[i]))
+    arcs = _arc_scan(ctx, alpha) + [(r0, 1.0 / (2 * np.pi * f_x)), (r0, 0.2 / (2 * np.pi * f_x)), (r0, 5.0 / (2 * np.pi * f_x))]
     starts = []
-    for scale_f, scale_r in ((1.0, 1.0), (0.2, 1.0), (5.0, 1.0), (1.0, 0.2)):
-        r = r0 * scale_r
-        c = 1.0 / (2 * np.pi * f_x * scale_f * r)
+    for r, tau in arcs[:4]:
+        r = _positive(r, 1e-3 * np.abs(ctx.z_data).min())
         new = {r_name: r}
         if cpe:
-            new[f"{c_name}.Q"] = c * (2 * np.pi * f_x * scale_f) ** (1 - 0.8)
-            new[f"{c_name}.alpha"] = 0.8
+            new[f"{c_name}.Q"] = tau**alpha / r
+            new[f"{c_name}.alpha"] = alpha
         else:
-            new[c_name] = c
+            new[c_name] = tau / r
         starts.append(ctx.start(**new))
     return tuple(starts)
 

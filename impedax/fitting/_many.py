@@ -50,6 +50,11 @@ def fit_candidates(
     seed: int = 0,
     registry: Registry = DEFAULT_REGISTRY,
     single_phase: bool = False,
+    seeds: Sequence[int] | None = None,
+    layout: ProgramLayout | None = None,
+    pad_to: int | None = None,
+    k_pad: int | None = None,
+    step_limit: int | None = None,
 ) -> list[FitResult]:
     """Fit every circuit in ``circuits`` to the one spectrum ``data`` in a single vmapped call.
 
@@ -58,7 +63,11 @@ def fit_candidates(
     data. ``init[i]`` may also be a list of such mappings: several warm starts (they replace the
     first random starts). ``fixed`` values apply to candidates that have those parameters.
     ``single_phase`` runs every start to convergence with one compact Levenberg–Marquardt loop
-    (no screening phase; compiles several times faster; meant for warm starts). Returns one
+    (no screening phase; compiles several times faster; meant for warm starts). ``seeds``: one
+    random-start seed per candidate (default ``seed`` for all). ``layout``, ``pad_to``
+    (candidate count) and ``k_pad`` (free-parameter count) fix the compiled shapes, so calls
+    with different circuits can share one compilation; with ``single_phase``, ``step_limit``
+    (≤ ``max_steps``) stops this call earlier without a new compilation. Returns one
     `FitResult` per circuit, in order, exactly as `impedax.fit` would report them.
     """
     t0 = time.perf_counter()
@@ -84,13 +93,17 @@ def fit_candidates(
     z = np.asarray(data_sel["Z"].values, complex)
     sigma = np.asarray(data_sel["sigma"].values, float) if "sigma" in data_sel else None
     inv_re, inv_im = _weights(z, sigma, weighting, prepared[0][3])
-    layout = _shared_layout(circuits, registry)
+    layout = layout if layout is not None else _shared_layout(circuits, registry)
     programs = [CircuitProgram.build(c, registry, layout) for c in circuits]
-    k_pad = _bucket(max(int((~t.fixed).sum()) for _, _, t, _ in prepared), _K_BUCKETS)
+    k_need = max(int((~t.fixed).sum()) for _, _, t, _ in prepared)
+    k_pad = max(k_pad or 0, _bucket(k_need, _K_BUCKETS))
+    seeds = list(seeds) if seeds is not None else [seed] * len(circuits)
+    if len(seeds) != len(circuits):
+        raise FitError("seeds must give one seed per circuit")
     n_flat = layout.n_slots * 4
     features = SpectrumFeatures(freq, z)
     rows = []
-    for (circuit, _, table, _), program, extra in zip(prepared, programs, warm):
+    for (circuit, _, table, _), program, extra, seed_i in zip(prepared, programs, warm, seeds):
         flat = np.array([s * 4 + i for s, i in (program.parameter_slots[n] for n in table.names)])
         x_fixed = default_theta(layout).ravel()
         guess = data_driven_guess(circuit, table, features, registry)
@@ -98,7 +111,7 @@ def fit_candidates(
         x_fixed[flat[table.fixed]] = table.values[table.fixed]
         free = table.free_index
         k = free.size
-        starts_x = random_starts(table, features, guess, n_starts, seed)
+        starts_x = random_starts(table, features, guess, n_starts, seed_i)
         for j, values in enumerate(extra[: n_starts - 1], start=1):
             starts_x[j] = guess
             for name, value in values.items():
@@ -120,7 +133,7 @@ def fit_candidates(
             }
         )
     n_real = len(rows)
-    n_total = -(-n_real // _C_BUCKET) * _C_BUCKET
+    n_total = max(pad_to or 0, -(-n_real // _C_BUCKET) * _C_BUCKET)
     rows += [rows[-1]] * (n_total - n_real)  # pad the candidate count (results discarded)
     stack = lambda key: jnp.asarray(np.stack([r[key] for r in rows]))  # noqa: E731
     args = {
@@ -135,6 +148,8 @@ def fit_candidates(
         "kind": stack("kind"),
         "model_args": {key: jnp.stack([r["program"][key] for r in rows]) for key in rows[0]["program"]},
     }
+    if single_phase:
+        args["max_steps"] = jnp.full((n_total,), min(step_limit or max_steps, max_steps), jnp.int64)
     _, many = program_solver(layout, max_steps, bool(single_phase))
     out = {k: np.asarray(v) for k, v in many(stack("starts"), args).items()}
     elapsed = (time.perf_counter() - t0) / n_real
