@@ -265,7 +265,13 @@ def _structured_mask(e: np.ndarray, p: float = RUN_P, min_len: int = 3) -> np.nd
     for i, j in _runs(np.sign(e)):
         length = j - i
         if length >= min_len and np.sum(e[i:j] ** 2) > stats.chi2.ppf(1 - p, length):
-            out[i:j] = True
+            # trim the run's tails where the misfit is below the noise: the band is where it shows
+            a, b = i, j
+            while a < b and abs(e[a]) < 1:
+                a += 1
+            while b > a and abs(e[b - 1]) < 1:
+                b -= 1
+            out[a:b] = True
     return out
 
 
@@ -283,19 +289,31 @@ def _slope(f, y):
     return float(np.polyfit(np.log10(f[ok]), np.log10(y[ok]), 1)[0])
 
 
-def _describe(f, zd, zm, i, j, n) -> str:
-    """Words for how the data differ from the model over sorted points i..j-1."""
+def _where(f, i, j, n) -> str:
     lo, hi = f[i], f[j - 1]
     if i == 0 and j < n:
-        where = f"below {format_frequency(hi)}"
-    elif j == n and i > 0:
-        where = f"above {format_frequency(lo)}"
-    elif i == 0 and j == n:
-        where = "over the whole band"
-    else:
-        where = f"between {format_frequency(lo)} and {format_frequency(hi)}"
+        return f"below {format_frequency(math.sqrt(hi * f[j]))}"
+    if j == n and i > 0:
+        return f"above {format_frequency(math.sqrt(lo * f[i - 1]))}"
+    if i == 0 and j == n:
+        return "over the whole band"
+    return f"between {format_frequency(lo)} and {format_frequency(hi)}"
+
+
+def _describe(f, zd, zm, i, j, n) -> str:
+    """Words for how the data differ from the model over sorted points i..j-1."""
+    where = _where(f, i, j, n)
     d, m = zd[i:j], zm[i:j]
     ph_d, ph_m = np.degrees(np.angle(d)), np.degrees(np.angle(m))
+    # a resistive-vs-capacitive sub-band at one end of the band is the clearest story
+    for flip, text in (((np.abs(ph_d) < 30) & (np.abs(ph_m) > 50), "resistive"), ((np.abs(ph_m) < 30) & (np.abs(ph_d) > 50), "capacitive")):
+        idx = np.flatnonzero(flip)
+        if idx.size >= 2 and (idx[0] == 0 or idx[-1] == j - i - 1):
+            a, b = i + idx[0], i + idx[-1] + 1
+            sub = _where(f, a, b, n) if (a == 0 or b == n) else _where(f, a, b, n)
+            other = "capacitive" if text == "resistive" else "resistive"
+            rest = f"; over the rest of {format_frequency(f[i])}–{format_frequency(f[j - 1])} the phases differ by up to {np.max(np.abs(ph_d - ph_m)):.0f}°" if b - a < j - i else ""
+            return f"{sub} the data are {text} (phase {np.mean(ph_d[a - i:b - i]):.0f}°) while the model is {other} ({np.mean(ph_m[a - i:b - i]):.0f}°){rest}"
     mag = float(np.mean(np.abs(d) / np.abs(m)) - 1) * 100
     if np.mean(d.imag > 0) >= 0.5 and np.mean(d.imag) > np.mean(m.imag) and np.mean(m.imag > 0) < 0.5:
         return f"positive Z'' {where} the model cannot make: the data turn inductive (phase up to {ph_d.max():+.0f}°)"
