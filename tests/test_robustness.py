@@ -24,6 +24,8 @@ FILE_COMMANDS = [  # (id, argv template with {input})
     ("inspect-json", ["inspect", "{input}", "--json", "--out", "{tmp}/converted.nc"]),
     ("fit", ["fit", "{input}", "--model", "R1 + C1", "--json", "--out", "{tmp}/fit.nc"]),
     ("compare", ["compare", "{input}", "--model", "R1", "--model", "R1 + C1"]),
+    ("diagnose", ["diagnose", "{input}", "--model", "R1 + C1", "--json"]),
+    ("refine", ["refine", "{input}", "--model", "R1 + C1", "--max-steps", "1", "--json"]),
 ]
 MODEL_COMMANDS = [  # (id, argv template with {model})
     ("info", ["info", "{model}"]),
@@ -31,6 +33,8 @@ MODEL_COMMANDS = [  # (id, argv template with {model})
     ("draw", ["draw", "{model}", "-o", "{tmp}/out.svg"]),
     ("fit", ["fit", "{tmp}/good.csv", "--model", "{model}"]),
     ("compare", ["compare", "{tmp}/good.csv", "--model", "R1", "--model", "{model}"]),
+    ("diagnose", ["diagnose", "{tmp}/good.csv", "--model", "{model}"]),
+    ("refine", ["refine", "{tmp}/good.csv", "--model", "{model}"]),
 ]
 PARAM_COMMANDS = [  # (id, argv template with {model} and {param})
     ("simulate", ["simulate", "{model}", "--param", "{param}", "--out", "{tmp}/out.csv"]),
@@ -46,6 +50,8 @@ OUTPUT_COMMANDS = [  # (id, argv template with {output}, output extension)
     ("fit-out", ["fit", "{good}", "--model", "R1 + C1", "--out", "{output}"], ".nc"),
     ("fit-plot", ["fit", "{good}", "--model", "R1 + C1", "--plot", "{output}"], ".png"),
     ("compare-plot", ["compare", "{good}", "--model", "R1", "--model", "R1 + C1", "--plot", "{output}"], ".png"),
+    ("diagnose-plot", ["diagnose", "{good}", "--model", "R1 + C1", "--plot", "{output}"], ".png"),
+    ("refine-plot", ["refine", "{good}", "--model", "R1 + C1", "--plot", "{output}"], ".png"),
 ]
 
 # --- bad inputs -----------------------------------------------------------------------------
