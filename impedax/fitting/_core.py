@@ -164,15 +164,7 @@ def _make_single_phase_batch(model: Callable, max_steps: int):
 
 def _make(model: Callable, max_steps: int):
     solver = optx.LevenbergMarquardt(rtol=1e-9, atol=1e-12)
-
-    def residual_x(x_free, args):
-        x_ext = jnp.concatenate([args["x_fixed"], jnp.ones((1,))])
-        x = x_ext.at[args["free_index"]].set(x_free)[:-1]
-        r = model(x, args["freq"], args["model_args"]) - args["z"]
-        return jnp.concatenate([r.real * args["inv_w_re"], r.imag * args["inv_w_im"]])
-
-    def residual_u(u, args):
-        return residual_x(to_external(u, args["lower"], args["upper"], args["kind"]), args)
+    residual_x, residual_u = _residuals(model)
 
     def solve_one(u0, args, steps):
         sol = optx.least_squares(residual_u, solver, u0, args, max_steps=steps, throw=False)
