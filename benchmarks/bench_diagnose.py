@@ -45,7 +45,7 @@ def _spectrum(tmp: Path, name: str, formula, frange) -> Path:
     with open(path, "w") as fh:
         fh.write("frequency_hz,z_real_ohm,z_imag_ohm\n")
         for fi, zi in zip(f, z):
-            fh.write(f"{fi!r},{zi.real!r},{zi.imag!r}\n")
+            fh.write(f"{float(fi)!r},{float(zi.real)!r},{float(zi.imag)!r}\n")
     return path
 
 

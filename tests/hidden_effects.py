@@ -106,3 +106,18 @@ def drifting(rng, rel_noise=0.005, n=60):
     c1 = 1e-6 * (1 - 0.3 * t)
     z = 50 + r1 / (1 + _jw(f) * r1 * c1)
     return f, noisy(z, rel_noise, rng)
+
+
+EXPONENTS = {"a", "a1", "a2"}
+
+
+def vary(params, rng, spread=0.2):
+    """True parameters varied around a case's: scales ×10^U(−spread, spread), CPE exponents
+    ±0.05 (kept in 0.5–0.98), so a study does not test one spectrum per effect only."""
+    out = {}
+    for k, v in params.items():
+        if k in EXPONENTS:
+            out[k] = float(np.clip(v + rng.uniform(-0.05, 0.05), 0.5, 0.98))
+        else:
+            out[k] = float(v * 10 ** rng.uniform(-spread, spread))
+    return out

@@ -23,9 +23,12 @@ def gap(c_gap):  # u = ε0 ε_gap A / C_gap (Sirin et al.; PHYSICS.md)
     return EPS0 * EPS_GAP * SIRIN_AREA / c_gap
 
 
-def case_data(name, rel_noise=0.01, seed=1):
+def case_data(name, rel_noise=0.01, seed=1, vary=False):
     circuit, effect, formula, params, frange = he.CASES[name]
-    f, z = he.spectrum(formula, params, frange, rel_noise, np.random.default_rng(seed))
+    rng = np.random.default_rng(seed)
+    if vary:
+        params = he.vary(params, rng)
+    f, z = he.spectrum(formula, params, frange, rel_noise, rng)
     return circuit, effect, ix.make_spectrum(f, z)
 
 
@@ -245,14 +248,15 @@ def run_study():
     rows = []
     for name in he.CASES:
         for k, noise in enumerate(STUDY_NOISE):
-            circuit, effect, data = case_data(name, noise, seed=100 + k)
+            circuit, effect, data = case_data(name, noise, seed=100 + k, vary=True)
             d = ix.diagnose(data, circuit)
             got = d.suggestions[0].effect if d.suggestions else d.verdict
             rows.append((name, noise, effect, got, d.baseline.rms_rel, d.suggestions[0].rms_rel if d.suggestions else float("nan")))
     adequate = []
     for name, (circuit, formula, params, frange) in he.ADEQUATE.items():
         for k, noise in enumerate((0.005, 0.02)):
-            f, z = he.spectrum(formula, params, frange, noise, np.random.default_rng(200 + k))
+            rng = np.random.default_rng(200 + k)
+            f, z = he.spectrum(formula, he.vary(params, rng), frange, noise, rng)
             adequate.append((name, noise, ix.diagnose(ix.make_spectrum(f, z), circuit).verdict))
     return rows, adequate
 
@@ -266,6 +270,8 @@ def test_hidden_effect_study():
         print(f"  {'hit ' if r[2] == r[3] else 'MISS'} {r[0]:32s} noise {r[1]:.1%}  top: {r[3]:24s} rms_rel {r[4]:.4f} -> {r[5]:.4f}")
     ok = sum(v == "adequate" for *_, v in adequate)
     print(f"adequate models judged adequate: {ok}/{len(adequate)}")
+    for name, noise, verdict in adequate:
+        print(f"  {'ok  ' if verdict == 'adequate' else 'MISS'} {name:32s} noise {noise:.1%}  verdict {verdict}")
     assert len(rows) >= 30
     assert hits / len(rows) >= 0.85
     assert ok / len(adequate) >= 0.8
