@@ -495,6 +495,10 @@ def diagnose(
             raise ParameterError("give either a FitResult or data with a circuit, not both")
         shapes = None
     else:
+        from ._batch import BatchFitResult
+
+        if isinstance(fit_or_data, BatchFitResult):
+            raise ParameterError("diagnose takes the fit of one spectrum; fit a trial mean or select one spectrum of the batch")
         if circuit is None:
             raise ParameterError("diagnose(data, circuit): the circuit to diagnose is missing")
         if data is not None:
