@@ -158,6 +158,8 @@ def test_adequate_model_gets_no_suggestion():
     assert d.suggestions == ()
     assert d.summary()["suggestions"] == []
     assert 0.6 < d.noise_ratio < 1.4
+    ds = d.to_xarray()
+    assert ds.attrs["verdict"] == "adequate" and ds.sizes["candidate"] == len(d.candidates) and not ds["significant"].any()
 
 
 def test_drifting_sweep_is_data_invalid():

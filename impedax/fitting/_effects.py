@@ -16,7 +16,7 @@ from typing import Callable, Iterator, Mapping
 
 import numpy as np
 
-from ..circuits import Circuit, DEFAULT_REGISTRY, Element, Parallel, Registry, Series, parse
+from ..circuits import Circuit, DEFAULT_REGISTRY, Element, Parallel, Registry, Series
 from ..errors import ParameterError
 
 __all__ = ["Effect", "EffectCatalog", "Proposal", "BaselineContext", "DEFAULT_EFFECTS"]
