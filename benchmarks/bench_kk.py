@@ -68,7 +68,6 @@ def main() -> None:
                 return pyimpspec.perform_kramers_kronig_test(pyimpspec.DataSet(f, z), num_procs=1, **kw)
 
         tools["pyimpspec (defaults)"] = (run_pyimpspec, 3)
-        tools["pyimpspec (complex, no F_ext search)"] = (lambda f, z: run_pyimpspec(f, z, test="complex", num_F_ext_evaluations=0), 3)
     except ImportError:
         print("pyimpspec not installed: skipped")
 
