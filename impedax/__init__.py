@@ -53,5 +53,6 @@ from .fitting import (  # noqa: E402
 )
 from .io import load as load, save as save  # noqa: E402
 from .fitting._kk import KKBatchResult as KKBatchResult, KKResult as KKResult, kk_test as kk_test, kk_test_batch as kk_test_batch  # noqa: E402
+from .fitting import DEFAULT_EFFECTS as DEFAULT_EFFECTS, Diagnosis as Diagnosis, Refinement as Refinement, diagnose as diagnose, refine as refine  # noqa: E402
 
 __version__ = "0.1.0"

@@ -26,6 +26,8 @@ FILE_COMMANDS = [  # (id, argv template with {input})
     ("compare", ["compare", "{input}", "--model", "R1", "--model", "R1 + C1"]),
     ("sample", ["sample", "{input}", "--model", "R1 + C1", "--steps", "20", "--json", "--out", "{tmp}/post.nc"]),
     ("gap", ["gap", "{input}", "{tmp}/good.csv", "{tmp}/good.csv", "--area", "130e-6", "--json", "--out", "{tmp}/gap.nc"]),
+    ("diagnose", ["diagnose", "{input}", "--model", "R1 + C1", "--json"]),
+    ("refine", ["refine", "{input}", "--model", "R1 + C1", "--max-steps", "1", "--json"]),
 ]
 MODEL_COMMANDS = [  # (id, argv template with {model})
     ("info", ["info", "{model}"]),
@@ -34,6 +36,8 @@ MODEL_COMMANDS = [  # (id, argv template with {model})
     ("fit", ["fit", "{tmp}/good.csv", "--model", "{model}"]),
     ("compare", ["compare", "{tmp}/good.csv", "--model", "R1", "--model", "{model}"]),
     ("sample", ["sample", "{tmp}/good.csv", "--model", "{model}", "--steps", "20"]),
+    ("diagnose", ["diagnose", "{tmp}/good.csv", "--model", "{model}"]),
+    ("refine", ["refine", "{tmp}/good.csv", "--model", "{model}"]),
 ]
 PARAM_COMMANDS = [  # (id, argv template with {model} and {param})
     ("simulate", ["simulate", "{model}", "--param", "{param}", "--out", "{tmp}/out.csv"]),
@@ -55,6 +59,8 @@ OUTPUT_COMMANDS = [  # (id, argv template with {output}, output extension)
     ("sample-out", ["sample", "{good}", "--model", "R1 + C1", "--steps", "20", "--out", "{output}"], ".nc"),
     ("sample-corner", ["sample", "{good}", "--model", "R1 + C1", "--steps", "20", "--corner", "{output}"], ".png"),
     ("sample-plot", ["sample", "{good}", "--model", "R1 + C1", "--steps", "20", "--plot", "{output}"], ".png"),
+    ("diagnose-plot", ["diagnose", "{good}", "--model", "R1 + C1", "--plot", "{output}"], ".png"),
+    ("refine-plot", ["refine", "{good}", "--model", "R1 + C1", "--plot", "{output}"], ".png"),
 ]
 
 # --- bad inputs -----------------------------------------------------------------------------

@@ -1,4 +1,4 @@
-"""Least-squares and Bayesian fitting, model comparison and diagnosis."""
+"""Least-squares and Bayesian fitting, model comparison, validation and diagnosis."""
 
 from ._batch import BatchFitResult as BatchFitResult
 from ._compare import Comparison as Comparison, compare as compare, is_nested as is_nested
@@ -12,3 +12,5 @@ from ._reparam import (
     gap_thickness_reparametrization as gap_thickness_reparametrization,
     stratum_corneum_reparametrization as stratum_corneum_reparametrization,
 )
+from ._effects import DEFAULT_EFFECTS as DEFAULT_EFFECTS, Effect as Effect, EffectCatalog as EffectCatalog
+from ._diagnose import Diagnosis as Diagnosis, Refinement as Refinement, diagnose as diagnose, refine as refine

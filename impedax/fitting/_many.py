@@ -25,7 +25,7 @@ from ._starts import SpectrumFeatures, data_driven_guess, random_starts
 
 __all__ = ["fit_candidates"]
 
-_K_BUCKETS = (8, 16, 24, 32, 48)
+_K_BUCKETS = (4, 8, 12, 16, 24, 32, 48)  # the Jacobian costs one model pass per column
 _C_BUCKET = 8
 
 
@@ -40,7 +40,7 @@ def fit_candidates(
     circuits: Sequence[Circuit | str],
     data: xr.Dataset,
     *,
-    init: Sequence[Mapping[str, float] | None] | None = None,
+    init: Sequence[Mapping[str, float] | Sequence[Mapping[str, float]] | None] | None = None,
     fixed: Mapping[str, float] | None = None,
     weighting: str = "modulus",
     fmin: float | None = None,
@@ -49,12 +49,25 @@ def fit_candidates(
     max_steps: int = 400,
     seed: int = 0,
     registry: Registry = DEFAULT_REGISTRY,
+    single_phase: bool = False,
+    seeds: Sequence[int] | None = None,
+    layout: ProgramLayout | None = None,
+    pad_to: int | None = None,
+    k_pad: int | None = None,
+    step_limit: int | None = None,
 ) -> list[FitResult]:
     """Fit every circuit in ``circuits`` to the one spectrum ``data`` in a single vmapped call.
 
     ``init[i]`` (optional) holds starting values for candidate i, e.g. a baseline fit's values
     plus a guess for an added element (warm start); remaining parameters are guessed from the
-    data. ``fixed`` values apply to candidates that have those parameters. Returns one
+    data. ``init[i]`` may also be a list of such mappings: several warm starts (they replace the
+    first random starts). ``fixed`` values apply to candidates that have those parameters.
+    ``single_phase`` runs every start to convergence with one compact Levenberg–Marquardt loop
+    (no screening phase; compiles several times faster; meant for warm starts). ``seeds``: one
+    random-start seed per candidate (default ``seed`` for all). ``layout``, ``pad_to``
+    (candidate count) and ``k_pad`` (free-parameter count) fix the compiled shapes, so calls
+    with different circuits can share one compilation; with ``single_phase``, ``step_limit``
+    (≤ ``max_steps``) stops this call earlier without a new compilation. Returns one
     `FitResult` per circuit, in order, exactly as `impedax.fit` would report them.
     """
     t0 = time.perf_counter()
@@ -65,9 +78,13 @@ def fit_candidates(
     if len(init) != len(circuits):
         raise FitError("init must give one mapping (or None) per circuit")
     prepared = []
+    warm = []
     for circuit, start in zip(circuits, init):
         mine = {k: v for k, v in (fixed or {}).items() if k in circuit.parameter_names(registry)}
-        start = {k: v for k, v in (start or {}).items() if k in circuit.parameter_names(registry) and k not in mine}
+        starts = [start] if start is None or isinstance(start, Mapping) else list(start)
+        starts = [{k: v for k, v in (one or {}).items() if k in circuit.parameter_names(registry) and k not in mine} for one in starts] or [{}]
+        start = starts[0]
+        warm.append([_inside(circuit, one, registry) for one in starts[1:]])
         prepared.append(_prepare(circuit, data, init=_inside(circuit, start, registry), fixed=mine, bounds=None, weighting=weighting, fmin=fmin, fmax=fmax, registry=registry))
     data_sel = prepared[0][1]
     if any(d != "frequency" for d in data_sel["Z"].dims):
@@ -76,13 +93,17 @@ def fit_candidates(
     z = np.asarray(data_sel["Z"].values, complex)
     sigma = np.asarray(data_sel["sigma"].values, float) if "sigma" in data_sel else None
     inv_re, inv_im = _weights(z, sigma, weighting, prepared[0][3])
-    layout = _shared_layout(circuits, registry)
+    layout = layout if layout is not None else _shared_layout(circuits, registry)
     programs = [CircuitProgram.build(c, registry, layout) for c in circuits]
-    k_pad = _bucket(max(int((~t.fixed).sum()) for _, _, t, _ in prepared), _K_BUCKETS)
+    k_need = max(int((~t.fixed).sum()) for _, _, t, _ in prepared)
+    k_pad = max(k_pad or 0, _bucket(k_need, _K_BUCKETS))
+    seeds = list(seeds) if seeds is not None else [seed] * len(circuits)
+    if len(seeds) != len(circuits):
+        raise FitError("seeds must give one seed per circuit")
     n_flat = layout.n_slots * 4
     features = SpectrumFeatures(freq, z)
     rows = []
-    for (circuit, _, table, _), program in zip(prepared, programs):
+    for (circuit, _, table, _), program, extra, seed_i in zip(prepared, programs, warm, seeds):
         flat = np.array([s * 4 + i for s, i in (program.parameter_slots[n] for n in table.names)])
         x_fixed = default_theta(layout).ravel()
         guess = data_driven_guess(circuit, table, features, registry)
@@ -90,7 +111,12 @@ def fit_candidates(
         x_fixed[flat[table.fixed]] = table.values[table.fixed]
         free = table.free_index
         k = free.size
-        starts_x = random_starts(table, features, guess, n_starts, seed)[:, free]
+        starts_x = random_starts(table, features, guess, n_starts, seed_i)
+        for j, values in enumerate(extra[: n_starts - 1], start=1):
+            starts_x[j] = guess
+            for name, value in values.items():
+                starts_x[j, table.names.index(name)] = value
+        starts_x = starts_x[:, free]
         starts_u = np.zeros((n_starts, k_pad))
         starts_u[:, :k] = to_internal(starts_x, table.lower[free], table.upper[free], table.kind[free])
         pad = lambda a, fill: np.concatenate([a, np.full(k_pad - k, fill, dtype=np.asarray(a).dtype)])  # noqa: E731
@@ -107,7 +133,7 @@ def fit_candidates(
             }
         )
     n_real = len(rows)
-    n_total = -(-n_real // _C_BUCKET) * _C_BUCKET
+    n_total = max(pad_to or 0, -(-n_real // _C_BUCKET) * _C_BUCKET)
     rows += [rows[-1]] * (n_total - n_real)  # pad the candidate count (results discarded)
     stack = lambda key: jnp.asarray(np.stack([r[key] for r in rows]))  # noqa: E731
     args = {
@@ -122,7 +148,9 @@ def fit_candidates(
         "kind": stack("kind"),
         "model_args": {key: jnp.stack([r["program"][key] for r in rows]) for key in rows[0]["program"]},
     }
-    _, many = program_solver(layout, max_steps)
+    if single_phase:
+        args["max_steps"] = jnp.full((n_total,), min(step_limit or max_steps, max_steps), jnp.int64)
+    _, many = program_solver(layout, max_steps, bool(single_phase))
     out = {k: np.asarray(v) for k, v in many(stack("starts"), args).items()}
     elapsed = (time.perf_counter() - t0) / n_real
     results = []

@@ -1,0 +1,279 @@
+"""Diagnosis and refinement: hidden effects in SYNTHETIC spectra from independent numpy formulas
+(tests/hidden_effects.py), adequate models, a drifting sweep, the Sirin-style finger spectrum."""
+
+import json
+import types
+
+import numpy as np
+import pytest
+
+import impedax as ix
+from impedax.cli import main
+from impedax.fitting._core import evaluate_program_fast
+from impedax.fitting._diagnose import failing_bands
+from impedax.fitting._effects import BaselineContext
+
+import hidden_effects as he
+
+EPS0 = 8.8541878128e-12
+SIRIN_AREA, EPS_GAP, TRUE_GAP = 130e-6, 1.00059, 2.79e-6
+
+
+def gap(c_gap):  # u = ε0 ε_gap A / C_gap (Sirin et al.; PHYSICS.md)
+    return EPS0 * EPS_GAP * SIRIN_AREA / c_gap
+
+
+def case_data(name, rel_noise=0.01, seed=1, vary=False):
+    circuit, effect, formula, params, frange = he.CASES[name]
+    rng = np.random.default_rng(seed)
+    if vary:
+        params = he.vary(params, rng)
+    f, z = he.spectrum(formula, params, frange, rel_noise, rng)
+    return circuit, effect, ix.make_spectrum(f, z)
+
+
+# --- the catalog -------------------------------------------------------------------------------
+
+EFFECT_IDS = {"series_resistance", "series_inductance", "stray_capacitance", "constant_phase", "extra_relaxation", "diffusion", "electrode_polarization"}
+
+
+def test_catalog_ids_and_specs():
+    assert set(ix.DEFAULT_EFFECTS.ids()) == EFFECT_IDS
+    for effect in ix.DEFAULT_EFFECTS:
+        assert effect.physics and effect.signature and effect.change
+    with pytest.raises(ix.ParameterError, match="unknown effect"):
+        ix.DEFAULT_EFFECTS["warp_drive"]
+    extended = ix.DEFAULT_EFFECTS.register(ix.fitting.Effect("nothing", "nothing", "p", "s", "c", lambda c, ctx: []))
+    assert "nothing" in extended.ids() and "nothing" not in ix.DEFAULT_EFFECTS.ids()
+
+
+@pytest.mark.parametrize("text", ["R0 + R1 || C1 + R2 || CPE2", "C_gap", "C_s + C_i + R_sc || C_sc + R_f", "R0 + (R1 + W1) || C1", "R_EP || C_gap"])
+def test_proposals_are_valid_circuits_with_fresh_names(text):
+    circuit = ix.parse(text)
+    f = np.logspace(0, 5, 20)
+    z = 100 + 1 / (1j * f * 1e-6)
+    ctx = BaselineContext(circuit, {k: 1.0 for k in circuit.parameter_names()}, f, z, z * 1.01)
+    proposals = [p for e in ix.DEFAULT_EFFECTS for p in e.propose(circuit, ctx)]
+    assert proposals
+    for p in proposals:
+        again = ix.parse(str(p.circuit))
+        assert again == p.circuit
+        names = again.element_names
+        assert len(set(names)) == len(names)
+        assert set(circuit.element_names) < set(names) or p.effect == "constant_phase"
+        for start in p.starts:
+            assert set(start) <= set(again.parameter_names())
+
+
+def test_gap_capacitance_gets_the_sirin_ep_branch():
+    circuit = ix.parse("C_gap")
+    f = np.logspace(0, 6, 20)
+    z = 1 / (1j * 2 * np.pi * f * 4e-10)
+    ctx = BaselineContext(circuit, {"C_gap": 4e-10}, f, z, z)
+    texts = {str(p.circuit) for p in ix.DEFAULT_EFFECTS["electrode_polarization"].propose(circuit, ctx)}
+    assert texts == {"R_EP || C_gap", "R_EP || CPE_EP || C_gap"}
+    # an arc's capacitor already has a resistor across it: no leakage branch there
+    arc = ix.parse("R0 + R1 || C1")
+    assert ix.DEFAULT_EFFECTS["electrode_polarization"].propose(arc, BaselineContext(arc, {"R0": 1.0, "R1": 1.0, "C1": 1.0}, f, z, z)) == []
+
+
+def test_fast_program_evaluation_matches_the_reference(rng):
+    from impedax.circuits import CircuitProgram, ProgramLayout, evaluate_program
+
+    texts = ["R0 + R1 || CPE1 + W_d", "(R0 + R1 || C1) || C_stray", "R_EP || CPE_EP || C_gap", "C_gap", "R0 + (R1 + Wo_d) || C1 + L1"]
+    circuits = [ix.parse(t) for t in texts]
+    layout = ProgramLayout.covering(circuits)
+    f = np.logspace(-1, 6, 30)
+    for c in circuits:
+        program = CircuitProgram.build(c, layout=layout)
+        theta = program.pack({n: rng.uniform(0.3, 0.95) if n.endswith("alpha") else 10 ** rng.uniform(-9, 4) for n in c.parameter_names()})
+        ref = np.asarray(evaluate_program(program.arrays(), theta, f, layout=layout))
+        fast = np.asarray(evaluate_program_fast(program.arrays(), theta, f, layout=layout))
+        np.testing.assert_allclose(fast, ref, rtol=1e-12)
+
+
+# --- where it fails ----------------------------------------------------------------------------
+
+
+def _fake_fit(f, z_data, z_model):
+    return types.SimpleNamespace(frequency=f, z_data=z_data, z_model=z_model, residuals=(z_model - z_data) / np.abs(z_data))
+
+
+def test_failing_band_of_a_missing_low_frequency_leak():
+    """Model: a bare capacitor; data: the same with a leak resistor (resistive below ~16 Hz)."""
+    f = np.logspace(0, 5, 50)
+    w = 2 * np.pi * f
+    c, r = 1e-8, 1e6
+    z_model = 1 / (1j * w * c)
+    z_data = 1 / (1 / r + 1j * w * c)
+    bands = failing_bands(_fake_fit(f, z_data, z_model), 0.01)
+    assert len(bands) == 1
+    band = bands[0]
+    # the leak shows where 1/(ωRC) exceeds the 1 % noise: below 1/(2π·0.01·RC) ≈ 1.6 kHz
+    f_edge = 1 / (2 * np.pi * 0.01 * r * c)
+    assert band.f_min == pytest.approx(1.0) and f_edge / 2 < band.f_max < f_edge * 2
+    # resistive (|phase| < 30°) where ωRC < tan 30°·... : below ≈ 1/(2π·1.7·RC) ≈ 9 Hz
+    assert band.pattern.startswith("below") and "the data are resistive" in band.pattern and "the model is capacitive" in band.pattern
+
+
+def test_no_failing_band_in_pure_noise(rng):
+    f = np.logspace(0, 5, 60)
+    z = 100 + 0j * f
+    noisy = z * (1 + 0.01 * (rng.normal(size=f.size) + 1j * rng.normal(size=f.size)))
+    assert failing_bands(_fake_fit(f, noisy, z), 0.01) == ()
+
+
+def test_inductive_band_is_described():
+    f = np.logspace(0, 6, 40)
+    z_model = 20 + 500 / (1 + 1j * 2 * np.pi * f * 5e-4)
+    z_data = z_model + 1j * 2 * np.pi * f * 5e-6
+    bands = failing_bands(_fake_fit(f, z_data, z_model), 0.005)
+    assert bands and "positive Z''" in bands[-1].pattern and bands[-1].f_max == pytest.approx(1e6)
+
+
+# --- which effect is missing (fast subset; the full study is marked slow) -----------------------
+
+FAST_CASES = ["series_inductance/r_rc", "constant_phase/r_rc", "diffusion/randles", "electrode_polarization/series"]
+
+
+@pytest.mark.parametrize("name", FAST_CASES)
+def test_hidden_effect_is_named(name):
+    circuit, effect, data = case_data(name)
+    d = ix.diagnose(data, circuit)
+    assert d.verdict == "missing_effect"
+    best = d.suggestions[0]
+    assert best.effect == effect
+    ix.parse(best.model)
+    # applying it brings the error down to the noise: rms_rel ≈ √2·1 % for 1 % noise per component
+    assert best.rms_rel < 0.02 < d.baseline.rms_rel
+    assert best.delta_aic < -10
+    assert best.explanation and best.added in best.explanation
+
+
+def test_adequate_model_gets_no_suggestion():
+    circuit, formula, params, frange = he.ADEQUATE["r_cpe"]
+    f, z = he.spectrum(formula, params, frange, 0.01, np.random.default_rng(5))
+    d = ix.diagnose(ix.make_spectrum(f, z), circuit)
+    assert d.verdict == "adequate", d.report()
+    assert d.suggestions == ()
+    assert d.summary()["suggestions"] == []
+    assert 0.6 < d.noise_ratio < 1.4
+    ds = d.to_xarray()
+    assert ds.attrs["verdict"] == "adequate" and ds.sizes["candidate"] == len(d.candidates) and not ds["significant"].any()
+
+
+def test_drifting_sweep_is_data_invalid():
+    f, z = he.drifting(np.random.default_rng(2))
+    d = ix.diagnose(ix.make_spectrum(f, z), "R0 + R1 || C1")
+    assert d.verdict == "data_invalid"
+    assert d.suggestions == () and not d.kk.valid
+
+
+# --- Sirin-style finger spectrum (SYNTHETIC example shipped with impedax) ------------------------
+
+
+@pytest.fixture(scope="module")
+def sirin_remainder():
+    from impedax.models import example_spectra, sirin
+
+    spectra = example_spectra()
+    return sirin.remaining_impedance(spectra["total_sliding"], spectra["skin"], spectra["touchscreen"])
+
+
+def test_sirin_remainder_needs_electrode_polarization_and_recovers_the_gap(sirin_remainder):
+    naive = ix.fit("C_gap", sirin_remainder, weighting="sigma")
+    d = ix.diagnose(naive, data=sirin_remainder)
+    assert d.noise_source.startswith("the data's sigma")
+    assert d.verdict == "missing_effect"
+    best = d.suggestions[0]
+    assert best.effect == "electrode_polarization" and "across C_gap" in best.where
+    assert ix.parse(best.model).element("C_gap")
+    # the naive gap is far off (the EP leak inflates C_gap); the refined one is within 5 % of 2.79 µm
+    assert abs(gap(naive.values["C_gap"]) / TRUE_GAP - 1) > 0.5
+    assert gap(best.fit.values["C_gap"]) == pytest.approx(TRUE_GAP, rel=0.05)
+
+
+# --- refinement loop ---------------------------------------------------------------------------
+
+
+def test_refine_adds_the_missing_effect_and_stops():
+    circuit, effect, data = case_data("series_resistance/rc")
+    r = ix.refine(data, circuit, max_steps=3)
+    assert r.steps[0].added is None and r.steps[1].effect == effect
+    assert r.verdict == "adequate"
+    rms = [s.fit.rms_rel for s in r.steps]
+    assert rms[-1] < 0.02 < rms[0]
+    assert r.summary()["final_model"] == r.final_model
+    ds = r.to_xarray()
+    assert ds.sizes["step"] == len(r.steps)
+    import matplotlib.pyplot as plt
+
+    plt.close(r.plot())
+
+
+# --- CLI ---------------------------------------------------------------------------------------
+
+
+def test_cli_diagnose_and_refine_json(tmp_path, capsys):
+    circuit, effect, data = case_data("series_resistance/rc", seed=3)
+    path = tmp_path / "spec.csv"
+    ix.save(data, path)
+    png = tmp_path / "d.png"
+    assert main(["diagnose", str(path), "--model", circuit, "--json", "--plot", str(png)]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert set(out) >= {"model", "baseline", "kk", "failing_bands", "verdict", "suggestions"}
+    assert set(out["baseline"]) >= {"rms_rel", "chi2_red", "aic", "bic"}
+    assert set(out["kk"]) >= {"valid", "rms_rel", "bad_bands"}
+    assert out["verdict"] == "missing_effect" and out["failing_bands"]
+    assert set(out["failing_bands"][0]) >= {"f_min", "f_max", "pattern"}
+    top = out["suggestions"][0]
+    assert set(top) >= {"effect", "model", "rms_rel", "aic", "delta_aic", "delta_bic", "explanation"}
+    assert top["effect"] == effect
+    ix.parse(top["model"])
+    assert png.stat().st_size > 0
+    assert main(["refine", str(path), "--model", circuit, "--max-steps", "2", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert set(out) >= {"steps", "final_model", "verdict"}
+    assert set(out["steps"][0]) >= {"model", "rms_rel", "aic", "added"}
+    assert out["steps"][0]["added"] is None and out["verdict"] == "adequate"
+    assert main(["diagnose", str(path), "--model", circuit]) == 0
+    text = capsys.readouterr().out
+    assert "verdict: MISSING_EFFECT" in text and "series_resistance" in text
+
+
+# --- the hidden-effect study (slow) ------------------------------------------------------------
+
+STUDY_NOISE = (0.005, 0.01, 0.02)
+
+
+def run_study():
+    rows = []
+    for name in he.CASES:
+        for k, noise in enumerate(STUDY_NOISE):
+            circuit, effect, data = case_data(name, noise, seed=100 + k, vary=True)
+            d = ix.diagnose(data, circuit)
+            got = d.suggestions[0].effect if d.suggestions else d.verdict
+            rows.append((name, noise, effect, got, d.baseline.rms_rel, d.suggestions[0].rms_rel if d.suggestions else float("nan")))
+    adequate = []
+    for name, (circuit, formula, params, frange) in he.ADEQUATE.items():
+        for k, noise in enumerate((0.005, 0.02)):
+            rng = np.random.default_rng(200 + k)
+            f, z = he.spectrum(formula, he.vary(params, rng), frange, noise, rng)
+            adequate.append((name, noise, ix.diagnose(ix.make_spectrum(f, z), circuit).verdict))
+    return rows, adequate
+
+
+@pytest.mark.slow
+def test_hidden_effect_study():
+    rows, adequate = run_study()
+    hits = sum(r[2] == r[3] for r in rows)
+    print(f"\nhidden-effect study: top-1 hit rate {hits}/{len(rows)} = {hits / len(rows):.0%}")
+    for r in rows:
+        print(f"  {'hit ' if r[2] == r[3] else 'MISS'} {r[0]:32s} noise {r[1]:.1%}  top: {r[3]:24s} rms_rel {r[4]:.4f} -> {r[5]:.4f}")
+    ok = sum(v == "adequate" for *_, v in adequate)
+    print(f"adequate models judged adequate: {ok}/{len(adequate)}")
+    for name, noise, verdict in adequate:
+        print(f"  {'ok  ' if verdict == 'adequate' else 'MISS'} {name:32s} noise {noise:.1%}  verdict {verdict}")
+    assert len(rows) >= 30
+    assert hits / len(rows) >= 0.85
+    assert ok / len(adequate) >= 0.8
