@@ -5,10 +5,11 @@ Reproduces: no paper figure — this is impedax's own loop, on a finger-like spe
 Data: a SYNTHETIC spectrum written with numpy (not with impedax's circuits): a series
 resistance, the stratum corneum as R ∥ CPE with α = 0.75 (the fractional skin Meyer's data
 pointed to) and a second, faster relaxation, with 1 % proportional noise, 0.1 Hz–1 MHz.
-What to look for: the naive R + R∥C model misses the depressed arc; the Kramers–Kronig test says
-the data are fine, so the misfit is the model's; the diagnosis names the failing band in words
-and proposes the missing effects ranked by ΔAIC; each refinement step lowers rms_rel until it
-reaches the noise level (≈ 1.4 % for 1 % noise on Re and Im) and the verdict is "adequate".
+What to look for: the naive R + R∥C model misses the second, depressed arc (rms_rel ≈ 24 %); the
+Kramers–Kronig test says the data are fine, so the misfit is the model's; the diagnosis says in
+words where and how the model fails and ranks the candidate effects by ΔAIC — a further
+relaxation (R ∥ CPE) first, a constant-phase skin next; adding the best one drops rms_rel to the
+noise level (≈ 1.4 % for 1 % noise on Re and Im) and the verdict becomes "adequate".
 
 Run: python examples/hidden_effect_walkthrough.py [OUT_DIR] [--fast]
 """

@@ -119,7 +119,7 @@ def run_demo(out: str | os.PathLike = "out", *, fast: bool = False, stream=None)
         total, skin, screen = spectra["total_sliding"], spectra["skin"], spectra["touchscreen"]
         n_trials = int(np.prod([total.sizes[d] for d in total["Z"].dims if d != "frequency"]))
         f = total["frequency"].values
-        story.say(f"  {n_trials} trials each of the finger sliding on the screen (total), the skin alone and the screen alone, {f.min():g} Hz – {f.max():g} Hz.")
+        story.say(f"  {n_trials} trials each of the finger sliding on the screen (total), the skin alone and the screen alone, {_hz(f.min())} – {_hz(f.max())}.")
         story.say("  Electroadhesion: a voltage on the screen pulls the finger through the thin air gap between skin and glass.")
         story.say("  The gap acts as a capacitor; its thickness u sets the force. Subtracting skin and screen from the total")
         story.say("  leaves the impedance of the gap region: Z_R = Z_total − Z_skin − Z_TS (mean of the trials ± standard error).")
@@ -132,7 +132,7 @@ def run_demo(out: str | os.PathLike = "out", *, fast: bool = False, stream=None)
         first = ix.diagnose(naive, data=remaining)
         story.say(f"  Model C_gap: rms_rel = {naive.rms_rel:.3g} (relative misfit), C_gap = {naive.values['C_gap'] * 1e12:.0f} pF.")
         for band in first.failing_bands:
-            story.say(f"  Fails {band.f_min:.3g}–{band.f_max:.3g} Hz: {band.pattern}")
+            story.say(f"  Fails {_hz(band.f_min)} – {_hz(band.f_max)}: {band.pattern}")
         fig = plot_spectrum((naive.frequency, naive.z_data), (naive.frequency, naive.z_model), title=f"naive model C_gap: rms_rel = {naive.rms_rel:.3g} (failing bands shaded)", bands=[(b.f_min, b.f_max) for b in first.failing_bands], model_label="C_gap fit")
         story.figure(_save(fig, staging, "step2_naive_fit.png"))
         facts["naive model rms_rel"] = f"{naive.rms_rel:.3g}"
@@ -164,7 +164,9 @@ def run_demo(out: str | os.PathLike = "out", *, fast: bool = False, stream=None)
         story.say(f"  paper's method: u = {p.gap * 1e6:.3f} µm, bounds {p.gap_lower * 1e6:.3f}–{p.gap_upper * 1e6:.3f} µm from the lowest/highest impedances")
         story.say(f"  naive C_gap-only fit would say u = {ix.models.gap_thickness(naive.values['C_gap']) * 1e6:.3f} µm (the missing effect biases it)")
         story.say("  The credible interval reflects the noise of the trial means; the paper's bounds show the spread between trials.")
-        story.figure(_save(gap.plot(), staging, "step4_gap_and_force.png"))
+        true_gap = ix.models.gap_thickness(413e-12, area=AREA)  # the generator's C_gap
+        story.say(f"  (the synthetic data were made with C_gap = 413 pF, i.e. u = {true_gap * 1e6:.3f} µm)")
+        story.figure(_save(gap.plot(true_gap=true_gap), staging, "step4_gap_and_force.png"))
         facts["gap thickness (Bayesian)"] = f"{g['value'] * 1e6:.3f} µm [{g['q05'] * 1e6:.3f}, {g['q95'] * 1e6:.3f}] (90%)"
         facts["gap thickness (paper method)"] = f"{p.gap * 1e6:.3f} µm, bounds [{p.gap_lower * 1e6:.3f}, {p.gap_upper * 1e6:.3f}]"
         facts["naive-model gap thickness"] = f"{ix.models.gap_thickness(naive.values['C_gap']) * 1e6:.3f} µm"
@@ -175,7 +177,7 @@ def run_demo(out: str | os.PathLike = "out", *, fast: bool = False, stream=None)
         with_ep, without = force.sel(branch="with_ep"), force.sel(branch="without_ep")
         for target in (1.0, 10.0, 250.0, 1e5):
             i = int(np.argmin(np.abs(np.log(ff / target))))
-            story.say(f"  {ff[i]:>9.3g} Hz: force {with_ep['median'][i].item() * 1e3:8.3g} mN with EP [{with_ep['q05'][i].item() * 1e3:.3g}, {with_ep['q95'][i].item() * 1e3:.3g}]   vs {without['median'][i].item() * 1e3:8.3g} mN without EP")
+            story.say(f"  {_hz(ff[i]):>9}: force {with_ep['median'][i].item() * 1e3:8.3g} mN with EP [{with_ep['q05'][i].item() * 1e3:.3g}, {with_ep['q95'][i].item() * 1e3:.3g}]   vs {without['median'][i].item() * 1e3:8.3g} mN without EP")
         story.say(f"  Peak force (Sirin eq 1, peak convention, V0 = {V0:g} V). Below ~30 Hz the EP branch leaks the charge: the force drops.")
         ix.io.write_netcdf(gap.to_xarray(), staging / "force_bands.nc")
         fig = _force_figure(gap)
@@ -196,6 +198,14 @@ def run_demo(out: str | os.PathLike = "out", *, fast: bool = False, stream=None)
     report = out / "report.html"
     print(f"Report: {report.resolve()}", file=stream)
     return report
+
+
+def _hz(f: float) -> str:
+    """1 → '1 Hz', 2.5e5 → '250 kHz', 1e6 → '1 MHz'."""
+    for scale, unit in ((1e6, "MHz"), (1e3, "kHz")):
+        if f >= scale:
+            return f"{f / scale:.3g} {unit}"
+    return f"{f:.3g} Hz"
 
 
 def _force_figure(gap):

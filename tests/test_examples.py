@@ -87,6 +87,16 @@ EXAMPLES = {
         ],
         (),
     ),
+    "hidden_effect_walkthrough.py": (
+        ["hidden_effect_diagnosis.png", "hidden_effect_refinement.png"],
+        [
+            (r"model R_s \+ R_sc \|\| C_sc: rms_rel " + _NUMBER, _within(0.1, 1.0)),  # the naive model fails
+            (r"Kramers–Kronig test: valid, rms_rel " + _NUMBER, _within(0.005, 0.03)),  # the data are fine
+            (r"final model .*: rms_rel " + _NUMBER, _within(0.005, 0.02)),  # the error falls to the noise (√2·1 %)
+            (None, lambda out: "verdict adequate" in out and "verdict: missing_effect" in out),
+        ],
+        (),
+    ),
     "sirin_mr_pps.py": (
         ["sirin_fig4cd_mr_pps.png"],
         [

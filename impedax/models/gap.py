@@ -111,9 +111,10 @@ class GapAnalysis:
         lines += [f"warning: {w}" for w in self.warnings]
         return "\n".join(lines)
 
-    def plot(self):
-        """Remaining impedance with both fits, the posterior of u against the paper's bounds,
-        and the force bands with and without the EP branch (matplotlib Figure)."""
+    def plot(self, *, true_gap: float | None = None):
+        """Remaining impedance with both fits, the posterior of u against the paper's bounds
+        (and ``true_gap`` [m] when known, e.g. for synthetic data), and the force bands with and
+        without the EP branch (matplotlib Figure)."""
         import matplotlib.pyplot as plt
 
         fig, axes = plt.subplots(1, 3, figsize=(15, 4.6), layout="constrained")
@@ -135,6 +136,8 @@ class GapAnalysis:
         ax.axvspan(g["q05"] * 1e6, g["q95"] * 1e6, color="tab:blue", alpha=0.15, label="90% credible interval")
         ax.axvline(self.paper.gap * 1e6, color="k", label=f"paper method {self.paper.gap * 1e6:.2f} µm")
         ax.axvspan(self.paper.gap_lower * 1e6, self.paper.gap_upper * 1e6, color="tab:orange", alpha=0.15, label="paper bounds (extreme impedances)")
+        if true_gap is not None:
+            ax.axvline(true_gap * 1e6, color="tab:green", ls="--", label=f"truth (synthetic) {true_gap * 1e6:.2f} µm")
         ax.set(xlabel="gap thickness u [µm]", ylabel="density", title="air-gap thickness")
         ax.legend(fontsize=7)
         ax = axes[2]
