@@ -51,6 +51,19 @@ def check_bounds(values: Mapping[str, float], specs: Mapping, flag: str) -> None
             raise ParameterError(f"{flag}: {name}={value:g} is outside its bounds {spec.bounds_text()} [{spec.unit}]")
 
 
+def model_and_values(model: str, items, flag: str):
+    """Parse ``model`` and the ``NAME=VALUE`` ``items`` given with ``flag``; check the names and
+    bounds. Returns (circuit, parameter specs, values)."""
+    from .. import parse
+
+    circuit = parse(model)
+    specs = circuit.parameter_specs()
+    values = parse_assignments(items, flag)
+    check_parameter_names(values, specs, flag, model)
+    check_bounds(values, specs, flag)
+    return circuit, specs, values
+
+
 def to_jsonable(obj):
     if isinstance(obj, Mapping):
         return {str(k): to_jsonable(v) for k, v in obj.items()}

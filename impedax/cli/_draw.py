@@ -14,16 +14,11 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from .. import parse
     from .._atomic import check_writable
     from ..diagram import save_circuit_diagram
-    from ._common import check_bounds, check_parameter_names, parse_assignments
+    from ._common import model_and_values
 
-    circuit = parse(args.model)
-    specs = circuit.parameter_specs()
-    given = parse_assignments(args.param, "--param")
-    check_parameter_names(given, specs, "--param", args.model)
-    check_bounds(given, specs, "--param")
+    circuit, _, given = model_and_values(args.model, args.param, "--param")
     check_writable(args.out)
     save_circuit_diagram(circuit, args.out, values=given)
     print(f"wrote {args.out}")

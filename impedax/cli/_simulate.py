@@ -6,7 +6,7 @@ import sys
 
 import numpy as np
 
-from ._common import add_model_argument, check_bounds, check_parameter_names, parse_assignments
+from ._common import add_model_argument, model_and_values
 
 
 def register(sub) -> None:
@@ -22,18 +22,14 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from .. import make_spectrum, parse
+    from .. import make_spectrum
     from .._atomic import check_writable
     from ..circuits import compile_circuit
     from ..data import log_frequencies
     from ..errors import ParameterError
     from ..io import save, write_csv
 
-    circuit = parse(args.model)
-    specs = circuit.parameter_specs()
-    given = parse_assignments(args.param, "--param")
-    check_parameter_names(given, specs, "--param", args.model)
-    check_bounds(given, specs, "--param")
+    circuit, specs, given = model_and_values(args.model, args.param, "--param")
     for path in (args.out, args.plot):
         if path:
             check_writable(path)
