@@ -151,6 +151,12 @@ def run_demo(out: str | os.PathLike = "out", *, fast: bool = False, stream=None)
             story.say("    " + line)
         story.say(f"  Final model: {refinement.final_model}   verdict: {refinement.verdict}")
         story.figure(_save(refinement.plot(), staging, "step3_refinement.png"))
+        try:
+            ix.save_circuit_diagram(refinement.final.circuit, staging / "refined_circuit.png", values=refinement.final.values)
+            story.figure("refined_circuit.png")
+            story.say("  Circuit diagram of the refined model with its fitted values: refined_circuit.png")
+        except ix.ImpedaxError as exc:  # schemdraw is an optional extra (impedax[draw])
+            story.say(f"  (no circuit diagram: {exc})")
         final = refinement.final
         facts["refined model"] = refinement.final_model
         facts["refined rms_rel"] = f"{final.rms_rel:.3g}"

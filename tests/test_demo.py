@@ -26,7 +26,7 @@ def test_demo_writes_everything(demo):
     code, text, out = demo
     assert code == 0
     names = {p.name for p in out.iterdir()}
-    assert names == {"report.html", "remaining_impedance.nc", "force_bands.nc", "step2_naive_fit.png", "step3_refinement.png", "step4_gap_and_force.png", "step5_force.png"}
+    assert names == {"report.html", "remaining_impedance.nc", "force_bands.nc", "step2_naive_fit.png", "step3_refinement.png", "refined_circuit.png", "step4_gap_and_force.png", "step5_force.png"}
     report = (out / "report.html").read_text()
     for name in names - {"report.html", "remaining_impedance.nc", "force_bands.nc"}:
         assert name in report
