@@ -41,18 +41,29 @@ from .errors import (  # noqa: E402
     ParameterError as ParameterError,
 )
 from .diagram import draw_circuit as draw_circuit, save_circuit_diagram as save_circuit_diagram  # noqa: E402
-from .fitting import BatchFitResult as BatchFitResult, FitResult as FitResult, compare as compare, fit as fit  # noqa: E402
 from .fitting import (  # noqa: E402
+    DEFAULT_EFFECTS as DEFAULT_EFFECTS,
+    BatchFitResult as BatchFitResult,
+    Diagnosis as Diagnosis,
+    FitResult as FitResult,
+    KKBatchResult as KKBatchResult,
+    KKResult as KKResult,
     Posterior as Posterior,
     Prior as Prior,
+    Refinement as Refinement,
     Reparametrization as Reparametrization,
+    compare as compare,
     derive as derive,
+    diagnose as diagnose,
+    fit as fit,
     gap_thickness_reparametrization as gap_thickness_reparametrization,
+    kk_test as kk_test,
+    kk_test_batch as kk_test_batch,
+    refine as refine,
     sample as sample,
     stratum_corneum_reparametrization as stratum_corneum_reparametrization,
 )
 from .io import load as load, save as save  # noqa: E402
-from .fitting._kk import KKBatchResult as KKBatchResult, KKResult as KKResult, kk_test as kk_test, kk_test_batch as kk_test_batch  # noqa: E402
-from .fitting import DEFAULT_EFFECTS as DEFAULT_EFFECTS, Diagnosis as Diagnosis, Refinement as Refinement, diagnose as diagnose, refine as refine  # noqa: E402
+from . import models as models  # noqa: E402
 
 __version__ = "0.1.0"
