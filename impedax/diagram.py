@@ -11,7 +11,7 @@ from __future__ import annotations
 import os
 from typing import Mapping
 
-from .circuits import DEFAULT_REGISTRY, Circuit, Element, Parallel, Registry, Series, parse
+from .circuits import DEFAULT_REGISTRY, Circuit, Element, Registry, Series, parse
 from .errors import ImpedaxError, ParameterError
 
 __all__ = ["draw_circuit", "save_circuit_diagram"]

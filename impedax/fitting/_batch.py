@@ -18,7 +18,7 @@ import xarray as xr
 
 from ..circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ._core import tree_solver
-from ._fit import FitResult, _args, _guess_start, _result, _starts_from, _weights, at_noise_floor, information_criteria, _better, _unscale, residual_scale
+from ._fit import _args, _guess_start, _result, _starts_from, _weights, at_noise_floor, information_criteria, _better, _unscale, residual_scale
 from ._fit import CORRELATION_LIMIT, RELATIVE_ERROR_LIMIT, SINGULAR_RATIO_LIMIT
 from ._starts import SpectrumFeatures
 from ._parameters import ParameterTable
@@ -84,12 +84,6 @@ class BatchFitResult:
         for p, v in s["params"].items():
             lines.append(f"{p:<16} {v['median']:>12.5g} {v['q16']:>12.5g} {v['q84']:>12.5g}")
         return "\n".join(lines)
-
-
-def _fit_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source) -> list[FitResult]:
-    """Fit a stack of spectra z (B, N); returns one FitResult each."""
-    out, used = _solve_stack(circuit, table, freq, z, sigma, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
-    return [_result(circuit, table, freq, z[i], {k: v[i] for k, v in out.items()}, weighting, int(used[i]), 0.0, registry) for i in range(z.shape[0])]
 
 
 def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source) -> tuple[dict, np.ndarray]:

@@ -10,7 +10,7 @@ from typing import Sequence
 import numpy as np
 import xarray as xr
 
-from ..circuits import Circuit, Element, Parallel, Series
+from ..circuits import Circuit, Element
 from ..errors import FitError
 from ._fit import FitResult
 

@@ -25,10 +25,9 @@ from typing import Callable
 
 import jax
 import jax.numpy as jnp
-import numpy as np
 import optimistix as optx
 
-from ..circuits import Circuit, ProgramLayout, Registry, compile_circuit, evaluate_program
+from ..circuits import Circuit, ProgramLayout, Registry, compile_circuit
 from ._parameters import to_external
 
 __all__ = ["tree_solver", "program_solver", "levenberg_marquardt", "solver_messages", "SCREEN_STEPS"]

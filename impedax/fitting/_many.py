@@ -20,7 +20,7 @@ from ..circuits import Circuit, CircuitProgram, DEFAULT_REGISTRY, ProgramLayout,
 from ..errors import FitError
 from ._core import program_solver
 from ._fit import FitResult, _prepare, _result, _weights
-from ._parameters import ParameterTable, to_internal
+from ._parameters import to_internal
 from ._starts import SpectrumFeatures, data_driven_guess, random_starts
 
 __all__ = ["fit_candidates"]

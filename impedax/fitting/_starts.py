@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..circuits import Circuit, DEFAULT_REGISTRY, Element, Parallel, Registry, Series
+from ..circuits import Circuit, DEFAULT_REGISTRY, Element, Parallel, Registry
 from ._parameters import ParameterTable
 
 __all__ = ["SpectrumFeatures", "data_driven_guess", "random_starts"]
