@@ -6,7 +6,6 @@ benchmarks/README.md. Timings are wall-clock medians on this machine, after comp
 
 from __future__ import annotations
 
-import time
 from functools import partial
 
 import jax
@@ -15,22 +14,11 @@ import numpy as np
 
 import impedax as ix
 from impedax.circuits import CircuitProgram, evaluate_program
+from _timing import median_time
 
 CIRCUIT = "R0 + R1 || CPE1 + R2 || C2 + (R3 + W3) || CPE3 + L4 + Wo5"  # 10 elements
 FREQ = jnp.geomspace(1e-1, 1e6, 100)
 BATCH = 10_000
-
-
-def _median_time(fn, *args, repeat=7, number=1):
-    jax.block_until_ready(fn(*args))
-    times = []
-    for _ in range(repeat):
-        t = time.perf_counter()
-        for _ in range(number):
-            out = fn(*args)
-        jax.block_until_ready(out)
-        times.append((time.perf_counter() - t) / number)
-    return float(np.median(times))
 
 
 def main() -> list[tuple[str, float]]:
@@ -53,13 +41,13 @@ def main() -> list[tuple[str, float]]:
     prog_vmapped = jax.jit(jax.vmap(evaluate, in_axes=(None, 0, None)))
 
     rows = []
-    t = _median_time(single, params, FREQ, number=200)
+    t = median_time(lambda: single(params, FREQ), 7, number=200, warmup=True, block=jax.block_until_ready)
     rows.append(("compiled tree, one parameter set", 1.0 / t))
-    t = _median_time(vmapped, batch, FREQ, repeat=5)
+    t = median_time(lambda: vmapped(batch, FREQ), 5, warmup=True, block=jax.block_until_ready)
     rows.append((f"compiled tree, vmapped over {BATCH:,}", BATCH / t))
-    t = _median_time(prog_single, arrays, theta, FREQ, number=200)
+    t = median_time(lambda: prog_single(arrays, theta, FREQ), 7, number=200, warmup=True, block=jax.block_until_ready)
     rows.append(("padded program, one parameter set", 1.0 / t))
-    t = _median_time(prog_vmapped, arrays, thetas, FREQ, repeat=5)
+    t = median_time(lambda: prog_vmapped(arrays, thetas, FREQ), 5, warmup=True, block=jax.block_until_ready)
     rows.append(("padded program, vmapped over 1,000", 1000 / t))
     print(f"10-element circuit {CIRCUIT!r} at {FREQ.size} frequencies, {jax.devices()[0].platform.upper()}")
     print(f"{'evaluation':<40} {'spectra / s':>14}")

@@ -22,6 +22,7 @@ import time
 import warnings
 
 import numpy as np
+from _timing import median_time
 
 CIRCUIT = "R0 + R1 || CPE1 + R2 || CPE2"
 IMPEDANCE_PY_CIRCUIT = "R0-p(R1,CPE1)-p(R2,CPE2)"
@@ -54,15 +55,6 @@ def synthetic(n: int, seed: int = 0):
 
 def rms_rel(z_model, z):
     return float(np.sqrt(np.mean(np.abs((z_model - z) / np.abs(z)) ** 2)))
-
-
-def median_time(fn, repeat):
-    times = []
-    for _ in range(repeat):
-        t = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t)
-    return float(np.median(times))
 
 
 # ---------------------------------------------------------------- peers

@@ -9,12 +9,12 @@ from __future__ import annotations
 
 import contextlib
 import io
-import time
 import warnings
 
 import numpy as np
 
 import impedax as ix
+from _timing import median_time
 
 F_EIS = np.geomspace(0.1, 1e5, 61)
 F_FINGER = np.geomspace(1.0, 1e6, 61)
@@ -32,16 +32,6 @@ def _spectra():
     }
     rng = np.random.default_rng(0)
     return {k: (f, z + 0.01 * np.abs(z) * (rng.standard_normal(z.size) + 1j * rng.standard_normal(z.size))) for k, (f, z) in cases.items()}
-
-
-def _median_time(fn, repeat):
-    fn()  # warm-up (imports, caches)
-    times = []
-    for _ in range(repeat):
-        t = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t)
-    return float(np.median(times))
 
 
 def main() -> None:
@@ -72,9 +62,9 @@ def main() -> None:
         print("pyimpspec not installed: skipped")
 
     batch = np.stack([z for f, z in spectra.values() if f is F_EIS] * 50)
-    t_batch = _median_time(lambda: ix.kk_test_batch((F_EIS, batch)), 5) / batch.shape[0]
+    t_batch = median_time(lambda: ix.kk_test_batch((F_EIS, batch)), 5, warmup=True) / batch.shape[0]
 
-    times = {name: {case: _median_time(lambda: fn(f, z), repeat) for case, (f, z) in spectra.items()} for name, (fn, repeat) in tools.items()}
+    times = {name: {case: median_time(lambda: fn(f, z), repeat, warmup=True) for case, (f, z) in spectra.items()} for name, (fn, repeat) in tools.items()}
     base = times["impedax kk_test"]
     print(f"{'tool':40s}" + "".join(f"{c:>12s}" for c in spectra) + f"{'median ratio':>14s}")
     for name, row in times.items():
