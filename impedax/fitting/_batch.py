@@ -17,10 +17,10 @@ import numpy as np
 import xarray as xr
 
 from ..circuits import Circuit, DEFAULT_REGISTRY, Registry
-from ._core import tree_solver
-from ._fit import _args, _guess_start, _result, _starts_from, _weights, at_noise_floor, information_criteria, _better, _unscale, residual_scale
+from ._core import _MAX_STEPS_CODE, SCREEN_STEPS, SPECTRUM_KEYS, tree_solver
+from ._fit import _args, _null_sets, _to_internal, _result, _starts_from, _weights, at_noise_floor, covariances, fit_notes, information_criteria, _better, _unscale, residual_scale
 from ._fit import CORRELATION_LIMIT, RELATIVE_ERROR_LIMIT, SINGULAR_RATIO_LIMIT
-from ._starts import SpectrumFeatures
+from ._starts import SpectrumFeatures, data_driven_guess
 from ._parameters import ParameterTable
 
 __all__ = ["BatchFitResult", "fit_batch"]
@@ -90,38 +90,33 @@ def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n
     """Solver outputs (arrays over B) for a stack of spectra z (B, N), and the starts used.
 
     As `fit`: every spectrum from its data-driven guess first, then the multistart for those
-    whose fit is not at the noise level (in groups padded to a power of two, so that a few
-    compilations serve any number of them)."""
+    whose fit is not at the noise level (their starts screened for `SCREEN_STEPS` steps, the
+    best continued to convergence). All solves go through the lane solver (`_make_lanes`)."""
     b = z.shape[0]
-    inv_re, inv_im = (np.stack(w) for w in zip(*(_weights(z[i], None if sigma is None else sigma[i], weighting, source) for i in range(b))))
+    inv_re, inv_im = _weights(z, sigma, weighting, source)
     features = [SpectrumFeatures(freq, z[i]) for i in range(b)]
-    _, batched = tree_solver(circuit, registry, max_steps)
-
+    _, lanes, finish = tree_solver(circuit, registry, max_steps)
     scale = residual_scale(z, inv_re, inv_im)
+    shared = {k: v for k, v in _args(table, freq, z[0], inv_re[0], inv_im[0]).items() if k not in SPECTRUM_KEYS and k != "model_args"}
+    x_fixed = np.where(np.isnan(table.values), 1.0, table.values)
+    rows = {"z": z, "inv_w_re": inv_re * scale[:, None], "inv_w_im": inv_im * scale[:, None], "x_fixed": np.broadcast_to(x_fixed, (b, x_fixed.size))}
+    solver = _LaneRunner(lanes, finish, rows, shared)
 
-    def solve(index, starts):
-        # equal parts dispatched together run on separate cores (each part is a sequential loop)
-        n_parts = min(_PARTS, max(1, len(index) // 16))
-        size = -(-len(index) // n_parts)
-        pad = np.concatenate([np.arange(len(index)), np.zeros(size * n_parts - len(index), int)])
-        pending = []
-        for part in np.split(pad, n_parts):
-            i = index[part]
-            args = _args(table, freq, z[0], inv_re[0], inv_im[0])
-            args["z"], args["inv_w_re"], args["inv_w_im"] = z[i], inv_re[i] * scale[i, None], inv_im[i] * scale[i, None]
-            args["x_fixed"] = np.broadcast_to(args["x_fixed"], (len(i), args["x_fixed"].shape[0]))
-            pending.append(batched(starts[part], args))
-        parts = jax.device_get(pending)
-        out = {k: np.concatenate([p[k] for p in parts])[: len(index)] for k in parts[0]}
-        return _unscale(out, scale[index])
-
-    out = solve(np.arange(b), np.stack([_guess_start(circuit, table, features[i], registry) for i in range(b)]))
+    guesses = _to_internal(table, np.stack([data_driven_guess(circuit, table, features[i], registry) for i in range(b)]))
+    u, chi2, done, steps = solver.solve(guesses, np.arange(b), np.full(b, max_steps))
+    out = _unscale(solver.outputs(u, np.arange(b), done, steps, steps), scale)
     poor = np.flatnonzero(~at_noise_floor(freq, z, out["z_model"], inv_re, inv_im, out["code"])) if n_starts > 1 else np.zeros(0, int)
     used = np.ones(b, int)
     if poor.size:  # (the multistart's starts are built only for these)
-        padded = np.concatenate([poor, np.full(_bucket(poor.size) - poor.size, poor[0])])
-        multi = solve(padded, np.stack([_starts_from(circuit, table, features[i], n_starts, seed, registry) for i in padded]))
-        multi = {k: v[: poor.size] for k, v in multi.items()}
+        starts = np.concatenate([_starts_from(circuit, table, features[i], n_starts, seed, registry) for i in poor])
+        owner = np.repeat(poor, n_starts)
+        u_s, chi2_s, _, steps_s = solver.solve(starts, owner, np.full(owner.size, SCREEN_STEPS))
+        chi2_s = np.where(np.isfinite(chi2_s), chi2_s, np.inf).reshape(poor.size, n_starts)
+        best = np.argmin(chi2_s, axis=1)
+        u_best = u_s.reshape(poor.size, n_starts, -1)[np.arange(poor.size), best]
+        u_m, _, done_m, steps_m = solver.solve(u_best, poor, np.full(poor.size, max_steps))
+        screened = steps_s.reshape(poor.size, n_starts).sum(axis=1)
+        multi = _unscale(solver.outputs(u_m, poor, done_m, steps_m, screened + steps_m), scale[poor])
         sub = _better({k: v[poor] for k, v in out.items()}, multi)
         for k, v in sub.items():
             if k in out:
@@ -131,11 +126,70 @@ def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n
     return out, used
 
 
+class _LaneRunner:
+    """Host side of the lane solver: splits problems into fixed-size chunks (one compilation
+    serves any batch size; at least one chunk per core, dispatched together so they run in
+    parallel), then continues problems left open by the many-lane pass on a few lanes."""
+
+    def __init__(self, lanes, finish, rows: dict, shared: dict):
+        self.lanes, self.finish, self.rows, self.shared = lanes, finish, rows, shared
+
+    def _chunks(self, n: int, capacity: int, n_lanes: int):
+        n_chunks = max(-(-n // capacity), min(_PARTS, -(-n // (2 * n_lanes))))
+        return np.array_split(np.arange(n), n_chunks)
+
+    def _local(self, spectrum: np.ndarray, capacity: int):
+        """The rows a chunk uses, padded to ``capacity``, and the problems' indices into them."""
+        used, local = np.unique(spectrum, return_inverse=True)
+        pad = np.concatenate([used, np.full(capacity - used.size, used[0])])
+        return {k: np.ascontiguousarray(v[pad]) for k, v in self.rows.items()}, local
+
+    def _run(self, u0, spectrum, budget, *, many: bool):
+        n_lanes, capacity = (_LANES, _CAPACITY) if many else (_FEW_LANES, _FEW_CAPACITY)
+        solve = self.lanes(n_lanes)
+        pending = []
+        for part in self._chunks(len(u0), capacity, n_lanes):
+            rows, local = self._local(spectrum[part], capacity)
+            pad = capacity - part.size
+            pending.append(solve(
+                np.concatenate([u0[part], np.repeat(u0[part[:1]], pad, axis=0)]),
+                np.concatenate([local, np.zeros(pad, int)]).astype(np.int32),
+                np.concatenate([budget[part], np.zeros(pad, int)]),
+                part.size, rows, self.shared, drain=not many,
+            ))
+        results = jax.device_get(pending)
+        return [np.concatenate([r[i][: p.size] for r, p in zip(results, self._chunks(len(u0), capacity, n_lanes))]) for i in range(4)]
+
+    def solve(self, u0, spectrum, budget):
+        """(u, chi², done, steps) of every problem, each run to convergence or its budget."""
+        many = len(u0) > _FEW_CAPACITY
+        u, chi2, done, steps = self._run(np.asarray(u0, float), spectrum, budget, many=many)
+        open_ = np.flatnonzero(~done & (steps < budget))
+        if many and open_.size:  # left open by the early stop: continue on a few lanes
+            u2, chi2_2, done2, steps2 = self._run(u[open_], spectrum[open_], budget[open_] - steps[open_], many=False)
+            u[open_], chi2[open_], done[open_], steps[open_] = u2, chi2_2, done2, steps[open_] + steps2
+        return u, chi2, done, steps
+
+    def outputs(self, u, spectrum, done, steps, steps_total) -> dict:
+        """Solver outputs at solutions ``u`` of spectra ``spectrum`` (as `_core._finish`)."""
+        parts = []
+        for part in self._chunks(len(u), _CAPACITY, _LANES):
+            rows, local = self._local(spectrum[part], _CAPACITY)
+            pad = _CAPACITY - part.size
+            order = np.concatenate([local, np.zeros(pad, int)])
+            parts.append(self.finish(np.concatenate([u[part], np.repeat(u[part[:1]], pad, axis=0)]), {k: v[order] for k, v in rows.items()}, self.shared))
+        parts = jax.device_get(parts)
+        chunks = self._chunks(len(u), _CAPACITY, _LANES)
+        out = {k: np.concatenate([p[k][: c.size] for p, c in zip(parts, chunks)]) for k in parts[0] if k != "x_free"}
+        out.update(code=np.where(done, 0, _MAX_STEPS_CODE), steps=steps, steps_total=steps_total, chi2_starts=out["chi2"][:, None])
+        return out
+
+
 def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source) -> tuple[np.ndarray, list[tuple[str, ...]]]:
     """One row per spectrum (values, stderr, chi2, converged, evaluations, Re/Im of Z_model)
-    and its warnings, without a FitResult per spectrum: the
-    uncertainties of all spectra in one stacked SVD; only spectra that earn a warning (or did
-    not converge) go through `_result` for its text."""
+    and its warnings, without a FitResult per spectrum: the uncertainties of all spectra in
+    one stacked SVD (`covariances`); warning text is built only for spectra that earn one,
+    and only spectra that overflowed or did not converge go through `_result`."""
     out, used = _solve_stack(circuit, table, freq, z, sigma, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
     b, k, n_res = z.shape[0], len(table.free_names), 2 * len(freq)
     chi2 = np.array(out["chi2"], float)  # copies: device_get's arrays are read-only
@@ -143,43 +197,41 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
     converged = finite & (np.asarray(out["code"]) == 0)
     values = np.array(out["x"], float)
     stderr = np.full(values.shape, np.nan)
-    flagged = ~converged
+    odd = ~converged  # these get `_result`'s handling of overflow and non-convergence
+    flagged = np.zeros(b, bool)
     if k:
         jac = np.where(finite[:, None, None], out["jacobian"], 0.0)
-        norms = np.linalg.norm(jac, axis=1)
-        col = np.where(norms > 0, 1.0 / np.where(norms > 0, norms, 1.0), 1.0)
-        _, sv, vt = np.linalg.svd(jac * col[:, None, :], full_matrices=False)
-        s_max = np.where(sv[:, :1] > 0, sv[:, :1], 1.0)
-        cov = np.einsum("bji,bj,bjl->bil", vt, 1.0 / (sv**2 + (1e-13 * s_max) ** 2), vt) * col[:, :, None] * col[:, None, :]
-        if weighting != "sigma" and n_res > k:
-            cov = cov * (chi2 / (n_res - k))[:, None, None]
+        cov, corr, sv, vt = covariances(jac, chi2 / (n_res - k) if n_res > k else np.full(b, np.nan), weighting)
         err = np.sqrt(np.clip(np.einsum("bii->bi", cov), 0, None))
         stderr[:, table.free_index] = err
-        with np.errstate(all="ignore"):
-            corr = np.abs(cov / (err[:, :, None] * err[:, None, :]))
-            rel = np.abs(err / values[:, table.free_index])
-        corr[:, np.arange(k), np.arange(k)] = 0.0
-        lo, hi = table.lower[table.free_index], table.upper[table.free_index]
         v = values[:, table.free_index]
+        with np.errstate(all="ignore"):
+            rel = np.abs(err / v)
+        off_diagonal = np.abs(corr) * (1 - np.eye(k))
+        lo, hi = table.lower[table.free_index], table.upper[table.free_index]
         at_bound = (np.isfinite(hi) & (np.abs(v - hi) <= 1e-4 * np.maximum(np.abs(hi), 1e-12))) | ((lo > 0) & (np.abs(v - lo) <= 1e-4 * lo))
-        flagged |= np.any(sv < SINGULAR_RATIO_LIMIT * s_max, axis=1) | np.any(np.nan_to_num(corr) > CORRELATION_LIMIT, axis=(1, 2))
+        flagged = np.any(sv < SINGULAR_RATIO_LIMIT * sv[:, :1], axis=1) | np.any(off_diagonal > CORRELATION_LIMIT, axis=(1, 2))
         flagged |= np.any((v != 0) & ~(rel <= RELATIVE_ERROR_LIMIT), axis=1) | np.any(at_bound, axis=1)
     notes: list[tuple[str, ...]] = [()] * b
     z_model = np.array(out["z_model"])
-    for i in np.flatnonzero(flagged):  # the exact text (and overflow handling) of a single fit
+    names, free = table.names, table.free_names
+    for i in np.flatnonzero(flagged & ~odd):  # the exact warning text of a single fit
+        null_sets, ratio = _null_sets(sv[i], vt[i], free)
+        notes[i] = fit_notes(table, dict(zip(names, values[i])), dict(zip(names, stderr[i])), corr[i], null_sets, ratio, finite=True, converged=True, message="")
+    for i in np.flatnonzero(odd):
         r = _result(circuit, table, freq, z[i], {key: val[i] for key, val in out.items()}, weighting, int(used[i]), 0.0, registry)
-        values[i] = [r.values[n] for n in table.names]
-        stderr[i] = [r.stderr[n] for n in table.names]
+        values[i] = [r.values[n] for n in names]
+        stderr[i] = [r.stderr[n] for n in names]
         chi2[i], converged[i], z_model[i], notes[i] = r.chi2, r.converged, r.z_model, r.warnings
     stats = np.stack([chi2, converged.astype(float), np.asarray(out["steps_total"], float)], axis=-1)
     return np.concatenate([values, stderr, stats, z_model.real, z_model.imag], axis=-1), notes
 
 
 _PARTS = max(1, min(os.cpu_count() or 1, 8))
-
-
-def _bucket(n: int) -> int:
-    return max(8, 1 << (n - 1).bit_length())
+# lane solver shapes: many lanes for batches, few for small sets and stragglers (each pair is
+# one compilation per circuit)
+_LANES, _CAPACITY = 64, 512
+_FEW_LANES, _FEW_CAPACITY = 8, 64
 
 
 def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weighting: str, n_starts: int, max_steps: int, seed: int, registry: Registry = DEFAULT_REGISTRY, source: str = "data", t0: float | None = None) -> BatchFitResult:

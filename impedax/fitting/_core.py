@@ -35,51 +35,105 @@ __all__ = ["tree_solver", "program_solver", "levenberg_marquardt", "solver_messa
 SCREEN_STEPS = 40  # Levenberg–Marquardt steps every start gets before the best is refined
 
 
-def _expand(u, args):
-    """Unconstrained free vector (K,) → full parameter vector (P,)."""
-    x_free = to_external(u, args["lower"], args["upper"], args["kind"])
+def _free_to_full(x_free, args):
     x_ext = jnp.concatenate([args["x_fixed"], jnp.ones((1,))])
     return x_ext.at[args["free_index"]].set(x_free)[:-1]
 
 
+def _weighted(r, args):
+    """Complex residuals (N, ...) → the real-stacked weighted residual (2N, ...)."""
+    w_re, w_im = args["inv_w_re"], args["inv_w_im"]
+    if r.ndim == 2:
+        w_re, w_im = w_re[:, None], w_im[:, None]
+    return jnp.concatenate([r.real * w_re, r.imag * w_im])
+
+
+def _u_to_x(u, args):
+    """(x, dx/du) of the elementwise transform to parameter space."""
+    return jax.jvp(lambda v: to_external(v, args["lower"], args["upper"], args["kind"]), (u,), (jnp.ones_like(u),))
+
+
 def _residuals(model: Callable):
+    """Residual functions of a model by forward-mode differentiation: (residual_x,
+    residual_u, linearize_x, normal_u); linearize_x returns (J, r), normal_u the normal
+    equations (JᵀJ, Jᵀr, ½‖r‖²)."""
+
     def residual_x(x_free, args):
-        x_ext = jnp.concatenate([args["x_fixed"], jnp.ones((1,))])
-        x = x_ext.at[args["free_index"]].set(x_free)[:-1]
-        r = model(x, args["freq"], args["model_args"]) - args["z"]
-        return jnp.concatenate([r.real * args["inv_w_re"], r.imag * args["inv_w_im"]])
+        return _weighted(model(_free_to_full(x_free, args), args["freq"], args["model_args"]) - args["z"], args)
 
     def residual_u(u, args):
         return residual_x(to_external(u, args["lower"], args["upper"], args["kind"]), args)
 
-    return residual_x, residual_u
+    def forward(residual):
+        def linearize(v, args):
+            r = residual(v, args)
+            return r, r
+
+        return lambda v, args: jax.jacfwd(linearize, has_aux=True)(v, args)
+
+    def normal_u(u, args):
+        jac, r = forward(residual_u)(u, args)
+        return jac.T @ jac, jac.T @ r, 0.5 * jnp.sum(r**2)
+
+    return residual_x, residual_u, forward(residual_x), normal_u
 
 
-def _lm_parts(residual: Callable, rtol: float = 1e-8, xtol: float = 1e-10):
-    """(init, step) of a dense Levenberg–Marquardt iteration for ½‖residual(u, args)‖² with
-    Marquardt scaling and Nielsen's damping update (Madsen, Nielsen & Tingleff 2004, alg. 3.16).
+def _tree_residuals(compiled):
+    """As `_residuals` for a compiled circuit, with its analytic Jacobian
+    (`CompiledCircuit.value_and_jacobian`); ``residual_u`` carries it as a custom JVP, so
+    optimistix's linearisation costs one evaluation of it rather than forward mode through
+    the circuit."""
 
-    Each step linearises once at the trial point (``jacfwd``) and keeps it only when the cost
-    falls, so the model's Jacobian is traced once. A start is done when an accepted step lowers
-    the cost by less than ``rtol`` relatively, or the step is below ``xtol``.
+    def linearize_x(x_free, args):
+        z, jac = compiled.value_and_jacobian(_free_to_full(x_free, args), args["freq"])
+        return _weighted(jac[:, args["free_index"]], args), _weighted(z - args["z"], args)
+
+    def linearize_u(u, args):
+        x, dx_du = _u_to_x(u, args)
+        jac, r = linearize_x(x, args)
+        return jac * dx_du[None, :], r
+
+    def normal_u(u, args):
+        # (M, K) layout: XLA's batched JᵀJ is several times faster this way than with (K, M)
+        jac, r = linearize_u(u, args)
+        return jac.T @ jac, jac.T @ r, 0.5 * jnp.sum(r**2)
+
+    def residual_x(x_free, args):
+        return _weighted(compiled.vector(_free_to_full(x_free, args), args["freq"]) - args["z"], args)
+
+    @jax.custom_jvp
+    def residual_u(u, args):
+        return residual_x(to_external(u, args["lower"], args["upper"], args["kind"]), args)
+
+    @residual_u.defjvp
+    def _residual_u_jvp(primals, tangents):
+        jac, r = linearize_u(*primals)
+        return r, jac @ tangents[0]
+
+    return residual_x, residual_u, linearize_x, normal_u
+
+
+def _lm_parts(normal: Callable, rtol: float = 1e-8, xtol: float = 1e-10):
+    """(init, step) of a dense Levenberg–Marquardt iteration for ½‖r(u)‖² with Marquardt
+    scaling and Nielsen's damping update (Madsen, Nielsen & Tingleff 2004, alg. 3.16);
+    ``normal(u, args) -> (JᵀJ, Jᵀr, ½‖r‖²)``.
+
+    Each step linearises once at the trial point and keeps it only when the cost falls (the
+    state holds JᵀJ and Jᵀr, not J), so the model's Jacobian is traced once. A start is done
+    when an accepted step lowers the cost by less than ``rtol`` relatively, or the step is
+    below ``xtol``.
     """
 
-    def with_aux(u, args):
-        r = residual(u, args)
-        return r, r
-
     def init(u0, args):
-        m = jax.eval_shape(residual, u0, args).shape[0]
         k = u0.shape[0]
         return {
-            "u": u0, "jac": jnp.zeros((m, k)), "r": jnp.zeros(m), "cost": jnp.asarray(jnp.inf), "u_try": u0, "pred": jnp.asarray(1.0),
+            "u": u0, "a": jnp.zeros((k, k)), "g": jnp.zeros(k), "cost": jnp.asarray(jnp.inf), "u_try": u0, "pred": jnp.asarray(1.0),
             "lam": jnp.asarray(1e-3), "nu": jnp.asarray(2.0), "i": jnp.asarray(0), "done": jnp.asarray(False), "dmax": jnp.zeros(k),
         }
 
     def step(s, args):
-        j_try, r_try = jax.jacfwd(with_aux, has_aux=True)(s["u_try"], args)
-        c_try = 0.5 * jnp.sum(r_try**2)
-        c_try = jnp.where(jnp.isfinite(c_try) & jnp.all(jnp.isfinite(j_try)), c_try, jnp.inf)
+        a_try, g_try, c_try = normal(s["u_try"], args)
+        c_try = jnp.where(jnp.isfinite(c_try) & jnp.all(jnp.isfinite(a_try)), c_try, jnp.inf)
         first = s["i"] == 0
         gain = s["cost"] - c_try
         ok = first | ((gain > 0) & jnp.isfinite(c_try))
@@ -87,9 +141,8 @@ def _lm_parts(residual: Callable, rtol: float = 1e-8, xtol: float = 1e-10):
         lam = jnp.where(first, s["lam"], jnp.where(ok, s["lam"] * jnp.maximum(1.0 / 3.0, 1.0 - (2.0 * rho - 1.0) ** 3), s["lam"] * s["nu"]))
         nu = jnp.where(ok, 2.0, s["nu"] * 2.0)
         keep = lambda new, old: jnp.where(ok, new, old)  # noqa: E731
-        u, jac, r, cost = keep(s["u_try"], s["u"]), keep(j_try, s["jac"]), keep(r_try, s["r"]), keep(c_try, s["cost"])
-        a = jac.T @ jac
-        g = jac.T @ r
+        u, cost = keep(s["u_try"], s["u"]), keep(c_try, s["cost"])
+        a, g = keep(a_try, s["a"]), keep(g_try, s["g"])
         dmax = jnp.maximum(jnp.diag(a), s["dmax"])
         d = jnp.where(dmax > 0, dmax, 1.0)  # padded parameters have zero columns
         delta = -jnp.linalg.solve(a + lam * jnp.diag(d), g)
@@ -98,30 +151,47 @@ def _lm_parts(residual: Callable, rtol: float = 1e-8, xtol: float = 1e-10):
         flat = ~first & ok & (gain <= rtol * s["cost"])
         tiny = jnp.sqrt(jnp.sum(delta**2)) <= xtol * (jnp.sqrt(jnp.sum(u**2)) + xtol)
         done = s["done"] | flat | tiny | (lam > 1e15) | ~jnp.isfinite(cost)
-        new = {"u": u, "jac": jac, "r": r, "cost": cost, "u_try": u + delta, "pred": pred, "lam": lam, "nu": nu, "i": s["i"] + 1, "done": done, "dmax": dmax}
+        new = {"u": u, "a": a, "g": g, "cost": cost, "u_try": u + delta, "pred": pred, "lam": lam, "nu": nu, "i": s["i"] + 1, "done": done, "dmax": dmax}
         return jax.tree_util.tree_map(lambda a_, b_: jnp.where(s["done"], b_, a_), new, s)  # a finished start stays put
 
     return init, step
 
 
-def levenberg_marquardt(residual: Callable, u0, args, max_steps, *, rtol: float = 1e-8, xtol: float = 1e-10):
-    """Minimise ½‖residual(u, args)‖² from ``u0`` (see `_lm_parts`); ``max_steps`` may be
-    traced. Returns (u, chi² = ‖r‖², converged, iterations, J(u), r(u))."""
-    init, step = _lm_parts(residual, rtol, xtol)
+def levenberg_marquardt(normal: Callable, u0, args, max_steps, *, rtol: float = 1e-8, xtol: float = 1e-10):
+    """Minimise ½‖r(u)‖² from ``u0`` (see `_lm_parts`); ``max_steps`` may be traced.
+    Returns (u, chi² = ‖r‖², converged, iterations)."""
+    init, step = _lm_parts(normal, rtol, xtol)
     s = jax.lax.while_loop(lambda s: (s["i"] < max_steps) & ~s["done"], lambda s: step(s, args), init(u0, args))
-    return s["u"], 2.0 * s["cost"], s["done"], s["i"], s["jac"], s["r"]
+    return s["u"], 2.0 * s["cost"], s["done"], s["i"]
 
 
 _MAX_STEPS_CODE = int(optx.RESULTS.max_steps_reached._value)
 MIN_STEPS = 8
+INNER_STEPS = int(__import__('os').environ.get('INNER', '4'))
 
 
-def _make_single_phase_batch(model: Callable, max_steps: int):
+def _finish(u, args, linearize_x):
+    """Solver outputs at the solution u: parameters, the Jacobian in parameter space (for
+    the covariance), chi² and the model's impedance."""
+    x_free = to_external(u, args["lower"], args["upper"], args["kind"])
+    jac, r = linearize_x(x_free, args)
+    n = args["z"].shape[0]
+    chi2 = jnp.sum(r**2)
+    return {
+        "x": _free_to_full(x_free, args),
+        "x_free": x_free,
+        "chi2": jnp.where(jnp.isfinite(chi2), chi2, jnp.inf),
+        "jacobian": jac,
+        "z_model": args["z"] + r[:n] / args["inv_w_re"] + 1j * (r[n:] / args["inv_w_im"]),
+    }
+
+
+def _make_single_phase_batch(residuals, max_steps: int):
     """A solver for C candidates × S starts at once. All starts iterate in one loop that ends
     when, for every candidate, its best start so far has converged and no unfinished start is
     better (or at the step limit): stragglers in slow valleys do not hold the batch up."""
-    _, residual_u = _residuals(model)
-    init, step = _lm_parts(residual_u)
+    _, _, linearize_x, normal_u = residuals
+    init, step = _lm_parts(normal_u)
     per_start = jax.vmap(step, in_axes=(0, None))
     batch_step = jax.vmap(per_start, in_axes=(0, 0))
 
@@ -135,35 +205,23 @@ def _make_single_phase_batch(model: Callable, max_steps: int):
         limit = jnp.minimum(args["max_steps"][0], max_steps)
         s0 = jax.vmap(jax.vmap(init, in_axes=(0, None)), in_axes=(0, 0))(u0s, args)
         s = jax.lax.while_loop(lambda s: (s["i"].max() < limit) & ((s["i"].max() < MIN_STEPS) | ~settled(s)), lambda s: batch_step(s, args), s0)
-        return jax.vmap(_finish)(s, args)
+        return jax.vmap(_best)(s, args)
 
-    def _finish(s, args):
+    def _best(s, args):
         chi2s = 2.0 * s["cost"]
         best = jnp.argmin(jnp.where(jnp.isfinite(chi2s), chi2s, jnp.inf))
-        u, r = s["u"][best], s["r"][best]
-        x_free = to_external(u, args["lower"], args["upper"], args["kind"])
-        # chain rule back to parameter space: dr/dx = dr/du / (dx/du) (elementwise transform)
-        dx_du = jax.jvp(lambda v: to_external(v, args["lower"], args["upper"], args["kind"]), (u,), (jnp.ones_like(u),))[1]
-        jac = jnp.where(dx_du[None, :] != 0, s["jac"][best] / jnp.where(dx_du == 0, 1.0, dx_du)[None, :], 0.0)
-        n = args["z"].shape[0]
-        return {
-            "x": _expand(u, args),
-            "x_free": x_free,
-            "chi2": chi2s[best],
-            "code": jnp.where(s["done"][best], 0, _MAX_STEPS_CODE),
-            "steps": s["i"][best],
-            "chi2_starts": chi2s,
-            "steps_total": jnp.sum(s["i"]),
-            "jacobian": jac,
-            "z_model": args["z"] + r[:n] / args["inv_w_re"] + 1j * (r[n:] / args["inv_w_im"]),
-        }
+        out = _finish(s["u"][best], args, linearize_x)
+        out.update(code=jnp.where(s["done"][best], 0, _MAX_STEPS_CODE), steps=s["i"][best], chi2_starts=chi2s, steps_total=jnp.sum(s["i"]))
+        return out
 
     return solve_batch
 
 
-def _make(model: Callable, max_steps: int):
+def _make(residuals, max_steps: int):
+    """optimistix Levenberg–Marquardt from one or many starts: every start for
+    `SCREEN_STEPS` steps together, then the best to convergence."""
     solver = optx.LevenbergMarquardt(rtol=1e-9, atol=1e-12)
-    residual_x, residual_u = _residuals(model)
+    _, residual_u, linearize_x, _ = residuals
 
     def solve_one(u0, args, steps):
         sol = optx.least_squares(residual_u, solver, u0, args, max_steps=steps, throw=False)
@@ -180,53 +238,109 @@ def _make(model: Callable, max_steps: int):
             u_best = us[jnp.argmin(chi2s)]
         else:
             chi2s, steps1, u_best = jnp.zeros(1), jnp.zeros(1, jnp.int64), u0s[0]
-        u, chi2, code, steps = solve_one(u_best, args, max_steps)
-        x_free = to_external(u, args["lower"], args["upper"], args["kind"])
-        jac = jax.jacfwd(residual_x)(x_free, args)
-        x = _expand(u, args)
-        return {
-            "x": x,
-            "x_free": x_free,
-            "chi2": chi2,
-            "code": code,
-            "steps": steps,
-            "chi2_starts": chi2s,
-            "steps_total": jnp.sum(steps1) + steps,
-            "jacobian": jac,
-            "z_model": model(x, args["freq"], args["model_args"]),
-        }
+        u, _, code, steps = solve_one(u_best, args, max_steps)
+        out = _finish(u, args, linearize_x)
+        out.update(code=code, steps=steps, chi2_starts=chi2s, steps_total=jnp.sum(steps1) + steps)
+        return out
 
     return solve
 
 
 # spectra of one batch share frequencies, free set and bounds; data and fixed values vary
-_BATCH_AXES = {"freq": None, "z": 0, "inv_w_re": 0, "inv_w_im": 0, "x_fixed": 0, "free_index": None, "lower": None, "upper": None, "kind": None, "model_args": None}
+SPECTRUM_KEYS = ("z", "inv_w_re", "inv_w_im", "x_fixed")
 
 
 @functools.lru_cache(maxsize=128)
 def tree_solver(circuit: Circuit, registry: Registry, max_steps: int):
-    """(single, batched) jitted solvers for one circuit (cached per circuit)."""
-    compiled = compile_circuit(circuit, registry)
+    """Jitted solvers for one circuit (cached per circuit): ``single(u0s, args)`` runs
+    optimistix from one or many starts (`_make`); ``lanes(n_lanes)`` gives the lane solver of
+    `_make_lanes` for batches, and ``finish(u, rows, shared)`` the outputs at solutions
+    (vmapped over spectra)."""
+    residuals = _tree_residuals(compile_circuit(circuit, registry))
+    linearize_x = residuals[2]
 
-    def model(x, freq, _model_args):
-        return compiled.vector(x, freq)
+    def finish(u, rows, shared):
+        return jax.vmap(lambda u_i, row: _finish(u_i, {**shared, **row}, linearize_x))(u, rows)
 
-    solve = _make(model, max_steps)
-    return jax.jit(solve), jax.jit(_map_spectra(solve))
+    lanes = functools.lru_cache(maxsize=4)(lambda n_lanes: jax.jit(_make_lanes(residuals[3], n_lanes), static_argnames="drain"))
+    return jax.jit(_make(residuals, max_steps)), lanes, jax.jit(finish)
 
 
-def _map_spectra(solve):
-    """Batched ``solve`` as a sequential loop inside one compiled program (``lax.map``), not a
-    ``vmap``: a vmapped solver loop runs every spectrum for as many steps as the slowest one
-    needs and evaluates both branches of each accept/reject, so per spectrum it costs several
-    times a lone solve."""
+def _make_lanes(normal_u: Callable, n_lanes: int):
+    """A work-queue Levenberg–Marquardt solver for many independent problems (spectra, or
+    spectrum × start pairs). ``n_lanes`` problems iterate side by side (``vmap`` of one
+    `_lm_parts` step); when a lane's problem converges or spends its step budget, the result
+    is written out and the lane takes the next problem from the queue. Every lane does useful
+    work at every step, so a batch costs about its total number of steps, not its size times
+    the slowest problem's count (what a plain ``vmap`` of a solver loop costs).
 
-    def batched(u0s, args):
-        mapped = {k: v for k, v in args.items() if _BATCH_AXES[k] == 0}
-        shared = {k: v for k, v in args.items() if _BATCH_AXES[k] is None}
-        return jax.lax.map(lambda item: solve(item[0], {**shared, **item[1]}), (u0s, mapped))
+    ``solve(u0 (C, K), spectrum (C,), budget (C,), n_problems, rows, shared, drain)``: problem
+    p starts at ``u0[p]`` on the data of row ``spectrum[p]`` of ``rows`` (dict of arrays over
+    spectra; ``shared`` holds what all have in common) and may take ``budget[p]`` steps; only
+    the first ``n_problems`` are solved (the rest is padding, so one compilation serves any
+    count). With ``drain=False`` the loop stops once the queue is empty and at most
+    ``n_lanes // 8`` lanes still run: their problems come back unfinished (``done`` False),
+    to be continued on fewer lanes, so a few slow problems do not keep every lane busy.
+    Returns (u, chi², done, steps) over the C problems.
+    """
+    init, step = _lm_parts(normal_u)
+    lane_init = jax.vmap(init, in_axes=(0, None))
 
-    return batched
+    def solve(u0, spectrum, budget, n_problems, rows, shared, *, drain):
+        capacity = u0.shape[0]
+        lane_step = jax.vmap(lambda s, row: step(s, {**shared, **row}))
+
+        def load(pid):
+            clipped = jnp.minimum(pid, capacity - 1)
+            row = jax.tree_util.tree_map(lambda a: a[spectrum[clipped]], rows)
+            return lane_init(u0[clipped], None), row, budget[clipped]
+
+        def select(mask, new, old):
+            return jax.tree_util.tree_map(lambda a, b: jnp.where(mask.reshape(mask.shape + (1,) * (a.ndim - 1)), a, b), new, old)
+
+        def write(out, pid, s, done):
+            sink = jnp.where(pid < n_problems, pid, capacity)  # row `capacity` absorbs idle lanes
+            return {
+                "u": out["u"].at[sink].set(s["u"]),
+                "chi2": out["chi2"].at[sink].set(2.0 * s["cost"]),
+                "done": out["done"].at[sink].set(done),
+                "steps": out["steps"].at[sink].set(s["i"]),
+            }
+
+        def running(carry):
+            _, pid, _, _, next_pid, _ = carry
+            active = pid < n_problems
+            few = jnp.sum(active) <= n_lanes // 8
+            return jnp.any(active) & (drain | (next_pid < n_problems) | ~few)
+
+        def body(carry):
+            s, pid, row, limit, next_pid, out = carry
+            s = jax.lax.fori_loop(0, INNER_STEPS, lambda _, s: select(s["i"] < limit, lane_step(s, row), s), s)
+            finished = (pid < n_problems) & (s["done"] | (s["i"] >= limit))
+            out = write(out, jnp.where(finished, pid, capacity), s, s["done"])
+            new_pid = next_pid + jnp.cumsum(finished) - 1
+            take = finished & (new_pid < n_problems)
+            pid = jnp.where(finished, jnp.where(take, new_pid, capacity), pid)
+            fresh, fresh_row, fresh_limit = load(pid)
+            s = select(take, fresh, s)
+            s["done"] = s["done"] | (finished & ~take)  # an idle lane stays put
+            return s, pid, select(take, fresh_row, row), jnp.where(take, fresh_limit, limit), next_pid + jnp.sum(take), out
+
+        pid = jnp.where(jnp.arange(n_lanes) < n_problems, jnp.arange(n_lanes), capacity)
+        s, row, limit = load(pid)
+        s["done"] = pid >= n_problems
+        out = {
+            "u": jnp.concatenate([u0, u0[:1]]),
+            "chi2": jnp.full(capacity + 1, jnp.inf),
+            "done": jnp.zeros(capacity + 1, bool),
+            "steps": jnp.zeros(capacity + 1, jnp.int64),
+        }
+        carry = (s, pid, row, limit, jnp.minimum(n_lanes, n_problems), out)
+        s, pid, _, _, _, out = jax.lax.while_loop(running, body, carry)
+        out = write(out, pid, s, jnp.zeros(n_lanes, bool))  # problems still open when stopped early
+        return tuple(out[k][:capacity] for k in ("u", "chi2", "done", "steps"))
+
+    return solve
 
 
 def evaluate_program_fast(program, theta, freq, *, layout: ProgramLayout):
@@ -266,10 +380,11 @@ def program_solver(layout: ProgramLayout, max_steps: int, single_phase: bool = F
     def model(x, freq, program):
         return evaluate_program_fast(program, x.reshape(layout.n_slots, -1), freq, layout=layout)
 
+    residuals = _residuals(model)
     if single_phase:
-        batch = jax.jit(_make_single_phase_batch(model, max_steps))
+        batch = jax.jit(_make_single_phase_batch(residuals, max_steps))
         return None, batch
-    solve = _make(model, max_steps)
+    solve = _make(residuals, max_steps)
     # candidates differ in program and in everything else: vmap over all of args
     return jax.jit(solve), jax.jit(jax.vmap(solve))
 

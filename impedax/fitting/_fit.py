@@ -239,33 +239,42 @@ class FitResult:
         )
 
 
-def _uncertainties(jac: np.ndarray, chi2_red: float, weighting: str, names: Sequence[str]):
-    """Covariance from the Jacobian in parameter space (Tikhonov-regularised so that
-    undetermined directions show as huge variances and ±1 correlations, not as NaN)."""
-    k = len(names)
-    if k == 0:
-        return np.zeros((0, 0)), np.zeros((0, 0)), [], 0.0
-    # equilibrate the columns: proportional columns then give an evenly weighted null vector
-    norms = np.linalg.norm(jac, axis=0)
+def covariances(jac: np.ndarray, chi2_red, weighting: str):
+    """Covariance and correlation matrices from Jacobians (..., M, K) in parameter space,
+    with the singular values and right singular vectors of the column-equilibrated Jacobian
+    (equilibrated, proportional columns give an evenly weighted null vector). Tikhonov-
+    regularised, so undetermined directions show as huge variances and ±1 correlations, not
+    NaN; scaled by the reduced chi² unless the weights are the data's sigma (as lmfit)."""
+    norms = np.linalg.norm(jac, axis=-2)
     scale = np.where(norms > 0, 1.0 / np.where(norms > 0, norms, 1.0), 1.0)
-    js = jac * scale[None, :]
-    _, s, vt = np.linalg.svd(js, full_matrices=False)
-    s_max = s[0] if s.size and s[0] > 0 else 1.0
-    reg = (1e-13 * s_max) ** 2
-    cov_s = (vt.T * (1.0 / (s**2 + reg))) @ vt
-    cov = cov_s * np.outer(scale, scale)
-    if weighting != "sigma" and np.isfinite(chi2_red):
-        cov = cov * chi2_red  # unknown noise level: scale by the reduced chi² (as lmfit)
-    d = np.sqrt(np.clip(np.diag(cov), 0, None))
+    _, s, vt = np.linalg.svd(jac * scale[..., None, :], full_matrices=False)
+    s_max = np.where(s[..., :1] > 0, s[..., :1], 1.0)
+    cov = np.einsum("...ji,...j,...jl->...il", vt, 1.0 / (s**2 + (1e-13 * s_max) ** 2), vt) * scale[..., :, None] * scale[..., None, :]
+    if weighting != "sigma":
+        chi2_red = np.asarray(chi2_red, float)
+        cov = cov * np.where(np.isfinite(chi2_red), chi2_red, 1.0)[..., None, None]
+    d = np.sqrt(np.clip(np.einsum("...ii->...i", cov), 0, None))
     with np.errstate(all="ignore"):
-        corr = cov / np.outer(d, d)
-    corr = np.clip(np.nan_to_num(corr, nan=0.0), -1, 1)
-    np.fill_diagonal(corr, 1.0)
-    null = []
-    for j in np.flatnonzero(s < SINGULAR_RATIO_LIMIT * s_max):
-        null.append([names[i] for i in np.flatnonzero(np.abs(vt[j]) > 0.2)])
-    ratio = float(s[-1] / s_max) if s.size else 1.0
-    return cov, corr, null, ratio
+        corr = np.clip(np.nan_to_num(cov / (d[..., :, None] * d[..., None, :]), nan=0.0), -1, 1)
+    k = jac.shape[-1]
+    corr[..., np.arange(k), np.arange(k)] = 1.0
+    return cov, corr, s, vt
+
+
+def _null_sets(s: np.ndarray, vt: np.ndarray, names: Sequence[str]):
+    """Groups of parameters along near-null directions of one equilibrated Jacobian, and the
+    smallest-to-largest singular value ratio."""
+    s_max = s[0] if s.size and s[0] > 0 else 1.0
+    null = [[names[i] for i in np.flatnonzero(np.abs(vt[j]) > 0.2)] for j in np.flatnonzero(s < SINGULAR_RATIO_LIMIT * s_max)]
+    return null, float(s[-1] / s_max) if s.size else 1.0
+
+
+def _uncertainties(jac: np.ndarray, chi2_red: float, weighting: str, names: Sequence[str]):
+    """(covariance, correlation, null sets, singular-value ratio) of one fit (`covariances`)."""
+    if len(names) == 0:
+        return np.zeros((0, 0)), np.zeros((0, 0)), [], 0.0
+    cov, corr, s, vt = covariances(jac, chi2_red, weighting)
+    return (cov, corr, *_null_sets(s, vt, names))
 
 
 def _diagnose_identifiability(names, values, stderr, corr, null_sets, ratio) -> list[str]:
@@ -287,6 +296,23 @@ def _diagnose_identifiability(names, values, stderr, corr, null_sets, ratio) -> 
         if v != 0 and (not np.isfinite(e) or abs(e / v) > RELATIVE_ERROR_LIMIT) and not any(n in g for g in flagged):
             notes.append(f"{n} has a relative standard error of {abs(e / v) * 100:.3g}%: it is not determined by the data")
     return notes
+
+
+def fit_notes(table: ParameterTable, values: dict, stderr: dict, corr, null_sets, ratio, *, finite: bool, converged: bool, message: str) -> tuple[str, ...]:
+    """The warnings of a fit: not converged, identifiability (`_diagnose_identifiability`),
+    parameters at a bound."""
+    free_names = table.free_names
+    notes = _diagnose_identifiability(list(free_names), values, stderr, corr, null_sets, ratio) if finite else []
+    free = table.free_index
+    for nm, lo, hi in zip(free_names, table.lower[free], table.upper[free]):
+        v = values[nm]
+        if np.isfinite(hi) and abs(v - hi) <= 1e-4 * max(abs(hi), 1e-12):
+            notes.append(f"{nm} = {v:.6g} sits at its upper bound {hi:g}")
+        elif lo > 0 and abs(v - lo) <= 1e-4 * lo:
+            notes.append(f"{nm} = {v:.6g} sits at its lower bound {lo:g}")
+    if not converged:
+        notes.insert(0, f"fit did not converge: {message}")
+    return tuple(notes)
 
 
 def _prepare(circuit, data, *, init, fixed, bounds, weighting, fmin, fmax, registry):
@@ -347,7 +373,7 @@ def fit(
     z = np.asarray(data["Z"].values, complex)
     sigma = np.asarray(data["sigma"].values, float) if "sigma" in data else None
     inv_re, inv_im = _weights(z, sigma, weighting, source)
-    single, _ = tree_solver(circuit, registry, max_steps)
+    single = tree_solver(circuit, registry, max_steps)[0]
     scale = residual_scale(z, inv_re, inv_im)
     args = _args(table, freq, z, inv_re * scale, inv_im * scale)
     # the data-driven guess alone first; the multistart only when its fit is not at the noise
@@ -481,16 +507,7 @@ def _result(circuit, table, freq, z, out, weighting, n_starts, elapsed, registry
         message = f"converged in {int(out['steps'])} steps ({start})"
     else:
         message = solver_messages(code)
-    notes = _diagnose_identifiability(list(free_names), values, stderr, corr, null_sets, ratio) if finite else []
-    for i, nm in enumerate(free_names):
-        lo, hi = table.lower[table.free_index[i]], table.upper[table.free_index[i]]
-        v = values[nm]
-        if np.isfinite(hi) and abs(v - hi) <= 1e-4 * max(abs(hi), 1e-12):
-            notes.append(f"{nm} = {v:.6g} sits at its upper bound {hi:g}")
-        elif lo > 0 and abs(v - lo) <= 1e-4 * lo:
-            notes.append(f"{nm} = {v:.6g} sits at its lower bound {lo:g}")
-    if not converged:
-        notes.insert(0, f"fit did not converge: {message}")
+    notes = fit_notes(table, values, stderr, corr, null_sets, ratio, finite=finite, converged=converged, message=message)
     return FitResult(
         circuit=circuit,
         values=values,
@@ -507,7 +524,7 @@ def _result(circuit, table, freq, z, out, weighting, n_starts, elapsed, registry
         converged=converged,
         message=message,
         n_evaluations=int(out["steps_total"]),
-        warnings=tuple(notes),
+        warnings=notes,
         n_starts=n_starts,
         elapsed_s=elapsed,
         registry=registry,
