@@ -21,7 +21,7 @@ from ..errors import DataError, FitError, ParameterError
 from ..io import load
 from ._core import solver_messages, tree_solver
 from ._parameters import ParameterTable, to_internal
-from ._starts import SpectrumFeatures, data_driven_guess, random_starts
+from ._starts import SpectrumFeatures, data_driven_guess, data_driven_guesses, random_starts
 
 __all__ = ["fit", "FitResult", "WEIGHTINGS", "information_criteria"]
 
@@ -444,8 +444,9 @@ def _to_internal(table: ParameterTable, x: np.ndarray) -> np.ndarray:
 
 
 def _guess_start(circuit, table, features, registry) -> np.ndarray:
-    """The data-driven guess as one start in the solver's space, shape (1, K)."""
-    return _to_internal(table, data_driven_guess(circuit, table, features, registry)[None, :])
+    """The data-driven guess as one start in the solver's space: shape (1, K) for one
+    spectrum's features, (B, K) for a stack's (one start per spectrum)."""
+    return _to_internal(table, data_driven_guesses(circuit, table, features, registry))
 
 
 def _starts_for(circuit, table, freq, z, n_starts, seed, registry) -> np.ndarray:

@@ -5,6 +5,8 @@
    resistors inside arcs, τ = 1/(2π f_peak) at the maximum of −Z'' for time constants and
    capacitances (C = τ/R_arc), the low-frequency slope of log|Z''| for CPE exponents, a series
    capacitance from Z'' at the lowest frequency, an inductance from positive Z'' at the top.
+   Features and guesses are computed for a whole stack of spectra at once (numpy over the
+   spectra axis); one spectrum is a stack of one.
 2. Jittered copies of that guess and log-uniform draws over ranges scaled to the data (|Z| and
    the frequency span), all fitted together in one vmapped call; the best is kept.
 """
@@ -16,56 +18,125 @@ import numpy as np
 from ..circuits import Circuit, DEFAULT_REGISTRY, Element, Parallel, Registry
 from ._parameters import ParameterTable
 
-__all__ = ["SpectrumFeatures", "data_driven_guess", "random_starts"]
+__all__ = ["SpectrumFeatures", "data_driven_guess", "data_driven_guesses", "random_starts"]
+
+# features with one value per spectrum (scalars for one spectrum, arrays (B,) for a stack)
+_PER_SPECTRUM = ("z_min", "z_max", "r_hf", "r_lf", "f_peak", "c_series", "l_series", "alpha_lf", "warburg")
+
+
+def _larger(a, b):
+    """Python's ``max(a, b)`` elementwise: ``a`` unless ``b > a`` (NaN in ``b`` keeps ``a``)."""
+    return np.where(b > a, b, a)
 
 
 class SpectrumFeatures:
-    """Scalar features of one spectrum used for guesses and start ranges."""
+    """Features of one spectrum ``z`` (N,) or of a stack ``z`` (B, N) over shared frequencies
+    ``freq`` (N,), used for guesses and start ranges.
+
+    One spectrum: every feature is a scalar and ``arcs(n)`` gives (n,) arrays. A stack: the
+    per-spectrum features (``z_min``, ``z_max``, ``r_hf``, ``r_lf``, ``f_peak``, ``c_series``,
+    ``l_series``, ``alpha_lf``, ``warburg``) are arrays (B,), ``arcs(n)`` gives (B, n) arrays,
+    ``f_min``/``f_max`` stay scalars, and ``features[i]`` is spectrum i's own features."""
 
     def __init__(self, freq, z):
         order = np.argsort(freq)
-        f, z = np.asarray(freq, float)[order], np.asarray(z, complex)[order]
+        f = np.asarray(freq, float)[order]
+        z = np.asarray(z, complex)
+        stacked = z.ndim == 2
+        z = np.atleast_2d(z)[:, order]
         w = 2 * np.pi * f
         mag = np.abs(z)
-        self.f_min, self.f_max = f[0], f[-1]
-        self.z_min, self.z_max = max(mag.min(), 1e-300), mag.max()
-        self.r_hf = max(z.real[-1], 1e-3 * self.z_min)
-        self.r_lf = max(z.real[0], self.r_hf * 1.01)
         neg_im = -z.imag
-        self.f_peak = f[np.argmax(neg_im)] if np.any(neg_im > 0) else np.sqrt(f[0] * f[-1])
-        self.c_series = 1.0 / (w[0] * neg_im[0]) if neg_im[0] > 0 else 1.0 / (w[0] * mag[0])
-        self.l_series = z.imag[-1] / w[-1] if z.imag[-1] > 0 else self.z_min / w[-1] * 1e-2
-        k = min(3, len(f))
-        if k >= 2 and np.all(neg_im[:k] > 0):
-            lx, ly = np.log(f[:k]), np.log(neg_im[:k])
-            slope = np.sum((lx - lx.mean()) * (ly - ly.mean())) / np.sum((lx - lx.mean()) ** 2)  # least-squares line
-            self.alpha_lf = float(np.clip(-slope, 0.4, 1.0))
-        else:
-            self.alpha_lf = 0.85
-        self.warburg = mag[0] * np.sqrt(w[0]) * 0.3
-        self._f, self._neg_im = f, neg_im
+        rows = {"z_min": _larger(mag.min(axis=1), 1e-300), "z_max": mag.max(axis=1)}
+        rows["r_hf"] = _larger(z.real[:, -1], 1e-3 * rows["z_min"])
+        rows["r_lf"] = _larger(z.real[:, 0], rows["r_hf"] * 1.01)
+        rows["f_peak"] = np.where(np.any(neg_im > 0, axis=1), f[np.argmax(neg_im, axis=1)], np.sqrt(f[0] * f[-1]))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            rows["c_series"] = np.where(neg_im[:, 0] > 0, 1.0 / (w[0] * neg_im[:, 0]), 1.0 / (w[0] * mag[:, 0]))
+        rows["l_series"] = np.where(z.imag[:, -1] > 0, z.imag[:, -1] / w[-1], rows["z_min"] / w[-1] * 1e-2)
+        rows["alpha_lf"] = _low_frequency_alpha(f, neg_im)
+        rows["warburg"] = mag[:, 0] * np.sqrt(w[0]) * 0.3
+        self._set(f, neg_im, rows, stacked)
+
+    def _set(self, f, neg_im, rows, stacked):
+        self.f_min, self.f_max = f[0], f[-1]
+        self._f, self._neg_im, self._rows, self._stacked = f, neg_im, rows, stacked
+        for name in _PER_SPECTRUM:
+            setattr(self, name, rows[name] if stacked else rows[name][0])
+        if not stacked:
+            self.alpha_lf = float(self.alpha_lf)
+
+    def __len__(self) -> int:
+        if not self._stacked:
+            raise TypeError("features of one spectrum have no length")
+        return self._neg_im.shape[0]
+
+    def __getitem__(self, index) -> "SpectrumFeatures":
+        """Spectrum ``index``'s features (an integer), or a sub-stack (a slice or index array)."""
+        if not self._stacked:
+            raise TypeError("features of one spectrum cannot be indexed")
+        one = np.ndim(index) == 0 and not isinstance(index, slice)
+        pick = np.arange(len(self))[index]
+        pick = np.atleast_1d(pick)
+        out = object.__new__(SpectrumFeatures)
+        out._set(self._f, self._neg_im[pick], {k: v[pick] for k, v in self._rows.items()}, not one)
+        return out
 
     def arcs(self, n_arc: int) -> tuple[np.ndarray, np.ndarray]:
         """(R, τ) of ``n_arc`` arcs, highest frequency first: the tallest local maxima of −Z''
         over log f give τ = 1/(2π f_peak) and R ∝ the peak height (−Z''_max = R/2 for an RC
         arc); missing peaks are spread a decade apart. R sums to the low-minus-high-frequency
-        span."""
+        span. Shapes (n_arc,) for one spectrum, (B, n_arc) for a stack."""
+        r, tau = self._arc_rows(n_arc)
+        return (r, tau) if self._stacked else (r[0], tau[0])
+
+    def _arc_rows(self, n_arc: int) -> tuple[np.ndarray, np.ndarray]:
         f, y = self._f, self._neg_im
-        r_total = max(self.r_lf - self.r_hf, 0.05 * self.z_max)
-        inner = np.flatnonzero((y[1:-1] > y[:-2]) & (y[1:-1] >= y[2:]) & (y[1:-1] > 0)) + 1
-        ends = [i for i in (0, len(f) - 1) if len(f) > 1 and y[i] > 0 and y[i] > y[1 if i == 0 else -2]]
-        peaks = np.concatenate([inner, np.asarray(ends, int)])
-        peaks = peaks[np.argsort(-y[peaks])][:n_arc] if peaks.size else np.asarray([], int)
-        f_peaks = list(f[peaks]) if peaks.size else [self.f_peak]
-        heights = list(y[peaks]) if peaks.size else [r_total / 2]
-        while len(f_peaks) < n_arc:  # overlapping arcs: split the dominant one a decade apart
-            f_peaks.append(f_peaks[0] / 10 ** len(f_peaks))
-            heights.append(heights[0])
-        order = np.argsort(f_peaks)[::-1]
-        f_peaks = np.asarray(f_peaks)[order]
-        r = np.asarray(heights, float)[order]
-        r = r_total * r / r.sum()
+        b, n = y.shape
+        rows = np.arange(b)
+        r_total = _larger(self._rows["r_lf"] - self._rows["r_hf"], 0.05 * self._rows["z_max"])
+        is_peak = np.zeros((b, n), bool)
+        is_peak[:, 1:-1] = (y[:, 1:-1] > y[:, :-2]) & (y[:, 1:-1] >= y[:, 2:]) & (y[:, 1:-1] > 0)
+        if n > 1:  # the ends count when they rise above their only neighbour
+            is_peak[:, 0] = (y[:, 0] > 0) & (y[:, 0] > y[:, 1])
+            is_peak[:, -1] = (y[:, -1] > 0) & (y[:, -1] > y[:, -2])
+        # candidates listed interior maxima first (by rising frequency), then the two ends:
+        # equal heights are taken in that order
+        columns = np.concatenate([np.arange(1, n - 1), [0, n - 1]]) if n > 1 else np.zeros(0, int)
+        height = np.where(is_peak[:, columns], y[:, columns], -np.inf)
+        found = np.minimum(is_peak.sum(axis=1), n_arc)
+        f_peaks = np.zeros((b, n_arc))
+        heights = np.zeros((b, n_arc))
+        for k in range(min(n_arc, columns.size)):  # the k-th tallest (argmax: first of equals)
+            j = np.argmax(height, axis=1)
+            f_peaks[:, k], heights[:, k] = f[columns[j]], height[rows, j]
+            height[rows, j] = -np.inf
+        none = found == 0
+        f_peaks[:, 0] = np.where(none, self._rows["f_peak"], f_peaks[:, 0])
+        heights[:, 0] = np.where(none, r_total / 2, heights[:, 0])
+        # overlapping arcs: split the dominant one a decade apart
+        k = np.arange(n_arc)
+        fill = k >= np.maximum(found, 1)[:, None]
+        f_peaks = np.where(fill, f_peaks[:, :1] / 10.0**k, f_peaks)
+        heights = np.where(fill, heights[:, :1], heights)
+        order = np.argsort(f_peaks, axis=1, kind="stable")[:, ::-1]
+        f_peaks = np.take_along_axis(f_peaks, order, axis=1)
+        r = np.take_along_axis(heights, order, axis=1)
+        r = r_total[:, None] * r / r.sum(axis=1, keepdims=True)
         return r, 1.0 / (2 * np.pi * f_peaks)
+
+
+def _low_frequency_alpha(f, neg_im) -> np.ndarray:
+    """CPE exponent from the least-squares slope of log(−Z'') over log f at the three lowest
+    frequencies (0.85 where −Z'' is not positive there), clipped to [0.4, 1]."""
+    k = min(3, f.size)
+    if k < 2:
+        return np.full(neg_im.shape[0], 0.85)
+    ok = np.all(neg_im[:, :k] > 0, axis=1)
+    lx, ly = np.log(f[:k]), np.log(np.where(ok[:, None], neg_im[:, :k], 1.0))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        slope = np.sum((lx - lx.mean()) * (ly - ly.mean(axis=1, keepdims=True)), axis=1) / np.sum((lx - lx.mean()) ** 2)
+    return np.where(ok, np.clip(-slope, 0.4, 1.0), 0.85)
 
 
 def _roles(circuit: Circuit):
@@ -88,57 +159,70 @@ def _roles(circuit: Circuit):
     return roles, count[0]
 
 
-def data_driven_guess(circuit: Circuit, table: ParameterTable, features: SpectrumFeatures, registry: Registry = DEFAULT_REGISTRY) -> np.ndarray:
-    """A starting value for every parameter (user starts and fixed values take precedence)."""
+def _circuit_layout(circuit: Circuit, elements, registry: Registry):
+    """What the guess needs of the circuit alone: element → arc (-1: outer series chain), the
+    number of arcs to look for (at least one), the resistors of the outer chain (≥ 1), and per
+    arc its resistive elements (≥ 1), which share that arc's resistance."""
     roles, n_blocks = _roles(circuit)
+    n_series_r = max(1, sum(e.symbol == "R" and roles[e.name] < 0 for e in elements))
+    resistive = np.array([roles[e.name] for e in elements if roles[e.name] >= 0 and registry[e.symbol].parameters[0].unit == "Ohm"], int)
+    n_res = np.maximum(np.bincount(resistive, minlength=max(n_blocks, 1)), 1).astype(float)
+    return roles, max(n_blocks, 1), n_series_r, n_res
+
+
+def data_driven_guesses(circuit: Circuit, table: ParameterTable, features: SpectrumFeatures, registry: Registry = DEFAULT_REGISTRY) -> np.ndarray:
+    """A starting value for every parameter and spectrum, shape (B, P) (B = 1 for the features
+    of one spectrum); user starts and fixed values take precedence."""
     elements = list(circuit.elements())
-    n_series_r = max(1, sum(1 for e in elements if e.symbol == "R" and roles[e.name] < 0))
-    # resistive elements per arc share that arc's resistance
-    n_res = np.ones(max(n_blocks, 1))
-    for e in elements:
-        if roles[e.name] >= 0 and registry[e.symbol].parameters[0].unit == "Ohm":
-            n_res[roles[e.name]] += 1
-    n_res = np.maximum(n_res - 1, 1)
-    r_arcs, taus = features.arcs(max(n_blocks, 1))
-    guess: dict[str, float] = {}
+    roles, n_arcs, n_series_r, n_res = _circuit_layout(circuit, elements, registry)
+    rows = features._rows
+    r_arcs, taus = features._arc_rows(n_arcs)
+    r_series = r_arcs.sum(axis=1)
+    tau_series = 1.0 / (2 * np.pi * rows["f_peak"])
+    guess: dict[str, np.ndarray | float] = {}
     for e in elements:
         block = roles[e.name]
         inside = block >= 0
-        r_arc = r_arcs[block] / n_res[block] if inside else r_arcs.sum()
-        tau = taus[block] if inside else 1.0 / (2 * np.pi * features.f_peak)
+        r_arc = r_arcs[:, block] / n_res[block] if inside else r_series
+        tau = taus[:, block] if inside else tau_series
         f_arc = 1.0 / (2 * np.pi * tau)
         spec = registry[e.symbol]
         names = spec.parameter_names(e.name)
-        sym = registry[e.symbol].symbol
+        sym = spec.symbol
         if sym == "R":
-            guess[names[0]] = r_arc if inside else features.r_hf / n_series_r
+            guess[names[0]] = r_arc if inside else rows["r_hf"] / n_series_r
         elif sym == "C":
-            guess[names[0]] = tau / r_arc if inside else features.c_series
+            guess[names[0]] = tau / r_arc if inside else rows["c_series"]
         elif sym == "L":
-            guess[names[0]] = features.l_series
+            guess[names[0]] = rows["l_series"]
         elif sym == "CPE":
-            alpha = 0.85 if inside else features.alpha_lf
-            c = tau / r_arc if inside else features.c_series
+            alpha = 0.85 if inside else rows["alpha_lf"]
+            c = tau / r_arc if inside else rows["c_series"]
             guess[names[0]] = c * (2 * np.pi * (f_arc if inside else features.f_min)) ** (1 - alpha)
             guess[names[1]] = alpha
         elif sym == "W":
-            guess[names[0]] = features.warburg
-        else:
+            guess[names[0]] = rows["warburg"]
+        else:  # other elements: each parameter by its unit
+            by_unit = {"Ohm": r_arc, "s": tau, "1": 0.85}
             for p, n in zip(spec.parameters, names):
-                if p.unit == "Ohm":
-                    guess[n] = r_arc
-                elif p.unit == "s":
-                    guess[n] = tau
-                elif p.unit == "1":
-                    guess[n] = 0.85
-                else:
-                    guess[n] = p.default
-    x = np.array([guess.get(n, np.nan) for n in table.names])
+                guess[n] = by_unit.get(p.unit, p.default)
+    x = np.full((r_arcs.shape[0], len(table.names)), np.nan)
+    for j, name in enumerate(table.names):
+        x[:, j] = guess.get(name, np.nan)
     given = ~np.isnan(table.values)
-    x[given] = table.values[given]
+    x[:, given] = table.values[given]
     bad = ~np.isfinite(x)
-    x[bad] = [circuit.parameter_specs(registry)[n].default for n in np.asarray(table.names)[bad]]
+    if bad.any():
+        specs = circuit.parameter_specs(registry)
+        x = np.where(bad, np.array([specs[n].default for n in table.names], float), x)
     return _clip_inside(x, table)
+
+
+def data_driven_guess(circuit: Circuit, table: ParameterTable, features: SpectrumFeatures, registry: Registry = DEFAULT_REGISTRY) -> np.ndarray:
+    """A starting value for every parameter (user starts and fixed values take precedence):
+    shape (P,) for the features of one spectrum, (B, P) for a stack."""
+    guesses = data_driven_guesses(circuit, table, features, registry)
+    return guesses if features._stacked else guesses[0]
 
 
 def _clip_inside(x, table: ParameterTable) -> np.ndarray:
