@@ -3,6 +3,7 @@
 Importing impedax switches JAX to 64-bit floats (``jax_enable_x64``) for the whole process:
 impedance spectra span many decades and single precision loses the small arcs. Set
 ``IMPEDAX_NO_X64=1`` before importing to leave JAX's setting alone (not recommended).
+If JAX has not run anything yet, it also gets one CPU device per core (`_use_every_core`).
 """
 
 from __future__ import annotations
@@ -13,6 +14,27 @@ import jax as _jax
 
 if _os.environ.get("IMPEDAX_NO_X64") != "1":
     _jax.config.update("jax_enable_x64", True)
+
+
+def _use_every_core() -> None:
+    """One JAX CPU device per core, so batch fits run their chunks in parallel (XLA runs one
+    computation at a time per device). Only before JAX has started and when neither the user
+    nor XLA_FLAGS chose a count; ``IMPEDAX_CPU_DEVICES=N`` sets it (1: leave JAX alone)."""
+    chosen = _os.environ.get("IMPEDAX_CPU_DEVICES")
+    if "xla_force_host_platform_device_count" in _os.environ.get("XLA_FLAGS", "") or _jax.config.jax_num_cpu_devices != -1:
+        return
+    try:
+        count = int(chosen) if chosen else min(len(_os.sched_getaffinity(0)), 8)
+    except (ValueError, AttributeError):
+        count = min(_os.cpu_count() or 1, 8)
+    if count > 1:
+        try:
+            _jax.config.update("jax_num_cpu_devices", count)
+        except RuntimeError:  # JAX already ran something: its devices stay as they are
+            pass
+
+
+_use_every_core()
 
 from .circuits import (  # noqa: E402
     Circuit as Circuit,

@@ -6,8 +6,8 @@ dask="parallelized")``, so the same call scales out on a ``dask.distributed`` cl
 
 from __future__ import annotations
 
+import itertools
 import math
-import os
 import time
 import warnings as python_warnings
 from dataclasses import dataclass
@@ -18,9 +18,9 @@ import xarray as xr
 
 from ..circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ._core import _MAX_STEPS_CODE, SCREEN_STEPS, SPECTRUM_KEYS, tree_solver
-from ._fit import _args, _null_sets, _to_internal, _result, _starts_from, _weights, at_noise_floor, covariances, fit_notes, information_criteria, _better, _unscale, residual_scale
+from ._fit import _args, _guess_start, _null_sets, _result, _starts_from, _weights, at_noise_floor, covariances, fit_notes, information_criteria, _better, _unscale, residual_scale
 from ._fit import CORRELATION_LIMIT, RELATIVE_ERROR_LIMIT, SINGULAR_RATIO_LIMIT
-from ._starts import SpectrumFeatures, data_driven_guess
+from ._starts import SpectrumFeatures
 from ._parameters import ParameterTable
 
 __all__ = ["BatchFitResult", "fit_batch"]
@@ -94,7 +94,7 @@ def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n
     best continued to convergence). All solves go through the lane solver (`_make_lanes`)."""
     b = z.shape[0]
     inv_re, inv_im = _weights(z, sigma, weighting, source)
-    features = [SpectrumFeatures(freq, z[i]) for i in range(b)]
+    features = SpectrumFeatures(freq, z)
     _, lanes, finish = tree_solver(circuit, registry, max_steps)
     scale = residual_scale(z, inv_re, inv_im)
     shared = {k: v for k, v in _args(table, freq, z[0], inv_re[0], inv_im[0]).items() if k not in SPECTRUM_KEYS and k != "model_args"}
@@ -102,7 +102,7 @@ def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n
     rows = {"z": z, "inv_w_re": inv_re * scale[:, None], "inv_w_im": inv_im * scale[:, None], "x_fixed": np.broadcast_to(x_fixed, (b, x_fixed.size))}
     solver = _LaneRunner(lanes, finish, rows, shared)
 
-    guesses = _to_internal(table, np.stack([data_driven_guess(circuit, table, features[i], registry) for i in range(b)]))
+    guesses = _guess_start(circuit, table, features, registry)
     u, chi2, done, steps = solver.solve(guesses, np.arange(b), np.full(b, max_steps))
     out = _unscale(solver.outputs(u, np.arange(b), done, steps, steps), scale)
     poor = np.flatnonzero(~at_noise_floor(freq, z, out["z_model"], inv_re, inv_im, out["code"])) if n_starts > 1 else np.zeros(0, int)
@@ -135,7 +135,7 @@ class _LaneRunner:
         self.lanes, self.finish, self.rows, self.shared = lanes, finish, rows, shared
 
     def _chunks(self, n: int, capacity: int, n_lanes: int):
-        n_chunks = max(-(-n // capacity), min(_PARTS, -(-n // (2 * n_lanes))))
+        n_chunks = max(-(-n // capacity), min(len(jax.devices()), -(-n // (2 * n_lanes))))
         return np.array_split(np.arange(n), n_chunks)
 
     def _local(self, spectrum: np.ndarray, capacity: int):
@@ -147,18 +147,20 @@ class _LaneRunner:
     def _run(self, u0, spectrum, budget, *, many: bool):
         n_lanes, capacity = (_LANES, _CAPACITY) if many else (_FEW_LANES, _FEW_CAPACITY)
         solve = self.lanes(n_lanes)
+        chunks = self._chunks(len(u0), capacity, n_lanes)
         pending = []
-        for part in self._chunks(len(u0), capacity, n_lanes):
+        for device, part in zip(itertools.cycle(jax.devices()), chunks):
             rows, local = self._local(spectrum[part], capacity)
             pad = capacity - part.size
-            pending.append(solve(
+            inputs = (
                 np.concatenate([u0[part], np.repeat(u0[part[:1]], pad, axis=0)]),
                 np.concatenate([local, np.zeros(pad, int)]).astype(np.int32),
                 np.concatenate([budget[part], np.zeros(pad, int)]),
-                part.size, rows, self.shared, drain=not many,
-            ))
+                part.size, rows, self.shared,
+            )
+            pending.append(solve(*jax.device_put(inputs, device), drain=not many))  # runs where its inputs are
         results = jax.device_get(pending)
-        return [np.concatenate([r[i][: p.size] for r, p in zip(results, self._chunks(len(u0), capacity, n_lanes))]) for i in range(4)]
+        return [np.concatenate([r[i][: p.size] for r, p in zip(results, chunks)]) for i in range(4)]
 
     def solve(self, u0, spectrum, budget):
         """(u, chi², done, steps) of every problem, each run to convergence or its budget."""
@@ -173,13 +175,14 @@ class _LaneRunner:
     def outputs(self, u, spectrum, done, steps, steps_total) -> dict:
         """Solver outputs at solutions ``u`` of spectra ``spectrum`` (as `_core._finish`)."""
         parts = []
-        for part in self._chunks(len(u), _CAPACITY, _LANES):
+        chunks = self._chunks(len(u), _CAPACITY, _LANES)
+        for device, part in zip(itertools.cycle(jax.devices()), chunks):
             rows, local = self._local(spectrum[part], _CAPACITY)
             pad = _CAPACITY - part.size
             order = np.concatenate([local, np.zeros(pad, int)])
-            parts.append(self.finish(np.concatenate([u[part], np.repeat(u[part[:1]], pad, axis=0)]), {k: v[order] for k, v in rows.items()}, self.shared))
+            inputs = (np.concatenate([u[part], np.repeat(u[part[:1]], pad, axis=0)]), {k: v[order] for k, v in rows.items()}, self.shared)
+            parts.append(self.finish(*jax.device_put(inputs, device)))
         parts = jax.device_get(parts)
-        chunks = self._chunks(len(u), _CAPACITY, _LANES)
         out = {k: np.concatenate([p[k][: c.size] for p, c in zip(parts, chunks)]) for k in parts[0] if k != "x_free"}
         out.update(code=np.where(done, 0, _MAX_STEPS_CODE), steps=steps, steps_total=steps_total, chi2_starts=out["chi2"][:, None])
         return out
@@ -227,7 +230,6 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
     return np.concatenate([values, stderr, stats, z_model.real, z_model.imag], axis=-1), notes
 
 
-_PARTS = max(1, min(os.cpu_count() or 1, 8))
 # lane solver shapes: many lanes for batches, few for small sets and stragglers (each pair is
 # one compilation per circuit)
 _LANES, _CAPACITY = 64, 512
