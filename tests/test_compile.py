@@ -114,3 +114,35 @@ def test_duplicate_names_are_errors_in_built_trees():
     c = ix.Series([ix.Element("R", "R1"), ix.Element("C", "R1")])
     with pytest.raises(ix.CircuitError, match="duplicate"):
         ix.compile_circuit(c)
+
+
+def test_analytic_jacobian_matches_hand_derivatives_of_an_arc():
+    """∂Z/∂θ of R0 + R1 || CPE1 by hand: with D = 1 + R1 Q (jω)^α,
+    ∂Z/∂R0 = 1, ∂Z/∂R1 = 1/D², ∂Z/∂Q = −R1² (jω)^α / D², ∂Z/∂α = −R1² Q (jω)^α ln(jω) / D²."""
+    r0, r1, q, a = 10.0, 400.0, 1e-7, 0.8
+    compiled = ix.compile_circuit("R0 + R1 || CPE1")
+    theta = jnp.array([r0, r1, q, a])  # parameter_names order
+    assert compiled.parameter_names == ("R0", "R1", "CPE1.Q", "CPE1.alpha")
+    z, jac = compiled.value_and_jacobian(theta, F)
+    s_a = W**a * np.exp(1j * np.pi / 2 * a)
+    d = 1 + r1 * q * s_a
+    log_s = np.log(W) + 1j * np.pi / 2
+    expected = np.stack([np.ones_like(S), 1 / d**2, -(r1**2) * s_a / d**2, -(r1**2) * q * s_a * log_s / d**2], axis=-1)
+    np.testing.assert_allclose(np.asarray(z), r0 + r1 / d, rtol=1e-12)
+    np.testing.assert_allclose(np.asarray(jac), expected, rtol=1e-10, atol=1e-14 * np.abs(expected).max())
+
+
+@pytest.mark.parametrize(
+    "text",
+    ["R1", "CPE1", MEYER, "R0 + (R1 + W1) || CPE1 + L1", "(R1 || C1) + (R2 || (C2 + R3) || CPE2) + Wo1 || Ws1 + G1 + CC1 + HN1"],
+)
+def test_analytic_jacobian_matches_forward_mode(text):
+    compiled = ix.compile_circuit(text)
+    specs = ix.parse(text).parameter_specs()
+    rng = np.random.default_rng(0)
+    theta = jnp.array([specs[n].default * (1 if specs[n].unit == "1" else 10 ** rng.uniform(-1, 1)) for n in compiled.parameter_names])
+    z, jac = jax.jit(compiled.value_and_jacobian)(theta, F)
+    # forward mode through the whole circuit, one tangent per parameter
+    expected = np.stack([np.asarray(jax.jvp(lambda t: compiled.vector(t, F), (theta,), (jnp.eye(theta.size)[i],))[1]) for i in range(theta.size)], axis=-1)
+    np.testing.assert_allclose(np.asarray(z), np.asarray(compiled.vector(theta, F)), rtol=1e-13)
+    np.testing.assert_allclose(np.asarray(jac), expected, rtol=1e-9, atol=1e-12 * np.abs(expected).max())

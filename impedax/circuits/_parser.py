@@ -14,6 +14,8 @@ Also converters from impedance.py strings (``R0-p(R1,C1)-CPE1``) and Boukamp CDC
 
 from __future__ import annotations
 
+import functools
+
 import re
 from dataclasses import dataclass
 
@@ -187,6 +189,12 @@ def parse(text: str, registry: Registry = DEFAULT_REGISTRY) -> Circuit:
         return text
     if not isinstance(text, str):
         raise CircuitSyntaxError(repr(text), 0, f"a circuit must be text, got {type(text).__name__}")
+    return _parse_text(text, registry)
+
+
+@functools.lru_cache(maxsize=256)
+def _parse_text(text: str, registry: Registry) -> Circuit:
+    # circuits are immutable, so a repeated text (a fit per spectrum) is parsed once
     return _Parser(text, registry).parse()
 
 

@@ -18,7 +18,7 @@ import xarray as xr
 
 from ..circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ._core import _MAX_STEPS_CODE, SCREEN_STEPS, SPECTRUM_KEYS, tree_solver
-from ._fit import _args, _guess_start, _null_sets, _result, _starts_from, _weights, at_noise_floor, covariances, fit_notes, information_criteria, _better, _unscale, residual_scale
+from ._fit import _args, _guess_start, _null_sets, _to_internal, _result, _starts_from, _weights, at_noise_floor, covariances, fit_notes, information_criteria, _better, _unscale, residual_scale
 from ._fit import CORRELATION_LIMIT, RELATIVE_ERROR_LIMIT, SINGULAR_RATIO_LIMIT
 from ._starts import SpectrumFeatures
 from ._parameters import ParameterTable
@@ -95,14 +95,16 @@ def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n
     b = z.shape[0]
     inv_re, inv_im = _weights(z, sigma, weighting, source)
     features = SpectrumFeatures(freq, z)
-    _, lanes, finish = tree_solver(circuit, registry, max_steps)
+    _, lanes, finish, chi2_at = tree_solver(circuit, registry, max_steps)
     scale = residual_scale(z, inv_re, inv_im)
     shared = {k: v for k, v in _args(table, freq, z[0], inv_re[0], inv_im[0]).items() if k not in SPECTRUM_KEYS and k != "model_args"}
     x_fixed = np.where(np.isnan(table.values), 1.0, table.values)
     rows = {"z": z, "inv_w_re": inv_re * scale[:, None], "inv_w_im": inv_im * scale[:, None], "x_fixed": np.broadcast_to(x_fixed, (b, x_fixed.size))}
-    solver = _LaneRunner(lanes, finish, rows, shared)
+    solver = _LaneRunner(lanes, finish, chi2_at, rows, shared)
 
     guesses = _guess_start(circuit, table, features, registry)
+    if b >= REFERENCE_MIN_SPECTRA:
+        guesses = _with_reference_start(guesses, solver, circuit, table, freq, z, sigma, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
     u, chi2, done, steps = solver.solve(guesses, np.arange(b), np.full(b, max_steps))
     out = _unscale(solver.outputs(u, np.arange(b), done, steps, steps), scale)
     poor = np.flatnonzero(~at_noise_floor(freq, z, out["z_model"], inv_re, inv_im, out["code"])) if n_starts > 1 else np.zeros(0, int)
@@ -126,23 +128,50 @@ def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n
     return out, used
 
 
+# batches of at least this many spectra also try the solution of a reference spectrum as start
+REFERENCE_MIN_SPECTRA = 16
+
+
+def _with_reference_start(guesses, solver, circuit, table, freq, z, sigma, **options) -> np.ndarray:
+    """Spectra of one batch (trials, subjects, conditions) usually resemble each other: the fit
+    of the most typical spectrum (closest to the median log|Z|) is a better start for most of
+    them than their own data-driven guess. Each spectrum starts from whichever of the two has
+    the lower chi² on its data."""
+    log_mag = np.log(np.abs(z))
+    typical = int(np.argmin(np.sum((log_mag - np.median(log_mag, axis=0)) ** 2, axis=1)))
+    reference, _ = _solve_stack(circuit, table, freq, z[typical : typical + 1], None if sigma is None else sigma[typical : typical + 1], **options)
+    if not np.isfinite(reference["chi2"][0]):
+        return guesses
+    u_ref = np.broadcast_to(_to_internal(table, reference["x"][0]), guesses.shape)
+    spectra = np.arange(len(z))
+    chi2_ref, chi2_guess = solver.chi2_at([u_ref, guesses], spectra)
+    take = chi2_ref < chi2_guess
+    return np.where(take[:, None], u_ref, guesses)
+
+
 class _LaneRunner:
     """Host side of the lane solver: splits problems into fixed-size chunks (one compilation
     serves any batch size; at least one chunk per core, dispatched together so they run in
     parallel), then continues problems left open by the many-lane pass on a few lanes."""
 
-    def __init__(self, lanes, finish, rows: dict, shared: dict):
-        self.lanes, self.finish, self.rows, self.shared = lanes, finish, rows, shared
+    def __init__(self, lanes, finish, chi2, rows: dict, shared: dict):
+        self.lanes, self.finish, self.chi2, self.rows, self.shared = lanes, finish, chi2, rows, shared
+        self._placed: dict = {}
 
     def _chunks(self, n: int, capacity: int, n_lanes: int):
         n_chunks = max(-(-n // capacity), min(len(jax.devices()), -(-n // (2 * n_lanes))))
         return np.array_split(np.arange(n), n_chunks)
 
-    def _local(self, spectrum: np.ndarray, capacity: int):
-        """The rows a chunk uses, padded to ``capacity``, and the problems' indices into them."""
-        used, local = np.unique(spectrum, return_inverse=True)
-        pad = np.concatenate([used, np.full(capacity - used.size, used[0])])
-        return {k: np.ascontiguousarray(v[pad]) for k, v in self.rows.items()}, local
+    def _local(self, spectrum: np.ndarray, capacity: int, device):
+        """The rows a chunk uses, padded to ``capacity`` and placed on ``device``, and the
+        problems' indices into them (kept: successive passes reuse the same chunks)."""
+        key = (spectrum.tobytes(), capacity, device.id)
+        if key not in self._placed:
+            used, local = np.unique(spectrum, return_inverse=True)
+            pad = np.concatenate([used, np.full(capacity - used.size, used[0])])
+            rows = jax.device_put(({k: np.ascontiguousarray(v[pad]) for k, v in self.rows.items()}, self.shared), device)
+            self._placed[key] = rows, np.concatenate([local, np.zeros(capacity - spectrum.size, int)]).astype(np.int32)
+        return self._placed[key]
 
     def _run(self, u0, spectrum, budget, *, many: bool):
         n_lanes, capacity = (_LANES, _CAPACITY) if many else (_FEW_LANES, _FEW_CAPACITY)
@@ -150,15 +179,10 @@ class _LaneRunner:
         chunks = self._chunks(len(u0), capacity, n_lanes)
         pending = []
         for device, part in zip(itertools.cycle(jax.devices()), chunks):
-            rows, local = self._local(spectrum[part], capacity)
+            (rows, shared), local = self._local(spectrum[part], capacity, device)
             pad = capacity - part.size
-            inputs = (
-                np.concatenate([u0[part], np.repeat(u0[part[:1]], pad, axis=0)]),
-                np.concatenate([local, np.zeros(pad, int)]).astype(np.int32),
-                np.concatenate([budget[part], np.zeros(pad, int)]),
-                part.size, rows, self.shared,
-            )
-            pending.append(solve(*jax.device_put(inputs, device), drain=not many))  # runs where its inputs are
+            inputs = jax.device_put((np.concatenate([u0[part], np.repeat(u0[part[:1]], pad, axis=0)]), local, np.concatenate([budget[part], np.zeros(pad, int)])), device)
+            pending.append(solve(*inputs, part.size, rows, shared, drain=not many))  # runs where its inputs are
         results = jax.device_get(pending)
         return [np.concatenate([r[i][: p.size] for r, p in zip(results, chunks)]) for i in range(4)]
 
@@ -172,18 +196,28 @@ class _LaneRunner:
             u[open_], chi2[open_], done[open_], steps[open_] = u2, chi2_2, done2, steps[open_] + steps2
         return u, chi2, done, steps
 
+    def _per_spectrum(self, fn, points, spectrum) -> list:
+        """``fn(*points, local, rows, shared)`` at ``points`` (arrays (n, K)) of spectra
+        ``spectrum``, in fixed-size chunks spread over the devices; each chunk's results,
+        trimmed."""
+        capacity = _CAPACITY if len(spectrum) > _FEW_CAPACITY else _FEW_CAPACITY
+        chunks = self._chunks(len(spectrum), capacity, _LANES)
+        pending = []
+        for device, part in zip(itertools.cycle(jax.devices()), chunks):
+            (rows, shared), local = self._local(spectrum[part], capacity, device)
+            at = [np.concatenate([u[part], np.repeat(u[part[:1]], capacity - part.size, axis=0)]) for u in points]
+            pending.append(fn(*jax.device_put((*at, local), device), rows, shared))
+        return [jax.tree_util.tree_map(lambda a, n=part.size: a[:n], r) for r, part in zip(jax.device_get(pending), chunks)]
+
+    def chi2_at(self, points, spectrum) -> list[np.ndarray]:
+        """Weighted chi² of spectra ``spectrum`` at each array of points (+inf where not finite)."""
+        parts = self._per_spectrum(lambda *a: tuple(self.chi2(u, *a[-3:]) for u in a[:-3]), [np.asarray(u, float) for u in points], spectrum)
+        return [np.nan_to_num(np.concatenate([p[i] for p in parts]), nan=np.inf) for i in range(len(points))]
+
     def outputs(self, u, spectrum, done, steps, steps_total) -> dict:
         """Solver outputs at solutions ``u`` of spectra ``spectrum`` (as `_core._finish`)."""
-        parts = []
-        chunks = self._chunks(len(u), _CAPACITY, _LANES)
-        for device, part in zip(itertools.cycle(jax.devices()), chunks):
-            rows, local = self._local(spectrum[part], _CAPACITY)
-            pad = _CAPACITY - part.size
-            order = np.concatenate([local, np.zeros(pad, int)])
-            inputs = (np.concatenate([u[part], np.repeat(u[part[:1]], pad, axis=0)]), {k: v[order] for k, v in rows.items()}, self.shared)
-            parts.append(self.finish(*jax.device_put(inputs, device)))
-        parts = jax.device_get(parts)
-        out = {k: np.concatenate([p[k][: c.size] for p, c in zip(parts, chunks)]) for k in parts[0] if k != "x_free"}
+        parts = self._per_spectrum(self.finish, [u], spectrum)
+        out = {k: np.concatenate([p[k] for p in parts]) for k in parts[0] if k != "x_free"}
         out.update(code=np.where(done, 0, _MAX_STEPS_CODE), steps=steps, steps_total=steps_total, chi2_starts=out["chi2"][:, None])
         return out
 
@@ -218,9 +252,16 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
     notes: list[tuple[str, ...]] = [()] * b
     z_model = np.array(out["z_model"])
     names, free = table.names, table.free_names
-    for i in np.flatnonzero(flagged & ~odd):  # the exact warning text of a single fit
-        null_sets, ratio = _null_sets(sv[i], vt[i], free)
-        notes[i] = fit_notes(table, dict(zip(names, values[i])), dict(zip(names, stderr[i])), corr[i], null_sets, ratio, finite=True, converged=True, message="")
+    texts = np.flatnonzero(flagged & ~odd)  # these get the exact warning text of a single fit
+    pairs: dict[int, list] = {int(i): [] for i in texts}
+    if texts.size:
+        upper = np.triu(np.ones((k, k), bool), 1)
+        for i, a, c in np.argwhere((np.abs(corr[texts]) > CORRELATION_LIMIT) & upper).tolist():
+            pairs[int(texts[i])].append((a, c))
+    singular = np.any(sv < SINGULAR_RATIO_LIMIT * sv[:, :1], axis=1) if k else np.zeros(b, bool)
+    for i in texts.tolist():
+        null_sets, ratio = _null_sets(sv[i], vt[i], free) if singular[i] else ([], float(sv[i, -1] / sv[i, 0]) if sv[i, 0] > 0 else 1.0)
+        notes[i] = fit_notes(table, dict(zip(names, values[i].tolist())), dict(zip(names, stderr[i].tolist())), corr[i], null_sets, ratio, finite=True, converged=True, message="", pairs=pairs[i])
     for i in np.flatnonzero(odd):
         r = _result(circuit, table, freq, z[i], {key: val[i] for key, val in out.items()}, weighting, int(used[i]), 0.0, registry)
         values[i] = [r.values[n] for n in names]

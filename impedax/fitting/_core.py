@@ -1,21 +1,21 @@
 """The compiled least-squares core shared by `fit`, batch fits and candidate fits.
 
-One jitted function per model form runs a Levenberg–Marquardt solve (optimistix) from many
-starts at once (``vmap``) and returns the best. The residual is the real-stacked weighted
-residual ``[Re(Z_m − Z_d)/w_re, Im(Z_m − Z_d)/w_im]``; optimistix squares it once.
+The residual is the real-stacked weighted residual ``[Re(Z_m − Z_d)/w_re, Im(Z_m − Z_d)/w_im]``,
+squared once by the solver. Free parameters are gathered into a vector of length K (padded
+entries point at a dummy slot and have zero Jacobian columns), so fits with the same K, start
+count and frequency count share one compilation. Three solvers:
 
-Free parameters are gathered into a vector of length K (padded entries point at a dummy slot
-and have zero Jacobian columns), so fits with the same K, start count and frequency count
-share one compilation. Two model forms:
-
-* ``tree``: a circuit compiled by `compile_circuit` (parameters in ``parameter_names`` order);
-* ``program``: a `CircuitProgram` whose arrays travel as data, so one compilation serves every
-  topology of a `ProgramLayout` (used by the diagnosis to fit many candidates).
-
-Warm-started candidate fits (the diagnosis) use ``program_solver(..., single_phase=True)``:
-every start runs one compact Levenberg–Marquardt loop (`levenberg_marquardt`, one
-linearisation per iteration, traced once) and the best is kept. Without the screening phase
-and with a single trace of the model's Jacobian it compiles several times faster.
+* one spectrum of a circuit compiled by `compile_circuit` (``tree_solver(...)[0]``): optimistix
+  Levenberg–Marquardt from one or many starts (``vmap``), the best kept. The circuit's analytic
+  Jacobian (`CompiledCircuit.value_and_jacobian`) is attached to the residual as a custom JVP,
+  so each linearisation costs one evaluation of it instead of forward mode through the circuit;
+* many spectra of one circuit (``tree_solver(...)[1]``, `_make_lanes`): a work queue of
+  independent Levenberg–Marquardt problems over a fixed number of ``vmap`` lanes, with the
+  same analytic Jacobian. optimistix's solver state holds closures that cannot be swapped
+  lane by lane, so this loop runs the compact iteration of `_lm_parts`;
+* candidate circuits of one `ProgramLayout` (``program_solver``): the program's arrays travel
+  as data, so one compilation serves every topology (the diagnosis). Warm-started candidate
+  fits use ``single_phase=True``: every start runs the `_lm_parts` loop and the best is kept.
 """
 
 from __future__ import annotations
@@ -82,11 +82,22 @@ def _tree_residuals(compiled):
     """As `_residuals` for a compiled circuit, with its analytic Jacobian
     (`CompiledCircuit.value_and_jacobian`); ``residual_u`` carries it as a custom JVP, so
     optimistix's linearisation costs one evaluation of it rather than forward mode through
+    the circuit. Also ``chi2_u``, the sum of squares alone.
+
+    Re and Im parts are weighted apart and, in what runs under ``vmap`` (``normal_u``,
+    ``chi2_u``), never concatenated: XLA's concatenation of the halves costs several times
     the circuit."""
 
-    def linearize_x(x_free, args):
+    def parts_x(x_free, args):
+        """(J_re, J_im) (N, K) and (r_re, r_im) (N,), weighted."""
         z, jac = compiled.value_and_jacobian(_free_to_full(x_free, args), args["freq"])
-        return _weighted(jac[:, args["free_index"]], args), _weighted(z - args["z"], args)
+        jac, r = jac[:, args["free_index"]], z - args["z"]
+        w_re, w_im = args["inv_w_re"], args["inv_w_im"]
+        return jac.real * w_re[:, None], jac.imag * w_im[:, None], r.real * w_re, r.imag * w_im
+
+    def linearize_x(x_free, args):
+        j_re, j_im, r_re, r_im = parts_x(x_free, args)
+        return jnp.concatenate([j_re, j_im]), jnp.concatenate([r_re, r_im])
 
     def linearize_u(u, args):
         x, dx_du = _u_to_x(u, args)
@@ -94,12 +105,20 @@ def _tree_residuals(compiled):
         return jac * dx_du[None, :], r
 
     def normal_u(u, args):
-        # (M, K) layout: XLA's batched JᵀJ is several times faster this way than with (K, M)
-        jac, r = linearize_u(u, args)
+        x, dx_du = _u_to_x(u, args)
+        j_re, j_im, r_re, r_im = parts_x(x, args)
+        # Re and Im interleaved row by row: under vmap, XLA runs this layout's JᵀJ several
+        # times faster than two products or a concatenation (measured, benchmarks/README.md)
+        jac = jnp.stack([j_re, j_im], axis=1).reshape(-1, j_re.shape[1]) * dx_du[None, :]
+        r = jnp.stack([r_re, r_im], axis=1).reshape(-1)
         return jac.T @ jac, jac.T @ r, 0.5 * jnp.sum(r**2)
 
     def residual_x(x_free, args):
         return _weighted(compiled.vector(_free_to_full(x_free, args), args["freq"]) - args["z"], args)
+
+    def chi2_u(u, args):
+        r = compiled.vector(_free_to_full(to_external(u, args["lower"], args["upper"], args["kind"]), args), args["freq"]) - args["z"]
+        return jnp.sum((r.real * args["inv_w_re"]) ** 2) + jnp.sum((r.imag * args["inv_w_im"]) ** 2)
 
     @jax.custom_jvp
     def residual_u(u, args):
@@ -110,7 +129,7 @@ def _tree_residuals(compiled):
         jac, r = linearize_u(*primals)
         return r, jac @ tangents[0]
 
-    return residual_x, residual_u, linearize_x, normal_u
+    return residual_x, residual_u, linearize_x, normal_u, chi2_u
 
 
 def _lm_parts(normal: Callable, rtol: float = 1e-8, xtol: float = 1e-10):
@@ -167,7 +186,6 @@ def levenberg_marquardt(normal: Callable, u0, args, max_steps, *, rtol: float = 
 
 _MAX_STEPS_CODE = int(optx.RESULTS.max_steps_reached._value)
 MIN_STEPS = 8
-INNER_STEPS = int(__import__('os').environ.get('INNER', '4'))
 
 
 def _finish(u, args, linearize_x):
@@ -190,7 +208,7 @@ def _make_single_phase_batch(residuals, max_steps: int):
     """A solver for C candidates × S starts at once. All starts iterate in one loop that ends
     when, for every candidate, its best start so far has converged and no unfinished start is
     better (or at the step limit): stragglers in slow valleys do not hold the batch up."""
-    _, _, linearize_x, normal_u = residuals
+    linearize_x, normal_u = residuals[2], residuals[3]
     init, step = _lm_parts(normal_u)
     per_start = jax.vmap(step, in_axes=(0, None))
     batch_step = jax.vmap(per_start, in_axes=(0, 0))
@@ -220,8 +238,8 @@ def _make_single_phase_batch(residuals, max_steps: int):
 def _make(residuals, max_steps: int):
     """optimistix Levenberg–Marquardt from one or many starts: every start for
     `SCREEN_STEPS` steps together, then the best to convergence."""
-    solver = optx.LevenbergMarquardt(rtol=1e-9, atol=1e-12)
-    _, residual_u, linearize_x, _ = residuals
+    solver = optx.LevenbergMarquardt(rtol=1e-7, atol=1e-10)  # steps below 1e-7 relative: far inside any stderr
+    residual_u, linearize_x = residuals[1], residuals[2]
 
     def solve_one(u0, args, steps):
         sol = optx.least_squares(residual_u, solver, u0, args, max_steps=steps, throw=False)
@@ -254,16 +272,24 @@ SPECTRUM_KEYS = ("z", "inv_w_re", "inv_w_im", "x_fixed")
 def tree_solver(circuit: Circuit, registry: Registry, max_steps: int):
     """Jitted solvers for one circuit (cached per circuit): ``single(u0s, args)`` runs
     optimistix from one or many starts (`_make`); ``lanes(n_lanes)`` gives the lane solver of
-    `_make_lanes` for batches, and ``finish(u, rows, shared)`` the outputs at solutions
-    (vmapped over spectra)."""
+    `_make_lanes` for batches, ``finish(u, spectrum, rows, shared)`` the outputs at solutions
+    and ``chi2(...)`` the weighted chi² at points u (both vmapped over points)."""
     residuals = _tree_residuals(compile_circuit(circuit, registry))
-    linearize_x = residuals[2]
+    linearize_x, chi2_u = residuals[2], residuals[4]
 
-    def finish(u, rows, shared):
-        return jax.vmap(lambda u_i, row: _finish(u_i, {**shared, **row}, linearize_x))(u, rows)
+    def per_spectrum(fn):
+        """``fn(u, args)`` vmapped over points u (C, K) of the spectra rows[spectrum]."""
+
+        def mapped(u, spectrum, rows, shared):
+            return jax.vmap(lambda u_i, s: fn(u_i, {**shared, **jax.tree_util.tree_map(lambda a: a[s], rows)}))(u, spectrum)
+
+        return jax.jit(mapped)
+
+    finish = per_spectrum(lambda u, args: _finish(u, args, linearize_x))
+    chi2 = per_spectrum(chi2_u)
 
     lanes = functools.lru_cache(maxsize=4)(lambda n_lanes: jax.jit(_make_lanes(residuals[3], n_lanes), static_argnames="drain"))
-    return jax.jit(_make(residuals, max_steps)), lanes, jax.jit(finish)
+    return jax.jit(_make(residuals, max_steps)), lanes, finish, chi2
 
 
 def _make_lanes(normal_u: Callable, n_lanes: int):
@@ -315,7 +341,7 @@ def _make_lanes(normal_u: Callable, n_lanes: int):
 
         def body(carry):
             s, pid, row, limit, next_pid, out = carry
-            s = jax.lax.fori_loop(0, INNER_STEPS, lambda _, s: select(s["i"] < limit, lane_step(s, row), s), s)
+            s = lane_step(s, row)
             finished = (pid < n_problems) & (s["done"] | (s["i"] >= limit))
             out = write(out, jnp.where(finished, pid, capacity), s, s["done"])
             new_pid = next_pid + jnp.cumsum(finished) - 1

@@ -24,7 +24,6 @@ from typing import Mapping, Sequence
 
 import numpy as np
 import xarray as xr
-from scipy import stats
 
 from ..circuits import Circuit, DEFAULT_REGISTRY
 from ..data import make_spectrum, validate_spectrum
@@ -261,6 +260,8 @@ def _runs(sign: np.ndarray):
 
 def _structured_mask(e: np.ndarray, p: float = RUN_P, min_len: int = 3) -> np.ndarray:
     """Points in runs of one sign whose Σe² exceeds the χ²(L) quantile 1 − p (e sorted by f)."""
+    from scipy import stats  # (imported here: scipy.stats costs half a second at import)
+
     out = np.zeros(e.size, bool)
     for i, j in _runs(np.sign(e)):
         length = j - i

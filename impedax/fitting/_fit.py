@@ -245,11 +245,23 @@ def covariances(jac: np.ndarray, chi2_red, weighting: str):
     (equilibrated, proportional columns give an evenly weighted null vector). Tikhonov-
     regularised, so undetermined directions show as huge variances and ±1 correlations, not
     NaN; scaled by the reduced chi² unless the weights are the data's sigma (as lmfit)."""
-    norms = np.linalg.norm(jac, axis=-2)
+    norms = np.sqrt(np.einsum("...mk,...mk->...k", jac, jac))
     scale = np.where(norms > 0, 1.0 / np.where(norms > 0, norms, 1.0), 1.0)
-    _, s, vt = np.linalg.svd(jac * scale[..., None, :], full_matrices=False)
+    equilibrated = jac * scale[..., None, :]
+    # singular values from the eigenvalues of JᵀJ (K×K, far cheaper than the SVD of J for a
+    # batch); where they span more than 1e-4 (eigenvalues 1e-8), squaring the condition number
+    # would cost accuracy, so those Jacobians get the SVD itself
+    eigenvalues, vectors = np.linalg.eigh(np.swapaxes(equilibrated, -1, -2) @ equilibrated)
+    s = np.sqrt(np.clip(eigenvalues[..., ::-1], 0, None))
+    vt = np.swapaxes(vectors[..., ::-1], -1, -2)
+    ill = np.flatnonzero(~(s[..., -1] > 1e-4 * s[..., 0]))
+    if ill.size:
+        batch = equilibrated.shape[:-2]
+        s, vt = s.reshape(-1, s.shape[-1]).copy(), vt.reshape(-1, *vt.shape[-2:]).copy()
+        _, s[ill], vt[ill] = np.linalg.svd(equilibrated.reshape(-1, *equilibrated.shape[-2:])[ill], full_matrices=False)
+        s, vt = s.reshape(*batch, -1), vt.reshape(*batch, *vt.shape[-2:])
     s_max = np.where(s[..., :1] > 0, s[..., :1], 1.0)
-    cov = np.einsum("...ji,...j,...jl->...il", vt, 1.0 / (s**2 + (1e-13 * s_max) ** 2), vt) * scale[..., :, None] * scale[..., None, :]
+    cov = (np.swapaxes(vt, -1, -2) * (1.0 / (s**2 + (1e-13 * s_max) ** 2))[..., None, :]) @ vt * scale[..., :, None] * scale[..., None, :]
     if weighting != "sigma":
         chi2_red = np.asarray(chi2_red, float)
         cov = cov * np.where(np.isfinite(chi2_red), chi2_red, 1.0)[..., None, None]
@@ -277,7 +289,9 @@ def _uncertainties(jac: np.ndarray, chi2_red: float, weighting: str, names: Sequ
     return (cov, corr, *_null_sets(s, vt, names))
 
 
-def _diagnose_identifiability(names, values, stderr, corr, null_sets, ratio) -> list[str]:
+def _diagnose_identifiability(names, values, stderr, corr, null_sets, ratio, pairs=None) -> list[str]:
+    """Identifiability warnings; ``pairs``: the (i, j), i < j, with |corr| above the limit when
+    already found (a batch finds them for all spectra at once)."""
     notes = []
     flagged: set[frozenset] = set()
     for group in null_sets:
@@ -286,27 +300,28 @@ def _diagnose_identifiability(names, values, stderr, corr, null_sets, ratio) -> 
             f"singular-value ratio {ratio:.1e}): only a combination of them changes Z; fix one of them"
         )
         flagged.add(frozenset(group))
-    for i in range(len(names)):
-        for j in range(i + 1, len(names)):
-            if abs(corr[i, j]) > CORRELATION_LIMIT and not any({names[i], names[j]} <= g for g in flagged):
-                why = " (a CPE's Q and α correlate when the data lie far from ω = 1 rad/s; both can still be well determined)" if names[i].rsplit(".", 1)[0] == names[j].rsplit(".", 1)[0] else "; the data barely tell them apart"
-                notes.append(f"{names[i]} and {names[j]} are strongly correlated (r = {corr[i, j]:+.3f}){why}")
+    if pairs is None:
+        pairs = [(i, j) for i, j in np.argwhere(np.abs(corr) > CORRELATION_LIMIT).tolist() if i < j]
+    for i, j in pairs:  # in (i, j) order
+        if not any({names[i], names[j]} <= g for g in flagged):
+            why = " (a CPE's Q and α correlate when the data lie far from ω = 1 rad/s; both can still be well determined)" if names[i].rsplit(".", 1)[0] == names[j].rsplit(".", 1)[0] else "; the data barely tell them apart"
+            notes.append(f"{names[i]} and {names[j]} are strongly correlated (r = {corr[i, j]:+.3f}){why}")
     for n in names:
         v, e = values[n], stderr[n]
-        if v != 0 and (not np.isfinite(e) or abs(e / v) > RELATIVE_ERROR_LIMIT) and not any(n in g for g in flagged):
+        if v != 0 and (not math.isfinite(e) or abs(e / v) > RELATIVE_ERROR_LIMIT) and not any(n in g for g in flagged):
             notes.append(f"{n} has a relative standard error of {abs(e / v) * 100:.3g}%: it is not determined by the data")
     return notes
 
 
-def fit_notes(table: ParameterTable, values: dict, stderr: dict, corr, null_sets, ratio, *, finite: bool, converged: bool, message: str) -> tuple[str, ...]:
+def fit_notes(table: ParameterTable, values: dict, stderr: dict, corr, null_sets, ratio, *, finite: bool, converged: bool, message: str, pairs=None) -> tuple[str, ...]:
     """The warnings of a fit: not converged, identifiability (`_diagnose_identifiability`),
     parameters at a bound."""
     free_names = table.free_names
-    notes = _diagnose_identifiability(list(free_names), values, stderr, corr, null_sets, ratio) if finite else []
+    notes = _diagnose_identifiability(list(free_names), values, stderr, corr, null_sets, ratio, pairs) if finite else []
     free = table.free_index
-    for nm, lo, hi in zip(free_names, table.lower[free], table.upper[free]):
+    for nm, lo, hi in zip(free_names, table.lower[free].tolist(), table.upper[free].tolist()):
         v = values[nm]
-        if np.isfinite(hi) and abs(v - hi) <= 1e-4 * max(abs(hi), 1e-12):
+        if math.isfinite(hi) and abs(v - hi) <= 1e-4 * max(abs(hi), 1e-12):
             notes.append(f"{nm} = {v:.6g} sits at its upper bound {hi:g}")
         elif lo > 0 and abs(v - lo) <= 1e-4 * lo:
             notes.append(f"{nm} = {v:.6g} sits at its lower bound {lo:g}")

@@ -12,6 +12,8 @@ for positive quantities that span decades):
 
 from __future__ import annotations
 
+import functools
+
 import difflib
 import math
 from dataclasses import dataclass
@@ -38,13 +40,15 @@ class ParameterTable:
     fixed: np.ndarray  # bool
     values: np.ndarray  # fixed values and user starts (NaN where no start was given)
 
-    @property
+    @functools.cached_property
     def free_names(self) -> tuple[str, ...]:
         return tuple(n for n, f in zip(self.names, self.fixed) if not f)
 
-    @property
+    @functools.cached_property
     def free_index(self) -> np.ndarray:
-        return np.flatnonzero(~self.fixed)
+        index = np.flatnonzero(~self.fixed)
+        index.setflags(write=False)
+        return index
 
     @classmethod
     def build(
