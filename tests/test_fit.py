@@ -157,6 +157,26 @@ def test_batch_equals_one_by_one(rng):
         assert float(ds["rms_rel"].sel(problem=i)) == pytest.approx(single.rms_rel, rel=1e-8)
 
 
+def test_large_batch_with_outliers_equals_one_by_one(rng):
+    """Batches of 16+ spectra may start from the fit of their most typical spectrum: spectra
+    unlike it (here four with |Z| 10–30 times larger or smaller: resistances scaled one way,
+    CPE coefficients the other, time constants kept in the band) keep their own guess, and
+    every spectrum ends where its single fit ends."""
+    text, fn, truth, (lo, hi) = CASES["two_arcs"]
+    f = np.geomspace(lo, hi, 60)
+    trues = [perturb(truth, rng, 0.2) for _ in range(20)]
+    trues += [{k: v if k.endswith("alpha") else v * 10 ** (-s if ".Q" in k else s) for k, v in truth.items()} for s in (-1.5, -1.0, 1.0, 1.5)]
+    z = np.stack([noisy(fn(f, t), NOISE, rng) for t in trues])
+    data = ix.make_spectrum(f, z, dims=("problem",), coords={"problem": np.arange(len(trues))})
+    ds = ix.fit(text, data).to_xarray()
+    assert (ds["rms_rel"] < 2 * NOISE * np.sqrt(2)).all()
+    for i in [0, 7, 20, 21, 22, 23]:
+        single = ix.fit(text, data.isel(problem=i))
+        assert float(ds["rms_rel"].sel(problem=i)) == pytest.approx(single.rms_rel, rel=1e-6)
+        for name in single.values:
+            assert float(ds["value"].sel(param=name, problem=i)) == pytest.approx(single.values[name], rel=1e-4)
+
+
 @pytest.mark.parametrize("case", ["rc", "r_cpe"])
 def test_default_starts_succeed_on_random_problems_fast(case, rng):
     """Fast version of the 100-problem study (see test_default_starts_succeed_on_random_problems)."""
@@ -279,3 +299,23 @@ def test_cli_fit_too_many_parameters_and_nan(tmp_path, capsys):
     nan.write_text("frequency_hz,z_real_ohm,z_imag_ohm\n1,10,-5\n10,nan,-3\n")
     assert main(["fit", str(nan), "--model", "R0"]) == 2
     assert "line 3" in capsys.readouterr().err
+
+
+def test_exchangeable_arcs_are_reported_highest_frequency_first(rng):
+    """Two R || CPE arcs in series can swap their values without changing Z: whichever way
+    round the solver ends, R1 || CPE1 is the arc whose −Z'' peaks at the higher frequency, with
+    its stderr and correlations moved along."""
+    text, fn, truth, (lo, hi) = CASES["two_arcs"]
+    f = np.geomspace(lo, hi, 60)
+    data = ix.make_spectrum(f, noisy(fn(f, truth), NOISE, rng))
+    swapped = {"R1": truth["R2"], "CPE1.Q": truth["CPE2.Q"], "CPE1.alpha": truth["CPE2.alpha"], "R2": truth["R1"], "CPE2.Q": truth["CPE1.Q"], "CPE2.alpha": truth["CPE1.alpha"]}
+    straight = ix.fit(text, data, init=truth, n_starts=1)
+    crossed = ix.fit(text, data, init={"R0": truth["R0"], **swapped}, n_starts=1)
+    tau = lambda r, p: (p[f"R{r}"] * p[f"CPE{r}.Q"]) ** (1 / p[f"CPE{r}.alpha"])  # noqa: E731
+    for result in (straight, crossed):
+        assert tau(1, result.values) < tau(2, result.values)  # arc 1 is the faster one
+        assert result.values["R1"] == pytest.approx(truth["R1"], rel=0.05)
+    for name in straight.values:
+        assert crossed.values[name] == pytest.approx(straight.values[name], rel=1e-5)
+        assert crossed.stderr[name] == pytest.approx(straight.stderr[name], rel=1e-3)
+    np.testing.assert_allclose(crossed.correlation, straight.correlation, atol=1e-4)

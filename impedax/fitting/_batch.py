@@ -18,7 +18,7 @@ import xarray as xr
 
 from ..circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ._core import _MAX_STEPS_CODE, SCREEN_STEPS, SPECTRUM_KEYS, tree_solver
-from ._fit import _args, _guess_start, _null_sets, _to_internal, _result, _starts_from, _weights, at_noise_floor, covariances, fit_notes, information_criteria, _better, _unscale, residual_scale
+from ._fit import _args, _guess_start, _null_sets, _to_internal, canonical_order, _result, _starts_from, _weights, at_noise_floor, covariances, fit_notes, information_criteria, _better, _unscale, residual_scale
 from ._fit import CORRELATION_LIMIT, RELATIVE_ERROR_LIMIT, SINGULAR_RATIO_LIMIT
 from ._starts import SpectrumFeatures
 from ._parameters import ParameterTable
@@ -228,6 +228,7 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
     one stacked SVD (`covariances`); warning text is built only for spectra that earn one,
     and only spectra that overflowed or did not converge go through `_result`."""
     out, used = _solve_stack(circuit, table, freq, z, sigma, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
+    out = canonical_order(circuit, table, freq, out, registry)
     b, k, n_res = z.shape[0], len(table.free_names), 2 * len(freq)
     chi2 = np.array(out["chi2"], float)  # copies: device_get's arrays are read-only
     finite = np.isfinite(chi2) & np.all(np.isfinite(out["z_model"]), axis=-1)
