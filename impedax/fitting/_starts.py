@@ -13,6 +13,8 @@
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from ..circuits import Circuit, DEFAULT_REGISTRY, Element, Parallel, Registry
@@ -159,14 +161,17 @@ def _roles(circuit: Circuit):
     return roles, count[0]
 
 
-def _circuit_layout(circuit: Circuit, elements, registry: Registry):
+@functools.lru_cache(maxsize=256)
+def _circuit_layout(circuit: Circuit, registry: Registry):
     """What the guess needs of the circuit alone: element → arc (-1: outer series chain), the
     number of arcs to look for (at least one), the resistors of the outer chain (≥ 1), and per
     arc its resistive elements (≥ 1), which share that arc's resistance."""
+    elements = tuple(circuit.elements())
     roles, n_blocks = _roles(circuit)
     n_series_r = max(1, sum(e.symbol == "R" and roles[e.name] < 0 for e in elements))
     resistive = np.array([roles[e.name] for e in elements if roles[e.name] >= 0 and registry[e.symbol].parameters[0].unit == "Ohm"], int)
     n_res = np.maximum(np.bincount(resistive, minlength=max(n_blocks, 1)), 1).astype(float)
+    n_res.setflags(write=False)  # (cached: shared by every call)
     return roles, max(n_blocks, 1), n_series_r, n_res
 
 
@@ -174,7 +179,7 @@ def data_driven_guesses(circuit: Circuit, table: ParameterTable, features: Spect
     """A starting value for every parameter and spectrum, shape (B, P) (B = 1 for the features
     of one spectrum); user starts and fixed values take precedence."""
     elements = list(circuit.elements())
-    roles, n_arcs, n_series_r, n_res = _circuit_layout(circuit, elements, registry)
+    roles, n_arcs, n_series_r, n_res = _circuit_layout(circuit, registry)
     rows = features._rows
     r_arcs, taus = features._arc_rows(n_arcs)
     r_series = r_arcs.sum(axis=1)
