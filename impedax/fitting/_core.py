@@ -132,6 +132,32 @@ def _tree_residuals(compiled):
     return residual_x, residual_u, linearize_x, normal_u, chi2_u
 
 
+UNROLLED_SOLVE_MAX = 12  # up to this many free parameters the damped system is solved inline
+
+
+def _solve_damped(a, b):
+    """x with a·x = b for the damped normal matrix a = JᵀJ + λD (symmetric positive definite).
+    Small systems by a Cholesky factorisation written out in scalar operations: under
+    ``vmap`` over solver lanes they fuse into a few vector loops, where a LAPACK call per
+    matrix costs more than the whole factorisation. A factorisation that breaks down (rounding
+    in a near-singular system) gives non-finite x, which the caller treats as a failed step."""
+    k = a.shape[-1]
+    if k > UNROLLED_SOLVE_MAX:
+        return jnp.linalg.solve(a, b)
+    low = [[None] * k for _ in range(k)]
+    for j in range(k):
+        low[j][j] = jnp.sqrt(a[j, j] - sum(low[j][m] ** 2 for m in range(j)))
+        for i in range(j + 1, k):
+            low[i][j] = (a[i, j] - sum(low[i][m] * low[j][m] for m in range(j))) / low[j][j]
+    y = [None] * k
+    for i in range(k):
+        y[i] = (b[i] - sum(low[i][m] * y[m] for m in range(i))) / low[i][i]
+    x = [None] * k
+    for i in reversed(range(k)):
+        x[i] = (y[i] - sum(low[m][i] * x[m] for m in range(i + 1, k))) / low[i][i]
+    return jnp.stack(x)
+
+
 def _lm_parts(normal: Callable, rtol: float = 1e-8, xtol: float = 1e-10):
     """(init, step) of a dense Levenberg–Marquardt iteration for ½‖r(u)‖² with Marquardt
     scaling and Nielsen's damping update (Madsen, Nielsen & Tingleff 2004, alg. 3.16);
@@ -164,11 +190,12 @@ def _lm_parts(normal: Callable, rtol: float = 1e-8, xtol: float = 1e-10):
         a, g = keep(a_try, s["a"]), keep(g_try, s["g"])
         dmax = jnp.maximum(jnp.diag(a), s["dmax"])
         d = jnp.where(dmax > 0, dmax, 1.0)  # padded parameters have zero columns
-        delta = -jnp.linalg.solve(a + lam * jnp.diag(d), g)
-        delta = jnp.where(jnp.isfinite(delta), delta, 0.0)
+        delta = -_solve_damped(a + lam * jnp.diag(d), g)
+        solved = jnp.all(jnp.isfinite(delta))  # if not, the next trial is u itself: rejected, more damping
+        delta = jnp.where(solved, delta, 0.0)
         pred = 0.5 * jnp.dot(delta, lam * d * delta - g)
         flat = ~first & ok & (gain <= rtol * s["cost"])
-        tiny = jnp.sqrt(jnp.sum(delta**2)) <= xtol * (jnp.sqrt(jnp.sum(u**2)) + xtol)
+        tiny = solved & (jnp.sqrt(jnp.sum(delta**2)) <= xtol * (jnp.sqrt(jnp.sum(u**2)) + xtol))
         done = s["done"] | flat | tiny | (lam > 1e15) | ~jnp.isfinite(cost)
         new = {"u": u, "a": a, "g": g, "cost": cost, "u_try": u + delta, "pred": pred, "lam": lam, "nu": nu, "i": s["i"] + 1, "done": done, "dmax": dmax}
         return jax.tree_util.tree_map(lambda a_, b_: jnp.where(s["done"], b_, a_), new, s)  # a finished start stays put

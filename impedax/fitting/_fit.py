@@ -486,15 +486,17 @@ def canonical_order(circuit: Circuit, table: ParameterTable, freq, out: dict, re
         for slot in range(len(columns)):
             permutation[:, columns[slot]] = columns[rank[:, slot]]
         x, order = x[rows, permutation], order[rows, permutation]
-    if (order == np.arange(n_par)).all():
+    moved = np.flatnonzero(np.any(order != np.arange(n_par), axis=1))
+    if not moved.size:
         return out  # already in order (the usual case)
     out = dict(out, x=x.reshape(*batch_shape, n_par))
     free = table.free_index
     position = np.full(n_par, -1)
     position[free] = np.arange(free.size)
-    jac = np.asarray(out["jacobian"])
-    columns = position[order[:, free]].reshape(*batch_shape, 1, free.size)
-    out["jacobian"] = np.take_along_axis(jac, np.broadcast_to(columns, jac.shape), axis=-1)
+    jac = np.array(out["jacobian"]).reshape(-1, *np.shape(out["jacobian"])[-2:])
+    columns = position[order[moved][:, free]][:, None, :]
+    jac[moved] = np.take_along_axis(jac[moved], np.broadcast_to(columns, (moved.size, *jac.shape[1:])), axis=-1)
+    out["jacobian"] = jac.reshape(np.shape(out["jacobian"]))
     return out
 
 
@@ -514,6 +516,8 @@ def residual_scale(z, inv_re, inv_im) -> np.ndarray:
 
 def _unscale(out: dict, scale) -> dict:
     scale = np.asarray(scale)
+    if np.all(scale == 1.0):  # modulus weighting: nothing to undo
+        return out
     out = dict(out)
     out["chi2"] = out["chi2"] / scale**2
     out["chi2_starts"] = out["chi2_starts"] / scale.reshape(scale.shape + (1,) * (np.ndim(out["chi2_starts"]) - scale.ndim)) ** 2
