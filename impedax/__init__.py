@@ -21,7 +21,8 @@ def _use_every_core() -> None:
     computation at a time per device). Only before JAX has started and when neither the user
     nor XLA_FLAGS chose a count; ``IMPEDAX_CPU_DEVICES=N`` sets it (1: leave JAX alone)."""
     chosen = _os.environ.get("IMPEDAX_CPU_DEVICES")
-    if "xla_force_host_platform_device_count" in _os.environ.get("XLA_FLAGS", "") or _jax.config.jax_num_cpu_devices != -1:
+    current = getattr(_jax.config, "jax_num_cpu_devices", None)  # (JAX ≥ 0.4.38)
+    if current is None or current != -1 or "xla_force_host_platform_device_count" in _os.environ.get("XLA_FLAGS", ""):
         return
     try:
         count = int(chosen) if chosen else min(len(_os.sched_getaffinity(0)), 8)
