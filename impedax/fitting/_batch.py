@@ -18,7 +18,7 @@ import xarray as xr
 
 from ..circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ._core import _MAX_STEPS_CODE, SCREEN_STEPS, SPECTRUM_KEYS, tree_solver
-from ._fit import _args, _guess_start, _null_sets, _to_internal, canonical_order, _result, _starts_from, _weights, at_noise_floor, covariances, fit_notes, information_criteria, _better, _unscale, residual_scale
+from ._fit import _args, _guess_start, _null_sets, _to_internal, canonical_order, _result, _starts_from, _weights, at_noise_floor, covariances, fit_notes, _better, _unscale, residual_scale
 from ._fit import CORRELATION_LIMIT, RELATIVE_ERROR_LIMIT, SINGULAR_RATIO_LIMIT
 from ._starts import SpectrumFeatures
 from ._parameters import ParameterTable
@@ -329,8 +329,8 @@ def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weig
         rms_rel = np.sqrt(np.mean(np.abs(rel) ** 2, axis=-1))
     k = int((~table.fixed).sum())
     n_res = 2 * n_freq
-    aic = np.vectorize(lambda c: information_criteria(c, n_res, k)[0])(chi2)
-    bic = np.vectorize(lambda c: information_criteria(c, n_res, k)[1])(chi2)
+    base = n_res * np.log(np.maximum(chi2, 1e-300) / n_res)  # as `information_criteria`, over arrays
+    aic, bic = base + 2 * k, base + k * np.log(n_res)
     param_first = lambda a: np.moveaxis(a, -1, 0)  # noqa: E731
     ds = xr.Dataset(
         {
