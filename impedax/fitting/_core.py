@@ -74,7 +74,7 @@ def _residuals(model: Callable):
 
     def normal_u(u, args):
         jac, r = forward(residual_u)(u, args)
-        return jac.T @ jac, jac.T @ r, 0.5 * jnp.sum(r**2)
+        return jac.T @ jac, jac.T @ r, 0.5 * jnp.sum(r**2), (jac, r)  # (J, r) kept: see `_lm_parts`
 
     return residual_x, residual_u, forward(residual_x), normal_u
 
@@ -112,7 +112,7 @@ def _tree_residuals(compiled):
         # times faster than two products or a concatenation (measured, benchmarks/README.md)
         jac = jnp.stack([j_re, j_im], axis=1).reshape(-1, j_re.shape[1]) * dx_du[None, :]
         r = jnp.stack([r_re, r_im], axis=1).reshape(-1)
-        return jac.T @ jac, jac.T @ r, 0.5 * jnp.sum(r**2)
+        return jac.T @ jac, jac.T @ r, 0.5 * jnp.sum(r**2), ()
 
     def residual_x(x_free, args):
         return _weighted(compiled.vector(_free_to_full(x_free, args), args["freq"]) - args["z"], args)
@@ -159,10 +159,13 @@ def _solve_damped(a, b):
     return jnp.stack(x)
 
 
-def _lm_parts(normal: Callable, rtol: float = 1e-8, xtol: float = 1e-10):
+def _lm_parts(normal: Callable, rtol: float = 1e-8, xtol: float = 1e-10, extra_init: Callable | None = None, inline_solve: bool = False):
     """(init, step) of a dense Levenberg–Marquardt iteration for ½‖r(u)‖² with Marquardt
     scaling and Nielsen's damping update (Madsen, Nielsen & Tingleff 2004, alg. 3.16);
-    ``normal(u, args) -> (JᵀJ, Jᵀr, ½‖r‖²)``.
+    ``normal(u, args) -> (JᵀJ, Jᵀr, ½‖r‖², extra)``; ``extra`` (``()`` or arrays whose shapes
+    ``extra_init(u0, args)`` gives) is kept with the accepted point, e.g. (J, r) for a model
+    whose Jacobian is expensive to trace again at the end. ``inline_solve``: the damped
+    system by `_solve_damped` (faster per step under ``vmap``, slower to compile).
 
     Each step linearises once at the trial point and keeps it only when the cost falls (the
     state holds JᵀJ and Jᵀr, not J), so the model's Jacobian is traced once. A start is done
@@ -175,10 +178,11 @@ def _lm_parts(normal: Callable, rtol: float = 1e-8, xtol: float = 1e-10):
         return {
             "u": u0, "a": jnp.zeros((k, k)), "g": jnp.zeros(k), "cost": jnp.asarray(jnp.inf), "u_try": u0, "pred": jnp.asarray(1.0),
             "lam": jnp.asarray(1e-3), "nu": jnp.asarray(2.0), "i": jnp.asarray(0), "done": jnp.asarray(False), "dmax": jnp.zeros(k),
+            "extra": () if extra_init is None else extra_init(u0, args),
         }
 
     def step(s, args):
-        a_try, g_try, c_try = normal(s["u_try"], args)
+        a_try, g_try, c_try, extra_try = normal(s["u_try"], args)
         c_try = jnp.where(jnp.isfinite(c_try) & jnp.all(jnp.isfinite(a_try)), c_try, jnp.inf)
         first = s["i"] == 0
         gain = s["cost"] - c_try
@@ -189,25 +193,28 @@ def _lm_parts(normal: Callable, rtol: float = 1e-8, xtol: float = 1e-10):
         keep = lambda new, old: jnp.where(ok, new, old)  # noqa: E731
         u, cost = keep(s["u_try"], s["u"]), keep(c_try, s["cost"])
         a, g = keep(a_try, s["a"]), keep(g_try, s["g"])
+        extra = jax.tree_util.tree_map(keep, extra_try, s["extra"])
         dmax = jnp.maximum(jnp.diag(a), s["dmax"])
         d = jnp.where(dmax > 0, dmax, 1.0)  # padded parameters have zero columns
-        delta = -_solve_damped(a + lam * jnp.diag(d), g)
+        damped = a + lam * jnp.diag(d)
+        delta = -(_solve_damped(damped, g) if inline_solve else jnp.linalg.solve(damped, g))
         solved = jnp.all(jnp.isfinite(delta))  # if not, the next trial is u itself: rejected, more damping
         delta = jnp.where(solved, delta, 0.0)
         pred = 0.5 * jnp.dot(delta, lam * d * delta - g)
         flat = ~first & ok & (gain <= rtol * s["cost"])
         tiny = solved & (jnp.sqrt(jnp.sum(delta**2)) <= xtol * (jnp.sqrt(jnp.sum(u**2)) + xtol))
         done = s["done"] | flat | tiny | (lam > 1e15) | ~jnp.isfinite(cost)
-        new = {"u": u, "a": a, "g": g, "cost": cost, "u_try": u + delta, "pred": pred, "lam": lam, "nu": nu, "i": s["i"] + 1, "done": done, "dmax": dmax}
+        new = {"u": u, "a": a, "g": g, "cost": cost, "u_try": u + delta, "pred": pred, "lam": lam, "nu": nu, "i": s["i"] + 1, "done": done, "dmax": dmax, "extra": extra}
         return jax.tree_util.tree_map(lambda a_, b_: jnp.where(s["done"], b_, a_), new, s)  # a finished start stays put
 
     return init, step
 
 
-def levenberg_marquardt(normal: Callable, u0, args, max_steps, *, rtol: float = 1e-8, xtol: float = 1e-10):
-    """Minimise ½‖r(u)‖² from ``u0`` (see `_lm_parts`); ``max_steps`` may be traced.
-    Returns (u, chi² = ‖r‖², converged, iterations)."""
-    init, step = _lm_parts(normal, rtol, xtol)
+def levenberg_marquardt(normal: Callable, u0, args, max_steps, *, rtol: float = 1e-8, xtol: float = 1e-10, inline_solve: bool = True):
+    """Minimise ½‖r(u)‖² from ``u0`` (see `_lm_parts`; by default the iteration of one lane
+    of `_make_lanes`); ``max_steps`` may be traced. Returns (u, chi² = ‖r‖², converged,
+    iterations)."""
+    init, step = _lm_parts(normal, rtol, xtol, inline_solve=inline_solve)
     s = jax.lax.while_loop(lambda s: (s["i"] < max_steps) & ~s["done"], lambda s: step(s, args), init(u0, args))
     return s["u"], 2.0 * s["cost"], s["done"], s["i"]
 
@@ -236,8 +243,13 @@ def _make_single_phase_batch(residuals, max_steps: int):
     """A solver for C candidates × S starts at once. All starts iterate in one loop that ends
     when, for every candidate, its best start so far has converged and no unfinished start is
     better (or at the step limit): stragglers in slow valleys do not hold the batch up."""
-    linearize_x, normal_u = residuals[2], residuals[3]
-    init, step = _lm_parts(normal_u)
+    normal_u = residuals[3]
+
+    def extra_init(u0, args):
+        m = args["z"].shape[0] * 2
+        return jnp.zeros((m, u0.shape[0])), jnp.zeros(m)
+
+    init, step = _lm_parts(normal_u, extra_init=extra_init)
     per_start = jax.vmap(step, in_axes=(0, None))
     batch_step = jax.vmap(per_start, in_axes=(0, 0))
 
@@ -256,9 +268,24 @@ def _make_single_phase_batch(residuals, max_steps: int):
     def _best(s, args):
         chi2s = 2.0 * s["cost"]
         best = jnp.argmin(jnp.where(jnp.isfinite(chi2s), chi2s, jnp.inf))
-        out = _finish(s["u"][best], args, linearize_x)
-        out.update(code=jnp.where(s["done"][best], 0, _MAX_STEPS_CODE), steps=s["i"][best], chi2_starts=chi2s, steps_total=jnp.sum(s["i"]))
-        return out
+        u = s["u"][best]
+        jac_u, r = (e[best] for e in s["extra"])
+        x_free, dx_du = _u_to_x(u, args)
+        # chain rule back to parameter space, dr/dx = (dr/du)/(dx/du): no second trace of the
+        # model's Jacobian, which would double this solver's compile time
+        jac = jnp.where(dx_du[None, :] != 0, jac_u / jnp.where(dx_du == 0, 1.0, dx_du)[None, :], 0.0)
+        n = args["z"].shape[0]
+        return {
+            "x": _free_to_full(x_free, args),
+            "x_free": x_free,
+            "chi2": chi2s[best],
+            "code": jnp.where(s["done"][best], 0, _MAX_STEPS_CODE),
+            "steps": s["i"][best],
+            "chi2_starts": chi2s,
+            "steps_total": jnp.sum(s["i"]),
+            "jacobian": jac,
+            "z_model": args["z"] + r[:n] / args["inv_w_re"] + 1j * (r[n:] / args["inv_w_im"]),
+        }
 
     return solve_batch
 
@@ -340,7 +367,7 @@ def _make_lanes(normal_u: Callable, n_lanes: int):
     to be continued on fewer lanes, so a few slow problems do not keep every lane busy.
     Returns (u, chi², done, steps) over the C problems.
     """
-    init, step = _lm_parts(normal_u)
+    init, step = _lm_parts(normal_u, inline_solve=True)
     lane_init = jax.vmap(init, in_axes=(0, None))
 
     def solve(u0, spectrum, budget, n_problems, rows, shared, *, drain):
