@@ -319,3 +319,23 @@ def test_exchangeable_arcs_are_reported_highest_frequency_first(rng):
         assert crossed.values[name] == pytest.approx(straight.values[name], rel=1e-5)
         assert crossed.stderr[name] == pytest.approx(straight.stderr[name], rel=1e-3)
     np.testing.assert_allclose(crossed.correlation, straight.correlation, atol=1e-4)
+
+
+@pytest.mark.parametrize(
+    "text, fixed, groups",
+    [
+        ("R0 + R1 || CPE1 + R2 || CPE2", None, [["R1 || CPE1", "R2 || CPE2"]]),
+        ("R0 + R1 || CPE1 + R2 || C2", None, []),  # different structures: nothing to swap
+        ("R0 + R1 || CPE1 + R2 || CPE2", {"R2": 3000.0}, []),  # a fixed value must stay where it is
+        ("R0 + R1 + R2", None, []),  # single elements are left alone
+        ("(R1 || C1 + R2 || C2) || (R3 || C3 + R4 || C4)", None, [["R1 || C1 + R2 || C2", "R3 || C3 + R4 || C4"], ["R1 || C1", "R2 || C2"], ["R3 || C3", "R4 || C4"]]),
+    ],
+)
+def test_exchangeable_blocks_are_found_by_structure(text, fixed, groups):
+    from impedax.fitting._fit import _exchangeable_blocks
+    from impedax.fitting._parameters import ParameterTable
+
+    circuit = ix.parse(text)
+    table = ParameterTable.build(circuit, fixed=fixed)
+    found = _exchangeable_blocks(circuit, table.names, table.fixed, table.lower, table.upper, ix.DEFAULT_REGISTRY)
+    assert [[str(block) for block, _ in group] for group in found] == groups

@@ -413,11 +413,12 @@ def _shape(node: Circuit, registry: Registry) -> str:
     return f"{kind}({','.join(_shape(c, registry) for c in node.children)})"
 
 
-def _exchangeable_blocks(circuit: Circuit, table: ParameterTable, registry: Registry) -> list[list[tuple[Circuit, list[int]]]]:
+def _exchangeable_blocks(circuit: Circuit, names, fixed, lower, upper, registry: Registry) -> list[list[tuple[Circuit, list[int]]]]:
     """Groups of sibling subcircuits with the same structure (two ``R || CPE`` arcs in series):
     swapping their parameter values leaves Z unchanged. Each member with its parameters'
-    indices, position by position; only groups whose parameters are all free with equal bounds."""
-    index = {n: i for i, n in enumerate(table.names)}
+    indices in ``names``, position by position; only groups whose parameters are all free
+    (``fixed``) with equal bounds."""
+    index = {n: i for i, n in enumerate(names)}
     groups = []
 
     def walk(node):
@@ -430,8 +431,8 @@ def _exchangeable_blocks(circuit: Circuit, table: ParameterTable, registry: Regi
         for members in by_shape.values():
             blocks = [(m, [index[n] for n in m.parameter_names(registry)]) for m in members]
             columns = np.array([idx for _, idx in blocks])
-            same_bounds = all((table.lower[c] == table.lower[c[0]]).all() and (table.upper[c] == table.upper[c[0]]).all() for c in columns.T)
-            if len(blocks) > 1 and not table.fixed[columns].any() and same_bounds:
+            same_bounds = all((lower[c] == lower[c[0]]).all() and (upper[c] == upper[c[0]]).all() for c in columns.T)
+            if len(blocks) > 1 and not fixed[columns].any() and same_bounds:
                 groups.append(blocks)
         for child in node.children:
             walk(child)
@@ -462,8 +463,8 @@ def _canonical_plan(circuit: Circuit, names: tuple[str, ...], fixed: bytes, lowe
     """Per exchangeable group (`_exchangeable_blocks`): its parameter columns (members, params
     per block) and the jitted peak-frequency function of its members (cached per circuit and
     parameter table)."""
-    table = ParameterTable(names, (), np.frombuffer(lower), np.frombuffer(upper), np.zeros(len(names), np.int32), np.frombuffer(fixed, bool), np.full(len(names), np.nan))
-    return [(np.array([idx for _, idx in blocks]), _peak_frequency_fn(tuple(b for b, _ in blocks), names, registry)) for blocks in _exchangeable_blocks(circuit, table, registry)]
+    groups = _exchangeable_blocks(circuit, names, np.frombuffer(fixed, bool), np.frombuffer(lower), np.frombuffer(upper), registry)
+    return [(np.array([idx for _, idx in blocks]), _peak_frequency_fn(tuple(b for b, _ in blocks), names, registry)) for blocks in groups]
 
 
 def canonical_order(circuit: Circuit, table: ParameterTable, freq, out: dict, registry: Registry) -> dict:
