@@ -332,10 +332,10 @@ def test_exchangeable_arcs_are_reported_highest_frequency_first(rng):
     ],
 )
 def test_exchangeable_blocks_are_found_by_structure(text, fixed, groups):
-    from impedax.fitting._fit import _exchangeable_blocks
+    from impedax.fitting._order import exchangeable_blocks
     from impedax.fitting._parameters import ParameterTable
 
     circuit = ix.parse(text)
     table = ParameterTable.build(circuit, fixed=fixed)
-    found = _exchangeable_blocks(circuit, table.names, table.fixed, table.lower, table.upper, ix.DEFAULT_REGISTRY)
+    found = exchangeable_blocks(circuit, table.names, table.fixed, table.lower, table.upper, ix.DEFAULT_REGISTRY)
     assert [[str(block) for block, _ in group] for group in found] == groups

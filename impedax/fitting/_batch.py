@@ -18,7 +18,8 @@ import xarray as xr
 
 from ..circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ._core import _MAX_STEPS_CODE, SCREEN_STEPS, SPECTRUM_KEYS, tree_solver
-from ._fit import _args, _guess_start, _null_sets, _to_internal, canonical_order, _result, _starts_from, _weights, at_noise_floor, covariances, fit_notes, _better, _unscale, residual_scale
+from ._order import canonical_order
+from ._fit import _args, _guess_start, _null_sets, _to_internal, _result, _starts_from, _weights, at_noise_floor, covariances, fit_notes, _better, _unscale, residual_scale
 from ._fit import CORRELATION_LIMIT, RELATIVE_ERROR_LIMIT, SINGULAR_RATIO_LIMIT
 from ._starts import SpectrumFeatures
 from ._parameters import ParameterTable

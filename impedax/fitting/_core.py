@@ -29,6 +29,7 @@ import lineax as lx
 import optimistix as optx
 
 from ..circuits import Circuit, ProgramLayout, Registry, compile_circuit
+from ._order import structural_peaks
 from ._parameters import to_external
 
 __all__ = ["tree_solver", "program_solver", "levenberg_marquardt", "solver_messages", "SCREEN_STEPS"]
@@ -223,20 +224,25 @@ _MAX_STEPS_CODE = int(optx.RESULTS.max_steps_reached._value)
 MIN_STEPS = 8
 
 
-def _finish(u, args, linearize_x):
+def _finish(u, args, linearize_x, peaks=None):
     """Solver outputs at the solution u: parameters, the Jacobian in parameter space (for
-    the covariance), chi² and the model's impedance."""
+    the covariance), chi², the model's impedance and, given ``peaks``
+    (`_order.structural_peaks`), the peak frequencies that order exchangeable blocks."""
     x_free = to_external(u, args["lower"], args["upper"], args["kind"])
     jac, r = linearize_x(x_free, args)
     n = args["z"].shape[0]
     chi2 = jnp.sum(r**2)
-    return {
-        "x": _free_to_full(x_free, args),
+    x = _free_to_full(x_free, args)
+    out = {
+        "x": x,
         "x_free": x_free,
         "chi2": jnp.where(jnp.isfinite(chi2), chi2, jnp.inf),
         "jacobian": jac,
         "z_model": args["z"] + r[:n] / args["inv_w_re"] + 1j * (r[n:] / args["inv_w_im"]),
     }
+    if peaks is not None:
+        out["peaks"] = peaks(x, args["freq"])
+    return out
 
 
 def _make_single_phase_batch(residuals, max_steps: int):
@@ -290,7 +296,7 @@ def _make_single_phase_batch(residuals, max_steps: int):
     return solve_batch
 
 
-def _make(residuals, max_steps: int):
+def _make(residuals, max_steps: int, peaks=None):
     """optimistix Levenberg–Marquardt from one or many starts: every start for
     `SCREEN_STEPS` steps together, then the best to convergence."""
     # steps below 1e-7 relative: far inside any stderr. The damped step (JᵀJ + λI)δ = −Jᵀr is
@@ -315,7 +321,7 @@ def _make(residuals, max_steps: int):
         else:
             chi2s, steps1, u_best = jnp.zeros(1), jnp.zeros(1, jnp.int64), u0s[0]
         u, _, code, steps = solve_one(u_best, args, max_steps)
-        out = _finish(u, args, linearize_x)
+        out = _finish(u, args, linearize_x, peaks)
         out.update(code=code, steps=steps, chi2_starts=chi2s, steps_total=jnp.sum(steps1) + steps)
         return out
 
@@ -332,8 +338,10 @@ def tree_solver(circuit: Circuit, registry: Registry, max_steps: int):
     optimistix from one or many starts (`_make`); ``lanes(n_lanes)`` gives the lane solver of
     `_make_lanes` for batches, ``finish(u, spectrum, rows, shared)`` the outputs at solutions
     and ``chi2(...)`` the weighted chi² at points u (both vmapped over points)."""
-    residuals = _tree_residuals(compile_circuit(circuit, registry))
+    compiled = compile_circuit(circuit, registry)
+    residuals = _tree_residuals(compiled)
     linearize_x, chi2_u = residuals[2], residuals[4]
+    peaks = structural_peaks(compiled.circuit, compiled.parameter_names, registry)
 
     def per_spectrum(fn):
         """``fn(u, args)`` vmapped over points u (C, K) of the spectra rows[spectrum]."""
@@ -343,11 +351,11 @@ def tree_solver(circuit: Circuit, registry: Registry, max_steps: int):
 
         return jax.jit(mapped)
 
-    finish = per_spectrum(lambda u, args: _finish(u, args, linearize_x))
+    finish = per_spectrum(lambda u, args: _finish(u, args, linearize_x, peaks))
     chi2 = per_spectrum(chi2_u)
 
     lanes = functools.lru_cache(maxsize=4)(lambda n_lanes: jax.jit(_make_lanes(residuals[3], n_lanes), static_argnames="drain"))
-    return jax.jit(_make(residuals, max_steps)), lanes, finish, chi2
+    return jax.jit(_make(residuals, max_steps, peaks)), lanes, finish, chi2
 
 
 def _make_lanes(normal_u: Callable, n_lanes: int):

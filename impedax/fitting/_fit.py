@@ -6,22 +6,21 @@ the data have extra dimensions (trial, subject, ...), which are fitted in one vm
 
 from __future__ import annotations
 
-import functools
 import math
 import time
 from dataclasses import dataclass, field
 from typing import Mapping, Sequence
 
 import jax
-import jax.numpy as jnp
 import numpy as np
 import xarray as xr
 
-from ..circuits import Circuit, DEFAULT_REGISTRY, Element, Registry, Series, compile_circuit, parse
+from ..circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
 from ..data import validate_spectrum
 from ..errors import DataError, FitError, ParameterError
 from ..io import load
 from ._core import solver_messages, tree_solver
+from ._order import canonical_order
 from ._parameters import ParameterTable, to_internal
 from ._starts import SpectrumFeatures, data_driven_guess, data_driven_guesses, random_starts
 
@@ -403,102 +402,6 @@ def fit(
         used = n_starts
     out = canonical_order(circuit, table, freq, out, registry)
     return _result(circuit, table, freq, z, out, weighting, used, time.perf_counter() - t0, registry)
-
-
-def _shape(node: Circuit, registry: Registry) -> str:
-    """A subcircuit's structure without its element names: ``R || CPE`` for ``R1 || CPE1``."""
-    if isinstance(node, Element):
-        return registry[node.symbol].symbol
-    kind = "S" if isinstance(node, Series) else "P"
-    return f"{kind}({','.join(_shape(c, registry) for c in node.children)})"
-
-
-def _exchangeable_blocks(circuit: Circuit, names, fixed, lower, upper, registry: Registry) -> list[list[tuple[Circuit, list[int]]]]:
-    """Groups of sibling subcircuits with the same structure (two ``R || CPE`` arcs in series):
-    swapping their parameter values leaves Z unchanged. Each member with its parameters'
-    indices in ``names``, position by position; only groups whose parameters are all free
-    (``fixed``) with equal bounds."""
-    index = {n: i for i, n in enumerate(names)}
-    groups = []
-
-    def walk(node):
-        if isinstance(node, Element):
-            return
-        by_shape: dict[str, list] = {}
-        for child in node.children:
-            if not isinstance(child, Element):
-                by_shape.setdefault(_shape(child, registry), []).append(child)
-        for members in by_shape.values():
-            blocks = [(m, [index[n] for n in m.parameter_names(registry)]) for m in members]
-            columns = np.array([idx for _, idx in blocks])
-            same_bounds = all((lower[c] == lower[c[0]]).all() and (upper[c] == upper[c[0]]).all() for c in columns.T)
-            if len(blocks) > 1 and not fixed[columns].any() and same_bounds:
-                groups.append(blocks)
-        for child in node.children:
-            walk(child)
-
-    walk(circuit)
-    return groups
-
-
-@functools.lru_cache(maxsize=64)
-def _peak_frequency_fn(blocks: tuple[Circuit, ...], names: tuple[str, ...], registry: Registry):
-    """Jitted ``fn(x (B, P), freq) -> (B, members)``: the frequency at which each block's −Z''
-    peaks (−inf where it is never positive), from the full parameter vectors x."""
-    compiled = [compile_circuit(block, registry) for block in blocks]
-    columns = [np.array([names.index(n) for n in c.parameter_names]) for c in compiled]
-
-    def peaks(x, freq):
-        out = []
-        for c, idx in zip(compiled, columns):
-            neg_im = -jax.vmap(lambda row: c.vector(row[idx], freq))(x).imag
-            out.append(jnp.where(jnp.any(neg_im > 0, axis=1), freq[jnp.argmax(neg_im, axis=1)], -jnp.inf))
-        return jnp.stack(out, axis=1)
-
-    return jax.jit(peaks)
-
-
-@functools.lru_cache(maxsize=64)
-def _canonical_plan(circuit: Circuit, names: tuple[str, ...], fixed: bytes, lower: bytes, upper: bytes, registry: Registry):
-    """Per exchangeable group (`_exchangeable_blocks`): its parameter columns (members, params
-    per block) and the jitted peak-frequency function of its members (cached per circuit and
-    parameter table)."""
-    groups = _exchangeable_blocks(circuit, names, np.frombuffer(fixed, bool), np.frombuffer(lower), np.frombuffer(upper), registry)
-    return [(np.array([idx for _, idx in blocks]), _peak_frequency_fn(tuple(b for b, _ in blocks), names, registry)) for blocks in groups]
-
-
-def canonical_order(circuit: Circuit, table: ParameterTable, freq, out: dict, registry: Registry) -> dict:
-    """Solver outputs with exchangeable blocks (`_exchangeable_blocks`) in one convention: the
-    block whose −Z'' peaks at the highest frequency first, as written (as the data-driven
-    guess assigns arcs). Without it, fits of one batch could report the same arc as
-    ``R1`` in one spectrum and ``R2`` in the next. Permutes ``x`` (…, P) and the Jacobian's
-    columns (…, M, K); everything else is unchanged."""
-    groups = _canonical_plan(circuit, table.names, table.fixed.tobytes(), table.lower.tobytes(), table.upper.tobytes(), registry)
-    if not groups:
-        return out
-    x = np.array(out["x"], float)
-    batch_shape, n_par = x.shape[:-1], x.shape[-1]
-    x = x.reshape(-1, n_par)
-    order = np.tile(np.arange(n_par), (x.shape[0], 1))
-    rows = np.arange(x.shape[0])[:, None]
-    for columns, peak_frequency in groups:  # outer groups first: an inner group is sorted where it has moved to
-        rank = np.argsort(-np.asarray(peak_frequency(x, np.asarray(freq, float))), axis=1, kind="stable")  # (B, members)
-        permutation = np.tile(np.arange(n_par), (x.shape[0], 1))
-        for slot in range(len(columns)):
-            permutation[:, columns[slot]] = columns[rank[:, slot]]
-        x, order = x[rows, permutation], order[rows, permutation]
-    moved = np.flatnonzero(np.any(order != np.arange(n_par), axis=1))
-    if not moved.size:
-        return out  # already in order (the usual case)
-    out = dict(out, x=x.reshape(*batch_shape, n_par))
-    free = table.free_index
-    position = np.full(n_par, -1)
-    position[free] = np.arange(free.size)
-    jac = np.array(out["jacobian"]).reshape(-1, *np.shape(out["jacobian"])[-2:])
-    columns = position[order[moved][:, free]][:, None, :]
-    jac[moved] = np.take_along_axis(jac[moved], np.broadcast_to(columns, (moved.size, *jac.shape[1:])), axis=-1)
-    out["jacobian"] = jac.reshape(np.shape(out["jacobian"]))
-    return out
 
 
 def _fetch(out: dict) -> dict:
