@@ -262,7 +262,8 @@ def covariances(jac: np.ndarray, chi2_red, weighting: str):
         _, s[ill], vt[ill] = np.linalg.svd(equilibrated.reshape(-1, *equilibrated.shape[-2:])[ill], full_matrices=False)
         s, vt = s.reshape(*batch, -1), vt.reshape(*batch, *vt.shape[-2:])
     s_max = np.where(s[..., :1] > 0, s[..., :1], 1.0)
-    cov = (np.swapaxes(vt, -1, -2) * (1.0 / (s**2 + (1e-13 * s_max) ** 2))[..., None, :]) @ vt * scale[..., :, None] * scale[..., None, :]
+    with np.errstate(over="ignore", invalid="ignore"):  # a column of zeros: infinite variance, said so
+        cov = (np.swapaxes(vt, -1, -2) * (1.0 / (s**2 + (1e-13 * s_max) ** 2))[..., None, :]) @ vt * scale[..., :, None] * scale[..., None, :]
     if weighting != "sigma":
         chi2_red = np.asarray(chi2_red, float)
         cov = cov * np.where(np.isfinite(chi2_red), chi2_red, 1.0)[..., None, None]
