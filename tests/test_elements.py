@@ -46,6 +46,18 @@ def test_element_matches_independent_formula(name):
         assert zi == pytest.approx(expected, rel=1e-12)
 
 
+@pytest.mark.parametrize("spec", [s for s in DEFAULT_REGISTRY if s.admittance is not None], ids=lambda s: s.symbol)
+def test_declared_admittance_is_the_inverse_impedance(spec):
+    """Elements that declare an admittance formula (summed directly by parallel nodes) give
+    exactly 1/Z, against the cmath oracle of the impedance."""
+    params, oracle = ORACLES[f"{spec.symbol}1"]
+    values = [params[n] for n in spec.parameter_names(f"{spec.symbol}1")]
+    w = 2 * np.pi * FREQS
+    y = np.broadcast_to(np.asarray(spec.admittance(jnp.asarray(w), *values)), w.shape)
+    expected = np.array([1 / complex(oracle(wi, params)) for wi in w])
+    np.testing.assert_allclose(y, expected, rtol=1e-13)
+
+
 def test_cpe_alpha_one_is_capacitor_and_half_is_warburg_like():
     f = np.geomspace(1, 1e5, 9)
     z_cpe = ix.compile_circuit("CPE1")({"CPE1.Q": 1e-6, "CPE1.alpha": 1.0}, f)

@@ -157,6 +157,22 @@ def test_batch_equals_one_by_one(rng):
         assert float(ds["rms_rel"].sel(problem=i)) == pytest.approx(single.rms_rel, rel=1e-8)
 
 
+def test_batch_with_fixed_and_bounded_parameters_equals_one_by_one(rng):
+    """Solvers are specialised on the free set (which positions, which transforms): a fixed
+    parameter held at its value, a bounded one, and the rest free, batch as single."""
+    text, trues, data = _batch("two_arcs", rng, 5)
+    # (the same bounds on both arcs: they stay exchangeable and are reported in one order)
+    options = dict(fixed={"R0": trues[0]["R0"]}, bounds={"CPE1.alpha": (0.5, 1.0), "CPE2.alpha": (0.5, 1.0)})
+    ds = ix.fit(text, data, **options).to_xarray()
+    for i in range(5):
+        single = ix.fit(text, data.isel(problem=i), **options)
+        assert single.values["R0"] == trues[0]["R0"] and single.fixed["R0"]
+        assert float(ds["value"].sel(param="R0", problem=i)) == trues[0]["R0"]
+        assert float(ds["rms_rel"].sel(problem=i)) == pytest.approx(single.rms_rel, rel=1e-6)
+        for name in single.free_names:
+            assert float(ds["value"].sel(param=name, problem=i)) == pytest.approx(single.values[name], rel=1e-4)
+
+
 def test_large_batch_with_outliers_equals_one_by_one(rng):
     """Batches of 16+ spectra may start from the fit of their most typical spectrum: spectra
     unlike it (here four with |Z| 10–30 times larger or smaller: resistances scaled one way,

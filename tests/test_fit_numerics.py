@@ -158,3 +158,26 @@ def test_vectorised_batch_statistics_equal_single_fits_warnings_included(rng):
             else:
                 assert batch.warnings.get(f"trial={i}", ()) == single.warnings
         assert bool(batch.warnings) == (fixed is None)
+
+
+@pytest.mark.parametrize(
+    "kind, lower, upper, formula",
+    [
+        (0, 0.0, np.inf, lambda u, a, b: np.exp(u)),
+        (1, 1e-9, 1e-3, lambda u, a, b: np.exp(np.log(a) + (np.log(b) - np.log(a)) / (1 + np.exp(-u)))),
+        (2, 0.0, 1.0, lambda u, a, b: a + (b - a) / (1 + np.exp(-u))),
+        (3, 5.0, np.inf, lambda u, a, b: a + np.exp(u)),
+        (4, -np.inf, np.inf, lambda u, a, b: u),
+    ],
+)
+def test_parameter_transform_of_each_kind(kind, lower, upper, formula):
+    """The unconstrained → bounded maps of `_parameters`' docstring, one kind traced alone
+    (what compiled solvers use) and selected from a kind array, against numpy formulas;
+    `to_internal` inverts them."""
+    from impedax.fitting._parameters import external_of_kind, to_external, to_internal
+
+    u = np.linspace(-6.0, 6.0, 13)
+    expected = formula(u, lower, upper)
+    np.testing.assert_allclose(np.asarray(external_of_kind(u, lower, upper, kind)), expected, rtol=1e-14)
+    np.testing.assert_allclose(np.asarray(to_external(u, np.full(u.size, lower), np.full(u.size, upper), np.full(u.size, kind))), expected, rtol=1e-14)
+    np.testing.assert_allclose(to_internal(expected, lower, upper, kind), u, rtol=1e-7, atol=1e-7)

@@ -33,7 +33,7 @@ def problems():
     args = _args(table, F, z[0], inv[0], inv[0])
     shared = {k: args[k] for k in ("freq", "free_index", "lower", "upper", "kind")}
     rows = {"z": z, "inv_w_re": inv, "inv_w_im": inv, "x_fixed": np.broadcast_to(args["x_fixed"], (len(z), args["x_fixed"].size))}
-    lanes = tree_solver(CIRCUIT, DEFAULT_REGISTRY, 400)[1]
+    lanes = tree_solver(CIRCUIT, DEFAULT_REGISTRY, 400, *table.free_structure)[1]
     return z, u0, rows, shared, lanes
 
 
@@ -42,7 +42,8 @@ def plain(u0, rows, shared, i, max_steps):
     from impedax.circuits import compile_circuit
     from impedax.fitting._core import _tree_residuals
 
-    normal_u = _tree_residuals(compile_circuit(CIRCUIT))[3]
+    table = ParameterTable.build(CIRCUIT)
+    normal_u = _tree_residuals(compile_circuit(CIRCUIT), *table.free_structure).normal_u
     args = {**shared, **{k: v[i] for k, v in rows.items()}}
     u, chi2, done, steps = levenberg_marquardt(normal_u, jnp.asarray(u0[i]), args, max_steps)
     return np.asarray(u), float(chi2), bool(done), int(steps)

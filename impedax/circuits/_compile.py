@@ -47,88 +47,92 @@ def _check_names(circuit: Circuit, registry: Registry) -> None:
         seen.add(e.name)
 
 
-def _element_fn(e: Element, registry: Registry):
+def _element_fn(e: Element, registry: Registry, form: str = "Z"):
     spec = registry[e.symbol]
     names = spec.parameter_names(e.name)
-    impedance = spec.impedance
+    own, invert = _element_formula(spec, form)
 
     def fn(params, omega):
-        return impedance(omega, *(params[n] for n in names))
+        value = own(omega, *(params[n] for n in names))
+        return 1.0 / value if invert else value
 
     return fn
 
 
-def _node_fn(node: Circuit, registry: Registry):
-    """Trace-time recursion: returns ``fn(params, omega) -> Z`` for ``node``."""
+def _element_formula(spec, form: str):
+    """(formula, invert): the element's own formula for ``form`` ("Z" impedance, "Y"
+    admittance), and whether its value must be inverted to get there."""
+    if form == "Y" and spec.admittance is not None:
+        return spec.admittance, False
+    return spec.impedance, form == "Y"
+
+
+def _node_fn(node: Circuit, registry: Registry, form: str = "Z"):
+    """Trace-time recursion: returns ``fn(params, omega)`` giving the node's impedance
+    (``form="Z"``) or admittance (``"Y"``). A parallel node sums its children's admittances,
+    taken from the elements' own admittance formulas where they have one."""
     if isinstance(node, Element):
-        return _element_fn(node, registry)
-    child_fns = [_node_fn(c, registry) for c in node.children]
-    if isinstance(node, Series):
+        return _element_fn(node, registry, form)
+    parallel = isinstance(node, Parallel)
+    child_fns = [_node_fn(c, registry, "Y" if parallel else "Z") for c in node.children]
 
-        def fn(params, omega):
-            z = child_fns[0](params, omega)
-            for f in child_fns[1:]:
-                z = z + f(params, omega)
-            return z
-
-    else:
-
-        def fn(params, omega):
-            y = 1.0 / child_fns[0](params, omega)
-            for f in child_fns[1:]:
-                y = y + 1.0 / f(params, omega)
-            return 1.0 / y
+    def fn(params, omega):
+        total = child_fns[0](params, omega)
+        for f in child_fns[1:]:
+            total = total + f(params, omega)
+        return total if (form == "Y") == parallel else 1.0 / total
 
     return fn
 
 
-def _element_jacobian_fn(e: Element, registry: Registry, index: Mapping[str, int]):
-    """``fn(theta, omega) -> (Z, [(parameter index, ∂Z/∂θ)])`` for one element: the element's
-    own derivatives by forward mode (elementwise over ω, one tangent per parameter)."""
+def _element_derivatives_fn(e: Element, registry: Registry, index: Mapping[str, int], form: str):
+    """``fn(theta, omega, wanted) -> (value, {parameter index: ∂value/∂θ})`` for one element,
+    value its impedance or admittance (``form``); its own derivatives by forward mode
+    (elementwise over ω, one tangent per parameter in ``wanted``). Where only the other
+    formula exists, Y = 1/Z and ∂Y = −Y²·∂Z."""
     spec = registry[e.symbol]
     columns = [index[n] for n in spec.parameter_names(e.name)]
-    impedance = spec.impedance
+    own, invert = _element_formula(spec, form)
 
-    def fn(theta, omega):
+    def fn(theta, omega, wanted):
         values = tuple(theta[i] for i in columns)
-        z = jnp.broadcast_to(impedance(omega, *values), omega.shape).astype(jnp.complex128)
-        rows = []
+        formula = lambda *v: own(omega, *v)  # noqa: E731
+        value = formula(*values)
+        rows = {}
         for k, i in enumerate(columns):
-            tangent = tuple(jnp.ones_like(v) if j == k else jnp.zeros_like(v) for j, v in enumerate(values))
-            dz = jax.jvp(lambda *v: impedance(omega, *v), values, tangent)[1]
-            rows.append((i, jnp.broadcast_to(dz, omega.shape).astype(jnp.complex128)))
-        return z, rows
+            if i in wanted:
+                tangent = tuple(jnp.ones_like(v) if j == k else jnp.zeros_like(v) for j, v in enumerate(values))
+                rows[i] = jax.jvp(formula, values, tangent)[1]
+        if invert:
+            value = 1.0 / value
+            factor = -value * value
+            rows = {i: factor * d for i, d in rows.items()}
+        return value, rows
 
     return fn
 
 
-def _node_jacobian_fn(node: Circuit, registry: Registry, index: Mapping[str, int]):
-    """Trace-time recursion for `CompiledCircuit.value_and_jacobian`. A series node passes its
-    children's derivatives through (∂Z/∂Z_i = 1); a parallel node Z = 1/Σ 1/Z_i scales child
-    i's by ∂Z/∂Z_i = (Z/Z_i)², so every column costs one product per enclosing parallel node."""
+def _node_derivatives_fn(node: Circuit, registry: Registry, index: Mapping[str, int], form: str = "Z"):
+    """Trace-time recursion for `CompiledCircuit.value_and_jacobian`: ``fn(theta, omega,
+    wanted)`` gives the node's impedance or admittance (``form``) and its derivatives by the
+    parameters in ``wanted``. Sums pass derivatives through (Z = Σ Z_i in series, Y = Σ Y_i in
+    parallel); changing form uses ∂(1/v) = −(1/v)²·∂v, so every column costs one complex
+    product per change of form on its way to the root."""
     if isinstance(node, Element):
-        return _element_jacobian_fn(node, registry, index)
-    child_fns = [_node_jacobian_fn(c, registry, index) for c in node.children]
-    if isinstance(node, Series):
+        return _element_derivatives_fn(node, registry, index, form)
+    parallel = isinstance(node, Parallel)
+    child_fns = [_node_derivatives_fn(c, registry, index, "Y" if parallel else "Z") for c in node.children]
 
-        def fn(theta, omega):
-            z, rows = child_fns[0](theta, omega)
-            for f in child_fns[1:]:
-                z_i, rows_i = f(theta, omega)
-                z, rows = z + z_i, rows + rows_i
-            return z, rows
-
-    else:
-
-        def fn(theta, omega):
-            parts = [f(theta, omega) for f in child_fns]
-            admittances = [1.0 / z_i for z_i, _ in parts]
-            z = 1.0 / sum(admittances[1:], admittances[0])
-            rows = []
-            for (_, rows_i), y_i in zip(parts, admittances):
-                factor = (z * y_i) ** 2
-                rows += [(i, factor * dz) for i, dz in rows_i]
-            return z, rows
+    def fn(theta, omega, wanted):
+        total, rows = child_fns[0](theta, omega, wanted)
+        for f in child_fns[1:]:
+            value, more = f(theta, omega, wanted)
+            total, rows = total + value, {**rows, **more}
+        if (form == "Y") == parallel:
+            return total, rows
+        value = 1.0 / total
+        factor = -value * value
+        return value, {i: factor * d for i, d in rows.items()}
 
     return fn
 
@@ -165,12 +169,20 @@ class CompiledCircuit:
     def value_and_jacobian(self, theta, freq):
         """``(Z, J)`` with Z (F,) and J = ∂Z/∂θ (F, P) complex, for ``theta`` (P,) in
         ``parameter_names`` order. J is assembled from the elements' own derivatives and
-        the chain rule through the tree (`_node_jacobian_fn`), several times cheaper than
-        forward mode through the whole circuit; it is what the least-squares solvers use."""
+        the chain rule through the tree (`_node_derivatives_fn`), several times cheaper
+        than forward mode through the whole circuit; it is what the least-squares solvers use."""
+        z, columns = self.value_and_columns(theta, freq, range(len(self.parameter_names)))
+        return z, jnp.stack(columns, axis=-1)
+
+    def value_and_columns(self, theta, freq, wanted):
+        """``(Z, [∂Z/∂θ_i for i in wanted])``, each (F,) complex; ``theta`` is anything
+        indexable by parameter position (an array, or a tuple of scalars), ``wanted`` a static
+        sequence of positions. Derivatives not wanted are never traced."""
         omega = 2.0 * jnp.pi * jnp.asarray(freq, jnp.float64)
-        z, rows = self._jacobian_fn(theta, omega)
-        columns = dict(rows)
-        return z, jnp.stack([columns[i] for i in range(len(self.parameter_names))], axis=-1)
+        wanted = tuple(int(i) for i in wanted)
+        z, rows = self._jacobian_fn(theta, omega, frozenset(wanted))
+        full = lambda v: jnp.broadcast_to(v, omega.shape).astype(jnp.complex128)  # noqa: E731
+        return full(z), [full(rows[i]) for i in wanted]
 
 
 def compile_circuit(circuit: Circuit | str, registry: Registry = DEFAULT_REGISTRY) -> CompiledCircuit:
@@ -181,7 +193,7 @@ def compile_circuit(circuit: Circuit | str, registry: Registry = DEFAULT_REGISTR
     _check_names(circuit, registry)
     names = circuit.parameter_names(registry)
     index = {n: i for i, n in enumerate(names)}
-    return CompiledCircuit(circuit, registry, names, _node_fn(circuit, registry), _node_jacobian_fn(circuit, registry, index))
+    return CompiledCircuit(circuit, registry, names, _node_fn(circuit, registry), _node_derivatives_fn(circuit, registry, index))
 
 
 # --- probes ---------------------------------------------------------------------------------

@@ -61,6 +61,8 @@ class ElementSpec:
 
     ``impedance(omega, *params)`` takes the angular frequency ω [rad/s] and the parameters in
     declaration order and returns the complex impedance [Ω]; it must be pure JAX.
+    ``admittance(omega, *params)``, optional, returns 1/Z [S] where that is the simpler
+    formula (R, C, CPE): parallel nodes sum admittances, so it saves a division per frequency.
     """
 
     symbol: str
@@ -69,6 +71,7 @@ class ElementSpec:
     parameters: tuple[ParameterSpec, ...]
     impedance: Callable[..., jnp.ndarray] = field(compare=False)
     aliases: tuple[str, ...] = ()
+    admittance: Callable[..., jnp.ndarray] | None = field(default=None, compare=False)
 
     def __post_init__(self):
         for sym in (self.symbol, *self.aliases):
@@ -167,8 +170,16 @@ def _resistor(w, r):
     return r + 0j * w
 
 
+def _resistor_admittance(w, r):
+    return 1.0 / r + 0j * w
+
+
 def _capacitor(w, c):
     return 1.0 / (1j * w * c)
+
+
+def _capacitor_admittance(w, c):
+    return 1j * w * c
 
 
 def _inductor(w, l):  # noqa: E741 - L is the physics symbol
@@ -177,6 +188,10 @@ def _inductor(w, l):  # noqa: E741 - L is the physics symbol
 
 def _cpe(w, q, alpha):
     return 1.0 / (q * _j_power(w, alpha))
+
+
+def _cpe_admittance(w, q, alpha):
+    return q * _j_power(w, alpha)
 
 
 def _warburg(w, sigma):
@@ -209,8 +224,8 @@ _FRACTION = dict(lower=0.0, upper=1.0, upper_inclusive=True)
 
 DEFAULT_REGISTRY = Registry(
     (
-        ElementSpec("R", "resistor", "Z = R", (ParameterSpec(None, "Ohm", 100.0, **_POS, description="resistance"),), _resistor),
-        ElementSpec("C", "capacitor", "Z = 1/(jωC)", (ParameterSpec(None, "F", 1e-6, **_POS, description="capacitance"),), _capacitor),
+        ElementSpec("R", "resistor", "Z = R", (ParameterSpec(None, "Ohm", 100.0, **_POS, description="resistance"),), _resistor, admittance=_resistor_admittance),
+        ElementSpec("C", "capacitor", "Z = 1/(jωC)", (ParameterSpec(None, "F", 1e-6, **_POS, description="capacitance"),), _capacitor, admittance=_capacitor_admittance),
         ElementSpec("L", "inductor", "Z = jωL", (ParameterSpec(None, "H", 1e-6, **_POS, description="inductance"),), _inductor),
         ElementSpec(
             "CPE",
@@ -222,6 +237,7 @@ DEFAULT_REGISTRY = Registry(
             ),
             _cpe,
             aliases=("Q",),
+            admittance=_cpe_admittance,
         ),
         ElementSpec("W", "semi-infinite Warburg", "Z = σ(1 − j)/√ω", (ParameterSpec("sigma", "Ohm s^-1/2", 100.0, **_POS, description="Warburg coefficient"),), _warburg),
         ElementSpec(

@@ -21,7 +21,7 @@ count and frequency count share one compilation. Three solvers:
 from __future__ import annotations
 
 import functools
-from typing import Callable
+from typing import Callable, NamedTuple
 
 import jax
 import jax.numpy as jnp
@@ -30,7 +30,7 @@ import optimistix as optx
 
 from ..circuits import Circuit, ProgramLayout, Registry, compile_circuit
 from ._order import structural_peaks
-from ._parameters import to_external
+from ._parameters import external_of_kind, to_external
 
 __all__ = ["tree_solver", "program_solver", "levenberg_marquardt", "solver_messages", "SCREEN_STEPS"]
 
@@ -55,10 +55,22 @@ def _u_to_x(u, args):
     return jax.jvp(lambda v: to_external(v, args["lower"], args["upper"], args["kind"]), (u,), (jnp.ones_like(u),))
 
 
+class Residuals(NamedTuple):
+    """The functions a solver needs, of (point, args): the weighted residual at parameters
+    x_free or at the unconstrained point u; ``linearize_x`` → (J, r) in parameter space;
+    ``normal_u`` → the normal equations (JᵀJ, Jᵀr, ½‖r‖², extra) at u; ``chi2_u`` → ‖r‖²
+    (tree circuits only); ``to_x`` → (x_free, all parameters) at u."""
+
+    residual_x: Callable
+    residual_u: Callable
+    linearize_x: Callable
+    normal_u: Callable
+    chi2_u: Callable | None
+    to_x: Callable
+
+
 def _residuals(model: Callable):
-    """Residual functions of a model by forward-mode differentiation: (residual_x,
-    residual_u, linearize_x, normal_u); linearize_x returns (J, r), normal_u the normal
-    equations (JᵀJ, Jᵀr, ½‖r‖²)."""
+    """Residual functions of a model by forward-mode differentiation (`Residuals`)."""
 
     def residual_x(x_free, args):
         return _weighted(model(_free_to_full(x_free, args), args["freq"], args["model_args"]) - args["z"], args)
@@ -77,61 +89,92 @@ def _residuals(model: Callable):
         jac, r = forward(residual_u)(u, args)
         return jac.T @ jac, jac.T @ r, 0.5 * jnp.sum(r**2), (jac, r)  # (J, r) kept: see `_lm_parts`
 
-    return residual_x, residual_u, forward(residual_x), normal_u
+    def to_x(u, args):
+        x_free = to_external(u, args["lower"], args["upper"], args["kind"])
+        return x_free, _free_to_full(x_free, args)
+
+    return Residuals(residual_x, residual_u, forward(residual_x), normal_u, None, to_x)
 
 
-def _tree_residuals(compiled):
-    """As `_residuals` for a compiled circuit, with its analytic Jacobian
-    (`CompiledCircuit.value_and_jacobian`); ``residual_u`` carries it as a custom JVP, so
-    optimistix's linearisation costs one evaluation of it rather than forward mode through
-    the circuit. Also ``chi2_u``, the sum of squares alone.
+def _tree_residuals(compiled, free: tuple[int, ...], kinds: tuple[int, ...]):
+    """As `_residuals` for a compiled circuit whose free parameters (positions ``free``, with
+    transform ``kinds``, see `_parameters`) are known when tracing, with the circuit's
+    analytic Jacobian (`CompiledCircuit.value_and_columns`); ``residual_u`` carries it as a
+    custom JVP, so optimistix's linearisation costs one evaluation of it rather than forward
+    mode through the circuit. Also ``chi2_u``, the sum of squares alone, and ``to_x``, the
+    parameters of the solver's point u.
 
+    Knowing the free set when tracing, fixed parameters are constants of the trace: no
+    gather or scatter by index, no derivative columns for them, one transform per parameter.
     Re and Im parts are weighted apart and, in what runs under ``vmap`` (``normal_u``,
     ``chi2_u``), never concatenated: XLA's concatenation of the halves costs several times
     the circuit."""
+    slot = {i: j for j, i in enumerate(free)}
+    n_params = len(compiled.parameter_names)
 
-    def parts_x(x_free, args):
-        """(J_re, J_im) (N, K) and (r_re, r_im) (N,), weighted."""
-        z, jac = compiled.value_and_jacobian(_free_to_full(x_free, args), args["freq"])
-        jac, r = jac[:, args["free_index"]], z - args["z"]
+    def theta(x_free, args):
+        """All parameters, by position: the free ones from x_free, the rest from x_fixed."""
+        return tuple(x_free[slot[i]] if i in slot else args["x_fixed"][i] for i in range(n_params))
+
+    def external(u, args):
+        lower, upper = args["lower"], args["upper"]
+        return jnp.stack([external_of_kind(u[j], lower[j], upper[j], k) for j, k in enumerate(kinds)])
+
+    def u_to_x(u, args):
+        return jax.jvp(lambda v: external(v, args), (u,), (jnp.ones_like(u),))
+
+    def impedance(x_free, args):
+        return compiled(dict(zip(compiled.parameter_names, theta(x_free, args))), args["freq"])
+
+    def parts_x(x_free, args, dx_du=None):
+        """(J_re, J_im) (K, N), parameters first, and (r_re, r_im) (N,), weighted (and by
+        u, given dx/du)."""
+        z, columns = compiled.value_and_columns(theta(x_free, args), args["freq"], free)
         w_re, w_im = args["inv_w_re"], args["inv_w_im"]
-        return jac.real * w_re[:, None], jac.imag * w_im[:, None], r.real * w_re, r.imag * w_im
+        jac = jnp.stack(columns)
+        if dx_du is not None:
+            jac = jac * dx_du[:, None]
+        r = z - args["z"]
+        return jac.real * w_re[None, :], jac.imag * w_im[None, :], r.real * w_re, r.imag * w_im
 
     def linearize_x(x_free, args):
         j_re, j_im, r_re, r_im = parts_x(x_free, args)
-        return jnp.concatenate([j_re, j_im]), jnp.concatenate([r_re, r_im])
+        return jnp.concatenate([j_re, j_im], axis=1).T, jnp.concatenate([r_re, r_im])
 
     def linearize_u(u, args):
-        x, dx_du = _u_to_x(u, args)
-        jac, r = linearize_x(x, args)
-        return jac * dx_du[None, :], r
+        x, dx_du = u_to_x(u, args)
+        j_re, j_im, r_re, r_im = parts_x(x, args, dx_du)
+        return jnp.concatenate([j_re, j_im], axis=1).T, jnp.concatenate([r_re, r_im])
 
     def normal_u(u, args):
-        x, dx_du = _u_to_x(u, args)
-        j_re, j_im, r_re, r_im = parts_x(x, args)
-        # Re and Im interleaved row by row: under vmap, XLA runs this layout's JᵀJ several
-        # times faster than two products or a concatenation (measured, benchmarks/README.md)
-        jac = jnp.stack([j_re, j_im], axis=1).reshape(-1, j_re.shape[1]) * dx_du[None, :]
-        r = jnp.stack([r_re, r_im], axis=1).reshape(-1)
-        return jac.T @ jac, jac.T @ r, 0.5 * jnp.sum(r**2), ()
+        x, dx_du = u_to_x(u, args)
+        j_re, j_im, r_re, r_im = parts_x(x, args, dx_du)
+        # parameters-first layout and two products: under vmap, XLA runs this JᵀJ faster
+        # than any layout with Re and Im joined (measured, benchmarks/README.md)
+        a = j_re @ j_re.T + j_im @ j_im.T
+        return a, j_re @ r_re + j_im @ r_im, 0.5 * (jnp.sum(r_re**2) + jnp.sum(r_im**2)), ()
 
     def residual_x(x_free, args):
-        return _weighted(compiled.vector(_free_to_full(x_free, args), args["freq"]) - args["z"], args)
+        return _weighted(impedance(x_free, args) - args["z"], args)
 
     def chi2_u(u, args):
-        r = compiled.vector(_free_to_full(to_external(u, args["lower"], args["upper"], args["kind"]), args), args["freq"]) - args["z"]
+        r = impedance(external(u, args), args) - args["z"]
         return jnp.sum((r.real * args["inv_w_re"]) ** 2) + jnp.sum((r.imag * args["inv_w_im"]) ** 2)
 
     @jax.custom_jvp
     def residual_u(u, args):
-        return residual_x(to_external(u, args["lower"], args["upper"], args["kind"]), args)
+        return residual_x(external(u, args), args)
 
     @residual_u.defjvp
     def _residual_u_jvp(primals, tangents):
         jac, r = linearize_u(*primals)
         return r, jac @ tangents[0]
 
-    return residual_x, residual_u, linearize_x, normal_u, chi2_u
+    def to_x(u, args):
+        x_free = external(u, args)
+        return x_free, jnp.stack(theta(x_free, args))
+
+    return Residuals(residual_x, residual_u, linearize_x, normal_u, chi2_u, to_x)
 
 
 UNROLLED_SOLVE_MAX = 12  # up to this many free parameters the damped system is solved inline
@@ -224,15 +267,14 @@ _MAX_STEPS_CODE = int(optx.RESULTS.max_steps_reached._value)
 MIN_STEPS = 8
 
 
-def _finish(u, args, linearize_x, peaks=None):
+def _finish(u, args, residuals: Residuals, peaks=None):
     """Solver outputs at the solution u: parameters, the Jacobian in parameter space (for
     the covariance), chi², the model's impedance and, given ``peaks``
     (`_order.structural_peaks`), the peak frequencies that order exchangeable blocks."""
-    x_free = to_external(u, args["lower"], args["upper"], args["kind"])
-    jac, r = linearize_x(x_free, args)
+    x_free, x = residuals.to_x(u, args)
+    jac, r = residuals.linearize_x(x_free, args)
     n = args["z"].shape[0]
     chi2 = jnp.sum(r**2)
-    x = _free_to_full(x_free, args)
     out = {
         "x": x,
         "x_free": x_free,
@@ -249,7 +291,7 @@ def _make_single_phase_batch(residuals, max_steps: int):
     """A solver for C candidates × S starts at once. All starts iterate in one loop that ends
     when, for every candidate, its best start so far has converged and no unfinished start is
     better (or at the step limit): stragglers in slow valleys do not hold the batch up."""
-    normal_u = residuals[3]
+    normal_u = residuals.normal_u
 
     def extra_init(u0, args):
         m = args["z"].shape[0] * 2
@@ -303,7 +345,7 @@ def _make(residuals, max_steps: int, peaks=None):
     # solved by Cholesky on the normal equations (K×K): positive definite for λ > 0 and cheaper
     # than the default QR of the stacked (2N + K)×K system
     solver = optx.LevenbergMarquardt(rtol=1e-7, atol=1e-10, linear_solver=lx.Normal(lx.Cholesky()))
-    residual_u, linearize_x = residuals[1], residuals[2]
+    residual_u = residuals.residual_u
 
     def solve_one(u0, args, steps):
         sol = optx.least_squares(residual_u, solver, u0, args, max_steps=steps, throw=False)
@@ -321,7 +363,7 @@ def _make(residuals, max_steps: int, peaks=None):
         else:
             chi2s, steps1, u_best = jnp.zeros(1), jnp.zeros(1, jnp.int64), u0s[0]
         u, _, code, steps = solve_one(u_best, args, max_steps)
-        out = _finish(u, args, linearize_x, peaks)
+        out = _finish(u, args, residuals, peaks)
         out.update(code=code, steps=steps, chi2_starts=chi2s, steps_total=jnp.sum(steps1) + steps)
         return out
 
@@ -333,14 +375,14 @@ SPECTRUM_KEYS = ("z", "inv_w_re", "inv_w_im", "x_fixed")
 
 
 @functools.lru_cache(maxsize=128)
-def tree_solver(circuit: Circuit, registry: Registry, max_steps: int):
-    """Jitted solvers for one circuit (cached per circuit): ``single(u0s, args)`` runs
-    optimistix from one or many starts (`_make`); ``lanes(n_lanes)`` gives the lane solver of
+def tree_solver(circuit: Circuit, registry: Registry, max_steps: int, free: tuple[int, ...], kinds: tuple[int, ...]):
+    """Jitted solvers for one circuit and free set (positions ``free`` with transform
+    ``kinds``, `ParameterTable.free_structure`; cached): ``single(u0s, args)`` runs optimistix
+    from one or many starts (`_make`); ``lanes(n_lanes)`` gives the lane solver of
     `_make_lanes` for batches, ``finish(u, spectrum, rows, shared)`` the outputs at solutions
     and ``chi2(...)`` the weighted chi² at points u (both vmapped over points)."""
     compiled = compile_circuit(circuit, registry)
-    residuals = _tree_residuals(compiled)
-    linearize_x, chi2_u = residuals[2], residuals[4]
+    residuals = _tree_residuals(compiled, free, kinds)
     peaks = structural_peaks(compiled.circuit, compiled.parameter_names, registry)
 
     def per_spectrum(fn):
@@ -351,10 +393,10 @@ def tree_solver(circuit: Circuit, registry: Registry, max_steps: int):
 
         return jax.jit(mapped)
 
-    finish = per_spectrum(lambda u, args: _finish(u, args, linearize_x, peaks))
-    chi2 = per_spectrum(chi2_u)
+    finish = per_spectrum(lambda u, args: _finish(u, args, residuals, peaks))
+    chi2 = per_spectrum(residuals.chi2_u)
 
-    lanes = functools.lru_cache(maxsize=4)(lambda n_lanes: jax.jit(_make_lanes(residuals[3], n_lanes), static_argnames="drain"))
+    lanes = functools.lru_cache(maxsize=4)(lambda n_lanes: jax.jit(_make_lanes(residuals.normal_u, n_lanes), static_argnames="drain"))
     return jax.jit(_make(residuals, max_steps, peaks)), lanes, finish, chi2
 
 

@@ -390,7 +390,7 @@ def fit(
     z = np.asarray(data["Z"].values, complex)
     sigma = np.asarray(data["sigma"].values, float) if "sigma" in data else None
     inv_re, inv_im = _weights(z, sigma, weighting, source)
-    single = tree_solver(circuit, registry, max_steps)[0]
+    single = tree_solver(circuit, registry, max_steps, *table.free_structure)[0]
     scale = residual_scale(z, inv_re, inv_im)
     args = _args(table, freq, z, inv_re * scale, inv_im * scale)
     # the data-driven guess alone first; the multistart only when its fit is not at the noise

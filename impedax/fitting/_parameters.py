@@ -25,7 +25,7 @@ import numpy as np
 from ..circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ..errors import FitError, ParameterError
 
-__all__ = ["ParameterTable", "to_external", "to_internal"]
+__all__ = ["ParameterTable", "to_external", "external_of_kind", "to_internal"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -49,6 +49,12 @@ class ParameterTable:
         index = np.flatnonzero(~self.fixed)
         index.setflags(write=False)
         return index
+
+    @functools.cached_property
+    def free_structure(self) -> tuple[tuple[int, ...], tuple[int, ...]]:
+        """(positions, transform kinds) of the free parameters, as hashable tuples: what a
+        compiled solver specialises on (`_core.tree_solver`)."""
+        return tuple(self.free_index.tolist()), tuple(self.kind[self.free_index].tolist())
 
     @classmethod
     def build(
@@ -115,22 +121,28 @@ def _logistic(u):
 
 def to_external(u, lower, upper, kind):
     """Unconstrained u → parameter x (elementwise; JAX). See the module docstring."""
+    out = external_of_kind(u, lower, upper, 0)
+    for k in range(1, 5):
+        out = jnp.where(kind == k, external_of_kind(u, lower, upper, k), out)
+    return out
+
+
+def external_of_kind(u, lower, upper, kind: int):
+    """`to_external` for one transform ``kind`` known when tracing (a Python int): only that
+    formula is traced."""
+    if kind == 0:
+        return jnp.exp(u)
+    if kind == 4:
+        return u
     finite_lo = jnp.where(jnp.isfinite(lower), lower, 0.0)
+    if kind == 3:
+        return finite_lo + jnp.exp(u)
     finite_hi = jnp.where(jnp.isfinite(upper), upper, 1.0)
+    if kind == 2:
+        return finite_lo + (finite_hi - finite_lo) * _logistic(u)
     pos_lo = jnp.where(finite_lo > 0, finite_lo, 1.0)
     pos_hi = jnp.where(finite_hi > pos_lo, finite_hi, pos_lo * 10.0)
-    s = _logistic(u)
-    candidates = [
-        jnp.exp(u),
-        jnp.exp(jnp.log(pos_lo) + (jnp.log(pos_hi) - jnp.log(pos_lo)) * s),
-        finite_lo + (finite_hi - finite_lo) * s,
-        finite_lo + jnp.exp(u),
-        u,
-    ]
-    out = candidates[0]
-    for k in range(1, 5):
-        out = jnp.where(kind == k, candidates[k], out)
-    return out
+    return jnp.exp(jnp.log(pos_lo) + (jnp.log(pos_hi) - jnp.log(pos_lo)) * _logistic(u))
 
 
 def to_internal(x, lower, upper, kind) -> np.ndarray:
