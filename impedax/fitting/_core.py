@@ -26,6 +26,7 @@ from typing import Callable, NamedTuple
 import jax
 import jax.numpy as jnp
 import lineax as lx
+import numpy as np
 import optimistix as optx
 
 from ..circuits import Circuit, ProgramLayout, Registry, compile_circuit
@@ -116,9 +117,15 @@ def _tree_residuals(compiled, free: tuple[int, ...], kinds: tuple[int, ...]):
         """All parameters, by position: the free ones from x_free, the rest from x_fixed."""
         return tuple(x_free[slot[i]] if i in slot else args["x_fixed"][i] for i in range(n_params))
 
+    # free parameters grouped by transform kind: one vector formula per kind present
+    groups = [(k, np.flatnonzero(np.asarray(kinds) == k)) for k in sorted(set(kinds))]
+    order = np.argsort(np.concatenate([g for _, g in groups])) if kinds else np.zeros(0, int)
+
     def external(u, args):
         lower, upper = args["lower"], args["upper"]
-        return jnp.stack([external_of_kind(u[j], lower[j], upper[j], k) for j, k in enumerate(kinds)])
+        if len(groups) == 1:
+            return external_of_kind(u, lower, upper, groups[0][0])
+        return jnp.concatenate([external_of_kind(u[g], lower[g], upper[g], k) for k, g in groups])[order]
 
     def u_to_x(u, args):
         return jax.jvp(lambda v: external(v, args), (u,), (jnp.ones_like(u),))
@@ -126,25 +133,22 @@ def _tree_residuals(compiled, free: tuple[int, ...], kinds: tuple[int, ...]):
     def impedance(x_free, args):
         return compiled(dict(zip(compiled.parameter_names, theta(x_free, args))), args["freq"])
 
-    def parts_x(x_free, args, dx_du=None):
-        """(J_re, J_im) (K, N), parameters first, and (r_re, r_im) (N,), weighted (and by
-        u, given dx/du)."""
+    def parts_x(x_free, args, dx_du=None, parameters_first=True):
+        """(J_re, J_im), (K, N) with ``parameters_first`` else (N, K), and (r_re, r_im)
+        (N,), weighted (and by u, given dx/du)."""
         z, columns = compiled.value_and_columns(theta(x_free, args), args["freq"], free)
         w_re, w_im = args["inv_w_re"], args["inv_w_im"]
-        jac = jnp.stack(columns)
-        if dx_du is not None:
-            jac = jac * dx_du[:, None]
         r = z - args["z"]
-        return jac.real * w_re[None, :], jac.imag * w_im[None, :], r.real * w_re, r.imag * w_im
+        if parameters_first:
+            jac = jnp.stack(columns) if dx_du is None else jnp.stack(columns) * dx_du[:, None]
+            return jac.real * w_re[None, :], jac.imag * w_im[None, :], r.real * w_re, r.imag * w_im
+        jac = jnp.stack(columns, axis=-1) if dx_du is None else jnp.stack(columns, axis=-1) * dx_du[None, :]
+        return jac.real * w_re[:, None], jac.imag * w_im[:, None], r.real * w_re, r.imag * w_im
 
     def linearize_x(x_free, args):
-        j_re, j_im, r_re, r_im = parts_x(x_free, args)
-        return jnp.concatenate([j_re, j_im], axis=1).T, jnp.concatenate([r_re, r_im])
+        j_re, j_im, r_re, r_im = parts_x(x_free, args, parameters_first=False)
+        return jnp.concatenate([j_re, j_im]), jnp.concatenate([r_re, r_im])
 
-    def linearize_u(u, args):
-        x, dx_du = u_to_x(u, args)
-        j_re, j_im, r_re, r_im = parts_x(x, args, dx_du)
-        return jnp.concatenate([j_re, j_im], axis=1).T, jnp.concatenate([r_re, r_im])
 
     def normal_u(u, args):
         x, dx_du = u_to_x(u, args)
@@ -167,8 +171,12 @@ def _tree_residuals(compiled, free: tuple[int, ...], kinds: tuple[int, ...]):
 
     @residual_u.defjvp
     def _residual_u_jvp(primals, tangents):
-        jac, r = linearize_u(*primals)
-        return r, jac @ tangents[0]
+        u, args = primals
+        x, dx_du = u_to_x(u, args)
+        j_re, j_im, r_re, r_im = parts_x(x, args, dx_du)
+        # J·t from the (K, N) halves: no (2N, K) copy of J (XLA would fuse the circuit into it
+        # and evaluate every element twice, once for each half)
+        return jnp.concatenate([r_re, r_im]), jnp.concatenate([tangents[0] @ j_re, tangents[0] @ j_im])
 
     def to_x(u, args):
         x_free = external(u, args)
