@@ -66,29 +66,32 @@ def validate_spectrum(ds: xr.Dataset, *, source: str | None = None) -> xr.Datase
     source = source or str(ds.attrs.get("source", "dataset"))
     if not isinstance(ds, xr.Dataset):
         raise DataError(f"expected an xarray.Dataset, got {type(ds).__name__}", path=source)
-    if "Z" not in ds:
+    variables = ds.variables  # Variables, not DataArrays: this runs before every fit
+    if "Z" not in variables:
         raise DataError("dataset has no variable 'Z'", path=source)
-    if "frequency" not in ds["Z"].dims or "frequency" not in ds.coords:
+    z_var = variables["Z"]
+    if "frequency" not in z_var.dims or "frequency" not in ds.coords:
         raise DataError("'Z' must have a 'frequency' dimension with a coordinate in Hz", path=source)
-    if not np.iscomplexobj(ds["Z"].values):
+    z = z_var.values
+    if not np.iscomplexobj(z):
         raise DataError("'Z' must be complex (Z' + jZ'')", path=source)
-    f = np.asarray(ds["frequency"].values, dtype=np.float64)
+    f = np.asarray(variables["frequency"].values, dtype=np.float64)
     if f.size == 0:
         raise DataError("the spectrum has no frequencies", path=source)
     bad = np.flatnonzero(~np.isfinite(f) | (f <= 0))
     if bad.size:
         raise DataError(f"frequency must be positive and finite; point {bad[0]} is {f[bad[0]]!r}", path=source)
-    values, counts = np.unique(f, return_counts=True)
-    if np.any(counts > 1):
-        dup = values[counts > 1][0]
+    ordered = np.sort(f)
+    repeated = ordered[1:][ordered[1:] == ordered[:-1]]
+    if repeated.size:
+        dup = repeated[0]
         where = np.flatnonzero(f == dup)
         raise DataError(f"duplicate frequency {dup:g} Hz at points {', '.join(map(str, where))}", path=source)
-    z = ds["Z"].values
     if not np.all(np.isfinite(z)):
         idx = np.argwhere(~np.isfinite(z))[0]
         raise DataError(f"Z has a non-finite value at index {tuple(int(i) for i in idx)}", path=source)
-    if "sigma" in ds:
-        s = ds["sigma"].values
+    if "sigma" in variables:
+        s = variables["sigma"].values
         if not (np.all(np.isfinite(s)) and np.all(s > 0)):
             raise DataError("'sigma' must be positive and finite everywhere", path=source)
     return ds

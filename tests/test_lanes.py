@@ -92,3 +92,23 @@ def test_an_early_stop_returns_only_a_few_unfinished_problems(problems):
     for i in np.flatnonzero(open_):  # an unfinished problem holds its best point so far
         assert steps[i] < 400 and np.isfinite(chi2[i])
         assert chi2[i] == pytest.approx(plain(u0, rows, shared, i, int(steps[i]))[1], rel=1e-9)
+
+
+def test_outputs_come_back_from_one_transfer_unchanged():
+    """`_one_transfer` packs a solver's outputs (float, complex, integer; any shapes) into one
+    array on the device and unpacks them on the host as they were."""
+    from impedax.fitting._core import _one_transfer
+
+    def solve(u0s, args):
+        return {"x": u0s * 2.0, "x_free": u0s, "z_model": args["z"] * 1j, "code": jnp.int32(3), "steps": jnp.arange(u0s.shape[0]), "chi2": jnp.sum(u0s)}
+
+    run = _one_transfer(solve)
+    u0s = np.arange(6.0).reshape(2, 3)
+    z = np.array([1 + 2j, -3.5 + 0.25j])
+    out = run(u0s, {"z": z}).fetch()
+    assert set(out) == {"x", "z_model", "code", "steps", "chi2"}  # x_free stays behind
+    np.testing.assert_array_equal(out["x"], u0s * 2)
+    np.testing.assert_array_equal(out["z_model"], z * 1j)
+    assert out["code"] == 3 and out["code"].dtype == np.int32
+    np.testing.assert_array_equal(out["steps"], [0, 1])
+    assert out["chi2"] == 15.0 and out["chi2"].shape == ()

@@ -11,7 +11,6 @@ import time
 from dataclasses import dataclass, field
 from typing import Mapping, Sequence
 
-import jax
 import numpy as np
 import xarray as xr
 
@@ -391,7 +390,7 @@ def fit(
     sigma = np.asarray(data["sigma"].values, float) if "sigma" in data else None
     inv_re, inv_im = _weights(z, sigma, weighting, source)
     single = tree_solver(circuit, registry, max_steps, *table.free_structure)[0]
-    scale = residual_scale(z, inv_re, inv_im)
+    scale = residual_scale(z, inv_re, inv_im, weighting)
     args = _args(table, freq, z, inv_re * scale, inv_im * scale)
     # the data-driven guess alone first; the multistart only when its fit is not at the noise
     features = SpectrumFeatures(freq, z)
@@ -405,16 +404,18 @@ def fit(
     return _result(circuit, table, freq, z, out, weighting, used, time.perf_counter() - t0, registry)
 
 
-def _fetch(out: dict) -> dict:
-    """The solver outputs a fit uses, copied to the host in one call."""
-    return jax.device_get({k: v for k, v in out.items() if k != "x_free"})
+def _fetch(pending) -> dict:
+    """The solver outputs a fit uses, copied to the host in one transfer."""
+    return pending.fetch()
 
 
-def residual_scale(z, inv_re, inv_im) -> np.ndarray:
+def residual_scale(z, inv_re, inv_im, weighting: str) -> np.ndarray:
     """A constant per spectrum that brings the weighted residuals to the size of relative
-    ones (1 for modulus weighting). Levenberg–Marquardt's damping is absolute, so with
-    residuals of 1e10 Ω (unit weighting of teraohm data) it would take undamped Gauss–Newton
-    jumps; the minimiser is unchanged and chi² and the Jacobian are scaled back."""
+    ones (exactly 1 for modulus weighting). Levenberg–Marquardt's damping is absolute, so
+    with residuals of 1e10 Ω (unit weighting of teraohm data) it would take undamped
+    Gauss–Newton jumps; the minimiser is unchanged and chi² and the Jacobian are scaled back."""
+    if weighting == "modulus":
+        return np.ones(np.shape(z)[:-1])
     typical = np.median(np.abs(z) * np.sqrt(0.5 * (np.asarray(inv_re) ** 2 + np.asarray(inv_im) ** 2)), axis=-1)
     return 1.0 / np.where(np.isfinite(typical) & (typical > 0), typical, 1.0)
 
