@@ -133,28 +133,24 @@ def _tree_residuals(compiled, free: tuple[int, ...], kinds: tuple[int, ...]):
     def impedance(x_free, args):
         return compiled(dict(zip(compiled.parameter_names, theta(x_free, args))), args["freq"])
 
-    def parts_x(x_free, args, dx_du=None, parameters_first=True):
-        """(J_re, J_im), (K, N) with ``parameters_first`` else (N, K), and (r_re, r_im)
-        (N,), weighted (and by u, given dx/du)."""
+    def parts_x(x_free, args, dx_du=None):
+        """(J_re, J_im) (K, N), parameters first, and (r_re, r_im) (N,), weighted (and by
+        u, given dx/du)."""
         z, columns = compiled.value_and_columns(theta(x_free, args), args["freq"], free)
         w_re, w_im = args["inv_w_re"], args["inv_w_im"]
+        jac = jnp.stack(columns) if dx_du is None else jnp.stack(columns) * dx_du[:, None]
         r = z - args["z"]
-        if parameters_first:
-            jac = jnp.stack(columns) if dx_du is None else jnp.stack(columns) * dx_du[:, None]
-            return jac.real * w_re[None, :], jac.imag * w_im[None, :], r.real * w_re, r.imag * w_im
-        jac = jnp.stack(columns, axis=-1) if dx_du is None else jnp.stack(columns, axis=-1) * dx_du[None, :]
-        return jac.real * w_re[:, None], jac.imag * w_im[:, None], r.real * w_re, r.imag * w_im
+        return jac.real * w_re[None, :], jac.imag * w_im[None, :], r.real * w_re, r.imag * w_im
 
     def linearize_x(x_free, args):
-        j_re, j_im, r_re, r_im = parts_x(x_free, args, parameters_first=False)
-        return jnp.concatenate([j_re, j_im]), jnp.concatenate([r_re, r_im])
-
+        j_re, j_im, r_re, r_im = parts_x(x_free, args)
+        return jnp.concatenate([j_re, j_im], axis=1).T, jnp.concatenate([r_re, r_im])
 
     def normal_u(u, args):
         x, dx_du = u_to_x(u, args)
         j_re, j_im, r_re, r_im = parts_x(x, args, dx_du)
-        # parameters-first layout and two products: under vmap, XLA runs this JᵀJ faster
-        # than any layout with Re and Im joined (measured, benchmarks/README.md)
+        # parameters-first halves and two products: under vmap, XLA runs this JᵀJ faster than
+        # any layout with Re and Im joined (measured, benchmarks/README.md)
         a = j_re @ j_re.T + j_im @ j_im.T
         return a, j_re @ r_re + j_im @ r_im, 0.5 * (jnp.sum(r_re**2) + jnp.sum(r_im**2)), ()
 
