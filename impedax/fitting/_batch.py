@@ -19,8 +19,8 @@ import xarray as xr
 from ..circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ._core import _MAX_STEPS_CODE, SCREEN_STEPS, SPECTRUM_KEYS, tree_solver
 from ._order import canonical_order
-from ._fit import _args, _guess_start, _null_sets, _to_internal, _result, _starts_from, _weights, at_noise_floor, covariances, fit_notes, _better, _unscale, residual_scale
-from ._fit import CORRELATION_LIMIT, RELATIVE_ERROR_LIMIT, SINGULAR_RATIO_LIMIT
+from ._fit import _args, _guess_start, _null_sets, _to_internal, _result, _starts_from, _weights, at_noise_floor, covariances, fit_notes, stack_notes, _better, _unscale, residual_scale
+from ._fit import SINGULAR_RATIO_LIMIT
 from ._starts import SpectrumFeatures
 from ._parameters import ParameterTable
 
@@ -226,8 +226,8 @@ class _LaneRunner:
 def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source) -> tuple[np.ndarray, list[tuple[str, ...]]]:
     """One row per spectrum (values, stderr, chi2, converged, evaluations, Re/Im of Z_model)
     and its warnings, without a FitResult per spectrum: the uncertainties of all spectra in
-    one stacked SVD (`covariances`); warning text is built only for spectra that earn one,
-    and only spectra that overflowed or did not converge go through `_result`."""
+    one stacked computation (`covariances`), their warnings too (`stack_notes`); only spectra
+    that overflowed or did not converge go through `_result`."""
     out, used = _solve_stack(circuit, table, freq, z, sigma, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
     out = canonical_order(circuit, table, freq, out, registry)
     b, k, n_res = z.shape[0], len(table.free_names), 2 * len(freq)
@@ -237,33 +237,23 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
     values = np.array(out["x"], float)
     stderr = np.full(values.shape, np.nan)
     odd = ~converged  # these get `_result`'s handling of overflow and non-convergence
-    flagged = np.zeros(b, bool)
+    notes: list[tuple[str, ...]] = [()] * b
+    corr, singular = np.zeros((b, k, k)), np.zeros(b, bool)
     if k:
         jac = np.where(finite[:, None, None], out["jacobian"], 0.0)
         cov, corr, sv, vt = covariances(jac, chi2 / (n_res - k) if n_res > k else np.full(b, np.nan), weighting)
-        err = np.sqrt(np.clip(np.einsum("bii->bi", cov), 0, None))
-        stderr[:, table.free_index] = err
-        v = values[:, table.free_index]
-        with np.errstate(all="ignore"):
-            rel = np.abs(err / v)
-        off_diagonal = np.abs(corr) * (1 - np.eye(k))
-        lo, hi = table.lower[table.free_index], table.upper[table.free_index]
-        at_bound = (np.isfinite(hi) & (np.abs(v - hi) <= 1e-4 * np.maximum(np.abs(hi), 1e-12))) | ((lo > 0) & (np.abs(v - lo) <= 1e-4 * lo))
-        flagged = np.any(sv < SINGULAR_RATIO_LIMIT * sv[:, :1], axis=1) | np.any(off_diagonal > CORRELATION_LIMIT, axis=(1, 2))
-        flagged |= np.any((v != 0) & ~(rel <= RELATIVE_ERROR_LIMIT), axis=1) | np.any(at_bound, axis=1)
-    notes: list[tuple[str, ...]] = [()] * b
+        stderr[:, table.free_index] = np.sqrt(np.clip(np.einsum("bii->bi", cov), 0, None))
+        singular = np.any(sv < SINGULAR_RATIO_LIMIT * sv[:, :1], axis=1)
+    # the exact warning text of a single fit: for most spectra built for the stack at once,
+    # for those with near-null directions (rare) one by one
+    plain = np.flatnonzero(~odd & ~singular)
+    for i, note in zip(plain.tolist(), stack_notes(table, values[plain], stderr[plain], corr[plain])):
+        notes[i] = note
+    names = table.names
+    for i in np.flatnonzero(~odd & singular).tolist():
+        null_sets, ratio = _null_sets(sv[i], vt[i], table.free_names)
+        notes[i] = fit_notes(table, dict(zip(names, values[i].tolist())), dict(zip(names, stderr[i].tolist())), corr[i], null_sets, ratio, finite=True, converged=True, message="")
     z_model = np.array(out["z_model"])
-    names, free = table.names, table.free_names
-    texts = np.flatnonzero(flagged & ~odd)  # these get the exact warning text of a single fit
-    pairs: dict[int, list] = {int(i): [] for i in texts}
-    if texts.size:
-        upper = np.triu(np.ones((k, k), bool), 1)
-        for i, a, c in np.argwhere((np.abs(corr[texts]) > CORRELATION_LIMIT) & upper).tolist():
-            pairs[int(texts[i])].append((a, c))
-    singular = np.any(sv < SINGULAR_RATIO_LIMIT * sv[:, :1], axis=1) if k else np.zeros(b, bool)
-    for i in texts.tolist():
-        null_sets, ratio = _null_sets(sv[i], vt[i], free) if singular[i] else ([], float(sv[i, -1] / sv[i, 0]) if sv[i, 0] > 0 else 1.0)
-        notes[i] = fit_notes(table, dict(zip(names, values[i].tolist())), dict(zip(names, stderr[i].tolist())), corr[i], null_sets, ratio, finite=True, converged=True, message="", pairs=pairs[i])
     for i in np.flatnonzero(odd):
         r = _result(circuit, table, freq, z[i], {key: val[i] for key, val in out.items()}, weighting, int(used[i]), 0.0, registry)
         values[i] = [r.values[n] for n in names]
@@ -314,10 +304,10 @@ def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weig
         packed = packed.transpose(*extra, "fit_output").values
     else:
         packed, notes = fit_block(z_da.values, None if sigma_da is None else sigma_da.values)
+        labels = [[f"{d}={c}" for c in (data[d].values if d in data.coords else range(n))] for d, n in zip(extra, z_da.shape)]
         for idx, note in zip(np.ndindex(*z_da.shape[:-1]), notes):
             if note:
-                key = ", ".join(f"{d}={data[d].values[i] if d in data.coords else i}" for d, i in zip(extra, idx))
-                warnings[key] = note
+                warnings[", ".join(label[i] for label, i in zip(labels, idx))] = note
     coords = {d: data[d].values for d in extra if d in data.coords}
     values = packed[..., :n_par]
     stderr = packed[..., n_par : 2 * n_par]
