@@ -111,7 +111,7 @@ def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n
     poor = np.flatnonzero(~at_noise_floor(freq, z, out["z_model"], inv_re, inv_im, out["code"])) if n_starts > 1 else np.zeros(0, int)
     used = np.ones(b, int)
     if poor.size:  # (the multistart's starts are built only for these)
-        starts = np.concatenate([_starts_from(circuit, table, features[i], n_starts, seed, registry) for i in poor])
+        starts = _starts_from(circuit, table, features[poor], n_starts, seed, registry).reshape(poor.size * n_starts, -1)
         owner = np.repeat(poor, n_starts)
         u_s, chi2_s, _, steps_s = solver.solve(starts, owner, np.full(owner.size, SCREEN_STEPS))
         chi2_s = np.where(np.isfinite(chi2_s), chi2_s, np.inf).reshape(poor.size, n_starts)
@@ -120,11 +120,8 @@ def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n
         u_m, _, done_m, steps_m = solver.solve(u_best, poor, np.full(poor.size, max_steps))
         screened = steps_s.reshape(poor.size, n_starts).sum(axis=1)
         multi = _unscale(solver.outputs(u_m, poor, done_m, steps_m, screened + steps_m), scale[poor])
-        sub = _better({k: v[poor] for k, v in out.items()}, multi)
-        for k, v in sub.items():
-            if k in out:
-                out[k] = out[k].copy()
-                out[k][poor] = v
+        for k, v in _better({k: v[poor] for k, v in out.items()}, multi).items():
+            out[k][poor] = v  # (`outputs` gives arrays of our own)
         used[poor] = n_starts
     return out, used
 
@@ -216,10 +213,11 @@ class _LaneRunner:
         return [np.nan_to_num(np.concatenate([p[i] for p in parts]), nan=np.inf) for i in range(len(points))]
 
     def outputs(self, u, spectrum, done, steps, steps_total) -> dict:
-        """Solver outputs at solutions ``u`` of spectra ``spectrum`` (as `_core._finish`)."""
+        """Solver outputs at solutions ``u`` of spectra ``spectrum`` (as `_core._finish`), each
+        a new array (not a view of another or of an argument: callers may update them)."""
         parts = self._per_spectrum(self.finish, [u], spectrum)
         out = {k: np.concatenate([p[k] for p in parts]) for k in parts[0] if k != "x_free"}
-        out.update(code=np.where(done, 0, _MAX_STEPS_CODE), steps=steps, steps_total=steps_total, chi2_starts=out["chi2"][:, None])
+        out.update(code=np.where(done, 0, _MAX_STEPS_CODE), steps=np.array(steps), steps_total=np.array(steps_total), chi2_starts=out["chi2"][:, None].copy())
         return out
 
 
@@ -240,7 +238,7 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
     notes: list[tuple[str, ...]] = [()] * b
     corr, singular = np.zeros((b, k, k)), np.zeros(b, bool)
     if k:
-        jac = np.where(finite[:, None, None], out["jacobian"], 0.0)
+        jac = out["jacobian"] if finite.all() else np.where(finite[:, None, None], out["jacobian"], 0.0)
         cov, corr, sv, vt = covariances(jac, chi2 / (n_res - k) if n_res > k else np.full(b, np.nan), weighting)
         stderr[:, table.free_index] = np.sqrt(np.clip(np.einsum("bii->bi", cov), 0, None))
         singular = np.any(sv < SINGULAR_RATIO_LIMIT * sv[:, :1], axis=1)
