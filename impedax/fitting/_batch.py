@@ -155,6 +155,7 @@ class _LaneRunner:
     def __init__(self, lanes, finish, chi2, rows: dict, shared: dict):
         self.lanes, self.finish, self.chi2, self.rows, self.shared = lanes, finish, chi2, rows, shared
         self._placed: dict = {}
+        self._shared_placed: dict = {}
 
     def _chunks(self, n: int, capacity: int, n_lanes: int):
         n_chunks = max(-(-n // capacity), min(len(jax.devices()), -(-n // (2 * n_lanes))))
@@ -167,7 +168,9 @@ class _LaneRunner:
         if key not in self._placed:
             used, local = np.unique(spectrum, return_inverse=True)
             pad = np.concatenate([used, np.full(capacity - used.size, used[0])])
-            rows = jax.device_put(({k: np.ascontiguousarray(v[pad]) for k, v in self.rows.items()}, self.shared), device)
+            if device.id not in self._shared_placed:  # (placed once per device: every chunk's are the same)
+                self._shared_placed[device.id] = jax.device_put(self.shared, device)
+            rows = jax.device_put({k: np.ascontiguousarray(v[pad]) for k, v in self.rows.items()}, device), self._shared_placed[device.id]
             self._placed[key] = rows, np.concatenate([local, np.zeros(capacity - spectrum.size, int)]).astype(np.int32)
         return self._placed[key]
 
@@ -245,8 +248,8 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
     # the exact warning text of a single fit: for most spectra built for the stack at once,
     # for those with near-null directions (rare) one by one
     plain = np.flatnonzero(~odd & ~singular)
-    for i, note in zip(plain.tolist(), stack_notes(table, values[plain], stderr[plain], corr[plain])):
-        notes[i] = note
+    for row, note in stack_notes(table, values[plain], stderr[plain], corr[plain]).items():
+        notes[plain[row]] = note
     names = table.names
     for i in np.flatnonzero(~odd & singular).tolist():
         null_sets, ratio = _null_sets(sv[i], vt[i], table.free_names)

@@ -6,6 +6,7 @@ the data have extra dimensions (trial, subject, ...), which are fitted in one vm
 
 from __future__ import annotations
 
+import collections
 import math
 import time
 from dataclasses import dataclass, field
@@ -366,17 +367,19 @@ def fit_notes(table: ParameterTable, values: dict, stderr: dict, corr, null_sets
     return tuple(notes)
 
 
-def stack_notes(table: ParameterTable, values: np.ndarray, stderr: np.ndarray, corr: np.ndarray) -> list[tuple[str, ...]]:
+def stack_notes(table: ParameterTable, values: np.ndarray, stderr: np.ndarray, corr: np.ndarray) -> dict[int, tuple[str, ...]]:
     """`fit_notes` of a stack of converged fits without near-null directions: values and
     stderr (B, P), correlations (B, K, K). The conditions are evaluated for all fits at once
-    and text is built only for the notes due, in `fit_notes`' order."""
+    and text is built only for the notes due, in `fit_notes`' order; fits without notes are
+    left out of the returned {row: notes}."""
     names = table.free_names
     free = table.free_index
     v, e = values[:, free], stderr[:, free]
-    notes: list[list[str]] = [[] for _ in range(len(v))]
+    notes: dict[int, list[str]] = collections.defaultdict(list)
     upper_triangle = np.triu(np.ones((len(names),) * 2, bool), 1)
-    for b, i, j in np.argwhere((np.abs(corr) > CORRELATION_LIMIT) & upper_triangle).tolist():
-        notes[b].append(_correlated_note(names[i], names[j], float(corr[b, i, j])))
+    correlated = np.argwhere((np.abs(corr) > CORRELATION_LIMIT) & upper_triangle)
+    for (b, i, j), r in zip(correlated.tolist(), corr[tuple(correlated.T)].tolist()):
+        notes[b].append(_correlated_note(names[i], names[j], r))
     with np.errstate(all="ignore"):
         relative_error = np.abs(e / v)
         undetermined = (v != 0) & (~np.isfinite(e) | (relative_error > RELATIVE_ERROR_LIMIT))
@@ -389,7 +392,7 @@ def stack_notes(table: ParameterTable, values: np.ndarray, stderr: np.ndarray, c
     for b, i in np.argwhere(at_upper | at_lower).tolist():
         bound, side = (hi[i], "upper") if at_upper[b, i] else (lo[i], "lower")
         notes[b].append(_bound_note(names[i], float(v[b, i]), float(bound), side))
-    return [tuple(n) for n in notes]
+    return {b: tuple(n) for b, n in notes.items()}
 
 
 def _prepare(circuit, data, *, init, fixed, bounds, weighting, fmin, fmax, registry):
