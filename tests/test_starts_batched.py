@@ -16,7 +16,7 @@ import impedax as ix
 from impedax.circuits import DEFAULT_REGISTRY
 from impedax.fitting._fit import _guess_start
 from impedax.fitting._parameters import ParameterTable
-from impedax.fitting._starts import SpectrumFeatures, _clip_inside, _roles, data_driven_guess, data_driven_guesses
+from impedax.fitting._starts import SpectrumFeatures, _clip_inside, _roles, data_driven_guess, data_driven_guesses, random_starts
 
 RTOL = 1e-12  # the stack's vectorised pow may differ from the scalar pow in the last bit
 
@@ -116,6 +116,44 @@ def oracle_guess(circuit, table, features, registry=DEFAULT_REGISTRY):
     bad = ~np.isfinite(x)
     x[bad] = [circuit.parameter_specs(registry)[n].default for n in np.asarray(table.names)[bad]]
     return _clip_inside(x, table)
+
+
+def oracle_random_starts(table, features, guess, n_starts, seed):
+    """The per-spectrum random starts as they stood before the stack version (verbatim)."""
+
+    def log_range(i):
+        unit = table.units[i]
+        w_lo, w_hi = 2 * np.pi * features.f_min, 2 * np.pi * features.f_max
+        zlo, zhi = features.z_min, features.z_max
+        ranges = {
+            "Ohm": (zlo / 30, zhi * 3),
+            "F": (1 / (w_hi * zhi) / 10, 1 / (w_lo * zlo) * 10),
+            "H": (zlo / w_hi / 100, zhi / w_lo),
+            "s": (1 / w_hi / 10, 1 / w_lo * 10),
+            "Ohm s^-1/2": (zlo * np.sqrt(w_lo) / 30, zhi * np.sqrt(w_hi) * 3),
+        }
+        if unit.startswith("F s^"):
+            lo, hi = 1 / (w_hi * zhi) / 100, 1 / (w_lo * zlo) * 100
+        else:
+            lo, hi = ranges.get(unit, (1e-3, 1e3))
+        return np.log(max(lo, 1e-300)), np.log(max(hi, lo * 10, 1e-299))
+
+    rng = np.random.default_rng(seed)
+    starts = np.tile(guess, (n_starts, 1))
+    n_jitter = (n_starts - 1) // 2
+    for s in range(1, n_starts):
+        for i in range(len(guess)):
+            if table.fixed[i] or not np.isnan(table.values[i]) and s <= n_jitter:
+                continue
+            if table.units[i] == "1":
+                starts[s, i] = rng.uniform(0.45, 1.0) if s > n_jitter else np.clip(guess[i] + rng.normal(0, 0.1), 0.3, 1.0)
+            elif s <= n_jitter:
+                starts[s, i] = guess[i] * 10 ** rng.normal(0, 0.7)
+            else:
+                lo, hi = log_range(i)
+                starts[s, i] = np.exp(rng.uniform(lo, hi))
+    starts[:, table.fixed] = table.values[table.fixed]
+    return _clip_inside(starts, table)
 
 
 # ---- synthetic spectra (numpy formulas) ----------------------------------------------------
@@ -337,3 +375,20 @@ def test_guess_start_gives_one_start_per_spectrum():
     one_by_one = np.concatenate([_guess_start(circuit, table, SpectrumFeatures(freq, row), DEFAULT_REGISTRY) for row in z])
     assert stacked.shape == (len(z), int((~table.fixed).sum()))
     np.testing.assert_allclose(stacked, one_by_one, rtol=RTOL)
+
+
+@pytest.mark.parametrize("which", TABLES)
+@pytest.mark.parametrize("text", list(CIRCUITS))
+def test_stack_random_starts_equal_per_spectrum_oracle(stack, text, which):
+    """Starts for a stack (the multistart of a batch's poorly fitted spectra) are, row by
+    row, those each spectrum draws alone: the same random numbers, its own ranges."""
+    freq, z = stack
+    circuit, table = _table(text, which)
+    features = SpectrumFeatures(freq, z)
+    guesses = data_driven_guesses(circuit, table, features)
+    got = random_starts(table, features, guesses, 9, seed=4)
+    assert got.shape == (len(z), 9, len(table.names))
+    for row, guess, starts in zip(z, guesses, got):
+        np.testing.assert_allclose(starts, oracle_random_starts(table, OracleFeatures(freq, row), guess, 9, 4), rtol=RTOL)
+    one = random_starts(table, SpectrumFeatures(freq, z[0]), guesses[0], 9, seed=4)
+    np.testing.assert_array_equal(one, got[0])

@@ -19,8 +19,8 @@ import xarray as xr
 from ..circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ._core import _MAX_STEPS_CODE, SCREEN_STEPS, SPECTRUM_KEYS, tree_solver
 from ._order import canonical_order
-from ._fit import _args, _guess_start, _null_sets, _to_internal, _result, _starts_from, _weights, at_noise_floor, covariances, fit_notes, _better, _unscale, residual_scale
-from ._fit import CORRELATION_LIMIT, RELATIVE_ERROR_LIMIT, SINGULAR_RATIO_LIMIT
+from ._fit import _args, _guess_start, _null_sets, _to_internal, _result, _starts_from, _weights, at_noise_floor, covariances, fit_notes, stack_notes, _better, _unscale, residual_scale
+from ._fit import SINGULAR_RATIO_LIMIT
 from ._starts import SpectrumFeatures
 from ._parameters import ParameterTable
 
@@ -111,7 +111,7 @@ def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n
     poor = np.flatnonzero(~at_noise_floor(freq, z, out["z_model"], inv_re, inv_im, out["code"])) if n_starts > 1 else np.zeros(0, int)
     used = np.ones(b, int)
     if poor.size:  # (the multistart's starts are built only for these)
-        starts = np.concatenate([_starts_from(circuit, table, features[i], n_starts, seed, registry) for i in poor])
+        starts = _starts_from(circuit, table, features[poor], n_starts, seed, registry).reshape(poor.size * n_starts, -1)
         owner = np.repeat(poor, n_starts)
         u_s, chi2_s, _, steps_s = solver.solve(starts, owner, np.full(owner.size, SCREEN_STEPS))
         chi2_s = np.where(np.isfinite(chi2_s), chi2_s, np.inf).reshape(poor.size, n_starts)
@@ -120,11 +120,8 @@ def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n
         u_m, _, done_m, steps_m = solver.solve(u_best, poor, np.full(poor.size, max_steps))
         screened = steps_s.reshape(poor.size, n_starts).sum(axis=1)
         multi = _unscale(solver.outputs(u_m, poor, done_m, steps_m, screened + steps_m), scale[poor])
-        sub = _better({k: v[poor] for k, v in out.items()}, multi)
-        for k, v in sub.items():
-            if k in out:
-                out[k] = out[k].copy()
-                out[k][poor] = v
+        for k, v in _better({k: v[poor] for k, v in out.items()}, multi).items():
+            out[k][poor] = v  # (`outputs` gives arrays of our own)
         used[poor] = n_starts
     return out, used
 
@@ -158,6 +155,7 @@ class _LaneRunner:
     def __init__(self, lanes, finish, chi2, rows: dict, shared: dict):
         self.lanes, self.finish, self.chi2, self.rows, self.shared = lanes, finish, chi2, rows, shared
         self._placed: dict = {}
+        self._shared_placed: dict = {}
 
     def _chunks(self, n: int, capacity: int, n_lanes: int):
         n_chunks = max(-(-n // capacity), min(len(jax.devices()), -(-n // (2 * n_lanes))))
@@ -170,7 +168,9 @@ class _LaneRunner:
         if key not in self._placed:
             used, local = np.unique(spectrum, return_inverse=True)
             pad = np.concatenate([used, np.full(capacity - used.size, used[0])])
-            rows = jax.device_put(({k: np.ascontiguousarray(v[pad]) for k, v in self.rows.items()}, self.shared), device)
+            if device.id not in self._shared_placed:  # (placed once per device: every chunk's are the same)
+                self._shared_placed[device.id] = jax.device_put(self.shared, device)
+            rows = jax.device_put({k: np.ascontiguousarray(v[pad]) for k, v in self.rows.items()}, device), self._shared_placed[device.id]
             self._placed[key] = rows, np.concatenate([local, np.zeros(capacity - spectrum.size, int)]).astype(np.int32)
         return self._placed[key]
 
@@ -216,18 +216,19 @@ class _LaneRunner:
         return [np.nan_to_num(np.concatenate([p[i] for p in parts]), nan=np.inf) for i in range(len(points))]
 
     def outputs(self, u, spectrum, done, steps, steps_total) -> dict:
-        """Solver outputs at solutions ``u`` of spectra ``spectrum`` (as `_core._finish`)."""
+        """Solver outputs at solutions ``u`` of spectra ``spectrum`` (as `_core._finish`), each
+        a new array (not a view of another or of an argument: callers may update them)."""
         parts = self._per_spectrum(self.finish, [u], spectrum)
         out = {k: np.concatenate([p[k] for p in parts]) for k in parts[0] if k != "x_free"}
-        out.update(code=np.where(done, 0, _MAX_STEPS_CODE), steps=steps, steps_total=steps_total, chi2_starts=out["chi2"][:, None])
+        out.update(code=np.where(done, 0, _MAX_STEPS_CODE), steps=np.array(steps), steps_total=np.array(steps_total), chi2_starts=out["chi2"][:, None].copy())
         return out
 
 
 def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source) -> tuple[np.ndarray, list[tuple[str, ...]]]:
     """One row per spectrum (values, stderr, chi2, converged, evaluations, Re/Im of Z_model)
     and its warnings, without a FitResult per spectrum: the uncertainties of all spectra in
-    one stacked SVD (`covariances`); warning text is built only for spectra that earn one,
-    and only spectra that overflowed or did not converge go through `_result`."""
+    one stacked computation (`covariances`), their warnings too (`stack_notes`); only spectra
+    that overflowed or did not converge go through `_result`."""
     out, used = _solve_stack(circuit, table, freq, z, sigma, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
     out = canonical_order(circuit, table, freq, out, registry)
     b, k, n_res = z.shape[0], len(table.free_names), 2 * len(freq)
@@ -237,33 +238,23 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
     values = np.array(out["x"], float)
     stderr = np.full(values.shape, np.nan)
     odd = ~converged  # these get `_result`'s handling of overflow and non-convergence
-    flagged = np.zeros(b, bool)
-    if k:
-        jac = np.where(finite[:, None, None], out["jacobian"], 0.0)
-        cov, corr, sv, vt = covariances(jac, chi2 / (n_res - k) if n_res > k else np.full(b, np.nan), weighting)
-        err = np.sqrt(np.clip(np.einsum("bii->bi", cov), 0, None))
-        stderr[:, table.free_index] = err
-        v = values[:, table.free_index]
-        with np.errstate(all="ignore"):
-            rel = np.abs(err / v)
-        off_diagonal = np.abs(corr) * (1 - np.eye(k))
-        lo, hi = table.lower[table.free_index], table.upper[table.free_index]
-        at_bound = (np.isfinite(hi) & (np.abs(v - hi) <= 1e-4 * np.maximum(np.abs(hi), 1e-12))) | ((lo > 0) & (np.abs(v - lo) <= 1e-4 * lo))
-        flagged = np.any(sv < SINGULAR_RATIO_LIMIT * sv[:, :1], axis=1) | np.any(off_diagonal > CORRELATION_LIMIT, axis=(1, 2))
-        flagged |= np.any((v != 0) & ~(rel <= RELATIVE_ERROR_LIMIT), axis=1) | np.any(at_bound, axis=1)
     notes: list[tuple[str, ...]] = [()] * b
+    corr, singular = np.zeros((b, k, k)), np.zeros(b, bool)
+    if k:
+        jac = out["jacobian"] if finite.all() else np.where(finite[:, None, None], out["jacobian"], 0.0)
+        cov, corr, sv, vt = covariances(jac, chi2 / (n_res - k) if n_res > k else np.full(b, np.nan), weighting)
+        stderr[:, table.free_index] = np.sqrt(np.clip(np.einsum("bii->bi", cov), 0, None))
+        singular = np.any(sv < SINGULAR_RATIO_LIMIT * sv[:, :1], axis=1)
+    # the exact warning text of a single fit: for most spectra built for the stack at once,
+    # for those with near-null directions (rare) one by one
+    plain = np.flatnonzero(~odd & ~singular)
+    for row, note in stack_notes(table, values[plain], stderr[plain], corr[plain]).items():
+        notes[plain[row]] = note
+    names = table.names
+    for i in np.flatnonzero(~odd & singular).tolist():
+        null_sets, ratio = _null_sets(sv[i], vt[i], table.free_names)
+        notes[i] = fit_notes(table, dict(zip(names, values[i].tolist())), dict(zip(names, stderr[i].tolist())), corr[i], null_sets, ratio, finite=True, converged=True, message="")
     z_model = np.array(out["z_model"])
-    names, free = table.names, table.free_names
-    texts = np.flatnonzero(flagged & ~odd)  # these get the exact warning text of a single fit
-    pairs: dict[int, list] = {int(i): [] for i in texts}
-    if texts.size:
-        upper = np.triu(np.ones((k, k), bool), 1)
-        for i, a, c in np.argwhere((np.abs(corr[texts]) > CORRELATION_LIMIT) & upper).tolist():
-            pairs[int(texts[i])].append((a, c))
-    singular = np.any(sv < SINGULAR_RATIO_LIMIT * sv[:, :1], axis=1) if k else np.zeros(b, bool)
-    for i in texts.tolist():
-        null_sets, ratio = _null_sets(sv[i], vt[i], free) if singular[i] else ([], float(sv[i, -1] / sv[i, 0]) if sv[i, 0] > 0 else 1.0)
-        notes[i] = fit_notes(table, dict(zip(names, values[i].tolist())), dict(zip(names, stderr[i].tolist())), corr[i], null_sets, ratio, finite=True, converged=True, message="", pairs=pairs[i])
     for i in np.flatnonzero(odd):
         r = _result(circuit, table, freq, z[i], {key: val[i] for key, val in out.items()}, weighting, int(used[i]), 0.0, registry)
         values[i] = [r.values[n] for n in names]
@@ -314,10 +305,10 @@ def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weig
         packed = packed.transpose(*extra, "fit_output").values
     else:
         packed, notes = fit_block(z_da.values, None if sigma_da is None else sigma_da.values)
+        labels = [[f"{d}={c}" for c in (data[d].values if d in data.coords else range(n))] for d, n in zip(extra, z_da.shape)]
         for idx, note in zip(np.ndindex(*z_da.shape[:-1]), notes):
             if note:
-                key = ", ".join(f"{d}={data[d].values[i] if d in data.coords else i}" for d, i in zip(extra, idx))
-                warnings[key] = note
+                warnings[", ".join(label[i] for label, i in zip(labels, idx))] = note
     coords = {d: data[d].values for d in extra if d in data.coords}
     values = packed[..., :n_par]
     stderr = packed[..., n_par : 2 * n_par]

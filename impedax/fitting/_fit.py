@@ -6,6 +6,7 @@ the data have extra dimensions (trial, subject, ...), which are fitted in one vm
 
 from __future__ import annotations
 
+import collections
 import math
 import time
 from dataclasses import dataclass, field
@@ -36,6 +37,10 @@ WEIGHTINGS = {
 CORRELATION_LIMIT = 0.99
 RELATIVE_ERROR_LIMIT = 1.0
 SINGULAR_RATIO_LIMIT = 1e-8
+# Jacobians whose equilibrated JᵀJ has a condition number provably below this get its inverse
+# directly (errors ~ cond · 1e-16: the same as the eigendecomposition's), the others its
+# eigendecomposition or SVD; above this the two could differ by more than 1e-10
+WELL_CONDITIONED = 1e6
 
 
 def information_criteria(chi2: float, n_residuals: int, n_free: int) -> tuple[float, float]:
@@ -244,25 +249,46 @@ def covariances(jac: np.ndarray, chi2_red, weighting: str):
     with the singular values and right singular vectors of the column-equilibrated Jacobian
     (equilibrated, proportional columns give an evenly weighted null vector). Tikhonov-
     regularised, so undetermined directions show as huge variances and ±1 correlations, not
-    NaN; scaled by the reduced chi² unless the weights are the data's sigma (as lmfit)."""
-    norms = np.sqrt(np.einsum("...mk,...mk->...k", jac, jac))
+    NaN; scaled by the reduced chi² unless the weights are the data's sigma (as lmfit).
+
+    Jacobians proven well-conditioned (`WELL_CONDITIONED`) take the plain inverse of JᵀJ and
+    have NaN singular values and vectors: they have no near-null direction to report."""
+    batch, (m, k) = jac.shape[:-2], jac.shape[-2:]
+    jac = jac.reshape(-1, m, k)
+    gram = np.swapaxes(jac, -1, -2) @ jac
+    norms = np.sqrt(np.einsum("bkk->bk", gram))
     scale = np.where(norms > 0, 1.0 / np.where(norms > 0, norms, 1.0), 1.0)
-    equilibrated = jac * scale[..., None, :]
-    # singular values from the eigenvalues of JᵀJ (K×K, far cheaper than the SVD of J for a
-    # batch); where they span more than 1e-4 (eigenvalues 1e-8), squaring the condition number
-    # would cost accuracy, so those Jacobians get the SVD itself
-    eigenvalues, vectors = np.linalg.eigh(np.swapaxes(equilibrated, -1, -2) @ equilibrated)
-    s = np.sqrt(np.clip(eigenvalues[..., ::-1], 0, None))
-    vt = np.swapaxes(vectors[..., ::-1], -1, -2)
-    ill = np.flatnonzero(~(s[..., -1] > 1e-4 * s[..., 0]))
-    if ill.size:
-        batch = equilibrated.shape[:-2]
-        s, vt = s.reshape(-1, s.shape[-1]).copy(), vt.reshape(-1, *vt.shape[-2:]).copy()
-        _, s[ill], vt[ill] = np.linalg.svd(equilibrated.reshape(-1, *equilibrated.shape[-2:])[ill], full_matrices=False)
-        s, vt = s.reshape(*batch, -1), vt.reshape(*batch, *vt.shape[-2:])
-    s_max = np.where(s[..., :1] > 0, s[..., :1], 1.0)
-    with np.errstate(over="ignore", invalid="ignore"):  # a column of zeros: infinite variance, said so
-        cov = (np.swapaxes(vt, -1, -2) * (1.0 / (s**2 + (1e-13 * s_max) ** 2))[..., None, :]) @ vt * scale[..., :, None] * scale[..., None, :]
+    gram = gram * scale[:, :, None] * scale[:, None, :]  # of the column-equilibrated Jacobian
+    inverse = np.full(gram.shape, np.nan)
+    s, vt = np.full(norms.shape, np.nan), np.full(gram.shape, np.nan)
+    regular = np.flatnonzero(np.all(norms > 0, axis=-1))
+    try:
+        inverse[regular] = np.linalg.inv(gram[regular])
+    except np.linalg.LinAlgError:  # one of them exactly singular: all take the decomposition
+        pass
+    # cond(JᵀJ) = λ_max/λ_min ≤ trace(JᵀJ)·trace((JᵀJ)⁻¹) = bound; below the limit the inverse is
+    # as accurate as the decomposition, and the regularisation below would change it by < 1e-20.
+    # The inverse of a numerically singular JᵀJ has a trace of ±1e16 or more (the sign is
+    # rounding's): the bound is then huge or negative
+    with np.errstate(invalid="ignore"):
+        bound = np.trace(gram, axis1=1, axis2=2) * np.trace(inverse, axis1=1, axis2=2)
+        spectral = np.flatnonzero(~((bound > 0) & (bound < WELL_CONDITIONED)))
+    if spectral.size:
+        # singular values from the eigenvalues of JᵀJ (K×K, far cheaper than the SVD of J);
+        # where they span more than 1e-4 (eigenvalues 1e-8), squaring the condition number
+        # would cost accuracy, so those Jacobians get the SVD itself
+        eigenvalues, vectors = np.linalg.eigh(gram[spectral])
+        s[spectral] = np.sqrt(np.clip(eigenvalues[:, ::-1], 0, None))
+        vt[spectral] = np.swapaxes(vectors[:, :, ::-1], -1, -2)
+        ill = spectral[~(s[spectral, -1] > 1e-4 * s[spectral, 0])]
+        if ill.size:
+            _, s[ill], vt[ill] = np.linalg.svd(jac[ill] * scale[ill, None, :], full_matrices=False)
+        s_max = np.where(s[spectral, :1] > 0, s[spectral, :1], 1.0)
+        with np.errstate(over="ignore", invalid="ignore"):  # a column of zeros: infinite variance, said so
+            inverse[spectral] = (np.swapaxes(vt[spectral], -1, -2) * (1.0 / (s[spectral] ** 2 + (1e-13 * s_max) ** 2))[:, None, :]) @ vt[spectral]
+    with np.errstate(over="ignore", invalid="ignore"):
+        cov = (inverse * scale[:, :, None] * scale[:, None, :]).reshape(*batch, k, k)
+    s, vt = s.reshape(*batch, k), vt.reshape(*batch, k, k)
     if weighting != "sigma":
         chi2_red = np.asarray(chi2_red, float)
         cov = cov * np.where(np.isfinite(chi2_red), chi2_red, 1.0)[..., None, None]
@@ -290,9 +316,21 @@ def _uncertainties(jac: np.ndarray, chi2_red: float, weighting: str, names: Sequ
     return (cov, corr, *_null_sets(s, vt, names))
 
 
-def _diagnose_identifiability(names, values, stderr, corr, null_sets, ratio, pairs=None) -> list[str]:
-    """Identifiability warnings; ``pairs``: the (i, j), i < j, with |corr| above the limit when
-    already found (a batch finds them for all spectra at once)."""
+def _correlated_note(a: str, b: str, r: float) -> str:
+    why = " (a CPE's Q and α correlate when the data lie far from ω = 1 rad/s; both can still be well determined)" if a.rsplit(".", 1)[0] == b.rsplit(".", 1)[0] else "; the data barely tell them apart"
+    return f"{a} and {b} are strongly correlated (r = {r:+.3f}){why}"
+
+
+def _undetermined_note(name: str, relative_error: float) -> str:
+    return f"{name} has a relative standard error of {relative_error * 100:.3g}%: it is not determined by the data"
+
+
+def _bound_note(name: str, value: float, bound: float, side: str) -> str:
+    return f"{name} = {value:.6g} sits at its {side} bound {bound:g}"
+
+
+def _diagnose_identifiability(names, values, stderr, corr, null_sets, ratio) -> list[str]:
+    """Identifiability warnings."""
     notes = []
     flagged: set[frozenset] = set()
     for group in null_sets:
@@ -301,34 +339,59 @@ def _diagnose_identifiability(names, values, stderr, corr, null_sets, ratio, pai
             f"singular-value ratio {ratio:.1e}): only a combination of them changes Z; fix one of them"
         )
         flagged.add(frozenset(group))
-    if pairs is None:
-        pairs = [(i, j) for i, j in np.argwhere(np.abs(corr) > CORRELATION_LIMIT).tolist() if i < j]
-    for i, j in pairs:  # in (i, j) order
-        if not any({names[i], names[j]} <= g for g in flagged):
-            why = " (a CPE's Q and α correlate when the data lie far from ω = 1 rad/s; both can still be well determined)" if names[i].rsplit(".", 1)[0] == names[j].rsplit(".", 1)[0] else "; the data barely tell them apart"
-            notes.append(f"{names[i]} and {names[j]} are strongly correlated (r = {corr[i, j]:+.3f}){why}")
+    for i, j in np.argwhere(np.abs(corr) > CORRELATION_LIMIT).tolist():  # in (i, j) order
+        if i < j and not any({names[i], names[j]} <= g for g in flagged):
+            notes.append(_correlated_note(names[i], names[j], corr[i, j]))
     for n in names:
         v, e = values[n], stderr[n]
         if v != 0 and (not math.isfinite(e) or abs(e / v) > RELATIVE_ERROR_LIMIT) and not any(n in g for g in flagged):
-            notes.append(f"{n} has a relative standard error of {abs(e / v) * 100:.3g}%: it is not determined by the data")
+            notes.append(_undetermined_note(n, abs(e / v)))
     return notes
 
 
-def fit_notes(table: ParameterTable, values: dict, stderr: dict, corr, null_sets, ratio, *, finite: bool, converged: bool, message: str, pairs=None) -> tuple[str, ...]:
+def fit_notes(table: ParameterTable, values: dict, stderr: dict, corr, null_sets, ratio, *, finite: bool, converged: bool, message: str) -> tuple[str, ...]:
     """The warnings of a fit: not converged, identifiability (`_diagnose_identifiability`),
     parameters at a bound."""
     free_names = table.free_names
-    notes = _diagnose_identifiability(list(free_names), values, stderr, corr, null_sets, ratio, pairs) if finite else []
+    notes = _diagnose_identifiability(list(free_names), values, stderr, corr, null_sets, ratio) if finite else []
     free = table.free_index
     for nm, lo, hi in zip(free_names, table.lower[free].tolist(), table.upper[free].tolist()):
         v = values[nm]
         if math.isfinite(hi) and abs(v - hi) <= 1e-4 * max(abs(hi), 1e-12):
-            notes.append(f"{nm} = {v:.6g} sits at its upper bound {hi:g}")
+            notes.append(_bound_note(nm, v, hi, "upper"))
         elif lo > 0 and abs(v - lo) <= 1e-4 * lo:
-            notes.append(f"{nm} = {v:.6g} sits at its lower bound {lo:g}")
+            notes.append(_bound_note(nm, v, lo, "lower"))
     if not converged:
         notes.insert(0, f"fit did not converge: {message}")
     return tuple(notes)
+
+
+def stack_notes(table: ParameterTable, values: np.ndarray, stderr: np.ndarray, corr: np.ndarray) -> dict[int, tuple[str, ...]]:
+    """`fit_notes` of a stack of converged fits without near-null directions: values and
+    stderr (B, P), correlations (B, K, K). The conditions are evaluated for all fits at once
+    and text is built only for the notes due, in `fit_notes`' order; fits without notes are
+    left out of the returned {row: notes}."""
+    names = table.free_names
+    free = table.free_index
+    v, e = values[:, free], stderr[:, free]
+    notes: dict[int, list[str]] = collections.defaultdict(list)
+    upper_triangle = np.triu(np.ones((len(names),) * 2, bool), 1)
+    correlated = np.argwhere((np.abs(corr) > CORRELATION_LIMIT) & upper_triangle)
+    for (b, i, j), r in zip(correlated.tolist(), corr[tuple(correlated.T)].tolist()):
+        notes[b].append(_correlated_note(names[i], names[j], r))
+    with np.errstate(all="ignore"):
+        relative_error = np.abs(e / v)
+        undetermined = (v != 0) & (~np.isfinite(e) | (relative_error > RELATIVE_ERROR_LIMIT))
+    for b, i in np.argwhere(undetermined).tolist():
+        notes[b].append(_undetermined_note(names[i], float(relative_error[b, i])))
+    lo, hi = table.lower[free], table.upper[free]
+    with np.errstate(invalid="ignore"):
+        at_upper = np.isfinite(hi) & (np.abs(v - hi) <= 1e-4 * np.maximum(np.abs(hi), 1e-12))
+        at_lower = ~at_upper & (lo > 0) & (np.abs(v - lo) <= 1e-4 * lo)
+    for b, i in np.argwhere(at_upper | at_lower).tolist():
+        bound, side = (hi[i], "upper") if at_upper[b, i] else (lo[i], "lower")
+        notes[b].append(_bound_note(names[i], float(v[b, i]), float(bound), side))
+    return {b: tuple(n) for b, n in notes.items()}
 
 
 def _prepare(circuit, data, *, init, fixed, bounds, weighting, fmin, fmax, registry):

@@ -241,39 +241,53 @@ def _clip_inside(x, table: ParameterTable) -> np.ndarray:
 
 
 def _log_range(table: ParameterTable, features: SpectrumFeatures, i: int):
+    """log of the (low, high) range of parameter i's random draws, per spectrum (B,)."""
     unit = table.units[i]
+    rows = features._rows
     w_lo, w_hi = 2 * np.pi * features.f_min, 2 * np.pi * features.f_max
-    zlo, zhi = features.z_min, features.z_max
-    ranges = {
-        "Ohm": (zlo / 30, zhi * 3),
-        "F": (1 / (w_hi * zhi) / 10, 1 / (w_lo * zlo) * 10),
-        "H": (zlo / w_hi / 100, zhi / w_lo),
-        "s": (1 / w_hi / 10, 1 / w_lo * 10),
-        "Ohm s^-1/2": (zlo * np.sqrt(w_lo) / 30, zhi * np.sqrt(w_hi) * 3),
-    }
-    if unit.startswith("F s^"):
+    zlo, zhi = rows["z_min"], rows["z_max"]
+    if unit == "Ohm":
+        lo, hi = zlo / 30, zhi * 3
+    elif unit == "F":
+        lo, hi = 1 / (w_hi * zhi) / 10, 1 / (w_lo * zlo) * 10
+    elif unit == "H":
+        lo, hi = zlo / w_hi / 100, zhi / w_lo
+    elif unit == "s":
+        lo, hi = 1 / w_hi / 10, 1 / w_lo * 10
+    elif unit == "Ohm s^-1/2":
+        lo, hi = zlo * np.sqrt(w_lo) / 30, zhi * np.sqrt(w_hi) * 3
+    elif unit.startswith("F s^"):
         lo, hi = 1 / (w_hi * zhi) / 100, 1 / (w_lo * zlo) * 100
     else:
-        lo, hi = ranges.get(unit, (1e-3, 1e3))
-    return np.log(max(lo, 1e-300)), np.log(max(hi, lo * 10, 1e-299))
+        lo, hi = 1e-3, 1e3
+    lo, hi = np.broadcast_to(lo, zlo.shape), np.broadcast_to(hi, zlo.shape)
+    return np.log(_larger(lo, 1e-300)), np.log(_larger(_larger(hi, lo * 10), 1e-299))
 
 
 def random_starts(table: ParameterTable, features: SpectrumFeatures, guess: np.ndarray, n_starts: int, seed: int = 0) -> np.ndarray:
     """``n_starts`` starting points (first: the guess; then jittered guesses; then draws over
-    data-scaled log ranges). Fixed parameters keep their values. Shape (n_starts, P)."""
+    data-scaled log ranges). Fixed parameters keep their values. Shape (n_starts, P) for one
+    spectrum's features and guess (P,); (B, n_starts, P) for a stack's, every spectrum with
+    the random numbers that it would draw alone (the same for all, scaled to its data)."""
     rng = np.random.default_rng(seed)
-    starts = np.tile(guess, (n_starts, 1))
+    guesses = np.atleast_2d(guess)
+    starts = np.repeat(guesses[:, None, :], n_starts, axis=1)
     n_jitter = (n_starts - 1) // 2
+    fixed, given = table.fixed.tolist(), (~np.isnan(table.values)).tolist()
+    log_ranges = {}
     for s in range(1, n_starts):
-        for i in range(len(guess)):
-            if table.fixed[i] or not np.isnan(table.values[i]) and s <= n_jitter:
+        for i in range(guesses.shape[1]):
+            if fixed[i] or given[i] and s <= n_jitter:
                 continue
             if table.units[i] == "1":
-                starts[s, i] = rng.uniform(0.45, 1.0) if s > n_jitter else np.clip(guess[i] + rng.normal(0, 0.1), 0.3, 1.0)
+                starts[:, s, i] = rng.uniform(0.45, 1.0) if s > n_jitter else np.clip(guesses[:, i] + rng.normal(0, 0.1), 0.3, 1.0)
             elif s <= n_jitter:
-                starts[s, i] = guess[i] * 10 ** rng.normal(0, 0.7)
+                starts[:, s, i] = guesses[:, i] * 10 ** rng.normal(0, 0.7)
             else:
-                lo, hi = _log_range(table, features, i)
-                starts[s, i] = np.exp(rng.uniform(lo, hi))
-    starts[:, table.fixed] = table.values[table.fixed]
-    return _clip_inside(starts, table)
+                if i not in log_ranges:
+                    log_ranges[i] = _log_range(table, features, i)
+                lo, hi = log_ranges[i]
+                starts[:, s, i] = np.exp(lo + (hi - lo) * rng.random())  # rng.uniform(lo, hi), spectrum by spectrum
+    starts[..., table.fixed] = table.values[table.fixed]
+    starts = _clip_inside(starts, table)
+    return starts if features._stacked else starts[0]

@@ -1,0 +1,134 @@
+"""The stacked statistics of batch fits: `covariances` against the SVD of the Jacobian itself,
+`stack_notes` against the warnings of one fit (`fit_notes`), and a batch's warnings against
+one-by-one fits of the same spectra.
+
+Spectra come from the numpy formulas of tests/spectra.py, not from impedax's compiler.
+"""
+
+import numpy as np
+import pytest
+
+import impedax as ix
+from impedax.fitting._fit import CORRELATION_LIMIT, covariances, fit_notes, stack_notes
+from impedax.fitting._parameters import ParameterTable
+from spectra import CASES, noisy
+
+
+def jacobian(rng, condition, m=40, k=5):
+    """J = A·diag(d): A with singular values spread log-evenly over ``condition``, columns
+    scaled by d over twelve decades (as parameters in ohms, farads and exponents); and the
+    oracle (JᵀJ)⁻¹ = diag(1/d)·(AᵀA)⁻¹·diag(1/d) from the SVD of A, which the scaling does not
+    spoil."""
+    u, _ = np.linalg.qr(rng.normal(size=(m, k)))
+    v, _ = np.linalg.qr(rng.normal(size=(k, k)))
+    s = np.geomspace(1, 1 / condition, k)
+    d = 10.0 ** rng.uniform(-6, 6, k)
+    return u @ np.diag(s) @ v.T * d, v @ np.diag(1 / s**2) @ v.T / np.outer(d, d)
+
+
+@pytest.mark.parametrize("condition", [1.0, 30.0, 1e3, 1e5])
+def test_covariances_match_the_svd_of_the_jacobian(condition, rng):
+    """Well-conditioned Jacobians take the inverse of JᵀJ, the others its eigendecomposition
+    or the SVD (cond(J) 1e5: JᵀJ at 1e10); every way agrees with the oracle to the accuracy
+    its conditioning allows, correlations included."""
+    jacs, inverses = zip(*[jacobian(rng, condition) for _ in range(6)])
+    chi2_red = rng.uniform(0.5, 2.0, 6)
+    cov, corr, _, _ = covariances(np.stack(jacs), chi2_red, "modulus")
+    for i in range(6):
+        expected = inverses[i] * chi2_red[i]
+        d = np.sqrt(np.diag(expected))
+        # errors grow with the conditioning of J: relative to each entry's scale σ_i σ_j
+        assert np.abs(cov[i] - expected) / np.outer(d, d) == pytest.approx(np.zeros((5, 5)), abs=1e-12 * condition**2 + 1e-13)
+        assert corr[i] == pytest.approx(expected / np.outer(d, d), abs=1e-12 * condition**2 + 1e-13)
+
+
+def test_sigma_weighting_is_not_scaled_by_chi2(rng):
+    jac, inverse = jacobian(rng, 10.0)
+    assert covariances(jac, 3.0, "sigma")[0] == pytest.approx(inverse, rel=1e-10)
+
+
+def test_covariances_of_a_stack_equal_each_alone_singular_members_included(rng):
+    """A stack mixing regular, proportional-column, zero-column and all-zero Jacobians: each
+    member's covariance is what it would be alone, and the undetermined ones are reported
+    (huge variances, ±1 correlation, near-zero singular values), never NaN."""
+    regular, inverses = zip(*[jacobian(rng, 10.0) for _ in range(3)])
+    proportional = jacobian(rng, 10.0)[0]
+    proportional[:, 1] = -3.0 * proportional[:, 0]
+    zero_column = jacobian(rng, 10.0)[0]
+    zero_column[:, 2] = 0.0
+    members = list(regular) + [proportional, zero_column, np.zeros((40, 5))]
+    chi2_red = np.linspace(0.8, 1.3, len(members))
+    stack = covariances(np.stack(members), chi2_red, "modulus")
+    for i, jac in enumerate(members):
+        alone = covariances(jac, chi2_red[i], "modulus")
+        for got, want in zip(stack[:2], alone[:2]):
+            assert np.isfinite(got[i]).all() or np.isinf(got[i]).any()
+            assert got[i] == pytest.approx(want, rel=1e-10, abs=1e-300)
+    cov, corr, s, _ = stack
+    for i in range(3):
+        assert cov[i] == pytest.approx(inverses[i] * chi2_red[i], rel=1e-10)
+    assert corr[3, 0, 1] == pytest.approx(1.0, abs=1e-6)  # (x0, x1) and (x0, −3 x0) move together
+    # in units of the columns' sizes (1 for a well-determined parameter)
+    assert cov[3, 0, 0] * np.sum(proportional[:, 0] ** 2) > 1e20
+    assert cov[4, 2, 2] * np.sum(zero_column[:, 2] ** 2) == 0 and cov[4, 2, 2] > 1e20
+    assert s[3, -1] < 1e-8 * s[3, 0] and s[4, -1] < 1e-8 * s[4, 0]
+    assert not np.isnan(cov).any() and not np.isnan(corr).any()
+
+
+# a circuit with a fixed parameter and bounds on either side: notes of every kind can be due
+TABLE = ParameterTable.build(ix.parse("R0 + R1 || CPE1 + R2 || C2"), fixed={"R2": 100.0}, bounds={"R0": (1.0, 50.0), "CPE1.alpha": (0.5, 0.95)})
+
+
+def random_notes_inputs(rng, n):
+    """Values, stderr (n, P) and correlations (n, K, K) that earn each note now and then:
+    strong correlations of either sign, relative errors above 100 %, infinite or NaN errors,
+    values on the bounds."""
+    names, free = TABLE.names, TABLE.free_index
+    k = free.size
+    values = np.exp(rng.uniform(-5, 5, (n, len(names))))
+    values[:, names.index("CPE1.alpha")] = rng.uniform(0.5, 0.95, n)
+    values[:, names.index("R2")] = 100.0
+    at = rng.integers(0, 4, n)
+    values[at == 1, names.index("R0")] = 50.0 * (1 - 1e-6)
+    values[at == 2, names.index("R0")] = 1.0 * (1 + 1e-6)
+    values[at == 3, names.index("CPE1.alpha")] = 0.95
+    stderr = values * np.exp(rng.normal(-2, 1.5, values.shape))
+    stderr[rng.random(stderr.shape) < 0.03] = np.inf
+    stderr[rng.random(stderr.shape) < 0.03] = np.nan
+    stderr[:, ~np.isin(np.arange(len(names)), free)] = np.nan
+    corr = np.tile(np.eye(k), (n, 1, 1))
+    for b in range(n):
+        for _ in range(rng.integers(0, 3)):
+            i, j = rng.choice(k, 2, replace=False)
+            corr[b, i, j] = corr[b, j, i] = rng.choice([-1, 1]) * rng.uniform(0.98, 1.0)
+    return values, stderr, corr
+
+
+def test_stack_notes_equal_the_notes_of_one_fit(rng):
+    values, stderr, corr = random_notes_inputs(rng, 300)
+    got = stack_notes(TABLE, values, stderr, corr)
+    names = TABLE.names
+    kinds = set()
+    for b in range(300):
+        one = fit_notes(TABLE, dict(zip(names, values[b].tolist())), dict(zip(names, stderr[b].tolist())), corr[b], [], 1.0, finite=True, converged=True, message="")
+        assert got.get(b, ()) == one and (b in got) == bool(one)
+        kinds |= {w.split(" ")[-1] for w in one}
+    # every kind of note was exercised: correlation (both texts), undetermined, either bound
+    assert {"apart", "determined)", "data", "0.95", "50", "1"} <= kinds
+    assert np.any(np.abs(corr) > CORRELATION_LIMIT)
+
+
+def test_batch_warnings_equal_single_fits(rng):
+    """Two-arc spectra whose CPE Q and α correlate: the batch builds these texts for the stack,
+    and each must be the single fit's, number for number (notes of the other kinds are
+    compared with `fit_notes` above)."""
+    text, fn, truth, (lo, hi) = CASES["two_arcs"]
+    f = np.geomspace(lo, hi, 60)
+    z = np.stack([noisy(fn(f, dict(truth, R1=r1)), 0.01, rng) for r1 in (300.0, 400.0, 600.0)])
+    data = ix.make_spectrum(f, z, dims=("trial",), coords={"trial": [3, 5, 8]})
+    batch = ix.fit(text, data)
+    assert len(batch.warnings) == 3
+    for i, trial in enumerate((3, 5, 8)):
+        single = ix.fit(text, data.isel(trial=i))
+        assert batch.warnings[f"trial={trial}"] == single.warnings
+        assert any("strongly correlated (r = " in w for w in single.warnings)
