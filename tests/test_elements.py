@@ -138,6 +138,9 @@ def test_registry_is_a_value_and_user_elements_work():
     spec = ElementSpec("Tl", "user transmission line", "Z = √(r/(jωc))", (ParameterSpec("r", "Ohm", 1.0), ParameterSpec("c", "F", 1e-6)), transmission)
     reg = DEFAULT_REGISTRY.register(spec)
     assert "Tl" in reg and "Tl" not in DEFAULT_REGISTRY
+    # a value: equal contents, equal registries and hashes (compiled solvers are cached by it)
+    same = type(DEFAULT_REGISTRY)(DEFAULT_REGISTRY.specs + (spec,))
+    assert same == reg and hash(same) == hash(reg) and reg != DEFAULT_REGISTRY
     c = ix.parse("R0 + Tl_1", reg)
     z = ix.compile_circuit(c, reg)({"R0": 5.0, "Tl_1.r": 4.0, "Tl_1.c": 1e-6}, np.array([100.0]))
     assert complex(z[0]) == pytest.approx(5 + cmath.sqrt(4.0 / (1j * 2 * math.pi * 100 * 1e-6)), rel=1e-12)

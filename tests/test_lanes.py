@@ -31,7 +31,7 @@ def problems():
     u0 = _guess_start(CIRCUIT, table, SpectrumFeatures(F, z), DEFAULT_REGISTRY)
     inv = 1 / np.abs(z)
     args = _args(table, F, z[0], inv[0], inv[0])
-    shared = {k: args[k] for k in ("freq", "free_index", "lower", "upper", "kind")}
+    shared = {k: args[k] for k in ("freq", "lower", "upper")}
     rows = {"z": z, "inv_w_re": inv, "inv_w_im": inv, "x_fixed": np.broadcast_to(args["x_fixed"], (len(z), args["x_fixed"].size))}
     lanes = tree_solver(CIRCUIT, DEFAULT_REGISTRY, 400, *table.free_structure)[1]
     return z, u0, rows, shared, lanes

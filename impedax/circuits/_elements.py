@@ -111,6 +111,15 @@ class Registry:
                     raise CircuitError(f"element symbol {sym!r} is declared twice")
                 seen[sym] = spec.symbol
 
+    def __hash__(self) -> int:
+        return self._hash
+
+    @cached_property
+    def _hash(self) -> int:
+        # computed once: compiled solvers are cached by registry, and hashing every spec's
+        # fields on each lookup cost more than a solver step
+        return hash(self.specs)
+
     @cached_property
     def _by_symbol(self) -> Mapping[str, ElementSpec]:
         table = {}

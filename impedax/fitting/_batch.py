@@ -98,7 +98,7 @@ def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n
     features = SpectrumFeatures(freq, z)
     _, lanes, finish, chi2_at = tree_solver(circuit, registry, max_steps, *table.free_structure)
     scale = residual_scale(z, inv_re, inv_im, weighting)
-    shared = {k: v for k, v in _args(table, freq, z[0], inv_re[0], inv_im[0]).items() if k not in SPECTRUM_KEYS and k != "model_args"}
+    shared = {k: v for k, v in _args(table, freq, z[0], inv_re[0], inv_im[0]).items() if k not in SPECTRUM_KEYS}
     x_fixed = np.where(np.isnan(table.values), 1.0, table.values)
     rows = {"z": z, "inv_w_re": inv_re * scale[:, None], "inv_w_im": inv_im * scale[:, None], "x_fixed": np.broadcast_to(x_fixed, (b, x_fixed.size))}
     solver = _LaneRunner(lanes, finish, chi2_at, rows, shared)

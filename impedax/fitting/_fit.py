@@ -544,20 +544,18 @@ def _starts_from(circuit, table, features, n_starts, seed, registry) -> np.ndarr
 
 
 def _args(table: ParameterTable, freq, z, inv_re, inv_im) -> dict:
+    """The arrays a tree solver takes (`_core._tree_residuals`; which parameters are free and
+    their transforms are compiled into it)."""
     # numpy arrays: jit transfers them on its fast path (jnp.asarray per array costs more)
     free = table.free_index
-    x_fixed = np.where(np.isnan(table.values), 1.0, table.values)
     return {
         "freq": np.asarray(freq, float),
         "z": np.asarray(z, complex),
         "inv_w_re": np.asarray(inv_re, float),
         "inv_w_im": np.asarray(inv_im, float),
-        "x_fixed": x_fixed,
-        "free_index": np.asarray(free, np.int32),
+        "x_fixed": np.where(np.isnan(table.values), 1.0, table.values),
         "lower": table.lower[free],
         "upper": table.upper[free],
-        "kind": table.kind[free],
-        "model_args": None,
     }
 
 
