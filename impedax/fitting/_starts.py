@@ -135,9 +135,9 @@ def _low_frequency_alpha(f, neg_im) -> np.ndarray:
     if k < 2:
         return np.full(neg_im.shape[0], 0.85)
     ok = np.all(neg_im[:, :k] > 0, axis=1)
-    lx, ly = np.log(f[:k]), np.log(np.where(ok[:, None], neg_im[:, :k], 1.0))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        slope = np.sum((lx - lx.mean()) * (ly - ly.mean(axis=1, keepdims=True)), axis=1) / np.sum((lx - lx.mean()) ** 2)
+    lx = np.log(f[:k])
+    weights = (lx - lx.mean()) / np.sum((lx - lx.mean()) ** 2)  # slope = Σ w·log y (Σ w = 0)
+    slope = np.log(np.where(ok[:, None], neg_im[:, :k], 1.0)) @ weights
     return np.where(ok, np.clip(-slope, 0.4, 1.0), 0.85)
 
 
