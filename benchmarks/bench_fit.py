@@ -127,7 +127,7 @@ def main(argv=None) -> dict:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--spectra", type=int, default=1000, help="spectra in the batch (default 1000)")
     parser.add_argument("--peer-fits", type=int, default=30, help="peer fits timed in a loop and extrapolated (default 30)")
-    parser.add_argument("--repeat", type=int, default=21, help="repeats of the warm single fit (median)")
+    parser.add_argument("--repeat", type=int, default=101, help="repeats of the warm single fit (median; the peers get a third)")
     parser.add_argument("--fresh-repeat", type=int, default=3, help="repeats of each fresh-process measurement (median)")
     parser.add_argument("--batch-repeat", type=int, default=7, help="repeats of the batch fit (median)")
     args = parser.parse_args(argv)
@@ -144,9 +144,11 @@ def main(argv=None) -> dict:
         print("pyimpspec not installed: skipped")
     fig: dict = {"conditions": {"load_average_start": os.getloadavg()[0], "cpus": os.cpu_count()}}
 
-    # warm single fit
-    ix.fit(CIRCUIT, data0)
-    ix.fit(CIRCUIT, data0, init=TRUTH, n_starts=1)
+    # warm single fit: after compilation and ten calls each (the first calls after a
+    # compilation run slower, as the machine's caches and allocator settle)
+    for _ in range(10):
+        ix.fit(CIRCUIT, data0)
+        ix.fit(CIRCUIT, data0, init=TRUTH, n_starts=1)
     fig["single_default_s"] = median_time(lambda: ix.fit(CIRCUIT, data0), args.repeat)
     fig["single_init_s"] = median_time(lambda: ix.fit(CIRCUIT, data0, init=TRUTH, n_starts=1), args.repeat)
     for name, fit_one in peers.items():
