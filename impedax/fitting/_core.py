@@ -1,20 +1,22 @@
 """The compiled least-squares core shared by `fit`, batch fits and candidate fits.
 
 The residual is the real-stacked weighted residual ``[Re(Z_m − Z_d)/w_re, Im(Z_m − Z_d)/w_im]``,
-squared once by the solver. Free parameters are gathered into a vector of length K (padded
-entries point at a dummy slot and have zero Jacobian columns), so fits with the same K, start
-count and frequency count share one compilation. Three solvers:
+squared once by the solver. Three solvers:
 
 * one spectrum of a circuit compiled by `compile_circuit` (``tree_solver(...)[0]``): optimistix
   Levenberg–Marquardt from one or many starts (``vmap``), the best kept. The circuit's analytic
-  Jacobian (`CompiledCircuit.value_and_jacobian`) is attached to the residual as a custom JVP,
-  so each linearisation costs one evaluation of it instead of forward mode through the circuit;
+  Jacobian (`CompiledCircuit.value_and_columns`) is attached to the residual as a custom JVP,
+  so each linearisation costs one evaluation of it instead of forward mode through the circuit.
+  Tree solvers are compiled per circuit and free set (which parameters are free, and their
+  transforms): fixed values are constants of the trace;
 * many spectra of one circuit (``tree_solver(...)[1]``, `_make_lanes`): a work queue of
   independent Levenberg–Marquardt problems over a fixed number of ``vmap`` lanes, with the
   same analytic Jacobian. optimistix's solver state holds closures that cannot be swapped
   lane by lane, so this loop runs the compact iteration of `_lm_parts`;
 * candidate circuits of one `ProgramLayout` (``program_solver``): the program's arrays travel
-  as data, so one compilation serves every topology (the diagnosis). Warm-started candidate
+  as data, and free parameters are gathered into a vector of length K (padded entries point at
+  a dummy slot and have zero Jacobian columns), so one compilation serves every topology and
+  free set of the layout (the diagnosis). Warm-started candidate
   fits use ``single_phase=True``: every start runs the `_lm_parts` loop and the best is kept.
 """
 
@@ -106,7 +108,8 @@ def _tree_residuals(compiled, free: tuple[int, ...], kinds: tuple[int, ...]):
     parameters of the solver's point u.
 
     Knowing the free set when tracing, fixed parameters are constants of the trace: no
-    gather or scatter by index, no derivative columns for them, one transform per parameter.
+    gather or scatter by index, no derivative columns for them, one transform formula per
+    kind present.
     Re and Im parts are weighted apart and, in what runs under ``vmap`` (``normal_u``,
     ``chi2_u``), never concatenated: XLA's concatenation of the halves costs several times
     the circuit."""
