@@ -16,7 +16,7 @@ matplotlib.use("Agg")  # examples write files; they never open windows
 
 import matplotlib.pyplot as plt  # noqa: E402
 
-from impedax._atomic import atomic_path  # noqa: E402
+from impedax.io.atomic import atomic_path  # noqa: E402
 from impedax.cli import _configure_jax_cache  # noqa: E402
 
 DEFAULT_OUT = Path("out/examples")

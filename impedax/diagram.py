@@ -134,7 +134,7 @@ def save_circuit_diagram(circuit: Circuit | str, path: str | os.PathLike, values
 
     SVG keeps the labels as text (searchable, editable), not as glyph outlines.
     """
-    from ._atomic import check_writable
+    from .io.atomic import check_writable
     from .errors import DataError
 
     path = check_writable(path)
@@ -143,7 +143,7 @@ def save_circuit_diagram(circuit: Circuit | str, path: str | os.PathLike, values
     import matplotlib
     import matplotlib.pyplot as plt
 
-    from ._atomic import atomic_path
+    from .io.atomic import atomic_path
 
     fig = draw_circuit(circuit, values, registry=registry)
     try:

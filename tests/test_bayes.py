@@ -16,7 +16,7 @@ from scipy import integrate, stats
 import impedax as ix
 from impedax.cli import main
 from impedax.fitting import Posterior, parse_prior
-from impedax.fitting._priors import prior_log_density
+from impedax.fitting.bayes.priors import prior_log_density
 from impedax.io import read_netcdf, write_netcdf
 from spectra import CASES, meyer, noisy, rc, r_cpe
 

@@ -9,9 +9,9 @@ import pytest
 
 import impedax as ix
 from impedax.cli import main
-from impedax.fitting._core import evaluate_program_fast
-from impedax.fitting._diagnose import failing_bands
-from impedax.fitting._effects import BaselineContext
+from impedax.fitting.least_squares.solvers import evaluate_program_fast
+from impedax.fitting.diagnosis.diagnosis import failing_bands
+from impedax.fitting.diagnosis.effects import BaselineContext
 
 import hidden_effects as he
 

@@ -348,8 +348,8 @@ def test_exchangeable_arcs_are_reported_highest_frequency_first(rng):
     ],
 )
 def test_exchangeable_blocks_are_found_by_structure(text, fixed, groups):
-    from impedax.fitting._order import exchangeable_blocks
-    from impedax.fitting._parameters import ParameterTable
+    from impedax.fitting.least_squares.order import exchangeable_blocks
+    from impedax.fitting.parameters import ParameterTable
 
     circuit = ix.parse(text)
     table = ParameterTable.build(circuit, fixed=fixed)

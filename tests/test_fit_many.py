@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import impedax as ix
-from impedax.fitting._many import fit_candidates
+from impedax.fitting.least_squares.candidates import fit_candidates
 from spectra import CASES, noisy
 
 

@@ -70,8 +70,8 @@ def test_unit_weighting_on_teraohm_data_stays_finite(rng):
 def test_user_start_below_one_microfarad_is_kept(rng):
     """A start of 1 pF reaches the solver as 1 pF (it was once lifted to 1 µF by the clip that
     keeps starts inside their bounds)."""
-    from impedax.fitting._parameters import ParameterTable
-    from impedax.fitting._starts import SpectrumFeatures, data_driven_guess
+    from impedax.fitting.parameters import ParameterTable
+    from impedax.fitting.least_squares.starts import SpectrumFeatures, data_driven_guess
 
     circuit = ix.parse("R0 + R1 || C1")
     table = ParameterTable.build(circuit, init={"C1": 1e-12})
@@ -174,7 +174,7 @@ def test_parameter_transform_of_each_kind(kind, lower, upper, formula):
     """The unconstrained → bounded maps of `_parameters`' docstring, one kind traced alone
     (what compiled solvers use) and selected from a kind array, against numpy formulas;
     `to_internal` inverts them."""
-    from impedax.fitting._parameters import external_of_kind, to_external, to_internal
+    from impedax.fitting.parameters import external_of_kind, to_external, to_internal
 
     u = np.linspace(-6.0, 6.0, 13)
     expected = formula(u, lower, upper)

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 import impedax as ix
-from impedax.fitting._fit import CORRELATION_LIMIT, covariances, fit_notes, stack_notes
-from impedax.fitting._parameters import ParameterTable
+from impedax.fitting.least_squares.single import CORRELATION_LIMIT, covariances, fit_notes, stack_notes
+from impedax.fitting.parameters import ParameterTable
 from spectra import CASES, noisy
 
 

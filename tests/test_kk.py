@@ -11,7 +11,7 @@ import xarray as xr
 import impedax as ix
 from impedax.cli import main
 from impedax.errors import DataError, ParameterError
-from impedax.fitting._kk import _time_constants
+from impedax.fitting.kk import _time_constants
 from impedax.plotting import save_figure
 
 

@@ -8,10 +8,10 @@ import pytest
 
 import impedax as ix
 from impedax.circuits import DEFAULT_REGISTRY
-from impedax.fitting._core import levenberg_marquardt, tree_solver
-from impedax.fitting._fit import _args, _guess_start
-from impedax.fitting._parameters import ParameterTable
-from impedax.fitting._starts import SpectrumFeatures
+from impedax.fitting.least_squares.solvers import levenberg_marquardt, tree_solver
+from impedax.fitting.least_squares.single import _args, _guess_start
+from impedax.fitting.parameters import ParameterTable
+from impedax.fitting.least_squares.starts import SpectrumFeatures
 
 F = np.geomspace(0.1, 1e6, 40)
 CIRCUIT = ix.parse("R0 + R1 || CPE1")
@@ -40,7 +40,7 @@ def problems():
 def plain(u0, rows, shared, i, max_steps):
     """The same Levenberg–Marquardt iteration, alone, for problem i."""
     from impedax.circuits import compile_circuit
-    from impedax.fitting._core import _tree_residuals
+    from impedax.fitting.least_squares.solvers import _tree_residuals
 
     table = ParameterTable.build(CIRCUIT)
     normal_u = _tree_residuals(compile_circuit(CIRCUIT), *table.free_structure).normal_u
@@ -97,7 +97,7 @@ def test_an_early_stop_returns_only_a_few_unfinished_problems(problems):
 def test_outputs_come_back_from_one_transfer_unchanged():
     """`_one_transfer` packs a solver's outputs (float, complex, integer; any shapes) into one
     array on the device and unpacks them on the host as they were."""
-    from impedax.fitting._core import _one_transfer
+    from impedax.fitting.least_squares.solvers import _one_transfer
 
     def solve(u0s, args):
         return {"x": u0s * 2.0, "x_free": u0s, "z_model": args["z"] * 1j, "code": jnp.int32(3), "steps": jnp.arange(u0s.shape[0]), "chi2": jnp.sum(u0s)}

@@ -146,7 +146,7 @@ def test_random_unicode_raises_only_impedax_errors(text):
 @settings(max_examples=40, deadline=None)
 @given(st.integers(1, 3000), st.sampled_from(["R1", "R1 + C1", "R1 || C1"]))
 def test_deep_parentheses_parse_or_raise_syntax_error(depth, core):
-    from impedax.circuits._parser import MAX_NESTING
+    from impedax.circuits.parser import MAX_NESTING
 
     text = "(" * depth + core + ")" * depth
     if depth <= MAX_NESTING:
@@ -174,7 +174,7 @@ def test_alternating_deep_tree_within_limit_round_trips():
 
 
 def test_too_many_elements_and_very_long_inputs():
-    from impedax.circuits._parser import MAX_ELEMENTS
+    from impedax.circuits.parser import MAX_ELEMENTS
 
     ok = " + ".join(f"R{k}" for k in range(MAX_ELEMENTS))
     assert len(ix.parse(ok).element_names) == MAX_ELEMENTS

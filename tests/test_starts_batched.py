@@ -14,9 +14,9 @@ import pytest
 
 import impedax as ix
 from impedax.circuits import DEFAULT_REGISTRY
-from impedax.fitting._fit import _guess_start
-from impedax.fitting._parameters import ParameterTable
-from impedax.fitting._starts import SpectrumFeatures, _clip_inside, _roles, data_driven_guess, data_driven_guesses, random_starts
+from impedax.fitting.least_squares.single import _guess_start
+from impedax.fitting.parameters import ParameterTable
+from impedax.fitting.least_squares.starts import SpectrumFeatures, _clip_inside, _roles, data_driven_guess, data_driven_guesses, random_starts
 
 RTOL = 1e-12  # the stack's vectorised pow may differ from the scalar pow in the last bit
 

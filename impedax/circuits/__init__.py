@@ -1,6 +1,6 @@
 """Circuit language, element registry, compiler and probes."""
 
-from ._compile import (
+from .compile import (
     PROGRAM_SCALES as PROGRAM_SCALES,
     ProgramLayout as ProgramLayout,
     default_theta as default_theta,
@@ -11,11 +11,11 @@ from ._compile import (
     evaluate_program as evaluate_program,
     voltage_across as voltage_across,
 )
-from ._elements import (
+from .elements import (
     DEFAULT_REGISTRY as DEFAULT_REGISTRY,
     ElementSpec as ElementSpec,
     ParameterSpec as ParameterSpec,
     Registry as Registry,
 )
-from ._parser import from_cdc as from_cdc, from_impedance_py as from_impedance_py, parse as parse, tokenize as tokenize
-from ._tree import Circuit as Circuit, Element as Element, Parallel as Parallel, Series as Series, parallel as parallel, series as series
+from .parser import from_cdc as from_cdc, from_impedance_py as from_impedance_py, parse as parse, tokenize as tokenize
+from .tree import Circuit as Circuit, Element as Element, Parallel as Parallel, Series as Series, parallel as parallel, series as series

@@ -1,4 +1,4 @@
-"""The ``impedax`` command line. Each command lives in its own module ``impedax.cli._NAME``
+"""The ``impedax`` command line. Each command lives in its own module ``impedax.cli.NAME``
 with ``register(subparsers)``; `main` turns impedax's own errors into one message and exit 2.
 """
 
@@ -33,7 +33,7 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True
     for name in _COMMAND_MODULES:
-        importlib.import_module(f"{__name__}._{name}").register(sub)
+        importlib.import_module(f"{__name__}.{name}").register(sub)
     return parser
 
 

@@ -1,16 +1,28 @@
-"""Least-squares and Bayesian fitting, model comparison, validation and diagnosis."""
+"""Fitting circuits to spectra: least squares (`least_squares/`), Bayesian sampling (`bayes/`),
+diagnosis of missing effects (`diagnosis/`), model comparison and the Kramers–Kronig test."""
 
-from ._batch import BatchFitResult as BatchFitResult
-from ._compare import Comparison as Comparison, compare as compare, is_nested as is_nested
-from ._fit import WEIGHTINGS as WEIGHTINGS, FitResult as FitResult, fit as fit, information_criteria as information_criteria
-from ._kk import KKBatchResult as KKBatchResult, KKResult as KKResult, kk_test as kk_test, kk_test_batch as kk_test_batch
-from ._bayes import NOISE_MODELS as NOISE_MODELS, Posterior as Posterior, sample as sample
-from ._derive import derive as derive, derive_fit as derive_fit
-from ._priors import PRIOR_KINDS as PRIOR_KINDS, Prior as Prior, parse_prior as parse_prior
-from ._reparam import (
+from .bayes import (
+    NOISE_MODELS as NOISE_MODELS,
+    PRIOR_KINDS as PRIOR_KINDS,
+    Posterior as Posterior,
+    Prior as Prior,
     Reparametrization as Reparametrization,
     gap_thickness_reparametrization as gap_thickness_reparametrization,
+    parse_prior as parse_prior,
+    sample as sample,
     stratum_corneum_reparametrization as stratum_corneum_reparametrization,
 )
-from ._effects import DEFAULT_EFFECTS as DEFAULT_EFFECTS, Effect as Effect, EffectCatalog as EffectCatalog
-from ._diagnose import Diagnosis as Diagnosis, Refinement as Refinement, diagnose as diagnose, refine as refine
+from .comparison import Comparison as Comparison, compare as compare, is_nested as is_nested
+from .derived import derive as derive, derive_fit as derive_fit
+from .diagnosis import (
+    DEFAULT_EFFECTS as DEFAULT_EFFECTS,
+    Diagnosis as Diagnosis,
+    Effect as Effect,
+    EffectCatalog as EffectCatalog,
+    Refinement as Refinement,
+    diagnose as diagnose,
+    refine as refine,
+)
+from .kk import KKBatchResult as KKBatchResult, KKResult as KKResult, kk_test as kk_test, kk_test_batch as kk_test_batch
+from .least_squares import BatchFitResult as BatchFitResult, FitResult as FitResult, WEIGHTINGS as WEIGHTINGS, fit as fit
+from .least_squares.single import information_criteria as information_criteria

@@ -9,7 +9,7 @@ import xarray as xr
 
 from ..data import validate_spectrum
 from ..errors import DataError
-from ._csv import CSV_HEADER as CSV_HEADER, UnrecognisedText, read_csv as read_csv, write_csv as write_csv
+from .csv import CSV_HEADER as CSV_HEADER, UnrecognisedText, read_csv as read_csv, write_csv as write_csv
 from ._instruments import (
     READERS as READERS,
     Reader as Reader,
@@ -20,7 +20,7 @@ from ._instruments import (
     read_labone_hdf5 as read_labone_hdf5,
     read_zplot as read_zplot,
 )
-from ._netcdf import read_netcdf as read_netcdf, write_netcdf as write_netcdf
+from .netcdf import read_netcdf as read_netcdf, write_netcdf as write_netcdf
 
 __all__ = [
     "load", "save", "read_csv", "write_csv", "read_netcdf", "write_netcdf", "CSV_HEADER", "READERS", "Reader",

@@ -1,0 +1,22 @@
+"""``impedax demo``: the main job on the embedded SYNTHETIC data (``make demo``)."""
+
+from __future__ import annotations
+
+
+def register(sub) -> None:
+    p = sub.add_parser("demo", help="the whole story on the embedded data: fit, diagnose, refine, gap thickness, force (writes out/)")
+    p.add_argument("--out", default="out", help="output folder (default out/)")
+    p.add_argument("--fast", action="store_true", help="short MCMC chains (used by the tests and CI)")
+    p.set_defaults(run=run)
+
+
+def run(args) -> int:
+    from ..io.atomic import check_writable
+    from ..demo import run_demo
+
+    from pathlib import Path
+
+    Path(args.out).mkdir(parents=True, exist_ok=True)
+    check_writable(Path(args.out) / "report.html")
+    run_demo(args.out, fast=args.fast)
+    return 0

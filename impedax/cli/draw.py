@@ -1,0 +1,25 @@
+"""``impedax draw MODEL -o FILE.png|svg [--param NAME=VALUE]...``: the circuit's schematic."""
+
+from __future__ import annotations
+
+
+def register(sub) -> None:
+    from .common import add_model_argument
+
+    p = sub.add_parser("draw", help="draw a model's circuit diagram", description="Draw the schematic of MODEL (series in a row, parallel branches stacked) with element names and, optionally, values. Needs schemdraw (pip install impedax[draw]).")
+    add_model_argument(p, positional=True)
+    p.add_argument("-o", "--out", required=True, metavar="FILE.png|svg", help="output file (.png, .svg or .pdf); written atomically")
+    p.add_argument("--param", action="append", metavar="NAME=VALUE", help="value to print under its element (repeatable), e.g. a fitted value")
+    p.set_defaults(run=run)
+
+
+def run(args) -> int:
+    from ..io.atomic import check_writable
+    from ..diagram import save_circuit_diagram
+    from .common import model_and_values
+
+    circuit, _, given = model_and_values(args.model, args.param, "--param")
+    check_writable(args.out)
+    save_circuit_diagram(circuit, args.out, values=given)
+    print(f"wrote {args.out}")
+    return 0

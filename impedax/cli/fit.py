@@ -1,0 +1,58 @@
+"""``impedax fit DATA --model MODEL``: least-squares fit with uncertainties."""
+
+from __future__ import annotations
+
+import sys
+
+
+def add_fit_options(p) -> None:
+    """Options shared by fit-like commands (fit, compare, diagnose, refine)."""
+    from ..fitting import WEIGHTINGS
+
+    p.add_argument("--weighting", default="modulus", choices=list(WEIGHTINGS), help="; ".join(f"{k}: {v}" for k, v in WEIGHTINGS.items()))
+    p.add_argument("--fmin", type=float, help="ignore data below this frequency [Hz]")
+    p.add_argument("--fmax", type=float, help="ignore data above this frequency [Hz]")
+
+
+def register(sub) -> None:
+    from .common import add_model_argument
+
+    p = sub.add_parser("fit", help="least-squares fit of a circuit to a spectrum", description="Fit MODEL to the spectrum in DATA (CSV, netCDF or an instrument file). Data with extra dimensions (trials, ...) are fitted together.")
+    p.add_argument("data", metavar="DATA", help="spectrum file")
+    add_model_argument(p)
+    p.add_argument("--fix", action="append", metavar="NAME=VALUE", help="hold a parameter fixed (repeatable)")
+    p.add_argument("--init", action="append", metavar="NAME=VALUE", help="starting value (repeatable); others are guessed from the data")
+    add_fit_options(p)
+    p.add_argument("--json", action="store_true", help="print the result as JSON")
+    p.add_argument("--plot", metavar="FILE.png", help="save data vs model with residuals")
+    p.add_argument("--out", metavar="FILE.nc", help="save the full result (parameters, covariance, spectra) as netCDF")
+    p.set_defaults(run=run)
+
+
+def run(args) -> int:
+    from .. import fit, load
+    from ..io.atomic import check_writable
+    from ..io import write_netcdf
+    from .common import emit_json, parse_assignments
+
+    for path in (args.plot, args.out):
+        if path:
+            check_writable(path)
+    data = load(args.data)
+    result = fit(args.model, data, init=parse_assignments(args.init, "--init"), fixed=parse_assignments(args.fix, "--fix"), weighting=args.weighting, fmin=args.fmin, fmax=args.fmax)
+    if args.out:
+        write_netcdf(result.to_xarray(), args.out)
+    if args.plot:
+        from ..plotting import save_figure
+
+        if hasattr(result, "plot"):
+            save_figure(result.plot(), args.plot)
+        else:
+            print("impedax fit: --plot draws single spectra; this data has extra dimensions (plot skipped)", file=sys.stderr)
+    if args.json:
+        emit_json(result.summary())
+    else:
+        print(result.report())
+    if hasattr(result, "converged") and not result.converged:
+        print(f"impedax fit: warning: the fit did not converge: {result.message}", file=sys.stderr)
+    return 0

@@ -1,0 +1,37 @@
+"""``impedax info MODEL``: the parameters of a circuit with units, defaults and bounds."""
+
+from __future__ import annotations
+
+
+def register(sub) -> None:
+    from .common import add_model_argument
+
+    p = sub.add_parser("info", help="list a model's parameters", description="List the parameters of MODEL with units, defaults and bounds.")
+    add_model_argument(p, positional=True)
+    p.add_argument("--json", action="store_true", help="machine-readable output")
+    p.set_defaults(run=run)
+
+
+def run(args) -> int:
+    from .. import DEFAULT_REGISTRY, parse
+    from .common import emit_json
+
+    circuit = parse(args.model)
+    rows = []
+    for e in circuit.elements():
+        spec = DEFAULT_REGISTRY[e.symbol]
+        for p in spec.parameters:
+            rows.append({
+                "name": p.full_name(e.name), "element": e.name, "element_kind": spec.name,
+                "unit": p.unit, "default": p.default, "lower": p.lower, "upper": p.upper,
+                "upper_inclusive": p.upper_inclusive, "description": p.description,
+            })
+    if args.json:
+        emit_json({"model": str(circuit), "parameters": rows})
+        return 0
+    print(f"model: {circuit}")
+    width = max(len(r["name"]) for r in rows)
+    print(f"{'parameter':<{width}}  {'unit':<14} {'default':>10}  bounds          description")
+    for r, p in zip(rows, (p for e in circuit.elements() for p in DEFAULT_REGISTRY[e.symbol].parameters)):
+        print(f"{r['name']:<{width}}  {r['unit']:<14} {r['default']:>10.4g}  {p.bounds_text():<15} {r['element_kind']}: {r['description']}")
+    return 0

@@ -1,0 +1,74 @@
+"""``impedax sample DATA --model MODEL``: Bayesian fit with emcee, credible intervals and diagnostics."""
+
+from __future__ import annotations
+
+import sys
+
+
+def register(sub) -> None:
+    from ..fitting import NOISE_MODELS, PRIOR_KINDS
+    from .common import add_model_argument
+
+    p = sub.add_parser(
+        "sample",
+        help="Bayesian fit (emcee): posterior draws, credible intervals, diagnostics",
+        description="Sample the posterior of MODEL's parameters given the spectrum in DATA with emcee, starting from a least-squares fit. Reports medians, 5/16/84/95%% quantiles, acceptance, autocorrelation times, effective sample sizes, Laplace log evidence and WAIC.",
+    )
+    p.add_argument("data", metavar="DATA", help="spectrum file")
+    add_model_argument(p)
+    p.add_argument("--walkers", type=int, metavar="N", help="number of walkers (even, at least 2 × parameters; default max(64, 4 × parameters))")
+    p.add_argument("--steps", type=int, default=2000, metavar="N", help="steps per walker (default 2000)")
+    p.add_argument("--burn", type=int, metavar="N", help="steps discarded at the start (default steps/4)")
+    p.add_argument("--thin", type=int, default=1, metavar="N", help="keep every N-th step (default 1)")
+    p.add_argument("--seed", type=int, default=0, metavar="S", help="random seed (default 0)")
+    p.add_argument("--prior", action="append", metavar="NAME=KIND:ARGS", help="prior for one parameter (repeatable), e.g. R1=loguniform:1e2,1e5; kinds: " + "; ".join(PRIOR_KINDS.values()))
+    p.add_argument("--noise", default="proportional", choices=list(NOISE_MODELS), help="; ".join(f"{k}: {v}" for k, v in NOISE_MODELS.items()))
+    p.add_argument("--fmin", type=float, help="ignore data below this frequency [Hz]")
+    p.add_argument("--fmax", type=float, help="ignore data above this frequency [Hz]")
+    p.add_argument("--json", action="store_true", help="print the result as JSON (no progress line)")
+    p.add_argument("--quiet", action="store_true", help="no progress line on stderr")
+    p.add_argument("--corner", metavar="FILE.png", help="save a corner plot of the draws")
+    p.add_argument("--plot", metavar="FILE.png", help="save data with posterior bands (Nyquist, Bode)")
+    p.add_argument("--out", metavar="FILE.nc", help="save the posterior (draws, diagnostics, start fit, data) as netCDF")
+    p.set_defaults(run=run)
+
+
+def run(args) -> int:
+    from .. import load, parse, sample
+    from ..io.atomic import check_writable
+    from ..fitting import parse_prior
+    from ..errors import ParameterError
+    from ..io import write_netcdf
+    from .common import emit_json
+
+    circuit = parse(args.model)  # syntax errors before anything else
+    priors = {}
+    for text in args.prior or ():
+        name, prior = parse_prior(text)
+        if name in priors:
+            raise ParameterError(f"--prior: {name} given twice")
+        priors[name] = prior
+    for path in (args.corner, args.plot, args.out):
+        if path:
+            check_writable(path)
+    data = load(args.data)
+    posterior = sample(
+        circuit, data, priors=priors, noise=args.noise, walkers=args.walkers, steps=args.steps, burn=args.burn, thin=args.thin,
+        seed=args.seed, fmin=args.fmin, fmax=args.fmax, progress=not (args.quiet or args.json),
+    )
+    if args.out:
+        write_netcdf(posterior.to_xarray(), args.out)
+    if args.corner or args.plot:
+        from ..plotting import save_figure
+
+        if args.corner:
+            save_figure(posterior.corner(), args.corner)
+        if args.plot:
+            save_figure(posterior.plot(), args.plot)
+    if args.json:
+        emit_json(posterior.summary())
+    else:
+        print(posterior.report())
+        if not args.quiet and posterior.warnings:
+            print(f"impedax sample: {len(posterior.warnings)} warning(s); see the report", file=sys.stderr)
+    return 0

@@ -1,0 +1,174 @@
+"""Physical reparametrizations: sample physical quantities instead of circuit parameters.
+
+A `Reparametrization` names new parameters (with units and bounds) and a pure JAX map from
+them to the circuit parameters they replace. `impedax.sample` then places priors on, samples
+and reports the physical quantities; the circuit parameters become derived quantities.
+
+Ready-made: `gap_thickness_reparametrization` (C_gap = ε0 ε_r A / u, Sirin et al.) and
+`stratum_corneum_reparametrization` (R_sc = ρ_sc d_sc / A, C_sc = ε0 ε_sc A / d_sc, Meyer 2012
+eq 3.13).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Callable, Mapping
+
+import numpy as np
+
+from ...errors import ParameterError
+
+__all__ = [
+    "Reparametrization",
+    "gap_thickness_reparametrization",
+    "stratum_corneum_reparametrization",
+    "EPSILON_0",
+]
+
+EPSILON_0 = 8.8541878128e-12  # F/m (PHYSICS.md)
+
+
+@dataclass(frozen=True)
+class Reparametrization:
+    """New parameters ``names`` (``units``, open ``lower`` / ``upper`` bounds) that replace the
+    circuit parameters ``replaces`` through ``forward(new, constants) -> {replaced: value}``
+    (pure JAX; ``new`` and ``constants`` are dicts by name). ``inverse(circuit_values,
+    constants) -> {new: value}`` (numpy) places the walkers' start; without it the start is
+    found numerically. ``kind`` names a built-in constructor so saved posteriors rebuild it.
+    """
+
+    names: tuple[str, ...]
+    units: tuple[str, ...]
+    lower: tuple[float, ...]
+    upper: tuple[float, ...]
+    replaces: tuple[str, ...]
+    forward: Callable
+    constants: tuple[tuple[str, float], ...] = ()
+    inverse: Callable | None = None
+    kind: str = "custom"
+    description: str = ""
+
+    def __post_init__(self):
+        n = len(self.names)
+        if not n or len(self.units) != n or len(self.lower) != n or len(self.upper) != n:
+            raise ParameterError("Reparametrization: names, units, lower and upper need the same (non-zero) length")
+        if not self.replaces:
+            raise ParameterError("Reparametrization: replaces must name at least one circuit parameter")
+        for name, lo, hi in zip(self.names, self.lower, self.upper):
+            if not lo < hi:
+                raise ParameterError(f"Reparametrization: bounds of {name}: lower {lo:g} must be below upper {hi:g}")
+
+    @property
+    def constant_values(self) -> dict[str, float]:
+        return dict(self.constants)
+
+    def circuit_values(self, new: Mapping[str, object]) -> dict:
+        """The replaced circuit parameters for new-parameter values (JAX or numpy)."""
+        return dict(self.forward(dict(new), self.constant_values))
+
+    def start(self, circuit_values: Mapping[str, float]) -> dict[str, float]:
+        """New-parameter values reproducing ``circuit_values`` (for the walkers' start)."""
+        if self.inverse is not None:
+            return {k: float(v) for k, v in self.inverse(dict(circuit_values), self.constant_values).items()}
+        from scipy.optimize import least_squares
+
+        target = np.array([math.log(circuit_values[n]) for n in self.replaces])
+        lo = np.array([math.log(max(v, 1e-300)) if v > 0 else -50.0 for v in self.lower])
+        hi = np.array([math.log(v) if math.isfinite(v) else 50.0 for v in self.upper])
+
+        def residual(y):
+            values = self.circuit_values({n: float(math.exp(v)) for n, v in zip(self.names, y)})
+            return np.log(np.maximum([float(values[n]) for n in self.replaces], 1e-300)) - target
+
+        sol = least_squares(residual, 0.5 * (lo + hi), bounds=(lo, hi))
+        return {n: float(math.exp(v)) for n, v in zip(self.names, sol.x)}
+
+    def describe(self) -> dict:
+        """JSON-able description (stored with a saved posterior)."""
+        return {"kind": self.kind, "names": list(self.names), "replaces": list(self.replaces), "constants": self.constant_values, "description": self.description}
+
+
+# --- the air gap (Sirin et al.) --------------------------------------------------------------
+
+
+def gap_thickness_reparametrization(element: str = "C_gap", *, area: float, eps_r: float = 1.00059, name: str = "u", lower: float = 1e-9, upper: float = 1e-3) -> Reparametrization:
+    """Sample the air-gap thickness u [m] behind the capacitor ``element``:
+    C_gap = ε0 ε_r A / u (parallel plates; Sirin et al., with ε_gap = 1.00059 for air).
+    ``area`` A in m² (Sirin: 130 mm² = 1.3e-4 m²); u is bounded to (``lower``, ``upper``).
+    """
+    _check_positive(area=area, eps_r=eps_r)
+    return Reparametrization(
+        names=(name,), units=("m",), lower=(float(lower),), upper=(float(upper),), replaces=(element,),
+        forward=_GapMap(element, name), constants=(("area", float(area)), ("eps_r", float(eps_r))),
+        inverse=_GapMap(element, name).inverse, kind="gap_thickness",
+        description=f"{element} = ε0·ε_r·A/{name} (A = {area:g} m², ε_r = {eps_r:g})",
+    )
+
+
+@dataclass(frozen=True)
+class _GapMap:
+    element: str
+    name: str
+
+    def __call__(self, new, constants):
+        return {self.element: EPSILON_0 * constants["eps_r"] * constants["area"] / new[self.name]}
+
+    def inverse(self, circuit, constants):
+        return {self.name: EPSILON_0 * constants["eps_r"] * constants["area"] / circuit[self.element]}
+
+
+# --- Meyer's stratum corneum --------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class _LayerMap:
+    resistor: str
+    capacitor: str
+    names: tuple[str, str, str]  # resistivity, permittivity, thickness
+
+    def __call__(self, new, constants):
+        rho, eps, d = (new[n] for n in self.names)
+        area = constants["area"]
+        return {self.resistor: rho * d / area, self.capacitor: EPSILON_0 * eps * area / d}
+
+    def inverse(self, circuit, constants):
+        area, d = constants["area"], constants["d_start"]
+        rho = circuit[self.resistor] * area / d
+        eps = circuit[self.capacitor] * d / (EPSILON_0 * area)
+        return dict(zip(self.names, (rho, eps, d)))
+
+
+def stratum_corneum_reparametrization(resistor: str = "R_sc", capacitor: str = "C_sc", *, area: float = math.pi * 4e-3**2, d_start: float = 200e-6, names: tuple[str, str, str] = ("rho_sc", "eps_sc", "d_sc")) -> Reparametrization:
+    """Sample the stratum corneum's resistivity ρ_sc [Ω·m], relative permittivity ε_sc and
+    thickness d_sc [m] behind ``resistor`` and ``capacitor``: R_sc = ρ_sc d_sc / A,
+    C_sc = ε0 ε_sc A / d_sc (Meyer 2012, eq 3.13; A = π(4 mm)² by default).
+
+    Impedance fixes only R_sc and C_sc, so one combination of the three is set by the priors
+    alone: give d_sc (or ε_sc) an informative prior. Walkers start at d_sc = ``d_start``.
+    Bounds: ρ_sc in (1, 1e9) Ω·m, ε_sc in (1, 1e6), d_sc in (1e-7, 1e-2) m.
+    """
+    _check_positive(area=area, d_start=d_start)
+    mapping = _LayerMap(resistor, capacitor, tuple(names))
+    return Reparametrization(
+        names=tuple(names), units=("ohm m", "1", "m"), lower=(1.0, 1.0, 1e-7), upper=(1e9, 1e6, 1e-2),
+        replaces=(resistor, capacitor), forward=mapping, constants=(("area", float(area)), ("d_start", float(d_start))),
+        inverse=mapping.inverse, kind="stratum_corneum",
+        description=f"{resistor} = {names[0]}·{names[2]}/A, {capacitor} = ε0·{names[1]}·A/{names[2]} (A = {area:g} m²)",
+    )
+
+
+def rebuild(description: Mapping) -> Reparametrization:
+    """A built-in reparametrization from its `Reparametrization.describe` form."""
+    kind, constants, replaces, names = description["kind"], dict(description["constants"]), list(description["replaces"]), list(description["names"])
+    if kind == "gap_thickness":
+        return gap_thickness_reparametrization(replaces[0], area=constants["area"], eps_r=constants["eps_r"], name=names[0])
+    if kind == "stratum_corneum":
+        return stratum_corneum_reparametrization(replaces[0], replaces[1], area=constants["area"], d_start=constants["d_start"], names=tuple(names))
+    raise ParameterError(f"the saved posterior used a custom reparametrization ({description.get('description', '')}); pass it as reparametrization=")
+
+
+def _check_positive(**values):
+    for k, v in values.items():
+        if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
+            raise ParameterError(f"{k} must be a positive finite number (got {v!r})")

@@ -1,0 +1,153 @@
+"""Model comparison: rms_rel, reduced chi², AIC, BIC, ΔAIC, Akaike weights and, for nested
+models fitted to the same data, the F-test of the extra parameters."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Sequence
+
+import numpy as np
+import xarray as xr
+
+from ..circuits import Circuit, Element
+from ..errors import FitError
+from .least_squares.single import FitResult
+
+__all__ = ["compare", "Comparison", "is_nested"]
+
+
+def _nested(a: Circuit, b: Circuit) -> bool:
+    """True when ``a`` is ``b`` with elements removed (a series element set to 0, a parallel
+    branch opened) and/or CPEs replaced by capacitors (α = 1)."""
+    if isinstance(a, Element) and isinstance(b, Element):
+        return a.symbol == b.symbol or (a.symbol == "C" and b.symbol in ("CPE", "Q"))
+    if isinstance(b, Element):
+        return False
+    if type(a) is type(b):
+        return _subsequence(a.children, b.children)
+    return any(_nested(a, child) for child in b.children)
+
+
+def _subsequence(small, big) -> bool:
+    """Each child of ``small`` nested, in order, in a distinct child of ``big``."""
+    j = 0
+    for child in small:
+        while j < len(big) and not _nested(child, big[j]):
+            j += 1
+        if j == len(big):
+            return False
+        j += 1
+    return True
+
+
+def is_nested(simple: Circuit, complex_: Circuit) -> bool:
+    """Whether ``simple`` is a special case of ``complex_`` (see `_nested`)."""
+    return _nested(simple, complex_) and len(list(simple.elements())) <= len(list(complex_.elements()))
+
+
+@dataclass(frozen=True, eq=False)
+class Comparison:
+    """The comparison table, one row per model in the order given; ``best`` has the lowest AIC."""
+
+    rows: tuple[dict, ...]
+    f_tests: tuple[dict, ...]
+    fits: tuple[FitResult, ...]
+
+    @property
+    def best(self) -> str:
+        return min(self.rows, key=lambda r: r["aic"])["model"]
+
+    def summary(self) -> dict:
+        """JSON form used by ``impedax compare --json``."""
+        return {"models": [dict(r) for r in self.rows], "best": self.best, "f_tests": [dict(t) for t in self.f_tests]}
+
+    def table(self) -> str:
+        extra = [c for c in ("log_evidence", "waic") if any(c in r for r in self.rows)]
+        width = max(len(r["model"]) for r in self.rows)
+        head = f"{'model':<{width}}  {'k':>2}  {'rms_rel':>9}  {'chi2_red':>10}  {'AIC':>9}  {'BIC':>9}  {'ΔAIC':>7}  {'weight':>6}" + "".join(f"  {c:>12}" for c in extra)
+        lines = [head]
+        for r in self.rows:
+            line = f"{r['model']:<{width}}  {r['n_params']:>2}  {r['rms_rel']:>9.4g}  {r['chi2_red']:>10.4g}  {r['aic']:>9.2f}  {r['bic']:>9.2f}  {r['delta_aic']:>7.2f}  {r['akaike_weight']:>6.3f}"
+            line += "".join(f"  {r.get(c, math.nan):>12.2f}" for c in extra)
+            lines.append(line + ("   ← best" if r["model"] == self.best else ""))
+        for t in self.f_tests:
+            lines.append(f"F-test {t['simple']}  ⊂  {t['complex']}: F = {t['f']:.3g}, p = {t['p_value']:.3g}")
+        return "\n".join(lines)
+
+    def to_xarray(self) -> xr.Dataset:
+        models = [r["model"] for r in self.rows]
+        cols = [c for c in self.rows[0] if c != "model"]
+        return xr.Dataset({c: ("model", [r.get(c, math.nan) for r in self.rows]) for c in cols}, coords={"model": models})
+
+    def plot(self):
+        """Data with every model's fit, and each model's relative residuals (Figure)."""
+        import matplotlib.pyplot as plt
+
+        fig, axes = plt.subplots(2, 2, figsize=(11, 7), layout="constrained")
+        ref = self.fits[0]
+        f, z = ref.frequency, ref.z_data
+        axes[0, 0].plot(z.real, -z.imag, "o", mfc="none", ms=3.5, color="k", label="data")
+        axes[0, 1].loglog(f, np.abs(z), "o", mfc="none", ms=3.5, color="k", label="data")
+        axes[1, 0].semilogx(f, np.degrees(np.angle(z)), "o", mfc="none", ms=3.5, color="k", label="data")
+        for r in self.fits:
+            label = f"{r.model} (rms_rel {r.rms_rel:.3g})"
+            axes[0, 0].plot(r.z_model.real, -r.z_model.imag, "-", label=label)
+            axes[0, 1].loglog(f, np.abs(r.z_model), "-", label=label)
+            axes[1, 0].semilogx(f, np.degrees(np.angle(r.z_model)), "-", label=label)
+            axes[1, 1].semilogx(f, np.abs(r.residuals) * 100, ".-", label=label)
+        axes[0, 0].set(xlabel="Z' [Ω]", ylabel="−Z'' [Ω]", title="Nyquist")
+        axes[0, 0].set_aspect("equal", adjustable="datalim")
+        axes[0, 1].set(xlabel="frequency [Hz]", ylabel="|Z| [Ω]")
+        axes[1, 0].set(xlabel="frequency [Hz]", ylabel="phase [deg]")
+        axes[1, 1].set(xlabel="frequency [Hz]", ylabel="|relative residual| [%]", yscale="log")
+        for ax in axes.flat:
+            ax.grid(alpha=0.3, which="both")
+        axes[1, 1].legend(fontsize=7)
+        fig.suptitle(f"model comparison — best by AIC: {self.best}")
+        return fig
+
+
+def compare(fits: Sequence) -> Comparison:
+    """Compare least-squares fits of several models to the same data.
+
+    Columns: rms_rel, chi2_red, AIC, BIC, ΔAIC (to the lowest), Akaike weights
+    w_i = exp(−ΔAIC_i/2)/Σ exp(−ΔAIC_j/2), and an F-test for each nested pair:
+    F = ((χ²_s − χ²_c)/(k_c − k_s)) / (χ²_c/(n − k_c)). Items may also be posteriors with a
+    ``fit`` attribute; their ``log_evidence`` and ``waic`` become extra columns.
+    """
+    items = list(fits)
+    if len(items) < 1:
+        raise FitError("compare needs at least one fit")
+    results = [getattr(x, "fit", x) for x in items]
+    ref = results[0]
+    for r in results[1:]:
+        if r.n_points != ref.n_points or not np.allclose(r.frequency, ref.frequency) or not np.allclose(r.z_data, ref.z_data):
+            raise FitError(f"models were fitted to different data ({r.model} vs {ref.model}); compare fits of the same spectrum")
+        if r.weighting != ref.weighting:
+            raise FitError(f"models were fitted with different weightings ({r.weighting} vs {ref.weighting})")
+    aics = np.array([r.aic for r in results])
+    delta = aics - aics.min()
+    weights = np.exp(-delta / 2)
+    weights /= weights.sum()
+    rows = []
+    for item, r, d, w in zip(items, results, delta, weights):
+        row = {"model": r.model, "n_params": r.n_params, "rms_rel": r.rms_rel, "chi2": r.chi2, "chi2_red": r.chi2_red, "aic": r.aic, "bic": r.bic, "delta_aic": float(d), "akaike_weight": float(w), "converged": r.converged}
+        for extra in ("log_evidence", "waic"):
+            value = getattr(item, extra, None)
+            if value is not None:
+                row[extra] = float(value() if callable(value) else value)
+        rows.append(row)
+    tests = []
+    n = 2 * ref.n_points
+    from scipy import stats
+
+    for s in results:
+        for c in results:
+            if s is c or s.n_params >= c.n_params or not is_nested(s.circuit, c.circuit):
+                continue
+            dk = c.n_params - s.n_params
+            denom = c.chi2 / (n - c.n_params)
+            f_value = max(s.chi2 - c.chi2, 0.0) / dk / denom if denom > 0 else math.inf
+            tests.append({"simple": s.model, "complex": c.model, "f": float(f_value), "df1": dk, "df2": n - c.n_params, "p_value": float(stats.f.sf(f_value, dk, n - c.n_params))})
+    return Comparison(tuple(rows), tuple(tests), tuple(results))

@@ -1,0 +1,344 @@
+"""Batch fits: every spectrum of a Dataset with extra dimensions in one compiled call.
+
+Dask-backed data are fitted chunk by chunk through ``xarray.apply_ufunc(...,
+dask="parallelized")``, so the same call scales out on a ``dask.distributed`` cluster.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+import time
+import warnings as python_warnings
+from dataclasses import dataclass
+
+import jax
+import numpy as np
+import xarray as xr
+
+from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
+from .solvers import _MAX_STEPS_CODE, SCREEN_STEPS, SPECTRUM_KEYS, tree_solver
+from .order import canonical_order
+from .single import _args, _guess_start, _null_sets, _to_internal, _result, _starts_from, _weights, at_noise_floor, covariances, fit_notes, stack_notes, _better, _unscale, residual_scale
+from .single import SINGULAR_RATIO_LIMIT
+from .starts import SpectrumFeatures
+from ..parameters import ParameterTable
+
+__all__ = ["BatchFitResult", "fit_batch"]
+
+_STATS = ("chi2", "converged", "n_evaluations")
+
+
+@dataclass(frozen=True, eq=False)
+class BatchFitResult:
+    """Fits of one circuit to every spectrum of a Dataset with extra dimensions. Immutable.
+
+    ``dataset`` holds ``value``/``stderr`` over (param, *dims), ``rms_rel``, ``chi2``,
+    ``chi2_red``, ``aic``, ``bic``, ``converged`` over dims and ``Z_model`` over
+    (*dims, frequency). ``warnings`` maps a spectrum's index (a dict of coordinates, as text)
+    to its warnings.
+    """
+
+    circuit: Circuit
+    dataset: xr.Dataset
+    weighting: str
+    warnings: dict[str, tuple[str, ...]]
+    elapsed_s: float = 0.0
+
+    @property
+    def model(self) -> str:
+        return str(self.circuit)
+
+    @property
+    def dims(self) -> tuple[str, ...]:
+        return tuple(d for d in self.dataset["rms_rel"].dims)
+
+    @property
+    def n_spectra(self) -> int:
+        return int(self.dataset["rms_rel"].size)
+
+    def to_xarray(self) -> xr.Dataset:
+        return self.dataset
+
+    def values(self, name: str) -> xr.DataArray:
+        """Fitted values of parameter ``name`` over the batch dimensions."""
+        return self.dataset["value"].sel(param=name)
+
+    def summary(self) -> dict:
+        ds = self.dataset
+        return {
+            "model": self.model,
+            "dims": {d: int(ds.sizes[d]) for d in self.dims},
+            "n_spectra": self.n_spectra,
+            "params": {
+                str(p): {"median": float(ds["value"].sel(param=p).median()), "q16": float(ds["value"].sel(param=p).quantile(0.16)), "q84": float(ds["value"].sel(param=p).quantile(0.84))}
+                for p in ds["param"].values
+            },
+            "rms_rel_median": float(ds["rms_rel"].median()),
+            "converged_fraction": float(ds["converged"].mean()),
+            "warnings": sorted({w for ws in self.warnings.values() for w in ws}),
+        }
+
+    def report(self) -> str:
+        s = self.summary()
+        lines = [f"model {self.model}: {self.n_spectra} spectra over {s['dims']}", f"converged: {s['converged_fraction'] * 100:.1f}%   median rms_rel {s['rms_rel_median']:.4g}", "", f"{'parameter':<16} {'median':>12} {'16%':>12} {'84%':>12}"]
+        for p, v in s["params"].items():
+            lines.append(f"{p:<16} {v['median']:>12.5g} {v['q16']:>12.5g} {v['q84']:>12.5g}")
+        return "\n".join(lines)
+
+
+def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source) -> tuple[dict, np.ndarray]:
+    """Solver outputs (arrays over B) for a stack of spectra z (B, N), and the starts used.
+
+    As `fit`: every spectrum from its data-driven guess first, then the multistart for those
+    whose fit is not at the noise level (their starts screened for `SCREEN_STEPS` steps, the
+    best continued to convergence). All solves go through the lane solver (`_make_lanes`)."""
+    b = z.shape[0]
+    inv_re, inv_im = _weights(z, sigma, weighting, source)
+    features = SpectrumFeatures(freq, z)
+    _, lanes, finish, chi2_at = tree_solver(circuit, registry, max_steps, *table.free_structure)
+    scale = residual_scale(z, inv_re, inv_im, weighting)
+    shared = {k: v for k, v in _args(table, freq, z[0], inv_re[0], inv_im[0]).items() if k not in SPECTRUM_KEYS}
+    x_fixed = np.where(np.isnan(table.values), 1.0, table.values)
+    rows = {"z": z, "inv_w_re": inv_re * scale[:, None], "inv_w_im": inv_im * scale[:, None], "x_fixed": np.broadcast_to(x_fixed, (b, x_fixed.size))}
+    solver = _LaneRunner(lanes, finish, chi2_at, rows, shared)
+
+    guesses = _guess_start(circuit, table, features, registry)
+    if b >= REFERENCE_MIN_SPECTRA:
+        guesses = _with_reference_start(guesses, solver, circuit, table, freq, z, sigma, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
+    u, chi2, done, steps = solver.solve(guesses, np.arange(b), np.full(b, max_steps))
+    out = _unscale(solver.outputs(u, np.arange(b), done, steps, steps), scale)
+    poor = np.flatnonzero(~at_noise_floor(freq, z, out["z_model"], inv_re, inv_im, out["code"])) if n_starts > 1 else np.zeros(0, int)
+    used = np.ones(b, int)
+    if poor.size:  # (the multistart's starts are built only for these)
+        starts = _starts_from(circuit, table, features[poor], n_starts, seed, registry).reshape(poor.size * n_starts, -1)
+        owner = np.repeat(poor, n_starts)
+        u_s, chi2_s, _, steps_s = solver.solve(starts, owner, np.full(owner.size, SCREEN_STEPS))
+        chi2_s = np.where(np.isfinite(chi2_s), chi2_s, np.inf).reshape(poor.size, n_starts)
+        best = np.argmin(chi2_s, axis=1)
+        u_best = u_s.reshape(poor.size, n_starts, -1)[np.arange(poor.size), best]
+        u_m, _, done_m, steps_m = solver.solve(u_best, poor, np.full(poor.size, max_steps))
+        screened = steps_s.reshape(poor.size, n_starts).sum(axis=1)
+        multi = _unscale(solver.outputs(u_m, poor, done_m, steps_m, screened + steps_m), scale[poor])
+        for k, v in _better({k: v[poor] for k, v in out.items()}, multi).items():
+            out[k][poor] = v  # (`outputs` gives arrays of our own)
+        used[poor] = n_starts
+    return out, used
+
+
+# batches of at least this many spectra also try the solution of a reference spectrum as start
+REFERENCE_MIN_SPECTRA = 16
+
+
+def _with_reference_start(guesses, solver, circuit, table, freq, z, sigma, **options) -> np.ndarray:
+    """Spectra of one batch (trials, subjects, conditions) usually resemble each other: the fit
+    of the most typical spectrum (closest to the median log|Z|) is a better start for most of
+    them than their own data-driven guess. Each spectrum starts from whichever of the two has
+    the lower chi² on its data."""
+    log_mag = np.log(np.abs(z))
+    typical = int(np.argmin(np.sum((log_mag - np.median(log_mag, axis=0)) ** 2, axis=1)))
+    reference, _ = _solve_stack(circuit, table, freq, z[typical : typical + 1], None if sigma is None else sigma[typical : typical + 1], **options)
+    if not np.isfinite(reference["chi2"][0]):
+        return guesses
+    u_ref = np.broadcast_to(_to_internal(table, reference["x"][0]), guesses.shape)
+    spectra = np.arange(len(z))
+    chi2_ref, chi2_guess = solver.chi2_at([u_ref, guesses], spectra)
+    take = chi2_ref < chi2_guess
+    return np.where(take[:, None], u_ref, guesses)
+
+
+class _LaneRunner:
+    """Host side of the lane solver: splits problems into fixed-size chunks (one compilation
+    serves any batch size; at least one chunk per core, dispatched together so they run in
+    parallel), then continues problems left open by the many-lane pass on a few lanes."""
+
+    def __init__(self, lanes, finish, chi2, rows: dict, shared: dict):
+        self.lanes, self.finish, self.chi2, self.rows, self.shared = lanes, finish, chi2, rows, shared
+        self._placed: dict = {}
+        self._shared_placed: dict = {}
+
+    def _chunks(self, n: int, capacity: int, n_lanes: int):
+        n_chunks = max(-(-n // capacity), min(len(jax.devices()), -(-n // (2 * n_lanes))))
+        return np.array_split(np.arange(n), n_chunks)
+
+    def _local(self, spectrum: np.ndarray, capacity: int, device):
+        """The rows a chunk uses, padded to ``capacity`` and placed on ``device``, and the
+        problems' indices into them (kept: successive passes reuse the same chunks)."""
+        key = (spectrum.tobytes(), capacity, device.id)
+        if key not in self._placed:
+            used, local = np.unique(spectrum, return_inverse=True)
+            pad = np.concatenate([used, np.full(capacity - used.size, used[0])])
+            if device.id not in self._shared_placed:  # (placed once per device: every chunk's are the same)
+                self._shared_placed[device.id] = jax.device_put(self.shared, device)
+            rows = jax.device_put({k: np.ascontiguousarray(v[pad]) for k, v in self.rows.items()}, device), self._shared_placed[device.id]
+            self._placed[key] = rows, np.concatenate([local, np.zeros(capacity - spectrum.size, int)]).astype(np.int32)
+        return self._placed[key]
+
+    def _run(self, u0, spectrum, budget, *, many: bool):
+        n_lanes, capacity = (_LANES, _CAPACITY) if many else (_FEW_LANES, _FEW_CAPACITY)
+        solve = self.lanes(n_lanes)
+        chunks = self._chunks(len(u0), capacity, n_lanes)
+        pending = []
+        for device, part in zip(itertools.cycle(jax.devices()), chunks):
+            (rows, shared), local = self._local(spectrum[part], capacity, device)
+            pad = capacity - part.size
+            inputs = jax.device_put((np.concatenate([u0[part], np.repeat(u0[part[:1]], pad, axis=0)]), local, np.concatenate([budget[part], np.zeros(pad, int)])), device)
+            pending.append(solve(*inputs, part.size, rows, shared, drain=not many))  # runs where its inputs are
+        results = jax.device_get(pending)
+        return [np.concatenate([r[i][: p.size] for r, p in zip(results, chunks)]) for i in range(4)]
+
+    def solve(self, u0, spectrum, budget):
+        """(u, chi², done, steps) of every problem, each run to convergence or its budget."""
+        many = len(u0) > _FEW_CAPACITY
+        u, chi2, done, steps = self._run(np.asarray(u0, float), spectrum, budget, many=many)
+        open_ = np.flatnonzero(~done & (steps < budget))
+        if many and open_.size:  # left open by the early stop: continue on a few lanes
+            u2, chi2_2, done2, steps2 = self._run(u[open_], spectrum[open_], budget[open_] - steps[open_], many=False)
+            u[open_], chi2[open_], done[open_], steps[open_] = u2, chi2_2, done2, steps[open_] + steps2
+        return u, chi2, done, steps
+
+    def _per_spectrum(self, fn, points, spectrum) -> list:
+        """``fn(*points, local, rows, shared)`` at ``points`` (arrays (n, K)) of spectra
+        ``spectrum``, in fixed-size chunks spread over the devices; each chunk's results,
+        trimmed."""
+        capacity = _CAPACITY if len(spectrum) > _FEW_CAPACITY else _FEW_CAPACITY
+        chunks = self._chunks(len(spectrum), capacity, _LANES)
+        pending = []
+        for device, part in zip(itertools.cycle(jax.devices()), chunks):
+            (rows, shared), local = self._local(spectrum[part], capacity, device)
+            at = [np.concatenate([u[part], np.repeat(u[part[:1]], capacity - part.size, axis=0)]) for u in points]
+            pending.append(fn(*jax.device_put((*at, local), device), rows, shared))
+        return [jax.tree_util.tree_map(lambda a, n=part.size: a[:n], r) for r, part in zip(jax.device_get(pending), chunks)]
+
+    def chi2_at(self, points, spectrum) -> list[np.ndarray]:
+        """Weighted chi² of spectra ``spectrum`` at each array of points (+inf where not finite)."""
+        parts = self._per_spectrum(lambda *a: tuple(self.chi2(u, *a[-3:]) for u in a[:-3]), [np.asarray(u, float) for u in points], spectrum)
+        return [np.nan_to_num(np.concatenate([p[i] for p in parts]), nan=np.inf) for i in range(len(points))]
+
+    def outputs(self, u, spectrum, done, steps, steps_total) -> dict:
+        """Solver outputs at solutions ``u`` of spectra ``spectrum`` (as `_core._finish`), each
+        a new array (not a view of another or of an argument: callers may update them)."""
+        parts = self._per_spectrum(self.finish, [u], spectrum)
+        out = {k: np.concatenate([p[k] for p in parts]) for k in parts[0] if k != "x_free"}
+        out.update(code=np.where(done, 0, _MAX_STEPS_CODE), steps=np.array(steps), steps_total=np.array(steps_total), chi2_starts=out["chi2"][:, None].copy())
+        return out
+
+
+def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source) -> tuple[np.ndarray, list[tuple[str, ...]]]:
+    """One row per spectrum (values, stderr, chi2, converged, evaluations, Re/Im of Z_model)
+    and its warnings, without a FitResult per spectrum: the uncertainties of all spectra in
+    one stacked computation (`covariances`), their warnings too (`stack_notes`); only spectra
+    that overflowed or did not converge go through `_result`."""
+    out, used = _solve_stack(circuit, table, freq, z, sigma, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
+    out = canonical_order(circuit, table, freq, out, registry)
+    b, k, n_res = z.shape[0], len(table.free_names), 2 * len(freq)
+    chi2 = np.array(out["chi2"], float)  # copies: device_get's arrays are read-only
+    finite = np.isfinite(chi2) & np.all(np.isfinite(out["z_model"]), axis=-1)
+    converged = finite & (np.asarray(out["code"]) == 0)
+    values = np.array(out["x"], float)
+    stderr = np.full(values.shape, np.nan)
+    odd = ~converged  # these get `_result`'s handling of overflow and non-convergence
+    notes: list[tuple[str, ...]] = [()] * b
+    corr, singular = np.zeros((b, k, k)), np.zeros(b, bool)
+    if k:
+        jac = out["jacobian"] if finite.all() else np.where(finite[:, None, None], out["jacobian"], 0.0)
+        cov, corr, sv, vt = covariances(jac, chi2 / (n_res - k) if n_res > k else np.full(b, np.nan), weighting)
+        stderr[:, table.free_index] = np.sqrt(np.clip(np.einsum("bii->bi", cov), 0, None))
+        singular = np.any(sv < SINGULAR_RATIO_LIMIT * sv[:, :1], axis=1)
+    # the exact warning text of a single fit: for most spectra built for the stack at once,
+    # for those with near-null directions (rare) one by one
+    plain = np.flatnonzero(~odd & ~singular)
+    for row, note in stack_notes(table, values[plain], stderr[plain], corr[plain]).items():
+        notes[plain[row]] = note
+    names = table.names
+    for i in np.flatnonzero(~odd & singular).tolist():
+        null_sets, ratio = _null_sets(sv[i], vt[i], table.free_names)
+        notes[i] = fit_notes(table, dict(zip(names, values[i].tolist())), dict(zip(names, stderr[i].tolist())), corr[i], null_sets, ratio, finite=True, converged=True, message="")
+    z_model = np.array(out["z_model"])
+    for i in np.flatnonzero(odd):
+        r = _result(circuit, table, freq, z[i], {key: val[i] for key, val in out.items()}, weighting, int(used[i]), 0.0, registry)
+        values[i] = [r.values[n] for n in names]
+        stderr[i] = [r.stderr[n] for n in names]
+        chi2[i], converged[i], z_model[i], notes[i] = r.chi2, r.converged, r.z_model, r.warnings
+    stats = np.stack([chi2, converged.astype(float), np.asarray(out["steps_total"], float)], axis=-1)
+    return np.concatenate([values, stderr, stats, z_model.real, z_model.imag], axis=-1), notes
+
+
+# lane solver shapes: many lanes for batches, few for small sets and stragglers (each pair is
+# one compilation per circuit)
+_LANES, _CAPACITY = 64, 512
+_FEW_LANES, _FEW_CAPACITY = 8, 64
+
+
+def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weighting: str, n_starts: int, max_steps: int, seed: int, registry: Registry = DEFAULT_REGISTRY, source: str = "data", t0: float | None = None) -> BatchFitResult:
+    t0 = time.perf_counter() if t0 is None else t0
+    extra = tuple(d for d in data["Z"].dims if d != "frequency")
+    freq = np.asarray(data["frequency"].values, float)
+    names = table.names
+    n_par, n_freq = len(names), freq.size
+    z_da = data["Z"].transpose(*extra, "frequency")
+    sigma_da = data["sigma"].transpose(*extra, "frequency") if "sigma" in data else None
+    warnings: dict[str, tuple[str, ...]] = {}
+
+    def fit_block(z_block, sigma_block=None):
+        shape = z_block.shape[:-1]
+        z2 = np.asarray(z_block).reshape(-1, n_freq)
+        s2 = None if sigma_block is None else np.asarray(sigma_block).reshape(-1, n_freq)
+        packed, notes = _packed_stack(circuit, table, freq, z2, s2, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
+        return packed.reshape(*shape, -1), notes
+
+    width = 2 * n_par + len(_STATS) + 2 * n_freq
+    if z_da.chunks is not None:
+        inputs = [z_da] + ([sigma_da] if sigma_da is not None else [])
+        with python_warnings.catch_warnings():
+            # dask builds its empty "meta" output by casting the complex input's meta to float
+            python_warnings.simplefilter("ignore", np.exceptions.ComplexWarning)
+            packed = xr.apply_ufunc(
+                lambda *blocks: fit_block(*blocks)[0],
+                *inputs,
+                input_core_dims=[["frequency"]] * len(inputs),
+                output_core_dims=[["fit_output"]],
+                dask="parallelized",
+                output_dtypes=[np.float64],
+                dask_gufunc_kwargs={"output_sizes": {"fit_output": width}, "allow_rechunk": True},
+            ).compute()
+        packed = packed.transpose(*extra, "fit_output").values
+    else:
+        packed, notes = fit_block(z_da.values, None if sigma_da is None else sigma_da.values)
+        labels = [[f"{d}={c}" for c in (data[d].values if d in data.coords else range(n))] for d, n in zip(extra, z_da.shape)]
+        for idx, note in zip(np.ndindex(*z_da.shape[:-1]), notes):
+            if note:
+                warnings[", ".join(label[i] for label, i in zip(labels, idx))] = note
+    coords = {d: data[d].values for d in extra if d in data.coords}
+    values = packed[..., :n_par]
+    stderr = packed[..., n_par : 2 * n_par]
+    chi2, converged, n_eval = (packed[..., 2 * n_par + i] for i in range(3))
+    off = 2 * n_par + 3
+    z_model = packed[..., off : off + n_freq] + 1j * packed[..., off + n_freq :]
+    z_data = z_da.values if z_da.chunks is None else z_da.compute().values
+    with np.errstate(all="ignore"):  # overflowed fits carry +inf
+        rel = (z_model - z_data) / np.abs(z_data)
+        rms_rel = np.sqrt(np.mean(np.abs(rel) ** 2, axis=-1))
+    k = int((~table.fixed).sum())
+    n_res = 2 * n_freq
+    base = n_res * np.log(np.maximum(chi2, 1e-300) / n_res)  # as `information_criteria`, over arrays
+    aic, bic = base + 2 * k, base + k * np.log(n_res)
+    param_first = lambda a: np.moveaxis(a, -1, 0)  # noqa: E731
+    ds = xr.Dataset(
+        {
+            "value": (("param", *extra), param_first(values)),
+            "stderr": (("param", *extra), param_first(stderr)),
+            "fixed": ("param", table.fixed),
+            "chi2": (extra, chi2),
+            "chi2_red": (extra, chi2 / (n_res - k) if n_res > k else np.full(chi2.shape, math.nan)),
+            "aic": (extra, aic),
+            "bic": (extra, bic),
+            "rms_rel": (extra, rms_rel),
+            "converged": (extra, converged.astype(bool)),
+            "n_evaluations": (extra, n_eval.astype(np.int64)),
+            "Z_model": ((*extra, "frequency"), z_model, {"units": "ohm"}),
+        },
+        coords={"param": list(names), "frequency": ("frequency", freq, {"units": "Hz"}), **coords},
+        attrs={"model": str(circuit), "weighting": weighting, "n_free": k},
+    )
+    return BatchFitResult(circuit, ds, weighting, warnings, time.perf_counter() - t0)

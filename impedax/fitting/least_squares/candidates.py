@@ -1,0 +1,187 @@
+"""Fit many candidate circuits to one spectrum together, with one compilation.
+
+Each candidate becomes a padded `CircuitProgram` of a shared `ProgramLayout`; programs,
+parameter maps, bounds and starts travel as data, and the candidates are solved together
+under ``vmap``. Candidate counts, free-parameter counts and layouts are padded to a few
+bucket sizes, so a diagnosis pays one compilation (kept by JAX's persistent cache) whatever
+circuits it proposes.
+"""
+
+from __future__ import annotations
+
+import time
+from typing import Mapping, Sequence
+
+import jax.numpy as jnp
+import numpy as np
+import xarray as xr
+
+from ...circuits import Circuit, CircuitProgram, DEFAULT_REGISTRY, ProgramLayout, Registry, default_theta, parse
+from ...errors import FitError
+from .solvers import program_solver
+from .single import FitResult, _prepare, _result, _weights
+from ..parameters import to_internal
+from .starts import SpectrumFeatures, data_driven_guess, random_starts
+
+__all__ = ["fit_candidates"]
+
+_K_BUCKETS = (4, 8, 12, 16, 24, 32, 48)  # the Jacobian costs one model pass per column
+_C_BUCKET = 8
+
+
+def _bucket(n: int, buckets) -> int:
+    for b in buckets:
+        if n <= b:
+            return b
+    raise FitError(f"too many free parameters ({n}) for a candidate fit")
+
+
+def fit_candidates(
+    circuits: Sequence[Circuit | str],
+    data: xr.Dataset,
+    *,
+    init: Sequence[Mapping[str, float] | Sequence[Mapping[str, float]] | None] | None = None,
+    fixed: Mapping[str, float] | None = None,
+    weighting: str = "modulus",
+    fmin: float | None = None,
+    fmax: float | None = None,
+    n_starts: int = 8,
+    max_steps: int = 400,
+    seed: int = 0,
+    registry: Registry = DEFAULT_REGISTRY,
+    single_phase: bool = False,
+    seeds: Sequence[int] | None = None,
+    layout: ProgramLayout | None = None,
+    pad_to: int | None = None,
+    k_pad: int | None = None,
+    step_limit: int | None = None,
+) -> list[FitResult]:
+    """Fit every circuit in ``circuits`` to the one spectrum ``data`` in a single vmapped call.
+
+    ``init[i]`` (optional) holds starting values for candidate i, e.g. a baseline fit's values
+    plus a guess for an added element (warm start); remaining parameters are guessed from the
+    data. ``init[i]`` may also be a list of such mappings: several warm starts (they replace the
+    first random starts). ``fixed`` values apply to candidates that have those parameters.
+    ``single_phase`` runs every start to convergence with one compact Levenberg–Marquardt loop
+    (no screening phase; compiles several times faster; meant for warm starts). ``seeds``: one
+    random-start seed per candidate (default ``seed`` for all). ``layout``, ``pad_to``
+    (candidate count) and ``k_pad`` (free-parameter count) fix the compiled shapes, so calls
+    with different circuits can share one compilation; with ``single_phase``, ``step_limit``
+    (≤ ``max_steps``) stops this call earlier without a new compilation. Returns one
+    `FitResult` per circuit, in order, exactly as `impedax.fit` would report them.
+    """
+    t0 = time.perf_counter()
+    circuits = [parse(c, registry) for c in circuits]
+    if not circuits:
+        return []
+    init = list(init) if init is not None else [None] * len(circuits)
+    if len(init) != len(circuits):
+        raise FitError("init must give one mapping (or None) per circuit")
+    prepared = []
+    warm = []
+    for circuit, start in zip(circuits, init):
+        mine = {k: v for k, v in (fixed or {}).items() if k in circuit.parameter_names(registry)}
+        starts = [start] if start is None or isinstance(start, Mapping) else list(start)
+        starts = [{k: v for k, v in (one or {}).items() if k in circuit.parameter_names(registry) and k not in mine} for one in starts] or [{}]
+        start = starts[0]
+        warm.append([_inside(circuit, one, registry) for one in starts[1:]])
+        prepared.append(_prepare(circuit, data, init=_inside(circuit, start, registry), fixed=mine, bounds=None, weighting=weighting, fmin=fmin, fmax=fmax, registry=registry))
+    data_sel = prepared[0][1]
+    if any(d != "frequency" for d in data_sel["Z"].dims):
+        raise FitError("fit_candidates fits one spectrum; select or average the extra dimensions first")
+    freq = np.asarray(data_sel["frequency"].values, float)
+    z = np.asarray(data_sel["Z"].values, complex)
+    sigma = np.asarray(data_sel["sigma"].values, float) if "sigma" in data_sel else None
+    inv_re, inv_im = _weights(z, sigma, weighting, prepared[0][3])
+    layout = layout if layout is not None else _shared_layout(circuits, registry)
+    programs = [CircuitProgram.build(c, registry, layout) for c in circuits]
+    k_need = max(int((~t.fixed).sum()) for _, _, t, _ in prepared)
+    k_pad = max(k_pad or 0, _bucket(k_need, _K_BUCKETS))
+    seeds = list(seeds) if seeds is not None else [seed] * len(circuits)
+    if len(seeds) != len(circuits):
+        raise FitError("seeds must give one seed per circuit")
+    n_flat = layout.n_slots * 4
+    features = SpectrumFeatures(freq, z)
+    rows = []
+    for (circuit, _, table, _), program, extra, seed_i in zip(prepared, programs, warm, seeds):
+        flat = np.array([s * 4 + i for s, i in (program.parameter_slots[n] for n in table.names)])
+        x_fixed = default_theta(layout).ravel()
+        guess = data_driven_guess(circuit, table, features, registry)
+        x_fixed[flat] = guess
+        x_fixed[flat[table.fixed]] = table.values[table.fixed]
+        free = table.free_index
+        k = free.size
+        starts_x = random_starts(table, features, guess, n_starts, seed_i)
+        for j, values in enumerate(extra[: n_starts - 1], start=1):
+            starts_x[j] = guess
+            for name, value in values.items():
+                starts_x[j, table.names.index(name)] = value
+        starts_x = starts_x[:, free]
+        starts_u = np.zeros((n_starts, k_pad))
+        starts_u[:, :k] = to_internal(starts_x, table.lower[free], table.upper[free], table.kind[free])
+        pad = lambda a, fill: np.concatenate([a, np.full(k_pad - k, fill, dtype=np.asarray(a).dtype)])  # noqa: E731
+        rows.append(
+            {
+                "starts": starts_u,
+                "free_index": pad(flat[free].astype(np.int32), n_flat),
+                "lower": pad(table.lower[free], -np.inf),
+                "upper": pad(table.upper[free], np.inf),
+                "kind": pad(table.kind[free], 4),
+                "x_fixed": x_fixed,
+                "program": program.arrays(),
+                "flat": flat,
+            }
+        )
+    n_real = len(rows)
+    n_total = max(pad_to or 0, -(-n_real // _C_BUCKET) * _C_BUCKET)
+    rows += [rows[-1]] * (n_total - n_real)  # pad the candidate count (results discarded)
+    stack = lambda key: jnp.asarray(np.stack([r[key] for r in rows]))  # noqa: E731
+    args = {
+        "freq": jnp.broadcast_to(jnp.asarray(freq), (n_total, freq.size)),
+        "z": jnp.broadcast_to(jnp.asarray(z), (n_total, z.size)),
+        "inv_w_re": jnp.broadcast_to(jnp.asarray(inv_re), (n_total, z.size)),
+        "inv_w_im": jnp.broadcast_to(jnp.asarray(inv_im), (n_total, z.size)),
+        "x_fixed": stack("x_fixed"),
+        "free_index": stack("free_index"),
+        "lower": stack("lower"),
+        "upper": stack("upper"),
+        "kind": stack("kind"),
+        "model_args": {key: jnp.stack([r["program"][key] for r in rows]) for key in rows[0]["program"]},
+    }
+    if single_phase:
+        args["max_steps"] = jnp.full((n_total,), min(step_limit or max_steps, max_steps), jnp.int64)
+    _, many = program_solver(layout, max_steps, bool(single_phase))
+    out = {k: np.asarray(v) for k, v in many(stack("starts"), args).items()}
+    elapsed = (time.perf_counter() - t0) / n_real
+    results = []
+    for i, ((circuit, _, table, _), row) in enumerate(zip(prepared, rows[:n_real])):
+        k = int((~table.fixed).sum())
+        one = {key: value[i] for key, value in out.items()}
+        one["x"] = one["x"][row["flat"]]
+        one["x_free"] = one["x_free"][:k]
+        one["jacobian"] = one["jacobian"][:, :k]
+        results.append(_result(circuit, table, freq, z, one, weighting, n_starts, elapsed, registry))
+    return results
+
+
+def _inside(circuit: Circuit, values: Mapping[str, float], registry: Registry) -> dict[str, float]:
+    """Warm starts nudged strictly inside their bounds (a fitted α may sit at exactly 1)."""
+    specs = circuit.parameter_specs(registry)
+    out = {}
+    for name, value in values.items():
+        spec = specs[name]
+        value = float(value)
+        if not np.isfinite(value):
+            continue
+        if value <= spec.lower:
+            value = spec.lower + max(abs(spec.lower) * 1e-6, 1e-12)
+        if value >= spec.upper:
+            value = spec.upper * (1 - 1e-6) if spec.upper > 0 else spec.upper - 1e-6
+        out[name] = value
+    return out
+
+
+def _shared_layout(circuits: Sequence[Circuit], registry: Registry) -> ProgramLayout:
+    """A tight layout: evaluation cost grows with the slot count, and a candidate set of one
+    diagnosis always yields the same layout (so the compilation is reused)."""
+    return ProgramLayout.covering(circuits, registry)

@@ -1,0 +1,293 @@
+"""Starting values without the user's help.
+
+1. A data-driven guess per element from its place in the circuit: the high-frequency intercept
+   of Z' for resistors in the outer series chain, the low-frequency limit minus it for
+   resistors inside arcs, τ = 1/(2π f_peak) at the maximum of −Z'' for time constants and
+   capacitances (C = τ/R_arc), the low-frequency slope of log|Z''| for CPE exponents, a series
+   capacitance from Z'' at the lowest frequency, an inductance from positive Z'' at the top.
+   Features and guesses are computed for a whole stack of spectra at once (numpy over the
+   spectra axis); one spectrum is a stack of one.
+2. Jittered copies of that guess and log-uniform draws over ranges scaled to the data (|Z| and
+   the frequency span), all fitted together in one vmapped call; the best is kept.
+"""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+
+from ...circuits import Circuit, DEFAULT_REGISTRY, Element, Parallel, Registry
+from ..parameters import ParameterTable
+
+__all__ = ["SpectrumFeatures", "data_driven_guess", "data_driven_guesses", "random_starts"]
+
+# features with one value per spectrum (scalars for one spectrum, arrays (B,) for a stack)
+_PER_SPECTRUM = ("z_min", "z_max", "r_hf", "r_lf", "f_peak", "c_series", "l_series", "alpha_lf", "warburg")
+
+
+def _larger(a, b):
+    """Python's ``max(a, b)`` elementwise: ``a`` unless ``b > a`` (NaN in ``b`` keeps ``a``)."""
+    return np.where(b > a, b, a)
+
+
+class SpectrumFeatures:
+    """Features of one spectrum ``z`` (N,) or of a stack ``z`` (B, N) over shared frequencies
+    ``freq`` (N,), used for guesses and start ranges.
+
+    One spectrum: every feature is a scalar and ``arcs(n)`` gives (n,) arrays. A stack: the
+    per-spectrum features (``z_min``, ``z_max``, ``r_hf``, ``r_lf``, ``f_peak``, ``c_series``,
+    ``l_series``, ``alpha_lf``, ``warburg``) are arrays (B,), ``arcs(n)`` gives (B, n) arrays,
+    ``f_min``/``f_max`` stay scalars, and ``features[i]`` is spectrum i's own features."""
+
+    def __init__(self, freq, z):
+        order = np.argsort(freq)
+        f = np.asarray(freq, float)[order]
+        z = np.asarray(z, complex)
+        stacked = z.ndim == 2
+        z = np.atleast_2d(z)[:, order]
+        w = 2 * np.pi * f
+        mag = np.abs(z)
+        neg_im = -z.imag
+        rows = {"z_min": _larger(mag.min(axis=1), 1e-300), "z_max": mag.max(axis=1)}
+        rows["r_hf"] = _larger(z.real[:, -1], 1e-3 * rows["z_min"])
+        rows["r_lf"] = _larger(z.real[:, 0], rows["r_hf"] * 1.01)
+        rows["f_peak"] = np.where(np.any(neg_im > 0, axis=1), f[np.argmax(neg_im, axis=1)], np.sqrt(f[0] * f[-1]))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            rows["c_series"] = np.where(neg_im[:, 0] > 0, 1.0 / (w[0] * neg_im[:, 0]), 1.0 / (w[0] * mag[:, 0]))
+        rows["l_series"] = np.where(z.imag[:, -1] > 0, z.imag[:, -1] / w[-1], rows["z_min"] / w[-1] * 1e-2)
+        rows["alpha_lf"] = _low_frequency_alpha(f, neg_im)
+        rows["warburg"] = mag[:, 0] * np.sqrt(w[0]) * 0.3
+        self._set(f, neg_im, rows, stacked)
+
+    def _set(self, f, neg_im, rows, stacked):
+        self.f_min, self.f_max = f[0], f[-1]
+        self._f, self._neg_im, self._rows, self._stacked = f, neg_im, rows, stacked
+        for name in _PER_SPECTRUM:
+            setattr(self, name, rows[name] if stacked else rows[name][0])
+        if not stacked:
+            self.alpha_lf = float(self.alpha_lf)
+
+    def __len__(self) -> int:
+        if not self._stacked:
+            raise TypeError("features of one spectrum have no length")
+        return self._neg_im.shape[0]
+
+    def __getitem__(self, index) -> "SpectrumFeatures":
+        """Spectrum ``index``'s features (an integer), or a sub-stack (a slice or index array)."""
+        if not self._stacked:
+            raise TypeError("features of one spectrum cannot be indexed")
+        one = np.ndim(index) == 0 and not isinstance(index, slice)
+        pick = np.arange(len(self))[index]
+        pick = np.atleast_1d(pick)
+        out = object.__new__(SpectrumFeatures)
+        out._set(self._f, self._neg_im[pick], {k: v[pick] for k, v in self._rows.items()}, not one)
+        return out
+
+    def arcs(self, n_arc: int) -> tuple[np.ndarray, np.ndarray]:
+        """(R, τ) of ``n_arc`` arcs, highest frequency first: the tallest local maxima of −Z''
+        over log f give τ = 1/(2π f_peak) and R ∝ the peak height (−Z''_max = R/2 for an RC
+        arc); missing peaks are spread a decade apart. R sums to the low-minus-high-frequency
+        span. Shapes (n_arc,) for one spectrum, (B, n_arc) for a stack."""
+        r, tau = self._arc_rows(n_arc)
+        return (r, tau) if self._stacked else (r[0], tau[0])
+
+    def _arc_rows(self, n_arc: int) -> tuple[np.ndarray, np.ndarray]:
+        f, y = self._f, self._neg_im
+        b, n = y.shape
+        rows = np.arange(b)
+        r_total = _larger(self._rows["r_lf"] - self._rows["r_hf"], 0.05 * self._rows["z_max"])
+        is_peak = np.zeros((b, n), bool)
+        is_peak[:, 1:-1] = (y[:, 1:-1] > y[:, :-2]) & (y[:, 1:-1] >= y[:, 2:]) & (y[:, 1:-1] > 0)
+        if n > 1:  # the ends count when they rise above their only neighbour
+            is_peak[:, 0] = (y[:, 0] > 0) & (y[:, 0] > y[:, 1])
+            is_peak[:, -1] = (y[:, -1] > 0) & (y[:, -1] > y[:, -2])
+        # candidates listed interior maxima first (by rising frequency), then the two ends:
+        # equal heights are taken in that order
+        columns = np.concatenate([np.arange(1, n - 1), [0, n - 1]]) if n > 1 else np.zeros(0, int)
+        height = np.where(is_peak[:, columns], y[:, columns], -np.inf)
+        found = np.minimum(is_peak.sum(axis=1), n_arc)
+        f_peaks = np.zeros((b, n_arc))
+        heights = np.zeros((b, n_arc))
+        for k in range(min(n_arc, columns.size)):  # the k-th tallest (argmax: first of equals)
+            j = np.argmax(height, axis=1)
+            f_peaks[:, k], heights[:, k] = f[columns[j]], height[rows, j]
+            height[rows, j] = -np.inf
+        none = found == 0
+        f_peaks[:, 0] = np.where(none, self._rows["f_peak"], f_peaks[:, 0])
+        heights[:, 0] = np.where(none, r_total / 2, heights[:, 0])
+        # overlapping arcs: split the dominant one a decade apart
+        k = np.arange(n_arc)
+        fill = k >= np.maximum(found, 1)[:, None]
+        f_peaks = np.where(fill, f_peaks[:, :1] / 10.0**k, f_peaks)
+        heights = np.where(fill, heights[:, :1], heights)
+        order = np.argsort(f_peaks, axis=1, kind="stable")[:, ::-1]
+        f_peaks = np.take_along_axis(f_peaks, order, axis=1)
+        r = np.take_along_axis(heights, order, axis=1)
+        r = r_total[:, None] * r / r.sum(axis=1, keepdims=True)
+        return r, 1.0 / (2 * np.pi * f_peaks)
+
+
+def _low_frequency_alpha(f, neg_im) -> np.ndarray:
+    """CPE exponent from the least-squares slope of log(−Z'') over log f at the three lowest
+    frequencies (0.85 where −Z'' is not positive there), clipped to [0.4, 1]."""
+    k = min(3, f.size)
+    if k < 2:
+        return np.full(neg_im.shape[0], 0.85)
+    ok = np.all(neg_im[:, :k] > 0, axis=1)
+    lx = np.log(f[:k])
+    weights = (lx - lx.mean()) / np.sum((lx - lx.mean()) ** 2)  # slope = Σ w·log y (Σ w = 0)
+    slope = np.log(np.where(ok[:, None], neg_im[:, :k], 1.0)) @ weights
+    return np.where(ok, np.clip(-slope, 0.4, 1.0), 0.85)
+
+
+def _roles(circuit: Circuit):
+    """element name → index of the outermost parallel block (arc) holding it, or -1 for the
+    outer series chain; arcs are numbered in the order they are written."""
+    roles = {}
+    count = [0]
+
+    def walk(node, block):
+        if isinstance(node, Element):
+            roles[node.name] = block
+            return
+        if isinstance(node, Parallel) and block < 0:
+            block = count[0]
+            count[0] += 1
+        for child in node.children:
+            walk(child, block)
+
+    walk(circuit, -1)
+    return roles, count[0]
+
+
+@functools.lru_cache(maxsize=256)
+def _circuit_layout(circuit: Circuit, registry: Registry):
+    """What the guess needs of the circuit alone: element → arc (-1: outer series chain), the
+    number of arcs to look for (at least one), the resistors of the outer chain (≥ 1), and per
+    arc its resistive elements (≥ 1), which share that arc's resistance."""
+    elements = tuple(circuit.elements())
+    roles, n_blocks = _roles(circuit)
+    n_series_r = max(1, sum(e.symbol == "R" and roles[e.name] < 0 for e in elements))
+    resistive = np.array([roles[e.name] for e in elements if roles[e.name] >= 0 and registry[e.symbol].parameters[0].unit == "Ohm"], int)
+    n_res = np.maximum(np.bincount(resistive, minlength=max(n_blocks, 1)), 1).astype(float)
+    n_res.setflags(write=False)  # (cached: shared by every call)
+    return roles, max(n_blocks, 1), n_series_r, n_res
+
+
+def data_driven_guesses(circuit: Circuit, table: ParameterTable, features: SpectrumFeatures, registry: Registry = DEFAULT_REGISTRY) -> np.ndarray:
+    """A starting value for every parameter and spectrum, shape (B, P) (B = 1 for the features
+    of one spectrum); user starts and fixed values take precedence."""
+    elements = list(circuit.elements())
+    roles, n_arcs, n_series_r, n_res = _circuit_layout(circuit, registry)
+    rows = features._rows
+    r_arcs, taus = features._arc_rows(n_arcs)
+    r_series = r_arcs.sum(axis=1)
+    tau_series = 1.0 / (2 * np.pi * rows["f_peak"])
+    guess: dict[str, np.ndarray | float] = {}
+    for e in elements:
+        block = roles[e.name]
+        inside = block >= 0
+        r_arc = r_arcs[:, block] / n_res[block] if inside else r_series
+        tau = taus[:, block] if inside else tau_series
+        f_arc = 1.0 / (2 * np.pi * tau)
+        spec = registry[e.symbol]
+        names = spec.parameter_names(e.name)
+        sym = spec.symbol
+        if sym == "R":
+            guess[names[0]] = r_arc if inside else rows["r_hf"] / n_series_r
+        elif sym == "C":
+            guess[names[0]] = tau / r_arc if inside else rows["c_series"]
+        elif sym == "L":
+            guess[names[0]] = rows["l_series"]
+        elif sym == "CPE":
+            alpha = 0.85 if inside else rows["alpha_lf"]
+            c = tau / r_arc if inside else rows["c_series"]
+            guess[names[0]] = c * (2 * np.pi * (f_arc if inside else features.f_min)) ** (1 - alpha)
+            guess[names[1]] = alpha
+        elif sym == "W":
+            guess[names[0]] = rows["warburg"]
+        else:  # other elements: each parameter by its unit
+            by_unit = {"Ohm": r_arc, "s": tau, "1": 0.85}
+            for p, n in zip(spec.parameters, names):
+                guess[n] = by_unit.get(p.unit, p.default)
+    x = np.full((r_arcs.shape[0], len(table.names)), np.nan)
+    for j, name in enumerate(table.names):
+        x[:, j] = guess.get(name, np.nan)
+    given = ~np.isnan(table.values)
+    x[:, given] = table.values[given]
+    bad = ~np.isfinite(x)
+    if bad.any():
+        specs = circuit.parameter_specs(registry)
+        x = np.where(bad, np.array([specs[n].default for n in table.names], float), x)
+    return _clip_inside(x, table)
+
+
+def data_driven_guess(circuit: Circuit, table: ParameterTable, features: SpectrumFeatures, registry: Registry = DEFAULT_REGISTRY) -> np.ndarray:
+    """A starting value for every parameter (user starts and fixed values take precedence):
+    shape (P,) for the features of one spectrum, (B, P) for a stack."""
+    guesses = data_driven_guesses(circuit, table, features, registry)
+    return guesses if features._stacked else guesses[0]
+
+
+def _clip_inside(x, table: ParameterTable) -> np.ndarray:
+    lo, hi = table.lower, table.upper
+    # (0, ∞) is fitted in log space: any positive value is inside (a floor of lower + 1e-6
+    # would lift every capacitance and CPE Q guess to 1 µF)
+    span_lo = np.where(lo > 0, lo * (1 + 1e-6), lo + 1e-6 * np.where(np.isfinite(hi), hi - lo, 1.0))
+    span_lo = np.where((lo == 0) & ~np.isfinite(hi), 1e-300, span_lo)
+    span_hi = np.where(np.isfinite(hi), np.where(hi > 0, hi * (1 - 1e-6), hi - 1e-6), np.inf)
+    return np.clip(x, span_lo, span_hi)
+
+
+def _log_range(table: ParameterTable, features: SpectrumFeatures, i: int):
+    """log of the (low, high) range of parameter i's random draws, per spectrum (B,)."""
+    unit = table.units[i]
+    rows = features._rows
+    w_lo, w_hi = 2 * np.pi * features.f_min, 2 * np.pi * features.f_max
+    zlo, zhi = rows["z_min"], rows["z_max"]
+    if unit == "Ohm":
+        lo, hi = zlo / 30, zhi * 3
+    elif unit == "F":
+        lo, hi = 1 / (w_hi * zhi) / 10, 1 / (w_lo * zlo) * 10
+    elif unit == "H":
+        lo, hi = zlo / w_hi / 100, zhi / w_lo
+    elif unit == "s":
+        lo, hi = 1 / w_hi / 10, 1 / w_lo * 10
+    elif unit == "Ohm s^-1/2":
+        lo, hi = zlo * np.sqrt(w_lo) / 30, zhi * np.sqrt(w_hi) * 3
+    elif unit.startswith("F s^"):
+        lo, hi = 1 / (w_hi * zhi) / 100, 1 / (w_lo * zlo) * 100
+    else:
+        lo, hi = 1e-3, 1e3
+    lo, hi = np.broadcast_to(lo, zlo.shape), np.broadcast_to(hi, zlo.shape)
+    return np.log(_larger(lo, 1e-300)), np.log(_larger(_larger(hi, lo * 10), 1e-299))
+
+
+def random_starts(table: ParameterTable, features: SpectrumFeatures, guess: np.ndarray, n_starts: int, seed: int = 0) -> np.ndarray:
+    """``n_starts`` starting points (first: the guess; then jittered guesses; then draws over
+    data-scaled log ranges). Fixed parameters keep their values. Shape (n_starts, P) for one
+    spectrum's features and guess (P,); (B, n_starts, P) for a stack's, every spectrum with
+    the random numbers that it would draw alone (the same for all, scaled to its data)."""
+    rng = np.random.default_rng(seed)
+    guesses = np.atleast_2d(guess)
+    starts = np.repeat(guesses[:, None, :], n_starts, axis=1)
+    n_jitter = (n_starts - 1) // 2
+    fixed, given = table.fixed.tolist(), (~np.isnan(table.values)).tolist()
+    log_ranges = {}
+    for s in range(1, n_starts):
+        for i in range(guesses.shape[1]):
+            if fixed[i] or given[i] and s <= n_jitter:
+                continue
+            if table.units[i] == "1":
+                starts[:, s, i] = rng.uniform(0.45, 1.0) if s > n_jitter else np.clip(guesses[:, i] + rng.normal(0, 0.1), 0.3, 1.0)
+            elif s <= n_jitter:
+                starts[:, s, i] = guesses[:, i] * 10 ** rng.normal(0, 0.7)
+            else:
+                if i not in log_ranges:
+                    log_ranges[i] = _log_range(table, features, i)
+                lo, hi = log_ranges[i]
+                starts[:, s, i] = np.exp(lo + (hi - lo) * rng.random())  # rng.uniform(lo, hi), spectrum by spectrum
+    starts[..., table.fixed] = table.values[table.fixed]
+    starts = _clip_inside(starts, table)
+    return starts if features._stacked else starts[0]

@@ -1,0 +1,113 @@
+"""Lossless netCDF files (scipy's netCDF3 engine; no HDF5 library needed).
+
+netCDF3 has no complex type: each complex variable V is stored as ``V__real`` and
+``V__imag`` and joined again on reading; non-scalar attrs are stored as JSON text; int64
+arrays are stored as int32 or float64 with their dtype restored on reading.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from .atomic import atomic_path
+from ..errors import DataError
+
+__all__ = ["read_netcdf", "write_netcdf", "encode_dataset", "decode_dataset"]
+
+_JSON = "json:"
+
+
+def _encode_attrs(attrs) -> dict:
+    out = {}
+    for k, v in attrs.items():
+        if isinstance(v, bool) or v is None or isinstance(v, (dict, list, tuple)):
+            out[k] = _JSON + json.dumps(v)
+        elif isinstance(v, (np.integer, int)) and not np.iinfo(np.int32).min <= int(v) <= np.iinfo(np.int32).max:
+            out[k] = float(v)
+        else:
+            out[k] = v
+    return out
+
+
+def _decode_attrs(attrs) -> dict:
+    return {k: json.loads(v[len(_JSON):]) if isinstance(v, str) and v.startswith(_JSON) else v for k, v in attrs.items()}
+
+
+def _encode_array(da: xr.DataArray) -> dict[str, xr.DataArray]:
+    attrs = _encode_attrs(da.attrs)
+    if np.iscomplexobj(da.values):
+        return {
+            "__real": da.real.assign_attrs({**attrs, "impedax_part": "real"}),
+            "__imag": da.imag.assign_attrs({**attrs, "impedax_part": "imag"}),
+        }
+    if da.dtype == np.int64 or da.dtype == np.uint64 or da.dtype == bool:
+        fits = da.size == 0 or (da.min() >= np.iinfo(np.int32).min and da.max() <= np.iinfo(np.int32).max)
+        kind = "bool" if da.dtype == bool else str(da.dtype)
+        return {"": da.astype(np.int32 if fits else np.float64).assign_attrs({**attrs, "impedax_dtype": kind})}
+    return {"": da.assign_attrs(attrs)}
+
+
+def encode_dataset(ds: xr.Dataset) -> xr.Dataset:
+    """A netCDF3-storable copy of ``ds`` (see module docstring)."""
+    data_vars, coords = {}, {}
+    for name, da in ds.coords.items():
+        for suffix, part in _encode_array(xr.DataArray(da.variable)).items():
+            coords[name + suffix] = part.variable
+    for name, da in ds.data_vars.items():
+        for suffix, part in _encode_array(da).items():
+            data_vars[name + suffix] = part.variable
+    return xr.Dataset(data_vars, coords=coords, attrs=_encode_attrs(ds.attrs))
+
+
+def decode_dataset(ds: xr.Dataset) -> xr.Dataset:
+    """Inverse of `encode_dataset`."""
+    out = xr.Dataset(attrs=_decode_attrs(ds.attrs))
+    coords = {}
+    for name in list(ds.coords) + list(ds.data_vars):
+        var = ds[name].variable
+        attrs = dict(var.attrs)
+        part = attrs.pop("impedax_part", None)
+        dtype = attrs.pop("impedax_dtype", None)
+        attrs = _decode_attrs(attrs)
+        if part == "imag":
+            continue
+        if part == "real":
+            base = name[: -len("__real")]
+            values = var.values + 1j * ds[base + "__imag"].values
+            new = xr.Variable(var.dims, values, attrs)
+            name = base
+        else:
+            values = var.values
+            if dtype is not None:
+                values = values.astype(bool if dtype == "bool" else dtype)
+            new = xr.Variable(var.dims, values, attrs)
+        if name in ds.coords or (part == "real" and name + "__real" in ds.coords):
+            coords[name] = new
+        else:
+            out[name] = new
+    return out.assign_coords(coords)
+
+
+def write_netcdf(ds: xr.Dataset, path: str | Path) -> None:
+    """Write ``ds`` to ``path`` atomically, complex values and attrs preserved."""
+    encoded = encode_dataset(ds)
+    with atomic_path(path) as tmp:
+        encoded.to_netcdf(tmp, engine="scipy", format="NETCDF3_64BIT")
+
+
+def read_netcdf(path: str | Path) -> xr.Dataset:
+    path = Path(path)
+    if not path.exists():
+        raise DataError("file not found", path=path)
+    try:
+        with xr.open_dataset(path, engine="scipy") as raw:
+            ds = decode_dataset(raw.load())
+    except (OSError, ValueError, TypeError) as exc:
+        # the engine's own text spans several lines and suggests libraries impedax does not use
+        detail = (str(exc).strip().splitlines() or [type(exc).__name__])[0].replace(str(path), "the file")
+        raise DataError(f"not a readable netCDF file ({detail}); impedax reads the netCDF3 files that impedax save writes", path=path) from None
+    return ds

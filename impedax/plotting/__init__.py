@@ -1,0 +1,117 @@
+"""Nyquist and Bode plots of data against a model, with a relative-residual panel.
+
+Every function returns a matplotlib `Figure`; nothing is shown or saved implicitly.
+"""
+
+from __future__ import annotations
+
+from typing import Sequence
+
+import matplotlib.pyplot as plt
+import numpy as np
+import xarray as xr
+
+from ..io.atomic import atomic_path
+
+__all__ = ["plot_spectrum", "plot_nyquist", "plot_bode", "save_figure", "shade_bands"]
+
+
+def _as_arrays(spectrum):
+    """(frequency, Z) from a 1-D Dataset or a (frequency, Z) pair."""
+    if spectrum is None:
+        return None
+    if isinstance(spectrum, xr.Dataset):
+        z = spectrum["Z"]
+        if z.ndim != 1:
+            z = z.mean([d for d in z.dims if d != "frequency"])
+        return np.asarray(spectrum["frequency"].values), np.asarray(z.values)
+    f, z = spectrum
+    return np.asarray(f, dtype=float), np.asarray(z, dtype=complex)
+
+
+def _model_at(freq, model):
+    """Model impedance at the data frequencies (log-frequency interpolation if they differ)."""
+    f, z = model
+    if np.array_equal(f, freq):
+        return z
+    order = np.argsort(f)
+    x = np.log(f[order])
+    return np.interp(np.log(freq), x, z[order].real) + 1j * np.interp(np.log(freq), x, z[order].imag)
+
+
+def plot_nyquist(ax, data=None, model=None, *, data_label="data", model_label="model"):
+    """Nyquist plot (Z' vs −Z'', equal axes) on ``ax``."""
+    d, m = _as_arrays(data), _as_arrays(model)
+    if d is not None:
+        ax.plot(d[1].real, -d[1].imag, "o", ms=3.5, mfc="none", label=data_label)
+    if m is not None:
+        ax.plot(m[1].real, -m[1].imag, "-", lw=1.5, label=model_label)
+    ax.set_xlabel("Z' [Ω]")
+    ax.set_ylabel("−Z'' [Ω]")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+
+
+def plot_bode(ax_mod, ax_phase, data=None, model=None, *, data_label="data", model_label="model"):
+    """|Z| (log-log) and phase [deg] against frequency."""
+    for spec, style, label in ((_as_arrays(data), "o", data_label), (_as_arrays(model), "-", model_label)):
+        if spec is None:
+            continue
+        f, z = spec
+        kw = dict(ms=3.5, mfc="none") if style == "o" else dict(lw=1.5)
+        ax_mod.loglog(f, np.abs(z), style, label=label, **kw)
+        ax_phase.semilogx(f, np.degrees(np.angle(z)), style, label=label, **kw)
+    ax_mod.set_ylabel("|Z| [Ω]")
+    ax_phase.set_ylabel("phase [deg]")
+    ax_phase.set_xlabel("frequency [Hz]")
+    for ax in (ax_mod, ax_phase):
+        ax.grid(alpha=0.3, which="both")
+    ax_mod.legend(fontsize=8)
+
+
+def shade_bands(axes: Sequence, bands, *, color="tab:red", alpha=0.12, label="model fails"):
+    """Shade frequency bands [(f_min, f_max), ...] on frequency axes."""
+    for ax in axes:
+        for i, (lo, hi) in enumerate(bands):
+            ax.axvspan(lo, hi, color=color, alpha=alpha, label=label if i == 0 and ax is axes[0] else None)
+
+
+def plot_spectrum(data=None, model=None, *, title: str | None = None, bands=None, data_label="data", model_label="model"):
+    """Nyquist, Bode (|Z|, phase) and, when both are given, relative residuals (Re, Im) of
+    ``(Z_model − Z_data)/|Z_data|`` in percent. ``bands`` are shaded on the frequency axes."""
+    d, m = _as_arrays(data), _as_arrays(model)
+    with_residuals = d is not None and m is not None
+    fig = plt.figure(figsize=(11, 6.5 if with_residuals else 5), layout="constrained")
+    grid = fig.add_gridspec(3 if with_residuals else 2, 2, width_ratios=[1, 1.2])
+    ax_nyq = fig.add_subplot(grid[:, 0])
+    ax_mod = fig.add_subplot(grid[0, 1])
+    ax_ph = fig.add_subplot(grid[1, 1], sharex=ax_mod)
+    plot_nyquist(ax_nyq, data, model, data_label=data_label, model_label=model_label)
+    plot_bode(ax_mod, ax_ph, data, model, data_label=data_label, model_label=model_label)
+    freq_axes = [ax_mod, ax_ph]
+    if with_residuals:
+        ax_res = fig.add_subplot(grid[2, 1], sharex=ax_mod)
+        r = (_model_at(d[0], m) - d[1]) / np.abs(d[1]) * 100
+        ax_res.semilogx(d[0], r.real, "o-", ms=3, lw=0.8, label="Re")
+        ax_res.semilogx(d[0], r.imag, "s-", ms=3, lw=0.8, label="Im")
+        ax_res.axhline(0, color="k", lw=0.6)
+        ax_res.set_ylabel("residual [%]")
+        ax_res.set_xlabel("frequency [Hz]")
+        ax_res.grid(alpha=0.3, which="both")
+        ax_res.legend(fontsize=8, ncol=2)
+        ax_ph.set_xlabel("")
+        freq_axes.append(ax_res)
+    if bands:
+        shade_bands(freq_axes, bands)
+    if title:
+        fig.suptitle(title)
+    return fig
+
+
+def save_figure(fig, path) -> None:
+    """Save ``fig`` atomically (the format follows the extension) and close it."""
+    with atomic_path(path) as tmp:
+        fmt = str(path).rsplit(".", 1)[-1].lower() if "." in str(path) else "png"
+        fig.savefig(tmp, dpi=120, format=fmt)
+    plt.close(fig)
