@@ -32,21 +32,15 @@ def effects_option(text):
 
 
 def run(args) -> int:
-    from .. import load
-    from ..fitting.least_squares.single import _select_band
-    from ..io.atomic import check_writable
     from ..fitting import diagnose
+    from ..fitting.problem import open_spectrum
+    from ..io.atomic import check_writable
     from .common import emit_json
 
     if args.plot:
         check_writable(args.plot)
     effects = effects_option(args.effects)
-    data = load(args.data)
-    if any(d != "frequency" for d in data["Z"].dims):
-        from ..errors import DataError
-
-        raise DataError("the data hold several spectra (extra dimensions); diagnose one spectrum (average or select trials first)", path=args.data)
-    data = _select_band(data, args.fmin, args.fmax, args.data)
+    data = open_spectrum(args.data, fmin=args.fmin, fmax=args.fmax, single="diagnose").data
     result = diagnose(data, args.model, effects=effects, noise=args.noise, weighting=args.weighting)
     if args.plot:
         from ..plotting import save_figure

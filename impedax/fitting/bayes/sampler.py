@@ -33,10 +33,10 @@ import numpy as np
 import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
-from ...data import validate_spectrum
 from ...errors import DataError, FitError, ParameterError
 from ..derived import QUANTILES, _call, _check_real, band_dataset, needs_freq
-from ..least_squares.single import FitResult, _select_band, fit
+from ..least_squares.single import FitResult, fit
+from ..problem import open_spectrum
 from .priors import Prior, parse_prior, prior_log_density
 from .reparam import Reparametrization, rebuild
 
@@ -126,20 +126,6 @@ def _functions(st: _Structure):
 
 
 # --- setting up a run ------------------------------------------------------------------------
-
-
-def _spectrum(data, fmin, fmax):
-    if not isinstance(data, xr.Dataset):
-        from ...io import load
-
-        source = str(data)
-        data = load(data)
-    else:
-        source = str(data.attrs.get("source", "dataset"))
-        validate_spectrum(data, source=source)
-    if any(d != "frequency" for d in data["Z"].dims):
-        raise ParameterError("sample works on one spectrum; this data has extra dimensions (select one or average them)")
-    return _select_band(data, fmin, fmax, source), source
 
 
 def _coerce_priors(priors) -> dict[str, Prior]:
@@ -250,7 +236,8 @@ def sample(
     if (steps - burn) // thin < 1:
         raise ParameterError("no draws left after burn and thin; use more steps")
     circuit = parse(circuit, registry)
-    ds, source = _spectrum(data, fmin, fmax)
+    spectrum = open_spectrum(data, fmin=fmin, fmax=fmax, single="sample")
+    ds, source = spectrum.data, spectrum.source
     freq = np.asarray(ds["frequency"].values, float)
     z = np.asarray(ds["Z"].values, complex)
     sigma = np.asarray(ds["sigma"].values, float) if "sigma" in ds else None

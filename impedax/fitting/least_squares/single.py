@@ -16,9 +16,8 @@ import numpy as np
 import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
-from ...data import validate_spectrum
 from ...errors import DataError, FitError, ParameterError
-from ...io import load
+from ..problem import open_spectrum
 from .solvers import solver_messages, tree_solver
 from .order import canonical_order
 from ..parameters import ParameterTable, to_internal
@@ -68,18 +67,6 @@ def _weights(z: np.ndarray, sigma: np.ndarray | None, weighting: str, source: st
     if np.any(~np.isfinite(w_re) | (w_re <= 0)) or np.any(~np.isfinite(w_im) | (w_im <= 0)):
         raise DataError(f"weighting {weighting!r}: zero or non-finite weights (|Z| = 0 somewhere?)", path=source)
     return 1.0 / w_re, 1.0 / w_im
-
-
-def _select_band(ds: xr.Dataset, fmin, fmax, source):
-    f = ds["frequency"].values
-    keep = np.ones(f.shape, bool)
-    if fmin is not None:
-        keep &= f >= fmin
-    if fmax is not None:
-        keep &= f <= fmax
-    if not keep.any():
-        raise DataError(f"no frequencies between fmin={fmin} and fmax={fmax}", path=source)
-    return ds.isel(frequency=np.flatnonzero(keep)) if not keep.all() else ds
 
 
 @dataclass(frozen=True, eq=False)
@@ -396,14 +383,8 @@ def stack_notes(table: ParameterTable, values: np.ndarray, stderr: np.ndarray, c
 
 def _prepare(circuit, data, *, init, fixed, bounds, weighting, fmin, fmax, registry):
     circuit = parse(circuit, registry)
-    source = "data"
-    if not isinstance(data, xr.Dataset):
-        source = str(data)
-        data = load(data)
-    else:
-        source = str(data.attrs.get("source", "dataset"))
-        validate_spectrum(data, source=source)
-    data = _select_band(data, fmin, fmax, source)
+    spectrum = open_spectrum(data, fmin=fmin, fmax=fmax)
+    data, source = spectrum.data, spectrum.source
     table = ParameterTable.build(circuit, registry=registry, init=init, fixed=fixed, bounds=bounds)
     n_points = data.sizes["frequency"]
     k = int((~table.fixed).sum())
