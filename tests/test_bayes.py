@@ -218,7 +218,7 @@ def _remainder(f, p):
 def test_gap_thickness_recovered():
     area, eps_r, c_gap = 130e-6, 1.00059, 413e-12
     u_true = EPS0 * eps_r * area / c_gap
-    assert u_true == pytest.approx(2.79e-6, rel=0.005)  # PHYSICS.md: u ≈ 2.79 µm
+    assert u_true == pytest.approx(2.79e-6, rel=0.005)  # docs/physics.md: u ≈ 2.79 µm
     f = np.geomspace(1, 1e6, 50)
     truth = {"R_EP": 5e7, "Q_EP": 6e-9, "alpha_EP": 0.5, "C_gap": c_gap}
     data = ix.make_spectrum(f, noisy(_remainder(f, truth), NOISE, np.random.default_rng(11)))
@@ -243,7 +243,7 @@ def test_gap_thickness_recovered():
 def test_stratum_corneum_reparametrization_maps_meyer_numbers():
     sc = ix.stratum_corneum_reparametrization(area=math.pi * 4e-3**2)
     values = sc.circuit_values({"rho_sc": 33e3, "eps_sc": 1000.0, "d_sc": 200e-6})
-    assert values["R_sc"] == pytest.approx(130e3, rel=0.02)  # PHYSICS.md eq 3.13: R_sc ≈ 130 kΩ
+    assert values["R_sc"] == pytest.approx(130e3, rel=0.02)  # docs/physics.md, eq 3.13: R_sc ≈ 130 kΩ
     assert values["C_sc"] == pytest.approx(2.2e-9, rel=0.02)  # C_sc ≈ 2.2 nF
     start = sc.start(values)
     assert start["d_sc"] == 200e-6 and start["rho_sc"] == pytest.approx(33e3) and start["eps_sc"] == pytest.approx(1000.0)

@@ -1,5 +1,5 @@
 """Compiled circuits and padded programs against hand-derived formulas; probes against the
-divider formulas of PHYSICS.md (Meyer's circuit, with the corrected V_F numerator)."""
+divider formulas of docs/physics.md (Meyer's circuit, with the corrected V_F numerator)."""
 
 import math
 from functools import partial
@@ -65,7 +65,7 @@ def test_one_compiled_program_serves_many_topologies_under_vmap():
 def _meyer_closed_forms(p):
     cs, ci, r, csc, rf = p["C_s"], p["C_i"], p["R_sc"], p["C_sc"], p["R_f"]
     den = ci * (1 + S * r * csc) + cs * (1 + S * r * csc) + S * r * cs * ci + S * rf * cs * ci * (1 + S * r * csc)
-    vf = (cs + S * r * cs * (csc + ci)) / den  # corrected numerator (PHYSICS.md)
+    vf = (cs + S * r * cs * (csc + ci)) / den  # corrected numerator (docs/physics.md)
     qf = cs * ci / den  # Q_f/V_A = I_Rsc/(s V_A)
     return vf, qf, den
 

@@ -7,7 +7,7 @@ import pytest
 
 from impedax.cli import main
 
-U_TRUE_UM = 2.787  # C_gap = 413 pF, A = 130 mm² (PHYSICS.md: ≈ 2.79 µm)
+U_TRUE_UM = 2.787  # C_gap = 413 pF, A = 130 mm² (docs/physics.md: ≈ 2.79 µm)
 
 
 @pytest.fixture(scope="module")

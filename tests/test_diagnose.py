@@ -19,7 +19,7 @@ EPS0 = 8.8541878128e-12
 SIRIN_AREA, EPS_GAP, TRUE_GAP = 130e-6, 1.00059, 2.79e-6
 
 
-def gap(c_gap):  # u = ε0 ε_gap A / C_gap (Sirin et al.; PHYSICS.md)
+def gap(c_gap):  # u = ε0 ε_gap A / C_gap (Sirin et al.; docs/physics.md)
     return EPS0 * EPS_GAP * SIRIN_AREA / c_gap
 
 

@@ -1,5 +1,5 @@
 """Smoke tests of the example scripts: each runs in --fast mode in a temporary folder, writes
-its PNGs, and prints the key numbers of PHYSICS.md (the papers' values), which are checked here.
+its PNGs, and prints the key numbers of docs/physics.md (the papers' values), which are checked here.
 
 One row per script in EXAMPLES: the PNG files it must write and (regex, check) pairs on its
 printed output. Add a row when a script is added to examples/.

@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 
 import impedax as ix
-from impedax.fitting.least_squares.single import CORRELATION_LIMIT, covariances, fit_notes, stack_notes
+from impedax.fitting.least_squares.result import CORRELATION_LIMIT, fit_notes, stack_notes
+from impedax.fitting.statistics import covariances
 from impedax.fitting.parameters import ParameterTable
 from spectra import CASES, noisy
 

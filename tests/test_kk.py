@@ -47,7 +47,7 @@ def two_arcs(f):
 
 
 def finger_edl(f):
-    """Sirin-like remainder R_EP ∥ C_EP ∥ C_gap (C_gap = 413 pF, PHYSICS.md), 1 Hz–1 MHz."""
+    """Sirin-like remainder R_EP ∥ C_EP ∥ C_gap (C_gap = 413 pF, docs/physics.md), 1 Hz–1 MHz."""
     w = 2 * np.pi * f
     return 1.0 / (1 / 2e6 + 1j * w * 2e-9 + 1j * w * 413e-12)
 

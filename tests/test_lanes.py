@@ -1,4 +1,4 @@
-"""The work-queue solver behind batch fits (`_core._make_lanes`) against the plain
+"""The work-queue solver behind batch fits (`lm.work_queue`) against the plain
 Levenberg–Marquardt loop it runs in every lane: same iterates, same step counts, budgets
 respected, padding ignored, an early stop hands back only unfinished problems."""
 
@@ -8,8 +8,9 @@ import pytest
 
 import impedax as ix
 from impedax.circuits import DEFAULT_REGISTRY
-from impedax.fitting.least_squares.solvers import levenberg_marquardt, tree_solver
-from impedax.fitting.least_squares.single import _args, _guess_start
+from impedax.fitting.least_squares.lm import levenberg_marquardt
+from impedax.fitting.least_squares.solvers import SharedArgs, SolverOutput, SpectrumRows, combine, solver_args, tree_solver
+from impedax.fitting.least_squares.starts import guess_start
 from impedax.fitting.parameters import ParameterTable
 from impedax.fitting.least_squares.starts import SpectrumFeatures
 
@@ -28,11 +29,11 @@ def problems():
     z = np.stack([arc(10 ** rng.uniform(0, 2), 10 ** rng.uniform(2, 4), 10 ** rng.uniform(-8, -5), rng.uniform(0.6, 0.95)) for _ in range(37)])
     z = z * (1 + 0.01 * (rng.normal(size=z.shape) + 1j * rng.normal(size=z.shape)))
     table = ParameterTable.build(CIRCUIT)
-    u0 = _guess_start(CIRCUIT, table, SpectrumFeatures(F, z), DEFAULT_REGISTRY)
+    u0 = guess_start(CIRCUIT, table, SpectrumFeatures(F, z), DEFAULT_REGISTRY)
     inv = 1 / np.abs(z)
-    args = _args(table, F, z[0], inv[0], inv[0])
-    shared = {k: args[k] for k in ("freq", "lower", "upper")}
-    rows = {"z": z, "inv_w_re": inv, "inv_w_im": inv, "x_fixed": np.broadcast_to(args["x_fixed"], (len(z), args["x_fixed"].size))}
+    args = solver_args(table, F, z[0], inv[0], inv[0])
+    shared = SharedArgs(args.freq, args.lower, args.upper)
+    rows = SpectrumRows(z, inv, inv, np.broadcast_to(args.x_fixed, (len(z), args.x_fixed.size)))
     lanes = tree_solver(CIRCUIT, DEFAULT_REGISTRY, 400, *table.free_structure)[1]
     return z, u0, rows, shared, lanes
 
@@ -40,11 +41,11 @@ def problems():
 def plain(u0, rows, shared, i, max_steps):
     """The same Levenberg–Marquardt iteration, alone, for problem i."""
     from impedax.circuits import compile_circuit
-    from impedax.fitting.least_squares.solvers import _tree_residuals
+    from impedax.fitting.least_squares.solvers import tree_residuals
 
     table = ParameterTable.build(CIRCUIT)
-    normal_u = _tree_residuals(compile_circuit(CIRCUIT), *table.free_structure).normal_u
-    args = {**shared, **{k: v[i] for k, v in rows.items()}}
+    normal_u = tree_residuals(compile_circuit(CIRCUIT), *table.free_structure).normal_u
+    args = combine(shared, SpectrumRows(*(v[i] for v in rows)))
     u, chi2, done, steps = levenberg_marquardt(normal_u, jnp.asarray(u0[i]), args, max_steps)
     return np.asarray(u), float(chi2), bool(done), int(steps)
 
@@ -61,7 +62,7 @@ def solve(lanes, n_lanes, u0, rows, shared, budget, *, drain, capacity=64):
 
 
 def rows_padded(rows, capacity):
-    return {k: np.concatenate([v, np.repeat(v[:1], capacity - len(v), axis=0)]) for k, v in rows.items()}
+    return SpectrumRows(*(np.concatenate([v, np.repeat(v[:1], capacity - len(v), axis=0)]) for v in rows))
 
 
 def test_lanes_reproduce_the_plain_solver_problem_by_problem(problems):
@@ -95,20 +96,21 @@ def test_an_early_stop_returns_only_a_few_unfinished_problems(problems):
 
 
 def test_outputs_come_back_from_one_transfer_unchanged():
-    """`_one_transfer` packs a solver's outputs (float, complex, integer; any shapes) into one
+    """`one_transfer` packs a solver's outputs (float, complex, integer; any shapes) into one
     array on the device and unpacks them on the host as they were."""
-    from impedax.fitting.least_squares.solvers import _one_transfer
+    from impedax.fitting.least_squares.solvers import SolverArgs, one_transfer
 
     def solve(u0s, args):
-        return {"x": u0s * 2.0, "x_free": u0s, "z_model": args["z"] * 1j, "code": jnp.int32(3), "steps": jnp.arange(u0s.shape[0]), "chi2": jnp.sum(u0s)}
+        return SolverOutput(x=u0s * 2.0, z_model=args.z * 1j, code=jnp.int32(3), steps=jnp.arange(u0s.shape[0]), chi2=jnp.sum(u0s), jacobian=u0s.T)
 
-    run = _one_transfer(solve)
+    run = one_transfer(solve)
     u0s = np.arange(6.0).reshape(2, 3)
     z = np.array([1 + 2j, -3.5 + 0.25j])
-    out = run(u0s, {"z": z}).fetch()
-    assert set(out) == {"x", "z_model", "code", "steps", "chi2"}  # x_free stays behind
-    np.testing.assert_array_equal(out["x"], u0s * 2)
-    np.testing.assert_array_equal(out["z_model"], z * 1j)
-    assert out["code"] == 3 and out["code"].dtype == np.int32
-    np.testing.assert_array_equal(out["steps"], [0, 1])
-    assert out["chi2"] == 15.0 and out["chi2"].shape == ()
+    out = run(u0s, SolverArgs(None, z, None, None, None, None, None)).fetch()
+    assert out.peaks is None and out.chi2_starts is None  # outputs the solver did not give stay None
+    np.testing.assert_array_equal(out.x, u0s * 2)
+    np.testing.assert_array_equal(out.jacobian, u0s.T)
+    np.testing.assert_array_equal(out.z_model, z * 1j)
+    assert out.code == 3 and out.code.dtype == np.int32
+    np.testing.assert_array_equal(out.steps, [0, 1])
+    assert out.chi2 == 15.0 and out.chi2.shape == ()

@@ -82,7 +82,7 @@ def test_probes_match_circuit_derivation_not_printed_numerator():
     v_f, q_f, printed = _divider(THESIS, f)
     np.testing.assert_allclose(np.asarray(meyer.finger_voltage(THESIS, f)), v_f, rtol=1e-10)
     np.testing.assert_allclose(np.asarray(meyer.leaked_charge(THESIS, f)), q_f, rtol=1e-10)
-    # the printed eq 3.12 numerator differs from the circuit (PHYSICS.md)
+    # the printed eq 3.12 numerator differs from the circuit (docs/physics.md)
     assert np.max(np.abs(printed / v_f - 1)) > 0.1
 
 

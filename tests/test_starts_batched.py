@@ -14,7 +14,7 @@ import pytest
 
 import impedax as ix
 from impedax.circuits import DEFAULT_REGISTRY
-from impedax.fitting.least_squares.single import _guess_start
+from impedax.fitting.least_squares.starts import guess_start
 from impedax.fitting.parameters import ParameterTable
 from impedax.fitting.least_squares.starts import SpectrumFeatures, _clip_inside, _roles, data_driven_guess, data_driven_guesses, random_starts
 
@@ -371,8 +371,8 @@ def test_guess_start_gives_one_start_per_spectrum():
     freq = GRIDS["60 rising"]
     z = _stack(freq, np.random.default_rng(3), per_kind=2)
     circuit, table = _table("R0 + R1 || CPE1 + R2 || CPE2", "fixed")
-    stacked = _guess_start(circuit, table, SpectrumFeatures(freq, z), DEFAULT_REGISTRY)
-    one_by_one = np.concatenate([_guess_start(circuit, table, SpectrumFeatures(freq, row), DEFAULT_REGISTRY) for row in z])
+    stacked = guess_start(circuit, table, SpectrumFeatures(freq, z), DEFAULT_REGISTRY)
+    one_by_one = np.concatenate([guess_start(circuit, table, SpectrumFeatures(freq, row), DEFAULT_REGISTRY) for row in z])
     assert stacked.shape == (len(z), int((~table.fixed).sum()))
     np.testing.assert_allclose(stacked, one_by_one, rtol=RTOL)
 

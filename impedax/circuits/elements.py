@@ -3,7 +3,7 @@
 An element is one declaration: symbol, name, equation, parameters (unit, default, bounds,
 description) and a pure JAX impedance function ``impedance(omega, *params) -> complex``.
 The registry is an immutable value; `Registry.register` returns a new registry.
-Formulas: ../shared/PHYSICS.md, "Element formulas" (time dependence e^{jωt}).
+Formulas: docs/physics.md, "Element formulas" (time dependence e^{jωt}).
 """
 
 from __future__ import annotations

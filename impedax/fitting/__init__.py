@@ -25,4 +25,4 @@ from .diagnosis import (
 )
 from .kk import KKBatchResult as KKBatchResult, KKResult as KKResult, kk_test as kk_test, kk_test_batch as kk_test_batch
 from .least_squares import BatchFitResult as BatchFitResult, FitResult as FitResult, WEIGHTINGS as WEIGHTINGS, fit as fit
-from .least_squares.single import information_criteria as information_criteria
+from .statistics import information_criteria as information_criteria

@@ -12,7 +12,7 @@ import xarray as xr
 
 from ..circuits import Circuit, Element
 from ..errors import FitError
-from .least_squares.single import FitResult
+from .least_squares import FitResult
 
 __all__ = ["compare", "Comparison", "is_nested"]
 

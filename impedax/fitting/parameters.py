@@ -3,11 +3,11 @@
 A bounded parameter x is fitted through an unconstrained u (lmfit's idea, with a log scale
 for positive quantities that span decades):
 
-* kind 0, (0, ∞):          x = e^u
-* kind 1, (a, b), 0 < a:   log x = log a + (log b − log a)·s(u),  s = logistic
-* kind 2, (a, b), a ≤ 0 or a fraction (unit "1"): x = a + (b − a)·s(u)
-* kind 3, (a, ∞), a > 0:   x = a + e^u
-* kind 4, (−∞, ∞):         x = u
+* `Transform.LOG`,          (0, ∞):          x = e^u
+* `Transform.LOG_LOGISTIC`, (a, b), 0 < a:   log x = log a + (log b − log a)·s(u),  s = logistic
+* `Transform.LOGISTIC`,     (a, b), a ≤ 0 or a fraction (unit "1"): x = a + (b − a)·s(u)
+* `Transform.SHIFTED_LOG`,  (a, ∞), a > 0:   x = a + e^u
+* `Transform.IDENTITY`,     (−∞, ∞):         x = u
 """
 
 from __future__ import annotations
@@ -15,6 +15,7 @@ from __future__ import annotations
 import functools
 
 import difflib
+import enum
 import math
 from dataclasses import dataclass
 from typing import Mapping
@@ -25,7 +26,30 @@ import numpy as np
 from ..circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ..errors import FitError, ParameterError
 
-__all__ = ["ParameterTable", "to_external", "external_of_kind", "to_internal"]
+__all__ = ["ParameterTable", "Transform", "to_external", "external_of_kind", "to_internal"]
+
+
+class Transform(enum.IntEnum):
+    """How a parameter x is reached from the solver's unconstrained u (module docstring).
+    Integer-valued: tables keep them in integer arrays and compiled solvers specialise on them."""
+
+    LOG = 0
+    LOG_LOGISTIC = 1
+    LOGISTIC = 2
+    SHIFTED_LOG = 3
+    IDENTITY = 4
+
+    @classmethod
+    def for_bounds(cls, lower: float, upper: float, unit: str) -> "Transform":
+        if math.isinf(lower) and math.isinf(upper):
+            return cls.IDENTITY
+        if lower == 0 and math.isinf(upper):
+            return cls.LOG
+        if lower > 0 and math.isinf(upper):
+            return cls.SHIFTED_LOG
+        if lower > 0 and unit != "1":
+            return cls.LOG_LOGISTIC
+        return cls.LOGISTIC
 
 
 @dataclass(frozen=True, eq=False)
@@ -36,7 +60,7 @@ class ParameterTable:
     units: tuple[str, ...]
     lower: np.ndarray
     upper: np.ndarray
-    kind: np.ndarray
+    kind: np.ndarray  # `Transform` values
     fixed: np.ndarray  # bool
     values: np.ndarray  # fixed values and user starts (NaN where no start was given)
 
@@ -53,8 +77,8 @@ class ParameterTable:
     @functools.cached_property
     def free_structure(self) -> tuple[tuple[int, ...], tuple[int, ...]]:
         """(positions, transform kinds) of the free parameters, as hashable tuples: what a
-        compiled solver specialises on (`_core.tree_solver`)."""
-        return tuple(self.free_index.tolist()), tuple(self.kind[self.free_index].tolist())
+        compiled solver specialises on (`least_squares.solvers.tree_solver`)."""
+        return tuple(self.free_index.tolist()), tuple(Transform(k) for k in self.kind[self.free_index].tolist())
 
     @classmethod
     def build(
@@ -97,19 +121,7 @@ class ParameterTable:
                     raise ParameterError(f"{what}: {name}={value:g} is outside its bounds ({lower[i]:g}, {upper[i]:g}{']' if inclusive[i] else ')'}")
                 values[i] = value
                 is_fixed[i] |= what == "fixed"
-        kind = np.zeros(len(names), np.int32)
-        for i, n in enumerate(names):
-            lo, hi = lower[i], upper[i]
-            if math.isinf(lo) and math.isinf(hi):
-                kind[i] = 4
-            elif lo == 0 and math.isinf(hi):
-                kind[i] = 0
-            elif lo > 0 and math.isinf(hi):
-                kind[i] = 3
-            elif lo > 0 and specs[n].unit != "1":
-                kind[i] = 1
-            else:
-                kind[i] = 2
+        kind = np.array([Transform.for_bounds(lower[i], upper[i], specs[n].unit) for i, n in enumerate(names)], np.int32)
         if is_fixed.all():
             raise FitError("every parameter is fixed; nothing to fit")
         return cls(names, tuple(specs[n].unit for n in names), lower, upper, kind, is_fixed, values)
@@ -121,24 +133,23 @@ def _logistic(u):
 
 def to_external(u, lower, upper, kind):
     """Unconstrained u → parameter x (elementwise; JAX). See the module docstring."""
-    out = external_of_kind(u, lower, upper, 0)
-    for k in range(1, 5):
+    out = external_of_kind(u, lower, upper, Transform.LOG)
+    for k in list(Transform)[1:]:
         out = jnp.where(kind == k, external_of_kind(u, lower, upper, k), out)
     return out
 
 
-def external_of_kind(u, lower, upper, kind: int):
-    """`to_external` for one transform ``kind`` known when tracing (a Python int): only that
-    formula is traced."""
-    if kind == 0:
+def external_of_kind(u, lower, upper, kind: Transform):
+    """`to_external` for one transform ``kind`` known when tracing: only that formula is traced."""
+    if kind == Transform.LOG:
         return jnp.exp(u)
-    if kind == 4:
+    if kind == Transform.IDENTITY:
         return u
     finite_lo = jnp.where(jnp.isfinite(lower), lower, 0.0)
-    if kind == 3:
+    if kind == Transform.SHIFTED_LOG:
         return finite_lo + jnp.exp(u)
     finite_hi = jnp.where(jnp.isfinite(upper), upper, 1.0)
-    if kind == 2:
+    if kind == Transform.LOGISTIC:
         return finite_lo + (finite_hi - finite_lo) * _logistic(u)
     pos_lo = jnp.where(finite_lo > 0, finite_lo, 1.0)
     pos_hi = jnp.where(finite_hi > pos_lo, finite_hi, pos_lo * 10.0)
@@ -158,4 +169,5 @@ def to_internal(x, lower, upper, kind) -> np.ndarray:
         u1 = logit((np.log(x) - np.log(lower)) / (np.log(upper) - np.log(lower)), 1e-9)
         u2 = logit((x - lower) / (upper - lower), 1e-6)
         u3 = np.log(np.maximum(x - lower, 1e-300))
-    return np.select([kind == 0, kind == 1, kind == 2, kind == 3], [u0, u1, u2, u3], x)
+    t = Transform
+    return np.select([kind == t.LOG, kind == t.LOG_LOGISTIC, kind == t.LOGISTIC, kind == t.SHIFTED_LOG], [u0, u1, u2, u3], x)

@@ -1,6 +1,7 @@
 """The one set-up every fitting method shares: a spectrum from a path or a Dataset, checked,
 with its frequency band selected (``fmin``/``fmax``) and, for methods that take one spectrum,
-extra dimensions refused with a message that says what to do."""
+extra dimensions refused with a message that says what to do; the parameter table; the
+weighting of the residuals."""
 
 from __future__ import annotations
 
@@ -10,8 +11,17 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
+from ..circuits import Circuit, parse
 from ..data import validate_spectrum
-from ..errors import DataError
+from ..errors import DataError, FitError, ParameterError
+from .parameters import ParameterTable
+
+WEIGHTINGS = {
+    "unit": "no weighting: absolute residuals Z_model − Z_data [Ω]",
+    "modulus": "both parts divided by |Z_data| (relative error; the default)",
+    "proportional": "Re divided by |Re Z_data| and Im by |Im Z_data| separately",
+    "sigma": "divided by the per-point standard deviation `sigma` of the data (true chi²)",
+}
 
 
 @dataclass(frozen=True, eq=False)
@@ -61,3 +71,59 @@ def open_spectrum(data: xr.Dataset | str | os.PathLike, *, fmin: float | None = 
             path=source,
         )
     return spectrum
+
+
+@dataclass(frozen=True, eq=False)
+class FitProblem:
+    """A circuit, the spectrum it is fitted to (band selected), its parameter table and the
+    data's source (for messages)."""
+
+    circuit: Circuit
+    data: xr.Dataset
+    table: ParameterTable
+    source: str
+
+
+def prepare_fit(circuit, data, *, init, fixed, bounds, fmin, fmax, registry) -> FitProblem:
+    """The set-up of every least-squares method: the circuit parsed, the spectrum loaded and
+    band-selected, the parameter table built, and enough data for the free parameters."""
+    circuit = parse(circuit, registry)
+    spectrum = open_spectrum(data, fmin=fmin, fmax=fmax)
+    data, source = spectrum.data, spectrum.source
+    table = ParameterTable.build(circuit, registry=registry, init=init, fixed=fixed, bounds=bounds)
+    n_points = data.sizes["frequency"]
+    k = int((~table.fixed).sum())
+    if k >= 2 * n_points:
+        raise FitError(f"{k} free parameters but only {2 * n_points} real data values ({n_points} frequencies); fix parameters or use more data")
+    return FitProblem(circuit, data, table, source)
+
+
+def weights(z: np.ndarray, sigma: np.ndarray | None, weighting: str, source: str):
+    """Inverse weights (1/w_re, 1/w_im) of the real and imaginary residuals for `WEIGHTINGS`."""
+    if weighting not in WEIGHTINGS:
+        raise ParameterError(f"unknown weighting {weighting!r}; choose one of {', '.join(WEIGHTINGS)}")
+    if weighting == "unit":
+        w_re = w_im = np.ones(z.shape)
+    elif weighting == "modulus":
+        w_re = w_im = np.abs(z)
+    elif weighting == "proportional":
+        floor = 1e-9 * np.abs(z)
+        w_re, w_im = np.maximum(np.abs(z.real), floor), np.maximum(np.abs(z.imag), floor)
+    else:
+        if sigma is None:
+            raise DataError("weighting='sigma' needs a 'sigma' variable in the data (e.g. the SEM of repeated trials)", path=source)
+        w_re = w_im = sigma
+    if np.any(~np.isfinite(w_re) | (w_re <= 0)) or np.any(~np.isfinite(w_im) | (w_im <= 0)):
+        raise DataError(f"weighting {weighting!r}: zero or non-finite weights (|Z| = 0 somewhere?)", path=source)
+    return 1.0 / w_re, 1.0 / w_im
+
+
+def residual_scale(z, inv_re, inv_im, weighting: str) -> np.ndarray:
+    """A constant per spectrum that brings the weighted residuals to the size of relative
+    ones (exactly 1 for modulus weighting). Levenberg–Marquardt's damping is absolute, so
+    with residuals of 1e10 Ω (unit weighting of teraohm data) it would take undamped
+    Gauss–Newton jumps; the minimiser is unchanged and chi² and the Jacobian are scaled back."""
+    if weighting == "modulus":
+        return np.ones(np.shape(z)[:-1])
+    typical = np.median(np.abs(z) * np.sqrt(0.5 * (np.asarray(inv_re) ** 2 + np.asarray(inv_im) ** 2)), axis=-1)
+    return 1.0 / np.where(np.isfinite(typical) & (typical > 0), typical, 1.0)

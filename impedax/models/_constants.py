@@ -1,7 +1,7 @@
 """Physical constants shared by the paper models (SI)."""
 
 EPSILON_0 = 8.8541878128e-12
-"""Vacuum permittivity ε0 [F/m] (CODATA 2018, the value in PHYSICS.md)."""
+"""Vacuum permittivity ε0 [F/m] (CODATA 2018; docs/physics.md, "Conventions")."""
 
 EPSILON_AIR = 1.00059
 """Relative permittivity of air used by Sirin et al. for the gap."""

@@ -199,7 +199,7 @@ def _probes(variant: str):
 def finger_voltage(params: Mapping[str, object], freq, *, variant: str = "rc"):
     """V_F/V_A: voltage from the ITO to the finger tissue (across C_i and the stratum corneum)
     per volt of drive, from the solved circuit (thesis eq 3.12 derived from A.1; the printed
-    numerator of eq 3.12/A.2 is wrong, see PHYSICS.md). Pure JAX, vmappable over draws."""
+    numerator of eq 3.12/A.2 is wrong, see docs/physics.md, "Meyer"). Pure JAX, vmappable over draws."""
     return _probes(_check_variant(variant))[0](params, freq)
 
 

@@ -26,7 +26,7 @@ __all__ = [
     "EPSILON_0",
 ]
 
-EPSILON_0 = 8.8541878128e-12  # F/m (PHYSICS.md)
+EPSILON_0 = 8.8541878128e-12  # F/m (docs/physics.md, "Conventions")
 
 
 @dataclass(frozen=True)

@@ -2,4 +2,5 @@
 and many candidate circuits fitted through one compiled program (used by the diagnosis)."""
 
 from .batch import BatchFitResult as BatchFitResult
-from .single import WEIGHTINGS as WEIGHTINGS, FitResult as FitResult, fit as fit
+from .result import FitResult as FitResult
+from .single import WEIGHTINGS as WEIGHTINGS, fit as fit

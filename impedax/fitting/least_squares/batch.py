@@ -17,12 +17,13 @@ import numpy as np
 import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
-from .solvers import _MAX_STEPS_CODE, SCREEN_STEPS, SPECTRUM_KEYS, tree_solver
-from .order import canonical_order
-from .single import _args, _guess_start, _null_sets, _to_internal, _result, _starts_from, _weights, at_noise_floor, covariances, fit_notes, stack_notes, _better, _unscale, residual_scale
-from .single import SINGULAR_RATIO_LIMIT
-from .starts import SpectrumFeatures
 from ..parameters import ParameterTable
+from ..problem import residual_scale, weights
+from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, information_criteria, null_sets
+from .order import canonical_order
+from .result import fit_notes, fit_result, stack_notes
+from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, better, tree_solver, unscale
+from .starts import SpectrumFeatures, guess_start, multistart, to_solver_space
 
 __all__ = ["BatchFitResult", "fit_batch"]
 
@@ -87,31 +88,32 @@ class BatchFitResult:
         return "\n".join(lines)
 
 
-def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source) -> tuple[dict, np.ndarray]:
+def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source) -> tuple[SolverOutput, np.ndarray]:
     """Solver outputs (arrays over B) for a stack of spectra z (B, N), and the starts used.
 
     As `fit`: every spectrum from its data-driven guess first, then the multistart for those
     whose fit is not at the noise level (their starts screened for `SCREEN_STEPS` steps, the
-    best continued to convergence). All solves go through the lane solver (`_make_lanes`)."""
+    best continued to convergence). All solves go through the lane solver (`lm.work_queue`)."""
     b = z.shape[0]
-    inv_re, inv_im = _weights(z, sigma, weighting, source)
+    inv_re, inv_im = weights(z, sigma, weighting, source)
     features = SpectrumFeatures(freq, z)
     _, lanes, finish, chi2_at = tree_solver(circuit, registry, max_steps, *table.free_structure)
     scale = residual_scale(z, inv_re, inv_im, weighting)
-    shared = {k: v for k, v in _args(table, freq, z[0], inv_re[0], inv_im[0]).items() if k not in SPECTRUM_KEYS}
+    free = table.free_index
+    shared = SharedArgs(np.asarray(freq, float), table.lower[free], table.upper[free])
     x_fixed = np.where(np.isnan(table.values), 1.0, table.values)
-    rows = {"z": z, "inv_w_re": inv_re * scale[:, None], "inv_w_im": inv_im * scale[:, None], "x_fixed": np.broadcast_to(x_fixed, (b, x_fixed.size))}
+    rows = SpectrumRows(z, inv_re * scale[:, None], inv_im * scale[:, None], np.broadcast_to(x_fixed, (b, x_fixed.size)))
     solver = _LaneRunner(lanes, finish, chi2_at, rows, shared)
 
-    guesses = _guess_start(circuit, table, features, registry)
+    guesses = guess_start(circuit, table, features, registry)
     if b >= REFERENCE_MIN_SPECTRA:
         guesses = _with_reference_start(guesses, solver, circuit, table, freq, z, sigma, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
     u, chi2, done, steps = solver.solve(guesses, np.arange(b), np.full(b, max_steps))
-    out = _unscale(solver.outputs(u, np.arange(b), done, steps, steps), scale)
-    poor = np.flatnonzero(~at_noise_floor(freq, z, out["z_model"], inv_re, inv_im, out["code"])) if n_starts > 1 else np.zeros(0, int)
+    out = unscale(solver.outputs(u, np.arange(b), done, steps, steps), scale)
+    poor = np.flatnonzero(~at_noise_floor(freq, z, out.z_model, inv_re, inv_im, out.code)) if n_starts > 1 else np.zeros(0, int)
     used = np.ones(b, int)
     if poor.size:  # (the multistart's starts are built only for these)
-        starts = _starts_from(circuit, table, features[poor], n_starts, seed, registry).reshape(poor.size * n_starts, -1)
+        starts = multistart(circuit, table, features[poor], n_starts, seed, registry).reshape(poor.size * n_starts, -1)
         owner = np.repeat(poor, n_starts)
         u_s, chi2_s, _, steps_s = solver.solve(starts, owner, np.full(owner.size, SCREEN_STEPS))
         chi2_s = np.where(np.isfinite(chi2_s), chi2_s, np.inf).reshape(poor.size, n_starts)
@@ -119,9 +121,10 @@ def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n
         u_best = u_s.reshape(poor.size, n_starts, -1)[np.arange(poor.size), best]
         u_m, _, done_m, steps_m = solver.solve(u_best, poor, np.full(poor.size, max_steps))
         screened = steps_s.reshape(poor.size, n_starts).sum(axis=1)
-        multi = _unscale(solver.outputs(u_m, poor, done_m, steps_m, screened + steps_m), scale[poor])
-        for k, v in _better({k: v[poor] for k, v in out.items()}, multi).items():
-            out[k][poor] = v  # (`outputs` gives arrays of our own)
+        multi = unscale(solver.outputs(u_m, poor, done_m, steps_m, screened + steps_m), scale[poor])
+        for mine, theirs in zip(out, better(out.row(poor), multi)):
+            if theirs is not None:
+                mine[poor] = theirs  # (`outputs` gives arrays of our own)
         used[poor] = n_starts
     return out, used
 
@@ -138,9 +141,9 @@ def _with_reference_start(guesses, solver, circuit, table, freq, z, sigma, **opt
     log_mag = np.log(np.abs(z))
     typical = int(np.argmin(np.sum((log_mag - np.median(log_mag, axis=0)) ** 2, axis=1)))
     reference, _ = _solve_stack(circuit, table, freq, z[typical : typical + 1], None if sigma is None else sigma[typical : typical + 1], **options)
-    if not np.isfinite(reference["chi2"][0]):
+    if not np.isfinite(reference.chi2[0]):
         return guesses
-    u_ref = np.broadcast_to(_to_internal(table, reference["x"][0]), guesses.shape)
+    u_ref = np.broadcast_to(to_solver_space(table, reference.x[0]), guesses.shape)
     spectra = np.arange(len(z))
     chi2_ref, chi2_guess = solver.chi2_at([u_ref, guesses], spectra)
     take = chi2_ref < chi2_guess
@@ -152,7 +155,7 @@ class _LaneRunner:
     serves any batch size; at least one chunk per core, dispatched together so they run in
     parallel), then continues problems left open by the many-lane pass on a few lanes."""
 
-    def __init__(self, lanes, finish, chi2, rows: dict, shared: dict):
+    def __init__(self, lanes, finish, chi2, rows: SpectrumRows, shared: SharedArgs):
         self.lanes, self.finish, self.chi2, self.rows, self.shared = lanes, finish, chi2, rows, shared
         self._placed: dict = {}
         self._shared_placed: dict = {}
@@ -170,7 +173,7 @@ class _LaneRunner:
             pad = np.concatenate([used, np.full(capacity - used.size, used[0])])
             if device.id not in self._shared_placed:  # (placed once per device: every chunk's are the same)
                 self._shared_placed[device.id] = jax.device_put(self.shared, device)
-            rows = jax.device_put({k: np.ascontiguousarray(v[pad]) for k, v in self.rows.items()}, device), self._shared_placed[device.id]
+            rows = jax.device_put(SpectrumRows(*(np.ascontiguousarray(v[pad]) for v in self.rows)), device), self._shared_placed[device.id]
             self._placed[key] = rows, np.concatenate([local, np.zeros(capacity - spectrum.size, int)]).astype(np.int32)
         return self._placed[key]
 
@@ -215,33 +218,33 @@ class _LaneRunner:
         parts = self._per_spectrum(lambda *a: tuple(self.chi2(u, *a[-3:]) for u in a[:-3]), [np.asarray(u, float) for u in points], spectrum)
         return [np.nan_to_num(np.concatenate([p[i] for p in parts]), nan=np.inf) for i in range(len(points))]
 
-    def outputs(self, u, spectrum, done, steps, steps_total) -> dict:
-        """Solver outputs at solutions ``u`` of spectra ``spectrum`` (as `_core._finish`), each
+    def outputs(self, u, spectrum, done, steps, steps_total) -> SolverOutput:
+        """Solver outputs at solutions ``u`` of spectra ``spectrum`` (as `solvers._finish`), each
         a new array (not a view of another or of an argument: callers may update them)."""
         parts = self._per_spectrum(self.finish, [u], spectrum)
-        out = {k: np.concatenate([p[k] for p in parts]) for k in parts[0] if k != "x_free"}
-        out.update(code=np.where(done, 0, _MAX_STEPS_CODE), steps=np.array(steps), steps_total=np.array(steps_total), chi2_starts=out["chi2"][:, None].copy())
-        return out
+        out = SolverOutput(*(None if first is None else np.concatenate([p[i] for p in parts]) for i, first in enumerate(parts[0])))
+        code = np.where(done, int(SolverStatus.CONVERGED), int(SolverStatus.MAX_STEPS))
+        return out._replace(code=code, steps=np.array(steps), steps_total=np.array(steps_total), chi2_starts=out.chi2[:, None].copy())
 
 
 def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source) -> tuple[np.ndarray, list[tuple[str, ...]]]:
     """One row per spectrum (values, stderr, chi2, converged, evaluations, Re/Im of Z_model)
     and its warnings, without a FitResult per spectrum: the uncertainties of all spectra in
     one stacked computation (`covariances`), their warnings too (`stack_notes`); only spectra
-    that overflowed or did not converge go through `_result`."""
+    that overflowed or did not converge go through `fit_result`."""
     out, used = _solve_stack(circuit, table, freq, z, sigma, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
     out = canonical_order(circuit, table, freq, out, registry)
     b, k, n_res = z.shape[0], len(table.free_names), 2 * len(freq)
-    chi2 = np.array(out["chi2"], float)  # copies: device_get's arrays are read-only
-    finite = np.isfinite(chi2) & np.all(np.isfinite(out["z_model"]), axis=-1)
-    converged = finite & (np.asarray(out["code"]) == 0)
-    values = np.array(out["x"], float)
+    chi2 = np.array(out.chi2, float)  # copies: device_get's arrays are read-only
+    finite = np.isfinite(chi2) & np.all(np.isfinite(out.z_model), axis=-1)
+    converged = finite & (np.asarray(out.code) == SolverStatus.CONVERGED)
+    values = np.array(out.x, float)
     stderr = np.full(values.shape, np.nan)
-    odd = ~converged  # these get `_result`'s handling of overflow and non-convergence
+    odd = ~converged  # these get `fit_result`'s handling of overflow and non-convergence
     notes: list[tuple[str, ...]] = [()] * b
     corr, singular = np.zeros((b, k, k)), np.zeros(b, bool)
     if k:
-        jac = out["jacobian"] if finite.all() else np.where(finite[:, None, None], out["jacobian"], 0.0)
+        jac = out.jacobian if finite.all() else np.where(finite[:, None, None], out.jacobian, 0.0)
         cov, corr, sv, vt = covariances(jac, chi2 / (n_res - k) if n_res > k else np.full(b, np.nan), weighting)
         stderr[:, table.free_index] = np.sqrt(np.clip(np.einsum("bii->bi", cov), 0, None))
         singular = np.any(sv < SINGULAR_RATIO_LIMIT * sv[:, :1], axis=1)
@@ -252,15 +255,15 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
         notes[plain[row]] = note
     names = table.names
     for i in np.flatnonzero(~odd & singular).tolist():
-        null_sets, ratio = _null_sets(sv[i], vt[i], table.free_names)
-        notes[i] = fit_notes(table, dict(zip(names, values[i].tolist())), dict(zip(names, stderr[i].tolist())), corr[i], null_sets, ratio, finite=True, converged=True, message="")
-    z_model = np.array(out["z_model"])
+        groups, ratio = null_sets(sv[i], vt[i], table.free_names)
+        notes[i] = fit_notes(table, dict(zip(names, values[i].tolist())), dict(zip(names, stderr[i].tolist())), corr[i], groups, ratio, finite=True, converged=True, message="")
+    z_model = np.array(out.z_model)
     for i in np.flatnonzero(odd):
-        r = _result(circuit, table, freq, z[i], {key: val[i] for key, val in out.items()}, weighting, int(used[i]), 0.0, registry)
+        r = fit_result(circuit, table, freq, z[i], out.row(i), weighting, int(used[i]), 0.0, registry)
         values[i] = [r.values[n] for n in names]
         stderr[i] = [r.stderr[n] for n in names]
         chi2[i], converged[i], z_model[i], notes[i] = r.chi2, r.converged, r.z_model, r.warnings
-    stats = np.stack([chi2, converged.astype(float), np.asarray(out["steps_total"], float)], axis=-1)
+    stats = np.stack([chi2, converged.astype(float), np.asarray(out.steps_total, float)], axis=-1)
     return np.concatenate([values, stderr, stats, z_model.real, z_model.imag], axis=-1), notes
 
 
@@ -321,8 +324,7 @@ def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weig
         rms_rel = np.sqrt(np.mean(np.abs(rel) ** 2, axis=-1))
     k = int((~table.fixed).sum())
     n_res = 2 * n_freq
-    base = n_res * np.log(np.maximum(chi2, 1e-300) / n_res)  # as `information_criteria`, over arrays
-    aic, bic = base + 2 * k, base + k * np.log(n_res)
+    aic, bic = information_criteria(chi2, n_res, k)
     param_first = lambda a: np.moveaxis(a, -1, 0)  # noqa: E731
     ds = xr.Dataset(
         {

@@ -18,9 +18,10 @@ import xarray as xr
 
 from ...circuits import Circuit, CircuitProgram, DEFAULT_REGISTRY, ProgramLayout, Registry, default_theta, parse
 from ...errors import FitError
-from .solvers import program_solver
-from .single import FitResult, _prepare, _result, _weights
-from ..parameters import to_internal
+from ..parameters import Transform, to_internal
+from ..problem import prepare_fit, weights
+from .result import FitResult, fit_result
+from .solvers import SolverArgs, SolverOutput, program_solver
 from .starts import SpectrumFeatures, data_driven_guess, random_starts
 
 __all__ = ["fit_candidates"]
@@ -85,17 +86,17 @@ def fit_candidates(
         starts = [{k: v for k, v in (one or {}).items() if k in circuit.parameter_names(registry) and k not in mine} for one in starts] or [{}]
         start = starts[0]
         warm.append([_inside(circuit, one, registry) for one in starts[1:]])
-        prepared.append(_prepare(circuit, data, init=_inside(circuit, start, registry), fixed=mine, bounds=None, weighting=weighting, fmin=fmin, fmax=fmax, registry=registry))
-    data_sel = prepared[0][1]
+        prepared.append(prepare_fit(circuit, data, init=_inside(circuit, start, registry), fixed=mine, bounds=None, fmin=fmin, fmax=fmax, registry=registry))
+    data_sel = prepared[0].data
     if any(d != "frequency" for d in data_sel["Z"].dims):
         raise FitError("fit_candidates fits one spectrum; select or average the extra dimensions first")
     freq = np.asarray(data_sel["frequency"].values, float)
     z = np.asarray(data_sel["Z"].values, complex)
     sigma = np.asarray(data_sel["sigma"].values, float) if "sigma" in data_sel else None
-    inv_re, inv_im = _weights(z, sigma, weighting, prepared[0][3])
+    inv_re, inv_im = weights(z, sigma, weighting, prepared[0].source)
     layout = layout if layout is not None else _shared_layout(circuits, registry)
     programs = [CircuitProgram.build(c, registry, layout) for c in circuits]
-    k_need = max(int((~t.fixed).sum()) for _, _, t, _ in prepared)
+    k_need = max(int((~p.table.fixed).sum()) for p in prepared)
     k_pad = max(k_pad or 0, _bucket(k_need, _K_BUCKETS))
     seeds = list(seeds) if seeds is not None else [seed] * len(circuits)
     if len(seeds) != len(circuits):
@@ -103,7 +104,8 @@ def fit_candidates(
     n_flat = layout.n_slots * 4
     features = SpectrumFeatures(freq, z)
     rows = []
-    for (circuit, _, table, _), program, extra, seed_i in zip(prepared, programs, warm, seeds):
+    for problem, program, extra, seed_i in zip(prepared, programs, warm, seeds):
+        circuit, table = problem.circuit, problem.table
         flat = np.array([s * 4 + i for s, i in (program.parameter_slots[n] for n in table.names)])
         x_fixed = default_theta(layout).ravel()
         guess = data_driven_guess(circuit, table, features, registry)
@@ -126,7 +128,7 @@ def fit_candidates(
                 "free_index": pad(flat[free].astype(np.int32), n_flat),
                 "lower": pad(table.lower[free], -np.inf),
                 "upper": pad(table.upper[free], np.inf),
-                "kind": pad(table.kind[free], 4),
+                "kind": pad(table.kind[free], Transform.IDENTITY),
                 "x_fixed": x_fixed,
                 "program": program.arrays(),
                 "flat": flat,
@@ -136,31 +138,28 @@ def fit_candidates(
     n_total = max(pad_to or 0, -(-n_real // _C_BUCKET) * _C_BUCKET)
     rows += [rows[-1]] * (n_total - n_real)  # pad the candidate count (results discarded)
     stack = lambda key: jnp.asarray(np.stack([r[key] for r in rows]))  # noqa: E731
-    args = {
-        "freq": jnp.broadcast_to(jnp.asarray(freq), (n_total, freq.size)),
-        "z": jnp.broadcast_to(jnp.asarray(z), (n_total, z.size)),
-        "inv_w_re": jnp.broadcast_to(jnp.asarray(inv_re), (n_total, z.size)),
-        "inv_w_im": jnp.broadcast_to(jnp.asarray(inv_im), (n_total, z.size)),
-        "x_fixed": stack("x_fixed"),
-        "free_index": stack("free_index"),
-        "lower": stack("lower"),
-        "upper": stack("upper"),
-        "kind": stack("kind"),
-        "model_args": {key: jnp.stack([r["program"][key] for r in rows]) for key in rows[0]["program"]},
-    }
-    if single_phase:
-        args["max_steps"] = jnp.full((n_total,), min(step_limit or max_steps, max_steps), jnp.int64)
+    args = SolverArgs(
+        freq=jnp.broadcast_to(jnp.asarray(freq), (n_total, freq.size)),
+        z=jnp.broadcast_to(jnp.asarray(z), (n_total, z.size)),
+        inv_w_re=jnp.broadcast_to(jnp.asarray(inv_re), (n_total, z.size)),
+        inv_w_im=jnp.broadcast_to(jnp.asarray(inv_im), (n_total, z.size)),
+        x_fixed=stack("x_fixed"),
+        free_index=stack("free_index"),
+        lower=stack("lower"),
+        upper=stack("upper"),
+        kind=stack("kind"),
+        model_args={key: jnp.stack([r["program"][key] for r in rows]) for key in rows[0]["program"]},
+        max_steps=jnp.full((n_total,), min(step_limit or max_steps, max_steps), jnp.int64) if single_phase else None,
+    )
     _, many = program_solver(layout, max_steps, bool(single_phase))
-    out = {k: np.asarray(v) for k, v in many(stack("starts"), args).items()}
+    out = SolverOutput(*(None if v is None else np.asarray(v) for v in many(stack("starts"), args)))
     elapsed = (time.perf_counter() - t0) / n_real
     results = []
-    for i, ((circuit, _, table, _), row) in enumerate(zip(prepared, rows[:n_real])):
-        k = int((~table.fixed).sum())
-        one = {key: value[i] for key, value in out.items()}
-        one["x"] = one["x"][row["flat"]]
-        one["x_free"] = one["x_free"][:k]
-        one["jacobian"] = one["jacobian"][:, :k]
-        results.append(_result(circuit, table, freq, z, one, weighting, n_starts, elapsed, registry))
+    for i, (problem, row) in enumerate(zip(prepared, rows[:n_real])):
+        k = int((~problem.table.fixed).sum())
+        one = out.row(i)
+        one = one._replace(x=one.x[row["flat"]], jacobian=one.jacobian[:, :k])
+        results.append(fit_result(problem.circuit, problem.table, freq, z, one, weighting, n_starts, elapsed, registry))
     return results
 
 

@@ -104,17 +104,17 @@ def _plan(circuit: Circuit, names: tuple[str, ...], fixed: bytes, lower: bytes, 
     return plan, nested
 
 
-def canonical_order(circuit: Circuit, table, freq, out: dict, registry: Registry) -> dict:
+def canonical_order(circuit: Circuit, table, freq, out, registry: Registry):
     """Solver outputs with exchangeable blocks in order (see the module docstring): permutes
     ``x`` (…, P) and the Jacobian's columns (…, M, K); everything else is unchanged. Uses the
-    peak frequencies the solver returned (``out["peaks"]``) when it did."""
+    peak frequencies the solver returned (``out.peaks``, a `solvers.SolverOutput`) when it did."""
     plan, nested = _plan(circuit, table.names, table.fixed.tobytes(), table.lower.tobytes(), table.upper.tobytes(), registry)
     if not plan:
         return out
-    x = np.array(out["x"], float)
+    x = np.array(out.x, float)
     batch_shape, n_par = x.shape[:-1], x.shape[-1]
     x = x.reshape(-1, n_par)
-    given = None if nested or "peaks" not in out else np.asarray(out["peaks"]).reshape(x.shape[0], -1)
+    given = None if nested or out.peaks is None else np.asarray(out.peaks).reshape(x.shape[0], -1)
     order = np.tile(np.arange(n_par), (x.shape[0], 1))
     rows = np.arange(x.shape[0])[:, None]
     for columns, offset, batched in plan:  # outer groups first: an inner group is sorted where it has moved to
@@ -127,12 +127,10 @@ def canonical_order(circuit: Circuit, table, freq, out: dict, registry: Registry
     moved = np.flatnonzero(np.any(order != np.arange(n_par), axis=1))
     if not moved.size:
         return out  # already in order (the usual case)
-    out = dict(out, x=x.reshape(*batch_shape, n_par))
     free = table.free_index
     position = np.full(n_par, -1)
     position[free] = np.arange(free.size)
-    jac = np.array(out["jacobian"]).reshape(-1, *np.shape(out["jacobian"])[-2:])
+    jac = np.array(out.jacobian).reshape(-1, *np.shape(out.jacobian)[-2:])
     columns = position[order[moved][:, free]][:, None, :]
     jac[moved] = np.take_along_axis(jac[moved], np.broadcast_to(columns, (moved.size, *jac.shape[1:])), axis=-1)
-    out["jacobian"] = jac.reshape(np.shape(out["jacobian"]))
-    return out
+    return out._replace(x=x.reshape(*batch_shape, n_par), jacobian=jac.reshape(np.shape(out.jacobian)))

@@ -18,9 +18,9 @@ import functools
 import numpy as np
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Element, Parallel, Registry
-from ..parameters import ParameterTable
+from ..parameters import ParameterTable, to_internal
 
-__all__ = ["SpectrumFeatures", "data_driven_guess", "data_driven_guesses", "random_starts"]
+__all__ = ["SpectrumFeatures", "data_driven_guess", "data_driven_guesses", "random_starts", "guess_start", "multistart", "to_solver_space"]
 
 # features with one value per spectrum (scalars for one spectrum, arrays (B,) for a stack)
 _PER_SPECTRUM = ("z_min", "z_max", "r_hf", "r_lf", "f_peak", "c_series", "l_series", "alpha_lf", "warburg")
@@ -291,3 +291,22 @@ def random_starts(table: ParameterTable, features: SpectrumFeatures, guess: np.n
     starts[..., table.fixed] = table.values[table.fixed]
     starts = _clip_inside(starts, table)
     return starts if features._stacked else starts[0]
+
+
+def to_solver_space(table: ParameterTable, x: np.ndarray) -> np.ndarray:
+    """Parameter values (…, P) → the solver's unconstrained coordinates of the free ones (…, K)."""
+    free = table.free_index
+    return to_internal(x[..., free], table.lower[free], table.upper[free], table.kind[free])
+
+
+def guess_start(circuit, table, features, registry) -> np.ndarray:
+    """The data-driven guess as one start in the solver's space: shape (1, K) for one
+    spectrum's features, (B, K) for a stack's (one start per spectrum)."""
+    return to_solver_space(table, data_driven_guesses(circuit, table, features, registry))
+
+
+def multistart(circuit, table, features, n_starts, seed, registry) -> np.ndarray:
+    """``n_starts`` starts (the data-driven guess first, then random ones) in the solver's
+    space: shape (n_starts, K) for one spectrum's features, (B, n_starts, K) for a stack's."""
+    guess = data_driven_guess(circuit, table, features, registry)
+    return to_solver_space(table, random_starts(table, features, guess, n_starts, seed))

@@ -1,0 +1,205 @@
+"""impedax's own Levenberg–Marquardt iteration, and the work queue that runs many of them.
+
+Used where optimistix cannot be: candidate fits that must all stop on one rule
+(`solvers.program_solver`), and batch fits, whose lanes swap problems mid-loop — optimistix's
+solver state holds closures that cannot be swapped lane by lane. Single fits run optimistix's
+Levenberg–Marquardt (`solvers.tree_solver`).
+"""
+
+from __future__ import annotations
+
+from typing import Callable, NamedTuple
+
+import jax
+import jax.numpy as jnp
+
+__all__ = ["LMState", "lm_iteration", "levenberg_marquardt", "work_queue", "solve_damped", "UNROLLED_SOLVE_MAX"]
+
+UNROLLED_SOLVE_MAX = 12  # up to this many free parameters the damped system is solved inline
+
+
+class LMState(NamedTuple):
+    """One Levenberg–Marquardt start: the accepted point ``u`` with its normal equations
+    (``a`` = JᵀJ, ``g`` = Jᵀr, ``cost`` = ½‖r‖²), the trial point ``u_try`` and the cost
+    decrease ``pred`` the linear model predicts for it, the damping ``lam`` and its growth
+    factor ``nu``, the step count ``i``, ``done``, the running maximum ``dmax`` of diag(JᵀJ)
+    (Marquardt's scaling), and ``extra`` kept with the accepted point (see `lm_iteration`)."""
+
+    u: jax.Array
+    a: jax.Array
+    g: jax.Array
+    cost: jax.Array
+    u_try: jax.Array
+    pred: jax.Array
+    lam: jax.Array
+    nu: jax.Array
+    i: jax.Array
+    done: jax.Array
+    dmax: jax.Array
+    extra: tuple
+
+
+def solve_damped(a, b):
+    """x with a·x = b for the damped normal matrix a = JᵀJ + λD (symmetric positive definite).
+    Small systems by a Cholesky factorisation written out in scalar operations: under
+    ``vmap`` over solver lanes they fuse into a few vector loops, where a LAPACK call per
+    matrix costs more than the whole factorisation. A factorisation that breaks down (rounding
+    in a near-singular system) gives non-finite x, which the caller treats as a failed step."""
+    k = a.shape[-1]
+    if k > UNROLLED_SOLVE_MAX:
+        return jnp.linalg.solve(a, b)
+    low = [[None] * k for _ in range(k)]
+    for j in range(k):
+        low[j][j] = jnp.sqrt(a[j, j] - sum(low[j][m] ** 2 for m in range(j)))
+        for i in range(j + 1, k):
+            low[i][j] = (a[i, j] - sum(low[i][m] * low[j][m] for m in range(j))) / low[j][j]
+    y = [None] * k
+    for i in range(k):
+        y[i] = (b[i] - sum(low[i][m] * y[m] for m in range(i))) / low[i][i]
+    x = [None] * k
+    for i in reversed(range(k)):
+        x[i] = (y[i] - sum(low[m][i] * x[m] for m in range(i + 1, k))) / low[i][i]
+    return jnp.stack(x)
+
+
+def lm_iteration(normal: Callable, rtol: float = 1e-8, xtol: float = 1e-10, extra_init: Callable | None = None, inline_solve: bool = False):
+    """(init, step) of a dense Levenberg–Marquardt iteration for ½‖r(u)‖² with Marquardt
+    scaling and Nielsen's damping update (Madsen, Nielsen & Tingleff 2004, alg. 3.16);
+    ``normal(u, args) -> (JᵀJ, Jᵀr, ½‖r‖², extra)``; ``extra`` (``()`` or arrays whose shapes
+    ``extra_init(u0, args)`` gives) is kept with the accepted point, e.g. (J, r) for a model
+    whose Jacobian is expensive to trace again at the end. ``inline_solve``: the damped
+    system by `solve_damped` (faster per step under ``vmap``, slower to compile).
+
+    Each step linearises once at the trial point and keeps it only when the cost falls (the
+    state holds JᵀJ and Jᵀr, not J), so the model's Jacobian is traced once. A start is done
+    when an accepted step lowers the cost by less than ``rtol`` relatively, or the step is
+    below ``xtol``.
+    """
+
+    def init(u0, args) -> LMState:
+        k = u0.shape[0]
+        return LMState(
+            u=u0, a=jnp.zeros((k, k)), g=jnp.zeros(k), cost=jnp.asarray(jnp.inf), u_try=u0, pred=jnp.asarray(1.0),
+            lam=jnp.asarray(1e-3), nu=jnp.asarray(2.0), i=jnp.asarray(0), done=jnp.asarray(False), dmax=jnp.zeros(k),
+            extra=() if extra_init is None else extra_init(u0, args),
+        )
+
+    def step(s: LMState, args) -> LMState:
+        a_try, g_try, c_try, extra_try = normal(s.u_try, args)
+        c_try = jnp.where(jnp.isfinite(c_try) & jnp.all(jnp.isfinite(a_try)), c_try, jnp.inf)
+        first = s.i == 0
+        gain = s.cost - c_try
+        ok = first | ((gain > 0) & jnp.isfinite(c_try))
+        rho = gain / jnp.where(s.pred > 0, s.pred, 1.0)
+        lam = jnp.where(first, s.lam, jnp.where(ok, s.lam * jnp.maximum(1.0 / 3.0, 1.0 - (2.0 * rho - 1.0) ** 3), s.lam * s.nu))
+        nu = jnp.where(ok, 2.0, s.nu * 2.0)
+        keep = lambda new, old: jnp.where(ok, new, old)  # noqa: E731
+        u, cost = keep(s.u_try, s.u), keep(c_try, s.cost)
+        a, g = keep(a_try, s.a), keep(g_try, s.g)
+        extra = jax.tree_util.tree_map(keep, extra_try, s.extra)
+        dmax = jnp.maximum(jnp.diag(a), s.dmax)
+        d = jnp.where(dmax > 0, dmax, 1.0)  # padded parameters have zero columns
+        damped = a + lam * jnp.diag(d)
+        delta = -(solve_damped(damped, g) if inline_solve else jnp.linalg.solve(damped, g))
+        solved = jnp.all(jnp.isfinite(delta))  # if not, the next trial is u itself: rejected, more damping
+        delta = jnp.where(solved, delta, 0.0)
+        pred = 0.5 * jnp.dot(delta, lam * d * delta - g)
+        flat = ~first & ok & (gain <= rtol * s.cost)
+        tiny = solved & (jnp.sqrt(jnp.sum(delta**2)) <= xtol * (jnp.sqrt(jnp.sum(u**2)) + xtol))
+        done = s.done | flat | tiny | (lam > 1e15) | ~jnp.isfinite(cost)
+        new = LMState(u=u, a=a, g=g, cost=cost, u_try=u + delta, pred=pred, lam=lam, nu=nu, i=s.i + 1, done=done, dmax=dmax, extra=extra)
+        return jax.tree_util.tree_map(lambda a_, b_: jnp.where(s.done, b_, a_), new, s)  # a finished start stays put
+
+    return init, step
+
+
+def levenberg_marquardt(normal: Callable, u0, args, max_steps, *, rtol: float = 1e-8, xtol: float = 1e-10, inline_solve: bool = True):
+    """Minimise ½‖r(u)‖² from ``u0`` (see `lm_iteration`; by default the iteration of one lane
+    of `work_queue`); ``max_steps`` may be traced. Returns (u, chi² = ‖r‖², converged,
+    iterations)."""
+    init, step = lm_iteration(normal, rtol, xtol, inline_solve=inline_solve)
+    s = jax.lax.while_loop(lambda s: (s.i < max_steps) & ~s.done, lambda s: step(s, args), init(u0, args))
+    return s.u, 2.0 * s.cost, s.done, s.i
+
+
+class QueueOutput(NamedTuple):
+    """Per problem: the solution ``u``, its ``chi2``, whether it converged (``done``) and the
+    number of ``steps`` taken."""
+
+    u: jax.Array
+    chi2: jax.Array
+    done: jax.Array
+    steps: jax.Array
+
+
+def work_queue(normal_u: Callable, n_lanes: int, combine: Callable):
+    """A work-queue Levenberg–Marquardt solver for many independent problems (spectra, or
+    spectrum × start pairs). ``n_lanes`` problems iterate side by side (``vmap`` of one
+    `lm_iteration` step); when a lane's problem converges or spends its step budget, the result
+    is written out and the lane takes the next problem from the queue. Every lane does useful
+    work at every step, so a batch costs about its total number of steps, not its size times
+    the slowest problem's count (what a plain ``vmap`` of a solver loop costs).
+
+    ``solve(u0 (C, K), spectrum (C,), budget (C,), n_problems, rows, shared, drain)``: problem
+    p starts at ``u0[p]`` on the data of row ``spectrum[p]`` of ``rows`` (a pytree of arrays
+    over spectra; ``shared`` holds what all have in common, ``combine(shared, row)`` makes the
+    solver arguments of one problem) and may take ``budget[p]`` steps; only the first
+    ``n_problems`` are solved (the rest is padding, so one compilation serves any count). With
+    ``drain=False`` the loop stops once the queue is empty and at most ``n_lanes // 8`` lanes
+    still run: their problems come back unfinished (``done`` False), to be continued on fewer
+    lanes, so a few slow problems do not keep every lane busy. Returns a `QueueOutput` over
+    the C problems.
+    """
+    init, step = lm_iteration(normal_u, inline_solve=True)
+    lane_init = jax.vmap(init, in_axes=(0, None))
+
+    def solve(u0, spectrum, budget, n_problems, rows, shared, *, drain):
+        capacity = u0.shape[0]
+        lane_step = jax.vmap(lambda s, row: step(s, combine(shared, row)))
+
+        def load(pid):
+            clipped = jnp.minimum(pid, capacity - 1)
+            row = jax.tree_util.tree_map(lambda a: a[spectrum[clipped]], rows)
+            return lane_init(u0[clipped], None), row, budget[clipped]
+
+        def select(mask, new, old):
+            return jax.tree_util.tree_map(lambda a, b: jnp.where(mask.reshape(mask.shape + (1,) * (a.ndim - 1)), a, b), new, old)
+
+        def write(out: QueueOutput, pid, s: LMState, done) -> QueueOutput:
+            sink = jnp.where(pid < n_problems, pid, capacity)  # row `capacity` absorbs idle lanes
+            return QueueOutput(out.u.at[sink].set(s.u), out.chi2.at[sink].set(2.0 * s.cost), out.done.at[sink].set(done), out.steps.at[sink].set(s.i))
+
+        def running(carry):
+            _, pid, _, _, next_pid, _ = carry
+            active = pid < n_problems
+            few = jnp.sum(active) <= n_lanes // 8
+            return jnp.any(active) & (drain | (next_pid < n_problems) | ~few)
+
+        def body(carry):
+            s, pid, row, limit, next_pid, out = carry
+            s = lane_step(s, row)
+            finished = (pid < n_problems) & (s.done | (s.i >= limit))
+            out = write(out, jnp.where(finished, pid, capacity), s, s.done)
+            new_pid = next_pid + jnp.cumsum(finished) - 1
+            take = finished & (new_pid < n_problems)
+            pid = jnp.where(finished, jnp.where(take, new_pid, capacity), pid)
+            fresh, fresh_row, fresh_limit = load(pid)
+            s = select(take, fresh, s)
+            s = s._replace(done=s.done | (finished & ~take))  # an idle lane stays put
+            return s, pid, select(take, fresh_row, row), jnp.where(take, fresh_limit, limit), next_pid + jnp.sum(take), out
+
+        pid = jnp.where(jnp.arange(n_lanes) < n_problems, jnp.arange(n_lanes), capacity)
+        s, row, limit = load(pid)
+        s = s._replace(done=pid >= n_problems)
+        out = QueueOutput(
+            u=jnp.concatenate([u0, u0[:1]]),
+            chi2=jnp.full(capacity + 1, jnp.inf),
+            done=jnp.zeros(capacity + 1, bool),
+            steps=jnp.zeros(capacity + 1, jnp.int64),
+        )
+        carry = (s, pid, row, limit, jnp.minimum(n_lanes, n_problems), out)
+        s, pid, _, _, _, out = jax.lax.while_loop(running, body, carry)
+        out = write(out, pid, s, jnp.zeros(n_lanes, bool))  # problems still open when stopped early
+        return QueueOutput(*(a[:capacity] for a in out))
+
+    return solve

@@ -1,0 +1,124 @@
+"""Statistics of least-squares fits: information criteria, covariances and identifiability
+from the Jacobian, and the whiteness test that decides whether a fit reached the noise."""
+
+from __future__ import annotations
+
+import math
+from typing import Sequence
+
+import numpy as np
+
+__all__ = ["information_criteria", "covariances", "null_sets", "uncertainties", "at_noise_floor", "SINGULAR_RATIO_LIMIT"]
+
+# a Jacobian direction whose singular value is below this fraction of the largest is not
+# determined by the data (its parameters are reported together)
+SINGULAR_RATIO_LIMIT = 1e-8
+# Jacobians whose equilibrated JᵀJ has a condition number provably below this get its inverse
+# directly (errors ~ cond · 1e-16: the same as the eigendecomposition's), the others its
+# eigendecomposition or SVD; above this the two could differ by more than 1e-10
+WELL_CONDITIONED = 1e6
+
+
+def information_criteria(chi2: float, n_residuals: int, n_free: int) -> tuple[float, float]:
+    """AIC = n ln(χ²/n) + 2k and BIC = n ln(χ²/n) + k ln n over the n = 2N real residuals
+    (the convention of lmfit; differences between models on the same data are what matter).
+    Broadcasts over arrays of chi² (batch fits)."""
+    n = n_residuals
+    if np.ndim(chi2):
+        base = n * np.log(np.maximum(chi2, 1e-300) / n)
+        return base + 2 * n_free, base + n_free * np.log(n)
+    base = n * math.log(max(chi2, 1e-300) / n)
+    return base + 2 * n_free, base + n_free * math.log(n)
+
+
+def covariances(jac: np.ndarray, chi2_red, weighting: str):
+    """Covariance and correlation matrices from Jacobians (..., M, K) in parameter space,
+    with the singular values and right singular vectors of the column-equilibrated Jacobian
+    (equilibrated, proportional columns give an evenly weighted null vector). Tikhonov-
+    regularised, so undetermined directions show as huge variances and ±1 correlations, not
+    NaN; scaled by the reduced chi² unless the weights are the data's sigma (as lmfit).
+
+    Jacobians proven well-conditioned (`WELL_CONDITIONED`) take the plain inverse of JᵀJ and
+    have NaN singular values and vectors: they have no near-null direction to report."""
+    batch, (m, k) = jac.shape[:-2], jac.shape[-2:]
+    jac = jac.reshape(-1, m, k)
+    gram = np.swapaxes(jac, -1, -2) @ jac
+    norms = np.sqrt(np.einsum("bkk->bk", gram))
+    scale = np.where(norms > 0, 1.0 / np.where(norms > 0, norms, 1.0), 1.0)
+    gram = gram * scale[:, :, None] * scale[:, None, :]  # of the column-equilibrated Jacobian
+    inverse = np.full(gram.shape, np.nan)
+    s, vt = np.full(norms.shape, np.nan), np.full(gram.shape, np.nan)
+    regular = np.flatnonzero(np.all(norms > 0, axis=-1))
+    try:
+        inverse[regular] = np.linalg.inv(gram[regular])
+    except np.linalg.LinAlgError:  # one of them exactly singular: all take the decomposition
+        pass
+    # cond(JᵀJ) = λ_max/λ_min ≤ trace(JᵀJ)·trace((JᵀJ)⁻¹) = bound; below the limit the inverse is
+    # as accurate as the decomposition, and the regularisation below would change it by < 1e-20.
+    # The inverse of a numerically singular JᵀJ has a trace of ±1e16 or more (the sign is
+    # rounding's): the bound is then huge or negative
+    with np.errstate(invalid="ignore"):
+        bound = np.trace(gram, axis1=1, axis2=2) * np.trace(inverse, axis1=1, axis2=2)
+        spectral = np.flatnonzero(~((bound > 0) & (bound < WELL_CONDITIONED)))
+    if spectral.size:
+        # singular values from the eigenvalues of JᵀJ (K×K, far cheaper than the SVD of J);
+        # where they span more than 1e-4 (eigenvalues 1e-8), squaring the condition number
+        # would cost accuracy, so those Jacobians get the SVD itself
+        eigenvalues, vectors = np.linalg.eigh(gram[spectral])
+        s[spectral] = np.sqrt(np.clip(eigenvalues[:, ::-1], 0, None))
+        vt[spectral] = np.swapaxes(vectors[:, :, ::-1], -1, -2)
+        ill = spectral[~(s[spectral, -1] > 1e-4 * s[spectral, 0])]
+        if ill.size:
+            _, s[ill], vt[ill] = np.linalg.svd(jac[ill] * scale[ill, None, :], full_matrices=False)
+        s_max = np.where(s[spectral, :1] > 0, s[spectral, :1], 1.0)
+        with np.errstate(over="ignore", invalid="ignore"):  # a column of zeros: infinite variance, said so
+            inverse[spectral] = (np.swapaxes(vt[spectral], -1, -2) * (1.0 / (s[spectral] ** 2 + (1e-13 * s_max) ** 2))[:, None, :]) @ vt[spectral]
+    with np.errstate(over="ignore", invalid="ignore"):
+        cov = (inverse * scale[:, :, None] * scale[:, None, :]).reshape(*batch, k, k)
+    s, vt = s.reshape(*batch, k), vt.reshape(*batch, k, k)
+    if weighting != "sigma":
+        chi2_red = np.asarray(chi2_red, float)
+        cov = cov * np.where(np.isfinite(chi2_red), chi2_red, 1.0)[..., None, None]
+    d = np.sqrt(np.clip(np.einsum("...ii->...i", cov), 0, None))
+    with np.errstate(all="ignore"):
+        corr = np.clip(np.nan_to_num(cov / (d[..., :, None] * d[..., None, :]), nan=0.0), -1, 1)
+    k = jac.shape[-1]
+    corr[..., np.arange(k), np.arange(k)] = 1.0
+    return cov, corr, s, vt
+
+
+def null_sets(s: np.ndarray, vt: np.ndarray, names: Sequence[str]):
+    """Groups of parameters along near-null directions of one equilibrated Jacobian, and the
+    smallest-to-largest singular value ratio."""
+    s_max = s[0] if s.size and s[0] > 0 else 1.0
+    null = [[names[i] for i in np.flatnonzero(np.abs(vt[j]) > 0.2)] for j in np.flatnonzero(s < SINGULAR_RATIO_LIMIT * s_max)]
+    return null, float(s[-1] / s_max) if s.size else 1.0
+
+
+def uncertainties(jac: np.ndarray, chi2_red: float, weighting: str, names: Sequence[str]):
+    """(covariance, correlation, null sets, singular-value ratio) of one fit (`covariances`)."""
+    if len(names) == 0:
+        return np.zeros((0, 0)), np.zeros((0, 0)), [], 0.0
+    cov, corr, s, vt = covariances(jac, chi2_red, weighting)
+    return (cov, corr, *null_sets(s, vt, names))
+
+
+# the guess's fit is accepted without a multistart when its weighted residuals look like noise:
+# lag-1 autocorrelation along frequency below this (white noise: ≈ 0 ± 1/√(2N); a misfit
+# that the multistart could improve leaves smooth, strongly correlated residuals)
+WHITENESS_LIMIT = 0.5
+MIN_POINTS_FOR_WHITENESS = 10
+
+
+def at_noise_floor(freq, z, z_model, inv_re, inv_im, code) -> np.ndarray:
+    """Whether fits (…, N) converged (``code == 0``) with residuals that look like white noise;
+    broadcasts over leading batch dimensions."""
+    order = np.argsort(freq)
+    with np.errstate(all="ignore"):
+        dz = (np.asarray(z_model) - z)[..., order]
+        parts = [dz.real * np.asarray(inv_re)[..., order], dz.imag * np.asarray(inv_im)[..., order]]
+        num = sum(np.sum(p[..., 1:] * p[..., :-1], axis=-1) for p in parts)
+        den = sum(np.sum(p**2, axis=-1) for p in parts)
+        rho = num / den
+    ok = (np.asarray(code) == 0) & np.isfinite(den) & (den > 0) & (rho < WHITENESS_LIMIT)
+    return ok & (len(order) >= MIN_POINTS_FOR_WHITENESS)
