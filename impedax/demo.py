@@ -102,6 +102,7 @@ def run_demo(out: str | os.PathLike = "out", *, fast: bool = False, stream=None)
     from impedax.models import example_spectra, remaining_impedance
     from impedax.models.gap import gap_analysis
     from impedax.plotting import plot_spectrum
+    from impedax.plotting.models import plot_force_bands
 
     stream = stream or sys.stdout
     out = Path(out)
@@ -186,7 +187,7 @@ def run_demo(out: str | os.PathLike = "out", *, fast: bool = False, stream=None)
             story.say(f"  {_hz(ff[i]):>9}: force {with_ep['median'][i].item() * 1e3:8.3g} mN with EP [{with_ep['q05'][i].item() * 1e3:.3g}, {with_ep['q95'][i].item() * 1e3:.3g}]   vs {without['median'][i].item() * 1e3:8.3g} mN without EP")
         story.say(f"  Peak force (Sirin eq 1, peak convention, V0 = {V0:g} V). Below ~30 Hz the EP branch leaks the charge: the force drops.")
         ix.io.write_netcdf(gap.to_xarray(), staging / "force_bands.nc")
-        fig = _force_figure(gap)
+        fig = plot_force_bands(gap)
         story.figure(_save(fig, staging, "step5_force.png"))
         i = int(np.argmax(with_ep["median"].values))
         facts["peak force with EP"] = f"{with_ep['median'][i].item() * 1e3:.3g} mN at {ff[i]:.3g} Hz (V0 = {V0:g} V, peak convention)"
@@ -212,18 +213,3 @@ def _hz(f: float) -> str:
         if f >= scale:
             return f"{f / scale:.3g} {unit}"
     return f"{f:.3g} Hz"
-
-
-def _force_figure(gap):
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(8, 4.8), layout="constrained")
-    ff = gap.force["frequency"].values
-    for branch, color, label in (("with_ep", "tab:blue", "with electrode polarization (refined model)"), ("without_ep", "tab:red", "without EP (C_gap only)")):
-        band = gap.force.sel(branch=branch)
-        ax.fill_between(ff, band["q05"] * 1e3, band["q95"] * 1e3, color=color, alpha=0.25)
-        ax.loglog(ff, band["median"] * 1e3, color=color, label=f"{label}: median and 90% band")
-    ax.set(xlabel="frequency [Hz]", ylabel="electrostatic force [mN] (peak, Sirin eq 1)", title=f"Force on the finger for V0 = {gap.v0:g} V (Sirin Fig 2f story; SYNTHETIC data)")
-    ax.grid(alpha=0.3, which="both")
-    ax.legend(fontsize=8)
-    return fig

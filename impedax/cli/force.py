@@ -89,17 +89,10 @@ def run(args) -> int:
         sys.stdout.write("\n".join(lines) + "\n")
         print(f"impedax force {args.model}: time-averaged force; peak {peak['force_n']:.4g} N at {peak['frequency_hz']:.4g} Hz", file=sys.stderr)
     if args.plot:
-        import matplotlib.pyplot as plt
-
         from ..plotting import save_figure
+        from ..plotting.models import plot_force_spectrum
 
-        fig, ax = plt.subplots(figsize=(6, 4))
-        ax.semilogx(freq, force * 1e3, marker="o" if freq.size < 3 else None)
-        ax.set_xlabel("frequency [Hz]")
-        ax.set_ylabel("time-averaged force [mN]")
         source = "Meyer (2012) thesis eq 3.6, Fig 3.4" if args.model == "meyer" else "Vezzoli et al. eq 10"
-        ax.set_title(f"{source}: model prediction")
-        ax.grid(True, which="both", alpha=0.3)
-        fig.tight_layout()
+        fig = plot_force_spectrum(freq, force, title=f"{source}: model prediction")
         save_figure(fig, args.plot)
     return 0

@@ -81,31 +81,11 @@ class Comparison:
         return xr.Dataset({c: ("model", [r.get(c, math.nan) for r in self.rows]) for c in cols}, coords={"model": models})
 
     def plot(self):
-        """Data with every model's fit, and each model's relative residuals (Figure)."""
-        import matplotlib.pyplot as plt
+        """Data with every model's fit, and each model's relative residuals (Figure;
+        `plotting.comparison.plot_comparison`)."""
+        from ..plotting.comparison import plot_comparison
 
-        fig, axes = plt.subplots(2, 2, figsize=(11, 7), layout="constrained")
-        ref = self.fits[0]
-        f, z = ref.frequency, ref.z_data
-        axes[0, 0].plot(z.real, -z.imag, "o", mfc="none", ms=3.5, color="k", label="data")
-        axes[0, 1].loglog(f, np.abs(z), "o", mfc="none", ms=3.5, color="k", label="data")
-        axes[1, 0].semilogx(f, np.degrees(np.angle(z)), "o", mfc="none", ms=3.5, color="k", label="data")
-        for r in self.fits:
-            label = f"{r.model} (rms_rel {r.rms_rel:.3g})"
-            axes[0, 0].plot(r.z_model.real, -r.z_model.imag, "-", label=label)
-            axes[0, 1].loglog(f, np.abs(r.z_model), "-", label=label)
-            axes[1, 0].semilogx(f, np.degrees(np.angle(r.z_model)), "-", label=label)
-            axes[1, 1].semilogx(f, np.abs(r.residuals) * 100, ".-", label=label)
-        axes[0, 0].set(xlabel="Z' [Ω]", ylabel="−Z'' [Ω]", title="Nyquist")
-        axes[0, 0].set_aspect("equal", adjustable="datalim")
-        axes[0, 1].set(xlabel="frequency [Hz]", ylabel="|Z| [Ω]")
-        axes[1, 0].set(xlabel="frequency [Hz]", ylabel="phase [deg]")
-        axes[1, 1].set(xlabel="frequency [Hz]", ylabel="|relative residual| [%]", yscale="log")
-        for ax in axes.flat:
-            ax.grid(alpha=0.3, which="both")
-        axes[1, 1].legend(fontsize=7)
-        fig.suptitle(f"model comparison — best by AIC: {self.best}")
-        return fig
+        return plot_comparison(self)
 
 
 def compare(fits: Sequence) -> Comparison:

@@ -119,38 +119,10 @@ class KKResult:
 
     def plot(self, *, title: str | None = None):
         """Nyquist and Bode of data vs KK fit, and the residuals Δ [%] vs frequency with the
-        point threshold and the bad bands shaded. Returns a matplotlib Figure."""
-        import matplotlib.pyplot as plt
+        point threshold and the bad bands shaded (`plotting.kk.plot_kk`). Returns a Figure."""
+        from ..plotting.kk import plot_kk
 
-        from ..plotting import plot_bode, plot_nyquist, shade_bands
-
-        data, model = (self.frequency, self.impedance), (self.frequency, self.kk_impedance)
-        fig = plt.figure(figsize=(11, 6.5), layout="constrained")
-        grid = fig.add_gridspec(3, 2, width_ratios=[1, 1.2])
-        ax_nyq = fig.add_subplot(grid[:, 0])
-        ax_mod = fig.add_subplot(grid[0, 1])
-        ax_ph = fig.add_subplot(grid[1, 1], sharex=ax_mod)
-        ax_res = fig.add_subplot(grid[2, 1], sharex=ax_mod)
-        plot_nyquist(ax_nyq, data, model, model_label=f"KK fit (M={self.n_rc})")
-        plot_bode(ax_mod, ax_ph, data, model, model_label=f"KK fit (M={self.n_rc})")
-        order = np.argsort(self.frequency)
-        f = self.frequency[order]
-        ax_res.semilogx(f, self.residuals_real[order] * 100, "o-", ms=3, lw=0.8, label="Δ re")
-        ax_res.semilogx(f, self.residuals_imag[order] * 100, "s-", ms=3, lw=0.8, label="Δ im")
-        limit = self.thresholds["point"] * self.threshold_scale * 100
-        for sign in (-1, 1):
-            ax_res.axhline(sign * limit, color="tab:red", lw=0.7, ls="--", label="point threshold" if sign > 0 else None)
-        ax_res.axhline(0, color="k", lw=0.6)
-        ax_res.set_ylabel("KK residual [%]")
-        ax_res.set_xlabel("frequency [Hz]")
-        ax_res.grid(alpha=0.3, which="both")
-        ax_res.legend(fontsize=8, ncol=3)
-        ax_ph.set_xlabel("")
-        if self.bad_bands:
-            shade_bands([ax_mod, ax_ph, ax_res], self.bad_bands, label="not KK-consistent")
-        verdict = "valid" if self.valid else "not valid"
-        fig.suptitle(title or f"linear KK test: {verdict}, rms_rel {self.rms_rel * 100:.2g} %, µ {self.mu:.2f}")
-        return fig
+        return plot_kk(self, title=title)
 
 
 @dataclass(frozen=True, eq=False)

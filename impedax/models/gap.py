@@ -115,42 +115,10 @@ class GapAnalysis:
         """Remaining impedance with both fits, the posterior of u against the paper's bounds
         (and ``true_gap`` [m] when known, e.g. for synthetic data), and the force bands with and
         without the EP branch (matplotlib Figure)."""
-        import matplotlib.pyplot as plt
+        from ..plotting.models import plot_gap_analysis
 
-        fig, axes = plt.subplots(1, 3, figsize=(15, 4.6), layout="constrained")
-        f = self.remaining["frequency"].values
-        z = self.remaining["Z"].values
-        ax = axes[0]
-        ax.loglog(f, np.abs(z), "o", mfc="none", ms=3.5, color="k", label="Z_R (mean of trials)")
-        if "sigma" in self.remaining:
-            s = self.remaining["sigma"].values
-            ax.fill_between(f, np.maximum(np.abs(z) - s, np.abs(z) * 0.05), np.abs(z) + s, color="0.8", label="± SEM")
-        ax.loglog(f, np.abs(self.naive_fit.z_model), "--", label=f"C_gap only (rms_rel {self.naive_fit.rms_rel:.2g})")
-        ax.loglog(f, np.abs(self.edl_fit.z_model), "-", label=f"{self.edl_fit.model} (rms_rel {self.edl_fit.rms_rel:.2g})")
-        ax.set(xlabel="frequency [Hz]", ylabel="|Z_R| [Ω]", title="remaining impedance (Sirin eq 5)")
-        ax.legend(fontsize=7)
-        ax = axes[1]
-        u = self.posterior.parameter_draws()["u"] * 1e6
-        ax.hist(u, bins=60, density=True, color="tab:blue", alpha=0.7, label="posterior of u")
-        g = self.gap
-        ax.axvspan(g["q05"] * 1e6, g["q95"] * 1e6, color="tab:blue", alpha=0.15, label="90% credible interval")
-        ax.axvline(self.paper.gap * 1e6, color="k", label=f"paper method {self.paper.gap * 1e6:.2f} µm")
-        ax.axvspan(self.paper.gap_lower * 1e6, self.paper.gap_upper * 1e6, color="tab:orange", alpha=0.15, label="paper bounds (extreme impedances)")
-        if true_gap is not None:
-            ax.axvline(true_gap * 1e6, color="tab:green", ls="--", label=f"truth (synthetic) {true_gap * 1e6:.2f} µm")
-        ax.set(xlabel="gap thickness u [µm]", ylabel="density", title="air-gap thickness")
-        ax.legend(fontsize=7)
-        ax = axes[2]
-        ff = self.force["frequency"].values
-        for branch, color, label in (("with_ep", "tab:blue", "with EP branch"), ("without_ep", "tab:red", "without EP (C_gap only)")):
-            band = self.force.sel(branch=branch)
-            ax.fill_between(ff, band["q05"] * 1e3, band["q95"] * 1e3, color=color, alpha=0.2)
-            ax.semilogx(ff, band["median"] * 1e3, color=color, label=f"{label}: median, 90% band")
-        ax.set(xlabel="frequency [Hz]", ylabel="peak force F_e [mN]", title=f"electrostatic force, V0 = {self.v0:g} V (Sirin eq 1, peak)")
-        ax.legend(fontsize=7)
-        for a in axes:
-            a.grid(alpha=0.3, which="both")
-        return fig
+        return plot_gap_analysis(self, true_gap=true_gap)
+
 
     def to_xarray(self) -> xr.Dataset:
         out = self.force.copy()

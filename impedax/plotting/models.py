@@ -1,0 +1,79 @@
+"""Figures of the physical models: the gap analysis (`impedax.models.gap.GapAnalysis.plot`),
+its force bands, and a force spectrum (`impedax force --plot`)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def plot_gap_analysis(gap, *, true_gap: float | None = None):
+    """Remaining impedance with both fits, the posterior of u against the paper's bounds
+    (and ``true_gap`` [m] when known, e.g. for synthetic data), and the force bands with and
+    without the EP branch (matplotlib Figure)."""
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4.6), layout="constrained")
+    f = gap.remaining["frequency"].values
+    z = gap.remaining["Z"].values
+    ax = axes[0]
+    ax.loglog(f, np.abs(z), "o", mfc="none", ms=3.5, color="k", label="Z_R (mean of trials)")
+    if "sigma" in gap.remaining:
+        s = gap.remaining["sigma"].values
+        ax.fill_between(f, np.maximum(np.abs(z) - s, np.abs(z) * 0.05), np.abs(z) + s, color="0.8", label="± SEM")
+    ax.loglog(f, np.abs(gap.naive_fit.z_model), "--", label=f"C_gap only (rms_rel {gap.naive_fit.rms_rel:.2g})")
+    ax.loglog(f, np.abs(gap.edl_fit.z_model), "-", label=f"{gap.edl_fit.model} (rms_rel {gap.edl_fit.rms_rel:.2g})")
+    ax.set(xlabel="frequency [Hz]", ylabel="|Z_R| [Ω]", title="remaining impedance (Sirin eq 5)")
+    ax.legend(fontsize=7)
+    ax = axes[1]
+    u = gap.posterior.parameter_draws()["u"] * 1e6
+    ax.hist(u, bins=60, density=True, color="tab:blue", alpha=0.7, label="posterior of u")
+    g = gap.gap
+    ax.axvspan(g["q05"] * 1e6, g["q95"] * 1e6, color="tab:blue", alpha=0.15, label="90% credible interval")
+    ax.axvline(gap.paper.gap * 1e6, color="k", label=f"paper method {gap.paper.gap * 1e6:.2f} µm")
+    ax.axvspan(gap.paper.gap_lower * 1e6, gap.paper.gap_upper * 1e6, color="tab:orange", alpha=0.15, label="paper bounds (extreme impedances)")
+    if true_gap is not None:
+        ax.axvline(true_gap * 1e6, color="tab:green", ls="--", label=f"truth (synthetic) {true_gap * 1e6:.2f} µm")
+    ax.set(xlabel="gap thickness u [µm]", ylabel="density", title="air-gap thickness")
+    ax.legend(fontsize=7)
+    ax = axes[2]
+    ff = gap.force["frequency"].values
+    for branch, color, label in (("with_ep", "tab:blue", "with EP branch"), ("without_ep", "tab:red", "without EP (C_gap only)")):
+        band = gap.force.sel(branch=branch)
+        ax.fill_between(ff, band["q05"] * 1e3, band["q95"] * 1e3, color=color, alpha=0.2)
+        ax.semilogx(ff, band["median"] * 1e3, color=color, label=f"{label}: median, 90% band")
+    ax.set(xlabel="frequency [Hz]", ylabel="peak force F_e [mN]", title=f"electrostatic force, V0 = {gap.v0:g} V (Sirin eq 1, peak)")
+    ax.legend(fontsize=7)
+    for a in axes:
+        a.grid(alpha=0.3, which="both")
+    return fig
+
+
+def plot_force_bands(gap):
+    """The force on the finger with and without the EP branch, median and 90 % bands, for a
+    `GapAnalysis` (the demo's last figure)."""
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(8, 4.8), layout="constrained")
+    ff = gap.force["frequency"].values
+    for branch, color, label in (("with_ep", "tab:blue", "with electrode polarization (refined model)"), ("without_ep", "tab:red", "without EP (C_gap only)")):
+        band = gap.force.sel(branch=branch)
+        ax.fill_between(ff, band["q05"] * 1e3, band["q95"] * 1e3, color=color, alpha=0.25)
+        ax.loglog(ff, band["median"] * 1e3, color=color, label=f"{label}: median and 90% band")
+    ax.set(xlabel="frequency [Hz]", ylabel="electrostatic force [mN] (peak, Sirin eq 1)", title=f"Force on the finger for V0 = {gap.v0:g} V (Sirin Fig 2f story; SYNTHETIC data)")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=8)
+    return fig
+
+
+def plot_force_spectrum(freq, force, *, title: str):
+    """Time-averaged force [N] against frequency [Hz], drawn in mN."""
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6, 4))
+    ax.semilogx(freq, np.asarray(force) * 1e3, marker="o" if np.size(freq) < 3 else None)
+    ax.set_xlabel("frequency [Hz]")
+    ax.set_ylabel("time-averaged force [mN]")
+    ax.set_title(title)
+    ax.grid(True, which="both", alpha=0.3)
+    fig.tight_layout()
+    return fig
