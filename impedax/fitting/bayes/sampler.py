@@ -30,7 +30,7 @@ from .posterior import Posterior
 from .priors import DEFAULT_SPAN_DECADES, SIGMA_REL_PRIOR, Prior, check_prior_inside, coerce_priors, default_prior
 from .reparam import Reparametrization
 
-__all__ = ["sample", "Posterior", "NOISE_MODELS", "SIGMA_REL_PRIOR", "DEFAULT_SPAN_DECADES", "SampledParameters", "initial_walkers"]
+__all__ = ["sample", "Posterior", "NOISE_MODELS", "SIGMA_REL_PRIOR", "DEFAULT_SPAN_DECADES", "SampledParameters"]
 
 
 # --- the steps' typed hand-overs ---------------------------------------------------------------
@@ -249,9 +249,9 @@ def _support_in_sampled_space(support, log_scale) -> tuple[np.ndarray, np.ndarra
     return lo_y, hi_y
 
 
-def initial_walkers(
-    start, space: SampledParameters, init: FitResult, n_points: int, walkers: int, seed: int,
-    lo_y, hi_y, args: LogProbArgs, functions: LogProbFunctions, circuit,
+def _initial_walkers(
+    start, space: SampledParameters, init: FitResult, *, walkers: int, seed: int, n_points: int,
+    lo_y, hi_y, args: LogProbArgs, functions: LogProbFunctions, circuit: Circuit,
 ) -> np.ndarray:
     """A small ball (walkers, P) around the least-squares start in the sampled space: 10% of each
     parameter's relative standard error (1e-6…0.1), clipped to the prior support; walkers where
@@ -391,7 +391,7 @@ def sample(
     args, structure = _log_prob_setup(circuit, registry, specs, fixed, rp, obs, space, chosen, support)
     functions = log_prob_functions(structure)
     lo_y, hi_y = _support_in_sampled_space(support, space.log_scale)
-    p0 = initial_walkers(start, space, init, obs.freq.size, walkers, seed, lo_y, hi_y, args, functions, circuit)
+    p0 = _initial_walkers(start, space, init, walkers=walkers, seed=seed, n_points=obs.freq.size, lo_y=lo_y, hi_y=hi_y, args=args, functions=functions, circuit=circuit)
 
     chain = _run_emcee(p0, args, functions, steps=steps, burn=burn, thin=thin, seed=seed, progress=progress)
 
