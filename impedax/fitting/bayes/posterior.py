@@ -22,13 +22,19 @@ import xarray as xr
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
 from ...errors import DataError
 from ..derived import QUANTILES, band_dataset, bind_frequency, check_real, needs_freq
-from ..least_squares.single import FitResult
+from ..least_squares import FitResult
 from .diagnostics import chain_warnings, hdi, integrated_autocorr
 from .logprob import NOISE_MODELS, NoiseModel
 from .priors import Prior
 from .reparam import Reparametrization, rebuild
 
 __all__ = ["Posterior"]
+
+SUMMARY_QUANTILES = ("median", "q05", "q16", "q84", "q95")  # per parameter in the JSON summary
+
+
+def _quantiles_by_name(q: xr.Dataset, names) -> dict[str, dict[str, float]]:
+    return {n: {k: float(q[k].sel(param=n)) for k in SUMMARY_QUANTILES} for n in names}
 
 
 @dataclass(frozen=True, eq=False)
@@ -155,7 +161,7 @@ class Posterior:
     def summary(self) -> dict:
         """The JSON summary used by ``impedax sample --json``."""
         q = self.quantiles()
-        params = {n: {k: float(q[k].sel(param=n)) for k in ("median", "q05", "q16", "q84", "q95")} for n in self.names}
+        params = _quantiles_by_name(q, self.names)
         for n in self.names:
             params[n].update(hdi90=[float(q["hdi90_low"].sel(param=n)), float(q["hdi90_high"].sel(param=n))], unit=self.units[self.names.index(n)], prior=str(self.priors[n]))
         out = {
@@ -178,7 +184,7 @@ class Posterior:
         }
         if self.reparametrization is not None:
             cq = self.quantiles(circuit=True)
-            out["circuit_params"] = {n: {k: float(cq[k].sel(param=n)) for k in ("median", "q05", "q16", "q84", "q95")} for n in self.reparametrization.replaces}
+            out["circuit_params"] = _quantiles_by_name(cq, self.reparametrization.replaces)
         return out
 
     def report(self) -> str:

@@ -22,7 +22,7 @@ import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, parse
 from ...errors import DataError, FitError, ParameterError
-from ..least_squares.single import FitResult, fit
+from ..least_squares import FitResult, fit
 from ..problem import open_spectrum
 from .evidence import laplace_evidence, waic
 from .logprob import NOISE_MODELS, LogProbArgs, LogProbFunctions, LogProbStructure, NoiseModel, log_prob_functions
