@@ -18,7 +18,7 @@ import xarray as xr
 
 from ..errors import ParameterError
 
-__all__ = ["derive", "derive_fit", "QUANTILES", "band_dataset"]
+__all__ = ["derive", "derive_fit", "QUANTILES", "band_dataset", "bind_frequency", "check_real", "needs_freq"]
 
 QUANTILES = {"q05": 0.05, "q16": 0.16, "median": 0.5, "q84": 0.84, "q95": 0.95}
 
@@ -35,8 +35,8 @@ def needs_freq(fn) -> bool:
     return _takes_freq(fn) and not _has_default_second(fn)
 
 
-def _call(fn, freq):
-    """``params -> fn(params[, freq])`` as a real float array."""
+def bind_frequency(fn, freq):
+    """``params -> fn(params[, freq])`` as a JAX array (``freq`` bound when given)."""
     if freq is None:
         if needs_freq(fn):
             raise ParameterError("derive: the function takes a frequency argument; pass freq=...")
@@ -57,7 +57,8 @@ def _has_default_second(fn) -> bool:
     return len(params) >= 2 and params[1].default is not inspect.Parameter.empty
 
 
-def _check_real(out) -> None:
+def check_real(out) -> None:
+    """Raise `ParameterError` when a derived quantity is complex."""
     if jnp.iscomplexobj(out):
         raise ParameterError("derive: the function returned complex values; derive a real quantity (e.g. jnp.abs(...) or jnp.angle(...))")
 
@@ -94,7 +95,7 @@ def derive_fit(result, fn, freq=None) -> xr.Dataset:
     """
     if freq is None and needs_freq(fn):
         freq = result.frequency
-    g = _call(fn, freq)
+    g = bind_frequency(fn, freq)
     free = list(result.free_names)
     base = {n: jnp.asarray(v) for n, v in result.values.items()}
 
@@ -105,7 +106,7 @@ def derive_fit(result, fn, freq=None) -> xr.Dataset:
 
     x0 = jnp.asarray([result.values[n] for n in free])
     value = of_free(x0)
-    _check_real(value)
+    check_real(value)
     value = np.asarray(value, float)
     jac = np.asarray(jax.jacfwd(of_free)(x0), float).reshape(value.size, len(free))
     cov = jac @ np.asarray(result.covariance, float) @ jac.T

@@ -4,13 +4,16 @@ A `Reparametrization` names new parameters (with units and bounds) and a pure JA
 them to the circuit parameters they replace. `impedax.sample` then places priors on, samples
 and reports the physical quantities; the circuit parameters become derived quantities.
 
-Ready-made: `gap_thickness_reparametrization` (C_gap = ε0 ε_r A / u, Sirin et al.) and
-`stratum_corneum_reparametrization` (R_sc = ρ_sc d_sc / A, C_sc = ε0 ε_sc A / d_sc, Meyer 2012
-eq 3.13).
+Ready-made: `gap_thickness_reparametrization` (C_gap = ε0 ε_r A / u, Sirin et al.;
+docs/physics.md, "Sirin et al.") and `stratum_corneum_reparametrization` (R_sc = ρ_sc d_sc / A,
+C_sc = ε0 ε_sc A / d_sc, Meyer 2012 eq 3.13; docs/physics.md, "Meyer (2012 thesis)"). They live
+here rather than in `impedax.models` because `Posterior.from_xarray` rebuilds them from a saved
+file and `impedax.fitting` exports them, and fitting does not import models.
 """
 
 from __future__ import annotations
 
+import enum
 import math
 from dataclasses import dataclass
 from typing import Callable, Mapping
@@ -21,12 +24,22 @@ from ...errors import ParameterError
 
 __all__ = [
     "Reparametrization",
+    "ReparametrizationKind",
+    "rebuild",
     "gap_thickness_reparametrization",
     "stratum_corneum_reparametrization",
     "EPSILON_0",
 ]
 
-EPSILON_0 = 8.8541878128e-12  # F/m (docs/physics.md, "Conventions")
+EPSILON_0 = 8.8541878128e-12  # F/m (CODATA 2018; docs/physics.md, "Conventions")
+
+
+class ReparametrizationKind(enum.StrEnum):
+    """Which constructor built a reparametrization (stored with a saved posterior)."""
+
+    CUSTOM = "custom"
+    GAP_THICKNESS = "gap_thickness"
+    STRATUM_CORNEUM = "stratum_corneum"
 
 
 @dataclass(frozen=True)
@@ -46,10 +59,13 @@ class Reparametrization:
     forward: Callable
     constants: tuple[tuple[str, float], ...] = ()
     inverse: Callable | None = None
-    kind: str = "custom"
+    kind: ReparametrizationKind = ReparametrizationKind.CUSTOM
     description: str = ""
 
     def __post_init__(self):
+        if self.kind not in set(ReparametrizationKind):
+            raise ParameterError(f"Reparametrization: unknown kind {self.kind!r}; choose one of {', '.join(ReparametrizationKind)}")
+        object.__setattr__(self, "kind", ReparametrizationKind(self.kind))
         n = len(self.names)
         if not n or len(self.units) != n or len(self.lower) != n or len(self.upper) != n:
             raise ParameterError("Reparametrization: names, units, lower and upper need the same (non-zero) length")
@@ -86,7 +102,7 @@ class Reparametrization:
 
     def describe(self) -> dict:
         """JSON-able description (stored with a saved posterior)."""
-        return {"kind": self.kind, "names": list(self.names), "replaces": list(self.replaces), "constants": self.constant_values, "description": self.description}
+        return {"kind": self.kind.value, "names": list(self.names), "replaces": list(self.replaces), "constants": self.constant_values, "description": self.description}
 
 
 # --- the air gap (Sirin et al.) --------------------------------------------------------------
@@ -101,7 +117,7 @@ def gap_thickness_reparametrization(element: str = "C_gap", *, area: float, eps_
     return Reparametrization(
         names=(name,), units=("m",), lower=(float(lower),), upper=(float(upper),), replaces=(element,),
         forward=_GapMap(element, name), constants=(("area", float(area)), ("eps_r", float(eps_r))),
-        inverse=_GapMap(element, name).inverse, kind="gap_thickness",
+        inverse=_GapMap(element, name).inverse, kind=ReparametrizationKind.GAP_THICKNESS,
         description=f"{element} = ε0·ε_r·A/{name} (A = {area:g} m², ε_r = {eps_r:g})",
     )
 
@@ -153,7 +169,7 @@ def stratum_corneum_reparametrization(resistor: str = "R_sc", capacitor: str = "
     return Reparametrization(
         names=tuple(names), units=("ohm m", "1", "m"), lower=(1.0, 1.0, 1e-7), upper=(1e9, 1e6, 1e-2),
         replaces=(resistor, capacitor), forward=mapping, constants=(("area", float(area)), ("d_start", float(d_start))),
-        inverse=mapping.inverse, kind="stratum_corneum",
+        inverse=mapping.inverse, kind=ReparametrizationKind.STRATUM_CORNEUM,
         description=f"{resistor} = {names[0]}·{names[2]}/A, {capacitor} = ε0·{names[1]}·A/{names[2]} (A = {area:g} m²)",
     )
 
@@ -161,9 +177,9 @@ def stratum_corneum_reparametrization(resistor: str = "R_sc", capacitor: str = "
 def rebuild(description: Mapping) -> Reparametrization:
     """A built-in reparametrization from its `Reparametrization.describe` form."""
     kind, constants, replaces, names = description["kind"], dict(description["constants"]), list(description["replaces"]), list(description["names"])
-    if kind == "gap_thickness":
+    if kind == ReparametrizationKind.GAP_THICKNESS:
         return gap_thickness_reparametrization(replaces[0], area=constants["area"], eps_r=constants["eps_r"], name=names[0])
-    if kind == "stratum_corneum":
+    if kind == ReparametrizationKind.STRATUM_CORNEUM:
         return stratum_corneum_reparametrization(replaces[0], replaces[1], area=constants["area"], d_start=constants["d_start"], names=tuple(names))
     raise ParameterError(f"the saved posterior used a custom reparametrization ({description.get('description', '')}); pass it as reparametrization=")
 

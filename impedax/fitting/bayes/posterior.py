@@ -1,0 +1,370 @@
+"""The result of a Bayesian fit: `Posterior`, its summaries, propagation and storage.
+
+A `Posterior` holds the draws of one run of `impedax.sample` and everything needed to read
+them again: quantiles and HDI (`Posterior.quantiles`), the ``impedax sample --json`` summary
+and the text report, uncertainty propagation to any JAX function of the parameters
+(`Posterior.derive`), posterior predictive impedance, and a `to_xarray` / `from_xarray` pair
+for netCDF. Figures are drawn by `impedax.plotting.bayes` (imported when asked for).
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from dataclasses import dataclass, field
+from typing import Callable, Mapping
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import xarray as xr
+
+from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
+from ...errors import DataError
+from ..derived import QUANTILES, band_dataset, bind_frequency, check_real, needs_freq
+from ..least_squares import FitResult
+from .diagnostics import chain_warnings, hdi, integrated_autocorr
+from .logprob import NOISE_MODELS, NoiseModel
+from .priors import Prior
+from .reparam import Reparametrization, rebuild
+
+__all__ = ["Posterior"]
+
+SUMMARY_QUANTILES = ("median", "q05", "q16", "q84", "q95")  # per parameter in the JSON summary
+
+
+def _quantiles_by_name(q: xr.Dataset, names) -> dict[str, dict[str, float]]:
+    return {n: {k: float(q[k].sel(param=n)) for k in SUMMARY_QUANTILES} for n in names}
+
+
+@dataclass(frozen=True, eq=False)
+class Posterior:
+    """Draws from the posterior of a circuit's parameters given one spectrum. Immutable.
+
+    ``draws`` (walker, draw, param) are natural values of the sampled parameters ``names``
+    (free circuit parameters, the physical ones of a reparametrization, ``sigma_rel``);
+    ``log_prob`` their log-posterior in the sampled space; ``fit`` the least-squares start.
+    Diagnostics: ``acceptance`` per walker, ``autocorr`` (integrated autocorrelation time in
+    sampler steps), ``ess`` (effective sample size), ``warnings``. Model comparison:
+    ``log_evidence`` (Laplace, at the MAP) and ``waic`` (deviance scale: lower is better).
+    """
+
+    circuit: Circuit
+    names: tuple[str, ...]
+    units: tuple[str, ...]
+    log_scale: tuple[bool, ...]
+    draws: np.ndarray
+    log_prob: np.ndarray
+    acceptance: np.ndarray
+    priors: dict[str, Prior]
+    noise: NoiseModel
+    fit: FitResult
+    fixed: dict[str, float]
+    frequency: np.ndarray
+    z_data: np.ndarray
+    sigma: np.ndarray | None
+    log_evidence: float
+    waic: float
+    p_waic: float
+    map_values: dict[str, float]
+    notes: tuple[str, ...] = ()
+    settings: dict = field(default_factory=dict)
+    reparametrization: Reparametrization | None = None
+    registry: Registry = field(default=DEFAULT_REGISTRY, repr=False)
+
+    def __post_init__(self):
+        object.__setattr__(self, "noise", NoiseModel(self.noise))
+
+    # -- basic views ----------------------------------------------------------------------
+    @property
+    def model(self) -> str:
+        return str(self.circuit)
+
+    @property
+    def n_walkers(self) -> int:
+        return int(self.draws.shape[0])
+
+    @property
+    def n_draws(self) -> int:
+        return int(self.draws.shape[1])
+
+    @property
+    def samples(self) -> dict[str, np.ndarray]:
+        """Flat draws (after burn and thin) by sampled-parameter name."""
+        flat = self.draws.reshape(-1, len(self.names))
+        return {n: flat[:, i] for i, n in enumerate(self.names)}
+
+    @property
+    def mean_acceptance(self) -> float:
+        return float(np.mean(self.acceptance))
+
+    @functools.cached_property
+    def _sampled_space(self) -> np.ndarray:
+        return np.where(np.asarray(self.log_scale), np.log(np.where(np.asarray(self.log_scale), self.draws, 1.0)), self.draws)
+
+    @functools.cached_property
+    def autocorr(self) -> dict[str, float]:
+        """Integrated autocorrelation time per parameter [sampler steps] (emcee, tol=0)."""
+        tau = integrated_autocorr(self._sampled_space) * self.settings.get("thin", 1)
+        return {n: float(t) for n, t in zip(self.names, tau)}
+
+    @functools.cached_property
+    def ess(self) -> dict[str, float]:
+        """Effective sample size per parameter: walkers × draws / τ (τ in stored draws, ≥ 1)."""
+        tau = np.maximum(integrated_autocorr(self._sampled_space), 1.0)
+        return {n: float(self.n_walkers * self.n_draws / t) for n, t in zip(self.names, tau)}
+
+    @functools.cached_property
+    def warnings(self) -> tuple[str, ...]:
+        """Diagnostics that need attention (chain length, acceptance, correlations, fit notes)."""
+        out = chain_warnings(self.names, self.log_scale, self._sampled_space, self.autocorr, self.settings.get("thin", 1), self.mean_acceptance)
+        out.extend(self.notes)
+        out.extend(f"least-squares start: {w}" for w in self.fit.warnings)
+        return tuple(out)
+
+    # -- parameter draws ------------------------------------------------------------------
+    def parameter_draws(self) -> dict[str, np.ndarray]:
+        """Flat draws of every parameter: sampled, fixed (repeated) and circuit parameters
+        derived through the reparametrization."""
+        flat = self.samples
+        n = self.n_walkers * self.n_draws
+        out = {name: np.full(n, value) for name, value in self.fixed.items()}
+        out.update(flat)
+        if self.reparametrization is not None:
+            rp = self.reparametrization
+            derived = rp.circuit_values({k: flat[k] for k in rp.names})
+            out.update({k: np.asarray(v, float) for k, v in derived.items()})
+        return out
+
+    def circuit_samples(self) -> dict[str, np.ndarray]:
+        """Flat draws of the circuit's parameters (derived ones included)."""
+        everything = self.parameter_draws()
+        return {n: everything[n] for n in self.circuit.parameter_names(self.registry)}
+
+    def quantiles(self, *, circuit: bool = False) -> xr.Dataset:
+        """median, q05, q16, q84, q95, mean, sd and the 90% HDI per parameter (``circuit=True``:
+        the circuit's parameters, derived through the reparametrization)."""
+        draws = self.circuit_samples() if circuit else self.samples
+        names = list(draws)
+        table = {k: [] for k in (*QUANTILES, "mean", "sd", "hdi90_low", "hdi90_high")}
+        for n in names:
+            x = np.asarray(draws[n], float)
+            for k, q in QUANTILES.items():
+                table[k].append(float(np.quantile(x, q)))
+            table["mean"].append(float(x.mean()))
+            table["sd"].append(float(x.std(ddof=1)) if x.size > 1 else 0.0)
+            lo, hi = hdi(x)
+            table["hdi90_low"].append(lo)
+            table["hdi90_high"].append(hi)
+        return xr.Dataset({k: ("param", v) for k, v in table.items()}, coords={"param": names})
+
+    def summary(self) -> dict:
+        """The JSON summary used by ``impedax sample --json``."""
+        q = self.quantiles()
+        params = _quantiles_by_name(q, self.names)
+        for n in self.names:
+            params[n].update(hdi90=[float(q["hdi90_low"].sel(param=n)), float(q["hdi90_high"].sel(param=n))], unit=self.units[self.names.index(n)], prior=str(self.priors[n]))
+        out = {
+            "model": self.model,
+            "params": params,
+            "acceptance": self.mean_acceptance,
+            "autocorr": dict(self.autocorr),
+            "ess": dict(self.ess),
+            "warnings": list(self.warnings),
+            "log_evidence": self.log_evidence,
+            "waic": self.waic,
+            "noise": self.noise.value,
+            "walkers": self.n_walkers,
+            "draws": self.n_draws,
+            "steps": self.settings.get("steps"),
+            "burn": self.settings.get("burn"),
+            "thin": self.settings.get("thin"),
+            "seed": self.settings.get("seed"),
+            "map": dict(self.map_values),
+        }
+        if self.reparametrization is not None:
+            cq = self.quantiles(circuit=True)
+            out["circuit_params"] = _quantiles_by_name(cq, self.reparametrization.replaces)
+        return out
+
+    def report(self) -> str:
+        """A readable table of the posterior."""
+        q = self.quantiles()
+        width = max(len(n) for n in self.names)
+        lines = [
+            f"model      {self.model}",
+            f"noise      {self.noise}: {NOISE_MODELS[self.noise]}",
+            f"sampler    emcee, {self.n_walkers} walkers, {self.settings.get('steps')} steps (burn {self.settings.get('burn')}, thin {self.settings.get('thin')}), {self.n_walkers * self.n_draws} draws, acceptance {self.mean_acceptance:.3f}",
+            f"evidence   Laplace ln Z = {self.log_evidence:.2f}    WAIC = {self.waic:.2f}",
+            "",
+            f"{'parameter':<{width}}  {'median':>11}  {'q05':>11}  {'q95':>11}  {'τ [steps]':>9}  {'ESS':>7}  unit   prior",
+        ]
+        for i, n in enumerate(self.names):
+            lines.append(
+                f"{n:<{width}}  {float(q['median'][i]):>11.5g}  {float(q['q05'][i]):>11.5g}  {float(q['q95'][i]):>11.5g}  {self.autocorr[n]:>9.3g}  {self.ess[n]:>7.0f}  {self.units[i]:<5}  {self.priors[n]}"
+            )
+        for w in self.warnings:
+            lines.append(f"warning: {w}")
+        return "\n".join(lines)
+
+    # -- propagation ----------------------------------------------------------------------
+    def derive(self, fn: Callable, freq=None, *, draws: bool = False, max_draws: int | None = None) -> xr.Dataset:
+        """Evaluate ``fn(params[, freq])`` (a JAX function of the parameters dict, with every
+        parameter by name: circuit, physical and ``sigma_rel``) over all draws in one vmapped
+        call. Returns a Dataset with ``median``, ``q05``, ``q16``, ``q84``, ``q95``, ``mean``,
+        ``sd`` (and ``draws`` over ``sample`` when ``draws=True``); ``freq`` defaults to the data's
+        frequencies when ``fn`` takes one. ``max_draws`` evaluates an
+        evenly spaced subset instead of every draw."""
+        if freq is None and needs_freq(fn):
+            freq = self.frequency
+        g = bind_frequency(fn, freq)
+        params = self.parameter_draws()
+        if max_draws is not None and max_draws < self.n_walkers * self.n_draws:
+            pick = np.linspace(0, self.n_walkers * self.n_draws - 1, max_draws).astype(int)
+            params = {k: v[pick] for k, v in params.items()}
+        out = jax.jit(jax.vmap(g))({k: jnp.asarray(v) for k, v in params.items()})
+        check_real(out)
+        return band_dataset(np.asarray(out, float), freq, keep_draws=draws, attrs={"method": "posterior draws", "model": self.model})
+
+    def predict(self, freq=None, *, max_draws: int = 400) -> np.ndarray:
+        """Model impedance [Ω] (draws, frequency) over an evenly spaced subset of the draws."""
+        freq = self.frequency if freq is None else np.asarray(freq, float)
+        params = self.circuit_samples()
+        total = self.n_walkers * self.n_draws
+        pick = np.linspace(0, total - 1, min(max_draws, total)).astype(int)
+        compiled = compile_circuit(self.circuit, self.registry)
+        fn = jax.jit(jax.vmap(lambda p, f: compiled(p, f), in_axes=(0, None)))
+        return np.asarray(fn({k: jnp.asarray(v[pick]) for k, v in params.items()}, jnp.asarray(freq)))
+
+    # -- figures (drawn by impedax.plotting.bayes) -----------------------------------------
+    def plot(self, *, title: str | None = None, n_lines: int = 40):
+        """Data with posterior bands: Nyquist (draws as thin lines) and Bode |Z| and phase with
+        the 68% and 90% credible bands of the model (matplotlib Figure)."""
+        from ...plotting.bayes import plot_posterior_bands
+
+        f = np.geomspace(self.frequency.min(), self.frequency.max(), 200)
+        return plot_posterior_bands(
+            self.frequency, self.z_data, f, self.predict(f), n_lines=n_lines,
+            title=title or f"{self.model}: posterior bands ({self.n_walkers * self.n_draws} draws)",
+        )
+
+    def corner(self, *, truths: Mapping[str, float] | None = None, bins: int = 30, max_points: int = 4000):
+        """Corner plot: marginal histograms on the diagonal and pairwise scatter below it
+        (log10 axes for log-sampled parameters). ``truths`` draws reference lines."""
+        from ...plotting.bayes import plot_corner
+
+        return plot_corner(self.draws, self.names, self.log_scale, truths=truths, bins=bins, max_points=max_points, title=f"{self.model}: posterior")
+
+    # -- storage --------------------------------------------------------------------------
+    def to_xarray(self) -> xr.Dataset:
+        """Draws (walker, draw, param), log_prob, diagnostics, summaries, the least-squares
+        start and the data; `Posterior.from_xarray` rebuilds the posterior from it."""
+        q = self.quantiles()
+        fr = self.fit
+        names = list(fr.values)
+        free = list(fr.free_names)
+        data = {
+            "draws": (("walker", "draw", "param"), self.draws),
+            "log_prob": (("walker", "draw"), self.log_prob),
+            "acceptance": ("walker", self.acceptance),
+            "autocorr": ("param", [self.autocorr[n] for n in self.names], {"units": "steps"}),
+            "ess": ("param", [self.ess[n] for n in self.names]),
+            "log_scale": ("param", np.asarray(self.log_scale, bool)),
+            "map": ("param", [self.map_values[n] for n in self.names]),
+            "Z": ("frequency", self.z_data, {"units": "ohm"}),
+            "fit_value": ("circuit_param", [fr.values[n] for n in names]),
+            "fit_stderr": ("circuit_param", [fr.stderr[n] for n in names]),
+            "fit_fixed": ("circuit_param", [fr.fixed[n] for n in names]),
+            "fit_covariance": (("free_param", "free_param_2"), fr.covariance),
+            "fit_correlation": (("free_param", "free_param_2"), fr.correlation),
+            "Z_fit": ("frequency", fr.z_model, {"units": "ohm"}),
+        }
+        data.update({k: ("param", q[k].values) for k in q.data_vars})
+        if self.sigma is not None:
+            data["sigma"] = ("frequency", self.sigma, {"units": "ohm"})
+        attrs = {
+            "impedax_kind": "posterior",
+            "model": self.model,
+            "noise": self.noise.value,
+            "units": list(self.units),
+            "priors": {n: [p.kind.value, p.a, p.b] for n, p in self.priors.items()},
+            "fixed": dict(self.fixed),
+            "settings": dict(self.settings),
+            "log_evidence": self.log_evidence,
+            "waic": self.waic,
+            "p_waic": self.p_waic,
+            "notes": list(self.notes),
+            "warnings": list(self.warnings),
+            "reparametrization": self.reparametrization.describe() if self.reparametrization is not None else None,
+            "fit": {"weighting": fr.weighting, "chi2": fr.chi2, "converged": fr.converged, "message": fr.message, "n_evaluations": fr.n_evaluations, "warnings": list(fr.warnings), "n_starts": fr.n_starts, "elapsed_s": fr.elapsed_s},
+        }
+        coords = {
+            "walker": np.arange(self.n_walkers),
+            "draw": np.arange(self.n_draws),
+            "param": list(self.names),
+            "circuit_param": names,
+            "free_param": free,
+            "free_param_2": free,
+            "frequency": ("frequency", self.frequency, {"units": "Hz"}),
+        }
+        return xr.Dataset(data, coords=coords, attrs=attrs)
+
+    @classmethod
+    def from_xarray(cls, ds: xr.Dataset, *, reparametrization: Reparametrization | None = None, registry: Registry = DEFAULT_REGISTRY) -> "Posterior":
+        """Rebuild a posterior from `Posterior.to_xarray` output (e.g. read back from netCDF).
+        A custom reparametrization must be passed again (its functions are not stored)."""
+        if ds.attrs.get("impedax_kind") != "posterior" or "draws" not in ds:
+            raise DataError("not a saved impedax posterior (no 'draws' variable / impedax_kind attribute)")
+        circuit = parse(ds.attrs["model"], registry)
+        rp = reparametrization
+        if rp is None and ds.attrs.get("reparametrization"):
+            rp = rebuild(ds.attrs["reparametrization"])
+        fa = ds.attrs["fit"]
+        names = [str(n) for n in ds["circuit_param"].values]
+        fr = FitResult(
+            circuit=circuit,
+            values={n: float(v) for n, v in zip(names, ds["fit_value"].values)},
+            stderr={n: float(v) for n, v in zip(names, ds["fit_stderr"].values)},
+            fixed={n: bool(v) for n, v in zip(names, ds["fit_fixed"].values)},
+            free_names=tuple(str(n) for n in ds["free_param"].values),
+            covariance=np.asarray(ds["fit_covariance"].values, float),
+            correlation=np.asarray(ds["fit_correlation"].values, float),
+            frequency=np.asarray(ds["frequency"].values, float),
+            z_data=np.asarray(ds["Z"].values, complex),
+            z_model=np.asarray(ds["Z_fit"].values, complex),
+            weighting=fa["weighting"],
+            chi2=float(fa["chi2"]),
+            converged=bool(fa["converged"]),
+            message=fa["message"],
+            n_evaluations=int(fa["n_evaluations"]),
+            warnings=tuple(fa["warnings"]),
+            n_starts=int(fa["n_starts"]),
+            elapsed_s=float(fa["elapsed_s"]),
+            registry=registry,
+        )
+        sampled = [str(n) for n in ds["param"].values]
+        return cls(
+            circuit=circuit,
+            names=tuple(sampled),
+            units=tuple(ds.attrs["units"]),
+            log_scale=tuple(bool(v) for v in ds["log_scale"].values),
+            draws=np.asarray(ds["draws"].values, float),
+            log_prob=np.asarray(ds["log_prob"].values, float),
+            acceptance=np.asarray(ds["acceptance"].values, float),
+            priors={n: Prior(*v) for n, v in ds.attrs["priors"].items()},
+            noise=ds.attrs["noise"],
+            fit=fr,
+            fixed={k: float(v) for k, v in ds.attrs["fixed"].items()},
+            frequency=np.asarray(ds["frequency"].values, float),
+            z_data=np.asarray(ds["Z"].values, complex),
+            sigma=np.asarray(ds["sigma"].values, float) if "sigma" in ds else None,
+            log_evidence=float(ds.attrs["log_evidence"]) if ds.attrs["log_evidence"] is not None else math.nan,
+            waic=float(ds.attrs["waic"]) if ds.attrs["waic"] is not None else math.nan,
+            p_waic=float(ds.attrs["p_waic"]) if ds.attrs["p_waic"] is not None else math.nan,
+            map_values={n: float(v) for n, v in zip(sampled, ds["map"].values)},
+            notes=tuple(ds.attrs.get("notes", ())),
+            settings=dict(ds.attrs["settings"]),
+            reparametrization=rp,
+            registry=registry,
+        )
+
