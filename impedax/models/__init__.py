@@ -4,7 +4,7 @@ Equations, conventions (peak vs time-average force) and assumptions: docs/models
 """
 
 from . import meyer as meyer, sirin as sirin, synthetic as synthetic, vezzoli as vezzoli
-from ._constants import EPSILON_0 as EPSILON_0, EPSILON_AIR as EPSILON_AIR
+from ..constants import EPSILON_0 as EPSILON_0, EPSILON_AIR as EPSILON_AIR
 from .meyer import (
     MeyerModel as MeyerModel,
     MeyerPhysical as MeyerPhysical,

@@ -22,7 +22,7 @@ import xarray as xr
 
 from ..circuits import parse
 from ..errors import CircuitError, DataError
-from ._constants import EPSILON_AIR
+from ..constants import EPSILON_AIR
 from .sirin import SIRIN_AREA, SIRIN_DRIVE_V, PaperGapEstimate, gap_force_peak, paper_gap_estimate, remainder_circuit, remaining_impedance, trial_mean
 
 __all__ = ["GapAnalysis", "gap_analysis"]

@@ -27,7 +27,7 @@ import xarray as xr
 
 from ..circuits import Circuit, current_through, parse, voltage_across
 from ..errors import DataError, ParameterError
-from ._constants import EPSILON_0
+from ..constants import EPSILON_0
 
 __all__ = [
     "MeyerPhysical",

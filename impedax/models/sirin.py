@@ -24,7 +24,7 @@ import xarray as xr
 from ..circuits import Circuit, compile_circuit, parse, voltage_across
 from ..data import make_spectrum, validate_spectrum
 from ..errors import DataError, ParameterError
-from ._constants import EPSILON_0, EPSILON_AIR
+from ..constants import EPSILON_0, EPSILON_AIR
 
 __all__ = [
     "SIRIN_AREA",

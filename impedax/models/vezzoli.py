@@ -19,7 +19,7 @@ import numpy as np
 import xarray as xr
 
 from ..errors import ParameterError
-from ._constants import EPSILON_0
+from ..constants import EPSILON_0
 
 __all__ = [
     "TABLE2",

@@ -21,6 +21,7 @@ from typing import Callable, Mapping
 import numpy as np
 
 from ...errors import ParameterError
+from ...constants import EPSILON_0, EPSILON_AIR
 
 __all__ = [
     "Reparametrization",
@@ -31,7 +32,6 @@ __all__ = [
     "EPSILON_0",
 ]
 
-EPSILON_0 = 8.8541878128e-12  # F/m (CODATA 2018; docs/physics.md, "Conventions")
 
 
 class ReparametrizationKind(enum.StrEnum):
@@ -108,7 +108,7 @@ class Reparametrization:
 # --- the air gap (Sirin et al.) --------------------------------------------------------------
 
 
-def gap_thickness_reparametrization(element: str = "C_gap", *, area: float, eps_r: float = 1.00059, name: str = "u", lower: float = 1e-9, upper: float = 1e-3) -> Reparametrization:
+def gap_thickness_reparametrization(element: str = "C_gap", *, area: float, eps_r: float = EPSILON_AIR, name: str = "u", lower: float = 1e-9, upper: float = 1e-3) -> Reparametrization:
     """Sample the air-gap thickness u [m] behind the capacitor ``element``:
     C_gap = ε0 ε_r A / u (parallel plates; Sirin et al., with ε_gap = 1.00059 for air).
     ``area`` A in m² (Sirin: 130 mm² = 1.3e-4 m²); u is bounded to (``lower``, ``upper``).

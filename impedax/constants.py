@@ -1,4 +1,4 @@
-"""Physical constants shared by the paper models (SI)."""
+"""Physical constants (SI) shared by the models and the reparametrizations of the fitting code."""
 
 EPSILON_0 = 8.8541878128e-12
 """Vacuum permittivity ε0 [F/m] (CODATA 2018; docs/physics.md, "Conventions")."""
