@@ -51,6 +51,7 @@ class StartRole(enum.StrEnum):
     RESISTANCE = "resistance"  # a resistor: the high-frequency intercept, shared by the chain's resistors
     ARC_RESISTANCE = "arc_resistance"  # a dispersion's own resistance: the spectrum's total arc resistance
     CAPACITANCE = "capacitance"  # τ/R of its arc; in the chain, from Z'' at the lowest frequency
+    ARC_CAPACITANCE = "arc_capacitance"  # a dispersion's own capacitance: τ/R of its arc, or of the spectrum's
     INDUCTANCE = "inductance"  # from positive Z'' at the highest frequencies
     CPE_Q = "cpe_q"  # C·ω^(1−α) with C and α as for a capacitance and a CPE exponent
     CPE_EXPONENT = "cpe_exponent"  # 0.85 in an arc; in the chain, the low-frequency slope of log −Z''

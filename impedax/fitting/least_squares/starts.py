@@ -201,6 +201,8 @@ def data_driven_guesses(circuit: Circuit, table: ParameterTable, features: Spect
                 guess[n] = r_arc
             elif role is StartRole.CAPACITANCE:
                 guess[n] = tau / r_arc if inside else rows["c_series"]
+            elif role is StartRole.ARC_CAPACITANCE:
+                guess[n] = tau / r_arc
             elif role is StartRole.INDUCTANCE:
                 guess[n] = rows["l_series"]
             elif role is StartRole.CPE_Q:
