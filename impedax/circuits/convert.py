@@ -56,70 +56,80 @@ def from_impedance_py(text: str, registry: Registry = DEFAULT_REGISTRY) -> Circu
     ``R_0`` → ``R0``); the symbols are those of ``ElementSpec.impedance_py`` in ``registry``.
     """
     src = require_text(text)
-    pos = 0
-    names: set[str] = set()
-    depth = 0
-
-    def skip():
-        nonlocal pos
-        while pos < len(src) and src[pos].isspace():
-            pos += 1
-
-    def parse_series() -> Circuit:
-        nonlocal pos
-        parts = [parse_item()]
-        skip()
-        while pos < len(src) and src[pos] == "-":
-            pos += 1
-            parts.append(parse_item())
-            skip()
-        return series(*parts)
-
-    def parse_item() -> Circuit:
-        nonlocal pos, depth
-        skip()
-        if src.startswith("p(", pos):
-            start = pos
-            if depth >= MAX_NESTING:
-                raise CircuitSyntaxError(src, pos, f"p(...) nested deeper than {MAX_NESTING} levels")
-            depth += 1
-            pos += 2
-            parts = [parse_series()]
-            skip()
-            while pos < len(src) and src[pos] == ",":
-                pos += 1
-                parts.append(parse_series())
-                skip()
-            if pos >= len(src) or src[pos] != ")":
-                raise CircuitSyntaxError(src, pos, "expected ')' closing p(", f"p( opened at column {start + 1}")
-            pos += 1
-            depth -= 1
-            if len(parts) < 2:
-                raise CircuitSyntaxError(src, start, "p(...) needs at least two branches")
-            return parallel(*parts)
-        m = _IMPEDANCE_PY_ELEMENT_RE.match(src, pos)
-        if m is None:
-            raise CircuitSyntaxError(src, pos, "expected an element such as R0 or p(", None)
-        sym, digits = m.groups()
-        spec = registry.by_impedance_py.get(sym)
-        if spec is None:
-            raise CircuitSyntaxError(src, pos, f"impedance.py element {sym!r} has no impedax equivalent", "supported: " + ", ".join(registry.by_impedance_py))
-        name = f"{spec.symbol}{digits}"
-        if name in names:
-            raise CircuitSyntaxError(src, pos, f"duplicate element name {name!r}")
-        names.add(name)
-        if len(names) > MAX_ELEMENTS:
-            raise CircuitSyntaxError(src, pos, f"more than {MAX_ELEMENTS} elements")
-        pos = m.end()
-        return Element(spec.symbol, name)
-
     if not src.strip():
         raise CircuitSyntaxError(src, 0, "empty circuit")
-    out = parse_series()
-    skip()
-    if pos != len(src):
-        raise CircuitSyntaxError(src, pos, f"unexpected {src[pos]!r}", "impedance.py strings use '-' and p(a,b)")
-    return out
+    return _ImpedancePyReader(src, registry).read()
+
+
+class _ImpedancePyReader:
+    """Recursive descent over an impedance.py string: ``series := item ('-' item)*``,
+    ``item := 'p(' series (',' series)+ ')' | ELEMENT``."""
+
+    def __init__(self, src: str, registry: Registry):
+        self.src = src
+        self.registry = registry
+        self.pos = 0
+        self.depth = 0
+        self.names: set[str] = set()
+
+    def read(self) -> Circuit:
+        out = self.series()
+        if self.pos != len(self.src):
+            raise CircuitSyntaxError(self.src, self.pos, f"unexpected {self.src[self.pos]!r}", "impedance.py strings use '-' and p(a,b)")
+        return out
+
+    def skip(self) -> None:
+        while self.pos < len(self.src) and self.src[self.pos].isspace():
+            self.pos += 1
+
+    def separated(self, separator: str, part) -> list[Circuit]:
+        """``part ( separator part )*``, whitespace allowed around the separators."""
+        parts = [part()]
+        self.skip()
+        while self.pos < len(self.src) and self.src[self.pos] == separator:
+            self.pos += 1
+            parts.append(part())
+            self.skip()
+        return parts
+
+    def series(self) -> Circuit:
+        return series(*self.separated("-", self.item))
+
+    def item(self) -> Circuit:
+        src = self.src
+        self.skip()
+        if src.startswith("p(", self.pos):
+            return self.parallel_group()
+        m = _IMPEDANCE_PY_ELEMENT_RE.match(src, self.pos)
+        if m is None:
+            raise CircuitSyntaxError(src, self.pos, "expected an element such as R0 or p(", None)
+        sym, digits = m.groups()
+        spec = self.registry.by_impedance_py.get(sym)
+        if spec is None:
+            raise CircuitSyntaxError(src, self.pos, f"impedance.py element {sym!r} has no impedax equivalent", "supported: " + ", ".join(self.registry.by_impedance_py))
+        name = f"{spec.symbol}{digits}"
+        if name in self.names:
+            raise CircuitSyntaxError(src, self.pos, f"duplicate element name {name!r}")
+        self.names.add(name)
+        if len(self.names) > MAX_ELEMENTS:
+            raise CircuitSyntaxError(src, self.pos, f"more than {MAX_ELEMENTS} elements")
+        self.pos = m.end()
+        return Element(spec.symbol, name)
+
+    def parallel_group(self) -> Circuit:
+        src, start = self.src, self.pos
+        if self.depth >= MAX_NESTING:
+            raise CircuitSyntaxError(src, start, f"p(...) nested deeper than {MAX_NESTING} levels")
+        self.depth += 1
+        self.pos += 2
+        parts = self.separated(",", self.series)
+        if self.pos >= len(src) or src[self.pos] != ")":
+            raise CircuitSyntaxError(src, self.pos, "expected ')' closing p(", f"p( opened at column {start + 1}")
+        self.pos += 1
+        self.depth -= 1
+        if len(parts) < 2:
+            raise CircuitSyntaxError(src, start, "p(...) needs at least two branches")
+        return parallel(*parts)
 
 
 def from_cdc(text: str, registry: Registry = DEFAULT_REGISTRY, *, convention: CDCConvention | str = CDCConvention.AUTO) -> Circuit:

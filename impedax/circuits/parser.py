@@ -142,18 +142,18 @@ class _Parser:
         return node
 
     def series(self) -> Circuit:
-        parts = [self.parallel()]
-        while self.peek().kind == "+":
-            self.take()
-            parts.append(self.parallel())
-        return series(*parts)
+        return series(*self.joined("+", self.parallel))
 
     def parallel(self) -> Circuit:
-        parts = [self.term()]
-        while self.peek().kind == "||":
+        return parallel(*self.joined("||", self.term))
+
+    def joined(self, operator: str, part) -> list[Circuit]:
+        """``part ( operator part )*``."""
+        parts = [part()]
+        while self.peek().kind == operator:
             self.take()
-            parts.append(self.term())
-        return parallel(*parts)
+            parts.append(part())
+        return parts
 
     def term(self) -> Circuit:
         tok = self.take()

@@ -117,44 +117,40 @@ class Element(Circuit):
         return f"Element({self.name!r})"
 
 
-@dataclass(frozen=True, slots=True, init=False)
-class Series(Circuit):
+class _Combination(Circuit):
+    """A series or parallel node: at least two children, none of its own kind (flattened)."""
+
+    __slots__ = ()
+
+    def __init__(self, children):
+        object.__setattr__(self, "children", _flatten(children, type(self)))
+
+    def elements(self):
+        for c in self.children:
+            yield from c.elements()
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}({list(self.children)!r})"
+
+
+@dataclass(frozen=True, slots=True, init=False, repr=False)
+class Series(_Combination):
     """Impedances add: Z = Σ Z_i."""
 
     children: tuple[Circuit, ...]
 
-    def __init__(self, children):
-        object.__setattr__(self, "children", _flatten(children, Series))
-
-    def elements(self):
-        for c in self.children:
-            yield from c.elements()
-
     def __str__(self) -> str:
         return " + ".join(str(c) for c in self.children)
 
-    def __repr__(self) -> str:
-        return f"Series({list(self.children)!r})"
 
-
-@dataclass(frozen=True, slots=True, init=False)
-class Parallel(Circuit):
+@dataclass(frozen=True, slots=True, init=False, repr=False)
+class Parallel(_Combination):
     """Admittances add: 1/Z = Σ 1/Z_i."""
 
     children: tuple[Circuit, ...]
 
-    def __init__(self, children):
-        object.__setattr__(self, "children", _flatten(children, Parallel))
-
-    def elements(self):
-        for c in self.children:
-            yield from c.elements()
-
     def __str__(self) -> str:
         return " || ".join(f"({c})" if isinstance(c, Series) else str(c) for c in self.children)
-
-    def __repr__(self) -> str:
-        return f"Parallel({list(self.children)!r})"
 
 
 def _flatten(children, kind) -> tuple[Circuit, ...]:
