@@ -220,3 +220,13 @@ def test_randles_read_from_classic_cdc_has_the_randles_impedance():
         w = 2 * math.pi * f
         expected = 20.0 + 1 / (1j * w * 2e-5 + 1 / (150.0 + 40.0 * (1 - 1j) / cmath.sqrt(w)))
         assert complex(ix.compile_circuit(c)(values, np.array([f]))[0]) == pytest.approx(expected, rel=1e-12)
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.text(alphabet="RCLQWOTGX()[] ", max_size=30))
+def test_cdc_garbage_raises_only_impedax_errors_and_what_reads_round_trips(text):
+    try:
+        c = from_cdc(text)
+    except ix.ImpedaxError:
+        return
+    assert from_cdc(c.to_cdc()) == c
