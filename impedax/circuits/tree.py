@@ -9,6 +9,7 @@ circuit language (``str``), in Boukamp's CDC (`Circuit.to_cdc`) and as an impeda
 
 from __future__ import annotations
 
+import itertools
 import re
 from dataclasses import dataclass
 from typing import Iterator
@@ -86,18 +87,14 @@ class Circuit:
         symbol and a number, so ``R0`` or ``CPE1`` stay and other names (``R_sc``, ``Q1``)
         take the symbol and the lowest number not yet used for it, in element order."""
         symbols = {e.name: _notation_symbol(e, registry, "impedance_py", "impedance.py") for e in self.elements()}
-        kept = {name: name for name, sym in symbols.items() if re.fullmatch(re.escape(sym) + r"[0-9]+", name)}
-        taken = set(kept.values())
-        out = {}
+        renamed = {name: name for name, sym in symbols.items() if re.fullmatch(re.escape(sym) + r"[0-9]+", name)}
+        taken = set(renamed.values())
         for name, sym in symbols.items():
-            if name not in kept:
-                k = 0
-                while f"{sym}{k}" in taken:
-                    k += 1
-                kept[name] = f"{sym}{k}"
-                taken.add(kept[name])
-            out[name] = kept[name]
-        return out
+            if name not in renamed:
+                number = next(k for k in itertools.count() if f"{sym}{k}" not in taken)
+                renamed[name] = f"{sym}{number}"
+                taken.add(renamed[name])
+        return {name: renamed[name] for name in symbols}  # in element order
 
 
 @dataclass(frozen=True, slots=True)
