@@ -22,6 +22,7 @@ from .tree import Circuit, Series
 
 __all__ = ["voltage_across", "current_through"]
 
+
 def _resolve_target(circuit: Circuit, names: frozenset[str]):
     """Path of (node, child index) steps from the root to the target, plus the selected
     children of the last node when the target is a group of series siblings."""

@@ -23,6 +23,7 @@ from .tree import Circuit, Element, Parallel
 
 __all__ = ["ProgramLayout", "CircuitProgram", "PROGRAM_SCALES", "default_theta", "evaluate_program"]
 
+
 @dataclass(frozen=True)
 class ProgramLayout:
     """Static shape of a padded program: slot capacity per element kind and node count.
