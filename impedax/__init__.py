@@ -40,6 +40,7 @@ _use_every_core()
 from .circuits import (  # noqa: E402
     Circuit as Circuit,
     CircuitProgram as CircuitProgram,
+    DCPath as DCPath,
     DEFAULT_REGISTRY as DEFAULT_REGISTRY,
     Element as Element,
     ElementSpec as ElementSpec,
@@ -47,11 +48,14 @@ from .circuits import (  # noqa: E402
     ParameterSpec as ParameterSpec,
     Registry as Registry,
     Series as Series,
+    StartRole as StartRole,
     compile_circuit as compile_circuit,
     current_through as current_through,
     from_cdc as from_cdc,
     from_impedance_py as from_impedance_py,
     parse as parse,
+    to_cdc as to_cdc,
+    to_impedance_py as to_impedance_py,
     voltage_across as voltage_across,
 )
 from .data import log_frequencies as log_frequencies, make_spectrum as make_spectrum, validate_spectrum as validate_spectrum  # noqa: E402

@@ -12,7 +12,8 @@ import os
 from typing import Mapping
 
 from .circuits import DEFAULT_REGISTRY, Circuit, Element, Registry, Series, parse
-from .errors import ImpedaxError, ParameterError
+from .errors import DataError, ImpedaxError, ParameterError
+from .io.atomic import atomic_path, check_writable
 
 __all__ = ["draw_circuit", "save_circuit_diagram"]
 
@@ -67,11 +68,15 @@ def _value_text(element: Element, values: Mapping[str, float], registry: Registr
 
 
 def _element(elm, element: Element, registry: Registry):
-    symbol = registry[element.symbol].symbol
-    maker = {"R": elm.Resistor, "C": elm.Capacitor, "L": elm.Inductor2, "CPE": elm.CPE}.get(symbol)
-    if maker is not None:
-        return maker()
-    return elm.RBox()  # Warburg, Gerischer, Cole–Cole, ...: a box; the name says which
+    """The schemdraw part named by ``ElementSpec.draw``; without one (Warburg, Gerischer,
+    Cole–Cole, a user's element), a box: the label says which element it is."""
+    spec = registry[element.symbol]
+    if spec.draw is None:
+        return elm.RBox()
+    maker = getattr(elm, spec.draw, None)
+    if maker is None:
+        raise ImpedaxError(f"element {spec.symbol} ({spec.name}) is drawn as {spec.draw!r}, which schemdraw does not have")
+    return maker()
 
 
 def _place(d, elm, node: Circuit, x: float, y: float, values, registry) -> None:
@@ -134,16 +139,11 @@ def save_circuit_diagram(circuit: Circuit | str, path: str | os.PathLike, values
 
     SVG keeps the labels as text (searchable, editable), not as glyph outlines.
     """
-    from .io.atomic import check_writable
-    from .errors import DataError
-
     path = check_writable(path)
     if path.suffix.lower() not in (".png", ".svg", ".pdf"):
         raise DataError(f"unknown diagram format {path.suffix!r}; use .png, .svg or .pdf", path=path)
     import matplotlib
     import matplotlib.pyplot as plt
-
-    from .io.atomic import atomic_path
 
     fig = draw_circuit(circuit, values, registry=registry)
     try:

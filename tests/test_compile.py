@@ -160,3 +160,12 @@ def test_jacobian_columns_of_a_subset_by_positions():
     for i, column in zip(wanted, columns):
         expected = np.asarray(jax.jvp(lambda t: compiled.vector(t, F), (theta,), (jnp.eye(theta.size)[i],))[1])
         np.testing.assert_allclose(np.asarray(column), expected, rtol=1e-9, atol=1e-12 * np.abs(expected).max())
+
+
+def test_circuit_compile_method_equals_compile_circuit():
+    """`Circuit.compile()` (public) gives the same function as `compile_circuit`."""
+    circuit = ix.parse("R0 + R1 || C1")
+    f = np.geomspace(1, 1e5, 7)
+    params = {"R0": 10.0, "R1": 1e3, "C1": 1e-6}
+    z = 10.0 + 1e3 / (1 + 2j * np.pi * f * 1e3 * 1e-6)
+    np.testing.assert_allclose(np.asarray(circuit.compile()(params, f)), z, rtol=1e-12)

@@ -102,25 +102,6 @@ def test_garbage_raises_only_impedax_errors(text):
     assert ix.parse(str(c)) == c
 
 
-def test_impedance_py_converter():
-    c = from_impedance_py("R0-p(R1,C1)-CPE1")
-    assert c == ix.parse("R0 + R1 || C1 + CPE1")
-    assert from_impedance_py("R0-p(R1-Wo1,CPE1)") == ix.parse("R0 + (R1 + Wo1) || CPE1")
-    with pytest.raises(ix.CircuitSyntaxError, match="no impedax equivalent"):
-        from_impedance_py("R0-TLMQ1")
-    with pytest.raises(ix.CircuitSyntaxError):
-        from_impedance_py("R0-p(R1,C1")
-
-
-def test_cdc_converter():
-    assert from_cdc("R(RC)(RQ)") == ix.parse("R1 + R2 || C1 + R3 || CPE1")
-    assert from_cdc("R([RW]C)") == ix.parse("R1 + (R2 + W1) || C1")
-    with pytest.raises(ix.CircuitSyntaxError, match="unknown CDC element"):
-        from_cdc("R(RX)")
-    with pytest.raises(ix.CircuitSyntaxError):
-        from_cdc("R(RC")
-
-
 def test_tree_is_immutable_and_edits_build_new_trees():
     c = ix.parse("R0 + C1")
     with pytest.raises(AttributeError):

@@ -1,21 +1,33 @@
-"""Circuit language, element registry, compiler and probes."""
+"""Circuit language, element registry, compiler and probes.
 
-from .compile import (
+spec (what an element is) ← elements (the built-ins) ← tree ← parser ← convert (other
+notations); compile ← probes, program (the compiled forms). docs/circuits.md describes the
+language and how to add an element.
+"""
+
+from .compile import CompiledCircuit as CompiledCircuit, compile_circuit as compile_circuit
+from .convert import (
+    CDCConvention as CDCConvention,
+    from_cdc as from_cdc,
+    from_impedance_py as from_impedance_py,
+    to_cdc as to_cdc,
+    to_impedance_py as to_impedance_py,
+)
+from .elements import DEFAULT_REGISTRY as DEFAULT_REGISTRY
+from .parser import parse as parse, tokenize as tokenize
+from .probes import current_through as current_through, voltage_across as voltage_across
+from .program import (
     PROGRAM_SCALES as PROGRAM_SCALES,
+    CircuitProgram as CircuitProgram,
     ProgramLayout as ProgramLayout,
     default_theta as default_theta,
-    CircuitProgram as CircuitProgram,
-    CompiledCircuit as CompiledCircuit,
-    compile_circuit as compile_circuit,
-    current_through as current_through,
     evaluate_program as evaluate_program,
-    voltage_across as voltage_across,
 )
-from .elements import (
-    DEFAULT_REGISTRY as DEFAULT_REGISTRY,
+from .spec import (
+    DCPath as DCPath,
     ElementSpec as ElementSpec,
     ParameterSpec as ParameterSpec,
     Registry as Registry,
+    StartRole as StartRole,
 )
-from .parser import from_cdc as from_cdc, from_impedance_py as from_impedance_py, parse as parse, tokenize as tokenize
 from .tree import Circuit as Circuit, Element as Element, Parallel as Parallel, Series as Series, parallel as parallel, series as series

@@ -1,156 +1,22 @@
-"""Element specifications and the registry that holds them.
+"""The built-in elements: the one file to add an element.
 
-An element is one declaration: symbol, name, equation, parameters (unit, default, bounds,
-description) and a pure JAX impedance function ``impedance(omega, *params) -> complex``.
-The registry is an immutable value; `Registry.register` returns a new registry.
-Formulas: docs/physics.md, "Element formulas" (time dependence e^{jωt}).
+Each element is one `ElementSpec` declaration in `DEFAULT_REGISTRY` below: symbol, name,
+equation, parameters (unit, default, bounds, description, starting-guess role) and a pure JAX
+impedance function ``impedance(omega, *params) -> complex``, plus its facts (DC path, drawing,
+CDC letter, impedance.py symbol, program slots). A user's element needs no file here: build an
+`ElementSpec` and ``DEFAULT_REGISTRY.register(spec)`` (docs/circuits.md, "Adding an element").
+Formulas: docs/physics.md, section "Element formulas" (time dependence e^{jωt}).
 """
 
 from __future__ import annotations
 
 import math
-import re
-from dataclasses import dataclass, field
-from functools import cached_property
-from typing import Callable, Iterator, Mapping
 
 import jax.numpy as jnp
 
-from ..errors import CircuitError
+from .spec import DCPath, ElementSpec, ParameterSpec, Registry, StartRole
 
-__all__ = ["ParameterSpec", "ElementSpec", "Registry", "DEFAULT_REGISTRY", "MAX_ELEMENT_PARAMS"]
-
-MAX_ELEMENT_PARAMS = 4  # Havriliak–Negami has four; the padded fitting program relies on this
-_SYMBOL_RE = re.compile(r"[A-Z][A-Za-z]*\Z")
-_SUFFIX_RE = re.compile(r"[A-Za-z][A-Za-z0-9]*\Z")
-
-
-@dataclass(frozen=True)
-class ParameterSpec:
-    """One parameter of an element.
-
-    ``suffix`` is ``None`` for an element whose single parameter is named after the element
-    itself (``R_sc``); otherwise the full name is ``f"{element}.{suffix}"`` (``CPE_sc.alpha``).
-    Bounds are open at ``lower``; ``upper`` is inclusive when ``upper_inclusive``.
-    """
-
-    suffix: str | None
-    unit: str
-    default: float
-    lower: float = 0.0
-    upper: float = math.inf
-    description: str = ""
-    upper_inclusive: bool = False
-
-    def full_name(self, element_name: str) -> str:
-        return element_name if self.suffix is None else f"{element_name}.{self.suffix}"
-
-    def contains(self, value: float) -> bool:
-        if not math.isfinite(value) or value <= self.lower:
-            return False
-        return value <= self.upper if self.upper_inclusive else value < self.upper
-
-    def bounds_text(self) -> str:
-        right = "]" if self.upper_inclusive else ")"
-        return f"({self.lower:g}, {self.upper:g}{right}"
-
-
-@dataclass(frozen=True)
-class ElementSpec:
-    """Declaration of one circuit element.
-
-    ``impedance(omega, *params)`` takes the angular frequency ω [rad/s] and the parameters in
-    declaration order and returns the complex impedance [Ω]; it must be pure JAX.
-    ``admittance(omega, *params)``, optional, returns 1/Z [S] where that is the simpler
-    formula (R, C, CPE): parallel nodes sum admittances, so it saves a division per frequency.
-    """
-
-    symbol: str
-    name: str
-    equation: str
-    parameters: tuple[ParameterSpec, ...]
-    impedance: Callable[..., jnp.ndarray] = field(compare=False)
-    aliases: tuple[str, ...] = ()
-    admittance: Callable[..., jnp.ndarray] | None = field(default=None, compare=False)
-
-    def __post_init__(self):
-        for sym in (self.symbol, *self.aliases):
-            if not _SYMBOL_RE.match(sym):
-                raise CircuitError(
-                    f"element symbol {sym!r} must be a capital letter followed by letters only "
-                    "(digits and '_' start the element's label)"
-                )
-        if not 1 <= len(self.parameters) <= MAX_ELEMENT_PARAMS:
-            raise CircuitError(
-                f"element {self.symbol} must have 1 to {MAX_ELEMENT_PARAMS} parameters"
-            )
-        suffixes = [p.suffix for p in self.parameters]
-        if None in suffixes and len(suffixes) > 1:
-            raise CircuitError(f"element {self.symbol}: only a single parameter may be unnamed")
-        for s in suffixes:
-            if s is not None and not _SUFFIX_RE.match(s):
-                raise CircuitError(f"element {self.symbol}: bad parameter suffix {s!r}")
-        if len(set(suffixes)) != len(suffixes):
-            raise CircuitError(f"element {self.symbol}: duplicate parameter suffixes")
-
-    def parameter_names(self, element_name: str) -> tuple[str, ...]:
-        return tuple(p.full_name(element_name) for p in self.parameters)
-
-
-@dataclass(frozen=True)
-class Registry:
-    """An immutable set of element specs, looked up by symbol (aliases included)."""
-
-    specs: tuple[ElementSpec, ...]
-
-    def __post_init__(self):
-        seen: dict[str, str] = {}
-        for spec in self.specs:
-            for sym in (spec.symbol, *spec.aliases):
-                if sym in seen:
-                    raise CircuitError(f"element symbol {sym!r} is declared twice")
-                seen[sym] = spec.symbol
-
-    def __hash__(self) -> int:
-        return self._hash
-
-    @cached_property
-    def _hash(self) -> int:
-        # computed once: compiled solvers are cached by registry, and hashing every spec's
-        # fields on each lookup cost more than a solver step
-        return hash(self.specs)
-
-    @cached_property
-    def _by_symbol(self) -> Mapping[str, ElementSpec]:
-        table = {}
-        for spec in self.specs:
-            for sym in (spec.symbol, *spec.aliases):
-                table[sym] = spec
-        return table
-
-    def __contains__(self, symbol: str) -> bool:
-        return symbol in self._by_symbol
-
-    def __getitem__(self, symbol: str) -> ElementSpec:
-        try:
-            return self._by_symbol[symbol]
-        except KeyError:
-            raise CircuitError(f"unknown element symbol {symbol!r}; known: {self.symbols()}") from None
-
-    def __iter__(self) -> Iterator[ElementSpec]:
-        return iter(self.specs)
-
-    def symbols(self) -> tuple[str, ...]:
-        return tuple(sorted(self._by_symbol, key=lambda s: (-len(s), s)))
-
-    def kind_index(self, symbol: str) -> int:
-        """Position of the element's spec in ``specs`` (used by the padded fitting program)."""
-        spec = self[symbol]
-        return self.specs.index(spec)
-
-    def register(self, spec: ElementSpec) -> "Registry":
-        """Return a new registry with ``spec`` added (the original is unchanged)."""
-        return Registry(self.specs + (spec,))
+__all__ = ["DEFAULT_REGISTRY"]
 
 
 # --- element formulas -----------------------------------------------------------------------
@@ -228,70 +94,93 @@ def _havriliak_negami(w, r, tau, alpha, beta):
     return r * jnp.exp(-beta * jnp.log(base))
 
 
-_POS = dict(lower=0.0, upper=math.inf)
-_FRACTION = dict(lower=0.0, upper=1.0, upper_inclusive=True)
+def _positive(suffix, unit, default, description, role):
+    return ParameterSpec(suffix, unit, default, lower=0.0, upper=math.inf, description=description, role=role)
 
+
+def _fraction(suffix, description, role=StartRole.EXPONENT):
+    """An exponent in (0, 1], default 0.9."""
+    return ParameterSpec(suffix, "1", 0.9, lower=0.0, upper=1.0, upper_inclusive=True, description=description, role=role)
+
+
+def _resistance(description):
+    """The resistance ``R`` of an element that makes its own arc (default 100 Ω)."""
+    return _positive("R", "Ohm", 100.0, description, StartRole.ARC_RESISTANCE)
+
+
+def _time_constant(default, description="time constant"):
+    return _positive("tau", "s", default, description, StartRole.TIME_CONSTANT)
+
+
+# Boukamp's CDC letters: O is the finite-length Warburg with a transmissive boundary (tanh,
+# impedax Ws) and T the one with a reflective boundary (coth, impedax Wo).
 DEFAULT_REGISTRY = Registry(
     (
-        ElementSpec("R", "resistor", "Z = R", (ParameterSpec(None, "Ohm", 100.0, **_POS, description="resistance"),), _resistor, admittance=_resistor_admittance),
-        ElementSpec("C", "capacitor", "Z = 1/(jωC)", (ParameterSpec(None, "F", 1e-6, **_POS, description="capacitance"),), _capacitor, admittance=_capacitor_admittance),
-        ElementSpec("L", "inductor", "Z = jωL", (ParameterSpec(None, "H", 1e-6, **_POS, description="inductance"),), _inductor),
         ElementSpec(
-            "CPE",
-            "constant phase element",
-            "Z = 1/(Q (jω)^α)",
-            (
-                ParameterSpec("Q", "F s^(alpha-1)", 1e-6, **_POS, description="CPE coefficient"),
-                ParameterSpec("alpha", "1", 0.9, **_FRACTION, description="CPE exponent (1 = capacitor)"),
-            ),
-            _cpe,
-            aliases=("Q",),
-            admittance=_cpe_admittance,
+            "R", "resistor", "Z = R",
+            (_positive(None, "Ohm", 100.0, "resistance", StartRole.RESISTANCE),),
+            _resistor, admittance=_resistor_admittance,
+            dc=DCPath.CONDUCTS, draw="Resistor", cdc="R", impedance_py="R", program_capacity=6,
         ),
-        ElementSpec("W", "semi-infinite Warburg", "Z = σ(1 − j)/√ω", (ParameterSpec("sigma", "Ohm s^-1/2", 100.0, **_POS, description="Warburg coefficient"),), _warburg),
         ElementSpec(
-            "Wo",
-            "finite Warburg, open (reflective)",
-            "Z = R coth(√(jωτ))/√(jωτ)",
-            (ParameterSpec("R", "Ohm", 100.0, **_POS, description="diffusion resistance"), ParameterSpec("tau", "s", 1.0, **_POS, description="diffusion time constant")),
+            "C", "capacitor", "Z = 1/(jωC)",
+            (_positive(None, "F", 1e-6, "capacitance", StartRole.CAPACITANCE),),
+            _capacitor, admittance=_capacitor_admittance,
+            dc=DCPath.BLOCKS, draw="Capacitor", cdc="C", impedance_py="C", program_capacity=4,
+        ),
+        ElementSpec(
+            "L", "inductor", "Z = jωL",
+            (_positive(None, "H", 1e-6, "inductance", StartRole.INDUCTANCE),),
+            _inductor,
+            dc=DCPath.SHORTS, draw="Inductor2", cdc="L", impedance_py="L",
+        ),
+        ElementSpec(
+            "CPE", "constant phase element", "Z = 1/(Q (jω)^α)",
+            (
+                _positive("Q", "F s^(alpha-1)", 1e-6, "CPE coefficient", StartRole.CPE_Q),
+                _fraction("alpha", "CPE exponent (1 = capacitor)", StartRole.CPE_EXPONENT),
+            ),
+            _cpe, aliases=("Q",), admittance=_cpe_admittance,
+            dc=DCPath.BLOCKS, draw="CPE", cdc="Q", impedance_py="CPE", program_capacity=4,
+        ),
+        ElementSpec(
+            "W", "semi-infinite Warburg", "Z = σ(1 − j)/√ω",
+            (_positive("sigma", "Ohm s^-1/2", 100.0, "Warburg coefficient", StartRole.WARBURG),),
+            _warburg,
+            dc=DCPath.BLOCKS, cdc="W", impedance_py="W",
+        ),
+        ElementSpec(
+            "Wo", "finite Warburg, open (reflective)", "Z = R coth(√(jωτ))/√(jωτ)",
+            (_resistance("diffusion resistance"), _time_constant(1.0, "diffusion time constant")),
             _warburg_open,
+            dc=DCPath.BLOCKS, cdc="T", impedance_py="Wo",
         ),
         ElementSpec(
-            "Ws",
-            "finite Warburg, short (transmissive)",
-            "Z = R tanh(√(jωτ))/√(jωτ)",
-            (ParameterSpec("R", "Ohm", 100.0, **_POS, description="diffusion resistance"), ParameterSpec("tau", "s", 1.0, **_POS, description="diffusion time constant")),
+            "Ws", "finite Warburg, short (transmissive)", "Z = R tanh(√(jωτ))/√(jωτ)",
+            (_resistance("diffusion resistance"), _time_constant(1.0, "diffusion time constant")),
             _warburg_short,
+            dc=DCPath.CONDUCTS, cdc="O", impedance_py="Ws",
         ),
         ElementSpec(
-            "G",
-            "Gerischer",
-            "Z = R/√(1 + jωτ)",
-            (ParameterSpec("R", "Ohm", 100.0, **_POS, description="Gerischer resistance"), ParameterSpec("tau", "s", 1e-3, **_POS, description="time constant")),
+            "G", "Gerischer", "Z = R/√(1 + jωτ)",
+            (_resistance("Gerischer resistance"), _time_constant(1e-3)),
             _gerischer,
+            dc=DCPath.CONDUCTS, cdc="G", impedance_py="G",
         ),
         ElementSpec(
-            "CC",
-            "Cole–Cole relaxation",
-            "Z = R/(1 + (jωτ)^α)",
-            (
-                ParameterSpec("R", "Ohm", 100.0, **_POS, description="relaxation strength"),
-                ParameterSpec("tau", "s", 1e-3, **_POS, description="time constant"),
-                ParameterSpec("alpha", "1", 0.9, **_FRACTION, description="broadening exponent"),
-            ),
+            "CC", "Cole–Cole relaxation", "Z = R/(1 + (jωτ)^α)",
+            (_resistance("relaxation strength"), _time_constant(1e-3), _fraction("alpha", "broadening exponent")),
             _cole_cole,
+            dc=DCPath.CONDUCTS,
         ),
         ElementSpec(
-            "HN",
-            "Havriliak–Negami relaxation",
-            "Z = R/(1 + (jωτ)^α)^β",
+            "HN", "Havriliak–Negami relaxation", "Z = R/(1 + (jωτ)^α)^β",
             (
-                ParameterSpec("R", "Ohm", 100.0, **_POS, description="relaxation strength"),
-                ParameterSpec("tau", "s", 1e-3, **_POS, description="time constant"),
-                ParameterSpec("alpha", "1", 0.9, **_FRACTION, description="symmetric broadening"),
-                ParameterSpec("beta", "1", 0.9, **_FRACTION, description="asymmetric broadening"),
+                _resistance("relaxation strength"), _time_constant(1e-3),
+                _fraction("alpha", "symmetric broadening"), _fraction("beta", "asymmetric broadening"),
             ),
             _havriliak_negami,
+            dc=DCPath.CONDUCTS,
         ),
     )
 )

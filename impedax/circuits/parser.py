@@ -8,22 +8,21 @@ Grammar (stable; later tools rely on it)::
     term     := ELEMENT | '(' series ')'
     ELEMENT  := SYMBOL ( DIGITS | '_' LABEL )   # R0, R_sc, C_gap, CPE_skin, Wo1
 
-Also converters from impedance.py strings (``R0-p(R1,C1)-CPE1``) and Boukamp CDC strings
-(``R(RC)(RQ)``).
+Other tools' notations (impedance.py, Boukamp's CDC) are read in `impedax.circuits.convert`.
 """
 
 from __future__ import annotations
 
 import functools
-
 import re
 from dataclasses import dataclass
 
 from ..errors import CircuitSyntaxError
-from .elements import DEFAULT_REGISTRY, Registry
+from .elements import DEFAULT_REGISTRY
+from .spec import Registry
 from .tree import Circuit, Element, parallel, series
 
-__all__ = ["parse", "from_impedance_py", "from_cdc", "Token", "tokenize", "MAX_NESTING", "MAX_ELEMENTS"]
+__all__ = ["parse", "require_text", "Token", "tokenize", "MAX_NESTING", "MAX_ELEMENTS"]
 
 # Limits that keep every recursive walk of a tree (parser, str, compile) far from Python's
 # recursion limit, and a compile within seconds; real equivalent circuits are far smaller.
@@ -143,18 +142,18 @@ class _Parser:
         return node
 
     def series(self) -> Circuit:
-        parts = [self.parallel()]
-        while self.peek().kind == "+":
-            self.take()
-            parts.append(self.parallel())
-        return series(*parts)
+        return series(*self.joined("+", self.parallel))
 
     def parallel(self) -> Circuit:
-        parts = [self.term()]
-        while self.peek().kind == "||":
+        return parallel(*self.joined("||", self.term))
+
+    def joined(self, operator: str, part) -> list[Circuit]:
+        """``part ( operator part )*``."""
+        parts = [part()]
+        while self.peek().kind == operator:
             self.take()
-            parts.append(self.term())
-        return parallel(*parts)
+            parts.append(part())
+        return parts
 
     def term(self) -> Circuit:
         tok = self.take()
@@ -181,157 +180,24 @@ class _Parser:
 
 
 def parse(text: str, registry: Registry = DEFAULT_REGISTRY) -> Circuit:
-    """Parse circuit text such as ``"R_f + R_sc || CPE_sc"`` into an immutable `Circuit`.
+    """Parse circuit text such as ``"R_f + R_sc || CPE_sc"`` into an immutable `Circuit`
+    (a `Circuit` is returned as it is, so every function taking a circuit accepts either).
 
     Raises `CircuitSyntaxError` (with column, caret and hint) on invalid input.
     """
     if isinstance(text, Circuit):
         return text
-    if not isinstance(text, str):
-        raise CircuitSyntaxError(repr(text), 0, f"a circuit must be text, got {type(text).__name__}")
-    return _parse_text(text, registry)
+    return _parse_text(require_text(text), registry)
+
+
+def require_text(source) -> str:
+    """``source`` if it is a string; otherwise a `CircuitSyntaxError` naming its type."""
+    if not isinstance(source, str):
+        raise CircuitSyntaxError(repr(source), 0, f"a circuit must be text, got {type(source).__name__}")
+    return source
 
 
 @functools.lru_cache(maxsize=256)
 def _parse_text(text: str, registry: Registry) -> Circuit:
     # circuits are immutable, so a repeated text (a fit per spectrum) is parsed once
     return _Parser(text, registry).parse()
-
-
-# --- converters from other tools' notations -------------------------------------------------
-
-_IMPEDANCE_PY_SYMBOLS = {"R": "R", "C": "C", "L": "L", "CPE": "CPE", "W": "W", "Wo": "Wo", "Ws": "Ws", "G": "G"}
-
-
-def from_impedance_py(text: str, registry: Registry = DEFAULT_REGISTRY) -> Circuit:
-    """Convert an impedance.py circuit string (``R0-p(R1,C1)-CPE1``) into an impedax circuit.
-
-    ``-`` is series and ``p(a, b, ...)`` parallel; element names are kept (``CPE1`` → ``CPE1``).
-    """
-    if not isinstance(text, str):
-        raise CircuitSyntaxError(repr(text), 0, f"a circuit must be text, got {type(text).__name__}")
-    pos = 0
-    src = text
-    names: set[str] = set()
-    depth = 0
-
-    def skip():
-        nonlocal pos
-        while pos < len(src) and src[pos].isspace():
-            pos += 1
-
-    def parse_series() -> Circuit:
-        nonlocal pos
-        parts = [parse_item()]
-        skip()
-        while pos < len(src) and src[pos] == "-":
-            pos += 1
-            parts.append(parse_item())
-            skip()
-        return series(*parts)
-
-    def parse_item() -> Circuit:
-        nonlocal pos
-        skip()
-        if src.startswith("p(", pos):
-            nonlocal depth
-            start = pos
-            if depth >= MAX_NESTING:
-                raise CircuitSyntaxError(src, pos, f"p(...) nested deeper than {MAX_NESTING} levels")
-            depth += 1
-            pos += 2
-            parts = [parse_series()]
-            skip()
-            while pos < len(src) and src[pos] == ",":
-                pos += 1
-                parts.append(parse_series())
-                skip()
-            if pos >= len(src) or src[pos] != ")":
-                raise CircuitSyntaxError(src, pos, "expected ')' closing p(", f"p( opened at column {start + 1}")
-            pos += 1
-            depth -= 1
-            if len(parts) < 2:
-                raise CircuitSyntaxError(src, start, "p(...) needs at least two branches")
-            return parallel(*parts)
-        m = re.compile(r"([A-Za-z]+)_?([0-9]+)").match(src, pos)
-        if m is None:
-            raise CircuitSyntaxError(src, pos, "expected an element such as R0 or p(", None)
-        sym, digits = m.groups()
-        if sym not in _IMPEDANCE_PY_SYMBOLS or _IMPEDANCE_PY_SYMBOLS[sym] not in registry:
-            raise CircuitSyntaxError(src, pos, f"impedance.py element {sym!r} has no impedax equivalent", "supported: " + ", ".join(_IMPEDANCE_PY_SYMBOLS))
-        name = f"{_IMPEDANCE_PY_SYMBOLS[sym]}{digits}"
-        if name in names:
-            raise CircuitSyntaxError(src, pos, f"duplicate element name {name!r}")
-        names.add(name)
-        if len(names) > MAX_ELEMENTS:
-            raise CircuitSyntaxError(src, pos, f"more than {MAX_ELEMENTS} elements")
-        pos = m.end()
-        return Element(_IMPEDANCE_PY_SYMBOLS[sym], name)
-
-    if not text.strip():
-        raise CircuitSyntaxError(text, 0, "empty circuit")
-    out = parse_series()
-    skip()
-    if pos != len(src):
-        raise CircuitSyntaxError(src, pos, f"unexpected {src[pos]!r}", "impedance.py strings use '-' and p(a,b)")
-    return out
-
-
-# Boukamp's CDC letters; O is the finite-length Warburg with a transmissive boundary (tanh,
-# impedax Ws) and T the one with a reflective boundary (coth, impedax Wo).
-_CDC_SYMBOLS = {"R": "R", "C": "C", "L": "L", "Q": "CPE", "W": "W", "O": "Ws", "T": "Wo", "G": "G"}
-
-
-def from_cdc(text: str, registry: Registry = DEFAULT_REGISTRY) -> Circuit:
-    """Convert a Boukamp circuit description code (``R(RC)(RQ)``, ``R([RW]C)``).
-
-    At the top level and inside ``[...]`` elements are in series; inside ``(...)`` in parallel.
-    Elements are numbered per symbol in order of appearance: ``R1, R2, C1, CPE1``.
-    """
-    if not isinstance(text, str):
-        raise CircuitSyntaxError(repr(text), 0, f"a circuit must be text, got {type(text).__name__}")
-    counts: dict[str, int] = {}
-    pos = 0
-    depth = 0
-
-    def group(closing: str | None, kind) -> Circuit:
-        nonlocal pos, depth
-        start = pos
-        if depth > MAX_NESTING:
-            raise CircuitSyntaxError(text, max(pos - 1, 0), f"groups nested deeper than {MAX_NESTING} levels")
-        depth += 1
-        parts: list[Circuit] = []
-        while pos < len(text):
-            ch = text[pos]
-            if ch.isspace():
-                pos += 1
-            elif ch == "(":
-                pos += 1
-                parts.append(group(")", parallel))
-            elif ch == "[":
-                pos += 1
-                parts.append(group("]", series))
-            elif ch in ")]":
-                if ch != closing:
-                    raise CircuitSyntaxError(text, pos, f"unexpected {ch!r}", "brackets do not match")
-                pos += 1
-                break
-            elif ch in _CDC_SYMBOLS:
-                sym = _CDC_SYMBOLS[ch]
-                counts[sym] = counts.get(sym, 0) + 1
-                if sum(counts.values()) > MAX_ELEMENTS:
-                    raise CircuitSyntaxError(text, pos, f"more than {MAX_ELEMENTS} elements")
-                parts.append(Element(sym, f"{sym}{counts[sym]}"))
-                pos += 1
-            else:
-                raise CircuitSyntaxError(text, pos, f"unknown CDC element {ch!r}", "known: " + " ".join(_CDC_SYMBOLS))
-        else:
-            if closing is not None:
-                raise CircuitSyntaxError(text, start - 1, f"unclosed group, expected {closing!r}")
-        if not parts:
-            raise CircuitSyntaxError(text, max(start - 1, 0), "empty group")
-        depth -= 1
-        return kind(*parts)
-
-    out = group(None, series)
-    return out

@@ -2,16 +2,21 @@
 
 A tree holds no arrays; parameter values live apart from it, in a mapping name → value.
 Constructors normalise: nested nodes of the same kind are flattened and one-child nodes
-collapse, so ``parse(str(c)) == c`` holds for every tree.
+collapse, so ``parse(str(c)) == c`` holds for every tree. A tree writes itself in the impedax
+circuit language (``str``), in Boukamp's CDC (`Circuit.to_cdc`) and as an impedance.py string
+(`Circuit.to_impedance_py`); the readers of those notations are in `impedax.circuits.convert`.
 """
 
 from __future__ import annotations
 
+import itertools
+import re
 from dataclasses import dataclass
 from typing import Iterator
 
 from ..errors import CircuitError
-from .elements import DEFAULT_REGISTRY, ParameterSpec, Registry
+from .elements import DEFAULT_REGISTRY
+from .spec import ParameterSpec, Registry
 
 __all__ = ["Circuit", "Element", "Series", "Parallel", "series", "parallel"]
 
@@ -62,11 +67,34 @@ class Circuit:
     def __or__(self, other: "Circuit") -> "Circuit":
         return parallel(self, other)
 
-    def compile(self, registry: Registry = DEFAULT_REGISTRY):
-        """Compile into a pure ``fn(params, freq) -> Z``; see `impedax.circuits.compile_circuit`."""
-        from .compile import compile_circuit
+    def to_cdc(self, registry: Registry = DEFAULT_REGISTRY) -> str:
+        """Boukamp's circuit description code, bracket convention: series elements side by
+        side, ``(...)`` a parallel group, ``[...]`` a series group inside one (the Randles
+        circuit ``R0 + C1 || (R1 + W1)`` is ``R(C[RW])``). CDC has no names: `impedax.from_cdc`
+        numbers the elements per symbol in order of appearance (R1, R2, C1, ...).
+        Raises `CircuitError` for an element without a CDC letter (``ElementSpec.cdc``)."""
+        return _cdc_text(self, registry, inside_parallel=False)
 
-        return compile_circuit(self, registry)
+    def to_impedance_py(self, registry: Registry = DEFAULT_REGISTRY) -> str:
+        """The circuit as an impedance.py string, ``-`` series and ``p(a,b)`` parallel
+        (``R0 + R1 || C1 + CPE1`` is ``R0-p(R1,C1)-CPE1``), with the element names of
+        `impedance_py_names`. Raises `CircuitError` for an element impedance.py lacks
+        (``ElementSpec.impedance_py``)."""
+        return _impedance_py_text(self, self.impedance_py_names(registry))
+
+    def impedance_py_names(self, registry: Registry = DEFAULT_REGISTRY) -> dict[str, str]:
+        """Element name → its name in `to_impedance_py`: impedance.py names an element by its
+        symbol and a number, so ``R0`` or ``CPE1`` stay and other names (``R_sc``, ``Q1``)
+        take the symbol and the lowest number not yet used for it, in element order."""
+        symbols = {e.name: _notation_symbol(e, registry, "impedance_py", "impedance.py") for e in self.elements()}
+        renamed = {name: name for name, sym in symbols.items() if re.fullmatch(re.escape(sym) + r"[0-9]+", name)}
+        taken = set(renamed.values())
+        for name, sym in symbols.items():
+            if name not in renamed:
+                number = next(k for k in itertools.count() if f"{sym}{k}" not in taken)
+                renamed[name] = f"{sym}{number}"
+                taken.add(renamed[name])
+        return {name: renamed[name] for name in symbols}  # in element order
 
 
 @dataclass(frozen=True, slots=True)
@@ -86,44 +114,40 @@ class Element(Circuit):
         return f"Element({self.name!r})"
 
 
-@dataclass(frozen=True, slots=True, init=False)
-class Series(Circuit):
+class _Combination(Circuit):
+    """A series or parallel node: at least two children, none of its own kind (flattened)."""
+
+    __slots__ = ()
+
+    def __init__(self, children):
+        object.__setattr__(self, "children", _flatten(children, type(self)))
+
+    def elements(self):
+        for c in self.children:
+            yield from c.elements()
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}({list(self.children)!r})"
+
+
+@dataclass(frozen=True, slots=True, init=False, repr=False)
+class Series(_Combination):
     """Impedances add: Z = Σ Z_i."""
 
     children: tuple[Circuit, ...]
 
-    def __init__(self, children):
-        object.__setattr__(self, "children", _flatten(children, Series))
-
-    def elements(self):
-        for c in self.children:
-            yield from c.elements()
-
     def __str__(self) -> str:
         return " + ".join(str(c) for c in self.children)
 
-    def __repr__(self) -> str:
-        return f"Series({list(self.children)!r})"
 
-
-@dataclass(frozen=True, slots=True, init=False)
-class Parallel(Circuit):
+@dataclass(frozen=True, slots=True, init=False, repr=False)
+class Parallel(_Combination):
     """Admittances add: 1/Z = Σ 1/Z_i."""
 
     children: tuple[Circuit, ...]
 
-    def __init__(self, children):
-        object.__setattr__(self, "children", _flatten(children, Parallel))
-
-    def elements(self):
-        for c in self.children:
-            yield from c.elements()
-
     def __str__(self) -> str:
         return " || ".join(f"({c})" if isinstance(c, Series) else str(c) for c in self.children)
-
-    def __repr__(self) -> str:
-        return f"Parallel({list(self.children)!r})"
 
 
 def _flatten(children, kind) -> tuple[Circuit, ...]:
@@ -152,3 +176,30 @@ def _replace(node: Circuit, name: str, new: Circuit) -> Circuit:
         return new if node.name == name else node
     kind = series if isinstance(node, Series) else parallel
     return kind(*(_replace(c, name, new) for c in node.children))
+
+
+def _notation_symbol(element: "Element", registry: Registry, attribute: str, notation: str) -> str:
+    """The element's symbol in another notation (``ElementSpec.cdc`` / ``.impedance_py``)."""
+    spec = registry[element.symbol]
+    symbol = getattr(spec, attribute)
+    if symbol is None:
+        known = ", ".join(f"{getattr(s, attribute)} ({s.symbol})" for s in registry if getattr(s, attribute) is not None)
+        raise CircuitError(f"element {element.name} ({spec.name}) has no {notation} equivalent; {notation} can express: {known}")
+    return symbol
+
+
+def _cdc_text(node: Circuit, registry: Registry, inside_parallel: bool) -> str:
+    if isinstance(node, Element):
+        return _notation_symbol(node, registry, "cdc", "CDC")
+    if isinstance(node, Series):
+        inner = "".join(_cdc_text(c, registry, False) for c in node.children)
+        return f"[{inner}]" if inside_parallel else inner
+    return "(" + "".join(_cdc_text(c, registry, True) for c in node.children) + ")"
+
+
+def _impedance_py_text(node: Circuit, names: dict[str, str]) -> str:
+    if isinstance(node, Element):
+        return names[node.name]
+    if isinstance(node, Series):
+        return "-".join(_impedance_py_text(c, names) for c in node.children)
+    return "p(" + ",".join(_impedance_py_text(c, names) for c in node.children) + ")"

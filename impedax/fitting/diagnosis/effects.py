@@ -16,7 +16,7 @@ from typing import Callable, Iterator, Mapping
 
 import numpy as np
 
-from ...circuits import Circuit, DEFAULT_REGISTRY, Element, Parallel, Registry, Series
+from ...circuits import Circuit, DCPath, DEFAULT_REGISTRY, Element, Parallel, Registry, Series
 from ...errors import ParameterError
 
 __all__ = ["Effect", "EffectCatalog", "Proposal", "BaselineContext", "DEFAULT_EFFECTS"]
@@ -144,13 +144,14 @@ def _parents(circuit: Circuit) -> dict[str, Circuit | None]:
     return out
 
 
-def _resistive(node: Circuit) -> bool:
-    """Does this branch conduct DC (a resistor, or a series/parallel chain that does)?"""
+def _resistive(node: Circuit, registry: Registry) -> bool:
+    """Does this branch conduct DC through a finite resistance (an element whose spec says
+    `DCPath.CONDUCTS`, or a series/parallel chain that does)?"""
     if isinstance(node, Element):
-        return node.symbol in ("R", "Ws", "G", "CC", "HN")
+        return registry[node.symbol].dc_path is DCPath.CONDUCTS
     if isinstance(node, Series):
-        return all(_resistive(c) for c in node.children)
-    return any(_resistive(c) for c in node.children)
+        return all(_resistive(c, registry) for c in node.children)
+    return any(_resistive(c, registry) for c in node.children)
 
 
 def _top_series(circuit: Circuit) -> tuple[Circuit, ...]:
@@ -161,13 +162,13 @@ def _symbol(registry: Registry, e: Element) -> str:
     return registry[e.symbol].symbol
 
 
-def _leaky_sibling(circuit: Circuit, name: str) -> bool:
+def _leaky_sibling(circuit: Circuit, name: str, registry: Registry) -> bool:
     """True when element ``name`` sits in a parallel block with a DC-conducting branch."""
     parent = _parents(circuit)[name]
     if not isinstance(parent, Parallel):
         return False
-    def conducts(node):  # a branch with a resistor in it carries the low-frequency current
-        return _resistive(node) or any(x.symbol == "R" for x in node.elements())
+    def conducts(node):  # a branch with a resistive element in it carries the low-frequency current
+        return _resistive(node, registry) or any(_resistive(x, registry) for x in node.elements())
 
     return any(conducts(c) for c in parent.children if not (isinstance(c, Element) and c.name == name))
 
@@ -339,7 +340,7 @@ def _electrode_polarization(circuit: Circuit, ctx: BaselineContext) -> list[Prop
     w0 = ctx.omega[0]
     for e in circuit.elements():
         sym = _symbol(ctx.registry, e)
-        if sym not in ("C", "CPE") or _leaky_sibling(circuit, e.name):
+        if sym not in ("C", "CPE") or _leaky_sibling(circuit, e.name, ctx.registry):
             continue
         r_name = ctx.fresh("R", "EP")
         where = f"across {e.name} (electric double layer, Sirin et al.)"

@@ -17,7 +17,7 @@ import functools
 
 import numpy as np
 
-from ...circuits import Circuit, DEFAULT_REGISTRY, Element, Parallel, Registry
+from ...circuits import Circuit, DEFAULT_REGISTRY, Element, Parallel, Registry, StartRole
 from ..parameters import ParameterTable, to_internal
 
 __all__ = ["SpectrumFeatures", "data_driven_guess", "data_driven_guesses", "random_starts", "guess_start", "multistart", "to_solver_space"]
@@ -168,8 +168,9 @@ def _circuit_layout(circuit: Circuit, registry: Registry):
     arc its resistive elements (≥ 1), which share that arc's resistance."""
     elements = tuple(circuit.elements())
     roles, n_blocks = _roles(circuit)
-    n_series_r = max(1, sum(e.symbol == "R" and roles[e.name] < 0 for e in elements))
-    resistive = np.array([roles[e.name] for e in elements if roles[e.name] >= 0 and registry[e.symbol].parameters[0].unit == "Ohm"], int)
+    resistances = (StartRole.RESISTANCE, StartRole.ARC_RESISTANCE)
+    n_series_r = max(1, sum(StartRole.RESISTANCE in registry[e.symbol].start_roles and roles[e.name] < 0 for e in elements))
+    resistive = np.array([roles[e.name] for e in elements if roles[e.name] >= 0 and any(r in resistances for r in registry[e.symbol].start_roles)], int)
     n_res = np.maximum(np.bincount(resistive, minlength=max(n_blocks, 1)), 1).astype(float)
     n_res.setflags(write=False)  # (cached: shared by every call)
     return roles, max(n_blocks, 1), n_series_r, n_res
@@ -192,25 +193,32 @@ def data_driven_guesses(circuit: Circuit, table: ParameterTable, features: Spect
         tau = taus[:, block] if inside else tau_series
         f_arc = 1.0 / (2 * np.pi * tau)
         spec = registry[e.symbol]
-        names = spec.parameter_names(e.name)
-        sym = spec.symbol
-        if sym == "R":
-            guess[names[0]] = r_arc if inside else rows["r_hf"] / n_series_r
-        elif sym == "C":
-            guess[names[0]] = tau / r_arc if inside else rows["c_series"]
-        elif sym == "L":
-            guess[names[0]] = rows["l_series"]
-        elif sym == "CPE":
-            alpha = 0.85 if inside else rows["alpha_lf"]
-            c = tau / r_arc if inside else rows["c_series"]
-            guess[names[0]] = c * (2 * np.pi * (f_arc if inside else features.f_min)) ** (1 - alpha)
-            guess[names[1]] = alpha
-        elif sym == "W":
-            guess[names[0]] = rows["warburg"]
-        else:  # other elements: each parameter by its unit
-            by_unit = {"Ohm": r_arc, "s": tau, "1": 0.85}
-            for p, n in zip(spec.parameters, names):
-                guess[n] = by_unit.get(p.unit, p.default)
+        for p, n in zip(spec.parameters, spec.parameter_names(e.name)):
+            role = p.start_role  # see StartRole for what each guess means
+            if role is StartRole.RESISTANCE:
+                guess[n] = r_arc if inside else rows["r_hf"] / n_series_r
+            elif role is StartRole.ARC_RESISTANCE:
+                guess[n] = r_arc
+            elif role is StartRole.CAPACITANCE:
+                guess[n] = tau / r_arc if inside else rows["c_series"]
+            elif role is StartRole.ARC_CAPACITANCE:
+                guess[n] = tau / r_arc
+            elif role is StartRole.INDUCTANCE:
+                guess[n] = rows["l_series"]
+            elif role is StartRole.CPE_Q:
+                alpha = 0.85 if inside else rows["alpha_lf"]
+                c = tau / r_arc if inside else rows["c_series"]
+                guess[n] = c * (2 * np.pi * (f_arc if inside else features.f_min)) ** (1 - alpha)
+            elif role is StartRole.CPE_EXPONENT:
+                guess[n] = 0.85 if inside else rows["alpha_lf"]
+            elif role is StartRole.EXPONENT:
+                guess[n] = 0.85
+            elif role is StartRole.WARBURG:
+                guess[n] = rows["warburg"]
+            elif role is StartRole.TIME_CONSTANT:
+                guess[n] = tau
+            else:
+                guess[n] = p.default
     x = np.full((r_arcs.shape[0], len(table.names)), np.nan)
     for j, name in enumerate(table.names):
         x[:, j] = guess.get(name, np.nan)

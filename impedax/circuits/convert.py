@@ -1,0 +1,234 @@
+"""Circuits in other tools' notations: impedance.py strings and Boukamp's CDC, both ways.
+
+Readers (`from_impedance_py`, `from_cdc`) build an impedax tree; writers (`to_impedance_py`,
+`to_cdc`) accept a tree or circuit text and call the tree's own `Circuit.to_impedance_py` /
+`Circuit.to_cdc`. Which elements each notation can express is a fact of the element
+(``ElementSpec.impedance_py``, ``ElementSpec.cdc``), so a user's element converts too, or is
+refused with a message naming it.
+
+CDC conventions. In Boukamp's bracket convention the top level and ``[...]`` are series and
+``(...)`` is parallel: ``R(C[RW])`` is the Randles circuit R + C ∥ (R + W). In the classic
+convention of older programs only parentheses are used and nesting alternates parallel and
+series: the Randles circuit is ``R(C(RW))``. The two readings differ only where a ``(`` opens
+directly inside another ``(`` — in the bracket convention that would repeat a parallel inside
+a parallel, which nobody writes — so `from_cdc` reads such a string in the classic convention,
+and refuses a string that also uses ``[...]`` (mixed: ambiguous) unless told which is meant.
+"""
+
+from __future__ import annotations
+
+import enum
+import re
+
+from ..errors import CircuitError, CircuitSyntaxError
+from .elements import DEFAULT_REGISTRY
+from .parser import MAX_ELEMENTS, MAX_NESTING, parse, require_text
+from .spec import Registry
+from .tree import Circuit, Element, parallel, series
+
+__all__ = ["CDCConvention", "from_cdc", "from_impedance_py", "to_cdc", "to_impedance_py"]
+
+_IMPEDANCE_PY_ELEMENT_RE = re.compile(r"([A-Za-z]+)_?([0-9]+)")
+
+
+class CDCConvention(enum.StrEnum):
+    """How parentheses nest in a CDC string (see the module docstring)."""
+
+    AUTO = "auto"  # bracket convention, or classic where a '(' opens directly inside a '('
+    BRACKETS = "brackets"  # Boukamp: top level and [...] series, (...) parallel
+    ALTERNATING = "alternating"  # classic: (...) alternates parallel and series with depth
+
+
+def to_cdc(circuit: Circuit | str, registry: Registry = DEFAULT_REGISTRY) -> str:
+    """``circuit`` (a tree or circuit text) in Boukamp's CDC, bracket convention; see `Circuit.to_cdc`."""
+    return parse(circuit, registry).to_cdc(registry)
+
+
+def to_impedance_py(circuit: Circuit | str, registry: Registry = DEFAULT_REGISTRY) -> str:
+    """``circuit`` (a tree or circuit text) as an impedance.py string; see `Circuit.to_impedance_py`."""
+    return parse(circuit, registry).to_impedance_py(registry)
+
+
+def from_impedance_py(text: str, registry: Registry = DEFAULT_REGISTRY) -> Circuit:
+    """Convert an impedance.py circuit string (``R0-p(R1,C1)-CPE1``) into an impedax circuit.
+
+    ``-`` is series and ``p(a, b, ...)`` parallel; element names are kept (``CPE1`` → ``CPE1``,
+    ``R_0`` → ``R0``); the symbols are those of ``ElementSpec.impedance_py`` in ``registry``.
+    """
+    src = require_text(text)
+    if not src.strip():
+        raise CircuitSyntaxError(src, 0, "empty circuit")
+    return _ImpedancePyReader(src, registry).read()
+
+
+class _ImpedancePyReader:
+    """Recursive descent over an impedance.py string: ``series := item ('-' item)*``,
+    ``item := 'p(' series (',' series)+ ')' | ELEMENT``."""
+
+    def __init__(self, src: str, registry: Registry):
+        self.src = src
+        self.registry = registry
+        self.pos = 0
+        self.depth = 0
+        self.names: set[str] = set()
+
+    def read(self) -> Circuit:
+        out = self.series()
+        if self.pos != len(self.src):
+            raise CircuitSyntaxError(self.src, self.pos, f"unexpected {self.src[self.pos]!r}", "impedance.py strings use '-' and p(a,b)")
+        return out
+
+    def skip(self) -> None:
+        while self.pos < len(self.src) and self.src[self.pos].isspace():
+            self.pos += 1
+
+    def separated(self, separator: str, part) -> list[Circuit]:
+        """``part ( separator part )*``, whitespace allowed around the separators."""
+        parts = [part()]
+        self.skip()
+        while self.pos < len(self.src) and self.src[self.pos] == separator:
+            self.pos += 1
+            parts.append(part())
+            self.skip()
+        return parts
+
+    def series(self) -> Circuit:
+        return series(*self.separated("-", self.item))
+
+    def item(self) -> Circuit:
+        src = self.src
+        self.skip()
+        if src.startswith("p(", self.pos):
+            return self.parallel_group()
+        m = _IMPEDANCE_PY_ELEMENT_RE.match(src, self.pos)
+        if m is None:
+            raise CircuitSyntaxError(src, self.pos, "expected an element such as R0 or p(", None)
+        sym, digits = m.groups()
+        spec = self.registry.by_impedance_py.get(sym)
+        if spec is None:
+            raise CircuitSyntaxError(src, self.pos, f"impedance.py element {sym!r} has no impedax equivalent", "supported: " + ", ".join(self.registry.by_impedance_py))
+        name = f"{spec.symbol}{digits}"
+        if name in self.names:
+            raise CircuitSyntaxError(src, self.pos, f"duplicate element name {name!r}")
+        self.names.add(name)
+        if len(self.names) > MAX_ELEMENTS:
+            raise CircuitSyntaxError(src, self.pos, f"more than {MAX_ELEMENTS} elements")
+        self.pos = m.end()
+        return Element(spec.symbol, name)
+
+    def parallel_group(self) -> Circuit:
+        src, start = self.src, self.pos
+        if self.depth >= MAX_NESTING:
+            raise CircuitSyntaxError(src, start, f"p(...) nested deeper than {MAX_NESTING} levels")
+        self.depth += 1
+        self.pos += 2
+        parts = self.separated(",", self.series)
+        if self.pos >= len(src) or src[self.pos] != ")":
+            raise CircuitSyntaxError(src, self.pos, "expected ')' closing p(", f"p( opened at column {start + 1}")
+        self.pos += 1
+        self.depth -= 1
+        if len(parts) < 2:
+            raise CircuitSyntaxError(src, start, "p(...) needs at least two branches")
+        return parallel(*parts)
+
+
+def from_cdc(text: str, registry: Registry = DEFAULT_REGISTRY, *, convention: CDCConvention | str = CDCConvention.AUTO) -> Circuit:
+    """Convert a Boukamp circuit description code into an impedax circuit.
+
+    Bracket convention (``R(RC)(RQ)``, ``R(C[RW])``): the top level and ``[...]`` are series,
+    ``(...)`` parallel. Classic convention (``R(C(RW))``): nesting alternates parallel and
+    series. ``convention="auto"`` reads the bracket convention unless a ``(`` opens directly
+    inside a ``(`` (classic), and refuses a string that mixes that with ``[...]``; see the
+    module docstring. Letters are those of ``ElementSpec.cdc`` in ``registry``; elements are
+    numbered per symbol in order of appearance: ``R1, R2, C1, CPE1``.
+    """
+    src = require_text(text)
+    try:
+        convention = CDCConvention(convention)
+    except ValueError:
+        raise CircuitError(f"convention must be one of {', '.join(c.value for c in CDCConvention)}, got {convention!r}") from None
+    if convention is CDCConvention.AUTO:
+        convention = _cdc_convention(src)
+    return _CDCReader(src, registry, convention).read()
+
+
+def _cdc_convention(src: str) -> CDCConvention:
+    """The convention of ``src`` (see the module docstring), or a syntax error if mixed."""
+    open_groups: list[str] = []
+    nested_at = None
+    for i, ch in enumerate(src):
+        if ch in "([":
+            if ch == "(" and open_groups[-1:] == ["("] and nested_at is None:
+                nested_at = i
+            open_groups.append(ch)
+        elif ch in ")]" and open_groups:
+            open_groups.pop()
+    if nested_at is None:
+        return CDCConvention.BRACKETS  # the conventions read this string alike
+    if "[" in src:
+        raise CircuitSyntaxError(
+            src, nested_at, "ambiguous CDC: '(' directly inside '(' in a string that also uses '[...]'",
+            "in the bracket convention '(' is always parallel, in the classic one parentheses alternate "
+            "parallel and series and '[' is not used: pass convention='brackets' or convention='alternating'",
+        )
+    return CDCConvention.ALTERNATING
+
+
+class _CDCReader:
+    """Recursive descent over a CDC string in one known convention."""
+
+    def __init__(self, src: str, registry: Registry, convention: CDCConvention):
+        self.src = src
+        self.registry = registry
+        self.alternating = convention is CDCConvention.ALTERNATING
+        self.pos = 0
+        self.depth = 0
+        self.counts: dict[str, int] = {}
+
+    def read(self) -> Circuit:
+        return self.group(None, series)
+
+    def group(self, closing: str | None, kind) -> Circuit:
+        src = self.src
+        start = self.pos
+        if self.depth > MAX_NESTING:
+            raise CircuitSyntaxError(src, max(self.pos - 1, 0), f"groups nested deeper than {MAX_NESTING} levels")
+        self.depth += 1
+        parts: list[Circuit] = []
+        while self.pos < len(src):
+            ch = src[self.pos]
+            if ch.isspace():
+                self.pos += 1
+            elif ch == "(":
+                self.pos += 1
+                inner = (series if kind is parallel else parallel) if self.alternating else parallel
+                parts.append(self.group(")", inner))
+            elif ch == "[":
+                if self.alternating:
+                    raise CircuitSyntaxError(src, self.pos, "'[' in a classic (alternating) CDC string", "square brackets belong to the bracket convention: pass convention='brackets'")
+                self.pos += 1
+                parts.append(self.group("]", series))
+            elif ch in ")]":
+                if ch != closing:
+                    raise CircuitSyntaxError(src, self.pos, f"unexpected {ch!r}", "brackets do not match")
+                self.pos += 1
+                break
+            elif ch in self.registry.by_cdc:
+                parts.append(self.element(ch))
+            else:
+                raise CircuitSyntaxError(src, self.pos, f"unknown CDC element {ch!r}", "known: " + " ".join(self.registry.by_cdc))
+        else:
+            if closing is not None:
+                raise CircuitSyntaxError(src, start - 1, f"unclosed group, expected {closing!r}")
+        if not parts:
+            raise CircuitSyntaxError(src, max(start - 1, 0), "empty group")
+        self.depth -= 1
+        return kind(*parts)
+
+    def element(self, letter: str) -> Element:
+        sym = self.registry.by_cdc[letter].symbol
+        self.counts[sym] = self.counts.get(sym, 0) + 1
+        if sum(self.counts.values()) > MAX_ELEMENTS:
+            raise CircuitSyntaxError(self.src, self.pos, f"more than {MAX_ELEMENTS} elements")
+        self.pos += 1
+        return Element(sym, f"{sym}{self.counts[sym]}")

@@ -1,0 +1,289 @@
+"""What impedax knows about an element: `ParameterSpec`, `ElementSpec` and the `Registry`.
+
+An element is one declaration: symbol, name, equation, parameters (unit, default, bounds,
+description, role in starting guesses), a pure JAX impedance function, and the facts other
+code needs — whether it passes DC (diagnosis), how it is drawn (diagrams), its letter in
+Boukamp's CDC and its symbol in impedance.py (converters), and how many slots the padded
+fitting program reserves for it. Every fact has a default, so a user's element works in
+compiling, fitting, diagnosis, drawing and conversion without edits anywhere else.
+The registry is an immutable value; `Registry.register` returns a new registry.
+"""
+
+from __future__ import annotations
+
+import enum
+import math
+import re
+from dataclasses import dataclass, field
+from functools import cached_property
+from typing import Callable, Iterator, Mapping
+
+import jax.numpy as jnp
+import numpy as np
+
+from ..errors import CircuitError
+
+__all__ = ["ParameterSpec", "ElementSpec", "Registry", "DCPath", "StartRole", "MAX_ELEMENT_PARAMS"]
+
+MAX_ELEMENT_PARAMS = 4  # Havriliak–Negami has four; the padded fitting program relies on this
+_SYMBOL_RE = re.compile(r"[A-Z][A-Za-z]*\Z")
+_SUFFIX_RE = re.compile(r"[A-Za-z][A-Za-z0-9]*\Z")
+_CDC_RE = re.compile(r"[A-Z]\Z")
+_IMPEDANCE_PY_RE = re.compile(r"[A-Za-z]+\Z")
+_DRAW_RE = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
+
+
+class DCPath(enum.StrEnum):
+    """How an element behaves at DC (ω → 0)."""
+
+    CONDUCTS = "conducts"  # a finite, non-zero DC resistance: R, Ws, G, Cole–Cole, HN
+    BLOCKS = "blocks"  # |Z| → ∞: C, CPE, W, Wo
+    SHORTS = "shorts"  # |Z| → 0: L
+
+
+class StartRole(enum.StrEnum):
+    """What a parameter is, for the data-driven starting guess (`impedax.fitting`'s starts).
+
+    Inside an arc (a parallel block of the outer series chain) an element's resistances share
+    the arc's resistance and its time constants are the arc's; in the outer chain:
+    """
+
+    RESISTANCE = "resistance"  # a resistor: the high-frequency intercept, shared by the chain's resistors
+    ARC_RESISTANCE = "arc_resistance"  # a dispersion's own resistance: the spectrum's total arc resistance
+    CAPACITANCE = "capacitance"  # τ/R of its arc; in the chain, from Z'' at the lowest frequency
+    ARC_CAPACITANCE = "arc_capacitance"  # a dispersion's own capacitance: τ/R of its arc, or of the spectrum's
+    INDUCTANCE = "inductance"  # from positive Z'' at the highest frequencies
+    CPE_Q = "cpe_q"  # C·ω^(1−α) with C and α as for a capacitance and a CPE exponent
+    CPE_EXPONENT = "cpe_exponent"  # 0.85 in an arc; in the chain, the low-frequency slope of log −Z''
+    EXPONENT = "exponent"  # a broadening exponent: 0.85
+    WARBURG = "warburg"  # σ from |Z| √ω at the lowest frequencies
+    TIME_CONSTANT = "time_constant"  # 1/(2π f_peak) of its arc, or of the largest −Z'' peak
+    DEFAULT = "default"  # the parameter's declared default
+
+
+# the role of a parameter that declares none, by its unit
+_ROLE_BY_UNIT = {
+    "Ohm": StartRole.ARC_RESISTANCE,
+    "F": StartRole.CAPACITANCE,
+    "H": StartRole.INDUCTANCE,
+    "s": StartRole.TIME_CONSTANT,
+    "1": StartRole.EXPONENT,
+}
+
+
+@dataclass(frozen=True)
+class ParameterSpec:
+    """One parameter of an element.
+
+    ``suffix`` is ``None`` for an element whose single parameter is named after the element
+    itself (``R_sc``); otherwise the full name is ``f"{element}.{suffix}"`` (``CPE_sc.alpha``).
+    Bounds are open at ``lower``; ``upper`` is inclusive when ``upper_inclusive``.
+    ``role`` says how the data-driven starting guess finds a value (`StartRole`); ``None``
+    infers it from the unit (Ohm: arc resistance, F: capacitance, H: inductance, s: time
+    constant, 1: exponent, anything else: the default), see `start_role`.
+    """
+
+    suffix: str | None
+    unit: str
+    default: float
+    lower: float = 0.0
+    upper: float = math.inf
+    description: str = ""
+    upper_inclusive: bool = False
+    role: StartRole | None = None
+
+    def __post_init__(self):
+        if self.role is not None:
+            object.__setattr__(self, "role", _enum_value(StartRole, self.role, "start role"))
+
+    @property
+    def start_role(self) -> StartRole:
+        """The declared role, or the one inferred from the unit."""
+        if self.role is not None:
+            return self.role
+        return _ROLE_BY_UNIT.get(self.unit, StartRole.DEFAULT)
+
+    def full_name(self, element_name: str) -> str:
+        return element_name if self.suffix is None else f"{element_name}.{self.suffix}"
+
+    def contains(self, value: float) -> bool:
+        if not math.isfinite(value) or value <= self.lower:
+            return False
+        return value <= self.upper if self.upper_inclusive else value < self.upper
+
+    def bounds_text(self) -> str:
+        right = "]" if self.upper_inclusive else ")"
+        return f"({self.lower:g}, {self.upper:g}{right}"
+
+
+@dataclass(frozen=True)
+class ElementSpec:
+    """Declaration of one circuit element.
+
+    ``impedance(omega, *params)`` takes the angular frequency ω [rad/s] and the parameters in
+    declaration order and returns the complex impedance [Ω]; it must be pure JAX.
+    ``admittance(omega, *params)``, optional, returns 1/Z [S] where that is the simpler
+    formula (R, C, CPE): parallel nodes sum admittances, so it saves a division per frequency.
+
+    Facts for the rest of impedax, each optional:
+
+    * ``dc``: `DCPath` (or its value, ``"conducts"``, ``"blocks"``, ``"shorts"``); ``None``
+      infers it from the impedance at the default parameters (`dc_path`);
+    * ``draw``: the schemdraw element that draws it (``"Resistor"``); ``None``: a labelled box;
+    * ``cdc``: its letter in Boukamp's circuit description code, ``impedance_py`` its symbol in
+      impedance.py; ``None``: the notation cannot express it and converters refuse it;
+    * ``program_capacity``: slots reserved for it in the smallest padded program layout
+      (`impedax.circuits.ProgramLayout.sized`; larger layouts multiply it).
+    """
+
+    symbol: str
+    name: str
+    equation: str
+    parameters: tuple[ParameterSpec, ...]
+    impedance: Callable[..., jnp.ndarray] = field(compare=False)
+    aliases: tuple[str, ...] = ()
+    admittance: Callable[..., jnp.ndarray] | None = field(default=None, compare=False)
+    dc: DCPath | None = None
+    draw: str | None = None
+    cdc: str | None = None
+    impedance_py: str | None = None
+    program_capacity: int = 2
+
+    def __post_init__(self):
+        for sym in (self.symbol, *self.aliases):
+            if not _SYMBOL_RE.match(sym):
+                raise CircuitError(
+                    f"element symbol {sym!r} must be a capital letter followed by letters only "
+                    "(digits and '_' start the element's label)"
+                )
+        if not 1 <= len(self.parameters) <= MAX_ELEMENT_PARAMS:
+            raise CircuitError(
+                f"element {self.symbol} must have 1 to {MAX_ELEMENT_PARAMS} parameters"
+            )
+        suffixes = [p.suffix for p in self.parameters]
+        if None in suffixes and len(suffixes) > 1:
+            raise CircuitError(f"element {self.symbol}: only a single parameter may be unnamed")
+        for s in suffixes:
+            if s is not None and not _SUFFIX_RE.match(s):
+                raise CircuitError(f"element {self.symbol}: bad parameter suffix {s!r}")
+        if len(set(suffixes)) != len(suffixes):
+            raise CircuitError(f"element {self.symbol}: duplicate parameter suffixes")
+        self._check_facts()
+
+    def _check_facts(self) -> None:
+        if self.dc is not None:
+            object.__setattr__(self, "dc", _enum_value(DCPath, self.dc, f"element {self.symbol}: dc"))
+        for value, pattern, what in (
+            (self.cdc, _CDC_RE, "a CDC letter is one capital letter"),
+            (self.impedance_py, _IMPEDANCE_PY_RE, "an impedance.py symbol is letters only"),
+            (self.draw, _DRAW_RE, "draw names a schemdraw element, e.g. 'Resistor'"),
+        ):
+            if value is not None and not (isinstance(value, str) and pattern.match(value)):
+                raise CircuitError(f"element {self.symbol}: bad value {value!r}: {what}")
+        if not isinstance(self.program_capacity, int) or self.program_capacity < 1:
+            raise CircuitError(f"element {self.symbol}: program_capacity must be a positive integer")
+
+    def parameter_names(self, element_name: str) -> tuple[str, ...]:
+        return tuple(p.full_name(element_name) for p in self.parameters)
+
+    @property
+    def start_roles(self) -> tuple[StartRole, ...]:
+        """Each parameter's `StartRole`, in declaration order."""
+        return tuple(p.start_role for p in self.parameters)
+
+    @cached_property
+    def dc_path(self) -> DCPath:
+        """The declared ``dc``, or inferred from |Z| at the default parameters at two tiny
+        angular frequencies ω₁ = 1e-9 rad/s and ω₂ = 1e-12 rad/s: |Z(ω₂)|/|Z(ω₁)| above 2
+        (|Z| ∝ ω^−a with a > 0.1) blocks, below 1/2 shorts, anything between conducts.
+        Declare ``dc`` for an element whose defaults put a time constant beyond ~10⁸ s."""
+        if self.dc is not None:
+            return self.dc
+        omega = np.array([1e-9, 1e-12])
+        z = np.abs(np.asarray(self.impedance(jnp.asarray(omega), *(p.default for p in self.parameters))))
+        z = np.broadcast_to(z, omega.shape)
+        if np.isnan(z).any():
+            raise CircuitError(f"element {self.symbol}: cannot infer its DC behaviour (NaN impedance at ω → 0); declare dc=")
+        if z[1] > 2.0 * z[0]:  # also z[1] = inf
+            return DCPath.BLOCKS
+        if z[1] < 0.5 * z[0] or z[1] == 0.0:
+            return DCPath.SHORTS
+        return DCPath.CONDUCTS
+
+
+@dataclass(frozen=True)
+class Registry:
+    """An immutable set of element specs, looked up by symbol (aliases included)."""
+
+    specs: tuple[ElementSpec, ...]
+
+    def __post_init__(self):
+        _check_unique([sym for spec in self.specs for sym in (spec.symbol, *spec.aliases)], "element symbol")
+        _check_unique([spec.cdc for spec in self.specs if spec.cdc is not None], "CDC letter")
+        _check_unique([spec.impedance_py for spec in self.specs if spec.impedance_py is not None], "impedance.py symbol")
+
+    def __hash__(self) -> int:
+        return self._hash
+
+    @cached_property
+    def _hash(self) -> int:
+        # computed once: compiled solvers are cached by registry, and hashing every spec's
+        # fields on each lookup cost more than a solver step
+        return hash(self.specs)
+
+    @cached_property
+    def _by_symbol(self) -> Mapping[str, ElementSpec]:
+        table = {}
+        for spec in self.specs:
+            for sym in (spec.symbol, *spec.aliases):
+                table[sym] = spec
+        return table
+
+    @cached_property
+    def by_cdc(self) -> Mapping[str, ElementSpec]:
+        """CDC letter → spec, for the elements that have one."""
+        return {s.cdc: s for s in self.specs if s.cdc is not None}
+
+    @cached_property
+    def by_impedance_py(self) -> Mapping[str, ElementSpec]:
+        """impedance.py symbol → spec, for the elements that have one."""
+        return {s.impedance_py: s for s in self.specs if s.impedance_py is not None}
+
+    def __contains__(self, symbol: str) -> bool:
+        return symbol in self._by_symbol
+
+    def __getitem__(self, symbol: str) -> ElementSpec:
+        try:
+            return self._by_symbol[symbol]
+        except KeyError:
+            raise CircuitError(f"unknown element symbol {symbol!r}; known: {self.symbols()}") from None
+
+    def __iter__(self) -> Iterator[ElementSpec]:
+        return iter(self.specs)
+
+    def symbols(self) -> tuple[str, ...]:
+        return tuple(sorted(self._by_symbol, key=lambda s: (-len(s), s)))
+
+    def kind_index(self, symbol: str) -> int:
+        """Position of the element's spec in ``specs`` (used by the padded fitting program)."""
+        spec = self[symbol]
+        return self.specs.index(spec)
+
+    def register(self, spec: ElementSpec) -> "Registry":
+        """Return a new registry with ``spec`` added (the original is unchanged)."""
+        return Registry(self.specs + (spec,))
+
+
+def _enum_value(kind: type[enum.StrEnum], value, what: str):
+    try:
+        return kind(value)
+    except ValueError:
+        raise CircuitError(f"{what} must be one of {', '.join(repr(m.value) for m in kind)}, got {value!r}") from None
+
+
+def _check_unique(symbols: list[str], what: str) -> None:
+    seen: set[str] = set()
+    for sym in symbols:
+        if sym in seen:
+            raise CircuitError(f"{what} {sym!r} is declared twice")
+        seen.add(sym)

@@ -1,0 +1,232 @@
+"""Circuits in other tools' notations: impedance.py strings and Boukamp's CDC, read and written.
+
+Expected trees and strings are written out by hand from the notations' definitions; the
+bracket-convention writer is also checked against pyimpspec's CDC parser (another package's
+reading of the same string) where it is installed.
+"""
+
+import cmath
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import impedax as ix
+from impedax.circuits import CDCConvention, Element, Parallel, Series, from_cdc, from_impedance_py, to_cdc, to_impedance_py
+
+# --- impedance.py ---------------------------------------------------------------------------
+
+
+def test_impedance_py_converter():
+    c = from_impedance_py("R0-p(R1,C1)-CPE1")
+    assert c == ix.parse("R0 + R1 || C1 + CPE1")
+    assert from_impedance_py("R0-p(R1-Wo1,CPE1)") == ix.parse("R0 + (R1 + Wo1) || CPE1")
+    assert from_impedance_py("R_0-Ws1-G2-L3") == ix.parse("R0 + Ws1 + G2 + L3")
+    with pytest.raises(ix.CircuitSyntaxError, match="no impedax equivalent"):
+        from_impedance_py("R0-TLMQ1")
+    with pytest.raises(ix.CircuitSyntaxError):
+        from_impedance_py("R0-p(R1,C1")
+
+
+@pytest.mark.parametrize(
+    "text, expected",
+    [
+        ("R0 + R1 || C1 + CPE1", "R0-p(R1,C1)-CPE1"),
+        ("R0 + (R1 + Wo1) || CPE1", "R0-p(R1-Wo1,CPE1)"),
+        ("(R1 + C1) || (L1 + R2 || CPE1)", "p(R1-C1,L1-p(R2,CPE1))"),
+        ("R_s + R_ct || C_dl + W_d", "R0-p(R1,C0)-W0"),  # labels become numbers
+        ("R_a + R0 + Q1", "R1-R0-CPE0"),  # R0 is kept, so R_a takes R1; the alias Q is written CPE
+    ],
+)
+def test_to_impedance_py(text, expected):
+    c = ix.parse(text)
+    assert c.to_impedance_py() == expected
+    assert to_impedance_py(text) == expected
+
+
+def test_impedance_py_names_say_how_elements_were_renamed():
+    c = ix.parse("R_s + R_ct || C_dl + R1")
+    assert c.impedance_py_names() == {"R_s": "R0", "R_ct": "R2", "C_dl": "C0", "R1": "R1"}
+    renamed = from_impedance_py(c.to_impedance_py())
+    assert renamed == ix.parse("R0 + R2 || C0 + R1")
+
+
+def test_elements_impedance_py_lacks_are_refused_by_name():
+    with pytest.raises(ix.CircuitError, match=r"HN1 \(Havriliak–Negami relaxation\) has no impedance.py equivalent"):
+        ix.parse("R0 + HN1").to_impedance_py()
+
+
+# --- CDC: reading both conventions ----------------------------------------------------------
+
+
+def test_cdc_bracket_convention():
+    assert from_cdc("R(RC)(RQ)") == ix.parse("R1 + R2 || C1 + R3 || CPE1")
+    assert from_cdc("R([RW]C)") == ix.parse("R1 + (R2 + W1) || C1")
+    assert from_cdc("R(C[RW])") == ix.parse("R1 + C1 || (R2 + W1)")
+    assert from_cdc("R(C[R(CR)])") == ix.parse("R1 + C1 || (R2 + C2 || R3)")
+    assert from_cdc("LOTG") == ix.parse("L1 + Ws1 + Wo1 + G1")
+    with pytest.raises(ix.CircuitSyntaxError, match="unknown CDC element"):
+        from_cdc("R(RX)")
+    with pytest.raises(ix.CircuitSyntaxError):
+        from_cdc("R(RC")
+
+
+def test_classic_randles_string_is_the_randles_circuit():
+    # the classic convention: nesting alternates parallel and series, so R(C(RW)) is
+    # R + C ∥ (R + W), not C ∥ R ∥ W (what the bracket reading of '((' would give)
+    assert from_cdc("R(C(RW))") == ix.parse("R1 + C1 || (R2 + W1)")
+    assert from_cdc("R(C(RW))") == from_cdc("R(C[RW])")
+
+
+@pytest.mark.parametrize(
+    "classic, impedax_text",
+    [
+        ("R(C(R(CR)))", "R1 + C1 || (R2 + C2 || R3)"),  # depth 3 is parallel again
+        ("(R(CW))", "R1 || (C1 + W1)"),  # a whole-circuit parallel group
+        ("R(Q(R(QR)))(RC)", "R1 + CPE1 || (R2 + CPE2 || R3) + R4 || C1"),
+    ],
+)
+def test_classic_convention_alternates_with_depth(classic, impedax_text):
+    assert from_cdc(classic) == ix.parse(impedax_text)
+    assert from_cdc(classic, convention="alternating") == ix.parse(impedax_text)
+
+
+def test_mixed_conventions_are_refused_with_a_hint_not_guessed():
+    text = "R(C(R[RW]))"
+    with pytest.raises(ix.CircuitSyntaxError) as info:
+        from_cdc(text)
+    assert info.value.column == 3  # the '(' that opens inside a '('
+    message = str(info.value)
+    assert "ambiguous" in message and "convention='brackets'" in message and "convention='alternating'" in message
+    # told which is meant, it reads it
+    assert from_cdc(text, convention="brackets") == ix.parse("R1 + C1 || R2 || (R3 + W1)")
+    with pytest.raises(ix.CircuitSyntaxError, match=r"'\[' in a classic"):
+        from_cdc(text, convention=CDCConvention.ALTERNATING)
+
+
+def test_explicit_bracket_convention_reads_nested_parentheses_as_parallel():
+    assert from_cdc("R(C(RW))", convention="brackets") == ix.parse("R1 + C1 || R2 || W1")
+
+
+def test_unknown_convention_is_an_error():
+    with pytest.raises(ix.CircuitError, match="convention must be one of"):
+        from_cdc("R(RC)", convention="boukamp")
+
+
+# --- CDC: writing ---------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "text, expected",
+    [
+        ("R_s + C_dl || (R_ct + W_d)", "R(C[RW])"),
+        ("R0 + R1 || CPE1 + R2 || Q2", "R(RQ)(RQ)"),
+        ("(R1 + C1) || (L1 + R2 || CPE1)", "([RC][L(RQ)])"),
+        ("L1 + Ws1 + Wo1 + G1", "LOTG"),
+        ("R1", "R"),
+    ],
+)
+def test_to_cdc(text, expected):
+    assert ix.parse(text).to_cdc() == expected
+    assert to_cdc(text) == expected
+
+
+def test_elements_cdc_lacks_are_refused_by_name():
+    with pytest.raises(ix.CircuitError, match=r"CC1 \(Cole–Cole relaxation\) has no CDC equivalent; CDC can express: R \(R\), C \(C\)"):
+        ix.parse("R0 + CC1 || C1").to_cdc()
+
+
+# --- round trips over random trees ----------------------------------------------------------
+
+_SYMBOLS = ("R", "C", "L", "CPE", "W", "Wo", "Ws", "G")
+_shapes = st.recursive(
+    st.sampled_from(_SYMBOLS),
+    lambda inner: st.tuples(st.sampled_from(["series", "parallel"]), st.lists(inner, min_size=2, max_size=3)),
+    max_leaves=12,
+)
+
+
+def _numbered_tree(shape) -> ix.Circuit:
+    """The tree of ``shape`` with elements numbered per symbol from 1 in order of appearance
+    (the names the CDC reader gives)."""
+    counts: dict[str, int] = {}
+
+    def build(node):
+        if isinstance(node, str):
+            counts[node] = counts.get(node, 0) + 1
+            return Element(node, f"{node}{counts[node]}")
+        kind, children = node
+        built = [build(c) for c in children]
+        return Series(built) if kind == "series" else Parallel(built)
+
+    return build(shape)
+
+
+def _classic_cdc(c: ix.Circuit, top: bool = True) -> str:
+    """The classic (alternating) CDC of ``c``, written from the convention's definition: every
+    group but the top-level series chain is one pair of parentheses."""
+    letters = {"R": "R", "C": "C", "L": "L", "CPE": "Q", "W": "W", "Wo": "T", "Ws": "O", "G": "G"}
+    if isinstance(c, Element):
+        return letters[c.symbol]
+    inner = "".join(_classic_cdc(child, top=False) for child in c.children)
+    return inner if top and isinstance(c, Series) else f"({inner})"
+
+
+@settings(max_examples=150, deadline=None)
+@given(_shapes)
+def test_cdc_and_impedance_py_round_trip(shape):
+    c = _numbered_tree(shape)
+    assert from_cdc(c.to_cdc()) == c
+    assert from_cdc(c.to_cdc(), convention="brackets") == c
+    assert from_impedance_py(c.to_impedance_py()) == c
+    assert from_cdc(_classic_cdc(c)) == c
+
+
+# --- another package's reading of the written CDC -------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "text",
+    ["R_s + C_dl || (R_ct + CPE_d)", "(R1 + C1) || (L1 + R2 || CPE1)", "R0 || C0", "R1 + (R2 + C1 || (R3 + L1)) || CPE1 + C2"],
+)
+def test_written_cdc_means_the_same_circuit_to_pyimpspec(text):
+    pyimpspec = pytest.importorskip("pyimpspec")
+    c = ix.parse(text)
+    rng = np.random.default_rng(7)
+    values = {}
+    theirs = pyimpspec.parse_cdc(c.to_cdc())
+    for e, element in zip(c.elements(), theirs.get_elements()):
+        # pyimpspec names: R, C, L and Q(Y, n) with Z = 1/(Y (jω)^n), as impedax's CPE(Q, α)
+        if e.symbol == "CPE":
+            q, alpha = 10 ** rng.uniform(-7, -4), rng.uniform(0.5, 1.0)
+            values[f"{e.name}.Q"], values[f"{e.name}.alpha"] = q, alpha
+            element.set_values(Y=q, n=alpha)
+        else:
+            v = {"R": 10 ** rng.uniform(0, 4), "C": 10 ** rng.uniform(-8, -5), "L": 10 ** rng.uniform(-6, -3)}[e.symbol]
+            values[e.name] = v
+            element.set_values(**{e.symbol: v})
+    f = np.logspace(-1, 6, 15)
+    ours = np.asarray(ix.compile_circuit(c)(values, f))
+    np.testing.assert_allclose(ours, theirs.get_impedances(f), rtol=1e-10)
+
+
+def test_randles_read_from_classic_cdc_has_the_randles_impedance():
+    # closed form of R_s + C_dl ∥ (R_ct + W): Z = R_s + 1/(jωC + 1/(R_ct + σ(1 − j)/√ω))
+    c = from_cdc("R(C(RW))")
+    values = {"R1": 20.0, "C1": 2e-5, "R2": 150.0, "W1.sigma": 40.0}
+    for f in (0.1, 10.0, 1e4):
+        w = 2 * math.pi * f
+        expected = 20.0 + 1 / (1j * w * 2e-5 + 1 / (150.0 + 40.0 * (1 - 1j) / cmath.sqrt(w)))
+        assert complex(ix.compile_circuit(c)(values, np.array([f]))[0]) == pytest.approx(expected, rel=1e-12)
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.text(alphabet="RCLQWOTGX()[] ", max_size=30))
+def test_cdc_garbage_raises_only_impedax_errors_and_what_reads_round_trips(text):
+    try:
+        c = from_cdc(text)
+    except ix.ImpedaxError:
+        return
+    assert from_cdc(c.to_cdc()) == c
