@@ -4,20 +4,27 @@ from __future__ import annotations
 
 
 def register(sub) -> None:
-    from .common import add_model_argument
-    from .fit import add_fit_options
-
-    p = sub.add_parser(
+    p = add_spectrum_command(
+        sub,
         "diagnose",
         help="where a model fails and which physical effect is missing",
         description="Fit MODEL to DATA, test the data (Kramers-Kronig), find the bands where the residuals are structured, "
         "try every effect of the catalog at every sensible place (one batched fit) and rank them by AIC. See docs/diagnosis.md.",
     )
+    add_diagnosis_options(p, plot_help="save data vs model with the failing bands shaded and the best suggestion")
+    p.set_defaults(run=run)
+
+
+def add_spectrum_command(sub, name: str, *, help: str, description: str):
+    """A command on one spectrum with a model (diagnose, refine): DATA, --model, the fit options."""
+    from .common import add_model_argument
+    from .fit import add_fit_options
+
+    p = sub.add_parser(name, help=help, description=description)
     p.add_argument("data", metavar="DATA", help="spectrum file with one spectrum")
     add_model_argument(p)
     add_fit_options(p)
-    add_diagnosis_options(p, plot_help="save data vs model with the failing bands shaded and the best suggestion")
-    p.set_defaults(run=run)
+    return p
 
 
 def add_diagnosis_options(p, *, plot_help: str) -> None:

@@ -4,20 +4,16 @@ from __future__ import annotations
 
 
 def register(sub) -> None:
-    from .common import add_model_argument
-    from .diagnose import add_diagnosis_options
-    from .fit import add_fit_options
+    from .diagnose import add_diagnosis_options, add_spectrum_command
 
-    p = sub.add_parser(
+    p = add_spectrum_command(
+        sub,
         "refine",
         help="diagnose, add the best missing effect, refit; repeat until adequate",
         description="Repeat diagnose -> apply the best significant effect -> refit until the verdict is adequate or --max-steps effects were added; "
         "prints the table of steps (the error falls step by step). See docs/diagnosis.md.",
     )
-    p.add_argument("data", metavar="DATA", help="spectrum file with one spectrum")
-    add_model_argument(p)
     p.add_argument("--max-steps", type=int, default=4, metavar="N", help="most effects to add (default 4)")
-    add_fit_options(p)
     add_diagnosis_options(p, plot_help="save rms_rel per step and the residuals of every step")
     p.set_defaults(run=run)
 
