@@ -13,7 +13,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...circuits import Circuit, Element, Parallel, Registry, Series
+from ...circuits import Circuit, DEFAULT_REGISTRY, Element, Parallel, Registry, Series
+from ...errors import ParameterError
+
 from .catalog import BaselineContext, Effect, EffectCatalog, Proposal
 
 __all__ = ["DEFAULT_EFFECTS"]
