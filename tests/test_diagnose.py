@@ -10,8 +10,8 @@ import pytest
 import impedax as ix
 from impedax.cli import main
 from impedax.fitting.least_squares.solvers import evaluate_program_fast
-from impedax.fitting.diagnosis.diagnosis import failing_bands
-from impedax.fitting.diagnosis.effects import BaselineContext
+from impedax.fitting.diagnosis.bands import failing_bands
+from impedax.fitting.diagnosis.catalog import BaselineContext
 
 import hidden_effects as he
 

@@ -4,52 +4,31 @@ from __future__ import annotations
 
 
 def register(sub) -> None:
-    from .common import add_model_argument
+    from .diagnose import add_diagnosis_options, add_spectrum_command
 
-    p = sub.add_parser(
+    p = add_spectrum_command(
+        sub,
         "refine",
         help="diagnose, add the best missing effect, refit; repeat until adequate",
         description="Repeat diagnose -> apply the best significant effect -> refit until the verdict is adequate or --max-steps effects were added; "
         "prints the table of steps (the error falls step by step). See docs/diagnosis.md.",
     )
-    p.add_argument("data", metavar="DATA", help="spectrum file with one spectrum")
-    add_model_argument(p)
     p.add_argument("--max-steps", type=int, default=4, metavar="N", help="most effects to add (default 4)")
-    from ..fitting import WEIGHTINGS
-
-    p.add_argument("--weighting", default="modulus", choices=list(WEIGHTINGS), help="fit weighting (as impedax fit; default modulus)")
-    p.add_argument("--effects", metavar="ID,ID", help="only these effects (comma-separated ids; default: all)")
-    p.add_argument("--noise", type=float, metavar="REL", help="relative noise level per component (default: from sigma or the KK residuals)")
-    p.add_argument("--json", action="store_true", help="machine-readable output")
-    p.add_argument("--plot", metavar="FILE.png", help="save rms_rel per step and the residuals of every step")
+    add_diagnosis_options(p, plot_help="save rms_rel per step and the residuals of every step")
     p.set_defaults(run=run)
 
 
 def run(args) -> int:
-    from .. import load
-    from ..io.atomic import check_writable
     from ..errors import ParameterError
     from ..fitting import refine
-    from .common import emit_json
-    from .diagnose import effects_option
+    from ..io.atomic import check_writable
+    from .diagnose import effects_option, emit_result
 
     if args.plot:
         check_writable(args.plot)
     if args.max_steps < 0:
         raise ParameterError(f"--max-steps must be 0 or more, got {args.max_steps}")
     effects = effects_option(args.effects)
-    data = load(args.data)
-    if any(d != "frequency" for d in data["Z"].dims):
-        from ..errors import DataError
-
-        raise DataError("the data hold several spectra (extra dimensions); refine one spectrum (average or select trials first)", path=args.data)
-    result = refine(data, args.model, max_steps=args.max_steps, effects=effects, weighting=args.weighting, noise=args.noise)
-    if args.plot:
-        from ..plotting import save_figure
-
-        save_figure(result.plot(), args.plot)
-    if args.json:
-        emit_json(result.summary())
-    else:
-        print(result.report())
+    result = refine(args.data, args.model, max_steps=args.max_steps, effects=effects, weighting=args.weighting, noise=args.noise, fmin=args.fmin, fmax=args.fmax)
+    emit_result(result, args)
     return 0

@@ -1,129 +1,23 @@
-"""The catalog of physical effects a diagnosis can propose (a value, like the element registry).
+"""The catalog of physical effects a diagnosis can propose: the one file to add an effect.
 
-Each `Effect` is a frozen spec: a stable ``id`` (used in JSON), the physics in words, the
-residual signature it leaves when a model lacks it, the circuit change in words, and
-``propose(circuit, context)`` that returns one `Proposal` per sensible placement in the given
-circuit: the augmented circuit (a valid impedax circuit) plus warm starts — the baseline
-fit's values and data-driven guesses for the new element (from the misfit ΔZ = Z_data − Z_model
-or ΔY = 1/Z_data − 1/Z_model where the effect acts). `EffectCatalog.register` returns a new
-catalog; `DEFAULT_EFFECTS` holds the seven effects below.
+Each effect is a proposal function plus an `Effect` entry in `DEFAULT_EFFECTS` (a stable ``id``,
+used in JSON; the physics in words; the residual signature it leaves when a model lacks it; the
+circuit change in words). ``propose(circuit, context)`` returns one `Proposal` per sensible
+placement in the given circuit: the augmented circuit (a valid impedax circuit) plus warm
+starts — the baseline fit's values and data-driven guesses for the new element (from the misfit
+ΔZ = Z_data − Z_model or ΔY = 1/Z_data − 1/Z_model where the effect acts). The types live in
+`impedax.fitting.diagnosis.catalog`; docs/diagnosis.md, section 4, describes the seven effects.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-from typing import Callable, Iterator, Mapping
-
 import numpy as np
 
-from ...circuits import Circuit, DCPath, DEFAULT_REGISTRY, Element, Parallel, Registry, Series
-from ...errors import ParameterError
+from ...circuits import Circuit, DCPath, Element, Parallel, Registry, Series
 
-__all__ = ["Effect", "EffectCatalog", "Proposal", "BaselineContext", "DEFAULT_EFFECTS"]
+from .catalog import BaselineContext, Effect, EffectCatalog, Proposal
 
-
-@dataclass(frozen=True)
-class Proposal:
-    """One augmented circuit: ``added`` (the new elements, as circuit text) placed ``where``."""
-
-    effect: str
-    circuit: Circuit
-    added: str
-    where: str
-    starts: tuple[Mapping[str, float], ...]
-
-
-@dataclass(frozen=True, eq=False)
-class BaselineContext:
-    """What a proposal function may look at: the baseline circuit, its fitted values and the
-    data/model spectra (arrays sorted by frequency, ascending)."""
-
-    circuit: Circuit
-    values: Mapping[str, float]
-    frequency: np.ndarray
-    z_data: np.ndarray
-    z_model: np.ndarray
-    registry: Registry = field(default=DEFAULT_REGISTRY, repr=False)
-    undetermined: frozenset = frozenset()  # baseline parameters the data did not determine
-
-    @property
-    def omega(self) -> np.ndarray:
-        return 2 * np.pi * self.frequency
-
-    def fresh(self, symbol: str, label: str) -> str:
-        """An element name ``symbol_label`` not used in the baseline (``R_EP``, ``R_EP2``, ...)."""
-        taken = set(self.circuit.element_names)
-        name, k = f"{symbol}_{label}", 2
-        while name in taken:
-            name, k = f"{symbol}_{label}{k}", k + 1
-        return name
-
-    def ends(self, k: int = 3):
-        """Indices of the k lowest and k highest frequencies."""
-        k = min(k, self.frequency.size)
-        return np.arange(k), np.arange(self.frequency.size - k, self.frequency.size)
-
-    def misfit_frequency(self) -> float:
-        """Frequency where the relative misfit |Z_data − Z_model|/|Z_data| peaks (3-point smoothed)."""
-        r = np.abs(self.z_data - self.z_model) / np.abs(self.z_data)
-        smooth = np.convolve(r, np.ones(3) / 3, mode="same") if r.size >= 3 else r
-        return float(self.frequency[int(np.argmax(smooth))])
-
-    def start(self, **new: float) -> dict[str, float]:
-        """Baseline values plus ``new``; undetermined baseline values are left to the data-driven
-        guess (a resistance that collapsed to ~0 in log space cannot come back from there)."""
-        out = {k: float(v) for k, v in self.values.items() if k not in self.undetermined}
-        out.update({k: float(v) for k, v in new.items()})
-        return out
-
-
-@dataclass(frozen=True)
-class Effect:
-    """A physical effect: id (stable), physics, residual signature, circuit change, proposals."""
-
-    id: str
-    title: str
-    physics: str
-    signature: str
-    change: str
-    propose: Callable[[Circuit, BaselineContext], list[Proposal]] = field(repr=False, compare=False)
-
-
-@dataclass(frozen=True)
-class EffectCatalog:
-    """An immutable, ordered set of effects; `register` returns an extended copy."""
-
-    effects: tuple[Effect, ...]
-
-    def __post_init__(self):
-        ids = [e.id for e in self.effects]
-        if len(set(ids)) != len(ids):
-            raise ParameterError(f"duplicate effect ids in catalog: {ids}")
-
-    def __iter__(self) -> Iterator[Effect]:
-        return iter(self.effects)
-
-    def __len__(self) -> int:
-        return len(self.effects)
-
-    def __getitem__(self, effect_id: str) -> Effect:
-        for e in self.effects:
-            if e.id == effect_id:
-                return e
-        raise ParameterError(f"unknown effect {effect_id!r}; known: {', '.join(self.ids())}")
-
-    def ids(self) -> tuple[str, ...]:
-        return tuple(e.id for e in self.effects)
-
-    def register(self, effect: Effect) -> "EffectCatalog":
-        return EffectCatalog(self.effects + (effect,))
-
-    def select(self, ids) -> "EffectCatalog":
-        """A catalog restricted to ``ids`` (in the catalog's order)."""
-        wanted = set(ids)
-        for i in wanted:
-            self[i]
-        return EffectCatalog(tuple(e for e in self.effects if e.id in wanted))
+__all__ = ["DEFAULT_EFFECTS"]
 
 
 # --- tree helpers ---------------------------------------------------------------------------
@@ -188,13 +82,6 @@ def _arc_resistors(circuit: Circuit, registry: Registry) -> list[str]:
 
 def _positive(x: float, floor: float) -> float:
     return float(x) if np.isfinite(x) and x > floor else float(floor)
-
-
-def _fmt_f(f: float) -> str:
-    for unit, scale in (("MHz", 1e6), ("kHz", 1e3), ("Hz", 1.0), ("mHz", 1e-3)):
-        if f >= scale:
-            return f"{f / scale:.3g} {unit}"
-    return f"{f:.3g} Hz"
 
 
 # --- proposal functions ---------------------------------------------------------------------
@@ -424,7 +311,3 @@ DEFAULT_EFFECTS = EffectCatalog(
 )
 """The default effect catalog (ids are stable: they appear in JSON)."""
 
-
-def format_frequency(f: float) -> str:
-    """``1.5 kHz`` style."""
-    return _fmt_f(f)

@@ -24,13 +24,14 @@ from .result import FitResult, fit_result
 from .solvers import SolverArgs, SolverOutput, program_solver
 from .starts import SpectrumFeatures, data_driven_guess, random_starts
 
-__all__ = ["fit_candidates"]
+__all__ = ["fit_candidates", "K_BUCKETS", "C_BUCKET", "bucket"]
 
-_K_BUCKETS = (4, 8, 12, 16, 24, 32, 48)  # the Jacobian costs one model pass per column
-_C_BUCKET = 8
+K_BUCKETS = (4, 8, 12, 16, 24, 32, 48)  # the Jacobian costs one model pass per column
+C_BUCKET = 8
 
 
-def _bucket(n: int, buckets) -> int:
+def bucket(n: int, buckets) -> int:
+    """The smallest of ``buckets`` (ascending) that holds ``n``."""
     for b in buckets:
         if n <= b:
             return b
@@ -97,7 +98,7 @@ def fit_candidates(
     layout = layout if layout is not None else _shared_layout(circuits, registry)
     programs = [CircuitProgram.build(c, registry, layout) for c in circuits]
     k_need = max(int((~p.table.fixed).sum()) for p in prepared)
-    k_pad = max(k_pad or 0, _bucket(k_need, _K_BUCKETS))
+    k_pad = max(k_pad or 0, bucket(k_need, K_BUCKETS))
     seeds = list(seeds) if seeds is not None else [seed] * len(circuits)
     if len(seeds) != len(circuits):
         raise FitError("seeds must give one seed per circuit")
@@ -135,7 +136,7 @@ def fit_candidates(
             }
         )
     n_real = len(rows)
-    n_total = max(pad_to or 0, -(-n_real // _C_BUCKET) * _C_BUCKET)
+    n_total = max(pad_to or 0, -(-n_real // C_BUCKET) * C_BUCKET)
     rows += [rows[-1]] * (n_total - n_real)  # pad the candidate count (results discarded)
     stack = lambda key: jnp.asarray(np.stack([r[key] for r in rows]))  # noqa: E731
     args = SolverArgs(

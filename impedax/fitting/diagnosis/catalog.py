@@ -1,0 +1,133 @@
+"""The types of the effect catalog: an `Effect` (a physical effect and its proposal function),
+the `EffectCatalog` that holds them (a value, like the element registry), the `BaselineContext`
+a proposal function looks at and the `Proposal` it returns. The effects themselves live in
+`impedax.fitting.diagnosis.effects` (docs/diagnosis.md, section 4)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable, Iterator, Mapping
+
+import numpy as np
+
+from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
+from ...errors import ParameterError
+
+__all__ = ["Effect", "EffectCatalog", "Proposal", "BaselineContext"]
+
+
+@dataclass(frozen=True)
+class Proposal:
+    """One augmented circuit: ``added`` (the new elements, as circuit text) placed ``where``."""
+
+    effect: str
+    circuit: Circuit
+    added: str
+    where: str
+    starts: tuple[Mapping[str, float], ...]
+
+
+@dataclass(frozen=True, eq=False)
+class BaselineContext:
+    """What a proposal function may look at: the baseline circuit, its fitted values and the
+    data/model spectra (arrays sorted by frequency, ascending)."""
+
+    circuit: Circuit
+    values: Mapping[str, float]
+    frequency: np.ndarray
+    z_data: np.ndarray
+    z_model: np.ndarray
+    registry: Registry = field(default=DEFAULT_REGISTRY, repr=False)
+    undetermined: frozenset = frozenset()  # baseline parameters the data did not determine
+
+    @property
+    def omega(self) -> np.ndarray:
+        return 2 * np.pi * self.frequency
+
+    def fresh(self, symbol: str, label: str) -> str:
+        """An element name ``symbol_label`` not used in the baseline (``R_EP``, ``R_EP2``, ...)."""
+        taken = set(self.circuit.element_names)
+        name, k = f"{symbol}_{label}", 2
+        while name in taken:
+            name, k = f"{symbol}_{label}{k}", k + 1
+        return name
+
+    def ends(self, k: int = 3):
+        """Indices of the k lowest and k highest frequencies."""
+        k = min(k, self.frequency.size)
+        return np.arange(k), np.arange(self.frequency.size - k, self.frequency.size)
+
+    def misfit_frequency(self) -> float:
+        """Frequency where the relative misfit |Z_data − Z_model|/|Z_data| peaks (3-point smoothed)."""
+        r = np.abs(self.z_data - self.z_model) / np.abs(self.z_data)
+        smooth = np.convolve(r, np.ones(3) / 3, mode="same") if r.size >= 3 else r
+        return float(self.frequency[int(np.argmax(smooth))])
+
+    def start(self, **new: float) -> dict[str, float]:
+        """Baseline values plus ``new``; undetermined baseline values are left to the data-driven
+        guess (a resistance that collapsed to ~0 in log space cannot come back from there)."""
+        out = {k: float(v) for k, v in self.values.items() if k not in self.undetermined}
+        out.update({k: float(v) for k, v in new.items()})
+        return out
+
+
+@dataclass(frozen=True)
+class Effect:
+    """A physical effect: id (stable), physics, residual signature, circuit change, proposals."""
+
+    id: str
+    title: str
+    physics: str
+    signature: str
+    change: str
+    propose: Callable[[Circuit, BaselineContext], list[Proposal]] = field(repr=False, compare=False)
+
+
+@dataclass(frozen=True)
+class EffectCatalog:
+    """An immutable, ordered set of effects; `register` returns an extended copy."""
+
+    effects: tuple[Effect, ...]
+
+    def __post_init__(self):
+        ids = [e.id for e in self.effects]
+        if len(set(ids)) != len(ids):
+            raise ParameterError(f"duplicate effect ids in catalog: {ids}")
+
+    def __iter__(self) -> Iterator[Effect]:
+        return iter(self.effects)
+
+    def __len__(self) -> int:
+        return len(self.effects)
+
+    def __getitem__(self, effect_id: str) -> Effect:
+        for e in self.effects:
+            if e.id == effect_id:
+                return e
+        raise ParameterError(f"unknown effect {effect_id!r}; known: {', '.join(self.ids())}")
+
+    def ids(self) -> tuple[str, ...]:
+        return tuple(e.id for e in self.effects)
+
+    def register(self, effect: Effect) -> "EffectCatalog":
+        return EffectCatalog(self.effects + (effect,))
+
+    def select(self, ids) -> "EffectCatalog":
+        """A catalog restricted to ``ids`` (in the catalog's order)."""
+        wanted = set(ids)
+        for i in wanted:
+            self[i]
+        return EffectCatalog(tuple(e for e in self.effects if e.id in wanted))
+
+    def proposals(self, ctx: BaselineContext) -> list[tuple[Effect, Proposal]]:
+        """Every effect's proposals for the baseline ``ctx.circuit``, in catalog order, without
+        the baseline itself or a circuit proposed twice (by text)."""
+        seen = {str(ctx.circuit)}
+        out = []
+        for effect in self.effects:
+            for proposal in effect.propose(ctx.circuit, ctx):
+                key = str(proposal.circuit)
+                if key not in seen:
+                    seen.add(key)
+                    out.append((effect, proposal))
+        return out

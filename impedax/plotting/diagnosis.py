@@ -1,0 +1,80 @@
+"""Figures of a diagnosis and of a refinement (`impedax.fitting.diagnosis`, docs/diagnosis.md).
+
+The results are taken duck-typed: a diagnosis has ``baseline`` (a fit with ``frequency``,
+``z_data``, ``z_model``, ``residuals``, ``model``, ``rms_rel``), ``failing_bands`` (with
+``f_min``/``f_max``), ``verdict`` and ``best`` (a suggestion with ``fit`` and ``effect``, or
+None); a refinement has ``steps`` (each with ``fit``, ``effect``, ``model`` and ``diagnosis``),
+``final_model`` and ``verdict``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+from . import plot_spectrum, shade_bands
+
+__all__ = ["plot_diagnosis", "plot_refinement"]
+
+
+def plot_diagnosis(diagnosis, *, title: str | None = None):
+    """Nyquist, Bode and residual panels of the baseline with the failing bands shaded and the
+    best suggestion overlaid (matplotlib Figure)."""
+    b = diagnosis.baseline
+    bands = [(band.f_min, band.f_max) for band in diagnosis.failing_bands]
+    fig = plot_spectrum((b.frequency, b.z_data), (b.frequency, b.z_model), title=title or f"{b.model}: {diagnosis.verdict} (rms_rel {b.rms_rel * 100:.3g} %)", bands=bands, model_label="baseline")
+    best = diagnosis.best
+    if best is not None:
+        axes = fig.axes
+        z = best.fit.z_model
+        axes[0].plot(z.real, -z.imag, "-", color="tab:green", lw=1.2, label=f"+ {best.effect}")
+        axes[1].loglog(b.frequency, np.abs(z), "-", color="tab:green", lw=1.2)
+        axes[2].semilogx(b.frequency, np.degrees(np.angle(z)), "-", color="tab:green", lw=1.2)
+        if len(axes) > 3:
+            r = best.fit.residuals * 100
+            axes[3].semilogx(b.frequency, np.abs(r), "-", color="tab:green", lw=1.0, label=f"|res| with {best.effect}")
+            axes[3].legend(fontsize=8, ncol=3)
+        axes[0].legend(fontsize=8)
+    return fig
+
+
+def plot_refinement(refinement, *, title: str | None = None):
+    """Error per step (rms_rel, log scale, with the final noise level √2σ) and the relative
+    residuals of the last five steps vs frequency, each step's failing bands shaded
+    (matplotlib Figure)."""
+    n = len(refinement.steps)
+    fig = plt.figure(figsize=(11, 3.2 + 2.0 * min(n, 5)), layout="constrained")
+    grid = fig.add_gridspec(min(n, 5), 2, width_ratios=[1, 1.6])
+    ax = fig.add_subplot(grid[:, 0])
+    rms = [s.fit.rms_rel * 100 for s in refinement.steps]
+    ax.semilogy(range(n), rms, "o-", color="tab:blue")
+    for i, s in enumerate(refinement.steps):
+        ax.annotate(s.effect or "start", (i, rms[i]), textcoords="offset points", xytext=(4, 6), fontsize=8)
+    last_d = refinement.steps[-1].diagnosis
+    if last_d is not None:
+        ax.axhline(last_d.noise_level * math.sqrt(2) * 100, color="grey", ls="--", lw=0.8, label="noise level √2σ")
+        ax.legend(fontsize=8)
+    ax.set_xlabel("refinement step")
+    ax.set_ylabel("rms_rel [%]")
+    ax.set_xticks(range(n))
+    ax.grid(alpha=0.3, which="both")
+    shown = list(range(n))[-5:] if n > 5 else list(range(n))
+    for row, i in enumerate(shown):
+        s = refinement.steps[i]
+        a = fig.add_subplot(grid[row, 1])
+        r = s.fit.residuals * 100
+        a.semilogx(s.fit.frequency, r.real, "o-", ms=2.5, lw=0.7, label="Re")
+        a.semilogx(s.fit.frequency, r.imag, "s-", ms=2.5, lw=0.7, label="Im")
+        a.axhline(0, color="k", lw=0.5)
+        if s.diagnosis is not None:
+            shade_bands([a], [(band.f_min, band.f_max) for band in s.diagnosis.failing_bands], label=None)
+        a.set_title(f"step {i}: {s.model}  (rms_rel {s.fit.rms_rel * 100:.3g} %)", fontsize=8)
+        a.set_ylabel("res. [%]", fontsize=8)
+        a.grid(alpha=0.3)
+        if row == 0:
+            a.legend(fontsize=7, ncol=2)
+    fig.axes[-1].set_xlabel("frequency [Hz]")
+    fig.suptitle(title or f"refinement: {refinement.steps[0].model} → {refinement.final_model} ({refinement.verdict})")
+    return fig
