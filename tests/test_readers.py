@@ -104,7 +104,7 @@ def _corrupt(name, old, new):
         ("zplot_sweep.z", "End Comments", "End Of Header", "no 'End Comments' line", None),
         ("zplot_sweep.z", "1.000000E+03", "nan", "NaN/Inf", 19),
         ("autolab_nova.txt", "3;1000;", "3;abc;", "'abc' is not a number", 4),
-        ("dev3000_imps_0_sample_00000.csv", ";frequency;1.0000000000e+00;", ";frequency;", "5 frequencies but 6 impedance values", 3),
+        ("dev3000_imps_0_sample_00000.csv", ";frequency;1.0000000000e+00;", ";frequency;", "point 5: frequency missing", 3),
     ],
 )
 def test_broken_instrument_files_name_file_and_line(tmp_path, name, old, new, fragment, line):
