@@ -21,7 +21,7 @@ from ..data import make_spectrum
 from ..errors import DataError
 
 __all__ = [
-    "MAX_FILE_BYTES", "check_file", "read_bytes", "read_text", "decode_text", "head_text", "number",
+    "UNIT_CELL", "MAX_FILE_BYTES", "check_file", "read_bytes", "read_text", "decode_text", "head_text", "number",
     "Skipped", "finish", "unit_scale", "split_header_cell", "decimal_comma",
 ]
 
@@ -216,7 +216,7 @@ def stack(path: Path, spectra: Sequence[tuple[str, xr.Dataset]], dim: str) -> xr
 _PREFIX = {"": 1.0, "m": 1e-3, "µ": 1e-6, "μ": 1e-6, "u": 1e-6, "k": 1e3, "K": 1e3, "M": 1e6, "G": 1e9}
 _BASES = {
     "frequency": ("Hz", "hz", "HZ"),
-    "resistance": ("Ω", "Ohm", "ohm", "Ohms", "ohms", "OHM", "OHMS", "Ω"),
+    "resistance": ("Ω", "Ohm", "ohm", "Ohms", "ohms", "OHM", "OHMS"),
     "angle": (),
 }
 _ANGLE = {"deg": 1.0, "°": 1.0, "degree": 1.0, "degrees": 1.0, "Deg": 1.0, "rad": 180 / np.pi}
@@ -232,13 +232,13 @@ def unit_scale(unit: str, quantity: str) -> float | None:
     for base in sorted(_BASES[quantity], key=len, reverse=True):
         if unit.endswith(base):
             prefix = unit[: -len(base)]
-            if prefix == "M" and base.isupper():
+            if prefix == "M" and base in ("HZ", "OHM", "OHMS"):
                 raise DataError(f"unit {unit!r} is ambiguous (mHz or MHz? mΩ or MΩ?); write the prefix in its SI case")
             return _PREFIX.get(prefix)
     return None
 
 
-_UNIT_CELL = re.compile(r"^(?P<name>.*?\S)\s*(?:[\(\[]\s*(?P<u1>[^()\[\]]*?)\s*[\)\]]|/\s*(?P<u2>[^/()]+?))\s*$")
+UNIT_CELL = _UNIT_CELL = re.compile(r"^(?P<name>.*?\S)\s*(?:[\(\[]\s*(?P<u1>[^()\[\]]*?)\s*[\)\]]|/\s*(?P<u2>[^/()]+?))\s*$")
 _ANY_UNIT = ("frequency", "resistance", "angle")
 
 

@@ -21,7 +21,7 @@ import numpy as np
 import xarray as xr
 
 from ..errors import DataError
-from ._common import Skipped, decimal_comma, finish, number, split_header_cell, unit_scale
+from ._common import UNIT_CELL, Skipped, decimal_comma, finish, number, split_header_cell, unit_scale
 
 __all__ = ["ROLES", "Layout", "detect_layout", "role_of", "spectrum_from_rows"]
 
@@ -50,13 +50,22 @@ def _key(name: str) -> str:
     return key
 
 
+def _lookup(key: str) -> str | None:
+    return next((r for r, names in ROLES.items() if key in names), None)
+
+
 def role_of(cell: str) -> tuple[str, float, str] | None:
     """``(role, scale to SI, unit)`` of a header cell, or ``None`` when it names no role."""
     name, unit = split_header_cell(cell)
     key = _key(name)
-    role = next((r for r, names in ROLES.items() if key in names), None)
+    role = _lookup(key)
     if role is None:
-        return None
+        m = UNIT_CELL.match(cell.strip().strip('"').strip())
+        if m and _lookup(_key(m.group("name"))) is not None:  # a role with a unit we do not know
+            unit = m.group("u1") if m.group("u1") is not None else m.group("u2")
+            name, role = m.group("name"), _lookup(_key(m.group("name")))
+        else:
+            return None
     if not unit:
         unit = next((u for s, u in _SUFFIX_UNITS.items() if key.endswith(s)), "")
     if not unit:
