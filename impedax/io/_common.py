@@ -22,7 +22,7 @@ from ..errors import DataError
 
 __all__ = [
     "UNIT_CELL", "MAX_FILE_BYTES", "check_file", "read_bytes", "read_text", "decode_text", "head_text", "number",
-    "Skipped", "finish", "unit_scale", "split_header_cell", "decimal_comma",
+    "Skipped", "finish", "first_line", "stack", "unit_scale", "split_header_cell", "decimal_comma",
 ]
 
 #: Largest file a reader reads whole. Instrument exports are kilobytes; a spectrum of a million
@@ -89,6 +89,14 @@ def head_text(head: bytes) -> str:
     if b"\x00" in head[:4096]:
         return ""
     return head.decode("utf-8-sig", errors="replace")
+
+
+def first_line(lines: Sequence[str], path: Path) -> int:
+    """Index of the first non-blank line; `DataError` for a blank file."""
+    k = next((i for i, ln in enumerate(lines) if ln.strip()), None)
+    if k is None:
+        raise DataError("file is empty", path=path)
+    return k
 
 
 def number(cell: str, path: Path, line: int | None, column: str, *, comma: bool = False) -> float:

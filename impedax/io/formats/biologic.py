@@ -81,6 +81,8 @@ def read_biologic_text(path: str | Path) -> xr.Dataset:
 
 
 def _columns(path: Path, lines: list[str], header_index: int, attrs: dict) -> xr.Dataset:
+    if header_index >= len(lines):
+        raise DataError("file ends before the column-name line", path=path, line=header_index + 1)
     names = [c.strip() for c in lines[header_index].split("\t")]
     required = ("freq/Hz", "Re(Z)/Ohm", "-Im(Z)/Ohm")
     missing = [n for n in required if n not in names]

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import xarray as xr
 
-from .._common import head_text, read_text
+from .._common import first_line, head_text, read_text
 from ..registry import Reader
 from ..table import detect_layout, spectrum_from_rows
 
@@ -35,7 +35,7 @@ def read_powersuite(path: str | Path) -> xr.Dataset:
     """Read a PowerSuite text export (see module docstring)."""
     path = Path(path)
     lines = read_text(path).splitlines()
-    k = next(i for i, ln in enumerate(lines) if ln.strip())
+    k = first_line(lines, path)
     layout = detect_layout(lines[k].split("\t"), path, k + 1)
     rows = [(j + 1, lines[j].split("\t")) for j in range(k + 1, len(lines)) if lines[j].strip()]
     attrs = {"format": "PowerSuite text", "instrument": "Princeton Applied Research (PowerSuite)"}
