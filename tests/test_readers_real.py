@@ -174,3 +174,30 @@ def test_every_real_file_loads_under_another_name(tmp_path, name):
     fmt = ix.load(REAL / name).attrs["format"]
     shutil.copy(REAL / name, tmp_path / "renamed.dat")
     assert ix.load(tmp_path / "renamed.dat").attrs["format"] == fmt
+
+
+# --- impedax inspect ------------------------------------------------------------------------
+
+
+def test_inspect_says_what_was_read_and_how(capsys, tmp_path):
+    from impedax.cli import main
+
+    assert main(["inspect", str(REAL / "exampleDataParstat.txt"), "--plot", str(tmp_path / "preview.png")]) == 0
+    out = capsys.readouterr().out
+    assert "Parstat text, 31 frequencies" in out
+    assert "sign convention: column 'Zim (ohms)' holds Z''" in out
+    assert "'Frequency (Hz)', 'Zre (ohms)', 'Zim (ohms)'" in out
+    assert "lines 2–782: f = 0 (DC row, not an impedance point)" in out
+    assert (tmp_path / "preview.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_inspect_json_reports_interpretation_and_skipped_rows(capsys):
+    import json
+
+    from impedax.cli import main
+
+    assert main(["inspect", str(REAL / "exampleData.csv"), "--json"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert report["format"] == "delimited text" and report["points"] == 66 and report["skipped_rows"] == []
+    assert report["attrs"]["interpretation"].startswith("no header: columns read as frequency [Hz], Z' [Ω], Z'' [Ω]")
+    assert main(["inspect", str(REAL / "data.ids"), "--json", "--plot", "/nonexistent-dir/x.png"]) == 2  # refused before reading

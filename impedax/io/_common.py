@@ -207,7 +207,13 @@ def stack(path: Path, spectra: Sequence[tuple[str, xr.Dataset]], dim: str) -> xr
                 f"impedax holds one grid per spectrum: export the {dim}s to separate files",
                 path=path,
             )
-    attrs = dict(first.attrs)
+    attrs = {}
+    for key, value in first.attrs.items():
+        values = [ds.attrs.get(key) for _, ds in spectra]
+        if all(v == value for v in values):
+            attrs[key] = value
+        elif all(isinstance(v, str) for v in values):  # e.g. each sheet's own sign convention
+            attrs[key] = "; ".join(f"{dim} {label}: {v}" for (label, _), v in zip(spectra, values))
     reports = [f"{dim} {label}: {r}" for label, ds in spectra for r in ds.attrs.get("skipped_rows", [])]
     attrs.pop("skipped_rows", None)
     if reports:

@@ -111,7 +111,7 @@ class Layout:
         for role in ["frequency", *parts]:
             index, scale = self.columns[role]
             units.append(f"{self.header[index]!r}" + ("" if scale == 1 else f" ×{scale:g}"))
-        return {"sign_convention": sign, "units": "read as Hz, Ω, degrees: " + ", ".join(units)}
+        return {"sign_convention": sign, "units": "columns used (scaled to Hz, Ω, degrees): " + ", ".join(units)}
 
 
 class NoLayout(DataError):

@@ -102,11 +102,7 @@ def read_spreadsheet(path: str | Path) -> xr.Dataset:
     if reasons:
         for _, ds in spectra:
             ds.attrs["other_sheets"] = "; ".join(reasons)
-    out = stack(path, spectra, "sheet")
-    if len(spectra) > 1:
-        out.attrs["sign_convention"] = "; ".join(f"sheet {n}: {ds.attrs['sign_convention']}" for n, ds in spectra)
-        out.attrs["units"] = "; ".join(f"sheet {n}: {ds.attrs['units']}" for n, ds in spectra)
-    return out
+    return stack(path, spectra, "sheet")
 
 
 READER = Reader("spreadsheet", (".xlsx", ".ods"), sniff, read_spreadsheet, CONVENTIONS)
