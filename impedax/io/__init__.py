@@ -1,14 +1,15 @@
 """Reading and writing spectra: `load` recognises the file by content (see docs/io.md).
 
-Layout: `load` (dispatch), `registry` (`Reader`, `register_reader`), `table` (named-column
-tables), `csv` (delimited text), `netcdf` (impedax's lossless files), and ``formats/`` — one
-module per instrument format, each documenting its sign and unit conventions.
+Layout: `loader` (`load`, `save`: detection and dispatch), `registry` (`Reader`), `table`
+(tables with named columns), `csv` (delimited text), `netcdf` (impedax's lossless files), and
+``formats/`` — one module per instrument format, each documenting its sign and unit conventions,
+and `READERS`/`register_reader`.
 """
 
 from __future__ import annotations
 
 from .csv import CSV_HEADER as CSV_HEADER, read_csv as read_csv, write_csv as write_csv
-from .formats import READERS as READERS
+from .formats import READERS as READERS, register_reader as register_reader
 from .formats.autolab import read_autolab as read_autolab
 from .formats.biologic import read_biologic as read_biologic, read_biologic_text as read_biologic_text
 from .formats.biologic_mpr import read_biologic_mpr as read_biologic_mpr
@@ -25,9 +26,9 @@ from .formats.spreadsheet import read_spreadsheet as read_spreadsheet
 from .formats.versastudio import read_versastudio as read_versastudio
 from .formats.z60w import read_z60w as read_z60w
 from .formats.zplot import read_zplot as read_zplot
-from .load import MAX_FILE_BYTES as MAX_FILE_BYTES, identify as identify, load as load, save as save
+from .loader import MAX_FILE_BYTES as MAX_FILE_BYTES, identify as identify, load as load, save as save
 from .netcdf import read_netcdf as read_netcdf, write_netcdf as write_netcdf
-from .registry import Reader as Reader, register_reader as register_reader
+from .registry import Reader as Reader
 
 __all__ = [
     "load", "save", "identify", "read_csv", "write_csv", "read_netcdf", "write_netcdf", "CSV_HEADER", "READERS", "Reader",

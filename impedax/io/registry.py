@@ -1,4 +1,5 @@
-"""The readers registry: a tuple of `Reader` values that `load` tries in order.
+"""`Reader`: one file format for `impedax.load`. The registry is a tuple of them
+(`impedax.io.READERS`, built in `impedax.io.formats`), extended with `register_reader`.
 
 A reader is one function that reads a file plus one that recognises it. To add a format from
 your own package, write both and register them — a new tuple is returned, nothing global is
@@ -20,11 +21,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable, Sequence
+from typing import Callable
 
 import xarray as xr
 
-__all__ = ["Reader", "register_reader"]
+__all__ = ["Reader"]
 
 
 @dataclass(frozen=True)
@@ -42,15 +43,3 @@ class Reader:
     sniff: Callable[[Path, bytes], str | None]
     read: Callable[[Path], xr.Dataset]
     conventions: str = ""
-
-
-def register_reader(reader: Reader, readers: Sequence[Reader] | None = None, *, first: bool = True) -> tuple[Reader, ...]:
-    """A new registry: ``readers`` (default `impedax.io.READERS`) with ``reader`` added — tried
-    before the built-in ones when ``first`` (so its sniff wins), else after them. A reader of
-    the same name is replaced."""
-    if not isinstance(reader, Reader):
-        raise TypeError(f"register_reader expects an impedax.io.Reader, got {type(reader).__name__}")
-    if readers is None:
-        from .formats import READERS as readers
-    rest = tuple(r for r in readers if r.name != reader.name)
-    return (reader, *rest) if first else (*rest, reader)
