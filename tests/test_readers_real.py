@@ -201,3 +201,30 @@ def test_inspect_json_reports_interpretation_and_skipped_rows(capsys):
     assert report["format"] == "delimited text" and report["points"] == 66 and report["skipped_rows"] == []
     assert report["attrs"]["interpretation"].startswith("no header: columns read as frequency [Hz], Z' [Ω], Z'' [Ω]")
     assert main(["inspect", str(REAL / "data.ids"), "--json", "--plot", "/nonexistent-dir/x.png"]) == 2  # refused before reading
+
+
+def test_palmsens_sign_agrees_with_the_files_own_admittance_and_phase():
+    """The session also stores Y = 1/Z and the phase: ZIm = −Z'' is the only reading that agrees."""
+    import json
+
+    text = (REAL / "data.pssession").read_bytes().decode("utf-16").strip("\ufeff")
+    session, _ = json.JSONDecoder().raw_decode(text)
+    arrays = {v["Description"]: np.array([p["V"] for p in v["DataValues"]]) for v in session["Measurements"][0]["DataSet"]["Values"]}
+    z = ix.load(REAL / "data.pssession")["Z"].values
+    np.testing.assert_allclose(1 / z, arrays["YRe"] + 1j * arrays["YIm"], rtol=1e-12)
+    np.testing.assert_allclose(np.degrees(np.angle(z)), -arrays["Phase"], rtol=1e-12)
+    np.testing.assert_allclose(np.abs(z), arrays["Z"], rtol=1e-12)
+
+
+def test_zplot_without_metadata_header(tmp_path):
+    """The ZPlot variant that starts with the column names (impedance.py's ``_noComments`` case),
+    hand-made from the pyimpspec circuit."""
+    z = pyimpspec_circuit(PYIMPSPEC_F)
+    rows = ["Freq(Hz)\tAmpl\tBias\tTime(Sec)\tZ'(a)\tZ''(b)\tGD\tErr\tRange"]
+    rows += [f"{f:.6E}\t1.0000E-02\t0.0000E+00\t{k:.6E}\t{zi.real:.6E}\t{zi.imag:.6E}\t0.0000E+00\t0\t3" for k, (f, zi) in enumerate(zip(PYIMPSPEC_F, z))]
+    path = tmp_path / "nocomments.z"
+    path.write_text("\n".join(rows) + "\n")
+    ds = ix.load(path)
+    assert ds.attrs["format"] == "Scribner ZPlot z"
+    np.testing.assert_allclose(ds["Z"].values, z, rtol=1e-6)
+    np.testing.assert_array_equal(ds["time"].values, np.arange(29.0))
