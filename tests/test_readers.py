@@ -300,6 +300,8 @@ def test_gamry_several_zcurve_tables_become_a_dimension(tmp_path):
     ds = ix.load(path)
     assert ds["Z"].dims == ("curve", "frequency") and list(ds["curve"].values) == ["ZCURVE", "ZCURVE2"]
     np.testing.assert_allclose(ds["Z"].values, np.stack([oracle(DESCENDING)] * 2), rtol=1e-6)
+    path.write_bytes((text + "\n" + table).encode("latin-1"))  # the same table name twice
+    assert list(ix.load(path)["curve"].values) == ["ZCURVE #1", "ZCURVE #2"]
 
 
 @pytest.mark.parametrize("count, fragment", [("-1", "does not fit"), ("99999", "does not fit"), ("x", "not a whole number")])

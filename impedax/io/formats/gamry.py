@@ -72,7 +72,9 @@ def read_gamry(path: str | Path) -> xr.Dataset:
         attrs["comments"] = "\n".join(notes)
     attrs["sign_convention"] = "Zimag holds Z'' (negative for capacitive data), taken as stored"
     attrs["units"] = "Freq in Hz, Zreal and Zimag in ohm (from the units row)"
-    spectra = [(lines[start].split("\t")[0].strip(), _table(path, lines, start, dict(attrs))) for start in tables]
+    names = [lines[start].split("\t")[0].strip() for start in tables]
+    labels = [n if names.count(n) == 1 else f"{n} #{k + 1}" for k, n in enumerate(names)]
+    spectra = [(label, _table(path, lines, start, dict(attrs))) for label, start in zip(labels, tables)]
     return stack(path, spectra, "curve")
 
 
