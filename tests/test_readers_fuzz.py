@@ -20,7 +20,7 @@ from impedax.errors import ImpedaxError
 from impedax.io import READERS, read_csv
 
 FIXTURES = Path(__file__).parent / "fixtures"
-REAL_FILES = sorted(p for p in (FIXTURES / "real").iterdir() if p.suffix not in (".npz", ".py") and not p.name.startswith("LICENSE"))
+REAL_FILES = sorted(p for p in (FIXTURES / "real").iterdir() if p.suffix not in (".npz", ".py", ".md") and not p.name.startswith("LICENSE"))
 FILES = REAL_FILES + sorted(p for p in FIXTURES.iterdir() if p.is_file())
 # IMPEDAX_FUZZ_EXAMPLES=2000 for a long, randomised search; the default suite replays a fixed 40
 _EXAMPLES = int(os.environ.get("IMPEDAX_FUZZ_EXAMPLES", "40"))
