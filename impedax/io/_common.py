@@ -231,7 +231,6 @@ _PREFIX = {"": 1.0, "m": 1e-3, "µ": 1e-6, "μ": 1e-6, "u": 1e-6, "k": 1e3, "K":
 _BASES = {
     "frequency": ("Hz", "hz", "HZ"),
     "resistance": ("Ω", "Ohm", "ohm", "Ohms", "ohms", "OHM", "OHMS"),
-    "angle": (),
 }
 _ANGLE = {"deg": 1.0, "°": 1.0, "degree": 1.0, "degrees": 1.0, "Deg": 1.0, "rad": 180 / np.pi}
 
@@ -252,7 +251,7 @@ def unit_scale(unit: str, quantity: str) -> float | None:
     return None
 
 
-UNIT_CELL = _UNIT_CELL = re.compile(r"^(?P<name>.*?\S)\s*(?:[\(\[]\s*(?P<u1>[^()\[\]]*?)\s*[\)\]]|/\s*(?P<u2>[^/()]+?))\s*$")
+UNIT_CELL = re.compile(r"^(?P<name>.*?\S)\s*(?:[\(\[]\s*(?P<u1>[^()\[\]]*?)\s*[\)\]]|/\s*(?P<u2>[^/()]+?))\s*$")
 _ANY_UNIT = ("frequency", "resistance", "angle")
 
 
@@ -260,7 +259,7 @@ def split_header_cell(cell: str) -> tuple[str, str]:
     """``'Frequency (kHz)'`` → ``('Frequency', 'kHz')``; ``'Re(Z)/Ohm'`` → ``('Re(Z)', 'Ohm')``;
     ``'Re(Z)'`` → ``('Re(Z)', '')`` (a bracket that holds no unit is part of the name)."""
     text = cell.strip().strip('"').strip()
-    m = _UNIT_CELL.match(text)
+    m = UNIT_CELL.match(text)
     if m:
         unit = (m.group("u1") if m.group("u1") is not None else m.group("u2")) or ""
         if any(_safe_scale(unit, q) is not None for q in _ANY_UNIT) or unit.lower() in ("s", "sec"):

@@ -174,9 +174,8 @@ def spectrum_from_rows(
     n_fields = len(header)
     if comma is None:
         comma = decimal_comma([c for _, cells in rows[:20] for c in cells], delimiter)
-    wanted = dict(layout.columns)
-    if layout.cartesian:
-        wanted.pop("modulus", None), wanted.pop("phase", None), wanted.pop("neg_phase", None)
+    polar = ("modulus", "phase", "neg_phase")
+    wanted = {role: col for role, col in layout.columns.items() if not (layout.cartesian and role in polar)}
     values: dict[str, list[float]] = {role: [] for role in wanted}
     lines: list[int] = []
     time_col = next((i for i, h in enumerate(header) if _key(split_header_cell(h)[0]) in ("time", "elapsedtime", "time(sec)")), None)
