@@ -5,15 +5,17 @@ Every fixture holds the same synthetic spectrum, Z = 100 + 1000/(1 + j·2πf·1 
 oracle below is that formula, written here independently of the files.
 """
 
+import re
 import shutil
 import sys
+import types
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 import impedax as ix
-from impedax.io import READERS
+from impedax.io import READERS, Reader, register_reader
 
 FIXTURES = Path(__file__).parent / "fixtures"
 
@@ -104,7 +106,7 @@ def _corrupt(name, old, new):
         ("zplot_sweep.z", "End Comments", "End Of Header", "no 'End Comments' line", None),
         ("zplot_sweep.z", "1.000000E+03", "nan", "NaN/Inf", 19),
         ("autolab_nova.txt", "3;1000;", "3;abc;", "'abc' is not a number", 4),
-        ("dev3000_imps_0_sample_00000.csv", ";frequency;1.0000000000e+00;", ";frequency;", "5 frequencies but 6 impedance values", 3),
+        ("dev3000_imps_0_sample_00000.csv", ";frequency;1.0000000000e+00;", ";frequency;", "point 5: frequency missing", 3),
     ],
 )
 def test_broken_instrument_files_name_file_and_line(tmp_path, name, old, new, fragment, line):
@@ -149,3 +151,255 @@ def test_labone_hdf5_with_h5py(tmp_path):
     ds = ix.load(path)
     np.testing.assert_allclose(ds["Z"].values, z, rtol=1e-15)
     assert ds.attrs["hdf5_group"] == "000/dev3000/imps/0/sample"
+
+
+# --- units, separators, decimal marks ---------------------------------------------------------
+
+F_HZ = np.array([1e4, 1e3, 10.0, 0.1])
+
+
+def _write_table(path, header, freq_values, z, sep=",", comma=False, neg=False):
+    lines = [sep.join(header)]
+    for f, zi in zip(freq_values, z):
+        cells = [repr(float(f)), repr(float(zi.real)), repr(float(-zi.imag if neg else zi.imag))]
+        if comma:
+            cells = [c.replace(".", ",") for c in cells]
+        lines.append(sep.join(cells))
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return path
+
+
+@pytest.mark.parametrize(
+    "freq_header, freq_scale",
+    [("Frequency (Hz)", 1.0), ("Frequency (mHz)", 1e-3), ("Frequency (kHz)", 1e3), ("Frequency (MHz)", 1e6), ("freq/mHz", 1e-3), ("f [KHz]", 1e3)],
+)
+@pytest.mark.parametrize("z_unit, z_scale", [("Ω", 1.0), ("mΩ", 1e-3), ("kΩ", 1e3), ("MΩ", 1e6), ("mOhm", 1e-3), ("kohm", 1e3)])
+def test_unit_prefixes_are_case_sensitive(tmp_path, freq_header, freq_scale, z_unit, z_scale):
+    """mHz is 1e-3 Hz and MHz 1e6 Hz: the old reader lower-cased units and read mHz as MHz."""
+    z = oracle(F_HZ)
+    path = _write_table(tmp_path / "units.csv", [freq_header, f"Z' ({z_unit})", f"Z'' ({z_unit})"], F_HZ / freq_scale, z / z_scale)
+    ds = ix.load(path)
+    np.testing.assert_allclose(ds["frequency"].values, F_HZ, rtol=1e-14)
+    np.testing.assert_allclose(ds["Z"].values, z, rtol=1e-14)
+
+
+@pytest.mark.parametrize("header", ["Frequency (MHZ)", "Frequency (xHz)"])
+def test_ambiguous_or_unknown_units_are_errors(tmp_path, header):
+    path = _write_table(tmp_path / "u.csv", [header, "Z'", "Z''"], F_HZ, oracle(F_HZ))
+    with pytest.raises(ix.DataError, match=r"line 1: column 'Frequency \(.*\)': .*(ambiguous|not understood)"):
+        ix.load(path)
+
+
+@pytest.mark.parametrize(
+    "sep, comma, header",
+    [(";", True, ["freq", "Zreal", "Zimag"]), ("\t", True, ["freq", "Zreal", "Zimag"]), (" ", False, ["freq", "Zreal", "Zimag"]), ("\t", False, None), (";", True, None)],
+)
+def test_separators_and_decimal_commas(tmp_path, sep, comma, header):
+    z = oracle(F_HZ)
+    path = tmp_path / "s.txt"
+    _write_table(path, header or [], F_HZ, z, sep=sep, comma=comma)
+    if header is None:  # no header line at all: 3 columns read as f, Z', Z'' with a note
+        path.write_text("\n".join(path.read_text().splitlines()[1:]) + "\n")
+    ds = ix.load(path)
+    np.testing.assert_allclose(ds["frequency"].values, F_HZ, rtol=1e-15)
+    np.testing.assert_allclose(ds["Z"].values, z, rtol=1e-15)
+    assert ("interpretation" in ds.attrs) == (header is None)
+
+
+def test_polar_columns_with_negated_phase_and_radians(tmp_path):
+    z = oracle(F_HZ)
+    rows = ["frequency,|Z|,-phase"] + [f"{f!r},{abs(zi)!r},{float(-np.degrees(np.angle(zi)))!r}" for f, zi in zip(F_HZ.tolist(), z.tolist())]
+    (tmp_path / "p.csv").write_text("\n".join(rows) + "\n")
+    np.testing.assert_allclose(ix.load(tmp_path / "p.csv")["Z"].values, z, rtol=1e-13)
+    rows = ["frequency,|Z|,phase (rad)"] + [f"{f!r},{abs(zi)!r},{float(np.angle(zi))!r}" for f, zi in zip(F_HZ.tolist(), z.tolist())]
+    (tmp_path / "r.csv").write_text("\n".join(rows) + "\n")
+    np.testing.assert_allclose(ix.load(tmp_path / "r.csv")["Z"].values, z, rtol=1e-13)
+
+
+# --- nothing skipped silently, nothing shifted --------------------------------------------------
+
+
+def test_dc_rows_and_repeated_headers_are_skipped_and_reported(tmp_path):
+    path = tmp_path / "run.csv"
+    path.write_text("frequency_hz,z_real_ohm,z_imag_ohm\n0,5,0\n100,2,-3\nfrequency_hz,z_real_ohm,z_imag_ohm\n10,2,-0.3\n")
+    ds = ix.load(path)
+    np.testing.assert_array_equal(ds["frequency"].values, [100.0, 10.0])
+    np.testing.assert_array_equal(ds["Z"].values, [2 - 3j, 2 - 0.3j])
+    assert ds.attrs["skipped_rows"] == ["line 2: f = 0 (DC row, not an impedance point)", "line 4: repeated header"]
+
+
+@pytest.mark.parametrize(
+    "content, line, fragment",
+    [
+        ("frequency_hz,z_real_ohm,z_imag_ohm\n1,2,-3\n2,,-3\n", 3, "'z_real_ohm' is empty (missing value)"),
+        ("frequency_hz,z_real_ohm,z_imag_ohm\n1,2,-3\n2,3\n", 3, "2 fields, but the header has 3"),
+        ("f\tZ'\tZ''\n1\t2\t-3\n2\t3\t-4\t5\n", 3, "4 fields, but the header has 3"),
+        ("freq Zreal Zimag\n1 2 -3\n2 -3\n", 3, "2 fields"),
+    ],
+)
+def test_missing_cells_are_errors_naming_the_row(tmp_path, content, line, fragment):
+    path = tmp_path / "m.txt"
+    path.write_text(content)
+    with pytest.raises(ix.DataError) as info:
+        ix.load(path)
+    assert f"line {line}:" in str(info.value) and fragment in str(info.value)
+
+
+def test_labone_empty_cells_are_an_error_not_a_shift(tmp_path):
+    """The old reader dropped empty cells field by field, moving later Z values onto earlier frequencies."""
+    text = (FIXTURES / "dev3000_imps_0_sample_00000.csv").read_text()
+    lines = [ln for k, ln in enumerate(text.splitlines()) if k == 0 or ln.split(";")[0] == "0"]  # one sweep
+    row = {ln.split(";")[3]: i for i, ln in enumerate(lines) if i > 0}
+    for field, point in (("realz", 2), ("imagz", 2), ("frequency", 4)):  # equal counts: the old reader shifted silently
+        cells = lines[row[field]].split(";")
+        cells[4 + point] = ""
+        lines[row[field]] = ";".join(cells)
+    path = tmp_path / "dev3000_imps_0_sample_00000.csv"
+    path.write_text("\n".join(lines) + "\n")
+    with pytest.raises(ix.DataError, match=rf"line {row['realz'] + 1}: sweep \(chunk\) 0, point 2: realz, imagz missing"):
+        ix.load(path)
+
+
+def test_labone_padding_of_every_field_is_skipped_and_reported(tmp_path):
+    f = DESCENDING[::-1]
+    z = oracle(f)
+    rows = ["chunk;timestamp;size;fieldname;" + ";".join(f"v{i}" for i in range(len(f) + 1))]
+    for name, values in (("frequency", f), ("realz", z.real), ("imagz", z.imag)):
+        rows.append(f"0;1;{len(f)};{name};" + ";".join(repr(float(v)) for v in values) + ";")
+    path = tmp_path / "pad.csv"
+    path.write_text("\n".join(rows) + "\n")
+    ds = ix.load(path)
+    np.testing.assert_allclose(ds["Z"].values, z, rtol=1e-15)
+    assert ds.attrs["skipped_rows"] == ["line 2: sweep 0 point 6: empty in every field (padding)"]
+
+
+def test_netcdf_with_a_one_element_imaginary_part_is_refused(tmp_path):
+    """The old decoder broadcast Z__imag of shape (1,) over every frequency."""
+    import xarray as xr
+
+    f = np.array([1.0, 10.0, 100.0])
+    bad = xr.Dataset(
+        {"Z__real": ("frequency", [1.0, 2.0, 3.0], {"impedax_part": "real"}), "Z__imag": ("one", [-1.0], {"impedax_part": "imag"})},
+        coords={"frequency": f},
+    )
+    path = tmp_path / "bad.nc"
+    bad.to_netcdf(path, engine="scipy")
+    with pytest.raises(ix.DataError, match=r"bad.nc: Z__real has shape \{'frequency': 3\} but Z__imag has \{'one': 1\}"):
+        ix.load(path)
+
+
+# --- Gamry: several tables, hostile headers ---------------------------------------------------
+
+
+def test_gamry_several_zcurve_tables_become_a_dimension(tmp_path):
+    text = (FIXTURES / "gamry_eispot.DTA").read_bytes().decode("latin-1")
+    start = text.index("ZCURVE\tTABLE")
+    table = text[start:]
+    path = tmp_path / "two.DTA"
+    path.write_bytes((text + "\n" + table.replace("ZCURVE\tTABLE", "ZCURVE2\tTABLE", 1)).encode("latin-1"))
+    ds = ix.load(path)
+    assert ds["Z"].dims == ("curve", "frequency") and list(ds["curve"].values) == ["ZCURVE", "ZCURVE2"]
+    np.testing.assert_allclose(ds["Z"].values, np.stack([oracle(DESCENDING)] * 2), rtol=1e-6)
+    path.write_bytes((text + "\n" + table).encode("latin-1"))  # the same table name twice
+    assert list(ix.load(path)["curve"].values) == ["ZCURVE #1", "ZCURVE #2"]
+
+
+@pytest.mark.parametrize("count, fragment", [("-1", "does not fit"), ("99999", "does not fit"), ("x", "not a whole number")])
+def test_gamry_notes_count_is_checked(tmp_path, count, fragment):
+    """A negative count used to loop forever."""
+    text = (FIXTURES / "gamry_eispot.DTA").read_bytes().decode("latin-1")
+    text = re.sub(r"NOTES\tNOTES\t\d+", f"NOTES\tNOTES\t{count}", text, count=1)
+    path = tmp_path / "n.DTA"
+    path.write_bytes(text.encode("latin-1"))
+    with pytest.raises(ix.DataError, match=fragment):
+        ix.load(path)
+
+
+# --- binary .mpr through an optional galvani -------------------------------------------------
+
+
+def test_mpr_without_galvani_says_how_to_get_it(tmp_path, monkeypatch):
+    path = tmp_path / "run.mpr"
+    path.write_bytes(b"BIO-LOGIC MODULAR FILE\x1a" + bytes(100))
+    monkeypatch.setitem(sys.modules, "galvani", None)
+    with pytest.raises(ix.DataError, match=r"run.mpr: .*galvani.*GPL.*export .mpt"):
+        ix.load(path)
+
+
+def test_mpr_columns_through_galvani(tmp_path, monkeypatch):
+    f = DESCENDING
+    z = oracle(f)
+    table = np.zeros(f.size, dtype=[("freq/Hz", "f4"), ("Re(Z)/Ohm", "f4"), ("-Im(Z)/Ohm", "f4"), ("time/s", "f8")])
+    table["freq/Hz"], table["Re(Z)/Ohm"], table["-Im(Z)/Ohm"] = f, z.real, -z.imag
+
+    class MPRfile:
+        def __init__(self, name):
+            assert name == str(path)
+            self.data = table
+
+    fake = types.ModuleType("galvani")
+    fake.BioLogic = types.SimpleNamespace(MPRfile=MPRfile)
+    monkeypatch.setitem(sys.modules, "galvani", fake)
+    path = tmp_path / "run.mpr"
+    path.write_bytes(b"BIO-LOGIC MODULAR FILE\x1a" + bytes(100))
+    ds = ix.load(path)
+    assert ds.attrs["format"] == "BioLogic EC-Lab mpr"
+    np.testing.assert_allclose(ds["Z"].values, z, rtol=1e-6)  # float32 in the file
+
+
+# --- the registry -------------------------------------------------------------------------------
+
+
+def test_a_user_reader_is_one_function_and_one_registration(tmp_path):
+    def sniff(path, head):
+        return None if head.startswith(b"MYFORMAT") else "no 'MYFORMAT' signature"
+
+    def read(path):
+        rows = np.loadtxt(path, skiprows=1)
+        return ix.make_spectrum(rows[:, 0], rows[:, 1] + 1j * rows[:, 2], attrs={"format": "mine"})
+
+    readers = register_reader(Reader("My format", (".my",), sniff, read))
+    assert readers[0].name == "My format" and len(readers) == len(READERS) + 1 and READERS[0].name != "My format"
+    path = tmp_path / "run.my"
+    path.write_text("MYFORMAT\n1 2 -3\n10 2 -0.3\n")
+    np.testing.assert_array_equal(ix.load(path, readers=readers)["Z"].values, [2 - 3j, 2 - 0.3j])
+    with pytest.raises(ix.DataError, match="My format: no 'MYFORMAT' signature"):
+        ix.load(_mystery(tmp_path), readers=readers)
+    assert ix.load(FIXTURES / "zplot_sweep.z", readers=readers).attrs["format"] == "Scribner ZPlot z"
+
+
+def _mystery(tmp_path):
+    path = tmp_path / "mystery.txt"
+    path.write_text("voltage,current\n1,2\n")
+    return path
+
+
+# --- files that must be refused quickly ---------------------------------------------------------
+
+
+@pytest.mark.skipif(not Path("/dev/zero").exists(), reason="no /dev/zero")
+def test_dev_zero_is_refused_before_reading():
+    with pytest.raises(ix.DataError, match="not a regular file"):
+        ix.load("/dev/zero")
+
+
+def test_oversized_file_is_refused_before_reading(tmp_path, monkeypatch):
+    monkeypatch.setattr("impedax.io._common.MAX_FILE_BYTES", 1000)
+    path = tmp_path / "big.csv"
+    path.write_text("frequency_hz,z_real_ohm,z_imag_ohm\n" + "".join(f"{k + 1},1,-1\n" for k in range(200)))
+    with pytest.raises(ix.DataError, match="impedax reads spectrum files up to"):
+        ix.load(path)
+
+
+def test_labone_hdf5_several_sweeps(tmp_path):
+    h5py = pytest.importorskip("h5py")
+    f = np.geomspace(1, 1e5, 7)
+    z = oracle(f)
+    path = tmp_path / "sweeps.h5"
+    with h5py.File(path, "w") as fh:
+        for k in range(2):
+            g = fh.create_group(f"00{k}/dev3000/imps/0/sample")
+            g["frequency"], g["realz"], g["imagz"] = f, (1 + k) * z.real, (1 + k) * z.imag
+    ds = ix.load(path)
+    assert ds["Z"].dims == ("sweep", "frequency")
+    np.testing.assert_allclose(ds["Z"].values, np.stack([z, 2 * z]), rtol=1e-15)

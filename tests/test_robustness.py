@@ -76,13 +76,13 @@ BAD_FILES = [  # (id, file name, content or None for a missing file, message fra
     ("binary-with-txt-extension", "garbage.txt", b"\x7fELF\x02\x01\x01\x00" + bytes(500), "binary file"),
     ("wrong-columns", "wrong.csv", b"voltage,current\n1,2\n", "not a recognised spectrum file"),
     ("header-only", "header.csv", HEADER.encode(), "no data rows"),
-    ("numbers-without-header", "nohead.csv", b"1,2,3\n4,5,6\n", "not a header"),
+    ("numbers-without-header", "nohead.csv", b"1,2,3,4\n4,5,6,7\n", "not a header"),  # 3 columns are read as f, Z', Z''
     ("short-row", "short.csv", (HEADER + "1,2,3\n2,2\n").encode(), "2 fields"),
     ("text-in-number-column", "text.csv", (HEADER + "1,2,3\n2,abc,3\n").encode(), "'abc' is not a number"),
     ("nan-value", "nan.csv", (HEADER + "1,2,3\n2,nan,3\n").encode(), "NaN/Inf"),
     ("inf-frequency", "inf.csv", (HEADER + "inf,2,3\n").encode(), "NaN/Inf"),
     ("overflowing-1e400", "overflow.csv", (HEADER + "1,1e400,3\n").encode(), "NaN/Inf"),
-    ("zero-frequency", "zero.csv", (HEADER + "1,2,3\n0,2,3\n").encode(), "frequency must be positive"),
+    ("zero-frequency-only", "zero.csv", (HEADER + "0,2,3\n").encode(), "no data rows (skipped: line 2: f = 0"),  # DC rows are skipped and reported
     ("negative-frequency", "neg.csv", (HEADER + "1,2,3\n-5,2,3\n").encode(), "frequency must be positive"),
     ("duplicate-frequency", "dup.csv", (HEADER + "1,2,3\n1,2,3\n").encode(), "duplicate frequency 1 Hz"),
     ("netcdf-extension-not-netcdf", "x.nc", b"hello", "not a readable netCDF"),

@@ -1,28 +1,41 @@
-"""``impedax inspect FILE [--json] [--out FILE.csv|nc]``: what impedax reads from a spectrum file."""
+"""``impedax inspect FILE [--json] [--out FILE.csv|nc] [--plot FILE.png]``: what impedax reads
+from a spectrum file and how — the format recognised, the sign convention and units applied,
+rows skipped (and why), how a header-less table was interpreted — with an optional Nyquist/Bode
+preview."""
 
 from __future__ import annotations
 
+_HOW_KEYS = ("sign_convention", "units", "interpretation", "decimal_mark", "point_count_note")
+
 
 def register(sub) -> None:
-    p = sub.add_parser("inspect", help="show what impedax reads from a spectrum file", description="Read FILE (CSV/TSV, netCDF, Gamry .DTA, BioLogic .mpt, ZPlot .z, Autolab NOVA text, LabOne CSV/HDF5) and summarise it; --out converts it to canonical CSV or netCDF.")
+    p = sub.add_parser(
+        "inspect",
+        help="show what impedax reads from a spectrum file, and how",
+        description="Read FILE (any format impedax knows: see docs/io.md) and say what was read and how: format, sign "
+        "convention, units, skipped rows. --out converts it to canonical CSV or netCDF; --plot writes a Nyquist/Bode preview.",
+    )
     p.add_argument("file", metavar="FILE", help="spectrum file")
     p.add_argument("--json", action="store_true", help="machine-readable output")
     p.add_argument("--out", metavar="FILE.csv|nc", help="also save the spectrum in impedax's canonical form")
+    p.add_argument("--plot", metavar="FILE.png", help="write a Nyquist and Bode preview of the data")
     p.set_defaults(run=run)
 
 
 def run(args) -> int:
     import numpy as np
 
-    from ..io.atomic import check_writable
     from ..io import load, save
+    from ..io.atomic import check_writable
     from .common import emit_json
 
-    if args.out:
-        check_writable(args.out)
+    for target in (args.out, args.plot):
+        if target:
+            check_writable(target)
     ds = load(args.file)
     freq = ds["frequency"].values
     z = ds["Z"].values
+    skipped = [str(s) for s in ds.attrs.get("skipped_rows", [])]
     summary = {
         "file": str(args.file),
         "format": ds.attrs.get("format", "netCDF"),
@@ -33,19 +46,49 @@ def run(args) -> int:
         "z_abs_min_ohm": float(np.abs(z).min()),
         "z_abs_max_ohm": float(np.abs(z).max()),
         "has_sigma": "sigma" in ds,
+        "sign_convention": str(ds.attrs.get("sign_convention", "impedax data model: Z = Z' + jZ''")),
+        "units": str(ds.attrs.get("units", "Hz, ohm")),
+        "skipped_rows": skipped,
         "attrs": {k: v for k, v in ds.attrs.items() if isinstance(v, (str, int, float, bool))},
     }
     if args.out:
         save(ds, args.out)
+    if args.plot:
+        _preview(ds, args.plot, summary["format"])
     if args.json:
         emit_json(summary)
         return 0
     print(f"{summary['file']}: {summary['format']}, {summary['points']} frequencies "
           f"{summary['frequency_min_hz']:.4g}–{summary['frequency_max_hz']:.4g} Hz, "
           f"|Z| {summary['z_abs_min_ohm']:.4g}–{summary['z_abs_max_ohm']:.4g} Ω, dims {summary['dims']}")
+    print(f"  sign convention: {summary['sign_convention']}")
+    print(f"  units: {summary['units']}")
+    for key in _HOW_KEYS[2:]:
+        if key in ds.attrs:
+            print(f"  {key.replace('_', ' ')}: {ds.attrs[key]}")
+    print("  skipped rows: none" if not skipped else f"  skipped rows ({len(skipped)} ranges):")
+    for line in skipped[:20]:
+        print(f"    {line}")
+    if len(skipped) > 20:
+        print(f"    ... and {len(skipped) - 20} more")
     for key, value in summary["attrs"].items():
-        if key not in ("format", "source", "path"):
+        if key not in ("format", "source", "path", *_HOW_KEYS):
             print(f"  {key}: {str(value).splitlines()[0] if str(value) else ''}")
     if args.out:
         print(f"wrote {args.out}")
+    if args.plot:
+        print(f"wrote {args.plot}")
     return 0
+
+
+def _preview(ds, path, fmt) -> None:
+    """Nyquist and Bode figure of the spectrum (the first one when the file holds several)."""
+    from ..plotting import plot_spectrum, save_figure
+
+    first = ds
+    note = ""
+    extra = [d for d in ds["Z"].dims if d != "frequency"]
+    if extra:
+        first = ds.isel({d: 0 for d in extra})
+        note = " — first of " + " × ".join(f"{ds.sizes[d]} {d}" for d in extra)
+    save_figure(plot_spectrum(first, title=f"{ds.attrs.get('path', '')}: {fmt}{note}", data_label="data"), path)

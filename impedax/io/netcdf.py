@@ -77,7 +77,13 @@ def decode_dataset(ds: xr.Dataset) -> xr.Dataset:
             continue
         if part == "real":
             base = name[: -len("__real")]
-            values = var.values + 1j * ds[base + "__imag"].values
+            if base + "__imag" not in ds.variables:
+                raise DataError(f"{base}__real has no {base}__imag partner")
+            imag = ds[base + "__imag"].variable
+            if imag.dims != var.dims or imag.shape != var.shape:
+                # never broadcast: a one-element imaginary part is a damaged file, not Z'' everywhere
+                raise DataError(f"{base}__real has shape {dict(zip(var.dims, var.shape))} but {base}__imag has {dict(zip(imag.dims, imag.shape))}")
+            values = var.values + 1j * imag.values
             new = xr.Variable(var.dims, values, attrs)
             name = base
         else:
@@ -100,13 +106,17 @@ def write_netcdf(ds: xr.Dataset, path: str | Path) -> None:
 
 
 def read_netcdf(path: str | Path) -> xr.Dataset:
+    """Read a netCDF file written by `write_netcdf` (complex variables joined, shapes checked)."""
+    from ._common import check_file
+
     path = Path(path)
-    if not path.exists():
-        raise DataError("file not found", path=path)
+    check_file(path)
     try:
         with xr.open_dataset(path, engine="scipy") as raw:
             ds = decode_dataset(raw.load())
-    except (OSError, ValueError, TypeError) as exc:
+    except DataError as exc:
+        raise DataError(str(exc), path=path) from None
+    except (OSError, ValueError, TypeError, IndexError, KeyError, AttributeError, OverflowError, MemoryError) as exc:
         # the engine's own text spans several lines and suggests libraries impedax does not use
         detail = (str(exc).strip().splitlines() or [type(exc).__name__])[0].replace(str(path), "the file")
         raise DataError(f"not a readable netCDF file ({detail}); impedax reads the netCDF3 files that impedax save writes", path=path) from None

@@ -1,0 +1,274 @@
+"""What every reader shares: bounded file reading, numbers, units, skipped-row reports and the
+final checks that turn columns into the impedax data model (`impedax.data`).
+
+Rules every reader follows: never reorder, never broadcast, never drop a point silently. A row
+that is not an impedance point (a DC row at f = 0, a repeated header, an all-empty padding
+cell) is skipped *and* named in ``attrs["skipped_rows"]``; a point whose frequency or Z is
+missing is an error naming its line.
+"""
+
+from __future__ import annotations
+
+import re
+import stat
+from pathlib import Path
+from typing import Sequence
+
+import numpy as np
+import xarray as xr
+
+from ..data import make_spectrum
+from ..errors import DataError
+
+__all__ = [
+    "UNIT_CELL", "MAX_FILE_BYTES", "check_file", "read_bytes", "read_text", "decode_text", "head_text", "number",
+    "Skipped", "finish", "first_line", "stack", "unit_scale", "split_header_cell", "decimal_comma",
+]
+
+#: Largest file a reader reads whole. Instrument exports are kilobytes; a spectrum of a million
+#: points in text is ~60 MB.
+MAX_FILE_BYTES = 64 * 2**20
+
+_UTF16_BOMS = (b"\xff\xfe", b"\xfe\xff")
+
+
+def check_file(path: Path) -> int:
+    """Size of ``path`` in bytes after checking it is a regular, readable file of bounded size."""
+    try:
+        info = path.stat()
+    except FileNotFoundError:
+        raise DataError("file not found", path=path) from None
+    except OSError as exc:
+        raise DataError(f"cannot read file: {exc.strerror}", path=path) from None
+    if stat.S_ISDIR(info.st_mode):
+        raise DataError("is a directory, not a spectrum file", path=path)
+    if not stat.S_ISREG(info.st_mode):
+        raise DataError("not a regular file (a device, pipe or socket); save the spectrum to a file first", path=path)
+    if info.st_size > MAX_FILE_BYTES:
+        raise DataError(f"file is {info.st_size / 2**20:.0f} MB; impedax reads spectrum files up to {MAX_FILE_BYTES // 2**20} MB", path=path)
+    return info.st_size
+
+
+def read_bytes(path: Path) -> bytes:
+    """The whole file, refused before reading when it is not a regular file or is too large."""
+    check_file(path)
+    try:
+        with open(path, "rb") as fh:
+            raw = fh.read(MAX_FILE_BYTES + 1)
+    except OSError as exc:
+        raise DataError(f"cannot read file: {exc.strerror}", path=path) from None
+    if len(raw) > MAX_FILE_BYTES:  # grew while we looked
+        raise DataError(f"file is larger than {MAX_FILE_BYTES // 2**20} MB", path=path)
+    return raw
+
+
+def decode_text(raw: bytes, path: Path | None = None) -> str:
+    """Text of an export: UTF-16 with a byte-order mark, UTF-8 (BOM optional) or, failing that,
+    Windows' Latin-1 (µ, °, Ω as single bytes). A NUL byte in other files means binary."""
+    if raw.startswith(_UTF16_BOMS):
+        try:
+            return raw.decode("utf-16").replace("\ufeff", "")
+        except UnicodeDecodeError:
+            raise DataError("starts with a UTF-16 byte-order mark but is not UTF-16 text", path=path) from None
+    if b"\x00" in raw[:4096]:
+        raise DataError("binary file, not text", path=path)
+    try:
+        return raw.decode("utf-8-sig")
+    except UnicodeDecodeError:
+        return raw.decode("latin-1")
+
+
+def read_text(path: Path) -> str:
+    return decode_text(read_bytes(path), path)
+
+
+def head_text(head: bytes) -> str:
+    """Best-effort text of a file's first bytes for sniffing ('' for binary)."""
+    if head.startswith(_UTF16_BOMS):
+        return head[: len(head) // 2 * 2].decode("utf-16", errors="replace").replace("\ufeff", "")
+    if b"\x00" in head[:4096]:
+        return ""
+    return head.decode("utf-8-sig", errors="replace")
+
+
+def first_line(lines: Sequence[str], path: Path) -> int:
+    """Index of the first non-blank line; `DataError` for a blank file."""
+    k = next((i for i, ln in enumerate(lines) if ln.strip()), None)
+    if k is None:
+        raise DataError("file is empty", path=path)
+    return k
+
+
+def number(cell: str, path: Path, line: int | None, column: str, *, comma: bool = False) -> float:
+    """``cell`` as a finite float; an empty cell is a missing value, named as such."""
+    text = cell.strip().strip('"').strip()
+    if not text:
+        raise DataError(f"column {column!r} is empty (missing value)", path=path, line=line)
+    if comma:
+        text = text.replace(",", ".")
+    try:
+        value = float(text)
+    except ValueError:
+        raise DataError(f"column {column!r}: {cell.strip()!r} is not a number", path=path, line=line) from None
+    if not np.isfinite(value):
+        raise DataError(f"column {column!r} is {cell.strip()!r} (NaN/Inf are not accepted)", path=path, line=line)
+    return value
+
+
+def decimal_comma(cells: Sequence[str], delimiter: str | None) -> bool:
+    """Locale exports write ``1,5E+003`` when the field separator is not a comma."""
+    if delimiter == ",":
+        return False
+    return any(re.fullmatch(r"\s*[-+]?\d*,\d+(?:[eE][-+]?\d+)?\s*", c) for c in cells)
+
+
+class Skipped:
+    """Rows a reader skipped, with the reason; reported as consecutive ranges."""
+
+    def __init__(self) -> None:
+        self.rows: list[tuple[int, str]] = []
+
+    def add(self, line: int, reason: str) -> None:
+        self.rows.append((line, reason))
+
+    def __len__(self) -> int:
+        return len(self.rows)
+
+    def report(self) -> list[str]:
+        """``["lines 2–389: f = 0 (DC row)", "line 400: repeated header"]``."""
+        out: list[str] = []
+        start = prev = None
+        reason = None
+        for line, why in self.rows + [(None, None)]:
+            if reason is not None and (why != reason or line != prev + 1):
+                out.append(f"line {start}: {reason}" if start == prev else f"lines {start}–{prev}: {reason}")
+                start = None
+            if line is None:
+                break
+            if start is None:
+                start, reason = line, why
+            prev, reason = line, why
+        return out
+
+
+def finish(
+    path: Path,
+    freq,
+    z,
+    lines: Sequence[int],
+    attrs: dict,
+    *,
+    skipped: Skipped | None = None,
+    extra: dict | None = None,
+) -> xr.Dataset:
+    """One spectrum from columns read on ``lines``: DC rows (f = 0) are skipped and reported;
+    negative or repeated frequencies are errors naming the line."""
+    freq = np.asarray(freq, dtype=np.float64)
+    z = np.asarray(z, dtype=np.complex128)
+    skipped = skipped if skipped is not None else Skipped()
+    keep = freq != 0
+    if not keep.all():
+        for i in np.flatnonzero(~keep):
+            skipped.add(int(lines[i]), "f = 0 (DC row, not an impedance point)")
+        skipped.rows.sort()
+        freq, z = freq[keep], z[keep]
+        lines = [n for n, k in zip(lines, keep) if k]
+        extra = {k: (v[keep], u, d) for k, (v, u, d) in (extra or {}).items()}
+    if freq.size == 0:
+        raise DataError("the impedance table has no data rows" + (f" (skipped: {'; '.join(skipped.report())})" if len(skipped) else ""), path=path)
+    seen: dict[float, int] = {}
+    for f, line in zip(freq.tolist(), lines):
+        if not f > 0:
+            raise DataError(f"frequency must be positive, got {f:g}", path=path, line=line)
+        if f in seen:
+            raise DataError(f"duplicate frequency {f:g} Hz (also on line {seen[f]})", path=path, line=line)
+        seen[f] = line
+    attrs = {"path": str(path), **{k: v for k, v in attrs.items() if v not in (None, "")}}
+    if len(skipped):
+        attrs["skipped_rows"] = skipped.report()
+    ds = make_spectrum(freq, z, attrs=attrs, source=str(path))
+    for name, (values, units, long_name) in (extra or {}).items():
+        ds[name] = ("frequency", np.asarray(values, dtype=np.float64), {"units": units, "long_name": long_name})
+    return ds
+
+
+def stack(path: Path, spectra: Sequence[tuple[str, xr.Dataset]], dim: str) -> xr.Dataset:
+    """Several spectra of one file on one frequency grid as a ``dim`` dimension; different grids
+    are an error (impedax holds one grid per Dataset)."""
+    if len(spectra) == 1:
+        return spectra[0][1]
+    label0, first = spectra[0]
+    f0 = first["frequency"].values
+    for label, ds in spectra[1:]:
+        f = ds["frequency"].values
+        if f.shape != f0.shape or not np.array_equal(f, f0):
+            raise DataError(
+                f"{dim} {label!r} ({f.size} points) has a different frequency grid from {dim} {label0!r} ({f0.size} points); "
+                f"impedax holds one grid per spectrum: export the {dim}s to separate files",
+                path=path,
+            )
+    attrs = {}
+    for key, value in first.attrs.items():
+        values = [ds.attrs.get(key) for _, ds in spectra]
+        if all(v == value for v in values):
+            attrs[key] = value
+        elif all(isinstance(v, str) for v in values):  # e.g. each sheet's own sign convention
+            attrs[key] = "; ".join(f"{dim} {label}: {v}" for (label, _), v in zip(spectra, values))
+    reports = [f"{dim} {label}: {r}" for label, ds in spectra for r in ds.attrs.get("skipped_rows", [])]
+    attrs.pop("skipped_rows", None)
+    if reports:
+        attrs["skipped_rows"] = reports
+    return make_spectrum(
+        f0, np.stack([ds["Z"].values for _, ds in spectra]), dims=(dim,), coords={dim: [label for label, _ in spectra]},
+        attrs=attrs, source=str(path),
+    )
+
+
+# --- units ----------------------------------------------------------------------------------
+
+# Prefixes are case-sensitive: m = milli, M = mega (a 'Frequency (mHz)' column is 1e-3 Hz).
+_PREFIX = {"": 1.0, "m": 1e-3, "µ": 1e-6, "μ": 1e-6, "u": 1e-6, "k": 1e3, "K": 1e3, "M": 1e6, "G": 1e9}
+_BASES = {
+    "frequency": ("Hz", "hz", "HZ"),
+    "resistance": ("Ω", "Ohm", "ohm", "Ohms", "ohms", "OHM", "OHMS"),
+}
+_ANGLE = {"deg": 1.0, "°": 1.0, "degree": 1.0, "degrees": 1.0, "Deg": 1.0, "rad": 180 / np.pi}
+
+
+def unit_scale(unit: str, quantity: str) -> float | None:
+    """Factor turning values in ``unit`` into Hz, Ω or degrees (``quantity`` is 'frequency',
+    'resistance' or 'angle'); ``None`` when ``unit`` is not such a unit. Raises `DataError`
+    for an all-capitals unit with an M prefix ('MHZ': milli or mega?)."""
+    unit = unit.strip()
+    if quantity == "angle":
+        return _ANGLE.get(unit)
+    for base in sorted(_BASES[quantity], key=len, reverse=True):
+        if unit.endswith(base):
+            prefix = unit[: -len(base)]
+            if prefix == "M" and base in ("HZ", "OHM", "OHMS"):
+                raise DataError(f"unit {unit!r} is ambiguous (mHz or MHz? mΩ or MΩ?); write the prefix in its SI case")
+            return _PREFIX.get(prefix)
+    return None
+
+
+UNIT_CELL = re.compile(r"^(?P<name>.*?\S)\s*(?:[\(\[]\s*(?P<u1>[^()\[\]]*?)\s*[\)\]]|/\s*(?P<u2>[^/()]+?))\s*$")
+_ANY_UNIT = ("frequency", "resistance", "angle")
+
+
+def split_header_cell(cell: str) -> tuple[str, str]:
+    """``'Frequency (kHz)'`` → ``('Frequency', 'kHz')``; ``'Re(Z)/Ohm'`` → ``('Re(Z)', 'Ohm')``;
+    ``'Re(Z)'`` → ``('Re(Z)', '')`` (a bracket that holds no unit is part of the name)."""
+    text = cell.strip().strip('"').strip()
+    m = UNIT_CELL.match(text)
+    if m:
+        unit = (m.group("u1") if m.group("u1") is not None else m.group("u2")) or ""
+        if any(_safe_scale(unit, q) is not None for q in _ANY_UNIT) or unit.lower() in ("s", "sec"):
+            return m.group("name").strip(), unit.strip()
+    return text, ""
+
+
+def _safe_scale(unit: str, quantity: str):
+    try:
+        return unit_scale(unit, quantity)
+    except DataError:
+        return 1.0  # recognisably a unit, if an ambiguous one: the caller reports it

@@ -1,0 +1,101 @@
+"""BioLogic EC-Lab / BT-Lab text: the ``.mpt`` export and the bare column export.
+
+``.mpt`` layout: ``EC-Lab ASCII FILE``, ``Nb header lines : N`` (N counts every header line,
+the column names being line N), ``key : value`` settings, then tab-separated columns
+``freq/Hz``, ``Re(Z)/Ohm``, ``-Im(Z)/Ohm``, ``|Z|/Ohm``, ``Phase(Z)/deg``, ``time/s``, ...
+The "export as text" variant has only the column-name line and the data.
+
+Conventions: frequency in Hz; Z' = ``Re(Z)/Ohm``; the file stores −Z'' (``-Im(Z)/Ohm``), negated
+here. Decimal commas (locale exports) are accepted.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import xarray as xr
+
+from ...errors import DataError
+from .._common import head_text, read_text
+from ..registry import Reader
+from ..table import NoLayout, detect_layout, spectrum_from_rows
+
+__all__ = ["read_biologic", "read_biologic_text", "READER", "TEXT_READER"]
+
+CONVENTIONS = "freq/Hz; Re(Z)/Ohm; file stores -Im(Z)/Ohm = -Z'', negated"
+_MAGIC = ("EC-Lab ASCII FILE", "BT-Lab ASCII FILE")
+
+
+def sniff(path: Path, head: bytes) -> str | None:
+    first = head_text(head).lstrip().split("\n", 1)[0].strip()
+    return None if first in _MAGIC else "first line is not 'EC-Lab ASCII FILE'"
+
+
+def sniff_text(path: Path, head: bytes) -> str | None:
+    first = head_text(head).lstrip().split("\n", 1)[0]
+    cells = [c.strip() for c in first.split("\t")]
+    if cells[:1] == ["freq/Hz"] and ("-Im(Z)/Ohm" in cells or "Im(Z)/Ohm" in cells):
+        return None
+    return "first line is not an EC-Lab column header 'freq/Hz<TAB>Re(Z)/Ohm<TAB>-Im(Z)/Ohm'"
+
+
+def read_biologic(path: str | Path) -> xr.Dataset:
+    """Read a BioLogic EC-Lab ``.mpt`` text export (PEIS/GEIS); see the module docstring."""
+    path = Path(path)
+    lines = read_text(path).splitlines()
+    if len(lines) < 2:
+        raise DataError("EC-Lab file ends after its first line", path=path)
+    m = re.match(r"\s*Nb header lines\s*:\s*(\d+)", lines[1])
+    if not m:
+        raise DataError("second line should be 'Nb header lines : N'", path=path, line=2)
+    n_header = int(m.group(1))
+    if n_header < 3 or n_header > len(lines):
+        raise DataError(f"'Nb header lines : {n_header}' does not fit a file of {len(lines)} lines", path=path, line=2)
+    attrs: dict[str, object] = {"format": "BioLogic EC-Lab mpt", "instrument": "BioLogic"}
+    if len(lines) > 3 and lines[3].strip() and ":" not in lines[3]:
+        attrs["technique"] = lines[3].strip()
+    for line in lines[2 : n_header - 1]:
+        key, sep, value = line.partition(" : ")
+        key = key.strip()
+        if not sep:
+            continue
+        if key == "Device":
+            attrs["instrument"] = f"BioLogic {value.strip()}"
+        elif key in ("Acquisition started on", "Technique started on") and "date" not in attrs:
+            attrs["date"] = value.strip()
+        elif key == "Comments":
+            attrs["comments"] = value.strip()
+        elif key == "Electrode surface area":
+            attrs["electrode_surface_area"] = value.strip()
+        elif key == "Run on channel":
+            attrs["channel"] = value.strip()
+    return _columns(path, lines, n_header - 1, attrs)
+
+
+def read_biologic_text(path: str | Path) -> xr.Dataset:
+    """Read EC-Lab's bare column export: the ``freq/Hz  Re(Z)/Ohm  -Im(Z)/Ohm ...`` line, then data."""
+    path = Path(path)
+    lines = read_text(path).splitlines()
+    return _columns(path, lines, 0, {"format": "BioLogic EC-Lab text", "instrument": "BioLogic"})
+
+
+def _columns(path: Path, lines: list[str], header_index: int, attrs: dict) -> xr.Dataset:
+    if header_index >= len(lines):
+        raise DataError("file ends before the column-name line", path=path, line=header_index + 1)
+    names = [c.strip() for c in lines[header_index].split("\t")]
+    required = ("freq/Hz", "Re(Z)/Ohm", "-Im(Z)/Ohm")
+    missing = [n for n in required if n not in names]
+    if missing:
+        found = [n for n in names if n][:8]
+        raise DataError(f"columns {missing} not found on header line {header_index + 1}; found {found}", path=path, line=header_index + 1)
+    try:
+        layout = detect_layout(names, path, header_index + 1)
+    except NoLayout as exc:
+        raise DataError(exc.reason, path=path, line=header_index + 1) from None
+    rows = [(k + 1, lines[k].split("\t")) for k in range(header_index + 1, len(lines)) if lines[k].strip()]
+    return spectrum_from_rows(path, layout, rows, attrs, delimiter="\t")
+
+
+READER = Reader("BioLogic EC-Lab mpt", (".mpt",), sniff, read_biologic, CONVENTIONS)
+TEXT_READER = Reader("BioLogic EC-Lab text", (".txt",), sniff_text, read_biologic_text, CONVENTIONS)

@@ -1,0 +1,57 @@
+"""BioLogic EC-Lab binary ``.mpr`` files, through the optional ``galvani`` package.
+
+galvani is GPL-licensed; impedax does not depend on it and imports it only when a ``.mpr`` is
+read (``pip install galvani``). Without it, export ``.mpt`` from EC-Lab instead.
+
+Conventions: the impedance module's columns ``freq/Hz``, ``Re(Z)/Ohm`` and ``-Im(Z)/Ohm`` (the
+file stores −Z'', negated here), as in the ``.mpt`` export.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from ...errors import DataError
+from .._common import check_file, finish
+from ..registry import Reader
+
+__all__ = ["read_biologic_mpr", "READER"]
+
+CONVENTIONS = "binary; via optional galvani (GPL); freq/Hz, Re(Z)/Ohm, -Im(Z)/Ohm negated"
+MAGIC = b"BIO-LOGIC MODULAR FILE"
+
+
+def sniff(path: Path, head: bytes) -> str | None:
+    return None if head.startswith(MAGIC) else "no 'BIO-LOGIC MODULAR FILE' signature"
+
+
+def read_biologic_mpr(path: str | Path) -> xr.Dataset:
+    """Read the impedance columns of an EC-Lab ``.mpr`` (see module docstring)."""
+    path = Path(path)
+    check_file(path)
+    try:
+        from galvani import BioLogic
+    except ImportError:
+        raise DataError("reading a binary .mpr needs the optional galvani package (GPL): pip install galvani, or export .mpt from EC-Lab", path=path) from None
+    try:
+        data = BioLogic.MPRfile(str(path)).data
+    except Exception as exc:  # galvani raises ValueError, NotImplementedError, struct.error ...
+        raise DataError(f"galvani cannot read this .mpr ({type(exc).__name__}: {exc})", path=path) from None
+    names = data.dtype.names or ()
+    missing = [n for n in ("freq/Hz", "Re(Z)/Ohm", "-Im(Z)/Ohm") if n not in names]
+    if missing:
+        raise DataError(f"no impedance columns {missing} in this .mpr (found {list(names)[:8]})", path=path)
+    freq = np.asarray(data["freq/Hz"], dtype=float)
+    z = np.asarray(data["Re(Z)/Ohm"], dtype=float) - 1j * np.asarray(data["-Im(Z)/Ohm"], dtype=float)
+    bad = np.flatnonzero(~np.isfinite(freq) | ~np.isfinite(z))
+    if bad.size:
+        raise DataError(f"point {bad[0]} is not finite", path=path)
+    attrs = {"format": "BioLogic EC-Lab mpr", "instrument": "BioLogic",
+             "sign_convention": "-Im(Z)/Ohm holds -Z''; negated to Z''", "units": "Hz, ohm"}
+    return finish(path, freq, z, list(range(1, freq.size + 1)), attrs)
+
+
+READER = Reader("BioLogic EC-Lab mpr", (".mpr",), sniff, read_biologic_mpr, CONVENTIONS)

@@ -1,0 +1,53 @@
+"""CH Instruments (CHI 600/700 series) A.C. impedance text exports.
+
+Layout: a date line, ``A.C. Impedance``, ``Key: value`` / ``Key = value`` settings
+(``Instrument Model:  CHI660E``), a blank line, the column names ``Freq/Hz, Z'/ohm, Z"/ohm,
+Z/ohm, Phase/deg``, a blank line, then comma-separated rows.
+
+Conventions: frequency in Hz; Z = ``Z'`` + j·``Z"`` in Ω, Z'' stored as is (negative for
+capacitive data); ``Phase/deg`` is the phase of Z.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import xarray as xr
+
+from ...errors import DataError
+from .._common import head_text, read_text
+from ..registry import Reader
+from ..table import detect_layout, spectrum_from_rows
+
+__all__ = ["read_chinstruments", "READER"]
+
+CONVENTIONS = "Freq/Hz; Z = Z'/ohm + j·Z\"/ohm as stored"
+
+
+def sniff(path: Path, head: bytes) -> str | None:
+    lines = [ln.strip() for ln in head_text(head).splitlines()[:40]]
+    if "A.C. Impedance" in lines[:5] and any(ln.startswith("Freq/Hz") for ln in lines):
+        return None
+    return "no 'A.C. Impedance' line and 'Freq/Hz' header"
+
+
+def read_chinstruments(path: str | Path) -> xr.Dataset:
+    """Read a CH Instruments impedance export (see module docstring)."""
+    path = Path(path)
+    lines = read_text(path).splitlines()
+    k = next((i for i, ln in enumerate(lines) if ln.strip().startswith("Freq/Hz")), None)
+    if k is None:
+        raise DataError("no 'Freq/Hz, Z'/ohm, ...' column-name line", path=path)
+    attrs: dict[str, object] = {"format": "CH Instruments text", "instrument": "CH Instruments"}
+    for ln in lines[:k]:
+        key, sep, value = ln.partition(":")
+        if sep and key.strip() == "Instrument Model":
+            attrs["instrument"] = f"CH Instruments {value.strip()}"
+    if lines and lines[0].strip():
+        attrs["date"] = " ".join(lines[0].split())
+    layout = detect_layout(lines[k].split(","), path, k + 1)
+    rows = [(j + 1, lines[j].split(",")) for j in range(k + 1, len(lines)) if lines[j].strip()]
+    return spectrum_from_rows(path, layout, rows, attrs, delimiter=",")
+
+
+READER = Reader("CH Instruments text", (".txt",), sniff, read_chinstruments, CONVENTIONS)

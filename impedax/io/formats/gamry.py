@@ -1,0 +1,122 @@
+"""Gamry Framework ``.DTA`` (EISPOT, EISGALV, ... impedance experiments).
+
+Layout: ``EXPLAIN`` on the first line, ``KEY<TAB>TYPE<TAB>VALUE<TAB>description`` header lines
+(a ``NOTES`` entry is followed by as many note lines as its count), then one or more tables
+``NAME<TAB>TABLE`` each with a column-name row (``Pt Time Freq Zreal Zimag ...``), a units row
+(``# s Hz ohm ohm ...``) and tab-indented data rows. Impedance tables are named ``ZCURVE``
+(several in one file become a ``curve`` dimension when they share their frequencies).
+
+Conventions: frequency ``Freq`` in Hz; Z = ``Zreal`` + j·``Zimag`` in Ω, Z'' stored as is
+(negative for capacitive data). Locale exports with decimal commas are accepted.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from ...errors import DataError
+from .._common import Skipped, decimal_comma, finish, head_text, number, read_text, stack, unit_scale
+from ..registry import Reader
+
+__all__ = ["read_gamry", "READER"]
+
+CONVENTIONS = "Freq [Hz]; Z = Zreal + j·Zimag [Ω] as stored (Z'' < 0 capacitive)"
+_ATTR_KEYS = {"TITLE": "title", "DATE": "date", "TIME": "time", "PSTAT": "instrument_serial", "AREA": "area_cm2",
+              "VDC": "dc_voltage_v", "VAC": "ac_voltage_mv_rms", "FREQINIT": "initial_frequency_hz", "FREQFINAL": "final_frequency_hz"}
+
+
+def sniff(path: Path, head: bytes) -> str | None:
+    text = head_text(head)
+    if text.lstrip().startswith("EXPLAIN") or re.search(r"^ZCURVE\d*\tTABLE", text, re.M):
+        return None
+    return "no 'EXPLAIN' first line and no 'ZCURVE<TAB>TABLE' line"
+
+
+def read_gamry(path: str | Path) -> xr.Dataset:
+    """Read the impedance table(s) (``ZCURVE``) of a Gamry ``.DTA`` file (see module docstring)."""
+    path = Path(path)
+    lines = read_text(path).splitlines()
+    attrs: dict[str, object] = {"format": "Gamry DTA", "instrument": "Gamry"}
+    tables: list[int] = []
+    notes: list[str] = []
+    i = 0
+    while i < len(lines):
+        cells = lines[i].split("\t")
+        key = cells[0].strip()
+        if re.fullmatch(r"ZCURVE\d*", key) and len(cells) > 1 and cells[1].strip() == "TABLE":
+            tables.append(i)
+        elif key == "NOTES" and len(cells) > 2:
+            try:
+                count = int(cells[2])
+            except ValueError:
+                raise DataError(f"NOTES count {cells[2].strip()!r} is not a whole number", path=path, line=i + 1) from None
+            if not 0 <= count <= len(lines) - i - 1:
+                raise DataError(f"NOTES count {count} does not fit the {len(lines) - i - 1} lines that follow", path=path, line=i + 1)
+            notes = [ln.strip() for ln in lines[i + 1 : i + 1 + count] if ln.strip()]
+            i += 1 + count
+            continue
+        elif key == "TAG" and len(cells) >= 2:
+            attrs["experiment"] = cells[1].strip()
+        elif len(cells) >= 3 and key in _ATTR_KEYS:
+            attrs[_ATTR_KEYS[key]] = cells[2].strip()
+        i += 1
+    if not tables:
+        raise DataError("no ZCURVE table (is this an impedance experiment?)", path=path)
+    if "date" in attrs and "time" in attrs:
+        attrs["date"] = f"{attrs['date']} {attrs.pop('time')}"
+    if notes:
+        attrs["comments"] = "\n".join(notes)
+    attrs["sign_convention"] = "Zimag holds Z'' (negative for capacitive data), taken as stored"
+    attrs["units"] = "Freq in Hz, Zreal and Zimag in ohm (from the units row)"
+    names = [lines[start].split("\t")[0].strip() for start in tables]
+    labels = [n if names.count(n) == 1 else f"{n} #{k + 1}" for k, n in enumerate(names)]
+    spectra = [(label, _table(path, lines, start, dict(attrs))) for label, start in zip(labels, tables)]
+    return stack(path, spectra, "curve")
+
+
+def _table(path: Path, lines: list[str], start: int, attrs: dict) -> xr.Dataset:
+    if start + 2 >= len(lines):
+        raise DataError("ZCURVE table has no column-name and units rows", path=path, line=start + 1)
+    names = [c.strip() for c in lines[start + 1].split("\t")]
+    units = [c.strip() for c in lines[start + 2].split("\t")]
+    index = {name: k for k, name in enumerate(names) if name}
+    missing = [n for n in ("Freq", "Zreal", "Zimag") if n not in index]
+    if missing:
+        raise DataError(f"ZCURVE table lacks column(s) {missing}; found {[n for n in names if n]}", path=path, line=start + 2)
+    scales = {}
+    for name, quantity in (("Freq", "frequency"), ("Zreal", "resistance"), ("Zimag", "resistance")):
+        unit = units[index[name]] if index[name] < len(units) else ""
+        scale = unit_scale(unit, quantity) if unit else 1.0
+        if scale is None:
+            raise DataError(f"ZCURVE column {name} has unit {unit!r}, expected {'Hz' if quantity == 'frequency' else 'ohm'}", path=path, line=start + 3)
+        scales[name] = scale
+    rows = []
+    for k in range(start + 3, len(lines)):
+        line = lines[k]
+        if not line.strip():
+            continue
+        if not line.startswith("\t"):
+            break  # end of the table: the next KEY line (EXPERIMENTABORTED, another table ...)
+        rows.append((k + 1, line.split("\t")))
+    comma = decimal_comma([c for _, cells in rows[:20] for c in cells], "\t")
+    wanted = {"Freq": index["Freq"], "Zreal": index["Zreal"], "Zimag": index["Zimag"]}
+    if "Time" in index:
+        wanted["Time"] = index["Time"]
+    cols: dict[str, list[float]] = {n: [] for n in wanted}
+    for line_no, cells in rows:
+        for name, col in wanted.items():
+            if col >= len(cells):
+                raise DataError(f"row has {len(cells)} fields; column {name!r} is missing", path=path, line=line_no)
+            cols[name].append(number(cells[col], path, line_no, name, comma=comma) * scales.get(name, 1.0))
+    arr = {n: np.array(v) for n, v in cols.items()}
+    extra = {"time": (arr["Time"], "s", "time of the measurement")} if "Time" in arr else None
+    if not rows:
+        raise DataError("the ZCURVE table has no data rows", path=path, line=start + 1)
+    return finish(path, arr["Freq"], arr["Zreal"] + 1j * arr["Zimag"], [n for n, _ in rows], attrs, skipped=Skipped(), extra=extra)
+
+
+READER = Reader("Gamry DTA", (".dta",), sniff, read_gamry, CONVENTIONS)

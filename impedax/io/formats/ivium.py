@@ -1,0 +1,68 @@
+"""IviumSoft ``.idf`` (one measurement) and ``.ids`` (a sequence) files.
+
+Layout: binary-framed ``Key=value`` text (``Peaks=``, ``Solarcell=``, ``Technique=``, ...);
+each measurement's table starts at a line ``primary_data`` followed by the number of columns
+(3), the number of points N and N rows ``Z'  Z''  f`` separated by spaces or tabs. Several
+measurements of an ``.ids`` become a ``measurement`` dimension when they share their grid.
+
+Conventions: Z' and Z'' in Ω as stored (Z'' negative for capacitive data), frequency in Hz
+(third column).
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from ...errors import DataError
+from .._common import finish, number, read_bytes, stack
+from ..registry import Reader
+
+__all__ = ["read_ivium", "READER"]
+
+CONVENTIONS = "after 'primary_data': columns, N, N rows Z' [Ω], Z'' [Ω] as stored, f [Hz]"
+
+
+def sniff(path: Path, head: bytes) -> str | None:
+    if b"Solarcell=" in head and (b"Technique=" in head or b"primary_data" in head or b"Peaks=" in head):
+        return None
+    return "no IviumSoft 'Solarcell=' / 'Technique=' keys"
+
+
+def read_ivium(path: str | Path) -> xr.Dataset:
+    """Read the impedance table(s) of an IviumSoft ``.idf``/``.ids`` file (see module docstring)."""
+    path = Path(path)
+    raw = read_bytes(path)
+    lines = raw.decode("latin-1").replace("\r\n", "\n").split("\n")
+    starts = [k for k, ln in enumerate(lines) if ln.strip() == "primary_data"]
+    if not starts:
+        raise DataError("no 'primary_data' table", path=path)
+    spectra = []
+    for i, k in enumerate(starts):
+        if k + 2 >= len(lines) or not (lines[k + 1].strip().isdigit() and lines[k + 2].strip().isdigit()):
+            raise DataError("'primary_data' should be followed by the column and point counts", path=path, line=k + 2)
+        n_cols, n = int(lines[k + 1]), int(lines[k + 2])
+        if n_cols != 3:
+            raise DataError(f"'primary_data' has {n_cols} columns; impedance tables have 3 (Z', Z'', f)", path=path, line=k + 2)
+        if not 1 <= n <= len(lines) - k - 3:
+            raise DataError(f"'primary_data' announces {n} points but {len(lines) - k - 3} lines follow", path=path, line=k + 3)
+        freq, real, imag, where = [], [], [], []
+        for j in range(k + 3, k + 3 + n):
+            cells = re.split(r"[ \t]+", lines[j].strip())
+            if len(cells) != 3:
+                raise DataError(f"{len(cells)} fields, expected Z', Z'', f", path=path, line=j + 1)
+            real.append(number(cells[0], path, j + 1, "Z'"))
+            imag.append(number(cells[1], path, j + 1, "Z''"))
+            freq.append(number(cells[2], path, j + 1, "f"))
+            where.append(j + 1)
+        technique = re.search(rb"Technique=([^\r\n]*)", raw)
+        attrs = {"format": "IviumSoft idf/ids", "instrument": "Ivium", "technique": technique.group(1).decode("latin-1").strip() if technique else "",
+                 "sign_convention": "Z'' stored as is (negative for capacitive data)", "units": "ohm, ohm, Hz"}
+        spectra.append((str(i), finish(path, np.array(freq), np.array(real) + 1j * np.array(imag), where, attrs)))
+    return stack(path, spectra, "measurement")
+
+
+READER = Reader("IviumSoft idf/ids", (".idf", ".ids"), sniff, read_ivium, CONVENTIONS)

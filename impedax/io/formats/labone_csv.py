@@ -1,0 +1,128 @@
+"""Zurich Instruments LabOne sweeper CSV exports of impedance (MFIA ``imps``) data.
+
+Two layouts: one line per field and sweep (``chunk;timestamp;size;fieldname;v0;v1;...``, the
+LabOne UI's sweeper export) or one column per field (``frequency;realz;imagz;...``). Several
+sweeps (chunks) on the same grid become a ``sweep`` dimension.
+
+Conventions: frequency from ``frequency`` (else the sweep ``grid``) in Hz; Z = ``realz`` +
+j·``imagz`` in Ω as stored, or ``absz``·exp(j·``phasez``) with the phase in radians. A point
+whose cells are empty in every field (padding of a shorter sweep) is skipped and reported; an
+empty cell in some fields only is an error naming the line and point — values are never moved
+onto other frequencies.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from ...errors import DataError
+from .._common import Skipped, finish, head_text, number, read_text, stack
+from ..registry import Reader
+
+__all__ = ["read_labone_csv", "READER"]
+
+CONVENTIONS = "frequency (or grid) [Hz]; Z = realz + j·imagz [Ω], or absz·exp(j·phasez [rad])"
+
+
+def _layout(text: str):
+    """('rows', delimiter) for one-line-per-field exports, ('table', delimiter) for one column per field."""
+    first = next((ln for ln in text.splitlines() if ln.strip()), "")
+    for delimiter in (";", ","):
+        cells = [c.strip().lower() for c in first.split(delimiter)]
+        if cells[:4] == ["chunk", "timestamp", "size", "fieldname"]:
+            return "rows", delimiter
+        if ("realz" in cells and "imagz" in cells) or ("absz" in cells and "phasez" in cells):
+            if "frequency" in cells or "grid" in cells:
+                return "table", delimiter
+    return None
+
+
+def sniff(path: Path, head: bytes) -> str | None:
+    if _layout(head_text(head)) is not None:
+        return None
+    return "first line is neither 'chunk;timestamp;size;fieldname' nor a table with frequency, realz, imagz"
+
+
+def read_labone_csv(path: str | Path) -> xr.Dataset:
+    """Read a LabOne sweeper CSV export (see module docstring)."""
+    path = Path(path)
+    text = read_text(path)
+    layout = _layout(text)
+    if layout is None:
+        raise DataError("not a LabOne sweeper CSV export", path=path)
+    kind, delimiter = layout
+    lines = text.splitlines()
+    # chunk -> field -> [(line, cell) per point]
+    chunks: dict[str, dict[str, list[tuple[int, str]]]] = {}
+    if kind == "rows":
+        for k, line in enumerate(lines[1:], start=2):
+            if not line.strip():
+                continue
+            cells = line.split(delimiter)
+            if len(cells) < 5:
+                raise DataError(f"expected chunk;timestamp;size;fieldname;values..., got {len(cells)} fields", path=path, line=k)
+            chunks.setdefault(cells[0].strip(), {})[cells[3].strip().lower()] = [(k, c) for c in cells[4:]]
+    else:
+        names = [c.strip().lower() for c in lines[0].split(delimiter)]
+        chunk_col = names.index("chunk") if "chunk" in names else None
+        for k, line in enumerate(lines[1:], start=2):
+            if not line.strip():
+                continue
+            cells = line.split(delimiter)
+            if len(cells) != len(names):
+                raise DataError(f"{len(cells)} fields, but the header has {len(names)}", path=path, line=k)
+            fields = chunks.setdefault(cells[chunk_col].strip() if chunk_col is not None else "0", {})
+            for name, cell in zip(names, cells):
+                fields.setdefault(name, []).append((k, cell))
+    sweeps = [(chunk, _sweep(path, chunk, fields)) for chunk, fields in chunks.items()]
+    if not sweeps:
+        raise DataError("no sweep data after the header line", path=path, line=1)
+    ds = stack(path, sweeps, "sweep")
+    ds.attrs.update({"format": "Zurich Instruments LabOne CSV", "instrument": "Zurich Instruments"})
+    device = re.search(r"dev\d+", path.name, re.I)
+    if device:
+        ds.attrs["device"] = device.group().lower()
+    return ds
+
+
+def _sweep(path: Path, chunk: str, fields: dict[str, list[tuple[int, str]]]) -> xr.Dataset:
+    fkey = "frequency" if "frequency" in fields else "grid" if "grid" in fields else None
+    if fkey is None:
+        raise DataError(f"sweep (chunk) {chunk}: no 'frequency' or 'grid' field", path=path)
+    if "realz" in fields and "imagz" in fields:
+        parts = ("realz", "imagz")
+    elif "absz" in fields and "phasez" in fields:
+        parts = ("absz", "phasez")
+    else:
+        found = sorted(fields)
+        raise DataError(f"sweep (chunk) {chunk}: no 'realz'/'imagz' (or 'absz'/'phasez') fields; found {found}", path=path)
+    used = (fkey, *parts)
+    n = max(len(fields[name]) for name in used)
+    skipped = Skipped()
+    values: dict[str, list[float]] = {name: [] for name in used}
+    where: list[int] = []
+    for i in range(n):
+        cells = {name: fields[name][i] if i < len(fields[name]) else (fields[name][-1][0] if fields[name] else None, "") for name in used}
+        empty = [name for name in used if not cells[name][1].strip()]
+        line_of_point = cells[fkey][0]
+        if len(empty) == len(used):
+            skipped.add(line_of_point, f"sweep {chunk} point {i}: empty in every field (padding)")
+            continue
+        if empty:
+            name = empty[0]
+            raise DataError(f"sweep (chunk) {chunk}, point {i}: {', '.join(empty)} missing (the other fields have a value there)", path=path, line=cells[name][0])
+        for name in used:
+            values[name].append(number(cells[name][1], path, cells[name][0], f"{name}[{i}]"))
+        where.append(line_of_point)
+    a = {k: np.array(v) for k, v in values.items()}
+    z = a["realz"] + 1j * a["imagz"] if parts == ("realz", "imagz") else a["absz"] * np.exp(1j * a["phasez"])
+    attrs = {"sign_convention": "realz, imagz hold Z', Z'' as stored" if parts[0] == "realz" else "Z = absz·exp(j·phasez), phase in radians",
+             "units": f"{fkey} in Hz, Z in ohm"}
+    return finish(path, a[fkey], z, where, attrs, skipped=skipped)
+
+
+READER = Reader("Zurich Instruments LabOne CSV", (".csv",), sniff, read_labone_csv, CONVENTIONS)

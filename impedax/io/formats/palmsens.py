@@ -1,0 +1,90 @@
+"""PalmSens PSTrace ``.pssession`` files.
+
+Layout: UTF-16 text (byte-order mark, sometimes a second one at the end) holding one JSON
+object. ``Measurements[i].DataSet`` of type ``...DataSetEIS`` lists ``Values``: arrays with a
+``Description`` and a ``Unit`` (``Frequency`` in Hertz, ``ZRe`` and ``ZIm`` in Ω, ``Z``,
+``Phase``, ``YRe``, ``YIm`` ...) whose points are ``DataValues[k].V``. Several EIS measurements
+on one grid become a ``measurement`` dimension.
+
+Conventions: frequency in Hz; Z' = ``ZRe``; the file stores −Z'' in ``ZIm`` (its ``YIm`` is
++Y'' and its ``Phase`` is −phase, consistent with that), negated here.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from ...errors import DataError
+from .._common import decode_text, finish, head_text, read_bytes, stack
+from ..registry import Reader
+
+__all__ = ["read_palmsens", "READER"]
+
+CONVENTIONS = "JSON in UTF-16; Frequency [Hz], ZRe [Ω]; ZIm holds -Z'' (negated)"
+
+
+def sniff(path: Path, head: bytes) -> str | None:
+    text = head_text(head).lstrip()
+    if text.startswith("{") and "PalmSens" in text[:2000]:
+        return None
+    return "not a PalmSens session (JSON naming PalmSens)"
+
+
+def _array(values: list, description: str, path: Path, where: str) -> np.ndarray | None:
+    for entry in values:
+        if isinstance(entry, dict) and entry.get("Description") == description:
+            points = entry.get("DataValues")
+            if not isinstance(points, list):
+                raise DataError(f"{where}: {description} has no DataValues list", path=path)
+            out = []
+            for k, p in enumerate(points):
+                v = p.get("V") if isinstance(p, dict) else None
+                if isinstance(v, bool) or not isinstance(v, (int, float)):
+                    raise DataError(f"{where}: {description} point {k} is {v!r}, not a number", path=path)
+                out.append(float(v))
+            return np.array(out, dtype=float)
+    return None
+
+
+def read_palmsens(path: str | Path) -> xr.Dataset:
+    """Read the EIS measurements of a PalmSens ``.pssession`` file (see module docstring)."""
+    path = Path(path)
+    text = decode_text(read_bytes(path), path).strip("\ufeff\x00 \r\n\t")
+    try:
+        session, _ = json.JSONDecoder().raw_decode(text)
+    except (json.JSONDecodeError, RecursionError) as exc:
+        raise DataError(f"not a PalmSens session: invalid JSON ({getattr(exc, 'msg', 'nested too deeply')})", path=path) from None
+    measurements = session.get("Measurements") if isinstance(session, dict) else None
+    if not isinstance(measurements, list):
+        raise DataError("PalmSens session without a 'Measurements' list", path=path)
+    spectra = []
+    for i, m in enumerate(measurements):
+        dataset = m.get("DataSet") if isinstance(m, dict) else None
+        if not isinstance(dataset, dict) or "EIS" not in str(dataset.get("Type", "")):
+            continue
+        values = dataset.get("Values")
+        title = str(m.get("Title", f"measurement {i}"))
+        where = f"measurement {i} ({title})"
+        if not isinstance(values, list):
+            raise DataError(f"{where}: DataSet has no Values list", path=path)
+        arrays = {name: _array(values, name, path, where) for name in ("Frequency", "ZRe", "ZIm")}
+        missing = [name for name, a in arrays.items() if a is None]
+        if missing:
+            raise DataError(f"{where}: no {', '.join(missing)} array", path=path)
+        f, re_, neg_im = arrays["Frequency"], arrays["ZRe"], arrays["ZIm"]
+        if not (f.size == re_.size == neg_im.size):
+            raise DataError(f"{where}: {f.size} frequencies, {re_.size} ZRe and {neg_im.size} ZIm values", path=path)
+        label = title if title not in [s[0] for s in spectra] else f"{title} ({i})"
+        attrs = {"format": "PalmSens pssession", "instrument": f"PalmSens {m.get('DeviceSerial', '')}".strip(), "title": title,
+                 "sign_convention": "ZIm holds -Z''; negated to Z''", "units": "Frequency in Hz, ZRe and ZIm in ohm"}
+        spectra.append((label, finish(path, f, re_ - 1j * neg_im, list(range(1, f.size + 1)), attrs)))
+    if not spectra:
+        raise DataError(f"PalmSens session holds no EIS measurement ({len(measurements)} measurements of other kinds)", path=path)
+    return stack(path, spectra, "measurement")
+
+
+READER = Reader("PalmSens pssession", (".pssession",), sniff, read_palmsens, CONVENTIONS)

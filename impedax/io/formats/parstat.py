@@ -1,0 +1,47 @@
+"""Princeton Applied Research Parstat (PowerSine/VersaStudio text) exports.
+
+Layout: one tab-separated header line ``Potential (V) Current (A) Elapsed Time (s) Frequency
+(Hz) Zre (ohms) Zim (ohms) |Vac| (V) |Iac| (A)`` (with a trailing tab) and one row per sample.
+Rows recorded at f = 0 are DC samples taken before the sweep: they are skipped and reported in
+``attrs["skipped_rows"]``.
+
+Conventions: frequency in Hz; Z = ``Zre`` + j·``Zim`` in Ω, Z'' stored as is (negative for
+capacitive data).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import xarray as xr
+
+from .._common import first_line, head_text, read_text
+from ..registry import Reader
+from ..table import detect_layout, spectrum_from_rows
+
+__all__ = ["read_parstat", "READER"]
+
+CONVENTIONS = "Frequency (Hz); Z = Zre + j·Zim (ohms) as stored; DC rows (f = 0) skipped and reported"
+
+
+def _is_header(line: str) -> bool:
+    cells = [c.strip() for c in line.split("\t")]
+    return "Frequency (Hz)" in cells and "Zre (ohms)" in cells and "Zim (ohms)" in cells
+
+
+def sniff(path: Path, head: bytes) -> str | None:
+    first = head_text(head).lstrip().split("\n", 1)[0]
+    return None if _is_header(first) else "first line lacks 'Frequency (Hz)', 'Zre (ohms)', 'Zim (ohms)'"
+
+
+def read_parstat(path: str | Path) -> xr.Dataset:
+    """Read a Parstat text export (see module docstring)."""
+    path = Path(path)
+    lines = read_text(path).splitlines()
+    k = first_line(lines, path)
+    layout = detect_layout(lines[k].split("\t"), path, k + 1)
+    rows = [(j + 1, lines[j].split("\t")) for j in range(k + 1, len(lines)) if lines[j].strip()]
+    return spectrum_from_rows(path, layout, rows, {"format": "Parstat text", "instrument": "Princeton Applied Research Parstat"}, delimiter="\t")
+
+
+READER = Reader("Parstat text", (".txt",), sniff, read_parstat, CONVENTIONS)

@@ -1,0 +1,45 @@
+"""Princeton Applied Research PowerSuite text exports.
+
+Layout: a tab-separated header ``Frequency<TAB> Zre<TAB> Zimg`` and one row per point (lines
+often end in ``CR CR LF``; the empty lines this makes are ignored).
+
+Conventions: frequency in Hz; Z = ``Zre`` + j·``Zimg`` in Ω, Z'' stored as is (negative for
+capacitive data).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import xarray as xr
+
+from .._common import first_line, head_text, read_text
+from ..registry import Reader
+from ..table import detect_layout, spectrum_from_rows
+
+__all__ = ["read_powersuite", "READER"]
+
+CONVENTIONS = "Frequency [Hz]; Z = Zre + j·Zimg [Ω] as stored"
+
+
+def _is_header(line: str) -> bool:
+    return [c.strip() for c in line.split("\t")][:3] == ["Frequency", "Zre", "Zimg"]
+
+
+def sniff(path: Path, head: bytes) -> str | None:
+    first = head_text(head).lstrip().split("\n", 1)[0]
+    return None if _is_header(first) else "first line is not 'Frequency<TAB>Zre<TAB>Zimg'"
+
+
+def read_powersuite(path: str | Path) -> xr.Dataset:
+    """Read a PowerSuite text export (see module docstring)."""
+    path = Path(path)
+    lines = read_text(path).splitlines()
+    k = first_line(lines, path)
+    layout = detect_layout(lines[k].split("\t"), path, k + 1)
+    rows = [(j + 1, lines[j].split("\t")) for j in range(k + 1, len(lines)) if lines[j].strip()]
+    attrs = {"format": "PowerSuite text", "instrument": "Princeton Applied Research (PowerSuite)"}
+    return spectrum_from_rows(path, layout, rows, attrs, delimiter="\t")
+
+
+READER = Reader("PowerSuite text", (".txt",), sniff, read_powersuite, CONVENTIONS)

@@ -1,0 +1,108 @@
+"""Spreadsheets: Excel ``.xlsx`` (needs ``openpyxl``) and OpenDocument ``.ods`` (needs ``odfpy``),
+read through pandas: ``pip install impedax[spreadsheet]``.
+
+Each sheet is a table whose first non-empty row names the columns, read by `impedax.io.table`
+(``f``/``freq``/``frequency``, ``Z'``/``Zre``/``real``, ``Z''``/``imaginary`` or ``-Zim``,
+``|Z|`` with ``phase`` or ``-phase``, units such as ``Frequency (mHz)`` case-sensitively). Sheets
+on the same grid become a ``sheet`` dimension. Line numbers in errors are spreadsheet rows.
+
+Conventions: as named by each column header (a ``-`` prefix means the column stores the negated
+quantity); numbers are taken as stored in the cells.
+"""
+
+from __future__ import annotations
+
+import math
+import zipfile
+from pathlib import Path
+
+import xarray as xr
+
+from ...errors import DataError
+from .._common import MAX_FILE_BYTES, check_file, stack
+from ..registry import Reader
+from ..table import NoLayout, detect_layout, spectrum_from_rows
+
+__all__ = ["read_spreadsheet", "READER"]
+
+CONVENTIONS = "one table per sheet, columns named as for text (f, Z', Z'' or -Z'', |Z|, phase)"
+_ZIP = b"PK\x03\x04"
+_ODS = b"mimetypeapplication/vnd.oasis.opendocument.spreadsheet"
+
+
+def sniff(path: Path, head: bytes) -> str | None:
+    if head.startswith(_ZIP) and (_ODS in head[:200] or b"xl/" in head or path.suffix.lower() in (".xlsx", ".xlsm", ".ods")):
+        return None
+    return "not a zip-based spreadsheet (.xlsx/.ods)"
+
+
+def _kind(path: Path) -> str:
+    try:
+        with zipfile.ZipFile(path) as zf:
+            names = zf.namelist()
+            total = sum(i.file_size for i in zf.infolist())
+    except (zipfile.BadZipFile, OSError, ValueError) as exc:
+        raise DataError(f"not a readable spreadsheet ({exc})", path=path) from None
+    if total > 8 * MAX_FILE_BYTES:
+        raise DataError(f"spreadsheet expands to {total / 2**20:.0f} MB; too large for a spectrum", path=path)
+    if "xl/workbook.xml" in names:
+        return "openpyxl"
+    if "content.xml" in names:
+        return "odf"
+    raise DataError("zip file is neither an Excel (.xlsx) nor an OpenDocument (.ods) spreadsheet", path=path)
+
+
+def _cell(value) -> str:
+    if value is None or (isinstance(value, float) and math.isnan(value)):
+        return ""
+    if isinstance(value, bool):
+        return str(value)
+    if isinstance(value, (int, float)):
+        return repr(float(value))
+    return str(value)
+
+
+def read_spreadsheet(path: str | Path) -> xr.Dataset:
+    """Read every sheet of an ``.xlsx``/``.ods`` workbook (see module docstring)."""
+    path = Path(path)
+    check_file(path)
+    engine = _kind(path)
+    module = {"openpyxl": "openpyxl", "odf": "odf"}[engine]
+    try:
+        __import__(module)
+        import pandas as pd
+    except ImportError:
+        extra = "openpyxl" if engine == "openpyxl" else "odfpy"
+        raise DataError(f"reading this spreadsheet needs {extra}: pip install {extra} (or impedax[spreadsheet]), or export CSV", path=path) from None
+    try:
+        sheets = pd.read_excel(path, sheet_name=None, header=None, dtype=object, engine=engine)
+    except Exception as exc:  # the engines raise many types for damaged files
+        raise DataError(f"not a readable spreadsheet ({type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''})", path=path) from None
+    spectra = []
+    reasons = []
+    for name, frame in sheets.items():
+        rows = [(r + 1, [_cell(v) for v in values]) for r, values in enumerate(frame.itertuples(index=False, name=None))]
+        rows = [(n, cells) for n, cells in rows if any(c.strip() for c in cells)]
+        if not rows:
+            reasons.append(f"sheet {name!r} is empty")
+            continue
+        header_row, header = rows[0]
+        where = Path(f"{path} [sheet {name}]")
+        try:
+            layout = detect_layout(header, where, header_row)
+        except NoLayout as exc:
+            reasons.append(f"sheet {name!r}: {exc.reason}")
+            continue
+        attrs = {"format": "spreadsheet", "sheet": str(name)}
+        ds = spectrum_from_rows(where, layout, rows[1:], attrs, comma=False)
+        ds.attrs["path"] = str(path)
+        spectra.append((str(name), ds))
+    if not spectra:
+        raise DataError("no sheet holds a spectrum table: " + "; ".join(reasons), path=path)
+    if reasons:
+        for _, ds in spectra:
+            ds.attrs["other_sheets"] = "; ".join(reasons)
+    return stack(path, spectra, "sheet")
+
+
+READER = Reader("spreadsheet", (".xlsx", ".ods"), sniff, read_spreadsheet, CONVENTIONS)

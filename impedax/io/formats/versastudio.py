@@ -1,0 +1,76 @@
+"""Princeton Applied Research VersaStudio ``.par`` files.
+
+Layout: XML-like sections (``<Application>``, ``<Action0>``, ...); each data segment
+``<SegmentN>`` holds ``Definition=`` (comma-separated column names, the last entry a trailing
+``0``) and comma-separated rows until ``</SegmentN>``. Segments with ``Frequency(Hz)``, ``Z Real``
+and ``Z Imag`` columns are impedance data; several become a ``segment`` dimension when they share
+their frequencies.
+
+Conventions: frequency in Hz; Z = ``Z Real`` + j·``Z Imag`` in Ω as stored (it equals the
+file's own E/I: ``(E Real + j·E Imag)/(I Real + j·I Imag)``).
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import xarray as xr
+
+from ...errors import DataError
+from .._common import head_text, read_text, stack
+from ..registry import Reader
+from ..table import NoLayout, detect_layout, spectrum_from_rows
+
+__all__ = ["read_versastudio", "READER"]
+
+CONVENTIONS = "Frequency(Hz); Z = Z Real + j·Z Imag [Ω] as stored (= E/I)"
+
+
+def sniff(path: Path, head: bytes) -> str | None:
+    text = head_text(head)
+    if text.lstrip().startswith("<Application>") and re.search(r"^Name=VersaStudio", text, re.M):
+        return None
+    return "no '<Application>' section naming VersaStudio"
+
+
+def read_versastudio(path: str | Path) -> xr.Dataset:
+    """Read the impedance segment(s) of a VersaStudio ``.par`` file (see module docstring)."""
+    path = Path(path)
+    lines = read_text(path).splitlines()
+    spectra = []
+    tried = []
+    k = 0
+    while k < len(lines):
+        m = re.fullmatch(r"\s*<Segment(\d+)>\s*", lines[k])
+        if not m:
+            k += 1
+            continue
+        tag = m.group(1)
+        end = next((j for j in range(k + 1, len(lines)) if lines[j].strip() == f"</Segment{tag}>"), None)
+        if end is None:
+            raise DataError(f"<Segment{tag}> is not closed by </Segment{tag}>", path=path, line=k + 1)
+        definition = next((j for j in range(k + 1, end) if lines[j].startswith("Definition=")), None)
+        if definition is None:
+            tried.append(f"segment {tag}: no Definition= line")
+            k = end + 1
+            continue
+        names = [c.strip() for c in lines[definition][len("Definition="):].split(",")]
+        if names and names[-1] == "0":
+            names = names[:-1]
+        try:
+            layout = detect_layout(names, path, definition + 1)
+        except NoLayout as exc:
+            tried.append(f"segment {tag}: {exc.reason}")
+            k = end + 1
+            continue
+        rows = [(j + 1, lines[j].split(",")) for j in range(definition + 1, end) if lines[j].strip()]
+        attrs = {"format": "VersaStudio par", "instrument": "Princeton Applied Research (VersaStudio)", "segment": tag}
+        spectra.append((tag, spectrum_from_rows(path, layout, rows, attrs, delimiter=",", where=f"segment {tag}: ")))
+        k = end + 1
+    if not spectra:
+        raise DataError("no segment with Frequency(Hz), Z Real and Z Imag columns" + (f" ({'; '.join(tried)})" if tried else ""), path=path)
+    return stack(path, spectra, "segment")
+
+
+READER = Reader("VersaStudio par", (".par",), sniff, read_versastudio, CONVENTIONS)

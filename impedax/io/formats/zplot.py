@@ -1,0 +1,91 @@
+"""Scribner ZPlot / ZView ``.z`` files (ZPLOT2 ASCII and the header-less variant).
+
+Layout: ``ZPLOT2 ASCII`` and ``Key: value`` lines ending with ``End Comments`` (the line before
+it may name the columns), then one row per point separated by tabs or commas:
+``Freq(Hz) Ampl Bias Time(Sec) Z'(a) Z''(b) GD Err Range``. The variant without metadata starts
+with that column-name line. A ``Data Points: N`` header that differs from the rows is reported in ``attrs``.
+
+Conventions: frequency in Hz; Z = ``Z'(a)`` + j·``Z''(b)`` in Ω, Z'' stored as is (negative for
+capacitive data).
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import xarray as xr
+
+from ...errors import DataError
+from .._common import head_text, read_text
+from ..registry import Reader
+from ..table import Layout, NoLayout, detect_layout, spectrum_from_rows
+
+__all__ = ["read_zplot", "READER", "FIXED_LAYOUT", "split_row"]
+
+CONVENTIONS = "Freq(Hz); Z = Z'(a) + j·Z''(b) [Ω] as stored (Z'' < 0 capacitive)"
+COLUMN_NAMES = ("Freq(Hz)", "Ampl", "Bias", "Time(Sec)", "Z'(a)", "Z''(b)", "GD", "Err", "Range")
+#: ZPlot's fixed column order, used when the file does not name its columns.
+FIXED_LAYOUT = Layout({"frequency": (0, 1.0), "real": (4, 1.0), "imag": (5, 1.0)}, COLUMN_NAMES)
+
+
+def split_row(line: str) -> list[str]:
+    return [c.strip() for c in re.split(r"\t|,", line.strip())]
+
+
+def _names_line(line: str) -> bool:
+    return "Freq(Hz)" in line and "Z'(a)" in line
+
+
+def sniff(path: Path, head: bytes) -> str | None:
+    text = head_text(head)
+    first = text.lstrip().split("\n", 1)[0]
+    if first.upper().startswith("ZPLOT") or re.search(r"^End Comments\s*$", text, re.M) or _names_line(first):
+        return None
+    return "no 'ZPLOT' first line and no 'End Comments' line"
+
+
+def read_zplot(path: str | Path) -> xr.Dataset:
+    """Read a ZPlot/ZView ``.z`` file (see module docstring)."""
+    path = Path(path)
+    lines = read_text(path).splitlines()
+    end = next((k for k, ln in enumerate(lines) if ln.strip() == "End Comments"), None)
+    attrs: dict[str, object] = {"format": "Scribner ZPlot z", "instrument": "Scribner ZPlot"}
+    announced = None
+    if end is None:
+        end = next((k for k, ln in enumerate(lines[:5]) if _names_line(ln)), None)
+        if end is None:
+            raise DataError("no 'End Comments' line ending the ZPlot header", path=path)
+        names_line = lines[end]
+    else:
+        date = time = None
+        for line in lines[:end]:
+            key, sep, value = line.partition(":")
+            key, value = key.strip(), value.strip()
+            if not sep:
+                continue
+            if key == "Date":
+                date = value
+            elif key == "Time":
+                time = value
+            elif key == "Experiment Type":
+                attrs["experiment"] = value
+            elif key.startswith("Measured Data"):
+                attrs["software"] = f"{key.split(',')[-1].strip()} {value}".strip()
+            elif key == "Data Points" and value.isdigit():
+                announced = int(value)
+        attrs["date"] = " ".join(v for v in (date, time) if v)
+        names_line = lines[end - 1] if end > 0 else ""
+    rows = [(k + 1, split_row(lines[k])) for k in range(end + 1, len(lines)) if lines[k].strip()]
+    layout = FIXED_LAYOUT
+    if _names_line(names_line):
+        try:
+            layout = detect_layout(split_row(names_line), path, end)
+        except NoLayout:
+            layout = FIXED_LAYOUT
+    if announced is not None and announced != len(rows):
+        attrs["point_count_note"] = f"header says 'Data Points: {announced}'; the file holds {len(rows)} rows (sweep stopped early?)"
+    return spectrum_from_rows(path, layout, rows, attrs, comma=False)
+
+
+READER = Reader("Scribner ZPlot z", (".z",), sniff, read_zplot, CONVENTIONS)

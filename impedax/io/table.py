@@ -1,0 +1,222 @@
+"""Tables with named columns → one spectrum: the engine behind delimited text, spreadsheets and
+the instrument exports that are tables (BioLogic, Autolab, Parstat, PowerSuite, CH Instruments,
+VersaStudio ...).
+
+A header cell is a name and an optional unit, ``Frequency (mHz)``, ``Re(Z)/Ohm``, ``Z' (kΩ)``;
+unit prefixes are case-sensitive (mHz is 1e-3 Hz, MHz 1e6 Hz) and an all-capitals ``MHZ`` is
+refused as ambiguous. Z comes from Z' with Z'' or −Z'' columns, or from |Z| with the phase (or
+−phase) in degrees or radians. Rows equal to the header are skipped and reported; a row with a
+field too many or too few, or an empty Z cell, is an error naming the line: values are never
+shifted onto other columns.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Sequence
+
+import numpy as np
+import xarray as xr
+
+from ..errors import DataError
+from ._common import UNIT_CELL, Skipped, decimal_comma, finish, number, split_header_cell, unit_scale
+
+__all__ = ["ROLES", "Layout", "detect_layout", "role_of", "spectrum_from_rows"]
+
+
+_IMAG = {"z_imag", "zimag", "z_im", "zim", "im_z", "imz", "im(z)", "z''", "imag", "imaginary", "zi", "imagz", "zimg", "z''(b)", "z_imag_ohm", "zimag_ohm", "zimaginary"}
+_PHASE = {"phase", "phase(z)", "z_phase", "zphase", "phi", "theta", "zphz", "phase_deg", "z_phase_deg", "phasedeg"}
+ROLES: dict[str, set[str]] = {
+    "frequency": {"frequency", "freq", "f", "frequency_hz", "freq_hz", "frequencyhz", "freqhz", "fhz"},
+    "real": {"z_real", "zreal", "z_re", "zre", "re_z", "rez", "re(z)", "z'", "real", "zr", "realz", "z'(a)", "z_real_ohm", "zreal_ohm"},
+    "imag": _IMAG,
+    "neg_imag": {"-" + k for k in _IMAG} | {"neg_z_imag", "minus_z_imag"},
+    "modulus": {"|z|", "zmod", "z_mod", "mod(z)", "modz", "magnitude", "abs(z)", "absz", "z_abs", "z", "z_mod_ohm"},
+    "phase": _PHASE,
+    "neg_phase": {"-" + k for k in _PHASE},
+    "sigma": {"sigma", "sigma_ohm", "sigma_z", "sigma_z_ohm", "std", "sem"},
+}
+_QUANTITY = {"frequency": "frequency", "real": "resistance", "imag": "resistance", "neg_imag": "resistance",
+             "modulus": "resistance", "sigma": "resistance", "phase": "angle", "neg_phase": "angle"}
+_SUFFIX_UNITS = {"_hz": "Hz", "_ohm": "Ω", "_deg": "deg"}
+
+
+def _key(name: str) -> str:
+    key = re.sub(r"\s+", "", name.lower())
+    for old, new in (("’", "'"), ("′", "'"), ("″", "''"), ('"', "''"), ("−", "-")):
+        key = key.replace(old, new)
+    return key
+
+
+def _lookup(key: str) -> str | None:
+    return next((r for r, names in ROLES.items() if key in names), None)
+
+
+def role_of(cell: str) -> tuple[str, float, str] | None:
+    """``(role, scale to SI, unit)`` of a header cell, or ``None`` when it names no role."""
+    name, unit = split_header_cell(cell)
+    key = _key(name)
+    role = _lookup(key)
+    if role is None:
+        m = UNIT_CELL.match(cell.strip().strip('"').strip())
+        if m and _lookup(_key(m.group("name"))) is not None:  # a role with a unit we do not know
+            unit = m.group("u1") if m.group("u1") is not None else m.group("u2")
+            name, role = m.group("name"), _lookup(_key(m.group("name")))
+        else:
+            return None
+    if not unit:
+        unit = next((u for s, u in _SUFFIX_UNITS.items() if key.endswith(s)), "")
+    if not unit:
+        return role, 1.0, ""
+    try:
+        scale = unit_scale(unit, _QUANTITY[role])
+    except DataError as exc:
+        raise DataError(f"column {cell.strip()!r}: {exc}") from None
+    if scale is None:
+        expected = {"frequency": "Hz, mHz, kHz, MHz", "resistance": "Ω (Ohm), mΩ, kΩ, MΩ", "angle": "deg or rad"}[_QUANTITY[role]]
+        raise DataError(f"column {cell.strip()!r}: unit {unit!r} not understood (expected {expected})")
+    return role, scale, unit
+
+
+@dataclass(frozen=True)
+class Layout:
+    """Which column holds what: ``columns[role] = (index, scale to SI)``; ``header[index]`` its name."""
+
+    columns: dict[str, tuple[int, float]]
+    header: tuple[str, ...]
+    ignored: tuple[str, ...] = field(default=())
+
+    @property
+    def cartesian(self) -> bool:
+        return "real" in self.columns and ("imag" in self.columns or "neg_imag" in self.columns)
+
+    def name(self, role: str) -> str:
+        return self.header[self.columns[role][0]]
+
+    def notes(self) -> dict[str, str]:
+        """``sign_convention`` and ``units`` attrs saying how the columns were read."""
+        if self.cartesian:
+            if "neg_imag" in self.columns:
+                sign = f"column {self.name('neg_imag')!r} holds -Z''; negated to Z''"
+            else:
+                sign = f"column {self.name('imag')!r} holds Z'' (negative for capacitive data), taken as stored"
+            parts = ["real", "imag" if "imag" in self.columns else "neg_imag"]
+        else:
+            ph = "phase" if "phase" in self.columns else "neg_phase"
+            sign = f"Z = |Z|·exp(j·phase) from {self.name('modulus')!r} and {self.name(ph)!r}" + ("; the file stores -phase" if ph == "neg_phase" else "")
+            parts = ["modulus", ph]
+        units = []
+        for role in ["frequency", *parts]:
+            index, scale = self.columns[role]
+            units.append(f"{self.header[index]!r}" + ("" if scale == 1 else f" ×{scale:g}"))
+        return {"sign_convention": sign, "units": "columns used (scaled to Hz, Ω, degrees): " + ", ".join(units)}
+
+
+class NoLayout(DataError):
+    """The text is not a table with a spectrum header (so `load` goes on to list the formats tried)."""
+
+    def __init__(self, message: str, *, path=None, line=None):
+        self.reason = message
+        super().__init__(message, path=path, line=line)
+
+
+def detect_layout(header: Sequence[str], path: Path, line: int | None) -> Layout:
+    """The `Layout` of a header row; `NoLayout` when it names no frequency/Z columns."""
+    columns: dict[str, tuple[int, float]] = {}
+    ignored = []
+    for index, cell in enumerate(header):
+        try:
+            found = role_of(cell)
+        except DataError as exc:
+            raise DataError(str(exc), path=path, line=line) from None
+        if found is None:
+            if cell.strip():
+                ignored.append(cell.strip())
+            continue
+        role, scale, _ = found
+        if role in columns:
+            raise DataError(f"two columns for {role}: {header[columns[role][0]]!r} and {cell!r}", path=path, line=line)
+        columns[role] = (index, scale)
+    cells = [c.strip() for c in header]
+    if "frequency" not in columns:
+        raise NoLayout(f"no frequency column in header {cells}", path=path, line=line)
+    if "imag" in columns and "neg_imag" in columns:
+        raise DataError("both Z'' and -Z'' columns given; keep one", path=path, line=line)
+    if "phase" in columns and "neg_phase" in columns and not ("real" in columns and ("imag" in columns or "neg_imag" in columns)):
+        raise DataError("both phase and -phase columns given; keep one", path=path, line=line)
+    layout = Layout(columns, tuple(cells), tuple(ignored))
+    if not layout.cartesian and not ("modulus" in columns and ("phase" in columns or "neg_phase" in columns)):
+        raise NoLayout(
+            f"cannot find impedance columns in header {cells}; expected Z' and Z'' (or -Z''), or |Z| and phase", path=path, line=line
+        )
+    return layout
+
+
+def spectrum_from_rows(
+    path: Path,
+    layout: Layout,
+    rows: Sequence[tuple[int, Sequence[str]]],
+    attrs: dict,
+    *,
+    comma: bool | None = None,
+    delimiter: str | None = None,
+    skipped: Skipped | None = None,
+    where: str = "",
+    header_line: int | None = None,
+) -> xr.Dataset:
+    """One spectrum from ``rows`` (line number, cells) laid out as ``layout``."""
+    skipped = skipped if skipped is not None else Skipped()
+    header = list(layout.header)
+    while header and not header[-1]:
+        header.pop()
+    n_fields = len(header)
+    if comma is None:
+        comma = decimal_comma([c for _, cells in rows[:20] for c in cells], delimiter)
+    polar = ("modulus", "phase", "neg_phase")
+    wanted = {role: col for role, col in layout.columns.items() if not (layout.cartesian and role in polar)}
+    values: dict[str, list[float]] = {role: [] for role in wanted}
+    lines: list[int] = []
+    time_col = next((i for i, h in enumerate(header) if _key(split_header_cell(h)[0]) in ("time", "elapsedtime", "time(sec)")), None)
+    times: list[float] = []
+    for line, cells in rows:
+        cells = [c.strip() for c in cells]
+        while len(cells) > n_fields and not cells[-1]:
+            cells.pop()  # a trailing separator, as in the header
+        if [c.strip('"').strip() for c in cells] == [h.strip('"').strip() for h in header]:
+            skipped.add(line, "repeated header")
+            continue
+        if len(cells) != n_fields:
+            raise DataError(f"{where}{len(cells)} fields, but the header has {n_fields} (a missing or extra cell would shift values)", path=path, line=line)
+        for role, (index, scale) in wanted.items():
+            values[role].append(number(cells[index], path, line, header[index], comma=comma) * scale)
+        if time_col is not None:
+            try:
+                times.append(float(cells[time_col].replace(",", ".") if comma else cells[time_col]))
+            except ValueError:
+                time_col = None
+        lines.append(line)
+    if not lines:
+        raise DataError(f"{where}header but no data rows" + (f" (skipped: {'; '.join(skipped.report())})" if len(skipped) else ""), path=path, line=header_line)
+    col = {role: np.array(v) for role, v in values.items()}
+    if layout.cartesian:
+        z = col["real"] + 1j * (col["imag"] if "imag" in col else -col["neg_imag"])
+    else:
+        phase = col["phase"] if "phase" in col else -col["neg_phase"]
+        z = col["modulus"] * np.exp(1j * np.deg2rad(phase))
+    attrs = {**attrs, **layout.notes()}
+    if layout.ignored:
+        attrs.setdefault("other_columns", ", ".join(layout.ignored))
+    extra = {}
+    if time_col is not None and len(times) == len(lines):
+        extra["time"] = (np.array(times), "s", "time of the measurement")
+    ds = finish(path, col["frequency"], z, lines, attrs, skipped=skipped, extra=extra)
+    if "sigma" in col:
+        keep = col["frequency"] != 0
+        sigma = col["sigma"][keep]
+        if not (np.all(np.isfinite(sigma)) and np.all(sigma > 0)):
+            bad = int(np.flatnonzero(~(sigma > 0))[0])
+            raise DataError(f"{where}sigma must be positive, got {sigma[bad]:g}", path=path, line=[n for n, k in zip(lines, keep) if k][bad])
+        ds["sigma"] = ("frequency", sigma, {"units": "ohm", "long_name": "standard deviation of Z"})
+    return ds
