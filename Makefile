@@ -10,7 +10,7 @@ $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
 
 $(STAMP): pyproject.toml | $(BIN)/python
-	$(BIN)/python -m pip install --quiet --disable-pip-version-check -e ".[test,draw]"
+	$(BIN)/python -m pip install --quiet --disable-pip-version-check -e ".[test,draw,formats]"
 	touch $(STAMP)
 
 demo: $(STAMP)
