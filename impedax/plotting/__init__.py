@@ -92,14 +92,8 @@ def plot_spectrum(data=None, model=None, *, title: str | None = None, bands=None
     freq_axes = [ax_mod, ax_ph]
     if with_residuals:
         ax_res = fig.add_subplot(grid[2, 1], sharex=ax_mod)
-        r = (_model_at(d[0], m) - d[1]) / np.abs(d[1]) * 100
-        ax_res.semilogx(d[0], r.real, "o-", ms=3, lw=0.8, label="Re")
-        ax_res.semilogx(d[0], r.imag, "s-", ms=3, lw=0.8, label="Im")
-        ax_res.axhline(0, color="k", lw=0.6)
-        ax_res.set_ylabel("residual [%]")
-        ax_res.set_xlabel("frequency [Hz]")
-        ax_res.grid(alpha=0.3, which="both")
-        ax_res.legend(fontsize=8, ncol=2)
+        r = (_model_at(d[0], m) - d[1]) / np.abs(d[1])
+        plot_residuals(ax_res, d[0], r.real, r.imag)
         ax_ph.set_xlabel("")
         freq_axes.append(ax_res)
     if bands:
@@ -107,6 +101,23 @@ def plot_spectrum(data=None, model=None, *, title: str | None = None, bands=None
     if title:
         fig.suptitle(title)
     return fig
+
+
+def plot_residuals(ax, freq, real, imag, *, labels=("Re", "Im"), ylabel="residual [%]", limit=None):
+    """Relative residuals (fractions, drawn in %) of the real and imaginary parts against
+    frequency, sorted; ``limit`` (a fraction) draws ±limit as the threshold."""
+    order = np.argsort(freq)
+    f = np.asarray(freq)[order]
+    ax.semilogx(f, np.asarray(real)[order] * 100, "o-", ms=3, lw=0.8, label=labels[0])
+    ax.semilogx(f, np.asarray(imag)[order] * 100, "s-", ms=3, lw=0.8, label=labels[1])
+    if limit is not None:
+        for sign in (-1, 1):
+            ax.axhline(sign * limit * 100, color="tab:red", lw=0.7, ls="--", label="point threshold" if sign > 0 else None)
+    ax.axhline(0, color="k", lw=0.6)
+    ax.set_ylabel(ylabel)
+    ax.set_xlabel("frequency [Hz]")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=8, ncol=3 if limit is not None else 2)
 
 
 def save_figure(fig, path) -> None:

@@ -2,9 +2,7 @@
 
 from __future__ import annotations
 
-import numpy as np
-
-from . import plot_bode, plot_nyquist, shade_bands
+from . import plot_bode, plot_nyquist, plot_residuals, shade_bands
 
 
 def plot_kk(result, *, title: str | None = None):
@@ -21,18 +19,7 @@ def plot_kk(result, *, title: str | None = None):
     ax_res = fig.add_subplot(grid[2, 1], sharex=ax_mod)
     plot_nyquist(ax_nyq, data, model, model_label=f"KK fit (M={result.n_rc})")
     plot_bode(ax_mod, ax_ph, data, model, model_label=f"KK fit (M={result.n_rc})")
-    order = np.argsort(result.frequency)
-    f = result.frequency[order]
-    ax_res.semilogx(f, result.residuals_real[order] * 100, "o-", ms=3, lw=0.8, label="Δ re")
-    ax_res.semilogx(f, result.residuals_imag[order] * 100, "s-", ms=3, lw=0.8, label="Δ im")
-    limit = result.thresholds["point"] * result.threshold_scale * 100
-    for sign in (-1, 1):
-        ax_res.axhline(sign * limit, color="tab:red", lw=0.7, ls="--", label="point threshold" if sign > 0 else None)
-    ax_res.axhline(0, color="k", lw=0.6)
-    ax_res.set_ylabel("KK residual [%]")
-    ax_res.set_xlabel("frequency [Hz]")
-    ax_res.grid(alpha=0.3, which="both")
-    ax_res.legend(fontsize=8, ncol=3)
+    plot_residuals(ax_res, result.frequency, result.residuals_real, result.residuals_imag, labels=("Δ re", "Δ im"), ylabel="KK residual [%]", limit=result.thresholds["point"] * result.threshold_scale)
     ax_ph.set_xlabel("")
     if result.bad_bands:
         shade_bands([ax_mod, ax_ph, ax_res], result.bad_bands, label="not KK-consistent")

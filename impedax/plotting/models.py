@@ -36,16 +36,21 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None):
     ax.set(xlabel="gap thickness u [µm]", ylabel="density", title="air-gap thickness")
     ax.legend(fontsize=7)
     ax = axes[2]
-    ff = gap.force["frequency"].values
-    for branch, color, label in (("with_ep", "tab:blue", "with EP branch"), ("without_ep", "tab:red", "without EP (C_gap only)")):
-        band = gap.force.sel(branch=branch)
-        ax.fill_between(ff, band["q05"] * 1e3, band["q95"] * 1e3, color=color, alpha=0.2)
-        ax.semilogx(ff, band["median"] * 1e3, color=color, label=f"{label}: median, 90% band")
+    _force_bands(ax, gap.force, ep_label="with EP branch", scale="semilogx", alpha=0.2, suffix="median, 90% band")
     ax.set(xlabel="frequency [Hz]", ylabel="peak force F_e [mN]", title=f"electrostatic force, V0 = {gap.v0:g} V (Sirin eq 1, peak)")
     ax.legend(fontsize=7)
     for a in axes:
         a.grid(alpha=0.3, which="both")
     return fig
+
+
+def _force_bands(ax, force, *, ep_label: str, scale: str, alpha: float, suffix: str) -> None:
+    """Median and 90 % band of the force [N, drawn in mN] with and without the EP branch."""
+    ff = force["frequency"].values
+    for branch, color, label in (("with_ep", "tab:blue", ep_label), ("without_ep", "tab:red", "without EP (C_gap only)")):
+        band = force.sel(branch=branch)
+        ax.fill_between(ff, band["q05"] * 1e3, band["q95"] * 1e3, color=color, alpha=alpha)
+        getattr(ax, scale)(ff, band["median"] * 1e3, color=color, label=f"{label}: {suffix}")
 
 
 def plot_force_bands(gap):
@@ -54,11 +59,7 @@ def plot_force_bands(gap):
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(8, 4.8), layout="constrained")
-    ff = gap.force["frequency"].values
-    for branch, color, label in (("with_ep", "tab:blue", "with electrode polarization (refined model)"), ("without_ep", "tab:red", "without EP (C_gap only)")):
-        band = gap.force.sel(branch=branch)
-        ax.fill_between(ff, band["q05"] * 1e3, band["q95"] * 1e3, color=color, alpha=0.25)
-        ax.loglog(ff, band["median"] * 1e3, color=color, label=f"{label}: median and 90% band")
+    _force_bands(ax, gap.force, ep_label="with electrode polarization (refined model)", scale="loglog", alpha=0.25, suffix="median and 90% band")
     ax.set(xlabel="frequency [Hz]", ylabel="electrostatic force [mN] (peak, Sirin eq 1)", title=f"Force on the finger for V0 = {gap.v0:g} V (Sirin Fig 2f story; SYNTHETIC data)")
     ax.grid(alpha=0.3, which="both")
     ax.legend(fontsize=8)
