@@ -21,7 +21,7 @@ import numpy as np
 import xarray as xr
 
 from ..errors import DataError
-from ._common import UNIT_CELL, Skipped, decimal_comma, finish, number, split_header_cell, unit_scale
+from ._common import UNIT_CELL, Skipped, decimal_comma, finish, first_line, number, read_text, split_header_cell, unit_scale
 
 __all__ = ["ROLES", "Layout", "detect_layout", "role_of", "spectrum_from_rows"]
 
@@ -220,3 +220,14 @@ def spectrum_from_rows(
             raise DataError(f"{where}sigma must be positive, got {sigma[bad]:g}", path=path, line=[n for n, k in zip(lines, keep) if k][bad])
         ds["sigma"] = ("frequency", sigma, {"units": "ohm", "long_name": "standard deviation of Z"})
     return ds
+
+
+def read_headed_table(path: str | Path, attrs: dict, delimiter: str = "\t") -> xr.Dataset:
+    """A file that is one table: the first non-blank line its header (column roles by
+    `detect_layout`), every further non-blank line a row."""
+    path = Path(path)
+    lines = read_text(path).splitlines()
+    k = first_line(lines, path)
+    layout = detect_layout(lines[k].split(delimiter), path, k + 1)
+    rows = [(j + 1, lines[j].split(delimiter)) for j in range(k + 1, len(lines)) if lines[j].strip()]
+    return spectrum_from_rows(path, layout, rows, attrs, delimiter=delimiter)

@@ -13,9 +13,9 @@ from pathlib import Path
 
 import xarray as xr
 
-from .._common import first_line, head_text, read_text
+from .._common import head_text
 from ..registry import Reader
-from ..table import detect_layout, spectrum_from_rows
+from ..table import read_headed_table
 
 __all__ = ["read_powersuite", "READER"]
 
@@ -33,13 +33,7 @@ def sniff(path: Path, head: bytes) -> str | None:
 
 def read_powersuite(path: str | Path) -> xr.Dataset:
     """Read a PowerSuite text export (see module docstring)."""
-    path = Path(path)
-    lines = read_text(path).splitlines()
-    k = first_line(lines, path)
-    layout = detect_layout(lines[k].split("\t"), path, k + 1)
-    rows = [(j + 1, lines[j].split("\t")) for j in range(k + 1, len(lines)) if lines[j].strip()]
-    attrs = {"format": "PowerSuite text", "instrument": "Princeton Applied Research (PowerSuite)"}
-    return spectrum_from_rows(path, layout, rows, attrs, delimiter="\t")
+    return read_headed_table(path, {"format": "PowerSuite text", "instrument": "Princeton Applied Research (PowerSuite)"})
 
 
 READER = Reader("PowerSuite text", (".txt",), sniff, read_powersuite, CONVENTIONS)
