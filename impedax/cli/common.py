@@ -12,7 +12,10 @@ import numpy as np
 
 from ..errors import ParameterError
 
-__all__ = ["parse_assignments", "check_parameter_names", "emit_json", "to_jsonable", "add_model_argument"]
+__all__ = [
+    "parse_assignments", "check_parameter_names", "emit_json", "to_jsonable", "add_model_argument", "add_output_options",
+    "check_outputs", "save_outputs", "print_result",
+]
 
 
 def parse_assignments(items: Iterable[str] | None, flag: str) -> dict[str, float]:
@@ -93,3 +96,45 @@ def add_model_argument(parser, *, positional: bool = False) -> None:
         parser.add_argument("model", metavar="MODEL", help=help_text)
     else:
         parser.add_argument("--model", required=True, metavar="MODEL", help=help_text)
+
+
+def add_output_options(parser, *, json: str | None = "print the result as JSON", plot: str | None = None, out: str | None = None, out_metavar: str = "FILE.nc") -> None:
+    """The output options of a command: ``--json`` (help ``json``), ``--plot FILE.png`` (help
+    ``plot``) and ``--out`` (help ``out``); an option whose help is None is not added."""
+    if json:
+        parser.add_argument("--json", action="store_true", help=json)
+    if plot:
+        parser.add_argument("--plot", metavar="FILE.png", help=plot)
+    if out:
+        parser.add_argument("--out", metavar=out_metavar, help=out)
+
+
+def check_outputs(*paths) -> None:
+    """Every output path that was given is writable: checked before any work is done."""
+    from ..io.atomic import check_writable
+
+    for path in paths:
+        if path:
+            check_writable(path)
+
+
+def save_outputs(*, out=None, dataset=None, plot=None, figure=None, spectrum: bool = False) -> None:
+    """Write ``dataset()`` to ``out`` and save ``figure()`` to ``plot``, each only when its path
+    was given (the callables are called only then: no figure is drawn for nothing). A result
+    goes to lossless netCDF; a ``spectrum`` to CSV or netCDF by extension (`impedax.io.save`)."""
+    if out:
+        from ..io import save, write_netcdf
+
+        (save if spectrum else write_netcdf)(dataset(), out)
+    if plot:
+        from ..plotting import save_figure
+
+        save_figure(figure(), plot)
+
+
+def print_result(result, as_json: bool) -> None:
+    """``result.summary()`` as JSON, or ``result.report()`` as text."""
+    if as_json:
+        emit_json(result.summary())
+    else:
+        print(result.report())

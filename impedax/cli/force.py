@@ -7,7 +7,7 @@ import sys
 
 import numpy as np
 
-from .common import check_parameter_names, emit_json, parse_assignments
+from .common import add_output_options, check_outputs, check_parameter_names, emit_json, parse_assignments, save_outputs
 
 _MODELS = ("meyer", "vezzoli")
 _RANGES = {"meyer": (10.0, 1e9), "vezzoli": (1.0, 1e6)}
@@ -36,8 +36,7 @@ def register(sub) -> None:
     p.add_argument("--fmin", type=float, default=None, help="lowest frequency [Hz] (meyer 10, vezzoli 1)")
     p.add_argument("--fmax", type=float, default=None, help="highest frequency [Hz] (meyer 1e9, vezzoli 1e6)")
     p.add_argument("--points", type=int, default=161, help="number of frequencies (default 161)")
-    p.add_argument("--json", action="store_true", help="print JSON instead of CSV")
-    p.add_argument("--plot", metavar="FILE.png", help="also save a plot of force against frequency")
+    add_output_options(p, json="print JSON instead of CSV", plot="also save a plot of force against frequency")
     p.set_defaults(run=run)
 
 
@@ -69,12 +68,10 @@ def _force(model: str, params: dict[str, float], freq: np.ndarray) -> np.ndarray
 
 
 def run(args) -> int:
-    from ..io.atomic import check_writable
     from ..data import log_frequencies
 
     params, _ = _parameters(args.model, args.param)
-    if args.plot:
-        check_writable(args.plot)
+    check_outputs(args.plot)
     low, high = _RANGES[args.model]
     fmin = low if args.fmin is None else args.fmin
     fmax = high if args.fmax is None else args.fmax
@@ -88,11 +85,12 @@ def run(args) -> int:
         lines = ["frequency_hz,force_n"] + [f"{f:.10g},{v:.10g}" for f, v in zip(freq, force)]
         sys.stdout.write("\n".join(lines) + "\n")
         print(f"impedax force {args.model}: time-averaged force; peak {peak['force_n']:.4g} N at {peak['frequency_hz']:.4g} Hz", file=sys.stderr)
-    if args.plot:
-        from ..plotting import save_figure
+
+    def figure():
         from ..plotting.models import plot_force_spectrum
 
         source = "Meyer (2012) thesis eq 3.6, Fig 3.4" if args.model == "meyer" else "Vezzoli et al. eq 10"
-        fig = plot_force_spectrum(freq, force, title=f"{source}: model prediction")
-        save_figure(fig, args.plot)
+        return plot_force_spectrum(freq, force, title=f"{source}: model prediction")
+
+    save_outputs(plot=args.plot, figure=figure)
     return 0

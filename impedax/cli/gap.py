@@ -6,6 +6,8 @@ import sys
 
 
 def register(sub) -> None:
+    from .common import add_output_options
+
     p = sub.add_parser(
         "gap",
         help="air-gap thickness, gap voltage and force from three spectra (Sirin et al.)",
@@ -21,20 +23,16 @@ def register(sub) -> None:
     p.add_argument("--ep", choices=("CPE", "C"), default="CPE", help="electrode-polarization branch: R_EP || CPE_EP (default) or R_EP || C_EP")
     p.add_argument("--steps", type=int, default=1500, help="MCMC steps (default 1500)")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
-    p.add_argument("--json", action="store_true", help="print the result as JSON")
     p.add_argument("--quiet", action="store_true", help="no progress line")
-    p.add_argument("--plot", metavar="FILE.png", help="save impedance, gap posterior and force bands")
-    p.add_argument("--out", metavar="FILE.nc", help="save the force bands and the gap summary as netCDF")
+    add_output_options(p, plot="save impedance, gap posterior and force bands", out="save the force bands and the gap summary as netCDF")
     p.set_defaults(run=run)
 
 
 def run(args) -> int:
     from .. import load
-    from ..io.atomic import check_writable
     from ..errors import ParameterError
-    from ..io import write_netcdf
     from ..models.gap import gap_analysis
-    from .common import emit_json
+    from .common import check_outputs, print_result, save_outputs
 
     if not args.area > 0:
         raise ParameterError(f"--area must be positive (m²), got {args.area:g}")
@@ -42,21 +40,11 @@ def run(args) -> int:
         raise ParameterError(f"--v0 must be positive (V), got {args.v0:g}")
     if args.steps < 20:
         raise ParameterError("--steps must be at least 20")
-    for path in (args.plot, args.out):
-        if path:
-            check_writable(path)
+    check_outputs(args.plot, args.out)
     total, skin, touchscreen = (load(p) for p in (args.total, args.skin, args.touchscreen))
     result = gap_analysis(total, skin, touchscreen, area=args.area, v0=args.v0, ep=args.ep, steps=args.steps, seed=args.seed, progress=not (args.quiet or args.json))
-    if args.plot:
-        from ..plotting import save_figure
-
-        save_figure(result.plot(), args.plot)
-    if args.out:
-        write_netcdf(result.to_xarray(), args.out)
-    if args.json:
-        emit_json(result.summary())
-    else:
-        print(result.report())
+    save_outputs(out=args.out, dataset=result.to_xarray, plot=args.plot, figure=result.plot)
+    print_result(result, args.json)
     if result.warnings and args.json:
         print(f"impedax gap: {len(result.warnings)} warning(s), see the JSON 'warnings'", file=sys.stderr)
     return 0

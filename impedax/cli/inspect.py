@@ -9,6 +9,8 @@ _HOW_KEYS = ("sign_convention", "units", "interpretation", "decimal_mark", "poin
 
 
 def register(sub) -> None:
+    from .common import add_output_options
+
     p = sub.add_parser(
         "inspect",
         help="show what impedax reads from a spectrum file, and how",
@@ -16,22 +18,17 @@ def register(sub) -> None:
         "convention, units, skipped rows. --out converts it to canonical CSV or netCDF; --plot writes a Nyquist/Bode preview.",
     )
     p.add_argument("file", metavar="FILE", help="spectrum file")
-    p.add_argument("--json", action="store_true", help="machine-readable output")
-    p.add_argument("--out", metavar="FILE.csv|nc", help="also save the spectrum in impedax's canonical form")
-    p.add_argument("--plot", metavar="FILE.png", help="write a Nyquist and Bode preview of the data")
+    add_output_options(p, json="machine-readable output", plot="write a Nyquist and Bode preview of the data", out="also save the spectrum in impedax's canonical form", out_metavar="FILE.csv|nc")
     p.set_defaults(run=run)
 
 
 def run(args) -> int:
     import numpy as np
 
-    from ..io import load, save
-    from ..io.atomic import check_writable
-    from .common import emit_json
+    from ..io import load
+    from .common import check_outputs, emit_json, save_outputs
 
-    for target in (args.out, args.plot):
-        if target:
-            check_writable(target)
+    check_outputs(args.out, args.plot)
     ds = load(args.file)
     freq = ds["frequency"].values
     z = ds["Z"].values
@@ -51,10 +48,7 @@ def run(args) -> int:
         "skipped_rows": skipped,
         "attrs": {k: v for k, v in ds.attrs.items() if isinstance(v, (str, int, float, bool))},
     }
-    if args.out:
-        save(ds, args.out)
-    if args.plot:
-        _preview(ds, args.plot, summary["format"])
+    save_outputs(out=args.out, dataset=lambda: ds, plot=args.plot, figure=lambda: _preview(ds, summary["format"]), spectrum=True)
     if args.json:
         emit_json(summary)
         return 0
@@ -81,9 +75,9 @@ def run(args) -> int:
     return 0
 
 
-def _preview(ds, path, fmt) -> None:
+def _preview(ds, fmt):
     """Nyquist and Bode figure of the spectrum (the first one when the file holds several)."""
-    from ..plotting import plot_spectrum, save_figure
+    from ..plotting import plot_spectrum
 
     first = ds
     note = ""
@@ -91,4 +85,4 @@ def _preview(ds, path, fmt) -> None:
     if extra:
         first = ds.isel({d: 0 for d in extra})
         note = " — first of " + " × ".join(f"{ds.sizes[d]} {d}" for d in extra)
-    save_figure(plot_spectrum(first, title=f"{ds.attrs.get('path', '')}: {fmt}{note}", data_label="data"), path)
+    return plot_spectrum(first, title=f"{ds.attrs.get('path', '')}: {fmt}{note}", data_label="data")

@@ -7,7 +7,7 @@ import sys
 
 def register(sub) -> None:
     from ..fitting import NOISE_MODELS, PRIOR_KINDS
-    from .common import add_model_argument
+    from .common import add_model_argument, add_output_options
 
     p = sub.add_parser(
         "sample",
@@ -25,21 +25,17 @@ def register(sub) -> None:
     p.add_argument("--noise", default="proportional", choices=list(NOISE_MODELS), help="; ".join(f"{k}: {v}" for k, v in NOISE_MODELS.items()))
     p.add_argument("--fmin", type=float, help="ignore data below this frequency [Hz]")
     p.add_argument("--fmax", type=float, help="ignore data above this frequency [Hz]")
-    p.add_argument("--json", action="store_true", help="print the result as JSON (no progress line)")
     p.add_argument("--quiet", action="store_true", help="no progress line on stderr")
     p.add_argument("--corner", metavar="FILE.png", help="save a corner plot of the draws")
-    p.add_argument("--plot", metavar="FILE.png", help="save data with posterior bands (Nyquist, Bode)")
-    p.add_argument("--out", metavar="FILE.nc", help="save the posterior (draws, diagnostics, start fit, data) as netCDF")
+    add_output_options(p, json="print the result as JSON (no progress line)", plot="save data with posterior bands (Nyquist, Bode)", out="save the posterior (draws, diagnostics, start fit, data) as netCDF")
     p.set_defaults(run=run)
 
 
 def run(args) -> int:
     from .. import load, parse, sample
-    from ..io.atomic import check_writable
-    from ..fitting import parse_prior
     from ..errors import ParameterError
-    from ..io import write_netcdf
-    from .common import emit_json
+    from ..fitting import parse_prior
+    from .common import check_outputs, print_result, save_outputs
 
     circuit = parse(args.model)  # syntax errors before anything else
     priors = {}
@@ -48,27 +44,16 @@ def run(args) -> int:
         if name in priors:
             raise ParameterError(f"--prior: {name} given twice")
         priors[name] = prior
-    for path in (args.corner, args.plot, args.out):
-        if path:
-            check_writable(path)
+    check_outputs(args.corner, args.plot, args.out)
     data = load(args.data)
     posterior = sample(
         circuit, data, priors=priors, noise=args.noise, walkers=args.walkers, steps=args.steps, burn=args.burn, thin=args.thin,
         seed=args.seed, fmin=args.fmin, fmax=args.fmax, progress=not (args.quiet or args.json),
     )
-    if args.out:
-        write_netcdf(posterior.to_xarray(), args.out)
-    if args.corner or args.plot:
-        from ..plotting import save_figure
-
-        if args.corner:
-            save_figure(posterior.corner(), args.corner)
-        if args.plot:
-            save_figure(posterior.plot(), args.plot)
-    if args.json:
-        emit_json(posterior.summary())
-    else:
-        print(posterior.report())
+    save_outputs(out=args.out, dataset=posterior.to_xarray, plot=args.corner, figure=posterior.corner)
+    save_outputs(plot=args.plot, figure=posterior.plot)
+    print_result(posterior, args.json)
+    if not args.json:
         if not args.quiet and posterior.warnings:
             print(f"impedax sample: {len(posterior.warnings)} warning(s); see the report", file=sys.stderr)
     return 0

@@ -6,7 +6,7 @@ import sys
 
 import numpy as np
 
-from .common import add_model_argument, model_and_values
+from .common import add_model_argument, add_output_options, check_outputs, model_and_values, save_outputs
 
 
 def register(sub) -> None:
@@ -16,23 +16,19 @@ def register(sub) -> None:
     p.add_argument("--fmin", type=float, default=1.0, help="lowest frequency [Hz] (default 1)")
     p.add_argument("--fmax", type=float, default=1e6, help="highest frequency [Hz] (default 1e6)")
     p.add_argument("--points", type=int, default=61, help="number of frequencies (default 61)")
-    p.add_argument("--out", metavar="FILE.csv", help="output file (.csv or .nc); stdout when omitted")
-    p.add_argument("--plot", metavar="FILE.png", help="also save Nyquist/Bode plots")
+    add_output_options(p, json=None, plot="also save Nyquist/Bode plots", out="output file (.csv or .nc); stdout when omitted", out_metavar="FILE.csv")
     p.set_defaults(run=run)
 
 
 def run(args) -> int:
     from .. import make_spectrum
-    from ..io.atomic import check_writable
     from ..circuits import compile_circuit
     from ..data import log_frequencies
     from ..errors import ParameterError
-    from ..io import save, write_csv
+    from ..io import write_csv
 
     circuit, specs, given = model_and_values(args.model, args.param, "--param")
-    for path in (args.out, args.plot):
-        if path:
-            check_writable(path)
+    check_outputs(args.out, args.plot)
     params = {**circuit.defaults(), **given}
     defaulted = [n for n in specs if n not in given]
     if defaulted:
@@ -43,12 +39,13 @@ def run(args) -> int:
     if bad.size:
         raise ParameterError(f"the model's impedance is not finite (overflow) at {freq[bad[0]]:g} Hz and {bad.size - 1} other frequencies; check the parameter values ({', '.join(f'{n}={params[n]:g}' for n in specs)})")
     ds = make_spectrum(freq, z, attrs={"model": str(circuit), "synthetic": "simulated by impedax simulate"}, source="impedax simulate")
-    if args.out:
-        save(ds, args.out)
-    else:
+    if not args.out:
         sys.stdout.write(write_csv(ds))
-    if args.plot:
-        from ..plotting import plot_spectrum, save_figure
 
-        save_figure(plot_spectrum(model=ds, title=str(circuit), model_label=str(circuit)), args.plot)
+    def figure():
+        from ..plotting import plot_spectrum
+
+        return plot_spectrum(model=ds, title=str(circuit), model_label=str(circuit))
+
+    save_outputs(out=args.out, dataset=lambda: ds, plot=args.plot, figure=figure, spectrum=True)
     return 0
