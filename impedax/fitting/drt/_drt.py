@@ -60,7 +60,13 @@ def _setup(freq_bytes: bytes, points_per_decade: float, extend_decades: float, f
     R⁻¹, the constraint mask and the output grid."""
     freq = np.frombuffer(freq_bytes)
     omega = 2 * np.pi * freq
-    basis = rbf_basis(freq, points_per_decade=points_per_decade, extend_decades=extend_decades, fwhm_steps=fwhm_steps)
+    # γ at τ ≪ 1/ω_max is R(1 − jωτ): with a free series L it is indistinguishable from R_∞, and
+    # γ at τ ≫ 1/ω_min is R/(jωτ), a series C; extend the basis only where no series term is
+    # its twin (otherwise R_∞ drifts by the noise-level slack, several ohms on a 1 % spectrum)
+    basis = rbf_basis(
+        freq, points_per_decade=points_per_decade, extend_short=0.0 if inductance else extend_decades,
+        extend_long=0.0 if capacitance else extend_decades, fwhm_steps=fwhm_steps,
+    )
     a_re, a_im = impedance_integrals(omega, basis)
     w_max, w_min = omega.max(), omega.min()
     series_re, series_im, constrained, names = [np.ones_like(omega)], [np.zeros_like(omega)], [False], ["r_inf"]
@@ -122,8 +128,9 @@ def drt(
     ``signed``: allow γ < 0 (inductive loops, negative capacitances); otherwise γ ≥ 0 (x ≥ 0).
     ``inductance``: fit a series L (free sign); ``capacitance``: fit a series C (True/False, or
     "auto": when the lowest-frequency phase is below −60°). Basis: ``points_per_decade``
-    centres per decade, ``extend_decades`` beyond the measured τ range, each ``fwhm_steps``
-    spacings wide; γ is reported at ``output_points_per_decade``.
+    centres per decade, ``extend_decades`` beyond the measured τ range (not on the short-τ side
+    when L is fitted, nor on the long-τ side when C is: there γ and the series term are
+    interchangeable), each ``fwhm_steps`` spacings wide; γ is reported at ``output_points_per_decade``.
     Raises DataError/ParameterError on bad input.
     """
     if method != "tikhonov":
@@ -175,6 +182,8 @@ def drt(
     out = {k: np.asarray(v) for k, v in out.items()}
     q05, q95 = (np.asarray(v) for v in quantile_band(out["gamma"], out["gamma_sd"], bool(signed)))
     n_series = len(names)
+    options = dict(signed=bool(signed), derivative=int(derivative), inductance=bool(inductance), capacitance=use_c, points_per_decade=float(points_per_decade),
+                   extend_decades=float(extend_decades), fwhm_steps=float(fwhm_steps), output_points_per_decade=float(output_points_per_decade))
     omega = 2 * np.pi * freq
     tau_out = np.exp(ln_tau_out)
     window = (1.0 / omega.max(), 1.0 / omega.min())
@@ -224,6 +233,7 @@ def drt(
                 derivative=int(derivative),
                 z_ref=float(scale),
                 source=source,
+                options=options,
             )
         )
     if not dims:

@@ -63,13 +63,14 @@ class RBFBasis:
         return np.full(self.ln_tau.size, math.sqrt(math.pi) / self.epsilon)
 
 
-def rbf_basis(frequency: np.ndarray, *, points_per_decade: float = 8.0, extend_decades: float = 1.0, fwhm_steps: float = 2.0) -> RBFBasis:
-    """Centres log-spaced from 1/(2π f_max) to 1/(2π f_min), ``extend_decades`` beyond each end
-    (γ just outside the measured window still shapes the edges of the spectrum), with
-    ``points_per_decade`` centres per decade and each Gaussian ``fwhm_steps`` spacings wide."""
+def rbf_basis(frequency: np.ndarray, *, points_per_decade: float = 8.0, extend_short: float = 1.0, extend_long: float = 1.0, fwhm_steps: float = 2.0) -> RBFBasis:
+    """Centres log-spaced from 1/(2π f_max) to 1/(2π f_min), extended by ``extend_short``
+    decades below and ``extend_long`` above (γ just outside the measured window still shapes the
+    edges of the spectrum), ``points_per_decade`` per decade, each Gaussian ``fwhm_steps``
+    spacings wide."""
     f = np.asarray(frequency, float)
-    lo = math.log(1.0 / (2 * math.pi * f.max())) - extend_decades * math.log(10.0)
-    hi = math.log(1.0 / (2 * math.pi * f.min())) + extend_decades * math.log(10.0)
+    lo = math.log(1.0 / (2 * math.pi * f.max())) - extend_short * math.log(10.0)
+    hi = math.log(1.0 / (2 * math.pi * f.min())) + extend_long * math.log(10.0)
     count = max(int(round((hi - lo) / math.log(10.0) * points_per_decade)) + 1, 2)
     ln_tau = np.linspace(lo, hi, count)
     step = float(ln_tau[1] - ln_tau[0])

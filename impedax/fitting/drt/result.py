@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Mapping
 
 import numpy as np
@@ -60,6 +60,7 @@ class DRTResult:
     derivative: int
     z_ref: float
     source: str = "memory"
+    options: Mapping[str, object] = field(default_factory=dict)  # the drt() keywords that shape γ (reused by unexplained_peaks)
 
     @property
     def polarization_resistance(self) -> float:
