@@ -17,7 +17,7 @@ from .tikhonov import LAMBDA_METHODS, quantile_band, solve_batch
 __all__ = ["drt"]
 
 _ETA = 1e-10  # diagonal added to Γ so that it factors (see tikhonov.py)
-_LOG_LAMBDA_GRID = np.log(np.logspace(-12, 1, 53))
+_LOG_LAMBDA_GRID = np.log(np.logspace(-4, 2, 25))  # the floor: see docs/drt.md, "Choosing λ"
 _SAMPLES = 200  # Gaussian draws for the peaks' standard deviations
 
 
@@ -107,12 +107,12 @@ def drt(
     lam: float | str = "auto",
     lam_method: str = "gcv",
     signed: bool = False,
-    derivative: int = 1,
+    derivative: int = 2,
     inductance: bool = True,
     capacitance: bool | str = "auto",
-    points_per_decade: float = 8.0,
+    points_per_decade: float = 10.0,
     extend_decades: float = 1.0,
-    fwhm_steps: float = 2.0,
+    fwhm_steps: float = 1.5,
     output_points_per_decade: float = 20.0,
     max_iter: int = 100,
 ) -> DRTResult | DRTBatchResult:
