@@ -17,7 +17,8 @@ from .tikhonov import LAMBDA_METHODS, quantile_band, solve_batch
 __all__ = ["drt"]
 
 _ETA = 1e-10  # diagonal added to Γ so that it factors (see tikhonov.py)
-_LOG_LAMBDA_GRID = np.log(np.logspace(-4, 2, 25))  # the floor: see docs/drt.md, "Choosing λ"
+_LOG_LAMBDA_GRID = np.log(np.logspace(-8, 2, 41))
+_LAMBDA_FLOOR = 1e-4  # λ chosen below this is raised to it: see docs/drt.md, "Choosing λ"
 _SAMPLES = 200  # Gaussian draws for the peaks' standard deviations
 
 
@@ -115,6 +116,7 @@ def drt(
     fwhm_steps: float = 1.5,
     output_points_per_decade: float = 20.0,
     max_iter: int = 100,
+    min_peak_fraction: float = 0.1,
 ) -> DRTResult | DRTBatchResult:
     """Distribution of relaxation times γ(τ) of a spectrum by Tikhonov regularisation on a
     Gaussian RBF basis (Wan et al., Electrochim. Acta 184 (2015) 483; docs/drt.md).
@@ -157,6 +159,8 @@ def drt(
             raise ParameterError(f"{name} must be True or False, got {flag!r}")
     if not (isinstance(capacitance, (bool, np.bool_)) or capacitance == "auto"):
         raise ParameterError(f"capacitance must be True, False or 'auto', got {capacitance!r}")
+    if not (isinstance(min_peak_fraction, (int, float)) and 0 <= min_peak_fraction < 1):
+        raise ParameterError(f"min_peak_fraction must be in [0, 1), got {min_peak_fraction!r}")
     for name, value, low in (("points_per_decade", points_per_decade, 1.0), ("extend_decades", extend_decades, 0.0), ("fwhm_steps", fwhm_steps, 0.5), ("output_points_per_decade", output_points_per_decade, 1.0)):
         if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= low):
             raise ParameterError(f"{name} must be a number ≥ {low:g}, got {value!r}")
@@ -176,14 +180,15 @@ def drt(
     weights = 1.0 / np.abs(zn)
     fixed_log = np.full(flat.shape[0], math.log(fixed) if fixed is not None else 0.0)
     out = solve_batch(
-        design_re, design_im, weights, zn.real, zn.imag, gamma_penalty, r_inv, mask, phi, _LOG_LAMBDA_GRID, fixed_log,
+        design_re, design_im, weights, zn.real, zn.imag, gamma_penalty, r_inv, mask, phi, _LOG_LAMBDA_GRID, fixed_log, math.log(_LAMBDA_FLOOR),
         method="fixed" if fixed is not None else lam_method, signed=bool(signed), max_iter=int(max_iter),
     )
     out = {k: np.asarray(v) for k, v in out.items()}
     q05, q95 = (np.asarray(v) for v in quantile_band(out["gamma"], out["gamma_sd"], bool(signed)))
     n_series = len(names)
     options = dict(signed=bool(signed), derivative=int(derivative), inductance=bool(inductance), capacitance=use_c, points_per_decade=float(points_per_decade),
-                   extend_decades=float(extend_decades), fwhm_steps=float(fwhm_steps), output_points_per_decade=float(output_points_per_decade))
+                   extend_decades=float(extend_decades), fwhm_steps=float(fwhm_steps), output_points_per_decade=float(output_points_per_decade),
+                   min_peak_fraction=float(min_peak_fraction))
     omega = 2 * np.pi * freq
     tau_out = np.exp(ln_tau_out)
     window = (1.0 / omega.max(), 1.0 / omega.min())
@@ -220,7 +225,7 @@ def drt(
                 lam=float(math.exp(out["log_lambda"][i])),
                 lambda_method="fixed" if fixed is not None else lam_method,
                 signed=bool(signed),
-                peaks=find_peaks(ln_tau_out, gamma, signed=bool(signed), window=window, samples=draws),
+                peaks=find_peaks(ln_tau_out, gamma, signed=bool(signed), window=window, samples=draws, min_rel_resistance=float(min_peak_fraction)),
                 rms_rel=float(np.sqrt(np.mean(np.abs(residual) ** 2))),
                 noise_estimate=float(out["sigma"][i]),
                 converged=bool(out["converged"][i]),

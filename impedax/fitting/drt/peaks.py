@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -96,10 +97,10 @@ def _fwhm(ln_tau, values, k, lo, hi) -> float:
     return float(right - left) / _LN10
 
 
-def find_peaks(ln_tau, gamma, *, signed, window, samples=None, min_rel_height=0.02, min_rel_resistance=0.05) -> tuple[Peak, ...]:
+def find_peaks(ln_tau, gamma, *, signed, window, samples=None, min_rel_height=0.02, min_rel_resistance=0.1) -> tuple[Peak, ...]:
     """Peaks of γ on the grid ``ln_tau`` (ascending), positive ones and, when ``signed``, negative
     ones. A peak needs γ_max ≥ ``min_rel_height``·max|γ| and |R| ≥ ``min_rel_resistance``·∫|γ|
-    (5 %: the side lobes of the regularised solution hold up to ≈ 4 %, docs/drt.md); its R is
+    (10 %: the side lobes and tail ripples of a regularised broad peak hold up to ≈ 9 %, docs/drt.md); its R is
     the area from the lowest point towards the previous peak to the lowest towards the next.
     ``samples`` (S, K): draws of γ used for the peaks' standard deviations. ``window``: the
     measured (τ_min, τ_max). Sorted by τ."""
@@ -128,4 +129,18 @@ def find_peaks(ln_tau, gamma, *, signed, window, samples=None, min_rel_height=0.
                     inside_window=bool(window[0] <= tau <= window[1]),
                 )
             )
-    return tuple(sorted(peaks, key=lambda p: p.tau_s))
+    peaks.sort(key=lambda p: p.tau_s)
+    if signed and len(peaks) > 1:
+        # a signed solution rings: each peak is flanked by lobes of the other sign that belong to
+        # it, so R is the signed area of its share of the τ axis (split at the smallest |γ|
+        # between neighbouring peaks); a lobe whose share is below the threshold is dropped
+        while len(peaks) > 1:
+            centres = [int(np.argmin(np.abs(ln_tau - math.log(p.tau_s)))) for p in peaks]
+            cuts = [0] + [a + int(np.argmin(np.abs(gamma[a : b + 1]))) for a, b in zip(centres[:-1], centres[1:])] + [gamma.size - 1]
+            shares = [float(np.trapezoid(gamma[lo : hi + 1], ln_tau[lo : hi + 1])) for lo, hi in zip(cuts[:-1], cuts[1:])]
+            smallest = int(np.argmin(np.abs(shares)))
+            if abs(shares[smallest]) >= min_rel_resistance * total:
+                peaks = [dataclasses.replace(p, r_ohm=r) for p, r in zip(peaks, shares)]
+                break
+            peaks.pop(smallest)
+    return tuple(peaks)

@@ -15,7 +15,8 @@ SVD Ã = A R⁻¹ = U S Vᵀ and β = Uᵀb, for every λ on a log grid
     f_i = s_i²/(s_i² + λ),  ‖r‖² = ‖b‖² − ‖β‖² + Σ (1 − f_i)² β_i²,  ‖Rx‖² = Σ (s_i β_i/(s_i² + λ))²,
     GCV(λ) = 2N ‖r‖² / (2N − ρ Σ f_i)²   modified GCV (Golub, Heath, Wahba 1979; Cummins,
                                           Filloon, Nychka 2001), ρ = 1.3 for 2N < 100, else 2,
-    L-curve: λ at the largest curvature of (log ‖r‖², log ‖Rx‖²)     (Hansen & O'Leary 1993).
+    L-curve: λ at the largest curvature of (log ‖r‖², log ‖Rx‖²)     (Hansen & O'Leary 1993),
+             among the λ whose log ‖r‖² lies in the lower half of its range.
 
 Both use the unconstrained solution, as pyDRTtools does; the minimum is refined by a parabola in
 log λ. GCV is the default: it estimates the predictive error directly and has one minimum on
@@ -83,6 +84,9 @@ def _choose_log_lambda(s, beta, rss0, log_grid, n_rows, method):
     d_xi, d_eta = jnp.gradient(xi, log_grid), jnp.gradient(eta, log_grid)
     dd_xi, dd_eta = jnp.gradient(d_xi, log_grid), jnp.gradient(d_eta, log_grid)
     kappa = (d_xi * dd_eta - dd_xi * d_eta) / jnp.maximum(d_xi**2 + d_eta**2, 1e-300) ** 1.5
+    # only the lower half of the residual range: at very large λ the curve bends again where the
+    # series terms alone are left (a second, spurious "corner")
+    kappa = jnp.where(xi <= 0.5 * (jnp.min(xi) + jnp.max(xi)), kappa, -jnp.inf)
     kappa = kappa.at[0].set(-jnp.inf).at[-1].set(-jnp.inf)
     return _parabola_min(log_grid, -kappa, jnp.argmax(kappa))
 
@@ -165,13 +169,14 @@ def _lawson_hanson(H, c, constrained, x_start, max_iter):
 
 
 @functools.partial(jax.jit, static_argnames=("method", "signed", "max_iter"))
-def solve_batch(design_re, design_im, weights, z_re, z_im, gamma_penalty, r_inv, constrained, phi, log_grid, fixed_log_lambda, *, method, signed, max_iter=100):
+def solve_batch(design_re, design_im, weights, z_re, z_im, gamma_penalty, r_inv, constrained, phi, log_grid, fixed_log_lambda, log_floor, *, method, signed, max_iter=100):
     """Regularised DRT solve of B spectra on one frequency grid.
 
     design_re/design_im (N, P): unweighted Re/Im design; weights, z_re, z_im (B, N) in the
     caller's normalised units; gamma_penalty (P, P) = Γ + ηI and r_inv = R⁻¹ with Γ + ηI = RᵀR;
     constrained (P,) bool; phi (K, P) maps x to γ on the output grid; log_grid the ln λ grid;
-    fixed_log_lambda: ln λ (B,) used when ``method == "fixed"``.
+    fixed_log_lambda: ln λ (B,) used when ``method == "fixed"``; log_floor: the smallest ln λ
+    an automatic choice may return.
     Returns a dict of (B, ...) arrays: x, log_lambda, gamma, gamma_sd, sigma, converged,
     effective_parameters, and the GCV/L-curve criteria over the grid.
     """
@@ -188,7 +193,7 @@ def solve_batch(design_re, design_im, weights, z_re, z_im, gamma_penalty, r_inv,
         if method == "fixed":
             log_lam = fixed
         else:
-            log_lam = _choose_log_lambda(s, beta, rss0, log_grid, n_rows, method)
+            log_lam = jnp.maximum(_choose_log_lambda(s, beta, rss0, log_grid, n_rows, method), log_floor)
         lam = jnp.exp(log_lam)
         AtA = A.T @ A
         H = AtA + lam * gamma_penalty
