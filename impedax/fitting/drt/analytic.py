@@ -7,7 +7,8 @@ With Z(ω) = R_∞ + ∫ γ(ln τ)/(1 + jωτ) d ln τ and x = ln(τ/τ₀):
 - Havriliak–Negami R/(1 + (jωτ₀)^α)^β, with y = (τ/τ₀)^α:
       γ = (R/π) y^β sin(βθ) / (y² + 2y cos(απ) + 1)^{β/2},  θ = atan2(sin(απ), y + cos(απ))
       (Havriliak & Negami, Polymer 8 (1967) 161; Zorn, J. Polym. Sci. B 37 (1999) 1043).
-R_∞, series L and series C are reported apart. Warburg, Gerischer and other blocks have no
+R_∞, series L and series C are reported apart; ZARC/CPE blocks with α ≥ 0.99 are reported as
+deltas (their peak is narrower than 0.03 decade). Warburg, Gerischer and other blocks have no
 delta/closed form here and raise `CircuitError`.
 """
 
@@ -20,6 +21,10 @@ import numpy as np
 
 from ...circuits.tree import Element, Parallel, Series
 from ...errors import CircuitError, ParameterError
+
+# a ZARC with α ≥ 0.99 has a FWHM below 0.03 decade, finer than any τ grid it is drawn on:
+# it is reported as a delta (an R‖C) at its τ₀
+_DELTA_ALPHA = 0.99
 
 __all__ = ["AnalyticDRT", "zarc_drt", "r_cpe_drt", "havriliak_negami_drt", "circuit_drt"]
 
@@ -96,7 +101,7 @@ def _block(node, values, tau, registry):
         if symbol in ("CC", "HN"):
             r, t0, a = (_value(values, f"{node.name}.{p}") for p in ("R", "tau", "alpha"))
             b = _value(values, f"{node.name}.beta") if symbol == "HN" else 1.0
-            if a >= 1.0 - 1e-12 and b >= 1.0 - 1e-12:
+            if a >= _DELTA_ALPHA and b >= 1.0 - 1e-12:
                 return zero, [(t0, r)], 0.0, 0.0, 0.0
             if symbol == "CC" or b >= 1.0 - 1e-12:
                 return zarc_drt(tau, r, t0, a), [], 0.0, 0.0, 0.0
@@ -110,8 +115,8 @@ def _block(node, values, tau, registry):
         if "R" in kinds and "CPE" in kinds:
             r = _value(values, kinds["R"].name)
             q, a = _value(values, f"{kinds['CPE'].name}.Q"), _value(values, f"{kinds['CPE'].name}.alpha")
-            if a >= 1.0 - 1e-12:
-                return zero, [(r * q, r)], 0.0, 0.0, 0.0
+            if a >= _DELTA_ALPHA:
+                return zero, [((r * q) ** (1.0 / a), r)], 0.0, 0.0, 0.0
             return r_cpe_drt(tau, r, q, a), [], 0.0, 0.0, 0.0
     raise CircuitError(f"block {node} has no closed-form DRT in impedax (R‖C, R‖CPE, CC, HN, R, L, C in series do); compute the DRT of the fitted spectrum instead")
 
