@@ -383,3 +383,25 @@ def test_cli_json_keys_and_outputs(tmp_path):
     assert (tmp_path / "g.csv").read_text().startswith("tau_s,gamma_ohm")
     bad = _cli("drt", str(path), "--lam", "lots")
     assert bad.returncode == 2 and "--lam" in bad.stderr
+
+
+@pytest.mark.slow
+def test_evidence_names_the_missing_arc_on_random_multi_arc_spectra():
+    """40 random spectra with 2–3 arcs (R‖C or ZARC α 0.75–0.95, 1–2 decades apart, 0.3–3 %
+    noise); the model is the true spectrum without one arc. The missing arc must be the one
+    unexplained peak (τ within 0.3 decade) in ≥ 90 % of them (measured: 39/40)."""
+    rng = np.random.default_rng(42)
+    hits = 0
+    for _ in range(40):
+        n_arcs = int(rng.choice([2, 3]))
+        start = rng.uniform(-4.5, -3.0)
+        taus = 10 ** np.concatenate([[start], start + np.cumsum(rng.uniform(1.0, 2.0, size=n_arcs - 1))])
+        rs = rng.uniform(300, 1000, size=n_arcs)
+        alphas = np.where(rng.random(n_arcs) < 0.5, 1.0, rng.uniform(0.75, 0.95, size=n_arcs))
+        arcs = [r / (1 + (1j * W * t) ** a) for r, t, a in zip(rs, taus, alphas)]
+        level = float(rng.choice([0.003, 0.01, 0.03]))
+        z = (10 + sum(arcs)) * (1 + level * (rng.standard_normal(F.size) + 1j * rng.standard_normal(F.size)) / math.sqrt(2))
+        k = int(rng.integers(n_arcs))
+        evidence = unexplained_peaks(drt((F, z)), (F, 10 + sum(a for i, a in enumerate(arcs) if i != k)))
+        hits += len(evidence.unexplained) == 1 and abs(math.log10(evidence.unexplained[0].tau_s / taus[k])) < 0.3
+    assert hits >= 36, hits
