@@ -4,9 +4,6 @@ from __future__ import annotations
 
 import json
 import math
-import subprocess
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -14,7 +11,6 @@ import pytest
 import impedax as ix
 from impedax.errors import DataError, ParameterError
 
-ROOT = Path(__file__).resolve().parent.parent
 F = np.geomspace(0.01, 1e5, 71)
 W = 2 * np.pi * F
 
@@ -79,13 +75,13 @@ def test_bad_input(data, kwargs, error, match):
         ix.zhit(data, **kwargs)
 
 
-def test_cli_kk_method_zhit(tmp_path):
+def test_cli_kk_method_zhit(tmp_path, capsys):
+    from impedax.cli import main
+
     path = tmp_path / "s.csv"
     ix.save(ix.make_spectrum(F, noisy(EXACT["R-CPE"], 0.005, 2)), path)
-    env = {"PYTHONPATH": str(ROOT), "MPLBACKEND": "Agg", "PATH": "/usr/bin:/bin"}
-    out = subprocess.run([sys.executable, "-m", "impedax", "kk", str(path), "--method", "zhit", "--json", "--plot", str(tmp_path / "z.png")], capture_output=True, text=True, env=env, timeout=300)
-    assert out.returncode == 0, out.stderr
-    payload = json.loads(out.stdout)
+    assert main(["kk", str(path), "--method", "zhit", "--json", "--plot", str(tmp_path / "z.png")]) == 0
+    payload = json.loads(capsys.readouterr().out)
     assert payload["method"] == "zhit" and payload["valid"] is True
     assert set(payload) == {"method", "valid", "rms_rel", "bad_bands", "noise_estimate", "frequency_hz", "modulus_zhit_ohm", "residuals_modulus"}
     assert (tmp_path / "z.png").read_bytes()[:4] == b"\x89PNG"
