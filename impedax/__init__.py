@@ -82,6 +82,8 @@ from .fitting import (  # noqa: E402
     compare as compare,
     derive as derive,
     diagnose as diagnose,
+    drt as drt,
+    DRTResult as DRTResult,
     fit as fit,
     gap_thickness_reparametrization as gap_thickness_reparametrization,
     kk_test as kk_test,
@@ -89,6 +91,8 @@ from .fitting import (  # noqa: E402
     refine as refine,
     sample as sample,
     stratum_corneum_reparametrization as stratum_corneum_reparametrization,
+    zhit as zhit,
+    ZHITResult as ZHITResult,
 )
 from .io import load as load, save as save  # noqa: E402
 from . import models as models  # noqa: E402

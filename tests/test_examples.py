@@ -107,6 +107,16 @@ EXAMPLES = {
         ],
         (),
     ),
+    "drt_guides_the_circuit.py": (
+        ["drt_guides_the_circuit.png", "drt_battery_ageing.png"],
+        [
+            (r"^(\d+) peak\(s\):", _near(3.0, 0.0)),  # two arcs in the measured range and the diffusion tail
+            (r"R0 \+ R1 \|\| CPE1 \+ R2 \|\| CPE2 \+ R3 \|\| CPE3: rms_rel " + _NUMBER, _within(0.002, 0.02)),  # the DRT's arc count fits to ≈ 1 %
+            (r"peaks explained by the fitted circuit: (\d+) of 3", _near(3.0, 0.0)),
+            (r"cycle 129: peaks at \S+ s \(\S+ Ω\), " + _NUMBER + " s", _within(0.1, 0.4)),  # charge transfer slows with ageing (cycle 0: ≈ 0.04 s)
+        ],
+        (),
+    ),
     "vezzoli_electrovibration.py": (
         ["vezzoli_fig8_9_10_electrovibration.png"],
         [
@@ -147,7 +157,7 @@ def test_example_runs_and_reproduces_the_papers_numbers(script, tmp_path):
         if pattern is None:  # a check on the whole output
             assert check(output), f"{script}: {check.__name__} failed on:\n{output}"
             continue
-        match = re.search(pattern, output)
+        match = re.search(pattern, output, flags=re.M)
         assert match, f"{script}: no line matching {pattern!r} in:\n{output}"
         value = float(match.group(1))
         assert check(value), f"{script}: {pattern!r} gave {value}"

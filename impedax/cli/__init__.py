@@ -9,7 +9,7 @@ import importlib
 import os
 import sys
 
-_COMMAND_MODULES = ("simulate", "info", "fit", "compare", "sample", "kk", "diagnose", "refine", "force", "gap", "draw", "inspect", "demo")
+_COMMAND_MODULES = ("simulate", "info", "fit", "compare", "sample", "kk", "drt", "diagnose", "refine", "force", "gap", "draw", "inspect", "demo")
 
 
 def _configure_jax_cache() -> None:

@@ -10,6 +10,7 @@ def register(sub) -> None:
         description="Fit a Kramers-Kronig-consistent Voigt chain (Schoenleber et al. 2014) and report where the data are not KK-consistent (drift, movement, non-stationarity). See docs/kk.md.",
     )
     p.add_argument("data", metavar="DATA", help="spectrum file (.csv or .nc) with one spectrum")
+    p.add_argument("--method", choices=("linear", "zhit"), default="linear", help="linear: Voigt-chain KK test (default); zhit: |Z| reconstructed from the phase (Z-HIT, docs/drt.md)")
     p.add_argument("--json", action="store_true", help="machine-readable output")
     p.add_argument("--plot", metavar="FILE.png", help="save data vs KK fit and the residuals with bad bands shaded")
     p.add_argument("--c", type=float, default=0.85, help="µ cut-off (default 0.85)")
@@ -28,6 +29,8 @@ def run(args) -> int:
     if args.plot:
         check_writable(args.plot)
     data = load(args.data)
+    if args.method == "zhit":
+        return _run_zhit(args, data)
     result = kk_test(data, c=args.c, max_rc=args.max_rc, inductance=not args.no_inductance, capacitance=not args.no_capacitance)
     if args.plot:
         from ..plotting import save_figure
@@ -45,6 +48,31 @@ def run(args) -> int:
             "frequency_hz": result.frequency,
             "residuals_real": result.residuals_real,
             "residuals_imag": result.residuals_imag,
+        })
+        return 0
+    print(result.summary())
+    return 0
+
+
+def _run_zhit(args, data) -> int:
+    from ..fitting import zhit
+    from .common import emit_json
+
+    result = zhit(data)
+    if args.plot:
+        from ..plotting import save_figure
+
+        save_figure(result.plot(), args.plot)
+    if args.json:
+        emit_json({
+            "method": "zhit",
+            "valid": result.valid,
+            "rms_rel": result.rms_rel,
+            "bad_bands": [[lo, hi] for lo, hi in result.bad_bands],
+            "noise_estimate": result.noise_estimate,
+            "frequency_hz": result.frequency,
+            "modulus_zhit_ohm": result.modulus,
+            "residuals_modulus": result.residuals,
         })
         return 0
     print(result.summary())

@@ -1,0 +1,93 @@
+"""``impedax drt DATA``: the distribution of relaxation times — how many arcs, at which τ?"""
+
+from __future__ import annotations
+
+
+def _lam(text: str):
+    from ..errors import ParameterError
+
+    if text == "auto":
+        return "auto"
+    try:
+        value = float(text)
+    except ValueError:
+        raise ParameterError(f"--lam {text!r}: expected 'auto' or a positive number") from None
+    return value
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "drt",
+        help="distribution of relaxation times (Tikhonov, Gaussian RBFs): peaks, R_inf, L, credible band",
+        description="Compute the distribution of relaxation times of one spectrum by Tikhonov regularisation on a Gaussian RBF basis, "
+        "lambda chosen by (modified) GCV or the L-curve. See docs/drt.md.",
+    )
+    p.add_argument("data", metavar="DATA", help="spectrum file (.csv or .nc) with one spectrum")
+    p.add_argument("--lam", default="auto", metavar="auto|VALUE", help="regularisation parameter (default: auto)")
+    p.add_argument("--lam-method", choices=("gcv", "lcurve"), default="gcv", help="how 'auto' chooses lambda (default: gcv)")
+    p.add_argument("--method", choices=("tikhonov",), default="tikhonov", help="DRT method (default: tikhonov)")
+    p.add_argument("--signed", action="store_true", help="allow negative gamma (inductive loops, negative capacitances)")
+    p.add_argument("--json", action="store_true", help="machine-readable output")
+    p.add_argument("--plot", metavar="FILE.png", help="save gamma vs tau with peaks and band, and the fit on Nyquist/Bode")
+    p.add_argument("--out", metavar="FILE.nc|.csv", help="save gamma, its band and the fit (netCDF) or gamma over tau (CSV)")
+    p.set_defaults(run=run)
+
+
+def run(args) -> int:
+    from ..errors import DataError, ParameterError
+    from ..fitting.drt import drt
+    from ..io import load
+    from ..io.atomic import check_writable
+    from .common import emit_json
+
+    for path in (args.plot, args.out):
+        if path:
+            check_writable(path)
+    if args.out and not str(args.out).lower().endswith((".nc", ".csv")):
+        raise ParameterError(f"--out {args.out!r}: the extension must be .nc or .csv")
+    data = load(args.data)
+    extra = [d for d in data["Z"].dims if d != "frequency"]
+    if extra:
+        raise DataError(f"impedax drt takes one spectrum; {args.data} has extra dimensions {', '.join(extra)}: select one or average them first", path=args.data)
+    result = drt(data, method=args.method, lam=_lam(args.lam), lam_method=args.lam_method, signed=args.signed)
+    if args.plot:
+        from ..plotting import save_figure
+
+        save_figure(result.plot(), args.plot)
+    if args.out:
+        _save(result, args.out)
+    if args.json:
+        emit_json({
+            "tau_s": result.tau,
+            "gamma_ohm": result.gamma,
+            "gamma_q05": result.gamma_q05,
+            "gamma_q95": result.gamma_q95,
+            "r_inf_ohm": result.r_inf_ohm,
+            "l_h": result.l_h,
+            "lambda": result.lam,
+            "lambda_method": result.lambda_method,
+            "peaks": [{"tau_s": p.tau_s, "r_ohm": p.r_ohm, "width_decades": p.width_decades} for p in result.peaks],
+            "rms_rel": result.rms_rel,
+        })
+        return 0
+    print(result.report())
+    return 0
+
+
+def _save(result, path) -> None:
+    from ..io.atomic import atomic_path
+
+    if str(path).lower().endswith(".nc"):
+        ds = result.to_xarray()
+        # netCDF3 has no complex type: store Re and Im
+        for name in ("Z", "Z_fit", "residuals"):
+            ds[f"{name}_real"], ds[f"{name}_imag"] = ds[name].real, ds[name].imag
+            ds = ds.drop_vars(name)
+        with atomic_path(path) as tmp:
+            ds.to_netcdf(tmp, engine="scipy")
+        return
+    with atomic_path(path) as tmp:
+        with open(tmp, "w", encoding="utf-8") as fh:
+            fh.write("tau_s,gamma_ohm,gamma_q05_ohm,gamma_q95_ohm\n")
+            for row in zip(result.tau, result.gamma, result.gamma_q05, result.gamma_q95):
+                fh.write(",".join(f"{v:.10g}" for v in row) + "\n")

@@ -1,0 +1,246 @@
+"""`drt`: the distribution of relaxation times of one spectrum or of a batch of spectra."""
+
+from __future__ import annotations
+
+import functools
+import math
+
+import numpy as np
+import xarray as xr
+
+from ...errors import DataError, ParameterError
+from .basis import impedance_integrals, penalty_matrix, rbf_basis
+from .peaks import find_peaks
+from .result import DRTBatchResult, DRTResult
+from .tikhonov import LAMBDA_METHODS, quantile_band, solve_batch
+
+__all__ = ["drt"]
+
+_ETA = 1e-10  # diagonal added to Γ so that it factors (see tikhonov.py)
+_LOG_LAMBDA_GRID = np.log(np.logspace(-8, 2, 41))
+_LAMBDA_FLOOR = 1e-4  # λ chosen below this is raised to it: see docs/drt.md, "Choosing λ"
+_SAMPLES = 200  # Gaussian draws for the peaks' standard deviations
+
+
+def as_frequency_and_z(data):
+    """(frequency (N,), Z (*extra, N), extra dims, extra coords, source) from a spectrum Dataset,
+    a file path or a (frequency, Z) pair; `DataError` on anything else."""
+    if isinstance(data, (str, bytes)) or hasattr(data, "__fspath__") or isinstance(data, xr.Dataset):
+        from ..problem import open_spectrum
+
+        spectrum = open_spectrum(data)
+        ds, dims = spectrum.data, spectrum.extra_dims
+        z = ds["Z"].transpose(*dims, "frequency")
+        coords = {d: np.asarray(ds[d].values) for d in dims if d in ds.coords}
+        return np.asarray(ds["frequency"].values, float), np.asarray(z.values, complex), dims, coords, spectrum.source
+    try:
+        f, z = data
+    except (TypeError, ValueError):
+        raise DataError(f"expected a spectrum Dataset, a file path or a (frequency, Z) pair, got {type(data).__name__}") from None
+    try:
+        f = np.asarray(f, dtype=float)
+        z = np.asarray(z, dtype=complex)
+    except (TypeError, ValueError) as exc:
+        raise DataError(f"frequency and Z must be numeric arrays ({exc})") from None
+    if f.ndim != 1 or z.ndim < 1 or z.shape[-1] != f.size:
+        raise DataError(f"frequency must be 1-D and Z must end with the frequency axis; got shapes {f.shape} and {z.shape}")
+    bad = np.flatnonzero(~np.isfinite(f) | (f <= 0))
+    if bad.size:
+        raise DataError(f"frequency must be positive and finite; point {bad[0]} is {f[bad[0]]!r}")
+    if np.unique(f).size != f.size:
+        raise DataError("duplicate frequencies")
+    if not np.all(np.isfinite(z)):
+        idx = np.argwhere(~np.isfinite(z))[0]
+        raise DataError(f"Z has a non-finite value at index {tuple(int(i) for i in idx)}")
+    return f, z, tuple(f"dim_{i}" for i in range(z.ndim - 1)), {}, "memory"
+
+
+@functools.lru_cache(maxsize=16)
+def _setup(freq_bytes: bytes, points_per_decade: float, extend_decades: float, fwhm_steps: float, derivative: int, inductance: bool, capacitance: bool, output_per_decade: float):
+    """Everything that depends only on the frequencies and options (cached): the design, Γ,
+    R⁻¹, the constraint mask and the output grid."""
+    freq = np.frombuffer(freq_bytes)
+    omega = 2 * np.pi * freq
+    # γ at τ ≪ 1/ω_max is R(1 − jωτ): with a free series L it is indistinguishable from R_∞, and
+    # γ at τ ≫ 1/ω_min is R/(jωτ), a series C; extend the basis only where no series term is
+    # its twin (otherwise R_∞ drifts by the noise-level slack, several ohms on a 1 % spectrum)
+    basis = rbf_basis(
+        freq, points_per_decade=points_per_decade, extend_short=0.0 if inductance else extend_decades,
+        extend_long=0.0 if capacitance else extend_decades, fwhm_steps=fwhm_steps,
+    )
+    a_re, a_im = impedance_integrals(omega, basis)
+    w_max, w_min = omega.max(), omega.min()
+    series_re, series_im, constrained, names = [np.ones_like(omega)], [np.zeros_like(omega)], [False], ["r_inf"]
+    if inductance:  # variable L·ω_max/z_ref, free sign
+        series_re.append(np.zeros_like(omega)), series_im.append(omega / w_max), constrained.append(False), names.append("l")
+    if capacitance:  # variable 1/(C ω_min z_ref) ≥ 0
+        series_re.append(np.zeros_like(omega)), series_im.append(-w_min / omega), constrained.append(True), names.append("c")
+    n_series = len(names)
+    design_re = np.column_stack([*series_re, a_re])
+    design_im = np.column_stack([*series_im, a_im])
+    p = design_re.shape[1]
+    gamma_penalty = np.zeros((p, p))
+    gamma_penalty[n_series:, n_series:] = penalty_matrix(basis, derivative)
+    gamma_penalty += _ETA * np.eye(p)
+    r = np.linalg.cholesky(gamma_penalty).T  # Γ + ηI = RᵀR
+    r_inv = np.linalg.solve(r, np.eye(p))
+    lo, hi = basis.ln_tau[0], basis.ln_tau[-1]
+    k = int(round((hi - lo) / math.log(10.0) * output_per_decade)) + 1
+    ln_tau_out = np.linspace(lo, hi, k)
+    phi = np.zeros((k, p))
+    phi[:, n_series:] = basis.evaluate(ln_tau_out)
+    mask = np.array(constrained + [True] * basis.ln_tau.size)
+    return basis, design_re, design_im, gamma_penalty, r_inv, mask, phi, ln_tau_out, tuple(names)
+
+
+def _needs_capacitance(freq, z) -> bool:
+    """A series capacitor is fitted when some spectrum is capacitive at its lowest frequency
+    (phase below −60°: blocking electrodes, a double layer with no parallel path)."""
+    k = int(np.argmin(freq))
+    return bool(np.any(np.angle(z[..., k], deg=True) < -60.0))
+
+
+def drt(
+    data,
+    *,
+    method: str = "tikhonov",
+    basis: str = "rbf",
+    lam: float | str = "auto",
+    lam_method: str = "gcv",
+    signed: bool = False,
+    derivative: int = 2,
+    inductance: bool = True,
+    capacitance: bool | str = "auto",
+    points_per_decade: float = 10.0,
+    extend_decades: float = 1.0,
+    fwhm_steps: float = 1.5,
+    output_points_per_decade: float = 20.0,
+    max_iter: int = 100,
+    min_peak_fraction: float = 0.1,
+) -> DRTResult | DRTBatchResult:
+    """Distribution of relaxation times γ(τ) of a spectrum by Tikhonov regularisation on a
+    Gaussian RBF basis (Wan et al., Electrochim. Acta 184 (2015) 483; docs/drt.md).
+
+    Fits Z(ω) = R_∞ + jωL [+ 1/(jωC)] + Σ_m x_m ∫ φ_m(ln τ)/(1 + jωτ) d ln τ to the relative
+    residuals (Z_fit − Z)/|Z| with the penalty λ ∫ (d^k γ/d ln τ^k)² d ln τ (k = ``derivative``).
+
+    ``data``: a spectrum Dataset (extra dimensions → one vmapped solve, a `DRTBatchResult`), a
+    file path, or a (frequency, Z) pair with Z of shape (..., N). ``lam``: "auto" (chosen per
+    spectrum by ``lam_method``, "gcv" (default) or "lcurve") or a positive number.
+    ``signed``: allow γ < 0 (inductive loops, negative capacitances); otherwise γ ≥ 0 (x ≥ 0).
+    ``inductance``: fit a series L (free sign); ``capacitance``: fit a series C (True/False, or
+    "auto": when the lowest-frequency phase is below −60°). Basis: ``points_per_decade``
+    centres per decade, ``extend_decades`` beyond the measured τ range (not on the short-τ side
+    when L is fitted, nor on the long-τ side when C is: there γ and the series term are
+    interchangeable), each ``fwhm_steps`` spacings wide; γ is reported at ``output_points_per_decade``.
+    Raises DataError/ParameterError on bad input.
+    """
+    if method != "tikhonov":
+        raise ParameterError(f"unknown DRT method {method!r}; available: 'tikhonov'")
+    if basis != "rbf":
+        raise ParameterError(f"unknown DRT basis {basis!r}; available: 'rbf' (Gaussian)")
+    if lam_method not in LAMBDA_METHODS:
+        raise ParameterError(f"lam_method must be one of {', '.join(map(repr, LAMBDA_METHODS))}, got {lam_method!r}")
+    if isinstance(lam, str):
+        if lam != "auto":
+            raise ParameterError(f"lam must be 'auto' or a positive number, got {lam!r}")
+        fixed = None
+    else:
+        try:
+            fixed = float(lam)
+        except (TypeError, ValueError):
+            raise ParameterError(f"lam must be 'auto' or a positive number, got {lam!r}") from None
+        if not (math.isfinite(fixed) and fixed > 0):
+            raise ParameterError(f"lam must be a positive finite number, got {lam!r}")
+    if derivative not in (1, 2):
+        raise ParameterError(f"derivative must be 1 or 2, got {derivative!r}")
+    for name, flag in (("signed", signed), ("inductance", inductance)):
+        if not isinstance(flag, (bool, np.bool_)):
+            raise ParameterError(f"{name} must be True or False, got {flag!r}")
+    if not (isinstance(capacitance, (bool, np.bool_)) or capacitance == "auto"):
+        raise ParameterError(f"capacitance must be True, False or 'auto', got {capacitance!r}")
+    if not (isinstance(min_peak_fraction, (int, float)) and 0 <= min_peak_fraction < 1):
+        raise ParameterError(f"min_peak_fraction must be in [0, 1), got {min_peak_fraction!r}")
+    for name, value, low in (("points_per_decade", points_per_decade, 1.0), ("extend_decades", extend_decades, 0.0), ("fwhm_steps", fwhm_steps, 0.5), ("output_points_per_decade", output_points_per_decade, 1.0)):
+        if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= low):
+            raise ParameterError(f"{name} must be a number ≥ {low:g}, got {value!r}")
+
+    freq, z, dims, coords, source = as_frequency_and_z(data)
+    if freq.size < 5:
+        raise DataError(f"the DRT needs at least 5 frequencies, got {freq.size}", path=source)
+    if np.any(np.abs(z) == 0):
+        raise DataError("Z is exactly zero at some frequency; the relative weighting 1/|Z| needs |Z| > 0", path=source)
+    use_c = _needs_capacitance(freq, z) if capacitance == "auto" else bool(capacitance)
+    setup = _setup(np.ascontiguousarray(freq, np.float64).tobytes(), float(points_per_decade), float(extend_decades), float(fwhm_steps), int(derivative), bool(inductance), use_c, float(output_points_per_decade))
+    rbf, design_re, design_im, gamma_penalty, r_inv, mask, phi, ln_tau_out, names = setup
+
+    flat = z.reshape(-1, freq.size)
+    z_ref = np.max(np.abs(flat), axis=1)  # per spectrum: λ is relative to max|Z|² (docs/drt.md)
+    zn = flat / z_ref[:, None]
+    weights = 1.0 / np.abs(zn)
+    fixed_log = np.full(flat.shape[0], math.log(fixed) if fixed is not None else 0.0)
+    out = solve_batch(
+        design_re, design_im, weights, zn.real, zn.imag, gamma_penalty, r_inv, mask, phi, _LOG_LAMBDA_GRID, fixed_log, math.log(_LAMBDA_FLOOR),
+        method="fixed" if fixed is not None else lam_method, signed=bool(signed), max_iter=int(max_iter),
+    )
+    out = {k: np.asarray(v) for k, v in out.items()}
+    q05, q95 = (np.asarray(v) for v in quantile_band(out["gamma"], out["gamma_sd"], bool(signed)))
+    n_series = len(names)
+    options = dict(signed=bool(signed), derivative=int(derivative), inductance=bool(inductance), capacitance=use_c, points_per_decade=float(points_per_decade),
+                   extend_decades=float(extend_decades), fwhm_steps=float(fwhm_steps), output_points_per_decade=float(output_points_per_decade),
+                   min_peak_fraction=float(min_peak_fraction))
+    omega = 2 * np.pi * freq
+    tau_out = np.exp(ln_tau_out)
+    window = (1.0 / omega.max(), 1.0 / omega.min())
+    rng = np.random.default_rng(0)
+    results = []
+    for i in range(flat.shape[0]):
+        x = out["x"][i]
+        scale = z_ref[i]
+        z_fit = (design_re @ x + 1j * (design_im @ x)) * scale
+        residual = (flat[i] - z_fit) / np.abs(flat[i])
+        series = dict(zip(names, x[:n_series]))
+        l_h = float(series.get("l", 0.0) * scale / omega.max())
+        inv_c = float(series.get("c", 0.0))
+        c_f = math.inf if inv_c <= 0 else 1.0 / (inv_c * omega.min() * scale)
+        # draws of γ for the peaks' uncertainty (Gaussian of the band, conditional on the active set)
+        cov = out["covariance"][i]
+        draws = rng.multivariate_normal(x, cov, size=_SAMPLES, method="eigh", check_valid="ignore") @ phi.T * scale
+        if not signed:
+            draws = np.maximum(draws, 0.0)
+        gamma = out["gamma"][i] * scale
+        results.append(
+            DRTResult(
+                frequency=freq.copy(),
+                impedance=flat[i].copy(),
+                z_fit=z_fit,
+                residuals=residual,
+                tau=tau_out,
+                gamma=gamma,
+                gamma_q05=q05[i] * scale,
+                gamma_q95=q95[i] * scale,
+                r_inf_ohm=float(series["r_inf"] * scale),
+                l_h=l_h,
+                c_f=c_f,
+                lam=float(math.exp(out["log_lambda"][i])),
+                lambda_method="fixed" if fixed is not None else lam_method,
+                signed=bool(signed),
+                peaks=find_peaks(ln_tau_out, gamma, signed=bool(signed), window=window, samples=draws, min_rel_resistance=float(min_peak_fraction)),
+                rms_rel=float(np.sqrt(np.mean(np.abs(residual) ** 2))),
+                noise_estimate=float(out["sigma"][i]),
+                converged=bool(out["converged"][i]),
+                effective_parameters=float(out["effective_parameters"][i]),
+                lambda_grid=np.exp(_LOG_LAMBDA_GRID),
+                gcv_curve=out["gcv"][i],
+                basis_tau=rbf.tau,
+                coefficients=x[n_series:] * scale,
+                basis_fwhm_decades=rbf.fwhm_decades,
+                derivative=int(derivative),
+                z_ref=float(scale),
+                source=source,
+                options=options,
+            )
+        )
+    if not dims:
+        return results[0]
+    return DRTBatchResult(dims=dims, shape=z.shape[:-1], coords=coords, results=tuple(results))

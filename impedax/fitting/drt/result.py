@@ -1,0 +1,208 @@
+"""`DRTResult` (one spectrum) and `DRTBatchResult` (a Dataset with extra dimensions)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Mapping
+
+import numpy as np
+import xarray as xr
+
+from .peaks import Peak
+
+__all__ = ["DRTResult", "DRTBatchResult"]
+
+
+def _fmt_tau(tau: float) -> str:
+    for scale, unit in ((1.0, "s"), (1e-3, "ms"), (1e-6, "µs"), (1e-9, "ns")):
+        if tau >= scale or unit == "ns":
+            return f"{tau / scale:.3g} {unit}"
+    return f"{tau:g} s"
+
+
+@dataclass(frozen=True, eq=False)
+class DRTResult:
+    """The distribution of relaxation times of one spectrum (see `impedax.drt`).
+
+    Z(ω) = R_∞ + jωL + 1/(jωC) + ∫ γ(ln τ)/(1 + jωτ) d ln τ.
+    ``tau`` (K,) [s] and ``gamma`` [Ω] on the output grid, ``gamma_q05``/``gamma_q95`` the 90 %
+    credible band; ``r_inf_ohm``, ``l_h``, ``c_f`` (inf when no series capacitor was fitted);
+    ``z_fit`` the DRT model at ``frequency``; ``residuals`` = (Z_data − Z_fit)/|Z_data|;
+    ``lam`` the regularisation parameter (in the normalised units of docs/drt.md) and
+    ``lambda_method`` how it was chosen ("gcv", "lcurve" or "fixed"); ``peaks`` sorted by τ.
+    """
+
+    frequency: np.ndarray
+    impedance: np.ndarray
+    z_fit: np.ndarray
+    residuals: np.ndarray
+    tau: np.ndarray
+    gamma: np.ndarray
+    gamma_q05: np.ndarray
+    gamma_q95: np.ndarray
+    r_inf_ohm: float
+    l_h: float
+    c_f: float
+    lam: float
+    lambda_method: str
+    signed: bool
+    peaks: tuple[Peak, ...]
+    rms_rel: float
+    noise_estimate: float
+    converged: bool
+    effective_parameters: float
+    lambda_grid: np.ndarray
+    gcv_curve: np.ndarray
+    basis_tau: np.ndarray
+    coefficients: np.ndarray
+    basis_fwhm_decades: float
+    derivative: int
+    z_ref: float
+    source: str = "memory"
+    options: Mapping[str, object] = field(default_factory=dict)  # the drt() keywords that shape γ (reused by unexplained_peaks)
+
+    @property
+    def polarization_resistance(self) -> float:
+        """∫ γ d ln τ [Ω] (R_pol = Z(0) − R_∞ when there is no series capacitor)."""
+        return float(np.trapezoid(self.gamma, np.log(self.tau)))
+
+    @property
+    def window(self) -> tuple[float, float]:
+        """The measured τ range 1/(2π f_max) .. 1/(2π f_min) [s]."""
+        return 1.0 / (2 * math.pi * float(self.frequency.max())), 1.0 / (2 * math.pi * float(self.frequency.min()))
+
+    def gamma_at(self, tau) -> np.ndarray:
+        """γ [Ω] at arbitrary τ [s] (interpolated in ln τ on the output grid; 0 outside it)."""
+        return np.interp(np.log(np.asarray(tau, float)), np.log(self.tau), self.gamma, left=0.0, right=0.0)
+
+    def to_xarray(self) -> xr.Dataset:
+        """γ and its band over ``tau``, data and fit over ``frequency``, peaks over ``peak``."""
+        peaks = self.peaks
+        return xr.Dataset(
+            {
+                "gamma": ("tau", self.gamma, {"units": "ohm", "long_name": "distribution of relaxation times γ(ln τ)"}),
+                "gamma_q05": ("tau", self.gamma_q05, {"units": "ohm", "long_name": "5 % credible quantile of γ"}),
+                "gamma_q95": ("tau", self.gamma_q95, {"units": "ohm", "long_name": "95 % credible quantile of γ"}),
+                "Z": ("frequency", self.impedance, {"units": "ohm", "long_name": "measured impedance"}),
+                "Z_fit": ("frequency", self.z_fit, {"units": "ohm", "long_name": "DRT model impedance"}),
+                "residuals": ("frequency", self.residuals, {"units": "1", "long_name": "(Z_data - Z_fit)/|Z_data|"}),
+                "peak_tau": ("peak", np.array([p.tau_s for p in peaks], float), {"units": "s"}),
+                "peak_r": ("peak", np.array([p.r_ohm for p in peaks], float), {"units": "ohm"}),
+                "peak_width": ("peak", np.array([p.width_decades for p in peaks], float), {"units": "decades"}),
+                "peak_log10_tau_sd": ("peak", np.array([p.log10_tau_sd for p in peaks], float), {"units": "decades"}),
+                "peak_r_sd": ("peak", np.array([p.r_ohm_sd for p in peaks], float), {"units": "ohm"}),
+                "r_inf": ((), self.r_inf_ohm, {"units": "ohm"}),
+                "inductance": ((), self.l_h, {"units": "H"}),
+                "capacitance": ((), self.c_f, {"units": "F"}),
+                "lam": ((), self.lam),
+                "rms_rel": ((), self.rms_rel, {"units": "1"}),
+            },
+            coords={"tau": ("tau", self.tau, {"units": "s"}), "frequency": ("frequency", self.frequency, {"units": "Hz"})},
+            attrs={
+                "method": "Tikhonov-regularised DRT on a Gaussian RBF basis (impedax, docs/drt.md)",
+                "lambda_method": self.lambda_method,
+                "signed": int(self.signed),
+                "derivative_order": self.derivative,
+                "basis_fwhm_decades": self.basis_fwhm_decades,
+                "source": self.source,
+            },
+        )
+
+    def report(self) -> str:
+        """A few lines: λ and how it was chosen, R_∞, L, C, the fit error and the peaks."""
+        lines = [
+            f"DRT ({'signed' if self.signed else 'non-negative'}, Tikhonov on Gaussian RBFs, derivative order {self.derivative}): "
+            f"λ = {self.lam:.3g} by {self.lambda_method}",
+            f"R_inf = {self.r_inf_ohm:.4g} Ω, L = {self.l_h:.3g} H" + ("" if math.isinf(self.c_f) else f", C = {self.c_f:.3g} F")
+            + f", R_pol = {self.polarization_resistance:.4g} Ω",
+            f"rms_rel = {self.rms_rel * 100:.3g} % (noise estimate {self.noise_estimate * 100:.3g} %)" + ("" if self.converged else "; active-set solve did NOT converge"),
+            f"{len(self.peaks)} peak(s):",
+        ]
+        for p in self.peaks:
+            where = "" if p.inside_window else "  (outside the measured range)"
+            lines.append(
+                f"  τ = {_fmt_tau(p.tau_s)} (f = {p.frequency_hz:.3g} Hz, ±{p.log10_tau_sd:.2f} dec)  R = {p.r_ohm:.4g} ± {p.r_ohm_sd:.2g} Ω  "
+                f"width {p.width_decades:.2f} dec{where}"
+            )
+        return "\n".join(lines)
+
+    def summary(self) -> str:
+        return self.report()
+
+    def plot(self, *, overlay=None, title: str | None = None):
+        """γ vs τ with the credible band and peaks marked, and the fit on Nyquist/Bode; ``overlay``
+        (an `AnalyticDRT` or another `DRTResult`, e.g. of a fitted circuit) is drawn on the γ
+        axes. Returns a matplotlib Figure (see `impedax.plotting.drt.plot_drt`)."""
+        from ...plotting.drt import plot_drt
+
+        return plot_drt(self, overlay=overlay, title=title)
+
+
+@dataclass(frozen=True, eq=False)
+class DRTBatchResult:
+    """DRTs of every spectrum of a Dataset with extra dimensions (trial, session, ...), computed
+    in one vmapped solve. ``results`` in C order over ``dims``; ``batch[i, j]`` gives one."""
+
+    dims: tuple[str, ...]
+    shape: tuple[int, ...]
+    coords: Mapping[str, np.ndarray]
+    results: tuple[DRTResult, ...]
+
+    def __getitem__(self, index) -> DRTResult:
+        index = index if isinstance(index, tuple) else (index,)
+        return self.results[int(np.ravel_multi_index(index, self.shape))]
+
+    def __len__(self) -> int:
+        return len(self.results)
+
+    @property
+    def gamma(self) -> np.ndarray:
+        return np.stack([r.gamma for r in self.results]).reshape(*self.shape, -1)
+
+    @property
+    def n_peaks(self) -> np.ndarray:
+        return np.array([len(r.peaks) for r in self.results]).reshape(self.shape)
+
+    @property
+    def lam(self) -> np.ndarray:
+        return np.array([r.lam for r in self.results]).reshape(self.shape)
+
+    def report(self) -> str:
+        counts = self.n_peaks.ravel()
+        values, freq = np.unique(counts, return_counts=True)
+        spread = ", ".join(f"{int(f)} with {int(v)} peak(s)" for v, f in zip(values, freq))
+        rms = np.array([r.rms_rel for r in self.results])
+        return f"DRT of {len(self.results)} spectra over {self.dims}: {spread}; rms_rel median {np.median(rms) * 100:.3g} %, max {rms.max() * 100:.3g} %"
+
+    def to_xarray(self) -> xr.Dataset:
+        """γ, band, fit and scalars stacked over ``dims`` (peaks padded with NaN)."""
+        shape, dims = self.shape, self.dims
+        n_peak = max([len(r.peaks) for r in self.results] + [0])
+
+        def stack(get, pad=None):
+            rows = [np.asarray(get(r)) for r in self.results]
+            if pad is not None:
+                rows = [np.pad(v.astype(float), (0, pad - v.size), constant_values=np.nan) for v in rows]
+            return np.stack(rows).reshape(*shape, *rows[0].shape)
+
+        first = self.results[0]
+        ds = xr.Dataset(
+            {
+                "gamma": ((*dims, "tau"), stack(lambda r: r.gamma), {"units": "ohm"}),
+                "gamma_q05": ((*dims, "tau"), stack(lambda r: r.gamma_q05), {"units": "ohm"}),
+                "gamma_q95": ((*dims, "tau"), stack(lambda r: r.gamma_q95), {"units": "ohm"}),
+                "Z": ((*dims, "frequency"), stack(lambda r: r.impedance), {"units": "ohm"}),
+                "Z_fit": ((*dims, "frequency"), stack(lambda r: r.z_fit), {"units": "ohm"}),
+                "peak_tau": ((*dims, "peak"), stack(lambda r: np.array([p.tau_s for p in r.peaks]), n_peak), {"units": "s"}),
+                "peak_r": ((*dims, "peak"), stack(lambda r: np.array([p.r_ohm for p in r.peaks]), n_peak), {"units": "ohm"}),
+                "peak_width": ((*dims, "peak"), stack(lambda r: np.array([p.width_decades for p in r.peaks]), n_peak), {"units": "decades"}),
+                "r_inf": (dims, stack(lambda r: r.r_inf_ohm), {"units": "ohm"}),
+                "inductance": (dims, stack(lambda r: r.l_h), {"units": "H"}),
+                "lam": (dims, stack(lambda r: r.lam)),
+                "rms_rel": (dims, stack(lambda r: r.rms_rel), {"units": "1"}),
+            },
+            coords={"tau": ("tau", first.tau, {"units": "s"}), "frequency": ("frequency", first.frequency, {"units": "Hz"}), **{d: (d, np.asarray(v)) for d, v in self.coords.items()}},
+        )
+        ds.attrs.update({k: v for k, v in first.to_xarray().attrs.items() if k != "source"})
+        return ds

@@ -1,0 +1,91 @@
+"""Figures of the distribution of relaxation times: γ vs τ with its credible band and peaks,
+the DRT fit on Nyquist and Bode, and Z-HIT's reconstruction. Every function returns a Figure."""
+
+from __future__ import annotations
+
+import math
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+from . import plot_bode, plot_nyquist, shade_bands
+
+__all__ = ["plot_drt", "plot_gamma", "plot_zhit"]
+
+
+def plot_gamma(ax, result, *, overlay=None, label="data DRT", overlay_label=None) -> None:
+    """γ(τ) [Ω] on log τ with the 90 % band, peaks marked (τ and R), the measured τ range
+    outside shaded, and ``overlay`` (an `AnalyticDRT` or a `DRTResult`) on top."""
+    ax.fill_between(result.tau, result.gamma_q05, result.gamma_q95, color="tab:blue", alpha=0.2, lw=0, label="90 % band")
+    ax.semilogx(result.tau, result.gamma, color="tab:blue", lw=1.6, label=label)
+    for p in result.peaks:
+        ax.plot(p.tau_s, p.gamma_max_ohm, "v", color="tab:red", ms=7)
+        ax.annotate(f"{p.tau_s:.2g} s\n{p.r_ohm:.3g} Ω", (p.tau_s, p.gamma_max_ohm), textcoords="offset points", xytext=(0, 8), ha="center", fontsize=7)
+    if overlay is not None:
+        name = overlay_label or (f"circuit {overlay.circuit}" if hasattr(overlay, "circuit") else "model DRT")
+        ax.semilogx(overlay.tau, overlay.gamma, "--", color="tab:orange", lw=1.4, label=name)
+        deltas = getattr(overlay, "deltas", ())
+        top = max(float(np.max(result.gamma)), 1e-300)
+        for i, (tau, r) in enumerate(deltas):
+            ax.vlines(tau, 0, top, color="tab:orange", lw=1.2, ls=":", label=f"R‖C deltas (R in labels)" if i == 0 else None)
+            ax.annotate(f"δ {r:.3g} Ω", (tau, top), textcoords="offset points", xytext=(2, -10), fontsize=7, color="tab:orange")
+    lo, hi = result.window
+    ax.axvspan(result.tau.min(), lo, color="0.9", lw=0)
+    ax.axvspan(hi, result.tau.max(), color="0.9", lw=0, label="outside measured range")
+    ax.set_xlim(result.tau.min(), result.tau.max())
+    ax.set_xlabel("τ [s]")
+    ax.set_ylabel("γ [Ω]")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=8)
+
+
+def plot_drt(result, *, overlay=None, title: str | None = None):
+    """γ vs τ (band, peaks, optional overlay) on the left; Nyquist and Bode of data vs the DRT
+    fit on the right; relative residuals below."""
+    fig = plt.figure(figsize=(12, 6.5), layout="constrained")
+    grid = fig.add_gridspec(3, 3, width_ratios=[1.4, 1, 1.1])
+    ax_g = fig.add_subplot(grid[:2, 0])
+    ax_res = fig.add_subplot(grid[2, 0])
+    ax_nyq = fig.add_subplot(grid[:, 1])
+    ax_mod = fig.add_subplot(grid[0, 2])
+    ax_ph = fig.add_subplot(grid[1, 2], sharex=ax_mod)
+    plot_gamma(ax_g, result, overlay=overlay)
+    data, model = (result.frequency, result.impedance), (result.frequency, result.z_fit)
+    plot_nyquist(ax_nyq, data, model, model_label="DRT fit")
+    plot_bode(ax_mod, ax_ph, data, model, model_label="DRT fit")
+    order = np.argsort(result.frequency)
+    f = result.frequency[order]
+    ax_res.semilogx(f, result.residuals.real[order] * 100, "o-", ms=3, lw=0.8, label="Re")
+    ax_res.semilogx(f, result.residuals.imag[order] * 100, "s-", ms=3, lw=0.8, label="Im")
+    ax_res.axhline(0, color="k", lw=0.6)
+    ax_res.set_xlabel("frequency [Hz]")
+    ax_res.set_ylabel("DRT residual [%]")
+    ax_res.grid(alpha=0.3, which="both")
+    ax_res.legend(fontsize=8, ncol=2)
+    fig.suptitle(title or f"DRT: {len(result.peaks)} peak(s), λ = {result.lam:.2g} ({result.lambda_method}), rms_rel {result.rms_rel * 100:.2g} %")
+    return fig
+
+
+def plot_zhit(result, *, title: str | None = None):
+    """|Z| measured vs reconstructed from the phase, phase, and the |Z| residual with bad bands."""
+    fig, (ax_mod, ax_ph, ax_res) = plt.subplots(3, 1, figsize=(7, 7), sharex=True, layout="constrained")
+    order = np.argsort(result.frequency)
+    f = result.frequency[order]
+    ax_mod.loglog(f, np.abs(result.impedance[order]), "o", ms=3.5, mfc="none", label="|Z| data")
+    ax_mod.loglog(f, result.modulus[order], "-", lw=1.5, label="|Z| from the phase (Z-HIT)")
+    ax_mod.set_ylabel("|Z| [Ω]")
+    ax_ph.semilogx(f, np.degrees(np.angle(result.impedance[order])), "o", ms=3.5, mfc="none")
+    ax_ph.set_ylabel("phase [deg]")
+    ax_res.semilogx(f, result.residuals[order] * 100, "o-", ms=3, lw=0.8)
+    ax_res.axhline(0, color="k", lw=0.6)
+    for sign in (-1, 1):
+        ax_res.axhline(sign * result.threshold * 100, color="tab:red", lw=0.7, ls="--")
+    ax_res.set_ylabel("(|Z| − |Z|_ZHIT)/|Z| [%]")
+    ax_res.set_xlabel("frequency [Hz]")
+    for ax in (ax_mod, ax_ph, ax_res):
+        ax.grid(alpha=0.3, which="both")
+    ax_mod.legend(fontsize=8)
+    if result.bad_bands:
+        shade_bands([ax_mod, ax_ph, ax_res], result.bad_bands, label="inconsistent |Z| and phase")
+    fig.suptitle(title or f"Z-HIT: {'valid' if result.valid else 'not valid'}, rms {result.rms_rel * 100:.2g} %")
+    return fig

@@ -1,0 +1,401 @@
+"""The distribution of relaxation times against closed forms written here in numpy.
+
+Oracles: spectra of R‖C, ZARC and Havriliak–Negami blocks from their impedance formulas; the
+true DRT peak from the Stieltjes inversion γ(τ) = (1/π)|Im Z(s = e^{jπ}/τ)|; basis integrals
+from scipy.integrate.quad. Noise 0.3–3 % (complex Gaussian, relative to |Z|, fixed seeds).
+Bounds (from the issue): peak τ within 0.1 decade, peak R within 10 %, the right number of peaks.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import quad
+
+import impedax as ix
+from impedax.errors import CircuitError, DataError, ParameterError
+from impedax.fitting.drt import DRTBatchResult, DRTResult, circuit_drt, drt, havriliak_negami_drt, r_cpe_drt, unexplained_peaks, zarc_drt
+from impedax.fitting.drt.basis import impedance_integrals, penalty_matrix, rbf_basis
+
+F = np.geomspace(0.01, 1e5, 71)
+W = 2 * np.pi * F
+
+
+def rc(r, tau):
+    return r / (1 + 1j * W * tau)
+
+
+def zarc(r, tau, alpha):
+    return r / (1 + (1j * W * tau) ** alpha)
+
+
+def hn(r, tau, alpha, beta):
+    return r / (1 + (1j * W * tau) ** alpha) ** beta
+
+
+def noisy(z, level, seed):
+    rng = np.random.default_rng(seed)
+    return z + level * np.abs(z) * (rng.standard_normal(z.size) + 1j * rng.standard_normal(z.size)) / math.sqrt(2)
+
+
+def hn_true_gamma(tau, r, tau0, alpha, beta):
+    """Stieltjes inversion of Z(s) = R/(1 + (sτ₀)^α)^β at s = e^{jπ}/τ (independent of analytic.py)."""
+    s_tau0 = (tau0 / tau) ** alpha * np.exp(1j * math.pi * alpha)
+    return np.abs(np.imag(r / (1 + s_tau0) ** beta)) / math.pi
+
+
+def zarc_mass(r, tau0, alpha, tau_lo, tau_hi):
+    """∫ γ d ln τ of a ZARC between tau_lo and tau_hi, from the inversion of R/(1 + (sτ₀)^α)."""
+    tau = np.geomspace(tau_lo, tau_hi, 20001)
+    g = np.abs(np.imag(r / (1 + (tau0 / tau) ** alpha * np.exp(1j * math.pi * alpha)))) / math.pi
+    return float(np.trapezoid(g, np.log(tau)))
+
+
+def assert_peaks(result, truth, *, tau_decades=0.1, r_rel=0.10):
+    """``truth``: [(τ, R)] sorted by τ; the DRT must have exactly these peaks."""
+    found = [(p.tau_s, p.r_ohm) for p in result.peaks]
+    assert len(found) == len(truth), f"peaks {found}, expected {truth}"
+    for (tau, r), (tau_true, r_true) in zip(found, truth):
+        assert abs(math.log10(tau / tau_true)) <= tau_decades, (found, truth)
+        assert abs(r - r_true) <= r_rel * r_true, (found, truth)
+
+
+# ---------------------------------------------------------------- basis and closed forms
+
+@pytest.mark.parametrize("omega", [0.07, 2 * math.pi * 5.0, 3e4])
+@pytest.mark.parametrize("index", [0, 35, 70])
+def test_basis_integrals_match_adaptive_quadrature(omega, index):
+    basis = rbf_basis(F)
+    a_re, a_im = impedance_integrals(np.array([omega]), basis)
+    y0, eps = basis.ln_tau[index], basis.epsilon
+    phi = lambda y: math.exp(-((eps * (y - y0)) ** 2))
+    lo, hi = y0 - 12 / eps, y0 + 12 / eps
+    re = quad(lambda y: phi(y) / (1 + (omega * math.exp(y)) ** 2), lo, hi, epsabs=1e-15, epsrel=1e-13, limit=200)[0]
+    im = quad(lambda y: -phi(y) * omega * math.exp(y) / (1 + (omega * math.exp(y)) ** 2), lo, hi, epsabs=1e-15, epsrel=1e-13, limit=200)[0]
+    assert a_re[0, index] == pytest.approx(re, abs=1e-12)
+    assert a_im[0, index] == pytest.approx(im, abs=1e-12)
+
+
+@pytest.mark.parametrize("order", [1, 2])
+def test_penalty_matrix_is_the_integral_of_the_squared_derivative(order):
+    basis = rbf_basis(F)
+    x = np.random.default_rng(3).random(basis.ln_tau.size)
+    y = np.linspace(basis.ln_tau[0] - 4, basis.ln_tau[-1] + 4, 100001)
+    g = basis.evaluate(y) @ x
+    for _ in range(order):
+        g = np.gradient(g, y)
+    assert x @ penalty_matrix(basis, order) @ x == pytest.approx(np.trapezoid(g**2, y), rel=1e-4)
+
+
+@pytest.mark.parametrize(
+    "gamma_fn, z_fn",
+    [
+        (lambda t: zarc_drt(t, 2.0, 0.5, 0.8), lambda w: 2.0 / (1 + (1j * w * 0.5) ** 0.8)),
+        (lambda t: r_cpe_drt(t, 3.0, 1e-2, 0.7), lambda w: 1 / (1 / 3.0 + 1e-2 * (1j * w) ** 0.7)),
+        (lambda t: havriliak_negami_drt(t, 2.0, 1.0, 0.7, 0.6), lambda w: 2.0 / (1 + (1j * w) ** 0.7) ** 0.6),
+    ],
+)
+def test_closed_form_drts_reproduce_their_impedance(gamma_fn, z_fn):
+    y = np.linspace(-45, 45, 600001)
+    tau = np.exp(y)
+    g = gamma_fn(tau)
+    for w in (1e-2, 0.7, 30.0):
+        z = np.trapezoid(g / (1 + 1j * w * tau), y)
+        assert z == pytest.approx(z_fn(w), abs=2e-6)
+
+
+def test_havriliak_negami_closed_form_equals_the_stieltjes_inversion():
+    tau = np.logspace(-4, 3, 50)
+    assert havriliak_negami_drt(tau, 5.0, 0.1, 0.8, 0.6) == pytest.approx(hn_true_gamma(tau, 5.0, 0.1, 0.8, 0.6), rel=1e-10)
+
+
+def test_circuit_drt_of_series_blocks():
+    values = {"R0": 10.0, "R1": 100.0, "C1": 1e-5, "R2": 300.0, "CPE2.Q": 1e-3, "CPE2.alpha": 0.8}
+    result = circuit_drt("R0 + R1 || C1 + R2 || CPE2", values)
+    assert result.r_inf_ohm == 10.0
+    assert result.deltas == ((pytest.approx(1e-3), 100.0),)
+    tau0 = (300.0 * 1e-3) ** (1 / 0.8)
+    x = np.log(result.tau / tau0)
+    expected = 300.0 / (2 * math.pi) * math.sin(0.2 * math.pi) / (np.cosh(0.8 * x) - math.cos(0.2 * math.pi))
+    assert result.gamma == pytest.approx(expected, rel=1e-12)
+    assert [t for t, _ in result.relaxations] == [pytest.approx(1e-3), pytest.approx(tau0, rel=0.06)]
+    with pytest.raises(CircuitError, match="W1"):
+        circuit_drt("R0 + W1", {"R0": 1.0, "W1": 1.0})
+    with pytest.raises(ParameterError, match="C1"):
+        circuit_drt("R0 + R1 || C1", {"R0": 1.0, "R1": 1.0})
+
+
+# ---------------------------------------------------------------- recovery of known DRTs
+
+SINGLE = {
+    "R||C": (10 + rc(1000, 1e-2), [(1e-2, 1000)]),
+    "ZARC a=0.8": (10 + zarc(1000, 1e-2, 0.8), [(1e-2, 1000)]),
+    "R||CPE a=0.7": (5 + 1 / (1 / 800 + 2e-4 * (1j * W) ** 0.7), [((800 * 2e-4) ** (1 / 0.7), 800)]),
+}
+
+
+@pytest.mark.parametrize("level", [0.003, 0.01, 0.03])
+@pytest.mark.parametrize("case", list(SINGLE))
+def test_single_relaxation_peak(case, level):
+    z, truth = SINGLE[case]
+    result = drt((F, noisy(z, level, 1)))
+    assert_peaks(result, truth)
+    assert result.r_inf_ohm == pytest.approx(z[-1].real, rel=0.1, abs=1.0)
+    assert result.converged
+    # an ideal R‖C is a delta: the smoothness penalty at λ's floor leaves ≈ 1 % misfit at low noise
+    assert result.rms_rel < max(2.5 * level, 0.02)
+
+
+@pytest.mark.parametrize("level", [0.003, 0.01, 0.03])
+def test_havriliak_negami_peak_at_the_true_maximum(level):
+    r, tau0, alpha, beta = 1000.0, 1e-2, 0.9, 0.85
+    tau = np.logspace(-6, 2, 20001)
+    tau_peak = tau[np.argmax(hn_true_gamma(tau, r, tau0, alpha, beta))]
+    result = drt((F, noisy(10 + hn(r, tau0, alpha, beta), level, 2)))
+    assert_peaks(result, [(tau_peak, r)])
+
+
+MULTI = {
+    "two R||C, 1 decade": (10 + rc(500, 1e-3) + rc(1000, 1e-2), [(1e-3, 500), (1e-2, 1000)]),
+    "two ZARC, 2 decades": (10 + zarc(500, 1e-4, 0.85) + zarc(1000, 1e-2, 0.85), [(1e-4, 500), (1e-2, 1000)]),
+    "three R||C, 2 decades": (10 + rc(500, 1e-4) + rc(1000, 1e-2) + rc(700, 1.0), [(1e-4, 500), (1e-2, 1000), (1.0, 700)]),
+    "three R||C, 1.5 decades": (5 + rc(300, 3e-4) + rc(600, 1e-2) + rc(400, 0.3), [(3e-4, 300), (1e-2, 600), (0.3, 400)]),
+    # a ZARC's tails reach its neighbours' share of the τ axis (split halfway in log τ): the true
+    # resistance under each peak includes them
+    "R||C + ZARC + R||C": (
+        10 + rc(500, 1e-3) + zarc(1000, 0.03, 0.9) + rc(400, 3.0),
+        [(1e-3, 500 + zarc_mass(1000, 0.03, 0.9, 1e-9, math.sqrt(3e-5))), (0.03, zarc_mass(1000, 0.03, 0.9, math.sqrt(3e-5), 0.3)), (3.0, 400 + zarc_mass(1000, 0.03, 0.9, 0.3, 1e6))],
+    ),
+}
+
+
+@pytest.mark.parametrize("level", [0.003, 0.01])
+@pytest.mark.parametrize("case", list(MULTI))
+def test_multi_arc_peaks(case, level):
+    z, truth = MULTI[case]
+    assert_peaks(drt((F, noisy(z, level, 3))), truth)
+
+
+def test_multi_arc_peaks_at_3_percent_noise_two_decades_apart():
+    z, truth = MULTI["three R||C, 2 decades"]
+    assert_peaks(drt((F, noisy(z, 0.03, 4))), truth)
+
+
+def test_lambda_grows_with_the_noise_and_the_peaks_do_not_oscillate():
+    z, truth = MULTI["R||C + ZARC + R||C"]
+    lams = []
+    for level in (0.003, 0.01, 0.03):
+        result = drt((F, noisy(z, level, 5)))
+        assert_peaks(result, truth)
+        lams.append(result.lam)
+    assert lams[0] <= lams[1] < lams[2] and lams[2] > 10 * lams[0]
+    # the L-curve corner is offered but smooths more than GCV (docs/drt.md): it may merge the
+    # ZARC with its neighbour; it must still fit the data to about the noise
+    lcurve = drt((F, noisy(z, 0.01, 5)), lam_method="lcurve")
+    assert lcurve.lambda_method == "lcurve" and lcurve.lam > lams[1] and lcurve.rms_rel < 0.03
+
+
+def test_fixed_lambda_is_used_and_reported():
+    result = drt((F, noisy(10 + rc(1000, 1e-2), 0.01, 1)), lam=0.05)
+    assert result.lam == pytest.approx(0.05) and result.lambda_method == "fixed"
+
+
+def test_inductive_loop_needs_signed():
+    # a low-frequency inductive loop: a negative-resistance relaxation, plus a lead inductance
+    z = 10 + 1j * W * 2e-6 + rc(200, 1e-3) + rc(-60, 0.3)
+    data = (F, noisy(z, 0.005, 6))
+    signed = drt(data, signed=True)
+    assert signed.l_h == pytest.approx(2e-6, rel=0.2)
+    assert signed.rms_rel < 0.01
+    positive = [p for p in signed.peaks if p.r_ohm > 0]
+    negative = [p for p in signed.peaks if p.r_ohm < 0]
+    assert len(positive) == 1 and len(negative) == 1
+    assert abs(math.log10(positive[0].tau_s / 1e-3)) < 0.1 and positive[0].r_ohm == pytest.approx(200, rel=0.1)
+    # the loop shares its ringing with the positive arc: 15 %
+    assert abs(math.log10(negative[0].tau_s / 0.3)) < 0.1 and negative[0].r_ohm == pytest.approx(-60, rel=0.15)
+    assert np.min(signed.gamma) < 0
+    non_negative = drt(data)
+    assert np.min(non_negative.gamma) >= 0
+    assert non_negative.rms_rel > 3 * signed.rms_rel  # γ ≥ 0 cannot fit the loop
+
+
+def test_blocking_electrode_gets_a_series_capacitor():
+    z = 20 + rc(1000, 1e-3) + 1 / (1j * W * 1e-3)
+    result = drt((F, noisy(z, 0.005, 7)))
+    assert result.c_f == pytest.approx(1e-3, rel=0.05)
+    assert_peaks(result, [(1e-3, 1000)])
+
+
+def test_batch_over_extra_dimensions_equals_one_by_one():
+    spectra = np.stack([noisy(MULTI["two R||C, 1 decade"][0], 0.01, s) for s in range(6)]).reshape(2, 3, -1)
+    data = ix.make_spectrum(F, spectra, dims=("session", "trial"), coords={"session": [1, 2], "trial": [10, 20, 30]})
+    batch = drt(data)
+    assert isinstance(batch, DRTBatchResult) and batch.shape == (2, 3) and len(batch) == 6
+    single = drt((F, spectra[1, 2]))
+    assert batch[1, 2].gamma == pytest.approx(single.gamma, rel=1e-7, abs=1e-9 * single.gamma.max())
+    assert batch[1, 2].lam == pytest.approx(single.lam, rel=1e-9)
+    assert [p.tau_s for p in batch[1, 2].peaks] == pytest.approx([p.tau_s for p in single.peaks])
+    ds = batch.to_xarray()
+    assert ds["gamma"].dims == ("session", "trial", "tau")
+    assert list(ds["trial"].values) == [10, 20, 30]
+    assert (batch.n_peaks == 2).all()
+
+
+def test_credible_band_brackets_the_estimate_and_peaks_have_uncertainty():
+    result = drt((F, noisy(10 + zarc(1000, 1e-2, 0.8), 0.01, 8)))
+    assert np.all(result.gamma_q05 <= result.gamma + 1e-9) and np.all(result.gamma + 1e-9 >= result.gamma_q05)
+    assert np.all(result.gamma_q95 >= result.gamma - 1e-9) and np.all(result.gamma_q05 >= 0)
+    assert np.max(result.gamma_q95 - result.gamma_q05) > 0
+    (peak,) = result.peaks
+    assert 0 < peak.r_ohm_sd < 0.1 * peak.r_ohm and 0 <= peak.log10_tau_sd < 0.2
+
+
+@pytest.mark.slow
+def test_credible_band_calibration_on_a_zarc():
+    """Coverage of the true γ by the 90 % band around the peak (|log τ/τ₀| < 1 decade), 40 seeds.
+    The band is conditional on the active set and ignores the regularisation bias, so coverage
+    is below nominal; this pins it to a documented range (docs/drt.md)."""
+    tau0, r, alpha = 1e-2, 1000.0, 0.8
+    z = 10 + zarc(r, tau0, alpha)
+    inside = []
+    for seed in range(40):
+        result = drt((F, noisy(z, 0.01, 100 + seed)))
+        near = np.abs(np.log10(result.tau / tau0)) < 1
+        truth = zarc_drt(result.tau[near], r, tau0, alpha)
+        inside.append(np.mean((result.gamma_q05[near] <= truth) & (truth <= result.gamma_q95[near])))
+    coverage = float(np.mean(inside))
+    assert 0.3 <= coverage <= 1.0, coverage
+
+
+def test_result_to_xarray_and_report():
+    result = drt((F, noisy(MULTI["two R||C, 1 decade"][0], 0.01, 9)))
+    assert isinstance(result, DRTResult)
+    ds = result.to_xarray()
+    assert ds["gamma"].attrs["units"] == "ohm" and ds["tau"].size == result.tau.size
+    assert ds["peak_tau"].size == 2 and ds.attrs["lambda_method"] == "gcv"
+    text = result.report()
+    assert "2 peak(s)" in text and "λ =" in text
+    assert result.gamma_at(result.peaks[0].tau_s) == pytest.approx(result.peaks[0].gamma_max_ohm, rel=0.05)
+
+
+def test_plot_returns_a_figure_with_the_overlay():
+    import matplotlib.pyplot as plt
+
+    data = noisy(10 + rc(500, 2e-3) + zarc(1000, 0.3, 0.8), 0.01, 10)
+    result = drt((F, data))
+    overlay = circuit_drt("R0 + R1 || C1 + R2 || CPE2", {"R0": 10, "R1": 500, "C1": 4e-6, "R2": 1000, "CPE2.Q": 0.3**0.8 / 1000, "CPE2.alpha": 0.8})
+    fig = result.plot(overlay=overlay)
+    assert len(fig.axes) == 5
+    plt.close(fig)
+
+
+# ---------------------------------------------------------------- evidence for the diagnosis
+
+def test_unexplained_peaks_names_the_missing_arc():
+    data = noisy(10 + rc(500, 1e-3) + zarc(1000, 0.1, 0.9) + rc(400, 10.0), 0.005, 11)
+    result = drt((F, data))
+    model = (F, 10 + rc(500, 1e-3) + zarc(1000, 0.1, 0.9))
+    evidence = unexplained_peaks(result, model)
+    assert evidence.n_explained == 2 and len(evidence.unexplained) == 1
+    (missing,) = evidence.unexplained
+    assert abs(math.log10(missing.tau_s / 10.0)) < 0.15 and missing.r_ohm == pytest.approx(400, rel=0.15)
+    assert evidence.text.startswith("the data's DRT has 3 peaks (at 1 ms, 100 ms, 10 s); the model explains 2; unexplained: 10 s")
+    full = unexplained_peaks(result, (F, 10 + rc(500, 1e-3) + zarc(1000, 0.1, 0.9) + rc(400, 10.0)))
+    assert full.unexplained == () and full.n_explained == 3
+
+
+def test_unexplained_peaks_flags_a_distributed_peak_as_cpe_like():
+    result = drt((F, noisy(10 + zarc(1000, 1e-2, 0.65), 0.005, 12)))
+    evidence = unexplained_peaks(result, (F, 10 + rc(1000, 1e-2)))
+    assert evidence.unexplained == () and len(evidence.distributed) == 1
+    assert "CPE-like" in evidence.text
+    sharp = unexplained_peaks(drt((F, noisy(10 + rc(1000, 1e-2), 0.005, 12))), (F, 10 + rc(1000, 1e-2)))
+    assert sharp.distributed == ()
+
+
+def test_unexplained_peaks_accepts_a_fit_result():
+    data = ix.make_spectrum(F, noisy(10 + rc(500, 1e-3) + rc(1000, 0.1), 0.005, 13))
+    fit = ix.fit("R0 + R1 || C1", data, init={"R0": 10, "R1": 1500, "C1": 1e-4})
+    evidence = unexplained_peaks(drt(data), fit)
+    assert len(evidence.data_peaks) == 2 and len(evidence.unexplained) >= 1
+    with pytest.raises(DataError):
+        unexplained_peaks(drt(data), 42)
+
+
+# ---------------------------------------------------------------- bad input
+
+GOOD = (F, 10 + rc(100, 1e-3))
+
+
+@pytest.mark.parametrize(
+    "data, kwargs, error, match",
+    [
+        (GOOD, {"lam": -1.0}, ParameterError, "positive"),
+        (GOOD, {"lam": "big"}, ParameterError, "auto"),
+        (GOOD, {"lam_method": "aic"}, ParameterError, "gcv"),
+        (GOOD, {"method": "bayes"}, ParameterError, "tikhonov"),
+        (GOOD, {"basis": "pwl"}, ParameterError, "rbf"),
+        (GOOD, {"derivative": 3}, ParameterError, "derivative"),
+        (GOOD, {"signed": "yes"}, ParameterError, "signed"),
+        (GOOD, {"capacitance": "maybe"}, ParameterError, "capacitance"),
+        ((F, np.where(F > 1e3, np.nan, 1.0 + 0j)), {}, DataError, "non-finite"),
+        ((F, np.zeros(F.size, complex)), {}, DataError, "zero"),
+        ((F[:3], np.ones(3, complex)), {}, DataError, "at least 5"),
+        ((F, np.ones(5, complex)), {}, DataError, "shapes"),
+        ("no_such_file.csv", {}, DataError, "not found"),
+        (42, {}, DataError, "expected"),
+    ],
+)
+def test_bad_input_raises_impedax_errors(data, kwargs, error, match):
+    with pytest.raises(error, match=match):
+        drt(data, **kwargs)
+
+
+# ---------------------------------------------------------------- command line
+
+def test_cli_json_keys_and_outputs(tmp_path, capsys):
+    from impedax.cli import main
+
+    path = tmp_path / "s.csv"
+    ix.save(ix.make_spectrum(F, noisy(10 + rc(500, 1e-3) + rc(1000, 0.1), 0.005, 14)), path)
+    assert main(["drt", str(path), "--json", "--plot", str(tmp_path / "d.png"), "--out", str(tmp_path / "d.nc")]) == 0
+    payload = json.loads(capsys.readouterr().out)
+    assert set(payload) == {"tau_s", "gamma_ohm", "gamma_q05", "gamma_q95", "r_inf_ohm", "l_h", "lambda", "lambda_method", "peaks", "rms_rel"}
+    assert [set(p) for p in payload["peaks"]] == [{"tau_s", "r_ohm", "width_decades"}] * 2
+    assert payload["lambda_method"] == "gcv" and len(payload["tau_s"]) == len(payload["gamma_q95"])
+    assert (tmp_path / "d.png").read_bytes()[:4] == b"\x89PNG"
+    import xarray as xr
+
+    with xr.open_dataset(tmp_path / "d.nc") as ds:
+        assert ds["gamma"].size == len(payload["tau_s"])
+    assert main(["drt", str(path), "--lam", "0.01", "--signed", "--out", str(tmp_path / "g.csv")]) == 0
+    text = capsys.readouterr().out
+    assert "by fixed" in text and "signed" in text
+    assert (tmp_path / "g.csv").read_text().startswith("tau_s,gamma_ohm")
+    assert main(["drt", str(path), "--lam", "lots"]) == 2
+    assert "--lam" in capsys.readouterr().err
+
+
+@pytest.mark.slow
+def test_evidence_names_the_missing_arc_on_random_multi_arc_spectra():
+    """40 random spectra with 2–3 arcs (R‖C or ZARC α 0.75–0.95, 1–2 decades apart, 0.3–3 %
+    noise); the model is the true spectrum without one arc. The missing arc must be the one
+    unexplained peak (τ within 0.3 decade) in ≥ 90 % of them (measured: 39/40)."""
+    rng = np.random.default_rng(42)
+    hits = 0
+    for _ in range(40):
+        n_arcs = int(rng.choice([2, 3]))
+        start = rng.uniform(-4.5, -3.0)
+        taus = 10 ** np.concatenate([[start], start + np.cumsum(rng.uniform(1.0, 2.0, size=n_arcs - 1))])
+        rs = rng.uniform(300, 1000, size=n_arcs)
+        alphas = np.where(rng.random(n_arcs) < 0.5, 1.0, rng.uniform(0.75, 0.95, size=n_arcs))
+        arcs = [r / (1 + (1j * W * t) ** a) for r, t, a in zip(rs, taus, alphas)]
+        level = float(rng.choice([0.003, 0.01, 0.03]))
+        z = (10 + sum(arcs)) * (1 + level * (rng.standard_normal(F.size) + 1j * rng.standard_normal(F.size)) / math.sqrt(2))
+        k = int(rng.integers(n_arcs))
+        evidence = unexplained_peaks(drt((F, z)), (F, 10 + sum(a for i, a in enumerate(arcs) if i != k)))
+        hits += len(evidence.unexplained) == 1 and abs(math.log10(evidence.unexplained[0].tau_s / taus[k])) < 0.3
+    assert hits >= 36, hits
