@@ -34,26 +34,17 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from ..errors import DataError, ParameterError
+    from ..errors import ParameterError
     from ..fitting.drt import drt
-    from ..io import load
-    from ..io.atomic import check_writable
-    from .common import emit_json
+    from ..fitting.problem import open_spectrum
+    from .common import check_outputs, emit_json, save_outputs
 
-    for path in (args.plot, args.out):
-        if path:
-            check_writable(path)
+    check_outputs(args.plot, args.out)
     if args.out and not str(args.out).lower().endswith((".nc", ".csv")):
         raise ParameterError(f"--out {args.out!r}: the extension must be .nc or .csv")
-    data = load(args.data)
-    extra = [d for d in data["Z"].dims if d != "frequency"]
-    if extra:
-        raise DataError(f"impedax drt takes one spectrum; {args.data} has extra dimensions {', '.join(extra)}: select one or average them first", path=args.data)
+    data = open_spectrum(args.data, single="impedax drt").data
     result = drt(data, method=args.method, lam=_lam(args.lam), lam_method=args.lam_method, signed=args.signed)
-    if args.plot:
-        from ..plotting import save_figure
-
-        save_figure(result.plot(), args.plot)
+    save_outputs(plot=args.plot, figure=result.plot)
     if args.out:
         _save(result, args.out)
     if args.json:

@@ -21,21 +21,16 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from ..io.atomic import check_writable
     from ..fitting import kk_test
     from ..io import load
-    from .common import emit_json
+    from .common import check_outputs, emit_json, save_outputs
 
-    if args.plot:
-        check_writable(args.plot)
+    check_outputs(args.plot)
     data = load(args.data)
     if args.method == "zhit":
         return _run_zhit(args, data)
     result = kk_test(data, c=args.c, max_rc=args.max_rc, inductance=not args.no_inductance, capacitance=not args.no_capacitance)
-    if args.plot:
-        from ..plotting import save_figure
-
-        save_figure(result.plot(), args.plot)
+    save_outputs(plot=args.plot, figure=result.plot)
     if args.json:
         emit_json({
             "valid": result.valid,
@@ -56,13 +51,10 @@ def run(args) -> int:
 
 def _run_zhit(args, data) -> int:
     from ..fitting import zhit
-    from .common import emit_json
+    from .common import emit_json, save_outputs
 
     result = zhit(data)
-    if args.plot:
-        from ..plotting import save_figure
-
-        save_figure(result.plot(), args.plot)
+    save_outputs(plot=args.plot, figure=result.plot)
     if args.json:
         emit_json({
             "method": "zhit",
