@@ -24,6 +24,7 @@ import numpy as np
 import xarray as xr
 
 from ..errors import DataError, ParameterError
+from .problem import frequency_and_z
 
 __all__ = ["KKResult", "KKBatchResult", "kk_test", "kk_test_batch", "DEFAULT_THRESHOLDS"]
 
@@ -204,40 +205,6 @@ def _fmt_hz(f: float) -> str:
     return f"{f:g} Hz"
 
 
-def _as_frequency_and_z(data) -> tuple[np.ndarray, np.ndarray, tuple[str, ...], dict, str]:
-    """(frequency (N,), Z (*extra, N), extra dims, extra coords, source) from a Dataset or pair."""
-    if isinstance(data, xr.Dataset):
-        from ..data import validate_spectrum
-
-        validate_spectrum(data)
-        z = data["Z"]
-        dims = tuple(d for d in z.dims if d != "frequency")
-        z = z.transpose(*dims, "frequency")
-        coords = {d: np.asarray(data[d].values) for d in dims if d in data.coords}
-        return np.asarray(data["frequency"].values, float), np.asarray(z.values, complex), dims, coords, str(data.attrs.get("source", "dataset"))
-    try:
-        f, z = data
-    except (TypeError, ValueError):
-        raise DataError(f"expected a spectrum Dataset or a (frequency, Z) pair, got {type(data).__name__}") from None
-    try:
-        f = np.asarray(f, dtype=float)
-        z = np.asarray(z, dtype=complex)
-    except (TypeError, ValueError) as exc:
-        raise DataError(f"frequency and Z must be numeric arrays ({exc})") from None
-    if f.ndim != 1 or z.ndim < 1 or z.shape[-1] != f.size:
-        raise DataError(f"frequency must be 1-D and Z must end with the frequency axis; got shapes {f.shape} and {z.shape}")
-    bad = np.flatnonzero(~np.isfinite(f) | (f <= 0))
-    if bad.size:
-        raise DataError(f"frequency must be positive and finite; point {bad[0]} is {f[bad[0]]!r}")
-    if np.unique(f).size != f.size:
-        raise DataError("duplicate frequencies")
-    if not np.all(np.isfinite(z)):
-        idx = np.argwhere(~np.isfinite(z))[0]
-        raise DataError(f"Z has a non-finite value at index {tuple(int(i) for i in idx)}")
-    dims = tuple(f"dim_{i}" for i in range(z.ndim - 1))
-    return f, z, dims, {}, "memory"
-
-
 def _check_options(n_points: int, c: float, max_rc, n_rc, n_series: int) -> int:
     if not (isinstance(c, (int, float)) and 0.0 < c < 1.0):
         raise ParameterError(f"c must be between 0 and 1 (exclusive), got {c!r}")
@@ -384,9 +351,15 @@ def _bad_bands(freq, residual_real, residual_imag, order, scale, thresholds):
     for i in range(1, flag.size - 1):
         if not flag[i] and flag[i - 1] and flag[i + 1]:
             flag[i] = True
-    fs = freq[order]
-    bands = []
-    i = 0
+    flagged = np.empty_like(flag)
+    flagged[order] = flag
+    return flagged, bands_of_flags(freq[order], flag)
+
+
+def bands_of_flags(freq_sorted, flag) -> tuple[tuple[float, float], ...]:
+    """Runs of flagged points (in frequency order) as bands (f_min, f_max) [Hz], their edges
+    halfway in log f to the neighbouring good points, so a single point has a width."""
+    bands, i = [], 0
     while i < flag.size:
         if not flag[i]:
             i += 1
@@ -394,14 +367,11 @@ def _bad_bands(freq, residual_real, residual_imag, order, scale, thresholds):
         j = i
         while j + 1 < flag.size and flag[j + 1]:
             j += 1
-        # band edges halfway (in log f) to the neighbouring good points, so one point has width
-        lo = fs[i] if i == 0 else math.sqrt(fs[i - 1] * fs[i])
-        hi = fs[j] if j == flag.size - 1 else math.sqrt(fs[j] * fs[j + 1])
+        lo = freq_sorted[i] if i == 0 else math.sqrt(freq_sorted[i - 1] * freq_sorted[i])
+        hi = freq_sorted[j] if j == flag.size - 1 else math.sqrt(freq_sorted[j] * freq_sorted[j + 1])
         bands.append((float(lo), float(hi)))
         i = j + 1
-    flagged = np.empty_like(flag)
-    flagged[order] = flag
-    return flagged, tuple(bands)
+    return tuple(bands)
 
 
 def _kk_arrays(freq, z, *, c, max_rc, n_rc, inductance, capacitance, floor):
@@ -487,7 +457,7 @@ def kk_test(
     ``capacitance`` a series C (needed when the data are capacitive at the lowest frequency, e.g.
     blocking electrodes). Raises DataError/ParameterError on bad input.
     """
-    freq, z, dims, _, source = _as_frequency_and_z(data)
+    freq, z, dims, _, source = frequency_and_z(data)
     if dims:
         raise DataError(
             f"Z has extra dimensions {dims}; kk_test takes one spectrum: use impedax.kk_test_batch(data) for one test per spectrum, or reduce them first (e.g. data.mean({dims[0]!r}))",
@@ -511,7 +481,7 @@ def kk_test_batch(
     All spectra are solved together (one batched QR per M), each stopping at its own M.
     Same options and validity rule as `kk_test`; returns a `KKBatchResult`.
     """
-    freq, z, dims, coords, _ = _as_frequency_and_z(data)
+    freq, z, dims, coords, _ = frequency_and_z(data)
     return _run(freq, z, z.shape[:-1], dims, coords, c=c, max_rc=max_rc, n_rc=n_rc, inductance=inductance, capacitance=capacitance, thresholds=thresholds)
 
 

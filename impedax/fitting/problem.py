@@ -127,3 +127,35 @@ def residual_scale(z, inv_re, inv_im, weighting: str) -> np.ndarray:
         return np.ones(np.shape(z)[:-1])
     typical = np.median(np.abs(z) * np.sqrt(0.5 * (np.asarray(inv_re) ** 2 + np.asarray(inv_im) ** 2)), axis=-1)
     return 1.0 / np.where(np.isfinite(typical) & (typical > 0), typical, 1.0)
+
+
+def frequency_and_z(data):
+    """The preamble of the array-based tests (KK, DRT, Z-HIT): (frequency (N,), Z (*extra, N),
+    extra dims, extra coords, source) from a spectrum Dataset, a file path or a (frequency, Z)
+    pair, checked; `DataError` on anything else."""
+    if isinstance(data, (str, bytes)) or hasattr(data, "__fspath__") or isinstance(data, xr.Dataset):
+        spectrum = open_spectrum(data)
+        ds, dims = spectrum.data, spectrum.extra_dims
+        z = ds["Z"].transpose(*dims, "frequency")
+        coords = {d: np.asarray(ds[d].values) for d in dims if d in ds.coords}
+        return np.asarray(ds["frequency"].values, float), np.asarray(z.values, complex), dims, coords, spectrum.source
+    try:
+        f, z = data
+    except (TypeError, ValueError):
+        raise DataError(f"expected a spectrum Dataset, a file path or a (frequency, Z) pair, got {type(data).__name__}") from None
+    try:
+        f = np.asarray(f, dtype=float)
+        z = np.asarray(z, dtype=complex)
+    except (TypeError, ValueError) as exc:
+        raise DataError(f"frequency and Z must be numeric arrays ({exc})") from None
+    if f.ndim != 1 or z.ndim < 1 or z.shape[-1] != f.size:
+        raise DataError(f"frequency must be 1-D and Z must end with the frequency axis; got shapes {f.shape} and {z.shape}")
+    bad = np.flatnonzero(~np.isfinite(f) | (f <= 0))
+    if bad.size:
+        raise DataError(f"frequency must be positive and finite; point {bad[0]} is {f[bad[0]]!r}")
+    if np.unique(f).size != f.size:
+        raise DataError("duplicate frequencies")
+    if not np.all(np.isfinite(z)):
+        idx = np.argwhere(~np.isfinite(z))[0]
+        raise DataError(f"Z has a non-finite value at index {tuple(int(i) for i in idx)}")
+    return f, z, tuple(f"dim_{i}" for i in range(z.ndim - 1)), {}, "memory"

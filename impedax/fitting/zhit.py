@@ -26,6 +26,8 @@ import numpy as np
 import xarray as xr
 
 from ..errors import DataError, ParameterError
+from .kk import bands_of_flags
+from .problem import frequency_and_z
 
 __all__ = ["ZHITResult", "zhit"]
 
@@ -87,22 +89,6 @@ class ZHITResult:
         return plot_zhit(self, title=title)
 
 
-def _bands(freq_sorted, flag):
-    bands, i = [], 0
-    while i < flag.size:
-        if not flag[i]:
-            i += 1
-            continue
-        j = i
-        while j + 1 < flag.size and flag[j + 1]:
-            j += 1
-        lo = freq_sorted[i] if i == 0 else math.sqrt(freq_sorted[i - 1] * freq_sorted[i])
-        hi = freq_sorted[j] if j == flag.size - 1 else math.sqrt(freq_sorted[j] * freq_sorted[j + 1])
-        bands.append((float(lo), float(hi)))
-        i = j + 1
-    return tuple(bands)
-
-
 def zhit(data, *, noise_floor: float = 0.01, point: float = 5.0, run: float = 3.0, run_length: int = 3) -> ZHITResult:
     """Z-HIT reconstruction of |Z| from the phase of one spectrum (see the module docstring).
 
@@ -115,14 +101,13 @@ def zhit(data, *, noise_floor: float = 0.01, point: float = 5.0, run: float = 3.
     """
     from scipy.interpolate import make_smoothing_spline
 
-    from .drt._drt import as_frequency_and_z
 
     for name, value in (("noise_floor", noise_floor), ("point", point), ("run", run)):
         if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
             raise ParameterError(f"{name} must be a positive number, got {value!r}")
     if not isinstance(run_length, (int, np.integer)) or run_length < 1:
         raise ParameterError(f"run_length must be a positive integer, got {run_length!r}")
-    freq, z, dims, _, source = as_frequency_and_z(data)
+    freq, z, dims, _, source = frequency_and_z(data)
     if dims:
         raise DataError(f"zhit takes one spectrum; these data have extra dimensions {dims}: select one or average them first", path=source)
     if freq.size < 6:
@@ -155,7 +140,7 @@ def zhit(data, *, noise_floor: float = 0.01, point: float = 5.0, run: float = 3.
             if i - start >= run_length:
                 flag[start:i] = True
             start = None
-    bands = _bands(freq[order], flag)
+    bands = bands_of_flags(freq[order], flag)
     modulus = np.empty_like(modulus_sorted)
     modulus[order] = modulus_sorted
     residual = np.empty_like(residual_sorted)

@@ -6,9 +6,9 @@ import functools
 import math
 
 import numpy as np
-import xarray as xr
 
 from ...errors import DataError, ParameterError
+from ..problem import frequency_and_z
 from .basis import impedance_integrals, penalty_matrix, rbf_basis
 from .peaks import find_peaks
 from .result import DRTBatchResult, DRTResult
@@ -20,39 +20,6 @@ _ETA = 1e-10  # diagonal added to Γ so that it factors (see tikhonov.py)
 _LOG_LAMBDA_GRID = np.log(np.logspace(-8, 2, 41))
 _LAMBDA_FLOOR = 1e-4  # λ chosen below this is raised to it: see docs/drt.md, "Choosing λ"
 _SAMPLES = 200  # Gaussian draws for the peaks' standard deviations
-
-
-def as_frequency_and_z(data):
-    """(frequency (N,), Z (*extra, N), extra dims, extra coords, source) from a spectrum Dataset,
-    a file path or a (frequency, Z) pair; `DataError` on anything else."""
-    if isinstance(data, (str, bytes)) or hasattr(data, "__fspath__") or isinstance(data, xr.Dataset):
-        from ..problem import open_spectrum
-
-        spectrum = open_spectrum(data)
-        ds, dims = spectrum.data, spectrum.extra_dims
-        z = ds["Z"].transpose(*dims, "frequency")
-        coords = {d: np.asarray(ds[d].values) for d in dims if d in ds.coords}
-        return np.asarray(ds["frequency"].values, float), np.asarray(z.values, complex), dims, coords, spectrum.source
-    try:
-        f, z = data
-    except (TypeError, ValueError):
-        raise DataError(f"expected a spectrum Dataset, a file path or a (frequency, Z) pair, got {type(data).__name__}") from None
-    try:
-        f = np.asarray(f, dtype=float)
-        z = np.asarray(z, dtype=complex)
-    except (TypeError, ValueError) as exc:
-        raise DataError(f"frequency and Z must be numeric arrays ({exc})") from None
-    if f.ndim != 1 or z.ndim < 1 or z.shape[-1] != f.size:
-        raise DataError(f"frequency must be 1-D and Z must end with the frequency axis; got shapes {f.shape} and {z.shape}")
-    bad = np.flatnonzero(~np.isfinite(f) | (f <= 0))
-    if bad.size:
-        raise DataError(f"frequency must be positive and finite; point {bad[0]} is {f[bad[0]]!r}")
-    if np.unique(f).size != f.size:
-        raise DataError("duplicate frequencies")
-    if not np.all(np.isfinite(z)):
-        idx = np.argwhere(~np.isfinite(z))[0]
-        raise DataError(f"Z has a non-finite value at index {tuple(int(i) for i in idx)}")
-    return f, z, tuple(f"dim_{i}" for i in range(z.ndim - 1)), {}, "memory"
 
 
 @functools.lru_cache(maxsize=16)
@@ -165,7 +132,7 @@ def drt(
         if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= low):
             raise ParameterError(f"{name} must be a number ≥ {low:g}, got {value!r}")
 
-    freq, z, dims, coords, source = as_frequency_and_z(data)
+    freq, z, dims, coords, source = frequency_and_z(data)
     if freq.size < 5:
         raise DataError(f"the DRT needs at least 5 frequencies, got {freq.size}", path=source)
     if np.any(np.abs(z) == 0):
