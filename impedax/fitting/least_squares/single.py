@@ -15,11 +15,11 @@ import numpy as np
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ...errors import ParameterError
 from ..problem import WEIGHTINGS, prepare_fit, residual_scale, weights
-from ..statistics import at_noise_floor, information_criteria
+from ..statistics import at_noise_floor, dominant_points, information_criteria
 from .batch import BatchFitResult, fit_batch
 from .order import canonical_order
-from .result import FitResult, fit_result
-from .solvers import better, solver_args, tree_solver, unscale
+from .result import FitResult, fit_result, weighting_notes
+from .solvers import SharedArgs, SpectrumRows, better, solver_args, tree_solver, unscale
 from .starts import SpectrumFeatures, guess_start, multistart
 
 __all__ = ["fit", "FitResult", "BatchFitResult", "WEIGHTINGS", "information_criteria"]
@@ -64,7 +64,10 @@ def fit(
     z = np.asarray(data["Z"].values, complex)
     sigma = np.asarray(data["sigma"].values, float) if "sigma" in data else None
     inv_re, inv_im = weights(z, sigma, weighting, source)
-    single = tree_solver(circuit, registry, max_steps, *table.free_structure)[0]
+    if not isinstance(max_steps, (int, np.integer)) or isinstance(max_steps, bool) or max_steps < 1:
+        raise ParameterError(f"max_steps must be a positive integer, got {max_steps!r}")
+    solvers = tree_solver(circuit, registry, int(max_steps), *table.free_structure)
+    single = solvers[0]
     scale = residual_scale(z, inv_re, inv_im, weighting)
     args = solver_args(table, freq, z, inv_re * scale, inv_im * scale)
     # the data-driven guess alone first; the multistart only when its fit is not at the noise
@@ -76,4 +79,23 @@ def fit(
         out = better(out, unscale(single(starts, args).fetch(), scale))
         used = n_starts
     out = canonical_order(circuit, table, freq, out, registry)
-    return fit_result(circuit, table, freq, z, out, weighting, used, time.perf_counter() - t0, registry)
+    chi2_at_x = one_spectrum_chi2(solvers[4], args)
+    notes = weighting_notes(weighting, freq, *dominant_points(z, inv_re, inv_im))[0] if weighting in ("unit", "proportional") else ()
+    return fit_result(circuit, table, freq, z, out, weighting, used, time.perf_counter() - t0, registry, chi2_at_x=chi2_at_x, extra_notes=notes)
+
+
+def one_spectrum_chi2(chi2_x, args):
+    """``chi2_at_x(points (C, K), spectrum (C,))`` of one spectrum's solver ``args`` (for
+    `result.confirm_bounds`), points padded to a multiple of K + 1 rows: one compilation
+    serves every call."""
+    rows = SpectrumRows(args.z[None], args.inv_w_re[None], args.inv_w_im[None], args.x_fixed[None])
+    shared = SharedArgs(args.freq, args.lower, args.upper)
+    size = args.lower.size + 1
+
+    def chi2_at_x(points, spectrum):
+        c = len(points)
+        padded = -(-c // size) * size
+        at = np.concatenate([points, np.repeat(points[:1], padded - c, axis=0)])
+        return np.asarray(chi2_x(at, np.zeros(padded, np.int32), rows, shared))[:c]
+
+    return chi2_at_x
