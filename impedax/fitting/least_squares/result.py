@@ -234,7 +234,8 @@ def confirm_bounds(table: ParameterTable, values: np.ndarray, sides: np.ndarray,
     """`bound_sides` candidates (B, K) of fits with values (B, P), kept where setting the
     parameter exactly to its bound raises chi² by at most `BOUND_CHI2_FRACTION` of the reduced
     chi² (a bound optimum lowers it or leaves it). ``chi2_at_x(points (C, K), spectrum (C,))``
-    gives the weighted chi² of fit ``spectrum`` at free values ``points``."""
+    gives the weighted chi² of fit ``spectrum`` at free values ``points`` (weights scaled as
+    the solver's, `problem.residual_scale`)."""
     rows, cols = np.nonzero(sides)
     if rows.size == 0:
         return sides
@@ -247,7 +248,8 @@ def confirm_bounds(table: ParameterTable, values: np.ndarray, sides: np.ndarray,
     chi2_fit, chi2_bound = chi2[: fits.size][local], chi2[fits.size :]
     chi2_red = chi2_fit / max(n_residuals - free.size, 1)
     with np.errstate(invalid="ignore"):
-        keep = np.isfinite(chi2_bound) & (chi2_bound - chi2_fit <= BOUND_CHI2_FRACTION * np.maximum(chi2_red, np.finfo(float).tiny))
+        # (plus rounding: residuals of relative size 1e-14 each, for fits to exact data)
+        keep = np.isfinite(chi2_bound) & (chi2_bound - chi2_fit <= BOUND_CHI2_FRACTION * chi2_red + n_residuals * 1e-28)
     out = sides.copy()
     out[rows[~keep], cols[~keep]] = 0
     return out
