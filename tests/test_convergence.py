@@ -133,3 +133,23 @@ def test_dask_path_returns_the_in_memory_flags_and_warnings(rng):
     for name in ("converged", "at_bound"):
         assert (lazy.dataset[name].values == in_memory.dataset[name].values).all()
     assert lazy.summary()["at_bound"] == in_memory.summary()["at_bound"]
+
+
+def test_cli_tables_match_what_they_stand_for():
+    """`impedax --help` lists commands and weightings without importing them: its tables
+    must say what the modules register."""
+    import argparse
+    import importlib
+
+    from impedax.cli import COMMAND_HELP, build_parser
+    from impedax.cli.fit import WEIGHTING_NAMES
+    from impedax.fitting import WEIGHTINGS
+
+    assert WEIGHTING_NAMES == tuple(WEIGHTINGS)
+    sub = argparse.ArgumentParser().add_subparsers()
+    for name in COMMAND_HELP:
+        importlib.import_module(f"impedax.cli.{name}").register(sub)
+    assert {a.dest: a.help for a in sub._choices_actions} == COMMAND_HELP
+    assert build_parser("fit").parse_args(["fit", "x.csv", "--model", "R0", "--max-steps", "7"]).max_steps == 7
+    assert build_parser("diagnose").parse_args(["diagnose", "x.csv", "--model", "R0", "--max-steps", "9"]).max_steps == 9
+    assert build_parser("refine").parse_args(["refine", "x.csv", "--model", "R0"]).max_steps == 4  # effects added

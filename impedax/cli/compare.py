@@ -4,12 +4,13 @@ from __future__ import annotations
 
 
 def register(sub) -> None:
-    from .fit import add_fit_options
+    from .fit import add_fit_options, add_max_steps_option
 
     p = sub.add_parser("compare", help="fit several models to one spectrum and compare them", description="Fit each MODEL to DATA and compare rms_rel, reduced chi², AIC, BIC, Akaike weights and F-tests of nested models.")
     p.add_argument("data", metavar="DATA", help="spectrum file")
     p.add_argument("--model", action="append", required=True, metavar="MODEL", help="circuit text (give two or more)")
     add_fit_options(p)
+    add_max_steps_option(p, 400, "each model's fit")
     p.add_argument("--json", action="store_true", help="print the comparison as JSON")
     p.add_argument("--plot", metavar="FILE.png", help="save data with every model's fit and residuals")
     p.set_defaults(run=run)
@@ -20,6 +21,7 @@ def run(args) -> int:
     from ..io.atomic import check_writable
     from ..errors import ParameterError
     from .common import emit_json
+    from .fit import check_max_steps
 
     if len(args.model) < 2:
         raise ParameterError("compare needs at least two --model options")
@@ -29,7 +31,8 @@ def run(args) -> int:
     data = load(args.data)
     if any(d != "frequency" for d in data["Z"].dims):
         raise ParameterError("compare works on one spectrum; this data has extra dimensions (average them or select one)")
-    comparison = compare([fit(c, data, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax) for c in circuits])
+    max_steps = check_max_steps(args.max_steps)
+    comparison = compare([fit(c, data, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps) for c in circuits])
     if args.plot:
         from ..plotting import save_figure
 

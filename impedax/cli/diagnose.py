@@ -5,7 +5,7 @@ from __future__ import annotations
 
 def register(sub) -> None:
     from .common import add_model_argument
-    from .fit import add_fit_options
+    from .fit import add_fit_options, add_max_steps_option
 
     p = sub.add_parser(
         "diagnose",
@@ -16,6 +16,7 @@ def register(sub) -> None:
     p.add_argument("data", metavar="DATA", help="spectrum file with one spectrum")
     add_model_argument(p)
     add_fit_options(p)
+    add_max_steps_option(p, 100, "the candidate fits (the baseline fit keeps its own)")
     p.add_argument("--effects", metavar="ID,ID", help="only these effects (comma-separated ids; default: all)")
     p.add_argument("--noise", type=float, metavar="REL", help="relative noise level per component (default: from sigma or the KK residuals)")
     p.add_argument("--json", action="store_true", help="machine-readable output")
@@ -36,12 +37,13 @@ def run(args) -> int:
     from ..fitting.problem import open_spectrum
     from ..io.atomic import check_writable
     from .common import emit_json
+    from .fit import check_max_steps
 
     if args.plot:
         check_writable(args.plot)
     effects = effects_option(args.effects)
     data = open_spectrum(args.data, fmin=args.fmin, fmax=args.fmax, single="diagnose").data
-    result = diagnose(data, args.model, effects=effects, noise=args.noise, weighting=args.weighting)
+    result = diagnose(data, args.model, effects=effects, noise=args.noise, weighting=args.weighting, max_steps=check_max_steps(args.max_steps))
     if args.plot:
         from ..plotting import save_figure
 

@@ -5,13 +5,33 @@ from __future__ import annotations
 import sys
 
 
+# the names of `impedax.fitting.WEIGHTINGS`, here so that building the parser does not import
+# the fitting code (and JAX): `impedax --help` starts at once (tests/test_cli_basic.py checks)
+WEIGHTING_NAMES = ("unit", "modulus", "proportional", "sigma")
+
+
+def add_weighting_option(p, help_text: str) -> None:
+    p.add_argument("--weighting", default="modulus", choices=WEIGHTING_NAMES, help=help_text)
+
+
 def add_fit_options(p) -> None:
     """Options shared by fit-like commands (fit, compare, diagnose, refine)."""
-    from ..fitting import WEIGHTINGS
-
-    p.add_argument("--weighting", default="modulus", choices=list(WEIGHTINGS), help="; ".join(f"{k}: {v}" for k, v in WEIGHTINGS.items()))
+    add_weighting_option(p, "residual weighting (default modulus: relative errors; see impedax.fitting.WEIGHTINGS)")
     p.add_argument("--fmin", type=float, help="ignore data below this frequency [Hz]")
     p.add_argument("--fmax", type=float, help="ignore data above this frequency [Hz]")
+
+
+def add_max_steps_option(p, default: int, what: str) -> None:
+    """``--max-steps N``: the Levenberg–Marquardt step limit of ``what``."""
+    p.add_argument("--max-steps", type=int, default=default, metavar="N", help=f"Levenberg–Marquardt step limit of {what} (default {default})")
+
+
+def check_max_steps(n: int) -> int:
+    from ..errors import ParameterError
+
+    if n < 1:
+        raise ParameterError(f"--max-steps must be at least 1, got {n}")
+    return n
 
 
 def register(sub) -> None:
@@ -23,6 +43,7 @@ def register(sub) -> None:
     p.add_argument("--fix", action="append", metavar="NAME=VALUE", help="hold a parameter fixed (repeatable)")
     p.add_argument("--init", action="append", metavar="NAME=VALUE", help="starting value (repeatable); others are guessed from the data")
     add_fit_options(p)
+    add_max_steps_option(p, 400, "each fit")
     p.add_argument("--json", action="store_true", help="print the result as JSON")
     p.add_argument("--plot", metavar="FILE.png", help="save data vs model with residuals")
     p.add_argument("--out", metavar="FILE.nc", help="save the full result (parameters, covariance, spectra) as netCDF")
@@ -39,7 +60,7 @@ def run(args) -> int:
         if path:
             check_writable(path)
     data = load(args.data)
-    result = fit(args.model, data, init=parse_assignments(args.init, "--init"), fixed=parse_assignments(args.fix, "--fix"), weighting=args.weighting, fmin=args.fmin, fmax=args.fmax)
+    result = fit(args.model, data, init=parse_assignments(args.init, "--init"), fixed=parse_assignments(args.fix, "--fix"), weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=check_max_steps(args.max_steps))
     if args.out:
         write_netcdf(result.to_xarray(), args.out)
     if args.plot:

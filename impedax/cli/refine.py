@@ -15,9 +15,9 @@ def register(sub) -> None:
     p.add_argument("data", metavar="DATA", help="spectrum file with one spectrum")
     add_model_argument(p)
     p.add_argument("--max-steps", type=int, default=4, metavar="N", help="most effects to add (default 4)")
-    from ..fitting import WEIGHTINGS
+    from .fit import add_weighting_option
 
-    p.add_argument("--weighting", default="modulus", choices=list(WEIGHTINGS), help="fit weighting (as impedax fit; default modulus)")
+    add_weighting_option(p, "fit weighting (as impedax fit; default modulus)")
     p.add_argument("--effects", metavar="ID,ID", help="only these effects (comma-separated ids; default: all)")
     p.add_argument("--noise", type=float, metavar="REL", help="relative noise level per component (default: from sigma or the KK residuals)")
     p.add_argument("--json", action="store_true", help="machine-readable output")
