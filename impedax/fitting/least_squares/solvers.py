@@ -405,6 +405,9 @@ def _make(residuals, max_steps: int, peaks=None):
     residual_u = residuals.residual_u
     first = min(HANDOVER_STEPS, max_steps)
 
+    def normal_only(u, args):  # (without what `_residuals` keeps for the single-phase solver)
+        return (*residuals.normal_u(u, args)[:3], ())
+
     def solve_one(u0, args, steps):
         sol = optx.least_squares(residual_u, solver, u0, args, max_steps=steps, throw=False)
         r = residual_u(sol.value, args)
@@ -420,7 +423,7 @@ def _make(residuals, max_steps: int, peaks=None):
         falling, and single and batch fits then stop on the same rule."""
         u, _, code, steps = solve_one(u0, args, first)
         rest = jnp.where(code == int(SolverStatus.MAX_STEPS), max_steps - first, 0)
-        u_lm, _, done, steps_lm = levenberg_marquardt(residuals.normal_u, u, args, rest, inline_solve=False)
+        u_lm, _, done, steps_lm = levenberg_marquardt(normal_only, u, args, rest, inline_solve=False)
         handed = rest > 0
         code = jnp.where(handed, jnp.where(done, int(SolverStatus.CONVERGED), int(SolverStatus.MAX_STEPS)), code)
         return jnp.where(handed, u_lm, u), code, steps + steps_lm
