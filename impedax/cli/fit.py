@@ -74,6 +74,6 @@ def run(args) -> int:
         emit_json(result.summary())
     else:
         print(result.report())
-    if hasattr(result, "converged") and not result.converged:
+    if args.json and hasattr(result, "converged") and not result.converged:  # (the report's status line says it)
         print(f"impedax fit: warning: the fit did not converge: {result.message}", file=sys.stderr)
     return 0

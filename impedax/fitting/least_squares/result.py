@@ -152,7 +152,8 @@ class FitResult:
                 rel = f"{abs(e / v) * 100:.2g}%" if v and np.isfinite(e) else "—"
                 lines.append(f"{n:<{width}}  {v:>12.5g}  {e:>10.3g}  {rel:>8}  {specs[n].unit}")
         for w in self.warnings:
-            lines.append(f"warning: {w}")
+            if not w.startswith("fit did not converge"):  # the status line says it once
+                lines.append(f"warning: {w}")
         return "\n".join(lines)
 
     def derive(self, fn, freq=None):
