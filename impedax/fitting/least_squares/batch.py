@@ -99,7 +99,7 @@ def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n
     b = z.shape[0]
     inv_re, inv_im = weights(z, sigma, weighting, source)
     features = SpectrumFeatures(freq, z)
-    _, lanes, finish, chi2_at, chi2_x = tree_solver(circuit, registry, max_steps, *table.free_structure)
+    _, lanes, finish, chi2_at, chi2_x, _ = tree_solver(circuit, registry, max_steps, *table.free_structure)
     scale = residual_scale(z, inv_re, inv_im, weighting)
     free = table.free_index
     shared = SharedArgs(np.asarray(freq, float), table.lower[free], table.upper[free])

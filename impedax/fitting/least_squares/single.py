@@ -9,6 +9,7 @@ from __future__ import annotations
 import time
 from typing import Mapping
 
+import jax
 import xarray as xr
 import numpy as np
 
@@ -19,7 +20,7 @@ from ..statistics import at_noise_floor, dominant_points, information_criteria
 from .batch import BatchFitResult, fit_batch
 from .order import canonical_order
 from .result import FitResult, fit_result, weighting_notes
-from .solvers import SharedArgs, SpectrumRows, better, solver_args, tree_solver, unscale
+from .solvers import HANDOVER_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, better, solver_args, tree_solver, unscale
 from .starts import SpectrumFeatures, guess_start, multistart
 
 __all__ = ["fit", "FitResult", "BatchFitResult", "WEIGHTINGS", "information_criteria"]
@@ -78,10 +79,22 @@ def fit(
         starts = multistart(circuit, table, features, n_starts, seed, registry)
         out = better(out, unscale(single(starts, args).fetch(), scale))
         used = n_starts
+    out = resumed(out, solvers[5], args, scale, max_steps)
     out = canonical_order(circuit, table, freq, out, registry)
     chi2_at_x = one_spectrum_chi2(solvers[4], args)
     notes = weighting_notes(weighting, freq, *dominant_points(z, inv_re, inv_im))[0] if weighting in ("unit", "proportional") else ()
     return fit_result(circuit, table, freq, z, out, weighting, used, time.perf_counter() - t0, registry, chi2_at_x=chi2_at_x, extra_notes=notes)
+
+
+def resumed(out, resume, args, scale, max_steps: int):
+    """``out``, or, when optimistix stopped at `HANDOVER_STEPS` unfinished, its solve continued
+    with the batch lanes' cost rule for the rest of ``max_steps`` (docs/fitting.md,
+    "Convergence and bounds")."""
+    if int(out.code) != SolverStatus.MAX_STEPS or max_steps <= HANDOVER_STEPS:
+        return out
+    more = jax.device_get(resume(np.asarray(out.u), args, max_steps - HANDOVER_STEPS))
+    more = unscale(SolverOutput(*(None if v is None else np.asarray(v) for v in more))._replace(chi2_starts=np.zeros(1)), scale)
+    return more._replace(steps=int(out.steps) + int(more.steps), steps_total=int(out.steps_total) + int(more.steps), chi2_starts=out.chi2_starts)
 
 
 def one_spectrum_chi2(chi2_x, args):

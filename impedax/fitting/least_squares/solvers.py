@@ -125,7 +125,8 @@ class SolverOutput(NamedTuple):
     parameter space (2N, K) for the covariance, the model's impedance ``z_model``, the
     `SolverStatus` ``code``, ``steps`` of the final solve, the chi² of every screened start
     ``chi2_starts``, all steps ``steps_total``, and (tree solvers) the peak frequencies of
-    exchangeable blocks ``peaks`` (`order.canonical_order`)."""
+    exchangeable blocks ``peaks`` (`order.canonical_order`), and (tree solvers) the solver's
+    point ``u`` (`tree_solver`'s ``resume``)."""
 
     x: Any
     chi2: Any
@@ -136,6 +137,7 @@ class SolverOutput(NamedTuple):
     chi2_starts: Any = None
     steps_total: Any = None
     peaks: Any = None
+    u: Any = None  # the solver's point, where a solve may be resumed (tree solvers)
 
     def row(self, i) -> "SolverOutput":
         """The outputs of spectrum ``i`` (or rows ``i``) of a batch."""
@@ -393,9 +395,17 @@ def _make_single_phase_batch(residuals, max_steps: int):
     return solve_batch
 
 
-def _make(residuals, max_steps: int, peaks=None):
+def _normal_only(residuals: Residuals):
+    """``normal_u`` without what `_residuals` keeps for the single-phase solver."""
+    return lambda u, args: (*residuals.normal_u(u, args)[:3], ())
+
+
+def _make(residuals, max_steps: int, peaks=None, *, handover: bool = True):
     """optimistix Levenberg–Marquardt from one or many starts: every start for
-    `SCREEN_STEPS` steps together, then the best to convergence (`HANDOVER_STEPS`)."""
+    `SCREEN_STEPS` steps together, then the best to convergence (`HANDOVER_STEPS`).
+    ``handover=False``: the best for `HANDOVER_STEPS` steps at most, returning its point ``u``
+    to be resumed apart (`tree_solver`), so that the cost rule's loop is compiled only for the
+    circuits whose fits need it."""
     # steps below 1e-6 relative (1e-9 absolute), far inside any stderr: on the benchmark's
     # spectra the values agree with a 1e-7 stop to 2e-10 relative, with 8 % fewer steps (the
     # last ones only wander at that level). The damped step (JᵀJ + λI)δ = −Jᵀr is solved by
@@ -404,9 +414,7 @@ def _make(residuals, max_steps: int, peaks=None):
     solver = optx.LevenbergMarquardt(rtol=1e-6, atol=1e-9, linear_solver=lx.Normal(lx.Cholesky()))
     residual_u = residuals.residual_u
     first = min(HANDOVER_STEPS, max_steps)
-
-    def normal_only(u, args):  # (without what `_residuals` keeps for the single-phase solver)
-        return (*residuals.normal_u(u, args)[:3], ())
+    normal_only = _normal_only(residuals)
 
     def solve_one(u0, args, steps):
         sol = optx.least_squares(residual_u, solver, u0, args, max_steps=steps, throw=False)
@@ -422,6 +430,8 @@ def _make(residuals, max_steps: int, peaks=None):
         logistic α → +∞) never meets optimistix's step-size criterion, but its cost stops
         falling, and single and batch fits then stop on the same rule."""
         u, _, code, steps = solve_one(u0, args, first)
+        if not handover:
+            return u, code, steps
         rest = jnp.where(code == int(SolverStatus.MAX_STEPS), max_steps - first, 0)
         u_lm, _, done, steps_lm = levenberg_marquardt(normal_only, u, args, rest, inline_solve=False)
         handed = rest > 0
@@ -437,7 +447,8 @@ def _make(residuals, max_steps: int, peaks=None):
         else:
             chi2s, steps1, u_best = jnp.zeros(1), jnp.zeros(1, jnp.int64), u0s[0]
         u, code, steps = solve_final(u_best, args)
-        return _finish(u, args, residuals, peaks)._replace(code=code, steps=steps, chi2_starts=chi2s, steps_total=jnp.sum(steps1) + steps)
+        out = _finish(u, args, residuals, peaks)._replace(code=code, steps=steps, chi2_starts=chi2s, steps_total=jnp.sum(steps1) + steps)
+        return out if handover else out._replace(u=u)
 
     return solve
 
@@ -449,7 +460,9 @@ def tree_solver(circuit: Circuit, registry: Registry, max_steps: int, free: tupl
     from one or many starts (`_make`); ``lanes(n_lanes)`` gives the `lm.work_queue` solver
     for batches, ``finish(u, spectrum, rows, shared)`` the outputs at solutions,
     ``chi2(...)`` the weighted chi² at points u and ``chi2_x(...)`` at free parameter values
-    x (all vmapped over points)."""
+    x (all vmapped over points), and ``resume(u, args, rest)``: `single`'s solve, stopped
+    after `HANDOVER_STEPS`, continued for ``rest`` more steps with the batch lanes' iteration
+    and cost rule (`lm.levenberg_marquardt`); jitted apart, compiled only when a fit needs it."""
     compiled = compile_circuit(circuit, registry)
     residuals = tree_residuals(compiled, free, kinds)
     peaks = structural_peaks(compiled.circuit, compiled.parameter_names, registry)
@@ -467,7 +480,14 @@ def tree_solver(circuit: Circuit, registry: Registry, max_steps: int, free: tupl
     chi2_x = per_spectrum(lambda x_free, args: jnp.sum(residuals.residual_x(x_free, args) ** 2))
 
     lanes = functools.lru_cache(maxsize=4)(lambda n_lanes: jax.jit(work_queue(residuals.normal_u, n_lanes, combine), static_argnames="drain"))
-    return one_transfer(_make(residuals, max_steps, peaks)), lanes, finish, chi2, chi2_x
+
+    @jax.jit
+    def resume(u, args, rest):
+        u, _, done, steps = levenberg_marquardt(residuals.normal_u, u, args, rest, inline_solve=False)
+        code = jnp.where(done, int(SolverStatus.CONVERGED), int(SolverStatus.MAX_STEPS))
+        return _finish(u, args, residuals, peaks)._replace(code=code, steps=steps, u=u)
+
+    return one_transfer(_make(residuals, max_steps, peaks, handover=False)), lanes, finish, chi2, chi2_x, resume
 
 
 def one_transfer(solve: Callable):
