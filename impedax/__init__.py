@@ -8,93 +8,142 @@ If JAX has not run anything yet, it also gets one CPU device per core (`_use_eve
 
 from __future__ import annotations
 
+import importlib as _importlib
 import os as _os
+import sys as _sys
 
-import jax as _jax
-
+# JAX itself is imported when a name of impedax is first used (PEP 562, below), so
+# ``impedax --help`` and ``--version`` start at once. Until then, the settings go through the
+# environment variables JAX reads when it is imported (and which child processes inherit);
+# a JAX already imported gets them through its config.
+_jax_imported = "jax" in _sys.modules
 if _os.environ.get("IMPEDAX_NO_X64") != "1":
-    _jax.config.update("jax_enable_x64", True)
+    if _jax_imported:
+        _sys.modules["jax"].config.update("jax_enable_x64", True)
+    else:
+        _os.environ["JAX_ENABLE_X64"] = "1"
+
+
+def _cpu_device_count() -> int:
+    chosen = _os.environ.get("IMPEDAX_CPU_DEVICES")
+    try:
+        return int(chosen) if chosen else min(len(_os.sched_getaffinity(0)), 8)
+    except (ValueError, AttributeError):
+        return min(_os.cpu_count() or 1, 8)
 
 
 def _use_every_core() -> None:
     """One JAX CPU device per core, so batch fits run their chunks in parallel (XLA runs one
     computation at a time per device). Only before JAX has started and when neither the user
     nor XLA_FLAGS chose a count; ``IMPEDAX_CPU_DEVICES=N`` sets it (1: leave JAX alone)."""
-    chosen = _os.environ.get("IMPEDAX_CPU_DEVICES")
-    current = getattr(_jax.config, "jax_num_cpu_devices", None)  # (JAX ≥ 0.4.38)
-    if current is None or current != -1 or "xla_force_host_platform_device_count" in _os.environ.get("XLA_FLAGS", ""):
+    if "xla_force_host_platform_device_count" in _os.environ.get("XLA_FLAGS", ""):
         return
-    try:
-        count = int(chosen) if chosen else min(len(_os.sched_getaffinity(0)), 8)
-    except (ValueError, AttributeError):
-        count = min(_os.cpu_count() or 1, 8)
+    count = _cpu_device_count()
+    if not _jax_imported:
+        if count > 1 and "JAX_NUM_CPU_DEVICES" not in _os.environ:
+            _os.environ["JAX_NUM_CPU_DEVICES"] = str(count)
+        return
+    jax = _sys.modules["jax"]
+    current = getattr(jax.config, "jax_num_cpu_devices", None)  # (JAX ≥ 0.4.38)
+    if current is None or current != -1:
+        return
     if count > 1:
         try:
-            _jax.config.update("jax_num_cpu_devices", count)
+            jax.config.update("jax_num_cpu_devices", count)
         except RuntimeError:  # JAX already ran something: its devices stay as they are
             pass
 
 
 _use_every_core()
 
-from .circuits import (  # noqa: E402
-    Circuit as Circuit,
-    CircuitProgram as CircuitProgram,
-    DCPath as DCPath,
-    DEFAULT_REGISTRY as DEFAULT_REGISTRY,
-    Element as Element,
-    ElementSpec as ElementSpec,
-    Parallel as Parallel,
-    ParameterSpec as ParameterSpec,
-    Registry as Registry,
-    Series as Series,
-    StartRole as StartRole,
-    compile_circuit as compile_circuit,
-    current_through as current_through,
-    from_cdc as from_cdc,
-    from_impedance_py as from_impedance_py,
-    parse as parse,
-    to_cdc as to_cdc,
-    to_impedance_py as to_impedance_py,
-    voltage_across as voltage_across,
-)
-from .data import log_frequencies as log_frequencies, make_spectrum as make_spectrum, validate_spectrum as validate_spectrum  # noqa: E402
-from .errors import (  # noqa: E402
-    CircuitError as CircuitError,
-    CircuitSyntaxError as CircuitSyntaxError,
-    DataError as DataError,
-    FitError as FitError,
-    ImpedaxError as ImpedaxError,
-    ParameterError as ParameterError,
-)
-from .diagram import draw_circuit as draw_circuit, save_circuit_diagram as save_circuit_diagram  # noqa: E402
-from .fitting import (  # noqa: E402
-    DEFAULT_EFFECTS as DEFAULT_EFFECTS,
-    BatchFitResult as BatchFitResult,
-    Diagnosis as Diagnosis,
-    FitResult as FitResult,
-    KKBatchResult as KKBatchResult,
-    KKResult as KKResult,
-    Posterior as Posterior,
-    Prior as Prior,
-    Refinement as Refinement,
-    Reparametrization as Reparametrization,
-    compare as compare,
-    derive as derive,
-    diagnose as diagnose,
-    drt as drt,
-    DRTResult as DRTResult,
-    fit as fit,
-    gap_thickness_reparametrization as gap_thickness_reparametrization,
-    kk_test as kk_test,
-    kk_test_batch as kk_test_batch,
-    refine as refine,
-    sample as sample,
-    stratum_corneum_reparametrization as stratum_corneum_reparametrization,
-    zhit as zhit,
-    ZHITResult as ZHITResult,
-)
-from .io import load as load, save as save  # noqa: E402
-from . import models as models  # noqa: E402
+# public name → (module, attribute); attribute None: the module itself
+_LAZY = {
+    "Circuit": (".circuits", "Circuit"),
+    "CircuitProgram": (".circuits", "CircuitProgram"),
+    "DCPath": (".circuits", "DCPath"),
+    "DEFAULT_REGISTRY": (".circuits", "DEFAULT_REGISTRY"),
+    "Element": (".circuits", "Element"),
+    "ElementSpec": (".circuits", "ElementSpec"),
+    "Parallel": (".circuits", "Parallel"),
+    "ParameterSpec": (".circuits", "ParameterSpec"),
+    "Registry": (".circuits", "Registry"),
+    "Series": (".circuits", "Series"),
+    "StartRole": (".circuits", "StartRole"),
+    "compile_circuit": (".circuits", "compile_circuit"),
+    "current_through": (".circuits", "current_through"),
+    "from_cdc": (".circuits", "from_cdc"),
+    "from_impedance_py": (".circuits", "from_impedance_py"),
+    "parse": (".circuits", "parse"),
+    "to_cdc": (".circuits", "to_cdc"),
+    "to_impedance_py": (".circuits", "to_impedance_py"),
+    "voltage_across": (".circuits", "voltage_across"),
+    "log_frequencies": (".data", "log_frequencies"),
+    "make_spectrum": (".data", "make_spectrum"),
+    "validate_spectrum": (".data", "validate_spectrum"),
+    "CircuitError": (".errors", "CircuitError"),
+    "CircuitSyntaxError": (".errors", "CircuitSyntaxError"),
+    "DataError": (".errors", "DataError"),
+    "FitError": (".errors", "FitError"),
+    "ImpedaxError": (".errors", "ImpedaxError"),
+    "ParameterError": (".errors", "ParameterError"),
+    "draw_circuit": (".diagram", "draw_circuit"),
+    "save_circuit_diagram": (".diagram", "save_circuit_diagram"),
+    "DEFAULT_EFFECTS": (".fitting", "DEFAULT_EFFECTS"),
+    "BatchFitResult": (".fitting", "BatchFitResult"),
+    "Diagnosis": (".fitting", "Diagnosis"),
+    "FitResult": (".fitting", "FitResult"),
+    "KKBatchResult": (".fitting", "KKBatchResult"),
+    "KKResult": (".fitting", "KKResult"),
+    "Posterior": (".fitting", "Posterior"),
+    "Prior": (".fitting", "Prior"),
+    "Refinement": (".fitting", "Refinement"),
+    "Reparametrization": (".fitting", "Reparametrization"),
+    "compare": (".fitting", "compare"),
+    "derive": (".fitting", "derive"),
+    "diagnose": (".fitting", "diagnose"),
+    "drt": (".fitting", "drt"),
+    "DRTResult": (".fitting", "DRTResult"),
+    "fit": (".fitting", "fit"),
+    "gap_thickness_reparametrization": (".fitting", "gap_thickness_reparametrization"),
+    "kk_test": (".fitting", "kk_test"),
+    "kk_test_batch": (".fitting", "kk_test_batch"),
+    "refine": (".fitting", "refine"),
+    "sample": (".fitting", "sample"),
+    "stratum_corneum_reparametrization": (".fitting", "stratum_corneum_reparametrization"),
+    "zhit": (".fitting", "zhit"),
+    "ZHITResult": (".fitting", "ZHITResult"),
+    "load": (".io", "load"),
+    "save": (".io", "save"),
+    # the subpackages, so that ``import impedax`` then ``impedax.io.write_netcdf`` works as before
+    "circuits": (".circuits", None),
+    "cli": (".cli", None),
+    "constants": (".constants", None),
+    "data": (".data", None),
+    "diagram": (".diagram", None),
+    "errors": (".errors", None),
+    "fitting": (".fitting", None),
+    "io": (".io", None),
+    "models": (".models", None),
+    "plotting": (".plotting", None),
+}
+
+
+def __getattr__(name: str):
+    """Import what a public name needs on first use (PEP 562)."""
+    try:
+        module, attribute = _LAZY[name]
+    except KeyError:
+        raise AttributeError(f"module 'impedax' has no attribute {name!r}") from None
+    value = _importlib.import_module(module, __name__)
+    value = value if attribute is None else getattr(value, attribute)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_LAZY))
+
+
+__all__ = sorted(_LAZY)
 
 __version__ = "0.1.0"

@@ -4,36 +4,33 @@ from __future__ import annotations
 
 
 def register(sub) -> None:
-    from .fit import add_fit_options
+    from .fit import add_fit_options, add_max_steps_option
 
     p = sub.add_parser("compare", help="fit several models to one spectrum and compare them", description="Fit each MODEL to DATA and compare rms_rel, reduced chi², AIC, BIC, Akaike weights and F-tests of nested models.")
     p.add_argument("data", metavar="DATA", help="spectrum file")
     p.add_argument("--model", action="append", required=True, metavar="MODEL", help="circuit text (give two or more)")
     add_fit_options(p)
+    add_max_steps_option(p, 400, "each model's fit")
     p.add_argument("--json", action="store_true", help="print the comparison as JSON")
     p.add_argument("--plot", metavar="FILE.png", help="save data with every model's fit and residuals")
     p.set_defaults(run=run)
 
 
 def run(args) -> int:
-    from .. import compare, fit, load, parse
-    from ..io.atomic import check_writable
+    from .. import compare, fit, parse
     from ..errors import ParameterError
-    from .common import emit_json
+    from ..fitting.problem import open_spectrum
+    from .common import check_outputs, emit_json, save_outputs
+    from .fit import check_max_steps
 
     if len(args.model) < 2:
         raise ParameterError("compare needs at least two --model options")
     circuits = [parse(m) for m in args.model]  # all syntax errors before any fitting
-    if args.plot:
-        check_writable(args.plot)
-    data = load(args.data)
-    if any(d != "frequency" for d in data["Z"].dims):
-        raise ParameterError("compare works on one spectrum; this data has extra dimensions (average them or select one)")
-    comparison = compare([fit(c, data, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax) for c in circuits])
-    if args.plot:
-        from ..plotting import save_figure
-
-        save_figure(comparison.plot(), args.plot)
+    check_outputs(args.plot)
+    max_steps = check_max_steps(args.max_steps)
+    data = open_spectrum(args.data, single="compare").data
+    comparison = compare([fit(c, data, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps) for c in circuits])
+    save_outputs(plot=args.plot, figure=comparison.plot)
     if args.json:
         out = comparison.summary()
         out["models"] = [dict(r.summary(), **{k: row[k] for k in ("delta_aic", "akaike_weight")}) for r, row in zip(comparison.fits, comparison.rows)]

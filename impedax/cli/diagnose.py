@@ -4,6 +4,8 @@ from __future__ import annotations
 
 
 def register(sub) -> None:
+    from .fit import add_max_steps_option
+
     p = add_spectrum_command(
         sub,
         "diagnose",
@@ -11,6 +13,7 @@ def register(sub) -> None:
         description="Fit MODEL to DATA, test the data (Kramers-Kronig), find the bands where the residuals are structured, "
         "try every effect of the catalog at every sensible place (one batched fit) and rank them by AIC. See docs/diagnosis.md.",
     )
+    add_max_steps_option(p, 100, "the candidate fits (the baseline fit keeps its own)")
     add_diagnosis_options(p, plot_help="save data vs model with the failing bands shaded and the best suggestion")
     p.set_defaults(run=run)
 
@@ -29,10 +32,11 @@ def add_spectrum_command(sub, name: str, *, help: str, description: str):
 
 def add_diagnosis_options(p, *, plot_help: str) -> None:
     """Options shared by diagnose and refine: --effects, --noise, --json, --plot."""
+    from .common import add_output_options
+
     p.add_argument("--effects", metavar="ID,ID", help="only these effects (comma-separated ids; default: all)")
     p.add_argument("--noise", type=float, metavar="REL", help="relative noise level per component (default: from sigma or the KK residuals)")
-    p.add_argument("--json", action="store_true", help="machine-readable output")
-    p.add_argument("--plot", metavar="FILE.png", help=plot_help)
+    add_output_options(p, json="machine-readable output", plot=plot_help)
 
 
 def effects_option(text):
@@ -43,28 +47,15 @@ def effects_option(text):
     return DEFAULT_EFFECTS.select([t.strip() for t in text.split(",") if t.strip()])
 
 
-def emit_result(result, args) -> None:
-    """Save ``result.plot()`` to --plot, then print ``result.summary()`` as JSON (--json) or
-    ``result.report()``."""
-    from .common import emit_json
-
-    if args.plot:
-        from ..plotting import save_figure
-
-        save_figure(result.plot(), args.plot)
-    if args.json:
-        emit_json(result.summary())
-    else:
-        print(result.report())
-
-
 def run(args) -> int:
     from ..fitting import diagnose
-    from ..io.atomic import check_writable
+    from .common import check_outputs, print_result, save_outputs
+    from .fit import check_max_steps
 
-    if args.plot:
-        check_writable(args.plot)
+    check_outputs(args.plot)
+    max_steps = check_max_steps(args.max_steps)
     effects = effects_option(args.effects)
-    result = diagnose(args.data, args.model, effects=effects, noise=args.noise, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax)
-    emit_result(result, args)
+    result = diagnose(args.data, args.model, effects=effects, noise=args.noise, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps)
+    save_outputs(plot=args.plot, figure=result.plot)
+    print_result(result, args.json)
     return 0

@@ -5,17 +5,37 @@ from __future__ import annotations
 import sys
 
 
+# the names of `impedax.fitting.WEIGHTINGS`, here so that building the parser does not import
+# the fitting code (and JAX): `impedax --help` starts at once (tests/test_cli_basic.py checks)
+WEIGHTING_NAMES = ("unit", "modulus", "proportional", "sigma")
+
+
+def add_weighting_option(p, help_text: str) -> None:
+    p.add_argument("--weighting", default="modulus", choices=WEIGHTING_NAMES, help=help_text)
+
+
 def add_fit_options(p) -> None:
     """Options shared by fit-like commands (fit, compare, diagnose, refine)."""
-    from ..fitting import WEIGHTINGS
-
-    p.add_argument("--weighting", default="modulus", choices=list(WEIGHTINGS), help="; ".join(f"{k}: {v}" for k, v in WEIGHTINGS.items()))
+    add_weighting_option(p, "residual weighting (default modulus: relative errors; see impedax.fitting.WEIGHTINGS)")
     p.add_argument("--fmin", type=float, help="ignore data below this frequency [Hz]")
     p.add_argument("--fmax", type=float, help="ignore data above this frequency [Hz]")
 
 
+def add_max_steps_option(p, default: int, what: str) -> None:
+    """``--max-steps N``: the Levenberg–Marquardt step limit of ``what``."""
+    p.add_argument("--max-steps", type=int, default=default, metavar="N", help=f"Levenberg–Marquardt step limit of {what} (default {default})")
+
+
+def check_max_steps(n: int) -> int:
+    from ..errors import ParameterError
+
+    if n < 1:
+        raise ParameterError(f"--max-steps must be at least 1, got {n}")
+    return n
+
+
 def register(sub) -> None:
-    from .common import add_model_argument
+    from .common import add_model_argument, add_output_options
 
     p = sub.add_parser("fit", help="least-squares fit of a circuit to a spectrum", description="Fit MODEL to the spectrum in DATA (CSV, netCDF or an instrument file). Data with extra dimensions (trials, ...) are fitted together.")
     p.add_argument("data", metavar="DATA", help="spectrum file")
@@ -23,36 +43,24 @@ def register(sub) -> None:
     p.add_argument("--fix", action="append", metavar="NAME=VALUE", help="hold a parameter fixed (repeatable)")
     p.add_argument("--init", action="append", metavar="NAME=VALUE", help="starting value (repeatable); others are guessed from the data")
     add_fit_options(p)
-    p.add_argument("--json", action="store_true", help="print the result as JSON")
-    p.add_argument("--plot", metavar="FILE.png", help="save data vs model with residuals")
-    p.add_argument("--out", metavar="FILE.nc", help="save the full result (parameters, covariance, spectra) as netCDF")
+    add_max_steps_option(p, 400, "each fit")
+    add_output_options(p, plot="save data vs model with residuals", out="save the full result (parameters, covariance, spectra) as netCDF")
     p.set_defaults(run=run)
 
 
 def run(args) -> int:
     from .. import fit, load
-    from ..io.atomic import check_writable
-    from ..io import write_netcdf
-    from .common import emit_json, parse_assignments
+    from .common import check_outputs, parse_assignments, print_result, save_outputs
 
-    for path in (args.plot, args.out):
-        if path:
-            check_writable(path)
+    check_outputs(args.plot, args.out)
+    max_steps = check_max_steps(args.max_steps)
     data = load(args.data)
-    result = fit(args.model, data, init=parse_assignments(args.init, "--init"), fixed=parse_assignments(args.fix, "--fix"), weighting=args.weighting, fmin=args.fmin, fmax=args.fmax)
-    if args.out:
-        write_netcdf(result.to_xarray(), args.out)
-    if args.plot:
-        from ..plotting import save_figure
-
-        if hasattr(result, "plot"):
-            save_figure(result.plot(), args.plot)
-        else:
-            print("impedax fit: --plot draws single spectra; this data has extra dimensions (plot skipped)", file=sys.stderr)
-    if args.json:
-        emit_json(result.summary())
-    else:
-        print(result.report())
-    if hasattr(result, "converged") and not result.converged:
+    result = fit(args.model, data, init=parse_assignments(args.init, "--init"), fixed=parse_assignments(args.fix, "--fix"), weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps)
+    single = hasattr(result, "plot")
+    save_outputs(out=args.out, dataset=result.to_xarray, plot=args.plot if single else None, figure=getattr(result, "plot", None))
+    if args.plot and not single:
+        print("impedax fit: --plot draws single spectra; this data has extra dimensions (plot skipped)", file=sys.stderr)
+    print_result(result, args.json)
+    if args.json and single and not result.converged:  # (the report's status line says it)
         print(f"impedax fit: warning: the fit did not converge: {result.message}", file=sys.stderr)
     return 0

@@ -21,14 +21,14 @@ def register(sub) -> None:
 def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting import refine
-    from ..io.atomic import check_writable
-    from .diagnose import effects_option, emit_result
+    from .common import check_outputs, print_result, save_outputs
+    from .diagnose import effects_option
 
-    if args.plot:
-        check_writable(args.plot)
+    check_outputs(args.plot)
     if args.max_steps < 0:
         raise ParameterError(f"--max-steps must be 0 or more, got {args.max_steps}")
     effects = effects_option(args.effects)
     result = refine(args.data, args.model, max_steps=args.max_steps, effects=effects, weighting=args.weighting, noise=args.noise, fmin=args.fmin, fmax=args.fmax)
-    emit_result(result, args)
+    save_outputs(plot=args.plot, figure=result.plot)
+    print_result(result, args.json)
     return 0

@@ -8,7 +8,7 @@ from typing import Sequence
 
 import numpy as np
 
-__all__ = ["information_criteria", "covariances", "null_sets", "uncertainties", "at_noise_floor", "SINGULAR_RATIO_LIMIT"]
+__all__ = ["information_criteria", "covariances", "null_sets", "uncertainties", "at_noise_floor", "dominant_points", "SINGULAR_RATIO_LIMIT", "DOMINANT_FRACTION"]
 
 # a Jacobian direction whose singular value is below this fraction of the largest is not
 # determined by the data (its parameters are reported together)
@@ -122,3 +122,36 @@ def at_noise_floor(freq, z, z_model, inv_re, inv_im, code) -> np.ndarray:
         rho = num / den
     ok = (np.asarray(code) == 0) & np.isfinite(den) & (den > 0) & (rho < WHITENESS_LIMIT)
     return ok & (len(order) >= MIN_POINTS_FOR_WHITENESS)
+
+
+# a weighting leaves a fit dominated by a few points when at most this fraction of its 2N
+# residuals (at least one) carry more than half of the weight, measured against modulus
+# weighting (relative errors, every residual alike): (|Z_k| / w_k)² per residual
+DOMINANT_FRACTION = 0.05
+
+
+def dominant_points(z, inv_re, inv_im) -> tuple[np.ndarray, np.ndarray]:
+    """Points (…, N) whose residuals carry most of the weight, and the share they carry (…).
+
+    Residual k weighs (|Z_k|·(1/w_k))² relative to modulus weighting; the heaviest residuals
+    are taken until they hold more than half of the total; when they number at most
+    `DOMINANT_FRACTION` of all 2N (at least one), their points are returned, else none.
+    Proportional weighting on a component crossing zero is the usual cause."""
+    z = np.asarray(z)
+    n = z.shape[-1]
+    modulus = np.abs(z)
+    with np.errstate(all="ignore"):
+        weight = np.concatenate([(np.asarray(inv_re) * modulus) ** 2, (np.asarray(inv_im) * modulus) ** 2], axis=-1)
+        weight = np.where(np.isfinite(weight), weight, 0.0)
+        order = np.argsort(-weight, axis=-1, kind="stable")
+        cumulative = np.cumsum(np.take_along_axis(weight, order, axis=-1), axis=-1)
+        total = cumulative[..., -1:]
+        needed = np.sum(cumulative <= 0.5 * total, axis=-1) + 1  # residuals until past half
+    limit = max(1, int(math.floor(DOMINANT_FRACTION * 2 * n)))
+    dominated = (needed <= limit) & (total[..., 0] > 0)
+    heavy = np.zeros(weight.shape, bool)
+    np.put_along_axis(heavy, order, np.arange(2 * n) < needed[..., None], axis=-1)
+    heavy &= dominated[..., None]
+    with np.errstate(all="ignore"):
+        share = np.where(dominated, np.sum(np.where(heavy, weight, 0.0), axis=-1) / total[..., 0], 0.0)
+    return heavy[..., :n] | heavy[..., n:], share

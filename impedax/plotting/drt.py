@@ -3,7 +3,6 @@ the DRT fit on Nyquist and Bode, and Z-HIT's reconstruction. Every function retu
 
 from __future__ import annotations
 
-import math
 
 import matplotlib.pyplot as plt
 import numpy as np
@@ -27,7 +26,7 @@ def plot_gamma(ax, result, *, overlay=None, label="data DRT", overlay_label=None
         deltas = getattr(overlay, "deltas", ())
         top = max(float(np.max(result.gamma)), 1e-300)
         for i, (tau, r) in enumerate(deltas):
-            ax.vlines(tau, 0, top, color="tab:orange", lw=1.2, ls=":", label=f"R‖C deltas (R in labels)" if i == 0 else None)
+            ax.vlines(tau, 0, top, color="tab:orange", lw=1.2, ls=":", label="R‖C deltas (R in labels)" if i == 0 else None)
             ax.annotate(f"δ {r:.3g} Ω", (tau, top), textcoords="offset points", xytext=(2, -10), fontsize=7, color="tab:orange")
     lo, hi = result.window
     ax.axvspan(result.tau.min(), lo, color="0.9", lw=0)

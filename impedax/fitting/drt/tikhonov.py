@@ -67,7 +67,7 @@ def _criteria(s, beta, rss0, log_lam, n_rows):
 def _parabola_min(log_lam, values, k):
     """Vertex of the parabola through grid points k−1, k, k+1 (k clipped inside the grid)."""
     k = jnp.clip(k, 1, log_lam.size - 2)
-    x0, x1, x2 = log_lam[k - 1], log_lam[k], log_lam[k + 1]
+    x0, x1 = log_lam[k - 1], log_lam[k]
     y0, y1, y2 = values[k - 1], values[k], values[k + 1]
     denom = y0 - 2 * y1 + y2
     h = x1 - x0

@@ -19,9 +19,9 @@ import xarray as xr
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ..parameters import ParameterTable
 from ..problem import residual_scale, weights
-from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, information_criteria, null_sets
+from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, dominant_points, information_criteria, null_sets
 from .order import canonical_order
-from .result import fit_notes, fit_result, stack_notes
+from .result import bound_sides, confirm_bounds, fit_notes, fit_result, stack_notes, weighting_notes
 from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, better, tree_solver, unscale
 from .starts import SpectrumFeatures, guess_start, multistart, to_solver_space
 
@@ -35,8 +35,8 @@ class BatchFitResult:
     """Fits of one circuit to every spectrum of a Dataset with extra dimensions. Immutable.
 
     ``dataset`` holds ``value``/``stderr`` over (param, *dims), ``rms_rel``, ``chi2``,
-    ``chi2_red``, ``aic``, ``bic``, ``converged`` over dims and ``Z_model`` over
-    (*dims, frequency). ``warnings`` maps a spectrum's index (a dict of coordinates, as text)
+    ``chi2_red``, ``aic``, ``bic``, ``converged`` over dims, ``at_bound`` (whether a parameter
+    is at a natural or user bound) over (param, *dims) and ``Z_model`` over (*dims, frequency). ``warnings`` maps a spectrum's index (a dict of coordinates, as text)
     to its warnings.
     """
 
@@ -77,6 +77,7 @@ class BatchFitResult:
             },
             "rms_rel_median": float(ds["rms_rel"].median()),
             "converged_fraction": float(ds["converged"].mean()),
+            "at_bound": {str(p): int(n) for p, n in zip(ds["param"].values, ds["at_bound"].values.reshape(ds.sizes["param"], -1).sum(axis=1)) if n},
             "warnings": sorted({w for ws in self.warnings.values() for w in ws}),
         }
 
@@ -88,8 +89,9 @@ class BatchFitResult:
         return "\n".join(lines)
 
 
-def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source) -> tuple[SolverOutput, np.ndarray]:
-    """Solver outputs (arrays over B) for a stack of spectra z (B, N), and the starts used.
+def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source) -> tuple[SolverOutput, np.ndarray, "_LaneRunner"]:
+    """Solver outputs (arrays over B) for a stack of spectra z (B, N), the starts used, and
+    the lane runner (for chi² at other points).
 
     As `fit`: every spectrum from its data-driven guess first, then the multistart for those
     whose fit is not at the noise level (their starts screened for `SCREEN_STEPS` steps, the
@@ -97,13 +99,13 @@ def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n
     b = z.shape[0]
     inv_re, inv_im = weights(z, sigma, weighting, source)
     features = SpectrumFeatures(freq, z)
-    _, lanes, finish, chi2_at = tree_solver(circuit, registry, max_steps, *table.free_structure)
+    _, lanes, finish, chi2_at, chi2_x, _ = tree_solver(circuit, registry, max_steps, *table.free_structure)
     scale = residual_scale(z, inv_re, inv_im, weighting)
     free = table.free_index
     shared = SharedArgs(np.asarray(freq, float), table.lower[free], table.upper[free])
     x_fixed = np.where(np.isnan(table.values), 1.0, table.values)
     rows = SpectrumRows(z, inv_re * scale[:, None], inv_im * scale[:, None], np.broadcast_to(x_fixed, (b, x_fixed.size)))
-    solver = _LaneRunner(lanes, finish, chi2_at, rows, shared)
+    solver = _LaneRunner(lanes, finish, chi2_at, chi2_x, rows, shared)
 
     guesses = guess_start(circuit, table, features, registry)
     if b >= REFERENCE_MIN_SPECTRA:
@@ -126,7 +128,7 @@ def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n
             if theirs is not None:
                 mine[poor] = theirs  # (`outputs` gives arrays of our own)
         used[poor] = n_starts
-    return out, used
+    return out, used, solver
 
 
 # batches of at least this many spectra also try the solution of a reference spectrum as start
@@ -140,7 +142,7 @@ def _with_reference_start(guesses, solver, circuit, table, freq, z, sigma, **opt
     the lower chi² on its data."""
     log_mag = np.log(np.abs(z))
     typical = int(np.argmin(np.sum((log_mag - np.median(log_mag, axis=0)) ** 2, axis=1)))
-    reference, _ = _solve_stack(circuit, table, freq, z[typical : typical + 1], None if sigma is None else sigma[typical : typical + 1], **options)
+    reference, _, _ = _solve_stack(circuit, table, freq, z[typical : typical + 1], None if sigma is None else sigma[typical : typical + 1], **options)
     if not np.isfinite(reference.chi2[0]):
         return guesses
     u_ref = np.broadcast_to(to_solver_space(table, reference.x[0]), guesses.shape)
@@ -155,8 +157,8 @@ class _LaneRunner:
     serves any batch size; at least one chunk per core, dispatched together so they run in
     parallel), then continues problems left open by the many-lane pass on a few lanes."""
 
-    def __init__(self, lanes, finish, chi2, rows: SpectrumRows, shared: SharedArgs):
-        self.lanes, self.finish, self.chi2, self.rows, self.shared = lanes, finish, chi2, rows, shared
+    def __init__(self, lanes, finish, chi2, chi2_x, rows: SpectrumRows, shared: SharedArgs):
+        self.lanes, self.finish, self.chi2, self.chi2_x, self.rows, self.shared = lanes, finish, chi2, chi2_x, rows, shared
         self._placed: dict = {}
         self._shared_placed: dict = {}
 
@@ -218,6 +220,11 @@ class _LaneRunner:
         parts = self._per_spectrum(lambda *a: tuple(self.chi2(u, *a[-3:]) for u in a[:-3]), [np.asarray(u, float) for u in points], spectrum)
         return [np.nan_to_num(np.concatenate([p[i] for p in parts]), nan=np.inf) for i in range(len(points))]
 
+    def chi2_at_x(self, points, spectrum) -> np.ndarray:
+        """Weighted chi² of spectra ``spectrum`` at free parameter values ``points`` (C, K)."""
+        parts = self._per_spectrum(self.chi2_x, [np.asarray(points, float)], spectrum)
+        return np.concatenate(parts)
+
     def outputs(self, u, spectrum, done, steps, steps_total) -> SolverOutput:
         """Solver outputs at solutions ``u`` of spectra ``spectrum`` (as `solvers._finish`), each
         a new array (not a view of another or of an argument: callers may update them)."""
@@ -232,7 +239,7 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
     and its warnings, without a FitResult per spectrum: the uncertainties of all spectra in
     one stacked computation (`covariances`), their warnings too (`stack_notes`); only spectra
     that overflowed or did not converge go through `fit_result`."""
-    out, used = _solve_stack(circuit, table, freq, z, sigma, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
+    out, used, solver = _solve_stack(circuit, table, freq, z, sigma, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
     out = canonical_order(circuit, table, freq, out, registry)
     b, k, n_res = z.shape[0], len(table.free_names), 2 * len(freq)
     chi2 = np.array(out.chi2, float)  # copies: device_get's arrays are read-only
@@ -248,23 +255,33 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
         cov, corr, sv, vt = covariances(jac, chi2 / (n_res - k) if n_res > k else np.full(b, np.nan), weighting)
         stderr[:, table.free_index] = np.sqrt(np.clip(np.einsum("bii->bi", cov), 0, None))
         singular = np.any(sv < SINGULAR_RATIO_LIMIT * sv[:, :1], axis=1)
+    # parameters at a bound: as `fit_result`, the candidates of all regular fits confirmed at once
+    sides = np.zeros((b, k), np.int8)
+    regular = np.flatnonzero(~odd)
+    sides[regular] = confirm_bounds(table, values[regular], bound_sides(table, values[regular], stderr[regular]), lambda p, s: solver.chi2_at_x(p, regular[s]), n_res)
     # the exact warning text of a single fit: for most spectra built for the stack at once,
     # for those with near-null directions (rare) one by one
     plain = np.flatnonzero(~odd & ~singular)
-    for row, note in stack_notes(table, values[plain], stderr[plain], corr[plain]).items():
+    for row, note in stack_notes(table, values[plain], stderr[plain], corr[plain], sides[plain]).items():
         notes[plain[row]] = note
     names = table.names
     for i in np.flatnonzero(~odd & singular).tolist():
         groups, ratio = null_sets(sv[i], vt[i], table.free_names)
-        notes[i] = fit_notes(table, dict(zip(names, values[i].tolist())), dict(zip(names, stderr[i].tolist())), corr[i], groups, ratio, finite=True, converged=True, message="")
+        notes[i] = fit_notes(table, dict(zip(names, values[i].tolist())), dict(zip(names, stderr[i].tolist())), corr[i], groups, ratio, finite=True, converged=True, message="", sides=sides[i])
+    weighting_extra = weighting_notes(weighting, freq, *dominant_points(z, *weights(z, sigma, weighting, source))) if weighting in ("unit", "proportional") else [()] * b
     z_model = np.array(out.z_model)
     for i in np.flatnonzero(odd):
-        r = fit_result(circuit, table, freq, z[i], out.row(i), weighting, int(used[i]), 0.0, registry)
+        r = fit_result(circuit, table, freq, z[i], out.row(i), weighting, int(used[i]), 0.0, registry, chi2_at_x=lambda p, s, i=i: solver.chi2_at_x(p, s + i), extra_notes=weighting_extra[i])
         values[i] = [r.values[n] for n in names]
         stderr[i] = [r.stderr[n] for n in names]
         chi2[i], converged[i], z_model[i], notes[i] = r.chi2, r.converged, r.z_model, r.warnings
+        sides[i] = [n in r.at_bound for n in table.free_names]
+    for i in np.flatnonzero(~odd):
+        notes[i] = notes[i] + weighting_extra[i]
+    at_bound = np.zeros(values.shape)
+    at_bound[:, table.free_index] = sides != 0
     stats = np.stack([chi2, converged.astype(float), np.asarray(out.steps_total, float)], axis=-1)
-    return np.concatenate([values, stderr, stats, z_model.real, z_model.imag], axis=-1), notes
+    return np.concatenate([values, stderr, at_bound, stats, z_model.real, z_model.imag], axis=-1), notes
 
 
 # lane solver shapes: many lanes for batches, few for small sets and stragglers (each pair is
@@ -288,35 +305,41 @@ def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weig
         z2 = np.asarray(z_block).reshape(-1, n_freq)
         s2 = None if sigma_block is None else np.asarray(sigma_block).reshape(-1, n_freq)
         packed, notes = _packed_stack(circuit, table, freq, z2, s2, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
-        return packed.reshape(*shape, -1), notes
+        note_array = np.empty(len(notes), object)  # (tuples as elements, not as a further axis)
+        note_array[:] = notes
+        return packed.reshape(*shape, -1), note_array.reshape(shape)
 
-    width = 2 * n_par + len(_STATS) + 2 * n_freq
+    width = 3 * n_par + len(_STATS) + 2 * n_freq
     if z_da.chunks is not None:
         inputs = [z_da] + ([sigma_da] if sigma_da is not None else [])
         with python_warnings.catch_warnings():
             # dask builds its empty "meta" output by casting the complex input's meta to float
             python_warnings.simplefilter("ignore", np.exceptions.ComplexWarning)
-            packed = xr.apply_ufunc(
-                lambda *blocks: fit_block(*blocks)[0],
+            packed_da, notes_da = xr.apply_ufunc(
+                fit_block,
                 *inputs,
                 input_core_dims=[["frequency"]] * len(inputs),
-                output_core_dims=[["fit_output"]],
+                output_core_dims=[["fit_output"], []],
                 dask="parallelized",
-                output_dtypes=[np.float64],
+                output_dtypes=[np.float64, object],
                 dask_gufunc_kwargs={"output_sizes": {"fit_output": width}, "allow_rechunk": True},
-            ).compute()
-        packed = packed.transpose(*extra, "fit_output").values
+            )
+            computed = xr.Dataset({"packed": packed_da, "notes": notes_da}).compute()  # one pass over the graph
+        packed = computed["packed"].transpose(*extra, "fit_output").values
+        notes = computed["notes"].transpose(*extra).values.ravel().tolist()
     else:
         packed, notes = fit_block(z_da.values, None if sigma_da is None else sigma_da.values)
-        labels = [[f"{d}={c}" for c in (data[d].values if d in data.coords else range(n))] for d, n in zip(extra, z_da.shape)]
-        for idx, note in zip(np.ndindex(*z_da.shape[:-1]), notes):
-            if note:
-                warnings[", ".join(label[i] for label, i in zip(labels, idx))] = note
+        notes = notes.ravel().tolist()
+    labels = [[f"{d}={c}" for c in (data[d].values if d in data.coords else range(n))] for d, n in zip(extra, z_da.shape)]
+    for idx, note in zip(np.ndindex(*z_da.shape[:-1]), notes):
+        if note:
+            warnings[", ".join(label[i] for label, i in zip(labels, idx))] = tuple(note)
     coords = {d: data[d].values for d in extra if d in data.coords}
     values = packed[..., :n_par]
     stderr = packed[..., n_par : 2 * n_par]
-    chi2, converged, n_eval = (packed[..., 2 * n_par + i] for i in range(3))
-    off = 2 * n_par + 3
+    at_bound = packed[..., 2 * n_par : 3 * n_par] != 0
+    chi2, converged, n_eval = (packed[..., 3 * n_par + i] for i in range(3))
+    off = 3 * n_par + 3
     z_model = packed[..., off : off + n_freq] + 1j * packed[..., off + n_freq :]
     z_data = z_da.values if z_da.chunks is None else z_da.compute().values
     with np.errstate(all="ignore"):  # overflowed fits carry +inf
@@ -331,6 +354,7 @@ def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weig
             "value": (("param", *extra), param_first(values)),
             "stderr": (("param", *extra), param_first(stderr)),
             "fixed": ("param", table.fixed),
+            "at_bound": (("param", *extra), param_first(at_bound)),
             "chi2": (extra, chi2),
             "chi2_red": (extra, chi2 / (n_res - k) if n_res > k else np.full(chi2.shape, math.nan)),
             "aic": (extra, aic),

@@ -7,6 +7,7 @@ from __future__ import annotations
 import collections
 import math
 from dataclasses import dataclass, field
+from typing import Callable
 
 import numpy as np
 import xarray as xr
@@ -16,11 +17,20 @@ from ..parameters import ParameterTable
 from ..statistics import information_criteria, uncertainties
 from .solvers import SolverOutput, SolverStatus
 
-__all__ = ["FitResult", "fit_result", "fit_notes", "stack_notes", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT"]
+__all__ = [
+    "FitResult", "fit_result", "fit_notes", "stack_notes", "bound_sides", "confirm_bounds", "at_bound_names", "weighting_notes",
+    "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION", "BOUND_CHI2_FRACTION",
+]
 
 # identifiability thresholds (documented in the README)
 CORRELATION_LIMIT = 0.99
 RELATIVE_ERROR_LIMIT = 1.0
+# a free parameter is at a bound (docs/fitting.md, "Convergence and bounds") when the bound lies
+# within this many standard errors (or within 1e-4 relative of a nonzero bound) ...
+BOUND_STDERR_FRACTION = 1.0
+# ... and setting it exactly to the bound changes chi² by less than this fraction of the
+# reduced chi² (a hundredth of one residual's share): the data cannot tell the fit from the bound
+BOUND_CHI2_FRACTION = 1e-2
 
 
 @dataclass(frozen=True, eq=False)
@@ -52,6 +62,7 @@ class FitResult:
     warnings: tuple[str, ...] = ()
     n_starts: int = 1
     elapsed_s: float = 0.0
+    at_bound: tuple[str, ...] = ()  # free parameters at a natural or user bound
     registry: Registry = field(default=DEFAULT_REGISTRY, repr=False)
 
     @property
@@ -115,6 +126,7 @@ class FitResult:
             "bic": self.bic,
             "converged": self.converged,
             "message": self.message,
+            "at_bound": list(self.at_bound),
             "warnings": list(self.warnings),
             "weighting": self.weighting,
             "n_evaluations": self.n_evaluations,
@@ -140,7 +152,8 @@ class FitResult:
                 rel = f"{abs(e / v) * 100:.2g}%" if v and np.isfinite(e) else "—"
                 lines.append(f"{n:<{width}}  {v:>12.5g}  {e:>10.3g}  {rel:>8}  {specs[n].unit}")
         for w in self.warnings:
-            lines.append(f"warning: {w}")
+            if not w.startswith("fit did not converge"):  # the status line says it once
+                lines.append(f"warning: {w}")
         return "\n".join(lines)
 
     def derive(self, fn, freq=None):
@@ -170,6 +183,7 @@ class FitResult:
                 "value": ("param", [self.values[n] for n in names]),
                 "stderr": ("param", [self.stderr[n] for n in names]),
                 "fixed": ("param", [self.fixed[n] for n in names]),
+                "at_bound": ("param", [n in self.at_bound for n in names]),
                 "covariance": (("free_param", "free_param_2"), self.covariance),
                 "correlation": (("free_param", "free_param_2"), self.correlation),
                 "Z": ("frequency", self.z_data, {"units": "ohm"}),
@@ -194,11 +208,77 @@ def undetermined_note(name: str, relative_error: float) -> str:
     return f"{name} has a relative standard error of {relative_error * 100:.3g}%: it is not determined by the data"
 
 
-def bound_note(name: str, value: float, bound: float, side: str) -> str:
-    return f"{name} = {value:.6g} sits at its {side} bound {bound:g}"
+def bound_note(name: str, bound: float, side: str) -> str:
+    return f"{name} is at its {side} bound {bound:g}"
 
 
-def diagnose_identifiability(names, values, stderr, corr, null_sets, ratio) -> list[str]:
+def bound_sides(table: ParameterTable, values: np.ndarray, stderr: np.ndarray | None) -> np.ndarray:
+    """Candidates for a bound, (…, K) over the free parameters: +1 upper, −1 lower, 0 none,
+    from values and stderr (…, P): within 1e-4 relative of a nonzero finite bound, or (given
+    stderr) within `BOUND_STDERR_FRACTION` standard errors of a finite bound (a series R
+    creeping to 0 under the log transform, a CPE α to 1 under the logistic)."""
+    free = table.free_index
+    v = np.asarray(values, float)[..., free]
+    lo, hi = table.lower[free], table.upper[free]
+    with np.errstate(invalid="ignore", over="ignore"):
+        near_hi = np.isfinite(hi) & (np.abs(v - hi) <= 1e-4 * np.maximum(np.abs(hi), 1e-12))
+        near_lo = (lo > 0) & np.isfinite(lo) & (np.abs(v - lo) <= 1e-4 * lo)
+        if stderr is not None:
+            e = np.asarray(stderr, float)[..., free]
+            within = np.isfinite(e) & (e > 0)
+            near_hi |= within & np.isfinite(hi) & (np.abs(hi - v) <= BOUND_STDERR_FRACTION * e)
+            near_lo |= within & np.isfinite(lo) & (np.abs(v - lo) <= BOUND_STDERR_FRACTION * e)
+    return np.where(near_hi, 1, np.where(near_lo, -1, 0)).astype(np.int8)
+
+
+def confirm_bounds(table: ParameterTable, values: np.ndarray, sides: np.ndarray, chi2_at_x: Callable, n_residuals: int) -> np.ndarray:
+    """`bound_sides` candidates (B, K) of fits with values (B, P), kept where setting the
+    parameter exactly to its bound raises chi² by at most `BOUND_CHI2_FRACTION` of the reduced
+    chi² (a bound optimum lowers it or leaves it). ``chi2_at_x(points (C, K), spectrum (C,))``
+    gives the weighted chi² of fit ``spectrum`` at free values ``points`` (weights scaled as
+    the solver's, `problem.residual_scale`)."""
+    rows, cols = np.nonzero(sides)
+    if rows.size == 0:
+        return sides
+    free = table.free_index
+    x = np.asarray(values, float)[:, free]
+    fits, local = np.unique(rows, return_inverse=True)
+    moved = x[rows].copy()
+    moved[np.arange(rows.size), cols] = np.where(sides[rows, cols] > 0, table.upper[free][cols], table.lower[free][cols])
+    chi2 = np.asarray(chi2_at_x(np.concatenate([x[fits], moved]), np.concatenate([fits, rows])), float)
+    chi2_fit, chi2_bound = chi2[: fits.size][local], chi2[fits.size :]
+    chi2_red = chi2_fit / max(n_residuals - free.size, 1)
+    with np.errstate(invalid="ignore"):
+        # (plus rounding: residuals of relative size 1e-14 each, for fits to exact data)
+        keep = np.isfinite(chi2_bound) & (chi2_bound - chi2_fit <= BOUND_CHI2_FRACTION * chi2_red + n_residuals * 1e-28)
+    out = sides.copy()
+    out[rows[~keep], cols[~keep]] = 0
+    return out
+
+
+def at_bound_names(table: ParameterTable, sides: np.ndarray) -> tuple[str, ...]:
+    """The free parameters of one fit whose side (K,) is nonzero."""
+    return tuple(n for n, side in zip(table.free_names, np.asarray(sides).tolist()) if side)
+
+
+def weighting_notes(weighting: str, freq, points: np.ndarray, share) -> list[tuple[str, ...]]:
+    """The weighting warning of fits whose weight sits on a few points (`dominant_points`
+    over (B, N), shares (B,)): one tuple per fit, empty where the weighting is even."""
+    out: list[tuple[str, ...]] = []
+    freq = np.asarray(freq, float)
+    for row, s in zip(np.atleast_2d(points), np.atleast_1d(share).tolist()):
+        if not row.any():
+            out.append(())
+            continue
+        where = ", ".join(f"{f:.4g} Hz" for f in np.sort(freq[row]))
+        out.append((
+            f"the {weighting} weighting gives {int(row.sum())} of {row.size} points {s * 100:.0f}% of the weight ({where}): "
+            "the fit is dominated by them; consider weighting='modulus'",
+        ))
+    return out
+
+
+def diagnose_identifiability(names, values, stderr, corr, null_sets, ratio, at_bound=()) -> list[str]:
     """Identifiability warnings."""
     notes = []
     flagged: set[frozenset] = set()
@@ -213,31 +293,32 @@ def diagnose_identifiability(names, values, stderr, corr, null_sets, ratio) -> l
             notes.append(correlated_note(names[i], names[j], corr[i, j]))
     for n in names:
         v, e = values[n], stderr[n]
-        if v != 0 and (not math.isfinite(e) or abs(e / v) > RELATIVE_ERROR_LIMIT) and not any(n in g for g in flagged):
+        if v != 0 and n not in at_bound and (not math.isfinite(e) or abs(e / v) > RELATIVE_ERROR_LIMIT) and not any(n in g for g in flagged):
             notes.append(undetermined_note(n, abs(e / v)))
     return notes
 
 
-def fit_notes(table: ParameterTable, values: dict, stderr: dict, corr, null_sets, ratio, *, finite: bool, converged: bool, message: str) -> tuple[str, ...]:
-    """The warnings of a fit: not converged, identifiability (`diagnose_identifiability`),
-    parameters at a bound."""
+def fit_notes(table: ParameterTable, values: dict, stderr: dict, corr, null_sets, ratio, *, finite: bool, converged: bool, message: str, sides=None) -> tuple[str, ...]:
+    """The warnings of a fit: not converged, identifiability (`diagnose_identifiability`; no
+    relative-error note for a parameter at a bound), parameters at a bound (``sides`` (K,),
+    `confirm_bounds`; by default the candidates of `bound_sides` without stderr)."""
     free_names = table.free_names
-    notes = diagnose_identifiability(list(free_names), values, stderr, corr, null_sets, ratio) if finite else []
     free = table.free_index
-    for nm, lo, hi in zip(free_names, table.lower[free].tolist(), table.upper[free].tolist()):
-        v = values[nm]
-        if math.isfinite(hi) and abs(v - hi) <= 1e-4 * max(abs(hi), 1e-12):
-            notes.append(bound_note(nm, v, hi, "upper"))
-        elif lo > 0 and abs(v - lo) <= 1e-4 * lo:
-            notes.append(bound_note(nm, v, lo, "lower"))
+    if sides is None:
+        sides = bound_sides(table, np.array([values[n] for n in table.names]), None)
+    at_bound = at_bound_names(table, sides)
+    notes = diagnose_identifiability(list(free_names), values, stderr, corr, null_sets, ratio, at_bound) if finite else []
+    for nm, side, lo, hi in zip(free_names, np.asarray(sides).tolist(), table.lower[free].tolist(), table.upper[free].tolist()):
+        if side:
+            notes.append(bound_note(nm, hi, "upper") if side > 0 else bound_note(nm, lo, "lower"))
     if not converged:
         notes.insert(0, f"fit did not converge: {message}")
     return tuple(notes)
 
 
-def stack_notes(table: ParameterTable, values: np.ndarray, stderr: np.ndarray, corr: np.ndarray) -> dict[int, tuple[str, ...]]:
+def stack_notes(table: ParameterTable, values: np.ndarray, stderr: np.ndarray, corr: np.ndarray, sides: np.ndarray | None = None) -> dict[int, tuple[str, ...]]:
     """`fit_notes` of a stack of converged fits without near-null directions: values and
-    stderr (B, P), correlations (B, K, K). The conditions are evaluated for all fits at once
+    stderr (B, P), correlations (B, K, K), bound sides (B, K) (as `fit_notes`). The conditions are evaluated for all fits at once
     and text is built only for the notes due, in `fit_notes`' order; fits without notes are
     left out of the returned {row: notes}."""
     names = table.free_names
@@ -250,21 +331,27 @@ def stack_notes(table: ParameterTable, values: np.ndarray, stderr: np.ndarray, c
         notes[b].append(correlated_note(names[i], names[j], r))
     with np.errstate(all="ignore"):
         relative_error = np.abs(e / v)
-        undetermined = (v != 0) & (~np.isfinite(e) | (relative_error > RELATIVE_ERROR_LIMIT))
+    if sides is None:
+        sides = bound_sides(table, values, None)
+    with np.errstate(all="ignore"):
+        undetermined = (v != 0) & (sides == 0) & (~np.isfinite(e) | (relative_error > RELATIVE_ERROR_LIMIT))
     for b, i in np.argwhere(undetermined).tolist():
         notes[b].append(undetermined_note(names[i], float(relative_error[b, i])))
     lo, hi = table.lower[free], table.upper[free]
-    with np.errstate(invalid="ignore"):
-        at_upper = np.isfinite(hi) & (np.abs(v - hi) <= 1e-4 * np.maximum(np.abs(hi), 1e-12))
-        at_lower = ~at_upper & (lo > 0) & (np.abs(v - lo) <= 1e-4 * lo)
-    for b, i in np.argwhere(at_upper | at_lower).tolist():
-        bound, side = (hi[i], "upper") if at_upper[b, i] else (lo[i], "lower")
-        notes[b].append(bound_note(names[i], float(v[b, i]), float(bound), side))
+    for b, i in np.argwhere(sides != 0).tolist():
+        bound, side = (hi[i], "upper") if sides[b, i] > 0 else (lo[i], "lower")
+        notes[b].append(bound_note(names[i], float(bound), side))
     return {b: tuple(n) for b, n in notes.items()}
 
 
-def fit_result(circuit, table: ParameterTable, freq, z, out: SolverOutput, weighting: str, n_starts: int, elapsed: float, registry: Registry) -> FitResult:
-    """The `FitResult` of one spectrum's `SolverOutput`: uncertainties, status and warnings."""
+def fit_result(
+    circuit, table: ParameterTable, freq, z, out: SolverOutput, weighting: str, n_starts: int, elapsed: float, registry: Registry,
+    *, chi2_at_x: Callable | None = None, extra_notes: tuple[str, ...] = (),
+) -> FitResult:
+    """The `FitResult` of one spectrum's `SolverOutput`: uncertainties, status and warnings.
+    ``chi2_at_x`` (as `confirm_bounds`, for this spectrum as number 0) lets parameters be
+    found at a bound by their standard errors; without it only values within 1e-4 of a nonzero
+    bound are. ``extra_notes`` (e.g. `weighting_notes`) follow the others."""
     names = table.names
     free_names = table.free_names
     x = out.x
@@ -295,7 +382,12 @@ def fit_result(circuit, table: ParameterTable, freq, z, out: SolverOutput, weigh
         message = f"converged in {int(out.steps)} steps ({start})"
     else:
         message = code.message
-    notes = fit_notes(table, values, stderr, corr, null_sets, ratio, finite=finite, converged=converged, message=message)
+    x_all = np.array([values[nm] for nm in names])[None]
+    if finite and chi2_at_x is not None:
+        sides = confirm_bounds(table, x_all, bound_sides(table, x_all, np.array([stderr[nm] for nm in names])[None]), chi2_at_x, n)[0]
+    else:
+        sides = bound_sides(table, x_all, None)[0]
+    notes = fit_notes(table, values, stderr, corr, null_sets, ratio, finite=finite, converged=converged, message=message, sides=sides) + tuple(extra_notes)
     return FitResult(
         circuit=circuit,
         values=values,
@@ -315,5 +407,6 @@ def fit_result(circuit, table: ParameterTable, freq, z, out: SolverOutput, weigh
         warnings=notes,
         n_starts=n_starts,
         elapsed_s=elapsed,
+        at_bound=at_bound_names(table, sides),
         registry=registry,
     )

@@ -9,17 +9,18 @@ from __future__ import annotations
 import time
 from typing import Mapping
 
+import jax
 import xarray as xr
 import numpy as np
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ...errors import ParameterError
 from ..problem import WEIGHTINGS, prepare_fit, residual_scale, weights
-from ..statistics import at_noise_floor, information_criteria
+from ..statistics import at_noise_floor, dominant_points, information_criteria
 from .batch import BatchFitResult, fit_batch
 from .order import canonical_order
-from .result import FitResult, fit_result
-from .solvers import better, solver_args, tree_solver, unscale
+from .result import FitResult, fit_result, weighting_notes
+from .solvers import HANDOVER_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, better, solver_args, tree_solver, unscale
 from .starts import SpectrumFeatures, guess_start, multistart
 
 __all__ = ["fit", "FitResult", "BatchFitResult", "WEIGHTINGS", "information_criteria"]
@@ -64,7 +65,10 @@ def fit(
     z = np.asarray(data["Z"].values, complex)
     sigma = np.asarray(data["sigma"].values, float) if "sigma" in data else None
     inv_re, inv_im = weights(z, sigma, weighting, source)
-    single = tree_solver(circuit, registry, max_steps, *table.free_structure)[0]
+    if not isinstance(max_steps, (int, np.integer)) or isinstance(max_steps, bool) or max_steps < 1:
+        raise ParameterError(f"max_steps must be a positive integer, got {max_steps!r}")
+    solvers = tree_solver(circuit, registry, int(max_steps), *table.free_structure)
+    single = solvers[0]
     scale = residual_scale(z, inv_re, inv_im, weighting)
     args = solver_args(table, freq, z, inv_re * scale, inv_im * scale)
     # the data-driven guess alone first; the multistart only when its fit is not at the noise
@@ -75,5 +79,36 @@ def fit(
         starts = multistart(circuit, table, features, n_starts, seed, registry)
         out = better(out, unscale(single(starts, args).fetch(), scale))
         used = n_starts
+    out = resumed(out, solvers[5], args, scale, max_steps)
     out = canonical_order(circuit, table, freq, out, registry)
-    return fit_result(circuit, table, freq, z, out, weighting, used, time.perf_counter() - t0, registry)
+    chi2_at_x = one_spectrum_chi2(solvers[4], args)
+    notes = weighting_notes(weighting, freq, *dominant_points(z, inv_re, inv_im))[0] if weighting in ("unit", "proportional") else ()
+    return fit_result(circuit, table, freq, z, out, weighting, used, time.perf_counter() - t0, registry, chi2_at_x=chi2_at_x, extra_notes=notes)
+
+
+def resumed(out, resume, args, scale, max_steps: int):
+    """``out``, or, when optimistix stopped at `HANDOVER_STEPS` unfinished, its solve continued
+    with the batch lanes' cost rule for the rest of ``max_steps`` (docs/fitting.md,
+    "Convergence and bounds")."""
+    if int(out.code) != SolverStatus.MAX_STEPS or max_steps <= HANDOVER_STEPS:
+        return out
+    more = jax.device_get(resume(np.asarray(out.u), args, max_steps - HANDOVER_STEPS))
+    more = unscale(SolverOutput(*(None if v is None else np.asarray(v) for v in more))._replace(chi2_starts=np.zeros(1)), scale)
+    return more._replace(steps=int(out.steps) + int(more.steps), steps_total=int(out.steps_total) + int(more.steps), chi2_starts=out.chi2_starts)
+
+
+def one_spectrum_chi2(chi2_x, args):
+    """``chi2_at_x(points (C, K), spectrum (C,))`` of one spectrum's solver ``args`` (for
+    `result.confirm_bounds`), points padded to a multiple of K + 1 rows: one compilation
+    serves every call."""
+    rows = SpectrumRows(args.z[None], args.inv_w_re[None], args.inv_w_im[None], args.x_fixed[None])
+    shared = SharedArgs(args.freq, args.lower, args.upper)
+    size = args.lower.size + 1
+
+    def chi2_at_x(points, spectrum):
+        c = len(points)
+        padded = -(-c // size) * size
+        at = np.concatenate([points, np.repeat(points[:1], padded - c, axis=0)])
+        return np.asarray(chi2_x(at, np.zeros(padded, np.int32), rows, shared))[:c]
+
+    return chi2_at_x

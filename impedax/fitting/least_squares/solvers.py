@@ -36,15 +36,18 @@ import optimistix as optx
 
 from ...circuits import Circuit, ProgramLayout, Registry, compile_circuit
 from ..parameters import external_of_kind, to_external
-from .lm import lm_iteration, work_queue
+from .lm import levenberg_marquardt, lm_iteration, work_queue
 from .order import structural_peaks
 
 __all__ = [
     "tree_solver", "program_solver", "SolverArgs", "SpectrumRows", "SharedArgs", "SolverOutput", "SolverStatus",
-    "one_transfer", "PendingOutputs", "tree_residuals", "solver_args", "unscale", "better", "SCREEN_STEPS",
+    "one_transfer", "PendingOutputs", "tree_residuals", "solver_args", "unscale", "better", "SCREEN_STEPS", "HANDOVER_STEPS",
 ]
 
 SCREEN_STEPS = 40  # Levenberg–Marquardt steps every start gets before the best is refined
+# single fits run optimistix for this many steps at most; what it has not finished by then
+# continues with `lm.levenberg_marquardt`, the batch lanes' iteration and cost rule (`_make`)
+HANDOVER_STEPS = 50
 
 
 class SolverStatus(enum.IntEnum):
@@ -122,7 +125,8 @@ class SolverOutput(NamedTuple):
     parameter space (2N, K) for the covariance, the model's impedance ``z_model``, the
     `SolverStatus` ``code``, ``steps`` of the final solve, the chi² of every screened start
     ``chi2_starts``, all steps ``steps_total``, and (tree solvers) the peak frequencies of
-    exchangeable blocks ``peaks`` (`order.canonical_order`)."""
+    exchangeable blocks ``peaks`` (`order.canonical_order`), and (tree solvers) the solver's
+    point ``u`` (`tree_solver`'s ``resume``)."""
 
     x: Any
     chi2: Any
@@ -133,6 +137,7 @@ class SolverOutput(NamedTuple):
     chi2_starts: Any = None
     steps_total: Any = None
     peaks: Any = None
+    u: Any = None  # the solver's point, where a solve may be resumed (tree solvers)
 
     def row(self, i) -> "SolverOutput":
         """The outputs of spectrum ``i`` (or rows ``i``) of a batch."""
@@ -390,9 +395,17 @@ def _make_single_phase_batch(residuals, max_steps: int):
     return solve_batch
 
 
-def _make(residuals, max_steps: int, peaks=None):
+def _normal_only(residuals: Residuals):
+    """``normal_u`` without what `_residuals` keeps for the single-phase solver."""
+    return lambda u, args: (*residuals.normal_u(u, args)[:3], ())
+
+
+def _make(residuals, max_steps: int, peaks=None, *, handover: bool = True):
     """optimistix Levenberg–Marquardt from one or many starts: every start for
-    `SCREEN_STEPS` steps together, then the best to convergence."""
+    `SCREEN_STEPS` steps together, then the best to convergence (`HANDOVER_STEPS`).
+    ``handover=False``: the best for `HANDOVER_STEPS` steps at most, returning its point ``u``
+    to be resumed apart (`tree_solver`), so that the cost rule's loop is compiled only for the
+    circuits whose fits need it."""
     # steps below 1e-6 relative (1e-9 absolute), far inside any stderr: on the benchmark's
     # spectra the values agree with a 1e-7 stop to 2e-10 relative, with 8 % fewer steps (the
     # last ones only wander at that level). The damped step (JᵀJ + λI)δ = −Jᵀr is solved by
@@ -400,6 +413,8 @@ def _make(residuals, max_steps: int, peaks=None):
     # default QR of the stacked (2N + K)×K system
     solver = optx.LevenbergMarquardt(rtol=1e-6, atol=1e-9, linear_solver=lx.Normal(lx.Cholesky()))
     residual_u = residuals.residual_u
+    first = min(HANDOVER_STEPS, max_steps)
+    normal_only = _normal_only(residuals)
 
     def solve_one(u0, args, steps):
         sol = optx.least_squares(residual_u, solver, u0, args, max_steps=steps, throw=False)
@@ -407,6 +422,21 @@ def _make(residuals, max_steps: int, peaks=None):
         chi2 = jnp.sum(r**2)
         chi2 = jnp.where(jnp.isfinite(chi2), chi2, jnp.inf)
         return sol.value, chi2, _status(sol.result), sol.stats["num_steps"]
+
+    def solve_final(u0, args):
+        """optimistix for up to `HANDOVER_STEPS` steps; a fit it has not finished by then
+        continues with the batch lanes' iteration and cost rule (`lm.levenberg_marquardt`)
+        for the rest of ``max_steps``: a coordinate creeping towards a bound (log R → −∞,
+        logistic α → +∞) never meets optimistix's step-size criterion, but its cost stops
+        falling, and single and batch fits then stop on the same rule."""
+        u, _, code, steps = solve_one(u0, args, first)
+        if not handover:
+            return u, code, steps
+        rest = jnp.where(code == int(SolverStatus.MAX_STEPS), max_steps - first, 0)
+        u_lm, _, done, steps_lm = levenberg_marquardt(normal_only, u, args, rest, inline_solve=False)
+        handed = rest > 0
+        code = jnp.where(handed, jnp.where(done, int(SolverStatus.CONVERGED), int(SolverStatus.MAX_STEPS)), code)
+        return jnp.where(handed, u_lm, u), code, steps + steps_lm
 
     def solve(u0s, args):
         # phase 1: every start for a few steps together (a vmapped loop runs as long as its
@@ -416,8 +446,9 @@ def _make(residuals, max_steps: int, peaks=None):
             u_best = us[jnp.argmin(chi2s)]
         else:
             chi2s, steps1, u_best = jnp.zeros(1), jnp.zeros(1, jnp.int64), u0s[0]
-        u, _, code, steps = solve_one(u_best, args, max_steps)
-        return _finish(u, args, residuals, peaks)._replace(code=code, steps=steps, chi2_starts=chi2s, steps_total=jnp.sum(steps1) + steps)
+        u, code, steps = solve_final(u_best, args)
+        out = _finish(u, args, residuals, peaks)._replace(code=code, steps=steps, chi2_starts=chi2s, steps_total=jnp.sum(steps1) + steps)
+        return out if handover else out._replace(u=u)
 
     return solve
 
@@ -427,8 +458,11 @@ def tree_solver(circuit: Circuit, registry: Registry, max_steps: int, free: tupl
     """Jitted solvers for one circuit and free set (positions ``free`` with transform
     ``kinds``, `ParameterTable.free_structure`; cached): ``single(u0s, args)`` runs optimistix
     from one or many starts (`_make`); ``lanes(n_lanes)`` gives the `lm.work_queue` solver
-    for batches, ``finish(u, spectrum, rows, shared)`` the outputs at solutions and
-    ``chi2(...)`` the weighted chi² at points u (both vmapped over points)."""
+    for batches, ``finish(u, spectrum, rows, shared)`` the outputs at solutions,
+    ``chi2(...)`` the weighted chi² at points u and ``chi2_x(...)`` at free parameter values
+    x (all vmapped over points), and ``resume(u, args, rest)``: `single`'s solve, stopped
+    after `HANDOVER_STEPS`, continued for ``rest`` more steps with the batch lanes' iteration
+    and cost rule (`lm.levenberg_marquardt`); jitted apart, compiled only when a fit needs it."""
     compiled = compile_circuit(circuit, registry)
     residuals = tree_residuals(compiled, free, kinds)
     peaks = structural_peaks(compiled.circuit, compiled.parameter_names, registry)
@@ -443,9 +477,17 @@ def tree_solver(circuit: Circuit, registry: Registry, max_steps: int, free: tupl
 
     finish = per_spectrum(lambda u, args: _finish(u, args, residuals, peaks))
     chi2 = per_spectrum(residuals.chi2_u)
+    chi2_x = per_spectrum(lambda x_free, args: jnp.sum(residuals.residual_x(x_free, args) ** 2))
 
     lanes = functools.lru_cache(maxsize=4)(lambda n_lanes: jax.jit(work_queue(residuals.normal_u, n_lanes, combine), static_argnames="drain"))
-    return one_transfer(_make(residuals, max_steps, peaks)), lanes, finish, chi2
+
+    @jax.jit
+    def resume(u, args, rest):
+        u, _, done, steps = levenberg_marquardt(residuals.normal_u, u, args, rest, inline_solve=False)
+        code = jnp.where(done, int(SolverStatus.CONVERGED), int(SolverStatus.MAX_STEPS))
+        return _finish(u, args, residuals, peaks)._replace(code=code, steps=steps, u=u)
+
+    return one_transfer(_make(residuals, max_steps, peaks, handover=False)), lanes, finish, chi2, chi2_x, resume
 
 
 def one_transfer(solve: Callable):

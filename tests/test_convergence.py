@@ -1,0 +1,155 @@
+"""Convergence at natural and user bounds, single == batch flags, the weighting warning and
+the dask path's warnings.
+
+Spectra come from numpy formulas written here and in tests/spectra.py, not from impedax's
+compiler. A CPE with α = 1.05 and a series resistance of −2 % of R1 put the optimum of
+``R0 + R1 || CPE1`` firmly on the bounds R0 = 0 and α = 1 (the fit cannot follow either).
+"""
+
+import numpy as np
+import pytest
+
+import impedax as ix
+from spectra import omega, rc
+
+MODEL = "R0 + R1 || CPE1"
+
+
+def beyond_bounds(f, r1, q, rng, noise=0.005):
+    """R1 || CPE(Q, α = 1.05) in series with −0.02·R1, with relative complex noise."""
+    z = r1 / (1 + (1j * omega(f)) ** 1.05 * r1 * q) - 0.02 * r1
+    return z * (1 + noise * (rng.normal(size=np.shape(z)) + 1j * rng.normal(size=np.shape(z))))
+
+
+def stack(rng, n, n_freq=40):
+    f = np.geomspace(0.1, 1e5, n_freq)
+    r1 = 10 ** rng.uniform(2, 4, n)[:, None]
+    q = 10 ** rng.uniform(-7, -5, n)[:, None]
+    return ix.make_spectrum(f, beyond_bounds(f, r1, q, rng), dims=("trial",))
+
+
+def test_natural_bound_optimum_is_converged_with_at_bound():
+    """R‖C data (no series resistance, α = 1 exactly) fitted with R0 + R‖CPE: R0 → 0 and
+    α → 1 are the optimum; the fit is converged, says so, and names them."""
+    f = np.geomspace(0.1, 1e5, 50)
+    z = rc(f, {"R0": 0.0, "R1": 1000.0, "C1": 1e-6})
+    result = ix.fit(MODEL, ix.make_spectrum(f, z))
+    assert result.converged, result.message
+    assert set(result.at_bound) == {"R0", "CPE1.alpha"}
+    assert "R0 is at its lower bound 0" in result.warnings
+    assert "CPE1.alpha is at its upper bound 1" in result.warnings
+    assert not any("relative standard error" in w for w in result.warnings)
+    assert not any("did not converge" in w for w in result.warnings)
+    assert result.values["R1"] == pytest.approx(1000.0, rel=1e-6)
+    summary = result.summary()
+    assert sorted(summary["at_bound"]) == ["CPE1.alpha", "R0"]
+    assert result.to_xarray()["at_bound"].sel(param="R0").item()
+
+
+def test_interior_optimum_has_no_bound():
+    f = np.geomspace(0.1, 1e5, 50)
+    z = rc(f, {"R0": 50.0, "R1": 1000.0, "C1": 1e-6})
+    result = ix.fit("R0 + R1 || C1", ix.make_spectrum(f, z))
+    assert result.converged and result.at_bound == ()
+    assert result.summary()["at_bound"] == []
+
+
+def test_user_bound_is_reported():
+    """α held below 0.9 while the data have α = 1.05: α sits on the user's bound."""
+    rng = np.random.default_rng(3)
+    f = np.geomspace(0.1, 1e5, 40)
+    result = ix.fit(MODEL, ix.make_spectrum(f, beyond_bounds(f, 1000.0, 1e-6, rng)), bounds={"CPE1.alpha": (0.5, 0.9)})
+    assert result.converged
+    assert "CPE1.alpha" in result.at_bound
+    assert "CPE1.alpha is at its upper bound 0.9" in result.warnings
+
+
+def compare_single_and_batch(data):
+    batch = ix.fit(MODEL, data)
+    ds = batch.dataset
+    assert ds["at_bound"].dims == ("param", "trial")
+    for i in range(data.sizes["trial"]):
+        single = ix.fit(MODEL, data.isel(trial=i))
+        at_bound = tuple(p for p in single.free_names if bool(ds["at_bound"].sel(param=p)[i]))
+        assert single.converged == bool(ds["converged"][i]), i
+        assert single.at_bound == at_bound, i
+        assert single.warnings == batch.warnings.get(f"trial={i}", ()), i
+    return batch
+
+
+def test_single_and_batch_flags_agree_small(rng):
+    batch = compare_single_and_batch(stack(rng, 24))
+    assert batch.summary()["at_bound"] == {"R0": 24, "CPE1.alpha": 24}
+    assert batch.summary()["converged_fraction"] == 1.0
+
+
+@pytest.mark.slow
+def test_single_and_batch_flags_agree_on_300_fits(rng):
+    batch = compare_single_and_batch(stack(rng, 300))
+    assert batch.summary()["converged_fraction"] == 1.0
+    assert batch.summary()["at_bound"] == {"R0": 300, "CPE1.alpha": 300}
+
+
+def test_proportional_weighting_on_a_near_zero_component_warns_with_the_frequency():
+    """Im Z of one point set to 1e-7 Ω: proportional weighting puts ~all weight on it."""
+    f = np.geomspace(0.1, 1e5, 50)
+    z = rc(f, {"R0": 5.0, "R1": 1000.0, "C1": 1e-6})
+    z[3] = z[3].real + 1e-7j
+    result = ix.fit("R0 + R1 || C1", ix.make_spectrum(f, z), weighting="proportional")
+    notes = [w for w in result.warnings if "weighting gives" in w]
+    assert len(notes) == 1 and f"{f[3]:.4g} Hz" in notes[0] and "1 of 50 points" in notes[0]
+    assert not any("weighting gives" in w for w in ix.fit("R0 + R1 || C1", ix.make_spectrum(f, z)).warnings)
+
+
+def test_dominant_points_oracle():
+    from impedax.fitting.statistics import dominant_points
+
+    z = np.full(40, 1.0 + 1.0j)
+    even, share = dominant_points(z, np.ones(40), np.ones(40))
+    assert not even.any() and share == 0
+    inv = np.ones(40)
+    inv[7] = 100.0  # weight 1e4 against 79 others of 1: share 1e4 / (1e4 + 79)
+    heavy, share = dominant_points(z, inv, np.ones(40))
+    assert np.flatnonzero(heavy).tolist() == [7]
+    assert share == pytest.approx(1e4 / (1e4 + 79))
+
+
+def test_max_steps_is_validated():
+    f = np.geomspace(1, 1e4, 20)
+    with pytest.raises(ix.ParameterError):
+        ix.fit("R0 + R1 || C1", ix.make_spectrum(f, rc(f, {"R0": 1.0, "R1": 10.0, "C1": 1e-5})), max_steps=0)
+
+
+def test_dask_path_returns_the_in_memory_flags_and_warnings(rng):
+    pytest.importorskip("dask")
+    distributed = pytest.importorskip("distributed")
+    data = stack(rng, 32)
+    data["Z"].values[:8, 3] = data["Z"].values[:8, 3].real + 1e-9j  # weighting warnings too
+    in_memory = ix.fit(MODEL, data, weighting="proportional")
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None) as cluster, distributed.Client(cluster):
+        lazy = ix.fit(MODEL, data.chunk({"trial": 32}), weighting="proportional")
+    assert lazy.warnings == in_memory.warnings and len(in_memory.warnings) == 32
+    assert any("weighting gives" in w for ws in in_memory.warnings.values() for w in ws)
+    for name in ("converged", "at_bound"):
+        assert (lazy.dataset[name].values == in_memory.dataset[name].values).all()
+    assert lazy.summary()["at_bound"] == in_memory.summary()["at_bound"]
+
+
+def test_cli_tables_match_what_they_stand_for():
+    """`impedax --help` lists commands and weightings without importing them: its tables
+    must say what the modules register."""
+    import argparse
+    import importlib
+
+    from impedax.cli import COMMAND_HELP, build_parser
+    from impedax.cli.fit import WEIGHTING_NAMES
+    from impedax.fitting import WEIGHTINGS
+
+    assert WEIGHTING_NAMES == tuple(WEIGHTINGS)
+    sub = argparse.ArgumentParser().add_subparsers()
+    for name in COMMAND_HELP:
+        importlib.import_module(f"impedax.cli.{name}").register(sub)
+    assert {a.dest: a.help for a in sub._choices_actions} == COMMAND_HELP
+    assert build_parser("fit").parse_args(["fit", "x.csv", "--model", "R0", "--max-steps", "7"]).max_steps == 7
+    assert build_parser("diagnose").parse_args(["diagnose", "x.csv", "--model", "R0", "--max-steps", "9"]).max_steps == 9
+    assert build_parser("refine").parse_args(["refine", "x.csv", "--model", "R0"]).max_steps == 4  # effects added
