@@ -95,3 +95,19 @@ def validate_spectrum(ds: xr.Dataset, *, source: str | None = None) -> xr.Datase
         if not (np.all(np.isfinite(s)) and np.all(s > 0)):
             raise DataError("'sigma' must be positive and finite everywhere", path=source)
     return ds
+
+
+def format_frequency(f: float) -> str:
+    """A frequency [Hz] for text: ``1.5 kHz``, ``20 mHz``, ``3 MHz`` (three significant digits)."""
+    for unit, scale in (("MHz", 1e6), ("kHz", 1e3), ("Hz", 1.0), ("mHz", 1e-3)):
+        if f >= scale or unit == "mHz":
+            return f"{f / scale:.3g} {unit}"
+    return f"{f:.3g} Hz"  # (not reached: mHz takes every smaller value)
+
+
+def format_time(tau: float, digits: int = 3) -> str:
+    """A time constant [s] for text: ``2 ms``, ``0.3 s``, ``40 µs`` (``digits`` significant)."""
+    for unit, scale in (("s", 1.0), ("ms", 1e-3), ("µs", 1e-6), ("ns", 1e-9)):
+        if tau >= scale or unit == "ns":
+            return f"{float(f'{tau / scale:.{digits}g}'):g} {unit}"
+    return f"{tau:.{digits}g} s"

@@ -19,6 +19,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .data import format_frequency
+
 __all__ = ["run_demo"]
 
 AREA = 130e-6  # m², Sirin et al.
@@ -120,7 +122,7 @@ def run_demo(out: str | os.PathLike = "out", *, fast: bool = False, stream=None)
         total, skin, screen = spectra["total_sliding"], spectra["skin"], spectra["touchscreen"]
         n_trials = int(np.prod([total.sizes[d] for d in total["Z"].dims if d != "frequency"]))
         f = total["frequency"].values
-        story.say(f"  {n_trials} trials each of the finger sliding on the screen (total), the skin alone and the screen alone, {_hz(f.min())} – {_hz(f.max())}.")
+        story.say(f"  {n_trials} trials each of the finger sliding on the screen (total), the skin alone and the screen alone, {format_frequency(f.min())} – {format_frequency(f.max())}.")
         story.say("  Electroadhesion: a voltage on the screen pulls the finger through the thin air gap between skin and glass.")
         story.say("  The gap acts as a capacitor; its thickness u sets the force. Subtracting skin and screen from the total")
         story.say("  leaves the impedance of the gap region: Z_R = Z_total − Z_skin − Z_TS (mean of the trials ± standard error).")
@@ -133,7 +135,7 @@ def run_demo(out: str | os.PathLike = "out", *, fast: bool = False, stream=None)
         first = ix.diagnose(naive, data=remaining)
         story.say(f"  Model C_gap: rms_rel = {naive.rms_rel:.3g} (relative misfit), C_gap = {naive.values['C_gap'] * 1e12:.0f} pF.")
         for band in first.failing_bands:
-            story.say(f"  Fails {_hz(band.f_min)} – {_hz(band.f_max)}: {band.pattern}")
+            story.say(f"  Fails {format_frequency(band.f_min)} – {format_frequency(band.f_max)}: {band.pattern}")
         fig = plot_spectrum((naive.frequency, naive.z_data), (naive.frequency, naive.z_model), title=f"naive model C_gap: rms_rel = {naive.rms_rel:.3g} (failing bands shaded)", bands=[(b.f_min, b.f_max) for b in first.failing_bands], model_label="C_gap fit")
         story.figure(_save(fig, staging, "step2_naive_fit.png"))
         facts["naive model rms_rel"] = f"{naive.rms_rel:.3g}"
@@ -184,7 +186,7 @@ def run_demo(out: str | os.PathLike = "out", *, fast: bool = False, stream=None)
         with_ep, without = force.sel(branch="with_ep"), force.sel(branch="without_ep")
         for target in (1.0, 10.0, 250.0, 1e5):
             i = int(np.argmin(np.abs(np.log(ff / target))))
-            story.say(f"  {_hz(ff[i]):>9}: force {with_ep['median'][i].item() * 1e3:8.3g} mN with EP [{with_ep['q05'][i].item() * 1e3:.3g}, {with_ep['q95'][i].item() * 1e3:.3g}]   vs {without['median'][i].item() * 1e3:8.3g} mN without EP")
+            story.say(f"  {format_frequency(ff[i]):>9}: force {with_ep['median'][i].item() * 1e3:8.3g} mN with EP [{with_ep['q05'][i].item() * 1e3:.3g}, {with_ep['q95'][i].item() * 1e3:.3g}]   vs {without['median'][i].item() * 1e3:8.3g} mN without EP")
         story.say(f"  Peak force (Sirin eq 1, peak convention, V0 = {V0:g} V). Below ~30 Hz the EP branch leaks the charge: the force drops.")
         ix.io.write_netcdf(gap.to_xarray(), staging / "force_bands.nc")
         fig = plot_force_bands(gap)
@@ -205,11 +207,3 @@ def run_demo(out: str | os.PathLike = "out", *, fast: bool = False, stream=None)
     report = out / "report.html"
     print(f"Report: {report.resolve()}", file=stream)
     return report
-
-
-def _hz(f: float) -> str:
-    """1 → '1 Hz', 2.5e5 → '250 kHz', 1e6 → '1 MHz'."""
-    for scale, unit in ((1e6, "MHz"), (1e3, "kHz")):
-        if f >= scale:
-            return f"{f / scale:.3g} {unit}"
-    return f"{f:.3g} Hz"

@@ -23,6 +23,7 @@ from typing import Mapping
 import numpy as np
 import xarray as xr
 
+from ..data import format_frequency
 from ..errors import DataError, ParameterError
 from .problem import frequency_and_z
 
@@ -115,7 +116,7 @@ class KKResult:
             f"verdict: {verdict}",
         ]
         for lo, hi in self.bad_bands:
-            lines.append(f"  bad band: {_fmt_hz(lo)} – {_fmt_hz(hi)}")
+            lines.append(f"  bad band: {format_frequency(lo)} – {format_frequency(hi)}")
         return "\n".join(lines)
 
     def plot(self, *, title: str | None = None):
@@ -196,13 +197,6 @@ class KKBatchResult:
         )
         ds.attrs.update({k: v for k, v in first.to_xarray().attrs.items() if not k.startswith("series")})
         return ds
-
-
-def _fmt_hz(f: float) -> str:
-    for scale, unit in ((1e6, "MHz"), (1e3, "kHz"), (1.0, "Hz"), (1e-3, "mHz")):
-        if f >= scale or unit == "mHz":
-            return f"{f / scale:.3g} {unit}"
-    return f"{f:g} Hz"
 
 
 def _check_options(n_points: int, c: float, max_rc, n_rc, n_series: int) -> int:
@@ -329,15 +323,7 @@ def _bad_bands(freq, residual_real, residual_imag, order, scale, thresholds):
     m = np.hypot(residual_real, residual_imag)[order]
     flag = m > thresholds["point"] * scale
     above = m > thresholds["run"] * scale
-    run_length = int(thresholds["run_length"])
-    start = None
-    for i, a in enumerate(np.append(above, False)):
-        if a and start is None:
-            start = i
-        elif not a and start is not None:
-            if i - start >= run_length:
-                flag[start:i] = True
-            start = None
+    flag |= long_runs(above, int(thresholds["run_length"]))
     # slow, smooth deviations (drift) hide under the point thresholds but not in a local mean
     width = int(thresholds["window"])
     if 1 < width <= m.size:
@@ -354,6 +340,20 @@ def _bad_bands(freq, residual_real, residual_imag, order, scale, thresholds):
     flagged = np.empty_like(flag)
     flagged[order] = flag
     return flagged, bands_of_flags(freq[order], flag)
+
+
+def long_runs(above, run_length: int) -> np.ndarray:
+    """Flags of every point in a run of at least ``run_length`` consecutive True ``above``."""
+    flag = np.zeros(np.shape(above), bool)
+    start = None
+    for i, a in enumerate(np.append(above, False)):
+        if a and start is None:
+            start = i
+        elif not a and start is not None:
+            if i - start >= run_length:
+                flag[start:i] = True
+            start = None
+    return flag
 
 
 def bands_of_flags(freq_sorted, flag) -> tuple[tuple[float, float], ...]:

@@ -26,7 +26,7 @@ import numpy as np
 import xarray as xr
 
 from ..errors import DataError, ParameterError
-from .kk import bands_of_flags
+from .kk import bands_of_flags, long_runs
 from .problem import frequency_and_z
 
 __all__ = ["ZHITResult", "zhit"]
@@ -131,15 +131,7 @@ def zhit(data, *, noise_floor: float = 0.01, point: float = 5.0, run: float = 3.
     scale = max(noise, noise_floor)
     m = np.abs(residual_sorted)
     flag = m > point * scale
-    above = m > run * scale
-    start = None
-    for i, a in enumerate(np.append(above, False)):
-        if a and start is None:
-            start = i
-        elif not a and start is not None:
-            if i - start >= run_length:
-                flag[start:i] = True
-            start = None
+    flag |= long_runs(m > run * scale, run_length)
     bands = bands_of_flags(freq[order], flag)
     modulus = np.empty_like(modulus_sorted)
     modulus[order] = modulus_sorted
