@@ -20,52 +20,34 @@ def register(sub) -> None:
     p.set_defaults(run=run)
 
 
+# JSON key → attribute of the result, per method (the keys are the public contract)
+_KK_JSON = {
+    "valid": "valid", "rms_rel": "rms_rel", "bad_bands": "bad_bands", "n_rc": "n_rc", "mu": "mu", "mu_reached": "mu_reached",
+    "noise_estimate": "noise_estimate", "frequency_hz": "frequency", "residuals_real": "residuals_real", "residuals_imag": "residuals_imag",
+}
+_ZHIT_JSON = {
+    "valid": "valid", "rms_rel": "rms_rel", "bad_bands": "bad_bands", "noise_estimate": "noise_estimate",
+    "frequency_hz": "frequency", "modulus_zhit_ohm": "modulus", "residuals_modulus": "residuals",
+}
+
+
 def run(args) -> int:
-    from ..fitting import kk_test
+    from ..fitting import kk_test, zhit
     from ..io import load
     from .common import check_outputs, emit_json, save_outputs
 
     check_outputs(args.plot)
     data = load(args.data)
     if args.method == "zhit":
-        return _run_zhit(args, data)
-    result = kk_test(data, c=args.c, max_rc=args.max_rc, inductance=not args.no_inductance, capacitance=not args.no_capacitance)
+        result, keys, extra = zhit(data), _ZHIT_JSON, {"method": "zhit"}
+    else:
+        result = kk_test(data, c=args.c, max_rc=args.max_rc, inductance=not args.no_inductance, capacitance=not args.no_capacitance)
+        keys, extra = _KK_JSON, {}
     save_outputs(plot=args.plot, figure=result.plot)
     if args.json:
-        emit_json({
-            "valid": result.valid,
-            "rms_rel": result.rms_rel,
-            "bad_bands": [[lo, hi] for lo, hi in result.bad_bands],
-            "n_rc": result.n_rc,
-            "mu": result.mu,
-            "mu_reached": result.mu_reached,
-            "noise_estimate": result.noise_estimate,
-            "frequency_hz": result.frequency,
-            "residuals_real": result.residuals_real,
-            "residuals_imag": result.residuals_imag,
-        })
-        return 0
-    print(result.summary())
-    return 0
-
-
-def _run_zhit(args, data) -> int:
-    from ..fitting import zhit
-    from .common import emit_json, save_outputs
-
-    result = zhit(data)
-    save_outputs(plot=args.plot, figure=result.plot)
-    if args.json:
-        emit_json({
-            "method": "zhit",
-            "valid": result.valid,
-            "rms_rel": result.rms_rel,
-            "bad_bands": [[lo, hi] for lo, hi in result.bad_bands],
-            "noise_estimate": result.noise_estimate,
-            "frequency_hz": result.frequency,
-            "modulus_zhit_ohm": result.modulus,
-            "residuals_modulus": result.residuals,
-        })
-        return 0
-    print(result.summary())
+        out = {key: getattr(result, attribute) for key, attribute in keys.items()}
+        out["bad_bands"] = [[lo, hi] for lo, hi in result.bad_bands]
+        emit_json({**extra, **out})
+    else:
+        print(result.summary())
     return 0
