@@ -32,6 +32,18 @@ MAX_FILE_BYTES = 64 * 2**20
 _UTF16_BOMS = (b"\xff\xfe", b"\xfe\xff")
 
 
+def optional_module(name: str, path: Path, needed_for: str):
+    """``import name`` for a reader that needs an optional package, after checking the file;
+    without the package, `DataError` naming the file and saying how to get it (``needed_for``)."""
+    import importlib
+
+    check_file(path)
+    try:
+        return importlib.import_module(name)
+    except ImportError:
+        raise DataError(needed_for, path=path) from None
+
+
 def check_file(path: Path) -> int:
     """Size of ``path`` in bytes after checking it is a regular, readable file of bounded size."""
     try:

@@ -15,7 +15,7 @@ import numpy as np
 import xarray as xr
 
 from ...errors import DataError
-from .._common import check_file, finish
+from .._common import finish, optional_module
 from ..registry import Reader
 
 __all__ = ["read_biologic_mpr", "READER"]
@@ -31,13 +31,9 @@ def sniff(path: Path, head: bytes) -> str | None:
 def read_biologic_mpr(path: str | Path) -> xr.Dataset:
     """Read the impedance columns of an EC-Lab ``.mpr`` (see module docstring)."""
     path = Path(path)
-    check_file(path)
+    galvani = optional_module("galvani", path, "reading a binary .mpr needs the optional galvani package (GPL): pip install galvani, or export .mpt from EC-Lab")
     try:
-        from galvani import BioLogic
-    except ImportError:
-        raise DataError("reading a binary .mpr needs the optional galvani package (GPL): pip install galvani, or export .mpt from EC-Lab", path=path) from None
-    try:
-        data = BioLogic.MPRfile(str(path)).data
+        data = galvani.BioLogic.MPRfile(str(path)).data
     except Exception as exc:  # galvani raises ValueError, NotImplementedError, struct.error ...
         raise DataError(f"galvani cannot read this .mpr ({type(exc).__name__}: {exc})", path=path) from None
     names = data.dtype.names or ()

@@ -16,7 +16,7 @@ import numpy as np
 import xarray as xr
 
 from ...errors import DataError
-from .._common import MAX_FILE_BYTES, check_file, finish, stack
+from .._common import MAX_FILE_BYTES, finish, optional_module, stack
 from ..registry import Reader
 
 __all__ = ["read_labone_hdf5", "READER", "HDF5_MAGIC"]
@@ -34,11 +34,7 @@ def sniff(path: Path, head: bytes) -> str | None:
 def read_labone_hdf5(path: str | Path) -> xr.Dataset:
     """Read a LabOne HDF5 export (see module docstring)."""
     path = Path(path)
-    check_file(path)
-    try:
-        import h5py
-    except ImportError:
-        raise DataError("this is an HDF5 file (e.g. a LabOne HDF5 export); reading HDF5 needs h5py: pip install h5py, or export CSV from LabOne", path=path) from None
+    h5py = optional_module("h5py", path, "this is an HDF5 file (e.g. a LabOne HDF5 export); reading HDF5 needs h5py: pip install h5py, or export CSV from LabOne")
     found: list[tuple[str, np.ndarray, np.ndarray]] = []
 
     def load(dataset) -> np.ndarray:
