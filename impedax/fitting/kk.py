@@ -25,6 +25,7 @@ import xarray as xr
 
 from ..data import format_frequency
 from ..errors import DataError, ParameterError
+from .grid import ResultGrid
 from .problem import frequency_and_z
 
 __all__ = ["KKResult", "KKBatchResult", "kk_test", "kk_test_batch", "DEFAULT_THRESHOLDS"]
@@ -128,38 +129,26 @@ class KKResult:
 
 
 @dataclass(frozen=True, eq=False)
-class KKBatchResult:
+class KKBatchResult(ResultGrid):
     """KK tests of every spectrum of a Dataset with extra dimensions (trial, session, ...).
 
     ``results`` holds one `KKResult` per spectrum in C order over ``dims``; index with
     ``batch[i, j]`` (integer positions) and see ``valid``/``rms_rel`` as arrays over ``dims``.
     """
 
-    dims: tuple[str, ...]
-    shape: tuple[int, ...]
-    coords: Mapping[str, np.ndarray]
     results: tuple[KKResult, ...]
-
-    def __getitem__(self, index) -> KKResult:
-        index = index if isinstance(index, tuple) else (index,)
-        if not self.shape:
-            return self.results[0]
-        return self.results[int(np.ravel_multi_index(index, self.shape))]
-
-    def _array(self, name, dtype=float) -> np.ndarray:
-        return np.array([getattr(r, name) for r in self.results], dtype=dtype).reshape(self.shape)
 
     @property
     def valid(self) -> np.ndarray:
-        return self._array("valid", bool)
+        return self.per_spectrum("valid", bool)
 
     @property
     def rms_rel(self) -> np.ndarray:
-        return self._array("rms_rel")
+        return self.per_spectrum("rms_rel")
 
     @property
     def n_rc(self) -> np.ndarray:
-        return self._array("n_rc", int)
+        return self.per_spectrum("n_rc", int)
 
     def to_xarray(self) -> xr.Dataset:
         """Each spectrum's `KKResult.to_xarray()` stacked over ``dims`` (bands and RC elements
@@ -188,9 +177,9 @@ class KKBatchResult:
                 "time_constant": ((*dims, "rc"), stack(lambda r: r.time_constants, n_rc), {"units": "s"}),
                 "resistance": ((*dims, "rc"), stack(lambda r: r.resistances, n_rc), {"units": "ohm"}),
                 "n_rc": (dims, self.n_rc),
-                "mu": (dims, self._array("mu")),
+                "mu": (dims, self.per_spectrum("mu")),
                 "rms_rel": (dims, self.rms_rel, {"units": "1"}),
-                "noise_estimate": (dims, self._array("noise_estimate"), {"units": "1"}),
+                "noise_estimate": (dims, self.per_spectrum("noise_estimate"), {"units": "1"}),
                 "valid": (dims, self.valid),
             },
             coords={"frequency": ("frequency", first.frequency, {"units": "Hz"}), **{d: (d, np.asarray(v)) for d, v in self.coords.items()}},

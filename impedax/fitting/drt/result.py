@@ -9,16 +9,11 @@ from typing import Mapping
 import numpy as np
 import xarray as xr
 
+from ...data import format_time
 from .peaks import Peak
+from ..grid import ResultGrid
 
 __all__ = ["DRTResult", "DRTBatchResult"]
-
-
-def _fmt_tau(tau: float) -> str:
-    for scale, unit in ((1.0, "s"), (1e-3, "ms"), (1e-6, "µs"), (1e-9, "ns")):
-        if tau >= scale or unit == "ns":
-            return f"{tau / scale:.3g} {unit}"
-    return f"{tau:g} s"
 
 
 @dataclass(frozen=True, eq=False)
@@ -122,7 +117,7 @@ class DRTResult:
         for p in self.peaks:
             where = "" if p.inside_window else "  (outside the measured range)"
             lines.append(
-                f"  τ = {_fmt_tau(p.tau_s)} (f = {p.frequency_hz:.3g} Hz, ±{p.log10_tau_sd:.2f} dec)  R = {p.r_ohm:.4g} ± {p.r_ohm_sd:.2g} Ω  "
+                f"  τ = {format_time(p.tau_s)} (f = {p.frequency_hz:.3g} Hz, ±{p.log10_tau_sd:.2f} dec)  R = {p.r_ohm:.4g} ± {p.r_ohm_sd:.2g} Ω  "
                 f"width {p.width_decades:.2f} dec{where}"
             )
         return "\n".join(lines)
@@ -140,21 +135,11 @@ class DRTResult:
 
 
 @dataclass(frozen=True, eq=False)
-class DRTBatchResult:
+class DRTBatchResult(ResultGrid):
     """DRTs of every spectrum of a Dataset with extra dimensions (trial, session, ...), computed
     in one vmapped solve. ``results`` in C order over ``dims``; ``batch[i, j]`` gives one."""
 
-    dims: tuple[str, ...]
-    shape: tuple[int, ...]
-    coords: Mapping[str, np.ndarray]
     results: tuple[DRTResult, ...]
-
-    def __getitem__(self, index) -> DRTResult:
-        index = index if isinstance(index, tuple) else (index,)
-        return self.results[int(np.ravel_multi_index(index, self.shape))]
-
-    def __len__(self) -> int:
-        return len(self.results)
 
     @property
     def gamma(self) -> np.ndarray:
@@ -166,7 +151,7 @@ class DRTBatchResult:
 
     @property
     def lam(self) -> np.ndarray:
-        return np.array([r.lam for r in self.results]).reshape(self.shape)
+        return self.per_spectrum("lam")
 
     def report(self) -> str:
         counts = self.n_peaks.ravel()
