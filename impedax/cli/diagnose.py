@@ -12,31 +12,28 @@ def register(sub) -> None:
         help="where a model fails and which physical effect is missing",
         description="Fit MODEL to DATA, test the data (Kramers-Kronig), find the bands where the residuals are structured, "
         "try every effect of the catalog at every sensible place (one batched fit) and rank them by AIC. See docs/diagnosis.md.",
+        plot_help="save data vs model with the failing bands shaded and the best suggestion",
     )
     add_max_steps_option(p, 100, "the candidate fits (the baseline fit keeps its own)")
-    add_diagnosis_options(p, plot_help="save data vs model with the failing bands shaded and the best suggestion")
-    p.set_defaults(run=run)
 
 
-def add_spectrum_command(sub, name: str, *, help: str, description: str):
-    """A command on one spectrum with a model (diagnose, refine): DATA, --model, the fit options."""
-    from .common import add_model_argument
+def add_spectrum_command(sub, name: str, *, help: str, description: str, plot_help: str):
+    """A diagnosis command on one spectrum with a model (diagnose, refine): DATA, --model, the
+    fit options, --effects, --noise, --json, --plot; runs the module's ``run``."""
+    import sys
+
+    from .common import add_model_argument, add_output_options
     from .fit import add_fit_options
 
     p = sub.add_parser(name, help=help, description=description)
     p.add_argument("data", metavar="DATA", help="spectrum file with one spectrum")
     add_model_argument(p)
     add_fit_options(p)
-    return p
-
-
-def add_diagnosis_options(p, *, plot_help: str) -> None:
-    """Options shared by diagnose and refine: --effects, --noise, --json, --plot."""
-    from .common import add_output_options
-
     p.add_argument("--effects", metavar="ID,ID", help="only these effects (comma-separated ids; default: all)")
     p.add_argument("--noise", type=float, metavar="REL", help="relative noise level per component (default: from sigma or the KK residuals)")
     add_output_options(p, json="machine-readable output", plot=plot_help)
+    p.set_defaults(run=sys.modules[f"{__package__}.{name}"].run)
+    return p
 
 
 def effects_option(text):

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 
 def register(sub) -> None:
-    from .diagnose import add_diagnosis_options, add_spectrum_command
+    from .diagnose import add_spectrum_command
 
     p = add_spectrum_command(
         sub,
@@ -12,10 +12,9 @@ def register(sub) -> None:
         help="diagnose, add the best missing effect, refit; repeat until adequate",
         description="Repeat diagnose -> apply the best significant effect -> refit until the verdict is adequate or --max-steps effects were added; "
         "prints the table of steps (the error falls step by step). See docs/diagnosis.md.",
+        plot_help="save rms_rel per step and the residuals of every step",
     )
     p.add_argument("--max-steps", type=int, default=4, metavar="N", help="most effects to add (default 4)")
-    add_diagnosis_options(p, plot_help="save rms_rel per step and the residuals of every step")
-    p.set_defaults(run=run)
 
 
 def run(args) -> int:

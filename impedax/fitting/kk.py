@@ -16,6 +16,7 @@ described in `kk_test` and docs/kk.md.
 from __future__ import annotations
 
 import functools
+import inspect
 import math
 from dataclasses import dataclass, field
 from typing import Mapping
@@ -455,23 +456,28 @@ def kk_test(
     return _run(freq, z[None, :], (), (), {}, c=c, max_rc=max_rc, n_rc=n_rc, inductance=inductance, capacitance=capacitance, thresholds=thresholds).results[0]
 
 
-def kk_test_batch(
-    data,
-    *,
-    c: float = 0.85,
-    max_rc: int | None = None,
-    n_rc: int | None = None,
-    inductance: bool = True,
-    capacitance: bool = True,
-    thresholds: Mapping[str, float] | None = None,
-) -> KKBatchResult:
+def kk_test_batch(data, **options) -> KKBatchResult:
     """`kk_test` of every spectrum of a Dataset with extra dimensions (trial, session, ...).
 
     All spectra are solved together (one batched QR per M), each stopping at its own M.
-    Same options and validity rule as `kk_test`; returns a `KKBatchResult`.
+    Takes the keyword options of `kk_test` (same defaults, same validity rule); returns a
+    `KKBatchResult`.
     """
     freq, z, dims, coords, _ = frequency_and_z(data)
-    return _run(freq, z, z.shape[:-1], dims, coords, c=c, max_rc=max_rc, n_rc=n_rc, inductance=inductance, capacitance=capacitance, thresholds=thresholds)
+    return _run(freq, z, z.shape[:-1], dims, coords, **_options_of_kk_test(options))
+
+
+def _options_of_kk_test(options: Mapping) -> dict:
+    """``options`` checked against `kk_test`'s keywords, with its defaults filled in."""
+    try:
+        bound = inspect.signature(kk_test).bind(None, **options)
+    except TypeError as exc:
+        raise ParameterError(f"kk_test_batch: {exc} (it takes the options of kk_test)") from None
+    bound.apply_defaults()
+    return {name: value for name, value in bound.arguments.items() if name != "data"}
+
+
+kk_test_batch.__signature__ = inspect.signature(kk_test).replace(return_annotation="KKBatchResult")
 
 
 def _run(freq, z, shape, dims, coords, *, c, max_rc, n_rc, inductance, capacitance, thresholds) -> KKBatchResult:

@@ -21,7 +21,7 @@ import numpy as np
 import xarray as xr
 
 from ..errors import DataError
-from ._common import UNIT_CELL, Skipped, decimal_comma, finish, first_line, number, read_text, split_header_cell, unit_scale
+from ._common import UNIT_CELL, Skipped, decimal_comma, finish, first_line, head_text, number, read_text, split_header_cell, unit_scale
 
 __all__ = ["ROLES", "Layout", "detect_layout", "role_of", "spectrum_from_rows"]
 
@@ -231,3 +231,14 @@ def read_headed_table(path: str | Path, attrs: dict, delimiter: str = "\t") -> x
     layout = detect_layout(lines[k].split(delimiter), path, k + 1)
     rows = [(j + 1, lines[j].split(delimiter)) for j in range(k + 1, len(lines)) if lines[j].strip()]
     return spectrum_from_rows(path, layout, rows, attrs, delimiter=delimiter)
+
+
+def first_line_sniffer(is_header, expected: str):
+    """A `Reader.sniff` that accepts a file whose first non-blank line passes ``is_header``;
+    otherwise it answers ``first line is not <expected>``."""
+
+    def sniff(path: Path, head: bytes) -> str | None:
+        first = head_text(head).lstrip().split("\n", 1)[0]
+        return None if is_header(first) else f"first line is not {expected}"
+
+    return sniff

@@ -15,9 +15,8 @@ from pathlib import Path
 
 import xarray as xr
 
-from .._common import head_text
 from ..registry import Reader
-from ..table import read_headed_table
+from ..table import first_line_sniffer, read_headed_table
 
 __all__ = ["read_parstat", "READER"]
 
@@ -29,9 +28,7 @@ def _is_header(line: str) -> bool:
     return "Frequency (Hz)" in cells and "Zre (ohms)" in cells and "Zim (ohms)" in cells
 
 
-def sniff(path: Path, head: bytes) -> str | None:
-    first = head_text(head).lstrip().split("\n", 1)[0]
-    return None if _is_header(first) else "first line lacks 'Frequency (Hz)', 'Zre (ohms)', 'Zim (ohms)'"
+sniff = first_line_sniffer(_is_header, "'Frequency (Hz)', 'Zre (ohms)', 'Zim (ohms)'")
 
 
 def read_parstat(path: str | Path) -> xr.Dataset:

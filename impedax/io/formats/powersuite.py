@@ -13,9 +13,8 @@ from pathlib import Path
 
 import xarray as xr
 
-from .._common import head_text
 from ..registry import Reader
-from ..table import read_headed_table
+from ..table import first_line_sniffer, read_headed_table
 
 __all__ = ["read_powersuite", "READER"]
 
@@ -26,9 +25,7 @@ def _is_header(line: str) -> bool:
     return [c.strip() for c in line.split("\t")][:3] == ["Frequency", "Zre", "Zimg"]
 
 
-def sniff(path: Path, head: bytes) -> str | None:
-    first = head_text(head).lstrip().split("\n", 1)[0]
-    return None if _is_header(first) else "first line is not 'Frequency<TAB>Zre<TAB>Zimg'"
+sniff = first_line_sniffer(_is_header, "'Frequency<TAB>Zre<TAB>Zimg'")
 
 
 def read_powersuite(path: str | Path) -> xr.Dataset:
