@@ -19,15 +19,22 @@ from impedax.circuits import CDCConvention, Element, Parallel, Series, from_cdc,
 # --- impedance.py ---------------------------------------------------------------------------
 
 
-def test_impedance_py_converter():
-    c = from_impedance_py("R0-p(R1,C1)-CPE1")
-    assert c == ix.parse("R0 + R1 || C1 + CPE1")
-    assert from_impedance_py("R0-p(R1-Wo1,CPE1)") == ix.parse("R0 + (R1 + Wo1) || CPE1")
-    assert from_impedance_py("R_0-Ws1-G2-L3") == ix.parse("R0 + Ws1 + G2 + L3")
-    with pytest.raises(ix.CircuitSyntaxError, match="no impedax equivalent"):
-        from_impedance_py("R0-TLMQ1")
-    with pytest.raises(ix.CircuitSyntaxError):
-        from_impedance_py("R0-p(R1,C1")
+@pytest.mark.parametrize(
+    "text, expected",
+    [
+        ("R0-p(R1,C1)-CPE1", "R0 + R1 || C1 + CPE1"),
+        ("R0-p(R1-Wo1,CPE1)", "R0 + (R1 + Wo1) || CPE1"),
+        ("R_0-Ws1-G2-L3", "R0 + Ws1 + G2 + L3"),
+    ],
+)
+def test_impedance_py_converter(text, expected):
+    assert from_impedance_py(text) == ix.parse(expected)
+
+
+@pytest.mark.parametrize("text, match", [("R0-TLMQ1", "no impedax equivalent"), ("R0-p(R1,C1", "expected .\)")])
+def test_impedance_py_converter_refuses(text, match):
+    with pytest.raises(ix.CircuitSyntaxError, match=match):
+        from_impedance_py(text)
 
 
 @pytest.mark.parametrize(
@@ -61,16 +68,24 @@ def test_elements_impedance_py_lacks_are_refused_by_name():
 # --- CDC: reading both conventions ----------------------------------------------------------
 
 
-def test_cdc_bracket_convention():
-    assert from_cdc("R(RC)(RQ)") == ix.parse("R1 + R2 || C1 + R3 || CPE1")
-    assert from_cdc("R([RW]C)") == ix.parse("R1 + (R2 + W1) || C1")
-    assert from_cdc("R(C[RW])") == ix.parse("R1 + C1 || (R2 + W1)")
-    assert from_cdc("R(C[R(CR)])") == ix.parse("R1 + C1 || (R2 + C2 || R3)")
-    assert from_cdc("LOTG") == ix.parse("L1 + Ws1 + Wo1 + G1")
-    with pytest.raises(ix.CircuitSyntaxError, match="unknown CDC element"):
-        from_cdc("R(RX)")
-    with pytest.raises(ix.CircuitSyntaxError):
-        from_cdc("R(RC")
+@pytest.mark.parametrize(
+    "text, expected",
+    [
+        ("R(RC)(RQ)", "R1 + R2 || C1 + R3 || CPE1"),
+        ("R([RW]C)", "R1 + (R2 + W1) || C1"),
+        ("R(C[RW])", "R1 + C1 || (R2 + W1)"),
+        ("R(C[R(CR)])", "R1 + C1 || (R2 + C2 || R3)"),
+        ("LOTG", "L1 + Ws1 + Wo1 + G1"),
+    ],
+)
+def test_cdc_bracket_convention(text, expected):
+    assert from_cdc(text) == ix.parse(expected)
+
+
+@pytest.mark.parametrize("text, match", [("R(RX)", "unknown CDC element"), ("R(RC", "unclosed group")])
+def test_cdc_refuses(text, match):
+    with pytest.raises(ix.CircuitSyntaxError, match=match):
+        from_cdc(text)
 
 
 def test_classic_randles_string_is_the_randles_circuit():

@@ -86,6 +86,11 @@ def test_csv_header_variants(tmp_path, header, transform):
         ("frequency_hz,z_real_ohm,z_imag_ohm\n1,2,3\n\n1,2,3\n", 4, "duplicate frequency 1 Hz (also on line 2)"),
         ("frequency_hz,z_real_ohm,z_imag_ohm\n1,2,3\n2,2\n", 3, "2 fields"),
         ("frequency_hz,z_real_ohm,z_imag_ohm,-z_imag_ohm\n1,2,3,4\n", 1, "keep one"),
+        # a missing or extra cell is an error naming the row, never a shift of values
+        ("frequency_hz,z_real_ohm,z_imag_ohm\n1,2,-3\n2,,-3\n", 3, "'z_real_ohm' is empty (missing value)"),
+        ("frequency_hz,z_real_ohm,z_imag_ohm\n1,2,-3\n2,3\n", 3, "2 fields, but the header has 3"),
+        ("f\tZ'\tZ''\n1\t2\t-3\n2\t3\t-4\t5\n", 3, "4 fields, but the header has 3"),
+        ("freq Zreal Zimag\n1 2 -3\n2 -3\n", 3, "2 fields"),
     ],
 )
 def test_bad_csv_names_file_and_line(tmp_path, content, line, fragment):
