@@ -179,22 +179,30 @@ def evaluate_program(program: Mapping[str, jnp.ndarray], theta, freq, *, layout:
     """Impedance of a padded circuit program (see `CircuitProgram`); pure, jittable, vmappable.
 
     ``program`` is `CircuitProgram.arrays()`, ``theta`` the (S, 4) parameters, ``freq`` in Hz,
-    ``layout`` static. Unused slots are evaluated at their defaults and never referenced.
+    ``layout`` static. Unused slots are evaluated at their defaults and never referenced. Every
+    slot's impedance and admittance is computed once, and each node sums its children's
+    impedances (series) or admittances (parallel) as real mask-vector products on Re and Im:
+    (S + 2N)·F complex divisions for S slots, N nodes and F frequencies.
     """
     omega = (2.0 * jnp.pi * jnp.asarray(freq))[None, :]
     parts = []
     for k, spec in enumerate(layout.registry.specs):
         rows = theta[layout.slots_of(k)]
+        if rows.shape[0] == 0:
+            continue
         z_k = spec.impedance(omega, *(rows[:, i : i + 1] for i in range(len(spec.parameters))))
         parts.append(jnp.broadcast_to(z_k, (rows.shape[0], omega.shape[1])).astype(jnp.complex128))
     size, n = layout.n_slots, layout.n_nodes
-    values = jnp.concatenate(parts + [jnp.ones((n, omega.shape[1]), jnp.complex128)], axis=0)
+    ones = jnp.ones((n, omega.shape[1]), jnp.complex128)
+    z = jnp.concatenate(parts + [ones], axis=0)
+    y = jnp.concatenate([1.0 / zp for zp in parts] + [ones], axis=0)
     children, is_parallel = program["children"], program["is_parallel"]
     for k in range(n):
-        mask = children[k][:, None]
-        z_sum = jnp.sum(mask * values, axis=0)
-        # unused rows (padding nodes hold 0) must not enter 1/Z, not even masked out
-        y_sum = jnp.sum(mask / jnp.where(mask > 0, values, 1.0), axis=0)
-        z_par = 1.0 / jnp.where(y_sum == 0, 1.0, y_sum)
-        values = values.at[size + k].set(jnp.where(is_parallel[k], z_par, z_sum))
-    return values[program["root"]]
+        mask = children[k]
+        z_sum = (mask @ z.real) + 1j * (mask @ z.imag)
+        y_sum = (mask @ y.real) + 1j * (mask @ y.imag)
+        z_node = jnp.where(is_parallel[k], 1.0 / jnp.where(y_sum == 0, 1.0, y_sum), z_sum)
+        y_node = jnp.where(is_parallel[k], y_sum, 1.0 / jnp.where(z_sum == 0, 1.0, z_sum))
+        z = z.at[size + k].set(z_node)
+        y = y.at[size + k].set(y_node)
+    return z[program["root"]]

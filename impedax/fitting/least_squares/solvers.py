@@ -34,7 +34,7 @@ import lineax as lx
 import numpy as np
 import optimistix as optx
 
-from ...circuits import Circuit, ProgramLayout, Registry, compile_circuit
+from ...circuits import Circuit, ProgramLayout, Registry, compile_circuit, evaluate_program
 from ..parameters import external_of_kind, to_external
 from .lm import levenberg_marquardt, lm_iteration, work_queue
 from .order import structural_peaks
@@ -534,34 +534,6 @@ class PendingOutputs(NamedTuple):
         return self.kind(**out)
 
 
-def evaluate_program_fast(program, theta, freq, *, layout: ProgramLayout):
-    """Same value as `impedax.circuits.evaluate_program`, cheaper inside a solver: every slot's
-    admittance is computed once (not once per node), and the node sums are real mask-vector
-    products on Re and Im. Complex divisions fall from N·(S+N)·F to (S+2N)·F."""
-    omega = (2.0 * jnp.pi * jnp.asarray(freq))[None, :]
-    parts = []
-    for k, spec in enumerate(layout.registry.specs):
-        rows = theta[layout.slots_of(k)]
-        if rows.shape[0] == 0:
-            continue
-        z_k = spec.impedance(omega, *(rows[:, i : i + 1] for i in range(len(spec.parameters))))
-        parts.append(jnp.broadcast_to(z_k, (rows.shape[0], omega.shape[1])).astype(jnp.complex128))
-    size, n = layout.n_slots, layout.n_nodes
-    ones = jnp.ones((n, omega.shape[1]), jnp.complex128)
-    z = jnp.concatenate(parts + [ones], axis=0)
-    y = jnp.concatenate([1.0 / zp for zp in parts] + [ones], axis=0)
-    children, is_parallel = program["children"], program["is_parallel"]
-    for k in range(n):
-        mask = children[k]
-        z_sum = (mask @ z.real) + 1j * (mask @ z.imag)
-        y_sum = (mask @ y.real) + 1j * (mask @ y.imag)
-        z_node = jnp.where(is_parallel[k], 1.0 / jnp.where(y_sum == 0, 1.0, y_sum), z_sum)
-        y_node = jnp.where(is_parallel[k], y_sum, 1.0 / jnp.where(z_sum == 0, 1.0, z_sum))
-        z = z.at[size + k].set(z_node)
-        y = y.at[size + k].set(y_node)
-    return z[program["root"]]
-
-
 @functools.lru_cache(maxsize=16)
 def program_solver(layout: ProgramLayout, max_steps: int, single_phase: bool = False):
     """(single, batched) jitted solvers for any circuit of ``layout``; the program's arrays
@@ -569,7 +541,7 @@ def program_solver(layout: ProgramLayout, max_steps: int, single_phase: bool = F
     ``single_phase``: every start runs `lm.lm_iteration` to the end (for warm starts)."""
 
     def model(x, freq, program):
-        return evaluate_program_fast(program, x.reshape(layout.n_slots, -1), freq, layout=layout)
+        return evaluate_program(program, x.reshape(layout.n_slots, -1), freq, layout=layout)
 
     residuals = _residuals(model)
     if single_phase:
