@@ -10,7 +10,7 @@ circuits it proposes.
 from __future__ import annotations
 
 import time
-from typing import Mapping, Sequence
+from typing import Mapping, NamedTuple, Sequence
 
 import jax.numpy as jnp
 import numpy as np
@@ -19,7 +19,7 @@ import xarray as xr
 from ...circuits import Circuit, CircuitProgram, DEFAULT_REGISTRY, ProgramLayout, Registry, default_theta, parse
 from ...errors import FitError
 from ..parameters import Transform, to_internal
-from ..problem import prepare_fit, weights
+from ..problem import FitProblem, prepare_fit, weights
 from .result import FitResult, fit_result
 from .solvers import SolverArgs, SolverOutput, program_solver
 from .starts import SpectrumFeatures, data_driven_guess, random_starts
@@ -76,92 +76,121 @@ def fit_candidates(
     circuits = [parse(c, registry) for c in circuits]
     if not circuits:
         return []
-    init = list(init) if init is not None else [None] * len(circuits)
-    if len(init) != len(circuits):
-        raise FitError("init must give one mapping (or None) per circuit")
-    prepared = []
-    warm = []
-    for circuit, start in zip(circuits, init):
-        mine = {k: v for k, v in (fixed or {}).items() if k in circuit.parameter_names(registry)}
-        starts = [start] if start is None or isinstance(start, Mapping) else list(start)
-        starts = [{k: v for k, v in (one or {}).items() if k in circuit.parameter_names(registry) and k not in mine} for one in starts] or [{}]
-        start = starts[0]
-        warm.append([_inside(circuit, one, registry) for one in starts[1:]])
-        prepared.append(prepare_fit(circuit, data, init=_inside(circuit, start, registry), fixed=mine, bounds=None, fmin=fmin, fmax=fmax, registry=registry))
-    data_sel = prepared[0].data
-    if any(d != "frequency" for d in data_sel["Z"].dims):
-        raise FitError("fit_candidates fits one spectrum; select or average the extra dimensions first")
-    freq = np.asarray(data_sel["frequency"].values, float)
-    z = np.asarray(data_sel["Z"].values, complex)
-    sigma = np.asarray(data_sel["sigma"].values, float) if "sigma" in data_sel else None
+    prepared, warm = _prepare(circuits, data, init, fixed, fmin=fmin, fmax=fmax, registry=registry)
+    spectrum = prepared[0].data
+    freq = np.asarray(spectrum["frequency"].values, float)
+    z = np.asarray(spectrum["Z"].values, complex)
+    sigma = np.asarray(spectrum["sigma"].values, float) if "sigma" in spectrum else None
     inv_re, inv_im = weights(z, sigma, weighting, prepared[0].source)
     layout = layout if layout is not None else _shared_layout(circuits, registry)
-    programs = [CircuitProgram.build(c, registry, layout) for c in circuits]
-    k_need = max(int((~p.table.fixed).sum()) for p in prepared)
-    k_pad = max(k_pad or 0, bucket(k_need, K_BUCKETS))
+    k_pad = max(k_pad or 0, bucket(max(int((~p.table.fixed).sum()) for p in prepared), K_BUCKETS))
     seeds = list(seeds) if seeds is not None else [seed] * len(circuits)
     if len(seeds) != len(circuits):
         raise FitError("seeds must give one seed per circuit")
-    n_flat = layout.n_slots * 4
     features = SpectrumFeatures(freq, z)
-    rows = []
-    for problem, program, extra, seed_i in zip(prepared, programs, warm, seeds):
-        circuit, table = problem.circuit, problem.table
-        flat = np.array([s * 4 + i for s, i in (program.parameter_slots[n] for n in table.names)])
-        x_fixed = default_theta(layout).ravel()
-        guess = data_driven_guess(circuit, table, features, registry)
-        x_fixed[flat] = guess
-        x_fixed[flat[table.fixed]] = table.values[table.fixed]
-        free = table.free_index
-        k = free.size
-        starts_x = random_starts(table, features, guess, n_starts, seed_i)
-        for j, values in enumerate(extra[: n_starts - 1], start=1):
-            starts_x[j] = guess
-            for name, value in values.items():
-                starts_x[j, table.names.index(name)] = value
-        starts_x = starts_x[:, free]
-        starts_u = np.zeros((n_starts, k_pad))
-        starts_u[:, :k] = to_internal(starts_x, table.lower[free], table.upper[free], table.kind[free])
-        pad = lambda a, fill: np.concatenate([a, np.full(k_pad - k, fill, dtype=np.asarray(a).dtype)])  # noqa: E731
-        rows.append(
-            {
-                "starts": starts_u,
-                "free_index": pad(flat[free].astype(np.int32), n_flat),
-                "lower": pad(table.lower[free], -np.inf),
-                "upper": pad(table.upper[free], np.inf),
-                "kind": pad(table.kind[free], Transform.IDENTITY),
-                "x_fixed": x_fixed,
-                "program": program.arrays(),
-                "flat": flat,
-            }
-        )
+    rows = [
+        _candidate_row(problem, CircuitProgram.build(problem.circuit, registry, layout), extra, seed_i, features, n_starts=n_starts, k_pad=k_pad, registry=registry)
+        for problem, extra, seed_i in zip(prepared, warm, seeds)
+    ]
     n_real = len(rows)
     n_total = max(pad_to or 0, -(-n_real // C_BUCKET) * C_BUCKET)
     rows += [rows[-1]] * (n_total - n_real)  # pad the candidate count (results discarded)
-    stack = lambda key: jnp.asarray(np.stack([r[key] for r in rows]))  # noqa: E731
-    args = SolverArgs(
-        freq=jnp.broadcast_to(jnp.asarray(freq), (n_total, freq.size)),
-        z=jnp.broadcast_to(jnp.asarray(z), (n_total, z.size)),
-        inv_w_re=jnp.broadcast_to(jnp.asarray(inv_re), (n_total, z.size)),
-        inv_w_im=jnp.broadcast_to(jnp.asarray(inv_im), (n_total, z.size)),
-        x_fixed=stack("x_fixed"),
-        free_index=stack("free_index"),
-        lower=stack("lower"),
-        upper=stack("upper"),
-        kind=stack("kind"),
-        model_args={key: jnp.stack([r["program"][key] for r in rows]) for key in rows[0]["program"]},
-        max_steps=jnp.full((n_total,), min(step_limit or max_steps, max_steps), jnp.int64) if single_phase else None,
-    )
+    steps = min(step_limit or max_steps, max_steps) if single_phase else None
+    starts, args = _stacked(rows, freq, z, inv_re, inv_im, steps)
     _, many = program_solver(layout, max_steps, bool(single_phase))
-    out = SolverOutput(*(None if v is None else np.asarray(v) for v in many(stack("starts"), args)))
+    out = SolverOutput(*(None if v is None else np.asarray(v) for v in many(starts, args)))
     elapsed = (time.perf_counter() - t0) / n_real
     results = []
     for i, (problem, row) in enumerate(zip(prepared, rows[:n_real])):
-        k = int((~problem.table.fixed).sum())
         one = out.row(i)
-        one = one._replace(x=one.x[row["flat"]], jacobian=one.jacobian[:, :k])
+        one = one._replace(x=one.x[row.flat], jacobian=one.jacobian[:, : row.n_free])
         results.append(fit_result(problem.circuit, problem.table, freq, z, one, weighting, n_starts, elapsed, registry))
     return results
+
+
+def _prepare(circuits, data, init, fixed, *, fmin, fmax, registry) -> tuple[list[FitProblem], list[list[dict]]]:
+    """Each candidate's `FitProblem` (its first start as ``init``) and its further warm starts."""
+    init = list(init) if init is not None else [None] * len(circuits)
+    if len(init) != len(circuits):
+        raise FitError("init must give one mapping (or None) per circuit")
+    prepared, warm = [], []
+    for circuit, start in zip(circuits, init):
+        names = circuit.parameter_names(registry)
+        mine = {k: v for k, v in (fixed or {}).items() if k in names}
+        starts = [start] if start is None or isinstance(start, Mapping) else list(start)
+        starts = [{k: v for k, v in (one or {}).items() if k in names and k not in mine} for one in starts] or [{}]
+        warm.append([_inside(circuit, one, registry) for one in starts[1:]])
+        prepared.append(prepare_fit(circuit, data, init=_inside(circuit, starts[0], registry), fixed=mine, bounds=None, fmin=fmin, fmax=fmax, registry=registry))
+    if prepared[0].data["Z"].ndim != 1:
+        raise FitError("fit_candidates fits one spectrum; select or average the extra dimensions first")
+    return prepared, warm
+
+
+class CandidateRow(NamedTuple):
+    """One candidate's arrays for the program solver: ``starts`` (S, K_pad) in the solver's
+    space, the free parameters' positions in the flattened program ``free_index``, bounds and
+    `Transform` kinds (padded to K_pad), all parameters ``x_fixed``, the program's arrays, and
+    ``flat``: where the circuit's parameters sit in the flattened program."""
+
+    starts: np.ndarray
+    free_index: np.ndarray
+    lower: np.ndarray
+    upper: np.ndarray
+    kind: np.ndarray
+    x_fixed: np.ndarray
+    program: dict
+    flat: np.ndarray
+    n_free: int
+
+
+def _candidate_row(problem: FitProblem, program: CircuitProgram, warm: list[dict], seed: int, features: SpectrumFeatures, *, n_starts: int, k_pad: int, registry: Registry) -> CandidateRow:
+    """The data-driven guess, the warm starts and random starts of one candidate, padded."""
+    circuit, table = problem.circuit, problem.table
+    layout = program.layout
+    flat = np.array([s * 4 + i for s, i in (program.parameter_slots[n] for n in table.names)])
+    x_fixed = default_theta(layout).ravel()
+    guess = data_driven_guess(circuit, table, features, registry)
+    x_fixed[flat] = guess
+    x_fixed[flat[table.fixed]] = table.values[table.fixed]
+    free = table.free_index
+    k = free.size
+    starts_x = random_starts(table, features, guess, n_starts, seed)
+    for j, values in enumerate(warm[: n_starts - 1], start=1):
+        starts_x[j] = guess
+        for name, value in values.items():
+            starts_x[j, table.names.index(name)] = value
+    starts_x = starts_x[:, free]
+    starts_u = np.zeros((n_starts, k_pad))
+    starts_u[:, :k] = to_internal(starts_x, table.lower[free], table.upper[free], table.kind[free])
+
+    def pad(a, fill):
+        return np.concatenate([a, np.full(k_pad - k, fill, dtype=np.asarray(a).dtype)])
+
+    return CandidateRow(
+        starts=starts_u, free_index=pad(flat[free].astype(np.int32), layout.n_slots * 4), lower=pad(table.lower[free], -np.inf),
+        upper=pad(table.upper[free], np.inf), kind=pad(table.kind[free], Transform.IDENTITY), x_fixed=x_fixed,
+        program=program.arrays(), flat=flat, n_free=k,
+    )
+
+
+def _stacked(rows: list[CandidateRow], freq, z, inv_re, inv_im, max_steps: int | None) -> tuple[jnp.ndarray, SolverArgs]:
+    """The candidates' starts and solver arguments stacked along a leading candidate axis;
+    ``max_steps`` (single-phase solver) their step limit."""
+    n = len(rows)
+
+    def stack(field):
+        return jnp.asarray(np.stack([getattr(r, field) for r in rows]))
+
+    def spread(a):
+        return jnp.broadcast_to(jnp.asarray(a), (n, np.size(a)))
+
+    args = SolverArgs(
+        freq=spread(freq), z=spread(z), inv_w_re=spread(inv_re), inv_w_im=spread(inv_im), x_fixed=stack("x_fixed"),
+        free_index=stack("free_index"), lower=stack("lower"), upper=stack("upper"), kind=stack("kind"),
+        model_args={key: jnp.stack([r.program[key] for r in rows]) for key in rows[0].program},
+        max_steps=None if max_steps is None else jnp.full((n,), max_steps, jnp.int64),
+    )
+    return stack("starts"), args
 
 
 def _inside(circuit: Circuit, values: Mapping[str, float], registry: Registry) -> dict[str, float]:
