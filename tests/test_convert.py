@@ -19,22 +19,34 @@ from impedax.circuits import CDCConvention, Element, Parallel, Series, from_cdc,
 # --- impedance.py ---------------------------------------------------------------------------
 
 
-@pytest.mark.parametrize(
-    "text, expected",
-    [
-        ("R0-p(R1,C1)-CPE1", "R0 + R1 || C1 + CPE1"),
-        ("R0-p(R1-Wo1,CPE1)", "R0 + (R1 + Wo1) || CPE1"),
-        ("R_0-Ws1-G2-L3", "R0 + Ws1 + G2 + L3"),
-    ],
-)
-def test_impedance_py_converter(text, expected):
-    assert from_impedance_py(text) == ix.parse(expected)
+# impedance.py strings and CDC (bracket convention) read into trees written out by hand
+READS = [
+    (from_impedance_py, "R0-p(R1,C1)-CPE1", "R0 + R1 || C1 + CPE1"),
+    (from_impedance_py, "R0-p(R1-Wo1,CPE1)", "R0 + (R1 + Wo1) || CPE1"),
+    (from_impedance_py, "R_0-Ws1-G2-L3", "R0 + Ws1 + G2 + L3"),
+    (from_cdc, "R(RC)(RQ)", "R1 + R2 || C1 + R3 || CPE1"),
+    (from_cdc, "R([RW]C)", "R1 + (R2 + W1) || C1"),
+    (from_cdc, "R(C[RW])", "R1 + C1 || (R2 + W1)"),
+    (from_cdc, "R(C[R(CR)])", "R1 + C1 || (R2 + C2 || R3)"),
+    (from_cdc, "LOTG", "L1 + Ws1 + Wo1 + G1"),
+]
+REFUSED = [
+    (from_impedance_py, "R0-TLMQ1", "no impedax equivalent"),
+    (from_impedance_py, "R0-p(R1,C1", "closing p"),
+    (from_cdc, "R(RX)", "unknown CDC element"),
+    (from_cdc, "R(RC", "unclosed group"),
+]
 
 
-@pytest.mark.parametrize("text, match", [("R0-TLMQ1", "no impedax equivalent"), ("R0-p(R1,C1", "closing p")])
-def test_impedance_py_converter_refuses(text, match):
+@pytest.mark.parametrize("read, text, expected", READS)
+def test_other_notations_read(read, text, expected):
+    assert read(text) == ix.parse(expected)
+
+
+@pytest.mark.parametrize("read, text, match", REFUSED)
+def test_other_notations_refused_with_a_message(read, text, match):
     with pytest.raises(ix.CircuitSyntaxError, match=match):
-        from_impedance_py(text)
+        read(text)
 
 
 @pytest.mark.parametrize(
@@ -66,26 +78,6 @@ def test_elements_impedance_py_lacks_are_refused_by_name():
 
 
 # --- CDC: reading both conventions ----------------------------------------------------------
-
-
-@pytest.mark.parametrize(
-    "text, expected",
-    [
-        ("R(RC)(RQ)", "R1 + R2 || C1 + R3 || CPE1"),
-        ("R([RW]C)", "R1 + (R2 + W1) || C1"),
-        ("R(C[RW])", "R1 + C1 || (R2 + W1)"),
-        ("R(C[R(CR)])", "R1 + C1 || (R2 + C2 || R3)"),
-        ("LOTG", "L1 + Ws1 + Wo1 + G1"),
-    ],
-)
-def test_cdc_bracket_convention(text, expected):
-    assert from_cdc(text) == ix.parse(expected)
-
-
-@pytest.mark.parametrize("text, match", [("R(RX)", "unknown CDC element"), ("R(RC", "unclosed group")])
-def test_cdc_refuses(text, match):
-    with pytest.raises(ix.CircuitSyntaxError, match=match):
-        from_cdc(text)
 
 
 def test_classic_randles_string_is_the_randles_circuit():

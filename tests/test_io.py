@@ -6,6 +6,7 @@ import xarray as xr
 
 import impedax as ix
 from impedax.io import read_csv, write_csv
+from loading import assert_load_names
 
 
 def _spectrum(n=12):
@@ -96,12 +97,7 @@ def test_csv_header_variants(tmp_path, header, transform):
 def test_bad_csv_names_file_and_line(tmp_path, content, line, fragment):
     path = tmp_path / "bad.csv"
     path.write_text(content)
-    with pytest.raises(ix.DataError) as info:
-        ix.load(path)
-    msg = str(info.value)
-    assert str(path) in msg and fragment in msg
-    if line is not None:
-        assert f"line {line}" in msg
+    assert_load_names(path, fragment, line)
 
 
 def test_binary_and_missing_files(tmp_path):
