@@ -136,15 +136,24 @@ def test_hdf5_without_h5py_says_how_to_get_it(tmp_path, monkeypatch):
         ix.load(path)
 
 
-def test_labone_hdf5_with_h5py(tmp_path):
+LABONE_F = np.geomspace(1, 1e5, 7)
+
+
+def _labone_h5(path, sweeps, grid=False):
+    """A LabOne HDF5 file with one sample group per spectrum in ``sweeps`` (on LABONE_F)."""
     h5py = pytest.importorskip("h5py")
-    f = np.geomspace(1, 1e5, 7)
-    z = oracle(f)
-    path = tmp_path / "sweep.h5"
     with h5py.File(path, "w") as fh:
-        g = fh.create_group("000/dev3000/imps/0/sample")
-        g["grid"], g["frequency"], g["realz"], g["imagz"] = f, f, z.real, z.imag
-    ds = ix.load(path)
+        for k, z in enumerate(sweeps):
+            g = fh.create_group(f"00{k}/dev3000/imps/0/sample")
+            g["frequency"], g["realz"], g["imagz"] = LABONE_F, z.real, z.imag
+            if grid:
+                g["grid"] = LABONE_F
+    return path
+
+
+def test_labone_hdf5_with_h5py(tmp_path):
+    z = oracle(LABONE_F)
+    ds = ix.load(_labone_h5(tmp_path / "sweep.h5", [z], grid=True))
     np.testing.assert_allclose(ds["Z"].values, z, rtol=1e-15)
     assert ds.attrs["hdf5_group"] == "000/dev3000/imps/0/sample"
 
@@ -371,14 +380,7 @@ def test_oversized_file_is_refused_before_reading(tmp_path, monkeypatch):
 
 
 def test_labone_hdf5_several_sweeps(tmp_path):
-    h5py = pytest.importorskip("h5py")
-    f = np.geomspace(1, 1e5, 7)
-    z = oracle(f)
-    path = tmp_path / "sweeps.h5"
-    with h5py.File(path, "w") as fh:
-        for k in range(2):
-            g = fh.create_group(f"00{k}/dev3000/imps/0/sample")
-            g["frequency"], g["realz"], g["imagz"] = f, (1 + k) * z.real, (1 + k) * z.imag
-    ds = ix.load(path)
+    z = oracle(LABONE_F)
+    ds = ix.load(_labone_h5(tmp_path / "sweeps.h5", [z, 2 * z]))
     assert ds["Z"].dims == ("sweep", "frequency")
     np.testing.assert_allclose(ds["Z"].values, np.stack([z, 2 * z]), rtol=1e-15)
