@@ -97,6 +97,17 @@ class GapAnalysis:
             "warnings": list(self.warnings),
         }
 
+    def to_table(self) -> list[dict[str, object]]:
+        """The tidy table: C_gap [F] and u [m], posterior median and 90% interval (``method``
+        bayes) and the paper's estimate with its bounds for u (``method`` paper)."""
+        p = self.paper
+        return [
+            {"name": "C_gap", "method": "bayes", **self.c_gap, "unit": "F"},
+            {"name": "u", "method": "bayes", **self.gap, "unit": "m"},
+            {"name": "C_gap", "method": "paper", "value": p.c_gap, "q05": None, "q95": None, "unit": "F"},
+            {"name": "u", "method": "paper", "value": p.gap, "q05": p.gap_lower, "q95": p.gap_upper, "unit": "m"},
+        ]
+
     def report(self) -> str:
         g, c, p = self.gap, self.c_gap, self.paper
         peak = self.force.sel(branch="with_ep")["median"]
