@@ -98,14 +98,16 @@ class GapAnalysis:
         }
 
     def to_table(self) -> list[dict[str, object]]:
-        """The tidy table: C_gap [F] and u [m], posterior median and 90% interval (``method``
-        bayes) and the paper's estimate with its bounds for u (``method`` paper)."""
+        """The tidy table of C_gap [F] and u [m]: ``method`` bayes (value: posterior median;
+        low/high: the 90% credible interval) and paper (the paper's method; for u its bounds
+        from the lowest/highest impedances)."""
         p = self.paper
+        interval = lambda q: {"value": q["value"], "low": q["q05"], "high": q["q95"]}  # noqa: E731
         return [
-            {"name": "C_gap", "method": "bayes", **self.c_gap, "unit": "F"},
-            {"name": "u", "method": "bayes", **self.gap, "unit": "m"},
-            {"name": "C_gap", "method": "paper", "value": p.c_gap, "q05": None, "q95": None, "unit": "F"},
-            {"name": "u", "method": "paper", "value": p.gap, "q05": p.gap_lower, "q95": p.gap_upper, "unit": "m"},
+            {"name": "C_gap", "method": "bayes", **interval(self.c_gap), "unit": "F"},
+            {"name": "u", "method": "bayes", **interval(self.gap), "unit": "m"},
+            {"name": "C_gap", "method": "paper", "value": p.c_gap, "low": None, "high": None, "unit": "F"},
+            {"name": "u", "method": "paper", "value": p.gap, "low": p.gap_lower, "high": p.gap_upper, "unit": "m"},
         ]
 
     def report(self) -> str:
