@@ -8,8 +8,6 @@ import math
 import sys
 from typing import Iterable, Mapping
 
-import numpy as np
-
 from ..errors import ParameterError
 
 __all__ = [
