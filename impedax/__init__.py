@@ -113,6 +113,7 @@ _LAZY = {
     "zhit": (".fitting", "zhit"),
     "ZHITResult": (".fitting", "ZHITResult"),
     "load": (".io", "load"),
+    "write_result": (".io", "write_result"),
     "save": (".io", "save"),
     # the subpackages, so that ``import impedax`` then ``impedax.io.write_netcdf`` works as before
     "circuits": (".circuits", None),

@@ -8,13 +8,11 @@ import math
 import sys
 from typing import Iterable, Mapping
 
-import numpy as np
-
 from ..errors import ParameterError
 
 __all__ = [
     "parse_assignments", "check_parameter_names", "emit_json", "to_jsonable", "add_model_argument", "add_output_options",
-    "check_outputs", "save_outputs", "print_result",
+    "check_outputs", "save_outputs", "print_result", "result_out_help",
 ]
 
 
@@ -68,20 +66,10 @@ def model_and_values(model: str, items, flag: str):
 
 
 def to_jsonable(obj):
-    if isinstance(obj, Mapping):
-        return {str(k): to_jsonable(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [to_jsonable(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return [to_jsonable(v) for v in obj.tolist()]
-    if isinstance(obj, (np.floating, float)):
-        v = float(obj)
-        return v if math.isfinite(v) else None
-    if isinstance(obj, (np.integer,)):
-        return int(obj)
-    if isinstance(obj, np.bool_):
-        return bool(obj)
-    return obj
+    """``obj`` as strict-JSON values (`impedax.io.export.to_jsonable`)."""
+    from ..io.export import to_jsonable as jsonable
+
+    return jsonable(obj)
 
 
 def emit_json(obj) -> None:
@@ -98,7 +86,10 @@ def add_model_argument(parser, *, positional: bool = False) -> None:
         parser.add_argument("--model", required=True, metavar="MODEL", help=help_text)
 
 
-def add_output_options(parser, *, json: str | None = "print the result as JSON", plot: str | None = None, out: str | None = None, out_metavar: str = "FILE.nc") -> None:
+RESULT_OUT_METAVAR = "FILE.csv|.json|.nc"
+
+
+def add_output_options(parser, *, json: str | None = "print the result as JSON", plot: str | None = None, out: str | None = None, out_metavar: str = RESULT_OUT_METAVAR) -> None:
     """The output options of a command: ``--json`` (help ``json``), ``--plot FILE.png`` (help
     ``plot``) and ``--out`` (help ``out``); an option whose help is None is not added."""
     if json:
@@ -109,23 +100,36 @@ def add_output_options(parser, *, json: str | None = "print the result as JSON",
         parser.add_argument("--out", metavar=out_metavar, help=out)
 
 
-def check_outputs(*paths) -> None:
-    """Every output path that was given is writable: checked before any work is done."""
-    from ..io.atomic import check_writable
+def result_out_help(what: str) -> str:
+    """The help of a result's ``--out``: the format follows the extension."""
+    return f"save {what}: .csv a tidy table of parameters, .json the --json summary, .nc the full result as netCDF"
 
-    for path in paths:
+
+def check_outputs(*paths, result: str | None = None) -> None:
+    """Every output path that was given is writable, and ``result`` (a result's ``--out``) has
+    an extension `impedax.io.write_result` knows: checked before any work is done."""
+    from ..io.atomic import check_writable
+    from ..io.export import result_format
+
+    if result:
+        result_format(result)
+    for path in (*paths, result):
         if path:
             check_writable(path)
 
 
-def save_outputs(*, out=None, dataset=None, plot=None, figure=None, spectrum: bool = False) -> None:
-    """Write ``dataset()`` to ``out`` and save ``figure()`` to ``plot``, each only when its path
-    was given (the callables are called only then: no figure is drawn for nothing). A result
-    goes to lossless netCDF; a ``spectrum`` to CSV or netCDF by extension (`impedax.io.save`)."""
+def save_outputs(*, out=None, result=None, dataset=None, plot=None, figure=None) -> None:
+    """Write ``result`` to ``out`` in the format of its extension (`impedax.io.write_result`),
+    or the spectrum ``dataset()`` (CSV or netCDF by extension, `impedax.io.save`); save
+    ``figure()`` to ``plot``. Each only when its path was given (the callables are called only
+    then: no figure is drawn for nothing)."""
     if out:
-        from ..io import save, write_netcdf
+        from ..io import save, write_result
 
-        (save if spectrum else write_netcdf)(dataset(), out)
+        if result is not None:
+            write_result(result, out)
+        else:
+            save(dataset(), out)
     if plot:
         from ..plotting import save_figure
 

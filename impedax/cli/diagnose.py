@@ -13,16 +13,17 @@ def register(sub) -> None:
         description="Fit MODEL to DATA, test the data (Kramers-Kronig), find the bands where the residuals are structured, "
         "try every effect of the catalog at every sensible place (one batched fit) and rank them by AIC. See docs/diagnosis.md.",
         plot_help="save data vs model with the failing bands shaded and the best suggestion",
+        out_help="the diagnosis (.csv: the baseline's parameters, then the candidates with ΔAIC)",
     )
     add_max_steps_option(p, 100, "the candidate fits (the baseline fit keeps its own)")
 
 
-def add_spectrum_command(sub, name: str, *, help: str, description: str, plot_help: str):
+def add_spectrum_command(sub, name: str, *, help: str, description: str, plot_help: str, out_help: str):
     """A diagnosis command on one spectrum with a model (diagnose, refine): DATA, --model, the
-    fit options, --effects, --noise, --json, --plot; runs the module's ``run``."""
+    fit options, --effects, --noise, --json, --plot, --out; runs the module's ``run``."""
     import sys
 
-    from .common import add_model_argument, add_output_options
+    from .common import add_model_argument, add_output_options, result_out_help
     from .fit import add_fit_options
 
     p = sub.add_parser(name, help=help, description=description)
@@ -31,7 +32,7 @@ def add_spectrum_command(sub, name: str, *, help: str, description: str, plot_he
     add_fit_options(p)
     p.add_argument("--effects", metavar="ID,ID", help="only these effects (comma-separated ids; default: all)")
     p.add_argument("--noise", type=float, metavar="REL", help="relative noise level per component (default: from sigma or the KK residuals)")
-    add_output_options(p, json="machine-readable output", plot=plot_help)
+    add_output_options(p, json="machine-readable output", plot=plot_help, out=result_out_help(out_help))
     p.set_defaults(run=sys.modules[f"{__package__}.{name}"].run)
     return p
 
@@ -49,10 +50,10 @@ def run(args) -> int:
     from .common import check_outputs, print_result, save_outputs
     from .fit import check_max_steps
 
-    check_outputs(args.plot)
+    check_outputs(args.plot, result=args.out)
     max_steps = check_max_steps(args.max_steps)
     effects = effects_option(args.effects)
     result = diagnose(args.data, args.model, effects=effects, noise=args.noise, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps)
-    save_outputs(plot=args.plot, figure=result.plot)
+    save_outputs(out=args.out, result=result, plot=args.plot, figure=result.plot)
     print_result(result, args.json)
     return 0

@@ -35,7 +35,7 @@ def check_max_steps(n: int) -> int:
 
 
 def register(sub) -> None:
-    from .common import add_model_argument, add_output_options
+    from .common import add_model_argument, add_output_options, result_out_help
 
     p = sub.add_parser("fit", help="least-squares fit of a circuit to a spectrum", description="Fit MODEL to the spectrum in DATA (CSV, netCDF or an instrument file). Data with extra dimensions (trials, ...) are fitted together.")
     p.add_argument("data", metavar="DATA", help="spectrum file")
@@ -44,7 +44,7 @@ def register(sub) -> None:
     p.add_argument("--init", action="append", metavar="NAME=VALUE", help="starting value (repeatable); others are guessed from the data")
     add_fit_options(p)
     add_max_steps_option(p, 400, "each fit")
-    add_output_options(p, plot="save data vs model with residuals", out="save the full result (parameters, covariance, spectra) as netCDF")
+    add_output_options(p, plot="save data vs model with residuals", out=result_out_help("the result (.nc: parameters, covariance, spectra)"))
     p.set_defaults(run=run)
 
 
@@ -52,12 +52,12 @@ def run(args) -> int:
     from .. import fit, load
     from .common import check_outputs, parse_assignments, print_result, save_outputs
 
-    check_outputs(args.plot, args.out)
+    check_outputs(args.plot, result=args.out)
     max_steps = check_max_steps(args.max_steps)
     data = load(args.data)
     result = fit(args.model, data, init=parse_assignments(args.init, "--init"), fixed=parse_assignments(args.fix, "--fix"), weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps)
     single = hasattr(result, "plot")
-    save_outputs(out=args.out, dataset=result.to_xarray, plot=args.plot if single else None, figure=getattr(result, "plot", None))
+    save_outputs(out=args.out, result=result, plot=args.plot if single else None, figure=getattr(result, "plot", None))
     if args.plot and not single:
         print("impedax fit: --plot draws single spectra; this data has extra dimensions (plot skipped)", file=sys.stderr)
     print_result(result, args.json)

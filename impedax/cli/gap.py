@@ -6,7 +6,7 @@ import sys
 
 
 def register(sub) -> None:
-    from .common import add_output_options
+    from .common import add_output_options, result_out_help
 
     p = sub.add_parser(
         "gap",
@@ -24,7 +24,7 @@ def register(sub) -> None:
     p.add_argument("--steps", type=int, default=1500, help="MCMC steps (default 1500)")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     p.add_argument("--quiet", action="store_true", help="no progress line")
-    add_output_options(p, plot="save impedance, gap posterior and force bands", out="save the force bands and the gap summary as netCDF")
+    add_output_options(p, plot="save impedance, gap posterior and force bands", out=result_out_help("the gap result (.nc: force bands and gap summary; .csv: C_gap and u)"))
     p.set_defaults(run=run)
 
 
@@ -40,10 +40,10 @@ def run(args) -> int:
         raise ParameterError(f"--v0 must be positive (V), got {args.v0:g}")
     if args.steps < 20:
         raise ParameterError("--steps must be at least 20")
-    check_outputs(args.plot, args.out)
+    check_outputs(args.plot, result=args.out)
     total, skin, touchscreen = (load(p) for p in (args.total, args.skin, args.touchscreen))
     result = gap_analysis(total, skin, touchscreen, area=args.area, v0=args.v0, ep=args.ep, steps=args.steps, seed=args.seed, progress=not (args.quiet or args.json))
-    save_outputs(out=args.out, dataset=result.to_xarray, plot=args.plot, figure=result.plot)
+    save_outputs(out=args.out, result=result, plot=args.plot, figure=result.plot)
     print_result(result, args.json)
     if result.warnings and args.json:
         print(f"impedax gap: {len(result.warnings)} warning(s), see the JSON 'warnings'", file=sys.stderr)

@@ -48,7 +48,7 @@ def run(args) -> int:
         "skipped_rows": skipped,
         "attrs": {k: v for k, v in ds.attrs.items() if isinstance(v, (str, int, float, bool))},
     }
-    save_outputs(out=args.out, dataset=lambda: ds, plot=args.plot, figure=lambda: _preview(ds, summary["format"]), spectrum=True)
+    save_outputs(out=args.out, dataset=lambda: ds, plot=args.plot, figure=lambda: _preview(ds, summary["format"]))
     if args.json:
         emit_json(summary)
         return 0

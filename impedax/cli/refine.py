@@ -13,6 +13,7 @@ def register(sub) -> None:
         description="Repeat diagnose -> apply the best significant effect -> refit until the verdict is adequate or --max-steps effects were added; "
         "prints the table of steps (the error falls step by step). See docs/diagnosis.md.",
         plot_help="save rms_rel per step and the residuals of every step",
+        out_help="the refinement (.csv: the final fit's parameters)",
     )
     p.add_argument("--max-steps", type=int, default=4, metavar="N", help="most effects to add (default 4)")
 
@@ -23,11 +24,11 @@ def run(args) -> int:
     from .common import check_outputs, print_result, save_outputs
     from .diagnose import effects_option
 
-    check_outputs(args.plot)
+    check_outputs(args.plot, result=args.out)
     if args.max_steps < 0:
         raise ParameterError(f"--max-steps must be 0 or more, got {args.max_steps}")
     effects = effects_option(args.effects)
     result = refine(args.data, args.model, max_steps=args.max_steps, effects=effects, weighting=args.weighting, noise=args.noise, fmin=args.fmin, fmax=args.fmax)
-    save_outputs(plot=args.plot, figure=result.plot)
+    save_outputs(out=args.out, result=result, plot=args.plot, figure=result.plot)
     print_result(result, args.json)
     return 0

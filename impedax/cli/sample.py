@@ -7,7 +7,7 @@ import sys
 
 def register(sub) -> None:
     from ..fitting import NOISE_MODELS, PRIOR_KINDS
-    from .common import add_model_argument, add_output_options
+    from .common import add_model_argument, add_output_options, result_out_help
 
     p = sub.add_parser(
         "sample",
@@ -27,7 +27,7 @@ def register(sub) -> None:
     p.add_argument("--fmax", type=float, help="ignore data above this frequency [Hz]")
     p.add_argument("--quiet", action="store_true", help="no progress line on stderr")
     p.add_argument("--corner", metavar="FILE.png", help="save a corner plot of the draws")
-    add_output_options(p, json="print the result as JSON (no progress line)", plot="save data with posterior bands (Nyquist, Bode)", out="save the posterior (draws, diagnostics, start fit, data) as netCDF")
+    add_output_options(p, json="print the result as JSON (no progress line)", plot="save data with posterior bands (Nyquist, Bode)", out=result_out_help("the posterior (.nc: draws, diagnostics, start fit, data; .csv: quantiles per parameter)"))
     p.set_defaults(run=run)
 
 
@@ -44,13 +44,13 @@ def run(args) -> int:
         if name in priors:
             raise ParameterError(f"--prior: {name} given twice")
         priors[name] = prior
-    check_outputs(args.corner, args.plot, args.out)
+    check_outputs(args.corner, args.plot, result=args.out)
     data = load(args.data)
     posterior = sample(
         circuit, data, priors=priors, noise=args.noise, walkers=args.walkers, steps=args.steps, burn=args.burn, thin=args.thin,
         seed=args.seed, fmin=args.fmin, fmax=args.fmax, progress=not (args.quiet or args.json),
     )
-    save_outputs(out=args.out, dataset=posterior.to_xarray, plot=args.corner, figure=posterior.corner)
+    save_outputs(out=args.out, result=posterior, plot=args.corner, figure=posterior.corner)
     save_outputs(plot=args.plot, figure=posterior.plot)
     print_result(posterior, args.json)
     if not args.json:

@@ -47,5 +47,5 @@ def run(args) -> int:
 
         return plot_spectrum(model=ds, title=str(circuit), model_label=str(circuit))
 
-    save_outputs(out=args.out, dataset=lambda: ds, plot=args.plot, figure=figure, spectrum=True)
+    save_outputs(out=args.out, dataset=lambda: ds, plot=args.plot, figure=figure)
     return 0

@@ -121,6 +121,13 @@ class KKResult:
             lines.append(f"  bad band: {format_frequency(lo)} – {format_frequency(hi)}")
         return "\n".join(lines)
 
+    def _repr_html_(self) -> str:
+        from ..plotting.html import result_html
+
+        rows = [{"quantity": k, "value": v} for k, v in (("RC elements M", self.n_rc), ("µ", self.mu), ("rms_rel", self.rms_rel), ("noise estimate", self.noise_estimate), ("valid", bool(self.valid)))]
+        rows += [{"quantity": "bad band", "value": f"{format_frequency(lo)} – {format_frequency(hi)}"} for lo, hi in self.bad_bands]
+        return result_html("linear Kramers–Kronig test", rows)
+
     def plot(self, *, title: str | None = None):
         """Nyquist and Bode of data vs KK fit, and the residuals Δ [%] vs frequency with the
         point threshold and the bad bands shaded (`plotting.kk.plot_kk`). Returns a Figure."""

@@ -26,7 +26,7 @@ import numpy as np
 from ..circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ..errors import FitError, ParameterError
 
-__all__ = ["ParameterTable", "Transform", "to_external", "external_of_kind", "to_internal"]
+__all__ = ["ParameterTable", "Transform", "starting_values", "to_external", "external_of_kind", "to_internal"]
 
 
 class Transform(enum.IntEnum):
@@ -50,6 +50,18 @@ class Transform(enum.IntEnum):
         if lower > 0 and unit != "1":
             return cls.LOG_LOGISTIC
         return cls.LOGISTIC
+
+
+def starting_values(init, names: tuple[str, ...]) -> Mapping[str, float] | None:
+    """``init`` as name → value: a mapping as given, or a fit result (anything with a
+    ``values`` mapping, e.g. a `FitResult`) whose fitted values become the starts of the
+    parameters ``names`` that it has (the others are guessed from the data as usual)."""
+    if init is None or isinstance(init, Mapping):
+        return init
+    values = getattr(init, "values", None)
+    if isinstance(values, Mapping):
+        return {n: float(v) for n, v in values.items() if n in names}
+    raise ParameterError(f"init: expected a mapping name → value or a FitResult, got {type(init).__name__}")
 
 
 @dataclass(frozen=True, eq=False)
@@ -92,6 +104,7 @@ class ParameterTable:
     ) -> "ParameterTable":
         specs = circuit.parameter_specs(registry)
         names = tuple(specs)
+        init = starting_values(init, names)
         for what, mapping in (("init", init), ("fixed", fixed), ("bounds", bounds)):
             for name in mapping or {}:
                 if name not in specs:

@@ -1,13 +1,14 @@
 """Reading and writing spectra: `load` recognises the file by content (see docs/io.md).
 
 Layout: `loader` (`load`, `save`: detection and dispatch), `registry` (`Reader`), `table`
-(tables with named columns), `csv` (delimited text), `netcdf` (impedax's lossless files), and
+(tables with named columns), `csv` (delimited text), `netcdf` (impedax's lossless files), `export` (results as CSV tables, JSON, netCDF), and
 ``formats/`` — one module per instrument format, each documenting its sign and unit conventions,
 and `READERS`/`register_reader`.
 """
 
 from __future__ import annotations
 
+from .export import result_table as result_table, write_result as write_result
 from .csv import CSV_HEADER as CSV_HEADER, read_csv as read_csv, write_csv as write_csv
 from .formats import READERS as READERS, register_reader as register_reader
 from .formats.autolab import read_autolab as read_autolab
@@ -32,7 +33,7 @@ from .registry import Reader as Reader
 
 __all__ = [
     "load", "save", "identify", "read_csv", "write_csv", "read_netcdf", "write_netcdf", "CSV_HEADER", "READERS", "Reader",
-    "register_reader", "MAX_FILE_BYTES",
+    "register_reader", "MAX_FILE_BYTES", "write_result", "result_table",
     "read_gamry", "read_biologic", "read_biologic_text", "read_biologic_mpr", "read_zplot", "read_z60w", "read_autolab",
     "read_dfr", "read_parstat", "read_powersuite", "read_chinstruments", "read_versastudio", "read_labone_csv",
     "read_labone_hdf5", "read_palmsens", "read_ivium", "read_spreadsheet",

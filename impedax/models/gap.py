@@ -97,6 +97,19 @@ class GapAnalysis:
             "warnings": list(self.warnings),
         }
 
+    def to_table(self) -> list[dict[str, object]]:
+        """The tidy table of C_gap [F] and u [m]: ``method`` bayes (value: posterior median;
+        low/high: the 90% credible interval) and paper (the paper's method; for u its bounds
+        from the lowest/highest impedances)."""
+        p = self.paper
+        interval = lambda q: {"value": q["value"], "low": q["q05"], "high": q["q95"]}  # noqa: E731
+        return [
+            {"name": "C_gap", "method": "bayes", **interval(self.c_gap), "unit": "F"},
+            {"name": "u", "method": "bayes", **interval(self.gap), "unit": "m"},
+            {"name": "C_gap", "method": "paper", "value": p.c_gap, "low": None, "high": None, "unit": "F"},
+            {"name": "u", "method": "paper", "value": p.gap, "low": p.gap_lower, "high": p.gap_upper, "unit": "m"},
+        ]
+
     def report(self) -> str:
         g, c, p = self.gap, self.c_gap, self.paper
         peak = self.force.sel(branch="with_ep")["median"]

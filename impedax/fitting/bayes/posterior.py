@@ -236,6 +236,27 @@ class Posterior:
         fn = jax.jit(jax.vmap(lambda p, f: compiled(p, f), in_axes=(0, None)))
         return np.asarray(fn({k: jnp.asarray(v[pick]) for k, v in params.items()}, jnp.asarray(freq)))
 
+    def to_table(self) -> list[dict[str, object]]:
+        """The tidy table: one row per sampled parameter with name, median, q05, q16, q84, q95
+        and unit (`impedax.io.write_result` .csv); with a reparametrization, the circuit
+        parameters it replaces follow (derived from the draws)."""
+        q = self.quantiles()
+        rows = [{"name": n, **{k: float(q[k].sel(param=n)) for k in SUMMARY_QUANTILES}, "unit": u} for n, u in zip(self.names, self.units)]
+        if self.reparametrization is not None:
+            cq = self.quantiles(circuit=True)
+            specs = self.circuit.parameter_specs(self.registry)
+            rows += [{"name": n, **{k: float(cq[k].sel(param=n)) for k in SUMMARY_QUANTILES}, "unit": specs[n].unit} for n in self.reparametrization.replaces]
+        return rows
+
+    def _repr_html_(self) -> str:
+        from ...plotting.html import result_html
+
+        lines = [
+            f"emcee: {self.n_walkers} walkers × {self.n_draws} draws, acceptance {self.mean_acceptance:.3f}; Laplace ln Z {self.log_evidence:.2f}, WAIC {self.waic:.2f}",
+            *self.warnings,
+        ]
+        return result_html(f"{self.model}: posterior", self.to_table(), lines=lines)
+
     # -- figures (drawn by impedax.plotting.bayes) -----------------------------------------
     def plot(self, *, title: str | None = None, n_lines: int = 40):
         """Data with posterior bands: Nyquist (draws as thin lines) and Bode |Z| and phase with

@@ -226,6 +226,24 @@ class Diagnosis:
             attrs={"model": b.model, "verdict": str(self.verdict), "reason": self.reason, "noise_source": self.noise_source, "baseline_rms_rel": b.rms_rel, "baseline_aic": b.aic, **{f"threshold_{k}": v for k, v in self.thresholds.items()}},
         )
 
+    def to_table(self) -> list[dict[str, object]]:
+        """The tidy table in clearly named rows: ``section`` "baseline" rows are the baseline
+        fit's parameters (`FitResult.to_table`), then one "candidate" row per augmented model
+        (best first) with its effect, model, rms_rel, ΔAIC, ΔBIC and significance."""
+        rows: list[dict[str, object]] = [{"section": "baseline", **row} for row in self.baseline.to_table()]
+        rows += [
+            {"section": "candidate", "effect": s.effect, "model": s.model, "rms_rel": s.rms_rel, "delta_aic": s.delta_aic, "delta_bic": s.delta_bic, "significant": s.significant}
+            for s in self.candidates
+        ]
+        return rows
+
+    def _repr_html_(self) -> str:
+        from ...plotting.html import result_html
+
+        rows = [{"effect": s.effect, "model": s.model, "rms_rel": s.rms_rel, "ΔAIC": s.delta_aic, "significant": s.significant} for s in self.candidates[:8]]
+        lines = [f"verdict: {self.verdict} — {self.reason}", f"baseline rms_rel {self.baseline.rms_rel:.4g}, AIC {self.baseline.aic:.2f}"]
+        return result_html(f"diagnosis of {self.baseline.model}", rows, lines=lines)
+
 
 # --- the steps of a diagnosis ----------------------------------------------------------------
 

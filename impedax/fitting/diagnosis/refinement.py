@@ -58,6 +58,16 @@ class Refinement:
         """The JSON of ``impedax refine --json``."""
         return {"steps": [s.as_json() for s in self.steps], "final_model": self.final_model, "verdict": self.verdict}
 
+    def to_table(self) -> list[dict[str, object]]:
+        """The tidy table of the final model's parameters (`FitResult.to_table`)."""
+        return self.final.to_table()
+
+    def _repr_html_(self) -> str:
+        from ...plotting.html import result_html
+
+        rows = [{"step": i, "added": s.added or "(start)", "model": s.model, "rms_rel": s.fit.rms_rel, "AIC": s.fit.aic} for i, s in enumerate(self.steps)]
+        return result_html(f"refinement: {self.final_model}", rows, lines=[f"verdict: {self.verdict}"])
+
     def table(self) -> str:
         lines = [f"{'step':>4}  {'rms_rel':>9}  {'AIC':>9}  added / model"]
         for i, s in enumerate(self.steps):

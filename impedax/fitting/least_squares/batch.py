@@ -10,7 +10,7 @@ import itertools
 import math
 import time
 import warnings as python_warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import jax
 import numpy as np
@@ -45,6 +45,7 @@ class BatchFitResult:
     weighting: str
     warnings: dict[str, tuple[str, ...]]
     elapsed_s: float = 0.0
+    registry: Registry = field(default=DEFAULT_REGISTRY, repr=False)
 
     @property
     def model(self) -> str:
@@ -64,6 +65,32 @@ class BatchFitResult:
     def values(self, name: str) -> xr.DataArray:
         """Fitted values of parameter ``name`` over the batch dimensions."""
         return self.dataset["value"].sel(param=name)
+
+    def to_table(self) -> list[dict[str, object]]:
+        """The tidy table: one row per spectrum and parameter, the extra dimensions' coordinates
+        (their index where they have none) as the first columns, then name, value, stderr (None
+        when fixed), unit and fixed (`impedax.io.write_result` .csv)."""
+        ds = self.dataset
+        specs = self.circuit.parameter_specs(self.registry)
+        names = [str(p) for p in ds["param"].values]
+        value = ds["value"].transpose(*self.dims, "param").values
+        stderr = ds["stderr"].transpose(*self.dims, "param").values
+        fixed = ds["fixed"].values.tolist()
+        labels = [ds[d].values.tolist() if d in ds.coords else list(range(ds.sizes[d])) for d in self.dims]
+        rows = []
+        for index in np.ndindex(*value.shape[:-1]):
+            where = {d: labels[i][j] for i, (d, j) in enumerate(zip(self.dims, index))}
+            for p, n in enumerate(names):
+                rows.append({**where, "name": n, "value": float(value[index + (p,)]), "stderr": None if fixed[p] else float(stderr[index + (p,)]), "unit": specs[n].unit, "fixed": fixed[p]})
+        return rows
+
+    def _repr_html_(self) -> str:
+        from ...plotting.html import result_html
+
+        s = self.summary()
+        rows = [{"parameter": p, "median": v["median"], "q16": v["q16"], "q84": v["q84"]} for p, v in s["params"].items()]
+        lines = [f"{self.n_spectra} spectra over {s['dims']}: converged {s['converged_fraction'] * 100:.1f}%, median rms_rel {s['rms_rel_median']:.4g}"]
+        return result_html(self.model, rows, lines=lines)
 
     def summary(self) -> dict:
         ds = self.dataset
@@ -367,4 +394,4 @@ def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weig
         coords={"param": list(names), "frequency": ("frequency", freq, {"units": "Hz"}), **coords},
         attrs={"model": str(circuit), "weighting": weighting, "n_free": k},
     )
-    return BatchFitResult(circuit, ds, weighting, warnings, time.perf_counter() - t0)
+    return BatchFitResult(circuit, ds, weighting, warnings, time.perf_counter() - t0, registry)

@@ -156,6 +156,22 @@ class FitResult:
                 lines.append(f"warning: {w}")
         return "\n".join(lines)
 
+    def to_table(self) -> list[dict[str, object]]:
+        """The tidy table of parameters: one row per parameter with name, value, stderr (None
+        when fixed), unit (from the element specs) and fixed (`impedax.io.write_result` .csv)."""
+        specs = self.circuit.parameter_specs(self.registry)
+        return [
+            {"name": n, "value": v, "stderr": None if self.fixed[n] else self.stderr[n], "unit": specs[n].unit, "fixed": self.fixed[n]}
+            for n, v in self.values.items()
+        ]
+
+    def _repr_html_(self) -> str:
+        from ...plotting.html import result_html
+
+        status = "converged" if self.converged else "NOT converged"
+        lines = [f"rms_rel {self.rms_rel:.4g}, chi2_red {self.chi2_red:.4g}, AIC {self.aic:.2f} ({self.n_points} points, {status})", *self.warnings]
+        return result_html(self.model, self.to_table(), lines=lines, figure=self.plot)
+
     def derive(self, fn, freq=None):
         """Propagate the fit to ``fn(params[, freq])`` by the delta method (`derive_fit`)."""
         from ..derived import derive_fit

@@ -30,7 +30,7 @@ def fit(
     circuit: Circuit | str,
     data: xr.Dataset | str,
     *,
-    init: Mapping[str, float] | None = None,
+    init: Mapping[str, float] | FitResult | None = None,
     fixed: Mapping[str, float] | None = None,
     bounds: Mapping[str, tuple[float, float]] | None = None,
     weighting: str = "modulus",
@@ -48,6 +48,8 @@ def fit(
     first; when its residuals do not look like white noise, ``n_starts − 1`` further starts
     are solved with it in one vmapped call and the best is kept (``FitResult.n_starts`` says
     how many were used).
+    ``init`` gives starting values by name, or is a `FitResult` whose values start the
+    parameters this circuit shares with it (e.g. refitting with one element added).
     ``fixed`` pins parameters; ``bounds`` narrows them; ``weighting`` is one of `WEIGHTINGS`.
     ``data`` is a spectrum Dataset or a path. Extra dimensions (trial, subject, ...) are fitted
     together and give a `BatchFitResult`; dask-backed data are fitted chunk by chunk.

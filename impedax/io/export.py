@@ -1,0 +1,115 @@
+"""Results out in the formats people share: a tidy CSV table, JSON and netCDF (docs/io.md,
+"Exporting results").
+
+A result (`FitResult`, `BatchFitResult`, `Posterior`, `Diagnosis`, ...) offers its own
+``to_table()`` (tidy rows: one parameter per row, one row per spectrum and parameter for
+batches), ``summary()`` (the CLI's JSON) and ``to_xarray()`` (lossless); this module only writes
+them, atomically, in the format the file's extension names. It does not import the results'
+types (io sits below fitting): any object with these methods can be written.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+from pathlib import Path
+from typing import Mapping, Sequence
+
+import numpy as np
+
+from .atomic import atomic_path
+from ..errors import DataError
+
+__all__ = ["RESULT_FORMATS", "result_format", "result_table", "write_result", "write_table", "write_json", "to_jsonable"]
+
+# extension → format of `write_result` (what each writes: docs/io.md)
+RESULT_FORMATS = {".csv": "csv", ".json": "json", ".nc": "netcdf"}
+
+
+def result_format(path: str | Path, formats: Mapping[str, str] = RESULT_FORMATS) -> str:
+    """The format named by ``path``'s extension (case-insensitive); `DataError` naming the
+    known extensions otherwise (checked before any work is done)."""
+    suffix = Path(path).suffix.lower()
+    if suffix not in formats:
+        known = ", ".join(formats)
+        raise DataError(f"unknown output extension {suffix or '(none)'!r}: use one of {known}", path=path)
+    return formats[suffix]
+
+
+def result_table(result) -> list[dict[str, object]]:
+    """The tidy rows of ``result`` (its ``to_table()``): one dict per row, same keys in every row."""
+    to_table = getattr(result, "to_table", None)
+    if to_table is None:
+        raise DataError(f"{type(result).__name__} has no table of parameters; write it as .json or .nc")
+    return to_table()
+
+
+def to_jsonable(obj):
+    """``obj`` with numpy scalars and arrays as Python values and NaN/±Inf as None (strict JSON)."""
+    if isinstance(obj, Mapping):
+        return {str(k): to_jsonable(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [to_jsonable(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return [to_jsonable(v) for v in obj.tolist()]
+    if isinstance(obj, np.bool_):
+        return bool(obj)
+    if isinstance(obj, (np.floating, float)):
+        v = float(obj)
+        return v if math.isfinite(v) else None
+    if isinstance(obj, np.integer):
+        return int(obj)
+    return obj
+
+
+def _cell(value) -> str:
+    """One CSV cell: floats in their shortest exact form (``repr``), booleans as true/false,
+    None and NaN as an empty cell."""
+    if value is None:
+        return ""
+    if isinstance(value, (bool, np.bool_)):
+        return "true" if value else "false"
+    if isinstance(value, (float, np.floating)):
+        return "" if math.isnan(value) else repr(float(value))
+    if isinstance(value, np.integer):
+        return str(int(value))
+    return str(value)
+
+
+def write_table(rows: Sequence[Mapping[str, object]], path: str | Path) -> None:
+    """Write ``rows`` as CSV (a header line of the keys in order of first appearance, then one
+    line per row; a key missing from a row is an empty cell), atomically."""
+    columns: dict[str, None] = {}
+    for row in rows:
+        columns.update(dict.fromkeys(row))
+    buffer = io.StringIO()
+    writer = csv.writer(buffer, lineterminator="\n")
+    writer.writerow(columns)
+    for row in rows:
+        writer.writerow([_cell(row.get(c)) for c in columns])
+    with atomic_path(path) as tmp:
+        tmp.write_text(buffer.getvalue(), encoding="utf-8")
+
+
+def write_json(obj, path: str | Path) -> None:
+    """Write ``obj`` as strict JSON (`to_jsonable`), atomically."""
+    text = json.dumps(to_jsonable(obj), indent=2, allow_nan=False) + "\n"
+    with atomic_path(path) as tmp:
+        tmp.write_text(text, encoding="utf-8")
+
+
+def write_result(result, path: str | Path) -> None:
+    """Write ``result`` in the format of ``path``'s extension: ``.csv`` the tidy table
+    (`result_table`), ``.json`` its ``summary()``, ``.nc`` its ``to_xarray()`` (lossless
+    netCDF, `write_netcdf`). Atomic: the file is whole or not there."""
+    kind = result_format(path)
+    if kind == "csv":
+        write_table(result_table(result), path)
+    elif kind == "json":
+        write_json(result.summary(), path)
+    else:
+        from .netcdf import write_netcdf
+
+        write_netcdf(result.to_xarray(), path)

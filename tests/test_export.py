@@ -1,0 +1,188 @@
+"""Results out: tidy CSV, JSON and netCDF by extension (`impedax.io.write_result`), ``--out`` on
+the commands, ``fit(init=fit_result)`` and the notebook display (``_repr_html_``).
+
+Files are read back with the standard library's csv/json and compared with the results'
+own attributes and with quantiles computed here, not with the writer's code."""
+
+import csv
+import dataclasses
+import json
+
+import numpy as np
+import pytest
+
+import impedax as ix
+from impedax.cli import main
+from impedax.fitting import Refinement
+from impedax.fitting.parameters import ParameterTable
+from impedax.fitting.diagnosis.refinement import RefinementStep
+from impedax.plotting.html import result_html
+from spectra import CASES, noisy
+
+RC_UNITS = {"R0": "Ohm", "R1": "Ohm", "C1": "F"}  # the units of R and C, written by hand
+
+
+def _rc_data(seed=0, n=40):
+    text, fn, truth, (lo, hi) = CASES["rc"]
+    f = np.geomspace(lo, hi, n)
+    return ix.make_spectrum(f, noisy(fn(f, truth), 0.01, np.random.default_rng(seed)))
+
+
+@pytest.fixture(scope="module")
+def rc_fit():
+    return ix.fit("R0 + R1 || C1", _rc_data(), fixed={"R0": 50.0})
+
+
+@pytest.fixture(scope="module")
+def rc_batch():
+    text, fn, truth, (lo, hi) = CASES["rc"]
+    f = np.geomspace(lo, hi, 40)
+    rng = np.random.default_rng(1)
+    z = np.stack([noisy(fn(f, {**truth, "R1": r1}), 0.01, rng) for r1 in (1000.0, 2000.0, 4000.0)])
+    data = ix.make_spectrum(f, z, dims=("cell",), coords={"cell": ["a", "b", "c"]})
+    return ix.fit(text, data)
+
+
+def _read_csv(path):
+    with open(path, newline="", encoding="utf-8") as fh:
+        return list(csv.DictReader(fh))
+
+
+def test_fit_csv_rows_are_the_fitted_parameters(rc_fit, tmp_path):
+    ix.write_result(rc_fit, tmp_path / "fit.csv")
+    rows = _read_csv(tmp_path / "fit.csv")
+    assert list(rows[0]) == ["name", "value", "stderr", "unit", "fixed"]
+    assert [r["name"] for r in rows] == ["R0", "R1", "C1"]
+    for r in rows:
+        assert float(r["value"]) == rc_fit.values[r["name"]]  # shortest exact text: no rounding
+        assert r["unit"] == RC_UNITS[r["name"]]
+    r0, r1, c1 = rows
+    assert (r0["fixed"], r0["stderr"]) == ("true", "")  # a fixed parameter has no stderr
+    assert r1["fixed"] == "false" and float(r1["stderr"]) == rc_fit.stderr["R1"] > 0
+    numeric = np.genfromtxt(tmp_path / "fit.csv", delimiter=",", names=True, dtype=None, encoding="utf-8")
+    np.testing.assert_array_equal(numeric["value"], [rc_fit.values[n] for n in ("R0", "R1", "C1")])
+
+
+def test_fit_json_is_the_summary_and_netcdf_reopens(rc_fit, tmp_path):
+    ix.write_result(rc_fit, tmp_path / "fit.json")
+    assert json.loads((tmp_path / "fit.json").read_text()) == json.loads(json.dumps(rc_fit.summary()))
+    ix.write_result(rc_fit, tmp_path / "fit.NC")  # extensions are case-insensitive
+    ds = ix.io.read_netcdf(tmp_path / "fit.NC")
+    assert list(ds["param"].values) == ["R0", "R1", "C1"]
+    np.testing.assert_array_equal(ds["value"].values, [rc_fit.values[n] for n in ("R0", "R1", "C1")])
+    np.testing.assert_array_equal(ds["Z"].values, rc_fit.z_data)
+
+
+def test_batch_csv_has_a_row_per_spectrum_and_parameter_with_coordinates(rc_batch, tmp_path):
+    ix.write_result(rc_batch, tmp_path / "batch.csv")
+    rows = _read_csv(tmp_path / "batch.csv")
+    assert list(rows[0]) == ["cell", "name", "value", "stderr", "unit", "fixed"]
+    assert [(r["cell"], r["name"]) for r in rows] == [(c, n) for c in "abc" for n in ("R0", "R1", "C1")]
+    for r in rows:
+        assert float(r["value"]) == float(rc_batch.values(r["name"]).sel(cell=r["cell"]))
+        assert float(r["stderr"]) == float(rc_batch.dataset["stderr"].sel(param=r["name"], cell=r["cell"]))
+        assert r["unit"] == RC_UNITS[r["name"]] and r["fixed"] == "false"
+    r1 = [float(r["value"]) for r in rows if r["name"] == "R1"]
+    np.testing.assert_allclose(r1, [1000.0, 2000.0, 4000.0], rtol=0.05)  # the truth of each cell
+    ix.write_result(rc_batch, tmp_path / "batch.json")
+    assert json.loads((tmp_path / "batch.json").read_text()) == json.loads(json.dumps(rc_batch.summary()))
+
+
+def test_posterior_csv_holds_the_quantiles_of_the_draws(rc_fit, tmp_path):
+    post = ix.sample("R0 + R1 || C1", _rc_data(), steps=120, burn=40, walkers=16, seed=0, progress=False)
+    ix.write_result(post, tmp_path / "post.csv")
+    rows = _read_csv(tmp_path / "post.csv")
+    assert list(rows[0]) == ["name", "median", "q05", "q16", "q84", "q95", "unit"]
+    names = [r["name"] for r in rows]
+    assert {"R0", "R1", "C1"} <= set(names)
+    for r in rows:
+        draws = post.samples[r["name"]]
+        expected = np.quantile(draws, [0.5, 0.05, 0.16, 0.84, 0.95])
+        np.testing.assert_allclose([float(r[k]) for k in ("median", "q05", "q16", "q84", "q95")], expected, rtol=1e-12)
+        if r["name"] in RC_UNITS:
+            assert r["unit"] == RC_UNITS[r["name"]]
+    ix.write_result(post, tmp_path / "post.nc")
+    assert ix.io.read_netcdf(tmp_path / "post.nc")["draws"].shape == post.draws.shape
+    html = post._repr_html_()
+    assert "<table>" in html and "R1" in html
+
+
+def test_diagnosis_csv_has_the_baseline_then_the_candidates(tmp_path):
+    text, fn, truth, (lo, hi) = CASES["r_cpe"]
+    f = np.geomspace(lo, hi, 40)
+    data = ix.make_spectrum(f, noisy(fn(f, truth), 0.005, np.random.default_rng(2)))
+    d = ix.diagnose(data, "R0 + R1 || C1", effects=ix.fitting.DEFAULT_EFFECTS.select(["constant_phase", "extra_relaxation"]))
+    ix.write_result(d, tmp_path / "d.csv")
+    rows = _read_csv(tmp_path / "d.csv")
+    baseline = [r for r in rows if r["section"] == "baseline"]
+    candidates = [r for r in rows if r["section"] == "candidate"]
+    assert len(baseline) + len(candidates) == len(rows) and len(candidates) == len(d.candidates) > 0
+    assert [(r["name"], float(r["value"]), r["unit"]) for r in baseline] == [(n, v, RC_UNITS[n]) for n, v in d.baseline.values.items()]
+    assert [(r["model"], float(r["delta_aic"])) for r in candidates] == [(s.model, s.delta_aic) for s in d.candidates]
+    ix.write_result(d, tmp_path / "d.json")
+    assert json.loads((tmp_path / "d.json").read_text())["verdict"] == str(d.verdict)
+    html = d._repr_html_()
+    assert str(d.verdict) in html and d.candidates[0].effect in html
+
+
+@pytest.mark.parametrize(
+    "command",
+    [
+        ["fit", "--model", "R0 + R1 || C1"],
+        ["sample", "--model", "R0 + R1 || C1"],
+        ["diagnose", "--model", "R0 + R1 || C1"],
+        ["refine", "--model", "R0 + R1 || C1"],
+        ["gap", "missing2.csv", "missing3.csv", "--area", "1e-4"],
+    ],
+)
+def test_unknown_out_extension_is_refused_before_any_work(command, tmp_path, capsys):
+    out = tmp_path / "result.txt"
+    # the data file does not exist: a refusal naming the extension shows nothing was read
+    args = [command[0], str(tmp_path / "missing.csv"), *command[1:], "--out", str(out)]
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert "'.txt'" in err and ".csv, .json, .nc" in err and "Traceback" not in err
+    assert err.count("\n") == 1 and not out.exists()
+
+
+def test_cli_out_picks_the_format_by_extension(tmp_path, capsys):
+    data = tmp_path / "rc.csv"
+    ix.save(_rc_data(), data)
+    assert main(["fit", str(data), "--model", "R0 + R1 || C1", "--json", "--out", str(tmp_path / "fit.csv")]) == 0
+    printed = json.loads(capsys.readouterr().out)
+    rows = _read_csv(tmp_path / "fit.csv")
+    assert {r["name"]: float(r["value"]) for r in rows} == {n: p["value"] for n, p in printed["params"].items()}
+    assert main(["fit", str(data), "--model", "R0 + R1 || C1", "--out", str(tmp_path / "fit.json")]) == 0
+    assert json.loads((tmp_path / "fit.json").read_text())["params"] == printed["params"]
+
+
+def test_init_from_a_fit_result(rc_fit):
+    bigger = ix.parse("R0 + R1 || C1 + R2 || C2")
+    table = ParameterTable.build(bigger, init=rc_fit)
+    starts = dict(zip(table.names, table.values))
+    assert {n: starts[n] for n in ("R0", "R1", "C1")} == rc_fit.values  # the names both circuits have
+    assert np.isnan(starts["R2"]) and np.isnan(starts["C2"]) and not table.fixed.any()  # a start, never a fixed value
+    refit = ix.fit("R0 + R1 || C1", _rc_data(), init=rc_fit, n_starts=1)
+    assert refit.converged
+    np.testing.assert_allclose([refit.values[n] for n in ("R1", "C1")], [rc_fit.values[n] for n in ("R1", "C1")], rtol=1e-3)
+    with pytest.raises(ix.errors.ParameterError, match="FitResult"):
+        ParameterTable.build(bigger, init=42)
+
+
+def test_repr_html_shows_the_table_and_the_figure(rc_fit, rc_batch):
+    html = rc_fit._repr_html_()
+    assert all(f"<td>{n}</td>" in html for n in ("R0", "R1", "C1"))
+    assert '<img alt="R0 + R1 || C1" src="data:image/png;base64,' in html
+    noted = dataclasses.replace(rc_fit, warnings=("R1 < 0 & <b>bold</b>",))._repr_html_()
+    assert "R1 &lt; 0 &amp; &lt;b&gt;bold&lt;/b&gt;" in noted and "<b>bold" not in noted
+    assert "<td>R1</td>" in rc_batch._repr_html_()
+    refinement = Refinement(steps=(RefinementStep(fit=rc_fit, added=None, effect=None, diagnosis=None),), verdict="adequate")
+    assert "R0 + R1 || C1" in refinement._repr_html_()
+    assert "<table>" in ix.kk_test(_rc_data())._repr_html_()
+    assert "relaxation times" in ix.drt(_rc_data())._repr_html_()
+
+
+def test_result_html_escapes_every_text():
+    html = result_html("<script>x</script>", [{"na<me": "R&D", "value": 1.5}], lines=["a > b"])
+    assert "<script>" not in html and "&lt;script&gt;" in html
+    assert "<th>na&lt;me</th>" in html and "<td>R&amp;D</td>" in html and "<td>1.5</td>" in html and "a &gt; b" in html
