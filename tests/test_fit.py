@@ -355,3 +355,18 @@ def test_exchangeable_blocks_are_found_by_structure(text, fixed, groups):
     table = ParameterTable.build(circuit, fixed=fixed)
     found = exchangeable_blocks(circuit, table.names, table.fixed, table.lower, table.upper, ix.DEFAULT_REGISTRY)
     assert [[str(block) for block, _ in group] for group in found] == groups
+
+
+def test_batch_fit_plot_shows_every_free_parameter_and_the_error():
+    """`fit` returns a result with `.plot()` for one spectrum and for many: the batch figure has
+    one panel per free parameter (values across the spectra) and one for rms_rel."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    f = np.geomspace(1, 1e5, 30)
+    z = np.stack([100 * (1 + 0.1 * k) + 1e3 / (1 + 2j * np.pi * f * 1e-3 * (1 + 0.2 * k)) for k in range(4)])
+    batch = ix.fit("R0 + R1 || C1", ix.make_spectrum(f, z, dims=("trial",)), fixed={"R1": 1e3})
+    fig = batch.plot()
+    titles = [ax.get_title() for ax in fig.axes if ax.get_visible()]
+    assert titles == ["R0 [Ω]", "C1 [F]", "rms_rel [%]"]
+    np.testing.assert_allclose(fig.axes[0].lines[0].get_ydata(), 100 * (1 + 0.1 * np.arange(4)), rtol=1e-6)

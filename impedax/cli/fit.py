@@ -49,18 +49,15 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from .. import fit, load
+    from .. import FitResult, fit, load
     from .common import check_outputs, parse_assignments, print_result, save_outputs
 
     check_outputs(args.plot, result=args.out)
     max_steps = check_max_steps(args.max_steps)
     data = load(args.data)
     result = fit(args.model, data, init=parse_assignments(args.init, "--init"), fixed=parse_assignments(args.fix, "--fix"), weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps)
-    single = hasattr(result, "plot")
-    save_outputs(out=args.out, result=result, plot=args.plot if single else None, figure=getattr(result, "plot", None))
-    if args.plot and not single:
-        print("impedax fit: --plot draws single spectra; this data has extra dimensions (plot skipped)", file=sys.stderr)
+    save_outputs(out=args.out, result=result, plot=args.plot, figure=result.plot)
     print_result(result, args.json)
-    if args.json and single and not result.converged:  # (the report's status line says it)
+    if args.json and isinstance(result, FitResult) and not result.converged:  # (the report's status line says it)
         print(f"impedax fit: warning: the fit did not converge: {result.message}", file=sys.stderr)
     return 0

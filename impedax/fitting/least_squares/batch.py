@@ -92,6 +92,13 @@ class BatchFitResult:
         lines = [f"{self.n_spectra} spectra over {s['dims']}: converged {s['converged_fraction'] * 100:.1f}%, median rms_rel {s['rms_rel_median']:.4g}"]
         return result_html(self.model, rows, lines=lines)
 
+    def plot(self, *, title: str | None = None):
+        """Each free parameter (± stderr) and rms_rel across the spectra (matplotlib Figure;
+        `plotting.fit.plot_batch`)."""
+        from ...plotting.fit import plot_batch
+
+        return plot_batch(self, title=title)
+
     def summary(self) -> dict:
         ds = self.dataset
         return {

@@ -40,7 +40,7 @@ def fit(
     max_steps: int = 400,
     seed: int = 0,
     registry: Registry = DEFAULT_REGISTRY,
-):
+) -> FitResult | BatchFitResult:
     """Fit ``circuit`` to ``data`` by weighted least squares (optimistix Levenberg–Marquardt).
 
     Parameters are fitted in an unconstrained space (log for positive quantities, logistic
@@ -53,7 +53,8 @@ def fit(
     ``fixed`` pins parameters; ``bounds`` narrows them; ``weighting`` is one of `WEIGHTINGS`.
     ``data`` is a spectrum Dataset or a path. Extra dimensions (trial, subject, ...) are fitted
     together and give a `BatchFitResult`; dask-backed data are fitted chunk by chunk.
-    Returns a `FitResult` for a single spectrum.
+    Returns a `FitResult` for a single spectrum. Both results answer the same calls:
+    ``summary()``, ``report()``, ``to_xarray()``, ``to_table()``, ``plot()`` and the notebook display.
     """
     t0 = time.perf_counter()
     problem = prepare_fit(circuit, data, init=init, fixed=fixed, bounds=bounds, fmin=fmin, fmax=fmax, registry=registry)
