@@ -331,15 +331,32 @@ def _covers(layout: ProgramLayout, circuits: Sequence[Circuit], registry: Regist
     return need.n_nodes <= layout.n_nodes and all(a <= b for a, b in zip(need.capacities, layout.capacities))
 
 
-def _rank(cands: list[Suggestion]) -> list[Suggestion]:
+def _drt_supports(s: Suggestion, evidence: PeakEvidence | None) -> bool:
+    """Does the data's DRT back this candidate: an ``extra_relaxation`` whose new arc's τ (R·C
+    of an added R ∥ C) lies within half a decade of a narrow (R ∥ C-like) peak the baseline
+    does not explain?"""
+    if evidence is None or s.effect != "extra_relaxation":
+        return False
+    v = s.fit.values
+    r = next((v[k] for k in v if k.startswith("R_relax")), None)
+    c = next((v[k] for k in v if k.startswith("C_relax")), None)
+    if r is None or c is None or not (r * c > 0):
+        return False
+    narrow = [p for p in evidence.unexplained if not any(p is d for d in evidence.distributed)]
+    return any(abs(math.log10(r * c / p.tau_s)) <= 0.5 for p in narrow)
+
+
+def _rank(cands: list[Suggestion], evidence: PeakEvidence | None = None) -> list[Suggestion]:
     """Best first by AIC, with the same parsimony rule as the verdict: a candidate with more
-    free parameters outranks a simpler one only if it lowers AIC by more than `DELTA_AIC_MIN`."""
+    free parameters outranks a simpler one only if it lowers AIC by more than `DELTA_AIC_MIN`.
+    Among candidates the data cannot tell apart (within `DELTA_AIC_MIN`) and of equal size, one
+    the DRT backs (`_drt_supports`) goes first."""
     rest = sorted(cands, key=lambda s: s.delta_aic)
     out = []
     while rest:
         best_aic = rest[0].delta_aic
         close = [s for s in rest if s.delta_aic <= best_aic + DELTA_AIC_MIN]
-        pick = min(close, key=lambda s: (s.fit.n_params, s.delta_aic))
+        pick = min(close, key=lambda s: (s.fit.n_params, not _drt_supports(s, evidence), s.delta_aic))
         out.append(pick)
         rest.remove(pick)
     return out
@@ -527,6 +544,6 @@ def diagnose(
         notes.append(f"the baseline refit found a better optimum (rms_rel {base.rms_rel * 100:.3g} % → {fits[0].rms_rel * 100:.3g} %); it is used as the baseline")
         base = fits[0]
     bands = failing_bands(base, sigma_rel, kk_bad_bands=kk.bad_bands if kk is not None else ())
-    cands = _rank(_suggestions(base, proposals, fits[1:], sigma_rel, bands))
+    cands = _rank(_suggestions(base, proposals, fits[1:], sigma_rel, bands), evidence)
     verdict, reason = _verdict(cands, bands, _noise_ratio(base, sigma_rel))
     return Diagnosis(base, kk, sigma_rel, source, bands, tuple(cands), verdict, reason, tuple(notes), _thresholds(), evidence)
