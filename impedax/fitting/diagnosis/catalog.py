@@ -12,6 +12,7 @@ import numpy as np
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ...errors import ParameterError
+from ..drt import PeakEvidence
 
 __all__ = ["Effect", "EffectCatalog", "Proposal", "BaselineContext"]
 
@@ -30,7 +31,9 @@ class Proposal:
 @dataclass(frozen=True, eq=False)
 class BaselineContext:
     """What a proposal function may look at: the baseline circuit, its fitted values and the
-    data/model spectra (arrays sorted by frequency, ascending)."""
+    data/model spectra (arrays sorted by frequency, ascending); ``drt_evidence``: the data's DRT
+    peaks that the baseline does (not) explain (`impedax.fitting.drt.unexplained_peaks`), or None
+    when the DRT was switched off or could not be computed."""
 
     circuit: Circuit
     values: Mapping[str, float]
@@ -39,6 +42,7 @@ class BaselineContext:
     z_model: np.ndarray
     registry: Registry = field(default=DEFAULT_REGISTRY, repr=False)
     undetermined: frozenset = frozenset()  # baseline parameters the data did not determine
+    drt_evidence: PeakEvidence | None = None
 
     @property
     def omega(self) -> np.ndarray:

@@ -11,6 +11,11 @@
    circuits, fitted together warm-started through `fit_candidates` (one compilation) and
    ranked by ΔAIC; a candidate with more parameters outranks a simpler one only when it
    lowers AIC by more than `DELTA_AIC_MIN` (the same rule as the verdict).
+   With ``drt_evidence`` (default), the data's DRT (`impedax.fitting.drt.drt`) and the baseline's
+   are compared first (`unexplained_peaks`): a peak the baseline does not explain gives
+   ``extra_relaxation`` its τ and R, a distributed peak gives ``constant_phase`` its α (the
+   `BaselineContext.drt_evidence` the proposal functions read); when the DRT cannot be
+   computed the diagnosis runs without it and says so in a note.
 5. Verdict: ``missing_effect`` when a candidate is significant (ΔAIC < −`DELTA_AIC_MIN` and it
    explains at least `NOISE_FRACTION_MIN` of the noise variance) or the residuals are structured
    beyond the noise with nothing to fix them, ``adequate`` otherwise. Only significant
@@ -30,6 +35,7 @@ import xarray as xr
 from ...circuits import Circuit, DEFAULT_REGISTRY, ProgramLayout, Registry, parse
 from ...data import make_spectrum
 from ...errors import DataError, FitError, ImpedaxError, ParameterError
+from ..drt import PeakEvidence, drt, unexplained_peaks
 from ..kk import KKResult, kk_test
 from ..least_squares import BatchFitResult, FitResult
 from ..least_squares.candidates import C_BUCKET, K_BUCKETS, bucket, fit_candidates
@@ -109,7 +115,8 @@ class Suggestion:
 class Diagnosis:
     """Outcome of `diagnose`: the baseline fit, KK test, noise, failing bands, ranked
     candidates (``suggestions``: the significant ones, best first; ``candidates``: all) and the
-    `Verdict` with its ``reason``."""
+    `Verdict` with its ``reason``; ``drt``: the data's DRT peaks against the baseline's
+    (`PeakEvidence`), or None when the DRT was off or could not be computed."""
 
     baseline: FitResult
     kk: KKResult | None
@@ -121,6 +128,7 @@ class Diagnosis:
     reason: str
     notes: tuple[str, ...] = ()
     thresholds: Mapping[str, float] = field(default_factory=dict)
+    drt: PeakEvidence | None = None
 
     def __post_init__(self):
         object.__setattr__(self, "verdict", Verdict(self.verdict))
@@ -164,7 +172,20 @@ class Diagnosis:
             "candidates": [{"effect": s.effect, "model": s.model, "rms_rel": s.rms_rel, "aic": s.aic, "delta_aic": s.delta_aic, "delta_bic": s.delta_bic, "significant": s.significant} for s in self.candidates],
             "thresholds": dict(self.thresholds),
             "notes": list(self.notes),
+            "drt_peaks": self._drt_peaks_json(),
+            "drt_summary": self.drt.text if self.drt is not None else None,
         }
+
+    def _drt_peaks_json(self) -> list[dict] | None:
+        """The data's DRT peaks, each with whether the baseline explains it (None without a DRT)."""
+        if self.drt is None:
+            return None
+        explained = {id(p) for p, _ in self.drt.explained}
+        distributed = {id(p) for p in self.drt.distributed}
+        return [
+            {"tau_s": p.tau_s, "r_ohm": p.r_ohm, "width_decades": p.width_decades, "explained": id(p) in explained, "distributed": id(p) in distributed}
+            for p in self.drt.data_peaks
+        ]
 
     def report(self) -> str:
         """The diagnosis as a short story (the default text of ``impedax diagnose``)."""
@@ -181,6 +202,8 @@ class Diagnosis:
                 lines.append(f"  {format_frequency(band.f_min)} – {format_frequency(band.f_max)}: {band.pattern}{tag}")
         else:
             lines.append("the residuals show no structure beyond the noise.")
+        if self.drt is not None:
+            lines.append(f"DRT: {self.drt.text}.")
         lines.append(f"verdict: {self.verdict.upper()} — {self.reason}")
         if self.suggestions:
             lines.append("what is missing (best first):")
@@ -271,11 +294,24 @@ def _noise_ratio(fit: FitResult, noise: np.ndarray) -> float:
     return float(np.sqrt(np.mean(np.abs(fit.residuals) ** 2 / (2 * noise**2))))
 
 
-def _context(fit: FitResult) -> BaselineContext:
+def _context(fit: FitResult, evidence: PeakEvidence | None = None) -> BaselineContext:
     """What the effects' proposal functions see of the baseline fit (sorted by frequency)."""
     order = np.argsort(fit.frequency)
     undetermined = frozenset(k for k in fit.free_names if not (np.isfinite(fit.stderr[k]) and abs(fit.stderr[k]) <= abs(fit.values[k])))
-    return BaselineContext(fit.circuit, fit.values, fit.frequency[order], fit.z_data[order], fit.z_model[order], fit.registry, undetermined)
+    return BaselineContext(fit.circuit, fit.values, fit.frequency[order], fit.z_data[order], fit.z_model[order], fit.registry, undetermined, evidence)
+
+
+def _drt_evidence(fit: FitResult, notes: list[str]) -> PeakEvidence | None:
+    """The data's DRT peaks against the baseline's (`unexplained_peaks`), or None with a note
+    when the DRT cannot be computed (too few points, a failed solve): the diagnosis then runs on
+    the misfit alone."""
+    try:
+        data_drt = drt((fit.frequency, fit.z_data))  # one 1-D spectrum: a DRTResult
+        evidence = unexplained_peaks(data_drt, fit)
+    except (ImpedaxError, ValueError, ArithmeticError, np.linalg.LinAlgError) as err:
+        notes.append(f"DRT evidence not used: {err}")
+        return None
+    return evidence
 
 
 def _shapes(circuits: Sequence[Circuit], registry: Registry) -> SolverShape:
@@ -313,15 +349,32 @@ def _covers(layout: ProgramLayout, circuits: Sequence[Circuit], registry: Regist
     return need.n_nodes <= layout.n_nodes and all(a <= b for a, b in zip(need.capacities, layout.capacities))
 
 
-def _rank(cands: list[Suggestion]) -> list[Suggestion]:
+def _drt_supports(s: Suggestion, evidence: PeakEvidence | None) -> bool:
+    """Does the data's DRT back this candidate: an ``extra_relaxation`` whose new arc's τ (R·C
+    of an added R ∥ C) lies within half a decade of a narrow (R ∥ C-like) peak the baseline
+    does not explain?"""
+    if evidence is None or s.effect != "extra_relaxation":
+        return False
+    v = s.fit.values
+    r = next((v[k] for k in v if k.startswith("R_relax")), None)
+    c = next((v[k] for k in v if k.startswith("C_relax")), None)
+    if r is None or c is None or not (r * c > 0):
+        return False
+    narrow = [p for p in evidence.unexplained if not any(p is d for d in evidence.distributed)]
+    return any(abs(math.log10(r * c / p.tau_s)) <= 0.5 for p in narrow)
+
+
+def _rank(cands: list[Suggestion], evidence: PeakEvidence | None = None) -> list[Suggestion]:
     """Best first by AIC, with the same parsimony rule as the verdict: a candidate with more
-    free parameters outranks a simpler one only if it lowers AIC by more than `DELTA_AIC_MIN`."""
+    free parameters outranks a simpler one only if it lowers AIC by more than `DELTA_AIC_MIN`.
+    Among candidates the data cannot tell apart (within `DELTA_AIC_MIN`) and of equal size, one
+    the DRT backs (`_drt_supports`) goes first."""
     rest = sorted(cands, key=lambda s: s.delta_aic)
     out = []
     while rest:
         best_aic = rest[0].delta_aic
         close = [s for s in rest if s.delta_aic <= best_aic + DELTA_AIC_MIN]
-        pick = min(close, key=lambda s: (s.fit.n_params, s.delta_aic))
+        pick = min(close, key=lambda s: (s.fit.n_params, not _drt_supports(s, evidence), s.delta_aic))
         out.append(pick)
         rest.remove(pick)
     return out
@@ -468,6 +521,7 @@ def diagnose(
     n_starts: int = 4,
     max_steps: int = 100,
     seed: int = 0,
+    drt_evidence: bool = True,
 ) -> Diagnosis:
     """Diagnose a fit: where the model fails, which effect of ``effects`` is missing, verdict.
 
@@ -477,11 +531,15 @@ def diagnose(
     with ``fmin`` ≤ f ≤ ``fmax``). ``kk``: a `KKResult` to reuse (default: `kk_test` of the
     fitted spectrum); ``noise``: a relative noise level to use instead of the estimate.
     Candidates are fitted warm-started together (``n_starts`` starts each, ``max_steps``
-    Levenberg–Marquardt steps). Thresholds and rules: module docstring and docs/diagnosis.md.
+    Levenberg–Marquardt steps). ``drt_evidence``: compare the data's DRT with the baseline's
+    and let the unexplained peaks guide ``extra_relaxation`` and ``constant_phase`` (False: the
+    misfit alone, as before). Thresholds and rules: module docstring and docs/diagnosis.md.
     Returns a `Diagnosis`.
     """
     if n_starts < 1 or max_steps < 1:
         raise ParameterError("n_starts and max_steps must be at least 1")
+    if not isinstance(drt_evidence, bool):
+        raise ParameterError(f"drt_evidence must be True or False, got {drt_evidence!r}")
     base, data, shape = _baseline(fit_or_data, circuit, data=data, effects=effects, registry=registry, fmin=fmin, fmax=fmax, weighting=weighting, n_starts=n_starts, seed=seed)
     spectrum, sigma = _spectrum_of(base, data)
     notes: list[str] = []
@@ -496,13 +554,14 @@ def diagnose(
     if kk is not None and not kk.valid:
         notes.append("the KK test flags " + ", ".join(f"{format_frequency(lo)}–{format_frequency(hi)}" for lo, hi in kk.bad_bands) + ": misfits there may be data problems")
 
-    ctx = _context(base)
+    evidence = _drt_evidence(base, notes) if drt_evidence else None
+    ctx = _context(base, evidence)
     proposals = [(e, p) for e, p in effects.proposals(ctx) if len(p.circuit.parameter_names(base.registry)) < 2 * base.n_points]
     fits = _fit_proposals(base, spectrum, ctx, proposals, shape, n_starts=n_starts, max_steps=max_steps, seed=seed)
     if fits[0].chi2 < base.chi2 * (1 - 1e-6):
         notes.append(f"the baseline refit found a better optimum (rms_rel {base.rms_rel * 100:.3g} % → {fits[0].rms_rel * 100:.3g} %); it is used as the baseline")
         base = fits[0]
     bands = failing_bands(base, sigma_rel, kk_bad_bands=kk.bad_bands if kk is not None else ())
-    cands = _rank(_suggestions(base, proposals, fits[1:], sigma_rel, bands))
+    cands = _rank(_suggestions(base, proposals, fits[1:], sigma_rel, bands), evidence)
     verdict, reason = _verdict(cands, bands, _noise_ratio(base, sigma_rel))
-    return Diagnosis(base, kk, sigma_rel, source, bands, tuple(cands), verdict, reason, tuple(notes), _thresholds())
+    return Diagnosis(base, kk, sigma_rel, source, bands, tuple(cands), verdict, reason, tuple(notes), _thresholds(), evidence)

@@ -121,6 +121,41 @@ def _stray_capacitance(circuit: Circuit, ctx: BaselineContext) -> list[Proposal]
     return [Proposal("stray_capacitance", Parallel((circuit, Element("C", name))), name, "across the whole circuit (fixture)", starts)]
 
 
+def _zarc_alpha(width_decades: float) -> float:
+    """α of a ZARC R/(1 + (jωτ)^α) whose DRT has the full width at half maximum ``width_decades``:
+    γ ∝ sin(απ)/(cosh(α ln(τ/τ0)) + cos(απ)) falls to half at α|ln(τ/τ0)| = arccosh(2 + cos απ),
+    so FWHM = 2 arccosh(2 + cos απ)/(α ln 10), decreasing in α (solved by bisection)."""
+    def fwhm(a):
+        return 2 * np.arccosh(2 + np.cos(a * np.pi)) / (a * np.log(10))
+
+    lo, hi = 0.3, 0.99
+    if not np.isfinite(width_decades) or width_decades <= fwhm(hi):
+        return hi
+    if width_decades >= fwhm(lo):
+        return lo
+    for _ in range(40):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if fwhm(mid) > width_decades else (lo, mid)
+    return float(0.5 * (lo + hi))
+
+
+def _distributed_alpha(ctx: BaselineContext, tau: float, tolerance_decades: float = 0.5) -> tuple[float, float] | None:
+    """(τ of the peak, α guess) when the data's DRT has a distributed peak within
+    ``tolerance_decades`` of ``tau``; α from the peak's width less the regularisation's own
+    broadening (the matching model peak's width, an ideal R‖C under the same λ), added in
+    quadrature."""
+    ev = ctx.drt_evidence
+    if ev is None or not ev.distributed or not (np.isfinite(tau) and tau > 0):
+        return None
+    near = [p for p in ev.distributed if abs(np.log10(p.tau_s / tau)) <= tolerance_decades]
+    if not near:
+        return None
+    p = min(near, key=lambda q: abs(np.log10(q.tau_s / tau)))
+    partner = [m for d, m in ev.explained if d is p]
+    ideal = partner[0].width_decades if partner else min((m.width_decades for m in ev.model_peaks), default=0.0)
+    return float(p.tau_s), _zarc_alpha(float(np.sqrt(max(p.width_decades**2 - ideal**2, 0.0))))
+
+
 def _constant_phase(circuit: Circuit, ctx: BaselineContext) -> list[Proposal]:
     out = []
     parents = _parents(circuit)
@@ -135,13 +170,20 @@ def _constant_phase(circuit: Circuit, ctx: BaselineContext) -> list[Proposal]:
         r_sib = [ctx.values[x.name] for x in (parent.children if isinstance(parent, Parallel) else ()) if isinstance(x, Element) and _symbol(ctx.registry, x) == "R"]
         w_c = 1.0 / (r_sib[0] * c) if r_sib and r_sib[0] * c > 0 else np.sqrt(ctx.omega[0] * ctx.omega[-1])
         w_c = float(np.clip(w_c, ctx.omega[0], ctx.omega[-1]))
+        alphas, where = (0.85, 0.7, 0.55), f"in place of the ideal capacitor {e.name}"
+        # a distributed DRT peak at this arc's τ: start first at the α its width implies
+        drt_peak = _distributed_alpha(ctx, 1.0 / w_c) if r_sib else None
+        if drt_peak is not None:
+            tau_peak, alpha_drt = drt_peak
+            alphas = (alpha_drt,) + tuple(a for a in alphas if abs(a - alpha_drt) > 0.05)[:2]
+            where += f" (the data's DRT peak at τ ≈ {tau_peak:.2g} s is wider than an R‖C's: α ≈ {alpha_drt:.2f})"
         starts = []
-        for alpha in (0.85, 0.7, 0.55):
+        for alpha in alphas:
             start = {k: v for k, v in ctx.start().items() if k != e.name}
             start[f"{name}.Q"] = c * w_c ** (1 - alpha)
             start[f"{name}.alpha"] = alpha
             starts.append(start)
-        out.append(Proposal("constant_phase", circuit.replace(e.name, Element("CPE", name)), name, f"in place of the ideal capacitor {e.name}", tuple(starts)))
+        out.append(Proposal("constant_phase", circuit.replace(e.name, Element("CPE", name)), name, where, tuple(starts)))
     return out
 
 
@@ -161,37 +203,81 @@ def _arc_scan(ctx: BaselineContext, alpha: float, k: int = 3) -> list[tuple[floa
     return [(float(r[i]), float(tau[i])) for i in minima[:k]]
 
 
+def _drt_arcs(ctx: BaselineContext, k: int = 2) -> list[tuple[float, float, float]]:
+    """(R, τ, α) of up to ``k`` arcs the data's DRT shows and the baseline lacks (its unexplained
+    peaks, largest first; α < 1 for a distributed peak, from its width)."""
+    ev = ctx.drt_evidence
+    if ev is None:
+        return []
+    out = []
+    for p in sorted(ev.unexplained, key=lambda q: -q.r_ohm)[:k]:
+        if not (p.r_ohm > 0 and np.isfinite(p.tau_s) and p.tau_s > 0):
+            continue
+        alpha = _zarc_alpha(p.width_decades) if any(p is d for d in ev.distributed) else 1.0
+        out.append((float(p.r_ohm), float(p.tau_s), alpha))
+    return out
+
+
 def _relaxation_starts(ctx: BaselineContext, r_name: str, c_name: str, cpe: bool) -> tuple[dict, ...]:
+    """Warm starts for a new R ∥ C (or R ∥ CPE): the data's unexplained DRT peaks first (R and τ
+    read off the peak), then the arcs matched to the misfit ΔZ (`_arc_scan`) and guesses around
+    the misfit's peak frequency."""
     alpha = 0.8 if cpe else 1.0
     f_x = ctx.misfit_frequency()
     i = int(np.argmin(np.abs(ctx.frequency - f_x)))
     dz = np.abs(ctx.z_data - ctx.z_model)
     r0 = _positive(2 * dz[: i + 1].max(), 0.02 * np.abs(ctx.z_data[i]))
-    arcs = _arc_scan(ctx, alpha) + [(r0, 1.0 / (2 * np.pi * f_x)), (r0, 0.2 / (2 * np.pi * f_x)), (r0, 5.0 / (2 * np.pi * f_x))]
+    drt = [(r, tau, min(a, 0.9) if cpe else 1.0) for r, tau, a in _drt_arcs(ctx)]
+    misfit = [(r, tau, alpha) for r, tau in _arc_scan(ctx, alpha)] + [(r0, t / (2 * np.pi * f_x), alpha) for t in (1.0, 0.2, 5.0)]
     starts = []
-    for r, tau in arcs[:4]:
+    for r, tau, a in (drt + misfit)[:4]:
         r = _positive(r, 1e-3 * np.abs(ctx.z_data).min())
         new = {r_name: r}
         if cpe:
-            new[f"{c_name}.Q"] = tau**alpha / r
-            new[f"{c_name}.alpha"] = alpha
+            new[f"{c_name}.Q"] = tau**a / r
+            new[f"{c_name}.alpha"] = a
         else:
             new[c_name] = tau / r
         starts.append(ctx.start(**new))
     return tuple(starts)
 
 
+def _arc_tau(circuit: Circuit, ctx: BaselineContext, r_name: str) -> float:
+    """The time constant of the arc whose resistor is ``r_name``: R·C, or (R·Q)^(1/α) for a CPE
+    beside it in the same parallel block (nan when it has neither)."""
+    parent = _parents(circuit)[r_name]
+    r = ctx.values.get(r_name, np.nan)
+    for x in parent.children if isinstance(parent, Parallel) else ():
+        if isinstance(x, Element) and _symbol(ctx.registry, x) == "C":
+            return float(r * ctx.values.get(x.name, np.nan))
+        if isinstance(x, Element) and _symbol(ctx.registry, x) == "CPE":
+            q, a = ctx.values.get(f"{x.name}.Q", np.nan), ctx.values.get(f"{x.name}.alpha", np.nan)
+            return float((r * q) ** (1.0 / a)) if r * q > 0 and a > 0 else float("nan")
+    return float("nan")
+
+
 def _extra_relaxation(circuit: Circuit, ctx: BaselineContext) -> list[Proposal]:
     out = []
     r_name = ctx.fresh("R", "relax")
+    arcs = _drt_arcs(ctx)
+    resistors = _arc_resistors(circuit, ctx.registry)
+    # the DRT's unexplained peak sits beside the arc whose time constant is nearest: the new
+    # arc nested behind that arc's resistor, or in series when the baseline has no such arc
+    nearest = None
+    if arcs and resistors:
+        taus = {r: _arc_tau(circuit, ctx, r) for r in resistors}
+        taus = {r: t for r, t in taus.items() if np.isfinite(t) and t > 0}
+        if taus:
+            nearest = min(taus, key=lambda r: abs(np.log10(taus[r] / arcs[0][1])))
+    drt_text = f" (τ from the data's DRT peak at {arcs[0][1]:.2g} s that the model does not explain)" if arcs else ""
     for sym in ("C", "CPE"):
         c_name = ctx.fresh(sym, "relax")
         arc = Parallel((Element("R", r_name), Element(sym, c_name)))
         starts = _relaxation_starts(ctx, r_name, c_name, sym == "CPE")
-        out.append(Proposal("extra_relaxation", circuit + arc, str(arc), "in series with the whole circuit", starts))
-        for r in _arc_resistors(circuit, ctx.registry):
+        out.append(Proposal("extra_relaxation", circuit + arc, str(arc), "in series with the whole circuit" + (drt_text if nearest is None else ""), starts))
+        for r in resistors:
             nested = circuit.replace(r, Series((Element("R", r), arc)))
-            out.append(Proposal("extra_relaxation", nested, str(arc), f"nested in series with {r} (a layer behind that arc)", starts))
+            out.append(Proposal("extra_relaxation", nested, str(arc), f"nested in series with {r} (a layer behind that arc)" + (drt_text if r == nearest else ""), starts))
     return out
 
 

@@ -124,11 +124,12 @@ def refine(
     fmax: float | None = None,
     n_starts: int = 4,
     seed: int = 0,
+    drt_evidence: bool = True,
 ) -> Refinement:
     """Refine ``circuit`` on ``data``: diagnose → add the best significant effect → refit, until
     the verdict is not ``missing_effect`` (or no suggestion remains) or ``max_steps`` effects
     were added. ``registry`` parses the circuit; only the points with ``fmin`` ≤ f ≤ ``fmax`` are
-    used, at every step. Returns a `Refinement` (steps with model, rms_rel, AIC and what was added)."""
+    used, at every step; ``drt_evidence`` as in `diagnose`. Returns a `Refinement` (steps with model, rms_rel, AIC and what was added)."""
     if not isinstance(max_steps, int) or max_steps < 0:
         raise ParameterError(f"max_steps must be a non-negative integer, got {max_steps!r}")
     ds = open_spectrum(data, fmin=fmin, fmax=fmax, single="refine").data
@@ -138,9 +139,9 @@ def refine(
     current = None
     for i in range(max_steps + 1):
         if current is None:
-            d = diagnose(ds, circuit, effects=effects, noise=noise, weighting=weighting, registry=registry, n_starts=n_starts, seed=seed)
+            d = diagnose(ds, circuit, effects=effects, noise=noise, weighting=weighting, registry=registry, n_starts=n_starts, seed=seed, drt_evidence=drt_evidence)
         else:
-            d = diagnose(current, data=ds, effects=effects, kk=steps[0].diagnosis.kk, noise=noise, n_starts=n_starts, seed=seed)
+            d = diagnose(current, data=ds, effects=effects, kk=steps[0].diagnosis.kk, noise=noise, n_starts=n_starts, seed=seed, drt_evidence=drt_evidence)
         steps.append(RefinementStep(d.baseline, added, effect, d))
         verdict = d.verdict
         if d.verdict != Verdict.MISSING_EFFECT or d.best is None or i == max_steps:
