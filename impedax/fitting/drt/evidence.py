@@ -8,18 +8,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...data import format_time
 from ...errors import DataError
 from .peaks import Peak
 from .result import DRTResult
 
 __all__ = ["PeakEvidence", "unexplained_peaks"]
-
-
-def _fmt_tau(tau: float) -> str:
-    for scale, unit in ((1.0, "s"), (1e-3, "ms"), (1e-6, "µs"), (1e-9, "ns")):
-        if tau >= scale or unit == "ns":
-            return f"{float(f'{tau / scale:.2g}'):g} {unit}"
-    return f"{tau:.2g} s"
 
 
 @dataclass(frozen=True, eq=False)
@@ -119,12 +113,12 @@ def unexplained_peaks(data_drt: DRTResult, model, *, tolerance_decades: float = 
     distributed.sort(key=lambda p: p.tau_s)
     text = f"the data's DRT has {len(data_peaks)} peak{'s' if len(data_peaks) != 1 else ''}"
     if data_peaks:
-        text += f" (at {', '.join(_fmt_tau(p.tau_s) for p in data_peaks)})"
+        text += f" (at {', '.join(format_time(p.tau_s, 2) for p in data_peaks)})"
     text += f"; the model explains {len(explained)}"
     if unexplained:
-        text += "; unexplained: " + ", ".join(f"{_fmt_tau(p.tau_s)} (R ≈ {p.r_ohm:.3g} Ω)" for p in unexplained)
+        text += "; unexplained: " + ", ".join(f"{format_time(p.tau_s, 2)} (R ≈ {p.r_ohm:.3g} Ω)" for p in unexplained)
     if distributed:
-        text += "; distributed (CPE-like): " + ", ".join(_fmt_tau(p.tau_s) for p in distributed)
+        text += "; distributed (CPE-like): " + ", ".join(format_time(p.tau_s, 2) for p in distributed)
     return PeakEvidence(
         data_peaks=data_peaks, model_peaks=model_peaks, explained=tuple(explained), unexplained=tuple(unexplained),
         nearest_model_tau=nearest, distributed=tuple(distributed), text=text,
