@@ -32,13 +32,13 @@ from typing import Mapping, NamedTuple, Sequence
 import numpy as np
 import xarray as xr
 
-from ...circuits import Circuit, DEFAULT_REGISTRY, ProgramLayout, Registry, parse
+from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, parse
 from ...data import make_spectrum
 from ...errors import DataError, FitError, ImpedaxError, ParameterError
 from ..drt import PeakEvidence, drt, unexplained_peaks
 from ..kk import KKResult, kk_test
 from ..least_squares import BatchFitResult, FitResult
-from ..least_squares.candidates import C_BUCKET, K_BUCKETS, bucket, fit_candidates
+from ..least_squares.candidates import SolverShape, fit_candidates, solver_shape
 from ..problem import open_spectrum
 from .bands import FailingBand, failing_bands, format_frequency, RUN_P
 from .catalog import BaselineContext, Effect, EffectCatalog, Proposal
@@ -278,14 +278,6 @@ class NoiseLevel(NamedTuple):
     source: str
 
 
-class SolverShape(NamedTuple):
-    """The padded shape of one compiled candidate solver: layout, candidate and parameter counts."""
-
-    layout: ProgramLayout
-    n_candidates: int
-    n_free: int
-
-
 def _thresholds() -> dict[str, float]:
     return {"delta_aic_min": DELTA_AIC_MIN, "noise_fraction_min": NOISE_FRACTION_MIN, "noise_ratio_max": NOISE_RATIO_MAX, "run_p": RUN_P, "noise_floor": NOISE_FLOOR, "kk_invalid_fraction": KK_INVALID_FRACTION}
 
@@ -314,14 +306,6 @@ def _drt_evidence(fit: FitResult, notes: list[str]) -> PeakEvidence | None:
     return evidence
 
 
-def _shapes(circuits: Sequence[Circuit], registry: Registry) -> SolverShape:
-    """The shape of one compiled candidate solver that holds ``circuits``."""
-    layout = ProgramLayout.covering(circuits, registry)
-    n = -(-len(circuits) // C_BUCKET) * C_BUCKET
-    k = bucket(max(len(c.parameter_names(registry)) for c in circuits), K_BUCKETS)
-    return SolverShape(layout, n, k)
-
-
 def _spectrum_of(fit: FitResult, data: xr.Dataset | None):
     """A spectrum Dataset on the fit's frequencies, with ``sigma`` from ``data`` if it has one."""
     sigma = None
@@ -342,11 +326,6 @@ def _explain(effect, p: Proposal, base: FitResult, cand: FitResult, d_aic: float
         f"{effect.title}: {effect.physics}. Adding {p.added} {p.where} lowers rms_rel from {base.rms_rel * 100:.3g} % "
         f"to {cand.rms_rel * 100:.3g} % (ΔAIC {d_aic:+.1f}){band_text}."
     )
-
-
-def _covers(layout: ProgramLayout, circuits: Sequence[Circuit], registry: Registry) -> bool:
-    need = ProgramLayout.covering(circuits, registry)
-    return need.n_nodes <= layout.n_nodes and all(a <= b for a, b in zip(need.capacities, layout.capacities))
 
 
 def _drt_supports(s: Suggestion, evidence: PeakEvidence | None) -> bool:
@@ -392,11 +371,11 @@ def _fit_baseline(data, circuit: Circuit | str, effects: EffectCatalog, *, regis
     z = np.asarray(ds["Z"].values, complex)[order]
     stand_in = BaselineContext(circuit, circuit.defaults(registry), freq, z, z * (1 + 1e-3), registry)
     proposed = [p.circuit for _, p in effects.proposals(stand_in)]
-    shape = _shapes([circuit] + proposed, registry)
+    shape = solver_shape([circuit] + proposed, registry)
     copies = shape.n_candidates
     fits = fit_candidates(
         [circuit] * copies, ds, weighting=weighting, n_starts=n_starts, max_steps=BASELINE_STEPS, seeds=[seed + i for i in range(copies)],
-        registry=registry, single_phase=True, layout=shape.layout, pad_to=shape.n_candidates, k_pad=shape.n_free,
+        registry=registry, single_phase=True, shape=shape,
     )
     best = min(fits, key=lambda r: r.chi2 if np.isfinite(r.chi2) else np.inf)
     return best, ds, shape
@@ -462,12 +441,12 @@ def _fit_proposals(base: FitResult, spectrum: xr.Dataset, ctx: BaselineContext, 
     fixed = {k: v for k, v in base.values.items() if base.fixed[k]}
     circuits = [base.circuit] + [p.circuit for _, p in proposals]
     inits = [[dict(base.values), ctx.start()]] + [list(p.starts) for _, p in proposals]
-    if shape is None or not _covers(shape.layout, circuits, base.registry):
-        shape = _shapes(circuits, base.registry)
+    if shape is None or not shape.holds(circuits, base.registry):
+        shape = solver_shape(circuits, base.registry)
     try:
         return fit_candidates(
             circuits, spectrum, init=inits, fixed=fixed or None, weighting=base.weighting, n_starts=n_starts, seed=seed,
-            registry=base.registry, single_phase=True, layout=shape.layout, pad_to=shape.n_candidates, k_pad=shape.n_free, max_steps=BASELINE_STEPS, step_limit=max_steps,
+            registry=base.registry, single_phase=True, shape=shape, max_steps=BASELINE_STEPS, step_limit=max_steps,
         )
     except FitError as err:
         raise FitError(f"diagnosis: the candidate fits failed: {err}") from None

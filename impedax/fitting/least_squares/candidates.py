@@ -24,18 +24,42 @@ from .result import FitResult, fit_result
 from .solvers import SolverArgs, SolverOutput, program_solver
 from .starts import SpectrumFeatures, data_driven_guess, random_starts
 
-__all__ = ["fit_candidates", "K_BUCKETS", "C_BUCKET", "bucket"]
+__all__ = ["fit_candidates", "SolverShape", "solver_shape"]
 
-K_BUCKETS = (4, 8, 12, 16, 24, 32, 48)  # the Jacobian costs one model pass per column
-C_BUCKET = 8
+_K_BUCKETS = (4, 8, 12, 16, 24, 32, 48)  # the Jacobian costs one model pass per column
+_C_BUCKET = 8
 
 
-def bucket(n: int, buckets) -> int:
+def _bucket(n: int, buckets) -> int:
     """The smallest of ``buckets`` (ascending) that holds ``n``."""
     for b in buckets:
         if n <= b:
             return b
     raise FitError(f"too many free parameters ({n}) for a candidate fit")
+
+
+class SolverShape(NamedTuple):
+    """The padded shape of one compiled candidate solver: the program layout, the candidate
+    count and the free-parameter count. Calls of `fit_candidates` with one shape share one
+    compilation (the diagnosis keeps one for all its steps)."""
+
+    layout: ProgramLayout
+    n_candidates: int
+    n_free: int
+
+    def holds(self, circuits: Sequence[Circuit], registry: Registry) -> bool:
+        """Whether every circuit fits in this shape's layout (so no new compilation is needed)."""
+        need = ProgramLayout.covering(circuits, registry)
+        return need.n_nodes <= self.layout.n_nodes and all(a <= b for a, b in zip(need.capacities, self.layout.capacities))
+
+
+def solver_shape(circuits: Sequence[Circuit], registry: Registry = DEFAULT_REGISTRY) -> SolverShape:
+    """The tightest shape that holds ``circuits`` (evaluation cost grows with the slot count),
+    its counts rounded up to the buckets, so a diagnosis's candidate sets share it."""
+    layout = ProgramLayout.covering(circuits, registry)
+    n = -(-len(circuits) // _C_BUCKET) * _C_BUCKET
+    k = _bucket(max(len(c.parameter_names(registry)) for c in circuits), _K_BUCKETS)
+    return SolverShape(layout, n, k)
 
 
 def fit_candidates(
@@ -45,17 +69,13 @@ def fit_candidates(
     init: Sequence[Mapping[str, float] | Sequence[Mapping[str, float]] | None] | None = None,
     fixed: Mapping[str, float] | None = None,
     weighting: str = "modulus",
-    fmin: float | None = None,
-    fmax: float | None = None,
     n_starts: int = 8,
     max_steps: int = 400,
     seed: int = 0,
+    seeds: Sequence[int] | None = None,
     registry: Registry = DEFAULT_REGISTRY,
     single_phase: bool = False,
-    seeds: Sequence[int] | None = None,
-    layout: ProgramLayout | None = None,
-    pad_to: int | None = None,
-    k_pad: int | None = None,
+    shape: SolverShape | None = None,
     step_limit: int | None = None,
 ) -> list[FitResult]:
     """Fit every circuit in ``circuits`` to the one spectrum ``data`` in a single vmapped call.
@@ -66,9 +86,9 @@ def fit_candidates(
     first random starts). ``fixed`` values apply to candidates that have those parameters.
     ``single_phase`` runs every start to convergence with one compact Levenberg–Marquardt loop
     (no screening phase; compiles several times faster; meant for warm starts). ``seeds``: one
-    random-start seed per candidate (default ``seed`` for all). ``layout``, ``pad_to``
-    (candidate count) and ``k_pad`` (free-parameter count) fix the compiled shapes, so calls
-    with different circuits can share one compilation; with ``single_phase``, ``step_limit``
+    random-start seed per candidate (default ``seed`` for all). ``shape`` (a `SolverShape`:
+    layout, candidate count, free-parameter count) fixes the compiled shapes, so calls with
+    different circuits can share one compilation; with ``single_phase``, ``step_limit``
     (≤ ``max_steps``) stops this call earlier without a new compilation. Returns one
     `FitResult` per circuit, in order, exactly as `impedax.fit` would report them.
     """
@@ -76,14 +96,14 @@ def fit_candidates(
     circuits = [parse(c, registry) for c in circuits]
     if not circuits:
         return []
-    prepared, warm = _prepare(circuits, data, init, fixed, fmin=fmin, fmax=fmax, registry=registry)
+    prepared, warm = _prepare(circuits, data, init, fixed, registry=registry)
     spectrum = prepared[0].data
     freq = np.asarray(spectrum["frequency"].values, float)
     z = np.asarray(spectrum["Z"].values, complex)
     sigma = np.asarray(spectrum["sigma"].values, float) if "sigma" in spectrum else None
     inv_re, inv_im = weights(z, sigma, weighting, prepared[0].source)
-    layout = layout if layout is not None else _shared_layout(circuits, registry)
-    k_pad = max(k_pad or 0, bucket(max(int((~p.table.fixed).sum()) for p in prepared), K_BUCKETS))
+    layout = shape.layout if shape is not None else ProgramLayout.covering(circuits, registry)
+    k_pad = max(shape.n_free if shape is not None else 0, _bucket(max(int((~p.table.fixed).sum()) for p in prepared), _K_BUCKETS))
     seeds = list(seeds) if seeds is not None else [seed] * len(circuits)
     if len(seeds) != len(circuits):
         raise FitError("seeds must give one seed per circuit")
@@ -93,7 +113,7 @@ def fit_candidates(
         for problem, extra, seed_i in zip(prepared, warm, seeds)
     ]
     n_real = len(rows)
-    n_total = max(pad_to or 0, -(-n_real // C_BUCKET) * C_BUCKET)
+    n_total = max(shape.n_candidates if shape is not None else 0, -(-n_real // _C_BUCKET) * _C_BUCKET)
     rows += [rows[-1]] * (n_total - n_real)  # pad the candidate count (results discarded)
     steps = min(step_limit or max_steps, max_steps) if single_phase else None
     starts, args = _stacked(rows, freq, z, inv_re, inv_im, steps)
@@ -108,7 +128,7 @@ def fit_candidates(
     return results
 
 
-def _prepare(circuits, data, init, fixed, *, fmin, fmax, registry) -> tuple[list[FitProblem], list[list[dict]]]:
+def _prepare(circuits, data, init, fixed, *, registry) -> tuple[list[FitProblem], list[list[dict]]]:
     """Each candidate's `FitProblem` (its first start as ``init``) and its further warm starts."""
     init = list(init) if init is not None else [None] * len(circuits)
     if len(init) != len(circuits):
@@ -120,7 +140,7 @@ def _prepare(circuits, data, init, fixed, *, fmin, fmax, registry) -> tuple[list
         starts = [start] if start is None or isinstance(start, Mapping) else list(start)
         starts = [{k: v for k, v in (one or {}).items() if k in names and k not in mine} for one in starts] or [{}]
         warm.append([_inside(circuit, one, registry) for one in starts[1:]])
-        prepared.append(prepare_fit(circuit, data, init=_inside(circuit, starts[0], registry), fixed=mine, bounds=None, fmin=fmin, fmax=fmax, registry=registry))
+        prepared.append(prepare_fit(circuit, data, init=_inside(circuit, starts[0], registry), fixed=mine, bounds=None, fmin=None, fmax=None, registry=registry))
     if prepared[0].data["Z"].ndim != 1:
         raise FitError("fit_candidates fits one spectrum; select or average the extra dimensions first")
     return prepared, warm
@@ -208,9 +228,3 @@ def _inside(circuit: Circuit, values: Mapping[str, float], registry: Registry) -
             value = spec.upper * (1 - 1e-6) if spec.upper > 0 else spec.upper - 1e-6
         out[name] = value
     return out
-
-
-def _shared_layout(circuits: Sequence[Circuit], registry: Registry) -> ProgramLayout:
-    """A tight layout: evaluation cost grows with the slot count, and a candidate set of one
-    diagnosis always yields the same layout (so the compilation is reused)."""
-    return ProgramLayout.covering(circuits, registry)
