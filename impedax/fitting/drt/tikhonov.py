@@ -1,6 +1,6 @@
 """Tikhonov-regularised least squares for the DRT, in JAX and batched over spectra with vmap.
 
-For one spectrum with weights w_n = 1/|Z_n| (relative residuals, PHYSICS.md), the real design
+For one spectrum with weights w_n = 1/|Z_n| (relative residuals, docs/physics.md, "Goodness of fit"), the real design
 A (2N × P: Re rows over Im rows, columns R_∞, L, 1/C, x_1..x_M) and data b:
 
     x̂(λ) = argmin ‖A x − b‖² + λ xᵀ Γ x     (subject to x_m ≥ 0 for the RBF weights when
