@@ -144,3 +144,14 @@ def test_imports_run_one_way(module):
 
 def test_every_layer_is_used():
     assert all(any(layer_of(m) == i for m in MODULES) for i in range(len(LAYERS)))
+
+
+def test_docs_the_code_cites_exist_in_the_repository():
+    """Docstrings and comments send readers to docs/*.md files of this repository, never to a
+    file outside it (the physics the code cites lives in docs/physics.md)."""
+    import re
+
+    repo = ROOT.parent
+    cited = {m for path in MODULES.values() for m in re.findall(r"docs/[\w-]+\.md", path.read_text(encoding="utf-8"))}
+    assert cited and all((repo / c).is_file() for c in cited), sorted(c for c in cited if not (repo / c).is_file())
+    assert not [str(p) for p in MODULES.values() if "PHYSICS.md" in p.read_text(encoding="utf-8")]
