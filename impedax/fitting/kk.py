@@ -28,6 +28,7 @@ from ..data import format_frequency
 from ..errors import DataError, ParameterError
 from .grid import ResultGrid
 from .problem import frequency_and_z
+from .statistics import difference_noise
 
 __all__ = ["KKResult", "KKBatchResult", "kk_test", "kk_test_batch", "DEFAULT_THRESHOLDS"]
 
@@ -41,7 +42,6 @@ DEFAULT_THRESHOLDS: Mapping[str, float] = {
     "noise_floor": 2e-3,  # relative; below this, residuals are Voigt-approximation error, not data problems
 }
 
-_MAD_TO_SIGMA = 1.482602218505602  # 1/Φ⁻¹(3/4): median(|x|)·this = σ for Gaussian x
 
 
 @dataclass(frozen=True, eq=False)
@@ -310,7 +310,7 @@ def _noise_estimate(res_re: np.ndarray, res_im: np.ndarray, order: np.ndarray, n
     if n < 3:
         return float("nan")
     d = np.concatenate([np.diff(res_re[order]), np.diff(res_im[order])])
-    sigma = _MAD_TO_SIGMA * float(np.median(np.abs(d))) / math.sqrt(2.0)
+    sigma = difference_noise(d)
     dof = max(2 * n - n_params, 1)
     return sigma * math.sqrt(2 * n / dof)
 

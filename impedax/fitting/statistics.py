@@ -8,7 +8,7 @@ from typing import Sequence
 
 import numpy as np
 
-__all__ = ["information_criteria", "covariances", "null_sets", "uncertainties", "at_noise_floor", "dominant_points", "SINGULAR_RATIO_LIMIT", "DOMINANT_FRACTION"]
+__all__ = ["difference_noise", "information_criteria", "covariances", "null_sets", "uncertainties", "at_noise_floor", "dominant_points", "SINGULAR_RATIO_LIMIT", "DOMINANT_FRACTION"]
 
 # a Jacobian direction whose singular value is below this fraction of the largest is not
 # determined by the data (its parameters are reported together)
@@ -155,3 +155,12 @@ def dominant_points(z, inv_re, inv_im) -> tuple[np.ndarray, np.ndarray]:
     with np.errstate(all="ignore"):
         share = np.where(dominated, np.sum(np.where(heavy, weight, 0.0), axis=-1) / total[..., 0], 0.0)
     return heavy[..., :n] | heavy[..., n:], share
+
+
+_MAD_TO_SIGMA = 1.482602218505602  # 1/Φ⁻¹(3/4): median(|x|)·this = σ for Gaussian x
+
+
+def difference_noise(differences: np.ndarray) -> float:
+    """Robust σ of white noise from its first differences in frequency order (a difference of
+    two independent draws has σ√2): 1.4826·median|d|/√2. A smooth deviation barely changes it."""
+    return _MAD_TO_SIGMA * float(np.median(np.abs(differences))) / math.sqrt(2.0)

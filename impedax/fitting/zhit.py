@@ -28,11 +28,11 @@ import xarray as xr
 from ..errors import DataError, ParameterError
 from .kk import bands_of_flags, long_runs
 from .problem import frequency_and_z
+from .statistics import difference_noise
 
 __all__ = ["ZHITResult", "zhit"]
 
 _GAMMA_1 = -math.pi / 6.0
-_MAD_TO_SIGMA = 1.482602218505602
 
 
 @dataclass(frozen=True, eq=False)
@@ -127,7 +127,7 @@ def zhit(data, *, noise_floor: float = 0.01, point: float = 5.0, run: float = 3.
     offset = float(np.median(ln_modulus - shape))
     modulus_sorted = np.exp(offset + shape)
     residual_sorted = (np.abs(z[order]) - modulus_sorted) / np.abs(z[order])
-    noise = _MAD_TO_SIGMA * float(np.median(np.abs(np.diff(residual_sorted)))) / math.sqrt(2.0)
+    noise = difference_noise(np.diff(residual_sorted))
     scale = max(noise, noise_floor)
     m = np.abs(residual_sorted)
     flag = m > point * scale
