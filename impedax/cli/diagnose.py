@@ -14,15 +14,14 @@ def register(sub) -> None:
         "try every effect of the catalog at every sensible place (one batched fit) and rank them by AIC. See docs/diagnosis.md.",
         plot_help="save data vs model with the failing bands shaded and the best suggestion",
         out_help="the diagnosis (.csv: the baseline's parameters, then the candidates with ΔAIC)",
+        run=run,
     )
     add_max_steps_option(p, 100, "the candidate fits (the baseline fit keeps its own)")
 
 
-def add_spectrum_command(sub, name: str, *, help: str, description: str, plot_help: str, out_help: str):
+def add_spectrum_command(sub, name: str, *, help: str, description: str, plot_help: str, out_help: str, run):
     """A diagnosis command on one spectrum with a model (diagnose, refine): DATA, --model, the
-    fit options, --effects, --noise, --json, --plot, --out; runs the module's ``run``."""
-    import sys
-
+    fit options, --effects, --noise, --json, --plot, --out; runs ``run(args)``."""
     from .common import add_model_argument, add_output_options, result_out_help
     from .fit import add_fit_options
 
@@ -33,7 +32,7 @@ def add_spectrum_command(sub, name: str, *, help: str, description: str, plot_he
     p.add_argument("--effects", metavar="ID,ID", help="only these effects (comma-separated ids; default: all)")
     p.add_argument("--noise", type=float, metavar="REL", help="relative noise level per component (default: from sigma or the KK residuals)")
     add_output_options(p, json="machine-readable output", plot=plot_help, out=result_out_help(out_help))
-    p.set_defaults(run=sys.modules[f"{__package__}.{name}"].run)
+    p.set_defaults(run=run)
     return p
 
 

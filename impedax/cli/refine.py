@@ -14,6 +14,7 @@ def register(sub) -> None:
         "prints the table of steps (the error falls step by step). See docs/diagnosis.md.",
         plot_help="save rms_rel per step and the residuals of every step",
         out_help="the refinement (.csv: the final fit's parameters)",
+        run=run,
     )
     p.add_argument("--max-steps", type=int, default=4, metavar="N", help="most effects to add (default 4)")
 
