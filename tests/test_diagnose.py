@@ -232,7 +232,7 @@ def test_cli_diagnose_and_refine_json(tmp_path, capsys):
     assert top["effect"] == effect
     ix.parse(top["model"])
     assert png.stat().st_size > 0
-    assert main(["refine", str(path), "--model", circuit, "--max-steps", "2", "--json"]) == 0
+    assert main(["refine", str(path), "--model", circuit, "--max-effects", "2", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert set(out) >= {"steps", "final_model", "verdict"}
     assert set(out["steps"][0]) >= {"model", "rms_rel", "aic", "added"}

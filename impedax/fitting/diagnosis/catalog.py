@@ -77,7 +77,9 @@ class BaselineContext:
 
 @dataclass(frozen=True)
 class Effect:
-    """A physical effect: id (stable), physics, residual signature, circuit change, proposals."""
+    """A physical effect: id (stable), physics, residual signature, circuit change, proposals;
+    ``plausible(values, proposal)``: None when the fitted values of a candidate are plausible
+    for this effect, else why not (the candidate is then not proposed; default: no check)."""
 
     id: str
     title: str
@@ -85,6 +87,7 @@ class Effect:
     signature: str
     change: str
     propose: Callable[[Circuit, BaselineContext], list[Proposal]] = field(repr=False, compare=False)
+    plausible: Callable[[Mapping[str, float], Proposal], str | None] | None = field(default=None, repr=False, compare=False)
 
 
 @dataclass(frozen=True)

@@ -1,10 +1,14 @@
 """Diagnosis of a fit: where the model fails, which physical effect is missing, and the verdict
 (docs/diagnosis.md). `diagnose` runs these steps:
 
-1. Noise level σ (relative, per component): from the data's ``sigma`` (trial scatter) when
-   present, else from the Kramers–Kronig residuals (`kk_test`), floored at `NOISE_FLOOR`.
-2. Is it the data? A KK test that fails badly (`KK_INVALID_FRACTION`, `KK_INVALID_RMS`) gives
-   the verdict ``data_invalid``.
+1. Noise model σ_k (relative, per frequency and component; `impedax.fitting.diagnosis.noise`):
+   the data's ``sigma`` (trial scatter) when present, else a local estimate from the
+   Kramers–Kronig residuals (`kk_test`), plus a model-discrepancy floor from the KK residuals'
+   structured part, floored at `NOISE_FLOOR`.
+2. Is it the data? ``data_invalid`` only when the KK misfit is comparable to the model's
+   (`KK_COMPARABLE`) over at least `KK_INVALID_FRACTION` of the points; otherwise the points the
+   KK test flags are masked (`Diagnosis.masked_points`, at most `MASK_MAX_FRACTION`) and the
+   rest is diagnosed.
 3. Failing bands (`impedax.fitting.diagnosis.bands`): runs of one sign in Re or Im of the
    relative residual that are structured beyond the noise, each described in words.
 4. Candidates: every effect of the catalog (`impedax.fitting.diagnosis.effects`) proposes augmented
@@ -16,10 +20,11 @@
    ``extra_relaxation`` its τ and R, a distributed peak gives ``constant_phase`` its α (the
    `BaselineContext.drt_evidence` the proposal functions read); when the DRT cannot be
    computed the diagnosis runs without it and says so in a note.
-5. Verdict: ``missing_effect`` when a candidate is significant (ΔAIC < −`DELTA_AIC_MIN` and it
-   explains at least `NOISE_FRACTION_MIN` of the noise variance) or the residuals are structured
-   beyond the noise with nothing to fix them, ``adequate`` otherwise. Only significant
-   candidates are listed as suggestions.
+5. Verdict: ``missing_effect`` when a candidate is significant (ΔAIC < −`DELTA_AIC_MIN`, it
+   explains at least `NOISE_FRACTION_MIN` of the noise variance, its parameters are determined
+   — relative error ≤ `RELATIVE_ERROR_MAX`, |correlation| ≤ `CORRELATION_MAX` — and its fitted
+   values are plausible for the effect), ``adequate`` otherwise: no effect of the catalog
+   explains what is left. Only significant candidates are listed as suggestions.
 """
 
 from __future__ import annotations
@@ -43,10 +48,12 @@ from ..problem import open_spectrum
 from .bands import FailingBand, failing_bands, format_frequency, RUN_P
 from .catalog import BaselineContext, Effect, EffectCatalog, Proposal
 from .effects import DEFAULT_EFFECTS
+from .noise import NOISE_FLOOR, NoiseModel, kk_indices, noise_model
 
 __all__ = [
     "Diagnosis", "Suggestion", "Verdict", "diagnose",
     "DELTA_AIC_MIN", "NOISE_FRACTION_MIN", "NOISE_RATIO_MAX", "NOISE_FLOOR", "KK_INVALID_FRACTION", "KK_INVALID_RMS", "BASELINE_STEPS",
+    "KK_COMPARABLE", "MASK_MAX_FRACTION", "RELATIVE_ERROR_MAX", "CORRELATION_MAX",
 ]
 
 # --- documented thresholds (docs/diagnosis.md) ---
@@ -58,12 +65,21 @@ NOISE_FRACTION_MIN = 0.25
 variance 2σ² (so a large N cannot make a negligible improvement 'significant')."""
 NOISE_RATIO_MAX = 1.5
 """rms_rel/(√2 σ) above this with failing bands ⇒ the residuals are not noise."""
-NOISE_FLOOR = 1e-3
-"""Relative noise floor (0.1 %): below this, misfits are instrument accuracy, not physics."""
-KK_INVALID_FRACTION = 0.2
-"""The KK test 'fails badly' when it flags at least this fraction of the points (or the KK
-residuals exceed 3× the noise and `KK_INVALID_RMS` at a minimum)."""
+KK_COMPARABLE = 0.5
+"""A point's misfit is the data's own when the KK test flags it and its KK residual |Δ_kk| is at
+least this fraction of the model's |r| there."""
+KK_INVALID_FRACTION = 0.5
+"""``data_invalid`` when the KK misfit is comparable to the model's (`KK_COMPARABLE`) at at
+least this fraction of the points ("over most of the band")."""
 KK_INVALID_RMS = 0.02
+"""Not used by the rule since the data problems are located point by point (a public name)."""
+MASK_MAX_FRACTION = 0.5
+"""The KK-flagged points are masked (left out of every fit of the diagnosis) when they are at
+most this fraction of the points; more, and the diagnosis keeps them with a note."""
+RELATIVE_ERROR_MAX = 1.0
+"""A parameter is undetermined when its standard error exceeds this × |value| (or is not finite) ..."""
+CORRELATION_MAX = 0.99
+"""... or its |correlation| with another free parameter exceeds this (a near-singular Jacobian)."""
 BASELINE_STEPS = 300
 """Levenberg–Marquardt step limit of the baseline's cold starts (warm candidates: ``max_steps``)."""
 
@@ -89,6 +105,8 @@ class Suggestion:
     significant: bool
     explanation: str
     fixed_bands: tuple[tuple[float, float], ...] = ()
+    undetermined: tuple[str, ...] = ()  # parameters the data do not determine (new to the baseline)
+    warning: str | None = None  # why the candidate is not proposed (undetermined, implausible, not converged)
 
     @property
     def model(self) -> str:
@@ -107,7 +125,7 @@ class Suggestion:
             "effect": self.effect, "model": self.model, "rms_rel": self.rms_rel, "aic": self.aic, "delta_aic": self.delta_aic,
             "delta_bic": self.delta_bic, "explanation": self.explanation, "added": self.added, "where": self.where,
             "significant": self.significant, "bic": self.fit.bic, "chi2_red": self.fit.chi2_red,
-            "fixed_bands": [list(b) for b in self.fixed_bands],
+            "fixed_bands": [list(b) for b in self.fixed_bands], "undetermined": list(self.undetermined), "warning": self.warning,
         }
 
 
@@ -129,6 +147,9 @@ class Diagnosis:
     notes: tuple[str, ...] = ()
     thresholds: Mapping[str, float] = field(default_factory=dict)
     drt: PeakEvidence | None = None
+    measurement_noise: np.ndarray | None = None  # σ_meas per point (without the discrepancy floor)
+    discrepancy: float = 0.0  # the model-discrepancy floor δ (relative, per component)
+    masked_points: tuple[float, ...] = ()  # frequencies [Hz] left out: KK flags them as the data's problem
 
     def __post_init__(self):
         object.__setattr__(self, "verdict", Verdict(self.verdict))
@@ -164,12 +185,20 @@ class Diagnosis:
                 "bad_bands": [[float(lo), float(hi)] for lo, hi in kk.bad_bands] if kk is not None else [],
                 "noise_estimate": float(kk.noise_estimate) if kk is not None else None,
             },
-            "noise": {"level": self.noise_level, "source": self.noise_source, "ratio": self.noise_ratio},
+            "noise": {
+                "level": self.noise_level, "source": self.noise_source, "ratio": self.noise_ratio, "discrepancy_floor": self.discrepancy,
+                "frequency": [float(f) for f in self.baseline.frequency], "per_frequency": [float(x) for x in self.noise],
+                "measurement": [float(x) for x in self.measurement_noise] if self.measurement_noise is not None else None,
+            },
+            "masked_points": [float(f) for f in self.masked_points],
             "failing_bands": [band.as_json() for band in self.failing_bands],
             "verdict": self.verdict,
             "reason": self.reason,
             "suggestions": [s.as_json() for s in self.suggestions],
-            "candidates": [{"effect": s.effect, "model": s.model, "rms_rel": s.rms_rel, "aic": s.aic, "delta_aic": s.delta_aic, "delta_bic": s.delta_bic, "significant": s.significant} for s in self.candidates],
+            "candidates": [
+                {"effect": s.effect, "model": s.model, "rms_rel": s.rms_rel, "aic": s.aic, "delta_aic": s.delta_aic, "delta_bic": s.delta_bic, "significant": s.significant, "undetermined": list(s.undetermined), "warning": s.warning}
+                for s in self.candidates
+            ],
             "thresholds": dict(self.thresholds),
             "notes": list(self.notes),
             "drt_peaks": self._drt_peaks_json(),
@@ -194,7 +223,9 @@ class Diagnosis:
         if self.kk is not None:
             kk_text = "the data are Kramers–Kronig consistent" if self.kk.valid else "the data are NOT Kramers–Kronig consistent in " + ", ".join(f"{format_frequency(lo)}–{format_frequency(hi)}" for lo, hi in self.kk.bad_bands)
             lines.append(f"data: {kk_text} (KK rms_rel {self.kk.rms_rel * 100:.3g} %).")
-        lines.append(f"noise: σ ≈ {self.noise_level * 100:.3g} % per component ({self.noise_source}); the residuals are {self.noise_ratio:.3g}× the noise.")
+        lines.append(f"noise: σ ≈ {self.noise_level * 100:.3g} % per component (median; {format_range(self.noise)}; {self.noise_source}); the residuals are {self.noise_ratio:.3g}× the noise.")
+        if self.masked_points:
+            lines.append(f"masked: {len(self.masked_points)} point(s) the KK test flags as the data's own problem ({', '.join(format_frequency(f) for f in self.masked_points[:6])}{', …' if len(self.masked_points) > 6 else ''}), left out of every fit.")
         if self.failing_bands:
             lines.append("where the model fails:")
             for band in self.failing_bands:
@@ -213,6 +244,9 @@ class Diagnosis:
         elif self.candidates and self.verdict == Verdict.ADEQUATE:
             top = self.candidates[0]
             lines.append(f"no effect improves the fit significantly (best: {top.effect}, ΔAIC {top.delta_aic:+.1f}, rms_rel {top.rms_rel * 100:.3g} %).")
+        rejected = [s for s in self.candidates if s.warning and s.delta_aic < -DELTA_AIC_MIN][:3]
+        for s in rejected:
+            lines.append(f"  not proposed: {s.model} (rms_rel {s.rms_rel * 100:.3g} %): {s.warning}")
         for n in self.notes:
             lines.append(f"note: {n}")
         return "\n".join(lines)
@@ -236,7 +270,7 @@ class Diagnosis:
                 "Z": ("frequency", b.z_data, {"units": "ohm"}),
                 "Z_model": ("frequency", b.z_model, {"units": "ohm"}),
                 "residual_rel": ("frequency", b.residuals),
-                "noise_rel": ("frequency", self.noise, {"long_name": "relative noise per component"}),
+                "noise_rel": ("frequency", self.noise, {"long_name": "relative noise per component (measurement and discrepancy floor)"}),
                 "failing": ("frequency", mask),
                 "candidate_model": ("candidate", [s.model for s in self.candidates]),
                 "candidate_effect": ("candidate", [s.effect for s in self.candidates]),
@@ -271,15 +305,30 @@ class Diagnosis:
 # --- the steps of a diagnosis ----------------------------------------------------------------
 
 
-class NoiseLevel(NamedTuple):
-    """Relative noise σ per point and component, and where it came from (in words)."""
-
-    sigma_rel: np.ndarray
-    source: str
-
-
 def _thresholds() -> dict[str, float]:
-    return {"delta_aic_min": DELTA_AIC_MIN, "noise_fraction_min": NOISE_FRACTION_MIN, "noise_ratio_max": NOISE_RATIO_MAX, "run_p": RUN_P, "noise_floor": NOISE_FLOOR, "kk_invalid_fraction": KK_INVALID_FRACTION}
+    return {
+        "delta_aic_min": DELTA_AIC_MIN, "noise_fraction_min": NOISE_FRACTION_MIN, "noise_ratio_max": NOISE_RATIO_MAX, "run_p": RUN_P, "noise_floor": NOISE_FLOOR,
+        "kk_invalid_fraction": KK_INVALID_FRACTION, "kk_comparable": KK_COMPARABLE, "mask_max_fraction": MASK_MAX_FRACTION,
+        "relative_error_max": RELATIVE_ERROR_MAX, "correlation_max": CORRELATION_MAX,
+    }
+
+
+def format_range(sigma: np.ndarray) -> str:
+    """``0.3–2.1 %`` (the range of a relative noise per point), or ``uniform`` when it is one value."""
+    lo, hi = float(np.min(sigma)), float(np.max(sigma))
+    return "uniform" if hi <= lo * 1.05 else f"{lo * 100:.2g}–{hi * 100:.2g} % over the band"
+
+
+def undetermined_parameters(fit: FitResult) -> frozenset[str]:
+    """Free parameters the data do not determine: standard error not finite or above
+    `RELATIVE_ERROR_MAX` × |value|, or |correlation| with another above `CORRELATION_MAX`."""
+    names = fit.free_names
+    out = {n for n in names if not (np.isfinite(fit.stderr[n]) and abs(fit.stderr[n]) <= RELATIVE_ERROR_MAX * abs(fit.values[n]))}
+    corr = np.asarray(fit.correlation, float)
+    if corr.shape == (len(names), len(names)) and len(names) > 1:
+        a, b = np.nonzero(np.triu(np.abs(np.nan_to_num(corr)) > CORRELATION_MAX, 1))
+        out |= {names[i] for i in a} | {names[j] for j in b}
+    return frozenset(out)
 
 
 def _noise_ratio(fit: FitResult, noise: np.ndarray) -> float:
@@ -318,13 +367,39 @@ def _spectrum_of(fit: FitResult, data: xr.Dataset | None):
     return make_spectrum(fit.frequency, fit.z_data, sigma=sigma, source="diagnosis"), sigma
 
 
-def _explain(effect, p: Proposal, base: FitResult, cand: FitResult, d_aic: float, fixed) -> str:
+_PREFIXES = ((1e9, "G"), (1e6, "M"), (1e3, "k"), (1.0, ""), (1e-3, "m"), (1e-6, "µ"), (1e-9, "n"), (1e-12, "p"), (1e-15, "f"))
+
+
+def format_quantity(value: float, unit: str) -> str:
+    """``84 µF``, ``2.2 kΩ``, ``0.81`` (a value with an SI prefix; dimensionless as it is)."""
+    if not unit or unit == "1" or not np.isfinite(value) or value == 0:
+        return f"{value:.3g}" + (f" {unit}" if unit and unit != "1" else "")
+    unit = {"ohm": "Ω", "Ohm": "Ω"}.get(unit, unit)
+    if " " in unit or "^" in unit or "/" in unit:  # compound units (CPE Q, Warburg σ): plain
+        return f"{value:.3g} {unit}"
+    for scale, prefix in _PREFIXES:
+        if abs(value) >= scale:
+            return f"{value / scale:.3g} {prefix}{unit}"
+    return f"{value:.3g} {unit}"
+
+
+def _new_values(base: FitResult, cand: FitResult) -> str:
+    """The fitted values of the parameters the candidate adds or changes, with units."""
+    specs = cand.circuit.parameter_specs(cand.registry)
+    new = [n for n in cand.free_names if n not in base.values]
+    return ", ".join(f"{n} = {format_quantity(cand.values[n], specs[n].unit)}" for n in new)
+
+
+def _explain(effect, p: Proposal, base: FitResult, cand: FitResult, d_aic: float, d_bic: float, fixed) -> str:
+    """The suggestion in the terms of the user's circuit and data: what is added where, its
+    fitted values with units, the error it removes and the bands it fixes."""
     band_text = ""
     if fixed:
-        band_text = " and removes the misfit " + ", ".join(f"{format_frequency(lo)}–{format_frequency(hi)}" for lo, hi in fixed)
+        band_text = "; it removes the misfit at " + ", ".join(f"{format_frequency(lo)}–{format_frequency(hi)}" for lo, hi in fixed)
+    values = _new_values(base, cand)
     return (
-        f"{effect.title}: {effect.physics}. Adding {p.added} {p.where} lowers rms_rel from {base.rms_rel * 100:.3g} % "
-        f"to {cand.rms_rel * 100:.3g} % (ΔAIC {d_aic:+.1f}){band_text}."
+        f"{effect.title}: adding {p.added} {p.where}" + (f" ({values})" if values else "")
+        + f" lowers rms_rel from {base.rms_rel * 100:.3g} % to {cand.rms_rel * 100:.3g} % (ΔAIC {d_aic:+.1f}, ΔBIC {d_bic:+.1f}){band_text}."
     )
 
 
@@ -347,16 +422,20 @@ def _rank(cands: list[Suggestion], evidence: PeakEvidence | None = None) -> list
     """Best first by AIC, with the same parsimony rule as the verdict: a candidate with more
     free parameters outranks a simpler one only if it lowers AIC by more than `DELTA_AIC_MIN`.
     Among candidates the data cannot tell apart (within `DELTA_AIC_MIN`) and of equal size, one
-    the DRT backs (`_drt_supports`) goes first."""
-    rest = sorted(cands, key=lambda s: s.delta_aic)
-    out = []
-    while rest:
-        best_aic = rest[0].delta_aic
-        close = [s for s in rest if s.delta_aic <= best_aic + DELTA_AIC_MIN]
-        pick = min(close, key=lambda s: (s.fit.n_params, not _drt_supports(s, evidence), s.delta_aic))
-        out.append(pick)
-        rest.remove(pick)
-    return out
+    the DRT backs (`_drt_supports`) goes first. Candidates with a warning (undetermined or
+    implausible parameters, no convergence) come after all the others."""
+    def ranked(group):
+        rest = sorted(group, key=lambda s: s.delta_aic)
+        out = []
+        while rest:
+            best_aic = rest[0].delta_aic
+            close = [s for s in rest if s.delta_aic <= best_aic + DELTA_AIC_MIN]
+            pick = min(close, key=lambda s: (s.fit.n_params, not _drt_supports(s, evidence), s.delta_aic))
+            out.append(pick)
+            rest.remove(pick)
+        return out
+
+    return ranked([s for s in cands if s.warning is None]) + ranked([s for s in cands if s.warning is not None])
 
 
 def _fit_baseline(data, circuit: Circuit | str, effects: EffectCatalog, *, registry: Registry, fmin, fmax, weighting: str, n_starts: int, seed: int):
@@ -407,33 +486,41 @@ def _kk_of(spectrum: xr.Dataset, notes: list[str]) -> KKResult | None:
         return None
 
 
-def _noise_level(fit: FitResult, noise: float | None, sigma: np.ndarray | None, kk: KKResult | None) -> NoiseLevel:
-    """σ per component, relative: given, else the data's sigma, else the KK residuals, else the
-    fit's own residuals; floored at `NOISE_FLOOR`."""
-    if noise is not None:
-        if not (np.isfinite(noise) and noise > 0):
-            raise ParameterError(f"noise must be a positive relative level, got {noise!r}")
-        sigma_rel, source = np.full(fit.n_points, float(noise)), "given"
-    elif sigma is not None:
-        sigma_rel, source = sigma / np.abs(fit.z_data), "the data's sigma (trial scatter)"
-    elif kk is not None and np.isfinite(kk.noise_estimate):
-        sigma_rel, source = np.full(fit.n_points, float(kk.noise_estimate)), "Kramers–Kronig residuals"
-    else:
-        sigma_rel, source = np.full(fit.n_points, fit.rms_rel / math.sqrt(2)), "the fit's own residuals (no KK test, no sigma)"
-    return NoiseLevel(np.maximum(sigma_rel, NOISE_FLOOR), source)
+class DataProblem(NamedTuple):
+    """The data's own problems at the fit's points: why they are invalid (or None) and which
+    points to mask (bool per point of the fit)."""
+
+    invalid: str | None
+    masked: np.ndarray
+    note: str | None
 
 
-def _data_invalid_reason(kk: KKResult | None, sigma_rel: np.ndarray) -> str | None:
-    """Why the data themselves cannot be fitted (a KK test that fails badly), or None."""
+def _data_problem(fit: FitResult, kk: KKResult | None, noise: NoiseModel) -> DataProblem:
+    """``data_invalid`` when the KK misfit is comparable to the model's (|Δ_kk| ≥ `KK_COMPARABLE`·|r|
+    at a point the KK test flags) at at least `KK_INVALID_FRACTION` of the points; otherwise the
+    flagged points are masked when they are at most `MASK_MAX_FRACTION` of the points and leave
+    enough to fit (≥ 3 per free parameter and ≥ 8)."""
+    none = np.zeros(fit.n_points, bool)
     if kk is None or kk.valid:
-        return None
-    flagged = float(np.mean(kk.flagged))
-    if flagged >= KK_INVALID_FRACTION or kk.rms_rel > max(3 * float(np.median(sigma_rel)), KK_INVALID_RMS):
-        return (
-            f"the data themselves are not Kramers–Kronig consistent ({flagged * 100:.0f} % of the points flagged, KK rms_rel {kk.rms_rel * 100:.2g} %): "
-            "drift, movement or a non-stationary sample during the sweep; no circuit should be asked to fit them. Repeat or trim the measurement."
+        return DataProblem(None, none, None)
+    idx = kk_indices(kk, fit.frequency)
+    if idx is None:
+        return DataProblem(None, none, None)
+    flagged = np.asarray(kk.flagged, bool)[idx]
+    dkk = np.hypot(kk.residuals_real[idx], kk.residuals_imag[idx])
+    comparable = flagged & (dkk >= KK_COMPARABLE * np.abs(fit.residuals))
+    share = float(np.mean(comparable))
+    if share >= KK_INVALID_FRACTION:
+        return DataProblem(
+            f"the data themselves are not Kramers–Kronig consistent where the model fails: at {share * 100:.0f} % of the points the KK misfit is at least "
+            f"{KK_COMPARABLE:.0%} of the model's (KK rms_rel {kk.rms_rel * 100:.2g} %, model {fit.rms_rel * 100:.2g} %): drift, movement or a non-stationary "
+            "sample during the sweep; no circuit should be asked to fit them. Repeat or trim the measurement.",
+            none, None,
         )
-    return None
+    n_left = int((~flagged).sum())
+    if float(np.mean(flagged)) <= MASK_MAX_FRACTION and n_left >= max(8, 3 * fit.n_params):
+        return DataProblem(None, flagged, None)
+    return DataProblem(None, none, f"the KK test flags {np.mean(flagged) * 100:.0f} % of the points, but the model's misfit there is more than {1 / KK_COMPARABLE:.0f}× the data's own: diagnosed with every point")
 
 
 def _fit_proposals(base: FitResult, spectrum: xr.Dataset, ctx: BaselineContext, proposals: list[tuple[Effect, Proposal]], shape: SolverShape | None, *, n_starts: int, max_steps: int, seed: int) -> list[FitResult]:
@@ -453,31 +540,45 @@ def _fit_proposals(base: FitResult, spectrum: xr.Dataset, ctx: BaselineContext, 
 
 
 def _suggestions(base: FitResult, proposals: list[tuple[Effect, Proposal]], fits: Sequence[FitResult], sigma_rel: np.ndarray, bands: Sequence[FailingBand]) -> list[Suggestion]:
-    """A `Suggestion` per converged candidate: ΔAIC, ΔBIC, significance and the bands it fixes."""
+    """A `Suggestion` per candidate with a finite fit: ΔAIC, ΔBIC, the bands it fixes, its new
+    undetermined parameters, a plausibility warning (`Effect.plausible`) and significance (the
+    thresholds, determined, plausible, converged)."""
     noise_var = float(np.mean(2 * sigma_rel**2))
     base_ms = float(np.mean(np.abs(base.residuals) ** 2))
+    base_undetermined = undetermined_parameters(base)
     out = []
     for (effect, p), cf in zip(proposals, fits):
         if not np.isfinite(cf.chi2):
             continue
         d_aic, d_bic = cf.aic - base.aic, cf.bic - base.bic
         drop = (base_ms - float(np.mean(np.abs(cf.residuals) ** 2))) / noise_var
-        significant = bool(d_aic < -DELTA_AIC_MIN and drop >= NOISE_FRACTION_MIN)
+        undetermined = tuple(sorted(undetermined_parameters(cf) - base_undetermined))
+        warning = None
+        if undetermined:
+            warning = "the data do not determine " + ", ".join(undetermined) + f" (relative error > {RELATIVE_ERROR_MAX:.0%} or |correlation| > {CORRELATION_MAX:g})"
+        elif effect.plausible is not None:
+            warning = effect.plausible(cf.values, p)
+        significant = bool(d_aic < -DELTA_AIC_MIN and drop >= NOISE_FRACTION_MIN and warning is None)
         after = failing_bands(cf, sigma_rel)
         fixed_bands = tuple((b.f_min, b.f_max) for b in bands if not any(a.f_min < b.f_max and a.f_max > b.f_min for a in after))
-        out.append(Suggestion(effect.id, p.added, p.where, cf, d_aic, d_bic, significant, _explain(effect, p, base, cf, d_aic, fixed_bands), fixed_bands))
+        out.append(Suggestion(effect.id, p.added, p.where, cf, d_aic, d_bic, significant, _explain(effect, p, base, cf, d_aic, d_bic, fixed_bands), fixed_bands, undetermined, warning))
     return out
 
 
 def _verdict(cands: Sequence[Suggestion], bands: Sequence[FailingBand], ratio: float) -> tuple[Verdict, str]:
-    """The verdict and its reason from the ranked candidates, the bands and the noise ratio."""
+    """The verdict and its reason from the ranked candidates, the bands and the noise ratio:
+    ``missing_effect`` when a candidate is significant, else ``adequate`` (what is left, if
+    anything, no effect of the catalog explains with determined, plausible values)."""
     model_bands = [b for b in bands if not b.data_problem]
     if any(s.significant for s in cands):
         best = next(s for s in cands if s.significant)
         reason = f"the residuals are {ratio:.3g}× the noise" + (f" and structured in {len(model_bands)} band(s)" if model_bands else "") + f"; adding {best.effect} ({best.added}) lowers AIC by {-best.delta_aic:.1f}."
         return Verdict.MISSING_EFFECT, reason
     if model_bands and ratio > NOISE_RATIO_MAX:
-        return Verdict.MISSING_EFFECT, f"the residuals are {ratio:.3g}× the noise and structured in {len(model_bands)} band(s), but no effect in the catalog fixes them significantly."
+        return Verdict.ADEQUATE, (
+            f"the residuals are {ratio:.3g}× the noise and structured in {len(model_bands)} band(s), but no effect of the catalog explains them "
+            "with determined, plausible parameters: what is left is beyond the catalog (or the model discrepancy floor)."
+        )
     reason = (
         f"the residuals are {ratio:.3g}× the noise" + (" with no structured band" if not model_bands else " (small structure only)")
         + f", and no effect lowers AIC by more than {DELTA_AIC_MIN:g} while explaining at least {NOISE_FRACTION_MIN:.0%} of the noise variance."
@@ -524,23 +625,35 @@ def diagnose(
     notes: list[str] = []
     if kk is None:
         kk = _kk_of(spectrum, notes)
-    sigma_rel, source = _noise_level(base, noise, sigma, kk)
+    nm = noise_model(base.frequency, base.z_data, noise=noise, sigma=sigma, kk=kk, fallback_rms=base.rms_rel)
+    kk_bands = kk.bad_bands if kk is not None else ()
 
-    invalid = _data_invalid_reason(kk, sigma_rel)
-    if invalid is not None:
-        bands = failing_bands(base, sigma_rel, kk_bad_bands=kk.bad_bands)
-        return Diagnosis(base, kk, sigma_rel, source, bands, (), Verdict.DATA_INVALID, invalid, tuple(notes), _thresholds())
-    if kk is not None and not kk.valid:
+    problem = _data_problem(base, kk, nm)
+    if problem.invalid is not None:
+        bands = failing_bands(base, nm.sigma_rel, kk_bad_bands=kk_bands)
+        return Diagnosis(base, kk, nm.sigma_rel, nm.source, bands, (), Verdict.DATA_INVALID, problem.invalid, tuple(notes), _thresholds(), None, nm.measurement, nm.discrepancy)
+    if problem.note:
+        notes.append(problem.note)
+    keep = ~problem.masked
+    masked = tuple(float(f) for f in base.frequency[problem.masked])
+    if masked:
+        spectrum = spectrum.isel(frequency=np.nonzero(keep)[0])
+        notes.append(f"{len(masked)} point(s) the KK test flags as the data's own problem are masked: every fit of this diagnosis leaves them out")
+    elif kk is not None and not kk.valid:
         notes.append("the KK test flags " + ", ".join(f"{format_frequency(lo)}–{format_frequency(hi)}" for lo, hi in kk.bad_bands) + ": misfits there may be data problems")
+    sigma_rel, measurement = nm.sigma_rel[keep], nm.measurement[keep]
 
     evidence = _drt_evidence(base, notes) if drt_evidence else None
     ctx = _context(base, evidence)
-    proposals = [(e, p) for e, p in effects.proposals(ctx) if len(p.circuit.parameter_names(base.registry)) < 2 * base.n_points]
+    n_points = int(keep.sum())
+    proposals = [(e, p) for e, p in effects.proposals(ctx) if len(p.circuit.parameter_names(base.registry)) < 2 * n_points]
     fits = _fit_proposals(base, spectrum, ctx, proposals, shape, n_starts=n_starts, max_steps=max_steps, seed=seed)
-    if fits[0].chi2 < base.chi2 * (1 - 1e-6):
+    if masked:
+        base = fits[0]
+    elif fits[0].chi2 < base.chi2 * (1 - 1e-6):
         notes.append(f"the baseline refit found a better optimum (rms_rel {base.rms_rel * 100:.3g} % → {fits[0].rms_rel * 100:.3g} %); it is used as the baseline")
         base = fits[0]
-    bands = failing_bands(base, sigma_rel, kk_bad_bands=kk.bad_bands if kk is not None else ())
+    bands = failing_bands(base, sigma_rel, kk_bad_bands=kk_bands)
     cands = _rank(_suggestions(base, proposals, fits[1:], sigma_rel, bands), evidence)
     verdict, reason = _verdict(cands, bands, _noise_ratio(base, sigma_rel))
-    return Diagnosis(base, kk, sigma_rel, source, bands, tuple(cands), verdict, reason, tuple(notes), _thresholds(), evidence)
+    return Diagnosis(base, kk, sigma_rel, nm.source, bands, tuple(cands), verdict, reason, tuple(notes), _thresholds(), evidence, measurement, nm.discrepancy, masked)

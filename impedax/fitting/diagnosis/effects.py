@@ -291,6 +291,19 @@ def _diffusion(circuit: Circuit, ctx: BaselineContext) -> list[Proposal]:
     r0 = _positive(np.max(np.abs(dz)), z_floor)
     tau0 = 1.0 / ctx.omega[0]
     placements = [(None, "in series at the end of the circuit")] + [(r, f"in series with {r} (Randles-type, behind the charge transfer)") for r in _arc_resistors(circuit, ctx.registry)]
+    # modify before add: a semi-infinite Warburg already in the circuit may be finite (Wo, Ws)
+    for e in circuit.elements():
+        if _symbol(ctx.registry, e) != "W":
+            continue
+        sigma_w = ctx.values.get(f"{e.name}.sigma", sigma0)
+        for sym in ("Wo", "Ws"):
+            name = ctx.fresh(sym, e.name.split("_", 1)[1] if "_" in e.name else "d")
+            # a finite layer behaves as W (R = σ√(2τ)) above 1/τ: start τ at and beyond the band's bottom
+            starts = tuple(
+                {**{k: v for k, v in ctx.start().items() if not k.startswith(f"{e.name}.")}, f"{name}.R": sigma_w * np.sqrt(2 * tau), f"{name}.tau": tau}
+                for tau in (tau0, 0.1 * tau0, 10 * tau0)
+            )
+            out.append(Proposal("diffusion", circuit.replace(e.name, Element(sym, name)), name, f"in place of the semi-infinite Warburg {e.name} (a finite diffusion layer)", starts))
     for sym in ("W", "Wo", "Ws"):
         name = ctx.fresh(sym, "d")
         if sym == "W":
@@ -335,6 +348,29 @@ def _electrode_polarization(circuit: Circuit, ctx: BaselineContext) -> list[Prop
     return out
 
 
+# --- plausibility of fitted values ------------------------------------------------------------
+
+STRAY_CAPACITANCE_MAX = 1e-9
+"""F. Fixture and cable capacitance is pF to about a nF; microfarads across a sample are a
+capacitive process of the sample (a double layer), not the fixture."""
+LEAD_INDUCTANCE_MAX = 1e-5
+"""H. Leads and cables have ~0.1–1 µH per metre; henries in series are not a lead."""
+
+
+def _stray_plausible(values, p: Proposal) -> str | None:
+    c = values.get(p.added, np.nan)
+    if np.isfinite(c) and c > STRAY_CAPACITANCE_MAX:
+        return f"{p.added} = {c:.3g} F is not fixture capacitance (pF–nF, at most {STRAY_CAPACITANCE_MAX:.0e} F): a capacitive path of the sample itself, which another effect should model"
+    return None
+
+
+def _lead_plausible(values, p: Proposal) -> str | None:
+    inductance = values.get(p.added, np.nan)
+    if np.isfinite(inductance) and inductance > LEAD_INDUCTANCE_MAX:
+        return f"{p.added} = {inductance:.3g} H is not the inductance of leads (µH, at most {LEAD_INDUCTANCE_MAX:.0e} H): an inductive process of the sample, not the wiring"
+    return None
+
+
 DEFAULT_EFFECTS = EffectCatalog(
     (
         Effect(
@@ -352,6 +388,7 @@ DEFAULT_EFFECTS = EffectCatalog(
             "positive Z'' (inductive) at the top of the band, growing with f, that the model cannot make",
             "add L_lead in series with the whole circuit",
             _series_inductance,
+            _lead_plausible,
         ),
         Effect(
             "stray_capacitance",
@@ -360,6 +397,7 @@ DEFAULT_EFFECTS = EffectCatalog(
             "|Z| falls and the phase turns capacitive again at the top of the band",
             "put C_stray in parallel with the whole circuit",
             _stray_capacitance,
+            _stray_plausible,
         ),
         Effect(
             "constant_phase",

@@ -1,19 +1,21 @@
 """The refinement loop: diagnose → add the best significant effect → refit, until the model is
-adequate (docs/diagnosis.md, section 6)."""
+adequate (docs/diagnosis.md, section 6). The final model is refitted from scratch with `fit`,
+so the result reproduces with ``impedax fit`` of the final model string."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Callable
 
 import numpy as np
 import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ...errors import ParameterError
-from ..least_squares import FitResult
+from ..least_squares import FitResult, fit
 from ..problem import open_spectrum
 from .catalog import EffectCatalog
-from .diagnosis import Diagnosis, Verdict, diagnose
+from .diagnosis import Diagnosis, Verdict, diagnose, undetermined_parameters
 from .effects import DEFAULT_EFFECTS
 
 __all__ = ["Refinement", "RefinementStep", "refine"]
@@ -42,6 +44,8 @@ class Refinement:
 
     steps: tuple[RefinementStep, ...]
     verdict: Verdict
+    notes: tuple[str, ...] = ()
+    masked_points: tuple[float, ...] = ()  # frequencies [Hz] left out of every fit (KK-flagged)
 
     def __post_init__(self):
         object.__setattr__(self, "verdict", Verdict(self.verdict))
@@ -56,7 +60,12 @@ class Refinement:
 
     def summary(self) -> dict:
         """The JSON of ``impedax refine --json``."""
-        return {"steps": [s.as_json() for s in self.steps], "final_model": self.final_model, "verdict": self.verdict}
+        final = self.final
+        return {
+            "steps": [s.as_json() for s in self.steps], "final_model": self.final_model, "verdict": self.verdict,
+            "final_rms_rel": final.rms_rel, "n_params": final.n_params, "undetermined": sorted(undetermined_parameters(final)),
+            "masked_points": [float(f) for f in self.masked_points], "notes": list(self.notes),
+        }
 
     def to_table(self) -> list[dict[str, object]]:
         """The tidy table of the final model's parameters (`FitResult.to_table`)."""
@@ -83,6 +92,7 @@ class Refinement:
             lines.append(f"rms_rel fell from {first.rms_rel * 100:.3g} % to {last.rms_rel * 100:.3g} % in {len(self.steps) - 1} step(s); AIC {first.aic:.1f} → {last.aic:.1f}.")
         last_d = self.steps[-1].diagnosis
         lines.append(f"verdict: {self.verdict.upper()}" + (f" — {last_d.reason}" if last_d is not None else ""))
+        lines += [f"note: {n}" for n in self.notes]
         return "\n".join(lines)
 
     def plot(self, *, title: str | None = None):
@@ -111,11 +121,24 @@ class Refinement:
         )
 
 
+def _reproduced(ds: xr.Dataset, last: FitResult, *, n_starts: int, seed: int) -> tuple[FitResult, str | None]:
+    """The final model fitted from scratch with `fit` (what ``impedax fit`` of its model string
+    does on the same points); when the loop's warm fit is better, `fit` started from it."""
+    scratch = fit(last.circuit, ds, fixed={k: v for k, v in last.values.items() if last.fixed[k]} or None, weighting=last.weighting, registry=last.registry, seed=seed)
+    if scratch.chi2 <= last.chi2 * (1 + 1e-6):
+        return scratch, None
+    warm = fit(last.circuit, ds, init=last, fixed={k: v for k, v in last.values.items() if last.fixed[k]} or None, weighting=last.weighting, registry=last.registry, seed=seed)
+    note = f"fit of {last.model} from scratch reaches rms_rel {scratch.rms_rel * 100:.3g} %; started from the refinement's values it reaches {warm.rms_rel * 100:.3g} % (pass init=)"
+    return (warm, note) if warm.chi2 <= scratch.chi2 else (scratch, None)
+
+
 def refine(
     data,
     circuit: Circuit | str,
     *,
-    max_steps: int = 4,
+    max_steps: int | None = None,
+    max_effects: int | None = None,
+    solver_steps: int = 100,
     effects: EffectCatalog = DEFAULT_EFFECTS,
     weighting: str = "modulus",
     noise: float | None = None,
@@ -125,27 +148,55 @@ def refine(
     n_starts: int = 4,
     seed: int = 0,
     drt_evidence: bool = True,
+    progress: Callable[[str], None] | None = None,
 ) -> Refinement:
     """Refine ``circuit`` on ``data``: diagnose → add the best significant effect → refit, until
-    the verdict is not ``missing_effect`` (or no suggestion remains) or ``max_steps`` effects
-    were added. ``registry`` parses the circuit; only the points with ``fmin`` ≤ f ≤ ``fmax`` are
-    used, at every step; ``drt_evidence`` as in `diagnose`. Returns a `Refinement` (steps with model, rms_rel, AIC and what was added)."""
-    if not isinstance(max_steps, int) or max_steps < 0:
-        raise ParameterError(f"max_steps must be a non-negative integer, got {max_steps!r}")
+    the verdict is not ``missing_effect`` (or no suggestion remains) or ``max_effects`` (default
+    4; ``max_steps`` is its older name) effects were added. ``solver_steps``: the
+    Levenberg–Marquardt step limit of the candidate fits (``--max-steps`` of the CLI).
+    ``registry`` parses the circuit; only the points with ``fmin`` ≤ f ≤ ``fmax`` are used, at
+    every step, less the points the first diagnosis masks (KK-flagged); ``drt_evidence`` as in
+    `diagnose`; ``progress`` is called with a line of text as each step starts. The final model
+    is refitted with `fit` on the same points (reproducible with ``impedax fit``); a last
+    step whose refit leaves parameters undetermined is dropped. Returns a `Refinement`."""
+    if max_steps is not None and max_effects is not None:
+        raise ParameterError("give max_effects (max_steps is its older name), not both")
+    limit = max_effects if max_effects is not None else (max_steps if max_steps is not None else 4)
+    if not isinstance(limit, int) or isinstance(limit, bool) or limit < 0:
+        raise ParameterError(f"max_effects must be a non-negative integer, got {limit!r}")
+    if not isinstance(solver_steps, int) or solver_steps < 1:
+        raise ParameterError(f"solver_steps must be a positive integer, got {solver_steps!r}")
+    say = progress or (lambda text: None)
     ds = open_spectrum(data, fmin=fmin, fmax=fmax, single="refine").data
     steps: list[RefinementStep] = []
     added = effect = None
     verdict = Verdict.MISSING_EFFECT
     current = None
-    for i in range(max_steps + 1):
+    masked: tuple[float, ...] = ()
+    for i in range(limit + 1):
+        say(f"step {i}: diagnosing {current.model if current is not None else circuit}")
         if current is None:
-            d = diagnose(ds, circuit, effects=effects, noise=noise, weighting=weighting, registry=registry, n_starts=n_starts, seed=seed, drt_evidence=drt_evidence)
+            d = diagnose(ds, circuit, effects=effects, noise=noise, weighting=weighting, registry=registry, n_starts=n_starts, max_steps=solver_steps, seed=seed, drt_evidence=drt_evidence)
+            masked = d.masked_points
         else:
-            d = diagnose(current, data=ds, effects=effects, kk=steps[0].diagnosis.kk, noise=noise, n_starts=n_starts, seed=seed, drt_evidence=drt_evidence)
+            d = diagnose(current, data=ds, effects=effects, kk=steps[0].diagnosis.kk, noise=noise, n_starts=n_starts, max_steps=solver_steps, seed=seed, drt_evidence=drt_evidence)
         steps.append(RefinementStep(d.baseline, added, effect, d))
         verdict = d.verdict
-        if d.verdict != Verdict.MISSING_EFFECT or d.best is None or i == max_steps:
+        if d.verdict != Verdict.MISSING_EFFECT or d.best is None or i == limit:
             break
         best = d.best
         current, added, effect = best.fit, best.added, best.effect
-    return Refinement(tuple(steps), verdict)
+    notes: list[str] = []
+    used = ds if not masked else ds.sel(frequency=[f for f in ds["frequency"].values if float(f) not in set(masked)])
+    say(f"refitting the final model {steps[-1].model} from scratch")
+    final, note = _reproduced(used, steps[-1].fit, n_starts=n_starts, seed=seed)
+    if note:
+        notes.append(note)
+    new_undetermined = undetermined_parameters(final) - undetermined_parameters(steps[0].fit)
+    if new_undetermined and len(steps) > 1:
+        notes.append(f"{final.model}: the data do not determine {', '.join(sorted(new_undetermined))} when fitted from scratch; the step that added {steps[-1].added} is dropped")
+        steps.pop()
+        final, note = _reproduced(used, steps[-1].fit, n_starts=n_starts, seed=seed)
+        verdict = steps[-1].diagnosis.verdict if steps[-1].diagnosis is not None else verdict
+    steps[-1] = RefinementStep(final, steps[-1].added, steps[-1].effect, steps[-1].diagnosis)
+    return Refinement(tuple(steps), verdict, tuple(notes), masked)

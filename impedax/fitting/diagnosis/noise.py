@@ -1,0 +1,127 @@
+"""The noise model of a diagnosis and the data's own problems (docs/diagnosis.md, sections 1–2).
+
+σ_k, the relative standard deviation per component at frequency k that the residuals are judged
+against, has two parts:
+
+* the measurement noise σ_meas,k: the data's trial scatter (``sigma``) where they have it, else
+  a local robust estimate from the first differences of the Kramers–Kronig residuals in a
+  window of `LOCAL_WINDOW` frequencies (heteroscedastic: noise that grows toward low frequency
+  is seen where it is);
+* a model-discrepancy floor δ (one number per spectrum): the part of the KK residuals that is
+  not noise, i.e. how far even the most flexible KK-consistent model (the Voigt chain of the
+  KK test) stays from the data, times `DISCREPANCY_FACTOR` (a circuit of a few physical
+  elements cannot follow the data as closely as a chain of N/2 relaxations). It is zero on
+  data whose KK residuals are noise.
+
+σ_k = max(√(σ_meas,k² + δ²), `NOISE_FLOOR`). So "adequate" means "no effect of the catalog
+explains what is left", not "the residuals are at the instrument noise".
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+from ..kk import KKResult
+
+__all__ = ["NoiseModel", "noise_model", "kk_indices", "NOISE_FLOOR", "DISCREPANCY_FACTOR", "LOCAL_WINDOW", "GLOBAL_SHARE"]
+
+NOISE_FLOOR = 1e-3
+"""Relative noise floor (0.1 %): below this, misfits are instrument accuracy, not physics."""
+DISCREPANCY_FACTOR = 3.0
+"""δ = this × the structured (non-noise) rms of the KK residuals per component."""
+LOCAL_WINDOW = 9
+"""Frequencies per window of the local noise estimate (first differences of the KK residuals)."""
+GLOBAL_SHARE = 0.7
+"""The local estimate is not taken below this fraction of the KK test's global estimate (a
+median of a few differences scatters; a quiet stretch must not read as noise-free)."""
+
+
+class NoiseModel(NamedTuple):
+    """σ per point and component (``sigma_rel``, relative), its measurement part, the
+    model-discrepancy floor δ and where the measurement part came from (in words)."""
+
+    sigma_rel: np.ndarray
+    measurement: np.ndarray
+    discrepancy: float
+    source: str
+
+
+def kk_indices(kk: KKResult, frequency: np.ndarray) -> np.ndarray | None:
+    """Index into the KK result of each of ``frequency`` (None when one is missing)."""
+    f_kk = np.asarray(kk.frequency, float)
+    idx = np.array([int(np.argmin(np.abs(f_kk - f))) for f in frequency], dtype=int)
+    return idx if np.allclose(f_kk[idx], frequency, rtol=1e-9) else None
+
+
+def _running(values: np.ndarray, half: int, reduce) -> np.ndarray:
+    n = values.shape[-1]
+    return np.array([reduce(values[..., max(0, i - half): min(n, i + half + 1)]) for i in range(n)])
+
+
+def local_noise(kk: KKResult) -> np.ndarray:
+    """Measurement noise per frequency of the KK test's spectrum (the KK result's order): the
+    robust scale 1.4826·median|d|/√2 of the first differences d of Δ' and Δ'' over unflagged
+    points in frequency order, in windows of `LOCAL_WINDOW`, 3-point smoothed, inflated by
+    √(2N/(2N − P)) for the P = n_rc + 3 KK parameters, not below `GLOBAL_SHARE` × the global
+    estimate; interpolated in log f onto flagged points."""
+    f = np.asarray(kk.frequency, float)
+    order = np.argsort(f)
+    usable = order[~np.asarray(kk.flagged, bool)[order]]
+    global_est = float(kk.noise_estimate) if np.isfinite(kk.noise_estimate) else 0.0
+    if usable.size < 4:
+        return np.full(f.size, global_est)
+    d = np.abs(np.stack([np.diff(kk.residuals_real[usable]), np.diff(kk.residuals_imag[usable])]))
+    half = LOCAL_WINDOW // 2
+    # difference j sits between usable points j and j+1; point i takes differences i-half .. i+half-1
+    scale = np.array([1.4826 * np.median(d[:, max(0, i - half): min(d.shape[1], i + half)]) / math.sqrt(2) for i in range(usable.size)])
+    scale = _running(scale, 1, np.mean)
+    n = 2 * f.size
+    p = min(int(kk.n_rc) + 3, n - 1)
+    scale = np.maximum(scale * math.sqrt(n / (n - p)), GLOBAL_SHARE * global_est)
+    out = np.empty(f.size)
+    out[:] = np.interp(np.log(f), np.log(f[usable]), scale)
+    return out
+
+
+def _discrepancy(kk: KKResult, measurement_kk: np.ndarray) -> float:
+    """δ: `DISCREPANCY_FACTOR` × √(max(mean Δ²/2 · 2N/(2N − P) − mean σ_meas² · (1 + 3/√N_u), 0))
+    over the N_u unflagged points (the margin 3/√N_u keeps the scatter of a mean of squares of
+    pure noise from reading as structure)."""
+    good = ~np.asarray(kk.flagged, bool)
+    n_u = int(good.sum())
+    if n_u < 4:
+        return 0.0
+    ms_kk = float(np.mean((kk.residuals_real[good] ** 2 + kk.residuals_imag[good] ** 2) / 2))
+    n = 2 * kk.frequency.size
+    p = min(int(kk.n_rc) + 3, n - 1)
+    ms_noise = float(np.mean(measurement_kk[good] ** 2))
+    excess = ms_kk * n / (n - p) - ms_noise * (1 + 3 / math.sqrt(n_u))
+    return DISCREPANCY_FACTOR * math.sqrt(excess) if excess > 0 else 0.0
+
+
+def noise_model(frequency: np.ndarray, z_data: np.ndarray, *, noise: float | None, sigma: np.ndarray | None, kk: KKResult | None, fallback_rms: float) -> NoiseModel:
+    """The `NoiseModel` at ``frequency``: a ``noise`` level given by the user (used as it is,
+    no discrepancy floor), else the data's ``sigma`` (|Z|-relative trial scatter), else the
+    local KK estimate (`local_noise`), else ``fallback_rms``/√2 (the fit's own residuals); plus
+    the discrepancy floor δ from the KK residuals (`_discrepancy`)."""
+    n = frequency.size
+    idx = kk_indices(kk, frequency) if kk is not None else None
+    local = local_noise(kk) if kk is not None else None
+    if noise is not None:
+        meas = np.full(n, float(noise))
+        return NoiseModel(np.maximum(meas, NOISE_FLOOR), meas, 0.0, "given")
+    if sigma is not None:
+        meas, source = np.asarray(sigma, float) / np.abs(z_data), "the data's sigma (trial scatter)"
+    elif idx is not None and np.all(np.isfinite(local)):
+        meas, source = local[idx], "Kramers–Kronig residuals, local (per frequency)"
+    else:
+        meas, source = np.full(n, fallback_rms / math.sqrt(2)), "the fit's own residuals (no KK test, no sigma)"
+    delta = 0.0
+    if kk is not None and local is not None and np.all(np.isfinite(local)):
+        delta = _discrepancy(kk, local)
+    if delta > 0:
+        source += f" + model-discrepancy floor {delta * 100:.2g} %"
+    return NoiseModel(np.maximum(np.sqrt(meas**2 + delta**2), NOISE_FLOOR), meas, delta, source)

@@ -1,0 +1,81 @@
+"""The refinement loop: its final fit reproduces with `ix.fit` of the final model, it reports
+progress, and the CLI's --max-effects / --max-steps flags (docs/diagnosis.md, section 6).
+SYNTHETIC spectra from the numpy formulas of tests/hidden_effects.py."""
+
+import json
+
+import numpy as np
+import pytest
+
+import impedax as ix
+from impedax.cli import main
+from impedax.errors import ParameterError
+from impedax.fitting.diagnosis.diagnosis import undetermined_parameters
+
+import hidden_effects as he
+
+
+@pytest.fixture(scope="module")
+def missing_series_resistance():
+    circuit, effect, formula, params, frange = he.CASES["series_resistance/rc"]
+    f, z = he.spectrum(formula, params, frange, 0.01, np.random.default_rng(21))
+    return circuit, effect, ix.make_spectrum(f, z)
+
+
+@pytest.fixture(scope="module")
+def refined(missing_series_resistance):
+    circuit, _, data = missing_series_resistance
+    lines = []
+    return ix.refine(data, circuit, max_effects=2, progress=lines.append), lines
+
+
+def test_final_fit_reproduces_with_fit_of_the_final_model(missing_series_resistance, refined):
+    _, effect, data = missing_series_resistance
+    r, _ = refined
+    assert r.steps[1].effect == effect and r.verdict == "adequate"
+    again = ix.fit(r.final_model, data)
+    assert r.final.rms_rel == pytest.approx(again.rms_rel, rel=1e-6)
+    assert not undetermined_parameters(r.final)
+    out = r.summary()
+    assert out["final_rms_rel"] == pytest.approx(again.rms_rel, rel=1e-6) and out["undetermined"] == [] and out["masked_points"] == []
+
+
+def test_progress_is_reported_per_step(refined):
+    r, lines = refined
+    assert len(lines) == len(r.steps) + 1  # one per diagnosis, one for the final refit
+    assert lines[0].startswith("step 0") and "from scratch" in lines[-1]
+
+
+def test_max_effects_zero_diagnoses_only(missing_series_resistance):
+    circuit, _, data = missing_series_resistance
+    r = ix.refine(data, circuit, max_effects=0)
+    assert len(r.steps) == 1 and r.verdict == "missing_effect"
+
+
+@pytest.mark.parametrize("kwargs", [{"max_steps": 1, "max_effects": 1}, {"max_effects": -1}, {"solver_steps": 0}])
+def test_refine_options_are_checked(missing_series_resistance, kwargs):
+    circuit, _, data = missing_series_resistance
+    with pytest.raises(ParameterError):
+        ix.refine(data, circuit, **kwargs)
+
+
+def test_cli_refine_max_effects_and_max_steps(missing_series_resistance, tmp_path, capsys):
+    circuit, effect, data = missing_series_resistance
+    path = tmp_path / "spec.csv"
+    ix.save(data, path)
+    assert main(["refine", str(path), "--model", circuit, "--max-effects", "1", "--max-steps", "60", "--fmin", "2", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["steps"][1]["effect"] == effect and len(out["steps"]) == 2
+    assert set(out) >= {"steps", "final_model", "verdict", "final_rms_rel", "undetermined", "masked_points"}
+    # --fmin applies to every step, and the final fit is `fit` of the final model on that band
+    again = ix.fit(out["final_model"], data, fmin=2)
+    assert out["final_rms_rel"] == pytest.approx(again.rms_rel, rel=1e-6)
+
+
+@pytest.mark.parametrize("argv,message", [(["--max-effects", "-1"], "--max-effects"), (["--max-steps", "0"], "--max-steps")])
+def test_cli_refine_flags_are_checked(missing_series_resistance, tmp_path, capsys, argv, message):
+    circuit, _, data = missing_series_resistance
+    path = tmp_path / "spec.csv"
+    ix.save(data, path)
+    assert main(["refine", str(path), "--model", circuit, *argv]) != 0
+    assert message in capsys.readouterr().err
