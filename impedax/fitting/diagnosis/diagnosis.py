@@ -48,7 +48,7 @@ from ..problem import open_spectrum
 from .bands import FailingBand, failing_bands, format_frequency, RUN_P
 from .catalog import BaselineContext, Effect, EffectCatalog, Proposal
 from .effects import DEFAULT_EFFECTS
-from .noise import NOISE_FLOOR, NoiseModel, kk_indices, noise_model
+from .noise import NOISE_FLOOR, OUTLIER_MAX_FRACTION, NoiseModel, kk_indices, kk_outliers, noise_model
 
 __all__ = [
     "Diagnosis", "Suggestion", "Verdict", "diagnose",
@@ -150,6 +150,7 @@ class Diagnosis:
     measurement_noise: np.ndarray | None = None  # σ_meas per point (without the discrepancy floor)
     discrepancy: float = 0.0  # the model-discrepancy floor δ (relative, per component)
     masked_points: tuple[float, ...] = ()  # frequencies [Hz] left out: KK flags them as the data's problem
+    kk_of_kept: KKResult | None = None  # the KK test of the points kept, when a few erratic points were masked
 
     def __post_init__(self):
         object.__setattr__(self, "verdict", Verdict(self.verdict))
@@ -625,10 +626,15 @@ def diagnose(
     notes: list[str] = []
     if kk is None:
         kk = _kk_of(spectrum, notes)
-    nm = noise_model(base.frequency, base.z_data, noise=noise, sigma=sigma, kk=kk, fallback_rms=base.rms_rel)
     kk_bands = kk.bad_bands if kk is not None else ()
-
-    problem = _data_problem(base, kk, nm)
+    located = kk_outliers(spectrum, kk, max_fraction=OUTLIER_MAX_FRACTION) if kk is not None and not kk.valid else None
+    kk_kept = located[1] if located is not None else None
+    nm = noise_model(base.frequency, base.z_data, noise=noise, sigma=sigma, kk=kk_kept or kk, fallback_rms=base.rms_rel)
+    if located is not None:  # a few erratic points: mask exactly them, the rest is KK consistent
+        problem = DataProblem(None, located[0], None)
+        kk_bands = ()
+    else:
+        problem = _data_problem(base, kk, nm)
     if problem.invalid is not None:
         bands = failing_bands(base, nm.sigma_rel, kk_bad_bands=kk_bands)
         return Diagnosis(base, kk, nm.sigma_rel, nm.source, bands, (), Verdict.DATA_INVALID, problem.invalid, tuple(notes), _thresholds(), None, nm.measurement, nm.discrepancy)
@@ -638,7 +644,7 @@ def diagnose(
     masked = tuple(float(f) for f in base.frequency[problem.masked])
     if masked:
         spectrum = spectrum.isel(frequency=np.nonzero(keep)[0])
-        notes.append(f"{len(masked)} point(s) the KK test flags as the data's own problem are masked: every fit of this diagnosis leaves them out")
+        notes.append(f"{len(masked)} point(s) " + ("behind the failed KK test (without them it passes)" if located is not None else "the KK test flags as the data's own problem") + " are masked: every fit of this diagnosis leaves them out")
     elif kk is not None and not kk.valid:
         notes.append("the KK test flags " + ", ".join(f"{format_frequency(lo)}–{format_frequency(hi)}" for lo, hi in kk.bad_bands) + ": misfits there may be data problems")
     sigma_rel, measurement = nm.sigma_rel[keep], nm.measurement[keep]
@@ -656,4 +662,4 @@ def diagnose(
     bands = failing_bands(base, sigma_rel, kk_bad_bands=kk_bands)
     cands = _rank(_suggestions(base, proposals, fits[1:], sigma_rel, bands), evidence)
     verdict, reason = _verdict(cands, bands, _noise_ratio(base, sigma_rel))
-    return Diagnosis(base, kk, sigma_rel, nm.source, bands, tuple(cands), verdict, reason, tuple(notes), _thresholds(), evidence, measurement, nm.discrepancy, masked)
+    return Diagnosis(base, kk, sigma_rel, nm.source, bands, tuple(cands), verdict, reason, tuple(notes), _thresholds(), evidence, measurement, nm.discrepancy, masked, kk_kept)

@@ -353,7 +353,7 @@ def _electrode_polarization(circuit: Circuit, ctx: BaselineContext) -> list[Prop
 STRAY_CAPACITANCE_MAX = 1e-9
 """F. Fixture and cable capacitance is pF to about a nF; microfarads across a sample are a
 capacitive process of the sample (a double layer), not the fixture."""
-LEAD_INDUCTANCE_MAX = 1e-5
+LEAD_INDUCTANCE_MAX = 1e-4
 """H. Leads and cables have ~0.1–1 µH per metre; henries in series are not a lead."""
 
 
@@ -367,7 +367,7 @@ def _stray_plausible(values, p: Proposal) -> str | None:
 def _lead_plausible(values, p: Proposal) -> str | None:
     inductance = values.get(p.added, np.nan)
     if np.isfinite(inductance) and inductance > LEAD_INDUCTANCE_MAX:
-        return f"{p.added} = {inductance:.3g} H is not the inductance of leads (µH, at most {LEAD_INDUCTANCE_MAX:.0e} H): an inductive process of the sample, not the wiring"
+        return f"{p.added} = {inductance:.3g} H is not the inductance of leads (about a µH per metre, at most {LEAD_INDUCTANCE_MAX:.0e} H): an inductive process of the sample, not the wiring"
     return None
 
 

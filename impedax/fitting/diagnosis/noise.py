@@ -24,9 +24,9 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..kk import KKResult
+from ..kk import KKResult, kk_test
 
-__all__ = ["NoiseModel", "noise_model", "kk_indices", "NOISE_FLOOR", "DISCREPANCY_FACTOR", "LOCAL_WINDOW", "GLOBAL_SHARE"]
+__all__ = ["NoiseModel", "noise_model", "kk_indices", "kk_outliers", "OUTLIER_MAX_FRACTION", "NOISE_FLOOR", "DISCREPANCY_FACTOR", "LOCAL_WINDOW", "GLOBAL_SHARE"]
 
 NOISE_FLOOR = 1e-3
 """Relative noise floor (0.1 %): below this, misfits are instrument accuracy, not physics."""
@@ -34,6 +34,9 @@ DISCREPANCY_FACTOR = 3.0
 """δ = this × the structured (non-noise) rms of the KK residuals per component."""
 LOCAL_WINDOW = 9
 """Frequencies per window of the local noise estimate (first differences of the KK residuals)."""
+OUTLIER_MAX_FRACTION = 0.15
+"""A failed KK test is put down to a few erratic points (`kk_outliers`) when leaving out at most
+this fraction of the points makes it pass."""
 GLOBAL_SHARE = 0.7
 """The local estimate is not taken below this fraction of the KK test's global estimate (a
 median of a few differences scatters; a quiet stretch must not read as noise-free)."""
@@ -105,23 +108,50 @@ def _discrepancy(kk: KKResult, measurement_kk: np.ndarray) -> float:
 def noise_model(frequency: np.ndarray, z_data: np.ndarray, *, noise: float | None, sigma: np.ndarray | None, kk: KKResult | None, fallback_rms: float) -> NoiseModel:
     """The `NoiseModel` at ``frequency``: a ``noise`` level given by the user (used as it is,
     no discrepancy floor), else the data's ``sigma`` (|Z|-relative trial scatter), else the
-    local KK estimate (`local_noise`), else ``fallback_rms``/√2 (the fit's own residuals); plus
-    the discrepancy floor δ from the KK residuals (`_discrepancy`)."""
+    local KK estimate (`local_noise`, interpolated in log f), else ``fallback_rms``/√2 (the
+    fit's own residuals); plus the discrepancy floor δ from the KK residuals (`_discrepancy`)."""
     n = frequency.size
-    idx = kk_indices(kk, frequency) if kk is not None else None
-    local = local_noise(kk) if kk is not None else None
     if noise is not None:
         meas = np.full(n, float(noise))
         return NoiseModel(np.maximum(meas, NOISE_FLOOR), meas, 0.0, "given")
+    local = local_noise(kk) if kk is not None else None
+    usable = local is not None and np.all(np.isfinite(local)) and local.size >= 2
     if sigma is not None:
         meas, source = np.asarray(sigma, float) / np.abs(z_data), "the data's sigma (trial scatter)"
-    elif idx is not None and np.all(np.isfinite(local)):
-        meas, source = local[idx], "Kramers–Kronig residuals, local (per frequency)"
+    elif usable:
+        order = np.argsort(kk.frequency)
+        meas = np.interp(np.log(frequency), np.log(np.asarray(kk.frequency, float)[order]), local[order])
+        source = "Kramers–Kronig residuals, local (per frequency)"
     else:
         meas, source = np.full(n, fallback_rms / math.sqrt(2)), "the fit's own residuals (no KK test, no sigma)"
-    delta = 0.0
-    if kk is not None and local is not None and np.all(np.isfinite(local)):
-        delta = _discrepancy(kk, local)
+    delta = _discrepancy(kk, local) if usable else 0.0
     if delta > 0:
         source += f" + model-discrepancy floor {delta * 100:.2g} %"
     return NoiseModel(np.maximum(np.sqrt(meas**2 + delta**2), NOISE_FLOOR), meas, delta, source)
+
+
+def kk_outliers(spectrum, kk: KKResult, *, max_fraction: float, rounds: int = 4) -> tuple[np.ndarray, KKResult] | None:
+    """Locate the points behind a failed KK test: the worst points (|Δ| at least half the
+    largest, at most 10 % of the points per round) are left out and the KK test repeated on the
+    rest, until it passes. Returns (bool mask of the points left out, in the spectrum's order;
+    the KK result of the rest), or None when the test does not pass with at most
+    ``max_fraction`` of the points left out (then the problem is not a few points)."""
+    f_all = np.asarray(spectrum["frequency"].values, float)
+    out = np.zeros(f_all.size, bool)
+    current = kk
+    for _ in range(rounds):
+        if current.valid:
+            return out, current
+        keep_idx = np.nonzero(~out)[0]
+        idx = kk_indices(current, f_all[keep_idx])
+        if idx is None:
+            return None
+        mag = np.hypot(current.residuals_real, current.residuals_imag)[idx]
+        limit = max(1, int(0.1 * f_all.size))
+        worst = np.argsort(-mag)[:limit]
+        worst = worst[mag[worst] >= 0.5 * mag.max()]
+        out[keep_idx[worst]] = True
+        if out.mean() > max_fraction or (~out).sum() < 8:
+            return None
+        current = kk_test(spectrum.isel(frequency=np.nonzero(~out)[0])[["Z"]])
+    return (out, current) if current.valid else None
