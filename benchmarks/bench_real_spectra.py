@@ -45,6 +45,7 @@ def run_one(name: str, max_effects: int) -> dict:
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--only", default="", help="run only spectra whose file name starts with this")
+    ap.add_argument("--names", default="", help="comma-separated file names to run (default: all 12)")
     ap.add_argument("--json", default=None)
     ap.add_argument("--max-effects", type=int, default=4)
     args = ap.parse_args(argv)
@@ -52,7 +53,7 @@ def main(argv=None) -> int:
     print("| data | N | KK rms | δ | first verdict | refine path | final model | rms_rel | k | undetermined | masked | verdict | time |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for name in SPECTRA:
-        if not name.startswith(args.only):
+        if not name.startswith(args.only) or (args.names and name not in args.names.split(",")):
             continue
         row = run_one(name, args.max_effects)
         rows.append(row)

@@ -68,9 +68,10 @@ NOISE_RATIO_MAX = 1.5
 KK_COMPARABLE = 0.5
 """A point's misfit is the data's own when the KK test flags it and its KK residual |Δ_kk| is at
 least this fraction of the model's |r| there."""
-KK_INVALID_FRACTION = 0.5
+KK_INVALID_FRACTION = 0.25
 """``data_invalid`` when the KK misfit is comparable to the model's (`KK_COMPARABLE`) at at
-least this fraction of the points ("over most of the band")."""
+least this fraction of the points (a quarter of the band: a drift or a step change spoils that
+much of a sweep; a few erratic points do not)."""
 KK_INVALID_RMS = 0.02
 """Not used by the rule since the data problems are located point by point (a public name)."""
 MASK_MAX_FRACTION = 0.5

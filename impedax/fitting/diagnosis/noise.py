@@ -26,7 +26,7 @@ import numpy as np
 
 from ..kk import KKResult, kk_test
 
-__all__ = ["NoiseModel", "noise_model", "kk_indices", "kk_outliers", "OUTLIER_MAX_FRACTION", "NOISE_FLOOR", "DISCREPANCY_FACTOR", "LOCAL_WINDOW", "GLOBAL_SHARE"]
+__all__ = ["NoiseModel", "noise_model", "kk_indices", "kk_outliers", "OUTLIER_MAX_FRACTION", "OUTLIER_MAX_RUN", "NOISE_FLOOR", "DISCREPANCY_FACTOR", "LOCAL_WINDOW", "GLOBAL_SHARE"]
 
 NOISE_FLOOR = 1e-3
 """Relative noise floor (0.1 %): below this, misfits are instrument accuracy, not physics."""
@@ -37,6 +37,9 @@ LOCAL_WINDOW = 9
 OUTLIER_MAX_FRACTION = 0.15
 """A failed KK test is put down to a few erratic points (`kk_outliers`) when leaving out at most
 this fraction of the points makes it pass."""
+OUTLIER_MAX_RUN = 3
+"""... and those points are erratic ones only when no more than this many are adjacent: a longer
+run is a step change or drift of the sample during the sweep, not a few bad points."""
 GLOBAL_SHARE = 0.7
 """The local estimate is not taken below this fraction of the KK test's global estimate (a
 median of a few differences scatters; a quiet stretch must not read as noise-free)."""
@@ -130,10 +133,20 @@ def noise_model(frequency: np.ndarray, z_data: np.ndarray, *, noise: float | Non
     return NoiseModel(np.maximum(np.sqrt(meas**2 + delta**2), NOISE_FLOOR), meas, delta, source)
 
 
+def _longest_run(mask: np.ndarray) -> int:
+    """The longest run of True in ``mask`` (points in the spectrum's order)."""
+    best = run = 0
+    for m in mask:
+        run = run + 1 if m else 0
+        best = max(best, run)
+    return best
+
+
 def kk_outliers(spectrum, kk: KKResult, *, max_fraction: float, rounds: int = 4) -> tuple[np.ndarray, KKResult] | None:
     """Locate the points behind a failed KK test: the worst points (|Δ| at least half the
     largest, at most 10 % of the points per round) are left out and the KK test repeated on the
-    rest, until it passes. Returns (bool mask of the points left out, in the spectrum's order;
+    rest, until it passes; no more than `OUTLIER_MAX_RUN` of them may be adjacent (in the
+    spectrum's order, frequency-sorted for a sweep). Returns (bool mask of the points left out, in the spectrum's order;
     the KK result of the rest), or None when the test does not pass with at most
     ``max_fraction`` of the points left out (then the problem is not a few points)."""
     f_all = np.asarray(spectrum["frequency"].values, float)
@@ -151,7 +164,7 @@ def kk_outliers(spectrum, kk: KKResult, *, max_fraction: float, rounds: int = 4)
         worst = np.argsort(-mag)[:limit]
         worst = worst[mag[worst] >= 0.5 * mag.max()]
         out[keep_idx[worst]] = True
-        if out.mean() > max_fraction or (~out).sum() < 8:
+        if out.mean() > max_fraction or (~out).sum() < 8 or _longest_run(out) > OUTLIER_MAX_RUN:
             return None
         current = kk_test(spectrum.isel(frequency=np.nonzero(~out)[0])[["Z"]])
     return (out, current) if current.valid else None
