@@ -121,3 +121,32 @@ def test_explanation_speaks_of_the_circuit_and_its_fitted_values():
     text = best.explanation.lower()
     assert "skin" not in text and "meyer" not in text
     assert "cpe1.alpha =" in text and "%" in text
+
+
+def _step_and_outlier_spectra():
+    """A sweep whose sample changes half-way (a step of 15 % in R1) and the same arc with three
+    isolated erratic points (SYNTHETIC, numpy formulas)."""
+    rng = np.random.default_rng(9)
+    f = he.frequencies(0.1, 1e5)
+    r1 = np.where(np.arange(f.size) < 30, 2000.0, 2300.0)  # swept from low f: the sample changes at point 30
+    z_step = 50 + r1 / (1 + 2j * np.pi * f * r1 * 1e-6)
+    z_step = z_step + 0.005 * np.abs(z_step) * (rng.normal(size=f.size) + 1j * rng.normal(size=f.size))
+    z_out = 50 + 2000 / (1 + 2j * np.pi * f * 2000 * 1e-6)
+    z_out = z_out + 0.005 * np.abs(z_out) * (rng.normal(size=f.size) + 1j * rng.normal(size=f.size))
+    z_out[[12, 31, 47]] *= np.array([1.2, 0.85 - 0.1j, 1.1 + 0.2j])
+    return f, z_step, z_out
+
+
+def test_erratic_points_are_located_exactly_but_a_step_change_is_not_called_erratic():
+    from impedax.fitting.diagnosis.noise import OUTLIER_MAX_FRACTION, kk_outliers
+
+    f, z_step, z_out = _step_and_outlier_spectra()
+    s_out = ix.make_spectrum(f, z_out)
+    kk = ix.kk_test(s_out)
+    assert not kk.valid
+    mask, kept = kk_outliers(s_out, kk, max_fraction=OUTLIER_MAX_FRACTION)
+    assert list(np.nonzero(mask)[0]) == [12, 31, 47] and kept.valid
+    s_step = ix.make_spectrum(f, z_step)
+    kk_step = ix.kk_test(s_step)
+    assert not kk_step.valid
+    assert kk_outliers(s_step, kk_step, max_fraction=OUTLIER_MAX_FRACTION) is None
