@@ -90,6 +90,7 @@ _LAZY = {
     "save_circuit_diagram": (".diagram", "save_circuit_diagram"),
     "DEFAULT_EFFECTS": (".fitting", "DEFAULT_EFFECTS"),
     "BatchFitResult": (".fitting", "BatchFitResult"),
+    "SharedFitResult": (".fitting", "SharedFitResult"),
     "Diagnosis": (".fitting", "Diagnosis"),
     "FitResult": (".fitting", "FitResult"),
     "KKBatchResult": (".fitting", "KKBatchResult"),
