@@ -369,6 +369,8 @@ def fit_shared(
     (`batch.fit_batch`), the shared parameters at the median of their independent values;
     those fits are also the alternative of the F-test of sharing."""
     t0 = time.perf_counter() if t0 is None else t0
+    if not isinstance(max_steps, (int, np.integer)) or isinstance(max_steps, bool) or max_steps < 1:
+        raise ParameterError(f"max_steps must be a positive integer, got {max_steps!r}")
     extra = tuple(d for d in data["Z"].dims if d != "frequency")
     layout = shared_layout(table, extra, shared, over, source=source)
     if hasattr(data["Z"].data, "compute"):  # dask-backed: a global fit needs all of it at once
