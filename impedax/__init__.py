@@ -96,6 +96,7 @@ _LAZY = {
     "KKBatchResult": (".fitting", "KKBatchResult"),
     "KKResult": (".fitting", "KKResult"),
     "Posterior": (".fitting", "Posterior"),
+    "SharedPosterior": (".fitting", "SharedPosterior"),
     "Prior": (".fitting", "Prior"),
     "Refinement": (".fitting", "Refinement"),
     "Reparametrization": (".fitting", "Reparametrization"),

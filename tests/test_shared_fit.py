@@ -176,3 +176,37 @@ def test_cli_fit_shared_json(problem, shared_fit, tmp_path, capsys):
     assert "unknown parameter 'R7'" in capsys.readouterr().err
     assert main(["fit", str(path), "--model", "R0 + R1 || C1", "--shared", "R0", "--over", "cycle"]) == 2
     assert "extra dimensions: trial" in capsys.readouterr().err
+
+
+def test_sample_joint_posterior_agrees_with_the_global_fit(problem):
+    data = problem[0].isel(trial=slice(0, 3))
+    post = ix.sample("R0 + R1 || C1", data, shared=["R0"], over="trial", steps=400, walkers=32, seed=3, progress=False)
+    assert isinstance(post, ix.SharedPosterior)
+    assert post.names[0] == "R0" and "R1[trial=2]" in post.names and post.names[-1] == "sigma_rel"
+    assert post.draws.shape == (32, 300, 1 + 3 * 2 + 1)
+    fit_value = float(post.fit.values("R0"))
+    fit_se = float(post.fit.dataset["shared_stderr"].sel(shared_param="R0"))
+    q = post.summary()["shared"]["R0"]
+    # flat priors, near-linear model: the posterior median sits on the fit (within half a σ,
+    # a short chain's Monte Carlo error) and its 90 % width is 2 × 1.645 σ (within 35 %)
+    assert abs(q["median"] - fit_value) < 0.5 * fit_se
+    assert (q["q95"] - q["q05"]) == pytest.approx(2 * 1.645 * fit_se, rel=0.35)
+    assert set(post.summary()) >= {"model", "over", "shared", "params", "acceptance", "autocorr", "ess", "warnings"}
+    assert post.to_xarray()["is_shared"].values.sum() == 1
+
+
+def test_sample_shared_limits_and_errors(problem):
+    data = problem[0]
+    with pytest.raises(ix.ParameterError, match=r"sampled parameters .* emcee mixes up to 60"):
+        big = ix.make_spectrum(FREQ, np.repeat(data["Z"].values, 8, axis=0), dims=("trial",))  # 32 spectra × 2 own
+        ix.sample("R0 + R1 || C1", big, shared=["R0"], steps=10, progress=False)
+    with pytest.raises(ix.ParameterError, match="unknown parameter 'Rx'"):
+        ix.sample("R0 + R1 || C1", data, shared=["Rx"], steps=10, progress=False)
+
+
+def test_cli_sample_shared_json(problem, tmp_path, capsys):
+    path = tmp_path / "three.nc"
+    ix.save(problem[0].isel(trial=slice(0, 3)), path)
+    assert main(["sample", str(path), "--model", "R0 + R1 || C1", "--shared", "R0", "--steps", "60", "--walkers", "16", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert set(out["shared"]["R0"]) >= {"median", "q05", "q95"} and out["over"] == ["trial"]

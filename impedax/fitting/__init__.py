@@ -7,6 +7,7 @@ from .bayes import (
     Posterior as Posterior,
     Prior as Prior,
     Reparametrization as Reparametrization,
+    SharedPosterior as SharedPosterior,
     gap_thickness_reparametrization as gap_thickness_reparametrization,
     parse_prior as parse_prior,
     sample as sample,
