@@ -154,13 +154,14 @@ def _solve_blocks(a, b):
 
 @functools.lru_cache(maxsize=16)
 def joint_solver(circuit: Circuit, registry: Registry, free: tuple[int, ...], kinds: tuple[int, ...], shared_slots: tuple[int, ...], rtol: float = 1e-8, xtol: float = 1e-10):
-    """(solve, linearize) for the global fit of ``circuit`` with the free parameters at
+    """(solve, finish) for the global fit of ``circuit`` with the free parameters at
     positions ``free`` (transforms ``kinds``) and those at ``shared_slots`` of the free order
     shared (module docstring).
 
     ``solve(u_own (M, Ko), u_shared (Ks,), args, max_steps) -> JointSolution``; ``args`` is a
     `SolverArgs` whose z, inv_w_re, inv_w_im have a leading spectrum axis (M, N).
-    ``linearize(x_free (M, K), args) -> (J (M, 2N, K), r (M, 2N))`` in parameter space."""
+    ``finish(u_own, u_shared, args) -> (x_free (M, K), x (M, P), J (M, 2N, K), r (M, 2N))``:
+    every spectrum's free and all parameters, and its Jacobian and residual in parameter space."""
     compiled = compile_circuit(circuit, registry)
     residuals = tree_residuals(compiled, free, kinds)
     k = len(free)
@@ -229,12 +230,16 @@ def joint_solver(circuit: Circuit, registry: Registry, free: tuple[int, ...], ki
         s = jax.lax.while_loop(lambda s: (s.i < max_steps) & ~s.done, lambda s: step(s, args), init)
         return JointSolution(s.u_own, s.u_shared, 2.0 * s.cost, s.done, s.i)
 
-    @jax.jit
-    def to_x(u_own, u_shared, args):
-        return jax.vmap(residuals.to_x, in_axes=(0, _SPECTRUM_AXES))(joined(u_own, u_shared), args)
+    def finish_one(u, args):
+        x_free, x = residuals.to_x(u, args)
+        jac, r = residuals.linearize_x(x_free, args)
+        return x_free, x, jac, r
 
-    linearize = jax.jit(jax.vmap(residuals.linearize_x, in_axes=(0, _SPECTRUM_AXES)))
-    return solve, linearize, to_x
+    @jax.jit
+    def finish(u_own, u_shared, args):
+        return jax.vmap(finish_one, in_axes=(0, _SPECTRUM_AXES))(joined(u_own, u_shared), args)
+
+    return solve, finish
 
 
 def _regularized_inverse(a: np.ndarray) -> np.ndarray:
@@ -386,7 +391,7 @@ def fit_shared(
     order = (*layout.keep, *layout.over, "param")
     x_ind = independent.dataset["value"].transpose(*order).values.reshape(n_groups, m, -1)[:, :, free]
     chi2_ind = independent.dataset["chi2"].transpose(*layout.keep, *layout.over).values.reshape(n_groups, m)
-    solve, linearize, to_x = joint_solver(circuit, registry, *table.free_structure, layout.shared_slots)
+    solve, finish = joint_solver(circuit, registry, *table.free_structure, layout.shared_slots)
     lower, upper, kind = table.lower[free], table.upper[free], table.kind[free]
     x_fixed = np.where(np.isnan(table.values), 1.0, table.values)
 
@@ -407,8 +412,7 @@ def fit_shared(
         u_ind = np.where(finite[:, None], u_ind, fallback[None, :])
         u_shared0 = np.median(u_ind[:, sh], axis=0)  # (the median commutes with the monotone transforms)
         sol = jax.device_get(solve(u_ind[:, own], u_shared0, args, int(max_steps)))
-        xf, x_all = (np.asarray(a) for a in jax.device_get(to_x(sol.u_own, sol.u_shared, args)))
-        jac, r = (np.asarray(a) for a in jax.device_get(linearize(xf, args)))
+        xf, x_all, jac, r = (np.asarray(a) for a in jax.device_get(finish(sol.u_own, sol.u_shared, args)))
         jac, r = jac / scale, r / scale
         values[gi], x_free[gi] = x_all, xf
         chi2[gi] = np.sum(r**2, axis=1)
