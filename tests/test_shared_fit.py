@@ -210,3 +210,31 @@ def test_cli_sample_shared_json(problem, tmp_path, capsys):
     assert main(["sample", str(path), "--model", "R0 + R1 || C1", "--shared", "R0", "--steps", "60", "--walkers", "16", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert set(out["shared"]["R0"]) >= {"median", "q05", "q95"} and out["over"] == ["trial"]
+
+
+@pytest.mark.parametrize("weighting", ["modulus", "unit"])
+def test_everything_shared_over_copies_of_one_spectrum_is_the_single_fit(problem, weighting):
+    """M identical spectra, every parameter shared: the same minimum as one spectrum's fit, χ²
+    M times larger and JᵀJ M times larger, so stderr_joint = stderr_one·√((2N − K)/(2NM − K))."""
+    z = problem[1][0]
+    m, n, k = 3, FREQ.size, 3
+    one = ix.fit("R0 + R1 || C1", ix.make_spectrum(FREQ, z), weighting=weighting)
+    copies = ix.make_spectrum(FREQ, np.stack([z] * m), dims=("trial",))
+    r = ix.fit("R0 + R1 || C1", copies, shared=["R0", "R1", "C1"], weighting=weighting)
+    for name in ("R0", "R1", "C1"):
+        assert float(r.values(name)) == pytest.approx(one.values[name], rel=1e-6)
+        expected = one.stderr[name] * np.sqrt((2 * n - k) / (2 * n * m - k))
+        assert float(r.dataset["shared_stderr"].sel(shared_param=name)) == pytest.approx(expected, rel=1e-4)
+    assert float(r.dataset["joint_chi2"]) == pytest.approx(m * one.chi2, rel=1e-8)
+
+
+def test_poorly_determined_shared_parameter_is_reported():
+    """Data far above the arc's corner (f ≫ 1/(2πR1C1) ≈ 0.2 Hz): R1 barely changes Z."""
+    rng = np.random.default_rng(2)
+    f = np.geomspace(1e4, 1e6, 30)
+    z = np.stack([rc_impedance(f, r0, 1e6, c1) for r0, c1 in ((50.0, 1e-6), (60.0, 2e-6), (55.0, 1.5e-6))])
+    z = z * (1 + 0.01 * (rng.normal(size=z.shape) + 1j * rng.normal(size=z.shape)))
+    r = ix.fit("R0 + R1 || C1", ix.make_spectrum(f, z, dims=("trial",)), shared=["R1"])
+    (notes,) = [w for key, w in r.warnings.items() if key == "shared over trial"]
+    assert any(n.startswith("shared R1 has a relative standard error") for n in notes)
+    assert not r.dataset["at_bound"].sel(param="R1").any()  # near 0 within its huge stderr, but not at it

@@ -41,7 +41,7 @@ from ..parameters import ParameterTable, to_internal
 from ..problem import residual_scale, weights
 from ..statistics import information_criteria
 from .batch import BatchFitResult, fit_batch
-from .result import RELATIVE_ERROR_LIMIT, bound_sides, stack_notes
+from .result import BOUND_CHI2_FRACTION, RELATIVE_ERROR_LIMIT, bound_sides, stack_notes
 from .solvers import SolverArgs, tree_residuals
 
 __all__ = ["SharedFitResult", "SharedLayout", "shared_layout", "fit_shared", "JointSolution", "joint_solver", "joint_covariance", "SHARING_P_LIMIT"]
@@ -154,14 +154,15 @@ def _solve_blocks(a, b):
 
 @functools.lru_cache(maxsize=16)
 def joint_solver(circuit: Circuit, registry: Registry, free: tuple[int, ...], kinds: tuple[int, ...], shared_slots: tuple[int, ...], rtol: float = 1e-8, xtol: float = 1e-10):
-    """(solve, finish) for the global fit of ``circuit`` with the free parameters at
+    """(solve, finish, chi2_x) for the global fit of ``circuit`` with the free parameters at
     positions ``free`` (transforms ``kinds``) and those at ``shared_slots`` of the free order
     shared (module docstring).
 
     ``solve(u_own (M, Ko), u_shared (Ks,), args, max_steps) -> JointSolution``; ``args`` is a
     `SolverArgs` whose z, inv_w_re, inv_w_im have a leading spectrum axis (M, N).
     ``finish(u_own, u_shared, args) -> (x_free (M, K), x (M, P), J (M, 2N, K), r (M, 2N))``:
-    every spectrum's free and all parameters, and its Jacobian and residual in parameter space."""
+    every spectrum's free and all parameters, and its Jacobian and residual in parameter space;
+    ``chi2_x(x_free (M, K), args) -> (M,)``: every spectrum's weighted χ² at free values x_free."""
     compiled = compile_circuit(circuit, registry)
     residuals = tree_residuals(compiled, free, kinds)
     k = len(free)
@@ -239,7 +240,8 @@ def joint_solver(circuit: Circuit, registry: Registry, free: tuple[int, ...], ki
     def finish(u_own, u_shared, args):
         return jax.vmap(finish_one, in_axes=(0, _SPECTRUM_AXES))(joined(u_own, u_shared), args)
 
-    return solve, finish
+    chi2_x = jax.jit(jax.vmap(lambda x_free, args: jnp.sum(residuals.residual_x(x_free, args) ** 2), in_axes=(0, _SPECTRUM_AXES)))
+    return solve, finish, chi2_x
 
 
 def _regularized_inverse(a: np.ndarray) -> np.ndarray:
@@ -391,7 +393,7 @@ def fit_shared(
     order = (*layout.keep, *layout.over, "param")
     x_ind = independent.dataset["value"].transpose(*order).values.reshape(n_groups, m, -1)[:, :, free]
     chi2_ind = independent.dataset["chi2"].transpose(*layout.keep, *layout.over).values.reshape(n_groups, m)
-    solve, finish = joint_solver(circuit, registry, *table.free_structure, layout.shared_slots)
+    solve, finish, chi2_x = joint_solver(circuit, registry, *table.free_structure, layout.shared_slots)
     lower, upper, kind = table.lower[free], table.upper[free], table.kind[free]
     x_fixed = np.where(np.isnan(table.values), 1.0, table.values)
 
@@ -402,10 +404,13 @@ def fit_shared(
     cov_shared = np.empty((n_groups, k_shared, k_shared))
     cov_full = np.empty((n_groups, m, k, k))
     joint = {key: np.empty(n_groups) for key in ("chi2", "converged", "steps")}
+    group_args, scales = [], np.empty(n_groups)
     for gi in range(n_groups):
         # one scale for the whole global fit: a per-spectrum scale would reweight the spectra
         scale = float(np.median(residual_scale(z[gi], inv_re[gi], inv_im[gi], weighting)))
         args = SolverArgs(freq, z[gi], inv_re[gi] * scale, inv_im[gi] * scale, x_fixed, lower, upper)
+        group_args.append(args)
+        scales[gi] = scale
         u_ind = to_internal(x_ind[gi], lower, upper, kind)
         finite = np.all(np.isfinite(u_ind), axis=1) & np.isfinite(chi2_ind[gi])
         fallback = np.median(u_ind[finite], axis=0) if finite.any() else to_internal(np.ones(k), lower, upper, kind)
@@ -445,7 +450,10 @@ def fit_shared(
     # warnings: per spectrum the single-fit rules on its marginal covariance; per global fit
     # the shared parameters' determination and the test of sharing
     flat_values, flat_stderr = values.reshape(-1, values.shape[-1]), stderr.reshape(-1, values.shape[-1])
-    sides = bound_sides(table, flat_values, flat_stderr)
+    sides = bound_sides(table, flat_values, flat_stderr).reshape(n_groups, m, k)
+    for gi in range(n_groups):
+        sides[gi] = _confirm_sides(sides[gi], x_free[gi], table, sh, chi2_x, group_args[gi], noise[gi] * scales[gi] ** 2, 2 * n_freq)
+    sides = sides.reshape(-1, k)
     # (a shared parameter's bound and determination are said once per global fit, below)
     shared_columns = table.free_index[sh]
     quiet_stderr = flat_stderr.copy()
@@ -465,6 +473,35 @@ def fit_shared(
         spectrum_notes=spectrum_notes, group_notes=group_notes, weighting=weighting,
     )
     return SharedFitResult(circuit, dataset, weighting, warnings, time.perf_counter() - t0, registry, shared=layout.shared, over=layout.over)
+
+
+def _confirm_sides(sides, x_free, table: ParameterTable, shared_slots, chi2_x, args, chi2_red: float, n_residuals: int) -> np.ndarray:
+    """`bound_sides` candidates (M, K) of one global fit, kept where setting the parameter
+    exactly to its bound raises χ² by at most `BOUND_CHI2_FRACTION` of the reduced χ² (the
+    rule of single fits, docs/fitting.md "Convergence and bounds"): an own parameter on its
+    spectrum's χ², a shared one on the sum over the spectra. χ² and ``chi2_red`` in the solver's
+    scaled units."""
+    if not sides.any():
+        return sides
+    free = table.free_index
+    lower, upper = table.lower[free], table.upper[free]
+    base = np.asarray(chi2_x(x_free, args))
+    allowed = BOUND_CHI2_FRACTION * (chi2_red if math.isfinite(chi2_red) else 0.0) + n_residuals * 1e-28
+    out = sides.copy()
+    for j in np.flatnonzero(sides.any(axis=0)).tolist():
+        rows = np.flatnonzero(sides[:, j])
+        moved = x_free.copy()
+        moved[rows, j] = np.where(sides[rows, j] > 0, upper[j], lower[j])
+        if j in shared_slots:
+            moved[:, j] = moved[rows[0], j]
+            rise = float(np.sum(np.asarray(chi2_x(moved, args))) - np.sum(base))
+            keep = np.full(rows.size, math.isfinite(rise) and rise <= allowed)
+        else:
+            with np.errstate(invalid="ignore"):
+                rise_rows = np.asarray(chi2_x(moved, args))[rows] - base[rows]
+            keep = np.isfinite(rise_rows) & (rise_rows <= allowed)
+        out[rows[~keep], j] = 0
+    return out
 
 
 def _f_test(chi2_shared, chi2_independent, k_shared_model: int, k_independent: int, n_res: int):
