@@ -264,6 +264,9 @@ def joint_covariance(jac: np.ndarray, own: Sequence[int], shared: Sequence[int])
     by the block inverse (module docstring): the shared block (Ks, Ks) and every spectrum's
     marginal covariance over all its free parameters (M, K, K), free order."""
     own, shared = np.asarray(own, int), np.asarray(shared, int)
+    m, k = jac.shape[0], jac.shape[2]
+    if not np.all(np.isfinite(jac)):  # an overflowed model: nothing is determined, and says so
+        return np.full((shared.size, shared.size), np.inf), np.full((m, k, k), np.inf)
     j_own, j_shared = jac[:, :, own], jac[:, :, shared]
     a = np.swapaxes(j_own, 1, 2) @ j_own
     b = np.swapaxes(j_own, 1, 2) @ j_shared
@@ -273,7 +276,6 @@ def joint_covariance(jac: np.ndarray, own: Sequence[int], shared: Sequence[int])
     schur_inv = _regularized_inverse(c - np.einsum("mks,mkt->st", b, a_inv_b))
     cov_os = -a_inv_b @ schur_inv
     cov_oo = a_inv + a_inv_b @ schur_inv @ np.swapaxes(a_inv_b, 1, 2)
-    m, k = jac.shape[0], jac.shape[2]
     full = np.zeros((m, k, k))
     full[:, own[:, None], own[None, :]] = cov_oo
     full[:, own[:, None], shared[None, :]] = cov_os
@@ -393,37 +395,10 @@ def fit_shared(
     order = (*layout.keep, *layout.over, "param")
     x_ind = independent.dataset["value"].transpose(*order).values.reshape(n_groups, m, -1)[:, :, free]
     chi2_ind = independent.dataset["chi2"].transpose(*layout.keep, *layout.over).values.reshape(n_groups, m)
-    solve, finish, chi2_x = joint_solver(circuit, registry, *table.free_structure, layout.shared_slots)
-    lower, upper, kind = table.lower[free], table.upper[free], table.kind[free]
-    x_fixed = np.where(np.isnan(table.values), 1.0, table.values)
-
-    values = np.empty((n_groups, m, table.names.__len__()))
-    x_free = np.empty((n_groups, m, k))
-    chi2 = np.empty((n_groups, m))
-    z_model = np.empty((n_groups, m, n_freq), complex)
-    cov_shared = np.empty((n_groups, k_shared, k_shared))
-    cov_full = np.empty((n_groups, m, k, k))
-    joint = {key: np.empty(n_groups) for key in ("chi2", "converged", "steps")}
-    group_args, scales = [], np.empty(n_groups)
-    for gi in range(n_groups):
-        # one scale for the whole global fit: a per-spectrum scale would reweight the spectra
-        scale = float(np.median(residual_scale(z[gi], inv_re[gi], inv_im[gi], weighting)))
-        args = SolverArgs(freq, z[gi], inv_re[gi] * scale, inv_im[gi] * scale, x_fixed, lower, upper)
-        group_args.append(args)
-        scales[gi] = scale
-        u_ind = to_internal(x_ind[gi], lower, upper, kind)
-        finite = np.all(np.isfinite(u_ind), axis=1) & np.isfinite(chi2_ind[gi])
-        fallback = np.median(u_ind[finite], axis=0) if finite.any() else to_internal(np.ones(k), lower, upper, kind)
-        u_ind = np.where(finite[:, None], u_ind, fallback[None, :])
-        u_shared0 = np.median(u_ind[:, sh], axis=0)  # (the median commutes with the monotone transforms)
-        sol = jax.device_get(solve(u_ind[:, own], u_shared0, args, int(max_steps)))
-        xf, x_all, jac, r = (np.asarray(a) for a in jax.device_get(finish(sol.u_own, sol.u_shared, args)))
-        jac, r = jac / scale, r / scale
-        values[gi], x_free[gi] = x_all, xf
-        chi2[gi] = np.sum(r**2, axis=1)
-        z_model[gi] = z[gi] + r[:, :n_freq] / inv_re[gi] + 1j * r[:, n_freq:] / inv_im[gi]
-        cov_shared[gi], cov_full[gi] = joint_covariance(jac, own, sh)
-        joint["chi2"][gi], joint["converged"][gi], joint["steps"][gi] = float(np.sum(chi2[gi])), bool(sol.done), int(sol.steps)
+    solver = joint_solver(circuit, registry, *table.free_structure, layout.shared_slots)
+    fits = [_solve_group(solver, table, layout, freq, z[gi], inv_re[gi], inv_im[gi], x_ind[gi], chi2_ind[gi], weighting=weighting, max_steps=int(max_steps)) for gi in range(n_groups)]
+    values, x_free, chi2, z_model, cov_shared, cov_full = (np.stack([getattr(f, name) for f in fits]) for name in ("values", "x_free", "chi2", "z_model", "cov_shared", "cov_full"))
+    joint = {"chi2": np.array([f.chi2.sum() for f in fits]), "converged": np.array([f.converged for f in fits]), "steps": np.array([f.steps for f in fits])}
 
     n_res = 2 * n_freq * m
     k_joint = m * own.size + k_shared
@@ -452,7 +427,7 @@ def fit_shared(
     flat_values, flat_stderr = values.reshape(-1, values.shape[-1]), stderr.reshape(-1, values.shape[-1])
     sides = bound_sides(table, flat_values, flat_stderr).reshape(n_groups, m, k)
     for gi in range(n_groups):
-        sides[gi] = _confirm_sides(sides[gi], x_free[gi], table, sh, chi2_x, group_args[gi], noise[gi] * scales[gi] ** 2, 2 * n_freq)
+        sides[gi] = _confirm_sides(sides[gi], x_free[gi], table, sh, solver[2], fits[gi].args, noise[gi] * fits[gi].scale**2, 2 * n_freq)
     sides = sides.reshape(-1, k)
     # (a shared parameter's bound and determination are said once per global fit, below)
     shared_columns = table.free_index[sh]
@@ -473,6 +448,48 @@ def fit_shared(
         spectrum_notes=spectrum_notes, group_notes=group_notes, weighting=weighting,
     )
     return SharedFitResult(circuit, dataset, weighting, warnings, time.perf_counter() - t0, registry, shared=layout.shared, over=layout.over)
+
+
+class _GroupFit(NamedTuple):
+    """One global fit: all parameters ``values`` (M, P) and the free ones ``x_free`` (M, K), each
+    spectrum's weighted ``chi2`` (M,) and ``z_model`` (M, N), the unscaled covariances (shared
+    block, and each spectrum's over its free parameters), convergence, steps, and the solver's
+    ``args`` with their residual ``scale`` (for χ² at other points)."""
+
+    values: np.ndarray
+    x_free: np.ndarray
+    chi2: np.ndarray
+    z_model: np.ndarray
+    cov_shared: np.ndarray
+    cov_full: np.ndarray
+    converged: bool
+    steps: int
+    args: SolverArgs
+    scale: float
+
+
+def _solve_group(solver, table: ParameterTable, layout: SharedLayout, freq, z, inv_re, inv_im, x_independent, chi2_independent, *, weighting: str, max_steps: int) -> _GroupFit:
+    """The global fit of spectra z (M, N) from their independent fits ``x_independent`` (M, K):
+    own parameters start there, shared ones at the median over the spectra."""
+    solve, finish, _ = solver
+    free = table.free_index
+    lower, upper, kind = table.lower[free], table.upper[free], table.kind[free]
+    own, shared = np.asarray(layout.own_slots, int), np.asarray(layout.shared_slots, int)
+    # one scale for the whole global fit: a per-spectrum scale would reweight the spectra
+    scale = float(np.median(residual_scale(z, inv_re, inv_im, weighting)))
+    args = SolverArgs(freq, z, inv_re * scale, inv_im * scale, np.where(np.isnan(table.values), 1.0, table.values), lower, upper)
+    u_start = to_internal(x_independent, lower, upper, kind)
+    finite = np.all(np.isfinite(u_start), axis=1) & np.isfinite(chi2_independent)
+    fallback = np.median(u_start[finite], axis=0) if finite.any() else to_internal(np.ones(free.size), lower, upper, kind)
+    u_start = np.where(finite[:, None], u_start, fallback[None, :])
+    u_shared = np.median(u_start[:, shared], axis=0)  # (the median commutes with the monotone transforms)
+    sol = jax.device_get(solve(u_start[:, own], u_shared, args, max_steps))
+    x_free, values, jac, r = (np.asarray(a) for a in jax.device_get(finish(sol.u_own, sol.u_shared, args)))
+    jac, r = jac / scale, r / scale
+    n = z.shape[1]
+    cov_shared, cov_full = joint_covariance(jac, own, shared)
+    z_model = z + r[:, :n] / inv_re + 1j * r[:, n:] / inv_im
+    return _GroupFit(values, x_free, np.sum(r**2, axis=1), z_model, cov_shared, cov_full, bool(sol.done), int(sol.steps), args, scale)
 
 
 def _confirm_sides(sides, x_free, table: ParameterTable, shared_slots, chi2_x, args, chi2_red: float, n_residuals: int) -> np.ndarray:
