@@ -238,3 +238,12 @@ def test_poorly_determined_shared_parameter_is_reported():
     (notes,) = [w for key, w in r.warnings.items() if key == "shared over trial"]
     assert any(n.startswith("shared R1 has a relative standard error") for n in notes)
     assert not r.dataset["at_bound"].sel(param="R1").any()  # near 0 within its huge stderr, but not at it
+
+
+def test_cli_sample_shared_corner_and_no_band_plot(problem, tmp_path, capsys):
+    path, png = tmp_path / "three.nc", tmp_path / "corner.png"
+    ix.save(problem[0].isel(trial=slice(0, 2)), path)
+    assert main(["sample", str(path), "--model", "R0 + R1 || C1", "--shared", "R0", "--steps", "40", "--walkers", "16", "--quiet", "--corner", str(png)]) == 0
+    assert png.stat().st_size > 1000 and "R0" in capsys.readouterr().out
+    assert main(["sample", str(path), "--model", "R0 + R1 || C1", "--shared", "R0", "--plot", str(tmp_path / "bands.png")]) == 2
+    assert "--plot is not available with --shared" in capsys.readouterr().err

@@ -42,8 +42,8 @@ def run(args) -> int:
 
     circuit = parse(args.model)  # syntax errors before anything else
     sharing = shared_arguments(args)
-    if sharing and (args.plot or args.corner):
-        raise ParameterError("--plot and --corner are not available with --shared (the joint posterior has no figures yet); use --out FILE.nc")
+    if sharing and args.plot:
+        raise ParameterError("--plot is not available with --shared (the joint posterior has no band figure yet); use --corner FILE.png or --out FILE.nc")
     priors = {}
     for text in args.prior or ():
         name, prior = parse_prior(text)

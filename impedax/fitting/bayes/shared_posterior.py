@@ -212,6 +212,12 @@ class SharedPosterior:
         lines += [f"warning: {w}" for w in self.warnings]
         return "\n".join(lines)
 
+    def corner(self, *, truths: Mapping[str, float] | None = None, bins: int = 30, max_points: int = 4000):
+        """Corner plot of every sampled parameter (`Posterior.corner`; matplotlib Figure)."""
+        from ...plotting.bayes import plot_corner
+
+        return plot_corner(self.draws, self.names, self.log_scale, truths=truths, bins=bins, max_points=max_points, title=f"{self.model}: joint posterior")
+
     def to_table(self) -> list[dict[str, object]]:
         """One row per sampled parameter: name, the summary quantiles, unit."""
         q = self.quantiles()
