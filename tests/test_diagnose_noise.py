@@ -80,8 +80,7 @@ def test_undetermined_parameters_of_a_superfluous_arc():
 
 
 def test_candidates_carry_their_undetermined_parameters_and_warnings():
-    circuit, effect, data = he.CASES["extra_relaxation/r_rc"][0], "extra_relaxation", None
-    _, _, formula, params, frange = he.CASES["extra_relaxation/r_rc"]
+    circuit, effect, formula, params, frange = he.CASES["extra_relaxation/r_rc"]
     f, z = he.spectrum(formula, params, frange, 0.01, np.random.default_rng(3))
     d = ix.diagnose(ix.make_spectrum(f, z), circuit)
     assert d.suggestions and d.suggestions[0].effect == effect
