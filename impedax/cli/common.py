@@ -310,7 +310,7 @@ def plan_outputs(outputs: Iterable[tuple[str, str | None, str]], *, inputs: Iter
         suffix = Path(path).suffix.lower()
         known = kind.extensions()
         if suffix not in known:
-            listed = ", ".join(e for e in known if e) + (" (none: .png)" if "" in known else "")
+            listed = ", ".join(e for e in known if e) + (f" (none: {kind.default_suffix})" if "" in known else "")
             raise DataError(f"{flag}: unknown {kind.name} extension {suffix or '(none)'!r}; use one of {listed}", path=path)
         check_writable(path)
         for source in inputs:

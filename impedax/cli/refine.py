@@ -22,14 +22,15 @@ def register(sub) -> None:
 def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting import refine
-    from .common import check_outputs, print_result, save_outputs
+    from .common import figure_writer, plan_outputs, print_result, result_writer
     from .diagnose import effects_option
 
-    check_outputs(args.plot, result=args.out)
+    outputs = plan_outputs([("--out", args.out, "result"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     if args.max_steps < 0:
         raise ParameterError(f"--max-steps must be 0 or more, got {args.max_steps}")
     effects = effects_option(args.effects)
     result = refine(args.data, args.model, max_steps=args.max_steps, effects=effects, weighting=args.weighting, noise=args.noise, fmin=args.fmin, fmax=args.fmax)
-    save_outputs(out=args.out, result=result, plot=args.plot, figure=result.plot)
-    print_result(result, args.json)
+    outputs.save({"--out": result_writer(result), "--plot": figure_writer(result.plot)})
+    if not outputs.uses_stdout:
+        print_result(result, args.json)
     return 0

@@ -19,12 +19,19 @@ from typing import Callable
 
 from ..errors import DataError
 
-__all__ = ["atomic_path", "check_writable", "OutputTransaction", "staging_directory", "remove_temporaries", "live_temporaries"]
+__all__ = [
+    "atomic_path", "check_writable", "OutputTransaction", "staging_directory", "temporary_folder", "remove_temporary",
+    "remove_temporaries", "live_temporaries",
+    "written_outputs",
+]
 
 # temporaries that exist right now (files and folders); a set guarded by a lock, because a
 # signal handler may read it while the main thread adds to it
 _live: set[Path] = set()
 _live_lock = threading.RLock()
+# every target an `OutputTransaction` moved into place in this process, in order (so that an
+# interrupt can say what was already written)
+_written: list[str] = []
 
 
 def _remember(path: Path) -> None:
@@ -35,6 +42,12 @@ def _remember(path: Path) -> None:
 def _forget(path: Path) -> None:
     with _live_lock:
         _live.discard(path)
+
+
+def written_outputs() -> tuple[str, ...]:
+    """Every file an `OutputTransaction` of this process has moved into place, in order."""
+    with _live_lock:
+        return tuple(_written)
 
 
 def live_temporaries() -> tuple[Path, ...]:
@@ -115,16 +128,29 @@ def atomic_path(path: str | os.PathLike):
         raise
 
 
-@contextlib.contextmanager
-def staging_directory(parent: str | os.PathLike, prefix: str = ".staging-"):
-    """A temporary folder inside ``parent`` (recorded for `remove_temporaries`), removed at the end."""
+def temporary_folder(parent: str | os.PathLike, prefix: str = ".staging-") -> Path:
+    """A new temporary folder inside ``parent``, recorded for `remove_temporaries` until
+    `remove_temporary` removes it."""
     folder = Path(tempfile.mkdtemp(prefix=prefix, dir=parent))
     _remember(folder)
+    return folder
+
+
+def remove_temporary(folder: str | os.PathLike) -> None:
+    """Remove a folder made by `temporary_folder` (whatever it still holds)."""
+    folder = Path(folder)
+    shutil.rmtree(folder, ignore_errors=True)
+    _forget(folder)
+
+
+@contextlib.contextmanager
+def staging_directory(parent: str | os.PathLike, prefix: str = ".staging-"):
+    """A `temporary_folder` inside ``parent``, removed at the end."""
+    folder = temporary_folder(parent, prefix)
     try:
         yield folder
     finally:
-        shutil.rmtree(folder, ignore_errors=True)
-        _forget(folder)
+        remove_temporary(folder)
 
 
 @contextlib.contextmanager
@@ -185,6 +211,8 @@ class OutputTransaction:
                     os.replace(tmp, target)
                     _forget(tmp)
                     done.append(target)
+                    with _live_lock:
+                        _written.append(target)
         except OSError as exc:
             self.abort()
             raise DataError(f"cannot write: {exc.strerror or exc}" + (f" ({', '.join(done)} already written)" if done else ""), path=target) from None
