@@ -84,7 +84,7 @@ def check_writable(path: str | os.PathLike) -> Path:
     if not parent.is_dir():
         blocker = next((p for p in (parent, *parent.parents) if p.exists() or p.is_symlink()), None)
         if blocker is not None and not blocker.is_dir():
-            raise DataError(f"{blocker} is a file, not a directory (directory {parent} does not exist)", path=path)
+            raise DataError(f"{blocker.name} is a file, so the directory does not exist", path=path)
         raise DataError(f"directory {parent} does not exist", path=path)
     if not os.access(parent, os.W_OK | os.X_OK):
         raise DataError(f"directory {parent} is not writable", path=path)
