@@ -113,8 +113,8 @@ def _signal_handlers(command: list[str], *, own_process: bool):
         fired.append(signum)
         remove_temporaries()
         if own_process:
-            # on a terminal, first clear a progress line the interrupt cut short (sample, gap)
-            clear = "\r\033[K" if sys.stderr.isatty() else ""
+            # first return over a progress line the interrupt cut short (sample, gap; cleared on a terminal)
+            clear = "\r\033[K" if sys.stderr.isatty() else "\r"
             with contextlib.suppress(OSError, ValueError):
                 os.write(2, (clear + _interrupted_line(command[0], written_before) + "\n").encode())
             os._exit(128 + signum)
