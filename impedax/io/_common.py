@@ -27,9 +27,9 @@ __all__ = [
     "Skipped", "finish", "first_line", "stack", "unit_scale", "split_header_cell", "decimal_comma",
 ]
 
-#: Largest file a reader reads whole. Instrument exports are kilobytes; a spectrum of a million
-#: points in text is ~60 MB.
-MAX_FILE_BYTES = 64 * 2**20
+#: Largest file a reader reads whole (checked before reading). Instrument exports are
+#: kilobytes; a million points as impedax writes them (17 digits) is ~70 MB.
+MAX_FILE_BYTES = 256 * 2**20
 #: Environment variable that raises (or lowers) `MAX_FILE_BYTES`: bytes, or with k/M/G: ``512M``.
 MAX_FILE_BYTES_ENV = "IMPEDAX_MAX_FILE_BYTES"
 _SIZE_UNITS = {"": 1, "k": 2**10, "m": 2**20, "g": 2**30, "t": 2**40}
