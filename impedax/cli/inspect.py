@@ -34,7 +34,7 @@ def run(args) -> int:
     z = ds["Z"].values
     skipped = [str(s) for s in ds.attrs.get("skipped_rows", [])]
     summary = {
-        "file": str(args.file),
+        "file": str(ds.attrs.get("path", args.file)) if args.file == "-" else str(args.file),
         "format": ds.attrs.get("format", "netCDF"),
         "dims": {k: int(v) for k, v in ds["Z"].sizes.items()},
         "points": int(freq.size),

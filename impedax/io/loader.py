@@ -17,7 +17,7 @@ import xarray as xr
 
 from ..data import validate_spectrum
 from ..errors import DataError
-from ._common import MAX_FILE_BYTES, check_file
+from ._common import MAX_FILE_BYTES, check_file, head_text
 from .csv import read_csv, write_csv
 from .netcdf import write_netcdf
 from .registry import Reader
@@ -84,6 +84,12 @@ def load(path: str | os.PathLike, readers: Sequence[Reader] | None = None) -> xr
         ds = reader.read(path)
         ds.attrs.setdefault("format", reader.name)
         return validate_spectrum(ds, source=str(path))
+    head = _head(path)
+    if not head_text(head).strip():  # binary or blank: decided from the first 64 kB, before reading the whole file
+        if head.strip(b" \t\r\n"):
+            tried.append("delimited text: binary file, not delimited text")
+            raise DataError(f"not a recognised spectrum file; formats tried: {'; '.join(tried)}", path=path)
+        raise DataError("file is empty", path=path)
     try:
         ds = read_csv(path)
     except NoLayout as exc:
