@@ -82,10 +82,26 @@ class Interrupted(KeyboardInterrupt):
 _SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
 
-def _interrupted_line(command: str, written_before: int) -> str:
-    from ..io.atomic import written_outputs
+def _atomic_writes():
+    """`impedax.io.atomic` if a command has loaded it (else nothing was written, and no
+    temporary exists: ``impedax --help`` does not import the io layer for this)."""
+    return sys.modules.get(__name__.rsplit(".", 1)[0] + ".io.atomic")
 
-    written = written_outputs()[written_before:]
+
+def _written_count() -> int:
+    atomic = _atomic_writes()
+    return len(atomic.written_outputs()) if atomic is not None else 0
+
+
+def _remove_temporaries() -> None:
+    atomic = _atomic_writes()
+    if atomic is not None:
+        atomic.remove_temporaries()
+
+
+def _interrupted_line(command: str, written_before: int) -> str:
+    atomic = _atomic_writes()
+    written = atomic.written_outputs()[written_before:] if atomic is not None else ()
     what = "nothing written" if not written else f"already written: {', '.join(written)}"
     return f"impedax{' ' + command if command else ''}: interrupted; {what}"
 
@@ -100,18 +116,14 @@ def _signal_handlers(command: list[str], *, own_process: bool):
     if threading.current_thread() is not threading.main_thread():
         yield
         return
-    from ..io.atomic import written_outputs
-
     fired = []
-    written_before = len(written_outputs())
+    written_before = _written_count()
 
     def handler(signum, frame):
-        from ..io.atomic import remove_temporaries
-
         if fired:  # a second Ctrl-C while cleaning up changes nothing
             return
         fired.append(signum)
-        remove_temporaries()
+        _remove_temporaries()
         if own_process:
             # first return over a progress line the interrupt cut short (sample, gap; cleared on a terminal)
             clear = "\r\033[K" if sys.stderr.isatty() else "\r"
@@ -132,19 +144,15 @@ def main(argv: list[str] | None = None) -> int:
     """Run one ``impedax`` command; returns the exit code (0 done, 2 bad input, 130/143
     interrupted by SIGINT/SIGTERM). Without ``argv`` it reads ``sys.argv`` and acts as the
     program: an interrupt ends the process at once (`_signal_handlers`)."""
-    from ..io.atomic import written_outputs
-
     own_process = argv is None
     argv = sys.argv[1:] if argv is None else list(argv)
     command = [""]
-    written_before = len(written_outputs())
+    written_before = _written_count()
     with _signal_handlers(command, own_process=own_process):
         try:
             return _run(argv, command)
         except KeyboardInterrupt as exc:
-            from ..io.atomic import remove_temporaries
-
-            remove_temporaries()
+            _remove_temporaries()
             signum = exc.signum if isinstance(exc, Interrupted) else signal.SIGINT
             print(_interrupted_line(command[0], written_before), file=sys.stderr)
             return 128 + signum
