@@ -106,7 +106,7 @@ def add_output_options(parser, *, json: str | None = "print the result as JSON",
 
 def result_out_help(what: str) -> str:
     """The help of a result's ``--out``: the format follows the extension."""
-    return f"save {what}: .csv a tidy table of parameters, .json the --json summary, .nc the full result as netCDF"
+    return f"save {what}: .csv a tidy table of parameters, .json the --json summary, .nc the full result as netCDF; '-' the JSON to standard output"
 
 
 def check_outputs(*paths, result: str | None = None) -> None:
