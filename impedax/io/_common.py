@@ -28,8 +28,9 @@ __all__ = [
 ]
 
 #: Largest file a reader reads whole (checked before reading). Instrument exports are
-#: kilobytes; a million points as impedax writes them (17 digits) is ~70 MB.
-MAX_FILE_BYTES = 256 * 2**20
+#: kilobytes; a million points as impedax writes them is ~55 MB, and reading text takes about
+#: 20 times the file's size in memory (benchmarks/README.md, "Scale"), so 64 MB stays near 1 GB.
+MAX_FILE_BYTES = 64 * 2**20
 #: Environment variable that raises (or lowers) `MAX_FILE_BYTES`: bytes, or with k/M/G: ``512M``.
 MAX_FILE_BYTES_ENV = "IMPEDAX_MAX_FILE_BYTES"
 _SIZE_UNITS = {"": 1, "k": 2**10, "m": 2**20, "g": 2**30, "t": 2**40}
