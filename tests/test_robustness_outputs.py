@@ -445,3 +445,21 @@ def test_transaction_aborts_on_error_and_keeps_targets(tmp_path):
         transaction.write(second, lambda p: p.write_text("new b"))
     assert first.read_text() == "new a" and second.read_text() == "new b"
     assert transaction.committed == (str(first), str(second))
+
+
+def test_canonical_csv_is_read_as_arrays_with_the_same_result(workdir):
+    """impedax's own CSV is parsed straight into arrays (memory: benchmarks/README.md, "Scale");
+    the result is what the general reader gives for the same rows (a comment line sends the file
+    down the general path)."""
+    text = _good_csv()
+    path = workdir / "canonical.csv"
+    path.write_text(text)
+    fast = ix.load(path)
+    path.write_text("# the same rows\n" + text)
+    general = ix.load(path)
+    np.testing.assert_array_equal(fast["Z"].values, general["Z"].values)
+    np.testing.assert_array_equal(fast["frequency"].values, general["frequency"].values)
+    assert fast.attrs == general.attrs
+    path.write_text(text + "1.0,5,5\n")  # a repeated frequency: the general reader's message, with both lines
+    with pytest.raises(ix.DataError, match=r"line 27: duplicate frequency 1 Hz \(also on line 2\)"):
+        ix.load(path)

@@ -248,13 +248,17 @@ def finish(
         extra = {k: (v[keep], u, d) for k, (v, u, d) in (extra or {}).items()}
     if freq.size == 0:
         raise DataError("the impedance table has no data rows" + (f" (skipped: {'; '.join(skipped.report())})" if len(skipped) else ""), path=path)
-    seen: dict[float, int] = {}
-    for f, line in zip(freq.tolist(), lines):
-        if not f > 0:
-            raise DataError(f"frequency must be positive, got {f:g}", path=path, line=line)
-        if f in seen:
-            raise DataError(f"duplicate frequency {f:g} Hz (also on line {seen[f]})", path=path, line=line)
-        seen[f] = line
+    # checked on arrays (a million points make no Python object each); the first offender in
+    # file order is the one named
+    bad = np.flatnonzero(~(freq > 0))
+    if bad.size:
+        raise DataError(f"frequency must be positive, got {freq[bad[0]]:g}", path=path, line=lines[bad[0]])
+    order = np.argsort(freq, kind="stable")
+    repeats = np.flatnonzero(freq[order][1:] == freq[order][:-1])
+    if repeats.size:
+        second = int(order[repeats + 1].min())
+        first = int(np.flatnonzero(freq == freq[second])[0])
+        raise DataError(f"duplicate frequency {freq[second]:g} Hz (also on line {lines[first]})", path=path, line=lines[second])
     attrs = {"path": str(path), **{k: v for k, v in attrs.items() if v not in (None, "")}}
     if len(skipped):
         attrs["skipped_rows"] = skipped.report()
