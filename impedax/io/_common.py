@@ -28,8 +28,9 @@ __all__ = [
 ]
 
 #: Largest file a reader reads whole (checked before reading). Instrument exports are
-#: kilobytes; a million points as impedax writes them is ~55 MB, and reading text takes about
-#: 20 times the file's size in memory (benchmarks/README.md, "Scale"), so 64 MB stays near 1 GB.
+#: kilobytes; a million points as impedax writes them is ~55 MB. Text in other layouts than
+#: impedax's own CSV takes up to ~20 times the file's size in memory while it is read
+#: (benchmarks/README.md, "Scale"), so 64 MB stays near 1 GB.
 MAX_FILE_BYTES = 64 * 2**20
 #: Environment variable that raises (or lowers) `MAX_FILE_BYTES`: bytes, or with k/M/G: ``512M``.
 MAX_FILE_BYTES_ENV = "IMPEDAX_MAX_FILE_BYTES"
