@@ -2,10 +2,11 @@
 code 130 / 143: no traceback (not from emcee either), no temporary file left, no partial or
 replaced output.
 
-Each case runs ``impedax`` in a subprocess. To hit the exact moment under test (halfway
-through writing a file, inside emcee's call of the log-probability) without depending on
-timing, a small driver patches that spot to send the signal to its own process; the real
-handlers of `impedax.cli.main` then do the rest. One case interrupts a real run from outside.
+Each case runs ``impedax`` in a subprocess. To hit the exact moment under test without
+depending on timing, a small driver patches that spot (halfway through a writer, inside emcee's
+call of the log-probability, in a task of a dask computation the main thread waits for) to send
+the signal to its own process; the real handlers of `impedax.cli.main` then do the rest. One
+case interrupts a real run from outside.
 """
 
 from __future__ import annotations
@@ -79,6 +80,16 @@ def save(ds, path):
 import impedax
 impedax.save = save
 """
+INSIDE_DASK = """
+import dask
+import impedax.io
+def save(ds, path):  # the write waits on a dask computation whose task is interrupted
+    def task(x):
+        kill()
+        return x
+    dask.delayed(task)(1).compute(scheduler="threads")
+impedax.io.save = save
+"""
 
 CASES = [
     ("simulate-netcdf", PARTIAL_WRITE, ["simulate", "R1 + C1", "--param", "R1=100", "--param", "C1=1e-6", "--out", "{tmp}/spectrum.nc"], ["spectrum.nc"]),
@@ -86,6 +97,7 @@ CASES = [
     ("inspect-netcdf", PARTIAL_WRITE, ["inspect", "{tmp}/good.csv", "--out", "{tmp}/converted.nc"], ["converted.nc"]),
     pytest.param("fit-figure-after-result", PARTIAL_FIGURE, ["fit", "{tmp}/good.csv", "--model", "R0 + R1 || C1", "--out", "{tmp}/fit.json", "--plot", "{tmp}/fit.png"], ["fit.json", "fit.png"], marks=pytest.mark.slow, id="fit-figure-after-result"),
     ("sample-inside-emcee", INSIDE_EMCEE, ["sample", "{tmp}/good.csv", "--model", "R0 + R1 || C1", "--steps", "500", "--out", "{tmp}/post.nc", "--plot", "{tmp}/post.png"], ["post.nc", "post.png"]),
+    ("inspect-inside-dask", INSIDE_DASK, ["inspect", "{tmp}/good.csv", "--out", "{tmp}/converted.nc"], ["converted.nc"]),
     ("demo-staging-folder", IN_STAGING, ["demo", "--out", "{tmp}/demo", "--fast"], []),
 ]
 
