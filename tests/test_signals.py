@@ -96,7 +96,7 @@ CASES = [
     ("simulate-figure-after-csv", PARTIAL_FIGURE, ["simulate", "R1 + C1", "--param", "R1=100", "--param", "C1=1e-6", "--out", "{tmp}/s.csv", "--plot", "{tmp}/s.png"], ["s.csv", "s.png"]),
     ("inspect-netcdf", PARTIAL_WRITE, ["inspect", "{tmp}/good.csv", "--out", "{tmp}/converted.nc"], ["converted.nc"]),
     pytest.param("fit-figure-after-result", PARTIAL_FIGURE, ["fit", "{tmp}/good.csv", "--model", "R0 + R1 || C1", "--out", "{tmp}/fit.json", "--plot", "{tmp}/fit.png"], ["fit.json", "fit.png"], marks=pytest.mark.slow, id="fit-figure-after-result"),
-    ("sample-inside-emcee", INSIDE_EMCEE, ["sample", "{tmp}/good.csv", "--model", "R0 + R1 || C1", "--steps", "500", "--out", "{tmp}/post.nc", "--plot", "{tmp}/post.png"], ["post.nc", "post.png"]),
+    ("sample-inside-emcee", INSIDE_EMCEE, ["sample", "{tmp}/good.csv", "--model", "R0 + R1 || C1", "--steps", "500", "--quiet", "--out", "{tmp}/post.nc", "--plot", "{tmp}/post.png"], ["post.nc", "post.png"]),
     ("inspect-inside-dask", INSIDE_DASK, ["inspect", "{tmp}/good.csv", "--out", "{tmp}/converted.nc"], ["converted.nc"]),
     ("demo-staging-folder", IN_STAGING, ["demo", "--out", "{tmp}/demo", "--fast"], []),
 ]
