@@ -34,6 +34,29 @@ def check_max_steps(n: int) -> int:
     return n
 
 
+def add_shared_options(p) -> None:
+    """``--shared NAME[,NAME]`` and ``--over DIM[,DIM]``: a global fit with parameters shared
+    across the spectra along DIM (docs/fitting.md, "Shared parameters")."""
+    p.add_argument("--shared", action="append", metavar="NAME[,NAME]", help="parameters with one value across the spectra along --over (a global fit; repeatable)")
+    p.add_argument("--over", metavar="DIM[,DIM]", help="the data dimension(s) the --shared parameters are shared over (default: the data's only extra dimension)")
+
+
+def shared_arguments(args) -> dict:
+    """The ``shared``/``over`` keywords of `impedax.fit` from ``--shared``/``--over`` (empty when
+    neither was given)."""
+    from ..errors import ParameterError
+
+    if args.shared is None and args.over is None:
+        return {}
+    if args.shared is None:
+        raise ParameterError("--over needs --shared NAME[,NAME]: the parameters to share")
+    names = [n.strip() for item in args.shared for n in item.split(",") if n.strip()]
+    if not names:
+        raise ParameterError("--shared: no parameter names given")
+    over = None if args.over is None else [d.strip() for d in args.over.split(",") if d.strip()]
+    return {"shared": names, "over": over}
+
+
 def register(sub) -> None:
     from .common import add_model_argument, add_output_options, result_out_help
 
@@ -42,6 +65,7 @@ def register(sub) -> None:
     add_model_argument(p)
     p.add_argument("--fix", action="append", metavar="NAME=VALUE", help="hold a parameter fixed (repeatable)")
     p.add_argument("--init", action="append", metavar="NAME=VALUE", help="starting value (repeatable); others are guessed from the data")
+    add_shared_options(p)
     add_fit_options(p)
     add_max_steps_option(p, 400, "each fit")
     add_output_options(p, plot="save data vs model with residuals", out=result_out_help("the result (.nc: parameters, covariance, spectra)"))
@@ -54,8 +78,9 @@ def run(args) -> int:
 
     outputs = plan_outputs([("--out", args.out, "result"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     max_steps = check_max_steps(args.max_steps)
+    sharing = shared_arguments(args)
     data = load(args.data)
-    result = fit(args.model, data, init=parse_assignments(args.init, "--init"), fixed=parse_assignments(args.fix, "--fix"), weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps)
+    result = fit(args.model, data, init=parse_assignments(args.init, "--init"), fixed=parse_assignments(args.fix, "--fix"), weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, **sharing)
     outputs.save({"--out": result_writer(result), "--plot": figure_writer(result.plot)})
     if not outputs.uses_stdout:
         print_result(result, args.json)

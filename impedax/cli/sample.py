@@ -8,6 +8,7 @@ import sys
 def register(sub) -> None:
     from ..fitting import NOISE_MODELS, PRIOR_KINDS
     from .common import add_model_argument, add_output_options, result_out_help
+    from .fit import add_shared_options
 
     p = sub.add_parser(
         "sample",
@@ -23,6 +24,7 @@ def register(sub) -> None:
     p.add_argument("--seed", type=int, default=0, metavar="S", help="random seed (default 0)")
     p.add_argument("--prior", action="append", metavar="NAME=KIND:ARGS", help="prior for one parameter (repeatable), e.g. R1=loguniform:1e2,1e5; kinds: " + "; ".join(PRIOR_KINDS.values()))
     p.add_argument("--noise", default="proportional", choices=list(NOISE_MODELS), help="; ".join(f"{k}: {v}" for k, v in NOISE_MODELS.items()))
+    add_shared_options(p)
     p.add_argument("--fmin", type=float, help="ignore data below this frequency [Hz]")
     p.add_argument("--fmax", type=float, help="ignore data above this frequency [Hz]")
     p.add_argument("--quiet", action="store_true", help="no progress line on stderr")
@@ -55,8 +57,12 @@ def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting import parse_prior
     from .common import figure_writer, plan_outputs, print_result, result_writer
+    from .fit import shared_arguments
 
     circuit = parse(args.model)  # syntax errors before anything else
+    sharing = shared_arguments(args)
+    if sharing and args.plot:
+        raise ParameterError("--plot is not available with --shared (the joint posterior has no band figure yet); use --corner FILE.png or --out FILE.nc")
     priors = {}
     for text in args.prior or ():
         name, prior = parse_prior(text)
@@ -71,9 +77,9 @@ def run(args) -> int:
     data = load(args.data)
     posterior = sample(
         circuit, data, priors=priors, noise=args.noise, walkers=args.walkers, steps=args.steps, burn=args.burn, thin=args.thin,
-        seed=args.seed, fmin=args.fmin, fmax=args.fmax, progress=not (args.quiet or args.json),
+        seed=args.seed, fmin=args.fmin, fmax=args.fmax, progress=not (args.quiet or args.json), **sharing,
     )
-    outputs.save({"--out": result_writer(posterior), "--corner": figure_writer(posterior.corner), "--plot": figure_writer(posterior.plot)})
+    outputs.save({"--out": result_writer(posterior), "--corner": figure_writer(lambda: posterior.corner()), "--plot": figure_writer(lambda: posterior.plot())})
     if not outputs.uses_stdout:
         print_result(posterior, args.json)
     if not args.json:

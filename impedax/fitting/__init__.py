@@ -7,6 +7,7 @@ from .bayes import (
     Posterior as Posterior,
     Prior as Prior,
     Reparametrization as Reparametrization,
+    SharedPosterior as SharedPosterior,
     gap_thickness_reparametrization as gap_thickness_reparametrization,
     parse_prior as parse_prior,
     sample as sample,
@@ -26,5 +27,5 @@ from .diagnosis import (
 from .drt import DRTResult as DRTResult, drt as drt
 from .zhit import ZHITResult as ZHITResult, zhit as zhit
 from .kk import KKBatchResult as KKBatchResult, KKResult as KKResult, kk_test as kk_test, kk_test_batch as kk_test_batch
-from .least_squares import BatchFitResult as BatchFitResult, FitResult as FitResult, WEIGHTINGS as WEIGHTINGS, fit as fit
+from .least_squares import BatchFitResult as BatchFitResult, FitResult as FitResult, SharedFitResult as SharedFitResult, WEIGHTINGS as WEIGHTINGS, fit as fit
 from .statistics import information_criteria as information_criteria

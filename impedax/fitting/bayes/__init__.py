@@ -16,3 +16,4 @@ from .reparam import (
     stratum_corneum_reparametrization as stratum_corneum_reparametrization,
 )
 from .sampler import sample as sample
+from .shared_posterior import SharedPosterior as SharedPosterior

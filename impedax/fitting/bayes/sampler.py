@@ -14,7 +14,7 @@ import math
 import sys
 import time
 from dataclasses import dataclass
-from typing import Mapping, NamedTuple
+from typing import Mapping, NamedTuple, Sequence
 
 import jax.numpy as jnp
 import numpy as np
@@ -29,8 +29,9 @@ from .logprob import NOISE_MODELS, LogProbArgs, LogProbFunctions, LogProbStructu
 from .posterior import Posterior
 from .priors import DEFAULT_SPAN_DECADES, SIGMA_REL_PRIOR, Prior, check_prior_inside, coerce_priors, default_prior
 from .reparam import Reparametrization
+from .shared_posterior import MAX_JOINT_PARAMETERS, SharedPosterior, sample_shared
 
-__all__ = ["sample", "Posterior", "NOISE_MODELS", "SIGMA_REL_PRIOR", "DEFAULT_SPAN_DECADES", "SampledParameters"]
+__all__ = ["sample", "Posterior", "SharedPosterior", "MAX_JOINT_PARAMETERS", "NOISE_MODELS", "SIGMA_REL_PRIOR", "DEFAULT_SPAN_DECADES", "SampledParameters"]
 
 
 # --- the steps' typed hand-overs ---------------------------------------------------------------
@@ -358,7 +359,9 @@ def sample(
     fmax: float | None = None,
     progress: bool = True,
     registry: Registry = DEFAULT_REGISTRY,
-) -> Posterior:
+    shared: Sequence[str] | str | None = None,
+    over: Sequence[str] | str | None = None,
+) -> Posterior | SharedPosterior:
     """Sample the posterior of ``circuit``'s parameters given ``data`` with emcee.
 
     emcee's affine-invariant ensemble sampler (``vectorize=True``) drives a jitted, vmapped
@@ -372,9 +375,20 @@ def sample(
     ``walkers`` (default max(64, 4·P)) start in a small ball around the least-squares fit
     ``init`` (run by `fit` when not given); ``burn`` (default steps // 4) steps are discarded and
     every ``thin``-th kept. Returns a `Posterior` with diagnostics, Laplace log evidence and WAIC.
+    ``shared`` with ``over`` (as `fit`) samples the joint posterior of a global fit instead:
+    shared parameters once, the others per spectrum, started from the global least-squares fit
+    (`shared_posterior`; at most `MAX_JOINT_PARAMETERS` sampled parameters), and returns a
+    `SharedPosterior`.
     """
     noise, burn = _check_settings(noise, steps, burn, thin)
     circuit = parse(circuit, registry)
+    if shared is not None or over is not None:
+        if init is not None or reparametrization is not None:
+            raise ParameterError("sample with shared parameters starts from its own global fit and takes no init or reparametrization")
+        return sample_shared(
+            circuit, data, shared=shared, over=over, priors=priors, noise=noise, walkers=walkers, steps=steps, burn=burn, thin=thin, seed=seed,
+            fixed=fixed, fmin=fmin, fmax=fmax, progress=progress, registry=registry,
+        )
     obs = _observations(data, noise, fmin, fmax)
     specs = circuit.parameter_specs(registry)
     fixed = _fixed_values(circuit, specs, fixed, init, obs.freq)

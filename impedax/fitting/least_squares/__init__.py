@@ -3,4 +3,5 @@ and many candidate circuits fitted through one compiled program (used by the dia
 
 from .batch import BatchFitResult as BatchFitResult
 from .result import FitResult as FitResult
+from .shared import SharedFitResult as SharedFitResult
 from .single import WEIGHTINGS as WEIGHTINGS, fit as fit

@@ -7,7 +7,7 @@ the data have extra dimensions (trial, subject, ...), which are fitted in one vm
 from __future__ import annotations
 
 import time
-from typing import Mapping
+from typing import Mapping, Sequence
 
 import jax
 import xarray as xr
@@ -20,10 +20,11 @@ from ..statistics import at_noise_floor, dominant_points, information_criteria
 from .batch import BatchFitResult, fit_batch
 from .order import canonical_order
 from .result import FitResult, fit_result, weighting_notes
+from .shared import SharedFitResult, fit_shared
 from .solvers import HANDOVER_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, better, solver_args, tree_solver, unscale
 from .starts import SpectrumFeatures, guess_start, multistart
 
-__all__ = ["fit", "FitResult", "BatchFitResult", "WEIGHTINGS", "information_criteria"]
+__all__ = ["fit", "FitResult", "BatchFitResult", "SharedFitResult", "WEIGHTINGS", "information_criteria"]
 
 
 def fit(
@@ -40,6 +41,8 @@ def fit(
     max_steps: int = 400,
     seed: int = 0,
     registry: Registry = DEFAULT_REGISTRY,
+    shared: Sequence[str] | str | None = None,
+    over: Sequence[str] | str | None = None,
 ) -> FitResult | BatchFitResult:
     """Fit ``circuit`` to ``data`` by weighted least squares (optimistix Levenberg–Marquardt).
 
@@ -53,6 +56,9 @@ def fit(
     ``fixed`` pins parameters; ``bounds`` narrows them; ``weighting`` is one of `WEIGHTINGS`.
     ``data`` is a spectrum Dataset or a path. Extra dimensions (trial, subject, ...) are fitted
     together and give a `BatchFitResult`; dask-backed data are fitted chunk by chunk.
+    ``shared`` (parameter names) with ``over`` (extra dimensions; may be left out when the data
+    have one) fits one value of each shared parameter across ``over`` and per-spectrum values
+    of the others in one global solve (`shared.fit_shared`), giving a `SharedFitResult`.
     Returns a `FitResult` for a single spectrum. Both results answer the same calls:
     ``summary()``, ``report()``, ``to_xarray()``, ``to_table()``, ``plot()`` and the notebook display.
     """
@@ -62,6 +68,8 @@ def fit(
     if n_starts < 1:
         raise ParameterError("n_starts must be at least 1")
     extra = [d for d in data["Z"].dims if d != "frequency"]
+    if shared is not None or over is not None:
+        return fit_shared(circuit, data, table, shared=shared, over=over, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source, t0=t0)
     if extra:
         return fit_batch(circuit, data, table, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source, t0=t0)
     freq = np.asarray(data["frequency"].values, float)

