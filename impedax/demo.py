@@ -11,15 +11,14 @@ from __future__ import annotations
 
 import html
 import os
-import shutil
 import sys
-import tempfile
 import time
 from pathlib import Path
 
 import numpy as np
 
 from .data import format_frequency
+from .io.atomic import remove_temporary, temporary_folder
 
 __all__ = ["run_demo"]
 
@@ -109,7 +108,7 @@ def run_demo(out: str | os.PathLike = "out", *, fast: bool = False, stream=None)
     stream = stream or sys.stdout
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    staging = Path(tempfile.mkdtemp(prefix=".demo-", dir=out))
+    staging = temporary_folder(out, prefix=".demo-")  # removed on an interrupt too (impedax.cli.main)
     story = _Story(stream)
     t_start = time.perf_counter()
     facts: dict[str, str] = {}
@@ -202,7 +201,7 @@ def run_demo(out: str | os.PathLike = "out", *, fast: bool = False, stream=None)
             os.replace(item, out / item.name)
     finally:
         story.finish()
-        shutil.rmtree(staging, ignore_errors=True)
+        remove_temporary(staging)
     print("\nTimings: " + ", ".join(f"{t.split('.')[0]}: {dt:.1f} s" for t, dt in story.timings), file=stream)
     report = out / "report.html"
     print(f"Report: {report.resolve()}", file=stream)

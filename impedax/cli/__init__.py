@@ -1,13 +1,18 @@
 """The ``impedax`` command line. Each command lives in its own module ``impedax.cli.NAME``
-with ``register(subparsers)``; `main` turns impedax's own errors into one message and exit 2.
+with ``register(subparsers)``; `main` turns impedax's own errors into one message and exit 2,
+and SIGINT/SIGTERM into one line ("interrupted; nothing written") and exit 130/143, with every
+temporary file removed.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
 import os
+import signal
 import sys
+import threading
 
 _COMMAND_MODULES = ("simulate", "info", "fit", "compare", "sample", "kk", "drt", "diagnose", "refine", "force", "gap", "draw", "inspect", "demo")
 # each command's one-line help, for ``impedax --help`` without importing any command (and JAX);
@@ -66,20 +71,104 @@ def _command_of(argv: list[str]) -> str:
     return first if first in _COMMAND_MODULES else ""
 
 
+class Interrupted(KeyboardInterrupt):
+    """SIGINT or SIGTERM arrived while `main` ran a command in a process it does not own."""
+
+    def __init__(self, signum: int):
+        super().__init__(signum)
+        self.signum = signum
+
+
+_SIGNALS = (signal.SIGINT, signal.SIGTERM)
+
+
+def _atomic_writes():
+    """`impedax.io.atomic` if a command has loaded it (else nothing was written, and no
+    temporary exists: ``impedax --help`` does not import the io layer for this)."""
+    return sys.modules.get(__name__.rsplit(".", 1)[0] + ".io.atomic")
+
+
+def _written_count() -> int:
+    atomic = _atomic_writes()
+    return len(atomic.written_outputs()) if atomic is not None else 0
+
+
+def _remove_temporaries() -> None:
+    atomic = _atomic_writes()
+    if atomic is not None:
+        atomic.remove_temporaries()
+
+
+def _interrupted_line(command: str, written_before: int) -> str:
+    atomic = _atomic_writes()
+    written = atomic.written_outputs()[written_before:] if atomic is not None else ()
+    what = "nothing written" if not written else f"already written: {', '.join(written)}"
+    return f"impedax{' ' + command if command else ''}: interrupted; {what}"
+
+
+@contextlib.contextmanager
+def _signal_handlers(command: list[str], *, own_process: bool):
+    """SIGINT and SIGTERM while a command runs: every temporary file and folder is removed
+    (`impedax.io.atomic.remove_temporaries`) by the handler itself. When impedax owns the
+    process (the ``impedax`` program), the handler then prints one line and ends the process
+    with 128 + the signal number at once, so no library on the stack (emcee, dask, JAX) gets to
+    print a traceback; called from Python, it raises `Interrupted` instead."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    fired = []
+    written_before = _written_count()
+
+    def handler(signum, frame):
+        if fired:  # a second Ctrl-C while cleaning up changes nothing
+            return
+        fired.append(signum)
+        _remove_temporaries()
+        if own_process:
+            # first return over a progress line the interrupt cut short (sample, gap; cleared on a terminal)
+            clear = "\r\033[K" if sys.stderr.isatty() else "\r"
+            with contextlib.suppress(OSError, ValueError):
+                os.write(2, (clear + _interrupted_line(command[0], written_before) + "\n").encode())
+            os._exit(128 + signum)
+        raise Interrupted(signum)
+
+    previous = {s: signal.signal(s, handler) for s in _SIGNALS}
+    try:
+        yield
+    finally:
+        for s, old in previous.items():
+            signal.signal(s, old)
+
+
 def main(argv: list[str] | None = None) -> int:
+    """Run one ``impedax`` command; returns the exit code (0 done, 2 bad input, 130/143
+    interrupted by SIGINT/SIGTERM). Without ``argv`` it reads ``sys.argv`` and acts as the
+    program: an interrupt ends the process at once (`_signal_handlers`)."""
+    own_process = argv is None
+    argv = sys.argv[1:] if argv is None else list(argv)
+    command = [""]
+    written_before = _written_count()
+    with _signal_handlers(command, own_process=own_process):
+        try:
+            return _run(argv, command)
+        except KeyboardInterrupt as exc:
+            _remove_temporaries()
+            signum = exc.signum if isinstance(exc, Interrupted) else signal.SIGINT
+            print(_interrupted_line(command[0], written_before), file=sys.stderr)
+            return 128 + signum
+
+
+def _run(argv: list[str], command: list[str]) -> int:
     from ..errors import ImpedaxError
 
-    argv = sys.argv[1:] if argv is None else list(argv)
     parser = build_parser(_command_of(argv))
     args = parser.parse_args(argv)
+    command[0] = args.command
     _configure_jax_cache()
     try:
         return int(args.run(args) or 0)
     except ImpedaxError as exc:
         print(f"impedax {args.command}: error: {exc}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
-        print("impedax: interrupted", file=sys.stderr)
-        return 130
     except BrokenPipeError:
         return 0

@@ -5,14 +5,18 @@ from __future__ import annotations
 import difflib
 import json
 import math
+import os
 import sys
-from typing import Iterable, Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable, Iterable, Mapping, Sequence
 
-from ..errors import ParameterError
+from ..errors import DataError, ParameterError
 
 __all__ = [
     "parse_assignments", "check_parameter_names", "emit_json", "to_jsonable", "add_model_argument", "add_output_options",
-    "check_outputs", "save_outputs", "print_result", "result_out_help",
+    "check_outputs", "save_outputs", "print_result", "result_out_help", "Output", "OutputPlan", "plan_outputs",
+    "memory_limit", "check_memory", "MEMORY_LIMIT_ENV",
 ]
 
 
@@ -102,12 +106,14 @@ def add_output_options(parser, *, json: str | None = "print the result as JSON",
 
 def result_out_help(what: str) -> str:
     """The help of a result's ``--out``: the format follows the extension."""
-    return f"save {what}: .csv a tidy table of parameters, .json the --json summary, .nc the full result as netCDF"
+    return f"save {what}: .csv a tidy table of parameters, .json the --json summary, .nc the full result as netCDF; '-' the JSON to standard output"
 
 
 def check_outputs(*paths, result: str | None = None) -> None:
     """Every output path that was given is writable, and ``result`` (a result's ``--out``) has
-    an extension `impedax.io.write_result` knows: checked before any work is done."""
+    an extension `impedax.io.write_result` knows: checked before any work is done. (Commands use
+    `plan_outputs`, which also checks figure extensions, inputs and clashes; this stays for
+    callers of the older form.)"""
     from ..io.atomic import check_writable
     from ..io.export import result_format
 
@@ -119,21 +125,270 @@ def check_outputs(*paths, result: str | None = None) -> None:
 
 
 def save_outputs(*, out=None, result=None, dataset=None, plot=None, figure=None) -> None:
-    """Write ``result`` to ``out`` in the format of its extension (`impedax.io.write_result`),
-    or the spectrum ``dataset()`` (CSV or netCDF by extension, `impedax.io.save`); save
-    ``figure()`` to ``plot``. Each only when its path was given (the callables are called only
-    then: no figure is drawn for nothing)."""
-    if out:
-        from ..io import save, write_result
+    """Write ``result`` to ``out`` (`impedax.io.write_result`) or the spectrum ``dataset()``
+    (`impedax.io.save`), and ``figure()`` to ``plot``, together (`OutputTransaction`); each only
+    when its path was given (no figure is drawn for nothing)."""
+    from ..io.atomic import OutputTransaction
 
-        if result is not None:
-            write_result(result, out)
-        else:
-            save(dataset(), out)
-    if plot:
+    with OutputTransaction(to_stdout=write_stdout) as transaction:
+        if out:
+            transaction.write(out, result_writer(result) if result is not None else spectrum_writer(dataset))
+        if plot:
+            transaction.write(plot, figure_writer(figure), suffix=".png")
+
+
+# --- outputs: checked before any work, written together -----------------------------------------
+
+def result_writer(result) -> Callable[[Path], None]:
+    """A writer of ``result`` in the format of the path's extension (`impedax.io.write_result`)."""
+    def write(path: Path) -> None:
+        from ..io import write_result
+
+        write_result(result, path)
+
+    return write
+
+
+def spectrum_writer(dataset: Callable[[], object]) -> Callable[[Path], None]:
+    """A writer of the spectrum ``dataset()`` (CSV or netCDF by extension, `impedax.io.save`)."""
+    def write(path: Path) -> None:
+        from ..io import save
+
+        save(dataset(), path)
+
+    return write
+
+
+def figure_writer(figure: Callable[[], object]) -> Callable[[Path], None]:
+    """A writer of the matplotlib figure ``figure()`` (drawn only when written)."""
+    def write(path: Path) -> None:
         from ..plotting import save_figure
 
-        save_figure(figure(), plot)
+        save_figure(figure(), path)
+
+    return write
+
+
+def write_stdout(data: bytes) -> None:
+    """``data`` to standard output, after whatever the command printed before."""
+    sys.stdout.flush()
+    buffer = getattr(sys.stdout, "buffer", None)
+    if buffer is not None:
+        buffer.write(data)
+        buffer.flush()
+    else:
+        sys.stdout.write(data.decode("utf-8"))
+        sys.stdout.flush()
+
+
+def _figure_extensions() -> tuple[str, ...]:
+    from matplotlib.backend_bases import FigureCanvasBase
+
+    return tuple(sorted(f".{ext}" for ext in FigureCanvasBase.get_supported_filetypes()))
+
+
+def _result_extensions() -> tuple[str, ...]:
+    from ..io.export import RESULT_FORMATS
+
+    return tuple(RESULT_FORMATS)
+
+
+def _spectrum_extensions() -> tuple[str, ...]:
+    from ..io.loader import SPECTRUM_SUFFIXES
+
+    return SPECTRUM_SUFFIXES
+
+
+@dataclass(frozen=True)
+class OutputKind:
+    """What an output option writes: the extensions it accepts (``extensions()``; "" means
+    none, taken as ``default_suffix``) and, when it can go to standard output (``-``), as what."""
+
+    name: str
+    extensions: Callable[[], tuple[str, ...]]
+    default_suffix: str
+    stdout_suffix: str | None
+
+
+OUTPUT_KINDS = {
+    "result": OutputKind("result", _result_extensions, ".json", ".json"),
+    "spectrum": OutputKind("spectrum", _spectrum_extensions, ".csv", ".csv"),
+    "figure": OutputKind("figure", lambda: ("", *_figure_extensions()), ".png", None),
+    "diagram": OutputKind("circuit diagram", lambda: (".png", ".svg", ".pdf"), ".png", None),
+    "drt": OutputKind("DRT", lambda: (".nc", ".csv"), ".csv", ".csv"),
+}
+
+
+@dataclass(frozen=True)
+class Output:
+    """One output option of a command as given: ``flag`` (``--plot``), ``path``, ``kind`` (a key
+    of `OUTPUT_KINDS`)."""
+
+    flag: str
+    path: str
+    kind: str
+
+    @property
+    def to_stdout(self) -> bool:
+        return self.path == "-"
+
+    def suffix(self) -> str:
+        """The extension a temporary copy of this output gets (its own, or the kind's default)."""
+        kind = OUTPUT_KINDS[self.kind]
+        if self.to_stdout:
+            return kind.stdout_suffix or kind.default_suffix
+        return Path(self.path).suffix or kind.default_suffix
+
+
+def _same_file(a: str, b: str) -> bool:
+    try:
+        if os.path.exists(a) and os.path.exists(b):
+            return os.path.samefile(a, b)
+    except OSError:
+        return False
+    return os.path.realpath(a) == os.path.realpath(b)
+
+
+class OutputPlan:
+    """The output files of one command run, checked together before any work (`plan_outputs`)
+    and written together by `save`: all appear, or none (`impedax.io.atomic.OutputTransaction`)."""
+
+    def __init__(self, outputs: Sequence[Output]):
+        self.outputs = tuple(outputs)
+
+    @property
+    def uses_stdout(self) -> bool:
+        """An output goes to standard output (``-``): the command prints nothing else there."""
+        return any(o.to_stdout for o in self.outputs)
+
+    def given(self, flag: str) -> bool:
+        return any(o.flag == flag for o in self.outputs)
+
+    def save(self, writers: Mapping[str, Callable[[Path], None]]) -> tuple[str, ...]:
+        """Write each planned output with ``writers[flag](path)`` to a temporary file, then move
+        them all into place; returns the paths written."""
+        from ..io.atomic import OutputTransaction
+
+        with OutputTransaction(to_stdout=write_stdout) as transaction:
+            for output in self.outputs:
+                transaction.write(output.path, writers[output.flag], suffix=output.suffix())
+        return transaction.committed
+
+
+def plan_outputs(outputs: Iterable[tuple[str, str | None, str]], *, inputs: Iterable[str | None] = (), stdout: str | None = None) -> OutputPlan:
+    """Check every output option before any work: ``outputs`` are (flag, path or None, kind)
+    triples; ``inputs`` the files the command reads; ``stdout`` names an option that prints to
+    standard output in this run (``--json``), which ``-`` may not share.
+
+    Refused with one `DataError` or `ParameterError` naming the option and the file: an
+    extension the kind cannot write (a ``--plot`` extension matplotlib does not know, ...), a
+    path that cannot be written (`impedax.io.atomic.check_writable`), an output that is one of
+    the inputs, two outputs at one path, ``-`` for an output that cannot go to standard output.
+    """
+    from ..io.atomic import check_writable
+
+    planned: list[Output] = []
+    inputs = [str(p) for p in inputs if p]
+    if sum(p == "-" for p in inputs) > 1:
+        raise ParameterError("standard input ('-') can be read only once; give the other spectra as files")
+    for flag, path, kind_name in outputs:
+        if path is None:
+            continue
+        path = str(path)
+        kind = OUTPUT_KINDS[kind_name]
+        if not path.strip():
+            raise ParameterError(f"{flag}: empty file name")
+        output = Output(flag, path, kind_name)
+        if output.to_stdout:
+            if kind.stdout_suffix is None:
+                raise ParameterError(f"{flag} -: a {kind.name} cannot go to standard output; give a file name")
+            clash = next((o.flag for o in planned if o.to_stdout), None) or stdout
+            if clash:
+                raise ParameterError(f"{flag} - and {clash} both write to standard output; give {flag} a file name")
+            planned.append(output)
+            continue
+        suffix = Path(path).suffix.lower()
+        known = kind.extensions()
+        if suffix not in known:
+            listed = ", ".join(e for e in known if e) + (f" (none: {kind.default_suffix})" if "" in known else "")
+            raise DataError(f"{flag}: unknown {kind.name} extension {suffix or '(none)'!r}; use one of {listed}", path=path)
+        check_writable(path)
+        for source in inputs:
+            if source != "-" and _same_file(path, source):
+                raise DataError(f"{flag} is the input file {source}; impedax never replaces its input: choose another name", path=path)
+        for other in planned:
+            if not other.to_stdout and _same_file(path, other.path):
+                raise DataError(f"{other.flag} and {flag} name the same file; give each output its own name", path=path)
+        planned.append(output)
+    return OutputPlan(planned)
+
+
+def check_output_folder(path: str, flag: str = "--out") -> Path:
+    """A folder output (``demo --out``): it exists as a writable folder, or can be created in a
+    writable folder; nothing is created here."""
+    folder = Path(path)
+    if not path.strip():
+        raise ParameterError(f"{flag}: empty folder name")
+    if folder.exists() or folder.is_symlink():
+        if not folder.is_dir():
+            raise DataError(f"{flag}: exists and is not a folder; give a folder name", path=folder)
+        if not os.access(folder, os.W_OK | os.X_OK):
+            raise DataError(f"{flag}: folder is not writable", path=folder)
+        return folder
+    for ancestor in folder.absolute().parents:
+        if ancestor.exists() or ancestor.is_symlink():
+            if not ancestor.is_dir():
+                raise DataError(f"{flag}: {ancestor} is a file, so no folder can be made under it", path=folder)
+            if not os.access(ancestor, os.W_OK | os.X_OK):
+                raise DataError(f"{flag}: cannot create the folder: {ancestor} is not writable", path=folder)
+            return folder
+    raise DataError(f"{flag}: no existing parent folder", path=folder)
+
+
+# --- memory limits ----------------------------------------------------------------------------
+
+MEMORY_LIMIT_ENV = "IMPEDAX_MEMORY_LIMIT"
+_UNITS = {"": 1, "k": 2**10, "m": 2**20, "g": 2**30, "t": 2**40}
+
+
+def _format_bytes(n: float) -> str:
+    for unit, size in (("TB", 2**40), ("GB", 2**30), ("MB", 2**20), ("kB", 2**10)):
+        if n >= size:
+            return f"{n / size:.3g} {unit}"
+    return f"{n:.0f} B"
+
+
+def memory_limit() -> tuple[float, str]:
+    """The most memory a command may plan to use [bytes] and where that limit comes from:
+    ``IMPEDAX_MEMORY_LIMIT`` (bytes, or with a k/M/G/T suffix: ``32G``) or half the machine's RAM."""
+    text = os.environ.get(MEMORY_LIMIT_ENV, "").strip()
+    if text:
+        number, unit = text.rstrip("bB"), ""
+        if number and number[-1].lower() in _UNITS:
+            number, unit = number[:-1], number[-1].lower()
+        try:
+            value = float(number) * _UNITS[unit]
+        except ValueError:
+            value = float("nan")
+        if not value > 0 or not math.isfinite(value):
+            raise ParameterError(f"{MEMORY_LIMIT_ENV}={text!r}: expected a size such as 16G, 500M or 2e9 (bytes)")
+        return value, f"{MEMORY_LIMIT_ENV}={text}"
+    try:
+        ram = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+    except (ValueError, OSError, AttributeError):
+        ram = 8 * 2**30
+    return ram / 2, "half of this machine's RAM"
+
+
+def check_memory(flag: str, needed_bytes: float, what: str) -> None:
+    """`ParameterError` naming ``flag`` when ``what`` needs more memory than `memory_limit`
+    allows, checked before anything is allocated; the message says how to raise the limit."""
+    limit, origin = memory_limit()
+    if needed_bytes > limit:
+        raise ParameterError(
+            f"{flag}: {what} needs about {_format_bytes(needed_bytes)} of memory, more than the limit of "
+            f"{_format_bytes(limit)} ({origin}); lower {flag}, or set {MEMORY_LIMIT_ENV}=SIZE (e.g. 64G) to raise the limit"
+        )
 
 
 def print_result(result, as_json: bool) -> None:

@@ -20,17 +20,17 @@ def run(args) -> int:
     from .. import compare, fit, parse
     from ..errors import ParameterError
     from ..fitting.problem import open_spectrum
-    from .common import check_outputs, emit_json, save_outputs
+    from .common import emit_json, figure_writer, plan_outputs
     from .fit import check_max_steps
 
     if len(args.model) < 2:
         raise ParameterError("compare needs at least two --model options")
     circuits = [parse(m) for m in args.model]  # all syntax errors before any fitting
-    check_outputs(args.plot)
+    outputs = plan_outputs([("--plot", args.plot, "figure")], inputs=[args.data])
     max_steps = check_max_steps(args.max_steps)
     data = open_spectrum(args.data, single="compare").data
     comparison = compare([fit(c, data, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps) for c in circuits])
-    save_outputs(plot=args.plot, figure=comparison.plot)
+    outputs.save({"--plot": figure_writer(comparison.plot)})
     if args.json:
         out = comparison.summary()
         out["models"] = [dict(r.summary(), **{k: row[k] for k in ("delta_aic", "akaike_weight")}) for r, row in zip(comparison.fits, comparison.rows)]

@@ -11,12 +11,9 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from ..io.atomic import check_writable
     from ..demo import run_demo
+    from .common import check_output_folder
 
-    from pathlib import Path
-
-    Path(args.out).mkdir(parents=True, exist_ok=True)
-    check_writable(Path(args.out) / "report.html")
+    check_output_folder(args.out)  # a file, a file on the way, a read-only folder: refused before anything is made
     run_demo(args.out, fast=args.fast)
     return 0

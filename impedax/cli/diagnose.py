@@ -46,13 +46,14 @@ def effects_option(text):
 
 def run(args) -> int:
     from ..fitting import diagnose
-    from .common import check_outputs, print_result, save_outputs
+    from .common import figure_writer, plan_outputs, print_result, result_writer
     from .fit import check_max_steps
 
-    check_outputs(args.plot, result=args.out)
+    outputs = plan_outputs([("--out", args.out, "result"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     max_steps = check_max_steps(args.max_steps)
     effects = effects_option(args.effects)
     result = diagnose(args.data, args.model, effects=effects, noise=args.noise, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps)
-    save_outputs(out=args.out, result=result, plot=args.plot, figure=result.plot)
-    print_result(result, args.json)
+    outputs.save({"--out": result_writer(result), "--plot": figure_writer(result.plot)})
+    if not outputs.uses_stdout:
+        print_result(result, args.json)
     return 0

@@ -14,12 +14,11 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from ..io.atomic import check_writable
     from ..diagram import save_circuit_diagram
-    from .common import model_and_values
+    from .common import model_and_values, plan_outputs
 
     circuit, _, given = model_and_values(args.model, args.param, "--param")
-    check_writable(args.out)
-    save_circuit_diagram(circuit, args.out, values=given)
+    outputs = plan_outputs([("--out", args.out, "diagram")])
+    outputs.save({"--out": lambda path: save_circuit_diagram(circuit, path, values=given)})
     print(f"wrote {args.out}")
     return 0

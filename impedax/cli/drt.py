@@ -34,19 +34,16 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from ..errors import ParameterError
     from ..fitting.drt import drt
     from ..fitting.problem import open_spectrum
-    from .common import check_outputs, emit_json, save_outputs
+    from .common import emit_json, figure_writer, plan_outputs
 
-    check_outputs(args.plot, args.out)
-    if args.out and not str(args.out).lower().endswith((".nc", ".csv")):
-        raise ParameterError(f"--out {args.out!r}: the extension must be .nc or .csv")
+    outputs = plan_outputs([("--out", args.out, "drt"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     data = open_spectrum(args.data, single="impedax drt").data
     result = drt(data, method=args.method, lam=_lam(args.lam), lam_method=args.lam_method, signed=args.signed)
-    save_outputs(plot=args.plot, figure=result.plot)
-    if args.out:
-        _save(result, args.out)
+    outputs.save({"--out": lambda path: _save(result, path), "--plot": figure_writer(result.plot)})
+    if outputs.uses_stdout:
+        return 0
     if args.json:
         emit_json({
             "tau_s": result.tau,

@@ -74,15 +74,16 @@ def register(sub) -> None:
 
 def run(args) -> int:
     from .. import FitResult, fit, load
-    from .common import check_outputs, parse_assignments, print_result, save_outputs
+    from .common import figure_writer, parse_assignments, plan_outputs, print_result, result_writer
 
-    check_outputs(args.plot, result=args.out)
+    outputs = plan_outputs([("--out", args.out, "result"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     max_steps = check_max_steps(args.max_steps)
     sharing = shared_arguments(args)
     data = load(args.data)
     result = fit(args.model, data, init=parse_assignments(args.init, "--init"), fixed=parse_assignments(args.fix, "--fix"), weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, **sharing)
-    save_outputs(out=args.out, result=result, plot=args.plot, figure=result.plot)
-    print_result(result, args.json)
+    outputs.save({"--out": result_writer(result), "--plot": figure_writer(result.plot)})
+    if not outputs.uses_stdout:
+        print_result(result, args.json)
     if args.json and isinstance(result, FitResult) and not result.converged:  # (the report's status line says it)
         print(f"impedax fit: warning: the fit did not converge: {result.message}", file=sys.stderr)
     return 0

@@ -7,10 +7,12 @@ import sys
 
 import numpy as np
 
-from .common import add_output_options, check_outputs, check_parameter_names, emit_json, parse_assignments, save_outputs
+from .common import add_output_options, check_memory, check_parameter_names, emit_json, figure_writer, parse_assignments, plan_outputs
 
 _MODELS = ("meyer", "vezzoli")
 _RANGES = {"meyer": (10.0, 1e9), "vezzoli": (1.0, 1e6)}
+# memory per frequency: the model's complex intermediates and the CSV/JSON text (measured: ~0.5 kB)
+POINT_BYTES = 1024
 
 
 def _defaults(model: str) -> dict[str, float]:
@@ -71,7 +73,8 @@ def run(args) -> int:
     from ..data import log_frequencies
 
     params, _ = _parameters(args.model, args.param)
-    check_outputs(args.plot)
+    outputs = plan_outputs([("--plot", args.plot, "figure")])
+    check_memory("--points", args.points * POINT_BYTES, f"a force spectrum of {args.points} frequencies")
     low, high = _RANGES[args.model]
     fmin = low if args.fmin is None else args.fmin
     fmax = high if args.fmax is None else args.fmax
@@ -92,5 +95,5 @@ def run(args) -> int:
         source = "Meyer (2012) thesis eq 3.6, Fig 3.4" if args.model == "meyer" else "Vezzoli et al. eq 10"
         return plot_force_spectrum(freq, force, title=f"{source}: model prediction")
 
-    save_outputs(plot=args.plot, figure=figure)
+    outputs.save({"--plot": figure_writer(figure)})
     return 0

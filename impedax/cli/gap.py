@@ -32,7 +32,7 @@ def run(args) -> int:
     from .. import load
     from ..errors import ParameterError
     from ..models.gap import gap_analysis
-    from .common import check_outputs, print_result, save_outputs
+    from .common import check_memory, figure_writer, plan_outputs, print_result, result_writer
 
     if not args.area > 0:
         raise ParameterError(f"--area must be positive (m²), got {args.area:g}")
@@ -40,11 +40,17 @@ def run(args) -> int:
         raise ParameterError(f"--v0 must be positive (V), got {args.v0:g}")
     if args.steps < 20:
         raise ParameterError("--steps must be at least 20")
-    check_outputs(args.plot, result=args.out)
+    outputs = plan_outputs(
+        [("--out", args.out, "result"), ("--plot", args.plot, "figure")],
+        inputs=[args.total, args.skin, args.touchscreen], stdout="--json" if args.json else None,
+    )
+    # emcee keeps every step of every walker: about 64 walkers × 8 parameters × 8 bytes, kept three times
+    check_memory("--steps", args.steps * 64 * 10 * 8 * 3, f"a gap-thickness chain of {args.steps} steps")
     total, skin, touchscreen = (load(p) for p in (args.total, args.skin, args.touchscreen))
     result = gap_analysis(total, skin, touchscreen, area=args.area, v0=args.v0, ep=args.ep, steps=args.steps, seed=args.seed, progress=not (args.quiet or args.json))
-    save_outputs(out=args.out, result=result, plot=args.plot, figure=result.plot)
-    print_result(result, args.json)
+    outputs.save({"--out": result_writer(result), "--plot": figure_writer(result.plot)})
+    if not outputs.uses_stdout:
+        print_result(result, args.json)
     if result.warnings and args.json:
         print(f"impedax gap: {len(result.warnings)} warning(s), see the JSON 'warnings'", file=sys.stderr)
     return 0

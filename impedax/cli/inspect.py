@@ -26,15 +26,15 @@ def run(args) -> int:
     import numpy as np
 
     from ..io import load
-    from .common import check_outputs, emit_json, save_outputs
+    from .common import emit_json, figure_writer, plan_outputs, spectrum_writer
 
-    check_outputs(args.out, args.plot)
+    outputs = plan_outputs([("--out", args.out, "spectrum"), ("--plot", args.plot, "figure")], inputs=[args.file], stdout="--json" if args.json else None)
     ds = load(args.file)
     freq = ds["frequency"].values
     z = ds["Z"].values
     skipped = [str(s) for s in ds.attrs.get("skipped_rows", [])]
     summary = {
-        "file": str(args.file),
+        "file": str(ds.attrs.get("path", args.file)) if args.file == "-" else str(args.file),
         "format": ds.attrs.get("format", "netCDF"),
         "dims": {k: int(v) for k, v in ds["Z"].sizes.items()},
         "points": int(freq.size),
@@ -48,7 +48,9 @@ def run(args) -> int:
         "skipped_rows": skipped,
         "attrs": {k: v for k, v in ds.attrs.items() if isinstance(v, (str, int, float, bool))},
     }
-    save_outputs(out=args.out, dataset=lambda: ds, plot=args.plot, figure=lambda: _preview(ds, summary["format"]))
+    outputs.save({"--out": spectrum_writer(lambda: ds), "--plot": figure_writer(lambda: _preview(ds, summary["format"]))})
+    if outputs.uses_stdout:
+        return 0
     if args.json:
         emit_json(summary)
         return 0

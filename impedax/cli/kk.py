@@ -34,16 +34,16 @@ _ZHIT_JSON = {
 def run(args) -> int:
     from ..fitting import kk_test, zhit
     from ..io import load
-    from .common import check_outputs, emit_json, save_outputs
+    from .common import emit_json, figure_writer, plan_outputs
 
-    check_outputs(args.plot)
+    outputs = plan_outputs([("--plot", args.plot, "figure")], inputs=[args.data])
     data = load(args.data)
     if args.method == "zhit":
         result, keys, extra = zhit(data), _ZHIT_JSON, {"method": "zhit"}
     else:
         result = kk_test(data, c=args.c, max_rc=args.max_rc, inductance=not args.no_inductance, capacitance=not args.no_capacitance)
         keys, extra = _KK_JSON, {}
-    save_outputs(plot=args.plot, figure=result.plot)
+    outputs.save({"--plot": figure_writer(result.plot)})
     if args.json:
         out = {key: getattr(result, attribute) for key, attribute in keys.items()}
         out["bad_bands"] = [[lo, hi] for lo, hi in result.bad_bands]

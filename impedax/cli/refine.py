@@ -42,11 +42,11 @@ def progress_printer(after_s: float = PROGRESS_AFTER_S):
 def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting import refine
-    from .common import check_outputs, print_result, save_outputs
+    from .common import figure_writer, plan_outputs, print_result, result_writer
     from .diagnose import effects_option
     from .fit import check_max_steps
 
-    check_outputs(args.plot, result=args.out)
+    outputs = plan_outputs([("--out", args.out, "result"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     if args.max_effects < 0:
         raise ParameterError(f"--max-effects must be 0 or more, got {args.max_effects}")
     solver_steps = check_max_steps(args.max_steps)
@@ -55,6 +55,7 @@ def run(args) -> int:
         args.data, args.model, max_effects=args.max_effects, solver_steps=solver_steps, effects=effects, weighting=args.weighting, noise=args.noise,
         fmin=args.fmin, fmax=args.fmax, progress=progress_printer(),
     )
-    save_outputs(out=args.out, result=result, plot=args.plot, figure=result.plot)
-    print_result(result, args.json)
+    outputs.save({"--out": result_writer(result), "--plot": figure_writer(result.plot)})
+    if not outputs.uses_stdout:
+        print_result(result, args.json)
     return 0

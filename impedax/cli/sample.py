@@ -33,11 +33,30 @@ def register(sub) -> None:
     p.set_defaults(run=run)
 
 
+# what emcee and the Posterior keep per walker, step and parameter: the chain, its copy after
+# burn-in and thinning, and the draws in the result (float64)
+CHAIN_BYTES_PER_VALUE = 3 * 8
+
+
+def check_sample_size(circuit, walkers, steps, priors) -> None:
+    """Refuse, before any work, a run whose chain would not fit in memory (`check_memory`)."""
+    from ..errors import ParameterError
+    from .common import check_memory
+
+    if steps is not None and steps < 1:
+        raise ParameterError(f"--steps must be at least 1, got {steps}")
+    if walkers is not None and walkers < 1:
+        raise ParameterError(f"--walkers must be at least 1, got {walkers}")
+    dims = len(circuit.parameter_names()) + 2  # + the noise parameter, + the log-probability
+    chain_walkers = walkers if walkers is not None else max(64, 4 * dims)
+    check_memory("--steps", float(chain_walkers) * steps * dims * CHAIN_BYTES_PER_VALUE, f"a chain of {steps} steps × {chain_walkers} walkers")
+
+
 def run(args) -> int:
     from .. import load, parse, sample
     from ..errors import ParameterError
     from ..fitting import parse_prior
-    from .common import check_outputs, print_result, save_outputs
+    from .common import figure_writer, plan_outputs, print_result, result_writer
     from .fit import shared_arguments
 
     circuit = parse(args.model)  # syntax errors before anything else
@@ -50,15 +69,19 @@ def run(args) -> int:
         if name in priors:
             raise ParameterError(f"--prior: {name} given twice")
         priors[name] = prior
-    check_outputs(args.corner, args.plot, result=args.out)
+    outputs = plan_outputs(
+        [("--out", args.out, "result"), ("--corner", args.corner, "figure"), ("--plot", args.plot, "figure")],
+        inputs=[args.data], stdout="--json" if args.json else None,
+    )
+    check_sample_size(circuit, args.walkers, args.steps, priors)
     data = load(args.data)
     posterior = sample(
         circuit, data, priors=priors, noise=args.noise, walkers=args.walkers, steps=args.steps, burn=args.burn, thin=args.thin,
         seed=args.seed, fmin=args.fmin, fmax=args.fmax, progress=not (args.quiet or args.json), **sharing,
     )
-    save_outputs(out=args.out, result=posterior, plot=args.corner, figure=lambda: posterior.corner())
-    save_outputs(plot=args.plot, figure=lambda: posterior.plot())
-    print_result(posterior, args.json)
+    outputs.save({"--out": result_writer(posterior), "--corner": figure_writer(lambda: posterior.corner()), "--plot": figure_writer(lambda: posterior.plot())})
+    if not outputs.uses_stdout:
+        print_result(posterior, args.json)
     if not args.json:
         if not args.quiet and posterior.warnings:
             print(f"impedax sample: {len(posterior.warnings)} warning(s); see the report", file=sys.stderr)

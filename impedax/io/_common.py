@@ -9,6 +9,8 @@ missing is an error naming its line.
 
 from __future__ import annotations
 
+import errno
+import os
 import re
 import stat
 from pathlib import Path
@@ -21,13 +23,39 @@ from ..data import make_spectrum
 from ..errors import DataError
 
 __all__ = [
-    "UNIT_CELL", "MAX_FILE_BYTES", "check_file", "read_bytes", "read_text", "decode_text", "head_text", "number",
+    "UNIT_CELL", "MAX_FILE_BYTES", "MAX_FILE_BYTES_ENV", "max_file_bytes", "check_file", "read_bytes", "read_text", "decode_text", "head_text", "number",
     "Skipped", "finish", "first_line", "stack", "unit_scale", "split_header_cell", "decimal_comma",
 ]
 
-#: Largest file a reader reads whole. Instrument exports are kilobytes; a spectrum of a million
-#: points in text is ~60 MB.
+#: Largest file a reader reads whole (checked before reading). Instrument exports are
+#: kilobytes; a million points as impedax writes them is ~55 MB. Text in other layouts than
+#: impedax's own CSV takes up to ~20 times the file's size in memory while it is read
+#: (benchmarks/README.md, "Scale"), so 64 MB stays near 1 GB.
 MAX_FILE_BYTES = 64 * 2**20
+#: Environment variable that raises (or lowers) `MAX_FILE_BYTES`: bytes, or with k/M/G: ``512M``.
+MAX_FILE_BYTES_ENV = "IMPEDAX_MAX_FILE_BYTES"
+_SIZE_UNITS = {"": 1, "k": 2**10, "m": 2**20, "g": 2**30, "t": 2**40}
+
+
+def max_file_bytes() -> int:
+    """The largest file a reader reads whole: ``IMPEDAX_MAX_FILE_BYTES`` if set, else `MAX_FILE_BYTES`."""
+    text = os.environ.get(MAX_FILE_BYTES_ENV, "").strip()
+    if not text:
+        return MAX_FILE_BYTES
+    number, unit = text.rstrip("bB"), ""
+    if number and number[-1].lower() in _SIZE_UNITS:
+        number, unit = number[:-1], number[-1].lower()
+    try:
+        value = float(number) * _SIZE_UNITS[unit]
+    except ValueError:
+        value = float("nan")
+    if not (value >= 1 and value < 2**62):
+        raise DataError(f"{MAX_FILE_BYTES_ENV}={text!r}: expected a size such as 512M, 2G or 1e9 (bytes)")
+    return int(value)
+
+
+def _size_text(n: int) -> str:
+    return f"{n / 2**30:.3g} GB" if n >= 2**30 else f"{n / 2**20:.3g} MB" if n >= 2**20 else f"{n} bytes"
 
 _UTF16_BOMS = (b"\xff\xfe", b"\xfe\xff")
 
@@ -49,29 +77,53 @@ def check_file(path: Path) -> int:
     try:
         info = path.stat()
     except FileNotFoundError:
+        if path.is_symlink():
+            raise DataError(f"broken symbolic link (to {os.readlink(path)!r}, which does not exist)", path=path) from None
         raise DataError("file not found", path=path) from None
     except OSError as exc:
+        if exc.errno == errno.ELOOP:
+            raise DataError("symlink loop (the symbolic links point at each other, never at a file)", path=path) from None
         raise DataError(f"cannot read file: {exc.strerror}", path=path) from None
     if stat.S_ISDIR(info.st_mode):
         raise DataError("is a directory, not a spectrum file", path=path)
     if not stat.S_ISREG(info.st_mode):
         raise DataError("not a regular file (a device, pipe or socket); save the spectrum to a file first", path=path)
-    if info.st_size > MAX_FILE_BYTES:
-        raise DataError(f"file is {info.st_size / 2**20:.0f} MB; impedax reads spectrum files up to {MAX_FILE_BYTES // 2**20} MB", path=path)
+    limit = max_file_bytes()
+    if info.st_size > limit:
+        raise DataError(f"file is {_size_text(info.st_size)}; impedax reads spectrum files up to {_size_text(limit)} (set {MAX_FILE_BYTES_ENV}=SIZE to raise it)", path=path)
+    if not os.access(path, os.R_OK):
+        raise DataError("cannot read file: permission denied", path=path)
     return info.st_size
 
 
 def read_bytes(path: Path) -> bytes:
     """The whole file, refused before reading when it is not a regular file or is too large."""
     check_file(path)
+    limit = max_file_bytes()
     try:
         with open(path, "rb") as fh:
-            raw = fh.read(MAX_FILE_BYTES + 1)
+            raw = fh.read(limit + 1)
     except OSError as exc:
         raise DataError(f"cannot read file: {exc.strerror}", path=path) from None
-    if len(raw) > MAX_FILE_BYTES:  # grew while we looked
-        raise DataError(f"file is larger than {MAX_FILE_BYTES // 2**20} MB", path=path)
+    if len(raw) > limit:  # grew while we looked
+        raise DataError(f"file is larger than {_size_text(limit)} (set {MAX_FILE_BYTES_ENV}=SIZE to raise it)", path=path)
     return raw
+
+
+def utf16_without_bom(raw: bytes) -> str | None:
+    """``"utf-16-le"`` or ``"utf-16-be"`` when ``raw`` looks like UTF-16 text written without a
+    byte-order mark (ASCII characters with a NUL byte beside each), else None."""
+    sample = raw[:4096]
+    sample = sample[: len(sample) // 2 * 2]
+    if len(sample) < 4:
+        return None
+    even, odd = sample[0::2], sample[1::2]
+    half = len(sample) // 2
+    if odd.count(0) >= 0.9 * half and even.count(0) <= 0.05 * half:
+        return "utf-16-le"
+    if even.count(0) >= 0.9 * half and odd.count(0) <= 0.05 * half:
+        return "utf-16-be"
+    return None
 
 
 def decode_text(raw: bytes, path: Path | None = None) -> str:
@@ -82,6 +134,12 @@ def decode_text(raw: bytes, path: Path | None = None) -> str:
             return raw.decode("utf-16").replace("\ufeff", "")
         except UnicodeDecodeError:
             raise DataError("starts with a UTF-16 byte-order mark but is not UTF-16 text", path=path) from None
+    utf16 = utf16_without_bom(raw)
+    if utf16 is not None:
+        try:
+            return raw[: len(raw) // 2 * 2].decode(utf16)
+        except UnicodeDecodeError:
+            raise DataError(f"looks like UTF-16 text without a byte-order mark ({utf16}) but does not decode as it; save it as UTF-8", path=path) from None
     if b"\x00" in raw[:4096]:
         raise DataError("binary file, not text", path=path)
     try:
@@ -98,6 +156,9 @@ def head_text(head: bytes) -> str:
     """Best-effort text of a file's first bytes for sniffing ('' for binary)."""
     if head.startswith(_UTF16_BOMS):
         return head[: len(head) // 2 * 2].decode("utf-16", errors="replace").replace("\ufeff", "")
+    utf16 = utf16_without_bom(head)
+    if utf16 is not None:
+        return head[: len(head) // 2 * 2].decode(utf16, errors="replace")
     if b"\x00" in head[:4096]:
         return ""
     return head.decode("utf-8-sig", errors="replace")
@@ -188,13 +249,17 @@ def finish(
         extra = {k: (v[keep], u, d) for k, (v, u, d) in (extra or {}).items()}
     if freq.size == 0:
         raise DataError("the impedance table has no data rows" + (f" (skipped: {'; '.join(skipped.report())})" if len(skipped) else ""), path=path)
-    seen: dict[float, int] = {}
-    for f, line in zip(freq.tolist(), lines):
-        if not f > 0:
-            raise DataError(f"frequency must be positive, got {f:g}", path=path, line=line)
-        if f in seen:
-            raise DataError(f"duplicate frequency {f:g} Hz (also on line {seen[f]})", path=path, line=line)
-        seen[f] = line
+    # checked on arrays (a million points make no Python object each); the first offender in
+    # file order is the one named
+    bad = np.flatnonzero(~(freq > 0))
+    if bad.size:
+        raise DataError(f"frequency must be positive, got {freq[bad[0]]:g}", path=path, line=lines[bad[0]])
+    order = np.argsort(freq, kind="stable")
+    repeats = np.flatnonzero(freq[order][1:] == freq[order][:-1])
+    if repeats.size:
+        second = int(order[repeats + 1].min())
+        first = int(np.flatnonzero(freq == freq[second])[0])
+        raise DataError(f"duplicate frequency {freq[second]:g} Hz (also on line {lines[first]})", path=path, line=lines[second])
     attrs = {"path": str(path), **{k: v for k, v in attrs.items() if v not in (None, "")}}
     if len(skipped):
         attrs["skipped_rows"] = skipped.report()

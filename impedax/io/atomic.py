@@ -1,15 +1,78 @@
-"""Atomic file output: write to a temporary file beside the target, then rename."""
+"""Atomic file output: write to a temporary file beside the target, then rename; several files
+at once as one `OutputTransaction` (all appear together, or none).
+
+Every temporary file or folder impedax creates for output is recorded while it exists, so that
+an interrupted process (SIGINT, SIGTERM: `impedax.cli.main`) can remove them all with
+`remove_temporaries` before it exits, even when no ``finally`` block gets to run.
+"""
 
 from __future__ import annotations
 
 import contextlib
 import os
+import shutil
+import signal
 import tempfile
+import threading
 from pathlib import Path
+from typing import Callable
 
 from ..errors import DataError
 
-__all__ = ["atomic_path", "check_writable"]
+__all__ = [
+    "atomic_path", "check_writable", "OutputTransaction", "staging_directory", "temporary_folder", "remove_temporary",
+    "remove_temporaries", "live_temporaries",
+    "written_outputs",
+]
+
+# temporaries that exist right now (files and folders); a set guarded by a lock, because a
+# signal handler may read it while the main thread adds to it
+_live: set[Path] = set()
+_live_lock = threading.RLock()
+# every target an `OutputTransaction` moved into place in this process, in order (so that an
+# interrupt can say what was already written)
+_written: list[str] = []
+
+
+def _remember(path: Path) -> None:
+    with _live_lock:
+        _live.add(path)
+
+
+def _forget(path: Path) -> None:
+    with _live_lock:
+        _live.discard(path)
+
+
+def written_outputs() -> tuple[str, ...]:
+    """Every file an `OutputTransaction` of this process has moved into place, in order."""
+    with _live_lock:
+        return tuple(_written)
+
+
+def live_temporaries() -> tuple[Path, ...]:
+    """The temporary files and folders impedax's writers hold right now."""
+    with _live_lock:
+        return tuple(_live)
+
+
+def remove_temporaries() -> int:
+    """Remove every temporary file and folder impedax's writers hold (on an interrupt); returns
+    how many were removed. Targets are never touched: they are replaced only by a rename."""
+    removed = 0
+    for path in live_temporaries():
+        try:
+            if path.is_dir() and not path.is_symlink():
+                shutil.rmtree(path, ignore_errors=True)
+            else:
+                path.unlink()
+            removed += 1
+        except FileNotFoundError:
+            pass
+        except OSError:
+            continue
+        _forget(path)
+    return removed
 
 
 def check_writable(path: str | os.PathLike) -> Path:
@@ -19,28 +82,161 @@ def check_writable(path: str | os.PathLike) -> Path:
     if path.is_dir():
         raise DataError("is a directory, not a file", path=path)
     if not parent.is_dir():
+        blocker = next((p for p in (parent, *parent.parents) if p.exists() or p.is_symlink()), None)
+        if blocker is not None and not blocker.is_dir():
+            raise DataError(f"{blocker.name} is a file, so the directory does not exist", path=path)
         raise DataError(f"directory {parent} does not exist", path=path)
-    if not os.access(parent, os.W_OK):
+    if not os.access(parent, os.W_OK | os.X_OK):
         raise DataError(f"directory {parent} is not writable", path=path)
+    if path.exists() and not path.is_file():
+        raise DataError("exists and is not a regular file (a device, pipe or socket); choose a file name", path=path)
     return path
+
+
+def _temporary_beside(path: Path, tag: str) -> Path:
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.{tag}", suffix=path.suffix or ".tmp", dir=path.parent)
+    os.close(fd)
+    tmp = Path(tmp)
+    _remember(tmp)
+    umask = os.umask(0)
+    os.umask(umask)
+    os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; outputs get the usual permissions
+    return tmp
+
+
+def _discard(tmp: Path) -> None:
+    with contextlib.suppress(FileNotFoundError):
+        os.unlink(tmp)
+    _forget(tmp)
 
 
 @contextlib.contextmanager
 def atomic_path(path: str | os.PathLike):
     """Yield a temporary path in the target's directory; on success rename it onto ``path``.
 
-    On any error the temporary file is removed and ``path`` is left as it was.
+    On any error (an interrupt included) the temporary file is removed and ``path`` is left as
+    it was.
     """
     path = check_writable(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=path.suffix or ".tmp", dir=path.parent)
-    os.close(fd)
-    umask = os.umask(0)
-    os.umask(umask)
-    os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; outputs get the usual permissions
+    tmp = _temporary_beside(path, "")
     try:
-        yield Path(tmp)
+        yield tmp
         os.replace(tmp, path)
+        _forget(tmp)
     except BaseException:
-        with contextlib.suppress(FileNotFoundError):
-            os.unlink(tmp)
+        _discard(tmp)
         raise
+
+
+def temporary_folder(parent: str | os.PathLike, prefix: str = ".staging-") -> Path:
+    """A new temporary folder inside ``parent``, recorded for `remove_temporaries` until
+    `remove_temporary` removes it."""
+    folder = Path(tempfile.mkdtemp(prefix=prefix, dir=parent))
+    _remember(folder)
+    return folder
+
+
+def remove_temporary(folder: str | os.PathLike) -> None:
+    """Remove a folder made by `temporary_folder` (whatever it still holds)."""
+    folder = Path(folder)
+    shutil.rmtree(folder, ignore_errors=True)
+    _forget(folder)
+
+
+@contextlib.contextmanager
+def staging_directory(parent: str | os.PathLike, prefix: str = ".staging-"):
+    """A `temporary_folder` inside ``parent``, removed at the end."""
+    folder = temporary_folder(parent, prefix)
+    try:
+        yield folder
+    finally:
+        remove_temporary(folder)
+
+
+@contextlib.contextmanager
+def _signals_held():
+    """Hold SIGINT and SIGTERM back (delivered afterwards) while the renames of a commit run."""
+    held = {signal.SIGINT, signal.SIGTERM}
+    can_hold = hasattr(signal, "pthread_sigmask") and threading.current_thread() is threading.main_thread()
+    previous = signal.pthread_sigmask(signal.SIG_BLOCK, held) if can_hold else None
+    try:
+        yield
+    finally:
+        if previous is not None:
+            signal.pthread_sigmask(signal.SIG_SETMASK, previous)
+
+
+class OutputTransaction:
+    """Several output files written as one: each is written to a temporary file beside its
+    target (`write`), and `commit` moves them all into place together; `abort` (or an error,
+    or an interrupt) removes the temporaries and leaves every target as it was.
+
+    ``to_stdout`` is called with the bytes of an output whose path is ``-`` at commit time.
+    """
+
+    def __init__(self, *, to_stdout: Callable[[bytes], None] | None = None):
+        self._staged: list[tuple[Path, str]] = []
+        self._to_stdout = to_stdout
+        self.committed: tuple[str, ...] = ()
+
+    def write(self, path: str | os.PathLike, writer: Callable[[Path], None], *, suffix: str = "") -> None:
+        """Stage an output: ``writer(tmp)`` writes the file to ``tmp`` (same extension as
+        ``path``, or ``suffix`` for ``-``). An `OSError` becomes a `DataError` naming ``path``."""
+        target = str(path)
+        if target == "-":
+            fd, name = tempfile.mkstemp(prefix=".impedax-stdout.", suffix=suffix or ".txt")
+            os.close(fd)
+            tmp = Path(name)
+            _remember(tmp)
+        else:
+            tmp = _temporary_beside(check_writable(target), "staged.")
+        self._staged.append((tmp, target))
+        try:
+            writer(tmp)
+        except OSError as exc:
+            self.abort()
+            raise DataError(f"cannot write: {exc.strerror or exc}", path=target) from None
+        except BaseException:
+            self.abort()
+            raise
+
+    def commit(self) -> None:
+        """Move every staged file into place (signals are held back during the renames)."""
+        done = []
+        try:
+            with _signals_held():
+                for tmp, target in self._staged:
+                    if target == "-":
+                        continue
+                    os.replace(tmp, target)
+                    _forget(tmp)
+                    done.append(target)
+                    with _live_lock:
+                        _written.append(target)
+        except OSError as exc:
+            self.abort()
+            raise DataError(f"cannot write: {exc.strerror or exc}" + (f" ({', '.join(done)} already written)" if done else ""), path=target) from None
+        for tmp, target in self._staged:
+            if target == "-":
+                data = tmp.read_bytes()
+                _discard(tmp)
+                if self._to_stdout is not None:
+                    self._to_stdout(data)
+                done.append(target)
+        self._staged = []
+        self.committed = tuple(done)
+
+    def abort(self) -> None:
+        """Remove every staged temporary; no target is touched."""
+        for tmp, _ in self._staged:
+            _discard(tmp)
+        self._staged = []
+
+    def __enter__(self) -> "OutputTransaction":
+        return self
+
+    def __exit__(self, kind, exc, tb) -> None:
+        if kind is None:
+            self.commit()
+        else:
+            self.abort()

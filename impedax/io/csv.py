@@ -10,13 +10,15 @@ comma. Lines starting with ``#``, ``%`` or ``!`` are comments.
 
 from __future__ import annotations
 
+import io
 import re
 from pathlib import Path
 
+import numpy as np
 import xarray as xr
 
 from ..errors import DataError
-from ._common import decimal_comma, decode_text, read_bytes
+from ._common import decimal_comma, decode_text, finish, read_bytes
 from .atomic import atomic_path
 from .table import Layout, NoLayout, detect_layout, spectrum_from_rows
 
@@ -39,10 +41,35 @@ def split_line(line: str, delimiter: str | None) -> list[str]:
     return [c.strip() for c in (line.split(delimiter) if delimiter else line.split())]
 
 
+def _read_canonical(path: Path, raw: bytes) -> xr.Dataset | None:
+    """impedax's own layout (the canonical header, then rows of three finite numbers with
+    positive, distinct frequencies) parsed straight into arrays, without a Python object per
+    row: a million points take ~0.1 GB instead of ~1 GB. None for anything else, which the
+    general reader then reads, or refuses with its line-numbered message."""
+    header = ",".join(CSV_HEADER).encode()
+    if not (raw.startswith(header + b"\n") or raw.startswith(header + b"\r\n")):
+        return None
+    try:
+        table = np.loadtxt(io.BytesIO(raw), delimiter=",", skiprows=1, dtype=np.float64, comments=None, ndmin=2, encoding="ascii")
+    except (ValueError, UnicodeDecodeError):
+        return None
+    if table.shape[0] == 0 or table.shape[1] != 3 or not np.isfinite(table).all():
+        return None
+    freq = table[:, 0]
+    if not (freq > 0).all() or np.unique(freq).size != freq.size:
+        return None
+    layout = detect_layout(list(CSV_HEADER), path, 1)
+    lines = range(2, 2 + freq.size) if b"\n\n" not in raw and b"\n\r\n" not in raw else [None] * freq.size
+    return finish(path, freq, table[:, 1] + 1j * table[:, 2], lines, {"format": "delimited text", **layout.notes()})
+
+
 def read_csv(path: str | Path) -> xr.Dataset:
     """Read one spectrum from delimited text. Errors name the file and line."""
     path = Path(path)
     raw = read_bytes(path)
+    canonical = _read_canonical(path, raw)
+    if canonical is not None:
+        return canonical
     try:
         text = decode_text(raw, path)
     except DataError:

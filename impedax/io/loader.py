@@ -17,15 +17,24 @@ import xarray as xr
 
 from ..data import validate_spectrum
 from ..errors import DataError
-from ._common import MAX_FILE_BYTES, check_file
+from ._common import MAX_FILE_BYTES, check_file, head_text
 from .csv import read_csv, write_csv
 from .netcdf import write_netcdf
 from .registry import Reader
 from .table import NoLayout
 
-__all__ = ["load", "save", "identify", "MAX_FILE_BYTES"]
+__all__ = ["load", "save", "identify", "MAX_FILE_BYTES", "SPECTRUM_SUFFIXES", "STDIN"]
 
 SNIFF_BYTES = 65536
+
+#: What `save` writes, by extension: netCDF (lossless) or canonical CSV ("" is CSV).
+NETCDF_SUFFIXES = (".nc", ".nc4", ".cdf")
+CSV_SUFFIXES = (".csv", ".txt", ".tsv", "")
+SPECTRUM_SUFFIXES = NETCDF_SUFFIXES + CSV_SUFFIXES
+
+#: The path that means standard input (``impedax fit - --model ...``); named so in messages.
+STDIN = "-"
+STDIN_NAME = "<stdin>"
 
 
 def _head(path: Path) -> bytes:
@@ -67,12 +76,20 @@ def load(path: str | os.PathLike, readers: Sequence[Reader] | None = None) -> xr
     """
     if isinstance(path, xr.Dataset):
         return validate_spectrum(path)
+    if str(path) == STDIN:
+        return _load_stdin(readers)
     path = Path(path)
     reader, tried = identify(path, readers)
     if reader is not None:
         ds = reader.read(path)
         ds.attrs.setdefault("format", reader.name)
         return validate_spectrum(ds, source=str(path))
+    head = _head(path)
+    if not head_text(head).strip():  # binary or blank: decided from the first 64 kB, before reading the whole file
+        if head.strip(b" \t\r\n"):
+            tried.append("delimited text: binary file, not delimited text")
+            raise DataError(f"not a recognised spectrum file; formats tried: {'; '.join(tried)}", path=path)
+        raise DataError("file is empty", path=path)
     try:
         ds = read_csv(path)
     except NoLayout as exc:
@@ -81,13 +98,58 @@ def load(path: str | os.PathLike, readers: Sequence[Reader] | None = None) -> xr
     return validate_spectrum(ds, source=str(path))
 
 
+def _load_stdin(readers: Sequence[Reader] | None) -> xr.Dataset:
+    """A spectrum from standard input: read (at most `max_file_bytes`), kept in a temporary
+    file while a reader recognises it by content, and named ``<stdin>`` in messages."""
+    import sys
+    import tempfile
+
+    from ._common import max_file_bytes
+    from .atomic import staging_directory
+
+    limit = max_file_bytes()
+    stream = getattr(sys.stdin, "buffer", None)
+    if stream is None:
+        raise DataError("no standard input to read from", path=STDIN_NAME)
+    try:
+        raw = stream.read(limit + 1)
+    except OSError as exc:
+        raise DataError(f"cannot read standard input: {exc.strerror}", path=STDIN_NAME) from None
+    if len(raw) > limit:
+        raise DataError(f"more than {limit // 2**20} MB on standard input (the limit; see docs/robustness.md to raise it)", path=STDIN_NAME)
+    with staging_directory(tempfile.gettempdir(), prefix=".impedax-stdin-") as folder:
+        path = folder / "stdin"
+        path.write_bytes(raw)
+        try:
+            ds = load(path, readers)
+        except DataError as exc:
+            text = str(exc)
+            for prefix in (f"{path}, line {exc.line}: ", f"{path}: "):
+                if text.startswith(prefix):
+                    text = text[len(prefix):]
+                    break
+            raise DataError(text.replace(str(path), STDIN_NAME), path=STDIN_NAME, line=exc.line) from None
+    ds.attrs["path"] = STDIN_NAME
+    return ds
+
+
+def spectrum_format(path: str | os.PathLike) -> str:
+    """``"netcdf"`` or ``"csv"``: what `save` writes to ``path`` (by extension); `DataError`
+    naming the known extensions otherwise (checked before any work is done)."""
+    suffix = Path(path).suffix.lower()
+    if suffix in NETCDF_SUFFIXES:
+        return "netcdf"
+    if suffix in CSV_SUFFIXES:
+        return "csv"
+    raise DataError(f"unknown output format {suffix!r}; use .nc or .csv", path=path)
+
+
 def save(ds: xr.Dataset, path: str | os.PathLike) -> None:
     """Save a spectrum: ``.nc`` → lossless netCDF, ``.csv``/``.txt`` → canonical CSV. Atomic."""
     path = Path(path)
+    kind = spectrum_format(path)
     validate_spectrum(ds)
-    if path.suffix.lower() in (".nc", ".nc4", ".cdf"):
+    if kind == "netcdf":
         write_netcdf(ds, path)
-    elif path.suffix.lower() in (".csv", ".txt", ".tsv", ""):
-        write_csv(ds, path)
     else:
-        raise DataError(f"unknown output format {path.suffix!r}; use .nc or .csv", path=path)
+        write_csv(ds, path)

@@ -19,6 +19,8 @@ from ..errors import DataError
 __all__ = ["read_netcdf", "write_netcdf", "encode_dataset", "decode_dataset"]
 
 _JSON = "json:"
+# magic (4 bytes), record count (4), then the dimension, attribute and variable lists (8 each)
+_NETCDF3_HEADER_BYTES = 32
 
 
 def _encode_attrs(attrs) -> dict:
@@ -34,7 +36,17 @@ def _encode_attrs(attrs) -> dict:
 
 
 def _decode_attrs(attrs) -> dict:
-    return {k: json.loads(v[len(_JSON):]) if isinstance(v, str) and v.startswith(_JSON) else v for k, v in attrs.items()}
+    out = {}
+    for k, v in attrs.items():
+        if isinstance(v, str) and v.startswith(_JSON):
+            try:
+                v = json.loads(v[len(_JSON):])
+            except RecursionError:
+                raise DataError(f"attribute {k!r}: its JSON text is nested too deeply to be impedax's") from None
+            except ValueError as exc:
+                raise DataError(f"attribute {k!r}: its 'json:' text is not valid JSON ({exc.msg} at character {exc.pos})") from None
+        out[k] = v
+    return out
 
 
 def _encode_array(da: xr.DataArray) -> dict[str, xr.DataArray]:
@@ -110,14 +122,22 @@ def read_netcdf(path: str | Path) -> xr.Dataset:
     from ._common import check_file
 
     path = Path(path)
-    check_file(path)
+    size = check_file(path)
+    if size < _NETCDF3_HEADER_BYTES:
+        with open(path, "rb") as fh:
+            signed = fh.read(3) == b"CDF"
+        what = "truncated netCDF file" if signed else "not a readable netCDF file"
+        raise DataError(f"{what}: {size} bytes, less than a netCDF header", path=path)
     try:
         with xr.open_dataset(path, engine="scipy") as raw:
             ds = decode_dataset(raw.load())
     except DataError as exc:
         raise DataError(str(exc), path=path) from None
-    except (OSError, ValueError, TypeError, IndexError, KeyError, AttributeError, OverflowError, MemoryError) as exc:
+    except (OSError, ValueError, TypeError, IndexError, KeyError, AttributeError, OverflowError, MemoryError, RecursionError) as exc:
         # the engine's own text spans several lines and suggests libraries impedax does not use
-        detail = (str(exc).strip().splitlines() or [type(exc).__name__])[0].replace(str(path), "the file")
-        raise DataError(f"not a readable netCDF file ({detail}); impedax reads the netCDF3 files that impedax save writes", path=path) from None
+        detail = (str(exc).strip().splitlines() or [type(exc).__name__])[0].replace(str(path), "the file")[:120]
+        raise DataError(f"not a readable netCDF file, damaged or truncated ({detail}); impedax reads the netCDF3 files that impedax save writes", path=path) from None
+    empty = [f"{name!r}" for name, n in ds.sizes.items() if n == 0]
+    if empty:
+        raise DataError(f"dimension {', '.join(empty)} has length 0: the file holds no spectrum", path=path)
     return ds

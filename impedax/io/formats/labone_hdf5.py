@@ -16,7 +16,7 @@ import numpy as np
 import xarray as xr
 
 from ...errors import DataError
-from .._common import MAX_FILE_BYTES, finish, optional_module, stack
+from .._common import finish, max_file_bytes, optional_module, stack
 from ..registry import Reader
 
 __all__ = ["read_labone_hdf5", "READER", "HDF5_MAGIC"]
@@ -38,7 +38,7 @@ def read_labone_hdf5(path: str | Path) -> xr.Dataset:
     found: list[tuple[str, np.ndarray, np.ndarray]] = []
 
     def load(dataset) -> np.ndarray:
-        if dataset.size * 16 > MAX_FILE_BYTES:
+        if dataset.size * 16 > max_file_bytes():
             raise DataError(f"dataset {dataset.name} holds {dataset.size} values; too large for a spectrum", path=path)
         return np.asarray(dataset[()], dtype=float).ravel()
 

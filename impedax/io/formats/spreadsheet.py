@@ -19,7 +19,7 @@ from pathlib import Path
 import xarray as xr
 
 from ...errors import DataError
-from .._common import MAX_FILE_BYTES, check_file, stack
+from .._common import check_file, max_file_bytes, stack
 from ..registry import Reader
 from ..table import NoLayout, detect_layout, spectrum_from_rows
 
@@ -43,7 +43,7 @@ def _kind(path: Path) -> str:
             total = sum(i.file_size for i in zf.infolist())
     except (zipfile.BadZipFile, OSError, ValueError) as exc:
         raise DataError(f"not a readable spreadsheet ({exc})", path=path) from None
-    if total > 8 * MAX_FILE_BYTES:
+    if total > 8 * max_file_bytes():
         raise DataError(f"spreadsheet expands to {total / 2**20:.0f} MB; too large for a spectrum", path=path)
     if "xl/workbook.xml" in names:
         return "openpyxl"
