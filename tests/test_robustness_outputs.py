@@ -103,7 +103,7 @@ FAILED_WRITES = [
     pytest.param(["drt", "{good}", "--out", "{out}", "--plot", "{plot}"], ".csv", id="drt"),
     pytest.param(["sample", "{good}", "--model", "R0 + R1 || C1", "--steps", "30", "--quiet", "--out", "{out}", "--plot", "{plot}"], ".nc", id="sample"),
     pytest.param(["diagnose", "{good}", "--model", "R0 + R1 || C1", "--out", "{out}", "--plot", "{plot}"], ".json", id="diagnose", marks=pytest.mark.slow),
-    pytest.param(["refine", "{good}", "--model", "R0 + R1 || C1", "--max-steps", "1", "--out", "{out}", "--plot", "{plot}"], ".json", id="refine", marks=pytest.mark.slow),
+    pytest.param(["refine", "{good}", "--model", "R0 + R1 || C1", "--max-effects", "1", "--out", "{out}", "--plot", "{plot}"], ".json", id="refine", marks=pytest.mark.slow),
 ]
 
 DEMO_FOLDERS = [  # (id, --out template, message fragment)
