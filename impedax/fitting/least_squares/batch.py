@@ -23,7 +23,7 @@ from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, domi
 from .order import canonical_order
 from .result import bound_sides, confirm_bounds, fit_notes, fit_result, stack_notes, weighting_notes
 from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, better, tree_solver, unscale
-from .starts import ESCALATION_RUNGS, KK_MISFIT_FACTOR, SpectrumFeatures, attainable_misfit, batch_outliers, guess_start, multistart, rms_rel_of, rung_seed, to_solver_space
+from .starts import ESCALATION_RUNGS, SpectrumFeatures, climb_target, batch_outliers, guess_start, multistart, rms_rel_of, rung_seed, to_solver_space
 
 __all__ = ["BatchFitResult", "fit_batch"]
 
@@ -159,12 +159,12 @@ def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n
     # fitted alone, climbed the whole ladder against its Kramers–Kronig misfit, and every
     # spectrum was offered that optimum and its neighbours'. A small one, as `fit`: the
     # multistart when the residuals are not white, the next rungs (`starts.ESCALATION_RUNGS`)
-    # while above `KK_MISFIT_FACTOR` × the KK misfit
+    # while above `starts.climb_target`
     poor = _poor_in_batch(out, z) if large else np.flatnonzero(~at_noise_floor(freq, z, out.z_model, inv_re, inv_im, out.code))
     target = None
     for rung, multiple in enumerate(ESCALATION_RUNGS[:1] if large else ESCALATION_RUNGS):
         if rung and poor.size:
-            target = KK_MISFIT_FACTOR * attainable_misfit(freq, z[poor]) if target is None else target
+            target = climb_target(freq, z[poor]) if target is None else target
             still = rms_rel_of(out.z_model[poor], z[poor]) > target
             poor, target = poor[still], target[still]
         if not poor.size:

@@ -21,7 +21,7 @@ from .batch import BatchFitResult, fit_batch
 from .order import canonical_order
 from .result import FitResult, fit_result, weighting_notes
 from .solvers import HANDOVER_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, better, solver_args, tree_solver, unscale
-from .starts import ESCALATION_RUNGS, KK_MISFIT_FACTOR, SpectrumFeatures, attainable_misfit, guess_start, multistart, rms_rel_of, rung_seed
+from .starts import ESCALATION_RUNGS, SpectrumFeatures, climb_target, guess_start, multistart, rms_rel_of, rung_seed
 
 __all__ = ["fit", "FitResult", "BatchFitResult", "WEIGHTINGS", "information_criteria"]
 
@@ -80,7 +80,8 @@ def fit(
     out = unscale(single(guess_start(circuit, table, features, registry), args).fetch(), scale)
     used = 1
     if n_starts > 1 and not at_noise_floor(freq, z, out.z_model, inv_re, inv_im, out.code)[()]:
-        out, used = escalated(out, lambda starts: unscale(single(starts, args).fetch(), scale), circuit, table, features, freq, z, n_starts, seed, registry)
+        solve = lambda starts: unscale(single(starts, args).fetch(), scale)  # noqa: E731
+        out, used = escalated(out, solve, lambda o: resumed(o, solvers[5], args, scale, max_steps), circuit, table, features, freq, z, n_starts, seed, registry)
     out = resumed(out, solvers[5], args, scale, max_steps)
     out = canonical_order(circuit, table, freq, out, registry)
     chi2_at_x = one_spectrum_chi2(solvers[4], args)
@@ -88,17 +89,20 @@ def fit(
     return fit_result(circuit, table, freq, z, out, weighting, used, time.perf_counter() - t0, registry, chi2_at_x=chi2_at_x, extra_notes=notes)
 
 
-def escalated(out, solve, circuit, table, features, freq, z, n_starts: int, seed: int, registry):
+def escalated(out, solve, finish, circuit, table, features, freq, z, n_starts: int, seed: int, registry):
     """The fit ``out`` improved by the start ladder (`starts.ESCALATION_RUNGS`): ``n_starts``
-    starts, then, while its rms_rel exceeds `KK_MISFIT_FACTOR` × the misfit of a
-    Kramers–Kronig-consistent model, 4× and 16× as many (new draws each rung). ``solve(starts
+    starts, then, while its rms_rel exceeds `starts.climb_target` (`KK_MISFIT_FACTOR` × the
+    misfit of a Kramers–Kronig-consistent model), 4× and 16× as many (new draws each rung). ``solve(starts
     (n_starts, K))`` is the compiled multistart: a rung runs as several calls of that one
-    shape, so climbing compiles nothing new. Returns (the best output, the number of starts used)."""
+    shape, so climbing compiles nothing new. ``finish(out)`` completes a solve stopped at
+    `HANDOVER_STEPS` (`resumed`) before the fit is judged. Returns (the best output, the
+    number of starts used)."""
     calls, target = 0, None
     for rung, multiple in enumerate(ESCALATION_RUNGS):
         if rung:
+            out = finish(out)
             if target is None:
-                target = KK_MISFIT_FACTOR * attainable_misfit(freq, z)[0]
+                target = climb_target(freq, z)[0]
             if rms_rel_of(out.z_model, z) <= target:
                 break
         for call in range(multiple):

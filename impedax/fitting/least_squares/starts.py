@@ -29,7 +29,7 @@ from ..parameters import ParameterTable, to_internal
 
 __all__ = [
     "SpectrumFeatures", "data_driven_guess", "data_driven_guesses", "random_starts", "guess_start", "multistart", "to_solver_space",
-    "ESCALATION_RUNGS", "KK_MISFIT_FACTOR", "BATCH_OUTLIER_FACTOR", "attainable_misfit", "rms_rel_of", "rung_seed", "batch_outliers",
+    "ESCALATION_RUNGS", "KK_MISFIT_FACTOR", "ESCALATION_FLOOR", "climb_target", "BATCH_OUTLIER_FACTOR", "attainable_misfit", "rms_rel_of", "rung_seed", "batch_outliers",
 ]
 
 # features with one value per spectrum (scalars for one spectrum, arrays (B,) for a stack)
@@ -339,7 +339,10 @@ ESCALATION_RUNGS = (1, 4, 16)
 # the linear Kramers–Kronig test's Voigt chain (`attainable_misfit`): a circuit at its global
 # optimum may well miss the data by more (too few elements), but a fit far above it has
 # room to improve, so the climb continues (docs/fitting.md, "Starts")
-KK_MISFIT_FACTOR = 2.0
+KK_MISFIT_FACTOR = 1.5
+# ... and never below this rms_rel (0.01 %): a fit that close to the data (noise-free or
+# typed-in spectra) has nothing left for more starts to find
+ESCALATION_FLOOR = 1e-4
 # in a batch of at least `batch.REFERENCE_MIN_SPECTRA` spectra, a fit is poor relative to the
 # others when its rms_rel exceeds this multiple of their median (or it did not converge)
 BATCH_OUTLIER_FACTOR = 1.5
@@ -354,12 +357,18 @@ def attainable_misfit(freq, z) -> np.ndarray:
     """rms_rel (B,) of the linear Kramers–Kronig test's fit (a Voigt chain with a series R, L
     and C; `kk.kk_test`) of each spectrum of the stack z (B, N): what a flexible
     KK-consistent model leaves, the yardstick of `KK_MISFIT_FACTOR`. 0 where the test cannot
-    run (too few points): every rung is then climbed."""
+    run (too few points): every rung is then climbed (down to `ESCALATION_FLOOR`)."""
     z = np.atleast_2d(z)
     try:
         return np.asarray(kk_test_batch((np.asarray(freq, float), z)).rms_rel, float).reshape(len(z))
     except ImpedaxError:
         return np.zeros(len(z))
+
+
+def climb_target(freq, z) -> np.ndarray:
+    """The rms_rel (B,) above which a fit of spectra z (B, N) climbs the next rung:
+    `KK_MISFIT_FACTOR` × `attainable_misfit`, at least `ESCALATION_FLOOR`."""
+    return np.maximum(KK_MISFIT_FACTOR * attainable_misfit(freq, z), ESCALATION_FLOOR)
 
 
 def rms_rel_of(z_model, z) -> np.ndarray:
