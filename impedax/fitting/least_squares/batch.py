@@ -23,7 +23,7 @@ from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, domi
 from .order import canonical_order
 from .result import bound_sides, confirm_bounds, fit_notes, fit_result, stack_notes, weighting_notes
 from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, better, tree_solver, unscale
-from .starts import SpectrumFeatures, guess_start, multistart, to_solver_space
+from .starts import ESCALATION_RUNGS, SpectrumFeatures, climb_target, batch_outliers, guess_start, multistart, rms_rel_of, rung_seed, to_solver_space
 
 __all__ = ["BatchFitResult", "fit_batch"]
 
@@ -127,9 +127,11 @@ def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n
     """Solver outputs (arrays over B) for a stack of spectra z (B, N), the starts used, and
     the lane runner (for chi² at other points).
 
-    As `fit`: every spectrum from its data-driven guess first, then the multistart for those
-    whose fit is not at the noise level (their starts screened for `SCREEN_STEPS` steps, the
-    best continued to convergence). All solves go through the lane solver (`lm.work_queue`)."""
+    Every spectrum from the better of its data-driven guess and (batches of at least
+    `REFERENCE_MIN_SPECTRA`) the reference spectrum's optimum, then its neighbours' optima
+    where they are better, then more starts for the fits that are still poor (below; each rung's
+    starts screened for `SCREEN_STEPS` steps, the best continued to convergence). All solves
+    go through the lane solver (`lm.work_queue`)."""
     b = z.shape[0]
     inv_re, inv_im = weights(z, sigma, weighting, source)
     features = SpectrumFeatures(freq, z)
@@ -142,27 +144,97 @@ def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n
     solver = _LaneRunner(lanes, finish, chi2_at, chi2_x, rows, shared)
 
     guesses = guess_start(circuit, table, features, registry)
-    if b >= REFERENCE_MIN_SPECTRA:
+    large = b >= REFERENCE_MIN_SPECTRA
+    if large:
         guesses = _with_reference_start(guesses, solver, circuit, table, freq, z, sigma, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
     u, chi2, done, steps = solver.solve(guesses, np.arange(b), np.full(b, max_steps))
     out = unscale(solver.outputs(u, np.arange(b), done, steps, steps), scale)
-    poor = np.flatnonzero(~at_noise_floor(freq, z, out.z_model, inv_re, inv_im, out.code)) if n_starts > 1 else np.zeros(0, int)
     used = np.ones(b, int)
-    if poor.size:  # (the multistart's starts are built only for these)
-        starts = multistart(circuit, table, features[poor], n_starts, seed, registry).reshape(poor.size * n_starts, -1)
-        owner = np.repeat(poor, n_starts)
-        u_s, chi2_s, _, steps_s = solver.solve(starts, owner, np.full(owner.size, SCREEN_STEPS))
-        chi2_s = np.where(np.isfinite(chi2_s), chi2_s, np.inf).reshape(poor.size, n_starts)
-        best = np.argmin(chi2_s, axis=1)
-        u_best = u_s.reshape(poor.size, n_starts, -1)[np.arange(poor.size), best]
-        u_m, _, done_m, steps_m = solver.solve(u_best, poor, np.full(poor.size, max_steps))
-        screened = steps_s.reshape(poor.size, n_starts).sum(axis=1)
-        multi = unscale(solver.outputs(u_m, poor, done_m, steps_m, screened + steps_m), scale[poor])
-        for mine, theirs in zip(out, better(out.row(poor), multi)):
-            if theirs is not None:
-                mine[poor] = theirs  # (`outputs` gives arrays of our own)
-        used[poor] = n_starts
+    if n_starts < 2:
+        return out, used, solver
+    if large:
+        out, u = _from_neighbours(out, u, solver, scale, max_steps)
+    # more starts for the fits that are poor relative to what the data allow. A large batch:
+    # relative to the other spectra, one rung (`n_starts` starts) — its reference spectrum,
+    # fitted alone, climbed the whole ladder against its Kramers–Kronig misfit, and every
+    # spectrum was offered that optimum and its neighbours'. A small one, as `fit`: the
+    # multistart when the residuals are not white, the next rungs (`starts.ESCALATION_RUNGS`)
+    # while above `starts.climb_target`
+    poor = _poor_in_batch(out, z) if large else np.flatnonzero(~at_noise_floor(freq, z, out.z_model, inv_re, inv_im, out.code))
+    target = None
+    for rung, multiple in enumerate(ESCALATION_RUNGS[:1] if large else ESCALATION_RUNGS):
+        if rung and poor.size:
+            target = climb_target(freq, z[poor]) if target is None else target
+            still = rms_rel_of(out.z_model[poor], z[poor]) > target
+            poor, target = poor[still], target[still]
+        if not poor.size:
+            break
+        out = _multistart_rung(out, solver, circuit, table, features, poor, n_starts, multiple, rung, seed, scale, max_steps, registry)
+        used[poor] = np.where(used[poor] > 1, used[poor], 0) + multiple * n_starts
     return out, used, solver
+
+
+def _poor_in_batch(out: SolverOutput, z) -> np.ndarray:
+    return batch_outliers(rms_rel_of(out.z_model, z), np.asarray(out.code) == SolverStatus.CONVERGED)
+
+
+def _multistart_rung(out, solver, circuit, table, features, poor, n_starts, multiple, rung, seed, scale, max_steps, registry) -> SolverOutput:
+    """``out`` with spectra ``poor`` improved by one rung of the start ladder: ``multiple``
+    draws of ``n_starts`` starts each (as `fit` draws them), screened for `SCREEN_STEPS`
+    steps, the best of each spectrum continued to convergence and kept where it is better."""
+    draws = [multistart(circuit, table, features[poor], n_starts, rung_seed(seed, rung, call), registry) for call in range(multiple)]
+    per = multiple * n_starts
+    starts = np.concatenate(draws, axis=1).reshape(poor.size * per, -1)
+    owner = np.repeat(poor, per)
+    u_s, chi2_s, _, steps_s = solver.solve(starts, owner, np.full(owner.size, SCREEN_STEPS))
+    chi2_s = np.where(np.isfinite(chi2_s), chi2_s, np.inf).reshape(poor.size, per)
+    best = np.argmin(chi2_s, axis=1)
+    u_best = u_s.reshape(poor.size, per, -1)[np.arange(poor.size), best]
+    u_m, _, done_m, steps_m = solver.solve(u_best, poor, np.full(poor.size, max_steps))
+    screened = steps_s.reshape(poor.size, per).sum(axis=1)
+    multi = unscale(solver.outputs(u_m, poor, done_m, steps_m, screened + steps_m), scale[poor])
+    return _merged(out, poor, multi)
+
+
+def _merged(out: SolverOutput, rows, candidate: SolverOutput) -> SolverOutput:
+    """``out`` with rows ``rows`` replaced by ``candidate`` where its chi² is lower."""
+    for mine, theirs in zip(out, better(out.row(rows), candidate)):
+        if theirs is not None:
+            mine[rows] = theirs  # (`outputs` gives arrays of our own)
+    return out
+
+
+# a neighbour's optimum replaces a spectrum's own when its chi² there is lower by this fraction
+NEIGHBOUR_GAIN = 1e-3
+NEIGHBOUR_PASSES = 3
+
+
+def _from_neighbours(out, u, solver, scale, max_steps):
+    """Neighbouring spectra of a batch (consecutive cycles, trials) have neighbouring optima:
+    where the optimum of spectrum i ± 1 gives spectrum i a lower chi² than its own solution,
+    spectrum i landed in a local minimum; it is solved again from there (kept if better).
+    Up to `NEIGHBOUR_PASSES` passes, so an optimum travels along a run of trapped spectra.
+    Returns the outputs and the solver points."""
+    b = len(u)
+    spectra = np.arange(b)
+    u = np.array(u)
+    for _ in range(NEIGHBOUR_PASSES):
+        own = np.asarray(out.chi2) * np.asarray(scale) ** 2  # (the solver's scaled chi²)
+        left, right = np.r_[0, spectra[:-1]], np.r_[spectra[1:], b - 1]
+        chi2_left, chi2_right = solver.chi2_at([u[left], u[right]], spectra)
+        from_right = chi2_right < chi2_left
+        start = np.where(from_right[:, None], u[right], u[left])
+        trial = np.where(from_right, chi2_right, chi2_left)
+        redo = np.flatnonzero(trial < (1 - NEIGHBOUR_GAIN) * own)
+        if not redo.size:
+            break
+        u_r, _, done_r, steps_r = solver.solve(start[redo], redo, np.full(redo.size, max_steps))
+        steps_before = np.asarray(out.steps_total)[redo]
+        candidate = unscale(solver.outputs(u_r, redo, done_r, steps_r, steps_before + steps_r), scale[redo])
+        take = redo[np.asarray(candidate.chi2) < np.asarray(out.chi2)[redo]]
+        out = _merged(out, redo, candidate)
+        u[take] = u_r[np.isin(redo, take)]
+    return out, u
 
 
 # batches of at least this many spectra also try the solution of a reference spectrum as start

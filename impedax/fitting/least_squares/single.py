@@ -22,7 +22,7 @@ from .order import canonical_order
 from .result import FitResult, fit_result, weighting_notes
 from .shared import SharedFitResult, fit_shared
 from .solvers import HANDOVER_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, better, solver_args, tree_solver, unscale
-from .starts import SpectrumFeatures, guess_start, multistart
+from .starts import ESCALATION_RUNGS, SpectrumFeatures, climb_target, guess_start, multistart, rms_rel_of, rung_seed
 
 __all__ = ["fit", "FitResult", "BatchFitResult", "SharedFitResult", "WEIGHTINGS", "information_criteria"]
 
@@ -82,19 +82,41 @@ def fit(
     single = solvers[0]
     scale = residual_scale(z, inv_re, inv_im, weighting)
     args = solver_args(table, freq, z, inv_re * scale, inv_im * scale)
-    # the data-driven guess alone first; the multistart only when its fit is not at the noise
+    # the data-driven guess alone first; the multistart only when its fit is not at the noise,
+    # and more starts while the fit stays poor relative to what the data allow
     features = SpectrumFeatures(freq, z)
     out = unscale(single(guess_start(circuit, table, features, registry), args).fetch(), scale)
     used = 1
     if n_starts > 1 and not at_noise_floor(freq, z, out.z_model, inv_re, inv_im, out.code)[()]:
-        starts = multistart(circuit, table, features, n_starts, seed, registry)
-        out = better(out, unscale(single(starts, args).fetch(), scale))
-        used = n_starts
+        solve = lambda starts: unscale(single(starts, args).fetch(), scale)  # noqa: E731
+        out, used = escalated(out, solve, lambda o: resumed(o, solvers[5], args, scale, max_steps), circuit, table, features, freq, z, n_starts, seed, registry)
     out = resumed(out, solvers[5], args, scale, max_steps)
     out = canonical_order(circuit, table, freq, out, registry)
     chi2_at_x = one_spectrum_chi2(solvers[4], args)
     notes = weighting_notes(weighting, freq, *dominant_points(z, inv_re, inv_im))[0] if weighting in ("unit", "proportional") else ()
     return fit_result(circuit, table, freq, z, out, weighting, used, time.perf_counter() - t0, registry, chi2_at_x=chi2_at_x, extra_notes=notes)
+
+
+def escalated(out, solve, finish, circuit, table, features, freq, z, n_starts: int, seed: int, registry):
+    """The fit ``out`` improved by the start ladder (`starts.ESCALATION_RUNGS`): ``n_starts``
+    starts, then, while its rms_rel exceeds `starts.climb_target` (`KK_MISFIT_FACTOR` × the
+    misfit of a Kramers–Kronig-consistent model), 4× and 16× as many (new draws each rung). ``solve(starts
+    (n_starts, K))`` is the compiled multistart: a rung runs as several calls of that one
+    shape, so climbing compiles nothing new. ``finish(out)`` completes a solve stopped at
+    `HANDOVER_STEPS` (`resumed`) before the fit is judged. Returns (the best output, the
+    number of starts used)."""
+    calls, target = 0, None
+    for rung, multiple in enumerate(ESCALATION_RUNGS):
+        if rung:
+            out = finish(out)
+            if target is None:
+                target = climb_target(freq, z)[0]
+            if rms_rel_of(out.z_model, z) <= target:
+                break
+        for call in range(multiple):
+            out = better(out, solve(multistart(circuit, table, features, n_starts, rung_seed(seed, rung, call), registry)))
+            calls += 1
+    return out, calls * n_starts
 
 
 def resumed(out, resume, args, scale, max_steps: int):
