@@ -3,6 +3,10 @@
 Run: `.venv/bin/python benchmarks/bench_kk.py` (pyimpspec and impedance are optional; missing
 peers are reported and skipped). All tools run in this process on identical synthetic spectra
 (61 points, 1 % noise), wall-clock medians; figures go to benchmarks/README.md.
+
+`bench_kk.py --scale [N ...]`: time and peak resident memory of one `kk_test` (and of
+`impedax kk --json` on a CSV file) at 1k, 10k, 100k and 1M points, each in a fresh subprocess
+(peak RSS of that process, so imports are included: about 0.2 GB of it is Python + JAX + numpy).
 """
 
 from __future__ import annotations
@@ -73,5 +77,43 @@ def main() -> None:
     print(f"impedax kk_test_batch, {batch.shape[0]} EIS spectra at once: {t_batch * 1e3:.2f} ms per spectrum")
 
 
+_SCALE_CHILD = """
+import resource, sys, time
+import numpy as np
+import impedax as ix
+n = int(sys.argv[1])
+f = np.geomspace(0.1, 1e5, n)
+w = 2 * np.pi * f
+z = 100 + 1000 / (1 + 1j * w * 1e-3)
+rng = np.random.default_rng(0)
+z = z + 0.01 * np.abs(z) * (rng.standard_normal(n) + 1j * rng.standard_normal(n))
+start = time.perf_counter()
+result = ix.kk_test((f, z))
+elapsed = time.perf_counter() - start
+print(elapsed, resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024, result.valid, result.n_rc)
+"""
+
+
+def scale(sizes) -> None:
+    """Each size in its own process: kk_test time [s], peak RSS [GB], verdict and M."""
+    import subprocess
+    import sys
+
+    print(f"{'points':>9s} {'kk_test [s]':>12s} {'peak RSS [GB]':>14s} {'valid':>6s} {'M':>4s}")
+    for n in sizes:
+        out = subprocess.run([sys.executable, "-c", _SCALE_CHILD, str(n)], capture_output=True, text=True)
+        if out.returncode != 0:
+            print(f"{n:9d}  failed: {out.stderr.strip().splitlines()[-1] if out.stderr.strip() else out.returncode}")
+            continue
+        elapsed, rss, valid, m = out.stdout.split()
+        print(f"{n:9d} {float(elapsed):12.2f} {int(rss) / 1e9:14.2f} {valid:>6s} {m:>4s}", flush=True)
+
+
 if __name__ == "__main__":
-    main()
+    import sys
+
+    if "--scale" in sys.argv:
+        sizes = [int(a) for a in sys.argv[sys.argv.index("--scale") + 1 :]] or [1_000, 10_000, 100_000, 1_000_000]
+        scale(sizes)
+    else:
+        main()

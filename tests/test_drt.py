@@ -253,21 +253,38 @@ def test_credible_band_brackets_the_estimate_and_peaks_have_uncertainty():
     assert 0 < peak.r_ohm_sd < 0.1 * peak.r_ohm and 0 <= peak.log10_tau_sd < 0.2
 
 
+CALIBRATION_CASES = {
+    "ZARC α=0.8": (10 + zarc(1000, 1e-2, 0.8), lambda t: zarc_drt(t, 1000, 1e-2, 0.8)),
+    "ZARC α=0.6": (10 + zarc(1000, 1e-2, 0.6), lambda t: zarc_drt(t, 1000, 1e-2, 0.6)),
+    "two ZARCs": (10 + zarc(500, 1e-4, 0.85) + zarc(1000, 1e-1, 0.75), lambda t: zarc_drt(t, 500, 1e-4, 0.85) + zarc_drt(t, 1000, 1e-1, 0.75)),
+    "HN α=0.9 β=0.85": (10 + hn(1000, 1e-2, 0.9, 0.85), lambda t: hn_true_gamma(t, 1000, 1e-2, 0.9, 0.85)),
+}
+
+
+def band_coverage(result, truth_fn):
+    """Fraction of the output τ inside the measured range 1/ω_max..1/ω_min where the true γ lies
+    in [gamma_q05, gamma_q95]."""
+    lo, hi = result.window
+    inside = (result.tau >= lo) & (result.tau <= hi)
+    truth = truth_fn(result.tau[inside])
+    return float(np.mean((result.gamma_q05[inside] <= truth) & (truth <= result.gamma_q95[inside])))
+
+
 @pytest.mark.slow
-def test_credible_band_calibration_on_a_zarc():
-    """Coverage of the true γ by the 90 % band around the peak (|log τ/τ₀| < 1 decade), 40 seeds.
-    The band is conditional on the active set and ignores the regularisation bias, so coverage
-    is below nominal; this pins it to a documented range (docs/drt.md)."""
-    tau0, r, alpha = 1e-2, 1000.0, 0.8
-    z = 10 + zarc(r, tau0, alpha)
-    inside = []
-    for seed in range(40):
-        result = drt((F, noisy(z, 0.01, 100 + seed)))
-        near = np.abs(np.log10(result.tau / tau0)) < 1
-        truth = zarc_drt(result.tau[near], r, tau0, alpha)
-        inside.append(np.mean((result.gamma_q05[near] <= truth) & (truth <= result.gamma_q95[near])))
-    coverage = float(np.mean(inside))
-    assert 0.3 <= coverage <= 1.0, coverage
+def test_credible_band_is_calibrated():
+    """Pointwise coverage of the true γ by the 90 % band, averaged over τ in the measured range,
+    12 noise seeds per case at 0.3, 1 and 3 % noise (one batched call each). Target (issue 16):
+    80–97 % on average. Bounds: the grand mean over the 12 (case, noise) cells within 0.80–0.97;
+    each cell within 0.65–1.0 (a cell is 12 spectra whose coverages are strongly correlated over
+    τ, so one cell scatters by ±0.08 between seed sets; measured cells in docs/drt.md)."""
+    cells = {}
+    for name, (z, truth_fn) in CALIBRATION_CASES.items():
+        for level in (0.003, 0.01, 0.03):
+            batch = drt((F, np.stack([noisy(z, level, 500 + seed) for seed in range(12)])))
+            cells[name, level] = float(np.mean([band_coverage(r, truth_fn) for r in batch.results]))
+    grand = float(np.mean(list(cells.values())))
+    assert 0.80 <= grand <= 0.97, cells
+    assert all(0.65 <= c <= 1.0 for c in cells.values()), cells
 
 
 def test_result_to_xarray_and_report():

@@ -15,7 +15,6 @@ described in `kk_test` and docs/kk.md.
 
 from __future__ import annotations
 
-import functools
 import inspect
 import math
 from dataclasses import dataclass, field
@@ -40,7 +39,31 @@ DEFAULT_THRESHOLDS: Mapping[str, float] = {
     "window_mean": 4.5,  # ... or the mean of Δ' or Δ'' over `window` neighbours > 4.5·scale/sqrt(window)
     "window": 9,
     "noise_floor": 2e-3,  # relative; below this, residuals are Voigt-approximation error, not data problems
+    "reference_points": 61,  # the thresholds above hold up to this many points; raised beyond (`_thresholds_for`)
 }
+
+
+def _thresholds_for(rules: Mapping[str, float], n_points: int) -> dict[str, float]:
+    """The thresholds applied to a spectrum of ``n_points`` frequencies.
+
+    Each test looks at about N positions, so with fixed thresholds its false alarms would grow
+    in proportion to N. Beyond ``reference_points`` (N_ref) each threshold t is raised so that
+    the expected number of false alarms per spectrum stays that of N_ref points: a Gaussian or
+    Rayleigh tail falls as exp(−t²/2), so t² grows by 2 ln(N/N_ref) for the point and window
+    tests and by (2/L) ln(N/N_ref) for a run of L points (each of the L points pays its share).
+    ``reference_points`` of the returned rule is max(N, N_ref), so applying it again changes
+    nothing.
+    """
+    applied = dict(rules)
+    n_ref = rules["reference_points"]
+    if n_points <= n_ref:
+        return applied
+    growth = 2.0 * math.log(n_points / n_ref)
+    applied["point"] = math.sqrt(rules["point"] ** 2 + growth)
+    applied["window_mean"] = math.sqrt(rules["window_mean"] ** 2 + growth)
+    applied["run"] = math.sqrt(rules["run"] ** 2 + growth / max(int(rules["run_length"]), 1))
+    applied["reference_points"] = float(n_points)
+    return applied
 
 
 
@@ -222,76 +245,176 @@ def _time_constants(freq: np.ndarray, m: int) -> np.ndarray:
     return tau_min * (tau_max / tau_min) ** (np.arange(m) / (m - 1))
 
 
-@functools.lru_cache(maxsize=16)
-def _design_cached(freq_bytes: bytes, m_values: tuple[int, ...], inductance: bool, capacitance: bool):
-    basis, taus, n_series = _design(np.frombuffer(freq_bytes), m_values, inductance, capacitance)
-    basis.flags.writeable = False
-    return basis, taus, n_series
+# Rows of the design matrix handled at once by the streamed QR: bounds the work array to about
+# _BLOCK_ELEMENTS floats whatever the number of points (memory linear in N, never N×M×M).
+_BLOCK_ELEMENTS = 2_000_000
 
 
-def _design(freq, m_values, inductance, capacitance):
-    """Complex design matrices of every candidate M, padded to one width: (n_M, N, P).
-
-    Columns: R_0, (L), (1/C), then R_1..R_M; the columns beyond M are zero and are pinned to zero
-    by `_solve_all`, so all candidates share one batched QR.
-    """
-    omega = 2 * np.pi * freq
-    series = [np.ones_like(omega, dtype=complex)]
+def _series_columns(omega: np.ndarray, inductance: bool, capacitance: bool) -> list[np.ndarray]:
+    columns = [np.ones_like(omega, dtype=complex)]
     if inductance:
-        series.append(1j * omega)
+        columns.append(1j * omega)
     if capacitance:
-        series.append(-1j / omega)
-    n_series = len(series)
-    m_max = max(m_values)
-    basis = np.zeros((len(m_values), freq.size, n_series + m_max), dtype=complex)
-    basis[:, :, :n_series] = np.stack(series, axis=1)[None]
-    taus = []
-    for i, m in enumerate(m_values):
-        tau = _time_constants(freq, m)
-        basis[i, :, n_series : n_series + m] = 1.0 / (1.0 + 1j * omega[:, None] * tau[None, :])
-        taus.append(tau)
-    return basis, taus, n_series
+        columns.append(-1j / omega)
+    return columns
 
 
-def _solve_all(basis, m_values, n_series, z):
-    """Weighted linear least squares of every candidate for a stack of spectra z (B, N).
+def _design(omega: np.ndarray, tau: np.ndarray, inductance: bool, capacitance: bool) -> np.ndarray:
+    """Complex design matrix (n, P) of a block of angular frequencies: R_0, (L), (1/C), then
+    R_k/(1 + jωτ_k) (Schönleber 2014 eq 7)."""
+    voigt = 1.0 / (1.0 + 1j * omega[:, None] * tau[None, :])
+    return np.concatenate([np.stack(_series_columns(omega, inductance, capacitance), axis=1), voigt], axis=1)
 
-    Rows [Re; Im] weighted by 1/|Z| (Schönleber 2014 eq 13). Columns are scaled to unit norm
-    (the ω/|Z| inductance column and the RC columns then share one scale) and padded columns are
-    pinned to zero by extra identity rows, so one batched QR solves all (spectrum, M) pairs.
-    Returns coefficients (B, n_M, P).
+
+def _block_rows(n_spectra: int, n_columns: int) -> int:
+    return max(16, _BLOCK_ELEMENTS // (2 * n_spectra * n_columns))
+
+
+def _streamed_qr(omega, z, tau, inductance, capacitance):
+    """R factor of the weighted, stacked system [A | b] for a stack of spectra z (B, N), built
+    block by block (TSQR: the R of the rows so far is stacked on the next block and
+    re-factorised), so the full (2N, P) matrix never exists. Rows [Re; Im] weighted by 1/|Z|
+    (Schönleber 2014 eq 13). Returns (B, P+1, P+1)."""
+    n_spectra, n = z.shape
+    p = (1 + int(inductance) + int(capacitance)) + tau.size
+    r = np.zeros((n_spectra, p + 1, p + 1))
+    step = _block_rows(n_spectra, p + 1)
+    for start in range(0, n, step):
+        stop = min(start + step, n)
+        weight = 1.0 / np.abs(z[:, start:stop])  # (B, n_b)
+        a = _design(omega[start:stop], tau, inductance, capacitance)[None] * weight[:, :, None]
+        b = z[:, start:stop] * weight
+        rows = np.concatenate([np.concatenate([a.real, b.real[:, :, None]], axis=2), np.concatenate([a.imag, b.imag[:, :, None]], axis=2)], axis=1)
+        r_new = np.linalg.qr(np.concatenate([r, rows], axis=1), mode="r")
+        r = np.zeros((n_spectra, p + 1, p + 1))
+        r[:, : r_new.shape[1]] = r_new
+    return r
+
+
+def _solve_streamed(omega, z, tau, inductance, capacitance):
+    """Weighted linear least squares of one M for a stack of spectra z (B, N).
+
+    The columns are scaled to unit norm (the ω/|Z| inductance column and the RC columns then
+    share one scale) and the small triangular system is solved by SVD, which also handles a
+    rank-deficient design (e.g. nearly coincident frequencies). Returns coefficients (B, P) and
+    the residual sum of squares Σ|Δ|² (B,).
     """
-    n_m, n, p = basis.shape
-    weight = 1.0 / np.abs(z)  # (B, N)
-    a = basis[None] * weight[:, None, :, None]  # (B, n_M, N, P)
-    a = np.concatenate([a.real, a.imag], axis=2)  # (B, n_M, 2N, P)
-    b = np.concatenate([z.real * weight, z.imag * weight], axis=1)  # (B, 2N)
-    scale = np.linalg.norm(a, axis=2)  # (B, n_M, P)
-    unused = scale == 0
-    a = a / np.where(unused, 1.0, scale)[:, :, None, :]
-    pin = np.zeros(unused.shape + (p,))
-    idx = np.arange(p)
-    pin[..., idx, idx] = unused  # identity rows for the padded columns only
-    a = np.concatenate([a, pin], axis=2)
-    # Corrected semi-normal equations: R from a Q-less QR, then RᵀR x = Aᵀb with one step of
-    # refinement; as accurate as a full QR here and ~3× faster (Q is never formed).
-    r = np.linalg.qr(a, mode="r")
-    b = np.concatenate([b, np.zeros((b.shape[0], p))], axis=1)  # pinned rows have zero target
-    try:
-        r_inv = np.linalg.inv(r)  # triangular, (P, P): one batched inverse serves both solves
-        x = _seminormal(a, r_inv, b)
-        x = x + _seminormal(a, r_inv, b[:, None, :] - np.einsum("bmnp,bmp->bmn", a, x))
-    except np.linalg.LinAlgError:  # rank-deficient design (e.g. nearly coincident frequencies)
-        x = np.stack([np.stack([np.linalg.lstsq(a[i, j], b[i], rcond=None)[0] for j in range(n_m)]) for i in range(a.shape[0])])
-    return x / np.where(unused, 1.0, scale)
+    r_aug = _streamed_qr(omega, z, tau, inductance, capacitance)
+    p = r_aug.shape[-1] - 1
+    r, qtb, rho = r_aug[:, :p, :p], r_aug[:, :p, p], r_aug[:, p, p]
+    scale = np.linalg.norm(r, axis=1)  # column norms of R = column norms of the weighted A
+    scale = np.where(scale > 0, scale, 1.0)
+    u, s, vt = np.linalg.svd(r / scale[:, None, :])
+    keep = s > s[:, :1] * p * np.finfo(float).eps
+    y = np.einsum("bqp,bq->bp", u, qtb) / np.where(keep, s, 1.0)
+    y = np.where(keep, y, 0.0)
+    x = np.einsum("bpq,bp->bq", vt, y) / scale
+    unexplained = np.einsum("bpq,bq->bp", r, x) - qtb
+    rss = rho**2 + np.sum(unexplained**2, axis=1)
+    return x, rss
 
 
-def _seminormal(a, r_inv, b):
-    """x = R⁻¹R⁻ᵀAᵀb, i.e. RᵀR x = Aᵀb, for stacks a (B, n_M, rows, P), r_inv (B, n_M, P, P) and
-    b (B, rows) or (B, n_M, rows)."""
-    atb = np.einsum("bmnp,bn->bmp", a, b) if b.ndim == 2 else np.einsum("bmnp,bmn->bmp", a, b)
-    y = np.einsum("bmqp,bmq->bmp", r_inv, atb)  # R⁻ᵀ atb
-    return np.einsum("bmpq,bmq->bmp", r_inv, y)
+def _evaluate(omega, tau, coefficients, inductance, capacitance) -> np.ndarray:
+    """Z_kk at every frequency of one spectrum, block by block."""
+    out = np.empty(omega.size, dtype=complex)
+    step = _block_rows(1, coefficients.size)
+    for start in range(0, omega.size, step):
+        stop = min(start + step, omega.size)
+        out[start:stop] = _design(omega[start:stop], tau, inductance, capacitance) @ coefficients
+    return out
+
+
+def _fits_like_reference(rss, n_params, rss_ref, n_params_ref, n_points, floor) -> np.ndarray:
+    """Is a fit with P parameters not underfitted? Its residual sum of squares exceeds the most
+    flexible fit's (P_ref parameters) by no more than noise would: RSS − RSS_ref ≤
+    σ̂²(ΔP + 3√(2ΔP)) with σ̂² = RSS_ref/(2N − P_ref) and ΔP = P_ref − P (the χ²(ΔP) bound of
+    nested least squares, three standard deviations above its mean), or its implied noise
+    level sqrt(RSS/(2N − P)) is below the noise floor. The bound tightens as N grows, so the
+    Voigt chain's own approximation error stays below what the validity rule can detect at any
+    point density."""
+    dof_ref = max(2 * n_points - n_params_ref, 1)
+    sigma2 = rss_ref / dof_ref
+    extra = max(n_params_ref - n_params, 0)
+    allowed = sigma2 * (extra + 3.0 * math.sqrt(2.0 * extra))
+    implied = np.sqrt(rss / max(2 * n_points - n_params, 1))
+    return (rss - rss_ref <= allowed) | (implied <= floor)
+
+
+_SCAN_AFTER_FIT = 20  # M values tried above the smallest non-underfitted M for µ < c
+
+
+def _kk_arrays(freq, z, *, c, max_rc, n_rc, inductance, capacitance, floor):
+    """Fit candidate M for a stack z (B, N) and pick one per spectrum.
+
+    M = ``n_rc`` when given. Otherwise the most flexible chain (M = max_rc) is fitted first as
+    the reference; the smallest M that is not underfitted (`_fits_like_reference`), M_fit, is
+    found by bisection (the residual falls with M), and M_fit, M_fit + 1, ... (at most
+    ``_SCAN_AFTER_FIT`` further values) are tried until µ < c. Without such an M, M_fit is
+    used. About 10 + (M − M_fit) solves instead of one per M: the cost stays bounded at 10⁶
+    points. Returns per spectrum (M, µ, µ-criterion met, τ, coefficients [R_0, (L), (1/C),
+    R_1..R_M], Z_kk).
+    """
+    batch, n = z.shape
+    n_series = 1 + int(inductance) + int(capacitance)
+    m_top = _check_options(n, c, max_rc, n_rc, n_series)
+    omega = 2 * np.pi * np.asarray(freq, dtype=np.float64)
+    tau_top = _time_constants(freq, m_top)
+    coef_top, rss_top = _solve_streamed(omega, z, tau_top, inductance, capacitance)
+    solved = {(m_top, i): (coef_top[i], rss_top[i]) for i in range(batch)}
+
+    def solve(m, spectra):
+        """Coefficients and RSS of M = m for the listed spectra (each pair solved once)."""
+        todo = [i for i in spectra if (m, i) not in solved]
+        if todo:
+            coef, rss = _solve_streamed(omega, z[todo], _time_constants(freq, m), inductance, capacitance)
+            solved.update({(m, i): (coef[k], rss[k]) for k, i in enumerate(todo)})
+
+    def fitted(m, i):
+        return bool(_fits_like_reference(solved[(m, i)][1], n_series + m, rss_top[i], n_series + m_top, n, floor))
+
+    def mu_of(m, i):
+        return float(_mu(solved[(m, i)][0][n_series:]))
+
+    if n_rc is not None:
+        best = [m_top] * batch
+    else:
+        lo, hi = np.ones(batch, int), np.full(batch, m_top)  # smallest fitted M lies in [lo, hi]
+        while np.any(lo < hi):
+            mids = {}
+            for i in np.flatnonzero(lo < hi):
+                mids.setdefault(int((lo[i] + hi[i]) // 2), []).append(int(i))
+            for m, spectra in mids.items():
+                solve(m, spectra)
+                for i in spectra:
+                    if fitted(m, i):
+                        hi[i] = m
+                    else:
+                        lo[i] = m + 1
+        best = [int(m) for m in hi]
+        pending = list(range(batch))
+        for step in range(_SCAN_AFTER_FIT + 1):
+            groups: dict[int, list[int]] = {}
+            for i in pending:
+                m = int(hi[i]) + step
+                if m <= m_top:
+                    groups.setdefault(m, []).append(i)
+            pending = []
+            for m, spectra in groups.items():
+                solve(m, spectra)
+                for i in spectra:
+                    if mu_of(m, i) < c:
+                        best[i] = m
+                    else:
+                        pending.append(i)
+            if not pending:
+                break
+    chosen = []
+    for i, m in enumerate(best):
+        tau = tau_top if m == m_top else _time_constants(freq, m)
+        coef = solved[(m, i)][0]
+        mu = mu_of(m, i)
+        chosen.append((m, mu, bool(mu < c), tau, coef, _evaluate(omega, tau, coef, inductance, capacitance)))
+    return chosen
 
 
 def _mu(resistances: np.ndarray) -> np.ndarray:
@@ -326,14 +449,17 @@ def _bad_bands(freq, residual_real, residual_imag, order, scale, thresholds):
     if 1 < width <= m.size:
         limit = thresholds["window_mean"] * scale / math.sqrt(width)
         kernel = np.ones(width) / width
+        starts = np.zeros(m.size - width + 1, bool)
         for component in (residual_real[order], residual_imag[order]):
-            local = np.convolve(component, kernel, mode="valid")
-            for start in np.flatnonzero(np.abs(local) > limit):
-                flag[start : start + width] = True
+            starts |= np.abs(np.convolve(component, kernel, mode="valid")) > limit
+        # every point of a window whose mean is too large: a point is covered when one of the
+        # `width` windows containing it starts a flagged window
+        covered = np.convolve(starts.astype(float), np.ones(width), mode="full")[: m.size] > 0.5
+        flag |= covered
     # join bands separated by a single unflagged point: one noisy dip does not split a drift band
-    for i in range(1, flag.size - 1):
-        if not flag[i] and flag[i - 1] and flag[i + 1]:
-            flag[i] = True
+    if flag.size > 2:
+        gap = ~flag[1:-1] & flag[:-2] & flag[2:]
+        flag[1:-1] |= gap
     flagged = np.empty_like(flag)
     flagged[order] = flag
     return flagged, bands_of_flags(freq[order], flag)
@@ -341,81 +467,31 @@ def _bad_bands(freq, residual_real, residual_imag, order, scale, thresholds):
 
 def long_runs(above, run_length: int) -> np.ndarray:
     """Flags of every point in a run of at least ``run_length`` consecutive True ``above``."""
-    flag = np.zeros(np.shape(above), bool)
-    start = None
-    for i, a in enumerate(np.append(above, False)):
-        if a and start is None:
-            start = i
-        elif not a and start is not None:
-            if i - start >= run_length:
-                flag[start:i] = True
-            start = None
-    return flag
+    above = np.asarray(above, bool)
+    if above.size == 0:
+        return np.zeros(0, bool)
+    edges = np.diff(np.concatenate([[0], above.astype(np.int8), [0]]))
+    starts, stops = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
+    long = stops - starts >= run_length
+    marks = np.zeros(above.size + 1, np.int64)
+    np.add.at(marks, starts[long], 1)
+    np.add.at(marks, stops[long], -1)
+    return np.cumsum(marks[:-1]) > 0
 
 
 def bands_of_flags(freq_sorted, flag) -> tuple[tuple[float, float], ...]:
     """Runs of flagged points (in frequency order) as bands (f_min, f_max) [Hz], their edges
     halfway in log f to the neighbouring good points, so a single point has a width."""
-    bands, i = [], 0
-    while i < flag.size:
-        if not flag[i]:
-            i += 1
-            continue
-        j = i
-        while j + 1 < flag.size and flag[j + 1]:
-            j += 1
+    flag = np.asarray(flag, bool)
+    freq_sorted = np.asarray(freq_sorted, dtype=float)
+    edges = np.diff(np.concatenate([[0], flag.astype(np.int8), [0]]))
+    first, last = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1
+    bands = []
+    for i, j in zip(first.tolist(), last.tolist()):
         lo = freq_sorted[i] if i == 0 else math.sqrt(freq_sorted[i - 1] * freq_sorted[i])
         hi = freq_sorted[j] if j == flag.size - 1 else math.sqrt(freq_sorted[j] * freq_sorted[j + 1])
         bands.append((float(lo), float(hi)))
-        i = j + 1
     return tuple(bands)
-
-
-def _kk_arrays(freq, z, *, c, max_rc, n_rc, inductance, capacitance, floor):
-    """Fit every candidate M for a stack z (B, N) and pick one per spectrum.
-
-    Returns per spectrum (M, µ, µ-criterion met, τ, coefficients [R_0, (L), (1/C), R_1..R_M], Z_kk).
-    """
-    batch, n = z.shape
-    n_series = 1 + int(inductance) + int(capacitance)
-    m_top = _check_options(n, c, max_rc, n_rc, n_series)
-    m_values = [m_top] if n_rc is not None else list(range(1, m_top + 1))
-    basis, taus, n_series = _design_cached(np.ascontiguousarray(freq, dtype=np.float64).tobytes(), tuple(m_values), inductance, capacitance)
-    chosen = []
-    chunk = max(1, int(2e7 // (basis.size * 4)))  # bound the (B, n_M, 2N+P, P) work array
-    for start in range(0, batch, chunk):
-        zc = z[start : start + chunk]
-        coef = _solve_all(basis, m_values, n_series, zc)  # (b, n_M, P)
-        z_fit = np.einsum("mnp,bmp->bmn", basis, coef)
-        rms = np.sqrt(np.mean(np.abs((zc[:, None, :] - z_fit) / np.abs(zc)[:, None, :]) ** 2, axis=2))
-        mu = _mu(coef[:, :, n_series:])
-        n_params = np.array([n_series + m for m in m_values])
-        # rms_rel of pure noise shrinks as sqrt(1 − P/2N) with P fitted parameters: compare the
-        # candidates on the noise level they imply, not on their raw residual
-        implied = rms / np.sqrt(np.maximum(1.0 - n_params / (2.0 * n), 1e-3))[None, :]
-        for i in range(zc.shape[0]):
-            k = _pick(mu[i], implied[i], c, floor)
-            m = m_values[k]
-            coefficients = coef[i, k, : n_series + m]
-            chosen.append((m, float(mu[i, k]), bool(mu[i, k] < c), taus[k], coefficients, z_fit[i, k]))
-    return chosen
-
-
-_UNDERFIT_FACTOR = 1.25
-
-
-def _pick(mu: np.ndarray, rms: np.ndarray, c: float, floor: float) -> int:
-    """Index of the chosen candidate: the smallest M with µ < c among the fits that are not
-    underfitted, i.e. whose implied noise level rms_rel/sqrt(1 − P/2N) is within 1.25× of the
-    best over all M (or below the noise floor). Schönleber's rule alone (first M with µ < c) stops early on odd/even oscillations of
-    µ while a few RC elements still miss the spectrum by 10 % or more; this guard keeps its
-    protection against overfitting without that failure. Without such an M: the smallest
-    non-underfitted M (µ criterion not met)."""
-    if mu.size == 1:
-        return 0
-    fitted = rms <= max(_UNDERFIT_FACTOR * float(np.min(rms)), floor)
-    both = np.flatnonzero(fitted & (mu < c))
-    return int(both[0]) if both.size else int(np.flatnonzero(fitted)[0])
 
 
 def kk_test(
@@ -500,6 +576,7 @@ def _run(freq, z, shape, dims, coords, *, c, max_rc, n_rc, inductance, capacitan
             raise ParameterError(f"{name} must be True or False, got {flag!r}")
     if np.any(np.abs(z) == 0):
         raise DataError("Z is exactly zero at some frequency; the 1/|Z| weighting needs |Z| > 0")
+    rules = _thresholds_for(rules, freq.size)
     flat = z.reshape(-1, freq.size)
     chosen = _kk_arrays(freq, flat, c=c, max_rc=max_rc, n_rc=n_rc, inductance=bool(inductance), capacitance=bool(capacitance), floor=rules["noise_floor"])
     order = np.argsort(freq)

@@ -151,7 +151,7 @@ def drt(
         method="fixed" if fixed is not None else lam_method, signed=bool(signed), max_iter=int(max_iter),
     )
     out = {k: np.asarray(v) for k, v in out.items()}
-    q05, q95 = (np.asarray(v) for v in quantile_band(out["gamma"], out["gamma_sd"], bool(signed)))
+    q05, q95 = (np.asarray(v) for v in quantile_band(out["band_mean"], out["band_sd"], bool(signed), out["gamma"]))
     n_series = len(names)
     options = dict(signed=bool(signed), derivative=int(derivative), inductance=bool(inductance), capacitance=use_c, points_per_decade=float(points_per_decade),
                    extend_decades=float(extend_decades), fwhm_steps=float(fwhm_steps), output_points_per_decade=float(output_points_per_decade),
@@ -190,6 +190,7 @@ def drt(
                 l_h=l_h,
                 c_f=c_f,
                 lam=float(math.exp(out["log_lambda"][i])),
+                band_lambda=float(math.exp(out["log_lambda_band"][i])),
                 lambda_method="fixed" if fixed is not None else lam_method,
                 signed=bool(signed),
                 peaks=find_peaks(ln_tau_out, gamma, signed=bool(signed), window=window, samples=draws, min_rel_resistance=float(min_peak_fraction)),

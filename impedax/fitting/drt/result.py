@@ -22,7 +22,8 @@ class DRTResult:
 
     Z(ω) = R_∞ + jωL + 1/(jωC) + ∫ γ(ln τ)/(1 + jωτ) d ln τ.
     ``tau`` (K,) [s] and ``gamma`` [Ω] on the output grid, ``gamma_q05``/``gamma_q95`` the 90 %
-    credible band; ``r_inf_ohm``, ``l_h``, ``c_f`` (inf when no series capacitor was fitted);
+    credible band (Gaussian posterior at the evidence-chosen ``band_lambda``, widened to
+    contain ``gamma``); ``r_inf_ohm``, ``l_h``, ``c_f`` (inf when no series capacitor was fitted);
     ``z_fit`` the DRT model at ``frequency``; ``residuals`` = (Z_data − Z_fit)/|Z_data|;
     ``lam`` the regularisation parameter (in the normalised units of docs/drt.md) and
     ``lambda_method`` how it was chosen ("gcv", "lcurve" or "fixed"); ``peaks`` sorted by τ.
@@ -55,6 +56,7 @@ class DRTResult:
     derivative: int
     z_ref: float
     source: str = "memory"
+    band_lambda: float = math.nan  # λ of the credible band (evidence-chosen; docs/drt.md)
     options: Mapping[str, object] = field(default_factory=dict)  # the drt() keywords that shape γ (reused by unexplained_peaks)
 
     @property
@@ -100,6 +102,8 @@ class DRTResult:
                 "signed": int(self.signed),
                 "derivative_order": self.derivative,
                 "basis_fwhm_decades": self.basis_fwhm_decades,
+                "band_lambda": self.band_lambda,
+                "band": "90 % credible band: Gaussian posterior at the evidence-chosen band_lambda, widened to contain gamma (docs/drt.md)",
                 "source": self.source,
             },
         )
