@@ -18,7 +18,7 @@ import re
 import unicodedata
 from dataclasses import dataclass
 
-from ..errors import CircuitSyntaxError, escape_text
+from ..errors import CircuitSyntaxError, ParameterError, escape_text
 from .elements import DEFAULT_REGISTRY
 from .spec import Registry
 from .tree import Circuit, Element, parallel, series
@@ -228,6 +228,8 @@ def parse(text: str, registry: Registry = DEFAULT_REGISTRY) -> Circuit:
 
     Raises `CircuitSyntaxError` (with column, caret and hint) on invalid input.
     """
+    if not isinstance(registry, Registry):
+        raise ParameterError(f"registry must be a Registry (e.g. impedax.DEFAULT_REGISTRY.register(spec)), got {type(registry).__name__}")
     if isinstance(text, Circuit):
         return text
     return _parse_text(require_text(text), registry)

@@ -24,6 +24,7 @@ from typing import Mapping
 import numpy as np
 import xarray as xr
 
+from ..arguments import MAX_BASIS, checked_arguments, count, flag, instance_of
 from ..data import format_frequency
 from ..errors import DataError, ParameterError
 from .grid import ResultGrid
@@ -418,6 +419,10 @@ def _pick(mu: np.ndarray, rms: np.ndarray, c: float, floor: float) -> int:
     return int(both[0]) if both.size else int(np.flatnonzero(fitted)[0])
 
 
+@checked_arguments(
+    max_rc=count(1, MAX_BASIS, optional=True), n_rc=count(1, MAX_BASIS, optional=True), inductance=flag, capacitance=flag,
+    thresholds=instance_of(Mapping, optional=True, what="a mapping name → number"),
+)
 def kk_test(
     data,
     *,

@@ -8,10 +8,11 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
+from ...arguments import MAX_STARTS, checked_arguments, choice, count, flag, frequency, instance_of, real, seed as seed_rule
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ...errors import ParameterError
 from ..least_squares import FitResult
-from ..problem import open_spectrum
+from ..problem import WEIGHTINGS, open_spectrum
 from .catalog import EffectCatalog
 from .diagnosis import Diagnosis, Verdict, diagnose
 from .effects import DEFAULT_EFFECTS
@@ -111,6 +112,11 @@ class Refinement:
         )
 
 
+@checked_arguments(
+    max_steps=count(0, 64, why="each step adds one element"), effects=instance_of(EffectCatalog, what="an EffectCatalog (e.g. impedax.DEFAULT_EFFECTS)"),
+    weighting=choice(WEIGHTINGS), noise=real(positive=True, optional=True), registry=instance_of(Registry), fmin=frequency, fmax=frequency,
+    n_starts=count(1, MAX_STARTS), seed=seed_rule, drt_evidence=flag,
+)
 def refine(
     data,
     circuit: Circuit | str,
