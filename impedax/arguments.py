@@ -246,7 +246,8 @@ def parameter_bounds(value, name):
 def numeric_array(*, positive: bool = False, optional: bool = False) -> Rule:
     """Numbers (a scalar or an array: real or complex, finite; > 0 if ``positive``) for the
     models' physical functions. JAX tracers (under ``jit``/``grad``) pass unchecked, so the
-    functions stay jittable; concrete values are checked and returned unchanged."""
+    functions stay jittable; concrete values are checked and returned unchanged (a list or
+    tuple as a NumPy array)."""
 
     def check(value, name):
         if value is None and optional:
@@ -259,11 +260,13 @@ def numeric_array(*, positive: bool = False, optional: bool = False) -> Rule:
             raise ParameterError(f"{name} must be numbers, got {shown(value)}") from None
         if array.dtype == bool or not (np.issubdtype(array.dtype, np.number)):
             raise ParameterError(f"{name} must be numbers, got {shown(value)} (dtype {array.dtype})")
-        if array.size and not np.all(np.isfinite(array)):
+        if array.size == 0:
+            raise ParameterError(f"{name} is empty")
+        if not np.all(np.isfinite(array)):
             raise ParameterError(f"{name} must be finite, got {shown(value)}")
-        if positive and array.size and not (np.isrealobj(array) and np.all(array > 0)):
+        if positive and not (np.isrealobj(array) and np.all(array > 0)):
             raise ParameterError(f"{name} must be positive, got {shown(value)}")
-        return value
+        return array if isinstance(value, (list, tuple)) else value  # (lists become arrays; arrays and scalars stay)
 
     return check
 

@@ -10,6 +10,7 @@ test's folder. docs/robustness.md lists these rows and what impedax does with ea
 from __future__ import annotations
 
 import importlib.util
+from pathlib import Path
 import os
 import re
 import unicodedata
@@ -106,8 +107,9 @@ BAD_FILES = [  # (id, file name, content or None for a missing file, message fra
     ("ebcdic-text", "ebcdic.csv", (HEADER + "1,2,-3\n").encode("cp500"), "not a recognised spectrum file"),
     ("nul-bytes-in-text", "nul.csv", (HEADER + "1,2,-3\n").encode().replace(b"2", b"\x00"), "binary file"),
 ]
+HDF5_WITHOUT_H5PY = ("hdf5-without-h5py", "sweep.h5", b"\x89HDF\r\n\x1a\n" + bytes(100), "pip install h5py")
 if importlib.util.find_spec("h5py") is None:
-    BAD_FILES.append(("hdf5-without-h5py", "sweep.h5", b"\x89HDF\r\n\x1a\n" + bytes(100), "pip install h5py"))
+    BAD_FILES.append(HDF5_WITHOUT_H5PY)
 
 BAD_MODELS = [  # (id, model, message fragment)
     ("unknown-element", "X1 + R1", "unknown element symbol 'X'"),
@@ -655,3 +657,50 @@ def test_api_bad_argument(case, tmp_path, monkeypatch):
 def test_api_bad_argument_known_gap(case, tmp_path, monkeypatch):
     _, _, call, error, fragment = case
     _check_api_failure(call, error, fragment, tmp_path, monkeypatch)
+
+
+
+# --- docs/robustness.md against the tables ----------------------------------------------------
+
+DOC = Path(__file__).resolve().parent.parent / "docs" / "robustness.md"
+DOC_TABLES = {  # test → (its rows, the command ids a doc reference may end with)
+    "test_bad_input_file": (BAD_FILES + [HDF5_WITHOUT_H5PY] * (HDF5_WITHOUT_H5PY not in BAD_FILES), FILE_COMMANDS),
+    "test_bad_model": (BAD_MODELS, MODEL_COMMANDS),
+    "test_bad_parameter": (BAD_PARAMS, PARAM_COMMANDS),
+    "test_bad_prior": (BAD_PRIORS, PRIOR_COMMANDS),
+    "test_unwritable_output": (BAD_OUTPUTS, OUTPUT_COMMANDS),
+    "test_bad_option": (BAD_OPTIONS, []),
+    "test_data_the_analysis_cannot_use": (UNDATA, []),
+    "test_api_bad_argument": (API_CASES, []),
+    "test_api_bad_argument_known_gap": (API_GAPS, []),
+}
+
+
+def test_doc_lists_every_row():
+    """Every row of every table appears in docs/robustness.md, every test id there is a row of
+    its table, and the doc's lists of commands are the tables' (so the page cannot drift)."""
+    text = DOC.read_text(encoding="utf-8")
+    references = re.findall(r"`(test_[a-z_]+)\[([^\]`]+)\]`", text)
+    for test, (rows, commands) in DOC_TABLES.items():
+        ids = {row[0] for row in rows}
+        suffixes = {"*"} | {c[0] for c in commands}
+        documented = {ref for name, ref in references if name == test}
+        for ref in documented:
+            every_row = ref.startswith("*-") and ref[2:] in suffixes  # (every row for one command)
+            assert every_row or ref in ids or any(ref == f"{i}-{s}" for i in ids for s in suffixes), f"docs/robustness.md: {test}[{ref}] is no row"
+        for row_id in ids:
+            assert row_id in documented or any(ref.startswith(row_id + "-") and ref[len(row_id) + 1 :] in suffixes for ref in documented), f"row {row_id} of {test} is not in docs/robustness.md"
+    for label, table in (("FILE_COMMANDS", FILE_COMMANDS), ("MODEL_COMMANDS", MODEL_COMMANDS), ("PARAM_COMMANDS", PARAM_COMMANDS), ("OUTPUT_COMMANDS", OUTPUT_COMMANDS)):
+        listed = re.search(rf"\(`{label}`\): (.*)", text)
+        assert listed and listed.group(1).split(", ") == [c[0] for c in table], label
+
+
+def test_harness_has_at_least_300_rows():
+    """The issue's bar: 300 bad inputs, CLI and API together (each a test of its own)."""
+    cli = len(BAD_FILES) * len(FILE_COMMANDS) + len(BAD_MODELS) * len(MODEL_COMMANDS) + len(BAD_PARAMS) * len(PARAM_COMMANDS)
+    cli += len(BAD_PRIORS) * len(PRIOR_COMMANDS) + len(BAD_OUTPUTS) * len(OUTPUT_COMMANDS) + len(BAD_OPTIONS) + len(UNDATA)
+    assert cli >= 300 and len(API_CASES) >= 100, (cli, len(API_CASES))
+    commands = {t[0] for table in (FILE_COMMANDS, MODEL_COMMANDS, PARAM_COMMANDS, OUTPUT_COMMANDS) for _, t, *_ in table} | {r[1][0] for r in BAD_OPTIONS}
+    from impedax.cli import COMMAND_HELP
+
+    assert set(COMMAND_HELP) <= commands, set(COMMAND_HELP) - commands  # every command meets the harness
