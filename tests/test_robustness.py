@@ -704,3 +704,35 @@ def test_harness_has_at_least_300_rows():
     from impedax.cli import COMMAND_HELP
 
     assert set(COMMAND_HELP) <= commands, set(COMMAND_HELP) - commands  # every command meets the harness
+
+
+@pytest.mark.parametrize("position", ["start", "middle", "end"])
+def test_circuit_error_shows_at_most_80_characters_with_the_caret_on_the_culprit(position):
+    """A 15 000-element series used to be echoed whole (125 kB); now a window of at most 80
+    characters, and the caret stands under the offending character."""
+    parts = [f"R{k}" for k in range(15_000)]
+    index = {"start": 0, "middle": 7_000, "end": 14_999}[position]
+    parts[index] = "R%"
+    source = " + ".join(parts)
+    column = source.index("%")
+    with pytest.raises(ix.CircuitSyntaxError) as info:
+        ix.parse(source)
+    assert info.value.column == column and info.value.source == source  # the whole text stays on the error
+    _, shown, caret, _ = str(info.value).split("\n")
+    assert len(shown.strip()) <= 80
+    assert shown[caret.index("^")] == "%"
+
+
+def test_escaped_source_keeps_the_caret_aligned():
+    """Escaping widens characters (ESC → \\x1b); the caret moves with them."""
+    with pytest.raises(ix.CircuitSyntaxError) as info:
+        ix.parse("R1 + \x1b\u202e + %")
+    _, shown, caret, _ = str(info.value).split("\n")
+    assert "\\x1b\\u202e" in shown and shown[caret.index("^")] == "\\"  # the ESC, the first offender
+
+
+def test_complex_dataarray_is_fitted_like_its_dataset():
+    """A DataArray of complex Z over `frequency` is converted to the data model, not refused."""
+    good = spectra().good
+    from_array, from_dataset = ix.fit(RC, good["Z"], n_starts=1), ix.fit(RC, good, n_starts=1)
+    assert from_array.values == pytest.approx(from_dataset.values, rel=1e-9)
