@@ -399,13 +399,14 @@ def _baseline(fit_or_data, circuit, *, data, effects, registry, fmin, fmax, weig
     return _fit_baseline(fit_or_data, circuit, effects, registry=registry, fmin=fmin, fmax=fmax, weighting=weighting, n_starts=n_starts, seed=seed)
 
 
-MIN_DIAGNOSIS_POINTS = 6  # the KK test's smallest model (R_0, one RC, L, C) and a residual run
+MIN_DIAGNOSIS_POINTS = 4  # what the KK test needs (R_0, one RC element, L, C)
 
 
 def _require_points_for_diagnosis(base: FitResult) -> None:
-    """`DataError` when the spectrum is too short to judge a model: the KK test and the runs
-    of residuals need `MIN_DIAGNOSIS_POINTS` frequencies, and the real values must outnumber
-    the free parameters by as many (a model with as many parameters as data fits anything)."""
+    """`DataError` when the spectrum is too short to judge a model (before, one point was
+    judged "adequate"): the KK test needs `MIN_DIAGNOSIS_POINTS` frequencies, and the real
+    values must outnumber the free parameters by as many (a model with as many parameters as
+    data values fits anything)."""
     n_points, n_free = base.n_points, base.n_params
     needed = max(MIN_DIAGNOSIS_POINTS, -(-(n_free + MIN_DIAGNOSIS_POINTS) // 2))
     if n_points < needed:
