@@ -108,13 +108,12 @@ def spectrum_argument(data):
     if isinstance(data, xr.Dataset) or isinstance(data, str) or hasattr(data, "__fspath__"):
         return data
     if isinstance(data, xr.DataArray):
-        if "frequency" not in data.dims or not np.iscomplexobj(data.values):
+        if "frequency" not in data.dims or not np.issubdtype(data.dtype, np.complexfloating):
             raise DataError(
                 f"a DataArray of complex Z over a 'frequency' dimension can be used as data; this one has dims {data.dims} and dtype {data.dtype}",
                 path=str(data.attrs.get("source", "DataArray")),
             )
-        name = data.name if data.name is not None else "Z"
-        return data.to_dataset(name=name).rename({name: "Z"}) if name != "Z" else data.to_dataset(name="Z")
+        return data.to_dataset(name="Z")
     raise DataError(
         f"data must be a spectrum Dataset (impedax.make_spectrum, impedax.load) or a file path, got {shown(data)} ({type(data).__name__})"
     )
