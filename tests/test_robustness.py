@@ -196,6 +196,7 @@ BAD_OPTIONS = [  # (id, argv template with {good} a valid spectrum file and {tmp
     ("fit-init-not-a-number", ["fit", "{good}", "--model", "R1 + C1", "--init", "C1=abc"], "is not a number"),
     ("compare-one-model", ["compare", "{good}", "--model", "R1"], "compare needs at least two --model options"),
     ("compare-unknown-weighting", ["compare", "{good}", "--model", "R1", "--model", "C1", "--weighting", "x"], "invalid choice: 'x'"),
+    ("compare-max-steps-negative", ["compare", "{good}", "--model", "R1", "--model", "C1", "--max-steps", "-1"], "--max-steps must be at least 1"),
     ("compare-fmin-above-fmax", ["compare", "{good}", "--model", "R1", "--model", "C1", "--fmin", "5", "--fmax", "2"], "fmax (2 Hz) is below fmin (5 Hz)"),
     ("sample-steps-zero", ["sample", "{good}", "--model", "R1", "--steps", "0"], "steps must be at least 1"),
     ("sample-steps-not-a-number", ["sample", "{good}", "--model", "R1", "--steps", "many"], "invalid int value: 'many'"),
@@ -450,6 +451,7 @@ class Spectra:
         self.real_dataarray = xr.DataArray(np.abs(z), dims="frequency", coords={"frequency": freq})
         self.no_frequency_dataarray = xr.DataArray(z, dims="f")
         self.pair = (freq, z)
+        self.trials = ix.make_spectrum(freq, np.stack([z, 1.01 * z]), dims=("trial",), coords={"trial": [0, 1]})
 
 
 _spectra = None
@@ -497,6 +499,7 @@ API_CASES = [
     ("fit-fmin-above-fmax", "fit", lambda s: ix.fit(RC, s.good, fmin=1e4, fmax=10.0), P, "fmax (10 Hz) is below fmin (10000 Hz)"),
     ("fit-band-outside-the-data", "fit", lambda s: ix.fit(RC, s.good, fmin=1e7), D, "no frequencies between fmin=10000000.0"),
     ("fit-max-steps-negative", "fit", lambda s: ix.fit(RC, s.good, max_steps=-1), P, "max_steps must be at least 1, got -1"),
+    ("fit-batch-max-steps-negative", "fit", lambda s: ix.fit(RC, s.trials, max_steps=-1), P, "max_steps must be at least 1, got -1"),
     ("fit-max-steps-float", "fit", lambda s: ix.fit(RC, s.good, max_steps=2.5), P, "max_steps must be an integer, got 2.5"),
     ("fit-max-steps-huge", "fit", lambda s: ix.fit(RC, s.good, max_steps=10**12), P, "max_steps=1000000000000 is above the limit"),
     ("fit-n-starts-huge", "fit", lambda s: ix.fit(RC, s.good, n_starts=10**9), P, "n_starts=1000000000 is above the limit"),
