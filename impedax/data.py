@@ -15,11 +15,13 @@ from typing import Mapping, Sequence
 import numpy as np
 import xarray as xr
 
+from .arguments import MAX_POINTS, checked_arguments, count, real, shown
 from .errors import DataError
 
 __all__ = ["make_spectrum", "validate_spectrum", "log_frequencies"]
 
 
+@checked_arguments(fmin=real(), fmax=real(), points=count(1, MAX_POINTS, why="80 MB of frequencies"))
 def log_frequencies(fmin: float, fmax: float, points: int) -> np.ndarray:
     """``points`` log-spaced frequencies [Hz] from ``fmin`` to ``fmax``, both ends included."""
     if not (np.isfinite(fmin) and np.isfinite(fmax)) or fmin <= 0 or fmax <= 0:
@@ -45,11 +47,15 @@ def make_spectrum(
 
     ``Z`` has shape ``(*extra, n_frequency)`` with the extra dimensions named by ``dims``.
     """
-    frequency = np.asarray(frequency, dtype=np.float64)
-    Z = np.asarray(Z, dtype=np.complex128)
+    frequency = _numbers(frequency, np.float64, "frequency", source)
+    Z = _numbers(Z, np.complex128, "Z", source)
     all_dims = (*dims, "frequency")
+    if frequency.ndim != 1:
+        raise DataError(f"frequency must be one-dimensional, got shape {frequency.shape}", path=source)
     if Z.ndim != len(all_dims):
         raise DataError(f"Z has {Z.ndim} dimensions but dims {all_dims} were given", path=source)
+    if Z.shape[-1] != frequency.size:
+        raise DataError(f"Z has {Z.shape[-1]} values along frequency but there are {frequency.size} frequencies", path=source)
     data_vars = {"Z": (all_dims, Z, {"units": "ohm", "long_name": "complex impedance Z' + jZ''"})}
     if sigma is not None:
         sigma = np.broadcast_to(np.asarray(sigma, dtype=np.float64), Z.shape)
@@ -59,6 +65,17 @@ def make_spectrum(
         all_coords[name] = (name, np.asarray(values))
     ds = xr.Dataset(data_vars, coords=all_coords, attrs={"source": source, **dict(attrs or {})})
     return validate_spectrum(ds, source=source)
+
+
+def _numbers(values, dtype, name: str, source: str) -> np.ndarray:
+    """``values`` as an array of ``dtype``; `DataError` for text, None, ragged lists, bools."""
+    try:
+        array = np.asarray(values)
+        if array.dtype == bool or not (np.issubdtype(array.dtype, np.number)):
+            raise TypeError
+        return np.asarray(array, dtype=dtype)
+    except (TypeError, ValueError):
+        raise DataError(f"{name} must be numbers, got {shown(values)}", path=source) from None
 
 
 def validate_spectrum(ds: xr.Dataset, *, source: str | None = None) -> xr.Dataset:
@@ -75,7 +92,10 @@ def validate_spectrum(ds: xr.Dataset, *, source: str | None = None) -> xr.Datase
     z = z_var.values
     if not np.iscomplexobj(z):
         raise DataError("'Z' must be complex (Z' + jZ'')", path=source)
-    f = np.asarray(variables["frequency"].values, dtype=np.float64)
+    f = variables["frequency"].values
+    if f.dtype == bool or not np.issubdtype(f.dtype, np.number) or np.iscomplexobj(f):
+        raise DataError(f"the frequency coordinate must be real numbers in Hz, got dtype {f.dtype}", path=source)
+    f = np.asarray(f, dtype=np.float64)
     if f.size == 0:
         raise DataError("the spectrum has no frequencies", path=source)
     bad = np.flatnonzero(~np.isfinite(f) | (f <= 0))

@@ -6,6 +6,8 @@ escaping is a bug in impedax.
 
 from __future__ import annotations
 
+import unicodedata
+
 __all__ = [
     "ImpedaxError",
     "CircuitSyntaxError",
@@ -23,8 +25,10 @@ class ImpedaxError(Exception):
 class CircuitSyntaxError(ImpedaxError, ValueError):
     """A circuit string that does not follow the grammar.
 
-    The message shows the source, a caret under the offending column, what was expected and,
-    when one exists, a hint (``did you mean C_sc?``).
+    The message shows the source around the offending column (at most `SOURCE_WINDOW`
+    characters, control and formatting characters escaped so a terminal shows them as text),
+    a caret under the column, what was expected and, when one exists, a hint
+    (``did you mean C_sc?``). ``source`` and ``column`` keep the whole text and the offset.
     """
 
     def __init__(self, source: str, column: int, message: str, hint: str | None = None):
@@ -32,10 +36,76 @@ class CircuitSyntaxError(ImpedaxError, ValueError):
         self.column = column  # 0-based offset into `source`
         self.reason = message
         self.hint = hint
-        text = f"{message} at column {column + 1}\n  {source}\n  {' ' * column}^"
+        shown, caret = source_window(source, column)
+        text = f"{escape_text(message)} at column {column + 1}\n  {shown}\n  {' ' * caret}^"
         if hint:
-            text += f"\n  hint: {hint}"
+            text += f"\n  hint: {escape_text(hint)}"
         super().__init__(text)
+
+
+SOURCE_WINDOW = 80  # characters of source shown around the caret
+
+
+def _shown(ch: str) -> tuple[str, int]:
+    """How one character is shown (escaped if a terminal would act on it or hide it) and its
+    width in terminal columns (2 for East Asian wide and full-width characters)."""
+    category = unicodedata.category(ch)
+    if category[0] == "C" or category in ("Zl", "Zp") or (category == "Zs" and ch != " "):
+        code = ord(ch)
+        text = f"\\x{code:02x}" if code < 0x100 else f"\\u{code:04x}" if code < 0x10000 else f"\\U{code:08x}"
+        return text, len(text)
+    if category in ("Mn", "Me"):  # a combining mark would merge with its neighbour
+        text = f"\\u{ord(ch):04x}"
+        return text, len(text)
+    return ch, 2 if unicodedata.east_asian_width(ch) in ("W", "F") else 1
+
+
+def escape_text(text: str) -> str:
+    """``text`` with control, formatting (e.g. U+202E right-to-left override) and other
+    invisible characters written as ``\\x1b`` / ``\\u202e``: shown, never acted on."""
+    if text.isascii() and text.isprintable():
+        return text
+    return "".join(_shown(ch)[0] for ch in text)
+
+
+def source_window(source: str, column: int, width: int = SOURCE_WINDOW) -> tuple[str, int]:
+    """(at most ``width`` columns of ``source`` around ``column``, escaped, with ``…`` where it
+    is cut; the caret's offset in that text)."""
+    column = max(0, min(column, len(source)))
+    left, right = column, column  # the shown slice is source[left:right]
+    used = 0
+    pieces: dict[int, tuple[str, int]] = {}
+
+    def piece(i: int) -> tuple[str, int]:
+        if i not in pieces:
+            pieces[i] = _shown(source[i])
+        return pieces[i]
+
+    budget = width - 2  # room for an ellipsis at either end
+    # the caret's own character, then alternately one to the right and two to the left
+    # (context before an error says more than what follows it)
+    if right < len(source) and piece(right)[1] <= budget:
+        used += piece(right)[1]
+        right += 1
+    while True:
+        grew = False
+        for _ in range(2):
+            if left > 0 and used + piece(left - 1)[1] <= budget:
+                left -= 1
+                used += piece(left)[1]
+                grew = True
+        if right < len(source) and used + piece(right)[1] <= budget:
+            used += piece(right)[1]
+            right += 1
+            grew = True
+        if not grew:
+            break
+    head = "…" if left > 0 else ""
+    tail = "…" if right < len(source) else ""
+    before = "".join(piece(i)[0] for i in range(left, column))
+    shown = head + before + "".join(piece(i)[0] for i in range(column, right)) + tail
+    caret = len(head) + sum(piece(i)[1] for i in range(left, column))
+    return shown, caret
 
 
 class CircuitError(ImpedaxError, ValueError):

@@ -15,9 +15,10 @@ from __future__ import annotations
 
 import functools
 import re
+import unicodedata
 from dataclasses import dataclass
 
-from ..errors import CircuitSyntaxError
+from ..errors import CircuitSyntaxError, ParameterError, escape_text
 from .elements import DEFAULT_REGISTRY
 from .spec import Registry
 from .tree import Circuit, Element, parallel, series
@@ -63,11 +64,53 @@ def tokenize(source: str) -> list[Token]:
         else:
             m = _IDENT_RE.match(source, i)
             if m is None:
-                raise CircuitSyntaxError(source, i, f"unexpected character {ch!r}", "expected an element such as R1 or C_gap, '(' , '+' or '||'")
+                raise CircuitSyntaxError(source, i, f"unexpected character {describe_character(ch)}", _character_hint(ch))
             tokens.append(Token("element", m.group(), i))
             i = m.end()
     tokens.append(Token("end", "", n))
     return tokens
+
+
+# Letters of other scripts drawn exactly like Latin ones (after Unicode's confusables list,
+# restricted to what can be typed into a circuit: symbols are Latin letters and digits).
+# Full-width forms (Ｒ, ＋, （) and mathematical letters (𝐑) are caught by NFKC normalisation.
+LOOKALIKES = {
+    # Cyrillic capitals and small letters
+    "А": "A", "В": "B", "С": "C", "Е": "E", "Н": "H", "І": "I", "Ј": "J", "К": "K", "М": "M",
+    "О": "O", "Р": "P", "Ѕ": "S", "Т": "T", "Х": "X", "Ү": "Y", "Ԛ": "Q", "Ԝ": "W",
+    "а": "a", "с": "c", "е": "e", "і": "i", "ј": "j", "о": "o", "р": "p", "ѕ": "s", "у": "y", "х": "x", "ԛ": "q", "ԝ": "w",
+    # Greek capitals and small letters
+    "Α": "A", "Β": "B", "Ε": "E", "Ζ": "Z", "Η": "H", "Ι": "I", "Κ": "K", "Μ": "M", "Ν": "N",
+    "Ο": "O", "Ρ": "P", "Τ": "T", "Υ": "Y", "Χ": "X", "ο": "o", "ν": "v",
+    # digits and operators that look like the circuit language's
+    "−": "-", "∥": "||", "‖": "||", "ǀ": "|",
+}
+
+
+def describe_character(ch: str) -> str:
+    """``'С' (U+0421 CYRILLIC CAPITAL LETTER ES)``: the character (escaped if invisible or a
+    control character) and its code point and Unicode name."""
+    name = unicodedata.name(ch, "")
+    return f"'{escape_text(ch)}' (U+{ord(ch):04X}{' ' + name if name else ''})"
+
+
+def lookalike(ch: str) -> str | None:
+    """The ASCII text ``ch`` is drawn like (Cyrillic 'С' → 'C', full-width 'Ｒ' → 'R'), or None."""
+    if ch in LOOKALIKES:
+        return LOOKALIKES[ch]
+    normal = unicodedata.normalize("NFKC", ch)
+    return normal if normal != ch and normal.isascii() and normal.isprintable() and normal.strip() else None
+
+
+def _character_hint(ch: str) -> str:
+    ascii_twin = lookalike(ch)
+    if ascii_twin is None:
+        return "expected an element such as R1 or C_gap, '(' , '+' or '||'"
+    if ascii_twin == "-":
+        return "it looks like '-': series is written '+'"
+    if ascii_twin.isalpha():
+        return f"did you mean the Latin {ascii_twin!r}? this character only looks like it; retype it"
+    return f"did you mean {ascii_twin!r}? this character only looks like it; retype it"
 
 
 def _split_element(source: str, tok: Token, registry: Registry) -> str:
@@ -185,6 +228,8 @@ def parse(text: str, registry: Registry = DEFAULT_REGISTRY) -> Circuit:
 
     Raises `CircuitSyntaxError` (with column, caret and hint) on invalid input.
     """
+    if not isinstance(registry, Registry):
+        raise ParameterError(f"registry must be a Registry (e.g. impedax.DEFAULT_REGISTRY.register(spec)), got {type(registry).__name__}")
     if isinstance(text, Circuit):
         return text
     return _parse_text(require_text(text), registry)

@@ -10,6 +10,7 @@ from typing import Sequence
 import numpy as np
 import xarray as xr
 
+from ..arguments import checked_arguments, sequence_of
 from ..circuits import Circuit, Element
 from ..errors import FitError
 from .least_squares import FitResult
@@ -88,6 +89,7 @@ class Comparison:
         return plot_comparison(self)
 
 
+@checked_arguments(fits=sequence_of(FitResult, attribute="fit", what="FitResult (or Posterior)"))
 def compare(fits: Sequence) -> Comparison:
     """Compare least-squares fits of several models to the same data.
 

@@ -23,6 +23,7 @@ from typing import Mapping
 import numpy as np
 import xarray as xr
 
+from ..arguments import MAX_BASIS, checked_arguments, count, flag, instance_of
 from ..data import format_frequency
 from ..errors import DataError, ParameterError
 from .grid import ResultGrid

@@ -5,12 +5,15 @@ weighting of the residuals."""
 
 from __future__ import annotations
 
+import math
 import os
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
 import xarray as xr
 
+from ..arguments import shown
 from ..circuits import Circuit, parse
 from ..data import validate_spectrum
 from ..errors import DataError, FitError, ParameterError
@@ -55,6 +58,7 @@ def open_spectrum(data: xr.Dataset | str | os.PathLike, *, fmin: float | None = 
     ``single``: the name of a method that takes one spectrum (``"diagnose"``, ...); data with
     extra dimensions (trial, session, ...) then raise `DataError` naming it.
     """
+    data = spectrum_argument(data)
     if isinstance(data, xr.Dataset):
         source = str(data.attrs.get("source", "dataset"))
         validate_spectrum(data, source=source)
@@ -64,6 +68,7 @@ def open_spectrum(data: xr.Dataset | str | os.PathLike, *, fmin: float | None = 
         source = str(data)
         data = load(data)
     spectrum = Spectrum(select_band(data, fmin, fmax, source), source)
+    check_magnitudes(spectrum.data["frequency"], abs(spectrum.data["Z"]), source)
     if single is not None and spectrum.extra_dims:
         raise DataError(
             f"{single} takes one spectrum; these data hold several (extra dimensions {', '.join(spectrum.extra_dims)}): "
@@ -71,6 +76,47 @@ def open_spectrum(data: xr.Dataset | str | os.PathLike, *, fmin: float | None = 
             path=source,
         )
     return spectrum
+
+
+MAX_MAGNITUDE = 1e100  # |Z| [Ω] and f [Hz] whose squares and products stay finite in float64
+
+
+def check_magnitudes(frequency, magnitude, source: str) -> None:
+    """`DataError` when |Z| or f lies outside [1/`MAX_MAGNITUDE`, `MAX_MAGNITUDE`]: the
+    methods square and multiply them (|Z|², ωτ), which would overflow or underflow float64.
+    Such values are read unchanged (`impedax.load`) but not analysed."""
+    for name, values, unit in (("|Z|", magnitude, "Ω"), ("frequency", frequency, "Hz")):
+        # NumPy arrays or DataArrays (dask-backed ones reduce chunk by chunk)
+        positive = values.where(values > 0) if hasattr(values, "where") else np.where(values > 0, values, np.nan)
+        with warnings.catch_warnings():  # (all zero: nothing to check here; the weighting says so)
+            warnings.simplefilter("ignore", RuntimeWarning)
+            high, low = float(np.nanmax(positive)), float(np.nanmin(positive))
+        if math.isfinite(high) and (high > MAX_MAGNITUDE or low < 1.0 / MAX_MAGNITUDE):
+            raise DataError(
+                f"{name} spans {low:.3g}–{high:.3g} {unit}, outside the range impedax analyses "
+                f"({1.0 / MAX_MAGNITUDE:g}–{MAX_MAGNITUDE:g}); rescale the data (e.g. to kΩ or MHz)",
+                path=source,
+            )
+
+
+def spectrum_argument(data):
+    """``data`` as a public function takes it: a spectrum Dataset or a path, returned as it is;
+    a DataArray of complex Z over ``frequency`` becomes a Dataset; anything else (None, a
+    NumPy array, a list) is a `DataError` that says what to pass."""
+    if isinstance(data, str) and "\x00" in data:
+        raise DataError(f"a file name cannot contain a NUL character: {shown(data)}")
+    if isinstance(data, xr.Dataset) or isinstance(data, str) or hasattr(data, "__fspath__"):
+        return data
+    if isinstance(data, xr.DataArray):
+        if "frequency" not in data.dims or not np.issubdtype(data.dtype, np.complexfloating):
+            raise DataError(
+                f"a DataArray of complex Z over a 'frequency' dimension can be used as data; this one has dims {data.dims} and dtype {data.dtype}",
+                path=str(data.attrs.get("source", "DataArray")),
+            )
+        return data.to_dataset(name="Z")
+    raise DataError(
+        f"data must be a spectrum Dataset (impedax.make_spectrum, impedax.load) or a file path, got {shown(data)} ({type(data).__name__})"
+    )
 
 
 @dataclass(frozen=True, eq=False)
@@ -133,7 +179,7 @@ def frequency_and_z(data):
     """The preamble of the array-based tests (KK, DRT, Z-HIT): (frequency (N,), Z (*extra, N),
     extra dims, extra coords, source) from a spectrum Dataset, a file path or a (frequency, Z)
     pair, checked; `DataError` on anything else."""
-    if isinstance(data, (str, bytes)) or hasattr(data, "__fspath__") or isinstance(data, xr.Dataset):
+    if isinstance(data, (str, bytes)) or hasattr(data, "__fspath__") or isinstance(data, (xr.Dataset, xr.DataArray)):
         spectrum = open_spectrum(data)
         ds, dims = spectrum.data, spectrum.extra_dims
         z = ds["Z"].transpose(*dims, "frequency")
@@ -155,6 +201,7 @@ def frequency_and_z(data):
         raise DataError(f"frequency must be positive and finite; point {bad[0]} is {f[bad[0]]!r}")
     if np.unique(f).size != f.size:
         raise DataError("duplicate frequencies")
+    check_magnitudes(f, np.abs(z), "memory")
     if not np.all(np.isfinite(z)):
         idx = np.argwhere(~np.isfinite(z))[0]
         raise DataError(f"Z has a non-finite value at index {tuple(int(i) for i in idx)}")

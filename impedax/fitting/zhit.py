@@ -25,6 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
+from ..arguments import checked_arguments, count, real
 from ..errors import DataError, ParameterError
 from .kk import bands_of_flags, long_runs
 from .problem import frequency_and_z
@@ -89,6 +90,7 @@ class ZHITResult:
         return plot_zhit(self, title=title)
 
 
+@checked_arguments(noise_floor=real(positive=True), point=real(positive=True), run=real(positive=True), run_length=count(1, 10_000))
 def zhit(data, *, noise_floor: float = 0.01, point: float = 5.0, run: float = 3.0, run_length: int = 3) -> ZHITResult:
     """Z-HIT reconstruction of |Z| from the phase of one spectrum (see the module docstring).
 

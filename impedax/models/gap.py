@@ -21,6 +21,7 @@ import numpy as np
 import xarray as xr
 
 from ..circuits import parse
+from ..arguments import MAX_SAMPLER_STEPS, MAX_WALKERS, checked_arguments, choice, count, flag, real, seed
 from ..errors import CircuitError, DataError
 from ..constants import EPSILON_AIR
 from .sirin import SIRIN_AREA, SIRIN_DRIVE_V, PaperGapEstimate, gap_force_peak, paper_gap_estimate, remainder_circuit, remaining_impedance, trial_mean
@@ -143,6 +144,10 @@ class GapAnalysis:
         return out
 
 
+@checked_arguments(
+    area=real(positive=True), v0=real(positive=True), ep=choice(("C", "CPE")), eps_gap=real(positive=True), cutoff_hz=real(positive=True),
+    steps=count(1, MAX_SAMPLER_STEPS), walkers=count(2, MAX_WALKERS, optional=True), seed=seed, progress=flag,
+)
 def gap_analysis(
     total: xr.Dataset,
     skin: xr.Dataset,

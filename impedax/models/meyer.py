@@ -26,6 +26,7 @@ import numpy as np
 import xarray as xr
 
 from ..circuits import Circuit, current_through, parse, voltage_across
+from ..arguments import checked_arguments, numeric_array, require_parameters
 from ..errors import DataError, ParameterError
 from ..constants import EPSILON_0
 
@@ -196,15 +197,19 @@ def _probes(variant: str):
     return voltage_across(text, set(_SC_BLOCK[variant])), current_through(text, "R_sc")
 
 
+@checked_arguments(freq=numeric_array(positive=True))
 def finger_voltage(params: Mapping[str, object], freq, *, variant: str = "rc"):
     """V_F/V_A: voltage from the ITO to the finger tissue (across C_i and the stratum corneum)
     per volt of drive, from the solved circuit (thesis eq 3.12 derived from A.1; the printed
     numerator of eq 3.12/A.2 is wrong, see docs/physics.md, "Meyer"). Pure JAX, vmappable over draws."""
+    require_parameters(params, meyer_circuit(variant).parameter_names())
     return _probes(_check_variant(variant))[0](params, freq)
 
 
+@checked_arguments(freq=numeric_array(positive=True))
 def leaked_charge(params: Mapping[str, object], freq, *, variant: str = "rc"):
     """Q_f/V_A [C/V]: charge leaked through R_sc onto the glass, I_Rsc/(jω V_A) (eq 3.12)."""
+    require_parameters(params, meyer_circuit(variant).parameter_names())
     omega = 2.0 * jnp.pi * jnp.asarray(freq)
     return _probes(_check_variant(variant))[1](params, freq) / (1j * omega)
 
@@ -223,6 +228,7 @@ def force_from_charge(v_f, q_f, *, c_i, c_sc, area):
     return series**2 / (2.0 * area * EPSILON_0) * (v_f**2 - q_f**2 / c_i**2)
 
 
+@checked_arguments(freq=numeric_array(positive=True), area=numeric_array(positive=True), v_a=numeric_array())
 def force_time_average(params: Mapping[str, object], freq, *, area: float = THESIS_PHYSICAL.area, v_a: float = THESIS_DRIVE_V, variant: str = "rc"):
     """Time-averaged electrostatic force [N] for a sinusoidal drive of amplitude ``v_a`` [V]
     (thesis eq 3.6/A.3 averaged over a period, Fig 3.4):
@@ -233,6 +239,7 @@ def force_time_average(params: Mapping[str, object], freq, *, area: float = THES
     (vmap over posterior draws).
     """
     variant = _check_variant(variant)
+    require_parameters(params, meyer_circuit(variant).parameter_names())
     v_f = finger_voltage(params, freq, variant=variant) * v_a
     q_f = leaked_charge(params, freq, variant=variant) * v_a
     c_i = params["C_i"]

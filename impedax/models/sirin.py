@@ -23,6 +23,7 @@ import xarray as xr
 
 from ..circuits import Circuit, compile_circuit, parse, voltage_across
 from ..data import make_spectrum, validate_spectrum
+from ..arguments import checked_arguments, numeric_array, require_parameters
 from ..errors import DataError, ParameterError
 from ..constants import EPSILON_0, EPSILON_AIR
 
@@ -187,6 +188,7 @@ def gap_capacitance_paper(z_r, freq=None, *, cutoff_hz: float = 30.0, fmax_hz: f
     return float(np.mean(1.0 / (2.0 * np.pi * f[keep] * np.abs(z[keep]))))
 
 
+@checked_arguments(c_gap=numeric_array(positive=True), area=numeric_array(positive=True), eps_gap=numeric_array(positive=True))
 def gap_thickness(c_gap, *, area: float = SIRIN_AREA, eps_gap: float = EPSILON_AIR):
     """Average air-gap thickness u = ε0 ε_gap A / C_gap [m] (Sirin §2.3); works on floats,
     numpy and JAX arrays (e.g. posterior draws of C_gap)."""
@@ -269,17 +271,24 @@ def _compiled_remainder(text: str):
     return compile_circuit(text), voltage_across(text, "C_gap")
 
 
+def _remainder_names(ep, remainder) -> tuple[str, ...]:
+    return (remainder_circuit(ep) if remainder is None else parse(remainder)).parameter_names()
+
+
 def _remainder_fns(ep, remainder):
     text = str(remainder_circuit(ep)) if remainder is None else str(parse(remainder))
     return _compiled_remainder(text)
 
 
+@checked_arguments(freq=numeric_array(positive=True))
 def remainder_impedance(params: Mapping[str, object], freq, *, ep: str | None = "C", remainder: str | Circuit | None = None):
     """Z_R [Ω] of the remainder model (see `remainder_circuit`; ``remainder`` overrides it
     with any circuit holding a ``C_gap``). Pure JAX; extra entries in ``params`` are ignored."""
+    require_parameters(params, _remainder_names(ep, remainder))
     return _remainder_fns(ep, remainder)[0](params, freq)
 
 
+@checked_arguments(freq=numeric_array(positive=True), z_skin=numeric_array(), z_ts=numeric_array(), v0=numeric_array())
 def gap_voltage(params: Mapping[str, object], freq, z_skin, z_ts, *, v0: float = SIRIN_DRIVE_V, ep: str | None = "C", remainder: str | Circuit | None = None):
     """Complex amplitude [V] of the voltage across C_gap for a drive of amplitude ``v0`` (Sirin §2.4).
 
@@ -290,6 +299,7 @@ def gap_voltage(params: Mapping[str, object], freq, z_skin, z_ts, *, v0: float =
     parallel I − I_gap − I_EP is the R_EP current, so it gives zero. ``z_skin``, ``z_ts``: complex
     arrays over ``freq`` (measured means or models). Pure JAX: vmap over posterior draws.
     """
+    require_parameters(params, _remainder_names(ep, remainder))
     z_r, across_gap = _remainder_fns(ep, remainder)
     z_r = z_r(params, freq)
     current = v0 / (z_ts + z_r + z_skin)
@@ -297,10 +307,12 @@ def gap_voltage(params: Mapping[str, object], freq, z_skin, z_ts, *, v0: float =
     return delta_v * across_gap(params, freq)
 
 
+@checked_arguments(freq=numeric_array(positive=True), z_skin=numeric_array(), z_ts=numeric_array(), area=numeric_array(positive=True), v0=numeric_array(), eps_gap=numeric_array(positive=True), gap=numeric_array(positive=True, optional=True))
 def gap_force_peak(params: Mapping[str, object], freq, z_skin, z_ts, *, area: float = SIRIN_AREA, v0: float = SIRIN_DRIVE_V, ep: str | None = "C", eps_gap: float = EPSILON_AIR, gap=None, remainder: str | Circuit | None = None):
     """PEAK electrostatic force [N] over a drive period, Sirin eq 1 at the voltage amplitude:
     F = ½ ε0 A |ΔV_gap|²/u², with u = ε0 ε_gap A/C_gap from ``params["C_gap"]`` unless ``gap``
     [m] is given. Pure JAX in ``params`` (vmap over draws)."""
+    require_parameters(params, _remainder_names(ep, remainder))
     u = gap_thickness(params["C_gap"], area=area, eps_gap=eps_gap) if gap is None else gap
     v_gap = gap_voltage(params, freq, z_skin, z_ts, v0=v0, ep=ep, remainder=remainder)
     return 0.5 * EPSILON_0 * area * jnp.abs(v_gap) ** 2 / u**2

@@ -18,6 +18,7 @@ import jax.numpy as jnp
 import numpy as np
 import xarray as xr
 
+from ..arguments import checked_arguments, numeric_array
 from ..errors import ParameterError
 from ..constants import EPSILON_0
 
@@ -74,6 +75,7 @@ def instantaneous_force(v_e, *, h_i=TABLE2["h_i"], h_s=TABLE2["h_s"], area=TABLE
     return EPSILON_0 * area * jnp.asarray(v_e) ** 2 / (2.0 * _geometry(h_i, h_s, eps_i, eps_s))
 
 
+@checked_arguments(freq=numeric_array(positive=True), h_i=numeric_array(positive=True), h_s=numeric_array(positive=True), area=numeric_array(positive=True), eps_i=numeric_array(positive=True), eps_s=numeric_array(positive=True), rho_s=numeric_array(positive=True), v_m=numeric_array())
 def electrovibration_force(freq, *, h_i=TABLE2["h_i"], h_s=TABLE2["h_s"], area=TABLE2["area"], eps_i=TABLE2["eps_i"], eps_s=TABLE2["eps_s"], rho_s=TABLE2["rho_s"], v_m=TABLE2["v_m"]):
     """Eq 10, TIME-AVERAGED force [N] for v(t) = V_m cos ωt:
     F_e = ε0 A V_m² / (4 (h_i + h_s)(h_i/ε_i + h_s/ε_s)) · (ωτ)²/(1 + (ωτ)²), τ = ε0 ε_s ρ_s.
@@ -82,6 +84,7 @@ def electrovibration_force(freq, *, h_i=TABLE2["h_i"], h_s=TABLE2["h_s"], area=T
     return EPSILON_0 * area * v_m**2 / (4.0 * _geometry(h_i, h_s, eps_i, eps_s)) * wt**2 / (1.0 + wt**2)
 
 
+@checked_arguments(force=numeric_array(), freq=numeric_array(positive=True), h_i=numeric_array(positive=True), h_s=numeric_array(positive=True), area=numeric_array(positive=True), eps_i=numeric_array(positive=True), eps_s=numeric_array(positive=True), rho_s=numeric_array(positive=True))
 def voltage_for_force(force, freq, *, h_i=TABLE2["h_i"], h_s=TABLE2["h_s"], area=TABLE2["area"], eps_i=TABLE2["eps_i"], eps_s=TABLE2["eps_s"], rho_s=TABLE2["rho_s"]):
     """Eq 10 solved for the amplitude [V] giving a time-averaged ``force`` [N] (Fig 10):
     V_m = √(4 F (h_i + h_s)(h_i/ε_i + h_s/ε_s)(1 + (ωτ)²) / (ε0 A (ωτ)²))."""

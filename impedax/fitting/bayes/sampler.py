@@ -20,6 +20,7 @@ import jax.numpy as jnp
 import numpy as np
 import xarray as xr
 
+from ...arguments import MAX_CHAIN_VALUES, MAX_SAMPLER_STEPS, MAX_WALKERS, checked_arguments, choice, count, flag, frequency, instance_of, parameter_values, seed as seed_rule
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, parse
 from ...errors import DataError, FitError, ParameterError
 from ..least_squares import FitResult, fit
@@ -341,6 +342,21 @@ def _run_emcee(p0: np.ndarray, args: LogProbArgs, functions: LogProbFunctions, *
 # --- the entry point ---------------------------------------------------------------------------
 
 
+def _chain_fits_in_memory(arguments) -> None:
+    """steps × walkers within `MAX_CHAIN_VALUES` (emcee keeps every step of every walker)."""
+    steps, walkers = arguments.get("steps", 2000), arguments.get("walkers")
+    if walkers is not None and steps * walkers > MAX_CHAIN_VALUES:
+        raise ParameterError(f"steps × walkers = {steps * walkers:,} is above the limit {MAX_CHAIN_VALUES:,} (the chain is kept in memory); use fewer steps or walkers")
+
+
+@checked_arguments(
+    _chain_fits_in_memory,
+    priors=instance_of(Mapping, optional=True, what="a mapping name → Prior or 'kind:a,b'"), noise=choice(NOISE_MODELS, label="noise model"),
+    walkers=count(2, MAX_WALKERS, optional=True), steps=count(1, MAX_SAMPLER_STEPS, why="the chain is kept in memory"),
+    burn=count(0, optional=True), thin=count(1), seed=seed_rule, fixed=parameter_values(),
+    reparametrization=instance_of(Reparametrization, optional=True), fmin=frequency, fmax=frequency, progress=flag,
+    registry=instance_of(Registry),
+)
 def sample(
     circuit: Circuit | str,
     data: xr.Dataset | str,

@@ -37,6 +37,7 @@ from typing import Mapping, NamedTuple, Sequence
 import numpy as np
 import xarray as xr
 
+from ...arguments import MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice, count, flag, frequency, instance_of, real, seed as seed_rule
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, parse
 from ...data import make_spectrum
 from ...errors import DataError, FitError, ImpedaxError, ParameterError
@@ -44,7 +45,7 @@ from ..drt import PeakEvidence, drt, unexplained_peaks
 from ..kk import KKResult, kk_test
 from ..least_squares import BatchFitResult, FitResult
 from ..least_squares.candidates import SolverShape, fit_candidates, solver_shape
-from ..problem import open_spectrum
+from ..problem import WEIGHTINGS, open_spectrum
 from .bands import FailingBand, failing_bands, format_frequency, RUN_P
 from .catalog import BaselineContext, Effect, EffectCatalog, Proposal
 from .effects import DEFAULT_EFFECTS
@@ -480,6 +481,20 @@ def _baseline(fit_or_data, circuit, *, data, effects, registry, fmin, fmax, weig
     return _fit_baseline(fit_or_data, circuit, effects, registry=registry, fmin=fmin, fmax=fmax, weighting=weighting, n_starts=n_starts, seed=seed)
 
 
+MIN_DIAGNOSIS_POINTS = 4  # what the KK test needs (R_0, one RC element, L, C)
+
+
+def _require_points_for_diagnosis(base: FitResult) -> None:
+    """`DataError` when the spectrum is too short to judge a model (before, one point was
+    judged "adequate"): the KK test needs `MIN_DIAGNOSIS_POINTS` frequencies, and the real
+    values must outnumber the free parameters by as many (a model with as many parameters as
+    data values fits anything)."""
+    n_points, n_free = base.n_points, base.n_params
+    needed = max(MIN_DIAGNOSIS_POINTS, -(-(n_free + MIN_DIAGNOSIS_POINTS) // 2))
+    if n_points < needed:
+        raise DataError(f"diagnose needs at least {needed} frequencies for {n_free} free parameters and the Kramers–Kronig test, got {n_points}")
+
+
 def _kk_of(spectrum: xr.Dataset, notes: list[str]) -> KKResult | None:
     """The Kramers–Kronig test of the spectrum, or None (with a note) when it cannot run."""
     try:
@@ -589,6 +604,11 @@ def _verdict(cands: Sequence[Suggestion], bands: Sequence[FailingBand], ratio: f
     return Verdict.ADEQUATE, reason
 
 
+@checked_arguments(
+    effects=instance_of(EffectCatalog, what="an EffectCatalog (e.g. impedax.DEFAULT_EFFECTS)"), kk=instance_of(KKResult, optional=True),
+    noise=real(positive=True, optional=True), weighting=choice(WEIGHTINGS), registry=instance_of(Registry), fmin=frequency, fmax=frequency,
+    n_starts=count(1, MAX_STARTS), max_steps=count(1, MAX_SOLVER_STEPS), seed=seed_rule, drt_evidence=flag,
+)
 def diagnose(
     fit_or_data,
     circuit: Circuit | str | None = None,
@@ -624,6 +644,7 @@ def diagnose(
     if not isinstance(drt_evidence, bool):
         raise ParameterError(f"drt_evidence must be True or False, got {drt_evidence!r}")
     base, data, shape = _baseline(fit_or_data, circuit, data=data, effects=effects, registry=registry, fmin=fmin, fmax=fmax, weighting=weighting, n_starts=n_starts, seed=seed)
+    _require_points_for_diagnosis(base)
     spectrum, sigma = _spectrum_of(base, data)
     notes: list[str] = []
     if kk is None:

@@ -10,10 +10,11 @@ from typing import Callable
 import numpy as np
 import xarray as xr
 
+from ...arguments import MAX_STARTS, checked_arguments, choice, count, flag, frequency, instance_of, real, seed as seed_rule
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ...errors import ParameterError
 from ..least_squares import FitResult, fit
-from ..problem import open_spectrum
+from ..problem import WEIGHTINGS, open_spectrum
 from .catalog import EffectCatalog
 from .diagnosis import Diagnosis, Verdict, diagnose, undetermined_parameters
 from .effects import DEFAULT_EFFECTS
@@ -132,6 +133,12 @@ def _reproduced(ds: xr.Dataset, last: FitResult, *, n_starts: int, seed: int) ->
     return (warm, note) if warm.chi2 <= scratch.chi2 else (scratch, None)
 
 
+@checked_arguments(
+    max_steps=count(0, 64, optional=True, why="each step adds one element"), max_effects=count(0, 64, optional=True, why="each step adds one element"),
+    solver_steps=count(1, 100_000), effects=instance_of(EffectCatalog, what="an EffectCatalog (e.g. impedax.DEFAULT_EFFECTS)"),
+    weighting=choice(WEIGHTINGS), noise=real(positive=True, optional=True), registry=instance_of(Registry), fmin=frequency, fmax=frequency,
+    n_starts=count(1, MAX_STARTS), seed=seed_rule, drt_evidence=flag,
+)
 def refine(
     data,
     circuit: Circuit | str,

@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 
+from ...arguments import checked_arguments, count, flag, real
 from ...errors import DataError, ParameterError
 from ..problem import frequency_and_z
 from .basis import impedance_integrals, penalty_matrix, rbf_basis
@@ -67,6 +68,11 @@ def _needs_capacitance(freq, z) -> bool:
     return bool(np.any(np.angle(z[..., k], deg=True) < -60.0))
 
 
+@checked_arguments(
+    signed=flag, derivative=count(1, 2), inductance=flag, points_per_decade=real(minimum=1, maximum=1000), extend_decades=real(minimum=0, maximum=10),
+    fwhm_steps=real(positive=True, maximum=100), output_points_per_decade=real(minimum=1, maximum=10_000), max_iter=count(1, 100_000),
+    min_peak_fraction=real(minimum=0, maximum=1),
+)
 def drt(
     data,
     *,

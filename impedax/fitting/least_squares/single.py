@@ -13,6 +13,7 @@ import jax
 import xarray as xr
 import numpy as np
 
+from ...arguments import MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice, count, frequency, instance_of, parameter_bounds, parameter_values, seed as seed_rule
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ...errors import ParameterError
 from ..problem import WEIGHTINGS, prepare_fit, residual_scale, weights
@@ -27,6 +28,11 @@ from .starts import ESCALATION_RUNGS, SpectrumFeatures, climb_target, guess_star
 __all__ = ["fit", "FitResult", "BatchFitResult", "SharedFitResult", "WEIGHTINGS", "information_criteria"]
 
 
+@checked_arguments(
+    init=parameter_values(results=True), fixed=parameter_values(), bounds=parameter_bounds, weighting=choice(WEIGHTINGS),
+    fmin=frequency, fmax=frequency, n_starts=count(1, MAX_STARTS, why="starts are solved together in memory"),
+    max_steps=count(1, MAX_SOLVER_STEPS), seed=seed_rule, registry=instance_of(Registry),
+)
 def fit(
     circuit: Circuit | str,
     data: xr.Dataset | str,
