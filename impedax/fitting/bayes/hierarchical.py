@@ -42,7 +42,7 @@ from ...circuits import DEFAULT_REGISTRY, Circuit, Registry, compile_circuit, pa
 from ...errors import DataError, FitError, ParameterError
 from .reparam import Reparametrization
 
-__all__ = ["HierarchicalPosterior", "sample_hierarchical", "trial_scatter_noise", "HIERARCHICAL_PRIORS"]
+__all__ = ["HierarchicalPosterior", "sample_hierarchical", "hierarchical_log_density", "trial_scatter_noise", "HIERARCHICAL_PRIORS"]
 
 HIERARCHICAL_PRIORS = {
     "mu": "normal(ln of the median per-trial least-squares value, 2)",
@@ -110,7 +110,7 @@ def _trial_centre(pos, data: _Data, lay: _Layout):
     """Centre of each trial's ln θ (T, K): μ, plus its session's offset with a session level."""
     centre = jnp.broadcast_to(pos["mu"], (data.z.shape[0], pos["mu"].shape[0]))
     if lay.n_sessions > 1:
-        centre = centre + (jnp.exp(pos["log_spread_session"]) * pos["zeta"])[data.session]
+        centre = centre + (jnp.exp(pos["log_spread_session"])[None, :] * pos["zeta"])[data.session]
     return centre
 
 
@@ -118,7 +118,7 @@ def _trial_values(pos, data: _Data, lay: _Layout):
     """Natural per-trial values θ (T, K) from a position."""
     if lay.centred:
         return jnp.exp(pos["log_theta"])
-    return jnp.exp(_trial_centre(pos, data, lay) + jnp.exp(pos["log_spread"]) * pos["eta"])
+    return jnp.exp(_trial_centre(pos, data, lay) + jnp.exp(pos["log_spread"])[None, :] * pos["eta"])
 
 
 def _shared_values(pos, data: _Data, lay: _Layout):
@@ -156,7 +156,7 @@ def _log_density(pos, data: _Data, lay: _Layout, session_scale: float):
     lp += jnp.sum(_half_normal_log(pos["log_spread"], _SPREAD_SCALE))
     if lay.centred:
         spread = jnp.exp(pos["log_spread"])
-        lp += jnp.sum(-0.5 * ((pos["log_theta"] - _trial_centre(pos, data, lay)) / spread) ** 2 - pos["log_spread"])
+        lp += jnp.sum(-0.5 * ((pos["log_theta"] - _trial_centre(pos, data, lay)) / spread[None, :]) ** 2 - pos["log_spread"][None, :])
     else:
         lp += jnp.sum(-0.5 * pos["eta"] ** 2)
     if lay.n_sessions > 1:
@@ -170,7 +170,7 @@ def _log_density(pos, data: _Data, lay: _Layout, session_scale: float):
     if lay.discrepancy:
         lp += _half_normal_log(pos["log_delta"], _DELTA_SCALE)
         rel2 = rel2 + jnp.exp(2.0 * pos["log_delta"])
-    sigma = jnp.abs(data.z) * jnp.sqrt(rel2)
+    sigma = jnp.abs(data.z) * jnp.sqrt(rel2)[None, :]
     r = _model_z(pos, data, lay) - data.z
     ll = -0.5 * (r.real**2 + r.imag**2) / sigma**2 - 2.0 * jnp.log(sigma) - jnp.log(2.0 * jnp.pi)
     total = lp + jnp.sum(ll)
@@ -428,41 +428,8 @@ def _interval(draws: np.ndarray, level: float) -> dict[str, float]:
     return out
 
 
-def sample_hierarchical(
-    circuit: Circuit | str,
-    data: xr.Dataset,
-    *,
-    per_trial: Sequence[str],
-    session_dim: str | None = None,
-    reparametrization: Reparametrization | None = None,
-    fixed: Mapping[str, float] | None = None,
-    discrepancy: bool = True,
-    session_spread_scale: float = 0.1,
-    chains: int = 4,
-    warmup: int = 400,
-    draws: int = 400,
-    target_accept: float = 0.85,
-    parameterisation: str = "auto",
-    seed: int = 0,
-    registry: Registry = DEFAULT_REGISTRY,
-    init=None,
-) -> HierarchicalPosterior:
-    """Sample the hierarchical model (module docstring) of the spectra in ``data``.
-
-    ``data``: a spectrum Dataset with complex ``Z`` over (..., ``frequency``); every other dim
-    is a replicate (trials). ``per_trial`` names the quantities drawn per trial from a
-    log-normal population (circuit parameter names, or names of ``reparametrization``, e.g.
-    ``u``); every other free parameter is shared by all trials. ``session_dim`` adds a session
-    level (trials nested in the sessions along that dim). ``discrepancy`` samples the relative
-    floor δ (otherwise δ = 0). ``parameterisation``: ``"centred"`` samples each trial's ln θ,
-    ``"non-centred"`` its standardised offset η; ``"auto"`` picks centred when the per-trial
-    least-squares fits determine each trial better than the trials differ. ``init``: a `BatchFitResult` of the circuit on ``data`` (else
-    one is run) — the per-trial fits give the start, the prior centres and the noise ν_k.
-    Returns a `HierarchicalPosterior`.
-    """
-    from ..least_squares import fit
-
-    t0 = time.perf_counter()
+def _setup(circuit, data, *, per_trial, session_dim, reparametrization, fixed, discrepancy, session_spread_scale, chains, parameterisation, seed, registry, init):
+    """Checks, per-trial least-squares fits, noise ν_k, priors and the chains' starts."""
     if parameterisation not in ("auto", "centred", "non-centred"):
         raise ParameterError(f"parameterisation must be 'auto', 'centred' or 'non-centred', got {parameterisation!r}")
     circuit = parse(circuit, registry) if isinstance(circuit, str) else circuit
@@ -577,23 +544,82 @@ def sample_hierarchical(
 
     inits = [start() for _ in range(chains)]
     init_pos = {key: jnp.asarray(np.stack([p[key] for p in inits])) for key in inits[0]}
+    return lay, dat, init_pos, stacked["trial_index"]
+
+
+def sample_hierarchical(
+    circuit: Circuit | str,
+    data: xr.Dataset,
+    *,
+    per_trial: Sequence[str],
+    session_dim: str | None = None,
+    reparametrization: Reparametrization | None = None,
+    fixed: Mapping[str, float] | None = None,
+    discrepancy: bool = True,
+    session_spread_scale: float = 0.1,
+    chains: int = 4,
+    warmup: int = 400,
+    draws: int = 400,
+    target_accept: float = 0.85,
+    parameterisation: str = "auto",
+    seed: int = 0,
+    registry: Registry = DEFAULT_REGISTRY,
+    init=None,
+) -> HierarchicalPosterior:
+    """Sample the hierarchical model (module docstring) of the spectra in ``data``.
+
+    ``data``: a spectrum Dataset with complex ``Z`` over (..., ``frequency``); every other dim
+    is a replicate (trials). ``per_trial`` names the quantities drawn per trial from a
+    log-normal population (circuit parameter names, or names of ``reparametrization``, e.g.
+    ``u``); every other free parameter is shared by all trials. ``session_dim`` adds a session
+    level (trials nested in the sessions along that dim). ``discrepancy`` samples the relative
+    floor δ (otherwise δ = 0). ``parameterisation``: ``"centred"`` samples each trial's ln θ,
+    ``"non-centred"`` its standardised offset η; ``"auto"`` picks centred when the per-trial
+    least-squares fits determine each trial better than the trials differ. ``init``: a `BatchFitResult` of the circuit on ``data`` (else
+    one is run) — the per-trial fits give the start, the prior centres and the noise ν_k.
+    Returns a `HierarchicalPosterior`.
+    """
+    from ..least_squares import fit
+
+    t0 = time.perf_counter()
+    lay, dat, init_pos, trial_index = _setup(
+        circuit, data, per_trial=per_trial, session_dim=session_dim, reparametrization=reparametrization, fixed=fixed, discrepancy=discrepancy,
+        session_spread_scale=session_spread_scale, chains=chains, parameterisation=parameterisation, seed=seed, registry=registry, init=init,
+    )
     keys = jax.random.split(jax.random.PRNGKey(seed), chains)
     run = _compiled_sampler(lay, float(session_spread_scale), int(warmup), int(draws), float(target_accept))
     positions, divergent, n_steps, accept, step_size = jax.block_until_ready(run(keys, init_pos, dat))
     positions = jax.tree_util.tree_map(np.asarray, positions)
 
     theta = np.asarray(jax.vmap(jax.vmap(lambda p: _trial_values(p, dat, lay)))(positions))
+    shared = np.asarray(jax.vmap(jax.vmap(lambda p: _shared_values(p, dat, lay)))(positions))
+    n_sessions = lay.n_sessions
     if n_sessions > 1:
         spread_session = np.exp(positions["log_spread_session"])
     else:
         spread_session = np.zeros_like(positions["mu"])
-    y = positions["shared"]
-    shared = np.where(np.asarray(bounded, bool), np.asarray(lo) + (np.asarray(hi) - np.asarray(lo)) / (1.0 + np.exp(-y)), np.exp(y))
     delta = np.exp(positions["log_delta"]) if discrepancy else np.zeros(positions["mu"].shape[:2])
     return HierarchicalPosterior(
-        circuit=circuit, trial_names=tuple(per_trial), shared_names=shared_names, mu=positions["mu"], spread=np.exp(positions["log_spread"]),
-        spread_session=spread_session, trial_values=theta, shared=shared, delta=delta, frequency=freq, z_data=z, nu=nu,
-        trial_index=stacked["trial_index"], sessions=n_sessions, discrepancy=bool(discrepancy), divergences=int(np.sum(divergent)),
+        circuit=lay.circuit, trial_names=lay.trial_names, shared_names=lay.shared_names, mu=positions["mu"], spread=np.exp(positions["log_spread"]),
+        spread_session=spread_session, trial_values=theta, shared=shared, delta=delta, frequency=np.asarray(dat.freq), z_data=np.asarray(dat.z), nu=np.asarray(dat.nu),
+        trial_index=trial_index, sessions=n_sessions, discrepancy=bool(discrepancy), divergences=int(np.sum(divergent)),
         step_size=np.asarray(step_size), mean_tree_steps=float(np.mean(n_steps)), mean_acceptance=float(np.mean(accept)),
-        elapsed_s=time.perf_counter() - t0, fixed=fixed, reparametrization=rp, registry=registry,
+        elapsed_s=time.perf_counter() - t0, fixed=dict(zip(lay.fixed_names, np.asarray(dat.fixed).tolist())), reparametrization=lay.reparametrization, registry=registry,
     )
+
+
+def hierarchical_log_density(circuit: Circuit | str, data: xr.Dataset, *, per_trial: Sequence[str], seed: int = 0, **options):
+    """The model's log posterior density and a starting position, for other samplers (e.g. the
+    emcee comparison in benchmarks/bench_coverage.py): returns ``(log_density(position),
+    position)``, a position being a dict of arrays (one chain). ``options`` as for
+    `sample_hierarchical` (``session_dim``, ``reparametrization``, ``fixed``, ``discrepancy``,
+    ``session_spread_scale``, ``parameterisation``, ``registry``, ``init``)."""
+    opts = dict(session_dim=None, reparametrization=None, fixed=None, discrepancy=True, session_spread_scale=0.1, parameterisation="auto", registry=DEFAULT_REGISTRY, init=None)
+    unknown = set(options) - set(opts)
+    if unknown:
+        raise ParameterError(f"hierarchical_log_density: unknown option(s) {', '.join(sorted(unknown))}")
+    opts.update(options)
+    circuit = parse(circuit, opts["registry"]) if isinstance(circuit, str) else circuit
+    lay, dat, init_pos, _ = _setup(circuit, data, per_trial=per_trial, chains=1, seed=seed, **opts)
+    density = functools.partial(_log_density, data=dat, lay=lay, session_scale=float(opts["session_spread_scale"]))
+    return density, {k: v[0] for k, v in init_pos.items()}
