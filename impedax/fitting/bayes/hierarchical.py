@@ -430,6 +430,8 @@ def _interval(draws: np.ndarray, level: float) -> dict[str, float]:
 
 def _setup(circuit, data, *, per_trial, session_dim, reparametrization, fixed, discrepancy, session_spread_scale, chains, parameterisation, seed, registry, init):
     """Checks, per-trial least-squares fits, noise ν_k, priors and the chains' starts."""
+    from ..least_squares import fit
+
     if parameterisation not in ("auto", "centred", "non-centred"):
         raise ParameterError(f"parameterisation must be 'auto', 'centred' or 'non-centred', got {parameterisation!r}")
     circuit = parse(circuit, registry) if isinstance(circuit, str) else circuit
@@ -579,8 +581,6 @@ def sample_hierarchical(
     one is run) — the per-trial fits give the start, the prior centres and the noise ν_k.
     Returns a `HierarchicalPosterior`.
     """
-    from ..least_squares import fit
-
     t0 = time.perf_counter()
     lay, dat, init_pos, trial_index = _setup(
         circuit, data, per_trial=per_trial, session_dim=session_dim, reparametrization=reparametrization, fixed=fixed, discrepancy=discrepancy,
