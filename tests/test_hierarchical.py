@@ -126,3 +126,19 @@ def test_needs_replicates():
     ds = synthetic.generate_two_arc_trials(1, trials=8, points=31).isel(trial=0)
     with pytest.raises(ix.DataError, match="replicate"):
         sample_hierarchical(MODEL, ds, per_trial=("R1",))
+
+
+def test_sample_predictive_band_includes_the_noise():
+    """`Posterior.predict(noise=True)`: draws carry σ = sigma_rel·|Z|, so the band is several
+    times wider than the model's and holds most data points (2 % noise, 31 points)."""
+    f = np.geomspace(1.0, 1e5, 31)
+    z = 100.0 + 1000.0 / (1.0 + 1j * 2 * np.pi * f * 1000.0 * 1e-6)
+    rng = np.random.default_rng(3)
+    z = z * (1.0 + 0.02 * (rng.standard_normal(31) + 1j * rng.standard_normal(31)) / np.sqrt(2.0))
+    post = ix.sample("R0 + R1 || C1", ix.make_spectrum(f, z), steps=400, seed=1, progress=False)
+    with_noise, without = post.predict(noise=True), post.predict()
+    assert np.median(np.std(with_noise.real, axis=0) / np.std(without.real, axis=0)) > 2.0
+    lo, hi = np.quantile(with_noise.real, [0.05, 0.95], axis=0)
+    assert np.mean((z.real >= lo) & (z.real <= hi)) > 0.75
+    fig = post.plot()
+    assert any("predictive" in str(line.get_label()) for ax in fig.axes for line in ax.get_lines())
