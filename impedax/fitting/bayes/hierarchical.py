@@ -492,7 +492,11 @@ def _setup(circuit, data, *, per_trial, session_dim, reparametrization, fixed, d
         raise FitError(f"the per-trial least-squares fits gave non-positive values of {', '.join(per_trial)}; a log-normal population needs positive values")
     log0 = np.log(theta0)
     mu0 = np.median(log0, axis=0)
-    spread0 = np.clip(log0.std(axis=0, ddof=1), 1e-3, 1.0)
+    # robust: single-trial fits of a weakly identified model can land in another mode (e.g. a CPE
+    # with α → 1 taking C_gap's place); the median and the MAD ignore those trials, and the
+    # chains start with every trial within 2 spreads of the median
+    spread0 = np.clip(1.4826 * np.median(np.abs(log0 - mu0), axis=0), 1e-3, 1.0)
+    offset0 = np.clip(log0 - mu0, -2.0 * spread0, 2.0 * spread0)
     bounded, lo, hi, centre, sh0 = [], [], [], [], []
     for n in shared_names:
         if rp is not None and n in rp.names:
@@ -534,9 +538,9 @@ def _setup(circuit, data, *, per_trial, session_dim, reparametrization, fixed, d
             "shared": np.asarray(sh0) + 0.01 * rng.standard_normal(len(sh0)),
         }
         if use_centred:
-            pos["log_theta"] = log0 + 0.002 * rng.standard_normal(log0.shape)
+            pos["log_theta"] = mu0 + offset0 + 0.002 * rng.standard_normal(log0.shape)
         else:
-            pos["eta"] = (log0 - mu0) / spread0 + 0.05 * rng.standard_normal(log0.shape)
+            pos["eta"] = offset0 / spread0 + 0.05 * rng.standard_normal(log0.shape)
         if n_sessions > 1:
             pos["log_spread_session"] = np.log(np.full(k, 0.5 * session_spread_scale))
             pos["zeta"] = 0.1 * rng.standard_normal((n_sessions, k))
