@@ -19,10 +19,10 @@ at 95 %); s_j, τ_j ~ half-normal(0.5) and half-normal(``session_spread_scale``)
 half-normal(0.1); shared positive parameters ln φ ~ N(ln φ̂, 2²), bounded ones uniform within
 their bounds (sampled through a logit).
 
-Why NUTS and not emcee: with 30 trials and 3 per-trial parameters the posterior has ~100
-dimensions; emcee's affine-invariant moves then mix poorly (its autocorrelation time grows
-with the dimension), while NUTS follows the gradient. `benchmarks/bench_coverage.py` measures
-ESS/s of both in one run.
+Why NUTS: with 30 trials and 3 per-trial parameters the posterior has ~100 dimensions, where
+emcee's affine-invariant moves are expected to mix poorly and NUTS follows the gradient.
+`benchmarks/bench_coverage.py --ess` measures ESS/s of both on one log density; its first run
+did not confirm a speed advantage (benchmarks/README.md).
 """
 
 from __future__ import annotations
