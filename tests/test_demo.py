@@ -50,6 +50,11 @@ def test_demo_gap_thickness(demo):
     _, text, _ = demo
     u, lo, hi = (float(x) for x in re.search(r"u = ([\d.]+) µm, 90% credible interval ([\d.]+)–([\d.]+) µm", text).groups())
     assert lo <= u <= hi
+    assert lo <= U_TRUE_UM <= hi  # the interval of the population median contains the generating u
+    spread = float(re.search(r"spread between trials: ([\d.]+)%", text).group(1))
+    assert 3.0 < spread < 14.0  # generated with 7 % between trials (and 1 % between sessions)
+    new_lo, new_hi = (float(x) for x in re.search(r"a new trial: u in ([\d.]+)–([\d.]+) µm", text).groups())
+    assert new_lo < lo and new_hi > hi
     assert u == pytest.approx(U_TRUE_UM, rel=0.03)
     paper = float(re.search(r"paper's method: u = ([\d.]+) µm", text).group(1))
     assert paper == pytest.approx(U_TRUE_UM, rel=0.05)

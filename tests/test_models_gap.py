@@ -42,7 +42,7 @@ def _measurements(rng, n_trials=12, noise=0.005, trial_scatter=0.0):
 def analysis():
     rng = np.random.default_rng(11)
     total, skin, ts = _measurements(rng)
-    return gap_analysis(total, skin, ts, area=AREA, steps=400, progress=False)
+    return gap_analysis(total, skin, ts, area=AREA, steps=200, progress=False)
 
 
 def test_gap_interval_covers_truth(analysis):
@@ -54,11 +54,22 @@ def test_gap_interval_covers_truth(analysis):
 
 
 def test_common_trial_scatter_keeps_the_estimate_close():
-    """Scatter common to all frequencies of a trial is not in the SEM-based interval
+    """Scatter common to all frequencies of a trial is not in the pooled, SEM-based interval
     (documented); the estimate itself stays within 1.5% of the truth."""
     total, skin, ts = _measurements(np.random.default_rng(5), trial_scatter=0.01)
-    result = gap_analysis(total, skin, ts, area=AREA, steps=300, progress=False)
+    result = gap_analysis(total, skin, ts, area=AREA, steps=300, progress=False, method="pooled")
     assert result.gap["value"] == pytest.approx(U_TRUE, rel=0.015)
+    assert result.method == "pooled" and result.gap_spread is None and result.summary()["gap_um_new_trial"] is None
+
+
+def test_hierarchical_reports_spread_and_new_trial(analysis):
+    """The default method: population median with its interval, the spread between trials (the
+    data have none beyond the noise, so it is small) and a new trial's wider interval."""
+    assert analysis.method == "hierarchical"
+    s = analysis.summary()
+    pop, new = s["gap_um_population"], s["gap_um_new_trial"]
+    assert pop == s["gap_um"] and new["q05"] <= pop["q05"] and new["q95"] >= pop["q95"]
+    assert 0 <= s["gap_um_spread"] < 0.1 * pop["value"]
 
 
 def test_naive_model_fails_and_edl_model_fits(analysis):
@@ -91,13 +102,28 @@ def test_cli_gap_json(tmp_path, capsys):
     for name, ds in zip(("total", "skin", "ts"), _measurements(rng)):
         paths.append(str(tmp_path / f"{name}.nc"))
         ix.save(ds, paths[-1])
-    code = main(["gap", *paths, "--area", "130e-6", "--steps", "300", "--json", "--plot", str(tmp_path / "gap.png")])
+    code = main(["gap", *paths, "--area", "130e-6", "--steps", "200", "--json", "--plot", str(tmp_path / "gap.png")])
     assert code == 0
     out = json.loads(capsys.readouterr().out)
-    assert set(out) >= {"c_gap", "gap_um", "force_n", "warnings"}
+    assert set(out) >= {"c_gap", "gap_um", "force_n", "warnings", "gap_um_population", "gap_um_spread", "gap_um_new_trial", "method"}
+    assert set(out["gap_um_population"]) >= {"value", "q05", "q95"} and set(out["gap_um_new_trial"]) == {"q05", "q95"}
+    assert isinstance(out["gap_um_spread"], float) and out["method"] == "hierarchical"
+    assert out["gap_um_new_trial"]["q05"] <= out["gap_um_population"]["q05"] <= out["gap_um_population"]["q95"] <= out["gap_um_new_trial"]["q95"]
     assert out["gap_um"]["q05"] < out["gap_um"]["value"] < out["gap_um"]["q95"]
     assert out["gap_um"]["value"] == pytest.approx(U_TRUE * 1e6, rel=0.05)
     assert (tmp_path / "gap.png").stat().st_size > 10_000
+
+
+def test_cli_gap_pooled_keeps_the_keys(tmp_path, capsys):
+    rng = np.random.default_rng(13)
+    paths = []
+    for name, ds in zip(("total", "skin", "ts"), _measurements(rng)):
+        paths.append(str(tmp_path / f"{name}.nc"))
+        ix.save(ds, paths[-1])
+    assert main(["gap", *paths, "--area", "130e-6", "--steps", "300", "--json", "--pooled"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["method"] == "pooled" and out["gap_um_population"] is None and out["gap_um_spread"] is None and out["gap_um_new_trial"] is None
+    assert out["gap_um"]["q05"] < out["gap_um"]["value"] < out["gap_um"]["q95"]
 
 
 @pytest.mark.parametrize("args, fragment", [(["--area", "-1"], "--area must be positive"), (["--area", "1e-4", "--v0", "0"], "--v0 must be positive")])

@@ -11,9 +11,12 @@ def register(sub) -> None:
     p = sub.add_parser(
         "gap",
         help="air-gap thickness, gap voltage and force from three spectra (Sirin et al.)",
-        description="Subtract skin and touchscreen from the total impedance (trial means ± SEM), fit the EDL parallel model, "
-        "sample the gap thickness u (Bayesian) and print u with its 90%% credible interval next to the paper's method; "
-        "force bands use the PEAK convention of Sirin eq 1.",
+        description="Subtract skin and touchscreen from the total impedance, fit the EDL parallel model, "
+        "sample the gap thickness u and print it with its 90% credible interval next to the paper's method. "
+        "Default (--method hierarchical): every total trial gets its own u and EP branch drawn from a population, "
+        "with noise from the trial scatter and a sampled discrepancy floor; u is the population median, "
+        "reported with the spread between trials and a new trial's interval. --pooled: one model on the trial means (their SEM only). "
+        "Force bands use the PEAK convention of Sirin eq 1.",
     )
     p.add_argument("total", metavar="DATA_TOTAL", help="finger-on-screen spectra (trials as an extra dimension)")
     p.add_argument("skin", metavar="DATA_SKIN", help="skin spectra")
@@ -21,7 +24,9 @@ def register(sub) -> None:
     p.add_argument("--area", type=float, required=True, help="apparent contact area A [m²], e.g. 130e-6")
     p.add_argument("--v0", type=float, default=75.0, help="drive amplitude V0 [V] (default 75)")
     p.add_argument("--ep", choices=("CPE", "C"), default="CPE", help="electrode-polarization branch: R_EP || CPE_EP (default) or R_EP || C_EP")
-    p.add_argument("--steps", type=int, default=1500, help="MCMC steps (default 1500)")
+    p.add_argument("--method", choices=("hierarchical", "pooled"), default="hierarchical", help="hierarchical model over the trials (default) or the pooled analysis of the trial means")
+    p.add_argument("--pooled", action="store_const", const="pooled", dest="method", help="same as --method pooled")
+    p.add_argument("--steps", type=int, default=None, help="MCMC draws per chain after warm-up (hierarchical, default 500) or emcee steps (pooled, default 1500)")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     p.add_argument("--quiet", action="store_true", help="no progress line")
     add_output_options(p, plot="save impedance, gap posterior and force bands", out=result_out_help("the gap result (.nc: force bands and gap summary; .csv: C_gap and u)"))
@@ -38,16 +43,17 @@ def run(args) -> int:
         raise ParameterError(f"--area must be positive (m²), got {args.area:g}")
     if not args.v0 > 0:
         raise ParameterError(f"--v0 must be positive (V), got {args.v0:g}")
-    if args.steps < 20:
+    steps = args.steps if args.steps is not None else (500 if args.method == "hierarchical" else 1500)
+    if steps < 20:
         raise ParameterError("--steps must be at least 20")
     outputs = plan_outputs(
         [("--out", args.out, "result"), ("--plot", args.plot, "figure")],
         inputs=[args.total, args.skin, args.touchscreen], stdout="--json" if args.json else None,
     )
     # emcee keeps every step of every walker: about 64 walkers × 8 parameters × 8 bytes, kept three times
-    check_memory("--steps", args.steps * 64 * 10 * 8 * 3, f"a gap-thickness chain of {args.steps} steps")
+    check_memory("--steps", steps * 64 * 10 * 8 * 3, f"a gap-thickness chain of {steps} steps")
     total, skin, touchscreen = (load(p) for p in (args.total, args.skin, args.touchscreen))
-    result = gap_analysis(total, skin, touchscreen, area=args.area, v0=args.v0, ep=args.ep, steps=args.steps, seed=args.seed, progress=not (args.quiet or args.json))
+    result = gap_analysis(total, skin, touchscreen, area=args.area, v0=args.v0, ep=args.ep, steps=steps, seed=args.seed, method=args.method, progress=not (args.quiet or args.json))
     outputs.save({"--out": result_writer(result), "--plot": figure_writer(result.plot)})
     if not outputs.uses_stdout:
         print_result(result, args.json)

@@ -8,7 +8,12 @@ gap voltage and the electrostatic force, with uncertainty.
 3. least-squares fits of the naive model (C_gap alone) and of the EDL parallel model with the
    electrode-polarization branch (`remainder_circuit(ep)`);
 4. Bayesian sampling of the EDL model with the gap thickness u itself as a parameter
-   (C_gap = ε0 ε_gap A/u; `gap_thickness_reparametrization`);
+   (C_gap = ε0 ε_gap A/u; `gap_thickness_reparametrization`). ``method="hierarchical"``
+   (default): every total trial's remainder (`trial_remainders`) gets its own u and EP
+   branch, drawn from a log-normal population (`impedax.fitting.bayes.hierarchical`), with the
+   noise from the trial scatter plus a sampled discrepancy floor; u is the population median,
+   reported with the spread between trials and the interval of a new trial.
+   ``method="pooled"``: one EDL model on the trial mean with its SEM (the earlier analysis);
 5. the gap voltage and the PEAK force of eq 1, F = ½ ε0 A |ΔV_gap|²/u², over frequency for a
    drive of amplitude V0, as posterior bands, with and without the EP branch.
 """
@@ -22,11 +27,14 @@ import xarray as xr
 
 from ..circuits import parse
 from ..arguments import MAX_SAMPLER_STEPS, MAX_WALKERS, checked_arguments, choice, count, flag, real, seed
-from ..errors import CircuitError, DataError
+from ..errors import CircuitError, DataError, ParameterError
 from ..constants import EPSILON_AIR
-from .sirin import SIRIN_AREA, SIRIN_DRIVE_V, PaperGapEstimate, gap_force_peak, paper_gap_estimate, remainder_circuit, remaining_impedance, trial_mean
+from .sirin import SIRIN_AREA, SIRIN_DRIVE_V, PaperGapEstimate, gap_force_peak, paper_gap_estimate, remainder_circuit, remaining_impedance, trial_mean, trial_remainders
 
-__all__ = ["GapAnalysis", "gap_analysis"]
+__all__ = ["GapAnalysis", "gap_analysis", "GAP_METHODS"]
+
+GAP_METHODS = ("hierarchical", "pooled")
+_EP_PER_TRIAL = ("R_EP", "CPE_EP.Q", "C_EP")  # the contact's EP branch varies with each trial
 
 FORCE_CONVENTION = "peak"  # eq 1 at the voltage amplitude; the time average is half of it
 
@@ -35,10 +43,12 @@ FORCE_CONVENTION = "peak"  # eq 1 at the voltage amplitude; the time average is 
 class GapAnalysis:
     """Result of `gap_analysis`. Lengths in m and capacitances in F inside; `summary` gives µm.
 
-    The credible interval of u reflects the noise of the trial means (their SEM per frequency,
-    taken as independent across frequencies). Variation of the contact from trial to trial
-    that is common to all frequencies of a trial is not in it; the paper's bounds (extreme
-    trials) show that spread, so both are reported side by side.
+    ``method`` ``"hierarchical"``: u is the population median of the trials' gap thicknesses
+    (``hierarchical`` holds the `HierarchicalPosterior`; ``posterior`` is None); its interval
+    includes the trial-to-trial variation of the contact and the model discrepancy, and
+    `gap_spread` / `gap_new_trial` give the spread between trials and where a new trial's u
+    falls. ``"pooled"``: one model on the trial means; its interval reflects only the noise of
+    the means (their SEM), not the variation of the contact between trials.
 
     ``force`` holds the PEAK force [N] bands over frequency (``median``, ``q05``, ``q95``) with
     the EP branch (``with_ep``) and without it (``without_ep``, same C_gap draws).
@@ -54,11 +64,35 @@ class GapAnalysis:
     v0: float
     ep: str
     warnings: tuple[str, ...] = field(default=())
+    method: str = "pooled"
+    hierarchical: object = None
+
+    def draws(self, name: str) -> np.ndarray:
+        """Posterior draws of ``u`` [m] or ``C_gap`` [F] (hierarchical: population medians)."""
+        if self.hierarchical is not None:
+            return np.asarray(self.hierarchical.population_parameters()[name])
+        return np.asarray(self.posterior.parameter_draws()[name])
 
     def _quantiles(self, name: str) -> dict[str, float]:
-        draws = self.posterior.parameter_draws()[name]
-        q05, q50, q95 = np.quantile(draws, [0.05, 0.5, 0.95])
+        q05, q50, q95 = np.quantile(self.draws(name), [0.05, 0.5, 0.95])
         return {"value": float(q50), "q05": float(q05), "q95": float(q95)}
+
+    @property
+    def gap_spread(self) -> dict[str, float] | None:
+        """Spread of u between trials (hierarchical): ``relative`` (sd of ln u: median, q05,
+        q95) and ``sd_m`` (≈ population median × relative sd, m). None when pooled."""
+        if self.hierarchical is None:
+            return None
+        rel = self.hierarchical.spread_between_trials("u")
+        return {"relative": {k: rel[k] for k in ("value", "q05", "q95")}, "sd_m": rel["value"] * self.gap["value"]}
+
+    @property
+    def gap_new_trial(self) -> dict[str, float] | None:
+        """90 % predictive interval of u [m] for a new trial (hierarchical); None when pooled."""
+        if self.hierarchical is None:
+            return None
+        q = self.hierarchical.new_trial("u")
+        return {"value": q["value"], "q05": q["q05"], "q95": q["q95"]}
 
     @property
     def c_gap(self) -> dict[str, float]:
@@ -74,9 +108,16 @@ class GapAnalysis:
         """The JSON used by ``impedax gap --json``."""
         gap_um = {k: v * 1e6 for k, v in self.gap.items()}
         with_ep = self.force.sel(branch="with_ep")
+        spread, new = self.gap_spread, self.gap_new_trial
         return {
+            "method": self.method,
             "c_gap": self.c_gap,
             "gap_um": gap_um,
+            "gap_um_population": gap_um if self.hierarchical is not None else None,
+            "gap_um_spread": spread["sd_m"] * 1e6 if spread else None,
+            "gap_spread_relative": spread["relative"] if spread else None,
+            "gap_um_new_trial": {k: new[k] * 1e6 for k in ("q05", "q95")} if new else None,
+            "discrepancy": self.hierarchical.summary()["discrepancy"] if self.hierarchical is not None else None,
             "force_n": {
                 "frequency_hz": self.force["frequency"].values,
                 "median": with_ep["median"].values,
@@ -115,8 +156,16 @@ class GapAnalysis:
         g, c, p = self.gap, self.c_gap, self.paper
         peak = self.force.sel(branch="with_ep")["median"]
         i = int(np.argmax(peak.values))
-        lines = [
-            f"gap thickness u = {g['value'] * 1e6:.3f} µm  (90% credible interval {g['q05'] * 1e6:.3f}–{g['q95'] * 1e6:.3f} µm, Bayesian, {self.edl_fit.model})",
+        if self.hierarchical is not None:
+            spread, new = self.gap_spread, self.gap_new_trial
+            lines = [
+                f"gap thickness u = {g['value'] * 1e6:.3f} µm  (population median of the trials; 90% credible interval {g['q05'] * 1e6:.3f}–{g['q95'] * 1e6:.3f} µm, hierarchical Bayesian, {self.edl_fit.model})",
+                f"between trials  u varies by {spread['relative']['value']:.1%} (sd of ln u; 90%: {spread['relative']['q05']:.1%}–{spread['relative']['q95']:.1%}), ≈ {spread['sd_m'] * 1e6:.3f} µm",
+                f"a new trial     u in {new['q05'] * 1e6:.3f}–{new['q95'] * 1e6:.3f} µm (90% predictive interval)",
+            ]
+        else:
+            lines = [f"gap thickness u = {g['value'] * 1e6:.3f} µm  (90% credible interval {g['q05'] * 1e6:.3f}–{g['q95'] * 1e6:.3f} µm, Bayesian on the trial means, {self.edl_fit.model})"]
+        lines += [
             f"paper method    u = {p.gap * 1e6:.3f} µm  (bounds {p.gap_lower * 1e6:.3f}–{p.gap_upper * 1e6:.3f} µm from the lowest/highest impedances)",
             f"C_gap           = {c['value'] * 1e12:.1f} pF (90%: {c['q05'] * 1e12:.1f}–{c['q95'] * 1e12:.1f} pF); paper method {p.c_gap * 1e12:.1f} pF",
             f"fits            naive C_gap: rms_rel {self.naive_fit.rms_rel:.3g};  {self.edl_fit.model}: rms_rel {self.edl_fit.rms_rel:.3g}",
@@ -137,10 +186,12 @@ class GapAnalysis:
     def to_xarray(self) -> xr.Dataset:
         out = self.force.copy()
         for key, value in self.summary().items():
-            if key in ("c_gap", "gap_um"):
+            if key in ("c_gap", "gap_um", "gap_um_new_trial") and value is not None:
                 for k, v in value.items():
                     out.attrs[f"{key}_{k}"] = v
-        out.attrs.update({"convention": FORCE_CONVENTION, "model": self.edl_fit.model, "area_m2": self.area, "v0": self.v0})
+        out.attrs.update({"convention": FORCE_CONVENTION, "model": self.edl_fit.model, "area_m2": self.area, "v0": self.v0, "method": self.method})
+        if self.gap_spread is not None:
+            out.attrs["gap_spread_relative"] = self.gap_spread["relative"]["value"]
         return out
 
 
@@ -164,18 +215,26 @@ def gap_analysis(
     progress: bool = True,
     remainder=None,
     edl_fit=None,
+    method: str = "hierarchical",
+    chains: int = 4,
+    warmup: int | None = None,
 ) -> GapAnalysis:
     """Run the Sirin workflow (module docstring) on three spectrum Datasets with trial
     dimensions, all on one frequency grid. ``ep`` picks the EP branch of the EDL model:
     ``"CPE"`` (R_EP || CPE_EP || C_gap, default) or ``"C"`` (R_EP || C_EP || C_gap — note that
     two ideal capacitors in parallel are identified only as their sum). ``remainder`` replaces
     the EDL model by any circuit holding a ``C_gap`` (e.g. the result of `impedax.refine`), and
-    ``edl_fit`` reuses a least-squares fit of it. Returns a `GapAnalysis`.
+    ``edl_fit`` reuses a least-squares fit of it. ``method``: ``"hierarchical"`` (default; needs
+    ≥ 3 total trials; ``steps`` draws per chain after ``warmup`` (default ``steps``) NUTS
+    adaptation steps in each of ``chains`` chains) or ``"pooled"`` (emcee on the trial means,
+    ``steps`` steps). Returns a `GapAnalysis`.
     """
     from ..fitting import fit, gap_thickness_reparametrization, sample
 
     if not area > 0:
         raise DataError(f"area must be positive (m²), got {area}")
+    if method not in GAP_METHODS:
+        raise ParameterError(f"unknown gap method {method!r}; use one of {', '.join(GAP_METHODS)}")
     remaining = remaining_impedance(total, skin, touchscreen)
     paper = paper_gap_estimate(total, skin, touchscreen, area=area, cutoff_hz=cutoff_hz, eps_gap=eps_gap)
     weighting = "sigma" if "sigma" in remaining else "modulus"
@@ -184,11 +243,14 @@ def gap_analysis(
         raise CircuitError(f"the remainder model {circuit} has no element named C_gap")
     naive = fit(remainder_circuit(None), remaining, weighting=weighting)
     edl = edl_fit if edl_fit is not None else fit(circuit, remaining, weighting=weighting)
+    reparametrization = gap_thickness_reparametrization("C_gap", area=area, eps_r=eps_gap)
+    if method == "hierarchical":
+        return _hierarchical(total, skin, touchscreen, remaining, paper, naive, edl, circuit, reparametrization, area=area, v0=v0, ep=ep, eps_gap=eps_gap, steps=steps, warmup=steps if warmup is None else warmup, chains=chains, seed=seed)
     posterior = sample(
         circuit,
         remaining,
         noise="sigma" if weighting == "sigma" else "proportional",
-        reparametrization=gap_thickness_reparametrization("C_gap", area=area, eps_r=eps_gap),
+        reparametrization=reparametrization,
         init=edl,
         steps=steps,
         walkers=walkers,
@@ -209,3 +271,46 @@ def gap_analysis(
     if not (paper.gap_lower <= np.median(posterior.parameter_draws()["u"]) <= paper.gap_upper):
         notes.append(f"the Bayesian gap thickness lies outside the paper method's bounds ({paper.gap_lower * 1e6:.2f}–{paper.gap_upper * 1e6:.2f} µm; draws span {u_lo * 1e6:.2f}–{u_hi * 1e6:.2f} µm)")
     return GapAnalysis(remaining, paper, naive, edl, posterior, force, area, v0, ep, tuple(notes))
+
+
+def _force_bands(param_draws: dict, freq, z_skin, z_ts, circuit, *, area, v0, eps_gap) -> xr.Dataset:
+    """PEAK force quantiles over ``freq`` from draws of the circuit parameters (vmapped)."""
+    import jax
+    import jax.numpy as jnp
+
+    draws = {k: jnp.asarray(v) for k, v in param_draws.items()}
+    bands = []
+    for model in (str(circuit), "C_gap"):
+        fn = jax.jit(jax.vmap(lambda p, m=model: gap_force_peak(p, jnp.asarray(freq), z_skin, z_ts, area=area, v0=v0, remainder=m, eps_gap=eps_gap)))
+        values = np.asarray(fn(draws))
+        q05, q50, q95 = np.quantile(values, [0.05, 0.5, 0.95], axis=0)
+        bands.append(xr.Dataset({"median": ("frequency", q50), "q05": ("frequency", q05), "q95": ("frequency", q95)}, coords={"frequency": freq}))
+    force = xr.concat(bands, dim=xr.DataArray(["with_ep", "without_ep"], dims="branch"))
+    force["median"].attrs.update(units="N", convention=FORCE_CONVENTION)
+    return force
+
+
+def _hierarchical(total, skin, touchscreen, remaining, paper, naive, edl, circuit, reparametrization, *, area, v0, ep, eps_gap, steps, warmup, chains, seed) -> GapAnalysis:
+    """The hierarchical gap analysis: per-trial remainders, per-trial u and EP branch."""
+    from ..fitting import fit
+    from ..fitting.bayes.hierarchical import sample_hierarchical
+
+    trials = trial_remainders(total, skin, touchscreen)
+    n_trials = int(np.prod([trials.sizes[d] for d in trials["Z"].dims if d != "frequency"]))
+    if n_trials < 3:
+        raise DataError(f"the hierarchical gap analysis needs at least 3 total trials, got {n_trials}; use method='pooled'")
+    free = set(circuit.parameter_names()) - {"C_gap"}
+    per_trial = ("u",) + tuple(n for n in _EP_PER_TRIAL if n in free)
+    batch = fit(circuit, trials, init=dict(edl.values), weighting="modulus")
+    post = sample_hierarchical(circuit, trials, per_trial=per_trial, reparametrization=reparametrization, init=batch, chains=chains, warmup=warmup, draws=steps, seed=seed)
+    freq = remaining["frequency"].values
+    z_skin = trial_mean(skin)["Z"].values
+    z_ts = trial_mean(touchscreen)["Z"].values
+    pop = post.population_parameters()
+    step = max(1, post.n_draws // 1000)
+    force = _force_bands({k: v[::step] for k, v in pop.items()}, freq, z_skin, z_ts, circuit, area=area, v0=v0, eps_gap=eps_gap)
+    notes = [f"EDL fit: {w}" for w in edl.warnings] + [f"sampling: {w}" for w in post.warnings]
+    u = float(np.median(pop["u"]))
+    if not (paper.gap_lower <= u <= paper.gap_upper):
+        notes.append(f"the population gap thickness {u * 1e6:.2f} µm lies outside the paper method's bounds ({paper.gap_lower * 1e6:.2f}–{paper.gap_upper * 1e6:.2f} µm)")
+    return GapAnalysis(remaining, paper, naive, edl, None, force, area, v0, ep, tuple(notes), method="hierarchical", hierarchical=post)

@@ -33,6 +33,7 @@ __all__ = [
     "SIRIN_C_GAP",
     "trial_mean",
     "remaining_impedance",
+    "trial_remainders",
     "admittance_spectrum",
     "gap_capacitance_paper",
     "gap_thickness",
@@ -145,6 +146,24 @@ def remaining_impedance(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dat
         ds["sigma_real"] = ("frequency", np.sqrt(var_re), {"units": "ohm", "long_name": "standard error of Re Z_R"})
         ds["sigma_imag"] = ("frequency", np.sqrt(var_im), {"units": "ohm", "long_name": "standard error of Im Z_R"})
     return ds
+
+
+def trial_remainders(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dataset) -> xr.Dataset:
+    """Remaining impedance of every total trial: Z_R,t = Z_total,t − mean Z_skin − mean Z_TS
+    (Sirin eq 5 per trial; skin and screen are separate measurements, so only their means pair
+    with a total trial). A spectrum Dataset with the total's dims; the skin and screen trial
+    scatter enters each trial's Z_R as noise (the hierarchical model's ν_k estimates it)."""
+    parts = {"total": _spectrum(total, "total"), "skin": _spectrum(skin, "skin"), "touchscreen": _spectrum(touchscreen, "touchscreen")}
+    freq = parts["total"]["frequency"].values
+    for name in ("skin", "touchscreen"):
+        _same_frequencies(freq, parts[name]["frequency"].values, name)
+    z = parts["total"]["Z"] - trial_mean(parts["skin"])["Z"].values - trial_mean(parts["touchscreen"])["Z"].values
+    dims = tuple(d for d in z.dims if d != "frequency")
+    if not dims:
+        raise DataError("total: a single spectrum; per-trial remainders need trials as an extra dimension")
+    z = z.transpose(*dims, "frequency")
+    coords = {d: z[d].values for d in dims if d in z.coords}
+    return make_spectrum(freq, z.values, dims=dims, coords=coords, attrs={"quantity": "remaining impedance of each total trial, Z_total,t - mean Z_skin - mean Z_TS (Sirin eq 5 per trial)"}, source="trial_remainders")
 
 
 def _complex_and_freq(z, freq=None):

@@ -25,7 +25,11 @@ series resistance R_inf is what gives an R ∥ CPE a phase maximum (a bare R ∥
 monotonically to −α·90°); the measured electrodes and tissue provide it.
 
 Scatter: 3 sessions × 10 trials. Each parameter gets a session factor and a per-trial factor
-(log-normal; skin R varies most, as electrodermal activity does); CPE exponents get small
+(log-normal; skin R varies most, as electrodermal activity does). The contact of the sliding
+finger varies from trial to trial as a whole: the gap thickness u is log-normal about 2.789 µm
+(the population median; sd of ln u 1 % between sessions and 7 % between trials), R_EP (5 %,
+15 %) and CPE_EP.Q (3 %, 8 %) likewise; each trial's true u, R_EP, CPE_EP.Q, α and C_gap are
+stored in the ``trial_*`` variables, the spreads in ``attrs["trial_variation"]``. CPE exponents get small
 additive jitter about each CPE's own characteristic frequency. Skin and screen keep their
 session factors across the skin, screen and total measurements of a session (same finger and
 screen on the same day); the trial factors are independent. Measurement noise is complex
@@ -42,6 +46,7 @@ import numpy as np
 import xarray as xr
 
 from ..data import log_frequencies, make_spectrum
+from ..constants import EPSILON_0
 from ..errors import DataError
 
 __all__ = [
@@ -52,6 +57,10 @@ __all__ = [
     "example_spectra",
     "example_path",
     "r_cpe_series",
+    "TWO_ARC_TRUTH",
+    "TWO_ARC_SPREAD",
+    "generate_two_arc_trials",
+    "sirin_trial_remainders",
 ]
 
 SIRIN_SYNTHETIC_SEED = 20230413
@@ -74,8 +83,11 @@ _SPREAD = {  # (session σ, trial σ) of log-normal factors, or additive σ for 
     "Q": (0.01, 0.04),
     "alpha": (0.002, 0.008),
     "R_EP": (0.05, 0.15),
-    "C_gap": (0.005, 0.04),  # contact varies with the normal force (1 ± 0.15 N)
+    "Q_EP": (0.03, 0.08),
+    "u": (0.01, 0.07),  # the contact varies with the normal force (1 ± 0.15 N) and finger placement
 }
+"""Log-normal spreads (sd of ln x between sessions, between trials of a session); exponents
+(``alpha``) additive. The contact of the sliding finger (u, R_EP, CPE_EP.Q) varies most."""
 
 _PIVOT_HZ = {"skin": 250.0, "touchscreen": 1e5, "EP": 10.0}  # where each CPE's α jitter pivots
 
@@ -116,11 +128,11 @@ def generate_sirin_synthetic(seed: int = SIRIN_SYNTHETIC_SEED, *, sessions: int 
     def factor(kind, day=None):
         return np.exp(offsets(kind, day))
 
-    def cpe(q, alpha, pivot_hz, day=None):
+    def cpe(q, alpha, pivot_hz, day=None, q_kind="Q"):
         # α scatters about the pivot frequency, where |Q (jω)^α| keeps Q's own scatter only;
         # jitter about ω = 1 rad/s would swing |Z_CPE| by ±15 % per trial at 1 MHz.
         a = alpha + offsets("alpha", day)
-        return q * factor("Q", day) * (2.0 * np.pi * pivot_hz) ** (alpha - a), a
+        return q * factor(q_kind, day) * (2.0 * np.pi * pivot_hz) ** (alpha - a), a
 
     def day_offsets(*kinds):
         return {kind: rng.normal(0.0, _SPREAD[kind][0], (sessions, 1)) for kind in kinds}
@@ -137,7 +149,10 @@ def generate_sirin_synthetic(seed: int = SIRIN_SYNTHETIC_SEED, *, sessions: int 
         return r_cpe_series(freq, p["R_inf"] * factor("R_inf", screen_days), p["R"] * factor("R_ts", screen_days), *cpe(p["Q"], p["alpha"], _PIVOT_HZ["touchscreen"], screen_days))
 
     def remainder(p):
-        return _remainder(freq, p["R_EP"] * factor("R_EP"), *cpe(p["CPE_EP.Q"], p["CPE_EP.alpha"], _PIVOT_HZ["EP"]), p["C_gap"] * factor("C_gap"))
+        # the trial's own contact: u log-normal about the truth, so C_gap = ε0 ε A/u scales by 1/factor
+        r_ep, (q_ep, alpha_ep), u_factor = p["R_EP"] * factor("R_EP"), cpe(p["CPE_EP.Q"], p["CPE_EP.alpha"], _PIVOT_HZ["EP"], q_kind="Q_EP"), factor("u")
+        contact = {"R_EP": r_ep[..., 0], "CPE_EP.Q": q_ep[..., 0], "CPE_EP.alpha": alpha_ep[..., 0], "C_gap": p["C_gap"] / u_factor[..., 0]}
+        return _remainder(freq, r_ep, q_ep, alpha_ep, p["C_gap"] / u_factor), contact
 
     def measured(z):
         rel = 0.004 + 0.03 / np.sqrt(freq)
@@ -146,8 +161,17 @@ def generate_sirin_synthetic(seed: int = SIRIN_SYNTHETIC_SEED, *, sessions: int 
 
     z_skin = measured(skin())
     z_ts = measured(screen())
-    sliding = measured(skin() + screen() + remainder(truth["remainder_sliding"]))
-    stationary = measured(skin(truth["stationary_skin_r_factor"]["value"]) + screen() + remainder(truth["remainder_stationary"]))
+    z_sliding, contact_sliding = remainder(truth["remainder_sliding"])
+    sliding = measured(skin() + screen() + z_sliding)
+    z_stationary, contact_stationary = remainder(truth["remainder_stationary"])
+    stationary = measured(skin(truth["stationary_skin_r_factor"]["value"]) + screen() + z_stationary)
+    geometry = truth["geometry"]
+    trial_truth = {
+        f"trial_{name.replace('.', '_')}": (("contact", "session", "trial"), np.stack([contact_sliding[name], contact_stationary[name]]), {"units": unit, "long_name": f"true {name} of each trial's contact (generator draw)"})
+        for name, unit in (("R_EP", "ohm"), ("CPE_EP.Q", "F s^(alpha-1)"), ("CPE_EP.alpha", "1"), ("C_gap", "F"))
+    }
+    u_trial = EPSILON_0 * geometry["eps_gap"] * geometry["area_m2"] / np.stack([contact_sliding["C_gap"], contact_stationary["C_gap"]])
+    trial_truth["trial_u"] = (("contact", "session", "trial"), u_trial, {"units": "m", "long_name": "true air-gap thickness of each trial (generator draw), u = eps0 eps_gap A / C_gap"})
     coords = {
         "frequency": ("frequency", freq, {"units": "Hz"}),
         "session": ("session", np.arange(1, sessions + 1)),
@@ -160,6 +184,7 @@ def generate_sirin_synthetic(seed: int = SIRIN_SYNTHETIC_SEED, *, sessions: int 
             "Z_total": (("contact", "session", "trial", "frequency"), np.stack([sliding, stationary]), {**z_attrs, "long_name": "total impedance, finger on touchscreen"}),
             "Z_skin": (("session", "trial", "frequency"), z_skin, {**z_attrs, "long_name": "finger skin bioimpedance"}),
             "Z_touchscreen": (("session", "trial", "frequency"), z_ts, {**z_attrs, "long_name": "touchscreen impedance"}),
+            **trial_truth,
         },
         coords=coords,
         attrs={
@@ -168,6 +193,8 @@ def generate_sirin_synthetic(seed: int = SIRIN_SYNTHETIC_SEED, *, sessions: int 
             "generator": "impedax.models.synthetic.generate_sirin_synthetic",
             "seed": int(seed),
             "truth": json.loads(json.dumps(truth)),
+            "trial_variation": json.loads(json.dumps({k: {"session_sd": v[0], "trial_sd": v[1]} for k, v in _SPREAD.items()})),
+            "trial_variation_note": "ln of each parameter = ln(truth) + session offset + trial offset, both Gaussian with the sds in trial_variation (additive for alpha); the contact of the sliding finger: u 1% between sessions and 7% between trials, R_EP 5%/15%, CPE_EP.Q 3%/8%; the truth of each trial is stored in the trial_* variables; population median of u = eps0 eps_gap A / C_gap(truth) = 2.789 um",
             "noise": "per-session (shared by the skin, screen and total measurements of a session) and per-trial log-normal parameter factors; CPE exponent jitter pivots at 250 Hz (skin), 100 kHz (screen), 10 Hz (EP); complex Gaussian noise, relative sd 0.4% + 3%*(1 Hz/f)^0.5",
             "source": "impedax synthetic example (Sirin et al. style)",
         },
@@ -213,3 +240,42 @@ def example_spectra(ds: xr.Dataset | None = None) -> dict[str, xr.Dataset]:
             source=f"impedax synthetic example: {key}",
         )
     return out
+
+
+TWO_ARC_TRUTH: dict[str, float] = {"R0": 20.0, "R1": 100.0, "CPE1.Q": 1e-5, "CPE1.alpha": 0.85, "R2": 300.0, "CPE2.Q": 1e-3, "CPE2.alpha": 0.75}
+"""Population medians [SI] of the two-arc coverage example (arcs near 550 Hz and 0.8 Hz)."""
+TWO_ARC_SPREAD: dict[str, float] = {"R1": 0.10, "CPE1.Q": 0.05, "R2": 0.12, "CPE2.Q": 0.06}
+"""sd of ln between trials of the per-trial parameters; R0 and the exponents are shared."""
+
+
+def generate_two_arc_trials(seed: int, *, trials: int = 20, points: int = 41, fmin: float = 0.1, fmax: float = 1e5) -> xr.Dataset:
+    """SYNTHETIC electrochemical spectra R0 + R1 ∥ CPE1 + R2 ∥ CPE2 over ``trials`` (numpy
+    formula Z = R0 + Σ_i R_i/(1 + R_i Q_i (jω)^α_i), independent of impedax's compiler).
+
+    R0 and the exponents are shared (`TWO_ARC_TRUTH`); R1, Q1, R2, Q2 are log-normal about
+    their population medians with the spreads of `TWO_ARC_SPREAD`. Complex Gaussian noise of
+    relative sd 0.5 % + 1 %·(1 Hz/f)^½ (larger at low frequency). The trials' true values are
+    in ``trial_<name>`` variables."""
+    rng = np.random.default_rng(seed)
+    freq = log_frequencies(fmin, fmax, points)
+    jw = 1j * 2.0 * np.pi * freq
+    p = {k: np.full((trials, 1), v) for k, v in TWO_ARC_TRUTH.items()}
+    for name, sd in TWO_ARC_SPREAD.items():
+        p[name] = p[name] * np.exp(sd * rng.standard_normal((trials, 1)))
+    z = p["R0"] + sum(p[f"R{i}"] / (1.0 + p[f"R{i}"] * p[f"CPE{i}.Q"] * jw ** p[f"CPE{i}.alpha"]) for i in (1, 2))
+    rel = 0.005 + 0.01 / np.sqrt(freq)
+    z = z * (1.0 + rel * (rng.standard_normal(z.shape) + 1j * rng.standard_normal(z.shape)) / np.sqrt(2.0))
+    ds = make_spectrum(freq, z, dims=("trial",), attrs={"synthetic": "yes", "generator": "impedax.models.synthetic.generate_two_arc_trials", "seed": int(seed)}, source="two-arc synthetic trials")
+    for name in TWO_ARC_SPREAD:
+        ds[f"trial_{name.replace('.', '_')}"] = ("trial", p[name][:, 0])
+    return ds
+
+
+def sirin_trial_remainders(ds: xr.Dataset, contact: str = "sliding") -> xr.Dataset:
+    """Per-trial remaining impedance of the Sirin example: each total trial minus the trial
+    means of skin and touchscreen (Sirin eq 5 per trial), a spectrum Dataset over
+    (session, trial, frequency)."""
+    from .sirin import trial_remainders
+
+    parts = example_spectra(ds)
+    return trial_remainders(parts[f"total_{contact}"], parts["skin"], parts["touchscreen"])

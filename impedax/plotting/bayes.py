@@ -17,10 +17,11 @@ __all__ = ["plot_posterior_bands", "plot_corner"]
 BAND_QUANTILES = (0.05, 0.16, 0.5, 0.84, 0.95)
 
 
-def plot_posterior_bands(frequency, z_data, model_frequency, z_draws, *, title: str, n_lines: int = 40):
+def plot_posterior_bands(frequency, z_data, model_frequency, z_draws, *, title: str, n_lines: int = 40, z_predictive=None):
     """Data (``frequency`` [Hz], ``z_data`` [Ω]) with the model's draws ``z_draws`` (draws,
     ``model_frequency``): Nyquist with ``n_lines`` draws as thin lines and the median, and Bode
-    |Z| and phase with the 68% and 90% credible bands."""
+    |Z| and phase with the 68% and 90% credible bands; ``z_predictive`` (draws with the noise
+    added, same shape) adds the 90% posterior predictive band as dashed lines."""
     f, zs, z = np.asarray(model_frequency, float), np.asarray(z_draws, complex), np.asarray(z_data, complex)
     fig = plt.figure(figsize=(11, 5.5), layout="constrained")
     grid = fig.add_gridspec(2, 2, width_ratios=[1, 1.2])
@@ -33,7 +34,12 @@ def plot_posterior_bands(frequency, z_data, model_frequency, z_draws, *, title: 
     ax_nyq.plot(z.real, -z.imag, "o", ms=3.5, mfc="none", color="k", label="data")
     ax_nyq.set(xlabel="Z' [Ω]", ylabel="−Z'' [Ω]", title="Nyquist")
     ax_nyq.set_aspect("equal", adjustable="datalim")
-    for ax, values, data_values in ((ax_mod, np.abs(zs), np.abs(z)), (ax_ph, np.degrees(np.angle(zs)), np.degrees(np.angle(z)))):
+    zp = None if z_predictive is None else np.asarray(z_predictive, complex)
+    for ax, values, data_values, transform in ((ax_mod, np.abs(zs), np.abs(z), np.abs), (ax_ph, np.degrees(np.angle(zs)), np.degrees(np.angle(z)), lambda v: np.degrees(np.angle(v)))):
+        if zp is not None:
+            qp = np.quantile(transform(zp), [0.05, 0.95], axis=0)
+            ax.plot(f, qp[0], "--", color="tab:orange", lw=1.0, label="90% predictive (model + noise)")
+            ax.plot(f, qp[1], "--", color="tab:orange", lw=1.0)
         q = np.quantile(values, BAND_QUANTILES, axis=0)
         ax.fill_between(f, q[0], q[4], color="tab:blue", alpha=0.18, lw=0, label="90% band")
         ax.fill_between(f, q[1], q[3], color="tab:blue", alpha=0.35, lw=0, label="68% band")

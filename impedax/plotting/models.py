@@ -25,8 +25,8 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None):
     ax.set(xlabel="frequency [Hz]", ylabel="|Z_R| [Ω]", title="remaining impedance (Sirin eq 5)")
     ax.legend(fontsize=7)
     ax = axes[1]
-    u = gap.posterior.parameter_draws()["u"] * 1e6
-    ax.hist(u, bins=60, density=True, color="tab:blue", alpha=0.7, label="posterior of u")
+    u = gap.draws("u") * 1e6
+    ax.hist(u, bins=60, density=True, color="tab:blue", alpha=0.7, label="posterior of u" + (" (population median)" if gap.method == "hierarchical" else ""))
     g = gap.gap
     ax.axvspan(g["q05"] * 1e6, g["q95"] * 1e6, color="tab:blue", alpha=0.15, label="90% credible interval")
     ax.axvline(gap.paper.gap * 1e6, color="k", label=f"paper method {gap.paper.gap * 1e6:.2f} µm")

@@ -226,15 +226,27 @@ class Posterior:
         check_real(out)
         return band_dataset(np.asarray(out, float), freq, keep_draws=draws, attrs={"method": "posterior draws", "model": self.model})
 
-    def predict(self, freq=None, *, max_draws: int = 400) -> np.ndarray:
-        """Model impedance [Ω] (draws, frequency) over an evenly spaced subset of the draws."""
+    def predict(self, freq=None, *, max_draws: int = 400, noise: bool = False, seed: int = 0) -> np.ndarray:
+        """Model impedance [Ω] (draws, frequency) over an evenly spaced subset of the draws.
+        With ``noise`` each draw also carries the likelihood's noise, so the result is the
+        posterior predictive of new measurements: σ = sigma_rel·|Z_model| (``proportional``;
+        |Z_model| stands in for |Z_data| between the data's frequencies) or the data's σ
+        interpolated in log f (``sigma``), on Re and Im alike."""
         freq = self.frequency if freq is None else np.asarray(freq, float)
         params = self.circuit_samples()
         total = self.n_walkers * self.n_draws
         pick = np.linspace(0, total - 1, min(max_draws, total)).astype(int)
         compiled = compile_circuit(self.circuit, self.registry)
         fn = jax.jit(jax.vmap(lambda p, f: compiled(p, f), in_axes=(0, None)))
-        return np.asarray(fn({k: jnp.asarray(v[pick]) for k, v in params.items()}, jnp.asarray(freq)))
+        z = np.asarray(fn({k: jnp.asarray(v[pick]) for k, v in params.items()}, jnp.asarray(freq)))
+        if not noise:
+            return z
+        if self.noise == NoiseModel.PROPORTIONAL:
+            sigma = self.parameter_draws()["sigma_rel"][pick][:, None] * np.abs(z)
+        else:
+            sigma = np.broadcast_to(np.interp(np.log(freq), np.log(self.frequency), np.asarray(self.sigma, float)), z.shape)
+        rng = np.random.default_rng(seed)
+        return z + sigma * (rng.standard_normal(z.shape) + 1j * rng.standard_normal(z.shape))
 
     def to_table(self) -> list[dict[str, object]]:
         """The tidy table: one row per sampled parameter with name, median, q05, q16, q84, q95
@@ -260,12 +272,13 @@ class Posterior:
     # -- figures (drawn by impedax.plotting.bayes) -----------------------------------------
     def plot(self, *, title: str | None = None, n_lines: int = 40):
         """Data with posterior bands: Nyquist (draws as thin lines) and Bode |Z| and phase with
-        the 68% and 90% credible bands of the model (matplotlib Figure)."""
+        the 68% and 90% credible bands of the model and the 90% posterior predictive band
+        (model and noise: where new measurements fall) (matplotlib Figure)."""
         from ...plotting.bayes import plot_posterior_bands
 
         f = np.geomspace(self.frequency.min(), self.frequency.max(), 200)
         return plot_posterior_bands(
-            self.frequency, self.z_data, f, self.predict(f), n_lines=n_lines,
+            self.frequency, self.z_data, f, self.predict(f), n_lines=n_lines, z_predictive=self.predict(f, noise=True),
             title=title or f"{self.model}: posterior bands ({self.n_walkers * self.n_draws} draws)",
         )
 

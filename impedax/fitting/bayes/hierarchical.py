@@ -1,0 +1,629 @@
+"""Hierarchical Bayesian model of many spectra (trials, and sessions as a level), with model
+discrepancy in the noise, sampled by NUTS (blackjax).
+
+Model (docs/bayesian.md, "Hierarchical model across trials"), for trial t of session g(t):
+
+    ln θ_tj = μ_j + τ_j ζ_g(t)j + s_j η_tj,  ζ, η ~ N(0, 1)      (per-trial parameters j; non-centred)
+    shared parameters φ: one value for every trial
+    Re, Im of r_tk = Z(θ_t, φ; f_k) − Z_tk ~ N(0, σ_tk²),  σ_tk = |Z_tk| √(ν_k² + δ²)
+
+μ_j is the population median (geometric mean) of parameter j, s_j its spread between trials
+(sd of ln θ), τ_j between sessions (only with a session level). ν_k is the relative noise at
+frequency k estimated from the trial scatter (the sd over trials of the per-trial least-squares
+residuals about their mean, smoothed over neighbouring frequencies); δ is the sampled
+discrepancy floor: a misfit common to all trials (structure the model lacks) cannot hide in ν_k
+and raises δ, which widens every interval.
+
+Priors: μ_j ~ N(ln θ̂_j, 2²) about the median of the per-trial least-squares fits (six decades
+at 95 %); s_j, τ_j ~ half-normal(0.5) and half-normal(``session_spread_scale``); δ ~
+half-normal(0.1); shared positive parameters ln φ ~ N(ln φ̂, 2²), bounded ones uniform within
+their bounds (sampled through a logit).
+
+Why NUTS: with 30 trials and 3 per-trial parameters the posterior has ~100 dimensions, where
+emcee's affine-invariant moves are expected to mix poorly and NUTS follows the gradient.
+`benchmarks/bench_coverage.py --ess` measures ESS/s of both on one log density; its first run
+did not confirm a speed advantage (benchmarks/README.md).
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import time
+from dataclasses import dataclass, field
+from typing import Mapping, NamedTuple, Sequence
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import xarray as xr
+
+from ...circuits import DEFAULT_REGISTRY, Circuit, Registry, compile_circuit, parse
+from ...errors import DataError, FitError, ParameterError
+from .reparam import Reparametrization
+
+__all__ = ["HierarchicalPosterior", "sample_hierarchical", "hierarchical_log_density", "trial_scatter_noise", "HIERARCHICAL_PRIORS"]
+
+HIERARCHICAL_PRIORS = {
+    "mu": "normal(ln of the median per-trial least-squares value, 2)",
+    "spread_trial": "half-normal(0.5) on the sd of ln θ between trials",
+    "spread_session": "half-normal(session_spread_scale) on the sd of ln θ between sessions",
+    "delta": "half-normal(0.1) on the relative discrepancy floor",
+    "shared": "normal(ln least-squares value, 2) in ln φ for positive φ; uniform within the bounds otherwise",
+}
+
+_MU_SD = 2.0
+_SPREAD_SCALE = 0.5
+_DELTA_SCALE = 0.1
+
+
+def trial_scatter_noise(z_data: np.ndarray, z_fit: np.ndarray, *, window: int = 3) -> np.ndarray:
+    """Relative noise ν_k per frequency from the scatter of trials about their own fits.
+
+    ``z_data``, ``z_fit``: complex (trials, frequencies). With ρ_tk = (Z_tk − Ẑ_tk)/|Z_tk|,
+    ν_k² = Σ_t |ρ_tk − ρ̄_k|² / (2 (T − 1)) (Re and Im pooled; the mean over trials ρ̄_k, a
+    misfit shared by the trials, is removed — it is the discrepancy's part), averaged over
+    ``window`` neighbouring frequencies. Returns ν (frequencies,)."""
+    rho = (np.asarray(z_data) - np.asarray(z_fit)) / np.abs(z_data)
+    n = rho.shape[0]
+    if n < 2:
+        raise DataError("the noise from trial scatter needs at least 2 trials")
+    dev = rho - rho.mean(axis=0)
+    var = (np.abs(dev) ** 2).sum(axis=0) / (2.0 * (n - 1))
+    if window > 1:
+        pad = window // 2
+        padded = np.pad(var, pad, mode="edge")
+        var = np.convolve(padded, np.ones(window) / window, mode="valid")
+    return np.sqrt(var)
+
+
+class _Layout(NamedTuple):
+    """Static description of one hierarchical model (hashable: one compilation per layout)."""
+
+    circuit: Circuit
+    registry: Registry
+    trial_names: tuple[str, ...]  # per-trial quantities (circuit or reparametrization names)
+    shared_names: tuple[str, ...]
+    shared_bounded: tuple[bool, ...]  # logit (True) or log (False) for each shared parameter
+    fixed_names: tuple[str, ...]
+    reparametrization: Reparametrization | None
+    n_sessions: int  # 1: no session level
+    discrepancy: bool
+    centred: bool  # sample ln θ_tj itself (centred) or η_tj (non-centred)
+
+
+class _Data(NamedTuple):
+    """The arrays of one data set (a pytree argument: one compilation serves many data sets)."""
+
+    freq: jax.Array  # (N,)
+    z: jax.Array  # (T, N) complex
+    nu: jax.Array  # (N,) relative noise from trial scatter
+    session: jax.Array  # (T,) int index of each trial's session
+    mu_center: jax.Array  # (K,) prior centre of μ
+    shared_center: jax.Array  # (S,) prior centre (ln φ̂) of log-sampled shared parameters
+    shared_lo: jax.Array  # (S,)
+    shared_hi: jax.Array  # (S,)
+    fixed: jax.Array  # (F,)
+
+
+def _trial_centre(pos, data: _Data, lay: _Layout):
+    """Centre of each trial's ln θ (T, K): μ, plus its session's offset with a session level."""
+    centre = jnp.broadcast_to(pos["mu"], (data.z.shape[0], pos["mu"].shape[0]))
+    if lay.n_sessions > 1:
+        centre = centre + (jnp.exp(pos["log_spread_session"])[None, :] * pos["zeta"])[data.session]
+    return centre
+
+
+def _trial_values(pos, data: _Data, lay: _Layout):
+    """Natural per-trial values θ (T, K) from a position."""
+    if lay.centred:
+        return jnp.exp(pos["log_theta"])
+    return jnp.exp(_trial_centre(pos, data, lay) + jnp.exp(pos["log_spread"])[None, :] * pos["eta"])
+
+
+def _shared_values(pos, data: _Data, lay: _Layout):
+    y = pos["shared"]
+    bounded = jnp.asarray(lay.shared_bounded, dtype=bool)
+    logistic = data.shared_lo + (data.shared_hi - data.shared_lo) * jax.nn.sigmoid(y)
+    return jnp.where(bounded, logistic, jnp.exp(y))
+
+
+def _circuit_params(theta_t, shared, data: _Data, lay: _Layout) -> dict:
+    values = {n: theta_t[j] for j, n in enumerate(lay.trial_names)}
+    values.update({n: shared[j] for j, n in enumerate(lay.shared_names)})
+    values.update({n: data.fixed[j] for j, n in enumerate(lay.fixed_names)})
+    rp = lay.reparametrization
+    if rp is not None:
+        values.update(rp.circuit_values({n: values.pop(n) for n in rp.names}))
+    return values
+
+
+def _model_z(pos, data: _Data, lay: _Layout):
+    """Model impedance (T, N) of every trial."""
+    fn = compile_circuit(lay.circuit, lay.registry)
+    theta = _trial_values(pos, data, lay)
+    shared = _shared_values(pos, data, lay)
+    return jax.vmap(lambda th: fn(_circuit_params(th, shared, data, lay), data.freq))(theta)
+
+
+def _half_normal_log(log_x, scale):
+    x = jnp.exp(log_x)
+    return -0.5 * (x / scale) ** 2 + log_x  # + ln|dx/d ln x|
+
+
+def _log_density(pos, data: _Data, lay: _Layout, session_scale: float):
+    lp = jnp.sum(-0.5 * ((pos["mu"] - data.mu_center) / _MU_SD) ** 2)
+    lp += jnp.sum(_half_normal_log(pos["log_spread"], _SPREAD_SCALE))
+    if lay.centred:
+        spread = jnp.exp(pos["log_spread"])
+        lp += jnp.sum(-0.5 * ((pos["log_theta"] - _trial_centre(pos, data, lay)) / spread[None, :]) ** 2 - pos["log_spread"][None, :])
+    else:
+        lp += jnp.sum(-0.5 * pos["eta"] ** 2)
+    if lay.n_sessions > 1:
+        lp += jnp.sum(_half_normal_log(pos["log_spread_session"], session_scale))
+        lp += jnp.sum(-0.5 * pos["zeta"] ** 2)
+    y = pos["shared"]
+    bounded = jnp.asarray(lay.shared_bounded, dtype=bool)
+    # uniform on (lo, hi) through a logistic: ln σ(y) + ln(1 − σ(y)) is the Jacobian
+    lp += jnp.sum(jnp.where(bounded, jax.nn.log_sigmoid(y) + jax.nn.log_sigmoid(-y), -0.5 * ((y - data.shared_center) / _MU_SD) ** 2))
+    rel2 = data.nu**2
+    if lay.discrepancy:
+        lp += _half_normal_log(pos["log_delta"], _DELTA_SCALE)
+        rel2 = rel2 + jnp.exp(2.0 * pos["log_delta"])
+    sigma = jnp.abs(data.z) * jnp.sqrt(rel2)[None, :]
+    r = _model_z(pos, data, lay) - data.z
+    ll = -0.5 * (r.real**2 + r.imag**2) / sigma**2 - 2.0 * jnp.log(sigma) - jnp.log(2.0 * jnp.pi)
+    total = lp + jnp.sum(ll)
+    return jnp.where(jnp.isfinite(total), total, -jnp.inf)
+
+
+@functools.lru_cache(maxsize=16)
+def _compiled_sampler(lay: _Layout, session_scale: float, warmup: int, draws: int, target_accept: float):
+    """One jitted function (keys, initial positions, data) → (positions, stats) running the
+    window adaptation and NUTS in every chain (vmapped)."""
+    import blackjax
+
+    def one_chain(key, init, data):
+        logdensity = functools.partial(_log_density, data=data, lay=lay, session_scale=session_scale)
+        k_warm, k_run = jax.random.split(key)
+        adapt = blackjax.window_adaptation(blackjax.nuts, logdensity, target_acceptance_rate=target_accept)
+        (state, params), _ = adapt.run(k_warm, init, num_steps=warmup)
+        step = blackjax.nuts(logdensity, **params).step
+
+        def body(state, k):
+            state, info = step(k, state)
+            return state, (state.position, info.is_divergent, info.num_integration_steps, info.acceptance_rate)
+
+        _, (positions, divergent, n_steps, accept) = jax.lax.scan(body, state, jax.random.split(k_run, draws))
+        return positions, divergent, n_steps, accept, params["step_size"]
+
+    return jax.jit(jax.vmap(one_chain, in_axes=(0, 0, None)))
+
+
+def _ess(x: np.ndarray) -> np.ndarray:
+    """Effective sample size of draws (chains, draws, ...) (Geyer's initial monotone sequence
+    on the chain-averaged autocorrelation, Stan's estimator; Vehtari et al. 2021, without ranks)."""
+    c, n = x.shape[:2]
+    flat = x.reshape(c, n, -1)
+    centred = flat - flat.mean(axis=1, keepdims=True)
+    spec = np.fft.rfft(centred, n=2 * n, axis=1)
+    acov = np.fft.irfft(spec * np.conj(spec), axis=1)[:, :n] / n
+    chain_var = acov[:, 0] * n / max(n - 1, 1)
+    w = chain_var.mean(axis=0)
+    b = n * flat.mean(axis=1).var(axis=0, ddof=1) if c > 1 else np.zeros(flat.shape[2])
+    var_plus = (n - 1) / n * w + b / n
+    rho = 1.0 - (w - acov.mean(axis=0)) / np.where(var_plus > 0, var_plus, 1.0)
+    out = np.empty(flat.shape[2])
+    for i in range(flat.shape[2]):
+        tau, prev = -1.0, np.inf
+        for t in range(0, n - 1, 2):
+            pair = rho[t, i] + rho[t + 1, i]
+            if pair < 0:
+                break
+            pair = min(pair, prev)
+            prev = pair
+            tau += 2.0 * pair
+        out[i] = c * n / max(tau, 1.0 / math.log10(max(c * n, 10)))
+    return out.reshape(x.shape[2:])
+
+
+def _rhat(x: np.ndarray) -> np.ndarray:
+    """Split-R̂ of draws (chains, draws, ...) (Gelman et al., BDA3 §11.4)."""
+    c, n = x.shape[:2]
+    half = n // 2
+    split = np.concatenate([x[:, :half], x[:, half : 2 * half]], axis=0)
+    m, k = split.shape[:2]
+    w = split.var(axis=1, ddof=1).mean(axis=0)
+    b = k * split.mean(axis=1).var(axis=0, ddof=1)
+    return np.sqrt(((k - 1) / k * w + b / k) / np.where(w > 0, w, np.inf))
+
+
+@dataclass(frozen=True, eq=False)
+class HierarchicalPosterior:
+    """Draws of the hierarchical model (module docstring). Natural units (SI) throughout.
+
+    ``mu`` (chains, draws, K): ln of the population median of each per-trial quantity;
+    ``spread`` (chains, draws, K): its sd of ln between trials; ``spread_session`` likewise
+    between sessions (zeros without a session level); ``trial_values`` (chains, draws, T, K);
+    ``shared`` (chains, draws, S); ``delta`` (chains, draws) the discrepancy floor (zeros when off).
+    """
+
+    circuit: Circuit
+    trial_names: tuple[str, ...]
+    shared_names: tuple[str, ...]
+    mu: np.ndarray
+    spread: np.ndarray
+    spread_session: np.ndarray
+    trial_values: np.ndarray
+    shared: np.ndarray
+    delta: np.ndarray
+    frequency: np.ndarray
+    z_data: np.ndarray  # (T, N)
+    nu: np.ndarray  # (N,)
+    trial_index: xr.DataArray  # the trials' coordinates, stacked
+    sessions: int
+    discrepancy: bool
+    divergences: int
+    step_size: np.ndarray
+    mean_tree_steps: float
+    mean_acceptance: float
+    elapsed_s: float
+    fixed: Mapping[str, float] = field(default_factory=dict)
+    reparametrization: Reparametrization | None = None
+    registry: Registry = field(default=DEFAULT_REGISTRY, repr=False)
+
+    @property
+    def model(self) -> str:
+        return str(self.circuit)
+
+    @property
+    def n_draws(self) -> int:
+        return int(self.mu.shape[0] * self.mu.shape[1])
+
+    def _index(self, name: str) -> int:
+        if name not in self.trial_names:
+            raise ParameterError(f"{name!r} is not a per-trial parameter; per-trial: {', '.join(self.trial_names)}")
+        return self.trial_names.index(name)
+
+    def population(self, name: str, *, level: float = 0.90) -> dict[str, float]:
+        """Population median exp(μ) of ``name`` [its unit]: posterior ``value`` (median) and the
+        central ``level`` interval (``q05``/``q95`` for 90 %; ``low``/``high`` always)."""
+        draws = np.exp(self.mu[..., self._index(name)]).ravel()
+        return _interval(draws, level)
+
+    def spread_between_trials(self, name: str, *, level: float = 0.90) -> dict[str, float]:
+        """Spread of ``name`` between trials: sd of ln θ (≈ relative sd), median and interval."""
+        return _interval(self.spread[..., self._index(name)].ravel(), level)
+
+    def new_trial(self, name: str, *, level: float = 0.90, seed: int = 0) -> dict[str, float]:
+        """Posterior predictive interval of ``name`` for a new trial (of a new session when
+        there is a session level): exp(μ + s η [+ τ ζ]) with fresh η, ζ ~ N(0, 1)."""
+        j = self._index(name)
+        rng = np.random.default_rng(seed)
+        mu, s, tau = (a[..., j].ravel() for a in (self.mu, self.spread, self.spread_session))
+        draws = np.exp(mu + s * rng.standard_normal(mu.shape) + tau * rng.standard_normal(mu.shape))
+        return _interval(draws, level)
+
+    def population_parameters(self) -> dict[str, np.ndarray]:
+        """Draws of a typical trial's circuit parameters: every per-trial quantity at its
+        population median exp(μ), the shared and fixed ones as sampled/fixed; a
+        reparametrization's circuit values added (e.g. C_gap from u). Flat (draws,) arrays."""
+        values = {n: np.exp(self.mu[..., j]).ravel() for j, n in enumerate(self.trial_names)}
+        values.update({n: self.shared[..., j].ravel() for j, n in enumerate(self.shared_names)})
+        values.update({n: np.full(self.n_draws, v) for n, v in self.fixed.items()})
+        rp = self.reparametrization
+        if rp is not None:
+            values.update({k: np.asarray(v) for k, v in rp.circuit_values({n: jnp.asarray(values[n]) for n in rp.names}).items()})
+        return values
+
+    def ess(self) -> dict[str, float]:
+        """Effective sample sizes of μ and the spreads (and δ) across chains."""
+        out = {f"mu[{n}]": float(e) for n, e in zip(self.trial_names, _ess(self.mu))}
+        out.update({f"spread[{n}]": float(e) for n, e in zip(self.trial_names, _ess(np.log(self.spread)))})
+        if self.discrepancy:
+            out["delta"] = float(_ess(np.log(self.delta)))
+        return out
+
+    def rhat(self) -> dict[str, float]:
+        out = {f"mu[{n}]": float(r) for n, r in zip(self.trial_names, _rhat(self.mu))}
+        out.update({f"spread[{n}]": float(r) for n, r in zip(self.trial_names, _rhat(np.log(self.spread)))})
+        return out
+
+    @property
+    def warnings(self) -> tuple[str, ...]:
+        notes = []
+        if self.divergences:
+            notes.append(f"{self.divergences} divergent NUTS transitions: the intervals may be biased; run longer warm-up")
+        bad = [k for k, r in self.rhat().items() if not r < 1.05]
+        if bad:
+            notes.append(f"R-hat above 1.05 for {', '.join(bad)}: chains disagree, run more draws")
+        low = [k for k, e in self.ess().items() if e < 100]
+        if low:
+            notes.append(f"effective sample size below 100 for {', '.join(low)}")
+        return tuple(notes)
+
+    def predict(self, *, noise: bool = True, max_draws: int = 200, seed: int = 0) -> np.ndarray:
+        """Posterior predictive impedance [Ω] (draws, trials, frequency) at the data's
+        frequencies; with ``noise`` it includes the likelihood's noise σ_tk (ν_k and δ), so its
+        bands are where new measurements fall, not only where the model curve lies."""
+        fn = compile_circuit(self.circuit, self.registry)
+        c, d = self.mu.shape[:2]
+        pick = np.linspace(0, c * d - 1, min(max_draws, c * d)).astype(int)
+        theta = self.trial_values.reshape(c * d, *self.trial_values.shape[2:])[pick]
+        shared = self.shared.reshape(c * d, -1)[pick]
+        rp = self.reparametrization
+
+        def one(th, sh):
+            values = {n: th[j] for j, n in enumerate(self.trial_names)}
+            values.update({n: sh[j] for j, n in enumerate(self.shared_names)})
+            values.update({n: jnp.asarray(v) for n, v in self.fixed.items()})
+            if rp is not None:
+                values.update(rp.circuit_values({n: values.pop(n) for n in rp.names}))
+            return fn(values, jnp.asarray(self.frequency))
+
+        z = np.asarray(jax.jit(jax.vmap(jax.vmap(one, in_axes=(0, None)), in_axes=(0, 0)))(jnp.asarray(theta), jnp.asarray(shared)))
+        if noise:
+            rng = np.random.default_rng(seed)
+            delta = self.delta.ravel()[pick][:, None, None]
+            sigma = np.abs(self.z_data)[None] * np.sqrt(self.nu[None, None] ** 2 + delta**2)
+            z = z + sigma * (rng.standard_normal(z.shape) + 1j * rng.standard_normal(z.shape))
+        return z
+
+    def summary(self) -> dict:
+        return {
+            "model": self.model,
+            "method": "hierarchical NUTS (blackjax)",
+            "population": {n: self.population(n) for n in self.trial_names},
+            "spread": {n: self.spread_between_trials(n) for n in self.trial_names},
+            "new_trial": {n: self.new_trial(n) for n in self.trial_names},
+            "shared": {n: _interval(self.shared[..., j].ravel(), 0.90) for j, n in enumerate(self.shared_names)},
+            "discrepancy": _interval(self.delta.ravel(), 0.90) if self.discrepancy else None,
+            "sessions": self.sessions,
+            "trials": int(self.z_data.shape[0]),
+            "ess": self.ess(),
+            "rhat": self.rhat(),
+            "divergences": self.divergences,
+            "warnings": list(self.warnings),
+        }
+
+    def report(self) -> str:
+        lines = [f"{self.model}: hierarchical model over {self.z_data.shape[0]} trials" + (f" in {self.sessions} sessions" if self.sessions > 1 else "") + f", NUTS {self.mu.shape[0]} chains × {self.mu.shape[1]} draws ({self.elapsed_s:.1f} s)"]
+        lines.append(f"{'parameter':<14} {'population':>11} {'q05':>11} {'q95':>11} {'spread':>8} {'new trial q05–q95':>25}")
+        for n in self.trial_names:
+            p, s, t = self.population(n), self.spread_between_trials(n), self.new_trial(n)
+            lines.append(f"{n:<14} {p['value']:>11.5g} {p['q05']:>11.5g} {p['q95']:>11.5g} {s['value']:>8.3f} {t['q05']:>12.5g}–{t['q95']:<12.5g}")
+        for j, n in enumerate(self.shared_names):
+            q = _interval(self.shared[..., j].ravel(), 0.9)
+            lines.append(f"{n:<14} {q['value']:>11.5g} {q['q05']:>11.5g} {q['q95']:>11.5g}   (shared)")
+        if self.discrepancy:
+            q = _interval(self.delta.ravel(), 0.9)
+            lines.append(f"discrepancy δ  {q['value']:>11.3g} {q['q05']:>11.3g} {q['q95']:>11.3g}   (relative floor; noise from trial scatter ν median {np.median(self.nu):.3g})")
+        lines += [f"warning: {w}" for w in self.warnings]
+        return "\n".join(lines)
+
+    def to_xarray(self) -> xr.Dataset:
+        k, s = list(self.trial_names), list(self.shared_names)
+        ds = xr.Dataset(
+            {
+                "mu": (("chain", "draw", "param"), self.mu, {"long_name": "ln of the population median"}),
+                "spread": (("chain", "draw", "param"), self.spread, {"long_name": "sd of ln between trials"}),
+                "spread_session": (("chain", "draw", "param"), self.spread_session, {"long_name": "sd of ln between sessions"}),
+                "trial_values": (("chain", "draw", "trial_index", "param"), self.trial_values),
+                "shared": (("chain", "draw", "shared_param"), self.shared),
+                "delta": (("chain", "draw"), self.delta, {"long_name": "relative discrepancy floor"}),
+                "nu": ("frequency", self.nu, {"long_name": "relative noise from trial scatter"}),
+            },
+            coords={"param": k, "shared_param": s, "frequency": ("frequency", self.frequency, {"units": "Hz"})},
+            attrs={"model": self.model, "sampler": "blackjax NUTS with window adaptation", "sessions": self.sessions, "divergences": self.divergences, "discrepancy": int(self.discrepancy)},
+        )
+        return ds
+
+
+def _interval(draws: np.ndarray, level: float) -> dict[str, float]:
+    lo, hi = (1.0 - level) / 2.0, 1.0 - (1.0 - level) / 2.0
+    q_lo, q50, q_hi = np.quantile(draws, [lo, 0.5, hi])
+    out = {"value": float(q50), "low": float(q_lo), "high": float(q_hi)}
+    if abs(level - 0.9) < 1e-12:
+        out.update(q05=float(q_lo), q95=float(q_hi))
+    return out
+
+
+def _setup(circuit, data, *, per_trial, session_dim, reparametrization, fixed, discrepancy, session_spread_scale, chains, parameterisation, seed, registry, init):
+    """Checks, per-trial least-squares fits, noise ν_k, priors and the chains' starts."""
+    from ..least_squares import fit
+
+    if parameterisation not in ("auto", "centred", "non-centred"):
+        raise ParameterError(f"parameterisation must be 'auto', 'centred' or 'non-centred', got {parameterisation!r}")
+    circuit = parse(circuit, registry) if isinstance(circuit, str) else circuit
+    if "Z" not in data or "frequency" not in data["Z"].dims:
+        raise DataError("hierarchical sampling needs a spectrum Dataset with complex 'Z' over 'frequency'")
+    rep_dims = [d for d in data["Z"].dims if d != "frequency"]
+    if not rep_dims:
+        raise DataError("hierarchical sampling needs replicate spectra: Z has no dimension besides 'frequency'")
+    if session_dim is not None and session_dim not in rep_dims:
+        raise DataError(f"session_dim {session_dim!r} is not a dimension of Z ({', '.join(data['Z'].dims)})")
+    fixed = dict(fixed or {})
+    specs = circuit.parameter_specs(registry)
+    rp = reparametrization
+    replaced = set(rp.replaces) if rp is not None else set()
+    free = [n for n in circuit.parameter_names(registry) if n not in fixed and n not in replaced]
+    known = free + (list(rp.names) if rp is not None else [])
+    for name in per_trial:
+        if name not in known:
+            raise ParameterError(f"per-trial parameter {name!r} is not a free parameter of {circuit}; free: {', '.join(known)}")
+    for name in fixed:
+        if name not in specs:
+            raise ParameterError(f"fixed parameter {name!r} is not a parameter of {circuit}")
+    shared_names = tuple(n for n in known if n not in per_trial)
+
+    order = ([session_dim] if session_dim else []) + [d for d in rep_dims if d != session_dim]
+    z_da = data["Z"].transpose(*order, "frequency")
+    stacked = z_da.stack(trial_index=order)
+    z = np.asarray(stacked.transpose("trial_index", "frequency").values)
+    freq = np.asarray(data["frequency"].values, dtype=np.float64)
+    n_trials = z.shape[0]
+    if n_trials < 3:
+        raise DataError(f"a population needs at least 3 trials, got {n_trials}")
+    if session_dim:
+        session_codes = np.repeat(np.arange(data.sizes[session_dim]), n_trials // data.sizes[session_dim])
+        n_sessions = int(data.sizes[session_dim])
+    else:
+        session_codes, n_sessions = np.zeros(n_trials, dtype=int), 1
+
+    batch = init if init is not None else fit(circuit, data, fixed=fixed or None, weighting="modulus", registry=registry)
+    vals = batch.dataset["value"].transpose("param", *order).values.reshape(len(batch.dataset["param"]), n_trials)
+    pnames = [str(p) for p in batch.dataset["param"].values]
+    per_fit = {n: vals[pnames.index(n)] for n in pnames}
+    z_fit = batch.dataset["Z_model"].transpose(*order, "frequency").values.reshape(n_trials, -1)
+    if rp is not None:
+        inv = rp.inverse if rp.inverse is not None else None
+        if inv is None:
+            raise ParameterError("hierarchical sampling with a reparametrization needs its inverse (to start the chains)")
+        per_fit.update({k: np.asarray(v, float) for k, v in inv({n: per_fit[n] for n in rp.replaces}, rp.constant_values).items()})
+    nu = trial_scatter_noise(z, z_fit)
+
+    theta0 = np.stack([np.asarray(per_fit[n], float) for n in per_trial], axis=1)  # (T, K)
+    errs = batch.dataset["stderr"].transpose("param", *order).values.reshape(len(pnames), n_trials)
+    # relative standard error of each per-trial quantity (a reparametrized one: of what it replaces, 1 : 1 maps)
+    source = {n: (rp.replaces[rp.names.index(n)] if rp is not None and n in rp.names else n) for n in per_trial}
+    rel_stderr = np.stack([np.abs(errs[pnames.index(source[n])] / vals[pnames.index(source[n])]) for n in per_trial], axis=1)
+    rel_stderr = np.where(np.isfinite(rel_stderr), rel_stderr, np.inf)
+    if not np.all(theta0 > 0):
+        raise FitError(f"the per-trial least-squares fits gave non-positive values of {', '.join(per_trial)}; a log-normal population needs positive values")
+    log0 = np.log(theta0)
+    mu0 = np.median(log0, axis=0)
+    # robust: single-trial fits of a weakly identified model can land in another mode (e.g. a CPE
+    # with α → 1 taking C_gap's place); the median and the MAD ignore those trials, and the
+    # chains start with every trial within 2 spreads of the median
+    spread0 = np.clip(1.4826 * np.median(np.abs(log0 - mu0), axis=0), 1e-3, 1.0)
+    offset0 = np.clip(log0 - mu0, -2.0 * spread0, 2.0 * spread0)
+    bounded, lo, hi, centre, sh0 = [], [], [], [], []
+    for n in shared_names:
+        if rp is not None and n in rp.names:
+            i = rp.names.index(n)
+            b_lo, b_hi = rp.lower[i], rp.upper[i]
+        else:
+            b_lo, b_hi = specs[n].lower, specs[n].upper
+        value = float(np.median(per_fit[n]))
+        is_bounded = math.isfinite(b_hi)
+        bounded.append(is_bounded)
+        lo.append(b_lo if is_bounded else 0.0)
+        hi.append(b_hi if is_bounded else 1.0)
+        centre.append(math.log(value) if value > 0 else 0.0)
+        if is_bounded:
+            frac = min(max((value - b_lo) / (b_hi - b_lo), 1e-4), 1 - 1e-4)
+            sh0.append(math.log(frac / (1 - frac)))
+        else:
+            sh0.append(math.log(value))
+
+    if parameterisation == "auto":
+        # centred when each trial pins its own values well (relative standard error of the
+        # per-trial fits below the spread between trials), non-centred otherwise (Betancourt &
+        # Girolami 2015: a centred funnel appears when the data say little about each trial)
+        use_centred = bool(np.all(np.median(rel_stderr, axis=0) < spread0))
+    else:
+        use_centred = parameterisation == "centred"
+    lay = _Layout(circuit, registry, tuple(per_trial), shared_names, tuple(bounded), tuple(fixed), rp, n_sessions, bool(discrepancy), use_centred)
+    dat = _Data(
+        jnp.asarray(freq), jnp.asarray(z), jnp.asarray(nu), jnp.asarray(session_codes, dtype=jnp.int32), jnp.asarray(mu0),
+        jnp.asarray(centre, dtype=jnp.float64), jnp.asarray(lo, dtype=jnp.float64), jnp.asarray(hi, dtype=jnp.float64), jnp.asarray([fixed[n] for n in fixed], dtype=jnp.float64),
+    )
+    rng = np.random.default_rng(seed)
+    k = len(per_trial)
+
+    def start():
+        pos = {
+            "mu": mu0 + 0.01 * rng.standard_normal(k),
+            "log_spread": np.log(spread0) + 0.05 * rng.standard_normal(k),
+            "shared": np.asarray(sh0) + 0.01 * rng.standard_normal(len(sh0)),
+        }
+        if use_centred:
+            pos["log_theta"] = mu0 + offset0 + 0.002 * rng.standard_normal(log0.shape)
+        else:
+            pos["eta"] = offset0 / spread0 + 0.05 * rng.standard_normal(log0.shape)
+        if n_sessions > 1:
+            pos["log_spread_session"] = np.log(np.full(k, 0.5 * session_spread_scale))
+            pos["zeta"] = 0.1 * rng.standard_normal((n_sessions, k))
+        if discrepancy:
+            pos["log_delta"] = np.log(0.01) + 0.1 * rng.standard_normal()
+        return pos
+
+    inits = [start() for _ in range(chains)]
+    init_pos = {key: jnp.asarray(np.stack([p[key] for p in inits])) for key in inits[0]}
+    return lay, dat, init_pos, stacked["trial_index"]
+
+
+def sample_hierarchical(
+    circuit: Circuit | str,
+    data: xr.Dataset,
+    *,
+    per_trial: Sequence[str],
+    session_dim: str | None = None,
+    reparametrization: Reparametrization | None = None,
+    fixed: Mapping[str, float] | None = None,
+    discrepancy: bool = True,
+    session_spread_scale: float = 0.1,
+    chains: int = 4,
+    warmup: int = 400,
+    draws: int = 400,
+    target_accept: float = 0.85,
+    parameterisation: str = "auto",
+    seed: int = 0,
+    registry: Registry = DEFAULT_REGISTRY,
+    init=None,
+) -> HierarchicalPosterior:
+    """Sample the hierarchical model (module docstring) of the spectra in ``data``.
+
+    ``data``: a spectrum Dataset with complex ``Z`` over (..., ``frequency``); every other dim
+    is a replicate (trials). ``per_trial`` names the quantities drawn per trial from a
+    log-normal population (circuit parameter names, or names of ``reparametrization``, e.g.
+    ``u``); every other free parameter is shared by all trials. ``session_dim`` adds a session
+    level (trials nested in the sessions along that dim). ``discrepancy`` samples the relative
+    floor δ (otherwise δ = 0). ``parameterisation``: ``"centred"`` samples each trial's ln θ,
+    ``"non-centred"`` its standardised offset η; ``"auto"`` picks centred when the per-trial
+    least-squares fits determine each trial better than the trials differ. ``init``: a `BatchFitResult` of the circuit on ``data`` (else
+    one is run) — the per-trial fits give the start, the prior centres and the noise ν_k.
+    Returns a `HierarchicalPosterior`.
+    """
+    t0 = time.perf_counter()
+    lay, dat, init_pos, trial_index = _setup(
+        circuit, data, per_trial=per_trial, session_dim=session_dim, reparametrization=reparametrization, fixed=fixed, discrepancy=discrepancy,
+        session_spread_scale=session_spread_scale, chains=chains, parameterisation=parameterisation, seed=seed, registry=registry, init=init,
+    )
+    keys = jax.random.split(jax.random.PRNGKey(seed), chains)
+    run = _compiled_sampler(lay, float(session_spread_scale), int(warmup), int(draws), float(target_accept))
+    positions, divergent, n_steps, accept, step_size = jax.block_until_ready(run(keys, init_pos, dat))
+    positions = jax.tree_util.tree_map(np.asarray, positions)
+
+    theta = np.asarray(jax.vmap(jax.vmap(lambda p: _trial_values(p, dat, lay)))(positions))
+    shared = np.asarray(jax.vmap(jax.vmap(lambda p: _shared_values(p, dat, lay)))(positions))
+    n_sessions = lay.n_sessions
+    if n_sessions > 1:
+        spread_session = np.exp(positions["log_spread_session"])
+    else:
+        spread_session = np.zeros_like(positions["mu"])
+    delta = np.exp(positions["log_delta"]) if discrepancy else np.zeros(positions["mu"].shape[:2])
+    return HierarchicalPosterior(
+        circuit=lay.circuit, trial_names=lay.trial_names, shared_names=lay.shared_names, mu=positions["mu"], spread=np.exp(positions["log_spread"]),
+        spread_session=spread_session, trial_values=theta, shared=shared, delta=delta, frequency=np.asarray(dat.freq), z_data=np.asarray(dat.z), nu=np.asarray(dat.nu),
+        trial_index=trial_index, sessions=n_sessions, discrepancy=bool(discrepancy), divergences=int(np.sum(divergent)),
+        step_size=np.asarray(step_size), mean_tree_steps=float(np.mean(n_steps)), mean_acceptance=float(np.mean(accept)),
+        elapsed_s=time.perf_counter() - t0, fixed=dict(zip(lay.fixed_names, np.asarray(dat.fixed).tolist())), reparametrization=lay.reparametrization, registry=registry,
+    )
+
+
+def hierarchical_log_density(circuit: Circuit | str, data: xr.Dataset, *, per_trial: Sequence[str], seed: int = 0, **options):
+    """The model's log posterior density and a starting position, for other samplers (e.g. the
+    emcee comparison in benchmarks/bench_coverage.py): returns ``(log_density(position),
+    position)``, a position being a dict of arrays (one chain). ``options`` as for
+    `sample_hierarchical` (``session_dim``, ``reparametrization``, ``fixed``, ``discrepancy``,
+    ``session_spread_scale``, ``parameterisation``, ``registry``, ``init``)."""
+    opts = dict(session_dim=None, reparametrization=None, fixed=None, discrepancy=True, session_spread_scale=0.1, parameterisation="auto", registry=DEFAULT_REGISTRY, init=None)
+    unknown = set(options) - set(opts)
+    if unknown:
+        raise ParameterError(f"hierarchical_log_density: unknown option(s) {', '.join(sorted(unknown))}")
+    opts.update(options)
+    circuit = parse(circuit, opts["registry"]) if isinstance(circuit, str) else circuit
+    lay, dat, init_pos, _ = _setup(circuit, data, per_trial=per_trial, chains=1, seed=seed, **opts)
+    density = functools.partial(_log_density, data=dat, lay=lay, session_scale=float(opts["session_spread_scale"]))
+    return density, {k: v[0] for k, v in init_pos.items()}
