@@ -1,6 +1,10 @@
 import os
+import tempfile
 
 os.environ.setdefault("MPLBACKEND", "Agg")
+# A compilation cache of the suite's own: the signal tests kill processes that may be writing
+# to it, and a half-written entry must never reach a user's cache (or a later run).
+os.environ["IMPEDAX_CACHE_DIR"] = tempfile.mkdtemp(prefix="impedax-test-cache-")
 
 import jax  # noqa: E402
 
