@@ -131,6 +131,24 @@ _LAZY = {
 }
 
 
+def clear_caches() -> None:
+    """Release every compiled program impedax and JAX hold in this process: solvers, samplers,
+    circuit programs, parsed circuits. Each compiled program keeps its machine code mapped, and
+    Linux allows a process 65,530 memory maps, so a long session that fits thousands of different
+    circuits can call this now and then; the next fit of a circuit compiles it again (or reads it
+    from JAX's persistent cache)."""
+    import gc
+
+    for name, module in list(_sys.modules.items()):
+        if module is not None and (name == __name__ or name.startswith(__name__ + ".")):
+            for value in list(vars(module).values()):
+                if callable(getattr(value, "cache_clear", None)):
+                    value.cache_clear()
+    if "jax" in _sys.modules:
+        _sys.modules["jax"].clear_caches()
+    gc.collect()
+
+
 def __getattr__(name: str):
     """Import what a public name needs on first use (PEP 562)."""
     try:
@@ -147,6 +165,6 @@ def __dir__():
     return sorted(set(globals()) | set(_LAZY))
 
 
-__all__ = sorted(_LAZY)
+__all__ = sorted([*_LAZY, "clear_caches"])
 
 __version__ = "0.1.0"

@@ -15,6 +15,17 @@ import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
 
+@pytest.fixture(autouse=True, scope="module")
+def _release_compiled_programs():
+    """Each compiled program keeps its machine code in memory maps, and Linux allows a process
+    65,530 of them: the whole suite in one process would pass that limit (XLA then crashes while
+    compiling), so every test module's programs are released when it ends."""
+    yield
+    import impedax
+
+    impedax.clear_caches()
+
+
 @pytest.fixture
 def rng():
     return np.random.default_rng(20261121)

@@ -152,4 +152,5 @@ def test_cli_tables_match_what_they_stand_for():
     assert {a.dest: a.help for a in sub._choices_actions} == COMMAND_HELP
     assert build_parser("fit").parse_args(["fit", "x.csv", "--model", "R0", "--max-steps", "7"]).max_steps == 7
     assert build_parser("diagnose").parse_args(["diagnose", "x.csv", "--model", "R0", "--max-steps", "9"]).max_steps == 9
-    assert build_parser("refine").parse_args(["refine", "x.csv", "--model", "R0"]).max_steps == 4  # effects added
+    refine = build_parser("refine").parse_args(["refine", "x.csv", "--model", "R0", "--max-steps", "11"])
+    assert (refine.max_effects, refine.max_steps) == (4, 11)  # effects added, solver steps

@@ -1,4 +1,4 @@
-"""Tikhonov-regularised least squares for the DRT, in JAX and batched over spectra with vmap.
+"""Tikhonov-regularised least squares for the DRT, in JAX, batched over spectra by `jax.lax.map`.
 
 For one spectrum with weights w_n = 1/|Z_n| (relative residuals, docs/physics.md, "Goodness of fit"), the real design
 A (2N × P: Re rows over Im rows, columns R_∞, L, 1/C, x_1..x_M) and data b:
@@ -252,7 +252,12 @@ def solve_batch(design_re, design_im, weights, z_re, z_im, gamma_penalty, r_inv,
             band_mean=band_mean, band_sd=band_sd, log_lambda_band=log_lam_band, log_evidence=log_evidence,
         )
 
-    return jax.vmap(one)(weights, z_re, z_im, fixed_log_lambda)
+    # One spectrum after another, not vmap: under vmap each factorisation becomes one batched
+    # LAPACK call, which jaxlib splits over XLA's intra-op thread pool and then waits for; two
+    # such calls at once (the solve's and the band's Cholesky are independent) can hold every
+    # thread of a 2-core machine's pool waiting for work that none is left to run, and the call
+    # never returns. A spectrum's own calls are not batched and run on the calling thread.
+    return jax.lax.map(lambda spectrum: one(*spectrum), (weights, z_re, z_im, fixed_log_lambda))
 
 
 def quantile_band(band_mean, band_sd, signed, gamma=None):
