@@ -3,6 +3,9 @@ PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.impedax-installed
+# test processes (pytest-xdist; each test file runs whole in one of them): 2 uses both cores of
+# the CI machine; each process holds its own JAX (~2.5 GB at most), so keep it small
+PYTEST_WORKERS ?= 2
 
 .PHONY: demo test test-all bench clean
 
@@ -17,10 +20,10 @@ demo: $(STAMP)
 	$(BIN)/impedax demo $(DEMO_ARGS)
 
 test: $(STAMP)
-	$(BIN)/python -m pytest $(PYTEST_ARGS)
+	$(BIN)/python -m pytest -n $(PYTEST_WORKERS) --dist loadfile $(PYTEST_ARGS)
 
 test-all: $(STAMP)
-	$(BIN)/python -m pytest -m "" $(PYTEST_ARGS)
+	$(BIN)/python -m pytest -n $(PYTEST_WORKERS) --dist loadfile -m "" $(PYTEST_ARGS)
 
 bench: $(STAMP)
 	$(BIN)/python -m pip install --quiet --disable-pip-version-check -e ".[bench,dask]"

@@ -85,7 +85,7 @@ EXAMPLES = {
             (r"Bayesian\s+u = " + _NUMBER + " µm", _within(2.70, 2.85)),
             (None, lambda out: "with EP" in out and "without EP" in out),
         ],
-        (),
+        (pytest.mark.slow,),  # ~30 s; the demo test tells the same story
     ),
     "hidden_effect_walkthrough.py": (
         ["hidden_effect_diagnosis.png", "hidden_effect_refinement.png"],
@@ -95,7 +95,7 @@ EXAMPLES = {
             (r"final model .*: rms_rel " + _NUMBER, _within(0.005, 0.02)),  # the error falls to the noise (√2·1 %)
             (None, lambda out: "verdict adequate" in out and "verdict: missing_effect" in out),
         ],
-        (),
+        (pytest.mark.slow,),  # ~25 s; tests/test_diagnose.py covers each step
     ),
     "sirin_mr_pps.py": (
         ["sirin_fig4cd_mr_pps.png"],

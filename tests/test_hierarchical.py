@@ -78,6 +78,7 @@ def test_trial_scatter_noise_removes_a_common_misfit():
     assert np.allclose(nu * np.abs(z).mean(0), np.sqrt(2.0), rtol=0.3)
 
 
+@pytest.mark.slow  # ~45 s: two more hierarchical samplings
 def test_discrepancy_widens_intervals_only_under_structured_misfit(clean, clean_post):
     """R0 is shared, so its interval is set by the noise: with a 3 % ripple common to all
     trials, the sampled floor δ must grow and widen it (> 1.5×) against the run without δ;

@@ -11,6 +11,7 @@ case interrupts a real run from outside.
 
 from __future__ import annotations
 
+import importlib.util
 import os
 import signal
 import subprocess
@@ -97,7 +98,8 @@ CASES = [
     ("inspect-netcdf", PARTIAL_WRITE, ["inspect", "{tmp}/good.csv", "--out", "{tmp}/converted.nc"], ["converted.nc"]),
     pytest.param("fit-figure-after-result", PARTIAL_FIGURE, ["fit", "{tmp}/good.csv", "--model", "R0 + R1 || C1", "--out", "{tmp}/fit.json", "--plot", "{tmp}/fit.png"], ["fit.json", "fit.png"], marks=pytest.mark.slow, id="fit-figure-after-result"),
     ("sample-inside-emcee", INSIDE_EMCEE, ["sample", "{tmp}/good.csv", "--model", "R0 + R1 || C1", "--steps", "500", "--quiet", "--out", "{tmp}/post.nc", "--plot", "{tmp}/post.png"], ["post.nc", "post.png"]),
-    ("inspect-inside-dask", INSIDE_DASK, ["inspect", "{tmp}/good.csv", "--out", "{tmp}/converted.nc"], ["converted.nc"]),
+    pytest.param("inspect-inside-dask", INSIDE_DASK, ["inspect", "{tmp}/good.csv", "--out", "{tmp}/converted.nc"], ["converted.nc"],
+                 marks=pytest.mark.skipif(importlib.util.find_spec("dask") is None, reason="dask is not installed"), id="inspect-inside-dask"),
     ("demo-staging-folder", IN_STAGING, ["demo", "--out", "{tmp}/demo", "--fast"], []),
 ]
 

@@ -495,6 +495,10 @@ def bands_of_flags(freq_sorted, flag) -> tuple[tuple[float, float], ...]:
     return tuple(bands)
 
 
+@checked_arguments(
+    max_rc=count(1, MAX_BASIS, optional=True), n_rc=count(1, MAX_BASIS, optional=True), inductance=flag, capacitance=flag,
+    thresholds=instance_of(Mapping, optional=True, what="a mapping name → number"),
+)
 def kk_test(
     data,
     *,
