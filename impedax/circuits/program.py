@@ -136,13 +136,10 @@ class CircuitProgram:
             root = size
         return cls(circuit, layout, is_parallel, children, root, slots, element_slots)
 
-    def arrays(self) -> dict[str, jnp.ndarray]:
-        """The program's data (a pytree that can be stacked and vmapped across circuits)."""
-        return {
-            "is_parallel": jnp.asarray(self.is_parallel),
-            "children": jnp.asarray(self.children),
-            "root": jnp.asarray(self.root, jnp.int32),
-        }
+    def arrays(self) -> dict[str, np.ndarray]:
+        """The program's data as NumPy arrays (a pytree that can be stacked, passed to jitted
+        functions and vmapped across circuits)."""
+        return {"is_parallel": self.is_parallel, "children": self.children, "root": np.asarray(self.root, np.int32)}
 
     def pack(self, params: Mapping[str, float]) -> np.ndarray:
         """Parameter mapping → (S, 4) ``theta`` array (unused entries: the kind's defaults)."""
@@ -212,7 +209,7 @@ def _node_values(program, z_slots, y_slots, layout: ProgramLayout):
     step per node): node k sums its children's impedances (series) or admittances (parallel)
     as real mask-vector products."""
     size, n = layout.n_slots, layout.n_nodes
-    children, is_parallel = program["children"], program["is_parallel"]
+    children, is_parallel = jnp.asarray(program["children"]), jnp.asarray(program["is_parallel"])
 
     def node(carry, k):
         z_nodes, y_nodes = carry
@@ -262,7 +259,7 @@ def program_value_and_columns(program: Mapping[str, jnp.ndarray], theta, freq, w
     z_slots, slot_columns = _slot_impedances(theta, omega, layout, derivatives=True)
     y_slots = 1.0 / z_slots
     z_nodes, y_nodes = _node_values(program, z_slots, y_slots, layout)
-    children, is_parallel = program["children"], program["is_parallel"]
+    children, is_parallel = jnp.asarray(program["children"]), jnp.asarray(program["is_parallel"])
     root = program["root"] - size
 
     def node(carry, k):

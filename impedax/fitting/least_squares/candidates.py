@@ -24,7 +24,7 @@ import xarray as xr
 from ...circuits import Circuit, CircuitProgram, DEFAULT_REGISTRY, ProgramLayout, Registry, default_theta, parse, program_value_and_columns
 from ...errors import FitError
 from ..parameters import Transform, to_external, to_internal
-from ..problem import FitProblem, prepare_fit, weights
+from ..problem import FitProblem, fit_problem, open_spectrum, weights
 from .lm import work_queue
 from .result import FitResult, fit_result
 from .solvers import SolverArgs, SolverOutput, SolverStatus
@@ -285,13 +285,14 @@ def _prepare(circuits, data, init, fixed, *, registry) -> tuple[list[FitProblem]
     if len(init) != len(circuits):
         raise FitError("init must give one mapping (or None) per circuit")
     prepared, warm = [], []
+    spectrum = open_spectrum(data)
     for circuit, start in zip(circuits, init):
         names = circuit.parameter_names(registry)
         mine = {k: v for k, v in (fixed or {}).items() if k in names}
         starts = [start] if start is None or isinstance(start, Mapping) else list(start)
         starts = [{k: v for k, v in (one or {}).items() if k in names and k not in mine} for one in starts] or [{}]
         warm.append([_inside(circuit, one, registry) for one in starts[1:]])
-        prepared.append(prepare_fit(circuit, data, init=_inside(circuit, starts[0], registry), fixed=mine, bounds=None, fmin=None, fmax=None, registry=registry))
+        prepared.append(fit_problem(circuit, spectrum, init=_inside(circuit, starts[0], registry), fixed=mine, bounds=None, registry=registry))
     if prepared[0].data["Z"].ndim != 1:
         raise FitError("fit_candidates fits one spectrum; select or average the extra dimensions first")
     return prepared, warm
@@ -340,7 +341,7 @@ def _candidate_row(problem: FitProblem, program: CircuitProgram, warm: list[dict
     return CandidateRow(
         starts=starts_u, free_index=pad(flat[free].astype(np.int32), layout.n_slots * 4), lower=pad(table.lower[free], -np.inf),
         upper=pad(table.upper[free], np.inf), kind=pad(table.kind[free], Transform.IDENTITY), x_fixed=x_fixed,
-        program={key: np.asarray(v) for key, v in program.arrays().items()}, flat=flat, n_free=k,
+        program=program.arrays(), flat=flat, n_free=k,
     )
 
 
