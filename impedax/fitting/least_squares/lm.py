@@ -1,8 +1,8 @@
 """impedax's own Levenberg–Marquardt iteration, and the work queue that runs many of them.
 
-Used where optimistix cannot be: candidate fits that must all stop on one rule
-(`solvers.program_solver`), and batch fits, whose lanes swap problems mid-loop — optimistix's
-solver state holds closures that cannot be swapped lane by lane. Single fits run optimistix's
+Used where optimistix cannot be: batch fits and candidate fits (`candidates.candidate_solver`),
+whose lanes swap problems mid-loop — optimistix's solver state holds closures that cannot be
+swapped lane by lane. Single fits run optimistix's
 Levenberg–Marquardt (`solvers.tree_solver`).
 """
 
