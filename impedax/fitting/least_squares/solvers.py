@@ -28,9 +28,7 @@ from typing import Any, Callable, NamedTuple
 
 import jax
 import jax.numpy as jnp
-import lineax as lx
 import numpy as np
-import optimistix as optx
 
 from ...circuits import Circuit, Registry, compile_circuit
 from ..parameters import external_of_kind
@@ -69,6 +67,8 @@ _STATUS_MESSAGES = {
 
 def _status(result) -> jax.Array:
     """optimistix's result (traced) as a `SolverStatus` code, through its public comparisons."""
+    import optimistix as optx  # (here: optimistix, lineax and equinox take ~0.3 s to import, and candidate fits never need them)
+
     steps_out = (result == optx.RESULTS.max_steps_reached) | (result == optx.RESULTS.nonlinear_max_steps_reached)
     return jnp.where(result == optx.RESULTS.successful, int(SolverStatus.CONVERGED), jnp.where(steps_out, int(SolverStatus.MAX_STEPS), int(SolverStatus.FAILED)))
 
@@ -320,6 +320,9 @@ def _make(residuals, max_steps: int, peaks=None, *, handover: bool = True):
     # last ones only wander at that level). The damped step (JᵀJ + λI)δ = −Jᵀr is solved by
     # Cholesky on the normal equations (K×K): positive definite for λ > 0 and cheaper than the
     # default QR of the stacked (2N + K)×K system
+    import lineax as lx
+    import optimistix as optx
+
     solver = optx.LevenbergMarquardt(rtol=1e-6, atol=1e-9, linear_solver=lx.Normal(lx.Cholesky()))
     residual_u = residuals.residual_u
     first = min(HANDOVER_STEPS, max_steps)
