@@ -30,7 +30,6 @@
 from __future__ import annotations
 
 import enum
-import functools
 import math
 from dataclasses import dataclass, field
 from typing import Mapping, NamedTuple, Sequence
@@ -348,19 +347,12 @@ def _context(fit: FitResult, evidence: PeakEvidence | None = None) -> BaselineCo
     return BaselineContext(fit.circuit, fit.values, fit.frequency[order], fit.z_data[order], fit.z_model[order], fit.registry, undetermined, evidence)
 
 
-@functools.lru_cache(maxsize=4)
-def _drt_of_data(freq_bytes: bytes, z_bytes: bytes):
-    """The DRT of one spectrum (a `DRTResult`), kept for the spectrum's bytes: every step of
-    a refinement diagnoses the same data."""
-    return drt((np.frombuffer(freq_bytes, float), np.frombuffer(z_bytes, complex)))
-
-
 def _drt_evidence(fit: FitResult, notes: list[str]) -> PeakEvidence | None:
     """The data's DRT peaks against the baseline's (`unexplained_peaks`), or None with a note
     when the DRT cannot be computed (too few points, a failed solve): the diagnosis then runs on
     the misfit alone."""
     try:
-        data_drt = _drt_of_data(np.ascontiguousarray(fit.frequency, float).tobytes(), np.ascontiguousarray(fit.z_data, complex).tobytes())
+        data_drt = drt((fit.frequency, fit.z_data))  # one 1-D spectrum: a DRTResult
         evidence = unexplained_peaks(data_drt, fit)
     except (ImpedaxError, ValueError, ArithmeticError, np.linalg.LinAlgError) as err:
         notes.append(f"DRT evidence not used: {err}")
