@@ -22,6 +22,7 @@ from .program import (
     ProgramLayout as ProgramLayout,
     default_theta as default_theta,
     evaluate_program as evaluate_program,
+    program_value_and_columns as program_value_and_columns,
 )
 from .spec import (
     DCPath as DCPath,

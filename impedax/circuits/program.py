@@ -11,6 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Mapping
 
+import jax
 import jax.numpy as jnp
 import numpy as np
 
@@ -21,7 +22,7 @@ from .parser import parse
 from .spec import MAX_ELEMENT_PARAMS, Registry
 from .tree import Circuit, Element, Parallel
 
-__all__ = ["ProgramLayout", "CircuitProgram", "PROGRAM_SCALES", "default_theta", "evaluate_program"]
+__all__ = ["ProgramLayout", "CircuitProgram", "PROGRAM_SCALES", "default_theta", "evaluate_program", "program_value_and_columns"]
 
 
 @dataclass(frozen=True)
@@ -135,13 +136,10 @@ class CircuitProgram:
             root = size
         return cls(circuit, layout, is_parallel, children, root, slots, element_slots)
 
-    def arrays(self) -> dict[str, jnp.ndarray]:
-        """The program's data (a pytree that can be stacked and vmapped across circuits)."""
-        return {
-            "is_parallel": jnp.asarray(self.is_parallel),
-            "children": jnp.asarray(self.children),
-            "root": jnp.asarray(self.root, jnp.int32),
-        }
+    def arrays(self) -> dict[str, np.ndarray]:
+        """The program's data as NumPy arrays (a pytree that can be stacked, passed to jitted
+        functions and vmapped across circuits)."""
+        return {"is_parallel": self.is_parallel, "children": self.children, "root": np.asarray(self.root, np.int32)}
 
     def pack(self, params: Mapping[str, float]) -> np.ndarray:
         """Parameter mapping → (S, 4) ``theta`` array (unused entries: the kind's defaults)."""
@@ -175,6 +173,58 @@ def default_theta(layout: ProgramLayout) -> np.ndarray:
     return theta
 
 
+def _slot_impedances(theta, omega, layout: ProgramLayout, *, derivatives: bool = False):
+    """Every slot's impedance (S, F), kinds in layout order, and with ``derivatives`` also
+    ∂z_s/∂θ_(s,i) (S, 4, F; zero beyond a kind's parameters) by one batched JVP per kind."""
+    n_freq, width = omega.shape[1], theta.shape[1]
+    values, columns = [], []
+    for k, spec in enumerate(layout.registry.specs):
+        rows = theta[layout.slots_of(k)]
+        n_k, n_par = rows.shape[0], len(spec.parameters)
+        if n_k == 0:
+            continue
+
+        def formula(r, spec=spec, n_k=n_k, n_par=n_par):
+            z = spec.impedance(omega, *(r[:, i : i + 1] for i in range(n_par)))
+            return jnp.broadcast_to(z, (n_k, n_freq)).astype(jnp.complex128)
+
+        if not derivatives:
+            values.append(formula(rows))
+            continue
+        tangents = jnp.broadcast_to(jnp.eye(width)[:n_par, None, :], (n_par, n_k, width))
+        z_k, d_k = jax.vmap(lambda t: jax.jvp(formula, (rows,), (t,)), out_axes=(None, 0))(tangents)  # d_k: (n_par, n_k, F)
+        values.append(z_k)
+        columns.append(jnp.concatenate([jnp.moveaxis(d_k, 0, 1), jnp.zeros((n_k, width - n_par, n_freq), jnp.complex128)], axis=1))
+    z_slots = jnp.concatenate(values, axis=0)
+    return (z_slots, jnp.concatenate(columns, axis=0)) if derivatives else z_slots
+
+
+def _masked(mask, v):
+    """mask @ v for a real mask and complex v, as two real products."""
+    return (mask @ v.real) + 1j * (mask @ v.imag)
+
+
+def _node_values(program, z_slots, y_slots, layout: ProgramLayout):
+    """Impedance and admittance of every node (N, F), in topological order (one `lax.scan`
+    step per node): node k sums its children's impedances (series) or admittances (parallel)
+    as real mask-vector products."""
+    size, n = layout.n_slots, layout.n_nodes
+    children, is_parallel = jnp.asarray(program["children"]), jnp.asarray(program["is_parallel"])
+
+    def node(carry, k):
+        z_nodes, y_nodes = carry
+        slot_mask, node_mask = children[k, :size], children[k, size:]
+        z_sum = _masked(slot_mask, z_slots) + _masked(node_mask, z_nodes)
+        y_sum = _masked(slot_mask, y_slots) + _masked(node_mask, y_nodes)
+        z_k = jnp.where(is_parallel[k], 1.0 / jnp.where(y_sum == 0, 1.0, y_sum), z_sum)
+        y_k = jnp.where(is_parallel[k], y_sum, 1.0 / jnp.where(z_sum == 0, 1.0, z_sum))
+        return (z_nodes.at[k].set(z_k), y_nodes.at[k].set(y_k)), None
+
+    empty = jnp.zeros((n, z_slots.shape[1]), jnp.complex128)
+    (z_nodes, y_nodes), _ = jax.lax.scan(node, (empty, empty), jnp.arange(n))
+    return z_nodes, y_nodes
+
+
 def evaluate_program(program: Mapping[str, jnp.ndarray], theta, freq, *, layout: ProgramLayout):
     """Impedance of a padded circuit program (see `CircuitProgram`); pure, jittable, vmappable.
 
@@ -185,24 +235,44 @@ def evaluate_program(program: Mapping[str, jnp.ndarray], theta, freq, *, layout:
     (S + 2N)·F complex divisions for S slots, N nodes and F frequencies.
     """
     omega = (2.0 * jnp.pi * jnp.asarray(freq))[None, :]
-    parts = []
-    for k, spec in enumerate(layout.registry.specs):
-        rows = theta[layout.slots_of(k)]
-        if rows.shape[0] == 0:
-            continue
-        z_k = spec.impedance(omega, *(rows[:, i : i + 1] for i in range(len(spec.parameters))))
-        parts.append(jnp.broadcast_to(z_k, (rows.shape[0], omega.shape[1])).astype(jnp.complex128))
+    z_slots = _slot_impedances(theta, omega, layout)
+    z_nodes, _ = _node_values(program, z_slots, 1.0 / z_slots, layout)
+    return z_nodes[program["root"] - layout.n_slots]
+
+
+def program_value_and_columns(program: Mapping[str, jnp.ndarray], theta, freq, wanted, *, layout: ProgramLayout):
+    """(Z, ∂Z/∂θ) of a padded program: the impedance (F,) and the derivative columns (K, F)
+    for the flattened parameter positions ``wanted`` (K,) into ``theta.ravel()`` (position
+    4·S gives a zero column: padding). Pure, jittable, vmappable; the analytic counterpart of
+    forward-mode differentiation through `evaluate_program`, at the cost of about two
+    evaluations whatever K is.
+
+    Each slot's own derivatives ∂z_s/∂θ_(s,i) come from its element formula (a JVP on that
+    kind's slots only); the root's sensitivity to every value v, ∂Z/∂z_v, is carried down
+    from the root in reverse topological order by the chain rule: 1 through a series node,
+    (z_node/z_v)² = z_node²·y_v² through a parallel one (its impedance is 1/Σ 1/z_c). Then
+    ∂Z/∂θ_(s,i) = ∂Z/∂z_s · ∂z_s/∂θ_(s,i).
+    """
+    omega = (2.0 * jnp.pi * jnp.asarray(freq))[None, :]
+    n_freq = omega.shape[1]
     size, n = layout.n_slots, layout.n_nodes
-    ones = jnp.ones((n, omega.shape[1]), jnp.complex128)
-    z = jnp.concatenate(parts + [ones], axis=0)
-    y = jnp.concatenate([1.0 / zp for zp in parts] + [ones], axis=0)
-    children, is_parallel = program["children"], program["is_parallel"]
-    for k in range(n):
-        mask = children[k]
-        z_sum = (mask @ z.real) + 1j * (mask @ z.imag)
-        y_sum = (mask @ y.real) + 1j * (mask @ y.imag)
-        z_node = jnp.where(is_parallel[k], 1.0 / jnp.where(y_sum == 0, 1.0, y_sum), z_sum)
-        y_node = jnp.where(is_parallel[k], y_sum, 1.0 / jnp.where(z_sum == 0, 1.0, z_sum))
-        z = z.at[size + k].set(z_node)
-        y = y.at[size + k].set(y_node)
-    return z[program["root"]]
+    z_slots, slot_columns = _slot_impedances(theta, omega, layout, derivatives=True)
+    y_slots = 1.0 / z_slots
+    z_nodes, y_nodes = _node_values(program, z_slots, y_slots, layout)
+    children, is_parallel = jnp.asarray(program["children"]), jnp.asarray(program["is_parallel"])
+    root = program["root"] - size
+
+    def node(carry, k):
+        """Pass node k's sensitivity on to its children (nodes come before their parents)."""
+        node_sense, slot_sense = carry
+        sense = node_sense[k]
+        through_parallel = z_nodes[k] ** 2 * sense
+        slot_sense = slot_sense + children[k, :size, None] * jnp.where(is_parallel[k], through_parallel[None, :] * y_slots**2, sense[None, :])
+        node_sense = node_sense + children[k, size:, None] * jnp.where(is_parallel[k], through_parallel[None, :] * y_nodes**2, sense[None, :])
+        return (node_sense, slot_sense), None
+
+    at_root = (jnp.arange(n) == root)[:, None] * jnp.ones((1, n_freq), jnp.complex128)
+    (_, slot_sense), _ = jax.lax.scan(node, (at_root, jnp.zeros((size, n_freq), jnp.complex128)), jnp.arange(n), reverse=True)
+    columns = slot_columns * slot_sense[:, None, :]  # (S, 4, F)
+    flat = jnp.concatenate([columns.reshape(size * theta.shape[1], n_freq), jnp.zeros((1, n_freq), jnp.complex128)])
+    return z_nodes[root], flat[wanted]

@@ -133,8 +133,12 @@ class FitProblem:
 def prepare_fit(circuit, data, *, init, fixed, bounds, fmin, fmax, registry) -> FitProblem:
     """The set-up of every least-squares method: the circuit parsed, the spectrum loaded and
     band-selected, the parameter table built, and enough data for the free parameters."""
+    return fit_problem(circuit, open_spectrum(data, fmin=fmin, fmax=fmax), init=init, fixed=fixed, bounds=bounds, registry=registry)
+
+
+def fit_problem(circuit, spectrum: Spectrum, *, init, fixed, bounds, registry) -> FitProblem:
+    """`prepare_fit` on a spectrum already opened (`open_spectrum`): for many circuits on one spectrum."""
     circuit = parse(circuit, registry)
-    spectrum = open_spectrum(data, fmin=fmin, fmax=fmax)
     data, source = spectrum.data, spectrum.source
     table = ParameterTable.build(circuit, registry=registry, init=init, fixed=fixed, bounds=bounds)
     n_points = data.sizes["frequency"]

@@ -153,6 +153,7 @@ class Diagnosis:
     discrepancy: float = 0.0  # the model-discrepancy floor δ (relative, per component)
     masked_points: tuple[float, ...] = ()  # frequencies [Hz] left out: KK flags them as the data's problem
     kk_of_kept: KKResult | None = None  # the KK test of the points kept, when a few erratic points were masked
+    solver_shape: SolverShape | None = None  # the compiled candidate solver's shape (refine passes it on: one compilation for all steps)
 
     def __post_init__(self):
         object.__setattr__(self, "verdict", Verdict(self.verdict))
@@ -442,7 +443,7 @@ def _rank(cands: list[Suggestion], evidence: PeakEvidence | None = None) -> list
     return ranked([s for s in cands if s.warning is None]) + ranked([s for s in cands if s.warning is not None])
 
 
-def _fit_baseline(data, circuit: Circuit | str, effects: EffectCatalog, *, registry: Registry, fmin, fmax, weighting: str, n_starts: int, seed: int):
+def _fit_baseline(data, circuit: Circuit | str, effects: EffectCatalog, *, registry: Registry, fmin, fmax, weighting: str, n_starts: int, seed: int, shape: SolverShape | None):
     """Fit the user's circuit with the same compiled solver the candidates will use (every
     padded slot a copy of the circuit with its own random starts): one compilation in all.
     Returns (fit, spectrum Dataset, solver shape)."""
@@ -454,31 +455,31 @@ def _fit_baseline(data, circuit: Circuit | str, effects: EffectCatalog, *, regis
     z = np.asarray(ds["Z"].values, complex)[order]
     stand_in = BaselineContext(circuit, circuit.defaults(registry), freq, z, z * (1 + 1e-3), registry)
     proposed = [p.circuit for _, p in effects.proposals(stand_in)]
-    shape = solver_shape([circuit] + proposed, registry)
+    shape = (shape or solver_shape([circuit] + proposed, registry, freq.size)).grown_to([circuit] + proposed, registry, freq.size)
     copies = shape.n_candidates
     fits = fit_candidates(
         [circuit] * copies, ds, weighting=weighting, n_starts=n_starts, max_steps=BASELINE_STEPS, seeds=[seed + i for i in range(copies)],
-        registry=registry, single_phase=True, shape=shape,
+        registry=registry, shape=shape,
     )
     best = min(fits, key=lambda r: r.chi2 if np.isfinite(r.chi2) else np.inf)
     return best, ds, shape
 
 
-def _baseline(fit_or_data, circuit, *, data, effects, registry, fmin, fmax, weighting, n_starts, seed):
+def _baseline(fit_or_data, circuit, *, data, effects, registry, fmin, fmax, weighting, n_starts, seed, shape):
     """The fit to diagnose, the data it was made on (or None) and the solver shape (or None)."""
     if isinstance(fit_or_data, FitResult):
         if circuit is not None:
             raise ParameterError("give either a FitResult or data with a circuit, not both")
         if fmin is not None or fmax is not None:
             raise ParameterError("fmin/fmax select the band of data to fit; a FitResult keeps the band it was fitted on")
-        return fit_or_data, data, None
+        return fit_or_data, data, shape
     if isinstance(fit_or_data, BatchFitResult):
         raise ParameterError("diagnose takes the fit of one spectrum; fit a trial mean or select one spectrum of the batch")
     if circuit is None:
         raise ParameterError("diagnose(data, circuit): the circuit to diagnose is missing")
     if data is not None:
         raise ParameterError("give the data once")
-    return _fit_baseline(fit_or_data, circuit, effects, registry=registry, fmin=fmin, fmax=fmax, weighting=weighting, n_starts=n_starts, seed=seed)
+    return _fit_baseline(fit_or_data, circuit, effects, registry=registry, fmin=fmin, fmax=fmax, weighting=weighting, n_starts=n_starts, seed=seed, shape=shape)
 
 
 MIN_DIAGNOSIS_POINTS = 4  # what the KK test needs (R_0, one RC element, L, C)
@@ -541,18 +542,19 @@ def _data_problem(fit: FitResult, kk: KKResult | None, noise: NoiseModel) -> Dat
     return DataProblem(None, none, f"the KK test flags {np.mean(flagged) * 100:.0f} % of the points, but the model's misfit there is more than {1 / KK_COMPARABLE:.0f}× the data's own: diagnosed with every point")
 
 
-def _fit_proposals(base: FitResult, spectrum: xr.Dataset, ctx: BaselineContext, proposals: list[tuple[Effect, Proposal]], shape: SolverShape | None, *, n_starts: int, max_steps: int, seed: int) -> list[FitResult]:
-    """The baseline (refitted from its own values) and every proposal, fitted together."""
+def _fit_proposals(base: FitResult, spectrum: xr.Dataset, ctx: BaselineContext, proposals: list[tuple[Effect, Proposal]], shape: SolverShape | None, *, n_starts: int, max_steps: int, seed: int) -> tuple[list[FitResult], SolverShape]:
+    """The baseline (refitted from its own values) and every proposal, fitted together; and
+    the solver shape used (``shape`` when it holds them)."""
     fixed = {k: v for k, v in base.values.items() if base.fixed[k]}
     circuits = [base.circuit] + [p.circuit for _, p in proposals]
     inits = [[dict(base.values), ctx.start()]] + [list(p.starts) for _, p in proposals]
-    if shape is None or not shape.holds(circuits, base.registry):
-        shape = solver_shape(circuits, base.registry)
+    n_freq = spectrum.sizes["frequency"]
+    shape = (shape or solver_shape(circuits, base.registry, n_freq)).grown_to(circuits, base.registry, n_freq)
     try:
         return fit_candidates(
             circuits, spectrum, init=inits, fixed=fixed or None, weighting=base.weighting, n_starts=n_starts, seed=seed,
-            registry=base.registry, single_phase=True, shape=shape, max_steps=BASELINE_STEPS, step_limit=max_steps,
-        )
+            registry=base.registry, shape=shape, max_steps=BASELINE_STEPS, step_limit=max_steps,
+        ), shape
     except FitError as err:
         raise FitError(f"diagnosis: the candidate fits failed: {err}") from None
 
@@ -608,6 +610,7 @@ def _verdict(cands: Sequence[Suggestion], bands: Sequence[FailingBand], ratio: f
     effects=instance_of(EffectCatalog, what="an EffectCatalog (e.g. impedax.DEFAULT_EFFECTS)"), kk=instance_of(KKResult, optional=True),
     noise=real(positive=True, optional=True), weighting=choice(WEIGHTINGS), registry=instance_of(Registry), fmin=frequency, fmax=frequency,
     n_starts=count(1, MAX_STARTS), max_steps=count(1, MAX_SOLVER_STEPS), seed=seed_rule, drt_evidence=flag,
+    solver_shape=instance_of(SolverShape, optional=True, what="a SolverShape (e.g. an earlier Diagnosis.solver_shape)"),
 )
 def diagnose(
     fit_or_data,
@@ -625,6 +628,7 @@ def diagnose(
     max_steps: int = 100,
     seed: int = 0,
     drt_evidence: bool = True,
+    solver_shape: SolverShape | None = None,
 ) -> Diagnosis:
     """Diagnose a fit: where the model fails, which effect of ``effects`` is missing, verdict.
 
@@ -636,14 +640,16 @@ def diagnose(
     Candidates are fitted warm-started together (``n_starts`` starts each, ``max_steps``
     Levenberg–Marquardt steps). ``drt_evidence``: compare the data's DRT with the baseline's
     and let the unexplained peaks guide ``extra_relaxation`` and ``constant_phase`` (False: the
-    misfit alone, as before). Thresholds and rules: module docstring and docs/diagnosis.md.
-    Returns a `Diagnosis`.
+    misfit alone, as before). ``solver_shape``: the compiled candidate solver's shape to reuse
+    when it holds the candidates (an earlier `Diagnosis.solver_shape`; `refine` passes each
+    step's on, so its steps share one compilation). Thresholds and rules: module docstring
+    and docs/diagnosis.md. Returns a `Diagnosis`.
     """
     if n_starts < 1 or max_steps < 1:
         raise ParameterError("n_starts and max_steps must be at least 1")
     if not isinstance(drt_evidence, bool):
         raise ParameterError(f"drt_evidence must be True or False, got {drt_evidence!r}")
-    base, data, shape = _baseline(fit_or_data, circuit, data=data, effects=effects, registry=registry, fmin=fmin, fmax=fmax, weighting=weighting, n_starts=n_starts, seed=seed)
+    base, data, shape = _baseline(fit_or_data, circuit, data=data, effects=effects, registry=registry, fmin=fmin, fmax=fmax, weighting=weighting, n_starts=n_starts, seed=seed, shape=solver_shape)
     _require_points_for_diagnosis(base)
     spectrum, sigma = _spectrum_of(base, data)
     notes: list[str] = []
@@ -660,7 +666,7 @@ def diagnose(
         problem = _data_problem(base, kk, nm)
     if problem.invalid is not None:
         bands = failing_bands(base, nm.sigma_rel, kk_bad_bands=kk_bands)
-        return Diagnosis(base, kk, nm.sigma_rel, nm.source, bands, (), Verdict.DATA_INVALID, problem.invalid, tuple(notes), _thresholds(), None, nm.measurement, nm.discrepancy)
+        return Diagnosis(base, kk, nm.sigma_rel, nm.source, bands, (), Verdict.DATA_INVALID, problem.invalid, tuple(notes), _thresholds(), None, nm.measurement, nm.discrepancy, solver_shape=shape)
     if problem.note:
         notes.append(problem.note)
     keep = ~problem.masked
@@ -676,7 +682,7 @@ def diagnose(
     ctx = _context(base, evidence)
     n_points = int(keep.sum())
     proposals = [(e, p) for e, p in effects.proposals(ctx) if len(p.circuit.parameter_names(base.registry)) < 2 * n_points]
-    fits = _fit_proposals(base, spectrum, ctx, proposals, shape, n_starts=n_starts, max_steps=max_steps, seed=seed)
+    fits, shape = _fit_proposals(base, spectrum, ctx, proposals, shape, n_starts=n_starts, max_steps=max_steps, seed=seed)
     if masked:
         base = fits[0]
     elif fits[0].chi2 < base.chi2 * (1 - 1e-6):
@@ -685,4 +691,4 @@ def diagnose(
     bands = failing_bands(base, sigma_rel, kk_bad_bands=kk_bands)
     cands = _rank(_suggestions(base, proposals, fits[1:], sigma_rel, bands), evidence)
     verdict, reason = _verdict(cands, bands, _noise_ratio(base, sigma_rel))
-    return Diagnosis(base, kk, sigma_rel, nm.source, bands, tuple(cands), verdict, reason, tuple(notes), _thresholds(), evidence, measurement, nm.discrepancy, masked, kk_kept)
+    return Diagnosis(base, kk, sigma_rel, nm.source, bands, tuple(cands), verdict, reason, tuple(notes), _thresholds(), evidence, measurement, nm.discrepancy, masked, kk_kept, shape)

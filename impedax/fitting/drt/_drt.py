@@ -151,10 +151,11 @@ def drt(
     z_ref = np.max(np.abs(flat), axis=1)  # per spectrum: λ is relative to max|Z|² (docs/drt.md)
     zn = flat / z_ref[:, None]
     weights = 1.0 / np.abs(zn)
-    fixed_log = np.full(flat.shape[0], math.log(fixed) if fixed is not None else 0.0)
+    # a fixed λ goes in as a finite fixed_log (NaN: chosen by lam_method): one compiled solve serves both
+    fixed_log = np.full(flat.shape[0], math.log(fixed) if fixed is not None else math.nan)
     out = solve_batch(
         design_re, design_im, weights, zn.real, zn.imag, gamma_penalty, r_inv, mask, phi, _LOG_LAMBDA_GRID, fixed_log, math.log(_LAMBDA_FLOOR),
-        method="fixed" if fixed is not None else lam_method, signed=bool(signed), max_iter=int(max_iter),
+        method=lam_method, signed=bool(signed), max_iter=int(max_iter),
     )
     out = {k: np.asarray(v) for k, v in out.items()}
     q05, q95 = (np.asarray(v) for v in quantile_band(out["band_mean"], out["band_sd"], bool(signed), out["gamma"]))

@@ -103,9 +103,8 @@ def unexplained_peaks(data_drt: DRTResult, model, *, tolerance_decades: float = 
         # the width an ideal R‖C at the same τ would get under the same basis and λ
         f = data_drt.frequency
         w = 2 * np.pi * f
-        ideal = np.stack([data_drt.r_inf_ohm + p.r_ohm / (1 + 1j * w * p.tau_s) for p in unexplained])
-        reference = drt((f, ideal), lam=data_drt.lam, **options)
-        reference = reference.results if hasattr(reference, "results") else (reference,)
+        # one spectrum per call: the same compiled solve as the data's and the model's
+        reference = [drt((f, data_drt.r_inf_ohm + p.r_ohm / (1 + 1j * w * p.tau_s)), lam=data_drt.lam, **options) for p in unexplained]
         for p, ref in zip(unexplained, reference):
             near = [q for q in ref.peaks if abs(math.log10(q.tau_s / p.tau_s)) < tolerance_decades]
             if near and p.width_decades > distributed_ratio * near[0].width_decades:

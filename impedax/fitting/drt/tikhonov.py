@@ -54,6 +54,7 @@ import functools
 import jax
 import jax.numpy as jnp
 import jax.scipy.linalg as jsl
+import numpy as np
 
 __all__ = ["solve_batch", "LAMBDA_METHODS"]
 
@@ -192,8 +193,9 @@ def solve_batch(design_re, design_im, weights, z_re, z_im, gamma_penalty, r_inv,
     design_re/design_im (N, P): unweighted Re/Im design; weights, z_re, z_im (B, N) in the
     caller's normalised units; gamma_penalty (P, P) = Γ + ηI and r_inv = R⁻¹ with Γ + ηI = RᵀR;
     constrained (P,) bool; phi (K, P) maps x to γ on the output grid; log_grid the ln λ grid;
-    fixed_log_lambda: ln λ (B,) used when ``method == "fixed"``; log_floor: the smallest ln λ
-    an automatic choice may return.
+    fixed_log_lambda: ln λ (B,) used when ``method == "fixed"``, and with "gcv"/"lcurve" for
+    the spectra where it is finite (NaN: chosen by ``method``; so a fixed λ and an automatic
+    one share one compilation); log_floor: the smallest ln λ an automatic choice may return.
     Returns a dict of (B, ...) arrays: x, log_lambda, gamma, gamma_sd, sigma, converged,
     effective_parameters, and the GCV/L-curve criteria over the grid.
     """
@@ -210,7 +212,8 @@ def solve_batch(design_re, design_im, weights, z_re, z_im, gamma_penalty, r_inv,
         if method == "fixed":
             log_lam = fixed
         else:
-            log_lam = jnp.maximum(_choose_log_lambda(s, beta, rss0, log_grid, n_rows, method), log_floor)
+            chosen = jnp.maximum(_choose_log_lambda(s, beta, rss0, log_grid, n_rows, method), log_floor)
+            log_lam = jnp.where(jnp.isfinite(fixed), fixed, chosen)
         lam = jnp.exp(log_lam)
         AtA = A.T @ A
         H = AtA + lam * gamma_penalty
@@ -263,10 +266,12 @@ def solve_batch(design_re, design_im, weights, z_re, z_im, gamma_penalty, r_inv,
 def quantile_band(band_mean, band_sd, signed, gamma=None):
     """(5 %, 95 %) quantiles of the Gaussian posterior of γ; clipped at 0 when γ ≥ 0 is imposed.
     With ``gamma`` (the reported estimate, at GCV's λ) the band is widened to contain it, so a
-    plot never shows γ outside its own band."""
+    plot never shows γ outside its own band. NumPy, on the host (eager JAX operations would
+    each be compiled in every process)."""
+    band_mean, band_sd = np.asarray(band_mean), np.asarray(band_sd)
     lo, hi = band_mean - _Z90 * band_sd, band_mean + _Z90 * band_sd
     if not signed:
-        lo, hi = jnp.maximum(lo, 0.0), jnp.maximum(hi, 0.0)
+        lo, hi = np.maximum(lo, 0.0), np.maximum(hi, 0.0)
     if gamma is not None:
-        lo, hi = jnp.minimum(lo, gamma), jnp.maximum(hi, gamma)
+        lo, hi = np.minimum(lo, gamma), np.maximum(hi, gamma)
     return lo, hi

@@ -1,33 +1,45 @@
 """Fit many candidate circuits to one spectrum together, with one compilation.
 
 Each candidate becomes a padded `CircuitProgram` of a shared `ProgramLayout`; programs,
-parameter maps, bounds and starts travel as data, and the candidates are solved together
-under ``vmap``. Candidate counts, free-parameter counts and layouts are padded to a few
-bucket sizes, so a diagnosis pays one compilation (kept by JAX's persistent cache) whatever
-circuits it proposes.
+parameter maps, bounds and starts travel as data. Every (candidate, start) pair is one
+Levenberg–Marquardt problem of a work queue over a fixed number of ``vmap`` lanes
+(`lm.work_queue`), with the program's analytic Jacobian (`program_value_and_columns`). The
+compiled solver depends only on the layout, the padded free-parameter count K and the padded
+number of frequencies, never on how many candidates or starts there are: layouts, K and the
+frequency count are rounded up to buckets, so a diagnosis and every step of a refinement
+share one compilation (kept by JAX's persistent cache) whatever circuits they propose.
 """
 
 from __future__ import annotations
 
+import functools
 import time
 from typing import Mapping, NamedTuple, Sequence
 
+import jax
 import jax.numpy as jnp
 import numpy as np
 import xarray as xr
 
-from ...circuits import Circuit, CircuitProgram, DEFAULT_REGISTRY, ProgramLayout, Registry, default_theta, parse
+from ...circuits import Circuit, CircuitProgram, DEFAULT_REGISTRY, ProgramLayout, Registry, default_theta, parse, program_value_and_columns
 from ...errors import FitError
-from ..parameters import Transform, to_internal
-from ..problem import FitProblem, prepare_fit, weights
+from ..parameters import Transform, to_external, to_internal
+from ..problem import FitProblem, fit_problem, open_spectrum, weights
+from .lm import work_queue
 from .result import FitResult, fit_result
-from .solvers import SolverArgs, SolverOutput, program_solver
+from .solvers import SolverArgs, SolverOutput, SolverStatus
 from .starts import SpectrumFeatures, data_driven_guess, random_starts
 
-__all__ = ["fit_candidates", "SolverShape", "solver_shape"]
+__all__ = ["fit_candidates", "SolverShape", "solver_shape", "candidate_solver"]
 
-_K_BUCKETS = (4, 8, 12, 16, 24, 32, 48)  # the Jacobian costs one model pass per column
-_C_BUCKET = 8
+_K_BUCKETS = (12, 24, 48)
+_C_BUCKET = 8  # candidate counts are rounded to this (the diagnosis fits as many copies of the baseline)
+_SLOT_BUCKETS = (0, 2, 4, 6, 8, 12, 16, 24, 32, 48, 64)  # slots per element kind
+_NODE_BUCKETS = (4, 8, 12, 16, 24, 32, 48, 64)
+_FREQ_STEP = 16  # frequencies are padded (with zero weight) to a multiple of this
+_LANES = 32  # problems iterated side by side
+_CAPACITY = 256  # problems (candidate × start) per call of the queue; more are run in several calls
+_FINISH = 32  # candidates per call of the finishing pass
 
 
 def _bucket(n: int, buckets) -> int:
@@ -35,31 +47,127 @@ def _bucket(n: int, buckets) -> int:
     for b in buckets:
         if n <= b:
             return b
-    raise FitError(f"too many free parameters ({n}) for a candidate fit")
+    raise FitError(f"a candidate fit needs {n} of something the solver holds at most {buckets[-1]} of (free parameters, slots of one element kind or nodes)")
 
 
 class SolverShape(NamedTuple):
     """The padded shape of one compiled candidate solver: the program layout, the candidate
-    count and the free-parameter count. Calls of `fit_candidates` with one shape share one
-    compilation (the diagnosis keeps one for all its steps)."""
+    count (rounded to 8: the diagnosis fits that many copies of the baseline), the
+    free-parameter count K and the frequency count. Calls of `fit_candidates` with one shape
+    share one compilation; a refinement carries its shape from step to step (`grown_to`)."""
 
     layout: ProgramLayout
     n_candidates: int
     n_free: int
+    n_freq: int = 0
 
-    def holds(self, circuits: Sequence[Circuit], registry: Registry) -> bool:
-        """Whether every circuit fits in this shape's layout (so no new compilation is needed)."""
+    def holds(self, circuits: Sequence[Circuit], registry: Registry, n_freq: int = 0) -> bool:
+        """Whether every circuit (and ``n_freq`` frequencies) fits in this shape (so no new compilation is needed)."""
         need = ProgramLayout.covering(circuits, registry)
-        return need.n_nodes <= self.layout.n_nodes and all(a <= b for a, b in zip(need.capacities, self.layout.capacities))
+        k = max(len(c.parameter_names(registry)) for c in circuits)
+        fits = need.n_nodes <= self.layout.n_nodes and all(a <= b for a, b in zip(need.capacities, self.layout.capacities))
+        return fits and k <= self.n_free and n_freq <= self.n_freq and registry == self.layout.registry
+
+    def grown_to(self, circuits: Sequence[Circuit], registry: Registry, n_freq: int = 0) -> "SolverShape":
+        """This shape if it holds ``circuits`` and ``n_freq`` frequencies, else the bucketed
+        shape that holds them and everything this one held."""
+        if self.holds(circuits, registry, n_freq):
+            return self
+        new = solver_shape(circuits, registry, n_freq)
+        if registry != self.layout.registry:
+            return new
+        layout = ProgramLayout(registry, tuple(max(a, b) for a, b in zip(new.layout.capacities, self.layout.capacities)), max(new.layout.n_nodes, self.layout.n_nodes))
+        return SolverShape(layout, max(new.n_candidates, self.n_candidates), max(new.n_free, self.n_free), max(new.n_freq, self.n_freq))
 
 
-def solver_shape(circuits: Sequence[Circuit], registry: Registry = DEFAULT_REGISTRY) -> SolverShape:
-    """The tightest shape that holds ``circuits`` (evaluation cost grows with the slot count),
-    its counts rounded up to the buckets, so a diagnosis's candidate sets share it."""
-    layout = ProgramLayout.covering(circuits, registry)
+def solver_shape(circuits: Sequence[Circuit], registry: Registry = DEFAULT_REGISTRY, n_freq: int = 0) -> SolverShape:
+    """A shape that holds ``circuits`` and ``n_freq`` frequencies: the covering layout with
+    each kind's slot count and the node count rounded up to buckets, K and the frequency count
+    rounded up too (so the candidate sets of successive refinement steps mostly share it;
+    evaluation cost grows with the slot and node counts)."""
+    need = ProgramLayout.covering(circuits, registry)
+    layout = ProgramLayout(registry, tuple(_bucket(c, _SLOT_BUCKETS) for c in need.capacities), _bucket(need.n_nodes, _NODE_BUCKETS))
     n = -(-len(circuits) // _C_BUCKET) * _C_BUCKET
     k = _bucket(max(len(c.parameter_names(registry)) for c in circuits), _K_BUCKETS)
-    return SolverShape(layout, n, k)
+    return SolverShape(layout, n, k, -(-n_freq // _FREQ_STEP) * _FREQ_STEP)
+
+
+class CandidateRows(NamedTuple):
+    """What differs between the candidates of one queue (arrays over candidates): every
+    parameter of the flattened program ``x_fixed`` (fixed values; the free ones are
+    overwritten), the free parameters' positions in it ``free_index`` (4·S: padding), their
+    bounds and `Transform` ``kind``, and the program's arrays."""
+
+    x_fixed: jax.Array
+    free_index: jax.Array
+    lower: jax.Array
+    upper: jax.Array
+    kind: jax.Array
+    program: dict
+
+
+class SpectrumArgs(NamedTuple):
+    """What every candidate shares: the frequencies, the data and the inverse weights (padded
+    frequencies have zero weight)."""
+
+    freq: jax.Array
+    z: jax.Array
+    inv_w_re: jax.Array
+    inv_w_im: jax.Array
+
+
+def _combine(shared: SpectrumArgs, row: CandidateRows) -> SolverArgs:
+    return SolverArgs(shared.freq, shared.z, shared.inv_w_re, shared.inv_w_im, row.x_fixed, row.lower, row.upper, row.kind, row.free_index, row.program)
+
+
+def _program_parts(layout: ProgramLayout):
+    """(to_x, parts): the free parameters and the full (S, 4) parameters at the solver's
+    point u, and the weighted Jacobian halves (K, F) and residual halves (F,) at u, in
+    parameter space or (``in_u``) in the solver's space."""
+
+    def to_x(u, args: SolverArgs):
+        x_free, dx_du = jax.jvp(lambda v: to_external(v, args.lower, args.upper, args.kind), (u,), (jnp.ones_like(u),))
+        theta = jnp.concatenate([args.x_fixed, jnp.ones(1)]).at[args.free_index].set(x_free)[:-1]
+        return theta, dx_du
+
+    def parts(u, args: SolverArgs, in_u: bool):
+        theta, dx_du = to_x(u, args)
+        z, columns = program_value_and_columns(args.model_args, theta.reshape(layout.n_slots, -1), args.freq, args.free_index, layout=layout)
+        if in_u:
+            columns = columns * dx_du[:, None]
+        r = z - args.z
+        w_re, w_im = args.inv_w_re, args.inv_w_im
+        return theta, z, columns.real * w_re[None, :], columns.imag * w_im[None, :], r.real * w_re, r.imag * w_im
+
+    return parts
+
+
+@functools.lru_cache(maxsize=16)
+def candidate_solver(layout: ProgramLayout, n_free: int, n_lanes: int = _LANES):
+    """Jitted ``(queue, finish)`` for candidates of ``layout`` with ``n_free`` (padded) free
+    parameters: ``queue`` is `lm.work_queue` over ``n_lanes`` lanes of (candidate, start)
+    problems (`CandidateRows` per candidate, `SpectrumArgs` shared) with the normal
+    equations from the program's analytic Jacobian; ``finish(u, rows, shared)`` gives, vmapped
+    over candidates, the full parameters, chi², the weighted Jacobian in parameter space
+    (2F, K) and the model's impedance at points u."""
+    parts = _program_parts(layout)
+
+    def normal_u(u, args):
+        _, _, j_re, j_im, r_re, r_im = parts(u, args, True)
+        # parameters-first halves and two products (as `solvers.tree_residuals`)
+        return j_re @ j_re.T + j_im @ j_im.T, j_re @ r_re + j_im @ r_im, 0.5 * (jnp.sum(r_re**2) + jnp.sum(r_im**2)), ()
+
+    # the damped systems by LAPACK (inline_solve=False): the unrolled factorisation of
+    # `lm.solve_damped` would double the compile time of the whole solver
+    queue = jax.jit(work_queue(normal_u, n_lanes, _combine, inline_solve=False), static_argnames="drain")
+
+    def finish_one(u, row, shared):
+        theta, z, j_re, j_im, r_re, r_im = parts(u, _combine(shared, row), False)
+        chi2 = jnp.sum(r_re**2) + jnp.sum(r_im**2)
+        return theta, jnp.where(jnp.isfinite(chi2), chi2, jnp.inf), jnp.concatenate([j_re, j_im], axis=1).T, z
+
+    finish = jax.jit(jax.vmap(finish_one, in_axes=(0, 0, None)))
+    return queue, finish
 
 
 def fit_candidates(
@@ -74,23 +182,21 @@ def fit_candidates(
     seed: int = 0,
     seeds: Sequence[int] | None = None,
     registry: Registry = DEFAULT_REGISTRY,
-    single_phase: bool = False,
     shape: SolverShape | None = None,
     step_limit: int | None = None,
 ) -> list[FitResult]:
-    """Fit every circuit in ``circuits`` to the one spectrum ``data`` in a single vmapped call.
+    """Fit every circuit in ``circuits`` to the one spectrum ``data`` with one compiled solver.
 
     ``init[i]`` (optional) holds starting values for candidate i, e.g. a baseline fit's values
     plus a guess for an added element (warm start); remaining parameters are guessed from the
     data. ``init[i]`` may also be a list of such mappings: several warm starts (they replace the
     first random starts). ``fixed`` values apply to candidates that have those parameters.
-    ``single_phase`` runs every start to convergence with one compact Levenberg–Marquardt loop
-    (no screening phase; compiles several times faster; meant for warm starts). ``seeds``: one
-    random-start seed per candidate (default ``seed`` for all). ``shape`` (a `SolverShape`:
-    layout, candidate count, free-parameter count) fixes the compiled shapes, so calls with
-    different circuits can share one compilation; with ``single_phase``, ``step_limit``
-    (≤ ``max_steps``) stops this call earlier without a new compilation. Returns one
-    `FitResult` per circuit, in order, exactly as `impedax.fit` would report them.
+    Every start of every candidate runs Levenberg–Marquardt to convergence or ``max_steps``
+    steps (``step_limit``, when given, lowers it) and each candidate keeps its best start.
+    ``seeds``: one random-start seed per candidate (default ``seed`` for all). ``shape`` (a
+    `SolverShape`: layout and K) fixes the compiled shapes, so calls with different circuits
+    share one compilation. Returns one `FitResult` per circuit, in order, exactly as
+    `impedax.fit` would report them.
     """
     t0 = time.perf_counter()
     circuits = [parse(c, registry) for c in circuits]
@@ -102,8 +208,9 @@ def fit_candidates(
     z = np.asarray(spectrum["Z"].values, complex)
     sigma = np.asarray(spectrum["sigma"].values, float) if "sigma" in spectrum else None
     inv_re, inv_im = weights(z, sigma, weighting, prepared[0].source)
-    layout = shape.layout if shape is not None else ProgramLayout.covering(circuits, registry)
-    k_pad = max(shape.n_free if shape is not None else 0, _bucket(max(int((~p.table.fixed).sum()) for p in prepared), _K_BUCKETS))
+    shape = (shape or solver_shape(circuits, registry, freq.size)).grown_to(circuits, registry, freq.size)
+    layout = shape.layout
+    k_pad = shape.n_free
     seeds = list(seeds) if seeds is not None else [seed] * len(circuits)
     if len(seeds) != len(circuits):
         raise FitError("seeds must give one seed per circuit")
@@ -112,35 +219,80 @@ def fit_candidates(
         _candidate_row(problem, CircuitProgram.build(problem.circuit, registry, layout), extra, seed_i, features, n_starts=n_starts, k_pad=k_pad, registry=registry)
         for problem, extra, seed_i in zip(prepared, warm, seeds)
     ]
-    n_real = len(rows)
-    n_total = max(shape.n_candidates if shape is not None else 0, -(-n_real // _C_BUCKET) * _C_BUCKET)
-    rows += [rows[-1]] * (n_total - n_real)  # pad the candidate count (results discarded)
-    steps = min(step_limit or max_steps, max_steps) if single_phase else None
-    starts, args = _stacked(rows, freq, z, inv_re, inv_im, steps)
-    _, many = program_solver(layout, max_steps, bool(single_phase))
-    out = SolverOutput(*(None if v is None else np.asarray(v) for v in many(starts, args)))
-    elapsed = (time.perf_counter() - t0) / n_real
+    budget = min(step_limit or max_steps, max_steps)
+    outputs = _solve(rows, _spectrum_args(freq, z, inv_re, inv_im, shape.n_freq), freq.size, layout, k_pad, budget)
+    elapsed = (time.perf_counter() - t0) / len(rows)
     results = []
-    for i, (problem, row) in enumerate(zip(prepared, rows[:n_real])):
-        one = out.row(i)
+    for problem, row, one in zip(prepared, rows, outputs):
         one = one._replace(x=one.x[row.flat], jacobian=one.jacobian[:, : row.n_free])
         results.append(fit_result(problem.circuit, problem.table, freq, z, one, weighting, n_starts, elapsed, registry))
     return results
 
 
+def _spectrum_args(freq, z, inv_re, inv_im, n_padded: int) -> SpectrumArgs:
+    """The shared arrays, padded to ``n_padded`` frequencies with zero weight (copies of the
+    last point), so spectra of similar length share one compilation."""
+    pad = n_padded - freq.size
+
+    def padded(a, fill=None):
+        return np.concatenate([a, np.full(pad, a[-1] if fill is None else fill, dtype=a.dtype)])
+
+    return SpectrumArgs(padded(freq), padded(z), padded(np.asarray(inv_re, float), 0.0), padded(np.asarray(inv_im, float), 0.0))
+
+
+def _solve(rows: list["CandidateRow"], shared: SpectrumArgs, n_freq: int, layout: ProgramLayout, k_pad: int, budget: int) -> list[SolverOutput]:
+    """Every start of every candidate through the work queue (in calls of at most `_CAPACITY`
+    problems), then each candidate's best start through the finishing pass (in calls of
+    `_FINISH` candidates). Returns one `SolverOutput` per candidate (frequency padding removed)."""
+    queue, finish = candidate_solver(layout, k_pad)
+    n_starts = rows[0].starts.shape[0]
+    per_call = max(1, _CAPACITY // n_starts)  # candidates per queue call
+    u = np.zeros((len(rows), n_starts, k_pad))
+    chi2 = np.full((len(rows), n_starts), np.inf)
+    done = np.zeros((len(rows), n_starts), bool)
+    steps = np.zeros((len(rows), n_starts), int)
+    for lo in range(0, len(rows), per_call):
+        part = rows[lo : lo + per_call]
+        stacked = _stack_rows(part, _CAPACITY)
+        u0 = np.zeros((_CAPACITY, k_pad))
+        u0[: len(part) * n_starts] = np.concatenate([r.starts for r in part])
+        which = np.zeros(_CAPACITY, np.int32)
+        which[: len(part) * n_starts] = np.repeat(np.arange(len(part)), n_starts)
+        out = queue(u0, which, np.full(_CAPACITY, budget), len(part) * n_starts, stacked, shared, drain=True)
+        m = len(part) * n_starts
+        got = [np.asarray(a)[:m].reshape((len(part), n_starts) + np.shape(a)[1:]) for a in out]
+        u[lo : lo + len(part)], chi2[lo : lo + len(part)], done[lo : lo + len(part)], steps[lo : lo + len(part)] = got
+    chi2 = np.where(np.isfinite(chi2), chi2, np.inf)
+    best = np.argmin(chi2, axis=1)
+    u_best = u[np.arange(len(rows)), best]
+    outputs = []
+    for lo in range(0, len(rows), _FINISH):
+        part = rows[lo : lo + _FINISH]
+        at = np.zeros((_FINISH, k_pad))
+        at[: len(part)] = u_best[lo : lo + len(part)]
+        theta, chi2_best, jac, z_model = (np.asarray(a) for a in finish(at, _stack_rows(part, _FINISH), shared))
+        for i in range(len(part)):
+            c = lo + i
+            b = best[c]
+            outputs.append(SolverOutput(
+                x=theta[i], chi2=chi2_best[i], jacobian=_unpad_rows(jac[i], shared.freq.size, n_freq), z_model=z_model[i, :n_freq],
+                code=int(SolverStatus.CONVERGED if done[c, b] else SolverStatus.MAX_STEPS), steps=steps[c, b], chi2_starts=chi2[c], steps_total=int(steps[c].sum()),
+            ))
+    return outputs
 def _prepare(circuits, data, init, fixed, *, registry) -> tuple[list[FitProblem], list[list[dict]]]:
     """Each candidate's `FitProblem` (its first start as ``init``) and its further warm starts."""
     init = list(init) if init is not None else [None] * len(circuits)
     if len(init) != len(circuits):
         raise FitError("init must give one mapping (or None) per circuit")
     prepared, warm = [], []
+    spectrum = open_spectrum(data)
     for circuit, start in zip(circuits, init):
         names = circuit.parameter_names(registry)
         mine = {k: v for k, v in (fixed or {}).items() if k in names}
         starts = [start] if start is None or isinstance(start, Mapping) else list(start)
         starts = [{k: v for k, v in (one or {}).items() if k in names and k not in mine} for one in starts] or [{}]
         warm.append([_inside(circuit, one, registry) for one in starts[1:]])
-        prepared.append(prepare_fit(circuit, data, init=_inside(circuit, starts[0], registry), fixed=mine, bounds=None, fmin=None, fmax=None, registry=registry))
+        prepared.append(fit_problem(circuit, spectrum, init=_inside(circuit, starts[0], registry), fixed=mine, bounds=None, registry=registry))
     if prepared[0].data["Z"].ndim != 1:
         raise FitError("fit_candidates fits one spectrum; select or average the extra dimensions first")
     return prepared, warm
@@ -193,24 +345,23 @@ def _candidate_row(problem: FitProblem, program: CircuitProgram, warm: list[dict
     )
 
 
-def _stacked(rows: list[CandidateRow], freq, z, inv_re, inv_im, max_steps: int | None) -> tuple[jnp.ndarray, SolverArgs]:
-    """The candidates' starts and solver arguments stacked along a leading candidate axis;
-    ``max_steps`` (single-phase solver) their step limit."""
-    n = len(rows)
+def _stack_rows(rows: list[CandidateRow], capacity: int) -> CandidateRows:
+    """The candidates' arrays stacked along a leading axis of ``capacity`` (padding repeats
+    the first candidate; its results are never read)."""
+    padded = rows + [rows[0]] * (capacity - len(rows))
 
     def stack(field):
-        return jnp.asarray(np.stack([getattr(r, field) for r in rows]))
+        return np.stack([getattr(r, field) for r in padded])
 
-    def spread(a):
-        return jnp.broadcast_to(jnp.asarray(a), (n, np.size(a)))
-
-    args = SolverArgs(
-        freq=spread(freq), z=spread(z), inv_w_re=spread(inv_re), inv_w_im=spread(inv_im), x_fixed=stack("x_fixed"),
-        free_index=stack("free_index"), lower=stack("lower"), upper=stack("upper"), kind=stack("kind"),
-        model_args={key: jnp.stack([r.program[key] for r in rows]) for key in rows[0].program},
-        max_steps=None if max_steps is None else jnp.full((n,), max_steps, jnp.int64),
+    return CandidateRows(
+        x_fixed=stack("x_fixed"), free_index=stack("free_index"), lower=stack("lower"), upper=stack("upper"), kind=stack("kind"),
+        program={key: np.stack([r.program[key] for r in padded]) for key in rows[0].program},
     )
-    return stack("starts"), args
+
+
+def _unpad_rows(jacobian: np.ndarray, n_padded: int, n_freq: int) -> np.ndarray:
+    """The Jacobian's rows (2·F_padded, K) of the real frequencies: Re rows, then Im rows."""
+    return np.concatenate([jacobian[:n_freq], jacobian[n_padded : n_padded + n_freq]])
 
 
 def _inside(circuit: Circuit, values: Mapping[str, float], registry: Registry) -> dict[str, float]:

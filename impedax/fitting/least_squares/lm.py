@@ -1,8 +1,8 @@
 """impedax's own Levenberg–Marquardt iteration, and the work queue that runs many of them.
 
-Used where optimistix cannot be: candidate fits that must all stop on one rule
-(`solvers.program_solver`), and batch fits, whose lanes swap problems mid-loop — optimistix's
-solver state holds closures that cannot be swapped lane by lane. Single fits run optimistix's
+Used where optimistix cannot be: batch fits and candidate fits (`candidates.candidate_solver`),
+whose lanes swap problems mid-loop — optimistix's solver state holds closures that cannot be
+swapped lane by lane. Single fits run optimistix's
 Levenberg–Marquardt (`solvers.tree_solver`).
 """
 
@@ -132,7 +132,7 @@ class QueueOutput(NamedTuple):
     steps: jax.Array
 
 
-def work_queue(normal_u: Callable, n_lanes: int, combine: Callable):
+def work_queue(normal_u: Callable, n_lanes: int, combine: Callable, *, inline_solve: bool = True):
     """A work-queue Levenberg–Marquardt solver for many independent problems (spectra, or
     spectrum × start pairs). ``n_lanes`` problems iterate side by side (``vmap`` of one
     `lm_iteration` step); when a lane's problem converges or spends its step budget, the result
@@ -148,9 +148,10 @@ def work_queue(normal_u: Callable, n_lanes: int, combine: Callable):
     ``drain=False`` the loop stops once the queue is empty and at most ``n_lanes // 8`` lanes
     still run: their problems come back unfinished (``done`` False), to be continued on fewer
     lanes, so a few slow problems do not keep every lane busy. Returns a `QueueOutput` over
-    the C problems.
+    the C problems. ``inline_solve``: as in `lm_iteration` (False: one LAPACK solve per lane
+    step, much faster to compile).
     """
-    init, step = lm_iteration(normal_u, inline_solve=True)
+    init, step = lm_iteration(normal_u, inline_solve=inline_solve)
     lane_init = jax.vmap(init, in_axes=(0, None))
 
     def solve(u0, spectrum, budget, n_problems, rows, shared, *, drain):

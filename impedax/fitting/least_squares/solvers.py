@@ -1,7 +1,7 @@
 """The compiled least-squares core shared by `fit`, batch fits and candidate fits.
 
 The residual is the real-stacked weighted residual ``[Re(Z_m − Z_d)/w_re, Im(Z_m − Z_d)/w_im]``,
-squared once by the solver. Three solvers:
+squared once by the solver. Two solvers:
 
 * one spectrum of a circuit compiled by `compile_circuit` (``tree_solver(...)[0]``): optimistix
   Levenberg–Marquardt from one or many starts (``vmap``), the best kept. The circuit's analytic
@@ -12,12 +12,10 @@ squared once by the solver. Three solvers:
 * many spectra of one circuit (``tree_solver(...)[1]``, `lm.work_queue`): a work queue of
   independent Levenberg–Marquardt problems over a fixed number of ``vmap`` lanes, with the
   same analytic Jacobian. optimistix's solver state holds closures that cannot be swapped
-  lane by lane, so this loop runs impedax's compact iteration (`lm.lm_iteration`);
-* candidate circuits of one `ProgramLayout` (``program_solver``): the program's arrays travel
-  as data, and free parameters are gathered into a vector of length K (padded entries point at
-  a dummy slot and have zero Jacobian columns), so one compilation serves every topology and
-  free set of the layout (the diagnosis). Warm-started candidate
-  fits use ``single_phase=True``: every start runs the `lm.lm_iteration` loop and the best is kept.
+  lane by lane, so this loop runs impedax's compact iteration (`lm.lm_iteration`).
+
+Candidate circuits of one padded program layout (the diagnosis) have their own solver,
+`candidates.candidate_solver`, on the same `lm.work_queue` and `SolverArgs`.
 
 Arguments and outputs are typed: `SolverArgs` in, `SolverOutput` out, `SolverStatus` codes.
 """
@@ -30,17 +28,15 @@ from typing import Any, Callable, NamedTuple
 
 import jax
 import jax.numpy as jnp
-import lineax as lx
 import numpy as np
-import optimistix as optx
 
-from ...circuits import Circuit, ProgramLayout, Registry, compile_circuit, evaluate_program
-from ..parameters import external_of_kind, to_external
-from .lm import levenberg_marquardt, lm_iteration, work_queue
+from ...circuits import Circuit, Registry, compile_circuit
+from ..parameters import external_of_kind
+from .lm import levenberg_marquardt, work_queue
 from .order import structural_peaks
 
 __all__ = [
-    "tree_solver", "program_solver", "SolverArgs", "SpectrumRows", "SharedArgs", "SolverOutput", "SolverStatus",
+    "tree_solver", "SolverArgs", "SpectrumRows", "SharedArgs", "SolverOutput", "SolverStatus",
     "one_transfer", "PendingOutputs", "tree_residuals", "solver_args", "unscale", "better", "SCREEN_STEPS", "HANDOVER_STEPS",
 ]
 
@@ -71,6 +67,8 @@ _STATUS_MESSAGES = {
 
 def _status(result) -> jax.Array:
     """optimistix's result (traced) as a `SolverStatus` code, through its public comparisons."""
+    import optimistix as optx  # (here: optimistix, lineax and equinox take ~0.3 s to import, and candidate fits never need them)
+
     steps_out = (result == optx.RESULTS.max_steps_reached) | (result == optx.RESULTS.nonlinear_max_steps_reached)
     return jnp.where(result == optx.RESULTS.successful, int(SolverStatus.CONVERGED), jnp.where(steps_out, int(SolverStatus.MAX_STEPS), int(SolverStatus.FAILED)))
 
@@ -80,9 +78,10 @@ class SolverArgs(NamedTuple):
 
     ``freq`` [Hz], data ``z`` [Ω], the inverse weights of its real and imaginary parts,
     ``x_fixed`` (all parameters; fixed values where fixed, placeholders elsewhere), and the
-    bounds of the free parameters. Program solvers, whose free set is data rather than part of
-    the trace, also take each free parameter's transform ``kind`` and position ``free_index``,
-    the circuit program's arrays ``model_args`` and, single-phase, a step limit ``max_steps``."""
+    bounds of the free parameters. The candidate solver (`candidates.candidate_solver`), whose
+    free set is data rather than part of the trace, also takes each free parameter's transform
+    ``kind`` and position ``free_index`` and the circuit program's arrays ``model_args``
+    (``max_steps`` is no longer read: its problems carry their step budgets)."""
 
     freq: Any
     z: Any
@@ -181,22 +180,12 @@ def better(a: SolverOutput, b: SolverOutput) -> SolverOutput:
     return SolverOutput(*(pick(x, y) for x, y in zip(a, b)))._replace(chi2_starts=None)
 
 
-def _free_to_full(x_free, args: SolverArgs):
-    x_ext = jnp.concatenate([args.x_fixed, jnp.ones((1,))])
-    return x_ext.at[args.free_index].set(x_free)[:-1]
-
-
 def _weighted(r, args: SolverArgs):
     """Complex residuals (N, ...) → the real-stacked weighted residual (2N, ...)."""
     w_re, w_im = args.inv_w_re, args.inv_w_im
     if r.ndim == 2:
         w_re, w_im = w_re[:, None], w_im[:, None]
     return jnp.concatenate([r.real * w_re, r.imag * w_im])
-
-
-def _u_to_x(u, args: SolverArgs):
-    """(x, dx/du) of the elementwise transform to parameter space."""
-    return jax.jvp(lambda v: to_external(v, args.lower, args.upper, args.kind), (u,), (jnp.ones_like(u),))
 
 
 class Residuals(NamedTuple):
@@ -213,35 +202,8 @@ class Residuals(NamedTuple):
     to_x: Callable
 
 
-def _residuals(model: Callable):
-    """Residual functions of a model by forward-mode differentiation (`Residuals`)."""
-
-    def residual_x(x_free, args):
-        return _weighted(model(_free_to_full(x_free, args), args.freq, args.model_args) - args.z, args)
-
-    def residual_u(u, args):
-        return residual_x(to_external(u, args.lower, args.upper, args.kind), args)
-
-    def forward(residual):
-        def linearize(v, args):
-            r = residual(v, args)
-            return r, r
-
-        return lambda v, args: jax.jacfwd(linearize, has_aux=True)(v, args)
-
-    def normal_u(u, args):
-        jac, r = forward(residual_u)(u, args)
-        return jac.T @ jac, jac.T @ r, 0.5 * jnp.sum(r**2), (jac, r)  # (J, r) kept: see `lm.lm_iteration`
-
-    def to_x(u, args):
-        x_free = to_external(u, args.lower, args.upper, args.kind)
-        return x_free, _free_to_full(x_free, args)
-
-    return Residuals(residual_x, residual_u, forward(residual_x), normal_u, None, to_x)
-
-
 def tree_residuals(compiled, free: tuple[int, ...], kinds: tuple[int, ...]):
-    """As `_residuals` for a compiled circuit whose free parameters (positions ``free``, with
+    """The `Residuals` of a compiled circuit whose free parameters (positions ``free``, with
     transform ``kinds``, see `parameters.Transform`) are known when tracing, with the circuit's
     analytic Jacobian (`CompiledCircuit.value_and_columns`); ``residual_u`` carries it as a
     custom JVP, so optimistix's linearisation costs one evaluation of it rather than forward
@@ -325,9 +287,6 @@ def tree_residuals(compiled, free: tuple[int, ...], kinds: tuple[int, ...]):
     return Residuals(residual_x, residual_u, linearize_x, normal_u, chi2_u, to_x)
 
 
-MIN_STEPS = 8
-
-
 def _finish(u, args: SolverArgs, residuals: Residuals, peaks=None) -> SolverOutput:
     """Solver outputs at the solution u: parameters, the Jacobian in parameter space (for
     the covariance), chi², the model's impedance and, given ``peaks``
@@ -345,58 +304,8 @@ def _finish(u, args: SolverArgs, residuals: Residuals, peaks=None) -> SolverOutp
     )
 
 
-def _make_single_phase_batch(residuals, max_steps: int):
-    """A solver for C candidates × S starts at once. All starts iterate in one loop that ends
-    when, for every candidate, its best start so far has converged and no unfinished start is
-    better (or at the step limit): stragglers in slow valleys do not hold the batch up."""
-    normal_u = residuals.normal_u
-
-    def extra_init(u0, args):
-        m = args.z.shape[0] * 2
-        return jnp.zeros((m, u0.shape[0])), jnp.zeros(m)
-
-    init, step = lm_iteration(normal_u, extra_init=extra_init)
-    per_start = jax.vmap(step, in_axes=(0, None))
-    batch_step = jax.vmap(per_start, in_axes=(0, 0))
-
-    def settled(s):
-        cost = jnp.where(jnp.isfinite(s.cost), s.cost, jnp.inf)
-        best_done = jnp.min(jnp.where(s.done, cost, jnp.inf), axis=1)
-        best_open = jnp.min(jnp.where(s.done, jnp.inf, cost), axis=1)
-        return jnp.all(s.done.all(axis=1) | (best_done <= best_open))
-
-    def solve_batch(u0s, args: SolverArgs):
-        limit = jnp.minimum(args.max_steps[0], max_steps)
-        s0 = jax.vmap(jax.vmap(init, in_axes=(0, None)), in_axes=(0, 0))(u0s, args)
-        s = jax.lax.while_loop(lambda s: (s.i.max() < limit) & ((s.i.max() < MIN_STEPS) | ~settled(s)), lambda s: batch_step(s, args), s0)
-        return jax.vmap(_best)(s, args)
-
-    def _best(s, args: SolverArgs) -> SolverOutput:
-        chi2s = 2.0 * s.cost
-        best = jnp.argmin(jnp.where(jnp.isfinite(chi2s), chi2s, jnp.inf))
-        u = s.u[best]
-        jac_u, r = (e[best] for e in s.extra)
-        x_free, dx_du = _u_to_x(u, args)
-        # chain rule back to parameter space, dr/dx = (dr/du)/(dx/du): no second trace of the
-        # model's Jacobian, which would double this solver's compile time
-        jac = jnp.where(dx_du[None, :] != 0, jac_u / jnp.where(dx_du == 0, 1.0, dx_du)[None, :], 0.0)
-        n = args.z.shape[0]
-        return SolverOutput(
-            x=_free_to_full(x_free, args),
-            chi2=chi2s[best],
-            jacobian=jac,
-            z_model=args.z + r[:n] / args.inv_w_re + 1j * (r[n:] / args.inv_w_im),
-            code=jnp.where(s.done[best], int(SolverStatus.CONVERGED), int(SolverStatus.MAX_STEPS)),
-            steps=s.i[best],
-            chi2_starts=chi2s,
-            steps_total=jnp.sum(s.i),
-        )
-
-    return solve_batch
-
-
 def _normal_only(residuals: Residuals):
-    """``normal_u`` without what `_residuals` keeps for the single-phase solver."""
+    """``normal_u`` keeping no ``extra`` with the accepted point."""
     return lambda u, args: (*residuals.normal_u(u, args)[:3], ())
 
 
@@ -411,6 +320,9 @@ def _make(residuals, max_steps: int, peaks=None, *, handover: bool = True):
     # last ones only wander at that level). The damped step (JᵀJ + λI)δ = −Jᵀr is solved by
     # Cholesky on the normal equations (K×K): positive definite for λ > 0 and cheaper than the
     # default QR of the stacked (2N + K)×K system
+    import lineax as lx
+    import optimistix as optx
+
     solver = optx.LevenbergMarquardt(rtol=1e-6, atol=1e-9, linear_solver=lx.Normal(lx.Cholesky()))
     residual_u = residuals.residual_u
     first = min(HANDOVER_STEPS, max_steps)
@@ -532,21 +444,3 @@ class PendingOutputs(NamedTuple):
             part = flat[start:stop]
             out[name] = part.view(np.complex128).reshape(shape) if dtype.kind == "c" else part.reshape(shape).astype(dtype, copy=False)
         return self.kind(**out)
-
-
-@functools.lru_cache(maxsize=16)
-def program_solver(layout: ProgramLayout, max_steps: int, single_phase: bool = False):
-    """(single, batched) jitted solvers for any circuit of ``layout``; the program's arrays
-    are passed in ``args["model_args"]`` and its (S, 4) parameters flattened to P = 4S.
-    ``single_phase``: every start runs `lm.lm_iteration` to the end (for warm starts)."""
-
-    def model(x, freq, program):
-        return evaluate_program(program, x.reshape(layout.n_slots, -1), freq, layout=layout)
-
-    residuals = _residuals(model)
-    if single_phase:
-        batch = jax.jit(_make_single_phase_batch(residuals, max_steps))
-        return None, batch
-    solve = _make(residuals, max_steps)
-    # candidates differ in program and in everything else: vmap over all of args
-    return jax.jit(solve), jax.jit(jax.vmap(solve))
