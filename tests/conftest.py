@@ -1,15 +1,24 @@
 import os
+import shutil
 import tempfile
 
 os.environ.setdefault("MPLBACKEND", "Agg")
-# A compilation cache of the suite's own: the signal tests kill processes that may be writing
-# to it, and a half-written entry must never reach a user's cache (or a later run).
-os.environ["IMPEDAX_CACHE_DIR"] = tempfile.mkdtemp(prefix="impedax-test-cache-")
+# A compilation cache of this run's own, made by the first process (pytest itself, which starts
+# the test processes of `make test`: they inherit it) and removed when the run ends. The signal
+# tests kill processes that may be writing to it, and a half-written entry must never reach a
+# user's cache or a later run. Every process of the run reads it (the CLI's subprocesses
+# through IMPEDAX_CACHE_DIR, the test processes through JAX's config below), so a program one
+# of them compiled is read, not compiled again, by the others and after `clear_caches`.
+if "IMPEDAX_TEST_RUN_CACHE" not in os.environ:
+    os.environ["IMPEDAX_TEST_RUN_CACHE"] = tempfile.mkdtemp(prefix="impedax-test-cache-")
+_RUN_CACHE = os.environ["IMPEDAX_CACHE_DIR"] = os.environ["IMPEDAX_TEST_RUN_CACHE"]
 
 import jax  # noqa: E402
 
 jax.config.update("jax_enable_x64", True)
 jax.config.update("jax_numpy_rank_promotion", "raise")
+jax.config.update("jax_compilation_cache_dir", _RUN_CACHE)
+jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.2)
 
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
@@ -29,3 +38,8 @@ def _release_compiled_programs():
 @pytest.fixture
 def rng():
     return np.random.default_rng(20261121)
+
+
+def pytest_sessionfinish(session):
+    if not hasattr(session.config, "workerinput"):  # the first process (not a test process of xdist)
+        shutil.rmtree(_RUN_CACHE, ignore_errors=True)
