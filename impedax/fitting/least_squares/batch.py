@@ -6,7 +6,6 @@ dask="parallelized")``, so the same call scales out on a ``dask.distributed`` cl
 
 from __future__ import annotations
 
-import itertools
 import math
 import time
 import warnings as python_warnings
@@ -22,7 +21,7 @@ from ..problem import residual_scale, weights
 from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, dominant_points, information_criteria, null_sets
 from .order import canonical_order
 from .result import bound_sides, confirm_bounds, fit_notes, fit_result, stack_notes, weighting_notes
-from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, better, tree_solver, unscale
+from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, better, over_devices, tree_solver, unscale
 from .starts import ESCALATION_RUNGS, SpectrumFeatures, climb_target, batch_outliers, guess_start, multistart, rms_rel_of, rung_seed, to_solver_space
 
 __all__ = ["BatchFitResult", "fit_batch"]
@@ -260,43 +259,64 @@ def _with_reference_start(guesses, solver, circuit, table, freq, z, sigma, **opt
 
 class _LaneRunner:
     """Host side of the lane solver: splits problems into fixed-size chunks (one compilation
-    serves any batch size; at least one chunk per core, dispatched together so they run in
-    parallel), then continues problems left open by the many-lane pass on a few lanes."""
+    serves any batch size; at least one chunk per core), runs each group of one chunk per
+    device as one program on all devices at once (`solvers.over_devices`: one compilation
+    for every device), then continues problems left open by the many-lane pass on a few
+    lanes."""
 
     def __init__(self, lanes, finish, chi2, chi2_x, rows: SpectrumRows, shared: SharedArgs):
         self.lanes, self.finish, self.chi2, self.chi2_x, self.rows, self.shared = lanes, finish, chi2, chi2_x, rows, shared
         self._placed: dict = {}
-        self._shared_placed: dict = {}
+        self._shared_placed = None
 
-    def _chunks(self, n: int, capacity: int, n_lanes: int):
-        n_chunks = max(-(-n // capacity), min(len(jax.devices()), -(-n // (2 * n_lanes))))
-        return np.array_split(np.arange(n), n_chunks)
+    def _groups(self, n: int, capacity: int, n_lanes: int) -> list[list[np.ndarray]]:
+        """Problems 0..n-1 in chunks of at most ``capacity``, grouped one chunk per device."""
+        n_devices = len(jax.devices())
+        n_chunks = max(-(-n // capacity), min(n_devices, -(-n // (2 * n_lanes))))
+        chunks = np.array_split(np.arange(n), n_chunks)
+        return [chunks[i : i + n_devices] for i in range(0, n_chunks, n_devices)]
 
-    def _local(self, spectrum: np.ndarray, capacity: int, device):
-        """The rows a chunk uses, padded to ``capacity`` and placed on ``device``, and the
-        problems' indices into them (kept: successive passes reuse the same chunks)."""
-        key = (spectrum.tobytes(), capacity, device.id)
+    def _local(self, spectra: list[np.ndarray], capacity: int, sharding):
+        """The rows each chunk of a group uses, padded to ``capacity``, stacked over the
+        devices (a device without a chunk gets spectrum 0's row and no problem) and placed,
+        and the problems' indices into them (kept: successive passes reuse the same
+        chunks); the shared arguments, placed on every device."""
+        key = (tuple(s.tobytes() for s in spectra), capacity)
         if key not in self._placed:
-            used, local = np.unique(spectrum, return_inverse=True)
-            pad = np.concatenate([used, np.full(capacity - used.size, used[0])])
-            if device.id not in self._shared_placed:  # (placed once per device: every chunk's are the same)
-                self._shared_placed[device.id] = jax.device_put(self.shared, device)
-            rows = jax.device_put(SpectrumRows(*(np.ascontiguousarray(v[pad]) for v in self.rows)), device), self._shared_placed[device.id]
-            self._placed[key] = rows, np.concatenate([local, np.zeros(capacity - spectrum.size, int)]).astype(np.int32)
-        return self._placed[key]
+            picks, locals_ = [], []
+            for spectrum in spectra + [np.zeros(1, int)] * (len(jax.devices()) - len(spectra)):
+                used, local = np.unique(spectrum, return_inverse=True)
+                picks.append(np.concatenate([used, np.full(capacity - used.size, used[0])]))
+                locals_.append(np.concatenate([local, np.zeros(capacity - spectrum.size, int)]))
+            pick = np.stack(picks)
+            rows = jax.device_put(SpectrumRows(*(np.ascontiguousarray(v[pick]) for v in self.rows)), sharding)
+            self._placed[key] = rows, np.stack(locals_).astype(np.int32)
+        if self._shared_placed is None:
+            self._shared_placed = jax.device_put(self.shared, jax.sharding.NamedSharding(sharding.mesh, jax.sharding.PartitionSpec()))
+        return (*self._placed[key], self._shared_placed)
+
+    @staticmethod
+    def _stacked(values: np.ndarray, parts: list[np.ndarray], capacity: int, fill) -> np.ndarray:
+        """``values[part]`` of each chunk padded to ``capacity`` (with ``fill``: a row
+        of values, or a scalar), stacked over the devices."""
+        out = np.empty((len(jax.devices()), capacity) + values.shape[1:], values.dtype)
+        out[...] = fill
+        for j, part in enumerate(parts):
+            out[j, : part.size] = values[part]
+        return out
 
     def _run(self, u0, spectrum, budget, *, many: bool):
         n_lanes, capacity = (_LANES, _CAPACITY) if many else (_FEW_LANES, _FEW_CAPACITY)
-        solve = self.lanes(n_lanes)
-        chunks = self._chunks(len(u0), capacity, n_lanes)
+        solve, sharding = over_devices(self.lanes(n_lanes), 5, drain=not many)
+        groups = self._groups(len(u0), capacity, n_lanes)
         pending = []
-        for device, part in zip(itertools.cycle(jax.devices()), chunks):
-            (rows, shared), local = self._local(spectrum[part], capacity, device)
-            pad = capacity - part.size
-            inputs = jax.device_put((np.concatenate([u0[part], np.repeat(u0[part[:1]], pad, axis=0)]), local, np.concatenate([budget[part], np.zeros(pad, int)])), device)
-            pending.append(solve(*inputs, part.size, rows, shared, drain=not many))  # runs where its inputs are
+        for parts in groups:
+            rows, local, shared = self._local([spectrum[p] for p in parts], capacity, sharding)
+            counts = np.zeros(len(jax.devices()), np.int64)
+            counts[: len(parts)] = [p.size for p in parts]
+            pending.append(solve(self._stacked(u0, parts, capacity, u0[0]), local, self._stacked(budget, parts, capacity, 0), counts, rows, shared))
         results = jax.device_get(pending)
-        return [np.concatenate([r[i][: p.size] for r, p in zip(results, chunks)]) for i in range(4)]
+        return [np.concatenate([r[i][j, : p.size] for r, parts in zip(results, groups) for j, p in enumerate(parts)]) for i in range(4)]
 
     def solve(self, u0, spectrum, budget):
         """(u, chi², done, steps) of every problem, each run to convergence or its budget."""
@@ -310,21 +330,20 @@ class _LaneRunner:
 
     def _per_spectrum(self, fn, points, spectrum) -> list:
         """``fn(*points, local, rows, shared)`` at ``points`` (arrays (n, K)) of spectra
-        ``spectrum``, in fixed-size chunks spread over the devices; each chunk's results,
-        trimmed."""
-        capacity = _CAPACITY if len(spectrum) > _FEW_CAPACITY else _FEW_CAPACITY
-        chunks = self._chunks(len(spectrum), capacity, _LANES)
+        ``spectrum``, in chunks of one fixed size run on all devices at once; each chunk's
+        results, trimmed."""
+        capacity = _FEW_CAPACITY  # (one shape for every call: one compilation)
+        run, sharding = over_devices(fn, len(points) + 2)
+        groups = self._groups(len(spectrum), capacity, _FEW_LANES)
         pending = []
-        for device, part in zip(itertools.cycle(jax.devices()), chunks):
-            (rows, shared), local = self._local(spectrum[part], capacity, device)
-            at = [np.concatenate([u[part], np.repeat(u[part[:1]], capacity - part.size, axis=0)]) for u in points]
-            pending.append(fn(*jax.device_put((*at, local), device), rows, shared))
-        return [jax.tree_util.tree_map(lambda a, n=part.size: a[:n], r) for r, part in zip(jax.device_get(pending), chunks)]
+        for parts in groups:
+            rows, local, shared = self._local([spectrum[p] for p in parts], capacity, sharding)
+            pending.append(run(*(self._stacked(u, parts, capacity, u[0]) for u in points), local, rows, shared))
+        return [jax.tree_util.tree_map(lambda a, j=j, n=p.size: a[j, :n], r) for r, parts in zip(jax.device_get(pending), groups) for j, p in enumerate(parts)]
 
     def chi2_at(self, points, spectrum) -> list[np.ndarray]:
         """Weighted chi² of spectra ``spectrum`` at each array of points (+inf where not finite)."""
-        parts = self._per_spectrum(lambda *a: tuple(self.chi2(u, *a[-3:]) for u in a[:-3]), [np.asarray(u, float) for u in points], spectrum)
-        return [np.nan_to_num(np.concatenate([p[i] for p in parts]), nan=np.inf) for i in range(len(points))]
+        return [np.nan_to_num(np.concatenate(self._per_spectrum(self.chi2, [np.asarray(u, float)], spectrum)), nan=np.inf) for u in points]
 
     def chi2_at_x(self, points, spectrum) -> np.ndarray:
         """Weighted chi² of spectra ``spectrum`` at free parameter values ``points`` (C, K)."""

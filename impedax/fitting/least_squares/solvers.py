@@ -41,7 +41,7 @@ from .order import structural_peaks
 
 __all__ = [
     "tree_solver", "program_solver", "SolverArgs", "SpectrumRows", "SharedArgs", "SolverOutput", "SolverStatus",
-    "one_transfer", "PendingOutputs", "tree_residuals", "solver_args", "unscale", "better", "SCREEN_STEPS", "HANDOVER_STEPS",
+    "one_transfer", "PendingOutputs", "tree_residuals", "solver_args", "unscale", "better", "over_devices", "SCREEN_STEPS", "HANDOVER_STEPS",
 ]
 
 SCREEN_STEPS = 40  # Levenberg–Marquardt steps every start gets before the best is refined
@@ -488,6 +488,31 @@ def tree_solver(circuit: Circuit, registry: Registry, max_steps: int, free: tupl
         return _finish(u, args, residuals, peaks)._replace(code=code, steps=steps, u=u)
 
     return one_transfer(_make(residuals, max_steps, peaks, handover=False)), lanes, finish, chi2, chi2_x, resume
+
+
+@functools.lru_cache(maxsize=64)
+def over_devices(fn: Callable, n_sharded: int, drain: bool | None = None):
+    """``fn`` run on every JAX device at once as one compiled program (``jax.shard_map``):
+    the first ``n_sharded`` arguments carry a leading axis of one entry per device (each
+    device computes ``fn`` on its own entry, e.g. a chunk of a batch), the rest are the same
+    on every device; outputs get the same leading axis. One compilation serves all devices,
+    where a program placed on each device apart is compiled once per device. ``drain`` is
+    passed on as a keyword when given (`lm.work_queue`). Returns (the jitted function, the
+    sharding of its per-device arguments)."""
+    mesh = jax.sharding.Mesh(np.array(jax.devices()), ("device",))
+    spread, same = jax.sharding.PartitionSpec("device"), jax.sharding.PartitionSpec()
+    options = {} if drain is None else {"drain": drain}
+
+    def per_device(*args):
+        local = jax.tree_util.tree_map(lambda a: a[0], args[:n_sharded])
+        out = fn(*local, *args[n_sharded:], **options)
+        return jax.tree_util.tree_map(lambda a: a[None], out)
+
+    def run(*args):
+        specs = tuple(spread if i < n_sharded else same for i in range(len(args)))
+        return jax.shard_map(per_device, mesh=mesh, in_specs=specs, out_specs=spread, check_vma=False)(*args)
+
+    return jax.jit(run), jax.sharding.NamedSharding(mesh, spread)
 
 
 def one_transfer(solve: Callable):
