@@ -21,8 +21,8 @@ from ..problem import residual_scale, weights
 from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, dominant_points, information_criteria, null_sets
 from .order import canonical_order
 from .result import bound_sides, confirm_bounds, fit_notes, fit_result, stack_notes, weighting_notes
-from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, better, over_devices, tree_solver, unscale
-from .starts import ESCALATION_RUNGS, SpectrumFeatures, climb_target, batch_outliers, guess_start, multistart, rms_rel_of, rung_seed, to_solver_space
+from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, better, over_devices, padded_points, tree_solver, trimmed, unscale
+from .starts import ESCALATION_RUNGS, SpectrumFeatures, climb_target, batch_outliers, guess_start, rms_rel_of, rung_seed, rung_starts, to_solver_space
 
 __all__ = ["BatchFitResult", "fit_batch"]
 
@@ -137,10 +137,12 @@ def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n
     _, lanes, finish, chi2_at, chi2_x, _ = tree_solver(circuit, registry, max_steps, *table.free_structure)
     scale = residual_scale(z, inv_re, inv_im, weighting)
     free = table.free_index
-    shared = SharedArgs(np.asarray(freq, float), table.lower[free], table.upper[free])
+    # solved on `padded_size` points (zero-weight copies of the last): nearby lengths share a compilation
+    freq_p, z_p, inv_re_p, inv_im_p = padded_points(freq, z, inv_re * scale[:, None], inv_im * scale[:, None])
+    shared = SharedArgs(freq_p, table.lower[free], table.upper[free])
     x_fixed = np.where(np.isnan(table.values), 1.0, table.values)
-    rows = SpectrumRows(z, inv_re * scale[:, None], inv_im * scale[:, None], np.broadcast_to(x_fixed, (b, x_fixed.size)))
-    solver = _LaneRunner(lanes, finish, chi2_at, chi2_x, rows, shared)
+    rows = SpectrumRows(z_p, inv_re_p, inv_im_p, np.broadcast_to(x_fixed, (b, x_fixed.size)))
+    solver = _LaneRunner(lanes, finish, chi2_at, chi2_x, rows, shared, np.size(freq))
 
     guesses = guess_start(circuit, table, features, registry)
     large = b >= REFERENCE_MIN_SPECTRA
@@ -181,9 +183,8 @@ def _multistart_rung(out, solver, circuit, table, features, poor, n_starts, mult
     """``out`` with spectra ``poor`` improved by one rung of the start ladder: ``multiple``
     draws of ``n_starts`` starts each (as `fit` draws them), screened for `SCREEN_STEPS`
     steps, the best of each spectrum continued to convergence and kept where it is better."""
-    draws = [multistart(circuit, table, features[poor], n_starts, rung_seed(seed, rung, call), registry) for call in range(multiple)]
     per = multiple * n_starts
-    starts = np.concatenate(draws, axis=1).reshape(poor.size * per, -1)
+    starts = rung_starts(circuit, table, features[poor], n_starts, [rung_seed(seed, rung, call) for call in range(multiple)], registry).reshape(poor.size * per, -1)
     owner = np.repeat(poor, per)
     u_s, chi2_s, _, steps_s = solver.solve(starts, owner, np.full(owner.size, SCREEN_STEPS))
     chi2_s = np.where(np.isfinite(chi2_s), chi2_s, np.inf).reshape(poor.size, per)
@@ -264,8 +265,9 @@ class _LaneRunner:
     for every device), then continues problems left open by the many-lane pass on a few
     lanes."""
 
-    def __init__(self, lanes, finish, chi2, chi2_x, rows: SpectrumRows, shared: SharedArgs):
+    def __init__(self, lanes, finish, chi2, chi2_x, rows: SpectrumRows, shared: SharedArgs, n_points: int):
         self.lanes, self.finish, self.chi2, self.chi2_x, self.rows, self.shared = lanes, finish, chi2, chi2_x, rows, shared
+        self.n_points = n_points  # (before padding: `outputs` are cut back to them)
         self._placed: dict = {}
         self._shared_placed = None
 
@@ -355,6 +357,7 @@ class _LaneRunner:
         a new array (not a view of another or of an argument: callers may update them)."""
         parts = self._per_spectrum(self.finish, [u], spectrum)
         out = SolverOutput(*(None if first is None else np.concatenate([p[i] for p in parts]) for i, first in enumerate(parts[0])))
+        out = trimmed(out, self.n_points)
         code = np.where(done, int(SolverStatus.CONVERGED), int(SolverStatus.MAX_STEPS))
         return out._replace(code=code, steps=np.array(steps), steps_total=np.array(steps_total), chi2_starts=out.chi2[:, None].copy())
 
