@@ -134,7 +134,7 @@ def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n
     b = z.shape[0]
     inv_re, inv_im = weights(z, sigma, weighting, source)
     features = SpectrumFeatures(freq, z)
-    _, lanes, finish, chi2_at, chi2_x, _ = tree_solver(circuit, registry, max_steps, *table.free_structure)
+    _, lanes, finish, chi2, _, _ = tree_solver(circuit, registry, max_steps, *table.free_structure)
     scale = residual_scale(z, inv_re, inv_im, weighting)
     free = table.free_index
     # solved on `padded_size` points (zero-weight copies of the last): nearby lengths share a compilation
@@ -142,7 +142,7 @@ def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n
     shared = SharedArgs(freq_p, table.lower[free], table.upper[free])
     x_fixed = np.where(np.isnan(table.values), 1.0, table.values)
     rows = SpectrumRows(z_p, inv_re_p, inv_im_p, np.broadcast_to(x_fixed, (b, x_fixed.size)))
-    solver = _LaneRunner(lanes, finish, chi2_at, chi2_x, rows, shared, np.size(freq))
+    solver = _LaneRunner(lanes, finish, chi2, rows, shared, np.size(freq))
 
     guesses = guess_start(circuit, table, features, registry)
     large = b >= REFERENCE_MIN_SPECTRA
@@ -265,8 +265,8 @@ class _LaneRunner:
     for every device), then continues problems left open by the many-lane pass on a few
     lanes."""
 
-    def __init__(self, lanes, finish, chi2, chi2_x, rows: SpectrumRows, shared: SharedArgs, n_points: int):
-        self.lanes, self.finish, self.chi2, self.chi2_x, self.rows, self.shared = lanes, finish, chi2, chi2_x, rows, shared
+    def __init__(self, lanes, finish, chi2, rows: SpectrumRows, shared: SharedArgs, n_points: int):
+        self.lanes, self.finish, self.chi2, self.rows, self.shared = lanes, finish, chi2, rows, shared
         self.n_points = n_points  # (before padding: `outputs` are cut back to them)
         self._placed: dict = {}
         self._shared_placed = None
@@ -330,8 +330,8 @@ class _LaneRunner:
             u[open_], chi2[open_], done[open_], steps[open_] = u2, chi2_2, done2, steps[open_] + steps2
         return u, chi2, done, steps
 
-    def _per_spectrum(self, fn, points, spectrum) -> list:
-        """``fn(*points, local, rows, shared)`` at ``points`` (arrays (n, K)) of spectra
+    def _per_spectrum(self, fn, points, spectrum, *same) -> list:
+        """``fn(*points, local, rows, shared, *same)`` at ``points`` (arrays (n, K)) of spectra
         ``spectrum``, in chunks of one fixed size run on all devices at once; each chunk's
         results, trimmed."""
         capacity = _FEW_CAPACITY  # (one shape for every call: one compilation)
@@ -340,17 +340,17 @@ class _LaneRunner:
         pending = []
         for parts in groups:
             rows, local, shared = self._local([spectrum[p] for p in parts], capacity, sharding)
-            pending.append(run(*(self._stacked(u, parts, capacity, u[0]) for u in points), local, rows, shared))
+            pending.append(run(*(self._stacked(u, parts, capacity, u[0]) for u in points), local, rows, shared, *same))
         return [jax.tree_util.tree_map(lambda a, j=j, n=p.size: a[j, :n], r) for r, parts in zip(jax.device_get(pending), groups) for j, p in enumerate(parts)]
 
     def chi2_at(self, points, spectrum) -> list[np.ndarray]:
-        """Weighted chi² of spectra ``spectrum`` at each array of points (+inf where not finite)."""
-        return [np.nan_to_num(np.concatenate(self._per_spectrum(self.chi2, [np.asarray(u, float)], spectrum)), nan=np.inf) for u in points]
+        """Weighted chi² of spectra ``spectrum`` at each array of solver points u (+inf where
+        not finite)."""
+        return [np.nan_to_num(np.concatenate(self._per_spectrum(self.chi2, [np.asarray(u, float)], spectrum, True)), nan=np.inf) for u in points]
 
     def chi2_at_x(self, points, spectrum) -> np.ndarray:
         """Weighted chi² of spectra ``spectrum`` at free parameter values ``points`` (C, K)."""
-        parts = self._per_spectrum(self.chi2_x, [np.asarray(points, float)], spectrum)
-        return np.concatenate(parts)
+        return np.concatenate(self._per_spectrum(self.chi2, [np.asarray(points, float)], spectrum, False))
 
     def outputs(self, u, spectrum, done, steps, steps_total) -> SolverOutput:
         """Solver outputs at solutions ``u`` of spectra ``spectrum`` (as `solvers._finish`), each

@@ -497,8 +497,8 @@ def tree_solver(circuit: Circuit, registry: Registry, max_steps: int, free: tupl
     ``kinds``, `ParameterTable.free_structure`; cached): ``single(u0s, args)`` runs optimistix
     from one or many starts (`_make`); ``lanes(n_lanes)`` gives the `lm.work_queue` solver
     for batches, ``finish(u, spectrum, rows, shared)`` the outputs at solutions,
-    ``chi2(...)`` the weighted chi² at points u and ``chi2_x(...)`` at free parameter values
-    x (all vmapped over points), and ``resume(u, args, rest)``: `single`'s solve, stopped
+    ``chi2(points, spectrum, rows, shared, in_u)`` the weighted chi² at points u (``in_u``)
+    or at free parameter values x, ``chi2_x(...)`` the latter (all vmapped over points), and ``resume(u, args, rest)``: `single`'s solve, stopped
     after `HANDOVER_STEPS`, continued for ``rest`` more steps with the batch lanes' iteration
     and cost rule (`lm.levenberg_marquardt`); jitted apart, compiled only when a fit needs it."""
     compiled = compile_circuit(circuit, registry)
@@ -514,8 +514,20 @@ def tree_solver(circuit: Circuit, registry: Registry, max_steps: int, free: tupl
         return jax.jit(mapped)
 
     finish = per_spectrum(lambda u, args: _finish(u, args, residuals, peaks))
-    chi2 = per_spectrum(residuals.chi2_u)
-    chi2_x = per_spectrum(lambda x_free, args: jnp.sum(residuals.residual_x(x_free, args) ** 2))
+
+    @jax.jit
+    def chi2(points, spectrum, rows, shared, in_u):
+        """Weighted chi² at ``points`` (C, K) of the spectra rows[spectrum]: free parameter
+        values, or the solver's points u where ``in_u`` (one program for both)."""
+
+        def one(p, s):
+            args = combine(shared, jax.tree_util.tree_map(lambda a: a[s], rows))
+            return jnp.sum(residuals.residual_x(jnp.where(in_u, residuals.to_x(p, args)[0], p), args) ** 2)
+
+        return jax.vmap(one)(points, spectrum)
+
+    def chi2_x(points, spectrum, rows, shared):
+        return chi2(points, spectrum, rows, shared, False)
 
     lanes = functools.lru_cache(maxsize=4)(lambda n_lanes: jax.jit(work_queue(residuals.normal_u, n_lanes, combine), static_argnames="drain"))
 
