@@ -134,7 +134,7 @@ def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n
     b = z.shape[0]
     inv_re, inv_im = weights(z, sigma, weighting, source)
     features = SpectrumFeatures(freq, z)
-    _, lanes, finish, chi2, _, _ = tree_solver(circuit, registry, max_steps, *table.free_structure)
+    lanes, finish, chi2 = tree_solver(circuit, registry, max_steps, *table.free_structure)[1:4]
     scale = residual_scale(z, inv_re, inv_im, weighting)
     free = table.free_index
     # solved on `padded_size` points (zero-weight copies of the last): nearby lengths share a compilation

@@ -92,7 +92,17 @@ def fit(
     # the data-driven guess alone first; the multistart only when its fit is not at the noise,
     # and more starts while the fit stays poor relative to what the data allow
     features = SpectrumFeatures(freq, z)
-    solve = lambda starts: trimmed(unscale(single(starts, args).fetch(), scale), freq.size)  # noqa: E731
+
+    def solve(starts):
+        """The fit from the best of ``starts`` (one start: from it): several are screened
+        first (`tree_solver`'s ``screen``), the best continued by the one-start solver."""
+        if len(starts) == 1:
+            return trimmed(unscale(single(starts, args).fetch(), scale), freq.size)
+        best, chi2_starts, screened = jax.device_get(solvers[6](starts, args))
+        out = single(best[None], args).fetch()
+        out = out._replace(chi2_starts=np.asarray(chi2_starts), steps_total=int(screened) + int(out.steps_total))
+        return trimmed(unscale(out, scale), freq.size)
+
     out = solve(guess_start(circuit, table, features, registry))
     used = 1
     if n_starts > 1 and not at_noise_floor(freq, z, out.z_model, inv_re, inv_im, out.code)[()]:

@@ -438,12 +438,9 @@ def _normal_only(residuals: Residuals):
     return lambda u, args: (*residuals.normal_u(u, args)[:3], ())
 
 
-def _make(residuals, max_steps: int, peaks=None, *, handover: bool = True):
-    """optimistix Levenberg–Marquardt from one or many starts: every start for
-    `SCREEN_STEPS` steps together, then the best to convergence (`HANDOVER_STEPS`).
-    ``handover=False``: the best for `HANDOVER_STEPS` steps at most, returning its point ``u``
-    to be resumed apart (`tree_solver`), so that the cost rule's loop is compiled only for the
-    circuits whose fits need it."""
+def _optimistix_solve(residuals):
+    """``solve_one(u0, args, steps) -> (u, chi², status, steps taken)``: optimistix
+    Levenberg–Marquardt from one start for at most ``steps`` steps."""
     # steps below 1e-6 relative (1e-9 absolute), far inside any stderr: on the benchmark's
     # spectra the values agree with a 1e-7 stop to 2e-10 relative, with 8 % fewer steps (the
     # last ones only wander at that level). The damped step (JᵀJ + λI)δ = −Jᵀr is solved by
@@ -451,8 +448,6 @@ def _make(residuals, max_steps: int, peaks=None, *, handover: bool = True):
     # default QR of the stacked (2N + K)×K system
     solver = optx.LevenbergMarquardt(rtol=1e-6, atol=1e-9, linear_solver=lx.Normal(lx.Cholesky()))
     residual_u = residuals.residual_u
-    first = min(HANDOVER_STEPS, max_steps)
-    normal_only = _normal_only(residuals)
 
     def solve_one(u0, args, steps):
         sol = optx.least_squares(residual_u, solver, u0, args, max_steps=steps, throw=False)
@@ -460,6 +455,19 @@ def _make(residuals, max_steps: int, peaks=None, *, handover: bool = True):
         chi2 = jnp.sum(r**2)
         chi2 = jnp.where(jnp.isfinite(chi2), chi2, jnp.inf)
         return sol.value, chi2, _status(sol.result), sol.stats["num_steps"]
+
+    return solve_one
+
+
+def _make(residuals, max_steps: int, peaks=None, *, handover: bool = True):
+    """optimistix Levenberg–Marquardt from one or many starts: every start for
+    `SCREEN_STEPS` steps together, then the best to convergence (`HANDOVER_STEPS`).
+    ``handover=False``: the best for `HANDOVER_STEPS` steps at most, returning its point ``u``
+    to be resumed apart (`tree_solver`), so that the cost rule's loop is compiled only for the
+    circuits whose fits need it."""
+    first = min(HANDOVER_STEPS, max_steps)
+    normal_only = _normal_only(residuals)
+    solve_one = _optimistix_solve(residuals)
 
     def solve_final(u0, args):
         """optimistix for up to `HANDOVER_STEPS` steps; a fit it has not finished by then
@@ -500,7 +508,10 @@ def tree_solver(circuit: Circuit, registry: Registry, max_steps: int, free: tupl
     ``chi2(points, spectrum, rows, shared, in_u)`` the weighted chi² at points u (``in_u``)
     or at free parameter values x, ``chi2_x(...)`` the latter (all vmapped over points), and ``resume(u, args, rest)``: `single`'s solve, stopped
     after `HANDOVER_STEPS`, continued for ``rest`` more steps with the batch lanes' iteration
-    and cost rule (`lm.levenberg_marquardt`); jitted apart, compiled only when a fit needs it."""
+    and cost rule (`lm.levenberg_marquardt`); jitted apart, compiled only when a fit needs it;
+    ``screen(u0s, args)`` runs every start for `SCREEN_STEPS` steps (optimistix, vmapped) and
+    gives the best point, every start's chi² and the steps taken: `single` continues from that
+    point, so the multistart compiles the screen alone, not a second copy of the final solve."""
     compiled = compile_circuit(circuit, registry)
     residuals = tree_residuals(compiled, free, kinds)
     peaks = structural_peaks(compiled.circuit, compiled.parameter_names, registry)
@@ -537,7 +548,14 @@ def tree_solver(circuit: Circuit, registry: Registry, max_steps: int, free: tupl
         code = jnp.where(done, int(SolverStatus.CONVERGED), int(SolverStatus.MAX_STEPS))
         return _finish(u, args, residuals, peaks)._replace(code=code, steps=steps, u=u)
 
-    return one_transfer(_make(residuals, max_steps, peaks, handover=False)), lanes, finish, chi2, chi2_x, resume
+    solve_one = _optimistix_solve(residuals)
+
+    @jax.jit
+    def screen(u0s, args):
+        us, chi2s, _, steps = jax.vmap(solve_one, in_axes=(0, None, None))(u0s, args, SCREEN_STEPS)
+        return us[jnp.argmin(chi2s)], chi2s, jnp.sum(steps)
+
+    return one_transfer(_make(residuals, max_steps, peaks, handover=False)), lanes, finish, chi2, chi2_x, resume, screen
 
 
 @functools.lru_cache(maxsize=64)
