@@ -272,9 +272,13 @@ class _LaneRunner:
         self._shared_placed = None
 
     def _groups(self, n: int, capacity: int, n_lanes: int) -> list[list[np.ndarray]]:
-        """Problems 0..n-1 in chunks of at most ``capacity``, grouped one chunk per device."""
+        """Problems 0..n-1 in chunks of at most ``capacity``, grouped one chunk per device: a
+        chunk per device where there are at least two problems per lane for each, and whole
+        groups (more, smaller chunks) rather than a last group with idle devices."""
         n_devices = len(jax.devices())
         n_chunks = max(-(-n // capacity), min(n_devices, -(-n // (2 * n_lanes))))
+        if n_chunks > n_devices:
+            n_chunks = -(-n_chunks // n_devices) * n_devices
         chunks = np.array_split(np.arange(n), n_chunks)
         return [chunks[i : i + n_devices] for i in range(0, n_chunks, n_devices)]
 
@@ -322,7 +326,7 @@ class _LaneRunner:
 
     def solve(self, u0, spectrum, budget):
         """(u, chi², done, steps) of every problem, each run to convergence or its budget."""
-        many = len(u0) > _FEW_CAPACITY
+        many = len(u0) >= _MANY_LANES_FROM * len(jax.devices())
         u, chi2, done, steps = self._run(np.asarray(u0, float), spectrum, budget, many=many)
         open_ = np.flatnonzero(~done & (steps < budget))
         if many and open_.size:  # left open by the early stop: continue on a few lanes
@@ -412,10 +416,14 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
     return np.concatenate([values, stderr, at_bound, stats, z_model.real, z_model.imag], axis=-1), notes
 
 
-# lane solver shapes: many lanes for batches, few for small sets and stragglers (each pair is
-# one compilation per circuit)
+# lane solver shapes: many lanes for large batches, few for the rest and stragglers (each pair
+# is one compilation per circuit)
 _LANES, _CAPACITY = 64, 512
 _FEW_LANES, _FEW_CAPACITY = 8, 64
+# many lanes take a call of at least this many problems per device (four per lane): below,
+# 64 lanes mostly wait for their slowest problems, and a first call on a few hundred spectra
+# (the 130 battery cycles; a rung of 256 starts) compiles the few-lane program alone
+_MANY_LANES_FROM = 4 * _LANES
 
 
 def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weighting: str, n_starts: int, max_steps: int, seed: int, registry: Registry = DEFAULT_REGISTRY, source: str = "data", t0: float | None = None) -> BatchFitResult:
