@@ -129,6 +129,7 @@ def real_rows(ix, n_copies: int, peer_fits: int, rounds: int) -> list[dict]:
                 "impedax_per_s": float(np.median(ours)), "impedance_py_per_s": float(np.median(theirs)), "ratio": float(np.median(ratios)), "ratios": ratios,
                 "steps_per_spectrum": float(result["n_evaluations"].mean()), "converged": float(result["converged"].mean()),
                 "rms_impedax": float(np.median(result["rms_rel"].values[picks])), "rms_impedance_py": float(np.median(peer_rms)),
+                "load": os.getloadavg()[0],
             })
             print(_real_line(rows[-1]), flush=True)
     return rows
@@ -137,7 +138,7 @@ def real_rows(ix, n_copies: int, peer_fits: int, rounds: int) -> list[dict]:
 def _real_line(r: dict) -> str:
     cold = f"{r['cold_s']:.1f} s" if r["cold_s"] is not None else ""
     return (f"{r['circuit']:<3} {r['data']:<34} {r['impedax_per_s']:>9.0f} /s {r['impedance_py_per_s']:>7.2f} /s {r['ratio']:>8.0f}× "
-            f"(rounds: {', '.join(f'{x:.0f}' for x in r['ratios'])}) {cold:>7}  steps {r['steps_per_spectrum']:.1f}, rms_rel median {r['rms_impedax']:.4f} vs {r['rms_impedance_py']:.4f}")
+            f"(rounds: {', '.join(f'{x:.0f}' for x in r['ratios'])}) {cold:>7}  steps {r['steps_per_spectrum']:.1f}, rms_rel median {r['rms_impedax']:.4f} vs {r['rms_impedance_py']:.4f}, load {r['load']:.1f}")
 
 
 # ---------------------------------------------------------------- peers

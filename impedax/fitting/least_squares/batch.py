@@ -6,7 +6,6 @@ dask="parallelized")``, so the same call scales out on a ``dask.distributed`` cl
 
 from __future__ import annotations
 
-import itertools
 import math
 import time
 import warnings as python_warnings
@@ -22,8 +21,8 @@ from ..problem import residual_scale, weights
 from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, dominant_points, information_criteria, null_sets
 from .order import canonical_order
 from .result import bound_sides, confirm_bounds, fit_notes, fit_result, stack_notes, weighting_notes
-from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, better, tree_solver, unscale
-from .starts import ESCALATION_RUNGS, SpectrumFeatures, climb_target, batch_outliers, guess_start, multistart, rms_rel_of, rung_seed, to_solver_space
+from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, better, over_devices, padded_points, tree_solver, trimmed, unscale
+from .starts import ESCALATION_RUNGS, SpectrumFeatures, climb_target, batch_outliers, guess_start, rms_rel_of, rung_seed, rung_starts, to_solver_space
 
 __all__ = ["BatchFitResult", "fit_batch"]
 
@@ -135,13 +134,15 @@ def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n
     b = z.shape[0]
     inv_re, inv_im = weights(z, sigma, weighting, source)
     features = SpectrumFeatures(freq, z)
-    _, lanes, finish, chi2_at, chi2_x, _ = tree_solver(circuit, registry, max_steps, *table.free_structure)
+    lanes, finish, chi2 = tree_solver(circuit, registry, max_steps, *table.free_structure)[1:4]
     scale = residual_scale(z, inv_re, inv_im, weighting)
     free = table.free_index
-    shared = SharedArgs(np.asarray(freq, float), table.lower[free], table.upper[free])
+    # solved on `padded_size` points (zero-weight copies of the last): nearby lengths share a compilation
+    freq_p, z_p, inv_re_p, inv_im_p = padded_points(freq, z, inv_re * scale[:, None], inv_im * scale[:, None])
+    shared = SharedArgs(freq_p, table.lower[free], table.upper[free])
     x_fixed = np.where(np.isnan(table.values), 1.0, table.values)
-    rows = SpectrumRows(z, inv_re * scale[:, None], inv_im * scale[:, None], np.broadcast_to(x_fixed, (b, x_fixed.size)))
-    solver = _LaneRunner(lanes, finish, chi2_at, chi2_x, rows, shared)
+    rows = SpectrumRows(z_p, inv_re_p, inv_im_p, np.broadcast_to(x_fixed, (b, x_fixed.size)))
+    solver = _LaneRunner(lanes, finish, chi2, rows, shared, np.size(freq))
 
     guesses = guess_start(circuit, table, features, registry)
     large = b >= REFERENCE_MIN_SPECTRA
@@ -182,9 +183,8 @@ def _multistart_rung(out, solver, circuit, table, features, poor, n_starts, mult
     """``out`` with spectra ``poor`` improved by one rung of the start ladder: ``multiple``
     draws of ``n_starts`` starts each (as `fit` draws them), screened for `SCREEN_STEPS`
     steps, the best of each spectrum continued to convergence and kept where it is better."""
-    draws = [multistart(circuit, table, features[poor], n_starts, rung_seed(seed, rung, call), registry) for call in range(multiple)]
     per = multiple * n_starts
-    starts = np.concatenate(draws, axis=1).reshape(poor.size * per, -1)
+    starts = rung_starts(circuit, table, features[poor], n_starts, [rung_seed(seed, rung, call) for call in range(multiple)], registry).reshape(poor.size * per, -1)
     owner = np.repeat(poor, per)
     u_s, chi2_s, _, steps_s = solver.solve(starts, owner, np.full(owner.size, SCREEN_STEPS))
     chi2_s = np.where(np.isfinite(chi2_s), chi2_s, np.inf).reshape(poor.size, per)
@@ -260,47 +260,73 @@ def _with_reference_start(guesses, solver, circuit, table, freq, z, sigma, **opt
 
 class _LaneRunner:
     """Host side of the lane solver: splits problems into fixed-size chunks (one compilation
-    serves any batch size; at least one chunk per core, dispatched together so they run in
-    parallel), then continues problems left open by the many-lane pass on a few lanes."""
+    serves any batch size; at least one chunk per core), runs each group of one chunk per
+    device as one program on all devices at once (`solvers.over_devices`: one compilation
+    for every device), then continues problems left open by the many-lane pass on a few
+    lanes."""
 
-    def __init__(self, lanes, finish, chi2, chi2_x, rows: SpectrumRows, shared: SharedArgs):
-        self.lanes, self.finish, self.chi2, self.chi2_x, self.rows, self.shared = lanes, finish, chi2, chi2_x, rows, shared
+    def __init__(self, lanes, finish, chi2, rows: SpectrumRows, shared: SharedArgs, n_points: int):
+        self.lanes, self.finish, self.chi2, self.rows, self.shared = lanes, finish, chi2, rows, shared
+        self.n_points = n_points  # (before padding: `outputs` are cut back to them)
         self._placed: dict = {}
-        self._shared_placed: dict = {}
+        self._shared_placed = None
 
-    def _chunks(self, n: int, capacity: int, n_lanes: int):
-        n_chunks = max(-(-n // capacity), min(len(jax.devices()), -(-n // (2 * n_lanes))))
-        return np.array_split(np.arange(n), n_chunks)
+    def _groups(self, n: int, capacity: int, n_lanes: int) -> list[list[np.ndarray]]:
+        """Problems 0..n-1 in chunks of at most ``capacity``, grouped one chunk per device: a
+        chunk per device where there are at least two problems per lane for each, and whole
+        groups (more, smaller chunks) rather than a last group with idle devices."""
+        n_devices = len(jax.devices())
+        n_chunks = max(-(-n // capacity), min(n_devices, -(-n // (2 * n_lanes))))
+        if n_chunks > n_devices:
+            n_chunks = -(-n_chunks // n_devices) * n_devices
+        chunks = np.array_split(np.arange(n), n_chunks)
+        return [chunks[i : i + n_devices] for i in range(0, n_chunks, n_devices)]
 
-    def _local(self, spectrum: np.ndarray, capacity: int, device):
-        """The rows a chunk uses, padded to ``capacity`` and placed on ``device``, and the
-        problems' indices into them (kept: successive passes reuse the same chunks)."""
-        key = (spectrum.tobytes(), capacity, device.id)
+    def _local(self, spectra: list[np.ndarray], capacity: int, sharding):
+        """The rows each chunk of a group uses, padded to ``capacity``, stacked over the
+        devices (a device without a chunk gets spectrum 0's row and no problem) and placed,
+        and the problems' indices into them (kept: successive passes reuse the same
+        chunks); the shared arguments, placed on every device."""
+        key = (tuple(s.tobytes() for s in spectra), capacity)
         if key not in self._placed:
-            used, local = np.unique(spectrum, return_inverse=True)
-            pad = np.concatenate([used, np.full(capacity - used.size, used[0])])
-            if device.id not in self._shared_placed:  # (placed once per device: every chunk's are the same)
-                self._shared_placed[device.id] = jax.device_put(self.shared, device)
-            rows = jax.device_put(SpectrumRows(*(np.ascontiguousarray(v[pad]) for v in self.rows)), device), self._shared_placed[device.id]
-            self._placed[key] = rows, np.concatenate([local, np.zeros(capacity - spectrum.size, int)]).astype(np.int32)
-        return self._placed[key]
+            picks, locals_ = [], []
+            for spectrum in spectra + [np.zeros(1, int)] * (len(jax.devices()) - len(spectra)):
+                used, local = np.unique(spectrum, return_inverse=True)
+                picks.append(np.concatenate([used, np.full(capacity - used.size, used[0])]))
+                locals_.append(np.concatenate([local, np.zeros(capacity - spectrum.size, int)]))
+            pick = np.stack(picks)
+            rows = jax.device_put(SpectrumRows(*(np.ascontiguousarray(v[pick]) for v in self.rows)), sharding)
+            self._placed[key] = rows, np.stack(locals_).astype(np.int32)
+        if self._shared_placed is None:
+            self._shared_placed = jax.device_put(self.shared, jax.sharding.NamedSharding(sharding.mesh, jax.sharding.PartitionSpec()))
+        return (*self._placed[key], self._shared_placed)
+
+    @staticmethod
+    def _stacked(values: np.ndarray, parts: list[np.ndarray], capacity: int, fill) -> np.ndarray:
+        """``values[part]`` of each chunk padded to ``capacity`` (with ``fill``: a row
+        of values, or a scalar), stacked over the devices."""
+        out = np.empty((len(jax.devices()), capacity) + values.shape[1:], values.dtype)
+        out[...] = fill
+        for j, part in enumerate(parts):
+            out[j, : part.size] = values[part]
+        return out
 
     def _run(self, u0, spectrum, budget, *, many: bool):
         n_lanes, capacity = (_LANES, _CAPACITY) if many else (_FEW_LANES, _FEW_CAPACITY)
-        solve = self.lanes(n_lanes)
-        chunks = self._chunks(len(u0), capacity, n_lanes)
+        solve, sharding = over_devices(self.lanes(n_lanes), 5, drain=not many)
+        groups = self._groups(len(u0), capacity, n_lanes)
         pending = []
-        for device, part in zip(itertools.cycle(jax.devices()), chunks):
-            (rows, shared), local = self._local(spectrum[part], capacity, device)
-            pad = capacity - part.size
-            inputs = jax.device_put((np.concatenate([u0[part], np.repeat(u0[part[:1]], pad, axis=0)]), local, np.concatenate([budget[part], np.zeros(pad, int)])), device)
-            pending.append(solve(*inputs, part.size, rows, shared, drain=not many))  # runs where its inputs are
+        for parts in groups:
+            rows, local, shared = self._local([spectrum[p] for p in parts], capacity, sharding)
+            counts = np.zeros(len(jax.devices()), np.int64)
+            counts[: len(parts)] = [p.size for p in parts]
+            pending.append(solve(self._stacked(u0, parts, capacity, u0[0]), local, self._stacked(budget, parts, capacity, 0), counts, rows, shared))
         results = jax.device_get(pending)
-        return [np.concatenate([r[i][: p.size] for r, p in zip(results, chunks)]) for i in range(4)]
+        return [np.concatenate([r[i][j, : p.size] for r, parts in zip(results, groups) for j, p in enumerate(parts)]) for i in range(4)]
 
     def solve(self, u0, spectrum, budget):
         """(u, chi², done, steps) of every problem, each run to convergence or its budget."""
-        many = len(u0) > _FEW_CAPACITY
+        many = len(u0) >= _MANY_LANES_FROM * len(jax.devices())
         u, chi2, done, steps = self._run(np.asarray(u0, float), spectrum, budget, many=many)
         open_ = np.flatnonzero(~done & (steps < budget))
         if many and open_.size:  # left open by the early stop: continue on a few lanes
@@ -308,34 +334,34 @@ class _LaneRunner:
             u[open_], chi2[open_], done[open_], steps[open_] = u2, chi2_2, done2, steps[open_] + steps2
         return u, chi2, done, steps
 
-    def _per_spectrum(self, fn, points, spectrum) -> list:
-        """``fn(*points, local, rows, shared)`` at ``points`` (arrays (n, K)) of spectra
-        ``spectrum``, in fixed-size chunks spread over the devices; each chunk's results,
-        trimmed."""
-        capacity = _CAPACITY if len(spectrum) > _FEW_CAPACITY else _FEW_CAPACITY
-        chunks = self._chunks(len(spectrum), capacity, _LANES)
+    def _per_spectrum(self, fn, points, spectrum, *same) -> list:
+        """``fn(*points, local, rows, shared, *same)`` at ``points`` (arrays (n, K)) of spectra
+        ``spectrum``, in chunks of one fixed size run on all devices at once; each chunk's
+        results, trimmed."""
+        capacity = _FEW_CAPACITY  # (one shape for every call: one compilation)
+        run, sharding = over_devices(fn, len(points) + 2)
+        groups = self._groups(len(spectrum), capacity, _FEW_LANES)
         pending = []
-        for device, part in zip(itertools.cycle(jax.devices()), chunks):
-            (rows, shared), local = self._local(spectrum[part], capacity, device)
-            at = [np.concatenate([u[part], np.repeat(u[part[:1]], capacity - part.size, axis=0)]) for u in points]
-            pending.append(fn(*jax.device_put((*at, local), device), rows, shared))
-        return [jax.tree_util.tree_map(lambda a, n=part.size: a[:n], r) for r, part in zip(jax.device_get(pending), chunks)]
+        for parts in groups:
+            rows, local, shared = self._local([spectrum[p] for p in parts], capacity, sharding)
+            pending.append(run(*(self._stacked(u, parts, capacity, u[0]) for u in points), local, rows, shared, *same))
+        return [jax.tree_util.tree_map(lambda a, j=j, n=p.size: a[j, :n], r) for r, parts in zip(jax.device_get(pending), groups) for j, p in enumerate(parts)]
 
     def chi2_at(self, points, spectrum) -> list[np.ndarray]:
-        """Weighted chi² of spectra ``spectrum`` at each array of points (+inf where not finite)."""
-        parts = self._per_spectrum(lambda *a: tuple(self.chi2(u, *a[-3:]) for u in a[:-3]), [np.asarray(u, float) for u in points], spectrum)
-        return [np.nan_to_num(np.concatenate([p[i] for p in parts]), nan=np.inf) for i in range(len(points))]
+        """Weighted chi² of spectra ``spectrum`` at each array of solver points u (+inf where
+        not finite)."""
+        return [np.nan_to_num(np.concatenate(self._per_spectrum(self.chi2, [np.asarray(u, float)], spectrum, True)), nan=np.inf) for u in points]
 
     def chi2_at_x(self, points, spectrum) -> np.ndarray:
         """Weighted chi² of spectra ``spectrum`` at free parameter values ``points`` (C, K)."""
-        parts = self._per_spectrum(self.chi2_x, [np.asarray(points, float)], spectrum)
-        return np.concatenate(parts)
+        return np.concatenate(self._per_spectrum(self.chi2, [np.asarray(points, float)], spectrum, False))
 
     def outputs(self, u, spectrum, done, steps, steps_total) -> SolverOutput:
         """Solver outputs at solutions ``u`` of spectra ``spectrum`` (as `solvers._finish`), each
         a new array (not a view of another or of an argument: callers may update them)."""
         parts = self._per_spectrum(self.finish, [u], spectrum)
         out = SolverOutput(*(None if first is None else np.concatenate([p[i] for p in parts]) for i, first in enumerate(parts[0])))
+        out = trimmed(out, self.n_points)
         code = np.where(done, int(SolverStatus.CONVERGED), int(SolverStatus.MAX_STEPS))
         return out._replace(code=code, steps=np.array(steps), steps_total=np.array(steps_total), chi2_starts=out.chi2[:, None].copy())
 
@@ -390,10 +416,14 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
     return np.concatenate([values, stderr, at_bound, stats, z_model.real, z_model.imag], axis=-1), notes
 
 
-# lane solver shapes: many lanes for batches, few for small sets and stragglers (each pair is
-# one compilation per circuit)
+# lane solver shapes: many lanes for large batches, few for the rest and stragglers (each pair
+# is one compilation per circuit)
 _LANES, _CAPACITY = 64, 512
 _FEW_LANES, _FEW_CAPACITY = 8, 64
+# many lanes take a call of at least this many problems per device (four per lane): below,
+# 64 lanes mostly wait for their slowest problems, and a first call on a few hundred spectra
+# (the 130 battery cycles; a rung of 256 starts) compiles the few-lane program alone
+_MANY_LANES_FROM = 4 * _LANES
 
 
 def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weighting: str, n_starts: int, max_steps: int, seed: int, registry: Registry = DEFAULT_REGISTRY, source: str = "data", t0: float | None = None) -> BatchFitResult:

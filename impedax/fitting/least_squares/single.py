@@ -22,7 +22,7 @@ from .batch import BatchFitResult, fit_batch
 from .order import canonical_order
 from .result import FitResult, fit_result, weighting_notes
 from .shared import SharedFitResult, fit_shared
-from .solvers import HANDOVER_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, better, solver_args, tree_solver, unscale
+from .solvers import HANDOVER_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, better, padded_points, solver_args, tree_solver, trimmed, unscale
 from .starts import ESCALATION_RUNGS, SpectrumFeatures, climb_target, guess_start, multistart, rms_rel_of, rung_seed
 
 __all__ = ["fit", "FitResult", "BatchFitResult", "SharedFitResult", "WEIGHTINGS", "information_criteria"]
@@ -87,14 +87,25 @@ def fit(
     solvers = tree_solver(circuit, registry, int(max_steps), *table.free_structure)
     single = solvers[0]
     scale = residual_scale(z, inv_re, inv_im, weighting)
-    args = solver_args(table, freq, z, inv_re * scale, inv_im * scale)
+    # solved on `padded_size` points (zero-weight copies of the last): nearby lengths share a compilation
+    args = solver_args(table, *padded_points(freq, z, inv_re * scale, inv_im * scale))
     # the data-driven guess alone first; the multistart only when its fit is not at the noise,
     # and more starts while the fit stays poor relative to what the data allow
     features = SpectrumFeatures(freq, z)
-    out = unscale(single(guess_start(circuit, table, features, registry), args).fetch(), scale)
+
+    def solve(starts):
+        """The fit from the best of ``starts`` (one start: from it): several are screened
+        first (`tree_solver`'s ``screen``), the best continued by the one-start solver."""
+        if len(starts) == 1:
+            return trimmed(unscale(single(starts, args).fetch(), scale), freq.size)
+        best, chi2_starts, screened = jax.device_get(solvers[6](starts, args))
+        out = single(best[None], args).fetch()
+        out = out._replace(chi2_starts=np.asarray(chi2_starts), steps_total=int(screened) + int(out.steps_total))
+        return trimmed(unscale(out, scale), freq.size)
+
+    out = solve(guess_start(circuit, table, features, registry))
     used = 1
     if n_starts > 1 and not at_noise_floor(freq, z, out.z_model, inv_re, inv_im, out.code)[()]:
-        solve = lambda starts: unscale(single(starts, args).fetch(), scale)  # noqa: E731
         out, used = escalated(out, solve, lambda o: resumed(o, solvers[5], args, scale, max_steps), circuit, table, features, freq, z, n_starts, seed, registry)
     out = resumed(out, solvers[5], args, scale, max_steps)
     out = canonical_order(circuit, table, freq, out, registry)
@@ -132,7 +143,7 @@ def resumed(out, resume, args, scale, max_steps: int):
     if int(out.code) != SolverStatus.MAX_STEPS or max_steps <= HANDOVER_STEPS:
         return out
     more = jax.device_get(resume(np.asarray(out.u), args, max_steps - HANDOVER_STEPS))
-    more = unscale(SolverOutput(*(None if v is None else np.asarray(v) for v in more))._replace(chi2_starts=np.zeros(1)), scale)
+    more = trimmed(unscale(SolverOutput(*(None if v is None else np.asarray(v) for v in more))._replace(chi2_starts=np.zeros(1)), scale), np.size(out.z_model))
     return more._replace(steps=int(out.steps) + int(more.steps), steps_total=int(out.steps_total) + int(more.steps), chi2_starts=out.chi2_starts)
 
 

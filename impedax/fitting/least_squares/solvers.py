@@ -37,7 +37,8 @@ from .order import structural_peaks
 
 __all__ = [
     "tree_solver", "SolverArgs", "SpectrumRows", "SharedArgs", "SolverOutput", "SolverStatus",
-    "one_transfer", "PendingOutputs", "tree_residuals", "solver_args", "unscale", "better", "SCREEN_STEPS", "HANDOVER_STEPS",
+    "one_transfer", "PendingOutputs", "tree_residuals", "solver_args", "unscale", "better", "over_devices", "SCREEN_STEPS", "HANDOVER_STEPS",
+    "padded_size", "padded_points", "trimmed",
 ]
 
 SCREEN_STEPS = 40  # Levenberg–Marquardt steps every start gets before the best is refined
@@ -158,6 +159,43 @@ def solver_args(table, freq, z, inv_re, inv_im) -> SolverArgs:
         upper=table.upper[free],
     )
 
+
+
+def padded_size(n: int) -> int:
+    """The number of points a spectrum of ``n`` points is solved with: ``n`` rounded up to a
+    multiple of 2^(⌊log₂ n⌋ − 3) (at least 2), eight sizes per octave, at most 12.5 % more
+    points. Compiled solvers are specialised on the number of points, so spectra of nearby
+    lengths share one compilation."""
+    step = max(2, 2 ** (max(int(n).bit_length() - 1, 0) - 3))
+    return -(-int(n) // step) * step
+
+
+def padded_points(freq, z, inv_re, inv_im):
+    """Frequencies (N,), data and inverse weights (…, N) padded to `padded_size` (N) points:
+    the added points repeat the last frequency and datum with zero weight, so their residuals
+    and Jacobian rows are zero and chi², steps and solutions are those of the N points
+    (to rounding in the order of sums)."""
+    n = np.shape(freq)[-1]
+    extra = padded_size(n) - n
+    if not extra:
+        return np.asarray(freq, float), z, inv_re, inv_im
+
+    def pad(a, value=None):
+        a = np.asarray(a)
+        tail = np.repeat(a[..., -1:], extra, axis=-1) if value is None else np.full(a.shape[:-1] + (extra,), value, a.dtype)
+        return np.concatenate([a, tail], axis=-1)
+
+    return pad(np.asarray(freq, float)), pad(z), pad(inv_re, 0.0), pad(inv_im, 0.0)
+
+
+def trimmed(out: SolverOutput, n: int) -> SolverOutput:
+    """Outputs of a solve on points padded by `padded_points`, cut back to the first ``n``
+    points: the model's impedance (…, N) and the Jacobian's rows (…, 2N, K), Re and Im."""
+    n_padded = np.shape(out.z_model)[-1]
+    if n_padded == n:
+        return out
+    rows = np.r_[0:n, n_padded : n_padded + n]
+    return out._replace(z_model=np.asarray(out.z_model)[..., :n], jacobian=np.asarray(out.jacobian)[..., rows, :])
 
 
 def unscale(out: SolverOutput, scale) -> SolverOutput:
@@ -309,12 +347,9 @@ def _normal_only(residuals: Residuals):
     return lambda u, args: (*residuals.normal_u(u, args)[:3], ())
 
 
-def _make(residuals, max_steps: int, peaks=None, *, handover: bool = True):
-    """optimistix Levenberg–Marquardt from one or many starts: every start for
-    `SCREEN_STEPS` steps together, then the best to convergence (`HANDOVER_STEPS`).
-    ``handover=False``: the best for `HANDOVER_STEPS` steps at most, returning its point ``u``
-    to be resumed apart (`tree_solver`), so that the cost rule's loop is compiled only for the
-    circuits whose fits need it."""
+def _optimistix_solve(residuals):
+    """``solve_one(u0, args, steps) -> (u, chi², status, steps taken)``: optimistix
+    Levenberg–Marquardt from one start for at most ``steps`` steps."""
     # steps below 1e-6 relative (1e-9 absolute), far inside any stderr: on the benchmark's
     # spectra the values agree with a 1e-7 stop to 2e-10 relative, with 8 % fewer steps (the
     # last ones only wander at that level). The damped step (JᵀJ + λI)δ = −Jᵀr is solved by
@@ -325,8 +360,6 @@ def _make(residuals, max_steps: int, peaks=None, *, handover: bool = True):
 
     solver = optx.LevenbergMarquardt(rtol=1e-6, atol=1e-9, linear_solver=lx.Normal(lx.Cholesky()))
     residual_u = residuals.residual_u
-    first = min(HANDOVER_STEPS, max_steps)
-    normal_only = _normal_only(residuals)
 
     def solve_one(u0, args, steps):
         sol = optx.least_squares(residual_u, solver, u0, args, max_steps=steps, throw=False)
@@ -334,6 +367,19 @@ def _make(residuals, max_steps: int, peaks=None, *, handover: bool = True):
         chi2 = jnp.sum(r**2)
         chi2 = jnp.where(jnp.isfinite(chi2), chi2, jnp.inf)
         return sol.value, chi2, _status(sol.result), sol.stats["num_steps"]
+
+    return solve_one
+
+
+def _make(residuals, max_steps: int, peaks=None, *, handover: bool = True):
+    """optimistix Levenberg–Marquardt from one or many starts: every start for
+    `SCREEN_STEPS` steps together, then the best to convergence (`HANDOVER_STEPS`).
+    ``handover=False``: the best for `HANDOVER_STEPS` steps at most, returning its point ``u``
+    to be resumed apart (`tree_solver`), so that the cost rule's loop is compiled only for the
+    circuits whose fits need it."""
+    first = min(HANDOVER_STEPS, max_steps)
+    normal_only = _normal_only(residuals)
+    solve_one = _optimistix_solve(residuals)
 
     def solve_final(u0, args):
         """optimistix for up to `HANDOVER_STEPS` steps; a fit it has not finished by then
@@ -371,10 +417,13 @@ def tree_solver(circuit: Circuit, registry: Registry, max_steps: int, free: tupl
     ``kinds``, `ParameterTable.free_structure`; cached): ``single(u0s, args)`` runs optimistix
     from one or many starts (`_make`); ``lanes(n_lanes)`` gives the `lm.work_queue` solver
     for batches, ``finish(u, spectrum, rows, shared)`` the outputs at solutions,
-    ``chi2(...)`` the weighted chi² at points u and ``chi2_x(...)`` at free parameter values
-    x (all vmapped over points), and ``resume(u, args, rest)``: `single`'s solve, stopped
+    ``chi2(points, spectrum, rows, shared, in_u)`` the weighted chi² at points u (``in_u``)
+    or at free parameter values x, ``chi2_x(...)`` the latter (all vmapped over points), and ``resume(u, args, rest)``: `single`'s solve, stopped
     after `HANDOVER_STEPS`, continued for ``rest`` more steps with the batch lanes' iteration
-    and cost rule (`lm.levenberg_marquardt`); jitted apart, compiled only when a fit needs it."""
+    and cost rule (`lm.levenberg_marquardt`); jitted apart, compiled only when a fit needs it;
+    ``screen(u0s, args)`` runs every start for `SCREEN_STEPS` steps (optimistix, vmapped) and
+    gives the best point, every start's chi² and the steps taken: `single` continues from that
+    point, so the multistart compiles the screen alone, not a second copy of the final solve."""
     compiled = compile_circuit(circuit, registry)
     residuals = tree_residuals(compiled, free, kinds)
     peaks = structural_peaks(compiled.circuit, compiled.parameter_names, registry)
@@ -388,8 +437,20 @@ def tree_solver(circuit: Circuit, registry: Registry, max_steps: int, free: tupl
         return jax.jit(mapped)
 
     finish = per_spectrum(lambda u, args: _finish(u, args, residuals, peaks))
-    chi2 = per_spectrum(residuals.chi2_u)
-    chi2_x = per_spectrum(lambda x_free, args: jnp.sum(residuals.residual_x(x_free, args) ** 2))
+
+    @jax.jit
+    def chi2(points, spectrum, rows, shared, in_u):
+        """Weighted chi² at ``points`` (C, K) of the spectra rows[spectrum]: free parameter
+        values, or the solver's points u where ``in_u`` (one program for both)."""
+
+        def one(p, s):
+            args = combine(shared, jax.tree_util.tree_map(lambda a: a[s], rows))
+            return jnp.sum(residuals.residual_x(jnp.where(in_u, residuals.to_x(p, args)[0], p), args) ** 2)
+
+        return jax.vmap(one)(points, spectrum)
+
+    def chi2_x(points, spectrum, rows, shared):
+        return chi2(points, spectrum, rows, shared, False)
 
     lanes = functools.lru_cache(maxsize=4)(lambda n_lanes: jax.jit(work_queue(residuals.normal_u, n_lanes, combine), static_argnames="drain"))
 
@@ -399,7 +460,39 @@ def tree_solver(circuit: Circuit, registry: Registry, max_steps: int, free: tupl
         code = jnp.where(done, int(SolverStatus.CONVERGED), int(SolverStatus.MAX_STEPS))
         return _finish(u, args, residuals, peaks)._replace(code=code, steps=steps, u=u)
 
-    return one_transfer(_make(residuals, max_steps, peaks, handover=False)), lanes, finish, chi2, chi2_x, resume
+    solve_one = _optimistix_solve(residuals)
+
+    @jax.jit
+    def screen(u0s, args):
+        us, chi2s, _, steps = jax.vmap(solve_one, in_axes=(0, None, None))(u0s, args, SCREEN_STEPS)
+        return us[jnp.argmin(chi2s)], chi2s, jnp.sum(steps)
+
+    return one_transfer(_make(residuals, max_steps, peaks, handover=False)), lanes, finish, chi2, chi2_x, resume, screen
+
+
+@functools.lru_cache(maxsize=64)
+def over_devices(fn: Callable, n_sharded: int, drain: bool | None = None):
+    """``fn`` run on every JAX device at once as one compiled program (``jax.shard_map``):
+    the first ``n_sharded`` arguments carry a leading axis of one entry per device (each
+    device computes ``fn`` on its own entry, e.g. a chunk of a batch), the rest are the same
+    on every device; outputs get the same leading axis. One compilation serves all devices,
+    where a program placed on each device apart is compiled once per device. ``drain`` is
+    passed on as a keyword when given (`lm.work_queue`). Returns (the jitted function, the
+    sharding of its per-device arguments)."""
+    mesh = jax.sharding.Mesh(np.array(jax.devices()), ("device",))
+    spread, same = jax.sharding.PartitionSpec("device"), jax.sharding.PartitionSpec()
+    options = {} if drain is None else {"drain": drain}
+
+    def per_device(*args):
+        local = jax.tree_util.tree_map(lambda a: a[0], args[:n_sharded])
+        out = fn(*local, *args[n_sharded:], **options)
+        return jax.tree_util.tree_map(lambda a: a[None], out)
+
+    def run(*args):
+        specs = tuple(spread if i < n_sharded else same for i in range(len(args)))
+        return jax.shard_map(per_device, mesh=mesh, in_specs=specs, out_specs=spread, check_vma=False)(*args)
+
+    return jax.jit(run), jax.sharding.NamedSharding(mesh, spread)
 
 
 def one_transfer(solve: Callable):

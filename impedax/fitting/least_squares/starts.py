@@ -28,7 +28,7 @@ from ..kk import kk_test_batch
 from ..parameters import ParameterTable, to_internal
 
 __all__ = [
-    "SpectrumFeatures", "data_driven_guess", "data_driven_guesses", "random_starts", "guess_start", "multistart", "to_solver_space",
+    "SpectrumFeatures", "data_driven_guess", "data_driven_guesses", "random_starts", "guess_start", "multistart", "rung_starts", "to_solver_space",
     "ESCALATION_RUNGS", "KK_MISFIT_FACTOR", "ESCALATION_FLOOR", "climb_target", "BATCH_OUTLIER_FACTOR", "attainable_misfit", "rms_rel_of", "rung_seed", "batch_outliers",
 ]
 
@@ -286,27 +286,31 @@ def random_starts(table: ParameterTable, features: SpectrumFeatures, guess: np.n
     """``n_starts`` starting points (first: the guess; then jittered guesses; then draws over
     data-scaled log ranges). Fixed parameters keep their values. Shape (n_starts, P) for one
     spectrum's features and guess (P,); (B, n_starts, P) for a stack's, every spectrum with
-    the random numbers that it would draw alone (the same for all, scaled to its data)."""
+    the random numbers that it would draw alone (the same for all, scaled to its data).
+
+    The random numbers are those of one scalar draw per start and parameter, start by start
+    (jittered starts: a normal per parameter neither fixed nor given; random starts: a
+    uniform per parameter not fixed), drawn in two array calls: a Generator's array of
+    normals (or of uniforms) is the sequence of its scalar draws, and every jitter draw comes
+    before every uniform one."""
     rng = np.random.default_rng(seed)
     guesses = np.atleast_2d(guess)
     starts = np.repeat(guesses[:, None, :], n_starts, axis=1)
     n_jitter = (n_starts - 1) // 2
-    fixed, given = table.fixed.tolist(), (~np.isnan(table.values)).tolist()
-    log_ranges = {}
-    for s in range(1, n_starts):
-        for i in range(guesses.shape[1]):
-            if fixed[i] or given[i] and s <= n_jitter:
-                continue
-            if table.units[i] == "1":
-                starts[:, s, i] = rng.uniform(0.45, 1.0) if s > n_jitter else np.clip(guesses[:, i] + rng.normal(0, 0.1), 0.3, 1.0)
-            elif s <= n_jitter:
-                starts[:, s, i] = guesses[:, i] * 10 ** rng.normal(0, 0.7)
-            else:
-                if i not in log_ranges:
-                    log_ranges[i] = _log_range(table, features, i)
-                lo, hi = log_ranges[i]
-                starts[:, s, i] = np.exp(lo + (hi - lo) * rng.random())  # rng.uniform(lo, hi), spectrum by spectrum
-    starts[..., table.fixed] = table.values[table.fixed]
+    n_random = max(n_starts - 1 - n_jitter, 0)
+    fixed, given = table.fixed, ~np.isnan(table.values)
+    exponent = np.array([u == "1" for u in table.units], bool)
+    jittered, drawn = np.flatnonzero(~fixed & ~given), np.flatnonzero(~fixed)
+    if n_jitter and jittered.size:
+        normal = rng.standard_normal((n_jitter, jittered.size))  # rng.normal(0, σ) = σ × this
+        g = guesses[:, None, jittered]
+        is_exp = exponent[jittered]
+        starts[:, 1 : 1 + n_jitter, jittered] = np.where(is_exp, np.clip(g + 0.1 * normal, 0.3, 1.0), g * 10 ** (0.7 * normal))
+    if n_random and drawn.size:
+        uniform = rng.random((n_random, drawn.size))  # rng.uniform(a, b) = a + (b − a) × this
+        lo, hi = (np.stack(r, axis=-1) for r in zip(*(_log_range(table, features, i) if not exponent[i] else (np.zeros_like(features._rows["z_min"]),) * 2 for i in drawn)))
+        starts[:, 1 + n_jitter :, drawn] = np.where(exponent[drawn], 0.45 + (1.0 - 0.45) * uniform, np.exp(lo[:, None, :] + (hi - lo)[:, None, :] * uniform))
+    starts[..., fixed] = table.values[fixed]
     starts = _clip_inside(starts, table)
     return starts if features._stacked else starts[0]
 
@@ -328,6 +332,15 @@ def multistart(circuit, table, features, n_starts, seed, registry) -> np.ndarray
     space: shape (n_starts, K) for one spectrum's features, (B, n_starts, K) for a stack's."""
     guess = data_driven_guess(circuit, table, features, registry)
     return to_solver_space(table, random_starts(table, features, guess, n_starts, seed))
+
+
+def rung_starts(circuit, table, features, n_starts, seeds, registry) -> np.ndarray:
+    """The starts of one rung of the ladder: `multistart`'s ``n_starts`` for each of
+    ``seeds``, one after the other, the guess computed once. Shape (len(seeds)·n_starts, K)
+    for one spectrum's features, (B, len(seeds)·n_starts, K) for a stack's."""
+    guess = data_driven_guess(circuit, table, features, registry)
+    draws = [random_starts(table, features, guess, n_starts, seed) for seed in seeds]
+    return to_solver_space(table, np.concatenate(draws, axis=-2))
 
 
 # the start ladder of a poor fit, as multiples of ``n_starts`` (16, 64 and 256 starts by
