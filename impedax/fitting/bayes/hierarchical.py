@@ -5,14 +5,19 @@ Model (docs/bayesian.md, "Hierarchical model across trials"), for trial t of ses
 
     ln θ_tj = μ_j + τ_j ζ_g(t)j + s_j η_tj,  ζ, η ~ N(0, 1)      (per-trial parameters j; non-centred)
     shared parameters φ: one value for every trial
-    Re, Im of r_tk = Z(θ_t, φ; f_k) − Z_tk ~ N(0, σ_tk²),  σ_tk = |Z_tk| √(ν_k² + δ²)
+    Re, Im of r_tk = Z(θ_t, φ; f_k) + ε_k − Z_tk ~ N(0, σ_tk²),  σ_tk = |Z_tk| √(ν_k² + δ²)
+    ε: an error shared by every trial, Gaussian with the covariance the data's
+       ``common_error_modes`` give (ε = Σ_j ξ_j d_j, ξ ~ N(0, 1)); marginalised; none without them
 
 μ_j is the population median (geometric mean) of parameter j, s_j its spread between trials
 (sd of ln θ), τ_j between sessions (only with a session level). ν_k is the relative noise at
 frequency k estimated from the trial scatter (the sd over trials of the per-trial least-squares
 residuals about their mean, smoothed over neighbouring frequencies); δ is the sampled
 discrepancy floor: a misfit common to all trials (structure the model lacks) cannot hide in ν_k
-and raises δ, which widens every interval.
+and raises δ, which widens every interval. ε is an error known to be common to all trials, e.g.
+the error of the skin and screen means subtracted from every Sirin trial
+(`impedax.models.sirin.trial_remainders`): independent noise would average it away over the
+trials, so it is kept as one shared draw (docs/bayesian.md, "Errors shared by every trial").
 
 Priors: μ_j ~ N(ln θ̂_j, 2²) about the median of the per-trial least-squares fits (six decades
 at 95 %); s_j, τ_j ~ half-normal(0.5) and half-normal(``session_spread_scale``); δ ~
