@@ -683,14 +683,17 @@ def sample_hierarchical(
     """Sample the hierarchical model (module docstring) of the spectra in ``data``.
 
     ``data``: a spectrum Dataset with complex ``Z`` over (..., ``frequency``); every other dim
-    is a replicate (trials). ``per_trial`` names the quantities drawn per trial from a
+    is a replicate (trials); an optional complex ``common_error_modes`` (mode, frequency) is an
+    error shared by every trial, ε = Σ_j ξ_j d_j with ξ ~ N(0, 1), marginalised in the
+    likelihood (`impedax.models.sirin.trial_remainders` writes it). ``per_trial`` names the quantities drawn per trial from a
     log-normal population (circuit parameter names, or names of ``reparametrization``, e.g.
     ``u``); every other free parameter is shared by all trials. ``session_dim`` adds a session
     level (trials nested in the sessions along that dim). ``discrepancy`` samples the relative
     floor δ (otherwise δ = 0). ``parameterisation``: ``"centred"`` samples each trial's ln θ,
     ``"non-centred"`` its standardised offset η; ``"auto"`` picks centred when the per-trial
     least-squares fits determine each trial better than the trials differ. ``init``: a `BatchFitResult` of the circuit on ``data`` (else
-    one is run) — the per-trial fits give the start, the prior centres and the noise ν_k.
+    one is run, each trial started from the fit of the trials' mean) — the per-trial fits give
+    the start, the prior centres and the noise ν_k.
     Returns a `HierarchicalPosterior`.
     """
     t0 = time.perf_counter()
