@@ -74,6 +74,27 @@ def test_sem_propagation_matches_monte_carlo():
     assert np.all(out["sigma"].values == pytest.approx(np.sqrt((out["sigma_real"] ** 2 + out["sigma_imag"] ** 2) / 2).values))
 
 
+def test_trial_remainders_carry_the_error_of_the_subtracted_means():
+    """Skin and screen trials scaled by (1 + s g_t) with known g_t: the means' error is
+    (s mean_t g_t) Z, so the covariance the modes describe, Σ_j d_j d_jᵀ of the real-stacked
+    modes, must equal var(g, ddof 1) s²/n · vvᵀ summed over skin and screen (v = [Re Z; Im Z]);
+    the remainders themselves are total − mean skin − mean screen."""
+    rng = np.random.default_rng(2)
+    n, s = 10, 0.05
+    g = {"skin": rng.standard_normal(n), "ts": rng.standard_normal(n)}
+    skin = ix.make_spectrum(F61, SKIN[None, :] * (1 + s * g["skin"][:, None]), dims=("trial",))
+    ts = ix.make_spectrum(F61, TS[None, :] * (1 + s * g["ts"][:, None]), dims=("trial",))
+    total = ix.make_spectrum(F61, np.tile(SKIN + TS + edl(F61, **EDL), (4, 1)), dims=("trial",))
+    out = sirin.trial_remainders(total, skin, ts)
+    expected_z = SKIN + TS + edl(F61, **EDL) - skin["Z"].values.mean(0) - ts["Z"].values.mean(0)
+    np.testing.assert_allclose(out["Z"].values, np.tile(expected_z, (4, 1)), rtol=1e-12)
+    d = out["common_error_modes"].values
+    assert out["common_error_modes"].dims == ("common_mode", "frequency") and d.shape == (2 * n, F61.size)
+    stacked = lambda a: np.concatenate([a.real, a.imag], axis=-1)  # noqa: E731
+    expected = sum(np.var(g[k], ddof=1) * s**2 / n * np.outer(stacked(z), stacked(z)) for k, z in (("skin", SKIN), ("ts", TS)))
+    np.testing.assert_allclose(stacked(d).T @ stacked(d), expected, rtol=1e-9, atol=1e-12 * np.abs(expected).max())
+
+
 def test_subtraction_bad_input():
     a = ix.make_spectrum(F61, np.stack([SKIN, SKIN]), dims=("trial",))
     b = ix.make_spectrum(F61[:-1], np.stack([SKIN[:-1], SKIN[:-1]]), dims=("trial",))

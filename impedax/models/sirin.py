@@ -152,18 +152,33 @@ def trial_remainders(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Datase
     """Remaining impedance of every total trial: Z_R,t = Z_total,t − mean Z_skin − mean Z_TS
     (Sirin eq 5 per trial; skin and screen are separate measurements, so only their means pair
     with a total trial). A spectrum Dataset with the total's dims; the skin and screen trial
-    scatter enters each trial's Z_R as noise (the hierarchical model's ν_k estimates it)."""
+    scatter enters each trial's Z_R as noise (the hierarchical model's ν_k estimates it), and
+    the error of the two subtracted means is one error shared by every trial, smooth in
+    frequency: ``common_error_modes`` (common_mode, frequency) holds it as Σ_j ξ_j d_j with
+    ξ_j ~ N(0, 1), d_t = (Z_t − mean)/√(n(n − 1)) for each skin and screen trial (so Σ d dᴴ is
+    the covariance of the mean); the hierarchical model samples its leading components
+    (docs/bayesian.md, "Errors shared by every trial")."""
     parts = {"total": _spectrum(total, "total"), "skin": _spectrum(skin, "skin"), "touchscreen": _spectrum(touchscreen, "touchscreen")}
     freq = parts["total"]["frequency"].values
     for name in ("skin", "touchscreen"):
         _same_frequencies(freq, parts[name]["frequency"].values, name)
-    z = parts["total"]["Z"] - trial_mean(parts["skin"])["Z"].values - trial_mean(parts["touchscreen"])["Z"].values
+    means = {name: trial_mean(parts[name]) for name in ("skin", "touchscreen")}
+    z = parts["total"]["Z"] - means["skin"]["Z"].values - means["touchscreen"]["Z"].values
     dims = tuple(d for d in z.dims if d != "frequency")
     if not dims:
         raise DataError("total: a single spectrum; per-trial remainders need trials as an extra dimension")
     z = z.transpose(*dims, "frequency")
     coords = {d: z[d].values for d in dims if d in z.coords}
-    return make_spectrum(freq, z.values, dims=dims, coords=coords, attrs={"quantity": "remaining impedance of each total trial, Z_total,t - mean Z_skin - mean Z_TS (Sirin eq 5 per trial)"}, source="trial_remainders")
+    out = make_spectrum(freq, z.values, dims=dims, coords=coords, attrs={"quantity": "remaining impedance of each total trial, Z_total,t - mean Z_skin - mean Z_TS (Sirin eq 5 per trial)"}, source="trial_remainders")
+    modes = []
+    for name in means:
+        z_part = parts[name]["Z"].transpose(..., "frequency").values.reshape(-1, freq.size)
+        n = z_part.shape[0]
+        if n >= 2:  # Σ_t d_t d_tᴴ with d_t = (Z_t − mean)/√(n(n−1)) is the covariance of the mean
+            modes.append((z_part - z_part.mean(axis=0)) / np.sqrt(n * (n - 1.0)))
+    if modes:
+        out["common_error_modes"] = (("common_mode", "frequency"), np.concatenate(modes), {"units": "ohm", "long_name": "error shared by every trial = sum_j xi_j * mode_j, xi_j ~ N(0, 1): the subtracted skin and screen means' deviations"})
+    return out
 
 
 def _complex_and_freq(z, freq=None):

@@ -5,14 +5,19 @@ Model (docs/bayesian.md, "Hierarchical model across trials"), for trial t of ses
 
     ln θ_tj = μ_j + τ_j ζ_g(t)j + s_j η_tj,  ζ, η ~ N(0, 1)      (per-trial parameters j; non-centred)
     shared parameters φ: one value for every trial
-    Re, Im of r_tk = Z(θ_t, φ; f_k) − Z_tk ~ N(0, σ_tk²),  σ_tk = |Z_tk| √(ν_k² + δ²)
+    Re, Im of r_tk = Z(θ_t, φ; f_k) + ε_k − Z_tk ~ N(0, σ_tk²),  σ_tk = |Z_tk| √(ν_k² + δ²)
+    ε: an error shared by every trial, Gaussian with the covariance the data's
+       ``common_error_modes`` give (ε = Σ_j ξ_j d_j, ξ ~ N(0, 1)); marginalised; none without them
 
 μ_j is the population median (geometric mean) of parameter j, s_j its spread between trials
 (sd of ln θ), τ_j between sessions (only with a session level). ν_k is the relative noise at
 frequency k estimated from the trial scatter (the sd over trials of the per-trial least-squares
 residuals about their mean, smoothed over neighbouring frequencies); δ is the sampled
 discrepancy floor: a misfit common to all trials (structure the model lacks) cannot hide in ν_k
-and raises δ, which widens every interval.
+and raises δ, which widens every interval. ε is an error known to be common to all trials, e.g.
+the error of the skin and screen means subtracted from every Sirin trial
+(`impedax.models.sirin.trial_remainders`): independent noise would average it away over the
+trials, so it is kept as one shared draw (docs/bayesian.md, "Errors shared by every trial").
 
 Priors: μ_j ~ N(ln θ̂_j, 2²) about the median of the per-trial least-squares fits (six decades
 at 95 %); s_j, τ_j ~ half-normal(0.5) and half-normal(``session_spread_scale``); δ ~
@@ -39,6 +44,7 @@ import numpy as np
 import xarray as xr
 
 from ...circuits import DEFAULT_REGISTRY, Circuit, Registry, compile_circuit, parse
+from ...data import make_spectrum
 from ...errors import DataError, FitError, ParameterError
 from .reparam import Reparametrization
 
@@ -90,6 +96,7 @@ class _Layout(NamedTuple):
     n_sessions: int  # 1: no session level
     discrepancy: bool
     centred: bool  # sample ln θ_tj itself (centred) or η_tj (non-centred)
+    n_common: int  # leading components of the error shared by every trial (0: none)
 
 
 class _Data(NamedTuple):
@@ -104,6 +111,8 @@ class _Data(NamedTuple):
     shared_lo: jax.Array  # (S,)
     shared_hi: jax.Array  # (S,)
     fixed: jax.Array  # (F,)
+    common_basis: jax.Array  # (M, N) complex leading components of the error shared by every trial [Ω]
+    common_var: jax.Array  # (2, N) variance of the rest of it, Re and Im [Ω²]
 
 
 def _trial_centre(pos, data: _Data, lay: _Layout):
@@ -170,11 +179,91 @@ def _log_density(pos, data: _Data, lay: _Layout, session_scale: float):
     if lay.discrepancy:
         lp += _half_normal_log(pos["log_delta"], _DELTA_SCALE)
         rel2 = rel2 + jnp.exp(2.0 * pos["log_delta"])
-    sigma = jnp.abs(data.z) * jnp.sqrt(rel2)[None, :]
+    var = (jnp.abs(data.z) ** 2) * rel2[None, :]  # σ_tk², each of Re and Im
     r = _model_z(pos, data, lay) - data.z
-    ll = -0.5 * (r.real**2 + r.imag**2) / sigma**2 - 2.0 * jnp.log(sigma) - jnp.log(2.0 * jnp.pi)
-    total = lp + jnp.sum(ll)
+    ll = jnp.sum(-0.5 * (r.real**2 + r.imag**2) / var - jnp.log(var) - jnp.log(2.0 * jnp.pi))
+    total = lp + ll + _shared_error_log_term(r, var, data.common_var, data.common_basis)
     return jnp.where(jnp.isfinite(total), total, -jnp.inf)
+
+
+def _shared_error_log_term(r, var, common_var, basis):
+    """What an error ε shared by every trial adds to the independent-noise log likelihood.
+
+    Model: Z_tk = Z(θ_t, φ; f_k) + ε_k + e_tk, e independent (σ_tk² for Re and Im), ε Gaussian
+    with covariance Bᵀ B + diag(c²) in the real-stacked (Re, Im) frequency space: B (M, 2N) its
+    leading components, c² the rest. ε is marginalised exactly. Per frequency and part the
+    residuals over trials have covariance diag(σ_tk²) + c_k² 11ᵀ (Sherman–Morrison: with
+    a = Σ_t 1/σ_tk², b = Σ_t r_tk/σ_tk², s = 1 + c² a, the log density gains ½ c² b²/s − ½ ln s);
+    the components add 1 ⊗ Bᵀ, a rank-M update (Woodbury: with h = a/s, g = B (b/s),
+    A = I + B diag(h) Bᵀ, it gains ½ gᵀ A⁻¹ g − ½ ln det A). ``r``, ``var``: (T, N);
+    ``common_var`` (2, N); ``basis`` (M, N) complex. Zero when there is no shared error."""
+    a = jnp.sum(1.0 / var, axis=0)
+    out, h, g = 0.0, [], []
+    for part, c2 in ((r.real, common_var[0]), (r.imag, common_var[1])):
+        b = jnp.sum(part / var, axis=0)
+        s = 1.0 + c2 * a
+        out = out + jnp.sum(0.5 * c2 * b**2 / s - 0.5 * jnp.log(s))
+        h.append(a / s)
+        g.append(b / s)
+    if basis.shape[0]:
+        stacked = jnp.concatenate([basis.real, basis.imag], axis=1)  # (M, 2N)
+        h, g = jnp.concatenate(h), stacked @ jnp.concatenate(g)
+        matrix = jnp.eye(basis.shape[0]) + (stacked * h[None, :]) @ stacked.T
+        chol = _unrolled_cholesky(matrix)
+        y = _unrolled_forward_substitution(chol, g)
+        out = out + 0.5 * jnp.sum(y**2) - sum(jnp.log(chol[i][i]) for i in range(len(chol)))
+    return out
+
+
+def _unrolled_cholesky(a):
+    """Lower Cholesky factor of a small SPD matrix as nested lists of scalars, in elementwise
+    JAX operations (no LAPACK call: batched LAPACK under vmap can deadlock jaxlib 0.10's pool)."""
+    m = a.shape[0]
+    low = [[None] * m for _ in range(m)]
+    for i in range(m):
+        for j in range(i + 1):
+            acc = a[i, j] - sum(low[i][k] * low[j][k] for k in range(j))
+            low[i][j] = jnp.sqrt(acc) if i == j else acc / low[j][j]
+    return low
+
+
+def _unrolled_forward_substitution(low, b):
+    """y with L y = b for the factor of `_unrolled_cholesky` (a (M,) array)."""
+    y = []
+    for i in range(len(low)):
+        y.append((b[i] - sum(low[i][k] * y[k] for k in range(i))) / low[i][i])
+    return jnp.stack(y)
+
+
+COMMON_COMPONENTS = 12
+"""Leading components of an error shared by every trial kept with their correlation across
+frequencies (fixed, so one compilation serves every data set); the rest of its variance enters
+per frequency."""
+
+
+def _shared_error_components(data: xr.Dataset, z: np.ndarray, nu: np.ndarray, n_freq: int):
+    """Split the error shared by every trial (``common_error_modes`` of the data: ε = Σ_j ξ_j d_j,
+    ξ ~ N(0, 1)) into `COMMON_COMPONENTS` leading components (``basis`` (M, N) complex) and the
+    rest's variance per frequency (``var`` (2, N), Re and Im). Components
+    are ranked in the likelihood's units (each frequency scaled by the noise of the trials' mean,
+    |Z̄_k| ν_k/√T). No modes: nothing shared (M = 0)."""
+    if "common_error_modes" not in data:
+        return np.zeros((0, n_freq), complex), np.zeros((2, n_freq))
+    modes = data["common_error_modes"]
+    if modes.dims[-1:] != ("frequency",) or modes.ndim != 2:
+        raise DataError(f"'common_error_modes' must have dims (mode, frequency), got {modes.dims}")
+    d = np.asarray(modes.values, dtype=np.complex128)
+    if not np.all(np.isfinite(d)):
+        raise DataError("'common_error_modes' must be finite")
+    scale = np.abs(z.mean(axis=0)) * np.maximum(nu, 1e-12) / np.sqrt(z.shape[0])
+    stacked = np.concatenate([d.real / scale, d.imag / scale], axis=1)  # (modes, 2N), whitened
+    _, sv, vt = np.linalg.svd(stacked, full_matrices=False)
+    m = min(COMMON_COMPONENTS, sv.size)
+    lead = (sv[:m, None] * vt[:m]) * np.concatenate([scale, scale])[None, :]
+    basis = np.zeros((COMMON_COMPONENTS, n_freq), complex)
+    basis[:m] = lead[:, :n_freq] + 1j * lead[:, n_freq:]
+    rest = ((sv[m:, None] * vt[m:]) ** 2).sum(axis=0) * np.concatenate([scale, scale]) ** 2
+    return basis, np.stack([rest[:n_freq], rest[n_freq:]])
 
 
 @functools.lru_cache(maxsize=16)
@@ -269,6 +358,7 @@ class HierarchicalPosterior:
     mean_acceptance: float
     elapsed_s: float
     fixed: Mapping[str, float] = field(default_factory=dict)
+    common_sd: np.ndarray | None = None  # (2, N) sd of the Re and Im error shared by every trial [Ω]
     reparametrization: Reparametrization | None = None
     registry: Registry = field(default=DEFAULT_REGISTRY, repr=False)
 
@@ -344,7 +434,8 @@ class HierarchicalPosterior:
 
     def predict(self, *, noise: bool = True, max_draws: int = 200, seed: int = 0) -> np.ndarray:
         """Posterior predictive impedance [Ω] (draws, trials, frequency) at the data's
-        frequencies; with ``noise`` it includes the likelihood's noise σ_tk (ν_k and δ), so its
+        frequencies; with ``noise`` it includes the likelihood's noise σ_tk (ν_k and δ) and the
+        error shared by every trial (``common_sd``), so its
         bands are where new measurements fall, not only where the model curve lies."""
         fn = compile_circuit(self.circuit, self.registry)
         c, d = self.mu.shape[:2]
@@ -367,6 +458,9 @@ class HierarchicalPosterior:
             delta = self.delta.ravel()[pick][:, None, None]
             sigma = np.abs(self.z_data)[None] * np.sqrt(self.nu[None, None] ** 2 + delta**2)
             z = z + sigma * (rng.standard_normal(z.shape) + 1j * rng.standard_normal(z.shape))
+            if self.common_sd is not None:  # one shared error per draw, the same in every trial
+                shape = (z.shape[0], 1, z.shape[2])
+                z = z + self.common_sd[0] * rng.standard_normal(shape) + 1j * self.common_sd[1] * rng.standard_normal(shape)
         return z
 
     def summary(self) -> dict:
@@ -412,8 +506,9 @@ class HierarchicalPosterior:
                 "shared": (("chain", "draw", "shared_param"), self.shared),
                 "delta": (("chain", "draw"), self.delta, {"long_name": "relative discrepancy floor"}),
                 "nu": ("frequency", self.nu, {"long_name": "relative noise from trial scatter"}),
+                **({"common_sd": (("part", "frequency"), self.common_sd, {"units": "ohm", "long_name": "sd of the Re and Im error shared by every trial"})} if self.common_sd is not None else {}),
             },
-            coords={"param": k, "shared_param": s, "frequency": ("frequency", self.frequency, {"units": "Hz"})},
+            coords={"param": k, "shared_param": s, "frequency": ("frequency", self.frequency, {"units": "Hz"}), "part": ["real", "imag"]},
             attrs={"model": self.model, "sampler": "blackjax NUTS with window adaptation", "sessions": self.sessions, "divergences": self.divergences, "discrepancy": int(self.discrepancy)},
         )
         return ds
@@ -470,7 +565,12 @@ def _setup(circuit, data, *, per_trial, session_dim, reparametrization, fixed, d
     else:
         session_codes, n_sessions = np.zeros(n_trials, dtype=int), 1
 
-    batch = init if init is not None else fit(circuit, data, fixed=fixed or None, weighting="modulus", registry=registry)
+    if init is None:
+        # each trial's fit starts from the fit of the trials' mean: single noisy trials fitted
+        # from the data-driven guess alone can land far off (R_EP → 1e47 Ω, α → 0.12 on Sirin seed 12)
+        mean = make_spectrum(data["frequency"].values, data["Z"].mean(rep_dims).values, source="trial mean")
+        init = fit(circuit, data, init=fit(circuit, mean, fixed=fixed or None, weighting="modulus", registry=registry), fixed=fixed or None, weighting="modulus", registry=registry)
+    batch = init
     vals = batch.dataset["value"].transpose("param", *order).values.reshape(len(batch.dataset["param"]), n_trials)
     pnames = [str(p) for p in batch.dataset["param"].values]
     per_fit = {n: vals[pnames.index(n)] for n in pnames}
@@ -481,6 +581,7 @@ def _setup(circuit, data, *, per_trial, session_dim, reparametrization, fixed, d
             raise ParameterError("hierarchical sampling with a reparametrization needs its inverse (to start the chains)")
         per_fit.update({k: np.asarray(v, float) for k, v in inv({n: per_fit[n] for n in rp.replaces}, rp.constant_values).items()})
     nu = trial_scatter_noise(z, z_fit)
+    common_basis, common_var = _shared_error_components(data, z, nu, freq.size)
 
     theta0 = np.stack([np.asarray(per_fit[n], float) for n in per_trial], axis=1)  # (T, K)
     errs = batch.dataset["stderr"].transpose("param", *order).values.reshape(len(pnames), n_trials)
@@ -523,10 +624,11 @@ def _setup(circuit, data, *, per_trial, session_dim, reparametrization, fixed, d
         use_centred = bool(np.all(np.median(rel_stderr, axis=0) < spread0))
     else:
         use_centred = parameterisation == "centred"
-    lay = _Layout(circuit, registry, tuple(per_trial), shared_names, tuple(bounded), tuple(fixed), rp, n_sessions, bool(discrepancy), use_centred)
+    lay = _Layout(circuit, registry, tuple(per_trial), shared_names, tuple(bounded), tuple(fixed), rp, n_sessions, bool(discrepancy), use_centred, common_basis.shape[0])
     dat = _Data(
         jnp.asarray(freq), jnp.asarray(z), jnp.asarray(nu), jnp.asarray(session_codes, dtype=jnp.int32), jnp.asarray(mu0),
         jnp.asarray(centre, dtype=jnp.float64), jnp.asarray(lo, dtype=jnp.float64), jnp.asarray(hi, dtype=jnp.float64), jnp.asarray([fixed[n] for n in fixed], dtype=jnp.float64),
+        jnp.asarray(common_basis), jnp.asarray(common_var),
     )
     rng = np.random.default_rng(seed)
     k = len(per_trial)
@@ -553,6 +655,12 @@ def _setup(circuit, data, *, per_trial, session_dim, reparametrization, fixed, d
     return lay, dat, init_pos, stacked["trial_index"]
 
 
+def _total_shared_sd(dat: _Data) -> np.ndarray:
+    """sd (2, N) of the Re and Im error shared by every trial: sampled components and the rest."""
+    b = np.asarray(dat.common_basis)
+    return np.sqrt(np.stack([(b.real**2).sum(axis=0), (b.imag**2).sum(axis=0)]) + np.asarray(dat.common_var))
+
+
 def sample_hierarchical(
     circuit: Circuit | str,
     data: xr.Dataset,
@@ -575,14 +683,17 @@ def sample_hierarchical(
     """Sample the hierarchical model (module docstring) of the spectra in ``data``.
 
     ``data``: a spectrum Dataset with complex ``Z`` over (..., ``frequency``); every other dim
-    is a replicate (trials). ``per_trial`` names the quantities drawn per trial from a
+    is a replicate (trials); an optional complex ``common_error_modes`` (mode, frequency) is an
+    error shared by every trial, ε = Σ_j ξ_j d_j with ξ ~ N(0, 1), marginalised in the
+    likelihood (`impedax.models.sirin.trial_remainders` writes it). ``per_trial`` names the quantities drawn per trial from a
     log-normal population (circuit parameter names, or names of ``reparametrization``, e.g.
     ``u``); every other free parameter is shared by all trials. ``session_dim`` adds a session
     level (trials nested in the sessions along that dim). ``discrepancy`` samples the relative
     floor δ (otherwise δ = 0). ``parameterisation``: ``"centred"`` samples each trial's ln θ,
     ``"non-centred"`` its standardised offset η; ``"auto"`` picks centred when the per-trial
     least-squares fits determine each trial better than the trials differ. ``init``: a `BatchFitResult` of the circuit on ``data`` (else
-    one is run) — the per-trial fits give the start, the prior centres and the noise ν_k.
+    one is run, each trial started from the fit of the trials' mean) — the per-trial fits give
+    the start, the prior centres and the noise ν_k.
     Returns a `HierarchicalPosterior`.
     """
     t0 = time.perf_counter()
@@ -608,7 +719,7 @@ def sample_hierarchical(
         spread_session=spread_session, trial_values=theta, shared=shared, delta=delta, frequency=np.asarray(dat.freq), z_data=np.asarray(dat.z), nu=np.asarray(dat.nu),
         trial_index=trial_index, sessions=n_sessions, discrepancy=bool(discrepancy), divergences=int(np.sum(divergent)),
         step_size=np.asarray(step_size), mean_tree_steps=float(np.mean(n_steps)), mean_acceptance=float(np.mean(accept)),
-        elapsed_s=time.perf_counter() - t0, fixed=dict(zip(lay.fixed_names, np.asarray(dat.fixed).tolist())), reparametrization=lay.reparametrization, registry=registry,
+        elapsed_s=time.perf_counter() - t0, fixed=dict(zip(lay.fixed_names, np.asarray(dat.fixed).tolist())), common_sd=_total_shared_sd(dat) if lay.n_common else None, reparametrization=lay.reparametrization, registry=registry,
     )
 
 
