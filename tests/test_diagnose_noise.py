@@ -7,7 +7,7 @@ import pytest
 
 import impedax as ix
 from impedax.fitting.diagnosis.catalog import Proposal
-from impedax.fitting.diagnosis.diagnosis import format_quantity, undetermined_parameters
+from impedax.fitting.diagnosis.diagnosis import centred_covariance, format_quantity, undetermined_parameters
 from impedax.fitting.diagnosis.effects import DEFAULT_EFFECTS
 
 import hidden_effects as he
@@ -77,6 +77,34 @@ def test_undetermined_parameters_of_a_superfluous_arc():
     # a second arc where there is none: its R and C (or their correlation) are not determined
     over = ix.fit("R0 + R1 || C1 + R2 || C2", ix.make_spectrum(f, z), init={"R2": 1.0, "C2": 1e-3})
     assert undetermined_parameters(over) & {"R2", "C2", "R1", "C1"}
+
+
+def test_a_cpe_far_from_one_radian_per_second_is_determined():
+    # R + CPE measured at 10 kHz–10 MHz (ln ω ≈ 11–18): Q is the admittance at ω = 1 rad/s,
+    # decades outside the band, so ln Q and α are almost collinear in the raw parameters
+    rng = np.random.default_rng(5)
+    f = np.geomspace(1e4, 1e7, 50)
+    jw = 2j * np.pi * f
+    z = 50.0 + 1.0 / (2e-7 * jw**0.8)
+    z = z + 0.01 * np.abs(z) * (rng.normal(size=f.size) + 1j * rng.normal(size=f.size))
+    fit = ix.fit("R0 + CPE1", ix.make_spectrum(f, z))
+    names = list(fit.free_names)
+    iq, ia = names.index("CPE1.Q"), names.index("CPE1.alpha")
+    rho = fit.correlation[iq, ia]
+    assert abs(rho) > 0.99  # the raw rule would call the CPE undetermined
+    assert undetermined_parameters(fit) == frozenset()
+    # closed form: at the decorrelating frequency the error of ln(Q ω_c^α) is the conditional
+    # one, sd(ln Q) √(1 − ρ²), when that frequency lies inside the band
+    rel_sd, corr = centred_covariance(fit)
+    sd_log_q = fit.stderr["CPE1.Q"] / fit.values["CPE1.Q"]
+    assert rel_sd[iq] == pytest.approx(sd_log_q * np.sqrt(1 - rho**2), rel=1e-6)
+    assert abs(corr[iq, ia]) < 1e-8
+    omega_c = np.exp(-fit.covariance[iq, ia] / fit.values["CPE1.Q"] / fit.covariance[ia, ia])
+    assert 2 * np.pi * f[0] < omega_c < 2 * np.pi * f[-1]
+    # the other parameters are untouched
+    ir = names.index("R0")
+    assert rel_sd[ir] == pytest.approx(fit.stderr["R0"] / fit.values["R0"])
+    assert rel_sd[ia] == pytest.approx(fit.stderr["CPE1.alpha"] / fit.values["CPE1.alpha"])
 
 
 def test_candidates_carry_their_undetermined_parameters_and_warnings():

@@ -326,14 +326,56 @@ def format_range(sigma: np.ndarray) -> str:
 
 def undetermined_parameters(fit: FitResult) -> frozenset[str]:
     """Free parameters the data do not determine: standard error not finite or above
-    `RELATIVE_ERROR_MAX` × |value|, or |correlation| with another above `CORRELATION_MAX`."""
+    `RELATIVE_ERROR_MAX` × |value|, or |correlation| with another above `CORRELATION_MAX`.
+
+    A constant-phase coefficient is judged where the data measure it: Q of
+    Z = 1/(Q (jω)^α) is the admittance at ω = 1 rad/s, often decades outside the band, so its
+    raw error and its correlation with α grow with that distance although the element is well
+    determined (`centred_covariance`)."""
     names = fit.free_names
-    out = {n for n in names if not (np.isfinite(fit.stderr[n]) and abs(fit.stderr[n]) <= RELATIVE_ERROR_MAX * abs(fit.values[n]))}
-    corr = np.asarray(fit.correlation, float)
+    rel_sd, corr = centred_covariance(fit)
+    out = {n for n, e in zip(names, rel_sd) if not (np.isfinite(e) and e <= RELATIVE_ERROR_MAX)}
     if corr.shape == (len(names), len(names)) and len(names) > 1:
         a, b = np.nonzero(np.triu(np.abs(np.nan_to_num(corr)) > CORRELATION_MAX, 1))
         out |= {names[i] for i in a} | {names[j] for j in b}
     return frozenset(out)
+
+
+def centred_covariance(fit: FitResult) -> tuple[np.ndarray, np.ndarray]:
+    """Relative standard errors and correlations of ``fit``'s free parameters, each CPE's Q
+    taken at the angular frequency ω_c of the band where it is least correlated with α.
+
+    With y = ln Q + α ln ω_c (ln of the CPE's admittance coefficient at ω_c):
+    cov(y, α) = cov(ln Q, α) + ln ω_c var(α) = 0 at ln ω_c = −cov(ln Q, α)/var(α), clipped
+    to the data's band; y's standard error is relative (a log). A linear change of variables:
+    the fit is the same, only the coefficient it reports moves. Without a finite covariance
+    the raw relative errors and correlation are returned."""
+    names = list(fit.free_names)
+    values = np.array([fit.values[n] for n in names], float)
+    stderr = np.array([fit.stderr[n] for n in names], float)
+    with np.errstate(all="ignore"):
+        rel_sd = np.abs(stderr / values)
+    corr = np.asarray(fit.correlation, float)
+    cov = np.asarray(fit.covariance, float)
+    pairs = [(names.index(n), names.index(n[:-2] + ".alpha")) for n in names if n.endswith(".Q") and n[:-2] + ".alpha" in names]
+    if not pairs or cov.shape != (len(names), len(names)) or not np.all(np.isfinite(cov)):
+        return rel_sd, corr
+    # d(new) = T d(old): ln Q's row is (1/Q) dQ + ln ω_c dα
+    transform = np.eye(len(names))
+    log_omega = np.log(2 * np.pi * np.asarray(fit.frequency, float))
+    for iq, ia in pairs:
+        transform[iq, iq] = 1 / values[iq]
+        var_alpha = cov[ia, ia]
+        centre = -cov[iq, ia] / values[iq] / var_alpha if var_alpha > 0 else np.mean(log_omega)
+        transform[iq, ia] = float(np.clip(centre, log_omega.min(), log_omega.max()))
+    cov_c = transform @ cov @ transform.T
+    sd = np.sqrt(np.clip(np.diag(cov_c), 0, None))
+    with np.errstate(all="ignore"):
+        corr_c = cov_c / np.outer(sd, sd)
+        rel_c = np.abs(sd / values)
+    for iq, _ in pairs:
+        rel_c[iq] = sd[iq]
+    return rel_c, corr_c
 
 
 def _noise_ratio(fit: FitResult, noise: np.ndarray) -> float:
