@@ -34,7 +34,7 @@ def problems():
     args = solver_args(table, F, z[0], inv[0], inv[0])
     shared = SharedArgs(args.freq, args.lower, args.upper)
     rows = SpectrumRows(z, inv, inv, np.broadcast_to(args.x_fixed, (len(z), args.x_fixed.size)))
-    lanes = tree_solver(CIRCUIT, DEFAULT_REGISTRY, 400, *table.free_structure)[1]
+    lanes = tree_solver(CIRCUIT, DEFAULT_REGISTRY, 400, *table.free_structure).lanes
     return z, u0, rows, shared, lanes
 
 

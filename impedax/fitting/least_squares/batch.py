@@ -134,7 +134,7 @@ def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n
     b = z.shape[0]
     inv_re, inv_im = weights(z, sigma, weighting, source)
     features = SpectrumFeatures(freq, z)
-    lanes, finish, chi2 = tree_solver(circuit, registry, max_steps, *table.free_structure)[1:4]
+    solvers = tree_solver(circuit, registry, max_steps, *table.free_structure)
     scale = residual_scale(z, inv_re, inv_im, weighting)
     free = table.free_index
     # solved on `padded_size` points (zero-weight copies of the last): nearby lengths share a compilation
@@ -142,7 +142,7 @@ def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n
     shared = SharedArgs(freq_p, table.lower[free], table.upper[free])
     x_fixed = np.where(np.isnan(table.values), 1.0, table.values)
     rows = SpectrumRows(z_p, inv_re_p, inv_im_p, np.broadcast_to(x_fixed, (b, x_fixed.size)))
-    solver = _LaneRunner(lanes, finish, chi2, rows, shared, np.size(freq))
+    solver = _LaneRunner(solvers.lanes, solvers.finish, solvers.chi2, rows, shared, np.size(freq))
 
     guesses = guess_start(circuit, table, features, registry)
     large = b >= REFERENCE_MIN_SPECTRA

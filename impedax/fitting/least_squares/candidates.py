@@ -27,7 +27,7 @@ from ..parameters import Transform, to_external, to_internal
 from ..problem import FitProblem, fit_problem, open_spectrum, weights
 from .lm import work_queue
 from .result import FitResult, fit_result
-from .solvers import SolverArgs, SolverOutput, SolverStatus
+from .solvers import SolverArgs, SolverOutput, SolverStatus, padded_points, trimmed
 from .starts import SpectrumFeatures, data_driven_guess, random_starts
 
 __all__ = ["fit_candidates", "SolverShape", "solver_shape", "candidate_solver"]
@@ -231,13 +231,8 @@ def fit_candidates(
 
 def _spectrum_args(freq, z, inv_re, inv_im, n_padded: int) -> SpectrumArgs:
     """The shared arrays, padded to ``n_padded`` frequencies with zero weight (copies of the
-    last point), so spectra of similar length share one compilation."""
-    pad = n_padded - freq.size
-
-    def padded(a, fill=None):
-        return np.concatenate([a, np.full(pad, a[-1] if fill is None else fill, dtype=a.dtype)])
-
-    return SpectrumArgs(padded(freq), padded(z), padded(np.asarray(inv_re, float), 0.0), padded(np.asarray(inv_im, float), 0.0))
+    last point, `solvers.padded_points`), so spectra of similar length share one compilation."""
+    return SpectrumArgs(*padded_points(freq, z, np.asarray(inv_re, float), np.asarray(inv_im, float), size=n_padded))
 
 
 def _solve(rows: list["CandidateRow"], shared: SpectrumArgs, n_freq: int, layout: ProgramLayout, k_pad: int, budget: int) -> list[SolverOutput]:
@@ -274,11 +269,13 @@ def _solve(rows: list["CandidateRow"], shared: SpectrumArgs, n_freq: int, layout
         for i in range(len(part)):
             c = lo + i
             b = best[c]
-            outputs.append(SolverOutput(
-                x=theta[i], chi2=chi2_best[i], jacobian=_unpad_rows(jac[i], shared.freq.size, n_freq), z_model=z_model[i, :n_freq],
+            outputs.append(trimmed(SolverOutput(
+                x=theta[i], chi2=chi2_best[i], jacobian=jac[i], z_model=z_model[i],
                 code=int(SolverStatus.CONVERGED if done[c, b] else SolverStatus.MAX_STEPS), steps=steps[c, b], chi2_starts=chi2[c], steps_total=int(steps[c].sum()),
-            ))
+            ), n_freq))
     return outputs
+
+
 def _prepare(circuits, data, init, fixed, *, registry) -> tuple[list[FitProblem], list[list[dict]]]:
     """Each candidate's `FitProblem` (its first start as ``init``) and its further warm starts."""
     init = list(init) if init is not None else [None] * len(circuits)
@@ -357,11 +354,6 @@ def _stack_rows(rows: list[CandidateRow], capacity: int) -> CandidateRows:
         x_fixed=stack("x_fixed"), free_index=stack("free_index"), lower=stack("lower"), upper=stack("upper"), kind=stack("kind"),
         program={key: np.stack([r.program[key] for r in padded]) for key in rows[0].program},
     )
-
-
-def _unpad_rows(jacobian: np.ndarray, n_padded: int, n_freq: int) -> np.ndarray:
-    """The Jacobian's rows (2·F_padded, K) of the real frequencies: Re rows, then Im rows."""
-    return np.concatenate([jacobian[:n_freq], jacobian[n_padded : n_padded + n_freq]])
 
 
 def _inside(circuit: Circuit, values: Mapping[str, float], registry: Registry) -> dict[str, float]:

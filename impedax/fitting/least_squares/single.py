@@ -85,7 +85,7 @@ def fit(
     if not isinstance(max_steps, (int, np.integer)) or isinstance(max_steps, bool) or max_steps < 1:
         raise ParameterError(f"max_steps must be a positive integer, got {max_steps!r}")
     solvers = tree_solver(circuit, registry, int(max_steps), *table.free_structure)
-    single = solvers[0]
+    single = solvers.single
     scale = residual_scale(z, inv_re, inv_im, weighting)
     # solved on `padded_size` points (zero-weight copies of the last): nearby lengths share a compilation
     args = solver_args(table, *padded_points(freq, z, inv_re * scale, inv_im * scale))
@@ -98,7 +98,7 @@ def fit(
         first (`tree_solver`'s ``screen``), the best continued by the one-start solver."""
         if len(starts) == 1:
             return trimmed(unscale(single(starts, args).fetch(), scale), freq.size)
-        best, chi2_starts, screened = jax.device_get(solvers[6](starts, args))
+        best, chi2_starts, screened = jax.device_get(solvers.screen(starts, args))
         out = single(best[None], args).fetch()
         out = out._replace(chi2_starts=np.asarray(chi2_starts), steps_total=int(screened) + int(out.steps_total))
         return trimmed(unscale(out, scale), freq.size)
@@ -106,10 +106,10 @@ def fit(
     out = solve(guess_start(circuit, table, features, registry))
     used = 1
     if n_starts > 1 and not at_noise_floor(freq, z, out.z_model, inv_re, inv_im, out.code)[()]:
-        out, used = escalated(out, solve, lambda o: resumed(o, solvers[5], args, scale, max_steps), circuit, table, features, freq, z, n_starts, seed, registry)
-    out = resumed(out, solvers[5], args, scale, max_steps)
+        out, used = escalated(out, solve, lambda o: resumed(o, solvers.resume, args, scale, max_steps), circuit, table, features, freq, z, n_starts, seed, registry)
+    out = resumed(out, solvers.resume, args, scale, max_steps)
     out = canonical_order(circuit, table, freq, out, registry)
-    chi2_at_x = one_spectrum_chi2(solvers[4], args)
+    chi2_at_x = one_spectrum_chi2(solvers.chi2_x, args)
     notes = weighting_notes(weighting, freq, *dominant_points(z, inv_re, inv_im))[0] if weighting in ("unit", "proportional") else ()
     return fit_result(circuit, table, freq, z, out, weighting, used, time.perf_counter() - t0, registry, chi2_at_x=chi2_at_x, extra_notes=notes)
 

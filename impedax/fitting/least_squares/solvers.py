@@ -3,13 +3,13 @@
 The residual is the real-stacked weighted residual ``[Re(Z_m − Z_d)/w_re, Im(Z_m − Z_d)/w_im]``,
 squared once by the solver. Two solvers:
 
-* one spectrum of a circuit compiled by `compile_circuit` (``tree_solver(...)[0]``): optimistix
+* one spectrum of a circuit compiled by `compile_circuit` (``tree_solver(...).single``): optimistix
   Levenberg–Marquardt from one or many starts (``vmap``), the best kept. The circuit's analytic
   Jacobian (`CompiledCircuit.value_and_columns`) is attached to the residual as a custom JVP,
   so each linearisation costs one evaluation of it instead of forward mode through the circuit.
   Tree solvers are compiled per circuit and free set (which parameters are free, and their
   transforms): fixed values are constants of the trace;
-* many spectra of one circuit (``tree_solver(...)[1]``, `lm.work_queue`): a work queue of
+* many spectra of one circuit (``tree_solver(...).lanes``, `lm.work_queue`): a work queue of
   independent Levenberg–Marquardt problems over a fixed number of ``vmap`` lanes, with the
   same analytic Jacobian. optimistix's solver state holds closures that cannot be swapped
   lane by lane, so this loop runs impedax's compact iteration (`lm.lm_iteration`).
@@ -36,7 +36,7 @@ from .lm import levenberg_marquardt, work_queue
 from .order import structural_peaks
 
 __all__ = [
-    "tree_solver", "SolverArgs", "SpectrumRows", "SharedArgs", "SolverOutput", "SolverStatus",
+    "tree_solver", "TreeSolvers", "SolverArgs", "SpectrumRows", "SharedArgs", "SolverOutput", "SolverStatus",
     "one_transfer", "PendingOutputs", "tree_residuals", "solver_args", "unscale", "better", "over_devices", "SCREEN_STEPS", "HANDOVER_STEPS",
     "padded_size", "padded_points", "trimmed",
 ]
@@ -81,8 +81,7 @@ class SolverArgs(NamedTuple):
     ``x_fixed`` (all parameters; fixed values where fixed, placeholders elsewhere), and the
     bounds of the free parameters. The candidate solver (`candidates.candidate_solver`), whose
     free set is data rather than part of the trace, also takes each free parameter's transform
-    ``kind`` and position ``free_index`` and the circuit program's arrays ``model_args``
-    (``max_steps`` is no longer read: its problems carry their step budgets)."""
+    ``kind`` and position ``free_index`` and the circuit program's arrays ``model_args``."""
 
     freq: Any
     z: Any
@@ -94,7 +93,6 @@ class SolverArgs(NamedTuple):
     kind: Any = None
     free_index: Any = None
     model_args: Any = None
-    max_steps: Any = None
 
 
 class SpectrumRows(NamedTuple):
@@ -170,13 +168,13 @@ def padded_size(n: int) -> int:
     return -(-int(n) // step) * step
 
 
-def padded_points(freq, z, inv_re, inv_im):
-    """Frequencies (N,), data and inverse weights (…, N) padded to `padded_size` (N) points:
-    the added points repeat the last frequency and datum with zero weight, so their residuals
-    and Jacobian rows are zero and chi², steps and solutions are those of the N points
-    (to rounding in the order of sums)."""
+def padded_points(freq, z, inv_re, inv_im, size: int | None = None):
+    """Frequencies (N,), data and inverse weights (…, N) padded to ``size`` points (default
+    `padded_size` (N)): the added points repeat the last frequency and datum with zero weight,
+    so their residuals and Jacobian rows are zero and chi², steps and solutions are those of
+    the N points (to rounding in the order of sums)."""
     n = np.shape(freq)[-1]
-    extra = padded_size(n) - n
+    extra = (padded_size(n) if size is None else size) - n
     if not extra:
         return np.asarray(freq, float), z, inv_re, inv_im
 
@@ -411,6 +409,18 @@ def _make(residuals, max_steps: int, peaks=None, *, handover: bool = True):
     return solve
 
 
+class TreeSolvers(NamedTuple):
+    """The compiled solvers of one circuit and free set (`tree_solver`)."""
+
+    single: Callable
+    lanes: Callable
+    finish: Callable
+    chi2: Callable
+    chi2_x: Callable
+    resume: Callable
+    screen: Callable
+
+
 @functools.lru_cache(maxsize=128)
 def tree_solver(circuit: Circuit, registry: Registry, max_steps: int, free: tuple[int, ...], kinds: tuple[int, ...]):
     """Jitted solvers for one circuit and free set (positions ``free`` with transform
@@ -467,7 +477,7 @@ def tree_solver(circuit: Circuit, registry: Registry, max_steps: int, free: tupl
         us, chi2s, _, steps = jax.vmap(solve_one, in_axes=(0, None, None))(u0s, args, SCREEN_STEPS)
         return us[jnp.argmin(chi2s)], chi2s, jnp.sum(steps)
 
-    return one_transfer(_make(residuals, max_steps, peaks, handover=False)), lanes, finish, chi2, chi2_x, resume, screen
+    return TreeSolvers(one_transfer(_make(residuals, max_steps, peaks, handover=False)), lanes, finish, chi2, chi2_x, resume, screen)
 
 
 @functools.lru_cache(maxsize=64)
