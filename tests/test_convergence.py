@@ -101,6 +101,17 @@ def test_proportional_weighting_on_a_near_zero_component_warns_with_the_frequenc
     assert not any("weighting gives" in w for w in ix.fit("R0 + R1 || C1", ix.make_spectrum(f, z)).warnings)
 
 
+def test_points_with_a_negative_real_part_are_named():
+    # R0 + R1 ∥ C1 written here; a phase error turns the top two points' real part negative
+    f = np.geomspace(1, 1e6, 40)
+    z = rc(f, {"R0": 10.0, "R1": 1e3, "C1": 1e-7})
+    z[-2:] = np.abs(z[-2:]) * np.exp(-1j * np.array([2.0, 2.3]))
+    notes = ix.fit("R0 + R1 || C1", ix.make_spectrum(f, z)).warnings
+    named = [n for n in notes if "Re Z < 0" in n]
+    assert len(named) == 1 and "2 of 40 points" in named[0] and "7.017e+05 Hz" in named[0] and "1e+06 Hz" in named[0]
+    assert not any("Re Z < 0" in n for n in ix.fit("R0 + R1 || C1", ix.make_spectrum(f[:-2], z[:-2])).warnings)
+
+
 def test_dominant_points_oracle():
     from impedax.fitting.statistics import dominant_points
 

@@ -69,6 +69,48 @@ def test_a_few_erratic_points_are_masked_and_the_rest_diagnosed():
     assert d.summary()["masked_points"] == list(d.masked_points)
 
 
+def _with_non_passive_top(formula, params, frange, seed):
+    """A spectrum whose two highest frequencies carry a phase error large enough to turn the
+    real part negative (Re Z < 0: no passive circuit gives it), as a real instrument file does."""
+    f, z = he.spectrum(formula, params, frange, 0.005, np.random.default_rng(seed))
+    top = np.argsort(f)[-2:]
+    z = z.copy()
+    z[top] = np.abs(z[top]) * np.exp(1j * np.array([2.2, 1.9]))  # phase 126° and 109°: Re < 0
+    assert np.all(z[top].real < 0)
+    return f, z, top
+
+
+def test_points_with_a_negative_real_part_are_left_out_of_a_correct_model():
+    circuit, formula, params, frange = he.ADEQUATE["r_cpe"]
+    f, z, top = _with_non_passive_top(formula, params, frange, 5)
+    d = ix.diagnose(ix.make_spectrum(f, z), circuit)
+    assert d.verdict == "adequate", d.report()
+    assert set(np.round(f[top], 6)) <= set(np.round(d.masked_points, 6))
+    assert d.baseline.n_points == f.size - len(d.masked_points)
+    assert "Re Z < 0" in d.report()
+    # the fit of the rest finds the generating parameters (0.5 % noise: R1 within 3 %)
+    assert d.baseline.values["R1"] == pytest.approx(params["R1"], rel=0.03)
+
+
+def test_a_missing_effect_is_found_behind_non_passive_points():
+    circuit, effect, formula, params, frange = he.CASES["series_resistance/rc"]
+    f, z, top = _with_non_passive_top(formula, params, frange, 6)
+    d = ix.diagnose(ix.make_spectrum(f, z), circuit)
+    assert d.verdict == "missing_effect" and d.suggestions[0].effect == effect, d.report()
+    assert set(np.round(f[top], 6)) <= set(np.round(d.masked_points, 6))
+
+
+def test_a_spectrum_mostly_below_zero_is_not_masked_away():
+    from impedax.fitting.diagnosis.diagnosis import non_passive_points
+
+    f = np.geomspace(1, 1e5, 30)
+    z = -(10 + 100 / (1 + 1j * f / 1e3))  # a sign error of the whole file: not a few artifacts
+    assert not non_passive_points(ix.make_spectrum(f, z)).any()
+    z = 10 + 100 / (1 + 1j * f / 1e3)
+    z[-1] = -z[-1].real + 1j * z[-1].imag
+    assert non_passive_points(ix.make_spectrum(f, z)).tolist() == [False] * 29 + [True]
+
+
 def test_undetermined_parameters_of_a_superfluous_arc():
     circuit, formula, params, frange = he.ADEQUATE["rc"]
     f, z = he.spectrum(formula, params, frange, 0.01, np.random.default_rng(2))

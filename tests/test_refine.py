@@ -79,3 +79,23 @@ def test_cli_refine_flags_are_checked(missing_series_resistance, tmp_path, capsy
     ix.save(data, path)
     assert main(["refine", str(path), "--model", circuit, *argv]) != 0
     assert message in capsys.readouterr().err
+
+
+def test_every_step_of_a_refinement_is_judged_on_the_same_points():
+    """REAL data: impedance.py's PowerSuite example file (tests/fixtures/real, MIT). Its two
+    highest frequencies have Re Z < 0 (left out: not passive) and the KK test blames most of the
+    upper band (masked by the first diagnosis). Later steps must not mask more: every step's fit,
+    and the final one, use the first diagnosis' points, so their AIC and rms_rel compare."""
+    from pathlib import Path
+
+    data = ix.load(Path(__file__).parent / "fixtures" / "real" / "exampleDataPowersuite.txt")
+    f = data["frequency"].values
+    non_passive = f[data["Z"].values.real < 0]
+    assert non_passive.size == 2
+    r = ix.refine(data, "R0 + R1 || C1", max_effects=3)
+    assert set(np.round(non_passive, 3)) <= set(np.round(r.masked_points, 3))
+    kept = f.size - len(r.masked_points)
+    assert [s.fit.n_points for s in r.steps] == [kept] * len(r.steps)
+    assert len(r.steps) >= 2 and not undetermined_parameters(r.final)
+    used = data.sel(frequency=[x for x in f if float(x) not in set(r.masked_points)])
+    assert r.final.rms_rel == pytest.approx(ix.fit(r.final_model, used).rms_rel, rel=1e-6)

@@ -78,6 +78,8 @@ KK_INVALID_RMS = 0.02
 MASK_MAX_FRACTION = 0.5
 """The KK-flagged points are masked (left out of every fit of the diagnosis) when they are at
 most this fraction of the points; more, and the diagnosis keeps them with a note."""
+MIN_KEPT_POINTS = 8
+"""... and when at least this many points (and 3 per free parameter) are left to fit."""
 RELATIVE_ERROR_MAX = 1.0
 """A parameter is undetermined when its standard error exceeds this × |value| (or is not finite) ..."""
 CORRELATION_MAX = 0.99
@@ -151,7 +153,7 @@ class Diagnosis:
     drt: PeakEvidence | None = None
     measurement_noise: np.ndarray | None = None  # σ_meas per point (without the discrepancy floor)
     discrepancy: float = 0.0  # the model-discrepancy floor δ (relative, per component)
-    masked_points: tuple[float, ...] = ()  # frequencies [Hz] left out: KK flags them as the data's problem
+    masked_points: tuple[float, ...] = ()  # frequencies [Hz] left out as the data's problem: KK-flagged, or Re Z < 0
     kk_of_kept: KKResult | None = None  # the KK test of the points kept, when a few erratic points were masked
     solver_shape: SolverShape | None = None  # the compiled candidate solver's shape (refine passes it on: one compilation for all steps)
 
@@ -230,7 +232,7 @@ class Diagnosis:
             lines.append(f"data: {kk_text} (KK rms_rel {self.kk.rms_rel * 100:.3g} %){kept}.")
         lines.append(f"noise: σ ≈ {self.noise_level * 100:.3g} % per component (median; {format_range(self.noise)}; {self.noise_source}); the residuals are {self.noise_ratio:.3g}× the noise.")
         if self.masked_points:
-            lines.append(f"masked: {len(self.masked_points)} point(s) the KK test flags as the data's own problem ({', '.join(format_frequency(f) for f in self.masked_points[:6])}{', …' if len(self.masked_points) > 6 else ''}), left out of every fit.")
+            lines.append(f"masked: {len(self.masked_points)} point(s) left out of every fit as the data's own problem ({', '.join(format_frequency(f) for f in self.masked_points[:6])}{', …' if len(self.masked_points) > 6 else ''}; the notes say why).")
         if self.failing_bands:
             lines.append("where the model fails:")
             for band in self.failing_bands:
@@ -485,11 +487,30 @@ def _rank(cands: list[Suggestion], evidence: PeakEvidence | None = None) -> list
     return ranked([s for s in cands if s.warning is None]) + ranked([s for s in cands if s.warning is not None])
 
 
+def non_passive_points(ds: xr.Dataset) -> np.ndarray:
+    """Points (bool per frequency) the diagnosis leaves out as not passive: Re Z < 0.
+
+    Every element of the catalog is passive, so no circuit built from them has a negative
+    real part (Re Z(jω) ≥ 0 for a passive one-port); such points are measurement artifacts
+    (a phase error of the instrument near the top of its band is the usual cause). They are
+    left out only while they are at most `MASK_MAX_FRACTION` of the points and leave
+    `MIN_KEPT_POINTS`: a spectrum mostly below zero has a sign or reader problem to fix."""
+    bad = np.asarray(ds["Z"].values).real < 0
+    if bad.mean() > MASK_MAX_FRACTION or (~bad).sum() < MIN_KEPT_POINTS:
+        return np.zeros(bad.size, bool)
+    return bad
+
+
 def _fit_baseline(data, circuit: Circuit | str, effects: EffectCatalog, *, registry: Registry, fmin, fmax, weighting: str, n_starts: int, seed: int, shape: SolverShape | None):
     """Fit the user's circuit with the same compiled solver the candidates will use (every
     padded slot a copy of the circuit with its own random starts): one compilation in all.
-    Returns (fit, spectrum Dataset, solver shape)."""
+    Points with Re Z < 0 (`non_passive_points`) are left out. Returns (fit, spectrum Dataset
+    of the points fitted, solver shape, frequencies left out as not passive)."""
     ds = open_spectrum(data, fmin=fmin, fmax=fmax, single="diagnose").data
+    not_passive = non_passive_points(ds)
+    left_out = tuple(float(f) for f in ds["frequency"].values[not_passive])
+    if left_out:
+        ds = ds.isel(frequency=np.nonzero(~not_passive)[0])
     circuit = parse(circuit, registry)
     # the candidates depend on the circuit's structure only: propose them around a stand-in fit
     order = np.argsort(ds["frequency"].values)
@@ -504,17 +525,19 @@ def _fit_baseline(data, circuit: Circuit | str, effects: EffectCatalog, *, regis
         registry=registry, shape=shape,
     )
     best = min(fits, key=lambda r: r.chi2 if np.isfinite(r.chi2) else np.inf)
-    return best, ds, shape
+    return best, ds, shape, left_out
 
 
 def _baseline(fit_or_data, circuit, *, data, effects, registry, fmin, fmax, weighting, n_starts, seed, shape):
-    """The fit to diagnose, the data it was made on (or None) and the solver shape (or None)."""
+    """The fit to diagnose, the data it was made on (or None), the solver shape (or None) and
+    the frequencies left out as not passive (data given with a circuit; a `FitResult` is
+    diagnosed on the points it was fitted to)."""
     if isinstance(fit_or_data, FitResult):
         if circuit is not None:
             raise ParameterError("give either a FitResult or data with a circuit, not both")
         if fmin is not None or fmax is not None:
             raise ParameterError("fmin/fmax select the band of data to fit; a FitResult keeps the band it was fitted on")
-        return fit_or_data, data, shape
+        return fit_or_data, data, shape, ()
     if isinstance(fit_or_data, BatchFitResult):
         raise ParameterError("diagnose takes the fit of one spectrum; fit a trial mean or select one spectrum of the batch")
     if circuit is None:
@@ -579,7 +602,7 @@ def _data_problem(fit: FitResult, kk: KKResult | None, noise: NoiseModel) -> Dat
             none, None,
         )
     n_left = int((~flagged).sum())
-    if float(np.mean(flagged)) <= MASK_MAX_FRACTION and n_left >= max(8, 3 * fit.n_params):
+    if float(np.mean(flagged)) <= MASK_MAX_FRACTION and n_left >= max(MIN_KEPT_POINTS, 3 * fit.n_params):
         return DataProblem(None, flagged, None)
     return DataProblem(None, none, f"the KK test flags {np.mean(flagged) * 100:.0f} % of the points, but the model's misfit there is more than {1 / KK_COMPARABLE:.0f}× the data's own: diagnosed with every point")
 
@@ -679,7 +702,7 @@ def _verdict(cands: Sequence[Suggestion], bands: Sequence[FailingBand], ratio: f
     effects=instance_of(EffectCatalog, what="an EffectCatalog (e.g. impedax.DEFAULT_EFFECTS)"), kk=instance_of(KKResult, optional=True),
     noise=real(positive=True, optional=True), weighting=choice(WEIGHTINGS), registry=instance_of(Registry), fmin=frequency, fmax=frequency,
     n_starts=count(1, MAX_STARTS), max_steps=count(1, MAX_SOLVER_STEPS), seed=seed_rule, drt_evidence=flag,
-    solver_shape=instance_of(SolverShape, optional=True, what="a SolverShape (e.g. an earlier Diagnosis.solver_shape)"),
+    solver_shape=instance_of(SolverShape, optional=True, what="a SolverShape (e.g. an earlier Diagnosis.solver_shape)"), mask=flag,
 )
 def diagnose(
     fit_or_data,
@@ -698,6 +721,7 @@ def diagnose(
     seed: int = 0,
     drt_evidence: bool = True,
     solver_shape: SolverShape | None = None,
+    mask: bool = True,
 ) -> Diagnosis:
     """Diagnose a fit: where the model fails, which effect of ``effects`` is missing, verdict.
 
@@ -711,21 +735,28 @@ def diagnose(
     and let the unexplained peaks guide ``extra_relaxation`` and ``constant_phase`` (False: the
     misfit alone, as before). ``solver_shape``: the compiled candidate solver's shape to reuse
     when it holds the candidates (an earlier `Diagnosis.solver_shape`; `refine` passes each
-    step's on, so its steps share one compilation). Thresholds and rules: module docstring
-    and docs/diagnosis.md. Returns a `Diagnosis`.
+    step's on, so its steps share one compilation). ``mask``: leave out the points the KK test
+    blames (False: judge every point given; `refine` passes False after its first step, so
+    that every step is judged on the same points). Thresholds and rules: module docstring and
+    docs/diagnosis.md. Returns a `Diagnosis`.
     """
     if n_starts < 1 or max_steps < 1:
         raise ParameterError("n_starts and max_steps must be at least 1")
     if not isinstance(drt_evidence, bool):
         raise ParameterError(f"drt_evidence must be True or False, got {drt_evidence!r}")
-    base, data, shape = _baseline(fit_or_data, circuit, data=data, effects=effects, registry=registry, fmin=fmin, fmax=fmax, weighting=weighting, n_starts=n_starts, seed=seed, shape=solver_shape)
+    base, data, shape, not_passive = _baseline(fit_or_data, circuit, data=data, effects=effects, registry=registry, fmin=fmin, fmax=fmax, weighting=weighting, n_starts=n_starts, seed=seed, shape=solver_shape)
     _require_points_for_diagnosis(base)
     spectrum, sigma = _spectrum_of(base, data)
     notes: list[str] = []
+    if not_passive:
+        notes.append(
+            f"{len(not_passive)} point(s) with Re Z < 0 ({', '.join(format_frequency(f) for f in not_passive[:6])}{', …' if len(not_passive) > 6 else ''}) "
+            "are left out of every fit and test: no passive circuit has a negative real part (an instrument artifact, often a phase error at the top of its band)"
+        )
     if kk is None:
         kk = _kk_of(spectrum, notes)
     kk_bands = kk.bad_bands if kk is not None else ()
-    located = kk_outliers(spectrum, kk, max_fraction=OUTLIER_MAX_FRACTION) if kk is not None and not kk.valid else None
+    located = kk_outliers(spectrum, kk, max_fraction=OUTLIER_MAX_FRACTION) if mask and kk is not None and not kk.valid else None
     kk_kept = located[1] if located is not None else None
     nm = noise_model(base.frequency, base.z_data, noise=noise, sigma=sigma, kk=kk_kept or kk, fallback_rms=base.rms_rel)
     if located is not None:  # a few erratic points: mask exactly them, the rest is KK consistent
@@ -733,9 +764,11 @@ def diagnose(
         kk_bands = ()
     else:
         problem = _data_problem(base, kk, nm)
+        if not mask:
+            problem = problem._replace(masked=np.zeros_like(problem.masked), note=None)
     if problem.invalid is not None:
         bands = failing_bands(base, nm.sigma_rel, kk_bad_bands=kk_bands)
-        return Diagnosis(base, kk, nm.sigma_rel, nm.source, bands, (), Verdict.DATA_INVALID, problem.invalid, tuple(notes), _thresholds(), None, nm.measurement, nm.discrepancy, solver_shape=shape)
+        return Diagnosis(base, kk, nm.sigma_rel, nm.source, bands, (), Verdict.DATA_INVALID, problem.invalid, tuple(notes), _thresholds(), None, nm.measurement, nm.discrepancy, not_passive, solver_shape=shape)
     if problem.note:
         notes.append(problem.note)
     keep = ~problem.masked
@@ -760,4 +793,5 @@ def diagnose(
     bands = failing_bands(base, sigma_rel, kk_bad_bands=kk_bands)
     cands = _rank(_suggestions(base, proposals, fits[1:], sigma_rel, bands), evidence)
     verdict, reason = _verdict(cands, bands, _noise_ratio(base, sigma_rel))
+    masked = tuple(sorted(masked + not_passive))
     return Diagnosis(base, kk, sigma_rel, nm.source, bands, tuple(cands), verdict, reason, tuple(notes), _thresholds(), evidence, measurement, nm.discrepancy, masked, kk_kept, shape)

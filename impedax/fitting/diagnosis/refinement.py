@@ -187,7 +187,7 @@ def refine(
             d = diagnose(ds, circuit, effects=effects, noise=noise, weighting=weighting, registry=registry, n_starts=n_starts, max_steps=solver_steps, seed=seed, drt_evidence=drt_evidence)
             masked = d.masked_points
         else:
-            d = diagnose(current, data=ds, effects=effects, kk=steps[0].diagnosis.kk_of_kept or steps[0].diagnosis.kk, noise=noise, n_starts=n_starts, max_steps=solver_steps, seed=seed, drt_evidence=drt_evidence, solver_shape=shape)
+            d = diagnose(current, data=ds, effects=effects, kk=steps[0].diagnosis.kk_of_kept or steps[0].diagnosis.kk, noise=noise, n_starts=n_starts, max_steps=solver_steps, seed=seed, drt_evidence=drt_evidence, solver_shape=shape, mask=False)
         steps.append(RefinementStep(d.baseline, added, effect, d))
         verdict = d.verdict
         if d.verdict != Verdict.MISSING_EFFECT or d.best is None or i == limit:

@@ -294,6 +294,19 @@ def weighting_notes(weighting: str, freq, points: np.ndarray, share) -> list[tup
     return out
 
 
+def non_passive_notes(freq, z) -> tuple[str, ...]:
+    """A note naming the points with Re Z < 0, which no passive circuit reaches (Re Z(jω) ≥ 0
+    for a passive one-port): usually an instrument's phase error near the top of its band."""
+    bad = np.asarray(z).real < 0
+    if not bad.any():
+        return ()
+    where = ", ".join(f"{f:.4g} Hz" for f in np.sort(np.asarray(freq, float)[bad])[:6]) + (", …" if bad.sum() > 6 else "")
+    return (
+        f"{int(bad.sum())} of {bad.size} points have Re Z < 0 ({where}), which no passive circuit reaches: a measurement artifact "
+        "(often a phase error at the top of the instrument's band); leave them out (fmin/fmax) or check the file's sign convention",
+    )
+
+
 def diagnose_identifiability(names, values, stderr, corr, null_sets, ratio, at_bound=()) -> list[str]:
     """Identifiability warnings."""
     notes = []
