@@ -99,3 +99,22 @@ def test_every_step_of_a_refinement_is_judged_on_the_same_points():
     assert len(r.steps) >= 2 and not undetermined_parameters(r.final)
     used = data.sel(frequency=[x for x in f if float(x) not in set(r.masked_points)])
     assert r.final.rms_rel == pytest.approx(ix.fit(r.final_model, used).rms_rel, rel=1e-6)
+
+
+def test_a_first_step_in_the_wrong_place_is_revisited():
+    """SYNTHETIC: a Randles cell with a CPE, R0 + (R1 + W) ∥ CPE, written here (W = σ(1 − j)/√ω,
+    CPE = 1/(Q (jω)^α)), 0.5 % noise, refined from R0 + R1 ∥ C1. The first diagnosis ranks the
+    Warburg at the end of the circuit above the Warburg behind R1 (it absorbs more of the large
+    first misfit); greedily, a nested relaxation then makes up for the misplaced Warburg (7
+    parameters). The second path from the Warburg behind R1 reaches the generating structure
+    with 5 parameters and a lower AIC, and is kept."""
+    f = np.logspace(-2, 5, 60)
+    w = 2 * np.pi * f
+    z = 15.0 + 1 / (1 / (300.0 + 150.0 * (1 - 1j) / np.sqrt(w)) + 3e-5 * (1j * w) ** 0.78)
+    rng = np.random.default_rng(4)
+    z = z + 0.005 * np.abs(z) * (rng.standard_normal(f.size) + 1j * rng.standard_normal(f.size))
+    r = ix.refine(ix.make_spectrum(f, z), "R0 + R1 || C1", max_effects=3)
+    assert sorted(s.effect for s in r.steps[1:]) == ["constant_phase", "diffusion"], r.report()
+    assert ix.parse(r.final_model) == ix.parse("R0 + (R1 + W_d) || CPE1")
+    assert r.verdict == "adequate" and any("second path" in n and "it is kept" in n for n in r.notes)
+    assert r.final.values["CPE1.alpha"] == pytest.approx(0.78, abs=0.03)

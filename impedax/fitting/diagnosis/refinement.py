@@ -16,7 +16,7 @@ from ...errors import ParameterError
 from ..least_squares import FitResult, fit
 from ..problem import WEIGHTINGS, open_spectrum
 from .catalog import EffectCatalog
-from .diagnosis import Diagnosis, Verdict, diagnose, undetermined_parameters
+from .diagnosis import DELTA_AIC_MIN, Diagnosis, Verdict, diagnose, undetermined_parameters
 from .effects import DEFAULT_EFFECTS
 
 __all__ = ["Refinement", "RefinementStep", "refine"]
@@ -133,6 +133,50 @@ def _reproduced(ds: xr.Dataset, last: FitResult, *, n_starts: int, seed: int) ->
     return (warm, note) if warm.chi2 <= scratch.chi2 else (scratch, None)
 
 
+BRANCH_WINDOW = 40.0
+"""`refine`'s second path starts from the first diagnosis' best suggestion at another placement
+(or of another effect) when it is within this much AIC of the chosen one."""
+
+
+def _greedy(steps: list[RefinementStep], best, limit: int, diagnosed, say, label: str) -> list[RefinementStep]:
+    """``steps`` continued greedily: add ``best`` (a `Suggestion` of the last step's diagnosis),
+    diagnose the new model, add its best significant suggestion, ... until the verdict is not
+    ``missing_effect`` or ``limit`` effects were added."""
+    steps = list(steps)
+    while best is not None and len(steps) <= limit:
+        say(f"{label}step {len(steps)}: diagnosing {best.fit.model}")
+        d = diagnosed(best.fit, steps[-1].diagnosis.solver_shape)
+        steps.append(RefinementStep(d.baseline, best.added, best.effect, d))
+        best = d.best if d.verdict == Verdict.MISSING_EFFECT else None
+    return steps
+
+
+def _second_path(steps: list[RefinementStep], limit: int, diagnosed, say, notes: list[str]) -> list[RefinementStep]:
+    """A second look at the first choice when the greedy path added two effects or more: the
+    first diagnosis' best significant suggestion at another placement or of another effect
+    (within `BRANCH_WINDOW` of AIC) is continued greedily too, and the better final model is
+    kept (lower AIC by more than `DELTA_AIC_MIN`, or as good with fewer parameters). A first
+    step that fits a large misfit in the wrong place (a Warburg at the end where it belongs
+    behind the charge transfer) is otherwise compensated by later, wrong additions."""
+    if len(steps) < 3:
+        return steps
+    first = steps[0].diagnosis
+    picked = first.best  # where the greedy path went
+    others = [s for s in first.suggestions if (s.where != picked.where or s.effect != picked.effect) and s.delta_aic <= picked.delta_aic + BRANCH_WINDOW]
+    if not others:
+        return steps
+    other = _greedy(steps[:1], others[0], limit, diagnosed, say, "second path, ")
+    a, b = steps[-1].fit, other[-1].fit
+    better = b.aic < a.aic - DELTA_AIC_MIN or (b.aic <= a.aic + DELTA_AIC_MIN and b.n_params < a.n_params)
+    kept, dropped = (other, steps) if better else (steps, other)
+    notes.append(
+        f"a second path, starting from {others[0].effect} ({others[0].added}, {others[0].where}) instead of {picked.effect} ({picked.added}, {picked.where}), "
+        f"ends at {other[-1].model} (AIC {b.aic:.1f}, {b.n_params} parameters) against {steps[-1].model} (AIC {a.aic:.1f}, {a.n_params} parameters): "
+        + ("it is kept" if better else "the first path is kept")
+    )
+    return kept
+
+
 @checked_arguments(
     max_steps=count(0, 64, optional=True, why="each step adds one element"), max_effects=count(0, 64, optional=True, why="each step adds one element"),
     solver_steps=count(1, 100_000), effects=instance_of(EffectCatalog, what="an EffectCatalog (e.g. impedax.DEFAULT_EFFECTS)"),
@@ -175,26 +219,19 @@ def refine(
         raise ParameterError(f"solver_steps must be a positive integer, got {solver_steps!r}")
     say = progress or (lambda text: None)
     ds = open_spectrum(data, fmin=fmin, fmax=fmax, single="refine").data
-    steps: list[RefinementStep] = []
-    added = effect = None
-    verdict = Verdict.MISSING_EFFECT
-    current = None
-    masked: tuple[float, ...] = ()
-    for i in range(limit + 1):
-        say(f"step {i}: diagnosing {current.model if current is not None else circuit}")
-        shape = steps[-1].diagnosis.solver_shape if steps else None  # every step through one compiled solver
-        if current is None:
-            d = diagnose(ds, circuit, effects=effects, noise=noise, weighting=weighting, registry=registry, n_starts=n_starts, max_steps=solver_steps, seed=seed, drt_evidence=drt_evidence)
-            masked = d.masked_points
-        else:
-            d = diagnose(current, data=ds, effects=effects, kk=steps[0].diagnosis.kk_of_kept or steps[0].diagnosis.kk, noise=noise, n_starts=n_starts, max_steps=solver_steps, seed=seed, drt_evidence=drt_evidence, solver_shape=shape, mask=False)
-        steps.append(RefinementStep(d.baseline, added, effect, d))
-        verdict = d.verdict
-        if d.verdict != Verdict.MISSING_EFFECT or d.best is None or i == limit:
-            break
-        best = d.best
-        current, added, effect = best.fit, best.added, best.effect
+    say(f"step 0: diagnosing {circuit}")
+    first = diagnose(ds, circuit, effects=effects, noise=noise, weighting=weighting, registry=registry, n_starts=n_starts, max_steps=solver_steps, seed=seed, drt_evidence=drt_evidence)
+    masked = first.masked_points
+    kk = first.kk_of_kept or first.kk
+
+    def diagnosed(current: FitResult, shape) -> Diagnosis:
+        # every step through one compiled solver and on the first step's points (mask=False)
+        return diagnose(current, data=ds, effects=effects, kk=kk, noise=noise, n_starts=n_starts, max_steps=solver_steps, seed=seed, drt_evidence=drt_evidence, solver_shape=shape, mask=False)
+
+    steps = _greedy([RefinementStep(first.baseline, None, None, first)], first.best, limit, diagnosed, say, "")
     notes: list[str] = []
+    steps = _second_path(steps, limit, diagnosed, say, notes)
+    verdict = steps[-1].diagnosis.verdict
     used = ds if not masked else ds.sel(frequency=[f for f in ds["frequency"].values if float(f) not in set(masked)])
     say(f"refitting the final model {steps[-1].model} from scratch")
     final, note = _reproduced(used, steps[-1].fit, n_starts=n_starts, seed=seed)
