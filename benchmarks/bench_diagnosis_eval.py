@@ -2,7 +2,10 @@
 independent numpy formulas): top-1 and top-3 hit rates on single missing effects, false alarms on
 adequate models, non-KK data found, refine's success on two missing effects, seconds per case.
 
-    python benchmarks/bench_diagnosis_eval.py [--split dev|heldout|both] [--only PREFIX] [--json FILE]
+    python benchmarks/bench_diagnosis_eval.py [--split dev|heldout|both] [--only PREFIX] [--json FILE] [--reproduce]
+
+``--reproduce`` also fits each best suggestion's model string with `impedax.fit` on the points
+the diagnosis kept and reports the share within 1 % of the suggestion's rms_rel.
 
 The held-out split is for reporting only: tune on dev. Each case is printed as it finishes.
 """
@@ -26,6 +29,7 @@ def main(argv=None) -> int:
     ap.add_argument("--only", default="", help="run only cases whose name starts with this")
     ap.add_argument("--json", default=None, help="write every outcome and the summary to this file")
     ap.add_argument("--no-refine", action="store_true", help="skip refine on two-effect cases")
+    ap.add_argument("--reproduce", action="store_true", help="also fit each best suggestion's model string with impedax.fit (to 1 %% in rms_rel)")
     args = ap.parse_args(argv)
     splits = ["dev", "heldout"] if args.split == "both" else [args.split]
     report = {}
@@ -34,11 +38,12 @@ def main(argv=None) -> int:
         outcomes = []
         t0 = time.perf_counter()
         for c in cases:
-            o = es.run_case(c, refine_two=not args.no_refine)
+            o = es.run_case(c, refine_two=not args.no_refine, reproduce=args.reproduce)
             outcomes.append(o)
             mark = "ok " if o.correct else "MISS"
             extra = f" refine+{list(o.refine_effects)}→{o.refine_verdict}" if o.refine_effects is not None else ""
-            print(f"{mark} {split:7s} {c.name:40s} want {','.join(c.expected) or 'adequate':40s} got {o.verdict:15s} {list(o.ranked[:3])}{extra} {o.seconds:6.1f}s", flush=True)
+            again = f" fit/suggestion {o.reproduced:.4f}" if o.reproduced is not None else ""
+            print(f"{mark} {split:7s} {c.name:40s} want {','.join(c.expected) or 'adequate':40s} got {o.verdict:15s} {list(o.ranked[:3])}{extra} {o.seconds:6.1f}s{again}", flush=True)
         summary = es.summarise(outcomes)
         summary["wall_s"] = time.perf_counter() - t0
         print(f"== {split}: " + ", ".join(f"{k} {v:.3g}" if isinstance(v, float) else f"{k} {v}" for k, v in summary.items()), flush=True)
@@ -46,7 +51,7 @@ def main(argv=None) -> int:
             "summary": summary,
             "cases": [{"name": o.case.name, "kind": o.case.kind, "expected": list(o.case.expected), "verdict": o.verdict, "ranked": list(o.ranked),
                        "refine_effects": None if o.refine_effects is None else list(o.refine_effects), "refine_verdict": o.refine_verdict,
-                       "correct": o.correct, "seconds": o.seconds} for o in outcomes],
+                       "correct": o.correct, "seconds": o.seconds, "reproduced": o.reproduced} for o in outcomes],
         }
     if args.json:
         with open(args.json, "w") as fh:

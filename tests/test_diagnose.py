@@ -242,6 +242,14 @@ def test_cli_diagnose_and_refine_json(tmp_path, capsys):
     assert main(["diagnose", str(path), "--model", circuit]) == 0
     text = capsys.readouterr().out
     assert "verdict: MISSING_EFFECT" in text and "series_resistance" in text
+    # the report's command applies the first suggestion from its fitted values and reproduces it
+    line = next(x for x in text.splitlines() if "to apply 1." in x)
+    model = line.split("--model '")[1].split("'")[0]
+    starts = dict(part.split("=") for part in line.split("--init ")[1:])
+    assert main(["fit", str(path), "--model", model, *[a for k, v in starts.items() for a in ("--init", f"{k}={v.strip()}")], "--json"]) == 0
+    again = json.loads(capsys.readouterr().out)
+    assert model == top["model"] and set(top["values"]) == set(starts)
+    assert again["rms_rel"] == pytest.approx(top["rms_rel"], rel=1e-4)
 
 
 # --- the hidden-effect study (slow) ------------------------------------------------------------

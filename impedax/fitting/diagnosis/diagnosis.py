@@ -133,6 +133,7 @@ class Suggestion:
             "delta_bic": self.delta_bic, "explanation": self.explanation, "added": self.added, "where": self.where,
             "significant": self.significant, "bic": self.fit.bic, "chi2_red": self.fit.chi2_red,
             "fixed_bands": [list(b) for b in self.fixed_bands], "undetermined": list(self.undetermined), "warning": self.warning,
+            "values": {k: float(v) for k, v in self.fit.values.items()},
         }
 
 
@@ -251,6 +252,9 @@ class Diagnosis:
             for i, s in enumerate(self.suggestions[:5], 1):
                 lines.append(f"  {i}. [{s.effect}] {s.explanation}")
                 lines.append(f"     model {s.model}   rms_rel {s.rms_rel * 100:.3g} %   ΔAIC {s.delta_aic:+.1f}   ΔBIC {s.delta_bic:+.1f}")
+            best = self.suggestions[0].fit
+            starts = " ".join(f"--init {k}={v:.6g}" for k, v in best.values.items() if not best.fixed[k])
+            lines.append(f"  to apply 1. from its fitted values (a fit from scratch may stop in another minimum): impedax fit DATA --model '{best.model}' {starts}")
         elif self.candidates and self.verdict == Verdict.ADEQUATE:
             top = self.candidates[0]
             lines.append(f"no effect improves the fit significantly (best: {top.effect}, ΔAIC {top.delta_aic:+.1f}, rms_rel {top.rms_rel * 100:.3g} %).")
