@@ -109,6 +109,18 @@ def test_a_spectrum_mostly_below_zero_is_not_masked_away():
     z = 10 + 100 / (1 + 1j * f / 1e3)
     z[-1] = -z[-1].real + 1j * z[-1].imag
     assert non_passive_points(ix.make_spectrum(f, z)).tolist() == [False] * 29 + [True]
+    # a capacitive spectrum (Re Z ≈ 0) at 1 % noise: Re Z dips below zero by the noise only
+    rng = np.random.default_rng(8)
+    f = np.geomspace(1, 1e6, 60)
+    z = 1.0 + 1 / (2j * np.pi * f * 4e-10)
+    z = z + 0.01 * np.abs(z) * (rng.normal(size=f.size) + 1j * rng.normal(size=f.size))
+    assert (z.real < 0).sum() > 10 and not non_passive_points(ix.make_spectrum(f, z)).any()
+    # ... and a point below zero by less than 3σ of the data's own σ is noise too
+    sigma = np.full(f.size, 1e3)
+    z2 = 1e4 + 1 / (2j * np.pi * f * 4e-10)
+    z2[-1] = -2.5e3 + 1j * z2[-1].imag  # −2.5σ, far beyond 5 % of |Z| at 1 MHz
+    assert non_passive_points(ix.make_spectrum(f, z2)).tolist()[-1]
+    assert not non_passive_points(ix.make_spectrum(f, z2, sigma=sigma)).any()
 
 
 def test_undetermined_parameters_of_a_superfluous_arc():

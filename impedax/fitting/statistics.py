@@ -8,7 +8,7 @@ from typing import Sequence
 
 import numpy as np
 
-__all__ = ["difference_noise", "information_criteria", "covariances", "null_sets", "uncertainties", "at_noise_floor", "dominant_points", "SINGULAR_RATIO_LIMIT", "DOMINANT_FRACTION"]
+__all__ = ["difference_noise", "information_criteria", "covariances", "null_sets", "uncertainties", "at_noise_floor", "dominant_points", "non_passive", "SINGULAR_RATIO_LIMIT", "DOMINANT_FRACTION", "NON_PASSIVE_MARGIN"]
 
 # a Jacobian direction whose singular value is below this fraction of the largest is not
 # determined by the data (its parameters are reported together)
@@ -155,6 +155,24 @@ def dominant_points(z, inv_re, inv_im) -> tuple[np.ndarray, np.ndarray]:
     with np.errstate(all="ignore"):
         share = np.where(dominated, np.sum(np.where(heavy, weight, 0.0), axis=-1) / total[..., 0], 0.0)
     return heavy[..., :n] | heavy[..., n:], share
+
+
+# a point is not passive when Re Z < 0 by more than noise could make it: below −5 % of |Z|
+# (a capacitive point, Re Z ≈ 0, at 1 % noise per component goes there once in 3·10⁶), and,
+# where the data give their σ, below −3σ as well (a subtracted remainder's noisy top decade)
+NON_PASSIVE_MARGIN = 0.05
+
+
+def non_passive(z, sigma=None) -> np.ndarray:
+    """Points (bool, z's shape) whose real part is negative beyond the noise:
+    Re Z < −max(`NON_PASSIVE_MARGIN`·|Z|, 3σ). A passive one-port has Re Z(jω) ≥ 0, so no
+    circuit of passive elements reaches them: measurement artifacts, usually an instrument's
+    phase error near the top of its band."""
+    z = np.asarray(z)
+    margin = NON_PASSIVE_MARGIN * np.abs(z)
+    if sigma is not None:
+        margin = np.maximum(margin, 3.0 * np.asarray(sigma, float))
+    return z.real < -margin
 
 
 _MAD_TO_SIGMA = 1.482602218505602  # 1/Φ⁻¹(3/4): median(|x|)·this = σ for Gaussian x

@@ -47,6 +47,7 @@ from ..least_squares import BatchFitResult, FitResult
 from ..least_squares.candidates import SolverShape, fit_candidates, solver_shape
 from ..least_squares.starts import climb_target
 from ..problem import WEIGHTINGS, open_spectrum
+from ..statistics import non_passive
 from .bands import FailingBand, failing_bands, format_frequency, RUN_P
 from .catalog import BaselineContext, Effect, EffectCatalog, Proposal
 from .effects import DEFAULT_EFFECTS
@@ -495,14 +496,16 @@ def _rank(cands: list[Suggestion], evidence: PeakEvidence | None = None) -> list
 
 
 def non_passive_points(ds: xr.Dataset) -> np.ndarray:
-    """Points (bool per frequency) the diagnosis leaves out as not passive: Re Z < 0.
+    """Points (bool per frequency) the diagnosis leaves out as not passive: Re Z < 0 beyond
+    the noise (`statistics.non_passive`: below −5 % of |Z|, and below −3σ where the data give
+    σ).
 
     Every element of the catalog is passive, so no circuit built from them has a negative
     real part (Re Z(jω) ≥ 0 for a passive one-port); such points are measurement artifacts
     (a phase error of the instrument near the top of its band is the usual cause). They are
     left out only while they are at most `MASK_MAX_FRACTION` of the points and leave
     `MIN_KEPT_POINTS`: a spectrum mostly below zero has a sign or reader problem to fix."""
-    bad = np.asarray(ds["Z"].values).real < 0
+    bad = non_passive(ds["Z"].values, ds["sigma"].values if "sigma" in ds else None)
     if bad.mean() > MASK_MAX_FRACTION or (~bad).sum() < MIN_KEPT_POINTS:
         return np.zeros(bad.size, bool)
     return bad
@@ -779,7 +782,7 @@ def diagnose(
     notes: list[str] = []
     if not_passive:
         notes.append(
-            f"{len(not_passive)} point(s) with Re Z < 0 ({', '.join(format_frequency(f) for f in not_passive[:6])}{', …' if len(not_passive) > 6 else ''}) "
+            f"{len(not_passive)} point(s) with Re Z < 0 beyond the noise ({', '.join(format_frequency(f) for f in not_passive[:6])}{', …' if len(not_passive) > 6 else ''}) "
             "are left out of every fit and test: no passive circuit has a negative real part (an instrument artifact, often a phase error at the top of its band)"
         )
     if kk is None:

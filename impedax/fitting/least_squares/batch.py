@@ -20,7 +20,7 @@ from ..parameters import ParameterTable
 from ..problem import residual_scale, weights
 from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, dominant_points, information_criteria, null_sets
 from .order import canonical_order
-from .result import bound_sides, confirm_bounds, fit_notes, fit_result, stack_notes, weighting_notes
+from .result import bound_sides, confirm_bounds, fit_notes, fit_result, non_passive_notes, stack_notes, weighting_notes
 from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, better, over_devices, padded_points, tree_solver, trimmed, unscale
 from .starts import ESCALATION_RUNGS, SpectrumFeatures, climb_target, batch_outliers, guess_start, rms_rel_of, rung_seed, rung_starts, to_solver_space
 
@@ -401,6 +401,7 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
         groups, ratio = null_sets(sv[i], vt[i], table.free_names)
         notes[i] = fit_notes(table, dict(zip(names, values[i].tolist())), dict(zip(names, stderr[i].tolist())), corr[i], groups, ratio, finite=True, converged=True, message="", sides=sides[i])
     weighting_extra = weighting_notes(weighting, freq, *dominant_points(z, *weights(z, sigma, weighting, source))) if weighting in ("unit", "proportional") else [()] * b
+    weighting_extra = [tuple(w) + non_passive_notes(freq, z[i], None if sigma is None else sigma[i]) for i, w in enumerate(weighting_extra)]
     z_model = np.array(out.z_model)
     for i in np.flatnonzero(odd):
         r = fit_result(circuit, table, freq, z[i], out.row(i), weighting, int(used[i]), 0.0, registry, chi2_at_x=lambda p, s, i=i: solver.chi2_at_x(p, s + i), extra_notes=weighting_extra[i])

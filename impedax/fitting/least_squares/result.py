@@ -14,7 +14,7 @@ import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit
 from ..parameters import ParameterTable
-from ..statistics import information_criteria, uncertainties
+from ..statistics import information_criteria, non_passive, uncertainties
 from .solvers import SolverOutput, SolverStatus
 
 __all__ = [
@@ -294,10 +294,10 @@ def weighting_notes(weighting: str, freq, points: np.ndarray, share) -> list[tup
     return out
 
 
-def non_passive_notes(freq, z) -> tuple[str, ...]:
-    """A note naming the points with Re Z < 0, which no passive circuit reaches (Re Z(jω) ≥ 0
-    for a passive one-port): usually an instrument's phase error near the top of its band."""
-    bad = np.asarray(z).real < 0
+def non_passive_notes(freq, z, sigma=None) -> tuple[str, ...]:
+    """A note naming the points with Re Z < 0 beyond the noise (`statistics.non_passive`),
+    which no passive circuit reaches: usually an instrument's phase error near the top of its band."""
+    bad = non_passive(z, sigma)
     if not bad.any():
         return ()
     where = ", ".join(f"{f:.4g} Hz" for f in np.sort(np.asarray(freq, float)[bad])[:6]) + (", …" if bad.sum() > 6 else "")

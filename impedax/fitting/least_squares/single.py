@@ -111,7 +111,7 @@ def fit(
     out = canonical_order(circuit, table, freq, out, registry)
     chi2_at_x = one_spectrum_chi2(solvers.chi2_x, args)
     notes = weighting_notes(weighting, freq, *dominant_points(z, inv_re, inv_im))[0] if weighting in ("unit", "proportional") else ()
-    notes = tuple(notes) + non_passive_notes(freq, z)
+    notes = tuple(notes) + non_passive_notes(freq, z, sigma)
     return fit_result(circuit, table, freq, z, out, weighting, used, time.perf_counter() - t0, registry, chi2_at_x=chi2_at_x, extra_notes=notes)
 
 
