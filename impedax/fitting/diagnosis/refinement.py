@@ -46,7 +46,7 @@ class Refinement:
     steps: tuple[RefinementStep, ...]
     verdict: Verdict
     notes: tuple[str, ...] = ()
-    masked_points: tuple[float, ...] = ()  # frequencies [Hz] left out of every fit (KK-flagged)
+    masked_points: tuple[float, ...] = ()  # frequencies [Hz] left out of every fit (KK-flagged, or Re Z < 0)
 
     def __post_init__(self):
         object.__setattr__(self, "verdict", Verdict(self.verdict))
@@ -168,13 +168,12 @@ def _second_path(steps: list[RefinementStep], limit: int, diagnosed, say, notes:
     other = _greedy(steps[:1], others[0], limit, diagnosed, say, "second path, ")
     a, b = steps[-1].fit, other[-1].fit
     better = b.aic < a.aic - DELTA_AIC_MIN or (b.aic <= a.aic + DELTA_AIC_MIN and b.n_params < a.n_params)
-    kept, dropped = (other, steps) if better else (steps, other)
     notes.append(
         f"a second path, starting from {others[0].effect} ({others[0].added}, {others[0].where}) instead of {picked.effect} ({picked.added}, {picked.where}), "
         f"ends at {other[-1].model} (AIC {b.aic:.1f}, {b.n_params} parameters) against {steps[-1].model} (AIC {a.aic:.1f}, {a.n_params} parameters): "
         + ("it is kept" if better else "the first path is kept")
     )
-    return kept
+    return other if better else steps
 
 
 @checked_arguments(
