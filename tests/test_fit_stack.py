@@ -76,6 +76,24 @@ def test_covariances_of_a_stack_equal_each_alone_singular_members_included(rng):
     assert not np.isnan(cov).any() and not np.isnan(corr).any()
 
 
+def test_covariances_of_columns_beyond_the_square_root_of_the_float_range(rng):
+    """A column of norm 1e155 (a start far out on a Warburg's τ: JᵀJ would overflow) and a
+    Jacobian with an inf entry: the first is equilibrated like any column and agrees with the
+    oracle rescaled by hand; the second has a NaN covariance; neither raises."""
+    jac, inverse = jacobian(rng, 10.0)
+    c = np.ones(5)
+    c[1] = 1e155 / np.linalg.norm(jac[:, 1])
+    huge = jac * c
+    bad = jac.copy()
+    bad[3, 2] = np.inf
+    cov, corr, _, _ = covariances(np.stack([huge, bad, jac]), np.ones(3), "modulus")
+    d = np.sqrt(np.diag(inverse))
+    assert (cov[0] * c[:, None] * c[None, :] - inverse) / np.outer(d, d) == pytest.approx(np.zeros((5, 5)), abs=1e-9)
+    assert corr[0] == pytest.approx(corr[2], abs=1e-9)
+    assert np.isnan(cov[1]).all()
+    assert cov[2] == pytest.approx(inverse, rel=1e-10)
+
+
 # a circuit with a fixed parameter and bounds on either side: notes of every kind can be due
 TABLE = ParameterTable.build(ix.parse("R0 + R1 || CPE1 + R2 || C2"), fixed={"R2": 100.0}, bounds={"R0": (1.0, 50.0), "CPE1.alpha": (0.5, 0.95)})
 

@@ -42,13 +42,23 @@ def covariances(jac: np.ndarray, chi2_red, weighting: str):
     have NaN singular values and vectors: they have no near-null direction to report."""
     batch, (m, k) = jac.shape[:-2], jac.shape[-2:]
     jac = jac.reshape(-1, m, k)
-    gram = np.swapaxes(jac, -1, -2) @ jac
+    # a Jacobian with an inf or NaN entry (a start far out on a parameter's range) has no
+    # covariance: NaN, said so by the result, never an exception from LAPACK
+    finite = np.all(np.isfinite(jac), axis=(-2, -1))
+    jac = np.where(finite[:, None, None], jac, 0.0)
+    # columns divided by their largest entry before squaring, so that sensitivities of 1e154
+    # and more (JᵀJ would overflow) are equilibrated like any other
+    peak = np.max(np.abs(jac), axis=-2)
+    peak = np.where(peak > 0, peak, 1.0)
+    gram = np.swapaxes(jac / peak[:, None, :], -1, -2) @ (jac / peak[:, None, :])
     norms = np.sqrt(np.einsum("bkk->bk", gram))
     scale = np.where(norms > 0, 1.0 / np.where(norms > 0, norms, 1.0), 1.0)
     gram = gram * scale[:, :, None] * scale[:, None, :]  # of the column-equilibrated Jacobian
+    with np.errstate(under="ignore"):
+        scale = scale / peak
     inverse = np.full(gram.shape, np.nan)
     s, vt = np.full(norms.shape, np.nan), np.full(gram.shape, np.nan)
-    regular = np.flatnonzero(np.all(norms > 0, axis=-1))
+    regular = np.flatnonzero(np.all(norms > 0, axis=-1) & finite)
     try:
         inverse[regular] = np.linalg.inv(gram[regular])
     except np.linalg.LinAlgError:  # one of them exactly singular: all take the decomposition
@@ -59,7 +69,7 @@ def covariances(jac: np.ndarray, chi2_red, weighting: str):
     # rounding's): the bound is then huge or negative
     with np.errstate(invalid="ignore"):
         bound = np.trace(gram, axis1=1, axis2=2) * np.trace(inverse, axis1=1, axis2=2)
-        spectral = np.flatnonzero(~((bound > 0) & (bound < WELL_CONDITIONED)))
+        spectral = np.flatnonzero(~((bound > 0) & (bound < WELL_CONDITIONED)) & finite)
     if spectral.size:
         # singular values from the eigenvalues of JᵀJ (K×K, far cheaper than the SVD of J);
         # where they span more than 1e-4 (eigenvalues 1e-8), squaring the condition number
