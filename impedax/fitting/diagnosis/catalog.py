@@ -19,13 +19,15 @@ __all__ = ["Effect", "EffectCatalog", "Proposal", "BaselineContext"]
 
 @dataclass(frozen=True)
 class Proposal:
-    """One augmented circuit: ``added`` (the new elements, as circuit text) placed ``where``."""
+    """One augmented circuit: ``added`` (the new elements, as circuit text) placed ``where``;
+    ``removed``: baseline elements the circuit leaves out (a series resistance that fell to zero)."""
 
     effect: str
     circuit: Circuit
     added: str
     where: str
     starts: tuple[Mapping[str, float], ...]
+    removed: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True, eq=False)

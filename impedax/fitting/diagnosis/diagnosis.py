@@ -38,7 +38,7 @@ import numpy as np
 import xarray as xr
 
 from ...arguments import MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice, count, flag, frequency, instance_of, real, seed as seed_rule
-from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, parse
+from ...circuits import Circuit, DEFAULT_REGISTRY, Element, Registry, Series, parse, series
 from ...data import make_spectrum
 from ...errors import DataError, FitError, ImpedaxError, ParameterError
 from ..drt import PeakEvidence, drt, unexplained_peaks
@@ -86,8 +86,9 @@ RELATIVE_ERROR_MAX = 1.0
 """A parameter is undetermined when its standard error exceeds this × |value| (or is not finite) ..."""
 CORRELATION_MAX = 0.99
 """... or its |correlation| with another free parameter exceeds this (a near-singular Jacobian)."""
-LEADER_STARTS = 32
-"""Starts of the second fit of each effect's best candidate when it stays poor (`_poor_leaders`)."""
+LEADER_STARTS = (32, 80)
+"""Starts of the further fits of each effect's best candidate while it stays poor (`_poor_leaders`):
+a ladder like `impedax.fit`'s (its default climbs to 80 starts), each rung with new draws."""
 BASELINE_STEPS = 300
 """Levenberg–Marquardt step limit of the baseline's cold starts (warm candidates: ``max_steps``)."""
 
@@ -115,6 +116,7 @@ class Suggestion:
     fixed_bands: tuple[tuple[float, float], ...] = ()
     undetermined: tuple[str, ...] = ()  # parameters the data do not determine (new to the baseline)
     warning: str | None = None  # why the candidate is not proposed (undetermined, implausible, not converged)
+    removed: tuple[str, ...] = ()  # baseline elements left out (a series resistance that fell to zero)
 
     @property
     def model(self) -> str:
@@ -134,7 +136,7 @@ class Suggestion:
             "delta_bic": self.delta_bic, "explanation": self.explanation, "added": self.added, "where": self.where,
             "significant": self.significant, "bic": self.fit.bic, "chi2_red": self.fit.chi2_red,
             "fixed_bands": [list(b) for b in self.fixed_bands], "undetermined": list(self.undetermined), "warning": self.warning,
-            "values": {k: float(v) for k, v in self.fit.values.items()},
+            "values": {k: float(v) for k, v in self.fit.values.items()}, "removed": list(self.removed),
         }
 
 
@@ -478,16 +480,18 @@ def _drt_supports(s: Suggestion, evidence: PeakEvidence | None) -> bool:
 def _rank(cands: list[Suggestion], evidence: PeakEvidence | None = None) -> list[Suggestion]:
     """Best first by AIC, with the same parsimony rule as the verdict: a candidate with more
     free parameters outranks a simpler one only if it lowers AIC by more than `DELTA_AIC_MIN`.
-    Among candidates the data cannot tell apart (within `DELTA_AIC_MIN`) and of equal size, one
-    the DRT backs (`_drt_supports`) goes first. Candidates with a warning (undetermined or
-    implausible parameters, no convergence) come after all the others."""
+    Among candidates the data cannot tell apart (within `DELTA_AIC_MIN`), one that keeps every
+    element of the baseline goes before one that leaves its series resistance out (R ∥ C + R ∥ C
+    is the same function of frequency as (R0 + R ∥ C) ∥ C), then the smaller, then one the DRT
+    backs (`_drt_supports`). Candidates with a warning (undetermined or implausible parameters,
+    no convergence) come after all the others."""
     def ranked(group):
         rest = sorted(group, key=lambda s: s.delta_aic)
         out = []
         while rest:
             best_aic = rest[0].delta_aic
             close = [s for s in rest if s.delta_aic <= best_aic + DELTA_AIC_MIN]
-            pick = min(close, key=lambda s: (s.fit.n_params, not _drt_supports(s, evidence), s.delta_aic))
+            pick = min(close, key=lambda s: (bool(s.removed), s.fit.n_params, not _drt_supports(s, evidence), s.delta_aic))
             out.append(pick)
             rest.remove(pick)
         return out
@@ -617,9 +621,10 @@ def _data_problem(fit: FitResult, kk: KKResult | None, noise: NoiseModel) -> Dat
     return DataProblem(None, none, f"the KK test flags {np.mean(flagged) * 100:.0f} % of the points, but the model's misfit there is more than {1 / KK_COMPARABLE:.0f}× the data's own: diagnosed with every point")
 
 
-def _fit_proposals(base: FitResult, spectrum: xr.Dataset, ctx: BaselineContext, proposals: list[tuple[Effect, Proposal]], shape: SolverShape | None, *, n_starts: int, max_steps: int, seed: int) -> tuple[list[FitResult], SolverShape]:
-    """The baseline (refitted from its own values) and every proposal, fitted together; and
-    the solver shape used (``shape`` when it holds them)."""
+def _fit_proposals(base: FitResult, spectrum: xr.Dataset, ctx: BaselineContext, proposals: list[tuple[Effect, Proposal]], shape: SolverShape | None, *, n_starts: int, max_steps: int, seed: int) -> tuple[list[tuple[Effect, Proposal]], list[FitResult], SolverShape]:
+    """The baseline (refitted from its own values) and every proposal, fitted together; the
+    proposals with those `_series_resistance_dropped` adds, and their fits after the
+    baseline's; and the solver shape used (``shape`` when it holds them)."""
     fixed = {k: v for k, v in base.values.items() if base.fixed[k]}
     circuits = [base.circuit] + [p.circuit for _, p in proposals]
     inits = [[dict(base.values), ctx.start()]] + [list(p.starts) for _, p in proposals]
@@ -635,22 +640,65 @@ def _fit_proposals(base: FitResult, spectrum: xr.Dataset, ctx: BaselineContext, 
                 if again.chi2 < fits[1 + i].chi2:
                     fits[1 + i] = again
         freq, z = np.asarray(spectrum["frequency"].values, float), np.asarray(spectrum["Z"].values, complex)
-        poor = _poor_leaders(proposals, fits[1:], float(climb_target(freq, z[None])[0]))
-        if poor:
-            redo = fit_candidates([proposals[i][1].circuit for i in poor], spectrum, init=[[dict(fits[1 + i].values)] for i in poor], **{**options, "n_starts": LEADER_STARTS})
+        target = float(climb_target(freq, z[None])[0])
+        for rung, starts in enumerate(LEADER_STARTS):
+            poor = _poor_leaders(proposals, fits[1:], target)
+            if not poor:
+                break
+            redo = fit_candidates([proposals[i][1].circuit for i in poor], spectrum, init=[[dict(fits[1 + i].values)] for i in poor], **{**options, "n_starts": starts, "seed": seed + 7919 * rung})
             for i, again in zip(poor, redo):
                 if again.chi2 < fits[1 + i].chi2:
                     fits[1 + i] = again
-        return fits, shape
+        pruned = _series_resistance_dropped(base, proposals, fits[1:])
+        if pruned:
+            fits = fits + fit_candidates([p.circuit for _, p in pruned], spectrum, init=[list(p.starts) for _, p in pruned], **options)
+        return proposals + pruned, fits, shape
     except FitError as err:
         raise FitError(f"diagnosis: the candidate fits failed: {err}") from None
+
+
+def _series_resistance_dropped(base: FitResult, proposals: list[tuple[Effect, Proposal]], fits: Sequence[FitResult]) -> list[tuple[Effect, Proposal]]:
+    """For each candidate that lowers AIC by more than `DELTA_AIC_MIN` but whose series
+    resistance (a resistor in series with the whole circuit) fell to zero, undetermined (at
+    its bound 0, or below its own standard error), the same candidate without that resistor,
+    warm-started from the candidate's optimum.
+
+    When the spectrum's high-frequency end does not reach the series-resistance plateau, an
+    added arc or diffusion element can take over the little resistance left there; the series
+    R is then below what the data resolve and leaves every otherwise good candidate
+    undetermined, so none is proposed (test_data.txt: R ∥ CPE stays at 6.1 % while
+    R ∥ CPE + R ∥ CPE without R0 reaches 0.58 % with every parameter determined). Dropping
+    it is the parsimonious model the data support; the suggestion says so."""
+    out, seen = [], {str(p.circuit) for _, p in proposals} | {str(base.circuit)}
+    for (effect, p), cf in zip(proposals, fits):
+        top = p.circuit.children if isinstance(p.circuit, Series) else ()
+        if len(top) < 2 or not (np.isfinite(cf.chi2) and cf.aic < base.aic - DELTA_AIC_MIN):
+            continue
+        undetermined = undetermined_parameters(cf)
+        for node in top:
+            name = node.name if isinstance(node, Element) else None
+            if name is None or cf.registry[node.symbol].symbol != "R" or name not in undetermined or cf.fixed.get(name, False):
+                continue
+            value, error = float(cf.values[name]), float(cf.stderr[name])
+            if not (name in cf.at_bound or not value > error):
+                continue
+            circuit = series(*(c for c in top if c is not node))
+            if str(circuit) in seen:
+                break
+            seen.add(str(circuit))
+            starts = ({k: float(v) for k, v in cf.values.items() if k != name},)
+            where = f"{p.where}, and {name} left out (it fell to {format_quantity(value, 'Ω')}: the data do not reach a series-resistance plateau)"
+            out.append((effect, Proposal(p.effect, circuit, p.added, where, starts, removed=(name,))))
+            break
+    return out
 
 
 def _poor_leaders(proposals: list[tuple[Effect, Proposal]], fits: Sequence[FitResult], target: float) -> list[int]:
     """Per effect, the candidate that fits best, when its rms_rel is above ``target`` (what
     `impedax.fit` climbs its start ladder for: 1.5× the misfit of the KK test's Voigt chain,
-    `starts.climb_target`): it is fitted again from its optimum and `LEADER_STARTS` − 1
-    random starts. A few warm starts from a baseline that absorbed the missing effect can
+    `starts.climb_target`): it is fitted again from its optimum and random starts, first 32
+    in all, then, if the effect's best is still poor, 80 (`LEADER_STARTS`, new draws each
+    rung; `impedax.fit` climbs to 80). A few warm starts from a baseline that absorbed the missing effect can
     stall short of where `impedax.fit` of the same model string gets (a Ws at the end of two
     R ∥ CPE arcs: 3.9 % where 1.3 % is reachable, at 1 % noise), and a more flexible wrong
     effect then wins the ranking."""
@@ -705,7 +753,7 @@ def _suggestions(base: FitResult, proposals: list[tuple[Effect, Proposal]], fits
         significant = bool(d_aic < -DELTA_AIC_MIN and drop >= NOISE_FRACTION_MIN and warning is None)
         after = failing_bands(cf, sigma_rel)
         fixed_bands = tuple((b.f_min, b.f_max) for b in bands if not any(a.f_min < b.f_max and a.f_max > b.f_min for a in after))
-        out.append(Suggestion(effect.id, p.added, p.where, cf, d_aic, d_bic, significant, _explain(effect, p, base, cf, d_aic, d_bic, fixed_bands), fixed_bands, undetermined, warning))
+        out.append(Suggestion(effect.id, p.added, p.where, cf, d_aic, d_bic, significant, _explain(effect, p, base, cf, d_aic, d_bic, fixed_bands), fixed_bands, undetermined, warning, p.removed))
     return out
 
 
@@ -816,7 +864,7 @@ def diagnose(
     ctx = _context(base, evidence)
     n_points = int(keep.sum())
     proposals = [(e, p) for e, p in effects.proposals(ctx) if len(p.circuit.parameter_names(base.registry)) < 2 * n_points]
-    fits, shape = _fit_proposals(base, spectrum, ctx, proposals, shape, n_starts=n_starts, max_steps=max_steps, seed=seed)
+    proposals, fits, shape = _fit_proposals(base, spectrum, ctx, proposals, shape, n_starts=n_starts, max_steps=max_steps, seed=seed)
     if masked:
         base = fits[0]
     elif fits[0].chi2 < base.chi2 * (1 - 1e-6):

@@ -12,6 +12,7 @@ share one compilation (kept by JAX's persistent cache) whatever circuits they pr
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import time
 from typing import Mapping, NamedTuple, Sequence
@@ -190,7 +191,9 @@ def fit_candidates(
     ``init[i]`` (optional) holds starting values for candidate i, e.g. a baseline fit's values
     plus a guess for an added element (warm start); remaining parameters are guessed from the
     data. ``init[i]`` may also be a list of such mappings: several warm starts (they replace the
-    first random starts). ``fixed`` values apply to candidates that have those parameters.
+    first random starts); when any candidate has starting values, every candidate also starts
+    from the data-driven guess of its whole circuit (one start more: where `impedax.fit` of
+    its model string begins). ``fixed`` values apply to candidates that have those parameters.
     Every start of every candidate runs Levenberg–Marquardt to convergence or ``max_steps``
     steps (``step_limit``, when given, lowers it) and each candidate keeps its best start.
     ``seeds``: one random-start seed per candidate (default ``seed`` for all). ``shape`` (a
@@ -215,8 +218,11 @@ def fit_candidates(
     if len(seeds) != len(circuits):
         raise FitError("seeds must give one seed per circuit")
     features = SpectrumFeatures(freq, z)
+    # warm-started candidates also start from the data alone (one more start each, so every
+    # row has the same number of starts)
+    data_start = any((~np.isnan(problem.table.values) & ~problem.table.fixed).any() for problem in prepared)
     rows = [
-        _candidate_row(problem, CircuitProgram.build(problem.circuit, registry, layout), extra, seed_i, features, n_starts=n_starts, k_pad=k_pad, registry=registry)
+        _candidate_row(problem, CircuitProgram.build(problem.circuit, registry, layout), extra, seed_i, features, n_starts=n_starts, k_pad=k_pad, registry=registry, data_start=data_start)
         for problem, extra, seed_i in zip(prepared, warm, seeds)
     ]
     budget = min(step_limit or max_steps, max_steps)
@@ -225,7 +231,7 @@ def fit_candidates(
     results = []
     for problem, row, one in zip(prepared, rows, outputs):
         one = one._replace(x=one.x[row.flat], jacobian=one.jacobian[:, : row.n_free])
-        results.append(fit_result(problem.circuit, problem.table, freq, z, one, weighting, n_starts, elapsed, registry))
+        results.append(fit_result(problem.circuit, problem.table, freq, z, one, weighting, n_starts + data_start, elapsed, registry))
     return results
 
 
@@ -312,8 +318,10 @@ class CandidateRow(NamedTuple):
     n_free: int
 
 
-def _candidate_row(problem: FitProblem, program: CircuitProgram, warm: list[dict], seed: int, features: SpectrumFeatures, *, n_starts: int, k_pad: int, registry: Registry) -> CandidateRow:
-    """The data-driven guess, the warm starts and random starts of one candidate, padded."""
+def _candidate_row(problem: FitProblem, program: CircuitProgram, warm: list[dict], seed: int, features: SpectrumFeatures, *, n_starts: int, k_pad: int, registry: Registry, data_start: bool = False) -> CandidateRow:
+    """The data-driven guess, the warm starts and random starts of one candidate (``n_starts``
+    in all), and with ``data_start`` one more: the data-driven guess of the whole circuit, the
+    given starts left out; padded."""
     circuit, table = problem.circuit, problem.table
     layout = program.layout
     flat = np.array([s * 4 + i for s, i in (program.parameter_slots[n] for n in table.names)])
@@ -328,8 +336,15 @@ def _candidate_row(problem: FitProblem, program: CircuitProgram, warm: list[dict
         starts_x[j] = guess
         for name, value in values.items():
             starts_x[j, table.names.index(name)] = value
+    if data_start:
+        # warm-started: one more start, the data-driven guess of the whole circuit (where
+        # `impedax.fit` of the model string begins), so a candidate stalled behind its warm
+        # starts still gets at least that (a Warburg added to a baseline that bent its arcs
+        # around it: 2.6 % warm, 1.3 % from the data alone)
+        blank = dataclasses.replace(table, values=np.where(table.fixed, table.values, np.nan))
+        starts_x = np.concatenate([starts_x, random_starts(blank, features, data_driven_guess(circuit, blank, features, registry), 1, seed)])
     starts_x = starts_x[:, free]
-    starts_u = np.zeros((n_starts, k_pad))
+    starts_u = np.zeros((starts_x.shape[0], k_pad))
     starts_u[:, :k] = to_internal(starts_x, table.lower[free], table.upper[free], table.kind[free])
 
     def pad(a, fill):
