@@ -118,3 +118,36 @@ def test_a_first_step_in_the_wrong_place_is_revisited():
     assert ix.parse(r.final_model) == ix.parse("R0 + (R1 + W_d) || CPE1")
     assert r.verdict == "adequate" and any("second path" in n and "it is kept" in n for n in r.notes)
     assert r.final.values["CPE1.alpha"] == pytest.approx(0.78, abs=0.03)
+
+
+def test_the_two_paths_are_compared_as_they_end_after_the_final_refit():
+    """`_second_path` with stand-ins: the greedy path ends 20 AIC below the second path, but
+    its last step is dropped by the final refit (undetermined from scratch), which leaves it
+    90 AIC above; the second path must win (before, the paths were compared before that drop:
+    VersaStudio's spectrum ended at 1.24 % with 9 parameters where the second path reached
+    0.79 % with 11)."""
+    from types import SimpleNamespace as NS
+
+    from impedax.fitting.diagnosis.refinement import RefinementStep, _second_path
+
+    def step(model, aic, k, diagnosis=None, added=None):
+        return RefinementStep(NS(model=model, aic=aic, n_params=k), added, "extra_relaxation" if added else None, diagnosis)
+
+    def suggestion(where, model, aic, k):
+        return NS(where=where, effect="extra_relaxation", delta_aic=aic, added=model, fit=NS(model=model, aic=aic, n_params=k))
+
+    chosen, other = suggestion("in series", "A1", -100.0, 4), suggestion("nested", "B1", -95.0, 4)
+    first = NS(best=chosen, suggestions=(chosen, other), solver_shape=None)
+    greedy = [step("start", 0.0, 3, first), step("A1", -100.0, 4, NS(solver_shape=None), "a1"), step("A2", -150.0, 6, NS(solver_shape=None), "a2"), step("A3", -220.0, 8, NS(solver_shape=None), "a3")]
+
+    def diagnosed(fit, shape):  # the second path: B1 → B2, then adequate
+        nxt = {"B1": suggestion("in series", "B2", -200.0, 7)}.get(fit.model)
+        return NS(baseline=fit, best=nxt, verdict="missing_effect" if nxt else "adequate", solver_shape=None)
+
+    def finished(path, label):  # the final refit drops A3 (undetermined from scratch)
+        return path[:-1] if path[-1].model == "A3" else path
+
+    notes = []
+    kept = _second_path(greedy, 4, diagnosed, lambda text: None, notes, finished)
+    assert [s.model for s in kept] == ["start", "B1", "B2"], notes
+    assert "A2 (AIC -150.0" in notes[0] and "it is kept" in notes[0]

@@ -151,21 +151,22 @@ def _greedy(steps: list[RefinementStep], best, limit: int, diagnosed, say, label
     return steps
 
 
-def _second_path(steps: list[RefinementStep], limit: int, diagnosed, say, notes: list[str]) -> list[RefinementStep]:
+def _second_path(steps: list[RefinementStep], limit: int, diagnosed, say, notes: list[str], finished) -> list[RefinementStep]:
     """A second look at the first choice when the greedy path added two effects or more: the
     first diagnosis' best significant suggestion at another placement or of another effect
     (within `BRANCH_WINDOW` of AIC) is continued greedily too, and the better final model is
     kept (lower AIC by more than `DELTA_AIC_MIN`, or as good with fewer parameters). A first
     step that fits a large misfit in the wrong place (a Warburg at the end where it belongs
-    behind the charge transfer) is otherwise compensated by later, wrong additions."""
-    if len(steps) < 3:
-        return steps
+    behind the charge transfer) is otherwise compensated by later, wrong additions. Both paths
+    are compared as they end after ``finished`` (the final refit from scratch, which may drop
+    a last step); returns the kept path, finished."""
     first = steps[0].diagnosis
     picked = first.best  # where the greedy path went
-    others = [s for s in first.suggestions if (s.where != picked.where or s.effect != picked.effect) and s.delta_aic <= picked.delta_aic + BRANCH_WINDOW]
+    others = [s for s in first.suggestions if (s.where != picked.where or s.effect != picked.effect) and s.delta_aic <= picked.delta_aic + BRANCH_WINDOW] if len(steps) >= 3 else []
+    steps = finished(steps, "")
     if not others:
         return steps
-    other = _greedy(steps[:1], others[0], limit, diagnosed, say, "second path, ")
+    other = finished(_greedy(steps[:1], others[0], limit, diagnosed, say, "second path, "), "second path: ")
     a, b = steps[-1].fit, other[-1].fit
     better = b.aic < a.aic - DELTA_AIC_MIN or (b.aic <= a.aic + DELTA_AIC_MIN and b.n_params < a.n_params)
     notes.append(
@@ -174,6 +175,24 @@ def _second_path(steps: list[RefinementStep], limit: int, diagnosed, say, notes:
         + ("it is kept" if better else "the first path is kept")
     )
     return other if better else steps
+
+
+def _finish(steps: list[RefinementStep], used: xr.Dataset, *, n_starts: int, seed: int, say, notes: list[str], label: str) -> list[RefinementStep]:
+    """``steps`` with the last model refitted from scratch on ``used`` (`_reproduced`); when that
+    fit leaves parameters undetermined that the start's fit determined, the last step is dropped
+    and the one before refitted instead."""
+    steps = list(steps)
+    say(f"{label}refitting the final model {steps[-1].model} from scratch")
+    final, note = _reproduced(used, steps[-1].fit, n_starts=n_starts, seed=seed)
+    new_undetermined = undetermined_parameters(final) - undetermined_parameters(steps[0].fit)
+    if new_undetermined and len(steps) > 1:
+        notes.append(f"{label}{final.model}: the data do not determine {', '.join(sorted(new_undetermined))} when fitted from scratch; the step that added {steps[-1].added} is dropped")
+        steps.pop()
+        final, note = _reproduced(used, steps[-1].fit, n_starts=n_starts, seed=seed)
+    if note:
+        notes.append(label + note)
+    steps[-1] = RefinementStep(final, steps[-1].added, steps[-1].effect, steps[-1].diagnosis)
+    return steps
 
 
 @checked_arguments(
@@ -227,20 +246,13 @@ def refine(
         # every step through one compiled solver and on the first step's points (mask=False)
         return diagnose(current, data=ds, effects=effects, kk=kk, noise=noise, n_starts=n_starts, max_steps=solver_steps, seed=seed, drt_evidence=drt_evidence, solver_shape=shape, mask=False)
 
-    steps = _greedy([RefinementStep(first.baseline, None, None, first)], first.best, limit, diagnosed, say, "")
-    notes: list[str] = []
-    steps = _second_path(steps, limit, diagnosed, say, notes)
-    verdict = steps[-1].diagnosis.verdict
     used = ds if not masked else ds.sel(frequency=[f for f in ds["frequency"].values if float(f) not in set(masked)])
-    say(f"refitting the final model {steps[-1].model} from scratch")
-    final, note = _reproduced(used, steps[-1].fit, n_starts=n_starts, seed=seed)
-    if note:
-        notes.append(note)
-    new_undetermined = undetermined_parameters(final) - undetermined_parameters(steps[0].fit)
-    if new_undetermined and len(steps) > 1:
-        notes.append(f"{final.model}: the data do not determine {', '.join(sorted(new_undetermined))} when fitted from scratch; the step that added {steps[-1].added} is dropped")
-        steps.pop()
-        final, note = _reproduced(used, steps[-1].fit, n_starts=n_starts, seed=seed)
-        verdict = steps[-1].diagnosis.verdict if steps[-1].diagnosis is not None else verdict
-    steps[-1] = RefinementStep(final, steps[-1].added, steps[-1].effect, steps[-1].diagnosis)
+    notes: list[str] = []
+
+    def finished(path, label):
+        return _finish(path, used, n_starts=n_starts, seed=seed, say=say, notes=notes, label=label)
+
+    steps = _greedy([RefinementStep(first.baseline, None, None, first)], first.best, limit, diagnosed, say, "")
+    steps = _second_path(steps, limit, diagnosed, say, notes, finished)
+    verdict = steps[-1].diagnosis.verdict
     return Refinement(tuple(steps), verdict, tuple(notes), masked)
