@@ -36,7 +36,8 @@ def covariances(jac: np.ndarray, chi2_red, weighting: str):
     with the singular values and right singular vectors of the column-equilibrated Jacobian
     (equilibrated, proportional columns give an evenly weighted null vector). Tikhonov-
     regularised, so undetermined directions show as huge variances and ±1 correlations, not
-    NaN; scaled by the reduced chi² unless the weights are the data's sigma (as lmfit).
+    NaN (NaN only for a Jacobian with an inf or NaN entry); scaled by the reduced chi² unless
+    the weights are the data's sigma (as lmfit).
 
     Jacobians proven well-conditioned (`WELL_CONDITIONED`) take the plain inverse of JᵀJ and
     have NaN singular values and vectors: they have no near-null direction to report."""

@@ -698,10 +698,10 @@ def _poor_leaders(proposals: list[tuple[Effect, Proposal]], fits: Sequence[FitRe
     `impedax.fit` climbs its start ladder for: 1.5× the misfit of the KK test's Voigt chain,
     `starts.climb_target`): it is fitted again from its optimum and random starts, first 32
     in all, then, if the effect's best is still poor, 80 (`LEADER_STARTS`, new draws each
-    rung; `impedax.fit` climbs to 80). A few warm starts from a baseline that absorbed the missing effect can
-    stall short of where `impedax.fit` of the same model string gets (a Ws at the end of two
-    R ∥ CPE arcs: 3.9 % where 1.3 % is reachable, at 1 % noise), and a more flexible wrong
-    effect then wins the ranking."""
+    rung; `impedax.fit` climbs to 80). A few warm starts from a baseline that absorbed the
+    missing effect can stall short of where `impedax.fit` of the same model string gets (a Ws
+    at the end of two R ∥ CPE arcs: 3.9 % where 1.3 % is reachable, at 1 % noise), and a more
+    flexible wrong effect then wins the ranking."""
     best: dict[str, int] = {}
     for i, (effect, _) in enumerate(proposals):
         if np.isfinite(fits[i].chi2) and (effect.id not in best or fits[i].chi2 < fits[best[effect.id]].chi2):
