@@ -4,6 +4,7 @@ Spectra come from the numpy formulas of tests/spectra.py, not from impedax's com
 """
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -182,3 +183,15 @@ def test_parameter_transform_of_each_kind(kind, lower, upper, formula):
     np.testing.assert_allclose(np.asarray(external_of_kind(u, lower, upper, kind)), expected, rtol=1e-14)
     np.testing.assert_allclose(np.asarray(to_external(u, np.full(u.size, lower), np.full(u.size, upper), np.full(u.size, kind))), expected, rtol=1e-14)
     np.testing.assert_allclose(to_internal(expected, lower, upper, kind), u, rtol=1e-7, atol=1e-7)
+
+
+def test_a_start_far_out_on_a_warburg_time_constant_gives_a_result_not_a_linalg_error():
+    # ZPlot's real spectrum (impedance.py 1.7's example file) with a Ws whose τ starts at 67 ns:
+    # the fit ends with a Jacobian column of ~1e154, whose square overflowed JᵀJ into NaN and
+    # NumPy's eigh raised LinAlgError from inside `fit`. Now: a result, the undetermined
+    # parameters named
+    data = ix.load(Path(__file__).parent / "fixtures" / "real" / "exampleDataZPlot.z")
+    init = {"R0": 2.99, "CPE1.Q": 1.21e-4, "CPE1.alpha": 0.417, "R1": 1519.2, "Ws1.R": 65.75, "Ws1.tau": 6.725e-8}
+    r = ix.fit("R0 + CPE1 || (R1 + Ws1)", data, init=init, n_starts=1, max_steps=2000)
+    assert np.isfinite(r.rms_rel) and r.rms_rel < 0.02
+    assert any("Ws1.tau" in w and "not determined" in w for w in r.warnings), r.warnings
