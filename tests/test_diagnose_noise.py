@@ -328,3 +328,23 @@ def test_a_warm_started_candidate_reaches_at_least_what_fit_reaches_from_the_dat
     alone = ix.fit(warburg.model, data, n_starts=1)
     assert warburg.rms_rel <= alone.rms_rel * 1.01
     assert d.suggestions[0].model == warburg.model, d.report()
+
+
+def test_the_ranking_weighs_each_point_by_the_noise_there():
+    # a Randles cell with a Warburg, noise growing toward low frequency (the evaluation set's
+    # dev case diffusion/randles#2, numpy formulas of tests/evaluation_set.py), diagnosed
+    # without the Warburg: with ΔAIC over the fits' own (modulus-weighted) residuals the noisy
+    # low decade decided and a nested R ∥ CPE ranked first; over residuals divided by the
+    # noise model's σ_k the Warburg does
+    case = next(c for c in es.cases("dev") if c.name == "diffusion/randles#2")
+    d = ix.diagnose(ix.make_spectrum(case.frequency, case.z), case.circuit)
+    assert d.suggestions[0].effect == "diffusion", d.report()
+    # the ΔAIC reported is over the noise-weighted residuals, written out here
+    best = d.suggestions[0]
+
+    def aic(fit):
+        r = fit.residuals / d.noise
+        n = 2 * r.size
+        return n * np.log(np.sum(r.real**2 + r.imag**2) / n) + 2 * fit.n_params
+
+    assert best.delta_aic == pytest.approx(aic(best.fit) - aic(d.baseline), rel=1e-9)

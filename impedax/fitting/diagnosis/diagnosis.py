@@ -47,7 +47,7 @@ from ..least_squares import BatchFitResult, FitResult
 from ..least_squares.candidates import SolverShape, fit_candidates, solver_shape
 from ..least_squares.starts import climb_target
 from ..problem import WEIGHTINGS, open_spectrum
-from ..statistics import non_passive
+from ..statistics import information_criteria, non_passive
 from .bands import FailingBand, failing_bands, format_frequency, RUN_P
 from .catalog import BaselineContext, Effect, EffectCatalog, Proposal
 from .effects import DEFAULT_EFFECTS
@@ -731,18 +731,29 @@ def _stalled_behind_nested(proposals: list[tuple[Effect, Proposal]], fits: Seque
     return out
 
 
+def noise_weighted_criteria(fit: FitResult, sigma_rel: np.ndarray) -> tuple[float, float]:
+    """AIC and BIC (`statistics.information_criteria`) of ``fit`` over its relative residuals
+    divided by the noise model's σ_k (per frequency and component): every point counts by what
+    the data allow there, whatever weighting the fit used."""
+    r = fit.residuals / sigma_rel
+    return information_criteria(float(np.sum(r.real**2 + r.imag**2)), 2 * r.size, fit.n_params)
+
+
 def _suggestions(base: FitResult, proposals: list[tuple[Effect, Proposal]], fits: Sequence[FitResult], sigma_rel: np.ndarray, bands: Sequence[FailingBand]) -> list[Suggestion]:
-    """A `Suggestion` per candidate with a finite fit: ΔAIC, ΔBIC, the bands it fixes, its new
-    undetermined parameters, a plausibility warning (`Effect.plausible`) and significance (the
-    thresholds, determined, plausible, converged)."""
+    """A `Suggestion` per candidate with a finite fit: ΔAIC and ΔBIC over the noise-weighted
+    residuals (`noise_weighted_criteria`), the bands it fixes, its new undetermined parameters,
+    a plausibility warning (`Effect.plausible`) and significance (the thresholds, determined,
+    plausible, converged)."""
     noise_var = float(np.mean(2 * sigma_rel**2))
     base_ms = float(np.mean(np.abs(base.residuals) ** 2))
     base_undetermined = undetermined_parameters(base)
+    base_aic, base_bic = noise_weighted_criteria(base, sigma_rel)
     out = []
     for (effect, p), cf in zip(proposals, fits):
         if not np.isfinite(cf.chi2):
             continue
-        d_aic, d_bic = cf.aic - base.aic, cf.bic - base.bic
+        aic, bic = noise_weighted_criteria(cf, sigma_rel)
+        d_aic, d_bic = aic - base_aic, bic - base_bic
         drop = (base_ms - float(np.mean(np.abs(cf.residuals) ** 2))) / noise_var
         undetermined = tuple(sorted(undetermined_parameters(cf) - base_undetermined))
         warning = None
