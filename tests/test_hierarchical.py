@@ -131,6 +131,37 @@ def test_shared_error_is_marginalised_exactly():
     assert float(shared(position)) - float(plain(position)) == pytest.approx(dense - independent, rel=1e-8, abs=1e-8)
 
 
+def test_each_trials_own_smooth_error_is_marginalised_exactly():
+    """As above, plus an error of each trial's own that is smooth in frequency (two complex
+    modes m_j, ζ_tj ~ N(0, 1) independent between trials): the covariance gains a block
+    Σ_j [Re m_j; Im m_j][Re m_j; Im m_j]ᵀ on each trial's diagonal, and the log density must
+    again equal scipy's dense multivariate normal (the arrowhead Woodbury factorisation of
+    `_structured_error_log_likelihood` against the dense 48 × 48 covariance)."""
+    rng = np.random.default_rng(6)
+    f = np.geomspace(10.0, 1e4, 6)
+    r_true = 100.0 * np.exp(0.1 * rng.standard_normal((4, 1)))
+    z = r_true * (1.0 + 0.02 * (rng.standard_normal((4, 6)) + 1j * rng.standard_normal((4, 6))))
+    data = ix.make_spectrum(f, z, dims=("trial",))
+    common = 0.8 * (rng.standard_normal((3, 6)) + 1j * rng.standard_normal((3, 6)))
+    own = 1.5 * (rng.standard_normal((2, 6)) + 1j * rng.standard_normal((2, 6)))
+    batch = ix.fit("R1", data, weighting="modulus")
+    options = dict(per_trial=("R1",), discrepancy=False, parameterisation="centred", init=batch)
+    plain, position = hierarchical_log_density("R1", data, **options)
+    position = dict(position, log_theta=np.log(r_true * np.array([[1.01], [0.98], [1.0], [1.03]])))
+    resid = np.exp(position["log_theta"]) - z
+    sd = np.abs(z) * trial_scatter_noise(z, batch.dataset["Z_model"].values)[None, :]
+    stacked = lambda a: np.concatenate([a.real, a.imag], axis=-1)  # noqa: E731
+    independent_cov = np.diag(np.concatenate([sd, sd], axis=1).ravel() ** 2)
+    own_cov = np.kron(np.eye(4), stacked(own).T @ stacked(own))
+    x = stacked(resid).ravel()
+    logpdf = lambda cov: multivariate_normal(np.zeros(cov.shape[0]), cov).logpdf(x)  # noqa: E731
+    for modes in ({"trial_error_modes": own}, {"trial_error_modes": own, "common_error_modes": common}):
+        told = data.assign({k: ((k.split("_")[0] + "_mode", "frequency"), v) for k, v in modes.items()})
+        density, _ = hierarchical_log_density("R1", told, **options)
+        cov = independent_cov + own_cov + (np.kron(np.ones((4, 4)), stacked(common).T @ stacked(common)) if "common_error_modes" in modes else 0.0)
+        assert float(density(position)) - float(plain(position)) == pytest.approx(logpdf(cov) - logpdf(independent_cov), rel=1e-8, abs=1e-8)
+
+
 def test_a_shared_error_confounded_with_a_parameter_adds_its_variance(clean, clean_post):
     """A real, frequency-independent error ε ~ N(0, c²) shared by every trial is exactly
     confounded with the shared series resistance R0: the data fix R0 + ε, so the posterior

@@ -74,7 +74,7 @@ def test_sem_propagation_matches_monte_carlo():
     assert np.all(out["sigma"].values == pytest.approx(np.sqrt((out["sigma_real"] ** 2 + out["sigma_imag"] ** 2) / 2).values))
 
 
-def test_trial_remainders_carry_the_error_of_the_subtracted_means():
+def test_trial_remainders_carry_the_error_of_the_subtracted_means_and_of_each_trial():
     """Skin and screen trials scaled by (1 + s g_t) with known g_t: the means' error is
     (s mean_t g_t) Z, so the covariance the modes describe, Σ_j d_j d_jᵀ of the real-stacked
     modes, must equal var(g, ddof 1) s²/n · vvᵀ summed over skin and screen (v = [Re Z; Im Z]);
@@ -93,6 +93,10 @@ def test_trial_remainders_carry_the_error_of_the_subtracted_means():
     stacked = lambda a: np.concatenate([a.real, a.imag], axis=-1)  # noqa: E731
     expected = sum(np.var(g[k], ddof=1) * s**2 / n * np.outer(stacked(z), stacked(z)) for k, z in (("skin", SKIN), ("ts", TS)))
     np.testing.assert_allclose(stacked(d).T @ stacked(d), expected, rtol=1e-9, atol=1e-12 * np.abs(expected).max())
+    # each trial's own error: the sample covariance of one skin and one screen trial, n times that of the mean
+    m = out["trial_error_modes"].values
+    assert out["trial_error_modes"].dims == ("trial_mode", "frequency") and m.shape == (2 * n, F61.size)
+    np.testing.assert_allclose(stacked(m).T @ stacked(m), n * expected, rtol=1e-9, atol=1e-12 * n * np.abs(expected).max())
 
 
 def test_subtraction_bad_input():

@@ -156,8 +156,11 @@ def trial_remainders(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Datase
     the error of the two subtracted means is one error shared by every trial, smooth in
     frequency: ``common_error_modes`` (common_mode, frequency) holds it as Σ_j ξ_j d_j with
     ξ_j ~ N(0, 1), d_t = (Z_t − mean)/√(n(n − 1)) for each skin and screen trial (so Σ d dᴴ is
-    the covariance of the mean); the hierarchical model samples its leading components
-    (docs/bayesian.md, "Errors shared by every trial")."""
+    the covariance of the mean). Each total trial's own skin and screen deviate from the means
+    by a whole smooth spectrum: ``trial_error_modes`` (trial_mode, frequency) holds that error
+    as Σ_j ζ_tj m_j, m_j = (Z_j − mean)/√(n − 1), ζ_tj ~ N(0, 1) independent between trials.
+    The hierarchical model marginalises the leading components of both (docs/bayesian.md,
+    "Errors shared by every trial")."""
     parts = {"total": _spectrum(total, "total"), "skin": _spectrum(skin, "skin"), "touchscreen": _spectrum(touchscreen, "touchscreen")}
     freq = parts["total"]["frequency"].values
     for name in ("skin", "touchscreen"):
@@ -170,14 +173,17 @@ def trial_remainders(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Datase
     z = z.transpose(*dims, "frequency")
     coords = {d: z[d].values for d in dims if d in z.coords}
     out = make_spectrum(freq, z.values, dims=dims, coords=coords, attrs={"quantity": "remaining impedance of each total trial, Z_total,t - mean Z_skin - mean Z_TS (Sirin eq 5 per trial)"}, source="trial_remainders")
-    modes = []
+    modes, own = [], []
     for name in means:
         z_part = parts[name]["Z"].transpose(..., "frequency").values.reshape(-1, freq.size)
         n = z_part.shape[0]
-        if n >= 2:  # Σ_t d_t d_tᴴ with d_t = (Z_t − mean)/√(n(n−1)) is the covariance of the mean
-            modes.append((z_part - z_part.mean(axis=0)) / np.sqrt(n * (n - 1.0)))
+        if n >= 2:  # Σ_t m_t m_tᴴ with m_t = (Z_t − mean)/√(n−1) is the sample covariance
+            dev = (z_part - z_part.mean(axis=0)) / np.sqrt(n - 1.0)
+            own.append(dev)
+            modes.append(dev / np.sqrt(n))  # ... and divided by n, the covariance of the mean
     if modes:
         out["common_error_modes"] = (("common_mode", "frequency"), np.concatenate(modes), {"units": "ohm", "long_name": "error shared by every trial = sum_j xi_j * mode_j, xi_j ~ N(0, 1): the subtracted skin and screen means' deviations"})
+        out["trial_error_modes"] = (("trial_mode", "frequency"), np.concatenate(own), {"units": "ohm", "long_name": "each trial's own error = sum_j zeta_tj * mode_j, zeta_tj ~ N(0, 1) independent between trials: its own skin and screen deviating from their means"})
     return out
 
 

@@ -5,9 +5,12 @@ Model (docs/bayesian.md, "Hierarchical model across trials"), for trial t of ses
 
     ln θ_tj = μ_j + τ_j ζ_g(t)j + s_j η_tj,  ζ, η ~ N(0, 1)      (per-trial parameters j; non-centred)
     shared parameters φ: one value for every trial
-    Re, Im of r_tk = Z(θ_t, φ; f_k) + ε_k − Z_tk ~ N(0, σ_tk²),  σ_tk = |Z_tk| √(ν_k² + δ²)
+    Re, Im of r_tk = Z(θ_t, φ; f_k) + ε_k + e_tk − Z_tk ~ N(0, σ_tk²),  σ_tk = |Z_tk| √(ν_k² + δ²)
     ε: an error shared by every trial, Gaussian with the covariance the data's
        ``common_error_modes`` give (ε = Σ_j ξ_j d_j, ξ ~ N(0, 1)); marginalised; none without them
+    e_t: each trial's own error, smooth in frequency, Gaussian with the covariance the data's
+       ``trial_error_modes`` give (e_t = Σ_j ζ_tj m_j, ζ ~ N(0, 1) independent between trials);
+       marginalised; none without them
 
 μ_j is the population median (geometric mean) of parameter j, s_j its spread between trials
 (sd of ln θ), τ_j between sessions (only with a session level). ν_k is the relative noise at
@@ -18,6 +21,8 @@ and raises δ, which widens every interval. ε is an error known to be common to
 the error of the skin and screen means subtracted from every Sirin trial
 (`impedax.models.sirin.trial_remainders`): independent noise would average it away over the
 trials, so it is kept as one shared draw (docs/bayesian.md, "Errors shared by every trial").
+e_t is each Sirin trial's own skin and screen deviating from those means: a whole spectrum,
+correlated across frequencies, which independent noise would let the trial's parameters absorb.
 
 Priors: μ_j ~ N(ln θ̂_j, 2²) about the median of the per-trial least-squares fits (six decades
 at 95 %); s_j, τ_j ~ half-normal(0.5) and half-normal(``session_spread_scale``); δ ~
@@ -97,6 +102,7 @@ class _Layout(NamedTuple):
     discrepancy: bool
     centred: bool  # sample ln θ_tj itself (centred) or η_tj (non-centred)
     n_common: int  # leading components of the error shared by every trial (0: none)
+    n_trial_modes: int = 0  # leading components of each trial's own smooth error (0: none)
 
 
 class _Data(NamedTuple):
@@ -113,6 +119,8 @@ class _Data(NamedTuple):
     fixed: jax.Array  # (F,)
     common_basis: jax.Array  # (M, N) complex leading components of the error shared by every trial [Ω]
     common_var: jax.Array  # (2, N) variance of the rest of it, Re and Im [Ω²]
+    trial_basis: jax.Array  # (P, N) complex leading components of each trial's own smooth error [Ω]
+    trial_var: jax.Array  # (2, N) variance of the rest of it, Re and Im [Ω²]
 
 
 def _trial_centre(pos, data: _Data, lay: _Layout):
@@ -181,8 +189,11 @@ def _log_density(pos, data: _Data, lay: _Layout, session_scale: float):
         rel2 = rel2 + jnp.exp(2.0 * pos["log_delta"])
     var = (jnp.abs(data.z) ** 2) * rel2[None, :]  # σ_tk², each of Re and Im
     r = _model_z(pos, data, lay) - data.z
-    ll = jnp.sum(-0.5 * (r.real**2 + r.imag**2) / var - jnp.log(var) - jnp.log(2.0 * jnp.pi))
-    total = lp + ll + _shared_error_log_term(r, var, data.common_var, data.common_basis)
+    if lay.n_trial_modes:
+        total = lp + _structured_error_log_likelihood(r, var, data)
+    else:
+        ll = jnp.sum(-0.5 * (r.real**2 + r.imag**2) / var - jnp.log(var) - jnp.log(2.0 * jnp.pi))
+        total = lp + ll + _shared_error_log_term(r, var, data.common_var, data.common_basis)
     return jnp.where(jnp.isfinite(total), total, -jnp.inf)
 
 
@@ -215,24 +226,66 @@ def _shared_error_log_term(r, var, common_var, basis):
     return out
 
 
+def _structured_error_log_likelihood(r, var, data: _Data):
+    """Log likelihood of the residuals ``r`` (T, N) when each trial also carries its own smooth
+    error and every trial one shared error, both marginalised exactly.
+
+    Model (Re and Im stacked, 2N per trial): r_t = ε + e_t + n_t with n_t independent (σ_tk²
+    = ``var`` plus the rest variances of both errors), e_t = Pᵀ ζ_t (ζ_t ~ N(0, I), independent
+    between trials: the trial's own skin and screen deviating from their means) and ε = Bᵀ ξ
+    (ξ ~ N(0, I): the error of the subtracted means). The covariance D + U Uᵀ with U =
+    [blockdiag_t(Pᵀ) | 1 ⊗ Bᵀ] gets Woodbury's identity; its capacitance matrix I + Uᵀ D⁻¹ U is
+    block-arrowhead (per-trial blocks A_t = I + P D_t⁻¹ Pᵀ, border C_t = P D_t⁻¹ Bᵀ, corner
+    A_c = I + Σ_t B D_t⁻¹ Bᵀ), factored block by block: L_t = chol(A_t), W_t = L_t⁻¹ C_t,
+    L_s = chol(A_c − Σ_t W_tᵀ W_t). With y_t = P D_t⁻¹ r_t, y_c = B Σ_t D_t⁻¹ r_t,
+    z_t = L_t⁻¹ y_t, z_c = L_s⁻¹ (y_c − Σ_t W_tᵀ z_t): ln N = ln N(r; 0, D) + ½ (Σ|z_t|² + |z_c|²)
+    − Σ ln diag L_t − Σ ln diag L_s. The rests of both errors (beyond their leading components)
+    enter D per frequency; the shared rest is thus counted as independent between trials."""
+    rs = jnp.concatenate([r.real, r.imag], axis=1)  # (T, 2N)
+    rest = jnp.concatenate([data.common_var[0] + data.trial_var[0], data.common_var[1] + data.trial_var[1]])
+    v = jnp.concatenate([var, var], axis=1) + rest[None, :]
+    w = 1.0 / v
+    out = jnp.sum(-0.5 * rs**2 * w - 0.5 * jnp.log(2.0 * jnp.pi * v))
+    p = jnp.concatenate([data.trial_basis.real, data.trial_basis.imag], axis=1)  # (P, 2N)
+    a_t = jnp.eye(p.shape[0])[None] + jnp.einsum("mk,tk,nk->tmn", p, w, p)
+    low_t = _unrolled_cholesky(a_t)
+    z_t = _unrolled_forward_substitution(low_t, jnp.einsum("mk,tk->tm", p, rs * w)[..., None])[..., 0]  # (T, P)
+    out = out + 0.5 * jnp.sum(z_t**2) - sum(jnp.sum(jnp.log(low_t[i][i])) for i in range(len(low_t)))
+    if data.common_basis.shape[0]:
+        b = jnp.concatenate([data.common_basis.real, data.common_basis.imag], axis=1)  # (K, 2N)
+        w_t = _unrolled_forward_substitution(low_t, jnp.einsum("mk,tk,nk->tmn", p, w, b))  # (T, P, K)
+        schur = jnp.eye(b.shape[0]) + jnp.einsum("mk,k,nk->mn", b, jnp.sum(w, axis=0), b) - jnp.einsum("tpm,tpn->mn", w_t, w_t)
+        low_s = _unrolled_cholesky(schur)
+        y_c = b @ jnp.sum(rs * w, axis=0) - jnp.einsum("tpm,tp->m", w_t, z_t)
+        z_c = _unrolled_forward_substitution(low_s, y_c[:, None])[:, 0]
+        out = out + 0.5 * jnp.sum(z_c**2) - sum(jnp.log(low_s[i][i]) for i in range(len(low_s)))
+    return out
+
+
 def _unrolled_cholesky(a):
-    """Lower Cholesky factor of a small SPD matrix as nested lists of scalars, in elementwise
-    JAX operations (no LAPACK call: batched LAPACK under vmap can deadlock jaxlib 0.10's pool)."""
-    m = a.shape[0]
+    """Lower Cholesky factor of small SPD matrices (..., M, M) as nested lists of (...) arrays,
+    in elementwise JAX operations (no LAPACK call: batched LAPACK under vmap can deadlock
+    jaxlib 0.10's pool)."""
+    m = a.shape[-1]
     low = [[None] * m for _ in range(m)]
     for i in range(m):
         for j in range(i + 1):
-            acc = a[i, j] - sum(low[i][k] * low[j][k] for k in range(j))
+            acc = a[..., i, j] - sum(low[i][k] * low[j][k] for k in range(j))
             low[i][j] = jnp.sqrt(acc) if i == j else acc / low[j][j]
     return low
 
 
 def _unrolled_forward_substitution(low, b):
-    """y with L y = b for the factor of `_unrolled_cholesky` (a (M,) array)."""
+    """Y with L Y = b for the factor of `_unrolled_cholesky`: ``b`` (M,) for an unbatched factor,
+    or (..., M, X) rows along axis −2 matching a batched one."""
     y = []
+    if b.ndim == 1:
+        for i in range(len(low)):
+            y.append((b[i] - sum(low[i][k] * y[k] for k in range(i))) / low[i][i])
+        return jnp.stack(y)
     for i in range(len(low)):
-        y.append((b[i] - sum(low[i][k] * y[k] for k in range(i))) / low[i][i])
-    return jnp.stack(y)
+        y.append((b[..., i, :] - sum(low[i][k][..., None] * y[k] for k in range(i))) / low[i][i][..., None])
+    return jnp.stack(y, axis=-2)
 
 
 COMMON_COMPONENTS = 12
@@ -241,29 +294,67 @@ frequencies (fixed, so one compilation serves every data set); the rest of its v
 per frequency."""
 
 
+def _error_modes(data: xr.Dataset, name: str) -> np.ndarray | None:
+    """The modes (mode, frequency) of the data variable ``name`` as a complex array, checked; None
+    when the data have none."""
+    if name not in data:
+        return None
+    modes = data[name]
+    if modes.dims[-1:] != ("frequency",) or modes.ndim != 2:
+        raise DataError(f"{name!r} must have dims (mode, frequency), got {modes.dims}")
+    d = np.asarray(modes.values, dtype=np.complex128)
+    if not np.all(np.isfinite(d)):
+        raise DataError(f"{name!r} must be finite")
+    return d
+
+
+def _leading_components(d: np.ndarray | None, scale: np.ndarray, count: int, n_freq: int):
+    """Split Σ_j d_j d_jᴴ (``d`` (modes, N) complex, Re and Im as separate real parts) into
+    ``count`` leading components (``basis`` (count, N) complex, zero-padded) and the rest's
+    variance per frequency (``var`` (2, N), Re and Im). Components are ranked after dividing each
+    frequency by ``scale`` (the likelihood's units). ``d`` None: nothing (all zeros)."""
+    basis, rest = np.zeros((count, n_freq), complex), np.zeros((2, n_freq))
+    if d is None:
+        return basis, rest
+    stacked = np.concatenate([d.real / scale, d.imag / scale], axis=1)  # (modes, 2N), whitened
+    _, sv, vt = np.linalg.svd(stacked, full_matrices=False)
+    m = min(count, sv.size)
+    lead = (sv[:m, None] * vt[:m]) * np.concatenate([scale, scale])[None, :]
+    basis[:m] = lead[:, :n_freq] + 1j * lead[:, n_freq:]
+    var = ((sv[m:, None] * vt[m:]) ** 2).sum(axis=0) * np.concatenate([scale, scale]) ** 2
+    return basis, np.stack([var[:n_freq], var[n_freq:]])
+
+
 def _shared_error_components(data: xr.Dataset, z: np.ndarray, nu: np.ndarray, n_freq: int):
     """Split the error shared by every trial (``common_error_modes`` of the data: ε = Σ_j ξ_j d_j,
     ξ ~ N(0, 1)) into `COMMON_COMPONENTS` leading components (``basis`` (M, N) complex) and the
     rest's variance per frequency (``var`` (2, N), Re and Im). Components
     are ranked in the likelihood's units (each frequency scaled by the noise of the trials' mean,
     |Z̄_k| ν_k/√T). No modes: nothing shared (M = 0)."""
-    if "common_error_modes" not in data:
+    d = _error_modes(data, "common_error_modes")
+    if d is None:
         return np.zeros((0, n_freq), complex), np.zeros((2, n_freq))
-    modes = data["common_error_modes"]
-    if modes.dims[-1:] != ("frequency",) or modes.ndim != 2:
-        raise DataError(f"'common_error_modes' must have dims (mode, frequency), got {modes.dims}")
-    d = np.asarray(modes.values, dtype=np.complex128)
-    if not np.all(np.isfinite(d)):
-        raise DataError("'common_error_modes' must be finite")
     scale = np.abs(z.mean(axis=0)) * np.maximum(nu, 1e-12) / np.sqrt(z.shape[0])
-    stacked = np.concatenate([d.real / scale, d.imag / scale], axis=1)  # (modes, 2N), whitened
-    _, sv, vt = np.linalg.svd(stacked, full_matrices=False)
-    m = min(COMMON_COMPONENTS, sv.size)
-    lead = (sv[:m, None] * vt[:m]) * np.concatenate([scale, scale])[None, :]
-    basis = np.zeros((COMMON_COMPONENTS, n_freq), complex)
-    basis[:m] = lead[:, :n_freq] + 1j * lead[:, n_freq:]
-    rest = ((sv[m:, None] * vt[m:]) ** 2).sum(axis=0) * np.concatenate([scale, scale]) ** 2
-    return basis, np.stack([rest[:n_freq], rest[n_freq:]])
+    return _leading_components(d, scale, COMMON_COMPONENTS, n_freq)
+
+
+TRIAL_COMPONENTS = 6
+"""Leading components of each trial's own smooth error (``trial_error_modes``) kept with their
+correlation across frequencies; the rest of its variance enters per frequency."""
+
+
+def _trial_error_components(data: xr.Dataset, z: np.ndarray, nu: np.ndarray, n_freq: int):
+    """Leading components (``basis`` (P, N) complex) and rest variance (``var`` (2, N)) of each
+    trial's own smooth error e_t = Σ_j ζ_tj m_j, ζ_tj ~ N(0, 1) independent between trials
+    (``trial_error_modes`` of the data, e.g. written by `impedax.models.sirin.trial_remainders`:
+    a total trial's own skin and screen deviate from the subtracted means by a whole spectrum,
+    correlated across frequencies). Ranked with each frequency scaled by one trial's noise
+    |Z̄_k| ν_k. No modes: P = 0."""
+    d = _error_modes(data, "trial_error_modes")
+    if d is None:
+        return np.zeros((0, n_freq), complex), np.zeros((2, n_freq))
+    scale = np.abs(z.mean(axis=0)) * np.maximum(nu, 1e-12)
+    return _leading_components(d, scale, TRIAL_COMPONENTS, n_freq)
 
 
 @functools.lru_cache(maxsize=16)
@@ -359,6 +450,7 @@ class HierarchicalPosterior:
     elapsed_s: float
     fixed: Mapping[str, float] = field(default_factory=dict)
     common_sd: np.ndarray | None = None  # (2, N) sd of the Re and Im error shared by every trial [Ω]
+    trial_sd: np.ndarray | None = None  # (2, N) sd of the Re and Im smooth error of each trial's own [Ω]
     reparametrization: Reparametrization | None = None
     registry: Registry = field(default=DEFAULT_REGISTRY, repr=False)
 
@@ -434,8 +526,8 @@ class HierarchicalPosterior:
 
     def predict(self, *, noise: bool = True, max_draws: int = 200, seed: int = 0) -> np.ndarray:
         """Posterior predictive impedance [Ω] (draws, trials, frequency) at the data's
-        frequencies; with ``noise`` it includes the likelihood's noise σ_tk (ν_k and δ) and the
-        error shared by every trial (``common_sd``), so its
+        frequencies; with ``noise`` it includes the likelihood's noise σ_tk (ν_k and δ), each
+        trial's own smooth error (``trial_sd``) and the error shared by every trial (``common_sd``), so its
         bands are where new measurements fall, not only where the model curve lies."""
         fn = compile_circuit(self.circuit, self.registry)
         c, d = self.mu.shape[:2]
@@ -458,6 +550,8 @@ class HierarchicalPosterior:
             delta = self.delta.ravel()[pick][:, None, None]
             sigma = np.abs(self.z_data)[None] * np.sqrt(self.nu[None, None] ** 2 + delta**2)
             z = z + sigma * (rng.standard_normal(z.shape) + 1j * rng.standard_normal(z.shape))
+            if self.trial_sd is not None:  # each trial's own error, drawn per point (its marginal sd)
+                z = z + self.trial_sd[0] * rng.standard_normal(z.shape) + 1j * self.trial_sd[1] * rng.standard_normal(z.shape)
             if self.common_sd is not None:  # one shared error per draw, the same in every trial
                 shape = (z.shape[0], 1, z.shape[2])
                 z = z + self.common_sd[0] * rng.standard_normal(shape) + 1j * self.common_sd[1] * rng.standard_normal(shape)
@@ -507,6 +601,7 @@ class HierarchicalPosterior:
                 "delta": (("chain", "draw"), self.delta, {"long_name": "relative discrepancy floor"}),
                 "nu": ("frequency", self.nu, {"long_name": "relative noise from trial scatter"}),
                 **({"common_sd": (("part", "frequency"), self.common_sd, {"units": "ohm", "long_name": "sd of the Re and Im error shared by every trial"})} if self.common_sd is not None else {}),
+                **({"trial_sd": (("part", "frequency"), self.trial_sd, {"units": "ohm", "long_name": "sd of the Re and Im smooth error of each trial's own"})} if self.trial_sd is not None else {}),
             },
             coords={"param": k, "shared_param": s, "frequency": ("frequency", self.frequency, {"units": "Hz"}), "part": ["real", "imag"]},
             attrs={"model": self.model, "sampler": "blackjax NUTS with window adaptation", "sessions": self.sessions, "divergences": self.divergences, "discrepancy": int(self.discrepancy)},
@@ -582,6 +677,7 @@ def _setup(circuit, data, *, per_trial, session_dim, reparametrization, fixed, d
         per_fit.update({k: np.asarray(v, float) for k, v in inv({n: per_fit[n] for n in rp.replaces}, rp.constant_values).items()})
     nu = trial_scatter_noise(z, z_fit)
     common_basis, common_var = _shared_error_components(data, z, nu, freq.size)
+    trial_basis, trial_var = _trial_error_components(data, z, nu, freq.size)
 
     theta0 = np.stack([np.asarray(per_fit[n], float) for n in per_trial], axis=1)  # (T, K)
     errs = batch.dataset["stderr"].transpose("param", *order).values.reshape(len(pnames), n_trials)
@@ -624,11 +720,11 @@ def _setup(circuit, data, *, per_trial, session_dim, reparametrization, fixed, d
         use_centred = bool(np.all(np.median(rel_stderr, axis=0) < spread0))
     else:
         use_centred = parameterisation == "centred"
-    lay = _Layout(circuit, registry, tuple(per_trial), shared_names, tuple(bounded), tuple(fixed), rp, n_sessions, bool(discrepancy), use_centred, common_basis.shape[0])
+    lay = _Layout(circuit, registry, tuple(per_trial), shared_names, tuple(bounded), tuple(fixed), rp, n_sessions, bool(discrepancy), use_centred, common_basis.shape[0], trial_basis.shape[0])
     dat = _Data(
         jnp.asarray(freq), jnp.asarray(z), jnp.asarray(nu), jnp.asarray(session_codes, dtype=jnp.int32), jnp.asarray(mu0),
         jnp.asarray(centre, dtype=jnp.float64), jnp.asarray(lo, dtype=jnp.float64), jnp.asarray(hi, dtype=jnp.float64), jnp.asarray([fixed[n] for n in fixed], dtype=jnp.float64),
-        jnp.asarray(common_basis), jnp.asarray(common_var),
+        jnp.asarray(common_basis), jnp.asarray(common_var), jnp.asarray(trial_basis), jnp.asarray(trial_var),
     )
     rng = np.random.default_rng(seed)
     k = len(per_trial)
@@ -655,10 +751,11 @@ def _setup(circuit, data, *, per_trial, session_dim, reparametrization, fixed, d
     return lay, dat, init_pos, stacked["trial_index"]
 
 
-def _total_shared_sd(dat: _Data) -> np.ndarray:
-    """sd (2, N) of the Re and Im error shared by every trial: sampled components and the rest."""
-    b = np.asarray(dat.common_basis)
-    return np.sqrt(np.stack([(b.real**2).sum(axis=0), (b.imag**2).sum(axis=0)]) + np.asarray(dat.common_var))
+def _total_sd(basis, rest) -> np.ndarray:
+    """sd (2, N) of the Re and Im parts of an error given as leading components ``basis`` (M, N)
+    complex and the ``rest``'s variance (2, N)."""
+    b = np.asarray(basis)
+    return np.sqrt(np.stack([(b.real**2).sum(axis=0), (b.imag**2).sum(axis=0)]) + np.asarray(rest))
 
 
 def sample_hierarchical(
@@ -684,8 +781,10 @@ def sample_hierarchical(
 
     ``data``: a spectrum Dataset with complex ``Z`` over (..., ``frequency``); every other dim
     is a replicate (trials); an optional complex ``common_error_modes`` (mode, frequency) is an
-    error shared by every trial, ε = Σ_j ξ_j d_j with ξ ~ N(0, 1), marginalised in the
-    likelihood (`impedax.models.sirin.trial_remainders` writes it). ``per_trial`` names the quantities drawn per trial from a
+    error shared by every trial, ε = Σ_j ξ_j d_j with ξ ~ N(0, 1), and an optional complex
+    ``trial_error_modes`` (mode, frequency) each trial's own smooth error, e_t = Σ_j ζ_tj m_j
+    with ζ_tj ~ N(0, 1) independent between trials; both are marginalised in the likelihood
+    (`impedax.models.sirin.trial_remainders` writes them). ``per_trial`` names the quantities drawn per trial from a
     log-normal population (circuit parameter names, or names of ``reparametrization``, e.g.
     ``u``); every other free parameter is shared by all trials. ``session_dim`` adds a session
     level (trials nested in the sessions along that dim). ``discrepancy`` samples the relative
@@ -719,7 +818,8 @@ def sample_hierarchical(
         spread_session=spread_session, trial_values=theta, shared=shared, delta=delta, frequency=np.asarray(dat.freq), z_data=np.asarray(dat.z), nu=np.asarray(dat.nu),
         trial_index=trial_index, sessions=n_sessions, discrepancy=bool(discrepancy), divergences=int(np.sum(divergent)),
         step_size=np.asarray(step_size), mean_tree_steps=float(np.mean(n_steps)), mean_acceptance=float(np.mean(accept)),
-        elapsed_s=time.perf_counter() - t0, fixed=dict(zip(lay.fixed_names, np.asarray(dat.fixed).tolist())), common_sd=_total_shared_sd(dat) if lay.n_common else None, reparametrization=lay.reparametrization, registry=registry,
+        elapsed_s=time.perf_counter() - t0, fixed=dict(zip(lay.fixed_names, np.asarray(dat.fixed).tolist())), common_sd=_total_sd(dat.common_basis, dat.common_var) if lay.n_common else None,
+        trial_sd=_total_sd(dat.trial_basis, dat.trial_var) if lay.n_trial_modes else None, reparametrization=lay.reparametrization, registry=registry,
     )
 
 
