@@ -103,6 +103,28 @@ def test_discrepancy_widens_intervals_only_under_structured_misfit(clean, clean_
     assert width(on) > 1.5 * width(off)
 
 
+def _stacked(a):
+    """Re and Im of a complex array side by side along its last axis."""
+    return np.concatenate([a.real, a.imag], axis=-1)
+
+
+def _resistor_trials(rng):
+    """Four trials of a resistor (per-trial R1, 2 % complex noise, 6 frequencies): the data, the
+    `hierarchical_log_density` options, the density without modes, a position near the truth,
+    its residuals (trials, frequencies) and the independent noise sd σ_tk = |Z_tk| ν_k."""
+    f = np.geomspace(10.0, 1e4, 6)
+    r_true = 100.0 * np.exp(0.1 * rng.standard_normal((4, 1)))
+    z = r_true * (1.0 + 0.02 * (rng.standard_normal((4, 6)) + 1j * rng.standard_normal((4, 6))))
+    data = ix.make_spectrum(f, z, dims=("trial",))
+    batch = ix.fit("R1", data, weighting="modulus")
+    options = dict(per_trial=("R1",), discrepancy=False, parameterisation="centred", init=batch)
+    plain, position = hierarchical_log_density("R1", data, **options)
+    position = dict(position, log_theta=np.log(r_true * np.array([[1.01], [0.98], [1.0], [1.03]])))
+    resid = np.exp(position["log_theta"]) - z
+    sd = np.abs(z) * trial_scatter_noise(z, batch.dataset["Z_model"].values)[None, :]
+    return data, options, plain, position, resid, sd
+
+
 def test_shared_error_is_marginalised_exactly():
     """Trials of a resistor (Z_tk = R_t, per-trial R1) told of an error shared by every trial
     (three complex modes d_j): the log density must change by exactly
@@ -110,24 +132,14 @@ def test_shared_error_is_marginalised_exactly():
     independent noise (σ_tk = |Z_tk| ν_k), C = Σ_j [Re d_j; Im d_j][Re d_j; Im d_j]ᵀ (scipy's
     dense multivariate normal as the oracle)."""
     rng = np.random.default_rng(5)
-    f = np.geomspace(10.0, 1e4, 6)
-    r_true = 100.0 * np.exp(0.1 * rng.standard_normal((4, 1)))
-    z = r_true * (1.0 + 0.02 * (rng.standard_normal((4, 6)) + 1j * rng.standard_normal((4, 6))))
-    data = ix.make_spectrum(f, z, dims=("trial",))
+    data, options, plain, position, resid, sd = _resistor_trials(rng)
     modes = 0.8 * (rng.standard_normal((3, 6)) + 1j * rng.standard_normal((3, 6)))
     told = data.assign(common_error_modes=(("common_mode", "frequency"), modes))
-    batch = ix.fit("R1", data, weighting="modulus")
-    options = dict(per_trial=("R1",), discrepancy=False, parameterisation="centred", init=batch)
-    plain, position = hierarchical_log_density("R1", data, **options)
     shared, _ = hierarchical_log_density("R1", told, **options)
-    position = dict(position, log_theta=np.log(r_true * np.array([[1.01], [0.98], [1.0], [1.03]])))
-    resid = np.exp(position["log_theta"]) - z  # (trials, frequencies)
-    sd = np.abs(z) * trial_scatter_noise(z, batch.dataset["Z_model"].values)[None, :]
-    stacked = lambda a: np.concatenate([a.real, a.imag], axis=-1)  # noqa: E731
-    c = stacked(modes).T @ stacked(modes)
+    c = _stacked(modes).T @ _stacked(modes)
     cov = np.diag(np.concatenate([sd, sd], axis=1).ravel() ** 2) + np.kron(np.ones((4, 4)), c)
-    dense = multivariate_normal(np.zeros(cov.shape[0]), cov).logpdf(stacked(resid).ravel())
-    independent = multivariate_normal(np.zeros(cov.shape[0]), np.diag(np.diag(cov) - np.diag(np.kron(np.ones((4, 4)), c)))).logpdf(stacked(resid).ravel())
+    dense = multivariate_normal(np.zeros(cov.shape[0]), cov).logpdf(_stacked(resid).ravel())
+    independent = multivariate_normal(np.zeros(cov.shape[0]), np.diag(np.diag(cov) - np.diag(np.kron(np.ones((4, 4)), c)))).logpdf(_stacked(resid).ravel())
     assert float(shared(position)) - float(plain(position)) == pytest.approx(dense - independent, rel=1e-8, abs=1e-8)
 
 
@@ -138,27 +150,17 @@ def test_each_trials_own_smooth_error_is_marginalised_exactly():
     again equal scipy's dense multivariate normal (the arrowhead Woodbury factorisation of
     `_structured_error_log_likelihood` against the dense 48 × 48 covariance)."""
     rng = np.random.default_rng(6)
-    f = np.geomspace(10.0, 1e4, 6)
-    r_true = 100.0 * np.exp(0.1 * rng.standard_normal((4, 1)))
-    z = r_true * (1.0 + 0.02 * (rng.standard_normal((4, 6)) + 1j * rng.standard_normal((4, 6))))
-    data = ix.make_spectrum(f, z, dims=("trial",))
+    data, options, plain, position, resid, sd = _resistor_trials(rng)
     common = 0.8 * (rng.standard_normal((3, 6)) + 1j * rng.standard_normal((3, 6)))
     own = 1.5 * (rng.standard_normal((2, 6)) + 1j * rng.standard_normal((2, 6)))
-    batch = ix.fit("R1", data, weighting="modulus")
-    options = dict(per_trial=("R1",), discrepancy=False, parameterisation="centred", init=batch)
-    plain, position = hierarchical_log_density("R1", data, **options)
-    position = dict(position, log_theta=np.log(r_true * np.array([[1.01], [0.98], [1.0], [1.03]])))
-    resid = np.exp(position["log_theta"]) - z
-    sd = np.abs(z) * trial_scatter_noise(z, batch.dataset["Z_model"].values)[None, :]
-    stacked = lambda a: np.concatenate([a.real, a.imag], axis=-1)  # noqa: E731
     independent_cov = np.diag(np.concatenate([sd, sd], axis=1).ravel() ** 2)
-    own_cov = np.kron(np.eye(4), stacked(own).T @ stacked(own))
-    x = stacked(resid).ravel()
+    own_cov = np.kron(np.eye(4), _stacked(own).T @ _stacked(own))
+    x = _stacked(resid).ravel()
     logpdf = lambda cov: multivariate_normal(np.zeros(cov.shape[0]), cov).logpdf(x)  # noqa: E731
     for modes in ({"trial_error_modes": own}, {"trial_error_modes": own, "common_error_modes": common}):
         told = data.assign({k: ((k.split("_")[0] + "_mode", "frequency"), v) for k, v in modes.items()})
         density, _ = hierarchical_log_density("R1", told, **options)
-        cov = independent_cov + own_cov + (np.kron(np.ones((4, 4)), stacked(common).T @ stacked(common)) if "common_error_modes" in modes else 0.0)
+        cov = independent_cov + own_cov + (np.kron(np.ones((4, 4)), _stacked(common).T @ _stacked(common)) if "common_error_modes" in modes else 0.0)
         assert float(density(position)) - float(plain(position)) == pytest.approx(logpdf(cov) - logpdf(independent_cov), rel=1e-8, abs=1e-8)
 
 
