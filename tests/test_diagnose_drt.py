@@ -65,6 +65,20 @@ def test_unexplained_peak_starts_the_new_arc_at_its_tau(three_arc_data):
     assert all("DRT" not in p.where for p in without)
 
 
+def test_a_cpe_with_alpha_near_zero_does_not_break_the_placement(three_arc_data):
+    """(R·Q)^(1/α) of a CPE whose α fell near 0 is beyond floating point: that arc is skipped
+    when the new arc is placed (it raised OverflowError from deep inside the diagnosis)."""
+    fit = ix.fit(TWO_ARCS, three_arc_data, n_starts=8)
+    evidence = unexplained_peaks(drt(three_arc_data), fit)
+    circuit = ix.parse("R0 + R1 || CPE1 + R2 || C2")
+    values = {"R0": 10.0, "R1": 1e3, "CPE1.Q": 10.0, "CPE1.alpha": 0.005, "R2": 80.0, "C2": 1.25e-4}
+    o = np.argsort(fit.frequency)
+    ctx = BaselineContext(circuit, values, fit.frequency[o], fit.z_data[o], fit.z_model[o], fit.registry, frozenset(), evidence)
+    proposals = DEFAULT_EFFECTS["extra_relaxation"].propose(circuit, ctx)
+    assert len(proposals) == 6  # C and CPE, each in series and nested behind R1 and R2
+    assert {p.where.split(" (")[0] for p in proposals if "DRT" in p.where} == {"nested in series with R2"}
+
+
 def test_distributed_peak_starts_the_cpe_at_the_alpha_of_its_width():
     rng = np.random.default_rng(2)
     f = np.logspace(-2, 5, 60)

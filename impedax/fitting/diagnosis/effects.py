@@ -244,7 +244,8 @@ def _relaxation_starts(ctx: BaselineContext, r_name: str, c_name: str, cpe: bool
 
 def _arc_tau(circuit: Circuit, ctx: BaselineContext, r_name: str) -> float:
     """The time constant of the arc whose resistor is ``r_name``: R·C, or (R·Q)^(1/α) for a CPE
-    beside it in the same parallel block (nan when it has neither)."""
+    beside it in the same parallel block (nan when it has neither; inf when a CPE's α near 0
+    puts it beyond floating point)."""
     parent = _parents(circuit)[r_name]
     r = ctx.values.get(r_name, np.nan)
     for x in parent.children if isinstance(parent, Parallel) else ():
@@ -252,7 +253,10 @@ def _arc_tau(circuit: Circuit, ctx: BaselineContext, r_name: str) -> float:
             return float(r * ctx.values.get(x.name, np.nan))
         if isinstance(x, Element) and _symbol(ctx.registry, x) == "CPE":
             q, a = ctx.values.get(f"{x.name}.Q", np.nan), ctx.values.get(f"{x.name}.alpha", np.nan)
-            return float((r * q) ** (1.0 / a)) if r * q > 0 and a > 0 else float("nan")
+            if not (r * q > 0 and a > 0):
+                return float("nan")
+            with np.errstate(over="ignore"):
+                return float(np.exp(np.log(r * q) / a))
     return float("nan")
 
 
