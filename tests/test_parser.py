@@ -167,3 +167,23 @@ def test_too_many_elements_and_very_long_inputs():
         ix.parse("R1 + " + "€" * 1_000_000)
     with pytest.raises(ix.CircuitSyntaxError, match="more than"):
         from_cdc("R" * 10_000)
+
+
+@pytest.mark.parametrize(
+    "text, name, left",
+    [
+        ("C_i + R_sc || C_sc + R2 || CPE2", "C_sc", "C_i + R_sc + R2 || CPE2"),  # a two-child block becomes its other child
+        ("C_i + R_sc || C_sc", "C_i", "R_sc || C_sc"),
+        ("R0 + (R1 + R2 || C2) || C1", "C2", "R0 + (R1 + R2) || C1"),  # nested series flattened
+        ("R1 || C1 || CPE1", "C1", "R1 || CPE1"),
+    ],
+)
+def test_without_removes_one_element(text, name, left):
+    assert ix.parse(text).without(name) == ix.parse(left)
+
+
+def test_without_an_unknown_or_the_only_element_is_an_error():
+    with pytest.raises(ix.CircuitError, match="no element named 'C9'"):
+        ix.parse("R1 || C1").without("C9")
+    with pytest.raises(ix.CircuitError, match="nothing would be left"):
+        ix.parse("R1").without("R1")

@@ -134,7 +134,7 @@ def test_the_two_paths_are_compared_as_they_end_after_the_final_refit():
         return RefinementStep(NS(model=model, aic=aic, n_params=k), added, "extra_relaxation" if added else None, diagnosis)
 
     def suggestion(where, model, aic, k):
-        return NS(where=where, effect="extra_relaxation", delta_aic=aic, added=model, fit=NS(model=model, aic=aic, n_params=k))
+        return NS(where=where, effect="extra_relaxation", delta_aic=aic, added=model, fit=NS(model=model, aic=aic, n_params=k), removed=())
 
     chosen, other = suggestion("in series", "A1", -100.0, 4), suggestion("nested", "B1", -95.0, 4)
     first = NS(best=chosen, suggestions=(chosen, other), solver_shape=None)
@@ -151,3 +151,28 @@ def test_the_two_paths_are_compared_as_they_end_after_the_final_refit():
     kept = _second_path(greedy, 4, diagnosed, lambda text: None, notes, finished)
     assert [s.model for s in kept] == ["start", "B1", "B2"], notes
     assert "A2 (AIC -150.0" in notes[0] and "it is kept" in notes[0]
+
+
+@pytest.mark.parametrize("leaving_end_aic, kept", [(-900.0, ["start", "D1"]), (-205.0, ["start", "K1"])])
+def test_a_suggestion_that_leaves_an_element_out_gets_a_path_of_its_own(leaving_end_aic, kept):
+    """`_second_path` with stand-ins: the first diagnosis took K1 (it keeps every element); D1
+    leaves C_sc out and fits far better (ranked after K1 by `_rank`). Its path is continued
+    too, although the greedy path took one step only, and kept when it ends lower by more than
+    10 AIC (a Meyer draw: the paths keeping C_sc stalled at 17 %, leaving it out reached the
+    noise); at a tie the path that keeps the user's elements stays."""
+    from types import SimpleNamespace as NS
+
+    from impedax.fitting.diagnosis.refinement import RefinementStep, _second_path
+
+    def step(model, aic, k, diagnosis=None, added=None):
+        return RefinementStep(NS(model=model, aic=aic, n_params=k), added, "series_resistance" if added else None, diagnosis)
+
+    keep = NS(where="in series with the whole circuit", effect="series_resistance", delta_aic=-200.0, added="R_s", fit=NS(model="K1", aic=-200.0, n_params=4), removed=())
+    leave = NS(where="in series, and C_sc left out", effect="extra_relaxation", delta_aic=-900.0, added="R_relax || CPE_relax", fit=NS(model="D1", aic=leaving_end_aic, n_params=5), removed=("C_sc",))
+    first = NS(best=keep, suggestions=(keep, leave), solver_shape=None)
+    greedy = [step("start", 0.0, 3, first), step("K1", -200.0, 4, NS(solver_shape=None), "R_s")]
+    diagnosed = lambda fit, shape: NS(baseline=fit, best=None, verdict="adequate", solver_shape=None)  # noqa: E731
+    notes = []
+    kept_path = _second_path(greedy, 4, diagnosed, lambda text: None, notes, lambda path, label: path)
+    assert [s.model for s in kept_path] == kept, notes
+    assert len(notes) == 1 and notes[0].startswith("a second path, starting from extra_relaxation")

@@ -61,6 +61,14 @@ class Circuit:
         self.element(name)
         return _replace(self, name, new)
 
+    def without(self, name: str) -> "Circuit":
+        """A new tree without element ``name``; a series or parallel node left with one child
+        becomes that child."""
+        self.element(name)
+        if isinstance(self, Element):
+            raise CircuitError(f"{name} is the whole circuit: nothing would be left")
+        return _without(self, name)
+
     def __add__(self, other: "Circuit") -> "Circuit":
         return series(self, other)
 
@@ -176,6 +184,11 @@ def _replace(node: Circuit, name: str, new: Circuit) -> Circuit:
         return new if node.name == name else node
     kind = series if isinstance(node, Series) else parallel
     return kind(*(_replace(c, name, new) for c in node.children))
+
+
+def _without(node: Circuit, name: str) -> Circuit:
+    kind = series if isinstance(node, Series) else parallel
+    return kind(*(c if isinstance(c, Element) else _without(c, name) for c in node.children if not (isinstance(c, Element) and c.name == name)))
 
 
 def _notation_symbol(element: "Element", registry: Registry, attribute: str, notation: str) -> str:

@@ -20,7 +20,8 @@ __all__ = ["Effect", "EffectCatalog", "Proposal", "BaselineContext"]
 @dataclass(frozen=True)
 class Proposal:
     """One augmented circuit: ``added`` (the new elements, as circuit text) placed ``where``;
-    ``removed``: baseline elements the circuit leaves out (a series resistance that fell to zero)."""
+    ``removed``: baseline elements the circuit leaves out (a series resistance that fell to zero,
+    a branch of an R ∥ C block that carries no current the data resolve)."""
 
     effect: str
     circuit: Circuit

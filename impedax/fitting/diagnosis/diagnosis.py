@@ -38,7 +38,7 @@ import numpy as np
 import xarray as xr
 
 from ...arguments import MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice, count, flag, frequency, instance_of, real, seed as seed_rule
-from ...circuits import Circuit, DEFAULT_REGISTRY, Element, Registry, Series, parse, series
+from ...circuits import Circuit, DEFAULT_REGISTRY, Element, Parallel, Registry, Series, parse, series
 from ...data import make_spectrum
 from ...errors import DataError, FitError, ImpedaxError, ParameterError
 from ..drt import PeakEvidence, drt, unexplained_peaks
@@ -89,6 +89,9 @@ CORRELATION_MAX = 0.99
 LEADER_STARTS = (32, 80)
 """Starts of the further fits of each effect's best candidate while it stays poor (`_poor_leaders`):
 a ladder like `impedax.fit`'s (its default climbs to 80 starts), each rung with new draws."""
+BRANCH_NEGLIGIBLE = 0.1
+"""In a block R ∥ C or R ∥ CPE, a branch whose admittance stays below this fraction of the
+other's over the whole band carries no current the data resolve (`_negligible_branch_dropped`)."""
 BASELINE_STEPS = 300
 """Levenberg–Marquardt step limit of the baseline's cold starts (warm candidates: ``max_steps``)."""
 
@@ -483,8 +486,11 @@ def _rank(cands: list[Suggestion], evidence: PeakEvidence | None = None) -> list
     Among candidates the data cannot tell apart (within `DELTA_AIC_MIN`), one that keeps every
     element of the baseline goes before one that leaves its series resistance out (R ∥ C + R ∥ C
     is the same function of frequency as (R0 + R ∥ C) ∥ C), then the smaller, then one the DRT
-    backs (`_drt_supports`). Candidates with a warning (undetermined or implausible parameters,
-    no convergence) come after all the others."""
+    backs (`_drt_supports`). When a candidate that keeps every baseline element is
+    significant, every candidate that leaves one out comes after it: leaving an element out
+    changes what the user's elements stand for (R_sc of an arc becomes the series resistance),
+    so it is the answer only when nothing that keeps them explains the data. Candidates with a
+    warning (undetermined or implausible parameters, no convergence) come after all the others."""
     def ranked(group):
         rest = sorted(group, key=lambda s: s.delta_aic)
         out = []
@@ -496,7 +502,10 @@ def _rank(cands: list[Suggestion], evidence: PeakEvidence | None = None) -> list
             rest.remove(pick)
         return out
 
-    return ranked([s for s in cands if s.warning is None]) + ranked([s for s in cands if s.warning is not None])
+    clean = [s for s in cands if s.warning is None]
+    keeping = ranked([s for s in clean if not s.removed])
+    first = keeping + ranked([s for s in clean if s.removed]) if any(s.significant for s in keeping) else ranked(clean)
+    return first + ranked([s for s in cands if s.warning is not None])
 
 
 def non_passive_points(ds: xr.Dataset) -> np.ndarray:
@@ -649,7 +658,7 @@ def _fit_proposals(base: FitResult, spectrum: xr.Dataset, ctx: BaselineContext, 
             for i, again in zip(poor, redo):
                 if again.chi2 < fits[1 + i].chi2:
                     fits[1 + i] = again
-        pruned = _series_resistance_dropped(base, proposals, fits[1:])
+        pruned = _series_resistance_dropped(base, proposals, fits[1:]) + _negligible_branch_dropped(base, proposals, fits[1:])
         if pruned:
             fits = fits + fit_candidates([p.circuit for _, p in pruned], spectrum, init=[list(p.starts) for _, p in pruned], **options)
         return proposals + pruned, fits, shape
@@ -690,6 +699,62 @@ def _series_resistance_dropped(base: FitResult, proposals: list[tuple[Effect, Pr
             where = f"{p.where}, and {name} left out (it fell to {format_quantity(value, 'Ω')}: the data do not reach a series-resistance plateau)"
             out.append((effect, Proposal(p.effect, circuit, p.added, where, starts, removed=(name,))))
             break
+    return out
+
+
+def _resistor_capacitor_blocks(circuit: Circuit, registry: Registry):
+    """(resistor, capacitive element) of every parallel block of exactly a resistor and a C or CPE."""
+    if isinstance(circuit, Element):
+        return
+    if isinstance(circuit, Parallel) and len(circuit.children) == 2 and all(isinstance(c, Element) for c in circuit.children):
+        kinds = {registry[c.symbol].symbol: c for c in circuit.children}
+        cap = kinds.get("C") or kinds.get("CPE")
+        if "R" in kinds and cap is not None:
+            yield kinds["R"], cap
+        return
+    for child in circuit.children:
+        yield from _resistor_capacitor_blocks(child, registry)
+
+
+def _negligible_branch_dropped(base: FitResult, proposals: list[tuple[Effect, Proposal]], fits: Sequence[FitResult]) -> list[tuple[Effect, Proposal]]:
+    """For each candidate that lowers AIC by more than `DELTA_AIC_MIN` but leaves a parameter
+    of a baseline block R ∥ C (or R ∥ CPE) undetermined because one branch carries next to no
+    current — |Y_C|/|Y_R| = ω·R·C (R·Q·ω^α) below `BRANCH_NEGLIGIBLE` over the whole band (the
+    block is a plain resistance) or above its inverse (a plain capacitance) — the same
+    candidate without that branch, warm-started from the candidate's optimum.
+
+    A baseline can turn an arc into a resistance: on a spectrum of C_i + R_f + R_sc ∥ CPE_sc,
+    C_i + R_sc ∥ C_sc fits with C_sc → 0 and R_sc ≈ R_f. An added R ∥ CPE then fits to the
+    noise, but with C_sc undetermined it is never proposed, and the diagnosis ended `adequate`
+    at 22× the noise; without C_sc every parameter is determined."""
+    out, seen = [], {str(p.circuit) for _, p in proposals} | {str(base.circuit)}
+    baseline = set(base.circuit.element_names)
+    for (effect, p), cf in zip(proposals, fits):
+        if not (np.isfinite(cf.chi2) and cf.aic < base.aic - DELTA_AIC_MIN):
+            continue
+        undetermined = undetermined_parameters(cf)
+        if not undetermined:
+            continue
+        omega = 2 * np.pi * np.asarray(cf.frequency, float)
+        for r, cap in _resistor_capacitor_blocks(p.circuit, cf.registry):
+            names = {r.name, *cf.registry[cap.symbol].parameter_names(cap.name)}
+            if not ({r.name, cap.name} <= baseline and names & undetermined) or any(cf.fixed.get(n, False) for n in names):
+                continue
+            v = cf.values
+            ratio = omega * v[r.name] * v[cap.name] if cap.name in v else v[r.name] * v[f"{cap.name}.Q"] * omega ** v[f"{cap.name}.alpha"]
+            if float(np.max(ratio)) < BRANCH_NEGLIGIBLE:
+                drop, why = cap, f"{r.name} ∥ {cap.name} acts as a plain resistance: the capacitive branch carries at most {float(np.max(ratio)):.2g}× the resistor's current over the band"
+            elif float(np.min(ratio)) > 1 / BRANCH_NEGLIGIBLE:
+                drop, why = r, f"{r.name} ∥ {cap.name} acts as a plain {cap.symbol}: the resistor carries at most {1 / float(np.min(ratio)):.2g}× the capacitive current over the band"
+            else:
+                continue
+            circuit = p.circuit.without(drop.name)
+            if str(circuit) in seen:
+                continue
+            seen.add(str(circuit))
+            gone = set(cf.registry[drop.symbol].parameter_names(drop.name))
+            starts = ({k: float(x) for k, x in v.items() if k not in gone},)
+            out.append((effect, Proposal(p.effect, circuit, p.added, f"{p.where}, and {drop.name} left out ({why})", starts, removed=p.removed + (drop.name,))))
     return out
 
 

@@ -157,24 +157,33 @@ def _second_path(steps: list[RefinementStep], limit: int, diagnosed, say, notes:
     (within `BRANCH_WINDOW` of AIC) is continued greedily too, and the better final model is
     kept (lower AIC by more than `DELTA_AIC_MIN`, or as good with fewer parameters). A first
     step that fits a large misfit in the wrong place (a Warburg at the end where it belongs
-    behind the charge transfer) is otherwise compensated by later, wrong additions. Both paths
+    behind the charge transfer) is otherwise compensated by later, wrong additions. The paths
     are compared as they end after ``finished`` (the final refit from scratch, which may drop
-    a last step); returns the kept path, finished."""
+    a last step); returns the kept path, finished.
+
+    A suggestion that leaves a baseline element out ranks after the significant ones that keep
+    them (`diagnosis._rank`) even when it fits far better. When it lowers AIC by more than
+    `DELTA_AIC_MIN` below the chosen one, a path starts from it too, however many steps the
+    greedy path took, and is compared last, so that a path keeping the user's elements wins a
+    tie (C_i + R_sc ∥ C_sc with a series resistance and a CPE missing: the paths that keep C_sc
+    can stall at 16–17 % where leaving it out reaches the noise)."""
     first = steps[0].diagnosis
     picked = first.best  # where the greedy path went
-    others = [s for s in first.suggestions if (s.where != picked.where or s.effect != picked.effect) and s.delta_aic <= picked.delta_aic + BRANCH_WINDOW] if len(steps) >= 3 else []
+    alternatives = [s for s in first.suggestions if (s.where != picked.where or s.effect != picked.effect) and s.delta_aic <= picked.delta_aic + BRANCH_WINDOW][:1] if len(steps) >= 3 else []
+    leaving = [s for s in first.suggestions if s.removed and not picked.removed and s.delta_aic < picked.delta_aic - DELTA_AIC_MIN and all(s is not t for t in alternatives)]
     steps = finished(steps, "")
-    if not others:
-        return steps
-    other = finished(_greedy(steps[:1], others[0], limit, diagnosed, say, "second path, "), "second path: ")
-    a, b = steps[-1].fit, other[-1].fit
-    better = b.aic < a.aic - DELTA_AIC_MIN or (b.aic <= a.aic + DELTA_AIC_MIN and b.n_params < a.n_params)
-    notes.append(
-        f"a second path, starting from {others[0].effect} ({others[0].added}, {others[0].where}) instead of {picked.effect} ({picked.added}, {picked.where}), "
-        f"ends at {other[-1].model} (AIC {b.aic:.1f}, {b.n_params} parameters) against {steps[-1].model} (AIC {a.aic:.1f}, {a.n_params} parameters): "
-        + ("it is kept" if better else "the first path is kept")
-    )
-    return other if better else steps
+    for label, alt in zip(("second path", "third path"), alternatives + leaving[:1]):
+        other = finished(_greedy(steps[:1], alt, limit, diagnosed, say, f"{label}, "), f"{label}: ")
+        a, b = steps[-1].fit, other[-1].fit
+        better = b.aic < a.aic - DELTA_AIC_MIN or (b.aic <= a.aic + DELTA_AIC_MIN and b.n_params < a.n_params)
+        notes.append(
+            f"a {label}, starting from {alt.effect} ({alt.added}, {alt.where}) instead of {picked.effect} ({picked.added}, {picked.where}), "
+            f"ends at {other[-1].model} (AIC {b.aic:.1f}, {b.n_params} parameters) against {steps[-1].model} (AIC {a.aic:.1f}, {a.n_params} parameters): "
+            + ("it is kept" if better else "the path before it is kept")
+        )
+        if better:
+            steps = other
+    return steps
 
 
 def _finish(steps: list[RefinementStep], used: xr.Dataset, *, n_starts: int, seed: int, say, notes: list[str], label: str) -> list[RefinementStep]:
