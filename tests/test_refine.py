@@ -176,3 +176,6 @@ def test_a_suggestion_that_leaves_an_element_out_gets_a_path_of_its_own(leaving_
     kept_path = _second_path(greedy, 4, diagnosed, lambda text: None, notes, lambda path, label: path)
     assert [s.model for s in kept_path] == kept, notes
     assert len(notes) == 1 and notes[0].startswith("a second path, starting from extra_relaxation")
+    # max_effects=0: the greedy path took no step, and no other path is tried
+    notes = []
+    assert [s.model for s in _second_path(greedy[:1], 0, diagnosed, lambda text: None, notes, lambda path, label: path)] == ["start"] and notes == []

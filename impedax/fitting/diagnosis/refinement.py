@@ -170,7 +170,7 @@ def _second_path(steps: list[RefinementStep], limit: int, diagnosed, say, notes:
     first = steps[0].diagnosis
     picked = first.best  # where the greedy path went
     alternatives = [s for s in first.suggestions if (s.where != picked.where or s.effect != picked.effect) and s.delta_aic <= picked.delta_aic + BRANCH_WINDOW][:1] if len(steps) >= 3 else []
-    leaving = [s for s in first.suggestions if s.removed and not picked.removed and s.delta_aic < picked.delta_aic - DELTA_AIC_MIN and all(s is not t for t in alternatives)]
+    leaving = [s for s in first.suggestions if s.removed and not picked.removed and s.delta_aic < picked.delta_aic - DELTA_AIC_MIN and all(s is not t for t in alternatives)] if len(steps) >= 2 else []
     steps = finished(steps, "")
     for label, alt in zip(("second path", "third path"), alternatives + leaving[:1]):
         other = finished(_greedy(steps[:1], alt, limit, diagnosed, say, f"{label}, "), f"{label}: ")
