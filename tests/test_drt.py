@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -17,7 +18,7 @@ from scipy.integrate import quad
 
 import impedax as ix
 from impedax.errors import CircuitError, DataError, ParameterError
-from impedax.fitting.drt import DRTBatchResult, DRTResult, circuit_drt, drt, havriliak_negami_drt, r_cpe_drt, unexplained_peaks, zarc_drt
+from impedax.fitting.drt import DRTBatchResult, DRTResult, circuit_drt, drt, havriliak_negami_drt, r_cpe_drt, r_cpe_tau, unexplained_peaks, zarc_drt
 from impedax.fitting.drt.basis import impedance_integrals, penalty_matrix, rbf_basis
 
 F = np.geomspace(0.01, 1e5, 71)
@@ -105,6 +106,20 @@ def test_closed_form_drts_reproduce_their_impedance(gamma_fn, z_fn):
     for w in (1e-2, 0.7, 30.0):
         z = np.trapezoid(g / (1 + 1j * w * tau), y)
         assert z == pytest.approx(z_fn(w), abs=2e-6)
+
+
+def test_r_cpe_time_constant_and_an_alpha_near_zero():
+    assert r_cpe_tau(3.0, 1e-2, 0.7) == pytest.approx(0.03 ** (1 / 0.7), rel=1e-12)
+    assert math.isnan(r_cpe_tau(-3.0, 1e-2, 0.7)) and math.isnan(r_cpe_tau(3.0, 1e-2, 0.0))
+    # (R·Q)^(1/α) = 1e4^200 overflows a float (Python raised OverflowError): τ₀ = inf, and the
+    # block, whose impedance R/(1 + (jωτ₀)^α) is 0 at every finite ω, has a zero DRT
+    assert r_cpe_tau(1e3, 10.0, 0.005) == math.inf
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        tau = np.logspace(-6, 6, 13)
+        assert np.all(r_cpe_drt(tau, 1e3, 10.0, 0.005) == 0.0)
+        result = circuit_drt("R0 + R1 || CPE1", {"R0": 1.0, "R1": 1e3, "CPE1.Q": 10.0, "CPE1.alpha": 0.005}, tau=tau)
+    assert np.all(result.gamma == 0.0)
 
 
 def test_havriliak_negami_closed_form_equals_the_stieltjes_inversion():

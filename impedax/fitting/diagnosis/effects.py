@@ -15,6 +15,7 @@ import numpy as np
 
 from ...circuits import Circuit, DCPath, Element, Parallel, Registry, Series
 
+from ..drt import r_cpe_tau
 from .catalog import BaselineContext, Effect, EffectCatalog, Proposal
 
 __all__ = ["DEFAULT_EFFECTS"]
@@ -252,11 +253,7 @@ def _arc_tau(circuit: Circuit, ctx: BaselineContext, r_name: str) -> float:
         if isinstance(x, Element) and _symbol(ctx.registry, x) == "C":
             return float(r * ctx.values.get(x.name, np.nan))
         if isinstance(x, Element) and _symbol(ctx.registry, x) == "CPE":
-            q, a = ctx.values.get(f"{x.name}.Q", np.nan), ctx.values.get(f"{x.name}.alpha", np.nan)
-            if not (r * q > 0 and a > 0):
-                return float("nan")
-            with np.errstate(over="ignore"):
-                return float(np.exp(np.log(r * q) / a))
+            return r_cpe_tau(r, ctx.values.get(f"{x.name}.Q", np.nan), ctx.values.get(f"{x.name}.alpha", np.nan))
     return float("nan")
 
 

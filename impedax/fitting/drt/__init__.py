@@ -13,6 +13,7 @@ from .analytic import (
     circuit_drt as circuit_drt,
     havriliak_negami_drt as havriliak_negami_drt,
     r_cpe_drt as r_cpe_drt,
+    r_cpe_tau as r_cpe_tau,
     zarc_drt as zarc_drt,
 )
 from .evidence import PeakEvidence as PeakEvidence, unexplained_peaks as unexplained_peaks

@@ -26,19 +26,31 @@ from ...errors import CircuitError, ParameterError
 # it is reported as a delta (an R‖C) at its τ₀
 _DELTA_ALPHA = 0.99
 
-__all__ = ["AnalyticDRT", "zarc_drt", "r_cpe_drt", "havriliak_negami_drt", "circuit_drt"]
+__all__ = ["AnalyticDRT", "zarc_drt", "r_cpe_drt", "r_cpe_tau", "havriliak_negami_drt", "circuit_drt"]
 
 
 def zarc_drt(tau, r: float, tau0: float, alpha: float) -> np.ndarray:
-    """γ(τ) [Ω] of R/(1 + (jωτ₀)^α), 0 < α < 1 (α = 1 is a delta: use `circuit_drt`)."""
+    """γ(τ) [Ω] of R/(1 + (jωτ₀)^α), 0 < α < 1 (α = 1 is a delta: use `circuit_drt`); zero
+    for τ₀ = inf (the block shorts every finite frequency)."""
+    if math.isinf(tau0):
+        return np.zeros(np.shape(tau))
     x = np.log(np.asarray(tau, float) / tau0)
     phase = (1.0 - alpha) * math.pi
     return r / (2 * math.pi) * math.sin(phase) / (np.cosh(alpha * x) - math.cos(phase))
 
 
+def r_cpe_tau(r: float, q: float, alpha: float) -> float:
+    """τ₀ = (RQ)^{1/α} [s] of R in parallel with a CPE 1/(Q (jω)^α); inf when α near 0 puts it
+    beyond floating point, nan unless RQ > 0 and α > 0."""
+    if not (r * q > 0 and alpha > 0):
+        return float("nan")
+    with np.errstate(over="ignore"):
+        return float(np.exp(np.log(r * q) / alpha))
+
+
 def r_cpe_drt(tau, r: float, q: float, alpha: float) -> np.ndarray:
-    """γ(τ) [Ω] of R in parallel with a CPE 1/(Q (jω)^α): a ZARC with τ₀ = (RQ)^{1/α}."""
-    return zarc_drt(tau, r, (r * q) ** (1.0 / alpha), alpha)
+    """γ(τ) [Ω] of R in parallel with a CPE 1/(Q (jω)^α): a ZARC with τ₀ = (RQ)^{1/α} (`r_cpe_tau`)."""
+    return zarc_drt(tau, r, r_cpe_tau(r, q, alpha), alpha)
 
 
 def havriliak_negami_drt(tau, r: float, tau0: float, alpha: float, beta: float) -> np.ndarray:
@@ -116,7 +128,7 @@ def _block(node, values, tau, registry):
             r = _value(values, kinds["R"].name)
             q, a = _value(values, f"{kinds['CPE'].name}.Q"), _value(values, f"{kinds['CPE'].name}.alpha")
             if a >= _DELTA_ALPHA:
-                return zero, [((r * q) ** (1.0 / a), r)], 0.0, 0.0, 0.0
+                return zero, [(r_cpe_tau(r, q, a), r)], 0.0, 0.0, 0.0
             return r_cpe_drt(tau, r, q, a), [], 0.0, 0.0, 0.0
     raise CircuitError(f"block {node} has no closed-form DRT in impedax (R‖C, R‖CPE, CC, HN, R, L, C in series do); compute the DRT of the fitted spectrum instead")
 
