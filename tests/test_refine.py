@@ -134,10 +134,10 @@ def test_the_two_paths_are_compared_as_they_end_after_the_final_refit():
         return RefinementStep(NS(model=model, aic=aic, n_params=k), added, "extra_relaxation" if added else None, diagnosis)
 
     def suggestion(where, model, aic, k):
-        return NS(where=where, effect="extra_relaxation", delta_aic=aic, added=model, fit=NS(model=model, aic=aic, n_params=k), removed=())
+        return NS(where=where, effect="extra_relaxation", delta_aic=aic, added=model, fit=NS(model=model, aic=aic, n_params=k), removed=(), undetermined=())
 
     chosen, other = suggestion("in series", "A1", -100.0, 4), suggestion("nested", "B1", -95.0, 4)
-    first = NS(best=chosen, suggestions=(chosen, other), solver_shape=None)
+    first = NS(best=chosen, suggestions=(chosen, other), candidates=(chosen, other), solver_shape=None)
     greedy = [step("start", 0.0, 3, first), step("A1", -100.0, 4, NS(solver_shape=None), "a1"), step("A2", -150.0, 6, NS(solver_shape=None), "a2"), step("A3", -220.0, 8, NS(solver_shape=None), "a3")]
 
     def diagnosed(fit, shape):  # the second path: B1 → B2, then adequate
@@ -167,9 +167,9 @@ def test_a_suggestion_that_leaves_an_element_out_gets_a_path_of_its_own(leaving_
     def step(model, aic, k, diagnosis=None, added=None):
         return RefinementStep(NS(model=model, aic=aic, n_params=k), added, "series_resistance" if added else None, diagnosis)
 
-    keep = NS(where="in series with the whole circuit", effect="series_resistance", delta_aic=-200.0, added="R_s", fit=NS(model="K1", aic=-200.0, n_params=4), removed=())
-    leave = NS(where="in series, and C_sc left out", effect="extra_relaxation", delta_aic=-900.0, added="R_relax || CPE_relax", fit=NS(model="D1", aic=leaving_end_aic, n_params=5), removed=("C_sc",))
-    first = NS(best=keep, suggestions=(keep, leave), solver_shape=None)
+    keep = NS(where="in series with the whole circuit", effect="series_resistance", delta_aic=-200.0, added="R_s", fit=NS(model="K1", aic=-200.0, n_params=4), removed=(), undetermined=())
+    leave = NS(where="in series, and C_sc left out", effect="extra_relaxation", delta_aic=-900.0, added="R_relax || CPE_relax", fit=NS(model="D1", aic=leaving_end_aic, n_params=5), removed=("C_sc",), undetermined=())
+    first = NS(best=keep, suggestions=(keep, leave), candidates=(keep, leave), solver_shape=None)
     greedy = [step("start", 0.0, 3, first), step("K1", -200.0, 4, NS(solver_shape=None), "R_s")]
     diagnosed = lambda fit, shape: NS(baseline=fit, best=None, verdict="adequate", solver_shape=None)  # noqa: E731
     notes = []
@@ -179,3 +179,41 @@ def test_a_suggestion_that_leaves_an_element_out_gets_a_path_of_its_own(leaving_
     # max_effects=0: the greedy path took no step, and no other path is tried
     notes = []
     assert [s.model for s in _second_path(greedy[:1], 0, diagnosed, lambda text: None, notes, lambda path, label: path)] == ["start"] and notes == []
+
+
+@pytest.mark.parametrize("ep_proposed", [False, True])
+def test_an_effect_undetermined_alone_gets_a_path_of_its_own(ep_proposed):
+    """`_second_path` with stand-ins (the shape of a SYNTHETIC finger with its series resistance
+    and electrode polarization missing): the greedy path took a further arc (ΔAIC −532) and
+    ended with 10 parameters; R_EP ∥ CPE_EP ∥ C_gap fits better alone (−552) but leaves R_EP
+    undetermined (it makes up for the missing series resistance), so it was no suggestion. Its
+    path adds R_s and ends at the generating circuit (8 parameters, lower AIC): kept. When the
+    effect has a significant candidate of its own, no such path starts."""
+    from types import SimpleNamespace as NS
+
+    from impedax.fitting.diagnosis.refinement import RefinementStep, _second_path
+
+    def step(model, aic, k, diagnosis=None, added=None, effect=None):
+        return RefinementStep(NS(model=model, aic=aic, n_params=k), added, effect, diagnosis)
+
+    def candidate(effect, model, aic, k, undetermined=()):
+        return NS(where="in series", effect=effect, delta_aic=aic, added=model, fit=NS(model=model, aic=aic, n_params=k, converged=True), removed=(), undetermined=undetermined)
+
+    arc = candidate("extra_relaxation", "ARC", -532.0, 6)
+    ep = candidate("electrode_polarization", "EP", -552.0, 7, ("R_EP",))
+    ep_own = candidate("electrode_polarization", "EP_RC", -300.0, 5)
+    suggestions = (arc, ep_own) if ep_proposed else (arc,)
+    first = NS(best=arc, suggestions=suggestions, candidates=suggestions + (ep,), solver_shape=None)
+    greedy = [step("start", 0.0, 4, first), step("ARC", -532.0, 6, NS(solver_shape=None), "arc", "extra_relaxation"), step("ARC+RS+ARC2", -700.0, 10, NS(solver_shape=None), "arc2", "extra_relaxation")]
+
+    def diagnosed(fit, shape):  # EP → EP + R_s, then adequate
+        nxt = {"EP": candidate("series_resistance", "EP+RS", -760.0, 8)}.get(fit.model)
+        return NS(baseline=fit, best=nxt, verdict="missing_effect" if nxt else "adequate", solver_shape=None)
+
+    notes = []
+    kept = _second_path(greedy, 4, diagnosed, lambda text: None, notes, lambda path, label: path)
+    if ep_proposed:
+        assert [s.model for s in kept] == ["start", "ARC", "ARC+RS+ARC2"] and not any("electrode_polarization (EP" in n for n in notes), notes
+    else:
+        assert [s.model for s in kept] == ["start", "EP", "EP+RS"], notes
+        assert len(notes) == 1 and notes[0].startswith("a second path, starting from electrode_polarization") and "it is kept" in notes[0], notes
