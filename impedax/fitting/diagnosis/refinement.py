@@ -184,7 +184,7 @@ def _second_path(steps: list[RefinementStep], limit: int, diagnosed, say, notes:
     proposed = {s.effect for s in first.suggestions}
     hidden = [c for c in first.candidates if c.undetermined and c.effect not in proposed and c.fit.converged and c.delta_aic < picked.delta_aic - DELTA_AIC_MIN] if len(steps) >= 2 else []
     steps = finished(steps, "")
-    for label, alt in zip(("second path", "third path", "fourth path"), alternatives + leaving[:1] + sorted(hidden, key=lambda c: c.delta_aic)[:1]):
+    for label, alt in zip(("second path", "third path", "fourth path"), alternatives + sorted(hidden, key=lambda c: c.delta_aic)[:1] + leaving[:1]):
         other = finished(_greedy(steps[:1], alt, limit, diagnosed, say, f"{label}, "), f"{label}: ")
         a, b = steps[-1].fit, other[-1].fit
         better = b.aic < a.aic - DELTA_AIC_MIN or (b.aic <= a.aic + DELTA_AIC_MIN and b.n_params < a.n_params)
