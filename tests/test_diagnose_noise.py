@@ -350,12 +350,7 @@ def test_a_capacitor_that_carries_no_current_is_dropped_from_the_suggestion():
 def test_a_capacitor_the_data_resolve_is_kept():
     # the series resistance and the CPE are there: every R ∥ C of the candidates carries
     # current, nothing is left out
-    rng = np.random.default_rng(7)
-    f = np.geomspace(10.0, 1e6, 60)
-    jw = 2j * np.pi * f
-    z = 1 / (jw * 1e-9) + 2e4 + 1e6 / (1 + 1e6 * 5e-9 * jw**0.72)
-    z = z + 0.005 * np.abs(z) * (rng.normal(size=f.size) + 1j * rng.normal(size=f.size)) / np.sqrt(2)
-    d = ix.diagnose(ix.make_spectrum(f, z), "C_i + R_f + R_sc || CPE_sc")
+    d = ix.diagnose(meyer_with_series_resistance_and_cpe(7), "C_i + R_f + R_sc || CPE_sc")
     assert d.verdict == "adequate", d.report()
     assert all(c.removed == () for c in d.candidates)
 
