@@ -38,7 +38,7 @@ import numpy as np
 import xarray as xr
 
 from ...arguments import MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice, count, flag, frequency, instance_of, real, seed as seed_rule
-from ...circuits import Circuit, DEFAULT_REGISTRY, Element, Parallel, Registry, Series, parse, series
+from ...circuits import Circuit, DEFAULT_REGISTRY, Element, Parallel, Registry, Series, parse
 from ...data import make_spectrum
 from ...errors import DataError, FitError, ImpedaxError, ParameterError
 from ..drt import PeakEvidence, drt, unexplained_peaks
@@ -691,15 +691,20 @@ def _series_resistance_dropped(base: FitResult, proposals: list[tuple[Effect, Pr
             value, error = float(cf.values[name]), float(cf.stderr[name])
             if not (name in cf.at_bound or not value > error):
                 continue
-            circuit = series(*(c for c in top if c is not node))
-            if str(circuit) in seen:
-                break
-            seen.add(str(circuit))
-            starts = ({k: float(v) for k, v in cf.values.items() if k != name},)
-            where = f"{p.where}, and {name} left out (it fell to {format_quantity(value, 'Ω')}: the data do not reach a series-resistance plateau)"
-            out.append((effect, Proposal(p.effect, circuit, p.added, where, starts, removed=(name,))))
+            left = _left_out(effect, p, cf, node, f"it fell to {format_quantity(value, 'Ω')}: the data do not reach a series-resistance plateau")
+            if str(left[1].circuit) not in seen:
+                seen.add(str(left[1].circuit))
+                out.append(left)
             break
     return out
+
+
+def _left_out(effect: Effect, p: Proposal, cf: FitResult, element: Element, why: str) -> tuple[Effect, Proposal]:
+    """Proposal ``p`` without ``element``, warm-started from its fit ``cf`` less that element's
+    parameters, saying why it was left out."""
+    gone = set(cf.registry[element.symbol].parameter_names(element.name))
+    starts = ({k: float(x) for k, x in cf.values.items() if k not in gone},)
+    return effect, Proposal(p.effect, p.circuit.without(element.name), p.added, f"{p.where}, and {element.name} left out ({why})", starts, removed=p.removed + (element.name,))
 
 
 def _resistor_capacitor_blocks(circuit: Circuit, registry: Registry):
@@ -748,13 +753,10 @@ def _negligible_branch_dropped(base: FitResult, proposals: list[tuple[Effect, Pr
                 drop, why = r, f"{r.name} ∥ {cap.name} acts as a plain {cap.symbol}: the resistor carries at most {1 / float(np.min(ratio)):.2g}× the capacitive current over the band"
             else:
                 continue
-            circuit = p.circuit.without(drop.name)
-            if str(circuit) in seen:
-                continue
-            seen.add(str(circuit))
-            gone = set(cf.registry[drop.symbol].parameter_names(drop.name))
-            starts = ({k: float(x) for k, x in v.items() if k not in gone},)
-            out.append((effect, Proposal(p.effect, circuit, p.added, f"{p.where}, and {drop.name} left out ({why})", starts, removed=p.removed + (drop.name,))))
+            left = _left_out(effect, p, cf, drop, why)
+            if str(left[1].circuit) not in seen:
+                seen.add(str(left[1].circuit))
+                out.append(left)
     return out
 
 
