@@ -44,6 +44,8 @@ counts run from ~20 to the step limit, and it drains: once the queue is empty, e
 computes until the slowest problem ends. Few lanes keep that idle tail short. Time in the
 queue over a warm ``refine`` of exampleDataVersaStudio.par (5,400 problems): 9.9 s with 4
 lanes, 9.5 s with 8, 11.1 s with 16, 12.6 s with 32, 18.9 s with 64."""
+DAMPINGS = ("marquardt", "identity")
+"""`fit_candidates`' Levenberg–Marquardt dampings: D = the running maximum of diag(JᵀJ), or D = I."""
 _CAPACITY = 256  # problems (candidate × start) per call of the queue; more are run in several calls
 _FINISH = 32  # candidates per call of the finishing pass
 
@@ -164,7 +166,8 @@ def candidate_solver(layout: ProgramLayout, n_free: int, n_lanes: int = _LANES):
         return j_re @ j_re.T + j_im @ j_im.T, j_re @ r_re + j_im @ r_im, 0.5 * (jnp.sum(r_re**2) + jnp.sum(r_im**2)), ()
 
     # the damped systems by LAPACK (inline_solve=False): the unrolled factorisation of
-    # `lm.solve_damped` would double the compile time of the whole solver
+    # `lm.solve_damped` would double the compile time of the whole solver. The damping
+    # (`DAMPINGS`) is chosen per problem at run time, so both share this compilation
     queue = jax.jit(work_queue(normal_u, n_lanes, _combine, inline_solve=False), static_argnames="drain")
 
     def finish_one(u, row, shared):
@@ -190,6 +193,7 @@ def fit_candidates(
     registry: Registry = DEFAULT_REGISTRY,
     shape: SolverShape | None = None,
     step_limit: int | None = None,
+    damping: str | Sequence[str] = "marquardt",
 ) -> list[FitResult]:
     """Fit every circuit in ``circuits`` to the one spectrum ``data`` with one compiled solver.
 
@@ -203,8 +207,10 @@ def fit_candidates(
     steps (``step_limit``, when given, lowers it) and each candidate keeps its best start.
     ``seeds``: one random-start seed per candidate (default ``seed`` for all). ``shape`` (a
     `SolverShape`: layout and K) fixes the compiled shapes, so calls with different circuits
-    share one compilation. Returns one `FitResult` per circuit, in order, exactly as
-    `impedax.fit` would report them.
+    share one compilation. ``damping``: "marquardt" (Marquardt's scaling, the batch lanes'
+    iteration) or "identity" (λI, as optimistix; docs/fitting.md, "Damping"), for every
+    circuit or one per circuit; both run in the same compiled solver.
+    Returns one `FitResult` per circuit, in order, exactly as `impedax.fit` would report them.
     """
     t0 = time.perf_counter()
     circuits = [parse(c, registry) for c in circuits]
@@ -230,8 +236,12 @@ def fit_candidates(
         _candidate_row(problem, CircuitProgram.build(problem.circuit, registry, layout), extra, seed_i, features, n_starts=n_starts, k_pad=k_pad, registry=registry, data_start=data_start)
         for problem, extra, seed_i in zip(prepared, warm, seeds)
     ]
+    dampings = [damping] * len(circuits) if isinstance(damping, str) else list(damping)
+    if len(dampings) != len(circuits) or any(d not in DAMPINGS for d in dampings):
+        raise FitError(f"damping must be one of {', '.join(DAMPINGS)}, or a list of them with one per circuit; got {damping!r}")
     budget = min(step_limit or max_steps, max_steps)
-    outputs = _solve(rows, _spectrum_args(freq, z, inv_re, inv_im, shape.n_freq), freq.size, layout, k_pad, budget)
+    scaled = np.array([d == "marquardt" for d in dampings])
+    outputs = _solve(rows, _spectrum_args(freq, z, inv_re, inv_im, shape.n_freq), freq.size, layout, k_pad, budget, scaled)
     elapsed = (time.perf_counter() - t0) / len(rows)
     results = []
     for problem, row, one in zip(prepared, rows, outputs):
@@ -246,10 +256,11 @@ def _spectrum_args(freq, z, inv_re, inv_im, n_padded: int) -> SpectrumArgs:
     return SpectrumArgs(*padded_points(freq, z, np.asarray(inv_re, float), np.asarray(inv_im, float), size=n_padded))
 
 
-def _solve(rows: list["CandidateRow"], shared: SpectrumArgs, n_freq: int, layout: ProgramLayout, k_pad: int, budget: int) -> list[SolverOutput]:
+def _solve(rows: list["CandidateRow"], shared: SpectrumArgs, n_freq: int, layout: ProgramLayout, k_pad: int, budget: int, scaled: np.ndarray) -> list[SolverOutput]:
     """Every start of every candidate through the work queue (in calls of at most `_CAPACITY`
     problems), then each candidate's best start through the finishing pass (in calls of
-    `_FINISH` candidates). Returns one `SolverOutput` per candidate (frequency padding removed)."""
+    `_FINISH` candidates); ``scaled``: per candidate, Marquardt's scaling (else λI). Returns
+    one `SolverOutput` per candidate (frequency padding removed)."""
     queue, finish = candidate_solver(layout, k_pad)
     n_starts = rows[0].starts.shape[0]
     per_call = max(1, _CAPACITY // n_starts)  # candidates per queue call
@@ -264,7 +275,9 @@ def _solve(rows: list["CandidateRow"], shared: SpectrumArgs, n_freq: int, layout
         u0[: len(part) * n_starts] = np.concatenate([r.starts for r in part])
         which = np.zeros(_CAPACITY, np.int32)
         which[: len(part) * n_starts] = np.repeat(np.arange(len(part)), n_starts)
-        out = queue(u0, which, np.full(_CAPACITY, budget), len(part) * n_starts, stacked, shared, drain=True)
+        marquardt = np.ones(_CAPACITY, bool)
+        marquardt[: len(part) * n_starts] = np.repeat(scaled[lo : lo + len(part)], n_starts)
+        out = queue(u0, which, np.full(_CAPACITY, budget), len(part) * n_starts, stacked, shared, marquardt, drain=True)
         m = len(part) * n_starts
         got = [np.asarray(a)[:m].reshape((len(part), n_starts) + np.shape(a)[1:]) for a in out]
         u[lo : lo + len(part)], chi2[lo : lo + len(part)], done[lo : lo + len(part)], steps[lo : lo + len(part)] = got

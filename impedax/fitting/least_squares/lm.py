@@ -23,7 +23,8 @@ class LMState(NamedTuple):
     (``a`` = JᵀJ, ``g`` = Jᵀr, ``cost`` = ½‖r‖²), the trial point ``u_try`` and the cost
     decrease ``pred`` the linear model predicts for it, the damping ``lam`` and its growth
     factor ``nu``, the step count ``i``, ``done``, the running maximum ``dmax`` of diag(JᵀJ)
-    (Marquardt's scaling), and ``extra`` kept with the accepted point (see `lm_iteration`)."""
+    (Marquardt's scaling), ``extra`` kept with the accepted point, and ``scaled``: whether the
+    damping uses Marquardt's scaling or the identity (see `lm_iteration`)."""
 
     u: jax.Array
     a: jax.Array
@@ -37,6 +38,7 @@ class LMState(NamedTuple):
     done: jax.Array
     dmax: jax.Array
     extra: tuple
+    scaled: jax.Array
 
 
 def solve_damped(a, b):
@@ -62,13 +64,21 @@ def solve_damped(a, b):
     return jnp.stack(x)
 
 
-def lm_iteration(normal: Callable, rtol: float = 1e-8, xtol: float = 1e-10, extra_init: Callable | None = None, inline_solve: bool = False):
-    """(init, step) of a dense Levenberg–Marquardt iteration for ½‖r(u)‖² with Marquardt
-    scaling and Nielsen's damping update (Madsen, Nielsen & Tingleff 2004, alg. 3.16);
-    ``normal(u, args) -> (JᵀJ, Jᵀr, ½‖r‖², extra)``; ``extra`` (``()`` or arrays whose shapes
-    ``extra_init(u0, args)`` gives) is kept with the accepted point, e.g. (J, r) for a model
-    whose Jacobian is expensive to trace again at the end. ``inline_solve``: the damped
-    system by `solve_damped` (faster per step under ``vmap``, slower to compile).
+def lm_iteration(normal: Callable, rtol: float = 1e-8, xtol: float = 1e-10, extra_init: Callable | None = None, inline_solve: bool = False, scaling: bool = True):
+    """(init, step) of a dense Levenberg–Marquardt iteration for ½‖r(u)‖² with Nielsen's
+    damping update (Madsen, Nielsen & Tingleff 2004, alg. 3.16): the damped system is
+    (JᵀJ + λD)δ = −Jᵀr with Marquardt's scaling D = the running maximum of diag(JᵀJ)
+    (``scaling``), else D = I; ``normal(u, args) -> (JᵀJ, Jᵀr, ½‖r‖², extra)``; ``extra``
+    (``()`` or arrays whose shapes ``extra_init(u0, args)`` gives) is kept with the accepted
+    point, e.g. (J, r) for a model whose Jacobian is expensive to trace again at the end.
+    ``inline_solve``: the damped system by `solve_damped` (faster per step under ``vmap``,
+    slower to compile).
+
+    The two dampings reach different optima from the same starts. D = I suits cold starts far
+    from the data: there Marquardt's D keeps the huge curvature of the start (an inductance or
+    a diffusion resistance 10⁸ times too large) for the whole solve, λ grows and the start
+    stalls where it began. Marquardt's D suits the long valley of a finite Warburg element
+    whose τ runs to infinity (R/√τ fixed): D = I creeps along it (docs/fitting.md, "Damping").
 
     Each step linearises once at the trial point and keeps it only when the cost falls (the
     state holds JᵀJ and Jᵀr, not J), so the model's Jacobian is traced once. A start is done
@@ -81,7 +91,7 @@ def lm_iteration(normal: Callable, rtol: float = 1e-8, xtol: float = 1e-10, extr
         return LMState(
             u=u0, a=jnp.zeros((k, k)), g=jnp.zeros(k), cost=jnp.asarray(jnp.inf), u_try=u0, pred=jnp.asarray(1.0),
             lam=jnp.asarray(1e-3), nu=jnp.asarray(2.0), i=jnp.asarray(0), done=jnp.asarray(False), dmax=jnp.zeros(k),
-            extra=() if extra_init is None else extra_init(u0, args),
+            extra=() if extra_init is None else extra_init(u0, args), scaled=jnp.asarray(scaling),
         )
 
     def step(s: LMState, args) -> LMState:
@@ -98,7 +108,7 @@ def lm_iteration(normal: Callable, rtol: float = 1e-8, xtol: float = 1e-10, extr
         a, g = keep(a_try, s.a), keep(g_try, s.g)
         extra = jax.tree_util.tree_map(keep, extra_try, s.extra)
         dmax = jnp.maximum(jnp.diag(a), s.dmax)
-        d = jnp.where(dmax > 0, dmax, 1.0)  # padded parameters have zero columns
+        d = jnp.where(s.scaled & (dmax > 0), dmax, 1.0)  # padded parameters have zero columns
         damped = a + lam * jnp.diag(d)
         delta = -(solve_damped(damped, g) if inline_solve else jnp.linalg.solve(damped, g))
         solved = jnp.all(jnp.isfinite(delta))  # if not, the next trial is u itself: rejected, more damping
@@ -107,7 +117,7 @@ def lm_iteration(normal: Callable, rtol: float = 1e-8, xtol: float = 1e-10, extr
         flat = ~first & ok & (gain <= rtol * s.cost)
         tiny = solved & (jnp.sqrt(jnp.sum(delta**2)) <= xtol * (jnp.sqrt(jnp.sum(u**2)) + xtol))
         done = s.done | flat | tiny | (lam > 1e15) | ~jnp.isfinite(cost)
-        new = LMState(u=u, a=a, g=g, cost=cost, u_try=u + delta, pred=pred, lam=lam, nu=nu, i=s.i + 1, done=done, dmax=dmax, extra=extra)
+        new = LMState(u=u, a=a, g=g, cost=cost, u_try=u + delta, pred=pred, lam=lam, nu=nu, i=s.i + 1, done=done, dmax=dmax, extra=extra, scaled=s.scaled)
         return jax.tree_util.tree_map(lambda a_, b_: jnp.where(s.done, b_, a_), new, s)  # a finished start stays put
 
     return init, step
@@ -149,19 +159,23 @@ def work_queue(normal_u: Callable, n_lanes: int, combine: Callable, *, inline_so
     still run: their problems come back unfinished (``done`` False), to be continued on fewer
     lanes, so a few slow problems do not keep every lane busy. Returns a `QueueOutput` over
     the C problems. ``inline_solve``: as in `lm_iteration` (False: one LAPACK solve per lane
-    step, much faster to compile).
+    step, much faster to compile). ``scaled`` (C,) bool, optional: per problem, Marquardt's
+    scaling (True, the default) or D = I (`lm_iteration`); one compilation serves both.
     """
     init, step = lm_iteration(normal_u, inline_solve=inline_solve)
     lane_init = jax.vmap(init, in_axes=(0, None))
 
-    def solve(u0, spectrum, budget, n_problems, rows, shared, *, drain):
+    def solve(u0, spectrum, budget, n_problems, rows, shared, scaled=None, *, drain):
         capacity = u0.shape[0]
         lane_step = jax.vmap(lambda s, row: step(s, combine(shared, row)))
 
         def load(pid):
             clipped = jnp.minimum(pid, capacity - 1)
             row = jax.tree_util.tree_map(lambda a: a[spectrum[clipped]], rows)
-            return lane_init(u0[clipped], None), row, budget[clipped]
+            s = lane_init(u0[clipped], None)
+            if scaled is not None:
+                s = s._replace(scaled=scaled[clipped])
+            return s, row, budget[clipped]
 
         def select(mask, new, old):
             return jax.tree_util.tree_map(lambda a, b: jnp.where(mask.reshape(mask.shape + (1,) * (a.ndim - 1)), a, b), new, old)
