@@ -1,5 +1,12 @@
 """Candidate fits through padded programs agree with one-by-one fits of compiled trees."""
 
+import contextlib
+import io
+import json
+import os
+import subprocess
+import sys
+
 import numpy as np
 import pytest
 
@@ -58,3 +65,41 @@ def test_cold_starts_damped_with_identity_reach_the_optimum_of_impedax_fit():
     with pytest.raises(ix.FitError, match="one per circuit"):
         fit_candidates([case.circuit], data, damping=["identity", "marquardt"])
     assert ix.diagnose(data, case.circuit).verdict == "adequate"
+
+
+_EVERY_START = """
+import json, numpy as np, jax, impedax as ix
+from impedax.fitting.least_squares.candidates import fit_candidates
+f = np.geomspace(1e-1, 1e5, 50)
+w = 2 * np.pi * f
+z = 10 + 100 / (1 + 100 * 2e-5 * (1j * w) ** 0.8) + 50 / (1 + 50 * 1e-3 * 1j * w)  # R0 + R1 || CPE1 + R2 || C2
+z = z * (1 + 0.01 * (np.random.default_rng(5).normal(size=f.size) + 1j * np.random.default_rng(6).normal(size=f.size)))
+data = ix.make_spectrum(f, z)
+fits = fit_candidates(["R0 + R1 || C1", "R0 + R1 || CPE1", "R0 + R1 || CPE1 + R2 || C2", "R0 + R1 || C1 + W2"], data,
+                      n_starts=23, seeds=[1, 2, 3, 4], damping=["identity", "marquardt", "marquardt", "identity"])
+print(json.dumps({"devices": len(jax.devices()), "chi2": [float(r.chi2) for r in fits], "values": [[float(v) for v in r.values.values()] for r in fits],
+                  "steps": [r.n_evaluations for r in fits]}))
+"""
+
+
+@pytest.mark.parametrize("devices", ["1", "3"])
+def test_candidate_queue_gives_every_start_the_same_fit_on_any_number_of_devices(devices):
+    """The work queue runs on every JAX device at once, problem p on device p mod D. A start's
+    Levenberg–Marquardt iteration depends on nothing but its own problem, so every start of
+    every candidate (92 problems, both dampings) takes the same steps (their sum over a
+    candidate's starts) to the same optimum with one device as with two (this process) or
+    three."""
+    env = {k: v for k, v in os.environ.items() if k not in ("IMPEDAX_CPU_DEVICES", "XLA_FLAGS")}
+    env.update(IMPEDAX_CPU_DEVICES=devices, PYTHONPATH=os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    other = subprocess.run([sys.executable, "-c", _EVERY_START], env=env, capture_output=True, text=True, timeout=300)
+    assert other.returncode == 0, other.stderr
+    theirs = json.loads(other.stdout.strip().splitlines()[-1])
+    with contextlib.redirect_stdout(io.StringIO()) as here:
+        exec(_EVERY_START, {})
+    mine = json.loads(here.getvalue().strip().splitlines()[-1])
+    assert theirs["devices"] == int(devices)
+    assert np.all(np.isfinite(mine["chi2"]))
+    np.testing.assert_allclose(theirs["chi2"], mine["chi2"], rtol=1e-9)
+    for a, b in zip(theirs["values"], mine["values"]):
+        np.testing.assert_allclose(a, b, rtol=1e-7)
+    assert theirs["steps"] == mine["steps"]

@@ -3,11 +3,12 @@
 Each candidate becomes a padded `CircuitProgram` of a shared `ProgramLayout`; programs,
 parameter maps, bounds and starts travel as data. Every (candidate, start) pair is one
 Levenberg–Marquardt problem of a work queue over a fixed number of ``vmap`` lanes
-(`lm.work_queue`), with the program's analytic Jacobian (`program_value_and_columns`). The
-compiled solver depends only on the layout, the padded free-parameter count K and the padded
-number of frequencies, never on how many candidates or starts there are: layouts, K and the
-frequency count are rounded up to buckets, so a diagnosis and every step of a refinement
-share one compilation (kept by JAX's persistent cache) whatever circuits they propose.
+(`lm.work_queue`) on every JAX device at once (`solvers.over_devices`), with the program's
+analytic Jacobian (`program_value_and_columns`). The compiled solver depends only on the
+layout, the padded free-parameter count K and the padded number of frequencies, never on how
+many candidates or starts there are: layouts, K and the frequency count are rounded up to
+buckets, so a diagnosis and every step of a refinement share one compilation (kept by JAX's
+persistent cache) whatever circuits they propose.
 """
 
 from __future__ import annotations
@@ -28,7 +29,7 @@ from ..parameters import Transform, to_external, to_internal
 from ..problem import FitProblem, fit_problem, open_spectrum, weights
 from .lm import work_queue
 from .result import FitResult, fit_result
-from .solvers import SolverArgs, SolverOutput, SolverStatus, padded_points, trimmed
+from .solvers import SolverArgs, SolverOutput, SolverStatus, over_devices, padded_points, trimmed
 from .starts import SpectrumFeatures, data_driven_guess, random_starts
 
 __all__ = ["fit_candidates", "SolverShape", "solver_shape", "candidate_solver"]
@@ -155,7 +156,10 @@ def candidate_solver(layout: ProgramLayout, n_free: int, n_lanes: int = _LANES):
     """Jitted ``(queue, finish)`` for candidates of ``layout`` with ``n_free`` (padded) free
     parameters: ``queue`` is `lm.work_queue` over ``n_lanes`` lanes of (candidate, start)
     problems (`CandidateRows` per candidate, `SpectrumArgs` shared) with the normal
-    equations from the program's analytic Jacobian; ``finish(u, rows, shared)`` gives, vmapped
+    equations from the program's analytic Jacobian, run on every device at once
+    (`solvers.over_devices`: ``queue(u0, which, budget, n_problems, scaled, rows, shared)``,
+    the first five with a leading axis of one entry per device, each device draining its own
+    problems); ``finish(u, rows, shared)`` gives, vmapped
     over candidates, the full parameters, chi², the weighted Jacobian in parameter space
     (2F, K) and the model's impedance at points u."""
     parts = _program_parts(layout)
@@ -168,7 +172,13 @@ def candidate_solver(layout: ProgramLayout, n_free: int, n_lanes: int = _LANES):
     # the damped systems by LAPACK (inline_solve=False): the unrolled factorisation of
     # `lm.solve_damped` would double the compile time of the whole solver. The damping
     # (`DAMPINGS`) is chosen per problem at run time, so both share this compilation
-    queue = jax.jit(work_queue(normal_u, n_lanes, _combine, inline_solve=False), static_argnames="drain")
+    lanes = work_queue(normal_u, n_lanes, _combine, inline_solve=False)
+
+    def per_device(u0, which, budget, n_problems, scaled, rows, shared, *, drain):
+        return lanes(u0, which, budget, n_problems, rows, shared, scaled, drain=drain)
+
+    # one queue per JAX device (one per core, `impedax._use_every_core`), one program for all
+    queue, _ = over_devices(per_device, 5, drain=True)
 
     def finish_one(u, row, shared):
         theta, z, j_re, j_im, r_re, r_im = parts(u, _combine(shared, row), False)
@@ -263,23 +273,33 @@ def _solve(rows: list["CandidateRow"], shared: SpectrumArgs, n_freq: int, layout
     one `SolverOutput` per candidate (frequency padding removed)."""
     queue, finish = candidate_solver(layout, k_pad)
     n_starts = rows[0].starts.shape[0]
-    per_call = max(1, _CAPACITY // n_starts)  # candidates per queue call
+    n_devices = len(jax.devices())
+    per_call = max(1, min(_CAPACITY, n_devices * _CAPACITY // n_starts))  # candidates per queue call
     u = np.zeros((len(rows), n_starts, k_pad))
     chi2 = np.full((len(rows), n_starts), np.inf)
     done = np.zeros((len(rows), n_starts), bool)
     steps = np.zeros((len(rows), n_starts), int)
     for lo in range(0, len(rows), per_call):
         part = rows[lo : lo + per_call]
-        stacked = _stack_rows(part, _CAPACITY)
-        u0 = np.zeros((_CAPACITY, k_pad))
-        u0[: len(part) * n_starts] = np.concatenate([r.starts for r in part])
-        which = np.zeros(_CAPACITY, np.int32)
-        which[: len(part) * n_starts] = np.repeat(np.arange(len(part)), n_starts)
-        marquardt = np.ones(_CAPACITY, bool)
-        marquardt[: len(part) * n_starts] = np.repeat(scaled[lo : lo + len(part)], n_starts)
-        out = queue(u0, which, np.full(_CAPACITY, budget), len(part) * n_starts, stacked, shared, marquardt, drain=True)
         m = len(part) * n_starts
-        got = [np.asarray(a)[:m].reshape((len(part), n_starts) + np.shape(a)[1:]) for a in out]
+        starts = np.concatenate([r.starts for r in part])
+        which_all = np.repeat(np.arange(len(part)), n_starts).astype(np.int32)
+        scaled_all = np.repeat(scaled[lo : lo + len(part)], n_starts)
+        # problem p on device p mod D: each device gets every candidate's starts alike
+        mine = [np.arange(d, m, n_devices) for d in range(n_devices)]
+        u0 = np.zeros((n_devices, _CAPACITY, k_pad))
+        which = np.zeros((n_devices, _CAPACITY), np.int32)
+        marquardt = np.ones((n_devices, _CAPACITY), bool)
+        for d, idx in enumerate(mine):
+            u0[d, : idx.size], which[d, : idx.size], marquardt[d, : idx.size] = starts[idx], which_all[idx], scaled_all[idx]
+        counts = np.array([idx.size for idx in mine], np.int64)
+        out = jax.device_get(queue(u0, which, np.full((n_devices, _CAPACITY), budget), counts, marquardt, _stack_rows(part, _CAPACITY), shared))
+        got = []
+        for a in out:
+            flat = np.empty((m,) + a.shape[2:], a.dtype)
+            for d, idx in enumerate(mine):
+                flat[idx] = a[d, : idx.size]
+            got.append(flat.reshape((len(part), n_starts) + a.shape[2:]))
         u[lo : lo + len(part)], chi2[lo : lo + len(part)], done[lo : lo + len(part)], steps[lo : lo + len(part)] = got
     chi2 = np.where(np.isfinite(chi2), chi2, np.inf)
     best = np.argmin(chi2, axis=1)
