@@ -103,6 +103,7 @@ class Template:
     strengths: Mapping[str, Mapping[str, float]] = field(default_factory=dict)
     n_points: int = 60
     tag: str = ""  # "edge", "nested", ... : what the template probes beyond its effect
+    generating: str = ""  # two-effect templates: the circuit of ``impedance``, in impedax's language
 
 
 # Variants: (relative noise, "flat" | "low_f", strength, number of outliers)
@@ -249,31 +250,34 @@ TEMPLATES: tuple[Template, ...] = (
     Template("outliers/constant_phase", "R0 + R1 || C1", ("constant_phase",), lambda f, p: p["R0"] + rq(f, p["R1"], p["Q"], p["a"]),
              {"R0": 50.0, "R1": 3e3, "Q": 2e-6, "a": 0.75}, (0.1, 1e5), V_OUTLIER, _s({"a": 0.92}, {"a": 0.8}, {"a": 0.65}), tag="outliers"),
     # ---- two missing effects -------------------------------------------------------------------------
-    Template("two/finger_rs_ep", "R_sk || CPE_sk + C_gap", ("series_resistance", "electrode_polarization"), _finger, _FINGER, (1.0, 1e6), V_TWO),
+    Template("two/finger_rs_ep", "R_sk || CPE_sk + C_gap", ("series_resistance", "electrode_polarization"), _finger, _FINGER, (1.0, 1e6), V_TWO,
+             generating="R_f + R_sk || CPE_sk + R_EP || CPE_EP || C_gap"),
     Template("two/rc_rs_l", "R1 || C1", ("series_resistance", "series_inductance"), lambda f, p: p["Rs"] + rc(f, p["R1"], p["C1"]) + ind(f, p["L"]),
-             {"Rs": 50.0, "R1": 2e3, "C1": 1e-7, "L": 5e-6}, (1.0, 1e6), V_TWO),
+             {"Rs": 50.0, "R1": 2e3, "C1": 1e-7, "L": 5e-6}, (1.0, 1e6), V_TWO, generating="R_s + R1 || C1 + L1"),
     Template("two/rc_cpe_w", "R0 + R1 || C1", ("constant_phase", "diffusion"), lambda f, p: p["R0"] + par(p["R1"] + warburg(f, p["sigma"]), cpe(f, p["Q"], p["a"])),
-             {"R0": 15.0, "R1": 300.0, "sigma": 150.0, "Q": 3e-5, "a": 0.78}, (0.01, 1e5), V_TWO),
+             {"R0": 15.0, "R1": 300.0, "sigma": 150.0, "Q": 3e-5, "a": 0.78}, (0.01, 1e5), V_TWO, generating="R0 + (R1 + W1) || CPE1"),
     Template("two/rc_arc_l", "R0 + R1 || C1", ("extra_relaxation", "series_inductance"),
              lambda f, p: p["R0"] + rc(f, p["R1"], p["C1"]) + rc(f, p["R2"], p["C2"]) + ind(f, p["L"]),
-             {"R0": 10.0, "R1": 400.0, "C1": 1e-7, "R2": 2e3, "C2": 5e-5, "L": 3e-6}, (0.01, 1e6), V_TWO),
+             {"R0": 10.0, "R1": 400.0, "C1": 1e-7, "R2": 2e3, "C2": 5e-5, "L": 3e-6}, (0.01, 1e6), V_TWO, generating="R0 + R1 || C1 + R2 || C2 + L1"),
     Template("two/rc_rs_stray", "R1 || C1", ("series_resistance", "stray_capacitance"),
              lambda f, p: par(p["Rs"] + rc(f, p["R1"], p["C1"]), cap(f, p["Cs"])),
-             {"Rs": 3e4, "R1": 1e6, "C1": 1e-9, "Cs": 3e-11}, (1.0, 1e6), V_TWO),
+             {"Rs": 3e4, "R1": 1e6, "C1": 1e-9, "Cs": 3e-11}, (1.0, 1e6), V_TWO, generating="(R_s + R1 || C1) || C_s"),
     Template("two/battery_arc_w", "R0 + R1 || CPE1", ("extra_relaxation", "diffusion"), _battery,
-             {"R0": 0.02, "R1": 0.01, "Q1": 2.0, "a1": 0.85, "R2": 0.02, "Q2": 20.0, "a2": 0.8, "sigma": 0.006}, (0.01, 1e4), V_TWO),
+             {"R0": 0.02, "R1": 0.01, "Q1": 2.0, "a1": 0.85, "R2": 0.02, "Q2": 20.0, "a2": 0.8, "sigma": 0.006}, (0.01, 1e4), V_TWO,
+             generating="R0 + R1 || CPE1 + R2 || CPE2 + W1"),
     Template("two/battery_l_w", "R0 + R1 || CPE1 + R2 || CPE2", ("series_inductance", "diffusion"), lambda f, p: _battery(f, p) + ind(f, p["L"]),
-             {"R0": 0.02, "R1": 0.01, "Q1": 2.0, "a1": 0.85, "R2": 0.02, "Q2": 20.0, "a2": 0.8, "sigma": 0.006, "L": 4e-7}, (0.01, 1e4), V_TWO),
+             {"R0": 0.02, "R1": 0.01, "Q1": 2.0, "a1": 0.85, "R2": 0.02, "Q2": 20.0, "a2": 0.8, "sigma": 0.006, "L": 4e-7}, (0.01, 1e4), V_TWO,
+             generating="R0 + R1 || CPE1 + R2 || CPE2 + W1 + L1"),
     Template("two/meyer_rs_cpe", "C_i + R_sc || C_sc", ("series_resistance", "constant_phase"),
              lambda f, p: cap(f, p["Ci"]) + rq(f, p["Rsc"], p["Q"], p["a"]) + p["Rf"],
-             {"Ci": 1e-9, "Rsc": 1e6, "Q": 5e-9, "a": 0.72, "Rf": 2e4}, (10.0, 1e6), V_TWO),
+             {"Ci": 1e-9, "Rsc": 1e6, "Q": 5e-9, "a": 0.72, "Rf": 2e4}, (10.0, 1e6), V_TWO, generating="C_i + R_sc || CPE_sc + R_f"),
     Template("two/ladder_arc_l", "R0 + R1 || CPE1 + R2 || CPE2 + Wo1", ("extra_relaxation", "series_inductance"),
              lambda f, p: p["R0"] + ind(f, p["L"]) + rq(f, p["R1"], p["Q1"], p["a1"]) + rq(f, p["R2"], p["Q2"], p["a2"]) + rc(f, p["R3"], p["C3"]) + wo(f, p["Rd"], p["tau"]),
              {"R0": 5.0, "L": 2e-6, "R1": 40.0, "Q1": 1e-6, "a1": 0.9, "R2": 200.0, "Q2": 1e-4, "a2": 0.85, "R3": 150.0, "C3": 1e-8, "Rd": 300.0, "tau": 20.0},
-             (0.005, 1e6), V_TWO),
+             (0.005, 1e6), V_TWO, generating="R0 + L1 + R1 || CPE1 + R2 || CPE2 + R3 || C3 + Wo1"),
     Template("two/gap_ep_stray", "R_f + C_gap", ("electrode_polarization", "stray_capacitance"),
              lambda f, p: par(p["Rf"] + par(p["Rep"], cap(f, p["C"])), cap(f, p["Cs"])),
-             {"Rf": 1e4, "Rep": 1e7, "C": 4e-10, "Cs": 5e-11}, (1.0, 1e6), V_TWO),
+             {"Rf": 1e4, "Rep": 1e7, "C": 4e-10, "Cs": 5e-11}, (1.0, 1e6), V_TWO, generating="(R_f + R_EP || C_gap) || C_s"),
     # ---- adequate models (nothing missing) ----------------------------------------------------------
     Template("adequate/rc", "R0 + R1 || C1", (), lambda f, p: p["R0"] + rc(f, p["R1"], p["C1"]), {"R0": 50.0, "R1": 2e3, "C1": 1e-7}, (1.0, 1e6), V_ADEQUATE2),
     Template("adequate/rcpe", "R0 + R1 || CPE1", (), lambda f, p: p["R0"] + rq(f, p["R1"], p["Q"], p["a"]), {"R0": 20.0, "R1": 5e3, "Q": 3e-6, "a": 0.8}, (0.1, 1e5), V_ADEQUATE2),
@@ -336,6 +340,7 @@ class Case:
     outliers: int
     tag: str
     split: str
+    generating: str = ""  # two-effect cases: the circuit the spectrum was made from
 
     @property
     def kind(self) -> str:
@@ -392,7 +397,7 @@ def make_case(t: Template, variant: tuple[float, str, str, int], split: str, ind
         idx = rng.choice(np.arange(3, f.size - 3), size=n_outliers, replace=False)
         z[idx] = z[idx] * (1 + rng.uniform(0.08, 0.15, n_outliers) * np.exp(2j * np.pi * rng.random(n_outliers)))
     name = f"{t.name}#{index}" if len(t.variants) > 1 else t.name
-    return Case(name, t.circuit, t.expected, f, z, level, profile, strength, n_outliers, t.tag, split)
+    return Case(name, t.circuit, t.expected, f, z, level, profile, strength, n_outliers, t.tag, split, t.generating)
 
 
 def cases(split: str = "dev") -> list[Case]:
@@ -414,6 +419,11 @@ class Outcome:
     refine_verdict: str | None
     seconds: float
     reproduced: float | None = None  # rms_rel of `fit` of the best suggestion's model string / the suggestion's own
+    structure: bool | None = None  # two-effect cases: refine's final model as simple as the generating circuit and as good
+
+    @property
+    def two_named(self) -> bool:
+        return self.refine_effects is not None and set(self.case.expected) <= set(self.refine_effects)
 
     @property
     def top1(self) -> bool:
@@ -433,7 +443,7 @@ class Outcome:
         if kind == "invalid":
             return self.verdict == DATA_INVALID
         if kind == "two":
-            return self.refine_effects is not None and set(self.case.expected) <= set(self.refine_effects)
+            return self.two_named
         return self.top1
 
 
@@ -447,22 +457,42 @@ def run_case(case: Case, *, refine_two: bool = True, reproduce: bool = False) ->
     t0 = time.perf_counter()
     d = ix.diagnose(data, case.circuit)
     ranked = tuple(s.effect for s in d.suggestions)
-    effects = refine_verdict = None
+    effects = refine_verdict = structure = None
     if case.kind == "two" and refine_two:
         r = ix.refine(data, case.circuit)
         effects = tuple(s.effect for s in r.steps if s.effect)
         refine_verdict = str(r.verdict)
     seconds = time.perf_counter() - t0
+    if effects is not None and case.generating:
+        structure = same_as_generating(r, ix.fit(case.generating, _kept(data, r.masked_points)))
     reproduced = None
     if reproduce and d.best is not None:
-        kept = data.sel(frequency=[f for f in data["frequency"].values if float(f) not in set(d.masked_points)])
-        reproduced = ix.fit(d.best.model, kept).rms_rel / d.best.rms_rel
-    return Outcome(case, str(d.verdict), ranked, effects, refine_verdict, seconds, reproduced)
+        reproduced = ix.fit(d.best.model, _kept(data, d.masked_points)).rms_rel / d.best.rms_rel
+    return Outcome(case, str(d.verdict), ranked, effects, refine_verdict, seconds, reproduced, structure)
+
+
+def _kept(data, masked_points):
+    """``data`` without the frequencies a diagnosis masked."""
+    return data.sel(frequency=[f for f in data["frequency"].values if float(f) not in set(masked_points)])
+
+
+STRUCTURE_TOLERANCE = 1.02
+
+
+def same_as_generating(refined, generating_fit) -> bool:
+    """Refine's final model has at most the generating circuit's parameters and fits within
+    2 % of that circuit's own fit (rms_rel, same points): whatever its elements are named, the
+    data cannot ask for more. Two missing effects can make a circuit of other effects with the
+    same function: (R_s + R1 ∥ C1) ∥ C_s is (R1 + R2 ∥ C2) ∥ C1, a series resistance and a stray
+    capacitance read as a relaxation inside the user's R1 ∥ C1."""
+    final = refined.final
+    return final.n_params <= generating_fit.n_params and final.rms_rel <= STRUCTURE_TOLERANCE * generating_fit.rms_rel
 
 
 def summarise(outcomes: list[Outcome]) -> dict[str, float]:
     """Hit rates: top-1 / top-3 on single-effect cases, false alarms on adequate models,
-    data_invalid found on non-KK cases, refine's two-effect success, the share of best
+    data_invalid found on non-KK cases, refine's two-effect success (both effects added; and,
+    ``two_structure``, both added or a final model `same_as_generating`), the share of best
     suggestions that `fit` of their model string reproduces to 1 % in rms_rel (cases run with
     ``reproduce``), median seconds per case."""
     by = {k: [o for o in outcomes if o.case.kind == k] for k in ("single", "adequate", "invalid", "two")}
@@ -477,6 +507,7 @@ def summarise(outcomes: list[Outcome]) -> dict[str, float]:
         "false_alarm": rate(by["adequate"], lambda o: o.verdict != "adequate"),
         "invalid_found": rate(by["invalid"], lambda o: o.verdict == DATA_INVALID),
         "two_effect": rate(by["two"], lambda o: o.correct),
+        "two_structure": rate([o for o in by["two"] if o.structure is not None], lambda o: o.two_named or o.structure),
         "two_top1": rate(by["two"], lambda o: o.top1),
         "reproduced": rate([o for o in outcomes if o.reproduced is not None], lambda o: o.reproduced <= 1.01),
         "median_s": float(np.median([o.seconds for o in outcomes])) if outcomes else float("nan"),

@@ -2,6 +2,7 @@
 for, its formulas are right, and (slow) the diagnosis reaches its hit rates on it."""
 
 import collections
+import types
 
 import numpy as np
 import pytest
@@ -42,6 +43,31 @@ def test_splits_differ_and_repeat():
     assert [c.name for c in dev] == [c.name for c in held]
     assert all(not np.allclose(a.z, b.z) for a, b in zip(dev, held))
     assert all(np.array_equal(a.z, b.z) for a, b in zip(dev, es.cases("dev")))  # fixed seeds
+
+
+TWO_EFFECT = [t for t in es.TEMPLATES if len(t.expected) == 2]
+
+
+@pytest.mark.parametrize("template", TWO_EFFECT, ids=[t.name for t in TWO_EFFECT])
+def test_generating_circuit_is_the_formula(template):
+    """Each two-effect template names the circuit its numpy formula computes: fitted to the
+    formula's noise-free spectrum, the circuit reaches it to rounding."""
+    assert template.generating
+    params = {**template.params, **template.strengths.get(es.MEDIUM, {})}
+    f = np.logspace(np.log10(template.band[0]), np.log10(template.band[1]), template.n_points)
+    fit = ix.fit(template.generating, ix.make_spectrum(f, template.impedance(f, params)))
+    assert fit.rms_rel < 1e-9
+
+
+def test_same_as_generating_needs_as_few_parameters_and_as_good_a_fit():
+    def refined(k, rms):
+        return types.SimpleNamespace(final=types.SimpleNamespace(n_params=k, rms_rel=rms))
+
+    generating = types.SimpleNamespace(n_params=5, rms_rel=0.0060)
+    assert es.same_as_generating(refined(5, 0.0061), generating)  # within 2 %
+    assert es.same_as_generating(refined(4, 0.0050), generating)
+    assert not es.same_as_generating(refined(6, 0.0050), generating)  # better, but with more parameters
+    assert not es.same_as_generating(refined(5, 0.0062), generating)  # 3.3 % worse
 
 
 def test_formulas_against_hand_values():
