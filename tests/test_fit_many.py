@@ -1,6 +1,7 @@
 """Candidate fits through padded programs agree with one-by-one fits of compiled trees."""
 
 import contextlib
+import functools
 import io
 import json
 import os
@@ -47,9 +48,8 @@ def test_cold_starts_damped_with_identity_reach_the_optimum_of_impedax_fit():
     where they began, and the best of 16 starts ends at rms_rel 2.9 % where `impedax.fit`
     of the same circuit reaches 1.7 %; the diagnosis's baseline, fitted so, proposed a CPE
     for the ideal C3: a false alarm. Damped with λI (the baseline runs every start with both
-    dampings) they do not. The
-    SYNTHETIC spectrum is the evaluation set's adequate ladder (its own formulas, 1 % noise
-    growing toward low frequency)."""
+    dampings) they do not. The SYNTHETIC spectrum is the evaluation set's adequate ladder (its
+    own formulas, 1 % noise growing toward low frequency)."""
     import evaluation_set as es
 
     template = next(t for t in es.TEMPLATES if t.name == "adequate/ladder9")
@@ -82,6 +82,14 @@ print(json.dumps({"devices": len(jax.devices()), "chi2": [float(r.chi2) for r in
 """
 
 
+@functools.lru_cache(maxsize=1)
+def _every_start_here() -> dict:
+    """`_EVERY_START` run in this process (its devices: one per core), once for both tests."""
+    with contextlib.redirect_stdout(io.StringIO()) as here:
+        exec(_EVERY_START, {})
+    return json.loads(here.getvalue().strip().splitlines()[-1])
+
+
 @pytest.mark.parametrize("devices", ["1", "3"])
 def test_candidate_queue_gives_every_start_the_same_fit_on_any_number_of_devices(devices):
     """The work queue runs on every JAX device at once, problem p on device p mod D. A start's
@@ -94,9 +102,7 @@ def test_candidate_queue_gives_every_start_the_same_fit_on_any_number_of_devices
     other = subprocess.run([sys.executable, "-c", _EVERY_START], env=env, capture_output=True, text=True, timeout=300)
     assert other.returncode == 0, other.stderr
     theirs = json.loads(other.stdout.strip().splitlines()[-1])
-    with contextlib.redirect_stdout(io.StringIO()) as here:
-        exec(_EVERY_START, {})
-    mine = json.loads(here.getvalue().strip().splitlines()[-1])
+    mine = _every_start_here()
     assert theirs["devices"] == int(devices)
     assert np.all(np.isfinite(mine["chi2"]))
     np.testing.assert_allclose(theirs["chi2"], mine["chi2"], rtol=1e-9)
