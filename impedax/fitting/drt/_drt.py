@@ -10,6 +10,7 @@ import numpy as np
 from ...arguments import checked_arguments, count, flag, real
 from ...errors import DataError, ParameterError
 from ..problem import frequency_and_z
+from ..stored import StoredProgram
 from .basis import impedance_integrals, penalty_matrix, rbf_basis
 from .peaks import find_peaks
 from .result import DRTBatchResult, DRTResult
@@ -21,6 +22,12 @@ _ETA = 1e-10  # diagonal added to Γ so that it factors (see tikhonov.py)
 _LOG_LAMBDA_GRID = np.log(np.logspace(-8, 2, 41))
 _LAMBDA_FLOOR = 1e-4  # λ chosen below this is raised to it: see docs/drt.md, "Choosing λ"
 _SAMPLES = 200  # Gaussian draws for the peaks' standard deviations
+
+
+@functools.lru_cache(maxsize=8)
+def _stored_solve(method: str, signed: bool, max_iter: int) -> StoredProgram:
+    """`tikhonov.solve_batch` for these options, kept across processes (`stored`)."""
+    return StoredProgram("drt-solve", (method, signed, max_iter), functools.partial(solve_batch, method=method, signed=signed, max_iter=max_iter))
 
 
 @functools.lru_cache(maxsize=16)
@@ -153,9 +160,8 @@ def drt(
     weights = 1.0 / np.abs(zn)
     # a fixed λ goes in as a finite fixed_log (NaN: chosen by lam_method): one compiled solve serves both
     fixed_log = np.full(flat.shape[0], math.log(fixed) if fixed is not None else math.nan)
-    out = solve_batch(
+    out = _stored_solve(lam_method, bool(signed), int(max_iter))(
         design_re, design_im, weights, zn.real, zn.imag, gamma_penalty, r_inv, mask, phi, _LOG_LAMBDA_GRID, fixed_log, math.log(_LAMBDA_FLOOR),
-        method=lam_method, signed=bool(signed), max_iter=int(max_iter),
     )
     out = {k: np.asarray(v) for k, v in out.items()}
     q05, q95 = (np.asarray(v) for v in quantile_band(out["band_mean"], out["band_sd"], bool(signed), out["gamma"]))

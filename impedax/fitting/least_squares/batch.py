@@ -21,7 +21,7 @@ from ..problem import residual_scale, weights
 from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, dominant_points, information_criteria, null_sets
 from .order import canonical_order
 from .result import bound_sides, confirm_bounds, fit_notes, fit_result, non_passive_notes, stack_notes, weighting_notes
-from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, better, over_devices, padded_points, tree_solver, trimmed, unscale
+from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, TreeSolvers, better, over_devices, padded_points, tree_solver, trimmed, unscale
 from .starts import ESCALATION_RUNGS, SpectrumFeatures, climb_target, batch_outliers, guess_start, rms_rel_of, rung_seed, rung_starts, to_solver_space
 
 __all__ = ["BatchFitResult", "fit_batch"]
@@ -142,7 +142,7 @@ def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n
     shared = SharedArgs(freq_p, table.lower[free], table.upper[free])
     x_fixed = np.where(np.isnan(table.values), 1.0, table.values)
     rows = SpectrumRows(z_p, inv_re_p, inv_im_p, np.broadcast_to(x_fixed, (b, x_fixed.size)))
-    solver = _LaneRunner(solvers.lanes, solvers.finish, solvers.chi2, rows, shared, np.size(freq))
+    solver = _LaneRunner(solvers, rows, shared, np.size(freq))
 
     guesses = guess_start(circuit, table, features, registry)
     large = b >= REFERENCE_MIN_SPECTRA
@@ -265,8 +265,9 @@ class _LaneRunner:
     for every device), then continues problems left open by the many-lane pass on a few
     lanes."""
 
-    def __init__(self, lanes, finish, chi2, rows: SpectrumRows, shared: SharedArgs, n_points: int):
-        self.lanes, self.finish, self.chi2, self.rows, self.shared = lanes, finish, chi2, rows, shared
+    def __init__(self, solvers: TreeSolvers, rows: SpectrumRows, shared: SharedArgs, n_points: int):
+        self.lanes, self.finish, self.chi2, self.key = solvers.lanes, solvers.finish, solvers.chi2, solvers.key
+        self.rows, self.shared = rows, shared
         self.n_points = n_points  # (before padding: `outputs` are cut back to them)
         self._placed: dict = {}
         self._shared_placed = None
@@ -313,7 +314,7 @@ class _LaneRunner:
 
     def _run(self, u0, spectrum, budget, *, many: bool):
         n_lanes, capacity = (_LANES, _CAPACITY) if many else (_FEW_LANES, _FEW_CAPACITY)
-        solve, sharding = over_devices(self.lanes(n_lanes), 5, drain=not many)
+        solve, sharding = over_devices(self.lanes(n_lanes), 5, drain=not many, stored=("batch-lanes", (self.key, n_lanes)))
         groups = self._groups(len(u0), capacity, n_lanes)
         pending = []
         for parts in groups:
@@ -334,12 +335,12 @@ class _LaneRunner:
             u[open_], chi2[open_], done[open_], steps[open_] = u2, chi2_2, done2, steps[open_] + steps2
         return u, chi2, done, steps
 
-    def _per_spectrum(self, fn, points, spectrum, *same) -> list:
-        """``fn(*points, local, rows, shared, *same)`` at ``points`` (arrays (n, K)) of spectra
-        ``spectrum``, in chunks of one fixed size run on all devices at once; each chunk's
-        results, trimmed."""
+    def _per_spectrum(self, name: str, points, spectrum, *same) -> list:
+        """``fn(*points, local, rows, shared, *same)`` (``fn``: the solvers' ``name``, "chi2"
+        or "finish") at ``points`` (arrays (n, K)) of spectra ``spectrum``, in chunks of one
+        fixed size run on all devices at once; each chunk's results, trimmed."""
         capacity = _FEW_CAPACITY  # (one shape for every call: one compilation)
-        run, sharding = over_devices(fn, len(points) + 2)
+        run, sharding = over_devices(getattr(self, name), len(points) + 2, stored=(f"batch-{name}", self.key))
         groups = self._groups(len(spectrum), capacity, _FEW_LANES)
         pending = []
         for parts in groups:
@@ -350,16 +351,16 @@ class _LaneRunner:
     def chi2_at(self, points, spectrum) -> list[np.ndarray]:
         """Weighted chi² of spectra ``spectrum`` at each array of solver points u (+inf where
         not finite)."""
-        return [np.nan_to_num(np.concatenate(self._per_spectrum(self.chi2, [np.asarray(u, float)], spectrum, True)), nan=np.inf) for u in points]
+        return [np.nan_to_num(np.concatenate(self._per_spectrum("chi2", [np.asarray(u, float)], spectrum, True)), nan=np.inf) for u in points]
 
     def chi2_at_x(self, points, spectrum) -> np.ndarray:
         """Weighted chi² of spectra ``spectrum`` at free parameter values ``points`` (C, K)."""
-        return np.concatenate(self._per_spectrum(self.chi2, [np.asarray(points, float)], spectrum, False))
+        return np.concatenate(self._per_spectrum("chi2", [np.asarray(points, float)], spectrum, False))
 
     def outputs(self, u, spectrum, done, steps, steps_total) -> SolverOutput:
         """Solver outputs at solutions ``u`` of spectra ``spectrum`` (as `solvers._finish`), each
         a new array (not a view of another or of an argument: callers may update them)."""
-        parts = self._per_spectrum(self.finish, [u], spectrum)
+        parts = self._per_spectrum("finish", [u], spectrum)
         out = SolverOutput(*(None if first is None else np.concatenate([p[i] for p in parts]) for i, first in enumerate(parts[0])))
         out = trimmed(out, self.n_points)
         code = np.where(done, int(SolverStatus.CONVERGED), int(SolverStatus.MAX_STEPS))

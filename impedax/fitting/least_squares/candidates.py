@@ -27,6 +27,7 @@ from ...circuits import Circuit, CircuitProgram, DEFAULT_REGISTRY, ProgramLayout
 from ...errors import FitError
 from ..parameters import Transform, to_external, to_internal
 from ..problem import FitProblem, fit_problem, open_spectrum, weights
+from ..stored import StoredProgram
 from .lm import work_queue
 from .result import FitResult, fit_result
 from .solvers import SolverArgs, SolverOutput, SolverStatus, over_devices, padded_points, trimmed
@@ -153,7 +154,7 @@ def _program_parts(layout: ProgramLayout):
 
 @functools.lru_cache(maxsize=16)
 def candidate_solver(layout: ProgramLayout, n_free: int, n_lanes: int = _LANES):
-    """Jitted ``(queue, finish)`` for candidates of ``layout`` with ``n_free`` (padded) free
+    """Jitted ``(queue, finish)``, both kept across processes (`stored.StoredProgram`), for candidates of ``layout`` with ``n_free`` (padded) free
     parameters: ``queue`` is `lm.work_queue` over ``n_lanes`` lanes of (candidate, start)
     problems (`CandidateRows` per candidate, `SpectrumArgs` shared) with the normal
     equations from the program's analytic Jacobian, run on every device at once
@@ -178,14 +179,15 @@ def candidate_solver(layout: ProgramLayout, n_free: int, n_lanes: int = _LANES):
         return lanes(u0, which, budget, n_problems, rows, shared, scaled, drain=drain)
 
     # one queue per JAX device (one per core, `impedax._use_every_core`), one program for all
-    queue, _ = over_devices(per_device, 5, drain=True)
+    static = (layout, n_free, n_lanes)
+    queue, _ = over_devices(per_device, 5, drain=True, stored=("candidate-queue", static))
 
     def finish_one(u, row, shared):
         theta, z, j_re, j_im, r_re, r_im = parts(u, _combine(shared, row), False)
         chi2 = jnp.sum(r_re**2) + jnp.sum(r_im**2)
         return theta, jnp.where(jnp.isfinite(chi2), chi2, jnp.inf), jnp.concatenate([j_re, j_im], axis=1).T, z
 
-    finish = jax.jit(jax.vmap(finish_one, in_axes=(0, 0, None)))
+    finish = StoredProgram("candidate-finish", static, jax.jit(jax.vmap(finish_one, in_axes=(0, 0, None))))
     return queue, finish
 
 

@@ -32,6 +32,7 @@ import numpy as np
 
 from ...circuits import Circuit, Registry, compile_circuit
 from ..parameters import external_of_kind
+from ..stored import StoredProgram
 from .lm import levenberg_marquardt, work_queue
 from .order import structural_peaks
 
@@ -410,7 +411,8 @@ def _make(residuals, max_steps: int, peaks=None, *, handover: bool = True):
 
 
 class TreeSolvers(NamedTuple):
-    """The compiled solvers of one circuit and free set (`tree_solver`)."""
+    """The compiled solvers of one circuit and free set (`tree_solver`); ``key``: what names
+    them across processes (`stored.StoredProgram`)."""
 
     single: Callable
     lanes: Callable
@@ -419,6 +421,7 @@ class TreeSolvers(NamedTuple):
     chi2_x: Callable
     resume: Callable
     screen: Callable
+    key: tuple
 
 
 @functools.lru_cache(maxsize=128)
@@ -459,8 +462,11 @@ def tree_solver(circuit: Circuit, registry: Registry, max_steps: int, free: tupl
 
         return jax.vmap(one)(points, spectrum)
 
+    static = (circuit, registry, max_steps, free, kinds)
+    chi2_stored = StoredProgram("fit-chi2", static, chi2)
+
     def chi2_x(points, spectrum, rows, shared):
-        return chi2(points, spectrum, rows, shared, False)
+        return chi2_stored(points, spectrum, rows, shared, False)
 
     lanes = functools.lru_cache(maxsize=4)(lambda n_lanes: jax.jit(work_queue(residuals.normal_u, n_lanes, combine), static_argnames="drain"))
 
@@ -477,17 +483,19 @@ def tree_solver(circuit: Circuit, registry: Registry, max_steps: int, free: tupl
         us, chi2s, _, steps = jax.vmap(solve_one, in_axes=(0, None, None))(u0s, args, SCREEN_STEPS)
         return us[jnp.argmin(chi2s)], chi2s, jnp.sum(steps)
 
-    return TreeSolvers(one_transfer(_make(residuals, max_steps, peaks, handover=False)), lanes, finish, chi2, chi2_x, resume, screen)
+    single = one_transfer(_make(residuals, max_steps, peaks, handover=False), "fit-single", static)
+    return TreeSolvers(single, lanes, finish, chi2, chi2_x, StoredProgram("fit-resume", static, resume), StoredProgram("fit-screen", static, screen), static)
 
 
 @functools.lru_cache(maxsize=64)
-def over_devices(fn: Callable, n_sharded: int, drain: bool | None = None):
+def over_devices(fn: Callable, n_sharded: int, drain: bool | None = None, stored: tuple[str, Any] | None = None):
     """``fn`` run on every JAX device at once as one compiled program (``jax.shard_map``):
     the first ``n_sharded`` arguments carry a leading axis of one entry per device (each
     device computes ``fn`` on its own entry, e.g. a chunk of a batch), the rest are the same
     on every device; outputs get the same leading axis. One compilation serves all devices,
     where a program placed on each device apart is compiled once per device. ``drain`` is
-    passed on as a keyword when given (`lm.work_queue`). Returns (the jitted function, the
+    passed on as a keyword when given (`lm.work_queue`). ``stored``: (name, key), to keep the
+    program across processes (`stored.StoredProgram`). Returns (the jitted function, the
     sharding of its per-device arguments)."""
     mesh = jax.sharding.Mesh(np.array(jax.devices()), ("device",))
     spread, same = jax.sharding.PartitionSpec("device"), jax.sharding.PartitionSpec()
@@ -502,43 +510,50 @@ def over_devices(fn: Callable, n_sharded: int, drain: bool | None = None):
         specs = tuple(spread if i < n_sharded else same for i in range(len(args)))
         return jax.shard_map(per_device, mesh=mesh, in_specs=specs, out_specs=spread, check_vma=False)(*args)
 
-    return jax.jit(run), jax.sharding.NamedSharding(mesh, spread)
+    spread_sharding, same_sharding = jax.sharding.NamedSharding(mesh, spread), jax.sharding.NamedSharding(mesh, same)
+    jitted = jax.jit(run)
+    if stored is not None:
+        name, key = stored
+        jitted = StoredProgram(name, (key, n_sharded, drain), jitted, lambda args: [spread_sharding] * n_sharded + [same_sharding] * (len(args) - n_sharded))
+    return jitted, spread_sharding
 
 
-def one_transfer(solve: Callable):
+def one_transfer(solve: Callable, name: str, static):
     """``solve(u0s, args) -> SolverOutput``, jitted to return its arrays packed in one float64
     array, and unpacked on the host: one device-to-host copy per fit instead of one per output
-    (each costs tens of µs, as much as several solver steps). Returns ``run(u0s, args)``
-    giving a `PendingOutputs`; its ``fetch()`` waits and returns the `SolverOutput` in numpy."""
-    layouts: dict = {}
+    (each costs tens of µs, as much as several solver steps); kept across processes as
+    `stored.StoredProgram` ``name`` with key ``static``. Returns ``run(u0s, args)`` giving a
+    `PendingOutputs`; its ``fetch()`` waits and returns the `SolverOutput` in numpy."""
 
     def packed(u0s, args):
         out = solve(u0s, args)
         fields = {k: v for k, v in out._asdict().items() if v is not None}
         layout, at = [], 0
-        for name, v in fields.items():
+        for field, v in fields.items():
             size = v.size * (2 if jnp.iscomplexobj(v) else 1)
-            layout.append((name, at, at + size, v.shape, np.dtype(v.dtype)))
+            layout.append((field, at, at + size, v.shape, np.dtype(v.dtype)))
             at += size
-        layouts[(u0s.shape, args.z.shape)] = (type(out), tuple(layout))
         parts = [jnp.stack([v.real, v.imag], axis=-1) if jnp.iscomplexobj(v) else v for v in fields.values()]
-        return jnp.concatenate([p.astype(jnp.float64).ravel() for p in parts])
+        return PendingOutputs(jnp.concatenate([p.astype(jnp.float64).ravel() for p in parts]), type(out), tuple(layout))
 
-    jitted = jax.jit(packed)
-
-    def run(u0s, args):
-        flat = jitted(u0s, args)  # traced before it returns: the layout of these shapes is known
-        return PendingOutputs(flat, *layouts[(u0s.shape, args.z.shape)])
-
-    return run
+    return StoredProgram(name, static, jax.jit(packed))
 
 
-class PendingOutputs(NamedTuple):
-    """Solver outputs still on the device, packed by `one_transfer`."""
+@jax.tree_util.register_pytree_node_class
+class PendingOutputs:
+    """Solver outputs still on the device, packed by `one_transfer`: the array ``flat``, and as
+    the pytree's static part the NamedTuple ``kind`` the solver returned and the ``layout``
+    ((name, start, stop, shape, dtype) per output) to unpack it with."""
 
-    flat: jax.Array
-    kind: type  # the NamedTuple the solver returned
-    layout: tuple  # (name, start, stop, shape, dtype) per output
+    def __init__(self, flat, kind: type, layout: tuple):
+        self.flat, self.kind, self.layout = flat, kind, layout
+
+    def tree_flatten(self):
+        return (self.flat,), (self.kind, self.layout)
+
+    @classmethod
+    def tree_unflatten(cls, static, children):
+        return cls(children[0], *static)
 
     def fetch(self):
         flat = np.asarray(self.flat)

@@ -1,0 +1,196 @@
+"""Programs kept across processes (`impedax.fitting.stored`): a stored program gives what the
+jitted function gives, a second `StoredProgram` (as in a fresh process) reads it back without
+tracing, keys tell apart what traces differently, and a broken file or a user's function
+never yields a wrong program."""
+
+import os
+import subprocess
+import sys
+import textwrap
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+import impedax as ix
+from impedax.fitting import stored
+from impedax.fitting.least_squares.candidates import fit_candidates
+from impedax.fitting.least_squares.solvers import over_devices
+from impedax.fitting.stored import StoredProgram
+
+
+@pytest.fixture
+def cache_dir(tmp_path):
+    """JAX's persistent cache (and so the stored programs) in a directory of this test."""
+    before = jax.config.jax_compilation_cache_dir
+    jax.config.update("jax_compilation_cache_dir", str(tmp_path))
+    yield tmp_path / stored._SUBDIR
+    jax.config.update("jax_compilation_cache_dir", before)
+
+
+def _counted():
+    """A function that records every trace of itself, and its NumPy oracle."""
+    traces = []
+
+    def fn(x, pair):
+        traces.append(1)
+        y, scale = pair
+        return {"sum": x * scale + jnp.sum(y), "norm": (jnp.sqrt(jnp.sum(x**2)),)}
+
+    def oracle(x, pair):
+        y, scale = pair
+        return {"sum": x * scale + np.sum(y), "norm": (np.sqrt(np.sum(x**2)),)}
+
+    return fn, oracle, traces
+
+
+def _close(a, b):
+    for u, v in zip(jax.tree_util.tree_leaves(a), jax.tree_util.tree_leaves(b)):
+        np.testing.assert_allclose(np.asarray(u), v, rtol=1e-15, atol=0)
+
+
+def test_read_back_without_tracing_and_same_values(cache_dir):
+    fn, oracle, traces = _counted()
+    x, pair = np.arange(5.0), (np.ones(3) * 0.5, np.float64(3.0))
+    first = StoredProgram("test-counted", ("config", 1), jax.jit(fn))(x, pair)
+    assert len(traces) == 1
+    assert len(list(cache_dir.glob("test-counted-*.bin"))) == 1
+    jax.clear_caches()  # JAX's own in-memory cache of traces, as in a fresh process
+    again = StoredProgram("test-counted", ("config", 1), jax.jit(fn))
+    second = again(x, pair)
+    assert len(traces) == 1  # read from the file, not traced
+    _close(first, oracle(x, pair))
+    _close(second, oracle(x, pair))
+    assert isinstance(second["norm"], tuple)  # the output's tree comes back
+
+
+def test_keys_tell_apart_static_values_and_shapes(cache_dir):
+    fn, oracle, traces = _counted()
+    pair = (np.ones(3), np.float64(2.0))
+    StoredProgram("test-keys", ("config", 1), jax.jit(fn))(np.arange(4.0), pair)
+    StoredProgram("test-keys", ("config", 2), jax.jit(fn))(np.arange(4.0), pair)
+    out = StoredProgram("test-keys", ("config", 1), jax.jit(fn))(np.arange(6.0), pair)
+    assert len(list(cache_dir.glob("test-keys-*.bin"))) == 3
+    _close(out, oracle(np.arange(6.0), pair))
+
+
+def test_a_broken_file_is_replaced(cache_dir):
+    fn, oracle, traces = _counted()
+    x, pair = np.arange(3.0), (np.zeros(2), np.float64(1.0))
+    StoredProgram("test-broken", 0, jax.jit(fn))(x, pair)
+    (path,) = cache_dir.glob("test-broken-*.bin")
+    blob = path.read_bytes()
+    path.write_bytes(blob[: len(blob) // 2])  # cut short, as by a killed process
+    jax.clear_caches()
+    out = StoredProgram("test-broken", 0, jax.jit(fn))(x, pair)
+    _close(out, oracle(x, pair))
+    assert len(traces) == 2  # traced again, and stored again
+    jax.clear_caches()
+    StoredProgram("test-broken", 0, jax.jit(fn))(x, pair)  # the rewritten file is read
+    assert len(traces) == 2
+
+
+def test_without_a_persistent_cache_nothing_is_stored(tmp_path):
+    before = jax.config.jax_compilation_cache_dir
+    jax.config.update("jax_compilation_cache_dir", None)
+    try:
+        fn, oracle, traces = _counted()
+        x, pair = np.arange(3.0), (np.zeros(2), np.float64(1.0))
+        _close(StoredProgram("test-none", 0, jax.jit(fn))(x, pair), oracle(x, pair))
+    finally:
+        jax.config.update("jax_compilation_cache_dir", before)
+    assert not any(tmp_path.rglob("*.bin"))
+
+
+def user_formula(p, w):
+    return p * w
+
+
+def test_a_function_from_outside_impedax_is_not_stored(cache_dir):
+    """A user's element formula may read globals of their script that no key could see: such
+    programs are jitted in every process, never read from a file."""
+    fn, oracle, traces = _counted()
+    x, pair = np.arange(3.0), (np.zeros(2), np.float64(1.0))
+    for _ in range(2):
+        _close(StoredProgram("test-user", (user_formula,), jax.jit(fn))(x, pair), oracle(x, pair))
+    assert not list(cache_dir.glob("test-user-*.bin"))
+    assert stored._stable_repr((ix.fit,)) == stored._stable_repr((ix.fit,))
+    with pytest.raises(stored._NotStorable):
+        stored._stable_repr({"spec": user_formula})
+
+
+def test_stable_repr_has_no_addresses_and_sees_every_field():
+    from impedax.circuits import DEFAULT_REGISTRY, parse
+
+    text = stored._stable_repr((parse("R0 + Q1 || C1"), DEFAULT_REGISTRY))
+    assert " at 0x" not in text
+    assert "symbol='Q'" in text  # a field the circuit's own repr leaves out
+    assert stored._stable_repr(np.arange(3.0)) != stored._stable_repr(np.arange(3.0) + 1e-12)
+
+
+def test_a_program_on_every_device_reads_back(cache_dir):
+    """`solvers.over_devices` programs (sharded over the devices) round-trip too."""
+
+    def per_device(x, y):
+        return x * 2.0 + jnp.sum(y)
+
+    n = len(jax.devices())
+    x, y = np.arange(4.0 * n).reshape(n, 4), np.ones(3)
+    run, _ = over_devices(per_device, 1, stored=("test-devices", "v1"))
+    first = np.asarray(run(x, y))
+    over_devices.cache_clear()
+    run, _ = over_devices(per_device, 1, stored=("test-devices", "v1"))
+    np.testing.assert_array_equal(np.asarray(run(x, y)), x * 2.0 + 3.0)
+    np.testing.assert_array_equal(first, x * 2.0 + 3.0)
+    assert len(list(cache_dir.glob("test-devices-*.bin"))) == 1
+
+
+def test_fits_are_the_same_with_and_without_stored_programs(cache_dir, rng):
+    """A single fit and the diagnosis' candidate fits, through stored programs (written, then
+    read back after the in-memory caches are cleared) and through plain jit: equal values."""
+    f = np.logspace(-1, 5, 40)
+    w = 2 * np.pi * f
+    z = 20 + 1e3 / (1 + 1e3 * 1e-6 * (1j * w) ** 0.8)
+    z = z * (1 + 0.005 * (rng.normal(size=f.size) + 1j * rng.normal(size=f.size)))
+    data = ix.make_spectrum(f, z)
+
+    def run():
+        fit = ix.fit("R0 + R1 || CPE1", data)
+        (cand,) = fit_candidates(["R0 + R1 || C1"], data, n_starts=3)
+        return fit.values, cand.values
+
+    written = run()
+    ix.clear_caches()
+    read = run()
+    assert len(list(cache_dir.glob("fit-single-*.bin"))) == 1
+    assert len(list(cache_dir.glob("candidate-queue-*.bin"))) == 1
+    jax.config.update("jax_compilation_cache_dir", None)
+    ix.clear_caches()
+    plain = run()
+    for a, b, c in zip(written, read, plain):
+        for name in a:
+            assert a[name] == b[name] == c[name], name
+
+
+def test_a_fresh_process_does_not_trace_a_stored_program(tmp_path):
+    code = textwrap.dedent(
+        """
+        import jax, jax.numpy as jnp, numpy as np, sys
+        jax.config.update("jax_enable_x64", True)
+        jax.config.update("jax_compilation_cache_dir", sys.argv[1])
+        from impedax.fitting.stored import StoredProgram
+
+        def fn(x):
+            print("traced")
+            return jnp.cumsum(x) * 2.0
+
+        print(StoredProgram("test-process", 0, jax.jit(fn))(np.arange(4.0)).tolist())
+        """
+    )
+    outputs = [subprocess.run([sys.executable, "-c", code, str(tmp_path)], capture_output=True, text=True, timeout=120, env=dict(os.environ)) for _ in range(2)]
+    for out in outputs:
+        assert out.returncode == 0, out.stderr
+        assert out.stdout.splitlines()[-1] == "[0.0, 2.0, 6.0, 12.0]"
+    assert "traced" in outputs[0].stdout
+    assert "traced" not in outputs[1].stdout
