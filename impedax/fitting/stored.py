@@ -77,7 +77,7 @@ class StoredProgram:
         leaves, in_tree = jax.tree_util.tree_flatten(args)
         if any(isinstance(a, jax.core.Tracer) for a in leaves):  # called inside a trace
             return self.jitted(*args)
-        avals = tuple((np.shape(a), np.result_type(a).str) for a in leaves)
+        avals = tuple((np.shape(a), _dtype(a).str) for a in leaves)
         signature = (in_tree, avals)
         if signature not in self._calls:
             self._calls[signature] = self._program(directory, args, leaves, in_tree, avals)
@@ -126,9 +126,14 @@ class StoredProgram:
             return out_leaves
 
         fn = jax.jit(flat, in_shardings=shardings) if shardings is not None else jax.jit(flat)
-        specs = [jax.ShapeDtypeStruct(np.shape(a), np.result_type(a)) for a in leaves]
+        specs = [jax.ShapeDtypeStruct(np.shape(a), _dtype(a)) for a in leaves]
         exported = jax.export.export(fn)(*specs)
         return exported, out_tree[0]
+
+
+def _dtype(leaf) -> np.dtype:
+    """An argument's dtype: an array's own, a Python scalar's as NumPy has it (float64, int64)."""
+    return np.dtype(leaf.dtype) if hasattr(leaf, "dtype") else np.result_type(leaf)
 
 
 class _NotStorable(Exception):
