@@ -352,8 +352,8 @@ def _kk_arrays(freq, z, *, c, max_rc, n_rc, inductance, capacitance, floor):
     found by bisection (the residual falls with M, mostly), and M_fit, M_fit + 1, ... (at most
     ``_SCAN_AFTER_FIT`` further values) are tried until one has µ < c and is not underfitted
     either (the residual does not fall monotonically: with a lead inductance, M = 9 can leave
-    6.9 % where M = 8 leaves 1.5 %). Without such an M, M_fit is used. About 10 + (M − M_fit) solves instead of one per M: the cost stays bounded at 10⁶
-    points. Returns per spectrum (M, µ, µ-criterion met, τ, coefficients [R_0, (L), (1/C),
+    6.9 % where M = 8 leaves 1.5 %). Without such an M, M_fit is used. About 10 + (M − M_fit)
+    solves instead of one per M: the cost stays bounded at 10⁶ points. Returns per spectrum (M, µ, µ-criterion met, τ, coefficients [R_0, (L), (1/C),
     R_1..R_M], Z_kk).
     """
     batch, n = z.shape

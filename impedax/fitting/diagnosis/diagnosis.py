@@ -770,14 +770,13 @@ def _poor_leaders(proposals: list[tuple[Effect, Proposal]], fits: Sequence[FitRe
     `starts.climb_target`), when it lowers AIC by more than `DELTA_AIC_MIN` against the
     baseline ``base`` but leaves parameters undetermined, or when it has every parameter of the
     baseline and more and still fits worse (the added element made inert gives the baseline's
-    fit, so its starts stalled): it is fitted again from its optimum
-    and random starts, first 32 in all, then, if the effect's best is still poor, 80
-    (`LEADER_STARTS`, new draws each rung; `impedax.fit` climbs to 80). A few warm starts
-    from a baseline that absorbed the missing effect can stall short of where `impedax.fit`
-    of the same model string gets (a Ws at the end of two R ∥ CPE arcs: 3.9 % where 1.3 % is
-    reachable, at 1 % noise), and a more flexible wrong effect then wins the ranking. A stalled
-    start often switches a branch off, which leaves it undetermined and the candidate not
-    proposed at all (electrode polarization on a finger: 1.75 % with CPE_EP undetermined,
+    fit, so its starts stalled): it is fitted again from its optimum and random starts, first
+    32 in all, then, if the effect's best is still poor, 80 (`LEADER_STARTS`, new draws each
+    rung; `impedax.fit` climbs to 80). A few warm starts from a baseline that absorbed the
+    missing effect can stall short of where `impedax.fit` of the same model string gets (a Ws
+    at the end of two R ∥ CPE arcs: 3.9 % where 1.3 % is reachable, at 1 % noise), and a more
+    flexible wrong effect then wins the ranking. A stalled start often switches a branch off,
+    which leaves it undetermined and the candidate not proposed at all (electrode polarization on a finger: 1.75 % with CPE_EP undetermined,
     where `impedax.fit` reaches 1.41 % with every parameter determined; a stray capacitance
     across a finger circuit: 1.78 % against the baseline's 1.71 %, where 1.44 % is reachable)."""
     best: dict[str, int] = {}
