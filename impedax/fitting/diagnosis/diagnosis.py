@@ -776,9 +776,10 @@ def _poor_leaders(proposals: list[tuple[Effect, Proposal]], fits: Sequence[FitRe
     missing effect can stall short of where `impedax.fit` of the same model string gets (a Ws
     at the end of two R ∥ CPE arcs: 3.9 % where 1.3 % is reachable, at 1 % noise), and a more
     flexible wrong effect then wins the ranking. A stalled start often switches a branch off,
-    which leaves it undetermined and the candidate not proposed at all (electrode polarization on a finger: 1.75 % with CPE_EP undetermined,
-    where `impedax.fit` reaches 1.41 % with every parameter determined; a stray capacitance
-    across a finger circuit: 1.78 % against the baseline's 1.71 %, where 1.44 % is reachable)."""
+    which leaves it undetermined and the candidate not proposed at all (electrode polarization
+    on a finger: 1.75 % with CPE_EP undetermined, where `impedax.fit` reaches 1.41 % with every
+    parameter determined; a stray capacitance across a finger circuit: 1.78 % against the
+    baseline's 1.71 %, where 1.44 % is reachable)."""
     best: dict[str, int] = {}
     for i, (effect, _) in enumerate(proposals):
         if np.isfinite(fits[i].chi2) and (effect.id not in best or fits[i].chi2 < fits[best[effect.id]].chi2):

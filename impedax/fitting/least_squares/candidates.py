@@ -154,13 +154,13 @@ def _program_parts(layout: ProgramLayout):
 
 @functools.lru_cache(maxsize=16)
 def candidate_solver(layout: ProgramLayout, n_free: int, n_lanes: int = _LANES):
-    """Jitted ``(queue, finish)``, both kept across processes (`stored.StoredProgram`), for candidates of ``layout`` with ``n_free`` (padded) free
-    parameters: ``queue`` is `lm.work_queue` over ``n_lanes`` lanes of (candidate, start)
-    problems (`CandidateRows` per candidate, `SpectrumArgs` shared) with the normal
-    equations from the program's analytic Jacobian, run on every device at once
-    (`solvers.over_devices`: ``queue(u0, which, budget, n_problems, scaled, rows, shared)``,
-    the first five with a leading axis of one entry per device, each device draining its own
-    problems); ``finish(u, rows, shared)`` gives, vmapped
+    """Jitted ``(queue, finish)`` for candidates of ``layout`` with ``n_free`` (padded) free
+    parameters, both kept across processes (`stored.StoredProgram`): ``queue`` is
+    `lm.work_queue` over ``n_lanes`` lanes of (candidate, start) problems (`CandidateRows` per
+    candidate, `SpectrumArgs` shared) with the normal equations from the program's analytic
+    Jacobian, run on every device at once (`solvers.over_devices`: ``queue(u0, which, budget,
+    n_problems, scaled, rows, shared)``, the first five with a leading axis of one entry per
+    device, each device draining its own problems); ``finish(u, rows, shared)`` gives, vmapped
     over candidates, the full parameters, chi², the weighted Jacobian in parameter space
     (2F, K) and the model's impedance at points u."""
     parts = _program_parts(layout)
