@@ -22,9 +22,10 @@
    computed the diagnosis runs without it and says so in a note.
 5. Verdict: ``missing_effect`` when a candidate is significant (ΔAIC < −`DELTA_AIC_MIN`, it
    explains at least `NOISE_FRACTION_MIN` of the noise variance, its parameters are determined
-   — relative error ≤ `RELATIVE_ERROR_MAX`, |correlation| ≤ `CORRELATION_MAX` — and its fitted
-   values are plausible for the effect), ``adequate`` otherwise: no effect of the catalog
-   explains what is left. Only significant candidates are listed as suggestions.
+   — relative error ≤ `RELATIVE_ERROR_MAX`, |correlation| ≤ `CORRELATION_MAX` unless both of
+   the pair are within `CORRELATED_ERROR_MAX` (and |correlation| ≤ `CORRELATION_SINGULAR`) —
+   and its fitted values are plausible for the effect), ``adequate`` otherwise: no effect of
+   the catalog explains what is left. Only significant candidates are listed as suggestions.
 """
 
 from __future__ import annotations
@@ -56,7 +57,7 @@ from .noise import NOISE_FLOOR, OUTLIER_MAX_FRACTION, NoiseModel, kk_indices, kk
 __all__ = [
     "Diagnosis", "Suggestion", "Verdict", "diagnose",
     "DELTA_AIC_MIN", "NOISE_FRACTION_MIN", "NOISE_RATIO_MAX", "NOISE_FLOOR", "KK_INVALID_FRACTION", "KK_INVALID_RMS", "BASELINE_STEPS",
-    "KK_COMPARABLE", "MASK_MAX_FRACTION", "RELATIVE_ERROR_MAX", "CORRELATION_MAX",
+    "KK_COMPARABLE", "MASK_MAX_FRACTION", "RELATIVE_ERROR_MAX", "CORRELATION_MAX", "CORRELATED_ERROR_MAX", "CORRELATION_SINGULAR",
 ]
 
 # --- documented thresholds (docs/diagnosis.md) ---
@@ -85,7 +86,17 @@ MIN_KEPT_POINTS = 8
 RELATIVE_ERROR_MAX = 1.0
 """A parameter is undetermined when its standard error exceeds this × |value| (or is not finite) ..."""
 CORRELATION_MAX = 0.99
-"""... or its |correlation| with another free parameter exceeds this (a near-singular Jacobian)."""
+"""... or its |correlation| with another free parameter exceeds this (a near-singular Jacobian),
+unless both of the pair are determined to `CORRELATED_ERROR_MAX` on their own ..."""
+CORRELATED_ERROR_MAX = 0.1
+"""A correlated pair whose standard errors are both within this × |value| is determined: the
+marginal standard error already includes what the correlation costs (two arcs of nearby time
+constants trade resistance, R1 and R3 at r = −0.993, yet each is known to 5 %) ..."""
+CORRELATION_SINGULAR = 0.999
+"""... unless their |correlation| exceeds this: the data then fix one combination of the two
+(the error ellipse's axes differ more than 44-fold) and a small error of each is the
+linearisation's, not the data's (a series R trading with an added arc's R at r = −0.9992 took
+41 Ω where the spectrum has none)."""
 LEADER_STARTS = (32, 80)
 """Starts of the further fits of each effect's best candidate while it stays poor (`_poor_leaders`):
 a ladder like `impedax.fit`'s (its default climbs to 80 starts), each rung with new draws."""
@@ -329,7 +340,7 @@ def _thresholds() -> dict[str, float]:
     return {
         "delta_aic_min": DELTA_AIC_MIN, "noise_fraction_min": NOISE_FRACTION_MIN, "noise_ratio_max": NOISE_RATIO_MAX, "run_p": RUN_P, "noise_floor": NOISE_FLOOR,
         "kk_invalid_fraction": KK_INVALID_FRACTION, "kk_comparable": KK_COMPARABLE, "mask_max_fraction": MASK_MAX_FRACTION,
-        "relative_error_max": RELATIVE_ERROR_MAX, "correlation_max": CORRELATION_MAX,
+        "relative_error_max": RELATIVE_ERROR_MAX, "correlation_max": CORRELATION_MAX, "correlated_error_max": CORRELATED_ERROR_MAX, "correlation_singular": CORRELATION_SINGULAR,
     }
 
 
@@ -341,7 +352,9 @@ def format_range(sigma: np.ndarray) -> str:
 
 def undetermined_parameters(fit: FitResult) -> frozenset[str]:
     """Free parameters the data do not determine: standard error not finite or above
-    `RELATIVE_ERROR_MAX` × |value|, or |correlation| with another above `CORRELATION_MAX`.
+    `RELATIVE_ERROR_MAX` × |value|, or |correlation| with another above `CORRELATION_MAX`
+    while either of the pair has a standard error above `CORRELATED_ERROR_MAX` × |value|, or
+    above `CORRELATION_SINGULAR`.
 
     A constant-phase coefficient is judged where the data measure it: Q of
     Z = 1/(Q (jω)^α) is the admittance at ω = 1 rad/s, often decades outside the band, so its
@@ -352,7 +365,9 @@ def undetermined_parameters(fit: FitResult) -> frozenset[str]:
     out = {n for n, e in zip(names, rel_sd) if not (np.isfinite(e) and e <= RELATIVE_ERROR_MAX)}
     if corr.shape == (len(names), len(names)) and len(names) > 1:
         a, b = np.nonzero(np.triu(np.abs(np.nan_to_num(corr)) > CORRELATION_MAX, 1))
-        out |= {names[i] for i in a} | {names[j] for j in b}
+        for i, j in zip(a.tolist(), b.tolist()):
+            if abs(corr[i, j]) > CORRELATION_SINGULAR or not (rel_sd[i] <= CORRELATED_ERROR_MAX and rel_sd[j] <= CORRELATED_ERROR_MAX):
+                out |= {names[i], names[j]}
     return frozenset(out)
 
 
@@ -844,7 +859,7 @@ def _suggestions(base: FitResult, proposals: list[tuple[Effect, Proposal]], fits
         undetermined = tuple(sorted(undetermined_parameters(cf) - base_undetermined))
         warning = None
         if undetermined:
-            warning = "the data do not determine " + ", ".join(undetermined) + f" (relative error > {RELATIVE_ERROR_MAX:.0%} or |correlation| > {CORRELATION_MAX:g})"
+            warning = "the data do not determine " + ", ".join(undetermined) + f" (relative error > {RELATIVE_ERROR_MAX:.0%}, |correlation| > {CORRELATION_SINGULAR:g}, or > {CORRELATION_MAX:g} with a relative error above {CORRELATED_ERROR_MAX:.0%})"
         elif effect.plausible is not None:
             warning = effect.plausible(cf.values, p)
         significant = bool(d_aic < -DELTA_AIC_MIN and drop >= NOISE_FRACTION_MIN and warning is None)

@@ -26,7 +26,7 @@ import numpy as np
 
 from ..kk import KKResult, kk_test
 
-__all__ = ["NoiseModel", "noise_model", "kk_indices", "kk_outliers", "OUTLIER_MAX_FRACTION", "OUTLIER_MAX_RUN", "NOISE_FLOOR", "DISCREPANCY_FACTOR", "LOCAL_WINDOW", "GLOBAL_SHARE"]
+__all__ = ["NoiseModel", "noise_model", "kk_indices", "kk_outliers", "OUTLIER_MAX_FRACTION", "OUTLIER_MAX_RUN", "OUTLIER_MIN_RATIO", "NOISE_FLOOR", "DISCREPANCY_FACTOR", "LOCAL_WINDOW", "GLOBAL_SHARE"]
 
 NOISE_FLOOR = 1e-3
 """Relative noise floor (0.1 %): below this, misfits are instrument accuracy, not physics."""
@@ -40,6 +40,11 @@ this fraction of the points makes it pass."""
 OUTLIER_MAX_RUN = 3
 """... and those points are erratic ones only when no more than this many are adjacent: a longer
 run is a step change or drift of the sample during the sweep, not a few bad points."""
+OUTLIER_MIN_RATIO = 4.0
+"""... and each stands out from the scatter of the rest: its KK residual |Δ| (when it was left
+out) at least this × the rms |Δ| of the points kept. Complex Gaussian noise exceeds 4× its rms
+with probability e⁻¹⁶ ≈ 1e-7 per point; the erratic points of the evaluation set stand at 5–12×,
+while a drift along the sweep that a few left-out points hide stands at 2–3× (SYNTHETIC)."""
 GLOBAL_SHARE = 0.7
 """The local estimate is not taken below this fraction of the KK test's global estimate (a
 median of a few differences scatters; a quiet stretch must not read as noise-free)."""
@@ -146,15 +151,18 @@ def kk_outliers(spectrum, kk: KKResult, *, max_fraction: float, rounds: int = 4)
     """Locate the points behind a failed KK test: the worst points (|Δ| at least half the
     largest, at most 10 % of the points per round) are left out and the KK test repeated on the
     rest, until it passes; no more than `OUTLIER_MAX_RUN` of them may be adjacent (in the
-    spectrum's order, frequency-sorted for a sweep). Returns (bool mask of the points left out, in the spectrum's order;
-    the KK result of the rest), or None when the test does not pass with at most
-    ``max_fraction`` of the points left out (then the problem is not a few points)."""
+    spectrum's order, frequency-sorted for a sweep), and each must stand out from the rest's
+    scatter (`OUTLIER_MIN_RATIO`). Returns (bool mask of the points left out, in the spectrum's
+    order; the KK result of the rest), or None when the test does not pass with at most
+    ``max_fraction`` of the points left out, or the points left out do not stand out (then the
+    problem is not a few points)."""
     f_all = np.asarray(spectrum["frequency"].values, float)
     out = np.zeros(f_all.size, bool)
+    out_mag = np.zeros(f_all.size)  # |Δ| of each point left out, in the round it was left out
     current = kk
     for _ in range(rounds):
         if current.valid:
-            return out, current
+            return (out, current) if _stand_out(current, f_all, out, out_mag) else None
         keep_idx = np.nonzero(~out)[0]
         idx = kk_indices(current, f_all[keep_idx])
         if idx is None:
@@ -164,7 +172,20 @@ def kk_outliers(spectrum, kk: KKResult, *, max_fraction: float, rounds: int = 4)
         worst = np.argsort(-mag)[:limit]
         worst = worst[mag[worst] >= 0.5 * mag.max()]
         out[keep_idx[worst]] = True
+        out_mag[keep_idx[worst]] = mag[worst]
         if out.mean() > max_fraction or (~out).sum() < 8 or _longest_run(out) > OUTLIER_MAX_RUN:
             return None
         current = kk_test(spectrum.isel(frequency=np.nonzero(~out)[0])[["Z"]])
-    return (out, current) if current.valid else None
+    return (out, current) if current.valid and _stand_out(current, f_all, out, out_mag) else None
+
+
+def _stand_out(kept: KKResult, f_all: np.ndarray, out: np.ndarray, out_mag: np.ndarray) -> bool:
+    """Does every point left out (``out``, its |Δ| ``out_mag``) stand out from the KK residuals
+    of the points kept (`OUTLIER_MIN_RATIO` × their rms |Δ|)?"""
+    if not out.any():
+        return True
+    idx = kk_indices(kept, f_all[~out])
+    if idx is None:
+        return False
+    rms = float(np.sqrt(np.mean(np.hypot(kept.residuals_real, kept.residuals_imag)[idx] ** 2)))
+    return bool(np.all(out_mag[out] >= OUTLIER_MIN_RATIO * rms))
