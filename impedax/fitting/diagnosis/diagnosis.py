@@ -57,7 +57,7 @@ from .noise import NOISE_FLOOR, OUTLIER_MAX_FRACTION, NoiseModel, kk_indices, kk
 __all__ = [
     "Diagnosis", "Suggestion", "Verdict", "diagnose",
     "DELTA_AIC_MIN", "NOISE_FRACTION_MIN", "NOISE_RATIO_MAX", "NOISE_FLOOR", "KK_INVALID_FRACTION", "KK_INVALID_RMS", "BASELINE_STEPS",
-    "KK_COMPARABLE", "MASK_MAX_FRACTION", "RELATIVE_ERROR_MAX", "CORRELATION_MAX", "CORRELATED_ERROR_MAX", "CORRELATION_SINGULAR",
+    "KK_COMPARABLE", "MASK_MAX_FRACTION", "OPEN_RESISTANCE_FACTOR", "RELATIVE_ERROR_MAX", "CORRELATION_MAX", "CORRELATED_ERROR_MAX", "CORRELATION_SINGULAR",
 ]
 
 # --- documented thresholds (docs/diagnosis.md) ---
@@ -105,6 +105,8 @@ BRANCH_NEGLIGIBLE = 0.1
 other's over the whole band carries no current the data resolve (`_negligible_branch_dropped`)."""
 BASELINE_STEPS = 300
 """Levenberg–Marquardt step limit of the baseline's cold starts (warm candidates: ``max_steps``)."""
+CANDIDATE_STEPS = 100
+"""Default step limit of the candidate fits (``max_steps``)."""
 
 
 class Verdict(enum.StrEnum):
@@ -673,11 +675,11 @@ def _fit_proposals(base: FitResult, spectrum: xr.Dataset, ctx: BaselineContext, 
             poor = _poor_leaders(proposals, fits[1:], target, fits[0])
             if not poor:
                 break
-            redo = fit_candidates([proposals[i][1].circuit for i in poor], spectrum, init=[[dict(fits[1 + i].values)] for i in poor], **{**options, "n_starts": starts, "seed": seed + 7919 * rung})
+            redo = fit_candidates([proposals[i][1].circuit for i in poor], spectrum, init=[[dict(fits[1 + i].values)] for i in poor], **{**options, "n_starts": starts, "seed": seed + 7919 * rung, "step_limit": max(max_steps, BASELINE_STEPS)})
             for i, again in zip(poor, redo):
                 if again.chi2 < fits[1 + i].chi2:
                     fits[1 + i] = again
-        pruned = _series_resistance_dropped(base, proposals, fits[1:]) + _negligible_branch_dropped(base, proposals, fits[1:])
+        pruned = _series_resistance_dropped(base, proposals, fits[1:]) + _negligible_branch_dropped(base, proposals, fits[1:]) + _open_resistor_dropped(base, proposals, fits[1:])
         if pruned:
             fits = fits + fit_candidates([p.circuit for _, p in pruned], spectrum, init=[list(p.starts) for _, p in pruned], **options)
         return proposals + pruned, fits, shape
@@ -740,6 +742,16 @@ def _resistor_capacitor_blocks(circuit: Circuit, registry: Registry):
         yield from _resistor_capacitor_blocks(child, registry)
 
 
+def _significant_but_undetermined(base: FitResult, proposals: list[tuple[Effect, Proposal]], fits: Sequence[FitResult]):
+    """(effect, proposal, fit, undetermined parameters) of each candidate that lowers AIC by
+    more than `DELTA_AIC_MIN` against ``base`` but leaves parameters undetermined."""
+    for (effect, p), cf in zip(proposals, fits):
+        if np.isfinite(cf.chi2) and cf.aic < base.aic - DELTA_AIC_MIN:
+            undetermined = undetermined_parameters(cf)
+            if undetermined:
+                yield effect, p, cf, undetermined
+
+
 def _negligible_branch_dropped(base: FitResult, proposals: list[tuple[Effect, Proposal]], fits: Sequence[FitResult]) -> list[tuple[Effect, Proposal]]:
     """For each candidate that lowers AIC by more than `DELTA_AIC_MIN` but leaves a parameter
     of a baseline block R ∥ C (or R ∥ CPE) undetermined because one branch carries next to no
@@ -753,12 +765,7 @@ def _negligible_branch_dropped(base: FitResult, proposals: list[tuple[Effect, Pr
     at 22× the noise; without C_sc every parameter is determined."""
     out, seen = [], {str(p.circuit) for _, p in proposals} | {str(base.circuit)}
     baseline = set(base.circuit.element_names)
-    for (effect, p), cf in zip(proposals, fits):
-        if not (np.isfinite(cf.chi2) and cf.aic < base.aic - DELTA_AIC_MIN):
-            continue
-        undetermined = undetermined_parameters(cf)
-        if not undetermined:
-            continue
+    for effect, p, cf, undetermined in _significant_but_undetermined(base, proposals, fits):
         omega = 2 * np.pi * np.asarray(cf.frequency, float)
         for r, cap in _resistor_capacitor_blocks(p.circuit, cf.registry):
             names = {r.name, *cf.registry[cap.symbol].parameter_names(cap.name)}
@@ -779,6 +786,53 @@ def _negligible_branch_dropped(base: FitResult, proposals: list[tuple[Effect, Pr
     return out
 
 
+OPEN_RESISTANCE_FACTOR = 100.0
+"""A resistor a candidate adds in parallel with other branches is open when its value exceeds
+this × the largest |Z| of the data: it carries under 1 % of its group's current anywhere in the
+band (for R and C branches, |Z| of a group in series with others is at most the total's)."""
+
+
+def _parallel_resistors(circuit: Circuit, registry: Registry):
+    """Every resistor that is one of three or more branches of a parallel node (without it the
+    node stays a parallel group: R ∥ CPE ∥ C → CPE ∥ C, not R ∥ CPE → a lone CPE)."""
+    if isinstance(circuit, Element):
+        return
+    for child in circuit.children:
+        if isinstance(circuit, Parallel) and len(circuit.children) >= 3 and isinstance(child, Element) and registry[child.symbol].symbol == "R":
+            yield child
+        elif not isinstance(child, Element):
+            yield from _parallel_resistors(child, registry)
+
+
+def _open_resistor_dropped(base: FitResult, proposals: list[tuple[Effect, Proposal]], fits: Sequence[FitResult]) -> list[tuple[Effect, Proposal]]:
+    """For each candidate that lowers AIC by more than `DELTA_AIC_MIN` but leaves parameters
+    undetermined because a resistor it adds in parallel with two or more other branches
+    (`_parallel_resistors`) ran open (above
+    `OPEN_RESISTANCE_FACTOR` × the data's largest |Z|), the same candidate without that
+    resistor, warm-started from the candidate's optimum.
+
+    On a finger whose gap leaks through a nearly resistive CPE (α ≈ 0.05–0.3), the electrode
+    polarization R_EP ∥ CPE_EP ∥ C_gap fits best with R_EP → 3·10¹¹ Ω, which leaves R_EP and
+    CPE_EP undetermined, so it was not proposed and a series arc was named; without R_EP,
+    CPE_EP ∥ C_gap fits as well with every parameter determined (SYNTHETIC dev draw)."""
+    out, seen = [], {str(p.circuit) for _, p in proposals} | {str(base.circuit)}
+    baseline = set(base.circuit.element_names)
+    for effect, p, cf, undetermined in _significant_but_undetermined(base, proposals, fits):
+        z_max = float(np.max(np.abs(cf.z_data)))
+        for r in _parallel_resistors(p.circuit, cf.registry):
+            if r.name in baseline or r.name not in undetermined or cf.fixed.get(r.name, False) or not cf.values[r.name] > OPEN_RESISTANCE_FACTOR * z_max:
+                continue
+            circuit = p.circuit.without(r.name)
+            if str(circuit) in seen:
+                continue
+            seen.add(str(circuit))
+            added = " + ".join(n for n in circuit.element_names if n not in baseline)
+            why = f"{r.name} left out: it ran open ({format_quantity(float(cf.values[r.name]), 'Ω')}, over {OPEN_RESISTANCE_FACTOR:g}× the data's largest |Z|)"
+            starts = ({k: float(v) for k, v in cf.values.items() if k != r.name},)
+            out.append((effect, Proposal(p.effect, circuit, added, f"{p.where}, {why}", starts, removed=p.removed)))
+    return out
+
+
 def _poor_leaders(proposals: list[tuple[Effect, Proposal]], fits: Sequence[FitResult], target: float, base: FitResult) -> list[int]:
     """Per effect, the candidate that fits best, when its rms_rel is above ``target`` (what
     `impedax.fit` climbs its start ladder for: 1.5× the misfit of the KK test's Voigt chain,
@@ -787,7 +841,8 @@ def _poor_leaders(proposals: list[tuple[Effect, Proposal]], fits: Sequence[FitRe
     baseline and more and still fits worse (the added element made inert gives the baseline's
     fit, so its starts stalled): it is fitted again from its optimum and random starts, first
     32 in all, then, if the effect's best is still poor, 80 (`LEADER_STARTS`, new draws each
-    rung; `impedax.fit` climbs to 80). A few warm starts from a baseline that absorbed the
+    rung; `impedax.fit` climbs to 80), each for up to `BASELINE_STEPS` steps (a leak R_EP ∥
+    CPE_EP converges slowly along its valley). A few warm starts from a baseline that absorbed the
     missing effect can stall short of where `impedax.fit` of the same model string gets (a Ws
     at the end of two R ∥ CPE arcs: 3.9 % where 1.3 % is reachable, at 1 % noise), and a more
     flexible wrong effect then wins the ranking. A stalled start often switches a branch off,
@@ -909,7 +964,7 @@ def diagnose(
     fmin: float | None = None,
     fmax: float | None = None,
     n_starts: int = 4,
-    max_steps: int = 100,
+    max_steps: int = CANDIDATE_STEPS,
     seed: int = 0,
     drt_evidence: bool = True,
     solver_shape: SolverShape | None = None,

@@ -16,7 +16,7 @@ from ...errors import ParameterError
 from ..least_squares import FitResult, fit
 from ..problem import WEIGHTINGS, open_spectrum
 from .catalog import EffectCatalog
-from .diagnosis import DELTA_AIC_MIN, Diagnosis, Verdict, diagnose, undetermined_parameters
+from .diagnosis import CANDIDATE_STEPS, DELTA_AIC_MIN, Diagnosis, Verdict, diagnose, undetermined_parameters
 from .effects import DEFAULT_EFFECTS
 
 __all__ = ["Refinement", "RefinementStep", "refine"]
@@ -228,7 +228,7 @@ def refine(
     *,
     max_steps: int | None = None,
     max_effects: int | None = None,
-    solver_steps: int = 100,
+    solver_steps: int = CANDIDATE_STEPS,
     effects: EffectCatalog = DEFAULT_EFFECTS,
     weighting: str = "modulus",
     noise: float | None = None,
