@@ -675,7 +675,7 @@ def _fit_proposals(base: FitResult, spectrum: xr.Dataset, ctx: BaselineContext, 
             poor = _poor_leaders(proposals, fits[1:], target, fits[0])
             if not poor:
                 break
-            redo = fit_candidates([proposals[i][1].circuit for i in poor], spectrum, init=[[dict(fits[1 + i].values)] for i in poor], **{**options, "n_starts": starts, "seed": seed + 7919 * rung, "step_limit": max(max_steps, BASELINE_STEPS)})
+            redo = fit_candidates([proposals[i][1].circuit for i in poor], spectrum, init=[[dict(fits[1 + i].values)] for i in poor], **{**options, "n_starts": starts, "seed": seed + 7919 * rung, "step_limit": None})
             for i, again in zip(poor, redo):
                 if again.chi2 < fits[1 + i].chi2:
                     fits[1 + i] = again
@@ -807,9 +807,8 @@ def _parallel_resistors(circuit: Circuit, registry: Registry):
 def _open_resistor_dropped(base: FitResult, proposals: list[tuple[Effect, Proposal]], fits: Sequence[FitResult]) -> list[tuple[Effect, Proposal]]:
     """For each candidate that lowers AIC by more than `DELTA_AIC_MIN` but leaves parameters
     undetermined because a resistor it adds in parallel with two or more other branches
-    (`_parallel_resistors`) ran open (above
-    `OPEN_RESISTANCE_FACTOR` × the data's largest |Z|), the same candidate without that
-    resistor, warm-started from the candidate's optimum.
+    (`_parallel_resistors`) ran open (above `OPEN_RESISTANCE_FACTOR` × the data's largest
+    |Z|), the same candidate without that resistor, warm-started from the candidate's optimum.
 
     On a finger whose gap leaks through a nearly resistive CPE (α ≈ 0.05–0.3), the electrode
     polarization R_EP ∥ CPE_EP ∥ C_gap fits best with R_EP → 3·10¹¹ Ω, which leaves R_EP and
