@@ -353,8 +353,8 @@ def _kk_arrays(freq, z, *, c, max_rc, n_rc, inductance, capacitance, floor):
     ``_SCAN_AFTER_FIT`` further values) are tried until one has µ < c and is not underfitted
     either (the residual does not fall monotonically: with a lead inductance, M = 9 can leave
     6.9 % where M = 8 leaves 1.5 %). Without such an M, M_fit is used. About 10 + (M − M_fit)
-    solves instead of one per M: the cost stays bounded at 10⁶ points. Returns per spectrum (M, µ, µ-criterion met, τ, coefficients [R_0, (L), (1/C),
-    R_1..R_M], Z_kk).
+    solves instead of one per M: the cost stays bounded at 10⁶ points. Returns per spectrum
+    (M, µ, µ-criterion met, τ, coefficients [R_0, (L), (1/C), R_1..R_M], Z_kk).
     """
     batch, n = z.shape
     n_series = 1 + int(inductance) + int(capacitance)
