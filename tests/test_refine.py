@@ -137,8 +137,8 @@ def test_the_two_paths_are_compared_as_they_end_after_the_final_refit():
         return NS(where=where, effect="extra_relaxation", delta_aic=aic, added=model, fit=NS(model=model, aic=aic, n_params=k), removed=(), undetermined=())
 
     chosen, other = suggestion("in series", "A1", -100.0, 4), suggestion("nested", "B1", -95.0, 4)
-    first = NS(best=chosen, suggestions=(chosen, other), candidates=(chosen, other), solver_shape=None)
-    greedy = [step("start", 0.0, 3, first), step("A1", -100.0, 4, NS(solver_shape=None), "a1"), step("A2", -150.0, 6, NS(solver_shape=None), "a2"), step("A3", -220.0, 8, NS(solver_shape=None), "a3")]
+    first = NS(best=chosen, suggestions=(chosen, other), candidates=(chosen, other), solver_shape=None, baseline=NS(n_params=3))
+    greedy = [step("start", 0.0, 3, first), step("A1", -100.0, 4, NS(solver_shape=None), "a1"), step("A2", -150.0, 6, NS(solver_shape=None), "a2"), step("A3", -220.0, 8, NS(solver_shape=None, verdict="missing_effect"), "a3")]
 
     def diagnosed(fit, shape):  # the second path: B1 → B2, then adequate
         nxt = {"B1": suggestion("in series", "B2", -200.0, 7)}.get(fit.model)
@@ -169,8 +169,8 @@ def test_a_suggestion_that_leaves_an_element_out_gets_a_path_of_its_own(leaving_
 
     keep = NS(where="in series with the whole circuit", effect="series_resistance", delta_aic=-200.0, added="R_s", fit=NS(model="K1", aic=-200.0, n_params=4), removed=(), undetermined=())
     leave = NS(where="in series, and C_sc left out", effect="extra_relaxation", delta_aic=-900.0, added="R_relax || CPE_relax", fit=NS(model="D1", aic=leaving_end_aic, n_params=5), removed=("C_sc",), undetermined=())
-    first = NS(best=keep, suggestions=(keep, leave), candidates=(keep, leave), solver_shape=None)
-    greedy = [step("start", 0.0, 3, first), step("K1", -200.0, 4, NS(solver_shape=None), "R_s")]
+    first = NS(best=keep, suggestions=(keep, leave), candidates=(keep, leave), solver_shape=None, baseline=NS(n_params=3))
+    greedy = [step("start", 0.0, 3, first), step("K1", -200.0, 4, NS(solver_shape=None, verdict="adequate"), "R_s")]
     diagnosed = lambda fit, shape: NS(baseline=fit, best=None, verdict="adequate", solver_shape=None)  # noqa: E731
     notes = []
     kept_path = _second_path(greedy, 4, diagnosed, lambda text: None, notes, lambda path, label: path)
@@ -203,8 +203,8 @@ def test_an_effect_undetermined_alone_gets_a_path_of_its_own(ep_proposed):
     ep = candidate("electrode_polarization", "EP", -552.0, 7, ("R_EP",))
     ep_own = candidate("electrode_polarization", "EP_RC", -300.0, 5)
     suggestions = (arc, ep_own) if ep_proposed else (arc,)
-    first = NS(best=arc, suggestions=suggestions, candidates=suggestions + (ep,), solver_shape=None)
-    greedy = [step("start", 0.0, 4, first), step("ARC", -532.0, 6, NS(solver_shape=None), "arc", "extra_relaxation"), step("ARC+RS+ARC2", -700.0, 10, NS(solver_shape=None), "arc2", "extra_relaxation")]
+    first = NS(best=arc, suggestions=suggestions, candidates=suggestions + (ep,), solver_shape=None, baseline=NS(n_params=4))
+    greedy = [step("start", 0.0, 4, first), step("ARC", -532.0, 6, NS(solver_shape=None), "arc", "extra_relaxation"), step("ARC+RS+ARC2", -700.0, 10, NS(solver_shape=None, verdict="missing_effect"), "arc2", "extra_relaxation")]
 
     def diagnosed(fit, shape):  # EP → EP + R_s, then adequate
         nxt = {"EP": candidate("series_resistance", "EP+RS", -760.0, 8)}.get(fit.model)
@@ -217,3 +217,59 @@ def test_an_effect_undetermined_alone_gets_a_path_of_its_own(ep_proposed):
     else:
         assert [s.model for s in kept] == ["start", "EP", "EP+RS"], notes
         assert len(notes) == 1 and notes[0].startswith("a second path, starting from electrode_polarization") and "it is kept" in notes[0], notes
+
+
+@pytest.mark.parametrize(
+    "end_aic, end_k, greedy_verdict, kept",
+    [(-1266.7, 5, "adequate", ["start", "RS", "RS+CPE"]), (-1240.0, 5, "adequate", ["start", "ARC"]), (-1266.0, 6, "adequate", ["start", "ARC"]), (-1266.7, 5, "missing_effect", ["start", "ARC"])],
+)
+def test_a_path_of_cheaper_effects_is_kept_when_it_ends_as_good_with_fewer_parameters(end_aic, end_k, greedy_verdict, kept):
+    """`_second_path` with stand-ins (the shape of a SYNTHETIC Meyer finger lacking its series
+    resistance and its CPE): the greedy path added a nested R ∥ CPE (three parameters) and
+    ended adequate at 6 parameters. The best suggestion of each effect that adds fewer
+    parameters starts a path: R_s's adds C_sc → CPE_sc and ends at 5 parameters, kept when it
+    ends within 10 AIC, not when it ends worse; no such path when the greedy path did not end
+    adequate. A path that ends as good with as many parameters is not kept, and the note says
+    the data do not tell the two apart."""
+    from types import SimpleNamespace as NS
+
+    from impedax.fitting.diagnosis.refinement import RefinementStep, _second_path
+
+    def step(model, aic, k, diagnosis=None, added=None, effect=None):
+        return RefinementStep(NS(model=model, aic=aic, n_params=k), added, effect, diagnosis)
+
+    def suggestion(effect, model, aic, k):
+        return NS(where="in series", effect=effect, delta_aic=aic, added=model, fit=NS(model=model, aic=aic, n_params=k, converged=True), removed=(), undetermined=())
+
+    arc, rs, cpe = suggestion("extra_relaxation", "ARC", -1266.6, 6), suggestion("series_resistance", "RS", -522.0, 4), suggestion("constant_phase", "CPE", -400.0, 4)
+    first = NS(best=arc, suggestions=(arc, rs, cpe), candidates=(arc, rs, cpe), solver_shape=None, baseline=NS(n_params=3))
+    greedy = [step("start", -270.0, 3, first), step("ARC", -1266.6, 6, NS(solver_shape=None, verdict=greedy_verdict), "arc", "extra_relaxation")]
+
+    def diagnosed(fit, shape):  # RS → RS + CPE, then adequate
+        nxt = {"RS": suggestion("constant_phase", "RS+CPE", end_aic, end_k)}.get(fit.model)
+        return NS(baseline=fit, best=nxt, verdict="missing_effect" if nxt else "adequate", solver_shape=None)
+
+    notes = []
+    path = _second_path(greedy, 4, diagnosed, lambda text: None, notes, lambda path, label: path)
+    assert [s.model for s in path] == kept, notes
+    if greedy_verdict == "adequate":  # a path from each cheaper effect; the one from CPE ends at 4 parameters, 866 AIC above
+        assert len(notes) == 2 and notes[0].startswith("a second path, starting from series_resistance"), notes
+        assert notes[0].endswith(": it is kept") == (kept[-1] == "RS+CPE")
+        assert ("do not tell the two apart" in notes[0]) == (end_k == 6)
+        assert notes[1].startswith("a third path, starting from constant_phase") and notes[1].endswith("the path before it is kept")
+    else:
+        assert notes == []
+
+
+@pytest.mark.slow
+def test_two_effects_of_one_parameter_each_are_preferred_to_one_element_of_three():
+    """A SYNTHETIC Meyer finger (numpy formula) lacking its series resistance and its CPE:
+    refine from C_i + R_sc ∥ C_sc ends at the generating structure with 5 parameters, not at
+    the nested R ∥ CPE (6 parameters) that fits as well in one step."""
+    import evaluation_set as es
+
+    template = next(t for t in es.TEMPLATES if t.name == "two/meyer_rs_cpe")
+    case = es.make_case(template, template.variants[0], "dev", 5)
+    r = ix.refine(ix.make_spectrum(case.frequency, case.z), case.circuit)
+    assert r.verdict == "adequate" and [s.effect for s in r.steps[1:]] == ["series_resistance", "constant_phase"], r.report()
+    assert r.final.n_params == 5

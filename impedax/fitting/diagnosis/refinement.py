@@ -176,15 +176,19 @@ def _second_path(steps: list[RefinementStep], limit: int, diagnosed, say, notes:
     SYNTHETIC finger with its series resistance and electrode polarization missing, R_EP ∥
     CPE_EP ∥ C_gap alone reached 2.2 % with R_EP undetermined, a further arc 2.5 %; the arc's
     path ended at 0.72 % with 10 parameters, the electrode polarization's at the generating
-    circuit, 0.69 % with 8."""
+    circuit, 0.69 % with 8.
+
+    When the greedy path ends ``adequate``, paths start from cheaper effects too
+    (`_cheaper_starts`): an element of three parameters can stand in for two of one each."""
     first = steps[0].diagnosis
     picked = first.best  # where the greedy path went
     alternatives = [s for s in first.suggestions if (s.where != picked.where or s.effect != picked.effect) and s.delta_aic <= picked.delta_aic + BRANCH_WINDOW][:1] if len(steps) >= 3 else []
     leaving = [s for s in first.suggestions if s.removed and not picked.removed and s.delta_aic < picked.delta_aic - DELTA_AIC_MIN and all(s is not t for t in alternatives)] if len(steps) >= 2 else []
     proposed = {s.effect for s in first.suggestions}
     hidden = [c for c in first.candidates if c.undetermined and c.effect not in proposed and c.fit.converged and c.delta_aic < picked.delta_aic - DELTA_AIC_MIN] if len(steps) >= 2 else []
+    cheaper = _cheaper_starts(steps, alternatives + hidden + leaving)
     steps = finished(steps, "")
-    for label, alt in zip(("second path", "third path", "fourth path"), alternatives + sorted(hidden, key=lambda c: c.delta_aic)[:1] + leaving[:1]):
+    for label, alt in zip(("second path", "third path", "fourth path", "fifth path", "sixth path"), alternatives + sorted(hidden, key=lambda c: c.delta_aic)[:1] + leaving[:1] + cheaper):
         other = finished(_greedy(steps[:1], alt, limit, diagnosed, say, f"{label}, "), f"{label}: ")
         a, b = steps[-1].fit, other[-1].fit
         better = b.aic < a.aic - DELTA_AIC_MIN or (b.aic <= a.aic + DELTA_AIC_MIN and b.n_params < a.n_params)
@@ -192,10 +196,33 @@ def _second_path(steps: list[RefinementStep], limit: int, diagnosed, say, notes:
             f"a {label}, starting from {alt.effect} ({alt.added}, {alt.where}) instead of {picked.effect} ({picked.added}, {picked.where}), "
             f"ends at {other[-1].model} (AIC {b.aic:.1f}, {b.n_params} parameters) against {steps[-1].model} (AIC {a.aic:.1f}, {a.n_params} parameters): "
             + ("it is kept" if better else "the path before it is kept")
+            + (f"; the data do not tell the two apart (AIC within {DELTA_AIC_MIN:g}, as many parameters)" if not better and abs(b.aic - a.aic) <= DELTA_AIC_MIN and b.n_params == a.n_params else "")
         )
         if better:
             steps = other
     return steps
+
+
+CHEAPER_PATHS = 2
+"""At most this many paths of cheaper effects (`_cheaper_starts`)."""
+
+
+def _cheaper_starts(steps: list[RefinementStep], taken) -> list:
+    """When the greedy path ends ``adequate``: the first diagnosis' best significant suggestion
+    of each other effect that adds fewer parameters than the first choice and starts no other
+    path (at most `CHEAPER_PATHS`, the best ranked first). One element of many parameters can
+    stand in for two effects of one each: on a SYNTHETIC Meyer finger lacking its series
+    resistance and its CPE, a nested R ∥ CPE (three parameters) reached the noise in one step,
+    where R_f and C_sc → CPE_sc (one each) reach it in two with a parameter fewer; on a
+    Randles cell lacking its CPE and its Warburg, R ∥ CPE in series and then a Warburg ended
+    at 7 parameters, C1 → CPE1 and then W behind R1 at the generating 5. A path is kept only
+    when it ends as good with fewer parameters, or better (`_second_path`)."""
+    first = steps[0].diagnosis
+    if len(steps) < 2 or steps[-1].diagnosis is None or steps[-1].diagnosis.verdict != Verdict.ADEQUATE:
+        return []
+    picked = first.best
+    cheaper = [s for s in first.suggestions if s.effect != picked.effect and s.fit.n_params < picked.fit.n_params and all(s is not t for t in taken)]
+    return [s for i, s in enumerate(cheaper) if s.effect not in {t.effect for t in cheaper[:i]}][:CHEAPER_PATHS]
 
 
 def _finish(steps: list[RefinementStep], used: xr.Dataset, *, n_starts: int, seed: int, say, notes: list[str], label: str) -> list[RefinementStep]:
