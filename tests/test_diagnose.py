@@ -78,6 +78,22 @@ def test_gap_capacitance_gets_the_sirin_ep_branch():
     assert ix.DEFAULT_EFFECTS["electrode_polarization"].propose(arc, BaselineContext(arc, {"R0": 1.0, "R1": 1.0, "C1": 1.0}, f, z, z)) == []
 
 
+def test_a_double_layer_leak_found_before_gets_its_capacitive_part():
+    # R_EP ∥ C_gap (the leak alone, one parameter, often the first step of a refine) can be
+    # completed to R_EP ∥ CPE_EP ∥ C_gap; a user's arc R1 ∥ C1 and a block of three are not
+    f = np.logspace(0, 6, 20)
+    z = 1 / (1j * 2 * np.pi * f * 4e-10)
+    leak = ix.parse("R_sk || CPE_sk + R_EP || C_gap + R_s")
+    values = {k: 1.0 for k in leak.parameter_names()}
+    proposals = ix.DEFAULT_EFFECTS["electrode_polarization"].propose(leak, BaselineContext(leak, values, f, z, z))
+    completed = [p for p in proposals if str(p.circuit) == "R_sk || CPE_sk + R_EP || CPE_EP || C_gap + R_s"]
+    assert len(completed) == 1 and completed[0].added == "CPE_EP" and "R_EP" in completed[0].where
+    assert all(set(start) >= {"CPE_EP.Q", "CPE_EP.alpha", "R_EP"} for start in completed[0].starts)
+    for text in ("R0 + R1 || C1", "R_f + R_EP || CPE_EP || C_gap"):
+        other = ix.parse(text)
+        assert ix.DEFAULT_EFFECTS["electrode_polarization"].propose(other, BaselineContext(other, {k: 1.0 for k in other.parameter_names()}, f, z, z)) == [], text
+
+
 def test_program_evaluation_matches_the_compiled_tree(rng):
     """The padded program (one evaluator for every topology of a layout) gives each circuit's
     impedance as its own compiled tree does."""

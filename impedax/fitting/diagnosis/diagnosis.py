@@ -400,9 +400,9 @@ def centred_covariance(fit: FitResult) -> tuple[np.ndarray, np.ndarray]:
         var_alpha = cov[ia, ia]
         centre = -cov[iq, ia] / values[iq] / var_alpha if var_alpha > 0 else np.mean(log_omega)
         transform[iq, ia] = float(np.clip(centre, log_omega.min(), log_omega.max()))
-    cov_c = transform @ cov @ transform.T
-    sd = np.sqrt(np.clip(np.diag(cov_c), 0, None))
-    with np.errstate(all="ignore"):
+    with np.errstate(all="ignore"):  # (a Q near zero overflows: its error is then infinite, undetermined)
+        cov_c = transform @ cov @ transform.T
+        sd = np.sqrt(np.clip(np.diag(cov_c), 0, None))
         corr_c = cov_c / np.outer(sd, sd)
         rel_c = np.abs(sd / values)
     for iq, _ in pairs:

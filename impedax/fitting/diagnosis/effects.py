@@ -68,6 +68,18 @@ def _leaky_sibling(circuit: Circuit, name: str, registry: Registry) -> bool:
     return any(conducts(c) for c in parent.children if not (isinstance(c, Element) and c.name == name))
 
 
+def _edl_leak_of(circuit: Circuit, name: str, registry: Registry) -> str | None:
+    """The leak resistor of an electric double layer found before: the name of R_EP when
+    capacitor ``name`` sits in a block R_EP ∥ ``name`` of two branches (R_EP: the name the
+    electrode-polarization effect and the EDL model give it), else None."""
+    parent = _parents(circuit)[name]
+    if not isinstance(parent, Parallel) or len(parent.children) != 2:
+        return None
+    other = next(c for c in parent.children if not (isinstance(c, Element) and c.name == name))
+    leak = isinstance(other, Element) and _symbol(registry, other) == "R" and other.name.startswith("R_EP")
+    return other.name if leak else None
+
+
 def _arc_resistors(circuit: Circuit, registry: Registry) -> list[str]:
     """Resistors that are one branch of a parallel block (or in series inside such a branch)."""
     parents = _parents(circuit)
@@ -327,6 +339,11 @@ def _electrode_polarization(circuit: Circuit, ctx: BaselineContext) -> list[Prop
     w0 = ctx.omega[0]
     for e in circuit.elements():
         sym = _symbol(ctx.registry, e)
+        if sym == "C" and _edl_leak_of(circuit, e.name, ctx.registry):
+            # the leak R_EP ∥ C_gap found before, completed with its capacitive part
+            b_name = ctx.fresh("CPE", "EP")
+            starts = tuple(ctx.start(**{f"{b_name}.Q": b0 / w0**alpha, f"{b_name}.alpha": alpha}) for alpha in (0.5, 0.25, 0.75))
+            out.append(Proposal("electrode_polarization", circuit.replace(e.name, Parallel((Element("CPE", b_name), Element(e.symbol, e.name)))), b_name, f"across {e.name} beside {_edl_leak_of(circuit, e.name, ctx.registry)} (the double layer's capacitive part)", starts))
         if sym not in ("C", "CPE") or _leaky_sibling(circuit, e.name, ctx.registry):
             continue
         r_name = ctx.fresh("R", "EP")
@@ -429,7 +446,7 @@ DEFAULT_EFFECTS = EffectCatalog(
             "electrode polarization",
             "an electric double layer leaks charge across a capacitive element at low frequency (the EDL across the finger's air gap, Sirin et al.)",
             "below a crossover frequency the data are resistive (and |Z| lower) while the model stays capacitive",
-            "put a leakage branch R_EP, R_EP ∥ CPE_EP (or ∥ C_EP) in parallel across a capacitive element",
+            "put a leakage branch R_EP, R_EP ∥ CPE_EP (or ∥ C_EP) in parallel across a capacitive element, or a CPE_EP beside a leak R_EP ∥ C found before",
             _electrode_polarization,
         ),
     )
