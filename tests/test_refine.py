@@ -273,3 +273,17 @@ def test_two_effects_of_one_parameter_each_are_preferred_to_one_element_of_three
     r = ix.refine(ix.make_spectrum(case.frequency, case.z), case.circuit)
     assert r.verdict == "adequate" and [s.effect for s in r.steps[1:]] == ["series_resistance", "constant_phase"], r.report()
     assert r.final.n_params == 5
+
+
+@pytest.mark.slow
+def test_a_leak_found_first_is_completed_with_its_capacitive_part():
+    """A SYNTHETIC finger (numpy formula) lacking its series resistance and its double layer's
+    leak R_EP ∥ CPE_EP: refine adds R_EP alone first, then R_s, then CPE_EP beside R_EP (not a
+    nested R ∥ CPE standing in for it) and ends at the generating structure, 8 parameters."""
+    import evaluation_set as es
+
+    template = next(t for t in es.TEMPLATES if t.name == "two/finger_rs_ep")
+    case = es.make_case(template, template.variants[0], "dev", 8)
+    r = ix.refine(ix.make_spectrum(case.frequency, case.z), case.circuit)
+    assert r.verdict == "adequate" and r.final.n_params == 8, r.report()
+    assert {"R_EP", "CPE_EP", "C_gap", "R_s"} <= set(r.final.circuit.element_names), r.report()
