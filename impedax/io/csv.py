@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import io
 import re
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -50,7 +51,9 @@ def _read_canonical(path: Path, raw: bytes) -> xr.Dataset | None:
     if not (raw.startswith(header + b"\n") or raw.startswith(header + b"\r\n")):
         return None
     try:
-        table = np.loadtxt(io.BytesIO(raw), delimiter=",", skiprows=1, dtype=np.float64, comments=None, ndmin=2, encoding="ascii")
+        with warnings.catch_warnings():  # (a header without rows: the general reader says so, by line)
+            warnings.simplefilter("ignore", UserWarning)
+            table = np.loadtxt(io.BytesIO(raw), delimiter=",", skiprows=1, dtype=np.float64, comments=None, ndmin=2, encoding="ascii")
     except (ValueError, UnicodeDecodeError):
         return None
     if table.shape[0] == 0 or table.shape[1] != 3 or not np.isfinite(table).all():
