@@ -339,11 +339,12 @@ def _electrode_polarization(circuit: Circuit, ctx: BaselineContext) -> list[Prop
     w0 = ctx.omega[0]
     for e in circuit.elements():
         sym = _symbol(ctx.registry, e)
-        if sym == "C" and _edl_leak_of(circuit, e.name, ctx.registry):
-            # the leak R_EP ∥ C_gap found before, completed with its capacitive part
+        leak = _edl_leak_of(circuit, e.name, ctx.registry) if sym == "C" else None
+        if leak:  # the leak R_EP ∥ C_gap found before, completed with its capacitive part
             b_name = ctx.fresh("CPE", "EP")
             starts = tuple(ctx.start(**{f"{b_name}.Q": b0 / w0**alpha, f"{b_name}.alpha": alpha}) for alpha in (0.5, 0.25, 0.75))
-            out.append(Proposal("electrode_polarization", circuit.replace(e.name, Parallel((Element("CPE", b_name), Element(e.symbol, e.name)))), b_name, f"across {e.name} beside {_edl_leak_of(circuit, e.name, ctx.registry)} (the double layer's capacitive part)", starts))
+            completed = circuit.replace(e.name, Parallel((Element("CPE", b_name), Element(e.symbol, e.name))))
+            out.append(Proposal("electrode_polarization", completed, b_name, f"across {e.name} beside {leak} (the double layer's capacitive part)", starts))
         if sym not in ("C", "CPE") or _leaky_sibling(circuit, e.name, ctx.registry):
             continue
         r_name = ctx.fresh("R", "EP")
