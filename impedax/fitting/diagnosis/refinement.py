@@ -221,8 +221,11 @@ def _cheaper_starts(steps: list[RefinementStep], taken) -> list:
     if len(steps) < 2 or steps[-1].diagnosis is None or steps[-1].diagnosis.verdict != Verdict.ADEQUATE:
         return []
     picked = first.best
-    cheaper = [s for s in first.suggestions if s.effect != picked.effect and s.fit.n_params < picked.fit.n_params and all(s is not t for t in taken)]
-    return [s for i, s in enumerate(cheaper) if s.effect not in {t.effect for t in cheaper[:i]}][:CHEAPER_PATHS]
+    best_per_effect: dict[str, object] = {}  # (suggestions are ranked best first)
+    for s in first.suggestions:
+        if s.effect != picked.effect and s.fit.n_params < picked.fit.n_params and all(s is not t for t in taken):
+            best_per_effect.setdefault(s.effect, s)
+    return list(best_per_effect.values())[:CHEAPER_PATHS]
 
 
 def _finish(steps: list[RefinementStep], used: xr.Dataset, *, n_starts: int, seed: int, say, notes: list[str], label: str) -> list[RefinementStep]:
