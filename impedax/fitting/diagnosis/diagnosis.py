@@ -373,6 +373,18 @@ def undetermined_parameters(fit: FitResult) -> frozenset[str]:
     return frozenset(out)
 
 
+def _undetermined_elements(fit: FitResult) -> frozenset[str]:
+    """Elements of ``fit``'s circuit whose free parameters are all undetermined
+    (`undetermined_parameters`)."""
+    undetermined = undetermined_parameters(fit)
+    out = set()
+    for e in fit.circuit.elements():
+        names = [n for n in fit.registry[e.symbol].parameter_names(e.name) if n in fit.free_names]
+        if names and set(names) <= undetermined:
+            out.add(e.name)
+    return frozenset(out)
+
+
 def centred_covariance(fit: FitResult) -> tuple[np.ndarray, np.ndarray]:
     """Relative standard errors and correlations of ``fit``'s free parameters, each CPE's Q
     taken at the angular frequency ω_c of the band where it is least correlated with α.
@@ -497,31 +509,36 @@ def _drt_supports(s: Suggestion, evidence: PeakEvidence | None) -> bool:
     return any(abs(math.log10(r * c / p.tau_s)) <= 0.5 for p in narrow)
 
 
-def _rank(cands: list[Suggestion], evidence: PeakEvidence | None = None) -> list[Suggestion]:
+def _rank(cands: list[Suggestion], evidence: PeakEvidence | None = None, loose: frozenset[str] = frozenset()) -> list[Suggestion]:
     """Best first by AIC, with the same parsimony rule as the verdict: a candidate with more
     free parameters outranks a simpler one only if it lowers AIC by more than `DELTA_AIC_MIN`.
-    Among candidates the data cannot tell apart (within `DELTA_AIC_MIN`), one that keeps every
-    element of the baseline goes before one that leaves its series resistance out (R ∥ C + R ∥ C
-    is the same function of frequency as (R0 + R ∥ C) ∥ C), then the smaller, then one the DRT
-    backs (`_drt_supports`). When a candidate that keeps every baseline element is
-    significant, every candidate that leaves one out comes after it: leaving an element out
-    changes what the user's elements stand for (R_sc of an arc becomes the series resistance),
-    so it is the answer only when nothing that keeps them explains the data. Candidates with a
-    warning (undetermined or implausible parameters, no convergence) come after all the others."""
+    A candidate "leaves an element out" when it drops a baseline element that is not in
+    ``loose`` (the elements the baseline does not determine: it gave them no value to stand
+    for). Among candidates the data cannot tell apart (within `DELTA_AIC_MIN`), one that keeps
+    every element goes first (R ∥ C + R ∥ C is the same function of frequency as
+    (R0 + R ∥ C) ∥ C), then the smaller, then one that drops no element at all, then one the
+    DRT backs (`_drt_supports`). When a candidate that keeps every element is significant,
+    every candidate that leaves one out comes after it: leaving an element out changes what
+    the user's elements stand for (R_sc of an arc becomes the series resistance), so it is the
+    answer only when nothing that keeps them explains the data. Candidates with a warning
+    (undetermined or implausible parameters, no convergence) come after all the others."""
+    def left_out(s: Suggestion) -> bool:
+        return not set(s.removed) <= loose
+
     def ranked(group):
         rest = sorted(group, key=lambda s: s.delta_aic)
         out = []
         while rest:
             best_aic = rest[0].delta_aic
             close = [s for s in rest if s.delta_aic <= best_aic + DELTA_AIC_MIN]
-            pick = min(close, key=lambda s: (bool(s.removed), s.fit.n_params, not _drt_supports(s, evidence), s.delta_aic))
+            pick = min(close, key=lambda s: (left_out(s), s.fit.n_params, bool(s.removed), not _drt_supports(s, evidence), s.delta_aic))
             out.append(pick)
             rest.remove(pick)
         return out
 
     clean = [s for s in cands if s.warning is None]
-    keeping = ranked([s for s in clean if not s.removed])
-    first = keeping + ranked([s for s in clean if s.removed]) if any(s.significant for s in keeping) else ranked(clean)
+    keeping = ranked([s for s in clean if not left_out(s)])
+    first = keeping + ranked([s for s in clean if left_out(s)]) if any(s.significant for s in keeping) else ranked(clean)
     return first + ranked([s for s in cands if s.warning is not None])
 
 
@@ -680,9 +697,17 @@ def _fit_proposals(base: FitResult, spectrum: xr.Dataset, ctx: BaselineContext, 
                 if again.chi2 < fits[1 + i].chi2:
                     fits[1 + i] = again
         pruned = _series_resistance_dropped(base, proposals, fits[1:]) + _negligible_branch_dropped(base, proposals, fits[1:]) + _open_resistor_dropped(base, proposals, fits[1:])
-        if pruned:
-            fits = fits + fit_candidates([p.circuit for _, p in pruned], spectrum, init=[list(p.starts) for _, p in pruned], **options)
-        return proposals + pruned, fits, shape
+        added = []
+        if pruned:  # a pruned circuit already among the proposals keeps the better of its two fits
+            index = {str(p.circuit): i for i, (_, p) in enumerate(proposals)}
+            for (effect, p), cf in zip(pruned, fit_candidates([p.circuit for _, p in pruned], spectrum, init=[list(p.starts) for _, p in pruned], **options)):
+                i = index.get(str(p.circuit))
+                if i is None:
+                    added.append((effect, p))
+                    fits.append(cf)
+                elif cf.chi2 < fits[1 + i].chi2:
+                    fits[1 + i] = cf
+        return proposals + added, fits, shape
     except FitError as err:
         raise FitError(f"diagnosis: the candidate fits failed: {err}") from None
 
@@ -699,9 +724,9 @@ def _series_resistance_dropped(base: FitResult, proposals: list[tuple[Effect, Pr
     undetermined, so none is proposed (test_data.txt: R ∥ CPE stays at 6.1 % while
     R ∥ CPE + R ∥ CPE without R0 reaches 0.58 % with every parameter determined). Dropping
     it is the parsimonious model the data support; the suggestion says so."""
-    out, seen = [], {str(p.circuit) for _, p in proposals} | {str(base.circuit)}
+    out, seen = [], {str(base.circuit)}
     for (effect, p), cf in zip(proposals, fits):
-        top = p.circuit.children if isinstance(p.circuit, Series) else ()
+        top = _series_with_all(p.circuit)
         if len(top) < 2 or not (np.isfinite(cf.chi2) and cf.aic < base.aic - DELTA_AIC_MIN):
             continue
         undetermined = undetermined_parameters(cf)
@@ -712,12 +737,25 @@ def _series_resistance_dropped(base: FitResult, proposals: list[tuple[Effect, Pr
             value, error = float(cf.values[name]), float(cf.stderr[name])
             if not (name in cf.at_bound or not value > error):
                 continue
-            left = _left_out(effect, p, cf, node, f"it fell to {format_quantity(value, 'Ω')}: the data do not reach a series-resistance plateau")
+            why = "the data do not reach a series-resistance plateau" if top is getattr(p.circuit, "children", None) else "the capacitance across the circuit shunts it at the top of the band"
+            left = _left_out(effect, p, cf, node, f"it fell to {format_quantity(value, 'Ω')}: {why}")
             if str(left[1].circuit) not in seen:
                 seen.add(str(left[1].circuit))
                 out.append(left)
             break
     return out
+
+
+def _series_with_all(circuit: Circuit) -> tuple[Circuit, ...]:
+    """The elements in series with the whole circuit (the top series), or, for a circuit of
+    two parallel branches (a capacitance across a circuit), those of its series branch."""
+    if isinstance(circuit, Series):
+        return circuit.children
+    if isinstance(circuit, Parallel) and len(circuit.children) == 2:
+        branches = [c for c in circuit.children if isinstance(c, Series)]
+        if len(branches) == 1:
+            return branches[0].children
+    return ()
 
 
 def _left_out(effect: Effect, p: Proposal, cf: FitResult, element: Element, why: str) -> tuple[Effect, Proposal]:
@@ -833,7 +871,7 @@ def _open_resistor_dropped(base: FitResult, proposals: list[tuple[Effect, Propos
 
 
 def _poor_leaders(proposals: list[tuple[Effect, Proposal]], fits: Sequence[FitResult], target: float, base: FitResult) -> list[int]:
-    """Per effect, the candidate that fits best, when its rms_rel is above ``target`` (what
+    """Per effect (apart for candidates that leave a baseline element out), the candidate that fits best, when its rms_rel is above ``target`` (what
     `impedax.fit` climbs its start ladder for: 1.5× the misfit of the KK test's Voigt chain,
     `starts.climb_target`), when it lowers AIC by more than `DELTA_AIC_MIN` against the
     baseline ``base`` but leaves parameters undetermined, or when it has every parameter of the
@@ -849,10 +887,11 @@ def _poor_leaders(proposals: list[tuple[Effect, Proposal]], fits: Sequence[FitRe
     on a finger: 1.75 % with CPE_EP undetermined, where `impedax.fit` reaches 1.41 % with every
     parameter determined; a stray capacitance across a finger circuit: 1.78 % against the
     baseline's 1.71 %, where 1.44 % is reachable)."""
-    best: dict[str, int] = {}
-    for i, (effect, _) in enumerate(proposals):
-        if np.isfinite(fits[i].chi2) and (effect.id not in best or fits[i].chi2 < fits[best[effect.id]].chi2):
-            best[effect.id] = i
+    best: dict[tuple[str, bool], int] = {}
+    for i, (effect, p) in enumerate(proposals):
+        key = (effect.id, bool(p.removed))
+        if np.isfinite(fits[i].chi2) and (key not in best or fits[i].chi2 < fits[best[key]].chi2):
+            best[key] = i
 
     def poor(fit: FitResult) -> bool:
         if fit.rms_rel > target:
@@ -1037,7 +1076,7 @@ def diagnose(
         notes.append(f"the baseline refit found a better optimum (rms_rel {base.rms_rel * 100:.3g} % → {fits[0].rms_rel * 100:.3g} %); it is used as the baseline")
         base = fits[0]
     bands = failing_bands(base, sigma_rel, kk_bad_bands=kk_bands)
-    cands = _rank(_suggestions(base, proposals, fits[1:], sigma_rel, bands), evidence)
+    cands = _rank(_suggestions(base, proposals, fits[1:], sigma_rel, bands), evidence, _undetermined_elements(base))
     verdict, reason = _verdict(cands, bands, _noise_ratio(base, sigma_rel))
     masked = tuple(sorted(masked + not_passive))
     return Diagnosis(base, kk, sigma_rel, nm.source, bands, tuple(cands), verdict, reason, tuple(notes), _thresholds(), evidence, measurement, nm.discrepancy, masked, kk_kept, shape)

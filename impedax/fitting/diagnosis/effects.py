@@ -131,7 +131,19 @@ def _stray_capacitance(circuit: Circuit, ctx: BaselineContext) -> list[Proposal]
     dy = 1 / ctx.z_data[hi] - 1 / ctx.z_model[hi]
     c0 = _positive(np.max(dy.imag / ctx.omega[hi]), 1e-2 / (ctx.omega[-1] * np.abs(ctx.z_data[-1])))
     starts = tuple(ctx.start(**{name: c0 * s}) for s in (1.0, 0.1, 10.0))
-    return [Proposal("stray_capacitance", Parallel((circuit, Element("C", name))), name, "across the whole circuit (fixture)", starts)]
+    out = [Proposal("stray_capacitance", Parallel((circuit, Element("C", name))), name, "across the whole circuit (fixture)", starts)]
+    # a series resistance the baseline does not determine is shunted by C_stray at the top of
+    # the band: the candidate without it (the finger's R_f of 2 kΩ beside 8 kΩ of C_stray at 1 MHz)
+    loose = [c for c in _top_series(circuit) if isinstance(c, Element) and _symbol(ctx.registry, c) == "R" and c.name in ctx.undetermined]
+    if loose and len(_top_series(circuit)) > 1:
+        r = loose[0]
+        inner = circuit.without(r.name)
+        out.append(Proposal(
+            "stray_capacitance", Parallel((inner, Element("C", name))), name,
+            f"across the whole circuit (fixture), and {r.name} left out (the baseline does not determine it; C_stray shunts it at the top of the band)",
+            tuple({k: v for k, v in s.items() if k != r.name} for s in starts), removed=(r.name,),
+        ))
+    return out
 
 
 def _zarc_alpha(width_decades: float) -> float:
