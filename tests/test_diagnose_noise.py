@@ -514,3 +514,20 @@ def test_a_series_resistance_the_finger_baseline_determines_is_kept_under_a_stra
     d = ix.diagnose(data, case.circuit)
     assert "R_f" not in {n for n in d.baseline.free_names if not d.baseline.stderr[n] <= abs(d.baseline.values[n])}
     assert all("R_f" not in s.removed for s in d.candidates if s.effect == "stray_capacitance"), d.report()
+
+
+def test_a_candidate_behind_a_refitted_leader_it_contains_is_restarted_from_it():
+    # a finger whose gap leaks through R_EP ∥ CPE_EP (SYNTHETIC draw), diagnosed without it:
+    # both electrode-polarization candidates first stopped at the baseline's 8.8 %; the leader
+    # rung refitted R_EP ∥ C_gap to 3.9 %, but R_EP ∥ CPE_EP ∥ C_gap, which contains it, was
+    # checked for such a stall only before the rungs, stayed at 8.8 %, and a series R ∥ CPE
+    # (1.7 %) was named. Restarted from the refitted R_EP ∥ C_gap it reaches `impedax fit`'s
+    # 1.2 %, every parameter determined
+    case, data = _draw("electrode_polarization/finger", 50)
+    d = ix.diagnose(data, case.circuit)
+    best = d.suggestions[0]
+    assert best.effect == "electrode_polarization" and not best.undetermined, d.report()
+    assert ix.parse(best.model) == ix.parse("R_f + R_sk || CPE_sk + R_EP || CPE_EP || C_gap")
+    assert best.rms_rel <= ix.fit(best.model, data).rms_rel * 1.01
+    nested = next(s for s in d.candidates if ix.parse(s.model) == ix.parse("R_f + R_sk || CPE_sk + R_EP || C_gap"))
+    assert best.fit.chi2 <= nested.fit.chi2

@@ -680,12 +680,16 @@ def _fit_proposals(base: FitResult, spectrum: xr.Dataset, ctx: BaselineContext, 
     options = dict(fixed=fixed or None, weighting=base.weighting, n_starts=n_starts, seed=seed, registry=base.registry, shape=shape, max_steps=BASELINE_STEPS, step_limit=max_steps)
     try:
         fits = fit_candidates(circuits, spectrum, init=inits, **options)
-        stalled = _stalled_behind_nested(proposals, fits[1:])
-        if stalled:
-            redo = fit_candidates([proposals[i][1].circuit for i, _ in stalled], spectrum, init=[[start] for _, start in stalled], **options)
-            for (i, _), again in zip(stalled, redo):
-                if again.chi2 < fits[1 + i].chi2:
-                    fits[1 + i] = again
+
+        def restart_stalled():
+            stalled = _stalled_behind_nested(proposals, fits[1:])
+            if stalled:
+                redo = fit_candidates([proposals[i][1].circuit for i, _ in stalled], spectrum, init=[[start] for _, start in stalled], **options)
+                for (i, _), again in zip(stalled, redo):
+                    if again.chi2 < fits[1 + i].chi2:
+                        fits[1 + i] = again
+
+        restart_stalled()
         freq, z = np.asarray(spectrum["frequency"].values, float), np.asarray(spectrum["Z"].values, complex)
         target = float(climb_target(freq, z[None])[0])
         for rung, starts in enumerate(LEADER_STARTS):
@@ -696,6 +700,7 @@ def _fit_proposals(base: FitResult, spectrum: xr.Dataset, ctx: BaselineContext, 
             for i, again in zip(poor, redo):
                 if again.chi2 < fits[1 + i].chi2:
                     fits[1 + i] = again
+        restart_stalled()  # a leader refitted past a candidate that contains it
         pruned = _series_resistance_dropped(base, proposals, fits[1:]) + _negligible_branch_dropped(base, proposals, fits[1:]) + _open_resistor_dropped(base, proposals, fits[1:])
         added = []
         if pruned:  # a pruned circuit already among the proposals keeps the better of its two fits
