@@ -728,7 +728,11 @@ def _series_resistance_dropped(base: FitResult, proposals: list[tuple[Effect, Pr
     R is then below what the data resolve and leaves every otherwise good candidate
     undetermined, so none is proposed (test_data.txt: R ∥ CPE stays at 6.1 % while
     R ∥ CPE + R ∥ CPE without R0 reaches 0.58 % with every parameter determined). Dropping
-    it is the parsimonious model the data support; the suggestion says so."""
+    it is the parsimonious model the data support; the suggestion says so. Under a
+    capacitance across the whole circuit (two parallel branches) the resistors in series
+    with the other branch count as well: C_stray shunts them at the top of the band
+    (`_series_with_all`). The pruned circuit may already be a proposal (the stray capacitance
+    proposes one); `_fit_proposals` then keeps the better of the two fits."""
     out, seen = [], {str(base.circuit)}
     for (effect, p), cf in zip(proposals, fits):
         top = _series_with_all(p.circuit)
@@ -742,7 +746,7 @@ def _series_resistance_dropped(base: FitResult, proposals: list[tuple[Effect, Pr
             value, error = float(cf.values[name]), float(cf.stderr[name])
             if not (name in cf.at_bound or not value > error):
                 continue
-            why = "the data do not reach a series-resistance plateau" if top is getattr(p.circuit, "children", None) else "the capacitance across the circuit shunts it at the top of the band"
+            why = "the data do not reach a series-resistance plateau" if isinstance(p.circuit, Series) else "the capacitance across the circuit shunts it at the top of the band"
             left = _left_out(effect, p, cf, node, f"it fell to {format_quantity(value, 'Ω')}: {why}")
             if str(left[1].circuit) not in seen:
                 seen.add(str(left[1].circuit))
@@ -876,7 +880,8 @@ def _open_resistor_dropped(base: FitResult, proposals: list[tuple[Effect, Propos
 
 
 def _poor_leaders(proposals: list[tuple[Effect, Proposal]], fits: Sequence[FitResult], target: float, base: FitResult) -> list[int]:
-    """Per effect (apart for candidates that leave a baseline element out), the candidate that fits best, when its rms_rel is above ``target`` (what
+    """Per effect (and apart, among the candidates that leave a baseline element out), the
+    candidate that fits best, when its rms_rel is above ``target`` (what
     `impedax.fit` climbs its start ladder for: 1.5× the misfit of the KK test's Voigt chain,
     `starts.climb_target`), when it lowers AIC by more than `DELTA_AIC_MIN` against the
     baseline ``base`` but leaves parameters undetermined, or when it has every parameter of the

@@ -132,10 +132,11 @@ def _stray_capacitance(circuit: Circuit, ctx: BaselineContext) -> list[Proposal]
     c0 = _positive(np.max(dy.imag / ctx.omega[hi]), 1e-2 / (ctx.omega[-1] * np.abs(ctx.z_data[-1])))
     starts = tuple(ctx.start(**{name: c0 * s}) for s in (1.0, 0.1, 10.0))
     out = [Proposal("stray_capacitance", Parallel((circuit, Element("C", name))), name, "across the whole circuit (fixture)", starts)]
-    # a series resistance the baseline does not determine is shunted by C_stray at the top of
-    # the band: the candidate without it (the finger's R_f of 2 kΩ beside 8 kΩ of C_stray at 1 MHz)
+    # a series resistance the baseline does not determine (standard error above its value) is
+    # shunted by C_stray at the top of the band: the candidate without it as well (a finger's
+    # R_f of 2 kΩ beside 8 kΩ of C_stray at 1 MHz; docs/diagnosis.md, section 5)
     loose = [c for c in _top_series(circuit) if isinstance(c, Element) and _symbol(ctx.registry, c) == "R" and c.name in ctx.undetermined]
-    if loose and len(_top_series(circuit)) > 1:
+    if loose and isinstance(circuit, Series):
         r = loose[0]
         inner = circuit.without(r.name)
         out.append(Proposal(
