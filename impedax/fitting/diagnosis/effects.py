@@ -427,7 +427,7 @@ DEFAULT_EFFECTS = EffectCatalog(
             "stray capacitance",
             "a capacitance of the fixture or cables across the whole sample",
             "|Z| falls and the phase turns capacitive again at the top of the band",
-            "put C_stray in parallel with the whole circuit",
+            "put C_stray in parallel with the whole circuit (also without a series resistance the baseline does not determine)",
             _stray_capacitance,
             _stray_plausible,
         ),
