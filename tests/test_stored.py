@@ -194,3 +194,19 @@ def test_a_fresh_process_does_not_trace_a_stored_program(tmp_path):
         assert out.stdout.splitlines()[-1] == "[0.0, 2.0, 6.0, 12.0]"
     assert "traced" in outputs[0].stdout
     assert "traced" not in outputs[1].stdout
+
+
+def test_compiler_options_reach_the_stored_program_and_the_jitted_one(cache_dir):
+    """A program compiled with `stored.QUICK_COMPILE` (as the single-fit solvers are) is still
+    exported, read back without tracing, and gives the oracle's values, stored or not."""
+    fn, oracle, traces = _counted()
+    x, pair = np.linspace(-1.0, 2.0, 7), (np.arange(4.0), np.float64(-1.5))
+    first = StoredProgram("test-quick", 0, fn, compiler_options=stored.QUICK_COMPILE)(x, pair)
+    assert len(list(cache_dir.glob("test-quick-*.bin"))) == 1  # an export that failed would fall back to plain jit
+    jax.clear_caches()
+    second = StoredProgram("test-quick", 0, fn, compiler_options=stored.QUICK_COMPILE)(x, pair)
+    assert len(traces) == 1
+    jax.config.update("jax_compilation_cache_dir", None)
+    plain = StoredProgram("test-quick", 0, fn, compiler_options=stored.QUICK_COMPILE)(x, pair)
+    for out in (first, second, plain):
+        _close(out, oracle(x, pair))

@@ -31,6 +31,13 @@ import numpy as np
 
 _SUBDIR = "impedax-exported"
 
+QUICK_COMPILE = {"xla_cpu_use_fusion_emitters": False}
+"""XLA options for programs that run briefly, where the compile is the user's wait: the older
+elemental code generation instead of the fusion emitters. A fresh single fit's programs
+compile in ~40 % less time; they run a few per cent slower (benchmarks/README.md, "Quick
+compilation of the single-fit programs"). Long-running programs (batch lanes, candidate
+queues) keep XLA's defaults."""
+
 
 @functools.lru_cache(maxsize=1)
 def _source_digest() -> str:
@@ -64,10 +71,14 @@ class StoredProgram:
     ``name`` and ``static`` (a repr-able value of everything ``jitted`` closes over that
     changes its trace) name the program; ``shardings(args)``, when given, returns one sharding
     per positional argument (a prefix for its tree) for programs that run on several devices
-    (`solvers.over_devices`)."""
+    (`solvers.over_devices`). ``compiler_options`` (XLA options, e.g. `QUICK_COMPILE`) apply
+    to the compilation of ``jitted`` and of the stored program alike; ``jitted`` may then be a
+    plain function."""
 
-    def __init__(self, name: str, static: Any, jitted: Callable, shardings: Callable[[Sequence], Sequence] | None = None):
-        self.name, self.static, self.jitted, self.shardings = name, static, jitted, shardings
+    def __init__(self, name: str, static: Any, jitted: Callable, shardings: Callable[[Sequence], Sequence] | None = None, compiler_options: dict | None = None):
+        self.name, self.static, self.shardings, self.compiler_options = name, static, shardings, compiler_options
+        self._traced = jitted  # exported without the options: jax.export rejects them on an inner jit
+        self.jitted = jitted if compiler_options is None else jax.jit(jitted, compiler_options=compiler_options)
         self._calls: dict = {}
 
     def __call__(self, *args):
@@ -76,7 +87,7 @@ class StoredProgram:
             return self.jitted(*args)
         leaves, in_tree = jax.tree_util.tree_flatten(args)
         if any(isinstance(a, jax.core.Tracer) for a in leaves):  # called inside a trace
-            return self.jitted(*args)
+            return self._traced(*args)
         avals = tuple((np.shape(a), _dtype(a).str) for a in leaves)
         signature = (in_tree, avals)
         if signature not in self._calls:
@@ -113,14 +124,15 @@ class StoredProgram:
             exported = jax.export.deserialize(blob)  # as a later process will read it
         else:
             exported, out_tree = read
-        call = jax.jit(exported.call, in_shardings=shardings) if shardings is not None else jax.jit(exported.call)
+        placed = {} if shardings is None else {"in_shardings": shardings}
+        call = jax.jit(exported.call, compiler_options=self.compiler_options, **placed)
         return call, out_tree
 
     def _export(self, leaves, in_tree, shardings):
         out_tree = []
 
         def flat(*flat_args):
-            out = self.jitted(*jax.tree_util.tree_unflatten(in_tree, flat_args))
+            out = self._traced(*jax.tree_util.tree_unflatten(in_tree, flat_args))
             out_leaves, tree = jax.tree_util.tree_flatten(out)
             out_tree.append(tree)
             return out_leaves

@@ -10,7 +10,7 @@ import numpy as np
 from ...arguments import checked_arguments, count, flag, real
 from ...errors import DataError, ParameterError
 from ..problem import frequency_and_z
-from ..stored import StoredProgram
+from ..stored import QUICK_COMPILE, StoredProgram
 from .basis import impedance_integrals, penalty_matrix, rbf_basis
 from .peaks import find_peaks
 from .result import DRTBatchResult, DRTResult
@@ -27,7 +27,7 @@ _SAMPLES = 200  # Gaussian draws for the peaks' standard deviations
 @functools.lru_cache(maxsize=8)
 def _stored_solve(method: str, signed: bool, max_iter: int) -> StoredProgram:
     """`tikhonov.solve_batch` for these options, kept across processes (`stored`)."""
-    return StoredProgram("drt-solve", (method, signed, max_iter), functools.partial(solve_batch, method=method, signed=signed, max_iter=max_iter))
+    return StoredProgram("drt-solve", (method, signed, max_iter), functools.partial(solve_batch, method=method, signed=signed, max_iter=max_iter), compiler_options=QUICK_COMPILE)
 
 
 @functools.lru_cache(maxsize=16)

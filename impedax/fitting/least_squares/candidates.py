@@ -27,7 +27,7 @@ from ...circuits import Circuit, CircuitProgram, DEFAULT_REGISTRY, ProgramLayout
 from ...errors import FitError
 from ..parameters import Transform, to_external, to_internal
 from ..problem import FitProblem, fit_problem, open_spectrum, weights
-from ..stored import StoredProgram
+from ..stored import QUICK_COMPILE, StoredProgram
 from .lm import work_queue
 from .result import FitResult, fit_result
 from .solvers import SolverArgs, SolverOutput, SolverStatus, over_devices, padded_points, trimmed
@@ -187,7 +187,7 @@ def candidate_solver(layout: ProgramLayout, n_free: int, n_lanes: int = _LANES):
         chi2 = jnp.sum(r_re**2) + jnp.sum(r_im**2)
         return theta, jnp.where(jnp.isfinite(chi2), chi2, jnp.inf), jnp.concatenate([j_re, j_im], axis=1).T, z
 
-    finish = StoredProgram("candidate-finish", static, jax.jit(jax.vmap(finish_one, in_axes=(0, 0, None))))
+    finish = StoredProgram("candidate-finish", static, jax.vmap(finish_one, in_axes=(0, 0, None)), compiler_options=QUICK_COMPILE)
     return queue, finish
 
 

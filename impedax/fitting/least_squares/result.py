@@ -26,8 +26,10 @@ __all__ = [
 CORRELATION_LIMIT = 0.99
 RELATIVE_ERROR_LIMIT = 1.0
 # a free parameter is at a bound (docs/fitting.md, "Convergence and bounds") when the bound lies
-# within this many standard errors (or within 1e-4 relative of a nonzero bound) ...
-BOUND_STDERR_FRACTION = 1.0
+# within this many standard errors (or within 1e-4 relative of a nonzero bound) ... (a filter of
+# candidates: rule 2 decides. Two, not one: on exact data a series R creeping to 0 stops at
+# rounding level, e.g. 1.2e-15 ± 1.2e-15 Ω, either side of one standard error by chance)
+BOUND_STDERR_FRACTION = 2.0
 # ... and setting it exactly to the bound changes chi² by less than this fraction of the
 # reduced chi² (a hundredth of one residual's share): the data cannot tell the fit from the bound
 BOUND_CHI2_FRACTION = 1e-2

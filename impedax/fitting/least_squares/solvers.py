@@ -32,7 +32,7 @@ import numpy as np
 
 from ...circuits import Circuit, Registry, compile_circuit
 from ..parameters import external_of_kind
-from ..stored import StoredProgram
+from ..stored import QUICK_COMPILE, StoredProgram
 from .lm import levenberg_marquardt, work_queue
 from .order import structural_peaks
 
@@ -451,8 +451,7 @@ def tree_solver(circuit: Circuit, registry: Registry, max_steps: int, free: tupl
 
     finish = per_spectrum(lambda u, args: _finish(u, args, residuals, peaks))
 
-    @jax.jit
-    def chi2(points, spectrum, rows, shared, in_u):
+    def chi2_function(points, spectrum, rows, shared, in_u):
         """Weighted chi² at ``points`` (C, K) of the spectra rows[spectrum]: free parameter
         values, or the solver's points u where ``in_u`` (one program for both)."""
 
@@ -462,15 +461,15 @@ def tree_solver(circuit: Circuit, registry: Registry, max_steps: int, free: tupl
 
         return jax.vmap(one)(points, spectrum)
 
+    chi2 = jax.jit(chi2_function)
     static = (circuit, registry, max_steps, free, kinds)
-    chi2_stored = StoredProgram("fit-chi2", static, chi2)
+    chi2_stored = StoredProgram("fit-chi2", static, chi2_function, compiler_options=QUICK_COMPILE)
 
     def chi2_x(points, spectrum, rows, shared):
         return chi2_stored(points, spectrum, rows, shared, False)
 
     lanes = functools.lru_cache(maxsize=4)(lambda n_lanes: jax.jit(work_queue(residuals.normal_u, n_lanes, combine), static_argnames="drain"))
 
-    @jax.jit
     def resume(u, args, rest):
         u, _, done, steps = levenberg_marquardt(residuals.normal_u, u, args, rest, inline_solve=False)
         code = jnp.where(done, int(SolverStatus.CONVERGED), int(SolverStatus.MAX_STEPS))
@@ -478,13 +477,13 @@ def tree_solver(circuit: Circuit, registry: Registry, max_steps: int, free: tupl
 
     solve_one = _optimistix_solve(residuals)
 
-    @jax.jit
     def screen(u0s, args):
         us, chi2s, _, steps = jax.vmap(solve_one, in_axes=(0, None, None))(u0s, args, SCREEN_STEPS)
         return us[jnp.argmin(chi2s)], chi2s, jnp.sum(steps)
 
     single = one_transfer(_make(residuals, max_steps, peaks, handover=False), "fit-single", static)
-    return TreeSolvers(single, lanes, finish, chi2, chi2_x, StoredProgram("fit-resume", static, resume), StoredProgram("fit-screen", static, screen), static)
+    return TreeSolvers(single, lanes, finish, chi2, chi2_x, StoredProgram("fit-resume", static, resume, compiler_options=QUICK_COMPILE),
+                       StoredProgram("fit-screen", static, screen, compiler_options=QUICK_COMPILE), static)
 
 
 @functools.lru_cache(maxsize=64)
@@ -536,7 +535,7 @@ def one_transfer(solve: Callable, name: str, static):
         parts = [jnp.stack([v.real, v.imag], axis=-1) if jnp.iscomplexobj(v) else v for v in fields.values()]
         return PendingOutputs(jnp.concatenate([p.astype(jnp.float64).ravel() for p in parts]), type(out), tuple(layout))
 
-    return StoredProgram(name, static, jax.jit(packed))
+    return StoredProgram(name, static, packed, compiler_options=QUICK_COMPILE)
 
 
 @jax.tree_util.register_pytree_node_class
