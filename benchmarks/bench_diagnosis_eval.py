@@ -43,6 +43,7 @@ def main(argv=None) -> int:
             mark = "ok " if o.correct else "MISS"
             extra = f" refine+{list(o.refine_effects)}→{o.refine_verdict}" if o.refine_effects is not None else ""
             extra += "" if o.structure is None else (" (generating structure reached)" if o.structure else " (generating structure not reached)")
+            extra += " (the generating circuit's function, other labels)" if o.equivalent and not o.two_named else ""
             again = f" fit/suggestion {o.reproduced:.4f}" if o.reproduced is not None else ""
             print(f"{mark} {split:7s} {c.name:40s} want {','.join(c.expected) or 'adequate':40s} got {o.verdict:15s} {list(o.ranked[:3])}{extra} {o.seconds:6.1f}s{again}", flush=True)
         summary = es.summarise(outcomes)
@@ -52,7 +53,8 @@ def main(argv=None) -> int:
             "summary": summary,
             "cases": [{"name": o.case.name, "kind": o.case.kind, "expected": list(o.case.expected), "verdict": o.verdict, "ranked": list(o.ranked),
                        "refine_effects": None if o.refine_effects is None else list(o.refine_effects), "refine_verdict": o.refine_verdict,
-                       "correct": o.correct, "seconds": o.seconds, "reproduced": o.reproduced, "structure": o.structure} for o in outcomes],
+                       "correct": o.correct, "seconds": o.seconds, "reproduced": o.reproduced, "structure": o.structure,
+                       "equivalent": o.equivalent, "two_recovered": o.two_recovered if o.case.kind == "two" else None} for o in outcomes],
         }
     if args.json:
         with open(args.json, "w") as fh:

@@ -420,10 +420,20 @@ class Outcome:
     seconds: float
     reproduced: float | None = None  # rms_rel of `fit` of the best suggestion's model string / the suggestion's own
     structure: bool | None = None  # two-effect cases: refine's final model as simple as the generating circuit and as good
+    equivalent: bool | None = None  # two-effect cases: refine's final model has the generating circuit's function (`equivalent_to_generating`)
 
     @property
     def two_named(self) -> bool:
         return self.refine_effects is not None and set(self.case.expected) <= set(self.refine_effects)
+
+    @property
+    def two_recovered(self) -> bool:
+        """Refine added both effects, or ended on a circuit with the generating circuit's
+        function (`equivalent_to_generating`): then which added element is "the" missing
+        effect is a label no data can give. (R_s + R1 ∥ C1) ∥ C_s from R1 ∥ C1 is also the
+        user's R1 ∥ C1 with a relaxation nested in series with R1 (R1 then the series
+        resistance, C1 the stray capacitance), and, by Foster's theorem, R1 ∥ C1 + R2 ∥ C2."""
+        return self.two_named or bool(self.equivalent)
 
     @property
     def top1(self) -> bool:
@@ -463,12 +473,32 @@ def run_case(case: Case, *, refine_two: bool = True, reproduce: bool = False) ->
         effects = tuple(s.effect for s in r.steps if s.effect)
         refine_verdict = str(r.verdict)
     seconds = time.perf_counter() - t0
+    equivalent = None
     if effects is not None and case.generating:
-        structure = same_as_generating(r, ix.fit(case.generating, _kept(data, r.masked_points)))
+        generating_fit = ix.fit(case.generating, _kept(data, r.masked_points))
+        structure = same_as_generating(r, generating_fit)
+        equivalent = equivalent_to_generating(r.final, generating_fit)
     reproduced = None
     if reproduce and d.best is not None:
         reproduced = ix.fit(d.best.model, _kept(data, d.masked_points)).rms_rel / d.best.rms_rel
-    return Outcome(case, str(d.verdict), ranked, effects, refine_verdict, seconds, reproduced, structure)
+    return Outcome(case, str(d.verdict), ranked, effects, refine_verdict, seconds, reproduced, structure, equivalent)
+
+
+EQUIVALENT_RMS = 1e-6
+
+
+def equivalent_to_generating(final, generating_fit) -> bool:
+    """Refine's ``final`` fit has at most the generating circuit's parameters and, started
+    from its own values, fits the generating circuit's noise-free fitted spectrum to
+    `EQUIVALENT_RMS` in rms_rel: the two circuits give the same impedance there, so no data
+    could tell their elements' names apart (a much stricter test than `same_as_generating`'s
+    2 % on the noisy data)."""
+    import impedax as ix
+
+    if final.n_params > generating_fit.n_params:
+        return False
+    exact = ix.make_spectrum(generating_fit.frequency, generating_fit.z_model)
+    return ix.fit(final.model, exact, init=final).rms_rel <= EQUIVALENT_RMS
 
 
 def _kept(data, masked_points):
@@ -491,8 +521,9 @@ def same_as_generating(refined, generating_fit) -> bool:
 
 def summarise(outcomes: list[Outcome]) -> dict[str, float]:
     """Hit rates: top-1 / top-3 on single-effect cases, false alarms on adequate models,
-    data_invalid found on non-KK cases, refine's two-effect success (both effects added; and,
-    ``two_structure``, both added or a final model `same_as_generating`), the share of best
+    data_invalid found on non-KK cases, refine's two-effect success (both effects added;
+    ``two_recovered``, both added or the generating circuit under other names,
+    `Outcome.two_recovered`; ``two_structure``, both added or a final model `same_as_generating`), the share of best
     suggestions that `fit` of their model string reproduces to 1 % in rms_rel (cases run with
     ``reproduce``), median seconds per case."""
     by = {k: [o for o in outcomes if o.case.kind == k] for k in ("single", "adequate", "invalid", "two")}
@@ -507,6 +538,7 @@ def summarise(outcomes: list[Outcome]) -> dict[str, float]:
         "false_alarm": rate(by["adequate"], lambda o: o.verdict != "adequate"),
         "invalid_found": rate(by["invalid"], lambda o: o.verdict == DATA_INVALID),
         "two_effect": rate(by["two"], lambda o: o.correct),
+        "two_recovered": rate(by["two"], lambda o: o.two_recovered),
         "two_structure": rate([o for o in by["two"] if o.structure is not None], lambda o: o.two_named or o.structure),
         "two_top1": rate(by["two"], lambda o: o.top1),
         "reproduced": rate([o for o in outcomes if o.reproduced is not None], lambda o: o.reproduced <= 1.01),

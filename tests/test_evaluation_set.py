@@ -84,3 +84,34 @@ def test_formulas_against_hand_values():
     fr = np.logspace(0, 6, 61)
     prof = es.noise_profile(fr, 0.01, "low_f")
     assert np.exp(np.mean(np.log(prof))) == pytest.approx(0.01) and prof[0] / prof[-1] == pytest.approx(es.LOW_F_GROWTH)
+
+
+
+def test_relabelled_and_foster_circuits_fit_the_formula_to_rounding():
+    """two/rc_rs_stray's truth, (R_s + R1 ∥ C1) ∥ C_s, is also R1 ∥ C1 with a relaxation nested in
+    series with R1 (R1 the series resistance, C1 the stray capacitance), and, by Foster's
+    theorem, two R ∥ C in series: fitted to the numpy formula's noise-free spectrum, each
+    reaches it to rounding, and `equivalent_to_generating` says so; a circuit of another
+    function (one R ∥ CPE) is not equivalent."""
+    template = next(t for t in es.TEMPLATES if t.name == "two/rc_rs_stray")
+    params = {**template.params, **template.strengths.get(es.MEDIUM, {})}
+    f = np.logspace(np.log10(template.band[0]), np.log10(template.band[1]), template.n_points)
+    exact = ix.make_spectrum(f, template.impedance(f, params))
+    generating = ix.fit(template.generating, exact)
+    for text in ("(R1 + R_relax || C_relax) || C1", "R1 || C1 + R2 || C2"):
+        fit = ix.fit(text, exact)
+        assert fit.rms_rel < 1e-9, text
+        assert es.equivalent_to_generating(fit, generating), text
+    assert not es.equivalent_to_generating(ix.fit("R1 || CPE1", exact), generating)
+
+
+def test_two_recovered_needs_both_effects_or_the_generating_function():
+    case = types.SimpleNamespace(expected=("series_resistance", "stray_capacitance"), kind="two")
+
+    def outcome(effects, equivalent, structure):
+        return es.Outcome(case, "adequate", (), effects, "adequate", 1.0, None, structure, equivalent)
+
+    assert outcome(("series_resistance", "stray_capacitance"), False, False).two_recovered
+    assert outcome(("extra_relaxation",), True, True).two_recovered
+    assert not outcome(("extra_relaxation",), False, True).two_recovered  # as good on the noisy data, another function
+    assert not outcome(("series_resistance",), None, None).two_recovered
