@@ -522,10 +522,10 @@ def same_as_generating(refined, generating_fit) -> bool:
 def summarise(outcomes: list[Outcome]) -> dict[str, float]:
     """Hit rates: top-1 / top-3 on single-effect cases, false alarms on adequate models,
     data_invalid found on non-KK cases, refine's two-effect success (both effects added;
-    ``two_recovered``, both added or the generating circuit under other names,
-    `Outcome.two_recovered`; ``two_structure``, both added or a final model `same_as_generating`), the share of best
-    suggestions that `fit` of their model string reproduces to 1 % in rms_rel (cases run with
-    ``reproduce``), median seconds per case."""
+    ``two_recovered``, both added or a final model with the generating circuit's function,
+    `Outcome.two_recovered`; ``two_structure``, both added or a final model
+    `same_as_generating`), the share of best suggestions that `fit` of their model string
+    reproduces to 1 % in rms_rel (cases run with ``reproduce``), median seconds per case."""
     by = {k: [o for o in outcomes if o.case.kind == k] for k in ("single", "adequate", "invalid", "two")}
 
     def rate(xs, pred):

@@ -86,7 +86,6 @@ def test_formulas_against_hand_values():
     assert np.exp(np.mean(np.log(prof))) == pytest.approx(0.01) and prof[0] / prof[-1] == pytest.approx(es.LOW_F_GROWTH)
 
 
-
 def test_relabelled_and_foster_circuits_fit_the_formula_to_rounding():
     """two/rc_rs_stray's truth, (R_s + R1 ∥ C1) ∥ C_s, is also R1 ∥ C1 with a relaxation nested in
     series with R1 (R1 the series resistance, C1 the stray capacitance), and, by Foster's
