@@ -251,6 +251,15 @@ def test_stratum_corneum_reparametrization_maps_meyer_numbers():
     assert custom.start({"C1": 1e-7})["tau"] == pytest.approx(2e-4, rel=1e-6)  # found numerically without an inverse
 
 
+def test_equal_reparametrizations_compare_equal():
+    """Built twice with the same constants, the gap map is one key for the compiled samplers
+    (its inverse is a new bound method each time and must not make them differ); another area
+    is another map."""
+    a, b = (ix.gap_thickness_reparametrization("C_gap", area=1.3e-4) for _ in range(2))
+    assert a == b and hash(a) == hash(b)
+    assert a != ix.gap_thickness_reparametrization("C_gap", area=2.6e-4)
+
+
 # --- model comparison by evidence ----------------------------------------------------------------
 
 

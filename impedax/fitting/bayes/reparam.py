@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import enum
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Callable, Mapping
 
 import numpy as np
@@ -58,9 +58,11 @@ class Reparametrization:
     replaces: tuple[str, ...]
     forward: Callable
     constants: tuple[tuple[str, float], ...] = ()
-    inverse: Callable | None = None
+    # the inverse and the description only place the start and label the result: two maps equal in
+    # everything else compile into one sampler (the built-in inverses are new bound methods per call)
+    inverse: Callable | None = field(default=None, compare=False)
     kind: ReparametrizationKind = ReparametrizationKind.CUSTOM
-    description: str = ""
+    description: str = field(default="", compare=False)
 
     def __post_init__(self):
         if self.kind not in set(ReparametrizationKind):
