@@ -77,6 +77,26 @@ def test_vector_cholesky_and_triangular_solve_match_numpy():
     np.testing.assert_allclose(np.asarray(_log_diagonal_sum(low)), 0.5 * np.linalg.slogdet(a)[1], rtol=1e-12)
     single = np.asarray(_forward_substitution(_cholesky(a[0]), b[0, :, :1]))[:, 0]
     np.testing.assert_allclose(single, np.linalg.solve(np.linalg.cholesky(a[0]), b[0, :, 0]), rtol=1e-9, atol=1e-12)
+
+
+def test_progress_counts_every_step_once_and_changes_nothing(clean, clean_post, monkeypatch):
+    """With ``progress`` the NUTS kernel reports each warm-up and draw step to the progress line
+    once for all (vmapped) chains, and the draws are those of the run without it."""
+    from impedax.fitting.bayes import hierarchical
+
+    seen = []
+
+    class Recording(hierarchical._Progress):
+        def close(self):
+            seen.append(self.done)
+            super().close()
+
+    monkeypatch.setattr(hierarchical, "_Progress", Recording)
+    post = sample_hierarchical(MODEL, clean, seed=1, progress=True, **SETTINGS)
+    assert seen == [SETTINGS["warmup"] + SETTINGS["draws"]]
+    np.testing.assert_array_equal(post.mu, clean_post.mu)
+
+
 def test_noise_from_trial_scatter_matches_the_generator(clean_post):
     """Generator: relative sd 0.5 % + 1 %·f^-½ of the complex noise (Re, Im each /√2 of it)."""
     f = clean_post.frequency

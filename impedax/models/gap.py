@@ -227,7 +227,8 @@ def gap_analysis(
     ``edl_fit`` reuses a least-squares fit of it. ``method``: ``"hierarchical"`` (default; needs
     ≥ 3 total trials; ``steps`` draws per chain after ``warmup`` (default ``steps``) NUTS
     adaptation steps in each of ``chains`` chains) or ``"pooled"`` (emcee on the trial means,
-    ``steps`` steps). Returns a `GapAnalysis`.
+    ``steps`` steps). ``progress``: a progress line on stderr during the sampling of either
+    method. Returns a `GapAnalysis`.
     """
     from ..fitting import fit, gap_thickness_reparametrization, sample
 
@@ -245,7 +246,7 @@ def gap_analysis(
     edl = edl_fit if edl_fit is not None else fit(circuit, remaining, weighting=weighting)
     reparametrization = gap_thickness_reparametrization("C_gap", area=area, eps_r=eps_gap)
     if method == "hierarchical":
-        return _hierarchical(total, skin, touchscreen, remaining, paper, naive, edl, circuit, reparametrization, area=area, v0=v0, ep=ep, eps_gap=eps_gap, steps=steps, warmup=steps if warmup is None else warmup, chains=chains, seed=seed)
+        return _hierarchical(total, skin, touchscreen, remaining, paper, naive, edl, circuit, reparametrization, area=area, v0=v0, ep=ep, eps_gap=eps_gap, steps=steps, warmup=steps if warmup is None else warmup, chains=chains, seed=seed, progress=progress)
     posterior = sample(
         circuit,
         remaining,
@@ -290,7 +291,7 @@ def _force_bands(param_draws: dict, freq, z_skin, z_ts, circuit, *, area, v0, ep
     return force
 
 
-def _hierarchical(total, skin, touchscreen, remaining, paper, naive, edl, circuit, reparametrization, *, area, v0, ep, eps_gap, steps, warmup, chains, seed) -> GapAnalysis:
+def _hierarchical(total, skin, touchscreen, remaining, paper, naive, edl, circuit, reparametrization, *, area, v0, ep, eps_gap, steps, warmup, chains, seed, progress) -> GapAnalysis:
     """The hierarchical gap analysis: per-trial remainders, per-trial u and EP branch."""
     from ..fitting import fit
     from ..fitting.bayes.hierarchical import sample_hierarchical
@@ -302,7 +303,7 @@ def _hierarchical(total, skin, touchscreen, remaining, paper, naive, edl, circui
     free = set(circuit.parameter_names()) - {"C_gap"}
     per_trial = ("u",) + tuple(n for n in _EP_PER_TRIAL if n in free)
     batch = fit(circuit, trials, init=dict(edl.values), weighting="modulus")
-    post = sample_hierarchical(circuit, trials, per_trial=per_trial, reparametrization=reparametrization, init=batch, chains=chains, warmup=warmup, draws=steps, seed=seed)
+    post = sample_hierarchical(circuit, trials, per_trial=per_trial, reparametrization=reparametrization, init=batch, chains=chains, warmup=warmup, draws=steps, seed=seed, progress=progress)
     freq = remaining["frequency"].values
     z_skin = trial_mean(skin)["Z"].values
     z_ts = trial_mean(touchscreen)["Z"].values

@@ -52,6 +52,7 @@ from ...circuits import DEFAULT_REGISTRY, Circuit, Registry, compile_circuit, pa
 from ...data import make_spectrum
 from ...errors import DataError, FitError, ParameterError
 from .reparam import Reparametrization
+from .sampler import _Progress
 
 __all__ = ["HierarchicalPosterior", "sample_hierarchical", "hierarchical_log_density", "trial_scatter_noise", "HIERARCHICAL_PRIORS"]
 
@@ -362,18 +363,43 @@ def _trial_error_components(data: xr.Dataset, z: np.ndarray, nu: np.ndarray, n_f
     return _leading_components(d, scale, TRIAL_COMPONENTS, n_freq)
 
 
+_running: list = []  # the progress line of the run in progress (host side), if any
+
+
+def _tick() -> None:
+    """Host callback after every NUTS step (all chains at once: they run vmapped)."""
+    if _running:
+        _running[-1].advance()
+
+
+def _ticking(kernel):
+    """A NUTS kernel that reports each step to the progress line."""
+
+    def step(*args, **kwargs):
+        out = kernel(*args, **kwargs)
+        jax.debug.callback(_tick)
+        return out
+
+    return step
+
+
 @functools.lru_cache(maxsize=16)
 def _compiled_sampler(lay: _Layout, session_scale: float, warmup: int, draws: int, target_accept: float):
     """One jitted function (keys, initial positions, data) → (positions, stats) running the
     window adaptation and NUTS in every chain (vmapped)."""
+    import types
+
     import blackjax
+
+    # blackjax's NUTS with a kernel that ticks the progress line (warm-up steps)
+    nuts = types.SimpleNamespace(init=blackjax.nuts.init, build_kernel=lambda integrator: _ticking(blackjax.nuts.build_kernel(integrator)))
 
     def one_chain(key, init, data):
         logdensity = functools.partial(_log_density, data=data, lay=lay, session_scale=session_scale)
         k_warm, k_run = jax.random.split(key)
-        adapt = blackjax.window_adaptation(blackjax.nuts, logdensity, target_acceptance_rate=target_accept)
+        adapt = blackjax.window_adaptation(nuts, logdensity, target_acceptance_rate=target_accept)
         (state, params), _ = adapt.run(k_warm, init, num_steps=warmup)
-        step = blackjax.nuts(logdensity, **params).step
+        step = _ticking(blackjax.nuts(logdensity, **params).step)
 
         def body(state, k):
             state, info = step(k, state)
@@ -781,6 +807,7 @@ def sample_hierarchical(
     seed: int = 0,
     registry: Registry = DEFAULT_REGISTRY,
     init=None,
+    progress: bool = False,
 ) -> HierarchicalPosterior:
     """Sample the hierarchical model (module docstring) of the spectra in ``data``.
 
@@ -797,7 +824,8 @@ def sample_hierarchical(
     ``"non-centred"`` its standardised offset η; ``"auto"`` picks centred when the per-trial
     least-squares fits determine each trial better than the trials differ. ``init``: a `BatchFitResult` of the circuit on ``data`` (else
     one is run, each trial started from the fit of the trials' mean) — the per-trial fits give
-    the start, the prior centres and the noise ν_k.
+    the start, the prior centres and the noise ν_k. ``progress``: a progress line on stderr
+    (warm-up and draws) once the run has taken a second.
     Returns a `HierarchicalPosterior`.
     """
     t0 = time.perf_counter()
@@ -807,7 +835,14 @@ def sample_hierarchical(
     )
     keys = jax.random.split(jax.random.PRNGKey(seed), chains)
     run = _compiled_sampler(lay, float(session_spread_scale), int(warmup), int(draws), float(target_accept))
-    positions, divergent, n_steps, accept, step_size = jax.block_until_ready(run(keys, init_pos, dat))
+    bar = _Progress(int(warmup) + int(draws), progress, label=f"impedax hierarchical ({chains} chains, warm-up {warmup} + draws {draws})")
+    _running.append(bar)
+    try:
+        positions, divergent, n_steps, accept, step_size = jax.block_until_ready(run(keys, init_pos, dat))
+        jax.effects_barrier()
+    finally:
+        _running.remove(bar)
+        bar.close()
     positions = jax.tree_util.tree_map(np.asarray, positions)
 
     theta = np.asarray(jax.vmap(jax.vmap(lambda p: _trial_values(p, dat, lay)))(positions))

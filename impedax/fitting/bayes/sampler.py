@@ -290,8 +290,9 @@ def _initial_walkers(
 class _Progress:
     """A one-line progress indication on stderr, shown only once a run has taken a second."""
 
-    def __init__(self, total: int, enabled: bool):
-        self.total, self.enabled = total, enabled
+    def __init__(self, total: int, enabled: bool, label: str = "impedax sample"):
+        self.total, self.enabled, self.label = total, enabled, label
+        self.done = 0
         self.t0 = time.perf_counter()
         self.last = 0.0
         self.shown = False
@@ -305,9 +306,14 @@ class _Progress:
         self.last = now
         rate = done / now if now > 0 else 0.0
         eta = (self.total - done) / rate if rate > 0 else math.inf
-        sys.stderr.write(f"\rimpedax sample: step {done}/{self.total} ({100 * done / self.total:.0f}%), {now:.0f} s, ~{eta:.0f} s left ")
+        sys.stderr.write(f"\r{self.label}: step {done}/{self.total} ({100 * done / self.total:.0f}%), {now:.0f} s, ~{eta:.0f} s left ")
         sys.stderr.flush()
         self.shown = True
+
+    def advance(self) -> None:
+        """One more step done (for runs that report steps one at a time)."""
+        self.done += 1
+        self.update(self.done)
 
     def close(self) -> None:
         if self.shown:
