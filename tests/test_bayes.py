@@ -260,6 +260,21 @@ def test_equal_reparametrizations_compare_equal():
     assert a != ix.gap_thickness_reparametrization("C_gap", area=2.6e-4)
 
 
+def test_progress_estimate_leaves_out_the_wait_before_the_first_step(monkeypatch, capsys):
+    """A run that compiles for 30 s and then takes 1 s per step: after steps 1 and 2 of 10, the
+    time left is 8 s (not the 124 s of the mean rate since the start), and no estimate is shown
+    before a second step has given a rate."""
+    from impedax.fitting.bayes import sampler
+
+    clock = iter([0.0, 30.0, 31.0])
+    monkeypatch.setattr(sampler.time, "perf_counter", lambda: next(clock))
+    bar = sampler._Progress(10, True, label="run")
+    bar.advance()
+    assert capsys.readouterr().err == "\rrun: step 1/10 (10%), 30 s "
+    bar.advance()
+    assert capsys.readouterr().err == "\rrun: step 2/10 (20%), 31 s, ~8 s left "
+
+
 # --- model comparison by evidence ----------------------------------------------------------------
 
 

@@ -296,17 +296,20 @@ class _Progress:
         self.t0 = time.perf_counter()
         self.last = 0.0
         self.shown = False
+        self.first: tuple[float, int] | None = None  # (time, steps) at the first report: compilation comes before it
 
     def update(self, done: int) -> None:
         if not self.enabled:
             return
         now = time.perf_counter() - self.t0
+        if self.first is None:
+            self.first = (now, done)
         if now < 1.0 or (now - self.last < 0.5 and done < self.total):
             return
         self.last = now
-        rate = done / now if now > 0 else 0.0
-        eta = (self.total - done) / rate if rate > 0 else math.inf
-        sys.stderr.write(f"\r{self.label}: step {done}/{self.total} ({100 * done / self.total:.0f}%), {now:.0f} s, ~{eta:.0f} s left ")
+        since, steps = now - self.first[0], done - self.first[1]
+        left = f", ~{(self.total - done) * since / steps:.0f} s left" if since > 0 and steps > 0 else ""
+        sys.stderr.write(f"\r{self.label}: step {done}/{self.total} ({100 * done / self.total:.0f}%), {now:.0f} s{left} ")
         sys.stderr.flush()
         self.shown = True
 
