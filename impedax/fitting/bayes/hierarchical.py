@@ -363,6 +363,11 @@ def _trial_error_components(data: xr.Dataset, z: np.ndarray, nu: np.ndarray, n_f
     return _leading_components(d, scale, TRIAL_COMPONENTS, n_freq)
 
 
+# the sampler calls the density from several places (blackjax's warm-up and its NUTS kernels);
+# as one jitted function of (position, data) it is traced once, not at each (8.5 → 3.4 s of tracing
+# and lowering for the remainders of tests/test_models_gap.py; the same draws)
+_jitted_log_density = jax.jit(_log_density, static_argnums=(2, 3))
+
 _running: list = []  # the progress line of the run in progress (host side), if any
 
 
@@ -395,7 +400,9 @@ def _compiled_sampler(lay: _Layout, session_scale: float, warmup: int, draws: in
     nuts = types.SimpleNamespace(init=blackjax.nuts.init, build_kernel=lambda integrator: _ticking(blackjax.nuts.build_kernel(integrator)))
 
     def one_chain(key, init, data):
-        logdensity = functools.partial(_log_density, data=data, lay=lay, session_scale=session_scale)
+        def logdensity(pos):
+            return _jitted_log_density(pos, data, lay, session_scale)
+
         k_warm, k_run = jax.random.split(key)
         adapt = blackjax.window_adaptation(nuts, logdensity, target_acceptance_rate=target_accept)
         (state, params), _ = adapt.run(k_warm, init, num_steps=warmup)
