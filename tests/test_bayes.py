@@ -264,11 +264,11 @@ def test_progress_estimate_leaves_out_the_wait_before_the_first_step(monkeypatch
     """A run that compiles for 30 s and then takes 1 s per step: after steps 1 and 2 of 10, the
     time left is 8 s (not the 124 s of the mean rate since the start), and no estimate is shown
     before a second step has given a rate."""
-    from impedax.fitting.bayes import sampler
+    from impedax.fitting.bayes import progress
 
     clock = iter([0.0, 30.0, 31.0])
-    monkeypatch.setattr(sampler.time, "perf_counter", lambda: next(clock))
-    bar = sampler._Progress(10, True, label="run")
+    monkeypatch.setattr(progress.time, "perf_counter", lambda: next(clock))
+    bar = progress.ProgressLine(10, True, label="run")
     bar.advance()
     assert capsys.readouterr().err == "\rrun: step 1/10 (10%), 30 s "
     bar.advance()

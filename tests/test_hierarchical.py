@@ -86,12 +86,12 @@ def test_progress_counts_every_step_once_and_changes_nothing(clean, clean_post, 
 
     seen = []
 
-    class Recording(hierarchical._Progress):
+    class Recording(hierarchical.ProgressLine):
         def close(self):
             seen.append(self.done)
             super().close()
 
-    monkeypatch.setattr(hierarchical, "_Progress", Recording)
+    monkeypatch.setattr(hierarchical, "ProgressLine", Recording)
     post = sample_hierarchical(MODEL, clean, seed=1, progress=True, **SETTINGS)
     assert seen == [SETTINGS["warmup"] + SETTINGS["draws"]]
     np.testing.assert_array_equal(post.mu, clean_post.mu)

@@ -52,7 +52,7 @@ from ...circuits import DEFAULT_REGISTRY, Circuit, Registry, compile_circuit, pa
 from ...data import make_spectrum
 from ...errors import DataError, FitError, ParameterError
 from .reparam import Reparametrization
-from .sampler import _Progress
+from .progress import ProgressLine
 
 __all__ = ["HierarchicalPosterior", "sample_hierarchical", "hierarchical_log_density", "trial_scatter_noise", "HIERARCHICAL_PRIORS"]
 
@@ -842,7 +842,7 @@ def sample_hierarchical(
     )
     keys = jax.random.split(jax.random.PRNGKey(seed), chains)
     run = _compiled_sampler(lay, float(session_spread_scale), int(warmup), int(draws), float(target_accept))
-    bar = _Progress(int(warmup) + int(draws), progress, label=f"impedax hierarchical ({chains} chains, warm-up {warmup} + draws {draws})")
+    bar = ProgressLine(int(warmup) + int(draws), progress, label=f"impedax hierarchical ({chains} chains, warm-up {warmup} + draws {draws})")
     _running.append(bar)
     try:
         positions, divergent, n_steps, accept, step_size = jax.block_until_ready(run(keys, init_pos, dat))

@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import difflib
 import math
-import sys
 import time
 from dataclasses import dataclass
 from typing import Mapping, NamedTuple, Sequence
@@ -28,6 +27,7 @@ from ..problem import open_spectrum
 from .evidence import laplace_evidence, waic
 from .logprob import NOISE_MODELS, LogProbArgs, LogProbFunctions, LogProbStructure, NoiseModel, log_prob_functions
 from .posterior import Posterior
+from .progress import ProgressLine
 from .priors import DEFAULT_SPAN_DECADES, SIGMA_REL_PRIOR, Prior, check_prior_inside, coerce_priors, default_prior
 from .reparam import Reparametrization
 from .shared_posterior import MAX_JOINT_PARAMETERS, SharedPosterior, sample_shared
@@ -287,43 +287,6 @@ def _initial_walkers(
 # --- step 5: the emcee run ---------------------------------------------------------------------
 
 
-class _Progress:
-    """A one-line progress indication on stderr, shown only once a run has taken a second."""
-
-    def __init__(self, total: int, enabled: bool, label: str = "impedax sample"):
-        self.total, self.enabled, self.label = total, enabled, label
-        self.done = 0
-        self.t0 = time.perf_counter()
-        self.last = 0.0
-        self.shown = False
-        self.first: tuple[float, int] | None = None  # (time, steps) at the first report: compilation comes before it
-
-    def update(self, done: int) -> None:
-        if not self.enabled:
-            return
-        now = time.perf_counter() - self.t0
-        if self.first is None:
-            self.first = (now, done)
-        if now < 1.0 or (now - self.last < 0.5 and done < self.total):
-            return
-        self.last = now
-        since, steps = now - self.first[0], done - self.first[1]
-        left = f", ~{(self.total - done) * since / steps:.0f} s left" if since > 0 and steps > 0 else ""
-        sys.stderr.write(f"\r{self.label}: step {done}/{self.total} ({100 * done / self.total:.0f}%), {now:.0f} s{left} ")
-        sys.stderr.flush()
-        self.shown = True
-
-    def advance(self) -> None:
-        """One more step done (for runs that report steps one at a time)."""
-        self.done += 1
-        self.update(self.done)
-
-    def close(self) -> None:
-        if self.shown:
-            sys.stderr.write("\n")
-            sys.stderr.flush()
-
-
 def _run_emcee(p0: np.ndarray, args: LogProbArgs, functions: LogProbFunctions, *, steps: int, burn: int, thin: int, seed: int, progress: bool) -> _Chain:
     """emcee's stretch move over ``steps`` from ``p0``; the chain after ``burn`` and ``thin``."""
     import emcee
@@ -335,7 +298,7 @@ def _run_emcee(p0: np.ndarray, args: LogProbArgs, functions: LogProbFunctions, *
 
     sampler = emcee.EnsembleSampler(walkers, n_params, log_prob_fn, vectorize=True)
     sampler.random_state = np.random.RandomState(seed).get_state()
-    bar = _Progress(steps, progress)
+    bar = ProgressLine(steps, progress)
     t0 = time.perf_counter()
     try:
         for i, _ in enumerate(sampler.sample(p0, iterations=steps, skip_initial_state_check=True)):
