@@ -151,7 +151,9 @@ def test_vectorised_batch_statistics_equal_single_fits_warnings_included(rng):
             series = lambda v: v["C_s"] * v["C_i"] / (v["C_s"] + v["C_i"])  # noqa: E731
             assert series(values) == pytest.approx(series(single.values), rel=1e-5)
             for name in set(single.values) - valley:
-                assert values[name] == pytest.approx(single.values[name], rel=1e-5)
+                # beside the valley the others move with the point where it stopped: by 1e-5
+                # relative here, a thousandth of their standard error
+                assert abs(values[name] - single.values[name]) <= (1e-2 * single.stderr[name] if valley else 1e-5 * abs(single.values[name]))
                 # in the valley the Jacobian (so the covariance) depends a little on the point
                 assert float(ds["stderr"].sel(param=name, trial=i)) == pytest.approx(single.stderr[name], rel=1e-2 if valley else 1e-4, nan_ok=True)
             if valley:

@@ -66,7 +66,7 @@ def test_single_fit_equals_the_unpadded_fit(rng, monkeypatch):
     assert padded.z_model.shape == (57,)
     np.testing.assert_allclose(padded.z_model, plain.z_model, rtol=1e-10)
     assert padded.warnings == plain.warnings and padded.at_bound == plain.at_bound
-    # (not the step count: optimistix's step-size test at the last steps reacts to rounding)
+    # (not the step count: the stopping test at the last steps reacts to rounding)
 
 
 def test_batch_fit_equals_the_unpadded_fit(rng, monkeypatch):
@@ -85,7 +85,7 @@ def test_batch_fit_equals_the_unpadded_fit(rng, monkeypatch):
 def test_a_new_length_in_the_same_bucket_compiles_nothing(rng):
     compiles = []
     jax.monitoring.register_event_duration_secs_listener(lambda event, duration, **_: compiles.append(event) if event == "/jax/core/compile/backend_compile_duration" else None)
-    # one start and no continuation past optimistix's first steps: the same programs every fit
+    # one start and at most 50 steps: the same programs every fit
     options = {"n_starts": 1, "max_steps": 50}
     f = np.geomspace(0.02, 1e4, 61)  # → 64 points
     ix.fit(MODEL, ix.make_spectrum(f, spectrum(f, rng)), **options)

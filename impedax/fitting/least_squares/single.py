@@ -9,7 +9,6 @@ from __future__ import annotations
 import time
 from typing import Mapping, Sequence
 
-import jax
 import xarray as xr
 import numpy as np
 
@@ -22,7 +21,7 @@ from .batch import BatchFitResult, fit_batch
 from .order import canonical_order
 from .result import FitResult, fit_result, non_passive_notes, weighting_notes
 from .shared import SharedFitResult, fit_shared
-from .solvers import HANDOVER_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, better, padded_points, solver_args, tree_solver, trimmed, unscale
+from .solvers import SCREEN_STEPS, SharedArgs, SpectrumRows, better, padded_points, solver_args, tree_solver, trimmed, unscale
 from .starts import ESCALATION_RUNGS, SpectrumFeatures, climb_target, guess_start, multistart, rms_rel_of, rung_seed
 
 __all__ = ["fit", "FitResult", "BatchFitResult", "SharedFitResult", "WEIGHTINGS", "information_criteria"]
@@ -50,7 +49,7 @@ def fit(
     shared: Sequence[str] | str | None = None,
     over: Sequence[str] | str | None = None,
 ) -> FitResult | BatchFitResult:
-    """Fit ``circuit`` to ``data`` by weighted least squares (optimistix Levenberg–Marquardt).
+    """Fit ``circuit`` to ``data`` by weighted least squares (Levenberg–Marquardt).
 
     Parameters are fitted in an unconstrained space (log for positive quantities, logistic
     for bounded ranges), float64. The data-driven guess (with any ``init`` values) is fitted
@@ -95,19 +94,17 @@ def fit(
 
     def solve(starts):
         """The fit from the best of ``starts`` (one start: from it): several are screened
-        first (`tree_solver`'s ``screen``), the best continued by the one-start solver."""
-        if len(starts) == 1:
-            return trimmed(unscale(single(starts, args).fetch(), scale), freq.size)
-        best, chi2_starts, screened = jax.device_get(solvers.screen(starts, args))
-        out = single(best[None], args).fetch()
-        out = out._replace(chi2_starts=np.asarray(chi2_starts), steps_total=int(screened) + int(out.steps_total))
+        for `SCREEN_STEPS` steps and the best continued, in one call of the solver."""
+        many = len(starts) > 1
+        out = single(starts if many else np.repeat(starts, n_starts, axis=0), args, np.int64(SCREEN_STEPS if many else 0)).fetch()
+        if not many:  # the start repeated to the multistart's shape: one program serves both
+            out = out._replace(chi2_starts=np.zeros(1), steps_total=out.steps)
         return trimmed(unscale(out, scale), freq.size)
 
     out = solve(guess_start(circuit, table, features, registry))
     used = 1
     if n_starts > 1 and not at_noise_floor(freq, z, out.z_model, inv_re, inv_im, out.code)[()]:
-        out, used = escalated(out, solve, lambda o: resumed(o, solvers.resume, args, scale, max_steps), circuit, table, features, freq, z, n_starts, seed, registry)
-    out = resumed(out, solvers.resume, args, scale, max_steps)
+        out, used = escalated(out, solve, circuit, table, features, freq, z, n_starts, seed, registry)
     out = canonical_order(circuit, table, freq, out, registry)
     chi2_at_x = one_spectrum_chi2(solvers.chi2_x, args)
     notes = weighting_notes(weighting, freq, *dominant_points(z, inv_re, inv_im))[0] if weighting in ("unit", "proportional") else ()
@@ -115,18 +112,16 @@ def fit(
     return fit_result(circuit, table, freq, z, out, weighting, used, time.perf_counter() - t0, registry, chi2_at_x=chi2_at_x, extra_notes=notes)
 
 
-def escalated(out, solve, finish, circuit, table, features, freq, z, n_starts: int, seed: int, registry):
+def escalated(out, solve, circuit, table, features, freq, z, n_starts: int, seed: int, registry):
     """The fit ``out`` improved by the start ladder (`starts.ESCALATION_RUNGS`): ``n_starts``
     starts, then, while its rms_rel exceeds `starts.climb_target` (`KK_MISFIT_FACTOR` × the
     misfit of a Kramers–Kronig-consistent model), 4× and 16× as many (new draws each rung). ``solve(starts
     (n_starts, K))`` is the compiled multistart: a rung runs as several calls of that one
-    shape, so climbing compiles nothing new. ``finish(out)`` completes a solve stopped at
-    `HANDOVER_STEPS` (`resumed`) before the fit is judged. Returns (the best output, the
-    number of starts used)."""
+    shape, so climbing compiles nothing new. Returns (the best output, the number of starts
+    used)."""
     calls, target = 0, None
     for rung, multiple in enumerate(ESCALATION_RUNGS):
         if rung:
-            out = finish(out)
             if target is None:
                 target = climb_target(freq, z)[0]
             if rms_rel_of(out.z_model, z) <= target:
@@ -135,17 +130,6 @@ def escalated(out, solve, finish, circuit, table, features, freq, z, n_starts: i
             out = better(out, solve(multistart(circuit, table, features, n_starts, rung_seed(seed, rung, call), registry)))
             calls += 1
     return out, calls * n_starts
-
-
-def resumed(out, resume, args, scale, max_steps: int):
-    """``out``, or, when optimistix stopped at `HANDOVER_STEPS` unfinished, its solve continued
-    with the batch lanes' cost rule for the rest of ``max_steps`` (docs/fitting.md,
-    "Convergence and bounds")."""
-    if int(out.code) != SolverStatus.MAX_STEPS or max_steps <= HANDOVER_STEPS:
-        return out
-    more = jax.device_get(resume(np.asarray(out.u), args, max_steps - HANDOVER_STEPS))
-    more = trimmed(unscale(SolverOutput(*(None if v is None else np.asarray(v) for v in more))._replace(chi2_starts=np.zeros(1)), scale), np.size(out.z_model))
-    return more._replace(steps=int(out.steps) + int(more.steps), steps_total=int(out.steps_total) + int(more.steps), chi2_starts=out.chi2_starts)
 
 
 def one_spectrum_chi2(chi2_x, args):

@@ -3,16 +3,16 @@
 The residual is the real-stacked weighted residual ``[Re(Z_m − Z_d)/w_re, Im(Z_m − Z_d)/w_im]``,
 squared once by the solver. Two solvers:
 
-* one spectrum of a circuit compiled by `compile_circuit` (``tree_solver(...).single``): optimistix
-  Levenberg–Marquardt from one or many starts (``vmap``), the best kept. The circuit's analytic
-  Jacobian (`CompiledCircuit.value_and_columns`) is attached to the residual as a custom JVP,
-  so each linearisation costs one evaluation of it instead of forward mode through the circuit.
-  Tree solvers are compiled per circuit and free set (which parameters are free, and their
+* one spectrum of a circuit compiled by `compile_circuit` (``tree_solver(...).single``):
+  impedax's Levenberg–Marquardt iteration (`lm.lm_iteration`) from one or many starts, the
+  starts screened side by side (``vmap``) and the best continued, in one loop. Each
+  linearisation is one evaluation of the circuit's analytic Jacobian
+  (`CompiledCircuit.value_and_columns`) instead of forward mode through the circuit. Tree
+  solvers are compiled per circuit and free set (which parameters are free, and their
   transforms): fixed values are constants of the trace;
 * many spectra of one circuit (``tree_solver(...).lanes``, `lm.work_queue`): a work queue of
   independent Levenberg–Marquardt problems over a fixed number of ``vmap`` lanes, with the
-  same analytic Jacobian. optimistix's solver state holds closures that cannot be swapped
-  lane by lane, so this loop runs impedax's compact iteration (`lm.lm_iteration`).
+  same iteration and Jacobian.
 
 Candidate circuits of one padded program layout (the diagnosis) have their own solver,
 `candidates.candidate_solver`, on the same `lm.work_queue` and `SolverArgs`.
@@ -33,19 +33,18 @@ import numpy as np
 from ...circuits import Circuit, Registry, compile_circuit
 from ..parameters import external_of_kind
 from ..stored import QUICK_COMPILE, StoredProgram
-from .lm import levenberg_marquardt, work_queue
+from .lm import lm_iteration, work_queue
 from .order import structural_peaks
 
 __all__ = [
     "tree_solver", "TreeSolvers", "SolverArgs", "SpectrumRows", "SharedArgs", "SolverOutput", "SolverStatus",
-    "one_transfer", "PendingOutputs", "tree_residuals", "solver_args", "unscale", "better", "over_devices", "SCREEN_STEPS", "HANDOVER_STEPS",
-    "padded_size", "padded_points", "trimmed",
+    "one_transfer", "PendingOutputs", "tree_residuals", "solver_args", "unscale", "better", "over_devices", "SCREEN_STEPS",
+    "padded_size", "padded_points", "trimmed", "IDENTITY_DAMPING_STEPS",
 ]
 
 SCREEN_STEPS = 40  # Levenberg–Marquardt steps every start gets before the best is refined
-# single fits run optimistix for this many steps at most; what it has not finished by then
-# continues with `lm.levenberg_marquardt`, the batch lanes' iteration and cost rule (`_make`)
-HANDOVER_STEPS = 50
+# single fits damp with λI for this many steps, then with Marquardt's scaling (`_make`)
+IDENTITY_DAMPING_STEPS = 50
 
 
 class SolverStatus(enum.IntEnum):
@@ -65,14 +64,6 @@ _STATUS_MESSAGES = {
     SolverStatus.MAX_STEPS: "the solver reached its step limit before converging; raise max_steps or give better starting values",
     SolverStatus.FAILED: "the solver stopped without converging (a singular or diverging linear system)",
 }
-
-
-def _status(result) -> jax.Array:
-    """optimistix's result (traced) as a `SolverStatus` code, through its public comparisons."""
-    import optimistix as optx  # (here: optimistix, lineax and equinox take ~0.3 s to import, and candidate fits never need them)
-
-    steps_out = (result == optx.RESULTS.max_steps_reached) | (result == optx.RESULTS.nonlinear_max_steps_reached)
-    return jnp.where(result == optx.RESULTS.successful, int(SolverStatus.CONVERGED), jnp.where(steps_out, int(SolverStatus.MAX_STEPS), int(SolverStatus.FAILED)))
 
 
 class SolverArgs(NamedTuple):
@@ -124,8 +115,7 @@ class SolverOutput(NamedTuple):
     parameter space (2N, K) for the covariance, the model's impedance ``z_model``, the
     `SolverStatus` ``code``, ``steps`` of the final solve, the chi² of every screened start
     ``chi2_starts``, all steps ``steps_total``, and (tree solvers) the peak frequencies of
-    exchangeable blocks ``peaks`` (`order.canonical_order`), and (tree solvers) the solver's
-    point ``u`` (`tree_solver`'s ``resume``)."""
+    exchangeable blocks ``peaks`` (`order.canonical_order`)."""
 
     x: Any
     chi2: Any
@@ -136,7 +126,6 @@ class SolverOutput(NamedTuple):
     chi2_starts: Any = None
     steps_total: Any = None
     peaks: Any = None
-    u: Any = None  # the solver's point, where a solve may be resumed (tree solvers)
 
     def row(self, i) -> "SolverOutput":
         """The outputs of spectrum ``i`` (or rows ``i``) of a batch."""
@@ -227,12 +216,11 @@ def _weighted(r, args: SolverArgs):
 
 class Residuals(NamedTuple):
     """The functions a solver needs, of (point, args): the weighted residual at parameters
-    x_free or at the unconstrained point u; ``linearize_x`` → (J, r) in parameter space;
+    x_free; ``linearize_x`` → (J, r) in parameter space;
     ``normal_u`` → the normal equations (JᵀJ, Jᵀr, ½‖r‖², extra) at u; ``chi2_u`` → ‖r‖²
     (tree circuits only); ``to_x`` → (x_free, all parameters) at u."""
 
     residual_x: Callable
-    residual_u: Callable
     linearize_x: Callable
     normal_u: Callable
     chi2_u: Callable | None
@@ -242,10 +230,10 @@ class Residuals(NamedTuple):
 def tree_residuals(compiled, free: tuple[int, ...], kinds: tuple[int, ...]):
     """The `Residuals` of a compiled circuit whose free parameters (positions ``free``, with
     transform ``kinds``, see `parameters.Transform`) are known when tracing, with the circuit's
-    analytic Jacobian (`CompiledCircuit.value_and_columns`); ``residual_u`` carries it as a
-    custom JVP, so optimistix's linearisation costs one evaluation of it rather than forward
-    mode through the circuit. Also ``chi2_u``, the sum of squares alone, and ``to_x``, the
-    parameters of the solver's point u.
+    analytic Jacobian (`CompiledCircuit.value_and_columns`) in ``normal_u`` and
+    ``linearize_x``: one evaluation of it per linearisation rather than forward mode through
+    the circuit. Also ``chi2_u``, the sum of squares alone, and ``to_x``, the parameters of
+    the solver's point u.
 
     Knowing the free set when tracing, fixed parameters are constants of the trace: no
     gather or scatter by index, no derivative columns for them, one transform formula per
@@ -304,24 +292,11 @@ def tree_residuals(compiled, free: tuple[int, ...], kinds: tuple[int, ...]):
         r = impedance(external(u, args), args) - args.z
         return jnp.sum((r.real * args.inv_w_re) ** 2) + jnp.sum((r.imag * args.inv_w_im) ** 2)
 
-    @jax.custom_jvp
-    def residual_u(u, args):
-        return residual_x(external(u, args), args)
-
-    @residual_u.defjvp
-    def _residual_u_jvp(primals, tangents):
-        u, args = primals
-        x, dx_du = u_to_x(u, args)
-        j_re, j_im, r_re, r_im = parts_x(x, args, dx_du)
-        # J·t from the (K, N) halves: no (2N, K) copy of J (XLA would fuse the circuit into it
-        # and evaluate every element twice, once for each half)
-        return jnp.concatenate([r_re, r_im]), jnp.concatenate([tangents[0] @ j_re, tangents[0] @ j_im])
-
     def to_x(u, args):
         x_free = external(u, args)
         return x_free, jnp.stack(theta(x_free, args))
 
-    return Residuals(residual_x, residual_u, linearize_x, normal_u, chi2_u, to_x)
+    return Residuals(residual_x, linearize_x, normal_u, chi2_u, to_x)
 
 
 def _finish(u, args: SolverArgs, residuals: Residuals, peaks=None) -> SolverOutput:
@@ -346,66 +321,60 @@ def _normal_only(residuals: Residuals):
     return lambda u, args: (*residuals.normal_u(u, args)[:3], ())
 
 
-def _optimistix_solve(residuals):
-    """``solve_one(u0, args, steps) -> (u, chi², status, steps taken)``: optimistix
-    Levenberg–Marquardt from one start for at most ``steps`` steps."""
-    # steps below 1e-6 relative (1e-9 absolute), far inside any stderr: on the benchmark's
-    # spectra the values agree with a 1e-7 stop to 2e-10 relative, with 8 % fewer steps (the
-    # last ones only wander at that level). The damped step (JᵀJ + λI)δ = −Jᵀr is solved by
-    # Cholesky on the normal equations (K×K): positive definite for λ > 0 and cheaper than the
-    # default QR of the stacked (2N + K)×K system
-    import lineax as lx
-    import optimistix as optx
+def _make(residuals, max_steps: int, peaks=None):
+    """``solve(u0s (S, K), args, screen_steps)``: one spectrum fitted by impedax's
+    Levenberg–Marquardt iteration (`lm.lm_iteration`, the batch lanes' cost rule): a solve's
+    first `IDENTITY_DAMPING_STEPS` steps damped with λI, λ by the classical trust-region rule,
+    the rest as the batch lanes' iteration (Marquardt's scaling, Nielsen's update;
+    docs/fitting.md, "Damping"). Every start runs for
+    ``screen_steps`` steps side by side (``vmap``), then the best of them to convergence for
+    at most ``max_steps`` steps in lane 0, the other lanes idle; ``screen_steps`` 0: the first
+    start alone. Both phases are one loop over one vmapped step, so a first fit compiles the
+    circuit's step once (the loop runs no faster for it)."""
+    init, step = lm_iteration(_normal_only(residuals), scaling=False, trust_region=True)
+    lane_init = jax.vmap(lambda u0, args: init(u0, args)._replace(lam=jnp.asarray(1.0)), in_axes=(0, None))
 
-    solver = optx.LevenbergMarquardt(rtol=1e-6, atol=1e-9, linear_solver=lx.Normal(lx.Cholesky()))
-    residual_u = residuals.residual_u
+    def lane_step(s, args):
+        # at `IDENTITY_DAMPING_STEPS`, a solve not yet done continues as a fresh Nielsen
+        # iteration with Marquardt's scaling (the batch lanes' iteration)
+        switch = s.i == IDENTITY_DAMPING_STEPS
+        s = s._replace(scaled=s.scaled | switch, lam=jnp.where(switch, 1e-3, s.lam), nu=jnp.where(switch, 2.0, s.nu), dmax=jnp.where(switch[:, None], 0.0, s.dmax))
+        return jax.vmap(step, in_axes=(0, None))(s, args)
 
-    def solve_one(u0, args, steps):
-        sol = optx.least_squares(residual_u, solver, u0, args, max_steps=steps, throw=False)
-        r = residual_u(sol.value, args)
-        chi2 = jnp.sum(r**2)
-        chi2 = jnp.where(jnp.isfinite(chi2), chi2, jnp.inf)
-        return sol.value, chi2, _status(sol.result), sol.stats["num_steps"]
+    def select(mask, new, old):
+        return jax.tree_util.tree_map(lambda a, b: jnp.where(jnp.reshape(mask, jnp.shape(mask) + (1,) * (a.ndim - jnp.ndim(mask))), a, b), new, old)
 
-    return solve_one
+    def solve(u0s, args, screen_steps):
+        n_starts = u0s.shape[0]
+        idle = jnp.arange(n_starts) > 0
 
+        def final_from(u):
+            s = lane_init(jnp.broadcast_to(u, u0s.shape), args)
+            return s._replace(done=idle)
 
-def _make(residuals, max_steps: int, peaks=None, *, handover: bool = True):
-    """optimistix Levenberg–Marquardt from one or many starts: every start for
-    `SCREEN_STEPS` steps together, then the best to convergence (`HANDOVER_STEPS`).
-    ``handover=False``: the best for `HANDOVER_STEPS` steps at most, returning its point ``u``
-    to be resumed apart (`tree_solver`), so that the cost rule's loop is compiled only for the
-    circuits whose fits need it."""
-    first = min(HANDOVER_STEPS, max_steps)
-    normal_only = _normal_only(residuals)
-    solve_one = _optimistix_solve(residuals)
+        screening = screen_steps > 0
+        s0 = select(screening, lane_init(u0s, args), final_from(u0s[0]))
 
-    def solve_final(u0, args):
-        """optimistix for up to `HANDOVER_STEPS` steps; a fit it has not finished by then
-        continues with the batch lanes' iteration and cost rule (`lm.levenberg_marquardt`)
-        for the rest of ``max_steps``: a coordinate creeping towards a bound (log R → −∞,
-        logistic α → +∞) never meets optimistix's step-size criterion, but its cost stops
-        falling, and single and batch fits then stop on the same rule."""
-        u, _, code, steps = solve_one(u0, args, first)
-        if not handover:
-            return u, code, steps
-        rest = jnp.where(code == int(SolverStatus.MAX_STEPS), max_steps - first, 0)
-        u_lm, _, done, steps_lm = levenberg_marquardt(normal_only, u, args, rest, inline_solve=False)
-        handed = rest > 0
-        code = jnp.where(handed, jnp.where(done, int(SolverStatus.CONVERGED), int(SolverStatus.MAX_STEPS)), code)
-        return jnp.where(handed, u_lm, u), code, steps + steps_lm
+        def running(carry):
+            s, in_screen, _, _ = carry
+            return in_screen | (~s.done[0] & (s.i[0] < max_steps))
 
-    def solve(u0s, args):
-        # phase 1: every start for a few steps together (a vmapped loop runs as long as its
-        # slowest member, so this is kept short); phase 2: the best one to convergence
-        if u0s.shape[0] > 1:
-            us, chi2s, _, steps1 = jax.vmap(solve_one, in_axes=(0, None, None))(u0s, args, SCREEN_STEPS)
-            u_best = us[jnp.argmin(chi2s)]
-        else:
-            chi2s, steps1, u_best = jnp.zeros(1), jnp.zeros(1, jnp.int64), u0s[0]
-        u, code, steps = solve_final(u_best, args)
-        out = _finish(u, args, residuals, peaks)._replace(code=code, steps=steps, chi2_starts=chi2s, steps_total=jnp.sum(steps1) + steps)
-        return out if handover else out._replace(u=u)
+        def body(carry):
+            s, in_screen, chi2s, steps1 = carry
+            limit = jnp.where(in_screen, screen_steps, max_steps)
+            active = ~s.done & (s.i < limit)
+            s = select(active, lane_step(s, args), s)
+            screened = in_screen & ~jnp.any(~s.done & (s.i < limit))
+            chi2 = jnp.where(jnp.isfinite(s.cost), 2.0 * s.cost, jnp.inf)
+            chi2s, steps1 = jnp.where(screened, chi2, chi2s), jnp.where(screened, s.i, steps1)
+            s = select(screened, final_from(s.u[jnp.argmin(chi2)]), s)
+            return s, in_screen & ~screened, chi2s, steps1
+
+        carry = (s0, screening, jnp.full(n_starts, jnp.inf), jnp.zeros(n_starts, s0.i.dtype))
+        s, _, chi2s, steps1 = jax.lax.while_loop(running, body, carry)
+        u, steps = s.u[0], s.i[0]
+        code = jnp.where(s.done[0], int(SolverStatus.CONVERGED), int(SolverStatus.MAX_STEPS))
+        return _finish(u, args, residuals, peaks)._replace(code=code, steps=steps, chi2_starts=chi2s, steps_total=jnp.sum(steps1) + steps)
 
     return solve
 
@@ -419,24 +388,17 @@ class TreeSolvers(NamedTuple):
     finish: Callable
     chi2: Callable
     chi2_x: Callable
-    resume: Callable
-    screen: Callable
     key: tuple
 
 
 @functools.lru_cache(maxsize=128)
 def tree_solver(circuit: Circuit, registry: Registry, max_steps: int, free: tuple[int, ...], kinds: tuple[int, ...]):
     """Jitted solvers for one circuit and free set (positions ``free`` with transform
-    ``kinds``, `ParameterTable.free_structure`; cached): ``single(u0s, args)`` runs optimistix
-    from one or many starts (`_make`); ``lanes(n_lanes)`` gives the `lm.work_queue` solver
+    ``kinds``, `ParameterTable.free_structure`; cached): ``single(u0s, args, screen_steps)``
+    fits one spectrum from one or many starts (`_make`); ``lanes(n_lanes)`` gives the `lm.work_queue` solver
     for batches, ``finish(u, spectrum, rows, shared)`` the outputs at solutions,
     ``chi2(points, spectrum, rows, shared, in_u)`` the weighted chi² at points u (``in_u``)
-    or at free parameter values x, ``chi2_x(...)`` the latter (all vmapped over points), and ``resume(u, args, rest)``: `single`'s solve, stopped
-    after `HANDOVER_STEPS`, continued for ``rest`` more steps with the batch lanes' iteration
-    and cost rule (`lm.levenberg_marquardt`); jitted apart, compiled only when a fit needs it;
-    ``screen(u0s, args)`` runs every start for `SCREEN_STEPS` steps (optimistix, vmapped) and
-    gives the best point, every start's chi² and the steps taken: `single` continues from that
-    point, so the multistart compiles the screen alone, not a second copy of the final solve."""
+    or at free parameter values x, and ``chi2_x(...)`` the latter (all vmapped over points)."""
     compiled = compile_circuit(circuit, registry)
     residuals = tree_residuals(compiled, free, kinds)
     peaks = structural_peaks(compiled.circuit, compiled.parameter_names, registry)
@@ -470,20 +432,8 @@ def tree_solver(circuit: Circuit, registry: Registry, max_steps: int, free: tupl
 
     lanes = functools.lru_cache(maxsize=4)(lambda n_lanes: jax.jit(work_queue(residuals.normal_u, n_lanes, combine), static_argnames="drain"))
 
-    def resume(u, args, rest):
-        u, _, done, steps = levenberg_marquardt(residuals.normal_u, u, args, rest, inline_solve=False)
-        code = jnp.where(done, int(SolverStatus.CONVERGED), int(SolverStatus.MAX_STEPS))
-        return _finish(u, args, residuals, peaks)._replace(code=code, steps=steps, u=u)
-
-    solve_one = _optimistix_solve(residuals)
-
-    def screen(u0s, args):
-        us, chi2s, _, steps = jax.vmap(solve_one, in_axes=(0, None, None))(u0s, args, SCREEN_STEPS)
-        return us[jnp.argmin(chi2s)], chi2s, jnp.sum(steps)
-
-    single = one_transfer(_make(residuals, max_steps, peaks, handover=False), "fit-single", static)
-    return TreeSolvers(single, lanes, finish, chi2, chi2_x, StoredProgram("fit-resume", static, resume, compiler_options=QUICK_COMPILE),
-                       StoredProgram("fit-screen", static, screen, compiler_options=QUICK_COMPILE), static)
+    single = one_transfer(_make(residuals, max_steps, peaks), "fit-single", static)
+    return TreeSolvers(single, lanes, finish, chi2, chi2_x, static)
 
 
 @functools.lru_cache(maxsize=64)
@@ -518,14 +468,14 @@ def over_devices(fn: Callable, n_sharded: int, drain: bool | None = None, stored
 
 
 def one_transfer(solve: Callable, name: str, static):
-    """``solve(u0s, args) -> SolverOutput``, jitted to return its arrays packed in one float64
+    """``solve(...) -> SolverOutput``, jitted to return its arrays packed in one float64
     array, and unpacked on the host: one device-to-host copy per fit instead of one per output
     (each costs tens of µs, as much as several solver steps); kept across processes as
-    `stored.StoredProgram` ``name`` with key ``static``. Returns ``run(u0s, args)`` giving a
+    `stored.StoredProgram` ``name`` with key ``static``. Returns ``run(...)`` giving a
     `PendingOutputs`; its ``fetch()`` waits and returns the `SolverOutput` in numpy."""
 
-    def packed(u0s, args):
-        out = solve(u0s, args)
+    def packed(*args):
+        out = solve(*args)
         fields = {k: v for k, v in out._asdict().items() if v is not None}
         layout, at = [], 0
         for field, v in fields.items():
