@@ -46,6 +46,39 @@ def test_natural_bound_optimum_is_converged_with_at_bound():
     assert result.to_xarray()["at_bound"].sel(param="R0").item()
 
 
+def test_the_solve_gives_the_bound_check_its_chi2(monkeypatch):
+    """The single-fit solve returns χ² at its solution and with each free parameter moved to
+    either bound (what the at-bound check asks for, so it compiles no program of its own):
+    equal to the numpy formula's χ² there, and the check reads those values, not the χ²
+    program."""
+    from impedax.fitting.least_squares import single
+
+    captured = {}
+    original = single.one_spectrum_chi2
+
+    def capture(chi2_x, args, out):
+        captured["out"] = out
+        return original(lambda *a: pytest.fail("the χ² program was called"), args, out)
+
+    monkeypatch.setattr(single, "one_spectrum_chi2", capture)
+    f = np.geomspace(0.1, 1e5, 50)
+    z = rc(f, {"R0": 0.0, "R1": 1000.0, "C1": 1e-6})
+    z = z * (1 + 1e-4 * np.cos(np.arange(f.size)))  # a little misfit: χ² well above rounding
+    result = ix.fit(MODEL, ix.make_spectrum(f, z))
+    assert set(result.at_bound) == {"R0", "CPE1.alpha"}
+    out = captured["out"]
+    points, chi2 = np.asarray(out.bound_points), np.asarray(out.bound_chi2)
+    names = list(result.free_names)
+    assert points.shape == (2 * len(names) + 1, len(names))
+    np.testing.assert_allclose(points[0], [result.values[n] for n in names], rtol=1e-12)
+    finite = np.all(np.isfinite(points), axis=1) & (points[:, names.index("CPE1.Q")] > 0) & (points[:, names.index("R1")] > 0)
+    assert finite.sum() >= 3  # the solution, R0 = 0, α = 1 (and α's lower bound 0 is finite too)
+    for p, c in zip(points[finite], chi2[finite]):
+        v = dict(zip(names, p))
+        model = v["R0"] + 1 / (1 / v["R1"] + v["CPE1.Q"] * (1j * omega(f)) ** v["CPE1.alpha"])
+        assert c == pytest.approx(np.sum(np.abs(model - z) ** 2 / np.abs(z) ** 2), rel=1e-9)
+
+
 def test_interior_optimum_has_no_bound():
     f = np.geomspace(0.1, 1e5, 50)
     z = rc(f, {"R0": 50.0, "R1": 1000.0, "C1": 1e-6})

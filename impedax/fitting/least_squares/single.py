@@ -106,7 +106,7 @@ def fit(
     if n_starts > 1 and not at_noise_floor(freq, z, out.z_model, inv_re, inv_im, out.code)[()]:
         out, used = escalated(out, solve, circuit, table, features, freq, z, n_starts, seed, registry)
     out = canonical_order(circuit, table, freq, out, registry)
-    chi2_at_x = one_spectrum_chi2(solvers.chi2_x, args)
+    chi2_at_x = one_spectrum_chi2(solvers.chi2_x, args, out)
     notes = weighting_notes(weighting, freq, *dominant_points(z, inv_re, inv_im))[0] if weighting in ("unit", "proportional") else ()
     notes = tuple(notes) + non_passive_notes(freq, z, sigma)
     return fit_result(circuit, table, freq, z, out, weighting, used, time.perf_counter() - t0, registry, chi2_at_x=chi2_at_x, extra_notes=notes)
@@ -132,15 +132,21 @@ def escalated(out, solve, circuit, table, features, freq, z, n_starts: int, seed
     return out, calls * n_starts
 
 
-def one_spectrum_chi2(chi2_x, args):
+def one_spectrum_chi2(chi2_x, args, out):
     """``chi2_at_x(points (C, K), spectrum (C,))`` of one spectrum's solver ``args`` (for
-    `result.confirm_bounds`), points padded to a multiple of K + 1 rows: one compilation
-    serves every call."""
+    `result.confirm_bounds`): the solve's own ``bound_chi2`` where every point is among its
+    ``bound_points`` (the solution, one free parameter moved to a bound: what the check asks
+    for), else the compiled χ² program, points padded to a multiple of K + 1 rows (one
+    compilation serves every call; needed only where `order.canonical_order` moved blocks)."""
     rows = SpectrumRows(args.z[None], args.inv_w_re[None], args.inv_w_im[None], args.x_fixed[None])
     shared = SharedArgs(args.freq, args.lower, args.upper)
     size = args.lower.size + 1
+    known = {} if out.bound_points is None else {tuple(p): c for p, c in zip(np.asarray(out.bound_points).tolist(), np.asarray(out.bound_chi2).tolist())}
 
     def chi2_at_x(points, spectrum):
+        found = [known.get(tuple(p)) for p in np.asarray(points, float).tolist()]
+        if all(c is not None for c in found):
+            return np.asarray(found, float)
         c = len(points)
         padded = -(-c // size) * size
         at = np.concatenate([points, np.repeat(points[:1], padded - c, axis=0)])

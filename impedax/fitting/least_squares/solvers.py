@@ -114,8 +114,10 @@ class SolverOutput(NamedTuple):
     all parameters ``x``, weighted ``chi2``, the Jacobian of the weighted residuals in
     parameter space (2N, K) for the covariance, the model's impedance ``z_model``, the
     `SolverStatus` ``code``, ``steps`` of the final solve, the chi² of every screened start
-    ``chi2_starts``, all steps ``steps_total``, and (tree solvers) the peak frequencies of
-    exchangeable blocks ``peaks`` (`order.canonical_order`)."""
+    ``chi2_starts``, all steps ``steps_total``, (tree solvers) the peak frequencies of
+    exchangeable blocks ``peaks`` (`order.canonical_order`), and (single fits) the chi² with
+    each free parameter moved to either bound (``bound_points``, ``bound_chi2``), which
+    `result.confirm_bounds` asks for."""
 
     x: Any
     chi2: Any
@@ -126,6 +128,8 @@ class SolverOutput(NamedTuple):
     chi2_starts: Any = None
     steps_total: Any = None
     peaks: Any = None
+    bound_points: Any = None  # (single fits) free values at the solution, then each moved to its lower, then its upper bound
+    bound_chi2: Any = None  # chi² at those points, weights scaled as the solver's (`result.confirm_bounds`)
 
     def row(self, i) -> "SolverOutput":
         """The outputs of spectrum ``i`` (or rows ``i``) of a batch."""
@@ -374,7 +378,13 @@ def _make(residuals, max_steps: int, peaks=None):
         s, _, chi2s, steps1 = jax.lax.while_loop(running, body, carry)
         u, steps = s.u[0], s.i[0]
         code = jnp.where(s.done[0], int(SolverStatus.CONVERGED), int(SolverStatus.MAX_STEPS))
-        return _finish(u, args, residuals, peaks)._replace(code=code, steps=steps, chi2_starts=chi2s, steps_total=jnp.sum(steps1) + steps)
+        # the at-bound check's chi² (`result.confirm_bounds`) here, not in a program of its own:
+        # a fresh process then compiles one program per fit
+        x_free = residuals.to_x(u, args)[0]
+        one = jnp.eye(x_free.size, dtype=bool)
+        points = jnp.concatenate([x_free[None], jnp.where(one, args.lower, x_free), jnp.where(one, args.upper, x_free)])
+        bound_chi2 = jax.vmap(lambda x: jnp.sum(residuals.residual_x(x, args) ** 2))(points)
+        return _finish(u, args, residuals, peaks)._replace(code=code, steps=steps, chi2_starts=chi2s, steps_total=jnp.sum(steps1) + steps, bound_points=points, bound_chi2=bound_chi2)
 
     return solve
 
