@@ -410,7 +410,7 @@ def fit_result(
         message = "the model's impedance or weighted residuals are not finite (overflow) at every start; check bounds, fixed values and the frequency range"
     elif code == SolverStatus.CONVERGED:
         start = "from the data-driven start" if n_starts == 1 else f"best of {n_starts} starts"
-        message = f"converged in {int(out.steps)} steps ({start})"
+        message = f"converged in {int(out.steps)} step{'' if int(out.steps) == 1 else 's'} ({start})"
     else:
         message = code.message
     x_all = np.array([values[nm] for nm in names])[None]

@@ -21,7 +21,7 @@ from .batch import BatchFitResult, fit_batch
 from .order import canonical_order
 from .result import FitResult, fit_result, non_passive_notes, weighting_notes
 from .shared import SharedFitResult, fit_shared
-from .solvers import SCREEN_STEPS, SharedArgs, SpectrumRows, better, padded_points, solver_args, tree_solver, trimmed, unscale
+from .solvers import IDENTITY_DAMPING_STEPS, SCREEN_STEPS, SharedArgs, SpectrumRows, better, padded_points, solver_args, tree_solver, trimmed, unscale
 from .starts import ESCALATION_RUNGS, SpectrumFeatures, climb_target, guess_start, multistart, rms_rel_of, rung_seed
 
 __all__ = ["fit", "FitResult", "BatchFitResult", "SharedFitResult", "WEIGHTINGS", "information_criteria"]
@@ -103,7 +103,10 @@ def fit(
 
     out = solve(guess_start(circuit, table, features, registry))
     used = 1
-    if n_starts > 1 and not at_noise_floor(freq, z, out.z_model, inv_re, inv_im, out.code)[()]:
+    # the multistart also when the guess's fit took many steps: the guess was far from the
+    # optimum it reached, which may be a local one (docs/fitting.md, "Starts")
+    far = int(out.steps) > IDENTITY_DAMPING_STEPS
+    if n_starts > 1 and (far or not at_noise_floor(freq, z, out.z_model, inv_re, inv_im, out.code)[()]):
         out, used = escalated(out, solve, circuit, table, features, freq, z, n_starts, seed, registry)
     out = canonical_order(circuit, table, freq, out, registry)
     chi2_at_x = one_spectrum_chi2(solvers.chi2_x, args, out)

@@ -113,7 +113,8 @@ class SolverOutput(NamedTuple):
     """What a solve returns, per spectrum (leading batch axes where solved in batches):
     all parameters ``x``, weighted ``chi2``, the Jacobian of the weighted residuals in
     parameter space (2N, K) for the covariance, the model's impedance ``z_model``, the
-    `SolverStatus` ``code``, ``steps`` of the final solve, the chi² of every screened start
+    `SolverStatus` ``code``, ``steps`` of the final solve (single fits: with its start's
+    screen), the chi² of every screened start
     ``chi2_starts``, all steps ``steps_total``, (tree solvers) the peak frequencies of
     exchangeable blocks ``peaks`` (`order.canonical_order`), and (single fits) the chi² with
     each free parameter moved to either bound (``bound_points``, ``bound_chi2``), which
@@ -376,7 +377,8 @@ def _make(residuals, max_steps: int, peaks=None):
 
         carry = (s0, screening, jnp.full(n_starts, jnp.inf), jnp.zeros(n_starts, s0.i.dtype))
         s, _, chi2s, steps1 = jax.lax.while_loop(running, body, carry)
-        u, steps = s.u[0], s.i[0]
+        # the steps of the solution's path: its start's screen, then the final solve
+        u, steps = s.u[0], jnp.where(screening, steps1[jnp.argmin(chi2s)], 0) + s.i[0]
         code = jnp.where(s.done[0], int(SolverStatus.CONVERGED), int(SolverStatus.MAX_STEPS))
         # the at-bound check's chi² (`result.confirm_bounds`) here, not in a program of its own:
         # a fresh process then compiles one program per fit
@@ -384,7 +386,7 @@ def _make(residuals, max_steps: int, peaks=None):
         one = jnp.eye(x_free.size, dtype=bool)
         points = jnp.concatenate([x_free[None], jnp.where(one, args.lower, x_free), jnp.where(one, args.upper, x_free)])
         bound_chi2 = jax.vmap(lambda x: jnp.sum(residuals.residual_x(x, args) ** 2))(points)
-        return _finish(u, args, residuals, peaks)._replace(code=code, steps=steps, chi2_starts=chi2s, steps_total=jnp.sum(steps1) + steps, bound_points=points, bound_chi2=bound_chi2)
+        return _finish(u, args, residuals, peaks)._replace(code=code, steps=steps, chi2_starts=chi2s, steps_total=jnp.sum(steps1) + s.i[0], bound_points=points, bound_chi2=bound_chi2)
 
     return solve
 
