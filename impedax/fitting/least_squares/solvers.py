@@ -43,7 +43,8 @@ __all__ = [
 ]
 
 SCREEN_STEPS = 40  # Levenberg–Marquardt steps every start gets before the best is refined
-# single fits damp with λI for this many steps, then with Marquardt's scaling (`_make`)
+# single fits damp with λI (classical trust-region update) for this many steps, then as the
+# batch lanes (Marquardt's scaling, Nielsen's update; `_make`)
 IDENTITY_DAMPING_STEPS = 50
 
 
