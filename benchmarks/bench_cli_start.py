@@ -46,11 +46,11 @@ def ten_element_spectrum(f, rng):
 
 def median_seconds(args, runs=11):
     env = dict(os.environ, PYTHONPATH=ROOT)
-    subprocess.run([sys.executable, "-m", "impedax", *args], env=env, capture_output=True, check=True)
+    subprocess.run([sys.executable, "-m", "impedax", *args], env=env, cwd=ROOT, capture_output=True, check=True)
     times = []
     for _ in range(runs):
         t0 = time.perf_counter()
-        subprocess.run([sys.executable, "-m", "impedax", *args], env=env, capture_output=True, check=True)
+        subprocess.run([sys.executable, "-m", "impedax", *args], env=env, cwd=ROOT, capture_output=True, check=True)
         times.append(time.perf_counter() - t0)
     return statistics.median(times)
 
@@ -58,7 +58,7 @@ def median_seconds(args, runs=11):
 def cli_fit_seconds(csv: str, model: str, cache: str) -> float:
     env = dict(os.environ, PYTHONPATH=ROOT, IMPEDAX_CACHE_DIR=cache)
     t0 = time.perf_counter()
-    subprocess.run([sys.executable, "-m", "impedax", "fit", csv, "--model", model, "--json"], env=env, capture_output=True, check=True)
+    subprocess.run([sys.executable, "-m", "impedax", "fit", csv, "--model", model, "--json"], env=env, cwd=ROOT, capture_output=True, check=True)
     return time.perf_counter() - t0
 
 
@@ -73,7 +73,7 @@ def first_batch_seconds(cache: str) -> dict:
         "print(json.dumps({'import_and_load_s': t1 - t0, 'first_batch_s': t2 - t1, 'total_s': t2 - t0}))\n"
     )
     env = dict(os.environ, PYTHONPATH=ROOT, IMPEDAX_CACHE_DIR=cache)
-    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
+    out = subprocess.run([sys.executable, "-c", code], env=env, cwd=ROOT, capture_output=True, text=True, check=True)
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 

@@ -72,7 +72,7 @@ def _run(path: Path, model: str, cache: str) -> tuple[float, float, str]:
     env = dict(os.environ, IMPEDAX_CACHE_DIR=cache, PYTHONPATH=str(ROOT))
     load = os.getloadavg()[0]
     t0 = time.perf_counter()
-    out = subprocess.run([sys.executable, "-m", "impedax", "diagnose", str(path), "--model", model], env=env, capture_output=True, text=True)
+    out = subprocess.run([sys.executable, "-m", "impedax", "diagnose", str(path), "--model", model], env=env, cwd=str(ROOT), capture_output=True, text=True)
     elapsed = time.perf_counter() - t0
     if out.returncode != 0:
         raise SystemExit(out.stderr)

@@ -183,14 +183,14 @@ def _fresh_first_fit(cache_dir: str, csv_path: str) -> dict:
         "print(json.dumps({'import_s': t1 - t0, 'first_fit_s': t2 - t1, 'rms_rel': r.rms_rel}))\n"
     )
     env = dict(os.environ, IMPEDAX_CACHE_DIR=cache_dir, PYTHONPATH=ROOT)
-    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
+    out = subprocess.run([sys.executable, "-c", code], env=env, cwd=ROOT, capture_output=True, text=True, check=True)
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
 def _fresh_cli(cache_dir: str, csv_path: str) -> float:
     env = dict(os.environ, IMPEDAX_CACHE_DIR=cache_dir, PYTHONPATH=ROOT)
     t = time.perf_counter()
-    subprocess.run([sys.executable, "-m", "impedax", "fit", csv_path, "--model", CIRCUIT, "--json"], env=env, capture_output=True, check=True)
+    subprocess.run([sys.executable, "-m", "impedax", "fit", csv_path, "--model", CIRCUIT, "--json"], env=env, cwd=ROOT, capture_output=True, check=True)
     return time.perf_counter() - t
 
 
