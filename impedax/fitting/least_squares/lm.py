@@ -12,7 +12,7 @@ from typing import Callable, NamedTuple
 import jax
 import jax.numpy as jnp
 
-__all__ = ["LMState", "lm_iteration", "levenberg_marquardt", "work_queue", "solve_damped", "UNROLLED_SOLVE_MAX"]
+__all__ = ["LMState", "lm_iteration", "levenberg_marquardt", "work_queue", "select_lanes", "solve_damped", "UNROLLED_SOLVE_MAX"]
 
 UNROLLED_SOLVE_MAX = 12  # up to this many free parameters the damped system is solved inline
 
@@ -149,6 +149,12 @@ def levenberg_marquardt(normal: Callable, u0, args, max_steps, *, rtol: float = 
     return s.u, 2.0 * s.cost, s.done, s.i
 
 
+def select_lanes(mask, new, old):
+    """Pytrees ``new`` where ``mask`` (a scalar, or one flag per lane along the leading axis),
+    else ``old``."""
+    return jax.tree_util.tree_map(lambda a, b: jnp.where(jnp.reshape(mask, jnp.shape(mask) + (1,) * (a.ndim - jnp.ndim(mask))), a, b), new, old)
+
+
 class QueueOutput(NamedTuple):
     """Per problem: the solution ``u``, its ``chi2``, whether it converged (``done``) and the
     number of ``steps`` taken."""
@@ -194,9 +200,6 @@ def work_queue(normal_u: Callable, n_lanes: int, combine: Callable, *, inline_so
                 s = s._replace(scaled=scaled[clipped])
             return s, row, budget[clipped]
 
-        def select(mask, new, old):
-            return jax.tree_util.tree_map(lambda a, b: jnp.where(mask.reshape(mask.shape + (1,) * (a.ndim - 1)), a, b), new, old)
-
         def write(out: QueueOutput, pid, s: LMState, done) -> QueueOutput:
             sink = jnp.where(pid < n_problems, pid, capacity)  # row `capacity` absorbs idle lanes
             return QueueOutput(out.u.at[sink].set(s.u), out.chi2.at[sink].set(2.0 * s.cost), out.done.at[sink].set(done), out.steps.at[sink].set(s.i))
@@ -216,9 +219,9 @@ def work_queue(normal_u: Callable, n_lanes: int, combine: Callable, *, inline_so
             take = finished & (new_pid < n_problems)
             pid = jnp.where(finished, jnp.where(take, new_pid, capacity), pid)
             fresh, fresh_row, fresh_limit = load(pid)
-            s = select(take, fresh, s)
+            s = select_lanes(take, fresh, s)
             s = s._replace(done=s.done | (finished & ~take))  # an idle lane stays put
-            return s, pid, select(take, fresh_row, row), jnp.where(take, fresh_limit, limit), next_pid + jnp.sum(take), out
+            return s, pid, select_lanes(take, fresh_row, row), jnp.where(take, fresh_limit, limit), next_pid + jnp.sum(take), out
 
         pid = jnp.where(jnp.arange(n_lanes) < n_problems, jnp.arange(n_lanes), capacity)
         s, row, limit = load(pid)

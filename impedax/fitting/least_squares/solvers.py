@@ -33,7 +33,7 @@ import numpy as np
 from ...circuits import Circuit, Registry, compile_circuit
 from ..parameters import external_of_kind
 from ..stored import QUICK_COMPILE, StoredProgram
-from .lm import lm_iteration, work_queue
+from .lm import lm_iteration, select_lanes, work_queue
 from .order import structural_peaks
 
 __all__ = [
@@ -347,9 +347,6 @@ def _make(residuals, max_steps: int, peaks=None):
         s = s._replace(scaled=s.scaled | switch, lam=jnp.where(switch, 1e-3, s.lam), nu=jnp.where(switch, 2.0, s.nu), dmax=jnp.where(switch[:, None], 0.0, s.dmax))
         return jax.vmap(step, in_axes=(0, None))(s, args)
 
-    def select(mask, new, old):
-        return jax.tree_util.tree_map(lambda a, b: jnp.where(jnp.reshape(mask, jnp.shape(mask) + (1,) * (a.ndim - jnp.ndim(mask))), a, b), new, old)
-
     def solve(u0s, args, screen_steps):
         n_starts = u0s.shape[0]
         idle = jnp.arange(n_starts) > 0
@@ -359,7 +356,7 @@ def _make(residuals, max_steps: int, peaks=None):
             return s._replace(done=idle)
 
         screening = screen_steps > 0
-        s0 = select(screening, lane_init(u0s, args), final_from(u0s[0]))
+        s0 = select_lanes(screening, lane_init(u0s, args), final_from(u0s[0]))
 
         def running(carry):
             s, in_screen, _, _ = carry
@@ -369,11 +366,11 @@ def _make(residuals, max_steps: int, peaks=None):
             s, in_screen, chi2s, steps1 = carry
             limit = jnp.where(in_screen, screen_steps, max_steps)
             active = ~s.done & (s.i < limit)
-            s = select(active, lane_step(s, args), s)
+            s = select_lanes(active, lane_step(s, args), s)
             screened = in_screen & ~jnp.any(~s.done & (s.i < limit))
             chi2 = jnp.where(jnp.isfinite(s.cost), 2.0 * s.cost, jnp.inf)
             chi2s, steps1 = jnp.where(screened, chi2, chi2s), jnp.where(screened, s.i, steps1)
-            s = select(screened, final_from(s.u[jnp.argmin(chi2)]), s)
+            s = select_lanes(screened, final_from(s.u[jnp.argmin(chi2)]), s)
             return s, in_screen & ~screened, chi2s, steps1
 
         carry = (s0, screening, jnp.full(n_starts, jnp.inf), jnp.zeros(n_starts, s0.i.dtype))
