@@ -1,6 +1,7 @@
 """`impedax simulate` and `impedax info`: outputs, JSON, and bad input → exit 2."""
 
 import json
+import os
 import subprocess
 import sys
 
@@ -68,3 +69,28 @@ def test_console_entry_point_runs_as_module():
     assert result.returncode == 0 and result.stdout.splitlines()[1].startswith("1,5,0")
     bad = run_cli("simulate", "X1")
     assert bad.returncode == 2 and "Traceback" not in bad.stderr
+
+
+def test_program_end_keeps_outputs_exit_handlers_and_code(tmp_path):
+    """The program ends without the interpreter's teardown (`impedax.cli._end_program`): what
+    a command printed (more than a pipe buffer) and wrote is complete, exit handlers still run,
+    and the exit code is the command's."""
+    marker, out = tmp_path / "exit-handler-ran", tmp_path / "s.csv"
+    driver = (
+        "import atexit, pathlib, sys\n"
+        f"atexit.register(pathlib.Path({str(marker)!r}).write_text, 'ran')\n"
+        "sys.argv = ['impedax', *sys.argv[1:]]\n"
+        "from impedax.cli import main\nraise SystemExit(main())\n"
+    )
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONUNBUFFERED"}  # standard output block-buffered
+    args = ["simulate", "R0 + R1 || C1", "--points", "4000", "--fmin", "1", "--fmax", "1e6"]
+    result = subprocess.run([sys.executable, "-c", driver, *args], capture_output=True, text=True, timeout=300, env=env)
+    lines = result.stdout.splitlines()
+    assert result.returncode == 0 and len(lines) == 4001 and lines[-1].startswith("1000000")
+    assert marker.read_text() == "ran"
+    info = subprocess.run([sys.executable, "-c", driver, "info", "R0 + R1 || C1", "--json"], capture_output=True, text=True, timeout=300, env=env)
+    assert info.returncode == 0 and len(json.loads(info.stdout)["parameters"]) == 3
+    assert run_cli(*args, "--out", str(out)).returncode == 0 and ix.load(out).sizes["frequency"] == 4000
+    marker.unlink()
+    bad = subprocess.run([sys.executable, "-c", driver, "simulate", "X1"], capture_output=True, text=True, timeout=300, env=env)
+    assert bad.returncode == 2 and "X1" in bad.stderr and marker.read_text() == "ran"

@@ -7,6 +7,7 @@ temporary file removed.
 from __future__ import annotations
 
 import argparse
+import atexit
 import contextlib
 import importlib
 import os
@@ -145,19 +146,36 @@ def _signal_handlers(command: list[str], *, own_process: bool):
 def main(argv: list[str] | None = None) -> int:
     """Run one ``impedax`` command; returns the exit code (0 done, 2 bad input, 130/143
     interrupted by SIGINT/SIGTERM). Without ``argv`` it reads ``sys.argv`` and acts as the
-    program: an interrupt ends the process at once (`_signal_handlers`)."""
+    program: an interrupt ends the process at once (`_signal_handlers`), and so does the end of
+    the command (`_end_program`)."""
     own_process = argv is None
     argv = sys.argv[1:] if argv is None else list(argv)
     command = [""]
     written_before = _written_count()
     with _signal_handlers(command, own_process=own_process):
         try:
-            return _run(argv, command)
+            code = _run(argv, command)
         except KeyboardInterrupt as exc:
             _remove_temporaries()
             signum = exc.signum if isinstance(exc, Interrupted) else signal.SIGINT
             print(_interrupted_line(command[0], written_before), file=sys.stderr)
-            return 128 + signum
+            code = 128 + signum
+    if own_process:
+        _end_program(code)
+    return code
+
+
+def _end_program(code: int):
+    """End the ``impedax`` program with exit status ``code``, skipping the interpreter's
+    teardown. Every output is written and closed by then; standard output and error are
+    flushed and the exit handlers run (JAX's, temporary folders'), as at a normal exit. What is
+    skipped is freeing every module and object one by one, JAX's compiled programs among them,
+    which takes 0.2–0.5 s after a fit (benchmarks/README.md, "Start-up")."""
+    for stream in (sys.stdout, sys.stderr):
+        with contextlib.suppress(OSError, ValueError):
+            stream.flush()
+    atexit._run_exitfuncs()
+    os._exit(code)
 
 
 def _run(argv: list[str], command: list[str]) -> int:
