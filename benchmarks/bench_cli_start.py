@@ -27,6 +27,7 @@ import tempfile
 import time
 
 import numpy as np
+from _timing import write_bytecode
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 REAL_DATA = os.path.join(ROOT, "benchmarks", "data", "autoeis_battery_130.nc")
@@ -106,6 +107,7 @@ if __name__ == "__main__":
     parser.add_argument("--compile", action="store_true", help="the compile wait of first fits (empty and warm persistent cache)")
     parser.add_argument("--repeat", type=int, default=3, help="fresh processes per compile figure (median)")
     options = parser.parse_args()
+    write_bytecode()  # as after a user's first run (PYTHONDONTWRITEBYTECODE would make every process compile impedax)
     print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs")
     for args in (["--version"], ["--help"], ["fit", "--help"]):
         print(f"impedax {' '.join(args):<12} {median_seconds(args) * 1000:7.0f} ms")

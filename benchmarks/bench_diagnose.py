@@ -20,6 +20,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+from _timing import write_bytecode
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -85,6 +86,7 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=2)
     ap.add_argument("--only", default="", help="run only the cases whose name starts with this")
     args = ap.parse_args()
+    write_bytecode()  # as after a user's first run
     print(f"load average before: {os.getloadavg()[0]:.2f} (2-core machine; other work inflates times)")
     print(f"{'case':50s} {'cold [s]':>9s} {'warm [s]':>9s} {'load':>10s}  verdict")
     with tempfile.TemporaryDirectory() as tmp:

@@ -29,7 +29,7 @@ import time
 import warnings
 
 import numpy as np
-from _timing import median_time
+from _timing import median_time, write_bytecode
 
 CIRCUIT = "R0 + R1 || CPE1 + R2 || CPE2"
 IMPEDANCE_PY_CIRCUIT = "R0-p(R1,CPE1)-p(R2,CPE2)"
@@ -219,6 +219,7 @@ def main(argv=None) -> dict:
     parser.add_argument("--rounds", type=int, default=2, help="interleaved rounds of the real-data rows (default 2)")
     parser.add_argument("--real-only", action="store_true", help="only the real-data rows")
     args = parser.parse_args(argv)
+    write_bytecode()  # the fresh processes read impedax's bytecode, as after a user's first run
 
     import impedax as ix
 
