@@ -14,6 +14,7 @@ import os
 import signal
 import sys
 import threading
+from typing import NoReturn
 
 _COMMAND_MODULES = ("simulate", "info", "fit", "compare", "sample", "kk", "drt", "diagnose", "refine", "force", "gap", "draw", "inspect", "demo")
 # each command's one-line help, for ``impedax --help`` without importing any command (and JAX);
@@ -165,12 +166,13 @@ def main(argv: list[str] | None = None) -> int:
     return code
 
 
-def _end_program(code: int):
+def _end_program(code: int) -> NoReturn:
     """End the ``impedax`` program with exit status ``code``, skipping the interpreter's
     teardown. Every output is written and closed by then; standard output and error are
     flushed and the exit handlers run (JAX's, temporary folders'), as at a normal exit. What is
     skipped is freeing every module and object one by one, JAX's compiled programs among them,
-    which takes 0.2–0.5 s after a fit (benchmarks/README.md, "Start-up")."""
+    which takes 0.2–0.5 s after a fit (benchmarks/README.md, "The program ends without the
+    interpreter's teardown")."""
     for stream in (sys.stdout, sys.stderr):
         with contextlib.suppress(OSError, ValueError):
             stream.flush()
