@@ -350,6 +350,9 @@ def test_damaged_and_odd_files(command, case, workdir, capsys):
 
 
 @pytest.mark.parametrize("case", BAD_FILES, ids=[c[0] for c in BAD_FILES])
+# no warning from a file left open, e.g. "Cannot close a netcdf_file opened with mmap=True"
+# from the file's finaliser (impedax reads netCDF files into memory instead of mapping them)
+@pytest.mark.filterwarnings("error::RuntimeWarning", "error::pytest.PytestUnraisableExceptionWarning")
 def test_damaged_files_in_the_python_api(case, workdir):
     name, fragment = case
     _netcdf_files(workdir)
@@ -463,3 +466,4 @@ def test_canonical_csv_is_read_as_arrays_with_the_same_result(workdir):
     path.write_text(text + "1.0,5,5\n")  # a repeated frequency: the general reader's message, with both lines
     with pytest.raises(ix.DataError, match=r"line 27: duplicate frequency 1 Hz \(also on line 2\)"):
         ix.load(path)
+

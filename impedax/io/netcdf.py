@@ -129,7 +129,7 @@ def read_netcdf(path: str | Path) -> xr.Dataset:
         what = "truncated netCDF file" if signed else "not a readable netCDF file"
         raise DataError(f"{what}: {size} bytes, less than a netCDF header", path=path)
     try:
-        with xr.open_dataset(path, engine="scipy") as raw:
+        with xr.open_dataset(path, engine="scipy", mmap=False) as raw:  # read, not mapped: closed cleanly when decoding fails
             ds = decode_dataset(raw.load())
     except DataError as exc:
         raise DataError(str(exc), path=path) from None
