@@ -356,7 +356,10 @@ def _make(residuals, max_steps: int, peaks=None):
             return s._replace(done=idle)
 
         screening = screen_steps > 0
-        s0 = select_lanes(screening, lane_init(u0s, args), final_from(u0s[0]))
+        # one vmapped start for both cases: every start screened, or the first alone in lane 0
+        # (`final_from`): the program holds one copy of the start's Jacobian fewer
+        started = lane_init(jnp.where(screening, u0s, jnp.broadcast_to(u0s[0], u0s.shape)), args)
+        s0 = select_lanes(screening, started, started._replace(done=idle))
 
         def running(carry):
             s, in_screen, _, _ = carry
@@ -370,7 +373,9 @@ def _make(residuals, max_steps: int, peaks=None):
             screened = in_screen & ~jnp.any(~s.done & (s.i < limit))
             chi2 = jnp.where(jnp.isfinite(s.cost), 2.0 * s.cost, jnp.inf)
             chi2s, steps1 = jnp.where(screened, chi2, chi2s), jnp.where(screened, s.i, steps1)
-            s = select_lanes(screened, final_from(s.u[jnp.argmin(chi2)]), s)
+            # the final solve's start only when the screen ends (a branch, not a select: the
+            # start's Jacobian is not computed at every step)
+            s = jax.lax.cond(screened, lambda s: final_from(s.u[jnp.argmin(chi2)]), lambda s: s, s)
             return s, in_screen & ~screened, chi2s, steps1
 
         carry = (s0, screening, jnp.full(n_starts, jnp.inf), jnp.zeros(n_starts, s0.i.dtype))
