@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import impedax as ix
-from impedax.cli import main
+from impedax.cli import GC_THRESHOLDS, main
 
 
 def run_cli(*args):
@@ -74,11 +74,11 @@ def test_console_entry_point_runs_as_module():
 def test_program_end_keeps_outputs_exit_handlers_and_code(tmp_path):
     """The program ends without the interpreter's teardown (`impedax.cli._end_program`): what
     a command printed (more than a pipe buffer) and wrote is complete, exit handlers still run,
-    and the exit code is the command's."""
+    and the exit code is the command's. The program runs with `GC_THRESHOLDS`."""
     marker, out = tmp_path / "exit-handler-ran", tmp_path / "s.csv"
     driver = (
-        "import atexit, pathlib, sys\n"
-        f"atexit.register(pathlib.Path({str(marker)!r}).write_text, 'ran')\n"
+        "import atexit, gc, pathlib, sys\n"
+        f"atexit.register(lambda: pathlib.Path({str(marker)!r}).write_text(repr(gc.get_threshold())))\n"
         "sys.argv = ['impedax', *sys.argv[1:]]\n"
         "from impedax.cli import main\nraise SystemExit(main())\n"
     )
@@ -87,10 +87,10 @@ def test_program_end_keeps_outputs_exit_handlers_and_code(tmp_path):
     result = subprocess.run([sys.executable, "-c", driver, *args], capture_output=True, text=True, timeout=300, env=env)
     lines = result.stdout.splitlines()
     assert result.returncode == 0 and len(lines) == 4001 and lines[-1].startswith("1000000")
-    assert marker.read_text() == "ran"
+    assert marker.read_text() == repr(GC_THRESHOLDS) != repr((700, 10, 10))  # the program's collector thresholds
     info = subprocess.run([sys.executable, "-c", driver, "info", "R0 + R1 || C1", "--json"], capture_output=True, text=True, timeout=300, env=env)
     assert info.returncode == 0 and len(json.loads(info.stdout)["parameters"]) == 3
     assert run_cli(*args, "--out", str(out)).returncode == 0 and ix.load(out).sizes["frequency"] == 4000
     marker.unlink()
     bad = subprocess.run([sys.executable, "-c", driver, "simulate", "X1"], capture_output=True, text=True, timeout=300, env=env)
-    assert bad.returncode == 2 and "X1" in bad.stderr and marker.read_text() == "ran"
+    assert bad.returncode == 2 and "X1" in bad.stderr and marker.read_text() == repr(GC_THRESHOLDS)
