@@ -9,7 +9,7 @@ import pytest
 
 import impedax as ix
 from impedax.circuits import DEFAULT_REGISTRY
-from impedax.fitting.least_squares.lm import levenberg_marquardt
+from impedax.fitting.least_squares.lm import lm_iteration
 from impedax.fitting.least_squares.solvers import SharedArgs, SolverOutput, SpectrumRows, combine, solver_args, tree_solver
 from impedax.fitting.least_squares.starts import guess_start
 from impedax.fitting.parameters import ParameterTable
@@ -37,6 +37,14 @@ def problems():
     rows = SpectrumRows(z, inv, inv, np.broadcast_to(args.x_fixed, (len(z), args.x_fixed.size)))
     lanes = tree_solver(CIRCUIT, DEFAULT_REGISTRY, 400, *table.free_structure).lanes
     return z, u0, rows, shared, lanes
+
+
+def levenberg_marquardt(normal, u0, args, max_steps):
+    """The iteration of one lane of `work_queue` (`lm_iteration`'s defaults), alone, from
+    ``u0``: (u, chi² = ‖r‖², converged, iterations)."""
+    init, step = lm_iteration(normal, inline_solve=True)
+    s = jax.lax.while_loop(lambda s: (s.i < max_steps) & ~s.done, lambda s: step(s, args), init(u0, args))
+    return s.u, 2.0 * s.cost, s.done, s.i
 
 
 def plain(u0, rows, shared, i, max_steps):

@@ -12,7 +12,7 @@ from typing import Callable, NamedTuple
 import jax
 import jax.numpy as jnp
 
-__all__ = ["LMState", "lm_iteration", "levenberg_marquardt", "work_queue", "select_lanes", "solve_damped", "UNROLLED_SOLVE_MAX"]
+__all__ = ["LMState", "lm_iteration", "work_queue", "select_lanes", "solve_damped", "UNROLLED_SOLVE_MAX"]
 
 UNROLLED_SOLVE_MAX = 12  # up to this many free parameters the damped system is solved inline
 
@@ -138,15 +138,6 @@ def lm_iteration(normal: Callable, rtol: float = 1e-8, xtol: float = 1e-10, extr
         return jax.tree_util.tree_map(lambda a_, b_: jnp.where(s.done, b_, a_), new, s)  # a finished start stays put
 
     return init, step
-
-
-def levenberg_marquardt(normal: Callable, u0, args, max_steps, *, rtol: float = 1e-8, xtol: float = 1e-10, inline_solve: bool = True):
-    """Minimise ½‖r(u)‖² from ``u0`` (see `lm_iteration`; by default the iteration of one lane
-    of `work_queue`); ``max_steps`` may be traced. Returns (u, chi² = ‖r‖², converged,
-    iterations)."""
-    init, step = lm_iteration(normal, rtol, xtol, inline_solve=inline_solve)
-    s = jax.lax.while_loop(lambda s: (s.i < max_steps) & ~s.done, lambda s: step(s, args), init(u0, args))
-    return s.u, 2.0 * s.cost, s.done, s.i
 
 
 def select_lanes(mask, new, old):

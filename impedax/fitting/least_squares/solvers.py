@@ -223,13 +223,12 @@ def _weighted(r, args: SolverArgs):
 class Residuals(NamedTuple):
     """The functions a solver needs, of (point, args): the weighted residual at parameters
     x_free; ``linearize_x`` → (J, r) in parameter space;
-    ``normal_u`` → the normal equations (JᵀJ, Jᵀr, ½‖r‖², extra) at u; ``chi2_u`` → ‖r‖²
-    (tree circuits only); ``to_x`` → (x_free, all parameters) at u."""
+    ``normal_u`` → the normal equations (JᵀJ, Jᵀr, ½‖r‖², extra) at u; ``to_x`` → (x_free,
+    all parameters) at u."""
 
     residual_x: Callable
     linearize_x: Callable
     normal_u: Callable
-    chi2_u: Callable | None
     to_x: Callable
 
 
@@ -238,14 +237,13 @@ def tree_residuals(compiled, free: tuple[int, ...], kinds: tuple[int, ...]):
     transform ``kinds``, see `parameters.Transform`) are known when tracing, with the circuit's
     analytic Jacobian (`CompiledCircuit.value_and_columns`) in ``normal_u`` and
     ``linearize_x``: one evaluation of it per linearisation rather than forward mode through
-    the circuit. Also ``chi2_u``, the sum of squares alone, and ``to_x``, the parameters of
-    the solver's point u.
+    the circuit. Also ``to_x``, the parameters of the solver's point u.
 
     Knowing the free set when tracing, fixed parameters are constants of the trace: no
     gather or scatter by index, no derivative columns for them, one transform formula per
     kind present.
-    Re and Im parts are weighted apart and, in what runs under ``vmap`` (``normal_u``,
-    ``chi2_u``), never concatenated: XLA's concatenation of the halves costs several times
+    Re and Im parts are weighted apart and, in what runs under ``vmap`` (``normal_u``), never
+    concatenated: XLA's concatenation of the halves costs several times
     the circuit."""
     slot = {i: j for j, i in enumerate(free)}
     n_params = len(compiled.parameter_names)
@@ -294,15 +292,11 @@ def tree_residuals(compiled, free: tuple[int, ...], kinds: tuple[int, ...]):
     def residual_x(x_free, args):
         return _weighted(impedance(x_free, args) - args.z, args)
 
-    def chi2_u(u, args):
-        r = impedance(external(u, args), args) - args.z
-        return jnp.sum((r.real * args.inv_w_re) ** 2) + jnp.sum((r.imag * args.inv_w_im) ** 2)
-
     def to_x(u, args):
         x_free = external(u, args)
         return x_free, jnp.stack(theta(x_free, args))
 
-    return Residuals(residual_x, linearize_x, normal_u, chi2_u, to_x)
+    return Residuals(residual_x, linearize_x, normal_u, to_x)
 
 
 def _finish(u, args: SolverArgs, residuals: Residuals, peaks=None) -> SolverOutput:
