@@ -25,7 +25,7 @@ import evaluation_set as es  # noqa: E402
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--split", choices=["dev", "heldout", "both"], default="dev")
+    ap.add_argument("--split", choices=["dev", "heldout", "dev2", "heldout2", "both"], default="dev")
     ap.add_argument("--only", default="", help="run only cases whose name starts with this")
     ap.add_argument("--json", default=None, help="write every outcome and the summary to this file")
     ap.add_argument("--no-refine", action="store_true", help="skip refine on two-effect cases")

@@ -341,3 +341,35 @@ def test_the_chosen_chain_is_never_underfitted_with_a_lead_inductance():
     assert result.mu < 0.85
     assert result.rms_rel <= 1.25 * flexible.rms_rel
     assert result.valid
+
+
+def test_rejudged_against_the_true_local_noise_clears_a_noisy_end_and_never_adds_flags():
+    """Noise growing ×8 toward low frequency (0.25 % at 100 kHz, 2 % at 0.1 Hz) on a KK-consistent
+    R-CPE: the one global scale flags part of the noisy end; judged against the true σ of each
+    point (the oracle: the noise this test added) nothing is left flagged, while a scale far
+    below the noise can only keep flags, never add any."""
+    from impedax.fitting.kk import rejudged
+
+    sigma = 0.0025 * 8 ** (np.log10(F_EIS[-1] / F_EIS) / np.log10(F_EIS[-1] / F_EIS[0]))
+    flagged_globally = 0
+    for seed in range(6):
+        rng = np.random.default_rng(seed)
+        z = r_cpe(F_EIS)
+        z = z + sigma * np.abs(z) * (rng.standard_normal(z.shape) + 1j * rng.standard_normal(z.shape))
+        result = ix.kk_test((F_EIS, z))
+        flagged_globally += int(result.flagged.sum())
+        local = rejudged(result, sigma)
+        assert local.valid and not local.flagged.any() and local.bad_bands == ()
+        assert np.array_equal(local.residuals_real, result.residuals_real) and local.n_rc == result.n_rc
+        tight = rejudged(result, np.full(F_EIS.size, 1e-9))
+        assert np.all(tight.flagged <= result.flagged) and tight.valid == result.valid
+    assert flagged_globally > 0  # the premise: the global scale does flag the noisy end
+
+
+def test_drift_stays_flagged_when_judged_against_the_local_noise(rng):
+    from impedax.fitting.diagnosis.noise import kk_judged_locally
+
+    result = ix.kk_test((F_EIS, add_noise(drifting_rc(F_EIS, drift=0.2), 0.005, rng)))
+    local = kk_judged_locally(result)
+    assert not local.valid
+    assert any(lo < 2e3 and hi > 10 for lo, hi in local.bad_bands)

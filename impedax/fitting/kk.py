@@ -15,6 +15,7 @@ described in `kk_test` and docs/kk.md.
 
 from __future__ import annotations
 
+import dataclasses
 import inspect
 import math
 from dataclasses import dataclass, field
@@ -30,7 +31,7 @@ from .grid import ResultGrid
 from .problem import frequency_and_z
 from .statistics import difference_noise
 
-__all__ = ["KKResult", "KKBatchResult", "kk_test", "kk_test_batch", "DEFAULT_THRESHOLDS"]
+__all__ = ["KKResult", "KKBatchResult", "kk_test", "kk_test_batch", "rejudged", "DEFAULT_THRESHOLDS"]
 
 # Validity rule (see `kk_test`): scale = max(noise_estimate, noise_floor).
 DEFAULT_THRESHOLDS: Mapping[str, float] = {
@@ -441,7 +442,8 @@ def _noise_estimate(res_re: np.ndarray, res_im: np.ndarray, order: np.ndarray, n
 
 
 def _bad_bands(freq, residual_real, residual_imag, order, scale, thresholds):
-    """Flags (data order) and bands [(f_min, f_max)] from Δ in frequency order."""
+    """Flags (data order) and bands [(f_min, f_max)] from Δ in frequency order; ``scale`` is
+    one number or one per frequency (in frequency order)."""
     m = np.hypot(residual_real, residual_imag)[order]
     flag = m > thresholds["point"] * scale
     above = m > thresholds["run"] * scale
@@ -449,8 +451,9 @@ def _bad_bands(freq, residual_real, residual_imag, order, scale, thresholds):
     # slow, smooth deviations (drift) hide under the point thresholds but not in a local mean
     width = int(thresholds["window"])
     if 1 < width <= m.size:
-        limit = thresholds["window_mean"] * scale / math.sqrt(width)
         kernel = np.ones(width) / width
+        window_scale = scale if np.ndim(scale) == 0 else np.convolve(scale, kernel, mode="valid")
+        limit = thresholds["window_mean"] * window_scale / math.sqrt(width)
         starts = np.zeros(m.size - width + 1, bool)
         for component in (residual_real[order], residual_imag[order]):
             starts |= np.abs(np.convolve(component, kernel, mode="valid")) > limit
@@ -465,6 +468,22 @@ def _bad_bands(freq, residual_real, residual_imag, order, scale, thresholds):
     flagged = np.empty_like(flag)
     flagged[order] = flag
     return flagged, bands_of_flags(freq[order], flag)
+
+
+def rejudged(result: KKResult, scale) -> KKResult:
+    """``result`` judged again by its own rule (``result.thresholds``) against ``scale``, a
+    relative σ per frequency (the data's order, floored at the rule's ``noise_floor``) in
+    place of the one global noise estimate: a point stays flagged only when it fails both
+    ways (a local scale can clear a point, never add one); bad bands and validity follow, the
+    Voigt fit and its residuals are unchanged. For noise that varies along the band: `kk_test`
+    scales every point by the median scatter, so the noisier end of a spectrum whose noise
+    grows toward low frequency reads as bad."""
+    scale = np.maximum(np.broadcast_to(np.asarray(scale, float), result.frequency.shape), result.thresholds["noise_floor"])
+    order = np.argsort(result.frequency)
+    flagged, _ = _bad_bands(result.frequency, result.residuals_real, result.residuals_imag, order, scale[order], result.thresholds)
+    flagged &= np.asarray(result.flagged, bool)
+    bands = bands_of_flags(result.frequency[order], flagged[order])
+    return dataclasses.replace(result, flagged=flagged, bad_bands=bands, valid=not bands)
 
 
 def long_runs(above, run_length: int) -> np.ndarray:

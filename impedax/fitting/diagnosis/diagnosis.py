@@ -52,7 +52,7 @@ from ..statistics import information_criteria, non_passive
 from .bands import FailingBand, failing_bands, format_frequency, RUN_P
 from .catalog import BaselineContext, Effect, EffectCatalog, Proposal
 from .effects import DEFAULT_EFFECTS
-from .noise import NOISE_FLOOR, OUTLIER_MAX_FRACTION, NoiseModel, kk_indices, kk_outliers, noise_model
+from .noise import NOISE_FLOOR, OUTLIER_MAX_FRACTION, NoiseModel, kk_indices, kk_judged_locally, kk_outliers, noise_model
 
 __all__ = [
     "Diagnosis", "Suggestion", "Verdict", "diagnose",
@@ -370,8 +370,10 @@ def undetermined_parameters(fit: FitResult) -> frozenset[str]:
     if corr.shape == (len(names), len(names)) and len(names) > 1:
         a, b = np.nonzero(np.triu(np.abs(np.nan_to_num(corr)) > CORRELATION_MAX, 1))
         for i, j in zip(a.tolist(), b.tolist()):
-            if abs(corr[i, j]) > CORRELATION_SINGULAR or not (rel_sd[i] <= CORRELATED_ERROR_MAX and rel_sd[j] <= CORRELATED_ERROR_MAX):
+            if abs(corr[i, j]) > CORRELATION_SINGULAR:
                 out |= {names[i], names[j]}
+            else:
+                out |= {names[k] for k in (i, j) if not rel_sd[k] <= CORRELATED_ERROR_MAX}
     return frozenset(out)
 
 
@@ -734,16 +736,20 @@ def _baseline_checked(base: FitResult, spectrum: xr.Dataset, shape: SolverShape,
 
 
 def _series_resistance_dropped(base: FitResult, proposals: list[tuple[Effect, Proposal]], fits: Sequence[FitResult]) -> list[tuple[Effect, Proposal]]:
-    """For each candidate that lowers AIC by more than `DELTA_AIC_MIN` but whose series
-    resistance (a resistor in series with the whole circuit) fell to zero, undetermined (at
-    its bound 0, or below its own standard error), the same candidate without that resistor,
-    warm-started from the candidate's optimum.
+    """For each candidate that lowers AIC by more than `DELTA_AIC_MIN` but leaves its series
+    resistance (a resistor in series with the whole circuit) undetermined — fallen to zero
+    (at its bound 0, or below its own standard error), or traded against the resistance of
+    an arc whose top lies beyond the band (`undetermined_parameters`) — the same candidate
+    without that resistor, warm-started from the candidate's optimum.
 
     When the spectrum's high-frequency end does not reach the series-resistance plateau, an
     added arc or diffusion element can take over the little resistance left there; the series
     R is then below what the data resolve and leaves every otherwise good candidate
     undetermined, so none is proposed (test_data.txt: R ∥ CPE stays at 6.1 % while
-    R ∥ CPE + R ∥ CPE without R0 reaches 0.58 % with every parameter determined). Dropping
+    R ∥ CPE + R ∥ CPE without R0 reaches 0.58 % with every parameter determined). An arc
+    above the band leaves only R0 + R_relax determined (SYNTHETIC R0 + R1 ∥ C1 + R2 ∥ C2
+    with τ₂ = 0.6 µs over 0.1 Hz–100 kHz: R0 = 13.9 ± 6.4 Ω at |correlation| > 0.99 with
+    R_relax; without R0, 0.736 % against 0.723 %, every parameter determined). Dropping
     it is the parsimonious model the data support; the suggestion says so. Under a
     capacitance across the whole circuit (two parallel branches) the resistors in series
     with the other branch count as well: C_stray shunts them at the top of the band
@@ -760,10 +766,12 @@ def _series_resistance_dropped(base: FitResult, proposals: list[tuple[Effect, Pr
             if name is None or cf.registry[node.symbol].symbol != "R" or name not in undetermined or cf.fixed.get(name, False):
                 continue
             value, error = float(cf.values[name]), float(cf.stderr[name])
-            if not (name in cf.at_bound or not value > error):
-                continue
             why = "the data do not reach a series-resistance plateau" if isinstance(p.circuit, Series) else "the capacitance across the circuit shunts it at the top of the band"
-            left = _left_out(effect, p, cf, node, f"it fell to {format_quantity(value, 'Ω')}: {why}")
+            if name in cf.at_bound or not value > error:
+                how = f"it fell to {format_quantity(value, 'Ω')}"
+            else:
+                how = f"it is {format_quantity(value, 'Ω')} ± {format_quantity(error, 'Ω')}, traded against the other resistances"
+            left = _left_out(effect, p, cf, node, f"{how}: {why}")
             if str(left[1].circuit) not in seen:
                 seen.add(str(left[1].circuit))
                 out.append(left)
@@ -1066,10 +1074,20 @@ def diagnose(
         )
     if kk is None:
         kk = _kk_of(spectrum, notes)
+    kk_as_tested = kk  # (the noise model's floor δ takes the test's own flags)
+    if kk is not None and not kk.valid:
+        local = kk_judged_locally(kk)
+        cleared = int(np.sum(kk.flagged)) - int(np.sum(local.flagged))
+        if cleared:
+            notes.append(
+                f"the KK test flags {int(np.sum(kk.flagged))} point(s) against its one global noise estimate; {cleared} of them are within the noise "
+                "where they are (the noise varies along the band) and count as data"
+            )
+            kk = local
     kk_bands = kk.bad_bands if kk is not None else ()
     located = kk_outliers(spectrum, kk, max_fraction=OUTLIER_MAX_FRACTION) if mask and kk is not None and not kk.valid else None
     kk_kept = located[1] if located is not None else None
-    nm = noise_model(base.frequency, base.z_data, noise=noise, sigma=sigma, kk=kk_kept or kk, fallback_rms=base.rms_rel)
+    nm = noise_model(base.frequency, base.z_data, noise=noise, sigma=sigma, kk=kk_kept or kk, fallback_rms=base.rms_rel, floor_kk=kk_kept or kk_as_tested)
     if located is not None:  # a few erratic points: mask exactly them, the rest is KK consistent
         problem = DataProblem(None, located[0], None)
         kk_bands = ()

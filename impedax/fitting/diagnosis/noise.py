@@ -24,9 +24,9 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..kk import KKResult, kk_test
+from ..kk import KKResult, kk_test, rejudged
 
-__all__ = ["NoiseModel", "noise_model", "kk_indices", "kk_outliers", "OUTLIER_MAX_FRACTION", "OUTLIER_MAX_RUN", "OUTLIER_MIN_RATIO", "NOISE_FLOOR", "DISCREPANCY_FACTOR", "LOCAL_WINDOW", "GLOBAL_SHARE"]
+__all__ = ["NoiseModel", "noise_model", "kk_indices", "kk_outliers", "kk_judged_locally", "OUTLIER_MAX_FRACTION", "OUTLIER_MAX_RUN", "OUTLIER_MIN_RATIO", "NOISE_FLOOR", "DISCREPANCY_FACTOR", "LOCAL_WINDOW", "GLOBAL_SHARE"]
 
 NOISE_FLOOR = 1e-3
 """Relative noise floor (0.1 %): below this, misfits are instrument accuracy, not physics."""
@@ -72,15 +72,17 @@ def _running(values: np.ndarray, half: int, reduce) -> np.ndarray:
     return np.array([reduce(values[..., max(0, i - half): min(n, i + half + 1)]) for i in range(n)])
 
 
-def local_noise(kk: KKResult) -> np.ndarray:
+def local_noise(kk: KKResult, *, exclude: np.ndarray | None = None) -> np.ndarray:
     """Measurement noise per frequency of the KK test's spectrum (the KK result's order): the
-    robust scale 1.4826·median|d|/√2 of the first differences d of Δ' and Δ'' over unflagged
-    points in frequency order, in windows of `LOCAL_WINDOW`, 3-point smoothed, inflated by
-    √(2N/(2N − P)) for the P = n_rc + 3 KK parameters, not below `GLOBAL_SHARE` × the global
-    estimate; interpolated in log f onto flagged points."""
+    robust scale 1.4826·median|d|/√2 of the first differences d of Δ' and Δ'' over the points
+    not flagged (or not in ``exclude``, a mask in the KK result's order) in frequency order,
+    in windows of `LOCAL_WINDOW`, 3-point smoothed, inflated by √(2N/(2N − P)) for the
+    P = n_rc + 3 KK parameters, not below `GLOBAL_SHARE` × the global estimate; interpolated in
+    log f onto the points left out."""
     f = np.asarray(kk.frequency, float)
     order = np.argsort(f)
-    usable = order[~np.asarray(kk.flagged, bool)[order]]
+    left_out = np.asarray(kk.flagged if exclude is None else exclude, bool)
+    usable = order[~left_out[order]]
     global_est = float(kk.noise_estimate) if np.isfinite(kk.noise_estimate) else 0.0
     if usable.size < 4:
         return np.full(f.size, global_est)
@@ -113,11 +115,15 @@ def _discrepancy(kk: KKResult, measurement_kk: np.ndarray) -> float:
     return DISCREPANCY_FACTOR * math.sqrt(excess) if excess > 0 else 0.0
 
 
-def noise_model(frequency: np.ndarray, z_data: np.ndarray, *, noise: float | None, sigma: np.ndarray | None, kk: KKResult | None, fallback_rms: float) -> NoiseModel:
+def noise_model(frequency: np.ndarray, z_data: np.ndarray, *, noise: float | None, sigma: np.ndarray | None, kk: KKResult | None, fallback_rms: float, floor_kk: KKResult | None = None) -> NoiseModel:
     """The `NoiseModel` at ``frequency``: a ``noise`` level given by the user (used as it is,
     no discrepancy floor), else the data's ``sigma`` (|Z|-relative trial scatter), else the
     local KK estimate (`local_noise`, interpolated in log f), else ``fallback_rms``/√2 (the
-    fit's own residuals); plus the discrepancy floor δ from the KK residuals (`_discrepancy`)."""
+    fit's own residuals); plus the discrepancy floor δ from the KK residuals (`_discrepancy`)
+    over the points ``floor_kk`` (default ``kk``) does not flag: the diagnosis passes the KK
+    test as it flagged them, so that points cleared by its local judgement
+    (`kk_judged_locally`) count for σ_meas but cannot raise δ (at the edge of a flagged run
+    their local scatter is taken across the gap)."""
     n = frequency.size
     if noise is not None:
         meas = np.full(n, float(noise))
@@ -132,10 +138,42 @@ def noise_model(frequency: np.ndarray, z_data: np.ndarray, *, noise: float | Non
         source = "Kramers–Kronig residuals, local (per frequency)"
     else:
         meas, source = np.full(n, fallback_rms / math.sqrt(2)), "the fit's own residuals (no KK test, no sigma)"
-    delta = _discrepancy(kk, local) if usable else 0.0
+    if floor_kk is not None and floor_kk is not kk:
+        floor_local = local_noise(floor_kk)
+        delta = _discrepancy(floor_kk, floor_local) if np.all(np.isfinite(floor_local)) and floor_local.size >= 2 else 0.0
+    else:
+        delta = _discrepancy(kk, local) if usable else 0.0
     if delta > 0:
         source += f" + model-discrepancy floor {delta * 100:.2g} %"
     return NoiseModel(np.maximum(np.sqrt(meas**2 + delta**2), NOISE_FLOOR), meas, delta, source)
+
+
+def kk_judged_locally(kk: KKResult) -> KKResult:
+    """The failed KK test ``kk`` judged again against the local noise of each point
+    (`local_noise`, `kk.rejudged`): `kk_test` scales every point by one global noise
+    estimate, so where the noise grows toward low frequency (×6 across the band, as in skin
+    and electrochemical data) the noisier end reads as bad and was masked or blamed on the
+    data (SYNTHETIC: 6 of 60 points of a battery spectrum at 0.3 % noise, among them the ones
+    that tell a Warburg from an arc). Drift stands out from the local scatter as from the
+    global one: first differences barely see a smooth drift. The local scatter is taken
+    without the points beyond the rule's single-point threshold (erratic points would inflate
+    it: three adjacent ones are half a window's differences), judged first against the global
+    scale, then twice against the local one. A point is judged against the smallest local
+    scale at or below its frequency, never below the global one: scatter that grows toward
+    low frequency is honoured, where the data are quieter than the median the global
+    judgement stands, and so does it where the scatter grows toward the top of the band, where
+    instruments reach their limits (impedance.py's PowerSuite example: KK residuals of 2–16 %
+    over its top three decades, where its phase turns the real part negative at 1–2 MHz)."""
+    magnitude = np.hypot(kk.residuals_real, kk.residuals_imag)
+    floor, point = kk.thresholds["noise_floor"], kk.thresholds["point"]
+    exclude = magnitude > point * kk.threshold_scale
+    for _ in range(2):
+        exclude = magnitude > point * np.maximum(local_noise(kk, exclude=exclude), floor)
+    local = local_noise(kk, exclude=exclude)
+    order = np.argsort(kk.frequency)
+    vouched = np.empty_like(local)
+    vouched[order] = np.minimum.accumulate(local[order])  # the smallest at or below each frequency
+    return rejudged(kk, np.maximum(vouched, kk.threshold_scale))
 
 
 def _longest_run(mask: np.ndarray) -> int:
