@@ -2,12 +2,13 @@
 independent numpy formulas): top-1 and top-3 hit rates on single missing effects, false alarms on
 adequate models, non-KK data found, refine's success on two missing effects, seconds per case.
 
-    python benchmarks/bench_diagnosis_eval.py [--split dev|heldout|both] [--only PREFIX] [--json FILE] [--reproduce]
+    python benchmarks/bench_diagnosis_eval.py [--split dev|heldout|dev2|heldout2|both] [--only PREFIX] [--json FILE] [--reproduce]
 
 ``--reproduce`` also fits each best suggestion's model string with `impedax.fit` on the points
 the diagnosis kept and reports the share within 1 % of the suggestion's rms_rel.
 
-The held-out split is for reporting only: tune on dev. Each case is printed as it finishes.
+The held-out splits are for reporting only: tune on dev and dev2 (``both``: dev and heldout).
+Each case is printed as it finishes.
 """
 
 from __future__ import annotations

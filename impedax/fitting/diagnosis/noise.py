@@ -160,9 +160,9 @@ def kk_judged_locally(kk: KKResult) -> KKResult:
     it: three adjacent ones are half a window's differences), judged first against the global
     scale, then twice against the local one. A point is judged against the smallest local
     scale at or below its frequency, never below the global one: scatter that grows toward
-    low frequency is honoured, where the data are quieter than the median the global
-    judgement stands, and so does it where the scatter grows toward the top of the band, where
-    instruments reach their limits (impedance.py's PowerSuite example: KK residuals of 2–16 %
+    low frequency is honoured; the global judgement stands where the data are quieter than
+    the median, and where the scatter grows toward the top of the band, where instruments
+    reach their limits (impedance.py's PowerSuite example: KK residuals of 2–16 %
     over its top three decades, where its phase turns the real part negative at 1–2 MHz)."""
     magnitude = np.hypot(kk.residuals_real, kk.residuals_imag)
     floor, point = kk.thresholds["noise_floor"], kk.thresholds["point"]
