@@ -115,6 +115,11 @@ def _discrepancy(kk: KKResult, measurement_kk: np.ndarray) -> float:
     return DISCREPANCY_FACTOR * math.sqrt(excess) if excess > 0 else 0.0
 
 
+def _usable(local: np.ndarray | None) -> bool:
+    """Is ``local`` (a `local_noise` estimate, or None) finite at two points or more?"""
+    return local is not None and bool(np.all(np.isfinite(local))) and local.size >= 2
+
+
 def noise_model(frequency: np.ndarray, z_data: np.ndarray, *, noise: float | None, sigma: np.ndarray | None, kk: KKResult | None, fallback_rms: float, floor_kk: KKResult | None = None) -> NoiseModel:
     """The `NoiseModel` at ``frequency``: a ``noise`` level given by the user (used as it is,
     no discrepancy floor), else the data's ``sigma`` (|Z|-relative trial scatter), else the
@@ -129,7 +134,7 @@ def noise_model(frequency: np.ndarray, z_data: np.ndarray, *, noise: float | Non
         meas = np.full(n, float(noise))
         return NoiseModel(np.maximum(meas, NOISE_FLOOR), meas, 0.0, "given")
     local = local_noise(kk) if kk is not None else None
-    usable = local is not None and np.all(np.isfinite(local)) and local.size >= 2
+    usable = _usable(local)
     if sigma is not None:
         meas, source = np.asarray(sigma, float) / np.abs(z_data), "the data's sigma (trial scatter)"
     elif usable:
@@ -138,11 +143,9 @@ def noise_model(frequency: np.ndarray, z_data: np.ndarray, *, noise: float | Non
         source = "Kramers–Kronig residuals, local (per frequency)"
     else:
         meas, source = np.full(n, fallback_rms / math.sqrt(2)), "the fit's own residuals (no KK test, no sigma)"
-    if floor_kk is not None and floor_kk is not kk:
-        floor_local = local_noise(floor_kk)
-        delta = _discrepancy(floor_kk, floor_local) if np.all(np.isfinite(floor_local)) and floor_local.size >= 2 else 0.0
-    else:
-        delta = _discrepancy(kk, local) if usable else 0.0
+    floor_kk = kk if floor_kk is None else floor_kk
+    floor_local = local if floor_kk is kk else local_noise(floor_kk)
+    delta = _discrepancy(floor_kk, floor_local) if _usable(floor_local) else 0.0
     if delta > 0:
         source += f" + model-discrepancy floor {delta * 100:.2g} %"
     return NoiseModel(np.maximum(np.sqrt(meas**2 + delta**2), NOISE_FLOOR), meas, delta, source)
