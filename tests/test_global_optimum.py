@@ -89,3 +89,38 @@ def test_default_fit_is_within_2_percent_of_the_best_known(case):
     best = BEST_KNOWN[case]["rms_rel"]
     result = ix.fit(circuit, _load(key))
     assert result.rms_rel <= 1.02 * best + 1e-4, f"{case}: {result.rms_rel:.5f} vs best known {best:.5f}"
+
+
+def test_a_rung_reaches_the_best_of_its_draws_each_continued_alone():
+    """A rung of several draws screens each and continues every draw's best point side by
+    side (`single.escalated`). Oracle: each draw of the rungs the fit climbed, fitted on its
+    own as the first rung fits one (screened, its best continued alone, one call of the
+    solver); the fit is at least as good as the best of those."""
+    from impedax.circuits import DEFAULT_REGISTRY
+    from impedax.fitting.least_squares.solvers import SCREEN_STEPS, padded_points, solver_args, tree_solver, unscale
+    from impedax.fitting.least_squares.starts import ESCALATION_RUNGS, SpectrumFeatures, multistart, rung_seed
+    from impedax.fitting.problem import prepare_fit, residual_scale, weights
+
+    rng = np.random.default_rng(0)
+    f = np.geomspace(1e-3, 2e5, 67)
+    z = trap_spectrum(f) * (1 + 0.003 * (rng.normal(size=f.size) + 1j * rng.normal(size=f.size)))
+    data = ix.make_spectrum(f, z)
+    default = ix.fit(TRAP_MODEL, data)
+    climbed = {16: 1, 80: 2, 336: 3}[default.n_starts]
+    assert climbed > 1  # a rung of several draws ran
+
+    problem = prepare_fit(TRAP_MODEL, data, init=None, fixed=None, bounds=None, fmin=None, fmax=None, registry=DEFAULT_REGISTRY)
+    table = problem.table
+    inv_re, inv_im = weights(z, None, "modulus", problem.source)
+    scale = residual_scale(z, inv_re, inv_im, "modulus")
+    args = solver_args(table, *padded_points(f, z, inv_re * scale, inv_im * scale))
+    single = tree_solver(problem.circuit, DEFAULT_REGISTRY, 400, *table.free_structure).single
+    features = SpectrumFeatures(f, z)
+    alone = []
+    for rung in range(1, climbed):
+        for call in range(ESCALATION_RUNGS[rung]):
+            starts = multistart(problem.circuit, table, features, 16, rung_seed(0, rung, call), DEFAULT_REGISTRY)
+            alone.append(float(unscale(single(starts, args, np.int64(SCREEN_STEPS), np.bool_(True)).fetch(), scale).chi2))
+    guess_only = ix.fit(TRAP_MODEL, data, n_starts=1)
+    assert guess_only.chi2 > 2 * min(alone)  # the draws matter here
+    assert default.chi2 <= min(alone) * (1 + 1e-6)

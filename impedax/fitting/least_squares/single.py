@@ -22,7 +22,7 @@ from .order import canonical_order
 from .result import FitResult, fit_result, non_passive_notes, weighting_notes
 from .shared import SharedFitResult, fit_shared
 from .solvers import IDENTITY_DAMPING_STEPS, SCREEN_STEPS, SharedArgs, SpectrumRows, better, padded_points, solver_args, tree_solver, trimmed, unscale
-from .starts import ESCALATION_RUNGS, SpectrumFeatures, climb_target, guess_start, multistart, rms_rel_of, rung_seed
+from .starts import ESCALATION_RUNGS, SpectrumFeatures, climb_target, guess_start, multistart, rms_rel_of, rung_seed, to_solver_space
 
 __all__ = ["fit", "FitResult", "BatchFitResult", "SharedFitResult", "WEIGHTINGS", "information_criteria"]
 
@@ -92,22 +92,30 @@ def fit(
     # and more starts while the fit stays poor relative to what the data allow
     features = SpectrumFeatures(freq, z)
 
-    def solve(starts):
-        """The fit from the best of ``starts`` (one start: from it): several are screened
-        for `SCREEN_STEPS` steps and the best continued, in one call of the solver."""
-        many = len(starts) > 1
-        out = single(starts if many else np.repeat(starts, n_starts, axis=0), args, np.int64(SCREEN_STEPS if many else 0)).fetch()
-        if not many:  # the start repeated to the multistart's shape: one program serves both
-            out = out._replace(chi2_starts=np.zeros(1), steps_total=out.steps)
-        return trimmed(unscale(out, scale), freq.size)
+    def solve(*draws, screen_steps=SCREEN_STEPS, continue_best=True):
+        """One output per draw of starts (one start: the fit from it): the draw's starts
+        screened for ``screen_steps`` steps and the best continued (``continue_best``; else
+        the screen's best point), one call of the solver per draw, all dispatched before the
+        first is awaited."""
+        pending = []
+        for starts in draws:
+            many = len(starts) > 1
+            pending.append((many, single(starts if many else np.repeat(starts, n_starts, axis=0), args, np.int64(screen_steps if many else 0), np.bool_(continue_best))))
+        outs = []
+        for many, call in pending:
+            out = call.fetch()
+            if not many:  # the start repeated to the multistart's shape: one program serves both
+                out = out._replace(chi2_starts=np.zeros(1), steps_total=out.steps)
+            outs.append(trimmed(unscale(out, scale), freq.size))
+        return outs
 
-    out = solve(guess_start(circuit, table, features, registry))
+    (out,) = solve(guess_start(circuit, table, features, registry))
     used = 1
     # the multistart also when the guess's fit took many steps: the guess was far from the
     # optimum it reached, which may be a local one (docs/fitting.md, "Starts")
     far = int(out.steps) > IDENTITY_DAMPING_STEPS
     if n_starts > 1 and (far or not at_noise_floor(freq, z, out.z_model, inv_re, inv_im, out.code)[()]):
-        out, used = escalated(out, solve, circuit, table, features, freq, z, n_starts, seed, registry)
+        out, used = escalated(out, solve, circuit, table, features, freq, z, n_starts, seed, registry, int(max_steps))
     out = canonical_order(circuit, table, freq, out, registry)
     chi2_at_x = one_spectrum_chi2(solvers.chi2_x, args, out)
     notes = weighting_notes(weighting, freq, *dominant_points(z, inv_re, inv_im))[0] if weighting in ("unit", "proportional") else ()
@@ -115,13 +123,16 @@ def fit(
     return fit_result(circuit, table, freq, z, out, weighting, used, time.perf_counter() - t0, registry, chi2_at_x=chi2_at_x, extra_notes=notes)
 
 
-def escalated(out, solve, circuit, table, features, freq, z, n_starts: int, seed: int, registry):
+def escalated(out, solve, circuit, table, features, freq, z, n_starts: int, seed: int, registry, max_steps: int):
     """The fit ``out`` improved by the start ladder (`starts.ESCALATION_RUNGS`): ``n_starts``
     starts, then, while its rms_rel exceeds `starts.climb_target` (`KK_MISFIT_FACTOR` × the
-    misfit of a Kramers–Kronig-consistent model), 4× and 16× as many (new draws each rung). ``solve(starts
-    (n_starts, K))`` is the compiled multistart: a rung runs as several calls of that one
-    shape, so climbing compiles nothing new. Returns (the best output, the number of starts
-    used)."""
+    misfit of a Kramers–Kronig-consistent model), 4× and 16× as many (new draws each rung).
+    ``solve(*draws, screen_steps, continue_best)`` runs the compiled multistart once per draw
+    of starts (n_starts, K): a rung runs as several calls of that one shape, so climbing
+    compiles nothing new. A rung of several draws screens each and continues the best point
+    of every draw to convergence side by side, ``n_starts`` of them per call (one lane each:
+    the lanes a draw's own continuation would leave idle); the best is kept. Returns (the best
+    output, the number of starts used)."""
     calls, target = 0, None
     for rung, multiple in enumerate(ESCALATION_RUNGS):
         if rung:
@@ -129,9 +140,15 @@ def escalated(out, solve, circuit, table, features, freq, z, n_starts: int, seed
                 target = climb_target(freq, z)[0]
             if rms_rel_of(out.z_model, z) <= target:
                 break
-        for call in range(multiple):
-            out = better(out, solve(multistart(circuit, table, features, n_starts, rung_seed(seed, rung, call), registry)))
-            calls += 1
+        draws = [multistart(circuit, table, features, n_starts, rung_seed(seed, rung, call), registry) for call in range(multiple)]
+        calls += multiple
+        if multiple == 1:
+            out = better(out, *solve(draws[0]))
+            continue
+        screened = to_solver_space(table, np.stack([s.x for s in solve(*draws, continue_best=False)]))
+        groups = [screened[first : first + n_starts] for first in range(0, multiple, n_starts)]
+        for continued in solve(*(np.resize(g, (n_starts, g.shape[1])) for g in groups), screen_steps=max_steps):
+            out = better(out, continued)
     return out, calls * n_starts
 
 

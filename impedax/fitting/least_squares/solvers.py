@@ -322,14 +322,16 @@ def _normal_only(residuals: Residuals):
 
 
 def _make(residuals, max_steps: int, peaks=None):
-    """``solve(u0s (S, K), args, screen_steps)``: one spectrum fitted by impedax's
+    """``solve(u0s (S, K), args, screen_steps, continue_best)``: one spectrum fitted by impedax's
     Levenberg–Marquardt iteration (`lm.lm_iteration`, the batch lanes' cost rule): a solve's
     first `IDENTITY_DAMPING_STEPS` steps damped with λI, λ by the classical trust-region rule,
     the rest as the batch lanes' iteration (Marquardt's scaling, Nielsen's update;
     docs/fitting.md, "Damping"). Every start runs for
     ``screen_steps`` steps side by side (``vmap``), then the best of them to convergence for
     at most ``max_steps`` steps in lane 0, the other lanes idle; ``screen_steps`` 0: the first
-    start alone. Both phases are one loop over one vmapped step, so a first fit compiles the
+    start alone. ``continue_best`` false: the screen alone, the outputs at its best point (a
+    rung of many screens continues their best points side by side afterwards, `single.escalated`).
+    Both phases are one loop over one vmapped step, so a first fit compiles the
     circuit's step once (the loop runs no faster for it)."""
     init, step = lm_iteration(_normal_only(residuals), scaling=False, trust_region=True)
     lane_init = jax.vmap(lambda u0, args: init(u0, args)._replace(lam=jnp.asarray(1.0)), in_axes=(0, None))
@@ -341,13 +343,13 @@ def _make(residuals, max_steps: int, peaks=None):
         s = s._replace(scaled=s.scaled | switch, lam=jnp.where(switch, 1e-3, s.lam), nu=jnp.where(switch, 2.0, s.nu), dmax=jnp.where(switch[:, None], 0.0, s.dmax))
         return jax.vmap(step, in_axes=(0, None))(s, args)
 
-    def solve(u0s, args, screen_steps):
+    def solve(u0s, args, screen_steps, continue_best):
         n_starts = u0s.shape[0]
         idle = jnp.arange(n_starts) > 0
 
         def final_from(u):
             s = lane_init(jnp.broadcast_to(u, u0s.shape), args)
-            return s._replace(done=idle)
+            return s._replace(done=idle | ~continue_best)
 
         screening = screen_steps > 0
         # one vmapped start for both cases: every start screened, or the first alone in lane 0
@@ -403,7 +405,7 @@ class TreeSolvers(NamedTuple):
 @functools.lru_cache(maxsize=128)
 def tree_solver(circuit: Circuit, registry: Registry, max_steps: int, free: tuple[int, ...], kinds: tuple[int, ...]):
     """Jitted solvers for one circuit and free set (positions ``free`` with transform
-    ``kinds``, `ParameterTable.free_structure`; cached): ``single(u0s, args, screen_steps)``
+    ``kinds``, `ParameterTable.free_structure`; cached): ``single(u0s, args, screen_steps, continue_best)``
     fits one spectrum from one or many starts (`_make`); ``lanes(n_lanes)`` gives the `lm.work_queue` solver
     for batches, ``finish(u, spectrum, rows, shared)`` the outputs at solutions,
     ``chi2(points, spectrum, rows, shared, in_u)`` the weighted chi² at points u (``in_u``)
