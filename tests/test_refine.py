@@ -287,3 +287,38 @@ def test_a_leak_found_first_is_completed_with_its_capacitive_part():
     r = ix.refine(ix.make_spectrum(case.frequency, case.z), case.circuit)
     assert r.verdict == "adequate" and r.final.n_params == 8, r.report()
     assert {"R_EP", "CPE_EP", "C_gap", "R_s"} <= set(r.final.circuit.element_names), r.report()
+
+
+@pytest.mark.parametrize("greedy_removed, other_removed, kept", [(("R2",), (), "L+W"), (("R2",), ("R2",), "L'+RC"), ((), (), "L'+RC"), ((), ("R2",), "L'+RC")])
+def test_at_a_tie_the_path_that_leaves_out_fewer_elements_is_kept(greedy_removed, other_removed, kept):
+    """`_second_path` with stand-ins (the shape of a SYNTHETIC battery lacking its lead
+    inductance and its Warburg, two/battery_l_w): the first step adds L_lead with R2 left out
+    (0.2 AIC ahead of L_lead keeping R2), and the greedy path then needs a relaxation; the path
+    from L_lead keeping R2 ends at a Warburg, as many parameters and 6.6 AIC lower (a tie).
+    The path that leaves out fewer of the user's elements (a subset) is kept, else the greedy
+    one stays."""
+    from types import SimpleNamespace as NS
+
+    from impedax.fitting.diagnosis.refinement import RefinementStep, _second_path
+
+    def suggestion(where, model, aic, k, effect, removed=()):
+        return NS(where=where, effect=effect, delta_aic=aic, added=model, fit=NS(model=model, aic=aic, n_params=k, converged=True), removed=removed, undetermined=())
+
+    picked = suggestion("in series with the whole circuit (leads), and R2 left out", "L'", -401.2, 7, "series_inductance", greedy_removed)
+    other = suggestion("in series with the whole circuit (leads)", "L", -401.0, 8, "series_inductance", other_removed)
+    first = NS(best=picked, suggestions=(picked, other), candidates=(picked, other), solver_shape=None, baseline=NS(n_params=7))
+    greedy = [
+        RefinementStep(NS(model="start", aic=-497.9, n_params=7), None, None, first),
+        RefinementStep(NS(model="L'", aic=-1062.9, n_params=7), "L_lead", "series_inductance", NS(solver_shape=None), greedy_removed),
+        RefinementStep(NS(model="L'+RC", aic=-1255.0, n_params=9), "R_relax || C_relax", "extra_relaxation", NS(solver_shape=None, verdict="adequate")),
+    ]
+
+    def diagnosed(fit, shape):  # L → L + W, then adequate
+        nxt = {"L": suggestion("in series", "L+W", -1261.6, 9, "diffusion")}.get(fit.model)
+        return NS(baseline=fit, best=nxt, verdict="missing_effect" if nxt else "adequate", solver_shape=None)
+
+    notes = []
+    path = _second_path(greedy, 4, diagnosed, lambda text: None, notes, lambda path, label: path)
+    assert path[-1].model == kept, notes
+    assert "do not tell the two apart" in notes[0]
+    assert ("it keeps R2, which the path before left out" in notes[0]) == (kept == "L+W")

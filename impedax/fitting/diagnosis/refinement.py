@@ -24,19 +24,21 @@ __all__ = ["Refinement", "RefinementStep", "refine"]
 
 @dataclass(frozen=True, eq=False)
 class RefinementStep:
-    """One model of the loop: its fit, what was added to get it, and its diagnosis."""
+    """One model of the loop: its fit, what was added to get it, its diagnosis, and the
+    elements the step left out (`Suggestion.removed`)."""
 
     fit: FitResult
     added: str | None
     effect: str | None
     diagnosis: Diagnosis | None
+    removed: tuple[str, ...] = ()
 
     @property
     def model(self) -> str:
         return self.fit.model
 
     def as_json(self) -> dict:
-        return {"model": self.model, "rms_rel": self.fit.rms_rel, "aic": self.fit.aic, "added": self.added, "effect": self.effect, "bic": self.fit.bic, "chi2_red": self.fit.chi2_red, "verdict": self.diagnosis.verdict if self.diagnosis else None}
+        return {"model": self.model, "rms_rel": self.fit.rms_rel, "aic": self.fit.aic, "added": self.added, "effect": self.effect, "bic": self.fit.bic, "chi2_red": self.fit.chi2_red, "verdict": self.diagnosis.verdict if self.diagnosis else None, "removed": list(self.removed)}
 
 
 @dataclass(frozen=True, eq=False)
@@ -146,7 +148,7 @@ def _greedy(steps: list[RefinementStep], best, limit: int, diagnosed, say, label
     while best is not None and len(steps) <= limit:
         say(f"{label}step {len(steps)}: diagnosing {best.fit.model}")
         d = diagnosed(best.fit, steps[-1].diagnosis.solver_shape)
-        steps.append(RefinementStep(d.baseline, best.added, best.effect, d))
+        steps.append(RefinementStep(d.baseline, best.added, best.effect, d, tuple(best.removed)))
         best = d.best if d.verdict == Verdict.MISSING_EFFECT else None
     return steps
 
@@ -155,7 +157,8 @@ def _second_path(steps: list[RefinementStep], limit: int, diagnosed, say, notes:
     """A second look at the first choice when the greedy path added two effects or more: the
     first diagnosis' best significant suggestion at another placement or of another effect
     (within `BRANCH_WINDOW` of AIC) is continued greedily too, and the better final model is
-    kept (lower AIC by more than `DELTA_AIC_MIN`, or as good with fewer parameters). A first
+    kept (lower AIC by more than `DELTA_AIC_MIN`, or as good with fewer parameters, or as good
+    with as many while leaving out fewer elements: a subset of the other's). A first
     step that fits a large misfit in the wrong place (a Warburg at the end where it belongs
     behind the charge transfer) is otherwise compensated by later, wrong additions. The paths
     are compared as they end after ``finished`` (the final refit from scratch, which may drop
@@ -191,16 +194,24 @@ def _second_path(steps: list[RefinementStep], limit: int, diagnosed, say, notes:
     for label, alt in zip(("second path", "third path", "fourth path", "fifth path", "sixth path"), alternatives + sorted(hidden, key=lambda c: c.delta_aic)[:1] + leaving[:1] + cheaper):
         other = finished(_greedy(steps[:1], alt, limit, diagnosed, say, f"{label}, "), f"{label}: ")
         a, b = steps[-1].fit, other[-1].fit
-        better = b.aic < a.aic - DELTA_AIC_MIN or (b.aic <= a.aic + DELTA_AIC_MIN and b.n_params < a.n_params)
+        tie = abs(b.aic - a.aic) <= DELTA_AIC_MIN and b.n_params == a.n_params
+        kept_more = _left_out(other) < _left_out(steps)
+        better = b.aic < a.aic - DELTA_AIC_MIN or (b.aic <= a.aic + DELTA_AIC_MIN and b.n_params < a.n_params) or (tie and kept_more)
         notes.append(
             f"a {label}, starting from {alt.effect} ({alt.added}, {alt.where}) instead of {picked.effect} ({picked.added}, {picked.where}), "
             f"ends at {other[-1].model} (AIC {b.aic:.1f}, {b.n_params} parameters) against {steps[-1].model} (AIC {a.aic:.1f}, {a.n_params} parameters): "
             + ("it is kept" if better else "the path before it is kept")
-            + (f"; the data do not tell the two apart (AIC within {DELTA_AIC_MIN:g}, as many parameters)" if not better and abs(b.aic - a.aic) <= DELTA_AIC_MIN and b.n_params == a.n_params else "")
+            + (f"; the data do not tell the two apart (AIC within {DELTA_AIC_MIN:g}, as many parameters)" if tie else "")
+            + (f", and it keeps {', '.join(sorted(_left_out(steps) - _left_out(other)))}, which the path before left out" if tie and better else "")
         )
         if better:
             steps = other
     return steps
+
+
+def _left_out(path: list[RefinementStep]) -> set[str]:
+    """The elements the steps of ``path`` left out (a C turned into a CPE is changed, not left out)."""
+    return {name for step in path for name in step.removed}
 
 
 CHEAPER_PATHS = 2
@@ -242,7 +253,7 @@ def _finish(steps: list[RefinementStep], used: xr.Dataset, *, n_starts: int, see
         final, note = _reproduced(used, steps[-1].fit, n_starts=n_starts, seed=seed)
     if note:
         notes.append(label + note)
-    steps[-1] = RefinementStep(final, steps[-1].added, steps[-1].effect, steps[-1].diagnosis)
+    steps[-1] = RefinementStep(final, steps[-1].added, steps[-1].effect, steps[-1].diagnosis, steps[-1].removed)
     return steps
 
 
