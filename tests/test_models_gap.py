@@ -96,8 +96,30 @@ def test_summary_json_contract(analysis):
     assert s["gap_um"]["value"] == pytest.approx(analysis.gap["value"] * 1e6)
 
 
-def test_cli_gap_json(tmp_path, capsys):
-    rng = np.random.default_rng(12)
+def test_cli_gap_json(tmp_path, capsys, monkeypatch, analysis):
+    """`impedax gap --json` passes its options on and renders the hierarchical analysis. The
+    analysis is the `analysis` fixture's (the same spectra; its sampling is tested above), so
+    the CLI's own part runs without a second sampling; the whole run from the command line is
+    `test_cli_gap_json_end_to_end` (slow: ~2 min)."""
+    import impedax.models.gap as gap_module
+
+    asked = {}
+
+    def analysed(total, skin, touchscreen, **options):
+        asked.update(options)
+        return analysis
+
+    monkeypatch.setattr(gap_module, "gap_analysis", analysed)
+    _cli_gap_json(tmp_path, capsys, np.random.default_rng(11))
+    assert asked["area"] == pytest.approx(130e-6) and asked["steps"] == 200 and asked["method"] == "hierarchical"
+
+
+@pytest.mark.slow
+def test_cli_gap_json_end_to_end(tmp_path, capsys):
+    _cli_gap_json(tmp_path, capsys, np.random.default_rng(12))
+
+
+def _cli_gap_json(tmp_path, capsys, rng):
     paths = []
     for name, ds in zip(("total", "skin", "ts"), _measurements(rng)):
         paths.append(str(tmp_path / f"{name}.nc"))
