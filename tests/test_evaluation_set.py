@@ -118,11 +118,11 @@ def test_two_recovered_needs_both_effects_or_the_generating_function():
 
 @pytest.mark.slow
 def test_the_diagnosis_meets_its_aims_on_the_tuning_split():
-    """The whole dev2 split (107 SYNTHETIC cases, the split the rules are tuned on; ~8 min on 2
+    """The whole dev2 split (107 SYNTHETIC cases, the split the rules are tuned on; ~10 min on 2
     cores): diagnose every case, refine the two-effect ones, and fit every best suggestion's
     model string from scratch. Measured at 96.1 % top-1, 0/16 false alarms, two-effect
     recovered 10/10 and 98.8 % reproduced (docs/diagnosis.md, evaluation table); the bounds
-    leave room for two cases of drift on each count, none for a false alarm."""
+    leave room for at least two cases of drift on each rate, none for a false alarm."""
     outcomes = []
     for case in es.cases("dev2"):
         outcomes.append(es.run_case(case, reproduce=True))
