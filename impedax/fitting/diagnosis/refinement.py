@@ -4,7 +4,7 @@ so the result reproduces with ``impedax fit`` of the final model string."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Callable
 
 import numpy as np
@@ -195,21 +195,21 @@ def _second_path(steps: list[RefinementStep], limit: int, diagnosed, say, notes:
         other = finished(_greedy(steps[:1], alt, limit, diagnosed, say, f"{label}, "), f"{label}: ")
         a, b = steps[-1].fit, other[-1].fit
         tie = abs(b.aic - a.aic) <= DELTA_AIC_MIN and b.n_params == a.n_params
-        kept_more = _left_out(other) < _left_out(steps)
+        kept_more = _elements_left_out(other) < _elements_left_out(steps)
         better = b.aic < a.aic - DELTA_AIC_MIN or (b.aic <= a.aic + DELTA_AIC_MIN and b.n_params < a.n_params) or (tie and kept_more)
         notes.append(
             f"a {label}, starting from {alt.effect} ({alt.added}, {alt.where}) instead of {picked.effect} ({picked.added}, {picked.where}), "
             f"ends at {other[-1].model} (AIC {b.aic:.1f}, {b.n_params} parameters) against {steps[-1].model} (AIC {a.aic:.1f}, {a.n_params} parameters): "
             + ("it is kept" if better else "the path before it is kept")
             + (f"; the data do not tell the two apart (AIC within {DELTA_AIC_MIN:g}, as many parameters)" if tie else "")
-            + (f", and it keeps {', '.join(sorted(_left_out(steps) - _left_out(other)))}, which the path before left out" if tie and better else "")
+            + (f", and it keeps {', '.join(sorted(_elements_left_out(steps) - _elements_left_out(other)))}, which the path before left out" if tie and better else "")
         )
         if better:
             steps = other
     return steps
 
 
-def _left_out(path: list[RefinementStep]) -> set[str]:
+def _elements_left_out(path: list[RefinementStep]) -> set[str]:
     """The elements the steps of ``path`` left out (a C turned into a CPE is changed, not left out)."""
     return {name for step in path for name in step.removed}
 
@@ -253,7 +253,7 @@ def _finish(steps: list[RefinementStep], used: xr.Dataset, *, n_starts: int, see
         final, note = _reproduced(used, steps[-1].fit, n_starts=n_starts, seed=seed)
     if note:
         notes.append(label + note)
-    steps[-1] = RefinementStep(final, steps[-1].added, steps[-1].effect, steps[-1].diagnosis, steps[-1].removed)
+    steps[-1] = replace(steps[-1], fit=final)
     return steps
 
 
