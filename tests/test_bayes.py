@@ -268,11 +268,31 @@ def test_progress_estimate_leaves_out_the_wait_before_the_first_step(monkeypatch
 
     clock = iter([0.0, 30.0, 31.0])
     monkeypatch.setattr(progress.time, "perf_counter", lambda: next(clock))
-    bar = progress.ProgressLine(10, True, label="run")
+    bar = progress.ProgressLine(10, True, label="run", interactive=True)
     bar.advance()
     assert capsys.readouterr().err == "\rrun: step 1/10 (10%), 30 s "
     bar.advance()
     assert capsys.readouterr().err == "\rrun: step 2/10 (20%), 31 s, ~8 s left "
+
+
+def test_progress_in_a_log_is_a_line_every_ten_seconds_and_one_at_the_end(monkeypatch, capsys):
+    """Where stderr is not a terminal (a log file, CI), each report is a line of its own: the
+    first after a second, then one per `LOG_INTERVAL` (10 s) however many steps pass, and the
+    last step's; nothing rewritten with a carriage return, no line of 0 s left."""
+    from impedax.fitting.bayes import progress
+
+    # the clock at construction, then at each of 100 steps of 0.25 s after a 2 s compilation
+    clock = iter([0.0] + [2.0 + 0.25 * k for k in range(100)])
+    monkeypatch.setattr(progress.time, "perf_counter", lambda: next(clock))
+    bar = progress.ProgressLine(100, True, label="run")  # capsys: stderr is not a terminal
+    assert not bar.interactive
+    for _ in range(100):
+        bar.advance()
+    bar.close()
+    lines = capsys.readouterr().err.split("\n")
+    assert lines[-1] == "" and "\r" not in "".join(lines)
+    # steps at 2 s (the first), 12 s (41), 22 s (81), and the last (100) at 26.75 s
+    assert lines[:-1] == ["run: step 1/100 (1%), 2 s", "run: step 41/100 (41%), 12 s, ~15 s left", "run: step 81/100 (81%), 22 s, ~5 s left", "run: step 100/100 (100%), 27 s"]
 
 
 # --- model comparison by evidence ----------------------------------------------------------------

@@ -1,19 +1,27 @@
-"""The one-line progress indication of the samplers (emcee's run, the hierarchical NUTS run)."""
+"""The progress indication of the samplers (emcee's runs, the hierarchical NUTS run)."""
 
 from __future__ import annotations
 
 import sys
 import time
 
+LOG_INTERVAL = 10.0
+"""Seconds between two progress lines when stderr is not a terminal (a log file, a pipe, CI):
+each report is a line of its own there, so one every half second would fill a log."""
+
 
 class ProgressLine:
-    """A one-line progress indication on stderr, shown only once a run has taken a second."""
+    """Progress of a run on stderr, shown only once the run has taken a second: one line
+    rewritten in place every half second on a terminal; elsewhere (``interactive`` false: a
+    log file or a pipe) a full line every `LOG_INTERVAL` seconds and one at the end.
+    ``interactive`` None: whether stderr is a terminal."""
 
-    def __init__(self, total: int, enabled: bool, label: str = "impedax sample"):
+    def __init__(self, total: int, enabled: bool, label: str = "impedax sample", interactive: bool | None = None):
         self.total, self.enabled, self.label = total, enabled, label
+        self.interactive = _is_terminal(sys.stderr) if interactive is None else interactive
         self.done = 0
         self.t0 = time.perf_counter()
-        self.last = 0.0
+        self.last: float | None = None
         self.shown = False
         self.first: tuple[float, int] | None = None  # (time, steps) at the first report: compilation comes before it
 
@@ -23,12 +31,14 @@ class ProgressLine:
         now = time.perf_counter() - self.t0
         if self.first is None:
             self.first = (now, done)
-        if now < 1.0 or (now - self.last < 0.5 and done < self.total):
+        interval = 0.5 if self.interactive else LOG_INTERVAL
+        if now < 1.0 or (self.last is not None and now - self.last < interval and done < self.total):
             return
         self.last = now
         since, steps = now - self.first[0], done - self.first[1]
-        left = f", ~{(self.total - done) * since / steps:.0f} s left" if since > 0 and steps > 0 else ""
-        sys.stderr.write(f"\r{self.label}: step {done}/{self.total} ({100 * done / self.total:.0f}%), {now:.0f} s{left} ")
+        left = f", ~{(self.total - done) * since / steps:.0f} s left" if since > 0 and steps > 0 and done < self.total else ""
+        text = f"{self.label}: step {done}/{self.total} ({100 * done / self.total:.0f}%), {now:.0f} s{left}"
+        sys.stderr.write(f"\r{text} " if self.interactive else text + "\n")
         sys.stderr.flush()
         self.shown = True
 
@@ -38,6 +48,13 @@ class ProgressLine:
         self.update(self.done)
 
     def close(self) -> None:
-        if self.shown:
+        if self.shown and self.interactive:
             sys.stderr.write("\n")
             sys.stderr.flush()
+
+
+def _is_terminal(stream) -> bool:
+    try:
+        return bool(stream.isatty())
+    except (AttributeError, ValueError):  # a replaced or closed stream
+        return False

@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import functools
 import math
-import sys
 import time
 from dataclasses import dataclass, field
 from typing import Mapping
@@ -35,6 +34,7 @@ from ..parameters import ParameterTable
 from ..problem import open_spectrum
 from .diagnostics import chain_warnings, hdi, integrated_autocorr
 from .logprob import NOISE_MODELS, NoiseModel
+from .progress import ProgressLine
 from .priors import SIGMA_REL_PRIOR, Prior, check_prior_inside, coerce_priors, default_prior, prior_log_density
 
 __all__ = ["SharedPosterior", "sample_shared", "MAX_JOINT_PARAMETERS"]
@@ -255,12 +255,12 @@ def _run(p0, batched, args, *, steps: int, burn: int, thin: int, seed: int, prog
     sampler = emcee.EnsembleSampler(walkers, n_params, lambda c: np.asarray(batched(jnp.asarray(c), args)), vectorize=True)
     sampler.random_state = np.random.RandomState(seed).get_state()
     t0 = time.perf_counter()
-    for i, _ in enumerate(sampler.sample(p0, iterations=steps, skip_initial_state_check=True)):
-        if progress and (i + 1) % max(steps // 20, 1) == 0 and time.perf_counter() - t0 > 1.0:
-            sys.stderr.write(f"\rimpedax sample: step {i + 1}/{steps} ")
-            sys.stderr.flush()
-    if progress and time.perf_counter() - t0 > 1.0:
-        sys.stderr.write("\n")
+    bar = ProgressLine(steps, progress)
+    try:
+        for i, _ in enumerate(sampler.sample(p0, iterations=steps, skip_initial_state_check=True)):
+            bar.update(i + 1)
+    finally:
+        bar.close()
     chain = np.transpose(sampler.get_chain(discard=burn, thin=thin), (1, 0, 2))
     return chain, np.transpose(sampler.get_log_prob(discard=burn, thin=thin)), np.asarray(sampler.acceptance_fraction, float), time.perf_counter() - t0
 
