@@ -9,8 +9,12 @@ drawn and solved by tests/fixtures/real/make_best_known.py, independently of imp
 
 import importlib.util
 import json
+import os
+import subprocess
+import sys
 from pathlib import Path
 
+import jax
 import numpy as np
 import pytest
 
@@ -120,7 +124,41 @@ def test_a_rung_reaches_the_best_of_its_draws_each_continued_alone():
     for rung in range(1, climbed):
         for call in range(ESCALATION_RUNGS[rung]):
             starts = multistart(problem.circuit, table, features, 16, rung_seed(0, rung, call), DEFAULT_REGISTRY)
-            alone.append(float(unscale(single(starts, args, np.int64(SCREEN_STEPS), np.bool_(True)).fetch(), scale).chi2))
+            # the draw on the first device, the others idle (a screen length below 0)
+            on_devices, steps = np.stack([starts] * len(jax.devices())), np.array([SCREEN_STEPS] + [-1] * (len(jax.devices()) - 1))
+            alone.append(float(unscale(single(on_devices, steps, args, np.bool_(True)).per_device()[0], scale).chi2))
     guess_only = ix.fit(TRAP_MODEL, data, n_starts=1)
     assert guess_only.chi2 > 2 * min(alone)  # the draws matter here
     assert default.chi2 <= min(alone) * (1 + 1e-6)
+
+
+_FIT_IN_A_PROCESS = """
+import json, sys
+import jax, impedax as ix
+r = ix.fit(sys.argv[1], ix.load(sys.argv[2]))
+print(json.dumps({"devices": len(jax.devices()), "n_starts": r.n_starts, "chi2": r.chi2, "values": list(r.values.values()), "steps": r.n_evaluations}))
+"""
+
+
+def test_a_climbing_fit_is_the_same_on_any_number_of_devices(tmp_path):
+    """The draws of a rung are screened side by side, one per JAX device per call of the
+    solver; a device without a draw of its own takes no step. Each draw's iteration depends
+    on nothing but its starts, so the fit that climbs the ladder (the trap spectrum, > 16
+    starts) ends at the same point after the same steps in this process (two devices) as
+    with one device or three (calls where a device idles)."""
+    rng = np.random.default_rng(0)
+    f = np.geomspace(1e-3, 2e5, 67)
+    data = ix.make_spectrum(f, trap_spectrum(f) * (1 + 0.003 * (rng.normal(size=f.size) + 1j * rng.normal(size=f.size))))
+    ix.save(data, tmp_path / "trap.nc")
+    mine = ix.fit(TRAP_MODEL, data)
+    assert mine.n_starts > 16
+    for count in ("1", "3"):
+        env = {k: v for k, v in os.environ.items() if k not in ("IMPEDAX_CPU_DEVICES", "XLA_FLAGS", "JAX_NUM_CPU_DEVICES")}
+        env.update(IMPEDAX_CPU_DEVICES=count, PYTHONPATH=str(Path(__file__).resolve().parents[1]))
+        done = subprocess.run([sys.executable, "-c", _FIT_IN_A_PROCESS, TRAP_MODEL, str(tmp_path / "trap.nc")], env=env, capture_output=True, text=True, timeout=300)
+        assert done.returncode == 0, done.stderr
+        other = json.loads(done.stdout.strip().splitlines()[-1])
+        assert other["devices"] == int(count) != len(jax.devices())
+        assert (other["n_starts"], other["steps"]) == (mine.n_starts, mine.n_evaluations)
+        assert other["chi2"] == pytest.approx(mine.chi2, rel=1e-12)
+        np.testing.assert_allclose(other["values"], list(mine.values.values()), rtol=1e-9)

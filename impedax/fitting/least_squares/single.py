@@ -9,6 +9,7 @@ from __future__ import annotations
 import time
 from typing import Mapping, Sequence
 
+import jax
 import xarray as xr
 import numpy as np
 
@@ -22,7 +23,7 @@ from .order import canonical_order
 from .result import FitResult, fit_result, non_passive_notes, weighting_notes
 from .shared import SharedFitResult, fit_shared
 from .solvers import IDENTITY_DAMPING_STEPS, SCREEN_STEPS, SharedArgs, SpectrumRows, better, padded_points, solver_args, tree_solver, trimmed, unscale
-from .starts import ESCALATION_RUNGS, SpectrumFeatures, climb_target, guess_start, multistart, rms_rel_of, rung_seed, to_solver_space
+from .starts import ESCALATION_RUNGS, SpectrumFeatures, climb_target, guess_start, rms_rel_of, rung_draws, rung_seed, to_solver_space
 
 __all__ = ["fit", "FitResult", "BatchFitResult", "SharedFitResult", "WEIGHTINGS", "information_criteria"]
 
@@ -92,21 +93,27 @@ def fit(
     # and more starts while the fit stays poor relative to what the data allow
     features = SpectrumFeatures(freq, z)
 
+    n_devices = len(jax.devices())
+
     def solve(*draws, screen_steps=SCREEN_STEPS, continue_best=True):
         """One output per draw of starts (one start: the fit from it): the draw's starts
         screened for ``screen_steps`` steps and the best continued (``continue_best``; else
-        the screen's best point), one call of the solver per draw, all dispatched before the
-        first is awaited."""
+        the screen's best point). Each call of the solver runs one draw on every device (a
+        device left without one takes no step), all calls dispatched before the first is
+        awaited."""
         pending = []
-        for starts in draws:
-            many = len(starts) > 1
-            pending.append((many, single(starts if many else np.repeat(starts, n_starts, axis=0), args, np.int64(screen_steps if many else 0), np.bool_(continue_best))))
+        for first in range(0, len(draws), n_devices):
+            group = [s if len(s) > 1 else np.repeat(s, n_starts, axis=0) for s in draws[first : first + n_devices]]
+            steps = [screen_steps if len(s) > 1 else 0 for s in draws[first : first + n_devices]]
+            idle = n_devices - len(group)
+            starts, steps = np.stack(group + group[:1] * idle), np.array(steps + [-1] * idle, np.int64)
+            pending.append((draws[first : first + n_devices], single(starts, steps, args, np.bool_(continue_best))))
         outs = []
-        for many, call in pending:
-            out = call.fetch()
-            if not many:  # the start repeated to the multistart's shape: one program serves both
-                out = out._replace(chi2_starts=np.zeros(1), steps_total=out.steps)
-            outs.append(trimmed(unscale(out, scale), freq.size))
+        for group, call in pending:
+            for starts, out in zip(group, call.per_device()):
+                if len(starts) == 1:  # the start repeated to the multistart's shape: one program serves both
+                    out = out._replace(chi2_starts=np.zeros(1), steps_total=out.steps)
+                outs.append(trimmed(unscale(out, scale), freq.size))
         return outs
 
     (out,) = solve(guess_start(circuit, table, features, registry))
@@ -140,7 +147,8 @@ def escalated(out, solve, circuit, table, features, freq, z, n_starts: int, seed
                 target = climb_target(freq, z)[0]
             if rms_rel_of(out.z_model, z) <= target:
                 break
-        draws = [multistart(circuit, table, features, n_starts, rung_seed(seed, rung, call), registry) for call in range(multiple)]
+        seeds = [rung_seed(seed, rung, call) for call in range(multiple)]
+        draws = [to_solver_space(table, x) for x in rung_draws(circuit, table, features, n_starts, seeds, registry)]
         calls += multiple
         if multiple == 1:
             out = better(out, *solve(draws[0]))

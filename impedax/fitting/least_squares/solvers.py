@@ -322,14 +322,15 @@ def _normal_only(residuals: Residuals):
 
 
 def _make(residuals, max_steps: int, peaks=None):
-    """``solve(u0s (S, K), args, screen_steps, continue_best)``: one spectrum fitted by impedax's
+    """``solve(u0s (S, K), screen_steps, args, continue_best)``: one spectrum fitted by impedax's
     Levenberg–Marquardt iteration (`lm.lm_iteration`, the batch lanes' cost rule): a solve's
     first `IDENTITY_DAMPING_STEPS` steps damped with λI, λ by the classical trust-region rule,
     the rest as the batch lanes' iteration (Marquardt's scaling, Nielsen's update;
     docs/fitting.md, "Damping"). Every start runs for
     ``screen_steps`` steps side by side (``vmap``), then the best of them to convergence for
     at most ``max_steps`` steps in lane 0, the other lanes idle; ``screen_steps`` 0: the first
-    start alone. ``continue_best`` false: the screen alone, the outputs at its best point (a
+    start alone; negative: no step at all (a device with no draw of its own, `single.fit`).
+    ``continue_best`` false: the screen alone, the outputs at its best point (a
     rung of many screens continues their best points side by side afterwards, `single.escalated`).
     Both phases are one loop over one vmapped step, so a first fit compiles the
     circuit's step once (the loop runs no faster for it)."""
@@ -343,7 +344,7 @@ def _make(residuals, max_steps: int, peaks=None):
         s = s._replace(scaled=s.scaled | switch, lam=jnp.where(switch, 1e-3, s.lam), nu=jnp.where(switch, 2.0, s.nu), dmax=jnp.where(switch[:, None], 0.0, s.dmax))
         return jax.vmap(step, in_axes=(0, None))(s, args)
 
-    def solve(u0s, args, screen_steps, continue_best):
+    def solve(u0s, screen_steps, args, continue_best):
         n_starts = u0s.shape[0]
         idle = jnp.arange(n_starts) > 0
 
@@ -355,7 +356,7 @@ def _make(residuals, max_steps: int, peaks=None):
         # one vmapped start for both cases: every start screened, or the first alone in lane 0
         # (`final_from`): the program holds one copy of the start's Jacobian fewer
         started = lane_init(jnp.where(screening, u0s, jnp.broadcast_to(u0s[0], u0s.shape)), args)
-        s0 = select_lanes(screening, started, started._replace(done=idle))
+        s0 = select_lanes(screening, started, started._replace(done=idle | (screen_steps < 0)))
 
         def running(carry):
             s, in_screen, _, _ = carry
@@ -405,8 +406,9 @@ class TreeSolvers(NamedTuple):
 @functools.lru_cache(maxsize=128)
 def tree_solver(circuit: Circuit, registry: Registry, max_steps: int, free: tuple[int, ...], kinds: tuple[int, ...]):
     """Jitted solvers for one circuit and free set (positions ``free`` with transform
-    ``kinds``, `ParameterTable.free_structure`; cached): ``single(u0s, args, screen_steps, continue_best)``
-    fits one spectrum from one or many starts (`_make`); ``lanes(n_lanes)`` gives the `lm.work_queue` solver
+    ``kinds``, `ParameterTable.free_structure`; cached): ``single(u0s, screen_steps, args, continue_best)``
+    fits one spectrum from one or many starts (`_make`) on every device, each its own draw of
+    starts u0s (D, S, K) and screen length (D,) (`one_transfer`'s ``per_device`` outputs); ``lanes(n_lanes)`` gives the `lm.work_queue` solver
     for batches, ``finish(u, spectrum, rows, shared)`` the outputs at solutions,
     ``chi2(points, spectrum, rows, shared, in_u)`` the weighted chi² at points u (``in_u``)
     or at free parameter values x, and ``chi2_x(...)`` the latter (all vmapped over points)."""
@@ -443,7 +445,9 @@ def tree_solver(circuit: Circuit, registry: Registry, max_steps: int, free: tupl
 
     lanes = functools.lru_cache(maxsize=4)(lambda n_lanes: jax.jit(work_queue(residuals.normal_u, n_lanes, combine), static_argnames="drain"))
 
-    single = one_transfer(_make(residuals, max_steps, peaks), "fit-single", static)
+    # every device runs a draw of starts of its own, with its own screen length (the draws
+    # of a rung side by side: a 2-core machine screens two at the time of one)
+    single = one_transfer(_make(residuals, max_steps, peaks), "fit-single", static, n_sharded=2)
     return TreeSolvers(single, lanes, finish, chi2, chi2_x, static)
 
 
@@ -457,13 +461,26 @@ def over_devices(fn: Callable, n_sharded: int, drain: bool | None = None, stored
     passed on as a keyword when given (`lm.work_queue`). ``stored``: (name, key), to keep the
     program across processes (`stored.StoredProgram`). Returns (the jitted function, the
     sharding of its per-device arguments)."""
+    run, shardings, spread = _on_every_device(fn if drain is None else functools.partial(fn, drain=drain), n_sharded)
+    jitted = jax.jit(run)
+    if stored is not None:
+        name, key = stored
+        jitted = StoredProgram(name, (key, n_sharded, drain), jitted, shardings)
+    return jitted, spread
+
+
+def _on_every_device(fn: Callable, n_sharded: int):
+    """(``run``, ``shardings``, the sharding of a per-device argument): ``run(*args)``
+    computes ``fn`` on every device at once (``jax.shard_map``, not jitted), each on its own
+    entry of the first ``n_sharded`` arguments' leading axis, the rest the same everywhere;
+    outputs get that leading axis. ``shardings(args)`` gives the sharding of each argument
+    (`stored.StoredProgram`)."""
     mesh = jax.sharding.Mesh(np.array(jax.devices()), ("device",))
     spread, same = jax.sharding.PartitionSpec("device"), jax.sharding.PartitionSpec()
-    options = {} if drain is None else {"drain": drain}
 
     def per_device(*args):
         local = jax.tree_util.tree_map(lambda a: a[0], args[:n_sharded])
-        out = fn(*local, *args[n_sharded:], **options)
+        out = fn(*local, *args[n_sharded:])
         return jax.tree_util.tree_map(lambda a: a[None], out)
 
     def run(*args):
@@ -471,22 +488,22 @@ def over_devices(fn: Callable, n_sharded: int, drain: bool | None = None, stored
         return jax.shard_map(per_device, mesh=mesh, in_specs=specs, out_specs=spread, check_vma=False)(*args)
 
     spread_sharding, same_sharding = jax.sharding.NamedSharding(mesh, spread), jax.sharding.NamedSharding(mesh, same)
-    jitted = jax.jit(run)
-    if stored is not None:
-        name, key = stored
-        jitted = StoredProgram(name, (key, n_sharded, drain), jitted, lambda args: [spread_sharding] * n_sharded + [same_sharding] * (len(args) - n_sharded))
-    return jitted, spread_sharding
+    return run, lambda args: [spread_sharding] * n_sharded + [same_sharding] * (len(args) - n_sharded), spread_sharding
 
 
-def one_transfer(solve: Callable, name: str, static):
+def one_transfer(solve: Callable, name: str, static, n_sharded: int = 0):
     """``solve(...) -> SolverOutput``, jitted to return its arrays packed in one float64
     array, and unpacked on the host: one device-to-host copy per fit instead of one per output
     (each costs tens of µs, as much as several solver steps); kept across processes as
     `stored.StoredProgram` ``name`` with key ``static``. Returns ``run(...)`` giving a
-    `PendingOutputs`; its ``fetch()`` waits and returns the `SolverOutput` in numpy."""
+    `PendingOutputs`; its ``fetch()`` waits and returns the `SolverOutput` in numpy.
+    ``n_sharded`` > 0: ``solve`` runs on every device at once (`over_devices`), each on its own
+    entry of the first ``n_sharded`` arguments' leading axis; every output then has that
+    leading axis (`PendingOutputs.per_device` splits them)."""
+    run, shardings, _ = _on_every_device(solve, n_sharded) if n_sharded else (solve, None, None)
 
     def packed(*args):
-        out = solve(*args)
+        out = run(*args)
         fields = {k: v for k, v in out._asdict().items() if v is not None}
         layout, at = [], 0
         for field, v in fields.items():
@@ -496,7 +513,7 @@ def one_transfer(solve: Callable, name: str, static):
         parts = [jnp.stack([v.real, v.imag], axis=-1) if jnp.iscomplexobj(v) else v for v in fields.values()]
         return PendingOutputs(jnp.concatenate([p.astype(jnp.float64).ravel() for p in parts]), type(out), tuple(layout))
 
-    return StoredProgram(name, static, packed, compiler_options=QUICK_COMPILE)
+    return StoredProgram(name, (static, n_sharded), packed, shardings, compiler_options=QUICK_COMPILE)
 
 
 @jax.tree_util.register_pytree_node_class
@@ -522,3 +539,9 @@ class PendingOutputs:
             part = flat[start:stop]
             out[name] = part.view(np.complex128).reshape(shape) if dtype.kind == "c" else part.reshape(shape).astype(dtype, copy=False)
         return self.kind(**out)
+
+    def per_device(self) -> list:
+        """`fetch` of a program run on every device (`one_transfer` with ``n_sharded``): one
+        output per device."""
+        out = self.fetch()
+        return [out._replace(**{k: v[j] for k, v in out._asdict().items() if v is not None}) for j in range(len(out.chi2))]

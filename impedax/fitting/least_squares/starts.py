@@ -28,7 +28,7 @@ from ..kk import kk_test_batch
 from ..parameters import ParameterTable, to_internal
 
 __all__ = [
-    "SpectrumFeatures", "data_driven_guess", "data_driven_guesses", "random_starts", "guess_start", "multistart", "rung_starts", "to_solver_space",
+    "SpectrumFeatures", "data_driven_guess", "data_driven_guesses", "random_starts", "guess_start", "multistart", "rung_starts", "rung_draws", "to_solver_space",
     "ESCALATION_RUNGS", "KK_MISFIT_FACTOR", "ESCALATION_FLOOR", "climb_target", "BATCH_OUTLIER_FACTOR", "attainable_misfit", "rms_rel_of", "rung_seed", "batch_outliers",
 ]
 
@@ -282,7 +282,14 @@ def _log_range(table: ParameterTable, features: SpectrumFeatures, i: int):
     return np.log(_larger(lo, 1e-300)), np.log(_larger(_larger(hi, lo * 10), 1e-299))
 
 
-def random_starts(table: ParameterTable, features: SpectrumFeatures, guess: np.ndarray, n_starts: int, seed: int = 0) -> np.ndarray:
+def _draw_ranges(table: ParameterTable, features: SpectrumFeatures, drawn: np.ndarray, exponent: np.ndarray):
+    """log (low, high) of the random draws of parameters ``drawn``, each (B, len(drawn));
+    exponents get (0, 0) (drawn linearly in `random_starts`)."""
+    zero = np.zeros_like(features._rows["z_min"])
+    return (np.stack(r, axis=-1) for r in zip(*(_log_range(table, features, i) if not exponent[i] else (zero, zero) for i in drawn)))
+
+
+def random_starts(table: ParameterTable, features: SpectrumFeatures, guess: np.ndarray, n_starts: int, seed: int = 0, ranges=None) -> np.ndarray:
     """``n_starts`` starting points (first: the guess; then jittered guesses; then draws over
     data-scaled log ranges). Fixed parameters keep their values. Shape (n_starts, P) for one
     spectrum's features and guess (P,); (B, n_starts, P) for a stack's, every spectrum with
@@ -292,7 +299,8 @@ def random_starts(table: ParameterTable, features: SpectrumFeatures, guess: np.n
     (jittered starts: a normal per parameter neither fixed nor given; random starts: a
     uniform per parameter not fixed), drawn in two array calls: a Generator's array of
     normals (or of uniforms) is the sequence of its scalar draws, and every jitter draw comes
-    before every uniform one."""
+    before every uniform one. (``ranges``: `_draw_ranges` of the parameters not fixed, when
+    the caller draws several times for one table and spectrum.)"""
     rng = np.random.default_rng(seed)
     guesses = np.atleast_2d(guess)
     starts = np.repeat(guesses[:, None, :], n_starts, axis=1)
@@ -308,7 +316,7 @@ def random_starts(table: ParameterTable, features: SpectrumFeatures, guess: np.n
         starts[:, 1 : 1 + n_jitter, jittered] = np.where(is_exp, np.clip(g + 0.1 * normal, 0.3, 1.0), g * 10 ** (0.7 * normal))
     if n_random and drawn.size:
         uniform = rng.random((n_random, drawn.size))  # rng.uniform(a, b) = a + (b − a) × this
-        lo, hi = (np.stack(r, axis=-1) for r in zip(*(_log_range(table, features, i) if not exponent[i] else (np.zeros_like(features._rows["z_min"]),) * 2 for i in drawn)))
+        lo, hi = _draw_ranges(table, features, drawn, exponent) if ranges is None else ranges
         starts[:, 1 + n_jitter :, drawn] = np.where(exponent[drawn], 0.45 + (1.0 - 0.45) * uniform, np.exp(lo[:, None, :] + (hi - lo)[:, None, :] * uniform))
     starts[..., fixed] = table.values[fixed]
     starts = _clip_inside(starts, table)
@@ -338,9 +346,16 @@ def rung_starts(circuit, table, features, n_starts, seeds, registry) -> np.ndarr
     """The starts of one rung of the ladder: `multistart`'s ``n_starts`` for each of
     ``seeds``, one after the other, the guess computed once. Shape (len(seeds)·n_starts, K)
     for one spectrum's features, (B, len(seeds)·n_starts, K) for a stack's."""
+    return to_solver_space(table, np.concatenate(rung_draws(circuit, table, features, n_starts, seeds, registry), axis=-2))
+
+
+def rung_draws(circuit, table, features, n_starts, seeds, registry) -> list[np.ndarray]:
+    """`random_starts`' ``n_starts`` starts for each of ``seeds`` (parameter values; the
+    numbers of `multistart` with each seed), the guess and the draws' ranges computed once."""
     guess = data_driven_guess(circuit, table, features, registry)
-    draws = [random_starts(table, features, guess, n_starts, seed) for seed in seeds]
-    return to_solver_space(table, np.concatenate(draws, axis=-2))
+    exponent = np.array([u == "1" for u in table.units], bool)
+    ranges = tuple(_draw_ranges(table, features, np.flatnonzero(~table.fixed), exponent))
+    return [random_starts(table, features, guess, n_starts, seed, ranges=ranges) for seed in seeds]
 
 
 # the start ladder of a poor fit, as multiples of ``n_starts`` (16, 64 and 256 starts by
