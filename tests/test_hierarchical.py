@@ -63,6 +63,22 @@ def test_recovers_population_median_and_spread(clean, clean_post):
     assert all(r < 1.1 for r in post.rhat().values())
 
 
+def test_chains_are_split_evenly_over_the_devices():
+    """The chains run on as many devices (cores) as divide them evenly: 4 chains on 2 devices
+    2 each, 3 chains on 2 devices all on one, never more devices than chains or than JAX has."""
+    import jax
+
+    from impedax.fitting.bayes.hierarchical import _chain_devices
+
+    devices = len(jax.devices())
+    for chains in range(1, 13):
+        used = _chain_devices(chains)
+        assert 1 <= used <= min(chains, devices) and chains % used == 0
+        assert not any(chains % d == 0 for d in range(used + 1, min(chains, devices) + 1))  # the most that divide
+    if devices == 2:
+        assert [_chain_devices(c) for c in (1, 2, 3, 4, 5, 6)] == [1, 2, 1, 2, 1, 2]
+
+
 def test_vector_cholesky_and_triangular_solve_match_numpy():
     """The likelihood's own factorisation (no LAPACK) against numpy's, batched and unbatched."""
     from impedax.fitting.bayes.hierarchical import _cholesky, _forward_substitution, _log_diagonal_sum

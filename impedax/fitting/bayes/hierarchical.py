@@ -371,9 +371,10 @@ _jitted_log_density = jax.jit(_log_density, static_argnums=(2, 3))
 _running: list = []  # the progress line of the run in progress (host side), if any
 
 
-def _tick() -> None:
-    """Host callback after every NUTS step (all chains at once: they run vmapped)."""
-    if _running:
+def _tick(device) -> None:
+    """Host callback after every NUTS step of the chains of one device (they run vmapped):
+    the first device's steps are counted."""
+    if _running and int(device) == 0:
         _running[-1].advance()
 
 
@@ -382,16 +383,26 @@ def _ticking(kernel):
 
     def step(*args, **kwargs):
         out = kernel(*args, **kwargs)
-        jax.debug.callback(_tick)
+        jax.debug.callback(_tick, jax.lax.axis_index(_CHAIN_AXIS))
         return out
 
     return step
 
 
+_CHAIN_AXIS = "device"
+
+
+def _chain_devices(chains: int) -> int:
+    """How many JAX devices (one per core) share the chains: the most that divide them evenly."""
+    return max(d for d in range(1, min(chains, len(jax.devices())) + 1) if chains % d == 0)
+
+
 @functools.lru_cache(maxsize=16)
-def _compiled_sampler(lay: _Layout, session_scale: float, warmup: int, draws: int, target_accept: float):
+def _compiled_sampler(lay: _Layout, session_scale: float, warmup: int, draws: int, target_accept: float, n_devices: int):
     """One jitted function (keys, initial positions, data) → (positions, stats) running the
-    window adaptation and NUTS in every chain (vmapped)."""
+    window adaptation and NUTS in every chain: the chains split evenly over ``n_devices``
+    devices (``jax.shard_map``, one compilation), vmapped on each. A vmapped NUTS step lasts
+    as long as its longest trajectory, so fewer chains per device also waste fewer steps."""
     import types
 
     import blackjax
@@ -415,7 +426,10 @@ def _compiled_sampler(lay: _Layout, session_scale: float, warmup: int, draws: in
         _, (positions, divergent, n_steps, accept) = jax.lax.scan(body, state, jax.random.split(k_run, draws))
         return positions, divergent, n_steps, accept, params["step_size"]
 
-    return jax.jit(jax.vmap(one_chain, in_axes=(0, 0, None)))
+    mesh = jax.sharding.Mesh(np.array(jax.devices()[:n_devices]), (_CHAIN_AXIS,))
+    spread, same = jax.sharding.PartitionSpec(_CHAIN_AXIS), jax.sharding.PartitionSpec()
+    chains_here = jax.vmap(one_chain, in_axes=(0, 0, None))
+    return jax.jit(jax.shard_map(chains_here, mesh=mesh, in_specs=(spread, spread, same), out_specs=spread, check_vma=False))
 
 
 def _ess(x: np.ndarray) -> np.ndarray:
@@ -841,7 +855,7 @@ def sample_hierarchical(
         session_spread_scale=session_spread_scale, chains=chains, parameterisation=parameterisation, seed=seed, registry=registry, init=init,
     )
     keys = jax.random.split(jax.random.PRNGKey(seed), chains)
-    run = _compiled_sampler(lay, float(session_spread_scale), int(warmup), int(draws), float(target_accept))
+    run = _compiled_sampler(lay, float(session_spread_scale), int(warmup), int(draws), float(target_accept), _chain_devices(int(chains)))
     bar = ProgressLine(int(warmup) + int(draws), progress, label=f"impedax hierarchical ({chains} chains, warm-up {warmup} + draws {draws})")
     _running.append(bar)
     try:
