@@ -86,7 +86,10 @@ def check_magnitudes(frequency, magnitude, source: str) -> None:
     methods square and multiply them (|Z|², ωτ), which would overflow or underflow float64.
     Such values are read unchanged (`impedax.load`) but not analysed."""
     for name, values, unit in (("|Z|", magnitude, "Ω"), ("frequency", frequency, "Hz")):
-        # NumPy arrays or DataArrays (dask-backed ones reduce chunk by chunk)
+        # NumPy arrays or DataArrays: dask-backed ones reduce chunk by chunk, the others in
+        # NumPy (xarray's `where` costs milliseconds, as much as a fit that stops at its guess)
+        if getattr(values, "chunks", None) is None:
+            values = np.asarray(values)
         positive = values.where(values > 0) if hasattr(values, "where") else np.where(values > 0, values, np.nan)
         with warnings.catch_warnings():  # (all zero: nothing to check here; the weighting says so)
             warnings.simplefilter("ignore", RuntimeWarning)

@@ -240,7 +240,7 @@ def joint_solver(circuit: Circuit, registry: Registry, free: tuple[int, ...], ki
     def finish(u_own, u_shared, args):
         return jax.vmap(finish_one, in_axes=(0, _SPECTRUM_AXES))(joined(u_own, u_shared), args)
 
-    chi2_x = jax.jit(jax.vmap(lambda x_free, args: jnp.sum(residuals.residual_x(x_free, args) ** 2), in_axes=(0, _SPECTRUM_AXES)))
+    chi2_x = jax.jit(jax.vmap(residuals.chi2_x, in_axes=(0, _SPECTRUM_AXES)))
     return solve, finish, chi2_x
 
 

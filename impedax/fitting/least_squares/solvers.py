@@ -212,21 +212,14 @@ def better(a: SolverOutput, b: SolverOutput) -> SolverOutput:
     return SolverOutput(*(pick(x, y) for x, y in zip(a, b)))._replace(chi2_starts=None)
 
 
-def _weighted(r, args: SolverArgs):
-    """Complex residuals (N, ...) → the real-stacked weighted residual (2N, ...)."""
-    w_re, w_im = args.inv_w_re, args.inv_w_im
-    if r.ndim == 2:
-        w_re, w_im = w_re[:, None], w_im[:, None]
-    return jnp.concatenate([r.real * w_re, r.imag * w_im])
-
-
 class Residuals(NamedTuple):
-    """The functions a solver needs, of (point, args): the weighted residual at parameters
-    x_free; ``linearize_x`` → (J, r) in parameter space;
+    """The functions a solver needs, of (point, args): ``chi2_x``, the weighted chi² at
+    parameters x_free (the Re and Im halves squared apart: under vmap, joining them costs
+    several times the circuit); ``linearize_x`` → (J, r) in parameter space;
     ``normal_u`` → the normal equations (JᵀJ, Jᵀr, ½‖r‖², extra) at u; ``to_x`` → (x_free,
     all parameters) at u."""
 
-    residual_x: Callable
+    chi2_x: Callable
     linearize_x: Callable
     normal_u: Callable
     to_x: Callable
@@ -252,15 +245,18 @@ def tree_residuals(compiled, free: tuple[int, ...], kinds: tuple[int, ...]):
         """All parameters, by position: the free ones from x_free, the rest from x_fixed."""
         return tuple(x_free[slot[i]] if i in slot else args.x_fixed[i] for i in range(n_params))
 
-    # free parameters grouped by transform kind: one vector formula per kind present
-    groups = [(k, np.flatnonzero(np.asarray(kinds) == k)) for k in sorted(set(kinds))]
-    order = np.argsort(np.concatenate([g for _, g in groups])) if kinds else np.zeros(0, int)
+    # one vector formula per transform kind present, each over the whole vector and kept where
+    # that kind applies: under vmap a select costs less than gathering and rejoining the groups
+    # (measured: ~20 % of a battery circuit's solver step; benchmarks/README.md)
+    present = sorted(set(kinds))
+    masks = [np.asarray(kinds) == k for k in present]
 
     def external(u, args):
         lower, upper = args.lower, args.upper
-        if len(groups) == 1:
-            return external_of_kind(u, lower, upper, groups[0][0])
-        return jnp.concatenate([external_of_kind(u[g], lower[g], upper[g], k) for k, g in groups])[order]
+        out = external_of_kind(u, lower, upper, present[0]) if present else u
+        for k, mask in zip(present[1:], masks[1:]):
+            out = jnp.where(mask, external_of_kind(u, lower, upper, k), out)
+        return out
 
     def u_to_x(u, args):
         return jax.jvp(lambda v: external(v, args), (u,), (jnp.ones_like(u),))
@@ -289,14 +285,15 @@ def tree_residuals(compiled, free: tuple[int, ...], kinds: tuple[int, ...]):
         a = j_re @ j_re.T + j_im @ j_im.T
         return a, j_re @ r_re + j_im @ r_im, 0.5 * (jnp.sum(r_re**2) + jnp.sum(r_im**2)), ()
 
-    def residual_x(x_free, args):
-        return _weighted(impedance(x_free, args) - args.z, args)
+    def chi2_x(x_free, args):
+        r = impedance(x_free, args) - args.z
+        return jnp.sum((r.real * args.inv_w_re) ** 2) + jnp.sum((r.imag * args.inv_w_im) ** 2)
 
     def to_x(u, args):
         x_free = external(u, args)
         return x_free, jnp.stack(theta(x_free, args))
 
-    return Residuals(residual_x, linearize_x, normal_u, to_x)
+    return Residuals(chi2_x, linearize_x, normal_u, to_x)
 
 
 def _finish(u, args: SolverArgs, residuals: Residuals, peaks=None) -> SolverOutput:
@@ -385,7 +382,7 @@ def _make(residuals, max_steps: int, peaks=None):
         x_free = residuals.to_x(u, args)[0]
         one = jnp.eye(x_free.size, dtype=bool)
         points = jnp.concatenate([x_free[None], jnp.where(one, args.lower, x_free), jnp.where(one, args.upper, x_free)])
-        bound_chi2 = jax.vmap(lambda x: jnp.sum(residuals.residual_x(x, args) ** 2))(points)
+        bound_chi2 = jax.vmap(lambda x: residuals.chi2_x(x, args))(points)
         return _finish(u, args, residuals, peaks)._replace(code=code, steps=steps, chi2_starts=chi2s, steps_total=jnp.sum(steps1) + s.i[0], bound_points=points, bound_chi2=bound_chi2)
 
     return solve
@@ -432,7 +429,7 @@ def tree_solver(circuit: Circuit, registry: Registry, max_steps: int, free: tupl
 
         def one(p, s):
             args = combine(shared, jax.tree_util.tree_map(lambda a: a[s], rows))
-            return jnp.sum(residuals.residual_x(jnp.where(in_u, residuals.to_x(p, args)[0], p), args) ** 2)
+            return residuals.chi2_x(jnp.where(in_u, residuals.to_x(p, args)[0], p), args)
 
         return jax.vmap(one)(points, spectrum)
 
