@@ -44,6 +44,10 @@ def test_natural_bound_optimum_is_converged_with_at_bound():
     summary = result.summary()
     assert sorted(summary["at_bound"]) == ["CPE1.alpha", "R0"]
     assert result.to_xarray()["at_bound"].sel(param="R0").item()
+    # the table says so in its relative-error column, not a linearised error of 1e+8 %
+    rows = {line.split()[0]: line for line in result.report().splitlines()[6:] if line and not line.startswith("warning")}
+    assert rows["R0"].split()[3] == "at" and "bound" in rows["R0"] and "bound" in rows["CPE1.alpha"]
+    assert "%" in rows["R1"] and "bound" not in rows["R1"]
 
 
 def test_the_solve_gives_the_bound_check_its_chi2(monkeypatch):

@@ -126,3 +126,37 @@ def test_outputs_come_back_from_one_transfer_unchanged():
     assert out.code == 3 and out.code.dtype == np.int32
     np.testing.assert_array_equal(out.steps, [0, 1])
     assert out.chi2 == 15.0 and out.chi2.shape == ()
+
+
+def test_large_calls_take_large_chunks_with_the_same_results(monkeypatch):
+    """Outputs and χ² checks of a batch of at least `batch._CAPACITY` spectra run in chunks of
+    that size (fewer calls), the rest in chunks of `_FEW_CAPACITY`; the fits are the same.
+    `_CAPACITY` is lowered here so that 150 spectra cross it (the lane solver, which takes
+    many lanes only from `_MANY_LANES_FROM` problems per device, is unchanged by this)."""
+    from impedax.fitting.least_squares import batch
+
+    rng = np.random.default_rng(5)
+    z = np.stack([arc(10 ** rng.uniform(0, 2), 10 ** rng.uniform(2, 4), 10 ** rng.uniform(-8, -5), rng.uniform(0.6, 0.95)) for _ in range(150)])
+    z = z * (1 + 0.01 * (rng.normal(size=z.shape) + 1j * rng.normal(size=z.shape)))
+    data = ix.make_spectrum(F, z, dims=("trial",))
+    capacities = []
+    local = batch._LaneRunner._local
+
+    def spy(self, spectra, capacity, sharding):
+        capacities.append(capacity)
+        return local(self, spectra, capacity, sharding)
+
+    monkeypatch.setattr(batch._LaneRunner, "_local", spy)
+    small = ix.fit(CIRCUIT, data)
+    assert set(capacities) == {batch._FEW_CAPACITY}
+    monkeypatch.setattr(batch, "_CAPACITY", 128)
+    capacities.clear()
+    large = ix.fit(CIRCUIT, data)
+    assert 128 in capacities
+    a, b = small.to_xarray(), large.to_xarray()
+    np.testing.assert_allclose(b["value"].values, a["value"].values, rtol=1e-9)
+    np.testing.assert_allclose(b["stderr"].values, a["stderr"].values, rtol=1e-6)
+    np.testing.assert_allclose(b["chi2"].values, a["chi2"].values, rtol=1e-9)
+    assert (b["converged"].values == a["converged"].values).all()
+    assert (b["at_bound"].values == a["at_bound"].values).all()
+    assert large.warnings == small.warnings

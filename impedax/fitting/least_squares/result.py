@@ -151,7 +151,8 @@ class FitResult:
                 lines.append(f"{n:<{width}}  {v:>12.5g}  {'(fixed)':>10}  {'':>8}  {specs[n].unit}")
             else:
                 e = self.stderr[n]
-                rel = f"{abs(e / v) * 100:.2g}%" if v and np.isfinite(e) else "—"
+                # at a bound the linearised error says nothing (a log transform's scale at 0)
+                rel = "at bound" if n in self.at_bound else f"{abs(e / v) * 100:.2g}%" if v and np.isfinite(e) else "—"
                 lines.append(f"{n:<{width}}  {v:>12.5g}  {e:>10.3g}  {rel:>8}  {specs[n].unit}")
         for w in self.warnings:
             if not w.startswith("fit did not converge"):  # the status line says it once
