@@ -175,6 +175,8 @@ def test_bad_arguments(rcpe):
         (dict(priors={"R1": "uniform:-5,2"}), "reaches outside"),
         (dict(priors={"CPE1.alpha": "uniform:0.5,1.5"}), "reaches outside"),
         (dict(priors={"R1": 5}), "expected a Prior"),
+        # a name with a control character is shown escaped (found by the thorough fuzz test)
+        (dict(priors={"\x1f": None}), r"prior for '\\x1f': expected a Prior"),
         (dict(noise="gaussian"), "unknown noise model"),
         (dict(noise="sigma"), "needs a 'sigma' variable"),
         (dict(walkers=5), "even number of at least 2 × 5"),

@@ -22,6 +22,7 @@ from typing import Mapping
 import jax.numpy as jnp
 import numpy as np
 
+from ...arguments import shown
 from ...errors import ParameterError
 
 __all__ = [
@@ -162,7 +163,7 @@ def coerce_priors(priors: Mapping[str, "Prior | str | tuple"] | None) -> dict[st
         elif isinstance(prior, tuple) and len(prior) == 3:
             prior = Prior(*prior)
         elif not isinstance(prior, Prior):
-            raise ParameterError(f"prior for {name}: expected a Prior, a (kind, a, b) tuple or 'kind:a,b' text, got {prior!r}")
+            raise ParameterError(f"prior for {shown(name)}: expected a Prior, a (kind, a, b) tuple or 'kind:a,b' text, got {shown(prior)}")
         out[name] = prior
     return out
 
