@@ -282,11 +282,20 @@ def _log_range(table: ParameterTable, features: SpectrumFeatures, i: int):
     return np.log(_larger(lo, 1e-300)), np.log(_larger(_larger(hi, lo * 10), 1e-299))
 
 
-def _draw_ranges(table: ParameterTable, features: SpectrumFeatures, drawn: np.ndarray, exponent: np.ndarray):
-    """log (low, high) of the random draws of parameters ``drawn``, each (B, len(drawn));
+def _exponents(table: ParameterTable) -> np.ndarray:
+    """Which parameters are exponents (unit "1": drawn linearly, jittered additively)."""
+    return np.array([u == "1" for u in table.units], bool)
+
+
+def _draw_ranges(table: ParameterTable, features: SpectrumFeatures) -> tuple[np.ndarray, np.ndarray]:
+    """log (low, high) of the random draws of the parameters not fixed, each (B, n drawn);
     exponents get (0, 0) (drawn linearly in `random_starts`)."""
-    zero = np.zeros_like(features._rows["z_min"])
-    return (np.stack(r, axis=-1) for r in zip(*(_log_range(table, features, i) if not exponent[i] else (zero, zero) for i in drawn)))
+    exponent, zero = _exponents(table), np.zeros_like(features._rows["z_min"])
+    rows = [_log_range(table, features, i) if not exponent[i] else (zero, zero) for i in np.flatnonzero(~table.fixed)]
+    if not rows:  # every parameter fixed
+        return np.zeros(zero.shape + (0,)), np.zeros(zero.shape + (0,))
+    lo, hi = zip(*rows)
+    return np.stack(lo, axis=-1), np.stack(hi, axis=-1)
 
 
 def random_starts(table: ParameterTable, features: SpectrumFeatures, guess: np.ndarray, n_starts: int, seed: int = 0, ranges=None) -> np.ndarray:
@@ -307,7 +316,7 @@ def random_starts(table: ParameterTable, features: SpectrumFeatures, guess: np.n
     n_jitter = (n_starts - 1) // 2
     n_random = max(n_starts - 1 - n_jitter, 0)
     fixed, given = table.fixed, ~np.isnan(table.values)
-    exponent = np.array([u == "1" for u in table.units], bool)
+    exponent = _exponents(table)
     jittered, drawn = np.flatnonzero(~fixed & ~given), np.flatnonzero(~fixed)
     if n_jitter and jittered.size:
         normal = rng.standard_normal((n_jitter, jittered.size))  # rng.normal(0, σ) = σ × this
@@ -316,7 +325,7 @@ def random_starts(table: ParameterTable, features: SpectrumFeatures, guess: np.n
         starts[:, 1 : 1 + n_jitter, jittered] = np.where(is_exp, np.clip(g + 0.1 * normal, 0.3, 1.0), g * 10 ** (0.7 * normal))
     if n_random and drawn.size:
         uniform = rng.random((n_random, drawn.size))  # rng.uniform(a, b) = a + (b − a) × this
-        lo, hi = _draw_ranges(table, features, drawn, exponent) if ranges is None else ranges
+        lo, hi = _draw_ranges(table, features) if ranges is None else ranges
         starts[:, 1 + n_jitter :, drawn] = np.where(exponent[drawn], 0.45 + (1.0 - 0.45) * uniform, np.exp(lo[:, None, :] + (hi - lo)[:, None, :] * uniform))
     starts[..., fixed] = table.values[fixed]
     starts = _clip_inside(starts, table)
@@ -353,8 +362,7 @@ def rung_draws(circuit, table, features, n_starts, seeds, registry) -> list[np.n
     """`random_starts`' ``n_starts`` starts for each of ``seeds`` (parameter values; the
     numbers of `multistart` with each seed), the guess and the draws' ranges computed once."""
     guess = data_driven_guess(circuit, table, features, registry)
-    exponent = np.array([u == "1" for u in table.units], bool)
-    ranges = tuple(_draw_ranges(table, features, np.flatnonzero(~table.fixed), exponent))
+    ranges = _draw_ranges(table, features)
     return [random_starts(table, features, guess, n_starts, seed, ranges=ranges) for seed in seeds]
 
 
