@@ -160,3 +160,44 @@ def test_large_calls_take_large_chunks_with_the_same_results(monkeypatch):
     assert (b["converged"].values == a["converged"].values).all()
     assert (b["at_bound"].values == a["at_bound"].values).all()
     assert large.warnings == small.warnings
+
+
+@pytest.mark.parametrize("k", [1, 4, 12, 13, 20])
+def test_damped_systems_are_solved_as_numpy_solves_them(k):
+    """`lm.solve_by_elimination` and `lm.solve_damped` (which takes it above
+    `UNROLLED_SOLVE_MAX` unknowns) against numpy's LAPACK solve, under ``vmap`` as the solvers
+    call them: damped normal matrices JᵀJ + λ·diag(JᵀJ) of random Jacobians whose columns
+    differ in scale by up to 10⁶ (as parameters in log space do)."""
+    from impedax.fitting.least_squares.lm import solve_by_elimination, solve_damped
+
+    rng = np.random.default_rng(k)
+    j = rng.normal(size=(6, 3 * k + 2, k)) * np.logspace(0, 6, k)
+    a = np.einsum("bnk,bnl->bkl", j, j)
+    a += 1e-3 * np.einsum("bkl,kl->bkl", a, np.eye(k))
+    b = rng.normal(size=(6, k))
+    expected = np.linalg.solve(a, b[..., None])[..., 0]
+    for solve in (solve_by_elimination, solve_damped):
+        got = np.asarray(jax.vmap(solve)(a, b))
+        np.testing.assert_allclose(got, expected, rtol=1e-6, atol=0)
+    singular = np.zeros((k, k))  # a zero pivot: non-finite, the caller's sign of a failed step
+    assert not np.all(np.isfinite(np.asarray(solve_by_elimination(singular, np.ones(k)))))
+
+
+def test_outputs_of_every_device_come_back_from_one_transfer_unchanged():
+    """`one_transfer` with ``n_sharded``: each device packs its own outputs (the program holds
+    no collective) and `PendingOutputs.per_device` gives each device's outputs as computed."""
+    from impedax.fitting.least_squares.solvers import one_transfer
+
+    def solve(u0s, scale):
+        return SolverOutput(x=u0s * scale, z_model=u0s[:, 0] * 1j, code=jnp.int32(2), steps=jnp.arange(u0s.shape[0]) + jnp.int32(u0s[0, 0]), chi2=jnp.sum(u0s), jacobian=u0s.T)
+
+    n = len(jax.devices())
+    u0s = np.arange(n * 6.0).reshape(n, 2, 3)
+    pending = one_transfer(solve, "test-one-transfer-sharded", 1, n_sharded=1)(u0s, 2.0)
+    outs = pending.per_device()
+    assert len(outs) == n
+    for d, out in enumerate(outs):
+        np.testing.assert_array_equal(out.x, u0s[d] * 2.0)
+        np.testing.assert_array_equal(out.z_model, u0s[d, :, 0] * 1j)
+        np.testing.assert_array_equal(out.steps, np.arange(2) + int(u0s[d, 0, 0]))
+        assert out.code == 2 and out.chi2 == u0s[d].sum() and out.chi2.shape == ()

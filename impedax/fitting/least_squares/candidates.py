@@ -170,8 +170,9 @@ def candidate_solver(layout: ProgramLayout, n_free: int, n_lanes: int = _LANES):
         # parameters-first halves and two products (as `solvers.tree_residuals`)
         return j_re @ j_re.T + j_im @ j_im.T, j_re @ r_re + j_im @ r_im, 0.5 * (jnp.sum(r_re**2) + jnp.sum(r_im**2)), ()
 
-    # the damped systems by LAPACK (inline_solve=False): the unrolled factorisation of
-    # `lm.solve_damped` would double the compile time of the whole solver. The damping
+    # the damped systems by `lm.solve_by_elimination` (inline_solve=False): the unrolled
+    # factorisation of `lm.solve_damped` would double the compile time of the whole solver,
+    # and a LAPACK call can hang a program that runs on every device at once. The damping
     # (`DAMPINGS`) is chosen per problem at run time, so both share this compilation
     lanes = work_queue(normal_u, n_lanes, _combine, inline_solve=False)
 

@@ -12,7 +12,7 @@ from typing import Callable, NamedTuple
 import jax
 import jax.numpy as jnp
 
-__all__ = ["LMState", "lm_iteration", "work_queue", "select_lanes", "solve_damped", "UNROLLED_SOLVE_MAX"]
+__all__ = ["LMState", "lm_iteration", "work_queue", "select_lanes", "solve_damped", "solve_by_elimination", "UNROLLED_SOLVE_MAX"]
 
 UNROLLED_SOLVE_MAX = 12  # up to this many free parameters the damped system is solved inline
 
@@ -48,7 +48,7 @@ def solve_damped(a, b):
     in a near-singular system) gives non-finite x, which the caller treats as a failed step."""
     k = a.shape[-1]
     if k > UNROLLED_SOLVE_MAX:
-        return jnp.linalg.solve(a, b)
+        return solve_by_elimination(a, b)
     low = [[None] * k for _ in range(k)]
     for j in range(k):
         low[j][j] = jnp.sqrt(a[j, j] - sum(low[j][m] ** 2 for m in range(j)))
@@ -63,6 +63,23 @@ def solve_damped(a, b):
     return jnp.stack(x)
 
 
+def solve_by_elimination(a, b):
+    """x with a·x = b for the damped normal matrix a (symmetric positive definite) by
+    Gauss–Jordan elimination without pivoting (stable for such matrices; Golub & Van Loan
+    2013, §4.2): one row operation on the whole system [a | b] per unknown, so the program
+    grows with k, not k³ as `solve_damped`'s scalar factorisation. Not LAPACK: a LAPACK call on
+    a batch of systems splits the batch over XLA's CPU worker threads and waits for them on a
+    worker thread; two devices doing so at once each hold one of a 2-core machine's two
+    workers, and the process hangs (a 12-parameter fit with 120 starts, issue 14). A zero
+    pivot gives non-finite x, which the caller treats as a failed step."""
+    k = a.shape[-1]
+    m = jnp.concatenate([a, b[:, None]], axis=1)
+    for j in range(k):
+        row = m[j] / m[j, j]
+        m = (m - m[:, j : j + 1] * row[None, :]).at[j].set(row)
+    return m[:, k]
+
+
 def lm_iteration(normal: Callable, rtol: float = 1e-8, xtol: float = 1e-10, extra_init: Callable | None = None, inline_solve: bool = False, scaling: bool = True, trust_region: bool = False):
     """(init, step) of a dense Levenberg–Marquardt iteration for ½‖r(u)‖² with Nielsen's
     damping update (Madsen, Nielsen & Tingleff 2004, alg. 3.16): the damped system is
@@ -71,7 +88,7 @@ def lm_iteration(normal: Callable, rtol: float = 1e-8, xtol: float = 1e-10, extr
     (``()`` or arrays whose shapes ``extra_init(u0, args)`` gives) is kept with the accepted
     point, e.g. (J, r) for a model whose Jacobian is expensive to trace again at the end.
     ``inline_solve``: the damped system by `solve_damped` (faster per step under ``vmap``,
-    slower to compile).
+    slower to compile), else by `solve_by_elimination`.
 
     The two dampings reach different optima from the same starts. D = I suits cold starts far
     from the data: there Marquardt's D keeps the huge curvature of the start (an inductance or
@@ -124,7 +141,7 @@ def lm_iteration(normal: Callable, rtol: float = 1e-8, xtol: float = 1e-10, extr
         dmax = jnp.maximum(jnp.diag(a), s.dmax)
         d = jnp.where(s.scaled & (dmax > 0), dmax, 1.0)  # padded parameters have zero columns
         damped = a + lam * jnp.diag(d)
-        delta = -(solve_damped(damped, g) if inline_solve else jnp.linalg.solve(damped, g))
+        delta = -(solve_damped(damped, g) if inline_solve else solve_by_elimination(damped, g))
         solved = jnp.all(jnp.isfinite(delta))  # if not, the next trial is u itself: rejected, more damping
         delta = jnp.where(solved, delta, 0.0)
         pred = 0.5 * jnp.dot(delta, lam * d * delta - g)
@@ -172,8 +189,8 @@ def work_queue(normal_u: Callable, n_lanes: int, combine: Callable, *, inline_so
     ``drain=False`` the loop stops once the queue is empty and at most ``n_lanes // 8`` lanes
     still run: their problems come back unfinished (``done`` False), to be continued on fewer
     lanes, so a few slow problems do not keep every lane busy. Returns a `QueueOutput` over
-    the C problems. ``inline_solve``: as in `lm_iteration` (False: one LAPACK solve per lane
-    step, much faster to compile). ``scaled`` (C,) bool, optional: per problem, Marquardt's
+    the C problems. ``inline_solve``: as in `lm_iteration` (False: `solve_by_elimination`,
+    much faster to compile). ``scaled`` (C,) bool, optional: per problem, Marquardt's
     scaling (True, the default) or D = I (`lm_iteration`); one compilation serves both.
     """
     init, step = lm_iteration(normal_u, inline_solve=inline_solve)

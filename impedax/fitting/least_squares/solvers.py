@@ -496,21 +496,39 @@ def one_transfer(solve: Callable, name: str, static, n_sharded: int = 0):
     `PendingOutputs`; its ``fetch()`` waits and returns the `SolverOutput` in numpy.
     ``n_sharded`` > 0: ``solve`` runs on every device at once (`over_devices`), each on its own
     entry of the first ``n_sharded`` arguments' leading axis; every output then has that
-    leading axis (`PendingOutputs.per_device` splits them)."""
-    run, shardings, _ = _on_every_device(solve, n_sharded) if n_sharded else (solve, None, None)
+    leading axis (`PendingOutputs.per_device` splits them). Each device packs its own
+    outputs, so the program holds no collective: packing the devices' outputs together would
+    gather them across devices, and on a CPU a device that finished early then holds a worker
+    thread in that gather, which the other device's parallel operations may need (XLA aborted
+    the process after 40 s: a 12-parameter fit with 120 starts, issue 14)."""
+    if not n_sharded:
+        return StoredProgram(name, (static, n_sharded), lambda *args: PendingOutputs(*_packed(solve(*args))), compiler_options=QUICK_COMPILE)
+    traced = {}
+
+    def packed_here(*args):
+        flat, traced["kind"], traced["layout"] = _packed(solve(*args))
+        return flat
+
+    run, shardings, _ = _on_every_device(packed_here, n_sharded)
 
     def packed(*args):
-        out = run(*args)
-        fields = {k: v for k, v in out._asdict().items() if v is not None}
-        layout, at = [], 0
-        for field, v in fields.items():
-            size = v.size * (2 if jnp.iscomplexobj(v) else 1)
-            layout.append((field, at, at + size, v.shape, np.dtype(v.dtype)))
-            at += size
-        parts = [jnp.stack([v.real, v.imag], axis=-1) if jnp.iscomplexobj(v) else v for v in fields.values()]
-        return PendingOutputs(jnp.concatenate([p.astype(jnp.float64).ravel() for p in parts]), type(out), tuple(layout))
+        flat = run(*args)  # (devices, size): traces packed_here, which records kind and layout
+        return PendingOutputs(flat, traced["kind"], traced["layout"])
 
     return StoredProgram(name, (static, n_sharded), packed, shardings, compiler_options=QUICK_COMPILE)
+
+
+def _packed(out) -> tuple:
+    """(one float64 array of every output of ``out``, its NamedTuple type, the layout: (name,
+    start, stop, shape, dtype) per output)."""
+    fields = {k: v for k, v in out._asdict().items() if v is not None}
+    layout, at = [], 0
+    for field, v in fields.items():
+        size = v.size * (2 if jnp.iscomplexobj(v) else 1)
+        layout.append((field, at, at + size, v.shape, np.dtype(v.dtype)))
+        at += size
+    parts = [jnp.stack([v.real, v.imag], axis=-1) if jnp.iscomplexobj(v) else v for v in fields.values()]
+    return jnp.concatenate([p.astype(jnp.float64).ravel() for p in parts]), type(out), tuple(layout)
 
 
 @jax.tree_util.register_pytree_node_class
@@ -530,11 +548,14 @@ class PendingOutputs:
         return cls(children[0], *static)
 
     def fetch(self):
+        """The outputs in numpy; a program run on every device (`one_transfer` with
+        ``n_sharded``) packed one row per device, and each output then leads with that axis."""
         flat = np.asarray(self.flat)
+        lead = flat.shape[:-1]
         out = {}
         for name, start, stop, shape, dtype in self.layout:
-            part = flat[start:stop]
-            out[name] = part.view(np.complex128).reshape(shape) if dtype.kind == "c" else part.reshape(shape).astype(dtype, copy=False)
+            part = np.ascontiguousarray(flat[..., start:stop])
+            out[name] = part.view(np.complex128).reshape(lead + shape) if dtype.kind == "c" else part.reshape(lead + shape).astype(dtype, copy=False)
         return self.kind(**out)
 
     def per_device(self) -> list:
