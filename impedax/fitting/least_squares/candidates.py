@@ -28,7 +28,7 @@ from ...errors import FitError
 from ..parameters import Transform, to_external, to_internal
 from ..problem import FitProblem, fit_problem, open_spectrum, weights
 from ..stored import QUICK_COMPILE, StoredProgram
-from .lm import work_queue
+from .lm import solve_by_elimination, work_queue
 from .result import FitResult, fit_result
 from .solvers import SolverArgs, SolverOutput, SolverStatus, over_devices, padded_points, trimmed
 from .starts import SpectrumFeatures, data_driven_guess, random_starts
@@ -152,6 +152,22 @@ def _program_parts(layout: ProgramLayout):
     return parts
 
 
+LAPACK_LANE_UNKNOWNS_MAX = 32
+"""The candidate queue solves its lanes' damped systems by LAPACK up to this many unknowns,
+by `lm.solve_by_elimination` beyond (`_lane_solve`)."""
+
+
+def _lane_solve(a, b):
+    """The damped system of one lane (vmapped over the queue's lanes): LAPACK for at most
+    `LAPACK_LANE_UNKNOWNS_MAX` unknowns, whose program compiles faster than the elimination's
+    (a diagnosis' first call 0.3–1 s sooner). jaxlib 0.10 splits a large batch of LAPACK
+    solves over XLA's CPU worker threads and waits for them on one, which can hang a program
+    running on every device at once (`lm.solve_by_elimination`); the queue's batches are its
+    `_LANES` lanes, and 8 systems of 48 unknowns on both devices at once were measured to
+    finish (256 of 12 hang). Beyond the bound, the elimination."""
+    return jnp.linalg.solve(a, b) if a.shape[-1] <= LAPACK_LANE_UNKNOWNS_MAX else solve_by_elimination(a, b)
+
+
 @functools.lru_cache(maxsize=16)
 def candidate_solver(layout: ProgramLayout, n_free: int, n_lanes: int = _LANES):
     """Jitted ``(queue, finish)`` for candidates of ``layout`` with ``n_free`` (padded) free
@@ -170,11 +186,10 @@ def candidate_solver(layout: ProgramLayout, n_free: int, n_lanes: int = _LANES):
         # parameters-first halves and two products (as `solvers.tree_residuals`)
         return j_re @ j_re.T + j_im @ j_im.T, j_re @ r_re + j_im @ r_im, 0.5 * (jnp.sum(r_re**2) + jnp.sum(r_im**2)), ()
 
-    # the damped systems by `lm.solve_by_elimination` (inline_solve=False): the unrolled
-    # factorisation of `lm.solve_damped` would double the compile time of the whole solver,
-    # and a LAPACK call can hang a program that runs on every device at once. The damping
-    # (`DAMPINGS`) is chosen per problem at run time, so both share this compilation
-    lanes = work_queue(normal_u, n_lanes, _combine, inline_solve=False)
+    # the damped systems not inline: the unrolled factorisation of `lm.solve_damped` would
+    # double the compile time of the whole solver (`_lane_solve`). The damping (`DAMPINGS`) is
+    # chosen per problem at run time, so both share this compilation
+    lanes = work_queue(normal_u, n_lanes, _combine, inline_solve=False, linear_solve=_lane_solve)
 
     def per_device(u0, which, budget, n_problems, scaled, rows, shared, *, drain):
         return lanes(u0, which, budget, n_problems, rows, shared, scaled, drain=drain)
