@@ -1,5 +1,5 @@
 """`import impedax` gives JAX one CPU device per core (batch fits run a chunk on each), unless
-the user chose otherwise or JAX already runs."""
+the user chose otherwise or JAX already runs; and fits that run on every device at once finish."""
 
 import os
 import subprocess
@@ -10,12 +10,18 @@ import pytest
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
-def devices_after(code: str, **env) -> int:
+def fresh_process(code: str, timeout: float = 120, **env) -> str:
+    """Standard output of ``code`` run in a fresh Python process with impedax's default
+    devices (``env`` added to the environment); it must succeed."""
     environment = {k: v for k, v in os.environ.items() if k not in ("IMPEDAX_CPU_DEVICES", "XLA_FLAGS")}
     environment.update(env, PYTHONPATH=ROOT)
-    out = subprocess.run([sys.executable, "-c", code + "\nimport jax; print(len(jax.devices()))"], env=environment, capture_output=True, text=True, timeout=120)
-    assert out.returncode == 0, out.stderr
-    return int(out.stdout.split()[-1])
+    out = subprocess.run([sys.executable, "-c", code], env=environment, capture_output=True, text=True, timeout=timeout)
+    assert out.returncode == 0, out.stderr[-2000:]
+    return out.stdout
+
+
+def devices_after(code: str, **env) -> int:
+    return int(fresh_process(code + "\nimport jax; print(len(jax.devices()))", **env).split()[-1])
 
 
 def test_one_device_per_core_by_default():
@@ -60,11 +66,7 @@ def test_many_starts_of_a_large_circuit_finish_on_every_device():
     2-core machine and the process hung (or XLA aborted it after 40 s). It must finish with a
     fit near the true parameters' misfit (SYNTHETIC numpy formula, 0.5 % noise): within 1.5×,
     as this ladder's many local optima allow (128 starts reach 1.2×)."""
-    environment = {k: v for k, v in os.environ.items() if k not in ("IMPEDAX_CPU_DEVICES", "XLA_FLAGS")}
-    environment["PYTHONPATH"] = ROOT
-    out = subprocess.run([sys.executable, "-c", LADDER_FIT], env=environment, capture_output=True, text=True, timeout=600)
-    assert out.returncode == 0, out.stderr[-2000:]
-    devices, used, rms, true_rms = out.stdout.split()[-4:]
+    devices, used, rms, true_rms = fresh_process(LADDER_FIT, timeout=600).split()[-4:]
     assert int(devices) == min(len(os.sched_getaffinity(0)), 8)
     assert int(used) >= 128
     assert float(rms) <= 1.5 * float(true_rms)
@@ -89,10 +91,6 @@ def test_a_large_batch_of_a_large_circuit_finishes_on_every_device():
     damped systems (above 12 unknowns) went to LAPACK as one batch of 64 per step; on a 2-core
     machine both devices then held XLA's two worker threads and the fit hung. It must finish,
     at the noise (SYNTHETIC numpy formula, 0.5 % noise: the true parameters' median misfit)."""
-    environment = {k: v for k, v in os.environ.items() if k not in ("IMPEDAX_CPU_DEVICES", "XLA_FLAGS")}
-    environment["PYTHONPATH"] = ROOT
-    out = subprocess.run([sys.executable, "-c", LARGE_BATCH_FIT], env=environment, capture_output=True, text=True, timeout=600)
-    assert out.returncode == 0, out.stderr[-2000:]
-    n, rms, true_rms = out.stdout.split()[-3:]
+    n, rms, true_rms = fresh_process(LARGE_BATCH_FIT, timeout=600).split()[-3:]
     assert int(n) == 600
     assert float(rms) <= 1.1 * float(true_rms)

@@ -65,7 +65,7 @@ def solve_damped(a, b):
 
 def solve_by_elimination(a, b):
     """x with a·x = b for the damped normal matrix a (symmetric positive definite) by
-    Gauss–Jordan elimination without pivoting (stable for such matrices; Golub & Van Loan
+    Gauss–Jordan elimination without pivoting (such matrices need none; Golub & Van Loan
     2013, §4.2): one row operation on the whole system [a | b] per unknown, so the program
     grows with k, not k³ as `solve_damped`'s scalar factorisation. Not LAPACK: a LAPACK call on
     a batch of systems splits the batch over XLA's CPU worker threads and waits for them on a

@@ -497,10 +497,10 @@ def one_transfer(solve: Callable, name: str, static, n_sharded: int = 0):
     ``n_sharded`` > 0: ``solve`` runs on every device at once (`over_devices`), each on its own
     entry of the first ``n_sharded`` arguments' leading axis; every output then has that
     leading axis (`PendingOutputs.per_device` splits them). Each device packs its own
-    outputs, so the program holds no collective: packing the devices' outputs together would
-    gather them across devices, and on a CPU a device that finished early then holds a worker
-    thread in that gather, which the other device's parallel operations may need (XLA aborted
-    the process after 40 s: a 12-parameter fit with 120 starts, issue 14)."""
+    outputs, so the program holds no collective: packing them together after the devices'
+    work gathered them across devices, where a device that finished early waits on one of
+    XLA's CPU worker threads for the other (with the other stuck in a batched LAPACK solve,
+    `lm.solve_by_elimination`, XLA aborted the process after 40 s of that wait)."""
     if not n_sharded:
         return StoredProgram(name, (static, n_sharded), lambda *args: PendingOutputs(*_packed(solve(*args))), compiler_options=QUICK_COMPILE)
     traced = {}
