@@ -9,7 +9,7 @@ import pytest
 
 import impedax as ix
 from impedax.circuits import DEFAULT_REGISTRY
-from impedax.fitting.least_squares.lm import lm_iteration
+from impedax.fitting.least_squares.lm import lm_iteration, solve_damped
 from impedax.fitting.least_squares.solvers import SharedArgs, SolverOutput, SpectrumRows, combine, solver_args, tree_solver
 from impedax.fitting.least_squares.starts import guess_start
 from impedax.fitting.parameters import ParameterTable
@@ -42,7 +42,7 @@ def problems():
 def levenberg_marquardt(normal, u0, args, max_steps):
     """The iteration of one lane of `work_queue` (`lm_iteration`'s defaults), alone, from
     ``u0``: (u, chi² = ‖r‖², converged, iterations)."""
-    init, step = lm_iteration(normal, inline_solve=True)
+    init, step = lm_iteration(normal, linear_solve=solve_damped)
     s = jax.lax.while_loop(lambda s: (s.i < max_steps) & ~s.done, lambda s: step(s, args), init(u0, args))
     return s.u, 2.0 * s.cost, s.done, s.i
 
@@ -168,7 +168,7 @@ def test_damped_systems_are_solved_as_numpy_solves_them(k):
     `UNROLLED_SOLVE_MAX` unknowns) against numpy's LAPACK solve, under ``vmap`` as the solvers
     call them: damped normal matrices JᵀJ + λ·diag(JᵀJ) of random Jacobians whose columns
     differ in scale by up to 10⁶ (as parameters in log space do)."""
-    from impedax.fitting.least_squares.lm import solve_by_elimination, solve_damped
+    from impedax.fitting.least_squares.lm import solve_by_elimination
 
     rng = np.random.default_rng(k)
     j = rng.normal(size=(6, 3 * k + 2, k)) * np.logspace(0, 6, k)

@@ -186,10 +186,10 @@ def candidate_solver(layout: ProgramLayout, n_free: int, n_lanes: int = _LANES):
         # parameters-first halves and two products (as `solvers.tree_residuals`)
         return j_re @ j_re.T + j_im @ j_im.T, j_re @ r_re + j_im @ r_im, 0.5 * (jnp.sum(r_re**2) + jnp.sum(r_im**2)), ()
 
-    # the damped systems not inline: the unrolled factorisation of `lm.solve_damped` would
-    # double the compile time of the whole solver (`_lane_solve`). The damping (`DAMPINGS`) is
+    # the damped systems by `_lane_solve`: the unrolled factorisation of `lm.solve_damped`
+    # would double the compile time of the whole solver. The damping (`DAMPINGS`) is
     # chosen per problem at run time, so both share this compilation
-    lanes = work_queue(normal_u, n_lanes, _combine, inline_solve=False, linear_solve=_lane_solve)
+    lanes = work_queue(normal_u, n_lanes, _combine, linear_solve=_lane_solve)
 
     def per_device(u0, which, budget, n_problems, scaled, rows, shared, *, drain):
         return lanes(u0, which, budget, n_problems, rows, shared, scaled, drain=drain)

@@ -14,7 +14,7 @@ import jax.numpy as jnp
 
 __all__ = ["LMState", "lm_iteration", "work_queue", "select_lanes", "solve_damped", "solve_by_elimination", "UNROLLED_SOLVE_MAX"]
 
-UNROLLED_SOLVE_MAX = 12  # up to this many free parameters the damped system is solved inline
+UNROLLED_SOLVE_MAX = 12  # up to this many free parameters `solve_damped` factorises in scalar operations
 
 
 class LMState(NamedTuple):
@@ -80,15 +80,15 @@ def solve_by_elimination(a, b):
     return m[:, k]
 
 
-def lm_iteration(normal: Callable, rtol: float = 1e-8, xtol: float = 1e-10, extra_init: Callable | None = None, inline_solve: bool = False, scaling: bool = True, trust_region: bool = False, linear_solve: Callable | None = None):
+def lm_iteration(normal: Callable, rtol: float = 1e-8, xtol: float = 1e-10, extra_init: Callable | None = None, linear_solve: Callable = solve_by_elimination, scaling: bool = True, trust_region: bool = False):
     """(init, step) of a dense Levenberg–Marquardt iteration for ½‖r(u)‖² with Nielsen's
     damping update (Madsen, Nielsen & Tingleff 2004, alg. 3.16): the damped system is
     (JᵀJ + λD)δ = −Jᵀr with Marquardt's scaling D = the running maximum of diag(JᵀJ)
     (``scaling``), else D = I; ``normal(u, args) -> (JᵀJ, Jᵀr, ½‖r‖², extra)``; ``extra``
     (``()`` or arrays whose shapes ``extra_init(u0, args)`` gives) is kept with the accepted
     point, e.g. (J, r) for a model whose Jacobian is expensive to trace again at the end.
-    ``inline_solve``: the damped system by `solve_damped` (faster per step under ``vmap``,
-    slower to compile), else by ``linear_solve(a, b)`` (default `solve_by_elimination`).
+    ``linear_solve(a, b)`` solves the damped system: `solve_by_elimination` (the default),
+    or `solve_damped` (faster per step under ``vmap``, slower to compile).
 
     The two dampings reach different optima from the same starts. D = I suits cold starts far
     from the data: there Marquardt's D keeps the huge curvature of the start (an inductance or
@@ -141,7 +141,7 @@ def lm_iteration(normal: Callable, rtol: float = 1e-8, xtol: float = 1e-10, extr
         dmax = jnp.maximum(jnp.diag(a), s.dmax)
         d = jnp.where(s.scaled & (dmax > 0), dmax, 1.0)  # padded parameters have zero columns
         damped = a + lam * jnp.diag(d)
-        delta = -(solve_damped if inline_solve else linear_solve or solve_by_elimination)(damped, g)
+        delta = -linear_solve(damped, g)
         solved = jnp.all(jnp.isfinite(delta))  # if not, the next trial is u itself: rejected, more damping
         delta = jnp.where(solved, delta, 0.0)
         pred = 0.5 * jnp.dot(delta, lam * d * delta - g)
@@ -173,7 +173,7 @@ class QueueOutput(NamedTuple):
     steps: jax.Array
 
 
-def work_queue(normal_u: Callable, n_lanes: int, combine: Callable, *, inline_solve: bool = True, linear_solve: Callable | None = None):
+def work_queue(normal_u: Callable, n_lanes: int, combine: Callable, *, linear_solve: Callable = solve_damped):
     """A work-queue Levenberg–Marquardt solver for many independent problems (spectra, or
     spectrum × start pairs). ``n_lanes`` problems iterate side by side (``vmap`` of one
     `lm_iteration` step); when a lane's problem converges or spends its step budget, the result
@@ -189,11 +189,11 @@ def work_queue(normal_u: Callable, n_lanes: int, combine: Callable, *, inline_so
     ``drain=False`` the loop stops once the queue is empty and at most ``n_lanes // 8`` lanes
     still run: their problems come back unfinished (``done`` False), to be continued on fewer
     lanes, so a few slow problems do not keep every lane busy. Returns a `QueueOutput` over
-    the C problems. ``inline_solve`` and ``linear_solve``: as in `lm_iteration` (not inline:
-    much faster to compile). ``scaled`` (C,) bool, optional: per problem, Marquardt's
+    the C problems. ``linear_solve``: as in `lm_iteration` (default `solve_damped`; the
+    elimination compiles much faster). ``scaled`` (C,) bool, optional: per problem, Marquardt's
     scaling (True, the default) or D = I (`lm_iteration`); one compilation serves both.
     """
-    init, step = lm_iteration(normal_u, inline_solve=inline_solve, linear_solve=linear_solve)
+    init, step = lm_iteration(normal_u, linear_solve=linear_solve)
     lane_init = jax.vmap(init, in_axes=(0, None))
 
     def solve(u0, spectrum, budget, n_problems, rows, shared, scaled=None, *, drain):
