@@ -127,10 +127,12 @@ def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n
     the lane runner (for chi² at other points).
 
     Every spectrum from the better of its data-driven guess and (batches of at least
-    `REFERENCE_MIN_SPECTRA`) the reference spectrum's optimum, then its neighbours' optima
-    where they are better, then more starts for the fits that are still poor (below; each rung's
-    starts screened for `SCREEN_STEPS` steps, the best continued to convergence). All solves
-    go through the lane solver (`lm.work_queue`)."""
+    `REFERENCE_MIN_SPECTRA`, ``n_starts`` ≥ 2) the reference spectrum's optimum; with
+    ``n_starts`` = 1 from its guess (or the user's start) alone, one local fit each, as
+    impedance.py's loop fits. Then its neighbours' optima where they are better, then more
+    starts for the fits that are still poor (below; each rung's starts screened for
+    `SCREEN_STEPS` steps, the best continued to convergence). All solves go through the lane
+    solver (`lm.work_queue`)."""
     b = z.shape[0]
     inv_re, inv_im = weights(z, sigma, weighting, source)
     features = SpectrumFeatures(freq, z)
@@ -146,7 +148,7 @@ def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n
 
     guesses = guess_start(circuit, table, features, registry)
     large = b >= REFERENCE_MIN_SPECTRA
-    if large:
+    if large and n_starts > 1:
         guesses = _with_reference_start(guesses, solver, circuit, table, freq, z, sigma, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
     u, chi2, done, steps = solver.solve(guesses, np.arange(b), np.full(b, max_steps))
     out = unscale(solver.outputs(u, np.arange(b), done, steps, steps), scale)
