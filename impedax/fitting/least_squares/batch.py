@@ -22,7 +22,7 @@ from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, domi
 from .order import canonical_order
 from .result import bound_sides, confirm_bounds, fit_notes, fit_result, non_passive_notes, stack_notes, weighting_notes
 from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, TreeSolvers, better, over_devices, padded_points, tree_solver, trimmed, unscale
-from .starts import ESCALATION_RUNGS, SpectrumFeatures, climb_target, batch_outliers, guess_start, rms_rel_of, rung_seed, rung_starts, to_solver_space
+from .starts import SpectrumFeatures, climb_target, batch_outliers, escalation_rungs, guess_start, rms_rel_of, rung_seed, rung_starts, to_solver_space
 
 __all__ = ["BatchFitResult", "fit_batch"]
 
@@ -161,11 +161,12 @@ def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n
     # relative to the other spectra, one rung (`n_starts` starts) — its reference spectrum,
     # fitted alone, climbed the whole ladder against its Kramers–Kronig misfit, and every
     # spectrum was offered that optimum and its neighbours'. A small one, as `fit`: the
-    # multistart when the residuals are not white, the next rungs (`starts.ESCALATION_RUNGS`)
+    # multistart when the residuals are not white, the next rungs (`starts.escalation_rungs`)
     # while above `starts.climb_target`
     poor = _poor_in_batch(out, z) if large else np.flatnonzero(~at_noise_floor(freq, z, out.z_model, inv_re, inv_im, out.code))
     target = None
-    for rung, multiple in enumerate(ESCALATION_RUNGS[:1] if large else ESCALATION_RUNGS):
+    rungs = escalation_rungs(len(table.free_names))
+    for rung, multiple in enumerate(rungs[:1] if large else rungs):
         if rung and poor.size:
             target = climb_target(freq, z[poor]) if target is None else target
             still = rms_rel_of(out.z_model[poor], z[poor]) > target

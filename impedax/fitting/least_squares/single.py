@@ -23,7 +23,7 @@ from .order import canonical_order
 from .result import FitResult, fit_result, non_passive_notes, weighting_notes
 from .shared import SharedFitResult, fit_shared
 from .solvers import IDENTITY_DAMPING_STEPS, SCREEN_STEPS, SharedArgs, SpectrumRows, better, padded_points, solver_args, tree_solver, trimmed, unscale
-from .starts import ESCALATION_RUNGS, SpectrumFeatures, climb_target, guess_start, rms_rel_of, rung_draws, rung_seed, to_solver_space
+from .starts import SpectrumFeatures, escalation_rungs, climb_target, guess_start, rms_rel_of, rung_draws, rung_seed, to_solver_space
 
 __all__ = ["fit", "FitResult", "BatchFitResult", "SharedFitResult", "WEIGHTINGS", "information_criteria"]
 
@@ -131,9 +131,10 @@ def fit(
 
 
 def escalated(out, solve, circuit, table, features, freq, z, n_starts: int, seed: int, registry, max_steps: int):
-    """The fit ``out`` improved by the start ladder (`starts.ESCALATION_RUNGS`): ``n_starts``
+    """The fit ``out`` improved by the start ladder (`starts.escalation_rungs`): ``n_starts``
     starts, then, while its rms_rel exceeds `starts.climb_target` (`KK_MISFIT_FACTOR` × the
-    misfit of a Kramers–Kronig-consistent model), 4× and 16× as many (new draws each rung).
+    misfit of a Kramers–Kronig-consistent model), 4× and 16× as many (new draws each rung;
+    64× more for circuits of `starts.LARGE_CIRCUIT_FREE` free parameters or more).
     ``solve(*draws, screen_steps, continue_best)`` runs the compiled multistart once per draw
     of starts (n_starts, K): a rung runs as several calls of that one shape, so climbing
     compiles nothing new. A rung of several draws screens each and continues the best point
@@ -141,7 +142,7 @@ def escalated(out, solve, circuit, table, features, freq, z, n_starts: int, seed
     the lanes a draw's own continuation would leave idle); the best is kept. Returns (the best
     output, the number of starts used)."""
     calls, target = 0, None
-    for rung, multiple in enumerate(ESCALATION_RUNGS):
+    for rung, multiple in enumerate(escalation_rungs(len(table.free_names))):
         if rung:
             if target is None:
                 target = climb_target(freq, z)[0]

@@ -29,7 +29,7 @@ from ..parameters import ParameterTable, to_internal
 
 __all__ = [
     "SpectrumFeatures", "data_driven_guess", "data_driven_guesses", "random_starts", "guess_start", "multistart", "rung_starts", "rung_draws", "to_solver_space",
-    "ESCALATION_RUNGS", "KK_MISFIT_FACTOR", "ESCALATION_FLOOR", "climb_target", "BATCH_OUTLIER_FACTOR", "attainable_misfit", "rms_rel_of", "rung_seed", "batch_outliers",
+    "ESCALATION_RUNGS", "LARGE_CIRCUIT_FREE", "LARGE_CIRCUIT_RUNG", "escalation_rungs", "KK_MISFIT_FACTOR", "ESCALATION_FLOOR", "climb_target", "BATCH_OUTLIER_FACTOR", "attainable_misfit", "rms_rel_of", "rung_seed", "batch_outliers",
 ]
 
 # features with one value per spectrum (scalars for one spectrum, arrays (B,) for a stack)
@@ -371,6 +371,19 @@ def rung_draws(circuit, table, features, n_starts, seeds, registry) -> list[np.n
 # longer poor. The trap of AutoEIS's test spectrum with R0 + R1 || CPE1 + (R2 + W1) || CPE2
 # (rms_rel 4.9 % where 1.3 % is attainable) escapes 16 starts and is found by 64
 ESCALATION_RUNGS = (1, 4, 16)
+# circuits of this many free parameters or more climb one rung further (64 draws: 1,024 starts
+# by default): their starts spread over a space of twelve and more dimensions, and the
+# evaluation set's 8-element ladder (12 free parameters) reached its global optimum with this
+# rung where 336 starts left it 2.3× above it (docs/fitting.md, "Starts")
+LARGE_CIRCUIT_FREE = 12
+LARGE_CIRCUIT_RUNG = 64
+
+
+def escalation_rungs(n_free: int) -> tuple[int, ...]:
+    """The ladder's rungs (multiples of ``n_starts``) for a fit of ``n_free`` free parameters:
+    `ESCALATION_RUNGS`, and `LARGE_CIRCUIT_RUNG` after them from `LARGE_CIRCUIT_FREE` on."""
+    return ESCALATION_RUNGS + ((LARGE_CIRCUIT_RUNG,) if n_free >= LARGE_CIRCUIT_FREE else ())
+
 # a fit is poor relative to the data when its rms_rel exceeds this multiple of the misfit of
 # the linear Kramers–Kronig test's Voigt chain (`attainable_misfit`): a circuit at its global
 # optimum may well miss the data by more (too few elements), but a fit far above it has
