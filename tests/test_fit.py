@@ -196,7 +196,7 @@ def test_large_batch_with_outliers_equals_one_by_one(rng):
 def test_a_large_batch_with_one_start_fits_each_spectrum_from_it_alone(rng, monkeypatch):
     """``n_starts=1``: one local fit per spectrum from its own start (the user's), as
     impedance.py's loop does; no reference spectrum is solved and offered instead (it was:
-    ~30 % of such a call on the 130 battery cycles). Oracle: each spectrum's single fit from
+    20–35 % of such a call on the 130 battery cycles). Oracle: each spectrum's single fit from
     the same start."""
     from impedax.fitting.least_squares import batch
 
