@@ -503,18 +503,19 @@ def one_transfer(solve: Callable, name: str, static, n_sharded: int = 0):
     `lm.solve_by_elimination`, XLA aborted the process after 40 s of that wait)."""
     if not n_sharded:
         return StoredProgram(name, (static, n_sharded), lambda *args: PendingOutputs(*_packed(solve(*args))), compiler_options=QUICK_COMPILE)
-    traced = {}
-
-    def packed_here(*args):
-        flat, traced["kind"], traced["layout"] = _packed(solve(*args))
-        return flat
-
-    run, shardings, _ = _on_every_device(packed_here, n_sharded)
 
     def packed(*args):
-        flat = run(*args)  # (devices, size): traces packed_here, which records kind and layout
-        return PendingOutputs(flat, traced["kind"], traced["layout"])
+        recorded = []  # (kind, layout), known once this trace has run `solve` on a device
 
+        def packed_here(*local):
+            flat, kind, layout = _packed(solve(*local))
+            recorded.append((kind, layout))
+            return flat
+
+        flat = _on_every_device(packed_here, n_sharded)[0](*args)  # (devices, size)
+        return PendingOutputs(flat, *recorded[-1])
+
+    shardings = _on_every_device(solve, n_sharded)[1]  # (the same for any function)
     return StoredProgram(name, (static, n_sharded), packed, shardings, compiler_options=QUICK_COMPILE)
 
 
