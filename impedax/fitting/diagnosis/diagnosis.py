@@ -21,7 +21,8 @@
    `BaselineContext.drt_evidence` the proposal functions read); when the DRT cannot be
    computed the diagnosis runs without it and says so in a note.
 5. Verdict: ``missing_effect`` when a candidate is significant (ΔAIC < −`DELTA_AIC_MIN`, it
-   explains at least `NOISE_FRACTION_MIN` of the noise variance, its parameters are determined
+   explains at least `NOISE_FRACTION_MIN` of the noise variance (each point by its own σ_k),
+   its parameters are determined
    — relative error ≤ `RELATIVE_ERROR_MAX`, |correlation| ≤ `CORRELATION_MAX` unless both of
    the pair are within `CORRELATED_ERROR_MAX` (and |correlation| ≤ `CORRELATION_SINGULAR`) —
    and its fitted values are plausible for the effect), ``adequate`` otherwise: no effect of
@@ -31,6 +32,7 @@
 from __future__ import annotations
 
 import enum
+import itertools
 import math
 from dataclasses import dataclass, field
 from typing import Mapping, NamedTuple, Sequence
@@ -57,7 +59,7 @@ from .noise import NOISE_FLOOR, OUTLIER_MAX_FRACTION, NoiseModel, kk_indices, kk
 __all__ = [
     "Diagnosis", "Suggestion", "Verdict", "diagnose",
     "DELTA_AIC_MIN", "NOISE_FRACTION_MIN", "NOISE_RATIO_MAX", "NOISE_FLOOR", "KK_INVALID_FRACTION", "KK_INVALID_RMS", "BASELINE_STEPS",
-    "KK_COMPARABLE", "MASK_MAX_FRACTION", "OPEN_RESISTANCE_FACTOR", "RELATIVE_ERROR_MAX", "CORRELATION_MAX", "CORRELATED_ERROR_MAX", "CORRELATION_SINGULAR",
+    "KK_COMPARABLE", "MASK_MAX_FRACTION", "OPEN_RESISTANCE_FACTOR", "ARC_ORDERS_MAX", "RELATIVE_ERROR_MAX", "CORRELATION_MAX", "CORRELATED_ERROR_MAX", "CORRELATION_SINGULAR",
 ]
 
 # --- documented thresholds (docs/diagnosis.md) ---
@@ -65,8 +67,9 @@ DELTA_AIC_MIN = 10.0
 """A candidate must lower AIC by more than this (Burnham & Anderson: ΔAIC > 10 ⇒ essentially no
 support for the worse model)."""
 NOISE_FRACTION_MIN = 0.25
-"""... and lower the mean squared relative residual by at least this fraction of the noise
-variance 2σ² (so a large N cannot make a negligible improvement 'significant')."""
+"""... and lower the noise-weighted mean squared residual mean(|r_k|²/σ_k²) by at least this
+fraction of its value for pure noise, 2 (so a large N cannot make a negligible improvement
+'significant'); each point counts by its own σ_k, as in the ranking."""
 NOISE_RATIO_MAX = 1.5
 """rms_rel/(√2 σ) above this with failing bands ⇒ the residuals are not noise."""
 KK_COMPARABLE = 0.5
@@ -721,18 +724,74 @@ def _fit_proposals(base: FitResult, spectrum: xr.Dataset, ctx: BaselineContext, 
         raise FitError(f"diagnosis: the candidate fits failed: {err}") from None
 
 
-def _baseline_checked(base: FitResult, spectrum: xr.Dataset, shape: SolverShape, *, seed: int) -> FitResult | None:
-    """The baseline refitted from its optimum and `BASELINE_CHECK_STARTS` random starts
-    (the candidates' compiled solver), when that finds a better optimum; else None.
+def _baseline_checked(base: FitResult, spectrum: xr.Dataset, shape: SolverShape, named: FitResult, *, seed: int) -> FitResult | None:
+    """The baseline refitted from its optimum, from the values of the candidate about to be
+    named (``named``: its parameters the baseline has, the baseline's for the rest) and from
+    `BASELINE_CHECK_STARTS` random starts (the candidates' compiled solver), when that finds
+    a better optimum; else None.
 
     The baseline's own starts can all miss its global optimum while a candidate that contains
     it, from other starts, finds it under other names: on a SYNTHETIC 9-element ladder (the
     correct model, 1 % noise growing toward low frequency) the baseline stopped at 2.84 %,
     `impedax fit` of the same circuit reaches 1.93 %, and "C3 → CPE3" reached 1.93 % with its
-    two arcs swapped — a false alarm. Run only when a missing effect would be named."""
+    two arcs swapped — a false alarm. The named candidate's values start it too: the random
+    starts can miss the basin the candidate found (a SYNTHETIC correct 9-element ladder at
+    0.3 % noise: the baseline at 0.556 % after the random starts, "C3 → CPE3" at 0.511 %,
+    the baseline from the candidate's values 0.511 %). Run only when a missing effect would
+    be named."""
     fixed = {k: v for k, v in base.values.items() if base.fixed[k]}
-    again = fit_candidates([base.circuit], spectrum, init=[[dict(base.values)]], fixed=fixed or None, weighting=base.weighting, n_starts=BASELINE_CHECK_STARTS, seed=seed, registry=base.registry, shape=shape, max_steps=BASELINE_STEPS)[0]
+    from_named = [{k: float(named.values.get(k, v)) for k, v in base.values.items()}] + _arcs_exchanged(base, named)
+    again = fit_candidates([base.circuit], spectrum, init=[[dict(base.values)] + from_named], fixed=fixed or None, weighting=base.weighting, n_starts=BASELINE_CHECK_STARTS, seed=seed, registry=base.registry, shape=shape, max_steps=BASELINE_STEPS)[0]
     return again if np.isfinite(again.chi2) and again.chi2 < base.chi2 * (1 - 1e-6) else None
+
+
+ARC_ORDERS_MAX = 24
+"""At most this many assignments of a candidate's arcs to the baseline's (`_arcs_exchanged`)."""
+
+
+def _arcs(fit: FitResult) -> list[tuple[str, str, str | None]]:
+    """The arcs R ∥ C and R ∥ CPE in the top series chain of ``fit``'s circuit: per arc the
+    names of its resistance, its capacitance (C, or CPE Q) and its CPE exponent (None for C)."""
+    chain = fit.circuit.children if isinstance(fit.circuit, Series) else (fit.circuit,)
+    out = []
+    for block in chain:
+        if not (isinstance(block, Parallel) and len(block.children) == 2 and all(isinstance(c, Element) for c in block.children)):
+            continue
+        by_symbol = {fit.registry[c.symbol].symbol: c.name for c in block.children}
+        if set(by_symbol) == {"R", "C"}:
+            out.append((by_symbol["R"], by_symbol["C"], None))
+        elif set(by_symbol) == {"R", "CPE"}:
+            out.append((by_symbol["R"], f"{by_symbol['CPE']}.Q", f"{by_symbol['CPE']}.alpha"))
+    return out
+
+
+def _arcs_exchanged(base: FitResult, named: FitResult) -> list[dict[str, float]]:
+    """Starts for the baseline from the named candidate's arcs given to the baseline's arcs in
+    every other order (up to `ARC_ORDERS_MAX`): each arc keeps its resistance R and time
+    constant τ (τ = R·C, or τ^α = R·Q for R ∥ CPE, Z = R/(1 + R·Q·(jω)^α)), the other values
+    are the candidate's where the baseline has them. A candidate that turns C3 into CPE3 can
+    fit as the baseline would with its arcs in another order (the generating R1 ∥ CPE1 fitted
+    by R3 ∥ CPE3): the baseline reaches that optimum only with its arcs exchanged."""
+    mine, theirs = _arcs(base), _arcs(named)
+    if len(mine) < 2 or len(mine) != len(theirs):
+        return []
+    shared = {k: float(named.values.get(k, v)) for k, v in base.values.items()}
+    arcs = []
+    for r, c, a in theirs:
+        r_value, alpha = float(named.values[r]), 1.0 if a is None else float(named.values[a])
+        arcs.append((r_value, (r_value * float(named.values[c])) ** (1 / alpha), alpha))
+    out = []
+    for order in itertools.islice(itertools.permutations(range(len(arcs))), 1, ARC_ORDERS_MAX + 1):
+        start = dict(shared)
+        for (r, c, a), j in zip(mine, order):
+            r_value, tau, alpha = arcs[j]
+            alpha = alpha if a is not None else 1.0
+            start[r], start[c] = r_value, tau**alpha / r_value
+            if a is not None:
+                start[a] = alpha
+        if all(math.isfinite(v) for v in start.values()):
+            out.append(start)
+    return out
 
 
 def _series_resistance_dropped(base: FitResult, proposals: list[tuple[Effect, Proposal]], fits: Sequence[FitResult]) -> list[tuple[Effect, Proposal]]:
@@ -967,13 +1026,18 @@ def noise_weighted_criteria(fit: FitResult, sigma_rel: np.ndarray) -> tuple[floa
     return information_criteria(float(np.sum(r.real**2 + r.imag**2)), 2 * r.size, fit.n_params)
 
 
+def _noise_weighted_mean_square(fit: FitResult, sigma_rel: np.ndarray) -> float:
+    """mean |r_k|²/σ_k² of ``fit``'s relative residuals over the noise model's σ_k: 2 (two
+    components) where the residuals are noise, so a fall of 2 is one noise variance."""
+    return float(np.mean(np.abs(fit.residuals / sigma_rel) ** 2))
+
+
 def _suggestions(base: FitResult, proposals: list[tuple[Effect, Proposal]], fits: Sequence[FitResult], sigma_rel: np.ndarray, bands: Sequence[FailingBand]) -> list[Suggestion]:
     """A `Suggestion` per candidate with a finite fit: ΔAIC and ΔBIC over the noise-weighted
     residuals (`noise_weighted_criteria`), the bands it fixes, its new undetermined parameters,
     a plausibility warning (`Effect.plausible`) and significance (the thresholds, determined,
     plausible, converged)."""
-    noise_var = float(np.mean(2 * sigma_rel**2))
-    base_ms = float(np.mean(np.abs(base.residuals) ** 2))
+    base_ms = _noise_weighted_mean_square(base, sigma_rel)
     base_undetermined = undetermined_parameters(base)
     base_aic, base_bic = noise_weighted_criteria(base, sigma_rel)
     out = []
@@ -982,7 +1046,7 @@ def _suggestions(base: FitResult, proposals: list[tuple[Effect, Proposal]], fits
             continue
         aic, bic = noise_weighted_criteria(cf, sigma_rel)
         d_aic, d_bic = aic - base_aic, bic - base_bic
-        drop = (base_ms - float(np.mean(np.abs(cf.residuals) ** 2))) / noise_var
+        drop = (base_ms - _noise_weighted_mean_square(cf, sigma_rel)) / 2
         undetermined = tuple(sorted(undetermined_parameters(cf) - base_undetermined))
         warning = None
         if undetermined:
@@ -1127,9 +1191,9 @@ def diagnose(
 
     bands, cands, verdict, reason = judged(base)
     if verdict == Verdict.MISSING_EFFECT:  # before naming a missing effect: is the baseline at its own optimum?
-        better = _baseline_checked(base, spectrum, shape, seed=seed)
+        better = _baseline_checked(base, spectrum, shape, next(s.fit for s in cands if s.significant), seed=seed)
         if better is not None:
-            notes.append(f"before naming a missing effect the baseline was refitted from {BASELINE_CHECK_STARTS} starts and reached a better optimum (rms_rel {base.rms_rel * 100:.3g} % → {better.rms_rel * 100:.3g} %); it is used as the baseline")
+            notes.append(f"before naming a missing effect the baseline was refitted from the candidate's values (its arcs in every order) and {BASELINE_CHECK_STARTS} random starts and reached a better optimum (rms_rel {base.rms_rel * 100:.3g} % → {better.rms_rel * 100:.3g} %); it is used as the baseline")
             base = better
             bands, cands, verdict, reason = judged(base)
     masked = tuple(sorted(masked + not_passive))
