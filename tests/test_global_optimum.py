@@ -91,6 +91,26 @@ def test_a_twelve_parameter_ladder_reaches_its_optimum_from_scratch():
     assert default.n_starts > 336  # it took the fourth rung
 
 
+@pytest.mark.parametrize("index", [11, 13])
+def test_a_local_minimum_close_to_the_kk_misfit_climbs_on(index):
+    """The ladder climbs while rms_rel > `starts.KK_MISFIT_FACTOR` (1.2) × the KK misfit. A
+    finger circuit fitted to a finger with a stray capacitance across it (the evaluation set's
+    template, 1 % noise; SYNTHETIC dev draws 11 and 13, seeds no split uses) stopped at
+    1.42–1.45× the KK misfit with 16 starts (rms_rel 1.72 % and 1.93 %), inside the factor 1.5
+    it had; its optimum is 1.02–1.07×. Oracle: the fit from the finger's generating values."""
+    import evaluation_set as es
+
+    template = next(t for t in es.TEMPLATES if t.name == "stray_capacitance/finger")
+    case = es.make_case(template, template.variants[0], "dev", index)
+    data = ix.make_spectrum(case.frequency, case.z)
+    p = template.params
+    truth = {"R_f": p["Rf"], "R_sk": p["Rsk"], "CPE_sk.Q": p["Qsk"], "CPE_sk.alpha": p["ask"], "R_EP": p["Rep"], "CPE_EP.Q": p["Qep"], "CPE_EP.alpha": p["aep"], "C_gap": p["Cgap"]}
+    from_truth = ix.fit(template.circuit, data, init=truth, n_starts=1)
+    default = ix.fit(template.circuit, data)
+    assert default.rms_rel <= 1.01 * from_truth.rms_rel, (default.rms_rel, from_truth.rms_rel)
+    assert default.n_starts > 16  # it climbed
+
+
 def test_a_good_fit_climbs_no_rung():
     """White residuals at the noise: the guess's fit alone, no multistart (the ladder costs
     nothing on good fits)."""

@@ -322,3 +322,28 @@ def test_at_a_tie_the_path_that_leaves_out_fewer_elements_is_kept(greedy_removed
     assert path[-1].model == kept, notes
     assert "do not tell the two apart" in notes[0]
     assert ("it keeps R2, which the path before left out" in notes[0]) == (kept == "L+W")
+
+
+def test_a_final_fit_that_stops_short_of_an_open_resistor_is_taken_from_the_loop():
+    """A resistor running open (R1 → ∞) can stop short of its bound when fitted from scratch:
+    on CHInstruments' real spectrum (impedance.py's example file) R1 stopped at ~1e14 Ω with
+    R1, C1 and R_relax2 undetermined, at the χ² of the loop's fit, whose R1 reached the bound
+    with every parameter determined. The final fit is then the loop's, started from its values:
+    as good as the fit from scratch (1e-6) and determined."""
+    from pathlib import Path
+
+    from impedax.fitting.diagnosis.refinement import _reproduced
+
+    data = ix.load(Path(__file__).parent / "fixtures" / "real" / "exampleDataCHInstruments.txt")
+    model = "R0 + R1 || C1 + (R_relax + R_relax2 || CPE_relax2) || CPE_relax"
+    loop = ix.fit(model, data, n_starts=1, init={  # the refinement's values (2026-11-28)
+        "R0": 98.40, "R1": 5e259, "C1": 1.2815e-4, "R_relax": 451.15, "R_relax2": 2.552e4,
+        "CPE_relax2.Q": 1.5117e-4, "CPE_relax2.alpha": 0.55157, "CPE_relax.Q": 1.9399e-5, "CPE_relax.alpha": 0.77973})
+    assert not undetermined_parameters(loop)
+    scratch = ix.fit(model, data)
+    final, note = _reproduced(data, loop, n_starts=16, seed=0)
+    assert final.chi2 <= scratch.chi2 * (1 + 1e-6)
+    assert final.rms_rel == pytest.approx(scratch.rms_rel, rel=1e-6)
+    assert not undetermined_parameters(final)
+    if undetermined_parameters(scratch):
+        assert note and "undetermined" in note

@@ -126,13 +126,24 @@ class Refinement:
 
 def _reproduced(ds: xr.Dataset, last: FitResult, *, n_starts: int, seed: int) -> tuple[FitResult, str | None]:
     """The final model fitted from scratch with `fit` (what ``impedax fit`` of its model string
-    does on the same points); when the loop's warm fit is better, `fit` started from it."""
-    scratch = fit(last.circuit, ds, fixed={k: v for k, v in last.values.items() if last.fixed[k]} or None, weighting=last.weighting, registry=last.registry, seed=seed)
-    if scratch.chi2 <= last.chi2 * (1 + 1e-6):
+    does on the same points); when the loop's warm fit is better, or as good (χ² within 1e-6)
+    with fewer undetermined parameters, `fit` started from it.
+
+    A parameter running to a natural bound (a resistor running open) can stop short of it from
+    scratch: on CHInstruments' spectrum R1 stopped at 1e14 Ω, leaving R1, C1 and R_relax2
+    undetermined, where the loop's fit reached 5e259 Ω (at the bound: every parameter
+    determined) at the same χ² to 1e-9."""
+    fixed = {k: v for k, v in last.values.items() if last.fixed[k]} or None
+    scratch = fit(last.circuit, ds, fixed=fixed, weighting=last.weighting, registry=last.registry, seed=seed)
+    loose = undetermined_parameters(scratch) - undetermined_parameters(last)
+    if scratch.chi2 <= last.chi2 * (1 + 1e-6) and not loose:
         return scratch, None
-    warm = fit(last.circuit, ds, init=last, fixed={k: v for k, v in last.values.items() if last.fixed[k]} or None, weighting=last.weighting, registry=last.registry, seed=seed)
-    note = f"fit of {last.model} from scratch reaches rms_rel {scratch.rms_rel * 100:.3g} %; started from the refinement's values it reaches {warm.rms_rel * 100:.3g} % (pass init=)"
-    return (warm, note) if warm.chi2 <= scratch.chi2 else (scratch, None)
+    warm = fit(last.circuit, ds, init=last, fixed=fixed, weighting=last.weighting, registry=last.registry, seed=seed)
+    if warm.chi2 <= scratch.chi2 * (1 + 1e-6) and len(undetermined_parameters(warm)) < len(undetermined_parameters(scratch)):
+        return warm, f"fit of {last.model} from scratch reaches rms_rel {scratch.rms_rel * 100:.3g} % with {', '.join(sorted(loose))} undetermined; started from the refinement's values it reaches {warm.rms_rel * 100:.3g} % with every parameter it had determined (pass init=)"
+    if warm.chi2 <= scratch.chi2:
+        return warm, f"fit of {last.model} from scratch reaches rms_rel {scratch.rms_rel * 100:.3g} %; started from the refinement's values it reaches {warm.rms_rel * 100:.3g} % (pass init=)"
+    return scratch, None
 
 
 BRANCH_WINDOW = 40.0
