@@ -139,7 +139,7 @@ def _reproduced(ds: xr.Dataset, last: FitResult, *, n_starts: int, seed: int) ->
     if scratch.chi2 <= last.chi2 * (1 + 1e-6) and not loose:
         return scratch, None
     warm = fit(last.circuit, ds, init=last, fixed=fixed, weighting=last.weighting, registry=last.registry, seed=seed)
-    if warm.chi2 <= scratch.chi2 * (1 + 1e-6) and len(undetermined_parameters(warm)) < len(undetermined_parameters(scratch)):
+    if loose and warm.chi2 <= scratch.chi2 * (1 + 1e-6) and len(undetermined_parameters(warm)) < len(undetermined_parameters(scratch)):
         return warm, f"fit of {last.model} from scratch reaches rms_rel {scratch.rms_rel * 100:.3g} % with {', '.join(sorted(loose))} undetermined; started from the refinement's values it reaches {warm.rms_rel * 100:.3g} % with every parameter it had determined (pass init=)"
     if warm.chi2 <= scratch.chi2:
         return warm, f"fit of {last.model} from scratch reaches rms_rel {scratch.rms_rel * 100:.3g} %; started from the refinement's values it reaches {warm.rms_rel * 100:.3g} % (pass init=)"
