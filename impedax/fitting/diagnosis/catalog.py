@@ -5,6 +5,8 @@ a proposal function looks at and the `Proposal` it returns. The effects themselv
 
 from __future__ import annotations
 
+import math
+
 from dataclasses import dataclass, field
 from typing import Callable, Iterator, Mapping
 
@@ -21,7 +23,8 @@ __all__ = ["Effect", "EffectCatalog", "Proposal", "BaselineContext"]
 class Proposal:
     """One augmented circuit: ``added`` (the new elements, as circuit text) placed ``where``;
     ``removed``: baseline elements the circuit leaves out (a series resistance that fell to zero,
-    a branch of an R ∥ C block that carries no current the data resolve)."""
+    a branch of an R ∥ C block that carries no current the data resolve); ``band``: the lowest
+    and highest frequency (Hz) of the data it was proposed for (plausibility checks read it)."""
 
     effect: str
     circuit: Circuit
@@ -29,6 +32,7 @@ class Proposal:
     where: str
     starts: tuple[Mapping[str, float], ...]
     removed: tuple[str, ...] = ()
+    band: tuple[float, float] = (0.0, math.inf)
 
 
 @dataclass(frozen=True, eq=False)

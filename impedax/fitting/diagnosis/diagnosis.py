@@ -855,7 +855,7 @@ def _left_out(effect: Effect, p: Proposal, cf: FitResult, element: Element, why:
     parameters, saying why it was left out."""
     gone = set(cf.registry[element.symbol].parameter_names(element.name))
     starts = ({k: float(x) for k, x in cf.values.items() if k not in gone},)
-    return effect, Proposal(p.effect, p.circuit.without(element.name), p.added, f"{p.where}, and {element.name} left out ({why})", starts, removed=p.removed + (element.name,))
+    return effect, Proposal(p.effect, p.circuit.without(element.name), p.added, f"{p.where}, and {element.name} left out ({why})", starts, removed=p.removed + (element.name,), band=p.band)
 
 
 def _resistor_capacitor_blocks(circuit: Circuit, registry: Registry):
@@ -958,7 +958,7 @@ def _open_resistor_dropped(base: FitResult, proposals: list[tuple[Effect, Propos
             added = " + ".join(n for n in circuit.element_names if n not in baseline)
             why = f"{r.name} left out: it ran open ({format_quantity(float(cf.values[r.name]), 'Ω')}, over {OPEN_RESISTANCE_FACTOR:g}× the data's largest |Z|)"
             starts = ({k: float(v) for k, v in cf.values.items() if k != r.name},)
-            out.append((effect, Proposal(p.effect, circuit, added, f"{p.where}, {why}", starts, removed=p.removed)))
+            out.append((effect, Proposal(p.effect, circuit, added, f"{p.where}, {why}", starts, removed=p.removed, band=p.band)))
     return out
 
 

@@ -316,6 +316,7 @@ def _diffusion(circuit: Circuit, ctx: BaselineContext) -> list[Proposal]:
     sigma0 = _positive(np.mean(np.abs(dz) * np.sqrt(w_lo) / np.sqrt(2)), z_floor * np.sqrt(ctx.omega[0]))
     r0 = _positive(np.max(np.abs(dz)), z_floor)
     tau0 = 1.0 / ctx.omega[0]
+    band = (float(ctx.frequency[0]), float(ctx.frequency[-1]))
     placements = [(None, "in series at the end of the circuit")] + [(r, f"in series with {r} (Randles-type, behind the charge transfer)") for r in _arc_resistors(circuit, ctx.registry)]
     # modify before add: a semi-infinite Warburg already in the circuit may be finite (Wo, Ws)
     for e in circuit.elements():
@@ -329,7 +330,7 @@ def _diffusion(circuit: Circuit, ctx: BaselineContext) -> list[Proposal]:
                 {**{k: v for k, v in ctx.start().items() if not k.startswith(f"{e.name}.")}, f"{name}.R": sigma_w * np.sqrt(2 * tau), f"{name}.tau": tau}
                 for tau in (tau0, 0.1 * tau0, 10 * tau0)
             )
-            out.append(Proposal("diffusion", circuit.replace(e.name, Element(sym, name)), name, f"in place of the semi-infinite Warburg {e.name} (a finite diffusion layer)", starts))
+            out.append(Proposal("diffusion", circuit.replace(e.name, Element(sym, name)), name, f"in place of the semi-infinite Warburg {e.name} (a finite diffusion layer)", starts, band=band))
     for sym in ("W", "Wo", "Ws"):
         name = ctx.fresh(sym, "d")
         if sym == "W":
@@ -338,7 +339,7 @@ def _diffusion(circuit: Circuit, ctx: BaselineContext) -> list[Proposal]:
             starts = tuple(ctx.start(**{f"{name}.R": r0 * sr, f"{name}.tau": tau0 * st}) for sr, st in ((1.0, 1.0), (1.0, 0.05), (3.0, 10.0)))
         for target, where in placements:
             new = circuit + Element(sym, name) if target is None else circuit.replace(target, Series((Element("R", target), Element(sym, name))))
-            out.append(Proposal("diffusion", new, name, where, starts))
+            out.append(Proposal("diffusion", new, name, where, starts, band=band))
     return out
 
 
@@ -403,6 +404,27 @@ def _lead_plausible(values, p: Proposal) -> str | None:
     return None
 
 
+DIFFUSION_REGION_OMEGA_TAU = 5.0
+"""A finite Warburg's phase is within 1° of 45° (diffusion, Z ∝ (jω)^−½) from ωτ = 5 on."""
+
+
+def _diffusion_plausible(values, p: Proposal) -> str | None:
+    """A finite Warburg (Wo, Ws; Z = R·coth or R·tanh of √(jωτ), over √(jωτ)) shows diffusion
+    only where ωτ ≥ `DIFFUSION_REGION_OMEGA_TAU`; below, it acts as a resistance with a
+    capacitive part (Ws: Z ≈ R(1 − jωτ/3), the start of an arc; phase −18° at ωτ = 1) or a
+    resistance and a capacitor in series (Wo: −72° at ωτ = 1). With the band's top below that
+    region the data see no diffusion, and an arc fits as well (SYNTHETIC R0 + R1 ∥ C1 + R2 ∥ C2
+    with τ₂ = 0.6 µs above a 100 kHz band: Ws_d at τ = 1.1–1.6 µs, ΔAIC within 6 of R ∥ C)."""
+    tau = values.get(f"{p.added}.tau", np.nan)
+    if not (np.isfinite(tau) and tau > 0):
+        return None
+    f_diffusion = DIFFUSION_REGION_OMEGA_TAU / (2 * np.pi * tau)
+    if f_diffusion > p.band[1]:
+        return (f"{p.added}.tau = {tau:.3g} s: its diffusion region (45°, from {f_diffusion:.3g} Hz) lies above the band's top ({p.band[1]:.3g} Hz); "
+                "the data see only its low-frequency part, which an arc or a capacitor makes as well, not diffusion")
+    return None
+
+
 DEFAULT_EFFECTS = EffectCatalog(
     (
         Effect(
@@ -454,6 +476,7 @@ DEFAULT_EFFECTS = EffectCatalog(
             "a 45° tail at low frequency: Z' and −Z'' rise together as f^−½, where the model flattens or turns vertical",
             "add W_d, Wo_d or Ws_d in series with an arc's resistor (Randles) or at the end",
             _diffusion,
+            _diffusion_plausible,
         ),
         Effect(
             "electrode_polarization",
