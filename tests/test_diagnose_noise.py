@@ -631,7 +631,7 @@ def _ladder9_case(template, index, variant=(0.003, "low_f", "weak", 0)):
 def test_an_effect_at_the_quiet_top_of_the_band_counts_by_the_noise_there():
     # the fast arc's C is a CPE (α ≈ 0.9) near the top of the band, where the noise is 6× below
     # the low decade's. The generating circuit lowers BIC by 65; with the rule on the plain mean
-    # |r|² against mean(2σ²) the noisy low decade set the bar (the CPE explained 21 % of it)
+    # |r|² against mean(2σ²) the noisy low decade set the bar (the CPE explained under 25 % of it)
     # and the diagnosis read `adequate`
     case = _ladder9_case("constant_phase/ladder9", 19)
     d = ix.diagnose(ix.make_spectrum(case.frequency, case.z), case.circuit)

@@ -6,7 +6,6 @@ a proposal function looks at and the `Proposal` it returns. The effects themselv
 from __future__ import annotations
 
 import math
-
 from dataclasses import dataclass, field
 from typing import Callable, Iterator, Mapping
 
