@@ -44,7 +44,7 @@ from ...arguments import MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice
 from ...circuits import Circuit, DEFAULT_REGISTRY, Element, Parallel, Registry, Series, parse
 from ...data import make_spectrum
 from ...errors import DataError, FitError, ImpedaxError, ParameterError
-from ..drt import PeakEvidence, drt, unexplained_peaks
+from ..drt import PeakEvidence, drt, r_cpe_tau, unexplained_peaks
 from ..kk import KKResult, kk_test
 from ..least_squares import BatchFitResult, FitResult
 from ..least_squares.candidates import SolverShape, fit_candidates, solver_shape
@@ -740,21 +740,19 @@ def _baseline_checked(base: FitResult, spectrum: xr.Dataset, shape: SolverShape,
     the baseline from the candidate's values 0.511 %). Run only when a missing effect would
     be named."""
     fixed = {k: v for k, v in base.values.items() if base.fixed[k]}
-    from_named = [{k: float(named.values.get(k, v)) for k, v in base.values.items()}] + _arcs_exchanged(base, named)
-    again = fit_candidates([base.circuit], spectrum, init=[[dict(base.values)] + from_named], fixed=fixed or None, weighting=base.weighting, n_starts=BASELINE_CHECK_STARTS, seed=seed, registry=base.registry, shape=shape, max_steps=BASELINE_STEPS)[0]
+    again = fit_candidates([base.circuit], spectrum, init=[[dict(base.values)] + _starts_from(base, named)], fixed=fixed or None, weighting=base.weighting, n_starts=BASELINE_CHECK_STARTS, seed=seed, registry=base.registry, shape=shape, max_steps=BASELINE_STEPS)[0]
     return again if np.isfinite(again.chi2) and again.chi2 < base.chi2 * (1 - 1e-6) else None
 
 
 ARC_ORDERS_MAX = 24
-"""At most this many assignments of a candidate's arcs to the baseline's (`_arcs_exchanged`)."""
+"""At most this many assignments of a candidate's arcs to the baseline's (`_starts_from`)."""
 
 
 def _arcs(fit: FitResult) -> list[tuple[str, str, str | None]]:
     """The arcs R ∥ C and R ∥ CPE in the top series chain of ``fit``'s circuit: per arc the
     names of its resistance, its capacitance (C, or CPE Q) and its CPE exponent (None for C)."""
-    chain = fit.circuit.children if isinstance(fit.circuit, Series) else (fit.circuit,)
     out = []
-    for block in chain:
+    for block in fit.circuit.children if isinstance(fit.circuit, Series) else (fit.circuit,):
         if not (isinstance(block, Parallel) and len(block.children) == 2 and all(isinstance(c, Element) for c in block.children)):
             continue
         by_symbol = {fit.registry[c.symbol].symbol: c.name for c in block.children}
@@ -765,22 +763,23 @@ def _arcs(fit: FitResult) -> list[tuple[str, str, str | None]]:
     return out
 
 
-def _arcs_exchanged(base: FitResult, named: FitResult) -> list[dict[str, float]]:
-    """Starts for the baseline from the named candidate's arcs given to the baseline's arcs in
-    every other order (up to `ARC_ORDERS_MAX`): each arc keeps its resistance R and time
-    constant τ (τ = R·C, or τ^α = R·Q for R ∥ CPE, Z = R/(1 + R·Q·(jω)^α)), the other values
-    are the candidate's where the baseline has them. A candidate that turns C3 into CPE3 can
-    fit as the baseline would with its arcs in another order (the generating R1 ∥ CPE1 fitted
-    by R3 ∥ CPE3): the baseline reaches that optimum only with its arcs exchanged."""
+def _starts_from(base: FitResult, named: FitResult) -> list[dict[str, float]]:
+    """Starts for the baseline from the named candidate: its values where the baseline has the
+    parameter (the baseline's for the rest), then the same with the candidate's arcs given to
+    the baseline's arcs in every other order (up to `ARC_ORDERS_MAX`), each arc keeping its
+    resistance R and time constant τ (τ = R·C, or τ^α = R·Q for R ∥ CPE, Z = R/(1 + R·Q·(jω)^α);
+    `r_cpe_tau`). A candidate that turns C3 into CPE3 can fit as the baseline would with its
+    arcs in another order (the generating R1 ∥ CPE1 fitted by R3 ∥ CPE3): the baseline reaches
+    that optimum only with its arcs exchanged."""
+    shared = {k: float(named.values.get(k, v)) for k, v in base.values.items()}
     mine, theirs = _arcs(base), _arcs(named)
     if len(mine) < 2 or len(mine) != len(theirs):
-        return []
-    shared = {k: float(named.values.get(k, v)) for k, v in base.values.items()}
+        return [shared]
     arcs = []
     for r, c, a in theirs:
         r_value, alpha = float(named.values[r]), 1.0 if a is None else float(named.values[a])
-        arcs.append((r_value, (r_value * float(named.values[c])) ** (1 / alpha), alpha))
-    out = []
+        arcs.append((r_value, r_cpe_tau(r_value, float(named.values[c]), alpha), alpha))
+    out = [shared]
     for order in itertools.islice(itertools.permutations(range(len(arcs))), 1, ARC_ORDERS_MAX + 1):
         start = dict(shared)
         for (r, c, a), j in zip(mine, order):
