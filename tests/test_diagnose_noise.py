@@ -156,10 +156,10 @@ def test_a_cpe_far_from_one_radian_per_second_is_determined():
     assert abs(corr[iq, ia]) < 1e-8
     omega_c = np.exp(-fit.covariance[iq, ia] / fit.values["CPE1.Q"] / fit.covariance[ia, ia])
     assert 2 * np.pi * f[0] < omega_c < 2 * np.pi * f[-1]
-    # the other parameters are untouched
+    # the other parameters are untouched: R0's error against its value, α's against its range (0, 1]
     ir = names.index("R0")
     assert rel_sd[ir] == pytest.approx(fit.stderr["R0"] / fit.values["R0"])
-    assert rel_sd[ia] == pytest.approx(fit.stderr["CPE1.alpha"] / fit.values["CPE1.alpha"])
+    assert rel_sd[ia] == pytest.approx(fit.stderr["CPE1.alpha"] / 1.0)
 
 
 def test_candidates_carry_their_undetermined_parameters_and_warnings():
@@ -216,6 +216,22 @@ def test_an_arc_above_the_band_is_not_named_diffusion():
     # (a candidate whose parameters are undetermined carries that warning instead)
     assert finite and all(c.warning and not c.significant for c in finite)
     assert any("diffusion region" in c.warning for c in finite)
+
+
+def test_a_finite_warburg_within_the_aic_margin_of_an_arc_comes_after_it():
+    # a 9-element ladder missing a fast R ∥ C (the evaluation set's extra_relaxation/ladder9,
+    # SYNTHETIC dev draw 11, a seed no split uses; 1 % noise): a Ws_d nested in the fast arc
+    # fitted 4 in AIC better than R ∥ C with as many parameters and was named first. Within
+    # DELTA_AIC_MIN the data do not show its 45° region decisively: the arc goes first
+    t = next(t for t in es.TEMPLATES if t.name == "extra_relaxation/ladder9")
+    case = es.make_case(t, t.variants[0], "dev", 11)
+    d = ix.diagnose(ix.make_spectrum(case.frequency, case.z), case.circuit)
+    first = d.suggestions[0]
+    assert first.effect == "extra_relaxation", d.report()
+    finite = [c for c in d.suggestions if c.effect == "diffusion" and c.added.startswith(("Ws", "Wo"))]
+    assert finite and finite[0].fit.n_params == first.fit.n_params
+    assert finite[0].delta_aic < first.delta_aic < finite[0].delta_aic + 10  # better by AIC, within the margin
+    assert d.suggestions.index(finite[0]) > 0
 
 
 @pytest.mark.parametrize("value,unit,text", [(84e-6, "F", "84 µF"), (2200.0, "ohm", "2.2 kΩ"), (0.81, "1", "0.81"), (1.5e-6, "H", "1.5 µH")])
@@ -486,6 +502,27 @@ def test_in_a_correlated_pair_only_the_poorly_known_member_is_undetermined():
     assert CORRELATION_MAX < abs(corr[r0, partner]) <= CORRELATION_SINGULAR
     assert rel_sd[r0] > CORRELATED_ERROR_MAX >= rel_sd[partner]
     assert undetermined_parameters(fit) == {"R0"}
+
+
+def test_an_exponent_is_known_by_its_error_against_its_range():
+    # electrode polarization across a bare gap, R_EP ∥ CPE_EP ∥ C_gap with α_EP ≈ 0.25
+    # (the evaluation set's electrode_polarization/gap, weak, 0.3 % noise growing toward low
+    # frequency; SYNTHETIC dev2 draw 1). α is fitted to ± 0.05, a twentieth of its range (0, 1],
+    # but to more than 10 % of its small value while correlated above 0.99 with R_EP: judged
+    # against its value it was undetermined, the generating circuit was not proposed and a
+    # series arc was named
+    t = next(t for t in es.TEMPLATES if t.name == "electrode_polarization/gap")
+    case = es.make_case(t, t.variants[1], "dev2", 1)
+    data = ix.make_spectrum(case.frequency, case.z)
+    fit = ix.fit("R_EP || CPE_EP || C_gap", data)
+    alpha, error = fit.values["CPE_EP.alpha"], fit.stderr["CPE_EP.alpha"]
+    names = list(fit.free_names)
+    corr = np.asarray(fit.correlation)[names.index("CPE_EP.alpha")]
+    assert error / alpha > CORRELATED_ERROR_MAX and np.max(np.abs(np.delete(corr, names.index("CPE_EP.alpha")))) > CORRELATION_MAX
+    assert error < 0.1  # (the range of α is 1)
+    assert "CPE_EP.alpha" not in undetermined_parameters(fit)
+    d = ix.diagnose(data, case.circuit)
+    assert d.suggestions[0].effect == "electrode_polarization" and "CPE_EP" in d.suggestions[0].model, d.report()
 
 
 def test_a_series_resistance_traded_against_an_arc_above_the_band_is_left_out():

@@ -53,7 +53,7 @@ from ..problem import WEIGHTINGS, open_spectrum
 from ..statistics import information_criteria, non_passive
 from .bands import FailingBand, failing_bands, format_frequency, RUN_P
 from .catalog import BaselineContext, Effect, EffectCatalog, Proposal
-from .effects import DEFAULT_EFFECTS
+from .effects import DEFAULT_EFFECTS, IN_PLACE_OF_WARBURG
 from .noise import NOISE_FLOOR, OUTLIER_MAX_FRACTION, NoiseModel, kk_indices, kk_judged_locally, kk_outliers, noise_model
 
 __all__ = [
@@ -359,9 +359,9 @@ def format_range(sigma: np.ndarray) -> str:
 
 def undetermined_parameters(fit: FitResult) -> frozenset[str]:
     """Free parameters the data do not determine: standard error not finite or above
-    `RELATIVE_ERROR_MAX` × |value|, or |correlation| with another above `CORRELATION_MAX`
-    while either of the pair has a standard error above `CORRELATED_ERROR_MAX` × |value|, or
-    above `CORRELATION_SINGULAR`.
+    `RELATIVE_ERROR_MAX` × |value| (an exponent: × the width of its range, `_error_scales`),
+    or |correlation| with another above `CORRELATION_MAX` while that member's standard error
+    is above `CORRELATED_ERROR_MAX` × the same, or above `CORRELATION_SINGULAR`.
 
     A constant-phase coefficient is judged where the data measure it: Q of
     Z = 1/(Q (jω)^α) is the admittance at ω = 1 rad/s, often decades outside the band, so its
@@ -392,9 +392,19 @@ def _undetermined_elements(fit: FitResult) -> frozenset[str]:
     return frozenset(out)
 
 
+def _error_scales(fit: FitResult, names: Sequence[str], values: np.ndarray) -> np.ndarray:
+    """What each parameter's standard error is measured against: its value, or for an exponent
+    on a finite range (a CPE's α in (0, 1]) the width of that range. An exponent's error is
+    absolute: α = 0.17 ± 0.05 is known to a twentieth of its range, though 29 % of its value."""
+    specs = fit.circuit.parameter_specs(fit.registry)
+    width = np.array([specs[n].upper - specs[n].lower if specs[n].unit == "1" else np.nan for n in names], float)
+    return np.where(np.isfinite(width) & (width > 0), width, values)
+
+
 def centred_covariance(fit: FitResult) -> tuple[np.ndarray, np.ndarray]:
-    """Relative standard errors and correlations of ``fit``'s free parameters, each CPE's Q
-    taken at the angular frequency ω_c of the band where it is least correlated with α.
+    """Relative standard errors (`_error_scales`: an exponent's against its range) and
+    correlations of ``fit``'s free parameters, each CPE's Q taken at the angular frequency ω_c
+    of the band where it is least correlated with α.
 
     With y = ln Q + α ln ω_c (ln of the CPE's admittance coefficient at ω_c):
     cov(y, α) = cov(ln Q, α) + ln ω_c var(α) = 0 at ln ω_c = −cov(ln Q, α)/var(α), clipped
@@ -404,8 +414,9 @@ def centred_covariance(fit: FitResult) -> tuple[np.ndarray, np.ndarray]:
     names = list(fit.free_names)
     values = np.array([fit.values[n] for n in names], float)
     stderr = np.array([fit.stderr[n] for n in names], float)
+    scale = _error_scales(fit, names, values)
     with np.errstate(all="ignore"):
-        rel_sd = np.abs(stderr / values)
+        rel_sd = np.abs(stderr / scale)
     corr = np.asarray(fit.correlation, float)
     cov = np.asarray(fit.covariance, float)
     pairs = [(names.index(n), names.index(n[:-2] + ".alpha")) for n in names if n.endswith(".Q") and n[:-2] + ".alpha" in names]
@@ -423,7 +434,7 @@ def centred_covariance(fit: FitResult) -> tuple[np.ndarray, np.ndarray]:
         cov_c = transform @ cov @ transform.T
         sd = np.sqrt(np.clip(np.diag(cov_c), 0, None))
         corr_c = cov_c / np.outer(sd, sd)
-        rel_c = np.abs(sd / values)
+        rel_c = np.abs(sd / scale)
     for iq, _ in pairs:
         rel_c[iq] = sd[iq]
     return rel_c, corr_c
@@ -516,6 +527,19 @@ def _drt_supports(s: Suggestion, evidence: PeakEvidence | None) -> bool:
     return any(abs(math.log10(r * c / p.tau_s)) <= 0.5 for p in narrow)
 
 
+# finite Warburgs: their low-frequency part is an arc (Ws) or R + C in series (Wo); diffusion
+# shows only in their 45° region
+FINITE_WARBURGS = ("Wo", "Ws")
+
+
+def _claims_finite_diffusion(s: Suggestion) -> bool:
+    """Does the candidate add a finite Warburg (Wo, Ws) as diffusion (not in place of a
+    semi-infinite W the circuit had)?"""
+    if s.effect != "diffusion" or s.added not in s.fit.circuit.element_names:
+        return False
+    return s.fit.registry[s.fit.circuit.element(s.added).symbol].symbol in FINITE_WARBURGS and not s.where.startswith(IN_PLACE_OF_WARBURG)
+
+
 def _rank(cands: list[Suggestion], evidence: PeakEvidence | None = None, loose: frozenset[str] = frozenset()) -> list[Suggestion]:
     """Best first by AIC, with the same parsimony rule as the verdict: a candidate with more
     free parameters outranks a simpler one only if it lowers AIC by more than `DELTA_AIC_MIN`.
@@ -523,8 +547,10 @@ def _rank(cands: list[Suggestion], evidence: PeakEvidence | None = None, loose: 
     ``loose`` (the elements the baseline does not determine: it gave them no value to stand
     for). Among candidates the data cannot tell apart (within `DELTA_AIC_MIN`), one that keeps
     every element goes first (R ∥ C + R ∥ C is the same function of frequency as
-    (R0 + R ∥ C) ∥ C), then the smaller, then one that drops no element at all, then one the
-    DRT backs (`_drt_supports`). When a candidate that keeps every element is significant,
+    (R0 + R ∥ C) ∥ C), then the smaller, then one that drops no element at all, then one that
+    does not add a finite Warburg as diffusion (`_claims_finite_diffusion`: its 45° region is
+    what tells it from an arc of as many parameters, and within `DELTA_AIC_MIN` the data do
+    not show it decisively), then one the DRT backs (`_drt_supports`). When a candidate that keeps every element is significant,
     every candidate that leaves one out comes after it: leaving an element out changes what
     the user's elements stand for (R_sc of an arc becomes the series resistance), so it is the
     answer only when nothing that keeps them explains the data. Candidates with a warning
@@ -538,7 +564,7 @@ def _rank(cands: list[Suggestion], evidence: PeakEvidence | None = None, loose: 
         while rest:
             best_aic = rest[0].delta_aic
             close = [s for s in rest if s.delta_aic <= best_aic + DELTA_AIC_MIN]
-            pick = min(close, key=lambda s: (left_out(s), s.fit.n_params, bool(s.removed), not _drt_supports(s, evidence), s.delta_aic))
+            pick = min(close, key=lambda s: (left_out(s), s.fit.n_params, bool(s.removed), _claims_finite_diffusion(s), not _drt_supports(s, evidence), s.delta_aic))
             out.append(pick)
             rest.remove(pick)
         return out

@@ -18,7 +18,7 @@ from ...circuits import Circuit, DCPath, Element, Parallel, Registry, Series
 from ..drt import r_cpe_tau
 from .catalog import BaselineContext, Effect, EffectCatalog, Proposal
 
-__all__ = ["DEFAULT_EFFECTS"]
+__all__ = ["DEFAULT_EFFECTS", "IN_PLACE_OF_WARBURG"]
 
 
 # --- tree helpers ---------------------------------------------------------------------------
@@ -307,6 +307,10 @@ def _extra_relaxation(circuit: Circuit, ctx: BaselineContext) -> list[Proposal]:
     return out
 
 
+# how a diffusion candidate's ``where`` begins when its finite Warburg replaces the circuit's W
+IN_PLACE_OF_WARBURG = "in place of the semi-infinite Warburg"
+
+
 def _diffusion(circuit: Circuit, ctx: BaselineContext) -> list[Proposal]:
     out = []
     lo, _ = ctx.ends()
@@ -330,7 +334,7 @@ def _diffusion(circuit: Circuit, ctx: BaselineContext) -> list[Proposal]:
                 {**{k: v for k, v in ctx.start().items() if not k.startswith(f"{e.name}.")}, f"{name}.R": sigma_w * np.sqrt(2 * tau), f"{name}.tau": tau}
                 for tau in (tau0, 0.1 * tau0, 10 * tau0)
             )
-            out.append(Proposal("diffusion", circuit.replace(e.name, Element(sym, name)), name, f"in place of the semi-infinite Warburg {e.name} (a finite diffusion layer)", starts, band=band))
+            out.append(Proposal("diffusion", circuit.replace(e.name, Element(sym, name)), name, f"{IN_PLACE_OF_WARBURG} {e.name} (a finite diffusion layer)", starts, band=band))
     for sym in ("W", "Wo", "Ws"):
         name = ctx.fresh(sym, "d")
         if sym == "W":
