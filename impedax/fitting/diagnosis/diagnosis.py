@@ -550,10 +550,11 @@ def _rank(cands: list[Suggestion], evidence: PeakEvidence | None = None, loose: 
     (R0 + R ∥ C) ∥ C), then the smaller, then one that drops no element at all, then one that
     does not add a finite Warburg as diffusion (`_claims_finite_diffusion`: its 45° region is
     what tells it from an arc of as many parameters, and within `DELTA_AIC_MIN` the data do
-    not show it decisively), then one the DRT backs (`_drt_supports`). When a candidate that keeps every element is significant,
-    every candidate that leaves one out comes after it: leaving an element out changes what
-    the user's elements stand for (R_sc of an arc becomes the series resistance), so it is the
-    answer only when nothing that keeps them explains the data. Candidates with a warning
+    not show it decisively), then one the DRT backs (`_drt_supports`). When a candidate that
+    keeps every element is significant, every candidate that leaves one out comes after it:
+    leaving an element out changes what the user's elements stand for (R_sc of an arc becomes
+    the series resistance), so it is the answer only when nothing that keeps them explains the
+    data. Candidates with a warning
     (undetermined or implausible parameters, no convergence) come after all the others."""
     def left_out(s: Suggestion) -> bool:
         return not set(s.removed) <= loose
