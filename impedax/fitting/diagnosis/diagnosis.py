@@ -57,7 +57,7 @@ from .effects import DEFAULT_EFFECTS, IN_PLACE_OF_WARBURG
 from .noise import NOISE_FLOOR, OUTLIER_MAX_FRACTION, NoiseModel, kk_indices, kk_judged_locally, kk_outliers, noise_model
 
 __all__ = [
-    "Diagnosis", "Suggestion", "Verdict", "diagnose",
+    "Diagnosis", "Suggestion", "Verdict", "diagnose", "noise_variance_explained",
     "DELTA_AIC_MIN", "NOISE_FRACTION_MIN", "NOISE_RATIO_MAX", "NOISE_FLOOR", "KK_INVALID_FRACTION", "KK_INVALID_RMS", "BASELINE_STEPS",
     "KK_COMPARABLE", "MASK_MAX_FRACTION", "OPEN_RESISTANCE_FACTOR", "ARC_ORDERS_MAX", "RELATIVE_ERROR_MAX", "CORRELATION_MAX", "CORRELATED_ERROR_MAX", "CORRELATION_SINGULAR",
 ]
@@ -1056,6 +1056,20 @@ def _noise_weighted_mean_square(fit: FitResult, sigma_rel: np.ndarray) -> float:
     """mean |r_k|²/σ_k² of ``fit``'s relative residuals over the noise model's σ_k: 2 (two
     components) where the residuals are noise, so a fall of 2 is one noise variance."""
     return float(np.mean(np.abs(fit.residuals / sigma_rel) ** 2))
+
+
+def noise_variance_explained(before: FitResult, after: FitResult, diagnosis: "Diagnosis") -> float:
+    """How much of the noise variance ``after`` explains beyond ``before``: the fall of
+    mean |r_k|²/σ_k² over 2 (`_noise_weighted_mean_square`), σ_k the noise model of
+    ``diagnosis`` taken at each fit's frequencies (fits of the same data, possibly with points
+    masked). The second significance rule (`NOISE_FRACTION_MIN`) holds it against 0.25."""
+    sigma_of = dict(zip(np.asarray(diagnosis.baseline.frequency, float).tolist(), np.asarray(diagnosis.noise, float)))
+
+    def mean_square(fit):
+        sigma = np.array([sigma_of.get(f, np.nan) for f in np.asarray(fit.frequency, float).tolist()])  # (points the noise model does not cover: left out)
+        return float(np.nanmean(np.abs(fit.residuals / sigma) ** 2))
+
+    return (mean_square(before) - mean_square(after)) / 2
 
 
 def _suggestions(base: FitResult, proposals: list[tuple[Effect, Proposal]], fits: Sequence[FitResult], sigma_rel: np.ndarray, bands: Sequence[FailingBand]) -> list[Suggestion]:

@@ -16,7 +16,7 @@ from ...errors import ParameterError
 from ..least_squares import FitResult, fit
 from ..problem import WEIGHTINGS, open_spectrum
 from .catalog import EffectCatalog
-from .diagnosis import CANDIDATE_STEPS, DELTA_AIC_MIN, Diagnosis, Verdict, diagnose, undetermined_parameters
+from .diagnosis import CANDIDATE_STEPS, DELTA_AIC_MIN, NOISE_FRACTION_MIN, Diagnosis, Verdict, diagnose, noise_variance_explained, undetermined_parameters
 from .effects import DEFAULT_EFFECTS
 
 __all__ = ["Refinement", "RefinementStep", "refine"]
@@ -208,10 +208,14 @@ def _second_path(steps: list[RefinementStep], limit: int, diagnosed, say, notes:
         tie = abs(b.aic - a.aic) <= DELTA_AIC_MIN and b.n_params == a.n_params
         kept_more = _elements_left_out(other) < _elements_left_out(steps)
         better = b.aic < a.aic - DELTA_AIC_MIN or (b.aic <= a.aic + DELTA_AIC_MIN and b.n_params < a.n_params) or (tie and kept_more)
+        # more parameters are kept by the rules that add one: AIC and a quarter of the noise variance
+        slight = better and b.n_params > a.n_params and noise_variance_explained(a, b, first) < NOISE_FRACTION_MIN
+        better = better and not slight
         notes.append(
             f"a {label}, starting from {alt.effect} ({alt.added}, {alt.where}) instead of {picked.effect} ({picked.added}, {picked.where}), "
             f"ends at {other[-1].model} (AIC {b.aic:.1f}, {b.n_params} parameters) against {steps[-1].model} (AIC {a.aic:.1f}, {a.n_params} parameters): "
             + ("it is kept" if better else "the path before it is kept")
+            + (f" (it fits better by AIC, but with {b.n_params - a.n_params} more parameter(s) it explains under {NOISE_FRACTION_MIN:.0%} of the noise variance more)" if slight else "")
             + (f"; the data do not tell the two apart (AIC within {DELTA_AIC_MIN:g}, as many parameters)" if tie else "")
             + (f", and it keeps {', '.join(sorted(_elements_left_out(steps) - _elements_left_out(other)))}, which the path before left out" if tie and better else "")
         )
