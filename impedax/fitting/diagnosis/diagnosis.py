@@ -53,7 +53,7 @@ from ..problem import WEIGHTINGS, open_spectrum
 from ..statistics import information_criteria, non_passive
 from .bands import FailingBand, failing_bands, format_frequency, RUN_P
 from .catalog import BaselineContext, Effect, EffectCatalog, Proposal
-from .effects import DEFAULT_EFFECTS, IN_PLACE_OF_WARBURG
+from .effects import DEFAULT_EFFECTS, FINITE_WARBURGS, IN_PLACE_OF_WARBURG
 from .noise import NOISE_FLOOR, OUTLIER_MAX_FRACTION, NoiseModel, kk_indices, kk_judged_locally, kk_outliers, noise_model
 
 __all__ = [
@@ -525,11 +525,6 @@ def _drt_supports(s: Suggestion, evidence: PeakEvidence | None) -> bool:
         return False
     narrow = [p for p in evidence.unexplained if not any(p is d for d in evidence.distributed)]
     return any(abs(math.log10(r * c / p.tau_s)) <= 0.5 for p in narrow)
-
-
-# finite Warburgs: their low-frequency part is an arc (Ws) or R + C in series (Wo); diffusion
-# shows only in their 45° region
-FINITE_WARBURGS = ("Wo", "Ws")
 
 
 def _claims_finite_diffusion(s: Suggestion) -> bool:
@@ -1054,8 +1049,9 @@ def noise_weighted_criteria(fit: FitResult, sigma_rel: np.ndarray) -> tuple[floa
 
 def _noise_weighted_mean_square(fit: FitResult, sigma_rel: np.ndarray) -> float:
     """mean |r_k|²/σ_k² of ``fit``'s relative residuals over the noise model's σ_k: 2 (two
-    components) where the residuals are noise, so a fall of 2 is one noise variance."""
-    return float(np.mean(np.abs(fit.residuals / sigma_rel) ** 2))
+    components) where the residuals are noise, so a fall of 2 is one noise variance. Points
+    whose σ_k is NaN (not covered by the noise model) are left out."""
+    return float(np.nanmean(np.abs(fit.residuals / sigma_rel) ** 2))
 
 
 def noise_variance_explained(before: FitResult, after: FitResult, diagnosis: "Diagnosis") -> float:
@@ -1066,8 +1062,7 @@ def noise_variance_explained(before: FitResult, after: FitResult, diagnosis: "Di
     sigma_of = dict(zip(np.asarray(diagnosis.baseline.frequency, float).tolist(), np.asarray(diagnosis.noise, float)))
 
     def mean_square(fit):
-        sigma = np.array([sigma_of.get(f, np.nan) for f in np.asarray(fit.frequency, float).tolist()])  # (points the noise model does not cover: left out)
-        return float(np.nanmean(np.abs(fit.residuals / sigma) ** 2))
+        return _noise_weighted_mean_square(fit, np.array([sigma_of.get(f, np.nan) for f in np.asarray(fit.frequency, float).tolist()]))
 
     return (mean_square(before) - mean_square(after)) / 2
 

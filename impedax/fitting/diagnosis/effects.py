@@ -18,7 +18,7 @@ from ...circuits import Circuit, DCPath, Element, Parallel, Registry, Series
 from ..drt import r_cpe_tau
 from .catalog import BaselineContext, Effect, EffectCatalog, Proposal
 
-__all__ = ["DEFAULT_EFFECTS", "IN_PLACE_OF_WARBURG"]
+__all__ = ["DEFAULT_EFFECTS", "FINITE_WARBURGS", "IN_PLACE_OF_WARBURG"]
 
 
 # --- tree helpers ---------------------------------------------------------------------------
@@ -307,6 +307,9 @@ def _extra_relaxation(circuit: Circuit, ctx: BaselineContext) -> list[Proposal]:
     return out
 
 
+# finite Warburgs: their low-frequency part is an arc (Ws) or R + C in series (Wo); diffusion
+# shows only in their 45° region
+FINITE_WARBURGS = ("Wo", "Ws")
 # how a diffusion candidate's ``where`` begins when its finite Warburg replaces the circuit's W
 IN_PLACE_OF_WARBURG = "in place of the semi-infinite Warburg"
 
@@ -327,7 +330,7 @@ def _diffusion(circuit: Circuit, ctx: BaselineContext) -> list[Proposal]:
         if _symbol(ctx.registry, e) != "W":
             continue
         sigma_w = ctx.values.get(f"{e.name}.sigma", sigma0)
-        for sym in ("Wo", "Ws"):
+        for sym in FINITE_WARBURGS:
             name = ctx.fresh(sym, e.name.split("_", 1)[1] if "_" in e.name else "d")
             # a finite layer behaves as W (R = σ√(2τ)) above 1/τ: start τ at and beyond the band's bottom
             starts = tuple(
@@ -335,7 +338,7 @@ def _diffusion(circuit: Circuit, ctx: BaselineContext) -> list[Proposal]:
                 for tau in (tau0, 0.1 * tau0, 10 * tau0)
             )
             out.append(Proposal("diffusion", circuit.replace(e.name, Element(sym, name)), name, f"{IN_PLACE_OF_WARBURG} {e.name} (a finite diffusion layer)", starts, band=band))
-    for sym in ("W", "Wo", "Ws"):
+    for sym in ("W",) + FINITE_WARBURGS:
         name = ctx.fresh(sym, "d")
         if sym == "W":
             starts = tuple(ctx.start(**{f"{name}.sigma": sigma0 * s}) for s in (1.0, 0.2, 5.0))
