@@ -189,7 +189,7 @@ def _multistart_rung(out, solver, circuit, table, features, poor, n_starts, mult
     per = multiple * n_starts
     starts = rung_starts(circuit, table, features[poor], n_starts, [rung_seed(seed, rung, call) for call in range(multiple)], registry).reshape(poor.size * per, -1)
     owner = np.repeat(poor, per)
-    u_s, chi2_s, _, steps_s = solver.solve(starts, owner, np.full(owner.size, SCREEN_STEPS))
+    u_s, chi2_s, _, steps_s = solver.solve(starts, owner, np.full(owner.size, SCREEN_STEPS), cold=True)
     chi2_s = np.where(np.isfinite(chi2_s), chi2_s, np.inf).reshape(poor.size, per)
     best = np.argmin(chi2_s, axis=1)
     u_best = u_s.reshape(poor.size, per, -1)[np.arange(poor.size), best]
@@ -315,26 +315,29 @@ class _LaneRunner:
             out[j, : part.size] = values[part]
         return out
 
-    def _run(self, u0, spectrum, budget, *, many: bool):
+    def _run(self, u0, spectrum, budget, scaled, *, many: bool):
         n_lanes, capacity = (_LANES, _CAPACITY) if many else (_FEW_LANES, _FEW_CAPACITY)
-        solve, sharding = over_devices(self.lanes(n_lanes), 5, drain=not many, stored=("batch-lanes", (self.key, n_lanes)))
+        solve, sharding = over_devices(self.lanes(n_lanes), 6, drain=not many, stored=("batch-lanes", (self.key, n_lanes)))
         groups = self._groups(len(u0), capacity, n_lanes)
         pending = []
         for parts in groups:
             rows, local, shared = self._local([spectrum[p] for p in parts], capacity, sharding)
             counts = np.zeros(len(jax.devices()), np.int64)
             counts[: len(parts)] = [p.size for p in parts]
-            pending.append(solve(self._stacked(u0, parts, capacity, u0[0]), local, self._stacked(budget, parts, capacity, 0), counts, rows, shared))
+            pending.append(solve(self._stacked(u0, parts, capacity, u0[0]), local, self._stacked(budget, parts, capacity, 0), counts, rows, self._stacked(scaled, parts, capacity, True), shared))
         results = jax.device_get(pending)
         return [np.concatenate([r[i][j, : p.size] for r, parts in zip(results, groups) for j, p in enumerate(parts)]) for i in range(4)]
 
-    def solve(self, u0, spectrum, budget):
-        """(u, chi², done, steps) of every problem, each run to convergence or its budget."""
+    def solve(self, u0, spectrum, budget, *, cold: bool = False):
+        """(u, chi², done, steps) of every problem, each run to convergence or its budget.
+        ``cold`` (random starts): damped with λI by the trust-region rule, as a single fit's
+        first steps; else with Marquardt's scaling (docs/fitting.md, "Damping")."""
         many = len(u0) >= _MANY_LANES_FROM * len(jax.devices())
-        u, chi2, done, steps = self._run(np.asarray(u0, float), spectrum, budget, many=many)
+        scaled = np.full(len(u0), not cold)
+        u, chi2, done, steps = self._run(np.asarray(u0, float), spectrum, budget, scaled, many=many)
         open_ = np.flatnonzero(~done & (steps < budget))
         if many and open_.size:  # left open by the early stop: continue on a few lanes
-            u2, chi2_2, done2, steps2 = self._run(u[open_], spectrum[open_], budget[open_] - steps[open_], many=False)
+            u2, chi2_2, done2, steps2 = self._run(u[open_], spectrum[open_], budget[open_] - steps[open_], scaled[open_], many=False)
             u[open_], chi2[open_], done[open_], steps[open_] = u2, chi2_2, done2, steps[open_] + steps2
         return u, chi2, done, steps
 

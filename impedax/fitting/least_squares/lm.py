@@ -80,7 +80,7 @@ def solve_by_elimination(a, b):
     return m[:, k]
 
 
-def lm_iteration(normal: Callable, rtol: float = 1e-8, xtol: float = 1e-10, extra_init: Callable | None = None, linear_solve: Callable = solve_by_elimination, scaling: bool = True, trust_region: bool = False):
+def lm_iteration(normal: Callable, rtol: float = 1e-8, xtol: float = 1e-10, extra_init: Callable | None = None, linear_solve: Callable = solve_by_elimination, scaling: bool = True, trust_region: bool = False, scaled_stop: bool = False):
     """(init, step) of a dense Levenberg–Marquardt iteration for ½‖r(u)‖² with Nielsen's
     damping update (Madsen, Nielsen & Tingleff 2004, alg. 3.16): the damped system is
     (JᵀJ + λD)δ = −Jᵀr with Marquardt's scaling D = the running maximum of diag(JᵀJ)
@@ -104,6 +104,9 @@ def lm_iteration(normal: Callable, rtol: float = 1e-8, xtol: float = 1e-10, extr
     the global basin more often (docs/fitting.md, "Damping"). With it, a start is done after
     an accepted step below ``xtol``, rather than before a proposed one: on exact data the
     last, small Gauss–Newton step takes the residual from ~1e-13 to rounding level.
+    ``scaled_stop``: with ``trust_region``, the starts with Marquardt's scaling stop by
+    Nielsen's rule (before a small proposed step) as without it, so that a work queue mixing
+    both dampings leaves its scaled problems as they were (`work_queue`).
 
     Each step linearises once at the trial point and keeps it only when the cost falls (the
     state holds JᵀJ and Jᵀr, not J), so the model's Jacobian is traced once. A start is done
@@ -149,7 +152,10 @@ def lm_iteration(normal: Callable, rtol: float = 1e-8, xtol: float = 1e-10, extr
         small = lambda step: jnp.sqrt(jnp.sum(step**2)) <= xtol * (jnp.sqrt(jnp.sum(u**2)) + xtol)  # noqa: E731
         # trust_region: done after taking a small step (as optimistix's test on the last step),
         # not before it: on exact data that last Gauss–Newton step reaches rounding level
-        tiny = (~first & ok & small(s.u_try - s.u)) if trust_region else (solved & small(delta))
+        tiny = solved & small(delta)
+        if trust_region:
+            tiny_tr = ~first & ok & small(s.u_try - s.u)
+            tiny = jnp.where(s.scaled, tiny, tiny_tr) if scaled_stop else tiny_tr
         done = s.done | flat | tiny | (lam > 1e15) | ~jnp.isfinite(cost)
         new = LMState(u=u, a=a, g=g, cost=cost, u_try=u + delta, pred=pred, lam=lam, nu=nu, i=s.i + 1, done=done, dmax=dmax, extra=extra, scaled=s.scaled)
         return jax.tree_util.tree_map(lambda a_, b_: jnp.where(s.done, b_, a_), new, s)  # a finished start stays put
@@ -173,7 +179,7 @@ class QueueOutput(NamedTuple):
     steps: jax.Array
 
 
-def work_queue(normal_u: Callable, n_lanes: int, combine: Callable, *, linear_solve: Callable = solve_damped):
+def work_queue(normal_u: Callable, n_lanes: int, combine: Callable, *, linear_solve: Callable = solve_damped, trust_region: bool = False):
     """A work-queue Levenberg–Marquardt solver for many independent problems (spectra, or
     spectrum × start pairs). ``n_lanes`` problems iterate side by side (``vmap`` of one
     `lm_iteration` step); when a lane's problem converges or spends its step budget, the result
@@ -192,8 +198,11 @@ def work_queue(normal_u: Callable, n_lanes: int, combine: Callable, *, linear_so
     the C problems. ``linear_solve``: as in `lm_iteration` (default `solve_damped`; the
     elimination compiles much faster). ``scaled`` (C,) bool, optional: per problem, Marquardt's
     scaling (True, the default) or D = I (`lm_iteration`); one compilation serves both.
+    ``trust_region``: the problems with D = I update λ by the classical trust-region rule from
+    λ = 1, as the first steps of a single fit (`lm_iteration`'s ``trust_region``); those with
+    Marquardt's scaling keep Nielsen's update and stopping rule (``scaled_stop``).
     """
-    init, step = lm_iteration(normal_u, linear_solve=linear_solve)
+    init, step = lm_iteration(normal_u, linear_solve=linear_solve, trust_region=trust_region, scaled_stop=True)
     lane_init = jax.vmap(init, in_axes=(0, None))
 
     def solve(u0, spectrum, budget, n_problems, rows, shared, scaled=None, *, drain):
@@ -206,6 +215,8 @@ def work_queue(normal_u: Callable, n_lanes: int, combine: Callable, *, linear_so
             s = lane_init(u0[clipped], None)
             if scaled is not None:
                 s = s._replace(scaled=scaled[clipped])
+                if trust_region:
+                    s = s._replace(lam=jnp.where(s.scaled, s.lam, 1.0))
             return s, row, budget[clipped]
 
         def write(out: QueueOutput, pid, s: LMState, done) -> QueueOutput:

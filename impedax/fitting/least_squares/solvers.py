@@ -440,12 +440,24 @@ def tree_solver(circuit: Circuit, registry: Registry, max_steps: int, free: tupl
     def chi2_x(points, spectrum, rows, shared):
         return chi2_stored(points, spectrum, rows, shared, False)
 
-    lanes = functools.lru_cache(maxsize=4)(lambda n_lanes: jax.jit(work_queue(residuals.normal_u, n_lanes, combine), static_argnames="drain"))
+    lanes = functools.lru_cache(maxsize=4)(lambda n_lanes: jax.jit(_with_damping_sharded(work_queue(residuals.normal_u, n_lanes, combine, trust_region=True)), static_argnames="drain"))
 
     # every device runs a draw of starts of its own, with its own screen length (the draws
     # of a rung side by side: a 2-core machine screens two at the time of one)
     single = one_transfer(_make(residuals, max_steps, peaks), "fit-single", static, n_sharded=2)
     return TreeSolvers(single, lanes, finish, chi2, chi2_x, static)
+
+
+def _with_damping_sharded(queue: Callable) -> Callable:
+    """`lm.work_queue`'s ``solve`` with the per-problem damping flag ``scaled`` before the
+    arguments every device shares: ``solve(u0, spectrum, budget, n_problems, rows, scaled,
+    shared, drain=)``, so that `over_devices` gives each device its own flags (six sharded
+    arguments)."""
+
+    def solve(u0, spectrum, budget, n_problems, rows, scaled, shared, *, drain):
+        return queue(u0, spectrum, budget, n_problems, rows, shared, scaled, drain=drain)
+
+    return solve
 
 
 @functools.lru_cache(maxsize=64)
