@@ -192,17 +192,20 @@ def _second_path(steps: list[RefinementStep], limit: int, diagnosed, say, notes:
     path ended at 0.72 % with 10 parameters, the electrode polarization's at the generating
     circuit, 0.69 % with 8.
 
-    When the greedy path ends ``adequate``, paths start from cheaper effects too
-    (`_cheaper_starts`): an element of three parameters can stand in for two of one each."""
+    When the first choice left a baseline element out, a path starts from the same candidate
+    with that element kept (`_kept_in_place`). When the greedy path ends ``adequate``, paths
+    start from cheaper effects too (`_cheaper_starts`): an element of three parameters can
+    stand in for two of one each."""
     first = steps[0].diagnosis
     picked = first.best  # where the greedy path went
     alternatives = [s for s in first.suggestions if (s.where != picked.where or s.effect != picked.effect) and s.delta_aic <= picked.delta_aic + BRANCH_WINDOW][:1] if len(steps) >= 3 else []
     leaving = [s for s in first.suggestions if s.removed and not picked.removed and s.delta_aic < picked.delta_aic - DELTA_AIC_MIN and all(s is not t for t in alternatives)] if len(steps) >= 2 else []
     proposed = {s.effect for s in first.suggestions}
     hidden = [c for c in first.candidates if c.undetermined and c.effect not in proposed and c.fit.converged and c.delta_aic < picked.delta_aic - DELTA_AIC_MIN] if len(steps) >= 2 else []
-    cheaper = _cheaper_starts(steps, alternatives + hidden + leaving)
+    keeping = _kept_in_place(first, picked, alternatives + hidden + leaving) if len(steps) >= 2 else []
+    cheaper = _cheaper_starts(steps, alternatives + hidden + leaving + keeping)
     steps = finished(steps, "")
-    for label, alt in zip(("second path", "third path", "fourth path", "fifth path", "sixth path"), alternatives + sorted(hidden, key=lambda c: c.delta_aic)[:1] + leaving[:1] + cheaper):
+    for label, alt in zip(("second path", "third path", "fourth path", "fifth path", "sixth path", "seventh path"), alternatives + sorted(hidden, key=lambda c: c.delta_aic)[:1] + leaving[:1] + keeping + cheaper):
         other = finished(_greedy(steps[:1], alt, limit, diagnosed, say, f"{label}, "), f"{label}: ")
         a, b = steps[-1].fit, other[-1].fit
         tie = abs(b.aic - a.aic) <= DELTA_AIC_MIN and b.n_params == a.n_params
@@ -222,6 +225,27 @@ def _second_path(steps: list[RefinementStep], limit: int, diagnosed, say, notes:
         if better:
             steps = other
     return steps
+
+
+def _kept_in_place(first: Diagnosis, picked, taken) -> list:
+    """When the first choice ``picked`` left a baseline element out (a branch that carried next
+    to no current, a series resistance that fell to zero): the same candidate with that
+    element kept, if it converged within `BRANCH_WINDOW` of AIC and starts no other path
+    (usually it is no suggestion: the element it keeps is undetermined there). Once a second
+    missing effect is added, the element may carry current again; the path ends at the
+    circuit that keeps it (its end must have every parameter determined, `_finish`). On a
+    SYNTHETIC battery lacking its lead inductance and its Warburg, the inductance without R2
+    (R2 ∥ CPE2 acting as a plain CPE, which took the diffusion tail) led to an arc standing in
+    for the Warburg at 10 parameters; with R2 kept, the Warburg follows behind R2 and the path
+    ends at 9, lower by 2 in AIC."""
+    if picked is None or not picked.removed:
+        return []
+    shorter = picked.removed[:-1]
+    parents = [
+        c for c in first.candidates
+        if c.effect == picked.effect and tuple(c.removed) == tuple(shorter) and picked.where.startswith(f"{c.where}, and {picked.removed[-1]} left out") and c.fit.converged and c.delta_aic <= picked.delta_aic + BRANCH_WINDOW and all(c is not t for t in taken)
+    ]
+    return sorted(parents, key=lambda c: c.delta_aic)[:1]
 
 
 def _elements_left_out(path: list[RefinementStep]) -> set[str]:
@@ -255,17 +279,19 @@ def _cheaper_starts(steps: list[RefinementStep], taken) -> list:
 
 
 def _finish(steps: list[RefinementStep], used: xr.Dataset, *, n_starts: int, seed: int, say, notes: list[str], label: str) -> list[RefinementStep]:
-    """``steps`` with the last model refitted from scratch on ``used`` (`_reproduced`); when that
+    """``steps`` with the last model refitted from scratch on ``used`` (`_reproduced`); while that
     fit leaves parameters undetermined that the start's fit determined, the last step is dropped
-    and the one before refitted instead."""
+    and the one before refitted instead (a path may start from a candidate with undetermined
+    parameters, `_second_path`)."""
     steps = list(steps)
     say(f"{label}refitting the final model {steps[-1].model} from scratch")
     final, note = _reproduced(used, steps[-1].fit, n_starts=n_starts, seed=seed)
     new_undetermined = undetermined_parameters(final) - undetermined_parameters(steps[0].fit)
-    if new_undetermined and len(steps) > 1:
+    while new_undetermined and len(steps) > 1:
         notes.append(f"{label}{final.model}: the data do not determine {', '.join(sorted(new_undetermined))} when fitted from scratch; the step that added {steps[-1].added} is dropped")
         steps.pop()
         final, note = _reproduced(used, steps[-1].fit, n_starts=n_starts, seed=seed)
+        new_undetermined = undetermined_parameters(final) - undetermined_parameters(steps[0].fit)
     if note:
         notes.append(label + note)
     steps[-1] = replace(steps[-1], fit=final)
