@@ -479,3 +479,33 @@ def test_a_battery_lacking_its_inductance_and_warburg_keeps_r2():
     r = ix.refine(ix.make_spectrum(case.frequency, case.z), case.circuit)
     assert [s.effect for s in r.steps[1:]] == ["series_inductance", "diffusion"], r.report()
     assert "R2" in r.final.circuit.element_names and r.final.n_params == 9, r.report()
+
+
+@pytest.mark.slow
+def test_paths_that_meet_do_not_diagnose_a_model_twice(monkeypatch):
+    # AutoEIS's real test_data.txt: the third path (from a Warburg behind R1) reaches, at its
+    # second step, the model the second path (from C1 → CPE1) diagnosed at its second step, and
+    # the same two steps follow; the diagnoses and the final refit from scratch of the second
+    # path are reused. The refinement ends as the real-spectra study of docs/diagnosis.md says
+    from pathlib import Path
+
+    from impedax.fitting.diagnosis import refinement
+
+    seen, refitted = [], []
+    real_diagnose, real_reproduced = refinement.diagnose, refinement._reproduced
+
+    def counted(current, *args, **kwargs):
+        seen.append(str(current.circuit) if hasattr(current, "circuit") else "start")
+        return real_diagnose(current, *args, **kwargs)
+
+    def counted_refit(used, fit, **kwargs):
+        refitted.append(str(fit.circuit))
+        return real_reproduced(used, fit, **kwargs)
+
+    monkeypatch.setattr(refinement, "diagnose", counted)
+    monkeypatch.setattr(refinement, "_reproduced", counted_refit)
+    r = ix.refine(ix.load(Path(__file__).parent / "fixtures" / "real" / "test_data.txt"), "R0 + R1 || C1")
+    assert r.final_model == "R1 || C1 + (R_relax + Ws_d + W_d) || CPE_relax + R_relax2 || C_relax", r.report()
+    assert len(seen) == len(set(seen)), seen
+    assert len(refitted) == len(set(refitted)), refitted
+    assert sum("third path" in n for n in r.notes) >= 1  # the paths met: a third path ran

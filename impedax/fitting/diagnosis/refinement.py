@@ -150,6 +150,10 @@ BRANCH_WINDOW = 40.0
 """`refine`'s second path starts from the first diagnosis' best suggestion at another placement
 (or of another effect) when it is within this much AIC of the chosen one."""
 
+REUSE_CHI2_RTOL = 1e-6
+"""A refine path that reaches a model another path diagnosed reuses that diagnosis when the
+earlier fit's χ² is at most this much (relatively) above the path's own fit."""
+
 
 def _greedy(steps: list[RefinementStep], best, limit: int, diagnosed, say, label: str) -> list[RefinementStep]:
     """``steps`` continued greedily: add ``best`` (a `Suggestion` of the last step's diagnosis),
@@ -278,19 +282,20 @@ def _cheaper_starts(steps: list[RefinementStep], taken) -> list:
     return list(best_per_effect.values())[:CHEAPER_PATHS]
 
 
-def _finish(steps: list[RefinementStep], used: xr.Dataset, *, n_starts: int, seed: int, say, notes: list[str], label: str) -> list[RefinementStep]:
+def _finish(steps: list[RefinementStep], used: xr.Dataset, *, n_starts: int, seed: int, say, notes: list[str], label: str, reproduced=None) -> list[RefinementStep]:
     """``steps`` with the last model refitted from scratch on ``used`` (`_reproduced`); while that
     fit leaves parameters undetermined that the start's fit determined, the last step is dropped
     and the one before refitted instead (a path may start from a candidate with undetermined
-    parameters, `_second_path`)."""
+    parameters, `_second_path`). ``reproduced``: `_reproduced` or a memo of it."""
+    reproduced = reproduced or _reproduced
     steps = list(steps)
     say(f"{label}refitting the final model {steps[-1].model} from scratch")
-    final, note = _reproduced(used, steps[-1].fit, n_starts=n_starts, seed=seed)
+    final, note = reproduced(used, steps[-1].fit, n_starts=n_starts, seed=seed)
     new_undetermined = undetermined_parameters(final) - undetermined_parameters(steps[0].fit)
     while new_undetermined and len(steps) > 1:
         notes.append(f"{label}{final.model}: the data do not determine {', '.join(sorted(new_undetermined))} when fitted from scratch; the step that added {steps[-1].added} is dropped")
         steps.pop()
-        final, note = _reproduced(used, steps[-1].fit, n_starts=n_starts, seed=seed)
+        final, note = reproduced(used, steps[-1].fit, n_starts=n_starts, seed=seed)
         new_undetermined = undetermined_parameters(final) - undetermined_parameters(steps[0].fit)
     if note:
         notes.append(label + note)
@@ -345,15 +350,31 @@ def refine(
     masked = first.masked_points
     kk = first.kk_of_kept or first.kk
 
+    # paths often meet (a second path reaching a model the first diagnosed): a model diagnosed
+    # before, at a fit at least as good, is not diagnosed again, and a fit refitted from
+    # scratch before is not refitted again; the greedy steps from it are then the same
+    diagnoses: dict[str, Diagnosis] = {}
+    refits: dict[int, tuple] = {}
+
     def diagnosed(current: FitResult, shape) -> Diagnosis:
+        known = diagnoses.get(str(current.circuit))
+        if known is not None and known.baseline.chi2 <= current.chi2 * (1 + REUSE_CHI2_RTOL):
+            return known
         # every step through one compiled solver and on the first step's points (mask=False)
-        return diagnose(current, data=ds, effects=effects, kk=kk, noise=noise, n_starts=n_starts, max_steps=solver_steps, seed=seed, drt_evidence=drt_evidence, solver_shape=shape, mask=False)
+        d = diagnose(current, data=ds, effects=effects, kk=kk, noise=noise, n_starts=n_starts, max_steps=solver_steps, seed=seed, drt_evidence=drt_evidence, solver_shape=shape, mask=False)
+        diagnoses[str(current.circuit)] = d
+        return d
+
+    def reproduced(used, fit, **options):
+        if id(fit) not in refits or refits[id(fit)][0] is not fit:
+            refits[id(fit)] = (fit, _reproduced(used, fit, **options))  # (the fit kept: its id stays its own)
+        return refits[id(fit)][1]
 
     used = ds if not masked else ds.sel(frequency=[f for f in ds["frequency"].values if float(f) not in set(masked)])
     notes: list[str] = []
 
     def finished(path, label):
-        return _finish(path, used, n_starts=n_starts, seed=seed, say=say, notes=notes, label=label)
+        return _finish(path, used, n_starts=n_starts, seed=seed, say=say, notes=notes, label=label, reproduced=reproduced)
 
     steps = _greedy([RefinementStep(first.baseline, None, None, first)], first.best, limit, diagnosed, say, "")
     steps = _second_path(steps, limit, diagnosed, say, notes, finished)
