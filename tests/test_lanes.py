@@ -39,15 +39,21 @@ def problems():
     return z, u0, rows, shared, lanes
 
 
-def levenberg_marquardt(normal, u0, args, max_steps):
-    """The iteration of one lane of `work_queue` (`lm_iteration`'s defaults), alone, from
-    ``u0``: (u, chi² = ‖r‖², converged, iterations)."""
-    init, step = lm_iteration(normal, linear_solve=solve_damped)
-    s = jax.lax.while_loop(lambda s: (s.i < max_steps) & ~s.done, lambda s: step(s, args), init(u0, args))
+def levenberg_marquardt(normal, u0, args, max_steps, *, cold=False):
+    """The iteration of one lane of `work_queue` (`lm_iteration`'s defaults: Marquardt's
+    scaling, Nielsen's update), alone, from ``u0``: (u, chi² = ‖r‖², converged, iterations).
+    ``cold``: a single fit's first steps instead (D = I, the trust-region rule, λ from 1)."""
+    if cold:
+        init, step = lm_iteration(normal, linear_solve=solve_damped, scaling=False, trust_region=True)
+        start = init(u0, args)._replace(lam=jnp.asarray(1.0))
+    else:
+        init, step = lm_iteration(normal, linear_solve=solve_damped)
+        start = init(u0, args)
+    s = jax.lax.while_loop(lambda s: (s.i < max_steps) & ~s.done, lambda s: step(s, args), start)
     return s.u, 2.0 * s.cost, s.done, s.i
 
 
-def plain(u0, rows, shared, i, max_steps):
+def plain(u0, rows, shared, i, max_steps, *, cold=False):
     """The same Levenberg–Marquardt iteration, alone, for problem i."""
     from impedax.circuits import compile_circuit
     from impedax.fitting.least_squares.solvers import tree_residuals
@@ -55,18 +61,19 @@ def plain(u0, rows, shared, i, max_steps):
     table = ParameterTable.build(CIRCUIT)
     normal_u = tree_residuals(compile_circuit(CIRCUIT), *table.free_structure).normal_u
     args = combine(shared, SpectrumRows(*(v[i] for v in rows)))
-    u, chi2, done, steps = levenberg_marquardt(normal_u, jnp.asarray(u0[i]), args, max_steps)
+    u, chi2, done, steps = levenberg_marquardt(normal_u, jnp.asarray(u0[i]), args, max_steps, cold=cold)
     return np.asarray(u), float(chi2), bool(done), int(steps)
 
 
-def solve(lanes, n_lanes, u0, rows, shared, budget, *, drain, capacity=64):
+def solve(lanes, n_lanes, u0, rows, shared, budget, *, drain, capacity=64, scaled=None):
     n = len(u0)
     pad = capacity - n
+    scaled = np.ones(n, bool) if scaled is None else scaled
     return [np.asarray(a)[:n] for a in lanes(n_lanes)(
         np.concatenate([u0, np.repeat(u0[:1], pad, axis=0)]),
         np.concatenate([np.arange(n), np.zeros(pad, int)]).astype(np.int32),
         np.concatenate([budget, np.zeros(pad, int)]),
-        n, rows_padded(rows, capacity), shared, drain=drain,
+        n, rows_padded(rows, capacity), np.concatenate([scaled, np.ones(pad, bool)]), shared, drain=drain,
     )]
 
 
@@ -89,6 +96,25 @@ def test_lanes_reproduce_the_plain_solver_problem_by_problem(problems):
         assert chi2[i] == pytest.approx(chi2_i, rel=1e-9)
     assert not done[::5].any() and (steps[::5] == 4).all()  # nothing converges in four steps
     assert done[budget == 400].all()
+
+
+def test_cold_lanes_reproduce_a_single_fits_first_steps(problems):
+    """Problems flagged for D = I (a batch's random starts, `batch._multistart_rung`) follow
+    the trust-region rule from λ = 1, as a single fit's first steps do, beside problems with
+    Marquardt's scaling in the same queue, which keep their own iteration."""
+    z, u0, rows, shared, lanes = problems
+    starts = u0 + np.random.default_rng(3).normal(0, 2.0, u0.shape)  # far from the optimum, as random starts are
+    cold = np.arange(len(z)) % 2 == 0
+    budget = np.full(len(z), 40)
+    u, chi2, done, steps = solve(lanes, 8, starts, rows, shared, budget, drain=True, scaled=~cold)
+    differ = 0
+    for i in range(len(z)):
+        u_i, chi2_i, done_i, steps_i = plain(starts, rows, shared, i, 40, cold=bool(cold[i]))
+        assert steps[i] == steps_i and done[i] == done_i
+        assert chi2[i] == pytest.approx(chi2_i, rel=1e-8)
+        if cold[i]:
+            differ += chi2[i] != pytest.approx(plain(starts, rows, shared, i, 40)[1], rel=1e-6)
+    assert differ >= 3  # the two dampings do differ on these starts
 
 
 def test_an_early_stop_returns_only_a_few_unfinished_problems(problems):
