@@ -341,7 +341,7 @@ def test_a_first_step_that_left_an_element_out_is_tried_with_it_kept(keeping_end
     """`_second_path` with stand-ins (the shape of the SYNTHETIC two/battery_l_w, extra dev
     draw 4): the first step adds L_lead and leaves R2 out (R2 ∥ CPE2 acts as a plain CPE that
     took the diffusion tail); the greedy path then needs an arc and ends at 10 parameters.
-    L_lead with R2 kept is no suggestion (R2 undetermined), but its path, here to a Warburg,
+    L_lead with R2 kept is no suggestion (parameters undetermined), but its path, here to a Warburg,
     ends as good by AIC with fewer parameters: kept. A path ending with more parameters and
     an AIC only 4 lower is not; without a left-out element no such path starts."""
     from types import SimpleNamespace as NS
@@ -353,7 +353,7 @@ def test_a_first_step_that_left_an_element_out_is_tried_with_it_kept(keeping_end
 
     leads = "in series with the whole circuit (leads)"
     picked = candidate(f"{leads}, and R2 left out (R2 ∥ CPE2 acts as a plain CPE)", "L'", -390.1, 7, "series_inductance", ("R2",))
-    keeping = candidate(leads, "L", -388.1, 8, "series_inductance", undetermined=("R2", "CPE2.alpha"))
+    keeping = candidate(leads, "L", -388.1, 8, "series_inductance", undetermined=("R1", "CPE2.alpha"))
     if keeping_end is None:  # the first choice left nothing out
         picked = candidate(leads, "L'", -390.1, 7, "series_inductance")
     first = NS(best=picked, suggestions=(picked,), candidates=(picked, keeping), solver_shape=None, noise=_STAND_IN_NOISE, baseline=NS(frequency=_STAND_IN_FREQUENCY, n_params=7))

@@ -235,7 +235,7 @@ def _kept_in_place(first: Diagnosis, picked, taken) -> list:
     """When the first choice ``picked`` left a baseline element out (a branch that carried next
     to no current, a series resistance that fell to zero): the same candidate with that
     element kept, if it converged within `BRANCH_WINDOW` of AIC and starts no other path
-    (usually it is no suggestion: the element it keeps is undetermined there). Once a second
+    (usually it is no suggestion: it leaves parameters undetermined). Once a second
     missing effect is added, the element may carry current again; the path ends at the
     circuit that keeps it (its end must have every parameter determined, `_finish`). On a
     SYNTHETIC battery lacking its lead inductance and its Warburg, the inductance without R2
