@@ -348,11 +348,12 @@ def test_a_first_step_that_left_an_element_out_is_tried_with_it_kept(keeping_end
 
     from impedax.fitting.diagnosis.refinement import RefinementStep, _second_path
 
-    def candidate(where, model, aic, k, effect, removed=(), undetermined=()):
-        return NS(where=where, effect=effect, delta_aic=aic, added=model, fit=_fit_stand_in(model=model, aic=aic, n_params=k, converged=True), removed=removed, undetermined=undetermined)
+    def candidate(where, model, aic, k, effect, removed=(), undetermined=(), circuit="R0 + R1 || CPE1 + R2 || CPE2 + L_lead"):
+        fit = _fit_stand_in(model=model, aic=aic, n_params=k, converged=True, circuit=ix.parse(circuit))
+        return NS(where=where, effect=effect, delta_aic=aic, added=model, fit=fit, removed=removed, undetermined=undetermined)
 
     leads = "in series with the whole circuit (leads)"
-    picked = candidate(f"{leads}, and R2 left out (R2 ∥ CPE2 acts as a plain CPE)", "L'", -390.1, 7, "series_inductance", ("R2",))
+    picked = candidate(f"{leads}, and R2 left out (R2 ∥ CPE2 acts as a plain CPE)", "L'", -390.1, 7, "series_inductance", ("R2",), circuit="R0 + R1 || CPE1 + CPE2 + L_lead")
     keeping = candidate(leads, "L", -388.1, 8, "series_inductance", undetermined=("R1", "CPE2.alpha"))
     if keeping_end is None:  # the first choice left nothing out
         picked = candidate(leads, "L'", -390.1, 7, "series_inductance")

@@ -244,10 +244,11 @@ def _kept_in_place(first: Diagnosis, picked, taken) -> list:
     ends at 9, lower by 2 in AIC."""
     if picked is None or not picked.removed:
         return []
-    shorter = picked.removed[:-1]
+    element, shorter = picked.removed[-1], tuple(picked.removed[:-1])
     parents = [
         c for c in first.candidates
-        if c.effect == picked.effect and tuple(c.removed) == tuple(shorter) and picked.where.startswith(f"{c.where}, and {picked.removed[-1]} left out") and c.fit.converged and c.delta_aic <= picked.delta_aic + BRANCH_WINDOW and all(c is not t for t in taken)
+        if c.effect == picked.effect and tuple(c.removed) == shorter and c.fit.converged and c.delta_aic <= picked.delta_aic + BRANCH_WINDOW and all(c is not t for t in taken)
+        and element in c.fit.circuit.element_names and str(c.fit.circuit.without(element)) == str(picked.fit.circuit)
     ]
     return sorted(parents, key=lambda c: c.delta_aic)[:1]
 
