@@ -1,4 +1,5 @@
-"""`impedax.clear_caches` releases the compiled programs (their memory maps) of a process."""
+"""`impedax.clear_caches` releases the compiled programs (their memory maps) of a process;
+`impedax.use_compilation_cache` keeps them on disk for the next one."""
 
 import os
 
@@ -28,3 +29,31 @@ def test_clear_caches_releases_what_fits_compiled():
     released = before + grown - _memory_maps()
     assert grown > 100  # five circuits compiled their solvers
     assert released > 0.8 * grown
+
+
+def test_use_compilation_cache_keeps_compiled_programs_on_disk(tmp_path):
+    """`impedax.use_compilation_cache` (run in a child process: it sets JAX's configuration for
+    the whole process) points JAX's persistent cache at the folder, whose entries a fit then
+    writes (the compiled program and impedax's stored program beside it); a folder that cannot
+    be created leaves JAX's setting alone and returns None."""
+    import subprocess
+    import sys
+
+    blocker = tmp_path / "a_file"
+    blocker.write_text("")
+    folder = tmp_path / "cache"
+    script = f"""
+import jax, numpy as np, impedax as ix
+assert ix.use_compilation_cache({str(blocker / 'sub')!r}) is None
+assert jax.config.jax_compilation_cache_dir is None
+assert ix.use_compilation_cache({str(folder)!r}) == {str(folder)!r}
+assert jax.config.jax_compilation_cache_dir == {str(folder)!r}
+f = np.logspace(5, -1, 30)
+ix.fit("R0 + R1 || C1", ix.make_spectrum(f, 10 + 100 / (1 + 2j * np.pi * f * 1e-4)))
+"""
+    env = {k: v for k, v in os.environ.items() if k not in ("IMPEDAX_CACHE_DIR", "JAX_COMPILATION_CACHE_DIR")}
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, env=env, timeout=600)
+    assert done.returncode == 0, done.stderr
+    written = [p.name for p in folder.iterdir()]
+    assert any(name.endswith("-cache") for name in written), written  # JAX's compiled program
+    assert "impedax-exported" in written, written

@@ -54,8 +54,10 @@ def test_final_fit_reproduces_with_fit_of_the_final_model(missing_series_resista
 
 def test_progress_is_reported_per_step(refined):
     r, lines = refined
-    assert len(lines) == len(r.steps) + 1  # one per diagnosis, one for the final refit
-    assert lines[0].startswith("step 0") and "from scratch" in lines[-1]
+    # one per diagnosis, one for the final refit, then (an adequate end) one for the fits without
+    # each added element (R_s stays: no step takes it out)
+    assert len(lines) == len(r.steps) + 2 and len(r.steps) == 2
+    assert lines[0].startswith("step 0") and "from scratch" in lines[-2] and lines[-1] == "simplifying: fitting R1 || C1 + R_s without each of R_s"
 
 
 def test_max_effects_zero_diagnoses_only(missing_series_resistance):
@@ -193,14 +195,15 @@ def test_a_suggestion_that_leaves_an_element_out_gets_a_path_of_its_own(leaving_
     assert [s.model for s in _second_path(greedy[:1], 0, diagnosed, lambda text: None, notes, lambda path, label: path)] == ["start"] and notes == []
 
 
-@pytest.mark.parametrize("ep_proposed", [False, True])
-def test_an_effect_undetermined_alone_gets_a_path_of_its_own(ep_proposed):
+@pytest.mark.parametrize("ep_own_aic, path", [(None, True), (-300.0, True), (-545.0, False)])
+def test_an_effect_undetermined_alone_gets_a_path_of_its_own(ep_own_aic, path):
     """`_second_path` with stand-ins (the shape of a SYNTHETIC finger with its series resistance
     and electrode polarization missing): the greedy path took a further arc (ΔAIC −532) and
     ended with 10 parameters; R_EP ∥ CPE_EP ∥ C_gap fits better alone (−552) but leaves R_EP
     undetermined (it makes up for the missing series resistance), so it was no suggestion. Its
-    path adds R_s and ends at the generating circuit (8 parameters, lower AIC): kept. When the
-    effect has a significant candidate of its own, no such path starts."""
+    path adds R_s and ends at the generating circuit (8 parameters, lower AIC): kept. It starts
+    too when the effect has a suggestion of its own that fits worse by more than 10 (R_EP ∥
+    C_gap at −300), not when that suggestion is as good (−545)."""
     from types import SimpleNamespace as NS
 
     from impedax.fitting.diagnosis.refinement import RefinementStep, _second_path
@@ -213,8 +216,7 @@ def test_an_effect_undetermined_alone_gets_a_path_of_its_own(ep_proposed):
 
     arc = candidate("extra_relaxation", "ARC", -532.0, 6)
     ep = candidate("electrode_polarization", "EP", -552.0, 7, ("R_EP",))
-    ep_own = candidate("electrode_polarization", "EP_RC", -300.0, 5)
-    suggestions = (arc, ep_own) if ep_proposed else (arc,)
+    suggestions = (arc,) if ep_own_aic is None else (arc, candidate("electrode_polarization", "EP_RC", ep_own_aic, 5))
     first = NS(best=arc, suggestions=suggestions, candidates=suggestions + (ep,), solver_shape=None, noise=_STAND_IN_NOISE, baseline=NS(frequency=_STAND_IN_FREQUENCY, n_params=4))
     greedy = [step("start", 0.0, 4, first), step("ARC", -532.0, 6, NS(solver_shape=None), "arc", "extra_relaxation"), step("ARC+RS+ARC2", -700.0, 10, NS(solver_shape=None, verdict="missing_effect"), "arc2", "extra_relaxation")]
 
@@ -224,11 +226,90 @@ def test_an_effect_undetermined_alone_gets_a_path_of_its_own(ep_proposed):
 
     notes = []
     kept = _second_path(greedy, 4, diagnosed, lambda text: None, notes, lambda path, label: path)
-    if ep_proposed:
-        assert [s.model for s in kept] == ["start", "ARC", "ARC+RS+ARC2"] and not any("electrode_polarization (EP" in n for n in notes), notes
-    else:
+    from_ep = [n for n in notes if "starting from electrode_polarization (EP, " in n]
+    if path:
         assert [s.model for s in kept] == ["start", "EP", "EP+RS"], notes
-        assert len(notes) == 1 and notes[0].startswith("a second path, starting from electrode_polarization") and "it is kept" in notes[0], notes
+        assert len(from_ep) == 1 and "it is kept" in from_ep[0], notes
+    else:
+        assert [s.model for s in kept] == ["start", "ARC", "ARC+RS+ARC2"] and not from_ep, notes
+
+
+def test_the_elements_refine_may_take_out_are_those_it_added_not_those_in_place_of_the_users():
+    """`_removable`: C_gap → CPE_gap took the place of the user's C_gap (taking CPE_gap out would
+    take the user's gap out); W_d was added, and Wo_d took W_d's place, so Wo_d is refine's own;
+    a step that left R0 out adds R_relax and C_relax as its own."""
+    from types import SimpleNamespace as NS
+
+    from impedax.circuits import parse
+    from impedax.fitting.diagnosis.refinement import RefinementStep, _removable
+
+    def path(*models, removed=()):
+        return [RefinementStep(NS(circuit=parse(m)), None, None, None, removed if i == len(models) - 1 else ()) for i, m in enumerate(models)]
+
+    assert _removable(path("R_sk || CPE_sk + C_gap", "R_sk || CPE_sk + CPE_gap", "R_sk || CPE_sk + CPE_gap + W_d", "R_sk || CPE_sk + CPE_gap + Wo_d")) == ["Wo_d"]
+    assert _removable(path("R0 + R1 || C1", "R1 || C1 + R_relax || C_relax", removed=("R0",))) == ["R_relax", "C_relax"]
+    assert _removable(path("R0 + R1 || C1")) == []
+
+
+_FINGER_START = "R_sk || CPE_sk + C_gap"
+_FINGER_ARC_EP = "R_sk || CPE_sk + R_EP || CPE_EP || C_gap + R_relax || CPE_relax"
+_FINGER_GENERATING = "R_sk || CPE_sk + R_EP || CPE_EP || C_gap + R_relax"
+
+
+@pytest.mark.parametrize(
+    "shorter_aic, shorter_verdict, last_verdict, ends_at",
+    [(-1279.9, "adequate", "adequate", _FINGER_GENERATING), (-1270.0, "adequate", "adequate", _FINGER_GENERATING), (-1260.0, "adequate", "adequate", _FINGER_ARC_EP),
+     (-1279.9, "missing_effect", "adequate", _FINGER_ARC_EP), (-1279.9, "adequate", "missing_effect", _FINGER_ARC_EP)],
+)
+def test_an_element_that_stood_in_for_a_later_effect_is_taken_out_again(monkeypatch, shorter_aic, shorter_verdict, last_verdict, ends_at):
+    """`_simplified` with stand-ins (the shape of a SYNTHETIC finger lacking its series
+    resistance and its electrode polarization, dev draw 13): a further R ∥ CPE came first
+    and R_EP ∥ CPE_EP second (AIC −1276.2, 10 parameters, adequate); without CPE_relax the
+    R ∥ CPE is the series resistance (8 parameters). Taken out when that AIC is at most 10
+    above the last (−1279.9 or −1270, not −1260) and its own diagnosis is adequate; nothing
+    is tried when the last model is not adequate."""
+    from types import SimpleNamespace as NS
+
+    from impedax.circuits import DEFAULT_REGISTRY, parse
+    from impedax.fitting.diagnosis import refinement
+    from impedax.fitting.diagnosis.refinement import RefinementStep, _simplified
+
+    def stand_in(model, aic):
+        circuit = parse(model)
+        names = circuit.parameter_names(DEFAULT_REGISTRY)
+        return NS(circuit=circuit, model=model, aic=aic, n_params=len(names), values=dict.fromkeys(names, 1.0), fixed=dict.fromkeys(names, False), registry=DEFAULT_REGISTRY, weighting="modulus")
+
+    aic_without = {"CPE_relax": shorter_aic, "R_relax": -900.0, "R_EP": -1100.0, "CPE_EP": -1200.0}
+    calls = []
+
+    def fitted(circuits, used, *, init, **kw):  # each circuit is the last model without one element
+        calls.append([str(c) for c in circuits])
+        last = parse(_FINGER_ARC_EP) if len(calls) == 1 else parse(_FINGER_GENERATING)
+        out = []
+        for c in circuits:
+            gone = (set(last.element_names) - set(c.element_names)).pop()
+            out.append(stand_in(str(c), aic_without.get(gone, -1000.0) if len(calls) == 1 else -1000.0))
+        return out
+
+    monkeypatch.setattr(refinement, "fit_candidates", fitted)
+    monkeypatch.setattr(refinement, "undetermined_parameters", lambda fit: set())
+    diagnosed = lambda fit, shape: NS(verdict=shorter_verdict, solver_shape=None)  # noqa: E731
+    steps = [
+        RefinementStep(stand_in(_FINGER_START, -400.2), None, None, NS(verdict="missing_effect")),
+        RefinementStep(stand_in("R_sk || CPE_sk + C_gap + R_relax || CPE_relax", -900.6), "R_relax || CPE_relax", "extra_relaxation", NS(verdict="missing_effect")),
+        RefinementStep(stand_in(_FINGER_ARC_EP, -1276.2), "R_EP || CPE_EP", "electrode_polarization", NS(verdict=last_verdict, solver_shape=None)),
+    ]
+    notes = []
+    kept = _simplified(steps, None, n_starts=4, seed=0, diagnosed=diagnosed, reproduced=lambda used, fit, **kw: (fit, None), say=lambda text: None, notes=notes)
+    assert kept[-1].model == ends_at, notes
+    if ends_at == _FINGER_GENERATING:
+        assert kept[-1].removed == ("CPE_relax",) and kept[-1].added is None and kept[-1].change == "− CPE_relax [simplified]"
+        assert len(notes) == 1 and "CPE_relax is taken out again" in notes[0] and "2 parameter(s) fewer" in notes[0], notes
+        assert len(calls) == 2  # a second round found nothing more to take out
+    else:
+        assert len(kept) == 3 and not notes
+    if last_verdict != "adequate":
+        assert not calls
 
 
 @pytest.mark.parametrize(

@@ -40,17 +40,9 @@ COMMAND_HELP = {
 
 def _configure_jax_cache() -> None:
     """Persistent XLA compilation cache, so a fresh process does not recompile the fitters."""
-    import jax
+    from .. import use_compilation_cache
 
-    cache = os.environ.get("IMPEDAX_CACHE_DIR") or os.path.join(os.path.expanduser("~"), ".cache", "impedax", "jax")
-    try:
-        os.makedirs(cache, exist_ok=True)
-    except OSError:
-        return
-    jax.config.update("jax_compilation_cache_dir", cache)
-    # programs compiled in 0.05 s or more are kept: reading one back costs less (the single
-    # fit's chi² evaluator compiles in ~0.13 s with `stored.QUICK_COMPILE`)
-    jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.05)
+    use_compilation_cache()
 
 
 def build_parser(command: str | None = None) -> argparse.ArgumentParser:

@@ -51,7 +51,7 @@ def plot_refinement(refinement, *, title: str | None = None):
     rms = [s.fit.rms_rel * 100 for s in refinement.steps]
     ax.semilogy(range(n), rms, "o-", color="tab:blue")
     for i, s in enumerate(refinement.steps):
-        ax.annotate(s.effect or "start", (i, rms[i]), textcoords="offset points", xytext=(4, 6), fontsize=8)
+        ax.annotate(s.effect or ("− " + ", ".join(s.removed) if s.removed else "start"), (i, rms[i]), textcoords="offset points", xytext=(4, 6), fontsize=8)
     last_d = refinement.steps[-1].diagnosis
     if last_d is not None:
         ax.axhline(last_d.noise_level * math.sqrt(2) * 100, color="grey", ls="--", lw=0.8, label="noise level √2σ")

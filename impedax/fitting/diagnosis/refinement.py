@@ -12,8 +12,9 @@ import xarray as xr
 
 from ...arguments import MAX_STARTS, checked_arguments, choice, count, flag, frequency, instance_of, real, seed as seed_rule
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
-from ...errors import ParameterError
+from ...errors import CircuitError, ParameterError
 from ..least_squares import FitResult, fit
+from ..least_squares.candidates import fit_candidates
 from ..problem import WEIGHTINGS, open_spectrum
 from .catalog import EffectCatalog
 from .diagnosis import CANDIDATE_STEPS, DELTA_AIC_MIN, NOISE_FRACTION_MIN, Diagnosis, Verdict, diagnose, noise_variance_explained, undetermined_parameters
@@ -36,6 +37,14 @@ class RefinementStep:
     @property
     def model(self) -> str:
         return self.fit.model
+
+    @property
+    def change(self) -> str:
+        """What the step did, in words: ``+ R_s [series_resistance]``, ``− CPE_relax
+        [simplified]`` (an element taken out again, `_simplified`) or ``(start)``."""
+        if self.added:
+            return f"+ {self.added} [{self.effect}]"
+        return f"− {', '.join(self.removed)} [simplified]" if self.removed else "(start)"
 
     def as_json(self) -> dict:
         return {"model": self.model, "rms_rel": self.fit.rms_rel, "aic": self.fit.aic, "added": self.added, "effect": self.effect, "bic": self.fit.bic, "chi2_red": self.fit.chi2_red, "verdict": self.diagnosis.verdict if self.diagnosis else None, "removed": list(self.removed)}
@@ -77,14 +86,13 @@ class Refinement:
     def _repr_html_(self) -> str:
         from ...plotting.html import result_html
 
-        rows = [{"step": i, "added": s.added or "(start)", "model": s.model, "rms_rel": s.fit.rms_rel, "AIC": s.fit.aic} for i, s in enumerate(self.steps)]
+        rows = [{"step": i, "change": s.change, "model": s.model, "rms_rel": s.fit.rms_rel, "AIC": s.fit.aic} for i, s in enumerate(self.steps)]
         return result_html(f"refinement: {self.final_model}", rows, lines=[f"verdict: {self.verdict}"])
 
     def table(self) -> str:
-        lines = [f"{'step':>4}  {'rms_rel':>9}  {'AIC':>9}  added / model"]
+        lines = [f"{'step':>4}  {'rms_rel':>9}  {'AIC':>9}  change / model"]
         for i, s in enumerate(self.steps):
-            what = f"+ {s.added} [{s.effect}]" if s.added else "(start)"
-            lines.append(f"{i:>4}  {s.fit.rms_rel * 100:>8.3g}%  {s.fit.aic:>9.1f}  {what}")
+            lines.append(f"{i:>4}  {s.fit.rms_rel * 100:>8.3g}%  {s.fit.aic:>9.1f}  {s.change}")
             lines.append(f"{'':>4}  {'':>9}  {'':>9}  {s.model}")
         return "\n".join(lines)
 
@@ -187,14 +195,16 @@ def _second_path(steps: list[RefinementStep], limit: int, diagnosed, say, notes:
     can stall at 16–17 % where leaving it out reaches the noise).
 
     With two effects missing, the right one alone may leave its own parameters undetermined
-    (they make up for the other), so it is never a suggestion. When an effect that has no
-    significant candidate fits better than the chosen one by more than `DELTA_AIC_MIN` with
-    only undetermined parameters against it, a path starts from its best candidate as well; its
-    end must have every parameter determined (`_finish` drops a last step that does not). On a
-    SYNTHETIC finger with its series resistance and electrode polarization missing, R_EP ∥
-    CPE_EP ∥ C_gap alone reached 2.2 % with R_EP undetermined, a further arc 2.5 %; the arc's
-    path ended at 0.72 % with 10 parameters, the electrode polarization's at the generating
-    circuit, 0.69 % with 8.
+    (they make up for the other), so it is never a suggestion. When a candidate with only
+    undetermined parameters against it fits better by more than `DELTA_AIC_MIN` than the chosen
+    one and than every suggestion of its own effect, a path starts from the best such candidate
+    as well; its end must have every parameter determined (`_finish` drops a last step that
+    does not). On a SYNTHETIC finger with its series resistance and electrode polarization
+    missing, R_EP ∥ CPE_EP ∥ C_gap alone reached 2.2 % with R_EP undetermined, a further arc
+    2.5 %; the arc's path ended at 0.72 % with 10 parameters, the electrode polarization's at
+    the generating circuit, 0.69 % with 8. Where R_EP ∥ C_gap (one parameter fewer, determined)
+    was a suggestion, its path led elsewhere (an arc standing in for the CPE) and the full
+    R_EP ∥ CPE_EP ∥ C_gap, 39 lower in AIC, had started none.
 
     When the first choice left a baseline element out, a path starts from the same candidate
     with that element kept (`_kept_in_place`). When the greedy path ends ``adequate``, paths
@@ -205,7 +215,11 @@ def _second_path(steps: list[RefinementStep], limit: int, diagnosed, say, notes:
     alternatives = [s for s in first.suggestions if (s.where != picked.where or s.effect != picked.effect) and s.delta_aic <= picked.delta_aic + BRANCH_WINDOW][:1] if len(steps) >= 3 else []
     leaving = [s for s in first.suggestions if s.removed and not picked.removed and s.delta_aic < picked.delta_aic - DELTA_AIC_MIN and all(s is not t for t in alternatives)] if len(steps) >= 2 else []
     proposed = {s.effect for s in first.suggestions}
-    hidden = [c for c in first.candidates if c.undetermined and c.effect not in proposed and c.fit.converged and c.delta_aic < picked.delta_aic - DELTA_AIC_MIN] if len(steps) >= 2 else []
+    hidden = [
+        c for c in first.candidates
+        if c.undetermined and c.fit.converged and c.delta_aic < picked.delta_aic - DELTA_AIC_MIN
+        and all(c.delta_aic < s.delta_aic - DELTA_AIC_MIN for s in first.suggestions if s.effect == c.effect)
+    ] if len(steps) >= 2 else []
     keeping = _kept_in_place(first, picked, alternatives + hidden + leaving) if len(steps) >= 2 else []
     cheaper = _cheaper_starts(steps, alternatives + hidden + leaving + keeping)
     steps = finished(steps, "")
@@ -304,6 +318,70 @@ def _finish(steps: list[RefinementStep], used: xr.Dataset, *, n_starts: int, see
     return steps
 
 
+def _removable(steps: list[RefinementStep]) -> list[str]:
+    """The elements of the last model that refine added and may take out again: every element
+    new to the path, except one that took the place of an element of the user's model (C → CPE,
+    W → Wo: taking it out would take out the user's element)."""
+    kept = set(steps[0].fit.circuit.element_names)  # the user's elements and what replaced them
+    for before, after in zip(steps, steps[1:]):
+        old, new = set(before.fit.circuit.element_names), set(after.fit.circuit.element_names)
+        replaced = old - new - set(after.removed)
+        if replaced & kept:
+            kept |= new - old
+    return [name for name in steps[-1].fit.circuit.element_names if name not in kept]
+
+
+def _simplified(steps: list[RefinementStep], used: xr.Dataset, *, n_starts: int, seed: int, diagnosed, reproduced, say, notes: list[str]) -> list[RefinementStep]:
+    """``steps`` ending ``adequate``, followed by simpler models while one is adequate too: the
+    last model without one element refine added (`_removable`; out of a parallel block its
+    branch opens, out of a series chain it is shorted), fitted from the last model's values,
+    is kept when its AIC is at most `DELTA_AIC_MIN` above the last model's (the rule by which
+    the element would not have been added), every parameter stays determined, and its own
+    diagnosis is ``adequate``; the lowest AIC first, one element per step, until none is.
+
+    Greedy additions can end on an element that stood in for an effect added later: on a
+    SYNTHETIC finger lacking its series resistance and its electrode polarization, a further
+    R ∥ CPE came first (standing in for both), then R_EP ∥ CPE_EP; without CPE_relax the
+    R ∥ CPE is the series resistance, 2 parameters fewer and AIC lower by 3.7, which the
+    forward steps alone never reach."""
+    start = steps[0].fit
+    while steps[-1].diagnosis is not None and steps[-1].diagnosis.verdict == Verdict.ADEQUATE and len(steps) > 1:
+        last = steps[-1].fit
+        names = _removable(steps)
+        if not names:
+            break
+        say(f"simplifying: fitting {last.model} without each of {', '.join(names)}")
+        shorter = []
+        for name in names:
+            try:
+                shorter.append((name, last.circuit.without(name)))
+            except CircuitError:  # (the element is the whole circuit)
+                continue
+        # in the last diagnosis' compiled solver (it held larger circuits), from the last model's values
+        fixed = {k: v for k, v in last.values.items() if last.fixed[k]} or None
+        fits = fit_candidates([c for _, c in shorter], used, init=[{k: last.values[k] for k in c.parameter_names(last.registry)} for _, c in shorter],
+                              fixed=fixed, weighting=last.weighting, n_starts=n_starts, seed=seed, registry=last.registry, shape=steps[-1].diagnosis.solver_shape)
+        trials = [(trial.aic, name, trial) for (name, _), trial in zip(shorter, fits) if np.isfinite(trial.aic) and trial.aic <= last.aic + DELTA_AIC_MIN]
+        for _, name, trial in sorted(trials, key=lambda t: t[0]):
+            final, note = reproduced(used, trial, n_starts=n_starts, seed=seed)
+            if undetermined_parameters(final) - undetermined_parameters(start):
+                continue
+            say(f"simplifying: diagnosing {final.model}")
+            d = diagnosed(final, steps[-1].diagnosis.solver_shape)
+            if d.verdict != Verdict.ADEQUATE:
+                continue
+            notes.append(
+                f"{last.model} without {name} ({final.model}) is adequate too, with {last.n_params - final.n_params} parameter(s) fewer "
+                f"(AIC {last.aic:.1f} → {final.aic:.1f}): {name} is taken out again"
+                + (f"; {note}" if note else "")
+            )
+            steps.append(RefinementStep(final, None, None, d, (name,)))
+            break
+        else:
+            break
+    return steps
+
+
 @checked_arguments(
     max_steps=count(0, 64, optional=True, why="each step adds one element"), max_effects=count(0, 64, optional=True, why="each step adds one element"),
     solver_steps=count(1, 100_000), effects=instance_of(EffectCatalog, what="an EffectCatalog (e.g. impedax.DEFAULT_EFFECTS)"),
@@ -379,5 +457,6 @@ def refine(
 
     steps = _greedy([RefinementStep(first.baseline, None, None, first)], first.best, limit, diagnosed, say, "")
     steps = _second_path(steps, limit, diagnosed, say, notes, finished)
+    steps = _simplified(steps, used, n_starts=n_starts, seed=seed, diagnosed=diagnosed, reproduced=reproduced, say=say, notes=notes)
     verdict = steps[-1].diagnosis.verdict
     return Refinement(tuple(steps), verdict, tuple(notes), masked)
