@@ -214,7 +214,6 @@ def _second_path(steps: list[RefinementStep], limit: int, diagnosed, say, notes:
     picked = first.best  # where the greedy path went
     alternatives = [s for s in first.suggestions if (s.where != picked.where or s.effect != picked.effect) and s.delta_aic <= picked.delta_aic + BRANCH_WINDOW][:1] if len(steps) >= 3 else []
     leaving = [s for s in first.suggestions if s.removed and not picked.removed and s.delta_aic < picked.delta_aic - DELTA_AIC_MIN and all(s is not t for t in alternatives)] if len(steps) >= 2 else []
-    proposed = {s.effect for s in first.suggestions}
     hidden = [
         c for c in first.candidates
         if c.undetermined and c.fit.converged and c.delta_aic < picked.delta_aic - DELTA_AIC_MIN
@@ -344,7 +343,7 @@ def _simplified(steps: list[RefinementStep], used: xr.Dataset, *, n_starts: int,
     R ∥ CPE came first (standing in for both), then R_EP ∥ CPE_EP; without CPE_relax the
     R ∥ CPE is the series resistance, 2 parameters fewer and AIC lower by 3.7, which the
     forward steps alone never reach."""
-    start = steps[0].fit
+    steps, start = list(steps), steps[0].fit
     while steps[-1].diagnosis is not None and steps[-1].diagnosis.verdict == Verdict.ADEQUATE and len(steps) > 1:
         last = steps[-1].fit
         names = _removable(steps)
@@ -414,7 +413,9 @@ def refine(
     every step, less the points the first diagnosis masks (KK-flagged); ``drt_evidence`` as in
     `diagnose`; ``progress`` is called with a line of text as each step starts. The final model
     is refitted with `fit` on the same points (reproducible with ``impedax fit``); a last
-    step whose refit leaves parameters undetermined is dropped. Returns a `Refinement`."""
+    step whose refit leaves parameters undetermined is dropped; an ``adequate`` end loses the
+    elements it added that an adequate model can do without (`_simplified`). Returns a
+    `Refinement`."""
     if max_steps is not None and max_effects is not None:
         raise ParameterError("give max_effects (max_steps is its older name), not both")
     limit = max_effects if max_effects is not None else (max_steps if max_steps is not None else 4)
