@@ -26,7 +26,8 @@ __all__ = ["Refinement", "RefinementStep", "refine"]
 @dataclass(frozen=True, eq=False)
 class RefinementStep:
     """One model of the loop: its fit, what was added to get it, its diagnosis, and the
-    elements the step left out (`Suggestion.removed`)."""
+    elements the step left out (`Suggestion.removed`); a step of `_simplified` adds nothing
+    (``added`` and ``effect`` None) and lists the element it took out again."""
 
     fit: FitResult
     added: str | None
