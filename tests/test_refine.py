@@ -591,3 +591,23 @@ def test_paths_that_meet_do_not_diagnose_a_model_twice(monkeypatch):
     assert len(seen) == len(set(seen)), seen
     assert len(refitted) == len(set(refitted)), refitted
     assert sum("third path" in n for n in r.notes) >= 1  # the paths met: a third path ran
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("draw", [13, 19])
+def test_a_finger_lacking_its_series_resistance_and_electrode_polarization_ends_at_its_circuit(draw):
+    # the evaluation set's two/finger_rs_ep, SYNTHETIC extra dev draws (seeds no split uses),
+    # which ended with arcs standing in for an effect (10 parameters) before (38) and (39) of
+    # docs/diagnosis.md. Draw 13: the greedy path adds a further R ∥ CPE, then R_EP ∥ CPE_EP;
+    # without CPE_relax the R ∥ CPE is the series resistance. Draw 19: R_EP ∥ CPE_EP ∥ C_gap
+    # (R_EP undetermined) was 73 lower in AIC than the suggestion R_EP ∥ C_gap; its path adds
+    # R_s. Either rule alone brings draw 13 to the generating circuit's function with its 8
+    # parameters; with both, the path of (39) gets there first
+    import evaluation_set as es
+
+    t = next(t for t in es.TEMPLATES if t.name == "two/finger_rs_ep")
+    case = es.make_case(t, t.variants[0], "dev", draw)
+    data = ix.make_spectrum(case.frequency, case.z)
+    r = ix.refine(data, case.circuit)
+    assert r.verdict == "adequate" and r.final.n_params == 8, r.report()
+    assert es.equivalent_to_generating(r.final, ix.fit(case.generating, data)), r.report()
