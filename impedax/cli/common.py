@@ -16,7 +16,7 @@ from ..errors import DataError, ParameterError
 __all__ = [
     "parse_assignments", "check_parameter_names", "emit_json", "to_jsonable", "add_model_argument", "add_output_options",
     "check_outputs", "save_outputs", "print_result", "result_out_help", "Output", "OutputPlan", "plan_outputs",
-    "memory_limit", "check_memory", "MEMORY_LIMIT_ENV",
+    "memory_limit", "check_memory", "MEMORY_LIMIT_ENV", "add_select_option", "load_selected",
 ]
 
 
@@ -88,6 +88,81 @@ def add_model_argument(parser, *, positional: bool = False) -> None:
         parser.add_argument("model", metavar="MODEL", help=help_text)
     else:
         parser.add_argument("--model", required=True, metavar="MODEL", help=help_text)
+
+
+def add_select_option(parser) -> None:
+    parser.add_argument(
+        "--select", action="append", metavar="DIM=LABEL",
+        help="one spectrum of a file that holds several (sheets, measurements, cycles): the one whose DIM is LABEL "
+        "(its 0-based position where DIM has no labels); repeat for each dimension (`impedax inspect` lists them)",
+    )
+
+
+LABELS_SHOWN = 8  # labels of a dimension named in a --select error
+
+
+def _labels_text(labels: list) -> str:
+    shown = ", ".join(str(v) for v in labels[:LABELS_SHOWN])
+    return shown + (f", ... ({len(labels)} in all)" if len(labels) > LABELS_SHOWN else "")
+
+
+def _position(data, dim: str, label: str, path: str) -> int:
+    """The position along ``dim`` of the spectrum labelled ``label`` (its coordinate's value as
+    text, or equal as a number), or at 0-based position ``label`` where ``dim`` has no coordinate."""
+    size = data.sizes[dim]
+    if dim not in data.coords:
+        if label.strip().lstrip("-").isdigit() and 0 <= int(label) < size:
+            return int(label)
+        raise ParameterError(f"--select {dim}={label}: {path} has no labels along {dim}; give a position 0..{size - 1}")
+    labels = data[dim].values.tolist()
+    try:
+        number = float(label)
+    except ValueError:
+        number = None
+    found = [i for i, v in enumerate(labels) if str(v) == label or (number is not None and isinstance(v, (int, float)) and not isinstance(v, bool) and v == number)]
+    if not found:
+        raise ParameterError(f"--select {dim}={label}: no spectrum of {path} has that label; its {dim} labels: {_labels_text(labels)}")
+    if len(found) > 1:
+        raise ParameterError(f"--select {dim}={label}: {len(found)} spectra of {path} have that label (positions {', '.join(map(str, found))})")
+    return found[0]
+
+
+def load_selected(path: str, select: Sequence[str] | None, *, single: str | None = None):
+    """The spectra of file ``path`` (`impedax.io.load`), narrowed by ``--select DIM=LABEL``
+    items. ``single``: the command takes one spectrum; data that still hold several raise
+    `DataError` naming the dimensions, their labels and ``--select``. A selection is recorded
+    in the data's ``source`` (``path [DIM=LABEL]``), which later messages name."""
+    from ..io import load
+
+    data = load(path)
+    picks: dict[str, int] = {}
+    for item in select or ():
+        dim, sep, label = item.partition("=")
+        dim, label = dim.strip(), label.strip()
+        if not sep or not dim or not label:
+            raise ParameterError(f"--select: expected DIM=LABEL, got {item!r}")
+        extra = [d for d in data["Z"].dims if d != "frequency"]
+        if dim not in extra:
+            have = f"its dimensions besides frequency: {', '.join(extra)}" if extra else "it holds one spectrum"
+            raise ParameterError(f"--select {item}: {path} has no dimension {dim!r} to select from; {have}")
+        if dim in picks:
+            raise ParameterError(f"--select: {dim} given twice")
+        picks[dim] = _position(data, dim, label, path)
+    if picks:
+        shown = ", ".join(f"{d}={str(data[d].values[i]) if d in data.coords else i}" for d, i in picks.items())
+        data = data.isel(picks)
+        data.attrs["source"] = f"{path} [{shown}]"
+    extra = [d for d in data["Z"].dims if d != "frequency"]
+    if single is not None and extra:
+        dim = extra[0]
+        labels = data[dim].values.tolist() if dim in data.coords else list(range(data.sizes[dim]))
+        n = math.prod(data.sizes[d] for d in extra)
+        raise DataError(
+            f"{single} takes one spectrum; the file holds {n} over {', '.join(extra)} ({dim}: {_labels_text(labels)}): "
+            f"pick one with --select {dim}=LABEL" + (" for each of them" if len(extra) > 1 else "") + f", e.g. --select {dim}={labels[0]}",
+            path=path,
+        )
+    return data
 
 
 RESULT_OUT_METAVAR = "FILE.csv|.json|.nc"

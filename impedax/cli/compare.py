@@ -4,10 +4,12 @@ from __future__ import annotations
 
 
 def register(sub) -> None:
+    from .common import add_select_option
     from .fit import add_fit_options, add_max_steps_option
 
     p = sub.add_parser("compare", help="fit several models to one spectrum and compare them", description="Fit each MODEL to DATA and compare rms_rel, reduced chi², AIC, BIC, Akaike weights and F-tests of nested models.")
-    p.add_argument("data", metavar="DATA", help="spectrum file")
+    p.add_argument("data", metavar="DATA", help="spectrum file with one spectrum, or one picked with --select")
+    add_select_option(p)
     p.add_argument("--model", action="append", required=True, metavar="MODEL", help="circuit text (give two or more)")
     add_fit_options(p)
     add_max_steps_option(p, 400, "each model's fit")
@@ -20,7 +22,7 @@ def run(args) -> int:
     from .. import compare, fit, parse
     from ..errors import ParameterError
     from ..fitting.problem import open_spectrum
-    from .common import emit_json, figure_writer, plan_outputs
+    from .common import emit_json, figure_writer, load_selected, plan_outputs
     from .fit import check_max_steps
 
     if len(args.model) < 2:
@@ -28,7 +30,7 @@ def run(args) -> int:
     circuits = [parse(m) for m in args.model]  # all syntax errors before any fitting
     outputs = plan_outputs([("--plot", args.plot, "figure")], inputs=[args.data])
     max_steps = check_max_steps(args.max_steps)
-    data = open_spectrum(args.data, single="compare").data
+    data = open_spectrum(load_selected(args.data, args.select, single="impedax compare"), single="compare").data
     comparison = compare([fit(c, data, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps) for c in circuits])
     outputs.save({"--plot": figure_writer(comparison.plot)})
     if args.json:

@@ -22,11 +22,12 @@ def register(sub) -> None:
 def add_spectrum_command(sub, name: str, *, help: str, description: str, plot_help: str, out_help: str, run):
     """A diagnosis command on one spectrum with a model (diagnose, refine): DATA, --model, the
     fit options, --effects, --noise, --json, --plot, --out; runs ``run(args)``."""
-    from .common import add_model_argument, add_output_options, result_out_help
+    from .common import add_model_argument, add_output_options, add_select_option, result_out_help
     from .fit import add_fit_options
 
     p = sub.add_parser(name, help=help, description=description)
-    p.add_argument("data", metavar="DATA", help="spectrum file with one spectrum")
+    p.add_argument("data", metavar="DATA", help="spectrum file with one spectrum, or one picked with --select")
+    add_select_option(p)
     add_model_argument(p)
     add_fit_options(p)
     p.add_argument("--effects", metavar="ID,ID", help="only these effects (comma-separated ids; default: all)")
@@ -46,13 +47,14 @@ def effects_option(text):
 
 def run(args) -> int:
     from ..fitting import diagnose
-    from .common import figure_writer, plan_outputs, print_result, result_writer
+    from .common import figure_writer, load_selected, plan_outputs, print_result, result_writer
     from .fit import check_max_steps
 
     outputs = plan_outputs([("--out", args.out, "result"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     max_steps = check_max_steps(args.max_steps)
     effects = effects_option(args.effects)
-    result = diagnose(args.data, args.model, effects=effects, noise=args.noise, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps)
+    data = load_selected(args.data, args.select, single="impedax diagnose")
+    result = diagnose(data, args.model, effects=effects, noise=args.noise, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps)
     outputs.save({"--out": result_writer(result), "--plot": figure_writer(result.plot)})
     if not outputs.uses_stdout:
         print_result(result, args.json)

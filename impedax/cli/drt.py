@@ -16,13 +16,16 @@ def _lam(text: str):
 
 
 def register(sub) -> None:
+    from .common import add_select_option
+
     p = sub.add_parser(
         "drt",
         help="distribution of relaxation times (Tikhonov, Gaussian RBFs): peaks, R_inf, L, credible band",
         description="Compute the distribution of relaxation times of one spectrum by Tikhonov regularisation on a Gaussian RBF basis, "
         "lambda chosen by (modified) GCV or the L-curve. See docs/drt.md.",
     )
-    p.add_argument("data", metavar="DATA", help="spectrum file (.csv or .nc) with one spectrum")
+    p.add_argument("data", metavar="DATA", help="spectrum file (.csv or .nc) with one spectrum, or one picked with --select")
+    add_select_option(p)
     p.add_argument("--lam", default="auto", metavar="auto|VALUE", help="regularisation parameter (default: auto)")
     p.add_argument("--lam-method", choices=("gcv", "lcurve"), default="gcv", help="how 'auto' chooses lambda (default: gcv)")
     p.add_argument("--method", choices=("tikhonov",), default="tikhonov", help="DRT method (default: tikhonov)")
@@ -36,10 +39,10 @@ def register(sub) -> None:
 def run(args) -> int:
     from ..fitting.drt import drt
     from ..fitting.problem import open_spectrum
-    from .common import emit_json, figure_writer, plan_outputs
+    from .common import emit_json, figure_writer, load_selected, plan_outputs
 
     outputs = plan_outputs([("--out", args.out, "drt"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
-    data = open_spectrum(args.data, single="impedax drt").data
+    data = open_spectrum(load_selected(args.data, args.select, single="impedax drt"), single="impedax drt").data
     result = drt(data, method=args.method, lam=_lam(args.lam), lam_method=args.lam_method, signed=args.signed)
     outputs.save({"--out": lambda path: _save(result, path), "--plot": figure_writer(result.plot)})
     if outputs.uses_stdout:

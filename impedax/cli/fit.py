@@ -58,10 +58,11 @@ def shared_arguments(args) -> dict:
 
 
 def register(sub) -> None:
-    from .common import add_model_argument, add_output_options, result_out_help
+    from .common import add_model_argument, add_output_options, add_select_option, result_out_help
 
     p = sub.add_parser("fit", help="least-squares fit of a circuit to a spectrum", description="Fit MODEL to the spectrum in DATA (CSV, netCDF or an instrument file). Data with extra dimensions (trials, ...) are fitted together.")
     p.add_argument("data", metavar="DATA", help="spectrum file")
+    add_select_option(p)
     add_model_argument(p)
     p.add_argument("--fix", action="append", metavar="NAME=VALUE", help="hold a parameter fixed (repeatable)")
     p.add_argument("--init", action="append", metavar="NAME=VALUE", help="starting value (repeatable); others are guessed from the data")
@@ -73,13 +74,13 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from .. import FitResult, fit, load
-    from .common import figure_writer, parse_assignments, plan_outputs, print_result, result_writer
+    from .. import FitResult, fit
+    from .common import figure_writer, load_selected, parse_assignments, plan_outputs, print_result, result_writer
 
     outputs = plan_outputs([("--out", args.out, "result"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     max_steps = check_max_steps(args.max_steps)
     sharing = shared_arguments(args)
-    data = load(args.data)
+    data = load_selected(args.data, args.select)
     result = fit(args.model, data, init=parse_assignments(args.init, "--init"), fixed=parse_assignments(args.fix, "--fix"), weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, **sharing)
     outputs.save({"--out": result_writer(result), "--plot": figure_writer(result.plot)})
     if not outputs.uses_stdout:

@@ -9,7 +9,7 @@ _HOW_KEYS = ("sign_convention", "units", "interpretation", "decimal_mark", "poin
 
 
 def register(sub) -> None:
-    from .common import add_output_options
+    from .common import add_output_options, add_select_option
 
     p = sub.add_parser(
         "inspect",
@@ -18,6 +18,7 @@ def register(sub) -> None:
         "convention, units, skipped rows. --out converts it to canonical CSV or netCDF; --plot writes a Nyquist/Bode preview.",
     )
     p.add_argument("file", metavar="FILE", help="spectrum file")
+    add_select_option(p)
     add_output_options(p, json="machine-readable output", plot="write a Nyquist and Bode preview of the data", out="also save the spectrum in impedax's canonical form", out_metavar="FILE.csv|nc")
     p.set_defaults(run=run)
 
@@ -25,11 +26,11 @@ def register(sub) -> None:
 def run(args) -> int:
     import numpy as np
 
-    from ..io import load
-    from .common import emit_json, figure_writer, plan_outputs, spectrum_writer
+    from .common import LABELS_SHOWN, emit_json, figure_writer, load_selected, plan_outputs, spectrum_writer
 
     outputs = plan_outputs([("--out", args.out, "spectrum"), ("--plot", args.plot, "figure")], inputs=[args.file], stdout="--json" if args.json else None)
-    ds = load(args.file)
+    ds = load_selected(args.file, args.select)
+    extra = [d for d in ds["Z"].dims if d != "frequency"]
     freq = ds["frequency"].values
     z = ds["Z"].values
     skipped = [str(s) for s in ds.attrs.get("skipped_rows", [])]
@@ -46,6 +47,8 @@ def run(args) -> int:
         "sign_convention": str(ds.attrs.get("sign_convention", "impedax data model: Z = Z' + jZ''")),
         "units": str(ds.attrs.get("units", "Hz, ohm")),
         "skipped_rows": skipped,
+        # the labels `--select DIM=LABEL` picks a spectrum by (positions where a dimension has none)
+        "labels": {d: ds[d].values.tolist() if d in ds.coords else list(range(ds.sizes[d])) for d in extra},
         "attrs": {k: v for k, v in ds.attrs.items() if isinstance(v, (str, int, float, bool))},
     }
     outputs.save({"--out": spectrum_writer(lambda: ds), "--plot": figure_writer(lambda: _preview(ds, summary["format"]))})
@@ -62,6 +65,9 @@ def run(args) -> int:
     for key in _HOW_KEYS[2:]:
         if key in ds.attrs:
             print(f"  {key.replace('_', ' ')}: {ds.attrs[key]}")
+    for d, labels in summary["labels"].items():
+        shown = ", ".join(str(v) for v in labels[:LABELS_SHOWN]) + (", ..." if len(labels) > LABELS_SHOWN else "")
+        print(f"  {d}: {len(labels)} spectra ({shown}); pick one with --select {d}=LABEL")
     print("  skipped rows: none" if not skipped else f"  skipped rows ({len(skipped)} ranges):")
     for line in skipped[:20]:
         print(f"    {line}")

@@ -4,12 +4,14 @@ from __future__ import annotations
 
 
 def register(sub) -> None:
+    from .common import add_select_option
+
     p = sub.add_parser(
         "kk",
         help="linear Kramers-Kronig test of a spectrum (data problems vs model problems)",
         description="Fit a Kramers-Kronig-consistent Voigt chain (Schoenleber et al. 2014) and report where the data are not KK-consistent (drift, movement, non-stationarity). See docs/kk.md.",
     )
-    p.add_argument("data", metavar="DATA", help="spectrum file (.csv or .nc) with one spectrum")
+    p.add_argument("data", metavar="DATA", help="spectrum file (.csv or .nc) with one spectrum, or one picked with --select")
     p.add_argument("--method", choices=("linear", "zhit"), default="linear", help="linear: Voigt-chain KK test (default); zhit: |Z| reconstructed from the phase (Z-HIT, docs/drt.md)")
     p.add_argument("--json", action="store_true", help="machine-readable output")
     p.add_argument("--plot", metavar="FILE.png", help="save data vs KK fit and the residuals with bad bands shaded")
@@ -17,6 +19,7 @@ def register(sub) -> None:
     p.add_argument("--max-rc", type=int, default=None, metavar="M", help="largest number of RC elements tried (default N/2)")
     p.add_argument("--no-inductance", action="store_true", help="no series inductance in the KK model")
     p.add_argument("--no-capacitance", action="store_true", help="no series capacitance in the KK model")
+    add_select_option(p)
     p.set_defaults(run=run)
 
 
@@ -33,11 +36,10 @@ _ZHIT_JSON = {
 
 def run(args) -> int:
     from ..fitting import kk_test, zhit
-    from ..io import load
-    from .common import emit_json, figure_writer, plan_outputs
+    from .common import emit_json, figure_writer, load_selected, plan_outputs
 
     outputs = plan_outputs([("--plot", args.plot, "figure")], inputs=[args.data])
-    data = load(args.data)
+    data = load_selected(args.data, args.select, single="impedax kk")
     if args.method == "zhit":
         result, keys, extra = zhit(data), _ZHIT_JSON, {"method": "zhit"}
     else:

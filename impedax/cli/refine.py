@@ -42,7 +42,7 @@ def progress_printer(after_s: float = PROGRESS_AFTER_S):
 def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting import refine
-    from .common import figure_writer, plan_outputs, print_result, result_writer
+    from .common import figure_writer, load_selected, plan_outputs, print_result, result_writer
     from .diagnose import effects_option
     from .fit import check_max_steps
 
@@ -51,8 +51,9 @@ def run(args) -> int:
         raise ParameterError(f"--max-effects must be 0 or more, got {args.max_effects}")
     solver_steps = check_max_steps(args.max_steps)
     effects = effects_option(args.effects)
+    data = load_selected(args.data, args.select, single="impedax refine")
     result = refine(
-        args.data, args.model, max_effects=args.max_effects, solver_steps=solver_steps, effects=effects, weighting=args.weighting, noise=args.noise,
+        data, args.model, max_effects=args.max_effects, solver_steps=solver_steps, effects=effects, weighting=args.weighting, noise=args.noise,
         fmin=args.fmin, fmax=args.fmax, progress=progress_printer(),
     )
     outputs.save({"--out": result_writer(result), "--plot": figure_writer(result.plot)})

@@ -7,7 +7,7 @@ import sys
 
 def register(sub) -> None:
     from ..fitting import NOISE_MODELS, PRIOR_KINDS
-    from .common import add_model_argument, add_output_options, result_out_help
+    from .common import add_model_argument, add_output_options, add_select_option, result_out_help
     from .fit import add_shared_options
 
     p = sub.add_parser(
@@ -16,6 +16,7 @@ def register(sub) -> None:
         description="Sample the posterior of MODEL's parameters given the spectrum in DATA with emcee, starting from a least-squares fit. Reports medians, 5/16/84/95%% quantiles, acceptance, autocorrelation times, effective sample sizes, Laplace log evidence and WAIC.",
     )
     p.add_argument("data", metavar="DATA", help="spectrum file")
+    add_select_option(p)
     add_model_argument(p)
     p.add_argument("--walkers", type=int, metavar="N", help="number of walkers (even, at least 2 × parameters; default max(64, 4 × parameters))")
     p.add_argument("--steps", type=int, default=2000, metavar="N", help="steps per walker (default 2000)")
@@ -53,10 +54,10 @@ def check_sample_size(circuit, walkers, steps, priors) -> None:
 
 
 def run(args) -> int:
-    from .. import load, parse, sample
+    from .. import parse, sample
     from ..errors import ParameterError
     from ..fitting import parse_prior
-    from .common import figure_writer, plan_outputs, print_result, result_writer
+    from .common import figure_writer, load_selected, plan_outputs, print_result, result_writer
     from .fit import shared_arguments
 
     circuit = parse(args.model)  # syntax errors before anything else
@@ -74,7 +75,7 @@ def run(args) -> int:
         inputs=[args.data], stdout="--json" if args.json else None,
     )
     check_sample_size(circuit, args.walkers, args.steps, priors)
-    data = load(args.data)
+    data = load_selected(args.data, args.select)
     posterior = sample(
         circuit, data, priors=priors, noise=args.noise, walkers=args.walkers, steps=args.steps, burn=args.burn, thin=args.thin,
         seed=args.seed, fmin=args.fmin, fmax=args.fmax, progress=not (args.quiet or args.json), **sharing,

@@ -72,7 +72,8 @@ def open_spectrum(data: xr.Dataset | str | os.PathLike, *, fmin: float | None = 
     if single is not None and spectrum.extra_dims:
         raise DataError(
             f"{single} takes one spectrum; these data hold several (extra dimensions {', '.join(spectrum.extra_dims)}): "
-            "select one or average them first",
+            f"select one first (data.isel({spectrum.extra_dims[0]}=0), data.sel({spectrum.extra_dims[0]}=label); "
+            f"the command line's --select {spectrum.extra_dims[0]}=LABEL) or average them",
             path=source,
         )
     return spectrum

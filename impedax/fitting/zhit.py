@@ -111,7 +111,7 @@ def zhit(data, *, noise_floor: float = 0.01, point: float = 5.0, run: float = 3.
         raise ParameterError(f"run_length must be a positive integer, got {run_length!r}")
     freq, z, dims, _, source = frequency_and_z(data)
     if dims:
-        raise DataError(f"zhit takes one spectrum; these data have extra dimensions {dims}: select one or average them first", path=source)
+        raise DataError(f"zhit takes one spectrum; these data have extra dimensions {dims}: select one first (data.isel({dims[0]}=0), data.sel({dims[0]}=label)) or average them", path=source)
     if freq.size < 6:
         raise DataError(f"Z-HIT needs at least 6 frequencies, got {freq.size}", path=source)
     if np.any(np.abs(z) == 0):

@@ -1,0 +1,123 @@
+"""`--select DIM=LABEL`: one spectrum of a file that holds several, for every command that takes
+one (kk, diagnose, refine, drt, compare) and for fit, sample and inspect. The spectra are
+written here from a closed form (R0 + R1 ∥ C1 with a different R1 each), so a wrong pick
+shows in the fitted values."""
+
+import json
+
+import numpy as np
+import pytest
+
+import impedax as ix
+from impedax.cli import main
+
+F = np.geomspace(1e-1, 1e5, 41)
+R0, C1 = 10.0, 1e-6
+R1_OF = {"a": 100.0, "b": 400.0, "c": 1600.0}
+
+
+def rc(r1, rng):
+    """R0 + R1 ∥ C1 from its transfer function, with 0.1 % complex noise."""
+    z = R0 + r1 / (1 + 1j * 2 * np.pi * F * r1 * C1)
+    return z * (1 + 1e-3 * (rng.normal(size=F.size) + 1j * rng.normal(size=F.size)))
+
+
+@pytest.fixture(scope="module")
+def stacks(tmp_path_factory):
+    """Three files of the same three spectra: labels as text, labels as numbers, no labels."""
+    rng = np.random.default_rng(7)
+    z = np.stack([rc(r1, rng) for r1 in R1_OF.values()])
+    folder = tmp_path_factory.mktemp("stacks")
+    paths = {}
+    for name, coords in (("text", list(R1_OF)), ("numbers", [0.5, 1.0, 2.0]), ("none", None)):
+        ds = ix.make_spectrum(F, z, dims=("trial",))
+        ds = ds.drop_vars("trial", errors="ignore")
+        if coords is not None:
+            ds = ds.assign_coords(trial=coords)
+        paths[name] = str(folder / f"{name}.nc")
+        ix.save(ds, paths[name])
+    return paths
+
+
+def json_out(args, capsys):
+    assert main(args) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+@pytest.mark.parametrize("kind, label, expected", [("text", "b", "b"), ("numbers", "1", "b"), ("numbers", "2.0", "c"), ("none", "0", "a"), ("none", "2", "c")])
+def test_fit_of_the_selected_spectrum_finds_its_own_resistance(stacks, kind, label, expected, capsys):
+    out = json_out(["fit", stacks[kind], "--model", "R0 + R1 || C1", "--select", f"trial={label}", "--json"], capsys)
+    assert out["params"]["R1"]["value"] == pytest.approx(R1_OF[expected], rel=0.01)
+    assert out["params"]["R0"]["value"] == pytest.approx(R0, rel=0.02)
+
+
+def test_kk_of_the_selected_spectrum_equals_the_api_on_that_spectrum(stacks, capsys):
+    out = json_out(["kk", stacks["text"], "--select", "trial=c", "--json"], capsys)
+    expected = ix.kk_test(ix.load(stacks["text"]).isel(trial=2))
+    assert out["rms_rel"] == pytest.approx(expected.rms_rel, rel=1e-12)
+    assert out["n_rc"] == expected.n_rc
+
+
+def test_without_select_a_fit_is_a_batch_and_the_rest_ask_for_a_pick(stacks, capsys):
+    out = json_out(["fit", stacks["text"], "--model", "R0 + R1 || C1", "--json"], capsys)
+    assert out["n_spectra"] == 3
+    for args in (["kk"], ["drt"], ["diagnose", "--model", "R0 + R1 || C1"], ["refine", "--model", "R0 + R1 || C1"], ["compare", "--model", "R0 + R1", "--model", "R0 + R1 || C1"]):
+        assert main([args[0], stacks["text"], *args[1:]]) == 2
+        err = capsys.readouterr().err
+        assert err.count("error:") == 1 and f"impedax {args[0]} takes one spectrum" in err
+        assert "3 over trial (trial: a, b, c)" in err and "--select trial=LABEL, e.g. --select trial=a" in err
+
+
+@pytest.mark.parametrize(
+    "select, fragment",
+    [
+        ("trial=d", "no spectrum of"),
+        ("trial", "expected DIM=LABEL"),
+        ("=b", "expected DIM=LABEL"),
+        ("cycle=1", "has no dimension 'cycle' to select from; its dimensions besides frequency: trial"),
+        ("frequency=1", "has no dimension 'frequency'"),
+    ],
+)
+def test_a_bad_selection_is_one_message_and_exit_2(stacks, select, fragment, capsys):
+    assert main(["kk", stacks["text"], "--select", select]) == 2
+    err = capsys.readouterr().err
+    assert err.count("error:") == 1 and fragment in err and "Traceback" not in err
+    if select == "trial=d":
+        assert "its trial labels: a, b, c" in err
+
+
+def test_positions_where_a_dimension_has_no_labels(stacks, capsys):
+    for label in ("3", "-1", "x"):
+        assert main(["kk", stacks["none"], "--select", f"trial={label}"]) == 2
+        assert "has no labels along trial; give a position 0..2" in capsys.readouterr().err
+
+
+def test_the_same_dimension_twice_and_a_single_spectrum_file(stacks, tmp_path, capsys):
+    assert main(["kk", stacks["text"], "--select", "trial=a", "--select", "trial=b"]) == 2
+    assert "trial given twice" in capsys.readouterr().err
+    one = tmp_path / "one.csv"
+    ix.save(ix.make_spectrum(F, rc(100.0, np.random.default_rng(1))), one)
+    assert main(["kk", str(one), "--select", "trial=a"]) == 2
+    assert "it holds one spectrum" in capsys.readouterr().err
+
+
+def test_diagnose_and_drt_run_on_the_pick(stacks, capsys):
+    out = json_out(["diagnose", stacks["text"], "--model", "R0 + R1 || C1", "--select", "trial=b", "--json"], capsys)
+    assert out["verdict"] == "adequate"
+    # each spectrum has noise of its own, so each fit's misfit tells the spectra apart
+    misfit = [ix.fit("R0 + R1 || C1", ix.load(stacks["text"]).isel(trial=i)).rms_rel for i in range(3)]
+    assert out["baseline"]["rms_rel"] == pytest.approx(misfit[1], rel=1e-6)
+    assert min(abs(misfit[1] - misfit[0]), abs(misfit[1] - misfit[2])) > 1e-3 * misfit[1]
+    out = json_out(["drt", stacks["text"], "--select", "trial=c", "--json"], capsys)
+    assert out["r_inf_ohm"] == pytest.approx(R0, rel=0.05)
+
+
+def test_inspect_lists_the_labels_and_shows_the_pick(stacks, capsys):
+    out = json_out(["inspect", stacks["numbers"], "--json"], capsys)
+    assert out["labels"] == {"trial": [0.5, 1.0, 2.0]} and out["dims"]["trial"] == 3
+    assert main(["inspect", stacks["text"]]) == 0
+    assert "trial: 3 spectra (a, b, c); pick one with --select trial=LABEL" in capsys.readouterr().out
+    out = json_out(["inspect", stacks["text"], "--select", "trial=c", "--json"], capsys)
+    assert out["labels"] == {} and "trial" not in out["dims"]
+    z = R0 + R1_OF["c"] / (1 + 1j * 2 * np.pi * F * R1_OF["c"] * C1)
+    assert out["z_abs_max_ohm"] == pytest.approx(np.abs(z).max(), rel=0.01)
