@@ -58,14 +58,34 @@ def test_kk_of_the_selected_spectrum_equals_the_api_on_that_spectrum(stacks, cap
     assert out["n_rc"] == expected.n_rc
 
 
-def test_without_select_a_fit_is_a_batch_and_the_rest_ask_for_a_pick(stacks, capsys):
+def test_without_select_a_fit_is_a_batch_and_the_rest_ask_for_a_pick(stacks, tmp_path, capsys):
     out = json_out(["fit", stacks["text"], "--model", "R0 + R1 || C1", "--json"], capsys)
     assert out["n_spectra"] == 3
-    for args in (["kk"], ["drt"], ["diagnose", "--model", "R0 + R1 || C1"], ["refine", "--model", "R0 + R1 || C1"], ["compare", "--model", "R0 + R1", "--model", "R0 + R1 || C1"]):
+    one_spectrum = {
+        "impedax kk --method zhit": ["kk", "--method", "zhit"], "impedax kk --plot": ["kk", "--plot", str(tmp_path / "kk.png")], "impedax drt": ["drt"],
+        "impedax diagnose": ["diagnose", "--model", "R0 + R1 || C1"], "impedax refine": ["refine", "--model", "R0 + R1 || C1"],
+        "impedax compare": ["compare", "--model", "R0 + R1", "--model", "R0 + R1 || C1"],
+    }
+    for name, args in one_spectrum.items():
         assert main([args[0], stacks["text"], *args[1:]]) == 2
         err = capsys.readouterr().err
-        assert err.count("error:") == 1 and f"impedax {args[0]} takes one spectrum" in err
+        assert err.count("error:") == 1 and f"{name} takes one spectrum" in err
         assert "3 over trial (trial: a, b, c)" in err and "--select trial=LABEL, e.g. --select trial=a" in err
+    assert not (tmp_path / "kk.png").exists()
+
+
+def test_kk_without_select_tests_every_spectrum_of_the_file(stacks, capsys):
+    out = json_out(["kk", stacks["numbers"], "--json"], capsys)
+    data = ix.load(stacks["numbers"])
+    assert out["dims"] == ["trial"] and out["n_spectra"] == 3
+    assert [s["labels"] for s in out["spectra"]] == [{"trial": 0.5}, {"trial": 1.0}, {"trial": 2.0}]
+    for i, spectrum in enumerate(out["spectra"]):
+        one = ix.kk_test(data.isel(trial=i))
+        assert spectrum["rms_rel"] == pytest.approx(one.rms_rel, rel=1e-9) and spectrum["valid"] == bool(one.valid)
+    assert out["n_valid"] == sum(s["valid"] for s in out["spectra"])
+    assert main(["kk", stacks["text"]]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[0].startswith("linear KK test of 3 spectra over trial: ") and [ln.split()[0] for ln in lines[2:]] == ["trial=a", "trial=b", "trial=c"]
 
 
 @pytest.mark.parametrize(

@@ -266,7 +266,7 @@ def test_cli_kk_json_contract(drift_csv, capsys):
         (["kk", "missing.csv"], "not found"),
         (["kk", "{csv}", "--c", "2"], "c must be"),
         (["kk", "{csv}", "--max-rc", "0"], "max_rc"),
-        (["kk", "{nc}"], "extra dimensions"),
+        (["kk", "{nc}", "--method", "zhit"], "takes one spectrum; the file holds 2 over trial"),
         (["kk", "{csv}", "--plot", "/nonexistent-dir/x.png"], "does not exist"),
     ],
 )

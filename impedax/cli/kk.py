@@ -11,7 +11,7 @@ def register(sub) -> None:
         help="linear Kramers-Kronig test of a spectrum (data problems vs model problems)",
         description="Fit a Kramers-Kronig-consistent Voigt chain (Schoenleber et al. 2014) and report where the data are not KK-consistent (drift, movement, non-stationarity). See docs/kk.md.",
     )
-    p.add_argument("data", metavar="DATA", help="spectrum file (.csv or .nc) with one spectrum, or one picked with --select")
+    p.add_argument("data", metavar="DATA", help="spectrum file; a file of several spectra is tested spectrum by spectrum (one line each), or pick one with --select")
     p.add_argument("--method", choices=("linear", "zhit"), default="linear", help="linear: Voigt-chain KK test (default); zhit: |Z| reconstructed from the phase (Z-HIT, docs/drt.md)")
     p.add_argument("--json", action="store_true", help="machine-readable output")
     p.add_argument("--plot", metavar="FILE.png", help="save data vs KK fit and the residuals with bad bands shaded")
@@ -35,21 +35,55 @@ _ZHIT_JSON = {
 
 
 def run(args) -> int:
-    from ..fitting import kk_test, zhit
+    from ..fitting import kk_test, kk_test_batch, zhit
     from .common import emit_json, figure_writer, load_selected, plan_outputs
 
     outputs = plan_outputs([("--plot", args.plot, "figure")], inputs=[args.data])
-    data = load_selected(args.data, args.select, single="impedax kk")
+    # a file of several spectra: every one tested (one table row each), as `fit` fits them
+    # all; Z-HIT and the plot take one (--select)
+    single = "impedax kk --method zhit" if args.method == "zhit" else "impedax kk --plot" if args.plot else None
+    data = load_selected(args.data, args.select, single=single)
+    options = dict(c=args.c, max_rc=args.max_rc, inductance=not args.no_inductance, capacitance=not args.no_capacitance)
+    if any(d != "frequency" for d in data["Z"].dims):
+        _each_spectrum(kk_test_batch(data, **options), data, args.json)
+        return 0
     if args.method == "zhit":
         result, keys, extra = zhit(data), _ZHIT_JSON, {"method": "zhit"}
     else:
-        result = kk_test(data, c=args.c, max_rc=args.max_rc, inductance=not args.no_inductance, capacitance=not args.no_capacitance)
-        keys, extra = _KK_JSON, {}
+        result, keys, extra = kk_test(data, **options), _KK_JSON, {}
     outputs.save({"--plot": figure_writer(result.plot)})
     if args.json:
-        out = {key: getattr(result, attribute) for key, attribute in keys.items()}
-        out["bad_bands"] = [[lo, hi] for lo, hi in result.bad_bands]
-        emit_json({**extra, **out})
+        emit_json({**extra, **_as_json(result, keys)})
     else:
         print(result.summary())
     return 0
+
+
+def _as_json(result, keys) -> dict:
+    out = {key: getattr(result, attribute) for key, attribute in keys.items()}
+    out["bad_bands"] = [[lo, hi] for lo, hi in result.bad_bands]
+    return out
+
+
+def _each_spectrum(batch, data, as_json: bool) -> None:
+    """The KK test of every spectrum of a stack: JSON ``spectra`` (each spectrum's labels,
+    then the keys of one spectrum's test), or one line per spectrum."""
+    import numpy as np
+
+    from ..data import format_frequency
+
+    labels = [data[d].values.tolist() if d in data.coords else list(range(n)) for d, n in zip(batch.dims, batch.shape)]
+    where = [{d: labels[k][i] for k, (d, i) in enumerate(zip(batch.dims, index))} for index in np.ndindex(*batch.shape)]
+    n_valid = sum(bool(r.valid) for r in batch.results)
+    if as_json:
+        from .common import emit_json
+
+        emit_json({"dims": list(batch.dims), "n_spectra": len(batch.results), "n_valid": n_valid, "spectra": [{"labels": w, **_as_json(r, _KK_JSON)} for w, r in zip(where, batch.results)]})
+        return
+    print(f"linear KK test of {len(batch.results)} spectra over {', '.join(batch.dims)}: {n_valid} KK-consistent, {len(batch.results) - n_valid} not")
+    names = [", ".join(f"{d}={v}" for d, v in w.items()) for w in where]
+    width = max(len(n) for n in names)
+    print(f"{'spectrum':<{width}}  {'verdict':<9} {'rms_rel':>9} {'noise':>9} {'M':>3}  bad bands")
+    for name, r in zip(names, batch.results):
+        bands = "; ".join(f"{format_frequency(lo)} – {format_frequency(hi)}" for lo, hi in r.bad_bands) or "none"
+        print(f"{name:<{width}}  {'valid' if r.valid else 'NOT valid':<9} {r.rms_rel * 100:>8.3g}% {r.noise_estimate * 100:>8.3g}% {r.n_rc:>3}  {bands}")
