@@ -16,7 +16,7 @@ from ..errors import DataError, ParameterError
 __all__ = [
     "parse_assignments", "check_parameter_names", "emit_json", "to_jsonable", "add_model_argument", "add_output_options",
     "check_outputs", "save_outputs", "print_result", "result_out_help", "Output", "OutputPlan", "plan_outputs",
-    "memory_limit", "check_memory", "MEMORY_LIMIT_ENV", "add_select_option", "load_selected",
+    "memory_limit", "check_memory", "MEMORY_LIMIT_ENV", "add_select_option", "load_selected", "labels_text",
 ]
 
 
@@ -98,10 +98,11 @@ def add_select_option(parser) -> None:
     )
 
 
-LABELS_SHOWN = 8  # labels of a dimension named in a --select error
+LABELS_SHOWN = 8  # labels of a dimension shown in messages and by inspect
 
 
-def _labels_text(labels: list) -> str:
+def labels_text(labels: list) -> str:
+    """The first `LABELS_SHOWN` labels of a dimension, and how many there are when more."""
     shown = ", ".join(str(v) for v in labels[:LABELS_SHOWN])
     return shown + (f", ... ({len(labels)} in all)" if len(labels) > LABELS_SHOWN else "")
 
@@ -121,7 +122,7 @@ def _position(data, dim: str, label: str, path: str) -> int:
         number = None
     found = [i for i, v in enumerate(labels) if str(v) == label or (number is not None and isinstance(v, (int, float)) and not isinstance(v, bool) and v == number)]
     if not found:
-        raise ParameterError(f"--select {dim}={label}: no spectrum of {path} has that label; its {dim} labels: {_labels_text(labels)}")
+        raise ParameterError(f"--select {dim}={label}: no spectrum of {path} has that label; its {dim} labels: {labels_text(labels)}")
     if len(found) > 1:
         raise ParameterError(f"--select {dim}={label}: {len(found)} spectra of {path} have that label (positions {', '.join(map(str, found))})")
     return found[0]
@@ -158,7 +159,7 @@ def load_selected(path: str, select: Sequence[str] | None, *, single: str | None
         labels = data[dim].values.tolist() if dim in data.coords else list(range(data.sizes[dim]))
         n = math.prod(data.sizes[d] for d in extra)
         raise DataError(
-            f"{single} takes one spectrum; the file holds {n} over {', '.join(extra)} ({dim}: {_labels_text(labels)}): "
+            f"{single} takes one spectrum; the file holds {n} over {', '.join(extra)} ({dim}: {labels_text(labels)}): "
             f"pick one with --select {dim}=LABEL" + (" for each of them" if len(extra) > 1 else "") + f", e.g. --select {dim}={labels[0]}",
             path=path,
         )

@@ -26,7 +26,7 @@ def register(sub) -> None:
 def run(args) -> int:
     import numpy as np
 
-    from .common import LABELS_SHOWN, emit_json, figure_writer, load_selected, plan_outputs, spectrum_writer
+    from .common import emit_json, figure_writer, labels_text, load_selected, plan_outputs, spectrum_writer
 
     outputs = plan_outputs([("--out", args.out, "spectrum"), ("--plot", args.plot, "figure")], inputs=[args.file], stdout="--json" if args.json else None)
     ds = load_selected(args.file, args.select)
@@ -66,8 +66,7 @@ def run(args) -> int:
         if key in ds.attrs:
             print(f"  {key.replace('_', ' ')}: {ds.attrs[key]}")
     for d, labels in summary["labels"].items():
-        shown = ", ".join(str(v) for v in labels[:LABELS_SHOWN]) + (", ..." if len(labels) > LABELS_SHOWN else "")
-        print(f"  {d}: {len(labels)} spectra ({shown}); pick one with --select {d}=LABEL")
+        print(f"  {d}: {len(labels)} spectra ({labels_text(labels)}); pick one with --select {d}=LABEL")
     print("  skipped rows: none" if not skipped else f"  skipped rows ({len(skipped)} ranges):")
     for line in skipped[:20]:
         print(f"    {line}")
