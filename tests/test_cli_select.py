@@ -1,5 +1,6 @@
 """`--select DIM=LABEL`: one spectrum of a file that holds several, for every command that takes
-one (kk, diagnose, refine, drt, compare) and for fit, sample and inspect. The spectra are
+one (diagnose, refine, compare, kk --plot, kk --method zhit) and for fit, kk, drt, sample and
+inspect; kk and drt without it: every spectrum of the file. The spectra are
 written here from a closed form (R0 + R1 ∥ C1 with a different R1 each), so a wrong pick
 shows in the fitted values."""
 
@@ -7,6 +8,7 @@ import json
 
 import numpy as np
 import pytest
+import xarray as xr
 
 import impedax as ix
 from impedax.cli import main
@@ -62,7 +64,7 @@ def test_without_select_a_fit_is_a_batch_and_the_rest_ask_for_a_pick(stacks, tmp
     out = json_out(["fit", stacks["text"], "--model", "R0 + R1 || C1", "--json"], capsys)
     assert out["n_spectra"] == 3
     one_spectrum = {
-        "impedax kk --method zhit": ["kk", "--method", "zhit"], "impedax kk --plot": ["kk", "--plot", str(tmp_path / "kk.png")], "impedax drt": ["drt"],
+        "impedax kk --method zhit": ["kk", "--method", "zhit"], "impedax kk --plot": ["kk", "--plot", str(tmp_path / "kk.png")],
         "impedax diagnose": ["diagnose", "--model", "R0 + R1 || C1"], "impedax refine": ["refine", "--model", "R0 + R1 || C1"],
         "impedax compare": ["compare", "--model", "R0 + R1", "--model", "R0 + R1 || C1"],
     }
@@ -74,6 +76,28 @@ def test_without_select_a_fit_is_a_batch_and_the_rest_ask_for_a_pick(stacks, tmp
     assert not (tmp_path / "kk.png").exists()
 
 
+def test_drt_without_select_solves_every_spectrum_of_the_file(stacks, tmp_path, capsys):
+    """The DRT of R0 + R1 ∥ C1 is one peak of area R1 at τ = R1·C1."""
+    out = json_out(["drt", stacks["text"], "--json"], capsys)
+    assert out["dims"] == ["trial"] and out["n_spectra"] == 3
+    for spectrum, (label, r1) in zip(out["spectra"], R1_OF.items()):
+        assert spectrum["labels"] == {"trial": label} and len(spectrum["peaks"]) == 1
+        peak = spectrum["peaks"][0]
+        assert peak["r_ohm"] == pytest.approx(r1, rel=0.1) and peak["tau_s"] == pytest.approx(r1 * C1, rel=0.3)
+        assert spectrum["r_inf_ohm"] == pytest.approx(R0, rel=0.05)
+    csv, png, nc = tmp_path / "drt.csv", tmp_path / "drt.png", tmp_path / "drt.nc"
+    assert main(["drt", stacks["text"], "--out", str(csv), "--plot", str(png)]) == 0
+    text = capsys.readouterr().out
+    assert text.startswith("DRT of 3 spectra") and "trial=b: rms_rel" in text
+    lines = csv.read_text().splitlines()
+    n_tau = len(out["spectra"][0]["tau_s"])
+    assert lines[0] == "trial,tau_s,gamma_ohm,gamma_q05_ohm,gamma_q95_ohm" and len(lines) == 1 + 3 * n_tau
+    assert [ln.split(",")[0] for ln in lines[1 :: n_tau]] == ["a", "b", "c"] and png.stat().st_size > 10_000
+    assert main(["drt", stacks["text"], "--out", str(nc)]) == 0
+    saved = xr.open_dataset(nc)
+    assert saved.sizes["trial"] == 3 and "Z_real" in saved and np.allclose(saved["rms_rel"].values, [s["rms_rel"] for s in out["spectra"]])
+
+
 def test_kk_without_select_tests_every_spectrum_of_the_file(stacks, capsys):
     out = json_out(["kk", stacks["numbers"], "--json"], capsys)
     data = ix.load(stacks["numbers"])
@@ -83,6 +107,8 @@ def test_kk_without_select_tests_every_spectrum_of_the_file(stacks, capsys):
         one = ix.kk_test(data.isel(trial=i))
         assert spectrum["rms_rel"] == pytest.approx(one.rms_rel, rel=1e-9) and spectrum["valid"] == bool(one.valid)
     assert out["n_valid"] == sum(s["valid"] for s in out["spectra"])
+    out = json_out(["kk", stacks["none"], "--json"], capsys)  # no coordinate: positions
+    assert [s["labels"] for s in out["spectra"]] == [{"trial": 0}, {"trial": 1}, {"trial": 2}]
     assert main(["kk", stacks["text"]]) == 0
     lines = capsys.readouterr().out.splitlines()
     assert lines[0].startswith("linear KK test of 3 spectra over trial: ") and [ln.split()[0] for ln in lines[2:]] == ["trial=a", "trial=b", "trial=c"]

@@ -38,47 +38,69 @@ def register(sub) -> None:
 
 def run(args) -> int:
     from ..fitting.drt import drt
+    from ..fitting.grid import ResultGrid
     from ..fitting.problem import open_spectrum
     from .common import emit_json, figure_writer, load_selected, plan_outputs
 
     outputs = plan_outputs([("--out", args.out, "drt"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
-    data = open_spectrum(load_selected(args.data, args.select, single="impedax drt"), single="impedax drt").data
+    # a file of several spectra: the DRT of each in one solve (`DRTBatchResult`), or one (--select)
+    data = open_spectrum(load_selected(args.data, args.select)).data
     result = drt(data, method=args.method, lam=_lam(args.lam), lam_method=args.lam_method, signed=args.signed)
     outputs.save({"--out": lambda path: _save(result, path), "--plot": figure_writer(result.plot)})
     if outputs.uses_stdout:
         return 0
+    batch = isinstance(result, ResultGrid)
     if args.json:
-        emit_json({
-            "tau_s": result.tau,
-            "gamma_ohm": result.gamma,
-            "gamma_q05": result.gamma_q05,
-            "gamma_q95": result.gamma_q95,
-            "r_inf_ohm": result.r_inf_ohm,
-            "l_h": result.l_h,
-            "lambda": result.lam,
-            "lambda_method": result.lambda_method,
-            "peaks": [{"tau_s": p.tau_s, "r_ohm": p.r_ohm, "width_decades": p.width_decades} for p in result.peaks],
-            "rms_rel": result.rms_rel,
-        })
+        if batch:
+            emit_json({"dims": list(result.dims), "n_spectra": len(result), "spectra": [{"labels": where, **_as_json(one)} for where, one in zip(result.labels(), result.results)]})
+        else:
+            emit_json(_as_json(result))
         return 0
     print(result.report())
+    if batch:
+        for where, one in zip(result.labels(), result.results):
+            peaks = "; ".join(f"{p.tau_s:.3g} s ({p.r_ohm:.3g} Ω)" for p in one.peaks) or "none"
+            print(f"  {', '.join(f'{d}={v}' for d, v in where.items())}: rms_rel {one.rms_rel * 100:.3g} %, R_inf {one.r_inf_ohm:.4g} Ω, peaks {peaks}")
     return 0
 
 
+def _as_json(result) -> dict:
+    """One spectrum's DRT as the JSON of `impedax drt --json`."""
+    return {
+        "tau_s": result.tau,
+        "gamma_ohm": result.gamma,
+        "gamma_q05": result.gamma_q05,
+        "gamma_q95": result.gamma_q95,
+        "r_inf_ohm": result.r_inf_ohm,
+        "l_h": result.l_h,
+        "lambda": result.lam,
+        "lambda_method": result.lambda_method,
+        "peaks": [{"tau_s": p.tau_s, "r_ohm": p.r_ohm, "width_decades": p.width_decades} for p in result.peaks],
+        "rms_rel": result.rms_rel,
+    }
+
+
 def _save(result, path) -> None:
+    """The DRT as netCDF (`to_xarray`, complex variables as Re and Im) or as CSV: γ over τ,
+    for several spectra one block per spectrum after columns of its labels."""
+    import numpy as np
+
     from ..io.atomic import atomic_path
 
     if str(path).lower().endswith(".nc"):
         ds = result.to_xarray()
         # netCDF3 has no complex type: store Re and Im
-        for name in ("Z", "Z_fit", "residuals"):
+        for name in [n for n in ds.data_vars if np.iscomplexobj(ds[n].values)]:
             ds[f"{name}_real"], ds[f"{name}_imag"] = ds[name].real, ds[name].imag
             ds = ds.drop_vars(name)
         with atomic_path(path) as tmp:
             ds.to_netcdf(tmp, engine="scipy")
         return
+    places, results = (result.labels(), result.results) if hasattr(result, "labels") else ([{}], (result,))
     with atomic_path(path) as tmp:
         with open(tmp, "w", encoding="utf-8") as fh:
-            fh.write("tau_s,gamma_ohm,gamma_q05_ohm,gamma_q95_ohm\n")
-            for row in zip(result.tau, result.gamma, result.gamma_q05, result.gamma_q95):
-                fh.write(",".join(f"{v:.10g}" for v in row) + "\n")
+            fh.write(",".join([*places[0], "tau_s", "gamma_ohm", "gamma_q05_ohm", "gamma_q95_ohm"]) + "\n")
+            for where, one in zip(places, results):
+                first = [str(v) for v in where.values()]
+                for row in zip(one.tau, one.gamma, one.gamma_q05, one.gamma_q95):
+                    fh.write(",".join(first + [f"{v:.10g}" for v in row]) + "\n")

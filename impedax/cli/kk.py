@@ -45,7 +45,7 @@ def run(args) -> int:
     data = load_selected(args.data, args.select, single=single)
     options = dict(c=args.c, max_rc=args.max_rc, inductance=not args.no_inductance, capacitance=not args.no_capacitance)
     if any(d != "frequency" for d in data["Z"].dims):
-        _each_spectrum(kk_test_batch(data, **options), data, args.json)
+        _each_spectrum(kk_test_batch(data, **options), args.json)
         return 0
     if args.method == "zhit":
         result, keys, extra = zhit(data), _ZHIT_JSON, {"method": "zhit"}
@@ -65,15 +65,12 @@ def _as_json(result, keys) -> dict:
     return out
 
 
-def _each_spectrum(batch, data, as_json: bool) -> None:
+def _each_spectrum(batch, as_json: bool) -> None:
     """The KK test of every spectrum of a stack: JSON ``spectra`` (each spectrum's labels,
     then the keys of one spectrum's test), or one line per spectrum."""
-    import numpy as np
-
     from ..data import format_frequency
 
-    labels = [data[d].values.tolist() if d in data.coords else list(range(n)) for d, n in zip(batch.dims, batch.shape)]
-    where = [{d: labels[k][i] for k, (d, i) in enumerate(zip(batch.dims, index))} for index in np.ndindex(*batch.shape)]
+    where = batch.labels()
     n_valid = sum(bool(r.valid) for r in batch.results)
     if as_json:
         from .common import emit_json

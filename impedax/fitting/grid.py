@@ -31,6 +31,12 @@ class ResultGrid:
     def __len__(self) -> int:
         return len(self.results)
 
+    def labels(self) -> list[dict]:
+        """Each result's place, in the order of ``results``: {dimension: its coordinate's value
+        there, or the position where the dimension has no coordinate}."""
+        axes = [np.asarray(self.coords[d]).tolist() if d in self.coords else list(range(n)) for d, n in zip(self.dims, self.shape)]
+        return [{d: axes[k][i] for k, (d, i) in enumerate(zip(self.dims, index))} for index in np.ndindex(*self.shape)]
+
     def per_spectrum(self, name: str, dtype=float) -> np.ndarray:
         """Attribute ``name`` of every result as an array over ``dims``."""
         return np.array([getattr(r, name) for r in self.results], dtype=dtype).reshape(self.shape)

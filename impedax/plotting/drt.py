@@ -9,7 +9,7 @@ import numpy as np
 
 from . import plot_bode, plot_nyquist, shade_bands
 
-__all__ = ["plot_drt", "plot_gamma", "plot_zhit"]
+__all__ = ["plot_drt", "plot_drt_batch", "plot_gamma", "plot_zhit"]
 
 
 def plot_gamma(ax, result, *, overlay=None, label="data DRT", overlay_label=None) -> None:
@@ -62,6 +62,35 @@ def plot_drt(result, *, overlay=None, title: str | None = None):
     ax_res.grid(alpha=0.3, which="both")
     ax_res.legend(fontsize=8, ncol=2)
     fig.suptitle(title or f"DRT: {len(result.peaks)} peak(s), λ = {result.lam:.2g} ({result.lambda_method}), rms_rel {result.rms_rel * 100:.2g} %")
+    return fig
+
+
+LEGEND_MAX = 10  # batches of up to this many spectra get a legend of their labels, larger ones a colour bar
+
+
+def plot_drt_batch(batch, *, title: str | None = None):
+    """γ(τ) of every spectrum of a `DRTBatchResult` on one axes, coloured in batch order (viridis),
+    and each DRT fit's rms_rel against the spectrum's position below."""
+    labels = [", ".join(f"{d}={v}" for d, v in where.items()) for where in batch.labels()]
+    n = len(batch.results)
+    fig, (ax, ax_rms) = plt.subplots(2, 1, figsize=(8, 6.5), height_ratios=[3, 1], layout="constrained")
+    colours = plt.get_cmap("viridis")(np.linspace(0, 1, max(n, 2)))
+    for i, (one, label) in enumerate(zip(batch.results, labels)):
+        ax.semilogx(one.tau, one.gamma, color=colours[i], lw=1.2, label=f"{label}: {len(one.peaks)} peak(s)" if n <= LEGEND_MAX else None)
+    if n <= LEGEND_MAX:
+        ax.legend(fontsize=8)
+    else:
+        bar = fig.colorbar(plt.cm.ScalarMappable(norm=plt.Normalize(0, n - 1), cmap="viridis"), ax=ax)
+        bar.set_label(f"spectrum ({labels[0]} … {labels[-1]})")
+    ax.set_xlabel("τ [s]")
+    ax.set_ylabel("γ [Ω]")
+    ax.grid(alpha=0.3, which="both")
+    ax_rms.plot(np.arange(n), [one.rms_rel * 100 for one in batch.results], "o-", ms=3, lw=0.8)
+    ax_rms.set_xlabel(f"spectrum (position along {', '.join(batch.dims)})")
+    ax_rms.set_ylabel("DRT fit rms_rel [%]")
+    ax_rms.grid(alpha=0.3)
+    counts = [len(one.peaks) for one in batch.results]
+    fig.suptitle(title or f"DRT of {n} spectra over {', '.join(batch.dims)}: {min(counts)}–{max(counts)} peaks")
     return fig
 
 

@@ -202,3 +202,11 @@ class DRTBatchResult(ResultGrid):
         )
         ds.attrs.update({k: v for k, v in first.to_xarray().attrs.items() if k != "source"})
         return ds
+
+    def plot(self, *, title: str | None = None):
+        """γ(τ) of every spectrum on one axes, coloured along the batch (a legend of the labels
+        for up to `plotting.drt.LEGEND_MAX` spectra, a colour bar beyond), and rms_rel of each
+        DRT fit. Returns a matplotlib Figure (`impedax.plotting.drt.plot_drt_batch`)."""
+        from ...plotting.drt import plot_drt_batch
+
+        return plot_drt_batch(self, title=title)
