@@ -16,7 +16,7 @@ from ..errors import DataError, ParameterError
 __all__ = [
     "parse_assignments", "check_parameter_names", "emit_json", "to_jsonable", "add_model_argument", "add_output_options",
     "check_outputs", "save_outputs", "print_result", "result_out_help", "Output", "OutputPlan", "plan_outputs",
-    "memory_limit", "check_memory", "MEMORY_LIMIT_ENV", "add_select_option", "load_selected", "labels_text",
+    "memory_limit", "check_memory", "MEMORY_LIMIT_ENV", "add_select_option", "load_selected", "labels_text", "dimension_labels",
 ]
 
 
@@ -107,6 +107,12 @@ def labels_text(labels: list) -> str:
     return shown + (f", ... ({len(labels)} in all)" if len(labels) > LABELS_SHOWN else "")
 
 
+def dimension_labels(data, dim: str) -> list:
+    """The labels of ``data``'s spectra along ``dim``: its coordinate's values, or the positions
+    where ``dim`` has no coordinate."""
+    return data[dim].values.tolist() if dim in data.coords else list(range(data.sizes[dim]))
+
+
 def _position(data, dim: str, label: str, path: str) -> int:
     """The position along ``dim`` of the spectrum labelled ``label`` (its coordinate's value as
     text, or equal as a number), or at 0-based position ``label`` where ``dim`` has no coordinate."""
@@ -150,13 +156,13 @@ def load_selected(path: str, select: Sequence[str] | None, *, single: str | None
             raise ParameterError(f"--select: {dim} given twice")
         picks[dim] = _position(data, dim, label, path)
     if picks:
-        shown = ", ".join(f"{d}={str(data[d].values[i]) if d in data.coords else i}" for d, i in picks.items())
+        shown = ", ".join(f"{d}={dimension_labels(data, d)[i]}" for d, i in picks.items())
         data = data.isel(picks)
         data.attrs["source"] = f"{path} [{shown}]"
     extra = [d for d in data["Z"].dims if d != "frequency"]
     if single is not None and extra:
         dim = extra[0]
-        labels = data[dim].values.tolist() if dim in data.coords else list(range(data.sizes[dim]))
+        labels = dimension_labels(data, dim)
         n = math.prod(data.sizes[d] for d in extra)
         raise DataError(
             f"{single} takes one spectrum; the file holds {n} over {', '.join(extra)} ({dim}: {labels_text(labels)}): "

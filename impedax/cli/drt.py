@@ -96,7 +96,9 @@ def _save(result, path) -> None:
         with atomic_path(path) as tmp:
             ds.to_netcdf(tmp, engine="scipy")
         return
-    places, results = (result.labels(), result.results) if hasattr(result, "labels") else ([{}], (result,))
+    from ..fitting.grid import ResultGrid
+
+    places, results = (result.labels(), result.results) if isinstance(result, ResultGrid) else ([{}], (result,))
     with atomic_path(path) as tmp:
         with open(tmp, "w", encoding="utf-8") as fh:
             fh.write(",".join([*places[0], "tau_s", "gamma_ohm", "gamma_q05_ohm", "gamma_q95_ohm"]) + "\n")

@@ -26,7 +26,7 @@ def register(sub) -> None:
 def run(args) -> int:
     import numpy as np
 
-    from .common import emit_json, figure_writer, labels_text, load_selected, plan_outputs, spectrum_writer
+    from .common import dimension_labels, emit_json, figure_writer, labels_text, load_selected, plan_outputs, spectrum_writer
 
     outputs = plan_outputs([("--out", args.out, "spectrum"), ("--plot", args.plot, "figure")], inputs=[args.file], stdout="--json" if args.json else None)
     ds = load_selected(args.file, args.select)
@@ -48,7 +48,7 @@ def run(args) -> int:
         "units": str(ds.attrs.get("units", "Hz, ohm")),
         "skipped_rows": skipped,
         # the labels `--select DIM=LABEL` picks a spectrum by (positions where a dimension has none)
-        "labels": {d: ds[d].values.tolist() if d in ds.coords else list(range(ds.sizes[d])) for d in extra},
+        "labels": {d: dimension_labels(ds, d) for d in extra},
         "attrs": {k: v for k, v in ds.attrs.items() if isinstance(v, (str, int, float, bool))},
     }
     outputs.save({"--out": spectrum_writer(lambda: ds), "--plot": figure_writer(lambda: _preview(ds, summary["format"]))})

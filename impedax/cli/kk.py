@@ -45,7 +45,7 @@ def run(args) -> int:
     data = load_selected(args.data, args.select, single=single)
     options = dict(c=args.c, max_rc=args.max_rc, inductance=not args.no_inductance, capacitance=not args.no_capacitance)
     if any(d != "frequency" for d in data["Z"].dims):
-        _each_spectrum(kk_test_batch(data, **options), args.json)
+        _each_spectrum(kk_test_batch(data, **options), args.json, emit_json)
         return 0
     if args.method == "zhit":
         result, keys, extra = zhit(data), _ZHIT_JSON, {"method": "zhit"}
@@ -65,7 +65,7 @@ def _as_json(result, keys) -> dict:
     return out
 
 
-def _each_spectrum(batch, as_json: bool) -> None:
+def _each_spectrum(batch, as_json: bool, emit_json) -> None:
     """The KK test of every spectrum of a stack: JSON ``spectra`` (each spectrum's labels,
     then the keys of one spectrum's test), or one line per spectrum."""
     from ..data import format_frequency
@@ -73,8 +73,6 @@ def _each_spectrum(batch, as_json: bool) -> None:
     where = batch.labels()
     n_valid = sum(bool(r.valid) for r in batch.results)
     if as_json:
-        from .common import emit_json
-
         emit_json({"dims": list(batch.dims), "n_spectra": len(batch.results), "n_valid": n_valid, "spectra": [{"labels": w, **_as_json(r, _KK_JSON)} for w, r in zip(where, batch.results)]})
         return
     print(f"linear KK test of {len(batch.results)} spectra over {', '.join(batch.dims)}: {n_valid} KK-consistent, {len(batch.results) - n_valid} not")
