@@ -257,6 +257,7 @@ def test_batch_over_extra_dimensions_equals_one_by_one():
     assert ds["gamma"].dims == ("session", "trial", "tau")
     assert list(ds["trial"].values) == [10, 20, 30]
     assert (batch.n_peaks == 2).all()
+    assert batch.report().startswith("DRT of 6 spectra over session × trial: 6 with 2 peak(s)")
 
 
 def test_credible_band_brackets_the_estimate_and_peaks_have_uncertainty():

@@ -169,7 +169,7 @@ class DRTBatchResult(ResultGrid):
         values, freq = np.unique(counts, return_counts=True)
         spread = ", ".join(f"{int(f)} with {int(v)} peak(s)" for v, f in zip(values, freq))
         rms = np.array([r.rms_rel for r in self.results])
-        return f"DRT of {len(self.results)} spectra over {self.dims}: {spread}; rms_rel median {np.median(rms) * 100:.3g} %, max {rms.max() * 100:.3g} %"
+        return f"DRT of {len(self.results)} spectra over {' × '.join(self.dims)}: {spread}; rms_rel median {np.median(rms) * 100:.3g} %, max {rms.max() * 100:.3g} %"
 
     def to_xarray(self) -> xr.Dataset:
         """γ, band, fit and scalars stacked over ``dims`` (peaks padded with NaN)."""
