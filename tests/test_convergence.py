@@ -202,3 +202,21 @@ def test_cli_tables_match_what_they_stand_for():
     assert build_parser("diagnose").parse_args(["diagnose", "x.csv", "--model", "R0", "--max-steps", "9"]).max_steps == 9
     refine = build_parser("refine").parse_args(["refine", "x.csv", "--model", "R0", "--max-steps", "11"])
     assert (refine.max_effects, refine.max_steps) == (4, 11)  # effects added, solver steps
+
+
+def test_the_step_limit_bounds_the_starts_screens_too(rng):
+    """``max_steps`` is the step limit of every start, screen included: with 2 steps a fit
+    of two arcs (numpy formula, 1 % noise) cannot converge, single or batch, and says so;
+    with the default limit both converge. (The screens ran their 40 steps whatever the limit,
+    and the batch reported such fits converged.)"""
+    f = np.geomspace(0.1, 1e5, 50)
+    w = omega(f)
+    z = 5 + 100 / (1 + 1e-2 * (1j * w) ** 0.85) + 400 / (1 + 4j * w)
+    copies = z * (1 + 0.01 * (rng.normal(size=(20, 50)) + 1j * rng.normal(size=(20, 50))))
+    model = "R0 + R1 || CPE1 + R2 || C2"
+    single = ix.fit(model, ix.make_spectrum(f, copies[0]), max_steps=2)
+    assert not single.converged and "step limit" in single.message
+    batch = ix.fit(model, ix.make_spectrum(f, copies, dims=("trial",)), max_steps=2)
+    assert not batch.dataset["converged"].values.any()
+    assert ix.fit(model, ix.make_spectrum(f, copies[0])).converged
+    assert ix.fit(model, ix.make_spectrum(f, copies, dims=("trial",))).dataset["converged"].values.all()

@@ -185,11 +185,11 @@ def _poor_in_batch(out: SolverOutput, z) -> np.ndarray:
 def _multistart_rung(out, solver, circuit, table, features, poor, n_starts, multiple, rung, seed, scale, max_steps, registry) -> SolverOutput:
     """``out`` with spectra ``poor`` improved by one rung of the start ladder: ``multiple``
     draws of ``n_starts`` starts each (as `fit` draws them), screened for `SCREEN_STEPS`
-    steps, the best of each spectrum continued to convergence and kept where it is better."""
+    steps (at most ``max_steps``), the best of each spectrum continued to convergence and kept where it is better."""
     per = multiple * n_starts
     starts = rung_starts(circuit, table, features[poor], n_starts, [rung_seed(seed, rung, call) for call in range(multiple)], registry).reshape(poor.size * per, -1)
     owner = np.repeat(poor, per)
-    u_s, chi2_s, _, steps_s = solver.solve(starts, owner, np.full(owner.size, SCREEN_STEPS), cold=True)
+    u_s, chi2_s, _, steps_s = solver.solve(starts, owner, np.full(owner.size, min(SCREEN_STEPS, max_steps)), cold=True)
     chi2_s = np.where(np.isfinite(chi2_s), chi2_s, np.inf).reshape(poor.size, per)
     best = np.argmin(chi2_s, axis=1)
     u_best = u_s.reshape(poor.size, per, -1)[np.arange(poor.size), best]

@@ -94,8 +94,10 @@ def fit(
     features = SpectrumFeatures(freq, z)
 
     n_devices = len(jax.devices())
+    # a start's screen is part of its fit: no longer than the step limit
+    screen = min(SCREEN_STEPS, int(max_steps))
 
-    def solve(*draws, screen_steps=SCREEN_STEPS, continue_best=True):
+    def solve(*draws, screen_steps=screen, continue_best=True):
         """One output per draw of starts (one start: the fit from it): the draw's starts
         screened for ``screen_steps`` steps and the best continued (``continue_best``; else
         the screen's best point). Each call of the solver runs one draw on every device (a
