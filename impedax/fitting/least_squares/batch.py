@@ -20,7 +20,7 @@ from ..parameters import ParameterTable
 from ..problem import residual_scale, weights
 from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, dominant_points, information_criteria, null_sets
 from .order import canonical_order
-from .result import bound_sides, confirm_bounds, fit_notes, fit_result, non_passive_notes, stack_notes, weighting_notes
+from .result import bound_sides, confirm_bounds, fit_notes, fit_result, misfit_notes, non_passive_notes, stack_notes, weighting_notes
 from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, TreeSolvers, better, over_devices, padded_points, tree_solver, trimmed, unscale
 from .starts import SpectrumFeatures, climb_target, batch_outliers, escalation_rungs, guess_start, rms_rel_of, rung_seed, rung_starts, to_solver_space
 
@@ -411,8 +411,9 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
         groups, ratio = null_sets(sv[i], vt[i], table.free_names)
         notes[i] = fit_notes(table, dict(zip(names, values[i].tolist())), dict(zip(names, stderr[i].tolist())), corr[i], groups, ratio, finite=True, converged=True, message="", sides=sides[i])
     weighting_extra = weighting_notes(weighting, freq, *dominant_points(z, *weights(z, sigma, weighting, source))) if weighting in ("unit", "proportional") else [()] * b
-    weighting_extra = [tuple(w) + non_passive_notes(freq, z[i], None if sigma is None else sigma[i]) for i, w in enumerate(weighting_extra)]
     z_model = np.array(out.z_model)
+    misfit = misfit_notes(freq, z, z_model)
+    weighting_extra = [tuple(w) + non_passive_notes(freq, z[i], None if sigma is None else sigma[i]) + misfit[i] for i, w in enumerate(weighting_extra)]
     for i in np.flatnonzero(odd):
         r = fit_result(circuit, table, freq, z[i], out.row(i), weighting, int(used[i]), 0.0, registry, chi2_at_x=lambda p, s, i=i: solver.chi2_at_x(p, s + i), extra_notes=weighting_extra[i])
         values[i] = [r.values[n] for n in names]

@@ -16,10 +16,11 @@ from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit
 from ..parameters import ParameterTable
 from ..statistics import information_criteria, non_passive, uncertainties
 from .solvers import SolverOutput, SolverStatus
+from .starts import attainable_misfit, rms_rel_of
 
 __all__ = [
     "FitResult", "fit_result", "fit_notes", "stack_notes", "bound_sides", "confirm_bounds", "at_bound_names", "weighting_notes",
-    "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION", "BOUND_CHI2_FRACTION",
+    "misfit_notes", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION", "BOUND_CHI2_FRACTION",
 ]
 
 # identifiability thresholds (documented in the README)
@@ -294,6 +295,44 @@ def weighting_notes(weighting: str, freq, points: np.ndarray, share) -> list[tup
             f"the {weighting} weighting gives {int(row.sum())} of {row.size} points {s * 100:.0f}% of the weight ({where}): "
             "the fit is dominated by them; consider weighting='modulus'",
         ))
+    return out
+
+
+# a fit's misfit is compared with what the data allow (`misfit_notes`) from this rms_rel on:
+# below it the comparison costs more (a Kramers–Kronig fit, ~1 ms per spectrum) than it tells
+MISFIT_CHECKED_FROM = 0.05
+# ... and called a model's failure above this multiple of a Kramers–Kronig-consistent model's
+# misfit (the start ladder climbs from 1.2×: `starts.KK_MISFIT_FACTOR`)
+MISFIT_RATIO_MAX = 5.0
+
+
+def misfit_notes(freq, z, z_model) -> list[tuple[str, ...]]:
+    """The misfit warning of each fit of spectra z (B, N) with models z_model (B, N) whose
+    rms_rel is at least `MISFIT_CHECKED_FROM`: set against the rms_rel of the linear
+    Kramers–Kronig test's Voigt chain (`starts.attainable_misfit`), either the model misses
+    structure the data hold (above `MISFIT_RATIO_MAX` × that) or the data themselves are that
+    far from any Kramers–Kronig-consistent model (noise, drift). One tuple per fit; the text
+    holds the data's figure, not the fit's, so that a batch's fit in another local minimum on
+    the same side of the rule gives the single fit's note."""
+    z, z_model = np.atleast_2d(z), np.atleast_2d(z_model)
+    rms = rms_rel_of(z_model, z)
+    out: list[tuple[str, ...]] = [()] * len(z)
+    checked = np.flatnonzero(np.isfinite(rms) & (rms >= MISFIT_CHECKED_FROM))
+    if not checked.size:
+        return out
+    for i, kk in zip(checked.tolist(), attainable_misfit(freq, z[checked]).tolist()):
+        if not kk > 0:
+            continue
+        if rms[i] > MISFIT_RATIO_MAX * kk:
+            out[i] = (
+                f"the model misses structure the data hold: its rms_rel is over {MISFIT_RATIO_MAX:g}× the {kk * 100:.2g}% a Kramers–Kronig-consistent model "
+                "(the KK test's Voigt chain) reaches; a diagnosis (impedax diagnose) shows where it fails and which effect is missing",
+            )
+        else:
+            out[i] = (
+                f"the data are {kk * 100:.2g}% (rms_rel) from any Kramers–Kronig-consistent model (the KK test's Voigt chain), within {MISFIT_RATIO_MAX:g}× "
+                "of this fit's misfit: the data's noise, drift or artifacts limit the fit, not only the model (see impedax kk)",
+            )
     return out
 
 

@@ -20,7 +20,7 @@ from ..problem import WEIGHTINGS, prepare_fit, residual_scale, weights
 from ..statistics import at_noise_floor, dominant_points, information_criteria
 from .batch import BatchFitResult, fit_batch
 from .order import canonical_order
-from .result import FitResult, fit_result, non_passive_notes, weighting_notes
+from .result import FitResult, fit_result, misfit_notes, non_passive_notes, weighting_notes
 from .shared import SharedFitResult, fit_shared
 from .solvers import IDENTITY_DAMPING_STEPS, SCREEN_STEPS, SharedArgs, SpectrumRows, better, padded_points, solver_args, tree_solver, trimmed, unscale
 from .starts import SpectrumFeatures, escalation_rungs, climb_target, guess_start, rms_rel_of, rung_draws, rung_seed, to_solver_space
@@ -128,7 +128,7 @@ def fit(
     out = canonical_order(circuit, table, freq, out, registry)
     chi2_at_x = one_spectrum_chi2(solvers.chi2_x, args, out)
     notes = weighting_notes(weighting, freq, *dominant_points(z, inv_re, inv_im))[0] if weighting in ("unit", "proportional") else ()
-    notes = tuple(notes) + non_passive_notes(freq, z, sigma)
+    notes = tuple(notes) + non_passive_notes(freq, z, sigma) + misfit_notes(freq, z, out.z_model)[0]
     return fit_result(circuit, table, freq, z, out, weighting, used, time.perf_counter() - t0, registry, chi2_at_x=chi2_at_x, extra_notes=notes)
 
 
