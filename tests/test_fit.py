@@ -413,3 +413,14 @@ def test_batch_fit_plot_shows_every_free_parameter_and_the_error():
     titles = [ax.get_title() for ax in fig.axes if ax.get_visible()]
     assert titles == ["R0 [Ω]", "C1 [F]", "rms_rel [%]"]
     np.testing.assert_allclose(fig.axes[0].lines[0].get_ydata(), 100 * (1 + 0.1 * np.arange(4)), rtol=1e-6)
+
+
+def test_correlation_notes_give_the_pair_its_own_reason(rng):
+    """An infinite Warburg (σ(1 − j)/√ω, numpy) fitted with a finite one: Wo's R and τ
+    correlate (only R/√τ shows at ωτ ≫ 1) and the note says so, not the CPE's Q–α reason."""
+    f = np.geomspace(1, 1e5, 40)
+    z = 10 + 50 * (1 - 1j) / np.sqrt(2 * np.pi * f)
+    result = ix.fit("R0 + Wo1", ix.make_spectrum(f, noisy(z, 0.005, rng)))
+    (note,) = [w for w in result.warnings if w.startswith("Wo1.R and Wo1.tau are strongly correlated")]
+    assert "only R/√τ shows" in note and "CPE" not in note
+    assert result.values["Wo1.R"] / np.sqrt(result.values["Wo1.tau"]) == pytest.approx(50 * np.sqrt(2), rel=0.05)

@@ -219,8 +219,16 @@ class FitResult:
         )
 
 
+# why two parameters of one element correlate, by the pair of their names
+_PAIR_REASONS = {
+    frozenset(("Q", "alpha")): " (a CPE's Q and α correlate when the data lie far from ω = 1 rad/s; both can still be well determined)",
+    frozenset(("R", "tau")): " (a finite Warburg element's R and τ correlate where the data lie at ωτ ≫ 1: it acts there as an infinite Warburg, of which only R/√τ shows)",
+}
+
+
 def correlated_note(a: str, b: str, r: float) -> str:
-    why = " (a CPE's Q and α correlate when the data lie far from ω = 1 rad/s; both can still be well determined)" if a.rsplit(".", 1)[0] == b.rsplit(".", 1)[0] else "; the data barely tell them apart"
+    (owner_a, _, name_a), (owner_b, _, name_b) = a.rpartition("."), b.rpartition(".")
+    why = _PAIR_REASONS.get(frozenset((name_a, name_b)), "; the data barely tell them apart") if owner_a and owner_a == owner_b else "; the data barely tell them apart"
     return f"{a} and {b} are strongly correlated (r = {r:+.3f}){why}"
 
 
