@@ -32,6 +32,7 @@ def test_symbols_are_matched_unambiguously(text, symbol):
     [
         ("Csc", 0, "did you mean C_sc?"),
         ("Rp1 + C1", 0, "did you mean R_p1?"),
+        ("R0 + R1 || CEP1", 11, "did you mean CPE1?"),
         ("R1 + r2", 5, "case-sensitive: did you mean R2?"),
         ("R1 +", 4, "expected an element or '('"),
         ("R1 + + C1", 5, "expected an element or '('"),

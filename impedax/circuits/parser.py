@@ -143,6 +143,9 @@ def _symbol_hint(letters: str, rest: str, registry: Registry) -> str:
     if letters.upper() in registry or letters.capitalize() in registry:
         fixed = letters.upper() if letters.upper() in registry else letters.capitalize()
         return f"symbols are case-sensitive: did you mean {fixed}{rest}?"
+    for sym in registry.symbols():  # letters swapped: CEP1 is CPE1 (not C with label EP1)
+        if len(sym) == len(letters) > 1 and sorted(sym) == sorted(letters):
+            return f"did you mean {sym}{rest}?"
     for sym in registry.symbols():  # longest first, so CPE wins over C
         if letters.startswith(sym) and len(letters) > len(sym):
             label = letters[len(sym):] + rest.lstrip("_")
