@@ -134,6 +134,24 @@ def test_undetermined_parameters_of_a_superfluous_arc():
     assert undetermined_parameters(over) & {"R2", "C2", "R1", "C1"}
 
 
+def test_a_resistor_run_open_is_undetermined_whatever_its_error():
+    """A parallel R far above every |Z| of the data carries no current the data can see: it is
+    undetermined even with a tiny relative error (a flat linearisation gave PowerSuite's real
+    spectrum R_relax = 1.2e275 ± 9e10 Ω)."""
+    import dataclasses
+
+    circuit, formula, params, frange = he.ADEQUATE["rc"]
+    f, z = he.spectrum(formula, params, frange, 0.01, np.random.default_rng(2))
+    fit = ix.fit(circuit, ix.make_spectrum(f, z))
+    (r,) = [n for n in fit.free_names if n.startswith("R") and n != "R0"]
+    assert undetermined_parameters(fit) == frozenset()
+    z_max = float(np.max(np.abs(z)))
+    opened = dataclasses.replace(fit, values={**fit.values, r: 1e3 * z_max}, stderr={**fit.stderr, r: 1e-3 * z_max})
+    assert r in undetermined_parameters(opened)
+    closed = dataclasses.replace(fit, values={**fit.values, r: 10 * z_max}, stderr={**fit.stderr, r: 1e-3 * z_max})
+    assert r not in undetermined_parameters(closed)
+
+
 def test_a_cpe_far_from_one_radian_per_second_is_determined():
     # R + CPE measured at 10 kHz–10 MHz (ln ω ≈ 11–18): Q is the admittance at ω = 1 rad/s,
     # decades outside the band, so ln Q and α are almost collinear in the raw parameters

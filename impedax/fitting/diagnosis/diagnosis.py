@@ -366,10 +366,17 @@ def undetermined_parameters(fit: FitResult) -> frozenset[str]:
     A constant-phase coefficient is judged where the data measure it: Q of
     Z = 1/(Q (jω)^α) is the admittance at ω = 1 rad/s, often decades outside the band, so its
     raw error and its correlation with α grow with that distance although the element is well
-    determined (`centred_covariance`)."""
+    determined (`centred_covariance`).
+
+    A resistor above `OPEN_RESISTANCE_FACTOR` × the data's largest |Z| has run open: its
+    branch carries no current the data can see, whatever its standard error says (on
+    PowerSuite's real spectrum a nested R_relax went to 1.2e275 Ω "± 9e10 Ω", where the
+    linearisation at so flat a point gives a meaningless error)."""
     names = fit.free_names
     rel_sd, corr = centred_covariance(fit)
     out = {n for n, e in zip(names, rel_sd) if not (np.isfinite(e) and e <= RELATIVE_ERROR_MAX)}
+    z_max = float(np.max(np.abs(fit.z_data)))
+    out |= {e.name for e in fit.circuit.elements() if e.symbol == "R" and e.name in names and fit.values[e.name] > OPEN_RESISTANCE_FACTOR * z_max}
     if corr.shape == (len(names), len(names)) and len(names) > 1:
         a, b = np.nonzero(np.triu(np.abs(np.nan_to_num(corr)) > CORRELATION_MAX, 1))
         for i, j in zip(a.tolist(), b.tolist()):
