@@ -373,3 +373,15 @@ def test_drift_stays_flagged_when_judged_against_the_local_noise(rng):
     local = kk_judged_locally(result)
     assert not local.valid
     assert any(lo < 2e3 and hi > 10 for lo, hi in local.bad_bands)
+
+
+def test_too_few_frequencies_make_the_test_inconclusive():
+    """R0 + R1 ‖ C1 (closed form) on 6 frequencies: the chain of 3 RC elements cannot follow
+    it and its misfit poses as noise; the verdict says inconclusive. On 30 it is conclusive."""
+    for n, conclusive in ((6, False), (30, True)):
+        f = np.geomspace(1, 1e5, n)
+        z = 50 + 1000 / (1 + 2j * np.pi * f * 1000 * 1e-6)
+        result = ix.kk_test(ix.make_spectrum(f, z))
+        assert result.conclusive is conclusive
+        assert ("verdict: inconclusive: 6 frequencies are too few" in result.summary()) is not conclusive
+        assert bool(result.to_xarray()["conclusive"]) is conclusive

@@ -31,7 +31,11 @@ from .grid import ResultGrid
 from .problem import frequency_and_z
 from .statistics import difference_noise
 
-__all__ = ["KKResult", "KKBatchResult", "kk_test", "kk_test_batch", "rejudged", "DEFAULT_THRESHOLDS"]
+__all__ = ["KKResult", "KKBatchResult", "kk_test", "kk_test_batch", "rejudged", "DEFAULT_THRESHOLDS", "CONCLUSIVE_POINTS_MIN"]
+
+# below this many frequencies the chain (M ≤ N/2 RC elements) is too stiff for the data, its
+# misfit is the chain's own and the noise estimate follows it: the test cannot fail
+CONCLUSIVE_POINTS_MIN = 10
 
 # Validity rule (see `kk_test`): scale = max(noise_estimate, noise_floor).
 DEFAULT_THRESHOLDS: Mapping[str, float] = {
@@ -100,6 +104,13 @@ class KKResult:
     c: float
     thresholds: Mapping[str, float] = field(default_factory=lambda: dict(DEFAULT_THRESHOLDS))
 
+    @property
+    def conclusive(self) -> bool:
+        """Whether the spectrum has enough frequencies (`CONCLUSIVE_POINTS_MIN`) for the test to
+        tell data problems from the Voigt chain's own misfit: on 6 points the chain holds 3 RC
+        elements, leaves 20 % on data a circuit fits exactly, and reads that as noise."""
+        return self.frequency.size >= CONCLUSIVE_POINTS_MIN
+
     def to_xarray(self) -> xr.Dataset:
         """Residuals, KK fit and flags over ``frequency``; scalars and settings as variables/attrs."""
         f = ("frequency", self.frequency, {"units": "Hz"})
@@ -121,6 +132,7 @@ class KKResult:
                 "rms_rel": ((), self.rms_rel, {"units": "1"}),
                 "noise_estimate": ((), self.noise_estimate, {"units": "1"}),
                 "valid": ((), self.valid),
+                "conclusive": ((), self.conclusive),
             },
             coords={"frequency": f},
             attrs={
@@ -136,6 +148,8 @@ class KKResult:
     def summary(self) -> str:
         """A few lines: M, µ, rms_rel, noise, verdict and bad bands."""
         verdict = "valid (KK-consistent)" if self.valid else "NOT valid: data are not KK-consistent"
+        if not self.conclusive:
+            verdict = f"inconclusive: {self.frequency.size} frequencies are too few for the test (it needs {CONCLUSIVE_POINTS_MIN})" + ("" if self.valid else "; it flags the bands below")
         mu_note = "" if self.mu_reached else f" (µ never fell below c={self.c:g}; M capped)"
         lines = [
             f"linear KK test: M = {self.n_rc} RC elements, µ = {self.mu:.3f}{mu_note}",

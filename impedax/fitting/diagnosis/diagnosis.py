@@ -256,6 +256,8 @@ class Diagnosis:
         lines = [f"model {b.model}: rms_rel {b.rms_rel * 100:.3g} %, chi2_red {b.chi2_red:.3g}, AIC {b.aic:.1f} ({b.n_points} points, {b.n_params} free parameters)"]
         if self.kk is not None:
             kk_text = "the data are Kramers–Kronig consistent" if self.kk.valid else "the data are NOT Kramers–Kronig consistent in " + ", ".join(f"{format_frequency(lo)}–{format_frequency(hi)}" for lo, hi in self.kk.bad_bands)
+            if not self.kk.conclusive:
+                kk_text = f"{b.n_points} frequencies are too few for the Kramers–Kronig test, and for the noise it estimates"
             kept = f"; without the {len(self.masked_points)} masked point(s) they are (KK rms_rel {self.kk_of_kept.rms_rel * 100:.3g} %)" if self.kk_of_kept is not None else ""
             lines.append(f"data: {kk_text} (KK rms_rel {self.kk.rms_rel * 100:.3g} %){kept}.")
         lines.append(f"noise: σ ≈ {self.noise_level * 100:.3g} % per component (median; {format_range(self.noise)}; {self.noise_source}); the residuals are {self.noise_ratio:.3g}× the noise.")
