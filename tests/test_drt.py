@@ -406,7 +406,7 @@ def test_cli_json_keys_and_outputs(tmp_path, capsys):
         assert ds["gamma"].size == len(payload["tau_s"])
     assert main(["drt", str(path), "--lam", "0.01", "--signed", "--out", str(tmp_path / "g.csv")]) == 0
     text = capsys.readouterr().out
-    assert "by fixed" in text and "signed" in text
+    assert "λ = 0.01 as given" in text and "signed" in text
     assert (tmp_path / "g.csv").read_text().startswith("tau_s,gamma_ohm")
     assert main(["drt", str(path), "--lam", "lots"]) == 2
     assert "--lam" in capsys.readouterr().err

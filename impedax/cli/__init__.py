@@ -183,12 +183,38 @@ def _end_program(code: int) -> NoReturn:
     os._exit(code)
 
 
+def _refuse_unknown(parser: argparse.ArgumentParser, command: str, unknown: list[str]) -> NoReturn:
+    """Exit 2 with the command's own usage line and "unrecognized arguments", naming the
+    closest option of that command for each unknown one (``--maxsteps`` → ``--max-steps``)."""
+    import difflib
+
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction)).choices[command]
+    options = [o for action in sub._actions for o in action.option_strings if o.startswith("--")]
+
+    def squeezed(option: str) -> str:
+        return option.lstrip("-").replace("-", "").replace("_", "").lower()
+
+    hints = []
+    for item in unknown:
+        if not item.startswith("-") or item == "-":
+            continue
+        name = item.split("=", 1)[0]
+        same = [o for o in options if squeezed(o) == squeezed(name)]
+        close = same or difflib.get_close_matches(name, options, n=1, cutoff=0.6)
+        if close and close[0] not in hints:
+            hints.append(close[0])
+    hint = f"; did you mean {' or '.join(hints)}?" if hints else ""
+    sub.error(f"unrecognized arguments: {' '.join(unknown)}{hint}")
+
+
 def _run(argv: list[str], command: list[str]) -> int:
     from ..errors import ImpedaxError
 
     parser = build_parser(_command_of(argv))
-    args = parser.parse_args(argv)
+    args, unknown = parser.parse_known_args(argv)
     command[0] = args.command
+    if unknown:
+        _refuse_unknown(parser, args.command, unknown)
     _configure_jax_cache()
     try:
         return int(args.run(args) or 0)

@@ -6,6 +6,7 @@ import difflib
 import json
 import math
 import os
+import re
 import sys
 from dataclasses import dataclass
 from pathlib import Path
@@ -17,6 +18,7 @@ __all__ = [
     "parse_assignments", "check_parameter_names", "emit_json", "to_jsonable", "add_model_argument", "add_output_options",
     "check_outputs", "save_outputs", "print_result", "result_out_help", "Output", "OutputPlan", "plan_outputs",
     "memory_limit", "check_memory", "MEMORY_LIMIT_ENV", "add_select_option", "load_selected", "labels_text", "dimension_labels",
+    "command_line_words", "grouped_warnings", "in_format_of", "part_of_joined",
 ]
 
 
@@ -134,6 +136,37 @@ def _position(data, dim: str, label: str, path: str) -> int:
     return found[0]
 
 
+def part_of_joined(text: str, prefixes: Sequence[str], i: int) -> str | None:
+    """The part after ``prefixes[i]`` of ``text`` made of ``"; "``-joined parts each led by
+    its prefix in order (``sheet A: ...; sheet B: ...``), or None when ``text`` is not such."""
+    starts = []
+    for k, prefix in enumerate(prefixes):
+        at = text.find(prefix if k == 0 else "; " + prefix, starts[-1] + len(prefixes[k - 1]) if starts else 0)
+        if at < 0 or (k == 0 and at != 0):
+            return None
+        starts.append(at + (2 if k else 0))
+    end = starts[i + 1] - 2 if i + 1 < len(starts) else len(text)
+    return text[starts[i] + len(prefixes[i]) : end]
+
+
+def _attrs_of_pick(attrs: dict, dim: str, labels: Sequence[str], i: int) -> dict:
+    """``attrs`` of a file of several spectra along ``dim`` narrowed to the spectrum at
+    position ``i``: a text the reader joined from each spectrum's own (``sheet A: ...; sheet B:
+    ...``, `impedax.io` stacking) becomes that spectrum's, and its skipped rows only are kept."""
+    prefixes = [f"{dim} {label}: " for label in labels]
+    out = {}
+    for key, value in attrs.items():
+        if key == "skipped_rows" and not isinstance(value, str):
+            rows = [str(r) for r in value]
+            if any(r.startswith(p) for r in rows for p in prefixes):
+                value = [r[len(prefixes[i]):] for r in rows if r.startswith(prefixes[i])]
+        elif isinstance(value, str):
+            part = part_of_joined(value, prefixes, i)
+            value = value if part is None else part
+        out[key] = value
+    return out
+
+
 def load_selected(path: str, select: Sequence[str] | None, *, single: str | None = None):
     """The spectra of file ``path`` (`impedax.io.load`), narrowed by ``--select DIM=LABEL``
     items. ``single``: the command takes one spectrum; data that still hold several raise
@@ -157,8 +190,11 @@ def load_selected(path: str, select: Sequence[str] | None, *, single: str | None
         picks[dim] = _position(data, dim, label, path)
     if picks:
         shown = ", ".join(f"{d}={dimension_labels(data, d)[i]}" for d, i in picks.items())
+        attrs = dict(data.attrs)
+        for d, i in picks.items():
+            attrs = _attrs_of_pick(attrs, d, [str(v) for v in dimension_labels(data, d)], i)
         data = data.isel(picks)
-        data.attrs["source"] = f"{path} [{shown}]"
+        data.attrs = {**attrs, "source": f"{path} [{shown}]"}
     extra = [d for d in data["Z"].dims if d != "frequency"]
     if single is not None and extra:
         dim = extra[0]
@@ -214,12 +250,58 @@ def save_outputs(*, out=None, result=None, dataset=None, plot=None, figure=None)
 
     with OutputTransaction(to_stdout=write_stdout) as transaction:
         if out:
-            transaction.write(out, result_writer(result) if result is not None else spectrum_writer(dataset))
+            output = Output("--out", out, "result" if result is not None else "spectrum")
+            writer = result_writer(result) if result is not None else spectrum_writer(dataset)
+            transaction.write(out, in_format_of(writer, output.suffix(), out), suffix=output.suffix())
         if plot:
-            transaction.write(plot, figure_writer(figure), suffix=".png")
+            suffix = Output("--plot", plot, "figure").suffix()
+            transaction.write(plot, in_format_of(figure_writer(figure), suffix, plot), suffix=suffix)
 
 
 # --- outputs: checked before any work, written together -----------------------------------------
+
+def in_format_of(writer: Callable[[Path], None], suffix: str, target: str) -> Callable[[Path], None]:
+    """``writer``, made to write the format of ``suffix`` (``.png``, ``.csv``, ...) whatever
+    the name of the temporary file it is given, and to name ``target`` (the user's path) in its
+    errors, never the temporary file.
+
+    Writers choose the format by the extension of the path they get; the temporary copy of an
+    output named without one (``--plot out``, written as PNG) ends in ``.tmp``, so such a copy is
+    first written under a name with ``suffix`` in a staging folder beside it, then moved over."""
+    from ..errors import ImpedaxError
+    from ..io.atomic import staging_directory
+
+    def write(tmp: Path) -> None:
+        tmp = Path(tmp)
+        temporaries = [str(tmp)]
+        try:
+            if tmp.suffix.lower() == suffix.lower():
+                writer(tmp)
+                return
+            with staging_directory(tmp.parent, prefix=".impedax-") as folder:
+                inner = folder / f"output{suffix}"
+                temporaries.insert(0, str(inner))
+                writer(inner)
+                os.replace(inner, tmp)
+        except ImpedaxError as exc:
+            _name_the_target(exc, temporaries, target)
+            raise
+
+    return write
+
+
+def _name_the_target(exc, temporaries: Sequence[str], target: str) -> None:
+    """Rewrite ``exc``'s message (and a `DataError`'s path) in place so that it names
+    ``target`` wherever it named one of the ``temporaries``."""
+    text = str(exc)
+    if not any(t in text for t in temporaries):
+        return
+    for t in temporaries:
+        text = text.replace(t, target)
+    if isinstance(exc, DataError) and exc.path in temporaries:
+        exc.path = target
+    exc.args = (text,)
+
 
 def result_writer(result) -> Callable[[Path], None]:
     """A writer of ``result`` in the format of the path's extension (`impedax.io.write_result`)."""
@@ -353,7 +435,7 @@ class OutputPlan:
 
         with OutputTransaction(to_stdout=write_stdout) as transaction:
             for output in self.outputs:
-                transaction.write(output.path, writers[output.flag], suffix=output.suffix())
+                transaction.write(output.path, in_format_of(writers[output.flag], output.suffix(), output.path), suffix=output.suffix())
         return transaction.committed
 
 
@@ -392,7 +474,7 @@ def plan_outputs(outputs: Iterable[tuple[str, str | None, str]], *, inputs: Iter
         suffix = Path(path).suffix.lower()
         known = kind.extensions()
         if suffix not in known:
-            listed = ", ".join(e for e in known if e) + (f" (none: {kind.default_suffix})" if "" in known else "")
+            listed = ", ".join(e for e in known if e) + (f" (or none: written as {kind.default_suffix[1:].upper()})" if "" in known else "")
             raise DataError(f"{flag}: unknown {kind.name} extension {suffix or '(none)'!r}; use one of {listed}", path=path)
         check_writable(path)
         for source in inputs:
@@ -474,8 +556,76 @@ def check_memory(flag: str, needed_bytes: float, what: str) -> None:
 
 
 def print_result(result, as_json: bool) -> None:
-    """``result.summary()`` as JSON, or ``result.report()`` as text."""
+    """``result.summary()`` as JSON, or ``result.report()`` as text (in the command line's
+    words: `command_line_words`)."""
     if as_json:
         emit_json(result.summary())
     else:
-        print(result.report())
+        print(command_line_words(result.report()))
+
+
+# the Python keywords that messages of the fitting code name, and the options that set them on
+# the command line (the JSON keeps the messages as the Python API gives them)
+_OPTION_OF_KEYWORD = {"max_steps": "--max-steps"}
+
+
+def command_line_words(text: str) -> str:
+    """``text`` with the Python keywords it names replaced by their command-line options
+    (``raise max_steps`` → ``raise --max-steps``)."""
+    for keyword, option in _OPTION_OF_KEYWORD.items():
+        text = re.sub(rf"(?<![\w-]){keyword}\b", option, text)
+    return text
+
+
+WARNING_GROUPS_SHOWN = 12  # kinds of warning a batch's text lists
+_NUMBER = re.compile(r"(?<![\w.])[-+]?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?")
+
+
+def _spread(texts: Sequence[str]) -> str:
+    """One text for warnings that differ only in their numbers: the numbers that differ
+    become their range (``r = -0.993 to -0.990``)."""
+    if len(set(texts)) == 1:
+        return texts[0]
+    numbers = [_NUMBER.findall(t) for t in texts]
+    pieces = _NUMBER.split(texts[0])
+    out = [pieces[0]]
+    for i, piece in enumerate(pieces[1:]):
+        column = [n[i] for n in numbers]
+        if len(set(column)) == 1:
+            out.append(column[0])
+        else:
+            ordered = sorted(column, key=float)
+            out.append(f"{ordered[0]} to {ordered[-1]}")
+        out.append(piece)
+    return "".join(out)
+
+
+def _spectra_text(places: Sequence[str]) -> str:
+    """Spectra named ``dim=label`` (one dimension: ``cycle 0, 64``) or ``a=1, b=2`` (several:
+    joined with ``;``), the first `LABELS_SHOWN` and how many there are when more."""
+    parts = [p.split("=", 1) for p in places]
+    one_dim = all(len(p) == 2 and ", " not in p[1] for p in parts) and len({p[0] for p in parts}) == 1
+    if one_dim:
+        return f"{parts[0][0]} {labels_text([p[1] for p in parts])}"
+    shown = "; ".join(places[:LABELS_SHOWN])
+    return shown + (f"; ... ({len(places)} in all)" if len(places) > LABELS_SHOWN else "")
+
+
+def grouped_warnings(warnings: Mapping[str, Sequence[str]], n_spectra: int, *, command: str = "impedax fit") -> list[str]:
+    """The warnings of a batch's spectra (``{"cycle=0": (text, ...), ...}``) as text lines:
+    one per kind of warning (texts that differ only in numbers are one kind, their numbers
+    shown as ranges) with the spectra it applies to; the most frequent first, at most
+    `WARNING_GROUPS_SHOWN`."""
+    groups: dict[str, list[tuple[str, str]]] = {}
+    for place, texts in warnings.items():
+        for text in dict.fromkeys(texts):
+            groups.setdefault(_NUMBER.sub("#", text), []).append((place, text))
+    ordered = sorted(groups.values(), key=len, reverse=True)
+    lines = []
+    for members in ordered[:WARNING_GROUPS_SHOWN]:
+        places = list(dict.fromkeys(place for place, _ in members))
+        where = f"all {n_spectra} spectra" if len(places) == n_spectra else f"{len(places)} of {n_spectra} spectra: {_spectra_text(places)}"
+        lines.append(f"warning ({where}): {command_line_words(_spread([t for _, t in members]))}")
+    if len(ordered) > WARNING_GROUPS_SHOWN:
+        lines.append(f"... and {len(ordered) - WARNING_GROUPS_SHOWN} more kinds of warning ({command} --json lists every text)")
+    return lines

@@ -40,4 +40,25 @@ def run(args) -> int:
         emit_json(out)
     else:
         print(comparison.table())
+        print("\n".join(warning_lines(comparison)))
     return 0
+
+
+WARNINGS_SHOWN = 8  # warnings listed per model under the table (--json has them all)
+
+
+def warning_lines(comparison) -> list[str]:
+    """Each model's warnings under the comparison's table (the JSON's ``warnings`` of each
+    model): the model, then one indented line per warning; none when no model has any."""
+    from .common import command_line_words
+
+    lines = []
+    for r in comparison.fits:
+        if not r.warnings:
+            continue
+        best = " (best by AIC)" if r.model == comparison.best else ""
+        lines.append(f"  {r.model}{best}: {len(r.warnings)} warning(s)")
+        lines += [f"    - {command_line_words(w)}" for w in r.warnings[:WARNINGS_SHOWN]]
+        if len(r.warnings) > WARNINGS_SHOWN:
+            lines.append(f"    ... and {len(r.warnings) - WARNINGS_SHOWN} more (--json lists them all)")
+    return ["", "warnings:", *lines] if lines else []

@@ -21,12 +21,12 @@ def register(sub) -> None:
     p = sub.add_parser(
         "drt",
         help="distribution of relaxation times (Tikhonov, Gaussian RBFs): peaks, R_inf, L, credible band",
-        description="Compute the distribution of relaxation times of one spectrum by Tikhonov regularisation on a Gaussian RBF basis, "
-        "lambda chosen by (modified) GCV or the L-curve. See docs/drt.md.",
+        description="Compute the distribution of relaxation times of a spectrum by Tikhonov regularisation on a Gaussian RBF basis, "
+        "lambda chosen by (modified) GCV or the L-curve; a file of several spectra gets the DRT of each (one line each). See docs/drt.md.",
     )
-    p.add_argument("data", metavar="DATA", help="spectrum file (.csv or .nc) with one spectrum, or one picked with --select")
+    p.add_argument("data", metavar="DATA", help="spectrum file (any format impedax reads); a file of several spectra gets a DRT of each, or pick one with --select")
     add_select_option(p)
-    p.add_argument("--lam", default="auto", metavar="auto|VALUE", help="regularisation parameter (default: auto)")
+    p.add_argument("--lam", default="auto", metavar="auto|VALUE", help="regularisation parameter: 'auto' (default; chosen by --lam-method) or a positive number used as given")
     p.add_argument("--lam-method", choices=("gcv", "lcurve"), default="gcv", help="how 'auto' chooses lambda (default: gcv)")
     p.add_argument("--method", choices=("tikhonov",), default="tikhonov", help="DRT method (default: tikhonov)")
     p.add_argument("--signed", action="store_true", help="allow negative gamma (inductive loops, negative capacitances)")

@@ -75,7 +75,8 @@ def register(sub) -> None:
 
 def run(args) -> int:
     from .. import FitResult, fit
-    from .common import figure_writer, load_selected, parse_assignments, plan_outputs, print_result, result_writer
+    from ..fitting import BatchFitResult
+    from .common import command_line_words, figure_writer, grouped_warnings, load_selected, parse_assignments, plan_outputs, print_result, result_writer
 
     outputs = plan_outputs([("--out", args.out, "result"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     max_steps = check_max_steps(args.max_steps)
@@ -85,6 +86,9 @@ def run(args) -> int:
     outputs.save({"--out": result_writer(result), "--plot": figure_writer(result.plot)})
     if not outputs.uses_stdout:
         print_result(result, args.json)
-    if args.json and isinstance(result, FitResult) and not result.converged:  # (the report's status line says it)
-        print(f"impedax fit: warning: the fit did not converge: {result.message}", file=sys.stderr)
+        if not args.json and isinstance(result, BatchFitResult) and result.warnings:
+            # the JSON lists each distinct text; here each kind once, with the spectra it concerns
+            print("\n".join(["", *grouped_warnings(result.warnings, result.n_spectra)]))
+    if isinstance(result, FitResult) and not result.converged:  # (the report's status line says it; stderr too, as with --json)
+        print(f"impedax fit: warning: the fit did not converge: {command_line_words(result.message)}", file=sys.stderr)
     return 0

@@ -26,11 +26,19 @@ def register(sub) -> None:
 def run(args) -> int:
     import numpy as np
 
-    from .common import dimension_labels, emit_json, figure_writer, labels_text, load_selected, plan_outputs, spectrum_writer
+    from ..errors import DataError
+    from ..io.loader import NETCDF_SUFFIXES
+    from .common import Output, dimension_labels, emit_json, figure_writer, labels_text, load_selected, plan_outputs, spectrum_writer
 
     outputs = plan_outputs([("--out", args.out, "spectrum"), ("--plot", args.plot, "figure")], inputs=[args.file], stdout="--json" if args.json else None)
     ds = load_selected(args.file, args.select)
     extra = [d for d in ds["Z"].dims if d != "frequency"]
+    if args.out and extra and Output("--out", args.out, "spectrum").suffix().lower() not in NETCDF_SUFFIXES:
+        n = " × ".join(str(ds.sizes[d]) for d in extra)
+        raise DataError(
+            f"--out: a CSV file holds one spectrum, and {args.file} holds {n} over {', '.join(extra)}: "
+            f"give --out a .nc name, or pick one with --select {extra[0]}=LABEL", path=args.out,
+        )
     freq = ds["frequency"].values
     z = ds["Z"].values
     skipped = [str(s) for s in ds.attrs.get("skipped_rows", [])]
@@ -60,20 +68,19 @@ def run(args) -> int:
     print(f"{summary['file']}: {summary['format']}, {summary['points']} frequencies "
           f"{summary['frequency_min_hz']:.4g}–{summary['frequency_max_hz']:.4g} Hz, "
           f"|Z| {summary['z_abs_min_ohm']:.4g}–{summary['z_abs_max_ohm']:.4g} Ω, dims {summary['dims']}")
-    print(f"  sign convention: {summary['sign_convention']}")
-    print(f"  units: {summary['units']}")
-    for key in _HOW_KEYS[2:]:
-        if key in ds.attrs:
-            print(f"  {key.replace('_', ' ')}: {ds.attrs[key]}")
+    for key in _HOW_KEYS:
+        if key in ds.attrs or key in ("sign_convention", "units"):
+            print(f"  {key.replace('_', ' ')}:{_per_spectrum(summary[key] if key in summary else ds.attrs[key], ds, extra)}")
     for d, labels in summary["labels"].items():
         print(f"  {d}: {len(labels)} spectra ({labels_text(labels)}); pick one with --select {d}=LABEL")
-    print("  skipped rows: none" if not skipped else f"  skipped rows ({len(skipped)} ranges):")
+    print("  skipped rows: none" if not skipped else f"  skipped rows ({len(skipped)} range{'' if len(skipped) == 1 else 's'}):")
     for line in skipped[:20]:
         print(f"    {line}")
     if len(skipped) > 20:
         print(f"    ... and {len(skipped) - 20} more")
     for key, value in summary["attrs"].items():
-        if key not in ("format", "source", "path", *_HOW_KEYS):
+        # (a dimension's labels are listed above: the reader's text of them would repeat it)
+        if key not in ("format", "source", "path", *_HOW_KEYS, *extra):
             print(f"  {key}: {str(value).splitlines()[0] if str(value) else ''}")
     if args.out:
         print(f"wrote {args.out}")
@@ -82,14 +89,36 @@ def run(args) -> int:
     return 0
 
 
+def _per_spectrum(text: str, ds, extra) -> str:
+    """`` text`` as read, or, when the reader joined each spectrum's own text along the only
+    extra dimension (``sheet A: ...; sheet B: ...``), one indented line per spectrum."""
+    from .common import dimension_labels, part_of_joined
+
+    if len(extra) != 1:
+        return " " + text
+    labels = [str(v) for v in dimension_labels(ds, extra[0])]
+    prefixes = [f"{extra[0]} {label}: " for label in labels]
+    parts = [part_of_joined(text, prefixes, i) for i in range(len(labels))]
+    if any(p is None for p in parts):
+        return " " + text
+    return "".join(f"\n    {prefix}{part}" for prefix, part in zip(prefixes, parts))
+
+
 def _preview(ds, fmt):
     """Nyquist and Bode figure of the spectrum (the first one when the file holds several)."""
+    import math
+
     from ..plotting import plot_spectrum
+    from .common import dimension_labels
 
     first = ds
     note = ""
     extra = [d for d in ds["Z"].dims if d != "frequency"]
     if extra:
         first = ds.isel({d: 0 for d in extra})
-        note = " — first of " + " × ".join(f"{ds.sizes[d]} {d}" for d in extra)
+        n = math.prod(ds.sizes[d] for d in extra)
+        label = ", ".join(f"{d}={dimension_labels(ds, d)[0]}" for d in extra)
+        note = f" — {label}, the first of {n} spectra (pick another with --select)"
+    elif "[" in str(ds.attrs.get("source", "")):  # a --select pick: its labels
+        note = " — " + str(ds.attrs["source"]).rsplit("[", 1)[1].rstrip("]")
     return plot_spectrum(first, title=f"{ds.attrs.get('path', '')}: {fmt}{note}", data_label="data")

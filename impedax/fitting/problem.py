@@ -48,7 +48,8 @@ def select_band(ds: xr.Dataset, fmin: float | None, fmax: float | None, source: 
     if fmax is not None:
         keep &= f <= fmax
     if not keep.any():
-        raise DataError(f"no frequencies between fmin={fmin} and fmax={fmax}", path=source)
+        band = f"at or above fmin = {fmin:g} Hz" if fmax is None else f"at or below fmax = {fmax:g} Hz" if fmin is None else f"from fmin = {fmin:g} Hz to fmax = {fmax:g} Hz"
+        raise DataError(f"no frequencies {band} (the data span {f.min():.4g}–{f.max():.4g} Hz)", path=source)
     return ds.isel(frequency=np.flatnonzero(keep)) if not keep.all() else ds
 
 

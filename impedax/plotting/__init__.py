@@ -13,7 +13,7 @@ import xarray as xr
 
 from ..io.atomic import atomic_path
 
-__all__ = ["plot_spectrum", "plot_nyquist", "plot_bode", "save_figure", "shade_bands"]
+__all__ = ["plot_spectrum", "plot_nyquist", "plot_bode", "save_figure", "shade_bands", "wrap_model", "characters_across", "label_spectra_axis"]
 
 
 def _as_arrays(spectrum):
@@ -118,6 +118,49 @@ def plot_residuals(ax, freq, real, imag, *, labels=("Re", "Im"), ylabel="residua
     ax.set_xlabel("frequency [Hz]")
     ax.grid(alpha=0.3, which="both")
     ax.legend(fontsize=8, ncol=3 if limit is not None else 2)
+
+
+def characters_across(width_in: float, fontsize: float) -> int:
+    """How many characters of text at ``fontsize`` [pt] fit across ``width_in`` inches (a
+    conservative average character width of 0.62 em, so titles are wrapped, never cut)."""
+    return max(20, int(width_in * 72 / (0.62 * fontsize)))
+
+
+def wrap_model(text: str, width: int) -> str:
+    """``text`` (a circuit, a title) on lines of at most ``width`` characters, broken before a
+    `` + `` where it can be, else at spaces."""
+    import textwrap
+
+    if len(text) <= width:
+        return text
+    lines: list[str] = []
+    line = ""
+    for k, piece in enumerate(text.split(" + ")):
+        token = piece if k == 0 else "+ " + piece
+        joined = token if not line else f"{line} {token}"
+        if len(joined) <= width or not line:
+            line = joined
+        else:
+            lines.append(line)
+            line = token
+    lines.append(line)
+    return "\n".join(part for each in lines for part in (textwrap.wrap(each, width) or [each]))
+
+
+SPECTRUM_TICKS = 8  # most tick labels on an axis of spectra (batches)
+
+
+def label_spectra_axis(ax, labels: Sequence[str], dims: Sequence[str]) -> None:
+    """Mark an x axis whose positions 0, 1, ... are the spectra of a batch with their labels
+    (``129``, or ``1, 2`` over several dimensions), at most `SPECTRUM_TICKS` of them, and name
+    the dimensions."""
+    n = len(labels)
+    ticks = np.arange(n) if n <= SPECTRUM_TICKS else np.unique(np.linspace(0, n - 1, SPECTRUM_TICKS).round().astype(int))
+    ax.set_xticks(ticks)
+    long = max((len(str(labels[i])) for i in ticks), default=0) > 6
+    ax.set_xticklabels([str(labels[i]) for i in ticks], rotation=30 if long else 0, ha="right" if long else "center", fontsize=8)
+    ax.set_xlim(-0.5, n - 0.5)
+    ax.set_xlabel(", ".join(dims), fontsize=8)
 
 
 def save_figure(fig, path) -> None:

@@ -16,7 +16,7 @@ def plot_comparison(comparison):
     axes[0, 1].loglog(f, np.abs(z), "o", mfc="none", ms=3.5, color="k", label="data")
     axes[1, 0].semilogx(f, np.degrees(np.angle(z)), "o", mfc="none", ms=3.5, color="k", label="data")
     for r in comparison.fits:
-        label = f"{r.model} (rms_rel {r.rms_rel:.3g})"
+        label = f"{r.model} (rms_rel {r.rms_rel * 100:.3g} %)"
         axes[0, 0].plot(r.z_model.real, -r.z_model.imag, "-", label=label)
         axes[0, 1].loglog(f, np.abs(r.z_model), "-", label=label)
         axes[1, 0].semilogx(f, np.degrees(np.angle(r.z_model)), "-", label=label)

@@ -14,7 +14,7 @@ import math
 import matplotlib.pyplot as plt
 import numpy as np
 
-from . import plot_spectrum, shade_bands
+from . import characters_across, plot_spectrum, shade_bands, wrap_model
 
 __all__ = ["plot_diagnosis", "plot_refinement"]
 
@@ -45,13 +45,21 @@ def plot_refinement(refinement, *, title: str | None = None):
     residuals of the last five steps vs frequency, each step's failing bands shaded
     (matplotlib Figure)."""
     n = len(refinement.steps)
-    fig = plt.figure(figsize=(11, 3.2 + 2.0 * min(n, 5)), layout="constrained")
-    grid = fig.add_gridspec(min(n, 5), 2, width_ratios=[1, 1.6])
+    width, ratios = 11.0, (1.0, 1.6)
+    # the models (and the suptitle) are wrapped to the width of their panel (of the figure), never cut
+    title_chars = characters_across(width * ratios[1] / sum(ratios) - 0.6, 8)
+    fig = plt.figure(figsize=(width, 3.2 + 2.3 * min(n, 5)), layout="constrained")
+    grid = fig.add_gridspec(min(n, 5), 2, width_ratios=list(ratios))
     ax = fig.add_subplot(grid[:, 0])
     rms = [s.fit.rms_rel * 100 for s in refinement.steps]
     ax.semilogy(range(n), rms, "o-", color="tab:blue")
     for i, s in enumerate(refinement.steps):
-        ax.annotate(s.effect or ("− " + ", ".join(s.removed) if s.removed else "start"), (i, rms[i]), textcoords="offset points", xytext=(4, 6), fontsize=8)
+        label = s.effect or ("start" if not s.removed else "simplified")
+        if s.removed:
+            label += "\n− " + ", ".join(s.removed)
+        # labels of the later steps run leftwards, so that none leaves the panel
+        right = i > 0 and i >= (n - 1) / 2
+        ax.annotate(label, (i, rms[i]), textcoords="offset points", xytext=(-4, 6) if right else (4, 6), ha="right" if right else "left", fontsize=8)
     last_d = refinement.steps[-1].diagnosis
     if last_d is not None:
         ax.axhline(last_d.noise_level * math.sqrt(2) * 100, color="grey", ls="--", lw=0.8, label="noise level √2σ")
@@ -59,6 +67,7 @@ def plot_refinement(refinement, *, title: str | None = None):
     ax.set_xlabel("refinement step")
     ax.set_ylabel("rms_rel [%]")
     ax.set_xticks(range(n))
+    ax.set_xlim(-0.5, n - 0.5)
     ax.grid(alpha=0.3, which="both")
     shown = list(range(n))[-5:] if n > 5 else list(range(n))
     for row, i in enumerate(shown):
@@ -70,11 +79,12 @@ def plot_refinement(refinement, *, title: str | None = None):
         a.axhline(0, color="k", lw=0.5)
         if s.diagnosis is not None:
             shade_bands([a], [(band.f_min, band.f_max) for band in s.diagnosis.failing_bands], label=None)
-        a.set_title(f"step {i}: {s.model}  (rms_rel {s.fit.rms_rel * 100:.3g} %)", fontsize=8)
+        head = wrap_model(f"step {i}: {s.change}  (rms_rel {s.fit.rms_rel * 100:.3g} %)", title_chars)
+        a.set_title(head + "\n" + wrap_model(s.model, title_chars), fontsize=8)
         a.set_ylabel("res. [%]", fontsize=8)
         a.grid(alpha=0.3)
         if row == 0:
             a.legend(fontsize=7, ncol=2)
     fig.axes[-1].set_xlabel("frequency [Hz]")
-    fig.suptitle(title or f"refinement: {refinement.steps[0].model} → {refinement.final_model} ({refinement.verdict})")
+    fig.suptitle(title or wrap_model(f"refinement: {refinement.steps[0].model} → {refinement.final_model} ({refinement.verdict})", characters_across(width - 0.4, 12)))
     return fig

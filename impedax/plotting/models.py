@@ -20,8 +20,8 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None):
     if "sigma" in gap.remaining:
         s = gap.remaining["sigma"].values
         ax.fill_between(f, np.maximum(np.abs(z) - s, np.abs(z) * 0.05), np.abs(z) + s, color="0.8", label="± SEM")
-    ax.loglog(f, np.abs(gap.naive_fit.z_model), "--", label=f"C_gap only (rms_rel {gap.naive_fit.rms_rel:.2g})")
-    ax.loglog(f, np.abs(gap.edl_fit.z_model), "-", label=f"{gap.edl_fit.model} (rms_rel {gap.edl_fit.rms_rel:.2g})")
+    ax.loglog(f, np.abs(gap.naive_fit.z_model), "--", label=f"C_gap only (rms_rel {gap.naive_fit.rms_rel * 100:.2g} %)")
+    ax.loglog(f, np.abs(gap.edl_fit.z_model), "-", label=f"{gap.edl_fit.model} (rms_rel {gap.edl_fit.rms_rel * 100:.2g} %)")
     ax.set(xlabel="frequency [Hz]", ylabel="|Z_R| [Ω]", title="remaining impedance (Sirin eq 5)")
     ax.legend(fontsize=7)
     ax = axes[1]

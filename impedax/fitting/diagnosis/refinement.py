@@ -41,10 +41,11 @@ class RefinementStep:
 
     @property
     def change(self) -> str:
-        """What the step did, in words: ``+ R_s [series_resistance]``, ``− CPE_relax
-        [simplified]`` (an element taken out again, `_simplified`) or ``(start)``."""
-        if self.added:
-            return f"+ {self.added} [{self.effect}]"
+        """What the step did, in words: ``+ R_s [series_resistance]`` (with ``, − R_relax3``
+        when the effect replaced an element), ``− CPE_relax [simplified]`` (an element taken out
+        again, `_simplified`) or ``(start)``."""
+        if self.added:  # an effect may replace an element: the step takes that one out
+            return f"+ {self.added} [{self.effect}]" + (f", − {', '.join(self.removed)}" if self.removed else "")
         return f"− {', '.join(self.removed)} [simplified]" if self.removed else "(start)"
 
     def as_json(self) -> dict:

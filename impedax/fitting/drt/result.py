@@ -112,7 +112,7 @@ class DRTResult:
         """A few lines: λ and how it was chosen, R_∞, L, C, the fit error and the peaks."""
         lines = [
             f"DRT ({'signed' if self.signed else 'non-negative'}, Tikhonov on Gaussian RBFs, derivative order {self.derivative}): "
-            f"λ = {self.lam:.3g} by {self.lambda_method}",
+            f"λ = {self.lam:.3g} " + ("as given" if self.lambda_method == "fixed" else f"by {self.lambda_method}"),
             f"R_inf = {self.r_inf_ohm:.4g} Ω, L = {self.l_h:.3g} H" + ("" if math.isinf(self.c_f) else f", C = {self.c_f:.3g} F")
             + f", R_pol = {self.polarization_resistance:.4g} Ω",
             f"rms_rel = {self.rms_rel * 100:.3g} % (noise estimate {self.noise_estimate * 100:.3g} %)" + ("" if self.converged else "; active-set solve did NOT converge"),

@@ -116,7 +116,7 @@ class BatchFitResult:
 
     def report(self) -> str:
         s = self.summary()
-        lines = [f"model {self.model}: {self.n_spectra} spectra over {s['dims']}", f"converged: {s['converged_fraction'] * 100:.1f}%   median rms_rel {s['rms_rel_median']:.4g}", "", f"{'parameter':<16} {'median':>12} {'16%':>12} {'84%':>12}"]
+        lines = [f"model {self.model}: {self.n_spectra} spectra over {s['dims']}", f"converged: {s['converged_fraction'] * 100:.1f}%   median rms_rel {s['rms_rel_median'] * 100:.3g} %", "", f"{'parameter':<16} {'median':>12} {'16%':>12} {'84%':>12}"]
         for p, v in s["params"].items():
             lines.append(f"{p:<16} {v['median']:>12.5g} {v['q16']:>12.5g} {v['q84']:>12.5g}")
         return "\n".join(lines)

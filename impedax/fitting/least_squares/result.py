@@ -142,7 +142,7 @@ class FitResult:
         lines = [
             f"model      {self.model}",
             f"weighting  {self.weighting}    points {self.n_points}    free parameters {self.n_params}",
-            f"rms_rel    {self.rms_rel:.4g}    chi2 {self.chi2:.4g}    chi2_red {self.chi2_red:.4g}    AIC {self.aic:.2f}    BIC {self.bic:.2f}",
+            f"rms_rel    {self.rms_rel * 100:.3g} %    chi2 {self.chi2:.4g}    chi2_red {self.chi2_red:.4g}    AIC {self.aic:.2f}    BIC {self.bic:.2f}",
             f"status     {'converged' if self.converged else 'NOT converged'}: {self.message}",
             "",
             f"{'parameter':<{width}}  {'value':>12}  {'stderr':>10}  {'rel':>8}  unit",
@@ -189,7 +189,7 @@ class FitResult:
         return plot_spectrum(
             (self.frequency, self.z_data),
             (self.frequency, self.z_model),
-            title=title or f"{self.model}   rms_rel = {self.rms_rel:.3g}",
+            title=title or f"{self.model}   rms_rel = {self.rms_rel * 100:.3g} %",
             bands=bands,
             model_label="fit",
         )
