@@ -15,6 +15,7 @@ from typing import Sequence
 
 import xarray as xr
 
+from ..arguments import shown
 from ..data import validate_spectrum
 from ..errors import DataError
 from ._common import MAX_FILE_BYTES, check_file, head_text
@@ -76,6 +77,7 @@ def load(path: str | os.PathLike, readers: Sequence[Reader] | None = None) -> xr
     """
     if isinstance(path, xr.Dataset):
         return validate_spectrum(path)
+    _check_path(path)
     if str(path) == STDIN:
         return _load_stdin(readers)
     path = Path(path)
@@ -144,8 +146,19 @@ def spectrum_format(path: str | os.PathLike) -> str:
     raise DataError(f"unknown output format {suffix!r}; use .nc or .csv", path=path)
 
 
+def _check_path(path) -> None:
+    """A file path as `load` and `save` take it (str or os.PathLike), else one `DataError`."""
+    if not isinstance(path, (str, os.PathLike)):
+        raise DataError(f"a file path (str or pathlib.Path) is needed, got {shown(path)} ({type(path).__name__})")
+    if "\x00" in str(path):
+        raise DataError(f"a file name cannot contain a NUL character: {shown(str(path))}")
+
+
 def save(ds: xr.Dataset, path: str | os.PathLike) -> None:
     """Save a spectrum: ``.nc`` → lossless netCDF, ``.csv``/``.txt`` → canonical CSV. Atomic."""
+    if not isinstance(ds, xr.Dataset):
+        raise DataError(f"save takes a spectrum Dataset (impedax.make_spectrum, impedax.load), got {shown(ds)} ({type(ds).__name__})")
+    _check_path(path)
     path = Path(path)
     kind = spectrum_format(path)
     validate_spectrum(ds)
