@@ -385,3 +385,13 @@ def test_too_few_frequencies_make_the_test_inconclusive():
         assert result.conclusive is conclusive
         assert ("verdict: inconclusive: 6 frequencies are too few" in result.summary()) is not conclusive
         assert bool(result.to_xarray()["conclusive"]) is conclusive
+
+
+def test_cli_says_when_the_test_has_too_few_frequencies(tmp_path, capsys):
+    f = np.geomspace(1, 1e5, 6)
+    ix.save(ix.make_spectrum(f, 50 + 1000 / (1 + 2j * np.pi * f * 1e-3)), tmp_path / "six.nc")
+    assert main(["kk", str(tmp_path / "six.nc"), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["conclusive"] is False
+    assert main(["kk", str(tmp_path / "six.nc")]) == 0
+    assert "verdict: inconclusive" in capsys.readouterr().out

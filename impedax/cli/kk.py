@@ -27,6 +27,7 @@ def register(sub) -> None:
 _KK_JSON = {
     "valid": "valid", "rms_rel": "rms_rel", "bad_bands": "bad_bands", "n_rc": "n_rc", "mu": "mu", "mu_reached": "mu_reached",
     "noise_estimate": "noise_estimate", "frequency_hz": "frequency", "residuals_real": "residuals_real", "residuals_imag": "residuals_imag",
+    "conclusive": "conclusive",
 }
 _ZHIT_JSON = {
     "valid": "valid", "rms_rel": "rms_rel", "bad_bands": "bad_bands", "noise_estimate": "noise_estimate",
@@ -75,10 +76,12 @@ def _each_spectrum(batch, as_json: bool, emit_json) -> None:
     if as_json:
         emit_json({"dims": list(batch.dims), "n_spectra": len(batch.results), "n_valid": n_valid, "spectra": [{"labels": w, **_as_json(r, _KK_JSON)} for w, r in zip(where, batch.results)]})
         return
-    print(f"linear KK test of {len(batch.results)} spectra over {', '.join(batch.dims)}: {n_valid} KK-consistent, {len(batch.results) - n_valid} not")
+    few = sum(not r.conclusive for r in batch.results)
+    print(f"linear KK test of {len(batch.results)} spectra over {', '.join(batch.dims)}: {n_valid} KK-consistent, {len(batch.results) - n_valid} not"
+          + (f" ({few} with too few frequencies for the test to tell)" if few else ""))
     names = [", ".join(f"{d}={v}" for d, v in w.items()) for w in where]
     width = max(len(n) for n in names)
     print(f"{'spectrum':<{width}}  {'verdict':<9} {'rms_rel':>9} {'noise':>9} {'M':>3}  bad bands")
     for name, r in zip(names, batch.results):
         bands = "; ".join(f"{format_frequency(lo)} – {format_frequency(hi)}" for lo, hi in r.bad_bands) or "none"
-        print(f"{name:<{width}}  {'valid' if r.valid else 'NOT valid':<9} {r.rms_rel * 100:>8.3g}% {r.noise_estimate * 100:>8.3g}% {r.n_rc:>3}  {bands}")
+        print(f"{name:<{width}}  {('valid' if r.valid else 'NOT valid') if r.conclusive else 'too few':<9} {r.rms_rel * 100:>8.3g}% {r.noise_estimate * 100:>8.3g}% {r.n_rc:>3}  {bands}")
