@@ -186,3 +186,17 @@ def test_result_html_escapes_every_text():
     html = result_html("<script>x</script>", [{"na<me": "R&D", "value": 1.5}], lines=["a > b"])
     assert "<script>" not in html and "&lt;script&gt;" in html
     assert "<th>na&lt;me</th>" in html and "<td>R&amp;D</td>" in html and "<td>1.5</td>" in html and "a &gt; b" in html
+
+
+@pytest.mark.parametrize("command", [["kk"], ["kk", "--method", "zhit"], ["drt"]])
+def test_check_results_json_is_the_command_lines_json(command, tmp_path, capsys):
+    """`write_result(..., ".json")` of a KK, Z-HIT or DRT result writes what `impedax kk|drt
+    --json` prints (it wrote the text report as one JSON string)."""
+    data = _rc_data()
+    ix.save(data, tmp_path / "rc.nc")
+    assert main([*command[:1], str(tmp_path / "rc.nc"), *command[1:], "--json"]) == 0
+    printed = json.loads(capsys.readouterr().out)
+    result = ix.drt(data) if command == ["drt"] else ix.zhit(data) if "zhit" in command else ix.kk_test(data)
+    ix.write_result(result, tmp_path / "r.json")
+    written = json.loads((tmp_path / "r.json").read_text())
+    assert isinstance(written, dict) and written == printed

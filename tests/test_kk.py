@@ -85,7 +85,7 @@ def test_kk_consistent_spectra_are_valid_with_residuals_at_noise_level(name, for
     rng = np.random.default_rng([zlib.crc32(name.encode()), int(noise * 1e4)])
     z = add_noise(formula(freq), noise, rng)
     result = ix.kk_test(ix.make_spectrum(freq, z))
-    assert result.valid, result.summary()
+    assert result.valid, result.report()
     assert result.bad_bands == ()
     # |Δ| of pure noise has rms √2·noise; the fit absorbs a fraction P/(2N) of it: loose factor 2.
     expected = np.sqrt(2) * noise
@@ -201,7 +201,7 @@ def test_result_outputs(tmp_path, rng):
     assert float(ds["rms_rel"]) == result.rms_rel
     r = (result.impedance - result.kk_impedance) / np.abs(result.impedance)
     assert result.rms_rel == pytest.approx(np.sqrt(np.mean(np.abs(r) ** 2)), rel=1e-12)
-    text = result.summary()
+    text = result.report()
     assert "NOT valid" in text and "bad band" in text and f"M = {result.n_rc}" in text
     png = tmp_path / "kk.png"
     save_figure(result.plot(), png)
@@ -383,7 +383,7 @@ def test_too_few_frequencies_make_the_test_inconclusive():
         z = 50 + 1000 / (1 + 2j * np.pi * f * 1000 * 1e-6)
         result = ix.kk_test(ix.make_spectrum(f, z))
         assert result.conclusive is conclusive
-        assert ("verdict: inconclusive: 6 frequencies are too few" in result.summary()) is not conclusive
+        assert ("verdict: inconclusive: 6 frequencies are too few" in result.report()) is not conclusive
         assert bool(result.to_xarray()["conclusive"]) is conclusive
 
 

@@ -57,7 +57,7 @@ def test_result_xarray_and_summary():
     result = ix.zhit((F, EXACT["R-CPE"]))
     ds = result.to_xarray()
     assert set(["Z", "modulus_zhit", "residuals", "flagged"]) <= set(ds.data_vars)
-    assert "valid" in result.summary()
+    assert "valid" in result.report() and result.summary()["valid"] == result.valid
 
 
 @pytest.mark.parametrize(

@@ -52,9 +52,9 @@ def run(args) -> int:
     batch = isinstance(result, ResultGrid)
     if args.json:
         if batch:
-            emit_json({"dims": list(result.dims), "n_spectra": len(result), "spectra": [{"labels": where, **_as_json(one)} for where, one in zip(result.labels(), result.results)]})
+            emit_json({"dims": list(result.dims), "n_spectra": len(result), "spectra": [{"labels": where, **one.summary()} for where, one in zip(result.labels(), result.results)]})
         else:
-            emit_json(_as_json(result))
+            emit_json(result.summary())
         return 0
     print(result.report())
     if batch:
@@ -62,22 +62,6 @@ def run(args) -> int:
             peaks = "; ".join(f"{p.tau_s:.3g} s ({p.r_ohm:.3g} Ω)" for p in one.peaks) or "none"
             print(f"  {', '.join(f'{d}={v}' for d, v in where.items())}: rms_rel {one.rms_rel * 100:.3g} %, R_inf {one.r_inf_ohm:.4g} Ω, peaks {peaks}")
     return 0
-
-
-def _as_json(result) -> dict:
-    """One spectrum's DRT as the JSON of `impedax drt --json`."""
-    return {
-        "tau_s": result.tau,
-        "gamma_ohm": result.gamma,
-        "gamma_q05": result.gamma_q05,
-        "gamma_q95": result.gamma_q95,
-        "r_inf_ohm": result.r_inf_ohm,
-        "l_h": result.l_h,
-        "lambda": result.lam,
-        "lambda_method": result.lambda_method,
-        "peaks": [{"tau_s": p.tau_s, "r_ohm": p.r_ohm, "width_decades": p.width_decades} for p in result.peaks],
-        "rms_rel": result.rms_rel,
-    }
 
 
 def _save(result, path) -> None:

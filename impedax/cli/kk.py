@@ -23,18 +23,6 @@ def register(sub) -> None:
     p.set_defaults(run=run)
 
 
-# JSON key → attribute of the result, per method (the keys are the public contract)
-_KK_JSON = {
-    "valid": "valid", "rms_rel": "rms_rel", "bad_bands": "bad_bands", "n_rc": "n_rc", "mu": "mu", "mu_reached": "mu_reached",
-    "noise_estimate": "noise_estimate", "frequency_hz": "frequency", "residuals_real": "residuals_real", "residuals_imag": "residuals_imag",
-    "conclusive": "conclusive",
-}
-_ZHIT_JSON = {
-    "valid": "valid", "rms_rel": "rms_rel", "bad_bands": "bad_bands", "noise_estimate": "noise_estimate",
-    "frequency_hz": "frequency", "modulus_zhit_ohm": "modulus", "residuals_modulus": "residuals",
-}
-
-
 def run(args) -> int:
     from ..fitting import kk_test, kk_test_batch, zhit
     from .common import emit_json, figure_writer, load_selected, plan_outputs
@@ -48,22 +36,13 @@ def run(args) -> int:
     if any(d != "frequency" for d in data["Z"].dims):
         _each_spectrum(kk_test_batch(data, **options), args.json, emit_json)
         return 0
-    if args.method == "zhit":
-        result, keys, extra = zhit(data), _ZHIT_JSON, {"method": "zhit"}
-    else:
-        result, keys, extra = kk_test(data, **options), _KK_JSON, {}
+    result = zhit(data) if args.method == "zhit" else kk_test(data, **options)
     outputs.save({"--plot": figure_writer(result.plot)})
     if args.json:
-        emit_json({**extra, **_as_json(result, keys)})
+        emit_json(result.summary())
     else:
-        print(result.summary())
+        print(result.report())
     return 0
-
-
-def _as_json(result, keys) -> dict:
-    out = {key: getattr(result, attribute) for key, attribute in keys.items()}
-    out["bad_bands"] = [[lo, hi] for lo, hi in result.bad_bands]
-    return out
 
 
 def _each_spectrum(batch, as_json: bool, emit_json) -> None:
@@ -74,7 +53,7 @@ def _each_spectrum(batch, as_json: bool, emit_json) -> None:
     where = batch.labels()
     n_valid = sum(bool(r.valid) for r in batch.results)
     if as_json:
-        emit_json({"dims": list(batch.dims), "n_spectra": len(batch.results), "n_valid": n_valid, "spectra": [{"labels": w, **_as_json(r, _KK_JSON)} for w, r in zip(where, batch.results)]})
+        emit_json({"dims": list(batch.dims), "n_spectra": len(batch.results), "n_valid": n_valid, "spectra": [{"labels": w, **r.summary()} for w, r in zip(where, batch.results)]})
         return
     few = sum(not r.conclusive for r in batch.results)
     print(f"linear KK test of {len(batch.results)} spectra over {', '.join(batch.dims)}: {n_valid} KK-consistent, {len(batch.results) - n_valid} not"

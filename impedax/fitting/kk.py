@@ -73,6 +73,14 @@ def _thresholds_for(rules: Mapping[str, float], n_points: int) -> dict[str, floa
 
 
 
+# JSON key → attribute of `KKResult` (`KKResult.summary`, ``impedax kk --json``)
+_JSON_KEYS = {
+    "valid": "valid", "rms_rel": "rms_rel", "bad_bands": "bad_bands", "n_rc": "n_rc", "mu": "mu", "mu_reached": "mu_reached",
+    "noise_estimate": "noise_estimate", "frequency_hz": "frequency", "residuals_real": "residuals_real", "residuals_imag": "residuals_imag",
+    "conclusive": "conclusive",
+}
+
+
 @dataclass(frozen=True, eq=False)
 class KKResult:
     """Outcome of the linear Kramers–Kronig test on one spectrum (arrays in the data's order).
@@ -145,7 +153,13 @@ class KKResult:
             },
         )
 
-    def summary(self) -> str:
+    def summary(self) -> dict:
+        """The JSON of ``impedax kk --json`` (the keys are the public contract)."""
+        out = {key: getattr(self, attribute) for key, attribute in _JSON_KEYS.items()}
+        out["bad_bands"] = [[lo, hi] for lo, hi in self.bad_bands]
+        return out
+
+    def report(self) -> str:
         """A few lines: M, µ, rms_rel, noise, verdict and bad bands."""
         verdict = "valid (KK-consistent)" if self.valid else "NOT valid: data are not KK-consistent"
         if not self.conclusive:

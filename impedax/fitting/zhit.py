@@ -75,14 +75,19 @@ class ZHITResult:
             attrs={"method": "Z-HIT, first order (Ehm et al. 2000), smoothing-spline phase", "offset_ln_ohm": self.offset},
         )
 
-    def summary(self) -> str:
+    def summary(self) -> dict:
+        """The JSON of ``impedax kk --method zhit --json`` (the keys are the public contract)."""
+        return {
+            "method": "zhit", "valid": self.valid, "rms_rel": self.rms_rel, "bad_bands": [[lo, hi] for lo, hi in self.bad_bands],
+            "noise_estimate": self.noise_estimate, "frequency_hz": self.frequency, "modulus_zhit_ohm": self.modulus, "residuals_modulus": self.residuals,
+        }
+
+    def report(self) -> str:
+        """Two lines and the bad bands: rms_rel, noise estimate, verdict."""
         verdict = "valid (|Z| and phase consistent)" if self.valid else "NOT valid: |Z| and phase disagree"
         lines = [f"Z-HIT: rms_rel = {self.rms_rel * 100:.3g} %, noise estimate = {self.noise_estimate * 100:.3g} %", f"verdict: {verdict}"]
         lines += [f"  bad band: {lo:.3g} – {hi:.3g} Hz" for lo, hi in self.bad_bands]
         return "\n".join(lines)
-
-    def report(self) -> str:
-        return self.summary()
 
     def plot(self, *, title: str | None = None):
         from ..plotting.drt import plot_zhit

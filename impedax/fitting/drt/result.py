@@ -126,8 +126,20 @@ class DRTResult:
             )
         return "\n".join(lines)
 
-    def summary(self) -> str:
-        return self.report()
+    def summary(self) -> dict:
+        """The JSON of ``impedax drt --json`` (the keys are the public contract)."""
+        return {
+            "tau_s": self.tau,
+            "gamma_ohm": self.gamma,
+            "gamma_q05": self.gamma_q05,
+            "gamma_q95": self.gamma_q95,
+            "r_inf_ohm": self.r_inf_ohm,
+            "l_h": self.l_h,
+            "lambda": self.lam,
+            "lambda_method": self.lambda_method,
+            "peaks": [{"tau_s": p.tau_s, "r_ohm": p.r_ohm, "width_decades": p.width_decades} for p in self.peaks],
+            "rms_rel": self.rms_rel,
+        }
 
     def _repr_html_(self) -> str:
         from ...plotting.html import result_html
