@@ -432,3 +432,16 @@ def test_evidence_names_the_missing_arc_on_random_multi_arc_spectra():
         evidence = unexplained_peaks(drt((F, z)), (F, 10 + sum(a for i, a in enumerate(arcs) if i != k)))
         hits += len(evidence.unexplained) == 1 and abs(math.log10(evidence.unexplained[0].tau_s / taus[k])) < 0.3
     assert hits >= 36, hits
+
+
+def test_warnings_name_what_no_passive_cell_has():
+    """A closed-form arc with R_∞ = −5 Ω (non-passive), with a negative series L, and the
+    same arc with R_∞ = 10 Ω and nothing else (no warning)."""
+    arc = rc(1000, 1e-3)
+    passive = drt((F, noisy(10 + arc, 0.005, 1)))
+    assert passive.warnings == () and passive.summary()["warnings"] == []
+    negative_r = drt((F, noisy(-5 + arc, 0.005, 1)))
+    assert negative_r.r_inf_ohm < -4 and any(w.startswith("R_inf = ") and "negative" in w for w in negative_r.warnings)
+    negative_l = drt((F, noisy(10 + arc - 1j * W * 1e-5, 0.005, 1)))
+    assert negative_l.l_h == pytest.approx(-1e-5, rel=0.1)
+    assert any(w.startswith("L = ") for w in negative_l.warnings) and "warning: L = " in negative_l.report()

@@ -16,6 +16,10 @@ from ..grid import ResultGrid
 __all__ = ["DRTResult", "DRTBatchResult"]
 
 
+# a DRT fit worse than this (rms_rel) does not reproduce the data (`DRTResult.warnings`)
+DRT_MISFIT_MAX = 0.05
+
+
 @dataclass(frozen=True, eq=False)
 class DRTResult:
     """The distribution of relaxation times of one spectrum (see `impedax.drt`).
@@ -108,8 +112,32 @@ class DRTResult:
             },
         )
 
+    @property
+    def warnings(self) -> tuple[str, ...]:
+        """What makes R_∞, L or γ unlike a passive cell's: R_∞ below −1 % of |Z| at the top
+        frequency (a passive cell has R_∞ ≥ 0), L < 0 beyond 5 % of that |Z| (the high end more
+        capacitive than the arcs), and rms_rel above `DRT_MISFIT_MAX` (γ does not reproduce
+        the data)."""
+        top = int(np.argmax(self.frequency))
+        z_top = abs(self.impedance[top])
+        out = []
+        if self.r_inf_ohm < -0.01 * z_top:
+            out.append(
+                f"R_inf = {self.r_inf_ohm:.4g} Ω is negative, which no passive cell has: the data stop before the high-frequency "
+                "limit or carry an instrument's phase error there; leave the top points out (fmax) or check the sign convention"
+            )
+        if self.l_h < 0 and 2 * math.pi * float(self.frequency[top]) * -self.l_h > 0.05 * z_top:
+            out.append(f"L = {self.l_h:.3g} H is negative: the high-frequency end is more capacitive than the arcs explain (stray capacitance, or a cable's phase error)")
+        if self.rms_rel > DRT_MISFIT_MAX:
+            out.append(
+                f"γ reproduces the data to only {self.rms_rel * 100:.3g} % (rms_rel): the data are not Kramers–Kronig consistent in part "
+                "(impedax kk)" + ("" if self.signed else " or need γ < 0 somewhere (signed=True, --signed)")
+            )
+        return tuple(out)
+
     def report(self) -> str:
-        """A few lines: λ and how it was chosen, R_∞, L, C, the fit error and the peaks."""
+        """A few lines: λ and how it was chosen, R_∞, L, C, the fit error, the peaks and the
+        warnings."""
         lines = [
             f"DRT ({'signed' if self.signed else 'non-negative'}, Tikhonov on Gaussian RBFs, derivative order {self.derivative}): "
             f"λ = {self.lam:.3g} " + ("as given" if self.lambda_method == "fixed" else f"by {self.lambda_method}"),
@@ -124,6 +152,7 @@ class DRTResult:
                 f"  τ = {format_time(p.tau_s)} (f = {p.frequency_hz:.3g} Hz, ±{p.log10_tau_sd:.2f} dec)  R = {p.r_ohm:.4g} ± {p.r_ohm_sd:.2g} Ω  "
                 f"width {p.width_decades:.2f} dec{where}"
             )
+        lines += [f"warning: {w}" for w in self.warnings]
         return "\n".join(lines)
 
     def summary(self) -> dict:
@@ -139,6 +168,7 @@ class DRTResult:
             "lambda_method": self.lambda_method,
             "peaks": [{"tau_s": p.tau_s, "r_ohm": p.r_ohm, "width_decades": p.width_decades} for p in self.peaks],
             "rms_rel": self.rms_rel,
+            "warnings": list(self.warnings),
         }
 
     def _repr_html_(self) -> str:
