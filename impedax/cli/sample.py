@@ -13,7 +13,7 @@ def register(sub) -> None:
     p = sub.add_parser(
         "sample",
         help="Bayesian fit (emcee): posterior draws, credible intervals, diagnostics",
-        description="Sample the posterior of MODEL's parameters given the spectrum in DATA with emcee, starting from a least-squares fit. Reports medians, 5/16/84/95%% quantiles, acceptance, autocorrelation times, effective sample sizes, Laplace log evidence and WAIC.",
+        description="Sample the posterior of MODEL's parameters given the spectrum in DATA with emcee, starting from a least-squares fit. Reports medians, 5/16/84/95 % quantiles, acceptance, autocorrelation times, effective sample sizes, Laplace log evidence and WAIC.",
     )
     p.add_argument("data", metavar="DATA", help="spectrum file")
     add_select_option(p)

@@ -23,7 +23,7 @@ from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, pa
 from ...errors import DataError
 from ..derived import QUANTILES, band_dataset, bind_frequency, check_real, needs_freq
 from ..least_squares import FitResult
-from .diagnostics import chain_warnings, hdi, integrated_autocorr
+from .diagnostics import chain_warnings, figure, hdi, integrated_autocorr, prior_edge_warnings
 from .logprob import NOISE_MODELS, NoiseModel
 from .priors import Prior
 from .reparam import Reparametrization, rebuild
@@ -104,7 +104,8 @@ class Posterior:
 
     @functools.cached_property
     def autocorr(self) -> dict[str, float]:
-        """Integrated autocorrelation time per parameter [sampler steps] (emcee, tol=0)."""
+        """Integrated autocorrelation time per parameter [sampler steps] (emcee, tol=0); NaN when
+        the chain is too short to estimate it (`integrated_autocorr`)."""
         tau = integrated_autocorr(self._sampled_space) * self.settings.get("thin", 1)
         return {n: float(t) for n, t in zip(self.names, tau)}
 
@@ -115,9 +116,21 @@ class Posterior:
         return {n: float(self.n_walkers * self.n_draws / t) for n, t in zip(self.names, tau)}
 
     @functools.cached_property
+    def bounds(self) -> tuple[tuple[float, ...], tuple[float, ...]]:
+        """(lower, upper) bounds of the sampled parameters: the circuit's, the reparametrization's,
+        (0, ∞) for ``sigma_rel``."""
+        specs = self.circuit.parameter_specs(self.registry)
+        rp = self.reparametrization
+        physical = {n: (lo, hi) for n, lo, hi in zip(rp.names, rp.lower, rp.upper)} if rp is not None else {}
+        pairs = [(specs[n].lower, specs[n].upper) if n in specs else physical.get(n, (0.0, math.inf)) for n in self.names]
+        return tuple(float(lo) for lo, _ in pairs), tuple(float(hi) for _, hi in pairs)
+
+    @functools.cached_property
     def warnings(self) -> tuple[str, ...]:
-        """Diagnostics that need attention (chain length, acceptance, correlations, fit notes)."""
+        """Diagnostics that need attention (chain length, acceptance, correlations, draws piled up
+        against a prior's edge, fit notes)."""
         out = chain_warnings(self.names, self.log_scale, self._sampled_space, self.autocorr, self.settings.get("thin", 1), self.mean_acceptance)
+        out.extend(prior_edge_warnings(self.names, self.units, self.draws.reshape(-1, len(self.names)), self.priors, *self.bounds))
         out.extend(self.notes)
         out.extend(f"least-squares start: {w}" for w in self.fit.warnings)
         return tuple(out)
@@ -173,6 +186,7 @@ class Posterior:
             "warnings": list(self.warnings),
             "log_evidence": self.log_evidence,
             "waic": self.waic,
+            "p_waic": self.p_waic,
             "noise": self.noise.value,
             "walkers": self.n_walkers,
             "draws": self.n_draws,
@@ -195,13 +209,13 @@ class Posterior:
             f"model      {self.model}",
             f"noise      {self.noise}: {NOISE_MODELS[self.noise]}",
             f"sampler    emcee, {self.n_walkers} walkers, {self.settings.get('steps')} steps (burn {self.settings.get('burn')}, thin {self.settings.get('thin')}), {self.n_walkers * self.n_draws} draws, acceptance {self.mean_acceptance:.3f}",
-            f"evidence   Laplace ln Z = {self.log_evidence:.2f}    WAIC = {self.waic:.2f}",
+            f"evidence   Laplace ln Z = {self.log_evidence:.2f}    WAIC = {self.waic:.2f} (p_waic {self.p_waic:.3g})",
             "",
             f"{'parameter':<{width}}  {'median':>11}  {'q05':>11}  {'q95':>11}  {'τ [steps]':>9}  {'ESS':>7}  unit   prior",
         ]
         for i, n in enumerate(self.names):
             lines.append(
-                f"{n:<{width}}  {float(q['median'][i]):>11.5g}  {float(q['q05'][i]):>11.5g}  {float(q['q95'][i]):>11.5g}  {self.autocorr[n]:>9.3g}  {self.ess[n]:>7.0f}  {self.units[i]:<5}  {self.priors[n]}"
+                f"{n:<{width}}  {float(q['median'][i]):>11.5g}  {float(q['q05'][i]):>11.5g}  {float(q['q95'][i]):>11.5g}  {figure(self.autocorr[n], '9.3g'):>9}  {figure(self.ess[n], '7.0f'):>7}  {self.units[i]:<5}  {self.priors[n]}"
             )
         for w in self.warnings:
             lines.append(f"warning: {w}")

@@ -32,7 +32,11 @@ __all__ = [
     "PRIOR_KINDS",
     "SIGMA_REL_PRIOR",
     "DEFAULT_SPAN_DECADES",
+    "UNDETERMINED_STDERRS",
+    "STDERR_REACH",
     "coerce_priors",
+    "data_scale_range",
+    "undetermined",
     "default_prior",
     "check_prior_inside",
     "prior_log_density",
@@ -116,6 +120,31 @@ class Prior:
             return 0.0
         return math.log(mass) if mass > 0 else -math.inf
 
+    def cdf(self, x, lower: float, upper: float) -> np.ndarray:
+        """The prior's cumulative probability at ``x`` within the parameter bounds (lower,
+        upper): the coordinate in which this prior is uniform on [0, 1] (linear for uniform,
+        log for log-uniform; the prior's mass for normal and log-normal)."""
+        from scipy import stats
+
+        x = np.asarray(x, float)
+        lo, hi = self.support(lower, upper)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            if self.kind is PriorKind.UNIFORM:
+                t = (x - lo) / (hi - lo)
+            elif self.kind is PriorKind.LOGUNIFORM:
+                t = np.log(x / lo) / math.log(hi / lo)
+            else:
+                if self.kind is PriorKind.NORMAL:
+                    u, centre, lo_u, hi_u = x, self.a, lo, hi
+                else:
+                    u = np.log(np.where(x > 0, x, np.nan))
+                    centre = math.log(self.a)
+                    lo_u = math.log(lo) if lo > 0 else -math.inf
+                    hi_u = math.log(hi) if math.isfinite(hi) and hi > 0 else math.inf
+                c_lo, c_hi = stats.norm.cdf([lo_u, hi_u], centre, self.b)
+                t = (stats.norm.cdf(u, centre, self.b) - c_lo) / (c_hi - c_lo)
+        return np.clip(t, 0.0, 1.0)
+
     def median(self, lower: float, upper: float) -> float:
         """A central value of the prior (used only when a start must come from the prior)."""
         if self.kind is PriorKind.UNIFORM:
@@ -168,19 +197,79 @@ def coerce_priors(priors: Mapping[str, "Prior | str | tuple"] | None) -> dict[st
     return out
 
 
-def default_prior(lower: float, upper: float, start: float) -> Prior:
+# how the impedance of an element scales with a parameter of this unit: the element alone has
+# |Z| at angular frequency ω when x = |Z|^a · ω^b (R = |Z|, C = 1/(ω|Z|), L = |Z|/ω, τ = 1/ω,
+# Warburg σ = |Z|·√ω); a CPE's Q = 1/(|Z| ω^α) with α anywhere in (0, 1]
+_UNIT_SCALING = {"Ohm": (1.0, 0.0), "F": (-1.0, -1.0), "H": (1.0, -1.0), "s": (0.0, -1.0), "Ohm s^-1/2": (1.0, 0.5)}
+_CPE_Q_UNIT = "F s^(alpha-1)"
+UNDETERMINED_STDERRS = 2.0  # a parameter is undetermined when value − 2·stderr reaches its lower bound
+STDERR_REACH = 10.0  # ... and, without a data scale, its default prior reaches value + 10·stderr
+
+
+def data_scale_range(unit: str, freq, z_abs) -> tuple[float, float] | None:
+    """The values of a parameter of ``unit`` at which its element alone would have the
+    measured |Z| at one of the measured frequencies (``freq`` [Hz], ``z_abs`` [Ω]), widened
+    ×/÷ 10^`DEFAULT_SPAN_DECADES`; None for a unit impedax has no such scaling for (a user
+    element's, a physical parameter's)."""
+    omega = 2 * np.pi * np.asarray(freq, float)
+    z_abs = np.asarray(z_abs, float)
+    keep = np.isfinite(omega) & (omega > 0) & np.isfinite(z_abs) & (z_abs > 0)
+    if not keep.any():
+        return None
+    omega, z_abs = omega[keep], z_abs[keep]
+    if unit == _CPE_Q_UNIT:  # α ∈ (0, 1]: ω^α lies between 1 and ω
+        x = np.concatenate([1.0 / z_abs, 1.0 / (z_abs * omega)])
+    elif unit in _UNIT_SCALING:
+        a, b = _UNIT_SCALING[unit]
+        x = z_abs**a * omega**b
+    else:
+        return None
+    span = 10.0**DEFAULT_SPAN_DECADES
+    return float(x.min() / span), float(x.max() * span)
+
+
+def undetermined(lower: float, start: float, stderr: float | None, at_bound: bool) -> bool:
+    """Whether a least-squares value ``start`` leaves a non-negative parameter undetermined: at
+    its lower bound, with a non-finite ``stderr``, or with start − `UNDETERMINED_STDERRS`·stderr
+    at or below the lower bound (its approximate 95 % interval reaches the bound). ``stderr``
+    None: not known (e.g. a physical parameter), which alone says nothing."""
+    if at_bound:
+        return True
+    return stderr is not None and (not math.isfinite(stderr) or start - UNDETERMINED_STDERRS * stderr <= lower)
+
+
+def default_prior(lower: float, upper: float, start: float, *, stderr: float | None = None, at_bound: bool = False, scale: tuple[float, float] | None = None) -> Prior:
     """The prior of a parameter the user gave none: log-uniform within finite positive bounds,
     uniform within finite bounds, else ``start`` ×/÷ 10^`DEFAULT_SPAN_DECADES` (log-uniform for
-    non-negative parameters, uniform around ``start`` otherwise)."""
+    non-negative parameters, uniform around ``start`` otherwise).
+
+    A non-negative parameter the least-squares fit leaves `undetermined` gets a range that does
+    not exclude what the data allow: up to the larger of start·10³ and the top of the data's
+    scale ``scale`` (`data_scale_range`: beyond it the element is a short or an open circuit to
+    these data, whatever its value); down to the smaller of start/10³ and the bottom of
+    ``scale``, or to the bottom of ``scale`` alone when the fit stopped at the bound (its value
+    there says nothing about the scale). Without a ``scale`` (a unit impedax has no scaling
+    for) the range reaches start + `STDERR_REACH`·stderr instead."""
     if math.isfinite(upper) and lower > 0:
         return Prior(PriorKind.LOGUNIFORM, lower, upper)
     if math.isfinite(upper) and math.isfinite(lower):
         return Prior(PriorKind.UNIFORM, lower, upper)
     span = 10.0**DEFAULT_SPAN_DECADES
     if lower >= 0 and start > 0:
-        return Prior(PriorKind.LOGUNIFORM, max(start / span, lower * (1 + 1e-12)) if lower > 0 else start / span, start * span)
+        lo, hi = start / span, start * span
+        if undetermined(lower, start, stderr, at_bound):
+            if scale is not None:
+                hi = max(hi, scale[1])
+                lo = scale[0] if at_bound else min(lo, scale[0])
+            elif stderr is not None and math.isfinite(stderr) and stderr > 0:
+                hi = max(hi, start + STDERR_REACH * stderr)
+        if lower > 0:
+            lo = max(lo, lower * (1 + 1e-12))
+        return Prior(PriorKind.LOGUNIFORM, lo, hi)
     centre = start if math.isfinite(start) else 0.0
     half = span * max(abs(centre), 1.0)
+    if stderr is not None and math.isfinite(stderr):
+        half = max(half, STDERR_REACH * stderr)
     return Prior(PriorKind.UNIFORM, max(centre - half, lower), min(centre + half, upper))
 
 

@@ -5,15 +5,18 @@ from __future__ import annotations
 import sys
 import time
 
-LOG_INTERVAL = 10.0
+LOG_INTERVAL = 1.0
 """Seconds between two progress lines when stderr is not a terminal (a log file, a pipe, CI):
-each report is a line of its own there, so one every half second would fill a log."""
+each report is a line of its own there, so one a second (not every half second, as on a
+terminal) keeps a log readable while it still moves visibly (at 10 s, a 20 000-step run looked
+stuck at one step for 10 s)."""
 
 
 class ProgressLine:
     """Progress of a run on stderr, shown only once the run has taken a second: one line
     rewritten in place every half second on a terminal; elsewhere (``interactive`` false: a
-    log file or a pipe) a full line every `LOG_INTERVAL` seconds and one at the end.
+    log file or a pipe) a full line every `LOG_INTERVAL` (1) seconds and one at the end. A step
+    costs one clock reading and two comparisons.
     ``interactive`` None: whether stderr is a terminal."""
 
     def __init__(self, total: int, enabled: bool, label: str = "impedax sample", interactive: bool | None = None):

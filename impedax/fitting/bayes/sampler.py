@@ -18,6 +18,7 @@ from typing import Mapping, NamedTuple, Sequence
 import jax.numpy as jnp
 import numpy as np
 import xarray as xr
+from scipy import stats
 
 from ...arguments import MAX_CHAIN_VALUES, MAX_SAMPLER_STEPS, MAX_WALKERS, checked_arguments, choice, count, flag, frequency, instance_of, parameter_values, seed as seed_rule
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, parse
@@ -28,7 +29,7 @@ from .evidence import laplace_evidence, waic
 from .logprob import NOISE_MODELS, LogProbArgs, LogProbFunctions, LogProbStructure, NoiseModel, log_prob_functions
 from .posterior import Posterior
 from .progress import ProgressLine
-from .priors import DEFAULT_SPAN_DECADES, SIGMA_REL_PRIOR, Prior, check_prior_inside, coerce_priors, default_prior
+from .priors import DEFAULT_SPAN_DECADES, SIGMA_REL_PRIOR, UNDETERMINED_STDERRS, Prior, check_prior_inside, coerce_priors, data_scale_range, default_prior, undetermined
 from .reparam import Reparametrization
 from .shared_posterior import MAX_JOINT_PARAMETERS, SharedPosterior, sample_shared
 
@@ -190,27 +191,54 @@ def _least_squares_start(init: FitResult, space: SampledParameters, specs, rp: R
     return start
 
 
-def _choose_priors(priors: Mapping[str, Prior], space: SampledParameters, start: list[float]):
-    """Each sampled parameter's prior (the user's, or `default_prior`), its support within the
-    bounds, and the start moved inside the support where the fit lies outside it (with a note).
-    Returns (priors by name, supports, start, notes)."""
+class _Priors(NamedTuple):
+    """The priors a run chose, and where its walkers start."""
+
+    chosen: dict[str, Prior]  # by sampled-parameter name
+    support: list[tuple[float, float]]  # each prior's support within the bounds
+    start: list[float]  # natural start values inside the supports
+    spread: list[tuple[float, float] | None]  # natural range to spread a parameter's walkers over, None: a small ball
+    notes: list[str]
+
+
+def _choose_priors(priors: Mapping[str, Prior], space: SampledParameters, start: list[float], init: FitResult, obs: _Observations) -> _Priors:
+    """Each sampled parameter's prior (the user's, or `default_prior`: widened to the data's
+    impedance scale where the least-squares fit ``init`` leaves the parameter `undetermined`),
+    its support within the bounds, and the start moved inside the support where the fit lies
+    outside it (with a note when the prior is the user's). The walkers of an undetermined
+    parameter with a default prior start spread over the fit's approximate 95 % interval
+    (value ± 2·stderr) within the prior, log-uniformly, not in a ball around a value the data
+    do not fix."""
     chosen: dict[str, Prior] = {}
+    spread: list[tuple[float, float] | None] = []
+    z_abs = np.abs(obs.z)
     for i, n in enumerate(space.names):
+        wide = None
         if n in priors:
             chosen[n] = priors[n]
         elif n == "sigma_rel":
             chosen[n] = SIGMA_REL_PRIOR
         else:
-            chosen[n] = default_prior(space.lower[i], space.upper[i], start[i])
+            stderr = float(init.stderr[n]) if n in init.stderr and not init.fixed.get(n, False) else None
+            at_bound = n in init.at_bound
+            chosen[n] = default_prior(space.lower[i], space.upper[i], start[i], stderr=stderr, at_bound=at_bound, scale=data_scale_range(space.units[i], obs.freq, z_abs))
+            if space.log_scale[i] and undetermined(space.lower[i], start[i], stderr, at_bound):
+                lo, hi = chosen[n].support(space.lower[i], space.upper[i])
+                top = min(hi, start[i] + UNDETERMINED_STDERRS * stderr) if stderr is not None and math.isfinite(stderr) else hi
+                wide = (lo, top) if 0 < lo < top else None
+        spread.append(wide)
     support = [chosen[n].support(space.lower[i], space.upper[i]) for i, n in enumerate(space.names)]
     start, notes = list(start), []
     for i, n in enumerate(space.names):
         lo, hi = support[i]
         if not lo < start[i] <= hi:
+            if n not in priors:  # a default prior above a fit stopped at its bound
+                start[i] = min(lo * (1 + 1e-6) if lo > 0 else lo + 1e-12, hi)
+                continue
             inside = math.sqrt(lo * hi) if lo > 0 and math.isfinite(hi) else (0.5 * (lo + hi) if math.isfinite(hi) else lo * 2 + 1)
             notes.append(f"the least-squares value of {n} ({start[i]:.4g}) is outside its prior {chosen[n]}; walkers start inside the prior")
             start[i] = inside
-    return chosen, support, start, notes
+    return _Priors(chosen, support, start, spread, notes)
 
 
 def _log_prob_setup(circuit, registry, specs, fixed, rp, obs: _Observations, space: SampledParameters, chosen, support):
@@ -253,12 +281,19 @@ def _support_in_sampled_space(support, log_scale) -> tuple[np.ndarray, np.ndarra
 
 def _initial_walkers(
     start, space: SampledParameters, init: FitResult, *, walkers: int, seed: int, n_points: int,
-    lo_y, hi_y, args: LogProbArgs, functions: LogProbFunctions, circuit: Circuit,
+    lo_y, hi_y, args: LogProbArgs, functions: LogProbFunctions, circuit: Circuit, wide: Sequence[tuple[float, float] | None] = (),
 ) -> np.ndarray:
     """A small ball (walkers, P) around the least-squares start in the sampled space: 10% of each
-    parameter's relative standard error (1e-6…0.1), clipped to the prior support; walkers where
-    the log-probability is −∞ are pulled halfway back towards the start (up to 30 times)."""
-    log_scale = space.log_scale
+    parameter's relative standard error (1e-6…0.1), clipped to the prior support.
+
+    A parameter with a range in ``wide`` (natural values, log-sampled: an undetermined one) is
+    spread log-uniformly over it instead, and the other parameters follow it along the fit's
+    covariance (their regression on it, x_j += Σ_ji/Σ_ii · Δx_i), so that walkers spread along a
+    ridge such as R0 + R1 = const and not off it. Walkers whose log-probability is −∞, or (with a
+    ``wide`` spread) below the start's by more than the 99.9 % quantile of χ²_P/2 (outside the
+    typical set of a P-dimensional posterior peaked there), are moved halfway back towards the
+    start (up to 30 times)."""
+    log_scale = np.asarray(space.log_scale)
     y0 = np.array([math.log(v) if ls else v for v, ls in zip(start, log_scale)])
     spread = []
     for i, n in enumerate(space.names):
@@ -268,20 +303,65 @@ def _initial_walkers(
             rel = 1.0 / math.sqrt(2 * n_points)
         spread.append(0.1 * float(np.clip(rel if math.isfinite(rel) else 1e-2, 1e-6, 0.1)))
     rng = np.random.default_rng(seed)
-    p0 = y0 + np.asarray(spread) * rng.normal(size=(walkers, len(space.names)))
-    p0 = np.clip(p0, np.where(np.isfinite(lo_y), lo_y + 1e-9, -np.inf), hi_y)
-    if not np.isfinite(float(functions.single(jnp.asarray(y0), args))):
+    ball = np.asarray(spread) * rng.normal(size=(walkers, len(space.names)))
+    spread_over = {i: span for i, span in enumerate(wide) if span is not None}
+    target = {i: rng.uniform(math.log(span[0]), math.log(span[1]), size=walkers) for i, span in spread_over.items()}
+    follow = _followers(space, init, spread_over)
+    lo_clip = np.where(np.isfinite(lo_y), lo_y + 1e-9, -np.inf)
+
+    def place(frac: np.ndarray) -> np.ndarray:
+        """The walkers a fraction ``frac`` (walkers,) of the way from the start to their draw."""
+        y = y0 + ball * frac[:, None]
+        for i, u in target.items():
+            y[:, i] = y0[i] + frac * (u - y0[i])
+            moved = np.exp(y[:, i]) - start[i]
+            for j, beta in follow.get(i, ()):
+                x_j = (np.exp(y[:, j]) if log_scale[j] else y[:, j]) + beta * moved
+                y[:, j] = np.where(x_j > 0, np.log(np.where(x_j > 0, x_j, 1.0)), lo_clip[j]) if log_scale[j] else x_j
+        return np.clip(y, lo_clip, hi_y)
+
+    lp_start = float(functions.single(jnp.asarray(y0), args))
+    if not np.isfinite(lp_start):
         raise FitError(f"the log-probability is −∞ at the least-squares fit of {circuit} (model not finite there, or outside the priors); check the priors and the data")
+    floor = lp_start - 0.5 * float(stats.chi2.ppf(0.999, len(y0))) if spread_over else -np.inf
+    frac = np.ones(walkers)
+    p0 = place(frac)
     lp0 = np.asarray(functions.batched(jnp.asarray(p0), args))
     for _ in range(30):
-        bad = ~np.isfinite(lp0)
+        bad = ~(np.isfinite(lp0) & (lp0 >= floor))
         if not bad.any():
             break
-        p0[bad] = y0 + 0.5 * (p0[bad] - y0)
+        frac[bad] *= 0.5
+        p0 = place(frac)
         lp0 = np.asarray(functions.batched(jnp.asarray(p0), args))
     else:
-        p0[~np.isfinite(lp0)] = y0
+        p0[~(np.isfinite(lp0) & (lp0 >= floor))] = y0
     return p0
+
+
+def _followers(space: SampledParameters, init: FitResult, spread_over) -> dict[int, list[tuple[int, float]]]:
+    """For each widely spread parameter i: the other free circuit parameters j (not spread
+    themselves) with their regression coefficient Σ_ji/Σ_ii in the fit's covariance."""
+    free = list(init.free_names)
+    cov = np.asarray(init.covariance, float)
+    out: dict[int, list[tuple[int, float]]] = {}
+    for i in spread_over:
+        name = space.names[i]
+        if name not in free or cov.shape != (len(free), len(free)):
+            continue
+        a = free.index(name)
+        var = cov[a, a]
+        if not (np.isfinite(var) and var > 0):
+            continue
+        rows = []
+        for j, other in enumerate(space.names):
+            if j == i or j in spread_over or other not in free:
+                continue
+            beta = cov[free.index(other), a] / var
+            if np.isfinite(beta) and beta != 0:
+                rows.append((j, float(beta)))
+        out[i] = rows
+    return out
 
 
 # --- step 5: the emcee run ---------------------------------------------------------------------
@@ -357,8 +437,10 @@ def sample(
     [Re, Im](Z_model − Z_data) under the noise model ``noise`` (`NOISE_MODELS`). Parameters with a
     positive domain are sampled as ln x (prior Jacobian included). ``priors`` maps parameter
     names to `Prior` (or ``"kind:a,b"`` text); the default is log-uniform within the bounds,
-    LSQ value ×/÷ 10³ for parameters unbounded above, uniform for exponents (α in (0, 1]), and
-    log-uniform on [1e-5, 1] for ``sigma_rel``. ``reparametrization`` samples physical
+    LSQ value ×/÷ 10³ for parameters unbounded above (reaching over the data's impedance scale
+    where the fit leaves a parameter undetermined: at its bound or within 2 standard errors of
+    it; `default_prior`), uniform for exponents (α in (0, 1]), and log-uniform on [1e-5, 1] for
+    ``sigma_rel``. ``reparametrization`` samples physical
     quantities behind some circuit parameters (`gap_thickness_reparametrization`).
     ``walkers`` (default max(64, 4·P)) start in a small ball around the least-squares fit
     ``init`` (run by `fit` when not given); ``burn`` (default steps // 4) steps are discarded and
@@ -389,16 +471,22 @@ def sample(
 
     if init is None:
         init = fit(circuit, obs.data, fixed=fixed or None, weighting="modulus" if noise is NoiseModel.PROPORTIONAL else "sigma", registry=registry)
-    chosen, support, start, notes = _choose_priors(priors, space, _least_squares_start(init, space, specs, rp, noise))
+    fitted = _least_squares_start(init, space, specs, rp, noise)
+    chosen_priors = _choose_priors(priors, space, fitted, init, obs)
+    chosen, support, notes = chosen_priors.chosen, chosen_priors.support, chosen_priors.notes
+    excluded = [n for i, n in enumerate(space.names) if n in priors and not support[i][0] < fitted[i] <= support[i][1]]
     args, structure = _log_prob_setup(circuit, registry, specs, fixed, rp, obs, space, chosen, support)
     functions = log_prob_functions(structure)
     lo_y, hi_y = _support_in_sampled_space(support, space.log_scale)
-    p0 = _initial_walkers(start, space, init, walkers=walkers, seed=seed, n_points=obs.freq.size, lo_y=lo_y, hi_y=hi_y, args=args, functions=functions, circuit=circuit)
+    p0 = _initial_walkers(
+        chosen_priors.start, space, init, walkers=walkers, seed=seed, n_points=obs.freq.size, lo_y=lo_y, hi_y=hi_y, args=args, functions=functions, circuit=circuit,
+        wide=chosen_priors.spread,
+    )
 
     chain = _run_emcee(p0, args, functions, steps=steps, burn=burn, thin=thin, seed=seed, progress=progress)
 
     evidence = laplace_evidence(chain.chain_y, chain.log_prob, args, functions, lo_y, hi_y)
-    information = waic(chain.chain_y, args, functions)
+    information = waic(chain.chain_y, args, functions, excluded)
     notes += [note for note in (evidence.note, information.note) if note]
     log_scale = np.asarray(space.log_scale)
     map_x = np.where(log_scale, np.exp(evidence.map_y), evidence.map_y)

@@ -32,10 +32,10 @@ from ..derived import QUANTILES
 from ..least_squares import SharedFitResult, fit
 from ..parameters import ParameterTable
 from ..problem import open_spectrum
-from .diagnostics import chain_warnings, hdi, integrated_autocorr
+from .diagnostics import chain_warnings, figure, hdi, integrated_autocorr, prior_edge_warnings
 from .logprob import NOISE_MODELS, NoiseModel
 from .progress import ProgressLine
-from .priors import SIGMA_REL_PRIOR, Prior, check_prior_inside, coerce_priors, default_prior, prior_log_density
+from .priors import SIGMA_REL_PRIOR, Prior, check_prior_inside, coerce_priors, data_scale_range, default_prior, prior_log_density
 
 __all__ = ["SharedPosterior", "sample_shared", "MAX_JOINT_PARAMETERS"]
 
@@ -155,6 +155,9 @@ class SharedPosterior:
     @functools.cached_property
     def warnings(self) -> tuple[str, ...]:
         out = chain_warnings(self.names, self.log_scale, self._sampled_space, self.autocorr, self.settings.get("thin", 1), self.mean_acceptance)
+        specs = self.circuit.parameter_specs(self.registry)
+        bounds = [(specs[n].lower, specs[n].upper) if n in specs else (0.0, math.inf) for n in (name.split("[")[0] for name in self.names)]
+        out.extend(prior_edge_warnings(self.names, self.units, self.draws.reshape(-1, len(self.names)), self.priors, [b[0] for b in bounds], [b[1] for b in bounds]))
         out.extend(self.notes)
         out.extend(f"least-squares start: {w}" for w in sorted({w for ws in self.fit.warnings.values() for w in ws}))
         return tuple(out)
@@ -208,7 +211,7 @@ class SharedPosterior:
             f"{'parameter':<{width}}  {'median':>11}  {'q05':>11}  {'q95':>11}  {'τ [steps]':>9}  {'ESS':>7}  unit",
         ]
         for i, n in enumerate(self.names):
-            lines.append(f"{n:<{width}}  {float(q['median'][i]):>11.5g}  {float(q['q05'][i]):>11.5g}  {float(q['q95'][i]):>11.5g}  {self.autocorr[n]:>9.3g}  {self.ess[n]:>7.0f}  {self.units[i]}")
+            lines.append(f"{n:<{width}}  {float(q['median'][i]):>11.5g}  {float(q['q05'][i]):>11.5g}  {float(q['q95'][i]):>11.5g}  {figure(self.autocorr[n], '9.3g'):>9}  {figure(self.ess[n], '7.0f'):>7}  {self.units[i]}")
         lines += [f"warning: {w}" for w in self.warnings]
         return "\n".join(lines)
 
@@ -293,16 +296,19 @@ def sample_shared(
     z = ds["Z"].transpose(*start.over, "frequency").values.reshape(m, -1)
     value = start.dataset["value"].transpose(*start.over, "param").values.reshape(m, -1)
     stderr = start.dataset["stderr"].transpose(*start.over, "param").values.reshape(m, -1)
-    x0, se = [], []
+    bound = start.dataset["at_bound"].transpose(*start.over, "param").values.reshape(m, -1) if "at_bound" in start.dataset else np.zeros(value.shape, bool)
+    x0, se, at_bound = [], [], []
     for n in names:
         if n == "sigma_rel":
             x0.append(max(float(np.sqrt(np.mean(start.dataset["rms_rel"].values ** 2))) / math.sqrt(2.0), 1e-4))
             se.append(x0[-1] / math.sqrt(z.size))
+            at_bound.append(False)
             continue
         i = table.names.index(circuit_of[n])
         row = labels.index(n[n.index("[") + 1 : -1]) if "[" in n else 0
         x0.append(float(value[row, i]))
         se.append(float(stderr[row, i]))
+        at_bound.append(bool(bound[:, i].any()) if "[" not in n else bool(bound[row, i]))
     lower = [0.0 if n == "sigma_rel" else float(table.lower[table.names.index(circuit_of[n])]) for n in names]
     upper = [math.inf if n == "sigma_rel" else float(table.upper[table.names.index(circuit_of[n])]) for n in names]
     user = coerce_priors(priors)
@@ -312,14 +318,20 @@ def sample_shared(
         if n in (fixed or {}):
             raise ParameterError(f"prior for {n}: the parameter is fixed")
     chosen = {}
-    for n, lo, hi, v in zip(names, lower, upper, x0):
+    freq_all, z_abs_all = np.tile(np.asarray(ds["frequency"].values, float), m), np.abs(z).ravel()
+    for n, lo, hi, v, e, edge in zip(names, lower, upper, x0, se, at_bound):
         key = "sigma_rel" if n == "sigma_rel" else circuit_of[n]
         if key in user:
             check_prior_inside(n, user[key], lo, hi, key != "sigma_rel" and specs[key].upper_inclusive)
             chosen[n] = user[key]
-        else:
-            chosen[n] = SIGMA_REL_PRIOR if n == "sigma_rel" else default_prior(lo, hi, v)
+        elif n == "sigma_rel":
+            chosen[n] = SIGMA_REL_PRIOR
+        else:  # widened where the global fit leaves the parameter undetermined (`default_prior`)
+            chosen[n] = default_prior(lo, hi, v, stderr=e, at_bound=edge, scale=data_scale_range(specs[key].unit, freq_all, z_abs_all))
     support = [chosen[n].support(lo, hi) for n, lo, hi in zip(names, lower, upper)]
+    for j, n in enumerate(names):  # a fit stopped at its bound starts inside its widened default prior
+        if n != "sigma_rel" and circuit_of[n] not in user and 0 < support[j][0] and not support[j][0] < x0[j]:
+            x0[j] = min(support[j][0] * (1 + 1e-6), support[j][1])
     log_scale = tuple(bool(lo >= 0) for lo in lower)
     names_all = table.names
     st = _Structure(
