@@ -20,7 +20,7 @@ from ..parameters import ParameterTable
 from ..problem import residual_scale, weights
 from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, dominant_points, information_criteria, null_sets
 from .order import canonical_order
-from .result import bound_sides, confirm_bounds, fit_notes, fit_result, misfit_notes, non_passive_notes, stack_notes, weighting_notes
+from .result import bound_sides, confirm_bounds, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, stack_notes, weighting_notes
 from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, TreeSolvers, better, over_devices, padded_points, tree_solver, trimmed, unscale
 from .starts import SpectrumFeatures, climb_target, batch_outliers, escalation_rungs, guess_start, rms_rel_of, rung_seed, rung_starts, to_solver_space
 
@@ -166,6 +166,11 @@ def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n
     poor = _poor_in_batch(out, z) if large else np.flatnonzero(~at_noise_floor(freq, z, out.z_model, inv_re, inv_im, out.code))
     target = None
     rungs = escalation_rungs(len(table.free_names))
+    if large:
+        # ... and, as a single fit, the whole ladder for the spectra whose fit misses the data
+        # grossly (`result.misfit_notes`' rule), where the others are no yardstick
+        gross = gross_misfits(freq, z, out.z_model, solver.kk_misfits)
+        poor = np.union1d(poor, gross)
     for rung, multiple in enumerate(rungs[:1] if large else rungs):
         if rung and poor.size:
             target = climb_target(freq, z[poor]) if target is None else target
@@ -274,6 +279,7 @@ class _LaneRunner:
         self.n_points = n_points  # (before padding: `outputs` are cut back to them)
         self._placed: dict = {}
         self._shared_placed = None
+        self.kk_misfits: dict[int, float] = {}  # spectrum → its KK test's rms_rel (`result.kk_misfits`)
 
     def _groups(self, n: int, capacity: int, n_lanes: int) -> list[list[np.ndarray]]:
         """Problems 0..n-1 in chunks of at most ``capacity``, grouped one chunk per device: a
@@ -412,7 +418,7 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
         notes[i] = fit_notes(table, dict(zip(names, values[i].tolist())), dict(zip(names, stderr[i].tolist())), corr[i], groups, ratio, finite=True, converged=True, message="", sides=sides[i])
     weighting_extra = weighting_notes(weighting, freq, *dominant_points(z, *weights(z, sigma, weighting, source))) if weighting in ("unit", "proportional") else [()] * b
     z_model = np.array(out.z_model)
-    misfit = misfit_notes(freq, z, z_model)
+    misfit = misfit_notes(freq, z, z_model, solver.kk_misfits)
     weighting_extra = [tuple(w) + non_passive_notes(freq, z[i], None if sigma is None else sigma[i]) + misfit[i] for i, w in enumerate(weighting_extra)]
     for i in np.flatnonzero(odd):
         r = fit_result(circuit, table, freq, z[i], out.row(i), weighting, int(used[i]), 0.0, registry, chi2_at_x=lambda p, s, i=i: solver.chi2_at_x(p, s + i), extra_notes=weighting_extra[i])
