@@ -368,17 +368,10 @@ def undetermined_parameters(fit: FitResult) -> frozenset[str]:
     A constant-phase coefficient is judged where the data measure it: Q of
     Z = 1/(Q (jω)^α) is the admittance at ω = 1 rad/s, often decades outside the band, so its
     raw error and its correlation with α grow with that distance although the element is well
-    determined (`centred_covariance`).
-
-    A resistor above `OPEN_RESISTANCE_FACTOR` × the data's largest |Z| has run open: its
-    branch carries no current the data can see, whatever its standard error says (on
-    PowerSuite's real spectrum a nested R_relax went to 1.2e275 Ω "± 9e10 Ω", where the
-    linearisation at so flat a point gives a meaningless error)."""
+    determined (`centred_covariance`)."""
     names = fit.free_names
     rel_sd, corr = centred_covariance(fit)
     out = {n for n, e in zip(names, rel_sd) if not (np.isfinite(e) and e <= RELATIVE_ERROR_MAX)}
-    z_max = float(np.max(np.abs(fit.z_data)))
-    out |= {e.name for e in fit.circuit.elements() if e.symbol == "R" and e.name in names and fit.values[e.name] > OPEN_RESISTANCE_FACTOR * z_max}
     if corr.shape == (len(names), len(names)) and len(names) > 1:
         a, b = np.nonzero(np.triu(np.abs(np.nan_to_num(corr)) > CORRELATION_MAX, 1))
         for i, j in zip(a.tolist(), b.tolist()):
@@ -387,6 +380,18 @@ def undetermined_parameters(fit: FitResult) -> frozenset[str]:
             else:
                 out |= {names[k] for k in (i, j) if not rel_sd[k] <= CORRELATED_ERROR_MAX}
     return frozenset(out)
+
+
+def _opened(fit: FitResult, base: FitResult) -> frozenset[str]:
+    """The resistors ``fit`` adds to ``base``'s circuit that ran open (above
+    `OPEN_RESISTANCE_FACTOR` × the data's largest |Z|): the effect's branch carries no current
+    the data can see, so the data do not determine it, whatever its standard error says (on
+    PowerSuite's REAL spectrum a nested R_relax went to 1.2e275 Ω "± 9e10 Ω", the error of a
+    linearisation at so flat a point). A baseline resistor running open is the baseline's
+    business (refine takes such a fit at the bound)."""
+    z_max = float(np.max(np.abs(fit.z_data)))
+    baseline = set(base.circuit.element_names)
+    return frozenset(e.name for e in fit.circuit.elements() if e.symbol == "R" and e.name not in baseline and e.name in fit.free_names and fit.values[e.name] > OPEN_RESISTANCE_FACTOR * z_max)
 
 
 def _undetermined_elements(fit: FitResult) -> frozenset[str]:
@@ -1091,10 +1096,12 @@ def _suggestions(base: FitResult, proposals: list[tuple[Effect, Proposal]], fits
         aic, bic = noise_weighted_criteria(cf, sigma_rel)
         d_aic, d_bic = aic - base_aic, bic - base_bic
         drop = (base_ms - _noise_weighted_mean_square(cf, sigma_rel)) / 2
-        undetermined = tuple(sorted(undetermined_parameters(cf) - base_undetermined))
+        opened = _opened(cf, base)
+        undetermined = tuple(sorted((undetermined_parameters(cf) | opened) - base_undetermined))
         warning = None
         if undetermined:
-            warning = "the data do not determine " + ", ".join(undetermined) + f" (relative error > {RELATIVE_ERROR_MAX:.0%}, |correlation| > {CORRELATION_SINGULAR:g}, or > {CORRELATION_MAX:g} with a relative error above {CORRELATED_ERROR_MAX:.0%})"
+            warning = "the data do not determine " + ", ".join(undetermined) + f" (relative error > {RELATIVE_ERROR_MAX:.0%}, |correlation| > {CORRELATION_SINGULAR:g}, or > {CORRELATION_MAX:g} with a relative error above {CORRELATED_ERROR_MAX:.0%}"
+            warning += "".join(f"; {n} ran open, {format_quantity(float(cf.values[n]), 'Ω')}" for n in sorted(opened)) + ")"
         elif effect.plausible is not None:
             warning = effect.plausible(cf.values, p)
         significant = bool(d_aic < -DELTA_AIC_MIN and drop >= NOISE_FRACTION_MIN and warning is None)

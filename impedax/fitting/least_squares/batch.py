@@ -167,8 +167,8 @@ def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n
     target = None
     rungs = escalation_rungs(len(table.free_names))
     if large:
-        # ... and, as a single fit, the whole ladder for the spectra whose fit misses the data
-        # grossly (`result.misfit_notes`' rule), where the others are no yardstick
+        # ... and for the spectra whose fit misses the data grossly (`result.gross_misfits`,
+        # the misfit warning's rule), where the other spectra are no yardstick
         gross = gross_misfits(freq, z, out.z_model, solver.kk_misfits)
         poor = np.union1d(poor, gross)
     for rung, multiple in enumerate(rungs[:1] if large else rungs):

@@ -20,7 +20,7 @@ from .starts import attainable_misfit, rms_rel_of
 
 __all__ = [
     "FitResult", "fit_result", "fit_notes", "stack_notes", "bound_sides", "confirm_bounds", "at_bound_names", "weighting_notes",
-    "misfit_notes", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION", "BOUND_CHI2_FRACTION",
+    "misfit_notes", "gross_misfits", "kk_misfits", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION", "BOUND_CHI2_FRACTION",
 ]
 
 # identifiability thresholds (documented in the README)
