@@ -132,19 +132,19 @@ def run_demo(out: str | os.PathLike = "out", *, fast: bool = False, stream=None)
         story.step(2, "Fit the naive model: the air gap as a pure capacitor")
         naive = ix.fit("C_gap", remaining, weighting="sigma")
         first = ix.diagnose(naive, data=remaining)
-        story.say(f"  Model C_gap: rms_rel = {naive.rms_rel:.3g} (relative misfit), C_gap = {naive.values['C_gap'] * 1e12:.0f} pF.")
+        story.say(f"  Model C_gap: rms_rel = {naive.rms_rel * 100:.3g} % (relative misfit), C_gap = {naive.values['C_gap'] * 1e12:.0f} pF.")
         for band in first.failing_bands:
             story.say(f"  Fails {format_frequency(band.f_min)} – {format_frequency(band.f_max)}: {band.pattern}")
-        fig = plot_spectrum((naive.frequency, naive.z_data), (naive.frequency, naive.z_model), title=f"naive model C_gap: rms_rel = {naive.rms_rel:.3g} (failing bands shaded)", bands=[(b.f_min, b.f_max) for b in first.failing_bands], model_label="C_gap fit")
+        fig = plot_spectrum((naive.frequency, naive.z_data), (naive.frequency, naive.z_model), title=f"naive model C_gap: rms_rel = {naive.rms_rel * 100:.3g} % (failing bands shaded)", bands=[(b.f_min, b.f_max) for b in first.failing_bands], model_label="C_gap fit")
         story.figure(_save(fig, staging, "step2_naive_fit.png"))
-        facts["naive model rms_rel"] = f"{naive.rms_rel:.3g}"
+        facts["naive model rms_rel"] = f"{naive.rms_rel * 100:.3g} %"
 
         story.step(3, "Diagnose: which physical effect is missing? Add it, refit, watch the error fall")
         kk = first.kk
-        story.say(f"  Kramers–Kronig test of the data: {'valid' if kk.valid else 'NOT valid'} (rms_rel {kk.rms_rel:.3g}) — " + ("the misfit is the model's, not the data's." if kk.valid else "parts of the data are not causal/stationary."))
+        story.say(f"  Kramers–Kronig test of the data: {'valid' if kk.valid else 'NOT valid'} (rms_rel {kk.rms_rel * 100:.3g} %) — " + ("the misfit is the model's, not the data's." if kk.valid else "parts of the data are not causal/stationary."))
         story.say(f"  Verdict on C_gap: {first.verdict}.")
         for s in first.suggestions[:3]:
-            story.say(f"    {s.effect:<24} ΔAIC {s.delta_aic:8.1f}   rms_rel {s.rms_rel:.3g}   {s.model}")
+            story.say(f"    {s.effect:<24} ΔAIC {s.delta_aic:8.1f}   rms_rel {s.rms_rel * 100:6.3g} %   {s.model}")
         if first.best is not None:
             story.say(f"  Best: {first.best.explanation}")
         refinement = ix.refine(remaining, "C_gap", weighting="sigma", max_steps=3)
@@ -161,7 +161,7 @@ def run_demo(out: str | os.PathLike = "out", *, fast: bool = False, stream=None)
             story.say(f"  (no circuit diagram: {exc})")
         final = refinement.final
         facts["refined model"] = refinement.final_model
-        facts["refined rms_rel"] = f"{final.rms_rel:.3g}"
+        facts["refined rms_rel"] = f"{final.rms_rel * 100:.3g} %"
 
         story.step(4, "Hierarchical Bayesian fit of the refined model: the gap thickness, its spread between trials, a new trial")
         if "C_gap" not in final.circuit.element_names:

@@ -168,7 +168,7 @@ class GapAnalysis:
         lines += [
             f"paper method    u = {p.gap * 1e6:.3f} µm  (bounds {p.gap_lower * 1e6:.3f}–{p.gap_upper * 1e6:.3f} µm from the lowest/highest impedances)",
             f"C_gap           = {c['value'] * 1e12:.1f} pF (90%: {c['q05'] * 1e12:.1f}–{c['q95'] * 1e12:.1f} pF); paper method {p.c_gap * 1e12:.1f} pF",
-            f"fits            naive C_gap: rms_rel {self.naive_fit.rms_rel:.3g};  {self.edl_fit.model}: rms_rel {self.edl_fit.rms_rel:.3g}",
+            f"fits            naive C_gap: rms_rel {self.naive_fit.rms_rel * 100:.3g} %;  {self.edl_fit.model}: rms_rel {self.edl_fit.rms_rel * 100:.3g} %",
             f"force (peak, V0 = {self.v0:g} V) with EP: max {float(peak[i]) * 1e3:.3g} mN at {float(peak['frequency'][i]):.3g} Hz",
         ]
         lines += [f"warning: {w}" for w in self.warnings]
