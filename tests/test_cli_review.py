@@ -109,7 +109,7 @@ def test_a_csv_of_several_spectra_is_refused_naming_the_users_file_and_the_way_o
 
 def test_a_writers_error_names_the_users_path_never_the_temporary(tmp_path):
     """Whatever a writer raises about the file it was given names the user's path."""
-    from impedax.cli.common import in_format_of
+    from impedax.cli.common import naming_target
     from impedax.errors import DataError
 
     def writer(path):
@@ -118,7 +118,7 @@ def test_a_writers_error_names_the_users_path_never_the_temporary(tmp_path):
     for name in ("plain", "plain.png"):
         staged = tmp_path / f".{name}.staged.abc.{'tmp' if name == 'plain' else 'png'}"
         with pytest.raises(DataError) as info:
-            in_format_of(writer, ".png", str(tmp_path / name))(staged)
+            naming_target(writer, str(tmp_path / name))(staged)
         assert str(info.value).count(str(tmp_path / name)) == 2 and ".staged." not in str(info.value) and ".impedax-" not in str(info.value)
         assert info.value.path == str(tmp_path / name)
     no_temporaries(tmp_path)

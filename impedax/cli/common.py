@@ -18,7 +18,7 @@ __all__ = [
     "parse_assignments", "check_parameter_names", "emit_json", "to_jsonable", "add_model_argument", "add_output_options",
     "check_outputs", "save_outputs", "print_result", "result_out_help", "Output", "OutputPlan", "plan_outputs",
     "memory_limit", "check_memory", "MEMORY_LIMIT_ENV", "add_select_option", "load_selected", "labels_text", "dimension_labels",
-    "command_line_words", "grouped_warnings", "in_format_of", "part_of_joined",
+    "command_line_words", "grouped_warnings", "naming_target", "part_of_joined",
 ]
 
 
@@ -252,55 +252,32 @@ def save_outputs(*, out=None, result=None, dataset=None, plot=None, figure=None)
         if out:
             output = Output("--out", out, "result" if result is not None else "spectrum")
             writer = result_writer(result) if result is not None else spectrum_writer(dataset)
-            transaction.write(out, in_format_of(writer, output.suffix(), out), suffix=output.suffix())
+            transaction.write(out, naming_target(writer, out), suffix=output.suffix())
         if plot:
             suffix = Output("--plot", plot, "figure").suffix()
-            transaction.write(plot, in_format_of(figure_writer(figure), suffix, plot), suffix=suffix)
+            transaction.write(plot, naming_target(figure_writer(figure), plot), suffix=suffix)
 
 
 # --- outputs: checked before any work, written together -----------------------------------------
 
-def in_format_of(writer: Callable[[Path], None], suffix: str, target: str) -> Callable[[Path], None]:
-    """``writer``, made to write the format of ``suffix`` (``.png``, ``.csv``, ...) whatever
-    the name of the temporary file it is given, and to name ``target`` (the user's path) in its
-    errors, never the temporary file.
-
-    Writers choose the format by the extension of the path they get; the temporary copy of an
-    output named without one (``--plot out``, written as PNG) ends in ``.tmp``, so such a copy is
-    first written under a name with ``suffix`` in a staging folder beside it, then moved over."""
+def naming_target(writer: Callable[[Path], None], target: str) -> Callable[[Path], None]:
+    """``writer``, made to name ``target`` (the user's path) in its errors wherever they name
+    the temporary file it was given (`OutputTransaction` stages every output beside its target,
+    with the output's extension, ``--plot out`` as ``.png``)."""
     from ..errors import ImpedaxError
-    from ..io.atomic import staging_directory
 
     def write(tmp: Path) -> None:
-        tmp = Path(tmp)
-        temporaries = [str(tmp)]
         try:
-            if tmp.suffix.lower() == suffix.lower():
-                writer(tmp)
-                return
-            with staging_directory(tmp.parent, prefix=".impedax-") as folder:
-                inner = folder / f"output{suffix}"
-                temporaries.insert(0, str(inner))
-                writer(inner)
-                os.replace(inner, tmp)
+            writer(tmp)
         except ImpedaxError as exc:
-            _name_the_target(exc, temporaries, target)
+            text = str(exc)
+            if str(tmp) in text:
+                if isinstance(exc, DataError) and str(exc.path) == str(tmp):
+                    exc.path = target
+                exc.args = (text.replace(str(tmp), target),)
             raise
 
     return write
-
-
-def _name_the_target(exc, temporaries: Sequence[str], target: str) -> None:
-    """Rewrite ``exc``'s message (and a `DataError`'s path) in place so that it names
-    ``target`` wherever it named one of the ``temporaries``."""
-    text = str(exc)
-    if not any(t in text for t in temporaries):
-        return
-    for t in temporaries:
-        text = text.replace(t, target)
-    if isinstance(exc, DataError) and exc.path in temporaries:
-        exc.path = target
-    exc.args = (text,)
 
 
 def result_writer(result) -> Callable[[Path], None]:
@@ -435,7 +412,7 @@ class OutputPlan:
 
         with OutputTransaction(to_stdout=write_stdout) as transaction:
             for output in self.outputs:
-                transaction.write(output.path, in_format_of(writers[output.flag], output.suffix(), output.path), suffix=output.suffix())
+                transaction.write(output.path, naming_target(writers[output.flag], output.path), suffix=output.suffix())
         return transaction.committed
 
 

@@ -93,8 +93,10 @@ def check_writable(path: str | os.PathLike) -> Path:
     return path
 
 
-def _temporary_beside(path: Path, tag: str) -> Path:
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.{tag}", suffix=path.suffix or ".tmp", dir=path.parent)
+def _temporary_beside(path: Path, tag: str, suffix: str = "") -> Path:
+    """A new temporary file beside ``path`` with its extension (``suffix`` where it has none:
+    writers choose the format by the extension)."""
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.{tag}", suffix=path.suffix or suffix or ".tmp", dir=path.parent)
     os.close(fd)
     tmp = Path(tmp)
     _remember(tmp)
@@ -181,7 +183,8 @@ class OutputTransaction:
 
     def write(self, path: str | os.PathLike, writer: Callable[[Path], None], *, suffix: str = "") -> None:
         """Stage an output: ``writer(tmp)`` writes the file to ``tmp`` (same extension as
-        ``path``, or ``suffix`` for ``-``). An `OSError` becomes a `DataError` naming ``path``."""
+        ``path``, or ``suffix`` where it has none and for ``-``). An `OSError` becomes a
+        `DataError` naming ``path``."""
         target = str(path)
         if target == "-":
             fd, name = tempfile.mkstemp(prefix=".impedax-stdout.", suffix=suffix or ".txt")
@@ -189,7 +192,7 @@ class OutputTransaction:
             tmp = Path(name)
             _remember(tmp)
         else:
-            tmp = _temporary_beside(check_writable(target), "staged.")
+            tmp = _temporary_beside(check_writable(target), "staged.", suffix)
         self._staged.append((tmp, target))
         try:
             writer(tmp)

@@ -325,16 +325,20 @@ def kk_misfits(freq, z, rows: np.ndarray, known: dict[int, float] | None) -> np.
     return np.array([known[int(i)] for i in rows], float)
 
 
+def _checked_misfits(freq, z, z_model, known: dict[int, float] | None):
+    """rms_rel (B,) of fits z_model of spectra z, the indices of those at `MISFIT_CHECKED_FROM`
+    or more, and their KK test's misfits (`kk_misfits`)."""
+    z, z_model = np.atleast_2d(z), np.atleast_2d(z_model)
+    rms = rms_rel_of(z_model, z)
+    checked = np.flatnonzero(np.isfinite(rms) & (rms >= MISFIT_CHECKED_FROM))
+    return rms, checked, (kk_misfits(freq, z, checked, known) if checked.size else np.zeros(0))
+
+
 def gross_misfits(freq, z, z_model, known: dict[int, float] | None = None) -> np.ndarray:
     """Indices of the fits of spectra z (B, N) that miss the data grossly: rms_rel at least
     `MISFIT_CHECKED_FROM` and above `MISFIT_RATIO_MAX` × the KK test's misfit (`kk_misfits`,
     with ``known``)."""
-    z, z_model = np.atleast_2d(z), np.atleast_2d(z_model)
-    rms = rms_rel_of(z_model, z)
-    checked = np.flatnonzero(np.isfinite(rms) & (rms >= MISFIT_CHECKED_FROM))
-    if not checked.size:
-        return checked
-    kk = kk_misfits(freq, z, checked, known)
+    rms, checked, kk = _checked_misfits(freq, z, z_model, known)
     return checked[(kk > 0) & (rms[checked] > MISFIT_RATIO_MAX * kk)]
 
 
@@ -346,13 +350,9 @@ def misfit_notes(freq, z, z_model, known: dict[int, float] | None = None) -> lis
     far from any Kramers–Kronig-consistent model (noise, drift). One tuple per fit; the text
     holds the data's figure, not the fit's, so that a batch's fit in another local minimum on
     the same side of the rule gives the single fit's note."""
-    z, z_model = np.atleast_2d(z), np.atleast_2d(z_model)
-    rms = rms_rel_of(z_model, z)
-    out: list[tuple[str, ...]] = [()] * len(z)
-    checked = np.flatnonzero(np.isfinite(rms) & (rms >= MISFIT_CHECKED_FROM))
-    if not checked.size:
-        return out
-    for i, kk in zip(checked.tolist(), kk_misfits(freq, z, checked, known).tolist()):
+    rms, checked, kks = _checked_misfits(freq, z, z_model, known)
+    out: list[tuple[str, ...]] = [()] * rms.size
+    for i, kk in zip(checked.tolist(), kks.tolist()):
         if not kk > 0:
             continue
         if rms[i] > MISFIT_RATIO_MAX * kk:
