@@ -177,7 +177,7 @@ class KKResult:
     def _repr_html_(self) -> str:
         from ..plotting.html import result_html
 
-        rows = [{"quantity": k, "value": v} for k, v in (("RC elements M", self.n_rc), ("µ", self.mu), ("rms_rel", self.rms_rel), ("noise estimate", self.noise_estimate), ("valid", bool(self.valid)))]
+        rows = [{"quantity": k, "value": v} for k, v in (("RC elements M", self.n_rc), ("µ", self.mu), ("rms_rel [%]", f"{self.rms_rel * 100:.3g}"), ("noise estimate [%]", f"{self.noise_estimate * 100:.3g}"), ("valid", bool(self.valid)))]
         rows += [{"quantity": "bad band", "value": f"{format_frequency(lo)} – {format_frequency(hi)}"} for lo, hi in self.bad_bands]
         return result_html("linear Kramers–Kronig test", rows)
 

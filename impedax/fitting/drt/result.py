@@ -175,7 +175,7 @@ class DRTResult:
         from ...plotting.html import result_html
 
         rows = [{"τ [s]": p.tau_s, "f [Hz]": p.frequency_hz, "R [Ω]": p.r_ohm, "R sd [Ω]": p.r_ohm_sd, "width [dec]": p.width_decades} for p in self.peaks]
-        lines = [f"λ = {self.lam:.3g} ({self.lambda_method}); R_inf = {self.r_inf_ohm:.4g} Ω, R_pol = {self.polarization_resistance:.4g} Ω; rms_rel {self.rms_rel:.3g}; {len(self.peaks)} peak(s)"]
+        lines = [f"λ = {self.lam:.3g} ({self.lambda_method}); R_inf = {self.r_inf_ohm:.4g} Ω, R_pol = {self.polarization_resistance:.4g} Ω; rms_rel {self.rms_rel * 100:.3g} %; {len(self.peaks)} peak(s)"]
         return result_html("distribution of relaxation times", rows, lines=lines)
 
     def plot(self, *, overlay=None, title: str | None = None):

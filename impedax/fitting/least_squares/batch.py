@@ -88,7 +88,7 @@ class BatchFitResult:
 
         s = self.summary()
         rows = [{"parameter": p, "median": v["median"], "q16": v["q16"], "q84": v["q84"]} for p, v in s["params"].items()]
-        lines = [f"{self.n_spectra} spectra over {s['dims']}: converged {s['converged_fraction'] * 100:.1f}%, median rms_rel {s['rms_rel_median']:.4g}"]
+        lines = [f"{self.n_spectra} spectra over {s['dims']}: converged {s['converged_fraction'] * 100:.1f}%, median rms_rel {s['rms_rel_median'] * 100:.3g} %"]
         return result_html(self.model, rows, lines=lines)
 
     def plot(self, *, title: str | None = None):

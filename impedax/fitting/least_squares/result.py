@@ -173,7 +173,7 @@ class FitResult:
         from ...plotting.html import result_html
 
         status = "converged" if self.converged else "NOT converged"
-        lines = [f"rms_rel {self.rms_rel:.4g}, chi2_red {self.chi2_red:.4g}, AIC {self.aic:.2f} ({self.n_points} points, {status})", *self.warnings]
+        lines = [f"rms_rel {self.rms_rel * 100:.3g} %, chi2_red {self.chi2_red:.4g}, AIC {self.aic:.2f} ({self.n_points} points, {status})", *self.warnings]
         return result_html(self.model, self.to_table(), lines=lines, figure=self.plot)
 
     def derive(self, fn, freq=None):
