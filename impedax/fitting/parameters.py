@@ -26,7 +26,7 @@ import numpy as np
 from ..circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ..errors import FitError, ParameterError
 
-__all__ = ["ParameterTable", "Transform", "starting_values", "to_external", "external_of_kind", "to_internal"]
+__all__ = ["ParameterTable", "Transform", "starting_values", "to_external", "external_of_kind", "to_internal", "data_scales", "CPE_Q_UNIT"]
 
 
 class Transform(enum.IntEnum):
@@ -50,6 +50,29 @@ class Transform(enum.IntEnum):
         if lower > 0 and unit != "1":
             return cls.LOG_LOGISTIC
         return cls.LOGISTIC
+
+
+# how the impedance of an element scales with a parameter of this unit: the element alone has
+# |Z| at angular frequency ω when x = |Z|^a · ω^b (R = |Z|, C = 1/(ω|Z|), L = |Z|/ω, τ = 1/ω,
+# Warburg σ = |Z|·√ω); a CPE's Q = 1/(|Z| ω^α) with α anywhere in (0, 1]
+UNIT_SCALING = {"Ohm": (1.0, 0.0), "F": (-1.0, -1.0), "H": (1.0, -1.0), "s": (0.0, -1.0), "Ohm s^-1/2": (1.0, 0.5)}
+CPE_Q_UNIT = "F s^(alpha-1)"
+
+
+def data_scales(unit: str, freq, z_abs) -> np.ndarray | None:
+    """The values of a parameter of ``unit`` at which its element alone would have impedance
+    ``z_abs`` [Ω] (..., N) at ``freq`` [Hz] (N,): (..., N), or (..., 2N) for a CPE's Q (α = 1
+    and α → 0 at each point); None for a unit with no such scaling (a user element's, a
+    physical parameter's, a dimensionless one)."""
+    omega = 2 * np.pi * np.asarray(freq, float)
+    z_abs = np.asarray(z_abs, float)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        if unit == CPE_Q_UNIT:  # α ∈ (0, 1]: ω^α lies between 1 and ω
+            return np.concatenate([1.0 / z_abs, 1.0 / (z_abs * omega)], axis=-1)
+        if unit in UNIT_SCALING:
+            a, b = UNIT_SCALING[unit]
+            return z_abs**a * omega**b
+    return None
 
 
 def starting_values(init, names: tuple[str, ...]) -> Mapping[str, float] | None:

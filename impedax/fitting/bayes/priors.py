@@ -24,6 +24,7 @@ import numpy as np
 
 from ...arguments import shown
 from ...errors import ParameterError
+from ..parameters import data_scales
 
 __all__ = [
     "Prior",
@@ -197,11 +198,6 @@ def coerce_priors(priors: Mapping[str, "Prior | str | tuple"] | None) -> dict[st
     return out
 
 
-# how the impedance of an element scales with a parameter of this unit: the element alone has
-# |Z| at angular frequency ω when x = |Z|^a · ω^b (R = |Z|, C = 1/(ω|Z|), L = |Z|/ω, τ = 1/ω,
-# Warburg σ = |Z|·√ω); a CPE's Q = 1/(|Z| ω^α) with α anywhere in (0, 1]
-_UNIT_SCALING = {"Ohm": (1.0, 0.0), "F": (-1.0, -1.0), "H": (1.0, -1.0), "s": (0.0, -1.0), "Ohm s^-1/2": (1.0, 0.5)}
-_CPE_Q_UNIT = "F s^(alpha-1)"
 UNDETERMINED_STDERRS = 2.0  # a parameter is undetermined when value − 2·stderr reaches its lower bound
 STDERR_REACH = 10.0  # ... and, without a data scale, its default prior reaches value + 10·stderr
 
@@ -216,13 +212,8 @@ def data_scale_range(unit: str, freq, z_abs) -> tuple[float, float] | None:
     keep = np.isfinite(omega) & (omega > 0) & np.isfinite(z_abs) & (z_abs > 0)
     if not keep.any():
         return None
-    omega, z_abs = omega[keep], z_abs[keep]
-    if unit == _CPE_Q_UNIT:  # α ∈ (0, 1]: ω^α lies between 1 and ω
-        x = np.concatenate([1.0 / z_abs, 1.0 / (z_abs * omega)])
-    elif unit in _UNIT_SCALING:
-        a, b = _UNIT_SCALING[unit]
-        x = z_abs**a * omega**b
-    else:
+    x = data_scales(unit, np.asarray(freq, float)[keep], z_abs[keep])  # (`parameters.data_scales`)
+    if x is None:
         return None
     span = 10.0**DEFAULT_SPAN_DECADES
     return float(x.min() / span), float(x.max() * span)
