@@ -13,7 +13,9 @@ import xarray as xr
 import impedax as ix
 from impedax.fitting.least_squares import FitResult
 from impedax.fitting.least_squares.batch import BatchFitResult
-from spectra import rc
+from impedax.fitting.least_squares.result import at_bound_names, fit_notes, on_bound, stack_notes
+from impedax.fitting.parameters import ParameterTable
+from spectra import r_cpe, rc
 
 RC = {"R0": 50.0, "R1": 2000.0, "C1": 1e-7}
 F = np.geomspace(1.0, 1e6, 30)
@@ -97,3 +99,65 @@ def test_drt_html_shows_rms_rel_in_percent(misfit_data):
     assert f"rms_rel = {rms} %" in result.report()
     assert f"rms_rel {rms} %;" in html and f"rms_rel {result.rms_rel:.3g};" not in html
     assert result.summary()["rms_rel"] == result.rms_rel
+
+
+# -- 2. bound notes: "at its bound" only when on it; else "cannot be told from it" ----------------------------
+
+
+def _r_cpe_case():
+    """R0 + R1 || CPE1 with R0 fixed at 1e9 Ω (the `impedax fit ... --fix R0=1e9` case) and a
+    closed-form R‖CPE spectrum of |Z| 30–3000 Ω: R1 = 7.96e7 Ω and α = 1 − 1e-12 flagged."""
+    table = ParameterTable.build(ix.parse("R0 + R1 || CPE1"), fixed={"R0": 1e9})
+    f = np.geomspace(0.1, 1e5, 25)
+    z = r_cpe(f, {"R0": 30.0, "R1": 3000.0, "CPE1.Q": 1e-6, "CPE1.alpha": 0.9})
+    values = {"R0": 1e9, "R1": 7.96e7, "CPE1.Q": 5e-4, "CPE1.alpha": 1 - 1e-12}
+    stderr = {"R0": math.nan, "R1": 1.3e18, "CPE1.Q": 1e-5, "CPE1.alpha": 0.5}
+    sides = np.array([-1, 0, 1], np.int8)  # over the free parameters R1, CPE1.Q, CPE1.alpha
+    return table, f, z, values, stderr, sides
+
+
+def test_bound_note_off_the_bound_gives_value_and_stderr():
+    table, f, z, values, stderr, sides = _r_cpe_case()
+    notes = fit_notes(table, values, stderr, np.eye(3), [], 1.0, finite=True, converged=True, message="", sides=sides, freq=f, z=z)
+    assert "R1 = 7.96e+07 Ω cannot be told from its lower bound 0 (standard error 1.3e+18 Ω)" in notes
+    assert "CPE1.alpha is at its upper bound 1" in notes  # within 1e-4 of 1: on it
+    assert not any(n.startswith("R1 is at") for n in notes)
+    # a value at rounding level against |Z| ≥ 30 Ω is on the bound 0, whatever its stderr
+    on_zero = fit_notes(table, {**values, "R1": 1.2e-15}, {**stderr, "R1": 1.2e-15}, np.eye(3), [], 1.0, finite=True, converged=True, message="", sides=sides, freq=f, z=z)
+    assert "R1 is at its lower bound 0" in on_zero
+    # the same rule for a stack of fits, and the JSON's at_bound is the flags, as before
+    x = np.array([[values[n] for n in table.names], [1e9, 1e-3, 5e-4, 1 - 1e-12]])
+    e = np.array([[stderr[n] for n in table.names]] * 2)
+    stacked = stack_notes(table, x, e, np.stack([np.eye(3)] * 2), np.stack([sides, sides]), freq=f, z=np.stack([z, z]))
+    assert "R1 = 7.96e+07 Ω cannot be told from its lower bound 0 (standard error 1.3e+18 Ω)" in stacked[0]
+    assert "R1 is at its lower bound 0" in stacked[1]  # 1e-3 Ω ≤ 1e-4 · 30 Ω
+    assert at_bound_names(table, sides) == ("R1", "CPE1.alpha")
+
+
+def test_on_bound_scales_by_unit():
+    table, f, z, values, stderr, sides = _r_cpe_case()
+    x = np.array([[1e9, 1e-3, 1e-12, 0.5], [1e9, 1.0, 10.0, 0.5]])
+    flags = np.array([[-1, -1, 0], [-1, -1, 0]], np.int8)
+    on = on_bound(table, x, flags, f, np.stack([z, z]))
+    # R1: 1e-3 Ω vs min |Z| ≈ 32 Ω (on), 1 Ω (off); Q: 1e-12 vs the CPE's scale min 1/(|Z| ω) ≈ 5e-8 (on), 10 (off)
+    np.testing.assert_array_equal(on, [[True, True, False], [False, False, False]])
+    # without the data every flagged parameter reads as on it (the old wording)
+    np.testing.assert_array_equal(on_bound(table, x, flags), flags != 0)
+
+
+def test_shared_bound_note_has_the_same_wording():
+    from impedax.fitting.least_squares.shared import _sharing_notes, shared_layout
+
+    table, f, z, values, stderr, sides = _r_cpe_case()
+    layout = shared_layout(table, ("trial",), ["R1"], ["trial"])
+    spectra = np.stack([z, 2 * z])  # one global fit over two spectra: R1's scale is the smaller |Z|
+    x = np.array([[values[n] for n in table.names]] * 2)
+    flags = np.array([[-1, 0, 0]] * 2, np.int8)
+
+    def notes(r1):
+        x[:, 1] = r1
+        on = on_bound(table, x[:1], flags[:1], np.tile(f, 2), spectra.reshape(1, -1))[0, list(layout.shared_slots)]
+        return _sharing_notes(layout, np.array([r1]), np.array([1.3e18]), flags[0, list(layout.shared_slots)], table, math.nan, math.nan, 0.0, True, 10, on=on)
+
+    assert notes(7.96e7) == ("shared R1 = 7.96e+07 Ω cannot be told from its lower bound 0 (standard error 1.3e+18 Ω)",)
+    assert notes(1e-9) == ("shared R1 is at its lower bound 0",)

@@ -410,12 +410,12 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
     # the exact warning text of a single fit: for most spectra built for the stack at once,
     # for those with near-null directions (rare) one by one
     plain = np.flatnonzero(~odd & ~singular)
-    for row, note in stack_notes(table, values[plain], stderr[plain], corr[plain], sides[plain]).items():
+    for row, note in stack_notes(table, values[plain], stderr[plain], corr[plain], sides[plain], freq=freq, z=z[plain]).items():
         notes[plain[row]] = note
     names = table.names
     for i in np.flatnonzero(~odd & singular).tolist():
         groups, ratio = null_sets(sv[i], vt[i], table.free_names)
-        notes[i] = fit_notes(table, dict(zip(names, values[i].tolist())), dict(zip(names, stderr[i].tolist())), corr[i], groups, ratio, finite=True, converged=True, message="", sides=sides[i])
+        notes[i] = fit_notes(table, dict(zip(names, values[i].tolist())), dict(zip(names, stderr[i].tolist())), corr[i], groups, ratio, finite=True, converged=True, message="", sides=sides[i], freq=freq, z=z[i])
     weighting_extra = weighting_notes(weighting, freq, *dominant_points(z, *weights(z, sigma, weighting, source))) if weighting in ("unit", "proportional") else [()] * b
     z_model = np.array(out.z_model)
     misfit = misfit_notes(freq, z, z_model, solver.kk_misfits)

@@ -13,14 +13,15 @@ import numpy as np
 import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit
-from ..parameters import ParameterTable
+from ..parameters import ParameterTable, data_scales
 from ..statistics import information_criteria, non_passive, uncertainties
 from .solvers import SolverOutput, SolverStatus
 from .starts import attainable_misfit, rms_rel_of
 
 __all__ = [
     "FitResult", "fit_result", "fit_notes", "stack_notes", "bound_sides", "confirm_bounds", "at_bound_names", "weighting_notes",
-    "misfit_notes", "gross_misfits", "kk_misfits", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION", "BOUND_CHI2_FRACTION",
+    "misfit_notes", "gross_misfits", "kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
+    "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION",
 ]
 
 # identifiability thresholds (documented in the README)
@@ -34,6 +35,12 @@ BOUND_STDERR_FRACTION = 2.0
 # ... and setting it exactly to the bound changes chi² by less than this fraction of the
 # reduced chi² (a hundredth of one residual's share): the data cannot tell the fit from the bound
 BOUND_CHI2_FRACTION = 1e-2
+# a parameter at a bound is *on* it (the note "R0 is at its lower bound 0") when it lies within
+# this fraction of the bound or, for a bound 0, of the data's scale for its unit (the value at
+# which its element alone has the measured |Z|: `parameters.data_scales`; 1 for a dimensionless
+# parameter); else the data only cannot tell it from the bound (R1 = 8e7 ± 1e18 Ω in a fit whose
+# misfit swamps it), and the note says so with its value and standard error
+ON_BOUND_FRACTION = 1e-4
 
 
 @dataclass(frozen=True, eq=False)
@@ -236,8 +243,54 @@ def undetermined_note(name: str, relative_error: float) -> str:
     return f"{name} has a relative standard error of {relative_error * 100:.3g}%: it is not determined by the data"
 
 
-def bound_note(name: str, bound: float, side: str) -> str:
-    return f"{name} is at its {side} bound {bound:g}"
+_UNIT_TEXT = {"Ohm": "Ω", "1": ""}
+
+
+def bound_note(name: str, bound: float, side: str, *, value: float | None = None, stderr: float | None = None, unit: str = "") -> str:
+    """The note of a parameter at its ``side`` ("lower"/"upper") bound: on it (`on_bound`),
+    "R0 is at its lower bound 0"; off it (``value`` and its ``stderr`` given, in ``unit``) but
+    not told from it by the data, "R1 = 7.96e+07 Ω cannot be told from its lower bound 0
+    (standard error 1.3e+18 Ω)"."""
+    if value is None:
+        return f"{name} is at its {side} bound {bound:g}"
+    u = _UNIT_TEXT.get(unit, unit)
+    u = f" {u}" if u else ""
+    return f"{name} = {value:.3g}{u} cannot be told from its {side} bound {bound:g} (standard error {stderr:.2g}{u})"
+
+
+def on_bound(table: ParameterTable, values: np.ndarray, sides: np.ndarray, freq=None, z=None) -> np.ndarray:
+    """Whether the parameters at a bound (``sides`` (B, K) nonzero, `confirm_bounds`) of fits
+    with values (B, P) to spectra ``z`` (B, N) at ``freq`` (N,) are numerically on it: within
+    `ON_BOUND_FRACTION` of the bound, or of a bound 0, of the data's scale for the unit (a unit
+    without one: only exactly on 0). Without the data (``z`` None) every one counts as on.
+    (B, K) bool, false where ``sides`` is 0."""
+    sides = np.asarray(sides)
+    flagged = sides != 0
+    if z is None or not flagged.any():
+        return flagged
+    free = table.free_index
+    v = np.asarray(values, float)[..., free]
+    bound = np.where(sides > 0, table.upper[free], table.lower[free])
+    scale = np.abs(bound)
+    z_abs = np.abs(np.asarray(z))
+    for j in np.flatnonzero((flagged & (bound == 0)).any(axis=0)).tolist():
+        unit = table.units[free[j]]
+        x = data_scales(unit, freq, z_abs)
+        with np.errstate(invalid="ignore"):
+            s = np.ones(len(v)) if unit == "1" else np.zeros(len(v)) if x is None else np.min(np.where(np.isfinite(x) & (x > 0), x, np.inf), axis=-1)
+        scale[:, j] = np.where(bound[:, j] == 0, np.where(np.isfinite(s), s, 0.0), scale[:, j])
+    with np.errstate(invalid="ignore"):
+        return flagged & (np.abs(v - bound) <= ON_BOUND_FRACTION * scale)
+
+
+def _bound_note_of(table: ParameterTable, b: int, j: int, values: np.ndarray, stderr: np.ndarray, sides: np.ndarray, on: np.ndarray) -> str:
+    """`bound_note` of free parameter j of fit b (values, stderr (B, P); sides, on (B, K))."""
+    i = table.free_index[j]
+    side = "upper" if sides[b, j] > 0 else "lower"
+    bound = float(table.upper[i] if sides[b, j] > 0 else table.lower[i])
+    if on[b, j]:
+        return bound_note(table.names[i], bound, side)
+    return bound_note(table.names[i], bound, side, value=float(values[b, i]), stderr=float(stderr[b, i]), unit=table.units[i])
 
 
 def bound_sides(table: ParameterTable, values: np.ndarray, stderr: np.ndarray | None) -> np.ndarray:
@@ -401,27 +454,34 @@ def diagnose_identifiability(names, values, stderr, corr, null_sets, ratio, at_b
     return notes
 
 
-def fit_notes(table: ParameterTable, values: dict, stderr: dict, corr, null_sets, ratio, *, finite: bool, converged: bool, message: str, sides=None) -> tuple[str, ...]:
+def fit_notes(
+    table: ParameterTable, values: dict, stderr: dict, corr, null_sets, ratio, *, finite: bool, converged: bool, message: str, sides=None, freq=None, z=None,
+) -> tuple[str, ...]:
     """The warnings of a fit: not converged, identifiability (`diagnose_identifiability`; no
     relative-error note for a parameter at a bound), parameters at a bound (``sides`` (K,),
-    `confirm_bounds`; by default the candidates of `bound_sides` without stderr)."""
+    `confirm_bounds`; by default the candidates of `bound_sides` without stderr; worded by
+    `on_bound` against the spectrum ``z`` (N,) at ``freq``)."""
     free_names = table.free_names
     free = table.free_index
     if sides is None:
         sides = bound_sides(table, np.array([values[n] for n in table.names]), None)
     at_bound = at_bound_names(table, sides)
     notes = diagnose_identifiability(list(free_names), values, stderr, corr, null_sets, ratio, at_bound) if finite else []
-    for nm, side, lo, hi in zip(free_names, np.asarray(sides).tolist(), table.lower[free].tolist(), table.upper[free].tolist()):
-        if side:
-            notes.append(bound_note(nm, hi, "upper") if side > 0 else bound_note(nm, lo, "lower"))
+    x = np.array([[values[n] for n in table.names]])
+    e = np.array([[stderr[n] for n in table.names]])
+    sides = np.asarray(sides)[None]
+    on = on_bound(table, x, sides, freq, None if z is None else np.asarray(z)[None])
+    notes += [_bound_note_of(table, 0, j, x, e, sides, on) for j in np.flatnonzero(sides[0]).tolist()]
     if not converged:
         notes.insert(0, f"fit did not converge: {message}")
     return tuple(notes)
 
 
-def stack_notes(table: ParameterTable, values: np.ndarray, stderr: np.ndarray, corr: np.ndarray, sides: np.ndarray | None = None) -> dict[int, tuple[str, ...]]:
+def stack_notes(
+    table: ParameterTable, values: np.ndarray, stderr: np.ndarray, corr: np.ndarray, sides: np.ndarray | None = None, *, freq=None, z=None,
+) -> dict[int, tuple[str, ...]]:
     """`fit_notes` of a stack of converged fits without near-null directions: values and
-    stderr (B, P), correlations (B, K, K), bound sides (B, K) (as `fit_notes`). The conditions are evaluated for all fits at once
+    stderr (B, P), correlations (B, K, K), bound sides (B, K), spectra z (B, N) at ``freq`` (as `fit_notes`). The conditions are evaluated for all fits at once
     and text is built only for the notes due, in `fit_notes`' order; fits without notes are
     left out of the returned {row: notes}."""
     names = table.free_names
@@ -440,10 +500,9 @@ def stack_notes(table: ParameterTable, values: np.ndarray, stderr: np.ndarray, c
         undetermined = (v != 0) & (sides == 0) & (~np.isfinite(e) | (relative_error > RELATIVE_ERROR_LIMIT))
     for b, i in np.argwhere(undetermined).tolist():
         notes[b].append(undetermined_note(names[i], float(relative_error[b, i])))
-    lo, hi = table.lower[free], table.upper[free]
+    on = on_bound(table, values, sides, freq, z)
     for b, i in np.argwhere(sides != 0).tolist():
-        bound, side = (hi[i], "upper") if sides[b, i] > 0 else (lo[i], "lower")
-        notes[b].append(bound_note(names[i], float(bound), side))
+        notes[b].append(_bound_note_of(table, b, i, values, stderr, sides, on))
     return {b: tuple(n) for b, n in notes.items()}
 
 
@@ -490,7 +549,7 @@ def fit_result(
         sides = confirm_bounds(table, x_all, bound_sides(table, x_all, np.array([stderr[nm] for nm in names])[None]), chi2_at_x, n)[0]
     else:
         sides = bound_sides(table, x_all, None)[0]
-    notes = fit_notes(table, values, stderr, corr, null_sets, ratio, finite=finite, converged=converged, message=message, sides=sides) + tuple(extra_notes)
+    notes = fit_notes(table, values, stderr, corr, null_sets, ratio, finite=finite, converged=converged, message=message, sides=sides, freq=freq, z=z) + tuple(extra_notes)
     return FitResult(
         circuit=circuit,
         values=values,

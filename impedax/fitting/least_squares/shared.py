@@ -41,7 +41,7 @@ from ..parameters import ParameterTable, to_internal
 from ..problem import residual_scale, weights
 from ..statistics import information_criteria
 from .batch import BatchFitResult, fit_batch
-from .result import BOUND_CHI2_FRACTION, RELATIVE_ERROR_LIMIT, bound_sides, stack_notes
+from .result import BOUND_CHI2_FRACTION, RELATIVE_ERROR_LIMIT, bound_note, bound_sides, on_bound, stack_notes
 from .solvers import SolverArgs, tree_residuals
 
 __all__ = ["SharedFitResult", "SharedLayout", "shared_layout", "fit_shared", "JointSolution", "joint_solver", "joint_covariance", "SHARING_P_LIMIT"]
@@ -435,9 +435,10 @@ def fit_shared(
     quiet_stderr[:, shared_columns] = 0.0
     quiet_sides = sides.copy()
     quiet_sides[:, sh] = 0
-    spectrum_notes = stack_notes(table, flat_values, quiet_stderr, corr_full.reshape(-1, k, k), quiet_sides)
+    spectrum_notes = stack_notes(table, flat_values, quiet_stderr, corr_full.reshape(-1, k, k), quiet_sides, freq=freq, z=z.reshape(-1, n_freq))
     group_notes = [
-        _sharing_notes(layout, shared_value[gi], shared_stderr[gi], sides.reshape(n_groups, m, k)[gi, 0, sh], table, f_stat[gi], f_p[gi], aic_joint[gi] - aic_ind[gi], bool(joint["converged"][gi]), int(joint["steps"][gi]))
+        _sharing_notes(layout, shared_value[gi], shared_stderr[gi], sides.reshape(n_groups, m, k)[gi, 0, sh], table, f_stat[gi], f_p[gi], aic_joint[gi] - aic_ind[gi], bool(joint["converged"][gi]), int(joint["steps"][gi]),
+                       on=on_bound(table, values[gi, :1], sides.reshape(n_groups, m, k)[gi, :1], np.tile(freq, m), z[gi].reshape(1, -1))[0, sh])
         for gi in range(n_groups)
     ]
     dataset, warnings = _result_dataset(
@@ -534,14 +535,17 @@ def _f_test(chi2_shared, chi2_independent, k_shared_model: int, k_independent: i
     return f, p
 
 
-def _sharing_notes(layout: SharedLayout, value, stderr, sides, table: ParameterTable, f, p, delta_aic, converged: bool, steps: int) -> tuple[str, ...]:
+def _sharing_notes(layout: SharedLayout, value, stderr, sides, table: ParameterTable, f, p, delta_aic, converged: bool, steps: int, *, on) -> tuple[str, ...]:
+    """The notes of one global fit: convergence, the shared parameters' bounds (``on``: on the
+    bound, `result.on_bound`, else off it but not told from it) and determination, the F-test."""
     notes = []
     if not converged:
         notes.append(f"the global fit did not converge in {steps} steps; raise max_steps or check the model")
-    for n, v, e, side in zip(layout.shared, value.tolist(), stderr.tolist(), np.asarray(sides).tolist()):
+    for n, v, e, side, at in zip(layout.shared, value.tolist(), stderr.tolist(), np.asarray(sides).tolist(), np.asarray(on).tolist()):
         if side:
             i = table.names.index(n)
-            notes.append(f"shared {n} is at its {'upper' if side > 0 else 'lower'} bound {(table.upper if side > 0 else table.lower)[i]:g}")
+            bound, where = float((table.upper if side > 0 else table.lower)[i]), "upper" if side > 0 else "lower"
+            notes.append("shared " + (bound_note(n, bound, where) if at else bound_note(n, bound, where, value=v, stderr=e, unit=table.units[i])))
         elif v != 0 and (not math.isfinite(e) or abs(e / v) > RELATIVE_ERROR_LIMIT):
             notes.append(f"shared {n} has a relative standard error of {abs(e / v) * 100:.3g}%: the data do not determine it")
     if math.isfinite(p) and p < SHARING_P_LIMIT:
