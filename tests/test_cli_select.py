@@ -167,3 +167,78 @@ def test_inspect_lists_the_labels_and_shows_the_pick(stacks, capsys):
     assert out["labels"] == {} and "trial" not in out["dims"]
     z = R0 + R1_OF["c"] / (1 + 1j * 2 * np.pi * F * R1_OF["c"] * C1)
     assert out["z_abs_max_ohm"] == pytest.approx(np.abs(z).max(), rel=0.01)
+
+
+@pytest.fixture(scope="module")
+def gap_files(tmp_path_factory):
+    """Three gap inputs: total and touchscreen over (session, trial), skin over trial only; each
+    spectrum an R0 + R1 ∥ C1 of its own R1, so a pick shows in the values."""
+    rng = np.random.default_rng(21)
+    folder = tmp_path_factory.mktemp("gap")
+    trials = [0, 1, 2]
+    paths = {}
+    for name, sessions in (("total", ["s1", "s2"]), ("skin", None), ("ts", ["s1", "s2"])):
+        if sessions is None:
+            ds = ix.make_spectrum(F, np.stack([rc(100.0 * (t + 1), rng) for t in trials]), dims=("trial",), coords={"trial": trials})
+        else:
+            z = np.stack([[rc(100.0 * (t + 1) * (s + 1), rng) for t in trials] for s in range(len(sessions))])
+            ds = ix.make_spectrum(F, z, dims=("session", "trial"), coords={"session": sessions, "trial": trials})
+        paths[name] = str(folder / f"{name}.nc")
+        ix.save(ds, paths[name])
+    return paths
+
+
+class _GapStub:
+    warnings = ()
+    plot = None  # (no --plot given)
+
+    def summary(self):
+        return {"method": "stub"}
+
+    def report(self):
+        return "stub"
+
+
+@pytest.fixture
+def gap_inputs(monkeypatch):
+    """`impedax gap` with the analysis replaced by a stub that records the three Datasets it
+    is given (the analysis itself is tested in test_models_gap.py)."""
+    import impedax.models.gap as gap_module
+
+    seen = []
+    monkeypatch.setattr(gap_module, "gap_analysis", lambda total, skin, touchscreen, **options: seen.append((total, skin, touchscreen)) or _GapStub())
+    return seen
+
+
+def test_gap_select_narrows_each_file_that_has_the_dimension(gap_files, gap_inputs, capsys):
+    files = [gap_files[k] for k in ("total", "skin", "ts")]
+    assert json_out(["gap", *files, "--area", "130e-6", "--select", "session=s2", "--json"], capsys) == {"method": "stub"}
+    (total, skin, ts), = gap_inputs
+    assert total["Z"].dims == ("trial", "frequency") and ts["Z"].dims == ("trial", "frequency")
+    np.testing.assert_array_equal(total["Z"].values, ix.load(files[0]).sel(session="s2")["Z"].values)
+    np.testing.assert_array_equal(ts["Z"].values, ix.load(files[2]).sel(session="s2")["Z"].values)
+    np.testing.assert_array_equal(skin["Z"].values, ix.load(files[1])["Z"].values)  # no session: all of it
+    assert total.attrs["source"] == f"{files[0]} [session=s2]"
+    # without --select every session is a replicate, as before
+    assert json_out(["gap", *files, "--area", "130e-6", "--json"], capsys) == {"method": "stub"}
+    assert gap_inputs[1][0]["Z"].dims == ("session", "trial", "frequency")
+
+
+@pytest.mark.parametrize(
+    "select, fragment",
+    [
+        ("session=s9", "--select session=s9: no spectrum of"),
+        ("cycle=1", "--select cycle=1: none of"),
+        ("session", "expected DIM=LABEL"),
+    ],
+)
+def test_gap_bad_selection_is_one_message_and_exit_2(gap_files, gap_inputs, select, fragment, capsys):
+    files = [gap_files[k] for k in ("total", "skin", "ts")]
+    assert main(["gap", *files, "--area", "130e-6", "--select", select]) == 2
+    err = capsys.readouterr().err
+    assert err.count("error:") == 1 and fragment in err and "Traceback" not in err
+    if select == "session=s9":
+        assert "its session labels: s1, s2" in err
+    if select == "cycle=1":
+        assert "has a dimension 'cycle' to select from; their dimensions besides frequency: session, trial" in err
+    assert gap_inputs == []  # refused before the analysis

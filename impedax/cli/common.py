@@ -17,7 +17,7 @@ from ..errors import DataError, ParameterError
 __all__ = [
     "parse_assignments", "check_parameter_names", "emit_json", "to_jsonable", "add_model_argument", "add_output_options",
     "check_outputs", "save_outputs", "print_result", "result_out_help", "Output", "OutputPlan", "plan_outputs",
-    "memory_limit", "check_memory", "MEMORY_LIMIT_ENV", "add_select_option", "load_selected", "labels_text", "dimension_labels",
+    "memory_limit", "check_memory", "MEMORY_LIMIT_ENV", "add_select_option", "load_selected", "select_spectra", "load_selected_files", "labels_text", "dimension_labels",
     "command_line_words", "grouped_warnings", "naming_target", "part_of_joined",
 ]
 
@@ -167,21 +167,53 @@ def _attrs_of_pick(attrs: dict, dim: str, labels: Sequence[str], i: int) -> dict
     return out
 
 
+def _select_item(item: str) -> tuple[str, str]:
+    """``DIM=LABEL`` of one ``--select`` as (DIM, LABEL), or `ParameterError`."""
+    dim, sep, label = item.partition("=")
+    dim, label = dim.strip(), label.strip()
+    if not sep or not dim or not label:
+        raise ParameterError(f"--select: expected DIM=LABEL, got {item!r}")
+    return dim, label
+
+
+def _extra_dims(data) -> list[str]:
+    return [d for d in data["Z"].dims if d != "frequency"]
+
+
 def load_selected(path: str, select: Sequence[str] | None, *, single: str | None = None):
     """The spectra of file ``path`` (`impedax.io.load`), narrowed by ``--select DIM=LABEL``
-    items. ``single``: the command takes one spectrum; data that still hold several raise
-    `DataError` naming the dimensions, their labels and ``--select``. A selection is recorded
-    in the data's ``source`` (``path [DIM=LABEL]``), which later messages name."""
+    items (`select_spectra`)."""
     from ..io import load
 
-    data = load(path)
+    return select_spectra(load(path), path, select, single=single)
+
+
+def load_selected_files(paths: Sequence[str], select: Sequence[str] | None) -> list:
+    """The spectra of several files (a command of several inputs: ``impedax gap``), each
+    narrowed by the ``--select DIM=LABEL`` items whose DIM it has (`select_spectra`: the same
+    checks and messages); a DIM that none of them has is a `ParameterError` naming their
+    dimensions."""
+    from ..io import load
+
+    datasets = [load(p) for p in paths]
+    items = [(item, _select_item(item)[0]) for item in select or ()]
+    for item, dim in items:
+        if not any(dim in _extra_dims(d) for d in datasets):
+            have = sorted({d for data in datasets for d in _extra_dims(data)})
+            listed = f"their dimensions besides frequency: {', '.join(have)}" if have else "each holds one spectrum"
+            raise ParameterError(f"--select {item}: none of {', '.join(paths)} has a dimension {dim!r} to select from; {listed}")
+    return [select_spectra(data, path, [item for item, dim in items if dim in _extra_dims(data)]) for data, path in zip(datasets, paths)]
+
+
+def select_spectra(data, path: str, select: Sequence[str] | None, *, single: str | None = None):
+    """``data`` (the spectra of file ``path``) narrowed by ``--select DIM=LABEL`` items.
+    ``single``: the command takes one spectrum; data that still hold several raise
+    `DataError` naming the dimensions, their labels and ``--select``. A selection is recorded
+    in the data's ``source`` (``path [DIM=LABEL]``), which later messages name."""
     picks: dict[str, int] = {}
     for item in select or ():
-        dim, sep, label = item.partition("=")
-        dim, label = dim.strip(), label.strip()
-        if not sep or not dim or not label:
-            raise ParameterError(f"--select: expected DIM=LABEL, got {item!r}")
-        extra = [d for d in data["Z"].dims if d != "frequency"]
+        dim, label = _select_item(item)
+        extra = _extra_dims(data)
         if dim not in extra:
             have = f"its dimensions besides frequency: {', '.join(extra)}" if extra else "it holds one spectrum"
             raise ParameterError(f"--select {item}: {path} has no dimension {dim!r} to select from; {have}")

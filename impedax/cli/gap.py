@@ -28,16 +28,21 @@ def register(sub) -> None:
     p.add_argument("--pooled", action="store_const", const="pooled", dest="method", help="same as --method pooled")
     p.add_argument("--steps", type=int, default=None, help="MCMC draws per chain after warm-up (hierarchical, default 500) or emcee steps (pooled, default 1500)")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    p.add_argument(
+        "--select", action="append", metavar="DIM=LABEL",
+        help="narrow each of the three files that has dimension DIM to the spectra whose DIM is LABEL (its 0-based position "
+        "where DIM has no labels), e.g. one session of a file over session and trial; the remaining dimensions are the trials. "
+        "Repeat for each dimension (`impedax inspect` lists them)",
+    )
     p.add_argument("--quiet", action="store_true", help="no progress line")
     add_output_options(p, plot="save impedance, gap posterior and force bands", out=result_out_help("the gap result (.nc: force bands and gap summary; .csv: C_gap and u)"))
     p.set_defaults(run=run)
 
 
 def run(args) -> int:
-    from .. import load
     from ..errors import ParameterError
     from ..models.gap import gap_analysis
-    from .common import check_memory, figure_writer, plan_outputs, print_result, result_writer
+    from .common import check_memory, figure_writer, load_selected_files, plan_outputs, print_result, result_writer
 
     if not args.area > 0:
         raise ParameterError(f"--area must be positive (m²), got {args.area:g}")
@@ -52,7 +57,7 @@ def run(args) -> int:
     )
     # emcee keeps every step of every walker: about 64 walkers × 8 parameters × 8 bytes, kept three times
     check_memory("--steps", steps * 64 * 10 * 8 * 3, f"a gap-thickness chain of {steps} steps")
-    total, skin, touchscreen = (load(p) for p in (args.total, args.skin, args.touchscreen))
+    total, skin, touchscreen = load_selected_files([args.total, args.skin, args.touchscreen], args.select)
     result = gap_analysis(total, skin, touchscreen, area=args.area, v0=args.v0, ep=args.ep, steps=steps, seed=args.seed, method=args.method, progress=not (args.quiet or args.json))
     outputs.save({"--out": result_writer(result), "--plot": figure_writer(result.plot)})
     if not outputs.uses_stdout:
