@@ -474,7 +474,7 @@ def run_case(case: Case, *, refine_two: bool = True, reproduce: bool = False) ->
     effects = refine_verdict = structure = None
     if case.kind == "two" and refine_two:
         r = ix.refine(data, case.circuit)
-        effects = tuple(s.effect for s in r.steps if s.effect)
+        effects = tuple(e for s in r.steps if s.effect for e in s.effect.split("+"))  # (a step may add two effects at once: "a+b")
         refine_verdict = str(r.verdict)
     seconds = time.perf_counter() - t0
     equivalent = None

@@ -27,6 +27,8 @@
    the pair are within `CORRELATED_ERROR_MAX` (and |correlation| ≤ `CORRELATION_SINGULAR`) —
    and its fitted values are plausible for the effect), ``adequate`` otherwise: no effect of
    the catalog explains what is left. Only significant candidates are listed as suggestions.
+   When no single effect is significant but the residuals stay structured beyond the noise,
+   pairs of effects are tried first (`_effect_pairs`; their ``effect`` is ``"a+b"``).
 """
 
 from __future__ import annotations
@@ -112,6 +114,11 @@ BASELINE_STEPS = 300
 """Levenberg–Marquardt step limit of the baseline's cold starts (warm candidates: ``max_steps``)."""
 CANDIDATE_STEPS = 100
 """Default step limit of the candidate fits (``max_steps``)."""
+PAIR_SEEDS = 3
+"""When no single effect is significant but the residuals stay structured beyond the noise, the
+candidates (at most this many, best ΔAIC first) that lower AIC by more than `DELTA_AIC_MIN` yet
+leave parameters undetermined are each given every effect of the catalog on top
+(`_effect_pairs`)."""
 
 
 class Verdict(enum.StrEnum):
@@ -337,8 +344,8 @@ class Diagnosis:
     def _repr_html_(self) -> str:
         from ...plotting.html import result_html
 
-        rows = [{"effect": s.effect, "model": s.model, "rms_rel": s.rms_rel, "ΔAIC": s.delta_aic, "significant": s.significant} for s in self.candidates[:8]]
-        lines = [f"verdict: {self.verdict} — {self.reason}", f"baseline rms_rel {self.baseline.rms_rel:.4g}, AIC {self.baseline.aic:.2f}"]
+        rows = [{"effect": s.effect, "model": s.model, "rms_rel [%]": f"{s.rms_rel * 100:.3g}", "ΔAIC": s.delta_aic, "significant": s.significant} for s in self.candidates[:8]]
+        lines = [f"verdict: {self.verdict} — {self.reason}", f"baseline rms_rel {self.baseline.rms_rel * 100:.3g} %, AIC {self.baseline.aic:.2f}"]
         return result_html(f"diagnosis of {self.baseline.model}", rows, lines=lines)
 
 
@@ -1111,6 +1118,66 @@ def _suggestions(base: FitResult, proposals: list[tuple[Effect, Proposal]], fits
     return out
 
 
+def _beyond_single_effects(bands: Sequence[FailingBand], ratio: float) -> bool:
+    """Residuals structured in a band the data do not explain and above `NOISE_RATIO_MAX` × the
+    noise: what an ``adequate`` verdict calls "beyond the catalog"."""
+    return any(not b.data_problem for b in bands) and ratio > NOISE_RATIO_MAX
+
+
+def _paired(first: Effect, p1: Proposal, second: Effect, p2: Proposal) -> tuple[Effect, Proposal]:
+    """The effect ``second`` proposed (as ``p2``) on top of the candidate ``p1`` of ``first``, as
+    one candidate of both: id ``first+second``, plausible when both effects find their own
+    added elements plausible."""
+
+    def plausible(values, _):
+        for effect, p in ((first, p1), (second, p2)):
+            why = effect.plausible(values, p) if effect.plausible is not None else None
+            if why is not None:
+                return why
+        return None
+
+    effect = Effect(
+        f"{first.id}+{second.id}", f"{first.title} and {second.title}", f"{first.physics}; and {second.physics}",
+        f"{first.signature}; and {second.signature}", f"{first.change}, and {second.change}", lambda circuit, ctx: [], plausible,
+    )
+    where = f"({p1.added} {p1.where}; {p2.added} {p2.where})"
+    band = (min(p1.band[0], p2.band[0]), max(p1.band[1], p2.band[1]))
+    return effect, Proposal(effect.id, p2.circuit, f"{p1.added} and {p2.added}", where, p2.starts, p1.removed + p2.removed, band)
+
+
+def _effect_pairs(base: FitResult, cands: Sequence[Suggestion], proposals: list[tuple[Effect, Proposal]], spectrum: xr.Dataset, effects: EffectCatalog, shape: SolverShape, *, with_drt: bool, max_params: int, n_starts: int, max_steps: int, seed: int) -> tuple[list[tuple[Effect, Proposal]], list[FitResult], SolverShape]:
+    """Candidates of two effects: each of the best `PAIR_SEEDS` candidates that lower AIC by
+    more than `DELTA_AIC_MIN` but leave parameters undetermined, with every effect of the
+    catalog proposed on top of its fit (its own context: values, misfit and DRT evidence),
+    fitted as `_fit_proposals` fits the first ones. Returns the new proposals (`_paired`), their
+    fits and the solver shape.
+
+    A single effect can be undetermined because a second one is missing as well: on AutoEIS's
+    battery cycle 0 with ``R0 + R1 || CPE1`` (23.6× the noise), a second arc leaves its R
+    undetermined because the low-frequency arc does not close within the band, and a Warburg
+    alone cannot make the second arc; every single candidate was undetermined and the
+    verdict was ``adequate``."""
+    by_circuit = {str(p.circuit): (e, p) for e, p in proposals}
+    seen = set(by_circuit) | {str(base.circuit)}
+    seeds = sorted((s for s in cands if s.undetermined and s.delta_aic < -DELTA_AIC_MIN and str(s.fit.circuit) in by_circuit), key=lambda s: s.delta_aic)[:PAIR_SEEDS]
+    out: list[tuple[Effect, Proposal]] = []
+    fits: list[FitResult] = []
+    for s in seeds:
+        first, p1 = by_circuit[str(s.fit.circuit)]
+        ctx = _context(s.fit, _drt_evidence(s.fit, []) if with_drt else None)
+        pairs = []
+        for second, p2 in effects.proposals(ctx):
+            key = str(p2.circuit)
+            if key not in seen and len(p2.circuit.parameter_names(base.registry)) <= max_params:
+                seen.add(key)
+                pairs.append(_paired(first, p1, second, p2))
+        if pairs:
+            pairs, pair_fits, shape = _fit_proposals(s.fit, spectrum, ctx, pairs, shape, n_starts=n_starts, max_steps=max_steps, seed=seed)
+            out += pairs
+            fits += pair_fits[1:]
+    return out, fits, shape
+
+
 def _verdict(cands: Sequence[Suggestion], bands: Sequence[FailingBand], ratio: float) -> tuple[Verdict, str]:
     """The verdict and its reason from the ranked candidates, the bands and the noise ratio:
     ``missing_effect`` when a candidate is significant, else ``adequate`` (what is left, if
@@ -1118,9 +1185,13 @@ def _verdict(cands: Sequence[Suggestion], bands: Sequence[FailingBand], ratio: f
     model_bands = [b for b in bands if not b.data_problem]
     if any(s.significant for s in cands):
         best = next(s for s in cands if s.significant)
-        reason = f"the residuals are {ratio:.3g}× the noise" + (f" and structured in {len(model_bands)} band(s)" if model_bands else "") + f"; adding {best.effect} ({best.added}) lowers AIC by {-best.delta_aic:.1f}."
+        reason = f"the residuals are {ratio:.3g}× the noise" + (f" and structured in {len(model_bands)} band(s)" if model_bands else "")
+        if "+" in best.effect:
+            reason += f"; no single effect explains them with determined parameters, but adding {best.effect.replace('+', ' and ')} together ({best.added}) lowers AIC by {-best.delta_aic:.1f}."
+        else:
+            reason += f"; adding {best.effect} ({best.added}) lowers AIC by {-best.delta_aic:.1f}."
         return Verdict.MISSING_EFFECT, reason
-    if model_bands and ratio > NOISE_RATIO_MAX:
+    if _beyond_single_effects(bands, ratio):
         return Verdict.ADEQUATE, (
             f"the residuals are {ratio:.3g}× the noise and structured in {len(model_bands)} band(s), but no effect of the catalog explains them "
             "with determined, plausible parameters: what is left is beyond the catalog (or the model discrepancy floor)."
@@ -1241,6 +1312,11 @@ def diagnose(
         return (bands, cands) + _verdict(cands, bands, _noise_ratio(base, sigma_rel))
 
     bands, cands, verdict, reason = judged(base)
+    if verdict == Verdict.ADEQUATE and _beyond_single_effects(bands, _noise_ratio(base, sigma_rel)):  # two effects missing at once?
+        pairs, pair_fits, shape = _effect_pairs(base, cands, proposals, spectrum, effects, shape, with_drt=evidence is not None, max_params=2 * n_points - 1, n_starts=n_starts, max_steps=max_steps, seed=seed)
+        if pairs:
+            proposals, fits = proposals + pairs, fits + pair_fits
+            bands, cands, verdict, reason = judged(base)
     if verdict == Verdict.MISSING_EFFECT:  # before naming a missing effect: is the baseline at its own optimum?
         better = _baseline_checked(base, spectrum, shape, next(s.fit for s in cands if s.significant), seed=seed)
         if better is not None:

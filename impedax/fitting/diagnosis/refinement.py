@@ -88,7 +88,7 @@ class Refinement:
     def _repr_html_(self) -> str:
         from ...plotting.html import result_html
 
-        rows = [{"step": i, "change": s.change, "model": s.model, "rms_rel": s.fit.rms_rel, "AIC": s.fit.aic} for i, s in enumerate(self.steps)]
+        rows = [{"step": i, "change": s.change, "model": s.model, "rms_rel [%]": f"{s.fit.rms_rel * 100:.3g}", "AIC": s.fit.aic} for i, s in enumerate(self.steps)]
         return result_html(f"refinement: {self.final_model}", rows, lines=[f"verdict: {self.verdict}"])
 
     def table(self) -> str:
