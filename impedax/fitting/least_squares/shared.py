@@ -41,7 +41,7 @@ from ..parameters import ParameterTable, to_internal
 from ..problem import residual_scale, weights
 from ..statistics import information_criteria
 from .batch import BatchFitResult, fit_batch
-from .result import BOUND_CHI2_FRACTION, RELATIVE_ERROR_LIMIT, bound_note, bound_sides, on_bound, stack_notes
+from .result import BOUND_CHI2_FRACTION, RELATIVE_ERROR_LIMIT, bound_note, bound_sides, misfit_notes, on_bound, stack_notes
 from .solvers import SolverArgs, tree_residuals
 
 __all__ = ["SharedFitResult", "SharedLayout", "shared_layout", "fit_shared", "JointSolution", "joint_solver", "joint_covariance", "SHARING_P_LIMIT"]
@@ -254,9 +254,14 @@ def _regularized_inverse(a: np.ndarray) -> np.ndarray:
     scale = np.where(d > 0, 1.0 / np.where(d > 0, d, 1.0), 1.0)
     eq = a * scale[..., :, None] * scale[..., None, :]
     w, v = np.linalg.eigh(eq)
-    w_max = np.maximum(w[..., -1:], 1e-300)
+    # a matrix without a positive eigenvalue (a block of zeros, or rounding's negative Schur
+    # complement: parameters without effect on Z) is regularised against 1, as
+    # `statistics.covariances` does: variances of 1e26, where a floor of 1e-300 made 1e-26 × it
+    # underflow to 0 and divided by zero (inf and NaN, and a RuntimeWarning)
+    w_max = np.where(w[..., -1:] > 0, w[..., -1:], 1.0)
     inv = (v / (np.clip(w, 0, None) + 1e-26 * w_max)[..., None, :]) @ np.swapaxes(v, -1, -2)
-    return inv * scale[..., :, None] * scale[..., None, :]
+    with np.errstate(over="ignore"):  # (columns below ~1e-140: a variance beyond the float range is inf, as there)
+        return inv * scale[..., :, None] * scale[..., None, :]
 
 
 def joint_covariance(jac: np.ndarray, own: Sequence[int], shared: Sequence[int]) -> tuple[np.ndarray, np.ndarray]:
@@ -436,6 +441,12 @@ def fit_shared(
     quiet_sides = sides.copy()
     quiet_sides[:, sh] = 0
     spectrum_notes = stack_notes(table, flat_values, quiet_stderr, corr_full.reshape(-1, k, k), quiet_sides, freq=freq, z=z.reshape(-1, n_freq))
+    # each spectrum's misfit in the global fit against its own Kramers–Kronig misfit, the rule
+    # and text of single and batch fits (`result.misfit_notes`; the KK test runs only for the
+    # spectra at rms_rel ≥ MISFIT_CHECKED_FROM), under the spectrum's key as in a batch
+    for row, note in enumerate(misfit_notes(freq, z.reshape(-1, n_freq), z_model.reshape(-1, n_freq))):
+        if note:
+            spectrum_notes[row] = spectrum_notes.get(row, ()) + note
     group_notes = [
         _sharing_notes(layout, shared_value[gi], shared_stderr[gi], sides.reshape(n_groups, m, k)[gi, 0, sh], table, f_stat[gi], f_p[gi], aic_joint[gi] - aic_ind[gi], bool(joint["converged"][gi]), int(joint["steps"][gi]),
                        on=on_bound(table, values[gi, :1], sides.reshape(n_groups, m, k)[gi, :1], np.tile(freq, m), z[gi].reshape(1, -1))[0, sh])
