@@ -192,8 +192,18 @@ def test_a_batch_fit_shows_its_warnings_grouped_with_their_spectra(capsys):
         assert any(re.sub(r"(?<![\w.])[-+]?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?( to [-+]?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?)?", "#", ln.split("): ", 1)[1]) == template for ln in lines), w
 
 
+def test_a_batch_fit_s_report_in_python_shows_its_warnings_grouped():
+    """Before: only the command line printed a batch's warnings; ``print(result.report())`` in
+    Python showed none."""
+    result = ix.fit("R0 + R1 || CPE1 + R2 || CPE2 + W1", ix.load(CYCLES))
+    lines = [ln for ln in result.report().splitlines() if ln.startswith("warning (")]
+    assert result.summary()["warnings"] and lines
+    assert all(re.match(r"warning \((all 3 spectra|[12] of 3 spectra: cycle [0-9, ]+)\): ", ln) for ln in lines)
+
+
 def test_grouped_warnings_merge_numbers_into_ranges_and_name_the_spectra():
-    from impedax.cli.common import grouped_warnings
+    from impedax.cli.common import command_line_words
+    from impedax.warning_groups import grouped_warnings
 
     warnings = {
         "cycle=0": ("A.Q and A.alpha are strongly correlated (r = -0.993)", "B is at its upper bound 1"),
@@ -203,7 +213,8 @@ def test_grouped_warnings_merge_numbers_into_ranges_and_name_the_spectra():
     lines = grouped_warnings(warnings, 3)
     assert lines[0] == "warning (all 3 spectra): B is at its upper bound 1"
     assert "warning (2 of 3 spectra: cycle 0, 64): A.Q and A.alpha are strongly correlated (r = -0.993 to -0.990)" in lines
-    assert "warning (1 of 3 spectra: cycle 129): fit did not converge: raise --max-steps" in lines
+    assert "warning (1 of 3 spectra: cycle 129): fit did not converge: raise max_steps" in lines  # (the API's words; the CLI's below)
+    assert "raise --max-steps" in command_line_words("\n".join(lines))
     many = {f"trial={i}, session=1": (f"P{i} is at its lower bound 0",) for i in range(40)}
     lines = grouped_warnings(many, 40)
     assert len(lines) == 13 and lines[-1].startswith("... and 28 more kinds of warning")

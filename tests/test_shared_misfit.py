@@ -76,6 +76,7 @@ def test_cli_fit_shared_names_the_spectra(two_arcs, tmp_path, capsys):
     assert main(["fit", str(path), "--model", "R0 + R1 || C1", "--shared", "C1"]) == 0
     out = capsys.readouterr().out
     assert "warning (all 3 spectra): " + MISSES in out
+    assert out.count(MISSES) == 1  # once, grouped (the report listed each text a second time, unnamed)
 
 
 def test_correct_model_gives_no_misfit_warning_and_runs_no_kk_test(one_arc, monkeypatch):

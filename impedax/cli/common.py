@@ -13,12 +13,13 @@ from pathlib import Path
 from typing import Callable, Iterable, Mapping, Sequence
 
 from ..errors import DataError, ParameterError
+from ..warning_groups import labels_text
 
 __all__ = [
     "parse_assignments", "check_parameter_names", "emit_json", "to_jsonable", "add_model_argument", "add_output_options",
     "check_outputs", "save_outputs", "print_result", "result_out_help", "Output", "OutputPlan", "plan_outputs",
     "memory_limit", "check_memory", "MEMORY_LIMIT_ENV", "add_select_option", "load_selected", "select_spectra", "load_selected_files", "labels_text", "dimension_labels",
-    "command_line_words", "grouped_warnings", "naming_target", "part_of_joined",
+    "command_line_words", "naming_target", "part_of_joined",
 ]
 
 
@@ -100,13 +101,6 @@ def add_select_option(parser) -> None:
     )
 
 
-LABELS_SHOWN = 8  # labels of a dimension shown in messages and by inspect
-
-
-def labels_text(labels: list) -> str:
-    """The first `LABELS_SHOWN` labels of a dimension, and how many there are when more."""
-    shown = ", ".join(str(v) for v in labels[:LABELS_SHOWN])
-    return shown + (f", ... ({len(labels)} in all)" if len(labels) > LABELS_SHOWN else "")
 
 
 def dimension_labels(data, dim: str) -> list:
@@ -586,55 +580,3 @@ def command_line_words(text: str) -> str:
     return text
 
 
-WARNING_GROUPS_SHOWN = 12  # kinds of warning a batch's text lists
-_NUMBER = re.compile(r"(?<![\w.])[-+]?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?")
-
-
-def _spread(texts: Sequence[str]) -> str:
-    """One text for warnings that differ only in their numbers: the numbers that differ
-    become their range (``r = -0.993 to -0.990``)."""
-    if len(set(texts)) == 1:
-        return texts[0]
-    numbers = [_NUMBER.findall(t) for t in texts]
-    pieces = _NUMBER.split(texts[0])
-    out = [pieces[0]]
-    for i, piece in enumerate(pieces[1:]):
-        column = [n[i] for n in numbers]
-        if len(set(column)) == 1:
-            out.append(column[0])
-        else:
-            ordered = sorted(column, key=float)
-            out.append(f"{ordered[0]} to {ordered[-1]}")
-        out.append(piece)
-    return "".join(out)
-
-
-def _spectra_text(places: Sequence[str]) -> str:
-    """Spectra named ``dim=label`` (one dimension: ``cycle 0, 64``) or ``a=1, b=2`` (several:
-    joined with ``;``), the first `LABELS_SHOWN` and how many there are when more."""
-    parts = [p.split("=", 1) for p in places]
-    one_dim = all(len(p) == 2 and ", " not in p[1] for p in parts) and len({p[0] for p in parts}) == 1
-    if one_dim:
-        return f"{parts[0][0]} {labels_text([p[1] for p in parts])}"
-    shown = "; ".join(places[:LABELS_SHOWN])
-    return shown + (f"; ... ({len(places)} in all)" if len(places) > LABELS_SHOWN else "")
-
-
-def grouped_warnings(warnings: Mapping[str, Sequence[str]], n_spectra: int, *, command: str = "impedax fit") -> list[str]:
-    """The warnings of a batch's spectra (``{"cycle=0": (text, ...), ...}``) as text lines:
-    one per kind of warning (texts that differ only in numbers are one kind, their numbers
-    shown as ranges) with the spectra it applies to; the most frequent first, at most
-    `WARNING_GROUPS_SHOWN`."""
-    groups: dict[str, list[tuple[str, str]]] = {}
-    for place, texts in warnings.items():
-        for text in dict.fromkeys(texts):
-            groups.setdefault(_NUMBER.sub("#", text), []).append((place, text))
-    ordered = sorted(groups.values(), key=len, reverse=True)
-    lines = []
-    for members in ordered[:WARNING_GROUPS_SHOWN]:
-        places = list(dict.fromkeys(place for place, _ in members))
-        where = f"all {n_spectra} spectra" if len(places) == n_spectra else f"{len(places)} of {n_spectra} spectra: {_spectra_text(places)}"
-        lines.append(f"warning ({where}): {command_line_words(_spread([t for _, t in members]))}")
-    if len(ordered) > WARNING_GROUPS_SHOWN:
-        lines.append(f"... and {len(ordered) - WARNING_GROUPS_SHOWN} more kinds of warning ({command} --json lists every text)")
-    return lines

@@ -75,8 +75,7 @@ def register(sub) -> None:
 
 def run(args) -> int:
     from .. import FitResult, fit
-    from ..fitting import BatchFitResult
-    from .common import command_line_words, figure_writer, grouped_warnings, load_selected, parse_assignments, plan_outputs, print_result, result_writer
+    from .common import command_line_words, figure_writer, load_selected, parse_assignments, plan_outputs, print_result, result_writer
 
     outputs = plan_outputs([("--out", args.out, "result"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     max_steps = check_max_steps(args.max_steps)
@@ -85,10 +84,7 @@ def run(args) -> int:
     result = fit(args.model, data, init=parse_assignments(args.init, "--init"), fixed=parse_assignments(args.fix, "--fix"), weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, **sharing)
     outputs.save({"--out": result_writer(result), "--plot": figure_writer(result.plot)})
     if not outputs.uses_stdout:
-        print_result(result, args.json)
-        if not args.json and isinstance(result, BatchFitResult) and result.warnings:
-            # the JSON lists each distinct text; here each kind once, with the spectra it concerns
-            print("\n".join(["", *grouped_warnings(result.warnings, result.n_spectra)]))
+        print_result(result, args.json)  # (a batch's report groups its warnings by kind, naming the spectra)
     if isinstance(result, FitResult) and not result.converged:  # (the report's status line says it; stderr too, as with --json)
         print(f"impedax fit: warning: the fit did not converge: {command_line_words(result.message)}", file=sys.stderr)
     return 0

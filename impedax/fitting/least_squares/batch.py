@@ -16,6 +16,7 @@ import numpy as np
 import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
+from ...warning_groups import grouped_warnings
 from ..parameters import ParameterTable
 from ..problem import residual_scale, weights
 from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, dominant_points, information_criteria, null_sets
@@ -115,11 +116,19 @@ class BatchFitResult:
         }
 
     def report(self) -> str:
+        return "\n".join(self._parameter_lines() + self._warning_lines())
+
+    def _parameter_lines(self) -> list[str]:
         s = self.summary()
         lines = [f"model {self.model}: {self.n_spectra} spectra over {s['dims']}", f"converged: {s['converged_fraction'] * 100:.1f}%   median rms_rel {s['rms_rel_median'] * 100:.3g} %", "", f"{'parameter':<16} {'median':>12} {'16%':>12} {'84%':>12}"]
         for p, v in s["params"].items():
             lines.append(f"{p:<16} {v['median']:>12.5g} {v['q16']:>12.5g} {v['q84']:>12.5g}")
-        return "\n".join(lines)
+        return lines
+
+    def _warning_lines(self) -> list[str]:
+        """The warnings, one line per kind with the spectra it applies to (`grouped_warnings`),
+        after an empty line; none when there are none."""
+        return ["", *grouped_warnings(self.warnings, self.n_spectra)] if any(self.warnings.values()) else []
 
 
 def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source) -> tuple[SolverOutput, np.ndarray, "_LaneRunner"]:

@@ -345,7 +345,7 @@ class SharedFitResult(BatchFitResult):
         return out
 
     def report(self) -> str:
-        lines = [super().report(), "", f"shared over {', '.join(self.over)} (one global fit{'' if not self.keep else ' per ' + ', '.join(self.keep)}):"]
+        lines = [*self._parameter_lines(), "", f"shared over {', '.join(self.over)} (one global fit{'' if not self.keep else ' per ' + ', '.join(self.keep)}):"]
         ds = self.dataset
         specs = self.circuit.parameter_specs(self.registry)
         lines.append(f"{'parameter':<16} {'value':>12} {'stderr':>10} {'rel':>8}  unit")
@@ -357,9 +357,7 @@ class SharedFitResult(BatchFitResult):
                 lines.append(f"{n:<16} {vi:>12.5g} {ei:>10.3g} {rel:>8}  {specs[n].unit}")
         for f, p, d, c in zip(*(np.ravel(ds[k].values).tolist() for k in ("f_statistic", "f_pvalue", "delta_aic", "joint_chi2_red"))):
             lines.append(f"sharing vs independent fits: F = {f:.3g}, p = {p:.3g}, ΔAIC = {d:+.1f} (negative favours sharing); joint chi2_red {c:.4g}")
-        for w in sorted({w for ws in self.warnings.values() for w in ws}):
-            lines.append(f"warning: {w}")
-        return "\n".join(lines)
+        return "\n".join(lines + self._warning_lines())
 
 
 def _group_arrays(data: xr.Dataset, layout: SharedLayout, extra: tuple[str, ...]):
