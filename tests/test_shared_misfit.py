@@ -112,3 +112,24 @@ def test_joint_covariance_of_blocks_without_effect_is_finite():
     assert np.all(np.isfinite(cov_shared)) and cov_shared[0, 0] > 1e20
     assert np.all(np.isfinite(cov_full)) and np.all(np.isfinite(all_zero))
     assert np.all(np.diagonal(all_zero, axis1=1, axis2=2) > 1e20)
+
+
+def test_a_global_fit_gives_the_data_warnings_of_a_batch(one_arc):
+    """Points with Re Z < 0 and a weighting that a few points dominate: the texts a batch fit of
+    the same spectra gives (`batch.data_notes`), under each spectrum's key. Before, a global fit
+    gave neither."""
+    z = one_arc["Z"].values.copy()
+    z[1, -1] = -0.2 * abs(z[1, -1]) + 1j * z[1, -1].imag  # an instrument's phase error at the top of trial 1
+    data = one_arc.copy()
+    data["Z"] = (("trial", "frequency"), z)
+    shared = ix.fit("R0 + R1 || C1", data, shared=["C1"])
+    batch = ix.fit("R0 + R1 || C1", data)
+    negative = [w for w in shared.warnings["trial=1"] if "Re Z < 0" in w]
+    assert negative and negative == [w for w in batch.warnings["trial=1"] if "Re Z < 0" in w]
+    assert not any("Re Z < 0" in w for k in ("trial=0", "trial=2") for w in shared.warnings.get(k, ()))
+    # proportional weighting: the points of smallest |Re| or |Im| carry the weight
+    proportional = ix.fit("R0 + R1 || C1", one_arc, shared=["C1"], weighting="proportional")
+    batch_p = ix.fit("R0 + R1 || C1", one_arc, weighting="proportional")
+    for key, texts in batch_p.warnings.items():
+        weighted = [w for w in texts if "weight" in w]
+        assert weighted and all(w in proportional.warnings[key] for w in weighted)

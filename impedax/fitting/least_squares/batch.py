@@ -425,10 +425,8 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
     for i in np.flatnonzero(~odd & singular).tolist():
         groups, ratio = null_sets(sv[i], vt[i], table.free_names)
         notes[i] = fit_notes(table, dict(zip(names, values[i].tolist())), dict(zip(names, stderr[i].tolist())), corr[i], groups, ratio, finite=True, converged=True, message="", sides=sides[i], freq=freq, z=z[i])
-    weighting_extra = weighting_notes(weighting, freq, *dominant_points(z, *weights(z, sigma, weighting, source))) if weighting in ("unit", "proportional") else [()] * b
     z_model = np.array(out.z_model)
-    misfit = misfit_notes(freq, z, z_model, solver.kk_misfits)
-    weighting_extra = [tuple(w) + non_passive_notes(freq, z[i], None if sigma is None else sigma[i]) + misfit[i] for i, w in enumerate(weighting_extra)]
+    weighting_extra = data_notes(freq, z, z_model, sigma, weighting, source, solver.kk_misfits)
     for i in np.flatnonzero(odd):
         r = fit_result(circuit, table, freq, z[i], out.row(i), weighting, int(used[i]), 0.0, registry, chi2_at_x=lambda p, s, i=i: solver.chi2_at_x(p, s + i), extra_notes=weighting_extra[i])
         values[i] = [r.values[n] for n in names]
@@ -451,6 +449,17 @@ _FEW_LANES, _FEW_CAPACITY = 8, 64
 # 64 lanes mostly wait for their slowest problems, and a first call on a few hundred spectra
 # (the 130 battery cycles; a rung of 256 starts) compiles the few-lane program alone
 _MANY_LANES_FROM = 4 * _LANES
+
+
+def data_notes(freq, z, z_model, sigma, weighting: str, source: str, kk_misfits: dict[int, float] | None = None) -> list[tuple[str, ...]]:
+    """The warnings of fits to spectra z (B, N) with models z_model (B, N) that concern the data
+    rather than the parameters, one tuple per spectrum, as a single fit gives them: a weighting
+    dominated by a few points (`weighting_notes`), points with Re Z < 0 (`non_passive_notes`)
+    and a gross misfit (`misfit_notes`; ``kk_misfits``: Kramers–Kronig misfits already known)."""
+    b = len(z)
+    weighted = weighting_notes(weighting, freq, *dominant_points(z, *weights(z, sigma, weighting, source))) if weighting in ("unit", "proportional") else [()] * b
+    misfit = misfit_notes(freq, z, z_model, kk_misfits)
+    return [tuple(weighted[i]) + non_passive_notes(freq, z[i], None if sigma is None else sigma[i]) + misfit[i] for i in range(b)]
 
 
 def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weighting: str, n_starts: int, max_steps: int, seed: int, registry: Registry = DEFAULT_REGISTRY, source: str = "data", t0: float | None = None) -> BatchFitResult:

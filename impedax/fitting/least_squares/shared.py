@@ -40,8 +40,8 @@ from ...errors import DataError, ParameterError
 from ..parameters import ParameterTable, to_internal
 from ..problem import residual_scale, weights
 from ..statistics import information_criteria
-from .batch import BatchFitResult, fit_batch
-from .result import BOUND_CHI2_FRACTION, RELATIVE_ERROR_LIMIT, bound_note, bound_sides, misfit_notes, on_bound, stack_notes
+from .batch import BatchFitResult, data_notes, fit_batch
+from .result import BOUND_CHI2_FRACTION, RELATIVE_ERROR_LIMIT, bound_note, bound_sides, on_bound, stack_notes
 from .solvers import SolverArgs, tree_residuals
 
 __all__ = ["SharedFitResult", "SharedLayout", "shared_layout", "fit_shared", "JointSolution", "joint_solver", "joint_covariance", "SHARING_P_LIMIT"]
@@ -439,10 +439,12 @@ def fit_shared(
     quiet_sides = sides.copy()
     quiet_sides[:, sh] = 0
     spectrum_notes = stack_notes(table, flat_values, quiet_stderr, corr_full.reshape(-1, k, k), quiet_sides, freq=freq, z=z.reshape(-1, n_freq))
-    # each spectrum's misfit in the global fit against its own Kramers–Kronig misfit, the rule
-    # and text of single and batch fits (`result.misfit_notes`; the KK test runs only for the
-    # spectra at rms_rel ≥ MISFIT_CHECKED_FROM), under the spectrum's key as in a batch
-    for row, note in enumerate(misfit_notes(freq, z.reshape(-1, n_freq), z_model.reshape(-1, n_freq))):
+    # what concerns each spectrum's data in the global fit, the rules and texts of single and
+    # batch fits (`batch.data_notes`: a weighting dominated by a few points, Re Z < 0, the misfit
+    # against its own Kramers–Kronig misfit, whose KK test runs only for the spectra at rms_rel
+    # ≥ MISFIT_CHECKED_FROM), under the spectrum's key as in a batch
+    flat_sigma = None if sigma is None else sigma.reshape(-1, n_freq)
+    for row, note in enumerate(data_notes(freq, z.reshape(-1, n_freq), z_model.reshape(-1, n_freq), flat_sigma, weighting, source)):
         if note:
             spectrum_notes[row] = spectrum_notes.get(row, ()) + note
     group_notes = [
