@@ -218,6 +218,7 @@ def test_two_effects_missing_at_once_are_proposed_together():
     best = d.best
     assert best.effect == "extra_relaxation+diffusion" and "no single effect" in d.reason
     assert set(best.effect.split("+")) <= EFFECT_IDS and best.undetermined == () and best.warning is None
+    assert all(part in best.explanation and part in best.where for part in best.added.split(" and "))  # each addition placed
     singles = [s for s in d.candidates if "+" not in s.effect]
     assert singles and all(s.warning is not None for s in singles if s.delta_aic < -10)
     generating = ix.fit(TWO_MISSING_GENERATING, data)

@@ -527,8 +527,9 @@ def _explain(effect, p: Proposal, base: FitResult, cand: FitResult, d_aic: float
     if fixed:
         band_text = "; it removes the misfit at " + ", ".join(f"{format_frequency(lo)}–{format_frequency(hi)}" for lo, hi in fixed)
     values = _new_values(base, cand)
+    what = p.where if "+" in effect.id else f"{p.added} {p.where}"  # (a pair's placement names each addition, `_paired`)
     return (
-        f"{effect.title}: adding {p.added} {p.where}" + (f" ({values})" if values else "")
+        f"{effect.title}: adding {what}" + (f" ({values})" if values else "")
         + f" lowers rms_rel from {base.rms_rel * 100:.3g} % to {cand.rms_rel * 100:.3g} % (ΔAIC {d_aic:+.1f}, ΔBIC {d_bic:+.1f}){band_text}."
     )
 
@@ -1140,7 +1141,7 @@ def _paired(first: Effect, p1: Proposal, second: Effect, p2: Proposal) -> tuple[
         f"{first.id}+{second.id}", f"{first.title} and {second.title}", f"{first.physics}; and {second.physics}",
         f"{first.signature}; and {second.signature}", f"{first.change}, and {second.change}", lambda circuit, ctx: [], plausible,
     )
-    where = f"({p1.added} {p1.where}; {p2.added} {p2.where})"
+    where = f"{p1.added} {p1.where}, and {p2.added} {p2.where}"
     band = (min(p1.band[0], p2.band[0]), max(p1.band[1], p2.band[1]))
     return effect, Proposal(effect.id, p2.circuit, f"{p1.added} and {p2.added}", where, p2.starts, p1.removed + p2.removed, band)
 
