@@ -572,11 +572,19 @@ def print_result(result, as_json: bool) -> None:
 _OPTION_OF_KEYWORD = {"max_steps": "--max-steps"}
 
 
+# phrases of the fitting code's messages that name a Python call, and what the command line
+# says instead (`impedax refine` prints the command after its report: cli/refine.py)
+_PHRASE_OF_CALL = {"(pass init=)": "(impedax fit --init NAME=VALUE …: the command is printed last)"}
+
+
 def command_line_words(text: str) -> str:
     """``text`` with the Python keywords it names replaced by their command-line options
-    (``raise max_steps`` → ``raise --max-steps``)."""
+    (``raise max_steps`` → ``raise --max-steps``, ``(pass init=)`` → the ``impedax fit --init``
+    command)."""
     for keyword, option in _OPTION_OF_KEYWORD.items():
         text = re.sub(rf"(?<![\w-]){keyword}\b", option, text)
+    for phrase, words in _PHRASE_OF_CALL.items():
+        text = text.replace(phrase, words)
     return text
 
 

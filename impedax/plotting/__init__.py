@@ -13,7 +13,7 @@ import xarray as xr
 
 from ..io.atomic import atomic_path
 
-__all__ = ["plot_spectrum", "plot_nyquist", "plot_bode", "save_figure", "shade_bands", "wrap_model", "characters_across", "label_spectra_axis"]
+__all__ = ["plot_spectrum", "plot_nyquist", "plot_bode", "save_figure", "shade_bands", "refresh_legend", "plain_log_ticks", "wrap_model", "characters_across", "label_spectra_axis"]
 
 
 def _as_arrays(spectrum):
@@ -63,6 +63,7 @@ def plot_bode(ax_mod, ax_phase, data=None, model=None, *, data_label="data", mod
         ax_mod.loglog(f, np.abs(z), style, label=label, **kw)
         ax_phase.semilogx(f, np.degrees(np.angle(z)), style, label=label, **kw)
     ax_mod.set_ylabel("|Z| [Ω]")
+    plain_log_ticks(ax_mod.yaxis)
     ax_phase.set_ylabel("phase [deg]")
     ax_phase.set_xlabel("frequency [Hz]")
     for ax in (ax_mod, ax_phase):
@@ -71,13 +72,27 @@ def plot_bode(ax_mod, ax_phase, data=None, model=None, *, data_label="data", mod
 
 
 def shade_bands(axes: Sequence, bands, *, color="tab:red", alpha=0.12, label="model fails"):
-    """Shade frequency bands [(f_min, f_max), ...] on frequency axes."""
+    """Shade frequency bands [(f_min, f_max), ...] on frequency axes; ``label`` names the shading
+    in the first axis' legend (a legend drawn before is redrawn to include it)."""
     for ax in axes:
         for i, (lo, hi) in enumerate(bands):
             ax.axvspan(lo, hi, color=color, alpha=alpha, label=label if i == 0 and ax is axes[0] else None)
+    if label and bands and len(axes):
+        refresh_legend(axes[0])
 
 
-def plot_spectrum(data=None, model=None, *, title: str | None = None, bands=None, data_label="data", model_label="model"):
+def refresh_legend(ax) -> None:
+    """Redraw ``ax``'s legend, if it has one, with every labelled artist drawn since (same font
+    size and columns): a legend lists only what was on the axis when it was made."""
+    legend = ax.get_legend()
+    if legend is None:
+        return
+    texts = legend.get_texts()
+    size = texts[0].get_fontsize() if texts else 8
+    ax.legend(fontsize=size, ncol=getattr(legend, "_ncols", 1))
+
+
+def plot_spectrum(data=None, model=None, *, title: str | None = None, bands=None, data_label="data", model_label="model", residual_labels=("Re", "Im")):
     """Nyquist, Bode (|Z|, phase) and, when both are given, relative residuals (Re, Im) of
     ``(Z_model − Z_data)/|Z_data|`` in percent. ``bands`` are shaded on the frequency axes."""
     d, m = _as_arrays(data), _as_arrays(model)
@@ -93,7 +108,7 @@ def plot_spectrum(data=None, model=None, *, title: str | None = None, bands=None
     if with_residuals:
         ax_res = fig.add_subplot(grid[2, 1], sharex=ax_mod)
         r = (_model_at(d[0], m) - d[1]) / np.abs(d[1])
-        plot_residuals(ax_res, d[0], r.real, r.imag)
+        plot_residuals(ax_res, d[0], r.real, r.imag, labels=residual_labels)
         ax_ph.set_xlabel("")
         freq_axes.append(ax_res)
     if bands:
@@ -118,6 +133,20 @@ def plot_residuals(ax, freq, real, imag, *, labels=("Re", "Im"), ylabel="residua
     ax.set_xlabel("frequency [Hz]")
     ax.grid(alpha=0.3, which="both")
     ax.legend(fontsize=8, ncol=3 if limit is not None else 2)
+
+
+def plain_log_ticks(axis) -> None:
+    """Tick labels of a log-scaled ``axis`` (``ax.yaxis``) as plain numbers (0.2, 0.6, 2, 40)
+    instead of 2×10⁻¹: percentages read as they are printed. Which ticks are labelled is
+    matplotlib's choice, as before."""
+    from matplotlib.ticker import LogFormatter
+
+    class _Plain(LogFormatter):
+        def __call__(self, x, pos=None):
+            return f"{x:g}" if super().__call__(x, pos) else ""
+
+    axis.set_major_formatter(_Plain())
+    axis.set_minor_formatter(_Plain(labelOnlyBase=False))
 
 
 def characters_across(width_in: float, fontsize: float) -> int:

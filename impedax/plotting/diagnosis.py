@@ -14,7 +14,7 @@ import math
 import matplotlib.pyplot as plt
 import numpy as np
 
-from . import characters_across, plot_spectrum, shade_bands, wrap_model
+from . import characters_across, plain_log_ticks, plot_spectrum, refresh_legend, shade_bands, wrap_model
 
 __all__ = ["plot_diagnosis", "plot_refinement"]
 
@@ -24,19 +24,23 @@ def plot_diagnosis(diagnosis, *, title: str | None = None):
     best suggestion overlaid (matplotlib Figure)."""
     b = diagnosis.baseline
     bands = [(band.f_min, band.f_max) for band in diagnosis.failing_bands]
-    fig = plot_spectrum((b.frequency, b.z_data), (b.frequency, b.z_model), title=title or f"{b.model}: {diagnosis.verdict} (rms_rel {b.rms_rel * 100:.3g} %)", bands=bands, model_label="baseline")
+    fig = plot_spectrum(
+        (b.frequency, b.z_data), (b.frequency, b.z_model), title=title or f"{b.model}: {diagnosis.verdict} (rms_rel {b.rms_rel * 100:.3g} %)", bands=bands,
+        model_label="baseline", residual_labels=("Re (baseline)", "Im (baseline)"),
+    )
     best = diagnosis.best
     if best is not None:
         axes = fig.axes
         z = best.fit.z_model
         axes[0].plot(z.real, -z.imag, "-", color="tab:green", lw=1.2, label=f"+ {best.effect}")
-        axes[1].loglog(b.frequency, np.abs(z), "-", color="tab:green", lw=1.2)
+        axes[1].loglog(b.frequency, np.abs(z), "-", color="tab:green", lw=1.2, label=f"+ {best.effect}")
         axes[2].semilogx(b.frequency, np.degrees(np.angle(z)), "-", color="tab:green", lw=1.2)
         if len(axes) > 3:
             r = best.fit.residuals * 100
             axes[3].semilogx(b.frequency, np.abs(r), "-", color="tab:green", lw=1.0, label=f"|res| with {best.effect}")
             axes[3].legend(fontsize=8, ncol=3)
-        axes[0].legend(fontsize=8)
+        refresh_legend(axes[0])
+        refresh_legend(axes[1])
     return fig
 
 
@@ -66,6 +70,7 @@ def plot_refinement(refinement, *, title: str | None = None):
         ax.legend(fontsize=8)
     ax.set_xlabel("refinement step")
     ax.set_ylabel("rms_rel [%]")
+    plain_log_ticks(ax.yaxis)
     ax.set_xticks(range(n))
     ax.set_xlim(-0.5, n - 0.5)
     ax.grid(alpha=0.3, which="both")
@@ -78,13 +83,15 @@ def plot_refinement(refinement, *, title: str | None = None):
         a.semilogx(s.fit.frequency, r.imag, "s-", ms=2.5, lw=0.7, label="Im")
         a.axhline(0, color="k", lw=0.5)
         if s.diagnosis is not None:
-            shade_bands([a], [(band.f_min, band.f_max) for band in s.diagnosis.failing_bands], label=None)
-        head = wrap_model(f"step {i}: {s.change}  (rms_rel {s.fit.rms_rel * 100:.3g} %)", title_chars)
+            # the first row's legend names the shading; the rows below shade alike
+            shade_bands([a], [(band.f_min, band.f_max) for band in s.diagnosis.failing_bands], label="model fails" if row == 0 else None)
+        change = "start" if s.change == "(start)" else s.change
+        head = wrap_model(f"step {i}: {change}  (rms_rel {s.fit.rms_rel * 100:.3g} %)", title_chars)
         a.set_title(head + "\n" + wrap_model(s.model, title_chars), fontsize=8)
         a.set_ylabel("res. [%]", fontsize=8)
         a.grid(alpha=0.3)
         if row == 0:
-            a.legend(fontsize=7, ncol=2)
+            a.legend(fontsize=7, ncol=3)
     fig.axes[-1].set_xlabel("frequency [Hz]")
     fig.suptitle(title or wrap_model(f"refinement: {refinement.steps[0].model} → {refinement.final_model} ({refinement.verdict})", characters_across(width - 0.4, 12)))
     return fig

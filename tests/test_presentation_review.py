@@ -1,0 +1,159 @@
+"""What a user review of compare / diagnose / refine on the real spectra found in their figures
+and text (2026-11-28), each with a stand-in of the result (duck-typed, no fit: fast):
+
+- the shading of the failing (or not KK-consistent) bands was never named: the |Z| legend was
+  drawn before the bands were shaded, so their label was lost (every spectrum figure);
+- a diagnosis figure drew the best suggestion on |Z| without a legend entry, and its residual
+  legend did not say the Re/Im residuals are the baseline's;
+- log axes within a decade or two (refine's rms_rel per step and compare's residuals in %, |Z|
+  of a battery in Ω) were labelled 4×10⁰, 6×10⁻¹ instead of 4, 0.6; refine's step 0 title read "step 0: (start)  (rms_rel …)";
+- two models of one curve in compare (a CPE at α = 1 and a capacitor) were drawn in one line
+  style, the second hiding the first;
+- refine said nothing for the first several seconds (its first diagnosis' line came before the
+  2 s delay and was dropped);
+- refine's text said "(pass init=)", the Python keyword, with no command to do so.
+"""
+
+from __future__ import annotations
+
+import io
+import time
+from types import SimpleNamespace
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import matplotlib.pyplot as plt
+import numpy as np
+import pytest
+
+from impedax.cli.common import command_line_words
+from impedax.cli.refine import progress_printer, reproduce_line
+from impedax.plotting import plot_spectrum
+from impedax.plotting.comparison import plot_comparison
+from impedax.plotting.diagnosis import plot_diagnosis, plot_refinement
+
+F = np.geomspace(1e-2, 1e4, 31)
+
+
+def rc(r1: float, c1: float = 1e-3, r0: float = 0.1) -> np.ndarray:
+    return r0 + r1 / (1 + 1j * 2 * np.pi * F * r1 * c1)
+
+
+def fit(model: str, z_model: np.ndarray, z_data: np.ndarray, **extra) -> SimpleNamespace:
+    residuals = (z_model - z_data) / np.abs(z_data)
+    rms = float(np.sqrt(np.mean(np.abs(residuals) ** 2 / 2)))
+    return SimpleNamespace(model=model, frequency=F, z_data=z_data, z_model=z_model, residuals=residuals, rms_rel=rms, **extra)
+
+
+def legend_texts(ax) -> list[str]:
+    legend = ax.get_legend()
+    return [t.get_text() for t in legend.get_texts()] if legend is not None else []
+
+
+def tick_texts(axis) -> list[str]:
+    axis.axes.figure.canvas.draw()
+    return [t.get_text() for t in axis.get_ticklabels(which="both") if t.get_text()]
+
+
+def test_spectrum_figure_names_the_shaded_bands():
+    fig = plot_spectrum((F, rc(1.0)), (F, rc(1.1)), bands=[(0.1, 1.0)])
+    assert "model fails" in legend_texts(fig.axes[1])  # |Z| panel
+    labels = tick_texts(fig.axes[1].yaxis)  # |Z| from 0.1 to 1.1 Ω: 0.2, 0.3, ..., not 2×10⁻¹
+    assert labels and not any("10^" in t or "times" in t for t in labels), labels
+    plt.close(fig)
+
+
+def diagnosis_stand_in() -> SimpleNamespace:
+    data = rc(1.0) + rc(0.5, 1e-1, 0.0)
+    baseline = fit("R0 + R1 || C1", rc(1.4), data)
+    best = SimpleNamespace(effect="extra_relaxation+diffusion", fit=fit("R0 + R1 || C1 + R2 || C2", data * 1.001, data))
+    band = SimpleNamespace(f_min=0.05, f_max=5.0)
+    return SimpleNamespace(baseline=baseline, failing_bands=[band], verdict="missing_effect", best=best, noise_level=1e-3)
+
+
+def test_diagnosis_figure_legends_say_what_is_drawn():
+    fig = plot_diagnosis(diagnosis_stand_in())
+    nyquist, modulus, _, residual = fig.axes[:4]
+    assert "+ extra_relaxation+diffusion" in legend_texts(nyquist)
+    assert {"baseline", "+ extra_relaxation+diffusion", "model fails"} <= set(legend_texts(modulus))
+    assert {"Re (baseline)", "Im (baseline)", "|res| with extra_relaxation+diffusion"} <= set(legend_texts(residual))
+    plt.close(fig)
+
+
+def refinement_stand_in() -> SimpleNamespace:
+    data = rc(1.0) + rc(0.5, 1e-1, 0.0)
+    d = diagnosis_stand_in()
+    steps = [
+        SimpleNamespace(fit=fit("R0 + R1 || C1", rc(1.4), data), effect=None, removed=(), change="(start)", model="R0 + R1 || C1", diagnosis=d),
+        SimpleNamespace(fit=fit("R0 + R1 || C1 + R2 || C2", data * 1.002, data), effect="extra_relaxation", removed=(), change="+ R2 || C2 [extra_relaxation]", model="R0 + R1 || C1 + R2 || C2", diagnosis=SimpleNamespace(failing_bands=[], noise_level=1e-3)),
+    ]
+    return SimpleNamespace(steps=steps, final_model=steps[-1].model, verdict="adequate")
+
+
+def test_refinement_figure_plain_percent_ticks_named_shading_and_start():
+    fig = plot_refinement(refinement_stand_in())
+    labels = tick_texts(fig.axes[0].yaxis)
+    assert labels and not any("10^" in t or "times" in t or "e-0" in t for t in labels), labels
+    first = fig.axes[1]
+    assert "model fails" in legend_texts(first)
+    assert "(start)" not in first.get_title() and first.get_title().startswith("step 0: start")
+    plt.close(fig)
+
+
+def test_comparison_overlapping_models_in_their_own_line_styles_and_plain_ticks():
+    data = rc(1.0) * (1 + 0.05 * np.sin(np.log(F)))
+    same = rc(1.0)
+    comparison = SimpleNamespace(fits=[fit("R0 + R1 || C1", same, data), fit("R0 + R1 || CPE1", same, data)], best="R0 + R1 || C1")
+    fig = plot_comparison(comparison)
+    styles = {line.get_linestyle() for line in fig.axes[1].get_lines() if not line.get_label().startswith("data")}
+    assert len(styles) == 2
+    labels = tick_texts(fig.axes[3].yaxis)
+    assert labels and not any("10^" in t or "times" in t for t in labels), labels
+    plt.close(fig)
+
+
+def test_refine_progress_prints_the_line_said_before_the_delay():
+    out = io.StringIO()
+    say = progress_printer(0.05, stream=out)
+    say("step 0: diagnosing R0 + R1 || C1")
+    deadline = time.monotonic() + 5.0
+    while "step 0" not in out.getvalue() and time.monotonic() < deadline:
+        time.sleep(0.01)
+    say("step 1: diagnosing R0 + R1 || C1 + W")
+    say.close()
+    lines = out.getvalue().splitlines()
+    assert len(lines) == 2 and "step 0: diagnosing" in lines[0] and "step 1" in lines[1]
+
+
+def test_refine_progress_quiet_when_the_run_is_short():
+    out = io.StringIO()
+    say = progress_printer(0.05, stream=out)
+    say("step 0: diagnosing R0 + R1 || C1")
+    say.close()
+    time.sleep(0.15)
+    assert out.getvalue() == ""
+
+
+def test_refine_text_gives_the_command_for_init():
+    note = "fit of R0 + R1 || CPE1 from scratch reaches rms_rel 0.3 %; started from the refinement's values it reaches 0.2 % (pass init=)"
+    assert "pass init=" not in command_line_words(note) and "--init" in command_line_words(note)
+    final = SimpleNamespace(model="R0 + R1 || CPE1", values={"R0": 0.1, "R1": 1.5, "CPE1.Q": 0.05, "CPE1.alpha": 0.5}, fixed=dict.fromkeys(["R0", "R1", "CPE1.Q", "CPE1.alpha"], False))
+    args = SimpleNamespace(select=["cycle=0"], weighting=None, fmin=None, fmax=1000.0)
+    line = reproduce_line(SimpleNamespace(notes=(note,), final=final, masked_points=()), args)
+    assert "impedax fit DATA --select cycle=0 --fmax 1000.0 --model 'R0 + R1 || CPE1' --init R0=0.1 --init R1=1.5" in line
+    assert reproduce_line(SimpleNamespace(notes=("another note",), final=final, masked_points=()), args) is None
+    masked = reproduce_line(SimpleNamespace(notes=(note,), final=final, masked_points=(5.0, 50.0)), args)
+    assert "2 point(s)" in masked
+
+
+@pytest.mark.parametrize("label", ["not KK-consistent"])
+def test_kk_style_shading_after_legend_is_named(label):
+    from impedax.plotting import plot_bode, shade_bands
+
+    fig, (a, b) = plt.subplots(2)
+    plot_bode(a, b, (F, rc(1.0)), (F, rc(1.1)))
+    shade_bands([a, b], [(0.1, 1.0)], label=label)
+    assert label in legend_texts(a)
+    plt.close(fig)
