@@ -157,3 +157,37 @@ def test_kk_style_shading_after_legend_is_named(label):
     shade_bands([a, b], [(0.1, 1.0)], label=label)
     assert label in legend_texts(a)
     plt.close(fig)
+
+
+# --- text of the fitting results (the review's findings 1, 9 and 10) --------------------------------
+
+
+def test_a_batch_names_its_dimensions_in_words():
+    """Before: "3 spectra over {'cycle': 3}" (a Python dict)."""
+    from pathlib import Path
+
+    import impedax as ix
+
+    result = ix.fit("R0 + R1 || CPE1", ix.load(Path(__file__).resolve().parent.parent / "examples" / "data" / "autoeis_battery_cycles.nc"))
+    assert result.report().splitlines()[0] == "model R0 + R1 || CPE1: 3 spectra over cycle (3)"
+    assert "over cycle (3): converged" in result._repr_html_()
+
+
+def test_compound_units_are_written_with_omega():
+    from impedax.fitting.diagnosis.diagnosis import format_quantity
+
+    assert format_quantity(3050.0, "Ohm s^-1/2") == "3.05e+03 Ω s^-1/2"  # before: "Ohm s^-1/2"
+    assert format_quantity(2200.0, "Ohm") == "2.2 kΩ"
+
+
+def test_the_apply_line_says_when_the_diagnosis_left_points_out():
+    """BioLogic's file: the diagnosis masks 4 points the KK test blames; `impedax fit` of the
+    suggestion on every point reached 2.8 % where the suggestion has 1.69 %, and nothing said why."""
+    from pathlib import Path
+
+    import impedax as ix
+
+    d = ix.diagnose(ix.load(Path(__file__).resolve().parent / "fixtures" / "real" / "exampleDataBioLogic.mpt"), "R0 + R1 || C1")
+    assert d.masked_points and d.best is not None
+    report = d.report()
+    assert f"this diagnosis left out {len(d.masked_points)} point(s)" in report and "a fit of every point reaches other values" in report

@@ -36,6 +36,7 @@ from __future__ import annotations
 import enum
 import itertools
 import math
+import re
 from dataclasses import dataclass, field
 from typing import Mapping, NamedTuple, Sequence
 
@@ -288,6 +289,11 @@ class Diagnosis:
             best = self.suggestions[0].fit
             starts = " ".join(f"--init {k}={v:.6g}" for k, v in best.values.items() if not best.fixed[k])
             lines.append(f"  to apply 1. from its fitted values (a fit from scratch may stop in another minimum): impedax fit DATA --model '{best.model}' {starts}")
+            if self.masked_points:  # (impedax fit takes every point the file holds)
+                lines.append(
+                    f"     note: this diagnosis left out {len(self.masked_points)} point(s) ({', '.join(format_frequency(f) for f in self.masked_points[:6])}{', …' if len(self.masked_points) > 6 else ''}); "
+                    "a fit of every point reaches other values (in Python: ix.fit(model, data, init=diagnosis.best.fit) on the data without them)"
+                )
         elif self.candidates and self.verdict == Verdict.ADEQUATE:
             top = self.candidates[0]
             lines.append(f"no effect improves the fit significantly (best: {top.effect}, ΔAIC {top.delta_aic:+.1f}, rms_rel {top.rms_rel * 100:.3g} %).")
@@ -504,7 +510,7 @@ def format_quantity(value: float, unit: str) -> str:
     """``84 µF``, ``2.2 kΩ``, ``0.81`` (a value with an SI prefix; dimensionless as it is)."""
     if not unit or unit == "1" or not np.isfinite(value) or value == 0:
         return f"{value:.3g}" + (f" {unit}" if unit and unit != "1" else "")
-    unit = {"ohm": "Ω", "Ohm": "Ω"}.get(unit, unit)
+    unit = re.sub(r"\b[Oo]hm\b", "Ω", unit)  # (also inside compound units: "Ohm s^-1/2")
     if " " in unit or "^" in unit or "/" in unit:  # compound units (CPE Q, Warburg σ): plain
         return f"{value:.3g} {unit}"
     for scale, prefix in _PREFIXES:

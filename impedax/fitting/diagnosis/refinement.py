@@ -165,6 +165,12 @@ REUSE_CHI2_RTOL = 1e-6
 earlier fit's χ² is at most this much (relatively) above the path's own fit."""
 
 
+def _first_step_text(s) -> str:
+    """A path's first step in a note: the effect, what it adds and where (a pair of effects
+    without its placement, which names each addition at length: the diagnosis shows it)."""
+    return f"{s.effect} ({s.added})" if "+" in s.effect else f"{s.effect} ({s.added}, {s.where})"
+
+
 def _greedy(steps: list[RefinementStep], best, limit: int, diagnosed, say, label: str) -> list[RefinementStep]:
     """``steps`` continued greedily: add ``best`` (a `Suggestion` of the last step's diagnosis),
     diagnose the new model, add its best significant suggestion, ... until the verdict is not
@@ -234,7 +240,7 @@ def _second_path(steps: list[RefinementStep], limit: int, diagnosed, say, notes:
         slight = better and b.n_params > a.n_params and noise_variance_explained(a, b, first) < NOISE_FRACTION_MIN
         better = better and not slight
         notes.append(
-            f"a {label}, starting from {alt.effect} ({alt.added}, {alt.where}) instead of {picked.effect} ({picked.added}, {picked.where}), "
+            f"a {label}, starting from {_first_step_text(alt)} instead of {_first_step_text(picked)}, "
             f"ends at {other[-1].model} (AIC {b.aic:.1f}, {b.n_params} parameters) against {steps[-1].model} (AIC {a.aic:.1f}, {a.n_params} parameters): "
             + ("it is kept" if better else "the path before it is kept")
             + (f" (it fits better by AIC, but with {b.n_params - a.n_params} more parameter(s) it explains under {NOISE_FRACTION_MIN:.0%} of the noise variance more)" if slight else "")

@@ -89,7 +89,7 @@ class BatchFitResult:
 
         s = self.summary()
         rows = [{"parameter": p, "median": v["median"], "q16": v["q16"], "q84": v["q84"]} for p, v in s["params"].items()]
-        lines = [f"{self.n_spectra} spectra over {s['dims']}: converged {s['converged_fraction'] * 100:.1f}%, median rms_rel {s['rms_rel_median'] * 100:.3g} %"]
+        lines = [f"{self.n_spectra} spectra over {_dims_text(s['dims'])}: converged {s['converged_fraction'] * 100:.1f}%, median rms_rel {s['rms_rel_median'] * 100:.3g} %"]
         return result_html(self.model, rows, lines=lines)
 
     def plot(self, *, title: str | None = None):
@@ -120,7 +120,7 @@ class BatchFitResult:
 
     def _parameter_lines(self) -> list[str]:
         s = self.summary()
-        lines = [f"model {self.model}: {self.n_spectra} spectra over {s['dims']}", f"converged: {s['converged_fraction'] * 100:.1f}%   median rms_rel {s['rms_rel_median'] * 100:.3g} %", "", f"{'parameter':<16} {'median':>12} {'16%':>12} {'84%':>12}"]
+        lines = [f"model {self.model}: {self.n_spectra} spectra over {_dims_text(s['dims'])}", f"converged: {s['converged_fraction'] * 100:.1f}%   median rms_rel {s['rms_rel_median'] * 100:.3g} %", "", f"{'parameter':<16} {'median':>12} {'16%':>12} {'84%':>12}"]
         for p, v in s["params"].items():
             lines.append(f"{p:<16} {v['median']:>12.5g} {v['q16']:>12.5g} {v['q84']:>12.5g}")
         return lines
@@ -129,6 +129,11 @@ class BatchFitResult:
         """The warnings, one line per kind with the spectra it applies to (`grouped_warnings`),
         after an empty line; none when there are none."""
         return ["", *grouped_warnings(self.warnings, self.n_spectra)] if any(self.warnings.values()) else []
+
+
+def _dims_text(dims: dict[str, int]) -> str:
+    """``cycle (3)`` or ``session (2) × trial (5)``: a batch's dimensions and their sizes."""
+    return " × ".join(f"{d} ({n})" for d, n in dims.items())
 
 
 def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source) -> tuple[SolverOutput, np.ndarray, "_LaneRunner"]:
