@@ -191,3 +191,8 @@ def test_the_apply_line_says_when_the_diagnosis_left_points_out():
     assert d.masked_points and d.best is not None
     report = d.report()
     assert f"this diagnosis left out {len(d.masked_points)} point(s)" in report and "a fit of every point reaches other values" in report
+    # before: "the residuals show no structure beyond the noise." and then MISSING_EFFECT, and #1 at
+    # ΔAIC −78.2 listed before #2 at −85.7 with no word of the parsimony rule
+    assert "no structure beyond the noise." not in report
+    assert "no band of the residuals is structured beyond the noise on its own (the verdict below weighs all points together)." in report
+    assert "of candidates within 10 of each other, the simpler first" in report

@@ -277,12 +277,12 @@ class Diagnosis:
                 tag = " [data problem: KK flags this band]" if band.data_problem else ""
                 lines.append(f"  {format_frequency(band.f_min)} – {format_frequency(band.f_max)}: {band.pattern}{tag}")
         else:
-            lines.append("the residuals show no structure beyond the noise.")
+            lines.append("no band of the residuals is structured beyond the noise on its own" + (" (the verdict below weighs all points together)." if self.verdict == Verdict.MISSING_EFFECT else "."))
         if self.drt is not None:
             lines.append(f"DRT: {self.drt.text}.")
         lines.append(f"verdict: {self.verdict.upper()} — {self.reason}")
         if self.suggestions:
-            lines.append("what is missing (best first):")
+            lines.append(f"what is missing (best first: by AIC; of candidates within {DELTA_AIC_MIN:g} of each other, the simpler first):")
             for i, s in enumerate(self.suggestions[:5], 1):
                 lines.append(f"  {i}. [{s.effect}] {s.explanation}")
                 lines.append(f"     model {s.model}   rms_rel {s.rms_rel * 100:.3g} %   ΔAIC {s.delta_aic:+.1f}   ΔBIC {s.delta_bic:+.1f}")
