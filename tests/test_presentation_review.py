@@ -196,3 +196,24 @@ def test_the_apply_line_says_when_the_diagnosis_left_points_out():
     assert "no structure beyond the noise." not in report
     assert "no band of the residuals is structured beyond the noise on its own (the verdict below weighs all points together)." in report
     assert "of candidates within 10 of each other, the simpler first" in report
+
+
+def test_compare_s_best_mark_says_when_the_best_fit_has_warnings():
+    """CH Instruments' spectrum: the lowest AIC goes to R0 + R1 || CPE1, whose R1 is undetermined
+    (relative error 1e14 %); the table marked it "← best" with nothing on the row."""
+    from pathlib import Path
+
+    import impedax as ix
+
+    data = ix.load(Path(__file__).resolve().parent / "fixtures" / "real" / "exampleDataCHInstruments.txt")
+    c = ix.compare([ix.fit(m, data) for m in ("R0 + R1 || C1", "R0 + R1 || CPE1")])
+    best = next(f for f in c.fits if f.model == c.best)
+    row = next(line for line in c.table().splitlines() if "← best" in line)
+    assert best.warnings and row.endswith(f"← best by AIC, with {len(best.warnings)} warning(s) below")
+
+
+def test_bound_notes_write_compound_units_with_omega():
+    from impedax.fitting.least_squares.result import bound_note
+
+    note = bound_note("W1.sigma", 0.0, "lower", value=6.61e7, stderr=2.3e27, unit="Ohm s^-1/2")
+    assert note == "W1.sigma = 6.61e+07 Ω s^-1/2 cannot be told from its lower bound 0 (standard error 2.3e+27 Ω s^-1/2)"

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Sequence
+from typing import Mapping, Sequence
 
 import numpy as np
 import xarray as xr
@@ -63,6 +63,14 @@ class Comparison:
         """JSON form used by ``impedax compare --json``."""
         return {"models": [dict(r) for r in self.rows], "best": self.best, "f_tests": [dict(t) for t in self.f_tests]}
 
+    def _best_mark(self) -> str:
+        """The table's mark of the best model by AIC, saying when its fit has warnings (an
+        undetermined parameter, a gross misfit): the lowest AIC is then no endorsement."""
+        fit = next((f for f in self.fits if f.model == self.best), None)
+        warnings = fit.warnings if fit is not None else ()
+        n = len({w for ws in warnings.values() for w in ws}) if isinstance(warnings, Mapping) else len(warnings)
+        return "   ← best" + (f" by AIC, with {n} warning(s) below" if n else "")
+
     def table(self) -> str:
         extra = [c for c in ("log_evidence", "waic") if any(c in r for r in self.rows)]
         width = max(len(r["model"]) for r in self.rows)
@@ -71,7 +79,7 @@ class Comparison:
         for r in self.rows:
             line = f"{r['model']:<{width}}  {r['n_params']:>2}  {r['rms_rel'] * 100:>8.3g}%  {r['chi2_red']:>10.4g}  {r['aic']:>9.2f}  {r['bic']:>9.2f}  {r['delta_aic']:>7.2f}  {r['akaike_weight']:>6.3f}"
             line += "".join(f"  {r.get(c, math.nan):>12.2f}" for c in extra)
-            lines.append(line + ("   ← best" if r["model"] == self.best else ""))
+            lines.append(line + (self._best_mark() if r["model"] == self.best else ""))
         for t in self.f_tests:
             lines.append(f"F-test {t['simple']}  ⊂  {t['complex']}: F = {t['f']:.3g}, p = {t['p_value']:.3g}")
         return "\n".join(lines)

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import collections
 import math
+import re
 from dataclasses import dataclass, field
 from typing import Callable
 
@@ -253,7 +254,7 @@ def bound_note(name: str, bound: float, side: str, *, value: float | None = None
     (standard error 1.3e+18 Ω)"."""
     if value is None:
         return f"{name} is at its {side} bound {bound:g}"
-    u = _UNIT_TEXT.get(unit, unit)
+    u = _UNIT_TEXT.get(unit, re.sub(r"\b[Oo]hm\b", "Ω", unit))  # (also inside compound units: "Ohm s^-1/2")
     u = f" {u}" if u else ""
     return f"{name} = {value:.3g}{u} cannot be told from its {side} bound {bound:g} (standard error {stderr:.2g}{u})"
 
