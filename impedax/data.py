@@ -10,6 +10,7 @@
 
 from __future__ import annotations
 
+import re
 from typing import Mapping, Sequence
 
 import numpy as np
@@ -123,6 +124,12 @@ def format_frequency(f: float) -> str:
         if f >= scale or unit == "mHz":
             return f"{f / scale:.3g} {unit}"
     return f"{f:.3g} Hz"  # (not reached: mHz takes every smaller value)
+
+
+def unit_text(unit: str) -> str:
+    """A parameter's unit (its element spec's spelling) for text: ``Ohm`` as ``Ω``, also inside
+    compound units (``Ω s^-1/2``); a dimensionless ``1`` as nothing."""
+    return "" if unit == "1" else re.sub(r"\b[Oo]hm\b", "Ω", unit)
 
 
 def format_time(tau: float, digits: int = 3) -> str:

@@ -101,8 +101,6 @@ def add_select_option(parser) -> None:
     )
 
 
-
-
 def dimension_labels(data, dim: str) -> list:
     """The labels of ``data``'s spectra along ``dim``: its coordinate's values, or the positions
     where ``dim`` has no coordinate."""

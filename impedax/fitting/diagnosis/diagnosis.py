@@ -36,7 +36,6 @@ from __future__ import annotations
 import enum
 import itertools
 import math
-import re
 from dataclasses import dataclass, field
 from typing import Mapping, NamedTuple, Sequence
 
@@ -45,7 +44,7 @@ import xarray as xr
 
 from ...arguments import MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice, count, flag, frequency, instance_of, real, seed as seed_rule
 from ...circuits import Circuit, DEFAULT_REGISTRY, Element, Parallel, Registry, Series, parse
-from ...data import make_spectrum
+from ...data import make_spectrum, unit_text
 from ...errors import DataError, FitError, ImpedaxError, ParameterError
 from ..drt import PeakEvidence, drt, r_cpe_tau, unexplained_peaks
 from ..kk import KKResult, kk_test
@@ -510,7 +509,7 @@ def format_quantity(value: float, unit: str) -> str:
     """``84 µF``, ``2.2 kΩ``, ``0.81`` (a value with an SI prefix; dimensionless as it is)."""
     if not unit or unit == "1" or not np.isfinite(value) or value == 0:
         return f"{value:.3g}" + (f" {unit}" if unit and unit != "1" else "")
-    unit = re.sub(r"\b[Oo]hm\b", "Ω", unit)  # (also inside compound units: "Ohm s^-1/2")
+    unit = unit_text(unit)
     if " " in unit or "^" in unit or "/" in unit:  # compound units (CPE Q, Warburg σ): plain
         return f"{value:.3g} {unit}"
     for scale, prefix in _PREFIXES:

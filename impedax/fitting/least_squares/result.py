@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import collections
 import math
-import re
 from dataclasses import dataclass, field
 from typing import Callable
 
@@ -14,6 +13,7 @@ import numpy as np
 import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit
+from ...data import unit_text
 from ..parameters import ParameterTable, data_scales
 from ..statistics import information_criteria, non_passive, uncertainties
 from .solvers import SolverOutput, SolverStatus
@@ -244,9 +244,6 @@ def undetermined_note(name: str, relative_error: float) -> str:
     return f"{name} has a relative standard error of {relative_error * 100:.3g}%: it is not determined by the data"
 
 
-_UNIT_TEXT = {"Ohm": "Ω", "1": ""}
-
-
 def bound_note(name: str, bound: float, side: str, *, value: float | None = None, stderr: float | None = None, unit: str = "") -> str:
     """The note of a parameter at its ``side`` ("lower"/"upper") bound: on it (`on_bound`),
     "R0 is at its lower bound 0"; off it (``value`` and its ``stderr`` given, in ``unit``) but
@@ -254,7 +251,7 @@ def bound_note(name: str, bound: float, side: str, *, value: float | None = None
     (standard error 1.3e+18 Ω)"."""
     if value is None:
         return f"{name} is at its {side} bound {bound:g}"
-    u = _UNIT_TEXT.get(unit, re.sub(r"\b[Oo]hm\b", "Ω", unit))  # (also inside compound units: "Ohm s^-1/2")
+    u = unit_text(unit)
     u = f" {u}" if u else ""
     return f"{name} = {value:.3g}{u} cannot be told from its {side} bound {bound:g} (standard error {stderr:.2g}{u})"
 
