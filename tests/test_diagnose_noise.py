@@ -576,6 +576,38 @@ def test_noise_growing_toward_low_frequency_is_not_masked_as_the_datas_problem()
     assert d.suggestions[0].effect == "diffusion", d.report()
 
 
+def _real_test_data():
+    from pathlib import Path
+
+    return ix.load(Path(__file__).parent / "fixtures" / "real" / "test_data.txt"), "R0 + R1 || CPE1"
+
+
+def _battery_with_noise_growing_toward_low_frequency():
+    case, data = _draw("diffusion/battery", 20, variant=1)
+    return data, case.circuit
+
+
+@pytest.mark.parametrize("spectrum", [_real_test_data, _battery_with_noise_growing_toward_low_frequency], ids=["test_data.txt", "battery"])
+def test_every_step_of_a_refinement_is_judged_against_the_first_steps_noise(spectrum):
+    # refine passed its later steps the KK test after the first step's local judgement, whose
+    # fewer flags let the points it cleared raise the discrepancy floor: on AutoEIS's real
+    # test_data.txt the first step had σ ≈ 0.1 % (δ 0.074 %), every later one 0.34 % (δ 0.33 %),
+    # and the last model of 14 parameters sat at 0.14× that noise. Every step is one model
+    # against the same points, so every step has the first step's noise model
+    data, circuit = spectrum()
+    r = ix.refine(data, circuit, max_effects=1)
+    first = r.steps[0].diagnosis
+    assert int(ix.kk_test(data).flagged.sum()) > 0 and any("within the noise where they are" in n for n in first.notes)
+    for step in r.steps[1:]:
+        d = step.diagnosis
+        assert np.array_equal(d.baseline.frequency, first.baseline.frequency)
+        assert d.discrepancy == pytest.approx(first.discrepancy, rel=1e-9, abs=1e-12), (d.discrepancy, first.discrepancy)
+        np.testing.assert_allclose(d.noise, first.noise, rtol=1e-9)
+        assert d.noise_source == first.noise_source
+    limited = [n for n in r.notes if n.startswith("refine stopped at its limit of 1 added effect")]
+    assert len(limited) == (1 if r.verdict == "missing_effect" else 0), (r.verdict, r.notes)
+
+
 def test_a_drift_hidden_by_a_few_left_out_points_is_not_called_erratic():
     # R2 of two arcs drifts by 50 % along the sweep (SYNTHETIC dev draw outside the splits):
     # leaving out six scattered points made the KK test pass, so they were masked as erratic

@@ -74,6 +74,11 @@ fraction of its value for pure noise, 2 (so a large N cannot make a negligible i
 'significant'); each point counts by its own σ_k, as in the ranking."""
 NOISE_RATIO_MAX = 1.5
 """rms_rel/(√2 σ) above this with failing bands ⇒ the residuals are not noise."""
+SAME_FIT_NOISE = 1.0
+"""Two suggestions are listed as one fit when their model spectra differ by less than this × the
+noise σ_k at every point and their AIC by less than 2 (`_same_fit`): the data cannot tell them
+apart. Two placements of one R ∥ C are often the same function of frequency (R1 ∥ C1 + R ∥ C
+and (R1 + R ∥ C) ∥ C1); on CH Instruments' real file they differ by 0.002 σ at most."""
 KK_COMPARABLE = 0.5
 """A point's misfit is the data's own when the KK test flags it and its KK residual |Δ_kk| is at
 least this fraction of the model's |r| there."""
@@ -190,6 +195,7 @@ class Diagnosis:
     discrepancy: float = 0.0  # the model-discrepancy floor δ (relative, per component)
     masked_points: tuple[float, ...] = ()  # frequencies [Hz] left out as the data's problem: KK-flagged, or Re Z < 0
     kk_of_kept: KKResult | None = None  # the KK test of the points kept, when a few erratic points were masked
+    kk_as_tested: KKResult | None = None  # the KK test before its local judgement (``kk`` is after it); the discrepancy floor δ takes its flags
     solver_shape: SolverShape | None = None  # the compiled candidate solver's shape (refine passes it on: one compilation for all steps)
 
     def __post_init__(self):
@@ -282,9 +288,11 @@ class Diagnosis:
         lines.append(f"verdict: {self.verdict.upper()} — {self.reason}")
         if self.suggestions:
             lines.append(f"what is missing (best first: by AIC; of candidates within {DELTA_AIC_MIN:g} of each other, the simpler first):")
-            for i, s in enumerate(self.suggestions[:5], 1):
+            for i, (s, same) in enumerate(_folded(self.suggestions, self.noise)[:5], 1):
                 lines.append(f"  {i}. [{s.effect}] {s.explanation}")
                 lines.append(f"     model {s.model}   rms_rel {s.rms_rel * 100:.3g} %   ΔAIC {s.delta_aic:+.1f}   ΔBIC {s.delta_bic:+.1f}")
+                for t in same:
+                    lines.append(f"     the same fit within the noise (the data cannot tell them apart): {t.model} [{t.effect}]   ΔAIC {t.delta_aic:+.1f}")
             best = self.suggestions[0].fit
             starts = " ".join(f"--init {k}={v:.6g}" for k, v in best.values.items() if not best.fixed[k])
             lines.append(f"  to apply 1. from its fitted values (a fit from scratch may stop in another minimum): impedax fit DATA --model '{best.model}' {starts}")
@@ -359,10 +367,31 @@ class Diagnosis:
 
 def _thresholds() -> dict[str, float]:
     return {
-        "delta_aic_min": DELTA_AIC_MIN, "noise_fraction_min": NOISE_FRACTION_MIN, "noise_ratio_max": NOISE_RATIO_MAX, "run_p": RUN_P, "noise_floor": NOISE_FLOOR,
+        "delta_aic_min": DELTA_AIC_MIN, "noise_fraction_min": NOISE_FRACTION_MIN, "noise_ratio_max": NOISE_RATIO_MAX, "same_fit_noise": SAME_FIT_NOISE, "run_p": RUN_P, "noise_floor": NOISE_FLOOR,
         "kk_invalid_fraction": KK_INVALID_FRACTION, "kk_comparable": KK_COMPARABLE, "mask_max_fraction": MASK_MAX_FRACTION,
         "relative_error_max": RELATIVE_ERROR_MAX, "correlation_max": CORRELATION_MAX, "correlated_error_max": CORRELATED_ERROR_MAX, "correlation_singular": CORRELATION_SINGULAR,
     }
+
+
+def _same_fit(a: FitResult, b: FitResult, noise: np.ndarray) -> bool:
+    """Do fits ``a`` and ``b`` of the same points give the same spectrum within
+    `SAME_FIT_NOISE` × the noise σ_k (relative) at every point, and AIC within 2?"""
+    if a.frequency.shape != b.frequency.shape or not np.array_equal(a.frequency, b.frequency) or abs(a.aic - b.aic) >= 2:
+        return False
+    return bool(np.all(np.abs(a.z_model - b.z_model) < SAME_FIT_NOISE * noise * np.abs(a.z_data)))
+
+
+def _folded(suggestions: Sequence[Suggestion], noise: np.ndarray) -> list[tuple[Suggestion, list[Suggestion]]]:
+    """The suggestions in their order, each later one that is the same fit as one before it
+    (`_same_fit`) folded into that one: [(suggestion, [the same fits]), ...]."""
+    out: list[tuple[Suggestion, list[Suggestion]]] = []
+    for s in suggestions:
+        home = next((same for t, same in out if _same_fit(t.fit, s.fit, noise)), None)
+        if home is None:
+            out.append((s, []))
+        else:
+            home.append(s)
+    return out
 
 
 def format_range(sigma: np.ndarray) -> str:
@@ -1289,7 +1318,7 @@ def diagnose(
             problem = problem._replace(masked=np.zeros_like(problem.masked), note=None)
     if problem.invalid is not None:
         bands = failing_bands(base, nm.sigma_rel, kk_bad_bands=kk_bands)
-        return Diagnosis(base, kk, nm.sigma_rel, nm.source, bands, (), Verdict.DATA_INVALID, problem.invalid, tuple(notes), _thresholds(), None, nm.measurement, nm.discrepancy, not_passive, solver_shape=shape)
+        return Diagnosis(base, kk, nm.sigma_rel, nm.source, bands, (), Verdict.DATA_INVALID, problem.invalid, tuple(notes), _thresholds(), None, nm.measurement, nm.discrepancy, not_passive, kk_as_tested=kk_as_tested, solver_shape=shape)
     if problem.note:
         notes.append(problem.note)
     keep = ~problem.masked
@@ -1330,4 +1359,4 @@ def diagnose(
             base = better
             bands, cands, verdict, reason = judged(base)
     masked = tuple(sorted(masked + not_passive))
-    return Diagnosis(base, kk, sigma_rel, nm.source, bands, tuple(cands), verdict, reason, tuple(notes), _thresholds(), evidence, measurement, nm.discrepancy, masked, kk_kept, shape)
+    return Diagnosis(base, kk, sigma_rel, nm.source, bands, tuple(cands), verdict, reason, tuple(notes), _thresholds(), evidence, measurement, nm.discrepancy, masked, kk_kept, kk_as_tested, shape)

@@ -436,7 +436,9 @@ def refine(
     say(f"step 0: diagnosing {circuit}")
     first = diagnose(ds, circuit, effects=effects, noise=noise, weighting=weighting, registry=registry, n_starts=n_starts, max_steps=solver_steps, seed=seed, drt_evidence=drt_evidence)
     masked = first.masked_points
-    kk = first.kk_of_kept or first.kk
+    # the KK test as the first diagnosis got it (before its local judgement, which every step
+    # redoes): the discrepancy floor δ takes that test's flags, so each step has the first's noise
+    kk = first.kk_of_kept or first.kk_as_tested or first.kk
 
     # paths often meet (a second path reaching a model the first diagnosed): a model diagnosed
     # before, at a fit at least as good, is not diagnosed again, and a fit refitted from
@@ -467,5 +469,10 @@ def refine(
     steps = _greedy([RefinementStep(first.baseline, None, None, first)], first.best, limit, diagnosed, say, "")
     steps = _second_path(steps, limit, diagnosed, say, notes, finished)
     steps = _simplified(steps, used, n_starts=n_starts, seed=seed, diagnosed=diagnosed, reproduced=reproduced, say=say, notes=notes)
-    verdict = steps[-1].diagnosis.verdict
-    return Refinement(tuple(steps), verdict, tuple(notes), masked)
+    last = steps[-1].diagnosis
+    if last.verdict == Verdict.MISSING_EFFECT and last.best is not None and sum(s.added is not None for s in steps) >= limit:
+        notes.append(
+            f"refine stopped at its limit of {limit} added effect(s) (max_effects; --max-effects of impedax refine) while the last model "
+            f"still misses an effect ({last.best.effect}, see the verdict): a higher limit goes on"
+        )
+    return Refinement(tuple(steps), last.verdict, tuple(notes), masked)
