@@ -368,3 +368,30 @@ def test_hidden_effect_study():
     assert len(rows) >= 30
     assert hits / len(rows) >= 0.85
     assert ok / len(adequate) >= 0.8
+
+
+def test_two_placements_that_are_one_function_are_listed_as_one_fit():
+    # two R ∥ C arcs (SYNTHETIC, written here, 0.5 % noise) diagnosed with one: the missing arc in
+    # series (R0 + R1 ∥ C1 + R ∥ C) and nested ((R1 + R ∥ C) ∥ C1) are the same function of
+    # frequency (a Foster and a Cauer ladder of two RC), and so is either with a CPE whose
+    # exponent reaches 1, so the report lists them as one fit; a Warburg stays apart
+    from impedax.fitting.diagnosis.diagnosis import _folded
+
+    rng = np.random.default_rng(3)
+    f = np.geomspace(0.1, 1e5, 50)
+    jw = 2j * np.pi * f
+    z = 20.0 + 500.0 / (1 + jw * 500.0 * 2e-6) + 300.0 / (1 + jw * 300.0 * 5e-4)
+    z = z + 0.005 * np.abs(z) * (rng.normal(size=f.size) + 1j * rng.normal(size=f.size)) / np.sqrt(2)
+    d = ix.diagnose(ix.make_spectrum(f, z), "R0 + R1 || C1")
+    assert d.verdict == "missing_effect", d.report()
+    groups = _folded(d.suggestions, d.noise)
+    folded = {frozenset([s.model, *(t.model for t in same)]) for s, same in groups if same}
+    arcs = next(group for group in folded if "R0 + R1 || C1 + R_relax || C_relax" in group)
+    assert "R0 + (R1 + R_relax || C_relax) || C1" in arcs, d.report()
+    for s, same in groups:  # a fit folds in only as the same arc: an R ∥ C, or an R ∥ CPE at α ≈ 1
+        for t in [s, *same] if same else []:
+            assert t.effect == "extra_relaxation", (s.model, [t.model for t in same])
+            assert t.fit.values.get("CPE_relax.alpha", 1.0) > 0.97, t.fit.values
+    assert all(s.effect == "diffusion" for s, same in groups if not same)
+    report = d.report()
+    assert report.count("the same fit within the noise") == sum(len(same) for _, same in groups[:5]) >= 1
