@@ -133,3 +133,16 @@ def test_a_global_fit_gives_the_data_warnings_of_a_batch(one_arc):
     for key, texts in batch_p.warnings.items():
         weighted = [w for w in texts if "weight" in w]
         assert weighted and all(w in proportional.warnings[key] for w in weighted)
+
+
+def test_reports_write_ohm_as_the_symbol(one_arc):
+    # the parameter tables of single and global fits wrote the element spec's spelling "Ohm"
+    # where every other text of impedax writes Ω, and a batch's table had no unit column
+    shared = ix.fit("R0 + R1 || C1", one_arc, shared=["R0"])
+    single = ix.fit("R0 + R1 || C1", one_arc.isel(trial=0))
+    batch = ix.fit("R0 + R1 || C1", one_arc)
+    for report in (shared.report(), single.report(), batch.report()):
+        rows = [line for line in report.splitlines() if line.startswith(("R0 ", "R1 ", "C1 "))]
+        assert rows and all(line.endswith(" Ω") for line in rows if line.startswith("R")), rows
+        assert all(line.endswith(" F") for line in rows if line.startswith("C1")), rows
+        assert "Ohm" not in report

@@ -7,6 +7,8 @@ import math
 
 import numpy as np
 
+from ..data import unit_text
+
 
 def plot_batch(batch, *, title: str | None = None):
     """One panel per free parameter (value ± stderr for each spectrum, in the order of the batch
@@ -32,7 +34,7 @@ def plot_batch(batch, *, title: str | None = None):
         else:
             y = ds["value"].sel(param=name).transpose(*batch.dims).values.ravel()
             err = ds["stderr"].sel(param=name).transpose(*batch.dims).values.ravel()
-            unit = {"Ohm": "Ω", "1": ""}.get(specs[name].unit, specs[name].unit)
+            unit = unit_text(specs[name].unit)
         ax.errorbar(index, y, yerr=None if err is None else np.where(np.isfinite(err), err, 0.0), fmt="o", ms=3, lw=0.8, capsize=1.5)
         positive = y[np.isfinite(y)]
         if positive.size and np.all(positive > 0) and positive.max() > 20 * positive.min():

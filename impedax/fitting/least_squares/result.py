@@ -157,12 +157,12 @@ class FitResult:
         ]
         for n, v in self.values.items():
             if self.fixed[n]:
-                lines.append(f"{n:<{width}}  {v:>12.5g}  {'(fixed)':>10}  {'':>8}  {specs[n].unit}")
+                lines.append(f"{n:<{width}}  {v:>12.5g}  {'(fixed)':>10}  {'':>8}  {unit_text(specs[n].unit)}".rstrip())
             else:
                 e = self.stderr[n]
                 # at a bound the linearised error says nothing (a log transform's scale at 0)
                 rel = "at bound" if n in self.at_bound else f"{abs(e / v) * 100:.2g}%" if v and np.isfinite(e) else "—"
-                lines.append(f"{n:<{width}}  {v:>12.5g}  {e:>10.3g}  {rel:>8}  {specs[n].unit}")
+                lines.append(f"{n:<{width}}  {v:>12.5g}  {e:>10.3g}  {rel:>8}  {unit_text(specs[n].unit)}".rstrip())
         for w in self.warnings:
             if not w.startswith("fit did not converge"):  # the status line says it once
                 lines.append(f"warning: {w}")
