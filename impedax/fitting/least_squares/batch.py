@@ -22,6 +22,7 @@ from ..parameters import ParameterTable
 from ..problem import residual_scale, weights
 from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, dominant_points, information_criteria, null_sets
 from .order import canonical_order
+from .branches import idle_branch_notes, undetermined_mask
 from .result import bound_sides, confirm_bounds, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, stack_notes, weighting_notes
 from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, TreeSolvers, better, over_devices, padded_points, tree_solver, trimmed, unscale
 from .starts import SpectrumFeatures, climb_target, batch_outliers, escalation_rungs, guess_start, rms_rel_of, rung_seed, rung_starts, to_solver_space
@@ -432,6 +433,10 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
     for i in np.flatnonzero(~odd & singular).tolist():
         groups, ratio = null_sets(sv[i], vt[i], table.free_names)
         notes[i] = fit_notes(table, dict(zip(names, values[i].tolist())), dict(zip(names, stderr[i].tolist())), corr[i], groups, ratio, finite=True, converged=True, message="", sides=sides[i], freq=freq, z=z[i])
+    # idle branches (the fits that did not converge get the note from `fit_result`)
+    idle = idle_branch_notes(circuit, registry, table, values[regular], undetermined_mask(table, values[regular], stderr[regular], sides[regular]), freq)
+    for row, note in idle.items():
+        notes[regular[row]] = notes[regular[row]] + note
     z_model = np.array(out.z_model)
     weighting_extra = data_notes(freq, z, z_model, sigma, weighting, source, solver.kk_misfits)
     for i in np.flatnonzero(odd):

@@ -16,6 +16,7 @@ from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit
 from ...data import unit_text
 from ..parameters import ParameterTable, data_scales
 from ..statistics import information_criteria, non_passive, uncertainties
+from .branches import RELATIVE_ERROR_LIMIT, idle_branch_notes, undetermined_mask
 from .solvers import SolverOutput, SolverStatus
 from .starts import attainable_misfit, rms_rel_of
 
@@ -25,9 +26,8 @@ __all__ = [
     "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION",
 ]
 
-# identifiability thresholds (documented in the README)
+# identifiability thresholds (documented in the README; RELATIVE_ERROR_LIMIT in `branches`)
 CORRELATION_LIMIT = 0.99
-RELATIVE_ERROR_LIMIT = 1.0
 # a free parameter is at a bound (docs/fitting.md, "Convergence and bounds") when the bound lies
 # within this many standard errors (or within 1e-4 relative of a nonzero bound) ... (a filter of
 # candidates: rule 2 decides. Two, not one: on exact data a series R creeping to 0 stops at
@@ -494,8 +494,7 @@ def stack_notes(
         relative_error = np.abs(e / v)
     if sides is None:
         sides = bound_sides(table, values, None)
-    with np.errstate(all="ignore"):
-        undetermined = (v != 0) & (sides == 0) & (~np.isfinite(e) | (relative_error > RELATIVE_ERROR_LIMIT))
+    undetermined = undetermined_mask(table, values, stderr, sides)
     for b, i in np.argwhere(undetermined).tolist():
         notes[b].append(undetermined_note(names[i], float(relative_error[b, i])))
     on = on_bound(table, values, sides, freq, z)
@@ -547,7 +546,11 @@ def fit_result(
         sides = confirm_bounds(table, x_all, bound_sides(table, x_all, np.array([stderr[nm] for nm in names])[None]), chi2_at_x, n)[0]
     else:
         sides = bound_sides(table, x_all, None)[0]
-    notes = fit_notes(table, values, stderr, corr, null_sets, ratio, finite=finite, converged=converged, message=message, sides=sides, freq=freq, z=z) + tuple(extra_notes)
+    notes = fit_notes(table, values, stderr, corr, null_sets, ratio, finite=finite, converged=converged, message=message, sides=sides, freq=freq, z=z)
+    if finite:
+        e_all = np.array([stderr[nm] for nm in names])[None]
+        notes += idle_branch_notes(circuit, registry, table, x_all, undetermined_mask(table, x_all, e_all, np.asarray(sides)[None]), freq).get(0, ())
+    notes += tuple(extra_notes)
     return FitResult(
         circuit=circuit,
         values=values,

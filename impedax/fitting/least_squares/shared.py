@@ -42,6 +42,7 @@ from ..parameters import ParameterTable, to_internal
 from ..problem import residual_scale, weights
 from ..statistics import information_criteria
 from .batch import BatchFitResult, data_notes, fit_batch
+from .branches import idle_branch_notes, undetermined_mask
 from .result import BOUND_CHI2_FRACTION, RELATIVE_ERROR_LIMIT, bound_note, bound_sides, on_bound, stack_notes
 from .solvers import SolverArgs, tree_residuals
 
@@ -440,6 +441,8 @@ def fit_shared(
     quiet_sides = sides.copy()
     quiet_sides[:, sh] = 0
     spectrum_notes = stack_notes(table, flat_values, quiet_stderr, corr_full.reshape(-1, k, k), quiet_sides, freq=freq, z=z.reshape(-1, n_freq))
+    for row, note in idle_branch_notes(circuit, registry, table, flat_values, undetermined_mask(table, flat_values, quiet_stderr, quiet_sides), freq).items():
+        spectrum_notes[row] = spectrum_notes.get(row, ()) + note
     # what concerns each spectrum's data in the global fit, the rules and texts of single and
     # batch fits (`batch.data_notes`: a weighting dominated by a few points, Re Z < 0, the misfit
     # against its own Kramers–Kronig misfit, whose KK test runs only for the spectra at rms_rel

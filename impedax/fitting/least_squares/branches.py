@@ -1,0 +1,78 @@
+"""Idle branches: why a parameter is undetermined when its element is one branch of a parallel
+block that carries next to none of the block's current over the measured band (a resistor that
+ran open beside a CPE, a capacitance beside a resistor that shorts it). Single, batch and
+global fits add the same note (docs/fitting.md, "Warnings")."""
+
+from __future__ import annotations
+
+import collections
+from typing import Iterator
+
+import numpy as np
+
+from ...circuits import Circuit, Element, Parallel, Registry
+from ...circuits.compile import node_function
+from ..parameters import ParameterTable
+
+__all__ = ["IDLE_BRANCH_SHARE", "RELATIVE_ERROR_LIMIT", "undetermined_mask", "idle_branch_notes"]
+
+RELATIVE_ERROR_LIMIT = 1.0
+"""A free parameter whose standard error exceeds this × its value is not determined by the data."""
+IDLE_BRANCH_SHARE = 1e-3
+"""A branch of a parallel block is idle when its admittance stays below this fraction of the
+block's at every frequency: without it the block's impedance changes by at most about as much."""
+
+
+def undetermined_mask(table: ParameterTable, values: np.ndarray, stderr: np.ndarray, sides: np.ndarray) -> np.ndarray:
+    """(B, K) over the free parameters of fits with values and stderr (B, P) and bound sides
+    (B, K): not at a bound, nonzero, and a relative standard error above
+    `RELATIVE_ERROR_LIMIT` (or none finite)."""
+    free = table.free_index
+    v, e = np.asarray(values, float)[:, free], np.asarray(stderr, float)[:, free]
+    with np.errstate(all="ignore"):
+        return (v != 0) & (np.asarray(sides) == 0) & (~np.isfinite(e) | (np.abs(e / v) > RELATIVE_ERROR_LIMIT))
+
+
+def _parallel_branches(circuit: Circuit) -> Iterator[tuple[Parallel, int]]:
+    """(parallel node, index of a child that is an element) in the order of the circuit text."""
+    if isinstance(circuit, Element):
+        return
+    for i, child in enumerate(circuit.children):
+        if isinstance(circuit, Parallel) and isinstance(child, Element):
+            yield circuit, i
+        yield from _parallel_branches(child)
+
+
+def idle_branch_notes(circuit: Circuit, registry: Registry, table: ParameterTable, values: np.ndarray, undetermined: np.ndarray, freq) -> dict[int, tuple[str, ...]]:
+    """{row: notes} for fits with values (B, P) whose free parameters ``undetermined`` (B, K,
+    `undetermined_mask`) include one of an element that is a branch of a parallel block and
+    carries below `IDLE_BRANCH_SHARE` of the block's current at every frequency ``freq``:
+    |Y_branch / Σ Y| over the block's children, each evaluated at the fitted values. The note
+    names the share and the model without the element."""
+    notes: dict[int, list[str]] = collections.defaultdict(list)
+    undetermined = np.asarray(undetermined, bool)
+    if not undetermined.any():
+        return {}
+    omega = 2 * np.pi * np.asarray(freq, float)[None, :]
+    column = {n: j for j, n in enumerate(table.free_names)}
+    values = np.asarray(values, float)
+    for node, i in _parallel_branches(circuit):
+        element = node.children[i]
+        own = [column[n] for n in registry[element.symbol].parameter_names(element.name) if n in column]
+        rows = np.flatnonzero(undetermined[:, own].any(axis=1)) if own else np.zeros(0, int)
+        if not rows.size:
+            continue
+        params = {n: values[rows, j][:, None] for j, n in enumerate(table.names)}
+        with np.errstate(all="ignore"):
+            admittances = [np.asarray(node_function(c, registry, "Y")(params, omega)) for c in node.children]
+            share = np.max(np.abs(admittances[i] / sum(admittances)), axis=1)
+        idle = np.isfinite(share) & (share < IDLE_BRANCH_SHARE)
+        if not idle.any():
+            continue
+        reduced = circuit.without(element.name)
+        for row, s in zip(rows[idle].tolist(), share[idle].tolist()):
+            notes[row].append(
+                f"{element.name} carries at most {s:.2g}× the current through {node} over the band, so the data cannot determine it: "
+                f"{reduced}, the model without it, differs from this fit by about that fraction of the block's impedance"
+            )
+    return {row: tuple(n) for row, n in notes.items()}

@@ -1,0 +1,67 @@
+"""The note on an idle branch: a parameter undetermined because its element is a branch of a
+parallel block that carries next to none of the block's current (`least_squares.branches`,
+docs/fitting.md, "Warnings"). SYNTHETIC spectra written here as formulas."""
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import impedax as ix
+
+F = np.geomspace(0.1, 1e5, 50)
+JW = 2j * np.pi * F
+
+
+def noisy(z, seed=0, rel=0.002):
+    rng = np.random.default_rng(seed)
+    return ix.make_spectrum(F, z * (1 + rel * (rng.normal(size=z.size) + 1j * rng.normal(size=z.size)) / np.sqrt(2)))
+
+
+def blocking():
+    """A blocking electrode: R0 + a CPE with nothing in parallel (Z = R0 + 1/(Q (jω)^α))."""
+    return noisy(50.0 + 1 / (2e-5 * JW**0.85))
+
+
+def arc():
+    """R0 + R1 ∥ CPE1 whose arc closes inside the band (R1 Q ω^α = 1 near 30 Hz)."""
+    return noisy(50.0 + 1000.0 / (1 + 1000.0 * 2e-5 * JW**0.85), seed=1)
+
+
+def idle_notes(warnings):
+    return [w for w in warnings if "the current through" in w]
+
+
+def test_a_resistor_beside_a_cpe_of_a_blocking_electrode_is_named_idle():
+    r = ix.fit("R0 + R1 || CPE1", blocking())
+    notes = idle_notes(r.warnings)
+    assert len(notes) == 1, r.warnings
+    assert notes[0].startswith("R1 carries at most ") and "the current through R1 || CPE1 over the band" in notes[0]
+    assert "R0 + CPE1, the model without it" in notes[0]
+    share = float(notes[0].split("at most ")[1].split("×")[0])
+    assert share < 1e-3
+    # the claim holds: the model without R1 fits as well (the data were written without it)
+    assert ix.fit("R0 + CPE1", blocking()).rms_rel <= r.rms_rel * 1.001
+
+
+def test_an_arc_that_closes_in_the_band_has_no_idle_branch():
+    r = ix.fit("R0 + R1 || CPE1", arc())
+    assert idle_notes(r.warnings) == [], r.warnings
+    assert r.values["R1"] == pytest.approx(1000.0, rel=0.05)
+
+
+def test_single_batch_and_global_fits_give_the_idle_note():
+    # the first spectrum's R1 runs open in each kind of fit; the second's stops at 7.6e7 Ω in
+    # the global fit with a standard error of 90 % (determined by the rule), so it gets the note
+    # where the fit calls R1 undetermined
+    data = [blocking(), noisy(50.0 + 1 / (2e-5 * JW**0.85), seed=2)]
+    stack = xr.concat(data, dim="trial")
+    single = [ix.fit("R0 + R1 || CPE1", d).warnings for d in data]
+    batch = ix.fit("R0 + R1 || CPE1", stack)
+    shared = ix.fit("R0 + R1 || CPE1", stack, shared=["CPE1.alpha"])
+    for i in range(2):
+        for warnings in (single[i], batch.warnings.get(f"trial={i}", ()), shared.warnings.get(f"trial={i}", ())):
+            notes = idle_notes(warnings)
+            undetermined = any(w.startswith("R1 has a relative standard error") for w in warnings)
+            assert undetermined or i == 1, warnings
+            assert len(notes) == int(undetermined), warnings
+            assert all(n.startswith("R1 carries at most ") and "R0 + CPE1, the model without it" in n for n in notes), notes
