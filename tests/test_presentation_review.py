@@ -210,6 +210,10 @@ def test_compare_s_best_mark_says_when_the_best_fit_has_warnings():
     best = next(f for f in c.fits if f.model == c.best)
     row = next(line for line in c.table().splitlines() if "← best" in line)
     assert best.warnings and row.endswith(f"← best by AIC, with {len(best.warnings)} warning(s) below")
+    # ... and the table names the best model whose every parameter the data determine
+    assert not best.stderr["R1"] / best.values["R1"] < 1
+    assert c.best_determined == "R0 + R1 || C1" == c.summary()["best_determined"]
+    assert "R0 + R1 || CPE1 leaves R1 undetermined; the best model with every parameter determined is R0 + R1 || C1 (ΔAIC " in c.table()
 
 
 def test_bound_notes_write_compound_units_with_omega():

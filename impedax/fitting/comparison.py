@@ -14,8 +14,9 @@ from ..arguments import checked_arguments, sequence_of
 from ..circuits import Circuit, Element
 from ..errors import FitError
 from .least_squares import FitResult
+from .least_squares.branches import RELATIVE_ERROR_LIMIT
 
-__all__ = ["compare", "Comparison", "is_nested"]
+__all__ = ["compare", "Comparison", "is_nested", "undetermined_names"]
 
 
 def _nested(a: Circuit, b: Circuit) -> bool:
@@ -42,6 +43,17 @@ def _subsequence(small, big) -> bool:
     return True
 
 
+def undetermined_names(fit: FitResult) -> list[str]:
+    """The free parameters of ``fit`` the data do not determine: off their bounds, nonzero, with
+    a relative standard error above `RELATIVE_ERROR_LIMIT` (or none finite), as its warnings say."""
+    out = []
+    for n in fit.free_names:
+        v, e = fit.values[n], fit.stderr[n]
+        if n not in fit.at_bound and v != 0 and (not math.isfinite(e) or abs(e / v) > RELATIVE_ERROR_LIMIT):
+            out.append(n)
+    return out
+
+
 def is_nested(simple: Circuit, complex_: Circuit) -> bool:
     """Whether ``simple`` is a special case of ``complex_`` (see `_nested`)."""
     return _nested(simple, complex_) and len(list(simple.elements())) <= len(list(complex_.elements()))
@@ -59,9 +71,16 @@ class Comparison:
     def best(self) -> str:
         return min(self.rows, key=lambda r: r["aic"])["model"]
 
+    @property
+    def best_determined(self) -> str | None:
+        """The model of lowest AIC among the fits that leave no parameter undetermined
+        (`undetermined_names`); None when every fit leaves one."""
+        determined = [r for r, f in zip(self.rows, self.fits) if not undetermined_names(f)]
+        return min(determined, key=lambda r: r["aic"])["model"] if determined else None
+
     def summary(self) -> dict:
         """JSON form used by ``impedax compare --json``."""
-        return {"models": [dict(r) for r in self.rows], "best": self.best, "f_tests": [dict(t) for t in self.f_tests]}
+        return {"models": [dict(r) for r in self.rows], "best": self.best, "best_determined": self.best_determined, "f_tests": [dict(t) for t in self.f_tests]}
 
     def _best_mark(self) -> str:
         """The table's mark of the best model by AIC, saying when its fit has warnings (an
@@ -80,6 +99,13 @@ class Comparison:
             line = f"{r['model']:<{width}}  {r['n_params']:>2}  {r['rms_rel'] * 100:>8.3g}%  {r['chi2_red']:>10.4g}  {r['aic']:>9.2f}  {r['bic']:>9.2f}  {r['delta_aic']:>7.2f}  {r['akaike_weight']:>6.3f}"
             line += "".join(f"  {r.get(c, math.nan):>12.2f}" for c in extra)
             lines.append(line + (self._best_mark() if r["model"] == self.best else ""))
+        determined = self.best_determined
+        if determined != self.best:
+            best_fit = next(f for f in self.fits if f.model == self.best)
+            lines.append(
+                f"{self.best} leaves {', '.join(undetermined_names(best_fit))} undetermined; "
+                + (f"the best model with every parameter determined is {determined} (ΔAIC {next(r['delta_aic'] for r in self.rows if r['model'] == determined):.2f})" if determined else "so does every other model")
+            )
         for t in self.f_tests:
             lines.append(f"F-test {t['simple']}  ⊂  {t['complex']}: F = {t['f']:.3g}, p = {t['p_value']:.3g}")
         return "\n".join(lines)
