@@ -221,3 +221,25 @@ def test_bound_notes_write_compound_units_with_omega():
 
     note = bound_note("W1.sigma", 0.0, "lower", value=6.61e7, stderr=2.3e27, unit="Ohm s^-1/2")
     assert note == "W1.sigma = 6.61e+07 Ω s^-1/2 cannot be told from its lower bound 0 (standard error 2.3e+27 Ω s^-1/2)"
+
+
+def test_an_explanation_names_a_band_the_suggestion_lowers_but_does_not_clear():
+    # "removes the misfit at ..." named only the bands a suggestion cleared: one that fell from
+    # 4 % to 1 % but stayed a failing band went unmentioned. Stand-in fits, residuals by hand:
+    # 20 points, band A (1–3 Hz, 3 points) cleared, band B (100–300 Hz, 3 points) lowered ×4,
+    # band C (10–30 kHz) untouched, band D (most points) lowered but left to the overall rms_rel
+    from impedax.fitting.diagnosis.bands import FailingBand
+    from impedax.fitting.diagnosis.diagnosis import _lowered_bands
+
+    f = np.geomspace(1.0, 1e5, 20)
+    before = np.full(f.size, 0.001 + 0j)
+    after = before.copy()
+    band = {name: (f >= lo) & (f <= hi) for name, (lo, hi) in {"A": (1, 3), "B": (100, 300), "C": (1e4, 3e4), "D": (1, 1e5)}.items()}
+    before[band["B"]], after[band["B"]] = 0.04 * (1 + 1j), 0.01 * (1 + 1j)
+    before[band["C"]] = after[band["C"]] = 0.03 * (1 + 1j)
+    base, cand = SimpleNamespace(frequency=f, residuals=before), SimpleNamespace(frequency=f, residuals=after)
+    bands = [FailingBand(lo, hi, "", ("real",), 1.0) for lo, hi in ((1, 3), (100, 300), (1e4, 3e4), (1, 1e5))]
+    lowered = _lowered_bands(base, cand, bands, fixed=((1, 3),))
+    assert [b for b, _, _ in lowered] == [(100, 300)]
+    (_, rms_before, rms_after), = lowered
+    assert rms_before == pytest.approx(0.04) and rms_after == pytest.approx(0.01)  # rms of |r|²/2 per point

@@ -74,6 +74,9 @@ fraction of its value for pure noise, 2 (so a large N cannot make a negligible i
 'significant'); each point counts by its own σ_k, as in the ranking."""
 NOISE_RATIO_MAX = 1.5
 """rms_rel/(√2 σ) above this with failing bands ⇒ the residuals are not noise."""
+BAND_LOWERED_FRACTION = 0.5
+"""A suggestion's explanation names a failing band it does not clear when it brings the rms
+relative residual there to this fraction of the baseline's or below ("lowers it at ...")."""
 SAME_FIT_NOISE = 1.0
 """Two suggestions are listed as one fit when their model spectra differ by less than this × the
 noise σ_k at every point and their AIC by less than 2 (`_same_fit`): the data cannot tell them
@@ -554,12 +557,36 @@ def _new_values(base: FitResult, cand: FitResult) -> str:
     return ", ".join(f"{n} = {format_quantity(cand.values[n], specs[n].unit)}" for n in new)
 
 
-def _explain(effect, p: Proposal, base: FitResult, cand: FitResult, d_aic: float, d_bic: float, fixed) -> str:
+def _band_rms(fit: FitResult, lo: float, hi: float) -> float:
+    """rms of ``fit``'s relative residuals at the points with lo ≤ f ≤ hi (NaN without any)."""
+    inside = (fit.frequency >= lo) & (fit.frequency <= hi)
+    return float(np.sqrt(np.mean(np.abs(fit.residuals[inside]) ** 2 / 2))) if inside.any() else math.nan
+
+
+def _lowered_bands(base: FitResult, cand: FitResult, bands: Sequence[FailingBand], fixed) -> list[tuple[tuple[float, float], float, float]]:
+    """The failing bands of ``base`` that ``cand`` does not clear (not in ``fixed``) but where it
+    at least halves the rms relative residual, except a band of most points (the overall
+    rms_rel says it): [((f_min, f_max), rms before, rms after)]."""
+    out = []
+    for b in bands:
+        inside = (base.frequency >= b.f_min) & (base.frequency <= b.f_max)
+        if (b.f_min, b.f_max) in fixed or inside.mean() > 0.8:
+            continue
+        before, after = _band_rms(base, b.f_min, b.f_max), _band_rms(cand, b.f_min, b.f_max)
+        if after <= BAND_LOWERED_FRACTION * before:
+            out.append(((b.f_min, b.f_max), before, after))
+    return out
+
+
+def _explain(effect, p: Proposal, base: FitResult, cand: FitResult, d_aic: float, d_bic: float, fixed, lowered=()) -> str:
     """The suggestion in the terms of the user's circuit and data: what is added where, its
-    fitted values with units, the error it removes and the bands it fixes."""
+    fitted values with units, the error it removes, the bands it fixes and those where it at
+    least halves the misfit (`_lowered_bands`)."""
     band_text = ""
     if fixed:
         band_text = "; it removes the misfit at " + ", ".join(f"{format_frequency(lo)}–{format_frequency(hi)}" for lo, hi in fixed)
+    if lowered:
+        band_text += ("; it lowers the misfit at " if not fixed else " and lowers it at ") + ", ".join(f"{format_frequency(lo)}–{format_frequency(hi)} (rms {before * 100:.2g} % → {after * 100:.2g} %)" for (lo, hi), before, after in lowered)
     values = _new_values(base, cand)
     what = p.where if "+" in effect.id else f"{p.added} {p.where}"  # (a pair's placement names each addition, `_paired`)
     return (
@@ -1149,7 +1176,8 @@ def _suggestions(base: FitResult, proposals: list[tuple[Effect, Proposal]], fits
         significant = bool(d_aic < -DELTA_AIC_MIN and drop >= NOISE_FRACTION_MIN and warning is None)
         after = failing_bands(cf, sigma_rel)
         fixed_bands = tuple((b.f_min, b.f_max) for b in bands if not any(a.f_min < b.f_max and a.f_max > b.f_min for a in after))
-        out.append(Suggestion(effect.id, p.added, p.where, cf, d_aic, d_bic, significant, _explain(effect, p, base, cf, d_aic, d_bic, fixed_bands), fixed_bands, undetermined, warning, p.removed))
+        lowered = _lowered_bands(base, cf, bands, fixed_bands)
+        out.append(Suggestion(effect.id, p.added, p.where, cf, d_aic, d_bic, significant, _explain(effect, p, base, cf, d_aic, d_bic, fixed_bands, lowered), fixed_bands, undetermined, warning, p.removed))
     return out
 
 
