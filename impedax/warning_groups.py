@@ -55,7 +55,8 @@ def _spectra_text(places: Sequence[str]) -> str:
 def grouped_warnings(warnings: Mapping[str, Sequence[str]], n_spectra: int) -> list[str]:
     """The warnings of a batch's spectra (``{"cycle=0": (text, ...), ...}``) as text lines:
     one per kind of warning with the spectra it applies to, the most frequent first, at most
-    `WARNING_GROUPS_SHOWN`."""
+    `WARNING_GROUPS_SHOWN`; a key that names no spectrum (a global fit's ``"shared over
+    trial"``) is given as it is."""
     groups: dict[str, list[tuple[str, str]]] = {}
     for place, texts in warnings.items():
         for text in dict.fromkeys(texts):
@@ -64,7 +65,10 @@ def grouped_warnings(warnings: Mapping[str, Sequence[str]], n_spectra: int) -> l
     lines = []
     for members in ordered[:WARNING_GROUPS_SHOWN]:
         places = list(dict.fromkeys(place for place, _ in members))
-        where = f"all {n_spectra} spectra" if len(places) == n_spectra else f"{len(places)} of {n_spectra} spectra: {_spectra_text(places)}"
+        if not any("=" in p for p in places):  # not spectra: a global fit's own notes ("shared over trial")
+            where = "; ".join(places)
+        else:
+            where = f"all {n_spectra} spectra" if len(places) == n_spectra else f"{len(places)} of {n_spectra} spectra: {_spectra_text(places)}"
         lines.append(f"warning ({where}): {_spread([t for _, t in members])}")
     if len(ordered) > WARNING_GROUPS_SHOWN:
         lines.append(f"... and {len(ordered) - WARNING_GROUPS_SHOWN} more kinds of warning (the result's warnings, and the JSON's, list every text)")

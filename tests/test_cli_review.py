@@ -218,6 +218,11 @@ def test_grouped_warnings_merge_numbers_into_ranges_and_name_the_spectra():
     many = {f"trial={i}, session=1": (f"P{i} is at its lower bound 0",) for i in range(40)}
     lines = grouped_warnings(many, 40)
     assert len(lines) == 13 and lines[-1].startswith("... and 28 more kinds of warning")
+    # a global fit's own notes are under a key that names no spectrum: given as it is (before:
+    # "warning (1 of 2 spectra: shared over trial): ...")
+    lines = grouped_warnings({"trial=0": ("R1 is at its lower bound 0",), "shared over trial": ("shared R0 is at its lower bound 0",)}, 2)
+    assert "warning (shared over trial): shared R0 is at its lower bound 0" in lines
+    assert "warning (1 of 2 spectra: trial 0): R1 is at its lower bound 0" in lines
 
 
 def test_a_fit_that_did_not_converge_says_so_in_the_command_lines_words(files, capsys):

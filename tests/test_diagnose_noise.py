@@ -587,7 +587,10 @@ def _battery_with_noise_growing_toward_low_frequency():
     return data, case.circuit
 
 
-@pytest.mark.parametrize("spectrum", [_real_test_data, _battery_with_noise_growing_toward_low_frequency], ids=["test_data.txt", "battery"])
+@pytest.mark.parametrize("spectrum", [
+    pytest.param(_real_test_data, id="test_data.txt"),
+    pytest.param(_battery_with_noise_growing_toward_low_frequency, id="battery", marks=pytest.mark.slow),  # (its later steps had the right noise before too)
+])
 def test_every_step_of_a_refinement_is_judged_against_the_first_steps_noise(spectrum):
     # refine passed its later steps the KK test after the first step's local judgement, whose
     # fewer flags let the points it cleared raise the discrepancy floor: on AutoEIS's real

@@ -65,3 +65,16 @@ def test_single_batch_and_global_fits_give_the_idle_note():
             assert undetermined or i == 1, warnings
             assert len(notes) == int(undetermined), warnings
             assert all(n.startswith("R1 carries at most ") and "R0 + CPE1, the model without it" in n for n in notes), notes
+
+
+def test_a_shared_parameter_s_idle_branch_is_said_once_for_the_global_fit():
+    # R1 shared over two blocking electrodes: undetermined in the global fit, idle in both
+    # spectra; the note comes once, under the global fit's key, as its other shared notes do
+    stack = xr.concat([blocking(), noisy(50.0 + 1 / (2e-5 * JW**0.85), seed=2)], dim="trial")
+    shared = ix.fit("R0 + R1 || CPE1", stack, shared=["R1"])
+    own = shared.warnings["shared over trial"]
+    assert any(w.startswith("shared R1 has a relative standard error") for w in own), own
+    notes = idle_notes(own)
+    assert len(notes) == 1 and notes[0].startswith("shared R1 carries at most ") and "R0 + CPE1, the model without it" in notes[0]
+    assert not any(idle_notes(w) for key, w in shared.warnings.items() if key != "shared over trial")
+    assert "warning (shared over trial): shared R1 carries at most" in shared.report()

@@ -214,6 +214,11 @@ def test_compare_s_best_mark_says_when_the_best_fit_has_warnings():
     assert not best.stderr["R1"] / best.values["R1"] < 1
     assert c.best_determined == "R0 + R1 || C1" == c.summary()["best_determined"]
     assert "R0 + R1 || CPE1 leaves R1 undetermined; the best model with every parameter determined is R0 + R1 || C1 (ΔAIC " in c.table()
+    # rows are told apart by position, not by model text: the same circuit with R1 fixed
+    fixed = ix.fit("R0 + R1 || CPE1", data, fixed={"R1": 1e4})
+    twice = ix.compare([best, fixed])
+    assert twice.table().count("← best") == 1 and "leaves R1 undetermined; the best model with every parameter determined is R0 + R1 || CPE1" in twice.table()
+    assert "leaves R1 undetermined; there is no other model" in ix.compare([best]).table()
 
 
 def test_bound_notes_write_compound_units_with_omega():
@@ -242,4 +247,4 @@ def test_an_explanation_names_a_band_the_suggestion_lowers_but_does_not_clear():
     lowered = _lowered_bands(base, cand, bands, fixed=((1, 3),))
     assert [b for b, _, _ in lowered] == [(100, 300)]
     (_, rms_before, rms_after), = lowered
-    assert rms_before == pytest.approx(0.04) and rms_after == pytest.approx(0.01)  # rms of |r|²/2 per point
+    assert rms_before == pytest.approx(0.04 * np.sqrt(2)) and rms_after == pytest.approx(0.01 * np.sqrt(2))  # √mean|r|², as rms_rel

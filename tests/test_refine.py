@@ -563,6 +563,7 @@ def test_a_battery_lacking_its_inductance_and_warburg_keeps_r2():
     assert "R2" in r.final.circuit.element_names and r.final.n_params == 9, r.report()
 
 
+@pytest.mark.slow
 def test_paths_that_meet_do_not_diagnose_a_model_twice(monkeypatch):
     # impedance.py's real PowerSuite file from R0 + R1 ∥ C1: the greedy path adds C1 → CPE1,
     # then a Warburg behind R1; the second path adds the Warburg first, then CPE1, and reaches

@@ -56,7 +56,10 @@ def check_bounds(values: Mapping[str, float], specs: Mapping, flag: str) -> None
     for name, value in values.items():
         spec = specs[name]
         if not spec.contains(value):
-            raise ParameterError(f"{flag}: {name}={value:g} is outside its bounds {spec.bounds_text()} [{spec.unit}]")
+            from ..data import unit_text
+
+            unit = unit_text(spec.unit)
+            raise ParameterError(f"{flag}: {name}={value:g} is outside its bounds {spec.bounds_text()}" + (f" [{unit}]" if unit else ""))
 
 
 def model_and_values(model: str, items, flag: str):

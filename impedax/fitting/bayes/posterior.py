@@ -20,6 +20,7 @@ import numpy as np
 import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
+from ...data import unit_text
 from ...errors import DataError
 from ..derived import QUANTILES, band_dataset, bind_frequency, check_real, needs_freq
 from ..least_squares import FitResult
@@ -215,7 +216,7 @@ class Posterior:
         ]
         for i, n in enumerate(self.names):
             lines.append(
-                f"{n:<{width}}  {float(q['median'][i]):>11.5g}  {float(q['q05'][i]):>11.5g}  {float(q['q95'][i]):>11.5g}  {figure(self.autocorr[n], '9.3g'):>9}  {figure(self.ess[n], '7.0f'):>7}  {self.units[i]:<5}  {self.priors[n]}"
+                f"{n:<{width}}  {float(q['median'][i]):>11.5g}  {float(q['q05'][i]):>11.5g}  {float(q['q95'][i]):>11.5g}  {figure(self.autocorr[n], '9.3g'):>9}  {figure(self.ess[n], '7.0f'):>7}  {unit_text(self.units[i]):<5}  {self.priors[n]}"
             )
         for w in self.warnings:
             lines.append(f"warning: {w}")

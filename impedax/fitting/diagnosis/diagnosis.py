@@ -198,7 +198,7 @@ class Diagnosis:
     discrepancy: float = 0.0  # the model-discrepancy floor δ (relative, per component)
     masked_points: tuple[float, ...] = ()  # frequencies [Hz] left out as the data's problem: KK-flagged, or Re Z < 0
     kk_of_kept: KKResult | None = None  # the KK test of the points kept, when a few erratic points were masked
-    kk_as_tested: KKResult | None = None  # the KK test before its local judgement (``kk`` is after it); the discrepancy floor δ takes its flags
+    kk_as_tested: KKResult | None = None  # the KK test before its local judgement (``kk`` is after it); the discrepancy floor δ takes its flags (refine passes it on, or kk_of_kept when points were masked)
     solver_shape: SolverShape | None = None  # the compiled candidate solver's shape (refine passes it on: one compilation for all steps)
 
     def __post_init__(self):
@@ -558,9 +558,10 @@ def _new_values(base: FitResult, cand: FitResult) -> str:
 
 
 def _band_rms(fit: FitResult, lo: float, hi: float) -> float:
-    """rms of ``fit``'s relative residuals at the points with lo ≤ f ≤ hi (NaN without any)."""
+    """rms_rel of ``fit`` at the points with lo ≤ f ≤ hi, √mean|r_k|² as the fit's own (NaN
+    without any)."""
     inside = (fit.frequency >= lo) & (fit.frequency <= hi)
-    return float(np.sqrt(np.mean(np.abs(fit.residuals[inside]) ** 2 / 2))) if inside.any() else math.nan
+    return float(np.sqrt(np.mean(np.abs(fit.residuals[inside]) ** 2))) if inside.any() else math.nan
 
 
 def _lowered_bands(base: FitResult, cand: FitResult, bands: Sequence[FailingBand], fixed) -> list[tuple[tuple[float, float], float, float]]:
@@ -586,7 +587,7 @@ def _explain(effect, p: Proposal, base: FitResult, cand: FitResult, d_aic: float
     if fixed:
         band_text = "; it removes the misfit at " + ", ".join(f"{format_frequency(lo)}–{format_frequency(hi)}" for lo, hi in fixed)
     if lowered:
-        band_text += ("; it lowers the misfit at " if not fixed else " and lowers it at ") + ", ".join(f"{format_frequency(lo)}–{format_frequency(hi)} (rms {before * 100:.2g} % → {after * 100:.2g} %)" for (lo, hi), before, after in lowered)
+        band_text += ("; it lowers the misfit at " if not fixed else " and lowers it at ") + ", ".join(f"{format_frequency(lo)}–{format_frequency(hi)} (rms_rel there {before * 100:.2g} % → {after * 100:.2g} %)" for (lo, hi), before, after in lowered)
     values = _new_values(base, cand)
     what = p.where if "+" in effect.id else f"{p.added} {p.where}"  # (a pair's placement names each addition, `_paired`)
     return (

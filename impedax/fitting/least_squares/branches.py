@@ -6,7 +6,7 @@ global fits add the same note (docs/fitting.md, "Warnings")."""
 from __future__ import annotations
 
 import collections
-from typing import Iterator
+from typing import Iterator, NamedTuple
 
 import numpy as np
 
@@ -14,7 +14,7 @@ from ...circuits import Circuit, Element, Parallel, Registry
 from ...circuits.compile import node_function
 from ..parameters import ParameterTable
 
-__all__ = ["IDLE_BRANCH_SHARE", "RELATIVE_ERROR_LIMIT", "undetermined_mask", "idle_branch_notes"]
+__all__ = ["IDLE_BRANCH_SHARE", "RELATIVE_ERROR_LIMIT", "IdleBranch", "undetermined_mask", "idle_branches", "idle_branch_notes"]
 
 RELATIVE_ERROR_LIMIT = 1.0
 """A free parameter whose standard error exceeds this × its value is not determined by the data."""
@@ -43,19 +43,36 @@ def _parallel_branches(circuit: Circuit) -> Iterator[tuple[Parallel, int]]:
         yield from _parallel_branches(child)
 
 
-def idle_branch_notes(circuit: Circuit, registry: Registry, table: ParameterTable, values: np.ndarray, undetermined: np.ndarray, freq) -> dict[int, tuple[str, ...]]:
-    """{row: notes} for fits with values (B, P) whose free parameters ``undetermined`` (B, K,
-    `undetermined_mask`) include one of an element that is a branch of a parallel block and
-    carries below `IDLE_BRANCH_SHARE` of the block's current at every frequency ``freq``:
-    |Y_branch / Σ Y| over the block's children, each evaluated at the fitted values. The note
-    names the share and the model without the element."""
-    notes: dict[int, list[str]] = collections.defaultdict(list)
+class IdleBranch(NamedTuple):
+    """An element of fit ``row`` that carries at most ``share`` of the current through its
+    parallel ``block`` at every frequency; ``reduced``: the circuit without it."""
+
+    row: int
+    element: str
+    block: str
+    share: float
+    reduced: str
+
+    def text(self) -> str:
+        return (
+            f"{self.element} carries at most {self.share:.2g}× the current through {self.block} over the band, so the data cannot determine it: "
+            f"{self.reduced}, the model without it, differs from this fit by about that fraction of the block's impedance"
+        )
+
+
+def idle_branches(circuit: Circuit, registry: Registry, table: ParameterTable, values: np.ndarray, undetermined: np.ndarray, freq) -> list[IdleBranch]:
+    """The idle branches of fits with values (B, P) among the elements with a parameter in
+    ``undetermined`` (B, K, `undetermined_mask`): an element that is a branch of a parallel
+    block and carries below `IDLE_BRANCH_SHARE` of the block's current at every frequency
+    ``freq``, |Y_branch / Σ Y| over the block's children at the fitted values."""
     undetermined = np.asarray(undetermined, bool)
-    if not undetermined.any():
-        return {}
-    omega = 2 * np.pi * np.asarray(freq, float)[None, :]
+    freq = np.asarray(freq, float)
+    if not undetermined.any() or freq.size == 0:
+        return []
+    omega = 2 * np.pi * freq[None, :]
     column = {n: j for j, n in enumerate(table.free_names)}
     values = np.asarray(values, float)
+    found = []
     for node, i in _parallel_branches(circuit):
         element = node.children[i]
         own = [column[n] for n in registry[element.symbol].parameter_names(element.name) if n in column]
@@ -67,12 +84,15 @@ def idle_branch_notes(circuit: Circuit, registry: Registry, table: ParameterTabl
             admittances = [np.asarray(node_function(c, registry, "Y")(params, omega)) for c in node.children]
             share = np.max(np.abs(admittances[i] / sum(admittances)), axis=1)
         idle = np.isfinite(share) & (share < IDLE_BRANCH_SHARE)
-        if not idle.any():
-            continue
-        reduced = circuit.without(element.name)
-        for row, s in zip(rows[idle].tolist(), share[idle].tolist()):
-            notes[row].append(
-                f"{element.name} carries at most {s:.2g}× the current through {node} over the band, so the data cannot determine it: "
-                f"{reduced}, the model without it, differs from this fit by about that fraction of the block's impedance"
-            )
+        if idle.any():
+            reduced = str(circuit.without(element.name))
+            found += [IdleBranch(row, element.name, str(node), s, reduced) for row, s in zip(rows[idle].tolist(), share[idle].tolist())]
+    return found
+
+
+def idle_branch_notes(circuit: Circuit, registry: Registry, table: ParameterTable, values: np.ndarray, undetermined: np.ndarray, freq) -> dict[int, tuple[str, ...]]:
+    """{row: notes} of the `idle_branches` of fits with values (B, P) and ``undetermined`` (B, K)."""
+    notes: dict[int, list[str]] = collections.defaultdict(list)
+    for branch in idle_branches(circuit, registry, table, values, undetermined, freq):
+        notes[branch.row].append(branch.text())
     return {row: tuple(n) for row, n in notes.items()}

@@ -42,7 +42,7 @@ from ..parameters import ParameterTable, to_internal
 from ..problem import residual_scale, weights
 from ..statistics import information_criteria
 from .batch import BatchFitResult, data_notes, fit_batch
-from .branches import idle_branch_notes, undetermined_mask
+from .branches import idle_branch_notes, idle_branches, undetermined_mask
 from .result import BOUND_CHI2_FRACTION, RELATIVE_ERROR_LIMIT, bound_note, bound_sides, on_bound, stack_notes
 from .solvers import SolverArgs, tree_residuals
 
@@ -456,6 +456,8 @@ def fit_shared(
                        on=on_bound(table, values[gi, :1], sides.reshape(n_groups, m, k)[gi, :1], np.tile(freq, m), z[gi].reshape(1, -1))[0, sh])
         for gi in range(n_groups)
     ]
+    for gi in range(n_groups):  # a shared parameter's idle branch: said once per global fit, when idle in every spectrum
+        group_notes[gi] += _shared_idle_notes(circuit, registry, table, layout, values[gi], shared_value[gi], shared_stderr[gi], sides.reshape(n_groups, m, k)[gi, 0, sh], freq)
     dataset, warnings = _result_dataset(
         circuit, data, table, layout, extra, keep_shape, over_shape, values=values, stderr=stderr, chi2=chi2, z_model=z_model, sides=sides,
         cov_full=cov_full, corr_full=corr_full, shared_value=shared_value, shared_stderr=shared_stderr, corr_shared=corr_shared, joint=joint,
@@ -548,6 +550,21 @@ def _f_test(chi2_shared, chi2_independent, k_shared_model: int, k_independent: i
         f = np.where(np.isfinite(f), f, np.nan)
         p = np.where(np.isfinite(f), stats.f.sf(np.nan_to_num(f), d1, max(d2, 1)), np.nan)
     return f, p
+
+
+def _shared_idle_notes(circuit, registry, table: ParameterTable, layout: SharedLayout, values, value, stderr, sides, freq) -> tuple[str, ...]:
+    """The idle-branch note (`branches.idle_branches`) of the shared parameters the global fit
+    leaves undetermined (the rule of `_sharing_notes`), for an element idle in every spectrum
+    of the group (values (M, P)), with the largest share among them."""
+    shared_columns = [table.free_names.index(n) for n in layout.shared]
+    with np.errstate(all="ignore"):
+        flagged = (np.asarray(sides) == 0) & (value != 0) & (~np.isfinite(stderr) | (np.abs(stderr / value) > RELATIVE_ERROR_LIMIT))
+    undetermined = np.zeros((values.shape[0], len(table.free_names)), bool)
+    undetermined[:, np.asarray(shared_columns, int)[flagged]] = True
+    by_element: dict[str, list] = {}
+    for branch in idle_branches(circuit, registry, table, values, undetermined, freq):
+        by_element.setdefault(branch.element, []).append(branch)
+    return tuple("shared " + max(found, key=lambda b: b.share).text() for found in by_element.values() if len(found) == values.shape[0])
 
 
 def _sharing_notes(layout: SharedLayout, value, stderr, sides, table: ParameterTable, f, p, delta_aic, converged: bool, steps: int, *, on) -> tuple[str, ...]:
