@@ -218,6 +218,10 @@ def test_compare_s_best_mark_says_when_the_best_fit_has_warnings():
     fixed = ix.fit("R0 + R1 || CPE1", data, fixed={"R1": 1e4})
     twice = ix.compare([best, fixed])
     assert twice.table().count("← best") == 1 and "leaves R1 undetermined; the best model with every parameter determined is R0 + R1 || CPE1" in twice.table()
+    from impedax.cli.compare import warning_lines
+
+    assert twice.best_index == 0 and twice.best_determined_index == 1
+    assert sum("(best by AIC)" in line for line in warning_lines(twice)) == 1  # (both rows had it)
     assert "leaves R1 undetermined; there is no other model" in ix.compare([best]).table()
 
 

@@ -53,10 +53,10 @@ def warning_lines(comparison) -> list[str]:
     from .common import command_line_words
 
     lines = []
-    for r in comparison.fits:
+    for i, r in enumerate(comparison.fits):
         if not r.warnings:
             continue
-        best = " (best by AIC)" if r.model == comparison.best else ""
+        best = " (best by AIC)" if i == comparison.best_index else ""
         lines.append(f"  {r.model}{best}: {len(r.warnings)} warning(s)")
         lines += [f"    - {command_line_words(w)}" for w in r.warnings[:WARNINGS_SHOWN]]
         if len(r.warnings) > WARNINGS_SHOWN:

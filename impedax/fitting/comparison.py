@@ -68,23 +68,26 @@ class Comparison:
     fits: tuple[FitResult, ...]
 
     @property
-    def _best_index(self) -> int:
+    def best_index(self) -> int:
+        """Position of the best model by AIC in ``rows`` and ``fits`` (models may repeat: the
+        same circuit fixed and free)."""
         return min(range(len(self.rows)), key=lambda i: self.rows[i]["aic"])
 
     @property
-    def _best_determined_index(self) -> int | None:
+    def best_determined_index(self) -> int | None:
+        """Position of `best_determined`, or None."""
         determined = [i for i, f in enumerate(self.fits) if not undetermined_names(f)]
         return min(determined, key=lambda i: self.rows[i]["aic"]) if determined else None
 
     @property
     def best(self) -> str:
-        return self.rows[self._best_index]["model"]
+        return self.rows[self.best_index]["model"]
 
     @property
     def best_determined(self) -> str | None:
         """The model of lowest AIC among the fits that leave no parameter undetermined
         (`undetermined_names`); None when every fit leaves one."""
-        i = self._best_determined_index
+        i = self.best_determined_index
         return None if i is None else self.rows[i]["model"]
 
     def summary(self) -> dict:
@@ -94,7 +97,7 @@ class Comparison:
     def _best_mark(self) -> str:
         """The table's mark of the best model by AIC, saying when its fit has warnings (an
         undetermined parameter, a gross misfit): the lowest AIC is then no endorsement."""
-        warnings = self.fits[self._best_index].warnings
+        warnings = self.fits[self.best_index].warnings
         n = len({w for ws in warnings.values() for w in ws}) if isinstance(warnings, Mapping) else len(warnings)
         return "   ← best" + (f" by AIC, with {n} warning(s) below" if n else "")
 
@@ -103,12 +106,12 @@ class Comparison:
         width = max(len(r["model"]) for r in self.rows)
         head = f"{'model':<{width}}  {'k':>2}  {'rms_rel':>9}  {'chi2_red':>10}  {'AIC':>9}  {'BIC':>9}  {'ΔAIC':>7}  {'weight':>6}" + "".join(f"  {c:>12}" for c in extra)
         lines = [head]
-        best = self._best_index
+        best = self.best_index
         for i, r in enumerate(self.rows):
             line = f"{r['model']:<{width}}  {r['n_params']:>2}  {r['rms_rel'] * 100:>8.3g}%  {r['chi2_red']:>10.4g}  {r['aic']:>9.2f}  {r['bic']:>9.2f}  {r['delta_aic']:>7.2f}  {r['akaike_weight']:>6.3f}"
             line += "".join(f"  {r.get(c, math.nan):>12.2f}" for c in extra)
             lines.append(line + (self._best_mark() if i == best else ""))
-        determined = self._best_determined_index
+        determined = self.best_determined_index
         if determined != best:
             lines.append(
                 f"{self.best} leaves {', '.join(undetermined_names(self.fits[best]))} undetermined; "
