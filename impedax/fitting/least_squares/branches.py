@@ -1,7 +1,7 @@
 """Idle branches: why a parameter is undetermined when its element is one branch of a parallel
 block that carries next to none of the block's current over the measured band (a resistor that
 ran open beside a CPE, a capacitance beside a resistor that shorts it). Single, batch and
-global fits add the same note (docs/fitting.md, "Warnings")."""
+global fits add the same note (docs/fitting.md, "Identifiability warnings")."""
 
 from __future__ import annotations
 
