@@ -14,7 +14,7 @@ from ..arguments import checked_arguments, sequence_of
 from ..circuits import Circuit, Element
 from ..errors import FitError
 from .least_squares import FitResult
-from .least_squares.branches import RELATIVE_ERROR_LIMIT
+from .least_squares.branches import undetermined
 
 __all__ = ["compare", "Comparison", "is_nested", "undetermined_names"]
 
@@ -45,13 +45,8 @@ def _subsequence(small, big) -> bool:
 
 def undetermined_names(fit: FitResult) -> list[str]:
     """The free parameters of ``fit`` the data do not determine: off their bounds, nonzero, with
-    a relative standard error above `RELATIVE_ERROR_LIMIT` (or none finite), as its warnings say."""
-    out = []
-    for n in fit.free_names:
-        v, e = fit.values[n], fit.stderr[n]
-        if n not in fit.at_bound and v != 0 and (not math.isfinite(e) or abs(e / v) > RELATIVE_ERROR_LIMIT):
-            out.append(n)
-    return out
+    a relative standard error above 100 % (`branches.undetermined`), as its warnings say."""
+    return [n for n in fit.free_names if n not in fit.at_bound and undetermined(fit.values[n], fit.stderr[n])]
 
 
 def is_nested(simple: Circuit, complex_: Circuit) -> bool:

@@ -49,6 +49,7 @@ from ...errors import DataError, FitError, ImpedaxError, ParameterError
 from ..drt import PeakEvidence, drt, r_cpe_tau, unexplained_peaks
 from ..kk import KKResult, kk_test
 from ..least_squares import BatchFitResult, FitResult
+from ..least_squares.branches import parallel_branches
 from ..least_squares.candidates import SolverShape, fit_candidates, solver_shape
 from ..least_squares.starts import climb_target
 from ..problem import WEIGHTINGS, open_spectrum
@@ -1030,13 +1031,9 @@ band (for R and C branches, |Z| of a group in series with others is at most the 
 def _parallel_resistors(circuit: Circuit, registry: Registry):
     """Every resistor that is one of three or more branches of a parallel node (without it the
     node stays a parallel group: R ∥ CPE ∥ C → CPE ∥ C, not R ∥ CPE → a lone CPE)."""
-    if isinstance(circuit, Element):
-        return
-    for child in circuit.children:
-        if isinstance(circuit, Parallel) and len(circuit.children) >= 3 and isinstance(child, Element) and registry[child.symbol].symbol == "R":
-            yield child
-        elif not isinstance(child, Element):
-            yield from _parallel_resistors(child, registry)
+    for node, i in parallel_branches(circuit):
+        if len(node.children) >= 3 and registry[node.children[i].symbol].symbol == "R":
+            yield node.children[i]
 
 
 def _open_resistor_dropped(base: FitResult, proposals: list[tuple[Effect, Proposal]], fits: Sequence[FitResult]) -> list[tuple[Effect, Proposal]]:

@@ -14,7 +14,7 @@ from ...circuits import Circuit, Element, Parallel, Registry
 from ...circuits.compile import node_function
 from ..parameters import ParameterTable
 
-__all__ = ["IDLE_BRANCH_SHARE", "RELATIVE_ERROR_LIMIT", "IdleBranch", "undetermined_mask", "idle_branches", "idle_branch_notes"]
+__all__ = ["IDLE_BRANCH_SHARE", "RELATIVE_ERROR_LIMIT", "IdleBranch", "undetermined", "undetermined_mask", "parallel_branches", "idle_branches", "idle_branch_notes"]
 
 RELATIVE_ERROR_LIMIT = 1.0
 """A free parameter whose standard error exceeds this × its value is not determined by the data."""
@@ -23,24 +23,30 @@ IDLE_BRANCH_SHARE = 1e-3
 block's at every frequency: without it the block's impedance changes by at most about as much."""
 
 
+def undetermined(value, stderr):
+    """Elementwise: is a parameter at ``value`` with standard error ``stderr`` undetermined, i.e.
+    nonzero with a relative standard error above `RELATIVE_ERROR_LIMIT` (or none finite)? The
+    rule of every fit's warnings; a parameter at a bound is judged by its bound note instead."""
+    v, e = np.asarray(value, float), np.asarray(stderr, float)
+    with np.errstate(all="ignore"):
+        return (v != 0) & (~np.isfinite(e) | (np.abs(e / v) > RELATIVE_ERROR_LIMIT))
+
+
 def undetermined_mask(table: ParameterTable, values: np.ndarray, stderr: np.ndarray, sides: np.ndarray) -> np.ndarray:
     """(B, K) over the free parameters of fits with values and stderr (B, P) and bound sides
-    (B, K): not at a bound, nonzero, and a relative standard error above
-    `RELATIVE_ERROR_LIMIT` (or none finite)."""
+    (B, K): `undetermined` and not at a bound."""
     free = table.free_index
-    v, e = np.asarray(values, float)[:, free], np.asarray(stderr, float)[:, free]
-    with np.errstate(all="ignore"):
-        return (v != 0) & (np.asarray(sides) == 0) & (~np.isfinite(e) | (np.abs(e / v) > RELATIVE_ERROR_LIMIT))
+    return undetermined(np.asarray(values, float)[:, free], np.asarray(stderr, float)[:, free]) & (np.asarray(sides) == 0)
 
 
-def _parallel_branches(circuit: Circuit) -> Iterator[tuple[Parallel, int]]:
+def parallel_branches(circuit: Circuit) -> Iterator[tuple[Parallel, int]]:
     """(parallel node, index of a child that is an element) in the order of the circuit text."""
     if isinstance(circuit, Element):
         return
     for i, child in enumerate(circuit.children):
         if isinstance(circuit, Parallel) and isinstance(child, Element):
             yield circuit, i
-        yield from _parallel_branches(child)
+        yield from parallel_branches(child)
 
 
 class IdleBranch(NamedTuple):
@@ -60,23 +66,23 @@ class IdleBranch(NamedTuple):
         )
 
 
-def idle_branches(circuit: Circuit, registry: Registry, table: ParameterTable, values: np.ndarray, undetermined: np.ndarray, freq) -> list[IdleBranch]:
+def idle_branches(circuit: Circuit, registry: Registry, table: ParameterTable, values: np.ndarray, mask: np.ndarray, freq) -> list[IdleBranch]:
     """The idle branches of fits with values (B, P) among the elements with a parameter in
-    ``undetermined`` (B, K, `undetermined_mask`): an element that is a branch of a parallel
+    ``mask`` (B, K, `undetermined_mask`): an element that is a branch of a parallel
     block and carries below `IDLE_BRANCH_SHARE` of the block's current at every frequency
     ``freq``, |Y_branch / Σ Y| over the block's children at the fitted values."""
-    undetermined = np.asarray(undetermined, bool)
+    mask = np.asarray(mask, bool)
     freq = np.asarray(freq, float)
-    if not undetermined.any() or freq.size == 0:
+    if not mask.any() or freq.size == 0:
         return []
     omega = 2 * np.pi * freq[None, :]
     column = {n: j for j, n in enumerate(table.free_names)}
     values = np.asarray(values, float)
     found = []
-    for node, i in _parallel_branches(circuit):
+    for node, i in parallel_branches(circuit):
         element = node.children[i]
         own = [column[n] for n in registry[element.symbol].parameter_names(element.name) if n in column]
-        rows = np.flatnonzero(undetermined[:, own].any(axis=1)) if own else np.zeros(0, int)
+        rows = np.flatnonzero(mask[:, own].any(axis=1)) if own else np.zeros(0, int)
         if not rows.size:
             continue
         params = {n: values[rows, j][:, None] for j, n in enumerate(table.names)}
@@ -90,9 +96,9 @@ def idle_branches(circuit: Circuit, registry: Registry, table: ParameterTable, v
     return found
 
 
-def idle_branch_notes(circuit: Circuit, registry: Registry, table: ParameterTable, values: np.ndarray, undetermined: np.ndarray, freq) -> dict[int, tuple[str, ...]]:
-    """{row: notes} of the `idle_branches` of fits with values (B, P) and ``undetermined`` (B, K)."""
+def idle_branch_notes(circuit: Circuit, registry: Registry, table: ParameterTable, values: np.ndarray, mask: np.ndarray, freq) -> dict[int, tuple[str, ...]]:
+    """{row: notes} of the `idle_branches` of fits with values (B, P) and ``mask`` (B, K)."""
     notes: dict[int, list[str]] = collections.defaultdict(list)
-    for branch in idle_branches(circuit, registry, table, values, undetermined, freq):
+    for branch in idle_branches(circuit, registry, table, values, mask, freq):
         notes[branch.row].append(branch.text())
     return {row: tuple(n) for row, n in notes.items()}

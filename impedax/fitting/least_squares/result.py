@@ -16,7 +16,7 @@ from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit
 from ...data import unit_text
 from ..parameters import ParameterTable, data_scales
 from ..statistics import information_criteria, non_passive, uncertainties
-from .branches import RELATIVE_ERROR_LIMIT, idle_branch_notes, undetermined_mask
+from .branches import RELATIVE_ERROR_LIMIT, idle_branch_notes, undetermined, undetermined_mask
 from .solvers import SolverOutput, SolverStatus
 from .starts import attainable_misfit, rms_rel_of
 
@@ -447,7 +447,7 @@ def diagnose_identifiability(names, values, stderr, corr, null_sets, ratio, at_b
             notes.append(correlated_note(names[i], names[j], corr[i, j]))
     for n in names:
         v, e = values[n], stderr[n]
-        if v != 0 and n not in at_bound and (not math.isfinite(e) or abs(e / v) > RELATIVE_ERROR_LIMIT) and not any(n in g for g in flagged):
+        if n not in at_bound and undetermined(v, e) and not any(n in g for g in flagged):
             notes.append(undetermined_note(n, abs(e / v)))
     return notes
 
@@ -494,8 +494,8 @@ def stack_notes(
         relative_error = np.abs(e / v)
     if sides is None:
         sides = bound_sides(table, values, None)
-    undetermined = undetermined_mask(table, values, stderr, sides)
-    for b, i in np.argwhere(undetermined).tolist():
+    unknown = undetermined_mask(table, values, stderr, sides)
+    for b, i in np.argwhere(unknown).tolist():
         notes[b].append(undetermined_note(names[i], float(relative_error[b, i])))
     on = on_bound(table, values, sides, freq, z)
     for b, i in np.argwhere(sides != 0).tolist():

@@ -42,8 +42,8 @@ from ..parameters import ParameterTable, to_internal
 from ..problem import residual_scale, weights
 from ..statistics import information_criteria
 from .batch import BatchFitResult, data_notes, fit_batch
-from .branches import idle_branch_notes, idle_branches, undetermined_mask
-from .result import BOUND_CHI2_FRACTION, RELATIVE_ERROR_LIMIT, bound_note, bound_sides, on_bound, stack_notes
+from .branches import idle_branch_notes, idle_branches, undetermined, undetermined_mask
+from .result import BOUND_CHI2_FRACTION, bound_note, bound_sides, on_bound, stack_notes
 from .solvers import SolverArgs, tree_residuals
 
 __all__ = ["SharedFitResult", "SharedLayout", "shared_layout", "fit_shared", "JointSolution", "joint_solver", "joint_covariance", "SHARING_P_LIMIT"]
@@ -557,12 +557,11 @@ def _shared_idle_notes(circuit, registry, table: ParameterTable, layout: SharedL
     leaves undetermined (the rule of `_sharing_notes`), for an element idle in every spectrum
     of the group (values (M, P)), with the largest share among them."""
     shared_columns = [table.free_names.index(n) for n in layout.shared]
-    with np.errstate(all="ignore"):
-        flagged = (np.asarray(sides) == 0) & (value != 0) & (~np.isfinite(stderr) | (np.abs(stderr / value) > RELATIVE_ERROR_LIMIT))
-    undetermined = np.zeros((values.shape[0], len(table.free_names)), bool)
-    undetermined[:, np.asarray(shared_columns, int)[flagged]] = True
+    flagged = (np.asarray(sides) == 0) & undetermined(value, stderr)
+    mask = np.zeros((values.shape[0], len(table.free_names)), bool)
+    mask[:, np.asarray(shared_columns, int)[flagged]] = True
     by_element: dict[str, list] = {}
-    for branch in idle_branches(circuit, registry, table, values, undetermined, freq):
+    for branch in idle_branches(circuit, registry, table, values, mask, freq):
         by_element.setdefault(branch.element, []).append(branch)
     return tuple("shared " + max(found, key=lambda b: b.share).text() for found in by_element.values() if len(found) == values.shape[0])
 
@@ -578,7 +577,7 @@ def _sharing_notes(layout: SharedLayout, value, stderr, sides, table: ParameterT
             i = table.names.index(n)
             bound, where = float((table.upper if side > 0 else table.lower)[i]), "upper" if side > 0 else "lower"
             notes.append("shared " + (bound_note(n, bound, where) if at else bound_note(n, bound, where, value=v, stderr=e, unit=table.units[i])))
-        elif v != 0 and (not math.isfinite(e) or abs(e / v) > RELATIVE_ERROR_LIMIT):
+        elif undetermined(v, e):
             notes.append(f"shared {n} has a relative standard error of {abs(e / v) * 100:.3g}%: the data do not determine it")
     if math.isfinite(p) and p < SHARING_P_LIMIT:
         notes.append(
