@@ -252,3 +252,31 @@ def test_an_explanation_names_a_band_the_suggestion_lowers_but_does_not_clear():
     assert [b for b, _, _ in lowered] == [(100, 300)]
     (_, rms_before, rms_after), = lowered
     assert rms_before == pytest.approx(0.04 * np.sqrt(2)) and rms_after == pytest.approx(0.01 * np.sqrt(2))  # √mean|r|², as rms_rel
+
+
+@pytest.mark.parametrize("shape", ["flat", "steep"])
+def test_a_nyquist_panel_keeps_equal_scales_and_no_empty_half_plane(shape):
+    # equal scales widened the limits about the middle: a flat battery-like spectrum (one arc
+    # and a Warburg tail, 4:1, written here) sat in the middle of its panel with half the
+    # plane at −Z'' < 0 where no point is (Gamry's real file: −Z'' from −8,000 to 15,000 Ω).
+    # The widening now lies beyond the data's far side; the scales stay equal
+    from impedax.plotting import plot_spectrum
+
+    f = np.geomspace(1e-2, 1e5, 60)
+    jw = 2j * np.pi * f
+    z = 0.02 + 0.05 / (1 + jw * 0.05 * 1e-2) + 0.004 * (1 - 1j) / np.sqrt(2 * np.pi * f) * 0.3
+    if shape == "steep":  # a blocking electrode: a near-vertical capacitive line
+        z = 10.0 + 1 / (1e-5 * jw**0.95)
+    fig = plot_spectrum((f, z), (f, z * 1.01))
+    ax = fig.axes[0]
+    fig.canvas.draw()
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    box = ax.get_window_extent()
+    assert abs((x1 - x0) / box.width - (y1 - y0) / box.height) < 1e-3 * (x1 - x0) / box.width  # equal scales
+    data_x, data_y = (z.real.min(), z.real.max()), ((-z.imag).min(), (-z.imag).max())
+    assert x0 < data_x[0] and x1 > data_x[1] and y0 < data_y[0] and y1 > data_y[1]  # every point inside
+    if shape == "flat":
+        assert data_y[0] - y0 < 0.1 * (data_y[1] - data_y[0]) and (y1 - y0) > 2 * (data_y[1] - data_y[0])
+    else:
+        assert data_x[0] - x0 < 0.1 * (data_x[1] - data_x[0]) and (x1 - x0) > 2 * (data_x[1] - data_x[0])
+    plt.close(fig)

@@ -13,7 +13,7 @@ import xarray as xr
 
 from ..io.atomic import atomic_path
 
-__all__ = ["plot_spectrum", "plot_nyquist", "plot_bode", "save_figure", "shade_bands", "refresh_legend", "plain_log_ticks", "wrap_model", "characters_across", "label_spectra_axis"]
+__all__ = ["plot_spectrum", "plot_nyquist", "equal_aspect", "settle_nyquist", "plot_bode", "save_figure", "shade_bands", "refresh_legend", "plain_log_ticks", "wrap_model", "characters_across", "label_spectra_axis"]
 
 
 def _as_arrays(spectrum):
@@ -48,9 +48,36 @@ def plot_nyquist(ax, data=None, model=None, *, data_label="data", model_label="m
         ax.plot(m[1].real, -m[1].imag, "-", lw=1.5, label=model_label)
     ax.set_xlabel("Z' [Ω]")
     ax.set_ylabel("−Z'' [Ω]")
-    ax.set_aspect("equal", adjustable="datalim")
+    equal_aspect(ax)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
+
+
+def equal_aspect(ax) -> None:
+    """Equal scales on a Nyquist panel ``ax``: an arc is drawn as the semicircle it is. The
+    limits widen to fill the panel (matplotlib widens them about the middle, so
+    `settle_nyquist` moves the widening to where no point is cut off: above a flat spectrum)."""
+    ax.set_aspect("equal", adjustable="datalim")
+
+
+def settle_nyquist(fig, *axes) -> None:
+    """Lay ``fig`` out and move each equal-scale Nyquist panel's widened range (`equal_aspect`)
+    off the far side of the data: a flat spectrum (a battery's, 4:1) keeps its margin below
+    its lowest point and the empty plane above it, where before half of it lay at −Z'' < 0
+    where no point is; a steep one (a blocking electrode) keeps its left margin. The spans,
+    and so the equal scales, do not change. Call it last (again after drawing more on a
+    panel: it first gives the panels back their automatic limits)."""
+    for ax in axes:
+        ax.autoscale()
+    fig.draw_without_rendering()
+    for ax in axes:
+        lim = ax.dataLim
+        if not (np.isfinite(lim.x0) and np.isfinite(lim.y0) and lim.width > 0 and lim.height > 0):
+            continue
+        for get, set_, low, size, margin in zip((ax.get_xlim, ax.get_ylim), (ax.set_xlim, ax.set_ylim), (lim.x0, lim.y0), (lim.width, lim.height), ax.margins()):
+            a, b = get()
+            if low - a > 2 * margin * size:  # (widened on this axis: the data sit in the middle)
+                set_(low - margin * size, low - margin * size + (b - a))
 
 
 def plot_bode(ax_mod, ax_phase, data=None, model=None, *, data_label="data", model_label="model"):
@@ -115,6 +142,7 @@ def plot_spectrum(data=None, model=None, *, title: str | None = None, bands=None
         shade_bands(freq_axes, bands)
     if title:
         fig.suptitle(title)
+    settle_nyquist(fig, ax_nyq)
     return fig
 
 

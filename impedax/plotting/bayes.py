@@ -12,6 +12,8 @@ from typing import Mapping, Sequence
 import matplotlib.pyplot as plt
 import numpy as np
 
+from . import equal_aspect, settle_nyquist
+
 __all__ = ["plot_posterior_bands", "plot_corner"]
 
 BAND_QUANTILES = (0.05, 0.16, 0.5, 0.84, 0.95)
@@ -33,7 +35,7 @@ def plot_posterior_bands(frequency, z_data, model_frequency, z_draws, *, title: 
     ax_nyq.plot(med.real, -med.imag, "-", color="tab:blue", lw=1.5, label="posterior median")
     ax_nyq.plot(z.real, -z.imag, "o", ms=3.5, mfc="none", color="k", label="data")
     ax_nyq.set(xlabel="Z' [Ω]", ylabel="−Z'' [Ω]", title="Nyquist")
-    ax_nyq.set_aspect("equal", adjustable="datalim")
+    equal_aspect(ax_nyq)
     zp = None if z_predictive is None else np.asarray(z_predictive, complex)
     for ax, values, data_values, transform in ((ax_mod, np.abs(zs), np.abs(z), np.abs), (ax_ph, np.degrees(np.angle(zs)), np.degrees(np.angle(z)), lambda v: np.degrees(np.angle(v)))):
         if zp is not None:
@@ -53,6 +55,7 @@ def plot_posterior_bands(frequency, z_data, model_frequency, z_draws, *, title: 
     ax_nyq.legend(fontsize=8)
     ax_mod.legend(fontsize=8)
     fig.suptitle(title)
+    settle_nyquist(fig, ax_nyq)
     return fig
 
 

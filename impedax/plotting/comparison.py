@@ -9,7 +9,7 @@ def plot_comparison(comparison):
     """Data with every model's fit, and each model's relative residuals, for a `Comparison` (Figure)."""
     import matplotlib.pyplot as plt
 
-    from . import plain_log_ticks
+    from . import equal_aspect, plain_log_ticks, settle_nyquist
 
     fig, axes = plt.subplots(2, 2, figsize=(11, 7), layout="constrained")
     ref = comparison.fits[0]
@@ -28,7 +28,7 @@ def plot_comparison(comparison):
         axes[1, 0].semilogx(f, np.degrees(np.angle(r.z_model)), ls=ls, label=label)
         axes[1, 1].semilogx(f, np.abs(r.residuals) * 100, ".", ls=ls, label=label)
     axes[0, 0].set(xlabel="Z' [Ω]", ylabel="−Z'' [Ω]", title="Nyquist")
-    axes[0, 0].set_aspect("equal", adjustable="datalim")
+    equal_aspect(axes[0, 0])
     axes[0, 1].set(xlabel="frequency [Hz]", ylabel="|Z| [Ω]")
     axes[1, 0].set(xlabel="frequency [Hz]", ylabel="phase [deg]")
     axes[1, 1].set(xlabel="frequency [Hz]", ylabel="|relative residual| [%]", yscale="log")
@@ -37,4 +37,5 @@ def plot_comparison(comparison):
         ax.grid(alpha=0.3, which="both")
     axes[1, 1].legend(fontsize=7)
     fig.suptitle(f"model comparison — best by AIC: {comparison.best}")
+    settle_nyquist(fig, axes[0, 0])
     return fig

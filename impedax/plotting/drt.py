@@ -7,7 +7,7 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 
-from . import label_spectra_axis, plot_bode, plot_nyquist, shade_bands
+from . import label_spectra_axis, plot_bode, plot_nyquist, settle_nyquist, shade_bands
 
 __all__ = ["plot_drt", "plot_drt_batch", "plot_gamma", "plot_zhit"]
 
@@ -62,6 +62,7 @@ def plot_drt(result, *, overlay=None, title: str | None = None):
     ax_res.grid(alpha=0.3, which="both")
     ax_res.legend(fontsize=8, ncol=2)
     fig.suptitle(title or f"DRT: {len(result.peaks)} peak(s), λ = {result.lam:.2g} ({result.lambda_method}), rms_rel {result.rms_rel * 100:.2g} %")
+    settle_nyquist(fig, ax_nyq)
     return fig
 
 

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from . import plot_bode, plot_nyquist, plot_residuals, shade_bands
+from . import plot_bode, plot_nyquist, plot_residuals, settle_nyquist, shade_bands
 
 
 def plot_kk(result, *, title: str | None = None):
@@ -25,4 +25,5 @@ def plot_kk(result, *, title: str | None = None):
         shade_bands([ax_mod, ax_ph, ax_res], result.bad_bands, label="not KK-consistent")
     verdict = "valid" if result.valid else "not valid"
     fig.suptitle(title or f"linear KK test: {verdict}, rms_rel {result.rms_rel * 100:.2g} %, µ {result.mu:.2f}")
+    settle_nyquist(fig, ax_nyq)
     return fig
