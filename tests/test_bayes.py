@@ -477,6 +477,7 @@ def test_draws_piled_up_against_a_prior_end_or_a_bound_are_flagged(rcpe):
     capped = ix.sample(text, data, priors={"R1": f"uniform:{0.5 * truth['R1']:g},{0.9 * truth['R1']:g}"}, steps=400, seed=0, progress=False)
     assert np.median(capped.samples["R1"]) > 0.85 * truth["R1"]
     assert any(w.startswith("R1 piles up against the upper end of its prior uniform:1000,1800") and "the prior, not the data, sets the upper end" in w for w in capped.warnings), capped.warnings
+    assert any(w.startswith("R1 piles up") and " Ω)" in w and "Ohm" not in w for w in capped.warnings), capped.warnings  # (q95 = … Ohm before)
     text, cpe_truth, _ = _spectrum("r_cpe", 2)
     capacitor = dict(cpe_truth, **{"CPE1.alpha": 1.0})
     _, _, data = _spectrum("r_cpe", 2, params=capacitor)

@@ -193,6 +193,8 @@ def test_sample_joint_posterior_agrees_with_the_global_fit(problem):
     assert (q["q95"] - q["q05"]) == pytest.approx(2 * 1.645 * fit_se, rel=0.35)
     assert set(post.summary()) >= {"model", "over", "shared", "params", "acceptance", "autocorr", "ess", "warnings"}
     assert post.to_xarray()["is_shared"].values.sum() == 1
+    rows = [line for line in post.report().splitlines() if line.startswith(("R0 ", "R1[", "C1["))]
+    assert rows and all(line.endswith(" Ω") for line in rows if line.startswith("R")) and "Ohm" not in post.report()  # (it wrote "Ohm")
 
 
 def test_sample_shared_limits_and_errors(problem):

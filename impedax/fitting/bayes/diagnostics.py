@@ -9,6 +9,8 @@ from typing import Mapping, Sequence
 
 import numpy as np
 
+from ...data import unit_text
+
 __all__ = [
     "CHAIN_TAU_MULTIPLE", "ACCEPTANCE_RANGE", "CORRELATION_WARNING", "EDGE_BAND", "EDGE_DENSITY", "EDGE_MIN_DRAWS",
     "integrated_autocorr", "hdi", "chain_warnings", "prior_edge_warnings", "figure",
@@ -152,7 +154,7 @@ def prior_edge_warnings(
             if share * t.size < EDGE_MIN_DRAWS or (share / band) < EDGE_DENSITY * (0.9 / central):
                 continue
             where = f"{100 * share:.0f} % of the draws lie in the {'lowest' if side == 'lower' else 'highest'} {100 * band:.2g} % of its prior's range" + (" (log scale)" if prior.kind == "loguniform" else "" if prior.bounded else " (by prior mass)")
-            unit = "" if units[i] == "1" else f" {units[i]}"
+            unit = f" {unit_text(units[i])}".rstrip()
             interval = f"the {side} end of its 90 % interval ({'q05' if side == 'lower' else 'q95'} = {q:.3g}{unit})"
             if not prior.bounded:
                 out.append(f"{n} piles up against the {side} tail of its prior {prior} ({where}): the prior, not the data, sets {interval}")

@@ -28,6 +28,7 @@ import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit
 from ...errors import DataError, FitError, ParameterError
+from ...data import unit_text
 from ..derived import QUANTILES
 from ..least_squares import SharedFitResult, fit
 from ..parameters import ParameterTable
@@ -211,7 +212,7 @@ class SharedPosterior:
             f"{'parameter':<{width}}  {'median':>11}  {'q05':>11}  {'q95':>11}  {'τ [steps]':>9}  {'ESS':>7}  unit",
         ]
         for i, n in enumerate(self.names):
-            lines.append(f"{n:<{width}}  {float(q['median'][i]):>11.5g}  {float(q['q05'][i]):>11.5g}  {float(q['q95'][i]):>11.5g}  {figure(self.autocorr[n], '9.3g'):>9}  {figure(self.ess[n], '7.0f'):>7}  {self.units[i]}")
+            lines.append(f"{n:<{width}}  {float(q['median'][i]):>11.5g}  {float(q['q05'][i]):>11.5g}  {float(q['q95'][i]):>11.5g}  {figure(self.autocorr[n], '9.3g'):>9}  {figure(self.ess[n], '7.0f'):>7}  {unit_text(self.units[i])}")
         lines += [f"warning: {w}" for w in self.warnings]
         return "\n".join(lines)
 
