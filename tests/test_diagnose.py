@@ -395,3 +395,23 @@ def test_two_placements_that_are_one_function_are_listed_as_one_fit():
     assert all(s.effect == "diffusion" for s, same in groups if not same)
     report = d.report()
     assert report.count("the same fit within the noise") == sum(len(same) for _, same in groups[:5]) >= 1
+
+
+def test_a_suggestion_with_its_series_resistance_at_zero_folds_into_the_one_without_it():
+    # Gamry's REAL file (impedance.py's example) with R0 + R1 ∥ CPE1: each effect was listed
+    # twice, without R0 and with R0 kept at 0 (2e-38 Ω), four of the five places for two
+    # answers. The two are one spectrum; their AIC differs by 2, the one parameter, which the
+    # old rule (AIC within 2) took for a difference
+    from pathlib import Path
+
+    from impedax.fitting.diagnosis.diagnosis import _folded, _same_fit
+
+    d = ix.diagnose(ix.load(Path(__file__).parent / "fixtures" / "real" / "exampleDataGamry.DTA"), "R0 + R1 || CPE1")
+    groups = _folded(d.suggestions, d.noise)
+    pairs = [(s, t) for s, same in groups for t in same if set(t.fit.free_names) - set(s.fit.free_names) == {"R0"}]
+    assert pairs, d.report()
+    for s, t in pairs:
+        assert s.removed == ("R0",) and t.fit.values["R0"] < 1e-3 * s.fit.values["R1"]
+        assert abs(t.aic - s.aic - 2) < 0.1 and _same_fit(s.fit, t.fit, d.noise)
+    listed = [s for s, _ in groups[:5]]  # no two of the list's places are one candidate with and without R0
+    assert not any("R0" in b.fit.circuit.element_names and str(b.fit.circuit.without("R0")) == str(a.fit.circuit) for a in listed for b in listed), d.report()

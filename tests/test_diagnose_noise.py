@@ -563,6 +563,28 @@ def test_a_series_resistance_traded_against_an_arc_above_the_band_is_left_out():
     assert best.rms_rel <= 1.05 * full.rms_rel
 
 
+def test_a_series_resistance_that_fell_to_zero_does_not_send_its_suggestion_down_the_list():
+    # two R ∥ CPE arcs and no series resistance (SYNTHETIC, written here, 0.5 % noise) diagnosed
+    # with R0 + R1 ∥ CPE1: the second arc fits to the noise with R0 at zero. Its suggestion
+    # without R0 ranked after every significant candidate that keeps R0 (an arc of 2 % in
+    # series was named first), as though leaving R0 out changed what R1 stands for; R0 at 0
+    # is the same fit, so it ranks by AIC. A series resistance traded against the other
+    # resistances (not at zero) still changes them and still ranks after
+    rng = np.random.default_rng(5)
+    f = np.geomspace(0.01, 1e5, 60)
+    jw = 2j * np.pi * f
+    z = 4000 / (1 + 4000 * 3e-9 * jw**0.87) + 15000 / (1 + 15000 * 2e-4 * jw**0.7)
+    z = z + 0.005 * np.abs(z) * (rng.normal(size=f.size) + 1j * rng.normal(size=f.size)) / np.sqrt(2)
+    d = ix.diagnose(ix.make_spectrum(f, z), "R0 + R1 || CPE1")
+    best = d.suggestions[0]
+    assert best.removed == best.vanished == ("R0",) and "it fell to" in best.where, d.report()
+    assert best.delta_aic == min(s.delta_aic for s in d.suggestions), d.report()
+    assert best.rms_rel < 0.01, d.report()  # (at the noise: two arcs, as the data were made)
+    traded = [s for s in d.suggestions if s.removed and not s.vanished]
+    kept = [i for i, s in enumerate(d.suggestions) if not s.removed and s.significant]
+    assert kept and all(d.suggestions.index(s) > kept[0] for s in traded), d.report()
+
+
 def test_noise_growing_toward_low_frequency_is_not_masked_as_the_datas_problem():
     # a battery whose Warburg tail shows in the lowest decades, 0.3 % noise growing ×6 toward
     # low frequency: the KK test's one global scale flags 14 of its 60 points, most at the

@@ -22,8 +22,10 @@ __all__ = ["Effect", "EffectCatalog", "Proposal", "BaselineContext"]
 class Proposal:
     """One augmented circuit: ``added`` (the new elements, as circuit text) placed ``where``;
     ``removed``: baseline elements the circuit leaves out (a series resistance that fell to zero,
-    a branch of an R ∥ C block that carries no current the data resolve); ``band``: the lowest
-    and highest frequency (Hz) of the data it was proposed for (plausibility checks read it)."""
+    a branch of an R ∥ C block that carries no current the data resolve); ``vanished``: those of
+    them that fell to zero where the circuit kept them (leaving them out changes nothing the
+    other elements stand for); ``band``: the lowest and highest frequency (Hz) of the data it was
+    proposed for (plausibility checks read it)."""
 
     effect: str
     circuit: Circuit
@@ -32,6 +34,7 @@ class Proposal:
     starts: tuple[Mapping[str, float], ...]
     removed: tuple[str, ...] = ()
     band: tuple[float, float] = (0.0, math.inf)
+    vanished: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True, eq=False)

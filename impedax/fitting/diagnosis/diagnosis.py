@@ -80,9 +80,11 @@ BAND_LOWERED_FRACTION = 0.5
 relative residual there to this fraction of the baseline's or below ("lowers it at ...")."""
 SAME_FIT_NOISE = 1.0
 """Two suggestions are listed as one fit when their model spectra differ by less than this × the
-noise σ_k at every point and their AIC by less than 2 (`_same_fit`): the data cannot tell them
-apart. Two placements of one R ∥ C are often the same function of frequency (R1 ∥ C1 + R ∥ C
-and (R1 + R ∥ C) ∥ C1); on CH Instruments' real file they differ by 0.002 σ at most."""
+noise σ_k at every point and their χ² by less than 2 in AIC's units (`_same_fit`): the data
+cannot tell them apart. Two placements of one R ∥ C are often the same function of frequency
+(R1 ∥ C1 + R ∥ C and (R1 + R ∥ C) ∥ C1); on CH Instruments' real file they differ by 0.002 σ at
+most. So are a suggestion with R0 left out and the same one with R0 kept at its bound 0 (their
+AIC differs by 2, the one parameter; on Gamry's real file they took two of the five places)."""
 KK_COMPARABLE = 0.5
 """A point's misfit is the data's own when the KK test flags it and its KK residual |Δ_kk| is at
 least this fraction of the model's |r| there."""
@@ -154,6 +156,7 @@ class Suggestion:
     undetermined: tuple[str, ...] = ()  # parameters the data do not determine (new to the baseline)
     warning: str | None = None  # why the candidate is not proposed (undetermined, implausible, not converged)
     removed: tuple[str, ...] = ()  # baseline elements left out (a series resistance that fell to zero)
+    vanished: tuple[str, ...] = ()  # those of them that fell to zero where the candidate kept them (`Proposal.vanished`)
 
     @property
     def model(self) -> str:
@@ -174,6 +177,7 @@ class Suggestion:
             "significant": self.significant, "bic": self.fit.bic, "chi2_red": self.fit.chi2_red,
             "fixed_bands": [list(b) for b in self.fixed_bands], "undetermined": list(self.undetermined), "warning": self.warning,
             "values": {k: float(v) for k, v in self.fit.values.items()}, "removed": list(self.removed),
+            "vanished": list(self.vanished),
         }
 
 
@@ -379,8 +383,10 @@ def _thresholds() -> dict[str, float]:
 
 def _same_fit(a: FitResult, b: FitResult, noise: np.ndarray) -> bool:
     """Do fits ``a`` and ``b`` of the same points give the same spectrum within
-    `SAME_FIT_NOISE` × the noise σ_k (relative) at every point, and AIC within 2?"""
-    if a.frequency.shape != b.frequency.shape or not np.array_equal(a.frequency, b.frequency) or abs(a.aic - b.aic) >= 2:
+    `SAME_FIT_NOISE` × the noise σ_k (relative) at every point, and AIC less its parameters'
+    term (n ln(χ²/n), the misfit) within 2?"""
+    misfit_a, misfit_b = a.aic - 2 * a.n_params, b.aic - 2 * b.n_params
+    if a.frequency.shape != b.frequency.shape or not np.array_equal(a.frequency, b.frequency) or abs(misfit_a - misfit_b) >= 2:
         return False
     return bool(np.all(np.abs(a.z_model - b.z_model) < SAME_FIT_NOISE * noise * np.abs(a.z_data)))
 
@@ -625,7 +631,9 @@ def _rank(cands: list[Suggestion], evidence: PeakEvidence | None = None, loose: 
     free parameters outranks a simpler one only if it lowers AIC by more than `DELTA_AIC_MIN`.
     A candidate "leaves an element out" when it drops a baseline element that is not in
     ``loose`` (the elements the baseline does not determine: it gave them no value to stand
-    for). Among candidates the data cannot tell apart (within `DELTA_AIC_MIN`), one that keeps
+    for) and did not fall to zero where the candidate kept it (`Suggestion.vanished`: the kept
+    candidate is the same fit with that element at 0, so no element stands for anything
+    else). Among candidates the data cannot tell apart (within `DELTA_AIC_MIN`), one that keeps
     every element goes first (R ∥ C + R ∥ C is the same function of frequency as
     (R0 + R ∥ C) ∥ C), then the smaller, then one that drops no element at all, then one that
     does not add a finite Warburg as diffusion (`_claims_finite_diffusion`: its 45° region is
@@ -637,7 +645,7 @@ def _rank(cands: list[Suggestion], evidence: PeakEvidence | None = None, loose: 
     data. Candidates with a warning
     (undetermined or implausible parameters, no convergence) come after all the others."""
     def left_out(s: Suggestion) -> bool:
-        return not set(s.removed) <= loose
+        return not set(s.removed) <= loose | set(s.vanished)
 
     def ranked(group):
         rest = sorted(group, key=lambda s: s.delta_aic)
@@ -932,11 +940,12 @@ def _series_resistance_dropped(base: FitResult, proposals: list[tuple[Effect, Pr
                 continue
             value, error = float(cf.values[name]), float(cf.stderr[name])
             why = "the data do not reach a series-resistance plateau" if isinstance(p.circuit, Series) else "the capacitance across the circuit shunts it at the top of the band"
-            if name in cf.at_bound or not value > error:
+            fell = name in cf.at_bound or not value > error
+            if fell:
                 how = f"it fell to {format_quantity(value, 'Ω')}"
             else:
                 how = f"it is {format_quantity(value, 'Ω')} ± {format_quantity(error, 'Ω')}, traded against the other resistances"
-            left = _left_out(effect, p, cf, node, f"{how}: {why}")
+            left = _left_out(effect, p, cf, node, f"{how}: {why}", fell)
             if str(left[1].circuit) not in seen:
                 seen.add(str(left[1].circuit))
                 out.append(left)
@@ -956,12 +965,15 @@ def _series_with_all(circuit: Circuit) -> tuple[Circuit, ...]:
     return ()
 
 
-def _left_out(effect: Effect, p: Proposal, cf: FitResult, element: Element, why: str) -> tuple[Effect, Proposal]:
+def _left_out(effect: Effect, p: Proposal, cf: FitResult, element: Element, why: str, fell: bool = False) -> tuple[Effect, Proposal]:
     """Proposal ``p`` without ``element``, warm-started from its fit ``cf`` less that element's
-    parameters, saying why it was left out."""
+    parameters, saying why it was left out; ``fell``: it fell to zero in ``cf`` (a series
+    resistance; not a branch that carries no current: without it, the block's other element
+    stands for something else, R_sc ∥ C_sc's R_sc for the series R_f)."""
     gone = set(cf.registry[element.symbol].parameter_names(element.name))
     starts = ({k: float(x) for k, x in cf.values.items() if k not in gone},)
-    return effect, Proposal(p.effect, p.circuit.without(element.name), p.added, f"{p.where}, and {element.name} left out ({why})", starts, removed=p.removed + (element.name,), band=p.band)
+    vanished = p.vanished + ((element.name,) if fell else ())
+    return effect, Proposal(p.effect, p.circuit.without(element.name), p.added, f"{p.where}, and {element.name} left out ({why})", starts, removed=p.removed + (element.name,), band=p.band, vanished=vanished)
 
 
 def _resistor_capacitor_blocks(circuit: Circuit, registry: Registry):
@@ -1175,7 +1187,7 @@ def _suggestions(base: FitResult, proposals: list[tuple[Effect, Proposal]], fits
         after = failing_bands(cf, sigma_rel)
         fixed_bands = tuple((b.f_min, b.f_max) for b in bands if not any(a.f_min < b.f_max and a.f_max > b.f_min for a in after))
         lowered = _lowered_bands(base, cf, bands, fixed_bands)
-        out.append(Suggestion(effect.id, p.added, p.where, cf, d_aic, d_bic, significant, _explain(effect, p, base, cf, d_aic, d_bic, fixed_bands, lowered), fixed_bands, undetermined, warning, p.removed))
+        out.append(Suggestion(effect.id, p.added, p.where, cf, d_aic, d_bic, significant, _explain(effect, p, base, cf, d_aic, d_bic, fixed_bands, lowered), fixed_bands, undetermined, warning, p.removed, p.vanished))
     return out
 
 
@@ -1203,7 +1215,7 @@ def _paired(first: Effect, p1: Proposal, second: Effect, p2: Proposal) -> tuple[
     )
     where = f"{p1.added} {p1.where}, and {p2.added} {p2.where}"
     band = (min(p1.band[0], p2.band[0]), max(p1.band[1], p2.band[1]))
-    return effect, Proposal(effect.id, p2.circuit, f"{p1.added} and {p2.added}", where, p2.starts, p1.removed + p2.removed, band)
+    return effect, Proposal(effect.id, p2.circuit, f"{p1.added} and {p2.added}", where, p2.starts, p1.removed + p2.removed, band, p1.vanished + p2.vanished)
 
 
 def _effect_pairs(base: FitResult, cands: Sequence[Suggestion], proposals: list[tuple[Effect, Proposal]], spectrum: xr.Dataset, effects: EffectCatalog, shape: SolverShape, *, with_drt: bool, max_params: int, n_starts: int, max_steps: int, seed: int) -> tuple[list[tuple[Effect, Proposal]], list[FitResult], SolverShape]:
