@@ -128,8 +128,9 @@ def format_frequency(f: float) -> str:
 
 def unit_text(unit: str) -> str:
     """A parameter's unit (its element spec's spelling) for text: ``Ohm`` as ``Ω``, also inside
-    compound units (``Ω s^-1/2``); a dimensionless ``1`` as nothing."""
-    return "" if unit == "1" else re.sub(r"\b[Oo]hm\b", "Ω", unit)
+    compound units (``Ω s^-1/2``), a CPE's ``alpha`` as ``α`` (``F s^(α-1)``); a dimensionless
+    ``1`` as nothing."""
+    return "" if unit == "1" else re.sub(r"\balpha\b", "α", re.sub(r"\b[Oo]hm\b", "Ω", unit))
 
 
 def format_time(tau: float, digits: int = 3) -> str:

@@ -376,7 +376,9 @@ def test_the_batch_fit_figure_marks_the_spectra_with_their_labels():
     """Before: the x axis read 0.0, 0.5, ..., 2.0 for the cycles 0, 64, 129."""
     batch = ix.fit("R0 + R1 || CPE1", ix.load(CYCLES))
     fig = batch.plot()
-    for ax in fig.axes:
-        if ax.get_visible():
-            assert [t.get_text() for t in ax.get_xticklabels()] == ["0", "64", "129"] and ax.get_xlabel() == "cycle"
+    panels = [ax for ax in fig.axes if ax.get_visible() and not ax.get_title().startswith("data (○) and fits")]  # (not the Nyquist panel)
+    assert len(panels) == len(fig.axes) - 1 == 5
+    for ax in panels:
+        assert [t.get_text() for t in ax.get_xticklabels()] == ["0", "64", "129"] and ax.get_xlabel() == "cycle"
+    assert [line.get_label() for line in fig.axes[-1].lines if line.get_marker() == "o"] == ["0", "64", "129"]  # the Nyquist legend: the same labels
     assert outside_the_figure(fig) == []

@@ -411,8 +411,45 @@ def test_batch_fit_plot_shows_every_free_parameter_and_the_error():
     batch = ix.fit("R0 + R1 || C1", ix.make_spectrum(f, z, dims=("trial",)), fixed={"R1": 1e3})
     fig = batch.plot()
     titles = [ax.get_title() for ax in fig.axes if ax.get_visible()]
-    assert titles == ["R0 [Ω]", "C1 [F]", "rms_rel [%]"]
+    assert titles == ["R0 [Ω]", "C1 [F]", "rms_rel [%]", "data (○) and fits (—), 4 spectra"]
     np.testing.assert_allclose(fig.axes[0].lines[0].get_ydata(), 100 * (1 + 0.1 * np.arange(4)), rtol=1e-6)
+    nyquist = fig.axes[-1]  # every spectrum's data (circles) and fit (line), in the batch's order
+    circles = [line for line in nyquist.lines if line.get_marker() == "o"]
+    fits = [line for line in nyquist.lines if line.get_linestyle() == "-"]
+    assert len(circles) == len(fits) == 4 and [line.get_label() for line in circles] == ["0", "1", "2", "3"]
+    for k, (circle, fit_line) in enumerate(zip(circles, fits)):
+        np.testing.assert_allclose(circle.get_ydata(), -z[k].imag)
+        np.testing.assert_allclose(fit_line.get_ydata(), -batch.dataset["Z_model"].isel(trial=k).values.imag)
+    np.testing.assert_array_equal(batch.dataset["Z"].values, z)
+    assert nyquist.get_ylim()[0] > -0.1 * np.max(-z.imag)  # (no empty half-plane below the arcs)
+
+
+def test_batch_plot_leaves_undetermined_values_without_their_error_bars():
+    # two spectra with a second arc (R2 = 500 Ω) and two whose second element is a plain
+    # capacitor (written here): there R2 runs off (on at least one; the other may stop at
+    # a value the band still resolves) with an error of decades, which scaled the panel to
+    # 1e13 and flattened the determined values into a line
+    import matplotlib
+
+    matplotlib.use("Agg")
+    f = np.geomspace(1e3, 1e6, 40)
+    jw = 2j * np.pi * f
+    rc = lambda r, c: r / (1 + jw * r * c)  # noqa: E731
+    rng = np.random.default_rng(4)
+    z = np.stack([10 + rc(100, 1e-8) + (rc(500, 1e-7) if k < 2 else 1 / (jw * 1e-4)) for k in range(4)])
+    z = z * (1 + 0.002 * (rng.normal(size=z.shape) + 1j * rng.normal(size=z.shape)))
+    batch = ix.fit("R0 + R1 || C1 + R2 || C2", ix.make_spectrum(f, z, dims=("trial",)))
+    loose = batch.undetermined("R2").values
+    r2 = batch.values("R2").values
+    assert not loose[:2].any() and loose.any(), batch.report()
+    assert np.max(r2[loose]) > 1e6 and not batch.undetermined("R1").values.any()
+    fig = batch.plot()
+    (panel,) = [ax for ax in fig.axes if ax.get_title() == "R2 [Ω]"]
+    bars = panel.lines[0]
+    np.testing.assert_array_equal(bars.get_xdata(), np.flatnonzero(~loose))
+    assert panel.get_ylim()[1] < 1e5  # scaled to the determined values
+    grey = [line for line in panel.lines[1:] if line.get_color() == "0.55"]
+    assert sorted(int(x) for line in grey for x in line.get_xdata()) == np.flatnonzero(loose).tolist()
 
 
 def test_correlation_notes_give_the_pair_its_own_reason(rng):

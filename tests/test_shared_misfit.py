@@ -146,3 +146,11 @@ def test_reports_write_ohm_as_the_symbol(one_arc):
         assert rows and all(line.endswith(" Ω") for line in rows if line.startswith("R")), rows
         assert all(line.endswith(" F") for line in rows if line.startswith("C1")), rows
         assert "Ohm" not in report
+
+
+def test_unit_text_writes_the_symbols():
+    from impedax.data import unit_text
+
+    assert unit_text("Ohm") == "Ω" and unit_text("Ohm s^-1/2") == "Ω s^-1/2"
+    assert unit_text("F s^(alpha-1)") == "F s^(α-1)"  # (a CPE's Q: "alpha" spelled out before)
+    assert unit_text("1") == "" and unit_text("H") == "H"

@@ -78,6 +78,10 @@ def settle_nyquist(fig, *axes) -> None:
             a, b = get()
             if low - a > 2 * margin * size:  # (widened on this axis: the data sit in the middle)
                 set_(low - margin * size, low - margin * size + (b - a))
+        # limits set by hand are "fixed": a later draw at another size or resolution (savefig at
+        # its dpi) that widens them again would warn that it ignores them; they stay as set
+        # until something is drawn on the panel
+        ax.set_autoscale_on(True)
 
 
 def plot_bode(ax_mod, ax_phase, data=None, model=None, *, data_label="data", model_label="model"):

@@ -13,37 +13,100 @@ from ..data import unit_text
 def plot_batch(batch, *, title: str | None = None):
     """One panel per free parameter (value ± stderr for each spectrum, in the order of the batch
     dimensions, the x axis marked with the spectra's labels) and one for rms_rel; log scale
-    where a parameter spans decades. Returns a matplotlib Figure."""
+    where a parameter spans decades; and a Nyquist panel of data and fits (`_plot_fits`) in
+    the last row's free places (a row of its own when fewer than two are free). Returns a
+    matplotlib Figure."""
     import matplotlib.pyplot as plt
 
-    from . import characters_across, label_spectra_axis, wrap_model
+    from . import characters_across, label_spectra_axis, settle_nyquist, wrap_model
 
     ds = batch.dataset
     free = [str(p) for p, fixed in zip(ds["param"].values, ds["fixed"].values) if not fixed]
     panels = free + ["rms_rel"]
     cols = min(4, len(panels))
     rows = math.ceil(len(panels) / cols)
-    fig, axes = plt.subplots(rows, cols, figsize=(3.2 * cols, 2.6 * rows), layout="constrained", squeeze=False)
+    left = rows * cols - len(panels)  # free places in the last row
+    with_fits = "Z" in ds
+    own_row = with_fits and left < 2
+    fig = plt.figure(figsize=(3.2 * max(cols, 2), 2.6 * rows + (3.2 if own_row else 0)), layout="constrained")
+    grid = fig.add_gridspec(rows + own_row, max(cols, 2), height_ratios=[1] * rows + ([1.3] if own_row else []))
+    axes = [fig.add_subplot(grid[i // cols, i % cols]) for i in range(len(panels))]
     index = np.arange(batch.n_spectra)
     places = [ds[d].values.tolist() if d in ds.coords else list(range(ds.sizes[d])) for d in batch.dims]
     labels = [", ".join(str(places[k][i]) for k, i in enumerate(at)) for at in np.ndindex(*(ds.sizes[d] for d in batch.dims))]
     specs = batch.circuit.parameter_specs(batch.registry)
-    for ax, name in zip(axes.flat, panels):
+    for ax, name in zip(axes, panels):
         if name == "rms_rel":
             y, err, unit = ds["rms_rel"].transpose(*batch.dims).values.ravel() * 100, None, "%"
         else:
             y = ds["value"].sel(param=name).transpose(*batch.dims).values.ravel()
             err = ds["stderr"].sel(param=name).transpose(*batch.dims).values.ravel()
             unit = unit_text(specs[name].unit)
-        ax.errorbar(index, y, yerr=None if err is None else np.where(np.isfinite(err), err, 0.0), fmt="o", ms=3, lw=0.8, capsize=1.5)
-        positive = y[np.isfinite(y)]
-        if positive.size and np.all(positive > 0) and positive.max() > 20 * positive.min():
+        loose = np.zeros(y.size, bool) if name == "rms_rel" else batch.undetermined(name).transpose(*batch.dims).values.ravel()
+        kept = ~loose
+        ax.errorbar(index[kept], y[kept], yerr=None if err is None else np.where(np.isfinite(err[kept]), err[kept], 0.0), fmt="o", ms=3, lw=0.8, capsize=1.5)
+        scaled = y[kept & np.isfinite(y)]
+        if scaled.size and np.all(scaled > 0) and scaled.max() > 20 * scaled.min():
             ax.set_yscale("log")
+        if loose.any():
+            _mark_undetermined(ax, index[loose], y[loose], scaled)
         ax.set_title(f"{name} [{unit}]" if unit else name, fontsize=9)
         label_spectra_axis(ax, labels, batch.dims)
         ax.grid(alpha=0.3, which="both")
-    for ax in list(axes.flat)[len(panels):]:
-        ax.set_visible(False)
+    if with_fits:
+        ax_nyq = fig.add_subplot(grid[rows, :] if own_row else grid[rows - 1, cols - left :])
+        _plot_fits(ax_nyq, ds, batch.dims, labels)
     converged = float(ds["converged"].mean()) * 100
     fig.suptitle(title or wrap_model(f"{batch.model}: {batch.n_spectra} spectra, {converged:.0f}% converged", characters_across(3.2 * cols, 12)))
+    if with_fits:
+        settle_nyquist(fig, ax_nyq)
     return fig
+
+
+def _mark_undetermined(ax, x, y, determined) -> None:
+    """Values the data do not determine (`BatchFitResult.undetermined`) as open grey markers
+    without error bars (theirs span decades and flattened the panel: a battery's idle R2 at
+    1e30 ± 1e52 Ω), the axis scaled to the determined ones; values beyond it sit at its edge as
+    ▲ / ▼."""
+    if determined.size:
+        ax.autoscale_view()
+        lo, hi = ax.get_ylim()
+        above, below = y > hi, y < lo
+        inside = ~(above | below)
+        ax.plot(x[inside], y[inside], "o", ms=3.5, mfc="none", color="0.55", label="undetermined (error > 100 %)")
+        for beyond, edge, marker in ((above, hi, "^"), (below, lo, "v")):
+            if beyond.any():  # (an empty unclipped line would stretch the layout's box to the figure's corner)
+                ax.plot(x[beyond], np.full(beyond.sum(), edge), marker, ms=4, mfc="none", color="0.55", clip_on=False)
+        ax.set_ylim(lo, hi)
+    else:
+        ax.plot(x, y, "o", ms=3.5, mfc="none", color="0.55", label="undetermined (error > 100 %)")
+    ax.legend(fontsize=7, loc="best")
+
+
+# a batch's Nyquist panel draws at most this many of its spectra (evenly spaced, the first and
+# the last among them): more overlap into one band
+FITS_DRAWN = 8
+
+
+def _plot_fits(ax, ds, dims, labels) -> None:
+    """Nyquist panel of a batch: the data (circles) and the fit (line) of up to `FITS_DRAWN`
+    spectra, each pair in one colour along the batch's order, at equal scales."""
+    import matplotlib as mpl
+
+    from . import equal_aspect
+
+    z = ds["Z"].transpose(*dims, "frequency").values.reshape(-1, ds.sizes["frequency"])
+    z_model = ds["Z_model"].transpose(*dims, "frequency").values.reshape(z.shape)
+    n = len(z)
+    drawn = np.unique(np.linspace(0, n - 1, min(n, FITS_DRAWN)).round().astype(int))
+    colours = mpl.colormaps["viridis"](np.linspace(0, 0.9, drawn.size))
+    for colour, i in zip(colours, drawn.tolist()):
+        ax.plot(z[i].real, -z[i].imag, "o", ms=2.5, mfc="none", color=colour, label=labels[i])
+        ax.plot(z_model[i].real, -z_model[i].imag, "-", lw=1.0, color=colour)
+    ax.set_xlabel("Z' [Ω]", fontsize=8)
+    ax.set_ylabel("−Z'' [Ω]", fontsize=8)
+    what = f"{drawn.size} of {n} spectra" if drawn.size < n else f"{n} spectra"
+    ax.set_title(f"data (○) and fits (—), {what}", fontsize=9)
+    ax.legend(fontsize=7, title=", ".join(dims), title_fontsize=7, ncol=2 if drawn.size > 4 else 1)
+    ax.grid(alpha=0.3)
+    equal_aspect(ax)

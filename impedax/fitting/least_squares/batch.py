@@ -22,7 +22,7 @@ from ..parameters import ParameterTable
 from ..problem import residual_scale, weights
 from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, dominant_points, information_criteria, null_sets
 from .order import canonical_order
-from .branches import idle_branch_notes, undetermined_mask
+from .branches import idle_branch_notes, undetermined, undetermined_mask
 from .result import bound_sides, confirm_bounds, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, stack_notes, weighting_notes
 from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, TreeSolvers, better, over_devices, padded_points, tree_solver, trimmed, unscale
 from .starts import SpectrumFeatures, climb_target, batch_outliers, escalation_rungs, guess_start, rms_rel_of, rung_seed, rung_starts, to_solver_space
@@ -38,7 +38,7 @@ class BatchFitResult:
 
     ``dataset`` holds ``value``/``stderr`` over (param, *dims), ``rms_rel``, ``chi2``,
     ``chi2_red``, ``aic``, ``bic``, ``converged`` over dims, ``at_bound`` (whether a parameter
-    is at a natural or user bound) over (param, *dims) and ``Z_model`` over (*dims, frequency). ``warnings`` maps a spectrum's index (a dict of coordinates, as text)
+    is at a natural or user bound) over (param, *dims), and the data ``Z`` and ``Z_model`` over (*dims, frequency). ``warnings`` maps a spectrum's index (a dict of coordinates, as text)
     to its warnings.
     """
 
@@ -67,6 +67,14 @@ class BatchFitResult:
     def values(self, name: str) -> xr.DataArray:
         """Fitted values of parameter ``name`` over the batch dimensions."""
         return self.dataset["value"].sel(param=name)
+
+    def undetermined(self, name: str) -> xr.DataArray:
+        """Where the data do not determine parameter ``name`` (bool over the batch dimensions):
+        the fits' rule (`branches.undetermined`: relative standard error above 100 %, or none
+        finite), a fixed parameter or one at a bound never (its bound note speaks for it)."""
+        ds = self.dataset.sel(param=name)
+        flagged = undetermined(ds["value"].values, ds["stderr"].values) & ~ds["at_bound"].values & (not bool(ds["fixed"]))
+        return xr.DataArray(flagged, dims=ds["value"].dims, coords=ds["value"].coords).drop_vars("param")
 
     def to_table(self) -> list[dict[str, object]]:
         """The tidy table: one row per spectrum and parameter, the extra dimensions' coordinates
@@ -546,6 +554,7 @@ def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weig
             "rms_rel": (extra, rms_rel),
             "converged": (extra, converged.astype(bool)),
             "n_evaluations": (extra, n_eval.astype(np.int64)),
+            "Z": ((*extra, "frequency"), z_data, {"units": "ohm"}),
             "Z_model": ((*extra, "frequency"), z_model, {"units": "ohm"}),
         },
         coords={"param": list(names), "frequency": ("frequency", freq, {"units": "Hz"}), **coords},

@@ -627,6 +627,7 @@ def _result_dataset(circuit, data, table, layout: SharedLayout, extra, keep_shap
         "rms_rel": spectra(rms_rel),
         "converged": spectra(converged),
         "n_evaluations": spectra(steps),
+        "Z": spectra(z_data, ("frequency",)).assign_attrs(units="ohm"),
         "Z_model": spectra(z_model, ("frequency",)).assign_attrs(units="ohm"),
         "is_shared": ("param", np.array([n in layout.shared for n in names])),
         "covariance": spectra(cov_full, ("free_param", "free_param_2")),
