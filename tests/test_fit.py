@@ -461,3 +461,23 @@ def test_correlation_notes_give_the_pair_its_own_reason(rng):
     (note,) = [w for w in result.warnings if w.startswith("Wo1.R and Wo1.tau are strongly correlated")]
     assert "only R/√τ shows" in note and "CPE" not in note
     assert result.values["Wo1.R"] / np.sqrt(result.values["Wo1.tau"]) == pytest.approx(50 * np.sqrt(2), rel=0.05)
+
+
+def test_batch_plot_stops_error_bars_at_a_natural_bound():
+    # AutoEIS's real battery cycles (examples/data): CPE2's exponent sits at its bound 1 in all
+    # three, with standard errors of 0.01–0.05; its bars were drawn up to 1.05, where α cannot go
+    import matplotlib
+    from pathlib import Path
+
+    matplotlib.use("Agg")
+    data = ix.load(Path(__file__).parents[1] / "examples" / "data" / "autoeis_battery_cycles.nc")
+    batch = ix.fit("R0 + R1 || CPE1 + R2 || CPE2 + W1", data)
+    assert batch.dataset["at_bound"].sel(param="CPE2.alpha").values.all()
+    assert (batch.dataset["stderr"].sel(param="CPE2.alpha").values > 0.005).all()
+    fig = batch.plot()
+    (panel,) = [ax for ax in fig.axes if ax.get_title() == "CPE2.alpha"]
+    assert panel.get_ylim()[1] < 1.005
+    (free,) = [ax for ax in fig.axes if ax.get_title() == "CPE1.alpha"]  # bars off the bound keep both sides
+    segments = free.collections[0].get_segments()
+    alpha, err = batch.values("CPE1.alpha").values, batch.dataset["stderr"].sel(param="CPE1.alpha").values
+    np.testing.assert_allclose([(s[0][1], s[1][1]) for s in segments], np.stack([alpha - err, alpha + err], axis=1), rtol=1e-9)

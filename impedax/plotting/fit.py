@@ -44,7 +44,8 @@ def plot_batch(batch, *, title: str | None = None):
             unit = unit_text(specs[name].unit)
         loose = np.zeros(y.size, bool) if name == "rms_rel" else batch.undetermined(name).transpose(*batch.dims).values.ravel()
         kept = ~loose
-        ax.errorbar(index[kept], y[kept], yerr=None if err is None else np.where(np.isfinite(err[kept]), err[kept], 0.0), fmt="o", ms=3, lw=0.8, capsize=1.5)
+        bars = None if err is None else _bounded_bars(y, np.where(np.isfinite(err), err, 0.0), ds["at_bound"].sel(param=name).transpose(*batch.dims).values.ravel(), specs[name])[:, kept]
+        ax.errorbar(index[kept], y[kept], yerr=bars, fmt="o", ms=3, lw=0.8, capsize=1.5)
         scaled = y[kept & np.isfinite(y)]
         if scaled.size and np.all(scaled > 0) and scaled.max() > 20 * scaled.min():
             ax.set_yscale("log")
@@ -61,6 +62,15 @@ def plot_batch(batch, *, title: str | None = None):
     if with_fits:
         settle_nyquist(fig, ax_nyq)
     return fig
+
+
+def _bounded_bars(value, err, at_bound, spec) -> np.ndarray:
+    """Error bars (2, n: below, above) that stop at a parameter's natural bound where its value
+    sits on it: a CPE's α = 1 ± 0.03 was drawn up to 1.03, where α cannot go."""
+    with np.errstate(invalid="ignore"):
+        below = np.where(at_bound, np.minimum(err, np.maximum(value - spec.lower, 0.0)), err)
+        above = np.where(at_bound, np.minimum(err, np.maximum(spec.upper - value, 0.0)), err)
+    return np.stack([below, above])
 
 
 def _mark_undetermined(ax, x, y, determined) -> None:
