@@ -545,3 +545,13 @@ def test_a_stuck_walker_makes_tau_unknown_without_a_raw_warning():
     assert np.all(np.isnan(tau))
     out = chain_warnings(("a", "b"), (False, False), chain, {"a": float(tau[0]), "b": float(tau[1])}, 1, 0.3)
     assert any("τ of a, b could not be estimated: 1 of 8 walkers never moved over the 60 kept draws" in w for w in out), out
+
+
+def test_report_columns_line_up_with_compound_units(rcpe):
+    # a CPE's unit (F s^(α-1)) is wider than the unit column was (5 characters): the prior column
+    # of its row started further right than the others'
+    _, _, _, post = rcpe
+    rows = [line for line in post.report().splitlines() if line.split(" ", 1)[0] in post.names]
+    assert any("F s^(α-1)" in line for line in rows), rows
+    starts = {len(line) - len(line.split()[-1]) for line in rows}  # (where the prior, the last field, starts)
+    assert len(starts) == 1, rows

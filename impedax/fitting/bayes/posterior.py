@@ -206,17 +206,19 @@ class Posterior:
         """A readable table of the posterior."""
         q = self.quantiles()
         width = max(len(n) for n in self.names)
+        units = [unit_text(u) for u in self.units]
+        unit_width = max([4, *map(len, units)])
         lines = [
             f"model      {self.model}",
             f"noise      {self.noise}: {NOISE_MODELS[self.noise]}",
             f"sampler    emcee, {self.n_walkers} walkers, {self.settings.get('steps')} steps (burn {self.settings.get('burn')}, thin {self.settings.get('thin')}), {self.n_walkers * self.n_draws} draws, acceptance {self.mean_acceptance:.3f}",
             f"evidence   Laplace ln Z = {self.log_evidence:.2f}    WAIC = {self.waic:.2f} (p_waic {self.p_waic:.3g})",
             "",
-            f"{'parameter':<{width}}  {'median':>11}  {'q05':>11}  {'q95':>11}  {'τ [steps]':>9}  {'ESS':>7}  unit   prior",
+            f"{'parameter':<{width}}  {'median':>11}  {'q05':>11}  {'q95':>11}  {'τ [steps]':>9}  {'ESS':>7}  {'unit':<{unit_width}}  prior",
         ]
         for i, n in enumerate(self.names):
             lines.append(
-                f"{n:<{width}}  {float(q['median'][i]):>11.5g}  {float(q['q05'][i]):>11.5g}  {float(q['q95'][i]):>11.5g}  {figure(self.autocorr[n], '9.3g'):>9}  {figure(self.ess[n], '7.0f'):>7}  {unit_text(self.units[i]):<5}  {self.priors[n]}"
+                f"{n:<{width}}  {float(q['median'][i]):>11.5g}  {float(q['q05'][i]):>11.5g}  {float(q['q95'][i]):>11.5g}  {figure(self.autocorr[n], '9.3g'):>9}  {figure(self.ess[n], '7.0f'):>7}  {units[i]:<{unit_width}}  {self.priors[n]}"
             )
         for w in self.warnings:
             lines.append(f"warning: {w}")
