@@ -280,3 +280,26 @@ def test_a_nyquist_panel_keeps_equal_scales_and_no_empty_half_plane(shape):
     else:
         assert data_x[0] - x0 < 0.1 * (data_x[1] - data_x[0]) and (x1 - x0) > 2 * (data_x[1] - data_x[0])
     plt.close(fig)
+
+
+def test_compare_lists_a_warning_every_model_has_once():
+    # Autolab's real spectrum (impedance.py's example): four common circuits all stop near 12 %,
+    # and each carried the same misfit note (it quotes the data's KK misfit, 0.33 %) under its
+    # name, four times the same paragraph
+    from pathlib import Path
+
+    import impedax as ix
+    from impedax.cli.compare import warning_lines
+
+    data = ix.load(Path(__file__).resolve().parent / "fixtures" / "real" / "exampleDataAutolab.txt")
+    c = ix.compare([ix.fit(m, data) for m in ("R0 + R1 || CPE1", "R0 + R1 || CPE1 + W1", "R0 + R1 || CPE1 + R2 || CPE2")])
+    note = next(w for w in c.fits[0].warnings if w.startswith("the model misses structure"))
+    assert all(note in f.warnings for f in c.fits)
+    lines = warning_lines(c)
+    assert sum(note in line for line in lines) == 1
+    every = next(i for i, line in enumerate(lines) if line.startswith("  every model: "))
+    assert any(note in line for line in lines[every + 1 :]) and lines[every + 1].startswith("    - ")
+    for f in c.fits:  # each model's own warnings are still listed under its name
+        own = [w for w in f.warnings if not all(w in g.warnings for g in c.fits)]
+        for w in own:
+            assert any(w in line for line in lines), (w, lines)

@@ -49,16 +49,24 @@ WARNINGS_SHOWN = 8  # warnings listed per model under the table (--json has them
 
 def warning_lines(comparison) -> list[str]:
     """Each model's warnings under the comparison's table (the JSON's ``warnings`` of each
-    model): the model, then one indented line per warning; none when no model has any."""
+    model): the model, then one indented line per warning; none when no model has any. A
+    warning every model has (the data's own Kramers–Kronig misfit, quoted alike for each) is
+    listed once, under "every model"."""
     from .common import command_line_words
 
+    texts = [r.warnings if isinstance(r.warnings, (tuple, list)) else () for r in comparison.fits]
+    common = [w for w in texts[0] if all(w in t for t in texts[1:])] if len(texts) > 1 else []
     lines = []
+    if common:
+        lines.append(f"  every model: {len(common)} warning(s)")
+        lines += [f"    - {command_line_words(w)}" for w in common]
     for i, r in enumerate(comparison.fits):
-        if not r.warnings:
+        own = [w for w in r.warnings if w not in common]
+        if not own:
             continue
         best = " (best by AIC)" if i == comparison.best_index else ""
-        lines.append(f"  {r.model}{best}: {len(r.warnings)} warning(s)")
-        lines += [f"    - {command_line_words(w)}" for w in r.warnings[:WARNINGS_SHOWN]]
-        if len(r.warnings) > WARNINGS_SHOWN:
-            lines.append(f"    ... and {len(r.warnings) - WARNINGS_SHOWN} more (--json lists them all)")
+        lines.append(f"  {r.model}{best}: {len(own)} warning(s)" + (" besides those of every model" if common else ""))
+        lines += [f"    - {command_line_words(w)}" for w in own[:WARNINGS_SHOWN]]
+        if len(own) > WARNINGS_SHOWN:
+            lines.append(f"    ... and {len(own) - WARNINGS_SHOWN} more (--json lists them all)")
     return ["", "warnings:", *lines] if lines else []
