@@ -259,7 +259,9 @@ def test_a_nyquist_panel_keeps_equal_scales_and_no_empty_half_plane(shape):
     # equal scales widened the limits about the middle: a flat battery-like spectrum (one arc
     # and a Warburg tail, 4:1, written here) sat in the middle of its panel with half the
     # plane at −Z'' < 0 where no point is (Gamry's real file: −Z'' from −8,000 to 15,000 Ω).
-    # The widening now lies beyond the data's far side; the scales stay equal
+    # The widening now lies beyond the data's far side, and a flat spectrum gets a panel
+    # across the figure's top shaped like it, so that there is little to widen; the scales stay
+    # equal (to matplotlib's own tolerance, 0.5 %)
     from impedax.plotting import plot_spectrum
 
     f = np.geomspace(1e-2, 1e5, 60)
@@ -272,13 +274,14 @@ def test_a_nyquist_panel_keeps_equal_scales_and_no_empty_half_plane(shape):
     fig.canvas.draw()
     (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
     box = ax.get_window_extent()
-    assert abs((x1 - x0) / box.width - (y1 - y0) / box.height) < 1e-3 * (x1 - x0) / box.width  # equal scales
+    assert abs((x1 - x0) / box.width - (y1 - y0) / box.height) < 0.006 * (x1 - x0) / box.width  # equal scales
     data_x, data_y = (z.real.min(), z.real.max()), ((-z.imag).min(), (-z.imag).max())
     assert x0 < data_x[0] and x1 > data_x[1] and y0 < data_y[0] and y1 > data_y[1]  # every point inside
-    if shape == "flat":
-        assert data_y[0] - y0 < 0.1 * (data_y[1] - data_y[0]) and (y1 - y0) > 2 * (data_y[1] - data_y[0])
-    else:
-        assert data_x[0] - x0 < 0.1 * (data_x[1] - data_x[0]) and (x1 - x0) > 2 * (data_x[1] - data_x[0])
+    across = box.width > 0.8 * fig.bbox.width
+    if shape == "flat":  # across the top, as high as the spectrum: little empty plane, none below it
+        assert across and data_y[0] - y0 < 0.1 * (data_y[1] - data_y[0]) and (y1 - y0) < 1.5 * (data_y[1] - data_y[0])
+    else:  # down the left, widened to the right of the line
+        assert not across and data_x[0] - x0 < 0.1 * (data_x[1] - data_x[0]) and (x1 - x0) > 2 * (data_x[1] - data_x[0])
     plt.close(fig)
 
 

@@ -5,6 +5,7 @@ Every function returns a matplotlib `Figure`; nothing is shown or saved implicit
 
 from __future__ import annotations
 
+import math
 from typing import Sequence
 
 import matplotlib.pyplot as plt
@@ -13,7 +14,7 @@ import xarray as xr
 
 from ..io.atomic import atomic_path
 
-__all__ = ["plot_spectrum", "plot_nyquist", "equal_aspect", "settle_nyquist", "plot_bode", "save_figure", "shade_bands", "refresh_legend", "plain_log_ticks", "wrap_model", "characters_across", "label_spectra_axis"]
+__all__ = ["plot_spectrum", "plot_nyquist", "equal_aspect", "settle_nyquist", "nyquist_shape", "spectrum_layout", "plot_bode", "save_figure", "shade_bands", "refresh_legend", "plain_log_ticks", "wrap_model", "characters_across", "label_spectra_axis"]
 
 
 def _as_arrays(spectrum):
@@ -125,19 +126,16 @@ def refresh_legend(ax) -> None:
 
 def plot_spectrum(data=None, model=None, *, title: str | None = None, bands=None, data_label="data", model_label="model", residual_labels=("Re", "Im")):
     """Nyquist, Bode (|Z|, phase) and, when both are given, relative residuals (Re, Im) of
-    ``(Z_model − Z_data)/|Z_data|`` in percent. ``bands`` are shaded on the frequency axes."""
+    ``(Z_model − Z_data)/|Z_data|`` in percent. ``bands`` are shaded on the frequency axes.
+    The axes are Nyquist, |Z|, phase (and residuals), in that order, in either layout
+    (`spectrum_layout`)."""
     d, m = _as_arrays(data), _as_arrays(model)
     with_residuals = d is not None and m is not None
-    fig = plt.figure(figsize=(11, 6.5 if with_residuals else 5), layout="constrained")
-    grid = fig.add_gridspec(3 if with_residuals else 2, 2, width_ratios=[1, 1.2])
-    ax_nyq = fig.add_subplot(grid[:, 0])
-    ax_mod = fig.add_subplot(grid[0, 1])
-    ax_ph = fig.add_subplot(grid[1, 1], sharex=ax_mod)
+    fig, (ax_nyq, ax_mod, ax_ph, ax_res) = spectrum_layout(nyquist_shape(d, m), with_residuals)
     plot_nyquist(ax_nyq, data, model, data_label=data_label, model_label=model_label)
     plot_bode(ax_mod, ax_ph, data, model, data_label=data_label, model_label=model_label)
     freq_axes = [ax_mod, ax_ph]
     if with_residuals:
-        ax_res = fig.add_subplot(grid[2, 1], sharex=ax_mod)
         r = (_model_at(d[0], m) - d[1]) / np.abs(d[1])
         plot_residuals(ax_res, d[0], r.real, r.imag, labels=residual_labels)
         ax_ph.set_xlabel("")
@@ -148,6 +146,53 @@ def plot_spectrum(data=None, model=None, *, title: str | None = None, bands=None
         fig.suptitle(title)
     settle_nyquist(fig, ax_nyq)
     return fig
+
+
+# a Nyquist plot this flat or flatter (height/width of what it draws) gets a panel across the
+# figure's top (`spectrum_layout`): in the tall left panel of the other layout a battery's
+# spectrum (about 1:3) filled a third of the panel, the rest empty plane
+FLAT_NYQUIST = 0.6
+# ... whose height follows the spectrum's shape down to this (a flatter one widens its range)
+FLATTEST_PANEL = 0.25
+
+
+def nyquist_shape(*spectra) -> float:
+    """Height/width of what a Nyquist panel draws for ``spectra`` ((frequency, Z) pairs, None
+    skipped): the span of −Z'' over that of Z' (inf for a vertical line, nan for nothing)."""
+    z = np.concatenate([np.asarray(s[1], complex).ravel() for s in spectra if s is not None] or [np.zeros(0, complex)])
+    z = z[np.isfinite(z)]
+    if not z.size:
+        return math.nan
+    width, height = float(np.ptp(z.real)), float(np.ptp(z.imag))
+    return height / width if width > 0 else math.inf
+
+
+def spectrum_layout(shape: float, with_residuals: bool, *, width: float = 11.0):
+    """A figure and its axes (Nyquist, |Z|, phase, residuals or None) for a spectrum whose
+    Nyquist plot has ``shape`` (`nyquist_shape`). Up to `FLAT_NYQUIST`: the Nyquist panel
+    across the top, as high as the spectrum's shape asks (down to `FLATTEST_PANEL`), |Z| and
+    phase side by side below, the residuals across the bottom. Otherwise: the Nyquist panel
+    down the left, |Z|, phase and residuals stacked on the right. The frequency axes are
+    shared."""
+    if shape <= FLAT_NYQUIST:
+        nyquist_height = max(shape, FLATTEST_PANEL) * (width - 1.0)
+        heights = [nyquist_height, 2.6] + ([2.2] if with_residuals else [])
+        fig = plt.figure(figsize=(width, sum(heights) + 0.6), layout="constrained")
+        grid = fig.add_gridspec(len(heights), 2, height_ratios=heights)
+        ax_nyq = fig.add_subplot(grid[0, :])
+        ax_mod = fig.add_subplot(grid[1, 0])
+        ax_ph = fig.add_subplot(grid[1, 1], sharex=ax_mod)
+        ax_res = fig.add_subplot(grid[2, :], sharex=ax_mod) if with_residuals else None
+        if not with_residuals:  # (|Z| stands beside the phase panel, which names the axis)
+            ax_mod.set_xlabel("frequency [Hz]")
+    else:
+        fig = plt.figure(figsize=(width, 6.5 if with_residuals else 5), layout="constrained")
+        grid = fig.add_gridspec(3 if with_residuals else 2, 2, width_ratios=[1, 1.2])
+        ax_nyq = fig.add_subplot(grid[:, 0])
+        ax_mod = fig.add_subplot(grid[0, 1])
+        ax_ph = fig.add_subplot(grid[1, 1], sharex=ax_mod)
+        ax_res = fig.add_subplot(grid[2, 1], sharex=ax_mod) if with_residuals else None
+    return fig, (ax_nyq, ax_mod, ax_ph, ax_res)
 
 
 def plot_residuals(ax, freq, real, imag, *, labels=("Re", "Im"), ylabel="residual [%]", limit=None):

@@ -12,7 +12,7 @@ from typing import Mapping, Sequence
 import matplotlib.pyplot as plt
 import numpy as np
 
-from . import equal_aspect, settle_nyquist
+from . import equal_aspect, nyquist_shape, settle_nyquist, spectrum_layout
 
 __all__ = ["plot_posterior_bands", "plot_corner"]
 
@@ -25,10 +25,7 @@ def plot_posterior_bands(frequency, z_data, model_frequency, z_draws, *, title: 
     |Z| and phase with the 68% and 90% credible bands; ``z_predictive`` (draws with the noise
     added, same shape) adds the 90% posterior predictive band as dashed lines."""
     f, zs, z = np.asarray(model_frequency, float), np.asarray(z_draws, complex), np.asarray(z_data, complex)
-    fig = plt.figure(figsize=(11, 5.5), layout="constrained")
-    grid = fig.add_gridspec(2, 2, width_ratios=[1, 1.2])
-    ax_nyq, ax_mod = fig.add_subplot(grid[:, 0]), fig.add_subplot(grid[0, 1])
-    ax_ph = fig.add_subplot(grid[1, 1], sharex=ax_mod)
+    fig, (ax_nyq, ax_mod, ax_ph, _) = spectrum_layout(nyquist_shape((frequency, z), (f, np.median(zs.real, axis=0) + 1j * np.median(zs.imag, axis=0))), False)
     for k in np.linspace(0, zs.shape[0] - 1, min(n_lines, zs.shape[0])).astype(int):
         ax_nyq.plot(zs[k].real, -zs[k].imag, "-", color="tab:blue", alpha=0.08, lw=0.8)
     med = np.median(zs.real, axis=0) + 1j * np.median(zs.imag, axis=0)

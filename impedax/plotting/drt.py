@@ -7,7 +7,7 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 
-from . import label_spectra_axis, plot_bode, plot_nyquist, settle_nyquist, shade_bands
+from . import FLAT_NYQUIST, FLATTEST_PANEL, label_spectra_axis, nyquist_shape, plot_bode, plot_nyquist, settle_nyquist, shade_bands
 
 __all__ = ["plot_drt", "plot_drt_batch", "plot_gamma", "plot_zhit"]
 
@@ -41,15 +41,20 @@ def plot_gamma(ax, result, *, overlay=None, label="data DRT", overlay_label=None
 def plot_drt(result, *, overlay=None, title: str | None = None):
     """γ vs τ (band, peaks, optional overlay) on the left; Nyquist and Bode of data vs the DRT
     fit on the right; relative residuals below."""
-    fig = plt.figure(figsize=(12, 6.5), layout="constrained")
-    grid = fig.add_gridspec(3, 3, width_ratios=[1.4, 1, 1.1])
-    ax_g = fig.add_subplot(grid[:2, 0])
-    ax_res = fig.add_subplot(grid[2, 0])
-    ax_nyq = fig.add_subplot(grid[:, 1])
-    ax_mod = fig.add_subplot(grid[0, 2])
-    ax_ph = fig.add_subplot(grid[1, 2], sharex=ax_mod)
-    plot_gamma(ax_g, result, overlay=overlay)
     data, model = (result.frequency, result.impedance), (result.frequency, result.z_fit)
+    shape = nyquist_shape(data, model)
+    if shape <= FLAT_NYQUIST:  # the Nyquist panel across the top, as high as the spectrum's shape asks
+        heights = [max(shape, FLATTEST_PANEL) * 11.0, 2.6, 2.2]
+        fig = plt.figure(figsize=(12, sum(heights) + 0.6), layout="constrained")
+        grid = fig.add_gridspec(3, 2, width_ratios=[1.4, 1], height_ratios=heights)
+        slots = grid[1, 0], grid[2, 0], grid[0, :], grid[1, 1], grid[2, 1]
+    else:
+        fig = plt.figure(figsize=(12, 6.5), layout="constrained")
+        grid = fig.add_gridspec(3, 3, width_ratios=[1.4, 1, 1.1])
+        slots = grid[:2, 0], grid[2, 0], grid[:, 1], grid[0, 2], grid[1, 2]
+    ax_g, ax_res, ax_nyq, ax_mod = (fig.add_subplot(slot) for slot in slots[:4])
+    ax_ph = fig.add_subplot(slots[4], sharex=ax_mod)
+    plot_gamma(ax_g, result, overlay=overlay)
     plot_nyquist(ax_nyq, data, model, model_label="DRT fit")
     plot_bode(ax_mod, ax_ph, data, model, model_label="DRT fit")
     order = np.argsort(result.frequency)
