@@ -6,36 +6,35 @@ import numpy as np
 
 
 def plot_comparison(comparison):
-    """Data with every model's fit, and each model's relative residuals, for a `Comparison` (Figure)."""
-    import matplotlib.pyplot as plt
+    """Data with every model's fit (Nyquist, |Z|, phase), and each model's relative residuals,
+    for a `Comparison`, in the layout of a single spectrum (`spectrum_layout`). Figure."""
+    from . import equal_aspect, nyquist_shape, plain_log_ticks, settle_nyquist, spectrum_layout
 
-    from . import equal_aspect, plain_log_ticks, settle_nyquist
-
-    fig, axes = plt.subplots(2, 2, figsize=(11, 7), layout="constrained")
     ref = comparison.fits[0]
     f, z = ref.frequency, ref.z_data
-    axes[0, 0].plot(z.real, -z.imag, "o", mfc="none", ms=3.5, color="k", label="data")
-    axes[0, 1].loglog(f, np.abs(z), "o", mfc="none", ms=3.5, color="k", label="data")
-    axes[1, 0].semilogx(f, np.degrees(np.angle(z)), "o", mfc="none", ms=3.5, color="k", label="data")
+    fig, (ax_nyq, ax_mod, ax_ph, ax_res) = spectrum_layout(nyquist_shape((f, z), *((r.frequency, r.z_model) for r in comparison.fits)), True)
+    ax_nyq.plot(z.real, -z.imag, "o", mfc="none", ms=3.5, color="k", label="data")
+    ax_mod.loglog(f, np.abs(z), "o", mfc="none", ms=3.5, color="k", label="data")
+    ax_ph.semilogx(f, np.degrees(np.angle(z)), "o", mfc="none", ms=3.5, color="k", label="data")
     # a line style of its own for each model, so that two fits of the same curve (a CPE at α = 1
     # and a capacitor) are both seen, one drawn over the other
     styles = ("-", "--", "-.", ":")
     for k, r in enumerate(comparison.fits):
         label = f"{r.model} (rms_rel {r.rms_rel * 100:.3g} %)"
         ls = styles[k % len(styles)]
-        axes[0, 0].plot(r.z_model.real, -r.z_model.imag, ls=ls, label=label)
-        axes[0, 1].loglog(f, np.abs(r.z_model), ls=ls, label=label)
-        axes[1, 0].semilogx(f, np.degrees(np.angle(r.z_model)), ls=ls, label=label)
-        axes[1, 1].semilogx(f, np.abs(r.residuals) * 100, ".", ls=ls, label=label)
-    axes[0, 0].set(xlabel="Z' [Ω]", ylabel="−Z'' [Ω]", title="Nyquist")
-    equal_aspect(axes[0, 0])
-    axes[0, 1].set(xlabel="frequency [Hz]", ylabel="|Z| [Ω]")
-    axes[1, 0].set(xlabel="frequency [Hz]", ylabel="phase [deg]")
-    axes[1, 1].set(xlabel="frequency [Hz]", ylabel="|relative residual| [%]", yscale="log")
-    plain_log_ticks(axes[1, 1].yaxis)
-    for ax in axes.flat:
+        ax_nyq.plot(r.z_model.real, -r.z_model.imag, ls=ls, label=label)
+        ax_mod.loglog(f, np.abs(r.z_model), ls=ls, label=label)
+        ax_ph.semilogx(f, np.degrees(np.angle(r.z_model)), ls=ls, label=label)
+        ax_res.semilogx(f, np.abs(r.residuals) * 100, ".", ls=ls, label=label)
+    ax_nyq.set(xlabel="Z' [Ω]", ylabel="−Z'' [Ω]", title="Nyquist")
+    equal_aspect(ax_nyq)
+    ax_mod.set(xlabel="frequency [Hz]", ylabel="|Z| [Ω]")
+    ax_ph.set(xlabel="frequency [Hz]", ylabel="phase [deg]")
+    ax_res.set(xlabel="frequency [Hz]", ylabel="|relative residual| [%]", yscale="log")
+    plain_log_ticks(ax_res.yaxis)
+    for ax in (ax_nyq, ax_mod, ax_ph, ax_res):
         ax.grid(alpha=0.3, which="both")
-    axes[1, 1].legend(fontsize=7)
+    ax_res.legend(fontsize=7)
     fig.suptitle(f"model comparison — best by AIC: {comparison.best}")
-    settle_nyquist(fig, axes[0, 0])
+    settle_nyquist(fig, ax_nyq)
     return fig
