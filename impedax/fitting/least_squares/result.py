@@ -382,12 +382,12 @@ def kk_misfits(freq, z, rows: np.ndarray, known: dict[int, float] | None) -> np.
     return np.array([known[int(i)] for i in rows], float)
 
 
-def _checked_misfits(freq, z, z_model, known: dict[int, float] | None, checked_from: float = MISFIT_CHECKED_FROM):
-    """rms_rel (B,) of fits z_model of spectra z, the indices of those at ``checked_from`` or
-    more, and their KK test's misfits (`kk_misfits`)."""
+def _checked_misfits(freq, z, z_model, known: dict[int, float] | None, checked_from: float | None = None):
+    """rms_rel (B,) of fits z_model of spectra z, the indices of those at ``checked_from``
+    (default `MISFIT_CHECKED_FROM`) or more, and their KK test's misfits (`kk_misfits`)."""
     z, z_model = np.atleast_2d(z), np.atleast_2d(z_model)
     rms = rms_rel_of(z_model, z)
-    checked = np.flatnonzero(np.isfinite(rms) & (rms >= checked_from))
+    checked = np.flatnonzero(np.isfinite(rms) & (rms >= (MISFIT_CHECKED_FROM if checked_from is None else checked_from)))
     return rms, checked, (kk_misfits(freq, z, checked, known) if checked.size else np.zeros(0))
 
 
