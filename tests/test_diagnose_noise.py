@@ -582,7 +582,7 @@ def test_a_series_resistance_that_fell_to_zero_does_not_send_its_suggestion_down
     assert best.rms_rel < 0.01, d.report()  # (at the noise: two arcs, as the data were made)
     traded = [s for s in d.suggestions if s.removed and not s.vanished]
     kept = [i for i, s in enumerate(d.suggestions) if not s.removed and s.significant]
-    assert kept and all(d.suggestions.index(s) > kept[0] for s in traded), d.report()
+    assert traded and kept and all(d.suggestions.index(s) > kept[0] for s in traded), d.report()
 
 
 def test_noise_growing_toward_low_frequency_is_not_masked_as_the_datas_problem():

@@ -279,16 +279,46 @@ def test_a_nyquist_panel_keeps_equal_scales_and_no_empty_half_plane(shape):
     assert x0 < data_x[0] and x1 > data_x[1] and y0 < data_y[0] and y1 > data_y[1]  # every point inside
     across = box.width > 0.8 * fig.bbox.width
     if shape == "flat":  # across the top, as high as the spectrum: little empty plane, none below it
-        assert across and data_y[0] - y0 < 0.1 * (data_y[1] - data_y[0]) and (y1 - y0) < 1.5 * (data_y[1] - data_y[0])
-    else:  # down the left, widened to the right of the line
-        assert not across and data_x[0] - x0 < 0.1 * (data_x[1] - data_x[0]) and (x1 - x0) > 2 * (data_x[1] - data_x[0])
+        assert across and data_y[0] - y0 < 0.1 * (y1 - y0) and (y1 - y0) < 1.5 * (data_y[1] - data_y[0])
+    else:  # down the left, widened to the right of the line (a margin of a few % of the panel left of it)
+        assert not across and data_x[0] - x0 < 0.05 * (x1 - x0) and (x1 - x0) > 2 * (data_x[1] - data_x[0])
+    plt.close(fig)
+
+
+@pytest.mark.parametrize("shape", ["flat", "arc", "steep"])
+@pytest.mark.parametrize("size", [(8, 6.5), (6, 4), (14, 6.5)])
+def test_a_nyquist_panel_keeps_every_point_when_the_figure_is_resized(shape, size):
+    # the shift of the widened range was set once, at the figure's own size: resized before
+    # saving, a steep spectrum's panel (11 × 6.5 → 8 × 6.5 inches) showed none of its points.
+    # Now it is redone at every draw
+    from impedax.plotting import plot_spectrum
+
+    f = np.geomspace(1e-2, 1e5, 60)
+    jw = 2j * np.pi * f
+    z = {"flat": 0.02 + 0.05 / (1 + jw * 0.05 * 1e-2) + 0.0012 * (1 - 1j) / np.sqrt(2 * np.pi * f),
+         "arc": 10 + 100 / (1 + jw * 100 * 1e-5), "steep": 10.0 + 1 / (1e-5 * jw**0.95)}[shape]
+    fig = plot_spectrum((f, z), (f, z * 1.01))
+    fig.set_size_inches(*size)
+    fig.canvas.draw()
+    ax = fig.axes[0]
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    box = ax.get_window_extent()
+    assert abs((x1 - x0) / box.width - (y1 - y0) / box.height) < 0.006 * (x1 - x0) / box.width  # equal scales
+    points = np.concatenate([z, z * 1.01])
+    assert np.all((points.real > x0) & (points.real < x1) & (-points.imag > y0) & (-points.imag < y1))
+    assert y0 > (-points.imag).min() - 0.1 * (y1 - y0) and x0 > points.real.min() - 0.1 * (x1 - x0)  # no empty plane below or left
+    zoom_x, zoom_y = (x0 + 0.4 * (x1 - x0), x0 + 0.5 * (x1 - x0)), (y0 + 0.4 * (y1 - y0), y0 + 0.5 * (y1 - y0))
+    ax.set_xlim(*zoom_x)  # a zoom by hand (both axes, as the toolbar sets them) is not undone
+    ax.set_ylim(*zoom_y)
+    fig.canvas.draw()
+    assert zoom_x[0] < np.mean(ax.get_xlim()) < zoom_x[1] and zoom_y[0] < np.mean(ax.get_ylim()) < zoom_y[1]
     plt.close(fig)
 
 
 def test_compare_lists_a_warning_every_model_has_once():
-    # Autolab's real spectrum (impedance.py's example): four common circuits all stop near 12 %,
-    # and each carried the same misfit note (it quotes the data's KK misfit, 0.33 %) under its
-    # name, four times the same paragraph
+    # Autolab's real spectrum (impedance.py's example): common circuits all stop near 12 %, and
+    # each carried the same misfit note (it quotes the data's KK misfit, 0.33 %) under its name,
+    # the same paragraph once per model (three here)
     from pathlib import Path
 
     import impedax as ix

@@ -6,15 +6,17 @@ Every function returns a matplotlib `Figure`; nothing is shown or saved implicit
 from __future__ import annotations
 
 import math
+import types
 from typing import Sequence
 
 import matplotlib.pyplot as plt
+from matplotlib.axes import Axes
 import numpy as np
 import xarray as xr
 
 from ..io.atomic import atomic_path
 
-__all__ = ["plot_spectrum", "plot_nyquist", "equal_aspect", "settle_nyquist", "nyquist_shape", "spectrum_layout", "plot_bode", "save_figure", "shade_bands", "refresh_legend", "plain_log_ticks", "wrap_model", "characters_across", "label_spectra_axis"]
+__all__ = ["plot_spectrum", "plot_nyquist", "equal_aspect", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "plot_bode", "save_figure", "shade_bands", "refresh_legend", "plain_log_ticks", "wrap_model", "characters_across", "label_spectra_axis"]
 
 
 def _as_arrays(spectrum):
@@ -54,35 +56,40 @@ def plot_nyquist(ax, data=None, model=None, *, data_label="data", model_label="m
     ax.legend(fontsize=8)
 
 
+# the margin a Nyquist panel keeps below (left of) the data on the side its widened range does
+# not take: a fraction of the data's own span, and at least this fraction of the panel's, so
+# that the markers of the lowest points of a very flat spectrum are not cut by the axis
+NYQUIST_EDGE_MARGIN = 0.03
+
+
 def equal_aspect(ax) -> None:
     """Equal scales on a Nyquist panel ``ax``: an arc is drawn as the semicircle it is. The
-    limits widen to fill the panel (matplotlib widens them about the middle, so
-    `settle_nyquist` moves the widening to where no point is cut off: above a flat spectrum)."""
+    range that fills the panel beyond the data is put above a flat spectrum (right of a steep
+    one), where matplotlib would widen it about the middle: half of a flat spectrum's panel
+    lay at −Z'' < 0, where no point is. Done at every draw (`_anchored_aspect`), so it holds
+    at any figure size; limits set by hand (a zoom) are left alone."""
     ax.set_aspect("equal", adjustable="datalim")
+    ax.apply_aspect = types.MethodType(_anchored_aspect, ax)
 
 
-def settle_nyquist(fig, *axes) -> None:
-    """Lay ``fig`` out and move each equal-scale Nyquist panel's widened range (`equal_aspect`)
-    off the far side of the data: a flat spectrum (a battery's, 4:1) keeps its margin below
-    its lowest point and the empty plane above it, where before half of it lay at −Z'' < 0
-    where no point is; a steep one (a blocking electrode) keeps its left margin. The spans,
-    and so the equal scales, do not change. Call it last (again after drawing more on a
-    panel: it first gives the panels back their automatic limits)."""
-    for ax in axes:
-        ax.autoscale()
-    fig.draw_without_rendering()
-    for ax in axes:
-        lim = ax.dataLim
-        if not (np.isfinite(lim.x0) and np.isfinite(lim.y0) and lim.width > 0 and lim.height > 0):
-            continue
-        for get, set_, low, size, margin in zip((ax.get_xlim, ax.get_ylim), (ax.set_xlim, ax.set_ylim), (lim.x0, lim.y0), (lim.width, lim.height), ax.margins()):
-            a, b = get()
-            if low - a > 2 * margin * size:  # (widened on this axis: the data sit in the middle)
-                set_(low - margin * size, low - margin * size + (b - a))
-        # limits set by hand are "fixed": a later draw at another size or resolution (savefig at
-        # its dpi) that widens them again would warn that it ignores them; they stay as set
-        # until something is drawn on the panel
-        ax.set_autoscale_on(True)
+def _anchored_aspect(ax, position=None) -> None:
+    """``ax.apply_aspect`` of a Nyquist panel (`equal_aspect`): from the data's limits with
+    their margins, matplotlib's widening to the box's shape, then the widened axis moved so
+    that the data sit at its low end."""
+    lim = ax.dataLim
+    anchored = ax.get_autoscalex_on() and ax.get_autoscaley_on() and np.isfinite([lim.x0, lim.x1, lim.y0, lim.y1]).all() and lim.width > 0 and lim.height > 0
+    if anchored:
+        (mx, my) = ax.margins()
+        ax.set_xbound(lim.x0 - mx * lim.width, lim.x1 + mx * lim.width)
+        ax.set_ybound(lim.y0 - my * lim.height, lim.y1 + my * lim.height)
+    Axes.apply_aspect(ax, position)
+    if not anchored:
+        return
+    for get, set_, low, size, margin in ((ax.get_xbound, ax.set_xbound, lim.x0, lim.width, mx), (ax.get_ybound, ax.set_ybound, lim.y0, lim.height, my)):
+        a, b = get()
+        if low - a > 2 * margin * size:  # (widened on this axis: the data sit in the middle)
+            pad = max(margin * size, NYQUIST_EDGE_MARGIN * (b - a))
+            set_(low - pad, low - pad + (b - a))
 
 
 def plot_bode(ax_mod, ax_phase, data=None, model=None, *, data_label="data", model_label="model"):
@@ -144,7 +151,6 @@ def plot_spectrum(data=None, model=None, *, title: str | None = None, bands=None
         shade_bands(freq_axes, bands)
     if title:
         fig.suptitle(title)
-    settle_nyquist(fig, ax_nyq)
     return fig
 
 
@@ -154,6 +160,16 @@ def plot_spectrum(data=None, model=None, *, title: str | None = None, bands=None
 FLAT_NYQUIST = 0.6
 # ... whose height follows the spectrum's shape down to this (a flatter one widens its range)
 FLATTEST_PANEL = 0.25
+# ... and up to this many inches (an arc of height/width 0.5 would make a figure of 11 inches;
+# the range beyond the data widens to the right instead)
+TALLEST_PANEL = 4.0
+
+
+def nyquist_panel_height(shape: float, width: float) -> float:
+    """Height [in] of a Nyquist panel across a figure ``width`` inches wide for a flat spectrum
+    of ``shape`` (`nyquist_shape`): the shape times the width left for the axes, between
+    `FLATTEST_PANEL` × that and `TALLEST_PANEL`."""
+    return min(max(shape, FLATTEST_PANEL) * (width - 1.0), TALLEST_PANEL)
 
 
 def nyquist_shape(*spectra) -> float:
@@ -170,13 +186,12 @@ def nyquist_shape(*spectra) -> float:
 def spectrum_layout(shape: float, with_residuals: bool, *, width: float = 11.0):
     """A figure and its axes (Nyquist, |Z|, phase, residuals or None) for a spectrum whose
     Nyquist plot has ``shape`` (`nyquist_shape`). Up to `FLAT_NYQUIST`: the Nyquist panel
-    across the top, as high as the spectrum's shape asks (down to `FLATTEST_PANEL`), |Z| and
+    across the top, as high as the spectrum's shape asks (`nyquist_panel_height`), |Z| and
     phase side by side below, the residuals across the bottom. Otherwise: the Nyquist panel
     down the left, |Z|, phase and residuals stacked on the right. The frequency axes are
     shared."""
     if shape <= FLAT_NYQUIST:
-        nyquist_height = max(shape, FLATTEST_PANEL) * (width - 1.0)
-        heights = [nyquist_height, 2.6] + ([2.2] if with_residuals else [])
+        heights = [nyquist_panel_height(shape, width), 2.6] + ([2.2] if with_residuals else [])
         fig = plt.figure(figsize=(width, sum(heights) + 0.6), layout="constrained")
         grid = fig.add_gridspec(len(heights), 2, height_ratios=heights)
         ax_nyq = fig.add_subplot(grid[0, :])

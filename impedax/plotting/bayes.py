@@ -12,7 +12,7 @@ from typing import Mapping, Sequence
 import matplotlib.pyplot as plt
 import numpy as np
 
-from . import equal_aspect, nyquist_shape, settle_nyquist, spectrum_layout
+from . import equal_aspect, nyquist_shape, spectrum_layout
 
 __all__ = ["plot_posterior_bands", "plot_corner"]
 
@@ -25,10 +25,10 @@ def plot_posterior_bands(frequency, z_data, model_frequency, z_draws, *, title: 
     |Z| and phase with the 68% and 90% credible bands; ``z_predictive`` (draws with the noise
     added, same shape) adds the 90% posterior predictive band as dashed lines."""
     f, zs, z = np.asarray(model_frequency, float), np.asarray(z_draws, complex), np.asarray(z_data, complex)
-    fig, (ax_nyq, ax_mod, ax_ph, _) = spectrum_layout(nyquist_shape((frequency, z), (f, np.median(zs.real, axis=0) + 1j * np.median(zs.imag, axis=0))), False)
+    med = np.median(zs.real, axis=0) + 1j * np.median(zs.imag, axis=0)
+    fig, (ax_nyq, ax_mod, ax_ph, _) = spectrum_layout(nyquist_shape((frequency, z), (f, med)), False)
     for k in np.linspace(0, zs.shape[0] - 1, min(n_lines, zs.shape[0])).astype(int):
         ax_nyq.plot(zs[k].real, -zs[k].imag, "-", color="tab:blue", alpha=0.08, lw=0.8)
-    med = np.median(zs.real, axis=0) + 1j * np.median(zs.imag, axis=0)
     ax_nyq.plot(med.real, -med.imag, "-", color="tab:blue", lw=1.5, label="posterior median")
     ax_nyq.plot(z.real, -z.imag, "o", ms=3.5, mfc="none", color="k", label="data")
     ax_nyq.set(xlabel="Z' [Ω]", ylabel="−Z'' [Ω]", title="Nyquist")
@@ -52,7 +52,6 @@ def plot_posterior_bands(frequency, z_data, model_frequency, z_draws, *, title: 
     ax_nyq.legend(fontsize=8)
     ax_mod.legend(fontsize=8)
     fig.suptitle(title)
-    settle_nyquist(fig, ax_nyq)
     return fig
 
 

@@ -8,7 +8,7 @@ import numpy as np
 def plot_comparison(comparison):
     """Data with every model's fit (Nyquist, |Z|, phase), and each model's relative residuals,
     for a `Comparison`, in the layout of a single spectrum (`spectrum_layout`). Figure."""
-    from . import equal_aspect, nyquist_shape, plain_log_ticks, settle_nyquist, spectrum_layout
+    from . import equal_aspect, nyquist_shape, plain_log_ticks, spectrum_layout
 
     ref = comparison.fits[0]
     f, z = ref.frequency, ref.z_data
@@ -36,5 +36,4 @@ def plot_comparison(comparison):
         ax.grid(alpha=0.3, which="both")
     ax_res.legend(fontsize=7)
     fig.suptitle(f"model comparison — best by AIC: {comparison.best}")
-    settle_nyquist(fig, ax_nyq)
     return fig

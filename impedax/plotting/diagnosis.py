@@ -14,7 +14,7 @@ import math
 import matplotlib.pyplot as plt
 import numpy as np
 
-from . import characters_across, plain_log_ticks, plot_spectrum, refresh_legend, settle_nyquist, shade_bands, wrap_model
+from . import characters_across, plain_log_ticks, plot_spectrum, refresh_legend, shade_bands, wrap_model
 
 __all__ = ["plot_diagnosis", "plot_refinement"]
 
@@ -41,7 +41,6 @@ def plot_diagnosis(diagnosis, *, title: str | None = None):
             axes[3].legend(fontsize=8, ncol=3)
         refresh_legend(axes[0])
         refresh_legend(axes[1])
-        settle_nyquist(fig, axes[0])
     return fig
 
 

@@ -7,7 +7,7 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 
-from . import FLAT_NYQUIST, FLATTEST_PANEL, label_spectra_axis, nyquist_shape, plot_bode, plot_nyquist, settle_nyquist, shade_bands
+from . import FLAT_NYQUIST, label_spectra_axis, nyquist_panel_height, nyquist_shape, plot_bode, plot_nyquist, shade_bands
 
 __all__ = ["plot_drt", "plot_drt_batch", "plot_gamma", "plot_zhit"]
 
@@ -44,7 +44,7 @@ def plot_drt(result, *, overlay=None, title: str | None = None):
     data, model = (result.frequency, result.impedance), (result.frequency, result.z_fit)
     shape = nyquist_shape(data, model)
     if shape <= FLAT_NYQUIST:  # the Nyquist panel across the top, as high as the spectrum's shape asks
-        heights = [max(shape, FLATTEST_PANEL) * 11.0, 2.6, 2.2]
+        heights = [nyquist_panel_height(shape, 12.0), 2.6, 2.2]
         fig = plt.figure(figsize=(12, sum(heights) + 0.6), layout="constrained")
         grid = fig.add_gridspec(3, 2, width_ratios=[1.4, 1], height_ratios=heights)
         slots = grid[1, 0], grid[2, 0], grid[0, :], grid[1, 1], grid[2, 1]
@@ -67,7 +67,6 @@ def plot_drt(result, *, overlay=None, title: str | None = None):
     ax_res.grid(alpha=0.3, which="both")
     ax_res.legend(fontsize=8, ncol=2)
     fig.suptitle(title or f"DRT: {len(result.peaks)} peak(s), λ = {result.lam:.2g} ({result.lambda_method}), rms_rel {result.rms_rel * 100:.2g} %")
-    settle_nyquist(fig, ax_nyq)
     return fig
 
 

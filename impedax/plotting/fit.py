@@ -18,7 +18,7 @@ def plot_batch(batch, *, title: str | None = None):
     matplotlib Figure."""
     import matplotlib.pyplot as plt
 
-    from . import characters_across, label_spectra_axis, settle_nyquist, wrap_model
+    from . import characters_across, label_spectra_axis, wrap_model
 
     ds = batch.dataset
     free = [str(p) for p, fixed in zip(ds["param"].values, ds["fixed"].values) if not fixed]
@@ -47,10 +47,11 @@ def plot_batch(batch, *, title: str | None = None):
         bars = None if err is None else _bounded_bars(y, np.where(np.isfinite(err), err, 0.0), ds["at_bound"].sel(param=name).transpose(*batch.dims).values.ravel(), specs[name])[:, kept]
         ax.errorbar(index[kept], y[kept], yerr=bars, fmt="o", ms=3, lw=0.8, capsize=1.5)
         scaled = y[kept & np.isfinite(y)]
-        if scaled.size and np.all(scaled > 0) and scaled.max() > 20 * scaled.min():
+        spread = scaled if scaled.size else y[np.isfinite(y)]  # (every value undetermined: all of them)
+        if spread.size and np.all(spread > 0) and spread.max() > 20 * spread.min():
             ax.set_yscale("log")
         if loose.any():
-            _mark_undetermined(ax, index[loose], y[loose], scaled)
+            _mark_undetermined(ax, index[loose], y[loose], scaled, f"undetermined ({batch.UNDETERMINED_RULE})")
         ax.set_title(f"{name} [{unit}]" if unit else name, fontsize=9)
         label_spectra_axis(ax, labels, batch.dims)
         ax.grid(alpha=0.3, which="both")
@@ -58,9 +59,7 @@ def plot_batch(batch, *, title: str | None = None):
         ax_nyq = fig.add_subplot(grid[rows, :] if own_row else grid[rows - 1, cols - left :])
         _plot_fits(ax_nyq, ds, batch.dims, labels)
     converged = float(ds["converged"].mean()) * 100
-    fig.suptitle(title or wrap_model(f"{batch.model}: {batch.n_spectra} spectra, {converged:.0f}% converged", characters_across(3.2 * cols, 12)))
-    if with_fits:
-        settle_nyquist(fig, ax_nyq)
+    fig.suptitle(title or wrap_model(f"{batch.model}: {batch.n_spectra} spectr{'um' if batch.n_spectra == 1 else 'a'}, {converged:.0f}% converged", characters_across(3.2 * cols, 12)))
     return fig
 
 
@@ -73,7 +72,7 @@ def _bounded_bars(value, err, at_bound, spec) -> np.ndarray:
     return np.stack([below, above])
 
 
-def _mark_undetermined(ax, x, y, determined) -> None:
+def _mark_undetermined(ax, x, y, determined, label: str) -> None:
     """Values the data do not determine (`BatchFitResult.undetermined`) as open grey markers
     without error bars (theirs span decades and flattened the panel: a battery's idle R2 at
     1e30 ± 1e52 Ω), the axis scaled to the determined ones; values beyond it sit at its edge as
@@ -83,13 +82,13 @@ def _mark_undetermined(ax, x, y, determined) -> None:
         lo, hi = ax.get_ylim()
         above, below = y > hi, y < lo
         inside = ~(above | below)
-        ax.plot(x[inside], y[inside], "o", ms=3.5, mfc="none", color="0.55", label="undetermined (error > 100 %)")
+        ax.plot(x[inside], y[inside], "o", ms=3.5, mfc="none", color="0.55", label=label)
         for beyond, edge, marker in ((above, hi, "^"), (below, lo, "v")):
             if beyond.any():  # (an empty unclipped line would stretch the layout's box to the figure's corner)
                 ax.plot(x[beyond], np.full(beyond.sum(), edge), marker, ms=4, mfc="none", color="0.55", clip_on=False)
         ax.set_ylim(lo, hi)
     else:
-        ax.plot(x, y, "o", ms=3.5, mfc="none", color="0.55", label="undetermined (error > 100 %)")
+        ax.plot(x, y, "o", ms=3.5, mfc="none", color="0.55", label=label)
     ax.legend(fontsize=7, loc="best")
 
 

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from . import nyquist_shape, plot_bode, plot_nyquist, plot_residuals, settle_nyquist, shade_bands, spectrum_layout
+from . import nyquist_shape, plot_bode, plot_nyquist, plot_residuals, shade_bands, spectrum_layout
 
 
 def plot_kk(result, *, title: str | None = None):
@@ -18,5 +18,4 @@ def plot_kk(result, *, title: str | None = None):
         shade_bands([ax_mod, ax_ph, ax_res], result.bad_bands, label="not KK-consistent")
     verdict = "valid" if result.valid else "not valid"
     fig.suptitle(title or f"linear KK test: {verdict}, rms_rel {result.rms_rel * 100:.2g} %, µ {result.mu:.2f}")
-    settle_nyquist(fig, ax_nyq)
     return fig

@@ -940,11 +940,13 @@ def _series_resistance_dropped(base: FitResult, proposals: list[tuple[Effect, Pr
                 continue
             value, error = float(cf.values[name]), float(cf.stderr[name])
             why = "the data do not reach a series-resistance plateau" if isinstance(p.circuit, Series) else "the capacitance across the circuit shunts it at the top of the band"
-            fell = name in cf.at_bound or not value > error
+            fell = name in cf.at_bound or (math.isfinite(error) and value <= error)  # (at 0, or within its standard error of it)
             if fell:
                 how = f"it fell to {format_quantity(value, 'Ω')}"
-            else:
+            elif math.isfinite(error):
                 how = f"it is {format_quantity(value, 'Ω')} ± {format_quantity(error, 'Ω')}, traded against the other resistances"
+            else:
+                how = f"it is {format_quantity(value, 'Ω')} with no finite standard error, traded against the other resistances"
             left = _left_out(effect, p, cf, node, f"{how}: {why}", fell)
             if str(left[1].circuit) not in seen:
                 seen.add(str(left[1].circuit))
@@ -1072,7 +1074,7 @@ def _open_resistor_dropped(base: FitResult, proposals: list[tuple[Effect, Propos
             added = " + ".join(n for n in circuit.element_names if n not in baseline)
             why = f"{r.name} left out: it ran open ({format_quantity(float(cf.values[r.name]), 'Ω')}, over {OPEN_RESISTANCE_FACTOR:g}× the data's largest |Z|)"
             starts = ({k: float(v) for k, v in cf.values.items() if k != r.name},)
-            out.append((effect, Proposal(p.effect, circuit, added, f"{p.where}, {why}", starts, removed=p.removed, band=p.band)))
+            out.append((effect, Proposal(p.effect, circuit, added, f"{p.where}, {why}", starts, removed=p.removed, band=p.band, vanished=p.vanished)))
     return out
 
 

@@ -22,7 +22,7 @@ from ..parameters import ParameterTable
 from ..problem import residual_scale, weights
 from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, dominant_points, information_criteria, null_sets
 from .order import canonical_order
-from .branches import idle_branch_notes, undetermined, undetermined_mask
+from .branches import RELATIVE_ERROR_LIMIT, idle_branch_notes, undetermined, undetermined_mask
 from .result import bound_sides, confirm_bounds, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, stack_notes, weighting_notes
 from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, TreeSolvers, better, over_devices, padded_points, tree_solver, trimmed, unscale
 from .starts import SpectrumFeatures, climb_target, batch_outliers, escalation_rungs, guess_start, rms_rel_of, rung_seed, rung_starts, to_solver_space
@@ -67,6 +67,8 @@ class BatchFitResult:
     def values(self, name: str) -> xr.DataArray:
         """Fitted values of parameter ``name`` over the batch dimensions."""
         return self.dataset["value"].sel(param=name)
+
+    UNDETERMINED_RULE = f"relative error > {RELATIVE_ERROR_LIMIT:.0%} or none"  # (`undetermined`, as figures name it)
 
     def undetermined(self, name: str) -> xr.DataArray:
         """Where the data do not determine parameter ``name`` (bool over the batch dimensions):
