@@ -114,7 +114,7 @@ def _plot_fits(ax, ds, dims, labels) -> None:
         ax.plot(z_model[i].real, -z_model[i].imag, "-", lw=1.0, color=colour)
     ax.set_xlabel("Z' [Ω]", fontsize=8)
     ax.set_ylabel("−Z'' [Ω]", fontsize=8)
-    what = f"{drawn.size} of {n} spectra" if drawn.size < n else f"{n} spectra"
+    what = f"{drawn.size} of {n} spectra" if drawn.size < n else f"{n} spectr{'um' if n == 1 else 'a'}"
     ax.set_title(f"data (○) and fits (—), {what}", fontsize=9)
     ax.legend(fontsize=7, title=", ".join(dims), title_fontsize=7, ncol=2 if drawn.size > 4 else 1)
     ax.grid(alpha=0.3)
