@@ -100,7 +100,7 @@ def main(argv=None):
         label = f"{'RC' if key == 'rc' else 'fractional (CPE)'}: {f.model}"
         ax_mod.loglog(fine, np.abs(z), color=colors[key], label=label)
         ax_ph.semilogx(fine, np.degrees(np.angle(z)), color=colors[key], label=label)
-        ax_res.semilogx(freq, np.abs(f.residuals) * 100, ".-", color=colors[key], label=f"{label} (rms_rel {f.rms_rel:.3f})")
+        ax_res.semilogx(freq, np.abs(f.residuals) * 100, ".-", color=colors[key], label=f"{label} (rms_rel {f.rms_rel * 100:.3g} %)")
     ax_res.axhline(NOISE_REL * 100, color="0.4", ls="--", lw=1, label="noise level (2 %)")
     ax_mod.set(xlabel="frequency [Hz]", ylabel="|Z| [Ω]", title="Fig 5.3 (top): finger impedance magnitude")
     ax_ph.set(xlabel="frequency [Hz]", ylabel="phase [deg]", title="Fig 5.3 (bottom): finger impedance phase")
@@ -111,13 +111,15 @@ def main(argv=None):
     ax_tab.axis("off")
     ax_tab.set_title("impedax.compare (lower AIC/BIC is better)")
     rows = comparison.rows
-    columns = ["k", "rms_rel", "chi2_red", "AIC", "BIC", "ΔAIC"] + [c for c in ("log_evidence", "waic") if c in rows[0]]
-    keys = {"k": "n_params", "AIC": "aic", "BIC": "bic", "ΔAIC": "delta_aic"}
-    cells = [[f"{r[keys.get(c, c)]:.4g}" if c != "k" else str(r["n_params"]) for c in columns] for r in rows]
-    table = ax_tab.table(cellText=cells, rowLabels=[r["model"] for r in rows], colLabels=columns, loc="center", cellLoc="center")
+    # (heading, key in the comparison's rows, format): each column as wide as its widest text
+    shown = [("k", "n_params", "d"), ("rms_rel [%]", "rms_rel", ".3g"), ("χ²_red", "chi2_red", ".3g"), ("AIC", "aic", ".1f"), ("BIC", "bic", ".1f"), ("ΔAIC", "delta_aic", ".1f"), ("ln Z (Laplace)", "log_evidence", ".1f"), ("WAIC", "waic", ".1f")]
+    shown = [column for column in shown if column[1] in rows[0]]
+    cells = [[format(r[key] * (100 if key == "rms_rel" else 1), fmt) for _, key, fmt in shown] for r in rows]
+    table = ax_tab.table(cellText=cells, rowLabels=[r["model"] for r in rows], colLabels=[heading for heading, _, _ in shown], loc="center", cellLoc="center")
     table.auto_set_font_size(False)
-    table.set_fontsize(9)
-    table.scale(0.8, 1.6)
+    table.set_fontsize(8)
+    table.auto_set_column_width(list(range(-1, len(shown))))
+    table.scale(1.0, 1.6)
     fig.suptitle("Meyer (2012) Fig 5.3 — RC vs fractional stratum corneum on a SYNTHETIC finger spectrum")
     _example.save(fig, args, "meyer_fig5_3_rc_vs_cpe_impedance.png")
 

@@ -133,6 +133,30 @@ def unit_text(unit: str) -> str:
     return "" if unit == "1" else re.sub(r"\balpha\b", "α", re.sub(r"\b[Oo]hm\b", "Ω", unit))
 
 
+# SI prefixes of a value's scale, largest first (`format_quantity`, the plots' tick labels)
+SI_PREFIXES = ((1e12, "T"), (1e9, "G"), (1e6, "M"), (1e3, "k"), (1.0, ""), (1e-3, "m"), (1e-6, "µ"), (1e-9, "n"), (1e-12, "p"), (1e-15, "f"))
+
+
+def format_quantity(value: float, unit: str) -> str:
+    """``84 µF``, ``2.2 kΩ``, ``0.81`` (a value with an SI prefix; dimensionless as it is)."""
+    if not unit or unit == "1" or not np.isfinite(value) or value == 0:
+        return f"{value:.3g}" + (f" {unit}" if unit and unit != "1" else "")
+    unit = unit_text(unit)
+    if " " in unit or "^" in unit or "/" in unit:  # compound units (CPE Q, Warburg σ): plain
+        return f"{value:.3g} {unit}"
+    for scale, prefix in SI_PREFIXES:
+        if abs(value) >= scale:
+            return f"{value / scale:.3g} {prefix}{unit}"
+    return f"{value:.3g} {unit}"
+
+
+def format_relative_error(ratio: float) -> str:
+    """A relative standard error for a table: ``3.8%``, ``0.52%``, ``126%`` (whole percent from
+    10 %, where ``1.3e+02%`` read badly), ``1.2e+12%`` from 10⁴ % up."""
+    percent = abs(ratio) * 100
+    return f"{percent:.0f}%" if 10 <= percent < 1e4 else f"{percent:.2g}%"
+
+
 def format_time(tau: float, digits: int = 3) -> str:
     """A time constant [s] for text: ``2 ms``, ``0.3 s``, ``40 µs`` (``digits`` significant)."""
     for unit, scale in (("s", 1.0), ("ms", 1e-3), ("µs", 1e-6), ("ns", 1e-9)):

@@ -102,6 +102,36 @@ def test_refinement_figure_plain_percent_ticks_named_shading_and_start():
     plt.close(fig)
 
 
+def test_refinement_figure_shows_the_data_with_the_first_and_last_model():
+    refinement = refinement_stand_in()
+    fig = plot_refinement(refinement)
+    nyquist = fig.axes[-1]
+    assert nyquist.get_xlabel() == "Z' [Ω]"
+    lines = {line.get_label(): line for line in nyquist.get_lines()}
+    # (the stand-in's rms_rel: |1.002 − 1|/√2 = 0.141 % for the last step)
+    assert set(lines) == {"data", "start: R0 + R1 || C1 (11.7 %)", "final: R0 + R1 || C1 + R2 || C2 (0.141 %)"}, set(lines)
+    data = refinement.steps[0].fit.z_data
+    np.testing.assert_allclose(lines["data"].get_ydata(), -data.imag)
+    np.testing.assert_allclose(lines["final: R0 + R1 || C1 + R2 || C2 (0.141 %)"].get_xdata(), (data * 1.002).real)
+    # the two arcs are flat (height/width < 0.6): the panel runs across the figure's top
+    fig.canvas.draw()
+    box, error_box = nyquist.get_position(), fig.axes[0].get_position()
+    assert box.width > 0.8 and box.y0 > error_box.y1
+    plt.close(fig)
+
+
+def test_refinement_figure_of_a_steep_spectrum_puts_its_nyquist_panel_above_the_error():
+    z = 0.1 + 1.0 / (1j * 2 * np.pi * F * 1e-3) ** 0.9  # a blocking electrode: a near-vertical line
+    steps = [SimpleNamespace(fit=fit("R0 + C1", z * 1.05, z), effect=None, removed=(), change="(start)", model="R0 + C1", diagnosis=None)]
+    fig = plot_refinement(SimpleNamespace(steps=steps, final_model="R0 + C1", verdict="missing_effect"))
+    nyquist, error = fig.axes[-1], fig.axes[0]
+    assert [line.get_label() for line in nyquist.get_lines()] == ["data", "start: R0 + C1 (3.54 %)"]  # 5 %/√2
+    fig.canvas.draw()
+    box, error_box = nyquist.get_position(), error.get_position()
+    assert box.y0 > error_box.y1 and abs(box.x0 - error_box.x0) < 0.05 and box.width < 0.5
+    plt.close(fig)
+
+
 def test_comparison_overlapping_models_in_their_own_line_styles_and_plain_ticks():
     data = rc(1.0) * (1 + 0.05 * np.sin(np.log(F)))
     same = rc(1.0)
@@ -336,3 +366,104 @@ def test_compare_lists_a_warning_every_model_has_once():
         own = [w for w in f.warnings if not all(w in g.warnings for g in c.fits)]
         for w in own:
             assert any(w in line for line in lines), (w, lines)
+
+
+def nyquist_of(z: np.ndarray):
+    fig, ax = plt.subplots(figsize=(6, 3))
+    from impedax.plotting import plot_nyquist
+
+    plot_nyquist(ax, (F, z))
+    fig.canvas.draw()
+    return fig, ax
+
+
+def tick_values(axis) -> tuple[np.ndarray, np.ndarray]:
+    """(tick positions in view, their labels read as numbers)."""
+    lo, hi = sorted(axis.get_view_interval())
+    pairs = [(t.get_loc(), t.label1.get_text()) for t in axis.get_major_ticks() if lo <= t.get_loc() <= hi]
+    return np.array([p for p, _ in pairs]), np.array([float(text.replace("\N{MINUS SIGN}", "-")) for _, text in pairs])
+
+
+@pytest.mark.parametrize(("r1", "prefix", "scale"), [(2.0e6, "M", 1e6), (1.5e3, "k", 1e3), (60.0, "", 1.0), (0.04, "m", 1e-3)])
+def test_nyquist_axes_count_in_the_prefix_of_the_data(r1, prefix, scale):
+    # an arc of r1 [Ω]: a megohm skin arc read "1e6" apart from its ticks, a battery's mΩ "0.02"
+    fig, ax = nyquist_of(rc(r1, 1e-3 / r1, 0.0))
+    assert ax.get_xlabel() == f"Z' [{prefix}Ω]" and ax.get_ylabel() == f"−Z'' [{prefix}Ω]"
+    for axis in (ax.xaxis, ax.yaxis):
+        locs, values = tick_values(axis)
+        assert locs.size >= 3
+        np.testing.assert_allclose(values * scale, locs, atol=1e-9 * r1)  # each label is its tick / scale
+        assert not axis.get_offset_text().get_text()  # no detached "1e6"
+    plt.close(fig)
+
+
+def test_nyquist_axes_share_one_prefix_and_a_zoom_relabels_them():
+    z = 200.0 + rc(1.2e3, 1e-6, 0.0)  # Z' up to 1.4 kΩ, −Z'' up to 0.6 kΩ: both axes in kΩ
+    fig, ax = nyquist_of(z)
+    assert (ax.get_xlabel(), ax.get_ylabel()) == ("Z' [kΩ]", "−Z'' [kΩ]")
+    ax.set_xlim(150, 450)
+    ax.set_ylim(0, 300)
+    fig.canvas.draw()
+    assert (ax.get_xlabel(), ax.get_ylabel()) == ("Z' [Ω]", "−Z'' [Ω]")
+    locs, values = tick_values(ax.xaxis)
+    np.testing.assert_allclose(values, locs)
+    plt.close(fig)
+
+
+def test_log_modulus_ticks_read_as_numbers_with_prefixes():
+    from impedax.plotting import _plain_number
+
+    assert [_plain_number(x) for x in (1e6, 1e5, 2e4, 1e3, 40.0, 0.5, 1e-3, 5e-4, 2e-9)] == ["1M", "100k", "20k", "1000", "40", "0.5", "0.001", "500µ", "2n"]
+    z = 100.0 + rc(1e6, 1e-6, 0.0)  # |Z| from 100 Ω to 1 MΩ
+    fig = plot_spectrum((F, z), (F, z * 1.01))
+    labels = tick_texts(fig.axes[1].yaxis)
+    assert {"1M", "100k", "1000"} <= set(labels) and not any("e+" in t for t in labels), labels
+    plt.close(fig)
+
+
+def test_drt_peak_labels_and_gamma_axis_in_prefixes():
+    from impedax.plotting.drt import plot_gamma
+
+    tau = np.geomspace(1e-4, 1e3, 200)
+    gamma = 3.8e6 * np.exp(-0.5 * (np.log10(tau / 8.2) / 0.2) ** 2)
+    peak = SimpleNamespace(tau_s=404.0, gamma_max_ohm=3.8e6, r_ohm=5.853e6)
+    result = SimpleNamespace(tau=tau, gamma=gamma, gamma_q05=0.9 * gamma, gamma_q95=1.1 * gamma, peaks=[peak], window=(1e-3, 1e2))
+    fig, ax = plt.subplots()
+    plot_gamma(ax, result)
+    fig.canvas.draw()
+    assert ax.get_ylabel() == "γ [MΩ]"
+    assert [t.get_text() for t in ax.texts] == ["404 s\n5.85 MΩ"]  # was "4e+02 s\n5.85e+06 Ω"
+    plt.close(fig)
+
+
+def test_corner_in_the_parameters_units_with_median_and_interval_titles():
+    from impedax.plotting.bayes import interval_text, plot_corner
+
+    rng = np.random.default_rng(3)
+    n = 20000
+    r0 = rng.normal(63.5, 0.3, n)  # narrow: a linear axis in Ω (was log10 R0 from 1.7975 to 1.81)
+    r1 = 10 ** rng.normal(6.0, 0.05, n)  # 1 MΩ within ±12 %: a linear axis counted in MΩ
+    q = 10 ** rng.normal(-6.0, 1.0, n)  # over decades: a log axis
+    alpha = rng.normal(0.9, 0.02, n)
+    fig = plot_corner(np.stack([r0, r1, q, alpha], axis=-1), ["R0", "R1", "CPE1.Q", "CPE1.alpha"], [True, True, True, False], units=["Ohm", "Ohm", "F s^(alpha-1)", "1"])
+    fig.canvas.draw()
+    axes = np.array(fig.axes).reshape(4, 4)
+    assert [axes[3, j].get_xlabel() for j in range(4)] == ["R0 [Ω]", "R1 [MΩ]", "CPE1.Q [F s^(α-1)]", "CPE1.alpha"]
+    assert [axes[3, j].get_xscale() for j in range(4)] == ["linear", "linear", "log", "linear"]
+    assert axes[2, 0].get_yscale() == "log" and axes[1, 0].get_ylabel() == "R1 [MΩ]"
+    # diagonal titles: the median and 5–95 % interval of each; against the generating normals
+    # (quantiles ±1.645 sd; 20,000 draws, 4,000 shown: sampling error ≲ 0.05 sd at the tails)
+    title = axes[0, 0].get_title()
+    median, low, high = map(float, title.removeprefix("R0 = ").removesuffix(" Ω").replace("[", "").replace("]", "").replace(",", "").split())
+    assert abs(median - 63.5) < 0.03 and abs(low - (63.5 - 1.645 * 0.3)) < 0.05 and abs(high - (63.5 + 1.645 * 0.3)) < 0.05, title
+    assert axes[1, 1].get_title().startswith("R1 = 1.00 [0.8") and axes[1, 1].get_title().endswith(" MΩ")
+    plt.close(fig)
+    assert interval_text(4.8e6, 4.7e6, 4.9e6, "Ω") == "4.80 [4.70, 4.90] MΩ"
+    assert interval_text(1.2e3, 13.0, 9.51e4, "Ω", significant=True) == "1.2 [0.013, 95.1] kΩ"
+    assert interval_text(0.916, 0.883, 0.948) == "0.916 [0.883, 0.948]"
+
+
+def test_relative_errors_in_the_fit_table_read_as_percentages():
+    from impedax.data import format_relative_error
+
+    assert [format_relative_error(x) for x in (0.038, 0.0052, 0.126, 1.26, -2.56, 1.2e10)] == ["3.8%", "0.52%", "13%", "126%", "256%", "1.2e+12%"]

@@ -16,7 +16,7 @@ def register(sub) -> None:
         help="diagnose, add the best missing effect, refit; repeat until adequate",
         description="Repeat diagnose -> apply the best significant effect -> refit until the verdict is adequate or --max-effects effects were added; "
         "prints the table of steps (the error falls step by step). The final model is refitted from scratch, as impedax fit does. See docs/diagnosis.md.",
-        plot_help="save rms_rel per step and the residuals of every step",
+        plot_help="save the data with the first and the last model (Nyquist), rms_rel per step and the residuals of every step",
         out_help="the refinement (.csv: the final fit's parameters)",
         run=run,
     )

@@ -6,17 +6,20 @@ Every function returns a matplotlib `Figure`; nothing is shown or saved implicit
 from __future__ import annotations
 
 import math
+import re
 import types
 from typing import Sequence
 
 import matplotlib.pyplot as plt
 from matplotlib.axes import Axes
+from matplotlib.ticker import ScalarFormatter
 import numpy as np
 import xarray as xr
 
+from ..data import SI_PREFIXES
 from ..io.atomic import atomic_path
 
-__all__ = ["plot_spectrum", "plot_nyquist", "equal_aspect", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "plot_bode", "save_figure", "shade_bands", "refresh_legend", "plain_log_ticks", "wrap_model", "characters_across", "label_spectra_axis"]
+__all__ = ["plot_spectrum", "plot_nyquist", "equal_aspect", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "plot_bode", "save_figure", "shade_bands", "refresh_legend", "plain_log_ticks", "wrap_model", "characters_across", "label_spectra_axis"]
 
 
 def _as_arrays(spectrum):
@@ -67,9 +70,12 @@ def equal_aspect(ax) -> None:
     range that fills the panel beyond the data is put above a flat spectrum (right of a steep
     one), where matplotlib would widen it about the middle: half of a flat spectrum's panel
     lay at −Z'' < 0, where no point is. Done at every draw (`_anchored_aspect`), so it holds
-    at any figure size; limits set by hand (a zoom) are left alone."""
+    at any figure size; limits set by hand (a zoom) are left alone. Both axes count in the same
+    SI prefix of Ω (`prefixed_axis`)."""
     ax.set_aspect("equal", adjustable="datalim")
     ax.apply_aspect = types.MethodType(_anchored_aspect, ax)
+    prefixed_axis(ax.xaxis, along=(ax.yaxis,))
+    prefixed_axis(ax.yaxis, along=(ax.xaxis,))
 
 
 def _anchored_aspect(ax, position=None) -> None:
@@ -90,6 +96,51 @@ def _anchored_aspect(ax, position=None) -> None:
         if low - a > 2 * margin * size:  # (widened on this axis: the data sit in the middle)
             pad = max(margin * size, NYQUIST_EDGE_MARGIN * (b - a))
             set_(low - pad, low - pad + (b - a))
+
+
+class _PrefixedFormatter(ScalarFormatter):
+    """Tick labels of a linear axis in Ω, F or H (the unit in its label's brackets), counted in
+    the SI prefix that suits the largest value in view of this axis and of ``along``: ``0.5,
+    1.0, 1.5`` under ``Z' [MΩ]`` instead of ``0.5 1.0 1.5`` with a detached ``1e6``. Chosen
+    anew at every draw (`set_locs`), so a zoom relabels the axis. An axis of another unit is
+    labelled as matplotlib does."""
+
+    def __init__(self, along=()):
+        super().__init__()
+        self.along = tuple(along)
+        self.scale = None  # (None: the label names no unit to prefix; matplotlib's labels)
+        self.decimals = 0
+
+    def set_locs(self, locs):
+        label = self.axis.get_label()
+        if not _BRACKETED_UNIT.search(label.get_text()):
+            self.scale = None
+            return super().set_locs(locs)
+        top = max((abs(v) for axis in (self.axis, *self.along) for v in axis.get_view_interval() if np.isfinite(v)), default=0.0)
+        self.scale, prefix = next(((scale, prefix) for scale, prefix in SI_PREFIXES if top >= scale), SI_PREFIXES[-1]) if top > 0 else (1.0, "")
+        label.set_text(_BRACKETED_UNIT.sub(lambda m: f"[{prefix}{m.group(2)}]", label.get_text()))
+        # as few decimals as tell the ticks apart at the scale
+        scaled = np.asarray(locs, float) / self.scale
+        self.decimals = next((d for d in range(7) if np.allclose(np.round(scaled, d), scaled, rtol=0, atol=1e-9 * max(np.ptp(scaled), 1e-300))), 6) if scaled.size > 1 else 1
+
+    def get_offset(self):
+        return "" if self.scale is not None else super().get_offset()
+
+    def __call__(self, x, pos=None):
+        if self.scale is None:
+            return super().__call__(x, pos)
+        return f"{x / self.scale:.{self.decimals}f}".replace("-", "\N{MINUS SIGN}")
+
+
+# the unit in an axis label's brackets that `prefixed_axis` scales: [Ω], [kΩ], [µF] ...
+_BRACKETED_UNIT = re.compile(r"\[(T|G|M|k|m|µ|n|p|f)?(Ω|F|H)\]")
+
+
+def prefixed_axis(axis, *, along=()) -> None:
+    """Count the linear ``axis`` (``ax.xaxis``) of a quantity in Ω, F or H, named in its label's
+    brackets (``Z' [Ω]``), in the SI prefix that suits its values (`_PrefixedFormatter`);
+    ``along``: axes that share the scale (a Nyquist panel's two)."""
+    axis.set_major_formatter(_PrefixedFormatter(along))
 
 
 def plot_bode(ax_mod, ax_phase, data=None, model=None, *, data_label="data", model_label="model"):
@@ -227,15 +278,24 @@ def plot_residuals(ax, freq, real, imag, *, labels=("Re", "Im"), ylabel="residua
     ax.legend(fontsize=8, ncol=3 if limit is not None else 2)
 
 
+def _plain_number(x: float) -> str:
+    """A tick value as printed: ``0.2``, ``40``, ``2000``; from 10⁴ up and below 10⁻³ with an SI
+    prefix (``10k``, ``2M``, ``500µ``), where ``1e+06`` beside ``100000`` read badly."""
+    if x == 0 or 1e-3 <= abs(x) < 1e4:
+        return f"{x:g}"
+    scale, prefix = next(((scale, prefix) for scale, prefix in SI_PREFIXES if abs(x) >= scale), SI_PREFIXES[-1])
+    return f"{x / scale:g}{prefix}"
+
+
 def plain_log_ticks(axis) -> None:
-    """Tick labels of a log-scaled ``axis`` (``ax.yaxis``) as plain numbers (0.2, 0.6, 2, 40)
-    instead of 2×10⁻¹: percentages read as they are printed. Which ticks are labelled is
-    matplotlib's choice, as before."""
+    """Tick labels of a log-scaled ``axis`` (``ax.yaxis``) as plain numbers (0.2, 0.6, 2, 40,
+    10k, 1M) instead of 2×10⁻¹ or 1e+06 (`_plain_number`): percentages read as they are
+    printed. Which ticks are labelled is matplotlib's choice, as before."""
     from matplotlib.ticker import LogFormatter
 
     class _Plain(LogFormatter):
         def __call__(self, x, pos=None):
-            return f"{x:g}" if super().__call__(x, pos) else ""
+            return _plain_number(x) if super().__call__(x, pos) else ""
 
     axis.set_major_formatter(_Plain())
     axis.set_minor_formatter(_Plain(labelOnlyBase=False))

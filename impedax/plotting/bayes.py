@@ -12,7 +12,8 @@ from typing import Mapping, Sequence
 import matplotlib.pyplot as plt
 import numpy as np
 
-from . import equal_aspect, nyquist_shape, spectrum_layout
+from ..data import SI_PREFIXES, unit_text
+from . import equal_aspect, nyquist_shape, plain_log_ticks, prefixed_axis, spectrum_layout
 
 __all__ = ["plot_posterior_bands", "plot_corner"]
 
@@ -46,6 +47,7 @@ def plot_posterior_bands(frequency, z_data, model_frequency, z_draws, *, title: 
         ax.plot(frequency, data_values, "o", ms=3.5, mfc="none", color="k", label="data")
         ax.set_xscale("log")
     ax_mod.set(yscale="log", ylabel="|Z| [Ω]")
+    plain_log_ticks(ax_mod.yaxis)
     ax_ph.set(ylabel="phase [deg]", xlabel="frequency [Hz]")
     for ax in (ax_nyq, ax_mod, ax_ph):
         ax.grid(alpha=0.3, which="both")
@@ -55,28 +57,37 @@ def plot_posterior_bands(frequency, z_data, model_frequency, z_draws, *, title: 
     return fig
 
 
+# a log-sampled parameter whose draws span more than this factor (1st to 99th percentile) is
+# drawn on a log axis; a narrower one on a linear axis in its own unit, where log10 R0 from
+# 1.7975 to 1.81 hid 63.6 Ω
+LOG_AXIS_SPAN = 10.0
+
+
 def plot_corner(
     draws,
     names: Sequence[str],
     log_scale: Sequence[bool],
     *,
+    units: Sequence[str] | None = None,
     truths: Mapping[str, float] | None = None,
     bins: int = 30,
     max_points: int = 4000,
     title: str = "posterior",
 ):
-    """Corner plot of ``draws`` (…, param) named ``names``: marginal histograms (5/50/95%
-    lines) on the diagonal and pairwise scatter below it, log10 axes where ``log_scale``;
-    ``truths`` by name draws reference lines; at most ``max_points`` evenly spaced draws."""
+    """Corner plot of ``draws`` (…, param) named ``names``: marginal histograms on the diagonal,
+    titled with the median and the 90 % interval (5/50/95 % lines), and pairwise scatter
+    below it, all in the parameters' own units (``units``, the element specs' spelling). A
+    parameter sampled in log space (``log_scale``) whose draws span decades (`LOG_AXIS_SPAN`)
+    gets log axes; Ω, F and H axes count in an SI prefix. ``truths`` by name draws reference
+    lines; at most ``max_points`` evenly spaced draws."""
     k = len(names)
     flat = np.asarray(draws, float).reshape(-1, k)
     if flat.shape[0] > max_points:
         flat = flat[np.linspace(0, flat.shape[0] - 1, max_points).astype(int)]
-    shown = np.where(np.asarray(log_scale), np.log10(np.where(np.asarray(log_scale), flat, 1.0)), flat)
-    labels = [f"log10 {n}" if ls else n for n, ls in zip(names, log_scale)]
-    truth = None
-    if truths:
-        truth = [(math.log10(truths[n]) if ls else truths[n]) if n in truths else None for n, ls in zip(names, log_scale)]
+    units = [unit_text(u) for u in units] if units is not None else [""] * k
+    lo, hi = np.quantile(flat, [0.01, 0.99], axis=0)
+    logs = [bool(ls) and low > 0 and high > LOG_AXIS_SPAN * low for ls, low, high in zip(log_scale, lo, hi)]
+    labels = [f"{n} [{u}]" if u else n for n, u in zip(names, units)]
     size = min(2.0 * k + 1, 16)
     fig, axes = plt.subplots(k, k, figsize=(size, size), squeeze=False, layout="constrained")
     for i in range(k):
@@ -85,25 +96,58 @@ def plot_corner(
             if j > i:
                 ax.set_visible(False)
                 continue
+            if logs[j]:
+                ax.set_xscale("log")
             if i == j:
-                ax.hist(shown[:, i], bins=bins, color="tab:blue", histtype="stepfilled", alpha=0.6)
-                for qv in np.quantile(shown[:, i], [0.05, 0.5, 0.95]):
-                    ax.axvline(qv, color="k", lw=0.8, ls="--" if qv != np.median(shown[:, i]) else "-")
+                edges = np.geomspace(flat[:, i].min(), flat[:, i].max(), bins + 1) if logs[i] else bins
+                ax.hist(flat[:, i], bins=edges, color="tab:blue", histtype="stepfilled", alpha=0.6)
+                q05, q50, q95 = np.quantile(flat[:, i], [0.05, 0.5, 0.95])
+                for qv, style in ((q05, "--"), (q50, "-"), (q95, "--")):
+                    ax.axvline(qv, color="k", lw=0.8, ls=style)
+                ax.set_title(f"{names[i]} = {interval_text(q50, q05, q95, units[i], significant=logs[i])}", fontsize=7)
                 ax.set_yticks([])
             else:
-                ax.plot(shown[:, j], shown[:, i], ".", ms=1.5, alpha=0.25, color="tab:blue")
-                if truth is not None and truth[i] is not None:
-                    ax.axhline(truth[i], color="tab:red", lw=0.8)
-            if truth is not None and truth[j] is not None:
-                ax.axvline(truth[j], color="tab:red", lw=0.8)
+                if logs[i]:
+                    ax.set_yscale("log")
+                ax.plot(flat[:, j], flat[:, i], ".", ms=1.5, alpha=0.25, color="tab:blue")
+                if truths and names[i] in truths:
+                    ax.axhline(truths[names[i]], color="tab:red", lw=0.8)
+            if truths and names[j] in truths:
+                ax.axvline(truths[names[j]], color="tab:red", lw=0.8)
+            for axis, is_log, n in ((ax.xaxis, logs[j], j), (ax.yaxis, logs[i], i)):
+                if is_log:
+                    plain_log_ticks(axis)
+                elif axis is ax.xaxis or i != j:
+                    axis.set_label_text(labels[n])  # (the formatter's prefix goes into the label)
+                    prefixed_axis(axis)
             if i == k - 1:
                 ax.set_xlabel(labels[j], fontsize=8)
             else:
-                ax.set_xticklabels([])
+                ax.set_xlabel("")
+                ax.tick_params(labelbottom=False)
             if j == 0 and i > 0:
                 ax.set_ylabel(labels[i], fontsize=8)
-            elif j > 0:
-                ax.set_yticklabels([])
+            else:
+                ax.set_ylabel("")
+                ax.tick_params(labelleft=False)
             ax.tick_params(labelsize=7)
     fig.suptitle(f"{title} ({flat.shape[0]} draws shown)", fontsize=9)
     return fig
+
+
+def interval_text(median: float, low: float, high: float, unit: str = "", *, significant: bool = False) -> str:
+    """``63.57 [63.10, 64.04] Ω``, ``4.80 [4.70, 4.90] MΩ``: a median and its interval in one
+    SI prefix (Ω, F, H) and with the decimals that give the interval's half-width two
+    significant digits; ``significant``: three significant digits each, for an interval over
+    decades (``1.2 [0.013, 95.1] kΩ``)."""
+    scale, prefix = 1.0, ""
+    if unit in ("Ω", "F", "H") and np.isfinite(median) and median != 0:
+        scale, prefix = next(((sc, p) for sc, p in SI_PREFIXES if abs(median) >= sc), SI_PREFIXES[-1])
+    m, a, b = median / scale, low / scale, high / scale
+    if significant:
+        text = f"{m:.3g} [{a:.3g}, {b:.3g}]"
+    else:
+        half = (b - a) / 2
+        decimals = min(max(0, 1 - math.floor(math.log10(half))), 12) if np.isfinite(half) and half > 0 else 3
+        text = f"{m:.{decimals}f} [{a:.{decimals}f}, {b:.{decimals}f}]"
+    return f"{text} {prefix}{unit}".rstrip()

@@ -29,6 +29,7 @@ def plot_comparison(comparison):
     ax_nyq.set(xlabel="Z' [Ω]", ylabel="−Z'' [Ω]", title="Nyquist")
     equal_aspect(ax_nyq)
     ax_mod.set(xlabel="frequency [Hz]", ylabel="|Z| [Ω]")
+    plain_log_ticks(ax_mod.yaxis)
     ax_ph.set(xlabel="frequency [Hz]", ylabel="phase [deg]")
     ax_res.set(xlabel="frequency [Hz]", ylabel="|relative residual| [%]", yscale="log")
     plain_log_ticks(ax_res.yaxis)

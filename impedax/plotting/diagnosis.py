@@ -14,7 +14,7 @@ import math
 import matplotlib.pyplot as plt
 import numpy as np
 
-from . import characters_across, plain_log_ticks, plot_spectrum, refresh_legend, shade_bands, wrap_model
+from . import FLAT_NYQUIST, characters_across, equal_aspect, nyquist_panel_height, nyquist_shape, plain_log_ticks, plot_spectrum, refresh_legend, shade_bands, wrap_model
 
 __all__ = ["plot_diagnosis", "plot_refinement"]
 
@@ -45,16 +45,29 @@ def plot_diagnosis(diagnosis, *, title: str | None = None):
 
 
 def plot_refinement(refinement, *, title: str | None = None):
-    """Error per step (rms_rel, log scale, with the final noise level √2σ) and the relative
-    residuals of the last five steps vs frequency, each step's failing bands shaded
-    (matplotlib Figure)."""
+    """Error per step (rms_rel, log scale, with the final noise level √2σ), the relative
+    residuals of the last five steps vs frequency, each step's failing bands shaded, and a
+    Nyquist panel of the data with the first and the last step's model (matplotlib Figure).
+    The axes are: the error per step, the residual panels from the top, the Nyquist panel. A
+    flat spectrum (`FLAT_NYQUIST`) has its Nyquist panel across the top, a steeper one above
+    the error panel."""
     n = len(refinement.steps)
+    rows = min(n, 5)
     width, ratios = 11.0, (1.0, 1.6)
     # the models (and the suptitle) are wrapped to the width of their panel (of the figure), never cut
     title_chars = characters_across(width * ratios[1] / sum(ratios) - 0.6, 8)
-    fig = plt.figure(figsize=(width, 3.2 + 2.3 * min(n, 5)), layout="constrained")
-    grid = fig.add_gridspec(min(n, 5), 2, width_ratios=list(ratios))
-    ax = fig.add_subplot(grid[:, 0])
+    first, last = refinement.steps[0].fit, refinement.steps[-1].fit
+    shape = nyquist_shape((first.frequency, first.z_data), (first.frequency, first.z_model), (last.frequency, last.z_model))
+    across = shape <= FLAT_NYQUIST
+    top = nyquist_panel_height(shape, width) if across else 0.0
+    fig = plt.figure(figsize=(width, 3.2 + 2.3 * rows + top), layout="constrained")
+    below = 1 if across else 0  # (the first row of the error and residual panels)
+    grid = fig.add_gridspec(rows + below, 2, width_ratios=list(ratios), height_ratios=[top] * below + [2.3] * rows)
+    if across:
+        ax = fig.add_subplot(grid[1:, 0])
+    else:  # (the Nyquist panel takes the upper part of the left column)
+        left = grid[:, 0].subgridspec(2, 1, height_ratios=[1.2, 1.0])
+        ax = fig.add_subplot(left[1])
     rms = [s.fit.rms_rel * 100 for s in refinement.steps]
     ax.semilogy(range(n), rms, "o-", color="tab:blue")
     for i, s in enumerate(refinement.steps):
@@ -77,7 +90,7 @@ def plot_refinement(refinement, *, title: str | None = None):
     shown = list(range(n))[-5:] if n > 5 else list(range(n))
     for row, i in enumerate(shown):
         s = refinement.steps[i]
-        a = fig.add_subplot(grid[row, 1])
+        a = fig.add_subplot(grid[row + below, 1])
         r = s.fit.residuals * 100
         a.semilogx(s.fit.frequency, r.real, "o-", ms=2.5, lw=0.7, label="Re")
         a.semilogx(s.fit.frequency, r.imag, "s-", ms=2.5, lw=0.7, label="Im")
@@ -93,5 +106,24 @@ def plot_refinement(refinement, *, title: str | None = None):
         if row == 0:
             a.legend(fontsize=7, ncol=3)
     fig.axes[-1].set_xlabel("frequency [Hz]")
+    nyquist = fig.add_subplot(grid[0, :] if across else left[0])
+    _refinement_nyquist(nyquist, refinement, characters_across((width if across else width * ratios[0] / sum(ratios)) - 1.0, 8))
     fig.suptitle(title or wrap_model(f"refinement: {refinement.steps[0].model} → {refinement.final_model} ({refinement.verdict})", characters_across(width - 0.4, 12)))
     return fig
+
+
+def _refinement_nyquist(ax, refinement, legend_chars: int) -> None:
+    """The data with the model of the refinement's first step (dashed) and of its last (solid),
+    at equal scales: where the start missed the data, and that the end does not."""
+    first, last = refinement.steps[0].fit, refinement.steps[-1].fit
+    ax.plot(first.z_data.real, -first.z_data.imag, "o", ms=3.5, mfc="none", color="tab:blue", label="data")
+    drawn = [(first, "--", "tab:grey", "start")] + ([(last, "-", "tab:green", "final")] if len(refinement.steps) > 1 else [])
+    for fit, style, color, name in drawn:
+        order = np.argsort(fit.frequency)
+        z = np.asarray(fit.z_model)[order]
+        ax.plot(z.real, -z.imag, style, lw=1.4, color=color, label=wrap_model(f"{name}: {fit.model} ({fit.rms_rel * 100:.3g} %)", legend_chars))
+    ax.set_xlabel("Z' [Ω]")
+    ax.set_ylabel("−Z'' [Ω]")
+    equal_aspect(ax)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)

@@ -7,19 +7,21 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 
-from . import FLAT_NYQUIST, label_spectra_axis, nyquist_panel_height, nyquist_shape, plot_bode, plot_nyquist, shade_bands
+from ..data import format_quantity, format_time
+from . import FLAT_NYQUIST, label_spectra_axis, nyquist_panel_height, nyquist_shape, plain_log_ticks, plot_bode, plot_nyquist, prefixed_axis, shade_bands
 
 __all__ = ["plot_drt", "plot_drt_batch", "plot_gamma", "plot_zhit"]
 
 
 def plot_gamma(ax, result, *, overlay=None, label="data DRT", overlay_label=None) -> None:
     """γ(τ) [Ω] on log τ with the 90 % band, peaks marked (τ and R), the measured τ range
-    outside shaded, and ``overlay`` (an `AnalyticDRT` or a `DRTResult`) on top."""
+    outside shaded, and ``overlay`` (an `AnalyticDRT` or a `DRTResult`) on top; the legend
+    above the panel."""
     ax.fill_between(result.tau, result.gamma_q05, result.gamma_q95, color="tab:blue", alpha=0.2, lw=0, label="90 % band")
     ax.semilogx(result.tau, result.gamma, color="tab:blue", lw=1.6, label=label)
     for p in result.peaks:
         ax.plot(p.tau_s, p.gamma_max_ohm, "v", color="tab:red", ms=7)
-        ax.annotate(f"{p.tau_s:.2g} s\n{p.r_ohm:.3g} Ω", (p.tau_s, p.gamma_max_ohm), textcoords="offset points", xytext=(0, 8), ha="center", fontsize=7)
+        ax.annotate(f"{format_time(p.tau_s)}\n{format_quantity(p.r_ohm, 'Ω')}", (p.tau_s, p.gamma_max_ohm), textcoords="offset points", xytext=(0, 8), ha="center", fontsize=7)
     if overlay is not None:
         name = overlay_label or (f"circuit {overlay.circuit}" if hasattr(overlay, "circuit") else "model DRT")
         ax.semilogx(overlay.tau, overlay.gamma, "--", color="tab:orange", lw=1.4, label=name)
@@ -27,15 +29,25 @@ def plot_gamma(ax, result, *, overlay=None, label="data DRT", overlay_label=None
         top = max(float(np.max(result.gamma)), 1e-300)
         for i, (tau, r) in enumerate(deltas):
             ax.vlines(tau, 0, top, color="tab:orange", lw=1.2, ls=":", label="R‖C deltas (R in labels)" if i == 0 else None)
-            ax.annotate(f"δ {r:.3g} Ω", (tau, top), textcoords="offset points", xytext=(2, -10), fontsize=7, color="tab:orange")
+            # (along the line from its foot: at its top the label lay under the peak's marker)
+            ax.annotate(f"δ {format_quantity(r, 'Ω')}", (tau, 0.0), textcoords="offset points", xytext=(2, 3), rotation=90, ha="left", va="bottom", fontsize=7, color="tab:orange")
     lo, hi = result.window
     ax.axvspan(result.tau.min(), lo, color="0.9", lw=0)
     ax.axvspan(hi, result.tau.max(), color="0.9", lw=0, label="outside measured range")
     ax.set_xlim(result.tau.min(), result.tau.max())
     ax.set_xlabel("τ [s]")
     ax.set_ylabel("γ [Ω]")
+    prefixed_axis(ax.yaxis)
     ax.grid(alpha=0.3, which="both")
-    ax.legend(fontsize=8)
+    # room above the highest peak for its two-line label, and the legend above the panel: inside
+    # it, the legend covered the labels of the peaks it stood over
+    drawn = [result.gamma_q95, result.gamma] + ([overlay.gamma] if overlay is not None else [])
+    ax.set_ylim(top=GAMMA_HEADROOM * max(float(np.nanmax(g)) for g in drawn))
+    ax.legend(fontsize=7, ncol=2, loc="lower left", bbox_to_anchor=(0.0, 1.01), borderaxespad=0.0, frameon=False)
+
+
+# the γ panel's range above its highest curve, as a multiple of it (the peak labels' room)
+GAMMA_HEADROOM = 1.3
 
 
 def plot_drt(result, *, overlay=None, title: str | None = None):
@@ -89,6 +101,7 @@ def plot_drt_batch(batch, *, title: str | None = None):
         bar.set_label(f"spectrum ({labels[0]} … {labels[-1]})")
     ax.set_xlabel("τ [s]")
     ax.set_ylabel("γ [Ω]")
+    prefixed_axis(ax.yaxis)
     ax.grid(alpha=0.3, which="both")
     ax_rms.plot(np.arange(n), [one.rms_rel * 100 for one in batch.results], "o-", ms=3, lw=0.8)
     label_spectra_axis(ax_rms, [", ".join(str(v) for v in where.values()) for where in batch.labels()], batch.dims)
@@ -107,6 +120,7 @@ def plot_zhit(result, *, title: str | None = None):
     ax_mod.loglog(f, np.abs(result.impedance[order]), "o", ms=3.5, mfc="none", label="|Z| data")
     ax_mod.loglog(f, result.modulus[order], "-", lw=1.5, label="|Z| from the phase (Z-HIT)")
     ax_mod.set_ylabel("|Z| [Ω]")
+    plain_log_ticks(ax_mod.yaxis)
     ax_ph.semilogx(f, np.degrees(np.angle(result.impedance[order])), "o", ms=3.5, mfc="none")
     ax_ph.set_ylabel("phase [deg]")
     ax_res.semilogx(f, result.residuals[order] * 100, "o-", ms=3, lw=0.8)

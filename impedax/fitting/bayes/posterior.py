@@ -300,11 +300,13 @@ class Posterior:
         )
 
     def corner(self, *, truths: Mapping[str, float] | None = None, bins: int = 30, max_points: int = 4000):
-        """Corner plot: marginal histograms on the diagonal and pairwise scatter below it
-        (log10 axes for log-sampled parameters). ``truths`` draws reference lines."""
+        """Corner plot: marginal histograms on the diagonal, titled with the median and 90 %
+        interval, and pairwise scatter below it, in the parameters' units (log axes for a
+        log-sampled parameter over decades; `impedax.plotting.bayes.plot_corner`). ``truths``
+        draws reference lines."""
         from ...plotting.bayes import plot_corner
 
-        return plot_corner(self.draws, self.names, self.log_scale, truths=truths, bins=bins, max_points=max_points, title=f"{self.model}: posterior")
+        return plot_corner(self.draws, self.names, self.log_scale, units=self.units, truths=truths, bins=bins, max_points=max_points, title=f"{self.model}: posterior")
 
     # -- storage --------------------------------------------------------------------------
     def to_xarray(self) -> xr.Dataset:

@@ -220,7 +220,7 @@ class SharedPosterior:
         """Corner plot of every sampled parameter (`Posterior.corner`; matplotlib Figure)."""
         from ...plotting.bayes import plot_corner
 
-        return plot_corner(self.draws, self.names, self.log_scale, truths=truths, bins=bins, max_points=max_points, title=f"{self.model}: joint posterior")
+        return plot_corner(self.draws, self.names, self.log_scale, units=self.units, truths=truths, bins=bins, max_points=max_points, title=f"{self.model}: joint posterior")
 
     def to_table(self) -> list[dict[str, object]]:
         """One row per sampled parameter: name, the summary quantiles, unit."""

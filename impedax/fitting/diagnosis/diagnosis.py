@@ -44,7 +44,7 @@ import xarray as xr
 
 from ...arguments import MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice, count, flag, frequency, instance_of, real, seed as seed_rule
 from ...circuits import Circuit, DEFAULT_REGISTRY, Element, Parallel, Registry, Series, parse
-from ...data import make_spectrum, unit_text
+from ...data import format_quantity, make_spectrum
 from ...errors import DataError, FitError, ImpedaxError, ParameterError
 from ..drt import PeakEvidence, drt, r_cpe_tau, unexplained_peaks
 from ..kk import KKResult, kk_test
@@ -539,22 +539,6 @@ def _spectrum_of(fit: FitResult, data: xr.Dataset | None):
             raise DataError("the data's frequencies do not contain the fit's; pass the data the fit was made on", path=str(data.attrs.get("source", "data")))
         sigma = np.asarray(data["sigma"].values, float)[idx]
     return make_spectrum(fit.frequency, fit.z_data, sigma=sigma, source="diagnosis"), sigma
-
-
-_PREFIXES = ((1e9, "G"), (1e6, "M"), (1e3, "k"), (1.0, ""), (1e-3, "m"), (1e-6, "µ"), (1e-9, "n"), (1e-12, "p"), (1e-15, "f"))
-
-
-def format_quantity(value: float, unit: str) -> str:
-    """``84 µF``, ``2.2 kΩ``, ``0.81`` (a value with an SI prefix; dimensionless as it is)."""
-    if not unit or unit == "1" or not np.isfinite(value) or value == 0:
-        return f"{value:.3g}" + (f" {unit}" if unit and unit != "1" else "")
-    unit = unit_text(unit)
-    if " " in unit or "^" in unit or "/" in unit:  # compound units (CPE Q, Warburg σ): plain
-        return f"{value:.3g} {unit}"
-    for scale, prefix in _PREFIXES:
-        if abs(value) >= scale:
-            return f"{value / scale:.3g} {prefix}{unit}"
-    return f"{value:.3g} {unit}"
 
 
 def _new_values(base: FitResult, cand: FitResult) -> str:

@@ -109,8 +109,9 @@ class Refinement:
         return "\n".join(lines)
 
     def plot(self, *, title: str | None = None):
-        """Error per step (rms_rel, log scale) and the relative residuals of every step vs
-        frequency, with the failing bands shaded (matplotlib Figure; `impedax.plotting.diagnosis`)."""
+        """The data with the first and the last step's model (Nyquist), the error per step
+        (rms_rel, log scale) and the relative residuals of the last five steps vs frequency, with
+        the failing bands shaded (matplotlib Figure; `impedax.plotting.diagnosis`)."""
         from ...plotting.diagnosis import plot_refinement
 
         return plot_refinement(self, title=title)

@@ -13,7 +13,7 @@ import numpy as np
 import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit
-from ...data import unit_text
+from ...data import format_relative_error, unit_text
 from ..parameters import ParameterTable, data_scales
 from ..statistics import information_criteria, non_passive, uncertainties
 from .branches import RELATIVE_ERROR_LIMIT, idle_branch_notes, undetermined, undetermined_mask
@@ -161,7 +161,7 @@ class FitResult:
             else:
                 e = self.stderr[n]
                 # at a bound the linearised error says nothing (a log transform's scale at 0)
-                rel = "at bound" if n in self.at_bound else f"{abs(e / v) * 100:.2g}%" if v and np.isfinite(e) else "—"
+                rel = "at bound" if n in self.at_bound else format_relative_error(e / v) if v and np.isfinite(e) else "—"
                 lines.append(f"{n:<{width}}  {v:>12.5g}  {e:>10.3g}  {rel:>8}  {unit_text(specs[n].unit)}".rstrip())
         for w in self.warnings:
             if not w.startswith("fit did not converge"):  # the status line says it once

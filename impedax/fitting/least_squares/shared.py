@@ -36,7 +36,7 @@ import numpy as np
 import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit
-from ...data import unit_text
+from ...data import format_relative_error, unit_text
 from ...errors import DataError, ParameterError
 from ..parameters import ParameterTable, to_internal
 from ..problem import residual_scale, weights
@@ -355,7 +355,7 @@ class SharedFitResult(BatchFitResult):
             v = ds["shared_value"].sel(shared_param=n).values.ravel()
             e = ds["shared_stderr"].sel(shared_param=n).values.ravel()
             for vi, ei in zip(v.tolist(), e.tolist()):
-                rel = f"{abs(ei / vi) * 100:.2g}%" if vi and math.isfinite(ei) else "—"
+                rel = format_relative_error(ei / vi) if vi and math.isfinite(ei) else "—"
                 lines.append(f"{n:<16} {vi:>12.5g} {ei:>10.3g} {rel:>8}  {unit_text(specs[n].unit)}".rstrip())
         for f, p, d, c in zip(*(np.ravel(ds[k].values).tolist() for k in ("f_statistic", "f_pvalue", "delta_aic", "joint_chi2_red"))):
             lines.append(f"sharing vs independent fits: F = {f:.3g}, p = {p:.3g}, ΔAIC = {d:+.1f} (negative favours sharing); joint chi2_red {c:.4g}")
