@@ -467,3 +467,21 @@ def test_relative_errors_in_the_fit_table_read_as_percentages():
     from impedax.data import format_relative_error
 
     assert [format_relative_error(x) for x in (0.038, 0.0052, 0.126, 1.26, -2.56, 1.2e10)] == ["3.8%", "0.52%", "13%", "126%", "256%", "1.2e+12%"]
+
+
+def test_batch_panels_count_their_values_in_an_si_prefix():
+    import impedax as ix
+
+    f = np.geomspace(1, 1e5, 30)
+    c = 1e-6 * (1 + 0.2 * np.arange(4))  # 1.0–1.6 µF: the panel read 1e-6 apart from its ticks
+    z = np.stack([100.0 + 1e3 / (1 + 2j * np.pi * f * 1e3 * ck) for ck in c])
+    batch = ix.fit("R0 + R1 || C1", ix.make_spectrum(f, z, dims=("trial",)), fixed={"R1": 1e3})
+    fig = batch.plot()
+    fig.canvas.draw()
+    (panel,) = [ax for ax in fig.axes if ax.get_title().startswith("C1")]
+    assert panel.get_title() == "C1 [µF]" and not panel.yaxis.get_offset_text().get_text()
+    locs, values = tick_values(panel.yaxis)
+    np.testing.assert_allclose(values * 1e-6, locs, atol=1e-12)
+    (r0,) = [ax for ax in fig.axes if ax.get_title().startswith("R0")]
+    assert r0.get_title() == "R0 [Ω]"
+    plt.close(fig)

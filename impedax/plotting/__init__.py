@@ -105,14 +105,15 @@ class _PrefixedFormatter(ScalarFormatter):
     anew at every draw (`set_locs`), so a zoom relabels the axis. An axis of another unit is
     labelled as matplotlib does."""
 
-    def __init__(self, along=()):
+    def __init__(self, along=(), label=None):
         super().__init__()
         self.along = tuple(along)
+        self.label = label  # (the text that names the unit: the axis label when None)
         self.scale = None  # (None: the label names no unit to prefix; matplotlib's labels)
         self.decimals = 0
 
     def set_locs(self, locs):
-        label = self.axis.get_label()
+        label = self.label if self.label is not None else self.axis.get_label()
         if not _BRACKETED_UNIT.search(label.get_text()):
             self.scale = None
             return super().set_locs(locs)
@@ -136,11 +137,12 @@ class _PrefixedFormatter(ScalarFormatter):
 _BRACKETED_UNIT = re.compile(r"\[(T|G|M|k|m|µ|n|p|f)?(Ω|F|H)\]")
 
 
-def prefixed_axis(axis, *, along=()) -> None:
+def prefixed_axis(axis, *, along=(), label=None) -> None:
     """Count the linear ``axis`` (``ax.xaxis``) of a quantity in Ω, F or H, named in its label's
     brackets (``Z' [Ω]``), in the SI prefix that suits its values (`_PrefixedFormatter`);
-    ``along``: axes that share the scale (a Nyquist panel's two)."""
-    axis.set_major_formatter(_PrefixedFormatter(along))
+    ``along``: axes that share the scale (a Nyquist panel's two); ``label``: the text that
+    names the unit and gets the prefix when it is not the axis label (a panel's title)."""
+    axis.set_major_formatter(_PrefixedFormatter(along, label))
 
 
 def plot_bode(ax_mod, ax_phase, data=None, model=None, *, data_label="data", model_label="model"):

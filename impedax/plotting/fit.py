@@ -18,7 +18,7 @@ def plot_batch(batch, *, title: str | None = None):
     matplotlib Figure."""
     import matplotlib.pyplot as plt
 
-    from . import characters_across, label_spectra_axis, wrap_model
+    from . import characters_across, label_spectra_axis, prefixed_axis, wrap_model
 
     ds = batch.dataset
     free = [str(p) for p, fixed in zip(ds["param"].values, ds["fixed"].values) if not fixed]
@@ -53,6 +53,8 @@ def plot_batch(batch, *, title: str | None = None):
         if loose.any():
             _mark_undetermined(ax, index[loose], y[loose], scaled, f"undetermined ({batch.UNDETERMINED_RULE})")
         ax.set_title(f"{name} [{unit}]" if unit else name, fontsize=9)
+        if ax.get_yscale() == "linear":  # (R_sc [MΩ] with ticks 1.0, 1.5, not 1e6 apart)
+            prefixed_axis(ax.yaxis, label=ax.title)
         label_spectra_axis(ax, labels, batch.dims)
         ax.grid(alpha=0.3, which="both")
     if with_fits:
