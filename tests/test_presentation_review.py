@@ -79,6 +79,9 @@ def test_diagnosis_figure_legends_say_what_is_drawn():
     assert "+ extra_relaxation+diffusion" in legend_texts(nyquist)
     assert {"baseline", "+ extra_relaxation+diffusion", "model fails"} <= set(legend_texts(modulus))
     assert {"Re (baseline)", "Im (baseline)", "|res| with extra_relaxation+diffusion"} <= set(legend_texts(residual))
+    # the suggestion's curve is drawn without setting the scale again, which brought back 10^0
+    labels = tick_texts(modulus.yaxis)
+    assert labels and not any("10^" in t for t in labels), labels
     plt.close(fig)
 
 

@@ -33,11 +33,13 @@ def plot_diagnosis(diagnosis, *, title: str | None = None):
         axes = fig.axes
         z = best.fit.z_model
         axes[0].plot(z.real, -z.imag, "-", color="tab:green", lw=1.2, label=f"+ {best.effect}")
-        axes[1].loglog(b.frequency, np.abs(z), "-", color="tab:green", lw=1.2, label=f"+ {best.effect}")
-        axes[2].semilogx(b.frequency, np.degrees(np.angle(z)), "-", color="tab:green", lw=1.2)
+        # (plot, not loglog/semilogx: those set the scale again, and with it matplotlib's
+        # tick labels in place of plain_log_ticks')
+        axes[1].plot(b.frequency, np.abs(z), "-", color="tab:green", lw=1.2, label=f"+ {best.effect}")
+        axes[2].plot(b.frequency, np.degrees(np.angle(z)), "-", color="tab:green", lw=1.2)
         if len(axes) > 3:
             r = best.fit.residuals * 100
-            axes[3].semilogx(b.frequency, np.abs(r), "-", color="tab:green", lw=1.0, label=f"|res| with {best.effect}")
+            axes[3].plot(b.frequency, np.abs(r), "-", color="tab:green", lw=1.0, label=f"|res| with {best.effect}")
             axes[3].legend(fontsize=8, ncol=3)
         refresh_legend(axes[0])
         refresh_legend(axes[1])

@@ -13,10 +13,10 @@ from . import FLAT_NYQUIST, label_spectra_axis, nyquist_panel_height, nyquist_sh
 __all__ = ["plot_drt", "plot_drt_batch", "plot_gamma", "plot_zhit"]
 
 
-def plot_gamma(ax, result, *, overlay=None, label="data DRT", overlay_label=None) -> None:
+def plot_gamma(ax, result, *, overlay=None, label="data DRT", overlay_label=None, legend_above=False) -> None:
     """γ(τ) [Ω] on log τ with the 90 % band, peaks marked (τ and R), the measured τ range
     outside shaded, and ``overlay`` (an `AnalyticDRT` or a `DRTResult`) on top; the legend
-    above the panel."""
+    inside, or above the panel with ``legend_above`` (where no title is)."""
     ax.fill_between(result.tau, result.gamma_q05, result.gamma_q95, color="tab:blue", alpha=0.2, lw=0, label="90 % band")
     ax.semilogx(result.tau, result.gamma, color="tab:blue", lw=1.6, label=label)
     for p in result.peaks:
@@ -39,11 +39,15 @@ def plot_gamma(ax, result, *, overlay=None, label="data DRT", overlay_label=None
     ax.set_ylabel("γ [Ω]")
     prefixed_axis(ax.yaxis)
     ax.grid(alpha=0.3, which="both")
-    # room above the highest peak for its two-line label, and the legend above the panel: inside
-    # it, the legend covered the labels of the peaks it stood over
+    # room above the highest peak for its two-line label (the axis still autoscales to curves
+    # drawn later, as other spectra's γ)
     drawn = [result.gamma_q95, result.gamma] + ([overlay.gamma] if overlay is not None else [])
-    ax.set_ylim(top=GAMMA_HEADROOM * max(float(np.nanmax(g)) for g in drawn))
-    ax.legend(fontsize=7, ncol=2, loc="lower left", bbox_to_anchor=(0.0, 1.01), borderaxespad=0.0, frameon=False)
+    ax.update_datalim([(float(result.tau[0]), GAMMA_HEADROOM * max(float(np.nanmax(g)) for g in drawn))], updatex=False)
+    ax.autoscale_view()
+    if legend_above:  # (inside, the legend covered the labels of the peaks it stood over)
+        ax.legend(fontsize=7, ncol=2, loc="lower left", bbox_to_anchor=(0.0, 1.01), borderaxespad=0.0, frameon=False)
+    else:
+        ax.legend(fontsize=7)
 
 
 # the γ panel's range above its highest curve, as a multiple of it (the peak labels' room)
@@ -66,7 +70,7 @@ def plot_drt(result, *, overlay=None, title: str | None = None):
         slots = grid[:2, 0], grid[2, 0], grid[:, 1], grid[0, 2], grid[1, 2]
     ax_g, ax_res, ax_nyq, ax_mod = (fig.add_subplot(slot) for slot in slots[:4])
     ax_ph = fig.add_subplot(slots[4], sharex=ax_mod)
-    plot_gamma(ax_g, result, overlay=overlay)
+    plot_gamma(ax_g, result, overlay=overlay, legend_above=True)
     plot_nyquist(ax_nyq, data, model, model_label="DRT fit")
     plot_bode(ax_mod, ax_ph, data, model, model_label="DRT fit")
     order = np.argsort(result.frequency)
