@@ -72,6 +72,7 @@ def plot_refinement(refinement, *, title: str | None = None):
         ax = fig.add_subplot(left[1])
     rms = [s.fit.rms_rel * 100 for s in refinement.steps]
     ax.semilogy(range(n), rms, "o-", color="tab:blue")
+    ax.margins(y=0.12)  # (room for the label above the highest step, which the frame cut)
     for i, s in enumerate(refinement.steps):
         label = s.effect or ("start" if not s.removed else "simplified")
         if s.removed:
