@@ -488,3 +488,23 @@ def test_batch_panels_count_their_values_in_an_si_prefix():
     (r0,) = [ax for ax in fig.axes if ax.get_title().startswith("R0")]
     assert r0.get_title() == "R0 [Ω]"
     plt.close(fig)
+
+
+def test_refinement_nyquist_is_scaled_to_the_data_and_the_last_model_not_a_start_far_off():
+    # the demo's start: a pure capacitor, a vertical line far above an arc; it had made the
+    # panel steep and shrunk the data into its corner
+    arc = rc(50.0, 1e-3, 0.0)
+    capacitor = 1 / (2j * np.pi * F * 1e-5)
+    steps = [
+        SimpleNamespace(fit=fit("C1", capacitor, arc), effect=None, removed=(), change="(start)", model="C1", diagnosis=None),
+        SimpleNamespace(fit=fit("R1 || C1", arc * 1.001, arc), effect="parallel_resistance", removed=(), change="+ R1", model="R1 || C1", diagnosis=None),
+    ]
+    fig = plot_refinement(SimpleNamespace(steps=steps, final_model="R1 || C1", verdict="adequate"))
+    nyquist = fig.axes[-1]
+    fig.canvas.draw()
+    x0, x1 = nyquist.get_xlim()
+    y0, y1 = nyquist.get_ylim()
+    assert x1 < 1.6 * 50 and -0.1 * 50 < x0 < 5  # the arc spans 0–50 Ω (with 5 % margins): it fills the width
+    assert y1 < 0.1 * float(np.max(-capacitor.imag))  # the capacitor's line runs off the top
+    assert nyquist.get_position().width > 0.8  # a flat arc: the panel across the figure
+    plt.close(fig)

@@ -59,7 +59,7 @@ def plot_refinement(refinement, *, title: str | None = None):
     # the models (and the suptitle) are wrapped to the width of their panel (of the figure), never cut
     title_chars = characters_across(width * ratios[1] / sum(ratios) - 0.6, 8)
     first, last = refinement.steps[0].fit, refinement.steps[-1].fit
-    shape = nyquist_shape((first.frequency, first.z_data), (first.frequency, first.z_model), (last.frequency, last.z_model))
+    shape = nyquist_shape((first.frequency, first.z_data), (last.frequency, last.z_model))  # (`_refinement_nyquist`: the start may run off)
     across = shape <= FLAT_NYQUIST
     top = nyquist_panel_height(shape, width) if across else 0.0
     fig = plt.figure(figsize=(width, 3.2 + 2.3 * rows + top), layout="constrained")
@@ -117,7 +117,8 @@ def plot_refinement(refinement, *, title: str | None = None):
 
 def _refinement_nyquist(ax, refinement, legend_chars: int) -> None:
     """The data with the model of the refinement's first step (dashed) and of its last (solid),
-    at equal scales: where the start missed the data, and that the end does not."""
+    at equal scales and scaled to the data and the last model: where the start missed the
+    data, and that the end does not."""
     first, last = refinement.steps[0].fit, refinement.steps[-1].fit
     ax.plot(first.z_data.real, -first.z_data.imag, "o", ms=3.5, mfc="none", color="tab:blue", label="data")
     drawn = [(first, "--", "tab:grey", "start")] + ([(last, "-", "tab:green", "final")] if len(refinement.steps) > 1 else [])
@@ -125,6 +126,15 @@ def _refinement_nyquist(ax, refinement, legend_chars: int) -> None:
         order = np.argsort(fit.frequency)
         z = np.asarray(fit.z_model)[order]
         ax.plot(z.real, -z.imag, style, lw=1.4, color=color, label=wrap_model(f"{name}: {fit.model} ({fit.rms_rel * 100:.3g} %)", legend_chars))
+    # the panel is scaled to the data and the last model: a start far off (the demo's pure
+    # capacitor, a line to 165 MΩ beside an arc of 57 MΩ) runs off the panel, where it had
+    # shrunk the data to a corner
+    shown = np.concatenate([first.z_data, np.asarray(last.z_model)])
+    shown = shown[np.isfinite(shown)]
+    if shown.size:
+        ax.ignore_existing_data_limits = True
+        ax.update_datalim(np.column_stack([shown.real, -shown.imag]))
+        ax.autoscale_view()
     ax.set_xlabel("Z' [Ω]")
     ax.set_ylabel("−Z'' [Ω]")
     equal_aspect(ax)
