@@ -38,7 +38,8 @@ class BatchFitResult:
 
     ``dataset`` holds ``value``/``stderr`` over (param, *dims), ``rms_rel``, ``chi2``,
     ``chi2_red``, ``aic``, ``bic``, ``converged`` over dims, ``at_bound`` (whether a parameter
-    is at a natural or user bound) over (param, *dims), and the data ``Z`` and ``Z_model`` over (*dims, frequency). ``warnings`` maps a spectrum's index (a dict of coordinates, as text)
+    is at a natural or user bound) over (param, *dims), the bounds themselves (``lower``,
+    ``upper`` over param), and the data ``Z`` and ``Z_model`` over (*dims, frequency). ``warnings`` maps a spectrum's index (a dict of coordinates, as text)
     to its warnings.
     """
 
@@ -548,6 +549,8 @@ def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weig
             "value": (("param", *extra), param_first(values)),
             "stderr": (("param", *extra), param_first(stderr)),
             "fixed": ("param", table.fixed),
+            "lower": ("param", table.lower, {"long_name": "the fit's lower bound of each parameter (natural, or the user's bounds=)"}),
+            "upper": ("param", table.upper, {"long_name": "the fit's upper bound of each parameter (natural, or the user's bounds=)"}),
             "at_bound": (("param", *extra), param_first(at_bound)),
             "chi2": (extra, chi2),
             "chi2_red": (extra, chi2 / (n_res - k) if n_res > k else np.full(chi2.shape, math.nan)),
