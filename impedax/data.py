@@ -144,17 +144,20 @@ def format_quantity(value: float, unit: str) -> str:
     unit = unit_text(unit)
     if " " in unit or "^" in unit or "/" in unit:  # compound units (CPE Q, Warburg σ): plain
         return f"{value:.3g} {unit}"
+    shown = float(f"{value:.3g}")  # (the prefix of the value as printed: 999.6 Ω is 1 kΩ)
     for scale, prefix in SI_PREFIXES:
-        if abs(value) >= scale:
-            return f"{value / scale:.3g} {prefix}{unit}"
+        if abs(shown) >= scale:
+            return f"{shown / scale:.3g} {prefix}{unit}"
     return f"{value:.3g} {unit}"
 
 
 def format_relative_error(ratio: float) -> str:
     """A relative standard error for a table: ``3.8%``, ``0.52%``, ``126%`` (whole percent from
-    10 %, where ``1.3e+02%`` read badly), ``1.2e+12%`` from 10⁴ % up."""
+    10 %, where ``1.3e+02%`` read badly), ``1.2e+12%`` from 10⁴ % up; ``—`` when not finite."""
     percent = abs(ratio) * 100
-    return f"{percent:.0f}%" if 10 <= percent < 1e4 else f"{percent:.2g}%"
+    if not np.isfinite(percent):
+        return "—"
+    return f"{percent:.0f}%" if 9.95 <= percent < 9999.5 else f"{percent:.2g}%"
 
 
 def format_time(tau: float, digits: int = 3) -> str:

@@ -207,7 +207,7 @@ def test_a_batch_names_its_dimensions_in_words():
 
 
 def test_compound_units_are_written_with_omega():
-    from impedax.fitting.diagnosis.diagnosis import format_quantity
+    from impedax.data import format_quantity
 
     assert format_quantity(3050.0, "Ohm s^-1/2") == "3.05e+03 Ω s^-1/2"  # before: "Ohm s^-1/2"
     assert format_quantity(2200.0, "Ohm") == "2.2 kΩ"
@@ -525,6 +525,54 @@ def test_batch_error_bars_stop_at_a_user_bound_the_value_sits_on():
     fig = batch.plot()
     (panel,) = [ax for ax in fig.axes if ax.get_title().startswith("R0")]
     # the bars' segments: none reaches below the bound (it was drawn down to 150 Ω − stderr)
+    segments = np.concatenate([c.get_segments() for c in panel.collections if hasattr(c, "get_segments")])
+    assert segments.size and segments[:, :, 1].min() >= 150.0 - 1e-6
+    plt.close(fig)
+
+
+def test_review_edge_cases_of_the_prefixes():
+    from impedax.data import format_quantity, format_relative_error
+    from impedax.plotting import equal_aspect
+    from impedax.plotting.bayes import interval_text
+
+    # the prefix of a value as printed, and of an interval by its largest member
+    assert format_quantity(999.6, "Ω") == "1 kΩ" and format_quantity(0.9996, "Ω") == "1 Ω"
+    assert interval_text(999.0, 984.0, 1017.0, "Ω") == "0.999 [0.984, 1.017] kΩ"
+    assert interval_text(1.0e-5, 0.968e-5, 1.034e-5, "F s^(α-1)") == "1.000 [0.968, 1.034] ×10⁻⁵ F s^(α-1)"
+    assert format_relative_error(float("nan")) == "—" and format_relative_error(99.996) == "1e+04%"
+    # a label the user wrote with a prefix (values already in kΩ) is left as it is
+    fig, ax = plt.subplots()
+    ax.plot([0.0, 50.0], [0.0, 20.0], "o")
+    ax.set_xlabel("Z' [kΩ]")
+    ax.set_ylabel("−Z'' [kΩ]")
+    equal_aspect(ax)
+    fig.canvas.draw()
+    assert (ax.get_xlabel(), ax.get_ylabel()) == ("Z' [kΩ]", "−Z'' [kΩ]")
+    locs, values = tick_values(ax.xaxis)
+    np.testing.assert_allclose(values, locs)
+    plt.close(fig)
+    # panels that share an axis are relabelled together (matplotlib gives them one formatter)
+    fig, (left, right) = plt.subplots(1, 2, sharey=True)
+    from impedax.plotting import plot_nyquist
+
+    plot_nyquist(left, (F, rc(2e3, 1e-6, 0.0)))
+    plot_nyquist(right, (F, rc(2e6, 1e-9, 0.0)))
+    fig.canvas.draw()
+    assert left.get_ylabel() == right.get_ylabel() == "−Z'' [MΩ]"
+    plt.close(fig)
+
+
+def test_shared_fit_error_bars_stop_at_a_user_bound():
+    import impedax as ix
+
+    f = np.geomspace(1, 1e5, 30)
+    z = np.stack([100.0 + 1e3 * (1 + 0.1 * k) / (1 + 2j * np.pi * f * 1e-3 * (1 + 0.1 * k)) for k in range(3)])
+    rng = np.random.default_rng(2)
+    z = z * (1 + 0.01 * (rng.normal(size=z.shape) + 1j * rng.normal(size=z.shape)))
+    result = ix.fit("R0 + R1 || C1", ix.make_spectrum(f, z, dims=("trial",)), bounds={"R0": (150.0, 1e4)}, shared=["R0"])
+    assert float(result.dataset["lower"].sel(param="R0")) == 150.0
+    fig = result.plot()
+    (panel,) = [ax for ax in fig.axes if ax.get_title().startswith("R0")]
     segments = np.concatenate([c.get_segments() for c in panel.collections if hasattr(c, "get_segments")])
     assert segments.size and segments[:, :, 1].min() >= 150.0 - 1e-6
     plt.close(fig)

@@ -102,24 +102,45 @@ class _PrefixedFormatter(ScalarFormatter):
     """Tick labels of a linear axis in Ω, F or H (the unit in its label's brackets), counted in
     the SI prefix that suits the largest value in view of this axis and of ``along``: ``0.5,
     1.0, 1.5`` under ``Z' [MΩ]`` instead of ``0.5 1.0 1.5`` with a detached ``1e6``. Chosen
-    anew at every draw (`set_locs`), so a zoom relabels the axis. An axis of another unit is
-    labelled as matplotlib does."""
+    anew at every draw (`set_locs`), so a zoom relabels the axis (and the axes that share it).
+    An axis of another unit, or whose label already carries a prefix of the user's (values
+    plotted in kΩ), is labelled as matplotlib does."""
 
     def __init__(self, along=(), label=None):
         super().__init__()
         self.along = tuple(along)
         self.label = label  # (the text that names the unit: the axis label when None)
+        self.written: dict[int, str] = {}  # (the label texts this formatter wrote, by id)
         self.scale = None  # (None: the label names no unit to prefix; matplotlib's labels)
         self.decimals = 0
 
+    def _labels(self):
+        """The texts that name this axis' unit: its label (or ``label``), and the labels of the
+        axes that share it (matplotlib gives them this one formatter)."""
+        if self.label is not None:
+            return [self.label]
+        ax = self.axis.axes
+        name = "x" if self.axis is ax.xaxis else "y"
+        siblings = (ax.get_shared_x_axes() if name == "x" else ax.get_shared_y_axes()).get_siblings(ax)
+        return [self.axis.get_label()] + [getattr(other, f"{name}axis").get_label() for other in siblings if other is not ax]
+
+    def _ours(self, text) -> bool:
+        """Whether ``text``'s bracketed unit is one to prefix: bare (``[Ω]``), or a prefix this
+        formatter wrote."""
+        match = _BRACKETED_UNIT.search(text.get_text())
+        return match is not None and (not match.group(1) or self.written.get(id(text)) == text.get_text())
+
     def set_locs(self, locs):
-        label = self.label if self.label is not None else self.axis.get_label()
-        if not _BRACKETED_UNIT.search(label.get_text()):
+        labels = self._labels()
+        if not self._ours(labels[0]):
             self.scale = None
             return super().set_locs(locs)
         top = max((abs(v) for axis in (self.axis, *self.along) for v in axis.get_view_interval() if np.isfinite(v)), default=0.0)
         self.scale, prefix = next(((scale, prefix) for scale, prefix in SI_PREFIXES if top >= scale), SI_PREFIXES[-1]) if top > 0 else (1.0, "")
-        label.set_text(_BRACKETED_UNIT.sub(lambda m: f"[{prefix}{m.group(2)}]", label.get_text()))
+        for label in labels:
+            if self._ours(label):
+                label.set_text(_BRACKETED_UNIT.sub(lambda m: f"[{prefix}{m.group(2)}]", label.get_text()))
+                self.written[id(label)] = label.get_text()
         # as few decimals as tell the ticks apart at the scale
         scaled = np.asarray(locs, float) / self.scale
         self.decimals = next((d for d in range(7) if np.allclose(np.round(scaled, d), scaled, rtol=0, atol=1e-9 * max(np.ptp(scaled), 1e-300))), 6) if scaled.size > 1 else 1

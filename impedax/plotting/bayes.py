@@ -85,7 +85,7 @@ def plot_corner(
     if flat.shape[0] > max_points:
         flat = flat[np.linspace(0, flat.shape[0] - 1, max_points).astype(int)]
     units = [unit_text(u) for u in units] if units is not None else [""] * k
-    lo, hi = np.quantile(flat, [0.01, 0.99], axis=0)
+    lo, hi = np.nanquantile(flat, [0.01, 0.99], axis=0)
     logs = [bool(ls) and low > 0 and high > LOG_AXIS_SPAN * low for ls, low, high in zip(log_scale, lo, hi)]
     labels = [f"{n} [{u}]" if u else n for n, u in zip(names, units)]
     size = min(2.0 * k + 1, 16)
@@ -99,9 +99,10 @@ def plot_corner(
             if logs[j]:
                 ax.set_xscale("log")
             if i == j:
-                edges = np.geomspace(flat[:, i].min(), flat[:, i].max(), bins + 1) if logs[i] else bins
-                ax.hist(flat[:, i], bins=edges, color="tab:blue", histtype="stepfilled", alpha=0.6)
-                q05, q50, q95 = np.quantile(flat[:, i], [0.05, 0.5, 0.95])
+                column = flat[np.isfinite(flat[:, i]), i]  # (a draw that overflowed is left out)
+                edges = np.geomspace(column.min(), column.max(), bins + 1) if logs[i] and column.size else bins
+                ax.hist(column, bins=edges, color="tab:blue", histtype="stepfilled", alpha=0.6)
+                q05, q50, q95 = np.nanquantile(flat[:, i], [0.05, 0.5, 0.95])
                 for qv, style in ((q05, "--"), (q50, "-"), (q95, "--")):
                     ax.axvline(qv, color="k", lw=0.8, ls=style)
                 ax.set_title(f"{names[i]} = {interval_text(q50, q05, q95, units[i], significant=logs[i])}", fontsize=7)
@@ -137,12 +138,18 @@ def plot_corner(
 
 def interval_text(median: float, low: float, high: float, unit: str = "", *, significant: bool = False) -> str:
     """``63.57 [63.10, 64.04] Ω``, ``4.80 [4.70, 4.90] MΩ``: a median and its interval in one
-    SI prefix (Ω, F, H) and with the decimals that give the interval's half-width two
-    significant digits; ``significant``: three significant digits each, for an interval over
-    decades (``1.2 [0.013, 95.1] kΩ``)."""
+    SI prefix (Ω, F, H; chosen by the largest of the three, so 999 [984, 1017] Ω reads 0.999
+    [0.984, 1.017] kΩ), or with a shared power of ten for another unit far from 1
+    (``1.000 [0.968, 1.034] ×10⁻⁵ F s^(α-1)``), with the decimals that give the interval's
+    half-width two significant digits; ``significant``: three significant digits each, for an
+    interval over decades (``1.2 [0.013, 95.1] kΩ``)."""
+    top = max((abs(v) for v in (median, low, high) if np.isfinite(v)), default=0.0)
     scale, prefix = 1.0, ""
-    if unit in ("Ω", "F", "H") and np.isfinite(median) and median != 0:
-        scale, prefix = next(((sc, p) for sc, p in SI_PREFIXES if abs(median) >= sc), SI_PREFIXES[-1])
+    if top > 0 and unit in ("Ω", "F", "H"):
+        scale, prefix = next(((sc, p) for sc, p in SI_PREFIXES if top >= sc), SI_PREFIXES[-1])
+    elif top > 0 and not (1e-3 <= top < 1e4):
+        exponent = math.floor(math.log10(top))
+        scale, prefix = 10.0**exponent, "×10" + str(exponent).translate(_SUPERSCRIPTS) + (" " if unit else "")
     m, a, b = median / scale, low / scale, high / scale
     if significant:
         text = f"{m:.3g} [{a:.3g}, {b:.3g}]"
@@ -151,3 +158,6 @@ def interval_text(median: float, low: float, high: float, unit: str = "", *, sig
         decimals = min(max(0, 1 - math.floor(math.log10(half))), 12) if np.isfinite(half) and half > 0 else 3
         text = f"{m:.{decimals}f} [{a:.{decimals}f}, {b:.{decimals}f}]"
     return f"{text} {prefix}{unit}".rstrip()
+
+
+_SUPERSCRIPTS = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")

@@ -12,6 +12,8 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None):
     without the EP branch (matplotlib Figure)."""
     import matplotlib.pyplot as plt
 
+    from . import plain_log_ticks
+
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.6), layout="constrained")
     f = gap.remaining["frequency"].values
     z = gap.remaining["Z"].values
@@ -23,6 +25,7 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None):
     ax.loglog(f, np.abs(gap.naive_fit.z_model), "--", label=f"C_gap only (rms_rel {gap.naive_fit.rms_rel * 100:.2g} %)")
     ax.loglog(f, np.abs(gap.edl_fit.z_model), "-", label=f"{gap.edl_fit.model} (rms_rel {gap.edl_fit.rms_rel * 100:.2g} %)")
     ax.set(xlabel="frequency [Hz]", ylabel="|Z_R| [Ω]", title="remaining impedance (Sirin eq 5)")
+    plain_log_ticks(ax.yaxis)
     ax.legend(fontsize=7)
     ax = axes[1]
     u = gap.draws("u") * 1e6

@@ -619,6 +619,8 @@ def _result_dataset(circuit, data, table, layout: SharedLayout, extra, keep_shap
         "value": spectra(values, ("param",)).transpose("param", *extra),
         "stderr": spectra(stderr, ("param",)).transpose("param", *extra),
         "fixed": ("param", table.fixed),
+        "lower": ("param", table.lower, {"long_name": "the fit's lower bound of each parameter (natural, or the user's bounds=)"}),
+        "upper": ("param", table.upper, {"long_name": "the fit's upper bound of each parameter (natural, or the user's bounds=)"}),
         "at_bound": spectra(at_bound, ("param",)).transpose("param", *extra),
         "chi2": spectra(chi2),
         "chi2_red": spectra(chi2 / (2 * n_freq - k) if 2 * n_freq > k else np.full(chi2.shape, math.nan)),
