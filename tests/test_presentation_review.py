@@ -510,15 +510,17 @@ def test_refinement_nyquist_is_scaled_to_the_data_and_the_last_model_not_a_start
     plt.close(fig)
 
 
-def test_batch_error_bars_stop_at_a_user_bound_the_value_sits_on():
+@pytest.mark.parametrize("shared", [None, ["R0"]], ids=["batch", "shared"])
+def test_batch_error_bars_stop_at_a_user_bound_the_value_sits_on(shared):
     import impedax as ix
 
-    # R0 is 100 Ω in every spectrum; bounds hold it at or above 150 Ω, where it sits
+    # R0 is 100 Ω in every spectrum; bounds hold it at or above 150 Ω, where it sits (in a
+    # batch of independent fits, and in a global fit that shares R0)
     f = np.geomspace(1, 1e5, 30)
     z = np.stack([100.0 + 1e3 * (1 + 0.1 * k) / (1 + 2j * np.pi * f * 1e-3 * (1 + 0.1 * k)) for k in range(3)])
     rng = np.random.default_rng(2)
     z = z * (1 + 0.01 * (rng.normal(size=z.shape) + 1j * rng.normal(size=z.shape)))
-    batch = ix.fit("R0 + R1 || C1", ix.make_spectrum(f, z, dims=("trial",)), bounds={"R0": (150.0, 1e4)})
+    batch = ix.fit("R0 + R1 || C1", ix.make_spectrum(f, z, dims=("trial",)), bounds={"R0": (150.0, 1e4)}, **({"shared": shared} if shared else {}))
     ds = batch.dataset
     assert float(ds["lower"].sel(param="R0")) == 150.0 and float(ds["upper"].sel(param="R1")) == np.inf
     assert ds["at_bound"].sel(param="R0").values.all(), batch.report()
@@ -559,20 +561,4 @@ def test_review_edge_cases_of_the_prefixes():
     plot_nyquist(right, (F, rc(2e6, 1e-9, 0.0)))
     fig.canvas.draw()
     assert left.get_ylabel() == right.get_ylabel() == "−Z'' [MΩ]"
-    plt.close(fig)
-
-
-def test_shared_fit_error_bars_stop_at_a_user_bound():
-    import impedax as ix
-
-    f = np.geomspace(1, 1e5, 30)
-    z = np.stack([100.0 + 1e3 * (1 + 0.1 * k) / (1 + 2j * np.pi * f * 1e-3 * (1 + 0.1 * k)) for k in range(3)])
-    rng = np.random.default_rng(2)
-    z = z * (1 + 0.01 * (rng.normal(size=z.shape) + 1j * rng.normal(size=z.shape)))
-    result = ix.fit("R0 + R1 || C1", ix.make_spectrum(f, z, dims=("trial",)), bounds={"R0": (150.0, 1e4)}, shared=["R0"])
-    assert float(result.dataset["lower"].sel(param="R0")) == 150.0
-    fig = result.plot()
-    (panel,) = [ax for ax in fig.axes if ax.get_title().startswith("R0")]
-    segments = np.concatenate([c.get_segments() for c in panel.collections if hasattr(c, "get_segments")])
-    assert segments.size and segments[:, :, 1].min() >= 150.0 - 1e-6
     plt.close(fig)
