@@ -773,3 +773,30 @@ def test_a_correct_ladder_with_noise_growing_toward_low_frequency_stays_adequate
     d = ix.diagnose(data, case.circuit)
     assert d.verdict == "adequate", d.report()
     assert d.baseline.rms_rel <= ix.fit(case.circuit, data).rms_rel * 1.01
+
+
+def test_a_cpe_at_alpha_one_is_judged_as_the_identical_r_parallel_c():
+    # SYNTHETIC: an R ∥ C arc (numpy formula) with 0.3 % noise. Fitted with R1 ∥ CPE1 the CPE's
+    # α sits at its bound 1: the same fit as R1 ∥ C1. Held at its bound, α no longer dilutes the
+    # other parameters' correlations and errors, so the diagnosis' determinacy rule sees both
+    # fits alike (a CPE at α = 1 had passed the rule where the identical R ∥ C failed it).
+    from impedax.fitting.diagnosis.diagnosis import centred_covariance
+
+    f = np.geomspace(1e-1, 1e5, 50)
+    z = 20.0 + 500.0 / (1 + 2j * np.pi * f * 500.0 * 2e-6)
+    rng = np.random.default_rng(0)  # (a draw where α ends at its bound; in others at 0.9996–0.9997)
+    z = z * (1 + 0.003 * (rng.normal(size=f.size) + 1j * rng.normal(size=f.size)))
+    data = ix.make_spectrum(f, z)
+    with_cpe = ix.fit("R0 + R1 || CPE1", data)
+    with_c = ix.fit("R0 + R1 || C1", data)
+    assert "CPE1.alpha" in with_cpe.at_bound and with_cpe.chi2 == pytest.approx(with_c.chi2, rel=1e-4)
+    rel_cpe, corr_cpe = centred_covariance(with_cpe)
+    rel_c, corr_c = centred_covariance(with_c)
+    i_cpe = [list(with_cpe.free_names).index(n) for n in ("R0", "R1")]
+    i_c = [list(with_c.free_names).index(n) for n in ("R0", "R1")]
+    # (the CPE fit stops a hair from its bound, α = 1 − 5e-10: its Jacobian differs by ~0.5 %;
+    # with α's column in, R0's error was 7 % larger and the R0–R1 correlation −0.12 for −0.03)
+    np.testing.assert_allclose(rel_cpe[i_cpe], rel_c[i_c], rtol=2e-2)
+    assert corr_cpe[i_cpe[0], i_cpe[1]] == pytest.approx(corr_c[i_c[0], i_c[1]], abs=1e-2)
+    # (the capacitor's error and Q's at ω_c: both the admittance coefficient of one element)
+    assert rel_cpe[list(with_cpe.free_names).index("CPE1.Q")] == pytest.approx(rel_c[list(with_c.free_names).index("C1")], rel=1e-2)

@@ -474,8 +474,10 @@ def centred_covariance(fit: FitResult) -> tuple[np.ndarray, np.ndarray]:
     With y = ln Q + α ln ω_c (ln of the CPE's admittance coefficient at ω_c):
     cov(y, α) = cov(ln Q, α) + ln ω_c var(α) = 0 at ln ω_c = −cov(ln Q, α)/var(α), clipped
     to the data's band; y's standard error is relative (a log). A linear change of variables:
-    the fit is the same, only the coefficient it reports moves. Without a finite covariance
-    the raw relative errors and correlation are returned."""
+    the fit is the same, only the coefficient it reports moves. Parameters at a bound are held
+    there (`_held_at_bounds`): the others' errors and correlations are those given them, and
+    theirs stay as the fit reports them. Without a finite covariance the raw relative errors and
+    correlation are returned."""
     names = list(fit.free_names)
     values = np.array([fit.values[n] for n in names], float)
     stderr = np.array([fit.stderr[n] for n in names], float)
@@ -484,8 +486,17 @@ def centred_covariance(fit: FitResult) -> tuple[np.ndarray, np.ndarray]:
         rel_sd = np.abs(stderr / scale)
     corr = np.asarray(fit.correlation, float)
     cov = np.asarray(fit.covariance, float)
+    bound = [names.index(n) for n in fit.at_bound if n in names]
+    if cov.shape != (len(names), len(names)) or not np.all(np.isfinite(cov)):
+        return rel_sd, corr
+    if bound:
+        cov = _held_at_bounds(cov, bound)
+        with np.errstate(all="ignore"):
+            sd = np.sqrt(np.clip(np.diag(cov), 0, None))
+            corr = cov / np.outer(sd, sd)
+            rel_sd = np.where(np.isin(np.arange(len(names)), bound), rel_sd, np.abs(sd / scale))
     pairs = [(names.index(n), names.index(n[:-2] + ".alpha")) for n in names if n.endswith(".Q") and n[:-2] + ".alpha" in names]
-    if not pairs or cov.shape != (len(names), len(names)) or not np.all(np.isfinite(cov)):
+    if not pairs:
         return rel_sd, corr
     # d(new) = T d(old): ln Q's row is (1/Q) dQ + ln ω_c dα
     transform = np.eye(len(names))
@@ -502,7 +513,21 @@ def centred_covariance(fit: FitResult) -> tuple[np.ndarray, np.ndarray]:
         rel_c = np.abs(sd / scale)
     for iq, _ in pairs:
         rel_c[iq] = sd[iq]
+    rel_c[bound] = rel_sd[bound]
     return rel_c, corr_c
+
+
+def _held_at_bounds(cov: np.ndarray, bound: Sequence[int]) -> np.ndarray:
+    """``cov`` of the parameters given those at a bound (indices ``bound``) held there: the
+    Schur complement Σ_ff − Σ_fb Σ_bb⁺ Σ_bf, with the bound parameters' rows and columns zero.
+    At its bound a parameter is not free to move, and its linearised column had diluted the
+    others' correlations: a CPE at α = 1 passed the correlation rule where the identical R ∥ C
+    failed it (R_relax against Wo1.R −0.91, −0.99 as R ∥ C, on AutoEIS's battery cycle 0)."""
+    free = np.setdiff1d(np.arange(cov.shape[0]), bound)
+    held = np.zeros_like(cov)
+    c_fb = cov[np.ix_(free, bound)]
+    held[np.ix_(free, free)] = cov[np.ix_(free, free)] - c_fb @ np.linalg.pinv(cov[np.ix_(bound, bound)]) @ c_fb.T
+    return held
 
 
 def _noise_ratio(fit: FitResult, noise: np.ndarray) -> float:
