@@ -800,3 +800,27 @@ def test_a_cpe_at_alpha_one_is_judged_as_the_identical_r_parallel_c():
     assert corr_cpe[i_cpe[0], i_cpe[1]] == pytest.approx(corr_c[i_c[0], i_c[1]], abs=1e-2)
     # (the capacitor's error and Q's at ω_c: both the admittance coefficient of one element)
     assert rel_cpe[list(with_cpe.free_names).index("CPE1.Q")] == pytest.approx(rel_c[list(with_c.free_names).index("C1")], rel=1e-2)
+
+
+def test_two_parameters_held_at_bounds_match_a_fit_with_both_fixed():
+    # SYNTHETIC two arcs without a series R (numpy formula, 0.3 % noise): holding R0 and the
+    # CPE's α (given in at_bound) must give the other parameters the errors and correlations of
+    # a fit with those two fixed there (to the 2 % the degrees of freedom differ by), whatever
+    # their units: R in Ω beside α, Q and C near 1e-6 and 1e-4
+    import dataclasses
+
+    from impedax.fitting.diagnosis.diagnosis import centred_covariance
+
+    f = np.geomspace(1e-1, 1e5, 50)
+    z = 500.0 / (1 + 2j * np.pi * f * 500.0 * 2e-6) + 300.0 / (1 + 2j * np.pi * f * 300.0 * 1e-4)
+    rng = np.random.default_rng(0)
+    data = ix.make_spectrum(f, z * (1 + 0.003 * (rng.normal(size=f.size) + 1j * rng.normal(size=f.size))))
+    free = ix.fit("R0 + R1 || CPE1 + R2 || C2", data)
+    held = dataclasses.replace(free, at_bound=("R0", "CPE1.alpha"))
+    fixed = ix.fit("R0 + R1 || CPE1 + R2 || C2", data, fixed={"R0": free.values["R0"], "CPE1.alpha": free.values["CPE1.alpha"]}, init=free)
+    rel, corr = centred_covariance(held)
+    names, fixed_names = list(free.free_names), list(fixed.free_names)
+    for n in ("R1", "R2", "C2"):
+        assert rel[names.index(n)] == pytest.approx(fixed.stderr[n] / fixed.values[n], rel=2e-2), n
+    assert corr[names.index("R1"), names.index("R2")] == pytest.approx(fixed.correlation[fixed_names.index("R1"), fixed_names.index("R2")], abs=1e-3)
+    assert np.isnan(corr[names.index("R0")]).all() and np.isnan(corr[:, names.index("CPE1.alpha")]).all()

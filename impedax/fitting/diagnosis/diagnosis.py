@@ -489,13 +489,17 @@ def centred_covariance(fit: FitResult) -> tuple[np.ndarray, np.ndarray]:
     bound = [names.index(n) for n in fit.at_bound if n in names]
     if cov.shape != (len(names), len(names)) or not np.all(np.isfinite(cov)):
         return rel_sd, corr
+    held = np.isin(np.arange(len(names)), bound)
     if bound:
         cov = _held_at_bounds(cov, bound)
         with np.errstate(all="ignore"):
-            sd = np.sqrt(np.clip(np.diag(cov), 0, None))
+            # (a variance that rounding took to ≤ 0 says nothing: undetermined, not exact)
+            sd = np.where(held | (np.diag(cov) > 0), np.sqrt(np.clip(np.diag(cov), 0, None)), np.nan)
             corr = cov / np.outer(sd, sd)
-            rel_sd = np.where(np.isin(np.arange(len(names)), bound), rel_sd, np.abs(sd / scale))
-    pairs = [(names.index(n), names.index(n[:-2] + ".alpha")) for n in names if n.endswith(".Q") and n[:-2] + ".alpha" in names]
+            rel_sd = np.where(held, rel_sd, np.abs(sd / scale))
+        corr[held, :] = corr[:, held] = np.nan
+    # (a Q held at its bound is not moved to ω_c: its row is zero, and the move would give it α's)
+    pairs = [(names.index(n), names.index(n[:-2] + ".alpha")) for n in names if n.endswith(".Q") and n[:-2] + ".alpha" in names and not held[names.index(n)]]
     if not pairs:
         return rel_sd, corr
     # d(new) = T d(old): ln Q's row is (1/Q) dQ + ln ω_c dα
@@ -509,11 +513,14 @@ def centred_covariance(fit: FitResult) -> tuple[np.ndarray, np.ndarray]:
     with np.errstate(all="ignore"):  # (a Q near zero overflows: its error is then infinite, undetermined)
         cov_c = transform @ cov @ transform.T
         sd = np.sqrt(np.clip(np.diag(cov_c), 0, None))
+        if bound:  # (as above: a free variance rounded to ≤ 0 is undetermined)
+            sd = np.where(held | (np.diag(cov_c) > 0), sd, np.nan)
         corr_c = cov_c / np.outer(sd, sd)
         rel_c = np.abs(sd / scale)
     for iq, _ in pairs:
         rel_c[iq] = sd[iq]
-    rel_c[bound] = rel_sd[bound]
+    rel_c[held] = rel_sd[held]
+    corr_c[held, :] = corr_c[:, held] = np.nan
     return rel_c, corr_c
 
 
@@ -524,9 +531,15 @@ def _held_at_bounds(cov: np.ndarray, bound: Sequence[int]) -> np.ndarray:
     others' correlations: a CPE at α = 1 passed the correlation rule where the identical R ∥ C
     failed it (R_relax against Wo1.R −0.91, −0.99 as R ∥ C, on AutoEIS's battery cycle 0)."""
     free = np.setdiff1d(np.arange(cov.shape[0]), bound)
+    # on the correlation scale: units decades apart (Q near 1e-11 beside α) would otherwise
+    # fall under pinv's cutoff, and those parameters would not be held
+    sd = np.sqrt(np.clip(np.diag(cov), 0, None))
+    sd = np.where(sd > 0, sd, 1.0)
+    corr = cov / np.outer(sd, sd)
+    c_fb = corr[np.ix_(free, bound)]
+    held_corr = corr[np.ix_(free, free)] - c_fb @ np.linalg.pinv(corr[np.ix_(bound, bound)], hermitian=True) @ c_fb.T
     held = np.zeros_like(cov)
-    c_fb = cov[np.ix_(free, bound)]
-    held[np.ix_(free, free)] = cov[np.ix_(free, free)] - c_fb @ np.linalg.pinv(cov[np.ix_(bound, bound)]) @ c_fb.T
+    held[np.ix_(free, free)] = held_corr * np.outer(sd[free], sd[free])
     return held
 
 
