@@ -137,6 +137,12 @@ def unit_text(unit: str) -> str:
 SI_PREFIXES = ((1e12, "T"), (1e9, "G"), (1e6, "M"), (1e3, "k"), (1.0, ""), (1e-3, "m"), (1e-6, "µ"), (1e-9, "n"), (1e-12, "p"), (1e-15, "f"))
 
 
+def si_prefix(magnitude: float) -> tuple[float, str]:
+    """The (scale, prefix) of `SI_PREFIXES` for a value of this magnitude: the largest scale at
+    or below it; femto below that."""
+    return next(((scale, prefix) for scale, prefix in SI_PREFIXES if magnitude >= scale), SI_PREFIXES[-1])
+
+
 def format_quantity(value: float, unit: str) -> str:
     """``84 µF``, ``2.2 kΩ``, ``0.81`` (a value with an SI prefix; dimensionless as it is)."""
     if not unit or unit == "1" or not np.isfinite(value) or value == 0:
@@ -145,10 +151,10 @@ def format_quantity(value: float, unit: str) -> str:
     if " " in unit or "^" in unit or "/" in unit:  # compound units (CPE Q, Warburg σ): plain
         return f"{value:.3g} {unit}"
     shown = float(f"{value:.3g}")  # (the prefix of the value as printed: 999.6 Ω is 1 kΩ)
-    for scale, prefix in SI_PREFIXES:
-        if abs(shown) >= scale:
-            return f"{shown / scale:.3g} {prefix}{unit}"
-    return f"{value:.3g} {unit}"
+    if abs(shown) < SI_PREFIXES[-1][0]:
+        return f"{value:.3g} {unit}"
+    scale, prefix = si_prefix(abs(shown))
+    return f"{shown / scale:.3g} {prefix}{unit}"
 
 
 def format_relative_error(ratio: float) -> str:

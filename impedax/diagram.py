@@ -12,6 +12,7 @@ import os
 from typing import Mapping
 
 from .circuits import DEFAULT_REGISTRY, Circuit, Element, Registry, Series, parse
+from .data import SI_PREFIXES, si_prefix
 from .errors import DataError, ImpedaxError, ParameterError
 from .io.atomic import atomic_path, check_writable
 
@@ -21,7 +22,6 @@ _UNIT = 3.0  # length of one element, schemdraw units
 _ROW = 2.6  # vertical pitch of stacked parallel branches (room for the labels above and below)
 _STUB = 0.75  # wire between a rail and a branch
 _SI = {"Ohm": "Ω", "F": "F", "H": "H"}
-_PREFIXES = [(1e12, "T"), (1e9, "G"), (1e6, "M"), (1e3, "k"), (1.0, ""), (1e-3, "m"), (1e-6, "µ"), (1e-9, "n"), (1e-12, "p"), (1e-15, "f")]
 _GREEK = {"alpha": "α", "beta": "β", "tau": "τ", "sigma": "σ"}
 
 
@@ -45,11 +45,11 @@ def _size(node: Circuit) -> tuple[float, float]:
 
 def _si(value: float, unit: str) -> str:
     symbol = _SI[unit]
-    magnitude = abs(value)
-    for scale, prefix in _PREFIXES:
-        if magnitude >= scale * 0.9995:
-            return f"{value / scale:.3g} {prefix}{symbol}"
-    return f"{value:.3g} {symbol}"
+    magnitude = abs(value) / 0.9995  # (a value that rounds up to a scale takes its prefix)
+    if magnitude < SI_PREFIXES[-1][0]:
+        return f"{value:.3g} {symbol}"
+    scale, prefix = si_prefix(magnitude)
+    return f"{value / scale:.3g} {prefix}{symbol}"
 
 
 def _value_text(element: Element, values: Mapping[str, float], registry: Registry) -> str:

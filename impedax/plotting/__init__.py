@@ -16,7 +16,7 @@ from matplotlib.ticker import ScalarFormatter
 import numpy as np
 import xarray as xr
 
-from ..data import SI_PREFIXES
+from ..data import si_prefix
 from ..io.atomic import atomic_path
 
 __all__ = ["plot_spectrum", "plot_nyquist", "equal_aspect", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "plot_bode", "save_figure", "shade_bands", "refresh_legend", "plain_log_ticks", "wrap_model", "characters_across", "label_spectra_axis"]
@@ -136,7 +136,7 @@ class _PrefixedFormatter(ScalarFormatter):
             self.scale = None
             return super().set_locs(locs)
         top = max((abs(v) for axis in (self.axis, *self.along) for v in axis.get_view_interval() if np.isfinite(v)), default=0.0)
-        self.scale, prefix = next(((scale, prefix) for scale, prefix in SI_PREFIXES if top >= scale), SI_PREFIXES[-1]) if top > 0 else (1.0, "")
+        self.scale, prefix = si_prefix(top) if top > 0 else (1.0, "")
         for label in labels:
             if self._ours(label):
                 label.set_text(_BRACKETED_UNIT.sub(lambda m: f"[{prefix}{m.group(2)}]", label.get_text()))
@@ -306,7 +306,7 @@ def _plain_number(x: float) -> str:
     prefix (``10k``, ``2M``, ``500µ``), where ``1e+06`` beside ``100000`` read badly."""
     if x == 0 or 1e-3 <= abs(x) < 1e4:
         return f"{x:g}"
-    scale, prefix = next(((scale, prefix) for scale, prefix in SI_PREFIXES if abs(x) >= scale), SI_PREFIXES[-1])
+    scale, prefix = si_prefix(abs(x))
     return f"{x / scale:g}{prefix}"
 
 

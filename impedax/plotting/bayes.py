@@ -12,7 +12,7 @@ from typing import Mapping, Sequence
 import matplotlib.pyplot as plt
 import numpy as np
 
-from ..data import SI_PREFIXES, unit_text
+from ..data import si_prefix, unit_text
 from . import equal_aspect, nyquist_shape, plain_log_ticks, prefixed_axis, spectrum_layout
 
 __all__ = ["plot_posterior_bands", "plot_corner"]
@@ -146,7 +146,7 @@ def interval_text(median: float, low: float, high: float, unit: str = "", *, sig
     top = max((abs(v) for v in (median, low, high) if np.isfinite(v)), default=0.0)
     scale, prefix = 1.0, ""
     if top > 0 and unit in ("Ω", "F", "H"):
-        scale, prefix = next(((sc, p) for sc, p in SI_PREFIXES if top >= sc), SI_PREFIXES[-1])
+        scale, prefix = si_prefix(top)
     elif top > 0 and not (1e-3 <= top < 1e4):
         exponent = math.floor(math.log10(top))
         scale, prefix = 10.0**exponent, "×10" + str(exponent).translate(_SUPERSCRIPTS) + (" " if unit else "")
