@@ -1,5 +1,6 @@
 """The note on an idle branch: a parameter undetermined because its element is a branch of a
-parallel block that carries next to none of the block's current (`least_squares.branches`,
+parallel block that carries next to none of the block's current, or a term of a series chain
+that takes next to none of its voltage (`least_squares.branches`,
 docs/fitting.md, "Warnings"). SYNTHETIC spectra written here as formulas."""
 
 import numpy as np
@@ -78,3 +79,65 @@ def test_a_shared_parameter_s_idle_branch_is_said_once_for_the_global_fit():
     assert len(notes) == 1 and notes[0].startswith("shared R1 carries at most ") and "R0 + CPE1, the model without it" in notes[0]
     assert not any(idle_notes(w) for key, w in shared.warnings.items() if key != "shared over trial")
     assert "warning (shared over trial): shared R1 carries at most" in shared.report()
+
+
+def wo(r, tau):
+    """Finite-length Warburg, reflective boundary, written here: Z = R coth(√(jωτ))/√(jωτ)."""
+    x = np.sqrt(JW * tau)
+    return r / np.tanh(x) / x
+
+
+def chain_notes(warnings):
+    return [w for w in warnings if "the voltage across" in w]
+
+
+def test_a_warburg_term_that_runs_to_nothing_is_named_idle_in_its_chain():
+    # an arc without diffusion fitted with a finite Warburg in series: Wo1 ends far below the
+    # arc's impedance, its R and tau undetermined. The note names the share of the voltage Wo1
+    # takes, which the formula above gives from the fitted values, and the model without it
+    r = ix.fit("R0 + R1 || CPE1 + Wo1", arc())
+    notes = chain_notes(r.warnings)
+    assert len(notes) == 1, r.warnings
+    assert notes[0].startswith("Wo1 takes at most ") and "the voltage across R0 + R1 || CPE1 + Wo1 over the band" in notes[0]
+    assert "R0 + R1 || CPE1, the model without it" in notes[0] and notes[0].endswith("fraction of the chain's impedance")
+    v = r.values
+    z_wo = wo(v["Wo1.R"], v["Wo1.tau"])
+    z_total = v["R0"] + 1 / (1 / v["R1"] + v["CPE1.Q"] * JW ** v["CPE1.alpha"]) + z_wo
+    share = float(notes[0].split("at most ")[1].split("×")[0])
+    assert share == pytest.approx(np.max(np.abs(z_wo / z_total)), rel=0.06)  # printed to 2 digits
+    assert share < 1e-3
+    assert ix.fit("R0 + R1 || CPE1", arc()).rms_rel <= r.rms_rel * 1.001
+
+
+def test_a_series_branch_that_runs_open_is_named_once_as_a_whole():
+    # a blocking electrode fitted with a Randles circuit: R1 runs open, so the branch R1 + W1
+    # carries no current. The branch is named as a whole, and W1 inside it is not named again
+    r = ix.fit("R0 + CPE1 || (R1 + W1)", blocking())
+    notes = idle_notes(r.warnings) + chain_notes(r.warnings)
+    assert len(notes) == 1, r.warnings
+    assert notes[0].startswith("R1 + W1 carries at most ") and "the current through CPE1 || (R1 + W1) over the band" in notes[0]
+    assert "R0 + CPE1, the model without it" in notes[0]
+    assert ix.fit("R0 + CPE1", blocking()).rms_rel <= r.rms_rel * 1.001
+
+
+@pytest.mark.parametrize(
+    "circuit, z",
+    [
+        ("R0 + R1 || CPE1 + Wo1", 50.0 + 1000.0 / (1 + 1000.0 * 2e-5 * JW**0.85) + wo(500.0, 2.0)),
+        ("R0 + CPE1 || (R1 + W1)", 50.0 + 1 / (2e-5 * JW**0.85 + 1 / (1000.0 + 300.0 / np.sqrt(JW)))),
+    ],
+    ids=["arc_and_finite_warburg", "randles"],
+)
+def test_no_idle_note_where_every_element_is_in_the_data(circuit, z):
+    r = ix.fit(circuit, noisy(z, seed=3))
+    assert idle_notes(r.warnings) + chain_notes(r.warnings) == [], r.warnings
+
+
+def test_batch_fits_give_the_chain_note_of_single_fits():
+    data = [arc(), noisy(50.0 + 1000.0 / (1 + 1000.0 * 2e-5 * JW**0.85), seed=2)]
+    batch = ix.fit("R0 + R1 || CPE1 + Wo1", xr.concat(data, dim="trial"))
+    for i, d in enumerate(data):
+        single = chain_notes(ix.fit("R0 + R1 || CPE1 + Wo1", d).warnings)
+        batch_notes = chain_notes(batch.warnings.get(f"trial={i}", ()))
+        assert len(single) == len(batch_notes) == 1, (single, batch_notes)
+        assert all(n.startswith("Wo1 takes at most ") and "R0 + R1 || CPE1, the model without it" in n for n in single + batch_notes)

@@ -10,17 +10,22 @@ from typing import Iterator, NamedTuple
 
 import numpy as np
 
-from ...circuits import Circuit, Element, Parallel, Registry
+from ...circuits import Circuit, Element, Parallel, Registry, Series
 from ...circuits.compile import node_function
 from ..parameters import ParameterTable
 
-__all__ = ["IDLE_BRANCH_SHARE", "RELATIVE_ERROR_LIMIT", "IdleBranch", "undetermined", "undetermined_mask", "parallel_branches", "idle_branches", "idle_branch_notes"]
+__all__ = [
+    "IDLE_BRANCH_SHARE", "RELATIVE_ERROR_LIMIT", "IdleBranch", "undetermined", "undetermined_mask", "parallel_branches", "circuit_terms", "idle_branches",
+    "idle_branch_notes",
+]
 
 RELATIVE_ERROR_LIMIT = 1.0
 """A free parameter whose standard error exceeds this × its value is not determined by the data."""
 IDLE_BRANCH_SHARE = 1e-3
 """A branch of a parallel block is idle when its admittance stays below this fraction of the
-block's at every frequency: without it the block's impedance changes by at most about as much."""
+block's at every frequency, and so is a term of a series chain whose impedance stays below this
+fraction of the chain's: without it the block's or chain's impedance changes by at most about
+as much."""
 
 
 def undetermined(value, stderr):
@@ -49,28 +54,46 @@ def parallel_branches(circuit: Circuit) -> Iterator[tuple[Parallel, int]]:
         yield from parallel_branches(child)
 
 
+def circuit_terms(circuit: Circuit) -> Iterator[tuple[Parallel | Series, int]]:
+    """(series or parallel node, index of a child) for every child of every node, a node's
+    children before their own: the branches of parallel blocks and the terms of series chains,
+    elements or not."""
+    if isinstance(circuit, Element):
+        return
+    yield from ((circuit, i) for i in range(len(circuit.children)))
+    for child in circuit.children:
+        yield from circuit_terms(child)
+
+
 class IdleBranch(NamedTuple):
-    """An element of fit ``row`` that carries at most ``share`` of the current through its
-    parallel ``block`` at every frequency; ``reduced``: the circuit without it."""
+    """An ``element`` (or a sub-circuit, by its text) of fit ``row`` that carries at most
+    ``share`` of the current through its parallel ``block`` at every frequency or, ``series``
+    true, takes at most ``share`` of the voltage across its series ``block``; ``reduced``: the
+    circuit without it."""
 
     row: int
     element: str
     block: str
     share: float
     reduced: str
+    series: bool = False
 
     def text(self) -> str:
+        share = f"takes at most {self.share:.2g}× the voltage across" if self.series else f"carries at most {self.share:.2g}× the current through"
+        block = "chain" if self.series else "block"
         return (
-            f"{self.element} carries at most {self.share:.2g}× the current through {self.block} over the band, so the data cannot determine it: "
-            f"{self.reduced}, the model without it, differs from this fit by about that fraction of the block's impedance"
+            f"{self.element} {share} {self.block} over the band, so the data cannot determine it: "
+            f"{self.reduced}, the model without it, differs from this fit by about that fraction of the {block}'s impedance"
         )
 
 
 def idle_branches(circuit: Circuit, registry: Registry, table: ParameterTable, values: np.ndarray, mask: np.ndarray, freq) -> list[IdleBranch]:
-    """The idle branches of fits with values (B, P) among the elements with a parameter in
-    ``mask`` (B, K, `undetermined_mask`): an element that is a branch of a parallel
-    block and carries below `IDLE_BRANCH_SHARE` of the block's current at every frequency
-    ``freq``, |Y_branch / Σ Y| over the block's children at the fitted values."""
+    """The idle terms of fits with values (B, P) among those holding a parameter in ``mask``
+    (B, K, `undetermined_mask`): a branch of a parallel block (an element or a sub-circuit) that
+    carries below `IDLE_BRANCH_SHARE` of the block's current at every frequency ``freq``,
+    |Y_branch / Σ Y| over the block's children at the fitted values, or a term of a series
+    chain that takes below that share of its voltage, |Z_term / Σ Z|. A term inside an idle
+    one is not named again."""
     mask = np.asarray(mask, bool)
     freq = np.asarray(freq, float)
     if not mask.any() or freq.size == 0:
@@ -79,20 +102,29 @@ def idle_branches(circuit: Circuit, registry: Registry, table: ParameterTable, v
     column = {n: j for j, n in enumerate(table.free_names)}
     values = np.asarray(values, float)
     found = []
-    for node, i in parallel_branches(circuit):
-        element = node.children[i]
-        own = [column[n] for n in registry[element.symbol].parameter_names(element.name) if n in column]
+    named: dict[int, set[str]] = collections.defaultdict(set)  # per row, the elements inside a term named idle
+    for node, i in circuit_terms(circuit):
+        term = node.children[i]
+        series = isinstance(node, Series)
+        elements = term.element_names
+        own = [column[n] for e in term.elements() for n in registry[e.symbol].parameter_names(e.name) if n in column]
         rows = np.flatnonzero(mask[:, own].any(axis=1)) if own else np.zeros(0, int)
+        rows = np.array([r for r in rows.tolist() if not named[r] & set(elements)], int)
         if not rows.size:
             continue
         params = {n: values[rows, j][:, None] for j, n in enumerate(table.names)}
         with np.errstate(all="ignore"):
-            admittances = [np.asarray(node_function(c, registry, "Y")(params, omega)) for c in node.children]
-            share = np.max(np.abs(admittances[i] / sum(admittances)), axis=1)
+            # a parallel block's branches share its current by admittance, a chain's terms its voltage by impedance
+            terms = [np.asarray(node_function(c, registry, "Z" if series else "Y")(params, omega)) for c in node.children]
+            share = np.max(np.abs(terms[i] / sum(terms)), axis=1)
         idle = np.isfinite(share) & (share < IDLE_BRANCH_SHARE)
         if idle.any():
-            reduced = str(circuit.without(element.name))
-            found += [IdleBranch(row, element.name, str(node), s, reduced) for row, s in zip(rows[idle].tolist(), share[idle].tolist())]
+            reduced = circuit
+            for name in elements:
+                reduced = reduced.without(name)
+            for row, s in zip(rows[idle].tolist(), share[idle].tolist()):
+                named[row].update(elements)
+                found.append(IdleBranch(row, str(term), str(node), s, str(reduced), series))
     return found
 
 

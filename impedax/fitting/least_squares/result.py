@@ -241,7 +241,7 @@ def correlated_note(a: str, b: str, r: float) -> str:
 
 
 def undetermined_note(name: str, relative_error: float) -> str:
-    return f"{name} has a relative standard error of {relative_error * 100:.3g}%: it is not determined by the data"
+    return f"{name} has a relative standard error of {format_relative_error(relative_error)}: it is not determined by the data"
 
 
 def bound_note(name: str, bound: float, side: str, *, value: float | None = None, stderr: float | None = None, unit: str = "") -> str:
