@@ -562,3 +562,36 @@ def test_review_edge_cases_of_the_prefixes():
     fig.canvas.draw()
     assert left.get_ylabel() == right.get_ylabel() == "−Z'' [MΩ]"
     plt.close(fig)
+
+
+def test_a_fit_s_model_is_drawn_as_a_curve_and_its_residuals_are_at_the_data():
+    # SYNTHETIC R0 + R1 ∥ C1 at 2 points a decade: the model was drawn as chords through the
+    # data's frequencies. Now it is a curve on the arc of the fitted values (centre R0 + R1/2,
+    # radius R1/2: the closed form), over the data's band only, and the residual panel still
+    # holds the residuals at the data's frequencies, not ones interpolated from the curve
+    import impedax as ix
+
+    f = np.geomspace(1.0, 1e5, 11)
+    z = 10.0 + 100.0 / (1 + 1j * 2 * np.pi * f * 100.0 * 1e-6)
+    rng = np.random.default_rng(3)
+    data = ix.make_spectrum(f, z * (1 + 0.003 * (rng.normal(size=f.size) + 1j * rng.normal(size=f.size))))
+    r = ix.fit("R0 + R1 || C1", data)
+    fig = r.plot()
+    nyquist, modulus, _, residual_axis = fig.axes[:4]
+    (line,) = [ln for ln in nyquist.get_lines() if ln.get_label() == "fit"]
+    x, y = line.get_data()
+    assert x.size >= 200
+    r0, r1 = r.values["R0"], r.values["R1"]
+    assert np.allclose(np.hypot(x - (r0 + r1 / 2), y), r1 / 2, rtol=1e-9)
+    (bode,) = [ln for ln in modulus.get_lines() if ln.get_label() == "fit"]
+    assert bode.get_xdata().min() == pytest.approx(1.0) and bode.get_xdata().max() == pytest.approx(1e5)
+    z_fit = r0 + r1 / (1 + 1j * 2 * np.pi * f * r1 * r.values["C1"])
+    expected = (z_fit - data["Z"].values) / np.abs(data["Z"].values) * 100
+    re_line = [ln for ln in residual_axis.get_lines() if ln.get_label() == "Re"][0]
+    assert np.allclose(re_line.get_ydata(), expected.real, atol=1e-9)
+    plt.close(fig)
+    # the comparison figure draws each model the same way
+    fig = ix.compare([r, ix.fit("R0 + R1 || CPE1", data)]).plot()
+    drawn = [ln for ln in fig.axes[0].get_lines() if ln.get_label().startswith("R0 + R1 || C1 ")]
+    assert len(drawn) == 1 and drawn[0].get_xydata().shape[0] >= 200
+    plt.close(fig)

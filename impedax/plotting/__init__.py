@@ -19,7 +19,7 @@ import xarray as xr
 from ..data import si_prefix
 from ..io.atomic import atomic_path
 
-__all__ = ["plot_spectrum", "plot_nyquist", "equal_aspect", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "plot_bode", "save_figure", "shade_bands", "refresh_legend", "plain_log_ticks", "wrap_model", "characters_across", "label_spectra_axis"]
+__all__ = ["plot_spectrum", "model_curve", "plot_nyquist", "equal_aspect", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "plot_bode", "save_figure", "shade_bands", "refresh_legend", "plain_log_ticks", "wrap_model", "characters_across", "label_spectra_axis"]
 
 
 def _as_arrays(spectrum):
@@ -33,6 +33,32 @@ def _as_arrays(spectrum):
         return np.asarray(spectrum["frequency"].values), np.asarray(z.values)
     f, z = spectrum
     return np.asarray(f, dtype=float), np.asarray(z, dtype=complex)
+
+
+# a fit's model is drawn as a curve through this many points per decade of the data's band (at
+# least `MODEL_POINTS_MIN`), not as a polygon through the data's frequencies: BioLogic's real
+# spectrum, 7 points a decade, drew its arc as a few chords and a start's kinks looked like
+# features of the model
+MODEL_POINTS_PER_DECADE = 50
+MODEL_POINTS_MIN = 200
+
+
+def model_curve(fit) -> tuple[np.ndarray, np.ndarray]:
+    """(frequency [Hz], Z [Ω]) of a fit's model (anything with ``frequency`` and ``z_model``)
+    on a log grid over the data's band, `MODEL_POINTS_PER_DECADE` points a decade, by its
+    ``predict`` (`FitResult.predict`); at the data's own frequencies for a result without one,
+    or where the prediction is not finite."""
+    freq = np.asarray(fit.frequency, float)
+    freq = freq[np.isfinite(freq) & (freq > 0)]
+    if not callable(getattr(fit, "predict", None)) or freq.size < 2 or freq.min() == freq.max():
+        return np.asarray(fit.frequency, float), np.asarray(fit.z_model, complex)
+    lo, hi = float(freq.min()), float(freq.max())
+    grid = np.geomspace(lo, hi, max(MODEL_POINTS_MIN, int(math.ceil(MODEL_POINTS_PER_DECADE * math.log10(hi / lo))) + 1))
+    with np.errstate(all="ignore"):
+        z = np.asarray(fit.predict(grid), complex)
+    if not np.all(np.isfinite(z)):
+        return np.asarray(fit.frequency, float), np.asarray(fit.z_model, complex)
+    return grid, z
 
 
 def _model_at(freq, model):
@@ -205,9 +231,13 @@ def refresh_legend(ax) -> None:
     ax.legend(fontsize=size, ncol=getattr(legend, "_ncols", 1))
 
 
-def plot_spectrum(data=None, model=None, *, title: str | None = None, bands=None, data_label="data", model_label="model", residual_labels=("Re", "Im")):
+def plot_spectrum(
+    data=None, model=None, *, title: str | None = None, bands=None, data_label="data", model_label="model", residual_labels=("Re", "Im"), model_at_data=None,
+):
     """Nyquist, Bode (|Z|, phase) and, when both are given, relative residuals (Re, Im) of
-    ``(Z_model − Z_data)/|Z_data|`` in percent. ``bands`` are shaded on the frequency axes.
+    ``(Z_model − Z_data)/|Z_data|`` in percent: of ``model_at_data`` (the model at the data's
+    frequencies) when given, so that a model drawn on its own grid (`model_curve`) is not
+    interpolated for them. ``bands`` are shaded on the frequency axes.
     The axes are Nyquist, |Z|, phase (and residuals), in that order, in either layout
     (`spectrum_layout`)."""
     d, m = _as_arrays(data), _as_arrays(model)
@@ -217,7 +247,8 @@ def plot_spectrum(data=None, model=None, *, title: str | None = None, bands=None
     plot_bode(ax_mod, ax_ph, data, model, data_label=data_label, model_label=model_label)
     freq_axes = [ax_mod, ax_ph]
     if with_residuals:
-        r = (_model_at(d[0], m) - d[1]) / np.abs(d[1])
+        z_model = _model_at(d[0], m) if model_at_data is None else np.asarray(model_at_data, complex)
+        r = (z_model - d[1]) / np.abs(d[1])
         plot_residuals(ax_res, d[0], r.real, r.imag, labels=residual_labels)
         ax_ph.set_xlabel("")
         freq_axes.append(ax_res)

@@ -8,7 +8,7 @@ import numpy as np
 def plot_comparison(comparison):
     """Data with every model's fit (Nyquist, |Z|, phase), and each model's relative residuals,
     for a `Comparison`, in the layout of a single spectrum (`spectrum_layout`). Figure."""
-    from . import equal_aspect, nyquist_shape, plain_log_ticks, spectrum_layout
+    from . import equal_aspect, model_curve, nyquist_shape, plain_log_ticks, spectrum_layout
 
     ref = comparison.fits[0]
     f, z = ref.frequency, ref.z_data
@@ -22,9 +22,10 @@ def plot_comparison(comparison):
     for k, r in enumerate(comparison.fits):
         label = f"{r.model} (rms_rel {r.rms_rel * 100:.3g} %)"
         ls = styles[k % len(styles)]
-        ax_nyq.plot(r.z_model.real, -r.z_model.imag, ls=ls, label=label)
-        ax_mod.loglog(f, np.abs(r.z_model), ls=ls, label=label)
-        ax_ph.semilogx(f, np.degrees(np.angle(r.z_model)), ls=ls, label=label)
+        f_model, z_model = model_curve(r)
+        ax_nyq.plot(z_model.real, -z_model.imag, ls=ls, label=label)
+        ax_mod.loglog(f_model, np.abs(z_model), ls=ls, label=label)
+        ax_ph.semilogx(f_model, np.degrees(np.angle(z_model)), ls=ls, label=label)
         ax_res.semilogx(f, np.abs(r.residuals) * 100, ".", ls=ls, label=label)
     ax_nyq.set(xlabel="Z' [Ω]", ylabel="−Z'' [Ω]", title="Nyquist")
     equal_aspect(ax_nyq)

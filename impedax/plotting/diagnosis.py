@@ -14,7 +14,7 @@ import math
 import matplotlib.pyplot as plt
 import numpy as np
 
-from . import FLAT_NYQUIST, characters_across, equal_aspect, nyquist_panel_height, nyquist_shape, plain_log_ticks, plot_spectrum, refresh_legend, shade_bands, wrap_model
+from . import FLAT_NYQUIST, characters_across, equal_aspect, model_curve, nyquist_panel_height, nyquist_shape, plain_log_ticks, plot_spectrum, refresh_legend, shade_bands, wrap_model
 
 __all__ = ["plot_diagnosis", "plot_refinement"]
 
@@ -25,18 +25,18 @@ def plot_diagnosis(diagnosis, *, title: str | None = None):
     b = diagnosis.baseline
     bands = [(band.f_min, band.f_max) for band in diagnosis.failing_bands]
     fig = plot_spectrum(
-        (b.frequency, b.z_data), (b.frequency, b.z_model), title=title or f"{b.model}: {diagnosis.verdict} (rms_rel {b.rms_rel * 100:.3g} %)", bands=bands,
-        model_label="baseline", residual_labels=("Re (baseline)", "Im (baseline)"),
+        (b.frequency, b.z_data), model_curve(b), title=title or f"{b.model}: {diagnosis.verdict} (rms_rel {b.rms_rel * 100:.3g} %)", bands=bands,
+        model_label="baseline", residual_labels=("Re (baseline)", "Im (baseline)"), model_at_data=b.z_model,
     )
     best = diagnosis.best
     if best is not None:
         axes = fig.axes
-        z = best.fit.z_model
+        f, z = model_curve(best.fit)
         axes[0].plot(z.real, -z.imag, "-", color="tab:green", lw=1.2, label=f"+ {best.effect}")
         # (plot, not loglog/semilogx: those set the scale again, and with it matplotlib's
         # tick labels in place of plain_log_ticks')
-        axes[1].plot(b.frequency, np.abs(z), "-", color="tab:green", lw=1.2, label=f"+ {best.effect}")
-        axes[2].plot(b.frequency, np.degrees(np.angle(z)), "-", color="tab:green", lw=1.2)
+        axes[1].plot(f, np.abs(z), "-", color="tab:green", lw=1.2, label=f"+ {best.effect}")
+        axes[2].plot(f, np.degrees(np.angle(z)), "-", color="tab:green", lw=1.2)
         if len(axes) > 3:
             r = best.fit.residuals * 100
             axes[3].plot(b.frequency, np.abs(r), "-", color="tab:green", lw=1.0, label=f"|res| with {best.effect}")
@@ -123,13 +123,12 @@ def _refinement_nyquist(ax, refinement, legend_chars: int) -> None:
     ax.plot(first.z_data.real, -first.z_data.imag, "o", ms=3.5, mfc="none", color="tab:blue", label="data")
     drawn = [(first, "--", "tab:grey", "start")] + ([(last, "-", "tab:green", "final")] if len(refinement.steps) > 1 else [])
     for fit, style, color, name in drawn:
-        order = np.argsort(fit.frequency)
-        z = np.asarray(fit.z_model)[order]
+        z = model_curve(fit)[1]
         ax.plot(z.real, -z.imag, style, lw=1.4, color=color, label=wrap_model(f"{name}: {fit.model} ({fit.rms_rel * 100:.3g} %)", legend_chars))
     # the panel is scaled to the data and the last model: a start far off (the demo's pure
     # capacitor, a line to 165 MΩ beside an arc of 57 MΩ) runs off the panel, where it had
     # shrunk the data to a corner
-    shown = np.concatenate([first.z_data, np.asarray(last.z_model)])
+    shown = np.concatenate([first.z_data, model_curve(last)[1]])
     shown = shown[np.isfinite(shown)]
     if shown.size:
         ax.ignore_existing_data_limits = True

@@ -12,7 +12,7 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None):
     without the EP branch (matplotlib Figure)."""
     import matplotlib.pyplot as plt
 
-    from . import plain_log_ticks
+    from . import model_curve, plain_log_ticks
 
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.6), layout="constrained")
     f = gap.remaining["frequency"].values
@@ -22,8 +22,9 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None):
     if "sigma" in gap.remaining:
         s = gap.remaining["sigma"].values
         ax.fill_between(f, np.maximum(np.abs(z) - s, np.abs(z) * 0.05), np.abs(z) + s, color="0.8", label="± SEM")
-    ax.loglog(f, np.abs(gap.naive_fit.z_model), "--", label=f"C_gap only (rms_rel {gap.naive_fit.rms_rel * 100:.2g} %)")
-    ax.loglog(f, np.abs(gap.edl_fit.z_model), "-", label=f"{gap.edl_fit.model} (rms_rel {gap.edl_fit.rms_rel * 100:.2g} %)")
+    for fit, style, label in ((gap.naive_fit, "--", "C_gap only"), (gap.edl_fit, "-", gap.edl_fit.model)):
+        f_model, z_model = model_curve(fit)
+        ax.loglog(f_model, np.abs(z_model), style, label=f"{label} (rms_rel {fit.rms_rel * 100:.2g} %)")
     ax.set(xlabel="frequency [Hz]", ylabel="|Z_R| [Ω]", title="remaining impedance (Sirin eq 5)")
     plain_log_ticks(ax.yaxis)
     ax.legend(fontsize=7)

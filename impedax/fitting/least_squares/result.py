@@ -192,14 +192,15 @@ class FitResult:
 
     def plot(self, *, title: str | None = None, bands=None):
         """Data vs model: Nyquist, Bode and relative residuals (matplotlib Figure)."""
-        from ...plotting import plot_spectrum
+        from ...plotting import model_curve, plot_spectrum
 
         return plot_spectrum(
             (self.frequency, self.z_data),
-            (self.frequency, self.z_model),
+            model_curve(self),
             title=title or f"{self.model}   rms_rel = {self.rms_rel * 100:.3g} %",
             bands=bands,
             model_label="fit",
+            model_at_data=self.z_model,
         )
 
     def to_xarray(self) -> xr.Dataset:
