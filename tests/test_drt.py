@@ -445,3 +445,31 @@ def test_warnings_name_what_no_passive_cell_has():
     negative_l = drt((F, noisy(10 + arc - 1j * W * 1e-5, 0.005, 1)))
     assert negative_l.l_h == pytest.approx(-1e-5, rel=0.1)
     assert any(w.startswith("L = ") for w in negative_l.warnings) and "warning: L = " in negative_l.report()
+
+
+def test_the_report_writes_its_values_with_si_prefixes():
+    # SYNTHETIC: 20 Ω + a ZARC of 2.2 kΩ at τ = 2 ms, and a series inductance of 3 µH. The
+    # report read "R = 2201 ± 1.2e+02 Ω", "L = 3e-06 H", "f = 79.6 Hz" before; now each in
+    # the prefix of its value, the standard error in the value's prefix
+    z = 20.0 + zarc(2200.0, 2e-3, 0.9) + 1j * W * 3e-6
+    result = ix.drt(ix.make_spectrum(F, noisy(z, 0.003, 7)))
+    text = result.report()
+    assert "e+" not in text and "e-" not in text, text
+    assert " µH" in text and "R_pol = 2." in text and " kΩ" in text, text
+    (peak,) = result.peaks
+    line = next(ln for ln in text.splitlines() if ln.lstrip().startswith("τ = "))
+    value, _, rest = line.split("R = ")[1].partition(" ± ")
+    assert float(value) * 1e3 == pytest.approx(peak.r_ohm, rel=5e-3) and rest.split()[1] == "kΩ"
+    assert float(rest.split()[0]) * 1e3 == pytest.approx(peak.r_ohm_sd, rel=0.05)
+
+
+def test_format_uncertain_reads_as_written_by_hand():
+    from impedax.data import format_uncertain
+
+    assert format_uncertain(730.8, 120.0, "Ohm") == "731 ± 120 Ω"
+    assert format_uncertain(3939.0, 190.0, "Ohm") == "3.94 ± 0.19 kΩ"
+    assert format_uncertain(2.78e-6, 1e-7, "H") == "2.78 ± 0.1 µH"
+    assert format_uncertain(999.6, 5.0, "Ohm") == "1 ± 0.005 kΩ"  # the prefix of the value as printed
+    assert format_uncertain(0.5, 0.1, "1") == "0.5 ± 0.1"
+    assert format_uncertain(0.0, 1.0, "Ohm") == "0 ± 1 Ω"
+    assert format_uncertain(2e-5, 3e-6, "F s^(alpha-1)") == "2e-05 ± 3e-06 F s^(α-1)"

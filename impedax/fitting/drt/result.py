@@ -9,7 +9,7 @@ from typing import Mapping
 import numpy as np
 import xarray as xr
 
-from ...data import format_time
+from ...data import format_quantity, format_time, format_uncertain
 from .peaks import Peak
 from ..grid import ResultGrid
 
@@ -123,11 +123,11 @@ class DRTResult:
         out = []
         if self.r_inf_ohm < -0.01 * z_top:
             out.append(
-                f"R_inf = {self.r_inf_ohm:.4g} Ω is negative, which no passive cell has: the data stop before the high-frequency "
+                f"R_inf = {format_quantity(self.r_inf_ohm, 'Ω')} is negative, which no passive cell has: the data stop before the high-frequency "
                 "limit or carry an instrument's phase error there; leave the top points out (fmax) or check the sign convention"
             )
         if self.l_h < 0 and 2 * math.pi * float(self.frequency[top]) * -self.l_h > 0.05 * z_top:
-            out.append(f"L = {self.l_h:.3g} H is negative: the high-frequency end is more capacitive than the arcs explain (stray capacitance, or a cable's phase error)")
+            out.append(f"L = {format_quantity(self.l_h, 'H')} is negative: the high-frequency end is more capacitive than the arcs explain (stray capacitance, or a cable's phase error)")
         if self.rms_rel > DRT_MISFIT_MAX:
             out.append(
                 f"γ reproduces the data to only {self.rms_rel * 100:.3g} % (rms_rel): the data are not Kramers–Kronig consistent in part "
@@ -141,15 +141,15 @@ class DRTResult:
         lines = [
             f"DRT ({'signed' if self.signed else 'non-negative'}, Tikhonov on Gaussian RBFs, derivative order {self.derivative}): "
             f"λ = {self.lam:.3g} " + ("as given" if self.lambda_method == "fixed" else f"by {self.lambda_method}"),
-            f"R_inf = {self.r_inf_ohm:.4g} Ω, L = {self.l_h:.3g} H" + ("" if math.isinf(self.c_f) else f", C = {self.c_f:.3g} F")
-            + f", R_pol = {self.polarization_resistance:.4g} Ω",
+            f"R_inf = {format_quantity(self.r_inf_ohm, 'Ω')}, L = {format_quantity(self.l_h, 'H')}" + ("" if math.isinf(self.c_f) else f", C = {format_quantity(self.c_f, 'F')}")
+            + f", R_pol = {format_quantity(self.polarization_resistance, 'Ω')}",
             f"rms_rel = {self.rms_rel * 100:.3g} % (noise estimate {self.noise_estimate * 100:.3g} %)" + ("" if self.converged else "; active-set solve did NOT converge"),
             f"{len(self.peaks)} peak(s):",
         ]
         for p in self.peaks:
             where = "" if p.inside_window else "  (outside the measured range)"
             lines.append(
-                f"  τ = {format_time(p.tau_s)} (f = {p.frequency_hz:.3g} Hz, ±{p.log10_tau_sd:.2f} dec)  R = {p.r_ohm:.4g} ± {p.r_ohm_sd:.2g} Ω  "
+                f"  τ = {format_time(p.tau_s)} (f = {format_quantity(p.frequency_hz, 'Hz')}, ±{p.log10_tau_sd:.2f} dec)  R = {format_uncertain(p.r_ohm, p.r_ohm_sd, 'Ω')}  "
                 f"width {p.width_decades:.2f} dec{where}"
             )
         lines += [f"warning: {w}" for w in self.warnings]
