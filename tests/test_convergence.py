@@ -47,6 +47,8 @@ def test_natural_bound_optimum_is_converged_with_at_bound():
     # the table says so in its relative-error column, not a linearised error of 1e+8 %
     rows = {line.split()[0]: line for line in result.report().splitlines()[6:] if line and not line.startswith("warning")}
     assert rows["R0"].split()[3] == "at" and "bound" in rows["R0"] and "bound" in rows["CPE1.alpha"]
+    # ... and its standard-error column gives none (a log transform's scale at 0 said 1e-8 ± 1e+3)
+    assert rows["R0"].split()[2] == "—" and rows["CPE1.alpha"].split()[2] == "—"
     assert "%" in rows["R1"] and "bound" not in rows["R1"]
 
 

@@ -160,9 +160,12 @@ class FitResult:
                 lines.append(f"{n:<{width}}  {v:>12.5g}  {'(fixed)':>10}  {'':>8}  {unit_text(specs[n].unit)}".rstrip())
             else:
                 e = self.stderr[n]
-                # at a bound the linearised error says nothing (a log transform's scale at 0)
-                rel = "at bound" if n in self.at_bound else format_relative_error(e / v) if v and np.isfinite(e) else "—"
-                lines.append(f"{n:<{width}}  {v:>12.5g}  {e:>10.3g}  {rel:>8}  {unit_text(specs[n].unit)}".rstrip())
+                # at a bound the linearised error says nothing (a log transform's scale at 0:
+                # Wo1.R = 6.8e-07 ± 1.3e+07 Ω); a bound note gives it where it is off the bound
+                at = n in self.at_bound
+                rel = "at bound" if at else format_relative_error(e / v) if v and np.isfinite(e) else "—"
+                shown = f"{'—':>10}" if at else f"{e:>10.3g}"
+                lines.append(f"{n:<{width}}  {v:>12.5g}  {shown}  {rel:>8}  {unit_text(specs[n].unit)}".rstrip())
         for w in self.warnings:
             if not w.startswith("fit did not converge"):  # the status line says it once
                 lines.append(f"warning: {w}")
