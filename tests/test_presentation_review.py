@@ -595,3 +595,27 @@ def test_a_fit_s_model_is_drawn_as_a_curve_and_its_residuals_are_at_the_data():
     drawn = [ln for ln in fig.axes[0].get_lines() if ln.get_label().startswith("R0 + R1 || C1 ")]
     assert len(drawn) == 1 and drawn[0].get_xydata().shape[0] >= 200
     plt.close(fig)
+
+
+def test_a_batch_figure_draws_each_fit_as_a_curve_on_its_own_arc():
+    # SYNTHETIC: two R0 + R1 ∥ C1 spectra of 11 points; each drawn fit lies on the arc of its
+    # own fitted values (the closed form) and has the dense grid's points
+    import impedax as ix
+    import xarray as xr
+
+    f = np.geomspace(1.0, 1e5, 11)
+    rng = np.random.default_rng(4)
+    stack = []
+    for r1 in (100.0, 250.0):
+        z = 10.0 + r1 / (1 + 1j * 2 * np.pi * f * r1 * 1e-6)
+        stack.append(ix.make_spectrum(f, z * (1 + 0.003 * (rng.normal(size=f.size) + 1j * rng.normal(size=f.size)))))
+    batch = ix.fit("R0 + R1 || C1", xr.concat(stack, dim="trial"))
+    fig = batch.plot()
+    nyquist = fig.axes[-1]
+    curves = [ln for ln in nyquist.get_lines() if ln.get_linestyle() == "-"]
+    assert len(curves) == 2
+    for i, line in enumerate(curves):
+        x, y = line.get_data()
+        r0, r1 = (float(batch.values(n).isel(trial=i)) for n in ("R0", "R1"))
+        assert x.size >= 200 and np.allclose(np.hypot(x - (r0 + r1 / 2), y), r1 / 2, rtol=1e-9)
+    plt.close(fig)

@@ -19,7 +19,7 @@ import xarray as xr
 from ..data import si_prefix
 from ..io.atomic import atomic_path
 
-__all__ = ["plot_spectrum", "model_curve", "plot_nyquist", "equal_aspect", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "plot_bode", "save_figure", "shade_bands", "refresh_legend", "plain_log_ticks", "wrap_model", "characters_across", "label_spectra_axis"]
+__all__ = ["plot_spectrum", "model_curve", "dense_model", "plot_nyquist", "equal_aspect", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "plot_bode", "save_figure", "shade_bands", "refresh_legend", "plain_log_ticks", "wrap_model", "characters_across", "label_spectra_axis"]
 
 
 def _as_arrays(spectrum):
@@ -48,16 +48,23 @@ def model_curve(fit) -> tuple[np.ndarray, np.ndarray]:
     on a log grid over the data's band, `MODEL_POINTS_PER_DECADE` points a decade, by its
     ``predict`` (`FitResult.predict`); at the data's own frequencies for a result without one,
     or where the prediction is not finite."""
-    freq = np.asarray(fit.frequency, float)
-    freq = freq[np.isfinite(freq) & (freq > 0)]
-    if not callable(getattr(fit, "predict", None)) or freq.size < 2 or freq.min() == freq.max():
-        return np.asarray(fit.frequency, float), np.asarray(fit.z_model, complex)
-    lo, hi = float(freq.min()), float(freq.max())
+    predict = getattr(fit, "predict", None)
+    return dense_model(fit.frequency, fit.z_model, predict if callable(predict) else None)
+
+
+def dense_model(freq, z_model, predict) -> tuple[np.ndarray, np.ndarray]:
+    """`model_curve` of a model known at ``freq`` as ``z_model`` and elsewhere by ``predict(grid)``
+    (None: only at ``freq``)."""
+    freq, z_model = np.asarray(freq, float), np.asarray(z_model, complex)
+    band = freq[np.isfinite(freq) & (freq > 0)]
+    if predict is None or band.size < 2 or band.min() == band.max():
+        return freq, z_model
+    lo, hi = float(band.min()), float(band.max())
     grid = np.geomspace(lo, hi, max(MODEL_POINTS_MIN, int(math.ceil(MODEL_POINTS_PER_DECADE * math.log10(hi / lo))) + 1))
     with np.errstate(all="ignore"):
-        z = np.asarray(fit.predict(grid), complex)
+        z = np.asarray(predict(grid), complex)
     if not np.all(np.isfinite(z)):
-        return np.asarray(fit.frequency, float), np.asarray(fit.z_model, complex)
+        return freq, z_model
     return grid, z
 
 

@@ -59,7 +59,7 @@ def plot_batch(batch, *, title: str | None = None):
         ax.grid(alpha=0.3, which="both")
     if with_fits:
         ax_nyq = fig.add_subplot(grid[rows, :] if own_row else grid[rows - 1, cols - left :])
-        _plot_fits(ax_nyq, ds, batch.dims, labels)
+        _plot_fits(ax_nyq, ds, batch.dims, labels, batch.circuit.compile(batch.registry))
     converged = float(ds["converged"].mean()) * 100
     fig.suptitle(title or wrap_model(f"{batch.model}: {batch.n_spectra} spectr{'um' if batch.n_spectra == 1 else 'a'}, {converged:.0f}% converged", characters_across(3.2 * cols, 12)))
     return fig
@@ -109,21 +109,27 @@ def _mark_undetermined(ax, x, y, determined, label: str) -> None:
 FITS_DRAWN = 8
 
 
-def _plot_fits(ax, ds, dims, labels) -> None:
-    """Nyquist panel of a batch: the data (circles) and the fit (line) of up to `FITS_DRAWN`
-    spectra, each pair in one colour along the batch's order, at equal scales."""
+def _plot_fits(ax, ds, dims, labels, model) -> None:
+    """Nyquist panel of a batch: the data (circles) and the fit (a curve of the compiled
+    ``model`` at each spectrum's values, `dense_model`) of up to `FITS_DRAWN` spectra, each
+    pair in one colour along the batch's order, at equal scales."""
     import matplotlib as mpl
 
-    from . import equal_aspect
+    from . import dense_model, equal_aspect
 
     z = ds["Z"].transpose(*dims, "frequency").values.reshape(-1, ds.sizes["frequency"])
     z_model = ds["Z_model"].transpose(*dims, "frequency").values.reshape(z.shape)
     n = len(z)
     drawn = np.unique(np.linspace(0, n - 1, min(n, FITS_DRAWN)).round().astype(int))
     colours = mpl.colormaps["viridis"](np.linspace(0, 0.9, drawn.size))
+    values = ds["value"].transpose(*dims, "param").values.reshape(n, -1)
+    names = [str(p) for p in ds["param"].values]
+    freq = ds["frequency"].values
     for colour, i in zip(colours, drawn.tolist()):
         ax.plot(z[i].real, -z[i].imag, "o", ms=2.5, mfc="none", color=colour, label=labels[i])
-        ax.plot(z_model[i].real, -z_model[i].imag, "-", lw=1.0, color=colour)
+        params = dict(zip(names, values[i].tolist()))
+        curve = dense_model(freq, z_model[i], lambda grid, params=params: model(params, grid))[1]
+        ax.plot(curve.real, -curve.imag, "-", lw=1.0, color=colour)
     ax.set_xlabel("Z' [Ω]", fontsize=8)
     ax.set_ylabel("−Z'' [Ω]", fontsize=8)
     what = f"{drawn.size} of {n} spectra" if drawn.size < n else f"{n} spectr{'um' if n == 1 else 'a'}"
