@@ -94,3 +94,18 @@ def test_program_end_keeps_outputs_exit_handlers_and_code(tmp_path):
     marker.unlink()
     bad = subprocess.run([sys.executable, "-c", driver, "simulate", "X1"], capture_output=True, text=True, timeout=300, env=env)
     assert bad.returncode == 2 and "X1" in bad.stderr and marker.read_text() == repr(GC_THRESHOLDS)
+
+
+def test_refine_starts_from_the_library_s_default_circuit_when_no_model_is_given():
+    # `impedax refine DATA` without --model starts where ix.refine does; diagnose still asks
+    # for the model it is to diagnose
+    import inspect
+
+    from impedax.cli import build_parser
+    from impedax.fitting.diagnosis.refinement import REFINE_START
+
+    assert build_parser("refine").parse_args(["refine", "data.csv"]).model == REFINE_START == "R0 + R1 || C1"
+    assert inspect.signature(ix.refine).parameters["circuit"].default == REFINE_START
+    assert build_parser("refine").parse_args(["refine", "data.csv", "--model", "R0 + C1"]).model == "R0 + C1"
+    with pytest.raises(SystemExit):
+        build_parser("diagnose").parse_args(["diagnose", "data.csv"])

@@ -88,10 +88,13 @@ def emit_json(obj) -> None:
     sys.stdout.write("\n")
 
 
-def add_model_argument(parser, *, positional: bool = False) -> None:
+def add_model_argument(parser, *, positional: bool = False, default: str | None = None) -> None:
+    """MODEL (``positional``) or --model, required unless a ``default`` is given."""
     help_text = "circuit text, e.g. 'R0 + R1 || C1' (quote it in the shell)"
     if positional:
         parser.add_argument("model", metavar="MODEL", help=help_text)
+    elif default is not None:
+        parser.add_argument("--model", default=default, metavar="MODEL", help=f"{help_text}; default '{default}'")
     else:
         parser.add_argument("--model", required=True, metavar="MODEL", help=help_text)
 

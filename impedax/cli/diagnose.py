@@ -19,16 +19,17 @@ def register(sub) -> None:
     add_max_steps_option(p, 100, "the candidate fits (the baseline fit keeps its own)")
 
 
-def add_spectrum_command(sub, name: str, *, help: str, description: str, plot_help: str, out_help: str, run):
-    """A diagnosis command on one spectrum with a model (diagnose, refine): DATA, --model, the
-    fit options, --effects, --noise, --json, --plot, --out; runs ``run(args)``."""
+def add_spectrum_command(sub, name: str, *, help: str, description: str, plot_help: str, out_help: str, run, model_default: str | None = None):
+    """A diagnosis command on one spectrum with a model (diagnose, refine): DATA, --model
+    (required unless ``model_default``), the fit options, --effects, --noise, --json, --plot,
+    --out; runs ``run(args)``."""
     from .common import add_model_argument, add_output_options, add_select_option, result_out_help
     from .fit import add_fit_options
 
     p = sub.add_parser(name, help=help, description=description)
     p.add_argument("data", metavar="DATA", help="spectrum file with one spectrum, or one picked with --select")
     add_select_option(p)
-    add_model_argument(p)
+    add_model_argument(p, default=model_default)
     add_fit_options(p)
     p.add_argument("--effects", metavar="ID,ID", help="only these effects (comma-separated ids; default: all)")
     p.add_argument("--noise", type=float, metavar="REL", help="relative noise level per component (default: from sigma or the KK residuals)")

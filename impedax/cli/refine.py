@@ -1,6 +1,10 @@
-"""``impedax refine DATA --model MODEL``: add the missing effects one by one until the fit is adequate."""
+"""``impedax refine DATA [--model MODEL]``: add the missing effects one by one until the fit is adequate."""
 
 from __future__ import annotations
+
+# what --model defaults to (refine's `REFINE_START`; written out here so that the CLI's help needs
+# no import of the fitting package, tests/test_cli_basic.py checks the two agree)
+MODEL_DEFAULT = "R0 + R1 || C1"
 
 PROGRESS_AFTER_S = 2.0
 """Progress lines go to stderr once a run has taken this long."""
@@ -19,6 +23,7 @@ def register(sub) -> None:
         plot_help="save the data with the first and the last model (Nyquist), rms_rel per step and the residuals of every step",
         out_help="the refinement (.csv: the final fit's parameters)",
         run=run,
+        model_default=MODEL_DEFAULT,
     )
     p.add_argument("--max-effects", type=int, default=4, metavar="N", help="most effects to add (default 4)")
     add_max_steps_option(p, 100, "the candidate fits of every step (the baseline fit keeps its own)")

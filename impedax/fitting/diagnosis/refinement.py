@@ -390,6 +390,11 @@ def _simplified(steps: list[RefinementStep], used: xr.Dataset, *, n_starts: int,
     return steps
 
 
+REFINE_START = "R0 + R1 || C1"
+"""refine's circuit when none is given: a series resistance and one ideal arc, from which it
+adds what the data need (the start of the real-spectra study, docs/diagnosis.md)."""
+
+
 @checked_arguments(
     max_steps=count(0, 64, optional=True, why="each step adds one element"), max_effects=count(0, 64, optional=True, why="each step adds one element"),
     solver_steps=count(1, 100_000), effects=instance_of(EffectCatalog, what="an EffectCatalog (e.g. impedax.DEFAULT_EFFECTS)"),
@@ -398,7 +403,7 @@ def _simplified(steps: list[RefinementStep], used: xr.Dataset, *, n_starts: int,
 )
 def refine(
     data,
-    circuit: Circuit | str,
+    circuit: Circuit | str = REFINE_START,
     *,
     max_steps: int | None = None,
     max_effects: int | None = None,
@@ -414,9 +419,9 @@ def refine(
     drt_evidence: bool = True,
     progress: Callable[[str], None] | None = None,
 ) -> Refinement:
-    """Refine ``circuit`` on ``data``: diagnose → add the best significant effect → refit, until
-    the verdict is not ``missing_effect`` (or no suggestion remains) or ``max_effects`` (default
-    4; ``max_steps`` is its older name) effects were added. ``solver_steps``: the
+    """Refine ``circuit`` (default `REFINE_START`) on ``data``: diagnose → add the best
+    significant effect → refit, until the verdict is not ``missing_effect`` (or no suggestion
+    remains) or ``max_effects`` (default 4; ``max_steps`` is its older name) effects were added. ``solver_steps``: the
     Levenberg–Marquardt step limit of the candidate fits (``--max-steps`` of the CLI).
     ``registry`` parses the circuit; only the points with ``fmin`` ≤ f ≤ ``fmax`` are used, at
     every step, less the points the first diagnosis masks (KK-flagged); ``drt_evidence`` as in
