@@ -109,3 +109,24 @@ def test_refine_starts_from_the_library_s_default_circuit_when_no_model_is_given
     assert build_parser("refine").parse_args(["refine", "data.csv", "--model", "R0 + C1"]).model == "R0 + C1"
     with pytest.raises(SystemExit):
         build_parser("diagnose").parse_args(["diagnose", "data.csv"])
+
+
+def test_numbers_on_the_command_line_take_si_prefixes(capsys):
+    # R1=1k, C1=1u, --fmin 1, --fmax 100k: the spectrum of the plain numbers (the formula
+    # above); m is milli and M mega; a prefix the list does not have is an error naming the forms
+    from impedax.cli.common import prefixed_number
+
+    assert [prefixed_number(t) for t in ("1k", "2.2u", "2.2µ", "10n", "5m", "1M", "-3p", ".5G", "1e3", "7")] == pytest.approx(
+        [1e3, 2.2e-6, 2.2e-6, 1e-8, 5e-3, 1e6, -3e-12, 5e8, 1e3, 7.0], rel=1e-15
+    )
+    code = main(["simulate", "R0 + R1 || C1", "--param", "R0=10", "--param", "R1=1k", "--param", "C1=1u", "--fmin", "1", "--fmax", "100k", "--points", "11"])
+    assert code == 0
+    rows = np.array([[float(v) for v in ln.split(",")] for ln in capsys.readouterr().out.strip().splitlines()[1:]])
+    assert rows[-1, 0] == pytest.approx(1e5, rel=1e-15)
+    z = 10 + 1000 / (1 + 1j * 2 * np.pi * rows[:, 0] * 1e-3)
+    np.testing.assert_allclose(rows[:, 1] + 1j * rows[:, 2], z, rtol=1e-14)
+    assert main(["simulate", "R0 + R1 || C1", "--param", "R1=1x"]) == 2
+    assert "'1x' is not a number (write 1000, 1e3 or 1k; SI prefixes f p n u µ m k M G T)" in capsys.readouterr().err
+    with pytest.raises(SystemExit) as stop:
+        main(["simulate", "R0", "--fmax", "1kHz"])
+    assert stop.value.code == 2 and "'1kHz' is not a number" in capsys.readouterr().err

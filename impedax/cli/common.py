@@ -16,15 +16,46 @@ from ..errors import DataError, ParameterError
 from ..warning_groups import labels_text
 
 __all__ = [
-    "parse_assignments", "check_parameter_names", "emit_json", "to_jsonable", "add_model_argument", "add_output_options",
+    "parse_assignments", "prefixed_number", "number_option", "NUMBER_PREFIXES", "check_parameter_names", "emit_json", "to_jsonable", "add_model_argument", "add_output_options",
     "check_outputs", "save_outputs", "print_result", "result_out_help", "Output", "OutputPlan", "plan_outputs",
     "memory_limit", "check_memory", "MEMORY_LIMIT_ENV", "add_select_option", "load_selected", "select_spectra", "load_selected_files", "labels_text", "dimension_labels",
     "command_line_words", "naming_target", "part_of_joined",
 ]
 
 
+# the SI prefixes a number on the command line may end with (`prefixed_number`): 2.2k, 10n, 1M
+# (mega) against 1m (milli), u or µ for micro
+NUMBER_PREFIXES = {"f": 1e-15, "p": 1e-12, "n": 1e-9, "u": 1e-6, "µ": 1e-6, "μ": 1e-6, "m": 1e-3, "k": 1e3, "M": 1e6, "G": 1e9, "T": 1e12}
+_PREFIXED = re.compile(r"\s*([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)\s*([fpnuµμmkMGT])\s*")
+
+
+def prefixed_number(text: str) -> float:
+    """A number as written on the command line: ``1000``, ``1e3`` or with an SI prefix,
+    ``1k``, ``2.2u``, ``10n``, ``1M`` (`NUMBER_PREFIXES`; ``m`` is milli, ``M`` mega). Raises
+    ValueError with the forms it takes."""
+    try:
+        return float(text)
+    except ValueError:
+        pass
+    match = _PREFIXED.fullmatch(text)
+    if match is None:
+        raise ValueError(f"{text!r} is not a number (write 1000, 1e3 or 1k; SI prefixes {' '.join(p for p in NUMBER_PREFIXES if p != 'μ')})")
+    return float(match.group(1)) * NUMBER_PREFIXES[match.group(2)]
+
+
+def number_option(text: str) -> float:
+    """`prefixed_number` as an argparse ``type``: its message in argparse's error (exit 2)."""
+    import argparse
+
+    try:
+        return prefixed_number(text)
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
+
+
 def parse_assignments(items: Iterable[str] | None, flag: str) -> dict[str, float]:
-    """``["R0=100", "C1=1e-6"]`` → ``{"R0": 100.0, "C1": 1e-06}`` with clear errors."""
+    """``["R0=100", "C1=1u"]`` → ``{"R0": 100.0, "C1": 1e-06}`` (`prefixed_number`) with clear
+    errors."""
     out: dict[str, float] = {}
     for item in items or ():
         name, sep, value = item.partition("=")
@@ -32,9 +63,9 @@ def parse_assignments(items: Iterable[str] | None, flag: str) -> dict[str, float
         if not sep or not name:
             raise ParameterError(f"{flag} {item!r}: expected NAME=VALUE")
         try:
-            number = float(value)
-        except ValueError:
-            raise ParameterError(f"{flag} {item!r}: {value!r} is not a number") from None
+            number = prefixed_number(value)
+        except ValueError as error:
+            raise ParameterError(f"{flag} {item!r}: {error}") from None
         if not math.isfinite(number):
             raise ParameterError(f"{flag} {item!r}: value must be finite")
         if name in out:

@@ -16,9 +16,11 @@ def add_weighting_option(p, help_text: str) -> None:
 
 def add_fit_options(p) -> None:
     """Options shared by fit-like commands (fit, compare, diagnose, refine)."""
+    from .common import number_option
+
     add_weighting_option(p, "residual weighting (default modulus: relative errors; see impedax.fitting.WEIGHTINGS)")
-    p.add_argument("--fmin", type=float, help="ignore data below this frequency [Hz]")
-    p.add_argument("--fmax", type=float, help="ignore data above this frequency [Hz]")
+    p.add_argument("--fmin", type=number_option, help="ignore data below this frequency [Hz]")
+    p.add_argument("--fmax", type=number_option, help="ignore data above this frequency [Hz]")
 
 
 def add_max_steps_option(p, default: int, what: str) -> None:

@@ -7,7 +7,7 @@ import sys
 
 import numpy as np
 
-from .common import add_output_options, check_memory, check_parameter_names, emit_json, figure_writer, parse_assignments, plan_outputs
+from .common import add_output_options, check_memory, check_parameter_names, emit_json, figure_writer, number_option, parse_assignments, plan_outputs
 
 _MODELS = ("meyer", "vezzoli")
 _RANGES = {"meyer": (10.0, 1e9), "vezzoli": (1.0, 1e6)}
@@ -35,8 +35,8 @@ def register(sub) -> None:
     )
     p.add_argument("model", choices=_MODELS, help="which paper's model")
     p.add_argument("--param", action="append", metavar="NAME=VALUE", help="override a parameter (repeatable)")
-    p.add_argument("--fmin", type=float, default=None, help="lowest frequency [Hz] (meyer 10, vezzoli 1)")
-    p.add_argument("--fmax", type=float, default=None, help="highest frequency [Hz] (meyer 1e9, vezzoli 1e6)")
+    p.add_argument("--fmin", type=number_option, default=None, help="lowest frequency [Hz] (meyer 10, vezzoli 1)")
+    p.add_argument("--fmax", type=number_option, default=None, help="highest frequency [Hz] (meyer 1e9, vezzoli 1e6)")
     p.add_argument("--points", type=int, default=161, help="number of frequencies (default 161)")
     add_output_options(p, json="print JSON instead of CSV", plot="also save a plot of force against frequency")
     p.set_defaults(run=run)

@@ -6,7 +6,7 @@ import sys
 
 
 def register(sub) -> None:
-    from .common import add_output_options, result_out_help
+    from .common import add_output_options, number_option, result_out_help
 
     p = sub.add_parser(
         "gap",
@@ -21,8 +21,8 @@ def register(sub) -> None:
     p.add_argument("total", metavar="DATA_TOTAL", help="finger-on-screen spectra (trials as an extra dimension)")
     p.add_argument("skin", metavar="DATA_SKIN", help="skin spectra")
     p.add_argument("touchscreen", metavar="DATA_TS", help="touchscreen spectra")
-    p.add_argument("--area", type=float, required=True, help="apparent contact area A [m²], e.g. 130e-6")
-    p.add_argument("--v0", type=float, default=75.0, help="drive amplitude V0 [V] (default 75)")
+    p.add_argument("--area", type=number_option, required=True, help="apparent contact area A [m²], e.g. 130e-6")
+    p.add_argument("--v0", type=number_option, default=75.0, help="drive amplitude V0 [V] (default 75)")
     p.add_argument("--ep", choices=("CPE", "C"), default="CPE", help="electrode-polarization branch: R_EP || CPE_EP (default) or R_EP || C_EP")
     p.add_argument("--method", choices=("hierarchical", "pooled"), default="hierarchical", help="hierarchical model over the trials (default) or the pooled analysis of the trial means")
     p.add_argument("--pooled", action="store_const", const="pooled", dest="method", help="same as --method pooled")

@@ -7,7 +7,7 @@ import sys
 
 def register(sub) -> None:
     from ..fitting import NOISE_MODELS, PRIOR_KINDS
-    from .common import add_model_argument, add_output_options, add_select_option, result_out_help
+    from .common import add_model_argument, add_output_options, add_select_option, number_option, result_out_help
     from .fit import add_shared_options
 
     p = sub.add_parser(
@@ -26,8 +26,8 @@ def register(sub) -> None:
     p.add_argument("--prior", action="append", metavar="NAME=KIND:ARGS", help="prior for one parameter (repeatable), e.g. R1=loguniform:1e2,1e5; kinds: " + "; ".join(PRIOR_KINDS.values()))
     p.add_argument("--noise", default="proportional", choices=list(NOISE_MODELS), help="; ".join(f"{k}: {v}" for k, v in NOISE_MODELS.items()))
     add_shared_options(p)
-    p.add_argument("--fmin", type=float, help="ignore data below this frequency [Hz]")
-    p.add_argument("--fmax", type=float, help="ignore data above this frequency [Hz]")
+    p.add_argument("--fmin", type=number_option, help="ignore data below this frequency [Hz]")
+    p.add_argument("--fmax", type=number_option, help="ignore data above this frequency [Hz]")
     p.add_argument("--quiet", action="store_true", help="no progress line on stderr")
     p.add_argument("--corner", metavar="FILE.png", help="save a corner plot of the draws")
     add_output_options(p, json="print the result as JSON (no progress line)", plot="save data with posterior bands (Nyquist, Bode)", out=result_out_help("the posterior (.nc: draws, diagnostics, start fit, data; .csv: quantiles per parameter)"))

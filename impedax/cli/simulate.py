@@ -6,7 +6,7 @@ import sys
 
 import numpy as np
 
-from .common import add_model_argument, add_output_options, check_memory, figure_writer, model_and_values, plan_outputs, spectrum_writer
+from .common import add_model_argument, add_output_options, check_memory, figure_writer, model_and_values, number_option, plan_outputs, spectrum_writer
 
 # memory per frequency while simulating and writing CSV: the frequencies, the complex impedance
 # and JAX's intermediates, and the CSV text with its line list (measured about 0.4 kB)
@@ -17,8 +17,8 @@ def register(sub) -> None:
     p = sub.add_parser("simulate", help="write a model's spectrum as CSV", description="Evaluate MODEL at log-spaced frequencies (both ends included) and write frequency_hz,z_real_ohm,z_imag_ohm.")
     add_model_argument(p, positional=True)
     p.add_argument("--param", action="append", metavar="NAME=VALUE", help="parameter value (repeatable); unspecified ones take their defaults")
-    p.add_argument("--fmin", type=float, default=1.0, help="lowest frequency [Hz] (default 1)")
-    p.add_argument("--fmax", type=float, default=1e6, help="highest frequency [Hz] (default 1e6)")
+    p.add_argument("--fmin", type=number_option, default=1.0, help="lowest frequency [Hz] (default 1)")
+    p.add_argument("--fmax", type=number_option, default=1e6, help="highest frequency [Hz] (default 1e6)")
     p.add_argument("--points", type=int, default=61, help="number of frequencies (default 61)")
     add_output_options(p, json=None, plot="also save Nyquist/Bode plots", out="output file (.csv or .nc); stdout when omitted or '-'", out_metavar="FILE.csv")
     p.set_defaults(run=run)
