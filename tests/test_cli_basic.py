@@ -130,3 +130,13 @@ def test_numbers_on_the_command_line_take_si_prefixes(capsys):
     with pytest.raises(SystemExit) as stop:
         main(["simulate", "R0", "--fmax", "1kHz"])
     assert stop.value.code == 2 and "'1kHz' is not a number" in capsys.readouterr().err
+
+
+def test_info_table_writes_units_as_symbols(capsys):
+    # the text table read "Ohm", "F s^(alpha-1)" and "1"; JSON keeps the specs' spelling
+    assert main(["info", "R0 + CPE1 + W1"]) == 0
+    rows = {ln.split()[0]: ln for ln in capsys.readouterr().out.splitlines()[2:]}
+    assert rows["R0"].split()[1] == "Ω" and "F s^(α-1)" in rows["CPE1.Q"] and "Ω s^-1/2" in rows["W1.sigma"]
+    assert rows["CPE1.alpha"].split()[1] == "0.9"  # no unit column text for a dimensionless exponent
+    assert main(["info", "R0", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["parameters"][0]["unit"] == "Ohm"

@@ -14,6 +14,7 @@ def register(sub) -> None:
 
 def run(args) -> int:
     from .. import DEFAULT_REGISTRY, parse
+    from ..data import unit_text
     from .common import emit_json
 
     circuit = parse(args.model)
@@ -33,5 +34,5 @@ def run(args) -> int:
     width = max(len(r["name"]) for r in rows)
     print(f"{'parameter':<{width}}  {'unit':<14} {'default':>10}  bounds          description")
     for r, p in zip(rows, (p for e in circuit.elements() for p in DEFAULT_REGISTRY[e.symbol].parameters)):
-        print(f"{r['name']:<{width}}  {r['unit']:<14} {r['default']:>10.4g}  {p.bounds_text():<15} {r['element_kind']}: {r['description']}")
+        print(f"{r['name']:<{width}}  {unit_text(r['unit']):<14} {r['default']:>10.4g}  {p.bounds_text():<15} {r['element_kind']}: {r['description']}")
     return 0
