@@ -555,3 +555,15 @@ def test_report_columns_line_up_with_compound_units(rcpe):
     assert any("F s^(α-1)" in line for line in rows), rows
     starts = {len(line) - len(line.split()[-1]) for line in rows}  # (where the prior, the last field, starts)
     assert len(starts) == 1, rows
+
+
+def test_the_report_says_an_undefined_evidence_in_words(rcpe):
+    # a Laplace evidence that is not finite read "Laplace ln Z = nan"; WAIC stays on the line
+    import dataclasses
+
+    _, _, _, post = rcpe
+    line = next(ln for ln in post.report().splitlines() if ln.startswith("evidence"))
+    assert f"Laplace ln Z = {post.log_evidence:.2f}" in line and "WAIC = " in line
+    undefined = dataclasses.replace(post, log_evidence=float("nan"))
+    line = next(ln for ln in undefined.report().splitlines() if ln.startswith("evidence"))
+    assert "Laplace ln Z undefined (see the warnings)" in line and "nan" not in line and "WAIC = " in line

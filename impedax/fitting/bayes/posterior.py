@@ -212,7 +212,8 @@ class Posterior:
             f"model      {self.model}",
             f"noise      {self.noise}: {NOISE_MODELS[self.noise]}",
             f"sampler    emcee, {self.n_walkers} walkers, {self.settings.get('steps')} steps (burn {self.settings.get('burn')}, thin {self.settings.get('thin')}), {self.n_walkers * self.n_draws} draws, acceptance {self.mean_acceptance:.3f}",
-            f"evidence   Laplace ln Z = {self.log_evidence:.2f}    WAIC = {self.waic:.2f} (p_waic {self.p_waic:.3g})",
+            (f"evidence   Laplace ln Z = {self.log_evidence:.2f}" if math.isfinite(self.log_evidence) else "evidence   Laplace ln Z undefined (see the warnings)")
+            + f"    WAIC = {self.waic:.2f} (p_waic {self.p_waic:.3g})",
             "",
             f"{'parameter':<{width}}  {'median':>11}  {'q05':>11}  {'q95':>11}  {'τ [steps]':>9}  {'ESS':>7}  {'unit':<{unit_width}}  prior",
         ]
