@@ -395,3 +395,17 @@ def test_cli_says_when_the_test_has_too_few_frequencies(tmp_path, capsys):
     assert out["conclusive"] is False
     assert main(["kk", str(tmp_path / "six.nc")]) == 0
     assert "verdict: inconclusive" in capsys.readouterr().out
+
+
+def test_the_kk_fit_predicts_between_the_data_and_is_drawn_as_a_curve():
+    # SYNTHETIC R ∥ CPE at 4 points a decade: predict() is the stored KK fit at the data's
+    # frequencies, follows the generating formula between them, and the figure draws it densely
+    f = np.geomspace(0.1, 1e5, 25)
+    result = ix.kk_test(ix.make_spectrum(f, r_cpe(f)))
+    np.testing.assert_allclose(result.predict(f), result.kk_impedance, rtol=1e-12)
+    between = np.sqrt(f[:-1] * f[1:])
+    z = r_cpe(between)
+    assert np.max(np.abs(result.predict(between) - z) / np.abs(z)) < 5e-3
+    fig = result.plot()
+    (line,) = [ln for ln in fig.axes[0].get_lines() if ln.get_label().startswith("KK fit")]
+    assert line.get_xydata().shape[0] >= 200

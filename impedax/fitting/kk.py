@@ -112,6 +112,13 @@ class KKResult:
     c: float
     thresholds: Mapping[str, float] = field(default_factory=lambda: dict(DEFAULT_THRESHOLDS))
 
+    def predict(self, freq) -> np.ndarray:
+        """The KK fit's impedance [Ω] at ``freq`` [Hz]: R_0 + jωL + (1/C)/(jω) + Σ R_k/(1 +
+        jωτ_k) (Schönleber 2014 eq 7; L and 1/C zero when not fitted)."""
+        omega = 2 * np.pi * np.asarray(freq, float)
+        voigt = 1.0 / (1.0 + 1j * omega[..., None] * self.time_constants) @ self.resistances
+        return self.series_resistance + 1j * omega * self.series_inductance - 1j * self.inverse_series_capacitance / omega + voigt
+
     @property
     def conclusive(self) -> bool:
         """Whether the spectrum has enough frequencies (`CONCLUSIVE_POINTS_MIN`) for the test to

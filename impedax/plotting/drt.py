@@ -8,7 +8,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from ..data import format_quantity, format_time
-from . import FLAT_NYQUIST, label_spectra_axis, nyquist_panel_height, nyquist_shape, plain_log_ticks, plot_bode, plot_nyquist, prefixed_axis, shade_bands
+from . import FLAT_NYQUIST, dense_model, label_spectra_axis, nyquist_panel_height, nyquist_shape, plain_log_ticks, plot_bode, plot_nyquist, prefixed_axis, shade_bands
 
 __all__ = ["plot_drt", "plot_drt_batch", "plot_gamma", "plot_zhit"]
 
@@ -57,7 +57,7 @@ GAMMA_HEADROOM = 1.3
 def plot_drt(result, *, overlay=None, title: str | None = None):
     """γ vs τ (band, peaks, optional overlay) on the left; Nyquist and Bode of data vs the DRT
     fit on the right; relative residuals below."""
-    data, model = (result.frequency, result.impedance), (result.frequency, result.z_fit)
+    data, model = (result.frequency, result.impedance), dense_model(result.frequency, result.z_fit, result.predict)
     shape = nyquist_shape(data, model)
     if shape <= FLAT_NYQUIST:  # the Nyquist panel across the top, as high as the spectrum's shape asks
         heights = [nyquist_panel_height(shape, 12.0), 2.6, 2.2]

@@ -2,13 +2,13 @@
 
 from __future__ import annotations
 
-from . import nyquist_shape, plot_bode, plot_nyquist, plot_residuals, shade_bands, spectrum_layout
+from . import dense_model, nyquist_shape, plot_bode, plot_nyquist, plot_residuals, shade_bands, spectrum_layout
 
 
 def plot_kk(result, *, title: str | None = None):
     """Nyquist and Bode of data vs KK fit, and the residuals Δ [%] vs frequency with the
     point threshold and the bad bands shaded, for a `KKResult`. Returns a matplotlib Figure."""
-    data, model = (result.frequency, result.impedance), (result.frequency, result.kk_impedance)
+    data, model = (result.frequency, result.impedance), dense_model(result.frequency, result.kk_impedance, result.predict)
     fig, (ax_nyq, ax_mod, ax_ph, ax_res) = spectrum_layout(nyquist_shape(data, model), True)
     plot_nyquist(ax_nyq, data, model, model_label=f"KK fit (M={result.n_rc})")
     plot_bode(ax_mod, ax_ph, data, model, model_label=f"KK fit (M={result.n_rc})")

@@ -73,6 +73,19 @@ class DRTResult:
         """The measured τ range 1/(2π f_max) .. 1/(2π f_min) [s]."""
         return 1.0 / (2 * math.pi * float(self.frequency.max())), 1.0 / (2 * math.pi * float(self.frequency.min()))
 
+    def predict(self, freq) -> np.ndarray:
+        """The DRT model's impedance [Ω] at ``freq`` [Hz], as ``z_fit`` is at the data's:
+        R_∞ + jωL (+ 1/(jωC)) + Σ_m x_m ∫ φ_m(y)/(1 + jω e^y) dy over the fitted Gaussian RBFs
+        (docs/drt.md)."""
+        from .basis import RBFBasis, impedance_integrals
+
+        omega = 2 * np.pi * np.asarray(freq, float)
+        ln_tau = np.log(self.basis_tau)
+        basis = RBFBasis(ln_tau=ln_tau, step=float(np.mean(np.diff(ln_tau))) if ln_tau.size > 1 else 1.0, epsilon=2.0 * math.sqrt(math.log(2.0)) / (self.basis_fwhm_decades * math.log(10.0)))
+        a_re, a_im = impedance_integrals(omega, basis)
+        z = self.r_inf_ohm + 1j * omega * self.l_h + (a_re + 1j * a_im) @ self.coefficients
+        return z if math.isinf(self.c_f) else z + 1 / (1j * omega * self.c_f)
+
     def gamma_at(self, tau) -> np.ndarray:
         """γ [Ω] at arbitrary τ [s] (interpolated in ln τ on the output grid; 0 outside it)."""
         return np.interp(np.log(np.asarray(tau, float)), np.log(self.tau), self.gamma, left=0.0, right=0.0)
