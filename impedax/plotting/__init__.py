@@ -54,8 +54,10 @@ def model_curve(fit) -> tuple[np.ndarray, np.ndarray]:
 
 def dense_model(freq, z_model, predict) -> tuple[np.ndarray, np.ndarray]:
     """`model_curve` of a model known at ``freq`` as ``z_model`` and elsewhere by ``predict(grid)``
-    (None: only at ``freq``)."""
+    (None: only at ``freq``, in order of frequency)."""
     freq, z_model = np.asarray(freq, float), np.asarray(z_model, complex)
+    order = np.argsort(freq)
+    freq, z_model = freq[order], z_model[order]
     band = freq[np.isfinite(freq) & (freq > 0)]
     if predict is None or band.size < 2 or band.min() == band.max():
         return freq, z_model
