@@ -141,3 +141,12 @@ def test_batch_fits_give_the_chain_note_of_single_fits():
         batch_notes = chain_notes(batch.warnings.get(f"trial={i}", ()))
         assert len(single) == len(batch_notes) == 1, (single, batch_notes)
         assert all(n.startswith("Wo1 takes at most ") and "R0 + R1 || CPE1, the model without it" in n for n in single + batch_notes)
+
+
+def test_diagnose_names_an_element_of_the_user_s_circuit_that_the_data_do_not_need():
+    # the arc fitted with a Warburg it does not hold: the diagnosis' notes carry its baseline
+    # fit's idle note, so that a modeler learns the element can go
+    d = ix.diagnose(arc(), "R0 + R1 || CPE1 + Wo1")
+    notes = [n for n in d.notes if n.startswith("the baseline fit: ")]
+    assert len(notes) == 1 and "Wo1 takes at most " in notes[0] and "R0 + R1 || CPE1, the model without it" in notes[0], d.notes
+    assert "note: the baseline fit: Wo1 takes at most" in d.report()

@@ -49,7 +49,7 @@ from ...errors import DataError, FitError, ImpedaxError, ParameterError
 from ..drt import PeakEvidence, drt, r_cpe_tau, unexplained_peaks
 from ..kk import KKResult, kk_test
 from ..least_squares import BatchFitResult, FitResult
-from ..least_squares.branches import parallel_branches
+from ..least_squares.branches import is_idle_note, parallel_branches
 from ..least_squares.candidates import SolverShape, fit_candidates, solver_shape
 from ..least_squares.starts import climb_target
 from ..problem import WEIGHTINGS, open_spectrum
@@ -1420,5 +1420,7 @@ def diagnose(
             notes.append(f"before naming a missing effect the baseline was refitted from the candidate's values (its arcs in every order) and {BASELINE_CHECK_STARTS} random starts and reached a better optimum (rms_rel {base.rms_rel * 100:.3g} % → {better.rms_rel * 100:.3g} %); it is used as the baseline")
             base = better
             bands, cands, verdict, reason = judged(base)
+    # an element of the user's circuit that the data do not need (its fit's idle note: Wo1 with R at 0)
+    notes += [f"the baseline fit: {w}" for w in base.warnings if is_idle_note(w)]
     masked = tuple(sorted(masked + not_passive))
     return Diagnosis(base, kk, sigma_rel, nm.source, bands, tuple(cands), verdict, reason, tuple(notes), _thresholds(), evidence, measurement, nm.discrepancy, masked, kk_kept, kk_as_tested, shape)

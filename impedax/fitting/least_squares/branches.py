@@ -16,7 +16,7 @@ from ..parameters import ParameterTable
 
 __all__ = [
     "IDLE_BRANCH_SHARE", "RELATIVE_ERROR_LIMIT", "IdleBranch", "undetermined", "undetermined_mask", "parallel_branches", "circuit_terms", "idle_branches",
-    "idle_branch_notes",
+    "idle_branch_notes", "is_idle_note",
 ]
 
 RELATIVE_ERROR_LIMIT = 1.0
@@ -65,6 +65,15 @@ def circuit_terms(circuit: Circuit) -> Iterator[tuple[Parallel | Series, int]]:
         yield from circuit_terms(child)
 
 
+# the words every idle note holds (`IdleBranch.text`), by which `is_idle_note` knows one among a fit's warnings
+_IDLE_NOTE_WORDS = ", the model without it, differs from this fit by about that fraction of the "
+
+
+def is_idle_note(text: str) -> bool:
+    """Whether a fit's warning ``text`` is an idle note (`IdleBranch.text`)."""
+    return _IDLE_NOTE_WORDS in text
+
+
 class IdleBranch(NamedTuple):
     """An ``element`` (or a sub-circuit, by its text) of fit ``row`` that carries at most
     ``share`` of the current through its parallel ``block`` at every frequency or, ``series``
@@ -83,7 +92,7 @@ class IdleBranch(NamedTuple):
         block = "chain" if self.series else "block"
         return (
             f"{self.element} {share} {self.block} over the band, so the data cannot determine it: "
-            f"{self.reduced}, the model without it, differs from this fit by about that fraction of the {block}'s impedance"
+            f"{self.reduced}{_IDLE_NOTE_WORDS}{block}'s impedance"
         )
 
 
