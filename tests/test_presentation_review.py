@@ -619,3 +619,17 @@ def test_a_batch_figure_draws_each_fit_as_a_curve_on_its_own_arc():
         r0, r1 = (float(batch.values(n).isel(trial=i)) for n in ("R0", "R1"))
         assert x.size >= 200 and np.allclose(np.hypot(x - (r0 + r1 / 2), y), r1 / 2, rtol=1e-9)
     plt.close(fig)
+
+
+def test_a_lone_prefixed_tick_is_written_as_its_value():
+    # one tick on a prefixed axis read "20.0" (one decimal whatever the value); as written now
+    from impedax.plotting import prefixed_axis
+
+    fig, ax = plt.subplots()
+    ax.plot([0, 1], [19990, 20020])
+    ax.set_ylabel("R [Ω]")
+    prefixed_axis(ax.yaxis)
+    for ticks, expected in (([20000], ["20"]), ([20500], ["20.5"]), ([20000, 20010], ["20.00", "20.01"])):
+        ax.set_yticks(ticks)
+        assert tick_texts(ax.yaxis) == expected and ax.get_ylabel() == "R [kΩ]"
+    plt.close(fig)

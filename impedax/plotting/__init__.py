@@ -176,9 +176,11 @@ class _PrefixedFormatter(ScalarFormatter):
             if self._ours(label):
                 label.set_text(_BRACKETED_UNIT.sub(lambda m: f"[{prefix}{m.group(2)}]", label.get_text()))
                 self.written[id(label)] = label.get_text()
-        # as few decimals as tell the ticks apart at the scale
+        # as few decimals as tell the ticks apart at the scale (a lone tick: as write its value,
+        # "20", not "20.0")
         scaled = np.asarray(locs, float) / self.scale
-        self.decimals = next((d for d in range(7) if np.allclose(np.round(scaled, d), scaled, rtol=0, atol=1e-9 * max(np.ptp(scaled), 1e-300))), 6) if scaled.size > 1 else 1
+        tolerance = 1e-9 * (np.ptp(scaled) if scaled.size > 1 else np.max(np.abs(scaled), initial=0.0))
+        self.decimals = next((d for d in range(7) if np.allclose(np.round(scaled, d), scaled, rtol=0, atol=max(tolerance, 1e-300))), 6)
 
     def get_offset(self):
         return "" if self.scale is not None else super().get_offset()
