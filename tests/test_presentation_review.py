@@ -632,4 +632,7 @@ def test_a_lone_prefixed_tick_is_written_as_its_value():
     for ticks, expected in (([20000], ["20"]), ([20500], ["20.5"]), ([20000, 20010], ["20.00", "20.01"])):
         ax.set_yticks(ticks)
         assert tick_texts(ax.yaxis) == expected and ax.get_ylabel() == "R [kΩ]"
+    # the cursor's readout counts in the ticks' prefix too (it read 20004.6 under [kΩ])
+    assert ax.yaxis.get_major_formatter().format_data_short(20004.6) == "20.005"
+    assert ax.yaxis.get_major_formatter().format_data_short(20046.0) == "20.046"
     plt.close(fig)

@@ -190,6 +190,13 @@ class _PrefixedFormatter(ScalarFormatter):
             return super().__call__(x, pos)
         return f"{x / self.scale:.{self.decimals}f}".replace("-", "\N{MINUS SIGN}")
 
+    def format_data_short(self, value):
+        """The cursor's readout in an interactive window: in the ticks' prefix (12.345 under
+        [kΩ], where it read 12345.2)."""
+        if self.scale is None:
+            return super().format_data_short(value)
+        return f"{value / self.scale:.5g}".replace("-", "\N{MINUS SIGN}")
+
 
 # the unit in an axis label's brackets that `prefixed_axis` scales: [Ω], [kΩ], [µF] ...
 _BRACKETED_UNIT = re.compile(r"\[(T|G|M|k|m|µ|n|p|f)?(Ω|F|H)\]")
