@@ -473,6 +473,8 @@ def test_format_uncertain_reads_as_written_by_hand():
     assert format_uncertain(0.5, 0.1, "1") == "0.5 ± 0.1"
     assert format_uncertain(0.0, 1.0, "Ohm") == "0 ± 1 Ω"
     assert format_uncertain(2e-5, 3e-6, "F s^(alpha-1)") == "2e-05 ± 3e-06 F s^(α-1)"
+    assert format_uncertain(3939.0, float("nan"), "Ohm") == "3.94 ± nan kΩ"  # the value keeps its prefix
+    assert format_uncertain(999.6, -5.0, "Ohm") == "1 ± 0.005 kΩ"  # an error is a size
 
 
 def test_the_drt_model_predicts_between_the_data_and_is_drawn_as_a_curve():
@@ -489,3 +491,18 @@ def test_the_drt_model_predicts_between_the_data_and_is_drawn_as_a_curve():
     nyquist = [ax for ax in fig.axes if ax.get_xlabel().startswith("Z'")][0]
     (line,) = [ln for ln in nyquist.get_lines() if ln.get_label() == "DRT fit"]
     assert line.get_xydata().shape[0] >= 200
+
+
+def test_the_drt_model_predicts_with_a_series_capacitance_and_for_a_scalar():
+    # SYNTHETIC blocking electrode: 20 Ω + a ZARC in series with 50 µF, fitted with the series
+    # capacitance: predict() is z_fit at the data's frequencies (the 1/(jωC) term included),
+    # follows the formula between them, and takes a scalar frequency
+    z = 20.0 + zarc(2200.0, 2e-3, 0.9) + 1 / (1j * W * 50e-6)
+    result = ix.drt(ix.make_spectrum(F, z), capacitance=True)
+    assert np.isfinite(result.c_f)
+    np.testing.assert_allclose(result.predict(F), result.z_fit, rtol=1e-12)
+    between = np.sqrt(F[:-1] * F[1:])
+    w = 2 * np.pi * between
+    z_between = 20.0 + 2200.0 / (1 + (1j * w * 2e-3) ** 0.9) + 1 / (1j * w * 50e-6)
+    assert np.max(np.abs(result.predict(between) - z_between) / np.abs(z_between)) < 1e-2
+    assert np.shape(result.predict(10.0)) == () and result.predict(10.0) == pytest.approx(result.predict(np.array([10.0]))[0], rel=1e-14)

@@ -150,3 +150,20 @@ def test_diagnose_names_an_element_of_the_user_s_circuit_that_the_data_do_not_ne
     notes = [n for n in d.notes if n.startswith("the baseline fit: ")]
     assert len(notes) == 1 and "Wo1 takes at most " in notes[0] and "R0 + R1 || CPE1, the model without it" in notes[0], d.notes
     assert "note: the baseline fit: Wo1 takes at most" in d.report()
+
+
+def test_an_undetermined_term_that_takes_its_share_of_the_voltage_is_not_called_idle():
+    # two series resistors: neither is determined (only their sum is), yet each takes about
+    # half the voltage at high frequency, so neither is idle; the series rule runs (the
+    # parameters are undetermined) and must stay silent
+    r = ix.fit("R0 + R1 || CPE1 + R_a", arc())
+    assert r.stderr["R0"] > r.values["R0"] and r.stderr["R_a"] > r.values["R_a"]
+    assert idle_notes(r.warnings) + chain_notes(r.warnings) == [], r.warnings
+
+
+def test_undetermined_notes_write_the_relative_error_as_the_table_does():
+    from impedax.fitting.least_squares.result import undetermined_note
+
+    assert undetermined_note("R1", 1.26) == "R1 has a relative standard error of 126%: it is not determined by the data"
+    assert undetermined_note("R1", 3.88e13) == "R1 has a relative standard error of 3.9e+15%: it is not determined by the data"
+    assert undetermined_note("R1", float("inf")) == "R1 has no finite standard error: it is not determined by the data"

@@ -57,7 +57,7 @@ GAMMA_HEADROOM = 1.3
 def plot_drt(result, *, overlay=None, title: str | None = None):
     """γ vs τ (band, peaks, optional overlay) on the left; Nyquist and Bode of data vs the DRT
     fit on the right; relative residuals below."""
-    data, model = (result.frequency, result.impedance), dense_model(result.frequency, result.z_fit, result.predict)
+    data, model = (result.frequency, result.impedance), dense_model(result.frequency, result.z_fit, getattr(result, "predict", None))
     shape = nyquist_shape(data, model)
     if shape <= FLAT_NYQUIST:  # the Nyquist panel across the top, as high as the spectrum's shape asks
         heights = [nyquist_panel_height(shape, 12.0), 2.6, 2.2]

@@ -8,7 +8,7 @@ from . import dense_model, nyquist_shape, plot_bode, plot_nyquist, plot_residual
 def plot_kk(result, *, title: str | None = None):
     """Nyquist and Bode of data vs KK fit, and the residuals Δ [%] vs frequency with the
     point threshold and the bad bands shaded, for a `KKResult`. Returns a matplotlib Figure."""
-    data, model = (result.frequency, result.impedance), dense_model(result.frequency, result.kk_impedance, result.predict)
+    data, model = (result.frequency, result.impedance), dense_model(result.frequency, result.kk_impedance, getattr(result, "predict", None))
     fig, (ax_nyq, ax_mod, ax_ph, ax_res) = spectrum_layout(nyquist_shape(data, model), True)
     plot_nyquist(ax_nyq, data, model, model_label=f"KK fit (M={result.n_rc})")
     plot_bode(ax_mod, ax_ph, data, model, model_label=f"KK fit (M={result.n_rc})")

@@ -282,7 +282,9 @@ class Posterior:
         from ...plotting.html import result_html
 
         lines = [
-            f"emcee: {self.n_walkers} walkers × {self.n_draws} draws, acceptance {self.mean_acceptance:.3f}; Laplace ln Z {self.log_evidence:.2f}, WAIC {self.waic:.2f}",
+            f"emcee: {self.n_walkers} walkers × {self.n_draws} draws, acceptance {self.mean_acceptance:.3f}; "
+            + (f"Laplace ln Z {self.log_evidence:.2f}" if math.isfinite(self.log_evidence) else "Laplace ln Z undefined")
+            + f", WAIC {self.waic:.2f}",
             *self.warnings,
         ]
         return result_html(f"{self.model}: posterior", self.to_table(), lines=lines)

@@ -20,6 +20,10 @@ __all__ = ["DRTResult", "DRTBatchResult"]
 DRT_MISFIT_MAX = 0.05
 
 
+PREDICT_BLOCK = 32
+"""Frequencies whose basis integrals `DRTResult.predict` evaluates at once."""
+
+
 @dataclass(frozen=True, eq=False)
 class DRTResult:
     """The distribution of relaxation times of one spectrum (see `impedax.drt`).
@@ -79,12 +83,19 @@ class DRTResult:
         (docs/drt.md)."""
         from .basis import RBFBasis, impedance_integrals
 
-        omega = 2 * np.pi * np.asarray(freq, float)
+        shape = np.shape(freq)
+        omega = 2 * np.pi * np.asarray(freq, float).ravel()
         ln_tau = np.log(self.basis_tau)
         basis = RBFBasis(ln_tau=ln_tau, step=float(np.mean(np.diff(ln_tau))) if ln_tau.size > 1 else 1.0, epsilon=2.0 * math.sqrt(math.log(2.0)) / (self.basis_fwhm_decades * math.log(10.0)))
-        a_re, a_im = impedance_integrals(omega, basis)
-        z = self.r_inf_ohm + 1j * omega * self.l_h + (a_re + 1j * a_im) @ self.coefficients
-        return z if math.isinf(self.c_f) else z + 1 / (1j * omega * self.c_f)
+        z_pol = np.empty(omega.size, complex)
+        # in blocks of `PREDICT_BLOCK` frequencies: the integrals' work array is frequencies ×
+        # basis functions × quadrature nodes (a figure's 400 points at once took ~0.3 GB)
+        for start in range(0, omega.size, PREDICT_BLOCK):
+            a_re, a_im = impedance_integrals(omega[start : start + PREDICT_BLOCK], basis)
+            z_pol[start : start + PREDICT_BLOCK] = (a_re + 1j * a_im) @ self.coefficients
+        z = self.r_inf_ohm + 1j * omega * self.l_h + z_pol
+        z = z if math.isinf(self.c_f) else z + 1 / (1j * omega * self.c_f)
+        return z.reshape(shape)
 
     def gamma_at(self, tau) -> np.ndarray:
         """γ [Ω] at arbitrary τ [s] (interpolated in ln τ on the output grid; 0 outside it)."""
@@ -154,8 +165,8 @@ class DRTResult:
         lines = [
             f"DRT ({'signed' if self.signed else 'non-negative'}, Tikhonov on Gaussian RBFs, derivative order {self.derivative}): "
             f"λ = {self.lam:.3g} " + ("as given" if self.lambda_method == "fixed" else f"by {self.lambda_method}"),
-            f"R_inf = {format_quantity(self.r_inf_ohm, 'Ω')}, L = {format_quantity(self.l_h, 'H')}" + ("" if math.isinf(self.c_f) else f", C = {format_quantity(self.c_f, 'F')}")
-            + f", R_pol = {format_quantity(self.polarization_resistance, 'Ω')}",
+            f"R_inf = {format_quantity(self.r_inf_ohm, 'Ω', 4)}, L = {format_quantity(self.l_h, 'H')}" + ("" if math.isinf(self.c_f) else f", C = {format_quantity(self.c_f, 'F')}")
+            + f", R_pol = {format_quantity(self.polarization_resistance, 'Ω', 4)}",
             f"rms_rel = {self.rms_rel * 100:.3g} % (noise estimate {self.noise_estimate * 100:.3g} %)" + ("" if self.converged else "; active-set solve did NOT converge"),
             f"{len(self.peaks)} peak(s):",
         ]

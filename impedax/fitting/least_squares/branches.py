@@ -1,7 +1,10 @@
-"""Idle branches: why a parameter is undetermined when its element is one branch of a parallel
-block that carries next to none of the block's current over the measured band (a resistor that
-ran open beside a CPE, a capacitance beside a resistor that shorts it). Single, batch and
-global fits add the same note (docs/fitting.md, "Identifiability warnings")."""
+"""Idle terms: why a parameter is undetermined when its element (or the sub-circuit holding it)
+is one branch of a parallel block that carries next to none of the block's current over the
+measured band (a resistor that ran open beside a CPE, a capacitance beside a resistor that
+shorts it, a branch R1 + W1 whose R1 ran open), or one term of a series chain that takes next
+to none of its voltage (a Warburg element whose R ran to 0). Single, batch and global fits add
+the same note, and `diagnose` repeats its baseline's (docs/fitting.md, "Identifiability
+warnings")."""
 
 from __future__ import annotations
 

@@ -245,6 +245,11 @@ def correlated_note(a: str, b: str, r: float) -> str:
 
 
 def undetermined_note(name: str, relative_error: float) -> str:
+    """"R1 has a relative standard error of 126%: it is not determined by the data" (as the fit
+    table writes it, `format_relative_error`); "has no finite standard error" where it is not
+    finite."""
+    if not math.isfinite(relative_error):
+        return f"{name} has no finite standard error: it is not determined by the data"
     return f"{name} has a relative standard error of {format_relative_error(relative_error)}: it is not determined by the data"
 
 

@@ -578,7 +578,8 @@ def _sharing_notes(layout: SharedLayout, value, stderr, sides, table: ParameterT
             bound, where = float((table.upper if side > 0 else table.lower)[i]), "upper" if side > 0 else "lower"
             notes.append("shared " + (bound_note(n, bound, where) if at else bound_note(n, bound, where, value=v, stderr=e, unit=table.units[i])))
         elif undetermined(v, e):
-            notes.append(f"shared {n} has a relative standard error of {abs(e / v) * 100:.3g}%: the data do not determine it")
+            relative = abs(e / v) if math.isfinite(e) else math.inf
+            notes.append(f"shared {n} has " + (f"a relative standard error of {format_relative_error(relative)}" if math.isfinite(relative) else "no finite standard error") + ": the data do not determine it")
     if math.isfinite(p) and p < SHARING_P_LIMIT:
         notes.append(
             f"the spectra disagree with sharing {', '.join(layout.shared)} over {', '.join(layout.over)}: independent fits are better "
