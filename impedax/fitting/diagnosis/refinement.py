@@ -421,8 +421,9 @@ def refine(
 ) -> Refinement:
     """Refine ``circuit`` (default `REFINE_START`) on ``data``: diagnose → add the best
     significant effect → refit, until the verdict is not ``missing_effect`` (or no suggestion
-    remains) or ``max_effects`` (default 4; ``max_steps`` is its older name) effects were added. ``solver_steps``: the
-    Levenberg–Marquardt step limit of the candidate fits (``--max-steps`` of the CLI).
+    remains) or ``max_effects`` (default 4; ``max_steps`` is its older name) effects were
+    added. ``solver_steps``: the Levenberg–Marquardt step limit of the candidate fits
+    (``--max-steps`` of the CLI).
     ``registry`` parses the circuit; only the points with ``fmin`` ≤ f ≤ ``fmax`` are used, at
     every step, less the points the first diagnosis masks (KK-flagged); ``drt_evidence`` as in
     `diagnose`; ``progress`` is called with a line of text as each step starts. The final model
