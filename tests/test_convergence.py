@@ -49,6 +49,9 @@ def test_natural_bound_optimum_is_converged_with_at_bound():
     assert rows["R0"].split()[3] == "at" and "bound" in rows["R0"] and "bound" in rows["CPE1.alpha"]
     # ... and its standard-error column gives none (a log transform's scale at 0 said 1e-8 ± 1e+3)
     assert rows["R0"].split()[2] == "—" and rows["CPE1.alpha"].split()[2] == "—"
+    # ... and so does the notebook's table (the CSV export keeps the number)
+    html = result._repr_html_()
+    assert html.count("<td>at bound</td>") == 2 and result.to_table()[0]["stderr"] is not None
     assert "%" in rows["R1"] and "bound" not in rows["R1"]
 
 

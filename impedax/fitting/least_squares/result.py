@@ -185,7 +185,9 @@ class FitResult:
 
         status = "converged" if self.converged else "NOT converged"
         lines = [f"rms_rel {self.rms_rel * 100:.3g} %, chi2_red {self.chi2_red:.4g}, AIC {self.aic:.2f} ({self.n_points} points, {status})", *self.warnings]
-        return result_html(self.model, self.to_table(), lines=lines, figure=self.plot)
+        # as the text table: a parameter at a bound has no meaningful linearised error to show
+        rows = [{**row, "stderr": "at bound"} if row["name"] in self.at_bound else row for row in self.to_table()]
+        return result_html(self.model, rows, lines=lines, figure=self.plot)
 
     def derive(self, fn, freq=None):
         """Propagate the fit to ``fn(params[, freq])`` by the delta method (`derive_fit`)."""
