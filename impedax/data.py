@@ -143,31 +143,34 @@ def si_prefix(magnitude: float) -> tuple[float, str]:
     return next(((scale, prefix) for scale, prefix in SI_PREFIXES if magnitude >= scale), SI_PREFIXES[-1])
 
 
+def _quantity_parts(value: float, unit: str, digits: int) -> tuple[str, float, str]:
+    """(number text, scale, unit text with its prefix) of `format_quantity`: ``("2.2", 1e3, "kΩ")``;
+    scale 1 and the plain unit where no prefix applies."""
+    label = unit_text(unit) if unit else ""
+    if not label or not np.isfinite(value) or value == 0 or " " in label or "^" in label or "/" in label:  # (compound units, CPE Q, Warburg σ: plain)
+        return f"{value:.{digits}g}", 1.0, label
+    shown = float(f"{value:.{digits}g}")  # (the prefix of the value as printed: 999.6 Ω is 1 kΩ)
+    if abs(shown) < SI_PREFIXES[-1][0]:
+        return f"{value:.{digits}g}", 1.0, label
+    scale, prefix = si_prefix(abs(shown))
+    return f"{shown / scale:.{digits}g}", scale, f"{prefix}{label}"
+
+
 def format_quantity(value: float, unit: str, digits: int = 3) -> str:
     """``84 µF``, ``2.2 kΩ``, ``0.81`` (a value with an SI prefix, ``digits`` significant;
     dimensionless as it is)."""
-    if not unit or unit == "1" or not np.isfinite(value) or value == 0:
-        return f"{value:.{digits}g}" + (f" {unit_text(unit)}" if unit and unit != "1" else "")
-    unit = unit_text(unit)
-    if " " in unit or "^" in unit or "/" in unit:  # compound units (CPE Q, Warburg σ): plain
-        return f"{value:.{digits}g} {unit}"
-    shown = float(f"{value:.{digits}g}")  # (the prefix of the value as printed: 999.6 Ω is 1 kΩ)
-    if abs(shown) < SI_PREFIXES[-1][0]:
-        return f"{value:.{digits}g} {unit}"
-    scale, prefix = si_prefix(abs(shown))
-    return f"{shown / scale:.{digits}g} {prefix}{unit}"
+    number, _, label = _quantity_parts(value, unit, digits)
+    return f"{number} {label}" if label else number
 
 
 def format_uncertain(value: float, stderr: float, unit: str) -> str:
     """``731 ± 120 Ω``, ``3.94 ± 0.19 kΩ``: a value (3 digits) and its standard error (2, its
     size) in the SI prefix `format_quantity` gives the value; without a prefix where it gives
     none (compound units, zero, not finite)."""
-    text, base = format_quantity(value, unit), unit_text(unit)
-    number, _, prefixed = text.partition(" ")
-    scale = dict((p, s) for s, p in SI_PREFIXES).get(prefixed[: len(prefixed) - len(base)], 1.0) if base and prefixed.endswith(base) else 1.0
+    number, scale, label = _quantity_parts(value, unit, 3)
     error = abs(stderr) / scale
     shown = f"{float(f'{error:.2g}'):g}" if np.isfinite(error) else f"{error}"
-    return f"{number} ± {shown}" + (f" {prefixed}" if prefixed else "")
+    return f"{number} ± {shown}" + (f" {label}" if label else "")
 
 
 def format_relative_error(ratio: float) -> str:

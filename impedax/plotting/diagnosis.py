@@ -125,10 +125,10 @@ def _refinement_nyquist(ax, refinement, legend_chars: int) -> None:
     for fit, style, color, name in drawn:
         z = model_curve(fit)[1]
         ax.plot(z.real, -z.imag, style, lw=1.4, color=color, label=wrap_model(f"{name}: {fit.model} ({fit.rms_rel * 100:.3g} %)", legend_chars))
-    # the panel is scaled to the data and the last model: a start far off (the demo's pure
-    # capacitor, a line to 165 MΩ beside an arc of 57 MΩ) runs off the panel, where it had
-    # shrunk the data to a corner
-    shown = np.concatenate([first.z_data, model_curve(last)[1]])
+    # the panel is scaled to the data and the last model drawn (the first when it is alone): a
+    # start far off (the demo's pure capacitor, a line to 165 MΩ beside an arc of 57 MΩ) runs
+    # off the panel, where it had shrunk the data to a corner
+    shown = np.concatenate([first.z_data, z])
     shown = shown[np.isfinite(shown)]
     if shown.size:
         ax.ignore_existing_data_limits = True
