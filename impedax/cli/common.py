@@ -209,12 +209,26 @@ def _extra_dims(data) -> list[str]:
     return [d for d in data["Z"].dims if d != "frequency"]
 
 
-def load_selected(path: str, select: Sequence[str] | None, *, single: str | None = None):
-    """The spectra of file ``path`` (`impedax.io.load`), narrowed by ``--select DIM=LABEL``
-    items (`select_spectra`)."""
+#: Notes of a reader (``attrs``) that a command prints as warnings: what was read may not be
+#: what the file meant.
+LOAD_WARNINGS = ("phase_unit_note",)
+
+
+def _load_noting(path: str, warn: bool = True):
+    """`impedax.io.load`, printing the reader's `LOAD_WARNINGS` notes to stderr."""
     from ..io import load
 
-    return select_spectra(load(path), path, select, single=single)
+    data = load(path)
+    for key in LOAD_WARNINGS if warn else ():
+        if key in data.attrs:
+            print(f"impedax: warning: {path}: {data.attrs[key]}", file=sys.stderr)
+    return data
+
+
+def load_selected(path: str, select: Sequence[str] | None, *, single: str | None = None, warn: bool = True):
+    """The spectra of file ``path`` (`impedax.io.load`), narrowed by ``--select DIM=LABEL``
+    items (`select_spectra`); ``warn`` prints the reader's `LOAD_WARNINGS` notes."""
+    return select_spectra(_load_noting(path, warn), path, select, single=single)
 
 
 def load_selected_files(paths: Sequence[str], select: Sequence[str] | None) -> list:
@@ -222,9 +236,7 @@ def load_selected_files(paths: Sequence[str], select: Sequence[str] | None) -> l
     narrowed by the ``--select DIM=LABEL`` items whose DIM it has (`select_spectra`: the same
     checks and messages); a DIM that none of them has is a `ParameterError` naming their
     dimensions."""
-    from ..io import load
-
-    datasets = [load(p) for p in paths]
+    datasets = [_load_noting(p) for p in paths]
     items = [(item, _select_item(item)[0]) for item in select or ()]
     for item, dim in items:
         if not any(dim in _extra_dims(d) for d in datasets):

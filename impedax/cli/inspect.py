@@ -5,7 +5,7 @@ preview."""
 
 from __future__ import annotations
 
-_HOW_KEYS = ("sign_convention", "units", "interpretation", "decimal_mark", "point_count_note")
+_HOW_KEYS = ("sign_convention", "units", "interpretation", "phase_unit_note", "decimal_mark", "point_count_note")
 
 
 def register(sub) -> None:
@@ -31,7 +31,7 @@ def run(args) -> int:
     from .common import Output, dimension_labels, emit_json, figure_writer, labels_text, load_selected, plan_outputs, spectrum_writer
 
     outputs = plan_outputs([("--out", args.out, "spectrum"), ("--plot", args.plot, "figure")], inputs=[args.file], stdout="--json" if args.json else None)
-    ds = load_selected(args.file, args.select)
+    ds = load_selected(args.file, args.select, warn=False)  # (its report shows the notes)
     extra = [d for d in ds["Z"].dims if d != "frequency"]
     if args.out and extra and Output("--out", args.out, "spectrum").suffix().lower() not in NETCDF_SUFFIXES:
         n = " × ".join(str(ds.sizes[d]) for d in extra)

@@ -2,9 +2,10 @@
 
 A file is recognised by its content: each reader's ``sniff`` looks at the first 64 kB (and the
 name) and the first that claims the file reads it; plain delimited text is the fallback. A file
-no reader claims raises one `DataError` listing, in one short line each, every format tried and
-why it did not fit. Files that are not regular files (``/dev/zero``, pipes) or are larger than
-`MAX_FILE_BYTES` are refused before anything is read.
+no reader claims raises one `DataError`: first why it is not delimited text (the column names
+it found), then every other format tried and why it did not fit. Files that are not regular
+files (``/dev/zero``, pipes) or are larger than `MAX_FILE_BYTES` are refused before anything is
+read.
 """
 
 from __future__ import annotations
@@ -89,15 +90,19 @@ def load(path: str | os.PathLike, readers: Sequence[Reader] | None = None) -> xr
     head = _head(path)
     if not head_text(head).strip():  # binary or blank: decided from the first 64 kB, before reading the whole file
         if head.strip(b" \t\r\n"):
-            tried.append("delimited text: binary file, not delimited text")
-            raise DataError(f"not a recognised spectrum file; formats tried: {'; '.join(tried)}", path=path)
+            raise DataError(_unrecognised("binary file, not delimited text", tried), path=path)
         raise DataError("file is empty", path=path)
     try:
         ds = read_csv(path)
     except NoLayout as exc:
-        tried.append(f"delimited text: {exc.reason}")
-        raise DataError(f"not a recognised spectrum file; formats tried: {'; '.join(tried)}", path=exc.path, line=exc.line) from None
+        raise DataError(_unrecognised(exc.reason, tried), path=exc.path, line=exc.line) from None
     return validate_spectrum(ds, source=str(path))
+
+
+def _unrecognised(as_text: str, tried: Sequence[str]) -> str:
+    """The message for a file no reader claims: why it is not delimited text first (the reason
+    a user of a text table needs), then every other format tried and why, on one line."""
+    return f"not a recognised spectrum file: as delimited text, {as_text}; other formats tried: {'; '.join(tried)}"
 
 
 def _load_stdin(readers: Sequence[Reader] | None) -> xr.Dataset:

@@ -26,21 +26,34 @@ from ._common import UNIT_CELL, Skipped, decimal_comma, finish, first_line, head
 __all__ = ["ROLES", "Layout", "detect_layout", "role_of", "spectrum_from_rows"]
 
 
-_IMAG = {"z_imag", "zimag", "z_im", "zim", "im_z", "imz", "im(z)", "z''", "imag", "imaginary", "zi", "imagz", "zimg", "z''(b)", "z_imag_ohm", "zimag_ohm", "zimaginary"}
-_PHASE = {"phase", "phase(z)", "z_phase", "zphase", "phi", "theta", "zphz", "phase_deg", "z_phase_deg", "phasedeg"}
+_IMAG = {"z_imag", "z_im", "im_z", "im(z)", "imag(z)", "z''", "imag", "imaginary", "im", "zi", "imagz", "zimg", "z''(b)",
+         "zimaginary", "reactance", "x", "xs"}
+_PHASE = {"phase", "phase(z)", "z_phase", "phi", "theta", "zphz", "phase_angle", "angle", "arg(z)", "argz", "θ", "θz",
+          "θ(z)", "theta_z", "phase_z", "phi_z", "phasedeg"}
 ROLES: dict[str, set[str]] = {
-    "frequency": {"frequency", "freq", "f", "frequency_hz", "freq_hz", "frequencyhz", "freqhz", "fhz"},
-    "real": {"z_real", "zreal", "z_re", "zre", "re_z", "rez", "re(z)", "z'", "real", "zr", "realz", "z'(a)", "z_real_ohm", "zreal_ohm"},
+    "frequency": {"frequency", "freq", "f", "frequencyhz", "freqhz", "fhz"},
+    "real": {"z_real", "z_re", "re_z", "re(z)", "real(z)", "z'", "real", "re", "zr", "realz", "z'(a)", "resistance", "r", "rs"},
     "imag": _IMAG,
     "neg_imag": {"-" + k for k in _IMAG} | {"neg_z_imag", "minus_z_imag"},
-    "modulus": {"|z|", "zmod", "z_mod", "mod(z)", "modz", "magnitude", "abs(z)", "absz", "z_abs", "z", "z_mod_ohm"},
+    "modulus": {"|z|", "z_mod", "mod(z)", "modz", "magnitude", "abs(z)", "absz", "z_abs", "z", "z_magnitude", "z_mag", "mag",
+                "mag(z)", "magnitude(z)", "impedance", "|impedance|", "impedance_magnitude", "impedance_modulus"},
     "phase": _PHASE,
     "neg_phase": {"-" + k for k in _PHASE},
-    "sigma": {"sigma", "sigma_ohm", "sigma_z", "sigma_z_ohm", "std", "sem"},
+    "sigma": {"sigma", "sigma_z", "std", "sem"},
 }
+"""Header names of each column role, in the form `_key` gives them. Underscores do not count
+(``z_real`` is ``ZReal``), and a name may end in a unit suffix of `_SUFFIX_UNITS`
+(``ReZ_Ohm``, ``frequency_hz``)."""
 _QUANTITY = {"frequency": "frequency", "real": "resistance", "imag": "resistance", "neg_imag": "resistance",
              "modulus": "resistance", "sigma": "resistance", "phase": "angle", "neg_phase": "angle"}
-_SUFFIX_UNITS = {"_hz": "Hz", "_ohm": "Ω", "_deg": "deg"}
+_SUFFIX_UNITS = {"_hz": "Hz", "_ohm": "Ω", "_ohms": "Ω", "_deg": "deg", "_rad": "rad"}
+
+
+def _squash(key: str) -> str:
+    return key.replace("_", "")
+
+
+_ROLE_OF_NAME = {_squash(name): role for role, names in ROLES.items() for name in names}
 
 
 def _key(name: str) -> str:
@@ -50,8 +63,17 @@ def _key(name: str) -> str:
     return key
 
 
+def _suffix(key: str) -> str:
+    """The unit suffix ``key`` ends in (``'_ohm'`` of ``'rez_ohm'``), or ``''``."""
+    return next((s for s in _SUFFIX_UNITS if key.endswith(s) and len(key) > len(s)), "")
+
+
 def _lookup(key: str) -> str | None:
-    return next((r for r, names in ROLES.items() if key in names), None)
+    role = _ROLE_OF_NAME.get(_squash(key))
+    suffix = _suffix(key)
+    if role is None and suffix:
+        role = _ROLE_OF_NAME.get(_squash(key[: -len(suffix)]))
+    return role
 
 
 def role_of(cell: str) -> tuple[str, float, str] | None:
@@ -66,8 +88,8 @@ def role_of(cell: str) -> tuple[str, float, str] | None:
             name, role = m.group("name"), _lookup(_key(m.group("name")))
         else:
             return None
-    if not unit:
-        unit = next((u for s, u in _SUFFIX_UNITS.items() if key.endswith(s)), "")
+    if not unit and _suffix(key):
+        unit = _SUFFIX_UNITS[_suffix(key)]
     if not unit:
         return role, 1.0, ""
     try:
@@ -154,6 +176,20 @@ def detect_layout(header: Sequence[str], path: Path, line: int | None) -> Layout
     return layout
 
 
+def _radians_note(layout: Layout, phase: np.ndarray) -> dict:
+    """A ``phase_unit_note`` when a phase column without a unit, read as degrees, holds
+    values that look like radians: all within ±π/2 and some beyond ±0.2 (as degrees, a spectrum
+    that never leaves ±1.6° of a resistor's)."""
+    name = layout.name("phase" if "phase" in layout.columns else "neg_phase")
+    found = role_of(name)
+    magnitude = np.abs(phase[np.isfinite(phase)])
+    if found is None or found[2] or magnitude.size == 0 or magnitude.max() > np.pi / 2 or magnitude.max() < 0.2:
+        return {}
+    note = (f"column {name!r} has no unit and was read in degrees, but its values lie within ±π/2 (±1.571) as radians "
+            f"would: if they are radians, name the column '{name} (rad)'")
+    return {"phase_unit_note": note}
+
+
 def spectrum_from_rows(
     path: Path,
     layout: Layout,
@@ -205,6 +241,7 @@ def spectrum_from_rows(
     else:
         phase = col["phase"] if "phase" in col else -col["neg_phase"]
         z = col["modulus"] * np.exp(1j * np.deg2rad(phase))
+        attrs = {**attrs, **_radians_note(layout, phase)}
     attrs = {**attrs, **layout.notes()}
     if layout.ignored:
         attrs.setdefault("other_columns", ", ".join(layout.ignored))
