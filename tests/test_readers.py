@@ -274,6 +274,75 @@ def test_a_phase_without_unit_that_looks_like_radians_is_noted(tmp_path, capsys)
     assert "phase unit note: column 'phase' has no unit" in captured.out and "warning" not in captured.err
 
 
+def _sweeps_file(path, grids, *, header="frequency,Zreal,Zimag,time/s", cycles=None):
+    """Sweeps one after another in one table; sweep k is the oracle plus k Ω in series."""
+    rows, t = [header], 0.0
+    for k, grid in enumerate(grids):
+        for f, zi in zip(grid.tolist(), (oracle(grid) + k).tolist()):
+            t += 1.5
+            rows.append(f"{f!r},{zi.real!r},{zi.imag!r},{t!r}" + ("" if cycles is None else f",{cycles[k]}"))
+    path.write_text("\n".join(rows) + "\n")
+    return path
+
+
+def test_repeated_sweeps_in_one_table_become_a_dimension(tmp_path):
+    ds = ix.load(_sweeps_file(tmp_path / "three.csv", [F_HZ] * 3))
+    assert ds["Z"].dims == ("sweep", "frequency") and list(ds["sweep"].values) == ["0", "1", "2"]
+    np.testing.assert_array_equal(ds["frequency"].values, F_HZ)
+    for k in range(3):
+        np.testing.assert_allclose(ds["Z"].values[k], oracle(F_HZ) + k, rtol=1e-15)
+    np.testing.assert_allclose(ds["time"].values, 1.5 * np.arange(1, 13).reshape(3, 4))  # each point's own time
+    assert ds.attrs["sweeps"] == "3 sweeps of 4 points (the frequency list restarts on lines 6, 10)"
+    # measured frequencies that vary in their last digits from sweep to sweep: sweep 0's grid, said so
+    ds = ix.load(_sweeps_file(tmp_path / "jitter.csv", [F_HZ, F_HZ * (1 + 2e-4)]))
+    np.testing.assert_array_equal(ds["frequency"].values, F_HZ)
+    np.testing.assert_allclose(ds["Z"].values[1], oracle(F_HZ * (1 + 2e-4)) + 1, rtol=1e-15)
+    assert "differ from sweep 0's by up to 2.0e-04 relative" in ds.attrs["sweeps"]
+    # the same in impedax's own CSV layout (read by its fast path when it holds one spectrum)
+    grids = [F_HZ, F_HZ * (1 + 2e-4)]
+    rows = [f"{f!r},{zi.real!r},{zi.imag!r}" for k, g in enumerate(grids) for f, zi in zip(g.tolist(), (oracle(g) + k).tolist())]
+    (tmp_path / "canonical.csv").write_text("\n".join(["frequency_hz,z_real_ohm,z_imag_ohm", *rows]) + "\n")
+    assert ix.load(tmp_path / "canonical.csv")["Z"].dims == ("sweep", "frequency")
+    # EC-Lab's cycle number names the sweeps
+    ds = ix.load(_sweeps_file(tmp_path / "cycles.csv", [F_HZ] * 2, header="frequency,Zreal,Zimag,time/s,cycle number", cycles=[3, 4]))
+    assert ds["Z"].dims == ("cycle", "frequency") and list(ds["cycle"].values) == ["3", "4"]
+    np.testing.assert_allclose(ds["Z"].values[1], oracle(F_HZ) + 1, rtol=1e-15)
+
+
+def test_ec_lab_cycles_become_a_dimension(tmp_path):
+    """EC-Lab's real example file (impedance.py 1.7's), its data rows written a second time as
+    cycle 2 with Z' 5 Ω higher: a `cycle` dimension, the file's values in each."""
+    source = FIXTURES / "real" / "exampleDataBioLogic.mpt"
+    text = source.read_text(encoding="latin-1")
+    lines = text.splitlines()
+    n_header = int(re.search(r"Nb header lines\s*:\s*(\d+)", text).group(1))
+    header = lines[n_header - 1].split("\t")
+    cycle, real = header.index("cycle number"), header.index("Re(Z)/Ohm")
+    again = []
+    for row in lines[n_header:]:
+        cells = row.split("\t")
+        cells[cycle], cells[real] = "2.000000000000000E+000", repr(float(cells[real]) + 5.0)
+        again.append("\t".join(cells))
+    path = tmp_path / "two_cycles.mpt"
+    path.write_text("\n".join(lines + again) + "\n", encoding="latin-1")
+    one, two = ix.load(source), ix.load(path)
+    assert two["Z"].dims == ("cycle", "frequency") and list(two["cycle"].values) == ["1", "2"]
+    np.testing.assert_array_equal(two["Z"].values[0], one["Z"].values)
+    np.testing.assert_allclose(two["Z"].values[1], one["Z"].values + 5.0, rtol=1e-15)
+    assert two.attrs["sweeps"] == f"2 cycles of {one['frequency'].size} points (the cycle number changes on line {len(lines) + 1})"
+
+def test_sweeps_that_are_not_repeats_of_one_list(tmp_path):
+    # a sweep cut short: an error naming the line where it starts
+    with pytest.raises(ix.DataError, match=r"short.csv, line 10: the table holds 3 sweeps of one frequency list .* of 4, 4, 2 points"):
+        ix.load(_sweeps_file(tmp_path / "short.csv", [F_HZ, F_HZ, F_HZ[:2]]))
+    # down and back up: one spectrum with a repeated frequency, as before
+    with pytest.raises(ix.DataError, match=r"line 6: duplicate frequency 0.1 Hz \(also on line 5\)"):
+        ix.load(_sweeps_file(tmp_path / "updown.csv", [F_HZ, F_HZ[::-1]]))
+    # a second list on another grid: one spectrum of 8 points
+    ds = ix.load(_sweeps_file(tmp_path / "two_grids.csv", [F_HZ, F_HZ * 1.5]))
+    assert ds["Z"].dims == ("frequency",) and ds["frequency"].size == 8 and "sweeps" not in ds.attrs
+
+
 # --- nothing skipped silently, nothing shifted --------------------------------------------------
 
 

@@ -5,7 +5,7 @@ preview."""
 
 from __future__ import annotations
 
-_HOW_KEYS = ("sign_convention", "units", "interpretation", "phase_unit_note", "decimal_mark", "point_count_note")
+_HOW_KEYS = ("sign_convention", "units", "sweeps", "interpretation", "phase_unit_note", "decimal_mark", "point_count_note")
 
 
 def register(sub) -> None:

@@ -21,7 +21,7 @@ import xarray as xr
 from ..errors import DataError
 from ._common import decimal_comma, decode_text, finish, read_bytes
 from .atomic import atomic_path
-from .table import Layout, NoLayout, detect_layout, spectrum_from_rows
+from .table import SWEEP_RTOL, Layout, NoLayout, detect_layout, spectrum_from_rows
 
 __all__ = ["read_csv", "write_csv", "CSV_HEADER", "split_line", "find_delimiter"]
 
@@ -59,8 +59,8 @@ def _read_canonical(path: Path, raw: bytes) -> xr.Dataset | None:
     if table.shape[0] == 0 or table.shape[1] != 3 or not np.isfinite(table).all():
         return None
     freq = table[:, 0]
-    if not (freq > 0).all() or np.unique(freq).size != freq.size:
-        return None
+    if not (freq > 0).all() or np.unique(freq).size != freq.size or np.count_nonzero(np.abs(freq / freq[0] - 1) <= SWEEP_RTOL) > 1:
+        return None  # (the general reader names the line, or reads the sweeps)
     layout = detect_layout(list(CSV_HEADER), path, 1)
     lines = range(2, 2 + freq.size) if b"\n\n" not in raw and b"\n\r\n" not in raw else [None] * freq.size
     return finish(path, freq, table[:, 1] + 1j * table[:, 2], lines, {"format": "delimited text", **layout.notes()})
@@ -100,7 +100,7 @@ def read_csv(path: str | Path) -> xr.Dataset:
     comma = decimal_comma([c for _, ln in rows[:20] for c in split_line(ln, delimiter)], delimiter)
     if comma:
         attrs["decimal_mark"] = "comma"
-    return spectrum_from_rows(path, layout, [(n, split_line(ln, delimiter)) for n, ln in rows], attrs, comma=comma, delimiter=delimiter, header_line=header_no)
+    return spectrum_from_rows(path, layout, [(n, split_line(ln, delimiter)) for n, ln in rows], attrs, comma=comma, delimiter=delimiter, header_line=header_no, split_sweeps=True)
 
 
 def write_csv(ds: xr.Dataset, path: str | Path | None = None) -> str:

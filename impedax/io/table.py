@@ -201,8 +201,12 @@ def spectrum_from_rows(
     skipped: Skipped | None = None,
     where: str = "",
     header_line: int | None = None,
+    split_sweeps: bool = False,
 ) -> xr.Dataset:
-    """One spectrum from ``rows`` (line number, cells) laid out as ``layout``."""
+    """One spectrum from ``rows`` (line number, cells) laid out as ``layout``. With
+    ``split_sweeps``, a table of several sweeps of one frequency list (the list restarts, or an
+    EC-Lab ``cycle number`` column changes) becomes a ``sweep`` (``cycle``) dimension
+    (`_sweep_blocks`)."""
     skipped = skipped if skipped is not None else Skipped()
     header = list(layout.header)
     while header and not header[-1]:
@@ -216,6 +220,8 @@ def spectrum_from_rows(
     lines: list[int] = []
     time_col = next((i for i, h in enumerate(header) if _key(split_header_cell(h)[0]) in ("time", "elapsedtime", "time(sec)")), None)
     times: list[float] = []
+    cycle_col = next((i for i, h in enumerate(header) if _key(h) in _CYCLE_NAMES), None) if split_sweeps else None
+    cycles: list[float] = []
     for line, cells in rows:
         cells = [c.strip() for c in cells]
         while len(cells) > n_fields and not cells[-1]:
@@ -232,6 +238,8 @@ def spectrum_from_rows(
                 times.append(float(cells[time_col].replace(",", ".") if comma else cells[time_col]))
             except ValueError:
                 time_col = None
+        if cycle_col is not None:
+            cycles.append(number(cells[cycle_col], path, line, header[cycle_col], comma=comma))
         lines.append(line)
     if not lines:
         raise DataError(f"{where}header but no data rows" + (f" (skipped: {'; '.join(skipped.report())})" if len(skipped) else ""), path=path, line=header_line)
@@ -248,10 +256,90 @@ def spectrum_from_rows(
     extra = {}
     if time_col is not None and len(times) == len(lines):
         extra["time"] = (np.array(times), "s", "time of the measurement")
-    ds = finish(path, col["frequency"], z, lines, attrs, skipped=skipped, extra=extra)
-    if "sigma" in col:
-        keep = col["frequency"] != 0
-        sigma = col["sigma"][keep]
+    freq, sigma = col["frequency"], col.get("sigma")
+    sweeps = _sweep_blocks(freq, np.array(cycles) if cycle_col is not None else None, lines, path) if split_sweeps else None
+    if sweeps is None:
+        return _spectrum(path, freq, z, lines, attrs, skipped, extra, sigma, where)
+    dim, labels, blocks, deviation = sweeps
+    for i in np.flatnonzero(freq == 0):
+        skipped.add(lines[i], "f = 0 (DC row, not an impedance point)")
+    skipped.rows.sort()
+    spectra = [
+        _spectrum(path, freq[b], z[b], [lines[i] for i in b], attrs, Skipped(), {k: (v[b], u, d) for k, (v, u, d) in extra.items()},
+                  None if sigma is None else sigma[b], where)
+        for b in blocks
+    ]
+    grid = spectra[0]["frequency"]
+    ds = xr.concat([s.assign_coords(frequency=grid) for s in spectra], dim=dim, combine_attrs="override").assign_coords({dim: labels})
+    note = f"{len(blocks)} {dim}s of {grid.size} points ({_sweep_starts(dim, blocks, lines)})"
+    if deviation > 0:
+        note += f"; their frequencies differ from {dim} {labels[0]}'s by up to {deviation:.1e} relative, and the grid is {dim} {labels[0]}'s"
+    ds.attrs["sweeps"] = note
+    if len(skipped):
+        ds.attrs["skipped_rows"] = skipped.report()
+    return ds
+
+
+#: Header names (as `_key` gives them) of a column numbering the sweeps: EC-Lab's ``cycle number``.
+_CYCLE_NAMES = ("cyclenumber", "cycle")
+#: How far (relative) the frequencies of a repeated sweep may stray from the first sweep's: an
+#: instrument's measured frequencies vary in their last digits from sweep to sweep.
+SWEEP_RTOL = 1e-3
+
+
+def _sweep_blocks(freq: np.ndarray, cycles: np.ndarray | None, lines: Sequence[int], path: Path):
+    """``(dim, labels, blocks, deviation)`` of a table holding several sweeps of one frequency
+    list, each block the row indices of one sweep (rows at f = 0 left out); ``None`` for one sweep.
+    A sweep starts where the cycle number changes or, without one, where the first frequency
+    comes back (within `SWEEP_RTOL`); every sweep must list the first one's frequencies (within
+    `SWEEP_RTOL`), else the table is read as one spectrum. A sweep cut short (a prefix of the
+    list) is a `DataError` saying so."""
+    rows = np.flatnonzero(freq != 0)
+    f = freq[rows]
+    if cycles is not None and np.unique(cycles[rows]).size > 1:
+        values = cycles[rows]
+        starts = [0, *np.flatnonzero(values[1:] != values[:-1]) + 1]
+        dim, labels = "cycle", [f"{v:g}" for v in values[starts]]
+        if len(set(labels)) != len(labels):
+            return None  # cycles interleaved: not sweeps one after another
+    else:
+        near_first = np.abs(f / f[0] - 1) <= SWEEP_RTOL if f.size else np.zeros(0, bool)
+        starts = [0, *(np.flatnonzero(near_first[1:] & ~near_first[:-1]) + 1).tolist()]
+        if len(starts) < 2:
+            return None
+        dim, labels = "sweep", [str(k) for k in range(len(starts))]
+    blocks = np.split(rows, starts[1:])
+    if any(np.unique(freq[b]).size < b.size for b in blocks):
+        return None  # a frequency repeated within a sweep (a sweep down and back up): not repeated sweeps
+    first = freq[blocks[0]]
+    n = first.size
+    deviations = [float(np.max(np.abs(freq[b] / first[: b.size] - 1))) if b.size <= n else np.inf for b in blocks]
+    if any(b.size > n for b in blocks) or max(deviations) > SWEEP_RTOL:
+        return None
+    if any(b.size != n for b in blocks):
+        sizes = ", ".join(str(b.size) for b in blocks)
+        short = next(b for b in blocks if b.size != n)
+        raise DataError(
+            f"the table holds {len(blocks)} {dim}s of one frequency list ({_sweep_starts(dim, blocks, lines)}), of {sizes} points; "
+            f"impedax holds one frequency grid per file: keep the complete {dim}s, or export each to a file of its own",
+            path=path, line=lines[short[0]],
+        )
+    return dim, labels, blocks, max(deviations)
+
+
+def _sweep_starts(dim: str, blocks: Sequence[np.ndarray], lines: Sequence[int]) -> str:
+    """Where the second and later sweeps start: 'the frequency list restarts on lines 22, 42'."""
+    starts = ", ".join(str(lines[b[0]]) for b in blocks[1:])
+    changes = "cycle number changes" if dim == "cycle" else "frequency list restarts"
+    return f"the {changes} on line{'s' if len(blocks) > 2 else ''} {starts}"
+
+
+def _spectrum(path, freq, z, lines, attrs, skipped, extra, sigma, where) -> xr.Dataset:
+    """One spectrum from its columns (`finish`), with its ``sigma`` column checked."""
+    ds = finish(path, freq, z, lines, attrs, skipped=skipped, extra=extra)
+    if sigma is not None:
+        keep = freq != 0
+        sigma = sigma[keep]
         if not (np.all(np.isfinite(sigma)) and np.all(sigma > 0)):
             bad = int(np.flatnonzero(~(sigma > 0))[0])
             raise DataError(f"{where}sigma must be positive, got {sigma[bad]:g}", path=path, line=[n for n, k in zip(lines, keep) if k][bad])

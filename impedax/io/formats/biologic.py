@@ -6,7 +6,8 @@ the column names being line N), ``key : value`` settings, then tab-separated col
 The "export as text" variant has only the column-name line and the data.
 
 Conventions: frequency in Hz; Z' = ``Re(Z)/Ohm``; the file stores −Z'' (``-Im(Z)/Ohm``), negated
-here. Decimal commas (locale exports) are accepted.
+here. Decimal commas (locale exports) are accepted. Cycles one after another (the ``cycle
+number`` column changes) become a ``cycle`` dimension (`impedax.io.table.spectrum_from_rows`).
 """
 
 from __future__ import annotations
@@ -94,7 +95,7 @@ def _columns(path: Path, lines: list[str], header_index: int, attrs: dict) -> xr
     except NoLayout as exc:
         raise DataError(exc.reason, path=path, line=header_index + 1) from None
     rows = [(k + 1, lines[k].split("\t")) for k in range(header_index + 1, len(lines)) if lines[k].strip()]
-    return spectrum_from_rows(path, layout, rows, attrs, delimiter="\t")
+    return spectrum_from_rows(path, layout, rows, attrs, delimiter="\t", split_sweeps=True)
 
 
 READER = Reader("BioLogic EC-Lab mpt", (".mpt",), sniff, read_biologic, CONVENTIONS)
