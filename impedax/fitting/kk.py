@@ -33,7 +33,7 @@ from .statistics import difference_noise
 
 __all__ = ["KKResult", "KKBatchResult", "kk_test", "kk_test_batch", "rejudged", "DEFAULT_THRESHOLDS", "CONCLUSIVE_POINTS_MIN"]
 
-# below this many frequencies the chain (M ≤ N/2 RC elements) is too stiff for the data, its
+# below this many frequencies the chain (M ≤ N − 3 RC elements) is too stiff for the data, its
 # misfit is the chain's own and the noise estimate follows it: the test cannot fail
 CONCLUSIVE_POINTS_MIN = 10
 
@@ -77,7 +77,7 @@ def _thresholds_for(rules: Mapping[str, float], n_points: int) -> dict[str, floa
 _JSON_KEYS = {
     "valid": "valid", "rms_rel": "rms_rel", "bad_bands": "bad_bands", "n_rc": "n_rc", "mu": "mu", "mu_reached": "mu_reached",
     "noise_estimate": "noise_estimate", "frequency_hz": "frequency", "residuals_real": "residuals_real", "residuals_imag": "residuals_imag",
-    "conclusive": "conclusive",
+    "conclusive": "conclusive", "chain_error": "chain_error",
 }
 
 
@@ -87,7 +87,9 @@ class KKResult:
 
     ``residuals_real``/``residuals_imag`` are Δ = (Z_data − Z_kk)/|Z_data| (dimensionless);
     ``rms_rel = sqrt(mean |Δ|²)``; ``noise_estimate`` is the robust per-component standard
-    deviation of the random part of Δ; ``bad_bands`` are [(f_min, f_max)] in Hz.
+    deviation of the random part of Δ; ``bad_bands`` are [(f_min, f_max)] in Hz;
+    ``chain_error`` is the reference chain's own misfit on these frequencies (`chain_error`), a
+    floor of ``threshold_scale``.
     """
 
     frequency: np.ndarray
@@ -111,6 +113,7 @@ class KKResult:
     inverse_series_capacitance: float
     c: float
     thresholds: Mapping[str, float] = field(default_factory=lambda: dict(DEFAULT_THRESHOLDS))
+    chain_error: float = 0.0
 
     def predict(self, freq) -> np.ndarray:
         """The KK fit's impedance [Ω] at ``freq`` [Hz]: R_0 + jωL + (1/C)/(jω) + Σ R_k/(1 +
@@ -156,6 +159,7 @@ class KKResult:
                 "series_resistance_ohm": self.series_resistance,
                 "series_inductance_h": self.series_inductance,
                 "inverse_series_capacitance_per_f": self.inverse_series_capacitance,
+                "chain_error": self.chain_error,
                 **{f"threshold_{k}": v for k, v in self.thresholds.items()},
             },
         )
@@ -177,6 +181,12 @@ class KKResult:
             f"rms_rel = {self.rms_rel * 100:.3g} %, noise estimate = {self.noise_estimate * 100:.3g} %",
             f"verdict: {verdict}",
         ]
+        if self.chain_error > max(self.noise_estimate if math.isfinite(self.noise_estimate) else 0.0, self.thresholds["noise_floor"]):
+            decades = math.log10(self.frequency.max() / self.frequency.min())
+            lines.append(
+                f"sparse data: at {self.frequency.size / decades:.2g} points a decade the Voigt chain fits a single relaxation only to "
+                f"{self.chain_error * 100:.2g} % rms; residuals are judged against that, not the noise"
+            )
         for lo, hi in self.bad_bands:
             lines.append(f"  bad band: {format_frequency(lo)} – {format_frequency(hi)}")
         return "\n".join(lines)
@@ -256,7 +266,8 @@ class KKBatchResult(ResultGrid):
         return ds
 
 
-def _check_options(n_points: int, c: float, max_rc, n_rc, n_series: int) -> int:
+def _check_options(freq: np.ndarray, c: float, max_rc, n_rc, n_series: int) -> int:
+    n_points = freq.size
     if not (isinstance(c, (int, float)) and 0.0 < c < 1.0):
         raise ParameterError(f"c must be between 0 and 1 (exclusive), got {c!r}")
     limit = n_points - n_series  # keep at least n_points extra equations (2N real equations)
@@ -267,10 +278,48 @@ def _check_options(n_points: int, c: float, max_rc, n_rc, n_series: int) -> int:
             raise ParameterError(f"n_rc must be an integer from 1 to {limit} for {n_points} frequencies, got {n_rc!r}")
         return int(n_rc)
     if max_rc is None:
-        return max(1, min(n_points // 2, 100))
+        return reference_rc(freq, n_series)
     if not isinstance(max_rc, (int, np.integer)) or not 1 <= max_rc <= limit:
         raise ParameterError(f"max_rc must be an integer from 1 to {limit} for {n_points} frequencies, got {max_rc!r}")
     return int(max_rc)
+
+
+REFERENCE_RC_PER_DECADE = 3.5
+"""RC elements per decade of τ of the reference chain, at least: a single relaxation between two
+of its time constants is then approximated to 0.074 % rms (`chain_error`; 0.22 % at 3 per
+decade, 0.63 % at 2.5, 0.025 % at 4), below the 0.2 % noise floor."""
+
+
+def reference_rc(freq: np.ndarray, n_series: int) -> int:
+    """M_ref, the most flexible chain tried: N/2, raised to `REFERENCE_RC_PER_DECADE` per decade
+    of the band when the data are sparser than about 7 points a decade; never above N − n_series
+    (N further equations) or 100."""
+    n_points = freq.size
+    decades = math.log10(freq.max() / freq.min()) if n_points > 1 else 0.0
+    dense_enough = math.ceil(REFERENCE_RC_PER_DECADE * decades) + 1
+    return max(1, min(max(n_points // 2, dense_enough), n_points - n_series, 100))
+
+
+def chain_error(freq: np.ndarray, m: int, inductance: bool, capacitance: bool) -> float:
+    """The Voigt chain's own misfit on exactly KK-consistent data: the largest rms relative
+    residual of the M-element chain (with its series terms) fitted to a single relaxation
+    1/(1 + jωτ) on these frequencies, τ at 9 positions between the chain's two central time
+    constants (the worst place for a relaxation). Residuals of this size are the chain's
+    approximation, not the data's inconsistency."""
+    freq = np.asarray(freq, dtype=np.float64)
+    omega = 2 * np.pi * freq
+    tau = _time_constants(freq, m)
+    if m < 2:
+        return 0.0
+    k = (m - 1) // 2
+    design = _design(omega, tau, inductance, capacitance)
+    worst = 0.0
+    for t in tau[k] * (tau[k + 1] / tau[k]) ** np.linspace(0.0, 1.0, 9):
+        z = 1.0 / (1.0 + 1j * omega * t)
+        weighted = design / np.abs(z)[:, None]
+        coef, *_ = np.linalg.lstsq(np.vstack([weighted.real, weighted.imag]), np.concatenate([(z / np.abs(z)).real, (z / np.abs(z)).imag]), rcond=None)
+        worst = max(worst, float(np.sqrt(np.mean(np.abs((design @ coef - z) / np.abs(z)) ** 2))))
+    return worst
 
 
 def _time_constants(freq: np.ndarray, m: int) -> np.ndarray:
@@ -394,7 +443,7 @@ def _kk_arrays(freq, z, *, c, max_rc, n_rc, inductance, capacitance, floor):
     """
     batch, n = z.shape
     n_series = 1 + int(inductance) + int(capacitance)
-    m_top = _check_options(n, c, max_rc, n_rc, n_series)
+    m_top = _check_options(np.asarray(freq, dtype=np.float64), c, max_rc, n_rc, n_series)
     omega = 2 * np.pi * np.asarray(freq, dtype=np.float64)
     tau_top = _time_constants(freq, m_top)
     coef_top, rss_top = _solve_streamed(omega, z, tau_top, inductance, capacitance)
@@ -567,12 +616,15 @@ def kk_test(
     """Linear Kramers–Kronig test of one spectrum (Schönleber et al. 2014).
 
     Fits Z_kk(ω) = R_0 + Σ_k R_k/(1 + jωτ_k) [+ jωL] [+ 1/(jωC)] with τ_k log-spaced from
-    1/(2π f_max) to 1/(2π f_min), by linear least squares on Re and Im weighted by 1/|Z|. M grows
-    from 1 until µ = 1 − Σ|R_k<0|/Σ|R_k≥0| < ``c`` (µ criterion; capped at ``max_rc``, default
-    N/2), unless ``n_rc`` fixes it. Residuals Δ = (Z_data − Z_kk)/|Z_data| per frequency.
+    1/(2π f_max) to 1/(2π f_min), by linear least squares on Re and Im weighted by 1/|Z|. M: the
+    smallest that is not underfitted against the most flexible chain (``max_rc``, default
+    `reference_rc`: N/2, or 3.5 per decade on sparse data) and has µ = 1 − Σ|R_k<0|/Σ|R_k≥0| < ``c``
+    (Schönleber's µ criterion; docs/kk.md, "Choosing M"), unless ``n_rc`` fixes it. Residuals
+    Δ = (Z_data − Z_kk)/|Z_data| per frequency.
 
     Validity rule (impedax): ``noise_estimate`` σ̂ = 1.4826·median|first differences of Δ' and Δ''
-    in frequency order|/√2, inflated by sqrt(2N/(2N−P)); scale s = max(σ̂, noise_floor = 0.2 %).
+    in frequency order|/√2, inflated by sqrt(2N/(2N−P)); scale s = max(σ̂, noise_floor = 0.2 %,
+    ``chain_error``, the reference chain's own misfit of one relaxation on these frequencies).
     A point is bad when |Δ| > 5 s; every point of a run of ≥ 3 consecutive frequencies with
     |Δ| > 3 s is bad; and the 9 points of any window where the mean of Δ' or of Δ'' exceeds
     4.5 s/3 are bad (slow drift). Bad points (single good gaps closed) form ``bad_bands`` (edges
@@ -580,10 +632,6 @@ def kk_test(
     synthetic spectra per case at 0.5 % and 2 % noise (RC, R-CPE, Randles, two arcs, finger EDL)
     none was flagged. Override with ``thresholds={"point", "run", "run_length", "window_mean",
     "window", "noise_floor"}``.
-
-    M: the smallest M with µ < c among fits that are not underfitted (implied noise
-    rms_rel/sqrt(1 − P/2N) within 1.25× of the best M); Schönleber's first-M rule alone can stop
-    on an early dip of µ with 10 % residuals.
 
     ``data``: a spectrum Dataset with only the ``frequency`` dimension, or a (frequency, Z)
     pair; for extra dimensions use `kk_test_batch`. ``inductance`` adds a series L (leads), and
@@ -640,13 +688,15 @@ def _run(freq, z, shape, dims, coords, *, c, max_rc, n_rc, inductance, capacitan
     flat = z.reshape(-1, freq.size)
     chosen = _kk_arrays(freq, flat, c=c, max_rc=max_rc, n_rc=n_rc, inductance=bool(inductance), capacitance=bool(capacitance), floor=rules["noise_floor"])
     order = np.argsort(freq)
+    n_series = 1 + int(inductance) + int(capacitance)
+    own_misfit = chain_error(freq, _check_options(freq, c, max_rc, n_rc, n_series), bool(inductance), bool(capacitance))
+    floor = max(rules["noise_floor"], own_misfit)
     results = []
     for zi, (m, mu, reached, taus, coef, z_kk) in zip(flat, chosen):
         residual = (zi - z_kk) / np.abs(zi)
         noise = _noise_estimate(residual.real, residual.imag, order, coef.size)
-        scale = max(noise, rules["noise_floor"]) if math.isfinite(noise) else rules["noise_floor"]
+        scale = max(noise, floor) if math.isfinite(noise) else floor
         flagged, bands = _bad_bands(freq, residual.real, residual.imag, order, scale, rules)
-        n_series = 1 + int(inductance) + int(capacitance)
         results.append(
             KKResult(
                 frequency=freq.copy(),
@@ -670,6 +720,7 @@ def _run(freq, z, shape, dims, coords, *, c, max_rc, n_rc, inductance, capacitan
                 inverse_series_capacitance=float(coef[n_series - 1]) if capacitance else 0.0,
                 c=float(c),
                 thresholds=rules,
+                chain_error=own_misfit,
             )
         )
     return KKBatchResult(dims=dims, shape=shape, coords=coords, results=tuple(results))

@@ -10,7 +10,7 @@ against, has two parts:
 * a model-discrepancy floor δ (one number per spectrum): the part of the KK residuals that is
   not noise, i.e. how far even the most flexible KK-consistent model (the Voigt chain of the
   KK test) stays from the data, times `DISCREPANCY_FACTOR` (a circuit of a few physical
-  elements cannot follow the data as closely as a chain of N/2 relaxations). It is zero on
+  elements cannot follow the data as closely as the KK test's chain of relaxations). It is zero on
   data whose KK residuals are noise.
 
 σ_k = max(√(σ_meas,k² + δ²), `NOISE_FLOOR`). So "adequate" means "no effect of the catalog
