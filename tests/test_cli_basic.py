@@ -140,3 +140,22 @@ def test_info_table_writes_units_as_symbols(capsys):
     assert rows["CPE1.alpha"].split()[1] == "0.9"  # no unit column text for a dimensionless exponent
     assert main(["info", "R0", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["parameters"][0]["unit"] == "Ohm"
+
+
+def test_commands_with_a_positional_model_take_the_model_option_too(capsys, tmp_path):
+    """`simulate`, `info` and `draw` take MODEL as their first argument; `--model X` and
+    `--model=X` (as `fit`, `diagnose` and the others take it) mean the same."""
+    outputs = []
+    for argv in (["simulate", "R0 + R1 || C1", "--points", "4"], ["simulate", "--model", "R0 + R1 || C1", "--points", "4"],
+                 ["simulate", "--points", "4", "--model=R0 + R1 || C1"]):
+        assert main(argv) == 0
+        outputs.append(capsys.readouterr().out)
+    assert outputs[0] == outputs[1] == outputs[2] and outputs[0].count("\n") == 5
+    assert main(["info", "--json", "--model", "R0 + CPE1"]) == 0
+    assert [p["name"] for p in json.loads(capsys.readouterr().out)["parameters"]] == ["R0", "CPE1.Q", "CPE1.alpha"]
+    assert main(["draw", "--model", "R0 + R1 || C1", "-o", str(tmp_path / "d.png")]) == 0
+    assert (tmp_path / "d.png").stat().st_size > 0
+    # a model given both ways is one too many
+    with pytest.raises(SystemExit) as info:
+        main(["simulate", "R0 + R1 || C1", "--model", "R0"])
+    assert info.value.code == 2 and "unrecognized arguments: R0" in capsys.readouterr().err

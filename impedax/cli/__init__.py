@@ -207,11 +207,28 @@ def _refuse_unknown(parser: argparse.ArgumentParser, command: str, unknown: list
     sub.error(f"unrecognized arguments: {' '.join(unknown)}{hint}")
 
 
+def _model_as_option(parser: argparse.ArgumentParser, argv: list[str]) -> list[str]:
+    """``argv`` with ``--model X`` (or ``--model=X``) read as MODEL for the commands that take
+    it as their first argument (``simulate``, ``info``, ``draw``), as ``fit``, ``diagnose`` and
+    the others take it."""
+    command = _command_of(argv)
+    subparsers = [a for a in parser._actions if isinstance(a, argparse._SubParsersAction)]
+    sub = subparsers[0].choices.get(command) if subparsers and command else None
+    if sub is None or not any(a.dest == "model" and not a.option_strings for a in sub._actions):
+        return argv
+    out = []
+    for item in argv:
+        if item == "--model":
+            continue
+        out.append(item[len("--model="):] if item.startswith("--model=") else item)
+    return out
+
+
 def _run(argv: list[str], command: list[str]) -> int:
     from ..errors import ImpedaxError
 
     parser = build_parser(_command_of(argv))
-    args, unknown = parser.parse_known_args(argv)
+    args, unknown = parser.parse_known_args(_model_as_option(parser, argv))
     command[0] = args.command
     if unknown:
         _refuse_unknown(parser, args.command, unknown)
