@@ -272,3 +272,12 @@ def test_sample_predictive_band_includes_the_noise():
     assert np.mean((z.real >= lo) & (z.real <= hi)) > 0.75
     fig = post.plot()
     assert any("predictive" in str(line.get_label()) for ax in fig.axes for line in ax.get_lines())
+    # copies: each draw with several noise draws, rows draws × copies; the band's edges settle
+    many = post.predict(noise=True, copies=10)
+    assert many.shape == (10 * without.shape[0], f.size)
+    np.testing.assert_allclose(many.reshape(-1, 10, f.size).mean(axis=1).real, without.real, rtol=0.05)  # copies of one draw
+    rough = np.abs(np.diff(np.quantile(with_noise.real / without.real.mean(axis=0), 0.95, axis=0), 2)).mean()
+    smooth = np.abs(np.diff(np.quantile(many.real / without.real.mean(axis=0), 0.95, axis=0), 2)).mean()
+    assert smooth < 0.6 * rough, (smooth, rough)
+    with pytest.raises(ix.ParameterError, match="copies"):
+        post.predict(noise=True, copies=0)

@@ -21,7 +21,7 @@ import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
 from ...data import unit_text
-from ...errors import DataError
+from ...errors import DataError, ParameterError
 from ..derived import QUANTILES, band_dataset, bind_frequency, check_real, needs_freq
 from ..least_squares import FitResult
 from .diagnostics import chain_warnings, figure, hdi, integrated_autocorr, prior_edge_warnings
@@ -32,6 +32,10 @@ from .reparam import Reparametrization, rebuild
 __all__ = ["Posterior"]
 
 SUMMARY_QUANTILES = ("median", "q05", "q16", "q84", "q95")  # per parameter in the JSON summary
+
+PREDICTIVE_COPIES = 10
+"""Noisy copies of each draw in a figure's posterior predictive band: 4,000 samples per frequency
+where one copy of 400 draws left the band's edges jagged by their sampling error."""
 
 
 def _quantiles_by_name(q: xr.Dataset, names) -> dict[str, dict[str, float]]:
@@ -244,12 +248,13 @@ class Posterior:
         check_real(out)
         return band_dataset(np.asarray(out, float), freq, keep_draws=draws, attrs={"method": "posterior draws", "model": self.model})
 
-    def predict(self, freq=None, *, max_draws: int = 400, noise: bool = False, seed: int = 0) -> np.ndarray:
+    def predict(self, freq=None, *, max_draws: int = 400, noise: bool = False, copies: int = 1, seed: int = 0) -> np.ndarray:
         """Model impedance [Ω] (draws, frequency) over an evenly spaced subset of the draws.
         With ``noise`` each draw also carries the likelihood's noise, so the result is the
         posterior predictive of new measurements: σ = sigma_rel·|Z_model| (``proportional``;
         |Z_model| stands in for |Z_data| between the data's frequencies) or the data's σ
-        interpolated in log f (``sigma``), on Re and Im alike."""
+        interpolated in log f (``sigma``), on Re and Im alike; ``copies`` noisy copies of each
+        draw (rows: draws × copies) make the predictive quantiles smoother."""
         freq = self.frequency if freq is None else np.asarray(freq, float)
         params = self.circuit_samples()
         total = self.n_walkers * self.n_draws
@@ -259,6 +264,9 @@ class Posterior:
         z = np.asarray(fn({k: jnp.asarray(v[pick]) for k, v in params.items()}, jnp.asarray(freq)))
         if not noise:
             return z
+        if not isinstance(copies, (int, np.integer)) or copies < 1:
+            raise ParameterError(f"copies must be a positive integer, got {copies!r}")
+        z, pick = np.repeat(z, copies, axis=0), np.repeat(pick, copies)
         if self.noise == NoiseModel.PROPORTIONAL:
             sigma = self.parameter_draws()["sigma_rel"][pick][:, None] * np.abs(z)
         else:
@@ -298,7 +306,7 @@ class Posterior:
 
         f = np.geomspace(self.frequency.min(), self.frequency.max(), 200)
         return plot_posterior_bands(
-            self.frequency, self.z_data, f, self.predict(f), n_lines=n_lines, z_predictive=self.predict(f, noise=True),
+            self.frequency, self.z_data, f, self.predict(f), n_lines=n_lines, z_predictive=self.predict(f, noise=True, copies=PREDICTIVE_COPIES),
             title=title or f"{self.model}: posterior bands ({self.n_walkers * self.n_draws} draws)",
         )
 
