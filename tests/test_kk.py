@@ -462,7 +462,20 @@ def test_reference_chain_and_its_own_misfit():
     tau = _time_constants(dense, 19)
     worst = np.sqrt(tau[9] * tau[10])
     result = ix.kk_test((dense, 1.0 / (1 + 2j * np.pi * dense * worst)), n_rc=19)
-    assert 0.2 * result.chain_error < result.rms_rel <= 1.0001 * result.chain_error
+    assert 0.2 * errors[1] < result.rms_rel <= 1.0001 * errors[1]
+    # the floor is the default chain's (30 elements here), whatever chain the user picks
+    assert result.chain_error == pytest.approx(chain_error(dense, 30, True, True)) and result.chain_error < 1e-4
+
+
+def test_a_short_chain_of_the_user_s_own_is_judged_as_strictly(rng):
+    """`max_rc`/`n_rc` small: the floor stays the default chain's misfit, so a drifting spectrum
+    that the short chain cannot follow is flagged, not excused by the chain's coarseness (a floor
+    from the user's 3-element chain rose to 32–91 % and passed a 30 % drift)."""
+    z = add_noise(drifting_rc(F_EIS, 0.3), 0.005, rng)
+    for options in ({"max_rc": 3}, {"max_rc": 5}, {"n_rc": 2}, {"n_rc": 4}):
+        result = ix.kk_test((F_EIS, z), **options)
+        assert not result.valid and result.chain_error < 2e-3, options
+        assert "sparse data" not in result.report()
 
 
 def test_report_says_when_sparse_data_set_the_scale(capsys):

@@ -331,6 +331,58 @@ def test_ec_lab_cycles_become_a_dimension(tmp_path):
     np.testing.assert_allclose(two["Z"].values[1], one["Z"].values + 5.0, rtol=1e-15)
     assert two.attrs["sweeps"] == f"2 cycles of {one['frequency'].size} points (the cycle number changes on line {len(lines) + 1})"
 
+
+def test_generic_column_names_never_take_a_column_a_specific_name_holds(tmp_path):
+    """EC-Lab's real example file with columns other software also writes: EC-Lab's own `x`, an
+    `R/Ohm`, dielectric `Re(M)`/`Im(M)`, `Mag(Y)`; and a table with an `X (mm)`, a `Mag (dB)`, a
+    `Z_deg`. Each loaded before the generic names (R, X, Re, Im, Mag ...) were added; they still
+    load, with the same Z, and the extra columns are listed as other columns."""
+    source = FIXTURES / "real" / "exampleDataBioLogic.mpt"
+    lines = source.read_text(encoding="latin-1").splitlines()
+    n_header = int(re.search(r"Nb header lines\s*:\s*(\d+)", "\n".join(lines[:3])).group(1))
+    extra = ["x", "R/Ohm", "Re(M)", "Im(M)", "Mag(Y)"]
+    lines[n_header - 1] = lines[n_header - 1].rstrip("\t") + "\t" + "\t".join(extra)
+    for k in range(n_header, len(lines)):
+        if lines[k].strip():
+            lines[k] = lines[k].rstrip("\t") + "\t" + "\t".join(["0.5", "12.0", "1.0", "2.0", "3.0"])
+    path = tmp_path / "more_columns.mpt"
+    path.write_text("\n".join(lines) + "\n", encoding="latin-1")
+    np.testing.assert_array_equal(ix.load(path)["Z"].values, ix.load(source)["Z"].values)
+    assert all(name in ix.load(path).attrs["other_columns"] for name in extra)
+    z = oracle(F_HZ)
+    rows = [f"{f!r},{zi.real!r},{zi.imag!r},1.0,2.0,3.0" for f, zi in zip(F_HZ.tolist(), z.tolist())]
+    (tmp_path / "t.csv").write_text("\n".join(["frequency,Z',Z'',X (mm),Mag (dB),Z_deg", *rows]) + "\n")
+    ds = ix.load(tmp_path / "t.csv")
+    np.testing.assert_array_equal(ds["Z"].values, z)
+    assert ds.attrs["other_columns"] == "X (mm), Mag (dB), Z_deg"
+    # two generic columns asking for one quantity: neither is taken, the table has no Z
+    (tmp_path / "two.csv").write_text("f,R,Rs,X\n1,2,3,4\n")
+    with pytest.raises(ix.DataError, match="cannot find impedance columns"):
+        ix.load(tmp_path / "two.csv")
+
+
+def test_a_cycle_column_of_text_and_a_late_check_point_are_no_sweeps(tmp_path):
+    z = oracle(F_HZ)
+    rows = [f"{f!r},{zi.real!r},{zi.imag!r},first" for f, zi in zip(F_HZ.tolist(), z.tolist())]
+    (tmp_path / "text_cycle.csv").write_text("\n".join(["frequency,Zreal,Zimag,Cycle", *rows]) + "\n")
+    ds = ix.load(tmp_path / "text_cycle.csv")
+    assert ds["Z"].dims == ("frequency",) and ds.attrs["other_columns"] == "Cycle"
+    # a sweep, then one more point near its first frequency (a drift check): one spectrum
+    rows.append(f"{float(F_HZ[0]) * 1.0002!r},{float(z[0].real)!r},{float(z[0].imag)!r},first")
+    (tmp_path / "check.csv").write_text("\n".join(["frequency,Zreal,Zimag,Cycle", *rows]) + "\n")
+    ds = ix.load(tmp_path / "check.csv")
+    assert ds["Z"].dims == ("frequency",) and ds["frequency"].size == F_HZ.size + 1
+
+
+def test_stacked_spectra_keep_a_note_that_only_one_of_them_has():
+    from impedax.io._common import stack
+
+    a = ix.make_spectrum(F_HZ, oracle(F_HZ), attrs={"units": "Hz, Ω"})
+    b = ix.make_spectrum(F_HZ, oracle(F_HZ), attrs={"units": "Hz, Ω", "phase_unit_note": "column 'phase' has no unit"})
+    attrs = stack(Path("book.xlsx"), [("A", a), ("B", b)], "sheet").attrs
+    assert attrs["units"] == "Hz, Ω" and attrs["phase_unit_note"] == "sheet B: column 'phase' has no unit"
+
+
 def test_sweeps_that_are_not_repeats_of_one_list(tmp_path):
     # a sweep cut short: an error naming the line where it starts
     with pytest.raises(ix.DataError, match=r"short.csv, line 10: the table holds 3 sweeps of one frequency list .* of 4, 4, 2 points"):

@@ -590,9 +590,7 @@ def test_paths_that_meet_do_not_diagnose_a_model_twice(monkeypatch):
     f = np.logspace(-1, 6, 60)
     w = 2 * np.pi * f
     z = 50.0 + 1 / (1 / 1000.0 + 1e-6 * (1j * w) ** 0.75)
-    rng = np.random.default_rng(3)
-    for _ in range(2):  # (the draws of this seed's earlier spectra in the study that found it)
-        rng.standard_normal(60), rng.standard_normal(60)
+    rng = np.random.default_rng(0)  # (paths met with seeds 0, 1, 2, 3 and 5 of 0–5)
     z = z + 0.005 * np.abs(z) * (rng.standard_normal(60) + 1j * rng.standard_normal(60)) / np.sqrt(2)
     r = ix.refine(ix.make_spectrum(f, z), "R1 || C1")
     assert ix.parse(r.final_model) == ix.parse("R1 || CPE1 + R_s"), r.report()

@@ -209,19 +209,16 @@ def _refuse_unknown(parser: argparse.ArgumentParser, command: str, unknown: list
 
 def _model_as_option(parser: argparse.ArgumentParser, argv: list[str]) -> list[str]:
     """``argv`` with ``--model X`` (or ``--model=X``) read as MODEL for the commands that take
-    it as their first argument (``simulate``, ``info``, ``draw``), as ``fit``, ``diagnose`` and
-    the others take it."""
+    it as their first argument (``simulate``, ``info``, ``draw``; ``force``'s model name), as
+    ``fit``, ``diagnose`` and the others take it. Nothing after ``--`` is touched."""
     command = _command_of(argv)
     subparsers = [a for a in parser._actions if isinstance(a, argparse._SubParsersAction)]
     sub = subparsers[0].choices.get(command) if subparsers and command else None
     if sub is None or not any(a.dest == "model" and not a.option_strings for a in sub._actions):
         return argv
-    out = []
-    for item in argv:
-        if item == "--model":
-            continue
-        out.append(item[len("--model="):] if item.startswith("--model=") else item)
-    return out
+    end = argv.index("--") if "--" in argv else len(argv)
+    head = [item[len("--model="):] if item.startswith("--model=") else item for item in argv[:end] if item != "--model"]
+    return head + argv[end:]
 
 
 def _run(argv: list[str], command: list[str]) -> int:

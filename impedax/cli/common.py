@@ -221,7 +221,7 @@ def _load_noting(path: str, warn: bool = True):
     data = load(path)
     for key in LOAD_WARNINGS if warn else ():
         if key in data.attrs:
-            print(f"impedax: warning: {path}: {data.attrs[key]}", file=sys.stderr)
+            print(f"impedax: warning: {data.attrs.get('path', path)}: {data.attrs[key]}", file=sys.stderr)  # (<stdin> for -)
     return data
 
 

@@ -16,7 +16,7 @@ def register(sub) -> None:
     p.add_argument("--json", action="store_true", help="machine-readable output")
     p.add_argument("--plot", metavar="FILE.png", help="save data vs KK fit and the residuals with bad bands shaded")
     p.add_argument("--c", type=float, default=0.85, help="µ cut-off (default 0.85)")
-    p.add_argument("--max-rc", type=int, default=None, metavar="M", help="largest number of RC elements tried (default: N/2 for N frequencies, or 3.5 per decade of the band on sparse data; at most 100)")
+    p.add_argument("--max-rc", type=int, default=None, metavar="M", help="largest number of RC elements tried (default: N/2 for N frequencies, at most 100; on data sparser than about 7 points a decade, 3.5 per decade of the band)")
     p.add_argument("--no-inductance", action="store_true", help="no series inductance in the KK model")
     p.add_argument("--no-capacitance", action="store_true", help="no series capacitance in the KK model")
     add_select_option(p)

@@ -88,8 +88,8 @@ class KKResult:
     ``residuals_real``/``residuals_imag`` are Δ = (Z_data − Z_kk)/|Z_data| (dimensionless);
     ``rms_rel = sqrt(mean |Δ|²)``; ``noise_estimate`` is the robust per-component standard
     deviation of the random part of Δ; ``bad_bands`` are [(f_min, f_max)] in Hz;
-    ``chain_error`` is the reference chain's own misfit on these frequencies (`chain_error`), a
-    floor of ``threshold_scale``.
+    ``chain_error`` is the default reference chain's own misfit on these frequencies
+    (`chain_error` of `reference_rc`), a floor of ``threshold_scale``.
     """
 
     frequency: np.ndarray
@@ -631,7 +631,8 @@ def kk_test(
 
     Validity rule (impedax): ``noise_estimate`` σ̂ = 1.4826·median|first differences of Δ' and Δ''
     in frequency order|/√2, inflated by sqrt(2N/(2N−P)); scale s = max(σ̂, noise_floor = 0.2 %,
-    ``chain_error``, the reference chain's own misfit of one relaxation on these frequencies).
+    ``chain_error``, the default reference chain's own misfit of one relaxation on these
+    frequencies, whatever ``max_rc`` or ``n_rc``).
     A point is bad when |Δ| > 5 s; every point of a run of ≥ 3 consecutive frequencies with
     |Δ| > 3 s is bad; and the 9 points of any window where the mean of Δ' or of Δ'' exceeds
     4.5 s/3 are bad (slow drift). Bad points (single good gaps closed) form ``bad_bands`` (edges
@@ -696,8 +697,10 @@ def _run(freq, z, shape, dims, coords, *, c, max_rc, n_rc, inductance, capacitan
     chosen = _kk_arrays(freq, flat, c=c, max_rc=max_rc, n_rc=n_rc, inductance=bool(inductance), capacitance=bool(capacitance), floor=rules["noise_floor"])
     order = np.argsort(freq)
     n_series = 1 + int(inductance) + int(capacitance)
-    own_misfit = chain_error(freq, _check_options(freq, c, max_rc, n_rc, n_series), bool(inductance), bool(capacitance))
-    floor = max(rules["noise_floor"], own_misfit)
+    # the default reference chain's misfit, whatever chain the user chose: a short one of their
+    # own is judged as strictly as before, not excused by its own coarseness
+    chain_floor = chain_error(freq, reference_rc(freq, n_series), bool(inductance), bool(capacitance))
+    floor = max(rules["noise_floor"], chain_floor)
     results = []
     for zi, (m, mu, reached, taus, coef, z_kk) in zip(flat, chosen):
         residual = (zi - z_kk) / np.abs(zi)
@@ -727,7 +730,7 @@ def _run(freq, z, shape, dims, coords, *, c, max_rc, n_rc, inductance, capacitan
                 inverse_series_capacitance=float(coef[n_series - 1]) if capacitance else 0.0,
                 c=float(c),
                 thresholds=rules,
-                chain_error=own_misfit,
+                chain_error=chain_floor,
             )
         )
     return KKBatchResult(dims=dims, shape=shape, coords=coords, results=tuple(results))

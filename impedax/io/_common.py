@@ -285,12 +285,13 @@ def stack(path: Path, spectra: Sequence[tuple[str, xr.Dataset]], dim: str) -> xr
                 path=path,
             )
     attrs = {}
-    for key, value in first.attrs.items():
+    keys = list(dict.fromkeys(key for _, ds in spectra for key in ds.attrs))  # every spectrum's, in order
+    for key in keys:
         values = [ds.attrs.get(key) for _, ds in spectra]
-        if all(v == value for v in values):
-            attrs[key] = value
-        elif all(isinstance(v, str) for v in values):  # e.g. each sheet's own sign convention
-            attrs[key] = "; ".join(f"{dim} {label}: {v}" for (label, _), v in zip(spectra, values))
+        if all(v == values[0] for v in values):
+            attrs[key] = values[0]
+        elif all(isinstance(v, str) or v is None for v in values):  # each sheet's own sign convention, or a note of one
+            attrs[key] = "; ".join(f"{dim} {label}: {v}" for (label, _), v in zip(spectra, values) if v is not None)
     reports = [f"{dim} {label}: {r}" for label, ds in spectra for r in ds.attrs.get("skipped_rows", [])]
     attrs.pop("skipped_rows", None)
     if reports:

@@ -59,8 +59,11 @@ def _read_canonical(path: Path, raw: bytes) -> xr.Dataset | None:
     if table.shape[0] == 0 or table.shape[1] != 3 or not np.isfinite(table).all():
         return None
     freq = table[:, 0]
-    if not (freq > 0).all() or np.unique(freq).size != freq.size or np.count_nonzero(np.abs(freq / freq[0] - 1) <= SWEEP_RTOL) > 1:
-        return None  # (the general reader names the line, or reads the sweeps)
+    if not (freq > 0).all() or np.unique(freq).size != freq.size:
+        return None  # (the general reader names the line)
+    near_first = np.abs(freq / freq[0] - 1) <= SWEEP_RTOL
+    if np.any(near_first[1:] & ~near_first[:-1]):
+        return None  # the first frequency came back: the general reader reads the sweeps
     layout = detect_layout(list(CSV_HEADER), path, 1)
     lines = range(2, 2 + freq.size) if b"\n\n" not in raw and b"\n\r\n" not in raw else [None] * freq.size
     return finish(path, freq, table[:, 1] + 1j * table[:, 2], lines, {"format": "delimited text", **layout.notes()})
@@ -76,7 +79,7 @@ def read_csv(path: str | Path) -> xr.Dataset:
     try:
         text = decode_text(raw, path)
     except DataError:
-        raise NoLayout("binary file, not delimited text", path=path) from None
+        raise NoLayout("its bytes are not text (UTF-8, Latin-1 or UTF-16)", path=path) from None
     lines = [(i + 1, ln) for i, ln in enumerate(text.splitlines()) if ln.strip() and not ln.lstrip().startswith(("#", "%", "!"))]
     if not lines:
         raise NoLayout("file is empty (no header, no data)", path=path)

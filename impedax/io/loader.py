@@ -90,7 +90,7 @@ def load(path: str | os.PathLike, readers: Sequence[Reader] | None = None) -> xr
     head = _head(path)
     if not head_text(head).strip():  # binary or blank: decided from the first 64 kB, before reading the whole file
         if head.strip(b" \t\r\n"):
-            raise DataError(_unrecognised("binary file, not delimited text", tried), path=path)
+            raise DataError(_unrecognised(None, tried), path=path)
         raise DataError("file is empty", path=path)
     try:
         ds = read_csv(path)
@@ -99,10 +99,15 @@ def load(path: str | os.PathLike, readers: Sequence[Reader] | None = None) -> xr
     return validate_spectrum(ds, source=str(path))
 
 
-def _unrecognised(as_text: str, tried: Sequence[str]) -> str:
+def _unrecognised(as_text: str | None, tried: Sequence[str]) -> str:
     """The message for a file no reader claims: why it is not delimited text first (the reason
-    a user of a text table needs), then every other format tried and why, on one line."""
-    return f"not a recognised spectrum file: as delimited text, {as_text}; other formats tried: {'; '.join(tried)}"
+    a user of a text table needs; ``None``: the file is binary), then every other format tried
+    and why, on one line."""
+    if as_text is None:
+        listed = f"; formats tried: {'; '.join(tried)}" if tried else "; no reader is registered"
+        return f"not a recognised spectrum file: a binary file that no reader claims{listed}"
+    listed = f"; other formats tried: {'; '.join(tried)}" if tried else "; no other format is registered"
+    return f"not a recognised spectrum file: as delimited text, {as_text}{listed}"
 
 
 def _load_stdin(readers: Sequence[Reader] | None) -> xr.Dataset:

@@ -23,29 +23,43 @@ import xarray as xr
 from ..errors import DataError
 from ._common import UNIT_CELL, Skipped, decimal_comma, finish, first_line, head_text, number, read_text, split_header_cell, unit_scale
 
-__all__ = ["ROLES", "Layout", "detect_layout", "role_of", "spectrum_from_rows"]
+__all__ = ["ROLES", "FALLBACK_ROLES", "Layout", "detect_layout", "role_of", "fallback_role", "spectrum_from_rows"]
 
 
-_IMAG = {"z_imag", "z_im", "im_z", "im(z)", "imag(z)", "z''", "imag", "imaginary", "im", "zi", "imagz", "zimg", "z''(b)",
-         "zimaginary", "reactance", "x", "xs"}
-_PHASE = {"phase", "phase(z)", "z_phase", "phi", "theta", "zphz", "phase_angle", "angle", "arg(z)", "argz", "θ", "θz",
-          "θ(z)", "theta_z", "phase_z", "phi_z", "phasedeg"}
+_IMAG = {"z_imag", "z_im", "im_z", "im(z)", "imag(z)", "z''", "imag", "imaginary", "zi", "imagz", "zimg", "z''(b)", "zimaginary"}
+_PHASE = {"phase", "phase(z)", "z_phase", "phi", "theta", "zphz", "phase_angle", "arg(z)", "argz", "θz", "θ(z)", "theta_z",
+          "phase_z", "phi_z", "phasedeg"}
 ROLES: dict[str, set[str]] = {
     "frequency": {"frequency", "freq", "f", "frequencyhz", "freqhz", "fhz"},
-    "real": {"z_real", "z_re", "re_z", "re(z)", "real(z)", "z'", "real", "re", "zr", "realz", "z'(a)", "resistance", "r", "rs"},
+    "real": {"z_real", "z_re", "re_z", "re(z)", "real(z)", "z'", "real", "zr", "realz", "z'(a)"},
     "imag": _IMAG,
     "neg_imag": {"-" + k for k in _IMAG} | {"neg_z_imag", "minus_z_imag"},
-    "modulus": {"|z|", "z_mod", "mod(z)", "modz", "magnitude", "abs(z)", "absz", "z_abs", "z", "z_magnitude", "z_mag", "mag",
-                "mag(z)", "magnitude(z)", "impedance", "|impedance|", "impedance_magnitude", "impedance_modulus"},
+    "modulus": {"|z|", "z_mod", "mod(z)", "modz", "magnitude", "abs(z)", "absz", "z_abs", "z", "z_magnitude", "z_mag",
+                "mag(z)", "magnitude(z)", "impedance_magnitude", "impedance_modulus"},
     "phase": _PHASE,
     "neg_phase": {"-" + k for k in _PHASE},
     "sigma": {"sigma", "sigma_z", "std", "sem"},
 }
-"""Header names of each column role, in the form `_key` gives them. Underscores do not count
-(``z_real`` is ``ZReal``), and a name may end in a unit suffix of `_SUFFIX_UNITS`
-(``ReZ_Ohm``, ``frequency_hz``)."""
+"""Header names of each column role, in the form `_key` gives them: a column so named holds that
+role, and a unit that does not fit it is an error. Underscores do not count (``z_real`` is
+``ZReal``), and a name may end in a unit suffix of `_SUFFIX_UNITS` (``ReZ_Ohm``)."""
+
+FALLBACK_ROLES: dict[str, set[str]] = {
+    "real": {"re", "r", "rs", "resistance"},
+    "imag": {"im", "x", "xs", "reactance"},
+    "neg_imag": {"-im", "-x", "-xs", "-reactance"},
+    "modulus": {"mag", "impedance", "|impedance|"},
+    "phase": {"angle", "θ"},
+    "neg_phase": {"-angle", "-θ"},
+}
+"""Generic names (an LCR meter's R and X, Zahner's Impedance and Phase, Re and Im): a column so
+named takes its role only when no column of `ROLES` took it, no other generic column asks for it,
+and its unit fits; otherwise it is another column (EC-Lab's ``x``, ``R/Ohm``, ``Re(M)``, a
+``Mag (dB)``)."""
+
 _QUANTITY = {"frequency": "frequency", "real": "resistance", "imag": "resistance", "neg_imag": "resistance",
              "modulus": "resistance", "sigma": "resistance", "phase": "angle", "neg_phase": "angle"}
+_SLOT = {"neg_imag": "imag", "neg_phase": "phase"}  # a role and its negation hold one quantity
 _SUFFIX_UNITS = {"_hz": "Hz", "_ohm": "Ω", "_ohms": "Ω", "_deg": "deg", "_rad": "rad"}
 
 
@@ -54,6 +68,7 @@ def _squash(key: str) -> str:
 
 
 _ROLE_OF_NAME = {_squash(name): role for role, names in ROLES.items() for name in names}
+_FALLBACK_OF_NAME = {_squash(name): role for role, names in FALLBACK_ROLES.items() for name in names}
 
 
 def _key(name: str) -> str:
@@ -68,28 +83,34 @@ def _suffix(key: str) -> str:
     return next((s for s in _SUFFIX_UNITS if key.endswith(s) and len(key) > len(s)), "")
 
 
-def _lookup(key: str) -> str | None:
-    role = _ROLE_OF_NAME.get(_squash(key))
+def _named(key: str, names: dict[str, str]) -> tuple[str | None, str]:
+    """The role ``names`` give ``key``, and the unit of its suffix when the role came from the
+    name without it (``'rez_ohm'`` → ``('real', 'Ω')``)."""
+    role = names.get(_squash(key))
+    if role is not None:
+        unit = _SUFFIX_UNITS[_suffix(key)] if _suffix(key) else ("deg" if role in ("phase", "neg_phase") and key.endswith("deg") else "")
+        return role, unit
     suffix = _suffix(key)
-    if role is None and suffix:
-        role = _ROLE_OF_NAME.get(_squash(key[: -len(suffix)]))
-    return role
+    if suffix and names.get(_squash(key[: -len(suffix)])) is not None:
+        return names[_squash(key[: -len(suffix)])], _SUFFIX_UNITS[suffix]
+    return None, ""
 
 
 def role_of(cell: str) -> tuple[str, float, str] | None:
-    """``(role, scale to SI, unit)`` of a header cell, or ``None`` when it names no role."""
+    """``(role, scale to SI, unit)`` of a header cell named as in `ROLES`, or ``None`` when it
+    names no role (generic names: `fallback_role`)."""
     name, unit = split_header_cell(cell)
     key = _key(name)
-    role = _lookup(key)
+    role, suffix_unit = _named(key, _ROLE_OF_NAME)
     if role is None:
         m = UNIT_CELL.match(cell.strip().strip('"').strip())
-        if m and _lookup(_key(m.group("name"))) is not None:  # a role with a unit we do not know
+        if m and _named(_key(m.group("name")), _ROLE_OF_NAME)[0] is not None:  # a role with a unit we do not know
             unit = m.group("u1") if m.group("u1") is not None else m.group("u2")
-            name, role = m.group("name"), _lookup(_key(m.group("name")))
+            role = _named(_key(m.group("name")), _ROLE_OF_NAME)[0]
         else:
             return None
-    if not unit and _suffix(key):
-        unit = _SUFFIX_UNITS[_suffix(key)]
+    from_suffix = not unit and bool(suffix_unit)
+    unit = unit or suffix_unit
     if not unit:
         return role, 1.0, ""
     try:
@@ -97,9 +118,29 @@ def role_of(cell: str) -> tuple[str, float, str] | None:
     except DataError as exc:
         raise DataError(f"column {cell.strip()!r}: {exc}") from None
     if scale is None:
+        if from_suffix:  # 'Z_deg' is no modulus in degrees: another column
+            return None
         expected = {"frequency": "Hz, mHz, kHz, MHz", "resistance": "Ω (Ohm), mΩ, kΩ, MΩ", "angle": "deg or rad"}[_QUANTITY[role]]
         raise DataError(f"column {cell.strip()!r}: unit {unit!r} not understood (expected {expected})")
     return role, scale, unit
+
+
+def fallback_role(cell: str) -> tuple[str, float, str] | None:
+    """``(role, scale to SI, unit)`` of a header cell with a generic name of `FALLBACK_ROLES`
+    whose unit fits the role (none, or Ω, Hz, degrees ... as for `role_of`); ``None`` otherwise,
+    never an error."""
+    name, unit = split_header_cell(cell)
+    role, suffix_unit = _named(_key(name), _FALLBACK_OF_NAME)
+    if role is None:
+        return None
+    unit = unit or suffix_unit
+    if not unit:
+        return role, 1.0, ""
+    try:
+        scale = unit_scale(unit, _QUANTITY[role])
+    except DataError:
+        return None
+    return None if scale is None else (role, scale, unit)
 
 
 @dataclass(frozen=True)
@@ -145,22 +186,35 @@ class NoLayout(DataError):
 
 
 def detect_layout(header: Sequence[str], path: Path, line: int | None) -> Layout:
-    """The `Layout` of a header row; `NoLayout` when it names no frequency/Z columns."""
+    """The `Layout` of a header row; `NoLayout` when it names no frequency/Z columns. Columns
+    named as in `ROLES` first; then each generic name of `FALLBACK_ROLES` fills a quantity none
+    of them holds, when no other generic column asks for it."""
     columns: dict[str, tuple[int, float]] = {}
-    ignored = []
+    ignored: dict[int, str] = {}
+    generic: list[tuple[int, str, float]] = []
     for index, cell in enumerate(header):
         try:
             found = role_of(cell)
         except DataError as exc:
             raise DataError(str(exc), path=path, line=line) from None
         if found is None:
-            if cell.strip():
-                ignored.append(cell.strip())
+            weak = fallback_role(cell)
+            if weak is not None:
+                generic.append((index, weak[0], weak[1]))
+            elif cell.strip():
+                ignored[index] = cell.strip()
             continue
         role, scale, _ = found
         if role in columns:
             raise DataError(f"two columns for {role}: {header[columns[role][0]]!r} and {cell!r}", path=path, line=line)
         columns[role] = (index, scale)
+    held = {_SLOT.get(role, role) for role in columns}
+    asked = [_SLOT.get(role, role) for _, role, _ in generic]
+    for index, role, scale in generic:
+        if _SLOT.get(role, role) in held or asked.count(_SLOT.get(role, role)) > 1:
+            ignored[index] = header[index].strip()
+        else:
+            columns[role] = (index, scale)
     cells = [c.strip() for c in header]
     if "frequency" not in columns:
         raise NoLayout(f"no frequency column in header {cells}", path=path, line=line)
@@ -168,7 +222,7 @@ def detect_layout(header: Sequence[str], path: Path, line: int | None) -> Layout
         raise DataError("both Z'' and -Z'' columns given; keep one", path=path, line=line)
     if "phase" in columns and "neg_phase" in columns and not ("real" in columns and ("imag" in columns or "neg_imag" in columns)):
         raise DataError("both phase and -phase columns given; keep one", path=path, line=line)
-    layout = Layout(columns, tuple(cells), tuple(ignored))
+    layout = Layout(columns, tuple(cells), tuple(ignored[i] for i in sorted(ignored)))
     if not layout.cartesian and not ("modulus" in columns and ("phase" in columns or "neg_phase" in columns)):
         raise NoLayout(
             f"cannot find impedance columns in header {cells}; expected Z' and Z'' (or -Z''), or |Z| and phase", path=path, line=line
@@ -181,12 +235,13 @@ def _radians_note(layout: Layout, phase: np.ndarray) -> dict:
     values that look like radians: all within ±π/2 and some beyond ±0.2 (as degrees, a spectrum
     that never leaves ±1.6° of a resistor's)."""
     name = layout.name("phase" if "phase" in layout.columns else "neg_phase")
-    found = role_of(name)
+    found = role_of(name) or fallback_role(name)
     magnitude = np.abs(phase[np.isfinite(phase)])
     if found is None or found[2] or magnitude.size == 0 or magnitude.max() > np.pi / 2 or magnitude.max() < 0.2:
         return {}
-    note = (f"column {name!r} has no unit and was read in degrees, but its values lie within ±π/2 (±1.571) as radians "
-            f"would: if they are radians, name the column '{name} (rad)'")
+    note = (f"column {name!r} has no unit and was read in degrees, but its values all lie within ±π/2 (±1.571), as radians "
+            f"would: if they are radians, name the column '{name} (rad)'; if they are degrees (a nearly resistive sample), "
+            f"nothing is wrong")
     return {"phase_unit_note": note}
 
 
@@ -239,7 +294,10 @@ def spectrum_from_rows(
             except ValueError:
                 time_col = None
         if cycle_col is not None:
-            cycles.append(number(cells[cycle_col], path, line, header[cycle_col], comma=comma))
+            try:  # (a cycle column of text or gaps is another column: no sweeps read from it)
+                cycles.append(float(cells[cycle_col].replace(",", ".") if comma else cells[cycle_col]))
+            except ValueError:
+                cycle_col = None
         lines.append(line)
     if not lines:
         raise DataError(f"{where}header but no data rows" + (f" (skipped: {'; '.join(skipped.report())})" if len(skipped) else ""), path=path, line=header_line)
@@ -257,16 +315,17 @@ def spectrum_from_rows(
     if time_col is not None and len(times) == len(lines):
         extra["time"] = (np.array(times), "s", "time of the measurement")
     freq, sigma = col["frequency"], col.get("sigma")
-    sweeps = _sweep_blocks(freq, np.array(cycles) if cycle_col is not None else None, lines, path) if split_sweeps else None
+    by_cycle = np.array(cycles) if cycle_col is not None and len(cycles) == len(lines) and np.isfinite(cycles).all() else None
+    sweeps = _sweep_blocks(freq, by_cycle, lines, path) if split_sweeps else None
     if sweeps is None:
-        return _spectrum(path, freq, z, lines, attrs, skipped, extra, sigma, where)
+        return _spectrum(path, freq, z, lines, attrs, skipped=skipped, extra=extra, sigma=sigma, where=where)
     dim, labels, blocks, deviation = sweeps
     for i in np.flatnonzero(freq == 0):
         skipped.add(lines[i], "f = 0 (DC row, not an impedance point)")
     skipped.rows.sort()
     spectra = [
-        _spectrum(path, freq[b], z[b], [lines[i] for i in b], attrs, Skipped(), {k: (v[b], u, d) for k, (v, u, d) in extra.items()},
-                  None if sigma is None else sigma[b], where)
+        _spectrum(path, freq[b], z[b], [lines[i] for i in b], attrs, skipped=Skipped(), extra={k: (v[b], u, d) for k, (v, u, d) in extra.items()},
+                  sigma=None if sigma is None else sigma[b], where=where)
         for b in blocks
     ]
     grid = spectra[0]["frequency"]
@@ -289,16 +348,17 @@ SWEEP_RTOL = 1e-3
 
 def _sweep_blocks(freq: np.ndarray, cycles: np.ndarray | None, lines: Sequence[int], path: Path):
     """``(dim, labels, blocks, deviation)`` of a table holding several sweeps of one frequency
-    list, each block the row indices of one sweep (rows at f = 0 left out); ``None`` for one sweep.
-    A sweep starts where the cycle number changes or, without one, where the first frequency
-    comes back (within `SWEEP_RTOL`); every sweep must list the first one's frequencies (within
-    `SWEEP_RTOL`), else the table is read as one spectrum. A sweep cut short (a prefix of the
-    list) is a `DataError` saying so."""
+    list, each block the row indices of one sweep (rows at f = 0 left out); ``None`` for one
+    spectrum. A sweep starts where the cycle number changes or, without one, where the first
+    frequency comes back (within `SWEEP_RTOL`). The longest sweeps are the list; every sweep must
+    follow it (within `SWEEP_RTOL`), else the table is one spectrum. With two or more complete
+    sweeps, one cut short (the start of the list) is a `DataError` saying so; a single late
+    point near the first frequency (a check at the end of a sweep) is no sweep."""
     rows = np.flatnonzero(freq != 0)
     f = freq[rows]
     if cycles is not None and np.unique(cycles[rows]).size > 1:
         values = cycles[rows]
-        starts = [0, *np.flatnonzero(values[1:] != values[:-1]) + 1]
+        starts = [0, *(np.flatnonzero(values[1:] != values[:-1]) + 1).tolist()]
         dim, labels = "cycle", [f"{v:g}" for v in values[starts]]
         if len(set(labels)) != len(labels):
             return None  # cycles interleaved: not sweeps one after another
@@ -311,12 +371,13 @@ def _sweep_blocks(freq: np.ndarray, cycles: np.ndarray | None, lines: Sequence[i
     blocks = np.split(rows, starts[1:])
     if any(np.unique(freq[b]).size < b.size for b in blocks):
         return None  # a frequency repeated within a sweep (a sweep down and back up): not repeated sweeps
-    first = freq[blocks[0]]
-    n = first.size
-    deviations = [float(np.max(np.abs(freq[b] / first[: b.size] - 1))) if b.size <= n else np.inf for b in blocks]
-    if any(b.size > n for b in blocks) or max(deviations) > SWEEP_RTOL:
+    n = max(b.size for b in blocks)
+    complete = [b for b in blocks if b.size == n]
+    grid = freq[complete[0]]
+    deviations = [float(np.max(np.abs(freq[b] / grid[: b.size] - 1))) for b in blocks]
+    if len(complete) < 2 or max(deviations) > SWEEP_RTOL:
         return None
-    if any(b.size != n for b in blocks):
+    if len(complete) < len(blocks):
         sizes = ", ".join(str(b.size) for b in blocks)
         short = next(b for b in blocks if b.size != n)
         raise DataError(
@@ -334,7 +395,7 @@ def _sweep_starts(dim: str, blocks: Sequence[np.ndarray], lines: Sequence[int]) 
     return f"the {changes} on line{'s' if len(blocks) > 2 else ''} {starts}"
 
 
-def _spectrum(path, freq, z, lines, attrs, skipped, extra, sigma, where) -> xr.Dataset:
+def _spectrum(path, freq, z, lines, attrs, *, skipped: Skipped, extra: dict, sigma, where: str) -> xr.Dataset:
     """One spectrum from its columns (`finish`), with its ``sigma`` column checked."""
     ds = finish(path, freq, z, lines, attrs, skipped=skipped, extra=extra)
     if sigma is not None:
