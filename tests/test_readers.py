@@ -232,6 +232,7 @@ def test_polar_columns_with_negated_phase_and_radians(tmp_path):
         ("Freq [Hz],Rs [Ohm],-Xs [Ohm]", False, True, 1.0),
         ("Frequency/Hz\tImpedance/Ohm\tPhase/deg", True, False, 1.0),  # |Z| named 'Impedance'
         ("Freq(Hz),|Z|(Ω),θ(°)", True, False, 1.0),
+        ("Freq(Hz),|Z|(Ohm),theta-z(deg)", True, False, 1.0),  # a Keysight LCR meter's export: inner hyphens do not count
         ("Frequency,Impedance Magnitude (Ohm),Phase Angle (deg)", True, False, 1.0),
         ("frequency,Z_Magnitude_Ohm,-Z_Phase_Deg", True, True, 1.0),
     ],

@@ -41,8 +41,9 @@ ROLES: dict[str, set[str]] = {
     "sigma": {"sigma", "sigma_z", "std", "sem"},
 }
 """Header names of each column role, in the form `_key` gives them: a column so named holds that
-role, and a unit that does not fit it is an error. Underscores do not count (``z_real`` is
-``ZReal``), and a name may end in a unit suffix of `_SUFFIX_UNITS` (``ReZ_Ohm``)."""
+role, and a unit that does not fit it is an error. Underscores and inner hyphens do not count
+(``z_real`` is ``ZReal``, ``theta-z`` is ``theta_z``), and a name may end in a unit suffix of
+`_SUFFIX_UNITS` (``ReZ_Ohm``)."""
 
 FALLBACK_ROLES: dict[str, set[str]] = {
     "real": {"re", "r", "rs", "resistance"},
@@ -64,7 +65,9 @@ _SUFFIX_UNITS = {"_hz": "Hz", "_ohm": "Ω", "_ohms": "Ω", "_deg": "deg", "_rad"
 
 
 def _squash(key: str) -> str:
-    return key.replace("_", "")
+    """``key`` without separators: underscores, and hyphens but a leading one (which negates:
+    ``-Z''``), so that ``z_real``, ``zreal`` and ``theta-z`` read as ``zreal``, ``thetaz``."""
+    return key[:1] + key[1:].replace("_", "").replace("-", "") if key.startswith("-") else key.replace("_", "").replace("-", "")
 
 
 _ROLE_OF_NAME = {_squash(name): role for role, names in ROLES.items() for name in names}
