@@ -465,6 +465,10 @@ def refine(
     def reproduced(used, fit, **options):
         if id(fit) not in refits or refits[id(fit)][0] is not fit:
             refits[id(fit)] = (fit, _reproduced(used, fit, **options))  # (the fit kept: its id stays its own)
+            out = refits[id(fit)][1][0]
+            # a refit is its own refit: a path whose end went back to the start hands the start
+            # step, refitted, to the next path, which may end there too
+            refits.setdefault(id(out), (out, (out, None)))
         return refits[id(fit)][1]
 
     used = ds if not masked else ds.sel(frequency=[f for f in ds["frequency"].values if float(f) not in set(masked)])
