@@ -158,4 +158,18 @@ def test_commands_with_a_positional_model_take_the_model_option_too(capsys, tmp_
     # a model given both ways is one too many
     with pytest.raises(SystemExit) as info:
         main(["simulate", "R0 + R1 || C1", "--model", "R0"])
-    assert info.value.code == 2 and "unrecognized arguments: R0" in capsys.readouterr().err
+    assert info.value.code == 2 and "MODEL given twice: 'R0 + R1 || C1' and --model 'R0'" in capsys.readouterr().err
+    # neither way is none, and --help lists --model
+    with pytest.raises(SystemExit) as info:
+        main(["simulate", "--points", "4"])
+    assert info.value.code == 2 and "required: MODEL (or --model MODEL)" in capsys.readouterr().err
+    for command in ("simulate", "info", "draw", "force"):
+        with pytest.raises(SystemExit):
+            main([command, "--help"])
+        assert "--model MODEL" in capsys.readouterr().out
+    # force's model keeps its choices either way
+    assert main(["force", "--model", "meyer", "--points", "3"]) == 0
+    assert capsys.readouterr().out.count("\n") == 4
+    with pytest.raises(SystemExit) as info:
+        main(["force", "--model", "nope"])
+    assert info.value.code == 2 and "invalid choice: 'nope'" in capsys.readouterr().err

@@ -183,12 +183,16 @@ def _end_program(code: int) -> NoReturn:
     os._exit(code)
 
 
+def _subparser(parser: argparse.ArgumentParser, command: str) -> argparse.ArgumentParser:
+    return next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction)).choices[command]
+
+
 def _refuse_unknown(parser: argparse.ArgumentParser, command: str, unknown: list[str]) -> NoReturn:
     """Exit 2 with the command's own usage line and "unrecognized arguments", naming the
     closest option of that command for each unknown one (``--maxsteps`` → ``--max-steps``)."""
     import difflib
 
-    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction)).choices[command]
+    sub = _subparser(parser, command)
     options = [o for action in sub._actions for o in action.option_strings if o.startswith("--")]
 
     def squeezed(option: str) -> str:
@@ -207,28 +211,16 @@ def _refuse_unknown(parser: argparse.ArgumentParser, command: str, unknown: list
     sub.error(f"unrecognized arguments: {' '.join(unknown)}{hint}")
 
 
-def _model_as_option(parser: argparse.ArgumentParser, argv: list[str]) -> list[str]:
-    """``argv`` with ``--model X`` (or ``--model=X``) read as MODEL for the commands that take
-    it as their first argument (``simulate``, ``info``, ``draw``; ``force``'s model name), as
-    ``fit``, ``diagnose`` and the others take it. Nothing after ``--`` is touched."""
-    command = _command_of(argv)
-    subparsers = [a for a in parser._actions if isinstance(a, argparse._SubParsersAction)]
-    sub = subparsers[0].choices.get(command) if subparsers and command else None
-    if sub is None or not any(a.dest == "model" and not a.option_strings for a in sub._actions):
-        return argv
-    end = argv.index("--") if "--" in argv else len(argv)
-    head = [item[len("--model="):] if item.startswith("--model=") else item for item in argv[:end] if item != "--model"]
-    return head + argv[end:]
-
-
 def _run(argv: list[str], command: list[str]) -> int:
     from ..errors import ImpedaxError
+    from .common import positional_model
 
     parser = build_parser(_command_of(argv))
-    args, unknown = parser.parse_known_args(_model_as_option(parser, argv))
+    args, unknown = parser.parse_known_args(argv)
     command[0] = args.command
     if unknown:
         _refuse_unknown(parser, args.command, unknown)
+    positional_model(_subparser(parser, args.command), args)
     _configure_jax_cache()
     try:
         return int(args.run(args) or 0)

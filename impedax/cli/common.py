@@ -120,14 +120,36 @@ def emit_json(obj) -> None:
 
 
 def add_model_argument(parser, *, positional: bool = False, default: str | None = None) -> None:
-    """MODEL (``positional``) or --model, required unless a ``default`` is given."""
+    """MODEL (``positional``: first argument, or --model as the commands that fit take it) or
+    --model, required unless a ``default`` is given."""
     help_text = "circuit text, e.g. 'R0 + R1 || C1' (quote it in the shell)"
     if positional:
-        parser.add_argument("model", metavar="MODEL", help=help_text)
+        add_positional_model(parser, help=help_text)
     elif default is not None:
         parser.add_argument("--model", default=default, metavar="MODEL", help=f"{help_text}; default '{default}'")
     else:
         parser.add_argument("--model", required=True, metavar="MODEL", help=help_text)
+
+
+def add_positional_model(parser, **kwargs) -> None:
+    """MODEL as the first argument, or as ``--model MODEL`` (the spelling of the commands that
+    fit); `positional_model` reads the one given. ``kwargs`` go to both (``choices``, ``help``)."""
+    parser.add_argument("model", metavar="MODEL", nargs="?", **kwargs)
+    parser.add_argument("--model", dest="model_option", metavar="MODEL", **{**kwargs, "help": "the same as MODEL"})
+
+
+def positional_model(parser, args) -> None:
+    """Set ``args.model`` from MODEL or ``--model`` (see `add_positional_model`); exit 2 with
+    the command's usage when neither or both are given."""
+    if not hasattr(args, "model_option"):
+        return
+    given = [value for value in (args.model, args.model_option) if value is not None]
+    if not given:
+        parser.error("the following arguments are required: MODEL (or --model MODEL)")
+    if len(given) == 2:
+        parser.error(f"MODEL given twice: {given[0]!r} and --model {given[1]!r}; give one")
+    args.model = given[0]
+    del args.model_option
 
 
 def add_select_option(parser) -> None:

@@ -7,7 +7,7 @@ import sys
 
 import numpy as np
 
-from .common import add_output_options, check_memory, check_parameter_names, emit_json, figure_writer, number_option, parse_assignments, plan_outputs
+from .common import add_output_options, add_positional_model, check_memory, check_parameter_names, emit_json, figure_writer, number_option, parse_assignments, plan_outputs
 
 _MODELS = ("meyer", "vezzoli")
 _RANGES = {"meyer": (10.0, 1e9), "vezzoli": (1.0, 1e6)}
@@ -33,7 +33,7 @@ def register(sub) -> None:
         "thesis values (eq 3.13) and V_A = 140 V; vezzoli: eq 10 time-averaged, Table 2 values. "
         "Parameters: meyer C_s C_i R_sc C_sc R_f [SI], area [m^2], v_a [V]; vezzoli h_i h_s [m], area [m^2], eps_i eps_s, rho_s [ohm m], v_m [V].",
     )
-    p.add_argument("model", choices=_MODELS, help="which paper's model")
+    add_positional_model(p, choices=_MODELS, help="which paper's model")
     p.add_argument("--param", action="append", metavar="NAME=VALUE", help="override a parameter (repeatable)")
     p.add_argument("--fmin", type=number_option, default=None, help="lowest frequency [Hz] (meyer 10, vezzoli 1)")
     p.add_argument("--fmax", type=number_option, default=None, help="highest frequency [Hz] (meyer 1e9, vezzoli 1e6)")
