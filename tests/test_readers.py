@@ -310,6 +310,33 @@ def test_repeated_sweeps_in_one_table_become_a_dimension(tmp_path):
     np.testing.assert_allclose(ds["Z"].values[1], oracle(F_HZ) + 1, rtol=1e-15)
 
 
+def test_a_spreadsheet_sheet_of_sweeps_becomes_a_dimension(tmp_path):
+    """Sheets of repeated sweeps: (sheet, sweep, frequency), each sweep its own values; sheets
+    that hold different numbers of sweeps are one error naming both."""
+    openpyxl = pytest.importorskip("openpyxl")
+
+    def book(path, sweeps_per_sheet):
+        workbook = openpyxl.Workbook()
+        workbook.remove(workbook.active)
+        for sheet, n_sweeps in enumerate(sweeps_per_sheet):
+            table = workbook.create_sheet(f"S{sheet}")
+            table.append(["Frequency (Hz)", "Z' (Ohm)", "Z'' (Ohm)"])
+            for k in range(n_sweeps):
+                for f, zi in zip(F_HZ.tolist(), (oracle(F_HZ) + 10 * sheet + k).tolist()):
+                    table.append([f, zi.real, zi.imag])
+        workbook.save(path)
+        return path
+
+    ds = ix.load(book(tmp_path / "two.xlsx", [3, 3]))
+    assert ds["Z"].dims == ("sheet", "sweep", "frequency") and list(ds["sweep"].values) == ["0", "1", "2"]
+    for sheet in range(2):
+        for k in range(3):
+            np.testing.assert_allclose(ds["Z"].values[sheet, k], oracle(F_HZ) + 10 * sheet + k, rtol=1e-15)
+    assert ds.attrs["sweeps"] == "3 sweeps of 4 points (the frequency list restarts on lines 6, 10)"
+    with pytest.raises(ix.DataError, match=r"sheet 'S1' holds one spectrum where sheet 'S0' holds 2 sweeps \(0, 1\)"):
+        ix.load(book(tmp_path / "uneven.xlsx", [2, 1]))
+
+
 def test_ec_lab_cycles_become_a_dimension(tmp_path):
     """EC-Lab's real example file (impedance.py 1.7's), its data rows written a second time as
     cycle 2 with Z' 5 Ω higher: a `cycle` dimension, the file's values in each."""

@@ -270,18 +270,27 @@ def finish(
 
 
 def stack(path: Path, spectra: Sequence[tuple[str, xr.Dataset]], dim: str) -> xr.Dataset:
-    """Several spectra of one file on one frequency grid as a ``dim`` dimension; different grids
-    are an error (impedax holds one grid per Dataset)."""
+    """Several spectra of one file on one frequency grid as a ``dim`` dimension, ahead of the
+    dimensions each already has (a sheet's sweeps); different grids or shapes are an error
+    (impedax holds one grid per Dataset)."""
     if len(spectra) == 1:
         return spectra[0][1]
     label0, first = spectra[0]
     f0 = first["frequency"].values
+    inner = tuple(d for d in first["Z"].dims if d != "frequency")
     for label, ds in spectra[1:]:
         f = ds["frequency"].values
         if f.shape != f0.shape or not np.array_equal(f, f0):
             raise DataError(
                 f"{dim} {label!r} ({f.size} points) has a different frequency grid from {dim} {label0!r} ({f0.size} points); "
                 f"impedax holds one grid per spectrum: export the {dim}s to separate files",
+                path=path,
+            )
+        same_labels = all((d in ds.coords) == (d in first.coords) and (d not in first.coords or np.array_equal(ds[d].values, first[d].values)) for d in inner)
+        if tuple(d for d in ds["Z"].dims if d != "frequency") != inner or any(ds.sizes[d] != first.sizes[d] for d in inner) or not same_labels:
+            raise DataError(
+                f"{dim} {label!r} holds {_spectra_text(ds)} where {dim} {label0!r} holds {_spectra_text(first)}; "
+                f"impedax stacks {dim}s that hold the same spectra: export the {dim}s to separate files",
                 path=path,
             )
     attrs = {}
@@ -296,10 +305,20 @@ def stack(path: Path, spectra: Sequence[tuple[str, xr.Dataset]], dim: str) -> xr
     attrs.pop("skipped_rows", None)
     if reports:
         attrs["skipped_rows"] = reports
+    coords = {dim: [label for label, _ in spectra], **{d: first[d].values for d in inner if d in first.coords}}
     return make_spectrum(
-        f0, np.stack([ds["Z"].values for _, ds in spectra]), dims=(dim,), coords={dim: [label for label, _ in spectra]},
+        f0, np.stack([ds["Z"].transpose(*inner, "frequency").values for _, ds in spectra]), dims=(dim, *inner), coords=coords,
         attrs=attrs, source=str(path),
     )
+
+
+def _spectra_text(ds: xr.Dataset) -> str:
+    """'one spectrum', or the sizes of its dimensions besides frequency ('3 sweeps')."""
+    inner = [d for d in ds["Z"].dims if d != "frequency"]
+    if not inner:
+        return "one spectrum"
+    labels = (f"{ds.sizes[d]} {d}s" + (f" ({', '.join(str(v) for v in ds[d].values)})" if d in ds.coords else "") for d in inner)
+    return " × ".join(labels)
 
 
 # --- units ----------------------------------------------------------------------------------

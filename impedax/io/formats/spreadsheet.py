@@ -94,7 +94,7 @@ def read_spreadsheet(path: str | Path) -> xr.Dataset:
             reasons.append(f"sheet {name!r}: {exc.reason}")
             continue
         attrs = {"format": "spreadsheet", "sheet": str(name)}
-        ds = spectrum_from_rows(where, layout, rows[1:], attrs, comma=False)
+        ds = spectrum_from_rows(where, layout, rows[1:], attrs, comma=False, split_sweeps=True)
         ds.attrs["path"] = str(path)
         spectra.append((str(name), ds))
     if not spectra:
