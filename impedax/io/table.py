@@ -277,9 +277,10 @@ def spectrum_from_rows(
     values: dict[str, list[float]] = {role: [] for role in wanted}
     lines: list[int] = []
     time_col = next((i for i, h in enumerate(header) if _key(split_header_cell(h)[0]) in ("time", "elapsedtime", "time(sec)")), None)
-    times: list[float] = []
     cycle_col = next((i for i, h in enumerate(header) if _key(h) in _CYCLE_NAMES), None) if split_sweeps else None
-    cycles: list[float] = []
+    # optional columns: read while every cell is a number; one of text or gaps is just another column
+    optional = {name: index for name, index in (("time", time_col), ("cycle", cycle_col)) if index is not None}
+    optional_values: dict[str, list[float]] = {name: [] for name in optional}
     for line, cells in rows:
         cells = [c.strip() for c in cells]
         while len(cells) > n_fields and not cells[-1]:
@@ -291,16 +292,11 @@ def spectrum_from_rows(
             raise DataError(f"{where}{len(cells)} fields, but the header has {n_fields} (a missing or extra cell would shift values)", path=path, line=line)
         for role, (index, scale) in wanted.items():
             values[role].append(number(cells[index], path, line, header[index], comma=comma) * scale)
-        if time_col is not None:
+        for name, index in list(optional.items()):
             try:
-                times.append(float(cells[time_col].replace(",", ".") if comma else cells[time_col]))
+                optional_values[name].append(float(cells[index].replace(",", ".") if comma else cells[index]))
             except ValueError:
-                time_col = None
-        if cycle_col is not None:
-            try:  # (a cycle column of text or gaps is another column: no sweeps read from it)
-                cycles.append(float(cells[cycle_col].replace(",", ".") if comma else cells[cycle_col]))
-            except ValueError:
-                cycle_col = None
+                del optional[name]
         lines.append(line)
     if not lines:
         raise DataError(f"{where}header but no data rows" + (f" (skipped: {'; '.join(skipped.report())})" if len(skipped) else ""), path=path, line=header_line)
@@ -315,10 +311,11 @@ def spectrum_from_rows(
     if layout.ignored:
         attrs.setdefault("other_columns", ", ".join(layout.ignored))
     extra = {}
-    if time_col is not None and len(times) == len(lines):
-        extra["time"] = (np.array(times), "s", "time of the measurement")
+    if "time" in optional:
+        extra["time"] = (np.array(optional_values["time"]), "s", "time of the measurement")
     freq, sigma = col["frequency"], col.get("sigma")
-    by_cycle = np.array(cycles) if cycle_col is not None and len(cycles) == len(lines) and np.isfinite(cycles).all() else None
+    cycles = np.array(optional_values["cycle"]) if "cycle" in optional else None
+    by_cycle = cycles if cycles is not None and np.isfinite(cycles).all() else None
     sweeps = _sweep_blocks(freq, by_cycle, lines, path) if split_sweeps else None
     if sweeps is None:
         return _spectrum(path, freq, z, lines, attrs, skipped=skipped, extra=extra, sigma=sigma, where=where)
