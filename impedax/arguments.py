@@ -39,6 +39,8 @@ __all__ = [
     "parameter_bounds",
     "sequence_of",
     "require_parameters",
+    "unknown_parameter",
+    "closest_name",
     "numeric_array",
     "shown",
     "MAX_MESSAGE",
@@ -274,6 +276,34 @@ def numeric_array(*, positive: bool = False, optional: bool = False) -> Rule:
 def _is_tracer(value) -> bool:
     jax = sys.modules.get("jax")  # no tracer exists before JAX is imported
     return jax is not None and isinstance(value, jax.core.Tracer)
+
+
+def closest_name(name: str, known: Sequence[str]) -> str | None:
+    """The parameter of ``known`` a mistyped ``name`` most likely means, or None: the one
+    equal but for case (``r1`` → ``R1``); else, for ``ELEMENT.attr``, the parameter of that
+    element (case aside) whose attribute starts with the typed one (``CPE1.a`` →
+    ``CPE1.alpha``, not the closer spelling ``CPE1.Q``); else the closest spelling (`difflib`)."""
+    known = list(known)
+    folded = [k for k in known if k.casefold() == name.casefold()]
+    if folded:
+        return folded[0]
+    element, dot, attribute = name.partition(".")
+    if dot and attribute:
+        same_element = [k for k in known if k.partition(".")[0].casefold() == element.casefold() and "." in k]
+        started = [k for k in same_element if k.partition(".")[2].casefold().startswith(attribute.casefold())]
+        if started:
+            return started[0]
+    close = difflib.get_close_matches(name, known, n=1)
+    return close[0] if close else None
+
+
+def unknown_parameter(what: str, name, known, circuit: object = None) -> ParameterError:
+    """The error for a parameter name ``name`` (given in ``what``, e.g. ``init``) that is not
+    among ``known`` (of ``circuit``), with the closest known name (`closest_name`) as a hint."""
+    close = closest_name(name, known) if isinstance(name, str) else None
+    hint = f"; did you mean {close}?" if close else ""
+    where = f" for {circuit}" if circuit is not None else ""
+    return ParameterError(f"{what}: unknown parameter {shown(name)}{where}{hint} (parameters: {', '.join(known)})")
 
 
 def require_parameters(params, names, name: str = "params") -> None:

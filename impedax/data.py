@@ -19,7 +19,7 @@ import xarray as xr
 from .arguments import MAX_POINTS, checked_arguments, count, real, shown
 from .errors import DataError
 
-__all__ = ["make_spectrum", "validate_spectrum", "log_frequencies"]
+__all__ = ["make_spectrum", "validate_spectrum", "log_frequencies", "checked_frequencies"]
 
 
 @checked_arguments(fmin=real(), fmax=real(), points=count(1, MAX_POINTS, why="80 MB of frequencies"))
@@ -48,18 +48,28 @@ def make_spectrum(
 
     ``Z`` has shape ``(*extra, n_frequency)`` with the extra dimensions named by ``dims``.
     """
-    frequency = _numbers(frequency, np.float64, "frequency", source)
-    Z = _numbers(Z, np.complex128, "Z", source)
+    frequency = _numbers(frequency, np.float64, "frequency", source, real="frequencies in Hz")
+    Z = _numbers(Z, np.complex128, "Z", source, complex_only=True)
     all_dims = (*dims, "frequency")
     if frequency.ndim != 1:
         raise DataError(f"frequency must be one-dimensional, got shape {frequency.shape}", path=source)
     if Z.ndim != len(all_dims):
+        if Z.ndim == 0:
+            raise DataError("Z must be an array over frequency, got a single number", path=source)
+        if not dims:
+            names = ("trial", "session", "condition") if Z.ndim <= 4 else tuple(f"dim_{i}" for i in range(Z.ndim - 1))
+            example = names[: Z.ndim - 1]
+            raise DataError(f"Z has {Z.ndim} dimensions; name the ones before frequency, e.g. dims={example!r} for Z over {(*example, 'frequency')!r}", path=source)
         raise DataError(f"Z has {Z.ndim} dimensions but dims {all_dims} were given", path=source)
     if Z.shape[-1] != frequency.size:
         raise DataError(f"Z has {Z.shape[-1]} values along frequency but there are {frequency.size} frequencies", path=source)
     data_vars = {"Z": (all_dims, Z, {"units": "ohm", "long_name": "complex impedance Z' + jZ''"})}
     if sigma is not None:
-        sigma = np.broadcast_to(np.asarray(sigma, dtype=np.float64), Z.shape)
+        sigma = _numbers(sigma, np.float64, "sigma", source, real="a standard deviation [Ω] per point, for Re and Im alike")
+        try:
+            sigma = np.broadcast_to(sigma, Z.shape)
+        except ValueError:
+            raise DataError(f"sigma has shape {sigma.shape}, which does not broadcast to Z's {Z.shape}", path=source) from None
         data_vars["sigma"] = (all_dims, np.array(sigma), {"units": "ohm", "long_name": "standard deviation of Z"})
     all_coords = {"frequency": ("frequency", frequency, {"units": "Hz"})}
     for name, values in (coords or {}).items():
@@ -68,15 +78,45 @@ def make_spectrum(
     return validate_spectrum(ds, source=source)
 
 
-def _numbers(values, dtype, name: str, source: str) -> np.ndarray:
-    """``values`` as an array of ``dtype``; `DataError` for text, None, ragged lists, bools."""
+def _numbers(values, dtype, name: str, source: str, *, complex_only: bool = False, real: str = "") -> np.ndarray:
+    """``values`` as an array of ``dtype``; `DataError` for text, None, ragged lists, bools,
+    real numbers where ``complex_only``, complex ones where ``real`` says what they are."""
     try:
         array = np.asarray(values)
         if array.dtype == bool or not (np.issubdtype(array.dtype, np.number)):
             raise TypeError
-        return np.asarray(array, dtype=dtype)
     except (TypeError, ValueError):
         raise DataError(f"{name} must be numbers, got {shown(values)}", path=source) from None
+    if complex_only and not np.iscomplexobj(array):
+        raise DataError(f"{name} must be complex, e.g. Z' + 1j*Z'' (got dtype {array.dtype}); a magnitude or Z' alone is not an impedance spectrum", path=source)
+    if real and np.iscomplexobj(array):
+        raise DataError(f"{name} must be real ({real}), got dtype {array.dtype}", path=source)
+    return np.asarray(array, dtype=dtype)
+
+
+def checked_frequencies(freq, name: str = "freq", *, ndim_max: int | None = 1, source: str | None = None) -> np.ndarray:
+    """``freq`` [Hz] as a float64 array (a scalar or up to ``ndim_max`` dimensions; None: any),
+    every value finite and positive; otherwise one `DataError` naming ``name`` and the first bad
+    value and its position."""
+    try:
+        array = np.asarray(freq)
+        if array.dtype == bool or not np.issubdtype(array.dtype, np.number):
+            raise TypeError
+    except (TypeError, ValueError):
+        raise DataError(f"{name} must be frequencies in Hz (numbers), got {shown(freq)}", path=source) from None
+    if np.iscomplexobj(array):
+        raise DataError(f"{name} must be real frequencies in Hz, got dtype {array.dtype}", path=source)
+    if ndim_max is not None and array.ndim > ndim_max:
+        raise DataError(f"{name} must be one-dimensional (or one number), got shape {array.shape}", path=source)
+    if array.size == 0:
+        raise DataError(f"{name} is empty", path=source)
+    array = np.asarray(array, dtype=np.float64)
+    bad = np.argwhere(~np.isfinite(np.atleast_1d(array)) | (np.atleast_1d(array) <= 0))
+    if bad.size:
+        index = tuple(int(i) for i in bad[0])
+        where = "got " if array.ndim == 0 else f"point {index[0]} is " if array.ndim == 1 else f"the value at {index} is "
+        raise DataError(f"{name} must be positive and finite; {where}{np.atleast_1d(array)[index]:g}", path=source)
+    return array
 
 
 def validate_spectrum(ds: xr.Dataset, *, source: str | None = None) -> xr.Dataset:
@@ -101,13 +141,14 @@ def validate_spectrum(ds: xr.Dataset, *, source: str | None = None) -> xr.Datase
         raise DataError("the spectrum has no frequencies", path=source)
     bad = np.flatnonzero(~np.isfinite(f) | (f <= 0))
     if bad.size:
-        raise DataError(f"frequency must be positive and finite; point {bad[0]} is {f[bad[0]]!r}", path=source)
+        raise DataError(f"frequency must be positive and finite; point {bad[0]} is {f[bad[0]]:g}", path=source)
     ordered = np.sort(f)
     repeated = ordered[1:][ordered[1:] == ordered[:-1]]
     if repeated.size:
         dup = repeated[0]
         where = np.flatnonzero(f == dup)
-        raise DataError(f"duplicate frequency {dup:g} Hz at points {', '.join(map(str, where))}", path=source)
+        points = ", ".join(map(str, where[:5])) + (f", … ({where.size} points)" if where.size > 5 else "")
+        raise DataError(f"duplicate frequency {dup:g} Hz at points {points}", path=source)
     if not np.all(np.isfinite(z)):
         idx = np.argwhere(~np.isfinite(z))[0]
         raise DataError(f"Z has a non-finite value at index {tuple(int(i) for i in idx)}", path=source)

@@ -377,7 +377,7 @@ GOOD = (F, 10 + rc(100, 1e-3))
         ((F, np.where(F > 1e3, np.nan, 1.0 + 0j)), {}, DataError, "non-finite"),
         ((F, np.zeros(F.size, complex)), {}, DataError, "zero"),
         ((F[:3], np.ones(3, complex)), {}, DataError, "at least 5"),
-        ((F, np.ones(5, complex)), {}, DataError, "shapes"),
+        ((F, np.ones(5, complex)), {}, DataError, "Z has 5 values along frequency but there are 71 frequencies"),
         ("no_such_file.csv", {}, DataError, "not found"),
         (42, {}, DataError, "expected"),
     ],

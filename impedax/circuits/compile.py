@@ -14,7 +14,10 @@ from typing import Callable, Mapping
 
 import jax
 import jax.numpy as jnp
+import numpy as np
 
+from ..arguments import shown, unknown_parameter
+from ..data import checked_frequencies
 from ..errors import CircuitError, ParameterError
 from .elements import DEFAULT_REGISTRY
 from .parser import parse
@@ -140,11 +143,31 @@ class CompiledCircuit:
     _jacobian_fn: Callable = field(repr=False)
 
     def __call__(self, params: Mapping[str, object], freq) -> jnp.ndarray:
-        missing = [n for n in self.parameter_names if n not in params]
-        if missing:
-            raise ParameterError(f"missing parameter(s) {', '.join(missing)} for circuit {self.circuit}")
+        self.check_arguments(params, freq)
         omega = 2.0 * jnp.pi * jnp.asarray(freq)
         return self._fn(params, omega)
+
+    def check_arguments(self, params, freq) -> None:
+        """`ParameterError` for a ``params`` that is not a mapping, lacks a parameter (naming an
+        unknown key, with the closest name, when one is there instead) or holds a value that is
+        not numbers; `DataError` for concrete frequencies that are not finite and positive.
+        JAX tracers pass unchecked (the keys are static: under ``jit`` this runs once, at trace
+        time). Keys beyond the parameters are allowed when none is missing (a model's parameter
+        draws hold more than one circuit's parameters)."""
+        if not isinstance(params, Mapping):
+            raise ParameterError(f"params must be a mapping parameter name → value, got {shown(params)} ({type(params).__name__})")
+        names = self.parameter_names
+        missing = [n for n in names if n not in params]
+        if missing:
+            unknown = [k for k in params if k not in names]
+            if unknown:
+                raise unknown_parameter("params", unknown[0], names, self.circuit)
+            raise ParameterError(f"missing parameter(s) {', '.join(missing)} for circuit {self.circuit}")
+        for n in names:
+            if not _is_numbers(params[n]):
+                raise ParameterError(f"params[{n!r}] must be a number or an array of numbers, got {shown(params[n])} ({type(params[n]).__name__})")
+        if not isinstance(freq, jax.core.Tracer):
+            checked_frequencies(freq, ndim_max=None)
 
     def vector(self, theta, freq) -> jnp.ndarray:
         """Evaluate with ``theta`` an array in ``parameter_names`` order."""
@@ -170,6 +193,22 @@ class CompiledCircuit:
         z, rows = self._jacobian_fn(theta, omega, frozenset(wanted))
         full = lambda v: jnp.broadcast_to(v, omega.shape).astype(jnp.complex128)  # noqa: E731
         return full(z), [full(rows[i]) for i in wanted]
+
+
+def _is_numbers(value) -> bool:
+    """Whether a parameter value is numbers: a Python or NumPy number, an array of numbers or
+    a JAX tracer (not a bool, a string or None)."""
+    if isinstance(value, (float, int)) and not isinstance(value, bool):
+        return True
+    if isinstance(value, jax.core.Tracer):
+        return True
+    dtype = getattr(value, "dtype", None)
+    if dtype is None:
+        try:
+            dtype = np.asarray(value).dtype
+        except Exception:  # ragged lists and the like
+            return False
+    return np.dtype(dtype).kind in "iufc"
 
 
 def compile_circuit(circuit: Circuit | str, registry: Registry = DEFAULT_REGISTRY) -> CompiledCircuit:

@@ -16,6 +16,7 @@ import jax.numpy as jnp
 import numpy as np
 import xarray as xr
 
+from ..data import checked_frequencies
 from ..errors import ParameterError
 
 __all__ = ["derive", "derive_fit", "QUANTILES", "band_dataset", "bind_frequency", "check_real", "needs_freq"]
@@ -44,7 +45,7 @@ def bind_frequency(fn, freq):
         def g(params):
             return jnp.asarray(fn(params))
     else:
-        f = jnp.asarray(np.asarray(freq, float))
+        f = jnp.asarray(checked_frequencies(freq))
 
         def g(params):
             return jnp.asarray(fn(params, f))

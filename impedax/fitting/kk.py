@@ -25,7 +25,7 @@ import numpy as np
 import xarray as xr
 
 from ..arguments import MAX_BASIS, checked_arguments, count, flag, instance_of
-from ..data import format_frequency
+from ..data import checked_frequencies, format_frequency
 from ..errors import DataError, ParameterError
 from .grid import ResultGrid
 from .problem import frequency_and_z
@@ -118,7 +118,7 @@ class KKResult:
     def predict(self, freq) -> np.ndarray:
         """The KK fit's impedance [Ω] at ``freq`` [Hz]: R_0 + jωL + (1/C)/(jω) + Σ R_k/(1 +
         jωτ_k) (Schönleber 2014 eq 7; L and 1/C zero when not fitted)."""
-        omega = 2 * np.pi * np.asarray(freq, float)
+        omega = 2 * np.pi * checked_frequencies(freq)
         voigt = 1.0 / (1.0 + 1j * omega[..., None] * self.time_constants) @ self.resistances
         return self.series_resistance + 1j * omega * self.series_inductance - 1j * self.inverse_series_capacitance / omega + voigt
 

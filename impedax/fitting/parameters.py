@@ -12,10 +12,8 @@ for positive quantities that span decades):
 
 from __future__ import annotations
 
-import functools
-
-import difflib
 import enum
+import functools
 import math
 from dataclasses import dataclass
 from typing import Mapping
@@ -23,6 +21,7 @@ from typing import Mapping
 import jax.numpy as jnp
 import numpy as np
 
+from ..arguments import unknown_parameter
 from ..circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ..errors import FitError, ParameterError
 
@@ -131,9 +130,7 @@ class ParameterTable:
         for what, mapping in (("init", init), ("fixed", fixed), ("bounds", bounds)):
             for name in mapping or {}:
                 if name not in specs:
-                    close = difflib.get_close_matches(name, names, n=1)
-                    hint = f"; did you mean {close[0]}?" if close else ""
-                    raise ParameterError(f"{what}: unknown parameter {name!r} for {circuit}{hint} (parameters: {', '.join(names)})")
+                    raise unknown_parameter(what, name, names, circuit)
         lower = np.array([specs[n].lower for n in names], float)
         upper = np.array([specs[n].upper for n in names], float)
         inclusive = np.array([specs[n].upper_inclusive for n in names])

@@ -15,7 +15,7 @@ import xarray as xr
 
 from ..arguments import shown
 from ..circuits import Circuit, parse
-from ..data import validate_spectrum
+from ..data import make_spectrum, validate_spectrum
 from ..errors import DataError, FitError, ParameterError
 from .parameters import ParameterTable
 
@@ -106,12 +106,15 @@ def check_magnitudes(frequency, magnitude, source: str) -> None:
 
 def spectrum_argument(data):
     """``data`` as a public function takes it: a spectrum Dataset or a path, returned as it is;
-    a DataArray of complex Z over ``frequency`` becomes a Dataset; anything else (None, a
-    NumPy array, a list) is a `DataError` that says what to pass."""
+    a DataArray of complex Z over ``frequency`` or a (frequency, Z) pair of arrays becomes a
+    Dataset (`spectrum_of_pair`); anything else (None, a NumPy array, a list of numbers) is a
+    `DataError` that says what to pass."""
     if isinstance(data, str) and "\x00" in data:
         raise DataError(f"a file name cannot contain a NUL character: {shown(data)}")
     if isinstance(data, xr.Dataset) or isinstance(data, str) or hasattr(data, "__fspath__"):
         return data
+    if is_pair(data):
+        return spectrum_of_pair(data)
     if isinstance(data, xr.DataArray):
         if "frequency" not in data.dims or not np.issubdtype(data.dtype, np.complexfloating):
             raise DataError(
@@ -120,8 +123,27 @@ def spectrum_argument(data):
             )
         return data.to_dataset(name="Z")
     raise DataError(
-        f"data must be a spectrum Dataset (impedax.make_spectrum, impedax.load) or a file path, got {shown(data)} ({type(data).__name__})"
+        f"data must be a spectrum Dataset (impedax.make_spectrum, impedax.load), a file path or a (frequency, Z) pair of arrays, got {shown(data)} ({type(data).__name__})"
     )
+
+
+def is_pair(data) -> bool:
+    """Whether ``data`` is a (frequency, Z) pair: a tuple or list of two arrays (or lists), not
+    of two numbers, strings or Datasets."""
+    if not isinstance(data, (tuple, list)) or len(data) != 2:
+        return False
+    return all(not isinstance(item, (str, bytes, xr.Dataset)) and (isinstance(item, (list, tuple)) or np.ndim(item) >= 1) for item in data)
+
+
+def spectrum_of_pair(pair) -> xr.Dataset:
+    """A (frequency [Hz], complex Z [Ω]) pair as a spectrum Dataset, checked by `make_spectrum`;
+    Z's dimensions before frequency are named ``dim_0``, ``dim_1``, ...."""
+    frequency, z = pair
+    try:
+        extra = max(np.ndim(z) - 1, 0)
+    except ValueError:  # a ragged list: make_spectrum names it
+        extra = 0
+    return make_spectrum(frequency, z, dims=tuple(f"dim_{i}" for i in range(extra)))
 
 
 @dataclass(frozen=True, eq=False)
@@ -187,31 +209,13 @@ def residual_scale(z, inv_re, inv_im, weighting: str) -> np.ndarray:
 def frequency_and_z(data):
     """The preamble of the array-based tests (KK, DRT, Z-HIT): (frequency (N,), Z (*extra, N),
     extra dims, extra coords, source) from a spectrum Dataset, a file path or a (frequency, Z)
-    pair, checked; `DataError` on anything else."""
+    pair (`spectrum_of_pair`, as `fit` takes it), checked; `DataError` on anything else."""
+    if is_pair(data):
+        data = spectrum_of_pair(data)
     if isinstance(data, (str, bytes)) or hasattr(data, "__fspath__") or isinstance(data, (xr.Dataset, xr.DataArray)):
         spectrum = open_spectrum(data)
         ds, dims = spectrum.data, spectrum.extra_dims
         z = ds["Z"].transpose(*dims, "frequency")
         coords = {d: np.asarray(ds[d].values) for d in dims if d in ds.coords}
         return np.asarray(ds["frequency"].values, float), np.asarray(z.values, complex), dims, coords, spectrum.source
-    try:
-        f, z = data
-    except (TypeError, ValueError):
-        raise DataError(f"expected a spectrum Dataset, a file path or a (frequency, Z) pair, got {type(data).__name__}") from None
-    try:
-        f = np.asarray(f, dtype=float)
-        z = np.asarray(z, dtype=complex)
-    except (TypeError, ValueError) as exc:
-        raise DataError(f"frequency and Z must be numeric arrays ({exc})") from None
-    if f.ndim != 1 or z.ndim < 1 or z.shape[-1] != f.size:
-        raise DataError(f"frequency must be 1-D and Z must end with the frequency axis; got shapes {f.shape} and {z.shape}")
-    bad = np.flatnonzero(~np.isfinite(f) | (f <= 0))
-    if bad.size:
-        raise DataError(f"frequency must be positive and finite; point {bad[0]} is {f[bad[0]]!r}")
-    if np.unique(f).size != f.size:
-        raise DataError("duplicate frequencies")
-    check_magnitudes(f, np.abs(z), "memory")
-    if not np.all(np.isfinite(z)):
-        idx = np.argwhere(~np.isfinite(z))[0]
-        raise DataError(f"Z has a non-finite value at index {tuple(int(i) for i in idx)}")
-    return f, z, tuple(f"dim_{i}" for i in range(z.ndim - 1)), {}, "memory"
+    raise DataError(f"expected a spectrum Dataset, a file path or a (frequency, Z) pair of arrays, got {type(data).__name__}")

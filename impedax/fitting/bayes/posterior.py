@@ -20,7 +20,7 @@ import numpy as np
 import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
-from ...data import unit_text
+from ...data import checked_frequencies, unit_text
 from ...errors import DataError, ParameterError
 from ..derived import QUANTILES, band_dataset, bind_frequency, check_real, needs_freq
 from ..least_squares import FitResult
@@ -255,7 +255,9 @@ class Posterior:
         |Z_model| stands in for |Z_data| between the data's frequencies) or the data's σ
         interpolated in log f (``sigma``), on Re and Im alike; ``copies`` noisy copies of each
         draw (rows: draws × copies) make the predictive quantiles smoother."""
-        freq = self.frequency if freq is None else np.asarray(freq, float)
+        freq = self.frequency if freq is None else checked_frequencies(freq)
+        if noise and (not isinstance(copies, (int, np.integer)) or isinstance(copies, bool) or copies < 1):
+            raise ParameterError(f"copies must be a positive integer, got {copies!r}")
         params = self.circuit_samples()
         total = self.n_walkers * self.n_draws
         pick = np.linspace(0, total - 1, min(max_draws, total)).astype(int)
@@ -264,8 +266,6 @@ class Posterior:
         z = np.asarray(fn({k: jnp.asarray(v[pick]) for k, v in params.items()}, jnp.asarray(freq)))
         if not noise:
             return z
-        if not isinstance(copies, (int, np.integer)) or copies < 1:
-            raise ParameterError(f"copies must be a positive integer, got {copies!r}")
         z, pick = np.repeat(z, copies, axis=0), np.repeat(pick, copies)
         if self.noise == NoiseModel.PROPORTIONAL:
             sigma = self.parameter_draws()["sigma_rel"][pick][:, None] * np.abs(z)
@@ -375,8 +375,15 @@ class Posterior:
 
     @classmethod
     def from_xarray(cls, ds: xr.Dataset, *, reparametrization: Reparametrization | None = None, registry: Registry = DEFAULT_REGISTRY) -> "Posterior":
-        """Rebuild a posterior from `Posterior.to_xarray` output (e.g. read back from netCDF).
-        A custom reparametrization must be passed again (its functions are not stored)."""
+        """Rebuild a posterior from `Posterior.to_xarray` output, read back by `impedax.load` or
+        opened as stored (``xr.open_dataset`` of a file `impedax.write_result` wrote: its JSON
+        attributes and split complex variables are decoded here). A custom reparametrization
+        must be passed again (its functions are not stored)."""
+        from ...io.netcdf import decode_dataset  # (io is imported only here: rarely needed)
+
+        if not isinstance(ds, xr.Dataset):
+            raise DataError(f"from_xarray takes an xarray.Dataset, got {type(ds).__name__}")
+        ds = decode_dataset(ds)
         if ds.attrs.get("impedax_kind") != "posterior" or "draws" not in ds:
             raise DataError("not a saved impedax posterior (no 'draws' variable / impedax_kind attribute)")
         circuit = parse(ds.attrs["model"], registry)

@@ -158,26 +158,33 @@ class Prior:
 
 
 def parse_prior(text: str) -> tuple[str, Prior]:
-    """``"R1=loguniform:1e2,1e5"`` → ``("R1", Prior("loguniform", 100.0, 100000.0))``."""
+    """``"R1=loguniform:1e2,1e5"`` (the command line's ``--prior``) → ``("R1", Prior("loguniform",
+    100.0, 100000.0))``."""
     name, sep, spec = text.partition("=")
     name = name.strip()
     if not sep or not name:
         raise ParameterError(f"--prior {text!r}: expected NAME=KIND:ARGS, e.g. R1=loguniform:1e2,1e5")
+    return name, prior_of_text(spec, f"--prior {text!r}")
+
+
+def prior_of_text(spec: str, label: str) -> Prior:
+    """``"loguniform:1e2,1e5"`` → ``Prior("loguniform", 100.0, 100000.0)``; errors begin with
+    ``label``, where the text was given (``--prior 'R1=...'``, ``priors['R1']='...'``)."""
     kind, sep, args = spec.partition(":")
     kind = kind.strip().lower().replace("-", "").replace("_", "")
     if kind not in PRIOR_KINDS:
-        raise ParameterError(f"--prior {text!r}: unknown prior kind {kind!r}; choose one of {', '.join(PRIOR_KINDS)}")
+        raise ParameterError(f"{label}: unknown prior kind {kind!r}; choose one of {', '.join(PRIOR_KINDS)}")
     parts = [p.strip() for p in args.split(",")] if sep else []
     if len(parts) != 2:
-        raise ParameterError(f"--prior {text!r}: {kind} takes two numbers ({PRIOR_KINDS[kind]})")
+        raise ParameterError(f"{label}: {kind} takes two numbers ({PRIOR_KINDS[kind]})")
     try:
         a, b = float(parts[0]), float(parts[1])
     except ValueError:
-        raise ParameterError(f"--prior {text!r}: {args!r} are not two numbers") from None
+        raise ParameterError(f"{label}: {args!r} are not two numbers") from None
     try:
-        return name, Prior(kind, a, b)
+        return Prior(kind, a, b)
     except ParameterError as exc:
-        raise ParameterError(f"--prior {text!r}: {exc}") from None
+        raise ParameterError(f"{label}: {exc}") from None
 
 
 SIGMA_REL_PRIOR = Prior(PriorKind.LOGUNIFORM, 1e-5, 1.0)
@@ -188,10 +195,14 @@ def coerce_priors(priors: Mapping[str, "Prior | str | tuple"] | None) -> dict[st
     """User priors by name as `Prior`: a `Prior`, a ``(kind, a, b)`` tuple or ``"kind:a,b"`` text."""
     out = {}
     for name, prior in (priors or {}).items():
+        label = f"priors[{shown(name)}]={shown(prior)}"
         if isinstance(prior, str):
-            _, prior = parse_prior(f"{name}={prior}")
+            prior = prior_of_text(prior, label)
         elif isinstance(prior, tuple) and len(prior) == 3:
-            prior = Prior(*prior)
+            try:
+                prior = Prior(*prior)
+            except ParameterError as exc:
+                raise ParameterError(f"{label}: {exc}") from None
         elif not isinstance(prior, Prior):
             raise ParameterError(f"prior for {shown(name)}: expected a Prior, a (kind, a, b) tuple or 'kind:a,b' text, got {shown(prior)}")
         out[name] = prior
@@ -271,7 +282,7 @@ def check_prior_inside(name: str, prior: Prior, lower: float, upper: float, incl
         too_high = prior.b > upper or (prior.b == upper and not inclusive and math.isfinite(upper))
         if prior.a < lower or too_high:
             right = "]" if inclusive else ")"
-            raise ParameterError(f"prior for {name}: {prior} reaches outside the parameter's bounds ({lower:g}, {upper:g}{right})")
+            raise ParameterError(f"prior for {name}: {prior} reaches outside the parameter's bounds ({lower:g}, {upper:g}{right}")
 
 
 def prior_log_density(x, code, a, b, lo, hi, log_norm):

@@ -9,7 +9,6 @@ walkers, ``vectorize=True``) and the noise models are defined in `logprob`; prio
 
 from __future__ import annotations
 
-import difflib
 import math
 import time
 from dataclasses import dataclass
@@ -20,7 +19,7 @@ import numpy as np
 import xarray as xr
 from scipy import stats
 
-from ...arguments import MAX_CHAIN_VALUES, MAX_SAMPLER_STEPS, MAX_WALKERS, checked_arguments, choice, count, flag, frequency, instance_of, parameter_values, seed as seed_rule
+from ...arguments import MAX_CHAIN_VALUES, MAX_SAMPLER_STEPS, MAX_WALKERS, checked_arguments, choice, closest_name, count, flag, frequency, instance_of, parameter_values, seed as seed_rule
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, parse
 from ...errors import DataError, FitError, ParameterError
 from ..least_squares import FitResult, fit
@@ -161,8 +160,8 @@ def _check_user_priors(priors: Mapping[str, Prior], space: SampledParameters, fi
                 raise ParameterError(f"prior for {n}: it is replaced by the reparametrization; put priors on {', '.join(rp.names)}")
             if n in fixed:
                 raise ParameterError(f"prior for {n}: the parameter is fixed")
-            close = difflib.get_close_matches(n, space.names, n=1)
-            hint = f"; did you mean {close[0]}?" if close else ""
+            close = closest_name(n, space.names)
+            hint = f"; did you mean {close}?" if close else ""
             raise ParameterError(f"prior for unknown parameter {n!r}{hint} (sampled parameters: {', '.join(space.names)})")
     for i, n in enumerate(space.names):
         if n in priors:

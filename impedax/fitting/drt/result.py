@@ -9,7 +9,7 @@ from typing import Mapping
 import numpy as np
 import xarray as xr
 
-from ...data import format_quantity, format_time, format_uncertain
+from ...data import checked_frequencies, format_quantity, format_time, format_uncertain
 from .peaks import Peak
 from ..grid import ResultGrid
 
@@ -83,8 +83,9 @@ class DRTResult:
         (docs/drt.md)."""
         from .basis import RBFBasis, impedance_integrals
 
-        shape = np.shape(freq)
-        omega = 2 * np.pi * np.asarray(freq, float).ravel()
+        freq = checked_frequencies(freq)
+        shape = freq.shape
+        omega = 2 * np.pi * freq.ravel()
         ln_tau = np.log(self.basis_tau)
         basis = RBFBasis(ln_tau=ln_tau, step=float(np.mean(np.diff(ln_tau))) if ln_tau.size > 1 else 1.0, epsilon=2.0 * math.sqrt(math.log(2.0)) / (self.basis_fwhm_decades * math.log(10.0)))
         z_pol = np.empty(omega.size, complex)

@@ -1,0 +1,295 @@
+"""The public API's argument checks: make_spectrum's Z and sigma, the frequencies of every
+``predict(freq)``, the compiled circuit's parameters, (frequency, Z) pairs as fit data,
+Posterior.from_xarray of a netCDF file as stored, and the Python priors' messages.
+Oracles: closed-form RC impedances written here, the numbers put in, and the exact messages."""
+
+import warnings
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+import xarray as xr
+
+import impedax as ix
+
+RC = "R0 + R1 || C1"
+VALUES = {"R0": 10.0, "R1": 1e3, "C1": 1e-6}
+FREQ = np.geomspace(1.0, 1e5, 31)
+
+
+def rc_impedance(freq, r0=10.0, r1=1e3, c1=1e-6):
+    """R0 + R1/(1 + jωR1C1), written out by hand."""
+    omega = 2 * np.pi * np.asarray(freq, float)
+    return r0 + r1 / (1 + 1j * omega * r1 * c1)
+
+
+def noisy_rc(seed=0, relative=0.005):
+    rng = np.random.default_rng(seed)
+    z = rc_impedance(FREQ)
+    return z * (1 + relative * (rng.standard_normal(FREQ.size) + 1j * rng.standard_normal(FREQ.size)))
+
+
+# --- 1. make_spectrum -------------------------------------------------------------------------
+
+
+def test_make_spectrum_refuses_real_z_like_a_dataset_does():
+    with pytest.raises(ix.DataError, match=r"Z must be complex, e\.g\. Z' \+ 1j\*Z''.*a magnitude or Z' alone is not an impedance spectrum"):
+        ix.make_spectrum([1, 10, 100, 1000], [100.0, 90.0, 50.0, 10.0])
+    with pytest.raises(ix.DataError, match="Z must be complex"):
+        ix.make_spectrum([1, 10, 100, 1000], np.array([100, 90, 50, 10]))  # integers too
+    ds = ix.make_spectrum([1, 10, 100, 1000], np.array([100.0, 90.0, 50.0, 10.0]) + 0j)  # complex with Z'' = 0: fine
+    assert ds["Z"].dtype == np.complex128 and np.all(ds["Z"].values.imag == 0)
+
+
+def test_make_spectrum_refuses_complex_sigma_without_a_numpy_warning():
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(ix.DataError, match=r"sigma must be real \(a standard deviation"):
+            ix.make_spectrum(FREQ, rc_impedance(FREQ), sigma=1.0 + 1.0j)
+        with pytest.raises(ix.DataError, match="frequency must be real"):
+            ix.make_spectrum(FREQ + 0j, rc_impedance(FREQ))
+    with pytest.raises(ix.DataError, match=r"sigma has shape \(2,\), which does not broadcast to Z's \(31,\)"):
+        ix.make_spectrum(FREQ, rc_impedance(FREQ), sigma=[1.0, 2.0])
+    ds = ix.make_spectrum(FREQ, rc_impedance(FREQ), sigma=2.0)
+    assert np.all(ds["sigma"].values == 2.0)
+
+
+def test_make_spectrum_names_the_dimensions_to_give():
+    z = np.stack([rc_impedance(FREQ)] * 3)
+    with pytest.raises(ix.DataError) as info:
+        ix.make_spectrum(FREQ, z)
+    assert str(info.value) == "memory: Z has 2 dimensions; name the ones before frequency, e.g. dims=('trial',) for Z over ('trial', 'frequency')"
+    assert "were given" not in str(info.value)
+    with pytest.raises(ix.DataError, match=r"Z has 3 dimensions; .*dims=\('trial', 'session'\)"):
+        ix.make_spectrum(FREQ, z[None])
+    with pytest.raises(ix.DataError, match=r"Z has 2 dimensions but dims \('a', 'b', 'frequency'\) were given"):
+        ix.make_spectrum(FREQ, z, dims=("a", "b"))
+    assert ix.make_spectrum(FREQ, z, dims=("trial",)).sizes == {"trial": 3, "frequency": 31}
+
+
+def test_duplicate_frequency_message_stays_short_for_many_points():
+    with pytest.raises(ix.DataError) as info:
+        ix.make_spectrum(np.ones(100_000), np.ones(100_000) * (1 - 1j))
+    assert str(info.value) == "memory: duplicate frequency 1 Hz at points 0, 1, 2, 3, 4, … (100000 points)"
+
+
+# --- 2. predict(freq) -------------------------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def results():
+    data = ix.make_spectrum(FREQ, noisy_rc())
+    return {"fit": ix.fit(RC, data, n_starts=1), "kk": ix.kk_test(data), "drt": ix.drt(data)}
+
+
+BAD_FREQUENCIES = [
+    ([10.0, -1.0, 100.0], "freq must be positive and finite; point 1 is -1"),
+    ([0.0, 10.0], "freq must be positive and finite; point 0 is 0"),
+    ([10.0, 20.0, np.nan], "freq must be positive and finite; point 2 is nan"),
+    ([10.0, np.inf], "freq must be positive and finite; point 1 is inf"),
+    (-5.0, "freq must be positive and finite; got -5"),
+]
+
+
+@pytest.mark.parametrize("kind", ["kk", "drt"])
+@pytest.mark.parametrize("freq, message", BAD_FREQUENCIES)
+def test_predict_refuses_bad_frequencies_before_any_work(results, kind, freq, message):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no numpy RuntimeWarning on the way
+        with pytest.raises(ix.DataError) as info:
+            results[kind].predict(freq)
+    assert str(info.value) == message
+
+
+@pytest.mark.parametrize("kind", ["kk", "drt"])
+@pytest.mark.parametrize(
+    "freq, message",
+    [
+        (np.ones((2, 3)) * 10.0, r"freq must be one-dimensional \(or one number\), got shape \(2, 3\)"),
+        (["a", "b"], "freq must be frequencies in Hz"),
+        ([10.0 + 1j], "freq must be real frequencies"),
+        ([], "freq is empty"),
+    ],
+)
+def test_predict_refuses_frequencies_of_the_wrong_kind(results, kind, freq, message):
+    with pytest.raises(ix.DataError, match=message):
+        results[kind].predict(freq)
+
+
+@pytest.mark.parametrize("freq, message", BAD_FREQUENCIES[:4])
+def test_fit_predict_refuses_bad_frequencies(results, freq, message):
+    """FitResult.predict evaluates the compiled circuit, which checks concrete frequencies."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(ix.DataError) as info:
+            results["fit"].predict(freq)
+    assert str(info.value) == message
+
+
+def test_good_frequencies_still_predict(results):
+    fit = results["fit"]
+    z = fit.predict([10.0, 100.0])
+    np.testing.assert_allclose(z, rc_impedance([10.0, 100.0], fit.values["R0"], fit.values["R1"], fit.values["C1"]), rtol=1e-10)
+    assert np.shape(results["drt"].predict(10.0)) == ()
+    np.testing.assert_allclose(results["kk"].predict(FREQ), results["kk"].kk_impedance, rtol=1e-12)
+
+
+def test_derive_checks_its_frequencies(results):
+    with pytest.raises(ix.DataError, match="freq must be positive and finite; point 0 is -2"):
+        results["fit"].derive(lambda p, f: jnp.abs(ix.compile_circuit(RC)(p, f)), freq=[-2.0, 3.0])
+
+
+def test_validate_spectrum_formats_numbers_plainly():
+    ds = ix.make_spectrum(FREQ, rc_impedance(FREQ)).assign_coords(frequency=np.r_[-1.0, FREQ[1:]])
+    with pytest.raises(ix.DataError) as info:
+        ix.validate_spectrum(ds)
+    assert str(info.value).endswith("frequency must be positive and finite; point 0 is -1")
+    assert "np.float64" not in str(info.value)
+
+
+# --- 3. the compiled circuit ------------------------------------------------------------------
+
+
+def test_compiled_circuit_names_an_unknown_key_with_a_hint():
+    fn = ix.compile_circuit(RC)
+    with pytest.raises(ix.ParameterError) as info:
+        fn({"R0": 10.0, "R1": 1e3, "C_1": 1e-6}, FREQ)
+    assert str(info.value) == "params: unknown parameter 'C_1' for R0 + R1 || C1; did you mean C1? (parameters: R0, R1, C1)"
+    # the same message as ix.fit(init=...) gives for the same typo
+    with pytest.raises(ix.ParameterError) as fit_info:
+        ix.fit(RC, ix.make_spectrum(FREQ, noisy_rc()), init={"C_1": 1e-6})
+    assert str(fit_info.value) == "init" + str(info.value)[len("params") :]
+
+
+def test_compiled_circuit_missing_parameter_without_unknown_key():
+    with pytest.raises(ix.ParameterError, match=r"missing parameter\(s\) C1 for circuit R0 \+ R1 \|\| C1"):
+        ix.compile_circuit(RC)({"R0": 10.0, "R1": 1e3}, FREQ)
+
+
+@pytest.mark.parametrize("value", ["1e-6", None, True, [1, "a"], {"x": 1}])
+def test_compiled_circuit_refuses_values_that_are_not_numbers(value):
+    with pytest.raises(ix.ParameterError, match=r"params\['C1'\] must be a number or an array of numbers"):
+        ix.compile_circuit(RC)({**VALUES, "C1": value}, FREQ)
+
+
+def test_compiled_circuit_refuses_a_non_mapping_and_bad_frequencies():
+    fn = ix.compile_circuit(RC)
+    with pytest.raises(ix.ParameterError, match="params must be a mapping"):
+        fn([10.0, 1e3, 1e-6], FREQ)
+    with pytest.raises(ix.DataError, match="freq must be positive and finite; point 0 is 0"):
+        fn(VALUES, np.r_[0.0, FREQ])
+    # any shape that broadcasts (a column of frequencies against rows of values) is still taken
+    z = fn({**VALUES, "R0": np.array([[10.0, 20.0]])}, FREQ[:, None])
+    np.testing.assert_allclose(np.asarray(z)[:, 1], rc_impedance(FREQ, r0=20.0), rtol=1e-12)
+    with pytest.raises(ix.DataError, match=r"freq must be positive and finite; the value at \(1, 0\) is -1"):
+        fn(VALUES, np.array([[1.0], [-1.0]]))
+
+
+def test_compiled_circuit_stays_jittable_vmappable_and_differentiable():
+    fn = ix.compile_circuit(RC)
+    np.testing.assert_allclose(np.asarray(jax.jit(fn)(VALUES, FREQ)), rc_impedance(FREQ), rtol=1e-12)
+    batch = {"R0": jnp.array([10.0, 20.0]), "R1": jnp.array([1e3, 2e3]), "C1": jnp.array([1e-6, 1e-6])}
+    z = np.asarray(jax.vmap(fn, in_axes=(0, None))(batch, FREQ))
+    np.testing.assert_allclose(z[1], rc_impedance(FREQ, 20.0, 2e3, 1e-6), rtol=1e-12)
+    # d|Z|/dR0 at high frequency, where Z → R0 (C1 shorts R1): 1 within the R1 part's share
+    grad = jax.grad(lambda r0: jnp.abs(fn({**VALUES, "R0": r0}, jnp.array([1e7])))[0])(10.0)
+    assert float(grad) == pytest.approx(1.0, abs=1e-3)
+    # frequencies traced under jit pass unchecked (no tracer is turned into a number)
+    np.testing.assert_allclose(np.asarray(jax.jit(lambda f: fn(VALUES, f))(FREQ)), rc_impedance(FREQ), rtol=1e-12)
+
+
+def test_compiled_circuit_keeps_taking_extra_keys_when_none_is_missing():
+    """A model's parameter draws hold more than one circuit's parameters (impedax.models.sirin
+    relies on it: 'extra entries in params are ignored')."""
+    z = ix.compile_circuit(RC)({**VALUES, "sigma_rel": 0.01}, FREQ)
+    np.testing.assert_allclose(np.asarray(z), rc_impedance(FREQ), rtol=1e-12)
+
+
+# --- 4. Posterior.from_xarray of a stored file -------------------------------------------------
+
+
+def test_posterior_from_xarray_reads_a_file_opened_as_stored(tmp_path):
+    post = ix.sample(RC, ix.make_spectrum(FREQ, noisy_rc()), steps=40, walkers=16, seed=2)
+    path = tmp_path / "post.nc"
+    ix.write_result(post, path)
+    with xr.open_dataset(path) as raw:
+        assert isinstance(raw.attrs["priors"], str) and raw.attrs["priors"].startswith("json:")  # stored encoded
+        back = ix.Posterior.from_xarray(raw.load())
+    np.testing.assert_array_equal(back.draws, post.draws)
+    np.testing.assert_array_equal(back.z_data, post.z_data)
+    assert back.priors == post.priors and back.names == post.names and back.fit.values == post.fit.values
+    loaded = ix.Posterior.from_xarray(ix.load(path))  # the decoded way still works
+    np.testing.assert_array_equal(loaded.draws, post.draws)
+    with pytest.raises(ix.DataError, match="from_xarray takes an xarray.Dataset, got str"):
+        ix.Posterior.from_xarray(str(path))
+
+
+# --- 5. (frequency, Z) pairs as fit data ------------------------------------------------------
+
+
+def test_fit_takes_a_frequency_z_pair_like_kk_test():
+    z = noisy_rc()
+    from_pair = ix.fit(RC, (FREQ, z), n_starts=1)
+    from_dataset = ix.fit(RC, ix.make_spectrum(FREQ, z), n_starts=1)
+    assert from_pair.values == pytest.approx(from_dataset.values, rel=1e-9)
+    assert from_pair.values["R1"] == pytest.approx(1e3, rel=0.02)  # the generating value, 0.5 % noise
+    assert ix.kk_test((FREQ, z)).valid == ix.kk_test(ix.make_spectrum(FREQ, z)).valid
+
+
+@pytest.mark.parametrize(
+    "pair, message",
+    [
+        ((np.r_[np.nan, FREQ[1:]], noisy_rc()), "frequency must be positive and finite; point 0 is nan"),
+        ((-FREQ, noisy_rc()), "frequency must be positive and finite; point 0 is -1"),
+        ((np.r_[FREQ[:-1], FREQ[0]], noisy_rc()), "duplicate frequency 1 Hz at points 0, 30"),
+        ((FREQ, np.abs(noisy_rc())), "Z must be complex"),
+        ((FREQ, noisy_rc()[:-1]), "Z has 30 values along frequency but there are 31 frequencies"),
+    ],
+)
+@pytest.mark.parametrize("method", ["fit", "kk_test", "drt", "diagnose", "sample"])
+def test_bad_pairs_get_make_spectrums_messages(pair, message, method):
+    call = {
+        "fit": lambda: ix.fit(RC, pair),
+        "kk_test": lambda: ix.kk_test(pair),
+        "drt": lambda: ix.drt(pair),
+        "diagnose": lambda: ix.diagnose(pair, RC),
+        "sample": lambda: ix.sample(RC, pair, steps=10),
+    }[method]
+    with pytest.raises(ix.DataError) as info:
+        call()
+    assert message in str(info.value)
+
+
+def test_numbers_are_not_a_pair():
+    with pytest.raises(ix.DataError, match="data must be a spectrum Dataset"):
+        ix.fit(RC, [1.0, 2.0])
+
+
+# --- 7. priors given from Python ---------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "prior, message",
+    [
+        ("gauss:0,1", "priors['R1']='gauss:0,1': unknown prior kind 'gauss'"),
+        (("gauss", 0, 1), "priors['R1']=('gauss', 0, 1): unknown prior kind 'gauss'"),
+        ("uniform:1", "priors['R1']='uniform:1': uniform takes two numbers"),
+    ],
+)
+def test_python_prior_errors_quote_the_python_argument(prior, message):
+    with pytest.raises(ix.ParameterError) as info:
+        ix.sample(RC, ix.make_spectrum(FREQ, noisy_rc()), priors={"R1": prior}, steps=10)
+    assert str(info.value).startswith(message)
+    assert "--prior" not in str(info.value)
+
+
+def test_prior_outside_bounds_message_closes_its_bracket_once():
+    with pytest.raises(ix.ParameterError) as info:
+        ix.sample(RC, ix.make_spectrum(FREQ, noisy_rc()), priors={"R1": "uniform:-5,10"}, steps=10)
+    assert str(info.value) == "prior for R1: uniform:-5,10 reaches outside the parameter's bounds (0, inf)"
+
+
+def test_command_line_prior_errors_keep_the_option():
+    with pytest.raises(ix.ParameterError, match=r"^--prior 'R1=gauss:0,1': unknown prior kind 'gauss'"):
+        ix.fitting.parse_prior("R1=gauss:0,1")
