@@ -62,7 +62,7 @@ def test_single_batch_and_global_fits_give_the_idle_note():
     for i in range(2):
         for warnings in (single[i], batch.warnings.get(f"trial={i}", ()), shared.warnings.get(f"trial={i}", ())):
             notes = idle_notes(warnings)
-            undetermined = any(w.startswith("R1 has a relative standard error") for w in warnings)
+            undetermined = any(w.startswith(("R1 has a relative standard error", "R1 is at its upper bound ∞")) for w in warnings)
             assert undetermined or i == 1, warnings
             assert len(notes) == int(undetermined), warnings
             assert all(n.startswith("R1 carries at most ") and "R0 + CPE1, the model without it" in n for n in notes), notes
@@ -167,3 +167,33 @@ def test_undetermined_notes_write_the_relative_error_as_the_table_does():
     assert undetermined_note("R1", 1.26) == "R1 has a relative standard error of 126%: it is not determined by the data"
     assert undetermined_note("R1", 3.88e13) == "R1 has a relative standard error of 3.9e+15%: it is not determined by the data"
     assert undetermined_note("R1", float("inf")) == "R1 has no finite standard error: it is not determined by the data"
+
+
+def test_an_open_branch_on_exact_data_is_at_its_bound_whatever_its_standard_error():
+    """Exact data (no noise): residuals of ~1e-14 make every standard error small, also that of
+    an R1 run open beside the CPE of a blocking electrode (1e20 Ω, relative error 10 % before).
+    Its branch carries < 1e-6 of the current (`VANISHING_SHARE`) and a larger R1 carries less:
+    R1 is at its upper bound ∞, with the idle note, in single and batch fits alike; R0 and the
+    CPE keep their errors. A CPE whose Q vanishes leaves its α undetermined."""
+    exact = ix.make_spectrum(F, 50.0 + 1 / (2e-5 * JW**0.85))
+    single = ix.fit("R0 + R1 || CPE1", exact)
+    assert single.values["R1"] > 1e12  # open: |Z_CPE| ≤ 6e4 Ω over the band, R1 ≥ 1e12 carries < 1e-7
+    assert single.at_bound == ("R1",) and "R1 is at its upper bound ∞" in single.warnings
+    assert len(idle_notes(single.warnings)) == 1
+    assert single.stderr["R0"] / 50.0 < 1e-6 and single.values["CPE1.alpha"] == pytest.approx(0.85, rel=1e-8)
+    batch = ix.fit("R0 + R1 || CPE1", xr.concat([exact, noisy(50.0 + 1000.0 / (1 + 1000.0 * 2e-5 * JW**0.85), seed=1)], dim="trial"))
+    assert batch.dataset["at_bound"].sel(param="R1").values.tolist() == [True, False]
+    assert set(batch.warnings["trial=0"]) == set(single.warnings) and idle_notes(batch.warnings.get("trial=1", ())) == []
+    # a CPE beside a resistor with Q next to 0: Q at its lower bound 0, α (an exponent) undetermined;
+    # its branch carries |Q (jω)^α R| ≤ 1e-20·1e3·(2π·1e5)^0.7 ≈ 1e-13 of the current
+    from impedax.fitting.least_squares.branches import VANISHED, vanishing_parameters
+    from impedax.fitting.parameters import ParameterTable
+
+    circuit = ix.parse("R1 || CPE1")
+    table = ParameterTable.build(circuit)
+    codes = vanishing_parameters(circuit, ix.DEFAULT_REGISTRY, table, np.array([[1000.0, 1e-20, 0.7]]), F)
+    assert dict(zip(table.free_names, codes[0].tolist())) == {"R1": 0, "CPE1.Q": -1, "CPE1.alpha": VANISHED}
+    # a determined term with a small share is not touched: a 1e-4 share of the block's current
+    small = ix.make_spectrum(F, 50.0 + 1 / (1 / 1e9 + 2e-5 * JW**0.85))
+    r = ix.fit("R0 + R1 || CPE1", small, init={"R0": 50.0, "R1": 1e9, "CPE1.Q": 2e-5, "CPE1.alpha": 0.85})
+    assert np.isfinite(r.stderr["R1"]) and r.at_bound == () and r.values["R1"] == pytest.approx(1e9, rel=1e-3)

@@ -423,6 +423,8 @@ def undetermined_parameters(fit: FitResult) -> frozenset[str]:
     names = fit.free_names
     rel_sd, corr = centred_covariance(fit)
     out = {n for n, e in zip(names, rel_sd) if not (np.isfinite(e) and e <= RELATIVE_ERROR_MAX)}
+    # a vanishing term's (`branches.VANISHING_SHARE`): undetermined, or at the natural bound that explains it
+    out = (out | {n for n in names if not np.isfinite(fit.stderr[n])}) - {n for n in fit.at_bound if not np.isfinite(fit.stderr[n])}
     if corr.shape == (len(names), len(names)) and len(names) > 1:
         a, b = np.nonzero(np.triu(np.abs(np.nan_to_num(corr)) > CORRELATION_MAX, 1))
         for i, j in zip(a.tolist(), b.tolist()):
@@ -1044,7 +1046,8 @@ def _negligible_branch_dropped(base: FitResult, proposals: list[tuple[Effect, Pr
             if not ({r.name, cap.name} <= baseline and names & undetermined) or any(cf.fixed.get(n, False) for n in names):
                 continue
             v = cf.values
-            ratio = omega * v[r.name] * v[cap.name] if cap.name in v else v[r.name] * v[f"{cap.name}.Q"] * omega ** v[f"{cap.name}.alpha"]
+            with np.errstate(over="ignore"):  # (an open resistor of 1e255 Ω: an infinite ratio, no plain resistance)
+                ratio = omega * v[r.name] * v[cap.name] if cap.name in v else v[r.name] * v[f"{cap.name}.Q"] * omega ** v[f"{cap.name}.alpha"]
             if float(np.max(ratio)) < BRANCH_NEGLIGIBLE:
                 drop, why = cap, f"{r.name} ∥ {cap.name} acts as a plain resistance: the capacitive branch carries at most {float(np.max(ratio)):.2g}× the resistor's current over the band"
             elif float(np.min(ratio)) > 1 / BRANCH_NEGLIGIBLE:

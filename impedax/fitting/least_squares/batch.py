@@ -22,7 +22,7 @@ from ..parameters import ParameterTable
 from ..problem import residual_scale, weights
 from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, dominant_points, information_criteria, null_sets
 from .order import canonical_order
-from .branches import RELATIVE_ERROR_LIMIT, idle_branch_notes, undetermined, undetermined_mask
+from .branches import RELATIVE_ERROR_LIMIT, idle_branch_notes, settle_vanishing, undetermined, undetermined_mask, vanishing_parameters
 from .result import bound_sides, confirm_bounds, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, stack_notes, weighting_notes
 from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, TreeSolvers, better, over_devices, padded_points, tree_solver, trimmed, unscale
 from .starts import SpectrumFeatures, climb_target, batch_outliers, escalation_rungs, guess_start, rms_rel_of, rung_seed, rung_starts, to_solver_space
@@ -435,6 +435,12 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
     sides = np.zeros((b, k), np.int8)
     regular = np.flatnonzero(~odd)
     sides[regular] = confirm_bounds(table, values[regular], bound_sides(table, values[regular], stderr[regular]), lambda p, s: solver.chi2_at_x(p, regular[s]), n_res)
+    # parameters of a term that changes Z by < 1e-6: at the natural bound that explains it, or undetermined (as `fit_result`)
+    vanishing = np.zeros((len(regular), k), np.int8)
+    if k:
+        vanishing = vanishing_parameters(circuit, registry, table, values[regular], freq, jac[regular])
+    sides[regular], free_stderr, vanished = settle_vanishing(vanishing, sides[regular], values[regular][:, table.free_index], stderr[regular][:, table.free_index])
+    stderr[np.ix_(regular, table.free_index)] = free_stderr
     # the exact warning text of a single fit: for most spectra built for the stack at once,
     # for those with near-null directions (rare) one by one
     plain = np.flatnonzero(~odd & ~singular)
@@ -445,7 +451,7 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
         groups, ratio = null_sets(sv[i], vt[i], table.free_names)
         notes[i] = fit_notes(table, dict(zip(names, values[i].tolist())), dict(zip(names, stderr[i].tolist())), corr[i], groups, ratio, finite=True, converged=True, message="", sides=sides[i], freq=freq, z=z[i])
     # idle branches (the fits that did not converge get the note from `fit_result`)
-    idle = idle_branch_notes(circuit, registry, table, values[regular], undetermined_mask(table, values[regular], stderr[regular], sides[regular]), freq)
+    idle = idle_branch_notes(circuit, registry, table, values[regular], undetermined_mask(table, values[regular], stderr[regular], sides[regular]) | vanished, freq)
     for row, note in idle.items():
         notes[regular[row]] = notes[regular[row]] + note
     z_model = np.array(out.z_model)

@@ -18,8 +18,8 @@ from ...circuits.compile import node_function
 from ..parameters import ParameterTable
 
 __all__ = [
-    "IDLE_BRANCH_SHARE", "RELATIVE_ERROR_LIMIT", "IdleBranch", "undetermined", "undetermined_mask", "parallel_branches", "circuit_terms", "idle_branches",
-    "idle_branch_notes", "is_idle_note",
+    "IDLE_BRANCH_SHARE", "VANISHING_SHARE", "RELATIVE_ERROR_LIMIT", "IdleBranch", "undetermined", "undetermined_mask", "parallel_branches", "circuit_terms",
+    "idle_branches", "idle_branch_notes", "is_idle_note", "vanishing_parameters", "VANISHED", "settle_vanishing",
 ]
 
 RELATIVE_ERROR_LIMIT = 1.0
@@ -29,6 +29,12 @@ IDLE_BRANCH_SHARE = 1e-3
 block's at every frequency, and so is a term of a series chain whose impedance stays below this
 fraction of the chain's: without it the block's or chain's impedance changes by at most about
 as much."""
+VANISHING_SHARE = 1e-6
+"""A term whose share (as for `IDLE_BRANCH_SHARE`) stays below this at every frequency changes
+the impedance by less than any instrument resolves (the best reach ~1e-4): its parameters are
+undetermined whatever their standard error says. A fit to near-exact data (SYNTHETIC, or a
+refit of a model's own output) has residuals of ~1e-14, which make every standard error small,
+also that of a resistor run open to 1e20 Ω beside a CPE."""
 
 
 def undetermined(value, stderr):
@@ -124,11 +130,7 @@ def idle_branches(circuit: Circuit, registry: Registry, table: ParameterTable, v
         rows = np.array([r for r in rows.tolist() if not named[r] & set(elements)], int)
         if not rows.size:
             continue
-        params = {n: values[rows, j][:, None] for j, n in enumerate(table.names)}
-        with np.errstate(all="ignore"):
-            # a parallel block's branches share its current by admittance, a chain's terms its voltage by impedance
-            terms = [np.asarray(node_function(c, registry, "Z" if series else "Y")(params, omega)) for c in node.children]
-            share = np.max(np.abs(terms[i] / sum(terms)), axis=1)
+        share = _shares(node, registry, table, values[rows], omega)[i]
         idle = np.isfinite(share) & (share < IDLE_BRANCH_SHARE)
         if idle.any():
             reduced = circuit
@@ -138,6 +140,85 @@ def idle_branches(circuit: Circuit, registry: Registry, table: ParameterTable, v
                 named[row].update(elements)
                 found.append(IdleBranch(row, str(term), str(node), s, str(reduced), series))
     return found
+
+
+def _shares(node: Parallel | Series, registry: Registry, table: ParameterTable, values: np.ndarray, omega: np.ndarray) -> list[np.ndarray]:
+    """Per child of ``node``, its largest share over ``omega`` (1, N) for fits with values (B, P):
+    a parallel block's branches share its current by admittance, |Y_child / Σ Y|, a chain's
+    terms its voltage by impedance, |Z_child / Σ Z|."""
+    params = {n: values[:, j][:, None] for j, n in enumerate(table.names)}
+    form = "Z" if isinstance(node, Series) else "Y"
+    with np.errstate(all="ignore"):
+        terms = [np.asarray(node_function(c, registry, form)(params, omega)) for c in node.children]
+        total = sum(terms)
+        return [np.max(np.abs(t / total), axis=1) for t in terms]
+
+
+VANISHING_COLUMN = 1e-3
+"""`vanishing_parameters` looks only at fits with a Jacobian column below this × their largest
+(a vanishing term's: below ~1e-5)."""
+VANISHED = 2
+"""`vanishing_parameters`' code of a vanishing term's parameter that no natural bound explains."""
+
+
+def vanishing_parameters(circuit: Circuit, registry: Registry, table: ParameterTable, values: np.ndarray, freq, jacobian=None) -> np.ndarray:
+    """(B, K) int8 over the free parameters of fits with values (B, P): nonzero for a parameter
+    of a term (a branch of a parallel block or a term of a series chain, an element or a
+    sub-circuit) whose share stays below `VANISHING_SHARE` at every frequency ``freq``. For a
+    scale on (0, ∞): +1 where ten times the value shrinks the term's share further (at the upper
+    bound ∞: a resistor run open beside a CPE), −1 where a tenth does (at 0: a capacitance run
+    to 0 beside a resistor); `VANISHED` otherwise (a CPE's α beside its vanishing Q).
+
+    With the fits' ``jacobian`` (B, 2N, K) of the weighted residuals in the solver's variables,
+    only fits with a column below `VANISHING_COLUMN` × their largest are looked at: a vanishing
+    term's parameters move Z by at most ~10× its share (an exponent's log ω factor), while the
+    scales of a circuit move it by Z itself (Z is homogeneous of degree 1 in its impedance
+    scales), so some column is at least ~1/K of the whole."""
+    values = np.asarray(values, float)
+    found = np.zeros((values.shape[0], len(table.free_names)), np.int8)
+    freq = np.asarray(freq, float)
+    if isinstance(circuit, Element) or freq.size == 0 or not found.size:
+        return found
+    if jacobian is not None:
+        with np.errstate(all="ignore"):
+            norms = np.sqrt(np.sum(np.abs(np.asarray(jacobian, float)) ** 2, axis=-2))
+            small = ~(np.min(norms, axis=-1) >= VANISHING_COLUMN * np.max(norms, axis=-1))
+        looked = np.flatnonzero(small)
+        if looked.size < values.shape[0]:
+            found[looked] = vanishing_parameters(circuit, registry, table, values[looked], freq) if looked.size else found[looked]
+            return found
+    column = {n: j for j, n in enumerate(table.free_names)}
+    omega = 2 * np.pi * freq[None, :]
+    nodes = [circuit]
+    while nodes:
+        node = nodes.pop()
+        for c, (child, share) in enumerate(zip(node.children, _shares(node, registry, table, values, omega))):
+            if not isinstance(child, Element):
+                nodes.append(child)
+            rows = np.flatnonzero(np.isfinite(share) & (share < VANISHING_SHARE))
+            for name in (n for e in child.elements() for n in registry[e.symbol].parameter_names(e.name) if n in column):
+                if not rows.size:
+                    break
+                k, i = column[name], table.names.index(name)
+                code = np.full(rows.size, VANISHED, np.int8)
+                for side, factor in ((1, 10.0), (-1, 0.1)):
+                    if not (table.lower[i] == 0 and table.upper[i] == np.inf):  # a scale (R, C, Q ...), not an exponent
+                        continue
+                    moved = values[rows].copy()
+                    moved[:, i] *= factor
+                    code[_shares(node, registry, table, moved, omega)[c] < 0.5 * share[rows]] = side
+                found[rows, k] = np.where(found[rows, k] == 0, code, found[rows, k])
+    return found
+
+
+def settle_vanishing(codes: np.ndarray, sides: np.ndarray, free_values: np.ndarray, free_stderr: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Bound sides and standard errors (B, K) of the free parameters with `vanishing_parameters`'
+    ``codes`` applied where the fit called a parameter determined and at no bound (±1 become
+    the side; the standard error is infinite, the data give none), and where that was (they get
+    the idle note). The undetermined keep their note."""
+    sides, codes = np.asarray(sides), np.asarray(codes)
+    new = (sides == 0) & (codes != 0) & ~undetermined(free_values, free_stderr)
+    return np.where(new & (codes != VANISHED), codes, sides).astype(sides.dtype), np.where(new, np.inf, free_stderr), new
 
 
 def idle_branch_notes(circuit: Circuit, registry: Registry, table: ParameterTable, values: np.ndarray, mask: np.ndarray, freq) -> dict[int, tuple[str, ...]]:

@@ -13,10 +13,10 @@ import numpy as np
 import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit
-from ...data import format_relative_error, unit_text
+from ...data import checked_frequencies, format_relative_error, unit_text
 from ..parameters import ParameterTable, data_scales
 from ..statistics import information_criteria, non_passive, uncertainties
-from .branches import RELATIVE_ERROR_LIMIT, idle_branch_notes, undetermined, undetermined_mask
+from .branches import RELATIVE_ERROR_LIMIT, idle_branch_notes, settle_vanishing, undetermined, undetermined_mask, vanishing_parameters
 from .solvers import SolverOutput, SolverStatus
 from .starts import attainable_misfit, rms_rel_of
 
@@ -121,7 +121,7 @@ class FitResult:
 
     def predict(self, freq) -> np.ndarray:
         """Model impedance [Ω] at ``freq`` [Hz] with the fitted parameters."""
-        return np.asarray(compile_circuit(self.circuit, self.registry)(self.values, np.asarray(freq, float)))
+        return np.asarray(compile_circuit(self.circuit, self.registry)(self.values, checked_frequencies(freq)))
 
     def summary(self) -> dict:
         """The JSON summary used by ``impedax fit --json``."""
@@ -260,11 +260,12 @@ def bound_note(name: str, bound: float, side: str, *, value: float | None = None
     "R0 is at its lower bound 0"; off it (``value`` and its ``stderr`` given, in ``unit``) but
     not told from it by the data, "R1 = 7.96e+07 Ω cannot be told from its lower bound 0
     (standard error 1.3e+18 Ω)"."""
+    at = "∞" if bound == math.inf else f"{bound:g}"
     if value is None:
-        return f"{name} is at its {side} bound {bound:g}"
+        return f"{name} is at its {side} bound {at}"
     u = unit_text(unit)
     u = f" {u}" if u else ""
-    return f"{name} = {value:.3g}{u} cannot be told from its {side} bound {bound:g} (standard error {stderr:.2g}{u})"
+    return f"{name} = {value:.3g}{u} cannot be told from its {side} bound {at} (standard error {stderr:.2g}{u})"
 
 
 def on_bound(table: ParameterTable, values: np.ndarray, sides: np.ndarray, freq=None, z=None) -> np.ndarray:
@@ -454,10 +455,13 @@ def diagnose_identifiability(names, values, stderr, corr, null_sets, ratio, at_b
     notes = []
     flagged: set[frozenset] = set()
     for group in null_sets:
-        notes.append(
-            f"{', '.join(group)} are not separately determined by the data (near-singular Jacobian, "
-            f"singular-value ratio {ratio:.1e}): only a combination of them changes Z; fix one of them"
-        )
+        if len(group) == 1:
+            notes.append(f"{group[0]} is not determined by the data (near-singular Jacobian, singular-value ratio {ratio:.1e}): Z hardly changes with it")
+        else:
+            notes.append(
+                f"{', '.join(group)} are not separately determined by the data (near-singular Jacobian, "
+                f"singular-value ratio {ratio:.1e}): only a combination of them changes Z; fix one of them"
+            )
         flagged.add(frozenset(group))
     for i, j in np.argwhere(np.abs(corr) > CORRELATION_LIMIT).tolist():  # in (i, j) order
         if i < j and not any({names[i], names[j]} <= g for g in flagged):
@@ -522,7 +526,7 @@ def stack_notes(
 
 def fit_result(
     circuit, table: ParameterTable, freq, z, out: SolverOutput, weighting: str, n_starts: int, elapsed: float, registry: Registry,
-    *, chi2_at_x: Callable | None = None, extra_notes: tuple[str, ...] = (),
+    *, chi2_at_x: Callable | None = None, extra_notes: tuple[str, ...] = (), start: str = "the data-driven start",
 ) -> FitResult:
     """The `FitResult` of one spectrum's `SolverOutput`: uncertainties, status and warnings.
     ``chi2_at_x`` (as `confirm_bounds`, for this spectrum as number 0) lets parameters be
@@ -554,8 +558,8 @@ def fit_result(
     if not finite:
         message = "the model's impedance or weighted residuals are not finite (overflow) at every start; check bounds, fixed values and the frequency range"
     elif code == SolverStatus.CONVERGED:
-        start = "from the data-driven start" if n_starts == 1 else f"best of {n_starts} starts"
-        message = f"converged in {int(out.steps)} step{'' if int(out.steps) == 1 else 's'} ({start})"
+        origin = f"from {start}" if n_starts == 1 else f"best of {n_starts} starts"
+        message = f"converged in {int(out.steps)} step{'' if int(out.steps) == 1 else 's'} ({origin})"
     else:
         message = code.message
     x_all = np.array([values[nm] for nm in names])[None]
@@ -563,10 +567,16 @@ def fit_result(
         sides = confirm_bounds(table, x_all, bound_sides(table, x_all, np.array([stderr[nm] for nm in names])[None]), chi2_at_x, n)[0]
     else:
         sides = bound_sides(table, x_all, None)[0]
+    vanishing = vanishing_parameters(circuit, registry, table, x_all, freq, np.asarray(out.jacobian)[None])[0] if finite and k else np.zeros(k, np.int8)
+    # a term that changes Z by < 1e-6: its parameters at the natural bound that explains it, or undetermined
+    sides, free_stderr, vanished = settle_vanishing(
+        vanishing[None], np.asarray(sides)[None], np.array([values[nm] for nm in free_names])[None], np.array([stderr[nm] for nm in free_names])[None])
+    sides = sides[0]
+    stderr.update(zip(free_names, free_stderr[0].tolist()))
     notes = fit_notes(table, values, stderr, corr, null_sets, ratio, finite=finite, converged=converged, message=message, sides=sides, freq=freq, z=z)
     if finite:
         e_all = np.array([stderr[nm] for nm in names])[None]
-        notes += idle_branch_notes(circuit, registry, table, x_all, undetermined_mask(table, x_all, e_all, np.asarray(sides)[None]), freq).get(0, ())
+        notes += idle_branch_notes(circuit, registry, table, x_all, undetermined_mask(table, x_all, e_all, np.asarray(sides)[None]) | vanished, freq).get(0, ())
     notes += tuple(extra_notes)
     return FitResult(
         circuit=circuit,

@@ -23,7 +23,6 @@ Cov(a_i) = A_i⁻¹ + A_i⁻¹B_i S⁻¹B_iᵀA_i⁻¹ (A_i = J_iᵀJ_i, B_i = J
 
 from __future__ import annotations
 
-import difflib
 import functools
 import math
 import time
@@ -36,13 +35,14 @@ import numpy as np
 import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit
+from ...arguments import closest_name
 from ...data import format_relative_error, unit_text
 from ...errors import DataError, ParameterError
 from ..parameters import ParameterTable, to_internal
 from ..problem import residual_scale, weights
 from ..statistics import information_criteria
 from .batch import BatchFitResult, data_notes, fit_batch
-from .branches import idle_branch_notes, idle_branches, undetermined, undetermined_mask
+from .branches import idle_branch_notes, idle_branches, settle_vanishing, undetermined, undetermined_mask, vanishing_parameters
 from .result import BOUND_CHI2_FRACTION, bound_note, bound_sides, on_bound, stack_notes
 from .solvers import SolverArgs, tree_residuals
 
@@ -101,8 +101,8 @@ def shared_layout(table: ParameterTable, extra_dims: Sequence[str], shared, over
                 raise ParameterError(f"over: {d!r} is not a dimension of the data (extra dimensions: {', '.join(extra_dims)})")
     for n in names:
         if n not in table.names:
-            close = difflib.get_close_matches(n, table.names, n=1)
-            hint = f"; did you mean {close[0]}?" if close else ""
+            close = closest_name(n, table.names)
+            hint = f"; did you mean {close}?" if close else ""
             raise ParameterError(f"shared: unknown parameter {n!r}{hint} (parameters: {', '.join(table.names)})")
         if n not in table.free_names:
             raise ParameterError(f"shared: {n} is fixed; a fixed value is already the same in every spectrum (free parameters: {', '.join(table.free_names)})")
@@ -434,6 +434,11 @@ def fit_shared(
     for gi in range(n_groups):
         sides[gi] = _confirm_sides(sides[gi], x_free[gi], table, sh, solver[2], fits[gi].args, noise[gi] * fits[gi].scale**2, 2 * n_freq)
     sides = sides.reshape(-1, k)
+    # a spectrum's own parameters of a term that changes Z by < 1e-6: at the natural bound that explains it, or undetermined (as `fit_result`)
+    vanishing = vanishing_parameters(circuit, registry, table, flat_values, freq)
+    vanishing[:, sh] = 0
+    sides, flat_stderr[:, free], vanished = settle_vanishing(vanishing, sides, flat_values[:, free], flat_stderr[:, free])
+    stderr = flat_stderr.reshape(values.shape)
     # (a shared parameter's bound and determination are said once per global fit, below)
     shared_columns = table.free_index[sh]
     quiet_stderr = flat_stderr.copy()
@@ -441,7 +446,7 @@ def fit_shared(
     quiet_sides = sides.copy()
     quiet_sides[:, sh] = 0
     spectrum_notes = stack_notes(table, flat_values, quiet_stderr, corr_full.reshape(-1, k, k), quiet_sides, freq=freq, z=z.reshape(-1, n_freq))
-    for row, note in idle_branch_notes(circuit, registry, table, flat_values, undetermined_mask(table, flat_values, quiet_stderr, quiet_sides), freq).items():
+    for row, note in idle_branch_notes(circuit, registry, table, flat_values, undetermined_mask(table, flat_values, quiet_stderr, quiet_sides) | vanished, freq).items():
         spectrum_notes[row] = spectrum_notes.get(row, ()) + note
     # what concerns each spectrum's data in the global fit, the rules and texts of single and
     # batch fits (`batch.data_notes`: a weighting dominated by a few points, Re Z < 0, the misfit

@@ -60,8 +60,9 @@ def fit(
     ``init`` gives starting values by name, or is a `FitResult` whose values start the
     parameters this circuit shares with it (e.g. refitting with one element added).
     ``fixed`` pins parameters; ``bounds`` narrows them; ``weighting`` is one of `WEIGHTINGS`.
-    ``data`` is a spectrum Dataset or a path. Extra dimensions (trial, subject, ...) are fitted
-    together and give a `BatchFitResult`; dask-backed data are fitted chunk by chunk.
+    ``data`` is a spectrum Dataset, a path or a (frequency, Z) pair of arrays. Extra dimensions
+    (trial, subject, ...) are fitted together and give a `BatchFitResult`; dask-backed data are
+    fitted chunk by chunk.
     ``shared`` (parameter names) with ``over`` (extra dimensions; may be left out when the data
     have one) fits one value of each shared parameter across ``over`` and per-spectrum values
     of the others in one global solve (`shared.fit_shared`), giving a `SharedFitResult`.
@@ -129,7 +130,9 @@ def fit(
     chi2_at_x = one_spectrum_chi2(solvers.chi2_x, args, out)
     notes = weighting_notes(weighting, freq, *dominant_points(z, inv_re, inv_im))[0] if weighting in ("unit", "proportional") else ()
     notes = tuple(notes) + non_passive_notes(freq, z, sigma) + misfit_notes(freq, z, out.z_model)[0]
-    return fit_result(circuit, table, freq, z, out, weighting, used, time.perf_counter() - t0, registry, chi2_at_x=chi2_at_x, extra_notes=notes)
+    given = np.isfinite(table.values[table.free_index])
+    start = "the given start" if given.all() and given.size else "the given start, the other parameters' from the data" if given.any() else "the data-driven start"
+    return fit_result(circuit, table, freq, z, out, weighting, used, time.perf_counter() - t0, registry, chi2_at_x=chi2_at_x, extra_notes=notes, start=start)
 
 
 def escalated(out, solve, circuit, table, features, freq, z, n_starts: int, seed: int, registry, max_steps: int):
