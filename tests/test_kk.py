@@ -223,7 +223,7 @@ def test_result_outputs(tmp_path, rng):
         ({"capacitance": "yes"}, None, ParameterError, "capacitance"),
         ({}, (F_EIS[:2], rc(F_EIS[:2])), DataError, "at least"),
         ({}, (F_EIS, np.where(F_EIS > 10, rc(F_EIS), 0)), DataError, "zero"),
-        ({}, (F_EIS, rc(F_EIS)[:-1]), DataError, "shapes"),
+        ({}, (F_EIS, rc(F_EIS)[:-1]), DataError, "Z has 60 values along frequency but there are 61 frequencies"),
         ({}, (-F_EIS, rc(F_EIS)), DataError, "positive"),
         ({}, 42, DataError, "Dataset"),
     ],
@@ -265,7 +265,7 @@ def test_cli_kk_json_contract(drift_csv, capsys):
     [
         (["kk", "missing.csv"], "not found"),
         (["kk", "{csv}", "--c", "2"], "c must be"),
-        (["kk", "{csv}", "--max-rc", "0"], "max_rc"),
+        (["kk", "{csv}", "--max-rc", "0"], "--max-rc"),
         (["kk", "{nc}", "--method", "zhit"], "takes one spectrum; the file holds 2 over trial"),
         (["kk", "{csv}", "--plot", "/nonexistent-dir/x.png"], "does not exist"),
     ],

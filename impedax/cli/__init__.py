@@ -213,7 +213,7 @@ def _refuse_unknown(parser: argparse.ArgumentParser, command: str, unknown: list
 
 def _run(argv: list[str], command: list[str]) -> int:
     from ..errors import ImpedaxError
-    from .common import positional_model
+    from .common import option_words, positional_model
 
     parser = build_parser(_command_of(argv))
     args, unknown = parser.parse_known_args(argv)
@@ -225,7 +225,8 @@ def _run(argv: list[str], command: list[str]) -> int:
     try:
         return int(args.run(args) or 0)
     except ImpedaxError as exc:
-        print(f"impedax {args.command}: error: {exc}", file=sys.stderr)
+        # (in the command line's words: ``--max-rc must be ...``, where Python says max_rc)
+        print(f"impedax {args.command}: error: {option_words(args.command, exc)}", file=sys.stderr)
         return 2
     except BrokenPipeError:
         return 0

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import difflib
 import json
 import math
 import os
@@ -19,7 +18,7 @@ __all__ = [
     "parse_assignments", "prefixed_number", "number_option", "NUMBER_PREFIXES", "check_parameter_names", "emit_json", "to_jsonable", "add_model_argument", "add_output_options",
     "check_outputs", "save_outputs", "print_result", "result_out_help", "Output", "OutputPlan", "plan_outputs",
     "memory_limit", "check_memory", "MEMORY_LIMIT_ENV", "add_select_option", "load_selected", "select_spectra", "load_selected_files", "labels_text", "dimension_labels",
-    "command_line_words", "naming_target", "part_of_joined",
+    "command_line_words", "naming_target", "part_of_joined", "announce_written", "option_words", "check_points",
 ]
 
 
@@ -75,12 +74,25 @@ def parse_assignments(items: Iterable[str] | None, flag: str) -> dict[str, float
 
 
 def check_parameter_names(names: Iterable[str], known: Iterable[str], flag: str, model: str) -> None:
+    """`ParameterError` naming ``flag`` and the nearest known name (`closest_name`) for the
+    first of ``names`` that is not one of ``known``, the parameters of ``model``."""
     known = list(known)
     for name in names:
         if name not in known:
-            close = difflib.get_close_matches(name, known, n=1)
-            hint = f"; did you mean {close[0]}?" if close else ""
+            from ..arguments import closest_name
+
+            close = closest_name(name, known)
+            hint = f"; did you mean {close}?" if close else ""
             raise ParameterError(f"{flag}: unknown parameter {name!r} for model {model!r}{hint} (parameters: {', '.join(known)})")
+
+
+def check_points(points: int, fmin: float, fmax: float) -> None:
+    """``--points`` of a frequency range from ``fmin`` to ``fmax``: at least 2, or 1 where the
+    range is one frequency (``--fmin`` equal to ``--fmax``, as `impedax.log_frequencies`
+    takes it); one message for 0, -1 and 1 alike."""
+    if points >= 2 or (points == 1 and fmin == fmax):
+        return
+    raise ParameterError(f"--points must be at least 2 (both ends of --fmin..--fmax), got {points}; --points 1 only with --fmin equal to --fmax")
 
 
 def check_bounds(values: Mapping[str, float], specs: Mapping, flag: str) -> None:
@@ -351,6 +363,7 @@ def save_outputs(*, out=None, result=None, dataset=None, plot=None, figure=None)
         if plot:
             suffix = Output("--plot", plot, "figure").suffix()
             transaction.write(plot, naming_target(figure_writer(figure), plot), suffix=suffix)
+    announce_written(transaction.committed)
 
 
 # --- outputs: checked before any work, written together -----------------------------------------
@@ -450,7 +463,7 @@ OUTPUT_KINDS = {
     "result": OutputKind("result", _result_extensions, ".json", ".json"),
     "spectrum": OutputKind("spectrum", _spectrum_extensions, ".csv", ".csv"),
     "figure": OutputKind("figure", lambda: ("", *_figure_extensions()), ".png", None),
-    "diagram": OutputKind("circuit diagram", lambda: (".png", ".svg", ".pdf"), ".png", None),
+    "diagram": OutputKind("circuit diagram", lambda: ("", ".png", ".svg", ".pdf"), ".png", None),
     "drt": OutputKind("DRT", lambda: (".nc", ".csv"), ".csv", ".csv"),
 }
 
@@ -502,13 +515,24 @@ class OutputPlan:
 
     def save(self, writers: Mapping[str, Callable[[Path], None]]) -> tuple[str, ...]:
         """Write each planned output with ``writers[flag](path)`` to a temporary file, then move
-        them all into place; returns the paths written."""
+        them all into place, and say ``wrote FILE`` on stderr for each file (`announce_written`;
+        not for ``-``, standard output); returns the paths written."""
         from ..io.atomic import OutputTransaction
 
         with OutputTransaction(to_stdout=write_stdout) as transaction:
             for output in self.outputs:
                 transaction.write(output.path, naming_target(writers[output.flag], output.path), suffix=output.suffix())
+        announce_written(transaction.committed)
         return transaction.committed
+
+
+def announce_written(paths: Iterable[str]) -> None:
+    """``wrote FILE`` on stderr for each file of ``paths`` (``-``, standard output, is not a
+    file): every command says so for each figure and ``--out`` file it writes, never on
+    stdout, which holds the command's report, CSV or JSON."""
+    for path in paths:
+        if path != "-":
+            print(f"wrote {path}", file=sys.stderr)
 
 
 def plan_outputs(outputs: Iterable[tuple[str, str | None, str]], *, inputs: Iterable[str | None] = (), stdout: str | None = None) -> OutputPlan:
@@ -644,6 +668,43 @@ _OPTION_OF_KEYWORD = {"max_steps": "--max-steps"}
 # phrases of the fitting code's messages that name a Python call, and what the command line
 # says instead (`impedax refine` prints the command after its report: cli/refine.py)
 _PHRASE_OF_CALL = {"(pass init=)": "(impedax fit --init NAME=VALUE …: the command is printed last)"}
+
+
+# per command, the Python keywords whose names the errors of the functions it calls start
+# with (``max_rc must be ...``, ``fixed: unknown parameter ...``), and the options that set
+# them on the command line (`option_words`); the Python API keeps its own words
+OPTION_OF_KEYWORD_BY_COMMAND: dict[str, dict[str, str]] = {
+    "simulate": {"points": "--points", "fmin": "--fmin", "fmax": "--fmax"},
+    "fit": {"fixed": "--fix", "init": "--init", "max_steps": "--max-steps", "fmin": "--fmin", "fmax": "--fmax", "weighting": "--weighting", "shared": "--shared", "over": "--over"},
+    "compare": {"max_steps": "--max-steps", "fmin": "--fmin", "fmax": "--fmax", "weighting": "--weighting"},
+    "sample": {"steps": "--steps", "burn": "--burn", "thin": "--thin", "walkers": "--walkers", "seed": "--seed", "priors": "--prior", "noise": "--noise", "fmin": "--fmin", "fmax": "--fmax", "shared": "--shared", "over": "--over"},
+    "kk": {"c": "--c", "max_rc": "--max-rc"},
+    "drt": {"lam": "--lam", "lam_method": "--lam-method", "method": "--method"},
+    "diagnose": {"noise": "--noise", "effects": "--effects", "max_steps": "--max-steps", "fmin": "--fmin", "fmax": "--fmax", "weighting": "--weighting"},
+    "refine": {"noise": "--noise", "effects": "--effects", "max_effects": "--max-effects", "solver_steps": "--max-steps", "fmin": "--fmin", "fmax": "--fmax", "weighting": "--weighting"},
+    "force": {"points": "--points", "fmin": "--fmin", "fmax": "--fmax"},
+    "gap": {"area": "--area", "v0": "--v0", "steps": "--steps", "seed": "--seed"},
+}
+
+
+def option_words(command: str, error: Exception) -> str:
+    """The message of ``error`` as ``impedax command`` prints it: a Python keyword of
+    `OPTION_OF_KEYWORD_BY_COMMAND` that names what the message is about (followed by ``must``,
+    ``:`` or ``=``: ``max_rc must be ...``, ``fixed: unknown ...``, ``init: R0=-5 ...``) is
+    replaced by the option that sets it (``--max-rc must be ...``). A file name that leads a
+    `DataError` (``c: line 3: ...``) is left as it is."""
+    text = str(error)
+    keywords = OPTION_OF_KEYWORD_BY_COMMAND.get(command, {})
+    if not keywords:
+        return text
+    head = ""
+    path = getattr(error, "path", None)
+    if isinstance(error, DataError) and path is not None and text.startswith(str(path)):
+        cut = text.find(": ", len(str(path)))
+        if cut >= 0:
+            head, text = text[: cut + 2], text[cut + 2 :]
+    pattern = re.compile(r"(?<![\w.'\"/-])(" + "|".join(re.escape(k) for k in sorted(keywords, key=len, reverse=True)) + r")(?=\s+must\b|:|=)")
+    return head + pattern.sub(lambda m: keywords[m.group(1)], text)
 
 
 def command_line_words(text: str) -> str:

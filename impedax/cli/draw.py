@@ -8,7 +8,7 @@ def register(sub) -> None:
 
     p = sub.add_parser("draw", help="draw a model's circuit diagram", description="Draw the schematic of MODEL (series in a row, parallel branches stacked) with element names and, optionally, values. Needs schemdraw (pip install impedax[draw]).")
     add_model_argument(p, positional=True)
-    p.add_argument("-o", "--out", required=True, metavar="FILE.png|svg", help="output file (.png, .svg or .pdf); written atomically")
+    p.add_argument("-o", "--out", required=True, metavar="FILE.png|svg", help="output file (.png, .svg or .pdf; a name without an extension is a PNG under that name); written atomically")
     p.add_argument("--param", action="append", metavar="NAME=VALUE", help="value to print under its element (repeatable), e.g. a fitted value")
     p.set_defaults(run=run)
 
@@ -19,6 +19,5 @@ def run(args) -> int:
 
     circuit, _, given = model_and_values(args.model, args.param, "--param")
     outputs = plan_outputs([("--out", args.out, "diagram")])
-    outputs.save({"--out": lambda path: save_circuit_diagram(circuit, path, values=given)})
-    print(f"wrote {args.out}")
+    outputs.save({"--out": lambda path: save_circuit_diagram(circuit, path, values=given)})  # (says "wrote FILE" on stderr)
     return 0

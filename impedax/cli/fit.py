@@ -76,14 +76,20 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from .. import FitResult, fit
-    from .common import command_line_words, figure_writer, load_selected, parse_assignments, plan_outputs, print_result, result_writer
+    from .. import FitResult, fit, parse
+    from .common import check_parameter_names, command_line_words, figure_writer, load_selected, parse_assignments, plan_outputs, print_result, result_writer
 
     outputs = plan_outputs([("--out", args.out, "result"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     max_steps = check_max_steps(args.max_steps)
     sharing = shared_arguments(args)
+    init, fixed = parse_assignments(args.init, "--init"), parse_assignments(args.fix, "--fix")
+    # names checked before the data are read, with the command line's hint (`closest_name`:
+    # --fix CPE1.a → CPE1.alpha; r1 → R1); bounds are the fit's to check
+    names = parse(args.model).parameter_names()
+    for flag, given in (("--init", init), ("--fix", fixed)):
+        check_parameter_names(given, names, flag, args.model)
     data = load_selected(args.data, args.select)
-    result = fit(args.model, data, init=parse_assignments(args.init, "--init"), fixed=parse_assignments(args.fix, "--fix"), weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, **sharing)
+    result = fit(args.model, data, init=init, fixed=fixed, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, **sharing)
     outputs.save({"--out": result_writer(result), "--plot": figure_writer(result.plot)})
     if not outputs.uses_stdout:
         print_result(result, args.json)  # (a batch's report groups its warnings by kind, naming the spectra)

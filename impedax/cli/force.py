@@ -7,7 +7,7 @@ import sys
 
 import numpy as np
 
-from .common import add_output_options, add_positional_model, check_memory, check_parameter_names, emit_json, figure_writer, number_option, parse_assignments, plan_outputs
+from .common import add_output_options, add_positional_model, check_memory, check_parameter_names, check_points, emit_json, figure_writer, number_option, parse_assignments, plan_outputs
 
 _MODELS = ("meyer", "vezzoli")
 _RANGES = {"meyer": (10.0, 1e9), "vezzoli": (1.0, 1e6)}
@@ -74,10 +74,11 @@ def run(args) -> int:
 
     params, _ = _parameters(args.model, args.param)
     outputs = plan_outputs([("--plot", args.plot, "figure")])
-    check_memory("--points", args.points * POINT_BYTES, f"a force spectrum of {args.points} frequencies")
     low, high = _RANGES[args.model]
     fmin = low if args.fmin is None else args.fmin
     fmax = high if args.fmax is None else args.fmax
+    check_points(args.points, fmin, fmax)
+    check_memory("--points", args.points * POINT_BYTES, f"a force spectrum of {args.points} frequencies")
     freq = log_frequencies(fmin, fmax, args.points)
     force = _force(args.model, params, freq)
     k = int(np.argmax(force))

@@ -82,10 +82,6 @@ def run(args) -> int:
         # (a dimension's labels are listed above: the reader's text of them would repeat it)
         if key not in ("format", "source", "path", *_HOW_KEYS, *extra):
             print(f"  {key}: {str(value).splitlines()[0] if str(value) else ''}")
-    if args.out:
-        print(f"wrote {args.out}")
-    if args.plot:
-        print(f"wrote {args.plot}")
     return 0
 
 

@@ -6,7 +6,7 @@ import sys
 
 import numpy as np
 
-from .common import add_model_argument, add_output_options, check_memory, figure_writer, model_and_values, number_option, plan_outputs, spectrum_writer
+from .common import add_model_argument, add_output_options, check_memory, check_points, figure_writer, model_and_values, number_option, plan_outputs, spectrum_writer
 
 # memory per frequency while simulating and writing CSV: the frequencies, the complex impedance
 # and JAX's intermediates, and the CSV text with its line list (measured about 0.4 kB)
@@ -33,11 +33,10 @@ def run(args) -> int:
 
     circuit, specs, given = model_and_values(args.model, args.param, "--param")
     outputs = plan_outputs([("--out", args.out, "spectrum"), ("--plot", args.plot, "figure")])
+    check_points(args.points, args.fmin, args.fmax)
     check_memory("--points", args.points * POINT_BYTES, f"a spectrum of {args.points} frequencies")
     params = {**circuit.defaults(), **given}
     defaulted = [n for n in specs if n not in given]
-    if defaulted:
-        print(f"impedax simulate: defaults used for {', '.join(f'{n}={params[n]:g}' for n in defaulted)}", file=sys.stderr)
     freq = log_frequencies(args.fmin, args.fmax, args.points)
     z = np.asarray(compile_circuit(circuit)(params, freq))
     bad = np.flatnonzero(~np.isfinite(z))
@@ -52,4 +51,6 @@ def run(args) -> int:
     outputs.save({"--out": spectrum_writer(lambda: ds), "--plot": figure_writer(figure)})
     if not args.out:
         sys.stdout.write(write_csv(ds))
+    if defaulted:  # (said once the spectrum is out: not before an error)
+        print(f"impedax simulate: defaults used for {', '.join(f'{n}={params[n]:g}' for n in defaulted)}", file=sys.stderr)
     return 0

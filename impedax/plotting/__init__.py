@@ -5,6 +5,7 @@ Every function returns a matplotlib `Figure`; nothing is shown or saved implicit
 
 from __future__ import annotations
 
+import functools
 import math
 import re
 import types
@@ -12,14 +13,15 @@ from typing import Sequence
 
 import matplotlib.pyplot as plt
 from matplotlib.axes import Axes
-from matplotlib.ticker import ScalarFormatter
+from matplotlib.transforms import Bbox
+from matplotlib.ticker import Formatter, ScalarFormatter
 import numpy as np
 import xarray as xr
 
 from ..data import si_prefix
 from ..io.atomic import atomic_path
 
-__all__ = ["plot_spectrum", "model_curve", "dense_model", "plot_nyquist", "equal_aspect", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "plot_bode", "save_figure", "shade_bands", "refresh_legend", "plain_log_ticks", "wrap_model", "characters_across", "label_spectra_axis"]
+__all__ = ["plot_spectrum", "model_curve", "dense_model", "plot_nyquist", "equal_aspect", "nyquist_frame", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "plot_bode", "save_figure", "shade_bands", "refresh_legend", "plain_log_ticks", "plain_linear_ticks", "PlainTicks", "prefixable_unit", "wrap_model", "characters_across", "label_spectra_axis"]
 
 
 def _as_arrays(spectrum):
@@ -100,24 +102,54 @@ def plot_nyquist(ax, data=None, model=None, *, data_label="data", model_label="m
 NYQUIST_EDGE_MARGIN = 0.03
 
 
-def equal_aspect(ax) -> None:
+def equal_aspect(ax, *, frame: tuple[float, float, float, float] | None = None) -> None:
     """Equal scales on a Nyquist panel ``ax``: an arc is drawn as the semicircle it is. The
     range that fills the panel beyond the data is put above a flat spectrum (right of a steep
     one), where matplotlib would widen it about the middle: half of a flat spectrum's panel
     lay at −Z'' < 0, where no point is. Done at every draw (`_anchored_aspect`), so it holds
     at any figure size; limits set by hand (a zoom) are left alone. Both axes count in the same
-    SI prefix of Ω (`prefixed_axis`)."""
-    ax.set_aspect("equal", adjustable="datalim")
-    ax.apply_aspect = types.MethodType(_anchored_aspect, ax)
+    SI prefix of Ω (`prefixed_axis`). ``frame``: (Z' min, Z' max, −Z'' min, −Z'' max) the panel
+    shows (`nyquist_frame`), in place of everything drawn on it; the panel's box narrows to
+    its shape rather than widen the range past it (a frame that follows the data ends near
+    them, where a wide panel ran far beyond)."""
+    ax.set_aspect("equal", adjustable="datalim" if frame is None else "box")
+    ax.apply_aspect = types.MethodType(functools.partial(_anchored_aspect, frame=frame), ax)
     prefixed_axis(ax.xaxis, along=(ax.yaxis,))
     prefixed_axis(ax.yaxis, along=(ax.xaxis,))
 
 
-def _anchored_aspect(ax, position=None) -> None:
-    """``ax.apply_aspect`` of a Nyquist panel (`equal_aspect`): from the data's limits with
-    their margins, matplotlib's widening to the box's shape, then the widened axis moved so
-    that the data sit at its low end."""
-    lim = ax.dataLim
+# how far a model curve may take a Nyquist panel that follows the data (`nyquist_frame`)
+# beyond them: this fraction of the data's span on each side; farther, the curve leaves the frame
+MODEL_OVERSHOOT = 0.1
+
+
+def nyquist_frame(z_data, *z_models, overshoot: float = MODEL_OVERSHOOT) -> tuple[float, float, float, float] | None:
+    """(Z' min, Z' max, −Z'' min, −Z'' max) of a Nyquist panel that follows the data ``z_data``
+    (complex Z): their extent, widened where a curve of ``z_models`` runs beyond it, by at most
+    ``overshoot`` of the data's span on each side (a poor model that runs off to 29 kΩ beside
+    data that end at 17 kΩ leaves the frame there). None when the data have no extent."""
+    z = np.asarray(z_data, complex).ravel()
+    z = z[np.isfinite(z)]
+    if not z.size:
+        return None
+    x0, x1, y0, y1 = z.real.min(), z.real.max(), (-z.imag).min(), (-z.imag).max()
+    if not (x1 > x0 and y1 > y0):
+        return None
+    reach = overshoot * max(x1 - x0, y1 - y0)
+    for zm in z_models:
+        zm = np.asarray(zm, complex).ravel()
+        zm = zm[np.isfinite(zm)]
+        if zm.size:
+            x0, x1 = min(x0, max(zm.real.min(), x0 - reach)), max(x1, min(zm.real.max(), x1 + reach))
+            y0, y1 = min(y0, max((-zm.imag).min(), y0 - reach)), max(y1, min((-zm.imag).max(), y1 + reach))
+    return float(x0), float(x1), float(y0), float(y1)
+
+
+def _anchored_aspect(ax, position=None, *, frame=None) -> None:
+    """``ax.apply_aspect`` of a Nyquist panel (`equal_aspect`): from the data's limits (or
+    ``frame``) with their margins, matplotlib's widening to the box's shape, then the widened
+    axis moved so that the data sit at its low end."""
+    lim = ax.dataLim if frame is None else Bbox.from_extents(frame[0], frame[2], frame[1], frame[3])
     anchored = ax.get_autoscalex_on() and ax.get_autoscaley_on() and np.isfinite([lim.x0, lim.x1, lim.y0, lim.y1]).all() and lim.width > 0 and lim.height > 0
     if anchored:
         (mx, my) = ax.margins()
@@ -208,6 +240,54 @@ def prefixed_axis(axis, *, along=(), label=None) -> None:
     ``along``: axes that share the scale (a Nyquist panel's two); ``label``: the text that
     names the unit and gets the prefix when it is not the axis label (a panel's title)."""
     axis.set_major_formatter(_PrefixedFormatter(along, label))
+
+
+def prefixable_unit(text: str) -> bool:
+    """Whether ``text`` (an axis label or a panel's title) names a unit in brackets that
+    `prefixed_axis` counts in an SI prefix: ``[Ω]``, ``[F]``, ``[H]`` (or one of them prefixed)."""
+    return _BRACKETED_UNIT.search(text) is not None
+
+
+class PlainTicks(Formatter):
+    """Tick labels of a linear axis as plain numbers, with as few digits as tell the ticks
+    apart: ``1760, 1770`` or ``0.25, 0.5``; where the largest is 10⁶ or more, or below 10⁻⁴, in
+    e-notation (``1e-13, 1.2e-13``). Never an offset or a multiplier beside the axis
+    (matplotlib's ``1e-9+1.767766953e3`` over ticks 5, 6, 7)."""
+
+    form = "{:g}"
+
+    def set_locs(self, locs):
+        super().set_locs(locs)
+        self.form = _tick_form(np.asarray(locs, float))
+
+    def __call__(self, x, pos=None):
+        return "0" if x == 0 else self.form.format(x).replace("-", "\N{MINUS SIGN}")
+
+    def format_data_short(self, value):
+        return f"{value:.7g}"
+
+
+def _tick_form(locs: np.ndarray) -> str:
+    """The format `PlainTicks` writes the tick values ``locs`` in: fixed decimals where the
+    largest is from 10⁻⁴ to 10⁶, else e-notation; the fewest digits that keep every tick exact
+    to 1e-9 of their spacing."""
+    locs = locs[np.isfinite(locs)]
+    if not locs.size:
+        return "{:g}"
+    top = float(np.max(np.abs(locs)))
+    step = float(np.min(np.diff(np.sort(locs)))) if locs.size > 1 else 0.0
+    tolerance = 1e-9 * (step if step > 0 else top if top > 0 else 1.0)
+    fixed = top == 0 or 1e-4 <= top < 1e6
+    for digits in range(16):
+        form = f"{{:.{digits}f}}" if fixed else f"{{:.{digits}e}}"
+        if all(abs(float(form.format(v)) - v) <= tolerance for v in locs):
+            break
+    return form if fixed else f"{{:.{digits + 1}g}}"
+
+
+def plain_linear_ticks(axis) -> None:
+    """Label the linear ``axis`` (``ax.yaxis``) with `PlainTicks`: no offset, no multiplier."""
+    axis.set_major_formatter(PlainTicks())
 
 
 def plot_bode(ax_mod, ax_phase, data=None, model=None, *, data_label="data", model_label="model"):

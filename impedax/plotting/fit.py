@@ -18,7 +18,7 @@ def plot_batch(batch, *, title: str | None = None):
     matplotlib Figure."""
     import matplotlib.pyplot as plt
 
-    from . import characters_across, label_spectra_axis, prefixed_axis, wrap_model
+    from . import characters_across, label_spectra_axis, plain_linear_ticks, prefixable_unit, prefixed_axis, wrap_model
 
     ds = batch.dataset
     free = [str(p) for p, fixed in zip(ds["param"].values, ds["fixed"].values) if not fixed]
@@ -42,7 +42,9 @@ def plot_batch(batch, *, title: str | None = None):
             y = ds["value"].sel(param=name).transpose(*batch.dims).values.ravel()
             err = ds["stderr"].sel(param=name).transpose(*batch.dims).values.ravel()
             unit = unit_text(specs[name].unit)
-        loose = np.zeros(y.size, bool) if name == "rms_rel" else batch.undetermined(name).transpose(*batch.dims).values.ravel()
+        # (the undetermined, and values at a bound the data cannot place them from: a resistor open at ∞)
+        loose = np.zeros(y.size, bool) if name == "rms_rel" else batch.undetermined(name).transpose(*batch.dims).values.ravel() | (
+            ds["at_bound"].sel(param=name).transpose(*batch.dims).values.ravel() & np.isinf(err))
         kept = ~loose
         bars = None if err is None else _bounded_bars(y, np.where(np.isfinite(err), err, 0.0), ds["at_bound"].sel(param=name).transpose(*batch.dims).values.ravel(), _bounds(ds, name, specs[name]))[:, kept]
         ax.errorbar(index[kept], y[kept], yerr=bars, fmt="o", ms=3, lw=0.8, capsize=1.5)
@@ -53,8 +55,13 @@ def plot_batch(batch, *, title: str | None = None):
         if loose.any():
             _mark_undetermined(ax, index[loose], y[loose], scaled, f"undetermined ({batch.UNDETERMINED_RULE})")
         ax.set_title(f"{name} [{unit}]" if unit else name, fontsize=9)
-        if ax.get_yscale() == "linear":  # (R_sc [MΩ] with ticks 1.0, 1.5, not 1e6 apart)
-            prefixed_axis(ax.yaxis, label=ax.title)
+        if ax.get_yscale() == "linear":
+            shown = y[np.isfinite(y)] if loose.all() else y[kept & np.isfinite(y)]
+            _window_flat(ax, shown, None if bars is None else bars[:, np.isfinite(y[kept])])
+            if prefixable_unit(ax.get_title()):  # (R_sc [MΩ] with ticks 1.0, 1.5, not 1e6 apart)
+                prefixed_axis(ax.yaxis, label=ax.title)
+            else:  # (σ 1760, 1770, not 6.4 under "1e-9+1.767766953e3"; rms_rel 1e-13, not 1.0 under "1e-13")
+                plain_linear_ticks(ax.yaxis)
         label_spectra_axis(ax, labels, batch.dims)
         ax.grid(alpha=0.3, which="both")
     if with_fits:
@@ -63,6 +70,31 @@ def plot_batch(batch, *, title: str | None = None):
     converged = float(ds["converged"].mean()) * 100
     fig.suptitle(title or wrap_model(f"{batch.model}: {batch.n_spectra} spectr{'um' if batch.n_spectra == 1 else 'a'}, {converged:.0f}% converged", characters_across(3.2 * cols, 12)))
     return fig
+
+
+# values of a parameter across the spectra that span less than this, relative to their size,
+# are one value for the figure (identical sheets fitted to within rounding: 100.000000 Ω on every
+# tick, or an axis "1e-9+1.767766953e3"); their panel shows ±`FLAT_WINDOW` of it, symmetric
+FLAT_SPAN = 1e-6
+FLAT_WINDOW = 0.01
+
+
+def _window_flat(ax, values, bars=None) -> None:
+    """A linear panel of ``values`` (with error ``bars``, 2 × n, below and above) that barely
+    vary (their extent below `FLAT_SPAN` of their size): y limits centred on their median,
+    ±`FLAT_WINDOW` of it (±1 around 0), so its ticks read 99, 99.5, 100, 100.5, 101."""
+    values = np.asarray(values, float)
+    if not values.size:
+        return
+    low, high = values, values
+    if bars is not None and bars.shape[1] == values.size:
+        low, high = values - np.nan_to_num(bars[0]), values + np.nan_to_num(bars[1])
+    centre = float(np.median(values))
+    size = max(abs(centre), float(np.max(np.abs(values))))
+    if float(np.max(high) - np.min(low)) > FLAT_SPAN * size:
+        return
+    half = FLAT_WINDOW * abs(centre) if centre != 0 else 1.0
+    ax.set_ylim(centre - half, centre + half)
 
 
 def _bounds(ds, name: str, spec) -> tuple[float, float]:
@@ -134,6 +166,7 @@ def _plot_fits(ax, ds, dims, labels, model) -> None:
     ax.set_ylabel("−Z'' [Ω]", fontsize=8)
     what = f"{drawn.size} of {n} spectra" if drawn.size < n else f"{n} spectr{'um' if n == 1 else 'a'}"
     ax.set_title(f"data (○) and fits (—), {what}", fontsize=9)
-    ax.legend(fontsize=7, title=", ".join(dims), title_fontsize=7, ncol=2 if drawn.size > 4 else 1)
+    # beside the panel, where it covers no data (inside, the spectra's curves run everywhere)
+    ax.legend(fontsize=7, title=", ".join(dims), title_fontsize=7, ncol=2 if drawn.size > 4 else 1, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     ax.grid(alpha=0.3)
     equal_aspect(ax)

@@ -26,10 +26,17 @@ __all__ = ["read_ivium", "READER"]
 CONVENTIONS = "after 'primary_data': columns, N, N rows Z' [Ω], Z'' [Ω] as stored, f [Hz]"
 
 
+# the structure of an Ivium file's key block, not words that text may mention: ``Solarcell=``
+# with a boolean at the start of a line, and another of its lines (``Technique=...``,
+# ``Peaks=true|false`` or the ``primary_data`` table marker) at the start of a line too
+_SOLARCELL_LINE = re.compile(rb"(?m)^Solarcell=(?:true|false)\r?$")
+_OTHER_LINE = re.compile(rb"(?m)^(?:Technique=|Peaks=(?:true|false)\r?$|primary_data[ \t]*\r?$)")
+
+
 def sniff(path: Path, head: bytes) -> str | None:
-    if b"Solarcell=" in head and (b"Technique=" in head or b"primary_data" in head or b"Peaks=" in head):
+    if _SOLARCELL_LINE.search(head) and _OTHER_LINE.search(head):
         return None
-    return "no IviumSoft 'Solarcell=' / 'Technique=' keys"
+    return "no IviumSoft key lines ('Solarcell=true|false' and 'Technique=' at line starts)"
 
 
 def read_ivium(path: str | Path) -> xr.Dataset:
