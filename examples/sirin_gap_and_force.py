@@ -16,6 +16,12 @@ interval (≈ 2.74–2.87 µm) the spread of the population median over the tria
 only the noise of the trial means. Without EP the force is high and flat at low frequency; with EP it drops
 below ≈ 30 Hz, where the double layer leaks the charge across the gap.
 
+Runtime: at the default settings the hierarchical model samples 4 chains × (2000 warm-up + 2000
+draws) with NUTS, which takes many minutes: ≈ 7 min on the project's idle 2-core machine (scaled
+from `make demo`'s 77 s for 400 + 400), and 20–30 min were seen on a busy one; the progress line
+on stderr estimates the time left. --fast samples 300 + 300 per chain (the smoke test's setting):
+≈ 1 min idle (4 min busy), with wider, less settled intervals.
+
 Run: python examples/sirin_gap_and_force.py [OUT_DIR] [--fast]
 """
 

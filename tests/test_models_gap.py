@@ -154,3 +154,77 @@ def test_cli_gap_bad_input(tmp_path, capsys, args, fragment):
     path.write_text("frequency_hz,z_real_ohm,z_imag_ohm\n1,10,-5\n10,9,-3\n")
     assert main(["gap", str(path), str(path), str(path), *args]) == 2
     assert fragment in capsys.readouterr().err
+
+
+def test_report_says_what_the_force_bands_condition_on(analysis):
+    assert "A taken as exact; skin and screen as their trial means, without their errors" in analysis.report()
+    assert analysis.summary()["force_conditions"].startswith("A taken as exact")
+    assert not any("piles up at the" in w for w in analysis.warnings)  # u = 2.79 µm is far from 1 nm and 1 mm
+
+
+@pytest.mark.parametrize("area, shown", [(0.13, "0.13 m² (130000 mm²)"), (130.0, "130 m² (1.3e+08 mm²)"), (1e-8, "1e-08 m² (0.01 mm²)")])
+def test_implausible_fingertip_area_is_refused(area, shown):
+    total, skin, ts = _measurements(np.random.default_rng(1), n_trials=3)
+    with pytest.raises(ix.ParameterError) as info:
+        gap_analysis(total, skin, ts, area=area, progress=False)
+    message = str(info.value)
+    assert shown in message and "SI prefix scales m²" in message and "130 mm² is 130e-6" in message
+
+
+def test_cli_gap_mistyped_area_exits_2(tmp_path, capsys):
+    path = tmp_path / "x.csv"
+    path.write_text("frequency_hz,z_real_ohm,z_imag_ohm\n1,10,-5\n10,9,-3\n")
+    assert main(["gap", str(path), str(path), str(path), "--area", "130m"]) == 2
+    err = capsys.readouterr().err
+    assert "0.13 m² (130000 mm²)" in err and "130 mm² is 130e-6" in err
+
+
+def test_posterior_of_u_at_the_prior_bound_is_flagged():
+    """A 1000× too large area (check_area=False) drives u to the prior's 1 mm upper bound and
+    C_gap = ε0 A/u to a value set by that bound (~1150 pF, not 413 pF): a warning says so."""
+    total, skin, ts = _measurements(np.random.default_rng(11))
+    result = gap_analysis(total, skin, ts, area=0.13, check_area=False, method="pooled", steps=100, progress=False)
+    notes = [w for w in result.warnings if "piles up at the upper bound of its prior" in w]
+    assert len(notes) == 1 and "1000 µm" in notes[0] and "C_gap are then set by the prior bound" in notes[0] and "unreliable" in notes[0]
+    assert result.gap["value"] == pytest.approx(1e-3, rel=0.01)
+
+
+def test_swapped_spectra_are_refused_before_any_fit(monkeypatch):
+    """Total given as skin and screen too: Z_R = −Z_total, Re Z_R < 0 everywhere (DataError, no fit)."""
+    import impedax.fitting
+
+    def no_fit(*args, **kwargs):
+        raise AssertionError("fitted before checking the remainder")
+
+    monkeypatch.setattr(impedax.fitting, "fit", no_fit)
+    total, _, _ = _measurements(np.random.default_rng(2), n_trials=3)
+    for method in ("pooled", "hierarchical"):
+        with pytest.raises(ix.DataError, match=r"Re Z < 0 at 41 of 41 frequencies: check the order of the files \(TOTAL SKIN SCREEN\)"):
+            gap_analysis(total, total, total, area=AREA, method=method, progress=False)
+
+
+def test_cli_gap_same_file_three_times_exits_2(capsys):
+    from pathlib import Path
+
+    z = str(Path(__file__).parent / "fixtures" / "real" / "exampleDataZPlot.z")
+    assert main(["gap", z, z, z, "--area", "130e-6", "--pooled", "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert "Re Z < 0 at 21 of 21 frequencies" in err and "TOTAL SKIN SCREEN" in err
+
+
+def test_single_spectra_need_pooled():
+    total, skin, ts = (ds.isel(trial=0) for ds in _measurements(np.random.default_rng(3), n_trials=3))
+    with pytest.raises(ix.DataError, match="single spectrum.*use --pooled"):
+        gap_analysis(total, skin, ts, area=AREA, progress=False)
+
+
+def test_single_trial_has_no_paper_bounds():
+    """One spectrum each: the paper's min/max bounds are no interval — n/a, and no warning about
+    the Bayesian u lying outside them."""
+    total, skin, ts = (ds.isel(trial=0) for ds in _measurements(np.random.default_rng(11)))
+    result = gap_analysis(total, skin, ts, area=AREA, method="pooled", steps=100, progress=False)
+    assert not result.paper_has_bounds
+    assert "bounds n/a (one trial)" in result.report()
+    assert not any("paper method's bounds" in w for w in result.warnings)
+    assert result.summary()["paper_method"]["gap_bounds_um"] is None
+    assert [r for r in result.to_table() if r["method"] == "paper" and r["name"] == "u"][0]["low"] is None

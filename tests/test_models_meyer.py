@@ -104,6 +104,60 @@ def test_cpe_variant_with_alpha_one_is_the_rc_model():
     np.testing.assert_allclose(np.asarray(meyer.force_time_average(p_cpe, f, variant="cpe")), np.asarray(meyer.force_time_average(p, f)), rtol=1e-9)
 
 
+def test_cpe_variant_with_alpha_one_reproduces_rc_model_exactly():
+    f = np.geomspace(10, 1e9, 41)
+    rc = np.asarray(meyer.meyer_model("rc").force(f))
+    np.testing.assert_allclose(np.asarray(meyer.meyer_model("cpe", alpha=1.0).force(f)), rc, rtol=1e-12, atol=0)
+
+
+def _chain_oracle(params, f, v_a=140.0):
+    """numpy, by hand: Z_total = 1/(jωC_s) + 1/(jωC_i) + (1/R_sc + Q (jω)^α)^−1 + R_f, I = V_A/Z_total;
+    returns Q_i = I/(jω) (charge on C_i), V_F = I (1/(jωC_i) + Z_sc) and Q_f = I Z_sc/(R_sc jω)."""
+    jw = 2j * np.pi * f
+    y_sc = jw * params["C_sc"] if "C_sc" in params else params["CPE_sc.Q"] * jw ** params["CPE_sc.alpha"]
+    z_sc = 1.0 / (1.0 / params["R_sc"] + y_sc)
+    current = v_a / (1 / (jw * params["C_s"]) + 1 / (jw * params["C_i"]) + z_sc + params["R_f"])
+    return current / jw, current * (1 / (jw * params["C_i"]) + z_sc), current * z_sc / (params["R_sc"] * jw)
+
+
+CPE_CASES = [("rc", None, None)] + [("cpe", a, None) for a in (0.6, 0.7, 0.8, 0.9, 1.0)] + [("cpe", 0.8, meyer.THESIS_PHYSICAL)]
+
+
+@pytest.mark.parametrize("variant, alpha, physical", CPE_CASES)
+def test_force_obeys_charge_bound(variant, alpha, physical):
+    """Eq 3.6's high-frequency limit (Q_f → 0) is Q_i²/(2ε0A), Q_i the charge on C_i; the time
+    average may never exceed half of it (the old CPE form with C_sc at 1 kHz did: 554 mN at 1 MHz)."""
+    model = meyer.meyer_model(variant, alpha=alpha or 0.8, physical=physical)
+    f = np.geomspace(10.0, 1e9, 321)
+    q_i, _, _ = _chain_oracle(model.params, f)
+    bound = np.abs(q_i) ** 2 / (4 * E0 * model.area)
+    force = np.asarray(model.force(f))
+    assert np.all(force <= bound * (1 + 1e-9))
+    assert force[-1] == pytest.approx(bound[-1], rel=0.01)  # the limit is reached at 1 GHz
+
+
+@pytest.mark.parametrize("alpha", [0.6, 0.8, 0.95])
+def test_cpe_force_uses_the_cpe_capacitance_at_each_frequency(alpha):
+    """Oracle: eq 3.6 time-averaged with C_sc(ω) = Q ω^(α−1) (the CPE's |Z| capacitance) and V_F,
+    Q_f from the hand-written circuit; at 1 kHz C_sc(ω) is the thesis 2.2 nF."""
+    model = meyer.meyer_model("cpe", alpha=alpha)
+    p = model.params
+    f = np.geomspace(10.0, 1e8, 29)
+    _, v_f, q_f = _chain_oracle(p, f)
+    c_sc = p["CPE_sc.Q"] * (2 * np.pi * f) ** (alpha - 1)
+    series = p["C_i"] * c_sc / (p["C_i"] + c_sc)
+    expected = series**2 / (2 * model.area * E0) * 0.5 * (np.abs(v_f) ** 2 - np.abs(q_f) ** 2 / p["C_i"] ** 2)
+    np.testing.assert_allclose(np.asarray(model.force(f)), expected, rtol=1e-9)
+    assert p["CPE_sc.Q"] * (2 * np.pi * 1e3) ** (alpha - 1) == pytest.approx(2.2e-9, rel=1e-12)
+
+
+def test_cpe_force_regression_values():
+    """α = 0.8, thesis values, 140 V: 145.6 mN at 10 kHz, 136.9 mN at 100 kHz, 104.8 mN at 1 MHz
+    (with C_sc fixed at its 1 kHz value it was 229, 377, 554 mN, above the charge bound)."""
+    force = np.asarray(meyer.meyer_model("cpe").force(np.array([1e4, 1e5, 1e6])))
+    np.testing.assert_allclose(force * 1e3, [145.6, 136.9, 104.8], atol=0.1)
+
+
 def test_force_vanishes_at_dc_and_vmaps_over_draws():
     low = float(meyer.force_time_average(THESIS, np.array([1e-3]))[0])
     assert low < 1e-9

@@ -15,7 +15,9 @@ gap voltage and the electrostatic force, with uncertainty.
    reported with the spread between trials and the interval of a new trial.
    ``method="pooled"``: one EDL model on the trial mean with its SEM (the earlier analysis);
 5. the gap voltage and the PEAK force of eq 1, F = ½ ε0 A |ΔV_gap|²/u², over frequency for a
-   drive of amplitude V0, as posterior bands, with and without the EP branch.
+   drive of amplitude V0, as posterior bands, with and without the EP branch. The bands carry the
+   posterior of the remainder only: they condition on the area A being exact and on the skin and
+   screen trial means (their errors are not propagated).
 """
 
 from __future__ import annotations
@@ -37,6 +39,11 @@ GAP_METHODS = ("hierarchical", "pooled")
 _EP_PER_TRIAL = ("R_EP", "CPE_EP.Q", "C_EP")  # the contact's EP branch varies with each trial
 
 FORCE_CONVENTION = "peak"  # eq 1 at the voltage amplitude; the time average is half of it
+FORCE_CONDITIONS = "A taken as exact; skin and screen as their trial means, without their errors"
+
+FINGERTIP_AREA_M2 = (1e-6, 1e-2)  # plausible apparent contact of a fingertip: 1 mm² to 100 cm²
+_BOUND_FACTOR = 2.0  # draws of u within this factor of a prior bound count as "at the bound" ...
+_BOUND_SHARE = 0.1  # ... and this share of them means the posterior piles up there
 
 
 @dataclass(frozen=True, eq=False)
@@ -51,7 +58,8 @@ class GapAnalysis:
     the means (their SEM), not the variation of the contact between trials.
 
     ``force`` holds the PEAK force [N] bands over frequency (``median``, ``q05``, ``q95``) with
-    the EP branch (``with_ep``) and without it (``without_ep``, same C_gap draws).
+    the EP branch (``with_ep``) and without it (``without_ep``, same C_gap draws); the bands
+    condition on ``area`` being exact and on the skin and screen trial means (no error).
     """
 
     remaining: xr.Dataset
@@ -95,6 +103,12 @@ class GapAnalysis:
         return {"value": q["value"], "q05": q["q05"], "q95": q["q95"]}
 
     @property
+    def paper_has_bounds(self) -> bool:
+        """False when total, skin and screen are one spectrum each: the paper's bounds (from the
+        lowest- and highest-impedance trials) then equal its estimate and are no interval."""
+        return _has_bounds(self.remaining)
+
+    @property
     def c_gap(self) -> dict[str, float]:
         """Posterior median and 90% interval of C_gap [F]."""
         return self._quantiles("C_gap")
@@ -129,8 +143,9 @@ class GapAnalysis:
             "paper_method": {
                 "c_gap": self.paper.c_gap,
                 "gap_um": self.paper.gap * 1e6,
-                "gap_bounds_um": [self.paper.gap_lower * 1e6, self.paper.gap_upper * 1e6],
+                "gap_bounds_um": [self.paper.gap_lower * 1e6, self.paper.gap_upper * 1e6] if self.paper_has_bounds else None,
             },
+            "force_conditions": FORCE_CONDITIONS,
             "model": self.edl_fit.model,
             "naive_rms_rel": self.naive_fit.rms_rel,
             "edl_rms_rel": self.edl_fit.rms_rel,
@@ -142,14 +157,15 @@ class GapAnalysis:
     def to_table(self) -> list[dict[str, object]]:
         """The tidy table of C_gap [F] and u [m]: ``method`` bayes (value: posterior median;
         low/high: the 90% credible interval) and paper (the paper's method; for u its bounds
-        from the lowest/highest impedances)."""
+        from the lowest/highest impedances; None with one trial of each)."""
         p = self.paper
         interval = lambda q: {"value": q["value"], "low": q["q05"], "high": q["q95"]}  # noqa: E731
+        low, high = (p.gap_lower, p.gap_upper) if self.paper_has_bounds else (None, None)
         return [
             {"name": "C_gap", "method": "bayes", **interval(self.c_gap), "unit": "F"},
             {"name": "u", "method": "bayes", **interval(self.gap), "unit": "m"},
             {"name": "C_gap", "method": "paper", "value": p.c_gap, "low": None, "high": None, "unit": "F"},
-            {"name": "u", "method": "paper", "value": p.gap, "low": p.gap_lower, "high": p.gap_upper, "unit": "m"},
+            {"name": "u", "method": "paper", "value": p.gap, "low": low, "high": high, "unit": "m"},
         ]
 
     def report(self) -> str:
@@ -165,11 +181,13 @@ class GapAnalysis:
             ]
         else:
             lines = [f"gap thickness u = {g['value'] * 1e6:.3f} µm  (90% credible interval {g['q05'] * 1e6:.3f}–{g['q95'] * 1e6:.3f} µm, Bayesian on the trial means, {self.edl_fit.model})"]
+        bounds = f"(bounds {p.gap_lower * 1e6:.3f}–{p.gap_upper * 1e6:.3f} µm from the lowest/highest impedances)" if self.paper_has_bounds else "bounds n/a (one trial)"
         lines += [
-            f"paper method    u = {p.gap * 1e6:.3f} µm  (bounds {p.gap_lower * 1e6:.3f}–{p.gap_upper * 1e6:.3f} µm from the lowest/highest impedances)",
+            f"paper method    u = {p.gap * 1e6:.3f} µm  {bounds}",
             f"C_gap           = {c['value'] * 1e12:.1f} pF (90%: {c['q05'] * 1e12:.1f}–{c['q95'] * 1e12:.1f} pF); paper method {p.c_gap * 1e12:.1f} pF",
             f"fits            naive C_gap: rms_rel {self.naive_fit.rms_rel * 100:.3g} %;  {self.edl_fit.model}: rms_rel {self.edl_fit.rms_rel * 100:.3g} %",
             f"force (peak, V0 = {self.v0:g} V) with EP: max {float(peak[i]) * 1e3:.3g} mN at {float(peak['frequency'][i]):.3g} Hz",
+            f"force bands     {FORCE_CONDITIONS} (A = {self.area:g} m²)",
         ]
         lines += [f"warning: {w}" for w in self.warnings]
         return "\n".join(lines)
@@ -197,7 +215,7 @@ class GapAnalysis:
 
 @checked_arguments(
     area=real(positive=True), v0=real(positive=True), ep=choice(("C", "CPE")), eps_gap=real(positive=True), cutoff_hz=real(positive=True),
-    steps=count(1, MAX_SAMPLER_STEPS), walkers=count(2, MAX_WALKERS, optional=True), seed=seed, progress=flag,
+    steps=count(1, MAX_SAMPLER_STEPS), walkers=count(2, MAX_WALKERS, optional=True), seed=seed, progress=flag, check_area=flag,
 )
 def gap_analysis(
     total: xr.Dataset,
@@ -218,6 +236,7 @@ def gap_analysis(
     method: str = "hierarchical",
     chains: int = 4,
     warmup: int | None = None,
+    check_area: bool = True,
 ) -> GapAnalysis:
     """Run the Sirin workflow (module docstring) on three spectrum Datasets with trial
     dimensions, all on one frequency grid. ``ep`` picks the EP branch of the EDL model:
@@ -228,15 +247,23 @@ def gap_analysis(
     ≥ 3 total trials; ``steps`` draws per chain after ``warmup`` (default ``steps``) NUTS
     adaptation steps in each of ``chains`` chains) or ``"pooled"`` (emcee on the trial means,
     ``steps`` steps). ``progress``: a progress line on stderr during the sampling of either
-    method. Returns a `GapAnalysis`.
+    method. ``check_area``: refuse an ``area`` [m²] outside `FINGERTIP_AREA_M2` (a mistyped
+    unit; False to analyse other contacts). A remainder with Re Z < 0 at more than half of its
+    frequencies is refused before any fit (DataError: the files are likely in the wrong order).
+    Returns a `GapAnalysis`; its warnings say when the posterior of u piles up at a prior bound.
     """
     from ..fitting import fit, gap_thickness_reparametrization, sample
 
     if not area > 0:
         raise DataError(f"area must be positive (m²), got {area}")
+    if check_area:
+        _check_fingertip_area(area)
     if method not in GAP_METHODS:
         raise ParameterError(f"unknown gap method {method!r}; use one of {', '.join(GAP_METHODS)}")
     remaining = remaining_impedance(total, skin, touchscreen)
+    _check_remainder_sign(remaining)
+    if method == "hierarchical":
+        _check_hierarchical_trials(remaining)
     paper = paper_gap_estimate(total, skin, touchscreen, area=area, cutoff_hz=cutoff_hz, eps_gap=eps_gap)
     weighting = "sigma" if "sigma" in remaining else "modulus"
     circuit = remainder_circuit(ep) if remainder is None else parse(remainder)
@@ -267,11 +294,60 @@ def gap_analysis(
         bands.append(xr.Dataset({k: ("frequency", np.asarray(q[k].values)) for k in ("median", "q05", "q95")}, coords={"frequency": freq}))
     force = xr.concat(bands, dim=xr.DataArray(["with_ep", "without_ep"], dims="branch"))
     force["median"].attrs.update(units="N", convention=FORCE_CONVENTION)
-    notes = [f"EDL fit: {w}" for w in edl.warnings] + [f"sampling: {w}" for w in posterior.warnings if not w.startswith("least-squares start")]
-    u_lo, u_hi = posterior.parameter_draws()["u"].min(), posterior.parameter_draws()["u"].max()
-    if not (paper.gap_lower <= np.median(posterior.parameter_draws()["u"]) <= paper.gap_upper):
+    u_draws = posterior.parameter_draws()["u"]
+    notes = _bound_notes(u_draws, reparametrization, area)
+    notes += [f"EDL fit: {w}" for w in edl.warnings] + [f"sampling: {w}" for w in posterior.warnings if not w.startswith("least-squares start")]
+    u_lo, u_hi = u_draws.min(), u_draws.max()
+    if _has_bounds(remaining) and not (paper.gap_lower <= np.median(u_draws) <= paper.gap_upper):
         notes.append(f"the Bayesian gap thickness lies outside the paper method's bounds ({paper.gap_lower * 1e6:.2f}–{paper.gap_upper * 1e6:.2f} µm; draws span {u_lo * 1e6:.2f}–{u_hi * 1e6:.2f} µm)")
     return GapAnalysis(remaining, paper, naive, edl, posterior, force, area, v0, ep, tuple(notes))
+
+
+def _check_fingertip_area(area: float) -> None:
+    """A plausible fingertip contact area [m²] (`FINGERTIP_AREA_M2`), else a ParameterError."""
+    low, high = FINGERTIP_AREA_M2
+    if not low <= area <= high:
+        raise ParameterError(
+            f"area = {area:g} m² ({area * 1e6:g} mm²) is not a plausible fingertip contact ({low:g}–{high:g} m², i.e. "
+            f"{low * 1e6:g}–{high * 1e6:g} mm²): the area is in m², and an SI prefix scales m² (130m is 0.13 m²), so 130 mm² is 130e-6 "
+            "(from Python, check_area=False accepts any positive area)"
+        )
+
+
+def _check_remainder_sign(remaining: xr.Dataset) -> None:
+    """The remainder of a passive contact has Re Z ≥ 0; at most half of the points may dip below
+    (noise where Im Z dominates). More means the three spectra are swapped (DataError)."""
+    negative = int(np.sum(np.real(remaining["Z"].values) < 0))
+    if negative > remaining.sizes["frequency"] / 2:
+        raise DataError(f"the remainder total − skin − screen has Re Z < 0 at {negative} of {remaining.sizes['frequency']} frequencies: check the order of the files (TOTAL SKIN SCREEN)")
+
+
+def _check_hierarchical_trials(remaining: xr.Dataset) -> None:
+    """The hierarchical model needs ≥ 3 total trials; checked before any fit."""
+    n_trials = int(remaining.attrs.get("n_trials_total", 0))
+    if n_trials == 1:
+        raise DataError("total: a single spectrum; per-trial remainders need trials as an extra dimension; use --pooled (Python: method='pooled') for single spectra")
+    if n_trials < 3:
+        raise DataError(f"the hierarchical gap analysis needs at least 3 total trials, got {n_trials}; use --pooled (Python: method='pooled')")
+
+
+def _has_bounds(remaining: xr.Dataset) -> bool:
+    return any(remaining.attrs.get(f"n_trials_{k}", 2) > 1 for k in ("total", "skin", "touchscreen"))
+
+
+def _bound_notes(u_draws, reparametrization, area: float) -> list[str]:
+    """A warning for each prior bound of u that holds ≥ `_BOUND_SHARE` of the draws within a
+    factor `_BOUND_FACTOR`: there the prior, not the data, sets u and C_gap = ε0 ε_gap A/u."""
+    u = np.asarray(u_draws, dtype=np.float64).ravel()
+    notes = []
+    for side, bound, near in (("lower", reparametrization.lower[0], u <= reparametrization.lower[0] * _BOUND_FACTOR), ("upper", reparametrization.upper[0], u >= reparametrization.upper[0] / _BOUND_FACTOR)):
+        share = float(np.mean(near))
+        if share >= _BOUND_SHARE:
+            notes.append(
+                f"the posterior of u piles up at the {side} bound of its prior, u = {bound * 1e6:g} µm ({share:.0%} of the draws within a factor {_BOUND_FACTOR:g} of it): "
+                f"u and C_gap are then set by the prior bound, not the data, and are unreliable; check the area ({area:g} m²) and the three spectra"
+            )
+    return notes
 
 
 def _force_bands(param_draws: dict, freq, z_skin, z_ts, circuit, *, area, v0, eps_gap) -> xr.Dataset:
@@ -297,9 +373,6 @@ def _hierarchical(total, skin, touchscreen, remaining, paper, naive, edl, circui
     from ..fitting.bayes.hierarchical import sample_hierarchical
 
     trials = trial_remainders(total, skin, touchscreen)
-    n_trials = int(np.prod([trials.sizes[d] for d in trials["Z"].dims if d != "frequency"]))
-    if n_trials < 3:
-        raise DataError(f"the hierarchical gap analysis needs at least 3 total trials, got {n_trials}; use method='pooled'")
     free = set(circuit.parameter_names()) - {"C_gap"}
     per_trial = ("u",) + tuple(n for n in _EP_PER_TRIAL if n in free)
     batch = fit(circuit, trials, init=dict(edl.values), weighting="modulus")
@@ -310,8 +383,9 @@ def _hierarchical(total, skin, touchscreen, remaining, paper, naive, edl, circui
     pop = post.population_parameters()
     step = max(1, post.n_draws // 1000)
     force = _force_bands({k: v[::step] for k, v in pop.items()}, freq, z_skin, z_ts, circuit, area=area, v0=v0, eps_gap=eps_gap)
-    notes = [f"EDL fit: {w}" for w in edl.warnings] + [f"sampling: {w}" for w in post.warnings]
+    notes = _bound_notes(pop["u"], reparametrization, area)
+    notes += [f"EDL fit: {w}" for w in edl.warnings] + [f"sampling: {w}" for w in post.warnings]
     u = float(np.median(pop["u"]))
-    if not (paper.gap_lower <= u <= paper.gap_upper):
+    if _has_bounds(remaining) and not (paper.gap_lower <= u <= paper.gap_upper):
         notes.append(f"the population gap thickness {u * 1e6:.2f} µm lies outside the paper method's bounds ({paper.gap_lower * 1e6:.2f}–{paper.gap_upper * 1e6:.2f} µm)")
     return GapAnalysis(remaining, paper, naive, edl, None, force, area, v0, ep, tuple(notes), method="hierarchical", hierarchical=post)

@@ -214,11 +214,15 @@ def leaked_charge(params: Mapping[str, object], freq, *, variant: str = "rc"):
     return _probes(_check_variant(variant))[1](params, freq) / (1j * omega)
 
 
-def _effective_c_sc(params: Mapping[str, object], variant: str):
+def _effective_c_sc(params: Mapping[str, object], variant: str, omega):
+    """C_sc of the eq 3.6 prefactor [F]: C_sc (RC); for the CPE, C_sc(ω) = Q ω^(α−1), the
+    capacitance with the CPE's impedance magnitude at ω (equal to C_sc at 1 kHz by
+    `meyer_parameters`). With it |V_CPE| = |Q_CPE|/C_sc(ω) ≤ |Q_i|/C_sc(ω), so C(ω)|V_F| ≤ |Q_i|
+    (Q_i = I/(jω), the charge on C_i; C = C_i C_sc/(C_i + C_sc)) and the force keeps the RC
+    model's limit Q_i²/(2ε0A) (eq 3.6 with Q_f → 0)."""
     if variant == "rc":
         return params["C_sc"]
-    # the electrostatic prefactor needs a capacitance: the CPE's value at the 1 kHz reference
-    return params["CPE_sc.Q"] * (2.0 * jnp.pi * _REFERENCE_HZ) ** (params["CPE_sc.alpha"] - 1.0)
+    return params["CPE_sc.Q"] * omega ** (params["CPE_sc.alpha"] - 1.0)
 
 
 def force_from_charge(v_f, q_f, *, c_i, c_sc, area):
@@ -235,15 +239,17 @@ def force_time_average(params: Mapping[str, object], freq, *, area: float = THES
     F̄ = (C_i C_sc/(C_i + C_sc))²/(2Aε0) · ½ (|V_F|² − |Q_f|²/C_i²) with phasor amplitudes.
 
     Convention: time-average (the peak of the oscillating force is larger). For the CPE
-    variant C_sc in the prefactor is the CPE's capacitance at 1 kHz. Pure JAX in ``params``
-    (vmap over posterior draws).
+    variant C_sc in the prefactor is C_sc(ω) = Q ω^(α−1), the capacitance with the CPE's
+    impedance magnitude at each ω (α = 1 is the RC model); the force then obeys the RC model's
+    charge bound F̄ ≤ |Q_i|²/(4Aε0). Pure JAX in ``params`` (vmap over posterior draws).
     """
     variant = _check_variant(variant)
     require_parameters(params, meyer_circuit(variant).parameter_names())
     v_f = finger_voltage(params, freq, variant=variant) * v_a
     q_f = leaked_charge(params, freq, variant=variant) * v_a
     c_i = params["C_i"]
-    series = c_i * _effective_c_sc(params, variant) / (c_i + _effective_c_sc(params, variant))
+    c_sc = _effective_c_sc(params, variant, 2.0 * jnp.pi * jnp.asarray(freq))
+    series = c_i * c_sc / (c_i + c_sc)
     return series**2 / (2.0 * area * EPSILON_0) * 0.5 * (jnp.abs(v_f) ** 2 - jnp.abs(q_f) ** 2 / c_i**2)
 
 
