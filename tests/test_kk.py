@@ -496,3 +496,22 @@ def test_a_sparse_spectrum_with_nothing_missing_is_adequate_not_invalid():
         z = _single_arc(f, 1e-3, 20.0)
         z = z + 0.002 * np.abs(z) * (rng.standard_normal(f.size) + 1j * rng.standard_normal(f.size)) / np.sqrt(2)
         assert str(ix.diagnose(ix.make_spectrum(f, z), "R0 + R1 || C1").verdict) == "adequate", seed
+
+
+def test_cli_kk_names_the_points_diagnose_leaves_out_and_takes_a_band(capsys):
+    """impedance.py's REAL PowerSuite file has two points with Re Z < 0 at 1.12 and 2 MHz (its
+    data, read here by hand): kk names them and --fmax leaves them out, as diagnose does."""
+    from pathlib import Path
+
+    path = Path(__file__).parent / "fixtures" / "real" / "exampleDataPowersuite.txt"
+    data = ix.load(path)
+    negative = np.sort(data["frequency"].values[data["Z"].values.real < -0.05 * np.abs(data["Z"].values)])
+    assert negative.tolist() == pytest.approx([1120134.9, 2e6])
+    assert main(["kk", str(path), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["non_passive_hz"] == pytest.approx(negative.tolist())
+    assert main(["kk", str(path)]) == 0
+    assert "note: 2 of 30 points have Re Z < 0 (1.12 MHz, 2 MHz)" in capsys.readouterr().out
+    assert main(["kk", str(path), "--fmax", "1M", "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["non_passive_hz"] == [] and max(summary["frequency_hz"]) < 1e6
+    assert summary["valid"] and summary["rms_rel"] < 0.2 * ix.kk_test(data).rms_rel

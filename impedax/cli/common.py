@@ -678,7 +678,7 @@ OPTION_OF_KEYWORD_BY_COMMAND: dict[str, dict[str, str]] = {
     "fit": {"fixed": "--fix", "init": "--init", "max_steps": "--max-steps", "fmin": "--fmin", "fmax": "--fmax", "weighting": "--weighting", "shared": "--shared", "over": "--over"},
     "compare": {"max_steps": "--max-steps", "fmin": "--fmin", "fmax": "--fmax", "weighting": "--weighting"},
     "sample": {"steps": "--steps", "burn": "--burn", "thin": "--thin", "walkers": "--walkers", "seed": "--seed", "priors": "--prior", "noise": "--noise", "fmin": "--fmin", "fmax": "--fmax", "shared": "--shared", "over": "--over"},
-    "kk": {"c": "--c", "max_rc": "--max-rc"},
+    "kk": {"c": "--c", "max_rc": "--max-rc", "fmin": "--fmin", "fmax": "--fmax"},
     "drt": {"lam": "--lam", "lam_method": "--lam-method", "method": "--method"},
     "diagnose": {"noise": "--noise", "effects": "--effects", "max_steps": "--max-steps", "fmin": "--fmin", "fmax": "--fmax", "weighting": "--weighting"},
     "refine": {"noise": "--noise", "effects": "--effects", "max_effects": "--max-effects", "solver_steps": "--max-steps", "fmin": "--fmin", "fmax": "--fmax", "weighting": "--weighting"},
@@ -690,7 +690,7 @@ OPTION_OF_KEYWORD_BY_COMMAND: dict[str, dict[str, str]] = {
 def option_words(command: str, error: Exception) -> str:
     """The message of ``error`` as ``impedax command`` prints it: a Python keyword of
     `OPTION_OF_KEYWORD_BY_COMMAND` that names what the message is about (followed by ``must``,
-    ``:`` or ``=``: ``max_rc must be ...``, ``fixed: unknown ...``, ``init: R0=-5 ...``) is
+    ``:`` or ``=``: ``max_rc must be ...``, ``fixed: unknown ...``, ``fmin = 10 Hz``) is
     replaced by the option that sets it (``--max-rc must be ...``). A file name that leads a
     `DataError` (``c: line 3: ...``) is left as it is."""
     text = str(error)
@@ -703,7 +703,7 @@ def option_words(command: str, error: Exception) -> str:
         cut = text.find(": ", len(str(path)))
         if cut >= 0:
             head, text = text[: cut + 2], text[cut + 2 :]
-    pattern = re.compile(r"(?<![\w.'\"/-])(" + "|".join(re.escape(k) for k in sorted(keywords, key=len, reverse=True)) + r")(?=\s+must\b|:|=)")
+    pattern = re.compile(r"(?<![\w.'\"/-])(" + "|".join(re.escape(k) for k in sorted(keywords, key=len, reverse=True)) + r")(?=\s+must\b|:|\s*=)")
     return head + pattern.sub(lambda m: keywords[m.group(1)], text)
 
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 
 def register(sub) -> None:
-    from .common import add_select_option
+    from .common import add_select_option, number_option
 
     p = sub.add_parser(
         "kk",
@@ -19,6 +19,8 @@ def register(sub) -> None:
     p.add_argument("--max-rc", type=int, default=None, metavar="M", help="largest number of RC elements tried (default: N/2 for N frequencies, at most 100; on data sparser than about 7 points a decade, 3.5 per decade of the band)")
     p.add_argument("--no-inductance", action="store_true", help="no series inductance in the KK model")
     p.add_argument("--no-capacitance", action="store_true", help="no series capacitance in the KK model")
+    p.add_argument("--fmin", type=number_option, help="ignore data below this frequency [Hz]")
+    p.add_argument("--fmax", type=number_option, help="ignore data above this frequency [Hz]")
     add_select_option(p)
     p.set_defaults(run=run)
 
@@ -32,6 +34,10 @@ def run(args) -> int:
     # all; Z-HIT and the plot take one (--select)
     single = "impedax kk --method zhit" if args.method == "zhit" else "impedax kk --plot" if args.plot else None
     data = load_selected(args.data, args.select, single=single)
+    if args.fmin is not None or args.fmax is not None:
+        from ..fitting.problem import select_band
+
+        data = select_band(data, args.fmin, args.fmax, args.data)
     options = dict(c=args.c, max_rc=args.max_rc, inductance=not args.no_inductance, capacitance=not args.no_capacitance)
     if any(d != "frequency" for d in data["Z"].dims):
         _each_spectrum(kk_test_batch(data, **options), args.json, emit_json)

@@ -29,7 +29,7 @@ from ..data import checked_frequencies, format_frequency
 from ..errors import DataError, ParameterError
 from .grid import ResultGrid
 from .problem import frequency_and_z
-from .statistics import difference_noise
+from .statistics import difference_noise, non_passive
 
 __all__ = ["KKResult", "KKBatchResult", "kk_test", "kk_test_batch", "rejudged", "DEFAULT_THRESHOLDS", "CONCLUSIVE_POINTS_MIN"]
 
@@ -77,7 +77,7 @@ def _thresholds_for(rules: Mapping[str, float], n_points: int) -> dict[str, floa
 _JSON_KEYS = {
     "valid": "valid", "rms_rel": "rms_rel", "bad_bands": "bad_bands", "n_rc": "n_rc", "mu": "mu", "mu_reached": "mu_reached",
     "noise_estimate": "noise_estimate", "frequency_hz": "frequency", "residuals_real": "residuals_real", "residuals_imag": "residuals_imag",
-    "conclusive": "conclusive", "chain_error": "chain_error",
+    "conclusive": "conclusive", "chain_error": "chain_error", "non_passive_hz": "non_passive_frequencies",
 }
 
 
@@ -121,6 +121,13 @@ class KKResult:
         omega = 2 * np.pi * checked_frequencies(freq)
         voigt = 1.0 / (1.0 + 1j * omega[..., None] * self.time_constants) @ self.resistances
         return self.series_resistance + 1j * omega * self.series_inductance - 1j * self.inverse_series_capacitance / omega + voigt
+
+    @property
+    def non_passive_frequencies(self) -> np.ndarray:
+        """The frequencies [Hz] of the points whose Re Z < 0 beyond the noise
+        (`statistics.non_passive`): no passive circuit reaches them, the Voigt chain with
+        signed resistances does. `diagnose` and `refine` leave them out before their own test."""
+        return np.sort(self.frequency[non_passive(self.impedance)])
 
     @property
     def conclusive(self) -> bool:
@@ -189,6 +196,13 @@ class KKResult:
             )
         for lo, hi in self.bad_bands:
             lines.append(f"  bad band: {format_frequency(lo)} – {format_frequency(hi)}")
+        bad = self.non_passive_frequencies
+        if bad.size:
+            where = ", ".join(format_frequency(f) for f in bad[:6]) + (", …" if bad.size > 6 else "")
+            lines.append(
+                f"note: {bad.size} of {self.frequency.size} points have Re Z < 0 ({where}), which no passive circuit reaches; they are "
+                "part of this test (impedax diagnose and refine leave them out before theirs: their verdicts may differ); leave them out with --fmin/--fmax"
+            )
         return "\n".join(lines)
 
     def _repr_html_(self) -> str:
