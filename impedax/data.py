@@ -214,6 +214,30 @@ def format_uncertain(value: float, stderr: float, unit: str) -> str:
     return f"{number} ± {shown}" + (f" {label}" if label else "")
 
 
+def concise_repr(result) -> str:
+    """``Name(field=value, ...)`` of a result dataclass in one or a few lines: arrays and
+    Datasets by their shape, long sequences by their length, long texts cut. The generated
+    repr printed every array, hundreds of lines for one fit; ``report()`` says what it means."""
+    import dataclasses
+
+    parts = []
+    for f in dataclasses.fields(result):
+        if not f.repr:
+            continue
+        value = getattr(result, f.name)
+        if isinstance(value, (xr.Dataset, xr.DataArray)):
+            text = f"<{type(value).__name__} {dict(value.sizes)}>"
+        elif hasattr(value, "shape") and hasattr(value, "dtype") and getattr(value, "ndim", 0) > 0:
+            text = f"<{value.dtype} array {tuple(value.shape)}>"
+        elif isinstance(value, (tuple, list, dict)) and len(value) > 6:
+            text = f"<{len(value)} {'entries' if isinstance(value, dict) else 'items'}>"
+        else:
+            text = repr(value)
+            text = text if len(text) <= 100 else text[:97] + "…"
+        parts.append(f"{f.name}={text}")
+    return f"{type(result).__name__}({', '.join(parts)})"
+
+
 def format_relative_error(ratio: float) -> str:
     """A relative standard error for a table: ``3.8%``, ``0.52%``, ``126%`` (whole percent from
     10 %, where ``1.3e+02%`` read badly), ``1.2e+12%`` from 10⁴ % up; ``—`` when not finite."""

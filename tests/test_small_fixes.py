@@ -161,3 +161,18 @@ def test_shared_bound_note_has_the_same_wording():
 
     assert notes(7.96e7) == ("shared R1 = 7.96e+07 Ω cannot be told from its lower bound 0 (standard error 1.3e+18 Ω)",)
     assert notes(1e-9) == ("shared R1 is at its lower bound 0",)
+
+
+def test_results_print_in_a_few_lines_with_arrays_as_their_shape():
+    """The generated dataclass repr printed every array (thousands of characters for one fit
+    of 20 points); now arrays show as their shape and the scalars as they are."""
+    import impedax as ix
+
+    f = np.geomspace(1, 1e4, 20)
+    data = ix.make_spectrum(f, 10 + 100 / (1 + (2j * np.pi * f * 1e-4) ** 0.9))
+    fit = ix.fit("R0 + R1 || CPE1", data)
+    for result in (fit, ix.kk_test(data), ix.drt(data)):
+        text = repr(result)
+        assert text.startswith(type(result).__name__ + "(") and len(text) < 1500, text
+        assert "<complex128 array (20,)>" in text and "array([" not in text
+    assert f"chi2={fit.chi2!r}" in repr(fit) and "converged=True" in repr(fit)

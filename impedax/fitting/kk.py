@@ -25,7 +25,7 @@ import numpy as np
 import xarray as xr
 
 from ..arguments import MAX_BASIS, checked_arguments, count, flag, instance_of
-from ..data import checked_frequencies, format_frequency
+from ..data import checked_frequencies, concise_repr, format_frequency
 from ..errors import DataError, ParameterError
 from .grid import ResultGrid
 from .problem import frequency_and_z
@@ -91,6 +91,8 @@ class KKResult:
     ``chain_error`` is the default reference chain's own misfit on these frequencies
     (`chain_error` of `reference_rc`), a floor of ``threshold_scale``.
     """
+
+    __repr__ = concise_repr  # (the generated one printed every array)
 
     frequency: np.ndarray
     impedance: np.ndarray

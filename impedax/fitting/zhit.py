@@ -26,6 +26,7 @@ import numpy as np
 import xarray as xr
 
 from ..arguments import checked_arguments, count, real
+from ..data import concise_repr, format_frequency
 from ..errors import DataError, ParameterError
 from .kk import bands_of_flags, long_runs
 from .problem import frequency_and_z
@@ -45,6 +46,8 @@ class ZHITResult:
     ``threshold``: the point threshold (5 × max(noise, floor)); ``flagged``/``bad_bands``
     [(f_min, f_max) Hz]: where |Z| and the phase disagree; ``valid``: no bad band.
     """
+
+    __repr__ = concise_repr  # (the generated one printed every array)
 
     frequency: np.ndarray
     impedance: np.ndarray
@@ -86,7 +89,7 @@ class ZHITResult:
         """Two lines and the bad bands: rms_rel, noise estimate, verdict."""
         verdict = "valid (|Z| and phase consistent)" if self.valid else "NOT valid: |Z| and phase disagree"
         lines = [f"Z-HIT: rms_rel = {self.rms_rel * 100:.3g} %, noise estimate = {self.noise_estimate * 100:.3g} %", f"verdict: {verdict}"]
-        lines += [f"  bad band: {lo:.3g} – {hi:.3g} Hz" for lo, hi in self.bad_bands]
+        lines += [f"  bad band: {format_frequency(lo)} – {format_frequency(hi)}" for lo, hi in self.bad_bands]  # (as the linear test writes them)
         return "\n".join(lines)
 
     def plot(self, *, title: str | None = None):

@@ -20,7 +20,7 @@ import numpy as np
 import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
-from ...data import checked_frequencies, unit_text
+from ...data import checked_frequencies, concise_repr, unit_text
 from ...errors import DataError, ParameterError
 from ..derived import QUANTILES, band_dataset, bind_frequency, check_real, needs_freq
 from ..least_squares import FitResult
@@ -53,6 +53,8 @@ class Posterior:
     sampler steps), ``ess`` (effective sample size), ``warnings``. Model comparison:
     ``log_evidence`` (Laplace, at the MAP) and ``waic`` (deviance scale: lower is better).
     """
+
+    __repr__ = concise_repr  # (the generated one printed every array)
 
     circuit: Circuit
     names: tuple[str, ...]

@@ -44,7 +44,7 @@ import xarray as xr
 
 from ...arguments import MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice, count, flag, frequency, instance_of, real, seed as seed_rule
 from ...circuits import Circuit, DEFAULT_REGISTRY, Element, Parallel, Registry, Series, parse
-from ...data import format_quantity, make_spectrum
+from ...data import concise_repr, format_quantity, make_spectrum
 from ...errors import DataError, FitError, ImpedaxError, ParameterError
 from ..drt import PeakEvidence, drt, r_cpe_tau, unexplained_peaks
 from ..kk import KKResult, kk_test
@@ -144,6 +144,8 @@ class Verdict(enum.StrEnum):
 class Suggestion:
     """A candidate circuit (one effect at one placement) and its fit."""
 
+    __repr__ = concise_repr  # (the generated one printed every array)
+
     effect: str
     added: str
     where: str
@@ -187,6 +189,8 @@ class Diagnosis:
     candidates (``suggestions``: the significant ones, best first; ``candidates``: all) and the
     `Verdict` with its ``reason``; ``drt``: the data's DRT peaks against the baseline's
     (`PeakEvidence`), or None when the DRT was off or could not be computed."""
+
+    __repr__ = concise_repr  # (the generated one printed every array)
 
     baseline: FitResult
     kk: KKResult | None

@@ -12,6 +12,7 @@ import xarray as xr
 
 from ...arguments import MAX_STARTS, checked_arguments, choice, count, flag, frequency, instance_of, real, seed as seed_rule
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
+from ...data import concise_repr
 from ...errors import CircuitError, ParameterError
 from ..least_squares import FitResult, fit
 from ..least_squares.candidates import fit_candidates
@@ -28,6 +29,8 @@ class RefinementStep:
     """One model of the loop: its fit, what was added to get it, its diagnosis, and the
     elements the step left out (`Suggestion.removed`); a step of `_simplified` adds nothing
     (``added`` and ``effect`` None) and lists the element it took out again."""
+
+    __repr__ = concise_repr  # (the generated one printed every array)
 
     fit: FitResult
     added: str | None
@@ -55,6 +58,8 @@ class RefinementStep:
 @dataclass(frozen=True, eq=False)
 class Refinement:
     """Outcome of `refine`: the steps (first: the user's model), the final model and verdict."""
+
+    __repr__ = concise_repr  # (the generated one printed every array)
 
     steps: tuple[RefinementStep, ...]
     verdict: Verdict

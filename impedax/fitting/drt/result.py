@@ -9,7 +9,7 @@ from typing import Mapping
 import numpy as np
 import xarray as xr
 
-from ...data import checked_frequencies, format_quantity, format_time, format_uncertain
+from ...data import checked_frequencies, concise_repr, format_quantity, format_time, format_uncertain
 from .peaks import Peak
 from ..grid import ResultGrid
 
@@ -36,6 +36,8 @@ class DRTResult:
     ``lam`` the regularisation parameter (in the normalised units of docs/drt.md) and
     ``lambda_method`` how it was chosen ("gcv", "lcurve" or "fixed"); ``peaks`` sorted by τ.
     """
+
+    __repr__ = concise_repr  # (the generated one printed every array)
 
     frequency: np.ndarray
     impedance: np.ndarray

@@ -16,7 +16,7 @@ import numpy as np
 import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
-from ...data import unit_text
+from ...data import concise_repr, unit_text
 from ...warning_groups import grouped_warnings
 from ..parameters import ParameterTable
 from ..problem import residual_scale, weights
@@ -42,6 +42,8 @@ class BatchFitResult:
     ``upper`` over param), and the data ``Z`` and ``Z_model`` over (*dims, frequency). ``warnings`` maps a spectrum's index (a dict of coordinates, as text)
     to its warnings.
     """
+
+    __repr__ = concise_repr  # (the generated one printed every array)
 
     circuit: Circuit
     dataset: xr.Dataset

@@ -13,7 +13,7 @@ import numpy as np
 import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit
-from ...data import checked_frequencies, format_relative_error, unit_text
+from ...data import checked_frequencies, concise_repr, format_relative_error, unit_text
 from ..parameters import ParameterTable, data_scales
 from ..statistics import information_criteria, non_passive, uncertainties
 from .branches import RELATIVE_ERROR_LIMIT, idle_branch_notes, settle_vanishing, undetermined, undetermined_mask, vanishing_parameters
@@ -54,6 +54,8 @@ class FitResult:
     ``rms_rel = sqrt(mean |r_k|²)`` (docs/physics.md, "Goodness of fit"). ``chi2`` is the sum of the squared
     weighted residuals, ``chi2_red = chi2/(2N − k)``; AIC/BIC see `information_criteria`.
     """
+
+    __repr__ = concise_repr  # (the generated one printed every array)
 
     circuit: Circuit
     values: dict[str, float]

@@ -36,7 +36,7 @@ import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit
 from ...arguments import closest_name
-from ...data import format_relative_error, unit_text
+from ...data import concise_repr, format_relative_error, unit_text
 from ...errors import DataError, ParameterError
 from ..parameters import ParameterTable, to_internal
 from ..problem import residual_scale, weights
@@ -312,6 +312,8 @@ class SharedFitResult(BatchFitResult):
     ``joint_chi2``, ``joint_chi2_red``, ``joint_dof``, ``joint_aic``, ``joint_bic`` and the test of
     sharing against independent fits: ``independent_chi2``, ``independent_aic``, ``delta_aic``
     (shared − independent; negative favours sharing), ``f_statistic``, ``f_pvalue``."""
+
+    __repr__ = concise_repr  # (the generated one printed every array)
 
     shared: tuple[str, ...] = ()
     over: tuple[str, ...] = ()
