@@ -256,7 +256,10 @@ class Registry:
         try:
             return self._by_symbol[symbol]
         except KeyError:
-            raise CircuitError(f"unknown element symbol {symbol!r}; known: {self.symbols()}") from None
+            raise CircuitError(
+                f"unknown element symbol {symbol!r}; known: {self.symbols()} (an element of your own registry: pass it here too, "
+                "e.g. circuit.parameter_names(registry), compile_circuit(circuit, registry), fit(..., registry=registry))"
+            ) from None
 
     def __iter__(self) -> Iterator[ElementSpec]:
         return iter(self.specs)

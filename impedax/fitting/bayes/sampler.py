@@ -377,7 +377,7 @@ def _run_emcee(p0: np.ndarray, args: LogProbArgs, functions: LogProbFunctions, *
 
     sampler = emcee.EnsembleSampler(walkers, n_params, log_prob_fn, vectorize=True)
     sampler.random_state = np.random.RandomState(seed).get_state()
-    bar = ProgressLine(steps, progress)
+    bar = ProgressLine(steps, progress, label=f"sampling (emcee, {walkers} walkers)")  # (called by sample and by gap alike)
     t0 = time.perf_counter()
     try:
         for i, _ in enumerate(sampler.sample(p0, iterations=steps, skip_initial_state_check=True)):
