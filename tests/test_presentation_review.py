@@ -17,6 +17,7 @@ and text (2026-11-28), each with a stand-in of the result (duck-typed, no fit: f
 from __future__ import annotations
 
 import io
+import re
 import time
 from types import SimpleNamespace
 
@@ -29,7 +30,8 @@ import numpy as np
 import pytest
 
 from impedax.cli.common import command_line_words
-from impedax.cli.refine import progress_printer, reproduce_line
+from impedax.cli.common import progress_printer
+from impedax.cli.refine import reproduce_line
 from impedax.plotting import plot_spectrum
 from impedax.plotting.comparison import plot_comparison
 from impedax.plotting.diagnosis import plot_diagnosis, plot_refinement
@@ -636,3 +638,17 @@ def test_a_lone_prefixed_tick_is_written_as_its_value():
     assert ax.yaxis.get_major_formatter().format_data_short(20004.6) == "20.005"
     assert ax.yaxis.get_major_formatter().format_data_short(20046.0) == "20.046"
     plt.close(fig)
+
+
+def test_diagnose_says_each_stage_as_it_begins():
+    """`diagnose(progress=)` is called as each stage begins, in order (the CLI prints the lines
+    once a run has taken 2 s): SYNTHETIC R0 + R1 ∥ C1 + a second arc, fitted with one arc."""
+    import impedax as ix
+
+    f = np.geomspace(1, 1e5, 40)
+    jw = 2j * np.pi * f
+    data = ix.make_spectrum(f, 10 + 100 / (1 + jw * 100 * 1e-6) + 300 / (1 + jw * 300 * 1e-3))
+    said = []
+    ix.diagnose(data, "R0 + R1 || C1", progress=said.append)
+    assert said[0] == "fitting the baseline R0 + R1 || C1" and said[1] == "the Kramers–Kronig test of the data"
+    assert any(re.fullmatch(r"fitting \d+ candidate circuits of \d+ effects", s) for s in said), said

@@ -18,7 +18,7 @@ __all__ = [
     "parse_assignments", "prefixed_number", "number_option", "NUMBER_PREFIXES", "check_parameter_names", "emit_json", "to_jsonable", "add_model_argument", "add_output_options",
     "check_outputs", "save_outputs", "print_result", "result_out_help", "Output", "OutputPlan", "plan_outputs",
     "memory_limit", "check_memory", "MEMORY_LIMIT_ENV", "add_select_option", "load_selected", "select_spectra", "load_selected_files", "labels_text", "dimension_labels",
-    "command_line_words", "naming_target", "part_of_joined", "announce_written", "option_words", "check_points",
+    "command_line_words", "naming_target", "part_of_joined", "announce_written", "option_words", "check_points", "progress_printer", "PROGRESS_AFTER_S",
 ]
 
 
@@ -718,3 +718,59 @@ def command_line_words(text: str) -> str:
     return text
 
 
+# --- progress of long runs ----------------------------------------------------------------------
+
+PROGRESS_AFTER_S = 2.0
+"""Progress lines go to stderr once a run has taken this long."""
+
+
+def progress_printer(after_s: float = PROGRESS_AFTER_S, stream=None):
+    """A progress callback that prints its lines to stderr (``stream``) once ``after_s`` seconds
+    have passed. The last line said before then is printed at ``after_s`` if no other has come
+    (the first diagnosis says its line at 0 s and may run for several seconds): a slow run is
+    never silent past ``after_s``. Its ``close()`` ends the wait; a line is printed at most once."""
+    return _Progress(after_s, stream)
+
+
+class _Progress:
+    def __init__(self, after_s: float, stream=None) -> None:
+        import threading
+        import time
+
+        self._clock = time.monotonic
+        self._start = self._clock()
+        self._after_s = after_s
+        self._stream = stream
+        self._lock = threading.Lock()
+        self._pending: tuple[float, str] | None = None
+        self._timer = threading.Timer(after_s, self._flush)
+        self._timer.daemon = True
+        self._timer.start()
+
+    def _print(self, elapsed: float, text: str) -> None:
+        import sys
+
+        print(f"[{elapsed:5.1f} s] {text}", file=self._stream or sys.stderr, flush=True)
+
+    def _flush(self) -> None:
+        with self._lock:
+            if self._pending is not None:
+                self._print(*self._pending)
+                self._pending = None
+
+    def __call__(self, text: str) -> None:
+        elapsed = self._clock() - self._start
+        with self._lock:
+            if elapsed > self._after_s:
+                if self._pending is not None:  # the timer has not run yet
+                    self._print(*self._pending)
+                self._pending = None
+                self._print(elapsed, text)
+            else:
+                self._pending = (elapsed, text)
+
+    def close(self) -> None:
+        """No line after this: the run is over (its result is about to be printed)."""
+        self._timer.cancel()
+        with self._lock:
+            self._pending = None

@@ -48,14 +48,18 @@ def effects_option(text):
 
 def run(args) -> int:
     from ..fitting import diagnose
-    from .common import figure_writer, load_selected, plan_outputs, print_result, result_writer
+    from .common import figure_writer, load_selected, plan_outputs, print_result, progress_printer, result_writer
     from .fit import check_max_steps
 
     outputs = plan_outputs([("--out", args.out, "result"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     max_steps = check_max_steps(args.max_steps)
     effects = effects_option(args.effects)
     data = load_selected(args.data, args.select, single="impedax diagnose")
-    result = diagnose(data, args.model, effects=effects, noise=args.noise, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps)
+    progress = progress_printer()
+    try:
+        result = diagnose(data, args.model, effects=effects, noise=args.noise, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, progress=progress)
+    finally:
+        progress.close()
     outputs.save({"--out": result_writer(result), "--plot": figure_writer(result.plot)})
     if not outputs.uses_stdout:
         print_result(result, args.json)

@@ -6,10 +6,6 @@ from __future__ import annotations
 # no import of the fitting package, tests/test_cli_basic.py checks the two agree)
 MODEL_DEFAULT = "R0 + R1 || C1"
 
-PROGRESS_AFTER_S = 2.0
-"""Progress lines go to stderr once a run has taken this long."""
-
-
 def register(sub) -> None:
     from .diagnose import add_spectrum_command
     from .fit import add_max_steps_option
@@ -29,62 +25,10 @@ def register(sub) -> None:
     add_max_steps_option(p, 100, "the candidate fits of every step (the baseline fit keeps its own)")
 
 
-def progress_printer(after_s: float = PROGRESS_AFTER_S, stream=None):
-    """A progress callback that prints its lines to stderr (``stream``) once ``after_s`` seconds
-    have passed. The last line said before then is printed at ``after_s`` if no other has come
-    (the first diagnosis says its line at 0 s and may run for several seconds): a slow run is
-    never silent past ``after_s``. Its ``close()`` ends the wait; a line is printed at most once."""
-    return _Progress(after_s, stream)
-
-
-class _Progress:
-    def __init__(self, after_s: float, stream=None) -> None:
-        import threading
-        import time
-
-        self._clock = time.monotonic
-        self._start = self._clock()
-        self._after_s = after_s
-        self._stream = stream
-        self._lock = threading.Lock()
-        self._pending: tuple[float, str] | None = None
-        self._timer = threading.Timer(after_s, self._flush)
-        self._timer.daemon = True
-        self._timer.start()
-
-    def _print(self, elapsed: float, text: str) -> None:
-        import sys
-
-        print(f"[{elapsed:5.1f} s] {text}", file=self._stream or sys.stderr, flush=True)
-
-    def _flush(self) -> None:
-        with self._lock:
-            if self._pending is not None:
-                self._print(*self._pending)
-                self._pending = None
-
-    def __call__(self, text: str) -> None:
-        elapsed = self._clock() - self._start
-        with self._lock:
-            if elapsed > self._after_s:
-                if self._pending is not None:  # the timer has not run yet
-                    self._print(*self._pending)
-                self._pending = None
-                self._print(elapsed, text)
-            else:
-                self._pending = (elapsed, text)
-
-    def close(self) -> None:
-        """No line after this: the run is over (its result is about to be printed)."""
-        self._timer.cancel()
-        with self._lock:
-            self._pending = None
-
-
 def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting import refine
-    from .common import figure_writer, load_selected, plan_outputs, print_result, result_writer
+    from .common import figure_writer, load_selected, plan_outputs, print_result, progress_printer, result_writer
     from .diagnose import effects_option
     from .fit import check_max_steps
 

@@ -37,7 +37,7 @@ import enum
 import itertools
 import math
 from dataclasses import dataclass, field
-from typing import Mapping, NamedTuple, Sequence
+from typing import Callable, Mapping, NamedTuple, Sequence
 
 import numpy as np
 import xarray as xr
@@ -1331,6 +1331,7 @@ def diagnose(
     drt_evidence: bool = True,
     solver_shape: SolverShape | None = None,
     mask: bool = True,
+    progress: Callable[[str], None] | None = None,
 ) -> Diagnosis:
     """Diagnose a fit: where the model fails, which effect of ``effects`` is missing, verdict.
 
@@ -1346,13 +1347,16 @@ def diagnose(
     when it holds the candidates (an earlier `Diagnosis.solver_shape`; `refine` passes each
     step's on, so its steps share one compilation). ``mask``: leave out the points the KK test
     blames (False: judge every point given; `refine` passes False after its first step, so
-    that every step is judged on the same points). Thresholds and rules: module docstring and
-    docs/diagnosis.md. Returns a `Diagnosis`.
+    that every step is judged on the same points). ``progress``: called with a line of text as
+    each stage begins (the CLI prints them once a run has taken a few seconds). Thresholds and
+    rules: module docstring and docs/diagnosis.md. Returns a `Diagnosis`.
     """
     if n_starts < 1 or max_steps < 1:
         raise ParameterError("n_starts and max_steps must be at least 1")
     if not isinstance(drt_evidence, bool):
         raise ParameterError(f"drt_evidence must be True or False, got {drt_evidence!r}")
+    say = progress if progress is not None else (lambda text: None)
+    say("fitting the baseline" + (f" {circuit}" if circuit is not None and not isinstance(fit_or_data, FitResult) else ""))
     base, data, shape, not_passive = _baseline(fit_or_data, circuit, data=data, effects=effects, registry=registry, fmin=fmin, fmax=fmax, weighting=weighting, n_starts=n_starts, seed=seed, shape=solver_shape)
     _require_points_for_diagnosis(base)
     spectrum, sigma = _spectrum_of(base, data)
@@ -1363,6 +1367,7 @@ def diagnose(
             "are left out of every fit and test: no passive circuit has a negative real part (an instrument artifact, often a phase error at the top of its band)"
         )
     if kk is None:
+        say("the Kramers–Kronig test of the data")
         kk = _kk_of(spectrum, notes)
     kk_as_tested = kk  # (the noise model's floor δ takes the test's own flags)
     if kk is not None and not kk.valid:
@@ -1399,10 +1404,13 @@ def diagnose(
         notes.append("the KK test flags " + ", ".join(f"{format_frequency(lo)}–{format_frequency(hi)}" for lo, hi in kk.bad_bands) + ": misfits there may be data problems")
     sigma_rel, measurement = nm.sigma_rel[keep], nm.measurement[keep]
 
+    if drt_evidence:
+        say("the DRT of the data and of the baseline")
     evidence = _drt_evidence(base, notes) if drt_evidence else None
     ctx = _context(base, evidence)
     n_points = int(keep.sum())
     proposals = [(e, p) for e, p in effects.proposals(ctx) if len(p.circuit.parameter_names(base.registry)) < 2 * n_points]
+    say(f"fitting {len(proposals)} candidate circuits of {len({e.id for e, _ in proposals})} effects")
     proposals, fits, shape = _fit_proposals(base, spectrum, ctx, proposals, shape, n_starts=n_starts, max_steps=max_steps, seed=seed)
     if masked:
         base = fits[0]
@@ -1417,11 +1425,13 @@ def diagnose(
 
     bands, cands, verdict, reason = judged(base)
     if verdict == Verdict.ADEQUATE and _beyond_single_effects(bands, _noise_ratio(base, sigma_rel)):  # two effects missing at once?
+        say("fitting pairs of effects (no single one is enough)")
         pairs, pair_fits, shape = _effect_pairs(base, cands, proposals, spectrum, effects, shape, with_drt=evidence is not None, max_params=2 * n_points - 1, n_starts=n_starts, max_steps=max_steps, seed=seed)
         if pairs:
             proposals, fits = proposals + pairs, fits + pair_fits
             bands, cands, verdict, reason = judged(base)
     if verdict == Verdict.MISSING_EFFECT:  # before naming a missing effect: is the baseline at its own optimum?
+        say("checking the baseline's own optimum before naming a missing effect")
         better = _baseline_checked(base, spectrum, shape, next(s.fit for s in cands if s.significant), seed=seed)
         if better is not None:
             notes.append(f"before naming a missing effect the baseline was refitted from the candidate's values (its arcs in every order) and {BASELINE_CHECK_STARTS} random starts and reached a better optimum (rms_rel {base.rms_rel * 100:.3g} % → {better.rms_rel * 100:.3g} %); it is used as the baseline")
