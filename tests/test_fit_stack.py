@@ -5,6 +5,8 @@ one-by-one fits of the same spectra.
 Spectra come from the numpy formulas of tests/spectra.py, not from impedax's compiler.
 """
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -151,3 +153,23 @@ def test_batch_warnings_equal_single_fits(rng):
         single = ix.fit(text, data.isel(trial=i))
         assert batch.warnings[f"trial={trial}"] == single.warnings
         assert any("strongly correlated (r = " in w for w in single.warnings)
+
+
+def test_one_spectrum_of_a_batch_as_a_whole_fit():
+    """`BatchFitResult.fit_of(cycle=64)`: the REAL battery cycle (AutoEIS's, MIT) as a
+    `FitResult` at the batch's optimum — values within 1e-4, rms_rel within 1e-4 relative — and
+    clear errors for a label that is not there or a dimension that is not the batch's."""
+    import impedax as ix
+
+    ds = ix.load(Path(__file__).parents[1] / "examples" / "data" / "autoeis_battery_cycles.nc")
+    batch = ix.fit("R0 + R1 || CPE1 + R2 || CPE2 + W1", ds)
+    one = batch.fit_of(cycle=64)
+    assert isinstance(one, ix.FitResult) and one.converged
+    for name, value in one.values.items():
+        assert value == pytest.approx(float(batch.dataset["value"].sel(param=name, cycle=64)), rel=1e-4)
+    assert one.rms_rel == pytest.approx(float(batch.dataset["rms_rel"].sel(cycle=64)), rel=1e-4)
+    np.testing.assert_array_equal(one.z_data, ds["Z"].sel(cycle=64).values)
+    with pytest.raises(ix.ParameterError, match=r"cycle=5 is not among the batch's labels \(0, 64, 129\)"):
+        batch.fit_of(cycle=5)
+    with pytest.raises(ix.ParameterError, match=r"one label for each batch dimension \(cycle\); unknown: trial; missing: cycle"):
+        batch.fit_of(trial=1)

@@ -17,6 +17,7 @@ import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ...data import concise_repr, unit_text
+from ...errors import ParameterError
 from ...warning_groups import grouped_warnings
 from ..parameters import ParameterTable
 from ..problem import residual_scale, weights
@@ -70,6 +71,43 @@ class BatchFitResult:
     def values(self, name: str) -> xr.DataArray:
         """Fitted values of parameter ``name`` over the batch dimensions."""
         return self.dataset["value"].sel(param=name)
+
+    def fit_of(self, **labels):
+        """The whole `FitResult` of one spectrum — standard errors, correlations, warnings,
+        ``predict``, ``plot`` — picked by its label along every batch dimension (``cycle=64``;
+        the 0-based position along a dimension without coordinates): the spectrum refitted from
+        this batch's values with one start, the fixed parameters and bounds kept, so it returns
+        to the batch's optimum."""
+        from ...data import make_spectrum
+        from .single import fit
+
+        ds = self.dataset
+        unknown = sorted(set(labels) - set(self.dims))
+        missing = [d for d in self.dims if d not in labels]
+        if unknown or missing:
+            raise ParameterError(
+                f"fit_of needs one label for each batch dimension ({', '.join(self.dims)})"
+                + (f"; unknown: {', '.join(unknown)}" if unknown else "") + (f"; missing: {', '.join(missing)}" if missing else "")
+            )
+        one = ds
+        for dim, label in labels.items():
+            if dim in ds.coords:
+                if not np.any(ds[dim].values == label):
+                    raise ParameterError(f"{dim}={label!r} is not among the batch's labels ({', '.join(map(str, ds[dim].values[:10].tolist()))}{', …' if ds.sizes[dim] > 10 else ''})")
+                one = one.sel({dim: label})
+            else:
+                if not (isinstance(label, (int, np.integer)) and 0 <= label < ds.sizes[dim]):
+                    raise ParameterError(f"{dim}={label!r}: {dim} has no coordinates; give a position from 0 to {ds.sizes[dim] - 1}")
+                one = one.isel({dim: int(label)})
+        spectrum = make_spectrum(ds["frequency"].values, one["Z"].values, sigma=one["sigma"].values if "sigma" in one else None, source=f"{self.model} batch, {labels}")
+        names = [str(p) for p in ds["param"].values]
+        value = {n: float(one["value"].sel(param=n)) for n in names}
+        fixed = {n: value[n] for n in names if bool(ds["fixed"].sel(param=n))}
+        specs = self.circuit.parameter_specs(self.registry)
+        user = {n: (float(ds["lower"].sel(param=n)), float(ds["upper"].sel(param=n))) for n in names if n not in fixed} if "lower" in ds else {}
+        bounds = {n: b for n, b in user.items() if b != (specs[n].lower, specs[n].upper)} or None  # (the user's, not the natural ones)
+        init = {n: v for n, v in value.items() if n not in fixed}
+        return fit(self.circuit, spectrum, init=init, fixed=fixed, bounds=bounds, weighting=self.weighting, n_starts=1, registry=self.registry)
 
     UNDETERMINED_RULE = f"relative error > {RELATIVE_ERROR_LIMIT:.0%} or none"  # (`undetermined`, as figures name it)
 
