@@ -30,14 +30,22 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None):
     ax.legend(fontsize=7)
     ax = axes[1]
     u = gap.draws("u") * 1e6
-    ax.hist(u, bins=60, density=True, color="tab:blue", alpha=0.7, label="posterior of u" + (" (population median)" if gap.method == "hierarchical" else ""))
+    shown = np.concatenate([u, [gap.paper.gap * 1e6]])
+    # (draws and the paper's estimate decades apart — a poor fit, a prior bound — on a log axis,
+    # where a linear one squeezed the histogram into one bar at its edge)
+    wide = bool(np.all(shown > 0) and shown.max() > 10 * shown.min())
+    bins = np.geomspace(u.min(), u.max(), 61) if wide and u.max() > u.min() else 60
+    ax.hist(u, bins=bins, density=not wide, color="tab:blue", alpha=0.7, label="posterior of u" + (" (population median)" if gap.method == "hierarchical" else ""))
+    if wide:
+        ax.set_xscale("log")
     g = gap.gap
     ax.axvspan(g["q05"] * 1e6, g["q95"] * 1e6, color="tab:blue", alpha=0.15, label="90% credible interval")
     ax.axvline(gap.paper.gap * 1e6, color="k", label=f"paper method {gap.paper.gap * 1e6:.2f} µm")
-    ax.axvspan(gap.paper.gap_lower * 1e6, gap.paper.gap_upper * 1e6, color="tab:orange", alpha=0.15, label="paper bounds (extreme impedances)")
+    if gap.paper_has_bounds:  # (one trial of each: no interval)
+        ax.axvspan(gap.paper.gap_lower * 1e6, gap.paper.gap_upper * 1e6, color="tab:orange", alpha=0.15, label="paper bounds (extreme impedances)")
     if true_gap is not None:
         ax.axvline(true_gap * 1e6, color="tab:green", ls="--", label=f"truth (synthetic) {true_gap * 1e6:.2f} µm")
-    ax.set(xlabel="gap thickness u [µm]", ylabel="density", title="air-gap thickness")
+    ax.set(xlabel="gap thickness u [µm]", ylabel="draws" if wide else "density", title="air-gap thickness")
     ax.legend(fontsize=7)
     ax = axes[2]
     _force_bands(ax, gap.force, ep_label="with EP branch", scale="semilogx", alpha=0.2, suffix="median, 90% band")
