@@ -173,3 +173,20 @@ def test_one_spectrum_of_a_batch_as_a_whole_fit():
         batch.fit_of(cycle=5)
     with pytest.raises(ix.ParameterError, match=r"one label for each batch dimension \(cycle\); unknown: trial; missing: cycle"):
         batch.fit_of(trial=1)
+
+
+def test_fit_of_keeps_the_data_s_sigma_and_refuses_a_global_fit():
+    """A batch weighted by the data's own σ refits one spectrum with it (the σ is kept in the
+    batch's Dataset); a global fit's spectrum alone would move its shared parameters: refused.
+    SYNTHETIC R0 + R1 ∥ CPE1 written here, 4 trials scaled 1 %, 2 %, 3 % apart."""
+    f = np.geomspace(1, 1e4, 30)
+    z = 10 + 100 / (1 + (2j * np.pi * f * 1e-4) ** 0.9)
+    zs = np.stack([z * (1 + 0.01 * k) for k in range(4)])
+    data = ix.make_spectrum(f, zs, dims=("trial",), sigma=0.01 * np.abs(zs))
+    batch = ix.fit("R0 + R1 || CPE1", data, weighting="sigma")
+    np.testing.assert_array_equal(batch.dataset["sigma"].values, 0.01 * np.abs(zs))
+    one = batch.fit_of(trial=2)
+    assert one.weighting == "sigma" and one.values["R0"] == pytest.approx(10.2, rel=1e-6)
+    shared = ix.fit("R0 + R1 || CPE1", data, shared=["CPE1.alpha"], over="trial")
+    with pytest.raises(ix.ParameterError, match="would move the shared parameters"):
+        shared.fit_of(trial=1)

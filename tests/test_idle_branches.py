@@ -191,7 +191,7 @@ def test_an_open_branch_on_exact_data_is_at_its_bound_whatever_its_standard_erro
 
     circuit = ix.parse("R1 || CPE1")
     table = ParameterTable.build(circuit)
-    codes = vanishing_parameters(circuit, ix.DEFAULT_REGISTRY, table, np.array([[1000.0, 1e-20, 0.7]]), F)
+    codes = vanishing_parameters(circuit, ix.DEFAULT_REGISTRY, table, np.array([[1000.0, 1e-20, 0.7]]), F, np.ones((1, 3), bool))
     assert dict(zip(table.free_names, codes[0].tolist())) == {"R1": 0, "CPE1.Q": -1, "CPE1.alpha": VANISHED}
     # a determined term with a small share is not touched: a 1e-4 share of the block's current
     small = ix.make_spectrum(F, 50.0 + 1 / (1 / 1e9 + 2e-5 * JW**0.85))

@@ -104,12 +104,6 @@ def test_cpe_variant_with_alpha_one_is_the_rc_model():
     np.testing.assert_allclose(np.asarray(meyer.force_time_average(p_cpe, f, variant="cpe")), np.asarray(meyer.force_time_average(p, f)), rtol=1e-9)
 
 
-def test_cpe_variant_with_alpha_one_reproduces_rc_model_exactly():
-    f = np.geomspace(10, 1e9, 41)
-    rc = np.asarray(meyer.meyer_model("rc").force(f))
-    np.testing.assert_allclose(np.asarray(meyer.meyer_model("cpe", alpha=1.0).force(f)), rc, rtol=1e-12, atol=0)
-
-
 def _chain_oracle(params, f, v_a=140.0):
     """numpy, by hand: Z_total = 1/(jωC_s) + 1/(jωC_i) + (1/R_sc + Q (jω)^α)^−1 + R_f, I = V_A/Z_total;
     returns Q_i = I/(jω) (charge on C_i), V_F = I (1/(jωC_i) + Z_sc) and Q_f = I Z_sc/(R_sc jω)."""
@@ -149,13 +143,6 @@ def test_cpe_force_uses_the_cpe_capacitance_at_each_frequency(alpha):
     expected = series**2 / (2 * model.area * E0) * 0.5 * (np.abs(v_f) ** 2 - np.abs(q_f) ** 2 / p["C_i"] ** 2)
     np.testing.assert_allclose(np.asarray(model.force(f)), expected, rtol=1e-9)
     assert p["CPE_sc.Q"] * (2 * np.pi * 1e3) ** (alpha - 1) == pytest.approx(2.2e-9, rel=1e-12)
-
-
-def test_cpe_force_regression_values():
-    """α = 0.8, thesis values, 140 V: 145.6 mN at 10 kHz, 136.9 mN at 100 kHz, 104.8 mN at 1 MHz
-    (with C_sc fixed at its 1 kHz value it was 229, 377, 554 mN, above the charge bound)."""
-    force = np.asarray(meyer.meyer_model("cpe").force(np.array([1e4, 1e5, 1e6])))
-    np.testing.assert_allclose(force * 1e3, [145.6, 136.9, 104.8], atol=0.1)
 
 
 def test_force_vanishes_at_dc_and_vmaps_over_draws():

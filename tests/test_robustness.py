@@ -188,7 +188,7 @@ BAD_OPTIONS = [  # (id, argv template with {good} a valid spectrum file and {tmp
     ("fit-fmin-negative", ["fit", "{good}", "--model", "R1", "--fmin", "-1"], "fmin must be positive"),
     ("fit-fmin-nan", ["fit", "{good}", "--model", "R1", "--fmin", "nan"], "fmin must be finite"),
     ("fit-fmin-above-fmax", ["fit", "{good}", "--model", "R1", "--fmin", "100", "--fmax", "1"], "fmax (1 Hz) is below fmin (100 Hz)"),
-    ("fit-band-outside-the-data", ["fit", "{good}", "--model", "R1", "--fmin", "1e6"], "no frequencies at or above fmin = 1e+06 Hz (the data span"),
+    ("fit-band-outside-the-data", ["fit", "{good}", "--model", "R1", "--fmin", "1e6"], "no frequencies at or above --fmin = 1e+06 Hz (the data span"),
     ("fit-max-steps-negative", ["fit", "{good}", "--model", "R1", "--max-steps", "-1"], "--max-steps must be at least 1"),
     ("fit-misspelt-option", ["fit", "{good}", "--model", "R1", "--maxsteps", "5"], "unrecognized arguments: --maxsteps 5; did you mean --max-steps?"),
     ("fit-unknown-weighting", ["fit", "{good}", "--model", "R1", "--weighting", "bogus"], "invalid choice: 'bogus'"),

@@ -689,10 +689,12 @@ OPTION_OF_KEYWORD_BY_COMMAND: dict[str, dict[str, str]] = {
 
 def option_words(command: str, error: Exception) -> str:
     """The message of ``error`` as ``impedax command`` prints it: a Python keyword of
-    `OPTION_OF_KEYWORD_BY_COMMAND` that names what the message is about (followed by ``must``,
-    ``:`` or ``=``: ``max_rc must be ...``, ``fixed: unknown ...``, ``fmin = 10 Hz``) is
-    replaced by the option that sets it (``--max-rc must be ...``). A file name that leads a
-    `DataError` (``c: line 3: ...``) is left as it is."""
+    `OPTION_OF_KEYWORD_BY_COMMAND` that names what the message is about is replaced by the
+    option that sets it — at the start of the message when followed by ``must``, ``:`` or ``=``
+    (``max_rc must be ...`` → ``--max-rc must be ...``, ``fixed: unknown ...``), and a band's
+    ends anywhere as ``from fmin = 10 Hz``. Keywords inside a sentence otherwise stay (``use
+    noise='proportional'`` names Python's value). A file name that leads a `DataError` (``c:
+    line 3: ...``) is left as it is."""
     text = str(error)
     keywords = OPTION_OF_KEYWORD_BY_COMMAND.get(command, {})
     if not keywords:
@@ -703,8 +705,11 @@ def option_words(command: str, error: Exception) -> str:
         cut = text.find(": ", len(str(path)))
         if cut >= 0:
             head, text = text[: cut + 2], text[cut + 2 :]
-    pattern = re.compile(r"(?<![\w.'\"/-])(" + "|".join(re.escape(k) for k in sorted(keywords, key=len, reverse=True)) + r")(?=\s+must\b|:|\s*=)")
-    return head + pattern.sub(lambda m: keywords[m.group(1)], text)
+    names = "|".join(re.escape(k) for k in sorted(keywords, key=len, reverse=True))
+    leading = re.compile(r"^(" + names + r")(?=\s+must\b|:|=)")
+    band = "|".join(k for k in ("fmin", "fmax") if k in keywords) or "(?!)"
+    valued = re.compile(r"(?<![\w.'\"/-])(" + band + r")(?= = )")
+    return head + valued.sub(lambda m: keywords[m.group(1)], leading.sub(lambda m: keywords[m.group(1)], text))
 
 
 def command_line_words(text: str) -> str:

@@ -35,8 +35,14 @@ def run(args) -> int:
     single = "impedax kk --method zhit" if args.method == "zhit" else "impedax kk --plot" if args.plot else None
     data = load_selected(args.data, args.select, single=single)
     if args.fmin is not None or args.fmax is not None:
+        from ..errors import ParameterError
         from ..fitting.problem import select_band
 
+        for flag, value in (("--fmin", args.fmin), ("--fmax", args.fmax)):  # (the rule of the commands that fit)
+            if value is not None and not (value > 0 and value < float("inf")):
+                raise ParameterError(f"{flag} must be positive, got {value:g}")
+        if args.fmin is not None and args.fmax is not None and args.fmax < args.fmin:
+            raise ParameterError(f"--fmax ({args.fmax:g} Hz) is below --fmin ({args.fmin:g} Hz)")
         data = select_band(data, args.fmin, args.fmax, args.data)
     options = dict(c=args.c, max_rc=args.max_rc, inductance=not args.no_inductance, capacitance=not args.no_capacitance)
     if any(d != "frequency" for d in data["Z"].dims):

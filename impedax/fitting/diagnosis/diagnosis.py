@@ -428,7 +428,8 @@ def undetermined_parameters(fit: FitResult) -> frozenset[str]:
     rel_sd, corr = centred_covariance(fit)
     out = {n for n, e in zip(names, rel_sd) if not (np.isfinite(e) and e <= RELATIVE_ERROR_MAX)}
     # a vanishing term's (`branches.VANISHING_SHARE`): undetermined, or at the natural bound that explains it
-    out = (out | {n for n in names if not np.isfinite(fit.stderr[n])}) - {n for n in fit.at_bound if not np.isfinite(fit.stderr[n])}
+    held = {n for n in fit.at_bound if not np.isfinite(fit.stderr[n])} if np.isfinite(fit.chi2) else set()  # (an overflowed fit's are undetermined)
+    out = (out | {n for n in names if not np.isfinite(fit.stderr[n])}) - held
     if corr.shape == (len(names), len(names)) and len(names) > 1:
         a, b = np.nonzero(np.triu(np.abs(np.nan_to_num(corr)) > CORRELATION_MAX, 1))
         for i, j in zip(a.tolist(), b.tolist()):

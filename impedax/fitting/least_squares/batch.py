@@ -10,6 +10,7 @@ import math
 import time
 import warnings as python_warnings
 from dataclasses import dataclass, field
+from typing import Callable
 
 import jax
 import numpy as np
@@ -23,7 +24,7 @@ from ..parameters import ParameterTable
 from ..problem import residual_scale, weights
 from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, dominant_points, information_criteria, null_sets
 from .order import canonical_order
-from .branches import RELATIVE_ERROR_LIMIT, idle_branch_notes, settle_vanishing, undetermined, undetermined_mask, vanishing_parameters
+from .branches import RELATIVE_ERROR_LIMIT, idle_branch_notes, settle_vanishing, undetermined, undetermined_mask, vanishing_candidates, vanishing_parameters
 from .result import bound_sides, confirm_bounds, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, stack_notes, weighting_notes
 from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, TreeSolvers, better, over_devices, padded_points, tree_solver, trimmed, unscale
 from .starts import SpectrumFeatures, climb_target, batch_outliers, escalation_rungs, guess_start, rms_rel_of, rung_seed, rung_starts, to_solver_space
@@ -31,6 +32,17 @@ from .starts import SpectrumFeatures, climb_target, batch_outliers, escalation_r
 __all__ = ["BatchFitResult", "fit_batch"]
 
 _STATS = ("chi2", "converged", "n_evaluations")
+
+
+_spectrum_fit: Callable | None = None
+"""`single.fit`, registered by that module (`register_spectrum_fit`) for `BatchFitResult.fit_of`:
+batch.py may not import it, since single.py imports batch.py."""
+
+
+def register_spectrum_fit(fit: Callable) -> None:
+    """Let `BatchFitResult.fit_of` refit one spectrum with ``fit`` (`single.fit`)."""
+    global _spectrum_fit
+    _spectrum_fit = fit
 
 
 @dataclass(frozen=True, eq=False)
@@ -79,8 +91,10 @@ class BatchFitResult:
         this batch's values with one start, the fixed parameters and bounds kept, so it returns
         to the batch's optimum."""
         from ...data import make_spectrum
-        from .single import fit
 
+        if _spectrum_fit is None:  # (not reached: a BatchFitResult comes from fit, whose module registers it)
+            raise ParameterError("fit_of needs impedax.fitting.least_squares.single imported")
+        fit = _spectrum_fit
         ds = self.dataset
         unknown = sorted(set(labels) - set(self.dims))
         missing = [d for d in self.dims if d not in labels]
@@ -476,10 +490,12 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
     regular = np.flatnonzero(~odd)
     sides[regular] = confirm_bounds(table, values[regular], bound_sides(table, values[regular], stderr[regular]), lambda p, s: solver.chi2_at_x(p, regular[s]), n_res)
     # parameters of a term that changes Z by < 1e-6: at the natural bound that explains it, or undetermined (as `fit_result`)
+    free_values, free_stderr = values[regular][:, table.free_index], stderr[regular][:, table.free_index]
     vanishing = np.zeros((len(regular), k), np.int8)
     if k:
-        vanishing = vanishing_parameters(circuit, registry, table, values[regular], freq, jac[regular])
-    sides[regular], free_stderr, vanished = settle_vanishing(vanishing, sides[regular], values[regular][:, table.free_index], stderr[regular][:, table.free_index])
+        candidates = vanishing_candidates(sides[regular], free_values, free_stderr)
+        vanishing = vanishing_parameters(circuit, registry, table, values[regular], freq, candidates, jac[regular])
+    sides[regular], free_stderr, vanished = settle_vanishing(vanishing, sides[regular], free_values, free_stderr)
     stderr[np.ix_(regular, table.free_index)] = free_stderr
     # the exact warning text of a single fit: for most spectra built for the stack at once,
     # for those with near-null directions (rare) one by one
@@ -611,4 +627,6 @@ def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weig
         coords={"param": list(names), "frequency": ("frequency", freq, {"units": "Hz"}), **coords},
         attrs={"model": str(circuit), "weighting": weighting, "n_free": k},
     )
+    if sigma_da is not None:  # (the data's own σ, which weighted the fits: `fit_of` refits with it)
+        ds["sigma"] = ((*extra, "frequency"), sigma_da.values if sigma_da.chunks is None else sigma_da.compute().values, {"units": "ohm"})
     return BatchFitResult(circuit, ds, weighting, warnings, time.perf_counter() - t0, registry)

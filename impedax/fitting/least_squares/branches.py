@@ -9,6 +9,7 @@ warnings")."""
 from __future__ import annotations
 
 import collections
+import functools
 from typing import Iterator, NamedTuple
 
 import numpy as np
@@ -19,7 +20,7 @@ from ..parameters import ParameterTable
 
 __all__ = [
     "IDLE_BRANCH_SHARE", "VANISHING_SHARE", "RELATIVE_ERROR_LIMIT", "IdleBranch", "undetermined", "undetermined_mask", "parallel_branches", "circuit_terms",
-    "idle_branches", "idle_branch_notes", "is_idle_note", "vanishing_parameters", "VANISHED", "settle_vanishing",
+    "idle_branches", "idle_branch_notes", "is_idle_note", "vanishing_parameters", "VANISHED", "settle_vanishing", "vanishing_candidates",
 ]
 
 RELATIVE_ERROR_LIMIT = 1.0
@@ -146,22 +147,41 @@ def _shares(node: Parallel | Series, registry: Registry, table: ParameterTable, 
     """Per child of ``node``, its largest share over ``omega`` (1, N) for fits with values (B, P):
     a parallel block's branches share its current by admittance, |Y_child / Σ Y|, a chain's
     terms its voltage by impedance, |Z_child / Σ Z|."""
-    params = {n: values[:, j][:, None] for j, n in enumerate(table.names)}
+    n_rows = values.shape[0]
+    # (rows padded to a power of two: JAX compiles each eager operation per shape)
+    padded = np.concatenate([values, np.repeat(values[:1], (1 << max(3, (n_rows - 1).bit_length())) - n_rows, axis=0)]) if n_rows else values
+    shares = np.asarray(_shares_program(node, registry, tuple(table.names))(padded, omega))[:, :n_rows]
+    return list(shares)
+
+
+@functools.lru_cache(maxsize=64)
+def _shares_program(node: Parallel | Series, registry: Registry, names: tuple[str, ...]):
+    """`_shares` of ``node`` as one compiled program of (values (B, P), omega (1, N)) → (children, B)
+    (eager JAX compiled each operation anew: 0.5–1 s on a first call)."""
+    import jax
+    import jax.numpy as jnp
+
     form = "Z" if isinstance(node, Series) else "Y"
-    with np.errstate(all="ignore"):
-        terms = [np.asarray(node_function(c, registry, form)(params, omega)) for c in node.children]
+    functions = [node_function(c, registry, form) for c in node.children]
+
+    def shares(values, omega):
+        params = {n: values[:, j][:, None] for j, n in enumerate(names)}
+        terms = [f(params, omega) for f in functions]
         total = sum(terms)
-        return [np.max(np.abs(t / total), axis=1) for t in terms]
+        return jnp.stack([jnp.max(jnp.abs(t / total), axis=1) for t in terms])
+
+    return jax.jit(shares)
 
 
-VANISHING_COLUMN = 1e-3
-"""`vanishing_parameters` looks only at fits with a Jacobian column below this × their largest
-(a vanishing term's: below ~1e-5)."""
+VANISHING_COLUMN = 1e-4
+"""`vanishing_parameters` looks only at fits with a candidate's Jacobian column below this × the
+median column (a vanishing term's: below ~1e-5 of the impedance's scale; a determined
+Warburg τ on AutoEIS's battery cycles: 3e-3 of the median)."""
 VANISHED = 2
 """`vanishing_parameters`' code of a vanishing term's parameter that no natural bound explains."""
 
 
-def vanishing_parameters(circuit: Circuit, registry: Registry, table: ParameterTable, values: np.ndarray, freq, jacobian=None) -> np.ndarray:
+def vanishing_parameters(circuit: Circuit, registry: Registry, table: ParameterTable, values: np.ndarray, freq, candidates: np.ndarray, jacobian=None) -> np.ndarray:
     """(B, K) int8 over the free parameters of fits with values (B, P): nonzero for a parameter
     of a term (a branch of a parallel block or a term of a series chain, an element or a
     sub-circuit) whose share stays below `VANISHING_SHARE` at every frequency ``freq``. For a
@@ -169,34 +189,42 @@ def vanishing_parameters(circuit: Circuit, registry: Registry, table: ParameterT
     bound ∞: a resistor run open beside a CPE), −1 where a tenth does (at 0: a capacitance run
     to 0 beside a resistor); `VANISHED` otherwise (a CPE's α beside its vanishing Q).
 
-    With the fits' ``jacobian`` (B, 2N, K) of the weighted residuals in the solver's variables,
-    only fits with a column below `VANISHING_COLUMN` × their largest are looked at: a vanishing
-    term's parameters move Z by at most ~10× its share (an exponent's log ω factor), while the
-    scales of a circuit move it by Z itself (Z is homogeneous of degree 1 in its impedance
-    scales), so some column is at least ~1/K of the whole."""
+    Only fits with a ``candidates`` parameter (B, K: those the rule may change, `settle_vanishing`:
+    determined and at no bound) are looked at; given the fits' ``jacobian`` (B, 2N, K) of the
+    weighted residuals in the solver's variables, only those whose candidate's column is below
+    `VANISHING_COLUMN` × their median: a vanishing term's parameters move Z by at most ~10× its
+    share (an exponent's log ω factor), while the scales of a circuit move it by Z itself (Z is
+    homogeneous of degree 1 in its impedance scales). The median, not the largest: an L at 0
+    has a column 1e4 times the others'. A parameter at a bound or undetermined is no candidate."""
     values = np.asarray(values, float)
     found = np.zeros((values.shape[0], len(table.free_names)), np.int8)
     freq = np.asarray(freq, float)
     if isinstance(circuit, Element) or freq.size == 0 or not found.size:
         return found
+    small = np.asarray(candidates, bool)
     if jacobian is not None:
         with np.errstate(all="ignore"):
             norms = np.sqrt(np.sum(np.abs(np.asarray(jacobian, float)) ** 2, axis=-2))
-            small = ~(np.min(norms, axis=-1) >= VANISHING_COLUMN * np.max(norms, axis=-1))
-        looked = np.flatnonzero(small)
-        if looked.size < values.shape[0]:
-            found[looked] = vanishing_parameters(circuit, registry, table, values[looked], freq) if looked.size else found[looked]
-            return found
+            small = small & ~(norms >= VANISHING_COLUMN * np.median(norms, axis=-1, keepdims=True))
+    looked = np.flatnonzero(small.any(axis=-1))
+    if looked.size < values.shape[0]:
+        if looked.size:
+            found[looked] = vanishing_parameters(circuit, registry, table, values[looked], freq, small[looked])
+        return found
+    # only the nodes that hold a candidate, and only the candidates' codes (each node's shares are a compilation)
+    wanted = {n for n, any_row in zip(table.free_names, small.any(axis=0)) if any_row}
     column = {n: j for j, n in enumerate(table.free_names)}
     omega = 2 * np.pi * freq[None, :]
     nodes = [circuit]
     while nodes:
         node = nodes.pop()
+        if not any(n in wanted for e in node.elements() for n in registry[e.symbol].parameter_names(e.name)):
+            continue
         for c, (child, share) in enumerate(zip(node.children, _shares(node, registry, table, values, omega))):
             if not isinstance(child, Element):
                 nodes.append(child)
             rows = np.flatnonzero(np.isfinite(share) & (share < VANISHING_SHARE))
-            for name in (n for e in child.elements() for n in registry[e.symbol].parameter_names(e.name) if n in column):
+            for name in (n for e in child.elements() for n in registry[e.symbol].parameter_names(e.name) if n in wanted):
                 if not rows.size:
                     break
                 k, i = column[name], table.names.index(name)
@@ -211,13 +239,18 @@ def vanishing_parameters(circuit: Circuit, registry: Registry, table: ParameterT
     return found
 
 
+def vanishing_candidates(sides: np.ndarray, free_values: np.ndarray, free_stderr: np.ndarray) -> np.ndarray:
+    """(B, K): the free parameters `settle_vanishing` may change: determined and at no bound."""
+    return (np.asarray(sides) == 0) & ~undetermined(free_values, free_stderr)
+
+
 def settle_vanishing(codes: np.ndarray, sides: np.ndarray, free_values: np.ndarray, free_stderr: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Bound sides and standard errors (B, K) of the free parameters with `vanishing_parameters`'
     ``codes`` applied where the fit called a parameter determined and at no bound (±1 become
     the side; the standard error is infinite, the data give none), and where that was (they get
     the idle note). The undetermined keep their note."""
     sides, codes = np.asarray(sides), np.asarray(codes)
-    new = (sides == 0) & (codes != 0) & ~undetermined(free_values, free_stderr)
+    new = vanishing_candidates(sides, free_values, free_stderr) & (codes != 0)
     return np.where(new & (codes != VANISHED), codes, sides).astype(sides.dtype), np.where(new, np.inf, free_stderr), new
 
 

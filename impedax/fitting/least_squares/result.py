@@ -16,7 +16,7 @@ from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit
 from ...data import checked_frequencies, concise_repr, format_relative_error, unit_text
 from ..parameters import ParameterTable, data_scales
 from ..statistics import information_criteria, non_passive, uncertainties
-from .branches import RELATIVE_ERROR_LIMIT, idle_branch_notes, settle_vanishing, undetermined, undetermined_mask, vanishing_parameters
+from .branches import RELATIVE_ERROR_LIMIT, idle_branch_notes, settle_vanishing, undetermined, undetermined_mask, vanishing_candidates, vanishing_parameters
 from .solvers import SolverOutput, SolverStatus
 from .starts import attainable_misfit, rms_rel_of
 
@@ -569,10 +569,11 @@ def fit_result(
         sides = confirm_bounds(table, x_all, bound_sides(table, x_all, np.array([stderr[nm] for nm in names])[None]), chi2_at_x, n)[0]
     else:
         sides = bound_sides(table, x_all, None)[0]
-    vanishing = vanishing_parameters(circuit, registry, table, x_all, freq, np.asarray(out.jacobian)[None])[0] if finite and k else np.zeros(k, np.int8)
     # a term that changes Z by < 1e-6: its parameters at the natural bound that explains it, or undetermined
-    sides, free_stderr, vanished = settle_vanishing(
-        vanishing[None], np.asarray(sides)[None], np.array([values[nm] for nm in free_names])[None], np.array([stderr[nm] for nm in free_names])[None])
+    free_values, free_stderr = np.array([values[nm] for nm in free_names])[None], np.array([stderr[nm] for nm in free_names])[None]
+    candidates = vanishing_candidates(np.asarray(sides)[None], free_values, free_stderr)
+    vanishing = vanishing_parameters(circuit, registry, table, x_all, freq, candidates, np.asarray(out.jacobian)[None])[0] if finite and k else np.zeros(k, np.int8)
+    sides, free_stderr, vanished = settle_vanishing(vanishing[None], np.asarray(sides)[None], free_values, free_stderr)
     sides = sides[0]
     stderr.update(zip(free_names, free_stderr[0].tolist()))
     notes = fit_notes(table, values, stderr, corr, null_sets, ratio, finite=finite, converged=converged, message=message, sides=sides, freq=freq, z=z)

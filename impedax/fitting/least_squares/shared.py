@@ -42,7 +42,7 @@ from ..parameters import ParameterTable, to_internal
 from ..problem import residual_scale, weights
 from ..statistics import information_criteria
 from .batch import BatchFitResult, data_notes, fit_batch
-from .branches import idle_branch_notes, idle_branches, settle_vanishing, undetermined, undetermined_mask, vanishing_parameters
+from .branches import idle_branch_notes, idle_branches, settle_vanishing, undetermined, undetermined_mask, vanishing_candidates, vanishing_parameters
 from .result import BOUND_CHI2_FRACTION, bound_note, bound_sides, on_bound, stack_notes
 from .solvers import SolverArgs, tree_residuals
 
@@ -315,6 +315,14 @@ class SharedFitResult(BatchFitResult):
 
     __repr__ = concise_repr  # (the generated one printed every array)
 
+    def fit_of(self, **labels):
+        """Not for a global fit: one spectrum refitted alone would move the shared parameters
+        (`BatchFitResult.fit_of`); `ParameterError` saying so."""
+        raise ParameterError(
+            "fit_of refits one spectrum alone, which would move the shared parameters of this global fit; "
+            "fix them instead: ix.fit(model, one_spectrum, fixed={shared name: its value}, init=the spectrum's values)"
+        )
+
     shared: tuple[str, ...] = ()
     over: tuple[str, ...] = ()
 
@@ -437,7 +445,9 @@ def fit_shared(
         sides[gi] = _confirm_sides(sides[gi], x_free[gi], table, sh, solver[2], fits[gi].args, noise[gi] * fits[gi].scale**2, 2 * n_freq)
     sides = sides.reshape(-1, k)
     # a spectrum's own parameters of a term that changes Z by < 1e-6: at the natural bound that explains it, or undetermined (as `fit_result`)
-    vanishing = vanishing_parameters(circuit, registry, table, flat_values, freq)
+    candidates = vanishing_candidates(sides, flat_values[:, free], flat_stderr[:, free])
+    candidates[:, sh] = False
+    vanishing = vanishing_parameters(circuit, registry, table, flat_values, freq, candidates)
     vanishing[:, sh] = 0
     sides, flat_stderr[:, free], vanished = settle_vanishing(vanishing, sides, flat_values[:, free], flat_stderr[:, free])
     stderr = flat_stderr.reshape(values.shape)

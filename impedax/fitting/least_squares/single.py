@@ -18,7 +18,7 @@ from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ...errors import ParameterError
 from ..problem import WEIGHTINGS, prepare_fit, residual_scale, weights
 from ..statistics import at_noise_floor, dominant_points, information_criteria
-from .batch import BatchFitResult, fit_batch
+from .batch import BatchFitResult, fit_batch, register_spectrum_fit
 from .order import canonical_order
 from .result import FitResult, fit_result, misfit_notes, non_passive_notes, weighting_notes
 from .shared import SharedFitResult, fit_shared
@@ -133,6 +133,9 @@ def fit(
     given = np.isfinite(table.values[table.free_index])
     start = "the given start" if given.all() and given.size else "the given start, the other parameters' from the data" if given.any() else "the data-driven start"
     return fit_result(circuit, table, freq, z, out, weighting, used, time.perf_counter() - t0, registry, chi2_at_x=chi2_at_x, extra_notes=notes, start=start)
+
+
+register_spectrum_fit(fit)  # (BatchFitResult.fit_of refits one spectrum with it)
 
 
 def escalated(out, solve, circuit, table, features, freq, z, n_starts: int, seed: int, registry, max_steps: int):
