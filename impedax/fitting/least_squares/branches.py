@@ -148,7 +148,7 @@ def _shares(node: Parallel | Series, registry: Registry, table: ParameterTable, 
     a parallel block's branches share its current by admittance, |Y_child / Σ Y|, a chain's
     terms its voltage by impedance, |Z_child / Σ Z|."""
     n_rows = values.shape[0]
-    # (rows padded to a power of two: JAX compiles each eager operation per shape)
+    # (rows padded to a power of two, at least 8: the block's program compiles once per shape)
     padded = np.concatenate([values, np.repeat(values[:1], (1 << max(3, (n_rows - 1).bit_length())) - n_rows, axis=0)]) if n_rows else values
     shares = np.asarray(_shares_program(node, registry, tuple(table.names))(padded, omega))[:, :n_rows]
     return list(shares)
@@ -156,8 +156,9 @@ def _shares(node: Parallel | Series, registry: Registry, table: ParameterTable, 
 
 @functools.lru_cache(maxsize=64)
 def _shares_program(node: Parallel | Series, registry: Registry, names: tuple[str, ...]):
-    """`_shares` of ``node`` as one compiled program of (values (B, P), omega (1, N)) → (children, B)
-    (eager JAX compiled each operation anew: 0.5–1 s on a first call)."""
+    """`_shares` of ``node`` as one compiled program of (values (B, P), omega (1, N)) → (children, B):
+    one compilation per block and shape, which JAX's persistent cache keeps across processes
+    (eager JAX compiled every operation anew)."""
     import jax
     import jax.numpy as jnp
 
