@@ -9,7 +9,6 @@ warnings")."""
 from __future__ import annotations
 
 import collections
-import functools
 from typing import Iterator, NamedTuple
 
 import numpy as np
@@ -148,30 +147,16 @@ def _shares(node: Parallel | Series, registry: Registry, table: ParameterTable, 
     a parallel block's branches share its current by admittance, |Y_child / Σ Y|, a chain's
     terms its voltage by impedance, |Z_child / Σ Z|."""
     n_rows = values.shape[0]
-    # (rows padded to a power of two, at least 8: the block's program compiles once per shape)
+    # (rows padded to a power of two, at least 8: eager JAX compiles each operation once per
+    # shape, and these shapes recur; one program per block would compile for every candidate
+    # circuit of a diagnosis)
     padded = np.concatenate([values, np.repeat(values[:1], (1 << max(3, (n_rows - 1).bit_length())) - n_rows, axis=0)]) if n_rows else values
-    shares = np.asarray(_shares_program(node, registry, tuple(table.names))(padded, omega))[:, :n_rows]
-    return list(shares)
-
-
-@functools.lru_cache(maxsize=64)
-def _shares_program(node: Parallel | Series, registry: Registry, names: tuple[str, ...]):
-    """`_shares` of ``node`` as one compiled program of (values (B, P), omega (1, N)) → (children, B):
-    one compilation per block and shape, which JAX's persistent cache keeps across processes
-    (eager JAX compiled every operation anew)."""
-    import jax
-    import jax.numpy as jnp
-
+    params = {n: padded[:, j][:, None] for j, n in enumerate(table.names)}
     form = "Z" if isinstance(node, Series) else "Y"
-    functions = [node_function(c, registry, form) for c in node.children]
-
-    def shares(values, omega):
-        params = {n: values[:, j][:, None] for j, n in enumerate(names)}
-        terms = [f(params, omega) for f in functions]
+    with np.errstate(all="ignore"):
+        terms = [np.asarray(node_function(c, registry, form)(params, omega))[:n_rows] for c in node.children]
         total = sum(terms)
-        return jnp.stack([jnp.max(jnp.abs(t / total), axis=1) for t in terms])
-
-    return jax.jit(shares)
+        return [np.max(np.abs(t / total), axis=1) for t in terms]
 
 
 VANISHING_COLUMN = 1e-4
