@@ -197,7 +197,7 @@ def vanishing_parameters(circuit: Circuit, registry: Registry, table: ParameterT
         if looked.size:
             found[looked] = vanishing_parameters(circuit, registry, table, values[looked], freq, small[looked])
         return found
-    # only the nodes that hold a candidate, and only the candidates' codes (each node's shares are a compilation)
+    # only the nodes that hold a candidate, and only the candidates' codes (a node's shares cost its JAX operations, compiled per shape)
     wanted = {n for n, any_row in zip(table.free_names, small.any(axis=0)) if any_row}
     column = {n: j for j, n in enumerate(table.free_names)}
     omega = 2 * np.pi * freq[None, :]
