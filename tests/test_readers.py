@@ -337,6 +337,37 @@ def test_a_spreadsheet_sheet_of_sweeps_becomes_a_dimension(tmp_path):
         ix.load(book(tmp_path / "uneven.xlsx", [2, 1]))
 
 
+def test_sheets_whose_cycle_numbers_carry_on_are_one_series_of_cycles(tmp_path):
+    """Sheets of a cycling run split by size (cycles 1–2 on one sheet, 3–5 on the next): one
+    `cycle` dimension in order, each cycle its own values, a `sheet` coordinate saying where
+    each came from; sheets that number their cycles alike still stack as (sheet, cycle)."""
+    openpyxl = pytest.importorskip("openpyxl")
+
+    def book(path, cycles_per_sheet):
+        workbook = openpyxl.Workbook()
+        workbook.remove(workbook.active)
+        for sheet, cycles in enumerate(cycles_per_sheet):
+            table = workbook.create_sheet(f"S{sheet}")
+            table.append(["Frequency (Hz)", "Z' (Ohm)", "Z'' (Ohm)", "cycle number"])
+            for cycle in cycles:
+                for f, zi in zip(F_HZ.tolist(), (oracle(F_HZ) + 100 * sheet + cycle).tolist()):
+                    table.append([f, zi.real, zi.imag, cycle])
+        workbook.save(path)
+        return path
+
+    ds = ix.load(book(tmp_path / "run.xlsx", [[1, 2], [3, 4, 5]]))
+    assert ds["Z"].dims == ("cycle", "frequency") and list(ds["cycle"].values) == ["1", "2", "3", "4", "5"]
+    assert list(ds["sheet"].values) == ["S0", "S0", "S1", "S1", "S1"]
+    for k, (sheet, cycle) in enumerate([(0, 1), (0, 2), (1, 3), (1, 4), (1, 5)]):
+        np.testing.assert_allclose(ds["Z"].values[k], oracle(F_HZ) + 100 * sheet + cycle, rtol=1e-15)
+    assert ds.attrs["sheets"] == "cycles 1–2 from sheet S0, 3–5 from sheet S1"
+    same = ix.load(book(tmp_path / "repeats.xlsx", [[1, 2], [1, 2]]))
+    assert same["Z"].dims == ("sheet", "cycle", "frequency")
+    np.testing.assert_allclose(same["Z"].values[1, 0], oracle(F_HZ) + 101, rtol=1e-15)
+    with pytest.raises(ix.DataError, match=r"sheet 'S1' holds 2 cycles \(2, 3\) where sheet 'S0' holds 2 cycles \(1, 2\)"):
+        ix.load(book(tmp_path / "overlap.xlsx", [[1, 2], [2, 3]]))
+
+
 def test_ec_lab_cycles_become_a_dimension(tmp_path):
     """EC-Lab's real example file (impedance.py 1.7's), its data rows written a second time as
     cycle 2 with Z' 5 Ω higher: a `cycle` dimension, the file's values in each."""

@@ -278,6 +278,8 @@ def stack(path: Path, spectra: Sequence[tuple[str, xr.Dataset]], dim: str) -> xr
     label0, first = spectra[0]
     f0 = first["frequency"].values
     inner = tuple(d for d in first["Z"].dims if d != "frequency")
+    if _numbering_carries_on(spectra, inner):
+        return _continued(path, spectra, dim, inner[0])
     for label, ds in spectra[1:]:
         f = ds["frequency"].values
         if f.shape != f0.shape or not np.array_equal(f, f0):
@@ -293,23 +295,60 @@ def stack(path: Path, spectra: Sequence[tuple[str, xr.Dataset]], dim: str) -> xr
                 f"impedax stacks {dim}s that hold the same spectra: export the {dim}s to separate files",
                 path=path,
             )
+    coords = {dim: [label for label, _ in spectra], **{d: first[d].values for d in inner if d in first.coords}}
+    return make_spectrum(
+        f0, np.stack([ds["Z"].transpose(*inner, "frequency").values for _, ds in spectra]), dims=(dim, *inner), coords=coords,
+        attrs=_merged_attrs(spectra, dim), source=str(path),
+    )
+
+
+def _merged_attrs(spectra: Sequence[tuple[str, xr.Dataset]], dim: str) -> dict:
+    """The attributes of spectra read from one file: those they share, each one's own text
+    labelled with its ``dim`` (a sheet's sign convention, a note), every skipped row's report."""
     attrs = {}
     keys = list(dict.fromkeys(key for _, ds in spectra for key in ds.attrs))  # every spectrum's, in order
     for key in keys:
         values = [ds.attrs.get(key) for _, ds in spectra]
         if all(v == values[0] for v in values):
             attrs[key] = values[0]
-        elif all(isinstance(v, str) or v is None for v in values):  # each sheet's own sign convention, or a note of one
+        elif all(isinstance(v, str) or v is None for v in values):
             attrs[key] = "; ".join(f"{dim} {label}: {v}" for (label, _), v in zip(spectra, values) if v is not None)
     reports = [f"{dim} {label}: {r}" for label, ds in spectra for r in ds.attrs.get("skipped_rows", [])]
     attrs.pop("skipped_rows", None)
     if reports:
         attrs["skipped_rows"] = reports
-    coords = {dim: [label for label, _ in spectra], **{d: first[d].values for d in inner if d in first.coords}}
-    return make_spectrum(
-        f0, np.stack([ds["Z"].transpose(*inner, "frequency").values for _, ds in spectra]), dims=(dim, *inner), coords=coords,
-        attrs=attrs, source=str(path),
+    return attrs
+
+
+#: Inner dimensions whose labels number the spectra across a file (EC-Lab's ``cycle number``):
+#: sheets that carry the numbering on (1, 2 / 3, 4) hold parts of one series.
+_NUMBERED = ("cycle",)
+
+
+def _numbering_carries_on(spectra: Sequence[tuple[str, xr.Dataset]], inner: tuple[str, ...]) -> bool:
+    """Every spectrum numbers its sweeps along the same `_NUMBERED` dimension, on one frequency
+    grid, and no number appears twice across them."""
+    if len(inner) != 1 or inner[0] not in _NUMBERED:
+        return False
+    f0 = spectra[0][1]["frequency"].values
+    if any(tuple(d for d in ds["Z"].dims if d != "frequency") != inner or inner[0] not in ds.coords or not np.array_equal(ds["frequency"].values, f0) for _, ds in spectra):
+        return False
+    labels = [str(v) for _, ds in spectra for v in ds[inner[0]].values]
+    return len(set(labels)) == len(labels)
+
+
+def _continued(path: Path, spectra: Sequence[tuple[str, xr.Dataset]], dim: str, numbered: str) -> xr.Dataset:
+    """Spectra whose ``numbered`` labels carry on from one to the next, as one ``numbered``
+    dimension in the order read, with a ``dim`` coordinate naming where each came from."""
+    sources = [label for label, ds in spectra for _ in range(ds.sizes[numbered])]
+    labels = [v for _, ds in spectra for v in ds[numbered].values]
+    attrs = _merged_attrs(spectra, dim)
+    attrs[f"{dim}s"] = f"{numbered}s {', '.join(f'{ds[numbered].values[0]}–{ds[numbered].values[-1]} from {dim} {label}' for label, ds in spectra)}"
+    ds = make_spectrum(
+        spectra[0][1]["frequency"].values, np.concatenate([ds["Z"].transpose(numbered, "frequency").values for _, ds in spectra]),
+        dims=(numbered,), coords={numbered: labels}, attrs=attrs, source=str(path),
     )
+    return ds.assign_coords({dim: (numbered, sources)})
 
 
 def _spectra_text(ds: xr.Dataset) -> str:

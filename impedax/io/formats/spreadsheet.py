@@ -4,7 +4,9 @@ read through pandas: ``pip install impedax[spreadsheet]``.
 Each sheet is a table whose first non-empty row names the columns, read by `impedax.io.table`
 (``f``/``freq``/``frequency``, ``Z'``/``Zre``/``real``, ``Z''``/``imaginary`` or ``-Zim``,
 ``|Z|`` with ``phase`` or ``-phase``, units such as ``Frequency (mHz)`` case-sensitively). Sheets
-on the same grid become a ``sheet`` dimension. Line numbers in errors are spreadsheet rows.
+on the same grid become a ``sheet`` dimension; sheets whose cycle numbers carry on (1, 2 / 3, 4)
+become one ``cycle`` dimension (`impedax.io._common.stack`). Line numbers in errors are
+spreadsheet rows.
 
 Conventions: as named by each column header (a ``-`` prefix means the column stores the negated
 quantity); numbers are taken as stored in the cells.
