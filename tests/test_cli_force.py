@@ -1,11 +1,19 @@
-"""`impedax force meyer|vezzoli`: reference values, JSON contract, bad input → exit 2."""
+"""`impedax force meyer|vezzoli`: reference values, JSON contract, bad input → exit 2; the
+refined peak against dense grids of formulas written here, the peak convention against the
+time-domain maximum of eq 3.6 / eq 7, --out files, and eq 8's validity warning."""
 
 import json
+import math
 
 import numpy as np
 import pytest
 
 from impedax.cli import main
+from impedax.cli.force import refined_peak
+
+E0 = 8.8541878128e-12
+THESIS = {"C_s": 140e-12, "C_i": 1.7e-9, "R_sc": 130e3, "C_sc": 2.2e-9, "R_f": 500.0}
+AREA = math.pi * 0.004**2
 
 
 def _json(capsys, *args):
@@ -17,8 +25,10 @@ def test_vezzoli_table2_point(capsys):
     out = _json(capsys, "vezzoli", "--fmin", "440", "--fmax", "440", "--points", "1")
     assert set(out) >= {"frequency_hz", "force_n", "peak", "params", "convention"}
     assert out["frequency_hz"] == [440.0] and out["force_n"][0] == pytest.approx(0.0556, rel=0.002)
-    assert out["peak"] == {"frequency_hz": 440.0, "force_n": out["force_n"][0]}
+    assert {k: out["peak"][k] for k in ("frequency_hz", "force_n")} == {"frequency_hz": 440.0, "force_n": out["force_n"][0]}
+    assert out["peak"]["at_band_edge"] is True and out["peak"]["band_edge"] == "fmin=fmax"  # one frequency: no peak located
     assert out["convention"] == "time-average" and out["params"]["v_m"] == 2000.0
+    assert out["warnings"] == []  # Table 2 satisfies eq 8's C_i << C_s
 
 
 def test_meyer_defaults_reproduce_fig_3_4(capsys):
@@ -51,9 +61,214 @@ def test_csv_output_and_plot(capsys, tmp_path):
         (["vezzoli", "--param", "h_i=abc"], "eps_i"),
         (["vezzoli", "--param", "h_i"], "rho_s"),
         (["vezzoli", "--fmin", "0"], "positive"),
+        # overflow: no maximum to find (inf − inf, inf/inf, a Python float squared past 1e308)
+        (["meyer", "--param", "v_a=1e200"], "not finite (overflow) at 10 Hz and 160 other frequencies; check the --param values (v_a=1e+200)"),
+        (["vezzoli", "--param", "rho_s=1e300"], "--param values (rho_s=1e+300)"),
+        (["vezzoli", "--param", "v_m=1e200"], "--param values (v_m=1e+200)"),
+        (["meyer", "--out", "f.txt"], "--out: unknown extension '.txt'"),
     ],
 )
 def test_bad_input_exits_2_with_one_message(capsys, args, match):
     assert main(["force", *args]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and match in err[0]
+
+
+# --- oracles written here (numpy), independent of impedax's circuit probes ----------------------
+
+
+def _meyer_phasors(f, v_a=140.0, p=THESIS):
+    """RC chain by hand: I = V_A/Z_total, V_F = I (1/(jωC_i) + Z_sc), Q_f = I_Rsc/(jω) = I Z_sc/(R_sc jω);
+    returns K = (C_i C_sc/(C_i + C_sc))²/(2Aε0), V_F and Q_f/C_i."""
+    jw = 2j * np.pi * np.asarray(f, float)
+    z_sc = p["R_sc"] / (1 + jw * p["R_sc"] * p["C_sc"])
+    current = v_a / (1 / (jw * p["C_s"]) + 1 / (jw * p["C_i"]) + z_sc + p["R_f"])
+    k = (p["C_i"] * p["C_sc"] / (p["C_i"] + p["C_sc"])) ** 2 / (2 * AREA * E0)
+    return k, current * (1 / (jw * p["C_i"]) + z_sc), current * z_sc / (p["R_sc"] * jw) / p["C_i"]
+
+
+def _meyer_mean(f):
+    k, a, b = _meyer_phasors(f)
+    return k * 0.5 * (np.abs(a) ** 2 - np.abs(b) ** 2)
+
+
+def _meyer_time_domain(f0, samples=20000):
+    """Eq 3.6 over one period, F(t) = K (V_F(t)² − (Q_f(t)/C_i)²), sampled."""
+    k, a, b = _meyer_phasors(f0)
+    phase = np.exp(2j * np.pi * np.arange(samples) / samples)
+    return k * (np.real(a * phase) ** 2 - np.real(b * phase) ** 2)
+
+
+def _vezzoli_time_domain(f0, samples=20000, h_i=90e-6, h_s=350e-6, area=1e-4, eps_i=3.35, eps_s=2340.0, rho_s=3e4, v_m=2000.0):
+    """Eq 7 with eq 9's v_e(t) = V_m ωτ/√(1+(ωτ)²) cos(ωt + π/2 − arctan ωτ), sampled over a period."""
+    wt = 2 * np.pi * f0 * E0 * eps_s * rho_s
+    t = np.arange(samples) / samples / f0
+    v_e = v_m * wt / np.sqrt(1 + wt**2) * np.cos(2 * np.pi * f0 * t + np.pi / 2 - np.arctan(wt))
+    return E0 * area * v_e**2 / (2 * (h_i + h_s) * (h_i / eps_i + h_s / eps_s))
+
+
+# --- 1. the peak: refined between grid points, or the band's end ------------------------------------
+
+
+def test_meyer_peak_is_refined_to_the_dense_grid_maximum(capsys):
+    out = _json(capsys, "meyer")  # the default 161 points over 10 Hz–1 GHz
+    peak = out["peak"]
+    # the grid's best point is 35.5 kHz; the maximum lies between its neighbours
+    assert peak["grid_frequency_hz"] == pytest.approx(35481.3, rel=1e-5) and peak["at_band_edge"] is False and peak["band_edge"] is None
+    f = np.geomspace(30e3, 45e3, 200_001)  # spacing 2e-6 in ln f
+    dense = _meyer_mean(f)
+    k = int(np.argmax(dense))
+    assert 0 < k < f.size - 1
+    assert peak["frequency_hz"] == pytest.approx(f[k], rel=1e-5)
+    assert peak["force_n"] == pytest.approx(dense[k], rel=1e-9)
+    assert peak["force_n"] >= peak["grid_force_n"]
+    # thesis Fig 3.4: 164 mN near 37 kHz
+    assert peak["force_n"] == pytest.approx(0.164, rel=0.01) and peak["frequency_hz"] == pytest.approx(37e3, rel=0.01)
+    assert "peak 0.1642 N at 37006 Hz" in _stderr_line(capsys, "meyer")
+
+
+def _stderr_line(capsys, *args):
+    assert main(["force", *args]) == 0
+    return capsys.readouterr().err
+
+
+def test_peak_convention_maximum_against_a_dense_grid(capsys):
+    out = _json(capsys, "meyer", "--convention", "peak")
+    assert out["convention"] == "peak"
+    f = np.geomspace(25e3, 45e3, 200_001)
+    k, a, b = _meyer_phasors(f)
+    # max over t of F̄ + (K/2) Re[(a² − b²) e^{2jωt}]: mean plus the 2ω amplitude (the time-domain test checks it)
+    dense = k * 0.5 * (np.abs(a) ** 2 - np.abs(b) ** 2 + np.abs(a**2 - b**2))
+    j = int(np.argmax(dense))
+    assert 0 < j < f.size - 1
+    assert out["peak"]["frequency_hz"] == pytest.approx(f[j], rel=1e-5)
+    assert out["peak"]["force_n"] == pytest.approx(dense[j], rel=1e-9)
+
+
+def test_grid_maximum_at_fmin_with_the_maximum_inside_the_first_interval(capsys):
+    # grid 30 kHz, 5.5 MHz, 1 GHz: the best point is fmin, yet the force rises past it to 37 kHz
+    out = _json(capsys, "meyer", "--fmin", "30e3", "--points", "3")
+    assert out["peak"]["grid_frequency_hz"] == 30e3
+    assert out["peak"]["at_band_edge"] is False
+    assert out["peak"]["frequency_hz"] == pytest.approx(37006, rel=1e-4)
+
+
+@pytest.mark.parametrize(
+    "args, edge, says",
+    [
+        (["vezzoli"], "fmax", "largest at --fmax"),  # a high-pass: no maximum below infinity
+        (["meyer", "--fmin", "1e5"], "fmin", "largest at --fmin"),
+        (["meyer", "--fmax", "1e4"], "fmax", "still rises above it"),
+    ],
+)
+def test_largest_force_at_a_band_edge_is_not_called_a_peak(capsys, args, edge, says):
+    out = _json(capsys, *args)
+    peak = out["peak"]
+    end = 0 if edge == "fmin" else -1
+    assert peak["at_band_edge"] is True and peak["band_edge"] == edge
+    assert peak["frequency_hz"] == out["frequency_hz"][end] and peak["force_n"] == out["force_n"][end]
+    err = _stderr_line(capsys, *args)
+    assert "no peak in the band" in err and says in err
+
+
+def test_refined_peak_of_a_closed_form():
+    """A Gaussian in ln f with its top at 1234.5 Hz between the points of a coarse grid."""
+    top = 1234.5
+
+    def bump(f):
+        return 3.0 * np.exp(-((np.log(f) - np.log(top)) ** 2) / 2.0)
+
+    freq = np.geomspace(10.0, 1e5, 9)
+    peak = refined_peak(lambda f: float(bump(f)), freq, bump(freq))
+    assert peak["frequency_hz"] == pytest.approx(top, rel=1e-6) and peak["force_n"] == pytest.approx(3.0, rel=1e-12)
+    rising = refined_peak(lambda f: float(np.log(f)), freq, np.log(freq))
+    assert rising["at_band_edge"] and rising["band_edge"] == "fmax" and rising["frequency_hz"] == 1e5
+
+
+# --- 3. conventions -----------------------------------------------------------------------------
+
+
+def test_vezzoli_peak_is_twice_the_mean_and_the_time_domain_maximum(capsys):
+    band = ["vezzoli", "--fmin", "10", "--fmax", "1e4", "--points", "4"]
+    mean = _json(capsys, *band)
+    peak = _json(capsys, *band, "--convention", "peak")
+    assert mean["convention"] == "time-average" and peak["convention"] == "peak"
+    np.testing.assert_allclose(peak["force_n"], 2 * np.array(mean["force_n"]), rtol=1e-12)
+    for f0, m, p in zip(mean["frequency_hz"], mean["force_n"], peak["force_n"]):
+        inst = _vezzoli_time_domain(f0)
+        assert m == pytest.approx(inst.mean(), rel=1e-9)
+        assert p == pytest.approx(inst.max(), rel=1e-6)
+        assert inst.min() == pytest.approx(0.0, abs=1e-6 * p)  # DC + 2ω of equal amplitude
+
+
+def test_meyer_peak_is_the_time_domain_maximum_of_eq_3_6(capsys):
+    band = ["meyer", "--fmin", "10", "--fmax", "1e6", "--points", "6"]
+    mean = _json(capsys, *band)
+    peak = _json(capsys, *band, "--convention", "peak")
+    ratio = np.array(peak["force_n"]) / np.array(mean["force_n"])
+    for f0, m, p in zip(mean["frequency_hz"], mean["force_n"], peak["force_n"]):
+        inst = _meyer_time_domain(f0)
+        assert m == pytest.approx(inst.mean(), rel=1e-9)
+        assert p == pytest.approx(inst.max(), rel=1e-6)
+    # not simply 2x: V_F and Q_f are out of phase; the gap closes where Q_f vanishes
+    assert np.all(ratio >= 2 * (1 - 1e-12))
+    assert ratio[0] == pytest.approx(64, rel=0.02) and ratio[2] == pytest.approx(2.18, rel=0.01)  # 10 Hz, 1 kHz
+    assert ratio[-1] == pytest.approx(2.0, rel=1e-4)  # 1 MHz
+
+
+# --- 2. --out -------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("suffix", [".csv", ".json", ".CSV"])
+def test_out_writes_what_stdout_would_show(capsys, tmp_path, suffix):
+    args = ["force", "meyer", "--points", "7", "--convention", "peak"]
+    assert main(args + (["--json"] if suffix == ".json" else [])) == 0
+    expected = capsys.readouterr().out
+    path = tmp_path / f"force{suffix}"
+    assert main(args + ["--out", str(path)]) == 0
+    captured = capsys.readouterr()
+    assert path.read_text(encoding="utf-8") == expected
+    assert captured.out == ""  # the spectrum went to the file
+    assert f"wrote {path}" in captured.err.splitlines()
+    assert sorted(p.name for p in tmp_path.iterdir()) == [path.name]  # no temporary left behind
+
+
+def test_out_with_json_and_plot(capsys, tmp_path):
+    csv, png = tmp_path / "f.csv", tmp_path / "f.png"
+    assert main(["force", "vezzoli", "--points", "5", "--json", "--out", str(csv), "--plot", str(png)]) == 0
+    captured = capsys.readouterr()
+    out = json.loads(captured.out)  # --json still prints the JSON
+    lines = csv.read_text().splitlines()
+    assert lines[0] == "frequency_hz,force_n" and len(lines) == 6
+    np.testing.assert_allclose([float(x.split(",")[1]) for x in lines[1:]], out["force_n"], rtol=1e-9)
+    assert f"wrote {csv}" in captured.err and f"wrote {png}" in captured.err and png.stat().st_size > 1000
+
+
+@pytest.mark.parametrize("name", ["f.txt", "f.nc", "f", "f.png"])
+def test_out_unknown_extension_is_refused_before_any_work(capsys, tmp_path, name):
+    path = tmp_path / name
+    assert main(["force", "meyer", "--out", str(path)]) == 2
+    captured = capsys.readouterr()
+    err = captured.err.strip().splitlines()
+    assert len(err) == 1 and "--out" in err[0] and ".csv" in err[0] and ".json" in err[0]
+    assert captured.out == "" and list(tmp_path.iterdir()) == []
+
+
+# --- 4. Vezzoli eq 8 validity --------------------------------------------------------------------
+
+
+def test_vezzoli_warns_once_when_c_i_is_not_small_against_c_s(capsys):
+    args = ["vezzoli", "--param", "h_i=1e-6", "--param", "eps_i=3.4", "--param", "v_m=140"]  # Fig 8's conditions
+    ratio = 3.4 * 350e-6 / (2340 * 1e-6)  # C_i/C_s = (ε_i/h_i)/(ε_s/h_s) = 0.509
+    assert main(["force", *args]) == 0
+    warned = [line for line in capsys.readouterr().err.splitlines() if "warning" in line]
+    assert len(warned) == 1 and "C_i/C_s" in warned[0] and f"{ratio:.3g}" in warned[0]
+    out = _json(capsys, *args)
+    assert len(out["warnings"]) == 1 and f"{ratio:.3g}" in out["warnings"][0]
+
+
+def test_vezzoli_table2_defaults_do_not_warn(capsys):
+    assert 3.35 * 350e-6 / (2340 * 90e-6) < 0.01  # Table 2: C_i/C_s = 0.0056
+    assert main(["force", "vezzoli"]) == 0
+    assert "warning" not in capsys.readouterr().err
+    assert _json(capsys, "vezzoli")["warnings"] == []

@@ -97,6 +97,27 @@ def test_time_average_is_mean_of_eq_3_6_over_a_period():
         assert np.mean(np.asarray(inst)) == pytest.approx(avg, rel=1e-9)
 
 
+@pytest.mark.parametrize("variant, alpha", [("rc", None), ("cpe", 0.8)])
+def test_peak_force_is_the_maximum_of_eq_3_6_over_a_period(variant, alpha):
+    """Oracle: eq 3.6 sampled over a period with V_F, Q_f from the hand-written chain (and, for
+    the CPE, the prefactor with C_sc(ω) = Q ω^(α−1)); its maximum is the peak, its mean the
+    time average. The peak is not 2× the mean at low frequency (V_F and Q_f out of phase)."""
+    model = meyer.meyer_model(variant, alpha=alpha or 0.8)
+    p = model.params
+    f = np.array([10.0, 100.0, 1e3, 37e3, 3e6])
+    _, v_f, q_f = _chain_oracle(p, f)
+    c_sc = p["C_sc"] if variant == "rc" else p["CPE_sc.Q"] * (2 * np.pi * f) ** (alpha - 1)
+    k = (p["C_i"] * c_sc / (p["C_i"] + c_sc)) ** 2 / (2 * model.area * E0)
+    phase = np.exp(2j * np.pi * np.arange(20000) / 20000)[:, None]
+    inst = k * (np.real(v_f * phase) ** 2 - np.real(q_f * phase / p["C_i"]) ** 2)
+    peak = np.asarray(meyer.force_peak(p, f, area=model.area, variant=variant))
+    mean = np.asarray(meyer.force_time_average(p, f, area=model.area, variant=variant))
+    np.testing.assert_allclose(peak, inst.max(axis=0), rtol=1e-6)
+    np.testing.assert_allclose(mean, inst.mean(axis=0), rtol=1e-9)
+    assert np.all(peak >= 2 * mean * (1 - 1e-12))
+    assert peak[0] / mean[0] > 3 and peak[-1] / mean[-1] == pytest.approx(2.0, rel=1e-4)
+
+
 def test_cpe_variant_with_alpha_one_is_the_rc_model():
     p = dict(THESIS)
     p_cpe = {k: v for k, v in p.items() if k != "C_sc"} | {"CPE_sc.Q": p["C_sc"], "CPE_sc.alpha": 1.0}

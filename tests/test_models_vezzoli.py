@@ -1,6 +1,10 @@
-"""Vezzoli et al.: eq 10 (Table 2 → 0.0556 N), eq 10 as the time average of eqs 7 + 9, the
-Fig 8–10 sweeps, eq 11, and the squeeze-film lift (order of magnitude at 2 µm, 0.2 N)."""
+"""Vezzoli et al.: eq 10 (Table 2 → 0.0556 N), eq 10 as the time average of eqs 7 + 9, the peak
+force as their maximum, eq 8's validity (C_i ≪ C_s) warning, the Fig 8–10 sweeps, eq 11, and the
+squeeze-film lift (order of magnitude at 2 µm, 0.2 N)."""
 
+import warnings
+
+import jax
 import numpy as np
 import pytest
 
@@ -34,25 +38,78 @@ def test_eq10_is_time_average_of_eq7_with_eq9_voltage(f0):
 
 def test_voltage_inversion_and_fig10():
     eps = np.array([1.0, 3.9, 10.0, 36.0])
-    volts = vezzoli.voltage_sweep(eps)
+    with pytest.warns(vezzoli.Eq8ValidityWarning, match="5.38"):  # 1 µm insulators: C_i/C_s up to 36·350/2340
+        volts = vezzoli.voltage_sweep(eps)
     assert np.all(np.diff(volts.values) < 0)
-    back = vezzoli.electrovibration_force(500.0, h_i=1e-6, eps_i=eps, v_m=volts.values)
+    with pytest.warns(vezzoli.Eq8ValidityWarning):
+        back = vezzoli.electrovibration_force(500.0, h_i=1e-6, eps_i=eps, v_m=volts.values)
     np.testing.assert_allclose(np.asarray(back), 0.01, rtol=1e-12)
 
 
 def test_fig9_and_fig8_sweeps():
     h_i = np.geomspace(0.5e-6, 100e-6, 20)
-    fig9 = vezzoli.insulator_sweep(h_i, np.arange(1, 37))
+    with pytest.warns(vezzoli.Eq8ValidityWarning):
+        fig9 = vezzoli.insulator_sweep(h_i, np.arange(1, 37))
     assert fig9.dims == ("eps_i", "h_i") and fig9.attrs["convention"] == "time-average"
     assert np.all(np.diff(fig9.values, axis=1) < 0)  # thinner insulator, more force
     assert np.all(np.diff(fig9.values, axis=0) > 0)  # higher permittivity, more force
     freq = np.geomspace(100, 1e4, 21)
-    fig8 = vezzoli.stratum_corneum_sweep(freq, [100e-6, 200e-6, 400e-6])
+    with pytest.warns(vezzoli.Eq8ValidityWarning, match="0.581"):  # Meyer's 1 µm, ε_i 3.4: 3.4·400/2340
+        fig8 = vezzoli.stratum_corneum_sweep(freq, [100e-6, 200e-6, 400e-6])
     assert np.all(np.diff(fig8.values, axis=1) > 0)  # high-pass in frequency
     # a thin insulator: the force falls with stratum corneum thickness
     assert np.all(np.diff(fig8.values, axis=0) < 0)
     # Meyer's conditions give forces of the order of the measured tens of mN
     assert 1e-3 < float(fig8.sel(h_s=200e-6).values[-1]) < 1.0
+
+
+@pytest.mark.parametrize("f0", [10.0, 256.0, 5000.0])
+def test_peak_force_is_the_maximum_of_eq7_over_a_period(f0):
+    """Eq 7 with eq 9: DC + 2ω of equal amplitude, so the peak is twice eq 10 and the minimum 0."""
+    tau = E0 * 2340 * 3e4
+    wt = 2 * np.pi * f0 * tau
+    t = np.linspace(0, 1 / f0, 20001)[:-1]
+    v_e = 2000.0 * wt / np.sqrt(1 + wt**2) * np.cos(2 * np.pi * f0 * t + np.pi / 2 - np.arctan(wt))
+    inst = E0 * 1e-4 * v_e**2 / (2 * (90e-6 + 350e-6) * (90e-6 / 3.35 + 350e-6 / 2340))
+    peak = float(vezzoli.electrovibration_force_peak(f0))
+    assert peak == pytest.approx(inst.max(), rel=1e-6)
+    assert peak == pytest.approx(2 * float(vezzoli.electrovibration_force(f0)), rel=1e-12)
+    assert inst.min() == pytest.approx(0.0, abs=1e-6 * peak)
+
+
+def test_table2_satisfies_eq8_condition_and_does_not_warn():
+    ratio = 3.35 * 350e-6 / (2340 * 90e-6)  # C_i/C_s = (ε_i/h_i)/(ε_s/h_s)
+    assert ratio < 0.01
+    assert float(vezzoli.insulator_capacitance_ratio()) == pytest.approx(ratio, rel=1e-12)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        vezzoli.electrovibration_force(440.0)
+        vezzoli.electrovibration_force_peak(440.0)
+        vezzoli.voltage_for_force(0.01, 440.0)
+    assert vezzoli.eq8_validity_message() is None
+
+
+@pytest.mark.parametrize("ratio, warns", [(0.09, False), (0.11, True), (0.509, True)])
+def test_eq8_warning_names_the_ratio_above_the_limit(ratio, warns):
+    h_i = 3.35 * 350e-6 / (2340 * ratio)  # the insulator thickness giving this C_i/C_s
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        vezzoli.electrovibration_force(np.geomspace(10, 1e4, 7), h_i=h_i)
+    ours = [w for w in caught if issubclass(w.category, vezzoli.Eq8ValidityWarning)]
+    assert len(ours) == (1 if warns else 0)  # once per call, not once per frequency
+    if warns:
+        assert f"C_i/C_s = ε_i h_s/(ε_s h_i) = {ratio:.3g}" in str(ours[0].message)
+        assert ours[0].filename == __file__  # points at the caller
+
+
+def test_eq8_warning_names_the_largest_ratio_of_an_array_and_stays_quiet_under_jit():
+    eps = np.array([1.0, 3.35, 36.0])
+    with pytest.warns(vezzoli.Eq8ValidityWarning, match=r"= 0\.538 \(the largest of the values given\)"):
+        vezzoli.electrovibration_force(440.0, h_i=10e-6, eps_i=eps)  # 36·350/(2340·10) = 0.538
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # traced values are unknown: nothing is said, nothing fails
+        force = jax.jit(lambda h: vezzoli.electrovibration_force(440.0, h_i=h))(1e-6)
+    assert float(force) > 0
 
 
 def test_friction_coupling_eq11():

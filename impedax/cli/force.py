@@ -1,18 +1,33 @@
-"""``impedax force meyer|vezzoli``: electrostatic force spectrum with the papers' parameters."""
+"""``impedax force meyer|vezzoli``: electrostatic force spectrum with the papers' parameters.
+
+The peak over frequency is the grid's largest force refined by a bounded Brent maximisation in
+log-frequency between its neighbouring grid points; a largest force at an end of the band is
+reported as such (``at_band_edge``), not as a peak.
+"""
 
 from __future__ import annotations
 
+import json
 import math
 import sys
+import warnings
+from pathlib import Path
 
 import numpy as np
 
-from .common import add_output_options, add_positional_model, check_memory, check_parameter_names, check_points, emit_json, figure_writer, number_option, parse_assignments, plan_outputs
+from .common import add_output_options, add_positional_model, check_memory, check_parameter_names, check_points, figure_writer, number_option, parse_assignments, plan_outputs, to_jsonable
 
 _MODELS = ("meyer", "vezzoli")
 _RANGES = {"meyer": (10.0, 1e9), "vezzoli": (1.0, 1e6)}
+CONVENTIONS = ("time-average", "peak")
+OUT_SUFFIXES = (".csv", ".json")
 # memory per frequency: the model's complex intermediates and the CSV/JSON text (measured: ~0.5 kB)
 POINT_BYTES = 1024
+# Brent's tolerance on the position inside the bracket of two grid steps (0..1): the frequency
+# to ~1e-9 of a step, far below what the force's flat top resolves in float64 (~1e-8)
+_XATOL = 1e-10
+# a refined maximum this close to an end of the band (in units of the bracket) is that end
+_EDGE = 1e-6
 
 
 def _defaults(model: str) -> dict[str, float]:
@@ -29,16 +44,29 @@ def register(sub) -> None:
     p = sub.add_parser(
         "force",
         help="electrostatic force spectrum of Meyer's or Vezzoli's model",
-        description="Force over log-spaced frequencies (both ends included). meyer: thesis eq 3.6 time-averaged, "
-        "thesis values (eq 3.13) and V_A = 140 V; vezzoli: eq 10 time-averaged, Table 2 values. "
-        "Parameters: meyer C_s C_i R_sc C_sc R_f [SI], area [m^2], v_a [V]; vezzoli h_i h_s [m], area [m^2], eps_i eps_s, rho_s [ohm m], v_m [V].",
+        description="Force over log-spaced frequencies (both ends included). meyer: thesis eq 3.6, "
+        "thesis values (eq 3.13) and V_A = 140 V; vezzoli: eqs 7-10, Table 2 values. "
+        "Parameters: meyer C_s C_i R_sc C_sc R_f [SI], area [m^2], v_a [V]; vezzoli h_i h_s [m], area [m^2], eps_i eps_s, rho_s [ohm m], v_m [V]. "
+        "The peak is the largest force refined between grid points (Brent, in log-frequency); when the force is largest at "
+        "--fmin or --fmax it still rises past the band, and that is said instead of a peak. "
+        "vezzoli warns when C_i/C_s = eps_i h_s/(eps_s h_i) exceeds 0.1 (eq 8 assumes C_i << C_s).",
     )
     add_positional_model(p, choices=_MODELS, help="which paper's model")
     p.add_argument("--param", action="append", metavar="NAME=VALUE", help="override a parameter (repeatable)")
     p.add_argument("--fmin", type=number_option, default=None, help="lowest frequency [Hz] (meyer 10, vezzoli 1)")
     p.add_argument("--fmax", type=number_option, default=None, help="highest frequency [Hz] (meyer 1e9, vezzoli 1e6)")
     p.add_argument("--points", type=int, default=161, help="number of frequencies (default 161)")
-    add_output_options(p, json="print JSON instead of CSV", plot="also save a plot of force against frequency")
+    p.add_argument(
+        "--convention", choices=CONVENTIONS, default="time-average",
+        help="time-average (default): the mean force over a period of the sinusoidal drive; peak: the largest force over a period "
+        "(vezzoli: exactly 2x the mean; meyer: at least 2x, more at low frequency where V_F and Q_f are out of phase)",
+    )
+    add_output_options(
+        p, json="print JSON instead of CSV", plot="also save a plot of force against frequency",
+        out="also write the spectrum to FILE: .csv as frequency_hz,force_n, .json the --json document; nothing then goes to "
+        "standard output unless --json is given ('-': standard output, as without --out)",
+        out_metavar="FILE.csv|.json",
+    )
     p.set_defaults(run=run)
 
 
@@ -58,43 +86,137 @@ def _parameters(model: str, items) -> tuple[dict[str, float], dict[str, float]]:
     return {**defaults, **given}, given
 
 
-def _force(model: str, params: dict[str, float], freq: np.ndarray) -> np.ndarray:
+def _force(model: str, params: dict[str, float], freq: np.ndarray, convention: str) -> np.ndarray:
     if model == "meyer":
-        from ..models.meyer import force_time_average
+        from ..models.meyer import force_peak, force_time_average
 
+        function = force_peak if convention == "peak" else force_time_average
         circuit = {k: params[k] for k in ("C_s", "C_i", "R_sc", "C_sc", "R_f")}
-        return np.asarray(force_time_average(circuit, freq, area=params["area"], v_a=params["v_a"]))
-    from ..models.vezzoli import electrovibration_force
+        return np.asarray(function(circuit, freq, area=params["area"], v_a=params["v_a"]))
+    from ..models.vezzoli import Eq8ValidityWarning, electrovibration_force, electrovibration_force_peak
 
-    return np.asarray(electrovibration_force(freq, **params))
+    function = electrovibration_force_peak if convention == "peak" else electrovibration_force
+    with warnings.catch_warnings():  # said once by `run` (`_notes`), not at every evaluation
+        warnings.simplefilter("ignore", Eq8ValidityWarning)
+        return np.asarray(function(freq, **params))
+
+
+def _finite_force(model: str, params: dict[str, float], given: dict[str, float], freq: np.ndarray, convention: str) -> np.ndarray:
+    """`_force`, refused with one `ParameterError` naming the ``--param`` values given where it
+    overflows (huge or tiny values make inf − inf or inf/inf: no maximum can be found)."""
+    from ..errors import ParameterError
+
+    try:
+        force = _force(model, params, freq, convention)
+    except OverflowError:  # (a Python float squared past 1e308)
+        force = np.full(freq.shape, np.nan)
+    bad = np.flatnonzero(~np.isfinite(force))
+    if bad.size:
+        others = f" and {bad.size - 1} other frequencies" if bad.size > 1 else ""
+        values = ", ".join(f"{n}={v:g}" for n, v in given.items()) or "the defaults"
+        raise ParameterError(f"the force is not finite (overflow) at {freq[bad[0]]:g} Hz{others}; check the --param values ({values})")
+    return force
+
+
+def _notes(model: str, params: dict[str, float]) -> list[str]:
+    """Warnings on the parameters: vezzoli's C_i/C_s against eq 8's condition C_i ≪ C_s."""
+    if model != "vezzoli":
+        return []
+    from ..models.vezzoli import eq8_validity_message
+
+    message = eq8_validity_message(**{k: params[k] for k in ("h_i", "h_s", "eps_i", "eps_s")})
+    return [message] if message else []
+
+
+def refined_peak(force_at, freq: np.ndarray, force: np.ndarray) -> dict:
+    """The largest force over the band: the grid maximum refined by Brent's bounded
+    maximisation of ``force_at(f)`` in ln f between its neighbouring grid points (exact for a
+    force with one maximum in that bracket). Returns ``frequency_hz``, ``force_n`` (refined),
+    ``grid_frequency_hz``, ``grid_force_n``, ``at_band_edge`` and ``band_edge`` ("fmin",
+    "fmax", "fmin=fmax" for a one-frequency band, or None): at an end, the force still rises
+    past the band and the values are those of that end, not a peak."""
+    from scipy.optimize import minimize_scalar
+
+    n = freq.size
+    ties = np.flatnonzero(force == force.max())
+    k = n - 1 if ties[-1] == n - 1 else int(ties[0])  # (on a flat top reaching fmax: the force rises to fmax)
+    grid = {"grid_frequency_hz": float(freq[k]), "grid_force_n": float(force[k])}
+    at_end = {"frequency_hz": float(freq[k]), "force_n": float(force[k]), **grid, "at_band_edge": True}
+    if n == 1 or freq[0] == freq[-1]:
+        return {**at_end, "band_edge": "fmin=fmax"}
+    lo, hi = math.log(freq[max(k - 1, 0)]), math.log(freq[min(k + 1, n - 1)])
+    best = minimize_scalar(lambda x: -force_at(math.exp(lo + x * (hi - lo))), bounds=(0.0, 1.0), method="bounded", options={"xatol": _XATOL})
+    value = -float(best.fun)
+    if k in (0, n - 1):
+        end = 0.0 if k == 0 else 1.0
+        if abs(best.x - end) <= _EDGE or not value > force[k]:
+            return {**at_end, "band_edge": "fmin" if k == 0 else "fmax"}
+    elif not value >= force[k]:  # (not one maximum between the neighbours: keep the grid's)
+        return {**at_end, "at_band_edge": False, "band_edge": None}
+    return {"frequency_hz": math.exp(lo + float(best.x) * (hi - lo)), "force_n": value, **grid, "at_band_edge": False, "band_edge": None}
+
+
+def _peak_text(peak: dict) -> str:
+    where = f"{peak['force_n']:.4g} N at {peak['frequency_hz']:.5g} Hz"
+    if peak["band_edge"] == "fmin=fmax":
+        return f"{where} (one frequency: no peak located)"
+    if peak["at_band_edge"]:
+        option, side = ("--fmin", "below") if peak["band_edge"] == "fmin" else ("--fmax", "above")
+        return f"no peak in the band: the force is largest at {option}, {where}, and still rises {side} it"
+    return f"peak {where} (refined between grid points; grid maximum {peak['grid_force_n']:.4g} N at {peak['grid_frequency_hz']:.5g} Hz)"
+
+
+def _out_path(path: str | None) -> str | None:
+    """``--out``: None for none or ``-`` (standard output, as without --out); a FILE whose
+    extension is not .csv or .json is refused before any work."""
+    from ..errors import DataError
+
+    if path is None or path == "-":
+        return None
+    if not path.strip():
+        return path  # (`plan_outputs` says "empty file name")
+    suffix = Path(path).suffix.lower()
+    if suffix not in OUT_SUFFIXES:
+        raise DataError(f"--out: unknown extension {suffix or '(none)'!r} for a force spectrum; use .csv (frequency_hz,force_n) or .json (the --json document)", path=path)
+    return path
 
 
 def run(args) -> int:
     from ..data import log_frequencies
 
-    params, _ = _parameters(args.model, args.param)
-    outputs = plan_outputs([("--plot", args.plot, "figure")])
+    params, given = _parameters(args.model, args.param)
+    out = _out_path(args.out)
+    outputs = plan_outputs([("--out", out, "result"), ("--plot", args.plot, "figure")])
     low, high = _RANGES[args.model]
     fmin = low if args.fmin is None else args.fmin
     fmax = high if args.fmax is None else args.fmax
     check_points(args.points, fmin, fmax)
     check_memory("--points", args.points * POINT_BYTES, f"a force spectrum of {args.points} frequencies")
+    notes = _notes(args.model, params)
     freq = log_frequencies(fmin, fmax, args.points)
-    force = _force(args.model, params, freq)
-    k = int(np.argmax(force))
-    peak = {"frequency_hz": float(freq[k]), "force_n": float(force[k])}
-    if args.json:
-        emit_json({"frequency_hz": freq, "force_n": force, "peak": peak, "params": params, "convention": "time-average", "model": args.model})
-    else:
-        lines = ["frequency_hz,force_n"] + [f"{f:.10g},{v:.10g}" for f, v in zip(freq, force)]
-        sys.stdout.write("\n".join(lines) + "\n")
-        print(f"impedax force {args.model}: time-averaged force; peak {peak['force_n']:.4g} N at {peak['frequency_hz']:.4g} Hz", file=sys.stderr)
+    force = _finite_force(args.model, params, given, freq, args.convention)
+    peak = refined_peak(lambda f: float(_force(args.model, params, np.array([f]), args.convention)[0]), freq, force)
+    document = {"frequency_hz": freq, "force_n": force, "peak": peak, "params": params, "convention": args.convention, "model": args.model, "warnings": notes}
+    json_text = json.dumps(to_jsonable(document), indent=2, allow_nan=False) + "\n"
+    csv_text = "\n".join(["frequency_hz,force_n"] + [f"{f:.10g},{v:.10g}" for f, v in zip(freq, force)]) + "\n"
+
+    def text_writer(path: Path) -> None:
+        path.write_text(json_text if Path(out).suffix.lower() == ".json" else csv_text, encoding="utf-8")
 
     def figure():
         from ..plotting.models import plot_force_spectrum
 
-        source = "Meyer (2012) thesis eq 3.6, Fig 3.4" if args.model == "meyer" else "Vezzoli et al. eq 10"
-        return plot_force_spectrum(freq, force, title=f"{source}: model prediction")
+        source = "Meyer (2012) thesis eq 3.6, Fig 3.4" if args.model == "meyer" else "Vezzoli et al. eqs 7-10"
+        return plot_force_spectrum(freq, force, title=f"{source}: model prediction", convention=args.convention, peak=peak)
 
-    outputs.save({"--plot": figure_writer(figure)})
+    outputs.save({"--out": text_writer, "--plot": figure_writer(figure)})
+    if args.json:
+        sys.stdout.write(json_text)
+    elif out is None:
+        sys.stdout.write(csv_text)
+    for note in notes:
+        print(f"impedax force {args.model}: warning: {note}", file=sys.stderr)
+    if not args.json:  # (the JSON holds the peak)
+        what = "time-averaged force" if args.convention == "time-average" else "peak force (largest over a period)"
+        print(f"impedax force {args.model}: {what}; {_peak_text(peak)}", file=sys.stderr)
     return 0

@@ -10,6 +10,7 @@ from .meyer import (
     MeyerPhysical as MeyerPhysical,
     finger_voltage as finger_voltage,
     force_time_average as meyer_force,
+    force_peak as meyer_force_peak,
     leaked_charge as leaked_charge,
     meyer_circuit as meyer_circuit,
     meyer_model as meyer_model,
@@ -31,4 +32,4 @@ from .sirin import (
     trial_mean as trial_mean,
 )
 from .synthetic import example_spectra as example_spectra, generate_sirin_synthetic as generate_sirin_synthetic, load_example as load_example
-from .vezzoli import electrovibration_force as electrovibration_force, squeeze_film_lift as squeeze_film_lift, voltage_for_force as voltage_for_force
+from .vezzoli import electrovibration_force as electrovibration_force, electrovibration_force_peak as electrovibration_force_peak, squeeze_film_lift as squeeze_film_lift, voltage_for_force as voltage_for_force

@@ -2,8 +2,11 @@
 
 Electrovibration: the stratum corneum (thickness h_s, permittivity ε_s, resistivity ρ_s) in
 series with the insulator (h_i, ε_i) under the applied voltage v(t) = V_m cos ωt. The skin acts as
-a high-pass (eq 8) with τ = ε0 ε_s ρ_s, valid for C_i ≪ C_s. `electrovibration_force` (eq 10) is
-the TIME-AVERAGED force; `instantaneous_force` (eq 7) the force at one instant.
+a high-pass (eq 8) with τ = ε0 ε_s ρ_s, which the paper states is valid for C_i ≪ C_s, i.e.
+C_i/C_s = ε_i h_s/(ε_s h_i) small (`insulator_capacitance_ratio`); the force functions warn
+(`Eq8ValidityWarning`) above `EQ8_RATIO_LIMIT`. `electrovibration_force` (eq 10) is the
+TIME-AVERAGED force, `electrovibration_force_peak` the largest force over a period (twice it),
+`instantaneous_force` (eq 7) the force at one instant.
 
 Squeeze film (eqs 2–6, Table 1, after Biet et al. 2007) in the σ → ∞ limit; its assumptions are
 listed in `squeeze_film_lift`.
@@ -12,8 +15,10 @@ listed in `squeeze_film_lift`.
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 
+import jax
 import jax.numpy as jnp
 import numpy as np
 import xarray as xr
@@ -30,7 +35,12 @@ __all__ = [
     "effective_voltage",
     "instantaneous_force",
     "electrovibration_force",
+    "electrovibration_force_peak",
     "voltage_for_force",
+    "EQ8_RATIO_LIMIT",
+    "Eq8ValidityWarning",
+    "insulator_capacitance_ratio",
+    "eq8_validity_message",
     "insulator_sweep",
     "voltage_sweep",
     "stratum_corneum_sweep",
@@ -75,19 +85,83 @@ def instantaneous_force(v_e, *, h_i=TABLE2["h_i"], h_s=TABLE2["h_s"], area=TABLE
     return EPSILON_0 * area * jnp.asarray(v_e) ** 2 / (2.0 * _geometry(h_i, h_s, eps_i, eps_s))
 
 
+EQ8_RATIO_LIMIT = 0.1
+"""Largest C_i/C_s = ε_i h_s/(ε_s h_i) taken as "C_i ≪ C_s", the condition the paper states for
+eq 8 (an order of magnitude below 1; the paper gives no number). Table 2 (90 µm film): 0.0056.
+The paper's own Figs 8–10 use 1 µm insulators and lie above it: Fig 8 (ε_i = 3.4) 0.15–0.73 for
+h_s = 100–500 µm, Fig 10 (ε_i 1–36, h_s = 350 µm) 0.15–5.4."""
+
+
+class Eq8ValidityWarning(UserWarning):
+    """The parameters leave the condition C_i ≪ C_s under which the paper states eq 8 (and so
+    eqs 9 and 10) holds: C_i/C_s above `EQ8_RATIO_LIMIT`."""
+
+
+def insulator_capacitance_ratio(*, h_i=TABLE2["h_i"], h_s=TABLE2["h_s"], eps_i=TABLE2["eps_i"], eps_s=TABLE2["eps_s"]):
+    """C_i/C_s = (ε0 ε_i A/h_i)/(ε0 ε_s A/h_s) = ε_i h_s/(ε_s h_i): insulator over stratum corneum
+    capacitance (the area cancels). Eq 8 assumes it is ≪ 1. Broadcasts."""
+    return eps_i * h_s / (eps_s * h_i)
+
+
+def eq8_validity_message(*, h_i=TABLE2["h_i"], h_s=TABLE2["h_s"], eps_i=TABLE2["eps_i"], eps_s=TABLE2["eps_s"]) -> str | None:
+    """The text of the `Eq8ValidityWarning` for these values (the largest ratio of an array),
+    or None when C_i/C_s ≤ `EQ8_RATIO_LIMIT` everywhere or a value is a JAX tracer (under
+    ``jit``/``vmap``/``grad`` the values are unknown, and nothing is said)."""
+    if any(isinstance(v, jax.core.Tracer) for v in (h_i, h_s, eps_i, eps_s)):
+        return None
+    ratio = np.asarray(insulator_capacitance_ratio(h_i=np.asarray(h_i, float), h_s=np.asarray(h_s, float), eps_i=np.asarray(eps_i, float), eps_s=np.asarray(eps_s, float)))
+    worst = float(np.max(ratio))
+    if not worst > EQ8_RATIO_LIMIT:
+        return None
+    return (
+        f"Vezzoli eq 8 assumes C_i ≪ C_s, but C_i/C_s = ε_i h_s/(ε_s h_i) = {worst:.3g}"
+        + (" (the largest of the values given)" if ratio.size > 1 else "")
+        + f", above {EQ8_RATIO_LIMIT:g}: the high-pass v_e/v = jωτ/(1 + jωτ) and the force of eq 10 are outside the paper's stated validity"
+    )
+
+
+def _warn_outside_eq8(h_i, h_s, eps_i, eps_s) -> None:
+    message = eq8_validity_message(h_i=h_i, h_s=h_s, eps_i=eps_i, eps_s=eps_s)
+    if message is not None:
+        # (this function ← the force function ← its argument checks ← the caller)
+        warnings.warn(message, Eq8ValidityWarning, stacklevel=4)
+
+
+def _mean_force(freq, h_i, h_s, area, eps_i, eps_s, rho_s, v_m):
+    wt = 2.0 * jnp.pi * jnp.asarray(freq) * skin_time_constant(eps_s, rho_s)
+    return EPSILON_0 * area * v_m**2 / (4.0 * _geometry(h_i, h_s, eps_i, eps_s)) * wt**2 / (1.0 + wt**2)
+
+
 @checked_arguments(freq=numeric_array(positive=True), h_i=numeric_array(positive=True), h_s=numeric_array(positive=True), area=numeric_array(positive=True), eps_i=numeric_array(positive=True), eps_s=numeric_array(positive=True), rho_s=numeric_array(positive=True), v_m=numeric_array())
 def electrovibration_force(freq, *, h_i=TABLE2["h_i"], h_s=TABLE2["h_s"], area=TABLE2["area"], eps_i=TABLE2["eps_i"], eps_s=TABLE2["eps_s"], rho_s=TABLE2["rho_s"], v_m=TABLE2["v_m"]):
     """Eq 10, TIME-AVERAGED force [N] for v(t) = V_m cos ωt:
     F_e = ε0 A V_m² / (4 (h_i + h_s)(h_i/ε_i + h_s/ε_s)) · (ωτ)²/(1 + (ωτ)²), τ = ε0 ε_s ρ_s.
-    Broadcasts over every argument (sweeps; vmap/grad safe). Table 2 → 0.0556 N at 440 Hz."""
-    wt = 2.0 * jnp.pi * jnp.asarray(freq) * skin_time_constant(eps_s, rho_s)
-    return EPSILON_0 * area * v_m**2 / (4.0 * _geometry(h_i, h_s, eps_i, eps_s)) * wt**2 / (1.0 + wt**2)
+    Broadcasts over every argument (sweeps; vmap/grad safe). Table 2 → 0.0556 N at 440 Hz.
+    Warns (`Eq8ValidityWarning`) when C_i/C_s > `EQ8_RATIO_LIMIT` (`eq8_validity_message`)."""
+    _warn_outside_eq8(h_i, h_s, eps_i, eps_s)
+    return _mean_force(freq, h_i, h_s, area, eps_i, eps_s, rho_s, v_m)
+
+
+@checked_arguments(freq=numeric_array(positive=True), h_i=numeric_array(positive=True), h_s=numeric_array(positive=True), area=numeric_array(positive=True), eps_i=numeric_array(positive=True), eps_s=numeric_array(positive=True), rho_s=numeric_array(positive=True), v_m=numeric_array())
+def electrovibration_force_peak(freq, *, h_i=TABLE2["h_i"], h_s=TABLE2["h_s"], area=TABLE2["area"], eps_i=TABLE2["eps_i"], eps_s=TABLE2["eps_s"], rho_s=TABLE2["rho_s"], v_m=TABLE2["v_m"]):
+    """PEAK force [N]: the largest instantaneous force of eq 7 over a period, = 2 × eq 10.
+
+    With eq 9, v_e(t) = V_e cos(ωt + φ), V_e = V_m ωτ/√(1 + (ωτ)²), φ = π/2 − arctan ωτ, eq 7
+    gives f_e(t) = K V_e² cos²(ωt + φ) = (K V_e²/2)(1 + cos(2ωt + 2φ)), K = ε0 A/(2 (h_i + h_s)
+    (h_i/ε_i + h_s/ε_s)): a DC part equal to eq 10's F_e and a 2ω part of the same amplitude (no
+    ω part), between 0 and K V_e² = 2 F_e, reached at the crest of v_e. (At the crest of the
+    applied v, t = 0, it is 2 F_e (ωτ)²/(1 + (ωτ)²).) Arguments and warning as
+    `electrovibration_force`."""
+    _warn_outside_eq8(h_i, h_s, eps_i, eps_s)
+    return 2.0 * _mean_force(freq, h_i, h_s, area, eps_i, eps_s, rho_s, v_m)
 
 
 @checked_arguments(force=numeric_array(), freq=numeric_array(positive=True), h_i=numeric_array(positive=True), h_s=numeric_array(positive=True), area=numeric_array(positive=True), eps_i=numeric_array(positive=True), eps_s=numeric_array(positive=True), rho_s=numeric_array(positive=True))
 def voltage_for_force(force, freq, *, h_i=TABLE2["h_i"], h_s=TABLE2["h_s"], area=TABLE2["area"], eps_i=TABLE2["eps_i"], eps_s=TABLE2["eps_s"], rho_s=TABLE2["rho_s"]):
     """Eq 10 solved for the amplitude [V] giving a time-averaged ``force`` [N] (Fig 10):
-    V_m = √(4 F (h_i + h_s)(h_i/ε_i + h_s/ε_s)(1 + (ωτ)²) / (ε0 A (ωτ)²))."""
+    V_m = √(4 F (h_i + h_s)(h_i/ε_i + h_s/ε_s)(1 + (ωτ)²) / (ε0 A (ωτ)²)). Warns as
+    `electrovibration_force` (`Eq8ValidityWarning`)."""
+    _warn_outside_eq8(h_i, h_s, eps_i, eps_s)
     wt = 2.0 * jnp.pi * jnp.asarray(freq) * skin_time_constant(eps_s, rho_s)
     return jnp.sqrt(4.0 * jnp.asarray(force) * _geometry(h_i, h_s, eps_i, eps_s) * (1.0 + wt**2) / (EPSILON_0 * area * wt**2))
 

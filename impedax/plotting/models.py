@@ -78,14 +78,20 @@ def plot_force_bands(gap):
     return fig
 
 
-def plot_force_spectrum(freq, force, *, title: str):
-    """Time-averaged force [N] against frequency [Hz], drawn in mN."""
+def plot_force_spectrum(freq, force, *, title: str, convention: str = "time-average", peak=None):
+    """Force [N] against frequency [Hz], drawn in mN; ``convention`` ("time-average" or
+    "peak") labels the axis. ``peak``: a mapping with ``frequency_hz``, ``force_n`` and
+    ``at_band_edge`` (`impedax force`'s JSON ``peak``), marked on the curve."""
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(6, 4))
     ax.semilogx(freq, np.asarray(force) * 1e3, marker="o" if np.size(freq) < 3 else None)
+    if peak is not None:
+        label = ("largest at the band's end" if peak["at_band_edge"] else "peak") + f": {peak['force_n'] * 1e3:.4g} mN at {peak['frequency_hz']:.4g} Hz"
+        ax.plot([peak["frequency_hz"]], [peak["force_n"] * 1e3], "v", color="C3", label=label)
+        ax.legend(fontsize=8)
     ax.set_xlabel("frequency [Hz]")
-    ax.set_ylabel("time-averaged force [mN]")
+    ax.set_ylabel(("peak" if convention == "peak" else "time-averaged") + " force [mN]")
     ax.set_title(title)
     ax.grid(True, which="both", alpha=0.3)
     fig.tight_layout()
