@@ -234,3 +234,132 @@ def test_single_trial_has_no_paper_bounds():
     labels = [t.get_text() for t in posterior_panel.get_legend().get_texts()]
     assert not any("paper bounds" in t for t in labels) and any(t.startswith("posterior of u") for t in labels)
     assert sum(p.get_height() > 0 for p in posterior_panel.patches) >= 5
+
+
+# --- the area check's override on the command line ------------------------------------------
+
+
+def _saved(tmp_path, datasets):
+    paths = []
+    for name, ds in zip(("total", "skin", "ts"), datasets):
+        paths.append(str(tmp_path / f"{name}.nc"))
+        ix.save(ds, paths[-1])
+    return paths
+
+
+def test_cli_gap_refusal_names_the_override(tmp_path, capsys):
+    path = tmp_path / "x.csv"
+    path.write_text("frequency_hz,z_real_ohm,z_imag_ohm\n1,10,-5\n10,9,-3\n")
+    assert main(["gap", str(path), str(path), str(path), "--area", "0.13"]) == 2
+    err = capsys.readouterr().err
+    assert "0.13 m² (130000 mm²)" in err and "--no-area-check" in err and "check_area=False" in err
+
+
+@pytest.mark.parametrize("flag, expected", [([], True), (["--no-area-check"], False)])
+def test_cli_gap_passes_the_area_check_on(tmp_path, capsys, monkeypatch, analysis, flag, expected):
+    import impedax.models.gap as gap_module
+
+    asked = {}
+    monkeypatch.setattr(gap_module, "gap_analysis", lambda total, skin, touchscreen, **options: asked.update(options) or analysis)
+    paths = _saved(tmp_path, _measurements(np.random.default_rng(4), n_trials=3))
+    assert main(["gap", *paths, "--area", "130e-6", "--steps", "20", "--json", *flag]) == 0
+    assert asked["check_area"] is expected
+
+
+def test_cli_gap_no_area_check_analyses_with_a_warning(tmp_path, capsys):
+    """0.13 m² (130m typed for 130 mm²) with --no-area-check: analysed, exit 0; the JSON keeps
+    the area and a warning says it is outside the fingertip range and that the check is off."""
+    paths = _saved(tmp_path, _measurements(np.random.default_rng(7), n_trials=3))
+    assert main(["gap", *paths, "--area", "130m", "--no-area-check", "--pooled", "--steps", "40", "--json"]) == 0
+    captured = capsys.readouterr()
+    out = json.loads(captured.out)
+    assert out["area_m2"] == pytest.approx(0.13)
+    assert out["model"] == out["model_requested"] == "R_EP || CPE_EP || C_gap"
+    notes = [w for w in out["warnings"] if "outside the plausible fingertip contact" in w]
+    assert len(notes) == 1 and "0.13 m² (130000 mm²)" in notes[0] and "--no-area-check" in notes[0]
+    assert "warning(s), see the JSON 'warnings'" in captured.err
+
+
+def test_no_area_warning_for_a_fingertip_area(analysis):
+    from impedax.models.gap import _fingertip_area_notes
+
+    assert _fingertip_area_notes(130e-6) == [] and _fingertip_area_notes(1e-6) == [] and len(_fingertip_area_notes(2e-2)) == 1
+    assert not any("fingertip" in w for w in analysis.warnings)
+
+
+# --- ep="C": two ideal capacitors in parallel ------------------------------------------------
+
+
+def _u(c):
+    return EPS0 * 1.00059 * AREA / c
+
+
+def _paper_u_numpy(total, skin, ts, cutoff=30.0):
+    """Sirin §2.3 in numpy: Z_R from the trial means, C_gap = mean 1/(2πf|Z_R|) for f ≥ cutoff."""
+    mean = lambda ds: ds["Z"].values.reshape(-1, ds.sizes["frequency"]).mean(axis=0)  # noqa: E731
+    f = total["frequency"].values
+    z_r = mean(total) - mean(skin) - mean(ts)
+    keep = f >= cutoff
+    return _u(np.mean(1.0 / (2 * np.pi * f[keep] * np.abs(z_r[keep]))))
+
+
+def test_ideal_ep_capacitor_gives_the_gap_of_the_summed_capacitance():
+    """Remainder R_EP ∥ C_EP ∥ C_gap written in numpy (C_EP = 100 pF, C_gap = 413 pF), one
+    spectrum each: the data determine only C_EP + C_gap (the impedance is identical for every
+    split, checked below), so --ep C reports u = ε0 ε A/(C_EP + C_gap), the smallest gap they
+    allow, with a warning; it gave u ≈ 100 µm from the prior before (the split at a bound)."""
+    rng = np.random.default_rng(21)
+    f = np.geomspace(1.0, 1e6, 41)
+    w = 2 * np.pi * f
+    skin = _r_cpe(w, 300.0, 2e5, 3e-8, 0.8)
+    ts = _r_cpe(w, 50.0, 2e4, 8e-11, 0.9)
+    c_ep, r_ep = 100e-12, 5e7
+    rem = 1.0 / (1.0 / r_ep + 1j * w * (c_ep + C_GAP))
+    assert np.allclose(rem, 1.0 / (1.0 / r_ep + 1j * w * c_ep + 1j * w * C_GAP))
+    assert np.allclose(rem, 1.0 / (1.0 / r_ep + 1j * w * (c_ep + C_GAP - 300e-12) + 1j * w * 300e-12))  # another split, the same Z
+    noisy = lambda z: ix.make_spectrum(f, z * (1 + 0.003 * (rng.normal(size=f.size) + 1j * rng.normal(size=f.size))))  # noqa: E731
+    result = gap_analysis(noisy(skin + ts + rem), noisy(skin), noisy(ts), area=AREA, ep="C", method="pooled", steps=300, progress=False)
+    u_sum = _u(c_ep + C_GAP)
+    assert result.gap["value"] == pytest.approx(u_sum, rel=0.02)
+    assert result.gap["q95"] < 1.05 * u_sum and result.gap["q05"] > 0.95 * u_sum
+    s = result.summary()
+    assert s["model"] == "R_EP || C_gap" and s["model_requested"] == "R_EP || C_EP || C_gap"
+    assert any(w.startswith("--ep C (Python: ep='C'): in R_EP || C_EP || C_gap the two ideal capacitors are seen only as their sum") for w in result.warnings)
+
+
+def test_ideal_ep_capacitor_on_the_example_trial_means_is_near_the_paper_method():
+    """The shipped SYNTHETIC example, its trial means as one spectrum each (no σ): --ep C gave
+    u ≈ 98 µm (the least-squares C_gap at its bound, C_EP holding the capacitance); now u is
+    within 5 % of the paper's method on the same means (computed here in numpy), and below it
+    (R_EP ∥ C takes up part of the EP's low-frequency capacitance)."""
+    from impedax.models import example_spectra
+
+    s = example_spectra()
+    parts = [s[k] for k in ("total_sliding", "skin", "touchscreen")]
+    means = [ix.make_spectrum(p["frequency"].values, p["Z"].values.reshape(-1, p.sizes["frequency"]).mean(axis=0)) for p in parts]
+    paper_u = _paper_u_numpy(*parts)
+    assert paper_u == pytest.approx(2.752e-6, rel=0.002)
+    result = gap_analysis(*means, area=AREA, ep="C", method="pooled", steps=300, progress=False)
+    assert result.paper.gap == pytest.approx(paper_u, rel=1e-9)
+    assert result.gap["value"] == pytest.approx(paper_u, rel=0.05) and result.gap["q95"] < 1.1 * paper_u
+
+
+def test_ideal_ep_capacitor_with_an_edl_fit_of_the_three_elements_is_refused():
+    from impedax.fitting import fit
+    from impedax.models.sirin import remainder_circuit, remaining_impedance
+
+    total, skin, ts = _measurements(np.random.default_rng(3), n_trials=3)
+    edl = fit(remainder_circuit("C"), remaining_impedance(total, skin, ts), weighting="sigma")
+    with pytest.raises(ix.ParameterError, match=r"edl_fit must be a fit of that circuit"):
+        gap_analysis(total, skin, ts, area=AREA, ep="C", method="pooled", edl_fit=edl, progress=False)
+
+
+@pytest.mark.slow
+def test_ideal_ep_capacitor_hierarchical_runs():
+    """--ep C with the default (hierarchical) method stopped with 'the per-trial least-squares
+    fits gave non-positive values of u, R_EP, C_EP' (C_gap at 0 in some trials); now it samples
+    R_EP ∥ C_gap per trial: u = ε0 ε A/(C_EP + C_gap)."""
+    total, skin, ts = _measurements(np.random.default_rng(11), n_trials=6)
+    result = gap_analysis(total, skin, ts, area=AREA, ep="C", steps=150, progress=False)
+    assert result.method == "hierarchical" and result.summary()["model_requested"] == "R_EP || C_EP || C_gap"
+    assert np.isfinite(result.gap["value"])

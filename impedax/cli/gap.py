@@ -21,9 +21,10 @@ def register(sub) -> None:
     p.add_argument("total", metavar="DATA_TOTAL", help="finger-on-screen spectra (trials as an extra dimension)")
     p.add_argument("skin", metavar="DATA_SKIN", help="skin spectra")
     p.add_argument("touchscreen", metavar="DATA_TS", help="touchscreen spectra")
-    p.add_argument("--area", type=number_option, required=True, help="apparent contact area A [m²], e.g. 130e-6")
+    p.add_argument("--area", type=number_option, required=True, help="apparent contact area A [m²], e.g. 130e-6; outside 1e-6–1e-2 m² (1–10 000 mm², a fingertip) it is refused as a likely unit slip unless --no-area-check")
+    p.add_argument("--no-area-check", action="store_true", help="analyse any positive --area, e.g. a contact other than a fingertip: one outside 1e-6–1e-2 m² gives a warning instead of an error")
     p.add_argument("--v0", type=number_option, default=75.0, help="drive amplitude V0 [V] (default 75)")
-    p.add_argument("--ep", choices=("CPE", "C"), default="CPE", help="electrode-polarization branch: R_EP || CPE_EP (default) or R_EP || C_EP")
+    p.add_argument("--ep", choices=("CPE", "C"), default="CPE", help="electrode-polarization branch: R_EP || CPE_EP (default) or R_EP || C_EP (its C_EP and C_gap are seen only as their sum, so C gives u's lower bound: analysed as R_EP || C_gap)")
     p.add_argument("--method", choices=("hierarchical", "pooled"), default="hierarchical", help="hierarchical model over the trials (default) or the pooled analysis of the trial means")
     p.add_argument("--pooled", action="store_const", const="pooled", dest="method", help="same as --method pooled")
     p.add_argument("--steps", type=int, default=None, help="MCMC draws per chain after warm-up (hierarchical, default 500) or emcee steps (pooled, default 1500)")
@@ -58,7 +59,7 @@ def run(args) -> int:
     # emcee keeps every step of every walker: about 64 walkers × 8 parameters × 8 bytes, kept three times
     check_memory("--steps", steps * 64 * 10 * 8 * 3, f"a gap-thickness chain of {steps} steps")
     total, skin, touchscreen = load_selected_files([args.total, args.skin, args.touchscreen], args.select)
-    result = gap_analysis(total, skin, touchscreen, area=args.area, v0=args.v0, ep=args.ep, steps=steps, seed=args.seed, method=args.method, progress=not (args.quiet or args.json))
+    result = gap_analysis(total, skin, touchscreen, area=args.area, v0=args.v0, ep=args.ep, steps=steps, seed=args.seed, method=args.method, progress=not (args.quiet or args.json), check_area=not args.no_area_check)
     outputs.save({"--out": result_writer(result), "--plot": figure_writer(result.plot)})
     if not outputs.uses_stdout:
         print_result(result, args.json)

@@ -6,7 +6,9 @@ gap voltage and the electrostatic force, with uncertainty.
 2. the paper's estimate: C_gap = mean |Y_R|/ω above the cutoff, u = ε0 ε_gap A/C_gap, bounds
    from the lowest and highest impedances (`paper_gap_estimate`);
 3. least-squares fits of the naive model (C_gap alone) and of the EDL parallel model with the
-   electrode-polarization branch (`remainder_circuit(ep)`);
+   electrode-polarization branch (`remainder_circuit(ep)`; ``ep="C"``: R_EP || C_EP || C_gap
+   holds two ideal capacitors in parallel, which no impedance tells apart, so it is analysed
+   as R_EP || C_gap with C_gap standing for C_EP + C_gap: `IDENTIFIED_C_REMAINDER`);
 4. Bayesian sampling of the EDL model with the gap thickness u itself as a parameter
    (C_gap = ε0 ε_gap A/u; `gap_thickness_reparametrization`). ``method="hierarchical"``
    (default): every total trial's remainder (`trial_remainders`) gets its own u and EP
@@ -33,7 +35,7 @@ from ..errors import CircuitError, DataError, ParameterError
 from ..constants import EPSILON_AIR
 from .sirin import SIRIN_AREA, SIRIN_DRIVE_V, PaperGapEstimate, gap_force_peak, paper_gap_estimate, remainder_circuit, remaining_impedance, trial_mean, trial_remainders
 
-__all__ = ["GapAnalysis", "gap_analysis", "GAP_METHODS"]
+__all__ = ["GapAnalysis", "gap_analysis", "GAP_METHODS", "FINGERTIP_AREA_M2", "IDENTIFIED_C_REMAINDER"]
 
 GAP_METHODS = ("hierarchical", "pooled")
 _EP_PER_TRIAL = ("R_EP", "CPE_EP.Q", "C_EP")  # the contact's EP branch varies with each trial
@@ -42,6 +44,13 @@ FORCE_CONVENTION = "peak"  # eq 1 at the voltage amplitude; the time average is 
 FORCE_CONDITIONS = "A taken as exact; skin and screen as their trial means, without their errors"
 
 FINGERTIP_AREA_M2 = (1e-6, 1e-2)  # plausible apparent contact of a fingertip: 1 mm² to 100 cm²
+IDENTIFIED_C_REMAINDER = "R_EP || C_gap"
+"""What ``ep="C"`` is analysed as. In R_EP || C_EP || C_gap the two ideal capacitors add,
+1/Z = 1/R_EP + jω(C_EP + C_gap) at every frequency, so any data fit every split of the sum
+equally well: C_gap alone is set by the prior (the least-squares split by its start), and u by
+the prior's bound. The sum is what the data give; calling all of it C_gap (C_EP = 0, as the
+paper's |Y_R|/ω above the cutoff does) gives the smallest u this model allows: a lower bound on u
+and an upper bound on the force (the gap voltage does not depend on the split)."""
 _BOUND_FACTOR = 2.0  # draws of u within this factor of a prior bound count as "at the bound" ...
 _BOUND_SHARE = 0.1  # ... and this share of them means the posterior piles up there
 
@@ -74,6 +83,7 @@ class GapAnalysis:
     warnings: tuple[str, ...] = field(default=())
     method: str = "pooled"
     hierarchical: object = None
+    model_requested: str | None = None
 
     def draws(self, name: str) -> np.ndarray:
         """Posterior draws of ``u`` [m] or ``C_gap`` [F] (hierarchical: population medians)."""
@@ -147,6 +157,7 @@ class GapAnalysis:
             },
             "force_conditions": FORCE_CONDITIONS,
             "model": self.edl_fit.model,
+            "model_requested": self.model_requested if self.model_requested is not None else self.edl_fit.model,
             "naive_rms_rel": self.naive_fit.rms_rel,
             "edl_rms_rel": self.edl_fit.rms_rel,
             "area_m2": self.area,
@@ -240,15 +251,19 @@ def gap_analysis(
 ) -> GapAnalysis:
     """Run the Sirin workflow (module docstring) on three spectrum Datasets with trial
     dimensions, all on one frequency grid. ``ep`` picks the EP branch of the EDL model:
-    ``"CPE"`` (R_EP || CPE_EP || C_gap, default) or ``"C"`` (R_EP || C_EP || C_gap — note that
-    two ideal capacitors in parallel are identified only as their sum). ``remainder`` replaces
+    ``"CPE"`` (R_EP || CPE_EP || C_gap, default) or ``"C"`` (R_EP || C_EP || C_gap: two ideal
+    capacitors in parallel are identified only as their sum, so it is fitted and sampled as
+    `IDENTIFIED_C_REMAINDER`, R_EP || C_gap with C_gap = C_EP + C_gap, and a warning says that u
+    is then the smallest gap this model allows; ``model_requested`` in the summary keeps the model
+    asked for). ``remainder`` replaces
     the EDL model by any circuit holding a ``C_gap`` (e.g. the result of `impedax.refine`), and
     ``edl_fit`` reuses a least-squares fit of it. ``method``: ``"hierarchical"`` (default; needs
     ≥ 3 total trials; ``steps`` draws per chain after ``warmup`` (default ``steps``) NUTS
     adaptation steps in each of ``chains`` chains) or ``"pooled"`` (emcee on the trial means,
     ``steps`` steps). ``progress``: a progress line on stderr during the sampling of either
     method. ``check_area``: refuse an ``area`` [m²] outside `FINGERTIP_AREA_M2` (a mistyped
-    unit; False to analyse other contacts). A remainder with Re Z < 0 at more than half of its
+    unit); False analyses any positive area, with a warning when it lies outside that range
+    (``impedax gap --no-area-check``). A remainder with Re Z < 0 at more than half of its
     frequencies is refused before any fit (DataError: the files are likely in the wrong order).
     Returns a `GapAnalysis`; its warnings say when the posterior of u piles up at a prior bound.
     """
@@ -256,6 +271,7 @@ def gap_analysis(
 
     if not area > 0:
         raise DataError(f"area must be positive (m²), got {area}")
+    notes = [] if check_area else _fingertip_area_notes(area)
     if check_area:
         _check_fingertip_area(area)
     if method not in GAP_METHODS:
@@ -266,14 +282,20 @@ def gap_analysis(
         _check_hierarchical_trials(remaining)
     paper = paper_gap_estimate(total, skin, touchscreen, area=area, cutoff_hz=cutoff_hz, eps_gap=eps_gap)
     weighting = "sigma" if "sigma" in remaining else "modulus"
-    circuit = remainder_circuit(ep) if remainder is None else parse(remainder)
+    requested = remainder_circuit(ep) if remainder is None else parse(remainder)
+    circuit = requested
+    if remainder is None and ep == "C":
+        circuit = parse(IDENTIFIED_C_REMAINDER)
+        if edl_fit is not None and "C_EP" in getattr(edl_fit, "values", {}):
+            raise ParameterError(f"ep='C' is analysed as {IDENTIFIED_C_REMAINDER} (C_EP and C_gap are identified only as their sum); edl_fit must be a fit of that circuit, not of {requested}")
+        notes.append(_merged_capacitors_note())
     if "C_gap" not in circuit.element_names:
         raise CircuitError(f"the remainder model {circuit} has no element named C_gap")
     naive = fit(remainder_circuit(None), remaining, weighting=weighting)
     edl = edl_fit if edl_fit is not None else fit(circuit, remaining, weighting=weighting)
     reparametrization = gap_thickness_reparametrization("C_gap", area=area, eps_r=eps_gap)
     if method == "hierarchical":
-        return _hierarchical(total, skin, touchscreen, remaining, paper, naive, edl, circuit, reparametrization, area=area, v0=v0, ep=ep, eps_gap=eps_gap, steps=steps, warmup=steps if warmup is None else warmup, chains=chains, seed=seed, progress=progress)
+        return _hierarchical(total, skin, touchscreen, remaining, paper, naive, edl, circuit, reparametrization, area=area, v0=v0, ep=ep, eps_gap=eps_gap, steps=steps, warmup=steps if warmup is None else warmup, chains=chains, seed=seed, progress=progress, notes=notes, model_requested=str(requested))
     posterior = sample(
         circuit,
         remaining,
@@ -295,12 +317,12 @@ def gap_analysis(
     force = xr.concat(bands, dim=xr.DataArray(["with_ep", "without_ep"], dims="branch"))
     force["median"].attrs.update(units="N", convention=FORCE_CONVENTION)
     u_draws = posterior.parameter_draws()["u"]
-    notes = _bound_notes(u_draws, reparametrization, area)
+    notes += _bound_notes(u_draws, reparametrization, area)
     notes += [f"EDL fit: {w}" for w in edl.warnings] + [f"sampling: {w}" for w in posterior.warnings if not w.startswith("least-squares start")]
     u_lo, u_hi = u_draws.min(), u_draws.max()
     if _has_bounds(remaining) and not (paper.gap_lower <= np.median(u_draws) <= paper.gap_upper):
         notes.append(f"the Bayesian gap thickness lies outside the paper method's bounds ({paper.gap_lower * 1e6:.2f}–{paper.gap_upper * 1e6:.2f} µm; draws span {u_lo * 1e6:.2f}–{u_hi * 1e6:.2f} µm)")
-    return GapAnalysis(remaining, paper, naive, edl, posterior, force, area, v0, ep, tuple(notes))
+    return GapAnalysis(remaining, paper, naive, edl, posterior, force, area, v0, ep, tuple(notes), model_requested=str(requested))
 
 
 def _check_fingertip_area(area: float) -> None:
@@ -309,9 +331,30 @@ def _check_fingertip_area(area: float) -> None:
     if not low <= area <= high:
         raise ParameterError(
             f"area = {area:g} m² ({area * 1e6:g} mm²) is not a plausible fingertip contact ({low:g}–{high:g} m², i.e. "
-            f"{low * 1e6:g}–{high * 1e6:g} mm²): the area is in m², and an SI prefix scales m² (130m is 0.13 m²), so 130 mm² is 130e-6 "
-            "(from Python, check_area=False accepts any positive area)"
+            f"{low * 1e6:g}–{high * 1e6:g} mm²): the area is in m², and an SI prefix scales m² (130m is 0.13 m²), so 130 mm² is 130e-6; "
+            "for another contact, --no-area-check (Python: check_area=False) analyses any positive area, with a warning"
         )
+
+
+def _fingertip_area_notes(area: float) -> list[str]:
+    """With the check off: a warning when ``area`` lies outside `FINGERTIP_AREA_M2`."""
+    low, high = FINGERTIP_AREA_M2
+    if low <= area <= high:
+        return []
+    return [
+        f"area = {area:g} m² ({area * 1e6:g} mm²) is outside the plausible fingertip contact ({low:g}–{high:g} m²); analysed as given "
+        "because the area check is off (--no-area-check; Python: check_area=False): u = ε0 ε_gap A/C_gap scales with it"
+    ]
+
+
+def _merged_capacitors_note() -> str:
+    """The warning of ``ep="C"`` (see `IDENTIFIED_C_REMAINDER`)."""
+    return (
+        f"--ep C (Python: ep='C'): in R_EP || C_EP || C_gap the two ideal capacitors are seen only as their sum (1/Z = 1/R_EP + jω(C_EP + C_gap) at every frequency), "
+        f"so the data cannot split it; analysed as {IDENTIFIED_C_REMAINDER} with C_gap = C_EP + C_gap, as the paper's method counts it: u is then the smallest "
+        "gap thickness this model allows (larger if part of the capacitance belongs to the EP branch) and the force its upper bound; "
+        "--ep CPE (the default) has an EP branch the data tell from C_gap"
+    )
 
 
 def _check_remainder_sign(remaining: xr.Dataset) -> None:
@@ -367,7 +410,7 @@ def _force_bands(param_draws: dict, freq, z_skin, z_ts, circuit, *, area, v0, ep
     return force
 
 
-def _hierarchical(total, skin, touchscreen, remaining, paper, naive, edl, circuit, reparametrization, *, area, v0, ep, eps_gap, steps, warmup, chains, seed, progress) -> GapAnalysis:
+def _hierarchical(total, skin, touchscreen, remaining, paper, naive, edl, circuit, reparametrization, *, area, v0, ep, eps_gap, steps, warmup, chains, seed, progress, notes=(), model_requested=None) -> GapAnalysis:
     """The hierarchical gap analysis: per-trial remainders, per-trial u and EP branch."""
     from ..fitting import fit
     from ..fitting.bayes.hierarchical import sample_hierarchical
@@ -383,9 +426,9 @@ def _hierarchical(total, skin, touchscreen, remaining, paper, naive, edl, circui
     pop = post.population_parameters()
     step = max(1, post.n_draws // 1000)
     force = _force_bands({k: v[::step] for k, v in pop.items()}, freq, z_skin, z_ts, circuit, area=area, v0=v0, eps_gap=eps_gap)
-    notes = _bound_notes(pop["u"], reparametrization, area)
+    notes = list(notes) + _bound_notes(pop["u"], reparametrization, area)
     notes += [f"EDL fit: {w}" for w in edl.warnings] + [f"sampling: {w}" for w in post.warnings]
     u = float(np.median(pop["u"]))
     if _has_bounds(remaining) and not (paper.gap_lower <= u <= paper.gap_upper):
         notes.append(f"the population gap thickness {u * 1e6:.2f} µm lies outside the paper method's bounds ({paper.gap_lower * 1e6:.2f}–{paper.gap_upper * 1e6:.2f} µm)")
-    return GapAnalysis(remaining, paper, naive, edl, None, force, area, v0, ep, tuple(notes), method="hierarchical", hierarchical=post)
+    return GapAnalysis(remaining, paper, naive, edl, None, force, area, v0, ep, tuple(notes), method="hierarchical", hierarchical=post, model_requested=model_requested)
