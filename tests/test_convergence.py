@@ -49,9 +49,12 @@ def test_natural_bound_optimum_is_converged_with_at_bound():
     assert rows["R0"].split()[3] == "at" and "bound" in rows["R0"] and "bound" in rows["CPE1.alpha"]
     # ... and its standard-error column gives none (a log transform's scale at 0 said 1e-8 ± 1e+3)
     assert rows["R0"].split()[2] == "—" and rows["CPE1.alpha"].split()[2] == "—"
-    # ... and so does the notebook's table (the CSV export keeps the number)
+    # ... and so do the notebook's table, the CSV export, the JSON and to_xarray(): a parameter
+    # at its bound has no standard error (docs/fitting.md, "Standard errors at a bound")
     html = result._repr_html_()
-    assert html.count("<td>at bound</td>") == 2 and result.to_table()[0]["stderr"] is not None
+    assert html.count("<td>at bound</td>") == 2 and result.to_table()[0]["stderr"] is None
+    assert summary["params"]["R0"]["stderr"] is None and summary["params"]["CPE1.alpha"]["stderr"] is None
+    assert np.isnan(result.to_xarray()["stderr"].sel(param=["R0", "CPE1.alpha"]).values).all()
     assert "%" in rows["R1"] and "bound" not in rows["R1"]
 
 

@@ -12,7 +12,8 @@ from ..data import unit_text
 
 def plot_batch(batch, *, title: str | None = None):
     """One panel per free parameter (value ± stderr for each spectrum, in the order of the batch
-    dimensions, the x axis marked with the spectra's labels) and one for rms_rel; log scale
+    dimensions, the x axis marked with the spectra's labels; a value at its bound has a one-sided
+    bar of its linearised error, `linearised_stderr`) and one for rms_rel; log scale
     where a parameter spans decades; and a Nyquist panel of data and fits (`_plot_fits`) in
     the last row's free places (a row of its own when fewer than two are free). Returns a
     matplotlib Figure."""
@@ -40,7 +41,7 @@ def plot_batch(batch, *, title: str | None = None):
             y, err, unit = ds["rms_rel"].transpose(*batch.dims).values.ravel() * 100, None, "%"
         else:
             y = ds["value"].sel(param=name).transpose(*batch.dims).values.ravel()
-            err = ds["stderr"].sel(param=name).transpose(*batch.dims).values.ravel()
+            err = ds["linearised_stderr" if "linearised_stderr" in ds else "stderr"].sel(param=name).transpose(*batch.dims).values.ravel()
             unit = unit_text(specs[name].unit)
         # (the undetermined, and values at a bound the data cannot place them from: a resistor open at ∞)
         loose = np.zeros(y.size, bool) if name == "rms_rel" else batch.undetermined(name).transpose(*batch.dims).values.ravel() | (

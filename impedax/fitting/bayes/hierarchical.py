@@ -732,7 +732,7 @@ def _setup(circuit, data, *, per_trial, session_dim, reparametrization, fixed, d
     trial_basis, trial_var = _trial_error_components(data, z, nu, freq.size)
 
     theta0 = np.stack([np.asarray(per_fit[n], float) for n in per_trial], axis=1)  # (T, K)
-    errs = batch.dataset["stderr"].transpose("param", *order).values.reshape(len(pnames), n_trials)
+    errs = batch.dataset["linearised_stderr" if "linearised_stderr" in batch.dataset else "stderr"].transpose("param", *order).values.reshape(len(pnames), n_trials)
     # relative standard error of each per-trial quantity (a reparametrized one: of what it replaces, 1 : 1 maps)
     source = {n: (rp.replaces[rp.names.index(n)] if rp is not None and n in rp.names else n) for n in per_trial}
     rel_stderr = np.stack([np.abs(errs[pnames.index(source[n])] / vals[pnames.index(source[n])]) for n in per_trial], axis=1)

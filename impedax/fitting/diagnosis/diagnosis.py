@@ -428,8 +428,9 @@ def undetermined_parameters(fit: FitResult) -> frozenset[str]:
     rel_sd, corr = centred_covariance(fit)
     out = {n for n, e in zip(names, rel_sd) if not (np.isfinite(e) and e <= RELATIVE_ERROR_MAX)}
     # a vanishing term's (`branches.VANISHING_SHARE`): undetermined, or at the natural bound that explains it
-    held = {n for n in fit.at_bound if not np.isfinite(fit.stderr[n])} if np.isfinite(fit.chi2) else set()  # (an overflowed fit's are undetermined)
-    out = (out | {n for n in names if not np.isfinite(fit.stderr[n])}) - held
+    stderr = fit.linearised_stderr  # (at a bound: the linearisation's, by which these rules judge it)
+    held = {n for n in fit.at_bound if not np.isfinite(stderr[n])} if np.isfinite(fit.chi2) else set()  # (an overflowed fit's are undetermined)
+    out = (out | {n for n in names if not np.isfinite(stderr[n])}) - held
     if corr.shape == (len(names), len(names)) and len(names) > 1:
         a, b = np.nonzero(np.triu(np.abs(np.nan_to_num(corr)) > CORRELATION_MAX, 1))
         for i, j in zip(a.tolist(), b.tolist()):
@@ -487,11 +488,11 @@ def centred_covariance(fit: FitResult) -> tuple[np.ndarray, np.ndarray]:
     correlation are returned."""
     names = list(fit.free_names)
     values = np.array([fit.values[n] for n in names], float)
-    stderr = np.array([fit.stderr[n] for n in names], float)
+    stderr = np.array([fit.linearised_stderr[n] for n in names], float)  # (at a bound: the linearisation's)
     scale = _error_scales(fit, names, values)
     with np.errstate(all="ignore"):
         rel_sd = np.abs(stderr / scale)
-    corr = np.asarray(fit.correlation, float)
+    corr = fit.linearised_correlation
     cov = np.asarray(fit.covariance, float)
     bound = [names.index(n) for n in fit.at_bound if n in names]
     if cov.shape != (len(names), len(names)) or not np.all(np.isfinite(cov)):
@@ -557,7 +558,8 @@ def _noise_ratio(fit: FitResult, noise: np.ndarray) -> float:
 def _context(fit: FitResult, evidence: PeakEvidence | None = None) -> BaselineContext:
     """What the effects' proposal functions see of the baseline fit (sorted by frequency)."""
     order = np.argsort(fit.frequency)
-    undetermined = frozenset(k for k in fit.free_names if not (np.isfinite(fit.stderr[k]) and abs(fit.stderr[k]) <= abs(fit.values[k])))
+    stderr = fit.linearised_stderr
+    undetermined = frozenset(k for k in fit.free_names if not (np.isfinite(stderr[k]) and abs(stderr[k]) <= abs(fit.values[k])))
     return BaselineContext(fit.circuit, fit.values, fit.frequency[order], fit.z_data[order], fit.z_model[order], fit.registry, undetermined, evidence)
 
 
@@ -967,7 +969,7 @@ def _series_resistance_dropped(base: FitResult, proposals: list[tuple[Effect, Pr
             name = node.name if isinstance(node, Element) else None
             if name is None or cf.registry[node.symbol].symbol != "R" or name not in undetermined or cf.fixed.get(name, False):
                 continue
-            value, error = float(cf.values[name]), float(cf.stderr[name])
+            value, error = float(cf.values[name]), float(cf.linearised_stderr[name])
             why = "the data do not reach a series-resistance plateau" if isinstance(p.circuit, Series) else "the capacitance across the circuit shunts it at the top of the band"
             fell = name in cf.at_bound or (math.isfinite(error) and value <= error)  # (at 0, or within its standard error of it)
             if fell:

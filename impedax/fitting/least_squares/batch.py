@@ -25,7 +25,7 @@ from ..problem import residual_scale, weights
 from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, dominant_points, information_criteria, null_sets
 from .order import canonical_order
 from .branches import RELATIVE_ERROR_LIMIT, idle_branch_notes, settle_vanishing, undetermined, undetermined_mask, vanishing_candidates, vanishing_parameters
-from .result import bound_sides, confirm_bounds, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, stack_notes, weighting_notes
+from .result import LINEARISED_STDERR_NAME, STDERR_NOTE, bound_sides, confirm_bounds, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, shown_stderr, stack_notes, weighting_notes, without_error
 from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, TreeSolvers, better, over_devices, padded_points, tree_solver, trimmed, unscale
 from .starts import SpectrumFeatures, climb_target, batch_outliers, escalation_rungs, guess_start, rms_rel_of, rung_seed, rung_starts, to_solver_space
 
@@ -49,7 +49,9 @@ def register_spectrum_fit(fit: Callable) -> None:
 class BatchFitResult:
     """Fits of one circuit to every spectrum of a Dataset with extra dimensions. Immutable.
 
-    ``dataset`` holds ``value``/``stderr`` over (param, *dims), ``rms_rel``, ``chi2``,
+    ``dataset`` holds ``value``/``stderr`` over (param, *dims) (stderr NaN at a bound, inf for a
+    vanishing term's parameter, as `FitResult`; ``linearised_stderr`` gives one at a bound as
+    `FitResult.linearised_stderr`), ``rms_rel``, ``chi2``,
     ``chi2_red``, ``aic``, ``bic``, ``converged`` over dims, ``at_bound`` (whether a parameter
     is at a natural or user bound) over (param, *dims), the bounds themselves (``lower``,
     ``upper`` over param), and the data ``Z`` and ``Z_model`` over (*dims, frequency). ``warnings`` maps a spectrum's index (a dict of coordinates, as text)
@@ -136,7 +138,8 @@ class BatchFitResult:
     def to_table(self) -> list[dict[str, object]]:
         """The tidy table: one row per spectrum and parameter, the extra dimensions' coordinates
         (their index where they have none) as the first columns, then name, value, stderr (None
-        when fixed), unit and fixed (`impedax.io.write_result` .csv)."""
+        when fixed or there is none, as `FitResult.to_table`), unit and fixed
+        (`impedax.io.write_result` .csv)."""
         ds = self.dataset
         specs = self.circuit.parameter_specs(self.registry)
         names = [str(p) for p in ds["param"].values]
@@ -148,7 +151,7 @@ class BatchFitResult:
         for index in np.ndindex(*value.shape[:-1]):
             where = {d: labels[i][j] for i, (d, j) in enumerate(zip(self.dims, index))}
             for p, n in enumerate(names):
-                rows.append({**where, "name": n, "value": float(value[index + (p,)]), "stderr": None if fixed[p] else float(stderr[index + (p,)]), "unit": specs[n].unit, "fixed": fixed[p]})
+                rows.append({**where, "name": n, "value": float(value[index + (p,)]), "stderr": shown_stderr(float(stderr[index + (p,)]), fixed[p]), "unit": specs[n].unit, "fixed": fixed[p]})
         return rows
 
     def _repr_html_(self) -> str:
@@ -465,7 +468,8 @@ class _LaneRunner:
 
 
 def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source) -> tuple[np.ndarray, list[tuple[str, ...]]]:
-    """One row per spectrum (values, stderr, chi2, converged, evaluations, Re/Im of Z_model)
+    """One row per spectrum (values, stderr, linearised stderr, at-bound flags, chi2, converged,
+    evaluations, Re/Im of Z_model)
     and its warnings, without a FitResult per spectrum: the uncertainties of all spectra in
     one stacked computation (`covariances`), their warnings too (`stack_notes`); only spectra
     that overflowed or did not converge go through `fit_result`."""
@@ -510,12 +514,17 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
     idle = idle_branch_notes(circuit, registry, table, values[regular], undetermined_mask(table, values[regular], stderr[regular], sides[regular]) | vanished, freq)
     for row, note in idle.items():
         notes[regular[row]] = notes[regular[row]] + note
+    # the warnings above speak of the linearisation; the result gives no standard error to a
+    # parameter at a bound (as `fit_result`; the odd fits below get it from there)
+    linearised = stderr.copy()
+    stderr[np.ix_(regular, table.free_index)] = without_error(sides[regular], vanished, free_stderr)[0]
     z_model = np.array(out.z_model)
     weighting_extra = data_notes(freq, z, z_model, sigma, weighting, source, solver.kk_misfits)
     for i in np.flatnonzero(odd):
         r = fit_result(circuit, table, freq, z[i], out.row(i), weighting, int(used[i]), 0.0, registry, chi2_at_x=lambda p, s, i=i: solver.chi2_at_x(p, s + i), extra_notes=weighting_extra[i])
         values[i] = [r.values[n] for n in names]
         stderr[i] = [r.stderr[n] for n in names]
+        linearised[i] = [r.linearised_stderr[n] for n in names]
         chi2[i], converged[i], z_model[i], notes[i] = r.chi2, r.converged, r.z_model, r.warnings
         sides[i] = [n in r.at_bound for n in table.free_names]
     for i in np.flatnonzero(~odd):
@@ -523,7 +532,7 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
     at_bound = np.zeros(values.shape)
     at_bound[:, table.free_index] = sides != 0
     stats = np.stack([chi2, converged.astype(float), np.asarray(out.steps_total, float)], axis=-1)
-    return np.concatenate([values, stderr, at_bound, stats, z_model.real, z_model.imag], axis=-1), notes
+    return np.concatenate([values, stderr, linearised, at_bound, stats, z_model.real, z_model.imag], axis=-1), notes
 
 
 # lane solver shapes: many lanes for large batches, few for the rest and stragglers (each pair
@@ -566,7 +575,7 @@ def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weig
         note_array[:] = notes
         return packed.reshape(*shape, -1), note_array.reshape(shape)
 
-    width = 3 * n_par + len(_STATS) + 2 * n_freq
+    width = 4 * n_par + len(_STATS) + 2 * n_freq
     if z_da.chunks is not None:
         inputs = [z_da] + ([sigma_da] if sigma_da is not None else [])
         with python_warnings.catch_warnings():
@@ -594,9 +603,10 @@ def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weig
     coords = {d: data[d].values for d in extra if d in data.coords}
     values = packed[..., :n_par]
     stderr = packed[..., n_par : 2 * n_par]
-    at_bound = packed[..., 2 * n_par : 3 * n_par] != 0
-    chi2, converged, n_eval = (packed[..., 3 * n_par + i] for i in range(3))
-    off = 3 * n_par + 3
+    linearised = packed[..., 2 * n_par : 3 * n_par]
+    at_bound = packed[..., 3 * n_par : 4 * n_par] != 0
+    chi2, converged, n_eval = (packed[..., 4 * n_par + i] for i in range(3))
+    off = 4 * n_par + 3
     z_model = packed[..., off : off + n_freq] + 1j * packed[..., off + n_freq :]
     z_data = z_da.values if z_da.chunks is None else z_da.compute().values
     with np.errstate(all="ignore"):  # overflowed fits carry +inf
@@ -609,7 +619,8 @@ def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weig
     ds = xr.Dataset(
         {
             "value": (("param", *extra), param_first(values)),
-            "stderr": (("param", *extra), param_first(stderr)),
+            "stderr": (("param", *extra), param_first(stderr), {"note": STDERR_NOTE}),
+            "linearised_stderr": (("param", *extra), param_first(linearised), {"long_name": LINEARISED_STDERR_NAME}),
             "fixed": ("param", table.fixed),
             "lower": ("param", table.lower, {"long_name": "the fit's lower bound of each parameter (natural, or the user's bounds=)"}),
             "upper": ("param", table.upper, {"long_name": "the fit's upper bound of each parameter (natural, or the user's bounds=)"}),

@@ -23,7 +23,7 @@ from .starts import attainable_misfit, rms_rel_of
 __all__ = [
     "FitResult", "fit_result", "fit_notes", "stack_notes", "bound_sides", "confirm_bounds", "at_bound_names", "weighting_notes",
     "misfit_notes", "gross_misfits", "kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
-    "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION",
+    "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "shown_stderr", "without_error", "STDERR_NOTE", "LINEARISED_STDERR_NAME",
 ]
 
 # identifiability thresholds (documented in the README; RELATIVE_ERROR_LIMIT in `branches`)
@@ -49,7 +49,12 @@ class FitResult:
     """A least-squares fit of ``circuit`` to one spectrum. Immutable.
 
     ``values``/``stderr`` are keyed by parameter name (stderr NaN for fixed parameters);
-    ``covariance``/``correlation`` are over ``free_names``. ``residuals`` are the complex
+    ``covariance``/``correlation`` are over ``free_names``. ``covariance`` is the linearisation at
+    the optimum with every free parameter free and the bounds ignored. A free parameter at a
+    bound (``at_bound``) has no standard error (NaN: a symmetric one says nothing there; its
+    linearised one is in `linearised_stderr`), nor has a vanishing term's (inf,
+    `branches.settle_vanishing`); the row and column of either in ``correlation`` are NaN, the
+    diagonal too (docs/fitting.md, "Standard errors at a bound"). ``residuals`` are the complex
     relative residuals r_k = (Z_model,k − Z_data,k)/|Z_data,k| and
     ``rms_rel = sqrt(mean |r_k|²)`` (docs/physics.md, "Goodness of fit"). ``chi2`` is the sum of the squared
     weighted residuals, ``chi2_red = chi2/(2N − k)``; AIC/BIC see `information_criteria`.
@@ -77,6 +82,37 @@ class FitResult:
     elapsed_s: float = 0.0
     at_bound: tuple[str, ...] = ()  # free parameters at a natural or user bound
     registry: Registry = field(default=DEFAULT_REGISTRY, repr=False)
+
+    @property
+    def linearised_stderr(self) -> dict[str, float]:
+        """``stderr`` with each free parameter at a bound given the linearisation's, √ of its
+        ``covariance`` diagonal (the bounds ignored: what ``stderr`` gave there before
+        parameters at a bound lost theirs, and what scipy's curve_fit reports). Not a ± error
+        at a bound: the scale of χ²'s curvature there, what a one-sided limit or a sampler's
+        start is built from. A vanishing term's parameter stays inf, a fixed one NaN."""
+        out = dict(self.stderr)
+        cov = np.asarray(self.covariance, float)
+        if cov.shape == (self.n_params, self.n_params):
+            for j, n in enumerate(self.free_names):
+                if n in self.at_bound and math.isnan(out[n]):
+                    out[n] = float(np.sqrt(max(cov[j, j], 0.0)))
+        return out
+
+    @property
+    def linearised_correlation(self) -> np.ndarray:
+        """``correlation`` with the NaN rows and columns of parameters without a standard error
+        (at a bound, a vanishing term's) filled from ``covariance`` as `statistics.covariances`
+        computes them: the linearisation's, bounds ignored (`linearised_stderr`)."""
+        corr = np.array(self.correlation, float)
+        cov = np.asarray(self.covariance, float)
+        missing = np.isnan(corr)
+        if missing.any() and cov.shape == corr.shape:
+            d = np.sqrt(np.clip(np.diag(cov), 0, None))
+            with np.errstate(all="ignore"):
+                full = np.clip(np.nan_to_num(cov / (d[:, None] * d[None, :]), nan=0.0), -1, 1)
+            np.fill_diagonal(full, 1.0)
+            corr[missing] = full[missing]
+        return corr
 
     @property
     def model(self) -> str:
@@ -131,7 +167,7 @@ class FitResult:
             "model": self.model,
             "n_points": self.n_points,
             "n_params": self.n_params,
-            "params": {n: {"value": self.values[n], "stderr": None if self.fixed[n] else self.stderr[n], "fixed": self.fixed[n]} for n in self.values},
+            "params": {n: {"value": self.values[n], "stderr": shown_stderr(self.stderr[n], self.fixed[n]), "fixed": self.fixed[n]} for n in self.values},
             "rms_rel": self.rms_rel,
             "chi2": self.chi2,
             "chi2_red": self.chi2_red,
@@ -175,10 +211,11 @@ class FitResult:
 
     def to_table(self) -> list[dict[str, object]]:
         """The tidy table of parameters: one row per parameter with name, value, stderr (None
-        when fixed), unit (from the element specs) and fixed (`impedax.io.write_result` .csv)."""
+        when fixed or there is none: at a bound, a vanishing term's, an overflowed fit's), unit
+        (from the element specs) and fixed (`impedax.io.write_result` .csv)."""
         specs = self.circuit.parameter_specs(self.registry)
         return [
-            {"name": n, "value": v, "stderr": None if self.fixed[n] else self.stderr[n], "unit": specs[n].unit, "fixed": self.fixed[n]}
+            {"name": n, "value": v, "stderr": shown_stderr(self.stderr[n], self.fixed[n]), "unit": specs[n].unit, "fixed": self.fixed[n]}
             for n, v in self.values.items()
         ]
 
@@ -217,11 +254,12 @@ class FitResult:
         return xr.Dataset(
             {
                 "value": ("param", [self.values[n] for n in names]),
-                "stderr": ("param", [self.stderr[n] for n in names]),
+                "stderr": ("param", [self.stderr[n] for n in names], {"note": STDERR_NOTE}),
+                "linearised_stderr": ("param", [self.linearised_stderr[n] for n in names], {"long_name": LINEARISED_STDERR_NAME}),
                 "fixed": ("param", [self.fixed[n] for n in names]),
                 "at_bound": ("param", [n in self.at_bound for n in names]),
-                "covariance": (("free_param", "free_param_2"), self.covariance),
-                "correlation": (("free_param", "free_param_2"), self.correlation),
+                "covariance": (("free_param", "free_param_2"), self.covariance, {"note": COVARIANCE_NOTE}),
+                "correlation": (("free_param", "free_param_2"), self.correlation, {"note": CORRELATION_NOTE}),
                 "Z": ("frequency", self.z_data, {"units": "ohm"}),
                 "Z_model": ("frequency", self.z_model, {"units": "ohm"}),
                 "residual_rel": ("frequency", self.residuals),
@@ -233,6 +271,38 @@ class FitResult:
                 "message": self.message, "warnings": list(self.warnings),
             },
         )
+
+
+# what `FitResult.to_xarray` says of its stderr, covariance and correlation (docs/fitting.md,
+# "Standard errors at a bound")
+STDERR_NOTE = "NaN: fixed, or at a bound (no symmetric standard error there); inf: a vanishing term's parameter"
+COVARIANCE_NOTE = "the linearisation with every free parameter free, the bounds ignored"
+LINEARISED_STDERR_NAME = "stderr with a parameter at a bound given the linearisation's (bounds ignored): not a ± error there, the scale of chi2's curvature"
+CORRELATION_NOTE = "NaN in the rows and columns of parameters without a standard error (at a bound, a vanishing term's)"
+
+
+def shown_stderr(stderr: float, fixed: bool) -> float | None:
+    """A parameter's standard error as the JSON and the CSV give it: None when fixed or not
+    finite (at a bound, a vanishing term's, an overflowed fit's)."""
+    return None if fixed or not math.isfinite(stderr) else stderr
+
+
+def without_error(sides: np.ndarray, vanished: np.ndarray, free_stderr: np.ndarray, corr: np.ndarray | None = None):
+    """What a fit reports of its free parameters' linearised standard errors ``free_stderr``
+    (B, K): none (NaN) for those at a bound (``sides`` (B, K) nonzero), inf kept for a
+    vanishing term's (``vanished``, `settle_vanishing`); and, given the linearisation's
+    correlations ``corr`` (B, K, K), those with the rows and columns of both kinds NaN (the
+    diagonal too): a correlation with a parameter without a standard error says nothing
+    (docs/fitting.md, "Standard errors at a bound"). The other parameters keep the
+    linearisation's: not held at the bound, which would understate them wherever the
+    parameter trades against them."""
+    sides, vanished = np.asarray(sides), np.asarray(vanished, bool)
+    stderr = np.where((sides != 0) & ~vanished, np.nan, free_stderr)
+    if corr is None:
+        return stderr, None
+    none = (sides != 0) | vanished
+    corr = np.where(none[..., :, None] | none[..., None, :], np.nan, corr)
+    return stderr, corr
 
 
 # why two parameters of one element correlate, by the pair of their names
@@ -576,10 +646,15 @@ def fit_result(
     sides, free_stderr, vanished = settle_vanishing(vanishing[None], np.asarray(sides)[None], free_values, free_stderr)
     sides = sides[0]
     stderr.update(zip(free_names, free_stderr[0].tolist()))
+    # the warnings speak of the linearisation (a bound note off its bound quotes its standard error)
     notes = fit_notes(table, values, stderr, corr, null_sets, ratio, finite=finite, converged=converged, message=message, sides=sides, freq=freq, z=z)
     if finite:
         e_all = np.array([stderr[nm] for nm in names])[None]
         notes += idle_branch_notes(circuit, registry, table, x_all, undetermined_mask(table, x_all, e_all, np.asarray(sides)[None]) | vanished, freq).get(0, ())
+        # ... the result gives no standard error, nor correlations, to a parameter at a bound or a vanishing term's
+        shown, shown_corr = without_error(np.asarray(sides)[None], vanished, free_stderr, np.asarray(corr)[None])
+        stderr.update(zip(free_names, shown[0].tolist()))
+        corr = shown_corr[0]
     notes += tuple(extra_notes)
     return FitResult(
         circuit=circuit,

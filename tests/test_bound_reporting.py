@@ -1,0 +1,196 @@
+"""What a fit reports for a parameter at a bound or of a vanishing term (docs/fitting.md,
+"Standard errors at a bound"): no standard error (NaN at a bound, inf for a vanishing term's;
+null in the JSON, an empty cell in the CSV, "—" in the text table), NaN rows and columns in the
+correlation matrix, the other parameters' errors and ``covariance`` those of the linearisation
+with every free parameter free (not held at the bound), alike in single and batch fits.
+
+SYNTHETIC spectra written here as formulas; the oracles are the Jacobian of
+Z = R0 + 1/(1/R1 + Q (jω)^α) written out below, and a profile of χ² by scipy."""
+
+import json
+import math
+
+import numpy as np
+import pytest
+import xarray as xr
+from scipy.optimize import least_squares
+
+import impedax as ix
+from impedax.io.export import to_jsonable, write_result
+
+MODEL = "R0 + R1 || CPE1"
+F = np.geomspace(0.1, 1e5, 40)
+JW = 2j * np.pi * F
+
+
+def noisy(z, seed=7, rel=0.005):
+    rng = np.random.default_rng(seed)
+    return z * (1 + rel * (rng.normal(size=z.size) + 1j * rng.normal(size=z.size)) / np.sqrt(2))
+
+
+def series_r_at_zero():
+    """R1 ∥ CPE(α = 0.9) with a series resistance of −0.5 Ω, 0.5 % noise: R0 ends at its bound 0."""
+    return ix.make_spectrum(F, noisy(1000.0 / (1 + 1000.0 * 2e-6 * JW**0.9) - 0.5))
+
+
+def interior():
+    """R0 = 50 Ω + R1 ∥ CPE: every parameter off its bounds."""
+    return ix.make_spectrum(F, noisy(50.0 + 1000.0 / (1 + 1000.0 * 2e-6 * JW**0.9), seed=8))
+
+
+def open_branch_exact():
+    """A blocking electrode without noise, R0 + CPE: fitted with R0 + R1 ∥ CPE1, R1 runs open
+    and its branch vanishes (`branches.VANISHING_SHARE`)."""
+    return ix.make_spectrum(F, 50.0 + 1 / (2e-5 * JW**0.85))
+
+
+def model_z(v):
+    y = v["CPE1.Q"] * JW ** v["CPE1.alpha"]
+    return v["R0"] + 1 / (1 / v["R1"] + y)
+
+
+def jacobian(v, z_data):
+    """The modulus-weighted Jacobian (2N, 4) of Re and Im of Z over (R0, R1, Q, α), by hand."""
+    y = v["CPE1.Q"] * JW ** v["CPE1.alpha"]
+    d = -1 / (1 / v["R1"] + y) ** 2  # dZ/dY of the parallel block
+    columns = [np.ones_like(JW), d * (-1 / v["R1"] ** 2), d * JW ** v["CPE1.alpha"], d * y * np.log(JW)]
+    w = 1 / np.abs(z_data)
+    return np.stack([np.concatenate([(c * w).real, (c * w).imag]) for c in columns], axis=1)
+
+
+def linearised_covariance(result):
+    """χ²_red (JᵀJ)⁻¹ over (R0, R1, Q, α) with every parameter free: numpy alone."""
+    v, z = result.values, result.z_data
+    chi2 = np.sum(np.abs(model_z(v) - z) ** 2 / np.abs(z) ** 2)
+    j = jacobian(v, z)
+    return chi2 / (2 * F.size - 4) * np.linalg.inv(j.T @ j)
+
+
+def table_row(report, name):
+    return next(line for line in report.splitlines() if line.startswith(name + " "))
+
+
+def test_a_parameter_at_its_bound_has_no_standard_error_anywhere(tmp_path):
+    r = ix.fit(MODEL, series_r_at_zero())
+    assert r.at_bound == ("R0",) and "R0 is at its lower bound 0" in r.warnings
+    assert list(r.free_names) == ["R0", "R1", "CPE1.Q", "CPE1.alpha"]
+    cov = linearised_covariance(r)
+    sd = np.sqrt(np.diag(cov))
+    # the covariance is the linearisation with every parameter free (R0's row too) ...
+    np.testing.assert_allclose(r.covariance, cov, rtol=1e-6, atol=0)
+    # ... R0 has no standard error; the others have the linearisation's, not held at R0 = 0
+    assert math.isnan(r.stderr["R0"])
+    np.testing.assert_allclose([r.stderr[n] for n in r.free_names[1:]], sd[1:], rtol=1e-6)
+    assert r.linearised_stderr["R0"] == pytest.approx(sd[0], rel=1e-6)
+    # correlations: none for R0 (its row and column, the diagonal too), the linearisation's for the others
+    corr = r.correlation
+    assert np.isnan(corr[0]).all() and np.isnan(corr[:, 0]).all()
+    expected = cov / np.outer(sd, sd)
+    np.testing.assert_allclose(corr[1:, 1:], expected[1:, 1:], rtol=1e-6, atol=1e-9)
+    np.testing.assert_allclose(r.linearised_correlation, expected, rtol=1e-6, atol=1e-9)
+    # JSON (strict: null), the CSV (an empty cell), to_xarray (NaN), the text and notebook tables
+    summary = json.loads(json.dumps(to_jsonable(r.summary()), allow_nan=False))
+    assert summary["params"]["R0"]["stderr"] is None and summary["at_bound"] == ["R0"]
+    assert summary["params"]["R1"]["stderr"] == pytest.approx(sd[1], rel=1e-6)
+    rows = {row["name"]: row for row in r.to_table()}
+    assert rows["R0"]["stderr"] is None and rows["R1"]["stderr"] == pytest.approx(sd[1], rel=1e-6)
+    write_result(r, tmp_path / "fit.csv")
+    lines = (tmp_path / "fit.csv").read_text().splitlines()
+    header, r0_line = lines[0].split(","), next(line for line in lines if line.startswith("R0,")).split(",")
+    assert r0_line[header.index("stderr")] == ""
+    ds = r.to_xarray()
+    assert math.isnan(float(ds["stderr"].sel(param="R0"))) and bool(ds["at_bound"].sel(param="R0"))
+    assert float(ds["linearised_stderr"].sel(param="R0")) == pytest.approx(sd[0], rel=1e-6)
+    assert np.isnan(ds["correlation"].sel(free_param="R0").values).all()
+    report = r.report()
+    assert table_row(report, "R0").split()[2:4] == ["—", "at"] and "at bound" in table_row(report, "R0")
+    assert "nan" not in report.lower()
+    assert "%" in table_row(report, "R1")
+    # a derived quantity propagates the covariance: R1 alone, its linearised error
+    derived = r.derive(lambda p: p["R1"])
+    assert float(derived["stderr"]) == pytest.approx(sd[1], rel=1e-6)
+
+
+def test_a_user_bound_gives_no_standard_error_either():
+    r = ix.fit(MODEL, series_r_at_zero(), bounds={"CPE1.alpha": (0.5, 0.85)})
+    assert set(r.at_bound) == {"R0", "CPE1.alpha"} and "CPE1.alpha is at its upper bound 0.85" in r.warnings
+    assert math.isnan(r.stderr["CPE1.alpha"]) and r.summary()["params"]["CPE1.alpha"]["stderr"] is None
+    cov = linearised_covariance(r)
+    assert r.linearised_stderr["CPE1.alpha"] == pytest.approx(math.sqrt(cov[3, 3]), rel=1e-6)
+    np.testing.assert_allclose([r.stderr["R1"], r.stderr["CPE1.Q"]], np.sqrt(np.diag(cov))[1:3], rtol=1e-6)
+    assert np.isnan(r.correlation[3]).all() and np.isnan(r.correlation[:, 0]).all()
+    assert np.isfinite(r.correlation[1:3, 1:3]).all()
+    assert "at bound" in table_row(r.report(), "CPE1.alpha")
+
+
+def test_a_vanishing_term_s_parameter_has_an_infinite_error_and_no_correlations():
+    r = ix.fit(MODEL, open_branch_exact())
+    assert r.at_bound == ("R1",) and "R1 is at its upper bound ∞" in r.warnings
+    assert r.stderr["R1"] == math.inf and r.linearised_stderr["R1"] == math.inf
+    assert r.summary()["params"]["R1"]["stderr"] is None and {row["name"]: row for row in r.to_table()}["R1"]["stderr"] is None
+    i = list(r.free_names).index("R1")
+    assert np.isnan(r.correlation[i]).all() and np.isnan(r.correlation[:, i]).all()
+    others = [j for j in range(4) if j != i]
+    assert np.isfinite(r.correlation[np.ix_(others, others)]).all()
+    # the others' correlations are the linearisation's (R1's column is next to nothing: its
+    # branch carries < 1e-6 of the current; correlations do not depend on χ², rounding here)
+    cov = linearised_covariance(r)
+    sd = np.sqrt(np.diag(cov))
+    np.testing.assert_allclose(r.correlation[np.ix_(others, others)], (cov / np.outer(sd, sd))[np.ix_(others, others)], atol=1e-4)
+
+
+def test_batch_fits_report_as_single_fits():
+    data = [series_r_at_zero(), interior(), open_branch_exact()]
+    batch = ix.fit(MODEL, xr.concat(data, dim="trial"))
+    ds = batch.dataset
+    names = [str(p) for p in ds["param"].values]
+    table = batch.to_table()
+    for i, d in enumerate(data):
+        single = ix.fit(MODEL, d)
+        at_bound = tuple(n for n in single.free_names if bool(ds["at_bound"].sel(param=n)[i]))
+        assert at_bound == single.at_bound, i
+        for var, source in (("stderr", single.stderr), ("linearised_stderr", single.linearised_stderr)):
+            got = ds[var].isel(trial=i).values
+            want = np.array([source[n] for n in names])
+            np.testing.assert_array_equal(np.isnan(got), np.isnan(want), err_msg=f"{var} {i}")
+            np.testing.assert_array_equal(np.isinf(got), np.isinf(want), err_msg=f"{var} {i}")
+            if i < 2:  # (exact data: errors of rounding's χ², which differs between the two)
+                np.testing.assert_allclose(got[np.isfinite(want)], want[np.isfinite(want)], rtol=1e-4, err_msg=f"{var} {i}")
+        rows = {row["name"]: row for row in table if row["trial"] == i}
+        for n in names:
+            assert (rows[n]["stderr"] is None) == (single.to_table()[names.index(n)]["stderr"] is None), (i, n)
+    assert math.isnan(float(ds["stderr"].sel(param="R0")[0])) and np.isfinite(ds["stderr"].isel(trial=1)).all()
+    assert float(ds["stderr"].sel(param="R1")[2]) == math.inf
+
+
+def test_the_others_are_not_held_at_the_bound():
+    """R0 + R1 ∥ C1 measured only below 30 Hz, where the arc has not closed: R0 (truly 20 Ω)
+    trades against R1, and the fit stops at R0 = 0 with R1 = 1019 Ω. Held at R0 = 0, R1 would get
+    the error of a fit with R0 fixed there, 1.7 Ω; the data allow R1 down to 854 Ω within one
+    standard deviation (χ² profiled by scipy with R0 ≥ 0 free: Δχ² = χ²_red). The others keep
+    the linearisation's errors (R1: 222 Ω), which reach past that."""
+    f = np.geomspace(0.1, 30, 30)
+    jw = 2j * np.pi * f
+    z = 20.0 + 1000.0 / (1 + jw * 1000.0 * 1e-6)
+    rng = np.random.default_rng(0)
+    z = z + 0.01 * np.abs(z) * (rng.normal(size=z.shape) + 1j * rng.normal(size=z.shape))
+    r = ix.fit("R0 + R1 || C1", ix.make_spectrum(f, z))
+    assert r.at_bound == ("R0",) and math.isnan(r.stderr["R0"])
+    v = r.values
+
+    def residual(p, r1):
+        d = (p[0] + r1 / (1 + jw * r1 * p[1]) - z) / np.abs(z)
+        return np.concatenate([d.real, d.imag])
+
+    def rise(r1):  # χ² at R1 with R0 ≥ 0 and C1 refitted, above the fit's, in units of χ²_red
+        chi2 = 2 * least_squares(residual, [1.0, v["C1"]], args=(r1,), bounds=([0, 0], [np.inf, np.inf]), x_scale=[1.0, v["C1"]]).cost
+        return (chi2 - r.chi2) / r.chi2_red
+
+    # R1's error as a fit held at R0 = 0 would give it (modulus weighting; numpy alone)
+    columns = [1 / (1 + jw * v["R1"] * v["C1"]) ** 2, -jw * v["R1"] ** 2 / (1 + jw * v["R1"] * v["C1"]) ** 2]
+    j = np.stack([np.concatenate([(c / np.abs(z)).real, (c / np.abs(z)).imag]) for c in columns], axis=1)
+    held = math.sqrt((r.chi2 / (2 * f.size - 3) * np.linalg.inv(j.T @ j))[0, 0])
+    # five of those down, the data are still within one standard deviation: holding understates R1's error
+    assert rise(v["R1"] - 5 * held) < 1.0
+    # ... the reported one reaches past the profile's one standard deviation
+    assert rise(v["R1"] - r.stderr["R1"]) > 1.0 and r.stderr["R1"] > 20 * held
