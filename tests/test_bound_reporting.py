@@ -194,3 +194,22 @@ def test_the_others_are_not_held_at_the_bound():
     assert rise(v["R1"] - 5 * held) < 1.0
     # ... the reported one reaches past the profile's one standard deviation
     assert rise(v["R1"] - r.stderr["R1"]) > 1.0 and r.stderr["R1"] > 20 * held
+
+
+def test_global_fits_report_as_single_fits():
+    """A shared series resistance at its bound 0 (three spectra of R1 ∥ CPE with −0.5 Ω in
+    series): no standard error for it, shared or per spectrum, NaN correlations, the
+    linearisation's kept in ``linearised_stderr``, "at bound" in the report."""
+    z = np.stack([noisy(1000.0 / (1 + 1000.0 * 2e-6 * JW**0.9) - 0.5, seed=s) for s in (11, 12, 13)])
+    result = ix.fit(MODEL, ix.make_spectrum(F, z, dims=("trial",)), shared=["R0"], over="trial")
+    ds = result.dataset
+    assert math.isnan(float(ds["shared_stderr"].sel(shared_param="R0")))
+    assert result.summary()["shared"]["R0"]["stderr"] is None or math.isnan(result.summary()["shared"]["R0"]["stderr"])
+    assert json.loads(json.dumps(to_jsonable(result.summary())))["shared"]["R0"]["stderr"] is None
+    assert np.isnan(ds["stderr"].sel(param="R0").values).all()
+    assert np.isfinite(ds["linearised_stderr"].sel(param="R0").values).all()
+    assert np.isfinite(ds["stderr"].sel(param="R1").values).all()
+    corr = ds["correlation"].values  # (trial, free, free); R0 is the first free parameter
+    assert np.isnan(corr[:, 0, :]).all() and np.isnan(corr[:, :, 0]).all() and np.isfinite(corr[:, 1:, 1:]).all()
+    line = next(l for l in result.report().splitlines() if l.startswith("R0 ") and "at bound" in l)
+    assert "nan" not in line

@@ -296,7 +296,7 @@ def sample_shared(
     circuit_of = {n: n for n in start.shared} | {f"{n}[{label}]": n for label in labels for n in own}
     z = ds["Z"].transpose(*start.over, "frequency").values.reshape(m, -1)
     value = start.dataset["value"].transpose(*start.over, "param").values.reshape(m, -1)
-    stderr = start.dataset["stderr"].transpose(*start.over, "param").values.reshape(m, -1)
+    stderr = start.dataset["linearised_stderr" if "linearised_stderr" in start.dataset else "stderr"].transpose(*start.over, "param").values.reshape(m, -1)
     bound = start.dataset["at_bound"].transpose(*start.over, "param").values.reshape(m, -1) if "at_bound" in start.dataset else np.zeros(value.shape, bool)
     x0, se, at_bound = [], [], []
     for n in names:

@@ -43,7 +43,7 @@ from ..problem import residual_scale, weights
 from ..statistics import information_criteria
 from .batch import BatchFitResult, data_notes, fit_batch
 from .branches import idle_branch_notes, idle_branches, settle_vanishing, undetermined, undetermined_mask, vanishing_candidates, vanishing_parameters
-from .result import BOUND_CHI2_FRACTION, bound_note, bound_sides, on_bound, stack_notes
+from .result import BOUND_CHI2_FRACTION, LINEARISED_STDERR_NAME, STDERR_NOTE, bound_note, bound_sides, on_bound, stack_notes, without_error
 from .solvers import SolverArgs, tree_residuals
 
 __all__ = ["SharedFitResult", "SharedLayout", "shared_layout", "fit_shared", "JointSolution", "joint_solver", "joint_covariance", "SHARING_P_LIMIT"]
@@ -365,8 +365,9 @@ class SharedFitResult(BatchFitResult):
             v = ds["shared_value"].sel(shared_param=n).values.ravel()
             e = ds["shared_stderr"].sel(shared_param=n).values.ravel()
             for vi, ei in zip(v.tolist(), e.tolist()):
-                rel = format_relative_error(ei / vi) if vi and math.isfinite(ei) else "—"
-                lines.append(f"{n:<16} {vi:>12.5g} {ei:>10.3g} {rel:>8}  {unit_text(specs[n].unit)}".rstrip())
+                rel = format_relative_error(ei / vi) if vi and math.isfinite(ei) else "at bound" if math.isnan(ei) else "—"
+                shown = f"{ei:>10.3g}" if math.isfinite(ei) else f"{'—':>10}"  # (NaN: at a bound, no standard error)
+                lines.append(f"{n:<16} {vi:>12.5g} {shown} {rel:>8}  {unit_text(specs[n].unit)}".rstrip())
         for f, p, d, c in zip(*(np.ravel(ds[k].values).tolist() for k in ("f_statistic", "f_pvalue", "delta_aic", "joint_chi2_red"))):
             lines.append(f"sharing vs independent fits: F = {f:.3g}, p = {p:.3g}, ΔAIC = {d:+.1f} (negative favours sharing); joint chi2_red {c:.4g}")
         return "\n".join(lines + self._warning_lines())
@@ -475,9 +476,19 @@ def fit_shared(
     ]
     for gi in range(n_groups):  # a shared parameter's idle branch: said once per global fit, when idle in every spectrum
         group_notes[gi] += _shared_idle_notes(circuit, registry, table, layout, values[gi], shared_value[gi], shared_stderr[gi], sides.reshape(n_groups, m, k)[gi, 0, sh], freq)
+    # the result gives no standard error, nor correlations, to a parameter at a bound or a
+    # vanishing term's (as `fit_result`); the notes above speak of the linearisation
+    linearised_stderr = stderr
+    shown, shown_corr = without_error(sides, vanished, flat_stderr[:, free], corr_full.reshape(-1, k, k))
+    stderr = flat_stderr.copy()
+    stderr[:, free] = shown
+    stderr, corr_full = stderr.reshape(values.shape), shown_corr.reshape(corr_full.shape)
+    shared_sides = sides.reshape(n_groups, m, k)[:, 0, sh]
+    shared_linearised_stderr = shared_stderr
+    shared_stderr, corr_shared = without_error(shared_sides, np.zeros(shared_sides.shape, bool), shared_stderr, corr_shared)
     dataset, warnings = _result_dataset(
-        circuit, data, table, layout, extra, keep_shape, over_shape, values=values, stderr=stderr, chi2=chi2, z_model=z_model, sides=sides,
-        cov_full=cov_full, corr_full=corr_full, shared_value=shared_value, shared_stderr=shared_stderr, corr_shared=corr_shared, joint=joint,
+        circuit, data, table, layout, extra, keep_shape, over_shape, values=values, stderr=stderr, linearised_stderr=linearised_stderr, chi2=chi2, z_model=z_model, sides=sides,
+        cov_full=cov_full, corr_full=corr_full, shared_value=shared_value, shared_stderr=shared_stderr, shared_linearised_stderr=shared_linearised_stderr, corr_shared=corr_shared, joint=joint,
         stats={"joint_chi2": joint["chi2"], "joint_chi2_red": noise, "joint_dof": np.full(n_groups, float(dof)), "joint_aic": aic_joint, "joint_bic": bic_joint,
                "independent_chi2": chi2_indep, "independent_aic": aic_ind, "delta_aic": aic_joint - aic_ind, "f_statistic": f_stat, "f_pvalue": f_p},
         spectrum_notes=spectrum_notes, group_notes=group_notes, weighting=weighting,
@@ -605,8 +616,8 @@ def _sharing_notes(layout: SharedLayout, value, stderr, sides, table: ParameterT
     return tuple(notes)
 
 
-def _result_dataset(circuit, data, table, layout: SharedLayout, extra, keep_shape, over_shape, *, values, stderr, chi2, z_model, sides, cov_full, corr_full,
-                    shared_value, shared_stderr, corr_shared, joint, stats, spectrum_notes, group_notes, weighting):
+def _result_dataset(circuit, data, table, layout: SharedLayout, extra, keep_shape, over_shape, *, values, stderr, linearised_stderr, chi2, z_model, sides, cov_full, corr_full,
+                    shared_value, shared_stderr, shared_linearised_stderr, corr_shared, joint, stats, spectrum_notes, group_notes, weighting):
     """The result's Dataset (the variables of `BatchFitResult` plus the shared ones) and its
     warnings keyed as a batch fit's."""
     names = table.names
@@ -635,7 +646,8 @@ def _result_dataset(circuit, data, table, layout: SharedLayout, extra, keep_shap
     steps = np.repeat(joint["steps"][:, None], m, axis=1).astype(np.int64)
     variables = {
         "value": spectra(values, ("param",)).transpose("param", *extra),
-        "stderr": spectra(stderr, ("param",)).transpose("param", *extra),
+        "stderr": spectra(stderr, ("param",)).transpose("param", *extra).assign_attrs(note=STDERR_NOTE),
+        "linearised_stderr": spectra(linearised_stderr, ("param",)).transpose("param", *extra).assign_attrs(long_name=LINEARISED_STDERR_NAME),
         "fixed": ("param", table.fixed),
         "lower": ("param", table.lower, {"long_name": "the fit's lower bound of each parameter (natural, or the user's bounds=)"}),
         "upper": ("param", table.upper, {"long_name": "the fit's upper bound of each parameter (natural, or the user's bounds=)"}),
@@ -654,6 +666,7 @@ def _result_dataset(circuit, data, table, layout: SharedLayout, extra, keep_shap
         "correlation": spectra(corr_full, ("free_param", "free_param_2")),
         "shared_value": groups(shared_value, ("shared_param",)),
         "shared_stderr": groups(shared_stderr, ("shared_param",)),
+        "shared_linearised_stderr": groups(shared_linearised_stderr, ("shared_param",)),
         "shared_correlation": groups(corr_shared, ("shared_param", "shared_param_2")),
         **{key: groups(v) for key, v in stats.items()},
     }
