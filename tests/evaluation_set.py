@@ -439,13 +439,18 @@ class Outcome:
         resistance, C1 the stray capacitance), and, by Foster's theorem, R1 ∥ C1 + R2 ∥ C2."""
         return self.two_named or bool(self.equivalent)
 
+    def _names_expected(self, effect: str) -> bool:
+        """A suggestion names only expected effects: one of them, or a pair ("a+b", two effects
+        added together) of them both."""
+        return set(effect.split("+")) <= set(self.case.expected)
+
     @property
     def top1(self) -> bool:
-        return bool(self.ranked) and self.ranked[0] in self.case.expected
+        return bool(self.ranked) and self._names_expected(self.ranked[0])
 
     @property
     def top3(self) -> bool:
-        return any(e in self.case.expected for e in self.ranked[:3])
+        return any(self._names_expected(e) for e in self.ranked[:3])
 
     @property
     def correct(self) -> bool:

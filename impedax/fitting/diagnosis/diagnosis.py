@@ -130,6 +130,11 @@ PAIR_SEEDS = 3
 candidates (at most this many, best ΔAIC first) that lower AIC by more than `DELTA_AIC_MIN` yet
 leave parameters undetermined are each given every effect of the catalog on top
 (`_effect_pairs`)."""
+INDUCTIVE_TOP_SIGMA = 3.0
+INDUCTIVE_TOP_POINTS = 2
+"""The data's top is inductive when at least this many points, counted down from the highest
+frequency, have Z'' > `INDUCTIVE_TOP_SIGMA` σ_k |Z| and above the model's Z'' by as much: a sign
+no circuit of R, C, CPE and Warburgs makes (`_inductive_top`, `_lead_behind`)."""
 
 
 class Verdict(enum.StrEnum):
@@ -488,7 +493,8 @@ def centred_covariance(fit: FitResult) -> tuple[np.ndarray, np.ndarray]:
     correlation are returned."""
     names = list(fit.free_names)
     values = np.array([fit.values[n] for n in names], float)
-    stderr = np.array([fit.linearised_stderr[n] for n in names], float)  # (at a bound: the linearisation's)
+    linearised = fit.linearised_stderr  # (at a bound: the linearisation's)
+    stderr = np.array([linearised[n] for n in names], float)
     scale = _error_scales(fit, names, values)
     with np.errstate(all="ignore"):
         rel_sd = np.abs(stderr / scale)
@@ -1285,6 +1291,45 @@ def _effect_pairs(base: FitResult, cands: Sequence[Suggestion], proposals: list[
     return out, fits, shape
 
 
+def _inductive_top(base: FitResult, sigma_rel: np.ndarray) -> int:
+    """How many points, counted down from the highest frequency, are inductive beyond the noise
+    and beyond the model: Z''_data > `INDUCTIVE_TOP_SIGMA` σ_k |Z| and Z''_data − Z''_model too."""
+    order = np.argsort(base.frequency)[::-1]
+    zd, zm = base.z_data[order], base.z_model[order]
+    margin = INDUCTIVE_TOP_SIGMA * np.broadcast_to(np.asarray(sigma_rel, float), base.frequency.shape)[order] * np.abs(zd)
+    up = (zd.imag > margin) & (zd.imag - zm.imag > margin)
+    return up.size if up.all() else int(np.argmin(up))
+
+
+def _lead_behind(base: FitResult, cands: Sequence[Suggestion], proposals: list[tuple[Effect, Proposal]], spectrum: xr.Dataset, effects: EffectCatalog, shape: SolverShape, sigma_rel: np.ndarray, bands: Sequence[FailingBand], *, with_drt: bool, max_params: int, n_starts: int, max_steps: int, seed: int, say=lambda text: None) -> tuple[list[tuple[Effect, Proposal]], list[FitResult], SolverShape]:
+    """A lead inductance hidden behind the effect named first: when the data's top is inductive
+    (`_inductive_top`) and no ``series_inductance`` candidate is significant, ``series_inductance``
+    on top of the best significant suggestion (a pair, `_paired`), kept when it is significant
+    against that suggestion by the usual rules (ΔAIC, noise variance explained, determined,
+    plausible). A lone L cannot help while the model also lacks a high-frequency arc: on
+    VersaStudio's REAL spectrum with ``R0 + R1 || CPE1`` (+4.7° at 100 kHz, a ~10 Ω arc at
+    20–50 kHz the baseline does not make) L_lead alone lowers rms_rel 6.65 → 6.64 % and is
+    undetermined; behind the nested R ∥ CPE it is 14 µH, determined, and lowers AIC by 75."""
+    if "series_inductance" not in effects.ids() or any(s.significant and "series_inductance" in s.effect.split("+") for s in cands):
+        return [], [], shape
+    best = next((s for s in cands if s.significant), None)
+    by_circuit = {str(p.circuit): (e, p) for e, p in proposals}
+    if best is None or str(best.fit.circuit) not in by_circuit or _inductive_top(base, sigma_rel) < INDUCTIVE_TOP_POINTS:
+        return [], [], shape
+    first, p1 = by_circuit[str(best.fit.circuit)]
+    ctx = _context(best.fit, _drt_evidence(best.fit, []) if with_drt else None)
+    seen = set(by_circuit) | {str(base.circuit)}
+    pairs = [_paired(first, p1, second, p2) for second, p2 in effects.select(["series_inductance"]).proposals(ctx)
+             if str(p2.circuit) not in seen and len(p2.circuit.parameter_names(base.registry)) <= max_params]
+    if not pairs:
+        return [], [], shape
+    say(f"fitting a series inductance on top of {best.effect} (the data's top is inductive)")
+    pairs, fits, shape = _fit_proposals(best.fit, spectrum, ctx, pairs, shape, n_starts=n_starts, max_steps=max_steps, seed=seed)
+    against_best = _suggestions(best.fit, pairs, fits[1:], sigma_rel, bands)
+    kept = [(p, f) for p, f, s in zip(pairs, fits[1:], against_best) if s.significant]
+    return [p for p, _ in kept], [f for _, f in kept], shape
+
+
 def _verdict(cands: Sequence[Suggestion], bands: Sequence[FailingBand], ratio: float) -> tuple[Verdict, str]:
     """The verdict and its reason from the ranked candidates, the bands and the noise ratio:
     ``missing_effect`` when a candidate is significant, else ``adequate`` (what is left, if
@@ -1293,7 +1338,9 @@ def _verdict(cands: Sequence[Suggestion], bands: Sequence[FailingBand], ratio: f
     if any(s.significant for s in cands):
         best = next(s for s in cands if s.significant)
         reason = f"the residuals are {ratio:.3g}× the noise" + (f" and structured in {len(model_bands)} band(s)" if model_bands else "")
-        if "+" in best.effect:
+        if "+" in best.effect and any("+" not in s.effect for s in cands if s.significant):
+            reason += f"; adding {best.effect.replace('+', ' and ')} together ({best.added}) lowers AIC by {-best.delta_aic:.1f}."
+        elif "+" in best.effect:
             reason += f"; no single effect explains them with determined parameters, but adding {best.effect.replace('+', ' and ')} together ({best.added}) lowers AIC by {-best.delta_aic:.1f}."
         else:
             reason += f"; adding {best.effect} ({best.added}) lowers AIC by {-best.delta_aic:.1f}."
@@ -1432,6 +1479,11 @@ def diagnose(
         pairs, pair_fits, shape = _effect_pairs(base, cands, proposals, spectrum, effects, shape, with_drt=evidence is not None, max_params=2 * n_points - 1, n_starts=n_starts, max_steps=max_steps, seed=seed)
         if pairs:
             proposals, fits = proposals + pairs, fits + pair_fits
+            bands, cands, verdict, reason = judged(base)
+    if verdict == Verdict.MISSING_EFFECT:  # a lead inductance hidden behind the effect named first?
+        leads, lead_fits, shape = _lead_behind(base, cands, proposals, spectrum, effects, shape, sigma_rel, bands, with_drt=evidence is not None, max_params=2 * n_points - 1, n_starts=n_starts, max_steps=max_steps, seed=seed, say=say)
+        if leads:
+            proposals, fits = proposals + leads, fits + lead_fits
             bands, cands, verdict, reason = judged(base)
     if verdict == Verdict.MISSING_EFFECT:  # before naming a missing effect: is the baseline at its own optimum?
         say("checking the baseline's own optimum before naming a missing effect")

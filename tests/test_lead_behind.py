@@ -1,0 +1,77 @@
+"""A lead inductance hidden behind a high-frequency arc (`diagnosis._lead_behind`): where the
+data's top turns inductive but the model also lacks an arc there, a lone series inductance
+cannot lower the misfit (it helps the top point and hurts the capacitive points below it), so
+the diagnosis tries it on top of the effect it names first.
+
+Oracles: SYNTHETIC spectra from the formula below (R0 + R1 ∥ CPE1 + R2 ∥ C2 + jωL, written
+here, 0.2 % complex noise), and impedance.py's REAL VersaStudio file (+4.7° at 100 kHz)."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import impedax as ix
+
+F = np.geomspace(0.02, 1e5, 61)
+MODEL = "R0 + R1 || CPE1"
+REAL = Path(__file__).parent / "fixtures" / "real"
+
+
+def spectrum(arc: bool, inductance: float, seed: int = 0):
+    """60 Ω + 1.4 kΩ ∥ CPE(2.8e-4, 0.76), with (``arc``) 10 Ω ∥ C peaking at 20 kHz and a
+    series ``inductance`` [H]: the shape of VersaStudio's real spectrum."""
+    jw = 2j * np.pi * F
+    z = 60.0 + 1 / (1 / 1400.0 + 2.8e-4 * jw**0.76) + jw * inductance
+    if arc:
+        z = z + 10.0 / (1 + jw * 10.0 / (2 * np.pi * 2e4 * 10.0))
+    rng = np.random.default_rng(seed)
+    return ix.make_spectrum(F, z * (1 + 0.002 * (rng.normal(size=F.size) + 1j * rng.normal(size=F.size)) / np.sqrt(2)))
+
+
+def test_the_lead_behind_the_arc_is_named_with_it():
+    data = spectrum(arc=True, inductance=6e-6)
+    assert np.angle(data["Z"].values[-1]) > 0  # the top turns inductive ...
+    lone = ix.fit(MODEL + " + L_lead", data)
+    assert lone.rms_rel > 0.9 * ix.fit(MODEL, data).rms_rel  # ... yet a lone L gains (almost) nothing
+    d = ix.diagnose(data, MODEL)
+    best = d.suggestions[0]
+    assert set(best.effect.split("+")) == {"extra_relaxation", "series_inductance"}
+    assert best.fit.values["L_lead"] == pytest.approx(6e-6, rel=0.3)
+    assert "adding extra_relaxation and series_inductance together" in d.reason
+    assert "no single effect" not in d.reason  # (single effects are significant too, only less so)
+
+
+@pytest.mark.parametrize("arc", [True, False], ids=["arc-alone", "nothing-missing"])
+def test_no_lead_where_the_top_is_capacitive(arc):
+    d = ix.diagnose(spectrum(arc=arc, inductance=0.0), MODEL)
+    assert not any("series_inductance" in s.effect for s in d.suggestions)
+    assert (str(d.verdict) == "adequate") == (not arc)
+
+
+def test_versastudio_real_spectrum_names_its_lead():
+    data = ix.load(REAL / "exampleDataVersaStudio.par")
+    d = ix.diagnose(data, MODEL)
+    assert "series_inductance" in d.suggestions[0].effect.split("+")
+    assert d.suggestions[0].rms_rel < 0.5 * d.baseline.rms_rel
+
+
+def _fit_like(z_data, z_model):
+    """What `_inductive_top` reads of a fit: frequency, z_data, z_model (frequencies rising)."""
+    from types import SimpleNamespace
+
+    return SimpleNamespace(frequency=np.geomspace(1.0, 1e5, z_data.size), z_data=np.asarray(z_data), z_model=np.asarray(z_model))
+
+
+def test_the_inductive_top_is_counted_down_from_the_highest_frequency_beyond_three_sigma():
+    from impedax.fitting.diagnosis.diagnosis import INDUCTIVE_TOP_POINTS, _inductive_top
+
+    sigma = 0.01  # 1 % of |Z| per component: 3σ is a phase of about +1.7° at |Z| = 100
+    cap = np.full(6, 100.0 - 5.0j)
+    up = 100.0 + 5.0j  # 5 % of |Z| inductive: beyond 3σ
+    assert _inductive_top(_fit_like(np.r_[cap[:3], [up] * 3], cap), sigma) == 3
+    assert _inductive_top(_fit_like(np.full(6, up), cap), sigma) == 6
+    assert _inductive_top(_fit_like(np.r_[cap[:5], [up]], cap), sigma) == 1 < INDUCTIVE_TOP_POINTS  # one point: not enough
+    assert _inductive_top(_fit_like(np.r_[cap[:4], [up, cap[0]]], cap), sigma) == 0  # counted from the top only
+    assert _inductive_top(_fit_like(np.r_[cap[:3], [up] * 3], np.full(6, up)), sigma) == 0  # the model is inductive there too
+    assert _inductive_top(_fit_like(np.r_[cap[:3], [100.0 + 2.0j] * 3], cap), sigma) == 0  # 2 % of |Z|: within 3σ
