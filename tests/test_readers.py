@@ -366,6 +366,17 @@ def test_sheets_whose_cycle_numbers_carry_on_are_one_series_of_cycles(tmp_path):
     np.testing.assert_allclose(same["Z"].values[1, 0], oracle(F_HZ) + 101, rtol=1e-15)
     with pytest.raises(ix.DataError, match=r"sheet 'S1' holds 2 cycles \(2, 3\) where sheet 'S0' holds 2 cycles \(1, 2\)"):
         ix.load(book(tmp_path / "overlap.xlsx", [[1, 2], [2, 3]]))
+    # numbers that go back (3, 4 / 1, 2) are no series
+    with pytest.raises(ix.DataError, match=r"sheet 'S1' holds 2 cycles \(1, 2\) where sheet 'S0' holds 2 cycles \(3, 4\)"):
+        ix.load(book(tmp_path / "backwards.xlsx", [[3, 4], [1, 2]]))
+    # a last sheet of one cycle, and sheets of one cycle each, carry the numbering on too
+    for cycles, labels in (([[1, 2], [3]], ["1", "2", "3"]), ([[1], [2], [3]], ["1", "2", "3"])):
+        ds = ix.load(book(tmp_path / "short.xlsx", cycles))
+        assert ds["Z"].dims == ("cycle", "frequency") and list(ds["cycle"].values) == labels
+        assert list(ds["sheet"].values) == [f"S{s}" for s, sheet in enumerate(cycles) for _ in sheet]
+        np.testing.assert_allclose(ds["Z"].values[2], oracle(F_HZ) + 100 * (len(cycles) - 1) + 3, rtol=1e-15)
+        assert "sweeps" not in ds.attrs and "sheet" not in ds.attrs  # (each sheet's note is replaced by `sheets`)
+    assert ds.attrs["sheets"] == "cycles 1 from sheet S0, 2 from sheet S1, 3 from sheet S2"
 
 
 def test_ec_lab_cycles_become_a_dimension(tmp_path):

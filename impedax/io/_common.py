@@ -10,6 +10,7 @@ missing is an error naming its line.
 from __future__ import annotations
 
 import errno
+import math
 import os
 import re
 import stat
@@ -279,7 +280,7 @@ def stack(path: Path, spectra: Sequence[tuple[str, xr.Dataset]], dim: str) -> xr
     f0 = first["frequency"].values
     inner = tuple(d for d in first["Z"].dims if d != "frequency")
     if _numbering_carries_on(spectra, inner):
-        return _continued(path, spectra, dim, inner[0])
+        return _continued(path, spectra, dim, inner[0] if inner else _NUMBERED[0])
     for label, ds in spectra[1:]:
         f = ds["frequency"].values
         if f.shape != f0.shape or not np.array_equal(f, f0):
@@ -325,30 +326,56 @@ def _merged_attrs(spectra: Sequence[tuple[str, xr.Dataset]], dim: str) -> dict:
 _NUMBERED = ("cycle",)
 
 
+def _numbered_cycles(ds: xr.Dataset, numbered: str) -> list[str] | None:
+    """The cycle numbers a spectrum holds: its ``numbered`` labels, or the one its attrs name
+    (a table of one numbered cycle); None when it numbers none."""
+    inner = tuple(d for d in ds["Z"].dims if d != "frequency")
+    if inner == (numbered,) and numbered in ds.coords:
+        return [str(v) for v in ds[numbered].values]
+    if not inner and numbered in ds.attrs:
+        return [str(ds.attrs[numbered])]
+    return None
+
+
 def _numbering_carries_on(spectra: Sequence[tuple[str, xr.Dataset]], inner: tuple[str, ...]) -> bool:
-    """Every spectrum numbers its sweeps along the same `_NUMBERED` dimension, on one frequency
-    grid, and no number appears twice across them."""
-    if len(inner) != 1 or inner[0] not in _NUMBERED:
+    """Every spectrum numbers its cycles (`_NUMBERED`; one cycle or several), on one frequency
+    grid, each one's numbers above the last of the one before: parts of one series."""
+    numbered = inner[0] if len(inner) == 1 else _NUMBERED[0] if not inner else None
+    if numbered not in _NUMBERED:
         return False
     f0 = spectra[0][1]["frequency"].values
-    if any(tuple(d for d in ds["Z"].dims if d != "frequency") != inner or inner[0] not in ds.coords or not np.array_equal(ds["frequency"].values, f0) for _, ds in spectra):
-        return False
-    labels = [str(v) for _, ds in spectra for v in ds[inner[0]].values]
-    return len(set(labels)) == len(labels)
+    last = -math.inf
+    for _, ds in spectra:
+        labels = _numbered_cycles(ds, numbered)
+        if labels is None or not np.array_equal(ds["frequency"].values, f0):
+            return False
+        try:
+            numbers = [float(v) for v in labels]
+        except ValueError:
+            return False
+        if numbers[0] <= last:
+            return False
+        last = numbers[-1]
+    return len(spectra) > 1
 
 
 def _continued(path: Path, spectra: Sequence[tuple[str, xr.Dataset]], dim: str, numbered: str) -> xr.Dataset:
     """Spectra whose ``numbered`` labels carry on from one to the next, as one ``numbered``
     dimension in the order read, with a ``dim`` coordinate naming where each came from."""
-    sources = [label for label, ds in spectra for _ in range(ds.sizes[numbered])]
-    labels = [v for _, ds in spectra for v in ds[numbered].values]
-    attrs = _merged_attrs(spectra, dim)
-    attrs[f"{dim}s"] = f"{numbered}s {', '.join(f'{ds[numbered].values[0]}–{ds[numbered].values[-1]} from {dim} {label}' for label, ds in spectra)}"
+    labels = [_numbered_cycles(ds, numbered) for _, ds in spectra]
+    sources = [label for (label, _), mine in zip(spectra, labels) for _ in mine]
+    z = [ds["Z"].transpose(numbered, "frequency").values if numbered in ds.dims else ds["Z"].values[None] for _, ds in spectra]
+    attrs = _merged_attrs([(label, _without(ds.attrs, ("sweeps", dim, numbered))) for label, ds in spectra], dim)
+    attrs[f"{dim}s"] = f"{numbered}s " + ", ".join(f"{mine[0]}–{mine[-1]} from {dim} {label}" if len(mine) > 1 else f"{mine[0]} from {dim} {label}" for (label, _), mine in zip(spectra, labels))
     ds = make_spectrum(
-        spectra[0][1]["frequency"].values, np.concatenate([ds["Z"].transpose(numbered, "frequency").values for _, ds in spectra]),
-        dims=(numbered,), coords={numbered: labels}, attrs=attrs, source=str(path),
+        spectra[0][1]["frequency"].values, np.concatenate(z), dims=(numbered,), coords={numbered: [v for mine in labels for v in mine]}, attrs=attrs, source=str(path),
     )
     return ds.assign_coords({dim: (numbered, sources)})
+
+
+def _without(attrs: dict, keys: Sequence[str]) -> xr.Dataset:
+    """A stand-in holding ``attrs`` less ``keys`` (for `_merged_attrs`)."""
+    return xr.Dataset(attrs={k: v for k, v in attrs.items() if k not in keys})
 
 
 def _spectra_text(ds: xr.Dataset) -> str:

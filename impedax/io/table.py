@@ -317,6 +317,8 @@ def spectrum_from_rows(
     cycles = np.array(optional_values["cycle"]) if "cycle" in optional else None
     by_cycle = cycles if cycles is not None and np.isfinite(cycles).all() else None
     sweeps = _sweep_blocks(freq, by_cycle, lines, path) if split_sweeps else None
+    if sweeps is None and split_sweeps and by_cycle is not None and np.unique(by_cycle).size == 1:
+        attrs = {**attrs, "cycle": f"{by_cycle[0]:g}"}  # one cycle, numbered (a file's pieces are joined by it: `_common.stack`)
     if sweeps is None:
         return _spectrum(path, freq, z, lines, attrs, skipped=skipped, extra=extra, sigma=sigma, where=where)
     dim, labels, blocks, deviation = sweeps
