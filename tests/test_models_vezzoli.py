@@ -140,3 +140,15 @@ def test_squeeze_film_bad_input():
         vezzoli.squeeze_film_lift(-1e-6)
     with pytest.raises(ParameterError, match="normal force"):
         vezzoli.squeeze_film_lift(1e-6, normal_force=0.0)
+
+
+def test_a_sweep_outside_eq8_warns_once_at_its_caller():
+    """Fig 9's sweep (1 µm insulator, ε_i 3.4 and 36: C_i/C_s = 0.5 and 5.4) warns once, and the
+    warning points at this file, not inside impedax."""
+    import warnings
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        vezzoli.insulator_sweep(np.array([1e-6]), np.array([3.4, 36.0]))
+    eq8 = [w for w in caught if issubclass(w.category, vezzoli.Eq8ValidityWarning)]
+    assert len(eq8) == 1 and eq8[0].filename == __file__

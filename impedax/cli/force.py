@@ -133,8 +133,9 @@ def refined_peak(force_at, freq: np.ndarray, force: np.ndarray) -> dict:
     maximisation of ``force_at(f)`` in ln f between its neighbouring grid points (exact for a
     force with one maximum in that bracket). Returns ``frequency_hz``, ``force_n`` (refined),
     ``grid_frequency_hz``, ``grid_force_n``, ``at_band_edge`` and ``band_edge`` ("fmin",
-    "fmax", "fmin=fmax" for a one-frequency band, or None): at an end, the force still rises
-    past the band and the values are those of that end, not a peak."""
+    "fmax", "fmin=fmax" for a one-frequency band, "flat" for a force the same at every
+    frequency, or None): at an end, the force still rises past the band and the values are
+    those of that end, not a peak."""
     from scipy.optimize import minimize_scalar
 
     n = freq.size
@@ -142,6 +143,8 @@ def refined_peak(force_at, freq: np.ndarray, force: np.ndarray) -> dict:
     k = n - 1 if ties[-1] == n - 1 else int(ties[0])  # (on a flat top reaching fmax: the force rises to fmax)
     grid = {"grid_frequency_hz": float(freq[k]), "grid_force_n": float(force[k])}
     at_end = {"frequency_hz": float(freq[k]), "force_n": float(force[k]), **grid, "at_band_edge": True}
+    if n > 1 and force.max() == force.min():  # (flat, e.g. zero: no end to call rising)
+        return {**at_end, "frequency_hz": float(freq[0]), "grid_frequency_hz": float(freq[0]), "at_band_edge": False, "band_edge": "flat"}
     if n == 1 or freq[0] == freq[-1]:
         return {**at_end, "band_edge": "fmin=fmax"}
     lo, hi = math.log(freq[max(k - 1, 0)]), math.log(freq[min(k + 1, n - 1)])
@@ -160,6 +163,8 @@ def _peak_text(peak: dict) -> str:
     where = f"{peak['force_n']:.4g} N at {peak['frequency_hz']:.5g} Hz"
     if peak["band_edge"] == "fmin=fmax":
         return f"{where} (one frequency: no peak located)"
+    if peak["band_edge"] == "flat":
+        return f"no peak in the band: the force is {peak['force_n']:.4g} N at every frequency"
     if peak["at_band_edge"]:
         option, side = ("--fmin", "below") if peak["band_edge"] == "fmin" else ("--fmax", "above")
         return f"no peak in the band: the force is largest at {option}, {where}, and still rises {side} it"

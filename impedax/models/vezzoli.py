@@ -14,6 +14,7 @@ listed in `squeeze_film_lift`.
 
 from __future__ import annotations
 
+import contextlib
 import math
 import warnings
 from dataclasses import dataclass
@@ -166,11 +167,27 @@ def voltage_for_force(force, freq, *, h_i=TABLE2["h_i"], h_s=TABLE2["h_s"], area
     return jnp.sqrt(4.0 * jnp.asarray(force) * _geometry(h_i, h_s, eps_i, eps_s) * (1.0 + wt**2) / (EPSILON_0 * area * wt**2))
 
 
+@contextlib.contextmanager
+def _warned_at_caller():
+    """The `Eq8ValidityWarning` of the calls inside a sweep said once, pointing at the sweep's
+    caller; other warnings passed on as they were."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        yield
+    eq8 = [w for w in caught if issubclass(w.category, Eq8ValidityWarning)]
+    if eq8:  # (this generator ← contextlib's __exit__ ← the sweep ← its caller)
+        warnings.warn(eq8[0].message, Eq8ValidityWarning, stacklevel=4)
+    for w in caught:
+        if not issubclass(w.category, Eq8ValidityWarning):
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+
+
 def insulator_sweep(h_i, eps_i, *, freq=500.0, v_m=140.0, **params) -> xr.DataArray:
     """Fig 9: time-averaged force [N] over insulator thickness ``h_i`` [m] × permittivity
     ``eps_i`` (paper: ε_i 1–36, 500 Hz, 140 V; other parameters from Table 2 unless given)."""
     h_i, eps_i = np.atleast_1d(np.asarray(h_i, float)), np.atleast_1d(np.asarray(eps_i, float))
-    force = electrovibration_force(freq, h_i=h_i[None, :], eps_i=eps_i[:, None], v_m=v_m, **params)
+    with _warned_at_caller():
+        force = electrovibration_force(freq, h_i=h_i[None, :], eps_i=eps_i[:, None], v_m=v_m, **params)
     return xr.DataArray(np.asarray(force), dims=("eps_i", "h_i"), coords={"eps_i": eps_i, "h_i": ("h_i", h_i, {"units": "m"})}, name="force", attrs={"units": "N", "convention": "time-average", "figure": "Vezzoli Fig 9", "frequency_hz": float(freq), "v_m": float(v_m)})
 
 
@@ -178,7 +195,8 @@ def voltage_sweep(eps_i, *, force=0.01, h_i=1e-6, freq=500.0, **params) -> xr.Da
     """Fig 10: voltage amplitude [V] needed for a time-averaged ``force`` (0.01 N) over
     ``eps_i`` with a 1 µm insulator at 500 Hz (other parameters from Table 2 unless given)."""
     eps_i = np.atleast_1d(np.asarray(eps_i, float))
-    v = voltage_for_force(force, freq, h_i=h_i, eps_i=eps_i, **params)
+    with _warned_at_caller():
+        v = voltage_for_force(force, freq, h_i=h_i, eps_i=eps_i, **params)
     return xr.DataArray(np.asarray(v), dims=("eps_i",), coords={"eps_i": eps_i}, name="voltage", attrs={"units": "V", "figure": "Vezzoli Fig 10", "force_n": float(force), "h_i_m": float(h_i), "frequency_hz": float(freq)})
 
 
@@ -187,7 +205,8 @@ def stratum_corneum_sweep(freq, h_s, **params) -> xr.DataArray:
     under Meyer's conditions (`MEYER_CONDITIONS`: 140 V, 1 µm, ε_i 3.4; the rest Table 2)."""
     freq, h_s = np.atleast_1d(np.asarray(freq, float)), np.atleast_1d(np.asarray(h_s, float))
     kwargs = {**MEYER_CONDITIONS, **params}
-    force = electrovibration_force(freq[None, :], h_s=h_s[:, None], **kwargs)
+    with _warned_at_caller():
+        force = electrovibration_force(freq[None, :], h_s=h_s[:, None], **kwargs)
     return xr.DataArray(np.asarray(force), dims=("h_s", "frequency"), coords={"h_s": ("h_s", h_s, {"units": "m"}), "frequency": ("frequency", freq, {"units": "Hz"})}, name="force", attrs={"units": "N", "convention": "time-average", "figure": "Vezzoli Fig 8"})
 
 
