@@ -211,6 +211,7 @@ def _choose_priors(priors: Mapping[str, Prior], space: SampledParameters, start:
     chosen: dict[str, Prior] = {}
     spread: list[tuple[float, float] | None] = []
     z_abs = np.abs(obs.z)
+    init_stderr = init.linearised_stderr  # (at a bound: the linearisation's scale)
     for i, n in enumerate(space.names):
         wide = None
         if n in priors:
@@ -218,7 +219,7 @@ def _choose_priors(priors: Mapping[str, Prior], space: SampledParameters, start:
         elif n == "sigma_rel":
             chosen[n] = SIGMA_REL_PRIOR
         else:
-            stderr = float(init.linearised_stderr[n]) if n in init.stderr and not init.fixed.get(n, False) else None
+            stderr = float(init_stderr[n]) if n in init.stderr and not init.fixed.get(n, False) else None
             at_bound = n in init.at_bound
             chosen[n] = default_prior(space.lower[i], space.upper[i], start[i], stderr=stderr, at_bound=at_bound, scale=data_scale_range(space.units[i], obs.freq, z_abs))
             if space.log_scale[i] and undetermined(space.lower[i], start[i], stderr, at_bound):
@@ -295,8 +296,9 @@ def _initial_walkers(
     log_scale = np.asarray(space.log_scale)
     y0 = np.array([math.log(v) if ls else v for v, ls in zip(start, log_scale)])
     spread = []
+    init_stderr = init.linearised_stderr
     for i, n in enumerate(space.names):
-        se = init.linearised_stderr.get(n, math.nan) if n in init.stderr else math.nan
+        se = init_stderr.get(n, math.nan) if n in init.stderr else math.nan
         rel = se / abs(start[i]) if log_scale[i] else se
         if n == "sigma_rel":
             rel = 1.0 / math.sqrt(2 * n_points)

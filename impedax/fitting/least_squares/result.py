@@ -86,8 +86,7 @@ class FitResult:
     @property
     def linearised_stderr(self) -> dict[str, float]:
         """``stderr`` with each free parameter at a bound given the linearisation's, √ of its
-        ``covariance`` diagonal (the bounds ignored: what ``stderr`` gave there before
-        parameters at a bound lost theirs, and what scipy's curve_fit reports). Not a ± error
+        ``covariance`` diagonal (the bounds ignored, as scipy's curve_fit reports). Not a ± error
         at a bound: the scale of χ²'s curvature there, what a one-sided limit or a sampler's
         start is built from. A vanishing term's parameter stays inf, a fixed one NaN."""
         out = dict(self.stderr)

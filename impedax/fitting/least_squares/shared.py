@@ -43,7 +43,7 @@ from ..problem import residual_scale, weights
 from ..statistics import information_criteria
 from .batch import BatchFitResult, data_notes, fit_batch
 from .branches import idle_branch_notes, idle_branches, settle_vanishing, undetermined, undetermined_mask, vanishing_candidates, vanishing_parameters
-from .result import BOUND_CHI2_FRACTION, LINEARISED_STDERR_NAME, STDERR_NOTE, bound_note, bound_sides, on_bound, stack_notes, without_error
+from .result import BOUND_CHI2_FRACTION, LINEARISED_STDERR_NAME, STDERR_NOTE, bound_note, bound_sides, on_bound, shown_stderr, stack_notes, without_error
 from .solvers import SolverArgs, tree_residuals
 
 __all__ = ["SharedFitResult", "SharedLayout", "shared_layout", "fit_shared", "JointSolution", "joint_solver", "joint_covariance", "SHARING_P_LIMIT"]
@@ -349,7 +349,7 @@ class SharedFitResult(BatchFitResult):
         ds = self.dataset
         out["over"] = list(self.over)
         out["shared"] = {
-            n: {"value": self._scalar_or_list(ds["shared_value"].sel(shared_param=n)), "stderr": self._scalar_or_list(ds["shared_stderr"].sel(shared_param=n)), "fixed": False}
+            n: {"value": self._scalar_or_list(ds["shared_value"].sel(shared_param=n)), "stderr": _shown(self._scalar_or_list(ds["shared_stderr"].sel(shared_param=n))), "fixed": False}
             for n in self.shared
         }
         keys = ("joint_chi2", "joint_chi2_red", "joint_dof", "joint_aic", "joint_bic", "independent_chi2", "independent_aic", "delta_aic", "f_statistic", "f_pvalue")
@@ -364,13 +364,20 @@ class SharedFitResult(BatchFitResult):
         for n in self.shared:
             v = ds["shared_value"].sel(shared_param=n).values.ravel()
             e = ds["shared_stderr"].sel(shared_param=n).values.ravel()
-            for vi, ei in zip(v.tolist(), e.tolist()):
-                rel = format_relative_error(ei / vi) if vi and math.isfinite(ei) else "at bound" if math.isnan(ei) else "—"
-                shown = f"{ei:>10.3g}" if math.isfinite(ei) else f"{'—':>10}"  # (NaN: at a bound, no standard error)
+            at = ds["at_bound"].sel(param=n).isel({d: 0 for d in self.over}).transpose(*self.keep).values.ravel()
+            for vi, ei, bound in zip(v.tolist(), e.tolist(), at.tolist()):
+                rel = "at bound" if bound else format_relative_error(ei / vi) if vi and math.isfinite(ei) else "—"
+                shown = f"{ei:>10.3g}" if math.isfinite(ei) else f"{'—':>10}"  # (at a bound: no standard error)
                 lines.append(f"{n:<16} {vi:>12.5g} {shown} {rel:>8}  {unit_text(specs[n].unit)}".rstrip())
         for f, p, d, c in zip(*(np.ravel(ds[k].values).tolist() for k in ("f_statistic", "f_pvalue", "delta_aic", "joint_chi2_red"))):
             lines.append(f"sharing vs independent fits: F = {f:.3g}, p = {p:.3g}, ΔAIC = {d:+.1f} (negative favours sharing); joint chi2_red {c:.4g}")
         return "\n".join(lines + self._warning_lines())
+
+
+def _shown(stderr):
+    """A shared standard error (a number or a list over the kept dimensions) as the JSON gives
+    it: None where there is none (at a bound; `result.shown_stderr`)."""
+    return [_shown(e) for e in stderr] if isinstance(stderr, list) else shown_stderr(stderr, False)
 
 
 def _group_arrays(data: xr.Dataset, layout: SharedLayout, extra: tuple[str, ...]):
