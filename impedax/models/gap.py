@@ -211,14 +211,13 @@ class GapAnalysis:
 
         return plot_gap_analysis(self, true_gap=true_gap)
 
-
     def to_xarray(self) -> xr.Dataset:
         out = self.force.copy()
         for key, value in self.summary().items():
             if key in ("c_gap", "gap_um", "gap_um_new_trial") and value is not None:
                 for k, v in value.items():
                     out.attrs[f"{key}_{k}"] = v
-        out.attrs.update({"convention": FORCE_CONVENTION, "model": self.edl_fit.model, "area_m2": self.area, "v0": self.v0, "method": self.method})
+        out.attrs.update({"convention": FORCE_CONVENTION, "model": self.edl_fit.model, "model_requested": self.summary()["model_requested"], "area_m2": self.area, "v0": self.v0, "method": self.method})
         if self.gap_spread is not None:
             out.attrs["gap_spread_relative"] = self.gap_spread["relative"]["value"]
         return out
@@ -253,7 +252,7 @@ def gap_analysis(
     dimensions, all on one frequency grid. ``ep`` picks the EP branch of the EDL model:
     ``"CPE"`` (R_EP || CPE_EP || C_gap, default) or ``"C"`` (R_EP || C_EP || C_gap: two ideal
     capacitors in parallel are identified only as their sum, so it is fitted and sampled as
-    `IDENTIFIED_C_REMAINDER`, R_EP || C_gap with C_gap = C_EP + C_gap, and a warning says that u
+    `IDENTIFIED_C_REMAINDER`, R_EP || C_gap with C_gap standing for C_EP + C_gap, and a warning says that u
     is then the smallest gap this model allows; ``model_requested`` in the summary keeps the model
     asked for). ``remainder`` replaces
     the EDL model by any circuit holding a ``C_gap`` (e.g. the result of `impedax.refine`), and
@@ -286,7 +285,7 @@ def gap_analysis(
     circuit = requested
     if remainder is None and ep == "C":
         circuit = parse(IDENTIFIED_C_REMAINDER)
-        if edl_fit is not None and "C_EP" in getattr(edl_fit, "values", {}):
+        if edl_fit is not None and str(getattr(edl_fit, "circuit", "")) != str(circuit):
             raise ParameterError(f"ep='C' is analysed as {IDENTIFIED_C_REMAINDER} (C_EP and C_gap are identified only as their sum); edl_fit must be a fit of that circuit, not of {requested}")
         notes.append(_merged_capacitors_note())
     if "C_gap" not in circuit.element_names:
@@ -351,7 +350,7 @@ def _merged_capacitors_note() -> str:
     """The warning of ``ep="C"`` (see `IDENTIFIED_C_REMAINDER`)."""
     return (
         f"--ep C (Python: ep='C'): in R_EP || C_EP || C_gap the two ideal capacitors are seen only as their sum (1/Z = 1/R_EP + jω(C_EP + C_gap) at every frequency), "
-        f"so the data cannot split it; analysed as {IDENTIFIED_C_REMAINDER} with C_gap = C_EP + C_gap, as the paper's method counts it: u is then the smallest "
+        f"so the data cannot split it; analysed as {IDENTIFIED_C_REMAINDER} with C_gap standing for C_EP + C_gap, as the paper's method counts it: u is then the smallest "
         "gap thickness this model allows (larger if part of the capacitance belongs to the EP branch) and the force its upper bound; "
         "--ep CPE (the default) has an EP branch the data tell from C_gap"
     )
