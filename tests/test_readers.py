@@ -310,22 +310,29 @@ def test_repeated_sweeps_in_one_table_become_a_dimension(tmp_path):
     np.testing.assert_allclose(ds["Z"].values[1], oracle(F_HZ) + 1, rtol=1e-15)
 
 
+def _workbook(path, sheets):
+    """A workbook of sheets S0, S1, ...: ``sheets[s]`` lists each sweep's (cycle number or None,
+    offset); a sweep is oracle(F_HZ) + offset, the cycle number in a `cycle number` column when
+    given."""
+    openpyxl = pytest.importorskip("openpyxl")
+    workbook = openpyxl.Workbook()
+    workbook.remove(workbook.active)
+    for sheet, sweeps in enumerate(sheets):
+        table = workbook.create_sheet(f"S{sheet}")
+        numbered = any(cycle is not None for cycle, _ in sweeps)
+        table.append(["Frequency (Hz)", "Z' (Ohm)", "Z'' (Ohm)", *(["cycle number"] if numbered else [])])
+        for cycle, offset in sweeps:
+            for f, zi in zip(F_HZ.tolist(), (oracle(F_HZ) + offset).tolist()):
+                table.append([f, zi.real, zi.imag, *([cycle] if numbered else [])])
+    workbook.save(path)
+    return path
+
+
 def test_a_spreadsheet_sheet_of_sweeps_becomes_a_dimension(tmp_path):
     """Sheets of repeated sweeps: (sheet, sweep, frequency), each sweep its own values; sheets
     that hold different numbers of sweeps are one error naming both."""
-    openpyxl = pytest.importorskip("openpyxl")
-
     def book(path, sweeps_per_sheet):
-        workbook = openpyxl.Workbook()
-        workbook.remove(workbook.active)
-        for sheet, n_sweeps in enumerate(sweeps_per_sheet):
-            table = workbook.create_sheet(f"S{sheet}")
-            table.append(["Frequency (Hz)", "Z' (Ohm)", "Z'' (Ohm)"])
-            for k in range(n_sweeps):
-                for f, zi in zip(F_HZ.tolist(), (oracle(F_HZ) + 10 * sheet + k).tolist()):
-                    table.append([f, zi.real, zi.imag])
-        workbook.save(path)
-        return path
+        return _workbook(path, [[(None, 10 * sheet + k) for k in range(n)] for sheet, n in enumerate(sweeps_per_sheet)])
 
     ds = ix.load(book(tmp_path / "two.xlsx", [3, 3]))
     assert ds["Z"].dims == ("sheet", "sweep", "frequency") and list(ds["sweep"].values) == ["0", "1", "2"]
@@ -341,19 +348,8 @@ def test_sheets_whose_cycle_numbers_carry_on_are_one_series_of_cycles(tmp_path):
     """Sheets of a cycling run split by size (cycles 1–2 on one sheet, 3–5 on the next): one
     `cycle` dimension in order, each cycle its own values, a `sheet` coordinate saying where
     each came from; sheets that number their cycles alike still stack as (sheet, cycle)."""
-    openpyxl = pytest.importorskip("openpyxl")
-
     def book(path, cycles_per_sheet):
-        workbook = openpyxl.Workbook()
-        workbook.remove(workbook.active)
-        for sheet, cycles in enumerate(cycles_per_sheet):
-            table = workbook.create_sheet(f"S{sheet}")
-            table.append(["Frequency (Hz)", "Z' (Ohm)", "Z'' (Ohm)", "cycle number"])
-            for cycle in cycles:
-                for f, zi in zip(F_HZ.tolist(), (oracle(F_HZ) + 100 * sheet + cycle).tolist()):
-                    table.append([f, zi.real, zi.imag, cycle])
-        workbook.save(path)
-        return path
+        return _workbook(path, [[(cycle, 100 * sheet + cycle) for cycle in cycles] for sheet, cycles in enumerate(cycles_per_sheet)])
 
     ds = ix.load(book(tmp_path / "run.xlsx", [[1, 2], [3, 4, 5]]))
     assert ds["Z"].dims == ("cycle", "frequency") and list(ds["cycle"].values) == ["1", "2", "3", "4", "5"]
