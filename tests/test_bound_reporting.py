@@ -213,3 +213,12 @@ def test_global_fits_report_as_single_fits():
     assert np.isnan(corr[:, 0, :]).all() and np.isnan(corr[:, :, 0]).all() and np.isfinite(corr[:, 1:, 1:]).all()
     line = next(l for l in result.report().splitlines() if l.startswith("R0 ") and "at bound" in l)
     assert "nan" not in line
+
+
+def test_a_derived_quantity_says_when_it_rests_on_a_parameter_at_its_bound():
+    """R0 at its bound 0: R0 + R1 depends on it (the note says so), R1 alone does not."""
+    fit = ix.fit(MODEL, series_r_at_zero())
+    assert "R0" in fit.at_bound
+    total = fit.derive(lambda p: p["R0"] + p["R1"])
+    assert total.attrs["at_bound"] == "R0" and "ignores the bound" in total.attrs["note"]
+    assert "at_bound" not in fit.derive(lambda p: p["R1"]).attrs

@@ -124,7 +124,14 @@ def derive_fit(result, fn, freq=None) -> xr.Dataset:
         data["covariance"] = ((d, d + "_2"), cov) if value.ndim == 1 else ((), cov.reshape(()))
     data["jacobian"] = (dims + ("free_param",), jac.reshape(value.shape + (len(free),)))
     coords["free_param"] = free
-    return xr.Dataset(data, coords=coords, attrs={"method": "delta method: Var = J Σ Jᵀ", "model": result.model})
+    attrs = {"method": "delta method: Var = J Σ Jᵀ", "model": result.model}
+    # a parameter at a bound that the quantity depends on: the band is the linearisation's, which ignores the bound
+    bounded = [n for j, n in enumerate(free) if n in getattr(result, "at_bound", ()) and np.any(jac[:, j] != 0)]
+    if bounded:
+        attrs["at_bound"] = ", ".join(bounded)
+        attrs["note"] = (f"depends on {', '.join(bounded)} at {'its' if len(bounded) == 1 else 'their'} bound: the band is the linearisation's, "
+                         "which ignores the bound (impedax sample gives an interval that respects it)")
+    return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
 def derive(result, fn, freq=None, **kwargs) -> xr.Dataset:
