@@ -28,6 +28,9 @@ def register(sub) -> None:
     add_shared_options(p)
     p.add_argument("--fmin", type=number_option, help="ignore data below this frequency [Hz]")
     p.add_argument("--fmax", type=number_option, help="ignore data above this frequency [Hz]")
+    p.add_argument("--fix", action="append", metavar="NAME=VALUE", help="hold a parameter fixed, in the start fit and the sampling (repeatable)")
+    p.add_argument("--init", action="append", metavar="NAME=VALUE", help="starting value of the least-squares start fit (repeatable); others are guessed from the data")
+    p.add_argument("--max-steps", type=int, default=None, metavar="N", help="Levenberg–Marquardt step limit of the least-squares start fit (default 400; --steps is the sampler's)")
     p.add_argument("--quiet", action="store_true", help="no progress line on stderr")
     p.add_argument("--corner", metavar="FILE.png", help="save a corner plot of the draws")
     add_output_options(p, json="print the result as JSON (no progress line)", plot="save data with posterior bands (Nyquist, Bode)", out=result_out_help("the posterior (.nc: draws, diagnostics, start fit, data; .csv: quantiles per parameter)"))
@@ -54,11 +57,11 @@ def check_sample_size(circuit, walkers, steps, priors) -> None:
 
 
 def run(args) -> int:
-    from .. import parse, sample
+    from .. import fit, parse, sample
     from ..errors import ParameterError
     from ..fitting import parse_prior
-    from .common import figure_writer, load_selected, plan_outputs, print_result, result_writer
-    from .fit import shared_arguments
+    from .common import check_parameter_names, figure_writer, load_selected, parse_assignments, plan_outputs, print_result, result_writer
+    from .fit import check_max_steps, shared_arguments
 
     circuit = parse(args.model)  # syntax errors before anything else
     sharing = shared_arguments(args)
@@ -75,10 +78,20 @@ def run(args) -> int:
         inputs=[args.data], stdout="--json" if args.json else None,
     )
     check_sample_size(circuit, args.walkers, args.steps, priors)
+    init, fixed = parse_assignments(args.init, "--init"), parse_assignments(args.fix, "--fix")
+    for flag, given in (("--init", init), ("--fix", fixed)):
+        check_parameter_names(given, circuit.parameter_names(), flag, args.model)
+    if sharing and (init or args.max_steps is not None):
+        raise ParameterError("--init and --max-steps are not available with --shared (the joint posterior starts from its own global fit); --fix is")
+    max_steps = check_max_steps(args.max_steps) if args.max_steps is not None else None
     data = load_selected(args.data, args.select)
+    start = None
+    if init or max_steps is not None:  # the least-squares start, as `sample` runs it, from the given values or step limit
+        start = fit(circuit, data, init=init, fixed=fixed or None, weighting="modulus" if args.noise == "proportional" else "sigma", fmin=args.fmin, fmax=args.fmax,
+                    **({"max_steps": max_steps} if max_steps is not None else {}))
     posterior = sample(
         circuit, data, priors=priors, noise=args.noise, walkers=args.walkers, steps=args.steps, burn=args.burn, thin=args.thin,
-        seed=args.seed, fmin=args.fmin, fmax=args.fmax, progress=not (args.quiet or args.json), **sharing,
+        seed=args.seed, fmin=args.fmin, fmax=args.fmax, progress=not (args.quiet or args.json), init=start, fixed=fixed or None, **sharing,
     )
     outputs.save({"--out": result_writer(posterior), "--corner": figure_writer(lambda: posterior.corner()), "--plot": figure_writer(lambda: posterior.plot())})
     if not outputs.uses_stdout:
