@@ -652,3 +652,4 @@ def test_diagnose_says_each_stage_as_it_begins():
     ix.diagnose(data, "R0 + R1 || C1", progress=said.append)
     assert said[0] == "fitting the baseline R0 + R1 || C1" and said[1] == "the Kramers–Kronig test of the data"
     assert any(re.fullmatch(r"fitting \d+ candidate circuits of \d+ effects", s) for s in said), said
+

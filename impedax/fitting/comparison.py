@@ -32,15 +32,16 @@ def _nested(a: Circuit, b: Circuit) -> bool:
 
 
 def _subsequence(small, big) -> bool:
-    """Each child of ``small`` nested, in order, in a distinct child of ``big``."""
-    j = 0
-    for child in small:
-        while j < len(big) and not _nested(child, big[j]):
-            j += 1
-        if j == len(big):
-            return False
-        j += 1
-    return True
+    """Each child of ``small`` nested in a distinct child of ``big``, in any order (impedances
+    in series and admittances in parallel add in any order: ``R1 || CPE1`` is nested in
+    ``CPE1 || (R1 + W1)``)."""
+
+    def match(i: int, used: frozenset) -> bool:
+        if i == len(small):
+            return True
+        return any(j not in used and _nested(small[i], big[j]) and match(i + 1, used | {j}) for j in range(len(big)))
+
+    return len(small) <= len(big) and match(0, frozenset())
 
 
 def undetermined_names(fit: FitResult) -> list[str]:
@@ -90,11 +91,27 @@ class Comparison:
         return {"models": [dict(r) for r in self.rows], "best": self.best, "best_determined": self.best_determined, "f_tests": [dict(t) for t in self.f_tests]}
 
     def _best_mark(self) -> str:
-        """The table's mark of the best model by AIC, saying when its fit has warnings (an
-        undetermined parameter, a gross misfit): the lowest AIC is then no endorsement."""
-        warnings = self.fits[self.best_index].warnings
+        """The table's mark of the best model by AIC, saying when its fit did not converge or has
+        warnings (an undetermined parameter, a gross misfit): the lowest AIC is then no
+        endorsement; and when another model gives the same fit (`SAME_FIT_RMS`)."""
+        best = self.best_index
+        warnings = self.fits[best].warnings
         n = len({w for ws in warnings.values() for w in ws}) if isinstance(warnings, Mapping) else len(warnings)
-        return "   ← best" + (f" by AIC, with {n} warning(s) below" if n else "")
+        mark = "   ← best" + (f" by AIC, with {n} warning(s) below" if n else "")
+        if not self.rows[best]["converged"]:
+            mark += " (its fit did not converge)"
+        if self.rows[best].get("same_fit_as"):
+            mark += f"; tied with {self.rows[best]['same_fit_as']}: the same fit, the data cannot tell them apart"
+        return mark
+
+    def report(self) -> str:
+        """The table, then each model's warnings."""
+        lines = [self.table()]
+        for fit in self.fits:
+            warnings = [w for ws in fit.warnings.values() for w in ws] if isinstance(fit.warnings, Mapping) else list(fit.warnings)
+            if warnings:
+                lines += [f"{fit.model}:"] + [f"  - {w}" for w in warnings]
+        return "\n".join(lines)
 
     def table(self) -> str:
         extra = [c for c in ("log_evidence", "waic") if any(c in r for r in self.rows)]
@@ -105,7 +122,12 @@ class Comparison:
         for i, r in enumerate(self.rows):
             line = f"{r['model']:<{width}}  {r['n_params']:>2}  {r['rms_rel'] * 100:>8.3g}%  {r['chi2_red']:>10.4g}  {r['aic']:>9.2f}  {r['bic']:>9.2f}  {r['delta_aic']:>7.2f}  {r['akaike_weight']:>6.3f}"
             line += "".join(f"  {r.get(c, math.nan):>12.2f}" for c in extra)
-            lines.append(line + (self._best_mark() if i == best else ""))
+            if i == best:
+                line += self._best_mark()
+            else:
+                line += "   (did not converge)" if not r["converged"] else ""
+                line += f"   (the same fit as {r['same_fit_as']})" if r.get("same_fit_as") else ""
+            lines.append(line)
         determined = self.best_determined_index
         if determined != best:
             lines.append(
@@ -114,7 +136,8 @@ class Comparison:
                    else "so does every other model" if len(self.rows) > 1 else "there is no other model")
             )
         for t in self.f_tests:
-            lines.append(f"F-test {t['simple']}  ⊂  {t['complex']}: F = {t['f']:.3g}, p = {t['p_value']:.3g}")
+            test = f"F = {t['f']:.3g}, p = {t['p_value']:.3g}" if t.get("valid", True) else f"no test: {t['note']}"
+            lines.append(f"F-test {t['simple']}  ⊂  {t['complex']}: {test}")
         return "\n".join(lines)
 
     def to_xarray(self) -> xr.Dataset:
@@ -161,6 +184,9 @@ def compare(fits: Sequence) -> Comparison:
             if value is not None:
                 row[extra] = float(value() if callable(value) else value)
         rows.append(row)
+    for j, r in enumerate(results):  # a fit another model also gives: the data cannot tell them apart
+        twin = next((rows[i]["model"] for i in range(len(results)) if i != j and _same_fit(results[i], r)), None)
+        rows[j]["same_fit_as"] = twin
     tests = []
     n = 2 * ref.n_points
     from scipy import stats
@@ -172,5 +198,28 @@ def compare(fits: Sequence) -> Comparison:
             dk = c.n_params - s.n_params
             denom = c.chi2 / (n - c.n_params)
             f_value = max(s.chi2 - c.chi2, 0.0) / dk / denom if denom > 0 else math.inf
-            tests.append({"simple": s.model, "complex": c.model, "f": float(f_value), "df1": dk, "df2": n - c.n_params, "p_value": float(stats.f.sf(f_value, dk, n - c.n_params))})
+            test = {"simple": s.model, "complex": c.model, "f": float(f_value), "df1": dk, "df2": n - c.n_params, "p_value": float(stats.f.sf(f_value, dk, n - c.n_params)), "valid": True, "note": None}
+            if c.chi2 > s.chi2 * (1 + 1e-9):
+                test.update(valid=False, note=f"{c.model} fits worse than {s.model}, which it contains: its fit did not reach its optimum")
+            elif c.chi2_red < EXACT_CHI2_RED:
+                test.update(valid=False, note=f"{c.model} fits the data to rounding (chi2_red {c.chi2_red:.1e}): noise-free data, nothing to test against")
+            tests.append(test)
     return Comparison(tuple(rows), tuple(tests), tuple(results))
+
+
+SAME_FIT_RMS = 1e-3
+"""Two fits are one fit when they have as many parameters, χ² within 1e-6 (relative) and model
+spectra whose difference (rms, relative to |Z_data|) is below this fraction of their misfit
+rms_rel (or below 1e-9): two writings of one impedance function (two arcs in series and the
+ladder form), which would split the Akaike weight and the "best" by rounding."""
+EXACT_CHI2_RED = 1e-20
+"""Below this reduced χ² a fit is exact to rounding (noise-free data): an F-test compares
+rounding errors."""
+
+
+def _same_fit(a: FitResult, b: FitResult) -> bool:
+    if a.n_params != b.n_params or not abs(a.chi2 - b.chi2) <= 1e-6 * max(a.chi2, b.chi2, 1e-300):
+        return False
+    with np.errstate(all="ignore"):
+        rms = float(np.sqrt(np.mean(np.abs((a.z_model - b.z_model) / np.abs(a.z_data)) ** 2)))
+    return rms < max(SAME_FIT_RMS * max(a.rms_rel, b.rms_rel), 1e-9)

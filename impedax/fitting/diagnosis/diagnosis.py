@@ -304,7 +304,8 @@ class Diagnosis:
             lines.append(f"DRT: {self.drt.text}.")
         lines.append(f"verdict: {self.verdict.upper()} — {self.reason}")
         if self.suggestions:
-            lines.append(f"what is missing (best first: by AIC; of candidates within {DELTA_AIC_MIN:g} of each other, the simpler first):")
+            lines.append(f"what is missing (best first: by AIC; of candidates within {DELTA_AIC_MIN:g} of each other, the simpler first; "
+                         "ΔAIC and ΔBIC here weigh each point by its noise, so they differ from the fits' own AIC that impedax fit and compare print):")
             for i, (s, same) in enumerate(_folded(self.suggestions, self.noise)[:5], 1):
                 lines.append(f"  {i}. [{s.effect}] {s.explanation}")
                 lines.append(f"     model {s.model}   rms_rel {s.rms_rel * 100:.3g} %   ΔAIC {s.delta_aic:+.1f}   ΔBIC {s.delta_bic:+.1f}")
