@@ -222,3 +222,9 @@ def test_a_derived_quantity_says_when_it_rests_on_a_parameter_at_its_bound():
     total = fit.derive(lambda p: p["R0"] + p["R1"])
     assert total.attrs["at_bound"] == "R0" and "ignores the bound" in total.attrs["note"]
     assert "at_bound" not in fit.derive(lambda p: p["R1"]).attrs
+
+
+def test_derive_names_a_parameter_the_model_has_not():
+    fit = ix.fit(MODEL, interior())
+    with pytest.raises(ix.ParameterError, match=r"derive: fn asked for: unknown parameter 'R_1'.*did you mean R1"):
+        fit.derive(lambda p: p["R_1"] * 2)

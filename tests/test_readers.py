@@ -352,6 +352,7 @@ def test_sheets_whose_cycle_numbers_carry_on_are_one_series_of_cycles(tmp_path):
         return _workbook(path, [[(cycle, 100 * sheet + cycle) for cycle in cycles] for sheet, cycles in enumerate(cycles_per_sheet)])
 
     ds = ix.load(book(tmp_path / "run.xlsx", [[1, 2], [3, 4, 5]]))
+    assert ds.attrs["source"] == str(tmp_path / "run.xlsx")  # (messages name the file once, not each sheet's part)
     assert ds["Z"].dims == ("cycle", "frequency") and list(ds["cycle"].values) == ["1", "2", "3", "4", "5"]
     assert list(ds["sheet"].values) == ["S0", "S0", "S1", "S1", "S1"]
     for k, (sheet, cycle) in enumerate([(0, 1), (0, 2), (1, 3), (1, 4), (1, 5)]):

@@ -56,6 +56,22 @@ def check_sample_size(circuit, walkers, steps, priors) -> None:
     check_memory("--steps", float(chain_walkers) * steps * dims * CHAIN_BYTES_PER_VALUE, f"a chain of {steps} steps × {chain_walkers} walkers")
 
 
+def prefixed_prior(text: str) -> str:
+    """``--prior`` text with its two numbers' SI prefixes applied (``R1=loguniform:1k,100k`` →
+    ``R1=loguniform:1000.0,100000.0``), as every number of the command line takes them; text it
+    cannot read is left for `parse_prior`'s message."""
+    from .common import prefixed_number
+
+    head, sep, numbers = text.rpartition(":")
+    parts = numbers.split(",")
+    if not sep or len(parts) != 2:
+        return text
+    try:
+        return f"{head}:{','.join(repr(prefixed_number(p.strip())) for p in parts)}"
+    except ValueError:
+        return text
+
+
 def run(args) -> int:
     from .. import fit, parse, sample
     from ..errors import ParameterError
@@ -69,7 +85,11 @@ def run(args) -> int:
         raise ParameterError("--plot is not available with --shared (the joint posterior has no band figure yet); use --corner FILE.png or --out FILE.nc")
     priors = {}
     for text in args.prior or ():
-        name, prior = parse_prior(text)
+        read = prefixed_prior(text)
+        try:
+            name, prior = parse_prior(read)
+        except ParameterError as exc:  # (in the words the user typed)
+            raise ParameterError(str(exc).replace(repr(read), repr(text))) from None
         if name in priors:
             raise ParameterError(f"--prior: {name} given twice")
         priors[name] = prior

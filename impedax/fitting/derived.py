@@ -106,7 +106,7 @@ def derive_fit(result, fn, freq=None) -> xr.Dataset:
         return g(params)
 
     x0 = jnp.asarray([result.values[n] for n in free])
-    value = of_free(x0)
+    value = called(of_free, x0, list(result.values), result.model)
     check_real(value)
     value = np.asarray(value, float)
     jac = np.asarray(jax.jacfwd(of_free)(x0), float).reshape(value.size, len(free))
@@ -132,6 +132,17 @@ def derive_fit(result, fn, freq=None) -> xr.Dataset:
         attrs["note"] = (f"depends on {', '.join(bounded)} at {'its' if len(bounded) == 1 else 'their'} bound: the band is the linearisation's, "
                          "which ignores the bound (impedax sample gives an interval that respects it)")
     return xr.Dataset(data, coords=coords, attrs=attrs)
+
+
+def called(g, x, known, model):
+    """``g(x)`` with a parameter name ``fn`` asked for that the model has not (a KeyError from
+    inside JAX's trace) as one `ParameterError` naming it and the closest known name."""
+    from ..arguments import unknown_parameter
+
+    try:
+        return g(x)
+    except KeyError as exc:
+        raise unknown_parameter("derive: fn asked for", exc.args[0] if exc.args else "?", known, model) from None
 
 
 def derive(result, fn, freq=None, **kwargs) -> xr.Dataset:

@@ -316,6 +316,7 @@ def _merged_attrs(spectra: Sequence[tuple[str, xr.Dataset]], dim: str) -> dict:
             attrs[key] = "; ".join(f"{dim} {label}: {v}" for (label, _), v in zip(spectra, values) if v is not None)
     reports = [f"{dim} {label}: {r}" for label, ds in spectra for r in ds.attrs.get("skipped_rows", [])]
     attrs.pop("skipped_rows", None)
+    attrs.pop("source", None)  # (the file: each part's "FILE [sheet S]" joined would name it once per part in every message)
     if reports:
         attrs["skipped_rows"] = reports
     return attrs

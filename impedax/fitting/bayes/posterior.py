@@ -22,7 +22,7 @@ import xarray as xr
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
 from ...data import checked_frequencies, concise_repr, unit_text
 from ...errors import DataError, ParameterError
-from ..derived import QUANTILES, band_dataset, bind_frequency, check_real, needs_freq
+from ..derived import QUANTILES, band_dataset, bind_frequency, called, check_real, needs_freq
 from ..least_squares import FitResult
 from .diagnostics import chain_warnings, figure, hdi, integrated_autocorr, prior_edge_warnings
 from .logprob import NOISE_MODELS, NoiseModel
@@ -246,7 +246,7 @@ class Posterior:
         if max_draws is not None and max_draws < self.n_walkers * self.n_draws:
             pick = np.linspace(0, self.n_walkers * self.n_draws - 1, max_draws).astype(int)
             params = {k: v[pick] for k, v in params.items()}
-        out = jax.jit(jax.vmap(g))({k: jnp.asarray(v) for k, v in params.items()})
+        out = called(jax.jit(jax.vmap(g)), {k: jnp.asarray(v) for k, v in params.items()}, list(params), self.model)
         check_real(out)
         return band_dataset(np.asarray(out, float), freq, keep_draws=draws, attrs={"method": "posterior draws", "model": self.model})
 
