@@ -30,3 +30,22 @@ def test_compare_finds_nesting_in_any_order_ties_and_tests_it_cannot_make():
     assert test["valid"] is False and "did not reach its optimum" in test["note"]
     assert "did not converge" in ix.compare([one, short]).table()
     assert ix.compare([one, short]).report().startswith(ix.compare([one, short]).table())
+
+
+def test_compare_command_fixes_and_starts_each_model_that_has_the_parameter(tmp_path, capsys):
+    from impedax.cli import main
+
+    f = np.geomspace(1.0, 1e5, 40)
+    z = 10 + 100 / (1 + (2j * np.pi * f * 1e-4) ** 0.9)
+    path = tmp_path / "arc.csv"
+    ix.save(ix.make_spectrum(f, z), path)
+    argv = ["compare", str(path), "--model", "R0 + R1 || C1", "--model", "R0 + R1 || CPE1", "--fix", "R0=12", "--init", "CPE1.alpha=0.8"]
+    assert main([*argv, "--json"]) == 0
+    import json
+
+    models = json.loads(capsys.readouterr().out)["models"]
+    assert all(m["params"]["R0"]["value"] == 12 and m["params"]["R0"]["fixed"] for m in models)
+    assert main(argv) == 0
+    assert "held fixed in R0 + R1 || CPE1: R0 = 12" in capsys.readouterr().out
+    assert main(["compare", str(path), "--model", "R0 + R1 || C1", "--model", "R0 + R1 || CPE1", "--fix", "CPE1.a=1"]) == 2
+    assert "no model has a parameter 'CPE1.a'; did you mean CPE1.alpha?" in capsys.readouterr().err

@@ -676,7 +676,7 @@ _PHRASE_OF_CALL = {"(pass init=)": "(impedax fit --init NAME=VALUE …: the comm
 OPTION_OF_KEYWORD_BY_COMMAND: dict[str, dict[str, str]] = {
     "simulate": {"points": "--points", "fmin": "--fmin", "fmax": "--fmax"},
     "fit": {"fixed": "--fix", "init": "--init", "max_steps": "--max-steps", "fmin": "--fmin", "fmax": "--fmax", "weighting": "--weighting", "shared": "--shared", "over": "--over"},
-    "compare": {"max_steps": "--max-steps", "fmin": "--fmin", "fmax": "--fmax", "weighting": "--weighting"},
+    "compare": {"fixed": "--fix", "init": "--init", "max_steps": "--max-steps", "fmin": "--fmin", "fmax": "--fmax", "weighting": "--weighting"},
     "sample": {"fixed": "--fix", "init": "--init", "max_steps": "--max-steps", "steps": "--steps", "burn": "--burn", "thin": "--thin", "walkers": "--walkers", "seed": "--seed", "priors": "--prior", "noise": "--noise", "fmin": "--fmin", "fmax": "--fmax", "shared": "--shared", "over": "--over"},
     "kk": {"c": "--c", "max_rc": "--max-rc", "fmin": "--fmin", "fmax": "--fmax"},
     "drt": {"lam": "--lam", "lam_method": "--lam-method", "method": "--method"},

@@ -11,6 +11,8 @@ def register(sub) -> None:
     p.add_argument("data", metavar="DATA", help="spectrum file with one spectrum, or one picked with --select")
     add_select_option(p)
     p.add_argument("--model", action="append", required=True, metavar="MODEL", help="circuit text (give two or more)")
+    p.add_argument("--fix", action="append", metavar="NAME=VALUE", help="hold a parameter fixed in every model that has it (repeatable)")
+    p.add_argument("--init", action="append", metavar="NAME=VALUE", help="starting value in every model that has the parameter (repeatable)")
     add_fit_options(p)
     add_max_steps_option(p, 400, "each model's fit")
     p.add_argument("--json", action="store_true", help="print the comparison as JSON")
@@ -22,17 +24,33 @@ def run(args) -> int:
     from .. import compare, fit, parse
     from ..errors import ParameterError
     from ..fitting.problem import open_spectrum
-    from .common import emit_json, figure_writer, load_selected, plan_outputs
+    from ..arguments import closest_name
+    from .common import emit_json, figure_writer, load_selected, parse_assignments, plan_outputs
     from .fit import check_max_steps
 
     if len(args.model) < 2:
         raise ParameterError("compare needs at least two --model options")
     circuits = [parse(m) for m in args.model]  # all syntax errors before any fitting
     refuse_same_circuits(args.model, circuits)
+    given = {"--init": parse_assignments(args.init, "--init"), "--fix": parse_assignments(args.fix, "--fix")}
+    names = [c.parameter_names() for c in circuits]
+    everywhere = sorted({n for ns in names for n in ns})
+    for flag, values in given.items():  # a name no model has is a typo
+        for name in values:
+            if not any(name in ns for ns in names):
+                close = closest_name(name, everywhere)
+                raise ParameterError(f"{flag}: no model has a parameter {name!r}" + (f"; did you mean {close}?" if close else "") + f" (parameters: {', '.join(everywhere)})")
     outputs = plan_outputs([("--plot", args.plot, "figure")], inputs=[args.data])
     max_steps = check_max_steps(args.max_steps)
     data = open_spectrum(load_selected(args.data, args.select, single="impedax compare"), single="compare").data
-    comparison = compare([fit(c, data, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps) for c in circuits])
+
+    def own(flag, ns):
+        return {k: v for k, v in given[flag].items() if k in ns} or None
+
+    comparison = compare([
+        fit(c, data, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, init=own("--init", ns), fixed=own("--fix", ns))
+        for c, ns in zip(circuits, names)
+    ])
     outputs.save({"--plot": figure_writer(comparison.plot)})
     if args.json:
         out = comparison.summary()
@@ -41,6 +59,10 @@ def run(args) -> int:
         emit_json(out)
     else:
         print(comparison.table())
+        for fit_result in comparison.fits:  # (the table's rows do not show what was held)
+            held = {n: v for n, v in fit_result.values.items() if fit_result.fixed.get(n) and n in given["--fix"]}
+            if held:
+                print(f"held fixed in {fit_result.model}: " + ", ".join(f"{n} = {v:g}" for n, v in held.items()))
         print("\n".join(warning_lines(comparison)))
     return 0
 
