@@ -56,6 +56,6 @@ def test_bad_options_are_one_message(capsys, spectrum, argv, says):
 
 def test_prior_bounds_take_si_prefixes(capsys, spectrum):
     out = _json(capsys, spectrum, "--model", "R0 + R1 || C1", "--prior", "R1=loguniform:10,1k")
-    assert out["params"]["R1"]["prior"] in ("loguniform:10,1000", "loguniform:10.0,1000.0") or "1000" in str(out["params"]["R1"]["prior"])
+    assert out["params"]["R1"]["prior"] == "loguniform:10,1000"
     assert main(["sample", str(spectrum), "--model", "R0 + R1 || C1", "--prior", "R1=loguniform:1k,10"]) == 2
     assert "'R1=loguniform:1k,10'" in capsys.readouterr().err  # (the error quotes what was typed)

@@ -76,6 +76,7 @@ def run(args) -> int:
     from .. import fit, parse, sample
     from ..errors import ParameterError
     from ..fitting import parse_prior
+    from ..fitting.bayes.logprob import start_weighting
     from .common import check_parameter_names, figure_writer, load_selected, parse_assignments, plan_outputs, print_result, result_writer
     from .fit import check_max_steps, shared_arguments
 
@@ -107,7 +108,7 @@ def run(args) -> int:
     data = load_selected(args.data, args.select)
     start = None
     if init or max_steps is not None:  # the least-squares start, as `sample` runs it, from the given values or step limit
-        start = fit(circuit, data, init=init, fixed=fixed or None, weighting="modulus" if args.noise == "proportional" else "sigma", fmin=args.fmin, fmax=args.fmax,
+        start = fit(circuit, data, init=init, fixed=fixed or None, weighting=start_weighting(args.noise), fmin=args.fmin, fmax=args.fmax,
                     **({"max_steps": max_steps} if max_steps is not None else {}))
     posterior = sample(
         circuit, data, priors=priors, noise=args.noise, walkers=args.walkers, steps=args.steps, burn=args.burn, thin=args.thin,

@@ -15,7 +15,7 @@ import os
 import re
 import stat
 from pathlib import Path
-from typing import Sequence
+from typing import Mapping, Sequence
 
 import numpy as np
 import xarray as xr
@@ -299,22 +299,23 @@ def stack(path: Path, spectra: Sequence[tuple[str, xr.Dataset]], dim: str) -> xr
     coords = {dim: [label for label, _ in spectra], **{d: first[d].values for d in inner if d in first.coords}}
     return make_spectrum(
         f0, np.stack([ds["Z"].transpose(*inner, "frequency").values for _, ds in spectra]), dims=(dim, *inner), coords=coords,
-        attrs=_merged_attrs(spectra, dim), source=str(path),
+        attrs=_merged_attrs([(label, ds.attrs) for label, ds in spectra], dim), source=str(path),
     )
 
 
-def _merged_attrs(spectra: Sequence[tuple[str, xr.Dataset]], dim: str) -> dict:
-    """The attributes of spectra read from one file: those they share, each one's own text
-    labelled with its ``dim`` (a sheet's sign convention, a note), every skipped row's report."""
+def _merged_attrs(parts: Sequence[tuple[str, Mapping]], dim: str) -> dict:
+    """The attributes ``parts`` (label, attrs) of spectra read from one file: those they share,
+    each one's own text labelled with its ``dim`` (a sheet's sign convention, a note), every
+    skipped row's report."""
     attrs = {}
-    keys = list(dict.fromkeys(key for _, ds in spectra for key in ds.attrs))  # every spectrum's, in order
+    keys = list(dict.fromkeys(key for _, own in parts for key in own))  # every spectrum's, in order
     for key in keys:
-        values = [ds.attrs.get(key) for _, ds in spectra]
+        values = [own.get(key) for _, own in parts]
         if all(v == values[0] for v in values):
             attrs[key] = values[0]
         elif all(isinstance(v, str) or v is None for v in values):
-            attrs[key] = "; ".join(f"{dim} {label}: {v}" for (label, _), v in zip(spectra, values) if v is not None)
-    reports = [f"{dim} {label}: {r}" for label, ds in spectra for r in ds.attrs.get("skipped_rows", [])]
+            attrs[key] = "; ".join(f"{dim} {label}: {v}" for (label, _), v in zip(parts, values) if v is not None)
+    reports = [f"{dim} {label}: {r}" for label, own in parts for r in own.get("skipped_rows", [])]
     attrs.pop("skipped_rows", None)
     attrs.pop("source", None)  # (the file: each part's "FILE [sheet S]" joined would name it once per part in every message)
     if reports:
@@ -366,17 +367,12 @@ def _continued(path: Path, spectra: Sequence[tuple[str, xr.Dataset]], dim: str, 
     labels = [_numbered_cycles(ds, numbered) for _, ds in spectra]
     sources = [label for (label, _), mine in zip(spectra, labels) for _ in mine]
     z = [ds["Z"].transpose(numbered, "frequency").values if numbered in ds.dims else ds["Z"].values[None] for _, ds in spectra]
-    attrs = _merged_attrs([(label, _without(ds.attrs, ("sweeps", dim, numbered))) for label, ds in spectra], dim)
+    attrs = _merged_attrs([(label, {k: v for k, v in ds.attrs.items() if k not in ("sweeps", dim, numbered)}) for label, ds in spectra], dim)
     attrs[f"{dim}s"] = f"{numbered}s " + ", ".join(f"{mine[0]}–{mine[-1]} from {dim} {label}" if len(mine) > 1 else f"{mine[0]} from {dim} {label}" for (label, _), mine in zip(spectra, labels))
     ds = make_spectrum(
         spectra[0][1]["frequency"].values, np.concatenate(z), dims=(numbered,), coords={numbered: [v for mine in labels for v in mine]}, attrs=attrs, source=str(path),
     )
     return ds.assign_coords({dim: (numbered, sources)})
-
-
-def _without(attrs: dict, keys: Sequence[str]) -> xr.Dataset:
-    """A stand-in holding ``attrs`` less ``keys`` (for `_merged_attrs`)."""
-    return xr.Dataset(attrs={k: v for k, v in attrs.items() if k not in keys})
 
 
 def _spectra_text(ds: xr.Dataset) -> str:

@@ -31,7 +31,7 @@ from ...circuits import Circuit, Registry, compile_circuit
 from .priors import prior_log_density
 from .reparam import Reparametrization
 
-__all__ = ["NoiseModel", "NOISE_MODELS", "LogProbStructure", "LogProbArgs", "LogProbFunctions", "log_prob_functions", "natural"]
+__all__ = ["NoiseModel", "NOISE_MODELS", "LogProbStructure", "LogProbArgs", "LogProbFunctions", "log_prob_functions", "natural", "start_weighting"]
 
 
 class NoiseModel(enum.StrEnum):
@@ -39,6 +39,12 @@ class NoiseModel(enum.StrEnum):
 
     PROPORTIONAL = "proportional"
     SIGMA = "sigma"
+
+
+def start_weighting(noise: str) -> str:
+    """The weighting of the least-squares fit a sampling starts from: ``modulus`` for
+    proportional noise, the data's ``sigma`` for known noise."""
+    return "modulus" if NoiseModel(noise) is NoiseModel.PROPORTIONAL else "sigma"
 
 
 NOISE_MODELS = {

@@ -25,7 +25,7 @@ from ...errors import DataError, FitError, ParameterError
 from ..least_squares import FitResult, fit
 from ..problem import open_spectrum
 from .evidence import laplace_evidence, waic
-from .logprob import NOISE_MODELS, LogProbArgs, LogProbFunctions, LogProbStructure, NoiseModel, log_prob_functions
+from .logprob import NOISE_MODELS, LogProbArgs, LogProbFunctions, LogProbStructure, NoiseModel, log_prob_functions, start_weighting
 from .posterior import Posterior
 from .progress import ProgressLine
 from .priors import DEFAULT_SPAN_DECADES, SIGMA_REL_PRIOR, UNDETERMINED_STDERRS, Prior, check_prior_inside, coerce_priors, data_scale_range, default_prior, undetermined
@@ -471,7 +471,7 @@ def sample(
     walkers = _walker_count(walkers, len(space.names))
 
     if init is None:
-        init = fit(circuit, obs.data, fixed=fixed or None, weighting="modulus" if noise is NoiseModel.PROPORTIONAL else "sigma", registry=registry)
+        init = fit(circuit, obs.data, fixed=fixed or None, weighting=start_weighting(noise), registry=registry)
     fitted = _least_squares_start(init, space, specs, rp, noise)
     chosen_priors = _choose_priors(priors, space, fitted, init, obs)
     chosen, support, notes = chosen_priors.chosen, chosen_priors.support, chosen_priors.notes

@@ -34,7 +34,7 @@ from ..least_squares import SharedFitResult, fit
 from ..parameters import ParameterTable
 from ..problem import open_spectrum
 from .diagnostics import chain_warnings, figure, hdi, integrated_autocorr, prior_edge_warnings
-from .logprob import NOISE_MODELS, NoiseModel
+from .logprob import NOISE_MODELS, NoiseModel, start_weighting
 from .progress import ProgressLine
 from .priors import SIGMA_REL_PRIOR, Prior, check_prior_inside, coerce_priors, data_scale_range, default_prior, prior_log_density
 
@@ -276,7 +276,7 @@ def sample_shared(
     """The joint posterior (module docstring); settings already checked by `sample`."""
     spectrum = open_spectrum(data, fmin=fmin, fmax=fmax)
     ds, source = spectrum.data, spectrum.source
-    weighting = "modulus" if noise is NoiseModel.PROPORTIONAL else "sigma"
+    weighting = start_weighting(noise)
     if noise is NoiseModel.SIGMA and "sigma" not in ds:
         raise DataError("noise='sigma' needs a 'sigma' variable in the data (e.g. the SEM of repeated trials); use noise='proportional' otherwise", path=source)
     start = fit(circuit, ds, fixed=fixed or None, shared=shared, over=over, weighting=weighting, registry=registry)
