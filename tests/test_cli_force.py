@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from impedax.cli import main
-from impedax.cli.force import refined_peak
+from impedax.models import force_maximum
 
 E0 = 8.8541878128e-12
 THESIS = {"C_s": 140e-12, "C_i": 1.7e-9, "R_sc": 130e3, "C_sc": 2.2e-9, "R_f": 500.0}
@@ -171,7 +171,7 @@ def test_largest_force_at_a_band_edge_is_not_called_a_peak(capsys, args, edge, s
     assert "no peak in the band" in err and says in err
 
 
-def test_refined_peak_of_a_closed_form():
+def test_force_maximum_of_a_closed_form():
     """A Gaussian in ln f with its top at 1234.5 Hz between the points of a coarse grid."""
     top = 1234.5
 
@@ -179,10 +179,10 @@ def test_refined_peak_of_a_closed_form():
         return 3.0 * np.exp(-((np.log(f) - np.log(top)) ** 2) / 2.0)
 
     freq = np.geomspace(10.0, 1e5, 9)
-    peak = refined_peak(lambda f: float(bump(f)), freq, bump(freq))
-    assert peak["frequency_hz"] == pytest.approx(top, rel=1e-6) and peak["force_n"] == pytest.approx(3.0, rel=1e-12)
-    rising = refined_peak(lambda f: float(np.log(f)), freq, np.log(freq))
-    assert rising["at_band_edge"] and rising["band_edge"] == "fmax" and rising["frequency_hz"] == 1e5
+    peak = force_maximum(lambda f: float(bump(f)), freq, bump(freq))
+    assert peak.frequency_hz == pytest.approx(top, rel=1e-6) and peak.force_n == pytest.approx(3.0, rel=1e-12) and peak.is_peak
+    rising = force_maximum(lambda f: float(np.log(f)), freq, np.log(freq))
+    assert rising.at_band_edge and rising.band_edge == "fmax" and rising.frequency_hz == 1e5 and not rising.is_peak
 
 
 # --- 3. conventions -----------------------------------------------------------------------------

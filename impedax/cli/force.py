@@ -1,8 +1,8 @@
 """``impedax force meyer|vezzoli``: electrostatic force spectrum with the papers' parameters.
 
-The peak over frequency is the grid's largest force refined by a bounded Brent maximisation in
-log-frequency between its neighbouring grid points; a largest force at an end of the band is
-reported as such (``at_band_edge``), not as a peak.
+The peak over frequency is `impedax.models.force_maximum`: the grid's largest force refined by a
+bounded Brent maximisation in log-frequency between its neighbouring grid points; a largest force
+at an end of the band is reported as such (``at_band_edge``), not as a peak.
 """
 
 from __future__ import annotations
@@ -23,11 +23,6 @@ CONVENTIONS = ("time-average", "peak")
 OUT_SUFFIXES = (".csv", ".json")
 # memory per frequency: the model's complex intermediates and the CSV/JSON text (measured: ~0.5 kB)
 POINT_BYTES = 1024
-# Brent's tolerance on the position inside the bracket of two grid steps (0..1): the frequency
-# to ~1e-9 of a step, far below what the force's flat top resolves in float64 (~1e-8)
-_XATOL = 1e-10
-# a refined maximum this close to an end of the band (in units of the bracket) is that end
-_EDGE = 1e-6
 
 
 def _defaults(model: str) -> dict[str, float]:
@@ -128,37 +123,6 @@ def _notes(model: str, params: dict[str, float]) -> list[str]:
     return [message] if message else []
 
 
-def refined_peak(force_at, freq: np.ndarray, force: np.ndarray) -> dict:
-    """The largest force over the band: the grid maximum refined by Brent's bounded
-    maximisation of ``force_at(f)`` in ln f between its neighbouring grid points (exact for a
-    force with one maximum in that bracket). Returns ``frequency_hz``, ``force_n`` (refined),
-    ``grid_frequency_hz``, ``grid_force_n``, ``at_band_edge`` and ``band_edge`` ("fmin",
-    "fmax", "fmin=fmax" for a one-frequency band, "flat" for a force the same at every
-    frequency, or None): at an end, the force still rises past the band and the values are
-    those of that end, not a peak."""
-    from scipy.optimize import minimize_scalar
-
-    n = freq.size
-    ties = np.flatnonzero(force == force.max())
-    k = n - 1 if ties[-1] == n - 1 else int(ties[0])  # (on a flat top reaching fmax: the force rises to fmax)
-    grid = {"grid_frequency_hz": float(freq[k]), "grid_force_n": float(force[k])}
-    at_end = {"frequency_hz": float(freq[k]), "force_n": float(force[k]), **grid, "at_band_edge": True}
-    if n > 1 and force.max() == force.min():  # (flat, e.g. zero: no end to call rising)
-        return {**at_end, "frequency_hz": float(freq[0]), "grid_frequency_hz": float(freq[0]), "at_band_edge": False, "band_edge": "flat"}
-    if n == 1 or freq[0] == freq[-1]:
-        return {**at_end, "band_edge": "fmin=fmax"}
-    lo, hi = math.log(freq[max(k - 1, 0)]), math.log(freq[min(k + 1, n - 1)])
-    best = minimize_scalar(lambda x: -force_at(math.exp(lo + x * (hi - lo))), bounds=(0.0, 1.0), method="bounded", options={"xatol": _XATOL})
-    value = -float(best.fun)
-    if k in (0, n - 1):
-        end = 0.0 if k == 0 else 1.0
-        if abs(best.x - end) <= _EDGE or not value > force[k]:
-            return {**at_end, "band_edge": "fmin" if k == 0 else "fmax"}
-    elif not value >= force[k]:  # (not one maximum between the neighbours: keep the grid's)
-        return {**at_end, "at_band_edge": False, "band_edge": None}
-    return {"frequency_hz": math.exp(lo + float(best.x) * (hi - lo)), "force_n": value, **grid, "at_band_edge": False, "band_edge": None}
-
-
 def _peak_text(peak: dict) -> str:
     where = f"{peak['force_n']:.4g} N at {peak['frequency_hz']:.5g} Hz"
     if peak["band_edge"] == "fmin=fmax":
@@ -200,7 +164,9 @@ def run(args) -> int:
     notes = _notes(args.model, params)
     freq = log_frequencies(fmin, fmax, args.points)
     force = _finite_force(args.model, params, given, freq, args.convention)
-    peak = refined_peak(lambda f: float(_force(args.model, params, np.array([f]), args.convention)[0]), freq, force)
+    from ..models.peak import force_maximum
+
+    peak = force_maximum(lambda f: float(_force(args.model, params, np.array([f]), args.convention)[0]), freq, force).to_dict()
     document = {"frequency_hz": freq, "force_n": force, "peak": peak, "params": params, "convention": args.convention, "model": args.model, "warnings": notes}
     json_text = json.dumps(to_jsonable(document), indent=2, allow_nan=False) + "\n"
     csv_text = "\n".join(["frequency_hz,force_n"] + [f"{f:.10g},{v:.10g}" for f, v in zip(freq, force)]) + "\n"
