@@ -75,3 +75,18 @@ def test_the_inductive_top_is_counted_down_from_the_highest_frequency_beyond_thr
     assert _inductive_top(_fit_like(np.r_[cap[:4], [up, cap[0]]], cap), sigma) == 0  # counted from the top only
     assert _inductive_top(_fit_like(np.r_[cap[:3], [up] * 3], np.full(6, up)), sigma) == 0  # the model is inductive there too
     assert _inductive_top(_fit_like(np.r_[cap[:3], [100.0 + 2.0j] * 3], cap), sigma) == 0  # 2 % of |Z|: within 3σ
+
+
+@pytest.mark.parametrize("limit", [1, 2])
+def test_refine_counts_a_pair_as_two_effects(limit):
+    """The first suggestion is a pair (the arc and the lead); with one effect allowed, refine adds
+    the best single effect instead, and the effects added never exceed ``max_effects``."""
+    from impedax.fitting.diagnosis.refinement import effect_count
+
+    r = ix.refine(spectrum(arc=True, inductance=6e-6), MODEL, max_effects=limit)
+    counts = [effect_count(step.effect) for step in r.steps]
+    assert counts[0] == 0 and sum(counts) <= limit
+    if limit == 1:
+        assert counts[1:] == [1]
+    else:
+        assert "+" in r.steps[1].effect  # (two allowed: the pair is taken)

@@ -177,16 +177,33 @@ def _first_step_text(s) -> str:
     return f"{s.effect} ({s.added})" if "+" in s.effect else f"{s.effect} ({s.added}, {s.where})"
 
 
+def effect_count(effect: str | None) -> int:
+    """How many effects a step adds: none for the start, two for a pair (its effect is "a+b")."""
+    return 0 if effect is None else effect.count("+") + 1
+
+
+def _best_within(diagnosis: Diagnosis, room: int):
+    """The best significant suggestion of ``diagnosis`` adding at most ``room`` effects (a pair
+    ranked first gives way to the best single effect when one effect is left), or None."""
+    if diagnosis.verdict != Verdict.MISSING_EFFECT or diagnosis.best is None:
+        return None
+    if effect_count(diagnosis.best.effect) <= room:
+        return diagnosis.best
+    return next((s for s in diagnosis.suggestions if effect_count(s.effect) <= room), None)
+
+
 def _greedy(steps: list[RefinementStep], best, limit: int, diagnosed, say, label: str) -> list[RefinementStep]:
     """``steps`` continued greedily: add ``best`` (a `Suggestion` of the last step's diagnosis),
     diagnose the new model, add its best significant suggestion, ... until the verdict is not
-    ``missing_effect`` or ``limit`` effects were added."""
+    ``missing_effect`` or ``limit`` effects were added (a pair counts as two)."""
     steps = list(steps)
-    while best is not None and len(steps) <= limit:
+    added = sum(effect_count(s.effect) for s in steps)
+    while best is not None and added + effect_count(best.effect) <= limit:
         say(f"{label}step {len(steps)}: diagnosing {best.fit.model}")
         d = diagnosed(best.fit, steps[-1].diagnosis.solver_shape)
         steps.append(RefinementStep(d.baseline, best.added, best.effect, d, tuple(best.removed)))
-        best = d.best if d.verdict == Verdict.MISSING_EFFECT else None
+        added += effect_count(best.effect)
+        best = _best_within(d, limit - added)
     return steps
 
 
@@ -225,7 +242,9 @@ def _second_path(steps: list[RefinementStep], limit: int, diagnosed, say, notes:
     start from cheaper effects too (`_cheaper_starts`): an element of three parameters can
     stand in for two of one each."""
     first = steps[0].diagnosis
-    picked = first.best  # where the greedy path went
+    picked = first.best  # where the greedy path went (a pair over the limit gave way, `_best_within`)
+    if len(steps) >= 2 and effect_count(picked.effect) > limit:
+        picked = _best_within(first, limit)
     alternatives = [s for s in first.suggestions if (s.where != picked.where or s.effect != picked.effect) and s.delta_aic <= picked.delta_aic + BRANCH_WINDOW][:1] if len(steps) >= 3 else []
     leaving = [s for s in first.suggestions if s.removed and not picked.removed and s.delta_aic < picked.delta_aic - DELTA_AIC_MIN and all(s is not t for t in alternatives)] if len(steps) >= 2 else []
     hidden = [
@@ -482,11 +501,11 @@ def refine(
     def finished(path, label):
         return _finish(path, used, n_starts=n_starts, seed=seed, say=say, notes=notes, label=label, reproduced=reproduced)
 
-    steps = _greedy([RefinementStep(first.baseline, None, None, first)], first.best, limit, diagnosed, say, "")
+    steps = _greedy([RefinementStep(first.baseline, None, None, first)], _best_within(first, limit), limit, diagnosed, say, "")
     steps = _second_path(steps, limit, diagnosed, say, notes, finished)
     steps = _simplified(steps, used, n_starts=n_starts, seed=seed, diagnosed=diagnosed, reproduced=reproduced, say=say, notes=notes)
     last = steps[-1].diagnosis
-    if last.verdict == Verdict.MISSING_EFFECT and last.best is not None and sum(s.added is not None for s in steps) >= limit:
+    if last.verdict == Verdict.MISSING_EFFECT and last.best is not None and sum(effect_count(s.effect) for s in steps) + effect_count(last.best.effect) > limit:
         notes.append(
             f"refine stopped at its limit of {limit} added effect(s) (max_effects; --max-effects of impedax refine) while the last model "
             f"still misses an effect ({last.best.effect}, see the verdict): a higher limit goes on"
