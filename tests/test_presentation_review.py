@@ -468,6 +468,21 @@ def test_corner_in_the_parameters_units_with_median_and_interval_titles():
     assert interval_text(0.916, 0.883, 0.948) == "0.916 [0.883, 0.948]"
 
 
+def test_corner_titles_use_every_draw_not_the_scatters_subsample():
+    """20,000 draws whose evenly spaced 4,000 (the scatter's) have another median: the title
+    gives numpy's quantiles of every draw."""
+    from impedax.plotting.bayes import plot_corner
+
+    x = np.concatenate([np.full(10000, 1.0), np.full(10000, 3.0)])
+    x[::5] = 2.0  # (the evenly spaced subsample would be mostly 2.0)
+    fig = plot_corner(x[:, None], ["a"], [False], max_points=4000)
+    fig.canvas.draw()
+    q05, q50, q95 = np.quantile(x, [0.05, 0.5, 0.95])  # 1, 2, 3; of the 4,000 shown the median is 2.5
+    assert fig.axes[0].get_title() == f"a = {q50:.1f} [{q05:.1f}, {q95:.1f}]"
+    assert "20000 draws; 4000 in the scatter" in fig._suptitle.get_text()
+    plt.close(fig)
+
+
 def test_relative_errors_in_the_fit_table_read_as_percentages():
     from impedax.data import format_relative_error
 

@@ -79,13 +79,13 @@ def plot_corner(
     below it, all in the parameters' own units (``units``, the element specs' spelling). A
     parameter sampled in log space (``log_scale``) whose draws span decades (`LOG_AXIS_SPAN`)
     gets log axes; Ω, F and H axes count in an SI prefix. ``truths`` by name draws reference
-    lines; at most ``max_points`` evenly spaced draws."""
+    lines. Histograms and titles use every draw; the scatter at most ``max_points`` evenly
+    spaced ones."""
     k = len(names)
-    flat = np.asarray(draws, float).reshape(-1, k)
-    if flat.shape[0] > max_points:
-        flat = flat[np.linspace(0, flat.shape[0] - 1, max_points).astype(int)]
+    every = np.asarray(draws, float).reshape(-1, k)
+    flat = every[np.linspace(0, every.shape[0] - 1, max_points).astype(int)] if every.shape[0] > max_points else every
     units = [unit_text(u) for u in units] if units is not None else [""] * k
-    lo, hi = np.nanquantile(flat, [0.01, 0.99], axis=0)
+    lo, hi = np.nanquantile(every, [0.01, 0.99], axis=0)
     logs = [bool(ls) and low > 0 and high > LOG_AXIS_SPAN * low for ls, low, high in zip(log_scale, lo, hi)]
     labels = [f"{n} [{u}]" if u else n for n, u in zip(names, units)]
     size = min(2.0 * k + 1, 16)
@@ -99,10 +99,10 @@ def plot_corner(
             if logs[j]:
                 ax.set_xscale("log")
             if i == j:
-                column = flat[np.isfinite(flat[:, i]), i]  # (a draw that overflowed is left out)
+                column = every[np.isfinite(every[:, i]), i]  # (a draw that overflowed is left out)
                 edges = np.geomspace(column.min(), column.max(), bins + 1) if logs[i] and column.size else bins
                 ax.hist(column, bins=edges, color="tab:blue", histtype="stepfilled", alpha=0.6)
-                q05, q50, q95 = np.nanquantile(flat[:, i], [0.05, 0.5, 0.95])
+                q05, q50, q95 = np.nanquantile(every[:, i], [0.05, 0.5, 0.95])
                 for qv, style in ((q05, "--"), (q50, "-"), (q95, "--")):
                     ax.axvline(qv, color="k", lw=0.8, ls=style)
                 ax.set_title(f"{names[i]} = {interval_text(q50, q05, q95, units[i], significant=logs[i])}", fontsize=7)
@@ -132,7 +132,8 @@ def plot_corner(
                 ax.set_ylabel("")
                 ax.tick_params(labelleft=False)
             ax.tick_params(labelsize=7)
-    fig.suptitle(f"{title} ({flat.shape[0]} draws shown)", fontsize=9)
+    shown = f"{every.shape[0]} draws" + (f"; {flat.shape[0]} in the scatter" if flat.shape[0] < every.shape[0] else "")
+    fig.suptitle(f"{title} ({shown})", fontsize=9)
     return fig
 
 
