@@ -14,7 +14,14 @@ import numpy as np
 
 from .logprob import LogProbArgs, LogProbFunctions
 
-__all__ = ["LaplaceEvidence", "WAIC", "WAIC_MAX_DRAWS", "WAIC_POINT_LIMIT", "WAIC_PARAMETER_FACTOR", "laplace_evidence", "waic"]
+__all__ = ["LaplaceEvidence", "WAIC", "WAIC_MAX_DRAWS", "WAIC_POINT_LIMIT", "WAIC_PARAMETER_FACTOR", "LAPLACE_WIDTH_RATIO", "laplace_evidence", "waic"]
+
+LAPLACE_WIDTH_RATIO = 2.0
+"""The Laplace log evidence is flagged unreliable when, for some parameter, the Gaussian at the
+MAP (sd from −H⁻¹) is wider or narrower than the draws' sd by more than this factor. On a
+Gaussian posterior the two agree to the chain's sampling error (a few %); a parameter the data
+leave to its prior has a nearly flat log-posterior, so −H⁻¹ is many times the prior's range
+while the draws fill only that range, and ln Z then swings with that curvature."""
 
 WAIC_MAX_DRAWS = 4000
 WAIC_POINT_LIMIT = 0.4
@@ -47,11 +54,13 @@ class WAIC(NamedTuple):
     n_unreliable: int = 0
 
 
-def laplace_evidence(chain_y, log_prob, args: LogProbArgs, functions: LogProbFunctions, lo_y, hi_y) -> LaplaceEvidence:
+def laplace_evidence(chain_y, log_prob, args: LogProbArgs, functions: LogProbFunctions, lo_y, hi_y, names: Sequence[str] | None = None) -> LaplaceEvidence:
     """ln Z ≈ ln p(y*) + ln π(y*) + (d/2) ln 2π − ½ ln det(−H) at the MAP y* (sampled space).
 
     The MAP starts from the best draw of ``chain_y`` (walker, draw, param) and is polished by
-    L-BFGS-B within the prior support (``lo_y``, ``hi_y``); H is the Hessian by JAX there.
+    L-BFGS-B within the prior support (``lo_y``, ``hi_y``); H is the Hessian by JAX there. The
+    note names the parameters (``names``, in order) whose Gaussian width at the MAP and whose
+    draws' width differ by more than `LAPLACE_WIDTH_RATIO`: there the approximation fails.
     """
     from scipy.optimize import minimize
 
@@ -83,7 +92,30 @@ def laplace_evidence(chain_y, log_prob, args: LogProbArgs, functions: LogProbFun
     note = ""
     if eig.min() / eig.max() < 1e-12:
         note = "Laplace log evidence is unreliable: the posterior is nearly flat along some direction (unidentified parameters)"
+    else:
+        note = _width_note(np.linalg.inv(-0.5 * (h + h.T)), chain_y, names)
     return LaplaceEvidence(lp_map + 0.5 * d * math.log(2 * math.pi) - 0.5 * float(np.sum(np.log(eig))), y_map, note)
+
+
+def _width_note(covariance: np.ndarray, chain_y: np.ndarray, names: Sequence[str] | None) -> str:
+    """"" when every parameter's Laplace sd (from ``covariance``) is within
+    `LAPLACE_WIDTH_RATIO` of its draws' sd in ``chain_y`` (walker, draw, param); else a note
+    naming them with both widths."""
+    laplace_sd = np.sqrt(np.clip(np.diag(covariance), 0.0, None))
+    draws_sd = chain_y.reshape(-1, chain_y.shape[-1]).std(axis=0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = laplace_sd / draws_sd
+    off = [k for k, r in enumerate(ratio) if not 1 / LAPLACE_WIDTH_RATIO <= r <= LAPLACE_WIDTH_RATIO]
+    if not off:
+        return ""
+    label = (lambda k: names[k]) if names is not None and len(names) == ratio.size else (lambda k: f"parameter {k}")
+    detail = ", ".join(f"{label(k)} (Gaussian sd {laplace_sd[k]:.3g} against the draws' {draws_sd[k]:.3g}, sampled space)" for k in off)
+    wide = any(ratio[k] > LAPLACE_WIDTH_RATIO for k in off)
+    why = "; a Gaussian far wider than the draws marks a parameter left to its prior" if wide else ""
+    return (
+        f"Laplace log evidence is unreliable: the posterior is not Gaussian at the MAP along {detail}{why}. "
+        "Compare models by WAIC, or fix or bound that parameter"
+    )
 
 
 def waic(chain_y, args: LogProbArgs, functions: LogProbFunctions, excluded: Sequence[str] = ()) -> WAIC:
