@@ -16,7 +16,7 @@ import xarray as xr
 from .atomic import atomic_path
 from ..errors import DataError
 
-__all__ = ["read_netcdf", "write_netcdf", "encode_dataset", "decode_dataset"]
+__all__ = ["read_netcdf", "write_netcdf", "encode_dataset", "decode_dataset", "saved_result", "damaged_result"]
 
 _JSON = "json:"
 # magic (4 bytes), record count (4), then the dimension, attribute and variable lists (8 each)
@@ -76,7 +76,7 @@ def encode_dataset(ds: xr.Dataset) -> xr.Dataset:
 
 
 def decode_dataset(ds: xr.Dataset) -> xr.Dataset:
-    """Inverse of `encode_dataset`."""
+    """Inverse of `encode_dataset` (the file it was read from kept in ``encoding["source"]``)."""
     out = xr.Dataset(attrs=_decode_attrs(ds.attrs))
     coords = {}
     for name in list(ds.coords) + list(ds.data_vars):
@@ -107,7 +107,63 @@ def decode_dataset(ds: xr.Dataset) -> xr.Dataset:
             coords[name] = new
         else:
             out[name] = new
-    return out.assign_coords(coords)
+    out = out.assign_coords(coords)
+    if ds.encoding.get("source"):  # (results' from_xarray name the file in their errors)
+        out.encoding["source"] = ds.encoding["source"]
+    return out
+
+
+# a saved result's ``impedax_kind`` → what it is and the call that reads it (`saved_result`)
+RESULT_KINDS = {
+    "posterior": ("single-spectrum posterior", "Posterior.from_xarray"),
+    "shared_posterior": ("joint (shared-parameter) posterior", "SharedPosterior.from_xarray"),
+    "hierarchical_posterior": ("hierarchical posterior", "HierarchicalPosterior.from_xarray"),
+}
+
+
+def saved_result(ds, kind: str, *, variables=(), attrs=()) -> xr.Dataset:
+    """``ds`` (a result's ``to_xarray``, as read or as stored) decoded, once it is a saved result
+    of ``kind`` with every one of ``variables`` (or those ``variables(attrs)`` names) and
+    ``attrs``; otherwise one `DataError` naming the file (``encoding["source"]``) and what is
+    missing or which reader it needs."""
+    what = RESULT_KINDS[kind][0]
+    if not isinstance(ds, xr.Dataset):
+        raise DataError(f"from_xarray takes an xarray.Dataset, got {type(ds).__name__}")
+    source = ds.encoding.get("source")
+    try:
+        ds = decode_dataset(ds)
+    except DataError as exc:
+        raise DataError(str(exc), path=source if exc.path is None else exc.path) from None
+    found = ds.attrs.get("impedax_kind")
+    if found != kind:
+        if found in RESULT_KINDS:
+            raise DataError(f"a saved {RESULT_KINDS[found][0]}, not a {what}: read it with {RESULT_KINDS[found][1]}", path=source)
+        raise DataError(f"not a saved impedax {what} (impedax_kind {found!r}, expected {kind!r})", path=source)
+    missing = [repr(k) for k in (variables(ds.attrs) if callable(variables) else variables) if k not in ds.variables]
+    missing_attrs = [repr(k) for k in attrs if k not in ds.attrs]
+    if missing or missing_attrs:
+        parts = ([f"variable(s) {', '.join(missing)}"] if missing else []) + ([f"attribute(s) {', '.join(missing_attrs)}"] if missing_attrs else [])
+        raise DataError(f"incomplete saved {what}: missing {' and '.join(parts)}", path=source)
+    return ds
+
+
+class damaged_result:
+    """``with damaged_result(kind, ds):`` turns what rebuilding a checked saved result raises on
+    inconsistent content (KeyError, ValueError, ...) into one `DataError` naming the file."""
+
+    def __init__(self, kind: str, ds: xr.Dataset):
+        self.what, self.source = RESULT_KINDS[kind][0], ds.encoding.get("source")
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, exc_type, exc, tb):
+        if isinstance(exc, DataError) and exc.path is not None:
+            return False
+        if isinstance(exc, (KeyError, ValueError, TypeError, IndexError, AttributeError)):  # (impedax's own errors are ValueErrors)
+            detail = (str(exc).strip().splitlines() or [type(exc).__name__])[0]
+            raise DataError(f"damaged saved {self.what}: {detail}", path=self.source) from None
+        return False
 
 
 def write_netcdf(ds: xr.Dataset, path: str | Path) -> None:
@@ -131,6 +187,7 @@ def read_netcdf(path: str | Path) -> xr.Dataset:
     try:
         with xr.open_dataset(path, engine="scipy", mmap=False) as raw:  # read, not mapped: closed cleanly when decoding fails
             ds = decode_dataset(raw.load())
+        ds.encoding["source"] = str(path)
     except DataError as exc:
         raise DataError(str(exc), path=path) from None
     except (OSError, ValueError, TypeError, IndexError, KeyError, AttributeError, OverflowError, MemoryError, RecursionError) as exc:

@@ -642,7 +642,15 @@ class HierarchicalPosterior:
         return "\n".join(lines)
 
     def to_xarray(self) -> xr.Dataset:
+        """The draws, the data (``Z`` over trial_index and frequency; the trials' coordinates
+        as one coordinate per stacked level), ν, the error sds and the run's settings;
+        `HierarchicalPosterior.from_xarray` rebuilds the posterior from it."""
         k, s = list(self.trial_names), list(self.shared_names)
+        index = self.trial_index.to_index()
+        levels = [str(n) for n in index.names]
+        clash = sorted(set(levels) & {"chain", "draw", "param", "shared_param", "frequency", "part", "trial_index"})
+        if clash:
+            raise ParameterError(f"cannot store a hierarchical posterior over a dimension named {clash[0]!r}: the draws use that name; rename it in the data")
         ds = xr.Dataset(
             {
                 "mu": (("chain", "draw", "param"), self.mu, {"long_name": "ln of the population median"}),
@@ -652,13 +660,60 @@ class HierarchicalPosterior:
                 "shared": (("chain", "draw", "shared_param"), self.shared),
                 "delta": (("chain", "draw"), self.delta, {"long_name": "relative discrepancy floor"}),
                 "nu": ("frequency", self.nu, {"long_name": "relative noise from trial scatter"}),
+                "Z": (("trial_index", "frequency"), self.z_data, {"units": "ohm"}),
+                "step_size": ("chain", np.asarray(self.step_size)),
                 **({"common_sd": (("part", "frequency"), self.common_sd, {"units": "ohm", "long_name": "sd of the Re and Im error shared by every trial"})} if self.common_sd is not None else {}),
                 **({"trial_sd": (("part", "frequency"), self.trial_sd, {"units": "ohm", "long_name": "sd of the Re and Im smooth error of each trial's own"})} if self.trial_sd is not None else {}),
             },
-            coords={"param": k, "shared_param": s, "frequency": ("frequency", self.frequency, {"units": "Hz"}), "part": ["real", "imag"]},
-            attrs={"model": self.model, "sampler": "blackjax NUTS with window adaptation", "sessions": self.sessions, "divergences": self.divergences, "discrepancy": int(self.discrepancy)},
+            coords={
+                "param": k, "shared_param": s, "frequency": ("frequency", self.frequency, {"units": "Hz"}), "part": ["real", "imag"],
+                **{n: ("trial_index", index.get_level_values(n).values) for n in levels},
+            },
+            attrs={
+                "impedax_kind": "hierarchical_posterior", "model": self.model, "sampler": "blackjax NUTS with window adaptation", "sessions": self.sessions,
+                "divergences": self.divergences, "discrepancy": int(self.discrepancy), "trial_levels": levels, "fixed": {n: float(v) for n, v in self.fixed.items()},
+                "mean_tree_steps": self.mean_tree_steps, "mean_acceptance": self.mean_acceptance, "elapsed_s": self.elapsed_s,
+                "reparametrization": self.reparametrization.describe() if self.reparametrization is not None else None,
+            },
         )
         return ds
+
+    @classmethod
+    def from_xarray(cls, ds: xr.Dataset, *, reparametrization: Reparametrization | None = None, registry: Registry = DEFAULT_REGISTRY) -> "HierarchicalPosterior":
+        """Rebuild a posterior from `HierarchicalPosterior.to_xarray` output (`impedax.load`,
+        `impedax.io.read_netcdf`, or ``xr.open_dataset`` as stored). A custom reparametrization
+        must be passed again; a file that is not a complete saved one raises one `DataError`."""
+        import pandas as pd  # (xarray's own dependency)
+
+        from ...io.netcdf import damaged_result, saved_result  # (io is imported only here: rarely needed)
+        from .reparam import rebuild
+
+        ds = saved_result(
+            ds, "hierarchical_posterior", variables=("mu", "spread", "spread_session", "trial_values", "shared", "delta", "nu", "Z", "step_size", "param", "shared_param", "frequency"),
+            attrs=("model", "sessions", "divergences", "discrepancy", "trial_levels", "fixed", "mean_tree_steps", "mean_acceptance", "elapsed_s", "reparametrization"),
+        )
+        with damaged_result("hierarchical_posterior", ds):
+            levels = [str(n) for n in ds.attrs["trial_levels"]]
+            index = pd.MultiIndex.from_arrays([ds[n].values for n in levels], names=levels)
+            stacked = xr.Dataset(coords=xr.Coordinates.from_pandas_multiindex(index, "trial_index"))
+            rp = reparametrization
+            if rp is None and ds.attrs["reparametrization"]:
+                rp = rebuild(ds.attrs["reparametrization"])
+
+            def values(name, *dims):
+                return np.asarray(ds[name].transpose(*dims).values)
+
+            return cls(
+                circuit=parse(ds.attrs["model"], registry), trial_names=tuple(str(n) for n in ds["param"].values), shared_names=tuple(str(n) for n in ds["shared_param"].values),
+                mu=values("mu", "chain", "draw", "param"), spread=values("spread", "chain", "draw", "param"), spread_session=values("spread_session", "chain", "draw", "param"),
+                trial_values=values("trial_values", "chain", "draw", "trial_index", "param"), shared=values("shared", "chain", "draw", "shared_param"),
+                delta=values("delta", "chain", "draw"), frequency=values("frequency", "frequency"), z_data=np.asarray(ds["Z"].transpose("trial_index", "frequency").values, complex),
+                nu=values("nu", "frequency"), trial_index=stacked["trial_index"], sessions=int(ds.attrs["sessions"]), discrepancy=bool(ds.attrs["discrepancy"]),
+                divergences=int(ds.attrs["divergences"]), step_size=values("step_size", "chain"), mean_tree_steps=float(ds.attrs["mean_tree_steps"]),
+                mean_acceptance=float(ds.attrs["mean_acceptance"]), elapsed_s=float(ds.attrs["elapsed_s"]), fixed={str(n): float(v) for n, v in ds.attrs["fixed"].items()},
+                common_sd=values("common_sd", "part", "frequency") if "common_sd" in ds else None, trial_sd=values("trial_sd", "part", "frequency") if "trial_sd" in ds else None,
+                reparametrization=rp, registry=registry,
+            )
 
 
 def _interval(draws: np.ndarray, level: float) -> dict[str, float]:

@@ -11,6 +11,9 @@ with the same noise models, priors and log sampling of positive parameters as a 
 spectrum's posterior (`logprob`). The walkers start around the global least-squares fit
 (`least_squares.shared`). emcee's ensemble moves scale poorly with dimension, so the number of
 sampled parameters is limited to `MAX_JOINT_PARAMETERS` (a few spectra).
+
+`SharedPosterior.to_xarray` stores the draws with the data and the start fit (`impedax.write_result`
+to .nc); `SharedPosterior.from_xarray` rebuilds the result from the file (`impedax.load`).
 """
 
 from __future__ import annotations
@@ -19,17 +22,17 @@ import functools
 import math
 import time
 from dataclasses import dataclass, field
-from typing import Mapping
+from typing import Callable, Mapping
 
 import jax
 import jax.numpy as jnp
 import numpy as np
 import xarray as xr
 
-from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit
+from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
 from ...errors import DataError, FitError, ParameterError
 from ...data import unit_text
-from ..derived import QUANTILES
+from ..derived import QUANTILES, band_dataset, bind_frequency, called, check_real, needs_freq
 from ..least_squares import SharedFitResult, fit
 from ..parameters import ParameterTable
 from ..problem import open_spectrum
@@ -95,7 +98,8 @@ class SharedPosterior:
     ``names`` are the sampled parameters: the ``shared`` ones, then every other free parameter
     per spectrum as ``NAME[dim=coordinate]`` (spectrum order of ``spectra``), then ``sigma_rel``
     (proportional noise); ``draws`` (walker, draw, param) their natural values, ``log_prob``
-    the log-posterior, ``fit`` the global least-squares fit the walkers started from."""
+    the log-posterior, ``fit`` the global least-squares fit the walkers started from (its
+    ``dataset["Z"]`` the data), ``sigma`` the data's σ [Ω] if it has one (shaped as that Z)."""
 
     circuit: Circuit
     shared: tuple[str, ...]
@@ -110,6 +114,7 @@ class SharedPosterior:
     priors: dict[str, Prior]
     noise: NoiseModel
     fit: SharedFitResult
+    sigma: np.ndarray | None = None
     notes: tuple[str, ...] = ()
     settings: dict = field(default_factory=dict)
     registry: Registry = field(default=DEFAULT_REGISTRY, repr=False)
@@ -227,8 +232,31 @@ class SharedPosterior:
         q = self.quantiles()
         return [{"name": n, **{k: float(q[k].sel(param=n)) for k in SUMMARY_QUANTILES}, "unit": u} for n, u in zip(self.names, self.units)]
 
+    def derive(self, fn: Callable, freq=None, *, draws: bool = False, max_draws: int | None = None) -> xr.Dataset:
+        """`Posterior.derive` over the joint draws: ``fn(params[, freq])`` gets every sampled
+        parameter by its name (``R0``, ``R1[trial=3]``, ``sigma_rel``) and the fixed ones;
+        ``freq`` defaults to the data's frequencies when ``fn`` takes one."""
+        if freq is None and needs_freq(fn):
+            freq = np.asarray(self.fit.dataset["frequency"].values, float)
+        g = bind_frequency(fn, freq)
+        ds = self.fit.dataset
+        total = self.n_walkers * self.n_draws
+        params = {str(n): np.full(total, float(ds["value"].sel(param=n).values.ravel()[0])) for n in ds["param"].values if bool(ds["fixed"].sel(param=n))}
+        params.update(self.samples)
+        if max_draws is not None and max_draws < total:
+            pick = np.linspace(0, total - 1, max_draws).astype(int)
+            params = {k: v[pick] for k, v in params.items()}
+        out = called(jax.jit(jax.vmap(g)), {k: jnp.asarray(v) for k, v in params.items()}, list(params), self.model)
+        check_real(out)
+        return band_dataset(np.asarray(out, float), freq, keep_draws=draws, attrs={"method": "joint posterior draws", "model": self.model})
+
     def to_xarray(self) -> xr.Dataset:
-        """Draws (walker, draw, param), log_prob, acceptance, diagnostics and quantiles."""
+        """Draws (walker, draw, param), log_prob, acceptance, diagnostics, quantiles, the data
+        (``Z``, ``sigma``) and the global least-squares start (``fit_*``, its dimensions other
+        than ``over`` and frequency prefixed too); `SharedPosterior.from_xarray` rebuilds it."""
+        clash = sorted(set(self.over) & {"walker", "draw", "param"})
+        if clash:
+            raise ParameterError(f"cannot store a joint posterior over a dimension named {clash[0]!r}: the draws use that name; rename it in the data")
         q = self.quantiles()
         data = {
             "draws": (("walker", "draw", "param"), self.draws),
@@ -240,11 +268,92 @@ class SharedPosterior:
             "is_shared": ("param", np.array([n in self.shared for n in self.names])),
             **{k: ("param", q[k].values) for k in q.data_vars},
         }
+        fit_data, fit_coords, stored, stored_dims = _fit_variables(self.fit.dataset, self.over)
+        data.update(fit_data)
+        if self.sigma is not None:
+            data["sigma"] = (self.fit.dataset["Z"].dims, self.sigma, {"units": "ohm"})
+        fr = self.fit
         attrs = {
             "impedax_kind": "shared_posterior", "model": self.model, "noise": self.noise.value, "shared": ",".join(self.shared), "over": ",".join(self.over),
-            "units": list(self.units), "priors": {n: [p.kind.value, p.a, p.b] for n, p in self.priors.items()}, "settings": dict(self.settings), "warnings": list(self.warnings),
+            "spectra": list(self.spectra), "units": list(self.units), "priors": {n: [p.kind.value, p.a, p.b] for n, p in self.priors.items()},
+            "settings": dict(self.settings), "notes": list(self.notes), "warnings": list(self.warnings),
+            "fit": {"weighting": fr.weighting, "warnings": {k: list(v) for k, v in fr.warnings.items()}, "elapsed_s": fr.elapsed_s, "attrs": dict(fr.dataset.attrs)},
+            "fit_variables": stored, "fit_dims": stored_dims,
         }
-        return xr.Dataset(data, coords={"walker": np.arange(self.n_walkers), "draw": np.arange(self.n_draws), "param": list(self.names)}, attrs=attrs)
+        coords = {"walker": np.arange(self.n_walkers), "draw": np.arange(self.n_draws), "param": list(self.names), **fit_coords}
+        return xr.Dataset(data, coords=coords, attrs=attrs)
+
+    @classmethod
+    def from_xarray(cls, ds: xr.Dataset, *, registry: Registry = DEFAULT_REGISTRY) -> "SharedPosterior":
+        """Rebuild a joint posterior from `SharedPosterior.to_xarray` output, read back by
+        `impedax.load` or `impedax.io.read_netcdf`, or opened as stored (``xr.open_dataset``).
+        A file that is not a complete saved joint posterior raises one `DataError` naming it."""
+        from ...io.netcdf import damaged_result, saved_result  # (io is imported only here: rarely needed)
+
+        def variables(attrs):  # beside the draws, the start fit's as the file lists them
+            listed = attrs.get("fit_variables")
+            return (*_REQUIRED_VARIABLES, *(listed if isinstance(listed, dict) else ()))
+
+        ds = saved_result(ds, "shared_posterior", variables=variables, attrs=_REQUIRED_ATTRS)
+        with damaged_result("shared_posterior", ds):
+            return cls._rebuild(ds, registry)
+
+    @classmethod
+    def _rebuild(cls, ds: xr.Dataset, registry: Registry) -> "SharedPosterior":
+        """`from_xarray` once the file's kind and variables are checked."""
+        circuit = parse(ds.attrs["model"], registry)
+        names = tuple(str(n) for n in ds["param"].values)
+        draws = np.asarray(ds["draws"].transpose("walker", "draw", "param").values, float)
+        units, priors = tuple(str(u) for u in ds.attrs["units"]), {str(n): Prior(*v) for n, v in ds.attrs["priors"].items()}
+        log_scale = tuple(bool(v) for v in ds["log_scale"].values)
+        if len(units) != len(names) or len(log_scale) != len(names) or set(priors) != set(names):
+            raise ValueError(f"{len(names)} sampled parameters but {len(units)} units, {len(log_scale)} log_scale flags and priors for {len(priors)}")
+        over = tuple(ds.attrs["over"].split(","))
+        stored, dims = ds.attrs["fit_variables"], ds.attrs["fit_dims"]
+        fit_data, fit_coords = {}, {}
+        for name, original in stored.items():
+            var = ds[name].variable
+            (fit_coords if name in ds.coords else fit_data)[original] = xr.Variable(tuple(dims.get(d, d) for d in var.dims), var.values, var.attrs)
+        fa = ds.attrs["fit"]
+        fit_ds = xr.Dataset(fit_data, coords=fit_coords, attrs=fa["attrs"])
+        fit_result = SharedFitResult(
+            circuit=circuit, dataset=fit_ds, weighting=fa["weighting"], warnings={str(k): tuple(v) for k, v in fa["warnings"].items()},
+            elapsed_s=float(fa["elapsed_s"]), registry=registry, shared=tuple(ds.attrs["shared"].split(",")), over=over,
+        )
+        return cls(
+            circuit=circuit, shared=tuple(ds.attrs["shared"].split(",")), over=over, spectra=tuple(str(s) for s in ds.attrs["spectra"]), names=names,
+            units=units, log_scale=log_scale, draws=draws,
+            log_prob=np.asarray(ds["log_prob"].transpose("walker", "draw").values, float), acceptance=np.asarray(ds["acceptance"].values, float),
+            priors={n: priors[n] for n in names}, noise=NoiseModel(ds.attrs["noise"]), fit=fit_result,
+            sigma=np.asarray(ds["sigma"].transpose(*fit_ds["Z"].dims).values, float) if "sigma" in ds else None, notes=tuple(ds.attrs.get("notes", ())),
+            settings=dict(ds.attrs["settings"]), registry=registry,
+        )
+
+
+# what `SharedPosterior.from_xarray` needs beside the start fit's variables (listed in the file)
+_REQUIRED_VARIABLES = ("draws", "log_prob", "acceptance", "log_scale", "param", "Z", "frequency")
+_REQUIRED_ATTRS = ("model", "noise", "shared", "over", "spectra", "units", "priors", "settings", "fit", "fit_variables", "fit_dims")
+# the data: stored under its own name (so `impedax.load` reads the file as the spectra, with the
+# posterior's ``sigma``); the rest of the start fit's dataset is prefixed ``fit_``
+_DATA_VARIABLES = ("Z",)
+
+
+def _fit_variables(fit_ds: xr.Dataset, over: tuple[str, ...]):
+    """The global fit's dataset as variables of a posterior's: (data variables, coordinates,
+    stored name → its name, stored dimension → its name). ``over`` and frequency are kept."""
+    keep = {*over, "frequency"}
+    dims = {d: d if d in keep else f"fit_{d}" for d in fit_ds.dims}
+    data, coords, stored = {}, {}, {}
+    for name, var in fit_ds.variables.items():
+        new = xr.Variable(tuple(dims[d] for d in var.dims), var.values, var.attrs)
+        if name in fit_ds.coords:
+            key = name if name in keep else f"fit_{name}"
+            coords[key] = new
+        else:
+            key = name if name in _DATA_VARIABLES else f"fit_{name}"
+            data[key] = new
+        stored[key] = str(name)
+    return data, coords, stored, {v: k for k, v in dims.items() if k != v}
 
 
 def _spectrum_labels(ds: xr.Dataset, over: tuple[str, ...]) -> list[str]:
@@ -371,6 +480,7 @@ def sample_shared(
     return SharedPosterior(
         circuit=circuit, shared=start.shared, over=start.over, spectra=tuple(labels), names=tuple(names), units=units, log_scale=log_scale,
         draws=draws, log_prob=log_prob, acceptance=acceptance, priors=chosen, noise=noise, fit=start,
+        sigma=np.asarray(ds["sigma"].transpose(*start.dataset["Z"].dims).values, float) if "sigma" in ds else None,
         settings={"walkers": int(walkers), "steps": int(steps), "burn": int(burn), "thin": int(thin), "seed": int(seed), "elapsed_s": float(elapsed)},
         registry=registry,
     )
