@@ -7,6 +7,8 @@ import sys
 
 def register(sub) -> None:
     from ..fitting import NOISE_MODELS, PRIOR_KINDS
+    from ..fitting.bayes.diagnostics import CHAIN_TAU_MULTIPLE
+    from ..fitting.bayes.sampler import AUTO_MAX_STEPS
     from .common import add_model_argument, add_output_options, add_select_option, number_option, result_out_help
     from .fit import add_shared_options
 
@@ -19,8 +21,8 @@ def register(sub) -> None:
     add_select_option(p)
     add_model_argument(p)
     p.add_argument("--walkers", type=int, metavar="N", help="number of walkers (even, at least 2 × parameters; default max(64, 4 × parameters))")
-    p.add_argument("--steps", type=int, default=2000, metavar="N", help="steps per walker (default 2000)")
-    p.add_argument("--burn", type=int, metavar="N", help="steps discarded at the start (default steps/4)")
+    p.add_argument("--steps", type=steps_option, default="auto", metavar="N|auto", help=f"steps per walker, or auto: until the chain after burn-in is {CHAIN_TAU_MULTIPLE} autocorrelation times long and τ has settled, at most {AUTO_MAX_STEPS} (default auto)")
+    p.add_argument("--burn", type=int, metavar="N", help="steps discarded at the start (default a quarter of the steps run)")
     p.add_argument("--thin", type=int, default=1, metavar="N", help="keep every N-th step (default 1)")
     p.add_argument("--seed", type=int, default=0, metavar="S", help="random seed (default 0)")
     p.add_argument("--prior", action="append", metavar="NAME=KIND:ARGS", help="prior for one parameter (repeatable), e.g. R1=loguniform:1e2,1e5; kinds: " + "; ".join(PRIOR_KINDS.values()))
@@ -42,18 +44,34 @@ def register(sub) -> None:
 CHAIN_BYTES_PER_VALUE = 3 * 8
 
 
+def steps_option(text: str) -> int | str:
+    """``--steps``: a number of steps, or ``auto``."""
+    import argparse
+
+    if text.strip().lower() == "auto":
+        return "auto"
+    try:
+        return int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"invalid int value: {text!r} (give a number of steps, or auto)") from None
+
+
 def check_sample_size(circuit, walkers, steps, priors) -> None:
-    """Refuse, before any work, a run whose chain would not fit in memory (`check_memory`)."""
+    """Refuse, before any work, a run whose chain would not fit in memory (`check_memory`;
+    ``--steps auto``: a chain as long as its cap)."""
     from ..errors import ParameterError
+    from ..fitting.bayes.sampler import auto_step_cap
     from .common import check_memory
 
-    if steps is not None and steps < 1:
+    if steps != "auto" and steps is not None and steps < 1:
         raise ParameterError(f"--steps must be at least 1, got {steps}")
     if walkers is not None and walkers < 1:
         raise ParameterError(f"--walkers must be at least 1, got {walkers}")
     dims = len(circuit.parameter_names()) + 2  # + the noise parameter, + the log-probability
     chain_walkers = walkers if walkers is not None else max(64, 4 * dims)
-    check_memory("--steps", float(chain_walkers) * steps * dims * CHAIN_BYTES_PER_VALUE, f"a chain of {steps} steps × {chain_walkers} walkers")
+    length = auto_step_cap(chain_walkers) if steps == "auto" else steps
+    what = f"a chain of up to {length} steps (--steps auto) × {chain_walkers} walkers" if steps == "auto" else f"a chain of {steps} steps × {chain_walkers} walkers"
+    check_memory("--steps", float(chain_walkers) * length * dims * CHAIN_BYTES_PER_VALUE, what)
 
 
 def prefixed_prior(text: str) -> str:

@@ -1,6 +1,6 @@
 """Convergence diagnostics of an emcee chain: autocorrelation time, highest-density interval and
 the warnings a `Posterior` raises (chain length, acceptance, strong correlations, draws piled up
-against a prior's edge)."""
+against a prior's edge, a linearised standard error far from the posterior's width)."""
 
 from __future__ import annotations
 
@@ -12,34 +12,74 @@ import numpy as np
 from ...data import unit_text
 
 __all__ = [
-    "CHAIN_TAU_MULTIPLE", "ACCEPTANCE_RANGE", "CORRELATION_WARNING", "EDGE_BAND", "EDGE_DENSITY", "EDGE_MIN_DRAWS",
-    "integrated_autocorr", "hdi", "chain_warnings", "prior_edge_warnings", "figure",
+    "CHAIN_TAU_MULTIPLE", "ACCEPTANCE_STUCK", "GAUSSIAN_ACCEPTANCE", "CORRELATION_WARNING", "EDGE_BAND", "EDGE_DENSITY", "EDGE_MIN_DRAWS",
+    "INTERVAL_RATIO_WARNING", "integrated_autocorr", "flat_acceptance", "acceptance_ceiling", "hdi", "chain_warnings", "prior_edge_warnings",
+    "acceptance_warnings", "interval_warnings", "figure",
 ]
 
 CHAIN_TAU_MULTIPLE = 50
-ACCEPTANCE_RANGE = (0.15, 0.6)
+ACCEPTANCE_STUCK = 0.15  # below: the walkers rarely move
+GAUSSIAN_ACCEPTANCE = (0.807, 0.716, 0.647, 0.594, 0.551, 0.516, 0.486, 0.460, 0.438, 0.418, 0.399, 0.384, 0.368, 0.356, 0.344)
+"""Mean acceptance of emcee's stretch move (a = 2, 64 walkers) on a d-dimensional Gaussian,
+d = 1…15, measured with emcee (docs/bayesian.md, "Acceptance"): the same for correlated and
+uncorrelated Gaussians (the move is affine-invariant) and for 2d + 2 walkers."""
 CORRELATION_WARNING = 0.9
 EDGE_BAND = 0.02  # the outer 2 % of a prior's range (in its own coordinate) ...
 EDGE_DENSITY = 0.5  # ... holding draws at least half as dense as over their central 90 %: piled up
 EDGE_MIN_DRAWS = 20  # fewer draws in the band than this say nothing
+INTERVAL_RATIO_WARNING = 2.0
+"""A linearised standard error more than this factor from the posterior's 68 % half-width (or
+less than its inverse): the two disagree beyond what a well-sampled, locally Gaussian posterior
+shows (0.97–1.05 on the BioLogic example; docs/bayesian.md, "Which interval to trust")."""
 
 
 def integrated_autocorr(chain_y: np.ndarray) -> np.ndarray:
     """Integrated autocorrelation time per parameter in stored draws of ``chain_y`` (walker,
-    draw, param) (emcee, tol=0). NaN (unknown) for a chain of fewer than `CHAIN_TAU_MULTIPLE`
-    draws per walker — emcee's estimate needs a chain of ≳ 50 τ, and τ ≥ 1, so a shorter chain
-    cannot support it (its estimate collapses towards 0: 2 draws give τ = 0) — and for a
-    parameter in which some walker never moved over the kept draws (its autocorrelation is 0/0,
-    or a rounding error of its mean)."""
-    import emcee
+    draw, param): emcee's estimator (``emcee.autocorr.integrated_time`` with c = 5, tol = 0:
+    the walkers' mean normalised autocorrelation function, summed up to Sokal's window), one
+    real FFT per parameter for all walkers at once, zero-padded to scipy's next fast length of
+    2n − 1 (no wrap-around: the same function as emcee's power-of-two padding, to rounding).
+    NaN (unknown) for a chain of fewer than
+    `CHAIN_TAU_MULTIPLE` draws per walker — emcee's estimate needs a chain of ≳ 50 τ, and
+    τ ≥ 1, so a shorter chain cannot support it (its estimate collapses towards 0: 2 draws give
+    τ = 0) — and for a parameter in which some walker never moved over the kept draws (its
+    autocorrelation is 0/0, or a rounding error of its mean)."""
+    from scipy import fft
 
     n_walkers, n_draws, n_params = chain_y.shape
     if n_draws < CHAIN_TAU_MULTIPLE:
         return np.full(n_params, np.nan)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        tau = np.asarray(emcee.autocorr.integrated_time(np.transpose(chain_y, (1, 0, 2)), c=5, tol=0, quiet=True), float)
+    n_fft = fft.next_fast_len(2 * n_draws - 1, real=True)
+    window_factor = 5.0
+    tau = np.empty(n_params)
+    for p in range(n_params):
+        x = np.ascontiguousarray(chain_y[:, :, p], dtype=float)  # (the same sums, to the last bit, whatever the layout)
+        x = x - np.mean(x, axis=1, keepdims=True)
+        spectrum = fft.rfft(x, n=n_fft, axis=1)
+        acf = fft.irfft(spectrum.real**2 + spectrum.imag**2, n=n_fft, axis=1)[:, :n_draws]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            rho = np.mean(acf / acf[:, :1], axis=0)
+        taus = 2.0 * np.cumsum(rho) - 1.0
+        inside = np.arange(n_draws) < window_factor * taus
+        tau[p] = taus[int(np.argmin(inside)) if inside.any() else n_draws - 1]
     stuck = np.any(np.all(chain_y == chain_y[:, :1], axis=1), axis=0)  # per parameter: a walker that never moved
     return np.where(stuck, np.nan, tau)
+
+
+def flat_acceptance(n_params: int) -> float:
+    """Mean acceptance of the stretch move (a = 2) where the log-probability is flat over the
+    walkers' moves: E[min(1, z^(d−1))] with z drawn from g(z) ∝ 1/√z on [1/2, 2], which is
+    2 − √2 + (1 − 2^−(d − ½)) / ((d − ½)√2) (1 for d = 1, → 0.586 for large d)."""
+    d = n_params
+    return 2.0 - math.sqrt(2.0) + (1.0 - 2.0 ** -(d - 0.5)) / ((d - 0.5) * math.sqrt(2.0))
+
+
+def acceptance_ceiling(n_params: int) -> float:
+    """The mean acceptance above which a run of ``n_params`` parameters is closer to a flat
+    log-probability (`flat_acceptance`) than to a Gaussian posterior (`GAUSSIAN_ACCEPTANCE`;
+    beyond 15 parameters, the value measured at 15): the midpoint of the two."""
+    gaussian = GAUSSIAN_ACCEPTANCE[min(max(n_params, 1), len(GAUSSIAN_ACCEPTANCE)) - 1]
+    return 0.5 * (gaussian + flat_acceptance(max(n_params, 1)))
 
 
 def figure(value: float, spec: str) -> str:
@@ -59,6 +99,28 @@ def hdi(x: np.ndarray, mass: float = 0.9) -> tuple[float, float]:
     return float(x[i]), float(x[i + k - 1])
 
 
+def acceptance_warnings(mean_acceptance: float, n_params: int) -> list[str]:
+    """A warning when the mean acceptance of the stretch move says the walkers rarely move
+    (below `ACCEPTANCE_STUCK`) or that the log-probability barely changes across their moves
+    (above `acceptance_ceiling` for ``n_params``). A healthy run accepts what a Gaussian
+    posterior of its dimension does (`GAUSSIAN_ACCEPTANCE`: 0.81 for one parameter, 0.55 for
+    five), and an affine-invariant move takes no "tiny steps"; near `flat_acceptance` the walkers
+    stand much closer together than the posterior is wide: still spreading out from their start,
+    or over a posterior the data leave flat (prior-dominated, unidentified)."""
+    acc = mean_acceptance
+    if acc < ACCEPTANCE_STUCK:
+        return [f"mean acceptance fraction {acc:.3f} is below {ACCEPTANCE_STUCK}: the sampler is stuck (walkers rarely move: several modes, a narrow curved ridge, walkers left in a region of low probability, or many parameters the data leave flat within their priors)"]
+    ceiling = acceptance_ceiling(n_params)
+    if acc > ceiling:
+        gaussian = GAUSSIAN_ACCEPTANCE[min(n_params, len(GAUSSIAN_ACCEPTANCE)) - 1]
+        return [
+            f"mean acceptance fraction {acc:.3f} is above {ceiling:.2f} (with {n_params} parameter{'s' if n_params != 1 else ''}, a Gaussian posterior gives {gaussian:.2f}, "
+            f"a flat log-probability {flat_acceptance(n_params):.2f}): the log-probability barely changes across the walkers' moves — they are still spreading out from "
+            "their start, or the data leave the posterior flat (prior-dominated): run more steps; see the prior-edge warnings"
+        ]
+    return []
+
+
 def chain_warnings(
     names: Sequence[str],
     log_scale: Sequence[bool],
@@ -66,19 +128,23 @@ def chain_warnings(
     autocorr_steps: Mapping[str, float],
     thin: int,
     mean_acceptance: float,
+    *,
+    step_cap: int | None = None,
 ) -> list[str]:
     """Warnings about a chain ``chain_y`` (walker, draw, param; sampled space): shorter than
-    `CHAIN_TAU_MULTIPLE` autocorrelation times (``autocorr_steps`` in sampler steps), mean
-    acceptance outside `ACCEPTANCE_RANGE`, pairs of parameters of different elements correlated
-    beyond `CORRELATION_WARNING`."""
+    `CHAIN_TAU_MULTIPLE` autocorrelation times (``autocorr_steps`` in sampler steps; with
+    ``step_cap``, the cap at which the automatic chain length stopped, the warning says so),
+    mean acceptance below `ACCEPTANCE_STUCK` or above `acceptance_ceiling`, pairs of
+    parameters of different elements correlated beyond `CORRELATION_WARNING`."""
     out = []
     n_draws = chain_y.shape[1]
     taus = {n: t / thin for n, t in autocorr_steps.items()}
     finite = {n: t for n, t in taus.items() if np.isfinite(t)}
+    capped = f" (the automatic chain length stopped at its cap of {step_cap} steps)" if step_cap else ""
     if n_draws < CHAIN_TAU_MULTIPLE:
         out.append(
             f"the chain is too short to estimate τ ({n_draws} draw{'s' if n_draws != 1 else ''} per walker after burn-in; emcee needs ≳ {CHAIN_TAU_MULTIPLE} τ, "
-            f"and τ is at least one draw): τ and ESS are unknown and the intervals are not to be trusted; run more steps"
+            f"and τ is at least one draw){capped}: τ and ESS are unknown and the intervals are not to be trusted; run more steps"
         )
     elif len(finite) < len(taus):
         stuck = int(np.sum(np.all(chain_y == chain_y[:, :1], axis=(1, 2))))
@@ -86,18 +152,16 @@ def chain_warnings(
         out.append(
             f"τ of {', '.join(unknown)} could not be estimated"
             + (f": {stuck} of {chain_y.shape[0]} walkers never moved over the {n_draws} kept draws (stuck walkers)" if stuck else "")
-            + "; τ and ESS are unknown there: run more steps or check the start"
+            + f"{capped}; τ and ESS are unknown there: run more steps or check the start"
         )
     if finite:
         worst = max(finite, key=finite.get)
         if n_draws < CHAIN_TAU_MULTIPLE * finite[worst]:
             out.append(
                 f"the chain ({n_draws} draws per walker after burn-in) is shorter than {CHAIN_TAU_MULTIPLE} autocorrelation times "
-                f"(τ = {finite[worst] * thin:.3g} steps for {worst}): run more steps before trusting the intervals"
+                f"(τ = {finite[worst] * thin:.3g} steps for {worst}){capped}: run more steps before trusting the intervals"
             )
-    acc = mean_acceptance
-    if not ACCEPTANCE_RANGE[0] <= acc <= ACCEPTANCE_RANGE[1]:
-        out.append(f"mean acceptance fraction {acc:.3f} is outside {ACCEPTANCE_RANGE[0]}–{ACCEPTANCE_RANGE[1]}: the sampler is {'stuck' if acc < ACCEPTANCE_RANGE[0] else 'taking tiny steps'}")
+    out.extend(acceptance_warnings(mean_acceptance, len(names)))
     ys = chain_y.reshape(-1, len(names))
     if ys.shape[0] > 2 and len(names) > 1:
         with np.errstate(all="ignore"):
@@ -166,3 +230,38 @@ def prior_edge_warnings(
                     f"the data allow {beyond} values — give {n} a prior that says how {'small' if side == 'lower' else 'large'} it can be"
                 )
     return out
+
+
+def interval_warnings(
+    linearised: Mapping[str, float],
+    half_widths: Mapping[str, float],
+    *,
+    chain_converged: bool,
+    at_bound: Sequence[str] = (),
+    piled_up: Sequence[str] = (),
+) -> list[str]:
+    """One warning naming the parameters whose least-squares ``linearised`` standard error and
+    posterior 68 % half-width ((q84 − q16)/2, ``half_widths``) differ by more than
+    `INTERVAL_RATIO_WARNING`, and saying which to use: the posterior's, which follows the
+    model's non-linearity, the parameters' bounds (``at_bound``: the fit sits at one) and the
+    priors (``piled_up``: the draws pile up against a prior's or a bound's edge), where the linearised
+    error is a local approximation at the fit — unless the chain has not converged
+    (``chain_converged`` false), when neither is to be trusted yet."""
+    flagged = []
+    for n, lin in linearised.items():
+        half = half_widths.get(n, math.nan)
+        if not (math.isfinite(lin) and lin > 0 and math.isfinite(half) and half > 0):
+            continue
+        ratio = lin / half
+        if ratio > INTERVAL_RATIO_WARNING or ratio < 1 / INTERVAL_RATIO_WARNING:
+            why = [w for w, where in (("its fit is at a bound", at_bound), ("its draws pile up against an edge", piled_up)) if n in where]
+            flagged.append(f"{n} ({ratio:.2g}×{'; ' + ', '.join(why) if why else ''})")
+    if not flagged:
+        return []
+    head = (
+        f"the least-squares start's linearised standard errors differ from the posterior's 68 % half-widths by more than {INTERVAL_RATIO_WARNING:g}× "
+        f"for {', '.join(flagged)} (linearised ÷ posterior)"
+    )
+    if not chain_converged:
+        return [head + ": the chain is too short to tell which is right (see the chain-length warning); run more steps before using either"]
+    return [head + ": use the posterior's intervals — they follow the model's non-linearity, the parameters' bounds and the priors; the linearised errors are a local approximation at the fit"]

@@ -24,7 +24,7 @@ from ...data import checked_frequencies, concise_repr, unit_text
 from ...errors import DataError, ParameterError
 from ..derived import QUANTILES, band_dataset, bind_frequency, called, check_real, needs_freq
 from ..least_squares import FitResult
-from .diagnostics import chain_warnings, figure, hdi, integrated_autocorr, prior_edge_warnings
+from .diagnostics import CHAIN_TAU_MULTIPLE, chain_warnings, figure, hdi, integrated_autocorr, interval_warnings, prior_edge_warnings
 from .logprob import NOISE_MODELS, NoiseModel
 from .priors import Prior
 from .reparam import Reparametrization, rebuild
@@ -50,7 +50,9 @@ class Posterior:
     (free circuit parameters, the physical ones of a reparametrization, ``sigma_rel``);
     ``log_prob`` their log-posterior in the sampled space; ``fit`` the least-squares start.
     Diagnostics: ``acceptance`` per walker, ``autocorr`` (integrated autocorrelation time in
-    sampler steps), ``ess`` (effective sample size), ``warnings``. Model comparison:
+    sampler steps), ``ess`` (effective sample size), ``chain_converged``, ``warnings``;
+    ``settings`` holds the run's walkers, steps (those that ran), burn, thin, seed and, for
+    ``steps="auto"``, ``steps_mode``, ``step_cap`` and ``stopped``. Model comparison:
     ``log_evidence`` (Laplace, at the MAP) and ``waic`` (deviance scale: lower is better).
     """
 
@@ -77,10 +79,12 @@ class Posterior:
     notes: tuple[str, ...] = ()
     settings: dict = field(default_factory=dict)
     reparametrization: Reparametrization | None = None
-    registry: Registry = field(default=DEFAULT_REGISTRY, repr=False)
+    registry: Registry | None = field(default=None, repr=False)  # None: the default registry
 
     def __post_init__(self):
         object.__setattr__(self, "noise", NoiseModel(self.noise))
+        if self.registry is None:
+            object.__setattr__(self, "registry", DEFAULT_REGISTRY)
 
     # -- basic views ----------------------------------------------------------------------
     @property
@@ -132,15 +136,40 @@ class Posterior:
         pairs = [(specs[n].lower, specs[n].upper) if n in specs else physical.get(n, (0.0, math.inf)) for n in self.names]
         return tuple(float(lo) for lo, _ in pairs), tuple(float(hi) for _, hi in pairs)
 
+    @property
+    def chain_converged(self) -> bool:
+        """Whether the kept chain is at least `CHAIN_TAU_MULTIPLE` autocorrelation times long for
+        every parameter (τ known for all)."""
+        tau = np.asarray([self.autocorr[n] for n in self.names], float) / self.settings.get("thin", 1)
+        return bool(np.all(np.isfinite(tau)) and self.n_draws >= CHAIN_TAU_MULTIPLE * max(float(np.max(tau)), 1.0))
+
     @functools.cached_property
     def warnings(self) -> tuple[str, ...]:
         """Diagnostics that need attention (chain length, acceptance, correlations, draws piled up
-        against a prior's edge, fit notes)."""
-        out = chain_warnings(self.names, self.log_scale, self._sampled_space, self.autocorr, self.settings.get("thin", 1), self.mean_acceptance)
-        out.extend(prior_edge_warnings(self.names, self.units, self.draws.reshape(-1, len(self.names)), self.priors, *self.bounds))
+        against a prior's edge, linearised standard errors far from the posterior's widths, fit
+        notes)."""
+        capped = self.settings.get("step_cap") if self.settings.get("stopped") == "cap" else None
+        out = chain_warnings(self.names, self.log_scale, self._sampled_space, self.autocorr, self.settings.get("thin", 1), self.mean_acceptance, step_cap=capped)
+        edges = prior_edge_warnings(self.names, self.units, self.draws.reshape(-1, len(self.names)), self.priors, *self.bounds)
+        out.extend(edges)
+        out.extend(self._interval_warnings(edges))
         out.extend(self.notes)
         out.extend(f"least-squares start: {w}" for w in self.fit.warnings)
         return tuple(out)
+
+    def _interval_warnings(self, edge_warnings) -> list[str]:
+        """`interval_warnings` for the sampled circuit parameters free in the start fit."""
+        q = self.quantiles()
+        free = set(self.fit.free_names)
+        linearised = self.fit.linearised_stderr
+        names = [n for n in self.names if n in free]
+        return interval_warnings(
+            {n: float(linearised.get(n, math.nan)) for n in names},
+            {n: 0.5 * float(q["q84"].sel(param=n) - q["q16"].sel(param=n)) for n in names},
+            chain_converged=self.chain_converged,
+            at_bound=self.fit.at_bound,
+            piled_up=[n for n in names if any(w.startswith(f"{n} piles up") for w in edge_warnings)],
+        )
 
     # -- parameter draws ------------------------------------------------------------------
     def parameter_draws(self) -> dict[str, np.ndarray]:
@@ -198,6 +227,8 @@ class Posterior:
             "walkers": self.n_walkers,
             "draws": self.n_draws,
             "steps": self.settings.get("steps"),
+            "steps_mode": self.settings.get("steps_mode", "fixed"),
+            "step_cap": self.settings.get("step_cap"),
             "burn": self.settings.get("burn"),
             "thin": self.settings.get("thin"),
             "seed": self.settings.get("seed"),
@@ -208,6 +239,14 @@ class Posterior:
             out["circuit_params"] = _quantiles_by_name(cq, self.reparametrization.replaces)
         return out
 
+    def _length_text(self) -> str:
+        """How the run's length was chosen, for the report's sampler line ("" for a fixed one)."""
+        if self.settings.get("steps_mode") != "auto":
+            return ""
+        if self.settings.get("stopped") == "cap":
+            return f"automatic: stopped at its cap of {self.settings.get('step_cap')} steps; "
+        return f"automatic: stopped at {CHAIN_TAU_MULTIPLE} τ; "
+
     def report(self) -> str:
         """A readable table of the posterior."""
         q = self.quantiles()
@@ -217,7 +256,7 @@ class Posterior:
         lines = [
             f"model      {self.model}",
             f"noise      {self.noise}: {NOISE_MODELS[self.noise]}",
-            f"sampler    emcee, {self.n_walkers} walkers, {self.settings.get('steps')} steps (burn {self.settings.get('burn')}, thin {self.settings.get('thin')}), {self.n_walkers * self.n_draws} draws, acceptance {self.mean_acceptance:.3f}",
+            f"sampler    emcee, {self.n_walkers} walkers, {self.settings.get('steps')} steps ({self._length_text()}burn {self.settings.get('burn')}, thin {self.settings.get('thin')}), {self.n_walkers * self.n_draws} draws, acceptance {self.mean_acceptance:.3f}",
             (f"evidence   Laplace ln Z = {self.log_evidence:.2f}" if math.isfinite(self.log_evidence) else "evidence   Laplace ln Z undefined (see the warnings)")
             + f"    WAIC = {self.waic:.2f} (p_waic {self.p_waic:.3g})",
             "",
@@ -376,12 +415,14 @@ class Posterior:
         return xr.Dataset(data, coords=coords, attrs=attrs)
 
     @classmethod
-    def from_xarray(cls, ds: xr.Dataset, *, reparametrization: Reparametrization | None = None, registry: Registry = DEFAULT_REGISTRY) -> "Posterior":
+    def from_xarray(cls, ds: xr.Dataset, *, reparametrization: Reparametrization | None = None, registry: Registry | None = None) -> "Posterior":
         """Rebuild a posterior from `Posterior.to_xarray` output, read back by `impedax.load` or
         opened as stored (``xr.open_dataset`` of a file `impedax.write_result` wrote: its JSON
         attributes and split complex variables are decoded here). A custom reparametrization
-        must be passed again (its functions are not stored)."""
+        must be passed again (its functions are not stored); ``registry`` None: the default one."""
         from ...io.netcdf import decode_dataset  # (io is imported only here: rarely needed)
+
+        registry = DEFAULT_REGISTRY if registry is None else registry
 
         if not isinstance(ds, xr.Dataset):
             raise DataError(f"from_xarray takes an xarray.Dataset, got {type(ds).__name__}")

@@ -12,45 +12,80 @@ terminal) keeps a log readable while it still moves visibly (at 10 s, a 20 000-s
 stuck at one step for 10 s)."""
 
 
+def announce(text: str, enabled: bool) -> None:
+    """One line on stderr saying what a run does before its first step (a start fit, a
+    compilation: seconds without a progress line), when ``enabled``."""
+    if enabled:
+        sys.stderr.write(f"{text}\n")
+        sys.stderr.flush()
+
+
 class ProgressLine:
     """Progress of a run on stderr, shown only once the run has taken a second: one line
     rewritten in place every half second on a terminal; elsewhere (``interactive`` false: a
     log file or a pipe) a full line every `LOG_INTERVAL` (1) seconds and one at the end. A step
     costs one clock reading and two comparisons.
-    ``interactive`` None: whether stderr is a terminal."""
+    ``interactive`` None: whether stderr is a terminal.
 
-    def __init__(self, total: int, enabled: bool, label: str = "impedax sample", interactive: bool | None = None):
-        self.total, self.enabled, self.label = total, enabled, label
+    A run of unknown length (``total`` the most steps it may take, ``open_ended`` true: emcee's
+    ``steps="auto"``) shows the steps so far and the current estimate of the steps it needs
+    (`set_target`) instead of a percentage, and its time left is counted to that estimate."""
+
+    def __init__(self, total: int, enabled: bool, label: str = "impedax sample", interactive: bool | None = None, *, open_ended: bool = False):
+        self.total, self.enabled, self.label, self.open_ended = total, enabled, label, open_ended
         self.interactive = _is_terminal(sys.stderr) if interactive is None else interactive
         self.done = 0
+        self.target: int | None = None  # (open-ended runs) the steps the run needs, as last estimated
+        self.target_note = ""
         self.t0 = time.perf_counter()
         self.last: float | None = None
         self.shown = False
         self.first: tuple[float, int] | None = None  # (time, steps) at the first report: compilation comes before it
 
-    def update(self, done: int) -> None:
+    def set_target(self, steps: int | None, note: str = "") -> None:
+        """The steps an open-ended run needs as estimated now (None: not known yet) and what the
+        estimate is (``note``, e.g. "50 τ")."""
+        self.target, self.target_note = steps, note
+
+    def update(self, done: int, *, final: bool = False) -> None:
         if not self.enabled:
             return
         now = time.perf_counter() - self.t0
         if self.first is None:
             self.first = (now, done)
+        self.done = done
         interval = 0.5 if self.interactive else LOG_INTERVAL
-        if now < 1.0 or (self.last is not None and now - self.last < interval and done < self.total):
+        last_step = final or done >= self.total
+        if now < 1.0 or (self.last is not None and now - self.last < interval and not last_step):
             return
         self.last = now
-        since, steps = now - self.first[0], done - self.first[1]
-        left = f", ~{(self.total - done) * since / steps:.0f} s left" if since > 0 and steps > 0 and done < self.total else ""
-        text = f"{self.label}: step {done}/{self.total} ({100 * done / self.total:.0f}%), {now:.0f} s{left}"
-        sys.stderr.write(f"\r{text} " if self.interactive else text + "\n")
+        sys.stderr.write(f"\r{self.text(done, now)} " if self.interactive else self.text(done, now) + "\n")
         sys.stderr.flush()
         self.shown = True
 
+    def text(self, done: int, now: float) -> str:
+        """The progress line after ``done`` steps and ``now`` seconds."""
+        since, steps = now - self.first[0], done - self.first[1]
+        rate = since / steps if since > 0 and steps > 0 else None
+        if not self.open_ended:
+            left = f", ~{(self.total - done) * rate:.0f} s left" if rate is not None and done < self.total else ""
+            return f"{self.label}: step {done}/{self.total} ({100 * done / self.total:.0f}%), {now:.0f} s{left}"
+        if self.target is None:
+            goal = f"steps needed not yet estimated; at most {self.total}"
+        else:
+            goal = f"≈{min(self.target, self.total)} needed{' for ' + self.target_note if self.target_note else ''}; at most {self.total}"
+        left = f", ~{(min(self.target, self.total) - done) * rate:.0f} s left" if rate is not None and self.target is not None and done < min(self.target, self.total) else ""
+        return f"{self.label}: step {done} ({goal}), {now:.0f} s{left}"
+
     def advance(self) -> None:
         """One more step done (for runs that report steps one at a time)."""
-        self.done += 1
-        self.update(self.done)
+        self.update(self.done + 1)
 
     def close(self) -> None:
+        """End the line; an open-ended run that stopped early reports its last step first
+        (once the line has been shown)."""
+        if self.shown and self.open_ended and self.done < self.total:
+            self.update(self.done, final=True)
         if self.shown and self.interactive:
             sys.stderr.write("\n")
             sys.stderr.flush()

@@ -2,8 +2,9 @@
 
 `sample` runs in named steps: check the settings, load the spectrum, lay out the sampled
 parameters, choose their priors, start from a least-squares fit, place the walkers, run emcee
-(with a progress line), then compute MAP, Laplace evidence and WAIC (`evidence`) and wrap it
-all in a `Posterior`. The log-probability emcee drives (one jitted, vmapped call for all
+(with a progress line; ``steps="auto"`` until the chain is long enough, `AUTO_MAX_STEPS` at
+most), then compute MAP, Laplace evidence and WAIC (`evidence`) and wrap it all in a
+`Posterior`. The log-probability emcee drives (one jitted, vmapped call for all
 walkers, ``vectorize=True``) and the noise models are defined in `logprob`; priors in `priors`.
 """
 
@@ -19,20 +20,49 @@ import numpy as np
 import xarray as xr
 from scipy import stats
 
-from ...arguments import MAX_CHAIN_VALUES, MAX_SAMPLER_STEPS, MAX_WALKERS, checked_arguments, choice, closest_name, count, flag, frequency, instance_of, parameter_values, seed as seed_rule
+from ...arguments import MAX_CHAIN_VALUES, MAX_SAMPLER_STEPS, MAX_WALKERS, checked_arguments, choice, closest_name, count, flag, frequency, instance_of, parameter_values, seed as seed_rule, shown
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, parse
 from ...errors import DataError, FitError, ParameterError
 from ..least_squares import FitResult, fit
 from ..problem import open_spectrum
+from .diagnostics import CHAIN_TAU_MULTIPLE, integrated_autocorr
 from .evidence import laplace_evidence, waic
 from .logprob import NOISE_MODELS, LogProbArgs, LogProbFunctions, LogProbStructure, NoiseModel, log_prob_functions, start_weighting
 from .posterior import Posterior
-from .progress import ProgressLine
+from .progress import ProgressLine, announce
 from .priors import DEFAULT_SPAN_DECADES, SIGMA_REL_PRIOR, UNDETERMINED_STDERRS, Prior, check_prior_inside, coerce_priors, data_scale_range, default_prior, undetermined
 from .reparam import Reparametrization
 from .shared_posterior import MAX_JOINT_PARAMETERS, SharedPosterior, sample_shared
 
-__all__ = ["sample", "Posterior", "SharedPosterior", "MAX_JOINT_PARAMETERS", "NOISE_MODELS", "SIGMA_REL_PRIOR", "DEFAULT_SPAN_DECADES", "SampledParameters"]
+__all__ = [
+    "sample", "Posterior", "SharedPosterior", "MAX_JOINT_PARAMETERS", "NOISE_MODELS", "SIGMA_REL_PRIOR", "DEFAULT_SPAN_DECADES", "SampledParameters",
+    "AUTO_MAX_STEPS", "AUTO_CHECK_STEPS", "AUTO_TAU_CHANGE", "SHARED_AUTO_STEPS", "auto_step_cap",
+]
+
+AUTO_STEPS = "auto"
+
+AUTO_MAX_STEPS = 20_000
+"""The most steps ``steps="auto"`` runs before it stops with the chain-length warning. The
+8-parameter battery circuit of the examples (9 sampled parameters, τ ≈ 140–150 steps) needed
+9 750–13 000 steps, so the cap leaves it room by 1.5–2×, while a posterior that will not mix
+costs at most ~35 s on a quiet 2-core machine (≈ 1.6 ms a step there) and 92 MB of chain
+(64 walkers × 9 parameters); `auto_step_cap` lowers it for many walkers to stay within
+`MAX_CHAIN_VALUES`."""
+
+AUTO_CHECK_STEPS = 250
+"""Steps between two estimates of τ in a ``steps="auto"`` run (emcee's recipe checks every 100;
+each estimate costs an FFT of the whole kept chain, so the next one is also put off to the
+steps the last estimate says are needed)."""
+
+AUTO_TAU_CHANGE = 0.01
+"""A ``steps="auto"`` run stops only when every parameter's τ changed by less than this
+fraction since the previous estimate (emcee's recipe): τ estimated on a chain of ~50 τ is low
+by 10–15 % on the examples, and with 2 % the runs stopped at 42–64 τ of the τ a 20 000-step chain
+gives, with 1 % at 52–116 τ (docs/bayesian.md, "Chain length")."""
+
+SHARED_AUTO_STEPS = 2000
+"""The steps of a joint (``shared``) posterior when ``steps="auto"``: its sampler has a fixed
+length."""
 
 
 # --- the steps' typed hand-overs ---------------------------------------------------------------
@@ -74,18 +104,43 @@ class _Chain(NamedTuple):
     log_prob: np.ndarray  # (walker, draw)
     acceptance: np.ndarray  # (walker,)
     elapsed_s: float
+    steps: int  # the steps run
+    burn: int
+    stopped: str | None  # steps="auto": "converged" or "cap"; None for a fixed length
 
 
 # --- step 1: settings and data ---------------------------------------------------------------
 
 
-def _check_settings(noise, steps, burn, thin) -> tuple[NoiseModel, int]:
-    """The noise model and burn (default steps // 4) after checking the run's settings."""
+def auto_step_cap(walkers: int) -> int:
+    """The most steps a ``steps="auto"`` run of ``walkers`` takes: `AUTO_MAX_STEPS`, fewer where
+    steps × walkers would pass `MAX_CHAIN_VALUES`."""
+    return max(1, min(AUTO_MAX_STEPS, MAX_CHAIN_VALUES // max(int(walkers), 1)))
+
+
+def _steps_rule(value, name):
+    """``steps``: a count of steps, or ``"auto"``."""
+    if isinstance(value, str):
+        if value == AUTO_STEPS:
+            return value
+        raise ParameterError(f"{name} must be an integer, got {shown(value)} (str); or {AUTO_STEPS!r} to run until the chain is {CHAIN_TAU_MULTIPLE} τ long")
+    return count(1, MAX_SAMPLER_STEPS, why="the chain is kept in memory")(value, name)
+
+
+def _check_settings(noise, steps, burn, thin) -> tuple[NoiseModel, int | None]:
+    """The noise model and burn (default steps // 4; None for ``steps="auto"`` without a
+    burn: a quarter of the steps it runs) after checking the run's settings."""
     if noise not in NOISE_MODELS:
         raise ParameterError(f"unknown noise model {noise!r}; choose one of {', '.join(NOISE_MODELS)}")
     for what, value, least in (("steps", steps, 1), ("thin", thin, 1)):
+        if value == AUTO_STEPS and what == "steps":
+            continue
         if not isinstance(value, (int, np.integer)) or value < least:
             raise ParameterError(f"{what} must be an integer of at least {least} (got {value!r})")
+    if steps == AUTO_STEPS:
+        if burn is not None and (not isinstance(burn, (int, np.integer)) or burn < 0):
+            raise ParameterError(f"burn must be a non-negative integer (got {burn!r})")
+        return NoiseModel(noise), burn
     burn = steps // 4 if burn is None else burn
     if not isinstance(burn, (int, np.integer)) or burn < 0 or burn >= steps:
         raise ParameterError(f"burn must be an integer from 0 to steps − 1 = {steps - 1} (got {burn!r})")
@@ -368,8 +423,56 @@ def _followers(space: SampledParameters, init: FitResult, spread_over) -> dict[i
 # --- step 5: the emcee run ---------------------------------------------------------------------
 
 
-def _run_emcee(p0: np.ndarray, args: LogProbArgs, functions: LogProbFunctions, *, steps: int, burn: int, thin: int, seed: int, progress: bool) -> _Chain:
-    """emcee's stretch move over ``steps`` from ``p0``; the chain after ``burn`` and ``thin``."""
+class _ChainLength:
+    """When a ``steps="auto"`` run stops (emcee's recipe): every `AUTO_CHECK_STEPS` steps, τ of
+    each parameter is estimated on the chain the run would keep (after ``burn``, default a
+    quarter of the steps so far, and ``thin``) exactly as the `Posterior` will; the run stops
+    when that chain is at least `CHAIN_TAU_MULTIPLE` τ long for every parameter and τ changed
+    by less than `AUTO_TAU_CHANGE` since the previous estimate. While the chain is too short,
+    the next estimate waits for the steps the last one says are needed."""
+
+    def __init__(self, burn: int | None, thin: int):
+        self.burn, self.thin = burn, thin
+        self.next_check = AUTO_CHECK_STEPS
+        self.previous: np.ndarray | None = None  # τ [steps] at the previous estimate
+        self.needed: int | None = None  # the steps the last estimate says the run needs
+
+    def burn_of(self, steps: int) -> int:
+        return steps // 4 if self.burn is None else self.burn
+
+    def steps_needed(self, tau_steps: float) -> int:
+        """The fewest steps whose kept chain (after `burn_of`) is `CHAIN_TAU_MULTIPLE` · τ long."""
+        kept = CHAIN_TAU_MULTIPLE * max(tau_steps, self.thin)
+        return int(math.ceil(kept * 4 / 3)) if self.burn is None else int(math.ceil(self.burn + kept))
+
+    def long_enough(self, sampler, steps: int, *, last: bool = False) -> bool:
+        """Whether the run may stop after ``steps`` (estimating τ when a check is due, or at
+        the ``last`` step)."""
+        if steps < self.next_check and not last:
+            return False
+        burn = self.burn_of(steps)
+        if steps <= burn:
+            self.next_check = burn + AUTO_CHECK_STEPS
+            return False
+        kept = np.transpose(sampler.get_chain(discard=burn, thin=self.thin), (1, 0, 2))
+        tau_draws = integrated_autocorr(kept)
+        tau = tau_draws * self.thin
+        known = bool(np.all(np.isfinite(tau)))
+        long_enough = known and kept.shape[1] >= CHAIN_TAU_MULTIPLE * max(float(np.max(tau_draws)), 1.0)
+        stable = known and self.previous is not None and bool(np.all(np.abs(tau - self.previous) < AUTO_TAU_CHANGE * tau))
+        self.previous = tau
+        self.next_check = steps + AUTO_CHECK_STEPS
+        if known:
+            self.needed = self.steps_needed(float(np.max(tau)))
+            if not long_enough:
+                self.next_check = max(self.next_check, -(-self.needed // AUTO_CHECK_STEPS) * AUTO_CHECK_STEPS)
+        return long_enough and stable
+
+
+def _run_emcee(p0: np.ndarray, args: LogProbArgs, functions: LogProbFunctions, *, steps: int | str, burn: int | None, thin: int, seed: int, progress: bool) -> _Chain:
+    """emcee's stretch move from ``p0`` over ``steps`` (or, ``"auto"``, until `_ChainLength`
+    says the chain is long enough, `auto_step_cap` steps at most); the chain after ``burn``
+    (None: a quarter of the steps run) and ``thin``."""
     import emcee
 
     walkers, n_params = p0.shape
@@ -379,36 +482,48 @@ def _run_emcee(p0: np.ndarray, args: LogProbArgs, functions: LogProbFunctions, *
 
     sampler = emcee.EnsembleSampler(walkers, n_params, log_prob_fn, vectorize=True)
     sampler.random_state = np.random.RandomState(seed).get_state()
-    bar = ProgressLine(steps, progress, label=f"sampling (emcee, {walkers} walkers)")  # (called by sample and by gap alike)
+    auto = steps == AUTO_STEPS
+    most = auto_step_cap(walkers) if auto else steps
+    length = _ChainLength(burn, thin) if auto else None
+    bar = ProgressLine(most, progress, label=f"sampling (emcee, {walkers} walkers)", open_ended=auto)  # (called by sample and by gap alike)
     t0 = time.perf_counter()
+    ran, converged = 0, False
     try:
-        for i, _ in enumerate(sampler.sample(p0, iterations=steps, skip_initial_state_check=True)):
-            bar.update(i + 1)
+        for ran, _ in enumerate(sampler.sample(p0, iterations=most, skip_initial_state_check=True), start=1):
+            bar.update(ran)
+            if length is not None and length.long_enough(sampler, ran, last=ran == most):
+                converged = True
+                break
+            if length is not None and length.needed is not None:
+                bar.set_target(length.needed, f"{CHAIN_TAU_MULTIPLE} τ")
     finally:
         bar.close()
     elapsed = time.perf_counter() - t0
+    burn = (ran // 4 if burn is None else burn) if auto else burn
     chain_y = np.transpose(sampler.get_chain(discard=burn, thin=thin), (1, 0, 2))  # (W, D, P)
     log_prob = np.transpose(sampler.get_log_prob(discard=burn, thin=thin))
-    return _Chain(chain_y, log_prob, np.asarray(sampler.acceptance_fraction, float), elapsed)
+    stopped = ("converged" if converged else "cap") if auto else None
+    return _Chain(chain_y, log_prob, np.asarray(sampler.acceptance_fraction, float), elapsed, ran, burn, stopped)
 
 
 # --- the entry point ---------------------------------------------------------------------------
 
 
 def _chain_fits_in_memory(arguments) -> None:
-    """steps × walkers within `MAX_CHAIN_VALUES` (emcee keeps every step of every walker)."""
-    steps, walkers = arguments.get("steps", 2000), arguments.get("walkers")
-    if walkers is not None and steps * walkers > MAX_CHAIN_VALUES:
+    """steps × walkers within `MAX_CHAIN_VALUES` (emcee keeps every step of every walker);
+    ``steps="auto"`` keeps within it by its cap (`auto_step_cap`)."""
+    steps, walkers = arguments.get("steps", AUTO_STEPS), arguments.get("walkers")
+    if walkers is not None and steps != AUTO_STEPS and steps * walkers > MAX_CHAIN_VALUES:
         raise ParameterError(f"steps × walkers = {steps * walkers:,} is above the limit {MAX_CHAIN_VALUES:,} (the chain is kept in memory); use fewer steps or walkers")
 
 
 @checked_arguments(
     _chain_fits_in_memory,
     priors=instance_of(Mapping, optional=True, what="a mapping name → Prior or 'kind:a,b'"), noise=choice(NOISE_MODELS, label="noise model"),
-    walkers=count(2, MAX_WALKERS, optional=True), steps=count(1, MAX_SAMPLER_STEPS, why="the chain is kept in memory"),
+    walkers=count(2, MAX_WALKERS, optional=True), steps=_steps_rule,
     burn=count(0, optional=True), thin=count(1), seed=seed_rule, fixed=parameter_values(),
     reparametrization=instance_of(Reparametrization, optional=True), fmin=frequency, fmax=frequency, progress=flag,
-    registry=instance_of(Registry),
+    registry=instance_of(Registry, optional=True),
 )
 def sample(
     circuit: Circuit | str,
@@ -417,7 +532,7 @@ def sample(
     priors: Mapping[str, Prior | str] | None = None,
     noise: str = "proportional",
     walkers: int | None = None,
-    steps: int = 2000,
+    steps: int | str = AUTO_STEPS,
     burn: int | None = None,
     thin: int = 1,
     seed: int = 0,
@@ -427,7 +542,7 @@ def sample(
     fmin: float | None = None,
     fmax: float | None = None,
     progress: bool = True,
-    registry: Registry = DEFAULT_REGISTRY,
+    registry: Registry | None = None,
     shared: Sequence[str] | str | None = None,
     over: Sequence[str] | str | None = None,
 ) -> Posterior | SharedPosterior:
@@ -444,18 +559,30 @@ def sample(
     ``sigma_rel``. ``reparametrization`` samples physical
     quantities behind some circuit parameters (`gap_thickness_reparametrization`).
     ``walkers`` (default max(64, 4·P)) start in a small ball around the least-squares fit
-    ``init`` (run by `fit` when not given); ``burn`` (default steps // 4) steps are discarded and
-    every ``thin``-th kept. Returns a `Posterior` with diagnostics, Laplace log evidence and WAIC.
+    ``init`` (run by `fit` when not given) and take ``steps`` steps each: a number, or
+    ``"auto"`` (the default), which runs until the kept chain is `CHAIN_TAU_MULTIPLE` (50)
+    autocorrelation times long for every parameter and τ has settled, `AUTO_MAX_STEPS` at most
+    (then the chain-length warning says the cap was reached; docs/bayesian.md, "Chain length").
+    ``burn`` (default a quarter of the steps run) steps are discarded and every ``thin``-th kept;
+    ``settings`` records the steps that ran. Returns a `Posterior` with diagnostics, Laplace log
+    evidence and WAIC. ``progress``: lines on stderr for the start fit, the compilation and the
+    sampling. ``registry`` None: the default one.
     ``shared`` with ``over`` (as `fit`) samples the joint posterior of a global fit instead:
     shared parameters once, the others per spectrum, started from the global least-squares fit
-    (`shared_posterior`; at most `MAX_JOINT_PARAMETERS` sampled parameters), and returns a
-    `SharedPosterior`.
+    (`shared_posterior`; at most `MAX_JOINT_PARAMETERS` sampled parameters; ``"auto"`` runs
+    `SHARED_AUTO_STEPS` there), and returns a `SharedPosterior`.
     """
+    registry = DEFAULT_REGISTRY if registry is None else registry
     noise, burn = _check_settings(noise, steps, burn, thin)
     circuit = parse(circuit, registry)
     if shared is not None or over is not None:
         if init is not None or reparametrization is not None:
             raise ParameterError("sample with shared parameters starts from its own global fit and takes no init or reparametrization")
+        if steps == AUTO_STEPS:
+            steps = SHARED_AUTO_STEPS
+            burn = steps // 4 if burn is None else burn
+            if burn >= steps:
+                raise ParameterError(f"burn must be an integer from 0 to steps − 1 = {steps - 1} (got {burn!r})")
         return sample_shared(
             circuit, data, shared=shared, over=over, priors=priors, noise=noise, walkers=walkers, steps=steps, burn=burn, thin=thin, seed=seed,
             fixed=fixed, fmin=fmin, fmax=fmax, progress=progress, registry=registry,
@@ -469,13 +596,17 @@ def sample(
     priors = coerce_priors(priors)
     _check_user_priors(priors, space, fixed, rp)
     walkers = _walker_count(walkers, len(space.names))
+    if steps == AUTO_STEPS and burn is not None and burn >= auto_step_cap(walkers):
+        raise ParameterError(f"burn must be below the {auto_step_cap(walkers)} steps steps='auto' runs at most (got {burn})")
 
     if init is None:
+        announce("sample: fitting the least-squares start …", progress)
         init = fit(circuit, obs.data, fixed=fixed or None, weighting=start_weighting(noise), registry=registry)
     fitted = _least_squares_start(init, space, specs, rp, noise)
     chosen_priors = _choose_priors(priors, space, fitted, init, obs)
     chosen, support, notes = chosen_priors.chosen, chosen_priors.support, chosen_priors.notes
     excluded = [n for i, n in enumerate(space.names) if n in priors and not support[i][0] < fitted[i] <= support[i][1]]
+    announce(f"sample: compiling the log-probability (once per circuit and data size) and placing {walkers} walkers …", progress)
     args, structure = _log_prob_setup(circuit, registry, specs, fixed, rp, obs, space, chosen, support)
     functions = log_prob_functions(structure)
     lo_y, hi_y = _support_in_sampled_space(support, space.log_scale)
@@ -485,8 +616,9 @@ def sample(
     )
 
     chain = _run_emcee(p0, args, functions, steps=steps, burn=burn, thin=thin, seed=seed, progress=progress)
+    length = {"steps_mode": "fixed"} if chain.stopped is None else {"steps_mode": "auto", "step_cap": auto_step_cap(walkers), "stopped": chain.stopped}
 
-    evidence = laplace_evidence(chain.chain_y, chain.log_prob, args, functions, lo_y, hi_y)
+    evidence = laplace_evidence(chain.chain_y, chain.log_prob, args, functions, lo_y, hi_y, names=space.names)
     information = waic(chain.chain_y, args, functions, excluded)
     notes += [note for note in (evidence.note, information.note) if note]
     log_scale = np.asarray(space.log_scale)
@@ -511,7 +643,7 @@ def sample(
         p_waic=float(information.p_waic),
         map_values={n: float(v) for n, v in zip(space.names, map_x)},
         notes=tuple(notes),
-        settings={"walkers": int(walkers), "steps": int(steps), "burn": int(burn), "thin": int(thin), "seed": int(seed), "elapsed_s": float(chain.elapsed_s)},
+        settings={"walkers": int(walkers), "steps": int(chain.steps), "burn": int(chain.burn), "thin": int(thin), "seed": int(seed), "elapsed_s": float(chain.elapsed_s), **length},
         reparametrization=rp,
         registry=registry,
     )
