@@ -7,7 +7,11 @@ def register(sub) -> None:
     from .common import add_select_option
     from .fit import add_fit_options, add_max_steps_option
 
-    p = sub.add_parser("compare", help="fit several models to one spectrum and compare them", description="Fit each MODEL to DATA and compare rms_rel, reduced chi², AIC, BIC, Akaike weights and F-tests of nested models.")
+    p = sub.add_parser(
+        "compare", help="fit several models to one spectrum and compare them",
+        description="Fit each MODEL to DATA and compare rms_rel, reduced chi², AIC, AICc, BIC, Akaike weights and F-tests of nested models; "
+        "AIC ranks (under --weighting sigma AIC = chi² + 2k, the sigma taken as the known noise; else n ln(chi²/n) + 2k).",
+    )
     p.add_argument("data", metavar="DATA", help="spectrum file with one spectrum, or one picked with --select")
     add_select_option(p)
     p.add_argument("--model", action="append", required=True, metavar="MODEL", help="circuit text (give two or more)")
@@ -17,6 +21,10 @@ def register(sub) -> None:
     add_max_steps_option(p, 400, "each model's fit")
     p.add_argument("--json", action="store_true", help="print the comparison as JSON")
     p.add_argument("--plot", metavar="FILE.png", help="save data with every model's fit and residuals")
+    p.add_argument(
+        "--out", metavar="FILE.csv|.json",
+        help="also write the comparison to FILE: .csv one row per model (the table's columns), .json the --json document; '-' the JSON to standard output",
+    )
     p.set_defaults(run=run)
 
 
@@ -25,7 +33,7 @@ def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting.problem import open_spectrum
     from ..arguments import closest_name
-    from .common import emit_json, figure_writer, load_selected, parse_assignments, plan_outputs
+    from .common import emit_json, figure_writer, load_selected, parse_assignments, plan_outputs, result_writer
     from .fit import check_max_steps
 
     if len(args.model) < 2:
@@ -40,7 +48,7 @@ def run(args) -> int:
             if not any(name in ns for ns in names):
                 close = closest_name(name, everywhere)
                 raise ParameterError(f"{flag}: no model has a parameter {name!r}" + (f"; did you mean {close}?" if close else "") + f" (parameters: {', '.join(everywhere)})")
-    outputs = plan_outputs([("--plot", args.plot, "figure")], inputs=[args.data])
+    outputs = plan_outputs([("--out", out_path(args.out), "result"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     max_steps = check_max_steps(args.max_steps)
     data = open_spectrum(load_selected(args.data, args.select, single="impedax compare"), single="compare").data
 
@@ -51,13 +59,11 @@ def run(args) -> int:
         fit(c, data, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, init=own("--init", ns), fixed=own("--fix", ns))
         for c, ns in zip(circuits, names)
     ])
-    outputs.save({"--plot": figure_writer(comparison.plot)})
+    # (--out: .csv `Comparison.to_table`, .json `Comparison.summary`, as `impedax.io.write_result` writes them)
+    outputs.save({"--out": result_writer(comparison), "--plot": figure_writer(comparison.plot)})
     if args.json:
-        out = comparison.summary()
-        out["models"] = [dict(r.summary(), **{k: row[k] for k in ("delta_aic", "akaike_weight")}) for r, row in zip(comparison.fits, comparison.rows)]
-        out["f_tests"] = list(comparison.f_tests)
-        emit_json(out)
-    else:
+        emit_json(comparison.summary())
+    elif not outputs.uses_stdout:  # (--out -: the JSON went to standard output)
         print(comparison.table())
         for fit_result in comparison.fits:  # (the table's rows do not show what was held)
             held = {n: v for n, v in fit_result.values.items() if fit_result.fixed.get(n) and n in given["--fix"]}
@@ -65,6 +71,24 @@ def run(args) -> int:
                 print(f"held fixed in {fit_result.model}: " + ", ".join(f"{n} = {v:g}" for n, v in held.items()))
         print("\n".join(warning_lines(comparison)))
     return 0
+
+
+OUT_SUFFIXES = (".csv", ".json")
+
+
+def out_path(path: str | None) -> str | None:
+    """``--out``: a FILE whose extension is not .csv or .json is refused before any fit
+    (`DataError`, exit 2); None and ``-`` (the JSON to standard output) pass as given."""
+    from pathlib import Path
+
+    from ..errors import DataError
+
+    if path is None or path == "-" or not path.strip():
+        return path  # (`plan_outputs` says "empty file name")
+    suffix = Path(path).suffix.lower()
+    if suffix not in OUT_SUFFIXES:
+        raise DataError(f"--out: unknown extension {suffix or '(none)'!r} for a comparison; use .csv (one row per model) or .json (the --json document)", path=path)
+    return path
 
 
 def circuit_shape(circuit) -> str:

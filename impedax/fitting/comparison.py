@@ -1,5 +1,6 @@
-"""Model comparison: rms_rel, reduced chi², AIC, BIC, ΔAIC, Akaike weights and, for nested
-models fitted to the same data, the F-test of the extra parameters."""
+"""Model comparison: rms_rel, reduced chi², AIC, AICc, BIC, ΔAIC, Akaike weights and, for
+nested models fitted to the same data, the F-test of the extra parameters (docs/fitting.md,
+"Comparing models")."""
 
 from __future__ import annotations
 
@@ -16,7 +17,7 @@ from ..errors import FitError
 from .least_squares import FitResult
 from .least_squares.branches import undetermined
 
-__all__ = ["compare", "Comparison", "is_nested", "undetermined_names"]
+__all__ = ["compare", "Comparison", "is_nested", "undetermined_names", "criteria", "akaike_weights", "KNOWN_SIGMA", "UNKNOWN_VARIANCE", "SIGMA_CHI2_RED_RANGE"]
 
 
 def _nested(a: Circuit, b: Circuit) -> bool:
@@ -50,6 +51,45 @@ def undetermined_names(fit: FitResult) -> list[str]:
     return [n for n in fit.free_names if n not in fit.at_bound and undetermined(fit.values[n], fit.stderr[n])]
 
 
+KNOWN_SIGMA = "chi2 + 2k"
+"""`criteria`' AIC under ``weighting="sigma"``: the data's sigma is the noise, −2 ln L = χ² + const."""
+UNKNOWN_VARIANCE = "n ln(chi2/n) + 2k"
+"""`criteria`' AIC under the other weightings: the weights are relative, the noise scale is
+estimated (σ̂² = χ²/n), −2 ln L = n ln(χ²/n) + const (lmfit's convention, `FitResult.aic`)."""
+SIGMA_CHI2_RED_RANGE = (0.5, 2.0)
+"""Under ``weighting="sigma"`` the table says so when the lowest reduced χ² of the models is
+outside this range: the sigma do not describe the scatter about any model, and ΔAIC are about
+χ²_red times those of the unknown-variance form (n ln(χ²_a/χ²_b) ≈ Δχ²/χ²_red)."""
+
+
+def criteria(fit: FitResult) -> dict:
+    """``aic``, ``bic``, ``aicc`` and ``aic_form`` of ``fit`` over its n = 2N real data values
+    and k free parameters. Under ``weighting="sigma"`` (`KNOWN_SIGMA`): AIC = χ² + 2k,
+    BIC = χ² + k ln n; otherwise (`UNKNOWN_VARIANCE`) the fit's own, n ln(χ²/n) + 2k and
+    n ln(χ²/n) + k ln n. AICc = AIC + 2k(k + 1)/(n − k − 1) (Hurvich & Tsai 1989), NaN where
+    n − k − 1 ≤ 0 (undefined)."""
+    n, k, chi2 = 2 * fit.n_points, fit.n_params, float(fit.chi2)
+    if fit.weighting == "sigma":
+        aic, bic, form = chi2 + 2 * k, chi2 + k * math.log(n), KNOWN_SIGMA
+    else:
+        aic, bic, form = float(fit.aic), float(fit.bic), UNKNOWN_VARIANCE
+    aicc = aic + 2 * k * (k + 1) / (n - k - 1) if n - k - 1 > 0 else math.nan
+    return {"aic": aic, "bic": bic, "aicc": aicc, "aic_form": form}
+
+
+def akaike_weights(values) -> tuple[np.ndarray, np.ndarray]:
+    """Δ_i = IC_i − min IC and w_i = exp(−Δ_i/2)/Σ_j exp(−Δ_j/2) of information criteria
+    ``values``; a NaN value (AICc undefined) has NaN Δ and weight and is left out of the sum."""
+    x = np.asarray(values, float)
+    delta, weights = np.full(x.shape, math.nan), np.full(x.shape, math.nan)
+    ok = ~np.isnan(x)
+    if ok.any():
+        delta[ok] = x[ok] - x[ok].min()
+        w = np.exp(-delta[ok] / 2)
+        weights[ok] = w / w.sum()
+    return delta, weights
+
+
 def is_nested(simple: Circuit, complex_: Circuit) -> bool:
     """Whether ``simple`` is a special case of ``complex_`` (see `_nested`)."""
     return _nested(simple, complex_) and len(list(simple.elements())) <= len(list(complex_.elements()))
@@ -57,11 +97,13 @@ def is_nested(simple: Circuit, complex_: Circuit) -> bool:
 
 @dataclass(frozen=True, eq=False)
 class Comparison:
-    """The comparison table, one row per model in the order given; ``best`` has the lowest AIC."""
+    """The comparison table, one row per model in the order given; ``best`` has the lowest AIC
+    (AIC ranks; ``aic_form`` says which AIC, `criteria`; `best_aicc_index` the lowest AICc)."""
 
     rows: tuple[dict, ...]
     f_tests: tuple[dict, ...]
     fits: tuple[FitResult, ...]
+    aic_form: str = UNKNOWN_VARIANCE  # `KNOWN_SIGMA` under weighting="sigma" (`criteria`)
 
     @property
     def best_index(self) -> int:
@@ -80,6 +122,12 @@ class Comparison:
         return self.rows[self.best_index]["model"]
 
     @property
+    def best_aicc_index(self) -> int | None:
+        """Position of the lowest AICc, or None when no model has one (n − k − 1 ≤ 0)."""
+        defined = [i for i, r in enumerate(self.rows) if not math.isnan(r["aicc"])]
+        return min(defined, key=lambda i: self.rows[i]["aicc"]) if defined else None
+
+    @property
     def best_determined(self) -> str | None:
         """The model of lowest AIC among the fits that leave no parameter undetermined
         (`undetermined_names`); None when every fit leaves one."""
@@ -87,8 +135,19 @@ class Comparison:
         return None if i is None else self.rows[i]["model"]
 
     def summary(self) -> dict:
-        """JSON form used by ``impedax compare --json``."""
-        return {"models": [dict(r) for r in self.rows], "best": self.best, "best_determined": self.best_determined, "f_tests": [dict(t) for t in self.f_tests]}
+        """The JSON of ``impedax compare --json`` (and ``--out FILE.json``): each model's fit
+        summary (parameters, warnings) with its row (the row's ``aic`` and ``bic`` are the
+        comparison's, `criteria`), the best models, the F-tests and which AIC ranks."""
+        i = self.best_aicc_index
+        return {
+            "models": [{**f.summary(), **r} for f, r in zip(self.fits, self.rows)], "best": self.best, "best_determined": self.best_determined,
+            "f_tests": [dict(t) for t in self.f_tests], "ranked_by": "aic", "aic_form": self.aic_form, "best_aicc": None if i is None else self.rows[i]["model"],
+        }
+
+    def to_table(self) -> list[dict]:
+        """One row per model, as ``compare --out FILE.csv`` writes them: the columns of the table
+        with chi2, the AICc deltas and weights, and the undetermined parameters (``;``-joined)."""
+        return [{**r, "undetermined": ";".join(undetermined_names(f))} for r, f in zip(self.rows, self.fits)]
 
     def _best_mark(self) -> str:
         """The table's mark of the best model by AIC, saying when its fit did not converge or has
@@ -116,11 +175,12 @@ class Comparison:
     def table(self) -> str:
         extra = [c for c in ("log_evidence", "waic") if any(c in r for r in self.rows)]
         width = max(len(r["model"]) for r in self.rows)
-        head = f"{'model':<{width}}  {'k':>2}  {'rms_rel':>9}  {'chi2_red':>10}  {'AIC':>9}  {'BIC':>9}  {'ΔAIC':>7}  {'weight':>6}" + "".join(f"  {c:>12}" for c in extra)
+        head = f"{'model':<{width}}  {'k':>2}  {'rms_rel':>9}  {'chi2_red':>10}  {'AIC':>9}  {'AICc':>9}  {'BIC':>9}  {'ΔAIC':>7}  {'weight':>6}" + "".join(f"  {c:>12}" for c in extra)
         lines = [head]
         best = self.best_index
         for i, r in enumerate(self.rows):
-            line = f"{r['model']:<{width}}  {r['n_params']:>2}  {r['rms_rel'] * 100:>8.3g}%  {r['chi2_red']:>10.4g}  {r['aic']:>9.2f}  {r['bic']:>9.2f}  {r['delta_aic']:>7.2f}  {r['akaike_weight']:>6.3f}"
+            aicc = "—" if math.isnan(r["aicc"]) else f"{r['aicc']:.2f}"
+            line = f"{r['model']:<{width}}  {r['n_params']:>2}  {r['rms_rel'] * 100:>8.3g}%  {r['chi2_red']:>10.4g}  {r['aic']:>9.2f}  {aicc:>9}  {r['bic']:>9.2f}  {r['delta_aic']:>7.2f}  {r['akaike_weight']:>6.3f}"
             line += "".join(f"  {r.get(c, math.nan):>12.2f}" for c in extra)
             if i == best:
                 line += self._best_mark()
@@ -135,10 +195,36 @@ class Comparison:
                 + (f"the best model with every parameter determined is {self.rows[determined]['model']} (ΔAIC {self.rows[determined]['delta_aic']:.2f})" if determined is not None
                    else "so does every other model" if len(self.rows) > 1 else "there is no other model")
             )
+        lines += self._criteria_lines()
         for t in self.f_tests:
             test = f"F = {t['f']:.3g}, p = {t['p_value']:.3g}" if t.get("valid", True) else f"no test: {t['note']}"
             lines.append(f"F-test {t['simple']}  ⊂  {t['complex']}: {test}")
         return "\n".join(lines)
+
+    def _criteria_lines(self) -> list[str]:
+        """What the table says of its criteria: the AIC of known noise under sigma weighting (and
+        when the sigma do not describe the scatter, `SIGMA_CHI2_RED_RANGE`), the models without
+        an AICc, and a best by AICc other than the best by AIC."""
+        lines = []
+        n = 2 * self.fits[0].n_points
+        if self.aic_form == KNOWN_SIGMA:
+            lines.append("AIC = χ² + 2k and BIC = χ² + k ln n: the data's sigma taken as the known noise (weighting sigma)")
+            lowest = min((r["chi2_red"] for r in self.rows if math.isfinite(r["chi2_red"])), default=math.nan)
+            low, high = SIGMA_CHI2_RED_RANGE
+            if lowest > high or lowest < low:
+                side = "understate" if lowest > high else "overstate"
+                lines.append(
+                    f"the lowest reduced χ² is {lowest:.3g}: the sigma {side} the scatter about every model, and these ΔAIC are about "
+                    f"{lowest:.3g}× those of the unknown-variance form n ln(χ²/n) + 2k; check the sigma, or compare with another weighting"
+                )
+        for r in self.rows:
+            if math.isnan(r["aicc"]):
+                k = r["n_params"]
+                lines.append(f"AICc is undefined for {r['model']}: n − k − 1 = {n - k - 1} with n = {n} real data values and k = {k} (it needs n ≥ k + 2); left out of the AICc weights")
+        i = self.best_aicc_index
+        if i is not None and i != self.best_index and not self.rows[i]["aicc"] >= self.rows[self.best_index]["aicc"]:  # (NaN: the best by AIC has none)
+            lines.append(f"by AICc (small-sample correction) the best is {self.rows[i]['model']} (AICc weight {self.rows[i]['akaike_weight_aicc']:.3f}); the ranking above is by AIC")
+        return lines
 
     def to_xarray(self) -> xr.Dataset:
         models = [r["model"] for r in self.rows]
@@ -157,10 +243,12 @@ class Comparison:
 def compare(fits: Sequence) -> Comparison:
     """Compare least-squares fits of several models to the same data.
 
-    Columns: rms_rel, chi2_red, AIC, BIC, ΔAIC (to the lowest), Akaike weights
-    w_i = exp(−ΔAIC_i/2)/Σ exp(−ΔAIC_j/2), and an F-test for each nested pair:
-    F = ((χ²_s − χ²_c)/(k_c − k_s)) / (χ²_c/(n − k_c)). Items may also be posteriors with a
-    ``fit`` attribute; their ``log_evidence`` and ``waic`` become extra columns.
+    Columns: rms_rel, chi2_red, AIC, AICc, BIC (`criteria`: χ² + 2k under ``weighting="sigma"``,
+    n ln(χ²/n) + 2k otherwise; AICc = AIC + 2k(k + 1)/(n − k − 1), NaN where undefined), ΔAIC
+    (to the lowest) and Akaike weights w_i = exp(−ΔAIC_i/2)/Σ exp(−ΔAIC_j/2), the same from
+    AICc (``delta_aicc``, ``akaike_weight_aicc``), and an F-test for each nested pair:
+    F = ((χ²_s − χ²_c)/(k_c − k_s)) / (χ²_c/(n − k_c)). AIC ranks. Items may also be posteriors
+    with a ``fit`` attribute; their ``log_evidence`` and ``waic`` become extra columns.
     """
     items = list(fits)
     if len(items) < 1:
@@ -172,13 +260,15 @@ def compare(fits: Sequence) -> Comparison:
             raise FitError(f"models were fitted to different data ({r.model} vs {ref.model}); compare fits of the same spectrum")
         if r.weighting != ref.weighting:
             raise FitError(f"models were fitted with different weightings ({r.weighting} vs {ref.weighting})")
-    aics = np.array([r.aic for r in results])
-    delta = aics - aics.min()
-    weights = np.exp(-delta / 2)
-    weights /= weights.sum()
+    ics = [criteria(r) for r in results]
+    delta, weights = akaike_weights([c["aic"] for c in ics])
+    delta_c, weights_c = akaike_weights([c["aicc"] for c in ics])
     rows = []
-    for item, r, d, w in zip(items, results, delta, weights):
-        row = {"model": r.model, "n_params": r.n_params, "rms_rel": r.rms_rel, "chi2": r.chi2, "chi2_red": r.chi2_red, "aic": r.aic, "bic": r.bic, "delta_aic": float(d), "akaike_weight": float(w), "converged": r.converged}
+    for i, (item, r, c) in enumerate(zip(items, results, ics)):
+        row = {
+            "model": r.model, "n_params": r.n_params, "rms_rel": r.rms_rel, "chi2": r.chi2, "chi2_red": r.chi2_red, "aic": c["aic"], "aicc": c["aicc"], "bic": c["bic"],
+            "delta_aic": float(delta[i]), "akaike_weight": float(weights[i]), "delta_aicc": float(delta_c[i]), "akaike_weight_aicc": float(weights_c[i]), "converged": r.converged,
+        }
         for extra in ("log_evidence", "waic"):
             value = getattr(item, extra, None)
             if value is not None:
@@ -204,7 +294,7 @@ def compare(fits: Sequence) -> Comparison:
             elif c.chi2_red < EXACT_CHI2_RED:
                 test.update(valid=False, note=f"{c.model} fits the data to rounding (chi2_red {c.chi2_red:.1e}): noise-free data, nothing to test against")
             tests.append(test)
-    return Comparison(tuple(rows), tuple(tests), tuple(results))
+    return Comparison(tuple(rows), tuple(tests), tuple(results), ics[0]["aic_form"])
 
 
 SAME_FIT_RMS = 1e-3

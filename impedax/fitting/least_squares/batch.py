@@ -25,7 +25,7 @@ from ..problem import residual_scale, weights
 from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, dominant_points, information_criteria, null_sets
 from .order import canonical_order
 from .branches import RELATIVE_ERROR_LIMIT, idle_branch_notes, settle_vanishing, undetermined, undetermined_mask, vanishing_candidates, vanishing_parameters
-from .result import LINEARISED_STDERR_NAME, STDERR_NOTE, bound_sides, confirm_bounds, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, shown_stderr, stack_notes, weighting_notes, without_error
+from .result import LINEARISED_STDERR_NAME, STDERR_NOTE, bound_sides, confirm_bounds, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, shown_stderr, stack_notes, vanishing_term_sides, weighting_notes, without_error
 from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, TreeSolvers, better, over_devices, padded_points, tree_solver, trimmed, unscale
 from .starts import SpectrumFeatures, climb_target, batch_outliers, escalation_rungs, guess_start, rms_rel_of, rung_seed, rung_starts, to_solver_space
 
@@ -493,6 +493,8 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
     sides = np.zeros((b, k), np.int8)
     regular = np.flatnonzero(~odd)
     sides[regular] = confirm_bounds(table, values[regular], bound_sides(table, values[regular], stderr[regular]), lambda p, s: solver.chi2_at_x(p, regular[s]), n_res)
+    if k and regular.size:  # (a parameter of a term that vanishes at any value is undetermined, not at a bound: as `fit_result`)
+        sides[regular] = vanishing_term_sides(circuit, registry, table, values[regular], sides[regular], freq, z[regular], jac[regular])
     # parameters of a term that changes Z by < 1e-6: at the natural bound that explains it, or undetermined (as `fit_result`)
     free_values, free_stderr = values[regular][:, table.free_index], stderr[regular][:, table.free_index]
     vanishing = np.zeros((len(regular), k), np.int8)

@@ -43,7 +43,7 @@ from ..problem import residual_scale, weights
 from ..statistics import information_criteria
 from .batch import BatchFitResult, data_notes, fit_batch
 from .branches import idle_branch_notes, idle_branches, settle_vanishing, undetermined, undetermined_mask, vanishing_candidates, vanishing_parameters
-from .result import BOUND_CHI2_FRACTION, LINEARISED_STDERR_NAME, STDERR_NOTE, bound_note, bound_sides, on_bound, shown_stderr, stack_notes, without_error
+from .result import BOUND_CHI2_FRACTION, LINEARISED_STDERR_NAME, STDERR_NOTE, bound_note, bound_sides, on_bound, shown_stderr, stack_notes, vanishing_term_sides, without_error
 from .solvers import SolverArgs, tree_residuals
 
 __all__ = ["SharedFitResult", "SharedLayout", "shared_layout", "fit_shared", "JointSolution", "joint_solver", "joint_covariance", "SHARING_P_LIMIT"]
@@ -452,6 +452,9 @@ def fit_shared(
     for gi in range(n_groups):
         sides[gi] = _confirm_sides(sides[gi], x_free[gi], table, sh, solver[2], fits[gi].args, noise[gi] * fits[gi].scale**2, 2 * n_freq)
     sides = sides.reshape(-1, k)
+    # an own parameter of a term that vanishes at any value is undetermined, not at a bound (as `fit_result`)
+    own_sides = vanishing_term_sides(circuit, registry, table, flat_values, sides, freq, z.reshape(-1, n_freq)) if k else sides
+    sides = np.where(np.isin(np.arange(k), sh), sides, own_sides).astype(sides.dtype)  # (a shared one's bound: said per global fit)
     # a spectrum's own parameters of a term that changes Z by < 1e-6: at the natural bound that explains it, or undetermined (as `fit_result`)
     candidates = vanishing_candidates(sides, flat_values[:, free], flat_stderr[:, free])
     candidates[:, sh] = False
