@@ -152,7 +152,7 @@ def test_netcdf_round_trip_is_lossless(rcpe, tmp_path):
     assert back.names == post.names and back.priors == post.priors and back.warnings == post.warnings
     assert back.fit.values == post.fit.values and back.fit.aic == post.fit.aic
     assert ix.compare([back]).rows[0]["waic"] == post.waic
-    with pytest.raises(ix.DataError, match="not a saved impedax posterior"):
+    with pytest.raises(ix.DataError, match="not a saved impedax single-spectrum posterior"):
         Posterior.from_xarray(post.fit.to_xarray())
 
 

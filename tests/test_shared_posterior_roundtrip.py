@@ -156,7 +156,7 @@ def test_old_file_without_data_or_start_fit_says_what_is_missing(proportional, t
 def test_joint_file_read_as_single_posterior_is_a_data_error(proportional, tmp_path):
     path = tmp_path / "joint.nc"
     ix.write_result(proportional, path)
-    with pytest.raises(ix.DataError, match="not a saved impedax posterior"):
+    with pytest.raises(ix.DataError, match=r"joint\.nc: a saved joint \(shared-parameter\) posterior, not a single-spectrum posterior: read it with SharedPosterior\.from_xarray"):
         ix.Posterior.from_xarray(ix.load(path))
 
 

@@ -420,15 +420,10 @@ class Posterior:
         opened as stored (``xr.open_dataset`` of a file `impedax.write_result` wrote: its JSON
         attributes and split complex variables are decoded here). A custom reparametrization
         must be passed again (its functions are not stored); ``registry`` None: the default one."""
-        from ...io.netcdf import decode_dataset  # (io is imported only here: rarely needed)
+        from ...io.netcdf import saved_result  # (io is imported only here: rarely needed)
 
         registry = DEFAULT_REGISTRY if registry is None else registry
-
-        if not isinstance(ds, xr.Dataset):
-            raise DataError(f"from_xarray takes an xarray.Dataset, got {type(ds).__name__}")
-        ds = decode_dataset(ds)
-        if ds.attrs.get("impedax_kind") != "posterior" or "draws" not in ds:
-            raise DataError("not a saved impedax posterior (no 'draws' variable / impedax_kind attribute)")
+        ds = saved_result(ds, "posterior", variables=("draws",))  # (a joint or hierarchical file: named, with its reader)
         circuit = parse(ds.attrs["model"], registry)
         rp = reparametrization
         if rp is None and ds.attrs.get("reparametrization"):
