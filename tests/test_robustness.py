@@ -64,6 +64,7 @@ OUTPUT_COMMANDS = [  # (id, argv template with {output}, output extension)
     ("fit-out", ["fit", "{good}", "--model", "R1 + C1", "--out", "{output}"], ".nc"),
     ("fit-plot", ["fit", "{good}", "--model", "R1 + C1", "--plot", "{output}"], ".png"),
     ("compare-plot", ["compare", "{good}", "--model", "R1", "--model", "R1 + C1", "--plot", "{output}"], ".png"),
+    ("compare-out", ["compare", "{good}", "--model", "R1", "--model", "R1 + C1", "--out", "{output}"], ".csv"),
     ("sample-out", ["sample", "{good}", "--model", "R1 + C1", "--steps", "20", "--out", "{output}"], ".nc"),
     ("sample-corner", ["sample", "{good}", "--model", "R1 + C1", "--steps", "20", "--corner", "{output}"], ".png"),
     ("sample-plot", ["sample", "{good}", "--model", "R1 + C1", "--steps", "20", "--plot", "{output}"], ".png"),

@@ -36,6 +36,7 @@ OUTPUT_FLAGS = [
     ("fit-out", ["fit", "{good}", "--model", "R1 + C1", "--out", "{output}"], ".json", "result"),
     ("fit-plot", ["fit", "{good}", "--model", "R1 + C1", "--plot", "{output}"], ".png", "figure"),
     ("compare-plot", ["compare", "{good}", "--model", "R1", "--model", "R1 + C1", "--plot", "{output}"], ".png", "figure"),
+    ("compare-out", ["compare", "{good}", "--model", "R1", "--model", "R1 + C1", "--out", "{output}"], ".csv", "result"),
     ("sample-out", ["sample", "{good}", "--model", "R1 + C1", "--steps", "20", "--out", "{output}"], ".nc", "result"),
     ("sample-corner", ["sample", "{good}", "--model", "R1 + C1", "--steps", "20", "--corner", "{output}"], ".png", "figure"),
     ("sample-plot", ["sample", "{good}", "--model", "R1 + C1", "--steps", "20", "--plot", "{output}"], ".png", "figure"),
