@@ -396,8 +396,9 @@ def test_cli_json_keys_and_outputs(tmp_path, capsys):
     ix.save(ix.make_spectrum(F, noisy(10 + rc(500, 1e-3) + rc(1000, 0.1), 0.005, 14)), path)
     assert main(["drt", str(path), "--json", "--plot", str(tmp_path / "d.png"), "--out", str(tmp_path / "d.nc")]) == 0
     payload = json.loads(capsys.readouterr().out)
-    assert set(payload) == {"tau_s", "gamma_ohm", "gamma_q05", "gamma_q95", "r_inf_ohm", "l_h", "lambda", "lambda_method", "peaks", "rms_rel", "warnings"}
-    assert [set(p) for p in payload["peaks"]] == [{"tau_s", "r_ohm", "width_decades"}] * 2
+    # the public contract: these keys stay (more are added: tests/test_drt_review.py)
+    assert {"tau_s", "gamma_ohm", "gamma_q05", "gamma_q95", "r_inf_ohm", "l_h", "lambda", "lambda_method", "peaks", "rms_rel", "warnings"} <= set(payload)
+    assert len(payload["peaks"]) == 2 and all({"tau_s", "r_ohm", "width_decades"} <= set(p) for p in payload["peaks"])
     assert payload["lambda_method"] == "gcv" and len(payload["tau_s"]) == len(payload["gamma_q95"])
     assert (tmp_path / "d.png").read_bytes()[:4] == b"\x89PNG"
     import xarray as xr

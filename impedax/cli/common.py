@@ -679,7 +679,7 @@ OPTION_OF_KEYWORD_BY_COMMAND: dict[str, dict[str, str]] = {
     "compare": {"fixed": "--fix", "init": "--init", "max_steps": "--max-steps", "fmin": "--fmin", "fmax": "--fmax", "weighting": "--weighting"},
     "sample": {"fixed": "--fix", "init": "--init", "max_steps": "--max-steps", "steps": "--steps", "burn": "--burn", "thin": "--thin", "walkers": "--walkers", "seed": "--seed", "priors": "--prior", "noise": "--noise", "fmin": "--fmin", "fmax": "--fmax", "shared": "--shared", "over": "--over"},
     "kk": {"c": "--c", "max_rc": "--max-rc", "fmin": "--fmin", "fmax": "--fmax"},
-    "drt": {"lam": "--lam", "lam_method": "--lam-method", "method": "--method"},
+    "drt": {"lam": "--lam", "lam_method": "--lam-method", "method": "--method", "min_peak_fraction": "--min-peak-fraction", "fmin": "--fmin", "fmax": "--fmax"},
     "diagnose": {"noise": "--noise", "effects": "--effects", "max_steps": "--max-steps", "fmin": "--fmin", "fmax": "--fmax", "weighting": "--weighting"},
     "refine": {"noise": "--noise", "effects": "--effects", "max_effects": "--max-effects", "solver_steps": "--max-steps", "fmin": "--fmin", "fmax": "--fmax", "weighting": "--weighting"},
     "force": {"points": "--points", "fmin": "--fmin", "fmax": "--fmax"},

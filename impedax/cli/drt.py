@@ -15,8 +15,33 @@ def _lam(text: str):
     return value
 
 
+def _fraction(text: str) -> float:
+    """--min-peak-fraction: a number in [0, 1)."""
+    import argparse
+
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number (a share of the DRT's area, e.g. 0.05)") from None
+    if not 0 <= value < 1:
+        raise argparse.ArgumentTypeError(f"{text!r} must be at least 0 and below 1 (a share of the DRT's area, e.g. 0.05)")
+    return value
+
+
+def _check_band(fmin, fmax) -> None:
+    """--fmin/--fmax: positive and finite, fmin ≤ fmax (the rule of `impedax kk` and the
+    commands that fit)."""
+    from ..errors import ParameterError
+
+    for flag, value in (("--fmin", fmin), ("--fmax", fmax)):
+        if value is not None and not (value > 0 and value < float("inf")):
+            raise ParameterError(f"{flag} must be positive, got {value:g}")
+    if fmin is not None and fmax is not None and fmax < fmin:
+        raise ParameterError(f"--fmax ({fmax:g} Hz) is below --fmin ({fmin:g} Hz)")
+
+
 def register(sub) -> None:
-    from .common import add_select_option
+    from .common import add_select_option, number_option
 
     p = sub.add_parser(
         "drt",
@@ -26,10 +51,17 @@ def register(sub) -> None:
     )
     p.add_argument("data", metavar="DATA", help="spectrum file (any format impedax reads); a file of several spectra gets a DRT of each, or pick one with --select")
     add_select_option(p)
-    p.add_argument("--lam", default="auto", metavar="auto|VALUE", help="regularisation parameter: 'auto' (default; chosen by --lam-method) or a positive number used as given")
+    p.add_argument("--lam", default="auto", metavar="auto|VALUE", help="regularisation parameter, relative to max|Z|^2: 'auto' (default; chosen by --lam-method, never below 1e-4) or a positive number used as given")
     p.add_argument("--lam-method", choices=("gcv", "lcurve"), default="gcv", help="how 'auto' chooses lambda (default: gcv)")
     p.add_argument("--method", choices=("tikhonov",), default="tikhonov", help="DRT method (default: tikhonov)")
     p.add_argument("--signed", action="store_true", help="allow negative gamma (inductive loops, negative capacitances)")
+    p.add_argument(
+        "--min-peak-fraction", type=_fraction, default=0.1, metavar="F",
+        help="peaks holding less than this share of the DRT's area are dropped (default 0.1); a resolved peak "
+        "(gamma falls below 10%% of its height on both sides) needs half of it. See docs/drt.md, 'Peaks'",
+    )
+    p.add_argument("--fmin", type=number_option, help="ignore data below this frequency [Hz]")
+    p.add_argument("--fmax", type=number_option, help="ignore data above this frequency [Hz]")
     p.add_argument("--json", action="store_true", help="machine-readable output")
     p.add_argument("--plot", metavar="FILE.png", help="save gamma vs tau with peaks and band, and the fit on Nyquist/Bode")
     p.add_argument("--out", metavar="FILE.nc|.csv", help="save gamma, its band and the fit (netCDF) or gamma over tau (CSV)")
@@ -44,8 +76,14 @@ def run(args) -> int:
 
     outputs = plan_outputs([("--out", args.out, "drt"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     # a file of several spectra: the DRT of each in one solve (`DRTBatchResult`), or one (--select)
-    data = open_spectrum(load_selected(args.data, args.select)).data
-    result = drt(data, method=args.method, lam=_lam(args.lam), lam_method=args.lam_method, signed=args.signed)
+    _check_band(args.fmin, args.fmax)
+    data = load_selected(args.data, args.select)
+    if args.fmin is not None or args.fmax is not None:
+        from ..fitting.problem import select_band
+
+        data = select_band(data, args.fmin, args.fmax, args.data)
+    data = open_spectrum(data).data
+    result = drt(data, method=args.method, lam=_lam(args.lam), lam_method=args.lam_method, signed=args.signed, min_peak_fraction=args.min_peak_fraction)
     outputs.save({"--out": lambda path: _save(result, path), "--plot": figure_writer(result.plot)})
     if outputs.uses_stdout:
         return 0
@@ -59,8 +97,10 @@ def run(args) -> int:
     print(result.report())
     if batch:
         for where, one in zip(result.labels(), result.results):
-            peaks = "; ".join(f"{p.tau_s:.3g} s ({p.r_ohm:.3g} Ω)" for p in one.peaks) or "none"
-            print(f"  {', '.join(f'{d}={v}' for d, v in where.items())}: rms_rel {one.rms_rel * 100:.3g} %, R_inf {one.r_inf_ohm:.4g} Ω, peaks {peaks}")
+            peaks = "; ".join(f"{p.tau_s:.3g} s ({p.r_ohm:.3g} Ω{'' if p.inside_window else ', outside the measured range'})" for p in one.peaks) or "none"
+            dropped = f"; {len(one.dropped_peaks)} below the cut-off dropped ({sum(p.r_ohm for p in one.dropped_peaks):.3g} Ω)" if one.dropped_peaks else ""
+            note = f"; λ {one.lam:.2g}, {one.lambda_note}" if one.lambda_note else ""
+            print(f"  {', '.join(f'{d}={v}' for d, v in where.items())}: rms_rel {one.rms_rel * 100:.3g} %, R_inf {one.r_inf_ohm:.4g} Ω, peaks {peaks}{dropped}{note}")
     return 0
 
 

@@ -22,6 +22,8 @@ def plot_gamma(ax, result, *, overlay=None, label="data DRT", overlay_label=None
     for p in result.peaks:
         ax.plot(p.tau_s, p.gamma_max_ohm, "v", color="tab:red", ms=7)
         ax.annotate(f"{format_time(p.tau_s)}\n{format_quantity(p.r_ohm, 'Ω')}", (p.tau_s, p.gamma_max_ohm), textcoords="offset points", xytext=(0, 8), ha="center", fontsize=7)
+    for i, p in enumerate(getattr(result, "dropped_peaks", ())):  # below the cut-off: marked, not counted
+        ax.plot(p.tau_s, p.gamma_max_ohm, "v", mfc="none", color="0.45", ms=6, label="peak below the cut-off (dropped)" if i == 0 else None)
     if overlay is not None:
         name = overlay_label or (f"circuit {overlay.circuit}" if hasattr(overlay, "circuit") else "model DRT")
         ax.semilogx(overlay.tau, overlay.gamma, "--", color="tab:orange", lw=1.4, label=name)
@@ -82,7 +84,8 @@ def plot_drt(result, *, overlay=None, title: str | None = None):
     ax_res.set_ylabel("DRT residual [%]")
     ax_res.grid(alpha=0.3, which="both")
     ax_res.legend(fontsize=8, ncol=2)
-    fig.suptitle(title or f"DRT: {len(result.peaks)} peak(s), λ = {result.lam:.2g} ({result.lambda_method}), rms_rel {result.rms_rel * 100:.2g} %")
+    dropped = len(getattr(result, "dropped_peaks", ()))
+    fig.suptitle(title or f"DRT: {len(result.peaks)} peak(s){f' (+{dropped} below the cut-off)' if dropped else ''}, λ = {result.lam:.2g} ({result.lambda_method}), rms_rel {result.rms_rel * 100:.2g} %")
     return fig
 
 

@@ -12,15 +12,14 @@ from ...errors import DataError, ParameterError
 from ..problem import frequency_and_z
 from ..stored import QUICK_COMPILE, StoredProgram
 from .basis import impedance_integrals, penalty_matrix, rbf_basis
-from .peaks import find_peaks
-from .result import DRTBatchResult, DRTResult
+from .peaks import split_peaks
+from .result import LAMBDA_FLOOR as _LAMBDA_FLOOR, DRTBatchResult, DRTResult, format_lambda  # λ chosen below the floor is raised to it
 from .tikhonov import LAMBDA_METHODS, quantile_band, solve_batch
 
 __all__ = ["drt"]
 
 _ETA = 1e-10  # diagonal added to Γ so that it factors (see tikhonov.py)
 _LOG_LAMBDA_GRID = np.log(np.logspace(-8, 2, 41))
-_LAMBDA_FLOOR = 1e-4  # λ chosen below this is raised to it: see docs/drt.md, "Choosing λ"
 _SAMPLES = 200  # Gaussian draws for the peaks' standard deviations
 
 
@@ -75,6 +74,51 @@ def _needs_capacitance(freq, z) -> bool:
     return bool(np.any(np.angle(z[..., k], deg=True) < -60.0))
 
 
+def _check_finite(x: np.ndarray, fixed: float | None, source: str) -> None:
+    """A solution that is not finite is an error, not a result: with a fixed λ too small for
+    the spectrum, H = AᵀA + λΓ is numerically singular and its Cholesky factor NaN (the
+    threshold depends on the spectrum: 1e-16 worked on one real file, 1e-9 failed on another)."""
+    bad = ~np.all(np.isfinite(x), axis=-1)
+    if not np.any(bad):
+        return
+    which = "" if bad.size == 1 else f" (spectra {', '.join(str(int(i)) for i in np.flatnonzero(bad)[:5])}{', …' if bad.sum() > 5 else ''} of {bad.size}, in C order)"
+    if fixed is not None:
+        raise ParameterError(
+            f"lam must be larger than {fixed:g} for this data{which}: the regularised system is numerically singular at that λ and its "
+            f"solution is not finite (the smallest λ that works depends on the spectrum; an automatic λ is never below {_LAMBDA_FLOOR:g}); "
+            "give a larger value or 'auto'"
+        )
+    raise DataError(f"the DRT solve gave a non-finite solution{which}: check the data for extreme values", path=source)
+
+
+def _lambda_note(method: str, choice: float, index: int) -> str:
+    """How an automatic λ ended where it did, when not simply at the criterion's optimum
+    ("" then): raised to `_LAMBDA_FLOOR`, or at the top of the grid. ``index``: the grid
+    index of the optimum (the L-curve's curvature is not defined at the grid's ends)."""
+    last = _LOG_LAMBDA_GRID.size - 1 - (method == "lcurve")
+    if choice < _LAMBDA_FLOOR:
+        where = f"{method}'s optimum is at the bottom of its grid, {format_lambda(math.exp(_LOG_LAMBDA_GRID[0]))}, or below" if index <= (method == "lcurve") else f"{method} chose {format_lambda(choice, 2)}"
+        return f"raised to the floor {format_lambda(_LAMBDA_FLOOR)} ({where})"
+    if index >= last:
+        return f"at the top of its grid ({format_lambda(math.exp(_LOG_LAMBDA_GRID[-1]))}; {method}'s optimum may lie above: the data ask for at least this much smoothing)"
+    return ""
+
+
+def _difference_noise(freq: np.ndarray, residual: np.ndarray, n_params: float) -> float:
+    """The KK test's noise estimate on the DRT's relative residuals: `statistics.difference_noise`
+    (1.4826·median|d|/√2) of the first differences d of Re and Im in frequency order, inflated
+    by √(2N/(2N − P)) for the P effective parameters, as kk.py does. Independent of a smooth
+    misfit, unlike the residual σ."""
+    from ..statistics import difference_noise
+
+    n = residual.size
+    if n < 3:
+        return math.nan
+    order = np.argsort(freq)
+    d = np.concatenate([np.diff(residual.real[order]), np.diff(residual.imag[order])])
+    return float(difference_noise(d) * math.sqrt(2 * n / max(2 * n - n_params, 1.0)))
+
+
 @checked_arguments(
     signed=flag, derivative=count(1, 2), inductance=flag, points_per_decade=real(minimum=1, maximum=1000), extend_decades=real(minimum=0, maximum=10),
     fwhm_steps=real(positive=True, maximum=100), output_points_per_decade=real(minimum=1, maximum=10_000), max_iter=count(1, 100_000),
@@ -113,7 +157,11 @@ def drt(
     centres per decade, ``extend_decades`` beyond the measured τ range (not on the short-τ side
     when L is fitted, nor on the long-τ side when C is: there γ and the series term are
     interchangeable), each ``fwhm_steps`` spacings wide; γ is reported at ``output_points_per_decade``.
-    Raises DataError/ParameterError on bad input.
+    ``min_peak_fraction``: a peak needs this share of ∫|γ| d ln τ, half of it when resolved;
+    below it a peak joins a neighbour within 2 decades or is dropped and reported
+    (`peaks.split_peaks`, docs/drt.md "Peaks"). λ is relative to max|Z|² (docs/drt.md,
+    "Choosing λ"). Raises DataError/ParameterError on bad input, and ParameterError naming
+    ``lam`` when a fixed λ is too small for the data (the solution is not finite).
     """
     if method != "tikhonov":
         raise ParameterError(f"unknown DRT method {method!r}; available: 'tikhonov'")
@@ -164,6 +212,7 @@ def drt(
         design_re, design_im, weights, zn.real, zn.imag, gamma_penalty, r_inv, mask, phi, _LOG_LAMBDA_GRID, fixed_log, math.log(_LAMBDA_FLOOR),
     )
     out = {k: np.asarray(v) for k, v in out.items()}
+    _check_finite(out["x"], fixed, source)
     q05, q95 = (np.asarray(v) for v in quantile_band(out["band_mean"], out["band_sd"], bool(signed), out["gamma"]))
     n_series = len(names)
     options = dict(signed=bool(signed), derivative=int(derivative), inductance=bool(inductance), capacitance=use_c, points_per_decade=float(points_per_decade),
@@ -189,6 +238,8 @@ def drt(
         if not signed:
             draws = np.maximum(draws, 0.0)
         gamma = out["gamma"][i] * scale
+        peaks, dropped = split_peaks(ln_tau_out, gamma, signed=bool(signed), window=window, samples=draws, min_rel_resistance=float(min_peak_fraction))
+        choice = float(math.exp(out["log_lambda_choice"][i])) if fixed is None else math.nan
         results.append(
             DRTResult(
                 frequency=freq.copy(),
@@ -205,10 +256,14 @@ def drt(
                 lam=float(math.exp(out["log_lambda"][i])),
                 band_lambda=float(math.exp(out["log_lambda_band"][i])),
                 lambda_method="fixed" if fixed is not None else lam_method,
+                lambda_choice=choice,
+                lambda_note=_lambda_note(lam_method, choice, int(out["choice_index"][i])) if fixed is None else "",
                 signed=bool(signed),
-                peaks=find_peaks(ln_tau_out, gamma, signed=bool(signed), window=window, samples=draws, min_rel_resistance=float(min_peak_fraction)),
+                peaks=peaks,
+                dropped_peaks=dropped,
                 rms_rel=float(np.sqrt(np.mean(np.abs(residual) ** 2))),
                 noise_estimate=float(out["sigma"][i]),
+                difference_noise=_difference_noise(freq, residual, float(out["effective_parameters"][i])),
                 converged=bool(out["converged"][i]),
                 effective_parameters=float(out["effective_parameters"][i]),
                 lambda_grid=np.exp(_LOG_LAMBDA_GRID),

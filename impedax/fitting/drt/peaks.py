@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Peak", "find_peaks"]
+__all__ = ["Peak", "find_peaks", "split_peaks"]
 
 _LN10 = math.log(10.0)
 
@@ -54,20 +54,62 @@ def _split(values: np.ndarray, maxima: list[int]) -> list[tuple[int, int, int]]:
     return out
 
 
+RESOLVED_DEPTH = 0.1
+"""A peak is resolved when γ falls to this fraction of its maximum or below on both sides of
+it (at the minima towards its neighbours, or at the ends of the τ axis)."""
+
+RESOLVED_SHARE = 0.5
+"""A resolved peak needs this share of ``min_rel_resistance`` (5 % of ∫|γ| by default): the
+side lobes a regularised ZARC (α 0.9) or HN peak leaves beside itself, resolved by a deep
+minimum, hold up to 3.7 % (docs/drt.md, "Peaks")."""
+
+MERGE_DECADES = 2.0
+"""A peak below the cut-off joins the neighbouring peak within this many decades of it (its
+area counts in that peak's R: the side lobes a regularised peak leaves sit 0.7–1.6 decades
+from it, and noise splits a small arc into halves 1.5 decades apart); a farther one is
+dropped, its area given to no peak and reported (`split_peaks`)."""
+
+
 def _windows(values: np.ndarray, ln_tau: np.ndarray, min_height: float, min_resistance: float):
-    """Peaks that hold at least ``min_resistance`` each: the smallest of the local maxima is
-    dropped (its area joins its neighbours) until every remaining one does. A DRT regularised
-    under γ ≥ 0 rings beside broad (CPE-like) peaks and at the ends of the τ range; those
-    side lobes hold a few percent of R_pol and are not relaxations."""
+    """(kept, dropped): lists of (k, lo, hi) — the maximum and the window [lo, hi] whose area
+    ∫ max(values, 0) d ln τ is the peak's R. Windows start between neighbouring maxima, split
+    at the lowest point. A window is kept when its area is ≥ ``min_resistance``, or ≥
+    `RESOLVED_SHARE` of it when the peak is resolved (`RESOLVED_DEPTH`). Otherwise, smallest
+    first, it joins the adjacent window on the side of the higher minimum (else the other)
+    when that one's maximum is within `MERGE_DECADES`, or it is dropped: then no other window
+    grows over it. A DRT regularised under γ ≥ 0 rings beside broad (CPE-like) peaks and at
+    the ends of the τ range; those lobes are not relaxations, and they join their peak."""
+    positive = np.maximum(values, 0.0)
     maxima = _maxima(values, min_height)
-    while maxima:
-        parts = _split(np.maximum(values, 0.0), maxima)
-        areas = [float(np.trapezoid(np.maximum(values[lo : hi + 1], 0.0), ln_tau[lo : hi + 1])) for _, lo, hi in parts]
-        smallest = int(np.argmin(areas))
-        if areas[smallest] >= min_resistance:
-            return parts
-        maxima.pop(smallest)
-    return []
+    parts = [list(p) for p in _split(positive, maxima)]
+    alive = [True] * len(parts)
+
+    def area(p) -> float:
+        return float(np.trapezoid(positive[p[1] : p[2] + 1], ln_tau[p[1] : p[2] + 1]))
+
+    def keeps(p) -> bool:
+        a = area(p)
+        resolved = max(positive[p[1]], positive[p[2]]) <= RESOLVED_DEPTH * positive[p[0]]
+        return a >= min_resistance or (resolved and a >= RESOLVED_SHARE * min_resistance)
+
+    reach = MERGE_DECADES * _LN10
+    while True:
+        failing = [i for i, p in enumerate(parts) if alive[i] and not keeps(p)]
+        if not failing:
+            break
+        i = min(failing, key=lambda i: area(parts[i]))
+        k, lo, hi = parts[i]
+        # the live neighbours (a dropped window between blocks the way), higher minimum first
+        sides = [(positive[lo], j) for j in (i - 1,) if j >= 0 and alive[j]] + [(positive[hi], j) for j in (i + 1,) if j < len(parts) and alive[j]]
+        sides.sort(key=lambda side: -side[0])
+        target = next((j for _, j in sides if abs(ln_tau[parts[j][0]] - ln_tau[k]) <= reach), None)
+        if target is None:
+            alive[i] = False
+            continue
+        parts[target] = [parts[target][0], min(lo, parts[target][1]), max(hi, parts[target][2])]
+        parts.pop(i)
+        alive.pop(i)
+    return [tuple(p) for p, a in zip(parts, alive) if a], [tuple(p) for p, a in zip(parts, alive) if not a]
 
 
 def _vertex(ln_tau, values, k) -> float:
@@ -97,39 +139,44 @@ def _fwhm(ln_tau, values, k, lo, hi) -> float:
     return float(right - left) / _LN10
 
 
-def find_peaks(ln_tau, gamma, *, signed, window, samples=None, min_rel_height=0.02, min_rel_resistance=0.1) -> tuple[Peak, ...]:
-    """Peaks of γ on the grid ``ln_tau`` (ascending), positive ones and, when ``signed``, negative
-    ones. A peak needs γ_max ≥ ``min_rel_height``·max|γ| and |R| ≥ ``min_rel_resistance``·∫|γ|
-    (10 %: the side lobes and tail ripples of a regularised broad peak hold up to ≈ 9 %, docs/drt.md); its R is
-    the area from the lowest point towards the previous peak to the lowest towards the next.
-    ``samples`` (S, K): draws of γ used for the peaks' standard deviations. ``window``: the
-    measured (τ_min, τ_max). Sorted by τ."""
+def _peak(ln_tau, gamma, sign, k, lo, hi, samples, window) -> Peak:
+    """The `Peak` of the maximum k whose window is [lo, hi] (``sign`` −1: a negative peak)."""
+    values = sign * gamma
+    r = float(np.trapezoid(np.maximum(values[lo : hi + 1], 0.0), ln_tau[lo : hi + 1]))
+    tau_sd = r_sd = float("nan")
+    if samples is not None and samples.shape[0] > 1:
+        part = sign * samples[:, lo : hi + 1]
+        tau_sd = float(np.std(ln_tau[lo : hi + 1][np.argmax(part, axis=1)]) / _LN10)
+        r_sd = float(np.std(np.trapezoid(part, ln_tau[lo : hi + 1], axis=1)))
+    tau = math.exp(_vertex(ln_tau, values, k))
+    return Peak(
+        tau_s=tau, r_ohm=sign * r, width_decades=_fwhm(ln_tau, values, k, lo, hi), gamma_max_ohm=float(gamma[k]),
+        log10_tau_sd=tau_sd, r_ohm_sd=r_sd, inside_window=bool(window[0] <= tau <= window[1]),
+    )
+
+
+def split_peaks(ln_tau, gamma, *, signed, window, samples=None, min_rel_height=0.02, min_rel_resistance=0.1) -> tuple[tuple[Peak, ...], tuple[Peak, ...]]:
+    """(peaks, dropped) of γ on the grid ``ln_tau`` (ascending): positive peaks and, when
+    ``signed``, negative ones. A peak needs γ_max ≥ ``min_rel_height``·max|γ| and
+    |R| ≥ ``min_rel_resistance``·∫|γ| d ln τ, or half that when resolved (`_windows`;
+    docs/drt.md, "Peaks"); R = ∫ γ d ln τ over its window, from the minimum towards the
+    previous peak to the minimum towards the next. ``dropped``: the peaks below the cut-off
+    whose area no reported peak holds (farther than `MERGE_DECADES` from any), each with the
+    area of its own window; empty for a signed DRT, where every peak's R is its share of the
+    whole τ axis. ``samples`` (S, K): draws of γ for the peaks' standard deviations.
+    ``window``: the measured (τ_min, τ_max). Sorted by τ."""
     ln_tau = np.asarray(ln_tau, float)
     gamma = np.asarray(gamma, float)
     total = float(np.trapezoid(np.abs(gamma), ln_tau))
-    peaks = []
+    peaks, dropped = [], []
     for sign in ((1.0, -1.0) if signed else (1.0,)):
-        values = sign * gamma
-        for k, lo, hi in _windows(values, ln_tau, min_rel_height * float(np.max(np.abs(gamma))), min_rel_resistance * total):
-            r = float(np.trapezoid(np.maximum(values[lo : hi + 1], 0.0), ln_tau[lo : hi + 1]))
-            tau_sd = r_sd = float("nan")
-            if samples is not None and samples.shape[0] > 1:
-                part = sign * samples[:, lo : hi + 1]
-                tau_sd = float(np.std(ln_tau[lo : hi + 1][np.argmax(part, axis=1)]) / _LN10)
-                r_sd = float(np.std(np.trapezoid(part, ln_tau[lo : hi + 1], axis=1)))
-            tau = math.exp(_vertex(ln_tau, values, k))
-            peaks.append(
-                Peak(
-                    tau_s=tau,
-                    r_ohm=sign * r,
-                    width_decades=_fwhm(ln_tau, values, k, lo, hi),
-                    gamma_max_ohm=float(gamma[k]),
-                    log10_tau_sd=tau_sd,
-                    r_ohm_sd=r_sd,
-                    inside_window=bool(window[0] <= tau <= window[1]),
-                )
-            )
+        kept, lost = _windows(sign * gamma, ln_tau, min_rel_height * float(np.max(np.abs(gamma))), min_rel_resistance * total)
+        peaks += [_peak(ln_tau, gamma, sign, k, lo, hi, samples, window) for k, lo, hi in kept]
+        dropped += [_peak(ln_tau, gamma, sign, k, lo, hi, None, window) for k, lo, hi in lost]
     peaks.sort(key=lambda p: p.tau_s)
+    dropped.sort(key=lambda p: p.tau_s)
+    if signed:
+        dropped = []
     if signed and len(peaks) > 1:
         # a signed solution rings: each peak is flanked by lobes of the other sign that belong to
         # it, so R is the signed area of its share of the τ axis (split at the smallest |γ|
@@ -143,4 +190,9 @@ def find_peaks(ln_tau, gamma, *, signed, window, samples=None, min_rel_height=0.
                 peaks = [dataclasses.replace(p, r_ohm=r) for p, r in zip(peaks, shares)]
                 break
             peaks.pop(smallest)
-    return tuple(peaks)
+    return tuple(peaks), tuple(dropped)
+
+
+def find_peaks(ln_tau, gamma, *, signed, window, samples=None, min_rel_height=0.02, min_rel_resistance=0.1) -> tuple[Peak, ...]:
+    """The peaks of `split_peaks` (without the dropped ones)."""
+    return split_peaks(ln_tau, gamma, signed=signed, window=window, samples=samples, min_rel_height=min_rel_height, min_rel_resistance=min_rel_resistance)[0]

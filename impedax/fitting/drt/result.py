@@ -13,7 +13,22 @@ from ...data import checked_frequencies, concise_repr, format_quantity, format_t
 from .peaks import Peak
 from ..grid import ResultGrid
 
-__all__ = ["DRTResult", "DRTBatchResult"]
+__all__ = ["DRTResult", "DRTBatchResult", "format_lambda"]
+
+LAMBDA_FLOOR = 1e-4
+"""An automatic λ is never below this (docs/drt.md, "Choosing λ")."""
+
+_SUPERSCRIPT = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
+
+
+def format_lambda(value: float, digits: int = 3) -> str:
+    """A dimensionless λ as written by hand: ``0.0125``, ``2.6×10⁻⁵``, ``10⁻⁸`` (no e-notation)."""
+    text = f"{value:.{digits}g}"
+    if "e" not in text:
+        return text
+    mantissa, exponent = text.split("e")
+    power = f"10{str(int(exponent)).translate(_SUPERSCRIPT)}"
+    return power if mantissa == "1" else f"{mantissa}×{power}"
 
 
 # a DRT fit worse than this (rms_rel) does not reproduce the data (`DRTResult.warnings`)
@@ -33,8 +48,14 @@ class DRTResult:
     credible band (Gaussian posterior at the evidence-chosen ``band_lambda``, widened to
     contain ``gamma``); ``r_inf_ohm``, ``l_h``, ``c_f`` (inf when no series capacitor was fitted);
     ``z_fit`` the DRT model at ``frequency``; ``residuals`` = (Z_data − Z_fit)/|Z_data|;
-    ``lam`` the regularisation parameter (in the normalised units of docs/drt.md) and
-    ``lambda_method`` how it was chosen ("gcv", "lcurve" or "fixed"); ``peaks`` sorted by τ.
+    ``lam`` the regularisation parameter (relative to ``z_ref``² = max|Z|²: the residuals are
+    relative to |Z| and γ is in units of ``z_ref``; docs/drt.md, "Choosing λ"),
+    ``lambda_method`` how it was chosen ("gcv", "lcurve" or "fixed"), ``lambda_choice`` the
+    criterion's own choice (before the floor; nan when fixed) and ``lambda_note`` what moved λ
+    from it ("" when nothing did); ``peaks`` sorted by τ, ``dropped_peaks`` the peaks below
+    the cut-off whose area no reported peak holds; ``noise_estimate`` the fit's residual σ
+    (relative), ``difference_noise`` the KK test's first-difference estimate on the same
+    residuals.
     """
 
     __repr__ = concise_repr  # (the generated one printed every array)
@@ -68,6 +89,10 @@ class DRTResult:
     source: str = "memory"
     band_lambda: float = math.nan  # λ of the credible band (evidence-chosen; docs/drt.md)
     options: Mapping[str, object] = field(default_factory=dict)  # the drt() keywords that shape γ (reused by unexplained_peaks)
+    lambda_choice: float = math.nan
+    lambda_note: str = ""
+    dropped_peaks: tuple[Peak, ...] = ()
+    difference_noise: float = math.nan
 
     @property
     def polarization_resistance(self) -> float:
@@ -123,13 +148,20 @@ class DRTResult:
                 "r_inf": ((), self.r_inf_ohm, {"units": "ohm"}),
                 "inductance": ((), self.l_h, {"units": "H"}),
                 "capacitance": ((), self.c_f, {"units": "F"}),
+                "peak_inside_window": ("peak", np.array([int(p.inside_window) for p in peaks], np.int8), {"long_name": "1: the peak's tau lies in the measured range"}),
                 "lam": ((), self.lam),
                 "rms_rel": ((), self.rms_rel, {"units": "1"}),
+                "residual_sigma": ((), self.noise_estimate, {"units": "1", "long_name": "residual standard deviation of the DRT fit (relative)"}),
+                "difference_noise": ((), self.difference_noise, {"units": "1", "long_name": "first-difference noise estimate of the residuals (the KK test's)"}),
+                "dropped_r": ((), float(sum(p.r_ohm for p in self.dropped_peaks)), {"units": "ohm", "long_name": "R of the peaks dropped below the cut-off"}),
             },
             coords={"tau": ("tau", self.tau, {"units": "s"}), "frequency": ("frequency", self.frequency, {"units": "Hz"})},
             attrs={
                 "method": "Tikhonov-regularised DRT on a Gaussian RBF basis (impedax, docs/drt.md)",
                 "lambda_method": self.lambda_method,
+                "lambda_note": self.lambda_note,
+                "lambda_scale": f"relative to z_ref_ohm^2, z_ref_ohm = max|Z| = {self.z_ref:.6g}",
+                "min_peak_fraction": float(self.options.get("min_peak_fraction", 0.1)),
                 "signed": int(self.signed),
                 "derivative_order": self.derivative,
                 "basis_fwhm_decades": self.basis_fwhm_decades,
@@ -151,7 +183,7 @@ class DRTResult:
         if self.r_inf_ohm < -0.01 * z_top:
             out.append(
                 f"R_inf = {format_quantity(self.r_inf_ohm, 'Ω')} is negative, which no passive cell has: the data stop before the high-frequency "
-                "limit or carry an instrument's phase error there; leave the top points out (fmax) or check the sign convention"
+                "limit or carry an instrument's phase error there; leave the top points out (impedax drt --fmax) or check the sign convention"
             )
         if self.l_h < 0 and 2 * math.pi * float(self.frequency[top]) * -self.l_h > 0.05 * z_top:
             out.append(f"L = {format_quantity(self.l_h, 'H')} is negative: the high-frequency end is more capacitive than the arcs explain (stray capacitance, or a cable's phase error)")
@@ -162,15 +194,37 @@ class DRTResult:
             )
         return tuple(out)
 
+    @property
+    def lambda_text(self) -> str:
+        """λ and how it was chosen, as the report's first line says it."""
+        how = "as given" if self.lambda_method == "fixed" else f"by {self.lambda_method}" + (f", {self.lambda_note}" if self.lambda_note else "")
+        return f"λ = {format_lambda(self.lam)} {how}"
+
+    @property
+    def lambda_scale_text(self) -> str:
+        """What λ is relative to, and the credible band's λ."""
+        return (f"λ is relative to max|Z|² = ({format_quantity(self.z_ref, 'Ω')})² (residuals relative to |Z|, γ in units of max|Z|); "
+                f"credible band at λ = {format_lambda(self.band_lambda, 2)} (evidence)")
+
+    @property
+    def cutoff_text(self) -> str:
+        """The peak cut-off in words (docs/drt.md, "Peaks")."""
+        from .peaks import RESOLVED_SHARE
+
+        share = float(self.options.get("min_peak_fraction", 0.1))
+        return f"{share * 100:.3g} % of ∫|γ|, {share * RESOLVED_SHARE * 100:.3g} % when resolved"
+
     def report(self) -> str:
-        """A few lines: λ and how it was chosen, R_∞, L, C, the fit error, the peaks and the
-        warnings."""
+        """A few lines: λ, how it was chosen and its scale, R_∞, L, C, R_pol, the fit error
+        against the residual σ and the first-difference noise, the peaks, the peaks dropped
+        below the cut-off and the warnings."""
         lines = [
-            f"DRT ({'signed' if self.signed else 'non-negative'}, Tikhonov on Gaussian RBFs, derivative order {self.derivative}): "
-            f"λ = {self.lam:.3g} " + ("as given" if self.lambda_method == "fixed" else f"by {self.lambda_method}"),
+            f"DRT ({'signed' if self.signed else 'non-negative'}, Tikhonov on Gaussian RBFs, derivative order {self.derivative}): {self.lambda_text}",
+            self.lambda_scale_text,
             f"R_inf = {format_quantity(self.r_inf_ohm, 'Ω', 4)}, L = {format_quantity(self.l_h, 'H')}" + ("" if math.isinf(self.c_f) else f", C = {format_quantity(self.c_f, 'F')}")
             + f", R_pol = {format_quantity(self.polarization_resistance, 'Ω', 4)}",
-            f"rms_rel = {self.rms_rel * 100:.3g} % (noise estimate {self.noise_estimate * 100:.3g} %)" + ("" if self.converged else "; active-set solve did NOT converge"),
+            f"rms_rel = {self.rms_rel * 100:.3g} % (residual σ {self.noise_estimate * 100:.3g} %, first-difference noise {self.difference_noise * 100:.2g} %)"
+            + ("" if self.converged else "; active-set solve did NOT converge"),
             f"{len(self.peaks)} peak(s):",
         ]
         for p in self.peaks:
@@ -179,11 +233,18 @@ class DRTResult:
                 f"  τ = {format_time(p.tau_s)} (f = {format_quantity(p.frequency_hz, 'Hz')}, ±{p.log10_tau_sd:.2f} dec)  R = {format_uncertain(p.r_ohm, p.r_ohm_sd, 'Ω')}  "
                 f"width {p.width_decades:.2f} dec{where}"
             )
+        if self.dropped_peaks:
+            d = self.dropped_peaks
+            lines.append(
+                f"{len(d)} peak(s) below the cut-off ({self.cutoff_text}: min_peak_fraction, --min-peak-fraction) dropped, R = {format_quantity(sum(p.r_ohm for p in d), 'Ω')} in all "
+                f"(at τ = {', '.join(format_time(p.tau_s, 2) for p in d)})"
+            )
         lines += [f"warning: {w}" for w in self.warnings]
         return "\n".join(lines)
 
     def summary(self) -> dict:
-        """The JSON of ``impedax drt --json`` (the keys are the public contract)."""
+        """The JSON of ``impedax drt --json`` (the keys are the public contract: keys are added,
+        never renamed; NaN and inf are written as null)."""
         return {
             "tau_s": self.tau,
             "gamma_ohm": self.gamma,
@@ -193,16 +254,35 @@ class DRTResult:
             "l_h": self.l_h,
             "lambda": self.lam,
             "lambda_method": self.lambda_method,
-            "peaks": [{"tau_s": p.tau_s, "r_ohm": p.r_ohm, "width_decades": p.width_decades} for p in self.peaks],
+            "peaks": [
+                {"tau_s": p.tau_s, "r_ohm": p.r_ohm, "width_decades": p.width_decades, "r_ohm_sd": p.r_ohm_sd, "log10_tau_sd": p.log10_tau_sd,
+                 "inside_window": p.inside_window, "frequency_hz": p.frequency_hz, "gamma_max_ohm": p.gamma_max_ohm}
+                for p in self.peaks
+            ],
             "rms_rel": self.rms_rel,
             "warnings": list(self.warnings),
+            "c_f": None if math.isinf(self.c_f) else self.c_f,
+            "r_pol_ohm": self.polarization_resistance,
+            "residual_sigma": self.noise_estimate,
+            "difference_noise": self.difference_noise,
+            "converged": self.converged,
+            "lambda_choice": self.lambda_choice,
+            "lambda_note": self.lambda_note or None,
+            "lambda_floor": LAMBDA_FLOOR,
+            "lambda_scale": "relative to z_ref_ohm^2 (z_ref_ohm = max|Z|; residuals relative to |Z|)",
+            "z_ref_ohm": self.z_ref,
+            "band_lambda": self.band_lambda,
+            "min_peak_fraction": self.options.get("min_peak_fraction"),
+            "dropped_peaks": [{"tau_s": p.tau_s, "r_ohm": p.r_ohm, "inside_window": p.inside_window} for p in self.dropped_peaks],
+            "dropped_r_ohm": float(sum(p.r_ohm for p in self.dropped_peaks)),
+            "window_tau_s": list(self.window),
         }
 
     def _repr_html_(self) -> str:
         from ...plotting.html import result_html
 
         rows = [{"τ [s]": p.tau_s, "f [Hz]": p.frequency_hz, "R [Ω]": p.r_ohm, "R sd [Ω]": p.r_ohm_sd, "width [dec]": p.width_decades} for p in self.peaks]
-        lines = [f"λ = {self.lam:.3g} ({self.lambda_method}); R_inf = {self.r_inf_ohm:.4g} Ω, R_pol = {self.polarization_resistance:.4g} Ω; rms_rel {self.rms_rel * 100:.3g} %; {len(self.peaks)} peak(s)"]
+        lines = [f"{self.lambda_text}; R_inf = {self.r_inf_ohm:.4g} Ω, R_pol = {self.polarization_resistance:.4g} Ω; rms_rel {self.rms_rel * 100:.3g} %; {len(self.peaks)} peak(s)"]
         return result_html("distribution of relaxation times", rows, lines=lines)
 
     def plot(self, *, overlay=None, title: str | None = None):
@@ -262,6 +342,8 @@ class DRTBatchResult(ResultGrid):
                 "peak_tau": ((*dims, "peak"), stack(lambda r: np.array([p.tau_s for p in r.peaks]), n_peak), {"units": "s"}),
                 "peak_r": ((*dims, "peak"), stack(lambda r: np.array([p.r_ohm for p in r.peaks]), n_peak), {"units": "ohm"}),
                 "peak_width": ((*dims, "peak"), stack(lambda r: np.array([p.width_decades for p in r.peaks]), n_peak), {"units": "decades"}),
+                "peak_inside_window": ((*dims, "peak"), stack(lambda r: np.array([float(p.inside_window) for p in r.peaks]), n_peak), {"long_name": "1: the peak's tau lies in the measured range (NaN: no peak)"}),
+                "dropped_r": (dims, stack(lambda r: float(sum(p.r_ohm for p in r.dropped_peaks))), {"units": "ohm", "long_name": "R of the peaks dropped below the cut-off"}),
                 "r_inf": (dims, stack(lambda r: r.r_inf_ohm), {"units": "ohm"}),
                 "inductance": (dims, stack(lambda r: r.l_h), {"units": "H"}),
                 "lam": (dims, stack(lambda r: r.lam)),

@@ -94,10 +94,12 @@ def _parabola_min(log_lam, values, k):
 
 
 def _choose_log_lambda(s, beta, rss0, log_grid, n_rows, method):
+    """(ln λ of the criterion's optimum, refined by a parabola; the grid index of the optimum)."""
     gcv, rss, penalty = _criteria(s, beta, rss0, log_grid, n_rows)
     if method == "gcv":
         values = jnp.log(gcv)
-        return _parabola_min(log_grid, values, jnp.argmin(values))
+        k = jnp.argmin(values)
+        return _parabola_min(log_grid, values, k), k
     xi, eta = jnp.log(rss), jnp.log(penalty)
     d_xi, d_eta = jnp.gradient(xi, log_grid), jnp.gradient(eta, log_grid)
     dd_xi, dd_eta = jnp.gradient(d_xi, log_grid), jnp.gradient(d_eta, log_grid)
@@ -106,7 +108,8 @@ def _choose_log_lambda(s, beta, rss0, log_grid, n_rows, method):
     # series terms alone are left (a second, spurious "corner")
     kappa = jnp.where(xi <= 0.5 * (jnp.min(xi) + jnp.max(xi)), kappa, -jnp.inf)
     kappa = kappa.at[0].set(-jnp.inf).at[-1].set(-jnp.inf)
-    return _parabola_min(log_grid, -kappa, jnp.argmax(kappa))
+    k = jnp.argmax(kappa)
+    return _parabola_min(log_grid, -kappa, k), k
 
 
 def _masked_cholesky(H, free):
@@ -196,8 +199,10 @@ def solve_batch(design_re, design_im, weights, z_re, z_im, gamma_penalty, r_inv,
     fixed_log_lambda: ln λ (B,) used when ``method == "fixed"``, and with "gcv"/"lcurve" for
     the spectra where it is finite (NaN: chosen by ``method``; so a fixed λ and an automatic
     one share one compilation); log_floor: the smallest ln λ an automatic choice may return.
-    Returns a dict of (B, ...) arrays: x, log_lambda, gamma, gamma_sd, sigma, converged,
-    effective_parameters, and the GCV/L-curve criteria over the grid.
+    Returns a dict of (B, ...) arrays: x, log_lambda, log_lambda_choice (the criterion's own
+    choice, before the floor), choice_index (its grid index: at the top or the bottom of the
+    grid, the criterion's optimum may lie beyond), gamma,
+    gamma_sd, sigma, converged, effective_parameters, and the GCV/L-curve criteria over the grid.
     """
     n_rows = 2 * design_re.shape[0]
 
@@ -210,10 +215,10 @@ def solve_batch(design_re, design_im, weights, z_re, z_im, gamma_penalty, r_inv,
         rss0 = jnp.maximum(b @ b - beta @ beta, 0.0)
         gcv, rss_curve, penalty_curve = _criteria(s, beta, rss0, log_grid, n_rows)
         if method == "fixed":
-            log_lam = fixed
+            log_lam, choice, index = fixed, fixed, jnp.array(-1)
         else:
-            chosen = jnp.maximum(_choose_log_lambda(s, beta, rss0, log_grid, n_rows, method), log_floor)
-            log_lam = jnp.where(jnp.isfinite(fixed), fixed, chosen)
+            choice, index = _choose_log_lambda(s, beta, rss0, log_grid, n_rows, method)
+            log_lam = jnp.where(jnp.isfinite(fixed), fixed, jnp.maximum(choice, log_floor))
         lam = jnp.exp(log_lam)
         AtA = A.T @ A
         H = AtA + lam * gamma_penalty
@@ -250,7 +255,7 @@ def solve_batch(design_re, design_im, weights, z_re, z_im, gamma_penalty, r_inv,
         band_mean = phi @ x_band
         band_sd = jnp.sqrt(jnp.maximum(sigma2_band * jnp.sum(phi_l * phi_l, axis=0), 0.0))
         return dict(
-            x=x, log_lambda=log_lam, gamma=gamma, gamma_sd=gamma_sd, sigma=jnp.sqrt(sigma2), covariance=sigma2 * cov,
+            x=x, log_lambda=log_lam, log_lambda_choice=choice, choice_index=index, gamma=gamma, gamma_sd=gamma_sd, sigma=jnp.sqrt(sigma2), covariance=sigma2 * cov,
             converged=converged, effective_parameters=influence, gcv=gcv, rss_curve=rss_curve, penalty_curve=penalty_curve,
             band_mean=band_mean, band_sd=band_sd, log_lambda_band=log_lam_band, log_evidence=log_evidence,
         )
