@@ -58,6 +58,7 @@ def run(args) -> int:
         # the labels `--select DIM=LABEL` picks a spectrum by (positions where a dimension has none)
         "labels": {d: dimension_labels(ds, d) for d in extra},
         "attrs": {k: v for k, v in ds.attrs.items() if isinstance(v, (str, int, float, bool))},
+        "sign_hint": _sign_hint(ds, extra),
     }
     outputs.save({"--out": spectrum_writer(lambda: ds), "--plot": figure_writer(lambda: _preview(ds, summary["format"]))})
     if outputs.uses_stdout:
@@ -82,7 +83,23 @@ def run(args) -> int:
         # (a dimension's labels are listed above: the reader's text of them would repeat it)
         if key not in ("format", "source", "path", *_HOW_KEYS, *extra):
             print(f"  {key}: {str(value).splitlines()[0] if str(value) else ''}")
+    if summary["sign_hint"]:
+        print(f"  hint: {summary['sign_hint']}")
     return 0
+
+
+def _sign_hint(ds, extra) -> str | None:
+    """`io.sign_check.opposite_sign_hint` when Z'' > 0 at nearly all points while |Z| falls
+    (`io.sign_check.positive_imaginary_evidence`), in how many spectra for a file of several."""
+    from ..io.sign_check import opposite_sign_hint, positive_imaginary_evidence
+
+    freq = ds["frequency"].values
+    spectra = ds["Z"].transpose(*extra, "frequency").values.reshape(-1, freq.size)
+    found = [e for e in (positive_imaginary_evidence(freq, z) for z in spectra) if e]
+    if not found:
+        return None
+    evidence = found[0] if len(spectra) == 1 else f"in {len(found)} of {len(spectra)} spectra, e.g. {found[0]}"
+    return opposite_sign_hint(evidence, ds.attrs)
 
 
 def _per_spectrum(text: str, ds, extra) -> str:

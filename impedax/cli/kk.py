@@ -12,30 +12,41 @@ def register(sub) -> None:
         description="Fit a Kramers-Kronig-consistent Voigt chain (Schoenleber et al. 2014) and report where the data are not KK-consistent (drift, movement, non-stationarity). See docs/kk.md.",
     )
     p.add_argument("data", metavar="DATA", help="spectrum file; a file of several spectra is tested spectrum by spectrum (one line each), or pick one with --select")
-    p.add_argument("--method", choices=("linear", "zhit"), default="linear", help="linear: Voigt-chain KK test (default); zhit: |Z| reconstructed from the phase (Z-HIT, docs/drt.md)")
+    p.add_argument("--method", choices=("linear", "zhit"), default="linear", help="linear: Voigt-chain KK test (default); zhit: |Z| reconstructed from the phase (Z-HIT, docs/drt.md; --c, --max-rc, --no-inductance and --no-capacitance set the linear test's chain and are refused with it)")
     p.add_argument("--json", action="store_true", help="machine-readable output")
     p.add_argument("--plot", metavar="FILE.png", help="save data vs KK fit and the residuals with bad bands shaded")
-    p.add_argument("--c", type=float, default=0.85, help="µ cut-off (default 0.85)")
-    p.add_argument("--max-rc", type=int, default=None, metavar="M", help="largest number of RC elements tried (default: N/2 for N frequencies, at most 100; on data sparser than about 7 points a decade, 3.5 per decade of the band)")
-    p.add_argument("--no-inductance", action="store_true", help="no series inductance in the KK model")
-    p.add_argument("--no-capacitance", action="store_true", help="no series capacitance in the KK model")
+    p.add_argument("--c", type=float, default=None, help="µ cut-off (default 0.85; linear test only)")
+    p.add_argument("--max-rc", type=int, default=None, metavar="M", help="largest number of RC elements tried (default: N/2 for N frequencies, at most 100; on data sparser than about 7 points a decade, 3.5 per decade of the band; linear test only)")
+    p.add_argument("--no-inductance", action="store_true", help="no series inductance in the KK model (linear test only)")
+    p.add_argument("--no-capacitance", action="store_true", help="no series capacitance in the KK model (linear test only)")
     p.add_argument("--fmin", type=number_option, help="ignore data below this frequency [Hz]")
     p.add_argument("--fmax", type=number_option, help="ignore data above this frequency [Hz]")
     add_select_option(p)
     p.set_defaults(run=run)
 
 
+# the options of the linear test's Voigt chain: Z-HIT has no chain, and refuses them
+LINEAR_ONLY = ("--c", "--max-rc", "--no-inductance", "--no-capacitance")
+
+
 def run(args) -> int:
+    from ..errors import ParameterError
     from ..fitting import kk_test, kk_test_batch, zhit
     from .common import emit_json, figure_writer, load_selected, plan_outputs
 
+    if args.method == "zhit":
+        given = [flag for flag, value in zip(LINEAR_ONLY, (args.c, args.max_rc, args.no_inductance or None, args.no_capacitance or None)) if value is not None]
+        if given:
+            raise ParameterError(
+                f"{', '.join(given)} set{'s' if len(given) == 1 else ''} the linear test's Voigt chain; --method zhit has none: "
+                f"leave {'it' if len(given) == 1 else 'them'} out, or drop --method zhit"
+            )
     outputs = plan_outputs([("--plot", args.plot, "figure")], inputs=[args.data])
     # a file of several spectra: every one tested (one table row each), as `fit` fits them
     # all; Z-HIT and the plot take one (--select)
     single = "impedax kk --method zhit" if args.method == "zhit" else "impedax kk --plot" if args.plot else None
     data = load_selected(args.data, args.select, single=single)
     if args.fmin is not None or args.fmax is not None:
-        from ..errors import ParameterError
         from ..fitting.problem import select_band
 
         for flag, value in (("--fmin", args.fmin), ("--fmax", args.fmax)):  # (the rule of the commands that fit)
@@ -44,7 +55,7 @@ def run(args) -> int:
         if args.fmin is not None and args.fmax is not None and args.fmax < args.fmin:
             raise ParameterError(f"--fmax ({args.fmax:g} Hz) is below --fmin ({args.fmin:g} Hz)")
         data = select_band(data, args.fmin, args.fmax, args.data)
-    options = dict(c=args.c, max_rc=args.max_rc, inductance=not args.no_inductance, capacitance=not args.no_capacitance)
+    options = dict(c=0.85 if args.c is None else args.c, max_rc=args.max_rc, inductance=not args.no_inductance, capacitance=not args.no_capacitance)
     if any(d != "frequency" for d in data["Z"].dims):
         _each_spectrum(kk_test_batch(data, **options), args.json, emit_json)
         return 0
@@ -59,20 +70,34 @@ def run(args) -> int:
 
 def _each_spectrum(batch, as_json: bool, emit_json) -> None:
     """The KK test of every spectrum of a stack: JSON ``spectra`` (each spectrum's labels,
-    then the keys of one spectrum's test), or one line per spectrum."""
+    then the keys of one spectrum's test), or one line per spectrum (each
+    bad band with the rules that flagged it) and, once, the hint of the first spectrum that has
+    one."""
+    import math
+
     from ..data import format_frequency
 
     where = batch.labels()
     n_valid = sum(bool(r.valid) for r in batch.results)
     if as_json:
-        emit_json({"dims": list(batch.dims), "n_spectra": len(batch.results), "n_valid": n_valid, "spectra": [{"labels": w, **r.summary()} for w, r in zip(where, batch.results)]})
+        emit_json({"dims": list(batch.dims), "n_spectra": len(batch.results), "n_valid": n_valid,
+                   "spectra": [{"labels": w, **r.summary()} for w, r in zip(where, batch.results)]})
         return
     few = sum(not r.conclusive for r in batch.results)
     print(f"linear KK test of {len(batch.results)} spectra over {', '.join(batch.dims)}: {n_valid} KK-consistent, {len(batch.results) - n_valid} not"
           + (f" ({few} with too few frequencies for the test to tell)" if few else ""))
     names = [", ".join(f"{d}={v}" for d, v in w.items()) for w in where]
     width = max(len(n) for n in names)
-    print(f"{'spectrum':<{width}}  {'verdict':<9} {'rms_rel':>9} {'noise':>9} {'M':>3}  bad bands")
+    print(f"{'spectrum':<{width}}  {'verdict':<9} {'rms_rel':>9} {'noise':>9} {'M':>3}  bad bands [rules that flagged them]")
     for name, r in zip(names, batch.results):
-        bands = "; ".join(f"{format_frequency(lo)} – {format_frequency(hi)}" for lo, hi in r.bad_bands) or "none"
+        bands = "; ".join(f"{format_frequency(lo)} – {format_frequency(hi)} [{', '.join(rules)}]" for (lo, hi), rules in zip(r.bad_bands, r.band_rules)) or "none"
         print(f"{name:<{width}}  {('valid' if r.valid else 'NOT valid') if r.conclusive else 'too few':<9} {r.rms_rel * 100:>8.3g}% {r.noise_estimate * 100:>8.3g}% {r.n_rc:>3}  {bands}")
+    if any(r.bad_bands for r in batch.results):
+        t = batch.results[0].thresholds
+        print(f"rules: point = one |Δ| > {t['point']:.3g} s, run = ≥ {int(t['run_length'])} consecutive |Δ| > {t['run']:.3g} s, window = a {int(t['window'])}-point mean "
+              f"of Δ' or Δ'' > {t['window_mean'] / math.sqrt(t['window']):.3g} s (s: the larger of the noise estimate and {t['noise_floor'] * 100:.3g} %; the levels: impedax kk --select)")
+    hints = [r.sign_hint for r in batch.results]
+    with_hint = [i for i, h in enumerate(hints) if h]
+    if with_hint:
+        listed = ", ".join(names[i] for i in with_hint[:3]) + (", …" if len(with_hint) > 3 else "")
+        print(f"hint: in {len(with_hint)} of {len(hints)} spectra ({listed}): {hints[with_hint[0]]}")

@@ -31,7 +31,7 @@ from .grid import ResultGrid
 from .problem import frequency_and_z
 from .statistics import difference_noise, non_passive
 
-__all__ = ["KKResult", "KKBatchResult", "kk_test", "kk_test_batch", "rejudged", "DEFAULT_THRESHOLDS", "CONCLUSIVE_POINTS_MIN"]
+__all__ = ["KKResult", "KKBatchResult", "kk_test", "kk_test_batch", "rejudged", "DEFAULT_THRESHOLDS", "CONCLUSIVE_POINTS_MIN", "RULE_NAMES", "band_rules", "band_rule_counts"]
 
 # below this many frequencies the chain (M ≤ N − 3 RC elements) is too stiff for the data, its
 # misfit is the chain's own and the noise estimate follows it: the test cannot fail
@@ -79,6 +79,11 @@ _JSON_KEYS = {
     "noise_estimate": "noise_estimate", "frequency_hz": "frequency", "residuals_real": "residuals_real", "residuals_imag": "residuals_imag",
     "conclusive": "conclusive", "chain_error": "chain_error", "non_passive_hz": "non_passive_frequencies",
 }
+# added keys (never renamed): the method, units in the name (``_hz``; ``_rel`` = a fraction of |Z|)
+# and the rules that flagged each band with their levels (`KKResult.summary`)
+
+RULE_NAMES = ("point", "run", "window")
+"""The validity rules (`kk_test`), as `KKResult.band_rules` names them."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -89,7 +94,8 @@ class KKResult:
     ``rms_rel = sqrt(mean |Δ|²)``; ``noise_estimate`` is the robust per-component standard
     deviation of the random part of Δ; ``bad_bands`` are [(f_min, f_max)] in Hz;
     ``chain_error`` is the default reference chain's own misfit on these frequencies
-    (`chain_error` of `reference_rc`), a floor of ``threshold_scale``.
+    (`chain_error` of `reference_rc`), a floor of ``threshold_scale``; ``sign_hint``: why and how
+    the imaginary part may be stored with the opposite sign (`io.sign_check.sign_hint`), or None.
     """
 
     __repr__ = concise_repr  # (the generated one printed every array)
@@ -116,6 +122,7 @@ class KKResult:
     c: float
     thresholds: Mapping[str, float] = field(default_factory=lambda: dict(DEFAULT_THRESHOLDS))
     chain_error: float = 0.0
+    sign_hint: str | None = None  # `io.sign_check.sign_hint`: Z'' may be stored with the opposite sign
 
     def predict(self, freq) -> np.ndarray:
         """The KK fit's impedance [Ω] at ``freq`` [Hz]: R_0 + jωL + (1/C)/(jω) + Σ R_k/(1 +
@@ -175,12 +182,39 @@ class KKResult:
 
     def summary(self) -> dict:
         """The JSON of ``impedax kk --json`` (the keys are the public contract)."""
-        out = {key: getattr(self, attribute) for key, attribute in _JSON_KEYS.items()}
+        out = {"method": "linear", **{key: getattr(self, attribute) for key, attribute in _JSON_KEYS.items()}}
         out["bad_bands"] = [[lo, hi] for lo, hi in self.bad_bands]
+        levels = self.rule_levels
+        out.update({
+            "bad_bands_hz": [[lo, hi] for lo, hi in self.bad_bands], "bad_band_rules": [list(r) for r in self.band_rules],
+            "noise_estimate_rel": self.noise_estimate, "chain_error_rel": self.chain_error, "threshold_scale_rel": self.threshold_scale,
+            "point_threshold_rel": levels["point"], "run_threshold_rel": levels["run"], "run_length": int(self.thresholds["run_length"]),
+            "window_threshold_rel": levels["window"], "window": int(self.thresholds["window"]), "sign_hint": self.sign_hint,
+        })
         return out
 
+    @property
+    def rule_levels(self) -> dict[str, float]:
+        """The level of each rule as a fraction of |Z| (scale s = ``threshold_scale``): |Δ| above
+        ``point`` at one point, above ``run`` at ``run_length`` consecutive points, or the mean of
+        Δ' or Δ'' over ``window`` points above ``window``."""
+        t, s = self.thresholds, self.threshold_scale
+        return {"point": t["point"] * s, "run": t["run"] * s, "window": t["window_mean"] * s / math.sqrt(t["window"])}
+
+    def _rule_masks(self) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+        """(this result's flags, each rule's flags) in frequency order, at ``threshold_scale``."""
+        order = np.argsort(self.frequency)
+        masks = _rule_masks(self.residuals_real[order], self.residuals_imag[order], self.threshold_scale, self.thresholds)
+        return np.asarray(self.flagged, bool)[order], masks
+
+    @property
+    def band_rules(self) -> tuple[tuple[str, ...], ...]:
+        """For each of ``bad_bands``, the rules (`RULE_NAMES`) that flagged points in it."""
+        return band_rules(*self._rule_masks())
+
     def report(self) -> str:
-        """A few lines: M, µ, rms_rel, noise, verdict and bad bands."""
+        """A few lines: M, µ, rms_rel, noise, verdict, the rules' levels and the bad bands with the
+        rules that flagged each, and the sign hint."""
         verdict = "valid (KK-consistent)" if self.valid else "NOT valid: data are not KK-consistent"
         if not self.conclusive:
             verdict = f"inconclusive: {self.frequency.size} frequencies are too few for the test (it needs {CONCLUSIVE_POINTS_MIN})" + ("" if self.valid else "; it flags the bands below")
@@ -196,8 +230,17 @@ class KKResult:
                 f"sparse data: at {self.frequency.size / decades:.2g} points a decade the Voigt chain fits a single relaxation only to "
                 f"{self.chain_error * 100:.2g} % rms; residuals are judged against that, not the noise"
             )
-        for lo, hi in self.bad_bands:
-            lines.append(f"  bad band: {format_frequency(lo)} – {format_frequency(hi)}")
+        if self.bad_bands:
+            lines.append(self._rules_text())
+            t, levels = self.thresholds, self.rule_levels
+            for (lo, hi), counts in zip(self.bad_bands, band_rule_counts(*self._rule_masks())):
+                said = [
+                    f"{_points(counts['point'])} with |Δ| > {levels['point'] * 100:.3g} % (point rule)" if counts["point"] else "",
+                    f"{_points(counts['run'])} in runs of ≥ {int(t['run_length'])} with |Δ| > {levels['run'] * 100:.3g} % (run rule)" if counts["run"] else "",
+                    f"{_points(counts['window'])} under a {int(t['window'])}-point mean of Δ' or Δ'' > {levels['window'] * 100:.3g} % (window rule)" if counts["window"] else "",
+                ]
+                said = "; ".join(x for x in said if x)
+                lines.append(f"  bad band: {format_frequency(lo)} – {format_frequency(hi)}" + (f": {said}" if said else ""))
         bad = self.non_passive_frequencies
         if bad.size:
             where = ", ".join(format_frequency(f) for f in bad[:6]) + (", …" if bad.size > 6 else "")
@@ -205,7 +248,20 @@ class KKResult:
                 f"note: {bad.size} of {self.frequency.size} points have Re Z < 0 ({where}), which no passive circuit reaches; they are "
                 "part of this test (impedax diagnose and refine leave them out before theirs: their verdicts may differ); leave them out with --fmin/--fmax"
             )
+        if self.sign_hint:
+            lines.append(f"hint: {self.sign_hint}")
         return "\n".join(lines)
+
+    def _rules_text(self) -> str:
+        """One line: the scale s and the level of each rule (`rule_levels`)."""
+        t, levels = self.thresholds, self.rule_levels
+        noise = self.noise_estimate if math.isfinite(self.noise_estimate) else 0.0
+        why = "the noise estimate" if self.threshold_scale == noise else "the sparse data's chain error" if self.threshold_scale == self.chain_error else f"the {t['noise_floor'] * 100:.3g} % floor"
+        return (
+            f"rules (on |Δ| = |Z − Z_kk|/|Z|, s = {self.threshold_scale * 100:.3g} %, {why}): point |Δ| > {t['point']:.3g} s = {levels['point'] * 100:.3g} %; "
+            f"run of ≥ {int(t['run_length'])} with |Δ| > {t['run']:.3g} s = {levels['run'] * 100:.3g} %; "
+            f"window: mean of Δ' or Δ'' over {int(t['window'])} points > {levels['window'] * 100:.3g} %"
+        )
 
     def _repr_html_(self) -> str:
         from ..plotting.html import result_html
@@ -215,8 +271,9 @@ class KKResult:
         return result_html("linear Kramers–Kronig test", rows)
 
     def plot(self, *, title: str | None = None):
-        """Nyquist and Bode of data vs KK fit, and the residuals Δ [%] vs frequency with the
-        point threshold and the bad bands shaded (`plotting.kk.plot_kk`). Returns a Figure."""
+        """Nyquist and Bode of data vs KK fit, and the residuals Δ', Δ'' and |Δ| [%] vs frequency
+        with the point and run levels and the bad bands shaded, each named by the rule that flagged
+        it (`plotting.kk.plot_kk`). Returns a Figure."""
         from ..plotting.kk import plot_kk
 
         return plot_kk(self, title=title)
@@ -548,26 +605,33 @@ def _noise_estimate(res_re: np.ndarray, res_im: np.ndarray, order: np.ndarray, n
     return sigma * math.sqrt(2 * n / dof)
 
 
-def _bad_bands(freq, residual_real, residual_imag, order, scale, thresholds):
-    """Flags (data order) and bands [(f_min, f_max)] from Δ in frequency order; ``scale`` is
-    one number or one per frequency (in frequency order)."""
-    m = np.hypot(residual_real, residual_imag)[order]
-    flag = m > thresholds["point"] * scale
-    above = m > thresholds["run"] * scale
-    flag |= long_runs(above, int(thresholds["run_length"]))
+def _rule_masks(residual_real, residual_imag, scale, thresholds) -> dict[str, np.ndarray]:
+    """Each rule's flags (`RULE_NAMES`) from Δ in frequency order; ``scale`` is one number or one
+    per frequency (in frequency order)."""
+    m = np.hypot(residual_real, residual_imag)
+    masks = {"point": m > thresholds["point"] * scale, "run": long_runs(m > thresholds["run"] * scale, int(thresholds["run_length"]))}
     # slow, smooth deviations (drift) hide under the point thresholds but not in a local mean
     width = int(thresholds["window"])
+    covered = np.zeros(m.size, bool)
     if 1 < width <= m.size:
         kernel = np.ones(width) / width
         window_scale = scale if np.ndim(scale) == 0 else np.convolve(scale, kernel, mode="valid")
         limit = thresholds["window_mean"] * window_scale / math.sqrt(width)
         starts = np.zeros(m.size - width + 1, bool)
-        for component in (residual_real[order], residual_imag[order]):
+        for component in (residual_real, residual_imag):
             starts |= np.abs(np.convolve(component, kernel, mode="valid")) > limit
         # every point of a window whose mean is too large: a point is covered when one of the
         # `width` windows containing it starts a flagged window
         covered = np.convolve(starts.astype(float), np.ones(width), mode="full")[: m.size] > 0.5
-        flag |= covered
+    masks["window"] = covered
+    return masks
+
+
+def _bad_bands(freq, residual_real, residual_imag, order, scale, thresholds):
+    """Flags (data order) and bands [(f_min, f_max)] from Δ in frequency order; ``scale`` is
+    one number or one per frequency (in frequency order)."""
+    masks = _rule_masks(residual_real[order], residual_imag[order], scale, thresholds)
+    flag = masks["point"] | masks["run"] | masks["window"]
     # join bands separated by a single unflagged point: one noisy dip does not split a drift band
     if flag.size > 2:
         gap = ~flag[1:-1] & flag[:-2] & flag[2:]
@@ -575,6 +639,36 @@ def _bad_bands(freq, residual_real, residual_imag, order, scale, thresholds):
     flagged = np.empty_like(flag)
     flagged[order] = flag
     return flagged, bands_of_flags(freq[order], flag)
+
+
+def band_rule_counts(flag, masks) -> list[dict[str, int]]:
+    """For each band of ``flag`` (runs of True, frequency order, as `bands_of_flags` makes them),
+    how many of its points each rule of ``masks`` (name → flags, frequency order) flagged."""
+    flag = np.asarray(flag, bool)
+    edges = np.diff(np.concatenate([[0], flag.astype(np.int8), [0]]))
+    first, stop = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
+    return [{name: int(np.count_nonzero(np.asarray(mask, bool)[i:j])) for name, mask in masks.items()} for i, j in zip(first.tolist(), stop.tolist())]
+
+
+def band_rules(flag, masks) -> tuple[tuple[str, ...], ...]:
+    """For each band of ``flag``, the names of the rules of ``masks`` that flagged points in it
+    (`band_rule_counts`)."""
+    return tuple(tuple(name for name, n in counts.items() if n) for counts in band_rule_counts(flag, masks))
+
+
+def _points(n: int) -> str:
+    return f"{n} point{'' if n == 1 else 's'}"
+
+
+def zero_impedance_text(freq, z) -> str:
+    """``Z is exactly zero at 500 Hz`` (the first three such frequencies; for several spectra, in
+    how many): the start of the message that refuses such data."""
+    zero = np.abs(np.reshape(z, (-1, np.size(freq)))) == 0
+    at = np.flatnonzero(zero.any(axis=0))
+    at = at[np.argsort(np.asarray(freq)[at])]
+    where = ", ".join(format_frequency(float(freq[i])) for i in at[:3]) + (f" and {at.size - 3} more" if at.size > 3 else "")
+    spectra = f" (in {int(zero.any(axis=1).sum())} of {zero.shape[0]} spectra)" if zero.shape[0] > 1 else ""
+    return f"Z is exactly zero at {where}{spectra}"
 
 
 def rejudged(result: KKResult, scale) -> KKResult:
@@ -668,7 +762,8 @@ def kk_test(
             f"Z has extra dimensions {dims}; kk_test takes one spectrum: use impedax.kk_test_batch(data) for one test per spectrum, or reduce them first (e.g. data.mean({dims[0]!r}))",
             path=source,
         )
-    return _run(freq, z[None, :], (), (), {}, c=c, max_rc=max_rc, n_rc=n_rc, inductance=inductance, capacitance=capacitance, thresholds=thresholds).results[0]
+    return _run(freq, z[None, :], (), (), {}, c=c, max_rc=max_rc, n_rc=n_rc, inductance=inductance, capacitance=capacitance, thresholds=thresholds, source=source,
+                attrs=data.attrs if isinstance(data, xr.Dataset) else None).results[0]
 
 
 def kk_test_batch(data, **options) -> KKBatchResult:
@@ -678,8 +773,8 @@ def kk_test_batch(data, **options) -> KKBatchResult:
     Takes the keyword options of `kk_test` (same defaults, same validity rule); returns a
     `KKBatchResult`.
     """
-    freq, z, dims, coords, _ = frequency_and_z(data)
-    return _run(freq, z, z.shape[:-1], dims, coords, **_options_of_kk_test(options))
+    freq, z, dims, coords, source = frequency_and_z(data)
+    return _run(freq, z, z.shape[:-1], dims, coords, **_options_of_kk_test(options), source=source, attrs=data.attrs if isinstance(data, xr.Dataset) else None)
 
 
 def _options_of_kk_test(options: Mapping) -> dict:
@@ -695,7 +790,10 @@ def _options_of_kk_test(options: Mapping) -> dict:
 kk_test_batch.__signature__ = inspect.signature(kk_test).replace(return_annotation="KKBatchResult")
 
 
-def _run(freq, z, shape, dims, coords, *, c, max_rc, n_rc, inductance, capacitance, thresholds) -> KKBatchResult:
+def _run(freq, z, shape, dims, coords, *, c, max_rc, n_rc, inductance, capacitance, thresholds, source=None, attrs=None, sign_check=True) -> KKBatchResult:
+    """The tests of the spectra ``z`` (batch, N); ``sign_check``: each result's ``sign_hint``
+    (`io.sign_check.sign_hint`, the test of conj(Z) with the same options; ``attrs``: the data's, for
+    how to fix the file)."""
     rules = dict(DEFAULT_THRESHOLDS)
     for key, value in (thresholds or {}).items():
         if key not in rules:
@@ -707,10 +805,15 @@ def _run(freq, z, shape, dims, coords, *, c, max_rc, n_rc, inductance, capacitan
         if not isinstance(flag, (bool, np.bool_)):
             raise ParameterError(f"{name} must be True or False, got {flag!r}")
     if np.any(np.abs(z) == 0):
-        raise DataError("Z is exactly zero at some frequency; the 1/|Z| weighting needs |Z| > 0")
+        raise DataError(f"{zero_impedance_text(freq, z)}; the 1/|Z| weighting needs |Z| > 0", path=source)
     rules = _thresholds_for(rules, freq.size)
     flat = z.reshape(-1, freq.size)
-    chosen = _kk_arrays(freq, flat, c=c, max_rc=max_rc, n_rc=n_rc, inductance=bool(inductance), capacitance=bool(capacitance), floor=rules["noise_floor"])
+    try:
+        chosen = _kk_arrays(freq, flat, c=c, max_rc=max_rc, n_rc=n_rc, inductance=bool(inductance), capacitance=bool(capacitance), floor=rules["noise_floor"])
+    except DataError as error:  # (too few frequencies): name the data
+        if error.path is None and source is not None:
+            raise DataError(str(error), path=source) from None
+        raise
     order = np.argsort(freq)
     n_series = 1 + int(inductance) + int(capacitance)
     # the default reference chain's misfit, whatever chain the user chose: a short one of their
@@ -749,4 +852,12 @@ def _run(freq, z, shape, dims, coords, *, c, max_rc, n_rc, inductance, capacitan
                 chain_error=chain_floor,
             )
         )
+    if sign_check:
+        from ..io.sign_check import sign_hint
+
+        def retest(f, z_conj):
+            options = dict(c=c, max_rc=max_rc, n_rc=n_rc, inductance=inductance, capacitance=capacitance, thresholds=thresholds, source=source, sign_check=False)
+            return _run(f, z_conj[None, :], (), (), {}, **options).results[0]
+
+        results = [dataclasses.replace(r, sign_hint=sign_hint(r, retest, "the KK test", attrs)) for r in results]
     return KKBatchResult(dims=dims, shape=shape, coords=coords, results=tuple(results))

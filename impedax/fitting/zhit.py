@@ -13,14 +13,23 @@ density), which gives the integral and the derivative; GCV's λ follows the phas
 derivative term and doubles the residuals at 1 % noise, while this λ also smooths the
 first-order approximation error at sharp R‖C corners (2.7 % → 1.1 % on an exact R‖C). The
 unknown constant C is the median of ln|Z| − (the rest) over all points (robust to a drifting band).
+
+At the band's ends the slope is one-sided: the spline's natural end condition (s'' = 0) holds it
+flat where the phase still bends (a lead inductance at the top: 5.7 % at 100 kHz on an exact
+spectrum). Within `END_LAYER` of either end the slope is also taken from a local cubic through
+the phase of the last `END_REACH` (tricube weights), which follows the bend but is noisier; each
+such point keeps the reconstruction nearer its measured |Z|, so it is flagged only when both
+disagree (the noise estimate is taken before: this can clear an end point, never add one).
+
 Residuals (|Z| − |Z|_ZHIT)/|Z| above the noise mark bands where modulus and phase disagree —
 typically drift during a slow low-frequency sweep, which the phase hides and |Z| shows.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import xarray as xr
@@ -28,23 +37,39 @@ import xarray as xr
 from ..arguments import checked_arguments, count, real
 from ..data import concise_repr, format_frequency
 from ..errors import DataError, ParameterError
-from .kk import bands_of_flags, long_runs
+from .kk import CONCLUSIVE_POINTS_MIN, band_rule_counts, band_rules, bands_of_flags, long_runs, zero_impedance_text
 from .problem import frequency_and_z
 from .statistics import difference_noise
 
-__all__ = ["ZHITResult", "zhit"]
+__all__ = ["ZHITResult", "zhit", "END_LAYER", "END_REACH", "CONCLUSIVE_PER_DECADE_MIN"]
 
 _GAMMA_1 = -math.pi / 6.0
+
+END_LAYER = 0.6
+"""ln ω (0.26 decade): the points this close to either end of the band take the local slope when
+it brings the reconstruction nearer their |Z| (module docstring)."""
+END_REACH = 1.5
+"""ln ω (0.65 decade): the half-width of the local cubic's tricube window."""
+_END_DEGREE = 3
+
+CONCLUSIVE_PER_DECADE_MIN = 2.0
+"""Below this many points a decade (or `kk.CONCLUSIVE_POINTS_MIN` points in all) the phase's
+integral and slope rest on too few points: exact R‖C, R‖CPE, two-arc and Randles spectra at 1–1.8
+points a decade leave up to 4–16 %, against ≤ 3.4 % from 2 a decade up (`ZHITResult.conclusive`)."""
 
 
 @dataclass(frozen=True, eq=False)
 class ZHITResult:
     """Z-HIT of one spectrum (arrays in the data's order).
 
-    ``modulus``: |Z| reconstructed from the phase [Ω]; ``residuals``: (|Z| − modulus)/|Z|;
-    ``rms_rel``: sqrt(mean residual²); ``noise_estimate``: robust σ of the residuals;
-    ``threshold``: the point threshold (5 × max(noise, floor)); ``flagged``/``bad_bands``
-    [(f_min, f_max) Hz]: where |Z| and the phase disagree; ``valid``: no bad band.
+    ``modulus``: |Z| reconstructed from the phase [Ω]; ``residuals``: (|Z| − modulus)/|Z|
+    (fractions); ``rms_rel``: sqrt(mean residual²); ``noise_estimate``: robust σ of the
+    residuals; ``threshold``: the point threshold (``point`` × max(noise, floor)), and
+    ``run_threshold`` the level of the run rule (``run_length`` points above it), both fractions of
+    |Z|; ``flagged``/``bad_bands`` [(f_min, f_max) Hz]: where |Z| and the phase disagree;
+    ``band_rules``: the rules ("point", "run") that flagged each band; ``end_slope_local``: the
+    end points whose reconstruction took the local slope; ``valid``: no bad band; ``sign_hint``:
+    why and how the imaginary part may be stored with the opposite sign, or None.
     """
 
     __repr__ = concise_repr  # (the generated one printed every array)
@@ -60,42 +85,107 @@ class ZHITResult:
     bad_bands: tuple[tuple[float, float], ...]
     valid: bool
     offset: float
+    run_threshold: float = math.nan
+    run_length: int = 3
+    band_rules: tuple[tuple[str, ...], ...] = ()
+    end_slope_local: np.ndarray | None = field(default=None)
+    sign_hint: str | None = None  # `io.sign_check.sign_hint`: Z'' may be stored with the opposite sign
+
+    @property
+    def conclusive(self) -> bool:
+        """Whether there are enough frequencies (`kk.CONCLUSIVE_POINTS_MIN`, and
+        `CONCLUSIVE_PER_DECADE_MIN` a decade) for the verdict to mean something."""
+        n = self.frequency.size
+        decades = math.log10(self.frequency.max() / self.frequency.min()) if n > 1 else 0.0
+        return n >= CONCLUSIVE_POINTS_MIN and n - 1 >= CONCLUSIVE_PER_DECADE_MIN * decades
 
     def to_xarray(self) -> xr.Dataset:
+        end_local = self.end_slope_local if self.end_slope_local is not None else np.zeros(self.frequency.size, bool)
         return xr.Dataset(
             {
                 "Z": ("frequency", self.impedance, {"units": "ohm"}),
                 "modulus_zhit": ("frequency", self.modulus, {"units": "ohm", "long_name": "|Z| reconstructed from the phase"}),
                 "residuals": ("frequency", self.residuals, {"units": "1", "long_name": "(|Z| - |Z|_ZHIT)/|Z|"}),
                 "flagged": ("frequency", self.flagged),
+                "end_slope_local": ("frequency", end_local, {"long_name": "end point reconstructed with the local-cubic phase slope"}),
                 "bad_band_f_min": ("band", np.array([b[0] for b in self.bad_bands], float), {"units": "Hz"}),
                 "bad_band_f_max": ("band", np.array([b[1] for b in self.bad_bands], float), {"units": "Hz"}),
                 "rms_rel": ((), self.rms_rel, {"units": "1"}),
                 "noise_estimate": ((), self.noise_estimate, {"units": "1"}),
                 "valid": ((), self.valid),
+                "conclusive": ((), self.conclusive),
             },
             coords={"frequency": ("frequency", self.frequency, {"units": "Hz"})},
-            attrs={"method": "Z-HIT, first order (Ehm et al. 2000), smoothing-spline phase", "offset_ln_ohm": self.offset},
+            attrs={"method": "Z-HIT, first order (Ehm et al. 2000), smoothing-spline phase", "offset_ln_ohm": self.offset,
+                   "point_threshold": self.threshold, "run_threshold": self.run_threshold, "run_length": self.run_length},
         )
 
     def summary(self) -> dict:
-        """The JSON of ``impedax kk --method zhit --json`` (the keys are the public contract)."""
+        """The JSON of ``impedax kk --method zhit --json`` (the keys are the public contract;
+        fractions of |Z| unless the key names a unit)."""
+        end_local = self.end_slope_local if self.end_slope_local is not None else np.zeros(self.frequency.size, bool)
         return {
-            "method": "zhit", "valid": self.valid, "rms_rel": self.rms_rel, "bad_bands": [[lo, hi] for lo, hi in self.bad_bands],
-            "noise_estimate": self.noise_estimate, "frequency_hz": self.frequency, "modulus_zhit_ohm": self.modulus, "residuals_modulus": self.residuals,
+            "method": "zhit", "valid": self.valid, "conclusive": self.conclusive, "rms_rel": self.rms_rel,
+            "bad_bands": [[lo, hi] for lo, hi in self.bad_bands], "bad_bands_hz": [[lo, hi] for lo, hi in self.bad_bands],
+            "bad_band_rules": [list(r) for r in self.band_rules],
+            "noise_estimate": self.noise_estimate, "noise_estimate_rel": self.noise_estimate, "point_threshold_rel": self.threshold, "run_threshold_rel": self.run_threshold, "run_length": self.run_length,
+            "frequency_hz": self.frequency, "modulus_zhit_ohm": self.modulus, "residuals_modulus": self.residuals,
+            "end_slope_local_hz": np.sort(self.frequency[end_local]), "sign_hint": self.sign_hint,
         }
 
     def report(self) -> str:
-        """Two lines and the bad bands: rms_rel, noise estimate, verdict."""
+        """rms_rel, noise estimate, verdict, the bad bands with the rule that flagged each."""
         verdict = "valid (|Z| and phase consistent)" if self.valid else "NOT valid: |Z| and phase disagree"
+        if not self.conclusive:
+            verdict = (f"inconclusive: {self.frequency.size} frequencies are too few for Z-HIT (it needs {CONCLUSIVE_POINTS_MIN}, "
+                       f"and {CONCLUSIVE_PER_DECADE_MIN:g} a decade)") + ("" if self.valid else "; it flags the bands below")
         lines = [f"Z-HIT: rms_rel = {self.rms_rel * 100:.3g} %, noise estimate = {self.noise_estimate * 100:.3g} %", f"verdict: {verdict}"]
-        lines += [f"  bad band: {format_frequency(lo)} – {format_frequency(hi)}" for lo, hi in self.bad_bands]  # (as the linear test writes them)
+        order = np.argsort(self.frequency)
+        m = np.abs(self.residuals[order])
+        masks = {"point": m > self.threshold, "run": long_runs(m > self.run_threshold, self.run_length)}
+        flag = np.asarray(self.flagged, bool)[order]
+        for (lo, hi), counts in zip(self.bad_bands, band_rule_counts(flag, masks)):  # (as the linear test writes them)
+            said = [
+                f"{_points(counts['point'])} with |residual| > {self.threshold * 100:.3g} % (point rule)" if counts["point"] else "",
+                f"{_points(counts['run'])} in runs of ≥ {self.run_length} with |residual| > {self.run_threshold * 100:.3g} % (run rule)" if counts["run"] else "",
+            ]
+            said = "; ".join(x for x in said if x)
+            lines.append(f"  bad band: {format_frequency(lo)} – {format_frequency(hi)}" + (f": {said}" if said else ""))
+        if self.sign_hint:
+            lines.append(f"hint: {self.sign_hint}")
         return "\n".join(lines)
 
     def plot(self, *, title: str | None = None):
+        """|Z| measured vs reconstructed, phase, and the residual with both rules' levels and the
+        bad bands (`plotting.drt.plot_zhit`, `plotting.kk.add_rule_levels`)."""
         from ..plotting.drt import plot_zhit
+        from ..plotting.kk import add_rule_levels
 
-        return plot_zhit(self, title=title)
+        fig = plot_zhit(self, title=title)
+        add_rule_levels(fig.axes[2], point=self.threshold, run=self.run_threshold, run_length=self.run_length,
+                        bands=self.bad_bands, band_rules=self.band_rules, signed=True)
+        return fig
+
+
+def _points(n: int) -> str:
+    return f"{n} point{'' if n == 1 else 's'}"
+
+
+def _local_slopes(x: np.ndarray, phase: np.ndarray, at: np.ndarray) -> np.ndarray:
+    """dφ/dx at each of ``at`` from a tricube-weighted cubic through the phase within
+    `END_REACH` of it (at least its 5 nearest points)."""
+    out = np.empty(at.size)
+    for i, a in enumerate(at):
+        d = x - a
+        near = np.abs(d) <= END_REACH
+        if near.sum() < _END_DEGREE + 2:
+            near = np.zeros(x.size, bool)
+            near[np.argsort(np.abs(d))[: _END_DEGREE + 2]] = True
+        u = np.abs(d[near]) / (np.abs(d[near]).max() * (1 + 1e-9))
+        root_w = (1 - u**3) ** 1.5
+        design = np.vander(d[near], _END_DEGREE + 1, increasing=True)
+        out[i] = np.linalg.lstsq(design * root_w[:, None], phase[near] * root_w, rcond=None)[0][1]
+    return out
 
 
 @checked_arguments(noise_floor=real(positive=True), point=real(positive=True), run=real(positive=True), run_length=count(1, 10_000))
@@ -109,9 +199,6 @@ def zhit(data, *, noise_floor: float = 0.01, point: float = 5.0, run: float = 3.
     up to ≈ 1–1.5 % at ideal R‖C corners and on a Randles circuit, less on R‖CPE and HN).
     Raises DataError/ParameterError on bad input.
     """
-    from scipy.interpolate import make_smoothing_spline
-
-
     for name, value in (("noise_floor", noise_floor), ("point", point), ("run", run)):
         if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
             raise ParameterError(f"{name} must be a positive number, got {value!r}")
@@ -123,7 +210,20 @@ def zhit(data, *, noise_floor: float = 0.01, point: float = 5.0, run: float = 3.
     if freq.size < 6:
         raise DataError(f"Z-HIT needs at least 6 frequencies, got {freq.size}", path=source)
     if np.any(np.abs(z) == 0):
-        raise DataError("Z is exactly zero at some frequency; ln|Z| is undefined there", path=source)
+        raise DataError(f"{zero_impedance_text(freq, z)}; ln|Z| is undefined there", path=source)
+    from ..io.sign_check import sign_hint
+
+    def test(f, values):
+        return _zhit(f, values, noise_floor=noise_floor, point=point, run=run, run_length=run_length)
+
+    result = test(freq, z)
+    return dataclasses.replace(result, sign_hint=sign_hint(result, test, "Z-HIT", data.attrs if isinstance(data, xr.Dataset) else None))
+
+
+def _zhit(freq, z, *, noise_floor: float, point: float, run: float, run_length: int) -> ZHITResult:
+    """`zhit` of checked frequencies and impedances."""
+    from scipy.interpolate import make_smoothing_spline
+
     order = np.argsort(freq)
     x = np.log(2 * np.pi * freq[order])
     phase = np.unwrap(np.angle(z[order]))
@@ -133,15 +233,24 @@ def zhit(data, *, noise_floor: float = 0.01, point: float = 5.0, run: float = 3.
     integral = spline.antiderivative()(x)
     slope = spline.derivative()(x)
     shape = (2.0 / math.pi) * (integral - integral[0]) + _GAMMA_1 * slope
-    ln_modulus = np.log(np.abs(z[order]))
-    offset = float(np.median(ln_modulus - shape))
+    measured = np.abs(z[order])
+    offset = float(np.median(np.log(measured) - shape))
+    residual_sorted = (measured - np.exp(offset + shape)) / measured
+    noise = difference_noise(np.diff(residual_sorted))  # (before the end points' choice: it only lowers |residual|)
+    # the end points' one-sided slope: keep the local cubic's where it is nearer the data
+    ends = (x - x[0] < END_LAYER) | (x[-1] - x < END_LAYER)
+    local_shape = shape[ends] + _GAMMA_1 * (_local_slopes(x, phase, x[ends]) - slope[ends])
+    local_residual = (measured[ends] - np.exp(offset + local_shape)) / measured[ends]
+    nearer = np.abs(local_residual) < np.abs(residual_sorted[ends])
+    end_local = np.zeros(x.size, bool)
+    end_local[np.flatnonzero(ends)[nearer]] = True
+    shape[end_local] = local_shape[nearer]
+    residual_sorted[end_local] = local_residual[nearer]
     modulus_sorted = np.exp(offset + shape)
-    residual_sorted = (np.abs(z[order]) - modulus_sorted) / np.abs(z[order])
-    noise = difference_noise(np.diff(residual_sorted))
     scale = max(noise, noise_floor)
     m = np.abs(residual_sorted)
-    flag = m > point * scale
-    flag |= long_runs(m > run * scale, run_length)
+    masks = {"point": m > point * scale, "run": long_runs(m > run * scale, run_length)}
+    flag = masks["point"] | masks["run"]
     bands = bands_of_flags(freq[order], flag)
     modulus = np.empty_like(modulus_sorted)
     modulus[order] = modulus_sorted
@@ -149,8 +258,11 @@ def zhit(data, *, noise_floor: float = 0.01, point: float = 5.0, run: float = 3.
     residual[order] = residual_sorted
     flagged = np.empty_like(flag)
     flagged[order] = flag
+    local = np.empty_like(end_local)
+    local[order] = end_local
     return ZHITResult(
         frequency=freq.copy(), impedance=z.copy(), modulus=modulus, residuals=residual,
         rms_rel=float(np.sqrt(np.mean(residual**2))), noise_estimate=noise, threshold=point * scale,
-        flagged=flagged, bad_bands=bands, valid=not bands, offset=offset,
+        flagged=flagged, bad_bands=bands, valid=not bands, offset=offset, run_threshold=run * scale, run_length=int(run_length),
+        band_rules=band_rules(flag, masks), end_slope_local=local,
     )

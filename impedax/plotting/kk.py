@@ -1,21 +1,54 @@
-"""Figures of the Kramers–Kronig test (`impedax.fitting.kk.KKResult.plot`)."""
+"""Figures of the Kramers–Kronig test (`impedax.fitting.kk.KKResult.plot`) and the rule levels
+drawn on Z-HIT's residuals (`impedax.fitting.zhit.ZHITResult.plot`)."""
 
 from __future__ import annotations
 
-from . import dense_model, nyquist_shape, plot_bode, plot_nyquist, plot_residuals, shade_bands, spectrum_layout
+import numpy as np
+from matplotlib.transforms import blended_transform_factory
+
+from . import dense_model, nyquist_shape, plot_bode, plot_nyquist, plot_residuals, refresh_legend, shade_bands, spectrum_layout
 
 
 def plot_kk(result, *, title: str | None = None):
-    """Nyquist and Bode of data vs KK fit, and the residuals Δ [%] vs frequency with the
-    point threshold and the bad bands shaded, for a `KKResult`. Returns a matplotlib Figure."""
+    """Nyquist and Bode of data vs KK fit, and the residuals Δ', Δ'' and |Δ| [%] vs frequency
+    with the levels of the point and run rules (both test |Δ|) and the bad bands shaded, each
+    named by the rules that flagged it, for a `KKResult`. Returns a matplotlib Figure."""
     data, model = (result.frequency, result.impedance), dense_model(result.frequency, result.kk_impedance, getattr(result, "predict", None))
     fig, (ax_nyq, ax_mod, ax_ph, ax_res) = spectrum_layout(nyquist_shape(data, model), True)
     plot_nyquist(ax_nyq, data, model, model_label=f"KK fit (M={result.n_rc})")
     plot_bode(ax_mod, ax_ph, data, model, model_label=f"KK fit (M={result.n_rc})")
-    plot_residuals(ax_res, result.frequency, result.residuals_real, result.residuals_imag, labels=("Δ re", "Δ im"), ylabel="KK residual [%]", limit=result.thresholds["point"] * result.threshold_scale)
+    plot_residuals(ax_res, result.frequency, result.residuals_real, result.residuals_imag, labels=("Δ re", "Δ im"), ylabel="KK residual [%]")
+    order = np.argsort(result.frequency)
+    magnitude = np.hypot(result.residuals_real, result.residuals_imag)[order]
+    ax_res.semilogx(result.frequency[order], magnitude * 100, "-", color="0.25", lw=1.0, label="|Δ| (the rules test it)")
     ax_ph.set_xlabel("")
     if result.bad_bands:
         shade_bands([ax_mod, ax_ph, ax_res], result.bad_bands, label="not KK-consistent")
+    levels = result.rule_levels
+    add_rule_levels(ax_res, point=levels["point"], run=levels["run"], run_length=int(result.thresholds["run_length"]), bands=result.bad_bands, band_rules=result.band_rules)
     verdict = "valid" if result.valid else "not valid"
     fig.suptitle(title or f"linear KK test: {verdict}, rms_rel {result.rms_rel * 100:.2g} %, µ {result.mu:.2f}")
     return fig
+
+
+def add_rule_levels(ax, *, point: float, run: float, run_length: int, bands=(), band_rules=(), signed: bool = False) -> None:
+    """Draw the level of the point rule and of the run rule (fractions, drawn in %) on a residual
+    axis — at ± when the residual drawn is itself the signed quantity the rules test (``signed``,
+    Z-HIT), above zero only when they test a magnitude (|Δ| of the KK test) — and write over each
+    of ``bands`` the rules (``band_rules``) that flagged it."""
+    signs = (-1, 1) if signed else (1,)
+    what = "|residual|" if signed else "|Δ|"
+    for sign in signs:
+        ax.axhline(sign * point * 100, color="tab:red", lw=0.7, ls="--", label=f"point rule: {what} > {point * 100:.3g} %" if sign > 0 else None)
+    if np.isfinite(run):
+        for sign in signs:
+            ax.axhline(sign * run * 100, color="tab:orange", lw=0.8, ls=":", label=f"run rule: ≥ {run_length} in a row > {run * 100:.3g} %" if sign > 0 else None)
+    on_top = blended_transform_factory(ax.transData, ax.transAxes)
+    for (lo, hi), rules in zip(bands, band_rules):
+        if rules:
+            ax.text(float(np.sqrt(lo * hi)), 0.97, " + ".join(rules) + " rule", transform=on_top, ha="center", va="top", fontsize=7, color="tab:red",
+                    bbox={"boxstyle": "round,pad=0.15", "facecolor": "white", "edgecolor": "none", "alpha": 0.8})
+    if ax.get_legend() is None:
+        ax.legend(fontsize=8, ncol=2)
+    else:
+        refresh_legend(ax)

@@ -1,0 +1,106 @@
+"""Is the imaginary part stored with the opposite sign? A check of a spectrum's sign convention
+that the KK test, Z-HIT and `impedax inspect` share (NumPy only: no fitting imported, so
+`inspect` stays light and the layers run one way).
+
+A file whose imaginary column holds −Z'' under a header that says Z'' (or the reverse, or a
+phase column of the other sign) reads as conj(Z): capacitive data then have Z'' > 0 while |Z|
+falls with frequency, which no passive circuit does (its impedance is minimum-phase: ln|Z| and
+the phase rise and fall together, `zhit`), and the KK test fails across the whole band while
+passing on conj(Z).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from typing import Callable
+
+import numpy as np
+
+__all__ = ["POSITIVE_SHARE", "FAILED_SHARE", "positive_imaginary_evidence", "conjugate_evidence", "opposite_sign_hint", "sign_hint"]
+
+POSITIVE_SHARE = 0.9
+"""Z'' > 0 at at least this share of the points ("nearly all")."""
+FAILED_SHARE = 0.8
+"""A validity test fails "(almost) everywhere" when it flags at least this share of the points."""
+_FALLING = 0.25
+"""|Z| falls with frequency when Δln|Z| over the band is below −this × (2/π)∫φ d ln ω (for
+minimum-phase data the two are about equal)."""
+
+
+def positive_imaginary_evidence(freq, z) -> str | None:
+    """Why ``z`` looks conjugated from its values alone, or None: Z'' > 0 at nearly all points
+    (`POSITIVE_SHARE`) while |Z| falls with frequency (an inductive spectrum's rises)."""
+    freq = np.asarray(freq, float)
+    z = np.asarray(z, complex)
+    keep = np.isfinite(freq) & np.isfinite(z) & (freq > 0) & (np.abs(z) > 0)
+    freq, z = freq[keep], z[keep]
+    if freq.size < 3 or np.ptp(np.log(freq)) == 0:
+        return None
+    positive = int(np.count_nonzero(z.imag > 0))
+    if positive < POSITIVE_SHARE * freq.size:
+        return None
+    order = np.argsort(freq)
+    x = np.log(freq[order])
+    phase = np.angle(z[order])
+    rise = float(np.polyfit(x, np.log(np.abs(z[order])), 1)[0] * (x[-1] - x[0]))  # Δln|Z| of a straight-line fit
+    expected = (2 / math.pi) * float(np.sum((phase[1:] + phase[:-1]) / 2 * np.diff(x)))  # > 0: the phase says |Z| rises
+    if not (expected > 0 and rise < -_FALLING * expected):
+        return None
+    return f"Z'' > 0 at {positive} of {freq.size} points while |Z| falls with frequency, which no passive circuit does"
+
+
+def conjugate_evidence(result, retest: Callable[[np.ndarray, np.ndarray], object], name: str = "the KK test") -> str | None:
+    """Why the data look conjugated to a validity test, or None: ``result`` (a `KKResult` or
+    `ZHITResult`) flags at least `FAILED_SHARE` of the points and ``retest(frequency, conj(Z))``
+    is valid."""
+    flagged = np.asarray(result.flagged, bool)
+    if result.valid or flagged.size == 0 or flagged.mean() < FAILED_SHARE:
+        return None
+    other = retest(result.frequency, np.conj(result.impedance))
+    if not other.valid:
+        return None
+    return f"{name} fails at {int(flagged.sum())} of {flagged.size} points (rms_rel {result.rms_rel * 100:.3g} %) but passes on conj(Z) (rms_rel {other.rms_rel * 100:.3g} %)"
+
+
+def opposite_sign_hint(evidence: str | None, attrs=None) -> str | None:
+    """The hint for ``evidence`` (`positive_imaginary_evidence`, `conjugate_evidence`), or None,
+    with the fix that fits how the reader took the column (``attrs``: the data's attributes)."""
+    if not evidence:
+        return None
+    return f"the imaginary part may be stored with the opposite sign (−Z''): {evidence}; {_fix(attrs or {})}, or in Python take data.assign(Z=data['Z'].conj())"
+
+
+_SIGN_NOTES = (  # how `io.table.Layout.notes` writes which column held Z'' (or the phase)
+    (re.compile(r"column (['\"])(?P<name>.+)\1 holds Z'' \(negative for capacitive data\), taken as stored"), False),
+    (re.compile(r"column (['\"])(?P<name>.+)\1 holds -Z''; negated to Z''"), True),
+    (re.compile(r"Z = \|Z\|·exp\(j·phase\) from (['\"]).+?\1 and (['\"])(?P<name>.+)\2(?P<negated>; the file stores -phase)?"), None),
+)
+
+
+def _fix(attrs) -> str:
+    """How to read the column with the other sign: rename it in the header (a leading '-'
+    negates), add a header to a header-less table, or, for other formats, correct the file."""
+    if "no header" in str(attrs.get("interpretation", "")):
+        return "if so, add a header line that names it, e.g. frequency,Z',-Z'' (impedax negates a column whose name starts with '-')"
+    text = str(attrs.get("sign_convention", ""))
+    for pattern, negated in _SIGN_NOTES:
+        match = pattern.fullmatch(text)
+        if match is None:
+            continue
+        name = match.group("name")
+        if negated is None:
+            negated = match.group("negated") is not None
+        if negated:
+            return f"if so, rename the column {name!r} to {name[1:]!r} in the header (its leading '-' makes impedax negate it)"
+        return f"if so, rename the column {name!r} to {'-' + name!r} in the header (impedax negates a column whose name starts with '-')"
+    return "if so, correct the sign in the file (in a table, a column whose name starts with '-', e.g. -Z'', is negated on reading)"
+
+
+
+def sign_hint(result, retest: Callable[[np.ndarray, np.ndarray], object], name: str, attrs=None) -> str | None:
+    """`opposite_sign_hint` for a validity test's ``result``: it fails almost everywhere and
+    ``retest`` passes conj(Z) (`conjugate_evidence`), or Z'' > 0 nearly everywhere while |Z|
+    falls (`positive_imaginary_evidence`)."""
+    evidence = conjugate_evidence(result, retest, name) or positive_imaginary_evidence(result.frequency, result.impedance)
+    return opposite_sign_hint(evidence, attrs)
