@@ -154,6 +154,15 @@ def test_netcdf_round_trip_is_lossless(rcpe, tmp_path):
     assert ix.compare([back]).rows[0]["waic"] == post.waic
     with pytest.raises(ix.DataError, match="not a saved impedax single-spectrum posterior"):
         Posterior.from_xarray(post.fit.to_xarray())
+    # a damaged file: what is missing is named, never a KeyError from inside xarray
+    path = tmp_path / "damaged.nc"
+    write_netcdf(post.to_xarray().drop_vars("fit_value"), path)
+    with pytest.raises(ix.DataError, match=r"damaged\.nc: incomplete saved single-spectrum posterior: missing variable\(s\) 'fit_value'"):
+        Posterior.from_xarray(read_netcdf(path))
+    no_fit = post.to_xarray()
+    del no_fit.attrs["fit"]
+    with pytest.raises(ix.DataError, match=r"missing attribute\(s\) 'fit'"):
+        Posterior.from_xarray(no_fit)
 
 
 def test_plots(rcpe, tmp_path):

@@ -19,6 +19,7 @@ import impedax as ix
 from impedax.cli import main
 from impedax.fitting import Posterior
 from impedax.fitting.bayes import progress, sampler
+from impedax.fitting.bayes.hierarchical import HierarchicalPosterior
 from impedax.fitting.bayes.diagnostics import (
     ACCEPTANCE_STUCK, CHAIN_TAU_MULTIPLE, GAUSSIAN_ACCEPTANCE, acceptance_ceiling, acceptance_warnings, flat_acceptance, integrated_autocorr, interval_warnings,
 )
@@ -292,7 +293,10 @@ def test_sample_says_what_it_does_before_the_first_step(capsys):
 # --- signatures ------------------------------------------------------------------------------------
 
 
-@pytest.mark.parametrize("fn", [ix.sample, Posterior, Posterior.from_xarray], ids=["sample", "Posterior", "from_xarray"])
+@pytest.mark.parametrize(
+    "fn", [ix.sample, Posterior, Posterior.from_xarray, ix.SharedPosterior.from_xarray, HierarchicalPosterior.from_xarray],
+    ids=["sample", "Posterior", "from_xarray", "shared-from_xarray", "hierarchical-from_xarray"],
+)
 def test_signatures_do_not_print_the_element_registry(fn):
     """help() showed the whole default registry (6,000+ characters) as the default of
     ``registry``; None stands for it now."""

@@ -95,7 +95,7 @@ def _each_spectrum(batch, as_json: bool, emit_json) -> None:
     if any(r.bad_bands for r in batch.results):
         t = batch.results[0].thresholds
         print(f"rules: point = one |Δ| > {t['point']:.3g} s, run = ≥ {int(t['run_length'])} consecutive |Δ| > {t['run']:.3g} s, window = a {int(t['window'])}-point mean "
-              f"of Δ' or Δ'' > {t['window_mean'] / math.sqrt(t['window']):.3g} s (s: the larger of the noise estimate and {t['noise_floor'] * 100:.3g} %; the levels: impedax kk --select)")
+              f"of Δ' or Δ'' > {t['window_mean'] / math.sqrt(t['window']):.3g} s (s: the largest of the noise estimate, {t['noise_floor'] * 100:.3g} % and the chain's own error; the levels: impedax kk --select)")
     hints = [r.sign_hint for r in batch.results]
     with_hint = [i for i, h in enumerate(hints) if h]
     if with_hint:

@@ -679,12 +679,16 @@ def rejudged(result: KKResult, scale) -> KKResult:
     Voigt fit and its residuals are unchanged. For noise that varies along the band: `kk_test`
     scales every point by the median scatter, so the noisier end of a spectrum whose noise
     grows toward low frequency reads as bad."""
+    from ..io.sign_check import FAILED_SHARE
+
     scale = np.maximum(np.broadcast_to(np.asarray(scale, float), result.frequency.shape), result.thresholds["noise_floor"])
     order = np.argsort(result.frequency)
     flagged, _ = _bad_bands(result.frequency, result.residuals_real, result.residuals_imag, order, scale[order], result.thresholds)
     flagged &= np.asarray(result.flagged, bool)
     bands = bands_of_flags(result.frequency[order], flagged[order])
-    return dataclasses.replace(result, flagged=flagged, bad_bands=bands, valid=not bands)
+    # (a sign hint says how many points fail: it holds only while that many still do)
+    hint = result.sign_hint if bands and np.mean(flagged) >= FAILED_SHARE else None
+    return dataclasses.replace(result, flagged=flagged, bad_bands=bands, valid=not bands, sign_hint=hint)
 
 
 def long_runs(above, run_length: int) -> np.ndarray:

@@ -679,7 +679,7 @@ class HierarchicalPosterior:
         return ds
 
     @classmethod
-    def from_xarray(cls, ds: xr.Dataset, *, reparametrization: Reparametrization | None = None, registry: Registry = DEFAULT_REGISTRY) -> "HierarchicalPosterior":
+    def from_xarray(cls, ds: xr.Dataset, *, reparametrization: Reparametrization | None = None, registry: Registry | None = None) -> "HierarchicalPosterior":
         """Rebuild a posterior from `HierarchicalPosterior.to_xarray` output (`impedax.load`,
         `impedax.io.read_netcdf`, or ``xr.open_dataset`` as stored). A custom reparametrization
         must be passed again; a file that is not a complete saved one raises one `DataError`."""
@@ -687,6 +687,8 @@ class HierarchicalPosterior:
 
         from ...io.netcdf import damaged_result, saved_result  # (io is imported only here: rarely needed)
         from .reparam import rebuild
+
+        registry = DEFAULT_REGISTRY if registry is None else registry
 
         ds = saved_result(
             ds, "hierarchical_posterior", variables=("mu", "spread", "spread_session", "trial_values", "shared", "delta", "nu", "Z", "step_size", "param", "shared_param", "frequency"),

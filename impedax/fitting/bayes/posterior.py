@@ -420,10 +420,16 @@ class Posterior:
         opened as stored (``xr.open_dataset`` of a file `impedax.write_result` wrote: its JSON
         attributes and split complex variables are decoded here). A custom reparametrization
         must be passed again (its functions are not stored); ``registry`` None: the default one."""
-        from ...io.netcdf import saved_result  # (io is imported only here: rarely needed)
+        from ...io.netcdf import damaged_result, saved_result  # (io is imported only here: rarely needed)
 
         registry = DEFAULT_REGISTRY if registry is None else registry
-        ds = saved_result(ds, "posterior", variables=("draws",))  # (a joint or hierarchical file: named, with its reader)
+        # (a joint or hierarchical file: named, with its reader; a missing part: named)
+        ds = saved_result(ds, "posterior", variables=_REQUIRED_VARIABLES, attrs=_REQUIRED_ATTRS)
+        with damaged_result("posterior", ds):
+            return cls._rebuild(ds, reparametrization, registry)
+
+    @classmethod
+    def _rebuild(cls, ds: xr.Dataset, reparametrization, registry: Registry) -> "Posterior":
         circuit = parse(ds.attrs["model"], registry)
         rp = reparametrization
         if rp is None and ds.attrs.get("reparametrization"):
@@ -477,3 +483,9 @@ class Posterior:
             registry=registry,
         )
 
+
+_REQUIRED_VARIABLES = (
+    "draws", "log_prob", "acceptance", "log_scale", "map", "param", "frequency", "Z", "Z_fit", "circuit_param", "free_param",
+    "fit_value", "fit_stderr", "fit_fixed", "fit_covariance", "fit_correlation",
+)
+_REQUIRED_ATTRS = ("model", "units", "priors", "noise", "fixed", "fit", "settings", "log_evidence", "waic", "p_waic")

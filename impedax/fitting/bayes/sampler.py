@@ -578,14 +578,15 @@ def sample(
     if shared is not None or over is not None:
         if init is not None or reparametrization is not None:
             raise ParameterError("sample with shared parameters starts from its own global fit and takes no init or reparametrization")
+        steps_mode = "fixed"
         if steps == AUTO_STEPS:
-            steps = SHARED_AUTO_STEPS
+            steps, steps_mode = SHARED_AUTO_STEPS, f"auto: {SHARED_AUTO_STEPS} fixed steps for a joint posterior"
             burn = steps // 4 if burn is None else burn
             if burn >= steps:
                 raise ParameterError(f"burn must be an integer from 0 to steps − 1 = {steps - 1} (got {burn!r})")
         return sample_shared(
             circuit, data, shared=shared, over=over, priors=priors, noise=noise, walkers=walkers, steps=steps, burn=burn, thin=thin, seed=seed,
-            fixed=fixed, fmin=fmin, fmax=fmax, progress=progress, registry=registry,
+            fixed=fixed, fmin=fmin, fmax=fmax, progress=progress, registry=registry, steps_mode=steps_mode,
         )
     obs = _observations(data, noise, fmin, fmax)
     specs = circuit.parameter_specs(registry)

@@ -203,7 +203,7 @@ class SharedPosterior:
             "noise": self.noise.value,
             "walkers": self.n_walkers,
             "draws": self.n_draws,
-            **{k: self.settings.get(k) for k in ("steps", "burn", "thin", "seed")},
+            **{k: self.settings.get(k) for k in ("steps", "steps_mode", "burn", "thin", "seed")},
         }
 
     def report(self) -> str:
@@ -212,7 +212,7 @@ class SharedPosterior:
         lines = [
             f"model      {self.model}   (joint posterior: {', '.join(self.shared)} shared over {', '.join(self.over)}, {len(self.spectra)} spectra)",
             f"noise      {self.noise}: {NOISE_MODELS[self.noise]}",
-            f"sampler    emcee, {self.n_walkers} walkers, {self.settings.get('steps')} steps (burn {self.settings.get('burn')}, thin {self.settings.get('thin')}), {self.n_walkers * self.n_draws} draws, acceptance {self.mean_acceptance:.3f}",
+            f"sampler    emcee, {self.n_walkers} walkers, {self.settings.get('steps')} steps{' (' + self.settings['steps_mode'] + ')' if str(self.settings.get('steps_mode', 'fixed')).startswith('auto') else ''} (burn {self.settings.get('burn')}, thin {self.settings.get('thin')}), {self.n_walkers * self.n_draws} draws, acceptance {self.mean_acceptance:.3f}",
             "",
             f"{'parameter':<{width}}  {'median':>11}  {'q05':>11}  {'q95':>11}  {'τ [steps]':>9}  {'ESS':>7}  unit",
         ]
@@ -284,7 +284,7 @@ class SharedPosterior:
         return xr.Dataset(data, coords=coords, attrs=attrs)
 
     @classmethod
-    def from_xarray(cls, ds: xr.Dataset, *, registry: Registry = DEFAULT_REGISTRY) -> "SharedPosterior":
+    def from_xarray(cls, ds: xr.Dataset, *, registry: Registry | None = None) -> "SharedPosterior":
         """Rebuild a joint posterior from `SharedPosterior.to_xarray` output, read back by
         `impedax.load` or `impedax.io.read_netcdf`, or opened as stored (``xr.open_dataset``).
         A file that is not a complete saved joint posterior raises one `DataError` naming it."""
@@ -296,7 +296,7 @@ class SharedPosterior:
 
         ds = saved_result(ds, "shared_posterior", variables=variables, attrs=_REQUIRED_ATTRS)
         with damaged_result("shared_posterior", ds):
-            return cls._rebuild(ds, registry)
+            return cls._rebuild(ds, DEFAULT_REGISTRY if registry is None else registry)
 
     @classmethod
     def _rebuild(cls, ds: xr.Dataset, registry: Registry) -> "SharedPosterior":
@@ -380,7 +380,7 @@ def _run(p0, batched, args, *, steps: int, burn: int, thin: int, seed: int, prog
 
 def sample_shared(
     circuit: Circuit, data, *, shared, over, priors: Mapping | None, noise: NoiseModel, walkers: int | None, steps: int, burn: int, thin: int, seed: int,
-    fixed: Mapping[str, float] | None, fmin, fmax, progress: bool, registry: Registry,
+    fixed: Mapping[str, float] | None, fmin, fmax, progress: bool, registry: Registry, steps_mode: str = "fixed",
 ) -> SharedPosterior:
     """The joint posterior (module docstring); settings already checked by `sample`."""
     spectrum = open_spectrum(data, fmin=fmin, fmax=fmax)
@@ -481,6 +481,6 @@ def sample_shared(
         circuit=circuit, shared=start.shared, over=start.over, spectra=tuple(labels), names=tuple(names), units=units, log_scale=log_scale,
         draws=draws, log_prob=log_prob, acceptance=acceptance, priors=chosen, noise=noise, fit=start,
         sigma=np.asarray(ds["sigma"].transpose(*start.dataset["Z"].dims).values, float) if "sigma" in ds else None,
-        settings={"walkers": int(walkers), "steps": int(steps), "burn": int(burn), "thin": int(thin), "seed": int(seed), "elapsed_s": float(elapsed)},
+        settings={"walkers": int(walkers), "steps": int(steps), "steps_mode": steps_mode, "burn": int(burn), "thin": int(thin), "seed": int(seed), "elapsed_s": float(elapsed)},
         registry=registry,
     )

@@ -255,7 +255,8 @@ def _second_path(steps: list[RefinementStep], limit: int, diagnosed, say, notes:
     keeping = _kept_in_place(first, picked, alternatives + hidden + leaving) if len(steps) >= 2 else []
     cheaper = _cheaper_starts(steps, alternatives + hidden + leaving + keeping)
     steps = finished(steps, "")
-    for label, alt in zip(("second path", "third path", "fourth path", "fifth path", "sixth path", "seventh path"), alternatives + sorted(hidden, key=lambda c: c.delta_aic)[:1] + leaving[:1] + keeping + cheaper):
+    starts = [alt for alt in alternatives + sorted(hidden, key=lambda c: c.delta_aic)[:1] + leaving[:1] + keeping + cheaper if effect_count(alt.effect) <= limit]  # (a pair over the limit would start no path)
+    for label, alt in zip(("second path", "third path", "fourth path", "fifth path", "sixth path", "seventh path"), starts):
         other = finished(_greedy(steps[:1], alt, limit, diagnosed, say, f"{label}, "), f"{label}: ")
         a, b = steps[-1].fit, other[-1].fit
         tie = abs(b.aic - a.aic) <= DELTA_AIC_MIN and b.n_params == a.n_params
@@ -420,7 +421,7 @@ adds what the data need (the start of the real-spectra study, docs/diagnosis.md)
 
 
 @checked_arguments(
-    max_steps=count(0, 64, optional=True, why="each step adds one element"), max_effects=count(0, 64, optional=True, why="each step adds one element"),
+    max_steps=count(0, 64, optional=True, why="each effect adds one element"), max_effects=count(0, 64, optional=True, why="each effect adds one element"),
     solver_steps=count(1, 100_000), effects=instance_of(EffectCatalog, what="an EffectCatalog (e.g. impedax.DEFAULT_EFFECTS)"),
     weighting=choice(WEIGHTINGS), noise=real(positive=True, optional=True), registry=instance_of(Registry), fmin=frequency, fmax=frequency,
     n_starts=count(1, MAX_STARTS), seed=seed_rule, drt_evidence=flag,
