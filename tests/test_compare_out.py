@@ -13,6 +13,7 @@ import pytest
 
 import impedax as ix
 from impedax.cli import main
+from permissions import read_only_folder
 
 MODELS = ("R0 + R1 || C1", "R0 + R1 || CPE1")
 
@@ -25,21 +26,9 @@ def workdir(tmp_path, monkeypatch):
     rng = np.random.default_rng(3)
     z = (10 + 1 / (1 / 100 + 1e-5 * (2j * np.pi * f) ** 0.9)) * (1 + 0.01 * (rng.normal(size=30) + 1j * rng.normal(size=30)) / np.sqrt(2))
     ix.save(ix.make_spectrum(f, z), tmp_path / "arc.csv")
-    read_only = tmp_path / "ro"
-    read_only.mkdir()
-    read_only.chmod(0o555)
-    if os.geteuid() == 0:
-        real_access = os.access
-
-        def access(path, mode, *args, **kwargs):
-            if os.path.abspath(path).startswith(str(read_only)) and mode & os.W_OK:
-                return False
-            return real_access(path, mode, *args, **kwargs)
-
-        monkeypatch.setattr(os, "access", access)
-    monkeypatch.chdir(tmp_path)
-    yield tmp_path
-    read_only.chmod(0o755)
+    with read_only_folder(tmp_path / "ro", monkeypatch):
+        monkeypatch.chdir(tmp_path)
+        yield tmp_path
 
 
 def argv(*extra):

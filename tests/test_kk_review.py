@@ -137,6 +137,16 @@ def test_a_stack_names_how_many_spectra_look_flipped(tmp_path, capsys):
 
 # --- 2. Z-HIT at the band's ends --------------------------------------------------------------
 
+def _spline_slope_only(data):
+    """`ix.zhit` with the end slope off (END_LAYER = 0): the smoothing spline's slope alone."""
+    layer = zhit_module.END_LAYER
+    try:
+        zhit_module.END_LAYER = 0.0
+        return ix.zhit(data)
+    finally:
+        zhit_module.END_LAYER = layer
+
+
 def test_z_hit_passes_exact_data_whose_phase_bends_at_the_top():
     z = tour_spectrum()
     result = ix.zhit((F_TOUR, z))
@@ -145,12 +155,7 @@ def test_z_hit_passes_exact_data_whose_phase_bends_at_the_top():
     assert np.max(np.abs(result.modulus / np.abs(z) - 1)) < 0.025
     assert result.end_slope_local[np.argmax(F_TOUR)]
     # the spline's slope alone (END_LAYER = 0) still flags the top: what was reported
-    zhit_module_layer = zhit_module.END_LAYER
-    try:
-        zhit_module.END_LAYER = 0.0
-        alone = ix.zhit((F_TOUR, z))
-    finally:
-        zhit_module.END_LAYER = zhit_module_layer
+    alone = _spline_slope_only((F_TOUR, z))
     assert not alone.valid and alone.bad_bands[-1][1] == pytest.approx(1e5)
 
 
@@ -164,12 +169,7 @@ def test_the_end_slope_clears_points_and_never_adds_one():
     for seed in range(6):
         z = noisy(tour_spectrum(), 0.01, seed)
         with_end = ix.zhit((F_TOUR, z))
-        layer = zhit_module.END_LAYER
-        try:
-            zhit_module.END_LAYER = 0.0
-            without = ix.zhit((F_TOUR, z))
-        finally:
-            zhit_module.END_LAYER = layer
+        without = _spline_slope_only((F_TOUR, z))
         assert with_end.noise_estimate == without.noise_estimate and not np.any(with_end.flagged & ~without.flagged)
         assert np.all(np.abs(with_end.residuals) <= np.abs(without.residuals) + 1e-12)
     noisy_valid = [ix.zhit((F_TOUR, noisy(tour_spectrum(), 0.005, seed))).valid for seed in range(20)]

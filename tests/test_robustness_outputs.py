@@ -24,6 +24,7 @@ import pytest
 
 import impedax as ix
 from impedax.cli import main
+from permissions import read_only_folder
 
 # --- the commands that write files ---------------------------------------------------------
 
@@ -235,21 +236,9 @@ def workdir(tmp_path, monkeypatch):
     (tmp_path / "old.png").write_bytes(b"an earlier figure")
     os.symlink("good.csv", tmp_path / "link.csv")
     os.symlink("old.png", tmp_path / "link.png")
-    read_only = tmp_path / "ro"
-    read_only.mkdir()
-    read_only.chmod(0o555)
-    if os.geteuid() == 0:  # root writes anywhere: make os.access answer as it does for a user
-        real_access = os.access
-
-        def access(path, mode, *args, **kwargs):
-            if str(path).startswith(str(read_only)) and mode & os.W_OK:
-                return False
-            return real_access(path, mode, *args, **kwargs)
-
-        monkeypatch.setattr(os, "access", access)
-    monkeypatch.chdir(tmp_path)
-    yield tmp_path
-    read_only.chmod(0o755)
+    with read_only_folder(tmp_path / "ro", monkeypatch):
+        monkeypatch.chdir(tmp_path)
+        yield tmp_path
 
 
 def _run(argv, capsys):
