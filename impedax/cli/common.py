@@ -18,7 +18,7 @@ __all__ = [
     "parse_assignments", "prefixed_number", "number_option", "NUMBER_PREFIXES", "check_parameter_names", "emit_json", "to_jsonable", "add_model_argument", "add_output_options",
     "check_outputs", "save_outputs", "print_result", "result_out_help", "Output", "OutputPlan", "plan_outputs",
     "memory_limit", "check_memory", "MEMORY_LIMIT_ENV", "add_select_option", "load_selected", "select_spectra", "load_selected_files", "labels_text", "dimension_labels",
-    "command_line_words", "naming_target", "part_of_joined", "announce_written", "option_words", "check_points", "progress_printer", "PROGRESS_AFTER_S",
+    "command_line_words", "naming_target", "part_of_joined", "announce_written", "option_words", "check_points", "check_band_options", "progress_printer", "PROGRESS_AFTER_S",
 ]
 
 
@@ -84,6 +84,18 @@ def check_parameter_names(names: Iterable[str], known: Iterable[str], flag: str,
             close = closest_name(name, known)
             hint = f"; did you mean {close}?" if close else ""
             raise ParameterError(f"{flag}: unknown parameter {name!r} for model {model!r}{hint} (parameters: {', '.join(known)})")
+
+
+def check_band_options(fmin: float | None, fmax: float | None) -> None:
+    """``--fmin``/``--fmax``: positive and finite, fmin ≤ fmax (the rule of the commands that fit,
+    `kk` and `drt`)."""
+    from ..errors import ParameterError
+
+    for flag, value in (("--fmin", fmin), ("--fmax", fmax)):
+        if value is not None and not (value > 0 and value < float("inf")):
+            raise ParameterError(f"{flag} must be positive, got {value:g}")
+    if fmin is not None and fmax is not None and fmax < fmin:
+        raise ParameterError(f"--fmax ({fmax:g} Hz) is below --fmin ({fmin:g} Hz)")
 
 
 def check_points(points: int, fmin: float, fmax: float) -> None:

@@ -28,18 +28,6 @@ def _fraction(text: str) -> float:
     return value
 
 
-def _check_band(fmin, fmax) -> None:
-    """--fmin/--fmax: positive and finite, fmin ≤ fmax (the rule of `impedax kk` and the
-    commands that fit)."""
-    from ..errors import ParameterError
-
-    for flag, value in (("--fmin", fmin), ("--fmax", fmax)):
-        if value is not None and not (value > 0 and value < float("inf")):
-            raise ParameterError(f"{flag} must be positive, got {value:g}")
-    if fmin is not None and fmax is not None and fmax < fmin:
-        raise ParameterError(f"--fmax ({fmax:g} Hz) is below --fmin ({fmin:g} Hz)")
-
-
 def register(sub) -> None:
     from .common import add_select_option, number_option
 
@@ -72,11 +60,11 @@ def run(args) -> int:
     from ..fitting.drt import drt
     from ..fitting.grid import ResultGrid
     from ..fitting.problem import open_spectrum
-    from .common import emit_json, figure_writer, load_selected, plan_outputs
+    from .common import check_band_options, emit_json, figure_writer, load_selected, plan_outputs
 
     outputs = plan_outputs([("--out", args.out, "drt"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     # a file of several spectra: the DRT of each in one solve (`DRTBatchResult`), or one (--select)
-    _check_band(args.fmin, args.fmax)
+    check_band_options(args.fmin, args.fmax)
     data = load_selected(args.data, args.select)
     if args.fmin is not None or args.fmax is not None:
         from ..fitting.problem import select_band

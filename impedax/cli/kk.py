@@ -32,7 +32,7 @@ LINEAR_ONLY = ("--c", "--max-rc", "--no-inductance", "--no-capacitance")
 def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting import kk_test, kk_test_batch, zhit
-    from .common import emit_json, figure_writer, load_selected, plan_outputs
+    from .common import check_band_options, emit_json, figure_writer, load_selected, plan_outputs
 
     if args.method == "zhit":
         given = [flag for flag, value in zip(LINEAR_ONLY, (args.c, args.max_rc, args.no_inductance or None, args.no_capacitance or None)) if value is not None]
@@ -49,11 +49,7 @@ def run(args) -> int:
     if args.fmin is not None or args.fmax is not None:
         from ..fitting.problem import select_band
 
-        for flag, value in (("--fmin", args.fmin), ("--fmax", args.fmax)):  # (the rule of the commands that fit)
-            if value is not None and not (value > 0 and value < float("inf")):
-                raise ParameterError(f"{flag} must be positive, got {value:g}")
-        if args.fmin is not None and args.fmax is not None and args.fmax < args.fmin:
-            raise ParameterError(f"--fmax ({args.fmax:g} Hz) is below --fmin ({args.fmin:g} Hz)")
+        check_band_options(args.fmin, args.fmax)
         data = select_band(data, args.fmin, args.fmax, args.data)
     options = dict(c=0.85 if args.c is None else args.c, max_rc=args.max_rc, inductance=not args.no_inductance, capacitance=not args.no_capacitance)
     if any(d != "frequency" for d in data["Z"].dims):

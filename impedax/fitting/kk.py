@@ -29,9 +29,9 @@ from ..data import checked_frequencies, concise_repr, format_frequency
 from ..errors import DataError, ParameterError
 from .grid import ResultGrid
 from .problem import frequency_and_z
-from .statistics import difference_noise, non_passive
+from .statistics import difference_noise, non_passive, residual_noise
 
-__all__ = ["KKResult", "KKBatchResult", "kk_test", "kk_test_batch", "rejudged", "DEFAULT_THRESHOLDS", "CONCLUSIVE_POINTS_MIN", "RULE_NAMES", "band_rules", "band_rule_counts"]
+__all__ = ["KKResult", "KKBatchResult", "kk_test", "kk_test_batch", "rejudged", "DEFAULT_THRESHOLDS", "CONCLUSIVE_POINTS_MIN", "RULE_NAMES", "band_rules", "band_rule_counts", "points_text"]
 
 # below this many frequencies the chain (M ≤ N − 3 RC elements) is too stiff for the data, its
 # misfit is the chain's own and the noise estimate follows it: the test cannot fail
@@ -235,9 +235,9 @@ class KKResult:
             t, levels = self.thresholds, self.rule_levels
             for (lo, hi), counts in zip(self.bad_bands, band_rule_counts(*self._rule_masks())):
                 said = [
-                    f"{_points(counts['point'])} with |Δ| > {levels['point'] * 100:.3g} % (point rule)" if counts["point"] else "",
-                    f"{_points(counts['run'])} in runs of ≥ {int(t['run_length'])} with |Δ| > {levels['run'] * 100:.3g} % (run rule)" if counts["run"] else "",
-                    f"{_points(counts['window'])} under a {int(t['window'])}-point mean of Δ' or Δ'' > {levels['window'] * 100:.3g} % (window rule)" if counts["window"] else "",
+                    f"{points_text(counts['point'])} with |Δ| > {levels['point'] * 100:.3g} % (point rule)" if counts["point"] else "",
+                    f"{points_text(counts['run'])} in runs of ≥ {int(t['run_length'])} with |Δ| > {levels['run'] * 100:.3g} % (run rule)" if counts["run"] else "",
+                    f"{points_text(counts['window'])} under a {int(t['window'])}-point mean of Δ' or Δ'' > {levels['window'] * 100:.3g} % (window rule)" if counts["window"] else "",
                 ]
                 said = "; ".join(x for x in said if x)
                 lines.append(f"  bad band: {format_frequency(lo)} – {format_frequency(hi)}" + (f": {said}" if said else ""))
@@ -592,19 +592,6 @@ def _mu(resistances: np.ndarray) -> np.ndarray:
         return np.where(pos > 0, 1.0 - neg / np.where(pos > 0, pos, 1.0), 0.0)
 
 
-def _noise_estimate(res_re: np.ndarray, res_im: np.ndarray, order: np.ndarray, n_params: int) -> float:
-    """Robust σ of the random part of the residuals: median |first difference| in frequency
-    order, which a smooth (drift-like) deviation barely changes, scaled to σ and inflated by
-    sqrt(2N/(2N − P)) for the P fitted parameters."""
-    n = res_re.size
-    if n < 3:
-        return float("nan")
-    d = np.concatenate([np.diff(res_re[order]), np.diff(res_im[order])])
-    sigma = difference_noise(d)
-    dof = max(2 * n - n_params, 1)
-    return sigma * math.sqrt(2 * n / dof)
-
-
 def _rule_masks(residual_real, residual_imag, scale, thresholds) -> dict[str, np.ndarray]:
     """Each rule's flags (`RULE_NAMES`) from Δ in frequency order; ``scale`` is one number or one
     per frequency (in frequency order)."""
@@ -656,7 +643,8 @@ def band_rules(flag, masks) -> tuple[tuple[str, ...], ...]:
     return tuple(tuple(name for name, n in counts.items() if n) for counts in band_rule_counts(flag, masks))
 
 
-def _points(n: int) -> str:
+def points_text(n: int) -> str:
+    """``1 point``, ``3 points``."""
     return f"{n} point{'' if n == 1 else 's'}"
 
 
@@ -827,7 +815,7 @@ def _run(freq, z, shape, dims, coords, *, c, max_rc, n_rc, inductance, capacitan
     results = []
     for zi, (m, mu, reached, taus, coef, z_kk) in zip(flat, chosen):
         residual = (zi - z_kk) / np.abs(zi)
-        noise = _noise_estimate(residual.real, residual.imag, order, coef.size)
+        noise = residual_noise(residual.real, residual.imag, order, coef.size)
         scale = max(noise, floor) if math.isfinite(noise) else floor
         flagged, bands = _bad_bands(freq, residual.real, residual.imag, order, scale, rules)
         results.append(

@@ -8,7 +8,7 @@ from typing import Sequence
 
 import numpy as np
 
-__all__ = ["difference_noise", "information_criteria", "covariances", "null_sets", "uncertainties", "at_noise_floor", "dominant_points", "non_passive", "SINGULAR_RATIO_LIMIT", "DOMINANT_FRACTION", "NON_PASSIVE_MARGIN"]
+__all__ = ["difference_noise", "residual_noise", "information_criteria", "covariances", "null_sets", "uncertainties", "at_noise_floor", "dominant_points", "non_passive", "SINGULAR_RATIO_LIMIT", "DOMINANT_FRACTION", "NON_PASSIVE_MARGIN"]
 
 # a Jacobian direction whose singular value is below this fraction of the largest is not
 # determined by the data (its parameters are reported together)
@@ -193,3 +193,15 @@ def difference_noise(differences: np.ndarray) -> float:
     """Robust σ of white noise from its first differences in frequency order (a difference of
     two independent draws has σ√2): 1.4826·median|d|/√2. A smooth deviation barely changes it."""
     return _MAD_TO_SIGMA * float(np.median(np.abs(differences))) / math.sqrt(2.0)
+
+
+def residual_noise(residual_real: np.ndarray, residual_imag: np.ndarray, order: np.ndarray, n_params: float) -> float:
+    """Robust σ of the random part of relative residuals (the KK test's noise estimate):
+    `difference_noise` of the first differences of Re and Im in frequency order (``order``),
+    which a smooth (drift-like) deviation barely changes, inflated by √(2N/(2N − P)) for the P
+    fitted (or effective) parameters; NaN below 3 points."""
+    n = residual_real.size
+    if n < 3:
+        return math.nan
+    d = np.concatenate([np.diff(residual_real[order]), np.diff(residual_imag[order])])
+    return difference_noise(d) * math.sqrt(2 * n / max(2 * n - n_params, 1))

@@ -37,7 +37,7 @@ import xarray as xr
 from ..arguments import checked_arguments, count, real
 from ..data import concise_repr, format_frequency
 from ..errors import DataError, ParameterError
-from .kk import CONCLUSIVE_POINTS_MIN, band_rule_counts, band_rules, bands_of_flags, long_runs, zero_impedance_text
+from .kk import CONCLUSIVE_POINTS_MIN, band_rule_counts, band_rules, bands_of_flags, long_runs, points_text, zero_impedance_text
 from .problem import frequency_and_z
 from .statistics import difference_noise
 
@@ -146,8 +146,8 @@ class ZHITResult:
         flag = np.asarray(self.flagged, bool)[order]
         for (lo, hi), counts in zip(self.bad_bands, band_rule_counts(flag, masks)):  # (as the linear test writes them)
             said = [
-                f"{_points(counts['point'])} with |residual| > {self.threshold * 100:.3g} % (point rule)" if counts["point"] else "",
-                f"{_points(counts['run'])} in runs of ≥ {self.run_length} with |residual| > {self.run_threshold * 100:.3g} % (run rule)" if counts["run"] else "",
+                f"{points_text(counts['point'])} with |residual| > {self.threshold * 100:.3g} % (point rule)" if counts["point"] else "",
+                f"{points_text(counts['run'])} in runs of ≥ {self.run_length} with |residual| > {self.run_threshold * 100:.3g} % (run rule)" if counts["run"] else "",
             ]
             said = "; ".join(x for x in said if x)
             lines.append(f"  bad band: {format_frequency(lo)} – {format_frequency(hi)}" + (f": {said}" if said else ""))
@@ -165,10 +165,6 @@ class ZHITResult:
         add_rule_levels(fig.axes[2], point=self.threshold, run=self.run_threshold, run_length=self.run_length,
                         bands=self.bad_bands, band_rules=self.band_rules, signed=True)
         return fig
-
-
-def _points(n: int) -> str:
-    return f"{n} point{'' if n == 1 else 's'}"
 
 
 def _local_slopes(x: np.ndarray, phase: np.ndarray, at: np.ndarray) -> np.ndarray:

@@ -10,6 +10,7 @@ import numpy as np
 from ...arguments import checked_arguments, count, flag, real
 from ...errors import DataError, ParameterError
 from ..problem import frequency_and_z
+from ..statistics import residual_noise
 from ..stored import QUICK_COMPILE, StoredProgram
 from .basis import impedance_integrals, penalty_matrix, rbf_basis
 from .peaks import split_peaks
@@ -102,21 +103,6 @@ def _lambda_note(method: str, choice: float, index: int) -> str:
     if index >= last:
         return f"at the top of its grid ({format_lambda(math.exp(_LOG_LAMBDA_GRID[-1]))}; {method}'s optimum may lie above: the data ask for at least this much smoothing)"
     return ""
-
-
-def _difference_noise(freq: np.ndarray, residual: np.ndarray, n_params: float) -> float:
-    """The KK test's noise estimate on the DRT's relative residuals: `statistics.difference_noise`
-    (1.4826·median|d|/√2) of the first differences d of Re and Im in frequency order, inflated
-    by √(2N/(2N − P)) for the P effective parameters, as kk.py does. Independent of a smooth
-    misfit, unlike the residual σ."""
-    from ..statistics import difference_noise
-
-    n = residual.size
-    if n < 3:
-        return math.nan
-    order = np.argsort(freq)
-    d = np.concatenate([np.diff(residual.real[order]), np.diff(residual.imag[order])])
-    return float(difference_noise(d) * math.sqrt(2 * n / max(2 * n - n_params, 1.0)))
 
 
 @checked_arguments(
@@ -263,7 +249,7 @@ def drt(
                 dropped_peaks=dropped,
                 rms_rel=float(np.sqrt(np.mean(np.abs(residual) ** 2))),
                 noise_estimate=float(out["sigma"][i]),
-                difference_noise=_difference_noise(freq, residual, float(out["effective_parameters"][i])),
+                difference_noise=residual_noise(residual.real, residual.imag, np.argsort(freq), float(out["effective_parameters"][i])),
                 converged=bool(out["converged"][i]),
                 effective_parameters=float(out["effective_parameters"][i]),
                 lambda_grid=np.exp(_LOG_LAMBDA_GRID),
