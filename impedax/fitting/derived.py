@@ -19,7 +19,7 @@ import xarray as xr
 from ..data import checked_frequencies
 from ..errors import ParameterError
 
-__all__ = ["derive", "derive_fit", "QUANTILES", "band_dataset", "bind_frequency", "check_real", "needs_freq"]
+__all__ = ["derive", "derive_fit", "QUANTILES", "band_dataset", "bind_frequency", "check_real", "needs_freq", "draws_band", "called"]
 
 QUANTILES = {"q05": 0.05, "q16": 0.16, "median": 0.5, "q84": 0.84, "q95": 0.95}
 
@@ -143,6 +143,20 @@ def called(g, x, known, model):
         return g(x)
     except KeyError as exc:
         raise unknown_parameter("derive: fn asked for", exc.args[0] if exc.args else "?", known, model) from None
+
+
+def draws_band(fn, freq, params: dict, model: str, *, draws: bool, max_draws: int | None, method: str) -> xr.Dataset:
+    """``fn(params[, freq])`` over posterior draws ``params`` (name → array over draws) in one
+    vmapped call, at most ``max_draws`` evenly spaced ones, summarised by `band_dataset`
+    (``method`` in its attrs): what `Posterior.derive` and `SharedPosterior.derive` return."""
+    g = bind_frequency(fn, freq)
+    total = len(next(iter(params.values())))
+    if max_draws is not None and max_draws < total:
+        pick = np.linspace(0, total - 1, max_draws).astype(int)
+        params = {k: v[pick] for k, v in params.items()}
+    out = called(jax.jit(jax.vmap(g)), {k: jnp.asarray(v) for k, v in params.items()}, list(params), model)
+    check_real(out)
+    return band_dataset(np.asarray(out, float), freq, keep_draws=draws, attrs={"method": method, "model": model})
 
 
 def derive(result, fn, freq=None, **kwargs) -> xr.Dataset:

@@ -22,7 +22,7 @@ import xarray as xr
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
 from ...data import checked_frequencies, concise_repr, unit_text
 from ...errors import DataError, ParameterError
-from ..derived import QUANTILES, band_dataset, bind_frequency, called, check_real, needs_freq
+from ..derived import QUANTILES, draws_band, needs_freq
 from ..least_squares import FitResult
 from .diagnostics import CHAIN_TAU_MULTIPLE, chain_warnings, figure, hdi, integrated_autocorr, interval_warnings, prior_edge_warnings
 from .logprob import NOISE_MODELS, NoiseModel
@@ -280,14 +280,7 @@ class Posterior:
         evenly spaced subset instead of every draw."""
         if freq is None and needs_freq(fn):
             freq = self.frequency
-        g = bind_frequency(fn, freq)
-        params = self.parameter_draws()
-        if max_draws is not None and max_draws < self.n_walkers * self.n_draws:
-            pick = np.linspace(0, self.n_walkers * self.n_draws - 1, max_draws).astype(int)
-            params = {k: v[pick] for k, v in params.items()}
-        out = called(jax.jit(jax.vmap(g)), {k: jnp.asarray(v) for k, v in params.items()}, list(params), self.model)
-        check_real(out)
-        return band_dataset(np.asarray(out, float), freq, keep_draws=draws, attrs={"method": "posterior draws", "model": self.model})
+        return draws_band(fn, freq, self.parameter_draws(), self.model, draws=draws, max_draws=max_draws, method="posterior draws")
 
     def predict(self, freq=None, *, max_draws: int = 400, noise: bool = False, copies: int = 1, seed: int = 0) -> np.ndarray:
         """Model impedance [Ω] (draws, frequency) over an evenly spaced subset of the draws.

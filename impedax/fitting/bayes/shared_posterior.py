@@ -32,7 +32,7 @@ import xarray as xr
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
 from ...errors import DataError, FitError, ParameterError
 from ...data import unit_text
-from ..derived import QUANTILES, band_dataset, bind_frequency, called, check_real, needs_freq
+from ..derived import QUANTILES, draws_band, needs_freq
 from ..least_squares import SharedFitResult, fit
 from ..parameters import ParameterTable
 from ..problem import open_spectrum
@@ -238,17 +238,11 @@ class SharedPosterior:
         ``freq`` defaults to the data's frequencies when ``fn`` takes one."""
         if freq is None and needs_freq(fn):
             freq = np.asarray(self.fit.dataset["frequency"].values, float)
-        g = bind_frequency(fn, freq)
         ds = self.fit.dataset
         total = self.n_walkers * self.n_draws
         params = {str(n): np.full(total, float(ds["value"].sel(param=n).values.ravel()[0])) for n in ds["param"].values if bool(ds["fixed"].sel(param=n))}
         params.update(self.samples)
-        if max_draws is not None and max_draws < total:
-            pick = np.linspace(0, total - 1, max_draws).astype(int)
-            params = {k: v[pick] for k, v in params.items()}
-        out = called(jax.jit(jax.vmap(g)), {k: jnp.asarray(v) for k, v in params.items()}, list(params), self.model)
-        check_real(out)
-        return band_dataset(np.asarray(out, float), freq, keep_draws=draws, attrs={"method": "joint posterior draws", "model": self.model})
+        return draws_band(fn, freq, params, self.model, draws=draws, max_draws=max_draws, method="joint posterior draws")
 
     def to_xarray(self) -> xr.Dataset:
         """Draws (walker, draw, param), log_prob, acceptance, diagnostics, quantiles, the data
