@@ -121,6 +121,23 @@ def test_derive_linear_equals_linear_map_of_draws(rcpe):
         post.derive(lambda p, freq: ix.compile_circuit(post.circuit)(p, freq), f)
 
 
+@pytest.mark.parametrize("bad", [0, -1, 2.5, "10"])
+def test_a_bad_max_draws_is_named(rcpe, bad):
+    _, _, _, post = rcpe
+    with pytest.raises(ix.ParameterError, match="max_draws"):
+        post.derive(lambda p: p["R0"], max_draws=bad)
+    with pytest.raises(ix.ParameterError, match="max_draws"):
+        post.predict(max_draws=bad)
+
+
+def test_max_draws_picks_evenly_spaced_draws_including_both_ends(rcpe):
+    _, _, _, post = rcpe
+    every = post.samples["R0"]
+    out = post.derive(lambda p: p["R0"], draws=True, max_draws=5)
+    np.testing.assert_array_equal(out["draws"].values, every[np.linspace(0, every.size - 1, 5).astype(int)])
+    assert post.derive(lambda p: p["R0"], draws=True, max_draws=10 * every.size)["draws"].size == every.size
+
+
 def test_delta_method_of_linear_function_is_j_sigma_jt(rcpe):
     _, _, data, post = rcpe
     result = post.fit

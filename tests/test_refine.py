@@ -163,7 +163,7 @@ def test_the_two_paths_are_compared_as_they_end_after_the_final_refit():
         return path[:-1] if path[-1].model == "A3" else path
 
     notes = []
-    kept = _second_path(greedy, 4, diagnosed, lambda text: None, notes, finished)
+    kept = _second_path(greedy, greedy[0].diagnosis.best, 4, diagnosed, lambda text: None, notes, finished)
     assert [s.model for s in kept] == ["start", "B1", "B2"], notes
     assert "A2 (AIC -150.0" in notes[0] and "it is kept" in notes[0]
 
@@ -188,12 +188,12 @@ def test_a_suggestion_that_leaves_an_element_out_gets_a_path_of_its_own(leaving_
     greedy = [step("start", 0.0, 3, first), step("K1", -200.0, 4, NS(solver_shape=None, verdict="adequate"), "R_s")]
     diagnosed = lambda fit, shape: NS(baseline=fit, best=None, verdict="adequate", solver_shape=None)  # noqa: E731
     notes = []
-    kept_path = _second_path(greedy, 4, diagnosed, lambda text: None, notes, lambda path, label: path)
+    kept_path = _second_path(greedy, greedy[0].diagnosis.best, 4, diagnosed, lambda text: None, notes, lambda path, label: path)
     assert [s.model for s in kept_path] == kept, notes
     assert len(notes) == 1 and notes[0].startswith("a second path, starting from extra_relaxation")
     # max_effects=0: the greedy path took no step, and no other path is tried
     notes = []
-    assert [s.model for s in _second_path(greedy[:1], 0, diagnosed, lambda text: None, notes, lambda path, label: path)] == ["start"] and notes == []
+    assert [s.model for s in _second_path(greedy[:1], greedy[0].diagnosis.best, 0, diagnosed, lambda text: None, notes, lambda path, label: path)] == ["start"] and notes == []
 
 
 @pytest.mark.parametrize("ep_own_aic, path", [(None, True), (-300.0, True), (-545.0, False)])
@@ -226,7 +226,7 @@ def test_an_effect_undetermined_alone_gets_a_path_of_its_own(ep_own_aic, path):
         return NS(baseline=fit, best=nxt, verdict="missing_effect" if nxt else "adequate", solver_shape=None)
 
     notes = []
-    kept = _second_path(greedy, 4, diagnosed, lambda text: None, notes, lambda path, label: path)
+    kept = _second_path(greedy, greedy[0].diagnosis.best, 4, diagnosed, lambda text: None, notes, lambda path, label: path)
     from_ep = [n for n in notes if "starting from electrode_polarization (EP, " in n]
     if path:
         assert [s.model for s in kept] == ["start", "EP", "EP+RS"], notes
@@ -344,7 +344,7 @@ def test_a_path_of_cheaper_effects_is_kept_when_it_ends_as_good_with_fewer_param
         return NS(baseline=fit, best=nxt, verdict="missing_effect" if nxt else "adequate", solver_shape=None)
 
     notes = []
-    path = _second_path(greedy, 4, diagnosed, lambda text: None, notes, lambda path, label: path)
+    path = _second_path(greedy, greedy[0].diagnosis.best, 4, diagnosed, lambda text: None, notes, lambda path, label: path)
     assert [s.model for s in path] == kept, notes
     if greedy_verdict == "adequate":  # a path from each cheaper effect; the one from CPE ends at 4 parameters, 866 AIC above
         assert len(notes) == 2 and notes[0].startswith("a second path, starting from series_resistance"), notes
@@ -412,7 +412,7 @@ def test_at_a_tie_the_path_that_leaves_out_fewer_elements_is_kept(greedy_removed
         return NS(baseline=fit, best=nxt, verdict="missing_effect" if nxt else "adequate", solver_shape=None)
 
     notes = []
-    path = _second_path(greedy, 4, diagnosed, lambda text: None, notes, lambda path, label: path)
+    path = _second_path(greedy, greedy[0].diagnosis.best, 4, diagnosed, lambda text: None, notes, lambda path, label: path)
     assert path[-1].model == kept, notes
     assert "do not tell the two apart" in notes[0]
     assert ("it keeps R2, which the path before left out" in notes[0]) == (kept == "L+W")
@@ -453,7 +453,7 @@ def test_a_first_step_that_left_an_element_out_is_tried_with_it_kept(keeping_end
         return NS(baseline=fit, best=nxt, verdict="missing_effect" if nxt else "adequate", solver_shape=None)
 
     notes = []
-    path = _second_path(greedy, 4, diagnosed, lambda text: None, notes, lambda path, label: path)
+    path = _second_path(greedy, greedy[0].diagnosis.best, 4, diagnosed, lambda text: None, notes, lambda path, label: path)
     assert path[-1].model == kept, notes
     if keeping_end is None:
         assert seen == [] and notes == []

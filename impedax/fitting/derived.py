@@ -17,6 +17,7 @@ import numpy as np
 import xarray as xr
 
 from ..data import checked_frequencies
+from ..arguments import count, unknown_parameter
 from ..errors import ParameterError
 
 __all__ = ["derive", "derive_fit", "QUANTILES", "band_dataset", "bind_frequency", "check_real", "needs_freq", "draws_band", "called"]
@@ -137,7 +138,6 @@ def derive_fit(result, fn, freq=None) -> xr.Dataset:
 def called(g, x, known, model):
     """``g(x)`` with a parameter name ``fn`` asked for that the model has not (a KeyError from
     inside JAX's trace) as one `ParameterError` naming it and the closest known name."""
-    from ..arguments import unknown_parameter
 
     try:
         return g(x)
@@ -145,15 +145,20 @@ def called(g, x, known, model):
         raise unknown_parameter("derive: fn asked for", exc.args[0] if exc.args else "?", known, model) from None
 
 
+def draw_indices(total: int, max_draws: int | None) -> np.ndarray:
+    """Indices of at most ``max_draws`` evenly spaced draws out of ``total`` (all for None);
+    ``max_draws`` below 1 or not an integer is a `ParameterError`."""
+    limit = count(1, optional=True)(max_draws, "max_draws")
+    return np.linspace(0, total - 1, total if limit is None else min(limit, total)).astype(int)
+
+
 def draws_band(fn, freq, params: dict, model: str, *, draws: bool, max_draws: int | None, method: str) -> xr.Dataset:
     """``fn(params[, freq])`` over posterior draws ``params`` (name → array over draws) in one
     vmapped call, at most ``max_draws`` evenly spaced ones, summarised by `band_dataset`
     (``method`` in its attrs): what `Posterior.derive` and `SharedPosterior.derive` return."""
     g = bind_frequency(fn, freq)
-    total = len(next(iter(params.values())))
-    if max_draws is not None and max_draws < total:
-        pick = np.linspace(0, total - 1, max_draws).astype(int)
-        params = {k: v[pick] for k, v in params.items()}
+    pick = draw_indices(len(next(iter(params.values()))), max_draws)
+    params = {k: v[pick] for k, v in params.items()}
     out = called(jax.jit(jax.vmap(g)), {k: jnp.asarray(v) for k, v in params.items()}, list(params), model)
     check_real(out)
     return band_dataset(np.asarray(out, float), freq, keep_draws=draws, attrs={"method": method, "model": model})

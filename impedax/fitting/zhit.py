@@ -141,8 +141,7 @@ class ZHITResult:
                        f"and {CONCLUSIVE_PER_DECADE_MIN:g} a decade)") + ("" if self.valid else "; it flags the bands below")
         lines = [f"Z-HIT: rms_rel = {self.rms_rel * 100:.3g} %, noise estimate = {self.noise_estimate * 100:.3g} %", f"verdict: {verdict}"]
         order = np.argsort(self.frequency)
-        m = np.abs(self.residuals[order])
-        masks = {"point": m > self.threshold, "run": long_runs(m > self.run_threshold, self.run_length)}
+        masks = _rule_masks(np.abs(self.residuals[order]), self.threshold, self.run_threshold, self.run_length)
         flag = np.asarray(self.flagged, bool)[order]
         for (lo, hi), counts in zip(self.bad_bands, band_rule_counts(flag, masks)):  # (as the linear test writes them)
             said = [
@@ -166,6 +165,12 @@ class ZHITResult:
                         bands=self.bad_bands, band_rules=self.band_rules, signed=True)
         return fig
 
+
+
+def _rule_masks(magnitude, threshold, run_threshold, run_length) -> dict[str, np.ndarray]:
+    """Each rule's flags from |residual| in frequency order: above ``threshold`` at one point, or
+    above ``run_threshold`` at ``run_length`` consecutive points."""
+    return {"point": magnitude > threshold, "run": long_runs(magnitude > run_threshold, int(run_length))}
 
 def _local_slopes(x: np.ndarray, phase: np.ndarray, at: np.ndarray) -> np.ndarray:
     """dφ/dx at each of ``at`` from a tricube-weighted cubic through the phase within
@@ -245,7 +250,7 @@ def _zhit(freq, z, *, noise_floor: float, point: float, run: float, run_length: 
     modulus_sorted = np.exp(offset + shape)
     scale = max(noise, noise_floor)
     m = np.abs(residual_sorted)
-    masks = {"point": m > point * scale, "run": long_runs(m > run * scale, run_length)}
+    masks = _rule_masks(m, point * scale, run * scale, run_length)
     flag = masks["point"] | masks["run"]
     bands = bands_of_flags(freq[order], flag)
     modulus = np.empty_like(modulus_sorted)

@@ -51,6 +51,7 @@ import xarray as xr
 from ...circuits import DEFAULT_REGISTRY, Circuit, Registry, compile_circuit, parse
 from ...data import make_spectrum
 from ...errors import DataError, FitError, ParameterError
+from ..derived import draw_indices
 from .reparam import Reparametrization
 from .progress import ProgressLine
 
@@ -583,7 +584,7 @@ class HierarchicalPosterior:
         bands are where new measurements fall, not only where the model curve lies."""
         fn = compile_circuit(self.circuit, self.registry)
         c, d = self.mu.shape[:2]
-        pick = np.linspace(0, c * d - 1, min(max_draws, c * d)).astype(int)
+        pick = draw_indices(c * d, max_draws)
         theta = self.trial_values.reshape(c * d, *self.trial_values.shape[2:])[pick]
         shared = self.shared.reshape(c * d, -1)[pick]
         rp = self.reparametrization

@@ -22,7 +22,7 @@ import xarray as xr
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
 from ...data import checked_frequencies, concise_repr, unit_text
 from ...errors import DataError, ParameterError
-from ..derived import QUANTILES, draws_band, needs_freq
+from ..derived import QUANTILES, draw_indices, draws_band, needs_freq
 from ..least_squares import FitResult
 from .diagnostics import CHAIN_TAU_MULTIPLE, chain_warnings, figure, hdi, integrated_autocorr, interval_warnings, prior_edge_warnings
 from .logprob import NOISE_MODELS, NoiseModel
@@ -294,7 +294,7 @@ class Posterior:
             raise ParameterError(f"copies must be a positive integer, got {copies!r}")
         params = self.circuit_samples()
         total = self.n_walkers * self.n_draws
-        pick = np.linspace(0, total - 1, min(max_draws, total)).astype(int)
+        pick = draw_indices(total, max_draws)
         compiled = compile_circuit(self.circuit, self.registry)
         fn = jax.jit(jax.vmap(lambda p, f: compiled(p, f), in_axes=(0, None)))
         z = np.asarray(fn({k: jnp.asarray(v[pick]) for k, v in params.items()}, jnp.asarray(freq)))

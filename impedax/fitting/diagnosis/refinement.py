@@ -207,8 +207,9 @@ def _greedy(steps: list[RefinementStep], best, limit: int, diagnosed, say, label
     return steps
 
 
-def _second_path(steps: list[RefinementStep], limit: int, diagnosed, say, notes: list[str], finished) -> list[RefinementStep]:
-    """A second look at the first choice when the greedy path added two effects or more: the
+def _second_path(steps: list[RefinementStep], picked, limit: int, diagnosed, say, notes: list[str], finished) -> list[RefinementStep]:
+    """A second look at the first choice ``picked`` (the suggestion the greedy path started from)
+    when the greedy path added two effects or more: the
     first diagnosis' best significant suggestion at another placement or of another effect
     (within `BRANCH_WINDOW` of AIC) is continued greedily too, and the better final model is
     kept (lower AIC by more than `DELTA_AIC_MIN`, or as good with fewer parameters, or as good
@@ -242,9 +243,6 @@ def _second_path(steps: list[RefinementStep], limit: int, diagnosed, say, notes:
     start from cheaper effects too (`_cheaper_starts`): an element of three parameters can
     stand in for two of one each."""
     first = steps[0].diagnosis
-    picked = first.best  # where the greedy path went (a pair over the limit gave way, `_best_within`)
-    if len(steps) >= 2 and effect_count(picked.effect) > limit:
-        picked = _best_within(first, limit)
     alternatives = [s for s in first.suggestions if (s.where != picked.where or s.effect != picked.effect) and s.delta_aic <= picked.delta_aic + BRANCH_WINDOW][:1] if len(steps) >= 3 else []
     leaving = [s for s in first.suggestions if s.removed and not picked.removed and s.delta_aic < picked.delta_aic - DELTA_AIC_MIN and all(s is not t for t in alternatives)] if len(steps) >= 2 else []
     hidden = [
@@ -502,8 +500,9 @@ def refine(
     def finished(path, label):
         return _finish(path, used, n_starts=n_starts, seed=seed, say=say, notes=notes, label=label, reproduced=reproduced)
 
-    steps = _greedy([RefinementStep(first.baseline, None, None, first)], _best_within(first, limit), limit, diagnosed, say, "")
-    steps = _second_path(steps, limit, diagnosed, say, notes, finished)
+    picked = _best_within(first, limit)
+    steps = _greedy([RefinementStep(first.baseline, None, None, first)], picked, limit, diagnosed, say, "")
+    steps = _second_path(steps, picked, limit, diagnosed, say, notes, finished)
     steps = _simplified(steps, used, n_starts=n_starts, seed=seed, diagnosed=diagnosed, reproduced=reproduced, say=say, notes=notes)
     last = steps[-1].diagnosis
     if last.verdict == Verdict.MISSING_EFFECT and last.best is not None and sum(effect_count(s.effect) for s in steps) + effect_count(last.best.effect) > limit:
