@@ -18,7 +18,7 @@ import pytest
 import impedax as ix
 from impedax.cli import main
 from impedax.fitting import Posterior
-from impedax.fitting.bayes import progress, sampler
+from impedax.fitting.bayes import chain, progress, sampler
 from impedax.fitting.bayes.hierarchical import HierarchicalPosterior
 from impedax.fitting.bayes.diagnostics import (
     ACCEPTANCE_STUCK, CHAIN_TAU_MULTIPLE, GAUSSIAN_ACCEPTANCE, acceptance_ceiling, acceptance_warnings, flat_acceptance, integrated_autocorr, interval_warnings,
@@ -208,7 +208,7 @@ def test_auto_stops_at_its_cap_and_says_so(monkeypatch):
     """A cap of 300 steps (monkeypatched; the real one is 20 000): the run stops there, the
     kept chain is shorter than 50 τ by emcee's estimator, and the chain-length warning says the
     cap was reached."""
-    monkeypatch.setattr(sampler, "AUTO_MAX_STEPS", 300)
+    monkeypatch.setattr(chain, "AUTO_MAX_STEPS", 300)
     post = ix.sample("R1", _flat_spectrum(), walkers=16, seed=1, progress=False)
     assert post.settings["steps"] == 300 and post.settings["stopped"] == "cap" and post.settings["step_cap"] == 300
     assert post.n_draws == 300 - 75
@@ -218,6 +218,42 @@ def test_auto_stops_at_its_cap_and_says_so(monkeypatch):
     assert "automatic: stopped at its cap of 300 steps" in post.report()
     back = Posterior.from_xarray(post.to_xarray())  # (the settings travel with the draws)
     assert back.settings == post.settings and any("stopped at its cap of 300 steps" in w for w in back.warnings)
+
+
+def _joint_stack(seed=0, n=20):
+    """Two SYNTHETIC R0 + R1 || C1 spectra (1 % proportional noise) with R0 common."""
+    f = np.geomspace(1.0, 1e5, n)
+    rng = np.random.default_rng(seed)
+    z = [noisy(rc(f, {"R0": 50.0, "R1": r1, "C1": c1}), 0.01 / np.sqrt(2), rng) for r1, c1 in ((800.0, 2e-7), (1500.0, 5e-7))]
+    return ix.make_spectrum(f, np.stack(z), dims=("trial",))
+
+
+def test_a_joint_posterior_stops_by_the_same_rule(monkeypatch):
+    """steps="auto" (the default) with ``shared=``: the joint sampler runs the single one's rule
+    and says so (here stopped at a monkeypatched cap of 300 steps, then from the .nc)."""
+    monkeypatch.setattr(chain, "AUTO_MAX_STEPS", 300)
+    post = ix.sample("R0 + R1 || C1", _joint_stack(), shared=["R0"], over="trial", seed=1, progress=False)
+    assert post.settings["steps"] == 300 and post.settings["stopped"] == "cap" and post.settings["steps_mode"] == "auto"
+    assert post.settings["burn"] == 75 and post.n_draws == 225
+    capped = [w for w in post.warnings if "the automatic chain length stopped at its cap of 300 steps" in w]
+    assert len(capped) == 1 and "shorter than 50 autocorrelation times" in capped[0], post.warnings
+    assert "300 steps (automatic: stopped at its cap of 300 steps; burn 75" in post.report()
+    summary = post.summary()
+    assert (summary["steps_mode"], summary["step_cap"], summary["stopped"]) == ("auto", 300, "cap")
+    back = type(post).from_xarray(post.to_xarray())
+    assert back.settings == post.settings and any("stopped at its cap of 300 steps" in w for w in back.warnings)
+    fixed = ix.sample("R0 + R1 || C1", _joint_stack(), shared=["R0"], over="trial", steps=120, seed=1, progress=False)
+    assert fixed.settings["steps_mode"] == "fixed" and fixed.settings["burn"] == 30 and "stopped" not in fixed.settings
+    with pytest.raises(ix.ParameterError, match="burn must be below the 300 steps"):
+        ix.sample("R0 + R1 || C1", _joint_stack(), shared=["R0"], over="trial", burn=300, progress=False)
+
+
+@pytest.mark.slow  # (about 10–15 s)
+def test_a_joint_posterior_run_to_50_tau_does_not_warn_of_its_length():
+    post = ix.sample("R0 + R1 || C1", _joint_stack(), shared=["R0"], over="trial", seed=1, progress=False)
+    assert post.settings["stopped"] == "converged" and post.settings["steps"] < chain.AUTO_MAX_STEPS
+    assert post.n_draws >= CHAIN_TAU_MULTIPLE * _emcee_tau(np.log(post.draws)).max()  # (every parameter, sigma_rel too, is sampled as ln x)
+    assert not any("autocorrelation times" in w for w in post.warnings), post.warnings
 
 
 def test_auto_with_thin_and_burn_keeps_what_they_say():
@@ -245,7 +281,7 @@ def test_bad_steps_name_the_parameter(kwargs, fragment):
 def test_cli_steps_auto_and_json_keys(tmp_path, capsys, monkeypatch):
     """``--steps auto`` is the default; the JSON keeps its keys and adds steps_mode and
     step_cap; a word that is neither a number nor auto exits 2."""
-    monkeypatch.setattr(sampler, "AUTO_MAX_STEPS", 400)  # (the run's length is not what is tested)
+    monkeypatch.setattr(chain, "AUTO_MAX_STEPS", 400)  # (the run's length is not what is tested)
     path = tmp_path / "r.csv"
     ix.save(_flat_spectrum(), path)
     assert main(["sample", str(path), "--model", "R1", "--walkers", "16", "--json"]) == 0

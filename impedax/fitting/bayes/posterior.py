@@ -24,6 +24,7 @@ from ...data import checked_frequencies, concise_repr, unit_text
 from ...errors import DataError, ParameterError
 from ..derived import QUANTILES, draw_indices, draws_band, needs_freq
 from ..least_squares import FitResult
+from .chain import capped_at, length_text
 from .diagnostics import CHAIN_TAU_MULTIPLE, chain_warnings, figure, hdi, integrated_autocorr, interval_warnings, prior_edge_warnings
 from .logprob import NOISE_MODELS, NoiseModel
 from .priors import Prior
@@ -148,8 +149,7 @@ class Posterior:
         """Diagnostics that need attention (chain length, acceptance, correlations, draws piled up
         against a prior's edge, linearised standard errors far from the posterior's widths, fit
         notes)."""
-        capped = self.settings.get("step_cap") if self.settings.get("stopped") == "cap" else None
-        out = chain_warnings(self.names, self.log_scale, self._sampled_space, self.autocorr, self.settings.get("thin", 1), self.mean_acceptance, step_cap=capped)
+        out = chain_warnings(self.names, self.log_scale, self._sampled_space, self.autocorr, self.settings.get("thin", 1), self.mean_acceptance, step_cap=capped_at(self.settings))
         edges = prior_edge_warnings(self.names, self.units, self.draws.reshape(-1, len(self.names)), self.priors, *self.bounds)
         out.extend(edges)
         out.extend(self._interval_warnings(edges))
@@ -226,9 +226,11 @@ class Posterior:
             "noise": self.noise.value,
             "walkers": self.n_walkers,
             "draws": self.n_draws,
+            "draws_total": self.n_walkers * self.n_draws,
             "steps": self.settings.get("steps"),
             "steps_mode": self.settings.get("steps_mode", "fixed"),
             "step_cap": self.settings.get("step_cap"),
+            "stopped": self.settings.get("stopped"),
             "burn": self.settings.get("burn"),
             "thin": self.settings.get("thin"),
             "seed": self.settings.get("seed"),
@@ -239,14 +241,6 @@ class Posterior:
             out["circuit_params"] = _quantiles_by_name(cq, self.reparametrization.replaces)
         return out
 
-    def _length_text(self) -> str:
-        """How the run's length was chosen, for the report's sampler line ("" for a fixed one)."""
-        if self.settings.get("steps_mode") != "auto":
-            return ""
-        if self.settings.get("stopped") == "cap":
-            return f"automatic: stopped at its cap of {self.settings.get('step_cap')} steps; "
-        return f"automatic: stopped at {CHAIN_TAU_MULTIPLE} τ; "
-
     def report(self) -> str:
         """A readable table of the posterior."""
         q = self.quantiles()
@@ -256,7 +250,7 @@ class Posterior:
         lines = [
             f"model      {self.model}",
             f"noise      {self.noise}: {NOISE_MODELS[self.noise]}",
-            f"sampler    emcee, {self.n_walkers} walkers, {self.settings.get('steps')} steps ({self._length_text()}burn {self.settings.get('burn')}, thin {self.settings.get('thin')}), {self.n_walkers * self.n_draws} draws, acceptance {self.mean_acceptance:.3f}",
+            f"sampler    emcee, {self.n_walkers} walkers, {self.settings.get('steps')} steps ({length_text(self.settings)}burn {self.settings.get('burn')}, thin {self.settings.get('thin')}), {self.n_walkers * self.n_draws} draws, acceptance {self.mean_acceptance:.3f}",
             (f"evidence   Laplace ln Z = {self.log_evidence:.2f}" if math.isfinite(self.log_evidence) else "evidence   Laplace ln Z undefined (see the warnings)")
             + f"    WAIC = {self.waic:.2f} (p_waic {self.p_waic:.3g})",
             "",

@@ -11,7 +11,6 @@ walkers, ``vectorize=True``) and the noise models are defined in `logprob`; prio
 from __future__ import annotations
 
 import math
-import time
 from dataclasses import dataclass
 from typing import Mapping, NamedTuple, Sequence
 
@@ -25,44 +24,20 @@ from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, parse
 from ...errors import DataError, FitError, ParameterError
 from ..least_squares import FitResult, fit
 from ..problem import open_spectrum
-from .diagnostics import CHAIN_TAU_MULTIPLE, integrated_autocorr
+from .chain import AUTO_CHECK_STEPS, AUTO_MAX_STEPS, AUTO_STEPS, AUTO_TAU_CHANGE, auto_step_cap, length_settings, run_emcee
+from .diagnostics import CHAIN_TAU_MULTIPLE
 from .evidence import laplace_evidence, waic
 from .logprob import NOISE_MODELS, LogProbArgs, LogProbFunctions, LogProbStructure, NoiseModel, log_prob_functions, start_weighting
 from .posterior import Posterior
-from .progress import ProgressLine, announce
+from .progress import announce
 from .priors import DEFAULT_SPAN_DECADES, SIGMA_REL_PRIOR, UNDETERMINED_STDERRS, Prior, check_prior_inside, coerce_priors, data_scale_range, default_prior, undetermined
 from .reparam import Reparametrization
 from .shared_posterior import MAX_JOINT_PARAMETERS, SharedPosterior, sample_shared
 
 __all__ = [
     "sample", "Posterior", "SharedPosterior", "MAX_JOINT_PARAMETERS", "NOISE_MODELS", "SIGMA_REL_PRIOR", "DEFAULT_SPAN_DECADES", "SampledParameters",
-    "AUTO_MAX_STEPS", "AUTO_CHECK_STEPS", "AUTO_TAU_CHANGE", "SHARED_AUTO_STEPS", "auto_step_cap",
+    "AUTO_MAX_STEPS", "AUTO_CHECK_STEPS", "AUTO_TAU_CHANGE", "auto_step_cap",
 ]
-
-AUTO_STEPS = "auto"
-
-AUTO_MAX_STEPS = 20_000
-"""The most steps ``steps="auto"`` runs before it stops with the chain-length warning. The
-8-parameter battery circuit of the examples (9 sampled parameters, τ ≈ 140–150 steps) needed
-9 750–13 000 steps, so the cap leaves it room by 1.5–2×, while a posterior that will not mix
-costs at most ~35 s on a quiet 2-core machine (≈ 1.6 ms a step there) and 92 MB of chain
-(64 walkers × 9 parameters); `auto_step_cap` lowers it for many walkers to stay within
-`MAX_CHAIN_VALUES`."""
-
-AUTO_CHECK_STEPS = 250
-"""Steps between two estimates of τ in a ``steps="auto"`` run (emcee's recipe checks every 100;
-each estimate costs an FFT of the whole kept chain, so the next one is also put off to the
-steps the last estimate says are needed)."""
-
-AUTO_TAU_CHANGE = 0.01
-"""A ``steps="auto"`` run stops only when every parameter's τ changed by less than this
-fraction since the previous estimate (emcee's recipe): τ estimated on a chain of ~50 τ is low
-by 10–15 % on the examples, and with 2 % the runs stopped at 42–64 τ of the τ a 20 000-step chain
-gives, with 1 % at 52–116 τ (docs/bayesian.md, "Chain length")."""
-
-SHARED_AUTO_STEPS = 2000
-"""The steps of a joint (``shared``) posterior when ``steps="auto"``: its sampler has a fixed
-length."""
 
 
 # --- the steps' typed hand-overs ---------------------------------------------------------------
@@ -97,25 +72,7 @@ class SampledParameters:
         return tuple(bool(lo >= 0) for lo in self.lower)
 
 
-class _Chain(NamedTuple):
-    """What an emcee run leaves, after burn and thin."""
-
-    chain_y: np.ndarray  # (walker, draw, param), sampled space
-    log_prob: np.ndarray  # (walker, draw)
-    acceptance: np.ndarray  # (walker,)
-    elapsed_s: float
-    steps: int  # the steps run
-    burn: int
-    stopped: str | None  # steps="auto": "converged" or "cap"; None for a fixed length
-
-
 # --- step 1: settings and data ---------------------------------------------------------------
-
-
-def auto_step_cap(walkers: int) -> int:
-    """The most steps a ``steps="auto"`` run of ``walkers`` takes: `AUTO_MAX_STEPS`, fewer where
-    steps × walkers would pass `MAX_CHAIN_VALUES`."""
-    return max(1, min(AUTO_MAX_STEPS, MAX_CHAIN_VALUES // max(int(walkers), 1)))
 
 
 def _steps_rule(value, name):
@@ -423,89 +380,6 @@ def _followers(space: SampledParameters, init: FitResult, spread_over) -> dict[i
 # --- step 5: the emcee run ---------------------------------------------------------------------
 
 
-class _ChainLength:
-    """When a ``steps="auto"`` run stops (emcee's recipe): every `AUTO_CHECK_STEPS` steps, τ of
-    each parameter is estimated on the chain the run would keep (after ``burn``, default a
-    quarter of the steps so far, and ``thin``) exactly as the `Posterior` will; the run stops
-    when that chain is at least `CHAIN_TAU_MULTIPLE` τ long for every parameter and τ changed
-    by less than `AUTO_TAU_CHANGE` since the previous estimate. While the chain is too short,
-    the next estimate waits for the steps the last one says are needed."""
-
-    def __init__(self, burn: int | None, thin: int):
-        self.burn, self.thin = burn, thin
-        self.next_check = AUTO_CHECK_STEPS
-        self.previous: np.ndarray | None = None  # τ [steps] at the previous estimate
-        self.needed: int | None = None  # the steps the last estimate says the run needs
-
-    def burn_of(self, steps: int) -> int:
-        return steps // 4 if self.burn is None else self.burn
-
-    def steps_needed(self, tau_steps: float) -> int:
-        """The fewest steps whose kept chain (after `burn_of`) is `CHAIN_TAU_MULTIPLE` · τ long."""
-        kept = CHAIN_TAU_MULTIPLE * max(tau_steps, self.thin)
-        return int(math.ceil(kept * 4 / 3)) if self.burn is None else int(math.ceil(self.burn + kept))
-
-    def long_enough(self, sampler, steps: int, *, last: bool = False) -> bool:
-        """Whether the run may stop after ``steps`` (estimating τ when a check is due, or at
-        the ``last`` step)."""
-        if steps < self.next_check and not last:
-            return False
-        burn = self.burn_of(steps)
-        if steps <= burn:
-            self.next_check = burn + AUTO_CHECK_STEPS
-            return False
-        kept = np.transpose(sampler.get_chain(discard=burn, thin=self.thin), (1, 0, 2))
-        tau_draws = integrated_autocorr(kept)
-        tau = tau_draws * self.thin
-        known = bool(np.all(np.isfinite(tau)))
-        long_enough = known and kept.shape[1] >= CHAIN_TAU_MULTIPLE * max(float(np.max(tau_draws)), 1.0)
-        stable = known and self.previous is not None and bool(np.all(np.abs(tau - self.previous) < AUTO_TAU_CHANGE * tau))
-        self.previous = tau
-        self.next_check = steps + AUTO_CHECK_STEPS
-        if known:
-            self.needed = self.steps_needed(float(np.max(tau)))
-            if not long_enough:
-                self.next_check = max(self.next_check, -(-self.needed // AUTO_CHECK_STEPS) * AUTO_CHECK_STEPS)
-        return long_enough and stable
-
-
-def _run_emcee(p0: np.ndarray, args: LogProbArgs, functions: LogProbFunctions, *, steps: int | str, burn: int | None, thin: int, seed: int, progress: bool) -> _Chain:
-    """emcee's stretch move from ``p0`` over ``steps`` (or, ``"auto"``, until `_ChainLength`
-    says the chain is long enough, `auto_step_cap` steps at most); the chain after ``burn``
-    (None: a quarter of the steps run) and ``thin``."""
-    import emcee
-
-    walkers, n_params = p0.shape
-
-    def log_prob_fn(coords):
-        return np.asarray(functions.batched(jnp.asarray(coords), args))
-
-    sampler = emcee.EnsembleSampler(walkers, n_params, log_prob_fn, vectorize=True)
-    sampler.random_state = np.random.RandomState(seed).get_state()
-    auto = steps == AUTO_STEPS
-    most = auto_step_cap(walkers) if auto else steps
-    length = _ChainLength(burn, thin) if auto else None
-    bar = ProgressLine(most, progress, label=f"sampling (emcee, {walkers} walkers)", open_ended=auto)  # (called by sample and by gap alike)
-    t0 = time.perf_counter()
-    ran, converged = 0, False
-    try:
-        for ran, _ in enumerate(sampler.sample(p0, iterations=most, skip_initial_state_check=True), start=1):
-            bar.update(ran)
-            if length is not None and length.long_enough(sampler, ran, last=ran == most):
-                converged = True
-                break
-            if length is not None and length.needed is not None:
-                bar.set_target(length.needed, f"{CHAIN_TAU_MULTIPLE} τ")
-    finally:
-        bar.close()
-    elapsed = time.perf_counter() - t0
-    burn = (ran // 4 if burn is None else burn) if auto else burn
-    chain_y = np.transpose(sampler.get_chain(discard=burn, thin=thin), (1, 0, 2))  # (W, D, P)
-    log_prob = np.transpose(sampler.get_log_prob(discard=burn, thin=thin))
-    stopped = ("converged" if converged else "cap") if auto else None
-    return _Chain(chain_y, log_prob, np.asarray(sampler.acceptance_fraction, float), elapsed, ran, burn, stopped)
-
-
 # --- the entry point ---------------------------------------------------------------------------
 
 
@@ -569,8 +443,8 @@ def sample(
     sampling. ``registry`` None: the default one.
     ``shared`` with ``over`` (as `fit`) samples the joint posterior of a global fit instead:
     shared parameters once, the others per spectrum, started from the global least-squares fit
-    (`shared_posterior`; at most `MAX_JOINT_PARAMETERS` sampled parameters; ``"auto"`` runs
-    `SHARED_AUTO_STEPS` there), and returns a `SharedPosterior`.
+    (`shared_posterior`; at most `MAX_JOINT_PARAMETERS` sampled parameters; the same chain-length
+    rule), and returns a `SharedPosterior`.
     """
     registry = DEFAULT_REGISTRY if registry is None else registry
     noise, burn = _check_settings(noise, steps, burn, thin)
@@ -578,15 +452,9 @@ def sample(
     if shared is not None or over is not None:
         if init is not None or reparametrization is not None:
             raise ParameterError("sample with shared parameters starts from its own global fit and takes no init or reparametrization")
-        steps_mode = "fixed"
-        if steps == AUTO_STEPS:
-            steps, steps_mode = SHARED_AUTO_STEPS, f"auto: {SHARED_AUTO_STEPS} fixed steps for a joint posterior"
-            burn = steps // 4 if burn is None else burn
-            if burn >= steps:
-                raise ParameterError(f"burn must be an integer from 0 to steps − 1 = {steps - 1} (got {burn!r})")
         return sample_shared(
             circuit, data, shared=shared, over=over, priors=priors, noise=noise, walkers=walkers, steps=steps, burn=burn, thin=thin, seed=seed,
-            fixed=fixed, fmin=fmin, fmax=fmax, progress=progress, registry=registry, steps_mode=steps_mode,
+            fixed=fixed, fmin=fmin, fmax=fmax, progress=progress, registry=registry,
         )
     obs = _observations(data, noise, fmin, fmax)
     specs = circuit.parameter_specs(registry)
@@ -616,8 +484,8 @@ def sample(
         wide=chosen_priors.spread,
     )
 
-    chain = _run_emcee(p0, args, functions, steps=steps, burn=burn, thin=thin, seed=seed, progress=progress)
-    length = {"steps_mode": "fixed"} if chain.stopped is None else {"steps_mode": "auto", "step_cap": auto_step_cap(walkers), "stopped": chain.stopped}
+    chain = run_emcee(p0, lambda coords: np.asarray(functions.batched(jnp.asarray(coords), args)), steps=steps, burn=burn, thin=thin, seed=seed, progress=progress)
+    length = length_settings(chain, walkers)
 
     evidence = laplace_evidence(chain.chain_y, chain.log_prob, args, functions, lo_y, hi_y, names=space.names)
     information = waic(chain.chain_y, args, functions, excluded)

@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import functools
 import math
-import time
 from dataclasses import dataclass, field
 from typing import Callable, Mapping
 
@@ -38,7 +37,7 @@ from ..parameters import ParameterTable
 from ..problem import open_spectrum
 from .diagnostics import chain_warnings, figure, hdi, integrated_autocorr, prior_edge_warnings
 from .logprob import NOISE_MODELS, NoiseModel, start_weighting
-from .progress import ProgressLine
+from .chain import AUTO_STEPS, auto_step_cap, capped_at, length_settings, length_text, run_emcee
 from .priors import SIGMA_REL_PRIOR, Prior, check_prior_inside, coerce_priors, data_scale_range, default_prior, prior_log_density
 
 __all__ = ["SharedPosterior", "sample_shared", "MAX_JOINT_PARAMETERS"]
@@ -160,7 +159,7 @@ class SharedPosterior:
 
     @functools.cached_property
     def warnings(self) -> tuple[str, ...]:
-        out = chain_warnings(self.names, self.log_scale, self._sampled_space, self.autocorr, self.settings.get("thin", 1), self.mean_acceptance)
+        out = chain_warnings(self.names, self.log_scale, self._sampled_space, self.autocorr, self.settings.get("thin", 1), self.mean_acceptance, step_cap=capped_at(self.settings))
         specs = self.circuit.parameter_specs(self.registry)
         bounds = [(specs[n].lower, specs[n].upper) if n in specs else (0.0, math.inf) for n in (name.split("[")[0] for name in self.names)]
         out.extend(prior_edge_warnings(self.names, self.units, self.draws.reshape(-1, len(self.names)), self.priors, [b[0] for b in bounds], [b[1] for b in bounds]))
@@ -203,7 +202,11 @@ class SharedPosterior:
             "noise": self.noise.value,
             "walkers": self.n_walkers,
             "draws": self.n_draws,
-            **{k: self.settings.get(k) for k in ("steps", "steps_mode", "burn", "thin", "seed")},
+            "draws_total": self.n_walkers * self.n_draws,
+            **{k: self.settings.get(k) for k in ("steps", "burn", "thin", "seed")},
+            "steps_mode": self.settings.get("steps_mode", "fixed"),
+            "step_cap": self.settings.get("step_cap"),
+            "stopped": self.settings.get("stopped"),
         }
 
     def report(self) -> str:
@@ -212,7 +215,7 @@ class SharedPosterior:
         lines = [
             f"model      {self.model}   (joint posterior: {', '.join(self.shared)} shared over {', '.join(self.over)}, {len(self.spectra)} spectra)",
             f"noise      {self.noise}: {NOISE_MODELS[self.noise]}",
-            f"sampler    emcee, {self.n_walkers} walkers, {self.settings.get('steps')} steps{' (' + self.settings['steps_mode'] + ')' if str(self.settings.get('steps_mode', 'fixed')).startswith('auto') else ''} (burn {self.settings.get('burn')}, thin {self.settings.get('thin')}), {self.n_walkers * self.n_draws} draws, acceptance {self.mean_acceptance:.3f}",
+            f"sampler    emcee, {self.n_walkers} walkers, {self.settings.get('steps')} steps ({length_text(self.settings)}burn {self.settings.get('burn')}, thin {self.settings.get('thin')}), {self.n_walkers * self.n_draws} draws, acceptance {self.mean_acceptance:.3f}",
             "",
             f"{'parameter':<{width}}  {'median':>11}  {'q05':>11}  {'q95':>11}  {'τ [steps]':>9}  {'ESS':>7}  unit",
         ]
@@ -355,26 +358,9 @@ def _spectrum_labels(ds: xr.Dataset, over: tuple[str, ...]) -> list[str]:
     return [", ".join(label[i] for label, i in zip(labels, index)) for index in np.ndindex(*(ds.sizes[d] for d in over))]
 
 
-def _run(p0, batched, args, *, steps: int, burn: int, thin: int, seed: int, progress: bool):
-    import emcee
-
-    walkers, n_params = p0.shape
-    sampler = emcee.EnsembleSampler(walkers, n_params, lambda c: np.asarray(batched(jnp.asarray(c), args)), vectorize=True)
-    sampler.random_state = np.random.RandomState(seed).get_state()
-    t0 = time.perf_counter()
-    bar = ProgressLine(steps, progress)
-    try:
-        for i, _ in enumerate(sampler.sample(p0, iterations=steps, skip_initial_state_check=True)):
-            bar.update(i + 1)
-    finally:
-        bar.close()
-    chain = np.transpose(sampler.get_chain(discard=burn, thin=thin), (1, 0, 2))
-    return chain, np.transpose(sampler.get_log_prob(discard=burn, thin=thin)), np.asarray(sampler.acceptance_fraction, float), time.perf_counter() - t0
-
-
 def sample_shared(
-    circuit: Circuit, data, *, shared, over, priors: Mapping | None, noise: NoiseModel, walkers: int | None, steps: int, burn: int, thin: int, seed: int,
-    fixed: Mapping[str, float] | None, fmin, fmax, progress: bool, registry: Registry, steps_mode: str = "fixed",
+    circuit: Circuit, data, *, shared, over, priors: Mapping | None, noise: NoiseModel, walkers: int | None, steps: int | str, burn: int | None, thin: int, seed: int,
+    fixed: Mapping[str, float] | None, fmin, fmax, progress: bool, registry: Registry,
 ) -> SharedPosterior:
     """The joint posterior (module docstring); settings already checked by `sample`."""
     spectrum = open_spectrum(data, fmin=fmin, fmax=fmax)
@@ -454,6 +440,8 @@ def sample_shared(
     walkers = max(64, 4 * p + (4 * p) % 2) if walkers is None else walkers
     if not isinstance(walkers, (int, np.integer)) or walkers < 2 * p or walkers % 2:
         raise ParameterError(f"walkers must be an even number of at least 2 × {p} parameters = {2 * p} (got {walkers!r})")
+    if steps == AUTO_STEPS and burn is not None and burn >= auto_step_cap(walkers):
+        raise ParameterError(f"burn must be below the {auto_step_cap(walkers)} steps steps='auto' runs at most (got {burn})")
     y0 = np.array([math.log(v) if ls else v for v, ls in zip(x0, log_scale)])
     rel = np.array([(e / abs(v) if ls else e) for v, e, ls in zip(x0, se, log_scale)])
     spread = 0.1 * np.clip(np.where(np.isfinite(rel), rel, 1e-2), 1e-6, 0.1)
@@ -468,13 +456,13 @@ def sample_shared(
             break
         p0[bad] = y0 + 0.5 * (p0[bad] - y0)
         lp0 = np.asarray(batched(jnp.asarray(p0), args))
-    chain_y, log_prob, acceptance, elapsed = _run(p0, batched, args, steps=steps, burn=burn, thin=thin, seed=seed, progress=progress)
-    draws = np.where(np.asarray(log_scale), np.exp(chain_y), chain_y)
+    chain = run_emcee(p0, lambda coords: np.asarray(batched(jnp.asarray(coords), args)), steps=steps, burn=burn, thin=thin, seed=seed, progress=progress)
+    draws = np.where(np.asarray(log_scale), np.exp(chain.chain_y), chain.chain_y)
     units = tuple("1" if n == "sigma_rel" else specs[circuit_of[n]].unit for n in names)
     return SharedPosterior(
         circuit=circuit, shared=start.shared, over=start.over, spectra=tuple(labels), names=tuple(names), units=units, log_scale=log_scale,
-        draws=draws, log_prob=log_prob, acceptance=acceptance, priors=chosen, noise=noise, fit=start,
+        draws=draws, log_prob=chain.log_prob, acceptance=chain.acceptance, priors=chosen, noise=noise, fit=start,
         sigma=np.asarray(ds["sigma"].transpose(*start.dataset["Z"].dims).values, float) if "sigma" in ds else None,
-        settings={"walkers": int(walkers), "steps": int(steps), "steps_mode": steps_mode, "burn": int(burn), "thin": int(thin), "seed": int(seed), "elapsed_s": float(elapsed)},
+        settings={"walkers": int(walkers), "steps": int(chain.steps), **length_settings(chain, walkers), "burn": int(chain.burn), "thin": int(thin), "seed": int(seed), "elapsed_s": float(chain.elapsed_s)},
         registry=registry,
     )
