@@ -305,8 +305,8 @@ def test_progress_estimate_leaves_out_the_wait_before_the_first_step(monkeypatch
 
 def test_progress_in_a_log_is_a_line_every_second_and_one_at_the_end(monkeypatch, capsys):
     """Where stderr is not a terminal (a log file, CI), each report is a line of its own: the
-    first after a second, then one per `LOG_INTERVAL` (1 s) however many steps pass, and the
-    last step's; nothing rewritten with a carriage return, no line of 0 s left. (At 10 s, a
+    first after a second, then one per `LOG_INTERVAL` (1 s) however many steps pass, or per
+    `LOG_SPACING` (a tenth) of the time so far once that is longer, and the last step's; nothing rewritten with a carriage return, no line of 0 s left. (At 10 s, a
     20 000-step run showed one step for 10 s and looked stuck.)"""
     from impedax.fitting.bayes import progress
 
@@ -320,11 +320,32 @@ def test_progress_in_a_log_is_a_line_every_second_and_one_at_the_end(monkeypatch
     bar.close()
     lines = capsys.readouterr().err.split("\n")
     assert lines[-1] == "" and "\r" not in "".join(lines)
-    # a line at 2 s (step 1), then every 4 steps (1 s): steps 5, 9, ..., 97 at 3 s ... 26 s, and the last (100) at 26.75 s
+    # a line at 2 s (step 1), then 1 s apart (steps 5, 9, ... to 12 s), then a tenth of the time since step 1 apart, and the last (100) at 26.75 s
+    expected, last = [], None
+    for step in range(1, 101):
+        now = 2.0 + 0.25 * (step - 1)
+        if last is None or now - last >= max(1.0, 0.1 * (now - 2.0)) or step == 100:
+            expected.append(step)
+            last = now
     steps = [int(line.split("step ")[1].split("/")[0]) for line in lines[:-1]]
-    assert steps == [1, *range(5, 98, 4), 100]
+    assert steps == expected and steps[:11] == [1, *range(5, 42, 4)] and len(steps) < 24  # (23 at one a second)
     assert lines[0] == "run: step 1/100 (1%), 2 s" and lines[1] == "run: step 5/100 (5%), 3 s, ~24 s left"
     assert lines[-2] == "run: step 100/100 (100%), 27 s"
+
+
+def test_a_long_run_writes_few_lines_to_a_log(monkeypatch, capsys):
+    """A 400 s run of 0.1 s steps: about 10 lines in its first 10 s and then ~10 a decade of
+    time (24 more to 400 s), not 400."""
+    from impedax.fitting.bayes import progress
+
+    clock = iter([0.0] + [0.1 * k for k in range(1, 4001)])
+    monkeypatch.setattr(progress.time, "perf_counter", lambda: next(clock))
+    bar = progress.ProgressLine(4000, True, label="run", interactive=False)
+    for _ in range(4000):
+        bar.advance()
+    bar.close()
+    lines = capsys.readouterr().err.splitlines()
+    assert 30 <= len(lines) <= 50 and lines[-1].startswith("run: step 4000/4000")
 
 
 # --- model comparison by evidence ----------------------------------------------------------------

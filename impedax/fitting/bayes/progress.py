@@ -11,6 +11,12 @@ each report is a line of its own there, so one a second (not every half second, 
 terminal) keeps a log readable while it still moves visibly (at 10 s, a 20 000-step run looked
 stuck at one step for 10 s)."""
 
+LOG_SPACING = 0.1
+"""Beyond `LOG_INTERVAL`, the lines in a log are at least this fraction of the run's time so far
+(from its first step: a compilation before it does not count) apart,
+so that their number grows with the logarithm of the run's length: a 400 s run (the Sirin example
+with its long chains) wrote 400 lines at one a second, and writes about 50 so."""
+
 
 def announce(text: str, enabled: bool) -> None:
     """One line on stderr saying what a run does before its first step (a start fit, a
@@ -23,7 +29,8 @@ def announce(text: str, enabled: bool) -> None:
 class ProgressLine:
     """Progress of a run on stderr, shown only once the run has taken a second: one line
     rewritten in place every half second on a terminal; elsewhere (``interactive`` false: a
-    log file or a pipe) a full line every `LOG_INTERVAL` (1) seconds and one at the end. A step
+    log file or a pipe) a full line every `LOG_INTERVAL` (1) seconds, or every `LOG_SPACING` of
+    the time since the first step when that is longer, and one at the end. A step
     costs one clock reading and two comparisons.
     ``interactive`` None: whether stderr is a terminal.
 
@@ -54,7 +61,7 @@ class ProgressLine:
         if self.first is None:
             self.first = (now, done)
         self.done = done
-        interval = 0.5 if self.interactive else LOG_INTERVAL
+        interval = 0.5 if self.interactive else max(LOG_INTERVAL, LOG_SPACING * (now - self.first[0]))
         last_step = final or done >= self.total
         if now < 1.0 or (self.last is not None and now - self.last < interval and not last_step):
             return
