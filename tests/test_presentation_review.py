@@ -483,6 +483,28 @@ def test_corner_titles_use_every_draw_not_the_scatters_subsample():
     plt.close(fig)
 
 
+def test_corner_titles_and_ticks_stay_within_the_figure():
+    """Five parameters: a long diagonal title goes on two lines and every title ends inside the
+    figure (sigma_rel's ran past its right edge); a linear axis has at most 5 ticks, so that
+    five-digit labels do not run together."""
+    from impedax.plotting.bayes import plot_corner
+
+    rng = np.random.default_rng(0)
+    d = np.stack([rng.normal(63.5, 0.3, 5000), rng.normal(48, 1, 5000), rng.normal(0.0093, 3e-4, 5000), rng.normal(0.915, 0.02, 5000), rng.normal(0.0204, 0.0015, 5000)], -1)
+    fig = plot_corner(d, ["R0", "R1", "CPE1.Q", "CPE1.alpha", "sigma_rel"], [True, True, True, False, True], units=["Ohm", "Ohm", "F s^(alpha-1)", "1", "1"])
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    diagonal = [ax for ax in fig.axes if ax.get_title()]
+    assert len(diagonal) == 5 and diagonal[0].get_title() == "R0 = 63.49 [63.01, 63.99] Ω"
+    assert diagonal[-1].get_title().startswith("sigma_rel =\n0.0204 [")
+    for ax in diagonal:
+        box = ax.title.get_window_extent(renderer)
+        assert box.x1 <= fig.bbox.x1 + 0.5 and box.x0 >= -0.5, ax.get_title()
+    last = fig.axes[-1]
+    assert len([t for t in last.get_xticks() if last.get_xlim()[0] <= t <= last.get_xlim()[1]]) <= 5
+    plt.close(fig)
+
+
 def test_relative_errors_in_the_fit_table_read_as_percentages():
     from impedax.data import format_relative_error
 

@@ -65,8 +65,8 @@ def check_sample_size(circuit, walkers, steps, priors) -> None:
 
     if steps != "auto" and steps is not None and steps < 1:
         raise ParameterError(f"--steps must be at least 1, got {steps}")
-    if walkers is not None and walkers < 1:
-        raise ParameterError(f"--walkers must be at least 1, got {walkers}")
+    if walkers is not None and walkers < 2:
+        raise ParameterError(f"--walkers must be at least 2 (an even number, at least 2 × the sampled parameters), got {walkers}")
     dims = len(circuit.parameter_names()) + 2  # + the noise parameter, + the log-probability
     chain_walkers = walkers if walkers is not None else max(64, 4 * dims)
     length = auto_step_cap(chain_walkers) if steps == "auto" else steps

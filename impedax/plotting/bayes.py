@@ -10,6 +10,7 @@ import math
 from typing import Mapping, Sequence
 
 import matplotlib.pyplot as plt
+from matplotlib.ticker import MaxNLocator
 import numpy as np
 
 from ..data import si_prefix, unit_text
@@ -90,6 +91,7 @@ def plot_corner(
     labels = [f"{n} [{u}]" if u else n for n, u in zip(names, units)]
     size = min(2.0 * k + 1, 16)
     fig, axes = plt.subplots(k, k, figsize=(size, size), squeeze=False, layout="constrained")
+    title_chars = int(0.85 * size / k * 72 / (7 * 0.6))  # characters of 7 pt (≈ 0.6 em wide) a panel holds
     for i in range(k):
         for j in range(k):
             ax = axes[i, j]
@@ -105,7 +107,8 @@ def plot_corner(
                 q05, q50, q95 = np.nanquantile(every[:, i], [0.05, 0.5, 0.95])
                 for qv, style in ((q05, "--"), (q50, "-"), (q95, "--")):
                     ax.axvline(qv, color="k", lw=0.8, ls=style)
-                ax.set_title(f"{names[i]} = {interval_text(q50, q05, q95, units[i], significant=logs[i])}", fontsize=7)
+                text = f"{names[i]} = {interval_text(q50, q05, q95, units[i], significant=logs[i])}"
+                ax.set_title(text if len(text) <= title_chars else text.replace(" = ", " =\n", 1), fontsize=7)  # (a long one on two lines, within its panel)
                 ax.set_yticks([])
             else:
                 if logs[i]:
@@ -121,6 +124,7 @@ def plot_corner(
                 elif axis is ax.xaxis or i != j:
                     axis.set_label_text(labels[n])  # (the formatter's prefix goes into the label)
                     prefixed_axis(axis)
+                    axis.set_major_locator(MaxNLocator(nbins=4))  # (five-digit ticks of a narrow panel ran together)
             if i == k - 1:
                 ax.set_xlabel(labels[j], fontsize=8)
             else:
