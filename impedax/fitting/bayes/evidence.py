@@ -111,7 +111,7 @@ def _width_note(covariance: np.ndarray, chain_y: np.ndarray, names: Sequence[str
     label = (lambda k: names[k]) if names is not None and len(names) == ratio.size else (lambda k: f"parameter {k}")
     detail = ", ".join(f"{label(k)} (Gaussian sd {laplace_sd[k]:.3g} against the draws' {draws_sd[k]:.3g}, sampled space)" for k in off)
     wide = any(ratio[k] > LAPLACE_WIDTH_RATIO for k in off)
-    why = "; a Gaussian far wider than the draws marks a parameter left to its prior" if wide else ""
+    why = "; a Gaussian far wider than the draws marks a parameter left to its prior, or draws that have not yet spread over the posterior (a chain too short: see its warning)" if wide else ""
     return (
         f"Laplace log evidence is unreliable: the posterior is not Gaussian at the MAP along {detail}{why}. "
         "Compare models by WAIC, or fix or bound that parameter"
