@@ -107,10 +107,39 @@ def _finite_force(model: str, params: dict[str, float], given: dict[str, float],
         force = np.full(freq.shape, np.nan)
     bad = np.flatnonzero(~np.isfinite(force))
     if bad.size:
-        others = f" and {bad.size - 1} other frequencies" if bad.size > 1 else ""
-        values = ", ".join(f"{n}={v:g}" for n, v in given.items()) or "the defaults"
-        raise ParameterError(f"the force is not finite (overflow) at {freq[bad[0]]:g} Hz{others}; check the --param values ({values})")
+        others = f" and {bad.size - 1} other frequenc{'y' if bad.size == 2 else 'ies'}" if bad.size > 1 else ""
+        where = f"the force is not finite (overflow) at {freq[bad[0]]:g} Hz{others}"
+        values = ", ".join(f"{n}={v:g}" for n, v in given.items())
+        frequencies_cause = not np.all(np.isfinite(_quiet_force(model, _defaults(model), freq[bad], convention)))
+        parameters_cause = bool(given) and not (frequencies_cause and np.all(np.isfinite(_quiet_force(model, params, _inside_default_band(model, freq[bad]), convention))))
+        if frequencies_cause:
+            low, high = _RANGES[model]
+            options = " and ".join(o for o, out in (("raise --fmin", freq[bad].min() < low), ("lower --fmax", freq[bad].max() > high)) if out) or "narrow --fmin/--fmax"
+            span = f"{freq[bad].min():g} Hz" if bad.size == 1 else f"{freq[bad].min():g}–{freq[bad].max():g} Hz"
+            text = (
+                f"{where}: the frequency range is the cause (--fmin {freq[0]:g} Hz, --fmax {freq[-1]:g} Hz; at {span} the model overflows "
+                f"double precision even with the default parameters); {options} (the default band is {low:g}–{high:g} Hz)"
+            )
+            raise ParameterError(text + (f"; check the --param values too ({values})" if parameters_cause else ""))
+        raise ParameterError(f"{where}; check the --param values ({values or 'the defaults'})")
     return force
+
+
+def _quiet_force(model: str, params: dict[str, float], freq: np.ndarray, convention: str) -> np.ndarray:
+    """`_force` with NumPy's overflow warnings silenced; an OverflowError gives NaN."""
+    if freq.size == 0:
+        return np.zeros(0)
+    try:
+        with np.errstate(all="ignore"):
+            return _force(model, params, freq, convention)
+    except OverflowError:
+        return np.full(freq.shape, np.nan)
+
+
+def _inside_default_band(model: str, freq: np.ndarray) -> np.ndarray:
+    """The frequencies clipped to the command's default band (where the defaults are finite)."""
+    low, high = _RANGES[model]
+    return np.clip(freq, low, high)
 
 
 def _notes(model: str, params: dict[str, float]) -> list[str]:
@@ -121,6 +150,63 @@ def _notes(model: str, params: dict[str, float]) -> list[str]:
 
     message = eq8_validity_message(**{k: params[k] for k in ("h_i", "h_s", "eps_i", "eps_s")})
     return [message] if message else []
+
+
+_UNITS = {"C_s": "F", "C_i": "F", "C_sc": "F", "R_sc": "Ω", "R_f": "Ω", "area": "m²", "v_a": "V", "h_i": "m", "h_s": "m", "rho_s": "Ω m", "v_m": "V"}
+
+
+def _changed(model: str, params: dict[str, float]) -> dict[str, float]:
+    """The parameters whose values differ from the paper's (`_defaults`)."""
+    defaults = _defaults(model)
+    return {k: v for k, v in params.items() if v != defaults[k]}
+
+
+def _plot_text(model: str, params: dict[str, float], convention: str) -> tuple[str, str]:
+    """(title, subtitle) of the force plot. The title says the convention, and names the paper's
+    figure only when the parameters and the convention are the figure's (Meyer Fig 3.4: the
+    time average with the eq 3.13 values at V_A = 140 V; Vezzoli Fig 8: the time average under
+    Meyer's conditions, one stratum corneum thickness); the subtitle gives the drive amplitude
+    and the parameters changed from the paper's values."""
+    changed = _changed(model, params)
+    listed = ", ".join(f"{k} = {v:.4g} {_UNITS.get(k, '')}".rstrip() for k, v in changed.items() if k not in ("v_a", "v_m"))
+    average = convention == "time-average"
+    if model == "meyer":
+        what = "time-averaged force" if average else "peak force (largest over a period)"
+        figure = ", thesis Fig 3.4" if average and not changed else ""
+        title = f"Meyer (2012) thesis eq 3.6: {what}{figure}"
+        drive = f"V_A = {params['v_a']:.4g} V" + ("" if "v_a" not in changed else f" (thesis {_defaults(model)['v_a']:g} V)")
+        if not changed:
+            values = "thesis eq 3.13 values" + ("" if average else " (Fig 3.4 shows their time average)")
+        else:
+            values = "eq 3.13 values" + (f"; changed: {listed}" if listed else "")
+        return title, f"{drive}; {values}"
+    from ..models.vezzoli import MEYER_CONDITIONS
+
+    what = "eq 10, time-averaged force" if average else "eqs 7 + 9, peak force (2 × eq 10)"
+    fig8 = average and set(changed) <= {*MEYER_CONDITIONS, "h_s"} and all(params[k] == v for k, v in MEYER_CONDITIONS.items())
+    title = f"Vezzoli et al. {what}" + (f", Fig 8 conditions (h_s = {params['h_s'] * 1e6:.4g} µm)" if fig8 else "")
+    drive = f"V_m = {params['v_m']:.4g} V" + ("" if "v_m" not in changed else f" (Table 2: {_defaults(model)['v_m']:g} V)")
+    values = "Table 2 values" if not changed else "Table 2 values" + (f"; changed: {listed}" if listed else "")
+    return title, f"{drive}; {values}"
+
+
+def _figure(model: str, freq, force, peak: dict, params: dict[str, float], convention: str, notes: list[str]):
+    """The force plot: `plot_force_spectrum` titled by `_plot_text`, with the warnings of
+    `_notes` (Vezzoli eq 8's validity) written under the axes."""
+    import textwrap
+
+    from ..plotting.models import plot_force_spectrum
+
+    title, subtitle = _plot_text(model, params, convention)
+    fig = plot_force_spectrum(freq, force, title=title, convention=convention, peak=peak)
+    ax = fig.axes[0]
+    ax.set_title("\n".join(textwrap.wrap(title, 80) + textwrap.wrap(subtitle, 95)), fontsize=8.5)
+    lines = [line for note in notes for line in textwrap.wrap(f"warning: {note}", 110)]
+    if lines:
+        fig.set_size_inches(6.5, 4.4 + 0.16 * len(lines))
+        fig.text(0.01, 0.01, "\n".join(lines), fontsize=6.5, color="C3", ha="left", va="bottom")
+    fig.tight_layout(rect=(0, 0.14 * len(lines) / fig.get_size_inches()[1] + (0.03 if lines else 0), 1, 1))
+    return fig
 
 
 def _peak_text(peak: dict) -> str:
@@ -175,10 +261,7 @@ def run(args) -> int:
         path.write_text(json_text if Path(out).suffix.lower() == ".json" else csv_text, encoding="utf-8")
 
     def figure():
-        from ..plotting.models import plot_force_spectrum
-
-        source = "Meyer (2012) thesis eq 3.6, Fig 3.4" if args.model == "meyer" else "Vezzoli et al. eqs 7-10"
-        return plot_force_spectrum(freq, force, title=f"{source}: model prediction", convention=args.convention, peak=peak)
+        return _figure(args.model, freq, force, peak, params, args.convention, notes)
 
     outputs.save({"--out": text_writer, "--plot": figure_writer(figure)})
     if args.json:

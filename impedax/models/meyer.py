@@ -22,12 +22,13 @@ import math
 from dataclasses import dataclass, field, replace
 from typing import Mapping
 
+import jax
 import jax.numpy as jnp
 import numpy as np
 import xarray as xr
 
 from ..circuits import Circuit, current_through, parse, voltage_across
-from ..arguments import checked_arguments, numeric_array, require_parameters
+from ..arguments import checked_arguments, numeric_array, require_parameters, shown
 from ..errors import DataError, ParameterError
 from ..constants import EPSILON_0
 
@@ -118,6 +119,16 @@ def _check_variant(variant: str) -> str:
     return variant
 
 
+def _check_alpha(alpha) -> None:
+    """The CPE exponent α must be a number in (0, 1] (a CPE between a resistor and a capacitor)."""
+    try:  # a Python, NumPy or 0-d JAX number; not a bool, a string or an array
+        value = None if isinstance(alpha, (bool, np.bool_, str, bytes)) or np.ndim(alpha) != 0 else float(alpha)
+    except (TypeError, ValueError):
+        value = None
+    if value is None or not 0.0 < value <= 1.0:
+        raise ParameterError(f"CPE_sc.alpha must be in (0, 1], got {shown(alpha)}")
+
+
 def meyer_parameters(physical: MeyerPhysical = THESIS_PHYSICAL, *, variant: str = "rc", alpha: float = 0.8) -> dict[str, float]:
     """Circuit parameters from a physical description (thesis eq 3.13).
 
@@ -130,8 +141,7 @@ def meyer_parameters(physical: MeyerPhysical = THESIS_PHYSICAL, *, variant: str 
     if variant == "rc":
         params["C_sc"] = physical.c_sc
     else:
-        if not 0.0 < alpha <= 1.0:
-            raise ParameterError(f"CPE_sc.alpha must be in (0, 1], got {alpha}")
+        _check_alpha(alpha)
         params["CPE_sc.Q"] = physical.c_sc * (2.0 * math.pi * _REFERENCE_HZ) ** (1.0 - alpha)
         params["CPE_sc.alpha"] = float(alpha)
     return params
@@ -183,6 +193,7 @@ def meyer_model(variant: str = "rc", *, physical: MeyerPhysical | None = None, a
     if physical is None:
         params = dict(THESIS_PARAMS)
         if variant == "cpe":
+            _check_alpha(alpha)
             c_sc = params.pop("C_sc")
             params["CPE_sc.Q"] = c_sc * (2.0 * math.pi * _REFERENCE_HZ) ** (1.0 - alpha)
             params["CPE_sc.alpha"] = float(alpha)
@@ -195,8 +206,11 @@ def meyer_model(variant: str = "rc", *, physical: MeyerPhysical | None = None, a
 
 @functools.lru_cache(maxsize=None)
 def _probes(variant: str):
+    """Per volt of drive: V_F (across C_i and the SC block), I_Rsc, V_sc (across the SC block)
+    and the current through C_sc (or CPE_sc)."""
     text = _CIRCUITS[variant]
-    return voltage_across(text, set(_SC_BLOCK[variant])), current_through(text, "R_sc")
+    c_i, r_sc, c_sc = _SC_BLOCK[variant]
+    return voltage_across(text, {c_i, r_sc, c_sc}), current_through(text, r_sc), voltage_across(text, {r_sc, c_sc}), current_through(text, c_sc)
 
 
 @checked_arguments(freq=numeric_array(positive=True))
@@ -244,9 +258,12 @@ def force_time_average(params: Mapping[str, object], freq, *, area: float = THES
     variant C_sc in the prefactor is C_sc(ω) = Q ω^(α−1), the capacitance with the CPE's
     impedance magnitude at each ω (α = 1 is the RC model); the force then obeys the RC model's
     charge bound F̄ ≤ |Q_i|²/(4Aε0). Pure JAX in ``params`` (vmap over posterior draws).
+    Evaluated as Re[(V̂_F − Q̂_f/C_i)·conj(V̂_F + Q̂_f/C_i)] (equal to the difference of squares,
+    without its cancellation at very low frequency; see `_force_phasors`). Circuit values must be
+    positive and CPE_sc.alpha in (0, 1] (`ParameterError` otherwise).
     """
-    prefactor, v_f, q_c = _force_phasors(params, freq, area, v_a, variant)
-    return prefactor * 0.5 * (jnp.abs(v_f) ** 2 - jnp.abs(q_c) ** 2)
+    prefactor, minus, plus = _force_phasors(params, freq, area, v_a, variant)
+    return prefactor * 0.5 * jnp.real(minus * jnp.conj(plus))
 
 
 @checked_arguments(freq=numeric_array(positive=True), area=numeric_array(positive=True), v_a=numeric_array())
@@ -264,21 +281,44 @@ def force_peak(params: Mapping[str, object], freq, *, area: float = THESIS_PHYSI
     equal to 2 F̄ only where V_F and Q_f are in phase. Thesis values: 2.0002 F̄ at 37 kHz, 2.18 F̄
     at 1 kHz, 7.4 F̄ at 100 Hz, 64 F̄ at 10 Hz, where the leaked charge cancels V_F's term on
     average but not at every instant (F(t) then swings below zero, to F̄ − (K/2)|…|). Pure JAX.
+    |V̂_F² − Q̂_f²/C_i²| is evaluated as |V̂_F − Q̂_f/C_i|·|V̂_F + Q̂_f/C_i| (see `_force_phasors`).
     """
-    prefactor, v_f, q_c = _force_phasors(params, freq, area, v_a, variant)
-    return prefactor * 0.5 * (jnp.abs(v_f) ** 2 - jnp.abs(q_c) ** 2 + jnp.abs(v_f**2 - q_c**2))
+    prefactor, minus, plus = _force_phasors(params, freq, area, v_a, variant)
+    return prefactor * 0.5 * (jnp.real(minus * jnp.conj(plus)) + jnp.abs(minus * plus))
+
+
+def _check_element_values(params: Mapping[str, object], variant: str) -> None:
+    """Every circuit value of ``params`` present, finite and positive (as ``impedax force
+    --param`` requires), and CPE_sc.alpha ≤ 1; JAX tracers pass (vmap over draws)."""
+    names = meyer_circuit(variant).parameter_names()
+    require_parameters(params, names)
+    positive = numeric_array(positive=True)
+    for name in names:
+        positive(params[name], f"params[{name!r}] (a Meyer circuit value)")
+    alpha = params.get("CPE_sc.alpha") if variant == "cpe" else None
+    if alpha is not None and not isinstance(alpha, jax.core.Tracer) and not np.all(np.asarray(alpha) <= 1.0):
+        raise ParameterError(f"params['CPE_sc.alpha'] must be in (0, 1], got {alpha!r}")
 
 
 def _force_phasors(params, freq, area, v_a, variant):
-    """(K, V̂_F, Q̂_f/C_i) of eq 3.6 at ``freq`` for the drive amplitude ``v_a`` [V]."""
+    """(K, V̂_F − Q̂_f/C_i, V̂_F + Q̂_f/C_i) of eq 3.6 at ``freq`` for the drive amplitude ``v_a`` [V].
+
+    |V̂_F|² − |Q̂_f/C_i|² = Re[(V̂_F − Q̂_f/C_i)·conj(V̂_F + Q̂_f/C_i)] (the cross terms
+    −Q̂ V̂* + V̂ Q̂* = 2j Im(V̂ Q̂*) are imaginary). The difference is formed without subtraction:
+    V_F = V_Ci + V_sc and C_i V_Ci = Q_i = Q_f + Q_sc (Q_sc = I_Csc/(jω), the charge of C_sc or
+    CPE_sc), so V̂_F − Q̂_f/C_i = V̂_sc + Î_Csc/(jω C_i). Below ~1e-4 Hz (thesis values) V_F and
+    Q_f/C_i agree to (ωτ)², τ = R_sc(C_sc + C_i), and |V_F|² − |Q_f/C_i|² cancels to rounding noise."""
     variant = _check_variant(variant)
-    require_parameters(params, meyer_circuit(variant).parameter_names())
+    _check_element_values(params, variant)
     v_f = finger_voltage(params, freq, variant=variant) * v_a
-    q_f = leaked_charge(params, freq, variant=variant) * v_a
+    q_c = leaked_charge(params, freq, variant=variant) * v_a / params["C_i"]
+    _, _, v_sc_probe, i_cap_probe = _probes(variant)
+    omega = 2.0 * jnp.pi * jnp.asarray(freq)
+    minus = (v_sc_probe(params, freq) + i_cap_probe(params, freq) / (1j * omega * params["C_i"])) * v_a
     c_i = params["C_i"]
-    c_sc = _effective_c_sc(params, variant, 2.0 * jnp.pi * jnp.asarray(freq))
+    c_sc = _effective_c_sc(params, variant, omega)
     series = c_i * c_sc / (c_i + c_sc)
-    return series**2 / (2.0 * area * EPSILON_0), v_f, q_f / c_i
+    return series**2 / (2.0 * area * EPSILON_0), minus, v_f + q_c
 
 
 def static_force_series(v_f, *, area: float, d_i: float, eps_i: float, d_sc: float, eps_sc: float):

@@ -24,7 +24,7 @@ import jax.numpy as jnp
 import numpy as np
 import xarray as xr
 
-from ..arguments import checked_arguments, numeric_array
+from ..arguments import checked_arguments, numeric_array, shown
 from ..errors import ParameterError
 from ..constants import EPSILON_0
 
@@ -245,6 +245,21 @@ def squeeze_number(amplitude, *, area=TABLE2["area"], length=None, freq=TABLE1["
     return 12.0 * eta * 2.0 * math.pi * freq * l0**2 / (p0 * h0**2)
 
 
+def _require_scalars(**values) -> None:
+    """Each of ``values`` a single real number (or None): `squeeze_film_lift` computes one lift."""
+    for name, value in values.items():
+        if value is None or (isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, (bool, np.bool_))):
+            continue
+        if np.ndim(value) == 0 and np.asarray(value).dtype.kind in "iuf":  # a 0-d array
+            continue
+        if np.ndim(value):
+            raise ParameterError(
+                f"squeeze_film_lift: {name} must be a single number, got an array of shape {np.shape(value)}; "
+                "call it once per value, e.g. [squeeze_film_lift(a) for a in amplitudes]"
+            )
+        raise ParameterError(f"squeeze_film_lift: {name} must be a number, got {shown(value)} ({type(value).__name__})")
+
+
 def squeeze_film_lift(amplitude, *, normal_force=0.2, area=TABLE2["area"], length=None, h_r=TABLE1["h_r"], h_e=TABLE1["h_e"], l_e=TABLE1["l_e"], freq=TABLE1["f_r"], eta=TABLE1["eta"], p0=TABLE1["p0"], points: int = 20001) -> SqueezeFilm:
     """Squeeze-film lift F_s [N] for vibration amplitude h_v = ``amplitude`` [m] (eqs 2–6).
 
@@ -261,10 +276,14 @@ def squeeze_film_lift(amplitude, *, normal_force=0.2, area=TABLE2["area"], lengt
 
     With these, h_v ≈ 2 µm lifts ≈ 0.17 N, so just above 2 µm levitates a 0.2 N finger, as the
     paper says.
+
+    One amplitude and one finger force per call (numbers, not arrays: a `SqueezeFilm` holds
+    one lift); for a curve, ``[squeeze_film_lift(a) for a in amplitudes]``.
     """
+    _require_scalars(amplitude=amplitude, normal_force=normal_force, area=area, length=length, h_r=h_r, h_e=h_e, l_e=l_e, freq=freq, eta=eta, p0=p0)
     if amplitude < 0 or not math.isfinite(amplitude):
         raise ParameterError(f"vibration amplitude must be ≥ 0 m, got {amplitude}")
-    if normal_force <= 0:
+    if not (normal_force > 0 and math.isfinite(normal_force)):
         raise ParameterError(f"normal force must be positive, got {normal_force}")
     l0 = math.sqrt(area) if length is None else length
     h0 = h_r + amplitude + h_e
@@ -279,6 +298,9 @@ def squeeze_film_lift(amplitude, *, normal_force=0.2, area=TABLE2["area"], lengt
     return SqueezeFilm(float(amplitude), float(lift), sigma, float(friction_reduction(lift, normal_force)), float(normal_force))
 
 
+@checked_arguments(lift=numeric_array(), normal_force=numeric_array(positive=True))
 def friction_reduction(lift, normal_force):
-    """Δµ/µ = F_s/F_n clipped to [0, 1] (our reading of eq 1; 1 means levitation)."""
-    return np.clip(np.asarray(lift, float) / normal_force, 0.0, 1.0)
+    """Δµ/µ = F_s/F_n clipped to [0, 1] (our reading of eq 1; 1 means levitation) for the lift
+    F_s [N] and the finger's normal force F_n [N] (positive: with no finger force the ratio is
+    undefined, and a `ParameterError` is raised). Broadcasts."""
+    return np.clip(np.asarray(lift, float) / np.asarray(normal_force, float), 0.0, 1.0)
