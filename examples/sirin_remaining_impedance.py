@@ -15,11 +15,13 @@ C_gap alone for comparison.
 What to look for: |Y_R| follows the one-decade-per-decade line above ≈ 30 Hz (the remainder is
 the air-gap capacitor) and bends flat below it (EP conductance); the EP capacitance dominates
 at low frequency and falls below C_gap near 10 Hz; the naive C_gap fit misses the data below
-30 Hz by a factor of several, and the EP branch fixes it. The fit recovers C_gap ≈ 415 pF
-(truth 413 pF) and the EP branch (truth R_EP = 100 MΩ, CPE_EP Q = 4 nF·s^−0.7, α = 0.30)
-within a few standard errors. The paper method reads ≈ 3 % high (≈ 424 pF, u ≈ 2.71 µm;
-paper: 413 pF, 2.78 µm, bounds 2.57–3.28 µm): the EP branch's tail above 30 Hz adds to
-|Y_R|/ω — the price of an EP branch large enough to be seen below 30 Hz.
+30 Hz by a factor of several (C_gap = 959.4 pF, rms_rel 0.77), and the EP branch fixes it.
+The fit gives C_gap = 410.5 ± 0.7 pF (u = 2.806 µm; population 413 pF, the 30 trials' own
+409–411 pF) and the EP branch (R_EP = 113 MΩ, CPE_EP Q = 4.19 nF·s^−0.7, α = 0.296; population
+100 MΩ, 4 nF·s^−0.7, 0.30) within a few standard errors, rms_rel 0.004. The paper method gives
+C_gap = 418.6 pF, u = 2.752 µm (bounds 2.46–2.96 µm; paper: 413 pF, 2.78 µm, 2.57–3.28 µm):
+u about 1.3 % thin against the population 2.789 µm, because the EP branch's tail above 30 Hz
+adds to |Y_R|/ω — the price of an EP branch large enough to be seen below 30 Hz.
 
 Run: python examples/sirin_remaining_impedance.py [OUT_DIR] [--fast]
 """

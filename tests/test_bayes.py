@@ -288,6 +288,18 @@ def test_equal_reparametrizations_compare_equal():
     assert a != ix.gap_thickness_reparametrization("C_gap", area=2.6e-4)
 
 
+def test_a_saved_gap_reparametrization_keeps_its_bounds():
+    """The bounds on u travel with the description a saved posterior stores (gap_analysis sets
+    them from the area); a description saved before they did gets the default 1 nm – 1 mm."""
+    from impedax.fitting.bayes.reparam import rebuild
+
+    rp = ix.gap_thickness_reparametrization("C1", area=1.0, lower=1e-6, upper=10.0)
+    back = rebuild(json.loads(json.dumps(rp.describe())))
+    assert back == rp and (back.lower, back.upper) == ((1e-6,), (10.0,))
+    old = {k: v for k, v in rp.describe().items() if k not in ("lower", "upper")}
+    assert (rebuild(old).lower, rebuild(old).upper) == ((1e-9,), (1e-3,))
+
+
 def test_progress_estimate_leaves_out_the_wait_before_the_first_step(monkeypatch, capsys):
     """A run that compiles for 30 s and then takes 1 s per step: after steps 1 and 2 of 10, the
     time left is 8 s (not the 124 s of the mean rate since the start), and no estimate is shown

@@ -179,14 +179,16 @@ def test_cli_gap_mistyped_area_exits_2(tmp_path, capsys):
     assert "0.13 m² (130000 mm²)" in err and "130 mm² is 130e-6" in err
 
 
-def test_posterior_of_u_at_the_prior_bound_is_flagged():
-    """A 1000× too large area (check_area=False) drives u to the prior's 1 mm upper bound and
-    C_gap = ε0 A/u to a value set by that bound (~1150 pF, not 413 pF): a warning says so."""
+def test_a_large_area_keeps_c_gap_off_the_prior_bound():
+    """A 1000× too large area (check_area=False) drove u to the prior's 1 mm upper bound and
+    C_gap = ε0 A/u to a value set by that bound (~1150 pF, not 413 pF). The bounds of u now
+    follow the area (fixed bounds on C_gap): C_gap is the data's 413 pF and u = ε0 ε A/C_gap is
+    1000× the fingertip's, with no bound warning."""
     total, skin, ts = _measurements(np.random.default_rng(11))
     result = gap_analysis(total, skin, ts, area=0.13, check_area=False, method="pooled", steps=100, progress=False)
-    notes = [w for w in result.warnings if "piles up at the upper bound of its prior" in w]
-    assert len(notes) == 1 and "1000 µm" in notes[0] and "C_gap are then set by the prior bound" in notes[0] and "unreliable" in notes[0]
-    assert result.gap["value"] == pytest.approx(1e-3, rel=0.01)
+    assert not any("piles up at the" in w for w in result.warnings)
+    assert result.c_gap["value"] == pytest.approx(C_GAP, rel=0.03)
+    assert result.gap["value"] == pytest.approx(EPS0 * 1.00059 * 0.13 / C_GAP, rel=0.03)
 
 
 def test_swapped_spectra_are_refused_before_any_fit(monkeypatch):

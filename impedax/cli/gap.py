@@ -7,6 +7,7 @@ import sys
 
 def register(sub) -> None:
     from .common import add_output_options, number_option, result_out_help
+    from .sample import steps_option
 
     p = sub.add_parser(
         "gap",
@@ -27,7 +28,11 @@ def register(sub) -> None:
     p.add_argument("--ep", choices=("CPE", "C"), default="CPE", help="electrode-polarization branch: R_EP || CPE_EP (default) or R_EP || C_EP (its C_EP and C_gap are seen only as their sum, so C gives u's lower bound: analysed as R_EP || C_gap)")
     p.add_argument("--method", choices=("hierarchical", "pooled"), default="hierarchical", help="hierarchical model over the trials (default) or the pooled analysis of the trial means")
     p.add_argument("--pooled", action="store_const", const="pooled", dest="method", help="same as --method pooled")
-    p.add_argument("--steps", type=int, default=None, help="MCMC draws per chain after warm-up (hierarchical, default 500) or emcee steps (pooled, default 1500)")
+    p.add_argument(
+        "--steps", type=steps_option, default="auto", metavar="N|auto",
+        help="MCMC draws per chain after as many warm-up steps (hierarchical; auto: 500) or emcee steps (pooled; auto: until the chain is "
+        "50 autocorrelation times long, as impedax sample); at least 20 (default auto)",
+    )
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     p.add_argument(
         "--select", action="append", metavar="DIM=LABEL",
@@ -42,6 +47,7 @@ def register(sub) -> None:
 
 def run(args) -> int:
     from ..errors import ParameterError
+    from ..fitting.bayes.chain import AUTO_STEPS, auto_step_cap
     from ..models.gap import gap_analysis
     from .common import check_memory, figure_writer, load_selected_files, plan_outputs, print_result, result_writer
 
@@ -49,15 +55,17 @@ def run(args) -> int:
         raise ParameterError(f"--area must be positive (m²), got {args.area:g}")
     if not args.v0 > 0:
         raise ParameterError(f"--v0 must be positive (V), got {args.v0:g}")
-    steps = args.steps if args.steps is not None else (500 if args.method == "hierarchical" else 1500)
-    if steps < 20:
+    steps = args.steps
+    if steps != AUTO_STEPS and steps < 20:
         raise ParameterError("--steps must be at least 20")
     outputs = plan_outputs(
         [("--out", args.out, "result"), ("--plot", args.plot, "figure")],
         inputs=[args.total, args.skin, args.touchscreen], stdout="--json" if args.json else None,
     )
     # emcee keeps every step of every walker: about 64 walkers × 8 parameters × 8 bytes, kept three times
-    check_memory("--steps", steps * 64 * 10 * 8 * 3, f"a gap-thickness chain of {steps} steps")
+    # (--steps auto: as many steps as its cap allows)
+    length = auto_step_cap(64) if steps == AUTO_STEPS else steps
+    check_memory("--steps", length * 64 * 10 * 8 * 3, f"a gap-thickness chain of {'up to ' if steps == AUTO_STEPS else ''}{length} steps")
     total, skin, touchscreen = load_selected_files([args.total, args.skin, args.touchscreen], args.select)
     result = gap_analysis(total, skin, touchscreen, area=args.area, v0=args.v0, ep=args.ep, steps=steps, seed=args.seed, method=args.method, progress=not (args.quiet or args.json), check_area=not args.no_area_check)
     outputs.save({"--out": result_writer(result), "--plot": figure_writer(result.plot)})

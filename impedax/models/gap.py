@@ -32,10 +32,11 @@ import xarray as xr
 from ..circuits import parse
 from ..arguments import MAX_SAMPLER_STEPS, MAX_WALKERS, checked_arguments, choice, count, flag, real, seed
 from ..errors import CircuitError, DataError, ParameterError
-from ..constants import EPSILON_AIR
+from ..constants import EPSILON_0, EPSILON_AIR
+from ..fitting.bayes.chain import AUTO_STEPS
 from .sirin import SIRIN_AREA, SIRIN_DRIVE_V, PaperGapEstimate, gap_force_peak, paper_gap_estimate, remainder_circuit, remaining_impedance, trial_mean, trial_remainders
 
-__all__ = ["GapAnalysis", "gap_analysis", "GAP_METHODS", "FINGERTIP_AREA_M2", "IDENTIFIED_C_REMAINDER"]
+__all__ = ["GapAnalysis", "gap_analysis", "GAP_METHODS", "FINGERTIP_AREA_M2", "IDENTIFIED_C_REMAINDER", "C_GAP_BOUNDS_F", "HIERARCHICAL_AUTO_DRAWS", "gap_bounds"]
 
 GAP_METHODS = ("hierarchical", "pooled")
 _EP_PER_TRIAL = ("R_EP", "CPE_EP.Q", "C_EP")  # the contact's EP branch varies with each trial
@@ -44,6 +45,16 @@ FORCE_CONVENTION = "peak"  # eq 1 at the voltage amplitude; the time average is 
 FORCE_CONDITIONS = "A taken as exact; skin and screen as their trial means, without their errors"
 
 FINGERTIP_AREA_M2 = (1e-6, 1e-2)  # plausible apparent contact of a fingertip: 1 mm² to 100 cm²
+C_GAP_BOUNDS_F = (1e-15, 1e-4)
+"""Prior bounds of C_gap [F], 1 fF–100 µF, whatever the area: the capacitance is what the data
+determine, so the bounds of u = ε0 ε_gap A/C_gap follow the area (`gap_bounds`). They hold every
+fingertip contact (`FINGERTIP_AREA_M2`) with u between 1 nm and 1 mm (8.9 fF–89 µF). A naive
+fit's C_gap outside them counts as run away."""
+HIERARCHICAL_AUTO_DRAWS = 500
+"""``steps="auto"`` in the hierarchical method: NUTS draws per chain (and warm-up steps)."""
+NAIVE_RUNAWAY_RMS_REL = 0.99
+"""A naive fit (C_gap alone) with rms_rel at or above this misses the data entirely (a model
+curve far from every point gives rms_rel → 1): it has run away."""
 IDENTIFIED_C_REMAINDER = "R_EP || C_gap"
 """What ``ep="C"`` is analysed as. In R_EP || C_EP || C_gap the two ideal capacitors add,
 1/Z = 1/R_EP + jω(C_EP + C_gap) at every frequency, so any data fit every split of the sum
@@ -191,7 +202,7 @@ class GapAnalysis:
                 f"a new trial     u in {new['q05'] * 1e6:.3f}–{new['q95'] * 1e6:.3f} µm (90% predictive interval)",
             ]
         else:
-            lines = [f"gap thickness u = {g['value'] * 1e6:.3f} µm  (90% credible interval {g['q05'] * 1e6:.3f}–{g['q95'] * 1e6:.3f} µm, Bayesian on the trial means, {self.edl_fit.model})"]
+            lines = [f"gap thickness u = {g['value'] * 1e6:.3f} µm  (90% credible interval {g['q05'] * 1e6:.3f}–{g['q95'] * 1e6:.3f} µm, Bayesian on the trial means: their noise only, not the spread between trials; {self.edl_fit.model})"]
         bounds = f"(bounds {p.gap_lower * 1e6:.3f}–{p.gap_upper * 1e6:.3f} µm from the lowest/highest impedances)" if self.paper_has_bounds else "bounds n/a (one trial)"
         lines += [
             f"paper method    u = {p.gap * 1e6:.3f} µm  {bounds}",
@@ -212,6 +223,10 @@ class GapAnalysis:
         return plot_gap_analysis(self, true_gap=true_gap)
 
     def to_xarray(self) -> xr.Dataset:
+        """The force bands with the gap summary as attrs (what ``--out FILE.nc`` writes): C_gap
+        and u quantiles, the paper method (``paper_gap_um``, ``paper_gap_lower_um``,
+        ``paper_gap_upper_um`` — NaN with one spectrum per file — and ``paper_c_gap_pf``) and
+        ``warnings``, one string with a warning per line (``n_warnings`` of them)."""
         out = self.force.copy()
         for key, value in self.summary().items():
             if key in ("c_gap", "gap_um", "gap_um_new_trial") and value is not None:
@@ -220,12 +235,37 @@ class GapAnalysis:
         out.attrs.update({"convention": FORCE_CONVENTION, "model": self.edl_fit.model, "model_requested": self.summary()["model_requested"], "area_m2": self.area, "v0": self.v0, "method": self.method})
         if self.gap_spread is not None:
             out.attrs["gap_spread_relative"] = self.gap_spread["relative"]["value"]
+        p, bounds = self.paper, self.paper_has_bounds
+        out.attrs.update({
+            "paper_gap_um": p.gap * 1e6,
+            "paper_gap_lower_um": p.gap_lower * 1e6 if bounds else float("nan"),
+            "paper_gap_upper_um": p.gap_upper * 1e6 if bounds else float("nan"),
+            "paper_c_gap_pf": p.c_gap * 1e12,
+            "n_warnings": len(self.warnings),
+            "warnings": "\n".join(self.warnings),
+        })
         return out
+
+
+def _steps(value, name):
+    """``steps``: a count (`count` rule), or ``"auto"``."""
+    if isinstance(value, str):
+        if value == AUTO_STEPS:
+            return value
+        raise ParameterError(f"{name} must be an integer or {AUTO_STEPS!r}, got {value!r}")
+    return count(1, MAX_SAMPLER_STEPS)(value, name)
+
+
+def gap_bounds(area: float, eps_gap: float = EPSILON_AIR) -> tuple[float, float]:
+    """Prior bounds (lower, upper) of u [m] for ``area`` [m²]: u = ε0 ε_gap A / C_gap at the
+    upper and lower ends of `C_GAP_BOUNDS_F`, so every area gives the same bounds on C_gap."""
+    c_low, c_high = C_GAP_BOUNDS_F
+    return EPSILON_0 * eps_gap * area / c_high, EPSILON_0 * eps_gap * area / c_low
 
 
 @checked_arguments(
     area=real(positive=True), v0=real(positive=True), ep=choice(("C", "CPE")), eps_gap=real(positive=True), cutoff_hz=real(positive=True),
-    steps=count(1, MAX_SAMPLER_STEPS), walkers=count(2, MAX_WALKERS, optional=True), seed=seed, progress=flag, check_area=flag,
+    steps=_steps, walkers=count(2, MAX_WALKERS, optional=True), seed=seed, progress=flag, check_area=flag,
 )
 def gap_analysis(
     total: xr.Dataset,
@@ -237,7 +277,7 @@ def gap_analysis(
     ep: str = "CPE",
     eps_gap: float = EPSILON_AIR,
     cutoff_hz: float = 30.0,
-    steps: int = 1500,
+    steps: int | str = AUTO_STEPS,
     walkers: int | None = None,
     seed: int = 0,
     progress: bool = True,
@@ -258,15 +298,20 @@ def gap_analysis(
     the EDL model by any circuit holding a ``C_gap`` (e.g. the result of `impedax.refine`), and
     ``edl_fit`` reuses a least-squares fit of it. ``method``: ``"hierarchical"`` (default; needs
     ≥ 3 total trials; ``steps`` draws per chain after ``warmup`` (default ``steps``) NUTS
-    adaptation steps in each of ``chains`` chains) or ``"pooled"`` (emcee on the trial means,
-    ``steps`` steps). ``progress``: a progress line on stderr during the sampling of either
-    method. ``check_area``: refuse an ``area`` [m²] outside `FINGERTIP_AREA_M2` (a mistyped
+    adaptation steps in each of ``chains`` chains; ``"auto"`` (default) is
+    `HIERARCHICAL_AUTO_DRAWS`) or ``"pooled"`` (emcee on the trial means, ``steps`` steps;
+    ``"auto"``, the default, runs until the chain is 50 autocorrelation times long, as
+    `impedax.fitting.sample`). u is sampled within `gap_bounds` (C_gap within
+    `C_GAP_BOUNDS_F` for any area). ``progress``: what runs and a progress line on stderr.
+    ``check_area``: refuse an ``area`` [m²] outside `FINGERTIP_AREA_M2` (a mistyped
     unit); False analyses any positive area, with a warning when it lies outside that range
     (``impedax gap --no-area-check``). A remainder with Re Z < 0 at more than half of its
     frequencies is refused before any fit (DataError: the files are likely in the wrong order).
-    Returns a `GapAnalysis`; its warnings say when the posterior of u piles up at a prior bound.
+    Returns a `GapAnalysis`; its warnings say when the posterior of u piles up at a prior bound,
+    when the naive fit ran away, and when the paper's estimate lies outside its own bounds.
     """
     from ..fitting import fit, gap_thickness_reparametrization, sample
+    from ..fitting.bayes.progress import announce
 
     if not area > 0:
         raise DataError(f"area must be positive (m²), got {area}")
@@ -290,11 +335,18 @@ def gap_analysis(
         notes.append(_merged_capacitors_note())
     if "C_gap" not in circuit.element_names:
         raise CircuitError(f"the remainder model {circuit} has no element named C_gap")
+    notes += _paper_bound_notes(paper, remaining)
+    announce("gap: fitting the naive model (C_gap alone) to the trial mean …", progress)
     naive = fit(remainder_circuit(None), remaining, weighting=weighting)
+    notes += _naive_runaway_notes(naive)
+    if edl_fit is None:
+        announce(f"gap: fitting the EDL model {circuit} to the trial mean …", progress)
     edl = edl_fit if edl_fit is not None else fit(circuit, remaining, weighting=weighting)
-    reparametrization = gap_thickness_reparametrization("C_gap", area=area, eps_r=eps_gap)
+    u_lower, u_upper = gap_bounds(area, eps_gap)
+    reparametrization = gap_thickness_reparametrization("C_gap", area=area, eps_r=eps_gap, lower=u_lower, upper=u_upper)
     if method == "hierarchical":
-        return _hierarchical(total, skin, touchscreen, remaining, paper, naive, edl, circuit, reparametrization, area=area, v0=v0, ep=ep, eps_gap=eps_gap, steps=steps, warmup=steps if warmup is None else warmup, chains=chains, seed=seed, progress=progress, notes=notes, model_requested=str(requested))
+        draws = HIERARCHICAL_AUTO_DRAWS if steps == AUTO_STEPS else steps
+        return _hierarchical(total, skin, touchscreen, remaining, paper, naive, edl, circuit, reparametrization, area=area, v0=v0, ep=ep, eps_gap=eps_gap, steps=draws, warmup=draws if warmup is None else warmup, chains=chains, seed=seed, progress=progress, notes=notes, model_requested=str(requested))
     posterior = sample(
         circuit,
         remaining,
@@ -320,8 +372,38 @@ def gap_analysis(
     notes += [f"EDL fit: {w}" for w in edl.warnings] + [f"sampling: {w}" for w in posterior.warnings if not w.startswith("least-squares start")]
     u_lo, u_hi = u_draws.min(), u_draws.max()
     if _has_bounds(remaining) and not (paper.gap_lower <= np.median(u_draws) <= paper.gap_upper):
-        notes.append(f"the Bayesian gap thickness lies outside the paper method's bounds ({paper.gap_lower * 1e6:.2f}–{paper.gap_upper * 1e6:.2f} µm; draws span {u_lo * 1e6:.2f}–{u_hi * 1e6:.2f} µm)")
+        notes.append(f"the Bayesian gap thickness {np.median(u_draws) * 1e6:.3g} µm lies outside the paper method's bounds ({_um(paper.gap_lower)}–{_um(paper.gap_upper)} µm; draws span {_um(u_lo)}–{_um(u_hi)} µm)")
     return GapAnalysis(remaining, paper, naive, edl, posterior, force, area, v0, ep, tuple(notes), model_requested=str(requested))
+
+
+def _um(length_m: float) -> str:
+    """A length [m] in µm with 3 significant digits (bounds 0.126–0.134, not 0.13–0.13)."""
+    return f"{length_m * 1e6:.3g}"
+
+
+def _paper_bound_notes(paper: PaperGapEstimate, remaining: xr.Dataset) -> list[str]:
+    """A warning when the paper's u (from the trial means) lies outside its own bounds (from the
+    lowest- and highest-impedance trials): the extreme trials do not bracket the means."""
+    if not _has_bounds(remaining) or paper.gap_lower <= paper.gap <= paper.gap_upper:
+        return []
+    return [
+        f"the paper method's u = {_um(paper.gap)} µm lies outside its own bounds {_um(paper.gap_lower)}–{_um(paper.gap_upper)} µm: "
+        "the lowest- and highest-impedance trials do not bracket the trial means, so those bounds are no interval for u; "
+        "check the three files (TOTAL SKIN SCREEN: the right measurements, in that order)"
+    ]
+
+
+def _naive_runaway_notes(naive) -> list[str]:
+    """A warning when the naive fit (C_gap alone) ran away: rms_rel ≥ `NAIVE_RUNAWAY_RMS_REL`
+    or C_gap outside `C_GAP_BOUNDS_F`."""
+    c = float(naive.values["C_gap"])
+    low, high = C_GAP_BOUNDS_F
+    if naive.rms_rel < NAIVE_RUNAWAY_RMS_REL and low <= c <= high:
+        return []
+    return [
+        f"the naive fit (C_gap alone) ran away: C_gap = {c:.3g} F (physical range {low:g}–{high:g} F), rms_rel {naive.rms_rel:.0%}: "
+        "a lone capacitor cannot describe this remainder at all, so that fit and its C_gap mean nothing (the EDL model's fit is the one to read)"
+    ]
 
 
 def _check_fingertip_area(area: float) -> None:
@@ -378,16 +460,21 @@ def _has_bounds(remaining: xr.Dataset) -> bool:
 
 
 def _bound_notes(u_draws, reparametrization, area: float) -> list[str]:
-    """A warning for each prior bound of u that holds ≥ `_BOUND_SHARE` of the draws within a
-    factor `_BOUND_FACTOR`: there the prior, not the data, sets u and C_gap = ε0 ε_gap A/u."""
+    """A warning for each prior bound of u (`gap_bounds`: C_gap at an end of `C_GAP_BOUNDS_F`)
+    that holds ≥ `_BOUND_SHARE` of the draws within a factor `_BOUND_FACTOR`: there the prior,
+    not the data, sets u and C_gap = ε0 ε_gap A/u."""
     u = np.asarray(u_draws, dtype=np.float64).ravel()
     notes = []
-    for side, bound, near in (("lower", reparametrization.lower[0], u <= reparametrization.lower[0] * _BOUND_FACTOR), ("upper", reparametrization.upper[0], u >= reparametrization.upper[0] / _BOUND_FACTOR)):
+    c_low, c_high = C_GAP_BOUNDS_F
+    for side, bound, c_bound, near in (
+        ("lower", reparametrization.lower[0], c_high, u <= reparametrization.lower[0] * _BOUND_FACTOR),
+        ("upper", reparametrization.upper[0], c_low, u >= reparametrization.upper[0] / _BOUND_FACTOR),
+    ):
         share = float(np.mean(near))
         if share >= _BOUND_SHARE:
             notes.append(
-                f"the posterior of u piles up at the {side} bound of its prior, u = {bound * 1e6:g} µm ({share:.0%} of the draws within a factor {_BOUND_FACTOR:g} of it): "
-                f"u and C_gap are then set by the prior bound, not the data, and are unreliable; check the area ({area:g} m²) and the three spectra"
+                f"the posterior of u piles up at the {side} bound of its prior, u = {bound * 1e6:.3g} µm (C_gap = {c_bound:g} F at A = {area:g} m²; {share:.0%} of the draws within a factor {_BOUND_FACTOR:g} of it): "
+                "u and C_gap are then set by the prior bound, not the data, and are unreliable; check the three spectra"
             )
     return notes
 
@@ -413,11 +500,15 @@ def _hierarchical(total, skin, touchscreen, remaining, paper, naive, edl, circui
     """The hierarchical gap analysis: per-trial remainders, per-trial u and EP branch."""
     from ..fitting import fit
     from ..fitting.bayes.hierarchical import sample_hierarchical
+    from ..fitting.bayes.progress import announce
 
     trials = trial_remainders(total, skin, touchscreen)
     free = set(circuit.parameter_names()) - {"C_gap"}
     per_trial = ("u",) + tuple(n for n in _EP_PER_TRIAL if n in free)
+    n_trials = int(np.prod([n for d, n in trials["Z"].sizes.items() if d != "frequency"]))
+    announce(f"gap: fitting the EDL model to each of the {n_trials} total trials …", progress)
     batch = fit(circuit, trials, init=dict(edl.values), weighting="modulus")
+    announce(f"gap: compiling the hierarchical model and running NUTS ({chains} chains, warm-up {warmup} + {steps} draws) …", progress)
     post = sample_hierarchical(circuit, trials, per_trial=per_trial, reparametrization=reparametrization, init=batch, chains=chains, warmup=warmup, draws=steps, seed=seed, progress=progress)
     freq = remaining["frequency"].values
     z_skin = trial_mean(skin)["Z"].values
@@ -429,5 +520,5 @@ def _hierarchical(total, skin, touchscreen, remaining, paper, naive, edl, circui
     notes += [f"EDL fit: {w}" for w in edl.warnings] + [f"sampling: {w}" for w in post.warnings]
     u = float(np.median(pop["u"]))
     if _has_bounds(remaining) and not (paper.gap_lower <= u <= paper.gap_upper):
-        notes.append(f"the population gap thickness {u * 1e6:.2f} µm lies outside the paper method's bounds ({paper.gap_lower * 1e6:.2f}–{paper.gap_upper * 1e6:.2f} µm)")
+        notes.append(f"the population gap thickness {_um(u)} µm lies outside the paper method's bounds ({_um(paper.gap_lower)}–{_um(paper.gap_upper)} µm)")
     return GapAnalysis(remaining, paper, naive, edl, None, force, area, v0, ep, tuple(notes), method="hierarchical", hierarchical=post, model_requested=model_requested)

@@ -374,9 +374,15 @@ def magnitude_ratio(z_i, z_total):
 
 def phase_synchronization(z_i, z_total):
     """Percent phase synchronization PPS_i = [1 − |Φ_i − Φ_total|/|Φ_total|]·100 (Sirin eq 4,
-    Fig 4d); phases Φ = arg Z."""
+    Fig 4d); phases Φ = arg Z. Eq 4 divides by |Φ_total|, so it is undefined where the total
+    is purely resistive (Φ_total = 0): NaN there (no −inf, no warning), whatever Φ_i."""
     phi_i, phi_t = np.angle(np.asarray(z_i)), np.angle(np.asarray(z_total))
-    return (1.0 - np.abs(phi_i - phi_t) / np.abs(phi_t)) * 100.0
+    phi_i, phi_t = np.broadcast_arrays(phi_i, phi_t)
+    scale = np.abs(phi_t)
+    defined = scale > 0
+    ratio = np.divide(np.abs(phi_i - phi_t), scale, out=np.full(scale.shape, np.nan), where=defined)
+    out = (1.0 - ratio) * 100.0
+    return out if out.ndim else out[()]
 
 
 def impedance_contributions(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dataset) -> xr.Dataset:

@@ -18,7 +18,7 @@ from matplotlib.ticker import Formatter, ScalarFormatter
 import numpy as np
 import xarray as xr
 
-from ..data import si_prefix
+from ..data import SI_PREFIXES, si_prefix
 from ..io.atomic import atomic_path
 
 __all__ = ["plot_spectrum", "model_curve", "dense_model", "plot_nyquist", "equal_aspect", "nyquist_frame", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "plot_bode", "save_figure", "shade_bands", "refresh_legend", "plain_log_ticks", "plain_linear_ticks", "PlainTicks", "prefixable_unit", "wrap_model", "characters_across", "label_spectra_axis"]
@@ -432,8 +432,13 @@ def plot_residuals(ax, freq, real, imag, *, labels=("Re", "Im"), ylabel="residua
 
 def _plain_number(x: float) -> str:
     """A tick value as printed: ``0.2``, ``40``, ``2000``; from 10⁴ up and below 10⁻³ with an SI
-    prefix (``10k``, ``2M``, ``500µ``), where ``1e+06`` beside ``100000`` read badly."""
+    prefix (``10k``, ``2M``, ``500µ``), where ``1e+06`` beside ``100000`` read badly; beyond the
+    prefixes (below 1 f, from 1000 T up) in plain exponent form (``1e-20``, ``1e+18``), not
+    ``1e-05f``."""
     if x == 0 or 1e-3 <= abs(x) < 1e4:
+        return f"{x:g}"
+    smallest, largest = SI_PREFIXES[-1][0], SI_PREFIXES[0][0]
+    if not smallest <= abs(x) < 1e3 * largest:
         return f"{x:g}"
     scale, prefix = si_prefix(abs(x))
     return f"{x / scale:g}{prefix}"

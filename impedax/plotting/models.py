@@ -5,6 +5,9 @@ from __future__ import annotations
 
 import numpy as np
 
+MODEL_MARGIN = 10.0
+"""How far [×] a model curve may extend the |Z_R| axis of `plot_gap_analysis` beyond the data."""
+
 
 def plot_gap_analysis(gap, *, true_gap: float | None = None):
     """Remaining impedance with both fits, the posterior of u against the paper's bounds
@@ -22,9 +25,24 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None):
     if "sigma" in gap.remaining:
         s = gap.remaining["sigma"].values
         ax.fill_between(f, np.maximum(np.abs(z) - s, np.abs(z) * 0.05), np.abs(z) + s, color="0.8", label="± SEM")
+    # the y-range follows the data: a model curve may widen it by at most MODEL_MARGIN on either
+    # side, so a fit that ran away (C_gap = 1e125 F) is cut off instead of stretching the axis
+    # over a hundred decades
+    shown = np.abs(z)
+    if "sigma" in gap.remaining:
+        shown = np.concatenate([shown, np.maximum(np.abs(z) - s, np.abs(z) * 0.05), np.abs(z) + s])
+    shown = shown[np.isfinite(shown) & (shown > 0)]
+    data_low, data_high = (float(shown.min()), float(shown.max())) if shown.size else (None, None)
+    low, high = data_low, data_high
     for fit, style, label in ((gap.naive_fit, "--", "C_gap only"), (gap.edl_fit, "-", gap.edl_fit.model)):
         f_model, z_model = model_curve(fit)
-        ax.loglog(f_model, np.abs(z_model), style, label=f"{label} (rms_rel {fit.rms_rel * 100:.2g} %)")
+        mag = np.abs(z_model)
+        within = mag[(mag >= data_low / MODEL_MARGIN) & (mag <= data_high * MODEL_MARGIN)] if data_low is not None else mag
+        ax.loglog(f_model, mag, style, label=f"{label} (rms_rel {fit.rms_rel * 100:.2g} %)" + ("" if within.size else ", off the axis"))
+        if data_low is not None and within.size:
+            low, high = min(low, float(within.min())), max(high, float(within.max()))
+    if data_low is not None:
+        ax.set_ylim(low / 1.5, high * 1.5)
     ax.set(xlabel="frequency [Hz]", ylabel="|Z_R| [Ω]", title="remaining impedance (Sirin eq 5)")
     plain_log_ticks(ax.yaxis)
     ax.legend(fontsize=7)

@@ -104,7 +104,10 @@ class Reparametrization:
 
     def describe(self) -> dict:
         """JSON-able description (stored with a saved posterior)."""
-        return {"kind": self.kind.value, "names": list(self.names), "replaces": list(self.replaces), "constants": self.constant_values, "description": self.description}
+        return {
+            "kind": self.kind.value, "names": list(self.names), "replaces": list(self.replaces), "constants": self.constant_values, "description": self.description,
+            "lower": [float(v) for v in self.lower], "upper": [float(v) for v in self.upper],
+        }
 
 
 # --- the air gap (Sirin et al.) --------------------------------------------------------------
@@ -180,7 +183,8 @@ def rebuild(description: Mapping) -> Reparametrization:
     """A built-in reparametrization from its `Reparametrization.describe` form."""
     kind, constants, replaces, names = description["kind"], dict(description["constants"]), list(description["replaces"]), list(description["names"])
     if kind == ReparametrizationKind.GAP_THICKNESS:
-        return gap_thickness_reparametrization(replaces[0], area=constants["area"], eps_r=constants["eps_r"], name=names[0])
+        bounds = {k: description[k][0] for k in ("lower", "upper") if k in description}  # (saved before 2026-11-29: the default bounds)
+        return gap_thickness_reparametrization(replaces[0], area=constants["area"], eps_r=constants["eps_r"], name=names[0], **bounds)
     if kind == ReparametrizationKind.STRATUM_CORNEUM:
         return stratum_corneum_reparametrization(replaces[0], replaces[1], area=constants["area"], d_start=constants["d_start"], names=tuple(names))
     raise ParameterError(f"the saved posterior used a custom reparametrization ({description.get('description', '')}); pass it as reparametrization=")

@@ -1,0 +1,430 @@
+"""The user review of the Sirin gap workflow (`impedax gap`, `gap_analysis`): each item's fix
+checked against numbers written here with numpy. All data are SYNTHETIC (formulas below, or the
+shipped SYNTHETIC example)."""
+
+from __future__ import annotations
+
+import json
+import re
+import sys
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import impedax as ix
+from impedax.cli import main
+from impedax.models.gap import gap_analysis
+
+ROOT = Path(__file__).resolve().parent.parent
+EPS0 = 8.8541878128e-12
+EPS_AIR = 1.00059
+AREA = 130e-6
+C_GAP = 413e-12
+
+
+def _r_cpe(w, r_inf, r, q, alpha):
+    return r_inf + 1.0 / (1.0 / r + q * (1j * w) ** alpha)
+
+
+def _measurements(seed=11, n_trials=8, noise=0.005):
+    """SYNTHETIC skin, screen and total (remainder R_EP ∥ CPE_EP ∥ C_gap) written in numpy."""
+    rng = np.random.default_rng(seed)
+    f = np.geomspace(1.0, 1e6, 31)
+    w = 2 * np.pi * f
+    skin = _r_cpe(w, 300.0, 2e5, 3e-8, 0.8)
+    ts = _r_cpe(w, 50.0, 2e4, 8e-11, 0.9)
+    rem = 1.0 / (1.0 / 2e7 + 7.5e-10 * (1j * w) ** 0.3 + 1j * w * C_GAP)
+
+    def trials(z):
+        return z[None, :] + noise * np.abs(z) * (rng.normal(size=(n_trials, f.size)) + 1j * rng.normal(size=(n_trials, f.size)))
+
+    make = lambda z: ix.make_spectrum(f, z, dims=("trial",))  # noqa: E731
+    return make(trials(skin + ts + rem)), make(trials(skin)), make(trials(ts))
+
+
+def _flat(ds):
+    return ds["Z"].transpose(..., "frequency").values.reshape(-1, ds.sizes["frequency"])
+
+
+def _paper_numpy(total, skin, ts, area=AREA, cutoff=30.0):
+    """Sirin §2.3 in numpy: u from the trial means, and the bounds from the lowest- and
+    highest-impedance trials (ranked by mean log|Z| above the cutoff)."""
+    f = total["frequency"].values
+    keep = f >= cutoff
+    c_of = lambda z: np.mean(1.0 / (2 * np.pi * f[keep] * np.abs(z[keep])))  # noqa: E731
+    u_of = lambda c: EPS0 * EPS_AIR * area / c  # noqa: E731
+    parts = [_flat(d) for d in (total, skin, ts)]
+    u = u_of(c_of(parts[0].mean(0) - parts[1].mean(0) - parts[2].mean(0)))
+    pick = lambda z, fn: z[fn(np.mean(np.log(np.abs(z[:, keep])), axis=1))]  # noqa: E731
+    bounds = sorted(u_of(c_of(pick(parts[0], fn) - pick(parts[1], fn) - pick(parts[2], fn))) for fn in (np.argmin, np.argmax))
+    return u, bounds[0], bounds[1], c_of(parts[0].mean(0) - parts[1].mean(0) - parts[2].mean(0))
+
+
+def _example(total: str):
+    from impedax.models import example_spectra
+
+    s = example_spectra()
+    return s[total], s["skin"], s["touchscreen"]
+
+
+@pytest.fixture(scope="module")
+def pooled():
+    """The shipped SYNTHETIC example's sliding total (30 trials), pooled, a short run."""
+    parts = _example("total_sliding")
+    return gap_analysis(*parts, area=AREA, method="pooled", steps=60, progress=False), parts
+
+
+@pytest.fixture(scope="module")
+def stationary():
+    """The shipped SYNTHETIC example's stationary total: a remainder no lone capacitor fits and
+    whose paper estimate lies outside its own bounds."""
+    parts = _example("total_stationary")
+    return gap_analysis(*parts, area=AREA, method="pooled", steps=40, progress=False), parts
+
+
+# --- 1. steps="auto" ------------------------------------------------------------------------
+
+
+class _Stop(Exception):
+    pass
+
+
+def test_pooled_default_passes_auto_to_sample(monkeypatch):
+    import impedax.fitting
+
+    seen = {}
+
+    def fake_sample(*args, **kwargs):
+        seen.update(kwargs)
+        raise _Stop
+
+    monkeypatch.setattr(impedax.fitting, "sample", fake_sample)
+    total, skin, ts = _measurements(n_trials=3)
+    with pytest.raises(_Stop):
+        gap_analysis(total, skin, ts, area=AREA, method="pooled", progress=False)
+    assert seen["steps"] == "auto"
+    with pytest.raises(_Stop):
+        gap_analysis(total, skin, ts, area=AREA, method="pooled", steps=77, progress=False)
+    assert seen["steps"] == 77
+
+
+def test_hierarchical_auto_is_500_draws_and_warmup(monkeypatch):
+    import impedax.fitting.bayes.hierarchical as hierarchical
+    from impedax.models.gap import HIERARCHICAL_AUTO_DRAWS
+
+    seen = {}
+
+    def fake(*args, **kwargs):
+        seen.update(kwargs)
+        raise _Stop
+
+    monkeypatch.setattr(hierarchical, "sample_hierarchical", fake)
+    total, skin, ts = _measurements(n_trials=3)
+    with pytest.raises(_Stop):
+        gap_analysis(total, skin, ts, area=AREA, progress=False)
+    assert HIERARCHICAL_AUTO_DRAWS == 500 and seen["draws"] == 500 and seen["warmup"] == 500
+    with pytest.raises(_Stop):
+        gap_analysis(total, skin, ts, area=AREA, steps=60, warmup=30, progress=False)
+    assert seen["draws"] == 60 and seen["warmup"] == 30
+
+
+@pytest.mark.parametrize("steps, fragment", [("many", "steps must be an integer or 'auto'"), (0, "steps must be at least 1"), (10**9, "is above the limit")])
+def test_gap_steps_validation(steps, fragment):
+    total, skin, ts = _measurements(n_trials=3)
+    with pytest.raises(ix.ParameterError, match=re.escape(fragment)):
+        gap_analysis(total, skin, ts, area=AREA, method="pooled", steps=steps, progress=False)
+
+
+def _saved(tmp_path, datasets):
+    paths = []
+    for name, ds in zip(("total", "skin", "ts"), datasets):
+        paths.append(str(tmp_path / f"{name}.nc"))
+        ix.save(ds, paths[-1])
+    return paths
+
+
+@pytest.mark.parametrize("flags, expected", [([], "auto"), (["--steps", "auto"], "auto"), (["--steps", "AUTO"], "auto"), (["--steps", "25"], 25)])
+def test_cli_gap_steps_auto(tmp_path, capsys, monkeypatch, pooled, flags, expected):
+    import impedax.models.gap as gap_module
+
+    asked = {}
+    monkeypatch.setattr(gap_module, "gap_analysis", lambda total, skin, touchscreen, **options: asked.update(options) or pooled[0])
+    assert main(["gap", *_saved(tmp_path, pooled[1]), "--area", "130e-6", "--pooled", "--json", *flags]) == 0
+    assert asked["steps"] == expected
+
+
+@pytest.mark.parametrize("flags, fragment", [(["--steps", "19"], "--steps must be at least 20"), (["--steps", "lots"], "give a number of steps, or auto")])
+def test_cli_gap_bad_steps_exit_2(tmp_path, capsys, pooled, flags, fragment):
+    try:
+        code = main(["gap", *_saved(tmp_path, pooled[1]), "--area", "130e-6", "--pooled", *flags])
+    except SystemExit as exc:  # (argparse's own error for a value it cannot read)
+        code = exc.code
+    assert code == 2
+    assert fragment in capsys.readouterr().err
+
+
+def test_cli_gap_auto_memory_check_uses_the_cap(tmp_path, capsys, monkeypatch):
+    """--steps auto plans for the longest chain auto may run: 20 000 steps (the cap for 64
+    walkers) × 64 × 10 values × 8 bytes × 3 copies = 307 MB."""
+    from impedax.fitting.bayes.chain import auto_step_cap
+
+    assert auto_step_cap(64) == 20_000
+    needed = 20_000 * 64 * 10 * 8 * 3
+    paths = _saved(tmp_path, _measurements(n_trials=3))
+    monkeypatch.setenv("IMPEDAX_MEMORY_LIMIT", str(needed - 1000))
+    assert main(["gap", *paths, "--area", "130e-6", "--pooled"]) == 2
+    err = capsys.readouterr().err
+    assert "up to 20000 steps" in err and "IMPEDAX_MEMORY_LIMIT" in err
+
+
+@pytest.mark.slow
+def test_pooled_auto_run_has_no_chain_length_warning():
+    total, skin, ts = _measurements()
+    result = gap_analysis(total, skin, ts, area=AREA, method="pooled", progress=False)
+    assert not any("autocorrelation times" in w for w in result.warnings)
+    assert result.posterior.settings["steps_mode"] == "auto"
+
+
+# --- 2. the pooled report says what its interval covers --------------------------------------
+
+
+def test_pooled_report_says_noise_of_the_means_only(pooled):
+    line = pooled[0].report().splitlines()[0]
+    assert line.startswith("gap thickness u = ") and "Bayesian on the trial means: their noise only, not the spread between trials" in line
+
+
+# --- 3. the paper's estimate outside its own bounds; 3 significant digits -------------------
+
+
+def test_paper_estimate_outside_its_bounds_is_flagged(stationary):
+    result, parts = stationary
+    u, low, high, _ = _paper_numpy(*parts)
+    assert not low <= u <= high  # the oracle: the extreme trials do not bracket the means
+    notes = [w for w in result.warnings if w.startswith("the paper method's u = ")]
+    assert len(notes) == 1
+    assert f"u = {u * 1e6:.3g} µm lies outside its own bounds {low * 1e6:.3g}–{high * 1e6:.3g} µm" in notes[0]
+    assert "check the three files" in notes[0] and "order" in notes[0]
+
+
+def test_bayesian_outside_paper_bounds_prints_three_digits(stationary):
+    result, parts = stationary
+    _, low, high, _ = _paper_numpy(*parts)
+    u_bayes = np.median(result.draws("u"))
+    assert not low <= u_bayes <= high
+    notes = [w for w in result.warnings if "lies outside the paper method's bounds" in w]
+    assert len(notes) == 1 and f"({low * 1e6:.3g}–{high * 1e6:.3g} µm;" in notes[0]
+    assert f"{low * 1e6:.3g}" != f"{high * 1e6:.3g}"  # (2 decimals printed 0.13–0.13)
+
+
+def test_no_paper_bound_warning_when_bracketed(pooled):
+    result, parts = pooled
+    u, low, high, _ = _paper_numpy(*parts)
+    assert low <= u <= high
+    assert not any(w.startswith("the paper method's u = ") for w in result.warnings)
+
+
+# --- 4. the prior of u follows the area --------------------------------------------------------
+
+
+def test_gap_bounds_follow_the_area():
+    from impedax.models.gap import C_GAP_BOUNDS_F, gap_bounds
+
+    for area in (1e-6, 130e-6, 1.0):
+        low, high = gap_bounds(area)
+        assert low == pytest.approx(EPS0 * EPS_AIR * area / C_GAP_BOUNDS_F[1], rel=1e-9)
+        assert high == pytest.approx(EPS0 * EPS_AIR * area / C_GAP_BOUNDS_F[0], rel=1e-9)
+    # every fingertip contact (1e-6–1e-2 m²) with u in 1 nm–1 mm lies inside
+    assert C_GAP_BOUNDS_F[0] < EPS0 * 1e-6 / 1e-3 and EPS0 * 1e-2 / 1e-9 < C_GAP_BOUNDS_F[1]
+
+
+def test_any_area_gives_the_same_c_gap():
+    """The same SYNTHETIC data at 130 mm² and at 1 m² (no area check, pooled, short run):
+    C_gap within 3 % of each other and of the generating 413 pF; u scales with the area."""
+    total, skin, ts = _measurements(seed=5)
+    small = gap_analysis(total, skin, ts, area=AREA, method="pooled", steps=100, progress=False)
+    large = gap_analysis(total, skin, ts, area=1.0, check_area=False, method="pooled", steps=100, progress=False)
+    assert large.c_gap["value"] == pytest.approx(small.c_gap["value"], rel=0.03)
+    assert large.c_gap["value"] == pytest.approx(C_GAP, rel=0.03)
+    assert large.gap["value"] / small.gap["value"] == pytest.approx(1.0 / AREA, rel=0.03)
+    assert large.gap["value"] == pytest.approx(EPS0 * EPS_AIR * 1.0 / C_GAP, rel=0.03)
+    assert not any("piles up" in w for w in large.warnings)
+
+
+def test_bound_notes_name_the_capacitance_bound():
+    from impedax.fitting import gap_thickness_reparametrization
+    from impedax.models.gap import _bound_notes, gap_bounds
+
+    low, high = gap_bounds(AREA)
+    rp = gap_thickness_reparametrization("C_gap", area=AREA, lower=low, upper=high)
+    at_top = np.full(100, high * 0.9)
+    notes = _bound_notes(at_top, rp, AREA)
+    assert len(notes) == 1 and "upper bound" in notes[0] and "C_gap = 1e-15 F" in notes[0] and f"u = {high * 1e6:.3g} µm" in notes[0]
+    assert _bound_notes(np.full(100, 2.8e-6), rp, AREA) == []
+
+
+# --- 5. a naive fit that runs away ------------------------------------------------------------
+
+
+def test_runaway_naive_fit_is_flagged(stationary):
+    result, parts = stationary
+    naive = result.naive_fit
+    f = parts[0]["frequency"].values
+    z = _flat(parts[0]).mean(0) - _flat(parts[1]).mean(0) - _flat(parts[2]).mean(0)
+    z_naive = 1.0 / (2j * np.pi * f * naive.values["C_gap"])  # the lone capacitor, in numpy
+    assert np.all(np.abs(z_naive) < 0.1 * np.abs(z))  # the oracle: nowhere near the data
+    notes = [w for w in result.warnings if w.startswith("the naive fit (C_gap alone) ran away")]
+    assert len(notes) == 1 and "a lone capacitor cannot describe this remainder" in notes[0]
+
+
+def test_no_runaway_warning_for_a_capacitor_like_remainder(pooled):
+    result, parts = pooled
+    f = parts[0]["frequency"].values
+    z = _flat(parts[0]).mean(0) - _flat(parts[1]).mean(0) - _flat(parts[2]).mean(0)
+    z_naive = 1.0 / (2j * np.pi * f * result.naive_fit.values["C_gap"])
+    assert 0.3 < np.median(np.abs(z_naive) / np.abs(z)) < 3  # the oracle: near the data (C_gap 959 pF against 410)
+    assert not any("ran away" in w for w in result.warnings)
+
+
+def test_gap_figure_axis_follows_the_data(stationary):
+    result, parts = stationary
+    z = _flat(parts[0]).mean(0) - _flat(parts[1]).mean(0) - _flat(parts[2]).mean(0)
+    fig = result.plot()
+    ax = next(a for a in fig.axes if a.get_title().startswith("remaining impedance"))
+    bottom, top = ax.get_ylim()
+    assert np.abs(z).min() / 20 <= bottom <= np.abs(z).min() and np.abs(z).max() <= top <= np.abs(z).max() * 20
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert any(t.startswith("C_gap only") and t.endswith("off the axis") for t in labels)
+    fig.canvas.draw()
+    ticks = [t.get_text() for t in ax.get_yticklabels() if t.get_text()]
+    assert ticks and not any(re.search(r"e[-+]?\d+[fpnµmkMGT]$", t) for t in ticks)
+
+
+def test_tick_labels_beyond_the_prefixes():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from impedax.plotting import plain_log_ticks
+
+    fig, ax = plt.subplots()
+    ax.set_yscale("log")
+    ax.set_ylim(1e-124, 1e-116)
+    plain_log_ticks(ax.yaxis)
+    fig.canvas.draw()
+    labels = [t.get_text() for t in ax.get_yticklabels() if t.get_text()]
+    plt.close(fig)
+    assert labels and all(re.fullmatch(r"1e-1[12]\d", t) for t in labels), labels
+    from impedax.plotting import _plain_number
+
+    expected = {1e-124: "1e-124", 2e-20: "2e-20", 5e-16: "5e-16", 1e-15: "1f", 4.7e-12: "4.7p", 1e13: "10T", 1e15: "1e+15", 3e18: "3e+18", 0.5: "0.5"}
+    assert {x: _plain_number(x) for x in expected} == expected
+
+
+# --- 6. the hierarchical method says what it does ---------------------------------------------
+
+
+@pytest.mark.parametrize("progress", [True, False])
+def test_hierarchical_announces_its_stages(monkeypatch, capsys, progress):
+    import impedax.fitting.bayes.hierarchical as hierarchical
+
+    def fake(*args, **kwargs):
+        print("SAMPLER STARTED", file=sys.stderr)
+        raise _Stop
+
+    monkeypatch.setattr(hierarchical, "sample_hierarchical", fake)
+    total, skin, ts = _measurements(n_trials=3)
+    with pytest.raises(_Stop):
+        gap_analysis(total, skin, ts, area=AREA, progress=progress)
+    err = capsys.readouterr().err
+    stages = ["gap: fitting the EDL model R_EP || CPE_EP || C_gap to the trial mean", "gap: fitting the EDL model to each of the 3 total trials", "gap: compiling the hierarchical model"]
+    if progress:
+        positions = [err.index(s) for s in stages] + [err.index("SAMPLER STARTED")]
+        assert positions == sorted(positions)
+        assert "(4 chains, warm-up 500 + 500 draws)" in err
+    else:
+        assert not any(s in err for s in stages)
+
+
+# --- 7. the .nc keeps warnings and the paper method -------------------------------------------
+
+
+def test_netcdf_keeps_warnings_and_paper_numbers(stationary, tmp_path):
+    result, parts = stationary
+    u, low, high, c = _paper_numpy(*parts)
+    path = tmp_path / "gap.nc"
+    from impedax.io import write_result
+
+    write_result(result, path)
+    with xr.open_dataset(path) as ds:
+        attrs = dict(ds.attrs)
+    assert attrs["paper_gap_um"] == pytest.approx(u * 1e6, rel=1e-9)
+    assert attrs["paper_gap_lower_um"] == pytest.approx(low * 1e6, rel=1e-9) and attrs["paper_gap_upper_um"] == pytest.approx(high * 1e6, rel=1e-9)
+    assert attrs["paper_c_gap_pf"] == pytest.approx(c * 1e12, rel=1e-9)
+    assert attrs["warnings"].split("\n") == list(result.warnings) and int(attrs["n_warnings"]) == len(result.warnings) >= 3
+
+
+def test_netcdf_paper_bounds_nan_with_one_spectrum_each():
+    total, skin, ts = (ds.isel(trial=0) for ds in _measurements(n_trials=3))
+    result = gap_analysis(total, skin, ts, area=AREA, method="pooled", steps=40, progress=False)
+    attrs = result.to_xarray().attrs
+    assert np.isnan(attrs["paper_gap_lower_um"]) and np.isnan(attrs["paper_gap_upper_um"]) and np.isfinite(attrs["paper_gap_um"])
+
+
+# --- 8. phase synchronization at Φ_total = 0 -------------------------------------------------
+
+
+def test_phase_synchronization_undefined_at_zero_total_phase():
+    from impedax.models.sirin import phase_synchronization
+
+    z_i = np.array([1 + 1j, 2 - 1j, 3 - 3j, 5.0])
+    z_t = np.array([4.0, 3 - 1j, 1 - 2j, 7.0])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        got = phase_synchronization(z_i, z_t)
+        scalar = phase_synchronization(1 - 1j, 2.0)
+    phi_i, phi_t = np.angle(z_i), np.angle(z_t)
+    assert np.isnan(got[0]) and np.isnan(got[3]) and np.isnan(scalar)
+    assert got[1:3] == pytest.approx((1 - np.abs(phi_i[1:3] - phi_t[1:3]) / np.abs(phi_t[1:3])) * 100)
+
+
+# --- 9. docs/models.md: code fences pair up ----------------------------------------------------
+
+
+def test_models_doc_fences_pair_up():
+    text = (ROOT / "docs" / "models.md").read_text()
+    inside = False
+    for number, line in enumerate(text.splitlines(), 1):
+        stripped = line.strip()
+        if not stripped.startswith("```"):
+            continue
+        if inside:
+            assert stripped == "```", f"line {number}: a closing fence with text after it: {line!r}"
+        inside = not inside
+    assert not inside, "docs/models.md ends inside a code block"
+    assert "With the unrounded physical values: 164.9 mN" in text
+
+
+# --- 10. the example's header states what it prints --------------------------------------------
+
+
+def test_remaining_impedance_example_header_matches_its_output(tmp_path):
+    import subprocess
+
+    script = ROOT / "examples" / "sirin_remaining_impedance.py"
+    out = subprocess.run([sys.executable, str(script), str(tmp_path), "--fast"], capture_output=True, text=True, cwd=script.parent, timeout=300, check=True).stdout
+    header = script.read_text().split('"""')[1]
+    paper_c = re.search(r"paper method\s+C_gap = ([\d.]+) pF\s+u = ([\d.]+) µm", out)
+    fit_c = re.search(r"EDL fit\s+C_gap = ([\d.]+) ± ([\d.]+) pF\s+u = ([\d.]+) µm", out)
+    naive = re.search(r"naive C_gap\s+C_gap = ([\d.]+) pF", out)
+    assert paper_c and fit_c and naive, out
+    assert f"C_gap = {paper_c[1]} pF, u = {paper_c[2]} µm" in header
+    assert f"C_gap = {fit_c[1]} ± {fit_c[2]} pF (u = {fit_c[3]} µm" in header
+    assert f"C_gap = {naive[1]} pF" in header
+    thin = (1 - float(paper_c[2]) / (EPS0 * EPS_AIR * AREA / C_GAP * 1e6)) * 100
+    assert f"about {thin:.1f} % thin" in header
+    for stale in ("415 pF", "424 pF", "2.71 µm", "3 % high"):
+        assert stale not in header
