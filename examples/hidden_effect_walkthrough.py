@@ -56,7 +56,7 @@ def main(argv=None):
     _example.save(diagnosis.plot(), args, "hidden_effect_diagnosis.png")
 
     print("4. Add it, refit, repeat: watch the error fall")
-    refinement = ix.refine(data, "R_s + R_sc || C_sc", max_steps=2 if args.fast else 4)
+    refinement = ix.refine(data, "R_s + R_sc || C_sc", max_effects=2 if args.fast else 4)
     print(refinement.table())
     print(f"   final model {refinement.final_model}: rms_rel {refinement.final.rms_rel:.3g}, verdict {refinement.verdict}")
     _example.save(refinement.plot(), args, "hidden_effect_refinement.png")

@@ -306,6 +306,19 @@ def unknown_parameter(what: str, name, known, circuit: object = None) -> Paramet
     return ParameterError(f"{what}: unknown parameter {shown(name)}{where}{hint} (parameters: {', '.join(known)})")
 
 
+def init_not_fixed(init, fixed) -> None:
+    """A `ParameterError` when a starting value (``init``, a mapping) is given for a parameter
+    ``fixed`` also holds: a fixed parameter has no start, and its ``init`` value was silently
+    ignored before. An ``init`` that is a fit result (a mapping of nothing: its values start the
+    parameters two circuits share) may overlap ``fixed``."""
+    if not isinstance(init, Mapping) or not isinstance(fixed, Mapping):
+        return
+    both = [n for n in init if n in fixed]
+    if both:
+        listed = ", ".join(f"{n} (fixed at {shown(fixed[n])}, init {shown(init[n])})" for n in both)
+        raise ParameterError(f"init: {listed} {'is' if len(both) == 1 else 'are'} fixed, so a starting value does nothing; drop {'it' if len(both) == 1 else 'them'} from init, or from fixed to fit {'it' if len(both) == 1 else 'them'} from that start")
+
+
 def require_parameters(params, names, name: str = "params") -> None:
     """``params`` is a mapping that holds every one of ``names``, each numbers (JAX tracers
     pass, so model functions stay vmappable over posterior draws)."""

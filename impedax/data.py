@@ -151,12 +151,28 @@ def validate_spectrum(ds: xr.Dataset, *, source: str | None = None) -> xr.Datase
         raise DataError(f"duplicate frequency {dup:g} Hz at points {points}", path=source)
     if not np.all(np.isfinite(z)):
         idx = np.argwhere(~np.isfinite(z))[0]
-        raise DataError(f"Z has a non-finite value at index {tuple(int(i) for i in idx)}", path=source)
+        raise DataError(f"Z has a non-finite value at {point_text(ds, z_var.dims, idx)}: {z[tuple(idx)]}", path=source)
     if "sigma" in variables:
         s = variables["sigma"].values
         if not (np.all(np.isfinite(s)) and np.all(s > 0)):
             raise DataError("'sigma' must be positive and finite everywhere", path=source)
     return ds
+
+
+def point_text(ds: xr.Dataset, dims, idx) -> str:
+    """A point of a variable over ``dims`` at positions ``idx``, named by its coordinates:
+    ``cycle=64, f=1.5 kHz`` (a dimension without coordinates by its position, ``trial #3``;
+    the frequency as `format_frequency` writes it, with its point number)."""
+    parts = []
+    for dim, i in zip(dims, (int(i) for i in idx)):
+        if dim == "frequency":
+            parts.append(f"f={format_frequency(float(ds['frequency'].values[i]))} (point {i})")
+        elif dim in ds.coords:
+            label = ds[dim].values[i]
+            parts.append(f"{dim}={label.item() if hasattr(label, 'item') else label}")
+        else:
+            parts.append(f"{dim} #{i}")
+    return ", ".join(parts)
 
 
 def format_frequency(f: float) -> str:

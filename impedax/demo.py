@@ -147,7 +147,7 @@ def run_demo(out: str | os.PathLike = "out", *, fast: bool = False, stream=None)
             story.say(f"    {s.effect:<24} ΔAIC {s.delta_aic:8.1f}   rms_rel {s.rms_rel * 100:6.3g} %   {s.model}")
         if first.best is not None:
             story.say(f"  Best: {first.best.explanation}")
-        refinement = ix.refine(remaining, "C_gap", weighting="sigma", max_steps=3)
+        refinement = ix.refine(remaining, "C_gap", weighting="sigma", max_effects=3)
         story.say("  Refinement (diagnose → add the best effect → refit):")
         for line in refinement.table().splitlines():
             story.say("    " + line)

@@ -268,3 +268,29 @@ def test_noisy_data_are_named_as_the_limit_not_the_model(rng):
     assert result.rms_rel > 0.05
     assert any("noise, drift or artifacts limit the fit" in w for w in result.warnings), result.warnings
     assert not any("misses structure" in w for w in result.warnings)
+
+
+def test_data_whose_sigma_explains_the_misfit_get_no_note_that_noise_limits_the_fit(rng):
+    """The same noisy spectra (10 % complex noise on Re and Im each) with their sigma: when the
+    stated σ is the noise, the residuals are what it says and no note repeats it, in single fits
+    and a batch alike; with a σ five times too small the note stays (mean (ΔRe² + ΔIm²)/2σ²,
+    written out here, is ≈ 1 and ≈ 25)."""
+    f = np.geomspace(0.01, 1e5, 50)
+    w = omega(f)
+    truth = 20 + 1000 / (1 + 1j * w * 1000 * 1e-7) + 2000 / (1 + 1j * w * 2000 * 5e-5)
+    z = np.stack([truth * (1 + 0.1 * (rng.normal(size=f.size) + 1j * rng.normal(size=f.size))) for _ in range(2)])
+    model = "R0 + R1 || C1 + R2 || C2"
+    note = "noise, drift or artifacts limit the fit"
+    for scale in (0.1, 0.02):
+        sigma = scale * np.abs(truth) * np.ones((2, 1))
+        batch = ix.fit(model, ix.make_spectrum(f, z, sigma=sigma, dims=("trial",)), weighting="sigma")
+        for i in range(2):
+            single = ix.fit(model, ix.make_spectrum(f, z[i], sigma=sigma[i]), weighting="sigma")
+            dz = np.asarray(ix.compile_circuit(model)(single.values, f)) - z[i]
+            ratio = float(np.mean((np.real(dz) ** 2 + np.imag(dz) ** 2) / (2 * sigma[i] ** 2)))
+            says = any(note in text for text in single.warnings)
+            if scale == 0.1:
+                assert ratio < 2.0 and not says, (ratio, single.warnings)
+            else:
+                assert ratio > 10.0 and says, (ratio, single.warnings)
+            assert any(note in text for text in batch.warnings.get(f"trial={i}", ())) is says

@@ -280,7 +280,7 @@ def test_sirin_remainder_needs_electrode_polarization_and_recovers_the_gap(sirin
 
 def test_refine_adds_the_missing_effect_and_stops():
     circuit, effect, data = case_data("series_resistance/rc")
-    r = ix.refine(data, circuit, max_steps=3)
+    r = ix.refine(data, circuit, max_effects=3)
     assert r.steps[0].added is None and r.steps[1].effect == effect
     assert r.verdict == "adequate"
     rms = [s.fit.rms_rel for s in r.steps]

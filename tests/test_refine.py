@@ -66,7 +66,7 @@ def test_max_effects_zero_diagnoses_only(missing_series_resistance):
     assert len(r.steps) == 1 and r.verdict == "missing_effect"
 
 
-@pytest.mark.parametrize("kwargs", [{"max_steps": 1, "max_effects": 1}, {"max_effects": -1}, {"solver_steps": 0}])
+@pytest.mark.parametrize("kwargs", [{"max_steps": 0, "max_effects": 1}, {"max_effects": -1}, {"solver_steps": 0}, {"max_steps": 10, "solver_steps": 10}])
 def test_refine_options_are_checked(missing_series_resistance, kwargs):
     circuit, _, data = missing_series_resistance
     with pytest.raises(ParameterError):

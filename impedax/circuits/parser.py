@@ -18,7 +18,7 @@ import re
 import unicodedata
 from dataclasses import dataclass
 
-from ..errors import CircuitSyntaxError, ParameterError, escape_text
+from ..errors import CircuitError, CircuitSyntaxError, ParameterError, escape_text
 from .elements import DEFAULT_REGISTRY
 from .spec import Registry
 from .tree import Circuit, Element, parallel, series
@@ -238,10 +238,25 @@ def parse(text: str, registry: Registry = DEFAULT_REGISTRY) -> Circuit:
     return _parse_text(require_text(text), registry)
 
 
+# the argument orders of the functions that take a circuit and data (said when they look swapped)
+ARGUMENT_ORDERS = "fit and sample take (circuit, data), diagnose and refine take (data, circuit)"
+
+
+def looks_like_data(source) -> bool:
+    """Whether ``source`` is a spectrum rather than a circuit: an xarray Dataset or DataArray
+    (duck-typed: this layer does not import xarray) or a path object."""
+    return hasattr(source, "data_vars") or (hasattr(source, "dims") and hasattr(source, "coords")) or hasattr(source, "__fspath__")
+
+
 def require_text(source) -> str:
-    """``source`` if it is a string; otherwise a `CircuitSyntaxError` naming its type."""
+    """``source`` if it is a string; otherwise a `CircuitSyntaxError` naming its type (a
+    `CircuitError` for a spectrum where the circuit goes: the arguments look swapped,
+    `ARGUMENT_ORDERS`)."""
     if not isinstance(source, str):
-        raise CircuitSyntaxError(repr(source), 0, f"a circuit must be text, got {type(source).__name__}")
+        kind = type(source).__name__
+        if looks_like_data(source):
+            raise CircuitError(f"a circuit must be text, got a {kind} (data) where the circuit goes: the arguments look swapped ({ARGUMENT_ORDERS})")
+        raise CircuitSyntaxError(repr(source), 0, f"a circuit must be text, got {kind}")
     return source
 
 

@@ -225,6 +225,11 @@ class Registry:
     def __hash__(self) -> int:
         return self._hash
 
+    def __repr__(self) -> str:
+        # short: a registry is the default of many functions' `registry=`, and help() printed
+        # every spec's fields (kilobytes) in their signatures
+        return f"Registry({len(self.specs)} elements: {', '.join(spec.symbol for spec in self.specs)})"
+
     @cached_property
     def _hash(self) -> int:
         # computed once: compiled solvers are cached by registry, and hashing every spec's

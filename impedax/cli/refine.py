@@ -41,7 +41,7 @@ def run(args) -> int:
     progress = progress_printer()
     try:
         result = refine(
-            data, args.model, max_effects=args.max_effects, solver_steps=solver_steps, effects=effects, weighting=args.weighting, noise=args.noise,
+            data, args.model, max_effects=args.max_effects, max_steps=solver_steps, effects=effects, weighting=args.weighting, noise=args.noise,
             fmin=args.fmin, fmax=args.fmax, progress=progress,
         )
     finally:

@@ -45,6 +45,25 @@ def _subsequence(small, big) -> bool:
     return len(small) <= len(big) and match(0, frozenset())
 
 
+def fit_label(fit: FitResult) -> str:
+    """A fit's name in a comparison: its model, followed by its fixed values when it has any
+    (``R0 + R1 || CPE1 [CPE1.alpha=1]``), so the same circuit fitted free and with a parameter
+    held reads as two models."""
+    held = [f"{n}={fit.values[n]:g}" for n, is_fixed in fit.fixed.items() if is_fixed]
+    return f"{fit.model} [{', '.join(held)}]" if held else fit.model
+
+
+def unique_labels(labels: Sequence[str]) -> list[str]:
+    """``labels`` with a repeated one numbered from its second use (``M (2)``): rows and the
+    xarray coordinate name each fit once."""
+    seen: dict[str, int] = {}
+    out = []
+    for label in labels:
+        seen[label] = seen.get(label, 0) + 1
+        out.append(label if seen[label] == 1 else f"{label} ({seen[label]})")
+    return out
+
+
 def undetermined_names(fit: FitResult) -> list[str]:
     """The free parameters of ``fit`` the data do not determine: off their bounds, nonzero, with
     a relative standard error above 100 % (`branches.undetermined`), as its warnings say."""
@@ -139,9 +158,13 @@ class Comparison:
         summary (parameters, warnings) with its row (the row's ``aic`` and ``bic`` are the
         comparison's, `criteria`), the best models, the F-tests and which AIC ranks."""
         i = self.best_aicc_index
+        j = self.best_determined_index
         return {
             "models": [{**f.summary(), **r} for f, r in zip(self.fits, self.rows)], "best": self.best, "best_determined": self.best_determined,
             "f_tests": [dict(t) for t in self.f_tests], "ranked_by": "aic", "aic_form": self.aic_form, "best_aicc": None if i is None else self.rows[i]["model"],
+            # (the models' labels: the model text with the fixed values, `fit_label`)
+            "best_label": self.rows[self.best_index]["label"], "best_determined_label": None if j is None else self.rows[j]["label"],
+            "best_aicc_label": None if i is None else self.rows[i]["label"],
         }
 
     def to_table(self) -> list[dict]:
@@ -166,21 +189,21 @@ class Comparison:
     def report(self) -> str:
         """The table, then each model's warnings."""
         lines = [self.table()]
-        for fit in self.fits:
+        for fit, row in zip(self.fits, self.rows):
             warnings = [w for ws in fit.warnings.values() for w in ws] if isinstance(fit.warnings, Mapping) else list(fit.warnings)
             if warnings:
-                lines += [f"{fit.model}:"] + [f"  - {w}" for w in warnings]
+                lines += [f"{row['label']}:"] + [f"  - {w}" for w in warnings]
         return "\n".join(lines)
 
     def table(self) -> str:
         extra = [c for c in ("log_evidence", "waic") if any(c in r for r in self.rows)]
-        width = max(len(r["model"]) for r in self.rows)
+        width = max(len(r["label"]) for r in self.rows)
         head = f"{'model':<{width}}  {'k':>2}  {'rms_rel':>9}  {'chi2_red':>10}  {'AIC':>9}  {'AICc':>9}  {'BIC':>9}  {'ΔAIC':>7}  {'weight':>6}" + "".join(f"  {c:>12}" for c in extra)
         lines = [head]
         best = self.best_index
         for i, r in enumerate(self.rows):
             aicc = "—" if math.isnan(r["aicc"]) else f"{r['aicc']:.2f}"
-            line = f"{r['model']:<{width}}  {r['n_params']:>2}  {r['rms_rel'] * 100:>8.3g}%  {r['chi2_red']:>10.4g}  {r['aic']:>9.2f}  {aicc:>9}  {r['bic']:>9.2f}  {r['delta_aic']:>7.2f}  {r['akaike_weight']:>6.3f}"
+            line = f"{r['label']:<{width}}  {r['n_params']:>2}  {r['rms_rel'] * 100:>8.3g}%  {r['chi2_red']:>10.4g}  {r['aic']:>9.2f}  {aicc:>9}  {r['bic']:>9.2f}  {r['delta_aic']:>7.2f}  {r['akaike_weight']:>6.3f}"
             line += "".join(f"  {r.get(c, math.nan):>12.2f}" for c in extra)
             if i == best:
                 line += self._best_mark()
@@ -191,14 +214,14 @@ class Comparison:
         determined = self.best_determined_index
         if determined != best:
             lines.append(
-                f"{self.best} leaves {', '.join(undetermined_names(self.fits[best]))} undetermined; "
-                + (f"the best model with every parameter determined is {self.rows[determined]['model']} (ΔAIC {self.rows[determined]['delta_aic']:.2f})" if determined is not None
+                f"{self.rows[best]['label']} leaves {', '.join(undetermined_names(self.fits[best]))} undetermined; "
+                + (f"the best model with every parameter determined is {self.rows[determined]['label']} (ΔAIC {self.rows[determined]['delta_aic']:.2f})" if determined is not None
                    else "so does every other model" if len(self.rows) > 1 else "there is no other model")
             )
         lines += self._criteria_lines()
         for t in self.f_tests:
             test = f"F = {t['f']:.3g}, p = {t['p_value']:.3g}" if t.get("valid", True) else f"no test: {t['note']}"
-            lines.append(f"F-test {t['simple']}  ⊂  {t['complex']}: {test}")
+            lines.append(f"F-test {t.get('simple_label', t['simple'])}  ⊂  {t.get('complex_label', t['complex'])}: {test}")
         return "\n".join(lines)
 
     def _criteria_lines(self) -> list[str]:
@@ -220,16 +243,38 @@ class Comparison:
         for r in self.rows:
             if math.isnan(r["aicc"]):
                 k = r["n_params"]
-                lines.append(f"AICc is undefined for {r['model']}: n − k − 1 = {n - k - 1} with n = {n} real data values and k = {k} (it needs n ≥ k + 2); left out of the AICc weights")
+                lines.append(f"AICc is undefined for {r['label']}: n − k − 1 = {n - k - 1} with n = {n} real data values and k = {k} (it needs n ≥ k + 2); left out of the AICc weights")
         i = self.best_aicc_index
         if i is not None and i != self.best_index and not self.rows[i]["aicc"] >= self.rows[self.best_index]["aicc"]:  # (NaN: the best by AIC has none)
-            lines.append(f"by AICc (small-sample correction) the best is {self.rows[i]['model']} (AICc weight {self.rows[i]['akaike_weight_aicc']:.3f}); the ranking above is by AIC")
+            lines.append(f"by AICc (small-sample correction) the best is {self.rows[i]['label']} (AICc weight {self.rows[i]['akaike_weight_aicc']:.3f}); the ranking above is by AIC")
         return lines
 
     def to_xarray(self) -> xr.Dataset:
-        models = [r["model"] for r in self.rows]
-        cols = [c for c in self.rows[0] if c != "model"]
-        return xr.Dataset({c: ("model", [r.get(c, math.nan) for r in self.rows]) for c in cols}, coords={"model": models})
+        # the coordinate "model" holds the labels (`fit_label`: a fit with fixed values named by
+        # them, so each fit has its own); the variable "circuit" the models' text
+        cols = [c for c in self.rows[0] if c not in ("model", "label")]
+        data = {c: ("model", [r.get(c, math.nan) for r in self.rows]) for c in cols}
+        data["circuit"] = ("model", [r["model"] for r in self.rows])
+        return xr.Dataset(data, coords={"model": [r["label"] for r in self.rows]})
+
+    def _repr_html_(self) -> str:
+        """The notebook display, as `FitResult`'s: a row per model (its label, k, rms_rel,
+        reduced χ², AIC, ΔAIC, Akaike weight, BIC), the best mark, what the table says under
+        its rows and the F-tests, and the figure of `plot`."""
+        from ..plotting.html import result_html
+
+        best = self.best_index
+        rows = [
+            {"model": r["label"], "k": r["n_params"], "rms_rel [%]": f"{r['rms_rel'] * 100:.3g}", "chi2_red": f"{r['chi2_red']:.4g}", "AIC": f"{r['aic']:.2f}",
+             "ΔAIC": f"{r['delta_aic']:.2f}", "weight": f"{r['akaike_weight']:.3f}", "BIC": f"{r['bic']:.2f}",
+             "": self._best_mark().strip() if i == best else ("did not converge" if not r["converged"] else "")}
+            for i, r in enumerate(self.rows)
+        ]
+        lines = self.table().splitlines()[len(self.rows) + 1 :]  # (the lines under the table's rows: best determined, criteria, F-tests)
+        for fit, row in zip(self.fits, self.rows):  # each model's warnings, as `report`
+            warnings = [w for ws in fit.warnings.values() for w in ws] if isinstance(fit.warnings, Mapping) else list(fit.warnings)
+            lines += [f"{row['label']}: {w}" for w in warnings]
+        return result_html(f"comparison of {len(self.rows)} model{'s' if len(self.rows) != 1 else ''}: best {self.rows[best]['label']}", rows, lines=lines, figure=self.plot)
 
     def plot(self):
         """Data with every model's fit, and each model's relative residuals (Figure;
@@ -264,9 +309,10 @@ def compare(fits: Sequence) -> Comparison:
     delta, weights = akaike_weights([c["aic"] for c in ics])
     delta_c, weights_c = akaike_weights([c["aicc"] for c in ics])
     rows = []
+    labels = unique_labels([fit_label(r) for r in results])
     for i, (item, r, c) in enumerate(zip(items, results, ics)):
         row = {
-            "model": r.model, "n_params": r.n_params, "rms_rel": r.rms_rel, "chi2": r.chi2, "chi2_red": r.chi2_red, "aic": c["aic"], "aicc": c["aicc"], "bic": c["bic"],
+            "model": r.model, "label": labels[i], "n_params": r.n_params, "rms_rel": r.rms_rel, "chi2": r.chi2, "chi2_red": r.chi2_red, "aic": c["aic"], "aicc": c["aicc"], "bic": c["bic"],
             "delta_aic": float(delta[i]), "akaike_weight": float(weights[i]), "delta_aicc": float(delta_c[i]), "akaike_weight_aicc": float(weights_c[i]), "converged": r.converged,
         }
         for extra in ("log_evidence", "waic"):
@@ -275,12 +321,13 @@ def compare(fits: Sequence) -> Comparison:
                 row[extra] = float(value() if callable(value) else value)
         rows.append(row)
     for j, r in enumerate(results):  # a fit another model also gives: the data cannot tell them apart
-        twin = next((rows[i]["model"] for i in range(len(results)) if i != j and _same_fit(results[i], r)), None)
+        twin = next((rows[i]["label"] for i in range(len(results)) if i != j and _same_fit(results[i], r)), None)
         rows[j]["same_fit_as"] = twin
     tests = []
     n = 2 * ref.n_points
     from scipy import stats
 
+    label_of = {id(r): labels[i] for i, r in enumerate(results)}
     for s in results:
         for c in results:
             if s is c or s.n_params >= c.n_params or not is_nested(s.circuit, c.circuit):
@@ -288,11 +335,12 @@ def compare(fits: Sequence) -> Comparison:
             dk = c.n_params - s.n_params
             denom = c.chi2 / (n - c.n_params)
             f_value = max(s.chi2 - c.chi2, 0.0) / dk / denom if denom > 0 else math.inf
-            test = {"simple": s.model, "complex": c.model, "f": float(f_value), "df1": dk, "df2": n - c.n_params, "p_value": float(stats.f.sf(f_value, dk, n - c.n_params)), "valid": True, "note": None}
+            test = {"simple": s.model, "complex": c.model, "f": float(f_value), "df1": dk, "df2": n - c.n_params, "p_value": float(stats.f.sf(f_value, dk, n - c.n_params)), "valid": True, "note": None,
+                    "simple_label": label_of[id(s)], "complex_label": label_of[id(c)]}
             if c.chi2 > s.chi2 * (1 + 1e-9):
-                test.update(valid=False, note=f"{c.model} fits worse than {s.model}, which it contains: its fit did not reach its optimum")
+                test.update(valid=False, note=f"{label_of[id(c)]} fits worse than {label_of[id(s)]}, which it contains: its fit did not reach its optimum")
             elif c.chi2_red < EXACT_CHI2_RED:
-                test.update(valid=False, note=f"{c.model} fits the data to rounding (chi2_red {c.chi2_red:.1e}): noise-free data, nothing to test against")
+                test.update(valid=False, note=f"{label_of[id(c)]} fits the data to rounding (chi2_red {c.chi2_red:.1e}): noise-free data, nothing to test against")
             tests.append(test)
     return Comparison(tuple(rows), tuple(tests), tuple(results), ics[0]["aic_form"])
 

@@ -15,8 +15,9 @@ import xarray as xr
 
 from ..arguments import shown
 from ..circuits import Circuit, parse
+from ..circuits.parser import ARGUMENT_ORDERS
 from ..data import make_spectrum, validate_spectrum
-from ..errors import DataError, FitError, ParameterError
+from ..errors import DataError, FitError, ImpedaxError, ParameterError
 from .parameters import ParameterTable
 
 WEIGHTINGS = {
@@ -60,6 +61,9 @@ def open_spectrum(data: xr.Dataset | str | os.PathLike, *, fmin: float | None = 
     extra dimensions (trial, session, ...) then raise `DataError` naming it.
     """
     data = spectrum_argument(data)
+    if isinstance(data, str) and circuit_text(data):
+        order = ARGUMENT_ORDERS if single not in SWAPPABLE else f"{single} takes {SWAPPABLE[single]}"
+        raise DataError(f"data {shown(data)} is circuit text, not a spectrum or a file: the arguments look swapped ({order})")
     if isinstance(data, xr.Dataset):
         source = str(data.attrs.get("source", "dataset"))
         validate_spectrum(data, source=source)
@@ -78,6 +82,22 @@ def open_spectrum(data: xr.Dataset | str | os.PathLike, *, fmin: float | None = 
             path=source,
         )
     return spectrum
+
+
+# the functions that take a circuit and a spectrum, and in which order (named when the two look swapped)
+SWAPPABLE = {"fit": "(circuit, data)", "sample": "(circuit, data)", "diagnose": "(data, circuit)", "refine": "(data, circuit)"}
+
+
+def circuit_text(text: str) -> bool:
+    """Whether a data argument ``text`` is circuit text rather than a path: no such file, and
+    it parses as a circuit of the default elements."""
+    if os.path.exists(text) or text.strip() in ("", "-"):
+        return False
+    try:
+        parse(text)
+    except ImpedaxError:
+        return False
+    return True
 
 
 MAX_MAGNITUDE = 1e100  # |Z| [Ω] and f [Hz] whose squares and products stay finite in float64

@@ -99,6 +99,9 @@ class Effect:
     plausible: Callable[[Mapping[str, float], Proposal], str | None] | None = field(default=None, repr=False, compare=False)
 
 
+REPR_IDS = 8  # effect ids an EffectCatalog's repr names
+
+
 @dataclass(frozen=True)
 class EffectCatalog:
     """An immutable, ordered set of effects; `register` returns an extended copy."""
@@ -112,6 +115,12 @@ class EffectCatalog:
 
     def __iter__(self) -> Iterator[Effect]:
         return iter(self.effects)
+
+    def __repr__(self) -> str:
+        # short: the default of `effects=` in diagnose's and refine's signatures (help() printed
+        # every effect's fields); the first ids, then how many more
+        shown = ", ".join(self.ids()[:REPR_IDS]) + (f", … {len(self) - REPR_IDS} more" if len(self) > REPR_IDS else "")
+        return f"EffectCatalog({len(self)} effects: {shown})"
 
     def __len__(self) -> int:
         return len(self.effects)

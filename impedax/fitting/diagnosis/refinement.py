@@ -4,13 +4,14 @@ so the result reproduces with ``impedax fit`` of the final model string."""
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, replace
 from typing import Callable
 
 import numpy as np
 import xarray as xr
 
-from ...arguments import MAX_STARTS, checked_arguments, choice, count, flag, frequency, instance_of, real, seed as seed_rule
+from ...arguments import MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice, count, flag, frequency, instance_of, real, seed as seed_rule
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ...data import concise_repr
 from ...errors import CircuitError, ParameterError
@@ -418,9 +419,15 @@ REFINE_START = "R0 + R1 || C1"
 adds what the data need (the start of the real-spectra study, docs/diagnosis.md)."""
 
 
+MIN_CANDIDATE_STEPS = 10
+"""The fewest steps ``max_steps`` gives refine's candidate fits. ``max_steps`` was once refine's
+number of effects (now ``max_effects``), so a small value is refused with a message naming
+``max_effects`` rather than run as a step limit no candidate fit could converge within."""
+
+
 @checked_arguments(
-    max_steps=count(0, 64, optional=True, why="each effect adds one element"), max_effects=count(0, 64, optional=True, why="each effect adds one element"),
-    solver_steps=count(1, 100_000), effects=instance_of(EffectCatalog, what="an EffectCatalog (e.g. impedax.DEFAULT_EFFECTS)"),
+    max_steps=count(0, MAX_SOLVER_STEPS, optional=True), max_effects=count(0, 64, optional=True, why="each effect adds one element"),
+    solver_steps=count(1, MAX_SOLVER_STEPS, optional=True), effects=instance_of(EffectCatalog, what="an EffectCatalog (e.g. impedax.DEFAULT_EFFECTS)"),
     weighting=choice(WEIGHTINGS), noise=real(positive=True, optional=True), registry=instance_of(Registry), fmin=frequency, fmax=frequency,
     n_starts=count(1, MAX_STARTS), seed=seed_rule, drt_evidence=flag,
 )
@@ -430,7 +437,7 @@ def refine(
     *,
     max_steps: int | None = None,
     max_effects: int | None = None,
-    solver_steps: int = CANDIDATE_STEPS,
+    solver_steps: int | None = None,
     effects: EffectCatalog = DEFAULT_EFFECTS,
     weighting: str = "modulus",
     noise: float | None = None,
@@ -444,9 +451,12 @@ def refine(
 ) -> Refinement:
     """Refine ``circuit`` (default `REFINE_START`) on ``data``: diagnose → add the best
     significant effect → refit, until the verdict is not ``missing_effect`` (or no suggestion
-    remains) or ``max_effects`` (default 4; ``max_steps`` is its older name) effects were
-    added. ``solver_steps``: the Levenberg–Marquardt step limit of the candidate fits
-    (``--max-steps`` of the CLI).
+    remains) or ``max_effects`` (default 4; ``--max-effects`` of the CLI) effects were added.
+    ``max_steps`` (default 100, at least `MIN_CANDIDATE_STEPS`): the Levenberg–Marquardt step
+    limit of the candidate fits of every step, as ``max_steps`` of `fit` and `diagnose` and
+    ``--max-steps`` of the CLI (the baseline fit keeps its own); it was once the number of
+    effects, so a value below `MIN_CANDIDATE_STEPS` is a ParameterError naming ``max_effects``.
+    ``solver_steps`` is the step limit's older name (with a FutureWarning).
     ``registry`` parses the circuit; only the points with ``fmin`` ≤ f ≤ ``fmax`` are used, at
     every step, less the points the first diagnosis masks (KK-flagged); ``drt_evidence`` as in
     `diagnose`; ``progress`` is called with a line of text as each step starts. The final model
@@ -454,13 +464,18 @@ def refine(
     step whose refit leaves parameters undetermined is dropped; an ``adequate`` end loses the
     elements it added that an adequate model can do without (`_simplified`). Returns a
     `Refinement`."""
-    if max_steps is not None and max_effects is not None:
-        raise ParameterError("give max_effects (max_steps is its older name), not both")
-    limit = max_effects if max_effects is not None else (max_steps if max_steps is not None else 4)
-    if not isinstance(limit, int) or isinstance(limit, bool) or limit < 0:
-        raise ParameterError(f"max_effects must be a non-negative integer, got {limit!r}")
-    if not isinstance(solver_steps, int) or solver_steps < 1:
-        raise ParameterError(f"solver_steps must be a positive integer, got {solver_steps!r}")
+    if solver_steps is not None:
+        if max_steps is not None:
+            raise ParameterError("give max_steps (the step limit of the candidate fits; solver_steps is its older name), not both")
+        warnings.warn(f"refine(solver_steps={solver_steps}) is now refine(max_steps={solver_steps}), as in fit and diagnose", FutureWarning, stacklevel=3)
+        max_steps = solver_steps
+    if max_steps is not None and max_steps < MIN_CANDIDATE_STEPS:
+        raise ParameterError(
+            f"refine(max_steps={max_steps}): max_steps is the step limit of the candidate fits (as in fit, diagnose and impedax refine --max-steps), "
+            f"at least {MIN_CANDIDATE_STEPS}; the number of effects to add is max_effects (max_effects={max_steps})"
+        )
+    limit = 4 if max_effects is None else max_effects
+    solver_steps = CANDIDATE_STEPS if max_steps is None else max_steps
     say = progress or (lambda text: None)
     ds = open_spectrum(data, fmin=fmin, fmax=fmax, single="refine").data
     say(f"step 0: diagnosing {circuit}")

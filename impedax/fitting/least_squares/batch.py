@@ -16,6 +16,7 @@ import jax
 import numpy as np
 import xarray as xr
 
+from ...arguments import unknown_parameter
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ...data import concise_repr, unit_text
 from ...errors import ParameterError
@@ -25,9 +26,9 @@ from ..problem import residual_scale, weights
 from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, dominant_points, information_criteria, null_sets
 from .order import canonical_order
 from .branches import RELATIVE_ERROR_LIMIT, idle_branch_notes, settle_vanishing, undetermined, undetermined_mask, vanishing_candidates, vanishing_parameters
-from .result import LINEARISED_STDERR_NAME, STDERR_NOTE, bound_sides, confirm_bounds, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, shown_stderr, stack_notes, vanishing_term_sides, weighting_notes, without_error
+from .result import LINEARISED_STDERR_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, shown_stderr, stack_notes, vanishing_term_sides, weighting_notes, without_error
 from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, TreeSolvers, better, over_devices, padded_points, tree_solver, trimmed, unscale
-from .starts import SpectrumFeatures, climb_target, batch_outliers, escalation_rungs, guess_start, rms_rel_of, rung_seed, rung_starts, to_solver_space
+from .starts import SpectrumFeatures, climb_target, batch_outliers, escalation_rungs, guess_start, inward_start, rms_rel_of, rung_seed, rung_starts, to_solver_space
 
 __all__ = ["BatchFitResult", "fit_batch"]
 
@@ -84,7 +85,15 @@ class BatchFitResult:
 
     def values(self, name: str) -> xr.DataArray:
         """Fitted values of parameter ``name`` over the batch dimensions."""
-        return self.dataset["value"].sel(param=name)
+        return self.dataset["value"].sel(param=self._parameter(name, "values"))
+
+    def _parameter(self, name, what: str) -> str:
+        """``name`` if the circuit has that parameter; else a `ParameterError` from ``what``
+        (the method) naming the parameters and the closest one."""
+        names = [str(p) for p in self.dataset["param"].values]
+        if not isinstance(name, str) or name not in names:
+            raise unknown_parameter(f"{what}()", name, names, self.model)
+        return name
 
     def fit_of(self, **labels):
         """The whole `FitResult` of one spectrum — standard errors, correlations, warnings,
@@ -131,7 +140,7 @@ class BatchFitResult:
         """Where the data do not determine parameter ``name`` (bool over the batch dimensions):
         the fits' rule (`branches.undetermined`: relative standard error above 100 %, or none
         finite), a fixed parameter or one at a bound never (its bound note speaks for it)."""
-        ds = self.dataset.sel(param=name)
+        ds = self.dataset.sel(param=self._parameter(name, "undetermined"))
         flagged = undetermined(ds["value"].values, ds["stderr"].values) & ~ds["at_bound"].values & (not bool(ds["fixed"]))
         return xr.DataArray(flagged, dims=ds["value"].dims, coords=ds["value"].coords).drop_vars("param")
 
@@ -208,6 +217,41 @@ def _dims_text(dims: dict[str, int]) -> str:
 
 
 def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source) -> tuple[SolverOutput, np.ndarray, "_LaneRunner"]:
+    """`_started_stack`, then every converged fit left at a bound while chi² falls inward
+    restarted from inside (`restarted_inward`)."""
+    out, used, solver = _started_stack(circuit, table, freq, z, sigma, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
+    inv_re, inv_im = weights(z, sigma, weighting, source)
+    return restarted_inward(out, solver, table, z, inv_re, inv_im, weighting, residual_scale(z, inv_re, inv_im, weighting), max_steps), used, solver
+
+
+# restarts from inside the bounds (as `single.BOUND_RESTARTS`)
+BOUND_RESTARTS = 3
+
+
+def restarted_inward(out: SolverOutput, solver: "_LaneRunner", table: ParameterTable, z, inv_re, inv_im, weighting: str, scale, max_steps: int) -> SolverOutput:
+    """The batch's form of `single.restarted_inward`: converged fits with a parameter at a bound
+    while chi² falls inward (`result.falling_inward`) solved again from inside their bounds
+    (`starts.inward_start`), kept where chi² is lower, at most `BOUND_RESTARTS` times."""
+    for _ in range(BOUND_RESTARTS):
+        converged = np.flatnonzero(np.asarray(out.code) == SolverStatus.CONVERGED)
+        if not converged.size or not len(table.free_names):
+            break
+        sides, step = falling_inward(table, np.asarray(out.x)[converged], np.asarray(out.jacobian)[converged], z[converged], np.asarray(out.z_model)[converged], inv_re[converged], inv_im[converged], weighting, lambda p, s: solver.chi2_at_x(p, converged[s]))
+        stuck = np.flatnonzero(sides.any(axis=1))
+        if not stuck.size:
+            break
+        redo = converged[stuck]
+        start = to_solver_space(table, inward_start(table, np.asarray(out.x)[redo], sides[stuck], step[stuck]))
+        u_r, _, done_r, steps_r = solver.solve(start, redo, np.full(redo.size, max_steps))
+        steps_before = np.asarray(out.steps_total)[redo]
+        candidate = unscale(solver.outputs(u_r, redo, done_r, steps_r, steps_before + steps_r), np.asarray(scale)[redo])
+        if not np.any(np.asarray(candidate.chi2) < np.asarray(out.chi2)[redo]):
+            break
+        out = _merged(out, redo, candidate)
+    return out
+
+
+def _started_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source) -> tuple[SolverOutput, np.ndarray, "_LaneRunner"]:
     """Solver outputs (arrays over B) for a stack of spectra z (B, N), the starts used, and
     the lane runner (for chi² at other points).
 
@@ -481,6 +525,12 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
     converged = finite & (np.asarray(out.code) == SolverStatus.CONVERGED)
     values = np.array(out.x, float)
     stderr = np.full(values.shape, np.nan)
+    inv_re, inv_im = weights(z, sigma, weighting, source)
+    if k and converged.any():
+        # a fit left at a bound while chi² falls inward is not converged (`fit_result` says why)
+        rows = np.flatnonzero(converged)
+        inward = falling_inward(table, values[rows], np.asarray(out.jacobian)[rows], z[rows], np.asarray(out.z_model)[rows], inv_re[rows], inv_im[rows], weighting, lambda p, s: solver.chi2_at_x(p, rows[s]))[0]
+        converged[rows[inward.any(axis=1)]] = False
     odd = ~converged  # these get `fit_result`'s handling of overflow and non-convergence
     notes: list[tuple[str, ...]] = [()] * b
     corr, singular = np.zeros((b, k, k)), np.zeros(b, bool)
@@ -523,7 +573,7 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
     z_model = np.array(out.z_model)
     weighting_extra = data_notes(freq, z, z_model, sigma, weighting, source, solver.kk_misfits)
     for i in np.flatnonzero(odd):
-        r = fit_result(circuit, table, freq, z[i], out.row(i), weighting, int(used[i]), 0.0, registry, chi2_at_x=lambda p, s, i=i: solver.chi2_at_x(p, s + i), extra_notes=weighting_extra[i])
+        r = fit_result(circuit, table, freq, z[i], out.row(i), weighting, int(used[i]), 0.0, registry, chi2_at_x=lambda p, s, i=i: solver.chi2_at_x(p, s + i), extra_notes=weighting_extra[i], weights=(inv_re[i], inv_im[i]))
         values[i] = [r.values[n] for n in names]
         stderr[i] = [r.stderr[n] for n in names]
         linearised[i] = [r.linearised_stderr[n] for n in names]
@@ -554,7 +604,7 @@ def data_notes(freq, z, z_model, sigma, weighting: str, source: str, kk_misfits:
     and a gross misfit (`misfit_notes`; ``kk_misfits``: Kramers–Kronig misfits already known)."""
     b = len(z)
     weighted = weighting_notes(weighting, freq, *dominant_points(z, *weights(z, sigma, weighting, source))) if weighting in ("unit", "proportional") else [()] * b
-    misfit = misfit_notes(freq, z, z_model, kk_misfits)
+    misfit = misfit_notes(freq, z, z_model, kk_misfits, sigma)
     return [tuple(weighted[i]) + non_passive_notes(freq, z[i], None if sigma is None else sigma[i]) + misfit[i] for i in range(b)]
 
 

@@ -13,17 +13,17 @@ import jax
 import xarray as xr
 import numpy as np
 
-from ...arguments import MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice, count, frequency, instance_of, parameter_bounds, parameter_values, seed as seed_rule
+from ...arguments import MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice, count, frequency, init_not_fixed, instance_of, parameter_bounds, parameter_values, seed as seed_rule
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ...errors import ParameterError
 from ..problem import WEIGHTINGS, prepare_fit, residual_scale, weights
 from ..statistics import at_noise_floor, dominant_points, information_criteria
 from .batch import BatchFitResult, fit_batch, register_spectrum_fit
 from .order import canonical_order
-from .result import FitResult, fit_result, misfit_notes, non_passive_notes, weighting_notes
+from .result import FitResult, falling_inward, fit_result, misfit_notes, non_passive_notes, weighting_notes
 from .shared import SharedFitResult, fit_shared
-from .solvers import IDENTITY_DAMPING_STEPS, SCREEN_STEPS, SharedArgs, SpectrumRows, better, padded_points, solver_args, tree_solver, trimmed, unscale
-from .starts import SpectrumFeatures, escalation_rungs, climb_target, guess_start, rms_rel_of, rung_draws, rung_seed, to_solver_space
+from .solvers import IDENTITY_DAMPING_STEPS, SCREEN_STEPS, SharedArgs, SolverStatus, SpectrumRows, better, padded_points, solver_args, tree_solver, trimmed, unscale
+from .starts import SpectrumFeatures, escalation_rungs, climb_target, guess_start, inward_start, rms_rel_of, rung_draws, rung_seed, to_solver_space
 
 __all__ = ["fit", "FitResult", "BatchFitResult", "SharedFitResult", "WEIGHTINGS", "information_criteria"]
 
@@ -54,9 +54,17 @@ def fit(
 
     Parameters are fitted in an unconstrained space (log for positive quantities, logistic
     for bounded ranges), float64. The data-driven guess (with any ``init`` values) is fitted
-    first; when its residuals do not look like white noise, ``n_starts − 1`` further starts
-    are solved with it in one vmapped call and the best is kept (``FitResult.n_starts`` says
-    how many were used).
+    first, alone. ``n_starts`` is the size of one draw of starts, a rung of the start ladder:
+    the guess, (``n_starts`` − 1)//2 jittered copies of it and the rest drawn log-uniformly
+    over ranges scaled to the data, screened side by side and the best continued to
+    convergence. When the guess's fit is not at the noise (residuals not white, or no
+    convergence) or took more than 50 steps, one draw is solved; while the best fit's rms_rel
+    stays above `starts.KK_MISFIT_FACTOR` (1.2) × the misfit of a Kramers–Kronig-consistent
+    model, 4 and then 16 new draws follow (and 64 more for circuits of 12 or more free
+    parameters): up to 21 × ``n_starts`` starts (85 × for the large circuits), 336 by
+    default, 42 for ``n_starts=2``. The best fit is kept; ``FitResult.n_starts`` says how many
+    starts were used (1: the guess alone). ``n_starts=1`` fits the guess alone (in a batch:
+    one local fit per spectrum). docs/fitting.md, "Starts".
     ``init`` gives starting values by name, or is a `FitResult` whose values start the
     parameters this circuit shares with it (e.g. refitting with one element added).
     ``fixed`` pins parameters; ``bounds`` narrows them; ``weighting`` is one of `WEIGHTINGS`.
@@ -70,6 +78,7 @@ def fit(
     ``summary()``, ``report()``, ``to_xarray()``, ``to_table()``, ``plot()`` and the notebook display.
     """
     t0 = time.perf_counter()
+    init_not_fixed(init, fixed)
     problem = prepare_fit(circuit, data, init=init, fixed=fixed, bounds=bounds, fmin=fmin, fmax=fmax, registry=registry)
     circuit, data, table, source = problem.circuit, problem.data, problem.table, problem.source
     if n_starts < 1:
@@ -126,13 +135,14 @@ def fit(
     far = int(out.steps) > IDENTITY_DAMPING_STEPS
     if n_starts > 1 and (far or not at_noise_floor(freq, z, out.z_model, inv_re, inv_im, out.code)[()]):
         out, used = escalated(out, solve, circuit, table, features, freq, z, n_starts, seed, registry, int(max_steps))
+    out = restarted_inward(out, lambda u: solve(u[None])[0], table, z, inv_re, inv_im, weighting, lambda o: one_spectrum_chi2(solvers.chi2_x, args, o))
     out = canonical_order(circuit, table, freq, out, registry)
     chi2_at_x = one_spectrum_chi2(solvers.chi2_x, args, out)
     notes = weighting_notes(weighting, freq, *dominant_points(z, inv_re, inv_im))[0] if weighting in ("unit", "proportional") else ()
-    notes = tuple(notes) + non_passive_notes(freq, z, sigma) + misfit_notes(freq, z, out.z_model)[0]
+    notes = tuple(notes) + non_passive_notes(freq, z, sigma) + misfit_notes(freq, z, out.z_model, sigma=None if sigma is None else np.asarray(sigma)[None])[0]
     given = np.isfinite(table.values[table.free_index])
     start = "the given start" if given.all() and given.size else "the given start, the other parameters' from the data" if given.any() else "the data-driven start"
-    return fit_result(circuit, table, freq, z, out, weighting, used, time.perf_counter() - t0, registry, chi2_at_x=chi2_at_x, extra_notes=notes, start=start)
+    return fit_result(circuit, table, freq, z, out, weighting, used, time.perf_counter() - t0, registry, chi2_at_x=chi2_at_x, extra_notes=notes, start=start, weights=(inv_re, inv_im))
 
 
 register_spectrum_fit(fit)  # (BatchFitResult.fit_of refits one spectrum with it)
@@ -167,6 +177,32 @@ def escalated(out, solve, circuit, table, features, freq, z, n_starts: int, seed
         for continued in solve(*(np.resize(g, (n_starts, g.shape[1])) for g in groups), screen_steps=max_steps):
             out = better(out, continued)
     return out, calls * n_starts
+
+
+# restarts from inside the bounds of a fit that stopped at a bound while chi² falls inward
+BOUND_RESTARTS = 3
+
+
+def restarted_inward(out, solve_from, table, z, inv_re, inv_im, weighting: str, chi2_of):
+    """``out`` (one spectrum's converged `SolverOutput`) restarted from inside its bounds while
+    a parameter sits at a bound with chi² falling inward (`result.falling_inward`: the solver
+    stopped where its bounded coordinate is flat, e.g. from a start clipped to the bound): the
+    parameter moved by its Newton step along it alone, at least `starts.INSIDE_FRACTION` of
+    its span inside (`starts.inward_start`), the others kept, solved again
+    (``solve_from(u (K,))``, one start); kept where chi² is lower, at most `BOUND_RESTARTS`
+    times (``chi2_of(out)``: the `one_spectrum_chi2` of an output, which measures the fall).
+    The same rule as the batch's (`batch.restarted_inward`)."""
+    for _ in range(BOUND_RESTARTS):
+        if int(out.code) != SolverStatus.CONVERGED:
+            break
+        sides, step = falling_inward(table, np.asarray(out.x)[None], np.asarray(out.jacobian)[None], np.asarray(z)[None], np.asarray(out.z_model)[None], np.asarray(inv_re)[None], np.asarray(inv_im)[None], weighting, chi2_of(out))
+        if not sides.any():
+            break
+        again = solve_from(to_solver_space(table, inward_start(table, np.asarray(out.x), sides[0], step[0])))
+        if not float(again.chi2) < float(out.chi2):
+            break
+        out = better(out, again)._replace(steps_total=np.asarray(out.steps_total) + np.asarray(again.steps_total))
+    return out
 
 
 def one_spectrum_chi2(chi2_x, args, out):

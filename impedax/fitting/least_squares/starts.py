@@ -29,6 +29,7 @@ from ..parameters import ParameterTable, to_internal
 
 __all__ = [
     "SpectrumFeatures", "data_driven_guess", "data_driven_guesses", "random_starts", "guess_start", "multistart", "rung_starts", "rung_draws", "to_solver_space",
+    "INSIDE_FRACTION", "well_inside", "inward_start",
     "ESCALATION_RUNGS", "LARGE_CIRCUIT_FREE", "LARGE_CIRCUIT_RUNG", "escalation_rungs", "KK_MISFIT_FACTOR", "ESCALATION_FLOOR", "climb_target", "BATCH_OUTLIER_FACTOR", "attainable_misfit", "rms_rel_of", "rung_seed", "batch_outliers",
 ]
 
@@ -248,14 +249,68 @@ def data_driven_guess(circuit: Circuit, table: ParameterTable, features: Spectru
     return guesses if features._stacked else guesses[0]
 
 
+# a start outside a parameter's bounds (a data-driven guess beyond a bound you set, a random
+# draw over the data's ranges) is placed this fraction of the solver's span inside the bound it
+# crossed (the span of the logistic's argument: log x for a positive bounded parameter, x for
+# an exponent). Nudged just inside (1e-6, before 2026-11-29), it sat where the logistic is flat:
+# its gradient in the solver's coordinates was ~1e-4 of the parameter's, Levenberg–Marquardt
+# stopped there, and a fit with bounds R0 ∈ (63, 64) around the optimum 63.56 of BioLogic's
+# real file ended at R0 = 63.99994, "at its upper bound" (docs/fitting.md, "Convergence and bounds")
+INSIDE_FRACTION = 0.1
+
+
 def _clip_inside(x, table: ParameterTable) -> np.ndarray:
+    """Values x (…, P) inside their bounds: a value outside moved `INSIDE_FRACTION` of the
+    solver's span inside (`well_inside`); a value on a bound (an exponent's start at 1) nudged
+    1e-6 inside, as before."""
     lo, hi = table.lower, table.upper
+    x = np.asarray(x, float)
+    with np.errstate(invalid="ignore"):
+        outside = (x < lo) | (x > hi)
+    x = np.where(outside, well_inside(x, table, INSIDE_FRACTION), x)
     # (0, ∞) is fitted in log space: any positive value is inside (a floor of lower + 1e-6
     # would lift every capacitance and CPE Q guess to 1 µF)
     span_lo = np.where(lo > 0, lo * (1 + 1e-6), lo + 1e-6 * np.where(np.isfinite(hi), hi - lo, 1.0))
     span_lo = np.where((lo == 0) & ~np.isfinite(hi), 1e-300, span_lo)
     span_hi = np.where(np.isfinite(hi), np.where(hi > 0, hi * (1 - 1e-6), hi - 1e-6), np.inf)
     return np.clip(x, span_lo, span_hi)
+
+
+def well_inside(x, table: ParameterTable, fraction: float = INSIDE_FRACTION) -> np.ndarray:
+    """Values x (…, P) at least ``fraction`` of the solver's span away from each finite bound:
+    for a parameter bounded on both sides, the span of log x (positive lower bound, a unit
+    other than 1: `Transform.LOG_LOGISTIC`) or of x (`Transform.LOGISTIC`); for one with a
+    positive lower bound only, ``fraction`` × the bound above it; a parameter without a
+    positive or finite bound (log space: any positive value) is only kept positive."""
+    lo, hi = table.lower, table.upper
+    x = np.asarray(x, float)
+    logged = (lo > 0) & np.isfinite(hi) & np.array([u != "1" for u in table.units], bool)
+    with np.errstate(all="ignore"):
+        g_lo = np.where(logged, np.log(np.where(lo > 0, lo, 1.0)), lo)
+        g_hi = np.where(logged, np.log(np.where(hi > 0, hi, 1.0)), hi)
+        g = np.where(logged, np.log(np.where(x > 0, x, np.where(lo > 0, lo, 1.0))), x)
+        two_sided = np.isfinite(lo) & np.isfinite(hi) & (hi > lo)
+        span = np.where(two_sided, g_hi - g_lo, 0.0)
+        g2 = np.clip(g, g_lo + fraction * span, g_hi - fraction * span)
+        inside2 = np.where(logged, np.exp(g2), g2)
+        floor = np.where(lo > 0, lo * (1 + fraction), np.where(lo == 0, 1e-300, lo + fraction))
+        one_sided = np.where(np.isfinite(lo) & ~np.isfinite(hi), np.maximum(x, floor), x)
+    return np.where(two_sided, inside2, one_sided)
+
+
+def inward_start(table: ParameterTable, x, sides, step) -> np.ndarray:
+    """A restart for fits x (…, P) stopped at a bound while chi² falls inward (``sides`` (…, K)
+    nonzero over the free parameters: `result.falling_inward`): each such parameter moved by
+    ``step`` (…, K) (the Newton step along it alone, the others held) and kept at least
+    `INSIDE_FRACTION` of the solver's span inside its bounds (`well_inside`); the others
+    unchanged."""
+    x = np.array(x, float)
+    free = table.free_index
+    moved = np.zeros(x.shape, bool)
+    moved[..., free] = np.asarray(sides) != 0
+    target = x.copy()
+    target[..., free] = x[..., free] + np.where(moved[..., free], np.nan_to_num(np.asarray(step, float)), 0.0)
+    return np.where(moved, well_inside(target, table, INSIDE_FRACTION), x)
 
 
 def _log_range(table: ParameterTable, features: SpectrumFeatures, i: int):
