@@ -228,6 +228,17 @@ def _joint_stack(seed=0, n=20):
     return ix.make_spectrum(f, np.stack(z), dims=("trial",))
 
 
+def test_the_cap_keeps_a_large_joint_chain_in_memory():
+    """20 000 steps for the battery circuit (64 walkers, 9 parameters: 12.8 M numbers); a joint
+    posterior of 60 parameters and 240 walkers is held to 30 M numbers (2 049 steps, 240 MB;
+    20 000 steps would keep 2.3 GB); 5 000 walkers of one parameter to 30 M / (5 000 × 2) =
+    3 000 steps, and 10⁶ walkers to 15."""
+    assert chain.auto_step_cap(64, 9) == 20_000
+    assert chain.auto_step_cap(240, 60) == 30_000_000 // (240 * 61) == 2049
+    assert chain.auto_step_cap(5000, 1) == 3000 and chain.auto_step_cap(5000, 0) == 6000
+    assert chain.auto_step_cap(10**6, 1) == 15
+
+
 def test_a_joint_posterior_stops_by_the_same_rule(monkeypatch):
     """steps="auto" (the default) with ``shared=``: the joint sampler runs the single one's rule
     and says so (here stopped at a monkeypatched cap of 300 steps, then from the .nc)."""

@@ -69,7 +69,7 @@ def check_sample_size(circuit, walkers, steps, priors) -> None:
         raise ParameterError(f"--walkers must be at least 2 (an even number, at least 2 × the sampled parameters), got {walkers}")
     dims = len(circuit.parameter_names()) + 2  # + the noise parameter, + the log-probability
     chain_walkers = walkers if walkers is not None else max(64, 4 * dims)
-    length = auto_step_cap(chain_walkers) if steps == "auto" else steps
+    length = auto_step_cap(chain_walkers, dims - 1) if steps == "auto" else steps
     what = f"a chain of up to {length} steps (--steps auto) × {chain_walkers} walkers" if steps == "auto" else f"a chain of {steps} steps × {chain_walkers} walkers"
     check_memory("--steps", float(chain_walkers) * length * dims * CHAIN_BYTES_PER_VALUE, what)
 

@@ -15,7 +15,7 @@ from ...arguments import MAX_CHAIN_VALUES
 from .diagnostics import CHAIN_TAU_MULTIPLE, integrated_autocorr
 from .progress import ProgressLine
 
-__all__ = ["AUTO_STEPS", "AUTO_MAX_STEPS", "AUTO_CHECK_STEPS", "AUTO_TAU_CHANGE", "Chain", "ChainLength", "auto_step_cap", "run_emcee", "length_settings", "length_text", "capped_at"]
+__all__ = ["AUTO_STEPS", "AUTO_MAX_STEPS", "AUTO_CHECK_STEPS", "AUTO_TAU_CHANGE", "Chain", "ChainLength", "AUTO_MAX_CHAIN_NUMBERS", "auto_step_cap", "run_emcee", "length_settings", "length_text", "capped_at"]
 
 AUTO_STEPS = "auto"
 
@@ -24,8 +24,8 @@ AUTO_MAX_STEPS = 20_000
 8-parameter battery circuit of the examples (9 sampled parameters, τ ≈ 140–150 steps) needed
 9 750–13 000 steps, so the cap leaves it room by 1.5–2×, while a posterior that will not mix
 costs at most ~35 s on a quiet 2-core machine (≈ 1.6 ms a step there) and 92 MB of chain
-(64 walkers × 9 parameters); `auto_step_cap` lowers it for many walkers to stay within
-`MAX_CHAIN_VALUES`."""
+(64 walkers × 9 parameters); `auto_step_cap` lowers it for many walkers or parameters to stay
+within `MAX_CHAIN_VALUES` and `AUTO_MAX_CHAIN_NUMBERS`."""
 
 AUTO_CHECK_STEPS = 250
 """Steps between two estimates of τ in a ``steps="auto"`` run (emcee's recipe checks every 100;
@@ -51,10 +51,19 @@ class Chain(NamedTuple):
     stopped: str | None  # steps="auto": "converged" or "cap"; None for a fixed length
 
 
-def auto_step_cap(walkers: int) -> int:
-    """The most steps a ``steps="auto"`` run of ``walkers`` takes: `AUTO_MAX_STEPS`, fewer where
-    steps × walkers would pass `MAX_CHAIN_VALUES`."""
-    return max(1, min(AUTO_MAX_STEPS, MAX_CHAIN_VALUES // max(int(walkers), 1)))
+AUTO_MAX_CHAIN_NUMBERS = 30_000_000
+"""The most numbers (steps × walkers × (parameters + 1), float64: 240 MB) emcee keeps for a
+``steps="auto"`` run: the battery circuit's 20 000 steps × 64 walkers × 10 are 12.8 M; a joint
+posterior of 60 parameters and 240 walkers reaches it at 2 049 steps (20 000 would be 2.3 GB)."""
+
+
+def auto_step_cap(walkers: int, n_params: int = 0) -> int:
+    """The most steps a ``steps="auto"`` run of ``walkers`` over ``n_params`` sampled parameters
+    takes: `AUTO_MAX_STEPS`, fewer where steps × walkers would pass `MAX_CHAIN_VALUES` or the
+    chain `AUTO_MAX_CHAIN_NUMBERS` (a joint posterior of many parameters)."""
+    walkers = max(int(walkers), 1)
+    cap = min(AUTO_MAX_STEPS, MAX_CHAIN_VALUES // walkers, AUTO_MAX_CHAIN_NUMBERS // (walkers * (max(int(n_params), 0) + 1)))
+    return max(1, cap)
 
 
 class ChainLength:
@@ -115,7 +124,7 @@ def run_emcee(p0: np.ndarray, log_prob: Callable[[np.ndarray], np.ndarray], *, s
     sampler = emcee.EnsembleSampler(walkers, n_params, log_prob, vectorize=True)
     sampler.random_state = np.random.RandomState(seed).get_state()
     auto = steps == AUTO_STEPS
-    most = auto_step_cap(walkers) if auto else steps
+    most = auto_step_cap(walkers, n_params) if auto else steps
     length = ChainLength(burn, thin) if auto else None
     bar = ProgressLine(most, progress, label=f"sampling (emcee, {walkers} walkers)", open_ended=auto)
     t0 = time.perf_counter()
@@ -143,7 +152,7 @@ def length_settings(chain: Chain, walkers: int) -> dict:
     (``"auto"``/``"fixed"``), and for ``"auto"`` ``step_cap`` and ``stopped``."""
     if chain.stopped is None:
         return {"steps_mode": "fixed"}
-    return {"steps_mode": "auto", "step_cap": auto_step_cap(walkers), "stopped": chain.stopped}
+    return {"steps_mode": "auto", "step_cap": auto_step_cap(walkers, chain.chain_y.shape[-1]), "stopped": chain.stopped}
 
 
 def length_text(settings: Mapping) -> str:

@@ -465,8 +465,8 @@ def sample(
     priors = coerce_priors(priors)
     _check_user_priors(priors, space, fixed, rp)
     walkers = _walker_count(walkers, len(space.names))
-    if steps == AUTO_STEPS and burn is not None and burn >= auto_step_cap(walkers):
-        raise ParameterError(f"burn must be below the {auto_step_cap(walkers)} steps steps='auto' runs at most (got {burn})")
+    if steps == AUTO_STEPS and burn is not None and burn >= auto_step_cap(walkers, len(space.names)):
+        raise ParameterError(f"burn must be below the {auto_step_cap(walkers, len(space.names))} steps steps='auto' runs at most (got {burn})")
 
     if init is None:
         announce("sample: fitting the least-squares start …", progress)

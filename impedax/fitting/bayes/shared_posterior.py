@@ -440,8 +440,8 @@ def sample_shared(
     walkers = max(64, 4 * p + (4 * p) % 2) if walkers is None else walkers
     if not isinstance(walkers, (int, np.integer)) or walkers < 2 * p or walkers % 2:
         raise ParameterError(f"walkers must be an even number of at least 2 × {p} parameters = {2 * p} (got {walkers!r})")
-    if steps == AUTO_STEPS and burn is not None and burn >= auto_step_cap(walkers):
-        raise ParameterError(f"burn must be below the {auto_step_cap(walkers)} steps steps='auto' runs at most (got {burn})")
+    if steps == AUTO_STEPS and burn is not None and burn >= auto_step_cap(walkers, p):
+        raise ParameterError(f"burn must be below the {auto_step_cap(walkers, p)} steps steps='auto' runs at most (got {burn})")
     y0 = np.array([math.log(v) if ls else v for v, ls in zip(x0, log_scale)])
     rel = np.array([(e / abs(v) if ls else e) for v, e, ls in zip(x0, se, log_scale)])
     spread = 0.1 * np.clip(np.where(np.isfinite(rel), rel, 1e-2), 1e-6, 0.1)
