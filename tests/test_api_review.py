@@ -182,19 +182,23 @@ def test_refine_max_steps_is_the_step_limit_as_in_fit_and_the_cli(biologic, refi
 
 
 def test_refine_max_steps_in_the_old_meaning_is_refused_with_max_effects_named(biologic, refine_calls):
-    """max_steps was once refine's number of effects: a value no candidate fit could converge
-    within is refused, naming max_effects; solver_steps, the step limit's old name, still works."""
+    """max_steps was once refine's number of effects: a small value given alone, no step limit a
+    candidate fit could converge within, is refused naming max_effects; with max_effects given it
+    is a step limit whatever its size (as impedax refine --max-steps passes it); solver_steps,
+    the step limit's old name, still works."""
     calls, stop = refine_calls
-    for old in (0, 3, 9):
-        with pytest.raises(ParameterError, match=rf"refine\(max_steps={old}\): max_steps is the step limit .* at least 10; .*\(max_effects={old}\)"):
+    for old in (3, 9):
+        with pytest.raises(ParameterError, match=rf"refine\(max_steps={old}\): max_steps is the step limit .*\(max_effects={old}\)"):
             ix.refine(biologic, MODEL, max_steps=old)
-    with pytest.raises(ParameterError, match="at least 10"):
+    with pytest.raises(ParameterError, match="max_steps must be at least 1"):
         ix.refine(biologic, MODEL, max_steps=0, max_effects=1)
+    with pytest.raises(stop):
+        ix.refine(biologic, MODEL, max_steps=5, max_effects=2)
     with pytest.warns(FutureWarning, match="solver_steps"), pytest.raises(stop):
         ix.refine(biologic, MODEL, solver_steps=50)
     with pytest.raises(stop):
         ix.refine(biologic, MODEL, max_steps=10)
-    assert [c["max_steps"] for c in calls] == [50, 10]
+    assert [c["max_steps"] for c in calls] == [5, 50, 10]
 
 
 # ---------------------------------------------------------------- 3. swapped arguments
@@ -258,6 +262,15 @@ def test_a_fit_with_fixed_values_is_labelled_by_them(biologic, free_fit, tmp_pat
     assert s["f_tests"][0]["simple"] == MODEL and s["f_tests"][0]["simple_label"] == f"{MODEL} [CPE1.alpha=1]"
     ix.write_result(c, tmp_path / "c.json")
     assert json.loads((tmp_path / "c.json").read_text())["models"][1]["label"] == f"{MODEL} [CPE1.alpha=1]"
+    fig = c.plot()  # the legend names them apart too
+    legend = [t.get_text() for ax in fig.axes if ax.get_legend() for t in ax.get_legend().get_texts()]
+    assert any(t.startswith(f"{MODEL} [CPE1.alpha=1] (rms_rel") for t in legend) and any(t.startswith(f"{MODEL} (rms_rel") for t in legend)
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)
+    # a fit passed twice: each F-test names the row it came from
+    twice = ix.compare([held, free_fit, held])
+    assert {(t["simple_label"], t["complex_label"]) for t in twice.summary()["f_tests"]} == {(f"{MODEL} [CPE1.alpha=1]", MODEL), (f"{MODEL} [CPE1.alpha=1] (2)", MODEL)}
 
 
 def test_fits_without_fixed_values_keep_their_labels(biologic, free_fit):

@@ -131,7 +131,7 @@ def test_hierarchical_auto_is_500_draws_and_warmup(monkeypatch):
     assert seen["draws"] == 60 and seen["warmup"] == 30
 
 
-@pytest.mark.parametrize("steps, fragment", [("many", "steps must be an integer or 'auto'"), (0, "steps must be at least 1"), (10**9, "is above the limit")])
+@pytest.mark.parametrize("steps, fragment", [("many", "steps must be an integer, got 'many' (str); or 'auto'"), (0, "steps must be at least 1"), (10**9, "is above the limit")])
 def test_gap_steps_validation(steps, fragment):
     total, skin, ts = _measurements(n_trials=3)
     with pytest.raises(ix.ParameterError, match=re.escape(fragment)):
@@ -178,6 +178,11 @@ def test_cli_gap_auto_memory_check_uses_the_cap(tmp_path, capsys, monkeypatch):
     assert main(["gap", *paths, "--area", "130e-6", "--pooled"]) == 2
     err = capsys.readouterr().err
     assert "up to 20000 steps" in err and "IMPEDAX_MEMORY_LIMIT" in err
+    # the hierarchical default plans for its 500 draws (7.7 MB), not for emcee's cap
+    monkeypatch.setenv("IMPEDAX_MEMORY_LIMIT", str(500 * 64 * 10 * 8 * 3 - 1000))
+    assert main(["gap", *paths, "--area", "130e-6"]) == 2
+    err = capsys.readouterr().err
+    assert "a gap-thickness chain of 500 steps" in err and "up to" not in err
 
 
 @pytest.mark.slow

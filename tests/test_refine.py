@@ -355,6 +355,39 @@ def test_a_path_of_cheaper_effects_is_kept_when_it_ends_as_good_with_fewer_param
         assert notes == []
 
 
+def test_no_cheaper_path_repeats_the_single_effect_taken_in_place_of_a_pair():
+    """The first diagnosis ranks a pair first (arc + lead, 9 parameters) but one effect is
+    allowed: the greedy path starts from the best single suggestion (RS) and ends adequate. The
+    cheaper paths are measured against that pick, not against the pair: none starts from RS
+    again (one did, and the note read "starting from series_resistance ... instead of
+    series_resistance ..."), and CPE, no cheaper than RS, starts none either."""
+    from types import SimpleNamespace as NS
+
+    from impedax.fitting.diagnosis.refinement import RefinementStep, _best_within, _second_path
+
+    def step(model, aic, k, diagnosis=None, added=None, effect=None):
+        return RefinementStep(_fit_stand_in(model=model, aic=aic, n_params=k), added, effect, diagnosis)
+
+    def suggestion(effect, model, aic, k):
+        return NS(where="in series", effect=effect, delta_aic=aic, added=model, fit=_fit_stand_in(model=model, aic=aic, n_params=k, converged=True), removed=(), undetermined=())
+
+    pair, rs, cpe = suggestion("extra_relaxation+series_inductance", "ARC+L", -900.0, 9), suggestion("series_resistance", "RS", -522.0, 4), suggestion("constant_phase", "CPE", -400.0, 4)
+    first = NS(best=pair, suggestions=(pair, rs, cpe), candidates=(pair, rs, cpe), solver_shape=None, noise=_STAND_IN_NOISE, baseline=NS(frequency=_STAND_IN_FREQUENCY, n_params=3), verdict="missing_effect")
+    picked = _best_within(first, 1)
+    assert picked is rs
+    greedy = [step("start", -270.0, 3, first), step("RS", -522.0, 4, NS(solver_shape=None, verdict="adequate"), "rs", "series_resistance")]
+    started = []
+
+    def diagnosed(fit, shape):
+        started.append(fit.model)
+        return NS(baseline=fit, best=None, verdict="adequate", solver_shape=None)
+
+    notes = []
+    path = _second_path(greedy, picked, 1, diagnosed, lambda text: None, notes, lambda path, label: path)
+    assert [s.model for s in path] == ["start", "RS"] and "RS" not in started, (started, notes)
+    assert not any("instead of series_resistance" in n and "starting from series_resistance" in n for n in notes), notes
+
+
 @pytest.mark.slow
 def test_two_effects_of_one_parameter_each_are_preferred_to_one_element_of_three():
     """A SYNTHETIC Meyer finger (numpy formula) lacking its series resistance and its CPE:

@@ -546,9 +546,9 @@ API_CASES = [
     ("diagnose-unknown-keyword", "diagnose", lambda s: ix.diagnose(s.good, RC, effect=None), P, "diagnose() has no argument 'effect'; did you mean effects?"),
     # refine
     ("refine-data-none", "refine", lambda s: ix.refine(None, RC), D, "data must be a spectrum Dataset"),
-    ("refine-max-steps-negative", "refine", lambda s: ix.refine(s.good, RC, max_steps=-1), P, "max_steps must be at least 0"),
+    ("refine-max-steps-negative", "refine", lambda s: ix.refine(s.good, RC, max_steps=-1), P, "max_steps must be at least 1"),
     ("refine-max-steps-huge", "refine", lambda s: ix.refine(s.good, RC, max_steps=10**7), P, "max_steps=10000000 is above the limit 1,000,000"),
-    ("refine-max-steps-zero", "refine", lambda s: ix.refine(s.good, RC, max_steps=0, max_effects=1), P, "at least 10; the number of effects to add is max_effects"),
+    ("refine-max-steps-zero", "refine", lambda s: ix.refine(s.good, RC, max_steps=0, max_effects=1), P, "max_steps must be at least 1"),
     ("refine-max-effects-huge", "refine", lambda s: ix.refine(s.good, RC, max_effects=10**6), P, "max_effects=1000000 is above the limit 64"),
     ("refine-effects-string", "refine", lambda s: ix.refine(s.good, RC, effects="bogus"), P, "effects must be an EffectCatalog"),
     ("refine-n-starts-bool", "refine", lambda s: ix.refine(s.good, RC, n_starts=True), P, "n_starts must be an integer, got True"),

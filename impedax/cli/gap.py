@@ -48,7 +48,7 @@ def register(sub) -> None:
 def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting.bayes.chain import AUTO_STEPS, auto_step_cap
-    from ..models.gap import gap_analysis
+    from ..models.gap import HIERARCHICAL_AUTO_DRAWS, gap_analysis
     from .common import check_memory, figure_writer, load_selected_files, plan_outputs, print_result, result_writer
 
     if not args.area > 0:
@@ -62,10 +62,11 @@ def run(args) -> int:
         [("--out", args.out, "result"), ("--plot", args.plot, "figure")],
         inputs=[args.total, args.skin, args.touchscreen], stdout="--json" if args.json else None,
     )
-    # emcee keeps every step of every walker: about 64 walkers × 8 parameters × 8 bytes, kept three times
-    # (--steps auto: as many steps as its cap allows)
-    length = auto_step_cap(64) if steps == AUTO_STEPS else steps
-    check_memory("--steps", length * 64 * 10 * 8 * 3, f"a gap-thickness chain of {'up to ' if steps == AUTO_STEPS else ''}{length} steps")
+    # a chain keeps every step of every walker (chain): about 64 walkers × 8 parameters × 8 bytes, kept three times
+    # (--steps auto: emcee's cap, pooled; HIERARCHICAL_AUTO_DRAWS, hierarchical)
+    auto_length = auto_step_cap(64) if args.method == "pooled" else HIERARCHICAL_AUTO_DRAWS
+    length = auto_length if steps == AUTO_STEPS else steps
+    check_memory("--steps", length * 64 * 10 * 8 * 3, f"a gap-thickness chain of {'up to ' if steps == AUTO_STEPS and args.method == 'pooled' else ''}{length} steps")
     total, skin, touchscreen = load_selected_files([args.total, args.skin, args.touchscreen], args.select)
     result = gap_analysis(total, skin, touchscreen, area=args.area, v0=args.v0, ep=args.ep, steps=steps, seed=args.seed, method=args.method, progress=not (args.quiet or args.json), check_area=not args.no_area_check)
     outputs.save({"--out": result_writer(result), "--plot": figure_writer(result.plot)})

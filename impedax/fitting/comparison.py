@@ -327,20 +327,19 @@ def compare(fits: Sequence) -> Comparison:
     n = 2 * ref.n_points
     from scipy import stats
 
-    label_of = {id(r): labels[i] for i, r in enumerate(results)}
-    for s in results:
-        for c in results:
-            if s is c or s.n_params >= c.n_params or not is_nested(s.circuit, c.circuit):
+    for i, s in enumerate(results):
+        for j, c in enumerate(results):
+            if i == j or s.n_params >= c.n_params or not is_nested(s.circuit, c.circuit):
                 continue
             dk = c.n_params - s.n_params
             denom = c.chi2 / (n - c.n_params)
             f_value = max(s.chi2 - c.chi2, 0.0) / dk / denom if denom > 0 else math.inf
             test = {"simple": s.model, "complex": c.model, "f": float(f_value), "df1": dk, "df2": n - c.n_params, "p_value": float(stats.f.sf(f_value, dk, n - c.n_params)), "valid": True, "note": None,
-                    "simple_label": label_of[id(s)], "complex_label": label_of[id(c)]}
+                    "simple_label": labels[i], "complex_label": labels[j]}
             if c.chi2 > s.chi2 * (1 + 1e-9):
-                test.update(valid=False, note=f"{label_of[id(c)]} fits worse than {label_of[id(s)]}, which it contains: its fit did not reach its optimum")
+                test.update(valid=False, note=f"{labels[j]} fits worse than {labels[i]}, which it contains: its fit did not reach its optimum")
             elif c.chi2_red < EXACT_CHI2_RED:
-                test.update(valid=False, note=f"{label_of[id(c)]} fits the data to rounding (chi2_red {c.chi2_red:.1e}): noise-free data, nothing to test against")
+                test.update(valid=False, note=f"{labels[j]} fits the data to rounding (chi2_red {c.chi2_red:.1e}): noise-free data, nothing to test against")
             tests.append(test)
     return Comparison(tuple(rows), tuple(tests), tuple(results), ics[0]["aic_form"])
 

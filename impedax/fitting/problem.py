@@ -84,8 +84,9 @@ def open_spectrum(data: xr.Dataset | str | os.PathLike, *, fmin: float | None = 
     return spectrum
 
 
-# the functions that take a circuit and a spectrum, and in which order (named when the two look swapped)
-SWAPPABLE = {"fit": "(circuit, data)", "sample": "(circuit, data)", "diagnose": "(data, circuit)", "refine": "(data, circuit)"}
+# the functions that open their spectrum by name (``single=``) and take a circuit too, in this
+# order (named when the two look swapped; fit, which passes no name, gets `parser.ARGUMENT_ORDERS`)
+SWAPPABLE = {"sample": "(circuit, data)", "diagnose": "(data, circuit)", "refine": "(data, circuit)"}
 
 
 def circuit_text(text: str) -> bool:

@@ -30,10 +30,10 @@ import numpy as np
 import xarray as xr
 
 from ..circuits import parse
-from ..arguments import MAX_SAMPLER_STEPS, MAX_WALKERS, checked_arguments, choice, count, flag, real, seed
+from ..arguments import MAX_WALKERS, checked_arguments, choice, count, flag, real, seed
 from ..errors import CircuitError, DataError, ParameterError
 from ..constants import EPSILON_0, EPSILON_AIR
-from ..fitting.bayes.chain import AUTO_STEPS
+from ..fitting.bayes.chain import AUTO_STEPS, steps_rule
 from .sirin import SIRIN_AREA, SIRIN_DRIVE_V, PaperGapEstimate, gap_force_peak, paper_gap_estimate, remainder_circuit, remaining_impedance, trial_mean, trial_remainders
 
 __all__ = ["GapAnalysis", "gap_analysis", "GAP_METHODS", "FINGERTIP_AREA_M2", "IDENTIFIED_C_REMAINDER", "C_GAP_BOUNDS_F", "HIERARCHICAL_AUTO_DRAWS", "gap_bounds"]
@@ -247,15 +247,6 @@ class GapAnalysis:
         return out
 
 
-def _steps(value, name):
-    """``steps``: a count (`count` rule), or ``"auto"``."""
-    if isinstance(value, str):
-        if value == AUTO_STEPS:
-            return value
-        raise ParameterError(f"{name} must be an integer or {AUTO_STEPS!r}, got {value!r}")
-    return count(1, MAX_SAMPLER_STEPS)(value, name)
-
-
 def gap_bounds(area: float, eps_gap: float = EPSILON_AIR) -> tuple[float, float]:
     """Prior bounds (lower, upper) of u [m] for ``area`` [m²]: u = ε0 ε_gap A / C_gap at the
     upper and lower ends of `C_GAP_BOUNDS_F`, so every area gives the same bounds on C_gap."""
@@ -265,7 +256,7 @@ def gap_bounds(area: float, eps_gap: float = EPSILON_AIR) -> tuple[float, float]
 
 @checked_arguments(
     area=real(positive=True), v0=real(positive=True), ep=choice(("C", "CPE")), eps_gap=real(positive=True), cutoff_hz=real(positive=True),
-    steps=_steps, walkers=count(2, MAX_WALKERS, optional=True), seed=seed, progress=flag, check_area=flag,
+    steps=steps_rule, walkers=count(2, MAX_WALKERS, optional=True), seed=seed, progress=flag, check_area=flag,
 )
 def gap_analysis(
     total: xr.Dataset,

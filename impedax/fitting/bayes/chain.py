@@ -11,11 +11,12 @@ from typing import Callable, Mapping, NamedTuple
 
 import numpy as np
 
-from ...arguments import MAX_CHAIN_VALUES
+from ...arguments import MAX_CHAIN_VALUES, MAX_SAMPLER_STEPS, count, shown
+from ...errors import ParameterError
 from .diagnostics import CHAIN_TAU_MULTIPLE, integrated_autocorr
 from .progress import ProgressLine
 
-__all__ = ["AUTO_STEPS", "AUTO_MAX_STEPS", "AUTO_CHECK_STEPS", "AUTO_TAU_CHANGE", "Chain", "ChainLength", "AUTO_MAX_CHAIN_NUMBERS", "auto_step_cap", "run_emcee", "length_settings", "length_text", "capped_at"]
+__all__ = ["AUTO_STEPS", "AUTO_MAX_STEPS", "AUTO_CHECK_STEPS", "AUTO_TAU_CHANGE", "Chain", "ChainLength", "AUTO_MAX_CHAIN_NUMBERS", "steps_rule", "auto_step_cap", "run_emcee", "length_settings", "length_text", "capped_at"]
 
 AUTO_STEPS = "auto"
 
@@ -37,6 +38,15 @@ AUTO_TAU_CHANGE = 0.01
 fraction since the previous estimate (emcee's recipe): τ estimated on a chain of ~50 τ is low
 by 10–15 % on the examples, and with 2 % the runs stopped at 42–64 τ of the τ a 20 000-step chain
 gives, with 1 % at 52–116 τ (docs/bayesian.md, "Chain length")."""
+
+
+def steps_rule(value, name):
+    """A run's ``steps`` (a `checked_arguments` rule): a count of steps, or ``"auto"``."""
+    if isinstance(value, str):
+        if value == AUTO_STEPS:
+            return value
+        raise ParameterError(f"{name} must be an integer, got {shown(value)} (str); or {AUTO_STEPS!r} to run until the chain is {CHAIN_TAU_MULTIPLE} τ long")
+    return count(1, MAX_SAMPLER_STEPS, why="the chain is kept in memory")(value, name)
 
 
 class Chain(NamedTuple):

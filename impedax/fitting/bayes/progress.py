@@ -15,7 +15,7 @@ LOG_SPACING = 0.1
 """Beyond `LOG_INTERVAL`, the lines in a log are at least this fraction of the run's time so far
 (from its first step: a compilation before it does not count) apart,
 so that their number grows with the logarithm of the run's length: a 400 s run (the Sirin example
-with its long chains) wrote 400 lines at one a second, and writes about 50 so."""
+with its long chains) wrote 400 lines at one a second, and writes 45 so."""
 
 
 def announce(text: str, enabled: bool) -> None:

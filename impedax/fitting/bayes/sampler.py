@@ -19,12 +19,12 @@ import numpy as np
 import xarray as xr
 from scipy import stats
 
-from ...arguments import MAX_CHAIN_VALUES, MAX_SAMPLER_STEPS, MAX_WALKERS, checked_arguments, choice, closest_name, count, flag, frequency, instance_of, parameter_values, seed as seed_rule, shown
+from ...arguments import MAX_CHAIN_VALUES, MAX_WALKERS, checked_arguments, choice, closest_name, count, flag, frequency, instance_of, parameter_values, seed as seed_rule
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, parse
 from ...errors import DataError, FitError, ParameterError
 from ..least_squares import FitResult, fit
 from ..problem import open_spectrum
-from .chain import AUTO_CHECK_STEPS, AUTO_MAX_STEPS, AUTO_STEPS, AUTO_TAU_CHANGE, auto_step_cap, length_settings, run_emcee
+from .chain import AUTO_CHECK_STEPS, AUTO_MAX_STEPS, AUTO_STEPS, AUTO_TAU_CHANGE, auto_step_cap, length_settings, run_emcee, steps_rule
 from .diagnostics import CHAIN_TAU_MULTIPLE
 from .evidence import laplace_evidence, waic
 from .logprob import NOISE_MODELS, LogProbArgs, LogProbFunctions, LogProbStructure, NoiseModel, log_prob_functions, start_weighting
@@ -73,15 +73,6 @@ class SampledParameters:
 
 
 # --- step 1: settings and data ---------------------------------------------------------------
-
-
-def _steps_rule(value, name):
-    """``steps``: a count of steps, or ``"auto"``."""
-    if isinstance(value, str):
-        if value == AUTO_STEPS:
-            return value
-        raise ParameterError(f"{name} must be an integer, got {shown(value)} (str); or {AUTO_STEPS!r} to run until the chain is {CHAIN_TAU_MULTIPLE} τ long")
-    return count(1, MAX_SAMPLER_STEPS, why="the chain is kept in memory")(value, name)
 
 
 def _check_settings(noise, steps, burn, thin) -> tuple[NoiseModel, int | None]:
@@ -394,7 +385,7 @@ def _chain_fits_in_memory(arguments) -> None:
 @checked_arguments(
     _chain_fits_in_memory,
     priors=instance_of(Mapping, optional=True, what="a mapping name → Prior or 'kind:a,b'"), noise=choice(NOISE_MODELS, label="noise model"),
-    walkers=count(2, MAX_WALKERS, optional=True), steps=_steps_rule,
+    walkers=count(2, MAX_WALKERS, optional=True), steps=steps_rule,
     burn=count(0, optional=True), thin=count(1), seed=seed_rule, fixed=parameter_values(),
     reparametrization=instance_of(Reparametrization, optional=True), fmin=frequency, fmax=frequency, progress=flag,
     registry=instance_of(Registry, optional=True),

@@ -252,7 +252,7 @@ def _second_path(steps: list[RefinementStep], picked, limit: int, diagnosed, say
         and all(c.delta_aic < s.delta_aic - DELTA_AIC_MIN for s in first.suggestions if s.effect == c.effect)
     ] if len(steps) >= 2 else []
     keeping = _kept_in_place(first, picked, alternatives + hidden + leaving) if len(steps) >= 2 else []
-    cheaper = _cheaper_starts(steps, alternatives + hidden + leaving + keeping)
+    cheaper = _cheaper_starts(steps, picked, alternatives + hidden + leaving + keeping)
     steps = finished(steps, "")
     starts = [alt for alt in alternatives + sorted(hidden, key=lambda c: c.delta_aic)[:1] + leaving[:1] + keeping + cheaper if effect_count(alt.effect) <= limit]  # (a pair over the limit would start no path)
     for label, alt in zip(("second path", "third path", "fourth path", "fifth path", "sixth path", "seventh path"), starts):
@@ -308,9 +308,10 @@ CHEAPER_PATHS = 2
 """At most this many paths of cheaper effects (`_cheaper_starts`)."""
 
 
-def _cheaper_starts(steps: list[RefinementStep], taken) -> list:
+def _cheaper_starts(steps: list[RefinementStep], picked, taken) -> list:
     """When the greedy path ends ``adequate``: the first diagnosis' best significant suggestion
-    of each other effect that adds fewer parameters than the first choice and starts no other
+    of each other effect that adds fewer parameters than the first choice ``picked`` (the
+    suggestion the greedy path started from) and starts no other
     path (at most `CHEAPER_PATHS`, the best ranked first). One element of many parameters can
     stand in for two effects of one each: on a SYNTHETIC Meyer finger lacking its series
     resistance and its CPE, a nested R ∥ CPE (three parameters) reached the noise in one step,
@@ -321,7 +322,6 @@ def _cheaper_starts(steps: list[RefinementStep], taken) -> list:
     first = steps[0].diagnosis
     if len(steps) < 2 or steps[-1].diagnosis is None or steps[-1].diagnosis.verdict != Verdict.ADEQUATE:
         return []
-    picked = first.best
     best_per_effect: dict[str, object] = {}  # (suggestions are ranked best first)
     for s in first.suggestions:
         if s.effect != picked.effect and s.fit.n_params < picked.fit.n_params and all(s is not t for t in taken):
@@ -420,13 +420,14 @@ adds what the data need (the start of the real-spectra study, docs/diagnosis.md)
 
 
 MIN_CANDIDATE_STEPS = 10
-"""The fewest steps ``max_steps`` gives refine's candidate fits. ``max_steps`` was once refine's
-number of effects (now ``max_effects``), so a small value is refused with a message naming
-``max_effects`` rather than run as a step limit no candidate fit could converge within."""
+"""``max_steps`` was once refine's number of effects (now ``max_effects``): a value below this
+given without ``max_effects`` is refused with a message naming ``max_effects`` rather than run
+as a step limit no candidate fit could converge within (with ``max_effects`` given, it is a step
+limit whatever its size, as ``impedax refine --max-steps`` passes it)."""
 
 
 @checked_arguments(
-    max_steps=count(0, MAX_SOLVER_STEPS, optional=True), max_effects=count(0, 64, optional=True, why="each effect adds one element"),
+    max_steps=count(1, MAX_SOLVER_STEPS, optional=True), max_effects=count(0, 64, optional=True, why="each effect adds one element"),
     solver_steps=count(1, MAX_SOLVER_STEPS, optional=True), effects=instance_of(EffectCatalog, what="an EffectCatalog (e.g. impedax.DEFAULT_EFFECTS)"),
     weighting=choice(WEIGHTINGS), noise=real(positive=True, optional=True), registry=instance_of(Registry), fmin=frequency, fmax=frequency,
     n_starts=count(1, MAX_STARTS), seed=seed_rule, drt_evidence=flag,
@@ -452,10 +453,10 @@ def refine(
     """Refine ``circuit`` (default `REFINE_START`) on ``data``: diagnose → add the best
     significant effect → refit, until the verdict is not ``missing_effect`` (or no suggestion
     remains) or ``max_effects`` (default 4; ``--max-effects`` of the CLI) effects were added.
-    ``max_steps`` (default 100, at least `MIN_CANDIDATE_STEPS`): the Levenberg–Marquardt step
-    limit of the candidate fits of every step, as ``max_steps`` of `fit` and `diagnose` and
-    ``--max-steps`` of the CLI (the baseline fit keeps its own); it was once the number of
-    effects, so a value below `MIN_CANDIDATE_STEPS` is a ParameterError naming ``max_effects``.
+    ``max_steps`` (default 100): the Levenberg–Marquardt step limit of the candidate fits of
+    every step, as ``max_steps`` of `fit` and `diagnose` and ``--max-steps`` of the CLI (the
+    baseline fit keeps its own); it was once the number of effects, so a value below
+    `MIN_CANDIDATE_STEPS` without ``max_effects`` is a ParameterError naming ``max_effects``.
     ``solver_steps`` is the step limit's older name (with a FutureWarning).
     ``registry`` parses the circuit; only the points with ``fmin`` ≤ f ≤ ``fmax`` are used, at
     every step, less the points the first diagnosis masks (KK-flagged); ``drt_evidence`` as in
@@ -469,10 +470,10 @@ def refine(
             raise ParameterError("give max_steps (the step limit of the candidate fits; solver_steps is its older name), not both")
         warnings.warn(f"refine(solver_steps={solver_steps}) is now refine(max_steps={solver_steps}), as in fit and diagnose", FutureWarning, stacklevel=3)
         max_steps = solver_steps
-    if max_steps is not None and max_steps < MIN_CANDIDATE_STEPS:
+    if max_steps is not None and max_steps < MIN_CANDIDATE_STEPS and max_effects is None:
         raise ParameterError(
-            f"refine(max_steps={max_steps}): max_steps is the step limit of the candidate fits (as in fit, diagnose and impedax refine --max-steps), "
-            f"at least {MIN_CANDIDATE_STEPS}; the number of effects to add is max_effects (max_effects={max_steps})"
+            f"refine(max_steps={max_steps}): max_steps is the step limit of the candidate fits (as in fit, diagnose and impedax refine --max-steps); "
+            f"the number of effects to add is max_effects (max_effects={max_steps}); a step limit below {MIN_CANDIDATE_STEPS} needs max_effects given too"
         )
     limit = 4 if max_effects is None else max_effects
     solver_steps = CANDIDATE_STEPS if max_steps is None else max_steps

@@ -21,7 +21,7 @@ from .solvers import SolverOutput, SolverStatus
 from .starts import attainable_misfit, inward_start, rms_rel_of
 
 __all__ = [
-    "FitResult", "fit_result", "fit_notes", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes",
+    "FitResult", "fit_result", "fit_notes", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes",
     "misfit_notes", "gross_misfits", "kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
     "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "shown_stderr", "without_error", "STDERR_NOTE", "LINEARISED_STDERR_NAME",
 ]
@@ -416,6 +416,11 @@ def confirm_bounds(table: ParameterTable, values: np.ndarray, sides: np.ndarray,
     out = sides.copy()
     out[rows[~keep], cols[~keep]] = 0
     return out
+
+
+BOUND_RESTARTS = 3
+"""Restarts from inside the bounds of a fit stopped at a bound while chi² falls inward
+(`falling_inward`; `single.restarted_inward`, `batch.restarted_inward`)."""
 
 
 def falling_inward(table: ParameterTable, values: np.ndarray, jacobian: np.ndarray, z, z_model, inv_re, inv_im, weighting: str, chi2_at_x: Callable) -> tuple[np.ndarray, np.ndarray]:

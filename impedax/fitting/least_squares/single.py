@@ -20,7 +20,7 @@ from ..problem import WEIGHTINGS, prepare_fit, residual_scale, weights
 from ..statistics import at_noise_floor, dominant_points, information_criteria
 from .batch import BatchFitResult, fit_batch, register_spectrum_fit
 from .order import canonical_order
-from .result import FitResult, falling_inward, fit_result, misfit_notes, non_passive_notes, weighting_notes
+from .result import BOUND_RESTARTS, FitResult, falling_inward, fit_result, misfit_notes, non_passive_notes, weighting_notes
 from .shared import SharedFitResult, fit_shared
 from .solvers import IDENTITY_DAMPING_STEPS, SCREEN_STEPS, SharedArgs, SolverStatus, SpectrumRows, better, padded_points, solver_args, tree_solver, trimmed, unscale
 from .starts import SpectrumFeatures, escalation_rungs, climb_target, guess_start, inward_start, rms_rel_of, rung_draws, rung_seed, to_solver_space
@@ -178,9 +178,6 @@ def escalated(out, solve, circuit, table, features, freq, z, n_starts: int, seed
             out = better(out, continued)
     return out, calls * n_starts
 
-
-# restarts from inside the bounds of a fit that stopped at a bound while chi² falls inward
-BOUND_RESTARTS = 3
 
 
 def restarted_inward(out, solve_from, table, z, inv_re, inv_im, weighting: str, chi2_of):

@@ -25,7 +25,7 @@ import numpy as np
 from ...circuits import Circuit, DEFAULT_REGISTRY, Element, Parallel, Registry, StartRole
 from ...errors import ImpedaxError
 from ..kk import kk_test_batch
-from ..parameters import ParameterTable, to_internal
+from ..parameters import ParameterTable, Transform, to_internal
 
 __all__ = [
     "SpectrumFeatures", "data_driven_guess", "data_driven_guesses", "random_starts", "guess_start", "multistart", "rung_starts", "rung_draws", "to_solver_space",
@@ -284,7 +284,7 @@ def well_inside(x, table: ParameterTable, fraction: float = INSIDE_FRACTION) -> 
     positive or finite bound (log space: any positive value) is only kept positive."""
     lo, hi = table.lower, table.upper
     x = np.asarray(x, float)
-    logged = (lo > 0) & np.isfinite(hi) & np.array([u != "1" for u in table.units], bool)
+    logged = np.asarray(table.kind) == Transform.LOG_LOGISTIC
     with np.errstate(all="ignore"):
         g_lo = np.where(logged, np.log(np.where(lo > 0, lo, 1.0)), lo)
         g_hi = np.where(logged, np.log(np.where(hi > 0, hi, 1.0)), hi)
