@@ -86,6 +86,7 @@ print(fit.n_spectra, float(fit.dataset["rms_rel"].median()), true_rms)
 """
 
 
+@pytest.mark.slow  # (19 s)
 def test_a_large_batch_of_a_large_circuit_finishes_on_every_device():
     """600 spectra of a 19-parameter circuit: the batch runs 64 solver lanes per device, whose
     damped systems (above 12 unknowns) went to LAPACK as one batch of 64 per step; on a 2-core

@@ -427,6 +427,7 @@ def meyer_with_series_resistance_and_cpe(seed, rel_noise=0.005):
     return ix.make_spectrum(f, z + rel_noise * np.abs(z) * (rng.normal(size=f.size) + 1j * rng.normal(size=f.size)) / np.sqrt(2))
 
 
+@pytest.mark.slow  # (55 s: the default suite keeps under 15 minutes on 2 cores)
 def test_a_capacitor_that_carries_no_current_is_dropped_from_the_suggestion():
     # C_i + R_sc ∥ C_sc fits with C_sc → 0 (R_sc stands for R_f); R_relax ∥ CPE_relax added
     # then fits to the noise with C_sc undetermined: before, it was never proposed (on one dev

@@ -42,7 +42,7 @@ def _measurements(rng, n_trials=12, noise=0.005, trial_scatter=0.0):
 def analysis():
     rng = np.random.default_rng(11)
     total, skin, ts = _measurements(rng)
-    return gap_analysis(total, skin, ts, area=AREA, steps=200, progress=False)
+    return gap_analysis(total, skin, ts, area=AREA, steps=100, progress=False)  # (the compilation is most of its 40 s)
 
 
 def test_gap_interval_covers_truth(analysis):

@@ -95,6 +95,7 @@ def test_cli_refine_flags_are_checked(missing_series_resistance, tmp_path, capsy
     assert message in capsys.readouterr().err
 
 
+@pytest.mark.slow  # (41 s)
 def test_every_step_of_a_refinement_is_judged_on_the_same_points():
     """REAL data: impedance.py's PowerSuite example file (tests/fixtures/real, MIT). Its two
     highest frequencies have Re Z < 0 (left out: not passive; until its KK test got a chain fine

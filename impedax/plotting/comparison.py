@@ -21,7 +21,8 @@ def plot_comparison(comparison):
     # and a capacitor) are both seen, one drawn over the other
     styles = ("-", "--", "-.", ":")
     curves = []
-    for k, (r, row) in enumerate(zip(comparison.fits, comparison.rows)):
+    rows = getattr(comparison, "rows", None) or [{}] * len(comparison.fits)
+    for k, (r, row) in enumerate(zip(comparison.fits, rows)):
         label = f"{row.get('label', r.model)} (rms_rel {r.rms_rel * 100:.3g} %)"  # (a fit with fixed values named by them)
         ls = styles[k % len(styles)]
         f_model, z_model = model_curve(r)
