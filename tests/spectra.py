@@ -60,3 +60,28 @@ def perturb(params, rng, spread=0.5):
         else:
             out[k] = float(v * 10 ** rng.uniform(-spread, spread))
     return out
+
+
+def r_cpe_series(w, r_inf, r, q, alpha):
+    """R_inf + R ∥ CPE(Q, α) at angular frequencies w."""
+    return r_inf + 1.0 / (1.0 / r + q * (1j * w) ** alpha)
+
+
+def sirin_measurements(rng, n_trials, *, noise=0.005, trial_scatter=0.0, points=41, c_gap=413e-12):
+    """SYNTHETIC Sirin-style trials written from formulas (not impedax's circuits): frequencies
+    (1 Hz–1 MHz) and the total, skin and touchscreen spectra (n_trials, points). Skin and
+    touchscreen R_inf + R ∥ CPE, remainder R_EP ∥ CPE_EP ∥ C_gap; complex noise of ``noise``·|Z|
+    on Re and Im per point, times a per-trial factor 1 + ``trial_scatter``·N(0, 1) common to all
+    frequencies (None: no such factor drawn)."""
+    f = np.geomspace(1.0, 1e6, points)
+    w = 2 * np.pi * f
+    skin = r_cpe_series(w, 300.0, 2e5, 3e-8, 0.8)
+    ts = r_cpe_series(w, 50.0, 2e4, 8e-11, 0.9)
+    rem = 1.0 / (1.0 / 2e7 + 7.5e-10 * (1j * w) ** 0.3 + 1j * w * c_gap)
+
+    def trials(z):
+        scatter = 1.0 if trial_scatter is None else 1 + trial_scatter * rng.normal(size=(n_trials, 1))
+        return z[None, :] * scatter + noise * np.abs(z) * (rng.normal(size=(n_trials, f.size)) + 1j * rng.normal(size=(n_trials, f.size)))
+
+    return f, trials(skin + ts + rem), trials(skin), trials(ts)
+

@@ -17,6 +17,8 @@ import xarray as xr
 import impedax as ix
 from impedax.cli import main
 from impedax.models.gap import gap_analysis
+from spectra import sirin_measurements
+from test_models_gap import _saved
 
 ROOT = Path(__file__).resolve().parent.parent
 EPS0 = 8.8541878128e-12
@@ -25,24 +27,11 @@ AREA = 130e-6
 C_GAP = 413e-12
 
 
-def _r_cpe(w, r_inf, r, q, alpha):
-    return r_inf + 1.0 / (1.0 / r + q * (1j * w) ** alpha)
-
-
 def _measurements(seed=11, n_trials=8, noise=0.005):
-    """SYNTHETIC skin, screen and total (remainder R_EP ∥ CPE_EP ∥ C_gap) written in numpy."""
-    rng = np.random.default_rng(seed)
-    f = np.geomspace(1.0, 1e6, 31)
-    w = 2 * np.pi * f
-    skin = _r_cpe(w, 300.0, 2e5, 3e-8, 0.8)
-    ts = _r_cpe(w, 50.0, 2e4, 8e-11, 0.9)
-    rem = 1.0 / (1.0 / 2e7 + 7.5e-10 * (1j * w) ** 0.3 + 1j * w * C_GAP)
-
-    def trials(z):
-        return z[None, :] + noise * np.abs(z) * (rng.normal(size=(n_trials, f.size)) + 1j * rng.normal(size=(n_trials, f.size)))
-
-    make = lambda z: ix.make_spectrum(f, z, dims=("trial",))  # noqa: E731
-    return make(trials(skin + ts + rem)), make(trials(skin)), make(trials(ts))
+    """SYNTHETIC skin, screen and total (remainder R_EP ∥ CPE_EP ∥ C_gap) written in numpy
+    (`spectra.sirin_measurements`, 31 points, no per-trial scatter)."""
+    f, *spectra = sirin_measurements(np.random.default_rng(seed), n_trials, noise=noise, trial_scatter=None, points=31, c_gap=C_GAP)
+    return tuple(ix.make_spectrum(f, z, dims=("trial",)) for z in spectra)
 
 
 def _flat(ds):
@@ -136,14 +125,6 @@ def test_gap_steps_validation(steps, fragment):
     total, skin, ts = _measurements(n_trials=3)
     with pytest.raises(ix.ParameterError, match=re.escape(fragment)):
         gap_analysis(total, skin, ts, area=AREA, method="pooled", steps=steps, progress=False)
-
-
-def _saved(tmp_path, datasets):
-    paths = []
-    for name, ds in zip(("total", "skin", "ts"), datasets):
-        paths.append(str(tmp_path / f"{name}.nc"))
-        ix.save(ds, paths[-1])
-    return paths
 
 
 @pytest.mark.parametrize("flags, expected", [([], "auto"), (["--steps", "auto"], "auto"), (["--steps", "AUTO"], "auto"), (["--steps", "25"], 25)])

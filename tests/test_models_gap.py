@@ -9,6 +9,7 @@ import pytest
 import impedax as ix
 from impedax.cli import main
 from impedax.models.gap import gap_analysis
+from spectra import r_cpe_series, sirin_measurements
 
 EPS0 = 8.8541878128e-12
 AREA = 130e-6
@@ -16,26 +17,12 @@ C_GAP = 413e-12
 U_TRUE = EPS0 * 1.00059 * AREA / C_GAP  # 2.787 µm
 
 
-def _r_cpe(w, r_inf, r, q, alpha):
-    return r_inf + 1.0 / (1.0 / r + q * (1j * w) ** alpha)
-
-
 def _measurements(rng, n_trials=12, noise=0.005, trial_scatter=0.0):
-    """Skin, touchscreen and total spectra written from formulas (not impedax's circuits):
-    skin and touchscreen R_inf + R ∥ CPE, remainder R_EP ∥ CPE_EP ∥ C_gap; independent
-    measurement noise per point, plus optional per-trial scatter common to all frequencies."""
-    f = np.geomspace(1.0, 1e6, 41)
-    w = 2 * np.pi * f
-    skin = _r_cpe(w, 300.0, 2e5, 3e-8, 0.8)
-    ts = _r_cpe(w, 50.0, 2e4, 8e-11, 0.9)
-    rem = 1.0 / (1.0 / 2e7 + 7.5e-10 * (1j * w) ** 0.3 + 1j * w * C_GAP)
-
-    def trials(z):
-        scatter = 1 + trial_scatter * rng.normal(size=(n_trials, 1))
-        return z[None, :] * scatter + noise * np.abs(z) * (rng.normal(size=(n_trials, f.size)) + 1j * rng.normal(size=(n_trials, f.size)))
-
-    make = lambda z: ix.make_spectrum(f, z, dims=("trial",))  # noqa: E731
-    return make(trials(skin + ts + rem)), make(trials(skin)), make(trials(ts))
+    """Skin, touchscreen and total spectra written from formulas (`spectra.sirin_measurements`):
+    independent measurement noise per point, plus optional per-trial scatter common to all
+    frequencies."""
+    f, *spectra = sirin_measurements(rng, n_trials, noise=noise, trial_scatter=trial_scatter)
+    return tuple(ix.make_spectrum(f, z, dims=("trial",)) for z in spectra)
 
 
 @pytest.fixture(scope="module")
@@ -313,8 +300,8 @@ def test_ideal_ep_capacitor_gives_the_gap_of_the_summed_capacitance():
     rng = np.random.default_rng(21)
     f = np.geomspace(1.0, 1e6, 41)
     w = 2 * np.pi * f
-    skin = _r_cpe(w, 300.0, 2e5, 3e-8, 0.8)
-    ts = _r_cpe(w, 50.0, 2e4, 8e-11, 0.9)
+    skin = r_cpe_series(w, 300.0, 2e5, 3e-8, 0.8)
+    ts = r_cpe_series(w, 50.0, 2e4, 8e-11, 0.9)
     c_ep, r_ep = 100e-12, 5e7
     rem = 1.0 / (1.0 / r_ep + 1j * w * (c_ep + C_GAP))
     assert np.allclose(rem, 1.0 / (1.0 / r_ep + 1j * w * c_ep + 1j * w * C_GAP))
