@@ -214,6 +214,7 @@ def test_each_trials_own_smooth_error_is_marginalised_exactly():
         assert float(density(position)) - float(plain(position)) == pytest.approx(logpdf(cov) - logpdf(independent_cov), rel=1e-8, abs=1e-8)
 
 
+@pytest.mark.slow  # (25 s: the default suite keeps a margin under 15 minutes)
 def test_a_shared_error_confounded_with_a_parameter_adds_its_variance(clean, clean_post):
     """A real, frequency-independent error ε ~ N(0, c²) shared by every trial is exactly
     confounded with the shared series resistance R0: the data fix R0 + ε, so the posterior
