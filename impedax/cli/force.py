@@ -192,21 +192,11 @@ def _plot_text(model: str, params: dict[str, float], convention: str) -> tuple[s
 
 def _figure(model: str, freq, force, peak: dict, params: dict[str, float], convention: str, notes: list[str]):
     """The force plot: `plot_force_spectrum` titled by `_plot_text`, with the warnings of
-    `_notes` (Vezzoli eq 8's validity) written under the axes."""
-    import textwrap
-
+    `_notes` (Vezzoli eq 8's validity) under the axes."""
     from ..plotting.models import plot_force_spectrum
 
     title, subtitle = _plot_text(model, params, convention)
-    fig = plot_force_spectrum(freq, force, title=title, convention=convention, peak=peak)
-    ax = fig.axes[0]
-    ax.set_title("\n".join(textwrap.wrap(title, 80) + textwrap.wrap(subtitle, 95)), fontsize=8.5)
-    lines = [line for note in notes for line in textwrap.wrap(f"warning: {note}", 110)]
-    if lines:
-        fig.set_size_inches(6.5, 4.4 + 0.16 * len(lines))
-        fig.text(0.01, 0.01, "\n".join(lines), fontsize=6.5, color="C3", ha="left", va="bottom")
-    fig.tight_layout(rect=(0, 0.14 * len(lines) / fig.get_size_inches()[1] + (0.03 if lines else 0), 1, 1))
-    return fig
+    return plot_force_spectrum(freq, force, title=title, convention=convention, peak=peak, subtitle=subtitle, notes=notes)
 
 
 def _peak_text(peak: dict) -> str:

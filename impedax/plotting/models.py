@@ -96,10 +96,14 @@ def plot_force_bands(gap):
     return fig
 
 
-def plot_force_spectrum(freq, force, *, title: str, convention: str = "time-average", peak=None):
+def plot_force_spectrum(freq, force, *, title: str, convention: str = "time-average", peak=None, subtitle: str = "", notes=()):
     """Force [N] against frequency [Hz], drawn in mN; ``convention`` ("time-average" or
     "peak") labels the axis. ``peak``: a mapping with ``frequency_hz``, ``force_n`` and
-    ``at_band_edge`` (`impedax force`'s JSON ``peak``), marked on the curve."""
+    ``at_band_edge`` (`impedax force`'s JSON ``peak``), marked on the curve. ``subtitle``
+    (e.g. the drive and the parameters changed from the paper's) goes under the title, and
+    ``notes`` (warnings) under the axes, in red."""
+    import textwrap
+
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(6, 4))
@@ -112,5 +116,13 @@ def plot_force_spectrum(freq, force, *, title: str, convention: str = "time-aver
     ax.set_ylabel(("peak" if convention == "peak" else "time-averaged") + " force [mN]")
     ax.set_title(title)
     ax.grid(True, which="both", alpha=0.3)
-    fig.tight_layout()
+    if not subtitle and not notes:
+        fig.tight_layout()
+        return fig
+    ax.set_title("\n".join(textwrap.wrap(title, 80) + textwrap.wrap(subtitle, 95)), fontsize=8.5)
+    lines = [line for note in notes for line in textwrap.wrap(f"warning: {note}", 110)]
+    if lines:
+        fig.set_size_inches(6.5, 4.4 + 0.16 * len(lines))
+        fig.text(0.01, 0.01, "\n".join(lines), fontsize=6.5, color="C3", ha="left", va="bottom")
+    fig.tight_layout(rect=(0, 0.14 * len(lines) / fig.get_size_inches()[1] + (0.03 if lines else 0), 1, 1))
     return fig
