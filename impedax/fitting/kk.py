@@ -31,7 +31,7 @@ from .grid import ResultGrid
 from .problem import frequency_and_z
 from .statistics import difference_noise, non_passive, residual_noise
 
-__all__ = ["KKResult", "KKBatchResult", "kk_test", "kk_test_batch", "rejudged", "DEFAULT_THRESHOLDS", "CONCLUSIVE_POINTS_MIN", "RULE_NAMES", "band_rules", "band_rule_counts", "points_text"]
+__all__ = ["KKResult", "KKBatchResult", "kk_test", "kk_test_batch", "kk_misfits", "rejudged", "DEFAULT_THRESHOLDS", "CONCLUSIVE_POINTS_MIN", "RULE_NAMES", "band_rules", "band_rule_counts", "points_text"]
 
 # below this many frequencies the chain (M ≤ N − 3 RC elements) is too stiff for the data, its
 # misfit is the chain's own and the noise estimate follows it: the test cannot fail
@@ -443,15 +443,19 @@ def _streamed_qr(omega, z, tau, inductance, capacitance):
     (Schönleber 2014 eq 13). Returns (B, P+1, P+1)."""
     n_spectra, n = z.shape
     p = (1 + int(inductance) + int(capacitance)) + tau.size
-    r = np.zeros((n_spectra, p + 1, p + 1))
+    r = None  # (the first block is factorised alone: stacking zero rows on it costs a third more)
     step = _block_rows(n_spectra, p + 1)
     for start in range(0, n, step):
         stop = min(start + step, n)
         weight = 1.0 / np.abs(z[:, start:stop])  # (B, n_b)
-        a = _design(omega[start:stop], tau, inductance, capacitance)[None] * weight[:, :, None]
+        design = _design(omega[start:stop], tau, inductance, capacitance)
         b = z[:, start:stop] * weight
-        rows = np.concatenate([np.concatenate([a.real, b.real[:, :, None]], axis=2), np.concatenate([a.imag, b.imag[:, :, None]], axis=2)], axis=1)
-        r_new = np.linalg.qr(np.concatenate([r, rows], axis=1), mode="r")
+        n_b = stop - start
+        rows = np.empty((n_spectra, 2 * n_b, p + 1))
+        np.multiply(design.real[None], weight[:, :, None], out=rows[:, :n_b, :p])
+        np.multiply(design.imag[None], weight[:, :, None], out=rows[:, n_b:, :p])
+        rows[:, :n_b, p], rows[:, n_b:, p] = b.real, b.imag
+        r_new = np.linalg.qr(rows if r is None else np.concatenate([r, rows], axis=1), mode="r")
         r = np.zeros((n_spectra, p + 1, p + 1))
         r[:, : r_new.shape[1]] = r_new
     return r
@@ -461,23 +465,53 @@ def _solve_streamed(omega, z, tau, inductance, capacitance):
     """Weighted linear least squares of one M for a stack of spectra z (B, N).
 
     The columns are scaled to unit norm (the ω/|Z| inductance column and the RC columns then
-    share one scale) and the small triangular system is solved by SVD, which also handles a
-    rank-deficient design (e.g. nearly coincident frequencies). Returns coefficients (B, P) and
-    the residual sum of squares Σ|Δ|² (B,).
+    share one scale) and the small triangular system is solved as by SVD
+    (`_pseudo_inverse_solution`), which also handles a rank-deficient design (e.g. nearly
+    coincident frequencies). Returns coefficients (B, P) and the residual sum of squares
+    Σ|Δ|² (B,).
     """
     r_aug = _streamed_qr(omega, z, tau, inductance, capacitance)
     p = r_aug.shape[-1] - 1
     r, qtb, rho = r_aug[:, :p, :p], r_aug[:, :p, p], r_aug[:, p, p]
     scale = np.linalg.norm(r, axis=1)  # column norms of R = column norms of the weighted A
     scale = np.where(scale > 0, scale, 1.0)
-    u, s, vt = np.linalg.svd(r / scale[:, None, :])
-    keep = s > s[:, :1] * p * np.finfo(float).eps
-    y = np.einsum("bqp,bq->bp", u, qtb) / np.where(keep, s, 1.0)
-    y = np.where(keep, y, 0.0)
-    x = np.einsum("bpq,bp->bq", vt, y) / scale
+    r_scaled = r / scale[:, None, :]
+    y = np.zeros_like(qtb)
+    # well-conditioned systems (all here: cond ≤ 2e4 on the 130 real battery cycles) by back
+    # substitution, with R⁻¹ beside the solution: ‖R‖_F‖R⁻¹‖_F ≥ cond₂(R), so below 1/(P·eps)
+    # no singular value is cut and the SVD's answer is the same to rounding, at half its cost
+    sure = np.zeros(len(r), bool)
+    try:
+        with np.errstate(all="ignore"):
+            solution = np.linalg.solve(r_scaled, np.concatenate([qtb[:, :, None], np.broadcast_to(np.eye(p), r.shape)], axis=2))
+            bound = np.linalg.norm(r_scaled, axis=(1, 2)) * np.linalg.norm(solution[:, :, 1:], axis=(1, 2))
+        sure = np.isfinite(bound) & (bound * p * np.finfo(float).eps < 1)
+        y[sure] = solution[sure, :, 0]
+    except np.linalg.LinAlgError:  # (an exactly singular R in the stack)
+        pass
+    if not sure.all():
+        y[~sure] = _pseudo_inverse_solution(r_scaled[~sure], qtb[~sure])
+    x = y / scale
     unexplained = np.einsum("bpq,bq->bp", r, x) - qtb
     rss = rho**2 + np.sum(unexplained**2, axis=1)
     return x, rss
+
+
+def _pseudo_inverse_solution(r, qtb) -> np.ndarray:
+    """y = R⁺ Qᵀb for triangular systems r (B, P, P): singular values below P·eps of the largest
+    cut (a rank-deficient design), by back substitution where none is."""
+    p = r.shape[-1]
+    s = np.linalg.svd(r, compute_uv=False)
+    keep = s > s[:, :1] * p * np.finfo(float).eps
+    full = keep.all(axis=1)
+    y = np.zeros_like(qtb)
+    y[full] = np.linalg.solve(r[full], qtb[full][:, :, None])[:, :, 0]
+    if not full.all():
+        u, s_cut, vt = np.linalg.svd(r[~full])
+        kept = keep[~full]
+        w = np.where(kept, np.einsum("bqp,bq->bp", u, qtb[~full]) / np.where(kept, s_cut, 1.0), 0.0)
+        y[~full] = np.einsum("bpq,bp->bq", vt, w)
+    return y
 
 
 def _evaluate(omega, tau, coefficients, inductance, capacitance) -> np.ndarray:
@@ -526,21 +560,23 @@ def _kk_arrays(freq, z, *, c, max_rc, n_rc, inductance, capacitance, floor):
     m_top = _check_options(np.asarray(freq, dtype=np.float64), c, max_rc, n_rc, n_series)
     omega = 2 * np.pi * np.asarray(freq, dtype=np.float64)
     tau_top = _time_constants(freq, m_top)
-    coef_top, rss_top = _solve_streamed(omega, z, tau_top, inductance, capacitance)
-    solved = {(m_top, i): (coef_top[i], rss_top[i]) for i in range(batch)}
+    solved = {}  # (M, spectrum) → (coefficients, RSS, µ)
 
-    def solve(m, spectra):
-        """Coefficients and RSS of M = m for the listed spectra (each pair solved once)."""
+    def solve(m, spectra, tau=None):
+        """Coefficients, RSS and µ of M = m for the listed spectra (each pair solved once)."""
         todo = [i for i in spectra if (m, i) not in solved]
         if todo:
-            coef, rss = _solve_streamed(omega, z[todo], _time_constants(freq, m), inductance, capacitance)
-            solved.update({(m, i): (coef[k], rss[k]) for k, i in enumerate(todo)})
+            coef, rss = _solve_streamed(omega, z[todo], _time_constants(freq, m) if tau is None else tau, inductance, capacitance)
+            solved.update({(m, i): (coef[k], rss[k], mu) for k, (i, mu) in enumerate(zip(todo, _mu(coef[:, n_series:]).tolist()))})
+
+    solve(m_top, range(batch), tau_top)
+    rss_top = np.array([solved[(m_top, i)][1] for i in range(batch)])
 
     def fitted(m, i):
         return bool(_fits_like_reference(solved[(m, i)][1], n_series + m, rss_top[i], n_series + m_top, n, floor))
 
     def mu_of(m, i):
-        return float(_mu(solved[(m, i)][0][n_series:]))
+        return solved[(m, i)][2]
 
     if n_rc is not None:
         best = [m_top] * batch
@@ -782,10 +818,22 @@ def _options_of_kk_test(options: Mapping) -> dict:
 kk_test_batch.__signature__ = inspect.signature(kk_test).replace(return_annotation="KKBatchResult")
 
 
-def _run(freq, z, shape, dims, coords, *, c, max_rc, n_rc, inductance, capacitance, thresholds, source=None, attrs=None, sign_check=True) -> KKBatchResult:
-    """The tests of the spectra ``z`` (batch, N); ``sign_check``: each result's ``sign_hint``
-    (`io.sign_check.sign_hint`, the test of conj(Z) with the same options; ``attrs``: the data's, for
-    how to fix the file)."""
+def kk_misfits(data, **options) -> np.ndarray:
+    """The ``rms_rel`` of `kk_test_batch`'s Voigt-chain fits (shape: the extra dimensions),
+    without its flags, bands and sign check: a third less work, for a yardstick of what a
+    Kramers–Kronig-consistent model leaves (the start ladder and the misfit notes)."""
+    freq, z, _, _, source = frequency_and_z(data)
+    flat = z.reshape(-1, freq.size)
+    _, chosen = _chosen_chains(freq, flat, **_options_of_kk_test(options), source=source)
+    return np.array([_rms_rel(zi, z_kk) for zi, (*_, z_kk) in zip(flat, chosen)], float).reshape(z.shape[:-1])
+
+
+def _rms_rel(z, z_kk) -> float:
+    return float(np.sqrt(np.mean(np.abs((z - z_kk) / np.abs(z)) ** 2)))
+
+
+def _chosen_chains(freq, z, *, c, max_rc, n_rc, inductance, capacitance, thresholds, source=None):
+    """The validated thresholds (for N points) and `_kk_arrays`'s chain of each spectrum z (batch, N)."""
     rules = dict(DEFAULT_THRESHOLDS)
     for key, value in (thresholds or {}).items():
         if key not in rules:
@@ -799,13 +847,20 @@ def _run(freq, z, shape, dims, coords, *, c, max_rc, n_rc, inductance, capacitan
     if np.any(np.abs(z) == 0):
         raise DataError(f"{zero_impedance_text(freq, z)}; the 1/|Z| weighting needs |Z| > 0", path=source)
     rules = _thresholds_for(rules, freq.size)
-    flat = z.reshape(-1, freq.size)
     try:
-        chosen = _kk_arrays(freq, flat, c=c, max_rc=max_rc, n_rc=n_rc, inductance=bool(inductance), capacitance=bool(capacitance), floor=rules["noise_floor"])
+        return rules, _kk_arrays(freq, z, c=c, max_rc=max_rc, n_rc=n_rc, inductance=bool(inductance), capacitance=bool(capacitance), floor=rules["noise_floor"])
     except DataError as error:  # (too few frequencies): name the data
         if error.path is None and source is not None:
             raise DataError(str(error), path=source) from None
         raise
+
+
+def _run(freq, z, shape, dims, coords, *, c, max_rc, n_rc, inductance, capacitance, thresholds, source=None, attrs=None, sign_check=True) -> KKBatchResult:
+    """The tests of the spectra ``z`` (batch, N); ``sign_check``: each result's ``sign_hint``
+    (`io.sign_check.sign_hint`, the test of conj(Z) with the same options; ``attrs``: the data's, for
+    how to fix the file)."""
+    flat = z.reshape(-1, freq.size)
+    rules, chosen = _chosen_chains(freq, flat, c=c, max_rc=max_rc, n_rc=n_rc, inductance=inductance, capacitance=capacitance, thresholds=thresholds, source=source)
     order = np.argsort(freq)
     n_series = 1 + int(inductance) + int(capacitance)
     # the default reference chain's misfit, whatever chain the user chose: a short one of their
@@ -829,7 +884,7 @@ def _run(freq, z, shape, dims, coords, *, c, max_rc, n_rc, inductance, capacitan
                 n_rc=int(m),
                 mu=mu,
                 mu_reached=reached,
-                rms_rel=float(np.sqrt(np.mean(np.abs(residual) ** 2))),
+                rms_rel=_rms_rel(zi, z_kk),
                 noise_estimate=noise,
                 threshold_scale=scale,
                 valid=not bands,

@@ -216,26 +216,32 @@ def _dims_text(dims: dict[str, int]) -> str:
     return " × ".join(f"{d} ({n})" for d, n in dims.items())
 
 
-def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source) -> tuple[SolverOutput, np.ndarray, "_LaneRunner"]:
+def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source) -> tuple[SolverOutput, np.ndarray, "_LaneRunner", np.ndarray]:
     """`_started_stack`, then every converged fit left at a bound while chi² falls inward
-    restarted from inside (`restarted_inward`)."""
+    restarted from inside (`restarted_inward`); the last item flags the fits still so."""
     out, used, solver = _started_stack(circuit, table, freq, z, sigma, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
     inv_re, inv_im = weights(z, sigma, weighting, source)
-    return restarted_inward(out, solver, table, z, inv_re, inv_im, weighting, residual_scale(z, inv_re, inv_im, weighting), max_steps), used, solver
+    out, inward = restarted_inward(out, solver, table, z, inv_re, inv_im, weighting, residual_scale(z, inv_re, inv_im, weighting), max_steps)
+    return out, used, solver, inward
 
 
-
-def restarted_inward(out: SolverOutput, solver: "_LaneRunner", table: ParameterTable, z, inv_re, inv_im, weighting: str, scale, max_steps: int) -> SolverOutput:
+def restarted_inward(out: SolverOutput, solver: "_LaneRunner", table: ParameterTable, z, inv_re, inv_im, weighting: str, scale, max_steps: int) -> tuple[SolverOutput, np.ndarray]:
     """The batch's form of `single.restarted_inward`: converged fits with a parameter at a bound
     while chi² falls inward (`result.falling_inward`) solved again from inside their bounds
-    (`starts.inward_start`), kept where chi² is lower, at most `BOUND_RESTARTS` times."""
-    for _ in range(BOUND_RESTARTS):
+    (`starts.inward_start`), kept where chi² is lower, at most `BOUND_RESTARTS` times. Returns
+    the outputs and which fits (B,) are still converged at a bound while chi² falls inward:
+    the rule's verdict on the outputs returned, which `canonical_order` keeps (it exchanges
+    only blocks of equal bounds)."""
+    inward = np.zeros(np.shape(out.code), bool)
+    for attempt in range(BOUND_RESTARTS + 1):
+        inward[:] = False
         converged = np.flatnonzero(np.asarray(out.code) == SolverStatus.CONVERGED)
         if not converged.size or not len(table.free_names):
             break
         sides, step = falling_inward(table, np.asarray(out.x)[converged], np.asarray(out.jacobian)[converged], z[converged], np.asarray(out.z_model)[converged], inv_re[converged], inv_im[converged], weighting, lambda p, s: solver.chi2_at_x(p, converged[s]))
         stuck = np.flatnonzero(sides.any(axis=1))
-        if not stuck.size:
+        inward[converged[stuck]] = True
+        if not stuck.size or attempt == BOUND_RESTARTS:
             break
         redo = converged[stuck]
         start = to_solver_space(table, inward_start(table, np.asarray(out.x)[redo], sides[stuck], step[stuck]))
@@ -245,7 +251,7 @@ def restarted_inward(out: SolverOutput, solver: "_LaneRunner", table: ParameterT
         if not np.any(np.asarray(candidate.chi2) < np.asarray(out.chi2)[redo]):
             break
         out = _merged(out, redo, candidate)
-    return out
+    return out, inward
 
 
 def _started_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source) -> tuple[SolverOutput, np.ndarray, "_LaneRunner"]:
@@ -382,7 +388,7 @@ def _with_reference_start(guesses, solver, circuit, table, freq, z, sigma, **opt
     the lower chi² on its data."""
     log_mag = np.log(np.abs(z))
     typical = int(np.argmin(np.sum((log_mag - np.median(log_mag, axis=0)) ** 2, axis=1)))
-    reference, _, _ = _solve_stack(circuit, table, freq, z[typical : typical + 1], None if sigma is None else sigma[typical : typical + 1], **options)
+    reference, _, _, _ = _solve_stack(circuit, table, freq, z[typical : typical + 1], None if sigma is None else sigma[typical : typical + 1], **options)
     if not np.isfinite(reference.chi2[0]):
         return guesses
     u_ref = np.broadcast_to(to_solver_space(table, reference.x[0]), guesses.shape)
@@ -514,7 +520,7 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
     and its warnings, without a FitResult per spectrum: the uncertainties of all spectra in
     one stacked computation (`covariances`), their warnings too (`stack_notes`); only spectra
     that overflowed or did not converge go through `fit_result`."""
-    out, used, solver = _solve_stack(circuit, table, freq, z, sigma, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
+    out, used, solver, inward = _solve_stack(circuit, table, freq, z, sigma, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
     out = canonical_order(circuit, table, freq, out, registry)
     b, k, n_res = z.shape[0], len(table.free_names), 2 * len(freq)
     chi2 = np.array(out.chi2, float)  # copies: device_get's arrays are read-only
@@ -523,11 +529,7 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
     values = np.array(out.x, float)
     stderr = np.full(values.shape, np.nan)
     inv_re, inv_im = weights(z, sigma, weighting, source)
-    if k and converged.any():
-        # a fit left at a bound while chi² falls inward is not converged (`fit_result` says why)
-        rows = np.flatnonzero(converged)
-        inward = falling_inward(table, values[rows], np.asarray(out.jacobian)[rows], z[rows], np.asarray(out.z_model)[rows], inv_re[rows], inv_im[rows], weighting, lambda p, s: solver.chi2_at_x(p, rows[s]))[0]
-        converged[rows[inward.any(axis=1)]] = False
+    converged &= ~inward  # a fit left at a bound while chi² falls inward is not converged (`fit_result` says why)
     odd = ~converged  # these get `fit_result`'s handling of overflow and non-convergence
     notes: list[tuple[str, ...]] = [()] * b
     corr, singular = np.zeros((b, k, k)), np.zeros(b, bool)

@@ -24,7 +24,7 @@ import numpy as np
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Element, Parallel, Registry, StartRole
 from ...errors import ImpedaxError
-from ..kk import kk_test_batch
+from ..kk import kk_misfits
 from ..parameters import ParameterTable, Transform, to_internal
 
 __all__ = [
@@ -465,7 +465,7 @@ def attainable_misfit(freq, z) -> np.ndarray:
     run (too few points): every rung is then climbed (down to `ESCALATION_FLOOR`)."""
     z = np.atleast_2d(z)
     try:
-        return np.asarray(kk_test_batch((np.asarray(freq, float), z)).rms_rel, float).reshape(len(z))
+        return kk_misfits((np.asarray(freq, float), z)).reshape(len(z))
     except ImpedaxError:
         return np.zeros(len(z))
 
