@@ -536,8 +536,8 @@ def weighting_notes(weighting: str, freq, points: np.ndarray, share) -> list[tup
 
 
 # a fit's misfit is compared with what the data allow (`misfit_notes`) from this rms_rel on:
-# below it the comparison costs more (a Kramers–Kronig fit, ~1.5 ms per spectrum: a batch of
-# well-fitted spectra at 1 % would pay it for every one) than it tells. It was 5 % until
+# below it the comparison costs more (a Kramers–Kronig fit, ~0.5 ms per spectrum in a batch,
+# `kk.kk_misfits`: a batch of well-fitted spectra at 1 % would pay it for every one) than it tells. It was 5 % until
 # 2026-11-29, and AutoEIS's real battery cycle 0 fitted with R0 + R1 ∥ CPE1 + Wo1, at 3.2 %
 # where a Kramers–Kronig-consistent model reaches 0.25 %, was told nothing
 MISFIT_CHECKED_FROM = 0.02
@@ -556,7 +556,7 @@ SIGMA_EXPLAINED = 2.0
 def kk_misfits(freq, z, rows: np.ndarray, known: dict[int, float] | None) -> np.ndarray:
     """`starts.attainable_misfit` of spectra ``z[rows]``, taking and filling ``known`` (row →
     misfit; one fit call's memory: a batch asks twice, `gross_misfits` before its extra starts
-    and `misfit_notes` after, at ~1 ms per spectrum)."""
+    and `misfit_notes` after, at ~0.5 ms per spectrum in a batch)."""
     known = {} if known is None else known
     missing = [int(i) for i in rows if int(i) not in known]
     if missing:

@@ -460,7 +460,7 @@ def rung_seed(seed: int, rung: int, call: int) -> int:
 
 def attainable_misfit(freq, z) -> np.ndarray:
     """rms_rel (B,) of the linear Kramers–Kronig test's fit (a Voigt chain with a series R, L
-    and C; `kk.kk_test`) of each spectrum of the stack z (B, N): what a flexible
+    and C; `kk.kk_misfits`) of each spectrum of the stack z (B, N): what a flexible
     KK-consistent model leaves, the yardstick of `KK_MISFIT_FACTOR`. 0 where the test cannot
     run (too few points): every rung is then climbed (down to `ESCALATION_FLOOR`)."""
     z = np.atleast_2d(z)
