@@ -5,6 +5,7 @@ Statistical checks use fixed seeds and loose bounds; chains are short in the def
 are marked slow.
 """
 
+import dataclasses
 import json
 import math
 
@@ -168,8 +169,11 @@ def test_netcdf_round_trip_is_lossless(rcpe, tmp_path):
     assert back.summary() == post.summary()
     assert back.names == post.names and back.priors == post.priors and back.warnings == post.warnings
     assert back.fit.values == post.fit.values and back.fit.aic == post.fit.aic
+    # the start fit's bound flags too (they were lost before 2026-11-30)
+    flagged = dataclasses.replace(post, fit=dataclasses.replace(post.fit, at_bound=("R0",)))
+    assert Posterior.from_xarray(flagged.to_xarray()).fit.at_bound == ("R0",)
     assert ix.compare([back]).rows[0]["waic"] == post.waic
-    with pytest.raises(ix.DataError, match="not a saved impedax single-spectrum posterior"):
+    with pytest.raises(ix.DataError, match="a saved least-squares fit, not a single-spectrum posterior: read it with FitResult.from_xarray"):
         Posterior.from_xarray(post.fit.to_xarray())
     # a damaged file: what is missing is named, never a KeyError from inside xarray
     path = tmp_path / "damaged.nc"
@@ -618,7 +622,6 @@ def test_report_columns_line_up_with_compound_units(rcpe):
 
 def test_the_report_says_an_undefined_evidence_in_words(rcpe):
     # a Laplace evidence that is not finite read "Laplace ln Z = nan"; WAIC stays on the line
-    import dataclasses
 
     _, _, _, post = rcpe
     line = next(ln for ln in post.report().splitlines() if ln.startswith("evidence"))

@@ -115,6 +115,8 @@ def decode_dataset(ds: xr.Dataset) -> xr.Dataset:
 
 # a saved result's ``impedax_kind`` → what it is and the call that reads it (`saved_result`)
 RESULT_KINDS = {
+    "fit": ("least-squares fit", "FitResult.from_xarray"),
+    "batch_fit": ("batch of least-squares fits", "BatchFitResult.from_xarray"),
     "posterior": ("single-spectrum posterior", "Posterior.from_xarray"),
     "shared_posterior": ("joint (shared-parameter) posterior", "SharedPosterior.from_xarray"),
     "hierarchical_posterior": ("hierarchical posterior", "HierarchicalPosterior.from_xarray"),

@@ -388,7 +388,7 @@ class Posterior:
             "notes": list(self.notes),
             "warnings": list(self.warnings),
             "reparametrization": self.reparametrization.describe() if self.reparametrization is not None else None,
-            "fit": {"weighting": fr.weighting, "chi2": fr.chi2, "converged": fr.converged, "message": fr.message, "n_evaluations": fr.n_evaluations, "warnings": list(fr.warnings), "n_starts": fr.n_starts, "elapsed_s": fr.elapsed_s},
+            "fit": {"weighting": fr.weighting, "chi2": fr.chi2, "converged": fr.converged, "message": fr.message, "n_evaluations": fr.n_evaluations, "warnings": list(fr.warnings), "n_starts": fr.n_starts, "elapsed_s": fr.elapsed_s, "at_bound": list(fr.at_bound)},
         }
         coords = {
             "walker": np.arange(self.n_walkers),
@@ -442,6 +442,7 @@ class Posterior:
             warnings=tuple(fa["warnings"]),
             n_starts=int(fa["n_starts"]),
             elapsed_s=float(fa["elapsed_s"]),
+            at_bound=tuple(str(n) for n in fa.get("at_bound", ())),  # (a file written before 2026-11-30: none)
             registry=registry,
         )
         sampled = [str(n) for n in ds["param"].values]

@@ -81,7 +81,29 @@ class BatchFitResult:
         return int(self.dataset["rms_rel"].size)
 
     def to_xarray(self) -> xr.Dataset:
-        return self.dataset
+        """``dataset`` with what `from_xarray` needs besides in its attrs: the warnings (spectrum
+        → its warnings, as ``warnings``) and the time taken."""
+        return self.dataset.assign_attrs(impedax_kind="batch_fit", warnings={k: list(v) for k, v in self.warnings.items()}, elapsed_s=float(self.elapsed_s))
+
+    @classmethod
+    def from_xarray(cls, ds: xr.Dataset, *, registry: Registry | None = None) -> "BatchFitResult":
+        """Rebuild a batch of fits from `BatchFitResult.to_xarray` output: as returned, read back
+        by `impedax.load`, or opened as stored (``xr.open_dataset`` of a file `impedax.write_result`
+        or ``impedax fit --out FILE.nc`` wrote). ``registry``: the one the circuit's elements are
+        in (None: the default one). A file written before 2026-11-30 lacks the warnings: none."""
+        from ...circuits import parse
+        from ...io.netcdf import damaged_result, saved_result  # (io is imported only here: rarely needed)
+
+        registry = DEFAULT_REGISTRY if registry is None else registry
+        if isinstance(ds, xr.Dataset) and "impedax_kind" not in ds.attrs and "rms_rel" in ds.variables and ds["rms_rel"].dims:  # (written before the kind was stored)
+            ds = ds.assign_attrs(impedax_kind="batch_fit")
+        ds = saved_result(ds, "batch_fit", variables=("value", "stderr", "fixed", "at_bound", "rms_rel", "converged", "Z", "Z_model"), attrs=("model", "weighting"))
+        with damaged_result("batch_fit", ds):
+            warnings = {str(k): (v,) if isinstance(v, str) else tuple(str(w) for w in v) for k, v in dict(ds.attrs.get("warnings", {})).items()}
+            elapsed = float(ds.attrs.get("elapsed_s", 0.0))
+            dataset = ds.copy()
+            dataset.attrs = {k: v for k, v in ds.attrs.items() if k not in ("impedax_kind", "warnings", "elapsed_s", "format")}
+            return cls(circuit=parse(ds.attrs["model"], registry), dataset=dataset, weighting=str(ds.attrs["weighting"]), warnings=warnings, elapsed_s=elapsed, registry=registry)
 
     def values(self, name: str) -> xr.DataArray:
         """Fitted values of parameter ``name`` over the batch dimensions."""

@@ -12,7 +12,7 @@ from typing import Callable
 import numpy as np
 import xarray as xr
 
-from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit
+from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
 from ...data import checked_frequencies, concise_repr, format_relative_error, unit_text
 from ..parameters import ParameterTable, data_scales
 from ..statistics import covariances, information_criteria, non_passive, uncertainties
@@ -265,11 +265,55 @@ class FitResult:
             },
             coords={"param": names, "free_param": free, "free_param_2": free, "frequency": ("frequency", self.frequency, {"units": "Hz"})},
             attrs={
-                "model": self.model, "weighting": self.weighting, "rms_rel": self.rms_rel, "chi2": self.chi2,
+                "impedax_kind": "fit", "model": self.model, "weighting": self.weighting, "rms_rel": self.rms_rel, "chi2": self.chi2,
                 "chi2_red": self.chi2_red, "aic": self.aic, "bic": self.bic, "converged": int(self.converged),
                 "message": self.message, "warnings": list(self.warnings),
+                "n_evaluations": int(self.n_evaluations), "n_starts": int(self.n_starts), "elapsed_s": float(self.elapsed_s),
             },
         )
+
+    @classmethod
+    def from_xarray(cls, ds: xr.Dataset, *, registry: Registry | None = None) -> "FitResult":
+        """Rebuild a fit from `FitResult.to_xarray` output: as returned, read back by
+        `impedax.load`, or opened as stored (``xr.open_dataset`` of a file `impedax.write_result`
+        or ``impedax fit --out FILE.nc`` wrote). ``registry``: the one the circuit's elements are
+        in (None: the default one). A file written before 2026-11-30 lacks the evaluation count,
+        starts and time: 0, 1 and 0 s."""
+        from ...io.netcdf import damaged_result, saved_result  # (io is imported only here: rarely needed)
+
+        registry = DEFAULT_REGISTRY if registry is None else registry
+        if isinstance(ds, xr.Dataset) and "impedax_kind" not in ds.attrs and "value" in ds.variables:  # (written before the kind was stored)
+            ds = ds.assign_attrs(impedax_kind="fit")
+        ds = saved_result(ds, "fit", variables=_FIT_VARIABLES, attrs=_FIT_ATTRS)
+        with damaged_result("fit", ds):
+            names = [str(n) for n in ds["param"].values]
+            warnings = ds.attrs["warnings"]
+            return cls(
+                circuit=parse(ds.attrs["model"], registry),
+                values={n: float(v) for n, v in zip(names, ds["value"].values)},
+                stderr={n: float(v) for n, v in zip(names, ds["stderr"].values)},
+                fixed={n: bool(v) for n, v in zip(names, ds["fixed"].values)},
+                free_names=tuple(str(n) for n in ds["free_param"].values),
+                covariance=np.asarray(ds["covariance"].values, float),
+                correlation=np.asarray(ds["correlation"].values, float),
+                frequency=np.asarray(ds["frequency"].values, float),
+                z_data=np.asarray(ds["Z"].values, complex),
+                z_model=np.asarray(ds["Z_model"].values, complex),
+                weighting=str(ds.attrs["weighting"]),
+                chi2=float(ds.attrs["chi2"]),
+                converged=bool(ds.attrs["converged"]),
+                message=str(ds.attrs["message"]),
+                n_evaluations=int(ds.attrs.get("n_evaluations", 0)),
+                warnings=(warnings,) if isinstance(warnings, str) else tuple(str(w) for w in warnings),
+                n_starts=int(ds.attrs.get("n_starts", 1)),
+                elapsed_s=float(ds.attrs.get("elapsed_s", 0.0)),
+                at_bound=tuple(n for n, b in zip(names, ds["at_bound"].values) if bool(b)),
+                registry=registry,
+            )
+
+
+_FIT_VARIABLES = ("value", "stderr", "fixed", "at_bound", "covariance", "correlation", "Z", "Z_model")
+_FIT_ATTRS = ("model", "weighting", "chi2", "converged", "message", "warnings")
 
 
 # what `FitResult.to_xarray` says of its stderr, covariance and correlation (docs/fitting.md,

@@ -1,0 +1,98 @@
+"""Fits read back from their netCDF files: `FitResult.from_xarray` and
+`BatchFitResult.from_xarray` give back what was written (REAL files of impedance.py and AutoEIS),
+a file of another kind or a damaged one is named, and a file written before the kind and the
+counts were stored still reads."""
+
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import impedax as ix
+from impedax.errors import DataError
+
+REAL = Path(__file__).parent / "fixtures" / "real"
+CYCLES = Path(__file__).resolve().parents[1] / "examples" / "data" / "autoeis_battery_cycles.nc"
+
+
+@pytest.fixture(scope="module")
+def single():
+    data = ix.load(REAL / "exampleDataBioLogic.mpt")
+    return data, ix.fit("R0 + R1 || CPE1 + Wo1", data)
+
+
+@pytest.fixture(scope="module")
+def batch():
+    return ix.fit("R0 + R1 || CPE1 + R2 || CPE2 + W1", ix.load(CYCLES))
+
+
+@pytest.mark.parametrize("how", ["in memory", "ix.load", "xr.open_dataset"])
+def test_a_fit_reads_back_whole(single, how, tmp_path):
+    data, fit = single
+    path = tmp_path / "fit.nc"
+    ix.write_result(fit, path)
+    ds = fit.to_xarray() if how == "in memory" else ix.load(path) if how == "ix.load" else xr.open_dataset(path)
+    back = ix.FitResult.from_xarray(ds)
+    assert back.model == fit.model and back.values == fit.values and back.fixed == fit.fixed
+    assert back.at_bound == fit.at_bound and fit.at_bound  # (this fit has one: Wo1's R at its bound)
+    assert back.warnings == fit.warnings and fit.warnings
+    np.testing.assert_array_equal(back.covariance, fit.covariance)
+    np.testing.assert_array_equal(np.isnan(back.correlation), np.isnan(fit.correlation))
+    for name in fit.values:
+        assert back.stderr[name] == fit.stderr[name] or (np.isnan(back.stderr[name]) and np.isnan(fit.stderr[name]))
+    assert (back.chi2, back.converged, back.n_evaluations, back.n_starts, back.weighting) == (fit.chi2, fit.converged, fit.n_evaluations, fit.n_starts, fit.weighting)
+    f = np.geomspace(1e-2, 1e5, 31)
+    np.testing.assert_array_equal(back.predict(f), fit.predict(f))
+    assert back.rms_rel == fit.rms_rel and back.report() == fit.report()
+    assert ix.fit("R0 + R1 || CPE1 + Wo1", data, init=back).rms_rel == pytest.approx(fit.rms_rel, rel=1e-6)
+
+
+@pytest.mark.parametrize("how", ["in memory", "ix.load", "xr.open_dataset"])
+def test_a_batch_reads_back_whole(batch, how, tmp_path):
+    path = tmp_path / "batch.nc"
+    ix.write_result(batch, path)
+    ds = batch.to_xarray() if how == "in memory" else ix.load(path) if how == "ix.load" else xr.open_dataset(path)
+    back = ix.BatchFitResult.from_xarray(ds)
+    assert back.dataset.identical(batch.dataset)
+    assert back.warnings == batch.warnings and any(batch.warnings.values())
+    assert back.summary() == batch.summary() and back.model == batch.model
+    label = int(batch.dataset["cycle"].values[1])
+    one, again = back.fit_of(cycle=label), batch.fit_of(cycle=label)
+    assert one.values == pytest.approx(again.values, rel=1e-9)
+
+
+def test_a_file_of_another_kind_or_damaged_is_named(single, batch, tmp_path):
+    _, fit = single
+    with pytest.raises(DataError, match="a saved batch of least-squares fits, not a least-squares fit: read it with BatchFitResult.from_xarray"):
+        ix.FitResult.from_xarray(batch.to_xarray())
+    with pytest.raises(DataError, match="a saved least-squares fit, not a single-spectrum posterior: read it with FitResult.from_xarray"):
+        ix.Posterior.from_xarray(fit.to_xarray())
+    with pytest.raises(DataError, match="not a saved impedax batch of least-squares fits"):
+        ix.BatchFitResult.from_xarray(ix.load(CYCLES))  # (a spectrum file)
+    path = tmp_path / "cut.nc"
+    ix.write_result(fit, path)
+    cut = xr.open_dataset(path).drop_vars("covariance")
+    with pytest.raises(DataError, match=r"incomplete saved least-squares fit: missing variable\(s\) 'covariance'"):
+        ix.FitResult.from_xarray(cut)
+
+
+def test_a_fit_written_before_the_kind_was_stored_reads(single, batch):
+    _, fit = single
+    old = fit.to_xarray()
+    old.attrs = {k: v for k, v in old.attrs.items() if k not in ("impedax_kind", "n_evaluations", "n_starts", "elapsed_s")}
+    back = ix.FitResult.from_xarray(old)
+    assert back.values == fit.values and back.n_evaluations == 0 and back.n_starts == 1
+    old_batch = batch.dataset  # (as to_xarray returned it before: no kind, no warnings)
+    back_batch = ix.BatchFitResult.from_xarray(old_batch)
+    assert back_batch.dataset.identical(batch.dataset) and not any(back_batch.warnings.values())
+
+
+def test_the_command_line_file_reads_back(tmp_path):
+    out = tmp_path / "fit.nc"
+    run = subprocess.run([sys.executable, "-m", "impedax", "fit", str(REAL / "exampleData.csv"), "--model", "R0 + R1 || CPE1 + Wo1", "--out", str(out)], capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    back = ix.FitResult.from_xarray(ix.load(out))
+    assert back.model == "R0 + R1 || CPE1 + Wo1" and 0 < back.rms_rel < 0.2 and back.n_evaluations > 0
