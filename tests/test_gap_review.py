@@ -69,7 +69,7 @@ def pooled():
 @pytest.fixture(scope="module")
 def stationary():
     """The shipped SYNTHETIC example's stationary total: a remainder no lone capacitor fits and
-    whose paper estimate lies outside its own bounds."""
+    whose paper estimate lies just outside its own bounds (by 1.6 %)."""
     parts = _example("total_stationary")
     return gap_analysis(*parts, area=AREA, method="pooled", steps=40, progress=False), parts
 
@@ -182,17 +182,55 @@ def test_pooled_report_says_noise_of_the_means_only(pooled):
     assert line.startswith("gap thickness u = ") and "Bayesian on the trial means: their noise only, not the spread between trials" in line
 
 
-# --- 3. the paper's estimate outside its own bounds; 3 significant digits -------------------
+# --- 3. the paper's estimate outside its own bounds (far: flagged); 3 significant digits ----
 
 
-def test_paper_estimate_outside_its_bounds_is_flagged(stationary):
+def test_paper_estimate_just_outside_its_bounds_is_not_flagged(stationary):
     result, parts = stationary
     u, low, high, _ = _paper_numpy(*parts)
-    assert not low <= u <= high  # the oracle: the extreme trials do not bracket the means
-    notes = [w for w in result.warnings if w.startswith("the paper method's u = ")]
-    assert len(notes) == 1
-    assert f"u = {u * 1e6:.3g} µm lies outside its own bounds {low * 1e6:.3g}–{high * 1e6:.3g} µm" in notes[0]
-    assert "check the three files" in notes[0] and "order" in notes[0]
+    miss = (low - u if u < low else u - high) / u
+    assert 0.005 < miss < 0.05  # the oracle: the extreme trials miss the means' u by ~1.6 %
+    assert not any(w.startswith("the paper method's u = ") for w in result.warnings)
+
+
+def test_extreme_trials_often_miss_the_mean_on_clean_synthetic_sets():
+    """Why a small miss is no sign of a wrong file: honest SYNTHETIC sets (10 trials, no trial
+    scatter) put u outside the extreme trials' bounds in about half the seeds, by ~1 %, and the
+    rule flags none of them."""
+    from impedax.models.gap import PAPER_BOUND_SLACK, _paper_bound_notes
+    from impedax.models.sirin import paper_gap_estimate, remaining_impedance
+
+    outside = 0
+    for seed in range(20):
+        f, total, skin, ts = sirin_measurements(np.random.default_rng(seed), 10, trial_scatter=None)
+        parts = [ix.make_spectrum(f, z, dims=("trial",)) for z in (total, skin, ts)]
+        u, low, high, _ = _paper_numpy(*parts)
+        outside += not low <= u <= high
+        assert max(low - u, u - high, 0.0) < PAPER_BOUND_SLACK * u
+        assert _paper_bound_notes(paper_gap_estimate(*parts, area=AREA), remaining_impedance(*parts)) == []
+    assert outside >= 3
+
+
+def test_paper_estimate_far_outside_its_bounds_is_flagged():
+    """The case a wrong third file gave in a user's run: u = 0.333 µm, bounds 0.821–0.849 µm."""
+    from impedax.models.gap import _paper_bound_notes
+    from impedax.models.sirin import PaperGapEstimate
+
+    def estimate(u, low, high):
+        c = lambda x: EPS0 * EPS_AIR * AREA / x  # noqa: E731
+        return PaperGapEstimate(c_gap=c(u), gap=u, c_gap_low_impedance=c(low), c_gap_high_impedance=c(high), gap_lower=low, gap_upper=high, cutoff_hz=30.0, area=AREA, eps_gap=EPS_AIR)
+
+    remaining = xr.Dataset(attrs={"n_trials_total": 10, "n_trials_skin": 10, "n_trials_touchscreen": 10})
+    (note,) = _paper_bound_notes(estimate(0.333e-6, 0.821e-6, 0.849e-6), remaining)
+    assert "u = 0.333 µm lies far outside its own bounds 0.821–0.849 µm" in note
+    assert "check the three files" in note and "order" in note
+    # beyond 10 % of u but within the bounds' width (wide bounds of scattered trials): not flagged
+    assert _paper_bound_notes(estimate(1.0e-6, 1.15e-6, 1.6e-6), remaining) == []
+    # beyond both: flagged; inside, or with one trial per file (no bounds): not
+    assert len(_paper_bound_notes(estimate(1.0e-6, 1.12e-6, 1.13e-6), remaining)) == 1
+    assert _paper_bound_notes(estimate(1.0e-6, 0.9e-6, 1.1e-6), remaining) == []
+    one_each = xr.Dataset(attrs={"n_trials_total": 1, "n_trials_skin": 1, "n_trials_touchscreen": 1})
+    assert _paper_bound_notes(estimate(0.333e-6, 0.821e-6, 0.849e-6), one_each) == []
 
 
 def test_bayesian_outside_paper_bounds_prints_three_digits(stationary):

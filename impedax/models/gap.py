@@ -299,7 +299,7 @@ def gap_analysis(
     (``impedax gap --no-area-check``). A remainder with Re Z < 0 at more than half of its
     frequencies is refused before any fit (DataError: the files are likely in the wrong order).
     Returns a `GapAnalysis`; its warnings say when the posterior of u piles up at a prior bound,
-    when the naive fit ran away, and when the paper's estimate lies outside its own bounds.
+    when the naive fit ran away, and when the paper's estimate lies far outside its own bounds.
     """
     from ..fitting import fit, gap_thickness_reparametrization, sample
     from ..fitting.bayes.progress import announce
@@ -372,15 +372,25 @@ def _um(length_m: float) -> str:
     return f"{length_m * 1e6:.3g}"
 
 
+# the paper's u is called far outside its own bounds beyond max(this × u, the bounds' width):
+# the extreme trials need not bracket the means' u. On SYNTHETIC Sirin-style sets from
+# `tests/spectra.sirin_measurements` (seeds 0–39 each) u lay outside in 22 of 40 without trial
+# scatter (by up to 1.0 %), 12 and 8 of 40 with 1 % and 3 % scatter (1.3 %, 3.6 %), up to 9.1 %
+# with 10 %; the shipped example's stationary total by 1.6 %: none of them a wrong file
+PAPER_BOUND_SLACK = 0.10
+
+
 def _paper_bound_notes(paper: PaperGapEstimate, remaining: xr.Dataset) -> list[str]:
-    """A warning when the paper's u (from the trial means) lies outside its own bounds (from the
-    lowest- and highest-impedance trials): the extreme trials do not bracket the means."""
-    if not _has_bounds(remaining) or paper.gap_lower <= paper.gap <= paper.gap_upper:
+    """A warning when the paper's u (from the trial means) lies far outside its own bounds (from
+    the lowest- and highest-impedance trials): beyond their width and `PAPER_BOUND_SLACK` × u."""
+    u, low, high = paper.gap, paper.gap_lower, paper.gap_upper
+    miss = low - u if u < low else u - high if u > high else 0.0
+    if not _has_bounds(remaining) or not miss > max(PAPER_BOUND_SLACK * u, high - low):
         return []
     return [
-        f"the paper method's u = {_um(paper.gap)} µm lies outside its own bounds {_um(paper.gap_lower)}–{_um(paper.gap_upper)} µm: "
-        "the lowest- and highest-impedance trials do not bracket the trial means, so those bounds are no interval for u; "
-        "check the three files (TOTAL SKIN SCREEN: the right measurements, in that order)"
+        f"the paper method's u = {_um(u)} µm lies far outside its own bounds {_um(low)}–{_um(high)} µm "
+        f"(by more than their width and {PAPER_BOUND_SLACK:.0%} of u): the lowest- and highest-impedance trials are far from bracketing the trial means, "
+        "so those bounds are no interval for u; check the three files (TOTAL SKIN SCREEN: the right measurements, in that order)"
     ]
 
 
