@@ -8,7 +8,7 @@ from __future__ import annotations
 import re
 from typing import Mapping, Sequence
 
-__all__ = ["grouped_warnings", "labels_text", "WARNING_GROUPS_SHOWN", "LABELS_SHOWN"]
+__all__ = ["grouped_warnings", "warning_kinds", "labels_text", "WARNING_GROUPS_SHOWN", "LABELS_SHOWN"]
 
 WARNING_GROUPS_SHOWN = 12  # kinds of warning a batch's text lists
 LABELS_SHOWN = 8  # labels of a dimension shown in messages
@@ -52,16 +52,33 @@ def _spectra_text(places: Sequence[str]) -> str:
     return shown + (f"; ... ({len(places)} in all)" if len(places) > LABELS_SHOWN else "")
 
 
+def _kinds(warnings: Mapping[str, Sequence[str]]) -> list[list[tuple[str, str]]]:
+    """The (spectrum, text) pairs of each kind of warning (texts equal but for their numbers),
+    the most frequent kind first."""
+    groups: dict[str, list[tuple[str, str]]] = {}
+    for place, texts in warnings.items():
+        for text in dict.fromkeys(texts):
+            groups.setdefault(_NUMBER.sub("#", text), []).append((place, text))
+    return sorted(groups.values(), key=len, reverse=True)
+
+
+def warning_kinds(warnings: Mapping[str, Sequence[str]]) -> list[dict]:
+    """The warnings of a batch's spectra by kind, for JSON: each kind's text with the numbers
+    that differ as ranges (as `grouped_warnings` prints it), the spectra it applies to and
+    their number; the most frequent kind first, every kind."""
+    out = []
+    for members in _kinds(warnings):
+        places = list(dict.fromkeys(place for place, _ in members))
+        out.append({"warning": _spread([t for _, t in members]), "spectra": places, "n_spectra": len(places)})
+    return out
+
+
 def grouped_warnings(warnings: Mapping[str, Sequence[str]], n_spectra: int) -> list[str]:
     """The warnings of a batch's spectra (``{"cycle=0": (text, ...), ...}``) as text lines:
     one per kind of warning with the spectra it applies to, the most frequent first, at most
     `WARNING_GROUPS_SHOWN`; a key that names no spectrum (a global fit's ``"shared over
     trial"``) is given as it is."""
-    groups: dict[str, list[tuple[str, str]]] = {}
-    for place, texts in warnings.items():
-        for text in dict.fromkeys(texts):
-            groups.setdefault(_NUMBER.sub("#", text), []).append((place, text))
-    ordered = sorted(groups.values(), key=len, reverse=True)
+    ordered = _kinds(warnings)
     lines = []
     for members in ordered[:WARNING_GROUPS_SHOWN]:
         places = list(dict.fromkeys(place for place, _ in members))

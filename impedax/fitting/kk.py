@@ -332,10 +332,15 @@ class KKBatchResult(ResultGrid):
                 "rms_rel": (dims, self.rms_rel, {"units": "1"}),
                 "noise_estimate": (dims, self.per_spectrum("noise_estimate"), {"units": "1"}),
                 "valid": (dims, self.valid),
+                "conclusive": (dims, self.per_spectrum("conclusive", bool)),
+                "series_resistance": (dims, self.per_spectrum("series_resistance"), {"units": "ohm"}),
+                "series_inductance": (dims, self.per_spectrum("series_inductance"), {"units": "H"}),
+                "inverse_series_capacitance": (dims, self.per_spectrum("inverse_series_capacitance"), {"units": "1/F"}),
             },
             coords={"frequency": ("frequency", first.frequency, {"units": "Hz"}), **{d: (d, np.asarray(v)) for d, v in self.coords.items()}},
         )
-        ds.attrs.update({k: v for k, v in first.to_xarray().attrs.items() if not k.startswith("series")})
+        # (the settings, shared by every spectrum; each spectrum's series R, L and 1/C are variables)
+        ds.attrs.update({k: v for k, v in first.to_xarray().attrs.items() if not k.startswith(("series", "inverse_series"))})
         return ds
 
 
@@ -346,6 +351,8 @@ def _check_options(freq: np.ndarray, c: float, max_rc, n_rc, n_series: int) -> i
     limit = n_points - n_series  # keep at least n_points extra equations (2N real equations)
     if limit < 1:
         raise DataError(f"the KK test needs at least {n_series + 1} frequencies, got {n_points}")
+    if n_rc is not None and max_rc is not None:
+        raise ParameterError(f"n_rc={n_rc!r} fixes the number of RC elements and max_rc={max_rc!r} caps the search for it: give one of them")
     if n_rc is not None:
         if not isinstance(n_rc, (int, np.integer)) or not 1 <= n_rc <= limit:
             raise ParameterError(f"n_rc must be an integer from 1 to {limit} for {n_points} frequencies, got {n_rc!r}")

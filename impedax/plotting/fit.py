@@ -47,7 +47,7 @@ def plot_batch(batch, *, title: str | None = None):
         loose = np.zeros(y.size, bool) if name == "rms_rel" else batch.undetermined(name).transpose(*batch.dims).values.ravel() | (
             ds["at_bound"].sel(param=name).transpose(*batch.dims).values.ravel() & np.isinf(err))
         kept = ~loose
-        bars = None if err is None else _bounded_bars(y, np.where(np.isfinite(err), err, 0.0), ds["at_bound"].sel(param=name).transpose(*batch.dims).values.ravel(), _bounds(ds, name, specs[name]))[:, kept]
+        bars = None if err is None else _bounded_bars(y, np.where(np.isfinite(err), err, 0.0), _bounds(ds, name, specs[name]))[:, kept]
         ax.errorbar(index[kept], y[kept], yerr=bars, fmt="o", ms=3, lw=0.8, capsize=1.5)
         scaled = y[kept & np.isfinite(y)]
         spread = scaled if scaled.size else y[np.isfinite(y)]  # (every value undetermined: all of them)
@@ -106,14 +106,14 @@ def _bounds(ds, name: str, spec) -> tuple[float, float]:
     return spec.lower, spec.upper
 
 
-def _bounded_bars(value, err, at_bound, bounds) -> np.ndarray:
-    """Error bars (2, n: below, above) that stop at a parameter's bound (``bounds``: the fit's
-    lower and upper, natural or the user's) where its value sits on it: a CPE's α = 1 ± 0.03
-    was drawn up to 1.03, where α cannot go."""
+def _bounded_bars(value, err, bounds) -> np.ndarray:
+    """Error bars (2, n: below, above) that stop at a parameter's bounds (``bounds``: the fit's
+    lower and upper, natural or the user's), whether the value sits on one or near it: a CPE's
+    α = 1 ± 0.03 was drawn up to 1.03, and α = 0.979 ± 0.058 up to 1.037, where α cannot go."""
     lower, upper = bounds
     with np.errstate(invalid="ignore"):
-        below = np.where(at_bound, np.minimum(err, np.maximum(value - lower, 0.0)), err)
-        above = np.where(at_bound, np.minimum(err, np.maximum(upper - value, 0.0)), err)
+        below = np.minimum(err, np.maximum(value - lower, 0.0))
+        above = np.minimum(err, np.maximum(upper - value, 0.0))
     return np.stack([below, above])
 
 

@@ -20,7 +20,7 @@ from ...arguments import unknown_parameter
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ...data import concise_repr, unit_text
 from ...errors import ParameterError
-from ...warning_groups import grouped_warnings
+from ...warning_groups import grouped_warnings, warning_kinds
 from ..parameters import ParameterTable
 from ..problem import residual_scale, weights
 from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, dominant_points, information_criteria, null_sets
@@ -214,6 +214,7 @@ class BatchFitResult:
             "converged_fraction": float(ds["converged"].mean()),
             "at_bound": {str(p): int(n) for p, n in zip(ds["param"].values, ds["at_bound"].values.reshape(ds.sizes["param"], -1).sum(axis=1)) if n},
             "warnings": sorted({w for ws in self.warnings.values() for w in ws}),
+            "warning_kinds": warning_kinds(self.warnings),  # (each kind with its spectra, as report() groups them)
         }
 
     def report(self) -> str:
