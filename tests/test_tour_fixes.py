@@ -64,3 +64,17 @@ def test_batch_error_bars_stop_at_a_natural_bound_near_the_value():
     for i in off:
         (low, high) = segments[i][0][1], segments[i][1][1]
         assert high == pytest.approx(1.0, abs=1e-12) and low == pytest.approx(alpha[i] - err[i], rel=1e-12)
+
+
+def test_fit_and_compare_say_what_runs(monkeypatch, capsys):
+    # a batch of 3 cycles took 15 s and a compare of 3 models 6-12 s without a word; the lines
+    # come once a run has taken 2 s (here at once)
+    from impedax.cli import common, main
+
+    monkeypatch.setattr(common, "progress_printer", lambda after_s=0.0, stream=None: common._Progress(0.0, stream))
+    assert main(["fit", str(CYCLES), "--model", "R0 + R1 || CPE1 + R2 || CPE2 + W1", "--json"]) == 0
+    err = capsys.readouterr().err
+    assert "fitting R0 + R1 || CPE1 + R2 || CPE2 + W1 to 3 spectra together" in err
+    assert main(["compare", str(REAL / "exampleData.csv"), "--model", "R0 + R1 || C1", "--model", "R0 + R1 || CPE1", "--json"]) == 0
+    err = capsys.readouterr().err
+    assert "fitting model 1 of 2: R0 + R1 || C1" in err and "fitting model 2 of 2: R0 + R1 || CPE1" in err

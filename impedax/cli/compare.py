@@ -33,7 +33,7 @@ def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting.problem import open_spectrum
     from ..arguments import closest_name
-    from .common import emit_json, figure_writer, load_selected, parse_assignments, plan_outputs, result_writer
+    from .common import emit_json, figure_writer, load_selected, parse_assignments, plan_outputs, progress_printer, result_writer
     from .fit import check_max_steps
 
     if len(args.model) < 2:
@@ -55,10 +55,15 @@ def run(args) -> int:
     def own(flag, ns):
         return {k: v for k, v in given[flag].items() if k in ns} or None
 
-    comparison = compare([
-        fit(c, data, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, init=own("--init", ns), fixed=own("--fix", ns))
-        for c, ns in zip(circuits, names)
-    ])
+    progress = progress_printer()  # (three models took 6-12 s without a word)
+    fits = []
+    try:
+        for i, (c, ns) in enumerate(zip(circuits, names)):
+            progress(f"fitting model {i + 1} of {len(circuits)}: {c}")
+            fits.append(fit(c, data, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, init=own("--init", ns), fixed=own("--fix", ns)))
+    finally:
+        progress.close()
+    comparison = compare(fits)
     # (--out: .csv `Comparison.to_table`, .json `Comparison.summary`, as `impedax.io.write_result` writes them)
     outputs.save({"--out": result_writer(comparison), "--plot": figure_writer(comparison.plot)})
     if args.json:
