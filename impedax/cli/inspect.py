@@ -60,7 +60,7 @@ def run(args) -> int:
         "attrs": {k: v for k, v in ds.attrs.items() if isinstance(v, (str, int, float, bool))},
         "sign_hint": _sign_hint(ds, extra),
     }
-    outputs.save({"--out": spectrum_writer(lambda: ds), "--plot": figure_writer(lambda: _preview(ds, summary["format"]))})
+    outputs.save({"--out": spectrum_writer(lambda: ds), "--plot": figure_writer(lambda: _preview(ds, summary["format"], summary["file"]))})
     if outputs.uses_stdout:
         return 0
     if args.json:
@@ -117,13 +117,17 @@ def _per_spectrum(text: str, ds, extra) -> str:
     return "".join(f"\n    {prefix}{part}" for prefix, part in zip(prefixes, parts))
 
 
-def _preview(ds, fmt):
-    """Nyquist and Bode figure of the spectrum (the first one when the file holds several)."""
+def _preview(ds, fmt, name: str | None = None):
+    """Nyquist and Bode figure of the spectrum (the first one when the file holds several),
+    titled with ``name``, the file as the command was given it (``<stdin>`` for ``-``): not
+    every reader records a path in the data (the netCDF reader does not). Without ``name``,
+    the reader's ``path``, if any."""
     import math
 
     from ..plotting import plot_spectrum
     from .common import dimension_labels
 
+    name = name if name is not None else str(ds.attrs.get("path", ""))
     first = ds
     note = ""
     extra = [d for d in ds["Z"].dims if d != "frequency"]
@@ -134,4 +138,4 @@ def _preview(ds, fmt):
         note = f" — {label}, the first of {n} spectra (pick another with --select)"
     elif "[" in str(ds.attrs.get("source", "")):  # a --select pick: its labels
         note = " — " + str(ds.attrs["source"]).rsplit("[", 1)[1].rstrip("]")
-    return plot_spectrum(first, title=f"{ds.attrs.get('path', '')}: {fmt}{note}", data_label="data")
+    return plot_spectrum(first, title=f"{name}: {fmt}{note}" if name else f"{fmt}{note}", data_label="data")

@@ -75,9 +75,22 @@ def remove_temporaries() -> int:
     return removed
 
 
-def check_writable(path: str | os.PathLike) -> Path:
-    """Raise `DataError` now (before any work) if ``path`` cannot be written."""
+def check_writable(path: str | os.PathLike, *, probe: bool = True) -> Path:
+    """Raise `DataError` now (before any work) if ``path`` cannot be written.
+
+    ``probe``: also create and remove a temporary file beside ``path``, named as the staging
+    of an output is (`_temporary_beside`). Permission bits (`os.access`) do not answer for root
+    (containers, NFS root-squash), nor for folders no one can create files in (``/sys``,
+    ``/proc``, a read-only mount): only trying does. Any `OSError` on the way (a name too
+    long, ...) is a `DataError` naming ``path`` too."""
     path = Path(path)
+    try:
+        return _check_writable(path, probe)
+    except OSError as exc:
+        raise DataError(f"cannot be written: {_reason(exc)}", path=path) from None
+
+
+def _check_writable(path: Path, probe: bool) -> Path:
     parent = path.parent if str(path.parent) else Path(".")
     if path.is_dir():
         raise DataError("is a directory, not a file", path=path)
@@ -90,19 +103,39 @@ def check_writable(path: str | os.PathLike) -> Path:
         raise DataError(f"directory {parent} is not writable", path=path)
     if path.exists() and not path.is_file():
         raise DataError("exists and is not a regular file (a device, pipe or socket); choose a file name", path=path)
+    if probe:
+        try:
+            _discard(_temporary_beside(path, "staged."))
+        except OSError as exc:
+            raise DataError(_cannot_create(parent, exc), path=path) from None
     return path
+
+
+def _reason(exc: OSError) -> str:
+    """The operating system's words for ``exc`` (``Permission denied``), without the path."""
+    return exc.strerror or str(exc) or type(exc).__name__
+
+
+def _cannot_create(parent: Path, exc: OSError) -> str:
+    return f"cannot create a file in directory {parent}: {_reason(exc)}"
 
 
 def _temporary_beside(path: Path, tag: str, suffix: str = "") -> Path:
     """A new temporary file beside ``path`` with its extension (``suffix`` where it has none:
-    writers choose the format by the extension)."""
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.{tag}", suffix=path.suffix or suffix or ".tmp", dir=path.parent)
-    os.close(fd)
+    writers choose the format by the extension). Raises `OSError` when it cannot be made,
+    leaving nothing behind."""
+    parent = path.parent if str(path.parent) else Path(".")
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.{tag}", suffix=path.suffix or suffix or ".tmp", dir=parent)
     tmp = Path(tmp)
     _remember(tmp)
-    umask = os.umask(0)
-    os.umask(umask)
-    os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; outputs get the usual permissions
+    try:
+        os.close(fd)
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; outputs get the usual permissions
+    except BaseException:
+        _discard(tmp)
+        raise
     return tmp
 
 
@@ -117,17 +150,27 @@ def atomic_path(path: str | os.PathLike):
     """Yield a temporary path in the target's directory; on success rename it onto ``path``.
 
     On any error (an interrupt included) the temporary file is removed and ``path`` is left as
-    it was.
+    it was. An `OSError` while making the temporary file or renaming it onto ``path`` becomes a
+    `DataError` naming ``path`` (errors of the writing itself are the writer's).
     """
-    path = check_writable(path)
-    tmp = _temporary_beside(path, "")
+    path = check_writable(path, probe=False)  # (making the temporary file is the probe)
+    try:
+        tmp = _temporary_beside(path, "")
+    except OSError as exc:
+        raise DataError(_cannot_create(path.parent if str(path.parent) else Path("."), exc), path=path) from None
     try:
         yield tmp
-        os.replace(tmp, path)
-        _forget(tmp)
     except BaseException:
         _discard(tmp)
         raise
+    try:
+        os.replace(tmp, path)
+    except BaseException as exc:
+        _discard(tmp)
+        if isinstance(exc, OSError):
+            raise DataError(f"cannot write: {_reason(exc)}", path=path) from None
+        raise
+    _forget(tmp)
 
 
 def temporary_folder(parent: str | os.PathLike, prefix: str = ".staging-") -> Path:
@@ -186,19 +229,27 @@ class OutputTransaction:
         ``path``, or ``suffix`` where it has none and for ``-``). An `OSError` becomes a
         `DataError` naming ``path``."""
         target = str(path)
-        if target == "-":
-            fd, name = tempfile.mkstemp(prefix=".impedax-stdout.", suffix=suffix or ".txt")
-            os.close(fd)
-            tmp = Path(name)
-            _remember(tmp)
-        else:
-            tmp = _temporary_beside(check_writable(target), "staged.", suffix)
+        try:
+            if target == "-":
+                fd, name = tempfile.mkstemp(prefix=".impedax-stdout.", suffix=suffix or ".txt")
+                tmp = Path(name)
+                _remember(tmp)
+                os.close(fd)
+            else:
+                tmp = _temporary_beside(check_writable(target, probe=False), "staged.", suffix)
+        except OSError as exc:
+            self.abort()
+            where = f"in {tempfile.gettempdir()} for standard output" if target == "-" else f"in directory {Path(target).parent}"
+            raise DataError(f"cannot create a file {where}: {_reason(exc)}", path=target) from None
+        except BaseException:
+            self.abort()
+            raise
         self._staged.append((tmp, target))
         try:
             writer(tmp)
         except OSError as exc:
             self.abort()
-            raise DataError(f"cannot write: {exc.strerror or exc}", path=target) from None
+            raise DataError(f"cannot write: {_reason(exc)}", path=target) from None
         except BaseException:
             self.abort()
             raise
@@ -218,7 +269,7 @@ class OutputTransaction:
                         _written.append(target)
         except OSError as exc:
             self.abort()
-            raise DataError(f"cannot write: {exc.strerror or exc}" + (f" ({', '.join(done)} already written)" if done else ""), path=target) from None
+            raise DataError(f"cannot write: {_reason(exc)}" + (f" ({', '.join(done)} already written)" if done else ""), path=target) from None
         for tmp, target in self._staged:
             if target == "-":
                 data = tmp.read_bytes()

@@ -19,7 +19,7 @@ from typing import Mapping, Sequence
 
 import numpy as np
 
-from .atomic import atomic_path
+from .atomic import atomic_path, check_writable
 from ..errors import DataError, ParameterError
 
 __all__ = ["RESULT_FORMATS", "result_format", "result_table", "write_result", "write_table", "write_json", "to_jsonable"]
@@ -104,12 +104,15 @@ def write_result(result, path: str | Path) -> None:
     """Write ``result`` in the format of ``path``'s extension: ``.csv`` the tidy table
     (`result_table`), ``.json`` its ``summary()``, ``.nc`` its ``to_xarray()`` (lossless
     netCDF, `write_netcdf`). Atomic: the file is whole or not there. Anything but a result
-    (a dict, None, a spectrum Dataset) is a `ParameterError` saying what to pass."""
+    (a dict, None, a spectrum Dataset) is a `ParameterError` saying what to pass; a path that
+    cannot be written is a `DataError` naming it, raised before the result is converted
+    (`check_writable`)."""
     kind = result_format(path)
     if not (callable(getattr(result, "summary", None)) or callable(getattr(result, "to_xarray", None))):
         got = "None" if result is None else type(result).__name__
         spectrum = "; a spectrum Dataset is written with impedax.save(data, path)" if hasattr(result, "data_vars") else ""
         raise ParameterError(f"write_result takes a result (FitResult, BatchFitResult, Comparison, Diagnosis, Refinement, Posterior, ...), got {got}{spectrum}")
+    check_writable(path)
     if kind == "csv":
         write_table(result_table(result), path)
     elif kind == "json":
