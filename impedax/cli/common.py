@@ -19,6 +19,7 @@ __all__ = [
     "check_outputs", "save_outputs", "print_result", "result_out_help", "Output", "OutputPlan", "plan_outputs",
     "memory_limit", "check_memory", "MEMORY_LIMIT_ENV", "add_select_option", "load_selected", "select_spectra", "load_selected_files", "labels_text", "dimension_labels",
     "command_line_words", "naming_target", "part_of_joined", "announce_written", "option_words", "check_points", "check_band_options", "progress_printer", "PROGRESS_AFTER_S",
+    "relative_noise", "fit_command",
 ]
 
 
@@ -96,6 +97,40 @@ def check_band_options(fmin: float | None, fmax: float | None) -> None:
             raise ParameterError(f"{flag} must be positive, got {value:g}")
     if fmin is not None and fmax is not None and fmax < fmin:
         raise ParameterError(f"--fmax ({fmax:g} Hz) is below --fmin ({fmin:g} Hz)")
+
+
+def relative_noise(text: str | None) -> float | None:
+    """``--noise`` as a fraction of |Z| per component: ``0.05``, or a percentage, ``5%``. A
+    bare value of 1 or more is refused (`ParameterError`): ``--noise 5`` means 5 %, not 500 %."""
+    if text is None:
+        return None
+    written = text.strip()
+    percent = written.endswith("%")
+    try:
+        value = float(written[:-1] if percent else written)
+    except ValueError:
+        raise ParameterError(f"--noise {text!r} is not a number: write a fraction of |Z| (0.05) or a percentage (5%)") from None
+    if not (value > 0 and math.isfinite(value)):
+        raise ParameterError(f"--noise must be positive and finite, got {text}")
+    if percent:
+        return value / 100
+    if value >= 1:
+        raise ParameterError(f"--noise {written}: a bare value is a fraction of |Z| (0.05 for 5 %), so {written} would be {value * 100:g} %; write {written}% or {value / 100:g}")
+    return value
+
+
+def fit_command(args=None) -> str:
+    """The start of the ``impedax fit`` command that fits the spectrum and points a run of
+    ``args`` (diagnose, refine) fitted: its file, shell-quoted (DATA when ``args`` names none),
+    --select, --weighting unless the default (modulus), --fmin and --fmax. The advice of those
+    commands ends it with --model and the values to start from."""
+    import shlex
+
+    weighting = getattr(args, "weighting", None)
+    options = [("--select", item) for item in getattr(args, "select", None) or ()]
+    options += [("--weighting", weighting if weighting != "modulus" else None), ("--fmin", getattr(args, "fmin", None)), ("--fmax", getattr(args, "fmax", None))]
+    data = getattr(args, "data", None)
+    return " ".join(["impedax fit", shlex.quote(data) if data else "DATA"] + [f"{flag} {shlex.quote(str(value))}" for flag, value in options if value is not None])
 
 
 def check_points(points: int, fmin: float, fmax: float) -> None:
@@ -663,13 +698,13 @@ def check_memory(flag: str, needed_bytes: float, what: str) -> None:
         )
 
 
-def print_result(result, as_json: bool) -> None:
-    """``result.summary()`` as JSON, or ``result.report()`` as text (in the command line's
-    words: `command_line_words`)."""
+def print_result(result, as_json: bool, **report_options) -> None:
+    """``result.summary()`` as JSON, or ``result.report(**report_options)`` as text (in the
+    command line's words: `command_line_words`)."""
     if as_json:
         emit_json(result.summary())
     else:
-        print(command_line_words(result.report()))
+        print(command_line_words(result.report(**report_options)))
 
 
 # the Python keywords that messages of the fitting code name, and the options that set them on

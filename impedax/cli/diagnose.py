@@ -32,7 +32,7 @@ def add_spectrum_command(sub, name: str, *, help: str, description: str, plot_he
     add_model_argument(p, default=model_default)
     add_fit_options(p)
     p.add_argument("--effects", metavar="ID,ID", help="only these effects (comma-separated ids; default: all)")
-    p.add_argument("--noise", type=float, metavar="REL", help="relative noise level per component (default: from sigma or the KK residuals)")
+    p.add_argument("--noise", metavar="REL", help="relative noise level per component: a fraction of |Z| (0.05) or a percentage (5%%); default: from sigma or the KK residuals")
     add_output_options(p, json="machine-readable output", plot=plot_help, out=result_out_help(out_help))
     p.set_defaults(run=run)
     return p
@@ -48,19 +48,20 @@ def effects_option(text):
 
 def run(args) -> int:
     from ..fitting import diagnose
-    from .common import figure_writer, load_selected, plan_outputs, print_result, progress_printer, result_writer
+    from .common import figure_writer, fit_command, load_selected, plan_outputs, print_result, progress_printer, relative_noise, result_writer
     from .fit import check_max_steps
 
     outputs = plan_outputs([("--out", args.out, "result"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     max_steps = check_max_steps(args.max_steps)
+    noise = relative_noise(args.noise)
     effects = effects_option(args.effects)
     data = load_selected(args.data, args.select, single="impedax diagnose")
     progress = progress_printer()
     try:
-        result = diagnose(data, args.model, effects=effects, noise=args.noise, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, progress=progress)
+        result = diagnose(data, args.model, effects=effects, noise=noise, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, progress=progress)
     finally:
         progress.close()
     outputs.save({"--out": result_writer(result), "--plot": figure_writer(result.plot)})
     if not outputs.uses_stdout:
-        print_result(result, args.json)
+        print_result(result, args.json, fit_command=fit_command(args))
     return 0

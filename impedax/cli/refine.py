@@ -28,7 +28,7 @@ def register(sub) -> None:
 def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting import refine
-    from .common import figure_writer, load_selected, plan_outputs, print_result, progress_printer, result_writer
+    from .common import figure_writer, load_selected, plan_outputs, print_result, progress_printer, relative_noise, result_writer
     from .diagnose import effects_option
     from .fit import check_max_steps
 
@@ -36,12 +36,13 @@ def run(args) -> int:
     if args.max_effects < 0:
         raise ParameterError(f"--max-effects must be 0 or more, got {args.max_effects}")
     solver_steps = check_max_steps(args.max_steps)
+    noise = relative_noise(args.noise)
     effects = effects_option(args.effects)
     data = load_selected(args.data, args.select, single="impedax refine")
     progress = progress_printer()
     try:
         result = refine(
-            data, args.model, max_effects=args.max_effects, max_steps=solver_steps, effects=effects, weighting=args.weighting, noise=args.noise,
+            data, args.model, max_effects=args.max_effects, max_steps=solver_steps, effects=effects, weighting=args.weighting, noise=noise,
             fmin=args.fmin, fmax=args.fmax, progress=progress,
         )
     finally:
@@ -56,22 +57,16 @@ def run(args) -> int:
 
 
 def reproduce_line(refinement, args=None) -> str | None:
-    """The ``impedax fit`` command that reproduces the final fit from its values (with the
-    run's --select, --weighting, --fmin, --fmax), when a note says a fit from scratch stops
-    short of it (``(pass init=)``), else None."""
-    import shlex
+    """The ``impedax fit`` command that reproduces the final fit from its values (on the run's
+    file and points: `fit_command`), when a note says a fit from scratch stops short of it
+    (``(pass init=)``), else None."""
+    from .common import fit_command
 
     if not any("(pass init=)" in note for note in refinement.notes):
         return None
     final = refinement.final
-    options = []
-    for option, attr in (("--select", "select"), ("--weighting", "weighting"), ("--fmin", "fmin"), ("--fmax", "fmax")):
-        value = getattr(args, attr, None)
-        for v in value if isinstance(value, list) else [value]:
-            if v is not None:
-                options.append(f"{option} {shlex.quote(str(v))}")
     starts = " ".join(f"--{'fix' if final.fixed[k] else 'init'} {k}={v:.6g}" for k, v in final.values.items())
-    line = f"to reproduce the final fit from its values (a fit from scratch stops short of it): impedax fit DATA {' '.join(options + [''])}--model '{final.model}' {starts}"
+    line = f"to reproduce the final fit from its values (a fit from scratch stops short of it): {fit_command(args)} --model '{final.model}' {starts}"
     masked = len(refinement.masked_points)
     if masked:  # impedax fit has no option to leave points out
         line += f" (impedax fit keeps the {masked} point(s) the refinement left out, so its rms_rel differs)"

@@ -280,8 +280,11 @@ class Diagnosis:
             for p in self.drt.data_peaks
         ]
 
-    def report(self) -> str:
-        """The diagnosis as a short story (the default text of ``impedax diagnose``)."""
+    def report(self, *, fit_command: str = "impedax fit DATA") -> str:
+        """The diagnosis as a short story (the default text of ``impedax diagnose``).
+        ``fit_command``: how the command that applies the best suggestion starts (``impedax
+        diagnose`` gives its file, --select, --fmin, --fmax and --weighting); it ends with
+        --model and the suggestion's values."""
         b = self.baseline
         lines = [f"model {b.model}: rms_rel {b.rms_rel * 100:.3g} %, chi2_red {b.chi2_red:.3g}, AIC {b.aic:.1f} ({b.n_points} points, {b.n_params} free parameters)"]
         if self.kk is not None:
@@ -313,7 +316,7 @@ class Diagnosis:
                     lines.append(f"     the same fit within the noise (the data cannot tell them apart): {t.model} [{t.effect}]   ΔAIC {t.delta_aic:+.1f}")
             best = self.suggestions[0].fit
             starts = " ".join(f"--init {k}={v:.6g}" for k, v in best.values.items() if not best.fixed[k])
-            lines.append(f"  to apply 1. from its fitted values (a fit from scratch may stop in another minimum): impedax fit DATA --model '{best.model}' {starts}")
+            lines.append(f"  to apply 1. from its fitted values (a fit from scratch may stop in another minimum): {fit_command} --model '{best.model}' {starts}")
             if self.masked_points:  # (impedax fit takes every point the file holds)
                 lines.append(
                     f"     note: this diagnosis left out {len(self.masked_points)} point(s) ({', '.join(format_frequency(f) for f in self.masked_points[:6])}{', …' if len(self.masked_points) > 6 else ''}); "

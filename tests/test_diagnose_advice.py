@@ -1,0 +1,76 @@
+"""The advice of ``impedax diagnose`` runs as printed (the run's file, --select, --fmin, --fmax
+and --weighting carried into its ``impedax fit`` line), and ``--noise`` of diagnose and refine
+takes a fraction or a percentage and refuses a bare 5 (500 %). REAL data: the AutoEIS battery
+cycles and tests/fixtures/real/exampleData.csv."""
+
+import json
+import shlex
+from pathlib import Path
+from types import SimpleNamespace
+
+import pytest
+
+from impedax.cli import main
+from impedax.cli.common import fit_command, relative_noise
+from impedax.errors import ParameterError
+
+ROOT = Path(__file__).resolve().parents[1]
+CYCLES = ROOT / "examples" / "data" / "autoeis_battery_cycles.nc"
+EXAMPLE = ROOT / "tests" / "fixtures" / "real" / "exampleData.csv"
+
+# the keys of ``impedax diagnose --json`` before the advice named the file (keys may be added)
+DIAGNOSE_KEYS = {
+    "model", "baseline", "kk", "noise", "masked_points", "failing_bands", "verdict", "reason", "suggestions",
+    "candidates", "thresholds", "notes", "drt_peaks", "drt_summary",
+}
+
+
+def test_the_advice_fits_the_selected_spectrum_on_the_run_s_points(tmp_path, capsys):
+    summary = tmp_path / "diagnosis.json"
+    argv = ["diagnose", str(CYCLES), "--select", "cycle=129", "--fmin", "0.05", "--weighting", "proportional",
+            "--model", "R0 + R1 || CPE1 + W1", "--effects", "extra_relaxation", "--out", str(summary)]
+    assert main(argv) == 0
+    line = next(x for x in capsys.readouterr().out.splitlines() if "to apply 1." in x)
+    command = shlex.split(line[line.index("impedax fit "):])
+    assert command[:3] == ["impedax", "fit", str(CYCLES)] and "DATA" not in command
+    diagnosis = json.loads(summary.read_text())
+    assert set(diagnosis) >= DIAGNOSE_KEYS
+    best = diagnosis["suggestions"][0]
+    assert main([*command[1:], "--json"]) == 0
+    fitted = json.loads(capsys.readouterr().out)
+    assert "n_spectra" not in fitted  # one spectrum (cycle 129), not the file's three
+    assert fitted["model"] == best["model"] and fitted["weighting"] == "proportional"
+    assert fitted["n_points"] == diagnosis["baseline"]["n_points"]  # the points above --fmin
+    assert fitted["rms_rel"] == pytest.approx(best["rms_rel"], rel=1e-3)
+
+
+def test_fit_command_quotes_the_file_and_leaves_out_the_defaults():
+    args = SimpleNamespace(data="my data/cell 1.csv", select=["cycle=129"], weighting="modulus", fmin=None, fmax=1000.0)
+    assert fit_command(args) == "impedax fit 'my data/cell 1.csv' --select cycle=129 --fmax 1000.0"
+    assert fit_command() == "impedax fit DATA"  # (the Python API's report)
+
+
+@pytest.mark.parametrize("text, value", [("0.05", 0.05), ("5%", 0.05), (" 2.5 %", 0.025), ("150%", 1.5), (None, None)])
+def test_noise_is_a_fraction_or_a_percentage(text, value):
+    assert relative_noise(text) == pytest.approx(value)
+
+
+@pytest.mark.parametrize("text", ["0", "-0.01", "nan", "inf%", "abc", "%"])
+def test_noise_that_is_no_level_is_refused(text):
+    with pytest.raises(ParameterError, match="--noise"):
+        relative_noise(text)
+
+
+@pytest.mark.parametrize("command", ["diagnose", "refine"])
+def test_a_bare_noise_of_1_or_more_is_refused(command, capsys):
+    assert main([command, str(EXAMPLE), "--model", "R0 + R1 || C1", "--noise", "5"]) == 2
+    captured = capsys.readouterr()
+    assert captured.out == ""
+    assert captured.err.splitlines() == [f"impedax {command}: error: --noise 5: a bare value is a fraction of |Z| (0.05 for 5 %), so 5 would be 500 %; write 5% or 0.05"]
+
+
+def test_noise_in_percent_is_the_fraction(capsys):
+    assert main(["diagnose", str(EXAMPLE), "--model", "R0 + R1 || C1", "--noise", "5%", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert set(out) >= DIAGNOSE_KEYS
+    assert out["noise"]["level"] == pytest.approx(0.05) and out["noise"]["source"] == "given"
