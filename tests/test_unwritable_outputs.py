@@ -284,3 +284,12 @@ def test_inspect_preview_of_standard_input_is_titled_stdin(tmp_path, monkeypatch
     plot = tmp_path / "preview.png"
     assert main(["inspect", "-", "--plot", str(plot)]) == 0, capsys.readouterr().err
     assert _title(figures[0]).startswith(f"{STDIN_NAME}: ")
+
+
+@pytest.mark.parametrize("folder", ["/sys/impedax-demo", "/proc/impedax/demo"])
+def test_demo_refuses_a_folder_nothing_can_be_made_in(folder, capsys):
+    # root passes os.access there; the demo then died with a PermissionError traceback, exit 1
+    code = main(["demo", "--out", folder, "--fast"])
+    out, err = capsys.readouterr()
+    line = _one_line_refusal(code, out, err, folder)
+    assert "cannot create the folder in /" in line and not os.path.exists(folder)

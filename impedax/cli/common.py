@@ -641,6 +641,7 @@ def check_output_folder(path: str, flag: str = "--out") -> Path:
             raise DataError(f"{flag}: exists and is not a folder; give a folder name", path=folder)
         if not os.access(folder, os.W_OK | os.X_OK):
             raise DataError(f"{flag}: folder is not writable", path=folder)
+        _probe_folder(folder, folder, f"{flag}: cannot create files in the folder")
         return folder
     for ancestor in folder.absolute().parents:
         if ancestor.exists() or ancestor.is_symlink():
@@ -648,8 +649,20 @@ def check_output_folder(path: str, flag: str = "--out") -> Path:
                 raise DataError(f"{flag}: {ancestor} is a file, so no folder can be made under it", path=folder)
             if not os.access(ancestor, os.W_OK | os.X_OK):
                 raise DataError(f"{flag}: cannot create the folder: {ancestor} is not writable", path=folder)
+            _probe_folder(ancestor, folder, f"{flag}: cannot create the folder in {ancestor}")
             return folder
     raise DataError(f"{flag}: no existing parent folder", path=folder)
+
+
+def _probe_folder(where: Path, folder: Path, text: str) -> None:
+    """A folder made and removed in ``where``: permission bits are not trusted (root passes them
+    under /sys or /proc, where nothing can be made), as `io.atomic.check_writable` probes files."""
+    import tempfile
+
+    try:
+        os.rmdir(tempfile.mkdtemp(prefix=".impedax-probe-", dir=where))
+    except OSError as exc:
+        raise DataError(f"{text}: {exc.strerror or exc}", path=folder) from None
 
 
 # --- memory limits ----------------------------------------------------------------------------
