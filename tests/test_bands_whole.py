@@ -160,30 +160,28 @@ def test_autolab_names_the_inductive_top_not_a_resistive_average(real):
     assert ("|Z|", "above") in found and ("|Z|", "below") in found
 
 
-def test_battery_gives_the_swings_not_a_same_phase_average(real):
-    d, f, zd, zm = real("battery129")
-    assert len(d.failing_bands) == 1
+def _stated_extremes(real, case):
+    """The first failing band of ``case``, checked to be in the report without the same-phase
+    wording; the points inside it, and the extremes its text states (each checked)."""
+    d, f, zd, zm = real(case)
     band = d.failing_bands[0]
-    text = band.pattern
-    assert text in d.report()
-    assert "same phase" not in text
+    assert band.pattern in d.report() and "same phase" not in band.pattern
     inside = _band_points(band, f)
-    found = _check_stated_extremes(text, f[inside], zd[inside], zm[inside])
-    ratio = np.abs(zd[inside]) / np.abs(zm[inside])
-    dph = np.degrees(np.angle(zd[inside] / zm[inside]))
+    return d, _check_stated_extremes(band.pattern, f[inside], zd[inside], zm[inside]), zd[inside], zm[inside]
+
+
+def test_battery_gives_the_swings_not_a_same_phase_average(real):
+    d, found, zd, zm = _stated_extremes(real, "battery129")
+    assert len(d.failing_bands) == 1
+    ratio = np.abs(zd) / np.abs(zm)
+    dph = np.degrees(np.angle(zd / zm))
     # independently: |Z| swings both ways by > 10 %, the phase by several degrees both ways
     assert ratio.min() < 0.9 and ratio.max() > 1.1 and dph.min() < -5 and dph.max() > 5
     assert set(found) == {("phase", "above"), ("phase", "below"), ("|Z|", "above"), ("|Z|", "below")}
 
 
 def test_gamry_two_arcs_gives_a_magnitude_figure(real):
-    d, f, zd, zm = real("gamry2")
-    band = d.failing_bands[0]
-    text = band.pattern
-    assert text in d.report()
-    assert "same phase" not in text
-    inside = _band_points(band, f)
-    found = _check_stated_extremes(text, f[inside], zd[inside], zm[inside])
+    _, found, _, _ = _stated_extremes(real, "gamry2")
     assert ("|Z|", "above") in found and ("|Z|", "below") in found
 
 
