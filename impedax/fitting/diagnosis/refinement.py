@@ -12,11 +12,14 @@ import numpy as np
 import xarray as xr
 
 from ...arguments import MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice, count, flag, frequency, instance_of, real, seed as seed_rule
-from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
+from ...circuits import Circuit, DEFAULT_REGISTRY, Element, Registry, parse
 from ...data import concise_repr
 from ...errors import CircuitError, ParameterError
 from ..least_squares import FitResult, fit
+from ..least_squares.branches import VANISHING_SHARE, IdleBranch, idle_branches
 from ..least_squares.candidates import fit_candidates
+from ..least_squares.result import BOUND_CHI2_FRACTION
+from ..parameters import ParameterTable
 from ..problem import WEIGHTINGS, open_spectrum
 from .catalog import EffectCatalog
 from .diagnosis import CANDIDATE_STEPS, DELTA_AIC_MIN, NOISE_FRACTION_MIN, Diagnosis, Verdict, diagnose, noise_variance_explained, undetermined_parameters
@@ -28,8 +31,10 @@ __all__ = ["Refinement", "RefinementStep", "refine"]
 @dataclass(frozen=True, eq=False)
 class RefinementStep:
     """One model of the loop: its fit, what was added to get it, its diagnosis, and the
-    elements the step left out (`Suggestion.removed`); a step of `_simplified` adds nothing
-    (``added`` and ``effect`` None) and lists the element it took out again."""
+    elements the step left out (`Suggestion.removed`); a step of `_simplified` or `_pruned`
+    adds nothing (``added`` and ``effect`` None) and lists the element(s) it took out, and a
+    step of `_pruned` that put a simpler element in place of one (a CPE at α = 1 → a C) has
+    ``added`` that element, ``effect`` None and ``removed`` the one it replaced."""
 
     __repr__ = concise_repr  # (the generated one printed every array)
 
@@ -47,7 +52,10 @@ class RefinementStep:
     def change(self) -> str:
         """What the step did, in words: ``+ R_s [series_resistance]`` (with ``, − R_relax3``
         when the effect replaced an element), ``− CPE_relax [simplified]`` (an element taken out
-        again, `_simplified`) or ``(start)``."""
+        again, `_simplified`, or a vanished term pruned, `_pruned`), ``CPE1 → C1 [simplified]``
+        (`_pruned`) or ``(start)``."""
+        if self.added and self.effect is None:  # a simpler element in place of one (`_pruned`)
+            return f"{', '.join(self.removed)} → {self.added} [simplified]"
         if self.added:  # an effect may replace an element: the step takes that one out
             return f"+ {self.added} [{self.effect}]" + (f", − {', '.join(self.removed)}" if self.removed else "")
         return f"− {', '.join(self.removed)} [simplified]" if self.removed else "(start)"
@@ -83,7 +91,7 @@ class Refinement:
         final = self.final
         return {
             "steps": [s.as_json() for s in self.steps], "final_model": self.final_model, "verdict": self.verdict,
-            "final_rms_rel": final.rms_rel, "n_params": final.n_params, "undetermined": sorted(undetermined_parameters(final)),
+            "final_rms_rel": final.rms_rel, "n_params": final.n_params, "undetermined": sorted(undetermined_parameters(final) | vanished_parameters(final)),
             "masked_points": [float(f) for f in self.masked_points], "notes": list(self.notes),
         }
 
@@ -148,8 +156,9 @@ def _reproduced(ds: xr.Dataset, last: FitResult, *, n_starts: int, seed: int) ->
 
     A parameter running to a natural bound (a resistor running open) can stop short of it from
     scratch: on CHInstruments' spectrum R1 stopped at 1e14 Ω, leaving R1, C1 and R_relax2
-    undetermined, where the loop's fit reached 5e259 Ω (at the bound: every parameter
-    determined) at the same χ² to 1e-9."""
+    undetermined, where the loop's fit reached 5e259 Ω (at the bound, by which
+    `undetermined_parameters` holds it) at the same χ² to 1e-9. Its term has then vanished:
+    `_pruned` takes it out of the final model."""
     fixed = {k: v for k, v in last.values.items() if last.fixed[k]} or None
     scratch = fit(last.circuit, ds, fixed=fixed, weighting=last.weighting, registry=last.registry, seed=seed)
     loose = undetermined_parameters(scratch) - undetermined_parameters(last)
@@ -414,6 +423,154 @@ def _simplified(steps: list[RefinementStep], used: xr.Dataset, *, n_starts: int,
     return steps
 
 
+def _flagged(fit: FitResult) -> set[str]:
+    """The free parameters of ``fit`` its own flags put at a bound (``at_bound``) or give an
+    infinite standard error (a vanishing term's, `branches.settle_vanishing`)."""
+    return set(fit.at_bound) | {n for n in fit.free_names if fit.stderr.get(n) == np.inf}
+
+
+def _vanished_terms(fit: FitResult) -> list[tuple[IdleBranch, Circuit, tuple[str, ...]]]:
+    """The terms of ``fit``'s circuit that vanished: a branch of a parallel block or a term of a
+    series chain holding a parameter `_flagged` (at a bound: a resistor run open beside a C, a
+    series R run to 0; or a vanishing term's) whose share of the block's current (the chain's
+    voltage) stays below `branches.VANISHING_SHARE` at every frequency (`branches.idle_branches`,
+    as the fit's idle note names it). Each as (the `IdleBranch`, the circuit without the term,
+    the flagged parameters in it); the fit's model without the term differs from it by less
+    than any instrument resolves."""
+    flagged = _flagged(fit)
+    if not flagged or not np.isfinite(fit.chi2) or len(fit.circuit.element_names) < 2:
+        return []
+    try:
+        table = ParameterTable.build(fit.circuit, registry=fit.registry, fixed={k: v for k, v in fit.values.items() if fit.fixed[k]} or None)
+    except (ParameterError, CircuitError):
+        return []
+    values = np.array([[fit.values[n] for n in table.names]], float)
+    mask = np.array([[n in flagged for n in table.free_names]])
+    out = []
+    for branch in idle_branches(fit.circuit, fit.registry, table, values, mask, fit.frequency):
+        if not branch.share < VANISHING_SHARE:
+            continue
+        try:
+            reduced = parse(branch.reduced, fit.registry)
+        except CircuitError:
+            continue
+        gone = set(fit.circuit.parameter_names(fit.registry)) - set(reduced.parameter_names(fit.registry))
+        out.append((branch, reduced, tuple(n for n in fit.free_names if n in gone and n in flagged)))
+    return out
+
+
+def vanished_parameters(fit: FitResult) -> frozenset[str]:
+    """The parameters of ``fit``'s vanished terms (`_vanished_terms`) that its flags hold (at a
+    bound or a vanishing term's): `undetermined_parameters` counts a parameter at the natural
+    bound that makes its term vanish as determined, but the data tell only that the term is
+    not there (R1 = 1.8e255 Ω beside C1 on CHInstruments' spectrum). ``Refinement.summary``
+    lists them as undetermined, should the final model keep one (`_pruned` takes them out)."""
+    return frozenset(n for _, _, names in _vanished_terms(fit) for n in names)
+
+
+def _capacitor_name(name: str, taken) -> str:
+    """A C's name for the CPE ``name`` it replaces: CPE1 → C1, CPE_relax → C_relax (C_relax2, ...
+    when taken), as `effects` names a CPE for the C it replaces."""
+    label = name[4:] if name.startswith("CPE_") else name[3:] if name.startswith("CPE") else name[2:] if name.startswith("Q_") else name[1:] if name.startswith("Q") else name
+    if label.isdigit() or not label:
+        k = int(label) if label else 1
+        while f"C{k}" in taken:
+            k += 1
+        return f"C{k}"
+    candidate, k = f"C_{label}", 2
+    while candidate in taken:
+        candidate, k = f"C_{label}{k}", k + 1
+    return candidate
+
+
+def _capacitors(fit: FitResult) -> list[tuple[str, str, Circuit, dict[str, float]]]:
+    """The CPEs of ``fit`` whose α is at its upper bound 1 (``at_bound``): each one an ideal
+    capacitor C = Q (Z = 1/(Q (jω)^α)). As (CPE name, the C's name, the circuit with the C in
+    its place, starting values of that circuit from ``fit``'s)."""
+    out = []
+    registry = fit.registry
+    for e in fit.circuit.elements():
+        if registry[e.symbol].symbol != "CPE":
+            continue
+        q, alpha = registry[e.symbol].parameter_names(e.name)
+        if alpha not in fit.at_bound or fit.values[alpha] < 0.5 or fit.fixed[q]:  # (α at 1, not at 0)
+            continue
+        name = _capacitor_name(e.name, fit.circuit.element_names)
+        circuit = fit.circuit.replace(e.name, Element("C", name))
+        init = {k: v for k, v in fit.values.items() if k not in (q, alpha)}
+        init[registry["C"].parameter_names(name)[0]] = fit.values[q]
+        out.append((e.name, name, circuit, init))
+    return out
+
+
+def _pruned(steps: list[RefinementStep], used: xr.Dataset, *, n_starts: int, seed: int, diagnosed, reproduced, say, notes: list[str]) -> list[RefinementStep]:
+    """``steps`` followed by the final model without what its fit's own flags say is not there:
+    a term that vanished (`_vanished_terms`: out of a parallel block the branch opens, out of a
+    series chain it is shorted) and a CPE whose α is at its bound 1, replaced by a C
+    (`_capacitors`). Each simpler model is fitted from the last model's values and refitted as
+    the final model is (`reproduced`); it is kept when its χ² is at most `BOUND_CHI2_FRACTION`
+    of the reduced χ² above the last model's (the rule by which the fit put the parameter at its
+    bound: the data cannot tell the two apart, and with fewer parameters its AIC is lower), no
+    parameter is undetermined that the last model determined, and it gets its own diagnosis;
+    one change per step, until none is left. Whatever the verdict: the final model is one
+    ``impedax fit`` reproduces with every parameter it keeps determined.
+
+    On CHInstruments' spectrum refine ended at R0 + R1 || C1 + (R_relax + R_relax2 ||
+    CPE_relax2) || CPE_relax with R1 = 1.8e255 Ω (at its bound ∞: R1 carried 7e-252 of the
+    current through R1 || C1), reproducible only from those values; without R1 it reaches the
+    same rms_rel from scratch, one parameter fewer. On exampleData.csv (max_effects 6) CPE1,
+    which had taken C1's place, ended at α = 1: C1 in its place fits as well, AIC lower by 2."""
+    steps = list(steps)
+    while True:
+        last = steps[-1].fit
+        changes = []  # (added, removed, circuit, init, why)
+        for branch, reduced, names in _vanished_terms(last):
+            held = ", ".join(f"{n} at its bound" if n in last.at_bound else f"{n} (a vanishing term's)" for n in names)
+            what = f"takes at most {branch.share:.2g}× the voltage across" if branch.series else f"carries at most {branch.share:.2g}× the current through"
+            removed = tuple(e for e in last.circuit.element_names if e not in reduced.element_names)
+            changes.append((None, removed, reduced, {k: v for k, v in last.values.items() if k in reduced.parameter_names(last.registry)},
+                            f"{branch.element} {what} {branch.block} over the band ({held}): its term vanished, and {{final}}, the model without it,"))
+        for cpe, c, circuit, init in _capacitors(last):
+            changes.append((c, (cpe,), circuit, init, f"{cpe}.alpha is at its upper bound 1, where {cpe} is an ideal capacitor: {{final}}, with {c} in its place,"))
+        if not changes:
+            break
+        say(f"pruning: fitting {last.model} without what vanished or is at a bound ({', '.join(n for _, r, _, _, _ in changes for n in r)})")
+        kept = False
+        fixed_all = {k: v for k, v in last.values.items() if last.fixed[k]}
+        for added, removed, circuit, init, why in changes:
+            names = set(circuit.parameter_names(last.registry))
+            fixed = {k: v for k, v in fixed_all.items() if k in names} or None
+            start = {k: v for k, v in init.items() if k not in (fixed or {})}
+            try:  # (a value on its bound is no start: the fit guesses that one)
+                table = ParameterTable.build(circuit, registry=last.registry)
+                start = {k: v for k, v in start.items() if table.lower[table.names.index(k)] < v < table.upper[table.names.index(k)]}
+                trial = fit(circuit, used, init=start, fixed=fixed, weighting=last.weighting, registry=last.registry, n_starts=1, seed=seed)
+            except (ParameterError, CircuitError):
+                continue
+            final, note = reproduced(used, trial, n_starts=n_starts, seed=seed)
+            tolerance = BOUND_CHI2_FRACTION * last.chi2_red + 2 * last.n_points * 1e-28  # (`result.confirm_bounds`)
+            if not (np.isfinite(final.chi2) and final.chi2 <= last.chi2 + tolerance and final.n_params < last.n_params):
+                continue
+            if undetermined_parameters(final) - undetermined_parameters(last):
+                continue
+            say(f"pruning: diagnosing {final.model}")
+            d = diagnosed(final, steps[-1].diagnosis.solver_shape) if steps[-1].diagnosis is not None else None
+            # the notes' fits from their values concern models no longer final: only the final's reproduce line is due
+            notes[:] = [n.replace(" (pass init=)", "") for n in notes]
+            change = f"{', '.join(removed)} is replaced by {added}" if added else f"{', '.join(removed)} {'is' if len(removed) == 1 else 'are'} taken out"
+            notes.append(
+                why.replace("{final}", final.model) + f" fits as well as {last.model} (rms_rel {last.rms_rel * 100:.3g} % → {final.rms_rel * 100:.3g} %, "
+                f"AIC {last.aic:.1f} → {final.aic:.1f}) with {last.n_params - final.n_params} parameter(s) fewer: {change}"
+                + (f"; {note}" if note else "")
+            )
+            steps.append(RefinementStep(final, added, None, d, removed))
+            kept = True
+            break
+        if not kept:
+            break
+    return steps
+
+
 REFINE_START = "R0 + R1 || C1"
 """refine's circuit when none is given: a series resistance and one ideal arc, from which it
 adds what the data need (the start of the real-spectra study, docs/diagnosis.md)."""
@@ -463,8 +620,9 @@ def refine(
     `diagnose`; ``progress`` is called with a line of text as each step starts. The final model
     is refitted with `fit` on the same points (reproducible with ``impedax fit``); a last
     step whose refit leaves parameters undetermined is dropped; an ``adequate`` end loses the
-    elements it added that an adequate model can do without (`_simplified`). Returns a
-    `Refinement`."""
+    elements it added that an adequate model can do without (`_simplified`); then any end
+    loses a term its fit's flags say vanished (a resistor run open) and has a C in place of a
+    CPE at α = 1 (`_pruned`). Returns a `Refinement`."""
     if solver_steps is not None:
         if max_steps is not None:
             raise ParameterError("give max_steps (the step limit of the candidate fits; solver_steps is its older name), not both")
@@ -520,6 +678,7 @@ def refine(
     steps = _greedy([RefinementStep(first.baseline, None, None, first)], picked, limit, diagnosed, say, "")
     steps = _second_path(steps, picked, limit, diagnosed, say, notes, finished)
     steps = _simplified(steps, used, n_starts=n_starts, seed=seed, diagnosed=diagnosed, reproduced=reproduced, say=say, notes=notes)
+    steps = _pruned(steps, used, n_starts=n_starts, seed=seed, diagnosed=diagnosed, reproduced=reproduced, say=say, notes=notes)
     last = steps[-1].diagnosis
     if last.verdict == Verdict.MISSING_EFFECT and last.best is not None and sum(effect_count(s.effect) for s in steps) + effect_count(last.best.effect) > limit:
         notes.append(
