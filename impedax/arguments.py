@@ -32,6 +32,7 @@ __all__ = [
     "real",
     "seed",
     "frequency",
+    "noise_fraction",
     "flag",
     "choice",
     "instance_of",
@@ -138,6 +139,15 @@ def real(*, minimum: float | None = None, maximum: float | None = None, positive
 
 
 frequency = real(positive=True, optional=True)
+
+
+def noise_fraction(value, name):
+    """A relative noise level, a fraction of |Z| in (0, 1) (0.05 for 5 %), or None: 5 meant as
+    5 % would be 500 % and make any misfit look like noise."""
+    value = real(positive=True, optional=True)(value, name)
+    if value is not None and value >= 1:
+        raise ParameterError(f"{name}={value:g} is a fraction of |Z| (0.05 for 5 %), so it would be {value * 100:g} %; give {value / 100:g} for {value:g} %")
+    return value
 """A band limit ``fmin``/``fmax`` [Hz]: positive and finite, or None (no limit)."""
 
 

@@ -65,11 +65,16 @@ def _kinds(warnings: Mapping[str, Sequence[str]]) -> list[list[tuple[str, str]]]
 def warning_kinds(warnings: Mapping[str, Sequence[str]]) -> list[dict]:
     """The warnings of a batch's spectra by kind, for JSON: each kind's text with the numbers
     that differ as ranges (as `grouped_warnings` prints it), the spectra it applies to and
-    their number; the most frequent kind first, every kind."""
+    their number (and ``scope``: the keys that name no spectrum, a global fit's "shared over
+    trial"); the most frequent kind first, every kind."""
     out = []
     for members in _kinds(warnings):
         places = list(dict.fromkeys(place for place, _ in members))
-        out.append({"warning": _spread([t for _, t in members]), "spectra": places, "n_spectra": len(places)})
+        spectra = [p for p in places if "=" in p]  # (a global fit's own notes are filed under "shared over trial")
+        kind = {"warning": _spread([t for _, t in members]), "spectra": spectra, "n_spectra": len(spectra)}
+        if len(spectra) < len(places):
+            kind["scope"] = [p for p in places if "=" not in p]
+        out.append(kind)
     return out
 
 

@@ -96,3 +96,30 @@ def test_the_command_line_file_reads_back(tmp_path):
     assert run.returncode == 0, run.stderr
     back = ix.FitResult.from_xarray(ix.load(out))
     assert back.model == "R0 + R1 || CPE1 + Wo1" and 0 < back.rms_rel < 0.2 and back.n_evaluations > 0
+
+
+def test_a_global_fit_reads_back_as_one(tmp_path):
+    # a joint fit's file had been stamped a plain batch and read back without its sharing
+    data = ix.load(CYCLES)
+    joint = ix.fit("R0 + R1 || CPE1 + R2 || CPE2 + W1", data, shared=["R0"], over=["cycle"])
+    path = tmp_path / "joint.nc"
+    ix.write_result(joint, path)
+    for ds in (joint.to_xarray(), ix.load(path), xr.open_dataset(path)):
+        back = ix.SharedFitResult.from_xarray(ds)
+        assert (back.shared, back.over) == (("R0",), ("cycle",))
+        assert back.summary() == joint.summary() and back.warnings == joint.warnings
+    with pytest.raises(DataError, match="a saved joint \\(shared-parameter\\) fit, not a batch of least-squares fits: read it with SharedFitResult.from_xarray"):
+        ix.BatchFitResult.from_xarray(joint.to_xarray())
+    old = ix.SharedFitResult.from_xarray(joint.dataset)  # (written before the kind was stored)
+    assert (old.shared, old.over) == (("R0",), ("cycle",))
+    kinds = joint.summary()["warning_kinds"]  # (a joint fit's own notes name no spectrum: their key is the scope)
+    assert all("=" in p for k in kinds for p in k["spectra"])
+    assert all(k["n_spectra"] == len(k["spectra"]) for k in kinds)
+
+
+def test_results_of_other_kinds_without_a_kind_are_not_taken_for_fits(batch):
+    data = ix.load(CYCLES)
+    with pytest.raises(DataError, match="not a saved impedax batch of least-squares fits"):
+        ix.BatchFitResult.from_xarray(ix.kk_test_batch(data).to_xarray())
+    with pytest.raises(DataError, match="not a saved impedax least-squares fit"):
+        ix.FitResult.from_xarray(batch.dataset)  # (a batch written before the kind was stored)

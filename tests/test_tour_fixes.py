@@ -78,3 +78,11 @@ def test_fit_and_compare_say_what_runs(monkeypatch, capsys):
     assert main(["compare", str(REAL / "exampleData.csv"), "--model", "R0 + R1 || C1", "--model", "R0 + R1 || CPE1", "--json"]) == 0
     err = capsys.readouterr().err
     assert "fitting model 1 of 2: R0 + R1 || C1" in err and "fitting model 2 of 2: R0 + R1 || CPE1" in err
+
+
+@pytest.mark.parametrize("call", ["diagnose", "refine"])
+def test_a_noise_level_of_one_or_more_is_refused_in_python(call):
+    # noise=5 meant as 5 % is 500 %: a 21 % misfit then reads as noise
+    data = ix.load(REAL / "exampleData.csv")
+    with pytest.raises(ParameterError, match=r"noise=5 is a fraction of \|Z\| \(0.05 for 5 %\), so it would be 500 %; give 0.05 for 5 %"):
+        getattr(ix, call)(data, "R0 + R1 || C1", noise=5)

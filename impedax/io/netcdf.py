@@ -117,6 +117,7 @@ def decode_dataset(ds: xr.Dataset) -> xr.Dataset:
 RESULT_KINDS = {
     "fit": ("least-squares fit", "FitResult.from_xarray"),
     "batch_fit": ("batch of least-squares fits", "BatchFitResult.from_xarray"),
+    "shared_fit": ("joint (shared-parameter) fit", "SharedFitResult.from_xarray"),
     "posterior": ("single-spectrum posterior", "Posterior.from_xarray"),
     "shared_posterior": ("joint (shared-parameter) posterior", "SharedPosterior.from_xarray"),
     "hierarchical_posterior": ("hierarchical posterior", "HierarchicalPosterior.from_xarray"),

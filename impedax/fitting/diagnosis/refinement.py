@@ -11,7 +11,7 @@ from typing import Callable
 import numpy as np
 import xarray as xr
 
-from ...arguments import MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice, count, flag, frequency, instance_of, real, seed as seed_rule
+from ...arguments import MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice, count, flag, frequency, instance_of, noise_fraction, seed as seed_rule
 from ...circuits import Circuit, DEFAULT_REGISTRY, Element, Registry, parse
 from ...data import concise_repr
 from ...errors import CircuitError, ParameterError
@@ -586,7 +586,7 @@ limit whatever its size, as ``impedax refine --max-steps`` passes it)."""
 @checked_arguments(
     max_steps=count(1, MAX_SOLVER_STEPS, optional=True), max_effects=count(0, 64, optional=True, why="each effect adds one element"),
     solver_steps=count(1, MAX_SOLVER_STEPS, optional=True), effects=instance_of(EffectCatalog, what="an EffectCatalog (e.g. impedax.DEFAULT_EFFECTS)"),
-    weighting=choice(WEIGHTINGS), noise=real(positive=True, optional=True), registry=instance_of(Registry), fmin=frequency, fmax=frequency,
+    weighting=choice(WEIGHTINGS), noise=noise_fraction, registry=instance_of(Registry), fmin=frequency, fmax=frequency,
     n_starts=count(1, MAX_STARTS), seed=seed_rule, drt_evidence=flag,
 )
 def refine(

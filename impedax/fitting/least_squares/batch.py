@@ -80,10 +80,12 @@ class BatchFitResult:
     def n_spectra(self) -> int:
         return int(self.dataset["rms_rel"].size)
 
+    _KIND = "batch_fit"  # (`impedax_kind` of the saved result; a joint fit's is its own)
+
     def to_xarray(self) -> xr.Dataset:
         """``dataset`` with what `from_xarray` needs besides in its attrs: the warnings (spectrum
         → its warnings, as ``warnings``) and the time taken."""
-        return self.dataset.assign_attrs(impedax_kind="batch_fit", warnings={k: list(v) for k, v in self.warnings.items()}, elapsed_s=float(self.elapsed_s))
+        return self.dataset.assign_attrs(impedax_kind=self._KIND, warnings={k: list(v) for k, v in self.warnings.items()}, elapsed_s=float(self.elapsed_s))
 
     @classmethod
     def from_xarray(cls, ds: xr.Dataset, *, registry: Registry | None = None) -> "BatchFitResult":
@@ -91,19 +93,25 @@ class BatchFitResult:
         by `impedax.load`, or opened as stored (``xr.open_dataset`` of a file `impedax.write_result`
         or ``impedax fit --out FILE.nc`` wrote). ``registry``: the one the circuit's elements are
         in (None: the default one). A file written before 2026-11-30 lacks the warnings: none."""
+        return cls._rebuilt(ds, "batch_fit", registry)
+
+    @classmethod
+    def _rebuilt(cls, ds: xr.Dataset, kind: str, registry: Registry | None, **fields):
+        """``from_xarray`` of a saved result of ``kind`` (``fields``: a subclass's own, from the
+        dataset)."""
         from ...circuits import parse
         from ...io.netcdf import damaged_result, saved_result  # (io is imported only here: rarely needed)
 
         registry = DEFAULT_REGISTRY if registry is None else registry
-        if isinstance(ds, xr.Dataset) and "impedax_kind" not in ds.attrs and "rms_rel" in ds.variables and ds["rms_rel"].dims:  # (written before the kind was stored)
-            ds = ds.assign_attrs(impedax_kind="batch_fit")
-        ds = saved_result(ds, "batch_fit", variables=("value", "stderr", "fixed", "at_bound", "rms_rel", "converged", "Z", "Z_model"), attrs=("model", "weighting"))
-        with damaged_result("batch_fit", ds):
+        if isinstance(ds, xr.Dataset) and "impedax_kind" not in ds.attrs and _looks_like(ds) == kind:  # (written before the kind was stored)
+            ds = ds.assign_attrs(impedax_kind=kind)
+        ds = saved_result(ds, kind, variables=("value", "stderr", "fixed", "at_bound", "rms_rel", "converged", "Z", "Z_model"), attrs=("model", "weighting"))
+        with damaged_result(kind, ds):
             warnings = {str(k): (v,) if isinstance(v, str) else tuple(str(w) for w in v) for k, v in dict(ds.attrs.get("warnings", {})).items()}
             elapsed = float(ds.attrs.get("elapsed_s", 0.0))
             dataset = ds.copy()
             dataset.attrs = {k: v for k, v in ds.attrs.items() if k not in ("impedax_kind", "warnings", "elapsed_s", "format")}
-            return cls(circuit=parse(ds.attrs["model"], registry), dataset=dataset, weighting=str(ds.attrs["weighting"]), warnings=warnings, elapsed_s=elapsed, registry=registry)
+            return cls(circuit=parse(ds.attrs["model"], registry), dataset=dataset, weighting=str(ds.attrs["weighting"]), warnings=warnings, elapsed_s=elapsed, registry=registry, **{k: f(ds) for k, f in fields.items()})
 
     def values(self, name: str) -> xr.DataArray:
         """Fitted values of parameter ``name`` over the batch dimensions."""
@@ -232,6 +240,15 @@ class BatchFitResult:
         """The warnings, one line per kind with the spectra it applies to (`grouped_warnings`),
         after an empty line; none when there are none."""
         return ["", *grouped_warnings(self.warnings, self.n_spectra)] if any(self.warnings.values()) else []
+
+
+def _looks_like(ds: xr.Dataset) -> str | None:
+    """The kind of fit result a dataset without ``impedax_kind`` (written before 2026-11-30)
+    holds, by its variables: a joint fit's ``shared_value``, a batch's values over extra
+    dimensions; None for anything else (a KK batch, a spectrum)."""
+    if "value" not in ds.variables or "rms_rel" not in ds.variables or not ds["rms_rel"].dims or len(ds["value"].dims) < 2:
+        return None
+    return "shared_fit" if "shared_value" in ds.variables else "batch_fit"
 
 
 def _dims_text(dims: dict[str, int]) -> str:
@@ -434,7 +451,7 @@ class _LaneRunner:
         self.n_points = n_points  # (before padding: `outputs` are cut back to them)
         self._placed: dict = {}
         self._shared_placed = None
-        self.kk_misfits: dict[int, float] = {}  # spectrum → its KK test's rms_rel (`result.kk_misfits`)
+        self.kk_misfits: dict[int, float] = {}  # spectrum → its KK test's rms_rel (`result.known_kk_misfits`)
 
     def _groups(self, n: int, capacity: int, n_lanes: int) -> list[list[np.ndarray]]:
         """Problems 0..n-1 in chunks of at most ``capacity``, grouped one chunk per device: a

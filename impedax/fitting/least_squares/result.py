@@ -22,7 +22,7 @@ from .starts import attainable_misfit, inward_start, rms_rel_of
 
 __all__ = [
     "FitResult", "fit_result", "fit_notes", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes",
-    "misfit_notes", "gross_misfits", "kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
+    "misfit_notes", "gross_misfits", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
     "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "shown_stderr", "without_error", "STDERR_NOTE", "LINEARISED_STDERR_NAME",
 ]
 
@@ -282,7 +282,7 @@ class FitResult:
         from ...io.netcdf import damaged_result, saved_result  # (io is imported only here: rarely needed)
 
         registry = DEFAULT_REGISTRY if registry is None else registry
-        if isinstance(ds, xr.Dataset) and "impedax_kind" not in ds.attrs and "value" in ds.variables:  # (written before the kind was stored)
+        if isinstance(ds, xr.Dataset) and "impedax_kind" not in ds.attrs and "value" in ds.variables and ds["value"].dims == ("param",) and "covariance" in ds.variables:  # (written before the kind was stored)
             ds = ds.assign_attrs(impedax_kind="fit")
         ds = saved_result(ds, "fit", variables=_FIT_VARIABLES, attrs=_FIT_ATTRS)
         with damaged_result("fit", ds):
@@ -597,7 +597,7 @@ MISFIT_RATIO_MAX = 5.0
 SIGMA_EXPLAINED = 2.0
 
 
-def kk_misfits(freq, z, rows: np.ndarray, known: dict[int, float] | None) -> np.ndarray:
+def known_kk_misfits(freq, z, rows: np.ndarray, known: dict[int, float] | None) -> np.ndarray:
     """`starts.attainable_misfit` of spectra ``z[rows]``, taking and filling ``known`` (row →
     misfit; one fit call's memory: a batch asks twice, `gross_misfits` before its extra starts
     and `misfit_notes` after, at ~0.5 ms per spectrum in a batch)."""
@@ -610,16 +610,16 @@ def kk_misfits(freq, z, rows: np.ndarray, known: dict[int, float] | None) -> np.
 
 def _checked_misfits(freq, z, z_model, known: dict[int, float] | None, checked_from: float | None = None):
     """rms_rel (B,) of fits z_model of spectra z, the indices of those at ``checked_from``
-    (default `MISFIT_CHECKED_FROM`) or more, and their KK test's misfits (`kk_misfits`)."""
+    (default `MISFIT_CHECKED_FROM`) or more, and their KK test's misfits (`known_kk_misfits`)."""
     z, z_model = np.atleast_2d(z), np.atleast_2d(z_model)
     rms = rms_rel_of(z_model, z)
     checked = np.flatnonzero(np.isfinite(rms) & (rms >= (MISFIT_CHECKED_FROM if checked_from is None else checked_from)))
-    return rms, checked, (kk_misfits(freq, z, checked, known) if checked.size else np.zeros(0))
+    return rms, checked, (known_kk_misfits(freq, z, checked, known) if checked.size else np.zeros(0))
 
 
 def gross_misfits(freq, z, z_model, known: dict[int, float] | None = None) -> np.ndarray:
     """Indices of the fits of spectra z (B, N) that miss the data grossly: rms_rel at least
-    `GROSS_MISFIT_FROM` and above `MISFIT_RATIO_MAX` × the KK test's misfit (`kk_misfits`,
+    `GROSS_MISFIT_FROM` and above `MISFIT_RATIO_MAX` × the KK test's misfit (`known_kk_misfits`,
     with ``known``)."""
     rms, checked, kk = _checked_misfits(freq, z, z_model, known, GROSS_MISFIT_FROM)
     return checked[(kk > 0) & (rms[checked] > MISFIT_RATIO_MAX * kk)]

@@ -325,6 +325,14 @@ class SharedFitResult(BatchFitResult):
 
     shared: tuple[str, ...] = ()
     over: tuple[str, ...] = ()
+    _KIND = "shared_fit"
+
+    @classmethod
+    def from_xarray(cls, ds: xr.Dataset, *, registry: Registry | None = None) -> "SharedFitResult":
+        """Rebuild a global fit from `SharedFitResult.to_xarray` output (as `BatchFitResult.from_xarray`
+        does a batch): the shared parameters and the dimensions shared over from its variables."""
+        return cls._rebuilt(ds, "shared_fit", registry, shared=lambda d: tuple(str(n) for n in d["shared_param"].values),
+                            over=lambda d: tuple(str(n) for n in d["rms_rel"].dims if n not in d["shared_value"].dims))
 
     @property
     def keep(self) -> tuple[str, ...]:
