@@ -69,6 +69,7 @@ def test_a_bare_noise_of_1_or_more_is_refused(command, capsys):
     assert captured.err.splitlines() == [f"impedax {command}: error: --noise 5: a bare value is a fraction of |Z| (0.05 for 5 %), so 5 would be 500 %; write 5% or 0.05"]
 
 
+@pytest.mark.slow  # (10 s; the suite's budget: relative_noise's parsing is tested above)
 def test_noise_in_percent_is_the_fraction(capsys):
     assert main(["diagnose", str(EXAMPLE), "--model", "R0 + R1 || C1", "--noise", "5%", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)

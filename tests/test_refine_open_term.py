@@ -91,6 +91,7 @@ def test_the_ch_instruments_refinement_ends_without_an_open_resistor(ch_refined,
     assert not undetermined_parameters(again) and not vanished_parameters(again) and again.rms_rel == pytest.approx(final.rms_rel, rel=1e-4)
 
 
+@pytest.mark.slow  # (10 s; the suite's budget)
 def test_a_cpe_at_alpha_one_is_replaced_by_a_capacitor():
     data = ix.load(REAL / "exampleData.csv")
     loop = ix.fit(EX_MODEL, data, n_starts=1, init=EX_VALUES)
