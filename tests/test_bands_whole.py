@@ -170,6 +170,7 @@ def _stated_extremes(real, case):
     return d, _check_stated_extremes(band.pattern, f[inside], zd[inside], zm[inside]), zd[inside], zm[inside]
 
 
+@pytest.mark.slow  # (5-8 s; the suite's budget: Autolab's case runs by default)
 def test_battery_gives_the_swings_not_a_same_phase_average(real):
     d, found, zd, zm = _stated_extremes(real, "battery129")
     assert len(d.failing_bands) == 1
@@ -180,11 +181,13 @@ def test_battery_gives_the_swings_not_a_same_phase_average(real):
     assert set(found) == {("phase", "above"), ("phase", "below"), ("|Z|", "above"), ("|Z|", "below")}
 
 
+@pytest.mark.slow  # (5-8 s; the suite's budget: Autolab's case runs by default)
 def test_gamry_two_arcs_gives_a_magnitude_figure(real):
     _, found, _, _ = _stated_extremes(real, "gamry2")
     assert ("|Z|", "above") in found and ("|Z|", "below") in found
 
 
+@pytest.mark.slow  # (5-8 s; the suite's budget: Autolab's case runs by default)
 def test_gamry_one_arc_states_the_missing_arc_and_no_misworded_power_law(real):
     d, f, zd, zm = real("gamry1")
     band = d.failing_bands[0]

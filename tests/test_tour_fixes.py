@@ -35,6 +35,7 @@ def test_n_rc_with_max_rc_is_refused():
     assert ix.kk_test(data, n_rc=10).n_rc == 10
 
 
+@pytest.mark.slow  # (10 s; the suite's budget: test_fit_roundtrip checks a joint fit's kinds by default)
 def test_batch_json_groups_warnings_by_kind_with_their_spectra():
     batch = ix.fit("R0 + R1 || CPE1 + Wo1", ix.load(CYCLES))
     kinds = batch.summary()["warning_kinds"]
