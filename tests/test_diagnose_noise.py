@@ -242,6 +242,7 @@ def test_an_arc_above_the_band_is_not_named_diffusion():
     assert any("diffusion region" in c.warning for c in finite)
 
 
+@pytest.mark.slow  # (10-15 s; the suite's budget, 2026-11-30)
 def test_a_finite_warburg_within_the_aic_margin_of_an_arc_comes_after_it():
     # a 9-element ladder missing a fast R ∥ C (the evaluation set's extra_relaxation/ladder9,
     # SYNTHETIC dev draw 11, a seed no split uses; 1 % noise): a Ws_d nested in the fast arc
@@ -323,6 +324,7 @@ def test_a_candidate_that_contains_another_reaches_at_least_its_fit():
     assert d.suggestions[0].effect == "electrode_polarization", d.report()
 
 
+@pytest.mark.slow  # (10-15 s; the suite's budget, 2026-11-30)
 def test_each_effects_best_candidate_reaches_what_fit_of_its_model_reaches():
     # two R ∥ CPE arcs and a finite-length (transmissive) Warburg at the end, written here:
     # Ws = R tanh(√(jωτ))/√(jωτ), 1 % noise, diagnosed without the Warburg. The baseline bends

@@ -487,6 +487,7 @@ def test_report_says_when_sparse_data_set_the_scale(capsys):
     assert "sparse data" not in ix.kk_test((dense, _single_arc(dense, 1.5e-3, 0.0))).report()
 
 
+@pytest.mark.slow  # (10-15 s; the suite's budget, 2026-11-30)
 def test_a_sparse_spectrum_with_nothing_missing_is_adequate_not_invalid():
     """The diagnosis of the exact model on 4 points a decade (0.2 % noise, seeds 0–3): the data
     are not blamed. Seed 0 read `data_invalid` with the N/2-element chain."""
