@@ -293,3 +293,57 @@ def test_demo_refuses_a_folder_nothing_can_be_made_in(folder, capsys):
     out, err = capsys.readouterr()
     line = _one_line_refusal(code, out, err, folder)
     assert "cannot create the folder in /" in line and not os.path.exists(folder)
+
+
+def test_a_probe_that_cannot_be_removed_is_named(tmp_path, monkeypatch):
+    """The probe is made but its removal fails (a folder whose files cannot be deleted): the
+    error names the leftover, so that the user can remove it, not "cannot create"."""
+    real_unlink = os.unlink
+
+    def refuse(path, *args, **kwargs):
+        if ".x.csv.staged." in str(path):
+            raise PermissionError(errno.EPERM, "Operation not permitted")
+        return real_unlink(path, *args, **kwargs)
+
+    monkeypatch.setattr(os, "unlink", refuse)
+    with pytest.raises(DataError, match=r"made the test entry .*\.x\.csv\.staged\..* but cannot remove it \(Operation not permitted\)") as info:
+        check_writable(tmp_path / "x.csv")
+    assert info.value.path == str(tmp_path / "x.csv") and not live_temporaries()
+
+
+def test_another_users_file_in_a_sticky_folder_is_refused(tmp_path, monkeypatch):
+    """In a sticky folder (``/tmp``) only the owner of a file, or of the folder, may replace it;
+    write permission on the folder does not tell. Here we pose as a user other than root who
+    owns neither (the rename would fail after the work: EPERM)."""
+    target = tmp_path / "theirs.csv"
+    target.write_text("kept\n")
+    tmp_path.chmod(0o1777)
+    owner = target.stat().st_uid
+    monkeypatch.setattr(os, "geteuid", lambda: owner + 4242)
+    with pytest.raises(DataError, match=r"belongs to another user in .*sticky bit"):
+        check_writable(target)
+    assert target.read_text() == "kept\n" and sorted(p.name for p in tmp_path.iterdir()) == ["theirs.csv"]
+    # the same file in a folder without the sticky bit, or when we own it: accepted
+    tmp_path.chmod(0o777)
+    assert check_writable(target) == target
+    tmp_path.chmod(0o1777)
+    monkeypatch.setattr(os, "geteuid", lambda: owner)
+    assert check_writable(target) == target
+
+
+def test_folder_probe_names_the_folder_and_leaves_nothing(tmp_path, monkeypatch):
+    from impedax.io.atomic import probe_folder
+
+    probe_folder(tmp_path, path=tmp_path / "out", text="--out: cannot create the folder")
+    assert list(tmp_path.iterdir()) == []
+    real_rmdir = os.rmdir
+
+    def refuse(path, *args, **kwargs):
+        if ".impedax-probe-" in str(path):
+            raise PermissionError(errno.EPERM, "Operation not permitted")
+        return real_rmdir(path, *args, **kwargs)
+
+    monkeypatch.setattr(os, "rmdir", refuse)
+    with pytest.raises(DataError, match=r"made the test entry .*\.impedax-probe-.* but cannot remove it") as info:
+        probe_folder(tmp_path, path=tmp_path / "out", text="--out: cannot create the folder")
+    assert info.value.path == str(tmp_path / "out")

@@ -633,6 +633,8 @@ def plan_outputs(outputs: Iterable[tuple[str, str | None, str]], *, inputs: Iter
 def check_output_folder(path: str, flag: str = "--out") -> Path:
     """A folder output (``demo --out``): it exists as a writable folder, or can be created in a
     writable folder; nothing is created here."""
+    from ..io.atomic import probe_folder
+
     folder = Path(path)
     if not path.strip():
         raise ParameterError(f"{flag}: empty folder name")
@@ -641,7 +643,7 @@ def check_output_folder(path: str, flag: str = "--out") -> Path:
             raise DataError(f"{flag}: exists and is not a folder; give a folder name", path=folder)
         if not os.access(folder, os.W_OK | os.X_OK):
             raise DataError(f"{flag}: folder is not writable", path=folder)
-        _probe_folder(folder, folder, f"{flag}: cannot create files in the folder")
+        probe_folder(folder, path=folder, text=f"{flag}: cannot create files in the folder")
         return folder
     for ancestor in folder.absolute().parents:
         if ancestor.exists() or ancestor.is_symlink():
@@ -649,20 +651,9 @@ def check_output_folder(path: str, flag: str = "--out") -> Path:
                 raise DataError(f"{flag}: {ancestor} is a file, so no folder can be made under it", path=folder)
             if not os.access(ancestor, os.W_OK | os.X_OK):
                 raise DataError(f"{flag}: cannot create the folder: {ancestor} is not writable", path=folder)
-            _probe_folder(ancestor, folder, f"{flag}: cannot create the folder in {ancestor}")
+            probe_folder(ancestor, path=folder, text=f"{flag}: cannot create the folder in {ancestor}")
             return folder
     raise DataError(f"{flag}: no existing parent folder", path=folder)
-
-
-def _probe_folder(where: Path, folder: Path, text: str) -> None:
-    """A folder made and removed in ``where``: permission bits are not trusted (root passes them
-    under /sys or /proc, where nothing can be made), as `io.atomic.check_writable` probes files."""
-    import tempfile
-
-    try:
-        os.rmdir(tempfile.mkdtemp(prefix=".impedax-probe-", dir=where))
-    except OSError as exc:
-        raise DataError(f"{text}: {exc.strerror or exc}", path=folder) from None
 
 
 # --- memory limits ----------------------------------------------------------------------------

@@ -12,6 +12,7 @@ import contextlib
 import os
 import shutil
 import signal
+import stat
 import tempfile
 import threading
 from pathlib import Path
@@ -20,7 +21,7 @@ from typing import Callable
 from ..errors import DataError
 
 __all__ = [
-    "atomic_path", "check_writable", "OutputTransaction", "staging_directory", "temporary_folder", "remove_temporary",
+    "atomic_path", "check_writable", "probe_folder", "OutputTransaction", "staging_directory", "temporary_folder", "remove_temporary",
     "remove_temporaries", "live_temporaries",
     "written_outputs",
 ]
@@ -103,12 +104,47 @@ def _check_writable(path: Path, probe: bool) -> Path:
         raise DataError(f"directory {parent} is not writable", path=path)
     if path.exists() and not path.is_file():
         raise DataError("exists and is not a regular file (a device, pipe or socket); choose a file name", path=path)
+    if path.exists() and _owned_by_another_in_sticky(path, parent):
+        raise DataError(f"belongs to another user in {parent}, whose sticky bit lets only the owner replace it; choose another name", path=path)
     if probe:
         try:
-            _discard(_temporary_beside(path, "staged."))
+            tmp = _temporary_beside(path, "staged.")
         except OSError as exc:
             raise DataError(_cannot_create(parent, exc), path=path) from None
+        _remove_probe(tmp, os.unlink, path)
     return path
+
+
+def _owned_by_another_in_sticky(path: Path, parent: Path) -> bool:
+    """Renaming onto ``path`` fails in a sticky folder (``/tmp``) unless we own the file or the
+    folder, or are root; write permission on the folder does not say so."""
+    uid = os.geteuid() if hasattr(os, "geteuid") else None
+    if uid is None or uid == 0 or not parent.stat().st_mode & stat.S_ISVTX:
+        return False
+    return uid not in (path.lstat().st_uid, parent.stat().st_uid)
+
+
+def probe_folder(where: str | os.PathLike, *, path: str | os.PathLike, text: str) -> None:
+    """Raise `DataError` (``text``, naming ``path``) unless a folder can be made and removed in
+    ``where``: what `check_writable` does for a file, for an output folder. Permission bits do
+    not answer for root under ``/sys`` or on a read-only mount; only trying does."""
+    try:
+        made = Path(tempfile.mkdtemp(prefix=".impedax-probe-", dir=where))
+    except OSError as exc:
+        raise DataError(f"{text}: {_reason(exc)}", path=Path(path)) from None
+    _remove_probe(made, os.rmdir, Path(path))
+
+
+def _remove_probe(made: Path, remove: Callable[[Path], None], path: Path) -> None:
+    """Remove a probe just made; one that cannot be removed is named, so that the user can."""
+    try:
+        remove(made)
+    except FileNotFoundError:
+        pass
+    except OSError as exc:
+        raise DataError(f"made the test entry {made} but cannot remove it ({_reason(exc)}); remove it and check the folder", path=path) from None
+    finally:
+        _forget(made)
 
 
 def _reason(exc: OSError) -> str:
