@@ -9,6 +9,7 @@ import pytest
 import impedax as ix
 from impedax.cli import main
 from impedax.models.gap import gap_analysis
+from gap_files import saved_gap_files
 from spectra import r_cpe_series, sirin_measurements
 
 EPS0 = 8.8541878128e-12
@@ -107,10 +108,7 @@ def test_cli_gap_json_end_to_end(tmp_path, capsys):
 
 
 def _cli_gap_json(tmp_path, capsys, rng):
-    paths = []
-    for name, ds in zip(("total", "skin", "ts"), _measurements(rng)):
-        paths.append(str(tmp_path / f"{name}.nc"))
-        ix.save(ds, paths[-1])
+    paths = saved_gap_files(tmp_path, _measurements(rng))
     code = main(["gap", *paths, "--area", "130e-6", "--steps", "200", "--json", "--plot", str(tmp_path / "gap.png")])
     assert code == 0
     out = json.loads(capsys.readouterr().out)
@@ -228,14 +226,6 @@ def test_single_trial_has_no_paper_bounds():
 # --- the area check's override on the command line ------------------------------------------
 
 
-def _saved(tmp_path, datasets):
-    paths = []
-    for name, ds in zip(("total", "skin", "ts"), datasets):
-        paths.append(str(tmp_path / f"{name}.nc"))
-        ix.save(ds, paths[-1])
-    return paths
-
-
 def test_cli_gap_refusal_names_the_override(tmp_path, capsys):
     path = tmp_path / "x.csv"
     path.write_text("frequency_hz,z_real_ohm,z_imag_ohm\n1,10,-5\n10,9,-3\n")
@@ -250,7 +240,7 @@ def test_cli_gap_passes_the_area_check_on(tmp_path, capsys, monkeypatch, analysi
 
     asked = {}
     monkeypatch.setattr(gap_module, "gap_analysis", lambda total, skin, touchscreen, **options: asked.update(options) or analysis)
-    paths = _saved(tmp_path, _measurements(np.random.default_rng(4), n_trials=3))
+    paths = saved_gap_files(tmp_path, _measurements(np.random.default_rng(4), n_trials=3))
     assert main(["gap", *paths, "--area", "130e-6", "--steps", "20", "--json", *flag]) == 0
     assert asked["check_area"] is expected
 
@@ -258,7 +248,7 @@ def test_cli_gap_passes_the_area_check_on(tmp_path, capsys, monkeypatch, analysi
 def test_cli_gap_no_area_check_analyses_with_a_warning(tmp_path, capsys):
     """0.13 m² (130m typed for 130 mm²) with --no-area-check: analysed, exit 0; the JSON keeps
     the area and a warning says it is outside the fingertip range and that the check is off."""
-    paths = _saved(tmp_path, _measurements(np.random.default_rng(7), n_trials=3))
+    paths = saved_gap_files(tmp_path, _measurements(np.random.default_rng(7), n_trials=3))
     assert main(["gap", *paths, "--area", "130m", "--no-area-check", "--pooled", "--steps", "40", "--json"]) == 0
     captured = capsys.readouterr()
     out = json.loads(captured.out)
