@@ -50,6 +50,11 @@ def test_final_fit_reproduces_with_fit_of_the_final_model(missing_series_resista
     assert not undetermined_parameters(r.final)
     out = r.summary()
     assert out["final_rms_rel"] == pytest.approx(again.rms_rel, rel=1e-6) and out["undetermined"] == [] and out["masked_points"] == []
+    # the final parameters, as `fit --json` gives them: those of fitting the final model anew
+    assert set(out["final_params"]) == set(again.values) and out["final_at_bound"] == list(again.at_bound)
+    for name, entry in out["final_params"].items():
+        assert entry["value"] == pytest.approx(again.values[name], rel=1e-4) and entry["fixed"] is False
+        assert entry["stderr"] == pytest.approx(again.stderr[name], rel=1e-2)
 
 
 def test_progress_is_reported_per_step(refined):
@@ -84,6 +89,7 @@ def test_cli_refine_max_effects_and_max_steps(missing_series_resistance, tmp_pat
     # --fmin applies to every step, and the final fit is `fit` of the final model on that band
     again = ix.fit(out["final_model"], data, fmin=2)
     assert out["final_rms_rel"] == pytest.approx(again.rms_rel, rel=1e-6)
+    assert {n: e["value"] for n, e in out["final_params"].items()} == pytest.approx(again.values, rel=1e-4)
 
 
 @pytest.mark.parametrize("argv,message", [(["--max-effects", "-1"], "--max-effects"), (["--max-steps", "0"], "--max-steps")])

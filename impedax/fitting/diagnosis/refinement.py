@@ -87,11 +87,13 @@ class Refinement:
         return self.final.model
 
     def summary(self) -> dict:
-        """The JSON of ``impedax refine --json``."""
+        """The JSON of ``impedax refine --json``: the steps, the final model with its parameters
+        (``final_params``, as ``impedax fit --json``'s ``params``) and what they do not determine."""
         final = self.final
         return {
             "steps": [s.as_json() for s in self.steps], "final_model": self.final_model, "verdict": self.verdict,
-            "final_rms_rel": final.rms_rel, "n_params": final.n_params, "undetermined": sorted(undetermined_parameters(final) | vanished_parameters(final)),
+            "final_rms_rel": final.rms_rel, "n_params": final.n_params, "final_params": final.summary()["params"], "final_at_bound": list(final.at_bound),
+            "undetermined": sorted(undetermined_parameters(final) | vanished_parameters(final)),
             "masked_points": [float(f) for f in self.masked_points], "notes": list(self.notes),
         }
 

@@ -223,7 +223,34 @@ class BatchFitResult:
             "at_bound": {str(p): int(n) for p, n in zip(ds["param"].values, ds["at_bound"].values.reshape(ds.sizes["param"], -1).sum(axis=1)) if n},
             "warnings": sorted({w for ws in self.warnings.values() for w in ws}),
             "warning_kinds": warning_kinds(self.warnings),  # (each kind with its spectra, as report() groups them)
+            "spectra": self._spectrum_rows(),
         }
+
+    def _spectrum_rows(self) -> list[dict]:
+        """Each spectrum's fit (the JSON's ``spectra``): its label along every batch dimension
+        (the position where a dimension has no coordinates), then ``values``, ``stderr`` (None
+        when fixed or there is none, as `to_table`), ``rms_rel``, ``converged``, ``at_bound``
+        (names, as a single fit's JSON) and its ``warnings``."""
+        ds = self.dataset
+        names = [str(p) for p in ds["param"].values]
+        value, stderr, at_bound = (ds[v].transpose(*self.dims, "param").values for v in ("value", "stderr", "at_bound"))
+        rms_rel, converged = (ds[v].transpose(*self.dims).values for v in ("rms_rel", "converged"))
+        fixed = ds["fixed"].values.tolist()
+        labels = [ds[d].values if d in ds.coords else np.arange(ds.sizes[d]) for d in self.dims]
+        rows = []
+        for index in np.ndindex(*rms_rel.shape):
+            where = {d: labels[i][j] for i, (d, j) in enumerate(zip(self.dims, index))}
+            key = ", ".join(f"{d}={c}" for d, c in where.items())  # (as `fit_stack` names the spectra its warnings are about)
+            rows.append({
+                **where,
+                "values": {n: float(value[index + (p,)]) for p, n in enumerate(names)},
+                "stderr": {n: shown_stderr(float(stderr[index + (p,)]), fixed[p]) for p, n in enumerate(names)},
+                "rms_rel": float(rms_rel[index]),
+                "converged": bool(converged[index]),
+                "at_bound": [n for p, n in enumerate(names) if at_bound[index + (p,)]],
+                "warnings": list(self.warnings.get(key, ())),
+            })
+        return rows
 
     def report(self) -> str:
         return "\n".join(self._parameter_lines() + self._warning_lines())

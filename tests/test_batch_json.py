@@ -1,0 +1,73 @@
+"""A batch fit's JSON gives each spectrum's own fit (``"spectra"``): its labels, values,
+standard errors, rms_rel, flags and warnings. Checked against the SYNTHETIC truths the spectra
+were built from (R0 + R1 ∥ C1 written in numpy, 0.3 % noise), against one fit of each spectrum
+alone, and through ``impedax fit --json``."""
+
+import json
+
+import numpy as np
+import pytest
+
+import impedax as ix
+from impedax.cli import main
+
+MODEL = "R0 + R1 || C1"
+FREQ = np.geomspace(0.1, 1e5, 40)
+TRUTHS = [(10.0, 100.0, 1e-5), (12.0, 150.0, 2e-5), (8.0, 90.0, 5e-6)]
+CYCLES = [10, 20, 30, 40]
+
+
+def _rc(r0, r1, c1):
+    return r0 + r1 / (1 + 2j * np.pi * FREQ * r1 * c1)
+
+
+@pytest.fixture(scope="module")
+def stack():
+    """Three R0 + R1 ∥ C1 spectra and a fourth with a Warburg tail the model lacks (cycle 40)."""
+    rng = np.random.default_rng(3)
+    noisy = [_rc(*t) * (1 + 0.003 * (rng.standard_normal(FREQ.size) + 1j * rng.standard_normal(FREQ.size))) for t in TRUTHS]
+    warburg = 30.0 / np.sqrt(2j * np.pi * FREQ)
+    z = np.array(noisy + [_rc(10.0, 100.0, 1e-5) + warburg])
+    return ix.make_spectrum(FREQ, z, dims=("cycle",)).assign_coords(cycle=CYCLES)
+
+
+@pytest.fixture(scope="module")
+def batch(stack):
+    return ix.fit(MODEL, stack)
+
+
+def test_each_spectrum_is_reported_with_its_label_and_fit(batch, stack):
+    rows = batch.summary()["spectra"]
+    assert [r["cycle"] for r in rows] == CYCLES
+    for row, (r0, r1, c1) in zip(rows, TRUTHS):
+        assert row["values"] == pytest.approx({"R0": r0, "R1": r1, "C1": c1}, rel=0.02)
+        assert all(0 < row["stderr"][n] < 0.02 * row["values"][n] for n in ("R0", "R1", "C1"))
+        assert row["converged"] is True and row["at_bound"] == [] and row["warnings"] == []
+        assert 0.001 < row["rms_rel"] < 0.01  # (0.3 % noise on each component)
+    # the spectrum the model cannot fit carries its own warning, and only it
+    last = rows[-1]
+    assert last["rms_rel"] > 0.03 and last["warnings"] == list(batch.warnings["cycle=40"])
+    assert any("misses structure" in w for w in last["warnings"])
+
+
+def test_each_row_equals_a_fit_of_that_spectrum_alone(batch, stack):
+    for row in batch.summary()["spectra"][:3]:
+        alone = ix.fit(MODEL, stack.sel(cycle=row["cycle"]))
+        assert row["values"] == pytest.approx(alone.values, rel=1e-4)
+        assert row["rms_rel"] == pytest.approx(alone.rms_rel, rel=1e-4)
+
+
+def test_the_command_line_json_has_the_spectra(stack, tmp_path, capsys):
+    path = tmp_path / "stack.nc"
+    ix.save(stack, path)
+    capsys.readouterr()
+    assert main(["fit", str(path), "--model", MODEL, "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["n_spectra"] == 4 and [r["cycle"] for r in out["spectra"]] == CYCLES
+    assert out["spectra"][1]["values"] == pytest.approx({"R0": 12.0, "R1": 150.0, "C1": 2e-5}, rel=0.02)
+    assert out["spectra"][3]["warnings"] and not out["spectra"][0]["warnings"]
+
+
+def test_a_dimension_without_coordinates_is_labelled_by_position(stack):
+    rows = ix.fit(MODEL, stack.drop_vars("cycle").isel(cycle=slice(0, 2))).summary()["spectra"]
+    assert [r["cycle"] for r in rows] == [0, 1]
