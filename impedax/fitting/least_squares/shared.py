@@ -235,7 +235,7 @@ def joint_solver(circuit: Circuit, registry: Registry, free: tuple[int, ...], ki
 
     def finish_one(u, args):
         x_free, x = residuals.to_x(u, args)
-        jac, r = residuals.linearize_x(x_free, args)
+        jac, r = residuals.linearise_x(x_free, args)
         return x_free, x, jac, r
 
     @jax.jit

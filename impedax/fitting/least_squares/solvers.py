@@ -215,12 +215,12 @@ def better(a: SolverOutput, b: SolverOutput) -> SolverOutput:
 class Residuals(NamedTuple):
     """The functions a solver needs, of (point, args): ``chi2_x``, the weighted chi² at
     parameters x_free (the Re and Im halves squared apart: under vmap, joining them costs
-    several times the circuit); ``linearize_x`` → (J, r) in parameter space;
+    several times the circuit); ``linearise_x`` → (J, r) in parameter space;
     ``normal_u`` → the normal equations (JᵀJ, Jᵀr, ½‖r‖², extra) at u; ``to_x`` → (x_free,
     all parameters) at u."""
 
     chi2_x: Callable
-    linearize_x: Callable
+    linearise_x: Callable
     normal_u: Callable
     to_x: Callable
 
@@ -229,7 +229,7 @@ def tree_residuals(compiled, free: tuple[int, ...], kinds: tuple[int, ...]):
     """The `Residuals` of a compiled circuit whose free parameters (positions ``free``, with
     transform ``kinds``, see `parameters.Transform`) are known when tracing, with the circuit's
     analytic Jacobian (`CompiledCircuit.value_and_columns`) in ``normal_u`` and
-    ``linearize_x``: one evaluation of it per linearisation rather than forward mode through
+    ``linearise_x``: one evaluation of it per linearisation rather than forward mode through
     the circuit. Also ``to_x``, the parameters of the solver's point u.
 
     Knowing the free set when tracing, fixed parameters are constants of the trace: no
@@ -273,7 +273,7 @@ def tree_residuals(compiled, free: tuple[int, ...], kinds: tuple[int, ...]):
         r = z - args.z
         return jac.real * w_re[None, :], jac.imag * w_im[None, :], r.real * w_re, r.imag * w_im
 
-    def linearize_x(x_free, args):
+    def linearise_x(x_free, args):
         j_re, j_im, r_re, r_im = parts_x(x_free, args)
         return jnp.concatenate([j_re, j_im], axis=1).T, jnp.concatenate([r_re, r_im])
 
@@ -293,7 +293,7 @@ def tree_residuals(compiled, free: tuple[int, ...], kinds: tuple[int, ...]):
         x_free = external(u, args)
         return x_free, jnp.stack(theta(x_free, args))
 
-    return Residuals(chi2_x, linearize_x, normal_u, to_x)
+    return Residuals(chi2_x, linearise_x, normal_u, to_x)
 
 
 def _finish(u, args: SolverArgs, residuals: Residuals, peaks=None) -> SolverOutput:
@@ -301,7 +301,7 @@ def _finish(u, args: SolverArgs, residuals: Residuals, peaks=None) -> SolverOutp
     the covariance), chi², the model's impedance and, given ``peaks``
     (`order.structural_peaks`), the peak frequencies that order exchangeable blocks."""
     x_free, x = residuals.to_x(u, args)
-    jac, r = residuals.linearize_x(x_free, args)
+    jac, r = residuals.linearise_x(x_free, args)
     n = args.z.shape[0]
     chi2 = jnp.sum(r**2)
     return SolverOutput(
