@@ -207,7 +207,7 @@ def _quantity_parts(value: float, unit: str, digits: int) -> tuple[str, float, s
     if not label or not np.isfinite(value) or value == 0 or " " in label or "^" in label or "/" in label:  # (compound units, CPE Q, Warburg σ: plain)
         return f"{value:.{digits}g}", 1.0, label
     shown = float(f"{value:.{digits}g}")  # (the prefix of the value as printed: 999.6 Ω is 1 kΩ)
-    if abs(shown) < SI_PREFIXES[-1][0]:
+    if not SI_PREFIXES[-1][0] <= abs(shown) < 1e3 * SI_PREFIXES[0][0]:  # (beyond the prefixes: 1.19e+282 Ω, not 1.19e+270 TΩ)
         return f"{value:.{digits}g}", 1.0, label
     scale, prefix = si_prefix(abs(shown))
     return f"{shown / scale:.{digits}g}", scale, f"{prefix}{label}"

@@ -75,3 +75,30 @@ def test_noise_in_percent_is_the_fraction(capsys):
     out = json.loads(capsys.readouterr().out)
     assert set(out) >= DIAGNOSE_KEYS
     assert out["noise"]["level"] == pytest.approx(0.05) and out["noise"]["source"] == "given"
+
+
+def test_a_term_that_ran_open_in_the_advice_is_named_with_the_model_without_it(capsys):
+    """REAL exampleData.csv with ``R0 + R1 || CPE1``: R1 runs open (1.19e+282 Ω) in the
+    suggestion's fit too, so its "to apply" line needs ``--init R1=1.19e+282``. A note names the
+    open R1 and gives the model without it, which fits as well with one parameter fewer, every
+    parameter determined; its command runs as printed. ``R0 + R1 || C1`` (R1 finite): no note."""
+    assert main(["diagnose", str(EXAMPLE), "--model", "R0 + R1 || CPE1", "--effects", "series_inductance"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    i = next(k for k, x in enumerate(lines) if "to apply 1." in x)
+    note = lines[i + 1]
+    assert note.strip().startswith("note: R1 carries at most") and "R1 = 1.19e+282 Ω, at its bound" in note
+    applied = json.loads(_fitted(shlex.split(lines[i][lines[i].index("impedax fit "):]), capsys))
+    simpler = json.loads(_fitted(shlex.split(note[note.index("impedax fit "):]), capsys))
+    assert simpler["model"] == "R0 + CPE1 + L_lead" and simpler["n_params"] == applied["n_params"] - 1
+    assert simpler["rms_rel"] == pytest.approx(applied["rms_rel"], rel=1e-3)
+    assert all(p["stderr"] is not None and p["stderr"] < abs(p["value"]) for p in simpler["params"].values())
+    assert main(["diagnose", str(EXAMPLE), "--model", "R0 + R1 || C1", "--effects", "extra_relaxation"]) == 0
+    out = capsys.readouterr().out
+    assert "to apply 1." in out and "its term vanished" not in out
+
+
+def _fitted(command: list[str], capsys) -> str:
+    assert command[:2] == ["impedax", "fit"]
+    capsys.readouterr()
+    assert main([*command[1:], "--json"]) == 0
+    return capsys.readouterr().out

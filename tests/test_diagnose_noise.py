@@ -259,7 +259,8 @@ def test_a_finite_warburg_within_the_aic_margin_of_an_arc_comes_after_it():
     assert d.suggestions.index(finite[0]) > 0
 
 
-@pytest.mark.parametrize("value,unit,text", [(84e-6, "F", "84 µF"), (2200.0, "ohm", "2.2 kΩ"), (0.81, "1", "0.81"), (1.5e-6, "H", "1.5 µH")])
+@pytest.mark.parametrize("value,unit,text", [(84e-6, "F", "84 µF"), (2200.0, "ohm", "2.2 kΩ"), (0.81, "1", "0.81"), (1.5e-6, "H", "1.5 µH"),
+                                              (5e14, "Ohm", "500 TΩ"), (1.19e282, "Ohm", "1.19e+282 Ω")])  # (beyond T: plain, not 1.19e+270 TΩ)
 def test_values_are_given_with_si_prefixes(value, unit, text):
     assert format_quantity(value, unit) == text
 

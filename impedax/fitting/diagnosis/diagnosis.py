@@ -58,6 +58,7 @@ from .bands import FailingBand, failing_bands, format_frequency, RUN_P
 from .catalog import BaselineContext, Effect, EffectCatalog, Proposal
 from .effects import DEFAULT_EFFECTS, FINITE_WARBURGS, IN_PLACE_OF_WARBURG
 from .noise import NOISE_FLOOR, OUTLIER_MAX_FRACTION, NoiseModel, kk_indices, kk_judged_locally, kk_outliers, noise_model
+from .vanishing import vanished_terms
 
 __all__ = [
     "Diagnosis", "Suggestion", "Verdict", "diagnose", "noise_variance_explained",
@@ -317,6 +318,7 @@ class Diagnosis:
             best = self.suggestions[0].fit
             starts = " ".join(f"--init {k}={v:.6g}" for k, v in best.values.items() if not best.fixed[k])
             lines.append(f"  to apply 1. from its fitted values (a fit from scratch may stop in another minimum): {fit_command} --model '{best.model}' {starts}")
+            lines += _without_vanished_lines(best, fit_command)
             if self.masked_points:  # (impedax fit takes every point the file holds)
                 lines.append(
                     f"     note: this diagnosis left out {len(self.masked_points)} point(s) ({', '.join(format_frequency(f) for f in self.masked_points[:6])}{', …' if len(self.masked_points) > 6 else ''}); "
@@ -1332,6 +1334,25 @@ def _lead_behind(base: FitResult, cands: Sequence[Suggestion], proposals: list[t
     against_best = _suggestions(best.fit, pairs, fits[1:], sigma_rel, bands)
     kept = [(p, f) for p, f, s in zip(pairs, fits[1:], against_best) if s.significant]
     return [p for p, _ in kept], [f for _, f in kept], shape
+
+
+def _without_vanished_lines(fit: FitResult, fit_command: str) -> list[str]:
+    """Under the "to apply" line: each term of the suggestion's fit that vanished (`vanishing`:
+    a resistor run open, R1 = 1.19e282 Ω beside CPE1 on exampleData.csv) named, with the model
+    without it, which is the same fit within what an instrument resolves, and its command from
+    the same values. Nothing when no term vanished."""
+    lines = []
+    for branch, reduced, names in vanished_terms(fit):
+        kept = set(reduced.parameter_names(fit.registry))
+        starts = " ".join(f"--init {k}={v:.6g}" for k, v in fit.values.items() if k in kept and not fit.fixed[k])
+        specs = fit.circuit.parameter_specs(fit.registry)
+        held = ", ".join(f"{n} = {format_quantity(fit.values[n], specs[n].unit)}{', at its bound' if n in fit.at_bound else ''}" for n in names)
+        what = f"takes at most {branch.share:.2g}× the voltage across" if branch.series else f"carries at most {branch.share:.2g}× the current through"
+        lines.append(
+            f"     note: {branch.element} {what} {branch.block} in this fit ({held}): its term vanished, and {reduced}, without it, "
+            f"is the same fit within what an instrument resolves, with fewer parameters: {fit_command} --model '{reduced}' {starts}"
+        )
+    return lines
 
 
 def _verdict(cands: Sequence[Suggestion], bands: Sequence[FailingBand], ratio: float) -> tuple[Verdict, str]:

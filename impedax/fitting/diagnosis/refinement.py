@@ -12,11 +12,10 @@ import numpy as np
 import xarray as xr
 
 from ...arguments import MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice, count, flag, frequency, instance_of, noise_fraction, seed as seed_rule
-from ...circuits import Circuit, DEFAULT_REGISTRY, Element, Registry, parse
+from ...circuits import Circuit, DEFAULT_REGISTRY, Element, Registry
 from ...data import concise_repr
 from ...errors import CircuitError, ParameterError
 from ..least_squares import FitResult, fit
-from ..least_squares.branches import VANISHING_SHARE, IdleBranch, idle_branches
 from ..least_squares.candidates import fit_candidates
 from ..least_squares.result import BOUND_CHI2_FRACTION
 from ..parameters import ParameterTable
@@ -24,6 +23,7 @@ from ..problem import WEIGHTINGS, open_spectrum
 from .catalog import EffectCatalog
 from .diagnosis import CANDIDATE_STEPS, DELTA_AIC_MIN, NOISE_FRACTION_MIN, Diagnosis, Verdict, diagnose, noise_variance_explained, undetermined_parameters
 from .effects import DEFAULT_EFFECTS
+from .vanishing import vanished_parameters, vanished_terms
 
 __all__ = ["Refinement", "RefinementStep", "refine"]
 
@@ -425,51 +425,6 @@ def _simplified(steps: list[RefinementStep], used: xr.Dataset, *, n_starts: int,
     return steps
 
 
-def _flagged(fit: FitResult) -> set[str]:
-    """The free parameters of ``fit`` its own flags put at a bound (``at_bound``) or give an
-    infinite standard error (a vanishing term's, `branches.settle_vanishing`)."""
-    return set(fit.at_bound) | {n for n in fit.free_names if fit.stderr.get(n) == np.inf}
-
-
-def _vanished_terms(fit: FitResult) -> list[tuple[IdleBranch, Circuit, tuple[str, ...]]]:
-    """The terms of ``fit``'s circuit that vanished: a branch of a parallel block or a term of a
-    series chain holding a parameter `_flagged` (at a bound: a resistor run open beside a C, a
-    series R run to 0; or a vanishing term's) whose share of the block's current (the chain's
-    voltage) stays below `branches.VANISHING_SHARE` at every frequency (`branches.idle_branches`,
-    as the fit's idle note names it). Each as (the `IdleBranch`, the circuit without the term,
-    the flagged parameters in it); the fit's model without the term differs from it by less
-    than any instrument resolves."""
-    flagged = _flagged(fit)
-    if not flagged or not np.isfinite(fit.chi2) or len(fit.circuit.element_names) < 2:
-        return []
-    try:
-        table = ParameterTable.build(fit.circuit, registry=fit.registry, fixed={k: v for k, v in fit.values.items() if fit.fixed[k]} or None)
-    except (ParameterError, CircuitError):
-        return []
-    values = np.array([[fit.values[n] for n in table.names]], float)
-    mask = np.array([[n in flagged for n in table.free_names]])
-    out = []
-    for branch in idle_branches(fit.circuit, fit.registry, table, values, mask, fit.frequency):
-        if not branch.share < VANISHING_SHARE:
-            continue
-        try:
-            reduced = parse(branch.reduced, fit.registry)
-        except CircuitError:
-            continue
-        gone = set(fit.circuit.parameter_names(fit.registry)) - set(reduced.parameter_names(fit.registry))
-        out.append((branch, reduced, tuple(n for n in fit.free_names if n in gone and n in flagged)))
-    return out
-
-
-def vanished_parameters(fit: FitResult) -> frozenset[str]:
-    """The parameters of ``fit``'s vanished terms (`_vanished_terms`) that its flags hold (at a
-    bound or a vanishing term's): `undetermined_parameters` counts a parameter at the natural
-    bound that makes its term vanish as determined, but the data tell only that the term is
-    not there (R1 = 1.8e255 Ω beside C1 on CHInstruments' spectrum). ``Refinement.summary``
-    lists them as undetermined, should the final model keep one (`_pruned` takes them out)."""
-    return frozenset(n for _, _, names in _vanished_terms(fit) for n in names)
-
-
 def _capacitor_name(name: str, taken) -> str:
     """A C's name for the CPE ``name`` it replaces: CPE1 → C1, CPE_relax → C_relax (C_relax2, ...
     when taken), as `effects` names a CPE for the C it replaces."""
@@ -507,7 +462,7 @@ def _capacitors(fit: FitResult) -> list[tuple[str, str, Circuit, dict[str, float
 
 def _pruned(steps: list[RefinementStep], used: xr.Dataset, *, n_starts: int, seed: int, diagnosed, reproduced, say, notes: list[str]) -> list[RefinementStep]:
     """``steps`` followed by the final model without what its fit's own flags say is not there:
-    a term that vanished (`_vanished_terms`: out of a parallel block the branch opens, out of a
+    a term that vanished (`vanishing.vanished_terms`: out of a parallel block the branch opens, out of a
     series chain it is shorted) and a CPE whose α is at its bound 1, replaced by a C
     (`_capacitors`). Each simpler model is fitted from the last model's values and refitted as
     the final model is (`reproduced`); it is kept when its χ² is at most `BOUND_CHI2_FRACTION`
@@ -526,7 +481,7 @@ def _pruned(steps: list[RefinementStep], used: xr.Dataset, *, n_starts: int, see
     while True:
         last = steps[-1].fit
         changes = []  # (added, removed, circuit, init, why)
-        for branch, reduced, names in _vanished_terms(last):
+        for branch, reduced, names in vanished_terms(last):
             held = ", ".join(f"{n} at its bound" if n in last.at_bound else f"{n} (a vanishing term's)" for n in names)
             what = f"takes at most {branch.share:.2g}× the voltage across" if branch.series else f"carries at most {branch.share:.2g}× the current through"
             removed = tuple(e for e in last.circuit.element_names if e not in reduced.element_names)
