@@ -415,3 +415,23 @@ def test_a_suggestion_with_its_series_resistance_at_zero_folds_into_the_one_with
         assert abs(t.aic - s.aic - 2) < 0.1 and _same_fit(s.fit, t.fit, d.noise)
     listed = [s for s, _ in groups[:5]]  # no two of the list's places are one candidate with and without R0
     assert not any("R0" in b.fit.circuit.element_names and str(b.fit.circuit.without("R0")) == str(a.fit.circuit) for a in listed for b in listed), d.report()
+
+
+def test_an_adequate_verdict_beyond_the_catalog_says_so():
+    """A SYNTHETIC R0 + R1 ∥ C1 + R2 ∥ C2 (numpy formula, 0.5 % noise) diagnosed as R0 + R1 ∥ C1
+    with a catalog that holds only the series inductance: no candidate helps, the verdict is
+    ``adequate``, but the residuals stay structured well above the noise. The report heads it
+    ADEQUATE WITHIN THE CATALOG and the JSON says ``beyond_catalog``; the generating model,
+    nothing missing, is plain ADEQUATE."""
+    f = np.geomspace(0.1, 1e5, 50)
+    w = 2 * np.pi * f
+    rng = np.random.default_rng(5)
+    z = 10 + 100 / (1 + 1j * w * 100 * 1e-5) + 50 / (1 + 1j * w * 50 * 1e-2)
+    data = ix.make_spectrum(f, z * (1 + 0.005 * (rng.standard_normal(f.size) + 1j * rng.standard_normal(f.size))))
+    lacking = ix.diagnose(data, "R0 + R1 || C1", effects=ix.DEFAULT_EFFECTS.select(["series_inductance"]))
+    assert lacking.verdict == "adequate" and lacking.noise_ratio > 3
+    assert lacking.beyond_catalog and lacking.summary()["beyond_catalog"] is True
+    assert "verdict: ADEQUATE WITHIN THE CATALOG — " in lacking.report() and "beyond the catalog" in lacking.reason
+    complete = ix.diagnose(data, "R0 + R1 || C1 + R2 || C2")
+    assert complete.verdict == "adequate" and not complete.beyond_catalog and complete.summary()["beyond_catalog"] is False
+    assert "verdict: ADEQUATE — " in complete.report()

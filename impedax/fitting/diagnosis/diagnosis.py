@@ -237,6 +237,19 @@ class Diagnosis:
         """rms_rel / (√2 σ): ≈ 1 when the residuals are noise."""
         return _noise_ratio(self.baseline, self.noise)
 
+    @property
+    def beyond_catalog(self) -> bool:
+        """An ``adequate`` verdict whose residuals are still structured and above
+        `NOISE_RATIO_MAX` × the noise: no effect of the catalog (nor a pair) explains what is
+        left, but the model does not describe the data to their noise either."""
+        return self.verdict == Verdict.ADEQUATE and _beyond_single_effects(self.failing_bands, self.noise_ratio)
+
+    @property
+    def verdict_heading(self) -> str:
+        """The verdict as the report heads it: ``ADEQUATE WITHIN THE CATALOG`` for an adequate
+        verdict `beyond_catalog` (a bare "adequate" read as "fits the data" at 40× the noise)."""
+        return self.verdict.upper() + (" WITHIN THE CATALOG" if self.beyond_catalog else "")
+
     def summary(self) -> dict:
         """The JSON of ``impedax diagnose --json`` (keys fixed by the issue; extra keys added)."""
         b = self.baseline
@@ -259,6 +272,7 @@ class Diagnosis:
             "failing_bands": [band.as_json() for band in self.failing_bands],
             "verdict": self.verdict,
             "reason": self.reason,
+            "beyond_catalog": self.beyond_catalog,
             "suggestions": [s.as_json() for s in self.suggestions],
             "candidates": [
                 {"effect": s.effect, "model": s.model, "rms_rel": s.rms_rel, "aic": s.aic, "delta_aic": s.delta_aic, "delta_bic": s.delta_bic, "significant": s.significant, "undetermined": list(s.undetermined), "warning": s.warning}
@@ -306,7 +320,7 @@ class Diagnosis:
             lines.append("no band of the residuals is structured beyond the noise on its own" + (" (the verdict below weighs all points together)." if self.verdict == Verdict.MISSING_EFFECT else "."))
         if self.drt is not None:
             lines.append(f"DRT: {self.drt.text}.")
-        lines.append(f"verdict: {self.verdict.upper()} — {self.reason}")
+        lines.append(f"verdict: {self.verdict_heading} — {self.reason}")
         if self.suggestions:
             lines.append(f"what is missing (best first: by AIC; of candidates within {DELTA_AIC_MIN:g} of each other, the simpler first; "
                          "ΔAIC and ΔBIC here weigh each point by its noise, so they differ from the fits' own AIC that impedax fit and compare print):")

@@ -120,7 +120,7 @@ class Refinement:
         if len(self.steps) > 1:
             lines.append(f"rms_rel fell from {first.rms_rel * 100:.3g} % to {last.rms_rel * 100:.3g} % in {len(self.steps) - 1} step(s); AIC {first.aic:.1f} → {last.aic:.1f}.")
         last_d = self.steps[-1].diagnosis
-        lines.append(f"verdict: {self.verdict.upper()}" + (f" — {last_d.reason}" if last_d is not None else ""))
+        lines.append(f"verdict: {last_d.verdict_heading if last_d is not None and last_d.verdict == self.verdict else self.verdict.upper()}" + (f" — {last_d.reason}" if last_d is not None else ""))
         lines += [f"note: {n}" for n in self.notes]
         return "\n".join(lines)
 
