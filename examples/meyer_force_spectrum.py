@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 import _example
-from impedax.models import meyer
+from impedax.models import force_maximum, meyer
 
 
 def half_peak_frequencies(freq, force):
@@ -44,15 +44,16 @@ def main(argv=None):
     force = np.asarray(model.force(freq))
     force_physical = np.asarray(physical.force(freq))
 
-    i_peak = int(np.argmax(force))
+    # the peaks refined between grid points (`force_maximum`), so they do not depend on the grid
+    peak = force_maximum(lambda f: float(np.asarray(model.force(np.array([f])))[0]), freq, force)
+    peak_physical = force_maximum(lambda f: float(np.asarray(physical.force(np.array([f])))[0]), freq, force_physical)
     f_low, f_high = half_peak_frequencies(freq, force)
     force_10hz = float(np.asarray(model.force(np.array([10.0])))[0])
     print("Meyer Fig 3.4 — time-averaged force, 140 V sine, thesis parameters (eq 3.13, rounded)")
-    print(f"  peak force        {force[i_peak] * 1e3:.1f} mN at {freq[i_peak] / 1e3:.1f} kHz   (thesis: ≈ 164 mN near 37 kHz)")
+    print(f"  peak force        {peak.force_n * 1e3:.1f} mN at {peak.frequency_hz / 1e3:.1f} kHz   (thesis: ≈ 164 mN near 37 kHz)")
     print(f"  half-peak         {f_low / 1e3:.2f} kHz and {f_high / 1e6:.2f} MHz   (≈ 0.53 kHz and ≈ 2.6 MHz)")
     print(f"  force at 10 Hz    {force_10hz * 1e3:.3f} mN")
-    j = int(np.argmax(force_physical))
-    print(f"  unrounded values  peak {force_physical[j] * 1e3:.1f} mN at {freq[j] / 1e3:.1f} kHz")
+    print(f"  unrounded values  peak {peak_physical.force_n * 1e3:.1f} mN at {peak_physical.frequency_hz / 1e3:.1f} kHz")
 
     v_f = np.abs(np.asarray(meyer.finger_voltage(model.params, freq))) * meyer.THESIS_DRIVE_V
     q_over_ci = np.abs(np.asarray(meyer.leaked_charge(model.params, freq))) * meyer.THESIS_DRIVE_V / model.params["C_i"]
@@ -60,11 +61,11 @@ def main(argv=None):
     fig, (ax, ax_v) = plt.subplots(2, 1, figsize=(8, 7.5), sharex=True, height_ratios=(3, 2), layout="constrained")
     ax.semilogx(freq, force * 1e3, lw=2, label="thesis parameters (rounded, eq 3.13)")
     ax.semilogx(freq, force_physical * 1e3, "--", lw=1.2, label="unrounded physical values")
-    ax.plot(freq[i_peak], force[i_peak] * 1e3, "o", color="C3", label=f"peak {force[i_peak] * 1e3:.0f} mN at {freq[i_peak] / 1e3:.0f} kHz")
+    ax.plot(peak.frequency_hz, peak.force_n * 1e3, "o", color="C3", label=f"peak {peak.force_n * 1e3:.0f} mN at {peak.frequency_hz / 1e3:.0f} kHz")
     for f_half, text in ((f_low, f"{f_low / 1e3:.2f} kHz"), (f_high, f"{f_high / 1e6:.1f} MHz")):
         ax.axvline(f_half, color="0.5", ls=":", lw=1)
-        ax.annotate(f"half peak\n{text}", (f_half, force[i_peak] * 1e3 / 2), xytext=(6, -30), textcoords="offset points", fontsize=9)
-    ax.axhline(force[i_peak] * 1e3 / 2, color="0.5", ls=":", lw=1)
+        ax.annotate(f"half peak\n{text}", (f_half, peak.force_n * 1e3 / 2), xytext=(6, -30), textcoords="offset points", fontsize=9)
+    ax.axhline(peak.force_n * 1e3 / 2, color="0.5", ls=":", lw=1)
     ax.set(ylabel="time-averaged force [mN]", title="Meyer (2012) Fig 3.4 — predicted force over frequency (140 V sine)")
     ax.set_ylim(bottom=0)
     ax.legend(fontsize=9, loc="lower center")

@@ -243,8 +243,12 @@ def test_compare_s_best_mark_says_when_the_best_fit_has_warnings():
     data = ix.load(Path(__file__).resolve().parent / "fixtures" / "real" / "exampleDataCHInstruments.txt")
     c = ix.compare([ix.fit(m, data) for m in ("R0 + R1 || C1", "R0 + R1 || CPE1")])
     best = next(f for f in c.fits if f.model == c.best)
-    row = next(line for line in c.table().splitlines() if "← best" in line)
+    row = next(line for line in c.report().splitlines() if "← best" in line)
     assert best.warnings and row.endswith(f"← best by AIC, with {len(best.warnings)} warning(s) below")
+    # the table alone prints no warnings: its mark points to report() instead of "below"
+    row = next(line for line in c.table().splitlines() if "← best" in line)
+    assert row.endswith(f"← best by AIC, with {len(best.warnings)} warning(s) (report() lists them)")
+    assert not any(w in c.table() for w in best.warnings) and all(w in c.report() for w in best.warnings)
     # ... and the table names the best model whose every parameter the data determine
     assert not best.stderr["R1"] / best.values["R1"] < 1
     assert c.best_determined == "R0 + R1 || C1" == c.summary()["best_determined"]

@@ -69,7 +69,7 @@ def run(args) -> int:
     if args.json:
         emit_json(comparison.summary())
     elif not outputs.uses_stdout:  # (--out -: the JSON went to standard output)
-        print(comparison.table())
+        print(comparison.table(warnings_below=True))  # (`warning_lines` prints them under it)
         for fit_result in comparison.fits:  # (the table's rows do not show what was held)
             held = {n: v for n, v in fit_result.values.items() if fit_result.fixed.get(n) and n in given["--fix"]}
             if held:

@@ -172,14 +172,17 @@ class Comparison:
         with chi2, the AICc deltas and weights, and the undetermined parameters (``;``-joined)."""
         return [{**r, "undetermined": ";".join(undetermined_names(f))} for r, f in zip(self.rows, self.fits)]
 
-    def _best_mark(self) -> str:
+    def _best_mark(self, warnings_below: bool) -> str:
         """The table's mark of the best model by AIC, saying when its fit did not converge or has
         warnings (an undetermined parameter, a gross misfit): the lowest AIC is then no
-        endorsement; and when another model gives the same fit (`SAME_FIT_RMS`)."""
+        endorsement; and when another model gives the same fit (`SAME_FIT_RMS`).
+        ``warnings_below``: `report` lists the warnings under the table; `table` alone does not,
+        and points to `report`."""
         best = self.best_index
         warnings = self.fits[best].warnings
         n = len({w for ws in warnings.values() for w in ws}) if isinstance(warnings, Mapping) else len(warnings)
-        mark = "   ← best" + (f" by AIC, with {n} warning(s) below" if n else "")
+        where = "below" if warnings_below else "(report() lists them)"
+        mark = "   ← best" + (f" by AIC, with {n} warning(s) {where}" if n else "")
         if not self.rows[best]["converged"]:
             mark += " (its fit did not converge)"
         if self.rows[best].get("same_fit_as"):
@@ -188,14 +191,19 @@ class Comparison:
 
     def report(self) -> str:
         """The table, then each model's warnings."""
-        lines = [self.table()]
+        lines = [self.table(warnings_below=True)]
         for fit, row in zip(self.fits, self.rows):
             warnings = [w for ws in fit.warnings.values() for w in ws] if isinstance(fit.warnings, Mapping) else list(fit.warnings)
             if warnings:
                 lines += [f"{row['label']}:"] + [f"  - {w}" for w in warnings]
         return "\n".join(lines)
 
-    def table(self) -> str:
+    def table(self, *, warnings_below: bool = False) -> str:
+        """The models side by side (rms_rel, χ²_red, AIC, AICc, BIC, ΔAIC, Akaike weight), the
+        criteria's notes and the F-tests; `report` adds each model's warnings. The best model's
+        mark counts its warnings and says where they are: ``warnings_below`` when the caller
+        prints them under the table (`report`, ``impedax compare``), else it points to
+        ``report()``."""
         extra = [c for c in ("log_evidence", "waic") if any(c in r for r in self.rows)]
         width = max(len(r["label"]) for r in self.rows)
         head = f"{'model':<{width}}  {'k':>2}  {'rms_rel':>9}  {'chi2_red':>10}  {'AIC':>9}  {'AICc':>9}  {'BIC':>9}  {'ΔAIC':>7}  {'weight':>6}" + "".join(f"  {c:>12}" for c in extra)
@@ -206,7 +214,7 @@ class Comparison:
             line = f"{r['label']:<{width}}  {r['n_params']:>2}  {r['rms_rel'] * 100:>8.3g}%  {r['chi2_red']:>10.4g}  {r['aic']:>9.2f}  {aicc:>9}  {r['bic']:>9.2f}  {r['delta_aic']:>7.2f}  {r['akaike_weight']:>6.3f}"
             line += "".join(f"  {r.get(c, math.nan):>12.2f}" for c in extra)
             if i == best:
-                line += self._best_mark()
+                line += self._best_mark(warnings_below)
             else:
                 line += "   (did not converge)" if not r["converged"] else ""
                 line += f"   (the same fit as {r['same_fit_as']})" if r.get("same_fit_as") else ""
@@ -267,10 +275,10 @@ class Comparison:
         rows = [
             {"model": r["label"], "k": r["n_params"], "rms_rel [%]": f"{r['rms_rel'] * 100:.3g}", "chi2_red": f"{r['chi2_red']:.4g}", "AIC": f"{r['aic']:.2f}",
              "ΔAIC": f"{r['delta_aic']:.2f}", "weight": f"{r['akaike_weight']:.3f}", "BIC": f"{r['bic']:.2f}",
-             "": self._best_mark().strip() if i == best else ("did not converge" if not r["converged"] else "")}
+             "": self._best_mark(True).strip() if i == best else ("did not converge" if not r["converged"] else "")}
             for i, r in enumerate(self.rows)
         ]
-        lines = self.table().splitlines()[len(self.rows) + 1 :]  # (the lines under the table's rows: best determined, criteria, F-tests)
+        lines = self.table(warnings_below=True).splitlines()[len(self.rows) + 1 :]  # (the lines under the table's rows: best determined, criteria, F-tests)
         for fit, row in zip(self.fits, self.rows):  # each model's warnings, as `report`
             warnings = [w for ws in fit.warnings.values() for w in ws] if isinstance(fit.warnings, Mapping) else list(fit.warnings)
             lines += [f"{row['label']}: {w}" for w in warnings]
