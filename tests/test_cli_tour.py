@@ -96,8 +96,12 @@ def test_ivium_key_lines_at_line_starts_are_still_ivium(tmp_path):
         (["simulate", "R0 + R1 || C1", "--points", "0"], "impedax simulate: error: --points must be at least 2"),
         (["simulate", "R0 + R1 || C1", "--points", "1"], "impedax simulate: error: --points must be at least 2"),
         (["force", "meyer", "--points", "1"], "impedax force: error: --points must be at least 2"),
+        # one frequency given more than once: simulate had called the copies duplicates (its own name twice), force printed each
+        (["simulate", "R0 + R1 || C1", "--fmin", "10", "--fmax", "10", "--points", "3"], "impedax simulate: error: --points must be 1 when --fmin equals --fmax (one frequency, 10 Hz), got 3"),
+        (["force", "vezzoli", "--fmin", "440", "--fmax", "440", "--points", "2"], "impedax force: error: --points must be 1 when --fmin equals --fmax (one frequency, 440 Hz), got 2"),
     ],
-    ids=["fix-unknown", "init-out-of-bounds", "fix-attribute-prefix", "init-case", "kk-max-rc", "kk-c", "param-case", "points-0", "points-1", "force-points-1"],
+    ids=["fix-unknown", "init-out-of-bounds", "fix-attribute-prefix", "init-case", "kk-max-rc", "kk-c", "param-case", "points-0", "points-1", "force-points-1",
+         "simulate-one-frequency-3", "force-one-frequency-2"],
 )
 def test_errors_name_the_option(argv, expected, spectrum, capsys):
     code, out, err = run([a.format(data=spectrum) for a in argv], capsys)
@@ -110,6 +114,20 @@ def test_errors_name_the_option(argv, expected, spectrum, capsys):
 def test_one_point_of_one_frequency_is_still_allowed(capsys):
     code, out, err = run(["simulate", "R1", "--param", "R1=5", "--points", "1", "--fmin", "10", "--fmax", "10"], capsys)
     assert code == 0 and out.strip().splitlines()[1:] == ["10,5,0"]
+    # without --points a one-frequency range is that one point (the default 61 or 161 would repeat it)
+    code, out, err = run(["simulate", "R1", "--param", "R1=5", "--fmin", "10", "--fmax", "10"], capsys)
+    assert code == 0 and out.strip().splitlines()[1:] == ["10,5,0"]
+    code, out, err = run(["force", "vezzoli", "--fmin", "440", "--fmax", "440"], capsys)
+    assert code == 0 and len(out.strip().splitlines()) == 2 and out.strip().splitlines()[1].startswith("440,")
+
+
+def test_sample_noise_choices_are_named_as_typed(spectrum, capsys):
+    """An unknown --noise lists the choices as the user types them (it listed Python enum reprs,
+    ``<NoiseModel.PROPORTIONAL: 'proportional'>``)."""
+    with pytest.raises(SystemExit) as info:
+        main(["sample", str(spectrum), "--model", "R0 + R1 || CPE1", "--noise", "unit"])
+    err = capsys.readouterr().err
+    assert info.value.code == 2 and "(choose from 'proportional', 'sigma')" in err and "NoiseModel" not in err
 
 
 def test_simulate_names_its_defaults_once_it_succeeded(capsys):

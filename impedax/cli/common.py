@@ -133,12 +133,18 @@ def fit_command(args=None) -> str:
     return " ".join(["impedax fit", shlex.quote(data) if data else "DATA"] + [f"{flag} {shlex.quote(str(value))}" for flag, value in options if value is not None])
 
 
-def check_points(points: int, fmin: float, fmax: float) -> None:
-    """``--points`` of a frequency range from ``fmin`` to ``fmax``: at least 2, or 1 where the
-    range is one frequency (``--fmin`` equal to ``--fmax``, as `impedax.log_frequencies`
-    takes it); one message for 0, -1 and 1 alike."""
+def check_points(points: int | None, fmin: float, fmax: float, *, default: int) -> int:
+    """The number of frequencies from ``fmin`` to ``fmax`` (``--points``; None: not given, then
+    ``default``, or 1 where the range is one frequency): at least 2, or exactly 1 where the range
+    is one frequency (``--fmin`` equal to ``--fmax``, as `impedax.log_frequencies` takes it;
+    more would repeat it: ``simulate`` refused the copies as duplicates, ``force`` printed each).
+    One message for 0, -1 and 1 alike."""
+    if points is None:
+        return 1 if fmin == fmax else default
+    if fmin == fmax and points != 1:
+        raise ParameterError(f"--points must be 1 when --fmin equals --fmax (one frequency, {fmin:g} Hz), got {points}")
     if points >= 2 or (points == 1 and fmin == fmax):
-        return
+        return points
     raise ParameterError(f"--points must be at least 2 (both ends of --fmin..--fmax), got {points}; --points 1 only with --fmin equal to --fmax")
 
 

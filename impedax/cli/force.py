@@ -50,7 +50,7 @@ def register(sub) -> None:
     p.add_argument("--param", action="append", metavar="NAME=VALUE", help="override a parameter (repeatable)")
     p.add_argument("--fmin", type=number_option, default=None, help="lowest frequency [Hz] (meyer 10, vezzoli 1)")
     p.add_argument("--fmax", type=number_option, default=None, help="highest frequency [Hz] (meyer 1e9, vezzoli 1e6)")
-    p.add_argument("--points", type=int, default=161, help="number of frequencies (default 161)")
+    p.add_argument("--points", type=int, default=None, help="number of frequencies (default 161; 1 when --fmin equals --fmax)")
     p.add_argument(
         "--convention", choices=CONVENTIONS, default="time-average",
         help="time-average (default): the mean force over a period of the sinusoidal drive; peak: the largest force over a period "
@@ -235,10 +235,10 @@ def run(args) -> int:
     low, high = _RANGES[args.model]
     fmin = low if args.fmin is None else args.fmin
     fmax = high if args.fmax is None else args.fmax
-    check_points(args.points, fmin, fmax)
-    check_memory("--points", args.points * POINT_BYTES, f"a force spectrum of {args.points} frequencies")
+    points = check_points(args.points, fmin, fmax, default=161)
+    check_memory("--points", points * POINT_BYTES, f"a force spectrum of {points} frequencies")
     notes = _notes(args.model, params)
-    freq = log_frequencies(fmin, fmax, args.points)
+    freq = log_frequencies(fmin, fmax, points)
     force = _finite_force(args.model, params, given, freq, args.convention)
     from ..models.peak import force_maximum
 

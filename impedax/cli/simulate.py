@@ -19,7 +19,7 @@ def register(sub) -> None:
     p.add_argument("--param", action="append", metavar="NAME=VALUE", help="parameter value (repeatable); unspecified ones take their defaults")
     p.add_argument("--fmin", type=number_option, default=1.0, help="lowest frequency [Hz] (default 1)")
     p.add_argument("--fmax", type=number_option, default=1e6, help="highest frequency [Hz] (default 1e6)")
-    p.add_argument("--points", type=int, default=61, help="number of frequencies (default 61)")
+    p.add_argument("--points", type=int, default=None, help="number of frequencies (default 61; 1 when --fmin equals --fmax)")
     add_output_options(p, json=None, plot="also save Nyquist/Bode plots", out="output file (.csv or .nc); stdout when omitted or '-'", out_metavar="FILE.csv")
     p.set_defaults(run=run)
 
@@ -33,11 +33,11 @@ def run(args) -> int:
 
     circuit, specs, given = model_and_values(args.model, args.param, "--param")
     outputs = plan_outputs([("--out", args.out, "spectrum"), ("--plot", args.plot, "figure")])
-    check_points(args.points, args.fmin, args.fmax)
-    check_memory("--points", args.points * POINT_BYTES, f"a spectrum of {args.points} frequencies")
+    points = check_points(args.points, args.fmin, args.fmax, default=61)
+    check_memory("--points", points * POINT_BYTES, f"a spectrum of {points} frequencies")
     params = {**circuit.defaults(), **given}
     defaulted = [n for n in specs if n not in given]
-    freq = log_frequencies(args.fmin, args.fmax, args.points)
+    freq = log_frequencies(args.fmin, args.fmax, points)
     z = np.asarray(compile_circuit(circuit)(params, freq))
     bad = np.flatnonzero(~np.isfinite(z))
     if bad.size:
