@@ -298,14 +298,7 @@ def test_demo_refuses_a_folder_nothing_can_be_made_in(folder, capsys):
 def test_a_probe_that_cannot_be_removed_is_named(tmp_path, monkeypatch):
     """The probe is made but its removal fails (a folder whose files cannot be deleted): the
     error names the leftover, so that the user can remove it, not "cannot create"."""
-    real_unlink = os.unlink
-
-    def refuse(path, *args, **kwargs):
-        if ".x.csv.staged." in str(path):
-            raise PermissionError(errno.EPERM, "Operation not permitted")
-        return real_unlink(path, *args, **kwargs)
-
-    monkeypatch.setattr(os, "unlink", refuse)
+    _refuse_removing(monkeypatch, "unlink", ".x.csv.staged.")
     with pytest.raises(DataError, match=r"made the test entry .*\.x\.csv\.staged\..* but cannot remove it \(Operation not permitted\)") as info:
         check_writable(tmp_path / "x.csv")
     assert info.value.path == str(tmp_path / "x.csv") and not live_temporaries()
@@ -336,14 +329,19 @@ def test_folder_probe_names_the_folder_and_leaves_nothing(tmp_path, monkeypatch)
 
     probe_folder(tmp_path, path=tmp_path / "out", text="--out: cannot create the folder")
     assert list(tmp_path.iterdir()) == []
-    real_rmdir = os.rmdir
-
-    def refuse(path, *args, **kwargs):
-        if ".impedax-probe-" in str(path):
-            raise PermissionError(errno.EPERM, "Operation not permitted")
-        return real_rmdir(path, *args, **kwargs)
-
-    monkeypatch.setattr(os, "rmdir", refuse)
+    _refuse_removing(monkeypatch, "rmdir", ".impedax-probe-")
     with pytest.raises(DataError, match=r"made the test entry .*\.impedax-probe-.* but cannot remove it") as info:
         probe_folder(tmp_path, path=tmp_path / "out", text="--out: cannot create the folder")
     assert info.value.path == str(tmp_path / "out")
+
+
+def _refuse_removing(monkeypatch, remover: str, marked: str) -> None:
+    """``os.<remover>`` (unlink, rmdir) fails with EPERM for paths containing ``marked``."""
+    real = getattr(os, remover)
+
+    def refuse(path, *args, **kwargs):
+        if marked in str(path):
+            raise PermissionError(errno.EPERM, "Operation not permitted")
+        return real(path, *args, **kwargs)
+
+    monkeypatch.setattr(os, remover, refuse)
