@@ -1,22 +1,27 @@
-"""The length of an emcee run and the run itself, for single and joint posteriors alike:
-a fixed number of steps, or ``steps="auto"``, which stops when the kept chain is
-`CHAIN_TAU_MULTIPLE` autocorrelation times long and τ has settled (emcee's recipe, "Saving &
-monitoring progress"; docs/bayesian.md, "Chain length")."""
+"""Where an emcee run's walkers start, the length of the run and the run itself, for single and
+joint posteriors alike (`start_walkers`; `run_emcee`): a fixed number of steps, or
+``steps="auto"``, which stops when the kept chain is `CHAIN_TAU_MULTIPLE` autocorrelation times
+long and τ has settled (emcee's recipe, "Saving & monitoring progress"; docs/bayesian.md,
+"Chain length")."""
 
 from __future__ import annotations
 
 import math
 import time
-from typing import Callable, Mapping, NamedTuple
+from typing import Callable, Mapping, NamedTuple, Sequence
 
 import numpy as np
 
 from ...arguments import MAX_CHAIN_VALUES, MAX_SAMPLER_STEPS, count, shown
-from ...errors import ParameterError
+from ...errors import FitError, ParameterError
 from .diagnostics import CHAIN_TAU_MULTIPLE, integrated_autocorr
+from .priors import UNDETERMINED_STDERRS, Prior, undetermined
 from .progress import ProgressLine
 
-__all__ = ["AUTO_STEPS", "AUTO_MAX_STEPS", "AUTO_CHECK_STEPS", "AUTO_TAU_CHANGE", "Chain", "ChainLength", "AUTO_MAX_CHAIN_NUMBERS", "steps_rule", "auto_step_cap", "run_emcee", "length_settings", "length_text", "capped_at"]
+__all__ = [
+    "AUTO_STEPS", "AUTO_MAX_STEPS", "AUTO_CHECK_STEPS", "AUTO_TAU_CHANGE", "Chain", "ChainLength", "AUTO_MAX_CHAIN_NUMBERS", "steps_rule", "auto_step_cap", "run_emcee", "length_settings", "length_text", "capped_at",
+    "START_MARGIN", "support_in_sampled_space", "inside_support", "ball_scales", "undetermined_span", "start_walkers",
+]
 
 AUTO_STEPS = "auto"
 
@@ -177,3 +182,136 @@ def length_text(settings: Mapping) -> str:
 def capped_at(settings: Mapping) -> int | None:
     """The cap an automatic run stopped at (for the chain-length warning), else None."""
     return settings.get("step_cap") if settings.get("stopped") == "cap" else None
+
+
+# --- where the walkers start -------------------------------------------------------------------
+
+START_MARGIN = 1e-9
+"""How far inside a finite end of its support (relative, in the sampled space; at least this
+much absolute) a walker starts: ln x rounds, and exp(ln b) can land just past b."""
+
+
+def support_in_sampled_space(support: Sequence[tuple[float, float]], log_scale: Sequence[bool]) -> tuple[np.ndarray, np.ndarray]:
+    """The prior supports (lo, hi] in the sampled space (ln x where ``log_scale``)."""
+    lo_y = np.array([math.log(s[0]) if ls and s[0] > 0 else (-np.inf if ls else s[0]) for s, ls in zip(support, log_scale)])
+    hi_y = np.array([math.log(s[1]) if ls else s[1] for s, ls in zip(support, log_scale)])
+    return lo_y, hi_y
+
+
+def inside_support(y: np.ndarray, lo_y: np.ndarray, hi_y: np.ndarray) -> np.ndarray:
+    """Sampled coordinates ``y`` (…, P) strictly inside the supports (lo_y, hi_y): a coordinate
+    past a finite end is reflected about it (walkers around a start at a bound stay spread on
+    its inner side, not piled on the bound nor outside it, where the log-probability is −∞),
+    then kept `START_MARGIN` inside both ends."""
+    with np.errstate(invalid="ignore"):  # (the reflection about an infinite end, never taken)
+        y = np.where(y < lo_y, 2 * lo_y - y, y)
+        y = np.where(y > hi_y, 2 * hi_y - y, y)
+    lo_in = lo_y + START_MARGIN * np.maximum(1.0, np.abs(np.where(np.isfinite(lo_y), lo_y, 0.0)))
+    hi_in = hi_y - START_MARGIN * np.maximum(1.0, np.abs(np.where(np.isfinite(hi_y), hi_y, 0.0)))
+    return np.clip(y, lo_in, np.maximum(hi_in, lo_in))
+
+
+def ball_scales(start: Sequence[float], stderr: Sequence[float], log_scale: Sequence[bool]) -> np.ndarray:
+    """The radius per parameter of the walkers' starting ball in the sampled space: 10 % of its
+    relative standard error (its standard error when sampled linearly), within 1e-7…0.01; 0.001
+    where the error is unknown."""
+    rel = [e / abs(v) if ls else e for v, e, ls in zip(start, stderr, log_scale)]
+    return np.array([0.1 * float(np.clip(r if math.isfinite(r) else 1e-2, 1e-6, 0.1)) for r in rel])
+
+
+def undetermined_span(prior: Prior, lower: float, upper: float, start: float, stderr: float | None, at_bound: bool) -> tuple[float, float] | None:
+    """The natural range over which the walkers of a log-sampled parameter (``lower`` ≥ 0) with a
+    default prior start when the least-squares fit leaves it `undetermined`: from the bottom of
+    the prior's support to the fit's value + `UNDETERMINED_STDERRS` standard errors (the top of
+    the support when the error is not finite); None for a determined parameter (a small ball)."""
+    if not (lower >= 0 and undetermined(lower, start, stderr, at_bound)):
+        return None
+    lo, hi = prior.support(lower, upper)
+    top = min(hi, start + UNDETERMINED_STDERRS * stderr) if stderr is not None and math.isfinite(stderr) else hi
+    return (lo, top) if 0 < lo < top else None
+
+
+def _followers(covariance: np.ndarray, spread_over) -> dict[int, tuple[float, list[tuple[int, float]]]]:
+    """For each widely spread parameter i: how far the linearisation reaches (`UNDETERMINED_STDERRS`
+    standard errors √Σ_ii), and the other parameters j (not spread themselves) with their
+    regression coefficient Σ_ji/Σ_ii in ``covariance`` (natural values; NaN: unknown)."""
+    out: dict[int, tuple[float, list[tuple[int, float]]]] = {}
+    for i in spread_over:
+        var = covariance[i, i]
+        if not (np.isfinite(var) and var > 0):
+            continue
+        rows = []
+        for j in range(covariance.shape[0]):
+            if j == i or j in spread_over:
+                continue
+            beta = covariance[j, i] / var
+            if np.isfinite(beta) and beta != 0:
+                rows.append((j, float(beta)))
+        out[i] = (UNDETERMINED_STDERRS * math.sqrt(var), rows)
+    return out
+
+
+def start_walkers(
+    start: Sequence[float], log_scale: Sequence[bool], ball: np.ndarray, *, walkers: int, seed: int, lo_y: np.ndarray, hi_y: np.ndarray,
+    log_prob_one: Callable[[np.ndarray], float], log_prob_all: Callable[[np.ndarray], np.ndarray], where: str,
+    wide: Sequence[tuple[float, float] | None] = (), covariance: np.ndarray | None = None,
+) -> np.ndarray:
+    """The walkers' start (walkers, P) in the sampled space, for single and joint posteriors: a
+    small ball around the least-squares ``start`` (natural values; radii ``ball``, `ball_scales`),
+    every walker strictly inside the supports (lo_y, hi_y) (`inside_support`).
+
+    A parameter with a range in ``wide`` (natural values, log-sampled: an undetermined one,
+    `undetermined_span`) is spread log-uniformly over it instead, and the other parameters follow
+    it along the fit's ``covariance`` (P × P over the sampled parameters, natural values, NaN
+    where unknown: their regression on it, x_j += Σ_ji/Σ_ii · Δx_i, with Δx_i within
+    ±`UNDETERMINED_STDERRS`·√Σ_ii, where the linearisation describes the fit), so that walkers
+    spread along a ridge such as R0 + R1 = const and not off it. Walkers whose log-probability is −∞, or (with
+    a ``wide`` spread) below the start's by more than the 99.9 % quantile of χ²_P/2 (outside the
+    typical set of a P-dimensional posterior peaked there), are moved halfway back towards the
+    start (up to 30 times; then onto it). ``log_prob_one``/``log_prob_all``: the log-probability
+    of one point / of all walkers; ``where`` names the start in the error raised when its
+    log-probability is −∞. Deterministic for a ``seed``."""
+    from scipy import stats
+
+    log_scale = np.asarray(log_scale, bool)
+    start = np.asarray(start, float)
+    p = start.size
+    y0 = np.where(log_scale, np.log(np.where(log_scale, start, 1.0)), start)
+    rng = np.random.default_rng(seed)
+    offsets = np.asarray(ball, float) * rng.normal(size=(walkers, p))
+    spread_over = {i: span for i, span in enumerate(wide) if span is not None}
+    target = {i: rng.uniform(math.log(span[0]), math.log(span[1]), size=walkers) for i, span in spread_over.items()}
+    follow = _followers(np.full((p, p), np.nan) if covariance is None else np.asarray(covariance, float), spread_over)
+    lo_in = np.where(np.isfinite(lo_y), inside_support(np.where(np.isfinite(lo_y), lo_y, 0.0), lo_y, hi_y), lo_y)  # (x_j ≤ 0: the lowest start inside)
+
+    def place(frac: np.ndarray) -> np.ndarray:
+        """The walkers a fraction ``frac`` (walkers,) of the way from the start to their draw."""
+        y = y0 + offsets * frac[:, None]
+        for i, u in target.items():
+            y[:, i] = y0[i] + frac * (u - y0[i])
+            reach, rows = follow.get(i, (0.0, ()))
+            moved = np.clip(np.exp(y[:, i]) - start[i], -reach, reach)
+            for j, beta in rows:
+                x_j = (np.exp(y[:, j]) if log_scale[j] else y[:, j]) + beta * moved
+                y[:, j] = np.where(x_j > 0, np.log(np.where(x_j > 0, x_j, 1.0)), lo_in[j]) if log_scale[j] else x_j
+        return inside_support(y, lo_y, hi_y)
+
+    lp_start = float(log_prob_one(y0))
+    if not np.isfinite(lp_start):
+        raise FitError(f"the log-probability is −∞ at {where} (model not finite there, or outside the priors); check the priors and the data")
+    floor = lp_start - 0.5 * float(stats.chi2.ppf(0.999, p)) if spread_over else -np.inf
+    frac = np.ones(walkers)
+    p0 = place(frac)
+    lp0 = np.asarray(log_prob_all(p0))
+    for _ in range(30):
+        bad = ~(np.isfinite(lp0) & (lp0 >= floor))
+        if not bad.any():
+            break
+        frac[bad] *= 0.5
+        p0 = place(frac)
+        lp0 = np.asarray(log_prob_all(p0))
+    else:
+        bad = ~(np.isfinite(lp0) & (lp0 >= floor))
+        at_start = place(np.zeros(walkers))[0]  # the start, moved inside the supports
+        p0[bad] = at_start if np.isfinite(float(log_prob_one(at_start))) else y0
+    return p0

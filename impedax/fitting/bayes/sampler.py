@@ -17,20 +17,22 @@ from typing import Mapping, NamedTuple, Sequence
 import jax.numpy as jnp
 import numpy as np
 import xarray as xr
-from scipy import stats
 
 from ...arguments import MAX_CHAIN_VALUES, MAX_WALKERS, checked_arguments, choice, closest_name, count, flag, frequency, instance_of, parameter_values, seed as seed_rule
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, parse
 from ...errors import DataError, FitError, ParameterError
 from ..least_squares import FitResult, fit
 from ..problem import open_spectrum
-from .chain import AUTO_CHECK_STEPS, AUTO_MAX_STEPS, AUTO_STEPS, AUTO_TAU_CHANGE, auto_step_cap, length_settings, run_emcee, steps_rule
+from .chain import (
+    AUTO_CHECK_STEPS, AUTO_MAX_STEPS, AUTO_STEPS, AUTO_TAU_CHANGE, auto_step_cap, ball_scales, length_settings, run_emcee, start_walkers, steps_rule,
+    support_in_sampled_space, undetermined_span,
+)
 from .diagnostics import CHAIN_TAU_MULTIPLE
 from .evidence import laplace_evidence, waic
 from .logprob import NOISE_MODELS, LogProbArgs, LogProbFunctions, LogProbStructure, NoiseModel, log_prob_functions, start_weighting
 from .posterior import Posterior
 from .progress import announce
-from .priors import DEFAULT_SPAN_DECADES, SIGMA_REL_PRIOR, UNDETERMINED_STDERRS, Prior, check_prior_inside, coerce_priors, data_scale_range, default_prior, undetermined
+from .priors import DEFAULT_SPAN_DECADES, SIGMA_REL_PRIOR, Prior, check_prior_inside, coerce_priors, data_scale_range, default_prior
 from .reparam import Reparametrization
 from .shared_posterior import MAX_JOINT_PARAMETERS, SharedPosterior, sample_shared
 
@@ -210,7 +212,7 @@ def _choose_priors(priors: Mapping[str, Prior], space: SampledParameters, start:
     outside it (with a note when the prior is the user's). The walkers of an undetermined
     parameter with a default prior start spread over the fit's approximate 95 % interval
     (value ± 2·stderr) within the prior, log-uniformly, not in a ball around a value the data
-    do not fix."""
+    do not fix (`undetermined_span`)."""
     chosen: dict[str, Prior] = {}
     spread: list[tuple[float, float] | None] = []
     z_abs = np.abs(obs.z)
@@ -225,10 +227,7 @@ def _choose_priors(priors: Mapping[str, Prior], space: SampledParameters, start:
             stderr = float(init_stderr[n]) if n in init.stderr and not init.fixed.get(n, False) else None
             at_bound = n in init.at_bound
             chosen[n] = default_prior(space.lower[i], space.upper[i], start[i], stderr=stderr, at_bound=at_bound, scale=data_scale_range(space.units[i], obs.freq, z_abs))
-            if space.log_scale[i] and undetermined(space.lower[i], start[i], stderr, at_bound):
-                lo, hi = chosen[n].support(space.lower[i], space.upper[i])
-                top = min(hi, start[i] + UNDETERMINED_STDERRS * stderr) if stderr is not None and math.isfinite(stderr) else hi
-                wide = (lo, top) if 0 < lo < top else None
+            wide = undetermined_span(chosen[n], space.lower[i], space.upper[i], start[i], stderr, at_bound)
         spread.append(wide)
     support = [chosen[n].support(space.lower[i], space.upper[i]) for i, n in enumerate(space.names)]
     start, notes = list(start), []
@@ -276,96 +275,28 @@ def _log_prob_setup(circuit, registry, specs, fixed, rp, obs: _Observations, spa
 # --- step 4: the walkers' start ----------------------------------------------------------------
 
 
-def _support_in_sampled_space(support, log_scale) -> tuple[np.ndarray, np.ndarray]:
-    lo_y = np.array([math.log(s[0]) if ls and s[0] > 0 else (-np.inf if ls else s[0]) for s, ls in zip(support, log_scale)])
-    hi_y = np.array([math.log(s[1]) if ls else s[1] for s, ls in zip(support, log_scale)])
-    return lo_y, hi_y
-
-
 def _initial_walkers(
     start, space: SampledParameters, init: FitResult, *, walkers: int, seed: int, n_points: int,
     lo_y, hi_y, args: LogProbArgs, functions: LogProbFunctions, circuit: Circuit, wide: Sequence[tuple[float, float] | None] = (),
 ) -> np.ndarray:
-    """A small ball (walkers, P) around the least-squares start in the sampled space: 10% of each
-    parameter's relative standard error (1e-6…0.1), clipped to the prior support.
-
-    A parameter with a range in ``wide`` (natural values, log-sampled: an undetermined one) is
-    spread log-uniformly over it instead, and the other parameters follow it along the fit's
-    covariance (their regression on it, x_j += Σ_ji/Σ_ii · Δx_i), so that walkers spread along a
-    ridge such as R0 + R1 = const and not off it. Walkers whose log-probability is −∞, or (with a
-    ``wide`` spread) below the start's by more than the 99.9 % quantile of χ²_P/2 (outside the
-    typical set of a P-dimensional posterior peaked there), are moved halfway back towards the
-    start (up to 30 times)."""
-    log_scale = np.asarray(space.log_scale)
-    y0 = np.array([math.log(v) if ls else v for v, ls in zip(start, log_scale)])
-    spread = []
+    """The walkers' start (walkers, P) in the sampled space (`start_walkers`): a small ball around
+    the least-squares start, its radius from the fit's linearised standard errors (``sigma_rel``'s
+    from the number of points), each parameter with a range in ``wide`` spread over it, the other
+    free circuit parameters following it along the fit's covariance."""
     init_stderr = init.linearised_stderr
-    for i, n in enumerate(space.names):
-        se = init_stderr.get(n, math.nan) if n in init.stderr else math.nan
-        rel = se / abs(start[i]) if log_scale[i] else se
-        if n == "sigma_rel":
-            rel = 1.0 / math.sqrt(2 * n_points)
-        spread.append(0.1 * float(np.clip(rel if math.isfinite(rel) else 1e-2, 1e-6, 0.1)))
-    rng = np.random.default_rng(seed)
-    ball = np.asarray(spread) * rng.normal(size=(walkers, len(space.names)))
-    spread_over = {i: span for i, span in enumerate(wide) if span is not None}
-    target = {i: rng.uniform(math.log(span[0]), math.log(span[1]), size=walkers) for i, span in spread_over.items()}
-    follow = _followers(space, init, spread_over)
-    lo_clip = np.where(np.isfinite(lo_y), lo_y + 1e-9, -np.inf)
-
-    def place(frac: np.ndarray) -> np.ndarray:
-        """The walkers a fraction ``frac`` (walkers,) of the way from the start to their draw."""
-        y = y0 + ball * frac[:, None]
-        for i, u in target.items():
-            y[:, i] = y0[i] + frac * (u - y0[i])
-            moved = np.exp(y[:, i]) - start[i]
-            for j, beta in follow.get(i, ()):
-                x_j = (np.exp(y[:, j]) if log_scale[j] else y[:, j]) + beta * moved
-                y[:, j] = np.where(x_j > 0, np.log(np.where(x_j > 0, x_j, 1.0)), lo_clip[j]) if log_scale[j] else x_j
-        return np.clip(y, lo_clip, hi_y)
-
-    lp_start = float(functions.single(jnp.asarray(y0), args))
-    if not np.isfinite(lp_start):
-        raise FitError(f"the log-probability is −∞ at the least-squares fit of {circuit} (model not finite there, or outside the priors); check the priors and the data")
-    floor = lp_start - 0.5 * float(stats.chi2.ppf(0.999, len(y0))) if spread_over else -np.inf
-    frac = np.ones(walkers)
-    p0 = place(frac)
-    lp0 = np.asarray(functions.batched(jnp.asarray(p0), args))
-    for _ in range(30):
-        bad = ~(np.isfinite(lp0) & (lp0 >= floor))
-        if not bad.any():
-            break
-        frac[bad] *= 0.5
-        p0 = place(frac)
-        lp0 = np.asarray(functions.batched(jnp.asarray(p0), args))
-    else:
-        p0[~(np.isfinite(lp0) & (lp0 >= floor))] = y0
-    return p0
-
-
-def _followers(space: SampledParameters, init: FitResult, spread_over) -> dict[int, list[tuple[int, float]]]:
-    """For each widely spread parameter i: the other free circuit parameters j (not spread
-    themselves) with their regression coefficient Σ_ji/Σ_ii in the fit's covariance."""
+    stderr = [start[i] / math.sqrt(2 * n_points) if n == "sigma_rel" else (init_stderr.get(n, math.nan) if n in init.stderr else math.nan) for i, n in enumerate(space.names)]
     free = list(init.free_names)
     cov = np.asarray(init.covariance, float)
-    out: dict[int, list[tuple[int, float]]] = {}
-    for i in spread_over:
-        name = space.names[i]
-        if name not in free or cov.shape != (len(free), len(free)):
-            continue
-        a = free.index(name)
-        var = cov[a, a]
-        if not (np.isfinite(var) and var > 0):
-            continue
-        rows = []
-        for j, other in enumerate(space.names):
-            if j == i or j in spread_over or other not in free:
-                continue
-            beta = cov[free.index(other), a] / var
-            if np.isfinite(beta) and beta != 0:
-                rows.append((j, float(beta)))
-        out[i] = rows
-    return out
+    covariance = np.full((len(space.names),) * 2, np.nan)
+    if cov.shape == (len(free), len(free)):
+        rows = [free.index(n) if n in free else -1 for n in space.names]
+        known = np.asarray(rows) >= 0
+        covariance[np.ix_(known, known)] = cov[np.ix_(np.asarray(rows)[known], np.asarray(rows)[known])]
+    return start_walkers(
+        start, space.log_scale, ball_scales(start, stderr, space.log_scale), walkers=walkers, seed=seed, lo_y=lo_y, hi_y=hi_y,
+        log_prob_one=lambda y: functions.single(jnp.asarray(y), args), log_prob_all=lambda y: functions.batched(jnp.asarray(y), args),
+        where=f"the least-squares fit of {circuit}", wide=wide, covariance=covariance,
+    )
 
 
 # --- step 5: the emcee run ---------------------------------------------------------------------
@@ -469,7 +400,7 @@ def sample(
     announce(f"sample: compiling the log-probability (once per circuit and data size) and placing {walkers} walkers …", progress)
     args, structure = _log_prob_setup(circuit, registry, specs, fixed, rp, obs, space, chosen, support)
     functions = log_prob_functions(structure)
-    lo_y, hi_y = _support_in_sampled_space(support, space.log_scale)
+    lo_y, hi_y = support_in_sampled_space(support, space.log_scale)
     p0 = _initial_walkers(
         chosen_priors.start, space, init, walkers=walkers, seed=seed, n_points=obs.freq.size, lo_y=lo_y, hi_y=hi_y, args=args, functions=functions, circuit=circuit,
         wide=chosen_priors.spread,

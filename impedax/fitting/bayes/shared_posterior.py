@@ -9,7 +9,9 @@ every other free parameter once per spectrum along ``over``, and (proportional n
 
 with the same noise models, priors and log sampling of positive parameters as a single
 spectrum's posterior (`logprob`). The walkers start around the global least-squares fit
-(`least_squares.shared`). emcee's ensemble moves scale poorly with dimension, so the number of
+(`least_squares.shared`) as a single spectrum's do (`chain.start_walkers`): in a small ball,
+spread over their prior where the fit leaves a parameter undetermined, all strictly inside the
+supports. emcee's ensemble moves scale poorly with dimension, so the number of
 sampled parameters is limited to `MAX_JOINT_PARAMETERS` (a few spectra).
 
 `SharedPosterior.to_xarray` stores the draws with the data and the start fit (`impedax.write_result`
@@ -21,7 +23,7 @@ from __future__ import annotations
 import functools
 import math
 from dataclasses import dataclass, field
-from typing import Callable, Mapping
+from typing import Callable, Mapping, NamedTuple
 
 import jax
 import jax.numpy as jnp
@@ -29,15 +31,16 @@ import numpy as np
 import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
-from ...errors import DataError, FitError, ParameterError
+from ...errors import DataError, ParameterError
 from ...data import unit_text
 from ..derived import QUANTILES, draws_band, needs_freq
 from ..least_squares import SharedFitResult, fit
 from ..parameters import ParameterTable
 from ..problem import open_spectrum
-from .diagnostics import chain_warnings, figure, hdi, integrated_autocorr, prior_edge_warnings
+from .diagnostics import chain_warnings, figure, hdi, integrated_autocorr, interval_warnings, prior_edge_warnings
 from .logprob import NOISE_MODELS, NoiseModel, start_weighting
-from .chain import AUTO_STEPS, auto_step_cap, capped_at, length_settings, length_text, run_emcee
+from .chain import AUTO_STEPS, auto_step_cap, ball_scales, capped_at, length_settings, length_text, run_emcee, start_walkers, support_in_sampled_space, undetermined_span
+from .posterior import Posterior
 from .priors import SIGMA_REL_PRIOR, Prior, check_prior_inside, coerce_priors, data_scale_range, default_prior, prior_log_density
 
 __all__ = ["SharedPosterior", "sample_shared", "MAX_JOINT_PARAMETERS"]
@@ -157,15 +160,42 @@ class SharedPosterior:
         tau = np.maximum(integrated_autocorr(self._sampled_space), 1.0)
         return {n: float(self.n_walkers * self.n_draws / t) for n, t in zip(self.names, tau)}
 
+    chain_converged = Posterior.chain_converged  # (the same rule as a single spectrum's)
+
+    @functools.cached_property
+    def bounds(self) -> tuple[tuple[float, ...], tuple[float, ...]]:
+        """(lower, upper) bounds of the sampled parameters: the circuit's, (0, ∞) for ``sigma_rel``."""
+        specs = self.circuit.parameter_specs(self.registry)
+        pairs = [(specs[n].lower, specs[n].upper) if n in specs else (0.0, math.inf) for n in (_circuit_name(name) for name in self.names)]
+        return tuple(float(lo) for lo, _ in pairs), tuple(float(hi) for _, hi in pairs)
+
     @functools.cached_property
     def warnings(self) -> tuple[str, ...]:
+        """Diagnostics that need attention, as a single spectrum's posterior gives them
+        (`Posterior.warnings`): chain length, acceptance, correlations, draws piled up against a
+        prior's edge and linearised standard errors far from the posterior's widths, per-spectrum
+        parameters named with their spectrum (``R2[cycle=64]``); then notes and the start fit's."""
         out = chain_warnings(self.names, self.log_scale, self._sampled_space, self.autocorr, self.settings.get("thin", 1), self.mean_acceptance, step_cap=capped_at(self.settings))
-        specs = self.circuit.parameter_specs(self.registry)
-        bounds = [(specs[n].lower, specs[n].upper) if n in specs else (0.0, math.inf) for n in (name.split("[")[0] for name in self.names)]
-        out.extend(prior_edge_warnings(self.names, self.units, self.draws.reshape(-1, len(self.names)), self.priors, [b[0] for b in bounds], [b[1] for b in bounds]))
+        edges = prior_edge_warnings(self.names, self.units, self.draws.reshape(-1, len(self.names)), self.priors, *self.bounds)
+        out.extend(edges)
+        out.extend(self._interval_warnings(edges))
         out.extend(self.notes)
         out.extend(f"least-squares start: {w}" for w in sorted({w for ws in self.fit.warnings.values() for w in ws}))
         return tuple(out)
+
+    def _interval_warnings(self, edge_warnings) -> list[str]:
+        """`interval_warnings` (as `Posterior`'s) for the sampled circuit parameters, each against
+        its spectrum's linearised standard error in the global start fit."""
+        q = self.quantiles()
+        start = _start_of(self.fit.dataset, self.over, self.spectra, self.names)
+        names = [n for n in self.names if n in start]
+        return interval_warnings(
+            {n: start[n].stderr for n in names},
+            {n: 0.5 * float(q["q84"].sel(param=n) - q["q16"].sel(param=n)) for n in names},
+            chain_converged=self.chain_converged,
+            at_bound=[n for n in names if start[n].at_bound],
+            piled_up=[n for n in names if any(w.startswith(f"{n} piles up") for w in edge_warnings)],
+        )
 
     def quantiles(self) -> xr.Dataset:
         """median, q05, q16, q84, q95, mean, sd and the 90% HDI per sampled parameter."""
@@ -353,6 +383,67 @@ def _fit_variables(fit_ds: xr.Dataset, over: tuple[str, ...]):
     return data, coords, stored, {v: k for k, v in dims.items() if k != v}
 
 
+class _Start(NamedTuple):
+    """A sampled circuit parameter in the global least-squares start fit."""
+
+    value: float
+    stderr: float  # linearised (at a bound: the linearisation's scale)
+    at_bound: bool
+
+
+def _circuit_name(name: str) -> str:
+    """The circuit parameter of a sampled name (``R2[cycle=64]`` → ``R2``)."""
+    return name.split("[")[0]
+
+
+def _spectrum_row(name: str, spectra) -> int | None:
+    """The spectrum (index into ``spectra``) of a per-spectrum sampled name; None: shared."""
+    return list(spectra).index(name[name.index("[") + 1 : -1]) if "[" in name else None
+
+
+def _start_of(fit_ds: xr.Dataset, over, spectra, names) -> dict[str, _Start]:
+    """The global fit ``fit_ds`` at each sampled circuit parameter of ``names`` (``sigma_rel``
+    has none): a per-spectrum one's in its spectrum; a shared one's in the first (the same in
+    all), at a bound where it is in any."""
+    m = len(spectra)
+    params = [str(p) for p in fit_ds["param"].values]
+
+    def table(var):
+        return np.asarray(fit_ds[var].transpose(*over, "param").values).reshape(m, -1)
+
+    value = table("value")
+    stderr = table("linearised_stderr" if "linearised_stderr" in fit_ds else "stderr")
+    bound = table("at_bound").astype(bool) if "at_bound" in fit_ds else np.zeros(value.shape, bool)
+    out = {}
+    for n in names:
+        if _circuit_name(n) not in params:
+            continue
+        i, row = params.index(_circuit_name(n)), _spectrum_row(n, spectra)
+        r = 0 if row is None else row
+        out[n] = _Start(float(value[r, i]), float(stderr[r, i]), bool(bound[:, i].any() if row is None else bound[row, i]))
+    return out
+
+
+def _start_covariance(fit_ds: xr.Dataset, over, spectra, names) -> np.ndarray:
+    """The global fit's covariance between the sampled parameters ``names`` (natural values): each
+    spectrum's among its own parameters; NaN across spectra, for shared parameters (whose walkers
+    follow no one spectrum) and where the fit has none."""
+    p = len(names)
+    out = np.full((p, p), np.nan)
+    if "covariance" not in fit_ds:
+        return out
+    cov = fit_ds["covariance"]
+    inner = [d for d in cov.dims if d not in over]
+    free = [str(x) for x in fit_ds[inner[0]].values]
+    values = np.asarray(cov.transpose(*over, *inner).values, float).reshape(len(spectra), len(free), len(free))
+    where = [(_spectrum_row(n, spectra), free.index(_circuit_name(n))) if "[" in n and _circuit_name(n) in free else None for n in names]
+    for a, wa in enumerate(where):
+        for b, wb in enumerate(where):
+            if wa is not None and wb is not None and wa[0] == wb[0]:
+                out[a, b] = values[wa[0], wa[1], wb[1]]
+    return out
+
+
 def _spectrum_labels(ds: xr.Dataset, over: tuple[str, ...]) -> list[str]:
     labels = [[f"{d}={c}" for c in (ds[d].values if d in ds.coords else range(ds.sizes[d]))] for d in over]
     return [", ".join(label[i] for label, i in zip(labels, index)) for index in np.ndindex(*(ds.sizes[d] for d in over))]
@@ -384,9 +475,7 @@ def sample_shared(
         )
     circuit_of = {n: n for n in start.shared} | {f"{n}[{label}]": n for label in labels for n in own}
     z = ds["Z"].transpose(*start.over, "frequency").values.reshape(m, -1)
-    value = start.dataset["value"].transpose(*start.over, "param").values.reshape(m, -1)
-    stderr = start.dataset["linearised_stderr" if "linearised_stderr" in start.dataset else "stderr"].transpose(*start.over, "param").values.reshape(m, -1)
-    bound = start.dataset["at_bound"].transpose(*start.over, "param").values.reshape(m, -1) if "at_bound" in start.dataset else np.zeros(value.shape, bool)
+    fitted = _start_of(start.dataset, start.over, labels, names)
     x0, se, at_bound = [], [], []
     for n in names:
         if n == "sigma_rel":
@@ -394,11 +483,9 @@ def sample_shared(
             se.append(x0[-1] / math.sqrt(z.size))
             at_bound.append(False)
             continue
-        i = table.names.index(circuit_of[n])
-        row = labels.index(n[n.index("[") + 1 : -1]) if "[" in n else 0
-        x0.append(float(value[row, i]))
-        se.append(float(stderr[row, i]))
-        at_bound.append(bool(bound[:, i].any()) if "[" not in n else bool(bound[row, i]))
+        x0.append(fitted[n].value)
+        se.append(fitted[n].stderr)
+        at_bound.append(fitted[n].at_bound)
     lower = [0.0 if n == "sigma_rel" else float(table.lower[table.names.index(circuit_of[n])]) for n in names]
     upper = [math.inf if n == "sigma_rel" else float(table.upper[table.names.index(circuit_of[n])]) for n in names]
     user = coerce_priors(priors)
@@ -407,17 +494,20 @@ def sample_shared(
             raise ParameterError(f"prior for unknown parameter {n!r} (parameters: {', '.join(specs)})")
         if n in (fixed or {}):
             raise ParameterError(f"prior for {n}: the parameter is fixed")
-    chosen = {}
+    chosen, wide = {}, []
     freq_all, z_abs_all = np.tile(np.asarray(ds["frequency"].values, float), m), np.abs(z).ravel()
     for n, lo, hi, v, e, edge in zip(names, lower, upper, x0, se, at_bound):
         key = "sigma_rel" if n == "sigma_rel" else circuit_of[n]
+        span = None
         if key in user:
             check_prior_inside(n, user[key], lo, hi, key != "sigma_rel" and specs[key].upper_inclusive)
             chosen[n] = user[key]
         elif n == "sigma_rel":
             chosen[n] = SIGMA_REL_PRIOR
-        else:  # widened where the global fit leaves the parameter undetermined (`default_prior`)
+        else:  # widened where the global fit leaves the parameter undetermined (`default_prior`), its walkers spread over it
             chosen[n] = default_prior(lo, hi, v, stderr=e, at_bound=edge, scale=data_scale_range(specs[key].unit, freq_all, z_abs_all))
+            span = undetermined_span(chosen[n], lo, hi, v, e, edge)
+        wide.append(span)
     support = [chosen[n].support(lo, hi) for n, lo, hi in zip(names, lower, upper)]
     for j, n in enumerate(names):  # a fit stopped at its bound starts inside its widened default prior
         if n != "sigma_rel" and circuit_of[n] not in user and 0 < support[j][0] and not support[j][0] < x0[j]:
@@ -442,20 +532,12 @@ def sample_shared(
         raise ParameterError(f"walkers must be an even number of at least 2 × {p} parameters = {2 * p} (got {walkers!r})")
     if steps == AUTO_STEPS and burn is not None and burn >= auto_step_cap(walkers, p):
         raise ParameterError(f"burn must be below the {auto_step_cap(walkers, p)} steps steps='auto' runs at most (got {burn})")
-    y0 = np.array([math.log(v) if ls else v for v, ls in zip(x0, log_scale)])
-    rel = np.array([(e / abs(v) if ls else e) for v, e, ls in zip(x0, se, log_scale)])
-    spread = 0.1 * np.clip(np.where(np.isfinite(rel), rel, 1e-2), 1e-6, 0.1)
-    if not np.isfinite(float(single(jnp.asarray(y0), args))):
-        raise FitError(f"the log-probability is −∞ at the global least-squares fit of {circuit} (model not finite there, or outside the priors); check the priors and the data")
-    rng = np.random.default_rng(seed)
-    p0 = y0 + spread * rng.normal(size=(walkers, p))
-    lp0 = np.asarray(batched(jnp.asarray(p0), args))
-    for _ in range(30):
-        bad = ~np.isfinite(lp0)
-        if not bad.any():
-            break
-        p0[bad] = y0 + 0.5 * (p0[bad] - y0)
-        lp0 = np.asarray(batched(jnp.asarray(p0), args))
+    lo_y, hi_y = support_in_sampled_space(support, log_scale)
+    p0 = start_walkers(
+        x0, log_scale, ball_scales(x0, se, log_scale), walkers=walkers, seed=seed, lo_y=lo_y, hi_y=hi_y,
+        log_prob_one=lambda y: single(jnp.asarray(y), args), log_prob_all=lambda y: batched(jnp.asarray(y), args),
+        where=f"the global least-squares fit of {circuit}", wide=wide, covariance=_start_covariance(start.dataset, start.over, labels, names),
+    )
     chain = run_emcee(p0, lambda coords: np.asarray(batched(jnp.asarray(coords), args)), steps=steps, burn=burn, thin=thin, seed=seed, progress=progress)
     draws = np.where(np.asarray(log_scale), np.exp(chain.chain_y), chain.chain_y)
     units = tuple("1" if n == "sigma_rel" else specs[circuit_of[n]].unit for n in names)
