@@ -90,9 +90,11 @@ def test_diagnosis_figure_legends_say_what_is_drawn():
 def refinement_stand_in() -> SimpleNamespace:
     data = rc(1.0) + rc(0.5, 1e-1, 0.0)
     d = diagnosis_stand_in()
+    final = fit("R0 + R1 || C1 + R2 || C2", data * 1.002, data)
     steps = [
         SimpleNamespace(fit=fit("R0 + R1 || C1", rc(1.4), data), effect=None, removed=(), change="(start)", model="R0 + R1 || C1", diagnosis=d),
-        SimpleNamespace(fit=fit("R0 + R1 || C1 + R2 || C2", data * 1.002, data), effect="extra_relaxation", removed=(), change="+ R2 || C2 [extra_relaxation]", model="R0 + R1 || C1 + R2 || C2", diagnosis=SimpleNamespace(failing_bands=[], noise_level=1e-3)),
+        SimpleNamespace(fit=final, effect="extra_relaxation", removed=(), change="+ R2 || C2 [extra_relaxation]", model="R0 + R1 || C1 + R2 || C2",
+                        diagnosis=SimpleNamespace(failing_bands=[], noise_level=1e-3, baseline=final, noise_ratio=0.5)),
     ]
     return SimpleNamespace(steps=steps, final_model=steps[-1].model, verdict="adequate")
 
@@ -104,6 +106,10 @@ def test_refinement_figure_plain_percent_ticks_named_shading_and_start():
     first = fig.axes[1]
     assert "model fails" in legend_texts(first)
     assert "(start)" not in first.get_title() and first.get_title().startswith("step 0: start")
+    # the noise line sits where the verdict's noise ratio is 1: the last rms_rel / its ratio (0.5),
+    # twice the last step's 0.141 %
+    (noise,) = [line for line in fig.axes[0].get_lines() if line.get_label() == "noise level (the verdict's 1×)"]
+    assert noise.get_ydata()[0] == pytest.approx(2 * 0.2 / np.sqrt(2), rel=1e-3)
     plt.close(fig)
 
 
@@ -176,10 +182,12 @@ def test_refine_text_gives_the_command_for_init():
     assert "pass init=" not in command_line_words(note) and "--init" in command_line_words(note)
     final = SimpleNamespace(model="R0 + R1 || CPE1", values={"R0": 0.1, "R1": 1.5, "CPE1.Q": 0.05, "CPE1.alpha": 0.5}, fixed=dict.fromkeys(["R0", "R1", "CPE1.Q", "CPE1.alpha"], False))
     args = SimpleNamespace(select=["cycle=0"], weighting=None, fmin=None, fmax=1000.0)
-    line = reproduce_line(SimpleNamespace(notes=(note,), final=final, masked_points=()), args)
+    line = reproduce_line(SimpleNamespace(notes=(note,), final=final, masked_points=(), final_from_values=True), args)
     assert "impedax fit DATA --select cycle=0 --fmax 1000.0 --model 'R0 + R1 || CPE1' --init R0=0.1 --init R1=1.5" in line
-    assert reproduce_line(SimpleNamespace(notes=("another note",), final=final, masked_points=()), args) is None
-    masked = reproduce_line(SimpleNamespace(notes=(note,), final=final, masked_points=(5.0, 50.0)), args)
+    assert reproduce_line(SimpleNamespace(notes=("another note",), final=final, masked_points=(), final_from_values=False), args) is None
+    # another path's note of its own model does not make the final fit need its values (the line had claimed so)
+    assert reproduce_line(SimpleNamespace(notes=(note,), final=final, masked_points=(), final_from_values=False), args) is None
+    masked = reproduce_line(SimpleNamespace(notes=(note,), final=final, masked_points=(5.0, 50.0), final_from_values=True), args)
     assert "2 point(s)" in masked
 
 

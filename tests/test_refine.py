@@ -3,6 +3,7 @@ progress, and the CLI's --max-effects / --max-steps flags (docs/diagnosis.md, se
 SYNTHETIC spectra from the numpy formulas of tests/hidden_effects.py."""
 
 import json
+import re
 
 import numpy as np
 import pytest
@@ -50,6 +51,11 @@ def test_final_fit_reproduces_with_fit_of_the_final_model(missing_series_resista
     assert not undetermined_parameters(r.final)
     out = r.summary()
     assert out["final_rms_rel"] == pytest.approx(again.rms_rel, rel=1e-6) and out["undetermined"] == [] and out["masked_points"] == []
+    # the last diagnosis' noise ratio and scope, and whether the final fit needs its own values
+    last = r.steps[-1].diagnosis
+    assert out["noise_ratio"] == pytest.approx(last.noise_ratio) and out["beyond_catalog"] is False and out["final_from_values"] is False
+    text = r.report()
+    assert f"final fit {r.final_model}: " in text and "undetermined in the final fit" not in text and "masked:" not in text
     # the final parameters, as `fit --json` gives them: those of fitting the final model anew
     assert set(out["final_params"]) == set(again.values) and out["final_at_bound"] == list(again.at_bound)
     for name, entry in out["final_params"].items():
@@ -660,3 +666,25 @@ def test_a_finger_lacking_its_series_resistance_and_electrode_polarization_ends_
     r = ix.refine(data, case.circuit)
     assert r.verdict == "adequate" and r.final.n_params == 8, r.report()
     assert es.equivalent_to_generating(r.final, ix.fit(case.generating, data)), r.report()
+
+
+@pytest.mark.slow  # (~75 s: four paths)
+def test_another_paths_note_does_not_ask_for_the_final_fits_values(tmp_path, capsys):
+    """The shipped SYNTHETIC finger (session 1, trial 1) refined from Meyer's circuit: two other
+    paths' fits from scratch stopped short of their own models, and their notes had made the CLI
+    print "to reproduce the final fit from its values (a fit from scratch stops short of it)",
+    while `impedax fit` of the final model from scratch reaches the same rms_rel. The text now
+    names the final fit's undetermined C_i, which it had hidden (the JSON listed it)."""
+    from impedax.models import example_spectra
+
+    path = tmp_path / "total.nc"
+    ix.save(example_spectra()["total_sliding"], path)
+    model = "C_s + C_i + R_sc || C_sc + R_f"
+    assert main(["refine", str(path), "--select", "session=1", "--select", "trial=1", "--model", model]) == 0
+    out = capsys.readouterr().out
+    assert "to reproduce the final fit" not in out and "the command is printed last" not in out
+    assert "undetermined in the final fit: C_i" in out
+    final = next(line for line in out.splitlines() if line.startswith("final fit "))[len("final fit "):].split(": ", 1)[0]
+    again = ix.fit(final, ix.load(path).sel(session=1, trial=1))
+    reported = float(re.search(r"rms_rel fell from \S+ % to (\S+) %", out).group(1))
+    assert again.rms_rel * 100 == pytest.approx(reported, rel=0.01)

@@ -69,6 +69,11 @@ def test_an_open_resistor_is_flagged_as_a_vanished_term():
     assert vanished_parameters(loop) == {"R1"}
     # the summary of a refinement ending there lists it
     assert Refinement((RefinementStep(loop, None, None, None),), "data_invalid").summary()["undetermined"] == ["R1"]
+    # ... and so does its text, with the final values (R1 at its bound) and the points left out
+    text = Refinement((RefinementStep(loop, None, None, None),), "data_invalid", masked_points=(5.34, 56.2)).report()
+    assert f"final fit {CH_MODEL}: R0 = 98.4 Ω (± " in text and "R1 = 1.77e+255 Ω (at its bound)" in text
+    assert "undetermined in the final fit: R1 (" in text
+    assert "masked: 2 point(s) left out of every fit as the data's own problem (5.34 Hz, 56.2 Hz); impedax fit of the file keeps them" in text
 
 
 def test_the_ch_instruments_refinement_ends_without_an_open_resistor(ch_refined, capsys):

@@ -58,11 +58,12 @@ def run(args) -> int:
 
 def reproduce_line(refinement, args=None) -> str | None:
     """The ``impedax fit`` command that reproduces the final fit from its values (on the run's
-    file and points: `fit_command`), when a note says a fit from scratch stops short of it
-    (``(pass init=)``), else None."""
+    file and points: `fit_command`), when a fit of the final model from scratch stops short of
+    it (``Refinement.final_from_values``; a note of another path said so of its own model, and
+    had printed this line), else None."""
     from .common import fit_command
 
-    if not any("(pass init=)" in note for note in refinement.notes):
+    if not refinement.final_from_values:
         return None
     final = refinement.final
     starts = " ".join(f"--{'fix' if final.fixed[k] else 'init'} {k}={v:.6g}" for k, v in final.values.items())

@@ -9,7 +9,6 @@ None); a refinement has ``steps`` (each with ``fit``, ``effect``, ``model`` and 
 
 from __future__ import annotations
 
-import math
 
 import matplotlib.pyplot as plt
 import numpy as np
@@ -76,13 +75,13 @@ def plot_refinement(refinement, *, title: str | None = None):
     for i, s in enumerate(refinement.steps):
         label = s.effect or ("start" if not s.removed else "simplified")
         if s.removed:
-            label += "\n− " + ", ".join(s.removed)
+            label += "\n" + (f"{', '.join(s.removed)} → {s.added}" if s.added and s.effect is None else "− " + ", ".join(s.removed))  # (as `RefinementStep.change`)
         # labels of the later steps run leftwards, so that none leaves the panel
         right = i > 0 and i >= (n - 1) / 2
         ax.annotate(label, (i, rms[i]), textcoords="offset points", xytext=(-4, 6) if right else (4, 6), ha="right" if right else "left", fontsize=8)
     last_d = refinement.steps[-1].diagnosis
-    if last_d is not None:
-        ax.axhline(last_d.noise_level * math.sqrt(2) * 100, color="grey", ls="--", lw=0.8, label="noise level √2σ")
+    if last_d is not None and last_d.noise_ratio > 0:  # (the rms_rel the verdict calls 1× the noise: its noise ratio's scale)
+        ax.axhline(last_d.baseline.rms_rel / last_d.noise_ratio * 100, color="grey", ls="--", lw=0.8, label="noise level (the verdict's 1×)")
         ax.legend(fontsize=8)
     ax.set_xlabel("refinement step")
     ax.set_ylabel("rms_rel [%]")

@@ -184,6 +184,22 @@ def _needs_extremes(f, dph, rel, ind, i: int, j: int) -> bool:
     return (wide or oscillates or bool(ind.any())) and not uniform
 
 
+def _magnitude_extremes(fb, rel) -> str:
+    """``|Z| is up to N % above the model near F and up to M % below near G``: the |Z| ratio at
+    its extremes over the points ``fb`` (each side that passes `MAGNITUDE_MIN_PERCENT`, the
+    larger first); empty when neither side does."""
+    kp, kn = int(np.argmax(rel)), int(np.argmin(rel))
+    sides = sorted([(kp, "above")] * bool(rel[kp] >= MAGNITUDE_MIN_PERCENT) + [(kn, "below")] * bool(rel[kn] <= -MAGNITUDE_MIN_PERCENT), key=lambda s: -abs(rel[s[0]]))
+    if not sides:
+        return ""
+    k, side = sides[0]
+    text = f"|Z| is up to {_percent(rel[k])} % {side} the model near {format_frequency(fb[k])}"
+    if len(sides) > 1:
+        k2, side2 = sides[1]
+        text += f" and up to {_percent(rel[k2])} % {side2} near {format_frequency(fb[k2])}"
+    return text
+
+
 def _extremes(f, d, m, ph_d, ph_m, dph, rel, ind, i: int, j: int) -> str:
     """The band by its largest deviations: the phase difference and the |Z| ratio at their
     extremes (each side that passes `PHASE_MIN_DEG` / `MAGNITUDE_MIN_PERCENT`, the larger first),
@@ -205,21 +221,39 @@ def _extremes(f, d, m, ph_d, ph_m, dph, rel, ind, i: int, j: int) -> str:
             parts.append(f"the data turn {inductive} (phase up to {_deg(ph_d[ind].max())}°)")
     elif inductive:
         parts.append(f"the data turn {inductive} (phase up to {_deg(ph_d[ind].max())}°)")
-    kp, kn = int(np.argmax(rel)), int(np.argmin(rel))
-    sides = sorted([(kp, "above")] * bool(rel[kp] >= MAGNITUDE_MIN_PERCENT) + [(kn, "below")] * bool(rel[kn] <= -MAGNITUDE_MIN_PERCENT), key=lambda s: -abs(rel[s[0]]))
-    if sides:
-        k, side = sides[0]
-        text = f"|Z| is up to {_percent(rel[k])} % {side} the model near {format_frequency(fb[k])}"
-        if len(sides) > 1:
-            k2, side2 = sides[1]
-            text += f" and up to {_percent(rel[k2])} % {side2} near {format_frequency(fb[k2])}"
-        parts.append(text)
+    magnitude = _magnitude_extremes(fb, rel)
+    if magnitude:
+        parts.append(magnitude)
     if not parts:  # structured in Re/Im but below both thresholds in phase and |Z|
         k = int(np.argmax(np.abs(rel)))
         parts.append(f"the data and the model differ by less than {PHASE_MIN_DEG:.0f}° in phase and {MAGNITUDE_MIN_PERCENT:.0f} % in |Z| (|Z| {rel[k]:+.2g} % near {format_frequency(fb[k])})")
     if math.log10(fb[-1] / fb[0]) <= WIDE_DECADES:  # over a narrow band one power law still says something
         parts.extend(_slopes(fb, d, m))
     return "; ".join(parts)
+
+
+def _rest_of_flip(f, dph, rel, i: int, j: int, a: int, b: int) -> str:
+    """Words for the band i..j-1 outside its resistive-vs-capacitive end a..b-1 (sorted
+    points): the largest phase difference there and where; where the phases then agree within
+    `PHASE_MIN_DEG` (a run reaching the band's other end: the largest difference is often the
+    point next to the end, the flip's own tail); and the |Z| extremes there
+    (`_magnitude_extremes`), which the flip's words do not give: on the SYNTHETIC Sirin
+    remainder fitted by ``C_gap`` the phases agree within 2° above 562 Hz while |Z| is 2.3× the
+    model's, the misfit that sets C_gap."""
+    others = np.ones(j - i, bool)
+    others[a - i : b - i] = False
+    idx = np.flatnonzero(others)  # one run: the flip sits at an end of the band
+    k = int(idx[np.argmax(np.abs(dph[idx]))])
+    text = f"over the rest of {format_frequency(f[i])}–{format_frequency(f[j - 1])} the phases differ by up to {abs(dph[k]):.0f}° (near {format_frequency(f[i + k])})"
+    if abs(dph[k]) >= PHASE_MIN_DEG:
+        close = np.abs(dph[idx]) < PHASE_MIN_DEG
+        far = close if idx[0] == 0 else close[::-1]  # from the band's other end inwards
+        n_close = int(np.argmin(far)) if not far.all() else far.size
+        if n_close >= 2:
+            lo, hi = (idx[-n_close], idx[-1] + 1) if idx[0] > 0 else (idx[0], idx[0] + n_close)
+            text += f" and by less than {PHASE_MIN_DEG:.0f}° {_span(f, i + lo, i + hi, i, j)}"
+    magnitude = _magnitude_extremes(f[i:j][idx], rel[idx])
+    return text + (f", and {magnitude}" if magnitude else "")
 
 
 def _describe(f, zd, zm, i, j, n) -> str:
@@ -244,11 +278,8 @@ def _describe(f, zd, zm, i, j, n) -> str:
             sub = _where(f, a, b, n)
             other = "capacitive" if text == "resistive" else "resistive"
             rest = ""
-            if b - a < j - i:  # the largest phase difference outside the sub-band, and where
-                others = np.ones(j - i, bool)
-                others[a - i : b - i] = False
-                k = int(np.flatnonzero(others)[np.argmax(np.abs(dph[others]))])
-                rest = f"; over the rest of {format_frequency(f[i])}–{format_frequency(f[j - 1])} the phases differ by up to {abs(dph[k]):.0f}° (near {format_frequency(f[i + k])})"
+            if b - a < j - i:  # the rest of the band: its phase and |Z| extremes, and where
+                rest = "; " + _rest_of_flip(f, dph, rel, i, j, a, b)
             outside = ind.copy()
             outside[a - i : b - i] = False
             if wide and outside.any():  # an inductive end the flip does not cover

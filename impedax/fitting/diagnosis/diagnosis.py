@@ -33,6 +33,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import enum
 import itertools
 import math
@@ -56,7 +57,7 @@ from ..problem import WEIGHTINGS, open_spectrum
 from ..statistics import information_criteria, non_passive
 from .bands import FailingBand, failing_bands, format_frequency, RUN_P
 from .catalog import BaselineContext, Effect, EffectCatalog, Proposal
-from .effects import DEFAULT_EFFECTS, FINITE_WARBURGS, IN_PLACE_OF_WARBURG
+from .effects import DEFAULT_EFFECTS, FINITE_WARBURGS, IN_PLACE_OF_WARBURG, cited_where
 from .noise import NOISE_FLOOR, OUTLIER_MAX_FRACTION, NoiseModel, kk_indices, kk_judged_locally, kk_outliers, noise_model
 from .vanishing import vanished_terms
 
@@ -1220,11 +1221,12 @@ def noise_variance_explained(before: FitResult, after: FitResult, diagnosis: "Di
     return (mean_square(before) - mean_square(after)) / 2
 
 
-def _suggestions(base: FitResult, proposals: list[tuple[Effect, Proposal]], fits: Sequence[FitResult], sigma_rel: np.ndarray, bands: Sequence[FailingBand]) -> list[Suggestion]:
+def _suggestions(base: FitResult, proposals: list[tuple[Effect, Proposal]], fits: Sequence[FitResult], sigma_rel: np.ndarray, bands: Sequence[FailingBand], evidence: PeakEvidence | None = None) -> list[Suggestion]:
     """A `Suggestion` per candidate with a finite fit: ΔAIC and ΔBIC over the noise-weighted
     residuals (`noise_weighted_criteria`), the bands it fixes, its new undetermined parameters,
     a plausibility warning (`Effect.plausible`) and significance (the thresholds, determined,
-    plausible, converged)."""
+    plausible, converged). A candidate's placement names the data's DRT peak (``evidence``: the
+    baseline's `PeakEvidence`) its fitted arc stands for, if any (`effects.cited_where`)."""
     base_ms = _noise_weighted_mean_square(base, sigma_rel)
     base_undetermined = undetermined_parameters(base)
     base_aic, base_bic = noise_weighted_criteria(base, sigma_rel)
@@ -1247,6 +1249,7 @@ def _suggestions(base: FitResult, proposals: list[tuple[Effect, Proposal]], fits
         after = failing_bands(cf, sigma_rel)
         fixed_bands = tuple((b.f_min, b.f_max) for b in bands if not any(a.f_min < b.f_max and a.f_max > b.f_min for a in after))
         lowered = _lowered_bands(base, cf, bands, fixed_bands)
+        p = dataclasses.replace(p, where=cited_where(effect.id, p, cf.values, cf.registry, evidence))
         out.append(Suggestion(effect.id, p.added, p.where, cf, d_aic, d_bic, significant, _explain(effect, p, base, cf, d_aic, d_bic, fixed_bands, lowered), fixed_bands, undetermined, warning, p.removed, p.vanished))
     return out
 
@@ -1509,7 +1512,7 @@ def diagnose(
 
     def judged(base):
         bands = failing_bands(base, sigma_rel, kk_bad_bands=kk_bands)
-        cands = _rank(_suggestions(base, proposals, fits[1:], sigma_rel, bands), evidence, _undetermined_elements(base))
+        cands = _rank(_suggestions(base, proposals, fits[1:], sigma_rel, bands, evidence), evidence, _undetermined_elements(base))
         return (bands, cands) + _verdict(cands, bands, _noise_ratio(base, sigma_rel))
 
     bands, cands, verdict, reason = judged(base)

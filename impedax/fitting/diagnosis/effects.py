@@ -11,14 +11,18 @@ starts — the baseline fit's values and data-driven guesses for the new element
 
 from __future__ import annotations
 
+import re
+from typing import Mapping
+
 import numpy as np
 
 from ...circuits import Circuit, DCPath, Element, Parallel, Registry, Series
 
-from ..drt import r_cpe_tau
+from ...data import format_quantity
+from ..drt import PeakEvidence, r_cpe_tau
 from .catalog import BaselineContext, Effect, EffectCatalog, Proposal
 
-__all__ = ["DEFAULT_EFFECTS", "FINITE_WARBURGS", "IN_PLACE_OF_WARBURG"]
+__all__ = ["DEFAULT_EFFECTS", "FINITE_WARBURGS", "IN_PLACE_OF_WARBURG", "cited_where", "drt_citation", "placement"]
 
 
 # --- tree helpers ---------------------------------------------------------------------------
@@ -268,34 +272,61 @@ def _relaxation_starts(ctx: BaselineContext, r_name: str, c_name: str, cpe: bool
     return tuple(starts)
 
 
-def _arc_tau(circuit: Circuit, ctx: BaselineContext, r_name: str) -> float:
+def _arc_tau(circuit: Circuit, values: Mapping[str, float], registry: Registry, r_name: str) -> float:
     """The time constant of the arc whose resistor is ``r_name``: R·C, or (R·Q)^(1/α) for a CPE
     beside it in the same parallel block (nan when it has neither; inf when a CPE's α near 0
     puts it beyond floating point)."""
     parent = _parents(circuit)[r_name]
-    r = ctx.values.get(r_name, np.nan)
+    r = values.get(r_name, np.nan)
     for x in parent.children if isinstance(parent, Parallel) else ():
-        if isinstance(x, Element) and _symbol(ctx.registry, x) == "C":
-            return float(r * ctx.values.get(x.name, np.nan))
-        if isinstance(x, Element) and _symbol(ctx.registry, x) == "CPE":
-            return r_cpe_tau(r, ctx.values.get(f"{x.name}.Q", np.nan), ctx.values.get(f"{x.name}.alpha", np.nan))
+        if isinstance(x, Element) and _symbol(registry, x) == "C":
+            return float(r * values.get(x.name, np.nan))
+        if isinstance(x, Element) and _symbol(registry, x) == "CPE":
+            return r_cpe_tau(r, values.get(f"{x.name}.Q", np.nan), values.get(f"{x.name}.alpha", np.nan))
     return float("nan")
 
 
+DRT_CITE_DECADES = 0.5
+"""A fitted arc's τ within this many decades of a DRT peak the baseline does not explain (inside
+the measured window) is named as that peak (`drt_citation`)."""
+
+# the placements `_extra_relaxation` gives; the DRT citation follows them in the words
+_RELAX_PLACEMENT = re.compile(r"in series with the whole circuit|nested in series with \S+ \(a layer behind that arc\)")
+# the proposal's own note (before the fit): which peak started the arc; `cited_where` replaces it
+_WARM_START_NOTE = re.compile(r" \(τ from the data's DRT peak at [^()]* that the model does not explain\)")
+# `drt_citation`'s words (left out before they are given again: `cited_where` is idempotent)
+_CITATION = re.compile(r" \(fitted τ = [^()]*, within half a decade of the data's DRT peak at [^()]* that the model does not explain\)")
+
+
+def _unexplained_in_window(evidence: PeakEvidence | None):
+    """The data's DRT peaks the baseline does not explain, largest R first, with a positive R and
+    τ and inside the measured window (``Peak.inside_window``: a peak beyond it is the DRT's
+    extrapolation, not a relaxation the data show)."""
+    if evidence is None:
+        return []
+    peaks = sorted(evidence.unexplained, key=lambda q: -q.r_ohm)
+    return [p for p in peaks if p.r_ohm > 0 and np.isfinite(p.tau_s) and p.tau_s > 0 and p.inside_window]
+
+
 def _extra_relaxation(circuit: Circuit, ctx: BaselineContext) -> list[Proposal]:
+    """A further arc R_relax ∥ C_relax (or ∥ CPE_relax) in series with the whole circuit or
+    nested behind each arc resistor, started from the data's unexplained DRT peaks and the
+    misfit. The placement nearest the largest unexplained peak inside the measured window says
+    so (the arc sits beside the arc whose τ is nearest); the fitted arc may end elsewhere, so
+    `cited_where` rewrites that note from the fitted τ."""
     out = []
     r_name = ctx.fresh("R", "relax")
-    arcs = _drt_arcs(ctx)
+    peaks = _unexplained_in_window(ctx.drt_evidence)
     resistors = _arc_resistors(circuit, ctx.registry)
     # the DRT's unexplained peak sits beside the arc whose time constant is nearest: the new
     # arc nested behind that arc's resistor, or in series when the baseline has no such arc
     nearest = None
-    if arcs and resistors:
-        taus = {r: _arc_tau(circuit, ctx, r) for r in resistors}
+    if peaks and resistors:
+        taus = {r: _arc_tau(circuit, ctx.values, ctx.registry, r) for r in resistors}
         taus = {r: t for r, t in taus.items() if np.isfinite(t) and t > 0}
         if taus:
-            nearest = min(taus, key=lambda r: abs(np.log10(taus[r] / arcs[0][1])))
-    drt_text = f" (τ from the data's DRT peak at {arcs[0][1]:.2g} s that the model does not explain)" if arcs else ""
+            nearest = min(taus, key=lambda r: abs(np.log10(taus[r] / peaks[0].tau_s)))
+    drt_text = f" (τ from the data's DRT peak at {peaks[0].tau_s:.2g} s that the model does not explain)" if peaks else ""
     for sym in ("C", "CPE"):
         c_name = ctx.fresh(sym, "relax")
         arc = Parallel((Element("R", r_name), Element(sym, c_name)))
@@ -305,6 +336,56 @@ def _extra_relaxation(circuit: Circuit, ctx: BaselineContext) -> list[Proposal]:
             nested = circuit.replace(r, Series((Element("R", r), arc)))
             out.append(Proposal("extra_relaxation", nested, str(arc), f"nested in series with {r} (a layer behind that arc)" + (drt_text if r == nearest else ""), starts))
     return out
+
+
+def drt_citation(effect_id: str, proposal: Proposal, values: Mapping[str, float], registry: Registry, evidence: PeakEvidence | None) -> str:
+    """The words naming the data's DRT peak a fitted ``extra_relaxation`` candidate stands for:
+    `` (fitted τ = 20 ms, within half a decade of the data's DRT peak at 32.2 ms that the model
+    does not explain)``, or "" (other effects, pairs of effects, no DRT evidence, no such peak).
+
+    The peak must be one the baseline does not explain, lie inside the measured window
+    (``Peak.inside_window``) and lie within `DRT_CITE_DECADES` of the fitted arc's τ (R·C, or
+    (R·Q)^(1/α) for R ∥ CPE): the peak the warm start came from (the largest unexplained one)
+    when it qualifies, else the qualifying peak nearest the fitted τ. Named before the fit,
+    the warm start's peak was cited whatever the fit ended at: AutoEIS's battery cycle 64 with
+    ``R0 + R1 || CPE1`` cited a 25 s peak outside the band for an arc fitted at 43.6 ms."""
+    if effect_id != "extra_relaxation" or evidence is None:
+        return ""
+    names = set(re.findall(r"[A-Za-z_]\w*", proposal.added))
+    r_names = [e.name for e in proposal.circuit.elements() if e.name in names and _symbol(registry, e) == "R"]
+    if len(r_names) != 1:
+        return ""
+    tau = _arc_tau(proposal.circuit, values, registry, r_names[0])
+    if not (np.isfinite(tau) and tau > 0):
+        return ""
+    largest = sorted(evidence.unexplained, key=lambda q: -q.r_ohm)[:1]  # the warm start's first peak
+    near = [p for p in _unexplained_in_window(evidence) if abs(np.log10(tau / p.tau_s)) <= DRT_CITE_DECADES]
+    if not near:
+        return ""
+    peak = largest[0] if any(p is largest[0] for p in near) else min(near, key=lambda p: abs(np.log10(tau / p.tau_s)))
+    return f" (fitted τ = {format_quantity(tau, 's')}, within half a decade of the data's DRT peak at {format_quantity(peak.tau_s, 's')} that the model does not explain)"
+
+
+def placement(where: str) -> str:
+    """A suggestion's ``where`` without `drt_citation`'s words: the placement alone, the same for
+    every candidate placed there whatever its fit (an R ∥ C and an R ∥ CPE in one place)."""
+    return _CITATION.sub("", where)
+
+
+def cited_where(effect_id: str, proposal: Proposal, values: Mapping[str, float], registry: Registry, evidence: PeakEvidence | None) -> str:
+    """``proposal.where`` for the fitted candidate: the proposals' own notes on the peak that
+    started the arc (made before the fit; a pair of effects holds two placements) left out, and
+    `drt_citation` after the placement's words (before what a derived candidate appends:
+    ", and R0 left out (…)")."""
+    where = proposal.where
+    if "extra_relaxation" in effect_id.split("+"):
+        where = _CITATION.sub("", _WARM_START_NOTE.sub("", where))
+    note = drt_citation(effect_id, proposal, values, registry, evidence)
+    if not note:
+        return where
+    m = _RELAX_PLACEMENT.match(where)
+    k = m.end() if m else len(where)
+    return where[:k] + note + where[k:]
 
 
 # finite Warburgs: their low-frequency part is an arc (Ws) or R + C in series (Wo); diffusion

@@ -4,6 +4,7 @@ so the result reproduces with ``impedax fit`` of the final model string."""
 
 from __future__ import annotations
 
+import math
 import warnings
 from dataclasses import dataclass, replace
 from typing import Callable
@@ -13,16 +14,17 @@ import xarray as xr
 
 from ...arguments import MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice, count, flag, frequency, instance_of, noise_fraction, seed as seed_rule
 from ...circuits import Circuit, DEFAULT_REGISTRY, Element, Registry
-from ...data import concise_repr
+from ...data import concise_repr, format_quantity
 from ...errors import CircuitError, ParameterError
 from ..least_squares import FitResult, fit
 from ..least_squares.candidates import fit_candidates
 from ..least_squares.result import BOUND_CHI2_FRACTION
 from ..parameters import ParameterTable
 from ..problem import WEIGHTINGS, open_spectrum
+from .bands import format_frequency
 from .catalog import EffectCatalog
 from .diagnosis import CANDIDATE_STEPS, DELTA_AIC_MIN, NOISE_FRACTION_MIN, Diagnosis, Verdict, diagnose, noise_variance_explained, undetermined_parameters
-from .effects import DEFAULT_EFFECTS
+from .effects import DEFAULT_EFFECTS, placement
 from .vanishing import vanished_parameters, vanished_terms
 
 __all__ = ["Refinement", "RefinementStep", "refine"]
@@ -74,6 +76,7 @@ class Refinement:
     verdict: Verdict
     notes: tuple[str, ...] = ()
     masked_points: tuple[float, ...] = ()  # frequencies [Hz] left out of every fit (KK-flagged, or Re Z < 0)
+    final_from_values: bool = False  # a fit of the final model from scratch stops short of the final fit (`_reproduced`): reproduce it from its values
 
     def __post_init__(self):
         object.__setattr__(self, "verdict", Verdict(self.verdict))
@@ -88,13 +91,17 @@ class Refinement:
 
     def summary(self) -> dict:
         """The JSON of ``impedax refine --json``: the steps, the final model with its parameters
-        (``final_params``, as ``impedax fit --json``'s ``params``) and what they do not determine."""
+        (``final_params``, as ``impedax fit --json``'s ``params``) and what they do not determine,
+        and of the last diagnosis ``beyond_catalog`` and ``noise_ratio`` (`Diagnosis`)."""
         final = self.final
+        last = self.steps[-1].diagnosis
         return {
             "steps": [s.as_json() for s in self.steps], "final_model": self.final_model, "verdict": self.verdict,
             "final_rms_rel": final.rms_rel, "n_params": final.n_params, "final_params": final.summary()["params"], "final_at_bound": list(final.at_bound),
             "undetermined": sorted(undetermined_parameters(final) | vanished_parameters(final)),
             "masked_points": [float(f) for f in self.masked_points], "notes": list(self.notes),
+            "beyond_catalog": last.beyond_catalog if last is not None else False, "noise_ratio": last.noise_ratio if last is not None else None,
+            "final_from_values": self.final_from_values,
         }
 
     def to_table(self) -> list[dict[str, object]]:
@@ -121,8 +128,29 @@ class Refinement:
             lines.append(f"rms_rel fell from {first.rms_rel * 100:.3g} % to {last.rms_rel * 100:.3g} % in {len(self.steps) - 1} step(s); AIC {first.aic:.1f} → {last.aic:.1f}.")
         last_d = self.steps[-1].diagnosis
         lines.append(f"verdict: {last_d.verdict_heading if last_d is not None and last_d.verdict == self.verdict else self.verdict.upper()}" + (f" — {last_d.reason}" if last_d is not None else ""))
+        lines += self._final_lines()
         lines += [f"note: {n}" for n in self.notes]
         return "\n".join(lines)
+
+    def _final_lines(self) -> list[str]:
+        """The report's account of the final fit: its parameters (value, relative standard
+        error or why there is none), the parameters the data do not determine, and the points
+        every fit left out, by which ``impedax fit`` of the file differs."""
+        final = self.final
+        specs = final.circuit.parameter_specs(final.registry)
+        loose = undetermined_parameters(final) | vanished_parameters(final)
+        shown = []
+        for n, v in final.values.items():
+            e = final.stderr.get(n, math.nan)
+            how = "fixed" if final.fixed[n] else "at its bound" if n in final.at_bound else f"± {e / abs(v) * 100:.2g} %" if math.isfinite(e) and v else "no error"
+            shown.append(f"{n} = {format_quantity(v, specs[n].unit)} ({how})")
+        lines = [f"final fit {final.model}: " + ", ".join(shown)]
+        if loose:
+            lines.append(f"undetermined in the final fit: {', '.join(sorted(loose))} (the data do not fix {'it' if len(loose) == 1 else 'them'}; see impedax fit of the final model)")
+        if self.masked_points:
+            listed = ", ".join(format_frequency(f) for f in self.masked_points[:6]) + (", …" if len(self.masked_points) > 6 else "")
+            lines.append(f"masked: {len(self.masked_points)} point(s) left out of every fit as the data's own problem ({listed}); impedax fit of the file keeps them, so its values and rms_rel differ")
+        return lines
 
     def plot(self, *, title: str | None = None):
         """The data with the first and the last step's model (Nyquist), the error per step
@@ -255,7 +283,7 @@ def _second_path(steps: list[RefinementStep], picked, limit: int, diagnosed, say
     start from cheaper effects too (`_cheaper_starts`): an element of three parameters can
     stand in for two of one each."""
     first = steps[0].diagnosis
-    alternatives = [s for s in first.suggestions if (s.where != picked.where or s.effect != picked.effect) and s.delta_aic <= picked.delta_aic + BRANCH_WINDOW][:1] if len(steps) >= 3 else []
+    alternatives = [s for s in first.suggestions if (placement(s.where) != placement(picked.where) or s.effect != picked.effect) and s.delta_aic <= picked.delta_aic + BRANCH_WINDOW][:1] if len(steps) >= 3 else []
     leaving = [s for s in first.suggestions if s.removed and not picked.removed and s.delta_aic < picked.delta_aic - DELTA_AIC_MIN and all(s is not t for t in alternatives)] if len(steps) >= 2 else []
     hidden = [
         c for c in first.candidates
@@ -642,4 +670,10 @@ def refine(
             f"refine stopped at its limit of {limit} added effect(s) (max_effects; --max-effects of impedax refine) while the last model "
             f"still misses an effect ({last.best.effect}, see the verdict): a higher limit goes on"
         )
-    return Refinement(tuple(steps), last.verdict, tuple(notes), masked)
+    # the final fit is reproduced from its values when its own refit kept the warm start (`_reproduced`
+    # noted it): another path's note says nothing of the final model
+    from_values = any(out is steps[-1].fit and note is not None for _, (out, note) in refits.values())
+    # only the final model's note points to the command printed last; other paths' notes name their own models
+    own = f"fit of {steps[-1].fit.model} from scratch"
+    notes = [n if from_values and own in n else n.replace(" (pass init=)", "") for n in notes]
+    return Refinement(tuple(steps), last.verdict, tuple(notes), masked, final_from_values=from_values)
