@@ -22,11 +22,11 @@ import _example
 from impedax.models import force_maximum, meyer
 
 
-def half_peak_frequencies(freq, force):
-    """Frequencies [Hz] below and above the peak where the force crosses half its maximum
-    (linear interpolation in log frequency)."""
+def half_peak_frequencies(freq, force, peak_force):
+    """Frequencies [Hz] below and above the grid's largest force where the force crosses half of
+    ``peak_force`` (the refined maximum, `force_maximum`; linear interpolation in log frequency)."""
     i_peak = int(np.argmax(force))
-    half = force[i_peak] / 2.0
+    half = peak_force / 2.0
     log_f = np.log10(freq)
     low = np.interp(half, force[: i_peak + 1], log_f[: i_peak + 1])  # rising side
     high = np.interp(half, force[i_peak:][::-1], log_f[i_peak:][::-1])  # falling side, reversed to rise
@@ -47,7 +47,7 @@ def main(argv=None):
     # the peaks refined between grid points (`force_maximum`), so they do not depend on the grid
     peak = force_maximum(lambda f: float(np.asarray(model.force(np.array([f])))[0]), freq, force)
     peak_physical = force_maximum(lambda f: float(np.asarray(physical.force(np.array([f])))[0]), freq, force_physical)
-    f_low, f_high = half_peak_frequencies(freq, force)
+    f_low, f_high = half_peak_frequencies(freq, force, peak.force_n)
     force_10hz = float(np.asarray(model.force(np.array([10.0])))[0])
     print("Meyer Fig 3.4 — time-averaged force, 140 V sine, thesis parameters (eq 3.13, rounded)")
     print(f"  peak force        {peak.force_n * 1e3:.1f} mN at {peak.frequency_hz / 1e3:.1f} kHz   (thesis: ≈ 164 mN near 37 kHz)")

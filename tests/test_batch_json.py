@@ -71,3 +71,15 @@ def test_the_command_line_json_has_the_spectra(stack, tmp_path, capsys):
 def test_a_dimension_without_coordinates_is_labelled_by_position(stack):
     rows = ix.fit(MODEL, stack.drop_vars("cycle").isel(cycle=slice(0, 2))).summary()["spectra"]
     assert [r["cycle"] for r in rows] == [0, 1]
+
+
+def test_date_labels_are_written_as_text(stack):
+    """A batch over measurement times: each spectrum's label is the date as text (a numpy
+    datetime64 had no JSON form), and it still finds the spectrum's warnings."""
+    from impedax.io.export import to_jsonable
+
+    times = np.array(["2026-11-01T10:00", "2026-11-02T10:00", "2026-11-03T10:00", "2026-11-04T10:00"], dtype="datetime64[ns]")
+    result = ix.fit(MODEL, stack.assign_coords(cycle=times))
+    rows = json.loads(json.dumps(to_jsonable(result.summary())))["spectra"]
+    assert [r["cycle"] for r in rows] == [str(t) for t in times]
+    assert rows[3]["warnings"] == list(result.warnings[f"cycle={times[3]}"]) and rows[3]["warnings"]

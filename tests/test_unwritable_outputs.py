@@ -322,6 +322,12 @@ def test_another_users_file_in_a_sticky_folder_is_refused(tmp_path, monkeypatch)
     tmp_path.chmod(0o1777)
     monkeypatch.setattr(os, "geteuid", lambda: owner)
     assert check_writable(target) == target
+    # a dangling symlink of another user's there is refused as well (the rename onto it fails)
+    monkeypatch.setattr(os, "geteuid", lambda: owner + 4242)
+    link = tmp_path / "link.csv"
+    link.symlink_to(tmp_path / "nowhere.csv")
+    with pytest.raises(DataError, match=r"belongs to another user"):
+        check_writable(link)
 
 
 def test_folder_probe_names_the_folder_and_leaves_nothing(tmp_path, monkeypatch):

@@ -172,7 +172,7 @@ class Comparison:
         with chi2, the AICc deltas and weights, and the undetermined parameters (``;``-joined)."""
         return [{**r, "undetermined": ";".join(undetermined_names(f))} for r, f in zip(self.rows, self.fits)]
 
-    def _best_mark(self, warnings_below: bool) -> str:
+    def _best_mark(self, *, warnings_below: bool) -> str:
         """The table's mark of the best model by AIC, saying when its fit did not converge or has
         warnings (an undetermined parameter, a gross misfit): the lowest AIC is then no
         endorsement; and when another model gives the same fit (`SAME_FIT_RMS`).
@@ -214,7 +214,7 @@ class Comparison:
             line = f"{r['label']:<{width}}  {r['n_params']:>2}  {r['rms_rel'] * 100:>8.3g}%  {r['chi2_red']:>10.4g}  {r['aic']:>9.2f}  {aicc:>9}  {r['bic']:>9.2f}  {r['delta_aic']:>7.2f}  {r['akaike_weight']:>6.3f}"
             line += "".join(f"  {r.get(c, math.nan):>12.2f}" for c in extra)
             if i == best:
-                line += self._best_mark(warnings_below)
+                line += self._best_mark(warnings_below=warnings_below)
             else:
                 line += "   (did not converge)" if not r["converged"] else ""
                 line += f"   (the same fit as {r['same_fit_as']})" if r.get("same_fit_as") else ""
@@ -275,7 +275,7 @@ class Comparison:
         rows = [
             {"model": r["label"], "k": r["n_params"], "rms_rel [%]": f"{r['rms_rel'] * 100:.3g}", "chi2_red": f"{r['chi2_red']:.4g}", "AIC": f"{r['aic']:.2f}",
              "ΔAIC": f"{r['delta_aic']:.2f}", "weight": f"{r['akaike_weight']:.3f}", "BIC": f"{r['bic']:.2f}",
-             "": self._best_mark(True).strip() if i == best else ("did not converge" if not r["converged"] else "")}
+             "": self._best_mark(warnings_below=True).strip() if i == best else ("did not converge" if not r["converged"] else "")}
             for i, r in enumerate(self.rows)
         ]
         lines = self.table(warnings_below=True).splitlines()[len(self.rows) + 1 :]  # (the lines under the table's rows: best determined, criteria, F-tests)

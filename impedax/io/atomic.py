@@ -104,7 +104,7 @@ def _check_writable(path: Path, probe: bool) -> Path:
         raise DataError(f"directory {parent} is not writable", path=path)
     if path.exists() and not path.is_file():
         raise DataError("exists and is not a regular file (a device, pipe or socket); choose a file name", path=path)
-    if path.exists() and _owned_by_another_in_sticky(path, parent):
+    if (path.exists() or path.is_symlink()) and _owned_by_another_in_sticky(path, parent):
         raise DataError(f"belongs to another user in {parent}, whose sticky bit lets only the owner replace it; choose another name", path=path)
     if probe:
         try:

@@ -3,7 +3,8 @@
 The results are taken duck-typed: a diagnosis has ``baseline`` (a fit with ``frequency``,
 ``z_data``, ``z_model``, ``residuals``, ``model``, ``rms_rel``), ``failing_bands`` (with
 ``f_min``/``f_max``), ``verdict`` and ``best`` (a suggestion with ``fit`` and ``effect``, or
-None); a refinement has ``steps`` (each with ``fit``, ``effect``, ``model`` and ``diagnosis``),
+None); a refinement has ``steps`` (each with ``fit``, ``effect``, ``added``, ``removed``,
+``model`` and ``diagnosis``, the last one's with ``noise_ratio`` and ``baseline``),
 ``final_model`` and ``verdict``.
 """
 

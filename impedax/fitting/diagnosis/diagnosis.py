@@ -248,7 +248,7 @@ class Diagnosis:
     @property
     def verdict_heading(self) -> str:
         """The verdict as the report heads it: ``ADEQUATE WITHIN THE CATALOG`` for an adequate
-        verdict `beyond_catalog` (a bare "adequate" read as "fits the data" at 40× the noise)."""
+        verdict `beyond_catalog` (a bare "adequate" read as "fits the data" at 10× the noise)."""
         return self.verdict.upper() + (" WITHIN THE CATALOG" if self.beyond_catalog else "")
 
     def summary(self) -> dict:

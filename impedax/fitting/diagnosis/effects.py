@@ -292,8 +292,6 @@ the measured window) is named as that peak (`drt_citation`)."""
 
 # the placements `_extra_relaxation` gives; the DRT citation follows them in the words
 _RELAX_PLACEMENT = re.compile(r"in series with the whole circuit|nested in series with \S+ \(a layer behind that arc\)")
-# the proposal's own note (before the fit): which peak started the arc; `cited_where` replaces it
-_WARM_START_NOTE = re.compile(r" \(τ from the data's DRT peak at [^()]* that the model does not explain\)")
 # `drt_citation`'s words (left out before they are given again: `cited_where` is idempotent)
 _CITATION = re.compile(r" \(fitted τ = [^()]*, within half a decade of the data's DRT peak at [^()]* that the model does not explain\)")
 
@@ -311,30 +309,18 @@ def _unexplained_in_window(evidence: PeakEvidence | None):
 def _extra_relaxation(circuit: Circuit, ctx: BaselineContext) -> list[Proposal]:
     """A further arc R_relax ∥ C_relax (or ∥ CPE_relax) in series with the whole circuit or
     nested behind each arc resistor, started from the data's unexplained DRT peaks and the
-    misfit. The placement nearest the largest unexplained peak inside the measured window says
-    so (the arc sits beside the arc whose τ is nearest); the fitted arc may end elsewhere, so
-    `cited_where` rewrites that note from the fitted τ."""
+    misfit. Which DRT peak a fitted arc stands for is said after the fit (`cited_where`)."""
     out = []
     r_name = ctx.fresh("R", "relax")
-    peaks = _unexplained_in_window(ctx.drt_evidence)
     resistors = _arc_resistors(circuit, ctx.registry)
-    # the DRT's unexplained peak sits beside the arc whose time constant is nearest: the new
-    # arc nested behind that arc's resistor, or in series when the baseline has no such arc
-    nearest = None
-    if peaks and resistors:
-        taus = {r: _arc_tau(circuit, ctx.values, ctx.registry, r) for r in resistors}
-        taus = {r: t for r, t in taus.items() if np.isfinite(t) and t > 0}
-        if taus:
-            nearest = min(taus, key=lambda r: abs(np.log10(taus[r] / peaks[0].tau_s)))
-    drt_text = f" (τ from the data's DRT peak at {peaks[0].tau_s:.2g} s that the model does not explain)" if peaks else ""
     for sym in ("C", "CPE"):
         c_name = ctx.fresh(sym, "relax")
         arc = Parallel((Element("R", r_name), Element(sym, c_name)))
         starts = _relaxation_starts(ctx, r_name, c_name, sym == "CPE")
-        out.append(Proposal("extra_relaxation", circuit + arc, str(arc), "in series with the whole circuit" + (drt_text if nearest is None else ""), starts))
+        out.append(Proposal("extra_relaxation", circuit + arc, str(arc), "in series with the whole circuit", starts))
         for r in resistors:
             nested = circuit.replace(r, Series((Element("R", r), arc)))
-            out.append(Proposal("extra_relaxation", nested, str(arc), f"nested in series with {r} (a layer behind that arc)" + (drt_text if r == nearest else ""), starts))
+            out.append(Proposal("extra_relaxation", nested, str(arc), f"nested in series with {r} (a layer behind that arc)", starts))
     return out
 
 
@@ -373,13 +359,12 @@ def placement(where: str) -> str:
 
 
 def cited_where(effect_id: str, proposal: Proposal, values: Mapping[str, float], registry: Registry, evidence: PeakEvidence | None) -> str:
-    """``proposal.where`` for the fitted candidate: the proposals' own notes on the peak that
-    started the arc (made before the fit; a pair of effects holds two placements) left out, and
-    `drt_citation` after the placement's words (before what a derived candidate appends:
-    ", and R0 left out (…)")."""
+    """``proposal.where`` for the fitted candidate: `drt_citation` after the placement's words
+    (before what a derived candidate appends: ", and R0 left out (…)"); a citation already
+    there is replaced, so that this is idempotent."""
     where = proposal.where
     if "extra_relaxation" in effect_id.split("+"):
-        where = _CITATION.sub("", _WARM_START_NOTE.sub("", where))
+        where = _CITATION.sub("", where)
     note = drt_citation(effect_id, proposal, values, registry, evidence)
     if not note:
         return where

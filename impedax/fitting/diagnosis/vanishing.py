@@ -13,6 +13,8 @@ from ..least_squares import FitResult
 from ..least_squares.branches import VANISHING_SHARE, IdleBranch, idle_branches
 from ..parameters import ParameterTable
 
+__all__ = ["flagged_parameters", "vanished_terms", "vanished_parameters"]
+
 
 def flagged_parameters(fit: FitResult) -> set[str]:
     """The free parameters of ``fit`` its own flags put at a bound (``at_bound``) or give an

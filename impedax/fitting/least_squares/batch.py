@@ -242,7 +242,7 @@ class BatchFitResult:
             where = {d: labels[i][j] for i, (d, j) in enumerate(zip(self.dims, index))}
             key = ", ".join(f"{d}={c}" for d, c in where.items())  # (as `fit_stack` names the spectra its warnings are about)
             rows.append({
-                **where,
+                **{d: _json_label(c) for d, c in where.items()},
                 "values": {n: float(value[index + (p,)]) for p, n in enumerate(names)},
                 "stderr": {n: shown_stderr(float(stderr[index + (p,)]), fixed[p]) for p, n in enumerate(names)},
                 "rms_rel": float(rms_rel[index]),
@@ -276,6 +276,12 @@ def _looks_like(ds: xr.Dataset) -> str | None:
     if "value" not in ds.variables or "rms_rel" not in ds.variables or not ds["rms_rel"].dims or len(ds["value"].dims) < 2:
         return None
     return "shared_fit" if "shared_value" in ds.variables else "batch_fit"
+
+
+def _json_label(label):
+    """A coordinate value as JSON holds it: a number or bool as itself, anything else (a date,
+    a string) as its text."""
+    return label.item() if isinstance(label, (np.integer, np.floating, np.bool_)) else label if isinstance(label, (int, float, bool)) else str(label)
 
 
 def _dims_text(dims: dict[str, int]) -> str:
