@@ -44,6 +44,7 @@ def flags(fit):
 WRITINGS = ORDERS + ("R0 + CPE1 || (W1 + R1)", "CPE1 || (R1 + W1) + R0", "R0 + (W1 + R1) || CPE1")
 
 
+@pytest.mark.slow  # (13 s; the suite's budget)
 def test_every_order_on_ch_instruments_real_file_gives_the_same_flags():
     data = ix.load(REAL / "exampleDataCHInstruments.txt")
     fits = [ix.fit(m, data) for m in WRITINGS]

@@ -208,6 +208,7 @@ def _battery_two_missing(seed=1, rel_noise=0.002):
 TWO_MISSING_GENERATING = "R0 + (R1 + R2 || C2) || CPE1 + Ws3"
 
 
+@pytest.mark.slow  # (13 s; the suite's budget: the real battery cycle's two effects stay)
 def test_two_effects_missing_at_once_are_proposed_together():
     """Every single effect leaves a parameter undetermined (a second arc alone cannot close
     within the band, a Warburg alone cannot make the arc): the diagnosis tries the catalog on
@@ -432,6 +433,6 @@ def test_an_adequate_verdict_beyond_the_catalog_says_so():
     assert lacking.verdict == "adequate" and lacking.noise_ratio > 3
     assert lacking.beyond_catalog and lacking.summary()["beyond_catalog"] is True
     assert "verdict: ADEQUATE WITHIN THE CATALOG — " in lacking.report() and "beyond the catalog" in lacking.reason
-    complete = ix.diagnose(data, "R0 + R1 || C1 + R2 || C2")
+    complete = ix.diagnose(data, "R0 + R1 || C1 + R2 || C2", effects=ix.DEFAULT_EFFECTS.select(["series_inductance"]))
     assert complete.verdict == "adequate" and not complete.beyond_catalog and complete.summary()["beyond_catalog"] is False
     assert "verdict: ADEQUATE — " in complete.report()

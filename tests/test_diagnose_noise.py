@@ -498,6 +498,7 @@ def test_the_ranking_weighs_each_point_by_the_noise_there():
     assert best.delta_aic == pytest.approx(aic(best.fit) - aic(d.baseline), rel=1e-9)
 
 
+@pytest.mark.slow  # (12 s; the suite's budget)
 def test_a_correlated_pair_each_determined_on_its_own_does_not_block_a_candidate():
     # a lead inductance missing from an 8-element ladder (0.3 % noise growing toward low
     # frequency): with L added the fit falls from 1.87 % to 0.47 %, every parameter within

@@ -472,6 +472,7 @@ def test_correlation_notes_give_the_pair_its_own_reason(rng):
     assert result.values["Wo1.R"] / np.sqrt(result.values["Wo1.tau"]) == pytest.approx(50 * np.sqrt(2), rel=0.05)
 
 
+@pytest.mark.slow  # (12 s; the suite's budget)
 def test_batch_plot_stops_error_bars_at_a_natural_bound():
     # AutoEIS's real battery cycles (examples/data): CPE2's exponent sits at its bound 1 in all
     # three, with standard errors of 0.01–0.05; its bars were drawn up to 1.05, where α cannot go

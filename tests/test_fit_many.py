@@ -42,6 +42,7 @@ def test_candidates_respect_fixed_values(rng):
     assert r.values["R0"] == 50.0 and r.fixed["R0"] and r.n_params == 2
 
 
+@pytest.mark.slow  # (10 s; the suite's budget)
 def test_cold_starts_damped_with_identity_reach_the_optimum_of_impedax_fit():
     """Some random starts of a 9-element ladder begin with an inductance or a diffusion
     resistance ~10⁸ times too large (χ² ≈ 1e17). Damped with Marquardt's scaling they stall
@@ -90,7 +91,7 @@ def _every_start_here() -> dict:
     return json.loads(here.getvalue().strip().splitlines()[-1])
 
 
-@pytest.mark.parametrize("devices", ["1", "3"])
+@pytest.mark.parametrize("devices", [pytest.param("1", marks=pytest.mark.slow), "3"])  # (one device: 13 s, slow for the suite's budget; three devices stay)
 def test_candidate_queue_gives_every_start_the_same_fit_on_any_number_of_devices(devices):
     """The work queue runs on every JAX device at once, problem p on device p mod D. A start's
     Levenberg–Marquardt iteration depends on nothing but its own problem, so every start of

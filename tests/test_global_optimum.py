@@ -187,6 +187,7 @@ print(json.dumps({"devices": len(jax.devices()), "n_starts": r.n_starts, "chi2":
 """
 
 
+@pytest.mark.slow  # (10 s; the suite's budget: the trap's small-batch case stays)
 def test_a_climbing_fit_is_the_same_on_any_number_of_devices(tmp_path):
     """The draws of a rung are screened side by side, one per JAX device per call of the
     solver; a device without a draw of its own takes no step. Each draw's iteration depends

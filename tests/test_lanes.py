@@ -117,6 +117,7 @@ def test_cold_lanes_reproduce_a_single_fits_first_steps(problems):
     assert differ >= 3  # the two dampings do differ on these starts
 
 
+@pytest.mark.slow  # (13 s; the suite's budget: the lanes' reproduction tests stay)
 def test_an_early_stop_returns_only_a_few_unfinished_problems(problems):
     z, u0, rows, shared, lanes = problems
     budget = np.full(len(z), 400)

@@ -146,6 +146,7 @@ def test_a_program_on_every_device_reads_back(cache_dir):
     assert len(list(cache_dir.glob("test-devices-*.bin"))) == 1
 
 
+@pytest.mark.slow  # (13 s; the suite's budget)
 def test_fits_are_the_same_with_and_without_stored_programs(cache_dir, rng):
     """A single fit and the diagnosis' candidate fits, through stored programs (written, then
     read back after the in-memory caches are cleared) and through plain jit: equal values."""
