@@ -175,6 +175,7 @@ def json_out(args, capsys):
     return json.loads(capsys.readouterr().out)
 
 
+@pytest.mark.slow  # (12 s, the suite's budget; a joint fit's grouped kinds: test_fit_roundtrip.py; each spectrum's warnings: test_batch_json.py)
 def test_a_batch_fit_shows_its_warnings_grouped_with_their_spectra(capsys):
     """Before: the batch's text had no warning at all, its JSON three (the review's case)."""
     args = ["fit", str(CYCLES), "--model", "R0 + R1 || CPE1 + R2 || CPE2 + W1"]

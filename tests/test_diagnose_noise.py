@@ -615,7 +615,7 @@ def _battery_with_noise_growing_toward_low_frequency():
 
 
 @pytest.mark.parametrize("spectrum", [
-    pytest.param(_real_test_data, id="test_data.txt"),
+    pytest.param(_real_test_data, id="test_data.txt", marks=pytest.mark.slow),  # (17-20 s, the suite's budget)
     pytest.param(_battery_with_noise_growing_toward_low_frequency, id="battery", marks=pytest.mark.slow),  # (its later steps had the right noise before too)
 ])
 def test_every_step_of_a_refinement_is_judged_against_the_first_steps_noise(spectrum):

@@ -117,7 +117,7 @@ EXAMPLES = {
             (r"peaks explained by the fitted circuit: (\d+) of 3", _near(3.0, 0.0)),
             (r"cycle 129: peaks at \S+ s \(\S+ Ω\), " + _NUMBER + " s", _within(0.1, 0.4)),  # charge transfer slows with ageing (cycle 0: ≈ 0.04 s)
         ],
-        (),
+        (pytest.mark.slow,),  # ~13 s, the suite's budget; tests/test_drt.py and test_diagnose_drt.py cover its steps
     ),
     "vezzoli_electrovibration.py": (
         ["vezzoli_fig8_9_10_electrovibration.png"],

@@ -279,7 +279,7 @@ def test_cli_kk_bad_input_exit_2(args, match, drift_csv, tmp_path, capsys):
     assert len(err) == 1 and err[0].startswith("impedax kk: error:") and match in err[0]
 
 
-@pytest.mark.parametrize("n_points", [61, 300, 3000])
+@pytest.mark.parametrize("n_points", [61, 300, pytest.param(3000, marks=pytest.mark.slow)])  # (3000 points: 15 s, slow for the suite's budget)
 def test_verdict_does_not_depend_on_point_density(n_points):
     """The same spectra sampled more densely keep their verdict (issue 15): exact 100 Ω + 1 kΩ‖1 µF
     with 1 % noise is valid in at least 4 of 5 seeds at every density, and the drifting RC of
