@@ -28,11 +28,16 @@ import pytest  # noqa: E402
 def _release_compiled_programs():
     """Each compiled program keeps its machine code in memory maps, and Linux allows a process
     65,530 of them: the whole suite in one process would pass that limit (XLA then crashes while
-    compiling), so every test module's programs are released when it ends."""
+    compiling), so every test module's programs are released when it ends, and so are the
+    figures it left open."""
     yield
+    import sys
+
     import impedax
 
     impedax.clear_caches()
+    if "matplotlib.pyplot" in sys.modules:  # (figures a module left open: past 20, pyplot warns in whichever test comes next)
+        sys.modules["matplotlib.pyplot"].close("all")
 
 
 @pytest.fixture
