@@ -59,7 +59,7 @@ from .bands import FailingBand, failing_bands, format_frequency, RUN_P
 from .catalog import BaselineContext, Effect, EffectCatalog, Proposal
 from .effects import DEFAULT_EFFECTS, FINITE_WARBURGS, IN_PLACE_OF_WARBURG, cited_where
 from .noise import NOISE_FLOOR, OUTLIER_MAX_FRACTION, NoiseModel, kk_indices, kk_judged_locally, kk_outliers, noise_model
-from .vanishing import vanished_terms
+from .vanishing import share_words, vanished_terms
 
 __all__ = [
     "Diagnosis", "Suggestion", "Verdict", "diagnose", "noise_variance_explained",
@@ -1364,7 +1364,7 @@ def _without_vanished_lines(fit: FitResult, fit_command: str) -> list[str]:
         starts = " ".join(f"--init {k}={v:.6g}" for k, v in fit.values.items() if k in kept and not fit.fixed[k])
         specs = fit.circuit.parameter_specs(fit.registry)
         held = ", ".join(f"{n} = {format_quantity(fit.values[n], specs[n].unit)}{', at its bound' if n in fit.at_bound else ''}" for n in names)
-        what = f"takes at most {branch.share:.2g}× the voltage across" if branch.series else f"carries at most {branch.share:.2g}× the current through"
+        what = share_words(branch)
         lines.append(
             f"     note: {branch.element} {what} {branch.block} in this fit ({held}): its term vanished, and {reduced}, without it, "
             f"is the same fit within what an instrument resolves, with fewer parameters: {fit_command} --model '{reduced}' {starts}"

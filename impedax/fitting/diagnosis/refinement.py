@@ -25,7 +25,7 @@ from .bands import format_frequency
 from .catalog import EffectCatalog
 from .diagnosis import CANDIDATE_STEPS, DELTA_AIC_MIN, NOISE_FRACTION_MIN, Diagnosis, Verdict, diagnose, noise_variance_explained, undetermined_parameters
 from .effects import DEFAULT_EFFECTS, placement
-from .vanishing import vanished_parameters, vanished_terms
+from .vanishing import share_words, vanished_parameters, vanished_terms
 
 __all__ = ["Refinement", "RefinementStep", "refine"]
 
@@ -511,7 +511,7 @@ def _pruned(steps: list[RefinementStep], used: xr.Dataset, *, n_starts: int, see
         changes = []  # (added, removed, circuit, init, why)
         for branch, reduced, names in vanished_terms(last):
             held = ", ".join(f"{n} at its bound" if n in last.at_bound else f"{n} (a vanishing term's)" for n in names)
-            what = f"takes at most {branch.share:.2g}× the voltage across" if branch.series else f"carries at most {branch.share:.2g}× the current through"
+            what = share_words(branch)
             removed = tuple(e for e in last.circuit.element_names if e not in reduced.element_names)
             changes.append((None, removed, reduced, {k: v for k, v in last.values.items() if k in reduced.parameter_names(last.registry)},
                             f"{branch.element} {what} {branch.block} over the band ({held}): its term vanished, and {{final}}, the model without it,"))

@@ -13,7 +13,7 @@ from ..least_squares import FitResult
 from ..least_squares.branches import VANISHING_SHARE, IdleBranch, idle_branches
 from ..parameters import ParameterTable
 
-__all__ = ["flagged_parameters", "vanished_terms", "vanished_parameters"]
+__all__ = ["flagged_parameters", "vanished_terms", "vanished_parameters", "share_words"]
 
 
 def flagged_parameters(fit: FitResult) -> set[str]:
@@ -59,3 +59,10 @@ def vanished_parameters(fit: FitResult) -> frozenset[str]:
     not there (R1 = 1.8e255 Ω beside C1 on CHInstruments' spectrum). ``Refinement.summary``
     lists them as undetermined, should the final model keep one (`_pruned` takes them out)."""
     return frozenset(n for _, _, names in vanished_terms(fit) for n in names)
+
+
+def share_words(branch: IdleBranch) -> str:
+    """How little of its block a vanished term carries, as the notes say it: ``takes at most
+    1e-05× the voltage across`` (a term of a series chain) or ``carries at most 1e-05× the current
+    through`` (a branch of a parallel block); the block's text follows."""
+    return f"takes at most {branch.share:.2g}× the voltage across" if branch.series else f"carries at most {branch.share:.2g}× the current through"
