@@ -66,6 +66,30 @@ def test_proposals_are_valid_circuits_with_fresh_names(text):
             assert set(start) <= set(again.parameter_names())
 
 
+@pytest.mark.parametrize("text,added", [
+    # no diffusion yet: at the end and behind each arc resistor
+    ("R0 + R1 || C1 + R2 || C2", {"end", "R1", "R2"}),
+    # a Warburg behind R1: not beside it again (W + W is one W), still at the end and behind R2
+    ("R0 + (R1 + W1) || C1 + R2 || C2", {"end", "R2"}),
+    # a finite Warburg at the end: not at the end again, still behind R1
+    ("R0 + R1 || C1 + Wo1", {"R1"}),
+])
+def test_no_second_diffusion_element_in_series_with_one(text, added):
+    """Each added W/Wo/Ws lands in a series chain without another diffusion element; the
+    chains are read off the circuits by hand here."""
+    circuit = ix.parse(text)
+    f = np.logspace(-2, 5, 30)
+    z = 100 + 1 / (1j * f * 1e-3)
+    ctx = BaselineContext(circuit, {k: 1.0 for k in circuit.parameter_names()}, f, z, z * 1.01)
+    found = set()
+    for p in ix.DEFAULT_EFFECTS["diffusion"].propose(circuit, ctx):
+        if p.where.startswith("in series at the end"):
+            found.add("end")
+        elif p.where.startswith("in series with"):
+            found.add(p.where.split()[3])
+    assert found == added
+
+
 def test_gap_capacitance_gets_the_sirin_ep_branch():
     circuit = ix.parse("C_gap")
     f = np.logspace(0, 6, 20)

@@ -380,6 +380,17 @@ FINITE_WARBURGS = ("Wo", "Ws")
 IN_PLACE_OF_WARBURG = "in place of the semi-infinite Warburg"
 
 
+def _beside_diffusion(circuit: Circuit, target: str | None, registry: Registry) -> bool:
+    """Would an element added in series with ``target`` (None: at the end of the circuit) sit
+    in a series chain that already holds a diffusion element (W, Wo, Ws)?"""
+    if target is None:
+        chain = _top_series(circuit)
+    else:
+        parent = _parents(circuit)[target]
+        chain = parent.children if isinstance(parent, Series) else ()
+    return any(isinstance(c, Element) and _symbol(registry, c) in ("W",) + FINITE_WARBURGS for c in chain)
+
+
 def _diffusion(circuit: Circuit, ctx: BaselineContext) -> list[Proposal]:
     out = []
     lo, _ = ctx.ends()
@@ -391,6 +402,9 @@ def _diffusion(circuit: Circuit, ctx: BaselineContext) -> list[Proposal]:
     tau0 = 1.0 / ctx.omega[0]
     band = (float(ctx.frequency[0]), float(ctx.frequency[-1]))
     placements = [(None, "in series at the end of the circuit")] + [(r, f"in series with {r} (Randles-type, behind the charge transfer)") for r in _arc_resistors(circuit, ctx.registry)]
+    # a second diffusion element in series with one already there only splits its tail: W + W is
+    # one W (σ₁ + σ₂), and W + Wo or W + Ws share the f^−½ branch above 1/τ
+    placements = [(target, where) for target, where in placements if not _beside_diffusion(circuit, target, ctx.registry)]
     # modify before add: a semi-infinite Warburg already in the circuit may be finite (Wo, Ws)
     for e in circuit.elements():
         if _symbol(ctx.registry, e) != "W":
