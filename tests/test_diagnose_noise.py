@@ -91,6 +91,18 @@ def test_points_with_a_negative_real_part_are_left_out_of_a_correct_model():
     assert "Re Z < 0" in d.report()
     # the fit of the rest finds the generating parameters (0.5 % noise: R1 within 3 %)
     assert d.baseline.values["R1"] == pytest.approx(params["R1"], rel=0.03)
+    # each masked point keeps its measured Z, and the figure marks it (red crosses)
+    by_f = dict(zip(np.round(f, 6), z))
+    assert [by_f[round(fm, 6)] for fm in d.masked_points] == list(d.masked_impedance)
+    fig = d.plot()
+    nyquist, magnitude, phase = fig.axes[:3]
+    (cross,) = [line for line in nyquist.get_lines() if line.get_marker() == "x"]
+    np.testing.assert_allclose(cross.get_xydata(), np.column_stack([z[top].real, -z[top].imag])[np.argsort(f[top])])
+    (cross,) = [line for line in magnitude.get_lines() if line.get_marker() == "x"]
+    np.testing.assert_allclose(cross.get_xydata(), np.column_stack([f[top], np.abs(z[top])])[np.argsort(f[top])])
+    (cross,) = [line for line in phase.get_lines() if line.get_marker() == "x"]
+    np.testing.assert_allclose(cross.get_ydata(), np.degrees(np.angle(z[top]))[np.argsort(f[top])])
+    assert any(t.get_text().startswith("masked (2") for t in nyquist.get_legend().get_texts())
 
 
 def test_a_missing_effect_is_found_behind_non_passive_points():

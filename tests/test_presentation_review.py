@@ -131,6 +131,22 @@ def test_refinement_figure_shows_the_data_with_the_first_and_last_model():
     plt.close(fig)
 
 
+def test_refinement_figure_marks_the_points_every_step_left_out():
+    refinement = refinement_stand_in()
+    masked_z = (-0.2 - 0.1j, 1.3 - 0.4j)  # (a non-passive point and an outlier, beyond the data's range)
+    refinement.steps[0].diagnosis.masked_points = (1e3, 2e3)
+    refinement.steps[0].diagnosis.masked_impedance = masked_z
+    fig = plot_refinement(refinement)
+    nyquist = fig.axes[-1]
+    (cross,) = [line for line in nyquist.get_lines() if line.get_marker() == "x"]
+    np.testing.assert_allclose(cross.get_xydata(), [[-0.2, 0.1], [1.3, 0.4]])
+    assert "masked (2: left out of every fit)" in legend_texts(nyquist)
+    # the panel is scaled to show them too
+    lo, hi = nyquist.get_xlim()
+    assert lo < -0.2 and hi > 1.3
+    plt.close(fig)
+
+
 def test_refinement_figure_of_a_steep_spectrum_puts_its_nyquist_panel_above_the_error():
     z = 0.1 + 1.0 / (1j * 2 * np.pi * F * 1e-3) ** 0.9  # a blocking electrode: a near-vertical line
     steps = [SimpleNamespace(fit=fit("R0 + C1", z * 1.05, z), effect=None, removed=(), change="(start)", model="R0 + C1", diagnosis=None)]
@@ -698,7 +714,10 @@ def test_diagnose_says_each_stage_as_it_begins():
     jw = 2j * np.pi * f
     data = ix.make_spectrum(f, 10 + 100 / (1 + jw * 100 * 1e-6) + 300 / (1 + jw * 300 * 1e-3))
     said = []
-    ix.diagnose(data, "R0 + R1 || C1", progress=said.append)
+    d = ix.diagnose(data, "R0 + R1 || C1", progress=said.append)
+    # (nothing masked: nothing is marked as masked in the figure)
+    assert d.masked_points == () and d.masked_impedance == ()
+    assert not [line for ax in d.plot().axes for line in ax.get_lines() if line.get_marker() == "x"]
     assert said[0] == "fitting the baseline R0 + R1 || C1" and said[1] == "the Kramers–Kronig test of the data"
     assert any(re.fullmatch(r"fitting \d+ candidate circuits of \d+ effects", s) for s in said), said
 

@@ -28,6 +28,7 @@ def plot_diagnosis(diagnosis, *, title: str | None = None):
         (b.frequency, b.z_data), model_curve(b), title=title or f"{b.model}: {diagnosis.verdict} (rms_rel {b.rms_rel * 100:.3g} %)", bands=bands,
         model_label="baseline", residual_labels=("Re (baseline)", "Im (baseline)"), model_at_data=b.z_model,
     )
+    _mark_masked(fig.axes[0], diagnosis, fig.axes[1:3])
     best = diagnosis.best
     if best is not None:
         axes = fig.axes
@@ -44,6 +45,26 @@ def plot_diagnosis(diagnosis, *, title: str | None = None):
         refresh_legend(axes[0])
         refresh_legend(axes[1])
     return fig
+
+
+MASKED_STYLE = dict(marker="x", ls="none", ms=6, mew=1.3, color="tab:red")
+
+
+def _mark_masked(nyquist, diagnosis, bode=()) -> None:
+    """The diagnosis' masked points (left out of every fit: KK-flagged, or Re Z < 0) as red
+    crosses on the Nyquist panel and, when given, the |Z| and phase panels."""
+    f = np.asarray(getattr(diagnosis, "masked_points", ()), float)
+    z = np.asarray(getattr(diagnosis, "masked_impedance", ()), complex)
+    if f.size == 0 or z.size != f.size:
+        return
+    label = f"masked ({f.size}: left out of every fit)"
+    nyquist.plot(z.real, -z.imag, label=label, **MASKED_STYLE)
+    refresh_legend(nyquist)
+    if bode:
+        ax_mod, ax_ph = bode
+        ax_mod.plot(f, np.abs(z), label=label, **MASKED_STYLE)
+        ax_ph.plot(f, np.degrees(np.angle(z)), **MASKED_STYLE)
+        refresh_legend(ax_mod)
 
 
 def plot_refinement(refinement, *, title: str | None = None):
@@ -121,6 +142,8 @@ def _refinement_nyquist(ax, refinement, legend_chars: int) -> None:
     data, and that the end does not."""
     first, last = refinement.steps[0].fit, refinement.steps[-1].fit
     ax.plot(first.z_data.real, -first.z_data.imag, "o", ms=3.5, mfc="none", color="tab:blue", label="data")
+    if refinement.steps[0].diagnosis is not None:
+        _mark_masked(ax, refinement.steps[0].diagnosis)
     drawn = [(first, "--", "tab:grey", "start")] + ([(last, "-", "tab:green", "final")] if len(refinement.steps) > 1 else [])
     for fit, style, color, name in drawn:
         z = model_curve(fit)[1]
@@ -128,7 +151,8 @@ def _refinement_nyquist(ax, refinement, legend_chars: int) -> None:
     # the panel is scaled to the data and the last model drawn (the first when it is alone): a
     # start far off (the demo's pure capacitor, a line to 165 MΩ beside an arc of 57 MΩ) runs
     # off the panel, where it had shrunk the data to a corner
-    shown = np.concatenate([first.z_data, z])
+    masked = getattr(refinement.steps[0].diagnosis, "masked_impedance", ())
+    shown = np.concatenate([first.z_data, z, np.asarray(masked, complex)])
     shown = shown[np.isfinite(shown)]
     if shown.size:
         ax.ignore_existing_data_limits = True

@@ -216,6 +216,7 @@ class Diagnosis:
     kk_of_kept: KKResult | None = None  # the KK test of the points kept, when a few erratic points were masked
     kk_as_tested: KKResult | None = None  # the KK test before its local judgement (``kk`` is after it); the discrepancy floor δ takes its flags (refine passes it on, or kk_of_kept when points were masked)
     solver_shape: SolverShape | None = None  # the compiled candidate solver's shape (refine passes it on: one compilation for all steps)
+    masked_impedance: tuple[complex, ...] = ()  # the measured Z [Ω] at each of ``masked_points`` (drawn, marked, in the figure)
 
     def __post_init__(self):
         object.__setattr__(self, "verdict", Verdict(self.verdict))
@@ -746,10 +747,10 @@ def _fit_baseline(data, circuit: Circuit | str, effects: EffectCatalog, *, regis
     the same cold starts the two reach different optima, and neither is always the better (a
     9-element ladder: 2.9 % with the scaling alone where λI reaches 1.8 %).
     Points with Re Z < 0 (`non_passive_points`) are left out. Returns (fit, spectrum Dataset
-    of the points fitted, solver shape, frequencies left out as not passive)."""
+    of the points fitted, solver shape, the points left out as not passive: frequency → Z)."""
     ds = open_spectrum(data, fmin=fmin, fmax=fmax, single="diagnose").data
     not_passive = non_passive_points(ds)
-    left_out = tuple(float(f) for f in ds["frequency"].values[not_passive])
+    left_out = {float(f): complex(z) for f, z in zip(ds["frequency"].values[not_passive], ds["Z"].values[not_passive])}
     if left_out:
         ds = ds.isel(frequency=np.nonzero(~not_passive)[0])
     circuit = parse(circuit, registry)
@@ -771,14 +772,14 @@ def _fit_baseline(data, circuit: Circuit | str, effects: EffectCatalog, *, regis
 
 def _baseline(fit_or_data, circuit, *, data, effects, registry, fmin, fmax, weighting, n_starts, seed, shape):
     """The fit to diagnose, the data it was made on (or None), the solver shape (or None) and
-    the frequencies left out as not passive (data given with a circuit; a `FitResult` is
-    diagnosed on the points it was fitted to)."""
+    the points left out as not passive, frequency → Z (data given with a circuit; a `FitResult`
+    is diagnosed on the points it was fitted to)."""
     if isinstance(fit_or_data, FitResult):
         if circuit is not None:
             raise ParameterError("give either a FitResult or data with a circuit, not both")
         if fmin is not None or fmax is not None:
             raise ParameterError("fmin/fmax select the band of data to fit; a FitResult keeps the band it was fitted on")
-        return fit_or_data, data, shape, ()
+        return fit_or_data, data, shape, {}
     if isinstance(fit_or_data, BatchFitResult):
         raise ParameterError("diagnose takes the fit of one spectrum; fit a trial mean or select one spectrum of the batch")
     if circuit is None:
@@ -1449,9 +1450,11 @@ def diagnose(
         raise ParameterError(f"drt_evidence must be True or False, got {drt_evidence!r}")
     say = progress if progress is not None else (lambda text: None)
     say("fitting the baseline" + (f" {circuit}" if circuit is not None and not isinstance(fit_or_data, FitResult) else ""))
-    base, data, shape, not_passive = _baseline(fit_or_data, circuit, data=data, effects=effects, registry=registry, fmin=fmin, fmax=fmax, weighting=weighting, n_starts=n_starts, seed=seed, shape=solver_shape)
+    base, data, shape, left_out = _baseline(fit_or_data, circuit, data=data, effects=effects, registry=registry, fmin=fmin, fmax=fmax, weighting=weighting, n_starts=n_starts, seed=seed, shape=solver_shape)
     _require_points_for_diagnosis(base)
     spectrum, sigma = _spectrum_of(base, data)
+    not_passive = tuple(left_out)
+    masked_z = dict(left_out)  # (each masked point's measured Z, for the figure)
     notes: list[str] = []
     if not_passive:
         notes.append(
@@ -1484,11 +1487,12 @@ def diagnose(
             problem = problem._replace(masked=np.zeros_like(problem.masked), note=None)
     if problem.invalid is not None:
         bands = failing_bands(base, nm.sigma_rel, kk_bad_bands=kk_bands)
-        return Diagnosis(base, kk, nm.sigma_rel, nm.source, bands, (), Verdict.DATA_INVALID, problem.invalid, tuple(notes), _thresholds(), None, nm.measurement, nm.discrepancy, not_passive, kk_as_tested=kk_as_tested, solver_shape=shape)
+        return Diagnosis(base, kk, nm.sigma_rel, nm.source, bands, (), Verdict.DATA_INVALID, problem.invalid, tuple(notes), _thresholds(), None, nm.measurement, nm.discrepancy, not_passive, kk_as_tested=kk_as_tested, solver_shape=shape, masked_impedance=tuple(left_out.values()))
     if problem.note:
         notes.append(problem.note)
     keep = ~problem.masked
     masked = tuple(float(f) for f in base.frequency[problem.masked])
+    masked_z.update(zip(masked, (complex(z) for z in base.z_data[problem.masked])))
     if masked:
         spectrum = spectrum.isel(frequency=np.nonzero(keep)[0])
         notes.append(f"{len(masked)} point(s) " + ("behind the failed KK test (without them it passes)" if located is not None else "the KK test flags as the data's own problem") + " are masked: every fit of this diagnosis leaves them out")
@@ -1537,4 +1541,7 @@ def diagnose(
     # an element of the user's circuit that the data do not need (its fit's idle note: Wo1 with R at 0)
     notes += [f"the baseline fit: {w}" for w in base.warnings if is_idle_note(w)]
     masked = tuple(sorted(masked + not_passive))
-    return Diagnosis(base, kk, sigma_rel, nm.source, bands, tuple(cands), verdict, reason, tuple(notes), _thresholds(), evidence, measurement, nm.discrepancy, masked, kk_kept, kk_as_tested, shape)
+    return Diagnosis(
+        base, kk, sigma_rel, nm.source, bands, tuple(cands), verdict, reason, tuple(notes), _thresholds(), evidence, measurement, nm.discrepancy, masked, kk_kept, kk_as_tested, shape,
+        tuple(masked_z[f] for f in masked),
+    )
