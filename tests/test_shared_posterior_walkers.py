@@ -152,11 +152,105 @@ def test_determined_parameters_match_least_squares_without_spurious_warnings(det
     assert not [w for w in determined.warnings if "piles up" in w or "linearised" in w]
 
 
-def test_interval_warning_reuses_the_single_spectrum_rule(open_branch, determined):
-    """The joint posterior's convergence rule is `Posterior`'s; its bounds strip the spectrum."""
-    assert type(open_branch).chain_converged is ix.Posterior.chain_converged
+def test_a_short_chain_is_not_converged_and_the_interval_warning_says_so(open_branch):
+    """300 steps against τ ≈ 20 steps (the rule: a kept chain of 50 τ, as a single spectrum's):
+    not converged, the chain-length warning given, and the interval warning about the open R2
+    says the chain is too short to tell which interval is right; its bounds strip the spectrum."""
+    assert open_branch.chain_converged is False
+    assert any(w.startswith("the chain (225 draws per walker after burn-in) is shorter than 50 autocorrelation times") for w in open_branch.warnings)
+    interval = [w for w in open_branch.warnings if w.startswith("the least-squares start's linearised standard errors")]
+    assert len(interval) == 1 and "R2[trial=2]" in interval[0]
+    assert interval[0].endswith("the chain is too short to tell which is right (see the chain-length warning); run more steps before using either")
     lower, upper = open_branch.bounds
     assert lower[open_branch.names.index("R2[trial=2]")] == 0.0 and upper[open_branch.names.index("R2[trial=2]")] == np.inf
+
+
+def test_too_few_draws_to_estimate_tau_is_not_converged():
+    """40 kept draws per walker: τ unknown (NaN), so not converged, and the warning says the
+    chain is too short to estimate τ."""
+    post = quiet_sample(MODEL, spectra([50.0, 80.0, 60.0]), steps=40, burn=0, seed=1)
+    assert post.chain_converged is False and all(np.isnan(t) for t in post.autocorr.values())
+    assert any(w.startswith("the chain is too short to estimate τ (40 draws per walker after burn-in") for w in post.warnings)
+
+
+def _with_draws(post, draws, log_prob):
+    """``post`` with its chain replaced (walker, draw[, param]); its caches start empty."""
+    import dataclasses
+
+    return dataclasses.replace(post, draws=draws, log_prob=log_prob)
+
+
+def test_a_chain_many_autocorrelation_times_long_is_converged(determined):
+    """The determined joint posterior's own draws, 200 per walker: independent (each walker's
+    drawn at random from all of them, τ ≈ 1 step) they are ≥ 50 τ long, so converged, with no
+    chain-length warning; the same values sorted along each walker's chain (a slow drift, τ of
+    the order of the chain) are not. (A real run of this case needs ≳ 9000 steps to reach 50 τ,
+    τ ≳ 140 steps: too slow for a unit test.) With the start's standard errors made 10× too
+    large, the converged chain's interval warning says to use the posterior's intervals."""
+    import dataclasses
+
+    rng = np.random.default_rng(0)
+    w, p = determined.n_walkers, len(determined.names)
+    flat, flat_lp = determined.draws.reshape(-1, p), determined.log_prob.reshape(-1)
+    pick = rng.integers(0, flat.shape[0], size=(w, 200))
+    independent = _with_draws(determined, flat[pick], flat_lp[pick])
+    assert independent.chain_converged is True
+    assert independent.n_draws >= 50 * max(independent.autocorr.values())
+    assert not [x for x in independent.warnings if "autocorrelation times" in x or "too short" in x]
+
+    drifting = _with_draws(determined, np.sort(flat[pick], axis=1), flat_lp[pick])
+    assert drifting.chain_converged is False
+    assert any("is shorter than 50 autocorrelation times" in x for x in drifting.warnings)
+
+    ds = independent.fit.dataset
+    inflated = dataclasses.replace(independent, fit=dataclasses.replace(independent.fit, dataset=ds.assign(linearised_stderr=ds["linearised_stderr"] * 10)))
+    interval = [x for x in inflated.warnings if x.startswith("the least-squares start's linearised standard errors")]
+    assert len(interval) == 1 and "R1[trial=0] (" in interval[0]
+    assert interval[0].endswith("use the posterior's intervals — they follow the model's non-linearity, the parameters' bounds and the priors; the linearised errors are a local approximation at the fit")
+
+
+# --- the start fit's warnings, by spectrum ------------------------------------------------------
+
+
+def test_start_fit_warnings_name_their_spectrum(open_branch):
+    """The open R2 of trial 2: the start fit's warnings are trial 2's alone, and each line says so
+    (before: "least-squares start: R2 has ..." with no spectrum)."""
+    start = [w for w in open_branch.warnings if w.startswith("least-squares start")]
+    assert len(start) == len(open_branch.fit.warnings["trial=2"]) == 2
+    assert all(w.startswith("least-squares start (1 of 3 spectra: trial 2): ") for w in start)
+    assert {w.split("): ", 1)[1] for w in start} == set(open_branch.fit.warnings["trial=2"])
+
+
+def test_start_fit_warnings_shared_by_spectra_are_given_once(determined):
+    """The same text in every spectrum is one line naming all of them; texts equal but for their
+    numbers one line with the numbers as a range and the spectra named; a global fit's own note
+    as its scope (the grouping of a batch fit's report)."""
+    import dataclasses
+
+    notes = {
+        "trial=0": ("C2 is near its bound", "R2 has a relative standard error of 120%: it is not determined by the data"),
+        "trial=1": ("C2 is near its bound",),
+        "trial=2": ("C2 is near its bound", "R2 has a relative standard error of 340%: it is not determined by the data"),
+        "shared over trial": ("the shared R0 moves the others",),
+    }
+    post = dataclasses.replace(determined, fit=dataclasses.replace(determined.fit, warnings=notes))
+    start = [w for w in post.warnings if w.startswith("least-squares start")]
+    assert start == [
+        "least-squares start (all 3 spectra): C2 is near its bound",
+        "least-squares start (2 of 3 spectra: trial 0, 2): R2 has a relative standard error of 120 to 340%: it is not determined by the data",
+        "least-squares start (shared over trial): the shared R0 moves the others",
+    ]
+
+
+def test_many_kinds_of_start_fit_warning_say_how_many_more():
+    """Past the kinds a report lists (`WARNING_GROUPS_SHOWN`), one line counts the rest."""
+    from impedax.warning_groups import WARNING_GROUPS_SHOWN
+
+    notes = {f"trial={i}": (f"note {chr(97 + i)}",) for i in range(WARNING_GROUPS_SHOWN + 3)}
+    lines = shared_posterior._start_fit_warnings(notes, len(notes))
+    assert len(lines) == WARNING_GROUPS_SHOWN + 1
+    assert all(line.startswith("least-squares start (1 of 15 spectra: trial ") for line in lines[:-1])
+    assert lines[-1].startswith("least-squares start: 3 more kinds of warning")
 
 
 # --- (d) no RuntimeWarning ------------------------------------------------------------------------

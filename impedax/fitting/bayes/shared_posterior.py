@@ -33,6 +33,7 @@ import xarray as xr
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
 from ...errors import DataError, ParameterError
 from ...data import unit_text
+from ...warning_groups import grouped_warnings, warning_kinds
 from ..derived import QUANTILES, draws_band, needs_freq
 from ..least_squares import SharedFitResult, fit
 from ..parameters import ParameterTable
@@ -174,13 +175,15 @@ class SharedPosterior:
         """Diagnostics that need attention, as a single spectrum's posterior gives them
         (`Posterior.warnings`): chain length, acceptance, correlations, draws piled up against a
         prior's edge and linearised standard errors far from the posterior's widths, per-spectrum
-        parameters named with their spectrum (``R2[cycle=64]``); then notes and the start fit's."""
+        parameters named with their spectrum (``R2[cycle=64]``); then notes and the start fit's,
+        one line per kind with the spectra it applies to, as a batch's report groups them
+        (`_start_fit_warnings`)."""
         out = chain_warnings(self.names, self.log_scale, self._sampled_space, self.autocorr, self.settings.get("thin", 1), self.mean_acceptance, step_cap=capped_at(self.settings))
         edges = prior_edge_warnings(self.names, self.units, self.draws.reshape(-1, len(self.names)), self.priors, *self.bounds)
         out.extend(edges)
         out.extend(self._interval_warnings(edges))
         out.extend(self.notes)
-        out.extend(f"least-squares start: {w}" for w in sorted({w for ws in self.fit.warnings.values() for w in ws}))
+        out.extend(_start_fit_warnings(self.fit.warnings, len(self.spectra)))
         return tuple(out)
 
     def _interval_warnings(self, edge_warnings) -> list[str]:
@@ -381,6 +384,20 @@ def _fit_variables(fit_ds: xr.Dataset, over: tuple[str, ...]):
             data[key] = new
         stored[key] = str(name)
     return data, coords, stored, {v: k for k, v in dims.items() if k != v}
+
+
+def _start_fit_warnings(warnings: Mapping[str, tuple[str, ...]], n_spectra: int) -> list[str]:
+    """The global start fit's ``warnings`` (spectrum label → its texts, `SharedFitResult.warnings`)
+    as lines of a joint posterior's warnings: one per kind of warning with the spectra it applies
+    to, grouped as a batch's report groups them (`grouped_warnings`) —
+    ``least-squares start (2 of 3 spectra: trial 0, 2): …``, ``(all 3 spectra)``, a global fit's
+    own notes ``(shared over trial)`` — and, past the kinds a report lists, how many more (every
+    text is in the start fit's warnings)."""
+    lines = grouped_warnings(warnings, n_spectra)
+    out = [f"least-squares start {line.removeprefix('warning ')}" for line in lines if line.startswith("warning (")]
+    if len(out) < len(lines):
+        out.append(f"least-squares start: {len(warning_kinds(warnings)) - len(out)} more kinds of warning (every text: the posterior's fit.warnings)")
+    return out
 
 
 class _Start(NamedTuple):
