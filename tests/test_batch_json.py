@@ -83,3 +83,26 @@ def test_date_labels_are_written_as_text(stack):
     rows = json.loads(json.dumps(to_jsonable(result.summary())))["spectra"]
     assert [r["cycle"] for r in rows] == [str(t) for t in times]
     assert rows[3]["warnings"] == list(result.warnings[f"cycle={times[3]}"]) and rows[3]["warnings"]
+
+
+def test_every_row_has_its_labels_by_dimension(batch):
+    """Each row also gives its labels as ``labels`` (dimension → label, as a KK or DRT batch's
+    rows do), beside the flat ``cycle`` key kept for existing readers."""
+    rows = batch.summary()["spectra"]
+    assert [r["labels"] for r in rows] == [{"cycle": c} for c in CYCLES]
+    assert [r["cycle"] for r in rows] == CYCLES
+
+
+@pytest.mark.parametrize("dim", ["values", "warnings"])
+def test_a_dimension_named_like_a_row_key_does_not_clobber_it(stack, dim):
+    """A batch over a dimension called ``values`` or ``warnings``: before the fix its label was
+    merged into the row and then overwritten by the fit's key of that name (the label lost, for
+    ``values`` the parameters kept; nothing said so). Now the label is under ``labels`` and the
+    fit's keys are the fit's."""
+    labels = [7, 8]
+    result = ix.fit(MODEL, stack.isel(cycle=slice(0, 2)).rename(cycle=dim).assign_coords({dim: labels}))
+    rows = json.loads(json.dumps(result.summary()))["spectra"]
+    assert [r["labels"] for r in rows] == [{dim: c} for c in labels]
+    for row, (r0, r1, c1) in zip(rows, TRUTHS):
+        assert row["values"] == pytest.approx({"R0": r0, "R1": r1, "C1": c1}, rel=0.02)
+        assert isinstance(row["warnings"], list) and row["warnings"] == list(result.warnings.get(f"{dim}={row['labels'][dim]}", ()))

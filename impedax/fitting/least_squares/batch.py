@@ -228,9 +228,11 @@ class BatchFitResult:
 
     def _spectrum_rows(self) -> list[dict]:
         """Each spectrum's fit (the JSON's ``spectra``): its label along every batch dimension
-        (the position where a dimension has no coordinates), then ``values``, ``stderr`` (None
-        when fixed or there is none, as `to_table`), ``rms_rel``, ``converged``, ``at_bound``
-        (names, as a single fit's JSON) and its ``warnings``."""
+        (the position where a dimension has no coordinates), then ``labels`` (dimension → label,
+        every dimension, as a KK or DRT batch's rows), ``values``, ``stderr`` (None when fixed or
+        there is none, as `to_table`), ``rms_rel``, ``converged``, ``at_bound`` (names, as a
+        single fit's JSON) and its ``warnings``. A dimension named as one of these keys (a batch
+        over ``values``) is only under ``labels``: its label would clobber the fit's key."""
         ds = self.dataset
         names = [str(p) for p in ds["param"].values]
         value, stderr, at_bound = (ds[v].transpose(*self.dims, "param").values for v in ("value", "stderr", "at_bound"))
@@ -241,15 +243,16 @@ class BatchFitResult:
         for index in np.ndindex(*rms_rel.shape):
             where = {d: labels[i][j] for i, (d, j) in enumerate(zip(self.dims, index))}
             key = ", ".join(f"{d}={c}" for d, c in where.items())  # (as `fit_stack` names the spectra its warnings are about)
-            rows.append({
-                **{d: _json_label(c) for d, c in where.items()},
+            label = {d: _json_label(c) for d, c in where.items()}
+            own = {
                 "values": {n: float(value[index + (p,)]) for p, n in enumerate(names)},
                 "stderr": {n: shown_stderr(float(stderr[index + (p,)]), fixed[p]) for p, n in enumerate(names)},
                 "rms_rel": float(rms_rel[index]),
                 "converged": bool(converged[index]),
                 "at_bound": [n for p, n in enumerate(names) if at_bound[index + (p,)]],
                 "warnings": list(self.warnings.get(key, ())),
-            })
+            }
+            rows.append({**{d: c for d, c in label.items() if d not in own and d != "labels"}, "labels": label, **own})
         return rows
 
     def report(self) -> str:
