@@ -50,6 +50,19 @@ class Circuit:
     def defaults(self, registry: Registry = DEFAULT_REGISTRY) -> dict[str, float]:
         return {n: p.default for n, p in self.parameter_specs(registry).items()}
 
+    def structure_key(self, registry: Registry = DEFAULT_REGISTRY) -> str:
+        """The circuit without its element names: each element as its kind (an alias as the
+        symbol it stands for: ``Q`` → ``CPE``), the parts of a series or parallel node in sorted
+        order (impedances and admittances add in any order; nested nodes of one kind are
+        flattened by the constructors). Two circuits with one key are one network under other
+        names: ``R_a || C_a + R_b || C_b`` and ``C_x || R_x + R_y || C_y`` give
+        ``series(parallel(C, R), parallel(C, R))``, while ``R1 + C1 || R2`` and
+        ``(R1 + C1) || R2`` differ."""
+        if isinstance(self, Element):
+            return registry[self.symbol].symbol
+        parts = sorted(c.structure_key(registry) for c in self.children)
+        return f"{'series' if isinstance(self, Series) else 'parallel'}({', '.join(parts)})"
+
     def element(self, name: str) -> "Element":
         for e in self.elements():
             if e.name == name:

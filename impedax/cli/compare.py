@@ -96,23 +96,9 @@ def out_path(path: str | None) -> str | None:
     return path
 
 
-def circuit_shape(circuit) -> str:
-    """``circuit`` with its element names left out: each element as its symbol (an alias as
-    the symbol it stands for: ``Q`` → ``CPE``), the parts of a series or parallel node in
-    sorted order (impedances and admittances add in any order). Two circuits of one shape are
-    one model under other names: ``R_s + R_ct || CPE_dl`` and ``R0 + CPE1 || R1``."""
-    from .. import DEFAULT_REGISTRY
-    from ..circuits import Element, Series
-
-    if isinstance(circuit, Element):
-        return DEFAULT_REGISTRY[circuit.symbol].symbol
-    parts = sorted(circuit_shape(c) for c in circuit.children)
-    return f"{'series' if isinstance(circuit, Series) else 'parallel'}({', '.join(parts)})"
-
-
 def refuse_same_circuits(texts, circuits) -> None:
     """`ParameterError` (before any fitting) when two ``--model`` give one circuit: the same
-    canonical text (``str(parse(m))``), or the same `circuit_shape` under other element names.
+    canonical text (``str(parse(m))``), or the same `Circuit.structure_key` under other element names.
     Both would fit alike and split the Akaike weight between them (0.5/0.5)."""
     from ..errors import ParameterError
 
@@ -122,7 +108,7 @@ def refuse_same_circuits(texts, circuits) -> None:
             if str(circuits[i]) == str(circuits[j]):
                 same = f"--model {a!r} is given twice" + ("" if a == b else f" (again as {b!r})")
                 raise ParameterError(f"{same}; compare needs different circuits")
-            if circuit_shape(circuits[i]) == circuit_shape(circuits[j]):
+            if circuits[i].structure_key() == circuits[j].structure_key():
                 raise ParameterError(
                     f"--model {a!r} and --model {b!r} are the same circuit (the same elements connected alike, under other names); "
                     "they would fit alike and split the Akaike weight: compare needs different circuits"

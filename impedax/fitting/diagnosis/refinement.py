@@ -5,6 +5,7 @@ so the result reproduces with ``impedax fit`` of the final model string."""
 from __future__ import annotations
 
 import math
+import re
 import warnings
 from dataclasses import dataclass, replace
 from typing import Callable
@@ -241,7 +242,9 @@ def _greedy(steps: list[RefinementStep], best, limit: int, diagnosed, say, label
     while best is not None and added + effect_count(best.effect) <= limit:
         say(f"{label}step {len(steps)}: diagnosing {best.fit.model}")
         d = diagnosed(best.fit, steps[-1].diagnosis.solver_shape)
-        steps.append(RefinementStep(d.baseline, best.added, best.effect, d, tuple(best.removed)))
+        # a path that met another's model under other names goes on with the first-found names
+        names = _renaming(best.fit, d.baseline)
+        steps.append(RefinementStep(d.baseline, _renamed_text(best.added, names), best.effect, d, tuple(best.removed)))
         added += effect_count(best.effect)
         best = _best_within(d, limit - added)
     return steps
@@ -281,7 +284,14 @@ def _second_path(steps: list[RefinementStep], picked, limit: int, diagnosed, say
     When the first choice left a baseline element out, a path starts from the same candidate
     with that element kept (`_kept_in_place`). When the greedy path ends ``adequate``, paths
     start from cheaper effects too (`_cheaper_starts`): an element of three parameters can
-    stand in for two of one each."""
+    stand in for two of one each.
+
+    A circuit and a renamed copy of it (`Circuit.structure_key`: the same elements connected
+    alike, series and parallel parts in any order) are one model: a start that is the first
+    choice's or an earlier start's circuit under other names starts no path, and a path that
+    ends at the kept end's circuit, fitted no better by AIC, is not compared with it (no note;
+    the first-found names stay). From C_gap on the SYNTHETIC Sirin remainder, the path of C_gap → CPE_gap reached
+    R_EP ∥ C_EP ∥ CPE_gap, the kept R_EP ∥ CPE_EP ∥ C_gap, and was noted as a tie."""
     first = steps[0].diagnosis
     alternatives = [s for s in first.suggestions if (placement(s.where) != placement(picked.where) or s.effect != picked.effect) and s.delta_aic <= picked.delta_aic + BRANCH_WINDOW][:1] if len(steps) >= 3 else []
     leaving = [s for s in first.suggestions if s.removed and not picked.removed and s.delta_aic < picked.delta_aic - DELTA_AIC_MIN and all(s is not t for t in alternatives)] if len(steps) >= 2 else []
@@ -294,9 +304,13 @@ def _second_path(steps: list[RefinementStep], picked, limit: int, diagnosed, say
     cheaper = _cheaper_starts(steps, picked, alternatives + hidden + leaving + keeping)
     steps = finished(steps, "")
     starts = [alt for alt in alternatives + sorted(hidden, key=lambda c: c.delta_aic)[:1] + leaving[:1] + keeping + cheaper if effect_count(alt.effect) <= limit]  # (a pair over the limit would start no path)
+    # a start that is the first choice or an earlier start under other names would only repeat that path
+    starts = _distinct_networks(starts, picked)
     for label, alt in zip(("second path", "third path", "fourth path", "fifth path", "sixth path", "seventh path"), starts):
         other = finished(_greedy(steps[:1], alt, limit, diagnosed, say, f"{label}, "), f"{label}: ")
         a, b = steps[-1].fit, other[-1].fit
+        if _same_network(a, b) and not b.aic < a.aic - DELTA_AIC_MIN:  # one model, under the same or other names, no better fitted: nothing to compare, the first-found stays
+            continue
         tie = abs(b.aic - a.aic) <= DELTA_AIC_MIN and b.n_params == a.n_params
         kept_more = _elements_left_out(other) < _elements_left_out(steps)
         better = b.aic < a.aic - DELTA_AIC_MIN or (b.aic <= a.aic + DELTA_AIC_MIN and b.n_params < a.n_params) or (tie and kept_more)
@@ -314,6 +328,57 @@ def _second_path(steps: list[RefinementStep], picked, limit: int, diagnosed, say
         if better:
             steps = other
     return steps
+
+
+def _network(fit) -> str | None:
+    """``fit``'s circuit without its element names (`Circuit.structure_key`), or None for a fit
+    without a circuit."""
+    circuit = getattr(fit, "circuit", None)
+    return circuit.structure_key(getattr(fit, "registry", DEFAULT_REGISTRY)) if isinstance(circuit, Circuit) else None
+
+
+def _same_network(a, b) -> bool:
+    """Whether the fits ``a`` and ``b`` are of one circuit, under the same or other element
+    names (`Circuit.structure_key`: the elements' kinds and how they connect, series and
+    parallel parts in any order)."""
+    key = _network(a)
+    return key is not None and key == _network(b)
+
+
+def _distinct_networks(suggestions: list, picked=None) -> list:
+    """``suggestions`` less each one whose circuit is ``picked``'s or an earlier one's, under
+    the same or other names (`_same_network`): the first-found stays."""
+    seen, out = [picked.fit] if picked is not None else [], []
+    for s in suggestions:
+        if not any(_same_network(s.fit, f) for f in seen):
+            seen.append(s.fit)
+            out.append(s)
+    return out
+
+
+def _structure_order(circuit: Circuit, registry: Registry) -> list[str]:
+    """The element names of ``circuit`` with the parts of each node sorted by their
+    `Circuit.structure_key`: two circuits of one key list their elements in corresponding order."""
+    if isinstance(circuit, Element):
+        return [circuit.name]
+    return [n for c in sorted(circuit.children, key=lambda c: c.structure_key(registry)) for n in _structure_order(c, registry)]
+
+
+def _renaming(a, b) -> dict[str, str]:
+    """Element name in ``a``'s circuit → the corresponding name in ``b``'s, when the fits ``a``
+    and ``b`` are of one circuit under other names (`_same_network`); else empty."""
+    if a is b or not _same_network(a, b) or str(a.circuit) == str(b.circuit):
+        return {}
+    registry = getattr(a, "registry", DEFAULT_REGISTRY)
+    return {x: y for x, y in zip(_structure_order(a.circuit, registry), _structure_order(b.circuit, registry)) if x != y}
+
+
+def _renamed_text(text: str | None, names: dict[str, str]) -> str | None:
+    """``text`` (a step's ``added``, e.g. ``R_EP || C_EP``) with the element names in ``names``
+    replaced."""
+    if not text or not names:
+        return text
+    return re.sub(r"[A-Za-z][A-Za-z0-9_]*", lambda m: names.get(m.group(0), m.group(0)), text)
 
 
 def _kept_in_place(first: Diagnosis, picked, taken) -> list:
@@ -633,16 +698,27 @@ def refine(
     # before, at a fit at least as good, is not diagnosed again, and a fit refitted from
     # scratch before is not refitted again; the greedy steps from it are then the same
     diagnoses: dict[str, Diagnosis] = {}
+    networks: dict[str, Diagnosis] = {}  # the same, by `Circuit.structure_key`: a path may meet a model under other names
     refits: dict[int, tuple] = {}
 
-    def diagnosed(current: FitResult, shape) -> Diagnosis:
+    def diagnosed(current: FitResult, shape, renamed: bool = False) -> Diagnosis:
         known = diagnoses.get(str(current.circuit))
+        network = current.circuit.structure_key(current.registry)
+        if known is None and renamed:  # (the first-found names stay; `_greedy` goes on in them)
+            known = networks.get(network)
         if known is not None and known.baseline.chi2 <= current.chi2 * (1 + REUSE_CHI2_RTOL):
             return known
         # every step through one compiled solver and on the first step's points (mask=False)
         d = diagnose(current, data=ds, effects=effects, kk=kk, noise=noise, n_starts=n_starts, max_steps=solver_steps, seed=seed, drt_evidence=drt_evidence, solver_shape=shape, mask=False)
         diagnoses[str(current.circuit)] = d
+        if network not in networks or networks[network].baseline.chi2 > current.chi2 * (1 + REUSE_CHI2_RTOL):  # (a better fit of it replaces the first)
+            networks[network] = d
         return d
+
+    def on_path(current: FitResult, shape) -> Diagnosis:
+        """`diagnosed`, also reusing the diagnosis of the model under other names: a path
+        that reaches it goes on as the path that found it did."""
+        return diagnosed(current, shape, renamed=True)
 
     def reproduced(used, fit, **options):
         if id(fit) not in refits or refits[id(fit)][0] is not fit:
@@ -660,8 +736,8 @@ def refine(
         return _finish(path, used, n_starts=n_starts, seed=seed, say=say, notes=notes, label=label, reproduced=reproduced)
 
     picked = _best_within(first, limit)
-    steps = _greedy([RefinementStep(first.baseline, None, None, first)], picked, limit, diagnosed, say, "")
-    steps = _second_path(steps, picked, limit, diagnosed, say, notes, finished)
+    steps = _greedy([RefinementStep(first.baseline, None, None, first)], picked, limit, on_path, say, "")
+    steps = _second_path(steps, picked, limit, on_path, say, notes, finished)
     steps = _simplified(steps, used, n_starts=n_starts, seed=seed, diagnosed=diagnosed, reproduced=reproduced, say=say, notes=notes)
     steps = _pruned(steps, used, n_starts=n_starts, seed=seed, diagnosed=diagnosed, reproduced=reproduced, say=say, notes=notes)
     last = steps[-1].diagnosis
