@@ -106,3 +106,19 @@ def test_a_dimension_named_like_a_row_key_does_not_clobber_it(stack, dim):
     for row, (r0, r1, c1) in zip(rows, TRUTHS):
         assert row["values"] == pytest.approx({"R0": r0, "R1": r1, "C1": c1}, rel=0.02)
         assert isinstance(row["warnings"], list) and row["warnings"] == list(result.warnings.get(f"{dim}={row['labels'][dim]}", ()))
+
+
+@pytest.mark.parametrize("dim", ["stderr", "rms_rel", "param"])
+def test_a_dimension_named_like_a_result_variable_is_refused_before_fitting(stack, dim, tmp_path, capsys):
+    """A batch over ``stderr`` or ``rms_rel`` had failed inside the fit with xarray's "variables
+    {'stderr'} are found in both data_vars and coords"; over ``param`` it built a result with
+    that dimension twice. Now one message names the dimension, and the CLI exits with 2."""
+    data = stack.isel(cycle=slice(0, 2)).rename(cycle=dim).assign_coords({dim: [7, 8]})
+    with pytest.raises(ix.DataError, match=f"batch dimension\\(s\\) '{dim}' have the name of a fit result's variable.*rename"):
+        ix.fit(MODEL, data)
+    path = tmp_path / "clash.nc"
+    ix.save(data, path)
+    capsys.readouterr()
+    assert main(["fit", str(path), "--model", MODEL, "--json"]) == 2
+    err = capsys.readouterr().err
+    assert str(path) in err and f"'{dim}'" in err and "Traceback" not in err

@@ -153,3 +153,17 @@ def test_written_files_get_the_usual_permissions(tmp_path):
     finally:
         os.umask(umask)
     assert (tmp_path / "p.csv").stat().st_mode & 0o777 == 0o644
+
+
+def test_a_saved_spectrum_read_back_names_its_file(tmp_path):
+    """A spectrum built in a session (source "memory") and saved: read back, its errors name the
+    file (they had said "memory: ..."), and where it came from stays as ``saved_from``."""
+    f = np.geomspace(1, 1e4, 10)
+    ds = ix.make_spectrum(f, 10 + 100 / (1 + 1j * f / 100))
+    assert ds.attrs["source"] == "memory"
+    path = tmp_path / "spec.nc"
+    ix.save(ds, path)
+    back = ix.load(path)
+    assert back.attrs["source"] == str(path) and back.attrs["saved_from"] == "memory"
+    with pytest.raises(ix.DataError, match=str(path)):
+        ix.fit("R0 + R1 || C1", back.assign_coords(frequency=-back["frequency"]))

@@ -191,6 +191,13 @@ def read_netcdf(path: str | Path) -> xr.Dataset:
         with xr.open_dataset(path, engine="scipy", mmap=False) as raw:  # read, not mapped: closed cleanly when decoding fails
             ds = decode_dataset(raw.load())
         ds.encoding["source"] = str(path)
+        if "Z" in ds.variables and "impedax_kind" not in ds.attrs:  # (a spectrum, not a saved result)
+            # a spectrum's errors name the file it is read from, not where it came from before
+            # it was saved ("memory" for one built in a session); that stays as ``saved_from``
+            saved = ds.attrs.get("source")
+            if saved is not None and str(saved) != str(path):
+                ds.attrs["saved_from"] = saved
+            ds.attrs["source"] = str(path)
     except DataError as exc:
         raise DataError(str(exc), path=path) from None
     except (OSError, ValueError, TypeError, IndexError, KeyError, AttributeError, OverflowError, MemoryError, RecursionError) as exc:

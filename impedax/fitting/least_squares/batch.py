@@ -19,7 +19,7 @@ import xarray as xr
 from ...arguments import unknown_parameter
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ...data import concise_repr, unit_text
-from ...errors import ParameterError
+from ...errors import DataError, ParameterError
 from ...warning_groups import grouped_warnings, warning_kinds
 from ..parameters import ParameterTable
 from ..problem import residual_scale, weights
@@ -683,9 +683,24 @@ def data_notes(freq, z, z_model, sigma, weighting: str, source: str, kk_misfits:
     return [tuple(weighted[i]) + non_passive_notes(freq, z[i], None if sigma is None else sigma[i]) + misfit[i] for i in range(b)]
 
 
+RESULT_NAMES = frozenset({
+    "param", "value", "stderr", "linearised_stderr", "fixed", "lower", "upper", "at_bound", "chi2", "chi2_red", "aic", "bic", "rms_rel", "converged", "n_evaluations", "Z_model", "sigma",
+})
+"""The names of a batch result's dimension and variables (`fit_batch`'s Dataset): a batch
+dimension of one of these names is refused, where xarray had failed deep inside the fit (or, for
+``param``, built a Dataset with that dimension twice)."""
+
+
 def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weighting: str, n_starts: int, max_steps: int, seed: int, registry: Registry = DEFAULT_REGISTRY, source: str = "data", t0: float | None = None) -> BatchFitResult:
     t0 = time.perf_counter() if t0 is None else t0
     extra = tuple(d for d in data["Z"].dims if d != "frequency")
+    clashing = [str(d) for d in extra if d in RESULT_NAMES]
+    if clashing:
+        raise DataError(
+            f"the batch dimension(s) {', '.join(repr(d) for d in clashing)} have the name of a fit result's variable ({', '.join(sorted(RESULT_NAMES))}); "
+            f"rename them first, e.g. data.rename({clashing[0]}='{clashing[0]}_label')",
+            path=source,
+        )
     freq = np.asarray(data["frequency"].values, float)
     names = table.names
     n_par, n_freq = len(names), freq.size
