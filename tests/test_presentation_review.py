@@ -207,6 +207,22 @@ def test_refine_text_gives_the_command_for_init():
     assert "2 point(s)" in masked
 
 
+@pytest.mark.parametrize("scratch_aic,says", [(-1000.0 + 0.15, "which the data do not tell apart"), (-1000.0 + 25.0, "; started from the refinement's values it reaches")])
+def test_a_fit_from_scratch_at_an_optimum_as_good_is_not_said_to_stop_short(monkeypatch, scratch_aic, says):
+    """A 13-parameter battery model reached two optima at ΔAIC 0.15 and the note had said a fit
+    from scratch "stops short": within ΔAIC 10 the note says the data do not tell them apart
+    (stand-in fits: χ² and AIC only)."""
+    from impedax.fitting.diagnosis import refinement as rf
+
+    last = SimpleNamespace(model="R0 + R1 || CPE1", values={"R0": 1.0}, fixed={"R0": False}, circuit=None, weighting="modulus", registry=None, chi2=1.0, aic=-1000.0, rms_rel=0.010)
+    scratch = SimpleNamespace(chi2=1.001, aic=scratch_aic, rms_rel=0.0101)
+    warm = SimpleNamespace(chi2=1.0, aic=-1000.0, rms_rel=0.010)
+    monkeypatch.setattr(rf, "fit", lambda *a, init=None, **k: warm if init is not None else scratch)
+    monkeypatch.setattr(rf, "undetermined_parameters", lambda f: set())
+    kept, note = rf._reproduced(None, last, n_starts=1, seed=0)
+    assert kept is warm and says in note and "(pass init=)" in note
+
+
 @pytest.mark.parametrize("label", ["not KK-consistent"])
 def test_kk_style_shading_after_legend_is_named(label):
     from impedax.plotting import plot_bode, shade_bands

@@ -672,7 +672,7 @@ def test_a_finger_lacking_its_series_resistance_and_electrode_polarization_ends_
 def test_another_paths_note_does_not_ask_for_the_final_fits_values(tmp_path, capsys):
     """The shipped SYNTHETIC finger (session 1, trial 1) refined from Meyer's circuit: two other
     paths' fits from scratch stopped short of their own models, and their notes had made the CLI
-    print "to reproduce the final fit from its values (a fit from scratch stops short of it)",
+    print "to reproduce the final fit from its values (a fit from scratch stops short of it)" (now "ends at another optimum"),
     while `impedax fit` of the final model from scratch reaches the same rms_rel. The text now
     names the final fit's undetermined C_i, which it had hidden (the JSON listed it)."""
     from impedax.models import example_spectra

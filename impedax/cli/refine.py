@@ -58,8 +58,8 @@ def run(args) -> int:
 
 def reproduce_line(refinement, args=None) -> str | None:
     """The ``impedax fit`` command that reproduces the final fit from its values (on the run's
-    file and points: `fit_command`), when a fit of the final model from scratch stops short of
-    it (``Refinement.final_from_values``; a note of another path said so of its own model, and
+    file and points: `fit_command`), when a fit of the final model from scratch ends at another
+    optimum (``Refinement.final_from_values``; a note of another path said so of its own model, and
     had printed this line), else None."""
     from .common import fit_command
 
@@ -67,7 +67,7 @@ def reproduce_line(refinement, args=None) -> str | None:
         return None
     final = refinement.final
     starts = " ".join(f"--{'fix' if final.fixed[k] else 'init'} {k}={v:.6g}" for k, v in final.values.items())
-    line = f"to reproduce the final fit from its values (a fit from scratch stops short of it): {fit_command(args)} --model '{final.model}' {starts}"
+    line = f"to reproduce the final fit from its values (a fit from scratch ends at another optimum; the notes give both): {fit_command(args)} --model '{final.model}' {starts}"
     masked = len(refinement.masked_points)
     if masked:  # impedax fit has no option to leave points out
         line += f" (impedax fit keeps the {masked} point(s) the refinement left out, so its rms_rel differs)"

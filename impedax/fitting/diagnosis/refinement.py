@@ -77,7 +77,7 @@ class Refinement:
     verdict: Verdict
     notes: tuple[str, ...] = ()
     masked_points: tuple[float, ...] = ()  # frequencies [Hz] left out of every fit (KK-flagged, or Re Z < 0)
-    final_from_values: bool = False  # a fit of the final model from scratch stops short of the final fit (`_reproduced`): reproduce it from its values
+    final_from_values: bool = False  # a fit of the final model from scratch ends at another optimum than the final fit (`_reproduced`): reproduce it from its values
 
     def __post_init__(self):
         object.__setattr__(self, "verdict", Verdict(self.verdict))
@@ -185,6 +185,10 @@ def _reproduced(ds: xr.Dataset, last: FitResult, *, n_starts: int, seed: int) ->
     does on the same points); when the loop's warm fit is better, or as good (χ² within 1e-6)
     with fewer undetermined parameters, `fit` started from it.
 
+    When the two optima are within `DELTA_AIC_MIN` of each other (a 13-parameter battery model
+    reached two at ΔAIC 0.15) the note says the data do not tell them apart, not that the fit
+    from scratch stops short.
+
     A parameter running to a natural bound (a resistor running open) can stop short of it from
     scratch: on CHInstruments' spectrum R1 stopped at 1e14 Ω, leaving R1, C1 and R_relax2
     undetermined, where the loop's fit reached 5e259 Ω (at the bound, by which
@@ -199,6 +203,12 @@ def _reproduced(ds: xr.Dataset, last: FitResult, *, n_starts: int, seed: int) ->
     if loose and warm.chi2 <= scratch.chi2 * (1 + 1e-6) and len(undetermined_parameters(warm)) < len(undetermined_parameters(scratch)):
         return warm, f"fit of {last.model} from scratch reaches rms_rel {scratch.rms_rel * 100:.3g} % with {', '.join(sorted(loose))} undetermined; started from the refinement's values it reaches {warm.rms_rel * 100:.3g} % with every parameter it had determined (pass init=)"
     if warm.chi2 <= scratch.chi2:
+        gap = scratch.aic - warm.aic
+        if gap <= DELTA_AIC_MIN:  # (two optima the data do not tell apart: the scratch fit does not stop short)
+            return warm, (
+                f"fit of {last.model} from scratch reaches rms_rel {scratch.rms_rel * 100:.3g} % at other values, which the data do not tell apart from the "
+                f"refinement's {warm.rms_rel * 100:.3g} % (ΔAIC {gap:.2g}); the refinement's values are reported (pass init=)"
+            )
         return warm, f"fit of {last.model} from scratch reaches rms_rel {scratch.rms_rel * 100:.3g} %; started from the refinement's values it reaches {warm.rms_rel * 100:.3g} % (pass init=)"
     return scratch, None
 
