@@ -5,7 +5,6 @@ so the result reproduces with ``impedax fit`` of the final model string."""
 from __future__ import annotations
 
 import math
-import re
 import warnings
 from dataclasses import dataclass, replace
 from typing import Callable
@@ -252,9 +251,7 @@ def _greedy(steps: list[RefinementStep], best, limit: int, diagnosed, say, label
     while best is not None and added + effect_count(best.effect) <= limit:
         say(f"{label}step {len(steps)}: diagnosing {best.fit.model}")
         d = diagnosed(best.fit, steps[-1].diagnosis.solver_shape)
-        # a path that met another's model under other names goes on with the first-found names
-        names = _renaming(best.fit, d.baseline)
-        steps.append(RefinementStep(d.baseline, _renamed_text(best.added, names), best.effect, d, tuple(best.removed)))
+        steps.append(RefinementStep(d.baseline, best.added, best.effect, d, tuple(best.removed)))
         added += effect_count(best.effect)
         best = _best_within(d, limit - added)
     return steps
@@ -299,8 +296,9 @@ def _second_path(steps: list[RefinementStep], picked, limit: int, diagnosed, say
     A circuit and a renamed copy of it (`Circuit.structure_key`: the same elements connected
     alike, series and parallel parts in any order) are one model: a start that is the first
     choice's or an earlier start's circuit under other names starts no path, and a path that
-    ends at the kept end's circuit, fitted no better by AIC, is not compared with it (no note;
-    the first-found names stay). From C_gap on the SYNTHETIC Sirin remainder, the path of C_gap → CPE_gap reached
+    ends at the kept end's circuit is not compared with it (no note; the first-found names
+    stay) unless the rules below keep it (a better fit, or a tie that keeps more of the user's
+    elements). From C_gap on the SYNTHETIC Sirin remainder, the path of C_gap → CPE_gap reached
     R_EP ∥ C_EP ∥ CPE_gap, the kept R_EP ∥ CPE_EP ∥ C_gap, and was noted as a tie."""
     first = steps[0].diagnosis
     alternatives = [s for s in first.suggestions if (placement(s.where) != placement(picked.where) or s.effect != picked.effect) and s.delta_aic <= picked.delta_aic + BRANCH_WINDOW][:1] if len(steps) >= 3 else []
@@ -319,11 +317,11 @@ def _second_path(steps: list[RefinementStep], picked, limit: int, diagnosed, say
     for label, alt in zip(("second path", "third path", "fourth path", "fifth path", "sixth path", "seventh path"), starts):
         other = finished(_greedy(steps[:1], alt, limit, diagnosed, say, f"{label}, "), f"{label}: ")
         a, b = steps[-1].fit, other[-1].fit
-        if _same_network(a, b) and not b.aic < a.aic - DELTA_AIC_MIN:  # one model, under the same or other names, no better fitted: nothing to compare, the first-found stays
-            continue
         tie = abs(b.aic - a.aic) <= DELTA_AIC_MIN and b.n_params == a.n_params
         kept_more = _elements_left_out(other) < _elements_left_out(steps)
         better = b.aic < a.aic - DELTA_AIC_MIN or (b.aic <= a.aic + DELTA_AIC_MIN and b.n_params < a.n_params) or (tie and kept_more)
+        if _same_network(a, b) and not better:  # one model, under the same or other names, and not to be kept: nothing to compare, the first-found stays
+            continue
         # more parameters are kept by the rules that add one: AIC and a quarter of the noise variance
         slight = better and b.n_params > a.n_params and noise_variance_explained(a, b, first) < NOISE_FRACTION_MIN
         better = better and not slight
@@ -357,38 +355,14 @@ def _same_network(a, b) -> bool:
 
 def _distinct_networks(suggestions: list, picked=None) -> list:
     """``suggestions`` less each one whose circuit is ``picked``'s or an earlier one's, under
-    the same or other names (`_same_network`): the first-found stays."""
-    seen, out = [picked.fit] if picked is not None else [], []
+    the same or other names (`_same_network`), unless it leaves out fewer of the user's
+    elements (its ``removed`` a proper subset: a path in the user's names): the first-found stays."""
+    seen, out = [picked] if picked is not None else [], []
     for s in suggestions:
-        if not any(_same_network(s.fit, f) for f in seen):
-            seen.append(s.fit)
+        if not any(_same_network(s.fit, t.fit) and not set(s.removed) < set(t.removed) for t in seen):
+            seen.append(s)
             out.append(s)
     return out
-
-
-def _structure_order(circuit: Circuit, registry: Registry) -> list[str]:
-    """The element names of ``circuit`` with the parts of each node sorted by their
-    `Circuit.structure_key`: two circuits of one key list their elements in corresponding order."""
-    if isinstance(circuit, Element):
-        return [circuit.name]
-    return [n for c in sorted(circuit.children, key=lambda c: c.structure_key(registry)) for n in _structure_order(c, registry)]
-
-
-def _renaming(a, b) -> dict[str, str]:
-    """Element name in ``a``'s circuit → the corresponding name in ``b``'s, when the fits ``a``
-    and ``b`` are of one circuit under other names (`_same_network`); else empty."""
-    if a is b or not _same_network(a, b) or str(a.circuit) == str(b.circuit):
-        return {}
-    registry = getattr(a, "registry", DEFAULT_REGISTRY)
-    return {x: y for x, y in zip(_structure_order(a.circuit, registry), _structure_order(b.circuit, registry)) if x != y}
-
-
-def _renamed_text(text: str | None, names: dict[str, str]) -> str | None:
-    """``text`` (a step's ``added``, e.g. ``R_EP || C_EP``) with the element names in ``names``
-    replaced."""
-    if not text or not names:
-        return text
-    return re.sub(r"[A-Za-z][A-Za-z0-9_]*", lambda m: names.get(m.group(0), m.group(0)), text)
 
 
 def _kept_in_place(first: Diagnosis, picked, taken) -> list:
@@ -708,27 +682,16 @@ def refine(
     # before, at a fit at least as good, is not diagnosed again, and a fit refitted from
     # scratch before is not refitted again; the greedy steps from it are then the same
     diagnoses: dict[str, Diagnosis] = {}
-    networks: dict[str, Diagnosis] = {}  # the same, by `Circuit.structure_key`: a path may meet a model under other names
     refits: dict[int, tuple] = {}
 
-    def diagnosed(current: FitResult, shape, renamed: bool = False) -> Diagnosis:
+    def diagnosed(current: FitResult, shape) -> Diagnosis:
         known = diagnoses.get(str(current.circuit))
-        network = current.circuit.structure_key(current.registry)
-        if known is None and renamed:  # (the first-found names stay; `_greedy` goes on in them)
-            known = networks.get(network)
         if known is not None and known.baseline.chi2 <= current.chi2 * (1 + REUSE_CHI2_RTOL):
             return known
         # every step through one compiled solver and on the first step's points (mask=False)
         d = diagnose(current, data=ds, effects=effects, kk=kk, noise=noise, n_starts=n_starts, max_steps=solver_steps, seed=seed, drt_evidence=drt_evidence, solver_shape=shape, mask=False)
         diagnoses[str(current.circuit)] = d
-        if network not in networks or networks[network].baseline.chi2 > current.chi2 * (1 + REUSE_CHI2_RTOL):  # (a better fit of it replaces the first)
-            networks[network] = d
         return d
-
-    def on_path(current: FitResult, shape) -> Diagnosis:
-        """`diagnosed`, also reusing the diagnosis of the model under other names: a path
-        that reaches it goes on as the path that found it did."""
-        return diagnosed(current, shape, renamed=True)
 
     def reproduced(used, fit, **options):
         if id(fit) not in refits or refits[id(fit)][0] is not fit:
@@ -746,8 +709,8 @@ def refine(
         return _finish(path, used, n_starts=n_starts, seed=seed, say=say, notes=notes, label=label, reproduced=reproduced)
 
     picked = _best_within(first, limit)
-    steps = _greedy([RefinementStep(first.baseline, None, None, first)], picked, limit, on_path, say, "")
-    steps = _second_path(steps, picked, limit, on_path, say, notes, finished)
+    steps = _greedy([RefinementStep(first.baseline, None, None, first)], picked, limit, diagnosed, say, "")
+    steps = _second_path(steps, picked, limit, diagnosed, say, notes, finished)
     steps = _simplified(steps, used, n_starts=n_starts, seed=seed, diagnosed=diagnosed, reproduced=reproduced, say=say, notes=notes)
     steps = _pruned(steps, used, n_starts=n_starts, seed=seed, diagnosed=diagnosed, reproduced=reproduced, say=say, notes=notes)
     last = steps[-1].diagnosis
