@@ -33,7 +33,7 @@ def case_data(name, rel_noise=0.01, seed=1, vary=False):
 
 # --- the catalog -------------------------------------------------------------------------------
 
-EFFECT_IDS = {"series_resistance", "series_inductance", "stray_capacitance", "constant_phase", "extra_relaxation", "diffusion", "electrode_polarization"}
+EFFECT_IDS = {"series_resistance", "series_inductance", "stray_capacitance", "constant_phase", "extra_relaxation", "diffusion", "electrode_polarization", "inductive_loop"}
 
 
 def test_catalog_ids_and_specs():
@@ -88,6 +88,43 @@ def test_no_second_diffusion_element_in_series_with_one(text, added):
         elif p.where.startswith("in series with"):
             found.add(p.where.split()[3])
     assert found == added
+
+
+def _loop_context(r_loop):
+    """SYNTHETIC: R0 + R1 ∥ C1 with, for a finite ``r_loop``, a branch r_loop + jωL across R1
+    (written here: Y = 1/R1 + jωC1 + 1/(r_loop + jωL), L = r_loop · 0.5 s), against the model
+    R0 + R1 ∥ C1 at the values without the loop."""
+    circuit = ix.parse("R0 + R1 || C1")
+    f = np.logspace(-2, 5, 40)
+    w = 2 * np.pi * f
+    model = 10 + 1 / (1 / 500 + 1j * w * 1e-5)
+    data = model if r_loop is None else 10 + 1 / (1 / 500 + 1j * w * 1e-5 + 1 / (r_loop + 1j * w * r_loop * 0.5))
+    return circuit, BaselineContext(circuit, {"R0": 10.0, "R1": 500.0, "C1": 1e-5}, f, data, model)
+
+
+def test_an_inductive_loop_is_proposed_across_the_arc_resistor_only_on_the_loop_side():
+    circuit, ctx = _loop_context(1500.0)
+    (p,) = ix.DEFAULT_EFFECTS["inductive_loop"].propose(circuit, ctx)
+    assert str(p.circuit) == "R0 + R1 || (R_loop + L_loop) || C1" and p.added == "R_loop + L_loop"
+    # the first start: R1 ∥ R_loop at the data's low-end Z' (375 Ω at DC: R_loop near 1.5 kΩ),
+    # L_loop = R_loop / ω at the peak of Z''_data − Z''_model (the loop's 1/(2π·0.5 s) = 0.32 Hz, within a decade)
+    r_loop, inductance = p.starts[0]["R_loop"], p.starts[0]["L_loop"]
+    assert 1000 < r_loop < 2500
+    assert 0.03 < r_loop / inductance / (2 * np.pi) < 3
+    # nothing on the capacitive side (the data above the model at the low end), nor without a misfit
+    _, same = _loop_context(None)
+    assert ix.DEFAULT_EFFECTS["inductive_loop"].propose(circuit, same) == []
+    above = BaselineContext(circuit, ctx.values, ctx.frequency, 2 * ctx.z_model - ctx.z_data, ctx.z_model)
+    assert ix.DEFAULT_EFFECTS["inductive_loop"].propose(circuit, above) == []
+
+
+def test_a_loop_outside_the_band_is_not_plausible():
+    circuit, ctx = _loop_context(1500.0)
+    (p,) = ix.DEFAULT_EFFECTS["inductive_loop"].propose(circuit, ctx)
+    plausible = ix.DEFAULT_EFFECTS["inductive_loop"].plausible
+    assert plausible({"R_loop": 1500.0, "L_loop": 750.0}, p) is None  # 0.32 Hz, inside 10 mHz–100 kHz
+    assert "outside the band" in plausible({"R_loop": 1500.0, "L_loop": 1e-6}, p)  # 239 MHz
+    assert "outside the band" in plausible({"R_loop": 1500.0, "L_loop": 1e6}, p)  # 0.24 mHz
 
 
 def test_gap_capacitance_gets_the_sirin_ep_branch():

@@ -6,7 +6,7 @@ circuit change in words). ``propose(circuit, context)`` returns one `Proposal` p
 placement in the given circuit: the augmented circuit (a valid impedax circuit) plus warm
 starts — the baseline fit's values and data-driven guesses for the new element (from the misfit
 ΔZ = Z_data − Z_model or ΔY = 1/Z_data − 1/Z_model where the effect acts). The types live in
-`impedax.fitting.diagnosis.catalog`; docs/diagnosis.md, section 4, describes the seven effects.
+`impedax.fitting.diagnosis.catalog`; docs/diagnosis.md, section 4, describes the eight effects.
 """
 
 from __future__ import annotations
@@ -468,6 +468,35 @@ def _electrode_polarization(circuit: Circuit, ctx: BaselineContext) -> list[Prop
     return out
 
 
+def _inductive_loop(circuit: Circuit, ctx: BaselineContext) -> list[Proposal]:
+    """A low-frequency inductive loop (adsorbed intermediates, corrosion): a branch
+    R_loop + L_loop across an arc's resistor, R → R ∥ (R_loop + L_loop), docs/physics.md
+    "Inductive loop". Below ω = R_loop/L_loop the branch conducts and the impedance falls from
+    R to R·R_loop/(R + R_loop) through positive Z''. Proposed only when the data at the band's
+    low end lie below the model's real part and above its imaginary part (the loop's side);
+    warm starts: R_loop from that drop in Z', L_loop = R_loop/ω at the peak of Z''_data − Z''_model
+    and a decade either side."""
+    lo, _ = ctx.ends()
+    dz = ctx.z_data - ctx.z_model
+    if not (np.mean(dz[lo].imag) > 0 and np.mean(dz[lo].real) < 0):
+        return []
+    drop = -float(np.mean(dz[lo].real))
+    w_peak = float(ctx.omega[int(np.argmax(dz.imag))])
+    band = (float(ctx.frequency[0]), float(ctx.frequency[-1]))
+    out = []
+    for r in _arc_resistors(circuit, ctx.registry):
+        r_value = float(ctx.values.get(r, np.nan))
+        if not (np.isfinite(r_value) and r_value > 0):
+            continue
+        kept = max(r_value - drop, 0.05 * r_value)  # R ∥ R_loop at DC
+        r_loop = _positive(r_value * kept / (r_value - kept), 1e-3 * r_value)
+        r_name, l_name = ctx.fresh("R", "loop"), ctx.fresh("L", "loop")
+        starts = tuple(ctx.start(**{r_name: r_loop, l_name: r_loop / w_peak * s}) for s in (1.0, 0.1, 10.0))
+        new = circuit.replace(r, Parallel((Element("R", r), Series((Element("R", r_name), Element("L", l_name))))))
+        out.append(Proposal("inductive_loop", new, f"{r_name} + {l_name}", f"across {r} (a low-frequency inductive loop)", starts, band=band))
+    return out
+
+
 # --- plausibility of fitted values ------------------------------------------------------------
 
 STRAY_CAPACITANCE_MAX = 1e-9
@@ -488,6 +517,21 @@ def _lead_plausible(values, p: Proposal) -> str | None:
     inductance = values.get(p.added, np.nan)
     if np.isfinite(inductance) and inductance > LEAD_INDUCTANCE_MAX:
         return f"{p.added} = {inductance:.3g} H is not the inductance of leads (about a µH per metre, at most {LEAD_INDUCTANCE_MAX:.0e} H): an inductive process of the sample, not the wiring"
+    return None
+
+
+def _loop_plausible(values, p: Proposal) -> str | None:
+    """The loop's time constant L_loop/R_loop must lie within the band: far below it the branch
+    is a plain resistor across R (the data see no loop), far above it an open branch."""
+    r_name, l_name = p.added.split(" + ")
+    r, inductance = values.get(r_name, np.nan), values.get(l_name, np.nan)
+    if not (np.isfinite(r) and np.isfinite(inductance) and r > 0 and inductance > 0):
+        return None
+    f_loop = r / (2 * np.pi * inductance)
+    lo, hi = p.band
+    if not lo / 10 <= f_loop <= hi:
+        return (f"{l_name}/{r_name} = {inductance / r:.3g} s puts the loop at {f_loop:.3g} Hz, outside the band ({lo:.3g}–{hi:.3g} Hz): "
+                "the data see a resistance or an open branch there, not an inductive loop")
     return None
 
 
@@ -572,6 +616,15 @@ DEFAULT_EFFECTS = EffectCatalog(
             "below a crossover frequency the data are resistive (and |Z| lower) while the model stays capacitive",
             "put a leakage branch R_EP, R_EP ∥ CPE_EP (or ∥ C_EP) in parallel across a capacitive element, or a CPE_EP beside a leak R_EP ∥ C found before",
             _electrode_polarization,
+        ),
+        Effect(
+            "inductive_loop",
+            "low-frequency inductive loop",
+            "a slow process that follows the potential with a lag (adsorbed intermediates, corrosion, a fuel cell's or battery's side reaction) makes the current lead: an inductive loop below the arcs",
+            "at the low end the data fall below the model's Z' while Z'' turns positive (the Nyquist plot loops below the real axis)",
+            "put R_loop + L_loop in parallel across an arc's resistor: R → R ∥ (R_loop + L_loop)",
+            _inductive_loop,
+            _loop_plausible,
         ),
     )
 )
