@@ -111,6 +111,10 @@ def test_an_inductive_loop_is_proposed_across_the_arc_resistor_only_on_the_loop_
     r_loop, inductance = p.starts[0]["R_loop"], p.starts[0]["L_loop"]
     assert 1000 < r_loop < 2500
     assert 0.03 < r_loop / inductance / (2 * np.pi) < 3
+    # a resistor run open (1e200 Ω: the drop is nothing beside it) still gets finite starts
+    opened = BaselineContext(circuit, {**ctx.values, "R1": 1e200}, ctx.frequency, ctx.z_data, ctx.z_model)
+    (p,) = ix.DEFAULT_EFFECTS["inductive_loop"].propose(circuit, opened)
+    assert all(np.isfinite(v) and v > 0 for start in p.starts for v in start.values())
     # nothing on the capacitive side (the data above the model at the low end), nor without a misfit
     _, same = _loop_context(None)
     assert ix.DEFAULT_EFFECTS["inductive_loop"].propose(circuit, same) == []

@@ -488,8 +488,8 @@ def _inductive_loop(circuit: Circuit, ctx: BaselineContext) -> list[Proposal]:
         r_value = float(ctx.values.get(r, np.nan))
         if not (np.isfinite(r_value) and r_value > 0):
             continue
-        kept = max(r_value - drop, 0.05 * r_value)  # R ∥ R_loop at DC
-        r_loop = _positive(r_value * kept / (r_value - kept), 1e-3 * r_value)
+        excess = max(min(drop, 0.95 * r_value), 1e-6 * r_value)  # R − R ∥ R_loop at DC (a resistor run open: next to none of it)
+        r_loop = _positive(r_value * (r_value - excess) / excess, 1e-3 * r_value)
         r_name, l_name = ctx.fresh("R", "loop"), ctx.fresh("L", "loop")
         starts = tuple(ctx.start(**{r_name: r_loop, l_name: r_loop / w_peak * s}) for s in (1.0, 0.1, 10.0))
         new = circuit.replace(r, Parallel((Element("R", r), Series((Element("R", r_name), Element("L", l_name))))))
