@@ -246,17 +246,6 @@ TEMPLATES: tuple[Template, ...] = (
              lambda f, p: p["R0"] + rq(f, p["R1"], p["Q1"], p["a1"]) + rq(f, p["R2"], p["Q2"], p["a2"]) + ws(f, p["Rd"], p["tau"]),
              {"R0": 10.0, "R1": 400.0, "Q1": 1e-7, "a1": 0.9, "R2": 1e3, "Q2": 1e-5, "a2": 0.8, "Rd": 800.0, "tau": 10.0}, (0.001, 1e6), V_SINGLE,
              _s({"Rd": 200.0}, {"Rd": 800.0}, {"Rd": 4e3})),
-    # ---- inductive loop (R → R ∥ (R_L + jωL), the loop at ω = R_L/L) --------------------------------
-    Template("inductive_loop/rc", "R0 + R1 || C1", ("inductive_loop",), lambda f, p: p["R0"] + par(p["R1"], cap(f, p["C1"]), p["RL"] + ind(f, p["L"])),
-             {"R0": 10.0, "R1": 500.0, "C1": 1e-5, "RL": 1500.0, "L": 750.0}, (0.01, 1e5), V_SINGLE,
-             _s({"RL": 5000.0, "L": 2500.0}, {"RL": 1500.0, "L": 750.0}, {"RL": 500.0, "L": 250.0})),
-    Template("inductive_loop/rcpe", "R0 + R1 || CPE1", ("inductive_loop",), lambda f, p: p["R0"] + par(p["R1"], cpe(f, p["Q"], p["a"]), p["RL"] + ind(f, p["L"])),
-             {"R0": 20.0, "R1": 2e3, "Q": 2e-5, "a": 0.85, "RL": 4e3, "L": 8e3}, (0.005, 1e5), V_SINGLE,
-             _s({"RL": 1.5e4, "L": 3e4}, {"RL": 4e3, "L": 8e3}, {"RL": 1.5e3, "L": 3e3})),
-    Template("inductive_loop/two_arcs", "R0 + R1 || C1 + R2 || CPE2", ("inductive_loop",),
-             lambda f, p: p["R0"] + rc(f, p["R1"], p["C1"]) + par(p["R2"], cpe(f, p["Q2"], p["a2"]), p["RL"] + ind(f, p["L"])),
-             {"R0": 5.0, "R1": 50.0, "C1": 1e-7, "R2": 400.0, "Q2": 1e-4, "a2": 0.9, "RL": 1e3, "L": 1e3}, (0.005, 1e6), V_SINGLE,
-             _s({"RL": 3e3, "L": 3e3}, {"RL": 1e3, "L": 1e3}, {"RL": 300.0, "L": 300.0})),
     # ---- outliers on single effects -----------------------------------------------------------------
     Template("outliers/series_resistance", "R1 || C1", ("series_resistance",), lambda f, p: p["Rs"] + rc(f, p["R1"], p["C1"]),
              {"Rs": 100.0, "R1": 2e3, "C1": 1e-7}, (1.0, 1e6), V_OUTLIER, _s({"Rs": 30.0}, {"Rs": 100.0}, {"Rs": 400.0}), tag="outliers"),
@@ -314,8 +303,6 @@ TEMPLATES: tuple[Template, ...] = (
     Template("adequate/three_arcs", "R0 + R1 || C1 + R2 || C2 + R3 || CPE3", (),
              lambda f, p: p["R0"] + rc(f, p["R1"], p["C1"]) + rc(f, p["R2"], p["C2"]) + rq(f, p["R3"], p["Q3"], p["a3"]),
              {"R0": 8.0, "R1": 60.0, "C1": 1e-7, "R2": 300.0, "C2": 1e-5, "R3": 2e3, "Q3": 1e-3, "a3": 0.8}, (0.01, 1e6), V_ADEQUATE2),
-    Template("adequate/loop", "R0 + R1 || C1 || (R2 + L2)", (), lambda f, p: p["R0"] + par(p["R1"], cap(f, p["C1"]), p["RL"] + ind(f, p["L"])),
-             {"R0": 10.0, "R1": 500.0, "C1": 1e-5, "RL": 1500.0, "L": 750.0}, (0.01, 1e5), V_ADEQUATE2),
     # ---- not a stable linear system -----------------------------------------------------------------
     Template("invalid/drift_rc", "R0 + R1 || C1", (DATA_INVALID,), lambda f, p: p["R0"] + rc(f, p["R1"] * (1 + p["drift"] * _sweep_time(f) ** 2), p["C1"] * (1 - 0.3 * p["drift"] * _sweep_time(f))),
              {"R0": 50.0, "R1": 2e3, "C1": 1e-6, "drift": 0.4}, (0.1, 1e5), ((0.005, "flat", MEDIUM, 0),)),
@@ -331,6 +318,20 @@ TEMPLATES: tuple[Template, ...] = (
     Template("invalid/drift_two_arcs", "R0 + R1 || CPE1 + R2 || CPE2", (DATA_INVALID,),
              lambda f, p: p["R0"] + rq(f, p["R1"], p["Q1"], p["a1"]) + rq(f, p["R2"] * (1 + p["drift"] * _sweep_time(f)), p["Q2"], p["a2"]),
              {"R0": 10.0, "R1": 400.0, "Q1": 1e-7, "a1": 0.9, "R2": 3e3, "Q2": 5e-5, "a2": 0.75, "drift": 0.5}, (0.01, 1e6), ((0.005, "flat", MEDIUM, 0),)),
+    # ---- added 2026-11-30, at the end: a template's seeds follow its place in this tuple ----------
+    # ---- inductive loop (R → R ∥ (R_L + jωL), the loop at ω = R_L/L) --------------------------------
+    Template("inductive_loop/rc", "R0 + R1 || C1", ("inductive_loop",), lambda f, p: p["R0"] + par(p["R1"], cap(f, p["C1"]), p["RL"] + ind(f, p["L"])),
+             {"R0": 10.0, "R1": 500.0, "C1": 1e-5, "RL": 1500.0, "L": 750.0}, (0.01, 1e5), V_SINGLE,
+             _s({"RL": 5000.0, "L": 2500.0}, {"RL": 1500.0, "L": 750.0}, {"RL": 500.0, "L": 250.0})),
+    Template("inductive_loop/rcpe", "R0 + R1 || CPE1", ("inductive_loop",), lambda f, p: p["R0"] + par(p["R1"], cpe(f, p["Q"], p["a"]), p["RL"] + ind(f, p["L"])),
+             {"R0": 20.0, "R1": 2e3, "Q": 2e-5, "a": 0.85, "RL": 4e3, "L": 8e3}, (0.005, 1e5), V_SINGLE,
+             _s({"RL": 1.5e4, "L": 3e4}, {"RL": 4e3, "L": 8e3}, {"RL": 1.5e3, "L": 3e3})),
+    Template("inductive_loop/two_arcs", "R0 + R1 || C1 + R2 || CPE2", ("inductive_loop",),
+             lambda f, p: p["R0"] + rc(f, p["R1"], p["C1"]) + par(p["R2"], cpe(f, p["Q2"], p["a2"]), p["RL"] + ind(f, p["L"])),
+             {"R0": 5.0, "R1": 50.0, "C1": 1e-7, "R2": 400.0, "Q2": 1e-4, "a2": 0.9, "RL": 1e3, "L": 1e3}, (0.005, 1e6), V_SINGLE,
+             _s({"RL": 3e3, "L": 3e3}, {"RL": 1e3, "L": 1e3}, {"RL": 300.0, "L": 300.0})),
+    Template("adequate/loop", "R0 + R1 || C1 || (R2 + L2)", (), lambda f, p: p["R0"] + par(p["R1"], cap(f, p["C1"]), p["RL"] + ind(f, p["L"])),
+             {"R0": 10.0, "R1": 500.0, "C1": 1e-5, "RL": 1500.0, "L": 750.0}, (0.01, 1e5), V_ADEQUATE2),
 )
 
 
