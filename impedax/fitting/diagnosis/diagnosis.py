@@ -754,11 +754,15 @@ def _fit_baseline(data, circuit: Circuit | str, effects: EffectCatalog, *, regis
     if left_out:
         ds = ds.isel(frequency=np.nonzero(~not_passive)[0])
     circuit = parse(circuit, registry)
-    # the candidates depend on the circuit's structure only: propose them around a stand-in fit
+    # the candidates depend on the circuit's structure: propose them around a stand-in fit. The
+    # stand-in model is the data scaled by 0.999, on no data-gated effect's side (an inductive
+    # loop is proposed only where the data fall below the model's Z' and above its Z''), so the
+    # shape, and with it the number of the baseline's starts below, is what it would be without
+    # such effects; `_fit_proposals` grows it when the data do call for one
     order = np.argsort(ds["frequency"].values)
     freq = np.asarray(ds["frequency"].values, float)[order]
     z = np.asarray(ds["Z"].values, complex)[order]
-    stand_in = BaselineContext(circuit, circuit.defaults(registry), freq, z, z * (1 + 1e-3), registry)
+    stand_in = BaselineContext(circuit, circuit.defaults(registry), freq, z, z * (1 - 1e-3), registry)
     proposed = [p.circuit for _, p in effects.proposals(stand_in)]
     shape = (shape or solver_shape([circuit] + proposed, registry, freq.size)).grown_to([circuit] + proposed, registry, freq.size)
     copies = shape.n_candidates
