@@ -501,3 +501,33 @@ def test_an_adequate_verdict_beyond_the_catalog_says_so():
     complete = ix.diagnose(data, "R0 + R1 || C1 + R2 || C2", effects=ix.DEFAULT_EFFECTS.select(["series_inductance"]))
     assert complete.verdict == "adequate" and not complete.beyond_catalog and complete.summary()["beyond_catalog"] is False
     assert "verdict: ADEQUATE — " in complete.report()
+
+
+def test_a_data_gated_effect_adds_no_baseline_starts_where_the_data_do_not_call_for_it(monkeypatch):
+    """The stand-in that sizes the candidate solver (and with it the number of the baseline's
+    starts) proposes no inductive loop: on a spectrum without one, the solver is sized for as
+    many circuits with the loop in the catalog as without it (the extra starts had changed SYNTHETIC
+    heldout2 outcomes of spectra without a loop)."""
+    from impedax.fitting.diagnosis import diagnosis as dg
+
+    class Stop(Exception):
+        pass
+
+    sized, real_shape = [], dg.solver_shape
+
+    def sizing(circuits, *args, **kwargs):  # (the circuits the solver is sized for)
+        sized.append(len(circuits))
+        return real_shape(circuits, *args, **kwargs)
+
+    def stop(circuits, *args, **kwargs):
+        raise Stop
+
+    monkeypatch.setattr(dg, "solver_shape", sizing)
+    monkeypatch.setattr(dg, "fit_candidates", stop)
+    f = np.logspace(-2, 5, 40)
+    data = ix.make_spectrum(f, 10 + 500 / (1 + 2j * np.pi * f * 500 * 1e-5))  # R0 + R1 ∥ C1, no loop
+    without = ix.DEFAULT_EFFECTS.select([e for e in ix.DEFAULT_EFFECTS.ids() if e != "inductive_loop"])
+    for effects in (ix.DEFAULT_EFFECTS, without):
+        with pytest.raises(Stop):
+            dg._fit_baseline(data, "R0 + R1 || C1", effects, registry=ix.DEFAULT_REGISTRY, fmin=None, fmax=None, weighting="modulus", n_starts=1, seed=0, shape=None)
+    assert sized[0] == sized[1] > 1
