@@ -107,14 +107,16 @@ def test_an_inductive_loop_is_proposed_across_the_arc_resistor_only_on_the_loop_
     (p,) = ix.DEFAULT_EFFECTS["inductive_loop"].propose(circuit, ctx)
     assert str(p.circuit) == "R0 + R1 || (R_loop + L_loop) || C1" and p.added == "R_loop + L_loop"
     # the first start: R1 ∥ R_loop at the data's low-end Z' (375 Ω at DC: R_loop near 1.5 kΩ),
-    # L_loop = R_loop / ω at the peak of Z''_data − Z''_model (the loop's 1/(2π·0.5 s) = 0.32 Hz, within a decade)
+    # L_loop = √(R_loop(R1 + R_loop))/ω at the peak of Z''_data − Z''_model: the loop spans
+    # 0.32–0.42 Hz (zero R_loop/(2πL), pole (R1 + R_loop)/(2πL)); the start is within a decade
     r_loop, inductance = p.starts[0]["R_loop"], p.starts[0]["L_loop"]
     assert 1000 < r_loop < 2500
-    assert 0.03 < r_loop / inductance / (2 * np.pi) < 3
+    assert 75.0 < inductance < 7500.0
     # a resistor run open (1e200 Ω: the drop is nothing beside it) still gets finite starts
     opened = BaselineContext(circuit, {**ctx.values, "R1": 1e200}, ctx.frequency, ctx.z_data, ctx.z_model)
     (p,) = ix.DEFAULT_EFFECTS["inductive_loop"].propose(circuit, opened)
     assert all(np.isfinite(v) and v > 0 for start in p.starts for v in start.values())
+    assert p.starts[0]["R_loop"] > 1e200  # (R1 ∥ R_loop keeps next to all of R1: not the floor 1e-3·R1, where R1·R1 overflowed)
     # nothing on the capacitive side (the data above the model at the low end), nor without a misfit
     _, same = _loop_context(None)
     assert ix.DEFAULT_EFFECTS["inductive_loop"].propose(circuit, same) == []
@@ -126,9 +128,12 @@ def test_a_loop_outside_the_band_is_not_plausible():
     circuit, ctx = _loop_context(1500.0)
     (p,) = ix.DEFAULT_EFFECTS["inductive_loop"].propose(circuit, ctx)
     plausible = ix.DEFAULT_EFFECTS["inductive_loop"].plausible
-    assert plausible({"R_loop": 1500.0, "L_loop": 750.0}, p) is None  # 0.32 Hz, inside 10 mHz–100 kHz
-    assert "outside the band" in plausible({"R_loop": 1500.0, "L_loop": 1e-6}, p)  # 239 MHz
-    assert "outside the band" in plausible({"R_loop": 1500.0, "L_loop": 1e6}, p)  # 0.24 mHz
+    # the loop spans R_loop/(2πL) to (R1 + R_loop)/(2πL)
+    assert plausible({"R1": 500.0, "R_loop": 1500.0, "L_loop": 750.0}, p) is None  # 0.32–0.42 Hz, inside 10 mHz–100 kHz
+    assert "outside the band" in plausible({"R1": 500.0, "R_loop": 1500.0, "L_loop": 1e-6}, p)  # 239–318 MHz
+    assert "outside the band" in plausible({"R1": 500.0, "R_loop": 1500.0, "L_loop": 1e6}, p)  # 0.24–0.32 mHz
+    # a deep loop (R_loop ≪ R1) whose zero lies below the band but whose pole lies in it is a loop in the band
+    assert plausible({"R1": 500.0, "R_loop": 1.0, "L_loop": 100.0}, p) is None  # 1.6 mHz–0.80 Hz
 
 
 def test_gap_capacitance_gets_the_sirin_ep_branch():
@@ -503,7 +508,7 @@ def test_an_adequate_verdict_beyond_the_catalog_says_so():
     assert "verdict: ADEQUATE — " in complete.report()
 
 
-def test_a_data_gated_effect_adds_no_baseline_starts_where_the_data_do_not_call_for_it(monkeypatch):
+def test_an_inductive_loop_the_data_do_not_call_for_leaves_the_candidate_solver_as_it_was(monkeypatch):
     """The stand-in that sizes the candidate solver (and with it the number of the baseline's
     starts) proposes no inductive loop: on a spectrum without one, the solver is sized for as
     many circuits with the loop in the catalog as without it (the extra starts had changed SYNTHETIC

@@ -43,6 +43,19 @@ def _parents(circuit: Circuit) -> dict[str, Circuit | None]:
     return out
 
 
+def _holder(circuit: Circuit, node: Circuit) -> Circuit | None:
+    """The series or parallel node that holds ``node`` (the very object) as a child, or None."""
+    if isinstance(circuit, Element):
+        return None
+    for child in circuit.children:
+        if child is node:
+            return circuit
+        found = _holder(child, node)
+        if found is not None:
+            return found
+    return None
+
+
 def _resistive(node: Circuit, registry: Registry) -> bool:
     """Does this branch conduct DC through a finite resistance (an element whose spec says
     `DCPath.CONDUCTS`, or a series/parallel chain that does)?"""
@@ -471,17 +484,21 @@ def _electrode_polarization(circuit: Circuit, ctx: BaselineContext) -> list[Prop
 def _inductive_loop(circuit: Circuit, ctx: BaselineContext) -> list[Proposal]:
     """A low-frequency inductive loop (adsorbed intermediates, corrosion): a branch
     R_loop + L_loop across an arc's resistor, R → R ∥ (R_loop + L_loop), docs/physics.md
-    "Inductive loop". Below ω = R_loop/L_loop the branch conducts and the impedance falls from
-    R to R·R_loop/(R + R_loop) through positive Z''. Proposed only when the data at the band's
-    low end lie below the model's real part and above its imaginary part (the loop's side);
-    warm starts: R_loop from that drop in Z', L_loop = R_loop/ω at the peak of Z''_data − Z''_model
-    and a decade either side."""
+    "Inductive loop": Z = R(R_loop + jωL)/(R + R_loop + jωL), a zero at R_loop/L and a pole at
+    (R + R_loop)/L, between which Z'' is positive and the impedance falls from R to
+    R·R_loop/(R + R_loop). Proposed only when the data at the band's low end lie below the
+    model's real part and above its imaginary part (the loop's side). Warm starts: R_loop from
+    that drop in Z'; L_loop = √(R_loop(R + R_loop))/ω at the peak of Z''_data − Z''_model over
+    the low-end run where Z'_data < Z'_model (the loop's Z'' peaks near the geometric mean of its
+    zero and pole), and a decade either side."""
     lo, _ = ctx.ends()
     dz = ctx.z_data - ctx.z_model
     if not (np.mean(dz[lo].imag) > 0 and np.mean(dz[lo].real) < 0):
         return []
     drop = -float(np.mean(dz[lo].real))
-    w_peak = float(ctx.omega[int(np.argmax(dz.imag))])
+    below = dz.real < 0
+    run = int(np.argmin(below)) if not below.all() else below.size  # (the low-end points below the model's Z')
+    w_peak = float(ctx.omega[int(np.argmax(dz.imag[:max(run, 1)]))])
     band = (float(ctx.frequency[0]), float(ctx.frequency[-1]))
     out = []
     for r in _arc_resistors(circuit, ctx.registry):
@@ -489,9 +506,10 @@ def _inductive_loop(circuit: Circuit, ctx: BaselineContext) -> list[Proposal]:
         if not (np.isfinite(r_value) and r_value > 0):
             continue
         excess = max(min(drop, 0.95 * r_value), 1e-6 * r_value)  # R − R ∥ R_loop at DC (a resistor run open: next to none of it)
-        r_loop = _positive(r_value * (r_value - excess) / excess, 1e-3 * r_value)
+        r_loop = _positive(r_value * (r_value / excess - 1.0), 1e-3 * r_value)
+        l_loop = float(np.sqrt(r_loop) * np.sqrt(r_value + r_loop)) / w_peak
         r_name, l_name = ctx.fresh("R", "loop"), ctx.fresh("L", "loop")
-        starts = tuple(ctx.start(**{r_name: r_loop, l_name: r_loop / w_peak * s}) for s in (1.0, 0.1, 10.0))
+        starts = tuple(ctx.start(**{r_name: r_loop, l_name: l_loop * s}) for s in (1.0, 0.1, 10.0))
         new = circuit.replace(r, Parallel((Element("R", r), Series((Element("R", r_name), Element("L", l_name))))))
         out.append(Proposal("inductive_loop", new, f"{r_name} + {l_name}", f"across {r} (a low-frequency inductive loop)", starts, band=band))
     return out
@@ -521,16 +539,22 @@ def _lead_plausible(values, p: Proposal) -> str | None:
 
 
 def _loop_plausible(values, p: Proposal) -> str | None:
-    """The loop's time constant L_loop/R_loop must lie within the band: far below it the branch
-    is a plain resistor across R (the data see no loop), far above it an open branch."""
+    """The loop spans its zero R_loop/(2πL) to its pole (R + R_loop)/(2πL) (docs/physics.md,
+    "Inductive loop"); that span must overlap the band: a loop above the band leaves the branch
+    a plain resistor R_loop across R at every measured frequency, a loop below it an open
+    branch; the data see no loop either way. R is the resistor the branch sits across (the
+    other resistor of its parallel block)."""
     r_name, l_name = p.added.split(" + ")
-    r, inductance = values.get(r_name, np.nan), values.get(l_name, np.nan)
-    if not (np.isfinite(r) and np.isfinite(inductance) and r > 0 and inductance > 0):
+    r_loop, inductance = values.get(r_name, np.nan), values.get(l_name, np.nan)
+    block = _holder(p.circuit, _parents(p.circuit)[r_name])
+    across = next((c.name for c in (block.children if block is not None else ()) if isinstance(c, Element) and c.symbol == "R"), None)
+    r_arc = values.get(across, np.nan) if across else np.nan
+    if not (np.isfinite(r_loop) and np.isfinite(inductance) and np.isfinite(r_arc) and r_loop > 0 and inductance > 0 and r_arc > 0):
         return None
-    f_loop = r / (2 * np.pi * inductance)
+    f_zero, f_pole = r_loop / (2 * np.pi * inductance), (r_arc + r_loop) / (2 * np.pi * inductance)
     lo, hi = p.band
-    if not lo / 10 <= f_loop <= hi:
-        return (f"{l_name}/{r_name} = {inductance / r:.3g} s puts the loop at {f_loop:.3g} Hz, outside the band ({lo:.3g}–{hi:.3g} Hz): "
+    if f_pole < lo or f_zero > hi:
+        return (f"{l_name}, {r_name} and {across} put the loop at {f_zero:.3g}–{f_pole:.3g} Hz, outside the band ({lo:.3g}–{hi:.3g} Hz): "
                 "the data see a resistance or an open branch there, not an inductive loop")
     return None
 

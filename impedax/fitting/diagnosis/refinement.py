@@ -205,7 +205,7 @@ def _reproduced(ds: xr.Dataset, last: FitResult, *, n_starts: int, seed: int) ->
         gap = scratch.aic - warm.aic
         if gap <= DELTA_AIC_MIN:  # (two optima the data do not tell apart: the scratch fit does not stop short)
             return warm, (
-                f"fit of {last.model} from scratch reaches rms_rel {scratch.rms_rel * 100:.3g} % at other values, which the data do not tell apart from the "
+                f"fit of {last.model} from scratch reaches rms_rel {scratch.rms_rel * 100:.3g} %, which the data do not tell apart from the "
                 f"refinement's {warm.rms_rel * 100:.3g} % (ΔAIC {gap:.2g}); the refinement's values are reported (pass init=)"
             )
         return warm, f"fit of {last.model} from scratch reaches rms_rel {scratch.rms_rel * 100:.3g} %; started from the refinement's values it reaches {warm.rms_rel * 100:.3g} % (pass init=)"

@@ -684,11 +684,12 @@ def data_notes(freq, z, z_model, sigma, weighting: str, source: str, kk_misfits:
 
 
 RESULT_NAMES = frozenset({
-    "param", "value", "stderr", "linearised_stderr", "fixed", "lower", "upper", "at_bound", "chi2", "chi2_red", "aic", "bic", "rms_rel", "converged", "n_evaluations", "Z_model", "sigma",
+    "param", "fit_output", "value", "stderr", "linearised_stderr", "fixed", "lower", "upper", "at_bound", "chi2", "chi2_red", "aic", "bic", "rms_rel", "converged", "n_evaluations", "Z_model", "sigma",
 })
-"""The names of a batch result's dimension and variables (`fit_batch`'s Dataset): a batch
-dimension of one of these names is refused, where xarray had failed deep inside the fit (or, for
-``param``, built a Dataset with that dimension twice)."""
+"""The names of a batch result's dimensions and variables (`fit_batch`'s Dataset, and the core
+dimension of the chunked path's ``apply_ufunc``): a batch dimension of one of these names is
+refused, where xarray had failed deep inside the fit (or, for ``param``, built a Dataset with
+that dimension twice)."""
 
 
 def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weighting: str, n_starts: int, max_steps: int, seed: int, registry: Registry = DEFAULT_REGISTRY, source: str = "data", t0: float | None = None) -> BatchFitResult:
