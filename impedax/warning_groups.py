@@ -8,7 +8,7 @@ from __future__ import annotations
 import re
 from typing import Mapping, Sequence
 
-__all__ = ["grouped_warnings", "warning_kinds", "labels_text", "WARNING_GROUPS_SHOWN", "LABELS_SHOWN"]
+__all__ = ["grouped_warnings", "warning_kinds", "MORE_KINDS", "labels_text", "WARNING_GROUPS_SHOWN", "LABELS_SHOWN"]
 
 WARNING_GROUPS_SHOWN = 12  # kinds of warning a batch's text lists
 LABELS_SHOWN = 8  # labels of a dimension shown in messages
@@ -78,11 +78,15 @@ def warning_kinds(warnings: Mapping[str, Sequence[str]]) -> list[dict]:
     return out
 
 
-def grouped_warnings(warnings: Mapping[str, Sequence[str]], n_spectra: int) -> list[str]:
+MORE_KINDS = "... and {n} more kinds of warning (the result's warnings, and the JSON's, list every text)"
+
+
+def grouped_warnings(warnings: Mapping[str, Sequence[str]], n_spectra: int, *, head: str = "warning", more: str = MORE_KINDS) -> list[str]:
     """The warnings of a batch's spectra (``{"cycle=0": (text, ...), ...}``) as text lines:
     one per kind of warning with the spectra it applies to, the most frequent first, at most
     `WARNING_GROUPS_SHOWN`; a key that names no spectrum (a global fit's ``"shared over
-    trial"``) is given as it is."""
+    trial"``) is given as it is. ``head`` begins each line (``warning (2 of 3 spectra: ...):
+    TEXT``); ``more`` is the closing line past the kinds shown, ``{n}`` their number."""
     ordered = _kinds(warnings)
     lines = []
     for members in ordered[:WARNING_GROUPS_SHOWN]:
@@ -91,7 +95,7 @@ def grouped_warnings(warnings: Mapping[str, Sequence[str]], n_spectra: int) -> l
             where = "; ".join(places)
         else:
             where = f"all {n_spectra} spectra" if len(places) == n_spectra else f"{len(places)} of {n_spectra} spectra: {_spectra_text(places)}"
-        lines.append(f"warning ({where}): {_spread([t for _, t in members])}")
+        lines.append(f"{head} ({where}): {_spread([t for _, t in members])}")
     if len(ordered) > WARNING_GROUPS_SHOWN:
-        lines.append(f"... and {len(ordered) - WARNING_GROUPS_SHOWN} more kinds of warning (the result's warnings, and the JSON's, list every text)")
+        lines.append(more.format(n=len(ordered) - WARNING_GROUPS_SHOWN))
     return lines

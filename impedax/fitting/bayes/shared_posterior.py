@@ -33,7 +33,7 @@ import xarray as xr
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
 from ...errors import DataError, ParameterError
 from ...data import unit_text
-from ...warning_groups import grouped_warnings, warning_kinds
+from ...warning_groups import grouped_warnings
 from ..derived import QUANTILES, draws_band, needs_freq
 from ..least_squares import SharedFitResult, fit
 from ..parameters import ParameterTable
@@ -393,11 +393,7 @@ def _start_fit_warnings(warnings: Mapping[str, tuple[str, ...]], n_spectra: int)
     ``least-squares start (2 of 3 spectra: trial 0, 2): …``, ``(all 3 spectra)``, a global fit's
     own notes ``(shared over trial)`` — and, past the kinds a report lists, how many more (every
     text is in the start fit's warnings)."""
-    lines = grouped_warnings(warnings, n_spectra)
-    out = [f"least-squares start {line.removeprefix('warning ')}" for line in lines if line.startswith("warning (")]
-    if len(out) < len(lines):
-        out.append(f"least-squares start: {len(warning_kinds(warnings)) - len(out)} more kinds of warning (every text: the posterior's fit.warnings)")
-    return out
+    return grouped_warnings(warnings, n_spectra, head="least-squares start", more="least-squares start: {n} more kinds of warning (every text: the posterior's fit.warnings)")
 
 
 class _Start(NamedTuple):
