@@ -124,6 +124,27 @@ def test_an_inductive_loop_is_proposed_across_the_arc_resistor_only_on_the_loop_
     assert ix.DEFAULT_EFFECTS["inductive_loop"].propose(circuit, above) == []
 
 
+def test_a_weak_loop_above_the_lowest_points_is_proposed_when_noise_hides_it_there():
+    """SYNTHETIC: a weak loop (R_loop = 5 kΩ across R1 = 500 Ω, L = 2.5 kH: 0.32–0.35 Hz, 1.5
+    decades above the band's low end) against R0 + R1 ∥ C1 at its least-squares values for these
+    data (R1 = 478 Ω settles between R1 and R1 ∥ R_loop). Noise at the three lowest points
+    (−5 Ω on Z'') turns their mean Z'' misfit negative; over the low-end run below the model's Z'
+    (14 points) the misfit stays positive, and the loop is proposed."""
+    circuit = ix.parse("R0 + R1 || C1")
+    f = np.logspace(-2, 5, 60)
+    w = 2 * np.pi * f
+    data = 10 + 1 / (1 / 500 + 1j * w * 1e-5 + 1 / (5000 + 1j * w * 2500))
+    data[:3] -= 5j
+    values = {"R0": 9.992, "R1": 478.12, "C1": 9.9912e-6}
+    model = values["R0"] + 1 / (1 / values["R1"] + 1j * w * values["C1"])
+    assert np.mean((data - model)[:3].imag) < 0  # (the three lowest alone would not propose it)
+    (p,) = ix.DEFAULT_EFFECTS["inductive_loop"].propose(circuit, BaselineContext(circuit, values, f, data, model))
+    assert str(p.circuit) == "R0 + R1 || (R_loop + L_loop) || C1"
+    # the zero-to-pole span of the first start's L lies within a decade of the true 0.32–0.35 Hz
+    r_loop, inductance = p.starts[0]["R_loop"], p.starts[0]["L_loop"]
+    assert 0.03 < r_loop / (2 * np.pi * inductance) and (values["R1"] + r_loop) / (2 * np.pi * inductance) < 3.5
+
+
 def test_a_loop_outside_the_band_is_not_plausible():
     circuit, ctx = _loop_context(1500.0)
     (p,) = ix.DEFAULT_EFFECTS["inductive_loop"].propose(circuit, ctx)

@@ -486,18 +486,20 @@ def _inductive_loop(circuit: Circuit, ctx: BaselineContext) -> list[Proposal]:
     R_loop + L_loop across an arc's resistor, R → R ∥ (R_loop + L_loop), docs/physics.md
     "Inductive loop": Z = R(R_loop + jωL)/(R + R_loop + jωL), a zero at R_loop/L and a pole at
     (R + R_loop)/L, between which Z'' is positive and the impedance falls from R to
-    R·R_loop/(R + R_loop). Proposed only when the data at the band's low end lie below the
-    model's real part and above its imaginary part (the loop's side). Warm starts: R_loop from
-    that drop in Z'; L_loop = √(R_loop(R + R_loop))/ω at the peak of Z''_data − Z''_model over
-    the low-end run where Z'_data < Z'_model (the loop's Z'' peaks near the geometric mean of its
-    zero and pole), and a decade either side."""
+    R·R_loop/(R + R_loop). Proposed only when the data lie on the loop's side of the model: below
+    its real part at the band's low end, and above its imaginary part there or, on average, over
+    the low-end run where Z'_data < Z'_model (a loop above the lowest points: the baseline's R
+    settles between R and R ∥ R_loop, and its Z'' misfit is positive only near the loop). Warm
+    starts: R_loop from that drop in Z'; L_loop = √(R_loop(R + R_loop))/ω at the peak of
+    Z''_data − Z''_model over that run (the loop's Z'' peaks near the geometric mean of its zero
+    and pole), and a decade either side."""
     lo, _ = ctx.ends()
     dz = ctx.z_data - ctx.z_model
-    if not (np.mean(dz[lo].imag) > 0 and np.mean(dz[lo].real) < 0):
-        return []
-    drop = -float(np.mean(dz[lo].real))
     below = dz.real < 0
     run = int(np.argmin(below)) if not below.all() else below.size  # (the low-end points below the model's Z')
+    if not (np.mean(dz[lo].real) < 0 and (np.mean(dz[lo].imag) > 0 or np.mean(dz.imag[:max(run, lo.size)]) > 0)):
+        return []
+    drop = -float(np.mean(dz[lo].real))
     w_peak = float(ctx.omega[int(np.argmax(dz.imag[:max(run, 1)]))])
     band = (float(ctx.frequency[0]), float(ctx.frequency[-1]))
     out = []
