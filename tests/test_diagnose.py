@@ -529,31 +529,32 @@ def test_an_adequate_verdict_beyond_the_catalog_says_so():
     assert "verdict: ADEQUATE — " in complete.report()
 
 
-def test_an_inductive_loop_the_data_do_not_call_for_leaves_the_candidate_solver_as_it_was(monkeypatch):
-    """The stand-in that sizes the candidate solver (and with it the number of the baseline's
-    starts) proposes no inductive loop: on a spectrum without one, the solver is sized for as
-    many circuits with the loop in the catalog as without it (the extra starts had changed SYNTHETIC
-    heldout2 outcomes of spectra without a loop)."""
+def test_the_baseline_runs_the_same_starts_whatever_the_catalog_and_the_solver_shape(monkeypatch):
+    """The baseline's fits (how many copies of the circuit, their seeds and damping) follow the
+    circuit alone: the full catalog, a one-effect catalog and a larger solver shape passed in
+    (an earlier diagnosis's) give the same calls. (The count had followed the candidate
+    solver's size: an effect added to the catalog changed the baseline of every spectrum, and
+    changed SYNTHETIC heldout2 outcomes of spectra the effect had nothing to do with.)"""
     from impedax.fitting.diagnosis import diagnosis as dg
 
     class Stop(Exception):
         pass
 
-    sized, real_shape = [], dg.solver_shape
+    calls = []
 
-    def sizing(circuits, *args, **kwargs):  # (the circuits the solver is sized for)
-        sized.append(len(circuits))
-        return real_shape(circuits, *args, **kwargs)
-
-    def stop(circuits, *args, **kwargs):
+    def record(circuits, *args, seeds, damping, **kwargs):  # (what the baseline asks the solver for)
+        calls.append(([str(c) for c in circuits], list(seeds), list(damping), kwargs["n_starts"]))
         raise Stop
 
-    monkeypatch.setattr(dg, "solver_shape", sizing)
-    monkeypatch.setattr(dg, "fit_candidates", stop)
+    monkeypatch.setattr(dg, "fit_candidates", record)
     f = np.logspace(-2, 5, 40)
-    data = ix.make_spectrum(f, 10 + 500 / (1 + 2j * np.pi * f * 500 * 1e-5))  # R0 + R1 ∥ C1, no loop
-    without = ix.DEFAULT_EFFECTS.select([e for e in ix.DEFAULT_EFFECTS.ids() if e != "inductive_loop"])
-    for effects in (ix.DEFAULT_EFFECTS, without):
+    data = ix.make_spectrum(f, 10 + 500 / (1 + 2j * np.pi * f * 500 * 1e-5))  # R0 + R1 ∥ C1
+    larger = dg.solver_shape([ix.parse("R0 + R1 || CPE1 + R2 || CPE2 + R3 || CPE3 + W1")] * 40, ix.DEFAULT_REGISTRY, 64)
+    for effects, shape in ((ix.DEFAULT_EFFECTS, None), (ix.DEFAULT_EFFECTS.select(["series_inductance"]), None), (ix.DEFAULT_EFFECTS, larger)):
         with pytest.raises(Stop):
-            dg._fit_baseline(data, "R0 + R1 || C1", effects, registry=ix.DEFAULT_REGISTRY, fmin=None, fmax=None, weighting="modulus", n_starts=1, seed=0, shape=None)
-    assert sized[0] == sized[1] > 1
+            dg._fit_baseline(data, "R0 + R1 || C1", effects, registry=ix.DEFAULT_REGISTRY, fmin=None, fmax=None, weighting="modulus", n_starts=2, seed=5, shape=shape)
+    assert calls[0] == calls[1] == calls[2]
+    circuits, seeds, damping, n_starts = calls[0]
+    copies = dict(dg.BASELINE_COPIES)[4]  # (3 parameters)
+    assert circuits == ["R0 + R1 || C1"] * (2 * copies) and seeds == [5 + i for i in range(copies)] * 2 and n_starts == 2
+    assert damping == ["identity"] * copies + ["marquardt"] * copies

@@ -841,3 +841,19 @@ def test_two_parameters_held_at_bounds_match_a_fit_with_both_fixed():
         assert rel[names.index(n)] == pytest.approx(fixed.stderr[n] / fixed.values[n], rel=2e-2), n
     assert corr[names.index("R1"), names.index("R2")] == pytest.approx(fixed.correlation[fixed_names.index("R1"), fixed_names.index("R2")], abs=1e-3)
     assert np.isnan(corr[names.index("R0")]).all() and np.isnan(corr[:, names.index("CPE1.alpha")]).all()
+
+
+def test_kk_flagged_and_non_passive_points_keep_their_own_measured_impedance():
+    """Both kinds of masked point at once (SYNTHETIC, 0.5 % noise): the two highest frequencies
+    with Re Z < 0, and one erratic point mid-band, 12 % off in magnitude and phase. Each masked
+    point's Z is the one measured at its frequency, in the order of ``masked_points``."""
+    circuit, formula, params, frange = he.ADEQUATE["r_cpe"]
+    f, z, top = _with_non_passive_top(formula, params, frange, 5)
+    mid = int(np.argsort(f)[f.size // 2])
+    z[mid] *= 1 + 0.12 * np.exp(0.7j)
+    d = ix.diagnose(ix.make_spectrum(f, z), circuit)
+    masked = set(np.round(d.masked_points, 6))
+    assert set(np.round(f[top], 6)) <= masked and round(f[mid], 6) in masked, d.report()
+    by_f = dict(zip(np.round(f, 6), z))
+    assert list(d.masked_impedance) == [by_f[round(fm, 6)] for fm in d.masked_points]
+    assert list(d.masked_points) == sorted(d.masked_points)

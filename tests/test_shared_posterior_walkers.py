@@ -249,7 +249,7 @@ def test_many_kinds_of_start_fit_warning_say_how_many_more():
     notes = {f"trial={i}": (f"note {chr(97 + i)}",) for i in range(WARNING_GROUPS_SHOWN + 3)}
     lines = shared_posterior._start_fit_warnings(notes, len(notes))
     assert len(lines) == WARNING_GROUPS_SHOWN + 1
-    assert all(line.startswith("least-squares start (1 of 15 spectra: trial ") for line in lines[:-1])
+    assert all(line.startswith(f"least-squares start (1 of {len(notes)} spectra: trial ") for line in lines[:-1])
     assert lines[-1].startswith("least-squares start: 3 more kinds of warning")
 
 

@@ -124,6 +124,12 @@ other's over the whole band carries no current the data resolve (`_negligible_br
 BASELINE_CHECK_STARTS = 32
 """Random starts of the baseline's refit before a missing effect is named (`_baseline_checked`)."""
 BASELINE_STEPS = 300
+BASELINE_COPIES = ((4, 16), (8, 24), (None, 32))
+"""(at most K parameters, copies): the baseline is fitted as this many copies of the circuit,
+each with its own ``n_starts`` random draws and damped both ways (`_fit_baseline`). The count
+follows the circuit's parameter count alone, so the baseline fit is the same whatever effects
+the catalog holds (a user's own effect, a subset given as ``effects``) and whatever solver
+shape is passed in."""
 """Levenberg–Marquardt step limit of the baseline's cold starts (warm candidates: ``max_steps``)."""
 CANDIDATE_STEPS = 100
 """Default step limit of the candidate fits (``max_steps``)."""
@@ -754,24 +760,30 @@ def _fit_baseline(data, circuit: Circuit | str, effects: EffectCatalog, *, regis
     if left_out:
         ds = ds.isel(frequency=np.nonzero(~not_passive)[0])
     circuit = parse(circuit, registry)
-    # the candidates depend on the circuit's structure: propose them around a stand-in fit. The
-    # stand-in model is the data scaled by 0.999, on no data-gated effect's side (an inductive
-    # loop is proposed only where the data fall below the model's Z' and above its Z''), so the
-    # shape, and with it the number of the baseline's starts below, is what it would be without
-    # such effects; `_fit_proposals` grows it when the data do call for one
+    # the candidates depend on the circuit's structure: propose them around a stand-in fit, so
+    # that one compiled solver holds the baseline and its candidates. The stand-in model is the
+    # data scaled by 0.999, on no data-gated effect's side (an inductive loop is proposed only
+    # where the data fall below the model's Z' and above its Z''); `_fit_proposals` grows the
+    # shape when the data do call for one. The baseline's starts do not depend on it
     order = np.argsort(ds["frequency"].values)
     freq = np.asarray(ds["frequency"].values, float)[order]
     z = np.asarray(ds["Z"].values, complex)[order]
     stand_in = BaselineContext(circuit, circuit.defaults(registry), freq, z, z * (1 - 1e-3), registry)
     proposed = [p.circuit for _, p in effects.proposals(stand_in)]
     shape = (shape or solver_shape([circuit] + proposed, registry, freq.size)).grown_to([circuit] + proposed, registry, freq.size)
-    copies = shape.n_candidates
+    copies = _baseline_copies(circuit, registry)
     fits = fit_candidates(
         [circuit] * (2 * copies), ds, weighting=weighting, n_starts=n_starts, max_steps=BASELINE_STEPS, seeds=[seed + i for i in range(copies)] * 2,
         registry=registry, shape=shape, damping=["identity"] * copies + ["marquardt"] * copies,
     )
     best = min(fits, key=lambda r: r.chi2 if np.isfinite(r.chi2) else np.inf)
     return best, ds, shape, left_out
+
+
+def _baseline_copies(circuit: Circuit, registry: Registry) -> int:
+    """How many copies of ``circuit`` the baseline fit runs (`BASELINE_COPIES`)."""
+    k = len(circuit.parameter_names(registry))
+    return next(copies for most, copies in BASELINE_COPIES if most is None or k <= most)
 
 
 def _baseline(fit_or_data, circuit, *, data, effects, registry, fmin, fmax, weighting, n_starts, seed, shape):

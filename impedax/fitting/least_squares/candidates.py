@@ -36,7 +36,6 @@ from .starts import SpectrumFeatures, data_driven_guess, random_starts
 __all__ = ["fit_candidates", "SolverShape", "solver_shape", "candidate_solver"]
 
 _K_BUCKETS = (12, 24, 48)
-_C_BUCKET = 8  # candidate counts are rounded to this (the diagnosis fits as many copies of the baseline)
 _SLOT_BUCKETS = (0, 2, 4, 6, 8, 12, 16, 24, 32, 48, 64)  # slots per element kind
 _NODE_BUCKETS = (4, 8, 12, 16, 24, 32, 48, 64)
 _FREQ_STEP = 16  # frequencies are padded (with zero weight) to a multiple of this
@@ -61,13 +60,11 @@ def _bucket(n: int, buckets) -> int:
 
 
 class SolverShape(NamedTuple):
-    """The padded shape of one compiled candidate solver: the program layout, the candidate
-    count (rounded to 8: the diagnosis fits that many copies of the baseline), the
+    """The padded shape of one compiled candidate solver: the program layout, the
     free-parameter count K and the frequency count. Calls of `fit_candidates` with one shape
     share one compilation; a refinement carries its shape from step to step (`grown_to`)."""
 
     layout: ProgramLayout
-    n_candidates: int
     n_free: int
     n_freq: int = 0
 
@@ -87,7 +84,7 @@ class SolverShape(NamedTuple):
         if registry != self.layout.registry:
             return new
         layout = ProgramLayout(registry, tuple(max(a, b) for a, b in zip(new.layout.capacities, self.layout.capacities)), max(new.layout.n_nodes, self.layout.n_nodes))
-        return SolverShape(layout, max(new.n_candidates, self.n_candidates), max(new.n_free, self.n_free), max(new.n_freq, self.n_freq))
+        return SolverShape(layout, max(new.n_free, self.n_free), max(new.n_freq, self.n_freq))
 
 
 def solver_shape(circuits: Sequence[Circuit], registry: Registry = DEFAULT_REGISTRY, n_freq: int = 0) -> SolverShape:
@@ -97,9 +94,8 @@ def solver_shape(circuits: Sequence[Circuit], registry: Registry = DEFAULT_REGIS
     evaluation cost grows with the slot and node counts)."""
     need = ProgramLayout.covering(circuits, registry)
     layout = ProgramLayout(registry, tuple(_bucket(c, _SLOT_BUCKETS) for c in need.capacities), _bucket(need.n_nodes, _NODE_BUCKETS))
-    n = -(-len(circuits) // _C_BUCKET) * _C_BUCKET
     k = _bucket(max(len(c.parameter_names(registry)) for c in circuits), _K_BUCKETS)
-    return SolverShape(layout, n, k, -(-n_freq // _FREQ_STEP) * _FREQ_STEP)
+    return SolverShape(layout, k, -(-n_freq // _FREQ_STEP) * _FREQ_STEP)
 
 
 class CandidateRows(NamedTuple):
