@@ -124,13 +124,13 @@ other's over the whole band carries no current the data resolve (`_negligible_br
 BASELINE_CHECK_STARTS = 32
 """Random starts of the baseline's refit before a missing effect is named (`_baseline_checked`)."""
 BASELINE_STEPS = 300
+"""Levenberg–Marquardt step limit of the baseline's cold starts (warm candidates: ``max_steps``)."""
 BASELINE_COPIES = ((4, 16), (8, 24), (None, 32))
 """(at most K parameters, copies): the baseline is fitted as this many copies of the circuit,
 each with its own ``n_starts`` random draws and damped both ways (`_fit_baseline`). The count
 follows the circuit's parameter count alone, so the baseline fit is the same whatever effects
 the catalog holds (a user's own effect, a subset given as ``effects``) and whatever solver
 shape is passed in."""
-"""Levenberg–Marquardt step limit of the baseline's cold starts (warm candidates: ``max_steps``)."""
 CANDIDATE_STEPS = 100
 """Default step limit of the candidate fits (``max_steps``)."""
 PAIR_SEEDS = 3
