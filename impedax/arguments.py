@@ -139,16 +139,19 @@ def real(*, minimum: float | None = None, maximum: float | None = None, positive
 
 
 frequency = real(positive=True, optional=True)
+"""A band limit ``fmin``/``fmax`` [Hz]: positive and finite, or None (no limit)."""
 
 
 def noise_fraction(value, name):
     """A relative noise level, a fraction of |Z| in (0, 1) (0.05 for 5 %), or None: 5 meant as
-    5 % would be 500 % and make any misfit look like noise."""
+    5 % would be 500 % and make any misfit look like noise. A noise model's name (``sample``'s
+    ``noise``) is refused with where it belongs."""
+    if isinstance(value, str) and value in ("proportional", "sigma"):
+        raise ParameterError(f"{name} is a relative noise level (0.05 for 5 %), got {value!r}: proportional and sigma are sample's noise models")
     value = real(positive=True, optional=True)(value, name)
     if value is not None and value >= 1:
         raise ParameterError(f"{name}={value:g} is a fraction of |Z| (0.05 for 5 %), so it would be {value * 100:g} %; give {value / 100:g} for {value:g} %")
     return value
-"""A band limit ``fmin``/``fmax`` [Hz]: positive and finite, or None (no limit)."""
 
 
 def seed(value, name):
@@ -163,9 +166,9 @@ def flag(value, name):
     return bool(value)
 
 
-def choice(options, *, optional: bool = False, label: str = "") -> Rule:
+def choice(options, *, optional: bool = False, label: str = "", if_number: str = "") -> Rule:
     """One of ``options`` (strings; a mapping's keys); ``label`` names the kind in messages
-    (default: the argument's name)."""
+    (default: the argument's name); ``if_number``: what the message adds when a number is given."""
     options = tuple(options)
 
     def check(value, name):
@@ -173,7 +176,7 @@ def choice(options, *, optional: bool = False, label: str = "") -> Rule:
             return None
         if not isinstance(value, str) or value not in options:
             close = difflib.get_close_matches(value, options, n=1) if isinstance(value, str) else []
-            hint = f"; did you mean {close[0]!r}?" if close else ""
+            hint = f"; did you mean {close[0]!r}?" if close else f"; {if_number}" if if_number and _is_real(value) else ""
             raise ParameterError(f"unknown {label or name} {shown(value)}{hint} (choose one of {', '.join(options)})")
         return value
 

@@ -130,6 +130,25 @@ def test_sample_noise_choices_are_named_as_typed(spectrum, capsys):
     assert info.value.code == 2 and "(choose from 'proportional', 'sigma')" in err and "NoiseModel" not in err
 
 
+def test_a_noise_level_given_to_sample_and_a_noise_model_given_to_diagnose_say_where_they_belong(spectrum, capsys):
+    """sample's --noise is a noise model, diagnose's and refine's a level: each refuses the
+    other's kind with where it belongs (exit 2), in the CLI and in Python."""
+    import impedax as ix
+
+    with pytest.raises(SystemExit) as info:
+        main(["sample", str(spectrum), "--model", "R0 + R1 || CPE1", "--noise", "1%"])
+    err = capsys.readouterr().err
+    assert info.value.code == 2 and "'1%' is a noise level" in err and "diagnose and refine" in err
+    for command in ("diagnose", "refine"):
+        code, out, err = run([command, spectrum, "--model", "R0 + R1 || C1", "--noise", "proportional"], capsys)
+        assert code == 2 and out == "" and "sample's noise models" in err
+    data = ix.load(spectrum)
+    with pytest.raises(ix.ParameterError, match="a number is a noise level"):
+        ix.sample("R0 + R1 || C1", data, noise=0.01, steps=10, progress=False)
+    with pytest.raises(ix.ParameterError, match="sample's noise models"):
+        ix.diagnose(data, "R0 + R1 || C1", noise="sigma")
+
+
 def test_simulate_names_its_defaults_once_it_succeeded(capsys):
     code, out, err = run(["simulate", "R0 + C1", "--param", "R0=5", "--points", "2", "--fmin", "1", "--fmax", "10"], capsys)
     assert code == 0 and err == "impedax simulate: defaults used for C1=1e-06\n"

@@ -26,7 +26,7 @@ def register(sub) -> None:
     p.add_argument("--thin", type=int, default=1, metavar="N", help="keep every N-th step (default 1)")
     p.add_argument("--seed", type=int, default=0, metavar="S", help="random seed (default 0)")
     p.add_argument("--prior", action="append", metavar="NAME=KIND:ARGS", help="prior for one parameter (repeatable), e.g. R1=loguniform:1e2,1e5; kinds: " + "; ".join(PRIOR_KINDS.values()))
-    p.add_argument("--noise", default="proportional", choices=[str(m) for m in NOISE_MODELS], help="; ".join(f"{k}: {v}" for k, v in NOISE_MODELS.items()))
+    p.add_argument("--noise", default="proportional", type=noise_model_option, choices=[str(m) for m in NOISE_MODELS], help="; ".join(f"{k}: {v}" for k, v in NOISE_MODELS.items()))
     add_shared_options(p)
     p.add_argument("--fmin", type=number_option, help="ignore data below this frequency [Hz]")
     p.add_argument("--fmax", type=number_option, help="ignore data above this frequency [Hz]")
@@ -54,6 +54,22 @@ def steps_option(text: str) -> int | str:
         return int(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"invalid int value: {text!r} (give a number of steps, or auto)") from None
+
+
+def noise_model_option(text: str) -> str:
+    """``--noise``: the name of a noise model (argparse checks it against the choices). A level
+    (``1%``, ``0.01``) is refused with where it belongs: the sampler samples the level."""
+    import argparse
+
+    written = text.strip()
+    try:
+        float(written[:-1] if written.endswith("%") else written)
+    except ValueError:
+        return written
+    raise argparse.ArgumentTypeError(
+        f"{text!r} is a noise level; sample's --noise is the noise model (proportional: the level is sampled, as sigma_rel; sigma: "
+        "the data's own sigma). A level is what diagnose and refine take as --noise"
+    )
 
 
 def check_sample_size(circuit, walkers, steps, priors) -> None:
