@@ -120,7 +120,7 @@ class DataError(ImpedaxError, ValueError):
         self.line = line
         where = ""
         if self.path is not None:
-            where = f"{self.path}"
+            where = "in-memory data" if self.path == "memory" else self.path  # ("memory": the source of a spectrum built in a session)
             if line is not None:
                 where += f", line {line}"
             where += ": "

@@ -59,7 +59,7 @@ def test_make_spectrum_names_the_dimensions_to_give():
     z = np.stack([rc_impedance(FREQ)] * 3)
     with pytest.raises(ix.DataError) as info:
         ix.make_spectrum(FREQ, z)
-    assert str(info.value) == "memory: Z has 2 dimensions; name the ones before frequency, e.g. dims=('trial',) for Z over ('trial', 'frequency')"
+    assert str(info.value) == "in-memory data: Z has 2 dimensions; name the ones before frequency, e.g. dims=('trial',) for Z over ('trial', 'frequency')"
     assert "were given" not in str(info.value)
     with pytest.raises(ix.DataError, match=r"Z has 3 dimensions; .*dims=\('trial', 'session'\)"):
         ix.make_spectrum(FREQ, z[None])
@@ -71,7 +71,7 @@ def test_make_spectrum_names_the_dimensions_to_give():
 def test_duplicate_frequency_message_stays_short_for_many_points():
     with pytest.raises(ix.DataError) as info:
         ix.make_spectrum(np.ones(100_000), np.ones(100_000) * (1 - 1j))
-    assert str(info.value) == "memory: duplicate frequency 1 Hz at points 0, 1, 2, 3, 4, … (100000 points)"
+    assert str(info.value) == "in-memory data: duplicate frequency 1 Hz at points 0, 1, 2, 3, 4, … (100000 points)"
 
 
 # --- 2. predict(freq) -------------------------------------------------------------------------
