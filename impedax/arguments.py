@@ -146,7 +146,7 @@ def noise_fraction(value, name):
     """A relative noise level, a fraction of |Z| in (0, 1) (0.05 for 5 %), or None: 5 meant as
     5 % would be 500 % and make any misfit look like noise. A noise model's name (``sample``'s
     ``noise``) is refused with where it belongs."""
-    if isinstance(value, str) and value in ("proportional", "sigma"):
+    if isinstance(value, str) and value.strip().lower() in ("proportional", "sigma"):
         raise ParameterError(f"{name} is a relative noise level (0.05 for 5 %), got {value!r}: proportional and sigma are sample's noise models")
     value = real(positive=True, optional=True)(value, name)
     if value is not None and value >= 1:
@@ -166,9 +166,22 @@ def flag(value, name):
     return bool(value)
 
 
+def _reads_as_number(value) -> bool:
+    """A real number, or a string that reads as one (``"0.01"``, ``"1%"``)."""
+    if isinstance(value, str):
+        text = value.strip().removesuffix("%")
+        try:
+            float(text)
+        except ValueError:
+            return False
+        return True
+    return _is_real(value)
+
+
 def choice(options, *, optional: bool = False, label: str = "", if_number: str = "") -> Rule:
     """One of ``options`` (strings; a mapping's keys); ``label`` names the kind in messages
-    (default: the argument's name); ``if_number``: what the message adds when a number is given."""
+    (default: the argument's name); ``if_number``: what the message adds when a number is given
+    (or a string that reads as one: "0.01", "1%")."""
     options = tuple(options)
 
     def check(value, name):
@@ -176,7 +189,7 @@ def choice(options, *, optional: bool = False, label: str = "", if_number: str =
             return None
         if not isinstance(value, str) or value not in options:
             close = difflib.get_close_matches(value, options, n=1) if isinstance(value, str) else []
-            hint = f"; did you mean {close[0]!r}?" if close else f"; {if_number}" if if_number and _is_real(value) else ""
+            hint = f"; did you mean {close[0]!r}?" if close else f"; {if_number}" if if_number and _reads_as_number(value) else ""
             raise ParameterError(f"unknown {label or name} {shown(value)}{hint} (choose one of {', '.join(options)})")
         return value
 

@@ -122,6 +122,9 @@ def test_an_inductive_loop_is_proposed_across_the_arc_resistor_only_on_the_loop_
     assert ix.DEFAULT_EFFECTS["inductive_loop"].propose(circuit, same) == []
     above = BaselineContext(circuit, ctx.values, ctx.frequency, 2 * ctx.z_model - ctx.z_data, ctx.z_model)
     assert ix.DEFAULT_EFFECTS["inductive_loop"].propose(circuit, above) == []
+    # below the model's Z' but below its Z'' too, at the lowest points and over the whole run: no loop
+    capacitive = BaselineContext(circuit, ctx.values, ctx.frequency, ctx.z_model - 20 - 20j, ctx.z_model)
+    assert ix.DEFAULT_EFFECTS["inductive_loop"].propose(circuit, capacitive) == []
 
 
 def test_a_weak_loop_above_the_lowest_points_is_proposed_when_noise_hides_it_there():
@@ -555,6 +558,6 @@ def test_the_baseline_runs_the_same_starts_whatever_the_catalog_and_the_solver_s
             dg._fit_baseline(data, "R0 + R1 || C1", effects, registry=ix.DEFAULT_REGISTRY, fmin=None, fmax=None, weighting="modulus", n_starts=2, seed=5, shape=shape)
     assert calls[0] == calls[1] == calls[2]
     circuits, seeds, damping, n_starts = calls[0]
-    copies = dict(dg.BASELINE_COPIES)[4]  # (3 parameters)
+    copies = 16  # (3 parameters: BASELINE_COPIES)
     assert circuits == ["R0 + R1 || C1"] * (2 * copies) and seeds == [5 + i for i in range(copies)] * 2 and n_starts == 2
     assert damping == ["identity"] * copies + ["marquardt"] * copies

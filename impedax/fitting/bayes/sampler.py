@@ -315,7 +315,7 @@ def _chain_fits_in_memory(arguments) -> None:
 
 @checked_arguments(
     _chain_fits_in_memory,
-    priors=instance_of(Mapping, optional=True, what="a mapping name → Prior or 'kind:a,b'"), noise=choice(NOISE_MODELS, label="noise model", if_number="a number is a noise level, which diagnose and refine take: the proportional model samples it (sigma_rel)"),
+    priors=instance_of(Mapping, optional=True, what="a mapping name → Prior or 'kind:a,b'"), noise=choice(NOISE_MODELS, label="noise model", if_number="a number is a noise level, which diagnose and refine take; the proportional model samples it as sigma_rel"),
     walkers=count(2, MAX_WALKERS, optional=True), steps=steps_rule,
     burn=count(0, optional=True), thin=count(1), seed=seed_rule, fixed=parameter_values(),
     reparametrization=instance_of(Reparametrization, optional=True), fmin=frequency, fmax=frequency, progress=flag,

@@ -746,8 +746,9 @@ def non_passive_points(ds: xr.Dataset) -> np.ndarray:
 
 
 def _fit_baseline(data, circuit: Circuit | str, effects: EffectCatalog, *, registry: Registry, fmin, fmax, weighting: str, n_starts: int, seed: int, shape: SolverShape | None):
-    """Fit the user's circuit with the same compiled solver the candidates will use (every
-    padded slot a copy of the circuit with its own random starts): one compilation in all.
+    """Fit the user's circuit with the same compiled solver the candidates will use
+    (`BASELINE_COPIES` copies of the circuit, each with its own random starts): one compilation
+    in all.
     Every start runs twice, damped with λI (as `impedax.fit`'s optimistix) and with Marquardt's
     scaling (as the candidates), and the best fit is kept (docs/fitting.md, "Damping"): from
     the same cold starts the two reach different optima, and neither is always the better (a
