@@ -142,11 +142,17 @@ frequency = real(positive=True, optional=True)
 """A band limit ``fmin``/``fmax`` [Hz]: positive and finite, or None (no limit)."""
 
 
+SAMPLE_NOISE_MODELS = ("proportional", "sigma")
+"""The names of `sample`'s noise models (`fitting.bayes.NOISE_MODELS`, spelled here so that a
+relative level's check need not import the sampler): given where a level belongs, they are
+refused with a hint."""
+
+
 def noise_fraction(value, name):
     """A relative noise level, a fraction of |Z| in (0, 1) (0.05 for 5 %), or None: 5 meant as
     5 % would be 500 % and make any misfit look like noise. A noise model's name (``sample``'s
     ``noise``) is refused with where it belongs."""
-    if isinstance(value, str) and value.strip().lower() in ("proportional", "sigma"):
+    if isinstance(value, str) and value.strip().lower() in SAMPLE_NOISE_MODELS:
         raise ParameterError(f"{name} is a relative noise level (0.05 for 5 %), got {value!r}: proportional and sigma are sample's noise models")
     value = real(positive=True, optional=True)(value, name)
     if value is not None and value >= 1:
@@ -166,7 +172,7 @@ def flag(value, name):
     return bool(value)
 
 
-def _reads_as_number(value) -> bool:
+def reads_as_number(value) -> bool:
     """A real number, or a string that reads as one (``"0.01"``, ``"1%"``)."""
     if isinstance(value, str):
         text = value.strip().removesuffix("%")
@@ -189,7 +195,7 @@ def choice(options, *, optional: bool = False, label: str = "", if_number: str =
             return None
         if not isinstance(value, str) or value not in options:
             close = difflib.get_close_matches(value, options, n=1) if isinstance(value, str) else []
-            hint = f"; did you mean {close[0]!r}?" if close else f"; {if_number}" if if_number and _reads_as_number(value) else ""
+            hint = f"; did you mean {close[0]!r}?" if close else f"; {if_number}" if if_number and reads_as_number(value) else ""
             raise ParameterError(f"unknown {label or name} {shown(value)}{hint} (choose one of {', '.join(options)})")
         return value
 

@@ -147,6 +147,11 @@ def test_a_noise_level_given_to_sample_and_a_noise_model_given_to_diagnose_say_w
         ix.sample("R0 + R1 || C1", data, noise=0.01, steps=10, progress=False)
     with pytest.raises(ix.ParameterError, match="sample's noise models"):
         ix.diagnose(data, "R0 + R1 || C1", noise="sigma")
+    # (the names the level's check knows are the sampler's)
+    from impedax.arguments import SAMPLE_NOISE_MODELS
+    from impedax.fitting import NOISE_MODELS
+
+    assert SAMPLE_NOISE_MODELS == tuple(str(m) for m in NOISE_MODELS)
 
 
 def test_simulate_names_its_defaults_once_it_succeeded(capsys):

@@ -109,7 +109,9 @@ def relative_noise(text: str | None) -> float | None:
     try:
         value = float(written[:-1] if percent else written)
     except ValueError:
-        model = "; proportional and sigma are sample's noise models, here --noise is the level" if written.lower() in ("proportional", "sigma") else ""
+        from ..arguments import SAMPLE_NOISE_MODELS
+
+        model = "; proportional and sigma are sample's noise models, here --noise is the level" if written.lower() in SAMPLE_NOISE_MODELS else ""
         raise ParameterError(f"--noise {text!r} is not a number: write a fraction of |Z| (0.05) or a percentage (5%){model}") from None
     if not (value > 0 and math.isfinite(value)):
         raise ParameterError(f"--noise must be positive and finite, got {text}")

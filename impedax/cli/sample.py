@@ -61,11 +61,10 @@ def noise_model_option(text: str) -> str:
     (``1%``, ``0.01``) is refused with where it belongs: the sampler samples the level."""
     import argparse
 
-    written = text.strip()
-    try:
-        float(written[:-1] if written.endswith("%") else written)
-    except ValueError:
-        return written
+    from ..arguments import reads_as_number
+
+    if not reads_as_number(text):
+        return text.strip()
     raise argparse.ArgumentTypeError(
         f"{text!r} is a noise level; sample's --noise is the noise model (proportional: the level is sampled, as sigma_rel; sigma: "
         "the data's own sigma). A level is what diagnose and refine take as --noise"
