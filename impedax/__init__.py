@@ -25,10 +25,14 @@ if _os.environ.get("IMPEDAX_NO_X64") != "1":
 
 
 def _cpu_device_count() -> int:
-    chosen = _os.environ.get("IMPEDAX_CPU_DEVICES")
+    chosen = _os.environ.get("IMPEDAX_CPU_DEVICES", "").strip()
+    if chosen.isdigit() and int(chosen) >= 1:
+        return int(chosen)
+    if chosen:  # (at import: a line on stderr, not an error that would stop every command)
+        _sys.stderr.write(f"impedax: IMPEDAX_CPU_DEVICES={chosen!r} is not a whole number of at least 1: ignored, one device per core\n")
     try:
-        return int(chosen) if chosen else min(len(_os.sched_getaffinity(0)), 8)
-    except (ValueError, AttributeError):
+        return min(len(_os.sched_getaffinity(0)), 8)
+    except AttributeError:
         return min(_os.cpu_count() or 1, 8)
 
 

@@ -118,6 +118,7 @@ class DataError(ImpedaxError, ValueError):
     def __init__(self, message: str, *, path: object = None, line: int | None = None):
         self.path = None if path is None else str(path)
         self.line = line
+        self.detail = message  # (without the file and line: for a message that names them itself)
         where = ""
         if self.path is not None:
             where = "in-memory data" if self.path == "memory" else self.path  # ("memory": the source of a spectrum built in a session)

@@ -629,3 +629,17 @@ def test_the_report_says_an_undefined_evidence_in_words(rcpe):
     undefined = dataclasses.replace(post, log_evidence=float("nan"))
     line = next(ln for ln in undefined.report().splitlines() if ln.startswith("evidence"))
     assert "Laplace ln Z undefined (see the warnings)" in line and "nan" not in line and "WAIC = " in line
+
+
+def test_a_saved_posterior_of_a_custom_reparametrization_asks_for_it_and_is_not_called_damaged(tmp_path):
+    f = np.geomspace(1, 1e5, 20)
+    z = 100 + 2000 / (1 + 1j * 2 * np.pi * f * 2000 * 1e-7)  # R0 + R1 ∥ C1, τ = R1·C1 = 2e-4 s
+    custom = ix.Reparametrization(names=("tau",), units=("s",), lower=(1e-9,), upper=(1.0,), replaces=("C1",), forward=lambda new, k: {"C1": new["tau"] / k["R"]}, constants=(("R", 2000.0),))
+    post = ix.sample("R0 + R1 || C1", ix.make_spectrum(f, z * (1 + 0.01 * np.random.default_rng(0).normal(size=f.size))), reparametrization=custom, steps=40, progress=False)
+    path = tmp_path / "post.nc"
+    ix.write_result(post, path)
+    from impedax.io import read_netcdf
+
+    with pytest.raises(ix.ParameterError, match=r"custom reparametrization \(tau in place of C1\); pass it as reparametrization=") as caught:
+        ix.Posterior.from_xarray(read_netcdf(path))
+    assert "damaged" not in str(caught.value)

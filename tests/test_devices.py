@@ -42,6 +42,15 @@ def test_the_users_choice_and_a_running_jax_are_left_alone(code, env, expected):
     assert devices_after(code, **env) == expected
 
 
+def test_a_device_count_that_is_no_number_is_named_and_ignored():
+    environment = {k: v for k, v in os.environ.items() if k not in ("IMPEDAX_CPU_DEVICES", "XLA_FLAGS")}
+    environment.update(IMPEDAX_CPU_DEVICES="abc", PYTHONPATH=ROOT)
+    out = subprocess.run([sys.executable, "-c", "import impedax, jax; print(len(jax.devices()))"], env=environment, capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr[-2000:]
+    assert "IMPEDAX_CPU_DEVICES='abc' is not a whole number" in out.stderr
+    assert int(out.stdout.split()[-1]) == min(len(os.sched_getaffinity(0)), 8)
+
+
 LADDER_FIT = """
 import numpy as np
 import impedax as ix

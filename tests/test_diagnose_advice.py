@@ -52,12 +52,12 @@ def test_fit_command_quotes_the_file_and_leaves_out_the_defaults():
     assert fit_command() == "impedax fit DATA"  # (the Python API's report)
 
 
-@pytest.mark.parametrize("text, value", [("0.05", 0.05), ("5%", 0.05), (" 2.5 %", 0.025), ("150%", 1.5), (None, None)])
+@pytest.mark.parametrize("text, value", [("0.05", 0.05), ("5%", 0.05), (" 2.5 %", 0.025), ("99.5%", 0.995), (None, None)])
 def test_noise_is_a_fraction_or_a_percentage(text, value):
     assert relative_noise(text) == pytest.approx(value)
 
 
-@pytest.mark.parametrize("text", ["0", "-0.01", "nan", "inf%", "abc", "%"])
+@pytest.mark.parametrize("text", ["0", "-0.01", "nan", "inf%", "abc", "%", "150%", "100%"])
 def test_noise_that_is_no_level_is_refused(text):
     with pytest.raises(ParameterError, match="--noise"):
         relative_noise(text)

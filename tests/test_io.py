@@ -25,6 +25,14 @@ def test_csv_round_trip_is_exact(tmp_path):
     np.testing.assert_array_equal(back["frequency"].values, ds["frequency"].values)
 
 
+def test_a_tsv_file_is_tab_separated_and_reads_back_exactly(tmp_path):
+    ds = _spectrum()
+    path = tmp_path / "s.tsv"
+    ix.save(ds, path)
+    assert path.read_text().splitlines()[0] == "frequency_hz\tz_real_ohm\tz_imag_ohm"
+    np.testing.assert_array_equal(ix.load(path)["Z"].values, ds["Z"].values)
+
+
 def test_netcdf_round_trip_is_lossless_with_extra_dims_and_sigma(tmp_path):
     rng = np.random.default_rng(0)
     f = np.geomspace(1, 1e6, 20)

@@ -591,7 +591,11 @@ def test_a_user_reader_is_one_function_and_one_registration(tmp_path):
     assert readers[0].name == "My format" and len(readers) == len(READERS) + 1 and READERS[0].name != "My format"
     path = tmp_path / "run.my"
     path.write_text("MYFORMAT\n1 2 -3\n10 2 -0.3\n")
-    np.testing.assert_array_equal(ix.load(path, readers=readers)["Z"].values, [2 - 3j, 2 - 0.3j])
+    loaded = ix.load(path, readers=readers)
+    np.testing.assert_array_equal(loaded["Z"].values, [2 - 3j, 2 - 0.3j])
+    assert loaded.attrs["source"] == str(path)  # (built by make_spectrum, whose source is "memory": later errors name the file)
+    with pytest.raises(ix.DataError, match=re.escape(str(path)) + ": the KK test needs at least 4 frequencies"):
+        ix.kk_test(loaded)
     with pytest.raises(ix.DataError, match="My format: no 'MYFORMAT' signature"):
         ix.load(_mystery(tmp_path), readers=readers)
     assert ix.load(FIXTURES / "zplot_sweep.z", readers=readers).attrs["format"] == "Scribner ZPlot z"

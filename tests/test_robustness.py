@@ -184,6 +184,7 @@ BAD_OPTIONS = [  # (id, argv template with {good} a valid spectrum file and {tmp
     ("simulate-fmin-infinite", ["simulate", "R1", "--fmin", "inf"], "fmin must be finite"),
     ("simulate-fmax-nan", ["simulate", "R1", "--fmax", "nan"], "fmax must be finite"),
     ("info-unknown-flag", ["info", "R1", "--bogus"], "unrecognized arguments: --bogus"),
+    ("command-misspelt", ["fitt", "{good}", "--model", "R1"], "invalid choice: 'fitt'; did you mean fit?"),
     ("info-missing-model", ["info"], "the following arguments are required: MODEL"),
     ("fit-fmin-not-a-number", ["fit", "{good}", "--model", "R1", "--fmin", "abc"], "'abc' is not a number"),
     ("fit-fmin-negative", ["fit", "{good}", "--model", "R1", "--fmin", "-1"], "fmin must be positive"),
@@ -216,6 +217,9 @@ BAD_OPTIONS = [  # (id, argv template with {good} a valid spectrum file and {tmp
     ("drt-unknown-lambda-method", ["drt", "{good}", "--lam-method", "bogus"], "invalid choice: 'bogus'"),
     ("diagnose-unknown-effect", ["diagnose", "{good}", "--model", "R1", "--effects", "bogus"], "unknown effect 'bogus'"),
     ("diagnose-noise-negative", ["diagnose", "{good}", "--model", "R1", "--noise", "-1"], "noise must be positive"),
+    ("diagnose-noise-percent-above-100", ["diagnose", "{good}", "--model", "R1", "--noise", "150%"], "a noise level is below 100 % of |Z|"),
+    ("diagnose-effects-empty", ["diagnose", "{good}", "--model", "R1", "--effects", ""], "--effects '' names no effect"),
+    ("fit-plot-pgf", ["fit", "{good}", "--model", "R1", "--plot", "{tmp}/fit.pgf"], "unknown figure extension '.pgf'"),
     ("diagnose-max-steps-negative", ["diagnose", "{good}", "--model", "R1", "--max-steps", "-1"], "--max-steps must be at least 1"),
     ("diagnose-fmin-above-fmax", ["diagnose", "{good}", "--model", "R1", "--fmin", "5", "--fmax", "2"], "fmax (2 Hz) is below fmin (5 Hz)"),
     ("refine-max-steps-negative", ["refine", "{good}", "--model", "R1", "--max-steps", "-1"], "--max-steps must be at least 1"),
@@ -233,6 +237,7 @@ BAD_OPTIONS = [  # (id, argv template with {good} a valid spectrum file and {tmp
     ("gap-zero-drive-voltage", ["gap", "{good}", "{good}", "{good}", "--area", "1e-4", "--v0", "0"], "--v0 must be positive"),
     ("gap-too-few-steps", ["gap", "{good}", "{good}", "{good}", "--area", "1e-4", "--steps", "0"], "--steps must be at least 20"),
     ("gap-unknown-branch", ["gap", "{good}", "{good}", "{good}", "--area", "1e-4", "--ep", "RC"], "invalid choice: 'RC'"),
+    ("gap-pooled-and-hierarchical", ["gap", "{good}", "{good}", "{good}", "--area", "1e-4", "--pooled", "--method", "hierarchical"], "--pooled and --method hierarchical contradict each other"),
     ("gap-missing-spectrum", ["gap", "{good}", "{good}", "--area", "1e-4"], "the following arguments are required: DATA_TS"),
     ("draw-missing-output", ["draw", "R1"], "the following arguments are required: -o/--out"),
     ("inspect-unknown-flag", ["inspect", "{good}", "--bogus"], "unrecognized arguments: --bogus"),
@@ -242,6 +247,7 @@ BAD_OPTIONS = [  # (id, argv template with {good} a valid spectrum file and {tmp
 
 ONE_POINT_CSV = HEADER + "10,100,-50\n"
 TWO_POINTS_CSV = HEADER + "10,100,-50\n20,100,-25\n"
+SIX_POINTS_CSV = HEADER + "".join(f"{10 ** k:g},{100 + 1e3 / (1 + (10 ** k / 30) ** 2):.6g},{-1e3 * (10 ** k / 30) / (1 + (10 ** k / 30) ** 2):.6g}\n" for k in range(6))  # (an RC arc)
 HUGE_VALUES_CSV = HEADER + "".join(f"{10 ** (k / 4):g},1e300,-1e300\n" for k in range(20))
 UNDATA = [  # (id, file content, argv template with {input}, message fragment): valid files these analyses cannot use
     ("fit-one-point", ONE_POINT_CSV, ["fit", "{input}", "--model", "R1 + C1"], "2 free parameters but only 2 real data values"),
@@ -249,6 +255,7 @@ UNDATA = [  # (id, file content, argv template with {input}, message fragment): 
     ("sample-one-point", ONE_POINT_CSV, ["sample", "{input}", "--model", "R1 + C1", "--steps", "20"], "free parameters but only 2 real data values"),
     ("diagnose-one-point", ONE_POINT_CSV, ["diagnose", "{input}", "--model", "R1"], "diagnose needs at least 4 frequencies"),
     ("diagnose-two-points", TWO_POINTS_CSV, ["diagnose", "{input}", "--model", "R1"], "diagnose needs at least 4 frequencies"),
+    ("diagnose-six-points-no-noise", SIX_POINTS_CSV, ["diagnose", "{input}", "--model", "R1 + C1"], "6 frequencies are too few to tell the model's misfit from noise"),
     ("refine-one-point", ONE_POINT_CSV, ["refine", "{input}", "--model", "R1"], "diagnose needs at least 4 frequencies"),
     ("kk-one-point", ONE_POINT_CSV, ["kk", "{input}"], "the KK test needs at least 4 frequencies"),
     ("zhit-two-points", TWO_POINTS_CSV, ["kk", "{input}", "--method", "zhit"], "Z-HIT needs at least 6 frequencies"),

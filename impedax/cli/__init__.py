@@ -211,11 +211,25 @@ def _refuse_unknown(parser: argparse.ArgumentParser, command: str, unknown: list
     sub.error(f"unrecognized arguments: {' '.join(unknown)}{hint}")
 
 
+def _refuse_unknown_command(parser: argparse.ArgumentParser, argv: list[str]) -> None:
+    """Exit 2 naming the closest command when the first word is none (``fitt`` → ``fit``);
+    argparse's own message lists them all, with no hint."""
+    import difflib
+
+    first = next((a for a in argv if not a.startswith("-")), None)
+    if first is None or first in _COMMAND_MODULES:
+        return
+    close = difflib.get_close_matches(first, list(_COMMAND_MODULES), n=1, cutoff=0.6)
+    if close:
+        parser.error(f"argument COMMAND: invalid choice: {first!r}; did you mean {close[0]}? (choose from {', '.join(_COMMAND_MODULES)})")
+
+
 def _run(argv: list[str], command: list[str]) -> int:
     from ..errors import ImpedaxError
     from .common import option_words, positional_model
 
     parser = build_parser(_command_of(argv))
+    _refuse_unknown_command(parser, argv)
     args, unknown = parser.parse_known_args(argv)
     command[0] = args.command
     if unknown:

@@ -116,6 +116,8 @@ def relative_noise(text: str | None) -> float | None:
     if not (value > 0 and math.isfinite(value)):
         raise ParameterError(f"--noise must be positive and finite, got {text}")
     if percent:
+        if value >= 100:
+            raise ParameterError(f"--noise {written}: a noise level is below 100 % of |Z| (write 5% or 0.05 for 5 %)")
         return value / 100
     if value >= 1:
         raise ParameterError(f"--noise {written}: a bare value is a fraction of |Z| (0.05 for 5 %), so {written} would be {value * 100:g} %; write {written}% or {value / 100:g}")
@@ -315,10 +317,10 @@ def _load_noting(path: str, warn: bool = True):
     return data
 
 
-def load_selected(path: str, select: Sequence[str] | None, *, single: str | None = None, warn: bool = True):
+def load_selected(path: str, select: Sequence[str] | None, *, single: str | None = None, or_else: str = "", warn: bool = True):
     """The spectra of file ``path`` (`impedax.io.load`), narrowed by ``--select DIM=LABEL``
     items (`select_spectra`); ``warn`` prints the reader's `LOAD_WARNINGS` notes."""
-    return select_spectra(_load_noting(path, warn), path, select, single=single)
+    return select_spectra(_load_noting(path, warn), path, select, single=single, or_else=or_else)
 
 
 def load_selected_files(paths: Sequence[str], select: Sequence[str] | None) -> list:
@@ -336,10 +338,11 @@ def load_selected_files(paths: Sequence[str], select: Sequence[str] | None) -> l
     return [select_spectra(data, path, [item for item, dim in items if dim in _extra_dims(data)]) for data, path in zip(datasets, paths)]
 
 
-def select_spectra(data, path: str, select: Sequence[str] | None, *, single: str | None = None):
+def select_spectra(data, path: str, select: Sequence[str] | None, *, single: str | None = None, or_else: str = ""):
     """``data`` (the spectra of file ``path``) narrowed by ``--select DIM=LABEL`` items.
     ``single``: the command takes one spectrum; data that still hold several raise
-    `DataError` naming the dimensions, their labels and ``--select``. A selection is recorded
+    `DataError` naming the dimensions, their labels, ``--select`` and ``or_else`` (the
+    command's other way with several: "or sample them jointly with --shared NAMES"). A selection is recorded
     in the data's ``source`` (``path [DIM=LABEL]``), which later messages name."""
     picks: dict[str, int] = {}
     for item in select or ():
@@ -365,7 +368,8 @@ def select_spectra(data, path: str, select: Sequence[str] | None, *, single: str
         n = math.prod(data.sizes[d] for d in extra)
         raise DataError(
             f"{single} takes one spectrum; the file holds {n} over {', '.join(extra)} ({dim}: {labels_text(labels)}): "
-            f"pick one with --select {dim}=LABEL" + (" for each of them" if len(extra) > 1 else "") + f", e.g. --select {dim}={labels[0]}",
+            f"pick one with --select {dim}=LABEL" + (" for each of them" if len(extra) > 1 else "") + f", e.g. --select {dim}={labels[0]}"
+            + (f"; {or_else}" if or_else else ""),
             path=path,
         )
     return data
@@ -486,10 +490,15 @@ def write_stdout(data: bytes) -> None:
         sys.stdout.flush()
 
 
+FIGURE_TYPES_NEEDING_TOOLS = frozenset({"pgf"})
+"""matplotlib file types that need a program besides Python (pgf: a LaTeX install); refused
+before any work, not after the fit."""
+
+
 def _figure_extensions() -> tuple[str, ...]:
     from matplotlib.backend_bases import FigureCanvasBase
 
-    return tuple(sorted(f".{ext}" for ext in FigureCanvasBase.get_supported_filetypes()))
+    return tuple(sorted(f".{ext}" for ext in FigureCanvasBase.get_supported_filetypes() if ext not in FIGURE_TYPES_NEEDING_TOOLS))
 
 
 def _result_extensions() -> tuple[str, ...]:
@@ -674,7 +683,7 @@ _UNITS = {"": 1, "k": 2**10, "m": 2**20, "g": 2**30, "t": 2**40}
 def _format_bytes(n: float) -> str:
     for unit, size in (("TB", 2**40), ("GB", 2**30), ("MB", 2**20), ("kB", 2**10)):
         if n >= size:
-            return f"{n / size:.3g} {unit}"
+            return f"{n / size:.0f} {unit}" if n / size >= 100 else f"{n / size:.3g} {unit}"  # (1000 kB, not 1e+03 kB)
     return f"{n:.0f} B"
 
 

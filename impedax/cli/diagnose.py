@@ -39,11 +39,15 @@ def add_spectrum_command(sub, name: str, *, help: str, description: str, plot_he
 
 
 def effects_option(text):
+    from ..errors import ParameterError
     from ..fitting import DEFAULT_EFFECTS
 
-    if not text:
+    if text is None:
         return DEFAULT_EFFECTS
-    return DEFAULT_EFFECTS.select([t.strip() for t in text.split(",") if t.strip()])
+    ids = [t.strip() for t in text.split(",") if t.strip()]
+    if not ids:
+        raise ParameterError(f"--effects {text!r} names no effect: leave it out for all of them, or give ids from {', '.join(e.id for e in DEFAULT_EFFECTS.effects)}")
+    return DEFAULT_EFFECTS.select(ids)
 
 
 def run(args) -> int:

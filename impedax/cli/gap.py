@@ -26,8 +26,8 @@ def register(sub) -> None:
     p.add_argument("--no-area-check", action="store_true", help="analyse any positive --area, e.g. a contact other than a fingertip: one outside 1e-6–1e-2 m² gives a warning instead of an error")
     p.add_argument("--v0", type=number_option, default=75.0, help="drive amplitude V0 [V] (default 75)")
     p.add_argument("--ep", choices=("CPE", "C"), default="CPE", help="electrode-polarization branch: R_EP || CPE_EP (default) or R_EP || C_EP (its C_EP and C_gap are seen only as their sum, so C gives u's lower bound: analysed as R_EP || C_gap)")
-    p.add_argument("--method", choices=("hierarchical", "pooled"), default="hierarchical", help="hierarchical model over the trials (default) or the pooled analysis of the trial means")
-    p.add_argument("--pooled", action="store_const", const="pooled", dest="method", help="same as --method pooled")
+    p.add_argument("--method", choices=("hierarchical", "pooled"), help="hierarchical model over the trials (default) or the pooled analysis of the trial means")
+    p.add_argument("--pooled", action="store_true", help="same as --method pooled")
     p.add_argument(
         "--steps", type=steps_option, default="auto", metavar="N|auto",
         help="MCMC draws per chain after as many warm-up steps (hierarchical; auto: 500) or emcee steps (pooled; auto: until the chain is "
@@ -51,6 +51,9 @@ def run(args) -> int:
     from ..models.gap import HIERARCHICAL_AUTO_DRAWS, gap_analysis
     from .common import check_memory, figure_writer, load_selected_files, plan_outputs, print_result, result_writer
 
+    if args.pooled and args.method == "hierarchical":  # (argparse's exclusive groups let a default-valued --method through)
+        raise ParameterError("--pooled and --method hierarchical contradict each other: give one")
+    args.method = "pooled" if args.pooled else args.method or "hierarchical"
     if not args.area > 0:
         raise ParameterError(f"--area must be positive (m²), got {args.area:g}")
     if not args.v0 > 0:

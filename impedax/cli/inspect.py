@@ -72,6 +72,10 @@ def run(args) -> int:
     for key in _HOW_KEYS:
         if key in ds.attrs or key in ("sign_convention", "units"):
             print(f"  {key.replace('_', ' ')}:{_per_spectrum(summary[key] if key in summary else ds.attrs[key], ds, extra)}")
+    if summary["has_sigma"]:
+        sigma = ds["sigma"].values
+        print(f"  sigma: a standard deviation of Z per point, {np.nanmin(sigma):.3g}–{np.nanmax(sigma):.3g} Ω "
+              "(fits weight by it with --weighting sigma; diagnose takes it as the noise)")
     for d, labels in summary["labels"].items():
         print(f"  {d}: {len(labels)} spectra ({labels_text(labels)}); pick one with --select {d}=LABEL")
     print("  skipped rows: none" if not skipped else f"  skipped rows ({len(skipped)} range{'' if len(skipped) == 1 else 's'}):")
@@ -89,17 +93,19 @@ def run(args) -> int:
 
 
 def _sign_hint(ds, extra) -> str | None:
-    """`io.sign_check.opposite_sign_hint` when Z'' > 0 at nearly all points while |Z| falls
-    (`io.sign_check.positive_imaginary_evidence`), in how many spectra for a file of several."""
-    from ..io.sign_check import opposite_sign_hint, positive_imaginary_evidence
+    """`io.sign_check.negative_real_hint` when Z' < 0 at nearly all points
+    (`io.sign_check.negative_real_evidence`), else `io.sign_check.opposite_sign_hint` when
+    Z'' > 0 at nearly all points while |Z| falls (`io.sign_check.positive_imaginary_evidence`);
+    in how many spectra for a file of several."""
+    from ..io.sign_check import negative_real_evidence, negative_real_hint, opposite_sign_hint, positive_imaginary_evidence
 
     freq = ds["frequency"].values
     spectra = ds["Z"].transpose(*extra, "frequency").values.reshape(-1, freq.size)
-    found = [e for e in (positive_imaginary_evidence(freq, z) for z in spectra) if e]
-    if not found:
-        return None
-    evidence = found[0] if len(spectra) == 1 else f"in {len(found)} of {len(spectra)} spectra, e.g. {found[0]}"
-    return opposite_sign_hint(evidence, ds.attrs)
+    for evidence_of, hint in ((negative_real_evidence, negative_real_hint), (positive_imaginary_evidence, lambda e: opposite_sign_hint(e, ds.attrs))):
+        found = [e for e in (evidence_of(freq, z) for z in spectra) if e]
+        if found:
+            return hint(found[0] if len(spectra) == 1 else f"in {len(found)} of {len(spectra)} spectra, e.g. {found[0]}")
+    return None
 
 
 def _per_spectrum(text: str, ds, extra) -> str:

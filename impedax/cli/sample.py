@@ -136,9 +136,10 @@ def run(args) -> int:
     for flag, given in (("--init", init), ("--fix", fixed)):
         check_parameter_names(given, circuit.parameter_names(), flag, args.model)
     if sharing and (init or args.max_steps is not None):
-        raise ParameterError("--init and --max-steps are not available with --shared (the joint posterior starts from its own global fit); --fix is")
+        raise ParameterError("--init and --max-steps are not available with --shared (the joint posterior starts from its own global fit); --fix is available")
     max_steps = check_max_steps(args.max_steps) if args.max_steps is not None else None
-    data = load_selected(args.data, args.select)
+    data = load_selected(args.data, args.select, single=None if sharing else "sample",
+                         or_else="or sample them jointly with --shared NAMES (parameters one value for all, the others one per spectrum)")
     start = None
     if init or max_steps is not None:  # the least-squares start, as `sample` runs it, from the given values or step limit
         start = fit(circuit, data, init=init, fixed=fixed or None, weighting=start_weighting(args.noise), fmin=args.fmin, fmax=args.fmax,

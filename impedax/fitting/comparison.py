@@ -205,7 +205,7 @@ class Comparison:
         prints them under the table (`report`, ``impedax compare``), else it points to
         ``report()``."""
         extra = [c for c in ("log_evidence", "waic") if any(c in r for r in self.rows)]
-        width = max(len(r["label"]) for r in self.rows)
+        width = max(len("model"), *(len(r["label"]) for r in self.rows))
         head = f"{'model':<{width}}  {'k':>2}  {'rms_rel':>9}  {'chi2_red':>10}  {'AIC':>9}  {'AICc':>9}  {'BIC':>9}  {'ΔAIC':>7}  {'weight':>6}" + "".join(f"  {c:>12}" for c in extra)
         lines = [head]
         best = self.best_index
@@ -344,7 +344,7 @@ def compare(fits: Sequence) -> Comparison:
             f_value = max(s.chi2 - c.chi2, 0.0) / dk / denom if denom > 0 else math.inf
             test = {"simple": s.model, "complex": c.model, "f": float(f_value), "df1": dk, "df2": n - c.n_params, "p_value": float(stats.f.sf(f_value, dk, n - c.n_params)), "valid": True, "note": None,
                     "simple_label": labels[i], "complex_label": labels[j]}
-            if c.chi2 > s.chi2 * (1 + 1e-9):
+            if c.chi2 > s.chi2 * (1 + NESTED_WORSE_REL):
                 test.update(valid=False, note=f"{labels[j]} fits worse than {labels[i]}, which it contains: its fit did not reach its optimum")
             elif c.chi2_red < EXACT_CHI2_RED:
                 test.update(valid=False, note=f"{labels[j]} fits the data to rounding (chi2_red {c.chi2_red:.1e}): noise-free data, nothing to test against")
@@ -357,6 +357,11 @@ SAME_FIT_RMS = 1e-3
 spectra whose difference (rms, relative to |Z_data|) is below this fraction of their misfit
 rms_rel (or below 1e-9): two writings of one impedance function (two arcs in series and the
 ladder form), which would split the Akaike weight and the "best" by rounding."""
+NESTED_WORSE_REL = 1e-6
+"""A model that contains another fits worse only when its χ² exceeds the other's by more than
+this fraction: below, the two are one optimum to the solver's tolerance (a term at its bound,
+W1.sigma = 0, leaves the smaller model; χ² 1.6e-8 apart on BioLogic's file), F = 0 and p = 1,
+not a fit short of its optimum."""
 EXACT_CHI2_RED = 1e-20
 """Below this reduced χ² a fit is exact to rounding (noise-free data): an F-test compares
 rounding errors."""

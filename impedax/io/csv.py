@@ -10,6 +10,7 @@ comma. Lines starting with ``#``, ``%`` or ``!`` are comments.
 
 from __future__ import annotations
 
+import csv as _csv
 import io
 import re
 import warnings
@@ -39,7 +40,13 @@ def find_delimiter(line: str) -> str | None:
 
 
 def split_line(line: str, delimiter: str | None) -> list[str]:
-    return [c.strip() for c in (line.split(delimiter) if delimiter else line.split())]
+    """The cells of ``line``, stripped; a cell in double quotes may hold the delimiter
+    (``"Z' (Ohm, real)"``) and loses its quotes, as in any CSV."""
+    if not delimiter:
+        return line.split()
+    if '"' not in line:
+        return [c.strip() for c in line.split(delimiter)]
+    return [c.strip() for c in next(_csv.reader([line], delimiter=delimiter, skipinitialspace=True))]
 
 
 def _read_canonical(path: Path, raw: bytes) -> xr.Dataset | None:
@@ -106,8 +113,9 @@ def read_csv(path: str | Path) -> xr.Dataset:
     return spectrum_from_rows(path, layout, [(n, split_line(ln, delimiter)) for n, ln in rows], attrs, comma=comma, delimiter=delimiter, header_line=header_no, split_sweeps=True)
 
 
-def write_csv(ds: xr.Dataset, path: str | Path | None = None) -> str:
-    """Write one spectrum as ``frequency_hz,z_real_ohm,z_imag_ohm`` (17 significant digits).
+def write_csv(ds: xr.Dataset, path: str | Path | None = None, *, delimiter: str = ",") -> str:
+    """Write one spectrum as ``frequency_hz,z_real_ohm,z_imag_ohm`` (17 significant digits;
+    ``delimiter`` "\t" for a .tsv file).
 
     Returns the text; writes it atomically to ``path`` when given.
     """
@@ -121,9 +129,9 @@ def write_csv(ds: xr.Dataset, path: str | Path | None = None) -> str:
     if "sigma" in ds:
         header.append("sigma_ohm")
         columns.append(ds["sigma"].values)
-    lines = [",".join(header)]
+    lines = [delimiter.join(header)]
     for row in zip(*columns):
-        lines.append(",".join(f"{v:.17g}" for v in row))
+        lines.append(delimiter.join(f"{v:.17g}" for v in row))
     text = "\n".join(lines) + "\n"
     if path is not None:
         with atomic_path(path) as tmp:

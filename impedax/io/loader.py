@@ -86,6 +86,8 @@ def load(path: str | os.PathLike, readers: Sequence[Reader] | None = None) -> xr
     if reader is not None:
         ds = reader.read(path)
         ds.attrs.setdefault("format", reader.name)
+        if ds.attrs.get("source") == "memory":  # (a reader of the user's built it with make_spectrum: later errors name the file)
+            ds.attrs["source"] = str(path)
         return validate_spectrum(ds, source=str(path))
     head = _head(path)
     if not head_text(head).strip():  # binary or blank: decided from the first 64 kB, before reading the whole file
@@ -165,7 +167,8 @@ def _check_path(path) -> None:
 
 
 def save(ds: xr.Dataset, path: str | os.PathLike) -> None:
-    """Save a spectrum: ``.nc`` → lossless netCDF, ``.csv``/``.txt`` → canonical CSV. Atomic."""
+    """Save a spectrum: ``.nc`` → lossless netCDF, ``.csv``/``.txt`` (or no extension) →
+    canonical CSV, ``.tsv`` → the same columns separated by tabs. Atomic."""
     if not isinstance(ds, xr.Dataset):
         raise DataError(f"save takes a spectrum Dataset (impedax.make_spectrum, impedax.load), got {shown(ds)} ({type(ds).__name__})")
     _check_path(path)
@@ -175,4 +178,4 @@ def save(ds: xr.Dataset, path: str | os.PathLike) -> None:
     if kind == "netcdf":
         write_netcdf(ds, path)
     else:
-        write_csv(ds, path)
+        write_csv(ds, path, delimiter="\t" if path.suffix.lower() == ".tsv" else ",")

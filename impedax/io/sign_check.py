@@ -17,7 +17,10 @@ from typing import Callable
 
 import numpy as np
 
-__all__ = ["POSITIVE_SHARE", "FAILED_SHARE", "positive_imaginary_evidence", "conjugate_evidence", "opposite_sign_hint", "sign_hint"]
+__all__ = [
+    "POSITIVE_SHARE", "FAILED_SHARE", "positive_imaginary_evidence", "negative_real_evidence", "conjugate_evidence", "opposite_sign_hint",
+    "negative_real_hint", "sign_hint",
+]
 
 POSITIVE_SHARE = 0.9
 """Z'' > 0 at at least this share of the points ("nearly all")."""
@@ -50,12 +53,38 @@ def positive_imaginary_evidence(freq, z) -> str | None:
     return f"Z'' > 0 at {positive} of {freq.size} points while |Z| falls with frequency, which no passive circuit does"
 
 
+def negative_real_evidence(freq, z) -> str | None:
+    """Why the real part of ``z`` looks stored with the opposite sign, or None: Z' < 0 at
+    nearly all points (`POSITIVE_SHARE`), which no passive impedance has (its Z' ≥ 0 at every
+    frequency: it dissipates power)."""
+    z = np.asarray(z, complex)
+    keep = np.isfinite(np.asarray(freq, float)) & np.isfinite(z)
+    z = z[keep]
+    if z.size < 3:
+        return None
+    negative = int(np.count_nonzero(z.real < 0))
+    if negative < POSITIVE_SHARE * z.size:
+        return None
+    return f"Z' < 0 at {negative} of {z.size} points, which no passive impedance has"
+
+
+def negative_real_hint(evidence: str | None) -> str | None:
+    """The hint for ``evidence`` (`negative_real_evidence`), or None."""
+    if not evidence:
+        return None
+    return (f"the real part may be stored with the opposite sign (−Z'): {evidence}; if so, correct the sign in the file (in a table, "
+            "a column whose name starts with '-' is negated on reading), or in Python take data.assign(Z=-data['Z'].conj())")
+
+
 def conjugate_evidence(result, retest: Callable[[np.ndarray, np.ndarray], object], name: str = "the KK test") -> str | None:
     """Why the data look conjugated to a validity test, or None: ``result`` (a `KKResult` or
     `ZHITResult`) flags at least `FAILED_SHARE` of the points and ``retest(frequency, conj(Z))``
-    is valid."""
+    is valid (and conj(Z) is not negative-real: conjugating leaves Z' as it is,
+    `negative_real_evidence`)."""
     flagged = np.asarray(result.flagged, bool)
     if result.valid or flagged.size == 0 or flagged.mean() < FAILED_SHARE:
+        return None
+    if negative_real_evidence(result.frequency, result.impedance):
         return None
     other = retest(result.frequency, np.conj(result.impedance))
     if not other.valid:
@@ -99,8 +128,12 @@ def _fix(attrs) -> str:
 
 
 def sign_hint(result, retest: Callable[[np.ndarray, np.ndarray], object], name: str, attrs=None) -> str | None:
-    """`opposite_sign_hint` for a validity test's ``result``: it fails almost everywhere and
+    """`negative_real_hint` for a validity test's ``result`` whose Z' < 0 nearly everywhere
+    (`negative_real_evidence`); else `opposite_sign_hint` when it fails almost everywhere and
     ``retest`` passes conj(Z) (`conjugate_evidence`), or Z'' > 0 nearly everywhere while |Z|
     falls (`positive_imaginary_evidence`)."""
+    real = negative_real_evidence(result.frequency, result.impedance)
+    if real:
+        return negative_real_hint(real)
     evidence = conjugate_evidence(result, retest, name) or positive_imaginary_evidence(result.frequency, result.impedance)
     return opposite_sign_hint(evidence, attrs)

@@ -94,6 +94,8 @@ class ChainLength:
         self.next_check = AUTO_CHECK_STEPS
         self.previous: np.ndarray | None = None  # τ [steps] at the previous estimate
         self.needed: int | None = None  # the steps the last estimate says the run needs
+        self.long = False  # the last estimate found the chain `CHAIN_TAU_MULTIPLE` τ long
+        self.tau_change: float | None = None  # the largest relative change of τ at the last estimate (None: the first)
 
     def burn_of(self, steps: int) -> int:
         return steps // 4 if self.burn is None else self.burn
@@ -117,7 +119,9 @@ class ChainLength:
         tau = tau_draws * self.thin
         known = bool(np.all(np.isfinite(tau)))
         long_enough = known and kept.shape[1] >= CHAIN_TAU_MULTIPLE * max(float(np.max(tau_draws)), 1.0)
-        stable = known and self.previous is not None and bool(np.all(np.abs(tau - self.previous) < AUTO_TAU_CHANGE * tau))
+        change = np.abs(tau - self.previous) / tau if known and self.previous is not None else None
+        stable = change is not None and bool(np.all(change < AUTO_TAU_CHANGE))
+        self.long, self.tau_change = long_enough, float(np.max(change)) if change is not None else None
         self.previous = tau
         self.next_check = steps + AUTO_CHECK_STEPS
         if known:
@@ -149,9 +153,10 @@ def run_emcee(p0: np.ndarray, log_prob: Callable[[np.ndarray], np.ndarray], *, s
             bar.update(ran)
             if length is not None and length.long_enough(sampler, ran, last=ran == most):
                 converged = True
+                bar.set_target(None, f"{CHAIN_TAU_MULTIPLE} τ reached, τ settled: done")
                 break
             if length is not None and length.needed is not None:
-                bar.set_target(length.needed, f"{CHAIN_TAU_MULTIPLE} τ")
+                bar.set_target(*_length_goal(length, ran))
     finally:
         bar.close()
     elapsed = time.perf_counter() - t0
@@ -160,6 +165,15 @@ def run_emcee(p0: np.ndarray, log_prob: Callable[[np.ndarray], np.ndarray], *, s
     log_prob_kept = np.transpose(sampler.get_log_prob(discard=burn, thin=thin))
     stopped = ("converged" if converged else "cap") if auto else None
     return Chain(chain_y, log_prob_kept, np.asarray(sampler.acceptance_fraction, float), elapsed, ran, burn, stopped)
+
+
+def _length_goal(length: ChainLength, ran: int) -> tuple[int | None, str]:
+    """What an auto run waits for, for its progress line: the steps its chain needs to be
+    `CHAIN_TAU_MULTIPLE` τ long, or, once it is, τ to settle (`AUTO_TAU_CHANGE`)."""
+    if not (length.long and ran >= length.needed):
+        return length.needed, f"{CHAIN_TAU_MULTIPLE} τ"
+    changed = f"changed {length.tau_change:.1%} at the last check" if length.tau_change is not None else "no earlier estimate yet"
+    return None, f"{CHAIN_TAU_MULTIPLE} τ reached; waiting for τ to settle ({changed}, < {AUTO_TAU_CHANGE:.0%} stops)"
 
 
 def length_settings(chain: Chain, walkers: int) -> dict:

@@ -244,7 +244,7 @@ class Posterior:
     def report(self) -> str:
         """A readable table of the posterior."""
         q = self.quantiles()
-        width = max(len(n) for n in self.names)
+        width = max(len("parameter"), *(len(n) for n in self.names))
         units = [unit_text(u) for u in self.units]
         unit_width = max([4, *map(len, units)])
         lines = [

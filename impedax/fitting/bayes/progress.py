@@ -50,8 +50,9 @@ class ProgressLine:
         self.first: tuple[float, int] | None = None  # (time, steps) at the first report: compilation comes before it
 
     def set_target(self, steps: int | None, note: str = "") -> None:
-        """The steps an open-ended run needs as estimated now (None: not known yet) and what the
-        estimate is (``note``, e.g. "50 τ")."""
+        """The steps an open-ended run needs as estimated now and what the estimate is (``note``,
+        e.g. "50 τ"); None with a ``note``: what the run waits for instead of a step count
+        (None alone: not estimated yet)."""
         self.target, self.target_note = steps, note
 
     def update(self, done: int, *, final: bool = False) -> None:
@@ -78,7 +79,7 @@ class ProgressLine:
             left = f", ~{(self.total - done) * rate:.0f} s left" if rate is not None and done < self.total else ""
             return f"{self.label}: step {done}/{self.total} ({100 * done / self.total:.0f}%), {now:.0f} s{left}"
         if self.target is None:
-            goal = f"steps needed not yet estimated; at most {self.total}"
+            goal = f"{self.target_note or 'steps needed not yet estimated'}; at most {self.total}"
         else:
             goal = f"≈{min(self.target, self.total)} needed{' for ' + self.target_note if self.target_note else ''}; at most {self.total}"
         left = f", ~{(min(self.target, self.total) - done) * rate:.0f} s left" if rate is not None and self.target is not None and done < min(self.target, self.total) else ""

@@ -187,7 +187,8 @@ def rebuild(description: Mapping) -> Reparametrization:
         return gap_thickness_reparametrization(replaces[0], area=constants["area"], eps_r=constants["eps_r"], name=names[0], **bounds)
     if kind == ReparametrizationKind.STRATUM_CORNEUM:
         return stratum_corneum_reparametrization(replaces[0], replaces[1], area=constants["area"], d_start=constants["d_start"], names=tuple(names))
-    raise ParameterError(f"the saved posterior used a custom reparametrization ({description.get('description', '')}); pass it as reparametrization=")
+    what = description.get("description") or f"{', '.join(names)} in place of {', '.join(replaces)}"
+    raise ParameterError(f"the saved posterior used a custom reparametrization ({what}); pass it as reparametrization=")
 
 
 def _check_positive(**values):

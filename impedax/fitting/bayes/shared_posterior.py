@@ -244,7 +244,7 @@ class SharedPosterior:
 
     def report(self) -> str:
         q = self.quantiles()
-        width = max(len(n) for n in self.names)
+        width = max(len("parameter"), *(len(n) for n in self.names))
         lines = [
             f"model      {self.model}   (joint posterior: {', '.join(self.shared)} shared over {', '.join(self.over)}, {len(self.spectra)} spectra)",
             f"noise      {self.noise}: {NOISE_MODELS[self.noise]}",

@@ -183,7 +183,7 @@ class FitResult:
     def report(self) -> str:
         """A readable table of the fit."""
         specs = self.circuit.parameter_specs(self.registry)
-        width = max(len(n) for n in self.values)
+        width = max(len("parameter"), *(len(n) for n in self.values))
         lines = [
             f"model      {self.model}",
             f"weighting  {self.weighting}    points {self.n_points}    free parameters {self.n_params}",

@@ -2,7 +2,8 @@
 
 Layout: optional comment lines, then a column-name line and rows separated by ``;``, tab or
 ``,``. NOVA's names: ``Index``, ``Frequency (Hz)``, ``Z' (Ω)``, ``-Z'' (Ω)``, ``Z (Ω)``,
-``-Phase (°)``, ``Time (s)``.
+``-Phase (°)``, ``Time (s)``; a header is taken as NOVA's when it has one of the last four
+beside the first three.
 
 Conventions: frequency in Hz; Z' = ``Z' (Ω)``; the file stores −Z'' (``-Z'' (Ω)``), negated
 here. Unit prefixes in the names (``kΩ``, ``mHz``) are applied case-sensitively; decimal commas
@@ -26,13 +27,16 @@ __all__ = ["read_autolab", "READER"]
 CONVENTIONS = "Frequency (Hz); Z' (Ω); file stores -Z'' (Ω), negated"
 _FREQ = re.compile(r"^Frequency \((?:[mkM]?Hz)\)$")
 _NEG_IMAG = re.compile(r"^-Z'' \((?:[mkM]?(?:Ω|Ohm|ohm))\)$")
+_NOVA_ONLY = re.compile(r"^(?:Index|Z \((?:[mkM]?(?:Ω|Ohm|ohm))\)|-Phase \(°\)|Time \(s\))$")
+"""A column NOVA writes beside frequency, Z' and -Z'' (its index, |Z|, phase, time): a table of
+those three alone is any program's, read by the generic table reader and not labelled Autolab."""
 
 
 def _header(text: str):
     for k, line in enumerate(text.splitlines()[:50]):
         for delimiter in (";", "\t", ","):
             cells = [c.strip().strip('"') for c in line.split(delimiter)]
-            if len(cells) >= 3 and any(_FREQ.match(c) for c in cells) and any(_NEG_IMAG.match(c) for c in cells):
+            if len(cells) >= 4 and any(_FREQ.match(c) for c in cells) and any(_NEG_IMAG.match(c) for c in cells) and any(_NOVA_ONLY.match(c) for c in cells):
                 return k, delimiter, cells
     return None
 

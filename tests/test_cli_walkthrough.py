@@ -1,0 +1,202 @@
+"""What a user's walk through the commands on real instrument files found (2026-11-30), each
+with the case that showed it:
+
+- parameter tables whose names are shorter than the header "parameter" printed the values
+  six columns left of their headers (`fit`, `info`, the posteriors, `kk` of a batch, `compare`);
+- `compare` said a model that contains another "did not reach its optimum" when its extra term
+  sat at its bound and the two χ² differed by 1.6e-8 relative (BioLogic's real file);
+- a spectrum with Z' negated got the hint to flip the sign of Z'', which leaves Z' < 0;
+- `sample` on a file of several spectra answered in Python's words, without --select or
+  --shared; `inspect` did not mention a sigma column;
+- a plain CSV with NOVA-like column names was labelled "Metrohm Autolab"; a quoted header
+  cell holding the delimiter was split in two;
+- `sample --steps auto` showed "≈3798 needed" for thousands of steps past it while it waited
+  for τ to settle, without saying so;
+- `diagnose` on fewer than 10 frequencies read the inconclusive KK test's chain misfit as the
+  noise and called a 26 % misfit adequate; its JSON had no baseline parameters;
+- a memory refusal read "1e+03 kB".
+
+Spectra come from closed forms written here (R0 + R1 ∥ C1), except where the real file was
+the case (`tests/fixtures/real/`, impedance.py's and AutoEIS's examples, MIT)."""
+
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import impedax as ix
+from impedax.cli import main
+
+ROOT = Path(__file__).resolve().parent.parent
+REAL = ROOT / "tests" / "fixtures" / "real"
+CYCLES = ROOT / "examples" / "data" / "autoeis_battery_cycles.nc"
+
+
+def rc_spectrum(f: np.ndarray, noise: float = 0.0, seed: int = 0) -> np.ndarray:
+    """R0 + R1 ∥ C1 = 20 + 1000/(1 + jω·1000·1e-6) Ω, with relative complex noise."""
+    z = 20 + 1000 / (1 + 1j * 2 * np.pi * f * 1e-3)
+    rng = np.random.default_rng(seed)
+    return z * (1 + noise * (rng.normal(size=f.size) + 1j * rng.normal(size=f.size)))
+
+
+def write_csv(path: Path, f: np.ndarray, z: np.ndarray, header: str = "frequency_hz,z_real_ohm,z_imag_ohm") -> Path:
+    path.write_text(header + "\n" + "".join(f"{a:.10g},{b.real:.10g},{b.imag:.10g}\n" for a, b in zip(f, z)))
+    return path
+
+
+def value_column_ends(lines: list[str], header_word: str, first_column: str) -> tuple[int, list[int]]:
+    """Where ``header_word`` ends in the header line, and where the second field ends in each
+    row whose first field is in ``first_column``."""
+    header = next(line for line in lines if line.split()[:1] == [first_column] and header_word in line)
+    end = header.index(header_word) + len(header_word)
+    rows = [line for line in lines[lines.index(header) + 1 :] if line[:1].isalnum() and not line.startswith(("warning", "note"))]
+    ends = [m.end() for m in (re.match(r"\S+\s+\S+", row) for row in rows) if m]
+    return end, ends
+
+
+# --- tables -----------------------------------------------------------------------------------
+
+
+def test_the_values_of_short_parameter_names_sit_under_their_header(tmp_path, capsys):
+    f = np.geomspace(1, 1e5, 31)
+    data = write_csv(tmp_path / "rc.csv", f, rc_spectrum(f, 1e-3))
+    assert main(["fit", str(data), "--model", "R0 + R1 || C1"]) == 0
+    end, ends = value_column_ends(capsys.readouterr().out.splitlines(), "value", "parameter")
+    assert len(ends) == 3 and set(ends) == {end}  # (right-aligned values end where "value" ends)
+    assert main(["info", "R0 + R1 || C1"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    header = next(line for line in lines if line.startswith("parameter"))
+    assert all(line.index("Ω" if line.startswith("R") else "F") == header.index("unit") for line in lines if line[:2] in ("R0", "R1", "C1"))
+
+
+# --- compare ----------------------------------------------------------------------------------
+
+
+def test_a_model_whose_extra_term_sits_at_its_bound_is_not_called_short_of_its_optimum(capsys):
+    # (BioLogic's real file: W1.sigma at 0, the two fits' χ² 1.6e-8 apart relative)
+    code = main(["compare", str(REAL / "exampleDataBioLogic.mpt"), "--model", "R0 + R1 || CPE1", "--model", "R0 + R1 || CPE1 + W1", "--json"])
+    assert code == 0
+    out = json.loads(capsys.readouterr().out)
+    (test,) = out["f_tests"]
+    assert test["valid"] and test["note"] is None, test
+    assert test["f"] == pytest.approx(0.0, abs=1e-3) and test["p_value"] > 0.99
+
+
+# --- sign hints -------------------------------------------------------------------------------
+
+
+def test_a_negated_real_part_gets_the_real_parts_hint_not_the_imaginary_parts(tmp_path, capsys):
+    f = np.geomspace(1, 1e5, 21)
+    z = rc_spectrum(f)
+    path = write_csv(tmp_path / "neg_real.csv", f, -z.real + 1j * z.imag, header="freq,Zreal,Zimag")
+    assert main(["kk", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "the real part may be stored with the opposite sign (−Z'): Z' < 0 at 21 of 21 points" in out
+    assert "imaginary part may be stored" not in out  # (conj(Z) passes the KK test but keeps Z' < 0)
+    assert main(["inspect", str(path)]) == 0
+    assert "hint: the real part may be stored with the opposite sign" in capsys.readouterr().out
+    flipped = write_csv(tmp_path / "flipped.csv", f, np.conj(z), header="freq,Zreal,Zimag")  # (the other mistake keeps its hint)
+    assert main(["kk", str(flipped)]) == 0
+    assert "the imaginary part may be stored with the opposite sign" in capsys.readouterr().out
+
+
+def test_a_spectrum_with_its_signs_right_gets_no_sign_hint(tmp_path, capsys):
+    f = np.geomspace(1, 1e5, 21)
+    path = write_csv(tmp_path / "good.csv", f, rc_spectrum(f, 1e-3))
+    assert main(["inspect", str(path), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["sign_hint"] is None
+
+
+# --- files ------------------------------------------------------------------------------------
+
+
+def test_sample_on_several_spectra_names_select_and_shared(capsys):
+    code = main(["sample", str(CYCLES), "--model", "R0 + R1 || CPE1", "--steps", "20"])
+    err = capsys.readouterr().err
+    assert code == 2
+    assert "sample takes one spectrum; the file holds 3 over cycle" in err and "--select cycle=0" in err
+    assert "or sample them jointly with --shared NAMES" in err
+
+
+def test_inspect_says_the_file_has_a_sigma_column(tmp_path, capsys):
+    f = np.geomspace(1, 1e3, 8)
+    z = rc_spectrum(f)
+    path = tmp_path / "sigma.csv"
+    path.write_text("frequency_hz,z_real_ohm,z_imag_ohm,sigma_ohm\n" + "".join(f"{a:g},{b.real:.8g},{b.imag:.8g},{0.1 * (k + 1):g}\n" for k, (a, b) in enumerate(zip(f, z))))
+    assert main(["inspect", str(path)]) == 0
+    assert "sigma: a standard deviation of Z per point, 0.1–0.8 Ω" in capsys.readouterr().out
+
+
+def test_a_plain_table_with_nova_like_names_is_not_labelled_autolab(tmp_path):
+    f = np.geomspace(1, 1e3, 6)
+    z = rc_spectrum(f)
+    path = tmp_path / "plain.csv"
+    path.write_text("Frequency (kHz),Z' (kOhm),-Z'' (kOhm)\n" + "".join(f"{a / 1e3:.10g},{b.real / 1e3:.10g},{-b.imag / 1e3:.10g}\n" for a, b in zip(f, z)))
+    ds = ix.load(path)
+    assert ds.attrs["format"] == "delimited text" and "instrument" not in ds.attrs
+    np.testing.assert_allclose(ds["Z"].values, z, rtol=1e-9)
+    nova = ix.load(ROOT / "tests" / "fixtures" / "autolab_nova.txt")  # (NOVA's own export keeps its label)
+    assert nova.attrs["format"] == "Metrohm Autolab NOVA text"
+
+
+def test_a_quoted_header_cell_may_hold_the_delimiter_and_loses_its_quotes(tmp_path):
+    f = np.geomspace(1, 1e3, 6)
+    z = rc_spectrum(f)
+    path = tmp_path / "quoted.csv"
+    path.write_text('"Frequency (Hz)","Z\' (Ohm)","Z\'\' (Ohm)","Remark, free text"\n'
+                    + "".join(f'{a:.10g},{b.real:.10g},{b.imag:.10g},"ok, kept"\n' for a, b in zip(f, z)))
+    ds = ix.load(path)
+    np.testing.assert_allclose(ds["Z"].values, z, rtol=1e-9)
+    assert "'Frequency (Hz)'" in ds.attrs["units"] and "'\"" not in ds.attrs["units"]  # (the names as written, without their quotes)
+
+
+# --- sampling progress ------------------------------------------------------------------------
+
+
+def test_an_auto_runs_progress_says_when_it_waits_for_tau_to_settle():
+    from impedax.fitting.bayes.chain import ChainLength, _length_goal
+    from impedax.fitting.bayes.progress import ProgressLine
+
+    length = ChainLength(None, 1)
+    length.needed, length.long, length.tau_change = 3798, False, None
+    assert _length_goal(length, 2000) == (3798, "50 τ")
+    length.long, length.tau_change = True, 0.034
+    steps, note = _length_goal(length, 9075)
+    assert steps is None and note == "50 τ reached; waiting for τ to settle (changed 3.4% at the last check, < 1% stops)"
+    bar = ProgressLine(20000, True, label="sampling", interactive=False, open_ended=True)
+    bar.first = (0.0, 0)
+    bar.set_target(steps, note)
+    text = bar.text(9075, 19.0)
+    assert "waiting for τ to settle" in text and "needed" not in text and "s left" not in text
+
+
+# --- diagnose on few points -------------------------------------------------------------------
+
+
+def test_diagnose_on_fewer_than_ten_frequencies_needs_a_noise_level(tmp_path, capsys):
+    f = np.geomspace(10, 1e4, 6)
+    path = write_csv(tmp_path / "six.csv", f, rc_spectrum(f, 0.01, seed=1))
+    with pytest.raises(ix.DataError, match=r"six\.csv: 6 frequencies are too few to tell the model's misfit from noise"):
+        ix.diagnose(ix.load(path), "R0 + R1 || C1")
+    assert main(["diagnose", str(path), "--model", "R0 + R1 || C1", "--noise", "1%", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["kk"]["conclusive"] is False
+    assert out["noise"]["source"] == "given" and out["noise"]["level"] == pytest.approx(0.01)
+    assert any("inconclusive on 6 frequencies" in note for note in out["notes"])
+    assert not any("in-memory data" in note for note in out["notes"])
+    assert set(out["baseline"]["params"]) == {"R0", "R1", "C1"}
+    assert out["baseline"]["params"]["C1"]["value"] == pytest.approx(1e-6, rel=0.1)
+
+
+# --- memory message ---------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("n, text", [(1000 * 1024, "1000 kB"), (1536, "1.5 kB"), (12.5 * 2**20, "12.5 MB"), (100, "100 B")])
+def test_sizes_read_without_exponents(n, text):
+    from impedax.cli.common import _format_bytes
+
+    assert _format_bytes(n) == text
