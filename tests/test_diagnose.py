@@ -132,7 +132,8 @@ def test_a_weak_loop_above_the_lowest_points_is_proposed_when_noise_hides_it_the
     decades above the band's low end) against R0 + R1 ∥ C1 at its least-squares values for these
     data (R1 = 478 Ω settles between R1 and R1 ∥ R_loop). Noise at the three lowest points
     (−5 Ω on Z'') turns their mean Z'' misfit negative; over the low-end run below the model's Z'
-    (14 points) the misfit stays positive, and the loop is proposed."""
+    (14 points) the misfit stays positive, and the loop is proposed; so it is when noise lifts the
+    lowest point alone above the model's Z' (the run then starts at the next)."""
     circuit = ix.parse("R0 + R1 || C1")
     f = np.logspace(-2, 5, 60)
     w = 2 * np.pi * f
@@ -146,6 +147,13 @@ def test_a_weak_loop_above_the_lowest_points_is_proposed_when_noise_hides_it_the
     # the zero-to-pole span of the first start's L lies within a decade of the true 0.32–0.35 Hz
     r_loop, inductance = p.starts[0]["R_loop"], p.starts[0]["L_loop"]
     assert 0.03 < r_loop / (2 * np.pi * inductance) and (values["R1"] + r_loop) / (2 * np.pi * inductance) < 3.5
+    # noise that also lifts the lowest point alone above the model's Z' (+30 Ω: the three lowest
+    # still lie below it on average) leaves the run from the next point on, and the loop proposed
+    lifted = data.copy()
+    lifted[0] += 30
+    assert (lifted - model)[0].real > 0 and np.mean((lifted - model)[:3].real) < 0
+    (p,) = ix.DEFAULT_EFFECTS["inductive_loop"].propose(circuit, BaselineContext(circuit, values, f, lifted, model))
+    assert str(p.circuit) == "R0 + R1 || (R_loop + L_loop) || C1"
 
 
 def test_a_loop_outside_the_band_is_not_plausible():
