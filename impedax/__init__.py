@@ -26,7 +26,7 @@ if _os.environ.get("IMPEDAX_NO_X64") != "1":
 
 def _cpu_device_count() -> int:
     chosen = _os.environ.get("IMPEDAX_CPU_DEVICES", "").strip()
-    if chosen.isdigit() and int(chosen) >= 1:
+    if chosen.isdecimal() and chosen.isascii() and int(chosen) >= 1:
         return int(chosen)
     if chosen:  # (at import: a line on stderr, not an error that would stop every command)
         _sys.stderr.write(f"impedax: IMPEDAX_CPU_DEVICES={chosen!r} is not a whole number of at least 1: ignored, one device per core\n")

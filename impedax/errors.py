@@ -14,6 +14,7 @@ __all__ = [
     "CircuitError",
     "DataError",
     "ParameterError",
+    "ArgumentNeeded",
     "FitError",
 ]
 
@@ -130,6 +131,11 @@ class DataError(ImpedaxError, ValueError):
 
 class ParameterError(ImpedaxError, ValueError):
     """An unknown parameter name, or a value outside the parameter's bounds."""
+
+
+class ArgumentNeeded(ParameterError):
+    """A saved result that can be rebuilt only with an argument the file cannot hold (a custom
+    reparametrization's functions): the file is whole, the call lacks something."""
 
 
 class FitError(ImpedaxError, RuntimeError):

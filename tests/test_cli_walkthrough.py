@@ -102,6 +102,11 @@ def test_a_negated_real_part_gets_the_real_parts_hint_not_the_imaginary_parts(tm
     flipped = write_csv(tmp_path / "flipped.csv", f, np.conj(z), header="freq,Zreal,Zimag")  # (the other mistake keeps its hint)
     assert main(["kk", str(flipped)]) == 0
     assert "the imaginary part may be stored with the opposite sign" in capsys.readouterr().out
+    negated = write_csv(tmp_path / "negated.csv", f, -z, header="freq,Zreal,Zimag")  # (both: -Z, not -conj(Z), mends it)
+    for command in ("kk", "inspect"):
+        assert main([command, str(negated)]) == 0
+        out = capsys.readouterr().out
+        assert "Z may be stored with the opposite sign (−Z" in out and "data.assign(Z=-data['Z'])" in out
 
 
 def test_a_spectrum_with_its_signs_right_gets_no_sign_hint(tmp_path, capsys):
@@ -147,8 +152,8 @@ def test_a_quoted_header_cell_may_hold_the_delimiter_and_loses_its_quotes(tmp_pa
     f = np.geomspace(1, 1e3, 6)
     z = rc_spectrum(f)
     path = tmp_path / "quoted.csv"
-    path.write_text('"Frequency (Hz)","Z\' (Ohm)","Z\'\' (Ohm)","Remark, free text"\n'
-                    + "".join(f'{a:.10g},{b.real:.10g},{b.imag:.10g},"ok, kept"\n' for a, b in zip(f, z)))
+    path.write_text('"Point, no.","Frequency (Hz)","Z\' (Ohm)","Z\'\' (Ohm)"\n'  # (split at its comma, every column had moved one place)
+                    + "".join(f'{k},{a:.10g},{b.real:.10g},{b.imag:.10g}\n' for k, (a, b) in enumerate(zip(f, z))))
     ds = ix.load(path)
     np.testing.assert_allclose(ds["Z"].values, z, rtol=1e-9)
     assert "'Frequency (Hz)'" in ds.attrs["units"] and "'\"" not in ds.attrs["units"]  # (the names as written, without their quotes)
@@ -200,3 +205,20 @@ def test_sizes_read_without_exponents(n, text):
     from impedax.cli.common import _format_bytes
 
     assert _format_bytes(n) == text
+
+
+def test_the_diagnosis_reports_the_kk_test_as_judged_against_the_local_noise():
+    """SYNTHETIC R0 + R1 ∥ CPE1 (closed form) with noise growing ×8 toward low frequency (0.25 %
+    at 100 kHz, 2 % at 0.1 Hz; seed 0): the test's one global scale flags 7 points of the noisy
+    end, which the local judgement clears, and the diagnosis (report, JSON) says the data are
+    KK consistent, as its note says they count as data (the walkthrough's change had briefly
+    reported the test before that judgement)."""
+    f = np.geomspace(0.1, 1e5, 61)
+    z = 10.0 + 1.0 / (1 / 1000.0 + 1e-5 * (2j * np.pi * f) ** 0.8)
+    sigma = 0.0025 * 8 ** (np.log10(f[-1] / f) / np.log10(f[-1] / f[0]))
+    rng = np.random.default_rng(0)
+    z = z + sigma * np.abs(z) * (rng.standard_normal(f.size) + 1j * rng.standard_normal(f.size))
+    d = ix.diagnose(ix.make_spectrum(f, z), "R0 + R1 || CPE1")
+    assert int(d.kk_as_tested.flagged.sum()) > 0 and any("count as data" in n for n in d.notes)  # (the premise)
+    assert d.kk.valid and not d.kk.flagged.any()
+    assert d.summary()["kk"]["valid"] is True and "the data are Kramers–Kronig consistent" in d.report()

@@ -490,15 +490,23 @@ def write_stdout(data: bytes) -> None:
         sys.stdout.flush()
 
 
-FIGURE_TYPES_NEEDING_TOOLS = frozenset({"pgf"})
-"""matplotlib file types that need a program besides Python (pgf: a LaTeX install); refused
-before any work, not after the fit."""
+def _missing_tool(extension: str) -> str | None:
+    """Why matplotlib cannot write a figure of this type here, or None: PGF needs the LaTeX
+    program of ``rcParams["pgf.texsystem"]`` (checked before any work, not after the fit)."""
+    if extension != ".pgf":
+        return None
+    import shutil
+
+    from matplotlib import rcParams
+
+    tex = rcParams["pgf.texsystem"]
+    return None if shutil.which(tex) else f"'.pgf' needs a LaTeX install ({tex} not found)"
 
 
 def _figure_extensions() -> tuple[str, ...]:
     from matplotlib.backend_bases import FigureCanvasBase
 
-    return tuple(sorted(f".{ext}" for ext in FigureCanvasBase.get_supported_filetypes() if ext not in FIGURE_TYPES_NEEDING_TOOLS))
+    return tuple(sorted(e for e in (f".{ext}" for ext in FigureCanvasBase.get_supported_filetypes()) if _missing_tool(e) is None))
 
 
 def _result_extensions() -> tuple[str, ...]:
@@ -636,7 +644,9 @@ def plan_outputs(outputs: Iterable[tuple[str, str | None, str]], *, inputs: Iter
         known = kind.extensions()
         if suffix not in known:
             listed = ", ".join(e for e in known if e) + (f" (or none: written as {kind.default_suffix[1:].upper()})" if "" in known else "")
-            raise DataError(f"{flag}: unknown {kind.name} extension {suffix or '(none)'!r}; use one of {listed}", path=path)
+            shown = suffix or "(none)"
+            why = (_missing_tool(suffix) if kind_name == "figure" else None) or f"unknown {kind.name} extension {shown!r}"
+            raise DataError(f"{flag}: {why}; use one of {listed}", path=path)
         check_writable(path)
         for source in inputs:
             if source != "-" and _same_file(path, source):

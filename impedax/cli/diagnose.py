@@ -32,7 +32,7 @@ def add_spectrum_command(sub, name: str, *, help: str, description: str, plot_he
     add_model_argument(p, default=model_default)
     add_fit_options(p)
     p.add_argument("--effects", metavar="ID,ID", help="only these effects (comma-separated ids; default: all)")
-    p.add_argument("--noise", metavar="REL", help="relative noise level per component: a fraction of |Z| (0.05) or a percentage (5%%); default: from sigma or the KK residuals")
+    p.add_argument("--noise", metavar="REL", help="relative noise level per component: a fraction of |Z| (0.05) or a percentage (5%%); default: from sigma or the KK residuals, which need 10 frequencies: on fewer give it")
     add_output_options(p, json="machine-readable output", plot=plot_help, out=result_out_help(out_help))
     p.set_defaults(run=run)
     return p

@@ -101,10 +101,12 @@ def _sign_hint(ds, extra) -> str | None:
 
     freq = ds["frequency"].values
     spectra = ds["Z"].transpose(*extra, "frequency").values.reshape(-1, freq.size)
-    for evidence_of, hint in ((negative_real_evidence, negative_real_hint), (positive_imaginary_evidence, lambda e: opposite_sign_hint(e, ds.attrs))):
-        found = [e for e in (evidence_of(freq, z) for z in spectra) if e]
-        if found:
-            return hint(found[0] if len(spectra) == 1 else f"in {len(found)} of {len(spectra)} spectra, e.g. {found[0]}")
+    real = [(e, positive_imaginary_evidence(freq, z) is not None) for e, z in ((negative_real_evidence(freq, z), z) for z in spectra) if e]
+    if real:
+        return negative_real_hint(real[0][0] if len(spectra) == 1 else f"in {len(real)} of {len(spectra)} spectra, e.g. {real[0][0]}", imaginary_too=real[0][1])
+    found = [e for e in (positive_imaginary_evidence(freq, z) for z in spectra) if e]
+    if found:
+        return opposite_sign_hint(found[0] if len(spectra) == 1 else f"in {len(found)} of {len(spectra)} spectra, e.g. {found[0]}", ds.attrs)
     return None
 
 

@@ -35,18 +35,22 @@ _NUMBER = re.compile(r"[-+]?(\d+([.,]\d*)?|[.,]\d+)([eE][-+]?\d+)?")
 
 
 def find_delimiter(line: str) -> str | None:
-    """Tab, then ``;``, then ``,``; ``None`` means runs of spaces."""
-    return next((d for d in ("\t", ";", ",") if d in line), None)
+    """Tab, then ``;``, then ``,`` (outside double quotes); ``None`` means runs of spaces."""
+    bare = re.sub(r'"[^"]*"', "", line)
+    return next((d for d in ("\t", ";", ",") if d in bare), None)
 
 
 def split_line(line: str, delimiter: str | None) -> list[str]:
     """The cells of ``line``, stripped; a cell in double quotes may hold the delimiter
-    (``"Z' (Ohm, real)"``) and loses its quotes, as in any CSV."""
+    (``"Point, no."``) and loses its quotes, as in any CSV."""
     if not delimiter:
         return line.split()
     if '"' not in line:
         return [c.strip() for c in line.split(delimiter)]
-    return [c.strip() for c in next(_csv.reader([line], delimiter=delimiter, skipinitialspace=True))]
+    try:
+        return [c.strip() for c in next(_csv.reader([line], delimiter=delimiter, skipinitialspace=True))]
+    except _csv.Error:  # (a quoted cell beyond the csv module's field limit): the cells as split
+        return [c.strip() for c in line.split(delimiter)]
 
 
 def _read_canonical(path: Path, raw: bytes) -> xr.Dataset | None:

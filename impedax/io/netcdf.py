@@ -14,7 +14,7 @@ import numpy as np
 import xarray as xr
 
 from .atomic import atomic_path
-from ..errors import DataError, ParameterError
+from ..errors import ArgumentNeeded, DataError
 
 __all__ = ["read_netcdf", "write_netcdf", "encode_dataset", "decode_dataset", "saved_result", "damaged_result"]
 
@@ -161,7 +161,7 @@ class damaged_result:
         return self
 
     def __exit__(self, exc_type, exc, tb):
-        if isinstance(exc, DataError) and exc.path is not None or isinstance(exc, ParameterError):  # (an argument the file needs: not damage)
+        if isinstance(exc, DataError) and exc.path is not None or isinstance(exc, ArgumentNeeded):  # (an argument the call lacks: not damage)
             return False
         if isinstance(exc, (KeyError, ValueError, TypeError, IndexError, AttributeError)):  # (impedax's own errors are ValueErrors)
             detail = (str(exc).strip().splitlines() or [type(exc).__name__])[0]

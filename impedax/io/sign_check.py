@@ -1,12 +1,13 @@
-"""Is the imaginary part stored with the opposite sign? A check of a spectrum's sign convention
-that the KK test, Z-HIT and `impedax inspect` share (NumPy only: no fitting imported, so
-`inspect` stays light and the layers run one way).
+"""Is the imaginary part (or the real part, or all of Z) stored with the opposite sign? A check
+of a spectrum's sign convention that the KK test, Z-HIT and `impedax inspect` share (NumPy only:
+no fitting imported, so `inspect` stays light and the layers run one way).
 
 A file whose imaginary column holds −Z'' under a header that says Z'' (or the reverse, or a
 phase column of the other sign) reads as conj(Z): capacitive data then have Z'' > 0 while |Z|
 falls with frequency, which no passive circuit does (its impedance is minimum-phase: ln|Z| and
 the phase rise and fall together, `zhit`), and the KK test fails across the whole band while
-passing on conj(Z).
+passing on conj(Z). A negated real column gives Z' < 0 throughout, which no passive impedance
+has; conj(Z) passes the test there too but keeps Z' < 0, so that case has a hint of its own.
 """
 
 from __future__ import annotations
@@ -68,12 +69,17 @@ def negative_real_evidence(freq, z) -> str | None:
     return f"Z' < 0 at {negative} of {z.size} points, which no passive impedance has"
 
 
-def negative_real_hint(evidence: str | None) -> str | None:
-    """The hint for ``evidence`` (`negative_real_evidence`), or None."""
+def negative_real_hint(evidence: str | None, imaginary_too: bool = False) -> str | None:
+    """The hint for ``evidence`` (`negative_real_evidence`), or None; ``imaginary_too``: Z'' looks
+    negated as well (`positive_imaginary_evidence`), the whole of Z is (−Z: the current's sign,
+    or its leads, swapped)."""
     if not evidence:
         return None
-    return (f"the real part may be stored with the opposite sign (−Z'): {evidence}; if so, correct the sign in the file (in a table, "
-            "a column whose name starts with '-' is negated on reading), or in Python take data.assign(Z=-data['Z'].conj())")
+    if imaginary_too:
+        return (f"Z may be stored with the opposite sign (−Z: the current's sign or leads swapped): {evidence}, and Z'' > 0 while |Z| falls; "
+                "if so, correct the sign of both columns in the file, or in Python take data.assign(Z=-data['Z'])")
+    return (f"the real part may be stored with the opposite sign (−Z'): {evidence}; if so, correct the sign of that column in the file, "
+            "or in Python take data.assign(Z=-data['Z'].conj())")
 
 
 def conjugate_evidence(result, retest: Callable[[np.ndarray, np.ndarray], object], name: str = "the KK test") -> str | None:
@@ -134,6 +140,6 @@ def sign_hint(result, retest: Callable[[np.ndarray, np.ndarray], object], name: 
     falls (`positive_imaginary_evidence`)."""
     real = negative_real_evidence(result.frequency, result.impedance)
     if real:
-        return negative_real_hint(real)
+        return negative_real_hint(real, imaginary_too=positive_imaginary_evidence(result.frequency, result.impedance) is not None)
     evidence = conjugate_evidence(result, retest, name) or positive_imaginary_evidence(result.frequency, result.impedance)
     return opposite_sign_hint(evidence, attrs)

@@ -172,7 +172,8 @@ def _length_goal(length: ChainLength, ran: int) -> tuple[int | None, str]:
     `CHAIN_TAU_MULTIPLE` τ long, or, once it is, τ to settle (`AUTO_TAU_CHANGE`)."""
     if not (length.long and ran >= length.needed):
         return length.needed, f"{CHAIN_TAU_MULTIPLE} τ"
-    changed = f"changed {length.tau_change:.1%} at the last check" if length.tau_change is not None else "no earlier estimate yet"
+    known = length.tau_change is not None and math.isfinite(length.tau_change)
+    changed = f"changed {length.tau_change:.1%} at the last check" if known else "no earlier estimate yet"
     return None, f"{CHAIN_TAU_MULTIPLE} τ reached; waiting for τ to settle ({changed}, < {AUTO_TAU_CHANGE:.0%} stops)"
 
 

@@ -629,16 +629,17 @@ class HierarchicalPosterior:
 
     def report(self) -> str:
         lines = [f"{self.model}: hierarchical model over {self.z_data.shape[0]} trials" + (f" in {self.sessions} sessions" if self.sessions > 1 else "") + f", NUTS {self.mu.shape[0]} chains × {self.mu.shape[1]} draws ({self.elapsed_s:.1f} s)"]
-        lines.append(f"{'parameter':<14} {'population':>11} {'q05':>11} {'q95':>11} {'spread':>8} {'new trial q05–q95':>25}")
+        width = max(14, *(len(n) for n in (*self.trial_names, *self.shared_names)))
+        lines.append(f"{'parameter':<{width}} {'population':>11} {'q05':>11} {'q95':>11} {'spread':>8} {'new trial q05–q95':>25}")
         for n in self.trial_names:
             p, s, t = self.population(n), self.spread_between_trials(n), self.new_trial(n)
-            lines.append(f"{n:<14} {p['value']:>11.5g} {p['q05']:>11.5g} {p['q95']:>11.5g} {s['value']:>8.3f} {t['q05']:>12.5g}–{t['q95']:<12.5g}")
+            lines.append(f"{n:<{width}} {p['value']:>11.5g} {p['q05']:>11.5g} {p['q95']:>11.5g} {s['value']:>8.3f} {t['q05']:>12.5g}–{t['q95']:<12.5g}")
         for j, n in enumerate(self.shared_names):
             q = _interval(self.shared[..., j].ravel(), 0.9)
-            lines.append(f"{n:<14} {q['value']:>11.5g} {q['q05']:>11.5g} {q['q95']:>11.5g}   (shared)")
+            lines.append(f"{n:<{width}} {q['value']:>11.5g} {q['q05']:>11.5g} {q['q95']:>11.5g}   (shared)")
         if self.discrepancy:
             q = _interval(self.delta.ravel(), 0.9)
-            lines.append(f"discrepancy δ  {q['value']:>11.3g} {q['q05']:>11.3g} {q['q95']:>11.3g}   (relative floor; noise from trial scatter ν median {np.median(self.nu):.3g})")
+            lines.append(f"{'discrepancy δ':<{width}} {q['value']:>11.3g} {q['q05']:>11.3g} {q['q95']:>11.3g}   (relative floor; noise from trial scatter ν median {np.median(self.nu):.3g})")
         lines += [f"warning: {w}" for w in self.warnings]
         return "\n".join(lines)
 

@@ -20,7 +20,7 @@ from typing import Callable, Mapping
 
 import numpy as np
 
-from ...errors import ParameterError
+from ...errors import ArgumentNeeded, ParameterError
 from ...constants import EPSILON_0, EPSILON_AIR
 
 __all__ = [
@@ -188,7 +188,7 @@ def rebuild(description: Mapping) -> Reparametrization:
     if kind == ReparametrizationKind.STRATUM_CORNEUM:
         return stratum_corneum_reparametrization(replaces[0], replaces[1], area=constants["area"], d_start=constants["d_start"], names=tuple(names))
     what = description.get("description") or f"{', '.join(names)} in place of {', '.join(replaces)}"
-    raise ParameterError(f"the saved posterior used a custom reparametrization ({what}); pass it as reparametrization=")
+    raise ArgumentNeeded(f"the saved posterior used a custom reparametrization ({what}); pass it as reparametrization=")
 
 
 def _check_positive(**values):

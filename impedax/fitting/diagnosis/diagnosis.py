@@ -830,7 +830,7 @@ def _require_noise_without_kk(kk: KKResult, noise: float | None, sigma, *, sourc
     if noise is None and sigma is None:
         raise DataError(
             f"{kk.frequency.size} frequencies are too few to tell the model's misfit from noise (the KK test that estimates it needs {CONCLUSIVE_POINTS_MIN}): "
-            "give the noise level, e.g. --noise 1% (noise=0.01)",
+            "give the noise level, e.g. --noise 1% (noise=0.01), or data with a sigma column",
             path=source,
         )
 
@@ -1464,7 +1464,8 @@ def diagnose(
     ``sigma``; the fit's own registry and band are used), or a spectrum Dataset/path together
     with ``circuit`` (parsed with ``registry`` and fitted first with ``weighting`` to the points
     with ``fmin`` ≤ f ≤ ``fmax``). ``kk``: a `KKResult` to reuse (default: `kk_test` of the
-    fitted spectrum); ``noise``: a relative noise level to use instead of the estimate.
+    fitted spectrum); ``noise``: a relative noise level to use instead of the estimate (needed,
+    or a sigma in the data, on fewer than `CONCLUSIVE_POINTS_MIN` frequencies: `DataError` without).
     Candidates are fitted warm-started together (``n_starts`` starts each, ``max_steps``
     Levenberg–Marquardt steps). ``drt_evidence``: compare the data's DRT with the baseline's
     and let the unexplained peaks guide ``extra_relaxation`` and ``constant_phase`` (False: the
@@ -1496,11 +1497,11 @@ def diagnose(
     if kk is None:
         say("the Kramers–Kronig test of the data")
         kk = _kk_of(spectrum, notes)
-    reported_kk = kk
-    if kk is not None and not kk.conclusive:  # (its flags and noise estimate would read a Voigt chain's misfit as noise)
+    inconclusive = None  # (reported as the test; its flags and noise estimate would read the Voigt chain's misfit as noise)
+    if kk is not None and not kk.conclusive:
         _require_noise_without_kk(kk, noise, sigma, source=data.attrs.get("source") if data is not None else None)
         notes.append(f"the Kramers–Kronig test is inconclusive on {kk.frequency.size} frequencies (it needs {CONCLUSIVE_POINTS_MIN}): its flags and noise estimate are not used")
-        kk = None
+        inconclusive, kk = kk, None
     kk_as_tested = kk  # (the noise model's floor δ takes the test's own flags)
     if kk is not None and not kk.valid:
         local = kk_judged_locally(kk)
@@ -1524,7 +1525,7 @@ def diagnose(
             problem = problem._replace(masked=np.zeros_like(problem.masked), note=None)
     if problem.invalid is not None:
         bands = failing_bands(base, nm.sigma_rel, kk_bad_bands=kk_bands)
-        return Diagnosis(base, reported_kk, nm.sigma_rel, nm.source, bands, (), Verdict.DATA_INVALID, problem.invalid, tuple(notes), _thresholds(), None, nm.measurement, nm.discrepancy, not_passive, kk_as_tested=kk_as_tested, solver_shape=shape, masked_impedance=tuple(left_out.values()))
+        return Diagnosis(base, kk if kk is not None else inconclusive, nm.sigma_rel, nm.source, bands, (), Verdict.DATA_INVALID, problem.invalid, tuple(notes), _thresholds(), None, nm.measurement, nm.discrepancy, not_passive, kk_as_tested=kk_as_tested, solver_shape=shape, masked_impedance=tuple(left_out.values()))
     if problem.note:
         notes.append(problem.note)
     keep = ~problem.masked
@@ -1579,6 +1580,6 @@ def diagnose(
     notes += [f"the baseline fit: {w}" for w in base.warnings if is_idle_note(w)]
     masked = tuple(sorted(masked + not_passive))
     return Diagnosis(
-        base, reported_kk, sigma_rel, nm.source, bands, tuple(cands), verdict, reason, tuple(notes), _thresholds(), evidence, measurement, nm.discrepancy, masked, kk_kept, kk_as_tested, shape,
+        base, kk if kk is not None else inconclusive, sigma_rel, nm.source, bands, tuple(cands), verdict, reason, tuple(notes), _thresholds(), evidence, measurement, nm.discrepancy, masked, kk_kept, kk_as_tested, shape,
         tuple(masked_z[f] for f in masked),
     )

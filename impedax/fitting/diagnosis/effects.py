@@ -496,8 +496,8 @@ def _inductive_loop(circuit: Circuit, ctx: BaselineContext) -> list[Proposal]:
     lo, _ = ctx.ends()
     dz = ctx.z_data - ctx.z_model
     below = dz.real < 0
-    # (the low-end points below the model's Z', from the lowest on, or from the next one when
-    # noise lifts the lowest alone above it)
+    # (the low-end run below the model's Z': from the lowest point on, or on past it when noise
+    # lifts the lowest alone above the model; that point's Z'' still counts in the run's mean)
     first = 1 if below.size > 1 and not below[0] else 0
     run = first + (int(np.argmin(below[first:])) if not below[first:].all() else below.size - first)
     if not (np.mean(dz[lo].real) < 0 and (np.mean(dz[lo].imag) > 0 or np.mean(dz.imag[:max(run, lo.size)]) > 0)):

@@ -260,10 +260,11 @@ class BatchFitResult:
 
     def _parameter_lines(self) -> list[str]:
         s = self.summary()
-        lines = [f"model {self.model}: {self.n_spectra} spectra over {_dims_text(s['dims'])}", f"converged: {s['converged_fraction'] * 100:.1f}%   median rms_rel {s['rms_rel_median'] * 100:.3g} %", "", f"{'parameter':<16} {'median':>12} {'16%':>12} {'84%':>12}  unit"]
+        width = max(16, *(len(p) for p in s["params"]))
+        lines = [f"model {self.model}: {self.n_spectra} spectra over {_dims_text(s['dims'])}", f"converged: {s['converged_fraction'] * 100:.1f}%   median rms_rel {s['rms_rel_median'] * 100:.3g} %", "", f"{'parameter':<{width}} {'median':>12} {'16%':>12} {'84%':>12}  unit"]
         specs = self.circuit.parameter_specs(self.registry)
         for p, v in s["params"].items():
-            lines.append(f"{p:<16} {v['median']:>12.5g} {v['q16']:>12.5g} {v['q84']:>12.5g}  {unit_text(specs[p].unit)}".rstrip())
+            lines.append(f"{p:<{width}} {v['median']:>12.5g} {v['q16']:>12.5g} {v['q84']:>12.5g}  {unit_text(specs[p].unit)}".rstrip())
         return lines
 
     def _warning_lines(self) -> list[str]:

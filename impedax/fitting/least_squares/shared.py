@@ -368,7 +368,8 @@ class SharedFitResult(BatchFitResult):
         lines = [*self._parameter_lines(), "", f"shared over {', '.join(self.over)} (one global fit{'' if not self.keep else ' per ' + ', '.join(self.keep)}):"]
         ds = self.dataset
         specs = self.circuit.parameter_specs(self.registry)
-        lines.append(f"{'parameter':<16} {'value':>12} {'stderr':>10} {'rel':>8}  unit")
+        width = max(16, *(len(n) for n in self.shared))
+        lines.append(f"{'parameter':<{width}} {'value':>12} {'stderr':>10} {'rel':>8}  unit")
         for n in self.shared:
             v = ds["shared_value"].sel(shared_param=n).values.ravel()
             e = ds["shared_stderr"].sel(shared_param=n).values.ravel()
@@ -376,7 +377,7 @@ class SharedFitResult(BatchFitResult):
             for vi, ei, bound in zip(v.tolist(), e.tolist(), at.tolist()):
                 rel = "at bound" if bound else format_relative_error(ei / vi) if vi and math.isfinite(ei) else "—"
                 shown = f"{ei:>10.3g}" if math.isfinite(ei) else f"{'—':>10}"  # (at a bound: no standard error)
-                lines.append(f"{n:<16} {vi:>12.5g} {shown} {rel:>8}  {unit_text(specs[n].unit)}".rstrip())
+                lines.append(f"{n:<{width}} {vi:>12.5g} {shown} {rel:>8}  {unit_text(specs[n].unit)}".rstrip())
         for f, p, d, c in zip(*(np.ravel(ds[k].values).tolist() for k in ("f_statistic", "f_pvalue", "delta_aic", "joint_chi2_red"))):
             lines.append(f"sharing vs independent fits: F = {f:.3g}, p = {p:.3g}, ΔAIC = {d:+.1f} (negative favours sharing); joint chi2_red {c:.4g}")
         return "\n".join(lines + self._warning_lines())
