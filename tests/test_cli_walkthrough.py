@@ -14,7 +14,8 @@ with the case that showed it:
   for τ to settle, without saying so;
 - `diagnose` on fewer than 10 frequencies read the inconclusive KK test's chain misfit as the
   noise and called a 26 % misfit adequate; its JSON had no baseline parameters;
-- a memory refusal read "1e+03 kB".
+- a memory refusal read "1e+03 kB";
+- `Comparison.report()` in Python repeated a warning every model has under each model.
 
 Spectra come from closed forms written here (R0 + R1 ∥ C1), except where the real file was
 the case (`tests/fixtures/real/`, impedance.py's and AutoEIS's examples, MIT)."""
@@ -222,3 +223,13 @@ def test_the_diagnosis_reports_the_kk_test_as_judged_against_the_local_noise():
     assert int(d.kk_as_tested.flagged.sum()) > 0 and any("count as data" in n for n in d.notes)  # (the premise)
     assert d.kk.valid and not d.kk.flagged.any()
     assert d.summary()["kk"]["valid"] is True and "the data are Kramers–Kronig consistent" in d.report()
+
+
+def test_a_warning_every_model_has_is_listed_once_in_the_python_report_as_on_the_command_line():
+    data = ix.load(REAL / "exampleDataBioLogic.mpt")  # (REAL: both fits get the data's own KK-misfit note)
+    comparison = ix.compare([ix.fit("R0 + R1 || CPE1", data), ix.fit("R0 + R1 || CPE1 + W1", data)])
+    common, own = comparison.warnings_by_model()
+    assert len(common) == 1 and "Kramers–Kronig-consistent model" in common[0]
+    report = comparison.report()
+    assert report.count(common[0]) == 1 and "every model:" in report
+    assert own[0] == [] and any("W1.sigma is at its lower bound" in w for w in own[1])

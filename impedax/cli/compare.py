@@ -125,14 +125,12 @@ def warning_lines(comparison) -> list[str]:
     listed once, under "every model"."""
     from .common import command_line_words
 
-    texts = [r.warnings if isinstance(r.warnings, (tuple, list)) else () for r in comparison.fits]
-    common = [w for w in texts[0] if all(w in t for t in texts[1:])] if len(texts) > 1 else []
+    common, own_of = comparison.warnings_by_model()
     lines = []
     if common:
         lines.append(f"  every model: {len(common)} warning(s)")
         lines += [f"    - {command_line_words(w)}" for w in common]
-    for i, r in enumerate(comparison.fits):
-        own = [w for w in r.warnings if w not in common]
+    for i, (r, own) in enumerate(zip(comparison.fits, own_of)):
         if not own:
             continue
         best = " (best by AIC)" if i == comparison.best_index else ""

@@ -190,13 +190,22 @@ class Comparison:
         return mark
 
     def report(self) -> str:
-        """The table, then each model's warnings."""
+        """The table, then the warnings every model has (once) and each model's others."""
         lines = [self.table(warnings_below=True)]
-        for fit, row in zip(self.fits, self.rows):
-            warnings = [w for ws in fit.warnings.values() for w in ws] if isinstance(fit.warnings, Mapping) else list(fit.warnings)
+        common, own = self.warnings_by_model()
+        if common:
+            lines += ["every model:"] + [f"  - {w}" for w in common]
+        for row, warnings in zip(self.rows, own):
             if warnings:
-                lines += [f"{row['label']}:"] + [f"  - {w}" for w in warnings]
+                lines += [f"{row['label']}" + (" (besides those of every model):" if common else ":")] + [f"  - {w}" for w in warnings]
         return "\n".join(lines)
+
+    def warnings_by_model(self) -> tuple[list[str], list[list[str]]]:
+        """The warnings every model has (the data's own Kramers–Kronig misfit, quoted alike for
+        each), and each model's others, in the order of `fits` (a batch's warnings flattened)."""
+        texts = [[w for ws in fit.warnings.values() for w in ws] if isinstance(fit.warnings, Mapping) else list(fit.warnings) for fit in self.fits]
+        common = [w for w in texts[0] if all(w in t for t in texts[1:])] if len(texts) > 1 else []
+        return common, [[w for w in t if w not in common] for t in texts]
 
     def table(self, *, warnings_below: bool = False) -> str:
         """The models side by side (rms_rel, χ²_red, AIC, AICc, BIC, ΔAIC, Akaike weight), the
