@@ -15,7 +15,8 @@ with the case that showed it:
 - `diagnose` on fewer than 10 frequencies read the inconclusive KK test's chain misfit as the
   noise and called a 26 % misfit adequate; its JSON had no baseline parameters;
 - a memory refusal read "1e+03 kB";
-- `Comparison.report()` in Python repeated a warning every model has under each model.
+- `Comparison.report()` in Python repeated a warning every model has under each model;
+- a header `Z"` (a double prime) lost its quote and read as |Z|.
 
 Spectra come from closed forms written here (R0 + R1 ∥ C1), except where the real file was
 the case (`tests/fixtures/real/`, impedance.py's and AutoEIS's examples, MIT)."""
@@ -233,3 +234,13 @@ def test_a_warning_every_model_has_is_listed_once_in_the_python_report_as_on_the
     report = comparison.report()
     assert report.count(common[0]) == 1 and "every model:" in report
     assert own[0] == [] and any("W1.sigma is at its lower bound" in w for w in own[1])
+
+
+@pytest.mark.parametrize("header, sign", [("Freq,Z',Z\"", 1), ("Freq (Hz);Z' (kOhm);-Z\" (kOhm)", -1)])
+def test_a_double_prime_written_as_a_quote_names_the_imaginary_part(tmp_path, header, sign):
+    f = np.geomspace(1, 1e3, 6)
+    z = rc_spectrum(f)
+    delimiter, scale = ("," if "," in header else ";"), (1e3 if "kOhm" in header else 1.0)
+    path = tmp_path / "double_prime.csv"
+    path.write_text(header + "\n" + "".join(f"{a:.10g}{delimiter}{b.real / scale:.10g}{delimiter}{sign * b.imag / scale:.10g}\n" for a, b in zip(f, z)))
+    np.testing.assert_allclose(ix.load(path)["Z"].values, z, rtol=1e-9)  # (the quote had been stripped: 'Z' read as |Z|, the file refused)

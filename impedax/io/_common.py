@@ -415,10 +415,17 @@ UNIT_CELL = re.compile(r"^(?P<name>.*?\S)\s*(?:[\(\[]\s*(?P<u1>[^()\[\]]*?)\s*[\
 _ANY_UNIT = ("frequency", "resistance", "angle")
 
 
+def unquoted(cell: str) -> str:
+    """``cell`` stripped, without the double quotes around it when it is quoted (``'"Z' (Ω)"'``);
+    a quote that is part of the name stays (``'Z"'``, a double prime: Z'')."""
+    text = cell.strip()
+    return text[1:-1].strip() if len(text) >= 2 and text[0] == text[-1] == '"' else text
+
+
 def split_header_cell(cell: str) -> tuple[str, str]:
     """``'Frequency (kHz)'`` → ``('Frequency', 'kHz')``; ``'Re(Z)/Ohm'`` → ``('Re(Z)', 'Ohm')``;
     ``'Re(Z)'`` → ``('Re(Z)', '')`` (a bracket that holds no unit is part of the name)."""
-    text = cell.strip().strip('"').strip()
+    text = unquoted(cell)
     m = UNIT_CELL.match(text)
     if m:
         unit = (m.group("u1") if m.group("u1") is not None else m.group("u2")) or ""

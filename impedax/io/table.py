@@ -21,7 +21,7 @@ import numpy as np
 import xarray as xr
 
 from ..errors import DataError
-from ._common import UNIT_CELL, Skipped, decimal_comma, finish, first_line, head_text, number, read_text, split_header_cell, unit_scale
+from ._common import UNIT_CELL, Skipped, decimal_comma, finish, first_line, head_text, number, read_text, split_header_cell, unit_scale, unquoted
 
 __all__ = ["ROLES", "FALLBACK_ROLES", "Layout", "detect_layout", "role_of", "fallback_role", "spectrum_from_rows"]
 
@@ -106,7 +106,7 @@ def role_of(cell: str) -> tuple[str, float, str] | None:
     key = _key(name)
     role, suffix_unit = _named(key, _ROLE_OF_NAME)
     if role is None:
-        m = UNIT_CELL.match(cell.strip().strip('"').strip())
+        m = UNIT_CELL.match(unquoted(cell))
         if m and _named(_key(m.group("name")), _ROLE_OF_NAME)[0] is not None:  # a role with a unit we do not know
             unit = m.group("u1") if m.group("u1") is not None else m.group("u2")
             role = _named(_key(m.group("name")), _ROLE_OF_NAME)[0]
