@@ -190,6 +190,12 @@ def unit_text(unit: str) -> str:
     return "" if unit == "1" else re.sub(r"\balpha\b", "α", re.sub(r"\b[Oo]hm\b", "Ω", unit))
 
 
+def column_width(entries, header: str | int) -> int:
+    """The width of a text table's first column: its longest entry, and at least its
+    ``header`` (or that many characters), so that the columns after it stay under theirs."""
+    return max([header if isinstance(header, int) else len(header), *(len(e) for e in entries)])
+
+
 # SI prefixes of a value's scale, largest first (`format_quantity`, the plots' tick labels)
 SI_PREFIXES = ((1e12, "T"), (1e9, "G"), (1e6, "M"), (1e3, "k"), (1.0, ""), (1e-3, "m"), (1e-6, "µ"), (1e-9, "n"), (1e-12, "p"), (1e-15, "f"))
 

@@ -62,9 +62,14 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     return parser
 
 
+def _first_word(argv: list[str]) -> str | None:
+    """The first argument that is not an option (the command, as typed), or None."""
+    return next((a for a in argv if not a.startswith("-")), None)
+
+
 def _command_of(argv: list[str]) -> str:
     """The command named in ``argv`` ("" when none: ``--help``, ``--version``, errors)."""
-    first = next((a for a in argv if not a.startswith("-")), "")
+    first = _first_word(argv)
     return first if first in _COMMAND_MODULES else ""
 
 
@@ -216,7 +221,7 @@ def _refuse_unknown_command(parser: argparse.ArgumentParser, argv: list[str]) ->
     argparse's own message lists them all, with no hint."""
     import difflib
 
-    first = next((a for a in argv if not a.startswith("-")), None)
+    first = _first_word(argv)
     if first is None or first in _COMMAND_MODULES:
         return
     close = difflib.get_close_matches(first, list(_COMMAND_MODULES), n=1, cutoff=0.6)

@@ -14,7 +14,7 @@ def register(sub) -> None:
 
 def run(args) -> int:
     from .. import DEFAULT_REGISTRY, parse
-    from ..data import unit_text
+    from ..data import column_width, unit_text
     from .common import emit_json
 
     circuit = parse(args.model)
@@ -31,7 +31,7 @@ def run(args) -> int:
         emit_json({"model": str(circuit), "parameters": rows})
         return 0
     print(f"model: {circuit}")
-    width = max(len("parameter"), *(len(r["name"]) for r in rows))
+    width = column_width((r["name"] for r in rows), "parameter")
     print(f"{'parameter':<{width}}  {'unit':<14} {'default':>10}  bounds          description")
     for r, p in zip(rows, (p for e in circuit.elements() for p in DEFAULT_REGISTRY[e.symbol].parameters)):
         print(f"{r['name']:<{width}}  {unit_text(r['unit']):<14} {r['default']:>10.4g}  {p.bounds_text():<15} {r['element_kind']}: {r['description']}")

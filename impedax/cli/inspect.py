@@ -101,13 +101,16 @@ def _sign_hint(ds, extra) -> str | None:
 
     freq = ds["frequency"].values
     spectra = ds["Z"].transpose(*extra, "frequency").values.reshape(-1, freq.size)
-    real = [(e, positive_imaginary_evidence(freq, z) is not None) for e, z in ((negative_real_evidence(freq, z), z) for z in spectra) if e]
+
+    def counted(found: list[str]) -> str:
+        return found[0] if len(spectra) == 1 else f"in {len(found)} of {len(spectra)} spectra, e.g. {found[0]}"
+
+    real = [(e, z) for e, z in ((negative_real_evidence(freq, z), z) for z in spectra) if e]
     if real:
-        return negative_real_hint(real[0][0] if len(spectra) == 1 else f"in {len(real)} of {len(spectra)} spectra, e.g. {real[0][0]}", imaginary_too=real[0][1])
+        first_z = real[0][1]
+        return negative_real_hint(counted([e for e, _ in real]), imaginary_too=positive_imaginary_evidence(freq, first_z) is not None)
     found = [e for e in (positive_imaginary_evidence(freq, z) for z in spectra) if e]
-    if found:
-        return opposite_sign_hint(found[0] if len(spectra) == 1 else f"in {len(found)} of {len(spectra)} spectra, e.g. {found[0]}", ds.attrs)
-    return None
+    return opposite_sign_hint(counted(found), ds.attrs) if found else None
 
 
 def _per_spectrum(text: str, ds, extra) -> str:

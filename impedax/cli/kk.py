@@ -71,7 +71,7 @@ def _each_spectrum(batch, as_json: bool, emit_json) -> None:
     one."""
     import math
 
-    from ..data import format_frequency
+    from ..data import column_width, format_frequency
 
     where = batch.labels()
     n_valid = sum(bool(r.valid) for r in batch.results)
@@ -83,7 +83,7 @@ def _each_spectrum(batch, as_json: bool, emit_json) -> None:
     print(f"linear KK test of {len(batch.results)} spectra over {', '.join(batch.dims)}: {n_valid} KK-consistent, {len(batch.results) - n_valid} not"
           + (f" ({few} with too few frequencies for the test to tell)" if few else ""))
     names = [", ".join(f"{d}={v}" for d, v in w.items()) for w in where]
-    width = max(len("spectrum"), *(len(n) for n in names))
+    width = column_width(names, "spectrum")
     print(f"{'spectrum':<{width}}  {'verdict':<9} {'rms_rel':>9} {'noise':>9} {'M':>3}  bad bands [rules that flagged them]")
     for name, r in zip(names, batch.results):
         bands = "; ".join(f"{format_frequency(lo)} – {format_frequency(hi)} [{', '.join(rules)}]" for (lo, hi), rules in zip(r.bad_bands, r.band_rules)) or "none"

@@ -13,6 +13,7 @@ import xarray as xr
 
 from ..arguments import checked_arguments, sequence_of
 from ..circuits import Circuit, Element
+from ..data import column_width
 from ..errors import FitError
 from .least_squares import FitResult
 from .least_squares.branches import undetermined
@@ -214,7 +215,7 @@ class Comparison:
         prints them under the table (`report`, ``impedax compare``), else it points to
         ``report()``."""
         extra = [c for c in ("log_evidence", "waic") if any(c in r for r in self.rows)]
-        width = max(len("model"), *(len(r["label"]) for r in self.rows))
+        width = column_width((r["label"] for r in self.rows), "model")
         head = f"{'model':<{width}}  {'k':>2}  {'rms_rel':>9}  {'chi2_red':>10}  {'AIC':>9}  {'AICc':>9}  {'BIC':>9}  {'ΔAIC':>7}  {'weight':>6}" + "".join(f"  {c:>12}" for c in extra)
         lines = [head]
         best = self.best_index

@@ -49,7 +49,7 @@ import numpy as np
 import xarray as xr
 
 from ...circuits import DEFAULT_REGISTRY, Circuit, Registry, compile_circuit, parse
-from ...data import make_spectrum
+from ...data import column_width, make_spectrum
 from ...errors import DataError, FitError, ParameterError
 from ..derived import draw_indices
 from .reparam import Reparametrization
@@ -629,7 +629,7 @@ class HierarchicalPosterior:
 
     def report(self) -> str:
         lines = [f"{self.model}: hierarchical model over {self.z_data.shape[0]} trials" + (f" in {self.sessions} sessions" if self.sessions > 1 else "") + f", NUTS {self.mu.shape[0]} chains × {self.mu.shape[1]} draws ({self.elapsed_s:.1f} s)"]
-        width = max(14, *(len(n) for n in (*self.trial_names, *self.shared_names)))
+        width = column_width((*self.trial_names, *self.shared_names), 14)
         lines.append(f"{'parameter':<{width}} {'population':>11} {'q05':>11} {'q95':>11} {'spread':>8} {'new trial q05–q95':>25}")
         for n in self.trial_names:
             p, s, t = self.population(n), self.spread_between_trials(n), self.new_trial(n)

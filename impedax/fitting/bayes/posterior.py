@@ -20,7 +20,7 @@ import numpy as np
 import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
-from ...data import checked_frequencies, concise_repr, unit_text
+from ...data import checked_frequencies, column_width, concise_repr, unit_text
 from ...errors import DataError, ParameterError
 from ..derived import QUANTILES, draw_indices, draws_band, needs_freq
 from ..least_squares import FitResult
@@ -244,7 +244,7 @@ class Posterior:
     def report(self) -> str:
         """A readable table of the posterior."""
         q = self.quantiles()
-        width = max(len("parameter"), *(len(n) for n in self.names))
+        width = column_width(self.names, "parameter")
         units = [unit_text(u) for u in self.units]
         unit_width = max([4, *map(len, units)])
         lines = [

@@ -32,7 +32,7 @@ import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
 from ...errors import DataError, ParameterError
-from ...data import unit_text
+from ...data import column_width, unit_text
 from ...warning_groups import grouped_warnings
 from ..derived import QUANTILES, draws_band, needs_freq
 from ..least_squares import SharedFitResult, fit
@@ -244,7 +244,7 @@ class SharedPosterior:
 
     def report(self) -> str:
         q = self.quantiles()
-        width = max(len("parameter"), *(len(n) for n in self.names))
+        width = column_width(self.names, "parameter")
         lines = [
             f"model      {self.model}   (joint posterior: {', '.join(self.shared)} shared over {', '.join(self.over)}, {len(self.spectra)} spectra)",
             f"noise      {self.noise}: {NOISE_MODELS[self.noise]}",

@@ -18,7 +18,7 @@ import xarray as xr
 
 from ...arguments import unknown_parameter
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
-from ...data import concise_repr, unit_text
+from ...data import column_width, concise_repr, unit_text
 from ...errors import DataError, ParameterError
 from ...warning_groups import grouped_warnings, warning_kinds
 from ..parameters import ParameterTable
@@ -260,7 +260,7 @@ class BatchFitResult:
 
     def _parameter_lines(self) -> list[str]:
         s = self.summary()
-        width = max(16, *(len(p) for p in s["params"]))
+        width = column_width(s["params"], 16)
         lines = [f"model {self.model}: {self.n_spectra} spectra over {_dims_text(s['dims'])}", f"converged: {s['converged_fraction'] * 100:.1f}%   median rms_rel {s['rms_rel_median'] * 100:.3g} %", "", f"{'parameter':<{width}} {'median':>12} {'16%':>12} {'84%':>12}  unit"]
         specs = self.circuit.parameter_specs(self.registry)
         for p, v in s["params"].items():

@@ -13,7 +13,7 @@ import numpy as np
 import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
-from ...data import checked_frequencies, concise_repr, format_relative_error, unit_text
+from ...data import checked_frequencies, column_width, concise_repr, format_relative_error, unit_text
 from ..parameters import ParameterTable, data_scales
 from ..statistics import covariances, information_criteria, non_passive, uncertainties
 from .branches import RELATIVE_ERROR_LIMIT, idle_branch_notes, settle_vanishing, undetermined, undetermined_mask, vanishing_candidates, vanishing_parameters
@@ -183,7 +183,7 @@ class FitResult:
     def report(self) -> str:
         """A readable table of the fit."""
         specs = self.circuit.parameter_specs(self.registry)
-        width = max(len("parameter"), *(len(n) for n in self.values))
+        width = column_width(self.values, "parameter")
         lines = [
             f"model      {self.model}",
             f"weighting  {self.weighting}    points {self.n_points}    free parameters {self.n_params}",

@@ -36,7 +36,7 @@ import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit
 from ...arguments import closest_name
-from ...data import concise_repr, format_relative_error, unit_text
+from ...data import column_width, concise_repr, format_relative_error, unit_text
 from ...errors import DataError, ParameterError
 from ..parameters import ParameterTable, to_internal
 from ..problem import residual_scale, weights
@@ -368,7 +368,7 @@ class SharedFitResult(BatchFitResult):
         lines = [*self._parameter_lines(), "", f"shared over {', '.join(self.over)} (one global fit{'' if not self.keep else ' per ' + ', '.join(self.keep)}):"]
         ds = self.dataset
         specs = self.circuit.parameter_specs(self.registry)
-        width = max(16, *(len(n) for n in self.shared))
+        width = column_width(self.shared, 16)
         lines.append(f"{'parameter':<{width}} {'value':>12} {'stderr':>10} {'rel':>8}  unit")
         for n in self.shared:
             v = ds["shared_value"].sel(shared_param=n).values.ravel()
