@@ -17,7 +17,7 @@ import numpy as np
 import xarray as xr
 
 from .arguments import MAX_POINTS, checked_arguments, count, real, shown
-from .errors import DataError
+from .errors import IN_MEMORY, DataError
 
 __all__ = ["make_spectrum", "validate_spectrum", "log_frequencies", "checked_frequencies"]
 
@@ -42,7 +42,7 @@ def make_spectrum(
     dims: Sequence[str] = (),
     coords: Mapping[str, Sequence] | None = None,
     attrs: Mapping[str, object] | None = None,
-    source: str = "memory",
+    source: str = IN_MEMORY,
 ) -> xr.Dataset:
     """Build and validate a spectrum Dataset.
 

@@ -16,6 +16,7 @@ __all__ = [
     "ParameterError",
     "ArgumentNeeded",
     "FitError",
+    "IN_MEMORY",
 ]
 
 
@@ -113,6 +114,10 @@ class CircuitError(ImpedaxError, ValueError):
     """A circuit that parses but cannot be used as asked (duplicate names, unknown probe, ...)."""
 
 
+# the source of a spectrum built in a session (`data.make_spectrum`), not read from a file
+IN_MEMORY = "memory"
+
+
 class DataError(ImpedaxError, ValueError):
     """Spectrum data that cannot be read or is not valid (names the file and line when known)."""
 
@@ -122,7 +127,7 @@ class DataError(ImpedaxError, ValueError):
         self.detail = message  # (without the file and line: for a message that names them itself)
         where = ""
         if self.path is not None:
-            where = "in-memory data" if self.path == "memory" else self.path  # ("memory": the source of a spectrum built in a session)
+            where = "in-memory data" if self.path == IN_MEMORY else self.path
             if line is not None:
                 where += f", line {line}"
             where += ": "

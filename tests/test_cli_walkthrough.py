@@ -199,6 +199,24 @@ def test_diagnose_on_fewer_than_ten_frequencies_needs_a_noise_level(tmp_path, ca
     assert out["baseline"]["params"]["C1"]["value"] == pytest.approx(1e-6, rel=0.1)
 
 
+def test_too_few_frequencies_are_refused_before_the_baseline_fit(tmp_path, monkeypatch):
+    """Without a noise level the refusal costs no fit (it had come after the baseline's compile
+    and solve); fmin leaves 6 of 12 points in the band, and 6 points with a sigma column pass."""
+    import impedax.fitting.diagnosis.diagnosis as dg
+
+    def no_fit(*args, **kwargs):
+        raise AssertionError("the baseline was fitted before the refusal")
+
+    monkeypatch.setattr(dg, "fit_candidates", no_fit)
+    f = np.geomspace(10, 1e4, 12)
+    path = write_csv(tmp_path / "twelve.csv", f, rc_spectrum(f, 0.01, seed=1))
+    with pytest.raises(ix.DataError, match=r"twelve\.csv: 6 frequencies are too few"):
+        ix.diagnose(path, "R0 + R1 || C1", fmin=300.0)
+    six = ix.load(path).isel(frequency=slice(0, 6))
+    with pytest.raises(AssertionError, match="fitted before"):  # a sigma column: no refusal, the fit is reached
+        ix.diagnose(six.assign(sigma=0.01 * np.abs(six["Z"])), "R0 + R1 || C1")
+
+
 # --- memory message ---------------------------------------------------------------------------
 
 

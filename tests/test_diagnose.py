@@ -563,7 +563,7 @@ def test_the_baseline_runs_the_same_starts_whatever_the_catalog_and_the_solver_s
     larger = dg.solver_shape([ix.parse("R0 + R1 || CPE1 + R2 || CPE2 + R3 || CPE3 + W1")] * 40, ix.DEFAULT_REGISTRY, 64)
     for effects, shape in ((ix.DEFAULT_EFFECTS, None), (ix.DEFAULT_EFFECTS.select(["series_inductance"]), None), (ix.DEFAULT_EFFECTS, larger)):
         with pytest.raises(Stop):
-            dg._fit_baseline(data, "R0 + R1 || C1", effects, registry=ix.DEFAULT_REGISTRY, fmin=None, fmax=None, weighting="modulus", n_starts=2, seed=5, shape=shape)
+            dg._fit_baseline(data, "R0 + R1 || C1", effects, registry=ix.DEFAULT_REGISTRY, fmin=None, fmax=None, weighting="modulus", n_starts=2, seed=5, shape=shape, noise_given=True)
     assert calls[0] == calls[1] == calls[2]
     circuits, seeds, damping, n_starts = calls[0]
     copies = 16  # (3 parameters: BASELINE_COPIES)

@@ -18,7 +18,7 @@ import xarray as xr
 
 from ..arguments import shown
 from ..data import validate_spectrum
-from ..errors import DataError
+from ..errors import IN_MEMORY, DataError
 from ._common import MAX_FILE_BYTES, check_file, head_text
 from .csv import read_csv, write_csv
 from .netcdf import write_netcdf
@@ -86,7 +86,7 @@ def load(path: str | os.PathLike, readers: Sequence[Reader] | None = None) -> xr
     if reader is not None:
         ds = reader.read(path)
         ds.attrs.setdefault("format", reader.name)
-        if ds.attrs.get("source") == "memory":  # (a reader of the user's built it with make_spectrum: later errors name the file)
+        if ds.attrs.get("source") == IN_MEMORY:  # (a reader of the user's built it with make_spectrum: later errors name the file)
             ds.attrs["source"] = str(path)
         return validate_spectrum(ds, source=str(path))
     head = _head(path)

@@ -747,7 +747,7 @@ def non_passive_points(ds: xr.Dataset) -> np.ndarray:
     return bad
 
 
-def _fit_baseline(data, circuit: Circuit | str, effects: EffectCatalog, *, registry: Registry, fmin, fmax, weighting: str, n_starts: int, seed: int, shape: SolverShape | None):
+def _fit_baseline(data, circuit: Circuit | str, effects: EffectCatalog, *, registry: Registry, fmin, fmax, weighting: str, n_starts: int, seed: int, shape: SolverShape | None, noise_given: bool):
     """Fit the user's circuit with the same compiled solver the candidates will use
     (`BASELINE_COPIES` copies of the circuit, each with its own random starts): one compilation
     in all.
@@ -755,14 +755,19 @@ def _fit_baseline(data, circuit: Circuit | str, effects: EffectCatalog, *, regis
     scaling (as the candidates), and the best fit is kept (docs/fitting.md, "Damping"): from
     the same cold starts the two reach different optima, and neither is always the better (a
     9-element ladder: 2.9 % with the scaling alone where λI reaches 1.8 %).
-    Points with Re Z < 0 (`non_passive_points`) are left out. Returns (fit, spectrum Dataset
-    of the points fitted, solver shape, the points left out as not passive: frequency → Z)."""
+    Points with Re Z < 0 (`non_passive_points`) are left out. ``noise_given``: whether a noise
+    level or a KK result was given (without one, too few points are refused before the fit,
+    `_require_noise_without_kk`). Returns (fit, spectrum Dataset of the points fitted, solver
+    shape, the points left out as not passive: frequency → Z)."""
     ds = open_spectrum(data, fmin=fmin, fmax=fmax, single="diagnose").data
     not_passive = non_passive_points(ds)
     left_out = {float(f): complex(z) for f, z in zip(ds["frequency"].values[not_passive], ds["Z"].values[not_passive])}
     if left_out:
         ds = ds.isel(frequency=np.nonzero(~not_passive)[0])
-    circuit = parse(circuit, registry)
+    circuit = parse(circuit, registry)  # (a circuit's errors before the data's, and both before the fit)
+    _require_points_for_diagnosis(ds.sizes["frequency"], len(circuit.parameter_names(registry)))
+    if not noise_given:
+        _require_noise_without_kk(ds.sizes["frequency"], None, ds["sigma"] if "sigma" in ds else None, source=ds.attrs.get("source"))
     # the candidates depend on the circuit's structure: propose them around a stand-in fit, so
     # that one compiled solver holds the baseline and its candidates. The stand-in model is the
     # data scaled by 0.999, on no data-gated effect's side (an inductive loop is proposed only
@@ -789,7 +794,7 @@ def _baseline_copies(circuit: Circuit, registry: Registry) -> int:
     return next(copies for most, copies in BASELINE_COPIES if most is None or k <= most)
 
 
-def _baseline(fit_or_data, circuit, *, data, effects, registry, fmin, fmax, weighting, n_starts, seed, shape):
+def _baseline(fit_or_data, circuit, *, data, effects, registry, fmin, fmax, weighting, n_starts, seed, shape, noise_given):
     """The fit to diagnose, the data it was made on (or None), the solver shape (or None) and
     the points left out as not passive, frequency → Z (data given with a circuit; a `FitResult`
     is diagnosed on the points it was fitted to)."""
@@ -805,32 +810,31 @@ def _baseline(fit_or_data, circuit, *, data, effects, registry, fmin, fmax, weig
         raise ParameterError("diagnose(data, circuit): the circuit to diagnose is missing")
     if data is not None:
         raise ParameterError("give the data once")
-    return _fit_baseline(fit_or_data, circuit, effects, registry=registry, fmin=fmin, fmax=fmax, weighting=weighting, n_starts=n_starts, seed=seed, shape=shape)
+    return _fit_baseline(fit_or_data, circuit, effects, registry=registry, fmin=fmin, fmax=fmax, weighting=weighting, n_starts=n_starts, seed=seed, shape=shape, noise_given=noise_given)
 
 
 MIN_DIAGNOSIS_POINTS = 4  # what the KK test needs (R_0, one RC element, L, C)
 
 
-def _require_points_for_diagnosis(base: FitResult) -> None:
+def _require_points_for_diagnosis(n_points: int, n_free: int) -> None:
     """`DataError` when the spectrum is too short to judge a model (before, one point was
     judged "adequate"): the KK test needs `MIN_DIAGNOSIS_POINTS` frequencies, and the real
     values must outnumber the free parameters by as many (a model with as many parameters as
     data values fits anything)."""
-    n_points, n_free = base.n_points, base.n_params
     needed = max(MIN_DIAGNOSIS_POINTS, -(-(n_free + MIN_DIAGNOSIS_POINTS) // 2))
     if n_points < needed:
         raise DataError(f"diagnose needs at least {needed} frequencies for {n_free} free parameters and the Kramers–Kronig test, got {n_points}")
 
 
-def _require_noise_without_kk(kk: KKResult, noise: float | None, sigma, *, source: str | None) -> None:
-    """`DataError` when the KK test is inconclusive (fewer than `CONCLUSIVE_POINTS_MIN`
+def _require_noise_without_kk(n_points: int, noise: float | None, sigma, *, source: str | None) -> None:
+    """`DataError` when the KK test is inconclusive (``n_points`` below `CONCLUSIVE_POINTS_MIN`
     frequencies) and neither a noise level nor the data's sigma is given: nothing then tells the
     model's misfit from noise (the KK chain's own misfit read as 3.9 % noise against a 2 % misfit
     on BioLogic's REAL file above 300 Hz, 5 points; a 26 % misfit of a hand-written 4-point table
     was called adequate)."""
-    if noise is None and sigma is None:
+    if n_points < CONCLUSIVE_POINTS_MIN and noise is None and sigma is None:
         raise DataError(
-            f"{kk.frequency.size} frequencies are too few to tell the model's misfit from noise (the KK test that estimates it needs {CONCLUSIVE_POINTS_MIN}): "
+            f"{n_points} frequencies are too few to tell the model's misfit from noise (the KK test that estimates it needs {CONCLUSIVE_POINTS_MIN}): "
             "give the noise level, e.g. --noise 1% (noise=0.01), or data with a sigma column",
             path=source,
         )
@@ -1484,8 +1488,11 @@ def diagnose(
         raise ParameterError(f"drt_evidence must be True or False, got {drt_evidence!r}")
     say = progress if progress is not None else (lambda text: None)
     say("fitting the baseline" + (f" {circuit}" if circuit is not None and not isinstance(fit_or_data, FitResult) else ""))
-    base, data, shape, left_out = _baseline(fit_or_data, circuit, data=data, effects=effects, registry=registry, fmin=fmin, fmax=fmax, weighting=weighting, n_starts=n_starts, seed=seed, shape=solver_shape)
-    _require_points_for_diagnosis(base)
+    base, data, shape, left_out = _baseline(
+        fit_or_data, circuit, data=data, effects=effects, registry=registry, fmin=fmin, fmax=fmax, weighting=weighting, n_starts=n_starts, seed=seed, shape=solver_shape,
+        noise_given=noise is not None or kk is not None,
+    )
+    _require_points_for_diagnosis(base.n_points, base.n_params)
     spectrum, sigma = _spectrum_of(base, data)
     not_passive = tuple(left_out)
     masked_z = dict(left_out)  # (each masked point's measured Z, for the figure)
@@ -1500,7 +1507,7 @@ def diagnose(
         kk = _kk_of(spectrum, notes)
     inconclusive = None  # (reported as the test; its flags and noise estimate would read the Voigt chain's misfit as noise)
     if kk is not None and not kk.conclusive:
-        _require_noise_without_kk(kk, noise, sigma, source=data.attrs.get("source") if data is not None else None)
+        _require_noise_without_kk(kk.frequency.size, noise, sigma, source=data.attrs.get("source") if data is not None else None)
         notes.append(f"the Kramers–Kronig test is inconclusive on {kk.frequency.size} frequencies (it needs {CONCLUSIVE_POINTS_MIN}): its flags and noise estimate are not used")
         inconclusive, kk = kk, None
     kk_as_tested = kk  # (the noise model's floor δ takes the test's own flags)

@@ -10,6 +10,7 @@ import numpy as np
 import xarray as xr
 
 from ...data import checked_frequencies, concise_repr, format_quantity, format_time, format_uncertain
+from ...errors import IN_MEMORY
 from .peaks import Peak
 from ..grid import ResultGrid
 
@@ -86,7 +87,7 @@ class DRTResult:
     basis_fwhm_decades: float
     derivative: int
     z_ref: float
-    source: str = "memory"
+    source: str = IN_MEMORY
     band_lambda: float = math.nan  # λ of the credible band (evidence-chosen; docs/drt.md)
     options: Mapping[str, object] = field(default_factory=dict)  # the drt() keywords that shape γ (reused by unexplained_peaks)
     lambda_choice: float = math.nan
