@@ -471,9 +471,12 @@ def falling_inward(table: ParameterTable, values: np.ndarray, jacobian: np.ndarr
     """Free parameters of fits (values (B, P); Jacobians of the weighted residuals (B, 2N, K);
     spectra, models and inverse weights (B, N)) that sit at a bound (`bound_sides`, by their
     linearised standard errors) while chi² falls *inward*: the gradient of chi² points into the
-    bounds, and moving the parameter alone (the others held) by its Newton step, kept at least
-    `starts.INSIDE_FRACTION` of its span inside (`starts.inward_start`), lowers chi² by more
-    than `BOUND_CHI2_FRACTION` of the reduced chi² (rule 2's tolerance, plus rounding) —
+    bounds, and moving the parameter alone (the others held) either by its Newton step or to
+    the restart point, at least `starts.INSIDE_FRACTION` of its span inside
+    (`starts.inward_start`), lowers chi² by more than `BOUND_CHI2_FRACTION` of the reduced
+    chi² (rule 2's tolerance, plus rounding) — both are needed: in a valley where the parameter
+    is correlated with others (a CPE's α with its Q, started at α = 1) only the short Newton
+    step falls, the restart point held alone is far up the valley's side; the chi² is
     measured (``chi2_at_x(points (C, K), fit (C,))``, as `confirm_bounds`), not predicted: in the
     flat valley of a vanishing term the linear model promised a fall the steps never gave. Such
     a fit is not at a bound optimum: the solver stopped where its bounded coordinate is flat
@@ -507,17 +510,18 @@ def falling_inward(table: ParameterTable, values: np.ndarray, jacobian: np.ndarr
             sides[rows] = bound_sides(table, values[rows], stderr)
         inward = falls & (sides * g > 0)
     fit_rows, cols = np.nonzero(inward)
-    if fit_rows.size:  # the fall measured: each parameter moved alone
+    if fit_rows.size:  # the fall measured: each parameter moved alone, to the restart and by its Newton step
         free = table.free_index
         one = np.zeros((fit_rows.size, k), np.int8)
         one[np.arange(fit_rows.size), cols] = sides[fit_rows, cols]
         moved = inward_start(table, values[fit_rows], one, step[fit_rows])[:, free]
+        newton = inward_start(table, values[fit_rows], one, step[fit_rows], fraction=0.0)[:, free]
         fits = np.unique(fit_rows)
-        measured = np.asarray(chi2_at_x(np.concatenate([values[fits][:, free], moved]), np.concatenate([fits, fit_rows])), float)
+        measured = np.asarray(chi2_at_x(np.concatenate([values[fits][:, free], moved, newton]), np.concatenate([fits, fit_rows, fit_rows])), float)
         here = measured[: fits.size][np.searchsorted(fits, fit_rows)]
-        there = measured[fits.size :]
+        there = measured[fits.size :].reshape(2, fit_rows.size)
         with np.errstate(invalid="ignore"):
-            fell = np.isfinite(there) & (there < here - (BOUND_CHI2_FRACTION * here / max(n_res - k, 1) + n_res * 1e-28))
+            fell = np.any(np.isfinite(there) & (there < here - (BOUND_CHI2_FRACTION * here / max(n_res - k, 1) + n_res * 1e-28)), axis=0)
         inward[fit_rows[~fell], cols[~fell]] = False
     return np.where(inward, sides, 0).astype(np.int8), step
 

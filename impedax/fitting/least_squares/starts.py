@@ -298,11 +298,11 @@ def well_inside(x, table: ParameterTable, fraction: float = INSIDE_FRACTION) -> 
     return np.where(two_sided, inside2, one_sided)
 
 
-def inward_start(table: ParameterTable, x, sides, step) -> np.ndarray:
+def inward_start(table: ParameterTable, x, sides, step, fraction: float = INSIDE_FRACTION) -> np.ndarray:
     """A restart for fits x (…, P) stopped at a bound while chi² falls inward (``sides`` (…, K)
     nonzero over the free parameters: `result.falling_inward`): each such parameter moved by
     ``step`` (…, K) (the Newton step along it alone, the others held) and kept at least
-    `INSIDE_FRACTION` of the solver's span inside its bounds (`well_inside`); the others
+    ``fraction`` of the solver's span inside its bounds (`well_inside`); the others
     unchanged."""
     x = np.array(x, float)
     free = table.free_index
@@ -310,7 +310,7 @@ def inward_start(table: ParameterTable, x, sides, step) -> np.ndarray:
     moved[..., free] = np.asarray(sides) != 0
     target = x.copy()
     target[..., free] = x[..., free] + np.where(moved[..., free], np.nan_to_num(np.asarray(step, float)), 0.0)
-    return np.where(moved, well_inside(target, table, INSIDE_FRACTION), x)
+    return np.where(moved, well_inside(target, table, fraction), x)
 
 
 def _log_range(table: ParameterTable, features: SpectrumFeatures, i: int):
