@@ -620,6 +620,20 @@ def test_report_columns_line_up_with_compound_units(rcpe):
     assert len(starts) == 1, rows
 
 
+def test_the_report_lists_the_fixed_parameters():
+    """A fixed parameter was nowhere in the report (only in to_xarray().attrs), though derived
+    quantities (Meyer's force depends on C_i) use it: it gets a row marked (fixed), its unit
+    in the unit column."""
+    f = np.geomspace(1, 1e5, 20)
+    z = 100 + 2000 / (1 + 1j * 2 * np.pi * f * 2000 * 1e-7)  # R0 + R1 ∥ C1
+    post = ix.sample("R0 + R1 || C1", ix.make_spectrum(f, z * (1 + 0.01 * np.random.default_rng(0).normal(size=f.size))), fixed={"R0": 100.0}, steps=40, progress=False)
+    rows = post.report().splitlines()
+    fixed_row = next(line for line in rows if line.startswith("R0 "))
+    assert fixed_row.split() == ["R0", "100", "(fixed)", "Ω"]
+    header = next(line for line in rows if line.startswith("parameter"))
+    assert fixed_row.index("Ω") == header.index("unit")
+
+
 def test_the_report_says_an_undefined_evidence_in_words(rcpe):
     # a Laplace evidence that is not finite read "Laplace ln Z = nan"; WAIC stays on the line
 

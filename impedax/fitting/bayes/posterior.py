@@ -244,9 +244,11 @@ class Posterior:
     def report(self) -> str:
         """A readable table of the posterior."""
         q = self.quantiles()
-        width = column_width(self.names, "parameter")
+        width = column_width([*self.names, *self.fixed], "parameter")
         units = [unit_text(u) for u in self.units]
-        unit_width = max([4, *map(len, units)])
+        specs = self.circuit.parameter_specs(self.registry)
+        fixed_units = [unit_text(specs[n].unit) if n in specs else "" for n in self.fixed]
+        unit_width = max([4, *map(len, units), *map(len, fixed_units)])
         lines = [
             f"model      {self.model}",
             f"noise      {self.noise}: {NOISE_MODELS[self.noise]}",
@@ -260,6 +262,8 @@ class Posterior:
             lines.append(
                 f"{n:<{width}}  {float(q['median'][i]):>11.5g}  {float(q['q05'][i]):>11.5g}  {float(q['q95'][i]):>11.5g}  {figure(self.autocorr[n], '9.3g'):>9}  {figure(self.ess[n], '7.0f'):>7}  {units[i]:<{unit_width}}  {self.priors[n]}"
             )
+        for (n, value), unit in zip(self.fixed.items(), fixed_units):  # (derived quantities such as the force depend on them too)
+            lines.append(f"{n:<{width}}  {value:>11.5g}  {'(fixed)':>11}  {'':>11}  {'':>9}  {'':>7}  {unit:<{unit_width}}".rstrip())
         for w in self.warnings:
             lines.append(f"warning: {w}")
         return "\n".join(lines)
