@@ -512,6 +512,24 @@ def test_corner_in_the_parameters_units_with_median_and_interval_titles():
     assert interval_text(0.916, 0.883, 0.948) == "0.916 [0.883, 0.948]"
 
 
+def test_a_cpe_q_on_a_linear_axis_is_counted_in_a_prefix_of_its_compound_unit():
+    """A narrow Q (1.20 ± 0.02 × 1e-8, a linear axis): matplotlib's offset "1e−8" had been glued
+    to the label "CPE_sc.Q [F s^(α-1)]"; now the prefix goes into the unit, as for Ω, F, H."""
+    from impedax.plotting.bayes import plot_corner
+
+    rng = np.random.default_rng(4)
+    q = rng.normal(1.2e-8, 0.02e-8, 5000)
+    alpha = rng.normal(0.8, 0.01, 5000)
+    fig = plot_corner(np.stack([q, alpha], axis=-1), ["CPE_sc.Q", "CPE_sc.alpha"], [False, False], units=["F s^(alpha-1)", "1"])
+    fig.canvas.draw()
+    axes = np.array(fig.axes).reshape(2, 2)
+    assert axes[1, 0].get_xlabel() == "CPE_sc.Q [nF s^(α-1)]"
+    assert axes[1, 0].xaxis.get_offset_text().get_text() == "" and axes[1, 0].xaxis.get_major_formatter().scale == 1e-9
+    ticks = [float(t.get_text().replace("\N{MINUS SIGN}", "-")) for t in axes[1, 0].get_xticklabels() if t.get_text()]
+    assert ticks and all(11.0 <= t <= 13.0 for t in ticks), ticks  # the values in nF s^(α-1)
+    plt.close(fig)
+
+
 def test_corner_titles_use_every_draw_not_the_scatters_subsample():
     """20,000 draws whose evenly spaced 4,000 (the scatter's) have another median: the title
     gives numpy's quantiles of every draw."""

@@ -206,7 +206,7 @@ class _PrefixedFormatter(ScalarFormatter):
         self.scale, prefix = si_prefix(top) if top > 0 else (1.0, "")
         for label in labels:
             if self._ours(label):
-                label.set_text(_BRACKETED_UNIT.sub(lambda m: f"[{prefix}{m.group(2)}]", label.get_text()))
+                label.set_text(_BRACKETED_UNIT.sub(lambda m: f"[{prefix}{m.group(2)}{m.group(3)}]", label.get_text()))
                 self.written[id(label)] = label.get_text()
         # as few decimals as tell the ticks apart at the scale (a lone tick: as write its value,
         # "20", not "20.0")
@@ -230,8 +230,9 @@ class _PrefixedFormatter(ScalarFormatter):
         return f"{value / self.scale:.5g}".replace("-", "\N{MINUS SIGN}")
 
 
-# the unit in an axis label's brackets that `prefixed_axis` scales: [Ω], [kΩ], [µF] ...
-_BRACKETED_UNIT = re.compile(r"\[(T|G|M|k|m|µ|n|p|f)?(Ω|F|H)\]")
+# the unit in an axis label's brackets that `prefixed_axis` scales: [Ω], [kΩ], [µF], and a
+# compound unit led by one of them, [F s^(α-1)] → [nF s^(α-1)] (a CPE's Q) ...
+_BRACKETED_UNIT = re.compile(r"\[(T|G|M|k|m|µ|n|p|f)?(Ω|F|H)((?: [^\]]*)?)\]")
 
 
 def prefixed_axis(axis, *, along=(), label=None) -> None:
@@ -244,7 +245,8 @@ def prefixed_axis(axis, *, along=(), label=None) -> None:
 
 def prefixable_unit(text: str) -> bool:
     """Whether ``text`` (an axis label or a panel's title) names a unit in brackets that
-    `prefixed_axis` counts in an SI prefix: ``[Ω]``, ``[F]``, ``[H]`` (or one of them prefixed)."""
+    `prefixed_axis` counts in an SI prefix: ``[Ω]``, ``[F]``, ``[H]`` (or one of them prefixed),
+    or a compound unit led by one (``[F s^(α-1)]``)."""
     return _BRACKETED_UNIT.search(text) is not None
 
 
