@@ -17,7 +17,7 @@ import numpy as np
 import xarray as xr
 
 from .arguments import MAX_POINTS, checked_arguments, count, real, shown
-from .errors import IN_MEMORY, DataError
+from .errors import IN_MEMORY, DataError, ParameterError
 
 __all__ = ["make_spectrum", "validate_spectrum", "log_frequencies", "checked_frequencies"]
 
@@ -34,20 +34,27 @@ def log_frequencies(fmin: float, fmax: float, points: int) -> np.ndarray:
     return np.geomspace(fmin, fmax, points) if points > 1 else np.array([float(fmin)])
 
 
+@checked_arguments()
 def make_spectrum(
     frequency: Sequence[float],
     Z,
     *,
     sigma=None,
-    dims: Sequence[str] = (),
+    dims: Sequence[str] | str = (),
     coords: Mapping[str, Sequence] | None = None,
     attrs: Mapping[str, object] | None = None,
     source: str = IN_MEMORY,
 ) -> xr.Dataset:
     """Build and validate a spectrum Dataset.
 
-    ``Z`` has shape ``(*extra, n_frequency)`` with the extra dimensions named by ``dims``.
+    ``Z`` has shape ``(*extra, n_frequency)`` with the extra dimensions named by ``dims`` (one
+    name may be given as a string); ``coords`` labels those extra dimensions (the frequencies
+    are ``frequency``); ``sigma`` is one value or an array that broadcasts to Z's shape.
     """
+    dims = _extra_dims(dims)
+    coords = _extra_coords(coords, dims)
+    if attrs is not None and not isinstance(attrs, Mapping):
+        raise ParameterError(f"attrs must be a mapping (dict), got {shown(attrs)} ({type(attrs).__name__})")
     frequency = _numbers(frequency, np.float64, "frequency", source, real="frequencies in Hz")
     Z = _numbers(Z, np.complex128, "Z", source, complex_only=True)
     all_dims = (*dims, "frequency")
@@ -72,10 +79,55 @@ def make_spectrum(
             raise DataError(f"sigma has shape {sigma.shape}, which does not broadcast to Z's {Z.shape}", path=source) from None
         data_vars["sigma"] = (all_dims, np.array(sigma), {"units": "ohm", "long_name": "standard deviation of Z"})
     all_coords = {"frequency": ("frequency", frequency, {"units": "Hz"})}
-    for name, values in (coords or {}).items():
-        all_coords[name] = (name, np.asarray(values))
+    for name, values in coords.items():
+        try:
+            labels = np.asarray(values)
+        except (TypeError, ValueError):  # (a ragged list)
+            raise DataError(f"coords[{name!r}] must be one label per entry along {name!r}, got {shown(values)}", path=source) from None
+        n = Z.shape[dims.index(name)]
+        if labels.ndim != 1:
+            raise DataError(f"coords[{name!r}] must be one label per entry along {name!r}, got shape {labels.shape}", path=source)
+        if labels.size != n:
+            raise DataError(f"coords[{name!r}] has {labels.size} labels but Z has {n} entries along {name!r}", path=source)
+        all_coords[name] = (name, labels)
     ds = xr.Dataset(data_vars, coords=all_coords, attrs={"source": source, **dict(attrs or {})})
     return validate_spectrum(ds, source=source)
+
+
+def _extra_dims(dims) -> tuple[str, ...]:
+    """``dims`` of `make_spectrum` as a tuple of names: one string is one name; 'frequency',
+    repeated names and names that are not strings are a `ParameterError`."""
+    if isinstance(dims, str):
+        dims = (dims,)
+    try:
+        dims = tuple(dims)
+    except TypeError:
+        raise ParameterError(f"dims must be names of Z's dimensions before frequency, e.g. ('trial',), got {shown(dims)}") from None
+    for name in dims:
+        if not isinstance(name, str) or not name:
+            raise ParameterError(f"dims must be names (strings), got {shown(name)} in {shown(dims)}")
+    if "frequency" in dims:
+        raise ParameterError(f"dims names the dimensions before frequency, which is always Z's last; leave 'frequency' out of dims={dims!r}")
+    repeated = sorted({name for name in dims if dims.count(name) > 1})
+    if repeated:
+        raise ParameterError(f"dims names {repeated[0]!r} twice: {dims!r}")
+    return dims
+
+
+def _extra_coords(coords, dims: tuple[str, ...]) -> dict:
+    """``coords`` of `make_spectrum`: labels of the dimensions in ``dims`` only; the
+    frequencies are the ``frequency`` argument, so a 'frequency' key is a `ParameterError`."""
+    if coords is None:
+        return {}
+    if not isinstance(coords, Mapping):
+        raise ParameterError(f"coords must be a mapping of dimension name to labels, got {shown(coords)} ({type(coords).__name__})")
+    for name in coords:
+        if name == "frequency":
+            raise ParameterError("frequency given twice: as the first argument and in coords; leave 'frequency' out of coords")
+        if name not in dims:
+            known = f"the dimensions in dims {dims!r}" if dims else "none: dims is empty, so Z has no dimension but frequency"
+            raise ParameterError(f"coords names {shown(name)}, which is not a dimension of Z; coords may label {known}")
+    return dict(coords)
 
 
 def _numbers(values, dtype, name: str, source: str, *, complex_only: bool = False, real: str = "") -> np.ndarray:
@@ -87,6 +139,8 @@ def _numbers(values, dtype, name: str, source: str, *, complex_only: bool = Fals
             raise TypeError
     except (TypeError, ValueError):
         raise DataError(f"{name} must be numbers, got {shown(values)}", path=source) from None
+    if array.size == 0:
+        raise DataError(f"{name} is empty: no data" + (f" (shape {array.shape})" if array.ndim > 1 else ""), path=source)
     if complex_only and not np.iscomplexobj(array):
         raise DataError(f"{name} must be complex, e.g. Z' + 1j*Z'' (got dtype {array.dtype}); a magnitude or Z' alone is not an impedance spectrum", path=source)
     if real and np.iscomplexobj(array):
@@ -119,11 +173,26 @@ def checked_frequencies(freq, name: str = "freq", *, ndim_max: int | None = 1, s
     return array
 
 
+# the Dataset.encoding key `impedax.load` sets to the file whose data passed `validate_spectrum`
+CHECKED_FILE = "impedax_checked_file"
+
+
 def validate_spectrum(ds: xr.Dataset, *, source: str | None = None) -> xr.Dataset:
-    """Check the data model; raise `DataError` naming the problem. Returns ``ds`` unchanged."""
+    """Check the data model; raise `DataError` naming the problem. Returns ``ds`` unchanged.
+    Data `impedax.load` read from ``source`` passed these checks then: a failure now says that
+    they were changed in memory since, so that no one looks for the fault in the file."""
     source = source or str(ds.attrs.get("source", "dataset"))
     if not isinstance(ds, xr.Dataset):
         raise DataError(f"expected an xarray.Dataset, got {type(ds).__name__}", path=source)
+    try:
+        return _validated(ds, source)
+    except DataError as exc:
+        if ds.encoding.get(CHECKED_FILE) != source:
+            raise
+        raise DataError(f"{exc.detail} (changed in memory after impedax.load read the file, which passed this check)", path=source) from None
+
+
+def _validated(ds: xr.Dataset, source: str) -> xr.Dataset:
     variables = ds.variables  # Variables, not DataArrays: this runs before every fit
     if "Z" not in variables:
         raise DataError("dataset has no variable 'Z'", path=source)
@@ -149,14 +218,57 @@ def validate_spectrum(ds: xr.Dataset, *, source: str | None = None) -> xr.Datase
         where = np.flatnonzero(f == dup)
         points = ", ".join(map(str, where[:5])) + (f", … ({where.size} points)" if where.size > 5 else "")
         raise DataError(f"duplicate frequency {dup:g} Hz at points {points}", path=source)
+    empty = [dim for dim, n in zip(z_var.dims, z_var.shape) if n == 0 and dim != "frequency"]
+    if empty:
+        raise DataError(f"dimension {empty[0]!r} of Z has length 0: the data hold no spectrum", path=source)
+    _check_units(variables["frequency"], "frequency", HERTZ, "Hz", FREQUENCY_SCALES, source)
+    _check_units(z_var, "Z", OHMS, "ohm", RESISTANCE_SCALES, source)
     if not np.all(np.isfinite(z)):
         idx = np.argwhere(~np.isfinite(z))[0]
         raise DataError(f"Z has a non-finite value at {point_text(ds, z_var.dims, idx)}: {z[tuple(idx)]}", path=source)
     if "sigma" in variables:
-        s = variables["sigma"].values
-        if not (np.all(np.isfinite(s)) and np.all(s > 0)):
-            raise DataError("'sigma' must be positive and finite everywhere", path=source)
+        _check_sigma(ds, variables["sigma"], z_var, source)
     return ds
+
+
+# spellings of the units impedax works in (compared in lower case, spaces removed), and the
+# factors that bring prefixed units to them (named in the message that refuses them)
+HERTZ = ("hz", "1/s", "s-1", "s^-1", "s⁻¹")
+OHMS = ("ω", "ohm", "ohms")
+FREQUENCY_SCALES = {"mhz": 1e-3, "khz": 1e3, "ghz": 1e9, "rad/s": 1 / (2 * np.pi)}
+RESISTANCE_SCALES = {"mω": 1e-3, "mohm": 1e-3, "kω": 1e3, "kohm": 1e3, "kohms": 1e3, "gω": 1e9, "gohm": 1e9}
+_CASE_SENSITIVE_SCALES = {"MHz": 1e6, "MΩ": 1e6, "MOhm": 1e6, "Mohm": 1e6, "MOhms": 1e6}
+
+
+def _check_units(variable: xr.Variable, name: str, accepted: tuple[str, ...], unit: str, scales: dict, source: str) -> None:
+    """`DataError` when ``variable`` has a ``units`` attribute other than ``unit`` (in one of
+    its ``accepted`` spellings): impedax reads the values as Hz and Ω, whatever the attribute."""
+    units = variable.attrs.get("units")
+    if units is None:
+        return
+    text = str(units).strip()
+    if text.lower().replace(" ", "") in accepted:
+        return
+    factor = _CASE_SENSITIVE_SCALES.get(text.replace(" ", ""), scales.get(text.lower().replace(" ", "")))
+    how = f"multiply the values by {factor:.6g}" if factor is not None else f"convert the values to {unit}"
+    raise DataError(f"{name} has units {text[:40]!r}, but impedax works in {unit}: {how} and set its units attribute to {unit!r}", path=source)
+
+
+def _check_sigma(ds: xr.Dataset, sigma: xr.Variable, z_var: xr.Variable, source: str) -> None:
+    """`DataError` unless ``sigma`` is real, positive and finite, over Z's dimensions (any
+    order) with Z's sizes: the fits and samplers take it point by point."""
+    what = f"a standard deviation [Ω] per point of Z, over Z's dimensions {z_var.dims}"
+    if set(sigma.dims) != set(z_var.dims) or any(ds.sizes[d] != n for d, n in zip(sigma.dims, sigma.shape)):
+        got = "a single value" if not sigma.dims else f"dims {sigma.dims} with shape {sigma.shape}"
+        hint = "; make_spectrum(..., sigma=value) spreads one value over every point" if not sigma.dims or set(sigma.dims) < set(z_var.dims) else ""
+        raise DataError(f"sigma must be {what}; got {got}{hint}", path=source)
+    values = sigma.values
+    if values.dtype == bool or not np.issubdtype(values.dtype, np.number) or np.iscomplexobj(values):
+        raise DataError(f"sigma must be real numbers ({what}), got dtype {values.dtype}", path=source)
+    bad = np.argwhere(~np.isfinite(values) | (values <= 0))
+    if bad.size:
+        idx = bad[0]
+        raise DataError(f"sigma must be positive and finite; at {point_text(ds, sigma.dims, idx)} it is {values[tuple(idx)]:g}", path=source)
 
 
 def point_text(ds: xr.Dataset, dims, idx) -> str:

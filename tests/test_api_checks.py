@@ -3,6 +3,7 @@
 Posterior.from_xarray of a netCDF file as stored, and the Python priors' messages.
 Oracles: closed-form RC impedances written here, the numbers put in, and the exact messages."""
 
+import re
 import warnings
 
 import jax
@@ -66,6 +67,67 @@ def test_make_spectrum_names_the_dimensions_to_give():
     with pytest.raises(ix.DataError, match=r"Z has 2 dimensions but dims \('a', 'b', 'frequency'\) were given"):
         ix.make_spectrum(FREQ, z, dims=("a", "b"))
     assert ix.make_spectrum(FREQ, z, dims=("trial",)).sizes == {"trial": 3, "frequency": 31}
+
+
+def test_make_spectrum_takes_one_dimension_name_as_a_string():
+    """``dims="trial"`` had been split into letters (dims ('t', 'r', 'i', 'a', 'l', ...));
+    it is one name, the same Dataset as ``dims=("trial",)``."""
+    z = np.stack([rc_impedance(FREQ), rc_impedance(FREQ, r1=2e3)])
+    as_text = ix.make_spectrum(FREQ, z, dims="trial", coords={"trial": [7, 8]})
+    assert as_text["Z"].dims == ("trial", "frequency")
+    assert as_text.identical(ix.make_spectrum(FREQ, z, dims=("trial",), coords={"trial": [7, 8]}))
+    assert as_text["Z"].sel(trial=8).values == pytest.approx(rc_impedance(FREQ, r1=2e3))
+
+
+def test_sigma_as_make_spectrum_promises_it_still_passes():
+    """One value spreads over every point; a sigma over Z's dimensions in another order is
+    the same data (the fits transpose it), so validate_spectrum accepts both."""
+    z = np.stack([rc_impedance(FREQ), rc_impedance(FREQ, r1=2e3)])
+    data = ix.make_spectrum(FREQ, z, sigma=0.5, dims=("trial",))
+    assert data["sigma"].dims == ("trial", "frequency") and np.all(data["sigma"].values == 0.5)
+    assert ix.validate_spectrum(data.assign(sigma=data["sigma"].transpose("frequency", "trial"))) is not None
+
+
+@pytest.mark.parametrize("f_units, z_units", [("Hz", "ohm"), ("hz", "Ohm"), ("1/s", "ohms"), ("s-1", "Ω"), ("S^-1", "\u2126"), (" HZ ", "OHM")])
+def test_units_that_mean_hertz_and_ohms_are_accepted(f_units, z_units):
+    data = xr.Dataset({"Z": ("frequency", rc_impedance(FREQ), {"units": z_units})}, coords={"frequency": ("frequency", FREQ, {"units": f_units})})
+    assert ix.validate_spectrum(data) is data
+
+
+@pytest.mark.parametrize("variable, units, factor", [("frequency", "MHz", "1e+06"), ("frequency", "mHz", "0.001"), ("frequency", "rad/s", "0.159155"), ("Z", "MOhm", "1e+06"), ("Z", "mΩ", "0.001"), ("frequency", "s", None), ("Z", "S", None)])
+def test_other_units_are_refused_with_the_factor_to_convert(variable, units, factor):
+    """impedax reads frequency as Hz and Z as Ω whatever the attribute says: a frequency in
+    MHz would be read a million times too low, so it is refused with the factor (and mHz,
+    milli, is not MHz, mega)."""
+    data = ix.make_spectrum(FREQ, rc_impedance(FREQ))
+    data[variable].attrs["units"] = units
+    unit = "Hz" if variable == "frequency" else "ohm"
+    how = f"multiply the values by {factor}" if factor else f"convert the values to {unit}"
+    with pytest.raises(ix.DataError, match=re.escape(f"{variable} has units '{units}', but impedax works in {unit}: {how} and set")):
+        ix.validate_spectrum(data)
+
+
+def test_a_loaded_file_changed_in_memory_is_not_blamed(tmp_path):
+    """A NaN put into a loaded Dataset had been reported as a fault of the (clean) file."""
+    path = tmp_path / "clean.nc"
+    ix.save(ix.make_spectrum(FREQ, rc_impedance(FREQ)), path)
+    data = ix.load(path)
+    assert ix.fit(RC, data).converged  # (as read: accepted)
+    data["Z"].values[3] = np.nan
+    with pytest.raises(ix.DataError) as info:
+        ix.fit(RC, data)
+    assert str(info.value).startswith(f"{path}: Z has a non-finite value at f={FREQ[3]:.3g} Hz (point 3)")
+    assert "changed in memory after impedax.load read the file" in str(info.value)
+    with pytest.raises(ix.DataError) as built:  # (data built in a session: no such note)
+        ix.fit(RC, ix.make_spectrum(FREQ, rc_impedance(FREQ)).assign(Z=("frequency", np.where(FREQ == FREQ[3], np.nan, rc_impedance(FREQ)))))
+    assert "changed in memory" not in str(built.value)
+
+
+def test_zero_modulus_in_a_batch_names_the_spectrum_and_the_point():
+    z = np.stack([rc_impedance(FREQ), rc_impedance(FREQ)])
+    z[1, 7] = 0
+    with pytest.raises(ix.DataError, match=re.escape(f"weighting 'modulus': zero or non-finite weight at f={FREQ[7]:.3g} Hz (point 7) of spectrum 1, where |Z| = 0 Ω; drop the point or use weighting='unit'")):
+        ix.fit(RC, ix.make_spectrum(FREQ, z, dims="trial"))
 
 
 def test_duplicate_frequency_message_stays_short_for_many_points():

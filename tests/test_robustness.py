@@ -466,6 +466,19 @@ class Spectra:
         self.no_frequency_dataarray = xr.DataArray(z, dims="f")
         self.pair = (freq, z)
         self.trials = ix.make_spectrum(freq, np.stack([z, 1.01 * z]), dims=("trial",), coords={"trial": [0, 1]})
+        self.freq, self.z = freq, z
+        self.zero_trials = xr.Dataset({"Z": (("trial", "frequency"), np.zeros((0, freq.size), complex))}, coords={"frequency": freq})
+        self.zero_modulus = ix.make_spectrum(freq, np.where(np.arange(freq.size) == 5, 0j, z))
+        self.khz = xr.Dataset({"Z": ("frequency", z)}, coords={"frequency": ("frequency", freq / 1e3, {"units": "kHz"})})
+        self.kohm = xr.Dataset({"Z": ("frequency", z / 1e3, {"units": "kOhm"})}, coords={"frequency": freq})
+        self._fit = None
+
+    @property
+    def fit(self):
+        """A fit of ``good`` (made once, when a row needs it)."""
+        if self._fit is None:
+            self._fit = ix.fit(RC, self.good)
+        return self._fit
 
 
 _spectra = None
@@ -615,6 +628,30 @@ API_CASES = [
     ("make-spectrum-duplicate-frequency", "make_spectrum", lambda s: ix.make_spectrum([2.0, 2.0], [1j, 1j]), D, "duplicate frequency 2 Hz"),
     ("make-spectrum-nan", "make_spectrum", lambda s: ix.make_spectrum([1.0, 2.0], [1j, np.nan]), D, "non-finite value"),
     ("make-spectrum-bool-z", "make_spectrum", lambda s: ix.make_spectrum([1.0, 2.0], [True, False]), D, "Z must be numbers"),
+    ("make-spectrum-empty", "make_spectrum", lambda s: ix.make_spectrum([], []), D, "frequency is empty: no data"),
+    ("make-spectrum-frequency-in-coords", "make_spectrum", lambda s: ix.make_spectrum(s.freq, s.z, coords={"frequency": 2 * s.freq}), P, "frequency given twice"),
+    ("make-spectrum-frequency-in-dims", "make_spectrum", lambda s: ix.make_spectrum(s.freq, np.stack([s.z, s.z]), dims=("trial", "frequency")), P, "leave 'frequency' out of dims"),
+    ("make-spectrum-coords-wrong-length", "make_spectrum", lambda s: ix.make_spectrum(s.freq, np.stack([s.z, s.z]), dims=("trial",), coords={"trial": [1, 2, 3]}), D, "coords['trial'] has 3 labels but Z has 2 entries"),
+    ("make-spectrum-coords-not-in-dims", "make_spectrum", lambda s: ix.make_spectrum(s.freq, np.stack([s.z, s.z]), dims=("trial",), coords={"session": [1, 2]}), P, "coords names 'session', which is not a dimension of Z"),
+    ("make-spectrum-unknown-keyword", "make_spectrum", lambda s: ix.make_spectrum(s.freq, s.z, sigmaa=1), P, "make_spectrum() has no argument 'sigmaa'; did you mean sigma?"),
+    ("validate-spectrum-zero-trials", "validate_spectrum", lambda s: ix.validate_spectrum(s.zero_trials), D, "dimension 'trial' of Z has length 0"),
+    ("fit-data-zero-trials", "fit", lambda s: ix.fit(RC, s.zero_trials), D, "dimension 'trial' of Z has length 0"),
+    ("kk-batch-data-zero-trials", "kk_test_batch", lambda s: ix.kk_test_batch(s.zero_trials), D, "dimension 'trial' of Z has length 0"),
+    ("drt-data-zero-trials", "drt", lambda s: ix.drt(s.zero_trials), D, "dimension 'trial' of Z has length 0"),
+    ("validate-spectrum-sigma-other-dimension", "validate_spectrum", lambda s: ix.validate_spectrum(s.good.assign(sigma=("x", np.ones(5)))), D, "sigma must be a standard deviation [Ω] per point of Z, over Z's dimensions"),
+    ("validate-spectrum-sigma-dimension-not-in-z", "validate_spectrum", lambda s: ix.validate_spectrum(s.good.assign(sigma=("trial", np.ones(3)))), D, "got dims ('trial',) with shape (3,)"),
+    ("validate-spectrum-sigma-scalar", "validate_spectrum", lambda s: ix.validate_spectrum(s.good.assign(sigma=0.5)), D, "got a single value; make_spectrum(..., sigma=value) spreads"),
+    ("validate-spectrum-sigma-text", "validate_spectrum", lambda s: ix.validate_spectrum(s.good.assign(sigma=("frequency", ["a"] * s.freq.size))), D, "sigma must be real numbers"),
+    ("validate-spectrum-sigma-complex", "validate_spectrum", lambda s: ix.validate_spectrum(s.good.assign(sigma=("frequency", np.ones(s.freq.size) * (1 + 1j)))), D, "got dtype complex128"),
+    ("validate-spectrum-sigma-bool", "validate_spectrum", lambda s: ix.validate_spectrum(s.good.assign(sigma=("frequency", np.ones(s.freq.size, bool)))), D, "got dtype bool"),
+    ("validate-spectrum-sigma-zero", "validate_spectrum", lambda s: ix.validate_spectrum(s.good.assign(sigma=("frequency", np.arange(s.freq.size, dtype=float)))), D, "sigma must be positive and finite; at f=1 Hz (point 0) it is 0"),
+    ("validate-spectrum-frequency-in-khz", "validate_spectrum", lambda s: ix.validate_spectrum(s.khz), D, "frequency has units 'kHz', but impedax works in Hz: multiply the values by 1000"),
+    ("validate-spectrum-z-in-kohm", "validate_spectrum", lambda s: ix.validate_spectrum(s.kohm), D, "Z has units 'kOhm', but impedax works in ohm: multiply the values by 1000"),
+    ("fit-data-zero-modulus", "fit", lambda s: ix.fit(RC, s.zero_modulus), D, "zero or non-finite weight at f=17.8 Hz (point 5), where |Z| = 0 Ω; drop the point or use weighting='unit'"),
+    ("write-result-arguments-swapped", "write_result", lambda s: ix.write_result("r.json", s.fit), P, "the arguments look swapped"),
+    ("derive-fn-not-callable", "derive", lambda s: ix.derive(s.fit, 3), P, "fn must be a function of the parameters"),
+    ("save-unstorable-attribute", "save", lambda s: ix.save(s.good.assign_attrs(thing=object()), "a.nc"), D, "attribute 'thing' of the dataset is <object object"),
+    ("save-json-extension", "save", lambda s: ix.save(s.good, "x.json"), D, "use .nc, .nc4, .cdf (netCDF), .csv, .txt, .tsv"),
     ("log-frequencies-string", "log_frequencies", lambda s: ix.log_frequencies("a", 2.0, 3), P, "fmin must be a number"),
     ("log-frequencies-huge", "log_frequencies", lambda s: ix.log_frequencies(1.0, 2.0, 10**12), P, "points=1000000000000 is above the limit"),
     ("log-frequencies-float-points", "log_frequencies", lambda s: ix.log_frequencies(1.0, 2.0, 2.5), P, "points must be an integer"),

@@ -63,6 +63,7 @@ BAD_PATHS = [
     ("extension-of-another-kind", "{tmp}/out.xlsx", "extension '.xlsx'", ALL_KINDS),
     ("under-a-file", "{tmp}/good.csv/out{ext}", "good.csv is a file", ALL_KINDS),
     ("read-only-folder", "{tmp}/ro/out{ext}", "is not writable", ALL_KINDS),
+    ("read-only-file", "{tmp}/read-only{ext}", "is read-only", ALL_KINDS),  # (made 0444 by the test)
     ("empty-name", "", "empty file name", ALL_KINDS),
     ("binary-to-stdout", "-", "cannot go to standard output", ("figure", "diagram")),
 ]
@@ -264,6 +265,10 @@ def test_bad_output_path(template, ext, path, fragment, workdir, capsys):
     output = path.format(tmp=workdir, ext=ext)
     argv = _fill(template, output=output, good=str(workdir / "good.csv"), tmp=str(workdir))
     flag = template[template.index("{output}") - 1]
+    if "/read-only" in path:  # an earlier output its owner made read-only: kept as it is
+        with open(output, "wb") as fh:
+            fh.write(b"kept")
+        os.chmod(output, 0o444)
     before = _snapshot(workdir)
     code, out, err = _run(argv, capsys)
     _check_refused(code, out, err, fragment, [output, flag], workdir, before)

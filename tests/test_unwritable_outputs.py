@@ -322,12 +322,16 @@ def test_another_users_file_in_a_sticky_folder_is_refused(tmp_path, monkeypatch)
     tmp_path.chmod(0o1777)
     monkeypatch.setattr(os, "geteuid", lambda: owner)
     assert check_writable(target) == target
-    # a dangling symlink of another user's there is refused as well (the rename onto it fails)
+    # outputs are written through a symlink: a link to that file is refused as the file is,
+    # a dangling one is accepted (a new file is made where it points; the link is not replaced)
     monkeypatch.setattr(os, "geteuid", lambda: owner + 4242)
     link = tmp_path / "link.csv"
-    link.symlink_to(tmp_path / "nowhere.csv")
+    link.symlink_to(target)
     with pytest.raises(DataError, match=r"belongs to another user"):
         check_writable(link)
+    dangling = tmp_path / "dangling.csv"
+    dangling.symlink_to(tmp_path / "nowhere.csv")
+    assert check_writable(dangling) == dangling
 
 
 def test_folder_probe_names_the_folder_and_leaves_nothing(tmp_path, monkeypatch):

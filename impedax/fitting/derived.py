@@ -17,7 +17,7 @@ import numpy as np
 import xarray as xr
 
 from ..data import checked_frequencies
-from ..arguments import count, unknown_parameter
+from ..arguments import count, shown, unknown_parameter
 from ..errors import ParameterError
 
 __all__ = ["derive", "derive_fit", "QUANTILES", "band_dataset", "bind_frequency", "check_real", "needs_freq", "draws_band", "called"]
@@ -39,6 +39,8 @@ def needs_freq(fn) -> bool:
 
 def bind_frequency(fn, freq):
     """``params -> fn(params[, freq])`` as a JAX array (``freq`` bound when given)."""
+    if not callable(fn):
+        raise ParameterError(f"derive: fn must be a function of the parameters, fn(params) or fn(params, freq), got {shown(fn)} ({type(fn).__name__})")
     if freq is None:
         if needs_freq(fn):
             raise ParameterError("derive: the function takes a frequency argument; pass freq=...")

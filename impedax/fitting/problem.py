@@ -16,7 +16,7 @@ import xarray as xr
 from ..arguments import shown
 from ..circuits import Circuit, parse
 from ..circuits.parser import ARGUMENT_ORDERS
-from ..data import make_spectrum, validate_spectrum
+from ..data import format_frequency, make_spectrum, validate_spectrum
 from ..errors import DataError, FitError, ImpedaxError, ParameterError
 from .parameters import ParameterTable
 
@@ -196,8 +196,9 @@ def fit_problem(circuit, spectrum: Spectrum, *, init, fixed, bounds, registry) -
     return FitProblem(circuit, data, table, source)
 
 
-def weights(z: np.ndarray, sigma: np.ndarray | None, weighting: str, source: str):
-    """Inverse weights (1/w_re, 1/w_im) of the real and imaginary residuals for `WEIGHTINGS`."""
+def weights(z: np.ndarray, sigma: np.ndarray | None, weighting: str, source: str, frequency=None):
+    """Inverse weights (1/w_re, 1/w_im) of the real and imaginary residuals for `WEIGHTINGS`;
+    ``frequency`` [Hz] (Z's last axis) names the points whose weight is zero."""
     if weighting not in WEIGHTINGS:
         raise ParameterError(f"unknown weighting {weighting!r}; choose one of {', '.join(WEIGHTINGS)}")
     if weighting == "unit":
@@ -211,9 +212,23 @@ def weights(z: np.ndarray, sigma: np.ndarray | None, weighting: str, source: str
         if sigma is None:
             raise DataError("weighting='sigma' needs a 'sigma' variable in the data (e.g. the SEM of repeated trials)", path=source)
         w_re = w_im = sigma
-    if np.any(~np.isfinite(w_re) | (w_re <= 0)) or np.any(~np.isfinite(w_im) | (w_im <= 0)):
-        raise DataError(f"weighting {weighting!r}: zero or non-finite weights (|Z| = 0 somewhere?)", path=source)
+    bad = ~np.isfinite(w_re) | (w_re <= 0) | ~np.isfinite(w_im) | (w_im <= 0)
+    if np.any(bad):
+        raise DataError(f"weighting {weighting!r}: {_zero_weight_text(z, bad, frequency)}", path=source)
     return 1.0 / w_re, 1.0 / w_im
+
+
+def _zero_weight_text(z: np.ndarray, bad: np.ndarray, frequency) -> str:
+    """Where the weights are zero or not finite, and what to do: the first such point (its
+    frequency and number, its spectrum in a batch) and how many there are."""
+    where = np.argwhere(np.broadcast_to(bad, np.shape(z)))
+    first = tuple(int(i) for i in where[0])
+    k = first[-1]
+    point = f"f={format_frequency(float(np.asarray(frequency)[k]))} (point {k})" if frequency is not None else f"point {k}"
+    if len(first) > 1:
+        point += f" of spectrum {first[:-1] if len(first) > 2 else first[0]}"
+    more = f" and {len(where) - 1} more point{'s' * (len(where) > 2)}" if len(where) > 1 else ""
+    return f"zero or non-finite weight at {point}{more}, where |Z| = {abs(z[first]):g} Ω; drop the point or use weighting='unit'"
 
 
 def residual_scale(z, inv_re, inv_im, weighting: str) -> np.ndarray:

@@ -21,7 +21,7 @@ from typing import Callable
 from ..errors import DataError
 
 __all__ = [
-    "atomic_path", "check_writable", "probe_folder", "OutputTransaction", "staging_directory", "temporary_folder", "remove_temporary",
+    "atomic_path", "check_writable", "write_target", "probe_folder", "OutputTransaction", "staging_directory", "temporary_folder", "remove_temporary",
     "remove_temporaries", "live_temporaries",
     "written_outputs",
 ]
@@ -83,7 +83,8 @@ def check_writable(path: str | os.PathLike, *, probe: bool = True) -> Path:
     of an output is (`_temporary_beside`). Permission bits (`os.access`) do not answer for root
     (containers, NFS root-squash), nor for folders no one can create files in (``/sys``,
     ``/proc``, a read-only mount): only trying does. Any `OSError` on the way (a name too
-    long, ...) is a `DataError` naming ``path`` too."""
+    long, ...) is a `DataError` naming ``path`` too. A symbolic link is checked as the file
+    it points to (`write_target`); a read-only file (no owner-write bit) is refused."""
     path = Path(path)
     try:
         return _check_writable(path, probe)
@@ -91,28 +92,43 @@ def check_writable(path: str | os.PathLike, *, probe: bool = True) -> Path:
         raise DataError(f"cannot be written: {_reason(exc)}", path=path) from None
 
 
+def write_target(path: str | os.PathLike) -> Path:
+    """The file an output to ``path`` replaces: ``path`` itself, or the file a symbolic link
+    there points to (written through, so that the link stays a link)."""
+    path = Path(path)
+    return Path(os.path.realpath(path)) if path.is_symlink() else path
+
+
 def _check_writable(path: Path, probe: bool) -> Path:
+    named = path
+    path = write_target(path)
     parent = path.parent if str(path.parent) else Path(".")
+    if path.is_symlink():  # (still a link after resolving: a loop)
+        raise DataError("is a symbolic link loop; choose another name", path=named)
     if path.is_dir():
-        raise DataError("is a directory, not a file", path=path)
+        raise DataError("is a directory, not a file", path=named)
     if not parent.is_dir():
         blocker = next((p for p in (parent, *parent.parents) if p.exists() or p.is_symlink()), None)
         if blocker is not None and not blocker.is_dir():
-            raise DataError(f"{blocker.name} is a file, so the directory does not exist", path=path)
-        raise DataError(f"directory {parent} does not exist", path=path)
+            raise DataError(f"{blocker.name} is a file, so the directory does not exist", path=named)
+        raise DataError(f"directory {parent} does not exist", path=named)
     if not os.access(parent, os.W_OK | os.X_OK):
-        raise DataError(f"directory {parent} is not writable", path=path)
+        raise DataError(f"directory {parent} is not writable", path=named)
     if path.exists() and not path.is_file():
-        raise DataError("exists and is not a regular file (a device, pipe or socket); choose a file name", path=path)
-    if (path.exists() or path.is_symlink()) and _owned_by_another_in_sticky(path, parent):
-        raise DataError(f"belongs to another user in {parent}, whose sticky bit lets only the owner replace it; choose another name", path=path)
+        raise DataError("exists and is not a regular file (a device, pipe or socket); choose a file name", path=named)
+    if path.exists() and not path.stat().st_mode & stat.S_IWUSR:  # (the bits, not os.access: root may write anything)
+        mode = stat.S_IMODE(path.stat().st_mode)
+        through = f" (the file {path} it links to)" if path != named else ""
+        raise DataError(f"is read-only{through}, mode {mode:o}: impedax does not replace it; make it writable (chmod u+w) or choose another name", path=named)
+    if path.exists() and _owned_by_another_in_sticky(path, parent):
+        raise DataError(f"belongs to another user in {parent}, whose sticky bit lets only the owner replace it; choose another name", path=named)
     if probe:
         try:
             tmp = _temporary_beside(path, "staged.")
         except OSError as exc:
-            raise DataError(_cannot_create(parent, exc), path=path) from None
-        _remove_probe(tmp, os.unlink, path)
-    return path
+            raise DataError(_cannot_create(parent, exc), path=named) from None
+        _remove_probe(tmp, os.unlink, named)
+    return named
 
 
 def _owned_by_another_in_sticky(path: Path, parent: Path) -> bool:
@@ -166,13 +182,22 @@ def _temporary_beside(path: Path, tag: str, suffix: str = "") -> Path:
     _remember(tmp)
     try:
         os.close(fd)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; outputs get the usual permissions
+        os.chmod(tmp, _output_mode(path))
     except BaseException:
         _discard(tmp)
         raise
     return tmp
+
+
+def _output_mode(path: Path) -> int:
+    """The permission bits of a new output at ``path``: those of the file it replaces (a
+    private 0600 file stays private), else the usual 0666 less the umask (mkstemp makes 0600)."""
+    try:
+        return stat.S_IMODE(os.stat(path).st_mode) & 0o777
+    except OSError:
+        umask = os.umask(0)
+        os.umask(umask)
+        return 0o666 & ~umask
 
 
 def _discard(tmp: Path) -> None:
@@ -190,17 +215,18 @@ def atomic_path(path: str | os.PathLike):
     `DataError` naming ``path`` (errors of the writing itself are the writer's).
     """
     path = check_writable(path, probe=False)  # (making the temporary file is the probe)
+    target = write_target(path)
     try:
-        tmp = _temporary_beside(path, "")
+        tmp = _temporary_beside(target, "")
     except OSError as exc:
-        raise DataError(_cannot_create(path.parent if str(path.parent) else Path("."), exc), path=path) from None
+        raise DataError(_cannot_create(target.parent if str(target.parent) else Path("."), exc), path=path) from None
     try:
         yield tmp
     except BaseException:
         _discard(tmp)
         raise
     try:
-        os.replace(tmp, path)
+        os.replace(tmp, target)
     except BaseException as exc:
         _discard(tmp)
         if isinstance(exc, OSError):
@@ -272,7 +298,7 @@ class OutputTransaction:
                 _remember(tmp)
                 os.close(fd)
             else:
-                tmp = _temporary_beside(check_writable(target, probe=False), "staged.", suffix)
+                tmp = _temporary_beside(write_target(check_writable(target, probe=False)), "staged.", suffix)
         except OSError as exc:
             self.abort()
             where = f"in {tempfile.gettempdir()} for standard output" if target == "-" else f"in directory {Path(target).parent}"
@@ -298,7 +324,7 @@ class OutputTransaction:
                 for tmp, target in self._staged:
                     if target == "-":
                         continue
-                    os.replace(tmp, target)
+                    os.replace(tmp, write_target(target))
                     _forget(tmp)
                     done.append(target)
                     with _live_lock:

@@ -14,12 +14,14 @@ import csv
 import io
 import json
 import math
+import os
 from pathlib import Path
 from typing import Mapping, Sequence
 
 import numpy as np
 
 from .atomic import atomic_path, check_writable
+from ..arguments import shown
 from ..errors import DataError, ParameterError
 
 __all__ = ["RESULT_FORMATS", "result_format", "result_table", "write_result", "write_table", "write_json", "to_jsonable"]
@@ -100,6 +102,11 @@ def write_json(obj, path: str | Path) -> None:
         tmp.write_text(text, encoding="utf-8")
 
 
+def _is_result(obj) -> bool:
+    """Whether ``obj`` is something `write_result` writes (a result with a summary or a dataset)."""
+    return callable(getattr(obj, "summary", None)) or callable(getattr(obj, "to_xarray", None))
+
+
 def write_result(result, path: str | Path) -> None:
     """Write ``result`` in the format of ``path``'s extension: ``.csv`` the tidy table
     (`result_table`), ``.json`` its ``summary()``, ``.nc`` its ``to_xarray()`` (lossless
@@ -107,8 +114,12 @@ def write_result(result, path: str | Path) -> None:
     (a dict, None, a spectrum Dataset) is a `ParameterError` saying what to pass; a path that
     cannot be written is a `DataError` naming it, raised before the result is converted
     (`check_writable`)."""
+    if isinstance(result, (str, os.PathLike)) and _is_result(path):
+        raise ParameterError(f"write_result takes (result, path); the arguments look swapped: got the path {shown(str(result))} first and a {type(path).__name__} second")
+    if not isinstance(path, (str, os.PathLike)):
+        raise ParameterError(f"write_result: path must be a file path (str or pathlib.Path), got {shown(path)} ({type(path).__name__})")
     kind = result_format(path)
-    if not (callable(getattr(result, "summary", None)) or callable(getattr(result, "to_xarray", None))):
+    if not _is_result(result):
         got = "None" if result is None else type(result).__name__
         spectrum = "; a spectrum Dataset is written with impedax.save(data, path)" if hasattr(result, "data_vars") else ""
         raise ParameterError(f"write_result takes a result (FitResult, BatchFitResult, Comparison, Diagnosis, Refinement, Posterior, ...), got {got}{spectrum}")

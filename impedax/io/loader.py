@@ -17,7 +17,7 @@ from typing import Sequence
 import xarray as xr
 
 from ..arguments import shown
-from ..data import validate_spectrum
+from ..data import CHECKED_FILE, validate_spectrum
 from ..errors import IN_MEMORY, DataError
 from ._common import MAX_FILE_BYTES, check_file, head_text
 from .csv import read_csv, write_csv
@@ -88,7 +88,7 @@ def load(path: str | os.PathLike, readers: Sequence[Reader] | None = None) -> xr
         ds.attrs.setdefault("format", reader.name)
         if ds.attrs.get("source") == IN_MEMORY:  # (a reader of the user's built it with make_spectrum: later errors name the file)
             ds.attrs["source"] = str(path)
-        return validate_spectrum(ds, source=str(path))
+        return _checked(ds, path)
     head = _head(path)
     if not head_text(head).strip():  # binary or blank: decided from the first 64 kB, before reading the whole file
         if head.strip(b" \t\r\n"):
@@ -98,7 +98,15 @@ def load(path: str | os.PathLike, readers: Sequence[Reader] | None = None) -> xr
         ds = read_csv(path)
     except NoLayout as exc:
         raise DataError(_unrecognised(exc.reason, tried), path=exc.path, line=exc.line) from None
-    return validate_spectrum(ds, source=str(path))
+    return _checked(ds, path)
+
+
+def _checked(ds: xr.Dataset, path: Path) -> xr.Dataset:
+    """``ds`` read from ``path``, validated and marked so (`data.CHECKED_FILE`): a later
+    failure of `validate_spectrum` says the data changed in memory, not in the file."""
+    validate_spectrum(ds, source=str(path))
+    ds.encoding[CHECKED_FILE] = str(path)
+    return ds
 
 
 def _unrecognised(as_text: str | None, tried: Sequence[str]) -> str:
@@ -155,7 +163,7 @@ def spectrum_format(path: str | os.PathLike) -> str:
         return "netcdf"
     if suffix in CSV_SUFFIXES:
         return "csv"
-    raise DataError(f"unknown output format {suffix!r}; use .nc or .csv", path=path)
+    raise DataError(f"unknown output format {suffix!r}; use {', '.join(NETCDF_SUFFIXES)} (netCDF), {', '.join(s for s in CSV_SUFFIXES if s)} (CSV; .tsv tab-separated) or no extension (CSV)", path=path)
 
 
 def _check_path(path) -> None:

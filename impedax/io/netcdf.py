@@ -23,16 +23,31 @@ _JSON = "json:"
 _NETCDF3_HEADER_BYTES = 32
 
 
-def _encode_attrs(attrs) -> dict:
+def _encode_attrs(attrs, owner: str = "the dataset") -> dict:
+    """``attrs`` as netCDF3 stores them; a value it cannot hold (an arbitrary object, a
+    complex number) is a `DataError` naming the attribute and ``owner``."""
     out = {}
     for k, v in attrs.items():
+        v = bool(v) if isinstance(v, np.bool_) else v
         if isinstance(v, bool) or v is None or isinstance(v, (dict, list, tuple)):
-            out[k] = _JSON + json.dumps(v)
+            try:
+                out[k] = _JSON + json.dumps(v)
+            except (TypeError, ValueError, RecursionError):
+                raise DataError(_unstorable(k, v, owner)) from None
         elif isinstance(v, (np.integer, int)) and not np.iinfo(np.int32).min <= int(v) <= np.iinfo(np.int32).max:
             out[k] = float(v)
-        else:
+        elif isinstance(v, (str, bytes, int, float, np.integer, np.floating)) or (isinstance(v, np.ndarray) and v.dtype.kind not in "cOV"):
             out[k] = v
+        else:  # (xarray's TypeError, or scipy's, would name neither the file nor what to do)
+            raise DataError(_unstorable(k, v, owner))
     return out
+
+
+def _unstorable(key, value, owner: str) -> str:
+    from ..arguments import shown
+
+    return (f"attribute {shown(key)} of {owner} is {shown(value)} ({type(value).__name__}), which a netCDF file cannot hold; "
+            "make it text, a number or a list of them (or drop it) before saving")
 
 
 def _decode_attrs(attrs) -> dict:
@@ -49,8 +64,8 @@ def _decode_attrs(attrs) -> dict:
     return out
 
 
-def _encode_array(da: xr.DataArray) -> dict[str, xr.DataArray]:
-    attrs = _encode_attrs(da.attrs)
+def _encode_array(da: xr.DataArray, name: str = "") -> dict[str, xr.DataArray]:
+    attrs = _encode_attrs(da.attrs, f"variable {name!r}")
     if np.iscomplexobj(da.values):
         return {
             "__real": da.real.assign_attrs({**attrs, "impedax_part": "real"}),
@@ -67,10 +82,10 @@ def encode_dataset(ds: xr.Dataset) -> xr.Dataset:
     """A netCDF3-storable copy of ``ds`` (see module docstring)."""
     data_vars, coords = {}, {}
     for name, da in ds.coords.items():
-        for suffix, part in _encode_array(xr.DataArray(da.variable)).items():
+        for suffix, part in _encode_array(xr.DataArray(da.variable), name).items():
             coords[name + suffix] = part.variable
     for name, da in ds.data_vars.items():
-        for suffix, part in _encode_array(da).items():
+        for suffix, part in _encode_array(da, name).items():
             data_vars[name + suffix] = part.variable
     return xr.Dataset(data_vars, coords=coords, attrs=_encode_attrs(ds.attrs))
 
@@ -171,7 +186,10 @@ class damaged_result:
 
 def write_netcdf(ds: xr.Dataset, path: str | Path) -> None:
     """Write ``ds`` to ``path`` atomically, complex values and attrs preserved."""
-    encoded = encode_dataset(ds)
+    try:
+        encoded = encode_dataset(ds)
+    except DataError as exc:
+        raise DataError(exc.detail, path=path) from None
     with atomic_path(path) as tmp:
         encoded.to_netcdf(tmp, engine="scipy", format="NETCDF3_64BIT")
 

@@ -297,7 +297,7 @@ def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n
     """`_started_stack`, then every converged fit left at a bound while chi² falls inward
     restarted from inside (`restarted_inward`); the last item flags the fits still so."""
     out, used, solver = _started_stack(circuit, table, freq, z, sigma, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
-    inv_re, inv_im = weights(z, sigma, weighting, source)
+    inv_re, inv_im = weights(z, sigma, weighting, source, freq)
     out, inward = restarted_inward(out, solver, table, z, inv_re, inv_im, weighting, residual_scale(z, inv_re, inv_im, weighting), max_steps)
     return out, used, solver, inward
 
@@ -343,7 +343,7 @@ def _started_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting,
     `SCREEN_STEPS` steps, the best continued to convergence). All solves go through the lane
     solver (`lm.work_queue`)."""
     b = z.shape[0]
-    inv_re, inv_im = weights(z, sigma, weighting, source)
+    inv_re, inv_im = weights(z, sigma, weighting, source, freq)
     features = SpectrumFeatures(freq, z)
     solvers = tree_solver(circuit, registry, max_steps, *table.free_structure)
     scale = residual_scale(z, inv_re, inv_im, weighting)
@@ -605,7 +605,7 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
     converged = finite & (np.asarray(out.code) == SolverStatus.CONVERGED)
     values = np.array(out.x, float)
     stderr = np.full(values.shape, np.nan)
-    inv_re, inv_im = weights(z, sigma, weighting, source)
+    inv_re, inv_im = weights(z, sigma, weighting, source, freq)
     converged &= ~inward  # a fit left at a bound while chi² falls inward is not converged (`fit_result` says why)
     odd = ~converged  # these get `fit_result`'s handling of overflow and non-convergence
     notes: list[tuple[str, ...]] = [()] * b
@@ -679,7 +679,7 @@ def data_notes(freq, z, z_model, sigma, weighting: str, source: str, kk_misfits:
     dominated by a few points (`weighting_notes`), points with Re Z < 0 (`non_passive_notes`)
     and a gross misfit (`misfit_notes`; ``kk_misfits``: Kramers–Kronig misfits already known)."""
     b = len(z)
-    weighted = weighting_notes(weighting, freq, *dominant_points(z, *weights(z, sigma, weighting, source))) if weighting in ("unit", "proportional") else [()] * b
+    weighted = weighting_notes(weighting, freq, *dominant_points(z, *weights(z, sigma, weighting, source, freq))) if weighting in ("unit", "proportional") else [()] * b
     misfit = misfit_notes(freq, z, z_model, kk_misfits, sigma)
     return [tuple(weighted[i]) + non_passive_notes(freq, z[i], None if sigma is None else sigma[i]) + misfit[i] for i in range(b)]
 

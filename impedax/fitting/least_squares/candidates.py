@@ -245,7 +245,7 @@ def fit_candidates(
     freq = np.asarray(spectrum["frequency"].values, float)
     z = np.asarray(spectrum["Z"].values, complex)
     sigma = np.asarray(spectrum["sigma"].values, float) if "sigma" in spectrum else None
-    inv_re, inv_im = weights(z, sigma, weighting, prepared[0].source)
+    inv_re, inv_im = weights(z, sigma, weighting, prepared[0].source, freq)
     shape = (shape or solver_shape(circuits, registry, freq.size)).grown_to(circuits, registry, freq.size)
     layout = shape.layout
     k_pad = shape.n_free

@@ -420,7 +420,7 @@ def fit_shared(
     independent = fit_batch(circuit, data, table, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
     z, sigma, keep_shape, over_shape = _group_arrays(data, layout, extra)
     n_groups, m, n_freq = z.shape
-    inv_re, inv_im = weights(z, sigma, weighting, source)
+    inv_re, inv_im = weights(z, sigma, weighting, source, freq)
     free = table.free_index
     k, k_shared = free.size, len(layout.shared_slots)
     own, sh = np.asarray(layout.own_slots, int), np.asarray(layout.shared_slots, int)

@@ -91,7 +91,7 @@ def fit(
     freq = np.asarray(data["frequency"].values, float)
     z = np.asarray(data["Z"].values, complex)
     sigma = np.asarray(data["sigma"].values, float) if "sigma" in data else None
-    inv_re, inv_im = weights(z, sigma, weighting, source)
+    inv_re, inv_im = weights(z, sigma, weighting, source, freq)
     if not isinstance(max_steps, (int, np.integer)) or isinstance(max_steps, bool) or max_steps < 1:
         raise ParameterError(f"max_steps must be a positive integer, got {max_steps!r}")
     solvers = tree_solver(circuit, registry, int(max_steps), *table.free_structure)
