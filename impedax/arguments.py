@@ -14,6 +14,7 @@ Each rule takes ``(value, name)`` and returns the value to use (a NumPy integer 
 
 from __future__ import annotations
 
+import decimal
 import difflib
 import functools
 import inspect
@@ -91,6 +92,8 @@ def _is_real(value: object) -> bool:
         return False
     if isinstance(value, (numbers.Real, np.integer, np.floating)):
         return True
+    if isinstance(value, decimal.Decimal):  # not a numbers.Real, but a number a user may hold
+        return not value.is_snan()  # (float() refuses a signalling NaN; a quiet one is "not finite")
     # a 0-d NumPy or JAX array of real numbers (a fitted value handed back in)
     dtype = getattr(value, "dtype", None)
     return getattr(value, "shape", None) == () and dtype is not None and np.dtype(dtype).kind in "iuf"

@@ -1,9 +1,12 @@
 """The public API's argument checks: make_spectrum's Z and sigma, the frequencies of every
-``predict(freq)``, the compiled circuit's parameters, (frequency, Z) pairs as fit data,
+``predict(freq)``, the compiled circuit's parameters (values, vectors, probes), any real number
+for kk_test's c and for starting values, (frequency, Z) pairs as fit data,
 Posterior.from_xarray of a netCDF file as stored, and the Python priors' messages.
 Oracles: closed-form RC impedances written here, the numbers put in, and the exact messages."""
 
 import warnings
+from decimal import Decimal
+from fractions import Fraction
 
 import jax
 import jax.numpy as jnp
@@ -388,3 +391,38 @@ def test_prior_outside_bounds_message_closes_its_bracket_once():
 def test_command_line_prior_errors_keep_the_option():
     with pytest.raises(ix.ParameterError, match=r"^--prior 'R1=gauss:0,1': unknown prior kind 'gauss'"):
         ix.fitting.parse_prior("R1=gauss:0,1")
+
+
+# --- 8. any real number where a number is asked ----------------------------------------------
+
+
+@pytest.mark.parametrize("c", [np.float32(0.85), jnp.asarray(0.85), Fraction(17, 20), Decimal("0.85")], ids=["float32", "jax", "fraction", "decimal"])
+def test_kk_c_takes_any_real_number(c):
+    """``c=np.float32(0.85)`` was refused: "c must be between 0 and 1 (exclusive), got
+    np.float32(0.85)" (only int and float were numbers)."""
+    data = ix.make_spectrum(FREQ, noisy_rc())
+    reference, got = ix.kk_test(data, c=0.85), ix.kk_test(data, c=c)
+    assert got.c == pytest.approx(0.85, rel=1e-6) and got.n_rc == reference.n_rc
+    np.testing.assert_allclose(got.residuals_real, reference.residuals_real, rtol=1e-12)
+    batch = ix.kk_test_batch(data.expand_dims(trial=[0, 1]), c=c)
+    assert batch.n_rc.tolist() == [reference.n_rc] * 2
+
+
+def test_fit_takes_a_decimal_start():
+    """``init={"R1": Decimal("800")}`` said "must be a number"; a Decimal is one (and a
+    quiet-NaN Decimal is refused as not finite)."""
+    data = ix.make_spectrum(FREQ, noisy_rc())
+    reference = ix.fit(RC, data, init={"R1": 800.0}, n_starts=1)
+    for start in (Decimal("800"), Fraction(800)):
+        assert ix.fit(RC, data, init={"R1": start}, n_starts=1).values == pytest.approx(reference.values, rel=1e-9)
+    with pytest.raises(ix.ParameterError, match=r"init\['R1'\] must be finite"):
+        ix.fit(RC, data, init={"R1": Decimal("NaN")})
+
+
+def test_kk_thresholds_take_any_real_number_but_not_a_bool():
+    """A threshold given as a NumPy scalar was "must be a positive number"; True passed as 1."""
+    data = ix.make_spectrum(FREQ, noisy_rc())
+    reference = ix.kk_test(data, thresholds={"point": 6.0})
+    assert ix.kk_test(data, thresholds={"point": np.float32(6.0)}).thresholds == reference.thresholds
+    with pytest.raises(ix.ParameterError, match="threshold point must be a positive number, got True"):
+        ix.kk_test(data, thresholds={"point": True})
