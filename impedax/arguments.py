@@ -45,6 +45,7 @@ __all__ = [
     "closest_name",
     "numeric_array",
     "shown",
+    "number_text",
     "MAX_MESSAGE",
     "MAX_SEED",
     "MAX_STARTS",
@@ -81,6 +82,14 @@ def shown(value: object, limit: int = 40) -> str:
         text = f"<{type(value).__name__}>"
     text = text if text.isascii() and text.isprintable() else text.encode("ascii", "backslashreplace").decode("ascii")
     return text if len(text) <= limit else text[: limit - 1] + "…"
+
+
+def number_text(value: float) -> str:
+    """A number as its shortest exact text (``repr`` of the float, ``.0`` dropped): ``200``,
+    ``1.0000001``, ``1e-06``, ``inf``. For values compared to a bound in a message, where
+    ``:g`` (6 digits) would print 1.0000001 as 1 and contradict "outside (0, 1]"."""
+    text = repr(float(value))
+    return text[:-2] if text.endswith(".0") else text
 
 
 def _is_integer(value: object) -> bool:
@@ -133,9 +142,9 @@ def real(*, minimum: float | None = None, maximum: float | None = None, positive
         if positive and value <= 0:
             raise ParameterError(f"{name} must be positive, got {value:g}")
         if minimum is not None and value < minimum:
-            raise ParameterError(f"{name} must be at least {minimum:g}, got {value:g}")
+            raise ParameterError(f"{name} must be at least {number_text(minimum)}, got {number_text(value)}")
         if maximum is not None and value > maximum:
-            raise ParameterError(f"{name} must be at most {maximum:g}, got {value:g}")
+            raise ParameterError(f"{name} must be at most {number_text(maximum)}, got {number_text(value)}")
         return value
 
     return check
@@ -270,6 +279,10 @@ def parameter_bounds(value, name):
     out = {}
     for key, pair in value.items():
         label = f"{name}[{shown(key)}]"
+        if isinstance(pair, (Mapping, set, frozenset)):  # (a mapping's keys, a set's order: not the ends)
+            ends = (pair.get("lower"), pair.get("upper")) if isinstance(pair, Mapping) else (None, None)
+            example = f"({shown(ends[0], 20)}, {shown(ends[1], 20)})" if all(_is_real(e) for e in ends) else "(1.0, 200.0)"
+            raise ParameterError(f"{label} must be a pair (lower, upper), e.g. {example}, not a {type(pair).__name__}: got {shown(pair)}")
         if isinstance(pair, (str, bytes)) or not hasattr(pair, "__len__") or len(pair) != 2:
             raise ParameterError(f"{label} must be a pair (lower, upper), got {shown(pair)}")
         lower, upper = pair
@@ -396,7 +409,7 @@ def checked_arguments(*relations: Callable[[Mapping[str, object]], None], **rule
                     arguments[name] = rule(arguments[name], name)
             low, high = arguments.get("fmin"), arguments.get("fmax")
             if _is_real(low) and _is_real(high) and low > high:
-                raise ParameterError(f"fmax ({high:g} Hz) is below fmin ({low:g} Hz)")
+                raise ParameterError(f"fmax ({number_text(high)} Hz) is below fmin ({number_text(low)} Hz)")
             for relation in relations:
                 relation(arguments)
             return fn(*bound.args, **bound.kwargs)

@@ -154,6 +154,8 @@ BAD_PARAMS = [  # (id, model, --param value, message fragment)
     ("overflowing-parameter-1e400", "R1 + C1", "R1=1e400", "must be finite"),
     ("negative-resistance", "R1 + C1", "R1=-5", "outside its bounds"),
     ("alpha-above-one", "R1 + CPE1", "CPE1.alpha=1.5", "outside its bounds"),
+    ("alpha-just-above-one", "R1 + CPE1", "CPE1.alpha=1.0000001", "CPE1.alpha=1.0000001 is outside its bounds (0, 1]"),
+    ("zero-resistance", "R1 + C1", "R1=0", "R1=0 is on its lower bound, which its bounds (0, inf)"),
     ("missing-equals", "R1 + C1", "R1", "expected NAME=VALUE"),
 ]
 
@@ -506,6 +508,10 @@ API_CASES = [
     ("fit-bounds-not-a-pair", "fit", lambda s: ix.fit(RC, s.good, bounds={"R1": 5}), P, "bounds['R1'] must be a pair"),
     ("fit-bounds-strings", "fit", lambda s: ix.fit(RC, s.good, bounds={"R1": ("a", "b")}), P, "bounds['R1']: lower must be a number"),
     ("fit-bounds-reversed", "fit", lambda s: ix.fit(RC, s.good, bounds={"R1": (10, 1)}), P, "bounds for R1: lower 10 must be below upper 1"),
+    ("fit-bounds-mapping", "fit", lambda s: ix.fit(RC, s.good, bounds={"R1": {"lower": 1, "upper": 2}}), P, "bounds['R1'] must be a pair (lower, upper), e.g. (1, 2), not a dict"),
+    ("fit-fixed-just-above-bound", "fit", lambda s: ix.fit(RCPE, s.good, fixed={"CPE1.alpha": 1.0000001}), P, "fixed: CPE1.alpha=1.0000001 is outside its bounds (0, 1]"),
+    ("fit-init-on-own-bound", "fit", lambda s: ix.fit(RC, s.good, init={"R1": 200}, bounds={"R1": (1, 200)}), P, "init: R1=200 is on its upper bound, which its bounds (1, 200) exclude: a starting value must lie strictly inside"),
+    ("fit-init-just-above-own-bound", "fit", lambda s: ix.fit(RC, s.good, init={"R1": 200.00001}, bounds={"R1": (1, 200)}), P, "init: R1=200.00001 is outside its bounds (1, 200)"),
     ("fit-seed-string", "fit", lambda s: ix.fit(RC, s.good, seed="abc"), P, "seed must be an integer, got 'abc'"),
     ("fit-seed-bool", "fit", lambda s: ix.fit(RC, s.good, seed=True), P, "seed must be an integer, got True"),
     ("fit-seed-negative", "fit", lambda s: ix.fit(RC, s.good, seed=-1), P, "seed must be at least 0"),
