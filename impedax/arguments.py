@@ -206,12 +206,20 @@ def choice(options, *, optional: bool = False, label: str = "", if_number: str =
         if value is None and optional:
             return None
         if not isinstance(value, str) or value not in options:
-            close = difflib.get_close_matches(value, options, n=1) if isinstance(value, str) else []
+            close = _close_choice(value, options) if isinstance(value, str) else []
             hint = f"; did you mean {close[0]!r}?" if close else f"; {if_number}" if if_number and reads_as_number(value) else ""
             raise ParameterError(f"unknown {label or name} {shown(value)}{hint} (choose one of {', '.join(options)})")
         return value
 
     return check
+
+
+def _close_choice(value: str, options: tuple[str, ...]) -> list[str]:
+    """The option a mistyped ``value`` most likely means, as a list of at most one: the one
+    equal but for case (``MODULUS`` → ``modulus``), else the closest spelling, case aside."""
+    folded = {o.casefold(): o for o in options}
+    close = difflib.get_close_matches(value.casefold(), list(folded), n=1)
+    return [folded[close[0]]] if close else []
 
 
 def instance_of(*types: type, optional: bool = False, what: str = "") -> Rule:

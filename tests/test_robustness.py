@@ -529,6 +529,7 @@ API_CASES = [
     ("fit-n-starts-zero", "fit", lambda s: ix.fit(RC, s.good, n_starts=0), P, "n_starts must be at least 1"),
     ("fit-weighting-unknown", "fit", lambda s: ix.fit(RC, s.good, weighting="modulos"), P, "unknown weighting 'modulos'; did you mean 'modulus'?"),
     ("fit-weighting-number", "fit", lambda s: ix.fit(RC, s.good, weighting=3), P, "unknown weighting 3"),
+    ("fit-weighting-capitals", "fit", lambda s: ix.fit(RC, s.good, weighting="MODULUS"), P, "unknown weighting 'MODULUS'; did you mean 'modulus'?"),
     ("fit-registry-string", "fit", lambda s: ix.fit(RC, s.good, registry="x"), P, "registry must be Registry"),
     ("fit-unknown-keyword", "fit", lambda s: ix.fit(RC, s.good, max_step=3), P, "fit() has no argument 'max_step'; did you mean max_steps?"),
     ("fit-too-many-positional", "fit", lambda s: ix.fit(RC, s.good, None), P, "fit() takes 2 positional arguments"),
