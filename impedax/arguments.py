@@ -14,6 +14,7 @@ Each rule takes ``(value, name)`` and returns the value to use (a NumPy integer 
 
 from __future__ import annotations
 
+import decimal
 import difflib
 import functools
 import inspect
@@ -44,6 +45,7 @@ __all__ = [
     "closest_name",
     "numeric_array",
     "shown",
+    "number_text",
     "MAX_MESSAGE",
     "MAX_SEED",
     "MAX_STARTS",
@@ -82,6 +84,14 @@ def shown(value: object, limit: int = 40) -> str:
     return text if len(text) <= limit else text[: limit - 1] + "…"
 
 
+def number_text(value: float) -> str:
+    """A number as its shortest exact text (``repr`` of the float, ``.0`` dropped): ``200``,
+    ``1.0000001``, ``1e-06``, ``inf``. For values compared to a bound in a message, where
+    ``:g`` (6 digits) would print 1.0000001 as 1 and contradict "outside (0, 1]"."""
+    text = repr(float(value))
+    return text[:-2] if text.endswith(".0") else text
+
+
 def _is_integer(value: object) -> bool:
     return isinstance(value, (numbers.Integral, np.integer)) and not isinstance(value, (bool, np.bool_))
 
@@ -91,6 +101,8 @@ def _is_real(value: object) -> bool:
         return False
     if isinstance(value, (numbers.Real, np.integer, np.floating)):
         return True
+    if isinstance(value, decimal.Decimal):  # not a numbers.Real, but a number a user may hold
+        return not value.is_snan()  # (float() refuses a signalling NaN; a quiet one is "not finite")
     # a 0-d NumPy or JAX array of real numbers (a fitted value handed back in)
     dtype = getattr(value, "dtype", None)
     return getattr(value, "shape", None) == () and dtype is not None and np.dtype(dtype).kind in "iuf"
@@ -130,9 +142,9 @@ def real(*, minimum: float | None = None, maximum: float | None = None, positive
         if positive and value <= 0:
             raise ParameterError(f"{name} must be positive, got {value:g}")
         if minimum is not None and value < minimum:
-            raise ParameterError(f"{name} must be at least {minimum:g}, got {value:g}")
+            raise ParameterError(f"{name} must be at least {number_text(minimum)}, got {number_text(value)}")
         if maximum is not None and value > maximum:
-            raise ParameterError(f"{name} must be at most {maximum:g}, got {value:g}")
+            raise ParameterError(f"{name} must be at most {number_text(maximum)}, got {number_text(value)}")
         return value
 
     return check
@@ -194,12 +206,20 @@ def choice(options, *, optional: bool = False, label: str = "", if_number: str =
         if value is None and optional:
             return None
         if not isinstance(value, str) or value not in options:
-            close = difflib.get_close_matches(value, options, n=1) if isinstance(value, str) else []
+            close = _close_choice(value, options) if isinstance(value, str) else []
             hint = f"; did you mean {close[0]!r}?" if close else f"; {if_number}" if if_number and reads_as_number(value) else ""
             raise ParameterError(f"unknown {label or name} {shown(value)}{hint} (choose one of {', '.join(options)})")
         return value
 
     return check
+
+
+def _close_choice(value: str, options: tuple[str, ...]) -> list[str]:
+    """The option a mistyped ``value`` most likely means, as a list of at most one: the one
+    equal but for case (``MODULUS`` → ``modulus``), else the closest spelling, case aside."""
+    folded = {o.casefold(): o for o in options}
+    close = difflib.get_close_matches(value.casefold(), list(folded), n=1)
+    return [folded[close[0]]] if close else []
 
 
 def instance_of(*types: type, optional: bool = False, what: str = "") -> Rule:
@@ -267,6 +287,10 @@ def parameter_bounds(value, name):
     out = {}
     for key, pair in value.items():
         label = f"{name}[{shown(key)}]"
+        if isinstance(pair, (Mapping, set, frozenset)):  # (a mapping's keys, a set's order: not the ends)
+            ends = (pair.get("lower"), pair.get("upper")) if isinstance(pair, Mapping) else (None, None)
+            example = f"({shown(ends[0], 20)}, {shown(ends[1], 20)})" if all(_is_real(e) for e in ends) else "(1.0, 200.0)"
+            raise ParameterError(f"{label} must be a pair (lower, upper), e.g. {example}, not a {type(pair).__name__}: got {shown(pair)}")
         if isinstance(pair, (str, bytes)) or not hasattr(pair, "__len__") or len(pair) != 2:
             raise ParameterError(f"{label} must be a pair (lower, upper), got {shown(pair)}")
         lower, upper = pair
@@ -393,7 +417,7 @@ def checked_arguments(*relations: Callable[[Mapping[str, object]], None], **rule
                     arguments[name] = rule(arguments[name], name)
             low, high = arguments.get("fmin"), arguments.get("fmax")
             if _is_real(low) and _is_real(high) and low > high:
-                raise ParameterError(f"fmax ({high:g} Hz) is below fmin ({low:g} Hz)")
+                raise ParameterError(f"fmax ({number_text(high)} Hz) is below fmin ({number_text(low)} Hz)")
             for relation in relations:
                 relation(arguments)
             return fn(*bound.args, **bound.kwargs)

@@ -1,10 +1,13 @@
 """The public API's argument checks: make_spectrum's Z and sigma, the frequencies of every
-``predict(freq)``, the compiled circuit's parameters, (frequency, Z) pairs as fit data,
+``predict(freq)``, the compiled circuit's parameters (values, vectors, probes), any real number
+for kk_test's c and for starting values, (frequency, Z) pairs as fit data,
 Posterior.from_xarray of a netCDF file as stored, and the Python priors' messages.
 Oracles: closed-form RC impedances written here, the numbers put in, and the exact messages."""
 
 import re
 import warnings
+from decimal import Decimal
+from fractions import Fraction
 
 import jax
 import jax.numpy as jnp
@@ -268,6 +271,101 @@ def test_compiled_circuit_keeps_taking_extra_keys_when_none_is_missing():
     np.testing.assert_allclose(np.asarray(z), rc_impedance(FREQ), rtol=1e-12)
 
 
+RCPE = "R0 + R1 || CPE1"
+RCPE_VALUES = {"R0": 10.0, "R1": 1e3, "CPE1.Q": 1e-6, "CPE1.alpha": 0.9}
+
+
+def rcpe_impedance(freq, r0=10.0, r1=1e3, q=1e-6, alpha=0.9):
+    """R0 + R1/(1 + R1 Q (jω)^α), written out by hand."""
+    omega = 2 * np.pi * np.asarray(freq, float)
+    return r0 + r1 / (1 + r1 * q * (1j * omega) ** alpha)
+
+
+def test_compiled_vector_takes_a_list_or_tuple_of_exactly_the_parameters():
+    """A list raised a raw TypeError; 3 values were read with a clamped index and 6 with two
+    ignored: now a list or tuple is an array, and a wrong length is named with the parameters."""
+    fn = ix.compile_circuit(RCPE)
+    theta = [10.0, 1e3, 1e-6, 0.9]
+    for given in (theta, tuple(theta), np.array(theta)):
+        np.testing.assert_allclose(np.asarray(fn.vector(given, FREQ)), rcpe_impedance(FREQ), rtol=1e-12)
+        z, jac = fn.value_and_jacobian(given, FREQ)
+        np.testing.assert_allclose(np.asarray(z), rcpe_impedance(FREQ), rtol=1e-12)
+        np.testing.assert_allclose(np.asarray(jac[:, 0]), 1.0)  # ∂Z/∂R0 = 1
+    for wrong in (theta[:3], theta + [1.0, 2.0]):
+        with pytest.raises(ix.ParameterError) as info:
+            fn.vector(wrong, FREQ)
+        assert str(info.value) == f"theta has {len(wrong)} values (last axis), the circuit has 4 parameters (R0, R1, CPE1.Q, CPE1.alpha)"
+        with pytest.raises(ix.ParameterError, match=f"theta has {len(wrong)} values"):
+            fn.value_and_jacobian(wrong, FREQ)
+
+
+def test_theta_checks_keep_vector_and_jacobian_jittable_vmappable_differentiable():
+    fn = ix.compile_circuit(RCPE)
+    theta = jnp.array([10.0, 1e3, 1e-6, 0.9])
+    np.testing.assert_allclose(np.asarray(jax.jit(fn.vector)(theta, FREQ)), rcpe_impedance(FREQ), rtol=1e-12)
+    batch = jnp.stack([theta, theta.at[0].set(20.0)])
+    z = np.asarray(jax.vmap(fn.vector, in_axes=(0, None))(batch, FREQ))
+    np.testing.assert_allclose(z[1], rcpe_impedance(FREQ, r0=20.0), rtol=1e-12)
+    z, jac = jax.jit(jax.vmap(lambda t: fn.value_and_jacobian(t, FREQ)))(batch)
+    assert jac.shape == (2, FREQ.size, 4)
+    np.testing.assert_allclose(np.asarray(z[1]), rcpe_impedance(FREQ, r0=20.0), rtol=1e-12)
+    grad = jax.grad(lambda t: jnp.sum(jnp.real(fn.vector(t, FREQ))))(theta)
+    assert float(grad[0]) == pytest.approx(FREQ.size)  # ∂Re Z/∂R0 = 1 at every frequency
+    # shapes are static: a wrong length is refused when tracing, under jit and vmap too
+    with pytest.raises(ix.ParameterError, match=r"theta has 3 values \(last axis\)"):
+        jax.jit(fn.vector)(theta[:3], FREQ)
+    with pytest.raises(ix.ParameterError, match="theta has 5 values"):
+        jax.vmap(lambda t: fn.value_and_jacobian(t, FREQ))(jnp.ones((2, 5)))
+
+
+def test_compiled_parameter_values_broadcast_against_freq_or_are_named():
+    """docs/circuits.md: a value is a number or an array that broadcasts against freq. A list
+    raised "unsupported operand list + ArrayImpl" and a (3,) array JAX's broadcasting error."""
+    fn = ix.compile_circuit(RCPE)
+    z = np.asarray(fn({**RCPE_VALUES, "R0": [[10.0], [20.0]]}, FREQ[None, :]))  # a list: a column of two R0
+    assert z.shape == (2, FREQ.size)  # (the tests run JAX with rank promotion refused: equal ranks)
+    np.testing.assert_allclose(z[1], rcpe_impedance(FREQ, r0=20.0), rtol=1e-12)
+    with pytest.raises(ix.ParameterError) as info:
+        fn({**RCPE_VALUES, "R0": [1.0, 2.0]}, FREQ)
+    assert str(info.value).startswith("params['R0'] has shape (2,), which does not broadcast against freq's shape (31,): ")
+    with pytest.raises(ix.ParameterError, match=r"params\['R1'\] has shape \(1, 3\), which does not broadcast against freq's shape \(1, 31\) and the parameters before it \(together \(2, 31\)\)"):
+        fn({**RCPE_VALUES, "R0": np.ones((2, 1)), "R1": np.ones((1, 3))}, FREQ[None, :])
+    with pytest.raises(ix.ParameterError, match=r"params\['R0'\] has shape \(2, 1\), which does not broadcast against freq's shape \(31,\)"):
+        fn({**RCPE_VALUES, "R0": np.ones((2, 1))}, FREQ)  # (JAX set to refuse rank promotion, as here: named too)
+    with pytest.raises(ix.ParameterError, match=r"params\['R0'\] has shape \(3,\)"):
+        jax.jit(fn)({**RCPE_VALUES, "R0": jnp.ones(3)}, FREQ)  # (refused when tracing)
+    # a batch of values through vmap, and a gradient, still work
+    z = np.asarray(jax.vmap(lambda r0: fn({**RCPE_VALUES, "R0": r0}, FREQ))(jnp.array([10.0, 20.0])))
+    np.testing.assert_allclose(z[1], rcpe_impedance(FREQ, r0=20.0), rtol=1e-12)
+    grad = jax.grad(lambda r0: jnp.sum(jnp.real(fn({**RCPE_VALUES, "R0": r0}, FREQ))))(10.0)
+    assert float(grad) == pytest.approx(FREQ.size)
+
+
+def test_probes_check_their_arguments_as_the_compiled_circuit_does_and_stay_jittable():
+    """A probe's function raised KeyError for a missing parameter and took negative frequencies;
+    its target "C1 " was "no element(s) C1  in …". Now the compiled circuit's check (one
+    function, the same messages), and the target's names stripped."""
+    values = {"R1": 1e3, "C1": 1e-6}
+    omega = 2 * np.pi * FREQ
+    expected = 1 / (1 + 1j * omega * 1e3 * 1e-6)  # V_C/V = Z_C/(R + Z_C)
+    v = ix.voltage_across("R1 + C1", "C1 ")
+    np.testing.assert_allclose(np.asarray(v(values, FREQ)), expected, rtol=1e-12)
+    np.testing.assert_allclose(np.asarray(jax.jit(v)(values, FREQ)), expected, rtol=1e-12)
+    batch = np.asarray(jax.vmap(lambda r: v({**values, "R1": r}, FREQ))(jnp.array([1e3, 2e3])))
+    np.testing.assert_allclose(batch[1], 1 / (1 + 1j * omega * 2e3 * 1e-6), rtol=1e-12)
+    grad = jax.grad(lambda c: jnp.abs(v({**values, "C1": c}, jnp.array([1e9])))[0])(1e-6)
+    assert float(grad) < 0  # a larger C1 takes less of the voltage
+    with pytest.raises(ix.ParameterError) as probe_error:
+        v({"R1": 1.0}, FREQ)
+    with pytest.raises(ix.ParameterError) as circuit_error:
+        ix.compile_circuit("R1 + C1")({"R1": 1.0}, FREQ)
+    assert str(probe_error.value) == str(circuit_error.value) == "missing parameter(s) C1 for circuit R1 + C1"
+    with pytest.raises(ix.DataError, match="freq must be positive and finite; point 0 is -1"):
+        v(values, -FREQ)
+    with pytest.raises(ix.ParameterError, match=r"params\['C1'\] has shape \(3,\)"):
+        ix.current_through("R1 + C1", {"R1"})({**values, "C1": np.ones(3)}, FREQ)
+
+
 # --- 4. Posterior.from_xarray of a stored file -------------------------------------------------
 
 
@@ -355,3 +453,38 @@ def test_prior_outside_bounds_message_closes_its_bracket_once():
 def test_command_line_prior_errors_keep_the_option():
     with pytest.raises(ix.ParameterError, match=r"^--prior 'R1=gauss:0,1': unknown prior kind 'gauss'"):
         ix.fitting.parse_prior("R1=gauss:0,1")
+
+
+# --- 8. any real number where a number is asked ----------------------------------------------
+
+
+@pytest.mark.parametrize("c", [np.float32(0.85), jnp.asarray(0.85), Fraction(17, 20), Decimal("0.85")], ids=["float32", "jax", "fraction", "decimal"])
+def test_kk_c_takes_any_real_number(c):
+    """``c=np.float32(0.85)`` was refused: "c must be between 0 and 1 (exclusive), got
+    np.float32(0.85)" (only int and float were numbers)."""
+    data = ix.make_spectrum(FREQ, noisy_rc())
+    reference, got = ix.kk_test(data, c=0.85), ix.kk_test(data, c=c)
+    assert got.c == pytest.approx(0.85, rel=1e-6) and got.n_rc == reference.n_rc
+    np.testing.assert_allclose(got.residuals_real, reference.residuals_real, rtol=1e-12)
+    batch = ix.kk_test_batch(data.expand_dims(trial=[0, 1]), c=c)
+    assert batch.n_rc.tolist() == [reference.n_rc] * 2
+
+
+def test_fit_takes_a_decimal_start():
+    """``init={"R1": Decimal("800")}`` said "must be a number"; a Decimal is one (and a
+    quiet-NaN Decimal is refused as not finite)."""
+    data = ix.make_spectrum(FREQ, noisy_rc())
+    reference = ix.fit(RC, data, init={"R1": 800.0}, n_starts=1)
+    for start in (Decimal("800"), Fraction(800)):
+        assert ix.fit(RC, data, init={"R1": start}, n_starts=1).values == pytest.approx(reference.values, rel=1e-9)
+    with pytest.raises(ix.ParameterError, match=r"init\['R1'\] must be finite"):
+        ix.fit(RC, data, init={"R1": Decimal("NaN")})
+
+
+def test_kk_thresholds_take_any_real_number_but_not_a_bool():
+    """A threshold given as a NumPy scalar was "must be a positive number"; True passed as 1."""
+    data = ix.make_spectrum(FREQ, noisy_rc())
+    reference = ix.kk_test(data, thresholds={"point": 6.0})
+    assert ix.kk_test(data, thresholds={"point": np.float32(6.0)}).thresholds == reference.thresholds
+    with pytest.raises(ix.ParameterError, match="threshold point must be a positive number, got True"):
+        ix.kk_test(data, thresholds={"point": True})

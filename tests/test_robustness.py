@@ -154,6 +154,8 @@ BAD_PARAMS = [  # (id, model, --param value, message fragment)
     ("overflowing-parameter-1e400", "R1 + C1", "R1=1e400", "must be finite"),
     ("negative-resistance", "R1 + C1", "R1=-5", "outside its bounds"),
     ("alpha-above-one", "R1 + CPE1", "CPE1.alpha=1.5", "outside its bounds"),
+    ("alpha-just-above-one", "R1 + CPE1", "CPE1.alpha=1.0000001", "CPE1.alpha=1.0000001 is outside its bounds (0, 1]"),
+    ("zero-resistance", "R1 + C1", "R1=0", "R1=0 is on its lower bound, which its bounds (0, inf)"),
     ("missing-equals", "R1 + C1", "R1", "expected NAME=VALUE"),
 ]
 
@@ -493,6 +495,9 @@ def spectra() -> Spectra:
 
 P, D, C, CS, F = ix.ParameterError, ix.DataError, ix.CircuitError, ix.CircuitSyntaxError, ix.FitError
 RC = "R1 + C1"
+RCPE = "R0 + R1 || CPE1"
+RCPE_VALUES = {"R0": 10.0, "R1": 1e3, "CPE1.Q": 1e-6, "CPE1.alpha": 0.9}
+FREQ = np.geomspace(1.0, 1e5, 31)
 API_CASES = [
     # fit
     ("fit-data-none", "fit", lambda s: ix.fit(RC, None), D, "data must be a spectrum Dataset"),
@@ -516,6 +521,10 @@ API_CASES = [
     ("fit-bounds-not-a-pair", "fit", lambda s: ix.fit(RC, s.good, bounds={"R1": 5}), P, "bounds['R1'] must be a pair"),
     ("fit-bounds-strings", "fit", lambda s: ix.fit(RC, s.good, bounds={"R1": ("a", "b")}), P, "bounds['R1']: lower must be a number"),
     ("fit-bounds-reversed", "fit", lambda s: ix.fit(RC, s.good, bounds={"R1": (10, 1)}), P, "bounds for R1: lower 10 must be below upper 1"),
+    ("fit-bounds-mapping", "fit", lambda s: ix.fit(RC, s.good, bounds={"R1": {"lower": 1, "upper": 2}}), P, "bounds['R1'] must be a pair (lower, upper), e.g. (1, 2), not a dict"),
+    ("fit-fixed-just-above-bound", "fit", lambda s: ix.fit(RCPE, s.good, fixed={"CPE1.alpha": 1.0000001}), P, "fixed: CPE1.alpha=1.0000001 is outside its bounds (0, 1]"),
+    ("fit-init-on-own-bound", "fit", lambda s: ix.fit(RC, s.good, init={"R1": 200}, bounds={"R1": (1, 200)}), P, "init: R1=200 is on its upper bound, which its bounds (1, 200) exclude: a starting value must lie strictly inside"),
+    ("fit-init-just-above-own-bound", "fit", lambda s: ix.fit(RC, s.good, init={"R1": 200.00001}, bounds={"R1": (1, 200)}), P, "init: R1=200.00001 is outside its bounds (1, 200)"),
     ("fit-seed-string", "fit", lambda s: ix.fit(RC, s.good, seed="abc"), P, "seed must be an integer, got 'abc'"),
     ("fit-seed-bool", "fit", lambda s: ix.fit(RC, s.good, seed=True), P, "seed must be an integer, got True"),
     ("fit-seed-negative", "fit", lambda s: ix.fit(RC, s.good, seed=-1), P, "seed must be at least 0"),
@@ -533,6 +542,7 @@ API_CASES = [
     ("fit-n-starts-zero", "fit", lambda s: ix.fit(RC, s.good, n_starts=0), P, "n_starts must be at least 1"),
     ("fit-weighting-unknown", "fit", lambda s: ix.fit(RC, s.good, weighting="modulos"), P, "unknown weighting 'modulos'; did you mean 'modulus'?"),
     ("fit-weighting-number", "fit", lambda s: ix.fit(RC, s.good, weighting=3), P, "unknown weighting 3"),
+    ("fit-weighting-capitals", "fit", lambda s: ix.fit(RC, s.good, weighting="MODULUS"), P, "unknown weighting 'MODULUS'; did you mean 'modulus'?"),
     ("fit-registry-string", "fit", lambda s: ix.fit(RC, s.good, registry="x"), P, "registry must be Registry"),
     ("fit-unknown-keyword", "fit", lambda s: ix.fit(RC, s.good, max_step=3), P, "fit() has no argument 'max_step'; did you mean max_steps?"),
     ("fit-too-many-positional", "fit", lambda s: ix.fit(RC, s.good, None), P, "fit() takes 2 positional arguments"),
@@ -673,6 +683,23 @@ API_CASES = [
     ("gap-analysis-area-negative", "models.gap.gap_analysis", lambda s: gap_analysis(s.good, s.good, s.good, area=-1.0), P, "area must be positive"),
     ("gap-analysis-steps-huge", "models.gap.gap_analysis", lambda s: gap_analysis(s.good, s.good, s.good, steps=10**9), P, "steps=1000000000 is above the limit"),
     ("gap-analysis-unknown-branch", "models.gap.gap_analysis", lambda s: gap_analysis(s.good, s.good, s.good, ep="RC"), P, "unknown ep 'RC'"),
+    # compiled circuits and probes
+    ("compiled-vector-too-short", "CompiledCircuit.vector", lambda s: ix.compile_circuit(RCPE).vector(np.ones(3), FREQ), P, "theta has 3 values (last axis), the circuit has 4 parameters (R0, R1, CPE1.Q, CPE1.alpha)"),
+    ("compiled-vector-too-long", "CompiledCircuit.vector", lambda s: ix.compile_circuit(RCPE).vector(np.ones(6), FREQ), P, "theta has 6 values (last axis), the circuit has 4 parameters"),
+    ("compiled-vector-strings", "CompiledCircuit.vector", lambda s: ix.compile_circuit(RCPE).vector(["a", "b", "c", "d"], FREQ), P, "theta must be an array of the circuit's 4 parameter values"),
+    ("compiled-jacobian-too-short", "CompiledCircuit.value_and_jacobian", lambda s: ix.compile_circuit(RCPE).value_and_jacobian([1.0, 2.0, 3.0], FREQ), P, "theta has 3 values (last axis), the circuit has 4 parameters"),
+    ("compiled-jacobian-two-vectors", "CompiledCircuit.value_and_jacobian", lambda s: ix.compile_circuit(RCPE).value_and_jacobian(np.ones((2, 4)), FREQ), P, "theta must be one vector of the 4 parameters"),
+    ("compiled-jacobian-negative-frequency", "CompiledCircuit.value_and_jacobian", lambda s: ix.compile_circuit(RCPE).value_and_jacobian(np.ones(4), -FREQ), D, "freq must be positive and finite"),
+    ("compiled-value-list-of-two", "CompiledCircuit", lambda s: ix.compile_circuit(RCPE)({**RCPE_VALUES, "R0": [1.0, 2.0]}, FREQ), P, "params['R0'] has shape (2,), which does not broadcast against freq's shape (31,)"),
+    ("compiled-value-array-of-three", "CompiledCircuit", lambda s: ix.compile_circuit(RCPE)({**RCPE_VALUES, "R0": np.ones(3)}, FREQ), P, "params['R0'] has shape (3,), which does not broadcast against freq's shape (31,)"),
+    ("probe-missing-parameter", "voltage_across", lambda s: ix.voltage_across(RC, "C1")({"R1": 1.0}, FREQ), P, "missing parameter(s) C1 for circuit R1 + C1"),
+    ("probe-negative-frequency", "voltage_across", lambda s: ix.voltage_across(RC, "C1")({"R1": 1.0, "C1": 1e-6}, -FREQ), D, "freq must be positive and finite"),
+    ("probe-value-wrong-shape", "current_through", lambda s: ix.current_through(RC, "R1")({"R1": 1.0, "C1": np.ones(3)}, FREQ), P, "params['C1'] has shape (3,)"),
+    ("probe-target-empty-set", "voltage_across", lambda s: ix.voltage_across(RC, set()), P, "target names no element"),
+    ("probe-target-none", "voltage_across", lambda s: ix.voltage_across(RC, None), P, "target must be an element name or a set of element names"),
+    ("probe-target-number", "voltage_across", lambda s: ix.voltage_across(RC, 3), P, "target must be an element name or a set of element names"),
+    ("probe-target-number-in-set", "voltage_across", lambda s: ix.voltage_across(RC, {"C1", 3}), P, "target: element names are text, got 3"),
+    ("probe-target-unknown", "voltage_across", lambda s: ix.voltage_across(RC, "c1"), C, "no element(s) 'c1' in R1 + C1; did you mean 'C1'?"),
     # load and save
     ("load-path-none", "load", lambda s: ix.load(None), D, "a file path (str or pathlib.Path) is needed, got None"),
     ("load-path-number", "load", lambda s: ix.load(3), D, "got 3 (int)"),

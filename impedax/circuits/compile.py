@@ -16,7 +16,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..arguments import shown, unknown_parameter
+from ..arguments import MAX_MESSAGE, shown, unknown_parameter
 from ..data import checked_frequencies
 from ..errors import CircuitError, ParameterError
 from .elements import DEFAULT_REGISTRY
@@ -24,7 +24,7 @@ from .parser import parse
 from .spec import Registry
 from .tree import Circuit, Element, Parallel
 
-__all__ = ["CompiledCircuit", "compile_circuit", "check_element_names", "node_function"]
+__all__ = ["CompiledCircuit", "compile_circuit", "check_element_names", "checked_parameters", "node_function"]
 
 
 def check_element_names(circuit: Circuit, registry: Registry) -> None:
@@ -127,6 +127,57 @@ def _node_derivatives_fn(node: Circuit, registry: Registry, index: Mapping[str, 
     return fn
 
 
+def checked_parameters(circuit: Circuit, names: tuple[str, ...], params, freq) -> dict:
+    """The arguments of a compiled function of ``circuit`` (`CompiledCircuit`, the probes),
+    checked: ``{name: value}`` for its parameters ``names``, a list or tuple as a JAX array.
+    `ParameterError` for a ``params`` that is not a mapping, lacks a parameter (naming an
+    unknown key, with the closest name, when one is there instead), holds a value that is not
+    numbers, or one whose shape does not broadcast against ``freq`` and the values before it;
+    `DataError` for concrete frequencies that are not finite and positive. Only what is static
+    under ``jit`` is read (keys, dtypes, shapes): JAX tracers pass the value checks, and under
+    ``jit`` this runs once, at trace time. Keys beyond the parameters are allowed when none is
+    missing (a model's parameter draws hold more than one circuit's parameters). The values
+    themselves (a negative R, an α of 2) are not checked: docs/circuits.md, "Compiled forms"."""
+    if not isinstance(params, Mapping):
+        raise ParameterError(f"params must be a mapping parameter name → value, got {shown(params)} ({type(params).__name__})")
+    missing = [n for n in names if n not in params]
+    if missing:
+        unknown = [k for k in params if k not in names]
+        if unknown:
+            raise unknown_parameter("params", unknown[0], names, circuit)
+        raise ParameterError(f"missing parameter(s) {', '.join(missing)} for circuit {circuit}")
+    values = {}
+    for n in names:
+        value = params[n]
+        if not _is_numbers(value):
+            raise ParameterError(f"params[{n!r}] must be a number or an array of numbers, got {shown(value)} ({type(value).__name__})")
+        values[n] = jnp.asarray(value) if isinstance(value, (list, tuple)) else value
+    if not isinstance(freq, jax.core.Tracer):
+        freq = checked_frequencies(freq, ndim_max=None)
+    freq_shape = tuple(np.shape(freq))
+    shape = freq_shape
+    same_rank = jax.config.jax_numpy_rank_promotion == "raise"  # (JAX set to refuse (2, 1) against (31,))
+    for n, value in values.items():
+        own = tuple(np.shape(value))
+        try:
+            if same_rank and own and shape and len(own) != len(shape):
+                raise ValueError("rank promotion")
+            shape = np.broadcast_shapes(shape, own)
+        except ValueError:
+            others = "" if shape == freq_shape else f" and the parameters before it (together {shape})"
+            raise ParameterError(
+                f"params[{n!r}] has shape {own}, which does not broadcast against freq's shape {freq_shape}{others}: "
+                "give a number, an array that broadcasts (a column (k, 1) for a row of frequencies), or use jax.vmap"
+            ) from None
+    return values
+
+
+def _names_text(names: tuple[str, ...], limit: int = MAX_MESSAGE // 2) -> str:
+    """The parameter names, comma-separated, cut to about ``limit`` characters."""
+    text = ", ".join(names)
+    return text if len(text) <= limit else text[: limit - 1].rsplit(", ", 1)[0] + ", …"
+
+
 @dataclass(frozen=True, eq=False)
 class CompiledCircuit:
     """A circuit compiled to a pure function; call as ``compiled(params, freq)``.
@@ -143,44 +194,53 @@ class CompiledCircuit:
     _jacobian_fn: Callable = field(repr=False)
 
     def __call__(self, params: Mapping[str, object], freq) -> jnp.ndarray:
-        self.check_arguments(params, freq)
+        values = checked_parameters(self.circuit, self.parameter_names, params, freq)
         omega = 2.0 * jnp.pi * jnp.asarray(freq)
-        return self._fn(params, omega)
+        return self._fn(values, omega)
 
     def check_arguments(self, params, freq) -> None:
-        """`ParameterError` for a ``params`` that is not a mapping, lacks a parameter (naming an
-        unknown key, with the closest name, when one is there instead) or holds a value that is
-        not numbers; `DataError` for concrete frequencies that are not finite and positive.
-        JAX tracers pass unchecked (the keys are static: under ``jit`` this runs once, at trace
-        time). Keys beyond the parameters are allowed when none is missing (a model's parameter
-        draws hold more than one circuit's parameters)."""
-        if not isinstance(params, Mapping):
-            raise ParameterError(f"params must be a mapping parameter name → value, got {shown(params)} ({type(params).__name__})")
-        names = self.parameter_names
-        missing = [n for n in names if n not in params]
-        if missing:
-            unknown = [k for k in params if k not in names]
-            if unknown:
-                raise unknown_parameter("params", unknown[0], names, self.circuit)
-            raise ParameterError(f"missing parameter(s) {', '.join(missing)} for circuit {self.circuit}")
-        for n in names:
-            if not _is_numbers(params[n]):
-                raise ParameterError(f"params[{n!r}] must be a number or an array of numbers, got {shown(params[n])} ({type(params[n]).__name__})")
-        if not isinstance(freq, jax.core.Tracer):
-            checked_frequencies(freq, ndim_max=None)
+        """Raise for arguments ``compiled(params, freq)`` would refuse (`checked_parameters`:
+        a missing or mistyped name, a value that is not numbers or whose shape does not
+        broadcast against ``freq``, bad concrete frequencies)."""
+        checked_parameters(self.circuit, self.parameter_names, params, freq)
 
     def vector(self, theta, freq) -> jnp.ndarray:
-        """Evaluate with ``theta`` an array in ``parameter_names`` order."""
+        """Evaluate with ``theta`` an array (..., P) in ``parameter_names`` order (a list or
+        tuple too); its last axis must hold exactly the P parameters."""
         return self(self.unpack(theta), freq)
 
     def unpack(self, theta) -> dict:
+        """``{name: theta[..., i]}`` for ``theta`` (..., P) in ``parameter_names`` order."""
+        theta = self._checked_theta(theta)
         return {n: theta[..., i] for i, n in enumerate(self.parameter_names)}
+
+    def _checked_theta(self, theta, *, vector: bool = False):
+        """``theta`` as a JAX array whose last axis holds the P parameters (only that axis if
+        ``vector``); `ParameterError` otherwise. Shapes are static: checked at trace time."""
+        try:
+            theta = jnp.asarray(theta)
+        except (TypeError, ValueError):
+            raise ParameterError(f"theta must be an array of the circuit's {len(self.parameter_names)} parameter values, got {shown(theta)}") from None
+        if theta.dtype == bool or not np.issubdtype(theta.dtype, np.number):
+            raise ParameterError(f"theta must be numbers, got dtype {theta.dtype}")
+        n = len(self.parameter_names)
+        names = _names_text(self.parameter_names)
+        if theta.ndim == 0 or theta.shape[-1] != n:
+            got = "a single number" if theta.ndim == 0 else f"{theta.shape[-1]} values (last axis)"
+            raise ParameterError(f"theta has {got}, the circuit has {n} parameters ({names})")
+        if vector and theta.ndim != 1:
+            raise ParameterError(f"theta must be one vector of the {n} parameters ({names}), got shape {theta.shape}; use jax.vmap for several")
+        return theta
 
     def value_and_jacobian(self, theta, freq):
         """``(Z, J)`` with Z (F,) and J = ∂Z/∂θ (F, P) complex, for ``theta`` (P,) in
-        ``parameter_names`` order. J is assembled from the elements' own derivatives and
-        the chain rule through the tree (`_node_derivatives_fn`), several times cheaper
-        than forward mode through the whole circuit; it is what the least-squares solvers use."""
+        ``parameter_names`` order (a list or tuple too). J is assembled from the elements' own
+        derivatives and the chain rule through the tree (`_node_derivatives_fn`), several times
+        cheaper than forward mode through the whole circuit; it is what the least-squares
+        solvers use."""
+        theta = self._checked_theta(theta, vector=True)
+        if not isinstance(freq, jax.core.Tracer):
+            checked_frequencies(freq, ndim_max=None)
         z, columns = self.value_and_columns(theta, freq, range(len(self.parameter_names)))
         return z, jnp.stack(columns, axis=-1)
 
@@ -188,6 +248,9 @@ class CompiledCircuit:
         """``(Z, [∂Z/∂θ_i for i in wanted])``, each (F,) complex; ``theta`` is anything
         indexable by parameter position (an array, or a tuple of scalars), ``wanted`` a static
         sequence of positions. Derivatives not wanted are never traced."""
+        n = len(theta) if isinstance(theta, (tuple, list)) else (np.shape(theta) or (0,))[0]
+        if n != len(self.parameter_names):  # (static: the length of a tuple, the shape of an array)
+            raise ParameterError(f"theta has {n} values, the circuit has {len(self.parameter_names)} parameters ({_names_text(self.parameter_names)})")
         omega = 2.0 * jnp.pi * jnp.asarray(freq, jnp.float64)
         wanted = tuple(int(i) for i in wanted)
         z, rows = self._jacobian_fn(theta, omega, frozenset(wanted))

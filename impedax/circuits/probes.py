@@ -9,12 +9,13 @@ node passes the current on (V_child = I Z_child) and a parallel node the voltage
 
 from __future__ import annotations
 
-from typing import Iterable
+from typing import Iterable, Mapping
 
 import jax.numpy as jnp
 
-from ..errors import CircuitError
-from .compile import check_element_names, node_function
+from ..arguments import closest_name, shown
+from ..errors import CircuitError, ParameterError
+from .compile import check_element_names, checked_parameters, node_function
 from .elements import DEFAULT_REGISTRY
 from .parser import parse
 from .spec import Registry
@@ -26,9 +27,11 @@ __all__ = ["voltage_across", "current_through"]
 def _resolve_target(circuit: Circuit, names: frozenset[str]):
     """Path of (node, child index) steps from the root to the target, plus the selected
     children of the last node when the target is a group of series siblings."""
-    unknown = names - set(circuit.element_names)
+    unknown = sorted(names - set(circuit.element_names))
     if unknown:
-        raise CircuitError(f"no element(s) {', '.join(sorted(unknown))} in {circuit}")
+        close = closest_name(unknown[0], circuit.element_names)
+        hint = f"; did you mean {close!r}?" if close else ""
+        raise CircuitError(f"no element(s) {', '.join(map(repr, unknown))} in {circuit}{hint}")
     path = []
     node = circuit
     while True:
@@ -49,17 +52,38 @@ def _resolve_target(circuit: Circuit, names: frozenset[str]):
         )
 
 
+def _target_names(target) -> frozenset[str]:
+    """The element names of a probe's ``target`` (one name, or an iterable of names), each
+    stripped of surrounding whitespace (no element name holds any); `ParameterError` for
+    anything else or for no name at all."""
+    if isinstance(target, str):
+        items = [target]
+    elif isinstance(target, (bytes, Mapping)) or not hasattr(target, "__iter__"):
+        raise ParameterError(f"target must be an element name or a set of element names (e.g. {{'C_i', 'R_sc'}}), got {shown(target)} ({type(target).__name__})")
+    else:
+        items = list(target)
+    for item in items:
+        if not isinstance(item, str):
+            raise ParameterError(f"target: element names are text, got {shown(item)} ({type(item).__name__})")
+    names = frozenset(item.strip() for item in items)
+    if not names or names == {""}:
+        raise ParameterError(f"target names no element, got {shown(target)}: name one element or a block of them")
+    return names
+
+
 def _probe(circuit, target, registry, quantity: str):
     circuit = parse(circuit, registry)
     check_element_names(circuit, registry)
-    names = frozenset([target] if isinstance(target, str) else target)
+    names = _target_names(target)
     path, chosen = _resolve_target(circuit, names)
+    parameter_names = circuit.parameter_names(registry)
     root_fn = node_function(circuit, registry)
     step_fns = [[node_function(c, registry) for c in node.children] for node, _ in path]
     last = path[-1][0].children[path[-1][1]] if path else circuit
     chosen_fns = None if chosen is None else [node_function(last.children[i], registry) for i in chosen]
 
     def fn(params, freq):
+        params = checked_parameters(circuit, parameter_names, params, freq)  # (the compiled circuit's checks)
         omega = 2.0 * jnp.pi * jnp.asarray(freq)
         z = root_fn(params, omega)
         voltage, current = jnp.ones_like(z), 1.0 / z  # unit source across the terminals
@@ -82,7 +106,9 @@ def voltage_across(circuit: Circuit | str, target: str | Iterable[str], registry
 
     ``target`` is an element name or a set of names forming a block (a parenthesised group, or
     neighbours in one series chain: Meyer's V_F is ``{"C_i", "R_sc", "C_sc"}``).
-    Returns ``fn(params, freq) -> complex`` (dimensionless).
+    Returns ``fn(params, freq) -> complex`` (dimensionless), which checks its arguments as a
+    compiled circuit does (`compile.checked_parameters`: every parameter of ``circuit``, numbers
+    that broadcast against ``freq``, positive frequencies) and stays jittable.
     """
     return _probe(circuit, target, registry, "voltage")
 

@@ -21,6 +21,7 @@ from typing import Callable, Iterator, Mapping
 import jax.numpy as jnp
 import numpy as np
 
+from ..arguments import number_text
 from ..errors import CircuitError
 
 __all__ = ["ParameterSpec", "ElementSpec", "Registry", "DCPath", "StartRole", "MAX_ELEMENT_PARAMS"]
@@ -113,7 +114,7 @@ class ParameterSpec:
 
     def bounds_text(self) -> str:
         right = "]" if self.upper_inclusive else ")"
-        return f"({self.lower:g}, {self.upper:g}{right}"
+        return f"({number_text(self.lower)}, {number_text(self.upper)}{right}"
 
 
 @dataclass(frozen=True)

@@ -11,6 +11,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable, Iterable, Mapping, Sequence
 
+from ..arguments import number_text
 from ..errors import DataError, ParameterError
 from ..warning_groups import labels_text
 
@@ -96,7 +97,7 @@ def check_band_options(fmin: float | None, fmax: float | None) -> None:
         if value is not None and not (value > 0 and value < float("inf")):
             raise ParameterError(f"{flag} must be positive, got {value:g}")
     if fmin is not None and fmax is not None and fmax < fmin:
-        raise ParameterError(f"--fmax ({fmax:g} Hz) is below --fmin ({fmin:g} Hz)")
+        raise ParameterError(f"--fmax ({number_text(fmax)} Hz) is below --fmin ({number_text(fmin)} Hz)")
 
 
 def relative_noise(text: str | None) -> float | None:
@@ -158,9 +159,10 @@ def check_bounds(values: Mapping[str, float], specs: Mapping, flag: str) -> None
         spec = specs[name]
         if not spec.contains(value):
             from ..data import unit_text
+            from ..fitting.parameters import outside_bounds_message
 
             unit = unit_text(spec.unit)
-            raise ParameterError(f"{flag}: {name}={value:g} is outside its bounds {spec.bounds_text()}" + (f" [{unit}]" if unit else ""))
+            raise ParameterError(outside_bounds_message(flag, name, value, spec.lower, spec.upper, spec.upper_inclusive, unit))
 
 
 def model_and_values(model: str, items, flag: str):

@@ -24,7 +24,7 @@ from typing import Mapping
 import numpy as np
 import xarray as xr
 
-from ..arguments import MAX_BASIS, checked_arguments, count, flag, instance_of
+from ..arguments import MAX_BASIS, checked_arguments, count, flag, instance_of, real, shown
 from ..data import checked_frequencies, concise_repr, format_frequency
 from ..errors import DataError, ParameterError
 from .grid import ResultGrid
@@ -344,10 +344,21 @@ class KKBatchResult(ResultGrid):
         return ds
 
 
+def _mu_limit(c) -> float:
+    """``c``, the µ criterion's limit, as a float: any real number (a NumPy or JAX scalar, a
+    `Fraction`, a `Decimal`: `arguments.real`) strictly between 0 and 1."""
+    try:
+        value = real()(c, "c")
+    except ParameterError:
+        value = None
+    if value is None or not 0.0 < value < 1.0:
+        raise ParameterError(f"c must be between 0 and 1 (exclusive), got {shown(c)}")
+    return value
+
+
 def _check_options(freq: np.ndarray, c: float, max_rc, n_rc, n_series: int) -> int:
     n_points = freq.size
-    if not (isinstance(c, (int, float)) and 0.0 < c < 1.0):
-        raise ParameterError(f"c must be between 0 and 1 (exclusive), got {c!r}")
+    c = _mu_limit(c)
     limit = n_points - n_series  # keep at least n_points extra equations (2N real equations)
     if limit < 1:
         raise DataError(f"the KK test needs at least {n_series + 1} frequencies, got {n_points}")
@@ -841,13 +852,15 @@ def _rms_rel(z, z_kk) -> float:
 
 def _chosen_chains(freq, z, *, c, max_rc, n_rc, inductance, capacitance, thresholds, source=None):
     """The validated thresholds (for N points) and `_kk_arrays`'s chain of each spectrum z (batch, N)."""
+    c = _mu_limit(c)
     rules = dict(DEFAULT_THRESHOLDS)
     for key, value in (thresholds or {}).items():
         if key not in rules:
             raise ParameterError(f"unknown threshold {key!r}; known: {', '.join(rules)}")
-        if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
-            raise ParameterError(f"threshold {key} must be a positive number, got {value!r}")
-        rules[key] = float(value)
+        try:  # (any real number, as c: a NumPy scalar too; not a bool)
+            rules[key] = real(positive=True)(value, f"threshold {key}")
+        except ParameterError:
+            raise ParameterError(f"threshold {key} must be a positive number, got {shown(value)}") from None
     for name, flag in (("inductance", inductance), ("capacitance", capacitance)):
         if not isinstance(flag, (bool, np.bool_)):
             raise ParameterError(f"{name} must be True or False, got {flag!r}")

@@ -21,7 +21,7 @@ from typing import Mapping
 import jax.numpy as jnp
 import numpy as np
 
-from ..arguments import unknown_parameter
+from ..arguments import number_text, unknown_parameter
 from ..circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ..errors import FitError, ParameterError
 
@@ -138,9 +138,9 @@ class ParameterTable:
             i = names.index(name)
             lo, hi = float(lo), float(hi)
             if not lo < hi:
-                raise ParameterError(f"bounds for {name}: lower {lo:g} must be below upper {hi:g}")
+                raise ParameterError(f"bounds for {name}: lower {number_text(lo)} must be below upper {number_text(hi)}")
             if lo < lower[i] or hi > upper[i]:
-                raise ParameterError(f"bounds for {name}: ({lo:g}, {hi:g}) reach outside the element's own bounds {specs[name].bounds_text()}")
+                raise ParameterError(f"bounds for {name}: ({number_text(lo)}, {number_text(hi)}) reach outside the element's own bounds {specs[name].bounds_text()}")
             lower[i], upper[i] = lo, hi
             inclusive[i] = False
         values = np.full(len(names), np.nan)
@@ -151,13 +151,27 @@ class ParameterTable:
                 value = float(value)
                 ok = math.isfinite(value) and value > lower[i] and (value <= upper[i] if inclusive[i] else value < upper[i])
                 if not ok:
-                    raise ParameterError(f"{what}: {name}={value:g} is outside its bounds ({lower[i]:g}, {upper[i]:g}{']' if inclusive[i] else ')'}")
+                    raise ParameterError(outside_bounds_message(what, name, value, lower[i], upper[i], bool(inclusive[i])))
                 values[i] = value
                 is_fixed[i] |= what == "fixed"
         kind = np.array([Transform.for_bounds(lower[i], upper[i], specs[n].unit) for i, n in enumerate(names)], np.int32)
         if is_fixed.all():
             raise FitError("every parameter is fixed; nothing to fit")
         return cls(names, tuple(specs[n].unit for n in names), lower, upper, kind, is_fixed, values)
+
+
+def outside_bounds_message(what: str, name: str, value: float, lower: float, upper: float, inclusive: bool, unit: str = "") -> str:
+    """The message for an ``init`` or ``fixed`` value (``what``) outside the bounds (lower,
+    upper) (upper included when ``inclusive``), every number exact (`number_text`: 1.0000001 is
+    not printed as 1). A value on an end the bounds exclude is told so: a start or a fixed value
+    must lie strictly inside (the lower end is never included, nor the upper end of bounds you
+    set; a CPE's α may be exactly 1). ``unit``: shown after the bounds, e.g. ``[Ω]``."""
+    text = f"({number_text(lower)}, {number_text(upper)}{']' if inclusive else ')'}" + (f" [{unit}]" if unit else "")
+    if value == lower or (value == upper and not inclusive):
+        side = "lower" if value == lower else "upper"
+        kind = {"init": "a starting value", "fixed": "a fixed value"}.get(what, "a value")
+        return f"{what}: {name}={number_text(value)} is on its {side} bound, which its bounds {text} exclude: {kind} must lie strictly inside"
+    return f"{what}: {name}={number_text(value)} is outside its bounds {text}"
 
 
 def _logistic(u):

@@ -22,7 +22,7 @@ from typing import Mapping
 import jax.numpy as jnp
 import numpy as np
 
-from ...arguments import shown
+from ...arguments import number_text, shown
 from ...errors import ParameterError
 from ..parameters import data_scales
 
@@ -78,7 +78,7 @@ class Prior:
         if not (math.isfinite(a) and math.isfinite(b)):
             raise ParameterError(f"prior {self}: both numbers must be finite")
         if self.bounded and not a < b:
-            raise ParameterError(f"prior {self}: lower {a:g} must be below upper {b:g}")
+            raise ParameterError(f"prior {self}: lower {number_text(a)} must be below upper {number_text(b)}")
         if self.kind is PriorKind.LOGUNIFORM and a <= 0:
             raise ParameterError(f"prior {self}: a log-uniform prior needs a positive lower end")
         if self.kind is PriorKind.NORMAL and b <= 0:
@@ -282,7 +282,7 @@ def check_prior_inside(name: str, prior: Prior, lower: float, upper: float, incl
         too_high = prior.b > upper or (prior.b == upper and not inclusive and math.isfinite(upper))
         if prior.a < lower or too_high:
             right = "]" if inclusive else ")"
-            raise ParameterError(f"prior for {name}: {prior} reaches outside the parameter's bounds ({lower:g}, {upper:g}{right}")
+            raise ParameterError(f"prior for {name}: {prior.kind}:{number_text(prior.a)},{number_text(prior.b)} reaches outside the parameter's bounds ({number_text(lower)}, {number_text(upper)}{right}")
 
 
 def prior_log_density(x, code, a, b, lo, hi, log_norm):

@@ -20,6 +20,7 @@ from typing import Callable, Mapping
 
 import numpy as np
 
+from ...arguments import number_text
 from ...errors import ArgumentNeeded, ParameterError
 from ...constants import EPSILON_0, EPSILON_AIR
 
@@ -75,7 +76,7 @@ class Reparametrization:
             raise ParameterError("Reparametrization: replaces must name at least one circuit parameter")
         for name, lo, hi in zip(self.names, self.lower, self.upper):
             if not lo < hi:
-                raise ParameterError(f"Reparametrization: bounds of {name}: lower {lo:g} must be below upper {hi:g}")
+                raise ParameterError(f"Reparametrization: bounds of {name}: lower {number_text(lo)} must be below upper {number_text(hi)}")
 
     @property
     def constant_values(self) -> dict[str, float]:
