@@ -53,10 +53,13 @@ def main(argv=None):
         ax_pps.semilogx(freq, pps.sel(component=name), style, color=color, lw=2, label=label)
     for f_mark, text in ((250.0, "paper: 250 Hz"), (1e5, "paper: 100 kHz")):
         ax_pps.axvline(f_mark, color="0.5", ls=":", lw=1)
-        ax_pps.annotate(text, (f_mark, -95), xytext=(3, 0), textcoords="offset points", fontsize=8)
+        ax_pps.annotate(text, (f_mark, 1.0), xycoords=("data", "axes fraction"), xytext=(3, -4), textcoords="offset points", va="top", fontsize=8)
     ax_mr.set(xlabel="frequency [Hz]", ylabel="magnitude ratio |Z_i|/|Z_total| [–]", title="Fig 4c — magnitude ratio (eq 3)")
     ax_pps.set(xlabel="frequency [Hz]", ylabel="phase synchronization PPS_i [%]", title="Fig 4d — percent phase synchronization (eq 4)")
-    ax_pps.set_ylim(-100, 105)  # PPS falls far below −100 % where the total phase nears 0; clipped, as in the paper
+    # the axis follows the data down to −100 %: PPS falls far below that only where the total
+    # phase nears 0 (eq 4 divides by it), and is clipped there, as in the paper
+    lowest = float(np.nanmin(pps.values))
+    ax_pps.set_ylim(max(-100.0, 10.0 * np.floor(lowest / 10.0) - 10.0), 112)  # (room above 100 % for the marks' labels)
     for ax in (ax_mr, ax_pps):
         ax.legend(fontsize=9)
         _example.decade_grid(ax)

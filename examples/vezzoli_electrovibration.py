@@ -97,9 +97,9 @@ def _paper_sweeps(n: int):
     eps_i = np.linspace(1.0, 36.0, n)
     fig10 = vezzoli.voltage_sweep(eps_i)
     print("Fig 8 (140 V, 1 µm, eps_i 3.4) force at 100 Hz / 1 kHz / 10 kHz:")
+    at = vezzoli.stratum_corneum_sweep(np.array([100.0, 1e3, 1e4]), SC_THICKNESSES)  # at exactly these frequencies, whatever the grid
     for h_s in SC_THICKNESSES:
-        row = fig8.sel(h_s=h_s)
-        values = [float(row.interp(frequency=f)) * 1e3 for f in (100.0, 1e3, 1e4)]
+        values = [float(v) * 1e3 for v in at.sel(h_s=h_s).values]
         print(f"  h_s = {h_s * 1e6:3.0f} µm: " + " / ".join(f"{v:.3f}" for v in values) + " mN")
     print("Fig 9 (500 Hz, 140 V) force at h_i = 1 µm:")
     for e in INSULATOR_PERMITTIVITIES:

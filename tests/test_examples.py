@@ -7,6 +7,7 @@ printed output. Add a row when a script is added to examples/.
 
 from __future__ import annotations
 
+import math
 import os
 import re
 import subprocess
@@ -26,6 +27,15 @@ def _near(target, tol):
 
 def _within(low, high):
     return lambda x: low <= x <= high
+
+
+def _eq10_mn(freq, h_s, *, h_i=1e-6, eps_i=3.4, v_m=140.0, area=1e-4, eps_s=2340.0, rho_s=30e3):
+    """Vezzoli eq 10 (docs/physics.md) in mN: ε0 A V_m²/(4 (h_i + h_s)(h_i/ε_i + h_s/ε_s)) ·
+    (ωτ)²/(1 + (ωτ)²), τ = ε0 ε_s ρ_s; defaults: Fig 8's conditions (Meyer's 140 V, 1 µm,
+    ε_i 3.4) with the rest of Table 2."""
+    eps0 = 8.8541878128e-12
+    wt = 2 * math.pi * freq * eps0 * eps_s * rho_s
+    return eps0 * area * v_m**2 / (4 * (h_i + h_s) * (h_i / eps_i + h_s / eps_s)) * wt**2 / (1 + wt**2) * 1e3
 
 
 def _all_exponents_near_two(output: str) -> bool:
@@ -124,6 +134,9 @@ EXAMPLES = {
         [
             (r"F_e at 440 Hz = " + _NUMBER + " N", _near(0.0556, 0.00005)),  # Table 2: 0.0556 N
             (r"corner 1/\(2 pi tau\) = " + _NUMBER + " Hz", _near(256.0, 2.0)),
+            # Fig 8's values at exactly 1 kHz, whatever the grid (--fast printed a grid interpolation: 119.644)
+            (r"h_s = 100 µm: \S+ / " + _NUMBER + " /", _near(_eq10_mn(1e3, 100e-6), 0.0006)),
+            (r"h_s = 500 µm: \S+ / " + _NUMBER + " /", _near(_eq10_mn(1e3, 500e-6), 0.0006)),
         ],
         (),
     ),

@@ -5,8 +5,15 @@ from __future__ import annotations
 import sys
 
 
+GAP_OUT_HELP = (
+    "save the gap result: .csv a table of C_gap and u (Bayesian and the paper's method), .json the --json summary, "
+    ".nc the force bands with the gap summary as attributes (netCDF; read it back with impedax.io.read_netcdf); '-' the JSON to standard output"
+)
+
+
 def register(sub) -> None:
-    from .common import add_output_options, number_option, result_out_help
+    from .common import add_output_options, number_option
+    from ..arguments import GAP_MIN_STEPS
     from .sample import steps_option
 
     p = sub.add_parser(
@@ -25,13 +32,13 @@ def register(sub) -> None:
     p.add_argument("--area", type=number_option, required=True, help="apparent contact area A [m²], e.g. 130e-6; outside 1e-6–1e-2 m² (1–10 000 mm², a fingertip) it is refused as a likely unit slip unless --no-area-check")
     p.add_argument("--no-area-check", action="store_true", help="analyse any positive --area, e.g. a contact other than a fingertip: one outside 1e-6–1e-2 m² gives a warning instead of an error")
     p.add_argument("--v0", type=number_option, default=75.0, help="drive amplitude V0 [V] (default 75)")
-    p.add_argument("--ep", choices=("CPE", "C"), default="CPE", help="electrode-polarization branch: R_EP || CPE_EP (default) or R_EP || C_EP (its C_EP and C_gap are seen only as their sum, so C gives u's lower bound: analysed as R_EP || C_gap)")
+    p.add_argument("--ep", type=str.upper, choices=("CPE", "C"), default="CPE", help="electrode-polarization branch: R_EP || CPE_EP (default) or R_EP || C_EP (its C_EP and C_gap are seen only as their sum, so C gives u's lower bound: analysed as R_EP || C_gap)")
     p.add_argument("--method", choices=("hierarchical", "pooled"), help="hierarchical model over the trials (default) or the pooled analysis of the trial means")
     p.add_argument("--pooled", action="store_true", help="same as --method pooled")
     p.add_argument(
         "--steps", type=steps_option, default="auto", metavar="N|auto",
         help="MCMC draws per chain after as many warm-up steps (hierarchical; auto: 500) or emcee steps (pooled; auto: until the chain is "
-        "50 autocorrelation times long, as impedax sample); at least 20 (default auto)",
+        f"50 autocorrelation times long, as impedax sample); at least {GAP_MIN_STEPS} (default auto)",
     )
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     p.add_argument(
@@ -41,13 +48,14 @@ def register(sub) -> None:
         "Repeat for each dimension (`impedax inspect` lists them)",
     )
     p.add_argument("--quiet", action="store_true", help="no progress line")
-    add_output_options(p, plot="save impedance, gap posterior and force bands", out=result_out_help("the gap result (.nc: force bands and gap summary; .csv: C_gap and u)"))
+    add_output_options(p, plot="save impedance, gap posterior and force bands", out=GAP_OUT_HELP)
     p.set_defaults(run=run)
 
 
 def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting.bayes.chain import AUTO_STEPS, auto_step_cap
+    from ..arguments import GAP_MIN_STEPS
     from ..models.gap import HIERARCHICAL_AUTO_DRAWS, gap_analysis
     from .common import check_memory, figure_writer, load_selected_files, plan_outputs, print_result, result_writer
 
@@ -59,8 +67,8 @@ def run(args) -> int:
     if not args.v0 > 0:
         raise ParameterError(f"--v0 must be positive (V), got {args.v0:g}")
     steps = args.steps
-    if steps != AUTO_STEPS and steps < 20:
-        raise ParameterError("--steps must be at least 20")
+    if steps != AUTO_STEPS and steps < GAP_MIN_STEPS:
+        raise ParameterError(f"--steps must be at least {GAP_MIN_STEPS}")
     outputs = plan_outputs(
         [("--out", args.out, "result"), ("--plot", args.plot, "figure")],
         inputs=[args.total, args.skin, args.touchscreen], stdout="--json" if args.json else None,

@@ -107,13 +107,27 @@ def _is_result(obj) -> bool:
     return callable(getattr(obj, "summary", None)) or callable(getattr(obj, "to_xarray", None))
 
 
+def _required_arguments(method) -> list[str]:
+    """The arguments ``method`` cannot be called without (none for anything not callable)."""
+    import inspect
+
+    if not callable(method):
+        return []
+    try:
+        signature = inspect.signature(method)
+    except (TypeError, ValueError):
+        return []
+    return [p.name for p in signature.parameters.values() if p.default is p.empty and p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY)]
+
+
 def write_result(result, path: str | Path) -> None:
     """Write ``result`` in the format of ``path``'s extension: ``.csv`` the tidy table
     (`result_table`), ``.json`` its ``summary()``, ``.nc`` its ``to_xarray()`` (lossless
     netCDF, `write_netcdf`). Atomic: the file is whole or not there. Anything but a result
     (a dict, None, a spectrum Dataset) is a `ParameterError` saying what to pass; a path that
     cannot be written is a `DataError` naming it, raised before the result is converted
-    (`check_writable`)."""
+    (`check_writable`). A model whose ``to_xarray`` needs arguments (`MeyerModel`: the
+    frequencies) is a `ParameterError` saying to write ``impedax.io.write_netcdf(m.to_xarray(freq), path)``."""
     if isinstance(result, (str, os.PathLike)) and _is_result(path):
         raise ParameterError(f"write_result takes (result, path); the arguments look swapped: got the path {shown(str(result))} first and a {type(path).__name__} second")
     if not isinstance(path, (str, os.PathLike)):
@@ -123,6 +137,10 @@ def write_result(result, path: str | Path) -> None:
         got = "None" if result is None else type(result).__name__
         spectrum = "; a spectrum Dataset is written with impedax.save(data, path)" if hasattr(result, "data_vars") else ""
         raise ParameterError(f"write_result takes a result (FitResult, BatchFitResult, Comparison, Diagnosis, Refinement, Posterior, ...), got {got}{spectrum}")
+    needs = _required_arguments(getattr(result, "to_xarray", None))
+    if needs and not callable(getattr(result, "summary", None)):  # (a model, e.g. MeyerModel: its dataset is over frequencies the caller picks)
+        name, given = type(result).__name__, ", ".join(needs)
+        raise ParameterError(f"a {name} has a dataset only at a given {given}: save m.to_xarray({given}) with impedax.io.write_netcdf(m.to_xarray({given}), path)")
     check_writable(path)
     if kind == "csv":
         write_table(result_table(result), path)

@@ -21,7 +21,7 @@ from ..data import CHECKED_FILE, validate_spectrum
 from ..errors import IN_MEMORY, DataError
 from ._common import MAX_FILE_BYTES, check_file, head_text
 from .csv import read_csv, write_csv
-from .netcdf import write_netcdf
+from .netcdf import not_a_spectrum, write_netcdf
 from .registry import Reader
 from .table import NoLayout
 
@@ -85,6 +85,9 @@ def load(path: str | os.PathLike, readers: Sequence[Reader] | None = None) -> xr
     reader, tried = identify(path, readers)
     if reader is not None:
         ds = reader.read(path)
+        held = not_a_spectrum(ds) if isinstance(ds, xr.Dataset) else None
+        if held:  # (a saved result, e.g. of impedax gap: say how to read it, not that it lacks Z)
+            raise DataError(held, path=path)
         ds.attrs.setdefault("format", reader.name)
         if ds.attrs.get("source") == IN_MEMORY:  # (a reader of the user's built it with make_spectrum: later errors name the file)
             ds.attrs["source"] = str(path)

@@ -16,7 +16,7 @@ import xarray as xr
 from .atomic import atomic_path
 from ..errors import ArgumentNeeded, DataError
 
-__all__ = ["read_netcdf", "write_netcdf", "encode_dataset", "decode_dataset", "saved_result", "damaged_result"]
+__all__ = ["read_netcdf", "write_netcdf", "encode_dataset", "decode_dataset", "saved_result", "damaged_result", "result_kind", "not_a_spectrum"]
 
 _JSON = "json:"
 # magic (4 bytes), record count (4), then the dimension, attribute and variable lists (8 each)
@@ -136,7 +136,30 @@ RESULT_KINDS = {
     "posterior": ("single-spectrum posterior", "Posterior.from_xarray"),
     "shared_posterior": ("joint (shared-parameter) posterior", "SharedPosterior.from_xarray"),
     "hierarchical_posterior": ("hierarchical posterior", "HierarchicalPosterior.from_xarray"),
+    "gap_analysis": ("gap analysis result (impedax gap)", "impedax.io.read_netcdf"),
 }
+
+
+def result_kind(ds: xr.Dataset) -> str | None:
+    """The `RESULT_KINDS` key of a saved result that holds no spectrum, or None: its
+    ``impedax_kind``, or for a gap analysis written before it carried one, its attrs."""
+    kind = ds.attrs.get("impedax_kind")
+    if kind in RESULT_KINDS:
+        return kind
+    if "paper_gap_um" in ds.attrs and "median" in ds.variables and "branch" in ds.dims:
+        return "gap_analysis"
+    return None
+
+
+def not_a_spectrum(ds: xr.Dataset) -> str | None:
+    """For a saved result read where a spectrum is expected (``impedax.load``): what the file
+    holds and the call that reads it; None for anything else."""
+    kind = result_kind(ds) if "Z" not in ds.variables else None
+    if kind is None:
+        return None
+    what, call = RESULT_KINDS[kind]
+    reader = call if call == "impedax.io.read_netcdf" else f"{call}(impedax.io.read_netcdf(path))"
+    return f"this file holds a {what}, not a spectrum; read it with {reader}"
 
 
 def saved_result(ds, kind: str, *, variables=(), attrs=()) -> xr.Dataset:

@@ -3,7 +3,7 @@
 Equations, conventions (peak vs time-average force) and assumptions: docs/models.md.
 """
 
-from . import meyer as meyer, peak as peak, sirin as sirin, synthetic as synthetic, vezzoli as vezzoli
+from . import gap as gap, meyer as meyer, peak as peak, sirin as sirin, synthetic as synthetic, vezzoli as vezzoli
 from ..constants import EPSILON_0 as EPSILON_0, EPSILON_AIR as EPSILON_AIR
 from .meyer import (
     MeyerModel as MeyerModel,
@@ -16,6 +16,7 @@ from .meyer import (
     meyer_model as meyer_model,
     meyer_parameters as meyer_parameters,
 )
+from .gap import GapAnalysis as GapAnalysis, gap_analysis as gap_analysis
 from .peak import ForceMaximum as ForceMaximum, force_maximum as force_maximum
 from .sirin import (
     PaperGapEstimate as PaperGapEstimate,

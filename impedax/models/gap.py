@@ -30,13 +30,14 @@ import numpy as np
 import xarray as xr
 
 from ..circuits import parse
-from ..arguments import MAX_WALKERS, checked_arguments, choice, count, flag, real, seed
+from ..data import format_frequency, format_quantity, format_relative_error
+from ..arguments import GAP_MIN_STEPS, MAX_WALKERS, checked_arguments, choice, count, flag, real, seed
 from ..errors import CircuitError, DataError, ParameterError
 from ..constants import EPSILON_0, EPSILON_AIR
 from ..fitting.bayes.chain import AUTO_STEPS, steps_rule
 from .sirin import SIRIN_AREA, SIRIN_DRIVE_V, PaperGapEstimate, gap_force_peak, paper_gap_estimate, remainder_circuit, remaining_impedance, trial_mean, trial_remainders
 
-__all__ = ["GapAnalysis", "gap_analysis", "GAP_METHODS", "FINGERTIP_AREA_M2", "IDENTIFIED_C_REMAINDER", "C_GAP_BOUNDS_F", "HIERARCHICAL_AUTO_DRAWS", "gap_bounds"]
+__all__ = ["GapAnalysis", "gap_analysis", "GAP_METHODS", "GAP_MIN_STEPS", "FINGERTIP_AREA_M2", "IDENTIFIED_C_REMAINDER", "C_GAP_BOUNDS_F", "HIERARCHICAL_AUTO_DRAWS", "gap_bounds"]
 
 GAP_METHODS = ("hierarchical", "pooled")
 _EP_PER_TRIAL = ("R_EP", "CPE_EP.Q", "C_EP")  # the contact's EP branch varies with each trial
@@ -207,8 +208,8 @@ class GapAnalysis:
         lines += [
             f"paper method    u = {p.gap * 1e6:.3f} µm  {bounds}",
             f"C_gap           = {c['value'] * 1e12:.1f} pF (90%: {c['q05'] * 1e12:.1f}–{c['q95'] * 1e12:.1f} pF); paper method {p.c_gap * 1e12:.1f} pF",
-            f"fits            naive C_gap: rms_rel {self.naive_fit.rms_rel * 100:.3g} %;  {self.edl_fit.model}: rms_rel {self.edl_fit.rms_rel * 100:.3g} %",
-            f"force (peak, V0 = {self.v0:g} V) with EP: max {float(peak[i]) * 1e3:.3g} mN at {float(peak['frequency'][i]):.3g} Hz",
+            f"fits            naive C_gap: rms_rel {format_relative_error(self.naive_fit.rms_rel)};  {self.edl_fit.model}: rms_rel {format_relative_error(self.edl_fit.rms_rel)}",
+            f"force (peak, V0 = {self.v0:g} V) with EP: max {format_quantity(float(peak[i]), 'N')} at {format_frequency(float(peak['frequency'][i]))}",
             f"force bands     {FORCE_CONDITIONS} (A = {self.area:g} m²)",
         ]
         lines += [f"warning: {w}" for w in self.warnings]
@@ -226,13 +227,15 @@ class GapAnalysis:
         """The force bands with the gap summary as attrs (what ``--out FILE.nc`` writes): C_gap
         and u quantiles, the paper method (``paper_gap_um``, ``paper_gap_lower_um``,
         ``paper_gap_upper_um`` — NaN with one spectrum per file — and ``paper_c_gap_pf``) and
-        ``warnings``, one string with a warning per line (``n_warnings`` of them)."""
+        ``warnings``, one string with a warning per line (``n_warnings`` of them); ``impedax_kind``
+        ``"gap_analysis"`` marks the file (``impedax.load`` refuses it as a spectrum and names
+        `impedax.io.read_netcdf`, which reads it)."""
         out = self.force.copy()
         for key, value in self.summary().items():
             if key in ("c_gap", "gap_um", "gap_um_new_trial") and value is not None:
                 for k, v in value.items():
                     out.attrs[f"{key}_{k}"] = v
-        out.attrs.update({"convention": FORCE_CONVENTION, "model": self.edl_fit.model, "model_requested": self.summary()["model_requested"], "area_m2": self.area, "v0": self.v0, "method": self.method})
+        out.attrs.update({"impedax_kind": "gap_analysis", "convention": FORCE_CONVENTION, "model": self.edl_fit.model, "model_requested": self.summary()["model_requested"], "area_m2": self.area, "v0": self.v0, "method": self.method})
         if self.gap_spread is not None:
             out.attrs["gap_spread_relative"] = self.gap_spread["relative"]["value"]
         p, bounds = self.paper, self.paper_has_bounds
@@ -254,9 +257,17 @@ def gap_bounds(area: float, eps_gap: float = EPSILON_AIR) -> tuple[float, float]
     return EPSILON_0 * eps_gap * area / c_high, EPSILON_0 * eps_gap * area / c_low
 
 
+def _gap_steps(value, name):
+    """``steps`` of the gap analysis: ``"auto"`` or at least `GAP_MIN_STEPS` (`steps_rule`)."""
+    value = steps_rule(value, name)
+    if value != AUTO_STEPS and value < GAP_MIN_STEPS:
+        raise ParameterError(f"{name} must be at least {GAP_MIN_STEPS}, got {value}")
+    return value
+
+
 @checked_arguments(
-    area=real(positive=True), v0=real(positive=True), ep=choice(("C", "CPE")), eps_gap=real(positive=True), cutoff_hz=real(positive=True),
-    steps=steps_rule, walkers=count(2, MAX_WALKERS, optional=True), seed=seed, progress=flag, check_area=flag,
+    area=real(positive=True), v0=real(positive=True), ep=choice(("C", "CPE"), fold_case=True), eps_gap=real(positive=True), cutoff_hz=real(positive=True),
+    steps=_gap_steps, walkers=count(2, MAX_WALKERS, optional=True), seed=seed, progress=flag, check_area=flag,
 )
 def gap_analysis(
     total: xr.Dataset,
@@ -280,7 +291,7 @@ def gap_analysis(
     check_area: bool = True,
 ) -> GapAnalysis:
     """Run the Sirin workflow (module docstring) on three spectrum Datasets with trial
-    dimensions, all on one frequency grid. ``ep`` picks the EP branch of the EDL model:
+    dimensions, all on one frequency grid. ``ep`` picks the EP branch of the EDL model (any case):
     ``"CPE"`` (R_EP || CPE_EP || C_gap, default) or ``"C"`` (R_EP || C_EP || C_gap: two ideal
     capacitors in parallel are identified only as their sum, so it is fitted and sampled as
     `IDENTIFIED_C_REMAINDER`, R_EP || C_gap with C_gap standing for C_EP + C_gap, and a warning says that u
@@ -292,7 +303,7 @@ def gap_analysis(
     adaptation steps in each of ``chains`` chains; ``"auto"`` (default) is
     `HIERARCHICAL_AUTO_DRAWS`) or ``"pooled"`` (emcee on the trial means, ``steps`` steps;
     ``"auto"``, the default, runs until the chain is 50 autocorrelation times long, as
-    `impedax.fitting.sample`). u is sampled within `gap_bounds` (C_gap within
+    `impedax.fitting.sample`); a number of ``steps`` is at least `GAP_MIN_STEPS`. u is sampled within `gap_bounds` (C_gap within
     `C_GAP_BOUNDS_F` for any area). ``progress``: what runs and a progress line on stderr.
     ``check_area``: refuse an ``area`` [m²] outside `FINGERTIP_AREA_M2` (a mistyped
     unit); False analyses any positive area, with a warning when it lies outside that range

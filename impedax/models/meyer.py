@@ -38,6 +38,7 @@ __all__ = [
     "THESIS_PHYSICAL",
     "THESIS_PARAMS",
     "THESIS_DRIVE_V",
+    "VARIANT_AUTO",
     "meyer_circuit",
     "meyer_parameters",
     "meyer_model",
@@ -113,9 +114,45 @@ def meyer_circuit(variant: str = "rc") -> Circuit:
     return parse(_CIRCUITS[_check_variant(variant)])
 
 
-def _check_variant(variant: str) -> str:
-    if variant not in _CIRCUITS:
-        raise ParameterError(f"unknown Meyer variant {variant!r}; use one of {', '.join(_CIRCUITS)}")
+VARIANT_AUTO = "auto"
+"""``variant`` of the functions of parameters read from the names: ``C_sc`` → ``"rc"``,
+``CPE_sc.*`` → ``"cpe"`` (their default)."""
+
+
+def _check_variant(variant: str, *, auto: bool = False) -> str:
+    """``variant`` in its canonical spelling (``"rc"``, ``"cpe"``: case does not matter; with
+    ``auto`` also ``"auto"``)."""
+    folded = variant.casefold() if isinstance(variant, str) else None
+    if folded in _CIRCUITS or (auto and folded == VARIANT_AUTO):
+        return folded
+    raise ParameterError(f"unknown Meyer variant {shown(variant)}; use one of {', '.join(_CIRCUITS)}{' or auto' if auto else ''}")
+
+
+def _variant_of(params, variant) -> str:
+    """The canonical variant for ``params``: ``"auto"`` reads it from the names (static dict
+    keys, so jittable); a ParameterError names what is missing and, when ``params`` are the
+    other variant's, says which ``variant`` to pass."""
+    variant = _check_variant(variant, auto=True)
+    if not isinstance(params, Mapping):
+        require_parameters(params, ())
+    has = {"rc": "C_sc" in params, "cpe": any(isinstance(k, str) and k.startswith("CPE_sc.") for k in params)}
+    if variant == VARIANT_AUTO:
+        if has["rc"] and has["cpe"]:
+            raise ParameterError("params hold both C_sc and CPE_sc.*: pass variant='rc' or variant='cpe'")
+        if not (has["rc"] or has["cpe"]):
+            names = {v: meyer_circuit(v).parameter_names() for v in _CIRCUITS}
+            missing = [n for n in names["rc"] if n not in params and n != "C_sc"]
+            raise ParameterError(
+                f"params lacks {', '.join(missing + ['C_sc or CPE_sc.Q, CPE_sc.alpha'])}; the model's parameters are "
+                f"{', '.join(names['rc'])} (variant='rc') or {', '.join(names['cpe'])} (variant='cpe')"
+            )
+        return "rc" if has["rc"] else "cpe"
+    other = "cpe" if variant == "rc" else "rc"
+    names = meyer_circuit(variant).parameter_names()
+    missing = [n for n in names if n not in params]
+    if missing and has[other] and not has[variant]:
+        marker = "C_sc" if other == "rc" else "CPE_sc.*"
+        raise ParameterError(f"params lacks {', '.join(missing)} (variant {variant!r}) but hold {marker} of variant {other!r}: pass variant={other!r}, or leave variant out (it is read from the names)")
     return variant
 
 
@@ -214,20 +251,25 @@ def _probes(variant: str):
 
 
 @checked_arguments(freq=numeric_array(positive=True))
-def finger_voltage(params: Mapping[str, object], freq, *, variant: str = "rc"):
+def finger_voltage(params: Mapping[str, object], freq, *, variant: str = VARIANT_AUTO):
     """V_F/V_A: voltage from the ITO to the finger tissue (across C_i and the stratum corneum)
     per volt of drive, from the solved circuit (thesis eq 3.12 derived from A.1; the printed
-    numerator of eq 3.12/A.2 is wrong, see docs/physics.md, "Meyer"). Pure JAX, vmappable over draws."""
+    numerator of eq 3.12/A.2 is wrong, see docs/physics.md, "Meyer"). ``variant``: ``"auto"``
+    (default) reads it from the parameter names (C_sc → ``"rc"``, CPE_sc.* → ``"cpe"``), or
+    ``"rc"``/``"cpe"`` (any case). Pure JAX, vmappable over draws."""
+    variant = _variant_of(params, variant)
     require_parameters(params, meyer_circuit(variant).parameter_names())
-    return _probes(_check_variant(variant))[0](params, freq)
+    return _probes(variant)[0](params, freq)
 
 
 @checked_arguments(freq=numeric_array(positive=True))
-def leaked_charge(params: Mapping[str, object], freq, *, variant: str = "rc"):
-    """Q_f/V_A [C/V]: charge leaked through R_sc onto the glass, I_Rsc/(jω V_A) (eq 3.12)."""
+def leaked_charge(params: Mapping[str, object], freq, *, variant: str = VARIANT_AUTO):
+    """Q_f/V_A [C/V]: charge leaked through R_sc onto the glass, I_Rsc/(jω V_A) (eq 3.12);
+    ``variant`` as `finger_voltage`."""
+    variant = _variant_of(params, variant)
     require_parameters(params, meyer_circuit(variant).parameter_names())
     omega = 2.0 * jnp.pi * jnp.asarray(freq)
-    return _probes(_check_variant(variant))[1](params, freq) / (1j * omega)
+    return _probes(variant)[1](params, freq) / (1j * omega)
 
 
 def _effective_c_sc(params: Mapping[str, object], variant: str, omega):
@@ -249,11 +291,13 @@ def force_from_charge(v_f, q_f, *, c_i, c_sc, area):
 
 
 @checked_arguments(freq=numeric_array(positive=True), area=numeric_array(positive=True), v_a=numeric_array())
-def force_time_average(params: Mapping[str, object], freq, *, area: float = THESIS_PHYSICAL.area, v_a: float = THESIS_DRIVE_V, variant: str = "rc"):
+def force_time_average(params: Mapping[str, object], freq, *, area: float = THESIS_PHYSICAL.area, v_a: float = THESIS_DRIVE_V, variant: str = VARIANT_AUTO):
     """Time-averaged electrostatic force [N] for a sinusoidal drive of amplitude ``v_a`` [V]
     (thesis eq 3.6/A.3 averaged over a period, Fig 3.4):
     F̄ = (C_i C_sc/(C_i + C_sc))²/(2Aε0) · ½ (|V_F|² − |Q_f|²/C_i²) with phasor amplitudes.
 
+    ``variant``: ``"auto"`` (default) reads it from the parameter names (C_sc → ``"rc"``,
+    CPE_sc.* → ``"cpe"``), or ``"rc"``/``"cpe"`` (any case).
     Convention: time-average (the peak of the oscillating force is larger). For the CPE
     variant C_sc in the prefactor is C_sc(ω) = Q ω^(α−1), the capacitance with the CPE's
     impedance magnitude at each ω (α = 1 is the RC model); the force then obeys the RC model's
@@ -267,7 +311,7 @@ def force_time_average(params: Mapping[str, object], freq, *, area: float = THES
 
 
 @checked_arguments(freq=numeric_array(positive=True), area=numeric_array(positive=True), v_a=numeric_array())
-def force_peak(params: Mapping[str, object], freq, *, area: float = THESIS_PHYSICAL.area, v_a: float = THESIS_DRIVE_V, variant: str = "rc"):
+def force_peak(params: Mapping[str, object], freq, *, area: float = THESIS_PHYSICAL.area, v_a: float = THESIS_DRIVE_V, variant: str = VARIANT_AUTO):
     """Peak electrostatic force [N]: the largest instantaneous force of thesis eq 3.6/A.3 over a
     period of the drive V_A cos ωt (arguments as `force_time_average`).
 
@@ -308,7 +352,7 @@ def _force_phasors(params, freq, area, v_a, variant):
     V_F = V_Ci + V_sc and C_i V_Ci = Q_i = Q_f + Q_sc (Q_sc = I_Csc/(jω), the charge of C_sc or
     CPE_sc), so V̂_F − Q̂_f/C_i = V̂_sc + Î_Csc/(jω C_i). Below ~1e-4 Hz (thesis values) V_F and
     Q_f/C_i agree to (ωτ)², τ = R_sc(C_sc + C_i), and |V_F|² − |Q_f/C_i|² cancels to rounding noise."""
-    variant = _check_variant(variant)
+    variant = _variant_of(params, variant)
     _check_element_values(params, variant)
     v_f = finger_voltage(params, freq, variant=variant) * v_a
     q_c = leaked_charge(params, freq, variant=variant) * v_a / params["C_i"]

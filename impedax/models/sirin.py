@@ -23,7 +23,7 @@ import xarray as xr
 
 from ..circuits import Circuit, compile_circuit, parse, voltage_across
 from ..data import make_spectrum, validate_spectrum
-from ..arguments import checked_arguments, numeric_array, require_parameters
+from ..arguments import checked_arguments, numeric_array, require_parameters, shown
 from ..errors import DataError, ParameterError
 from ..constants import EPSILON_0, EPSILON_AIR
 
@@ -39,6 +39,7 @@ __all__ = [
     "gap_thickness",
     "PaperGapEstimate",
     "paper_gap_estimate",
+    "EP_AUTO",
     "remainder_circuit",
     "remainder_impedance",
     "gap_voltage",
@@ -298,12 +299,35 @@ def paper_gap_estimate(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Data
 # --- gap voltage and force (pure JAX) ------------------------------------------------------
 
 
-def remainder_circuit(ep: str | None = "C") -> Circuit:
-    """The remainder model: ``"C"`` → R_EP || C_EP || C_gap (Sirin Fig 2d), ``"CPE"`` →
-    R_EP || CPE_EP || C_gap, ``None`` → C_gap alone (no electrode polarization)."""
-    if ep not in _REMAINDERS:
-        raise ParameterError(f"unknown electrode-polarization branch {ep!r}; use 'C', 'CPE' or None")
-    return parse(_REMAINDERS[ep])
+EP_AUTO = "auto"
+"""``ep`` of the gap functions read from the parameter names: ``C_EP`` → ``"C"``,
+``CPE_EP.*`` → ``"CPE"`` (the default, so draws of either analysis fit without naming it)."""
+_EP_NAMES = {"C": "R_EP, C_EP, C_gap", "CPE": "R_EP, CPE_EP.Q, CPE_EP.alpha, C_gap"}
+
+
+def _canonical_ep(ep, *, auto: bool = True):
+    """``ep`` in its canonical spelling: ``"C"``, ``"CPE"`` (any case), ``None`` or ``"none"``
+    (C_gap alone) and, where the parameters are at hand, ``"auto"``."""
+    if ep is None:
+        return None
+    if isinstance(ep, str):
+        folded = ep.casefold()
+        for option in ("C", "CPE"):
+            if folded == option.casefold():
+                return option
+        if folded == "none":
+            return None
+        if auto and folded == EP_AUTO:
+            return EP_AUTO
+    listed = "'C', 'CPE', None" + (" or 'auto'" if auto else "")
+    raise ParameterError(f"unknown electrode-polarization branch {shown(ep)}; use {listed}")
+
+
+def remainder_circuit(ep: str | None = "CPE") -> Circuit:
+    """The remainder model: ``"CPE"`` (default, as `gap_analysis` and ``impedax gap``) →
+    R_EP || CPE_EP || C_gap, ``"C"`` → R_EP || C_EP || C_gap (Sirin Fig 2d), ``None`` (or
+    ``"none"``) → C_gap alone (no electrode polarization). Case does not matter."""
+    return parse(_REMAINDERS[_canonical_ep(ep, auto=False)])
 
 
 @functools.lru_cache(maxsize=None)
@@ -311,25 +335,91 @@ def _compiled_remainder(text: str):
     return compile_circuit(text), voltage_across(text, "C_gap")
 
 
-def _remainder_names(ep, remainder) -> tuple[str, ...]:
-    return (remainder_circuit(ep) if remainder is None else parse(remainder)).parameter_names()
+@functools.lru_cache(maxsize=None)
+def _circuit_text(text: str) -> tuple[str, tuple[str, ...]]:
+    circuit = parse(text)
+    return str(circuit), tuple(circuit.parameter_names())
 
 
-def _remainder_fns(ep, remainder):
-    text = str(remainder_circuit(ep)) if remainder is None else str(parse(remainder))
-    return _compiled_remainder(text)
+def _gap_thickness_hint(params) -> str:
+    """What to say when ``params`` hold the gap thickness ``u`` but no C_gap."""
+    if isinstance(params, Mapping) and "u" in params and "C_gap" not in params:
+        return "; these hold u (draws of a posterior sampled in u, post.samples): pass post.circuit_samples(), which holds C_gap"
+    return ""
 
 
-@checked_arguments(freq=numeric_array(positive=True))
-def remainder_impedance(params: Mapping[str, object], freq, *, ep: str | None = "C", remainder: str | Circuit | None = None):
-    """Z_R [Ω] of the remainder model (see `remainder_circuit`; ``remainder`` overrides it
-    with any circuit holding a ``C_gap``). Pure JAX; extra entries in ``params`` are ignored."""
-    require_parameters(params, _remainder_names(ep, remainder))
-    return _remainder_fns(ep, remainder)[0](params, freq)
+def _infer_ep(params) -> str:
+    """``"C"`` or ``"CPE"`` from the names in ``params`` (static dict keys: jittable)."""
+    has_c = "C_EP" in params
+    has_cpe = any(isinstance(k, str) and k.startswith("CPE_EP.") for k in params)
+    if has_c and has_cpe:
+        raise ParameterError("params hold both C_EP and CPE_EP.*: pass ep='C' or ep='CPE'")
+    if has_c or has_cpe:
+        return "C" if has_c else "CPE"
+    message = f"params lacks C_EP or CPE_EP.Q, CPE_EP.alpha; the model's parameters are {_EP_NAMES['CPE']} (ep='CPE') or {_EP_NAMES['C']} (ep='C')"
+    raise ParameterError(message + (_gap_thickness_hint(params) or "; for C_gap alone pass ep=None"))
 
 
-@checked_arguments(freq=numeric_array(positive=True), z_skin=numeric_array(), z_ts=numeric_array(), v0=numeric_array())
-def gap_voltage(params: Mapping[str, object], freq, z_skin, z_ts, *, v0: float = SIRIN_DRIVE_V, ep: str | None = "C", remainder: str | Circuit | None = None):
+def _remainder(params, ep, remainder) -> str:
+    """The remainder circuit's text for ``ep`` (``"auto"``: read from ``params``) or
+    ``remainder``, once ``params`` hold its every parameter (else one ParameterError)."""
+    if not isinstance(params, Mapping):
+        require_parameters(params, ())
+    if remainder is not None:
+        text, names = _circuit_text(str(parse(remainder)))
+    else:
+        ep = _canonical_ep(ep)
+        if ep == EP_AUTO:
+            ep = _infer_ep(params)
+        text, names = _circuit_text(_REMAINDERS[ep])
+    missing = [n for n in names if n not in params]
+    if missing:
+        hint = _gap_thickness_hint(params) if "C_gap" in missing else ""
+        raise ParameterError(f"params lacks {', '.join(missing)}; the model's parameters are {', '.join(names)}" + hint)
+    require_parameters(params, names)
+    return text
+
+
+def _plain(rule):
+    """``rule`` after an xarray DataArray is replaced by its values (``trial_mean(ds)["Z"]``)."""
+
+    def check(value, name):
+        if isinstance(value, xr.DataArray):
+            value = value.values
+        elif isinstance(value, xr.Dataset):
+            raise ParameterError(f"{name} is a Dataset; pass its complex impedance, e.g. trial_mean(skin)['Z']")
+        return rule(value, name)
+
+    return check
+
+
+def _over_freq(arguments) -> None:
+    """``z_skin`` and ``z_ts`` give one value or one per frequency (a static shape check)."""
+    f_shape = np.shape(arguments["freq"])
+    for name in ("z_skin", "z_ts"):
+        shape = np.shape(arguments[name])
+        try:
+            np.broadcast_shapes(shape, f_shape)
+        except ValueError:
+            size = lambda s: f"{int(np.prod(s))} values" if len(s) <= 1 else f"shape {s}"  # noqa: E731
+            raise ParameterError(f"{name} has {size(shape)}, freq has {size(f_shape)}: give {name} at every frequency of freq (or one value)") from None
+
+
+_FREQ = _plain(numeric_array(positive=True))
+_IMPEDANCE = _plain(numeric_array())
+
+
+@checked_arguments(freq=_FREQ)
+def remainder_impedance(params: Mapping[str, object], freq, *, ep: str | None = EP_AUTO, remainder: str | Circuit | None = None):
+    """Z_R [Ω] of the remainder model (see `remainder_circuit`; ``ep="auto"``, the default,
+    reads it from the parameter names: C_EP → ``"C"``, CPE_EP.* → ``"CPE"``; ``remainder``
+    overrides it with any circuit holding a ``C_gap``). Pure JAX; extra entries in ``params``
+    are ignored."""
+    return _compiled_remainder(_remainder(params, ep, remainder))[0](params, freq)
+
+
+@checked_arguments(_over_freq, freq=_FREQ, z_skin=_IMPEDANCE, z_ts=_IMPEDANCE, v0=numeric_array())
+def gap_voltage(params: Mapping[str, object], freq, z_skin, z_ts, *, v0: float = SIRIN_DRIVE_V, ep: str | None = EP_AUTO, remainder: str | Circuit | None = None):
     """Complex amplitude [V] of the voltage across C_gap for a drive of amplitude ``v0`` (Sirin §2.4).
 
     The chain Z_TS + Z_R + Z_skin is driven by V0: I = V0/Z_total, V1 = V0 − Z_TS I,
@@ -337,22 +427,26 @@ def gap_voltage(params: Mapping[str, object], freq, z_skin, z_ts, *, v0: float =
     solved remainder (with ``ep=None`` the remainder is C_gap alone: no charge leakage). The
     printed eq 2, ΔV_gap = ΔV − R_EP[I − (I_gap + I_EP)], is not used: for three elements in
     parallel I − I_gap − I_EP is the R_EP current, so it gives zero. ``z_skin``, ``z_ts``: complex
-    arrays over ``freq`` (measured means or models). Pure JAX: vmap over posterior draws.
+    arrays over ``freq`` (measured means or models; an xarray DataArray such as
+    ``trial_mean(skin)["Z"]`` is taken as its values), one value or one per frequency. ``ep``:
+    ``"auto"`` (default) reads the remainder from the parameter names (C_EP → ``"C"``,
+    CPE_EP.* → ``"CPE"``); ``"C"``, ``"CPE"`` (any case) or None name it. Pure JAX: vmap over
+    posterior draws (the names and shapes are checked at trace time).
     """
-    require_parameters(params, _remainder_names(ep, remainder))
-    z_r, across_gap = _remainder_fns(ep, remainder)
+    z_r, across_gap = _compiled_remainder(_remainder(params, ep, remainder))
     z_r = z_r(params, freq)
     current = v0 / (z_ts + z_r + z_skin)
     delta_v = (v0 - z_ts * current) - z_skin * current
     return delta_v * across_gap(params, freq)
 
 
-@checked_arguments(freq=numeric_array(positive=True), z_skin=numeric_array(), z_ts=numeric_array(), area=numeric_array(positive=True), v0=numeric_array(), eps_gap=numeric_array(positive=True), gap=numeric_array(positive=True, optional=True))
-def gap_force_peak(params: Mapping[str, object], freq, z_skin, z_ts, *, area: float = SIRIN_AREA, v0: float = SIRIN_DRIVE_V, ep: str | None = "C", eps_gap: float = EPSILON_AIR, gap=None, remainder: str | Circuit | None = None):
+@checked_arguments(_over_freq, freq=_FREQ, z_skin=_IMPEDANCE, z_ts=_IMPEDANCE, area=numeric_array(positive=True), v0=numeric_array(), eps_gap=numeric_array(positive=True), gap=numeric_array(positive=True, optional=True))
+def gap_force_peak(params: Mapping[str, object], freq, z_skin, z_ts, *, area: float = SIRIN_AREA, v0: float = SIRIN_DRIVE_V, ep: str | None = EP_AUTO, eps_gap: float = EPSILON_AIR, gap=None, remainder: str | Circuit | None = None):
     """PEAK electrostatic force [N] over a drive period, Sirin eq 1 at the voltage amplitude:
     F = ½ ε0 A |ΔV_gap|²/u², with u = ε0 ε_gap A/C_gap from ``params["C_gap"]`` unless ``gap``
-    [m] is given. Pure JAX in ``params`` (vmap over draws)."""
-    require_parameters(params, _remainder_names(ep, remainder))
+    [m] is given. Arguments as `gap_voltage` (``ep="auto"``: the remainder from the parameter
+    names). Pure JAX in ``params`` (vmap over draws)."""
+    _remainder(params, ep, remainder)
     u = gap_thickness(params["C_gap"], area=area, eps_gap=eps_gap) if gap is None else gap
     v_gap = gap_voltage(params, freq, z_skin, z_ts, v0=v0, ep=ep, remainder=remainder)
     return 0.5 * EPSILON_0 * area * jnp.abs(v_gap) ** 2 / u**2

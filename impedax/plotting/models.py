@@ -15,6 +15,7 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None):
     without the EP branch (matplotlib Figure)."""
     import matplotlib.pyplot as plt
 
+    from ..data import format_relative_error
     from . import model_curve, plain_log_ticks
 
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.6), layout="constrained")
@@ -38,7 +39,7 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None):
         f_model, z_model = model_curve(fit)
         mag = np.abs(z_model)
         within = mag[(mag >= data_low / MODEL_MARGIN) & (mag <= data_high * MODEL_MARGIN)] if data_low is not None else mag
-        ax.loglog(f_model, mag, style, label=f"{label} (rms_rel {fit.rms_rel * 100:.2g} %)" + ("" if within.size else ", off the axis"))
+        ax.loglog(f_model, mag, style, label=f"{label} (rms_rel {format_relative_error(fit.rms_rel)})" + ("" if within.size else ", off the axis"))
         if data_low is not None and within.size:
             low, high = min(low, float(within.min())), max(high, float(within.max()))
     if data_low is not None:
@@ -66,21 +67,37 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None):
     ax.set(xlabel="gap thickness u [µm]", ylabel="draws" if wide else "density", title="air-gap thickness")
     ax.legend(fontsize=7)
     ax = axes[2]
-    _force_bands(ax, gap.force, ep_label="with EP branch", scale="semilogx", alpha=0.2, suffix="median, 90% band")
-    ax.set(xlabel="frequency [Hz]", ylabel="peak force F_e [mN]", title=f"electrostatic force, V0 = {gap.v0:g} V (Sirin eq 1, peak)")
+    unit = _force_bands(ax, gap.force, ep_label="with EP branch", scale="semilogx", alpha=0.2, suffix="median, 90% band")
+    ax.set(xlabel="frequency [Hz]", ylabel=f"peak force F_e [{unit}]", title=f"electrostatic force, V0 = {gap.v0:g} V (Sirin eq 1, peak)")
     ax.legend(fontsize=7)
     for a in axes:
         a.grid(alpha=0.3, which="both")
     return fig
 
 
-def _force_bands(ax, force, *, ep_label: str, scale: str, alpha: float, suffix: str) -> None:
-    """Median and 90 % band of the force [N, drawn in mN] with and without the EP branch."""
+def force_unit(force_n) -> tuple[float, str]:
+    """(scale [N], unit) to draw forces [N] in: the SI prefix of their largest finite value
+    (`impedax.data.si_prefix`: 6.7 N in N, 0.35 N in mN); mN when there is none."""
+    from ..data import si_prefix
+
+    values = np.abs(np.asarray(force_n, dtype=np.float64))
+    values = values[np.isfinite(values) & (values > 0)]
+    if not values.size:
+        return 1e-3, "mN"
+    scale, prefix = si_prefix(float(values.max()))
+    return scale, f"{prefix}N"
+
+
+def _force_bands(ax, force, *, ep_label: str, scale: str, alpha: float, suffix: str) -> str:
+    """Median and 90 % band of the force [N] with and without the EP branch, drawn in the unit
+    of `force_unit` (returned, for the axis label)."""
     ff = force["frequency"].values
+    unit_scale, unit = force_unit(force["q95"].values)
     for branch, color, label in (("with_ep", "tab:blue", ep_label), ("without_ep", "tab:red", "without EP (C_gap only)")):
         band = force.sel(branch=branch)
-        ax.fill_between(ff, band["q05"] * 1e3, band["q95"] * 1e3, color=color, alpha=alpha)
-        getattr(ax, scale)(ff, band["median"] * 1e3, color=color, label=f"{label}: {suffix}")
+        ax.fill_between(ff, band["q05"] / unit_scale, band["q95"] / unit_scale, color=color, alpha=alpha)
+        getattr(ax, scale)(ff, band["median"] / unit_scale, color=color, label=f"{label}: {suffix}")
+    return unit
 
 
 def plot_force_bands(gap):
@@ -89,8 +106,8 @@ def plot_force_bands(gap):
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(8, 4.8), layout="constrained")
-    _force_bands(ax, gap.force, ep_label="with electrode polarization (refined model)", scale="loglog", alpha=0.25, suffix="median and 90% band")
-    ax.set(xlabel="frequency [Hz]", ylabel="electrostatic force [mN] (peak, Sirin eq 1)", title=f"Force on the finger for V0 = {gap.v0:g} V (Sirin Fig 2f story; SYNTHETIC data)")
+    unit = _force_bands(ax, gap.force, ep_label="with electrode polarization (refined model)", scale="loglog", alpha=0.25, suffix="median and 90% band")
+    ax.set(xlabel="frequency [Hz]", ylabel=f"electrostatic force [{unit}] (peak, Sirin eq 1)", title=f"Force on the finger for V0 = {gap.v0:g} V (Sirin Fig 2f story; SYNTHETIC data)")
     ax.grid(alpha=0.3, which="both")
     ax.legend(fontsize=8)
     return fig

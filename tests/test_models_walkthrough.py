@@ -1,0 +1,247 @@
+"""A user's walkthrough of the surface-haptics models (`impedax.models`): the gap functions read
+their remainder from the parameter names, take the DataArrays `trial_mean` returns, check
+lengths; Meyer's functions read their variant; variants and branches in any case; a saved gap
+analysis is named by `impedax.load`; a MeyerModel is refused by `write_result` with what to do;
+the gap report and figure scale their force unit. Oracles: the node equations and eq 1 written
+with numpy (docs/physics.md), the thesis circuit solved with numpy."""
+
+from __future__ import annotations
+
+import re
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+import xarray as xr
+
+import impedax as ix
+from impedax.errors import DataError, ParameterError
+from impedax.models import meyer, sirin
+
+E0 = 8.8541878128e-12
+EPS_AIR = 1.00059
+AREA = 130e-6
+F61 = np.geomspace(1.0, 1e6, 61)
+CPE_PARAMS = {"R_EP": 1e8, "CPE_EP.Q": 4e-9, "CPE_EP.alpha": 0.3, "C_gap": 413e-12}
+C_PARAMS = {"R_EP": 2e7, "C_EP": 50e-12, "C_gap": 413e-12}
+
+
+def rcpe(f, r_inf, r, q, a):
+    return r_inf + r / (1 + r * q * (2j * np.pi * f) ** a)
+
+
+SKIN = rcpe(F61, 800.0, 2.0e7, 1.049e-8, 0.90)
+TS = rcpe(F61, 90.0, 1.7e5, 1.184e-9, 0.92)
+
+
+def remainder_numpy(params, f=F61):
+    """Z_R of R_EP || (C_EP or CPE_EP) || C_gap written out."""
+    w = 2 * np.pi * f
+    y_ep = 1j * w * params["C_EP"] if "C_EP" in params else params["CPE_EP.Q"] * (1j * w) ** params["CPE_EP.alpha"]
+    return 1 / (1 / params["R_EP"] + y_ep + 1j * w * params["C_gap"])
+
+
+def force_numpy(params, skin=SKIN, ts=TS, f=F61, v0=75.0):
+    """Sirin eq 1 at the amplitude, F = ½ ε0 A |ΔV|²/u², with the node equations (the voltage
+    across the parallel remainder is ΔV = V0 Z_R/(Z_TS + Z_R + Z_skin))."""
+    z_r = remainder_numpy(params, f)
+    dv = v0 * z_r / (ts + z_r + skin)
+    u = E0 * EPS_AIR * AREA / params["C_gap"]
+    return 0.5 * E0 * AREA * np.abs(dv) ** 2 / u**2
+
+
+# --- 1. the remainder is read from the parameter names -----------------------------------------
+
+
+@pytest.mark.parametrize("params", [CPE_PARAMS, C_PARAMS], ids=["CPE", "C"])
+def test_gap_force_reads_the_branch_from_the_names(params):
+    got = np.asarray(sirin.gap_force_peak(params, F61, SKIN, TS))
+    np.testing.assert_allclose(got, force_numpy(params), rtol=1e-10)
+    np.testing.assert_allclose(np.asarray(sirin.gap_force_time_average(params, F61, SKIN, TS)), force_numpy(params) / 2, rtol=1e-10)
+    np.testing.assert_allclose(np.asarray(sirin.remainder_impedance(params, F61)), remainder_numpy(params), rtol=1e-10)
+
+
+def test_docs_vmap_recipe_runs_on_cpe_draws():
+    """docs/models.md: `jax.vmap(lambda p: gap_force_peak(p, freq, z_skin, z_ts))(draws)` on
+    draws of the default (CPE) analysis, under jit."""
+    rng = np.random.default_rng(3)
+    draws = {k: jnp.asarray(v * np.exp(rng.normal(0, 0.05, 8))) for k, v in CPE_PARAMS.items()}
+    batched = np.asarray(jax.jit(jax.vmap(lambda p: sirin.gap_force_peak(p, F61, SKIN, TS)))(draws))
+    assert batched.shape == (8, 61)
+    np.testing.assert_allclose(batched[5], force_numpy({k: float(v[5]) for k, v in draws.items()}), rtol=1e-9)
+
+
+def test_explicit_branch_still_works_in_any_case():
+    for ep in ("CPE", "cpe", "Cpe"):
+        np.testing.assert_allclose(np.asarray(sirin.gap_force_peak(CPE_PARAMS, F61, SKIN, TS, ep=ep)), force_numpy(CPE_PARAMS), rtol=1e-10)
+    assert str(sirin.remainder_circuit("c")) == "R_EP || C_EP || C_gap"
+    assert str(sirin.remainder_circuit()) == "R_EP || CPE_EP || C_gap"  # the default of gap_analysis and impedax gap
+    assert str(sirin.remainder_circuit("none")) == str(sirin.remainder_circuit(None)) == "C_gap"
+    no_ep = np.asarray(sirin.gap_force_peak(CPE_PARAMS, F61, SKIN, TS, ep=None))
+    np.testing.assert_allclose(no_ep, force_numpy({"R_EP": 1e300, "C_EP": 0.0, "C_gap": 413e-12}), rtol=1e-9)
+
+
+def test_names_without_a_branch_list_both_variants():
+    with pytest.raises(ParameterError) as info:
+        sirin.gap_force_peak({"R_EP": 1e8, "C_gap": 4e-10}, F61, SKIN, TS)
+    message = str(info.value)
+    assert "R_EP, CPE_EP.Q, CPE_EP.alpha, C_gap (ep='CPE')" in message and "R_EP, C_EP, C_gap (ep='C')" in message
+    with pytest.raises(ParameterError, match="both C_EP and CPE_EP"):
+        sirin.gap_voltage({**CPE_PARAMS, "C_EP": 1e-12}, F61, SKIN, TS)
+
+
+@pytest.mark.parametrize("params", [{"R_EP": 1e8, "CPE_EP.Q": 4e-9, "CPE_EP.alpha": 0.3, "u": 2.8e-6}, {"R_EP": 1e8, "u": 2.8e-6}], ids=["branch", "no-branch"])
+def test_u_instead_of_c_gap_points_to_circuit_samples(params):
+    with pytest.raises(ParameterError, match=re.escape("pass post.circuit_samples(), which holds C_gap")):
+        sirin.gap_force_peak(params, F61, SKIN, TS)
+
+
+# --- 2. DataArrays at the boundary ----------------------------------------------------------------
+
+
+def test_dataarrays_from_trial_mean_are_taken_as_arrays():
+    skin = ix.make_spectrum(F61, np.stack([SKIN * 0.99, SKIN * 1.01]), dims=("trial",))
+    ts = ix.make_spectrum(F61, np.stack([TS * 0.98, TS * 1.02]), dims=("trial",))
+    z_skin, z_ts = sirin.trial_mean(skin)["Z"], sirin.trial_mean(ts)["Z"]
+    assert isinstance(z_skin, xr.DataArray)
+    v = sirin.gap_voltage(CPE_PARAMS, z_skin["frequency"], z_skin, z_ts)
+    assert not isinstance(v, xr.DataArray)
+    z_r = remainder_numpy(CPE_PARAMS)
+    np.testing.assert_allclose(np.asarray(v), 75.0 * z_r / (TS + z_r + SKIN), rtol=1e-10)
+    np.testing.assert_allclose(np.asarray(sirin.gap_force_peak(CPE_PARAMS, z_skin["frequency"], z_skin, z_ts)), force_numpy(CPE_PARAMS), rtol=1e-10)
+    with pytest.raises(ParameterError, match=re.escape("z_skin is a Dataset; pass its complex impedance")):
+        sirin.gap_voltage(CPE_PARAMS, F61, sirin.trial_mean(skin), z_ts)
+
+
+# --- 3. lengths are checked ------------------------------------------------------------------------
+
+
+def test_mismatched_lengths_are_named():
+    with pytest.raises(ParameterError, match="z_skin has 10 values, freq has 61"):
+        sirin.gap_force_peak(CPE_PARAMS, F61, np.ones(10) * 1e3, np.ones(61) * 1e3, ep="CPE")
+    with pytest.raises(ParameterError, match="z_ts has 60 values, freq has 61"):
+        sirin.gap_voltage(CPE_PARAMS, F61, SKIN, TS[:60])
+    # one value for every frequency broadcasts, as before
+    np.testing.assert_allclose(np.asarray(sirin.gap_force_peak(CPE_PARAMS, F61, 1e3, 1e3)), force_numpy(CPE_PARAMS, skin=1e3, ts=1e3), rtol=1e-10)
+
+
+# --- 6, 7. Meyer: the variant from the names, in any case ------------------------------------------
+
+
+def meyer_force_numpy(params, f, v_a=140.0, area=np.pi * 4e-3**2):
+    """Time-averaged force of thesis eq 3.6 with the circuit solved in numpy (V_F across C_i and
+    the SC block, Q_f = I_Rsc/(jω)); C_sc of the prefactor Q ω^(α−1) for the CPE."""
+    w = 2 * np.pi * f
+    if "C_sc" in params:
+        y_c, c_sc = 1j * w * params["C_sc"], params["C_sc"]
+    else:
+        y_c, c_sc = params["CPE_sc.Q"] * (1j * w) ** params["CPE_sc.alpha"], params["CPE_sc.Q"] * w ** (params["CPE_sc.alpha"] - 1)
+    z_sc = 1 / (1 / params["R_sc"] + y_c)
+    z_ci = 1 / (1j * w * params["C_i"])
+    i = v_a / (1 / (1j * w * params["C_s"]) + z_ci + z_sc + params["R_f"])
+    v_f = i * (z_ci + z_sc)
+    q_f = (i * z_sc / params["R_sc"]) / (1j * w)
+    series = params["C_i"] * c_sc / (params["C_i"] + c_sc)
+    return series**2 / (2 * area * E0) * 0.5 * (np.abs(v_f) ** 2 - np.abs(q_f) ** 2 / params["C_i"] ** 2)
+
+
+def test_meyer_reads_the_variant_from_the_names():
+    f = np.array([100.0, 1e3, 37e3])
+    for variant in ("rc", "cpe"):
+        params = meyer.meyer_model(variant).params
+        np.testing.assert_allclose(np.asarray(meyer.force_time_average(params, f)), meyer_force_numpy(params, f), rtol=1e-9)
+    with pytest.raises(ParameterError, match=re.escape("pass variant='cpe'")):
+        meyer.force_time_average(meyer.meyer_model("cpe").params, f, variant="rc")
+
+
+def test_variant_and_branch_in_any_case_keep_the_canonical_spelling():
+    model = meyer.meyer_model("CPE")
+    assert model.variant == "cpe" and "CPE_sc.Q" in model.params
+    assert meyer.meyer_model("RC").params == meyer.meyer_model("rc").params
+    np.testing.assert_allclose(np.asarray(meyer.finger_voltage(model.params, [1e3], variant="Cpe")), np.asarray(meyer.finger_voltage(model.params, [1e3])), rtol=1e-14)
+
+
+# --- 5. a MeyerModel is no result to write ---------------------------------------------------------
+
+
+def test_write_result_of_a_meyer_model_says_what_to_save(tmp_path):
+    with pytest.raises(ParameterError, match=re.escape("save m.to_xarray(freq) with impedax.io.write_netcdf")):
+        ix.write_result(meyer.meyer_model("cpe"), tmp_path / "m.nc")
+    assert list(tmp_path.iterdir()) == []
+
+
+# --- 4, 8, 9, 10. the gap analysis ------------------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def stationary():
+    """The shipped SYNTHETIC example's stationary total, pooled, a short run (forces of N)."""
+    from impedax.models import example_spectra, gap_analysis  # (10: exported from impedax.models)
+
+    s = example_spectra()
+    parts = s["total_stationary"], s["skin"], s["touchscreen"]
+    return gap_analysis(*parts, method="pooled", steps=40, progress=False, ep="cpe"), parts
+
+
+def test_gap_analysis_is_exported_and_normalises_the_branch(stationary):
+    from impedax.models import gap_analysis
+    from impedax.models.gap import gap_analysis as direct
+
+    assert gap_analysis is direct
+    result, _ = stationary
+    assert result.ep == "CPE" and result.edl_fit.model == "R_EP || CPE_EP || C_gap"
+
+
+def test_steps_lower_limit_is_one_constant(capsys):
+    from impedax.arguments import GAP_MIN_STEPS
+    from impedax.cli import main
+    from impedax.models import example_spectra, gap_analysis
+
+    s = example_spectra()
+    with pytest.raises(ParameterError, match=f"steps must be at least {GAP_MIN_STEPS}, got {GAP_MIN_STEPS - 1}"):
+        gap_analysis(s["total_sliding"], s["skin"], s["touchscreen"], method="pooled", steps=GAP_MIN_STEPS - 1, progress=False)
+    with pytest.raises(SystemExit):
+        main(["gap", "--help"])
+    assert f"at least {GAP_MIN_STEPS} (default auto)" in " ".join(capsys.readouterr().out.split())
+
+
+def test_saved_gap_analysis_is_named_by_load(stationary, tmp_path):
+    result, _ = stationary
+    path = tmp_path / "gap.nc"
+    ix.write_result(result, path)
+    with pytest.raises(DataError, match=re.escape("this file holds a gap analysis result (impedax gap), not a spectrum; read it with impedax.io.read_netcdf")):
+        ix.load(path)
+    back = ix.io.read_netcdf(path)
+    np.testing.assert_allclose(back["median"].values, result.force["median"].values, rtol=1e-12)
+    # a file written before the kind was stored is recognised by its attrs
+    old = result.to_xarray()
+    del old.attrs["impedax_kind"]
+    ix.io.write_netcdf(old, tmp_path / "old.nc")
+    with pytest.raises(DataError, match="holds a gap analysis result"):
+        ix.load(tmp_path / "old.nc")
+
+
+def test_gap_help_says_one_thing_about_nc(capsys):
+    from impedax.cli import main
+
+    with pytest.raises(SystemExit):
+        main(["gap", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    described = re.findall(r"\.nc[ :][^;.]*", text.split("--out FILE.csv|.json|.nc", 2)[-1])  # what --out's help says a .nc holds
+    assert described == [".nc the force bands with the gap summary as attributes (netCDF"], described
+
+
+def test_report_and_figure_scale_the_force_unit(stationary):
+    result, _ = stationary
+    peak = result.force.sel(branch="with_ep")["median"].values
+    assert 1.0 < peak.max() < 1e3  # the oracle's premise: the stationary example's force is of newtons
+    line = next(x for x in result.report().splitlines() if x.startswith("force (peak"))
+    assert f"max {float(f'{peak.max():.3g}'):g} N at" in line and "mN" not in line
+    fig = result.plot()
+    ax = fig.axes[2]
+    assert ax.get_ylabel() == "peak force F_e [N]"
+    assert ax.get_ylim()[1] < 2 * result.force["q95"].values.max()
+    labels = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+    naive = next(t for t in labels if t.startswith("C_gap only"))
+    assert f"rms_rel {round(result.naive_fit.rms_rel * 100):.0f}%" in naive and "e+" not in naive
