@@ -381,6 +381,16 @@ def format_relative_error(ratio: float) -> str:
     return f"{percent:.0f}%" if 9.95 <= percent < 9999.5 else f"{percent:.2g}%"
 
 
+def format_percent(ratio: float) -> str:
+    """A relative misfit as a percentage, 3 significant digits and no exponent: ``77.5 %``,
+    ``0.426 %``, ``100 %`` (``{:.2g}`` had written ``1e+02 %``); ``—`` when not finite."""
+    percent = abs(ratio) * 100
+    if not np.isfinite(percent):
+        return "—"
+    text = f"{percent:.3g}"
+    return (f"{percent:.0f}" if "e" in text else text) + " %"
+
+
 def format_time(tau: float, digits: int = 3) -> str:
     """A time constant [s] for text: ``2 ms``, ``0.3 s``, ``40 µs`` (``digits`` significant)."""
     for unit, scale in (("s", 1.0), ("ms", 1e-3), ("µs", 1e-6), ("ns", 1e-9)):

@@ -30,7 +30,7 @@ import numpy as np
 import xarray as xr
 
 from ..circuits import parse
-from ..data import format_frequency, format_quantity, format_relative_error
+from ..data import format_frequency, format_percent, format_quantity
 from ..arguments import GAP_MIN_STEPS, MAX_WALKERS, checked_arguments, choice, count, flag, real, seed
 from ..errors import CircuitError, DataError, ParameterError
 from ..constants import EPSILON_0, EPSILON_AIR
@@ -208,7 +208,7 @@ class GapAnalysis:
         lines += [
             f"paper method    u = {p.gap * 1e6:.3f} µm  {bounds}",
             f"C_gap           = {c['value'] * 1e12:.1f} pF (90%: {c['q05'] * 1e12:.1f}–{c['q95'] * 1e12:.1f} pF); paper method {p.c_gap * 1e12:.1f} pF",
-            f"fits            naive C_gap: rms_rel {format_relative_error(self.naive_fit.rms_rel)};  {self.edl_fit.model}: rms_rel {format_relative_error(self.edl_fit.rms_rel)}",
+            f"fits            naive C_gap: rms_rel {format_percent(self.naive_fit.rms_rel)};  {self.edl_fit.model}: rms_rel {format_percent(self.edl_fit.rms_rel)}",
             f"force (peak, V0 = {self.v0:g} V) with EP: max {format_quantity(float(peak[i]), 'N')} at {format_frequency(float(peak['frequency'][i]))}",
             f"force bands     {FORCE_CONDITIONS} (A = {self.area:g} m²)",
         ]

@@ -15,7 +15,7 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None):
     without the EP branch (matplotlib Figure)."""
     import matplotlib.pyplot as plt
 
-    from ..data import format_relative_error
+    from ..data import format_percent
     from . import model_curve, plain_log_ticks
 
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.6), layout="constrained")
@@ -39,7 +39,7 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None):
         f_model, z_model = model_curve(fit)
         mag = np.abs(z_model)
         within = mag[(mag >= data_low / MODEL_MARGIN) & (mag <= data_high * MODEL_MARGIN)] if data_low is not None else mag
-        ax.loglog(f_model, mag, style, label=f"{label} (rms_rel {format_relative_error(fit.rms_rel)})" + ("" if within.size else ", off the axis"))
+        ax.loglog(f_model, mag, style, label=f"{label} (rms_rel {format_percent(fit.rms_rel)})" + ("" if within.size else ", off the axis"))
         if data_low is not None and within.size:
             low, high = min(low, float(within.min())), max(high, float(within.max()))
     if data_low is not None:
