@@ -249,10 +249,19 @@ def parameter_values(*, results: bool = False) -> Rule:
             return None
         if results and not isinstance(value, Mapping) and isinstance(getattr(value, "values", None), Mapping):
             return value
+        if results and not isinstance(value, Mapping) and callable(getattr(value, "per_spectrum_starts", None)):
+            return value  # a BatchFitResult: each spectrum of a batch started from its own optimum
         kind = "name → value" + (" or a FitResult" if results else "")
+        if results and callable(value) and callable(getattr(getattr(value, "__self__", None), "per_spectrum_starts", None)):
+            raise ParameterError(f"{name} must be a mapping {kind}, got the method BatchFitResult.values; pass the batch itself ({name}=batch) to start each spectrum from its own optimum")
         _mapping(value, name, kind)
         out = {}
         for key, number in value.items():
+            if results and np.ndim(number) > 0 and not isinstance(number, (str, bytes)):
+                raise ParameterError(
+                    f"{name}[{shown(key)}] must be a number, got an array of shape {np.shape(number)}: a mapping gives every spectrum the same start; "
+                    f"to start each spectrum of a batch from its own values pass the BatchFitResult itself ({name}=batch)"
+                )
             out[key] = real()(number, f"{name}[{shown(key)}]")
         return out
 
