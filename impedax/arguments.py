@@ -223,9 +223,10 @@ def _mapping(value, name, what: str):
     return value
 
 
-def sequence_of(*types: type, attribute: str | None = None, what: str = "") -> Rule:
+def sequence_of(*types: type, attribute: str | None = None, what: str = "", hint: Callable[[object], str | None] | None = None) -> Rule:
     """A list or tuple (or other iterable, not a string) whose items are instances of
-    ``types`` or carry one in ``attribute`` (a `Posterior`'s ``fit``); returned as a list."""
+    ``types`` or carry one in ``attribute`` (a `Posterior`'s ``fit``); returned as a list.
+    ``hint(item)``: for a wrong item, what to write instead of its repr (None: the repr)."""
 
     def check(value, name):
         if isinstance(value, (str, bytes, Mapping)) or not hasattr(value, "__iter__"):
@@ -234,7 +235,8 @@ def sequence_of(*types: type, attribute: str | None = None, what: str = "") -> R
         for i, item in enumerate(items):
             inner = getattr(item, attribute, None) if attribute else None
             if not (isinstance(item, types) or isinstance(inner, types)):
-                raise ParameterError(f"{name}[{i}] must be a {what or types[0].__name__}, got {shown(item)} ({type(item).__name__})")
+                said = hint(item) if hint is not None else None
+                raise ParameterError(f"{name}[{i}] must be a {what or types[0].__name__}, got {said or f'{shown(item)} ({type(item).__name__})'}")
         return items
 
     return check

@@ -256,6 +256,7 @@ class BatchFitResult:
             "warnings": sorted({w for ws in self.warnings.values() for w in ws}),
             "warning_kinds": warning_kinds(self.warnings),  # (each kind with its spectra, as report() groups them)
             "spectra": self._spectrum_rows(),
+            "weighting": self.weighting,  # (as a single fit's JSON)
         }
 
     def _spectrum_rows(self) -> list[dict]:
