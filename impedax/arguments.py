@@ -251,9 +251,10 @@ def _mapping(value, name, what: str):
     return value
 
 
-def sequence_of(*types: type, attribute: str | None = None, what: str = "") -> Rule:
+def sequence_of(*types: type, attribute: str | None = None, what: str = "", hint: Callable[[object], str | None] | None = None) -> Rule:
     """A list or tuple (or other iterable, not a string) whose items are instances of
-    ``types`` or carry one in ``attribute`` (a `Posterior`'s ``fit``); returned as a list."""
+    ``types`` or carry one in ``attribute`` (a `Posterior`'s ``fit``); returned as a list.
+    ``hint(item)``: for a wrong item, what to write instead of its repr (None: the repr)."""
 
     def check(value, name):
         if isinstance(value, (str, bytes, Mapping)) or not hasattr(value, "__iter__"):
@@ -262,7 +263,8 @@ def sequence_of(*types: type, attribute: str | None = None, what: str = "") -> R
         for i, item in enumerate(items):
             inner = getattr(item, attribute, None) if attribute else None
             if not (isinstance(item, types) or isinstance(inner, types)):
-                raise ParameterError(f"{name}[{i}] must be a {what or types[0].__name__}, got {shown(item)} ({type(item).__name__})")
+                said = hint(item) if hint is not None else None
+                raise ParameterError(f"{name}[{i}] must be a {what or types[0].__name__}, got {said or f'{shown(item)} ({type(item).__name__})'}")
         return items
 
     return check
@@ -277,10 +279,19 @@ def parameter_values(*, results: bool = False) -> Rule:
             return None
         if results and not isinstance(value, Mapping) and isinstance(getattr(value, "values", None), Mapping):
             return value
+        if results and not isinstance(value, Mapping) and callable(getattr(value, "per_spectrum_starts", None)):
+            return value  # a BatchFitResult: each spectrum of a batch started from its own optimum
         kind = "name → value" + (" or a FitResult" if results else "")
+        if results and callable(value) and callable(getattr(getattr(value, "__self__", None), "per_spectrum_starts", None)):
+            raise ParameterError(f"{name} must be a mapping {kind}, got the method BatchFitResult.values; pass the batch itself ({name}=batch) to start each spectrum from its own optimum")
         _mapping(value, name, kind)
         out = {}
         for key, number in value.items():
+            if results and np.ndim(number) > 0 and not isinstance(number, (str, bytes)):
+                raise ParameterError(
+                    f"{name}[{shown(key)}] must be a number, got an array of shape {np.shape(number)}: a mapping gives every spectrum the same start; "
+                    f"to start each spectrum of a batch from its own values pass the BatchFitResult itself ({name}=batch)"
+                )
             out[key] = real()(number, f"{name}[{shown(key)}]")
         return out
 

@@ -539,7 +539,7 @@ OUTPUT_KINDS = {
     "spectrum": OutputKind("spectrum", _spectrum_extensions, ".csv", ".csv"),
     "figure": OutputKind("figure", lambda: ("", *_figure_extensions()), ".png", None),
     "diagram": OutputKind("circuit diagram", lambda: ("", ".png", ".svg", ".pdf"), ".png", None),
-    "drt": OutputKind("DRT", lambda: (".nc", ".csv"), ".csv", ".csv"),
+    "drt": OutputKind("DRT", _result_extensions, ".csv", ".csv"),
 }
 
 

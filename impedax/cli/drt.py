@@ -52,13 +52,12 @@ def register(sub) -> None:
     p.add_argument("--fmax", type=number_option, help="ignore data above this frequency [Hz]")
     p.add_argument("--json", action="store_true", help="machine-readable output")
     p.add_argument("--plot", metavar="FILE.png", help="save gamma vs tau with peaks and band, and the fit on Nyquist/Bode")
-    p.add_argument("--out", metavar="FILE.nc|.csv", help="save gamma, its band and the fit (netCDF) or gamma over tau (CSV)")
+    p.add_argument("--out", metavar="FILE.csv|.json|.nc", help="save gamma over tau with its band (CSV), the --json summary (JSON) or gamma, its band and the fit (netCDF), as impedax.write_result does")
     p.set_defaults(run=run)
 
 
 def run(args) -> int:
     from ..fitting.drt import drt
-    from ..fitting.grid import ResultGrid
     from ..fitting.problem import open_spectrum
     from .common import check_band_options, emit_json, figure_writer, load_selected, plan_outputs
 
@@ -75,46 +74,16 @@ def run(args) -> int:
     outputs.save({"--out": lambda path: _save(result, path), "--plot": figure_writer(result.plot)})
     if outputs.uses_stdout:
         return 0
-    batch = isinstance(result, ResultGrid)
     if args.json:
-        if batch:
-            emit_json({"dims": list(result.dims), "n_spectra": len(result), "spectra": [{"labels": where, **one.summary()} for where, one in zip(result.labels(), result.results)]})
-        else:
-            emit_json(result.summary())
-        return 0
-    print(result.report())
-    if batch:
-        for where, one in zip(result.labels(), result.results):
-            peaks = "; ".join(f"{p.tau_s:.3g} s ({p.r_ohm:.3g} Ω{'' if p.inside_window else ', outside the measured range'})" for p in one.peaks) or "none"
-            dropped = f"; {len(one.dropped_peaks)} below the cut-off dropped ({sum(p.r_ohm for p in one.dropped_peaks):.3g} Ω)" if one.dropped_peaks else ""
-            note = f"; λ {one.lam:.2g}, {one.lambda_note}" if one.lambda_note else ""
-            print(f"  {', '.join(f'{d}={v}' for d, v in where.items())}: rms_rel {one.rms_rel * 100:.3g} %, R_inf {one.r_inf_ohm:.4g} Ω, peaks {peaks}{dropped}{note}")
+        emit_json(result.summary())
+    else:
+        print(result.report())
     return 0
 
 
 def _save(result, path) -> None:
-    """The DRT as netCDF (`to_xarray`, complex variables as Re and Im) or as CSV: γ over τ,
-    for several spectra one block per spectrum after columns of its labels."""
-    import numpy as np
+    """``--out``: `impedax.write_result`, the same files as in Python (.csv γ over τ, a column
+    per dimension first for several spectra; .json the summary; .nc the lossless dataset)."""
+    from ..io.export import write_result
 
-    from ..io.atomic import atomic_path
-
-    if str(path).lower().endswith(".nc"):
-        ds = result.to_xarray()
-        # netCDF3 has no complex type: store Re and Im
-        for name in [n for n in ds.data_vars if np.iscomplexobj(ds[n].values)]:
-            ds[f"{name}_real"], ds[f"{name}_imag"] = ds[name].real, ds[name].imag
-            ds = ds.drop_vars(name)
-        with atomic_path(path) as tmp:
-            ds.to_netcdf(tmp, engine="scipy")
-        return
-    from ..fitting.grid import ResultGrid
-
-    places, results = (result.labels(), result.results) if isinstance(result, ResultGrid) else ([{}], (result,))
-    with atomic_path(path) as tmp:
-        with open(tmp, "w", encoding="utf-8") as fh:
-            fh.write(",".join([*places[0], "tau_s", "gamma_ohm", "gamma_q05_ohm", "gamma_q95_ohm"]) + "\n")
-            for where, one in zip(places, results):
-                first = [str(v) for v in where.values()]
-                for row in zip(one.tau, one.gamma, one.gamma_q05, one.gamma_q95):
-                    fh.write(",".join(first + [f"{v:.10g}" for v in row]) + "\n")
+    write_result(result, path)

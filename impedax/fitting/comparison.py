@@ -13,7 +13,7 @@ import xarray as xr
 
 from ..arguments import checked_arguments, sequence_of
 from ..circuits import Circuit, Element
-from ..data import column_width
+from ..data import column_width, format_quantity
 from ..errors import FitError
 from .least_squares import FitResult
 from .least_squares.branches import undetermined
@@ -302,7 +302,33 @@ class Comparison:
         return plot_comparison(self)
 
 
-@checked_arguments(fits=sequence_of(FitResult, attribute="fit", what="FitResult (or Posterior)"))
+def _batch_hint(item) -> str | None:
+    """What `compare` says of a batch of fits (its repr printed every parameter): what it is
+    and how to compare per spectrum."""
+    if not callable(getattr(item, "fit_of", None)):
+        return None
+    dims = tuple(getattr(item, "dims", ()))
+    labels = ", ".join(f"{d}=…" for d in dims)
+    return (
+        f"a {type(item).__name__} of {getattr(item, 'model', '?')} over {' × '.join(dims)} ({getattr(item, 'n_spectra', '?')} spectra); "
+        f"compare compares fits of one spectrum: compare([batch1.fit_of({labels}), batch2.fit_of({labels})]) for one of them, "
+        "or each spectrum's aic and bic in batch.to_xarray() for all"
+    )
+
+
+def _how_data_differ(r, ref) -> str:
+    """How the spectra of two fits differ, for `compare`'s error: point counts and frequency
+    ranges, else where the frequencies or the impedances first differ."""
+    def span(x) -> str:
+        return f"{int(x.n_points)} points, {format_quantity(float(np.min(x.frequency)), 'Hz')}–{format_quantity(float(np.max(x.frequency)), 'Hz')}"
+
+    if r.n_points != ref.n_points or not np.allclose(r.frequency, ref.frequency):
+        return f"{span(ref)} against {span(r)}"
+    k = int(np.flatnonzero(~np.isclose(r.z_data, ref.z_data))[0])
+    return f"the same {r.n_points} frequencies, but Z differs (first at {format_quantity(float(ref.frequency[k]), 'Hz')})"
+
+
+@checked_arguments(fits=sequence_of(FitResult, attribute="fit", what="FitResult (or Posterior)", hint=_batch_hint))
 def compare(fits: Sequence) -> Comparison:
     """Compare least-squares fits of several models to the same data.
 
@@ -318,9 +344,10 @@ def compare(fits: Sequence) -> Comparison:
         raise FitError("compare needs at least one fit")
     results = [getattr(x, "fit", x) for x in items]
     ref = results[0]
-    for r in results[1:]:
+    for i, r in enumerate(results[1:], 1):
         if r.n_points != ref.n_points or not np.allclose(r.frequency, ref.frequency) or not np.allclose(r.z_data, ref.z_data):
-            raise FitError(f"models were fitted to different data ({r.model} vs {ref.model}); compare fits of the same spectrum")
+            which = f"fits[0] ({ref.model}) and fits[{i}] ({r.model})" if r.model != ref.model else f"fits[0] and fits[{i}] (both {r.model})"
+            raise FitError(f"{which} were fitted to different data: {_how_data_differ(r, ref)} (fmin/fmax or another spectrum?); compare fits of the same spectrum")
         if r.weighting != ref.weighting:
             raise FitError(f"models were fitted with different weightings ({r.weighting} vs {ref.weighting})")
     ics = [criteria(r) for r in results]

@@ -29,10 +29,15 @@ def plot_gamma(ax, result, *, overlay=None, label="data DRT", overlay_label=None
         ax.semilogx(overlay.tau, overlay.gamma, "--", color="tab:orange", lw=1.4, label=name)
         deltas = getattr(overlay, "deltas", ())
         top = max(float(np.max(result.gamma)), 1e-300)
-        for i, (tau, r) in enumerate(deltas):
+        shown = [(tau, r) for tau, r in deltas if result.tau.min() <= tau <= result.tau.max()]
+        for i, (tau, r) in enumerate(shown):
             ax.vlines(tau, 0, top, color="tab:orange", lw=1.2, ls=":", label="R‖C deltas (R in labels)" if i == 0 else None)
             # (along the line from its foot: at its top the label lay under the peak's marker)
             ax.annotate(f"δ {format_quantity(r, 'Ω')}", (tau, 0.0), textcoords="offset points", xytext=(2, 3), rotation=90, ha="left", va="bottom", fontsize=7, color="tab:orange")
+        outside = [(tau, r) for tau, r in deltas if (tau, r) not in shown]
+        if outside:  # no line to draw: the legend says where they are (a fitted block far off the data)
+            where = ", ".join(f"δ {format_quantity(r, 'Ω')} at τ = {format_time(tau, 2)}" for tau, r in outside[:3]) + (", …" if len(outside) > 3 else "")
+            ax.plot([], [], color="tab:orange", lw=1.2, ls=":", label=f"outside the plotted τ range, not drawn: {where}")
     lo, hi = result.window
     ax.axvspan(result.tau.min(), lo, color="0.9", lw=0)
     ax.axvspan(hi, result.tau.max(), color="0.9", lw=0, label="outside measured range")

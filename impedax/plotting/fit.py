@@ -54,7 +54,8 @@ def plot_batch(batch, *, title: str | None = None):
         if spread.size and np.all(spread > 0) and spread.max() > 20 * spread.min():
             ax.set_yscale("log")
         if loose.any():
-            _mark_undetermined(ax, index[loose], y[loose], scaled, f"undetermined ({batch.UNDETERMINED_RULE})")
+            # (the rule on its own line: on one, the legend was wider than the panel)
+            _mark_undetermined(ax, index[loose], y[loose], scaled, f"undetermined\n({batch.UNDETERMINED_RULE})")
         ax.set_title(f"{name} [{unit}]" if unit else name, fontsize=9)
         if ax.get_yscale() == "linear":
             shown = y[np.isfinite(y)] if loose.all() else y[kept & np.isfinite(y)]
@@ -134,7 +135,8 @@ def _mark_undetermined(ax, x, y, determined, label: str) -> None:
         ax.set_ylim(lo, hi)
     else:
         ax.plot(x, y, "o", ms=3.5, mfc="none", color="0.55", label=label)
-    ax.legend(fontsize=7, loc="best")
+    # the best place among the markers, the ▲ / ▼ at the edge included (they count as data)
+    ax.legend(fontsize=6.5, loc="best", handlelength=1.0, borderaxespad=0.3)
 
 
 # a batch's Nyquist panel draws at most this many of its spectra (evenly spaced, the first and

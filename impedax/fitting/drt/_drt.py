@@ -22,6 +22,7 @@ __all__ = ["drt"]
 _ETA = 1e-10  # diagonal added to Γ so that it factors (see tikhonov.py)
 _LOG_LAMBDA_GRID = np.log(np.logspace(-8, 2, 41))
 _SAMPLES = 200  # Gaussian draws for the peaks' standard deviations
+_TAIL_WIDTH = math.sqrt(math.log(1e5))  # the output grid reaches this far past the outer centres, in units of 1/ε
 
 
 @functools.lru_cache(maxsize=8)
@@ -59,10 +60,17 @@ def _setup(freq_bytes: bytes, points_per_decade: float, extend_decades: float, f
     gamma_penalty += _ETA * np.eye(p)
     r = np.linalg.cholesky(gamma_penalty).T  # Γ + ηI = RᵀR
     r_inv = np.linalg.solve(r, np.eye(p))
+    # the output grid: the centres' range at ``output_per_decade``, extended on both sides until
+    # the outermost Gaussians have fallen to exp(−`_TAIL_WIDTH`²) (1e-5) of their height, so that
+    # γ is seen to fall and ∫γ d ln τ on the grid is the whole expansion's (a peak at the last
+    # centre was cut in half); the inner points are the unextended grid's
     lo, hi = basis.ln_tau[0], basis.ln_tau[-1]
-    k = int(round((hi - lo) / math.log(10.0) * output_per_decade)) + 1
-    ln_tau_out = np.linspace(lo, hi, k)
-    phi = np.zeros((k, p))
+    k = max(int(round((hi - lo) / math.log(10.0) * output_per_decade)) + 1, 2)
+    step_out = (hi - lo) / (k - 1)
+    extra = math.ceil(_TAIL_WIDTH / basis.epsilon / step_out)
+    ln_tau_out = lo + step_out * np.arange(-extra, k + extra)
+    ln_tau_out[extra], ln_tau_out[extra + k - 1] = lo, hi
+    phi = np.zeros((ln_tau_out.size, p))
     phi[:, n_series:] = basis.evaluate(ln_tau_out)
     mask = np.array(constrained + [True] * basis.ln_tau.size)
     return basis, design_re, design_im, gamma_penalty, r_inv, mask, phi, ln_tau_out, tuple(names)

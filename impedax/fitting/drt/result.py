@@ -50,7 +50,7 @@ class DRTResult:
     contain ``gamma``); ``r_inf_ohm``, ``l_h``, ``c_f`` (inf when no series capacitor was fitted);
     ``z_fit`` the DRT model at ``frequency``; ``residuals`` = (Z_data − Z_fit)/|Z_data|;
     ``lam`` the regularisation parameter (relative to ``z_ref``² = max|Z|²: the residuals are
-    relative to |Z| and γ is in units of ``z_ref``; docs/drt.md, "Choosing λ"),
+    relative to |Z| and the penalty acts on γ/``z_ref``; γ itself is in Ω; docs/drt.md, "Choosing λ"),
     ``lambda_method`` how it was chosen ("gcv", "lcurve" or "fixed"), ``lambda_choice`` the
     criterion's own choice (before the floor; nan when fixed) and ``lambda_note`` what moved λ
     from it ("" when nothing did); ``peaks`` sorted by τ, ``dropped_peaks`` the peaks below
@@ -96,9 +96,20 @@ class DRTResult:
     difference_noise: float = math.nan
 
     @property
+    def basis(self):
+        """The fitted Gaussian RBFs (`basis.RBFBasis`): centres ``basis_tau``, width from
+        ``basis_fwhm_decades``; γ(y) = Σ_m ``coefficients``_m φ_m(y)."""
+        from .basis import RBFBasis
+
+        ln_tau = np.log(self.basis_tau)
+        return RBFBasis(ln_tau=ln_tau, step=float(np.mean(np.diff(ln_tau))) if ln_tau.size > 1 else 1.0, epsilon=2.0 * math.sqrt(math.log(2.0)) / (self.basis_fwhm_decades * math.log(10.0)))
+
+    @property
     def polarization_resistance(self) -> float:
-        """∫ γ d ln τ [Ω] (R_pol = Z(0) − R_∞ when there is no series capacitor)."""
-        return float(np.trapezoid(self.gamma, np.log(self.tau)))
+        """R_pol = ∫ γ d ln τ [Ω] over all ln τ, of the fitted expansion itself: Σ_m x_m √π/ε
+        (each Gaussian's closed-form area), so R_∞ + R_pol is `predict` at f → 0 when there is
+        no series capacitor (not the output grid's trapezoid, which leaves out the tails)."""
+        return float(self.basis.integral() @ self.coefficients)
 
     @property
     def window(self) -> tuple[float, float]:
@@ -109,13 +120,12 @@ class DRTResult:
         """The DRT model's impedance [Ω] at ``freq`` [Hz], as ``z_fit`` is at the data's:
         R_∞ + jωL (+ 1/(jωC)) + Σ_m x_m ∫ φ_m(y)/(1 + jω e^y) dy over the fitted Gaussian RBFs
         (docs/drt.md)."""
-        from .basis import RBFBasis, impedance_integrals
+        from .basis import impedance_integrals
 
         freq = checked_frequencies(freq)
         shape = freq.shape
         omega = 2 * np.pi * freq.ravel()
-        ln_tau = np.log(self.basis_tau)
-        basis = RBFBasis(ln_tau=ln_tau, step=float(np.mean(np.diff(ln_tau))) if ln_tau.size > 1 else 1.0, epsilon=2.0 * math.sqrt(math.log(2.0)) / (self.basis_fwhm_decades * math.log(10.0)))
+        basis = self.basis
         z_pol = np.empty(omega.size, complex)
         # in blocks of `PREDICT_BLOCK` frequencies: the integrals' work array is frequencies ×
         # basis functions × quadrature nodes (a figure's 400 points at once took ~0.3 GB)
@@ -204,7 +214,7 @@ class DRTResult:
     @property
     def lambda_scale_text(self) -> str:
         """What λ is relative to, and the credible band's λ."""
-        return (f"λ is relative to max|Z|² = ({format_quantity(self.z_ref, 'Ω')})² (residuals relative to |Z|, γ in units of max|Z|); "
+        return (f"λ is relative to max|Z|² = ({format_quantity(self.z_ref, 'Ω')})² (residuals relative to |Z|, penalty on γ/max|Z|; γ is reported in Ω); "
                 f"credible band at λ = {format_lambda(self.band_lambda, 2)} (evidence)")
 
     @property
@@ -242,6 +252,11 @@ class DRTResult:
             )
         lines += [f"warning: {w}" for w in self.warnings]
         return "\n".join(lines)
+
+    def to_table(self) -> list[dict]:
+        """γ over τ as tidy rows ``tau_s, gamma_ohm, gamma_q05_ohm, gamma_q95_ohm`` (the ``.csv``
+        of `impedax.write_result` and of ``impedax drt --out``)."""
+        return [{"tau_s": t, "gamma_ohm": g, "gamma_q05_ohm": lo, "gamma_q95_ohm": hi} for t, g, lo, hi in zip(self.tau, self.gamma, self.gamma_q05, self.gamma_q95)]
 
     def summary(self) -> dict:
         """The JSON of ``impedax drt --json`` (the keys are the public contract: keys are added,
@@ -315,11 +330,33 @@ class DRTBatchResult(ResultGrid):
         return self.per_spectrum("lam")
 
     def report(self) -> str:
+        """A summary line (how many spectra have how many peaks, rms_rel's median and maximum),
+        then one line per spectrum: its labels, rms_rel, R_inf, R_pol, the peaks (τ and R, those
+        outside the measured range marked), the peaks dropped below the cut-off and a note on λ
+        when it was not simply the criterion's optimum (docs/drt.md)."""
         counts = self.n_peaks.ravel()
         values, freq = np.unique(counts, return_counts=True)
         spread = ", ".join(f"{int(f)} with {int(v)} peak(s)" for v, f in zip(values, freq))
         rms = np.array([r.rms_rel for r in self.results])
-        return f"DRT of {len(self.results)} spectra over {' × '.join(self.dims)}: {spread}; rms_rel median {np.median(rms) * 100:.3g} %, max {rms.max() * 100:.3g} %"
+        lines = [f"DRT of {len(self.results)} spectra over {' × '.join(self.dims)}: {spread}; rms_rel median {np.median(rms) * 100:.3g} %, max {rms.max() * 100:.3g} %"]
+        for where, one in zip(self.labels(), self.results):
+            peaks = "; ".join(f"{p.tau_s:.3g} s ({p.r_ohm:.3g} Ω{'' if p.inside_window else ', outside the measured range'})" for p in one.peaks) or "none"
+            dropped = f"; {len(one.dropped_peaks)} below the cut-off dropped ({sum(p.r_ohm for p in one.dropped_peaks):.3g} Ω)" if one.dropped_peaks else ""
+            note = f"; λ {one.lam:.2g}, {one.lambda_note}" if one.lambda_note else ""
+            lines.append(
+                f"  {', '.join(f'{d}={v}' for d, v in where.items())}: rms_rel {one.rms_rel * 100:.3g} %, R_inf {one.r_inf_ohm:.4g} Ω, "
+                f"R_pol {one.polarization_resistance:.4g} Ω, peaks {peaks}{dropped}{note}"
+            )
+        return "\n".join(lines)
+
+    def summary(self) -> dict:
+        """The JSON of ``impedax drt --json`` for several spectra: ``dims``, ``n_spectra`` and
+        ``spectra``, each spectrum's ``labels`` then its `DRTResult.summary` keys."""
+        return {"dims": list(self.dims), "n_spectra": len(self.results), "spectra": [{"labels": where, **one.summary()} for where, one in zip(self.labels(), self.results)]}
+
+    def to_table(self) -> list[dict]:
+        """`DRTResult.to_table` of every spectrum after a column per dimension (its label)."""
+        return [{**where, **row} for where, one in zip(self.labels(), self.results) for row in one.to_table()]
 
     def to_xarray(self) -> xr.Dataset:
         """γ, band, fit and scalars stacked over ``dims`` (peaks padded with NaN)."""

@@ -117,6 +117,38 @@ class BatchFitResult:
         """Fitted values of parameter ``name`` over the batch dimensions."""
         return self.dataset["value"].sel(param=self._parameter(name, "values"))
 
+    def per_spectrum_starts(self, data: xr.Dataset, names) -> np.ndarray:
+        """This batch's values as the starts of a new batch fit of ``data`` (``fit(..., init=batch)``):
+        shape (*the data's extra dimensions, len(names)), each spectrum's own fitted values of the
+        parameters ``names`` holds (NaN for the others: their data-driven guess). The data must be
+        over the same dimensions with the same sizes and labels (coordinates), in any order (a
+        spectrum takes the fit with its labels); otherwise a `ParameterError` says what differs."""
+        extra = tuple(d for d in data["Z"].dims if d != "frequency")
+        ds = self.dataset
+        if set(extra) != set(self.dims):
+            raise ParameterError(
+                f"init: the batch of fits is over {' × '.join(self.dims)} but the data's spectra are over {' × '.join(extra) or 'nothing (one spectrum)'}; "
+                "init=batch starts each spectrum from its own optimum and needs the same dimensions"
+                + ("; for one spectrum use one of its fits, e.g. init=batch.fit_of(" + ", ".join(f"{d}=…" for d in self.dims) + ")" if not extra else "")
+            )
+        value = ds["value"].transpose("param", *extra)
+        for d in extra:
+            if data.sizes[d] != ds.sizes[d]:
+                raise ParameterError(f"init: the batch of fits has {ds.sizes[d]} spectra along {d}, the data {data.sizes[d]}: init=batch needs the same spectra (select them, e.g. data.sel({d}=batch.dataset.{d}))")
+            if d in data.coords and d in ds.coords:
+                ours, theirs = np.asarray(ds[d].values), np.asarray(data[d].values)
+                missing = [v for v in theirs.tolist() if v not in ours.tolist()]
+                if missing or len(set(ours.tolist())) != ours.size:
+                    shown = ", ".join(map(str, missing[:5])) + (", …" if len(missing) > 5 else "")
+                    raise ParameterError(f"init: the data's labels along {d} are not the batch of fits' ({'not in it: ' + shown if missing else 'its labels repeat'}); init=batch starts each spectrum from the fit with the same label")
+                value = value.sel({d: theirs})  # each spectrum takes the fit with its label
+        params = [str(p) for p in ds["param"].values]
+        out = np.full((*(data.sizes[d] for d in extra), len(names)), np.nan)
+        for j, name in enumerate(names):
+            if name in params:
+                out[..., j] = value.sel(param=name).values
+        return out
+
     def _parameter(self, name, what: str) -> str:
         """``name`` if the circuit has that parameter; else a `ParameterError` from ``what``
         (the method) naming the parameters and the closest one."""
@@ -224,6 +256,7 @@ class BatchFitResult:
             "warnings": sorted({w for ws in self.warnings.values() for w in ws}),
             "warning_kinds": warning_kinds(self.warnings),  # (each kind with its spectra, as report() groups them)
             "spectra": self._spectrum_rows(),
+            "weighting": self.weighting,  # (as a single fit's JSON)
         }
 
     def _spectrum_rows(self) -> list[dict]:
@@ -293,10 +326,10 @@ def _dims_text(dims: dict[str, int]) -> str:
     return " × ".join(f"{d} ({n})" for d, n in dims.items())
 
 
-def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source) -> tuple[SolverOutput, np.ndarray, "_LaneRunner", np.ndarray]:
+def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source, starts=None) -> tuple[SolverOutput, np.ndarray, "_LaneRunner", np.ndarray]:
     """`_started_stack`, then every converged fit left at a bound while chi² falls inward
     restarted from inside (`restarted_inward`); the last item flags the fits still so."""
-    out, used, solver = _started_stack(circuit, table, freq, z, sigma, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
+    out, used, solver = _started_stack(circuit, table, freq, z, sigma, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source, starts=starts)
     inv_re, inv_im = weights(z, sigma, weighting, source, freq)
     out, inward = restarted_inward(out, solver, table, z, inv_re, inv_im, weighting, residual_scale(z, inv_re, inv_im, weighting), max_steps)
     return out, used, solver, inward
@@ -331,14 +364,15 @@ def restarted_inward(out: SolverOutput, solver: "_LaneRunner", table: ParameterT
     return out, inward
 
 
-def _started_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source) -> tuple[SolverOutput, np.ndarray, "_LaneRunner"]:
+def _started_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source, starts=None) -> tuple[SolverOutput, np.ndarray, "_LaneRunner"]:
     """Solver outputs (arrays over B) for a stack of spectra z (B, N), the starts used, and
     the lane runner (for chi² at other points).
 
     Every spectrum from the better of its data-driven guess and (batches of at least
     `REFERENCE_MIN_SPECTRA`, ``n_starts`` ≥ 2) the reference spectrum's optimum; with
     ``n_starts`` = 1 from its guess (or the user's start) alone, one local fit each, as
-    impedance.py's loop fits. Then its neighbours' optima where they are better, then more
+    impedance.py's loop fits; ``starts`` (B, P), where finite, replace the guess (each spectrum
+    from its own earlier optimum, ``init=batch``). Then its neighbours' optima where they are better, then more
     starts for the fits that are still poor (below; each rung's starts screened for
     `SCREEN_STEPS` steps, the best continued to convergence). All solves go through the lane
     solver (`lm.work_queue`)."""
@@ -355,7 +389,7 @@ def _started_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting,
     rows = SpectrumRows(z_p, inv_re_p, inv_im_p, np.broadcast_to(x_fixed, (b, x_fixed.size)))
     solver = _LaneRunner(solvers, rows, shared, np.size(freq))
 
-    guesses = guess_start(circuit, table, features, registry)
+    guesses = guess_start(circuit, table, features, registry, starts=starts)
     large = b >= REFERENCE_MIN_SPECTRA
     if large and n_starts > 1:
         guesses = _with_reference_start(guesses, solver, circuit, table, freq, z, sigma, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
@@ -591,13 +625,13 @@ class _LaneRunner:
         return out._replace(code=code, steps=np.array(steps), steps_total=np.array(steps_total), chi2_starts=out.chi2[:, None].copy())
 
 
-def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source) -> tuple[np.ndarray, list[tuple[str, ...]]]:
+def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source, starts=None) -> tuple[np.ndarray, list[tuple[str, ...]]]:
     """One row per spectrum (values, stderr, linearised stderr, at-bound flags, chi2, converged,
     evaluations, Re/Im of Z_model)
     and its warnings, without a FitResult per spectrum: the uncertainties of all spectra in
     one stacked computation (`covariances`), their warnings too (`stack_notes`); only spectra
     that overflowed or did not converge go through `fit_result`."""
-    out, used, solver, inward = _solve_stack(circuit, table, freq, z, sigma, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
+    out, used, solver, inward = _solve_stack(circuit, table, freq, z, sigma, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source, starts=starts)
     out = canonical_order(circuit, table, freq, out, registry)
     b, k, n_res = z.shape[0], len(table.free_names), 2 * len(freq)
     chi2 = np.array(out.chi2, float)  # copies: device_get's arrays are read-only
@@ -693,7 +727,9 @@ refused, where xarray had failed deep inside the fit (or, for ``param``, built a
 that dimension twice)."""
 
 
-def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weighting: str, n_starts: int, max_steps: int, seed: int, registry: Registry = DEFAULT_REGISTRY, source: str = "data", t0: float | None = None) -> BatchFitResult:
+def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weighting: str, n_starts: int, max_steps: int, seed: int, registry: Registry = DEFAULT_REGISTRY, source: str = "data", t0: float | None = None, starts: np.ndarray | None = None) -> BatchFitResult:
+    """Fits of ``circuit`` to every spectrum of ``data``; ``starts`` (*extra dims, P): each
+    spectrum's own starting values (NaN: its data-driven guess), `BatchFitResult.per_spectrum_starts`."""
     t0 = time.perf_counter() if t0 is None else t0
     extra = tuple(d for d in data["Z"].dims if d != "frequency")
     clashing = [str(d) for d in extra if d in RESULT_NAMES]
@@ -710,11 +746,16 @@ def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weig
     sigma_da = data["sigma"].transpose(*extra, "frequency") if "sigma" in data else None
     warnings: dict[str, tuple[str, ...]] = {}
 
-    def fit_block(z_block, sigma_block=None):
+    def fit_block(z_block, *rest):
+        """(z, [sigma], [starts]) of a block of spectra, as `inputs` below lists them."""
+        rest = list(rest)
+        sigma_block = rest.pop(0) if sigma_da is not None else None
+        starts_block = rest.pop(0) if starts is not None else None
         shape = z_block.shape[:-1]
         z2 = np.asarray(z_block).reshape(-1, n_freq)
         s2 = None if sigma_block is None else np.asarray(sigma_block).reshape(-1, n_freq)
-        packed, notes = _packed_stack(circuit, table, freq, z2, s2, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
+        x0 = None if starts_block is None else np.asarray(starts_block).reshape(-1, n_par)
+        packed, notes = _packed_stack(circuit, table, freq, z2, s2, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source, starts=x0)
         note_array = np.empty(len(notes), object)  # (tuples as elements, not as a further axis)
         note_array[:] = notes
         return packed.reshape(*shape, -1), note_array.reshape(shape)
@@ -722,13 +763,17 @@ def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weig
     width = 4 * n_par + len(_STATS) + 2 * n_freq
     if z_da.chunks is not None:
         inputs = [z_da] + ([sigma_da] if sigma_da is not None else [])
+        core = [["frequency"]] * len(inputs)
+        if starts is not None:  # chunked as the spectra, so that each block gets its own starts
+            inputs.append(xr.DataArray(starts, dims=(*extra, "start_param"), coords={d: z_da[d] for d in extra if d in z_da.coords}).chunk({d: z_da.chunksizes[d] for d in extra}))
+            core.append(["start_param"])
         with python_warnings.catch_warnings():
             # dask builds its empty "meta" output by casting the complex input's meta to float
             python_warnings.simplefilter("ignore", np.exceptions.ComplexWarning)
             packed_da, notes_da = xr.apply_ufunc(
                 fit_block,
                 *inputs,
-                input_core_dims=[["frequency"]] * len(inputs),
+                input_core_dims=core,
                 output_core_dims=[["fit_output"], []],
                 dask="parallelized",
                 output_dtypes=[np.float64, object],
@@ -738,7 +783,7 @@ def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weig
         packed = computed["packed"].transpose(*extra, "fit_output").values
         notes = computed["notes"].transpose(*extra).values.ravel().tolist()
     else:
-        packed, notes = fit_block(z_da.values, None if sigma_da is None else sigma_da.values)
+        packed, notes = fit_block(z_da.values, *([] if sigma_da is None else [sigma_da.values]), *([] if starts is None else [starts]))
         notes = notes.ravel().tolist()
     labels = [[f"{d}={c}" for c in (data[d].values if d in data.coords else range(n))] for d, n in zip(extra, z_da.shape)]
     for idx, note in zip(np.ndindex(*z_da.shape[:-1]), notes):

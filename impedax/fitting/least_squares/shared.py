@@ -348,6 +348,19 @@ class SharedFitResult(BatchFitResult):
     def _scalar_or_list(self, da: xr.DataArray):
         return float(da) if da.ndim == 0 else da.transpose(*self.keep).values.tolist()
 
+    def group_labels(self) -> list[dict]:
+        """The labels of each group of spectra that shares one value (one per combination of the
+        dimensions not shared over, in C order over `keep`: the order of the lists in
+        ``summary()["shared"]``); [{}] when every spectrum shares one value."""
+        import itertools
+
+        ds = self.dataset
+        axes = [[(d, v) for v in (ds[d].values.tolist() if d in ds.coords else range(ds.sizes[d]))] for d in self.keep]
+        return [dict(combo) for combo in itertools.product(*axes)]
+
+    def _group_texts(self) -> list[str]:
+        return [", ".join(f"{d}={v}" for d, v in labels.items()) for labels in self.group_labels()]
+
     def summary(self) -> dict:
         """The batch summary plus ``over``, ``shared`` (per shared parameter: value, stderr,
         fixed = False, as the parameters of a single fit's JSON; lists over the dimensions not
@@ -356,12 +369,13 @@ class SharedFitResult(BatchFitResult):
         out = super().summary()
         ds = self.dataset
         out["over"] = list(self.over)
+        groups = {"labels": self.group_labels()} if self.keep else {}  # (which group each list entry is)
         out["shared"] = {
-            n: {"value": self._scalar_or_list(ds["shared_value"].sel(shared_param=n)), "stderr": _shown(self._scalar_or_list(ds["shared_stderr"].sel(shared_param=n))), "fixed": False}
+            n: {"value": self._scalar_or_list(ds["shared_value"].sel(shared_param=n)), "stderr": _shown(self._scalar_or_list(ds["shared_stderr"].sel(shared_param=n))), "fixed": False, **groups}
             for n in self.shared
         }
         keys = ("joint_chi2", "joint_chi2_red", "joint_dof", "joint_aic", "joint_bic", "independent_chi2", "independent_aic", "delta_aic", "f_statistic", "f_pvalue")
-        out["sharing"] = {k.removeprefix("joint_"): self._scalar_or_list(ds[k]) for k in keys}
+        out["sharing"] = {**{k.removeprefix("joint_"): self._scalar_or_list(ds[k]) for k in keys}, **groups}
         return out
 
     def report(self) -> str:
@@ -369,17 +383,23 @@ class SharedFitResult(BatchFitResult):
         ds = self.dataset
         specs = self.circuit.parameter_specs(self.registry)
         width = column_width(self.shared, 16)
-        lines.append(f"{'parameter':<{width}} {'value':>12} {'stderr':>10} {'rel':>8}  unit")
+        # one value per group of the dimensions not shared over: each row and F-test says whose
+        groups = self._group_texts() if self.keep else [""]
+        lead_width = column_width(groups, 5) if self.keep else 0
+        lead = (lambda g: f"{g:<{lead_width}} ") if self.keep else (lambda g: "")
+        lines.append(f"{lead('group')}{'parameter':<{width}} {'value':>12} {'stderr':>10} {'rel':>8}  unit")
+        ordered = lambda da: (da.transpose(*self.keep) if self.keep else da).values.ravel()  # noqa: E731
         for n in self.shared:
-            v = ds["shared_value"].sel(shared_param=n).values.ravel()
-            e = ds["shared_stderr"].sel(shared_param=n).values.ravel()
+            v = ordered(ds["shared_value"].sel(shared_param=n))
+            e = ordered(ds["shared_stderr"].sel(shared_param=n))
             at = ds["at_bound"].sel(param=n).isel({d: 0 for d in self.over}).transpose(*self.keep).values.ravel()
-            for vi, ei, bound in zip(v.tolist(), e.tolist(), at.tolist()):
+            for g, vi, ei, bound in zip(groups, v.tolist(), e.tolist(), at.tolist()):
                 rel = "at bound" if bound else format_relative_error(ei / vi) if vi and math.isfinite(ei) else "—"
                 shown = f"{ei:>10.3g}" if math.isfinite(ei) else f"{'—':>10}"  # (at a bound: no standard error)
-                lines.append(f"{n:<{width}} {vi:>12.5g} {shown} {rel:>8}  {unit_text(specs[n].unit)}".rstrip())
-        for f, p, d, c in zip(*(np.ravel(ds[k].values).tolist() for k in ("f_statistic", "f_pvalue", "delta_aic", "joint_chi2_red"))):
-            lines.append(f"sharing vs independent fits: F = {f:.3g}, p = {p:.3g}, ΔAIC = {d:+.1f} (negative favours sharing); joint chi2_red {c:.4g}")
+                lines.append(f"{lead(g)}{n:<{width}} {vi:>12.5g} {shown} {rel:>8}  {unit_text(specs[n].unit)}".rstrip())
+        for g, f, p, d, c in zip(groups, *(ordered(ds[k]).tolist() for k in ("f_statistic", "f_pvalue", "delta_aic", "joint_chi2_red"))):
+            whose = f" ({g})" if g else ""
+            lines.append(f"sharing vs independent fits{whose}: F = {f:.3g}, p = {p:.3g}, ΔAIC = {d:+.1f} (negative favours sharing); joint chi2_red {c:.4g}")
         return "\n".join(lines + self._warning_lines())
 
 

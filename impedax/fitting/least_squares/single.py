@@ -37,7 +37,7 @@ def fit(
     circuit: Circuit | str,
     data: xr.Dataset | str,
     *,
-    init: Mapping[str, float] | FitResult | None = None,
+    init: Mapping[str, float] | FitResult | BatchFitResult | None = None,
     fixed: Mapping[str, float] | None = None,
     bounds: Mapping[str, tuple[float, float]] | None = None,
     weighting: str = "modulus",
@@ -66,7 +66,9 @@ def fit(
     starts were used (1: the guess alone). ``n_starts=1`` fits the guess alone (in a batch:
     one local fit per spectrum). docs/fitting.md, "Starts".
     ``init`` gives starting values by name, or is a `FitResult` whose values start the
-    parameters this circuit shares with it (e.g. refitting with one element added).
+    parameters this circuit shares with it (e.g. refitting with one element added), or a
+    `BatchFitResult` over the same dimensions and labels as ``data``: each spectrum starts from
+    its own fitted values (with ``n_starts=1``, one local fit each; `BatchFitResult.per_spectrum_starts`).
     ``fixed`` pins parameters; ``bounds`` narrows them; ``weighting`` is one of `WEIGHTINGS`.
     ``data`` is a spectrum Dataset, a path or a (frequency, Z) pair of arrays. Extra dimensions
     (trial, subject, ...) are fitted together and give a `BatchFitResult`; dask-backed data are
@@ -79,15 +81,22 @@ def fit(
     """
     t0 = time.perf_counter()
     init_not_fixed(init, fixed)
+    # a batch of fits (`BatchFitResult`): each spectrum of this batch starts from its own optimum
+    batch_init, init = (init, None) if callable(getattr(init, "per_spectrum_starts", None)) else (None, init)
     problem = prepare_fit(circuit, data, init=init, fixed=fixed, bounds=bounds, fmin=fmin, fmax=fmax, registry=registry)
     circuit, data, table, source = problem.circuit, problem.data, problem.table, problem.source
     if n_starts < 1:
         raise ParameterError("n_starts must be at least 1")
     extra = [d for d in data["Z"].dims if d != "frequency"]
+    starts = None
+    if batch_init is not None:
+        if shared is not None or over is not None:
+            raise ParameterError("init: a BatchFitResult starts each spectrum of a batch fit from its own optimum; a shared fit (shared=) takes a mapping name → value or a FitResult")
+        starts = batch_init.per_spectrum_starts(data, table.names)
     if shared is not None or over is not None:
         return fit_shared(circuit, data, table, shared=shared, over=over, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source, t0=t0)
     if extra:
-        return fit_batch(circuit, data, table, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source, t0=t0)
+        return fit_batch(circuit, data, table, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source, t0=t0, starts=starts)
     freq = np.asarray(data["frequency"].values, float)
     z = np.asarray(data["Z"].values, complex)
     sigma = np.asarray(data["sigma"].values, float) if "sigma" in data else None

@@ -393,10 +393,15 @@ def to_solver_space(table: ParameterTable, x: np.ndarray) -> np.ndarray:
     return to_internal(x[..., free], table.lower[free], table.upper[free], table.kind[free])
 
 
-def guess_start(circuit, table, features, registry) -> np.ndarray:
+def guess_start(circuit, table, features, registry, starts=None) -> np.ndarray:
     """The data-driven guess as one start in the solver's space: shape (1, K) for one
-    spectrum's features, (B, K) for a stack's (one start per spectrum)."""
-    return to_solver_space(table, data_driven_guesses(circuit, table, features, registry))
+    spectrum's features, (B, K) for a stack's (one start per spectrum). ``starts`` (B, P):
+    each spectrum's own starting values where finite (a fixed parameter keeps its value),
+    moved inside the bounds as any start."""
+    x = data_driven_guesses(circuit, table, features, registry)
+    if starts is not None:
+        x = _clip_inside(np.where(np.isfinite(starts) & ~table.fixed, starts, x), table)
+    return to_solver_space(table, x)
 
 
 def multistart(circuit, table, features, n_starts, seed, registry) -> np.ndarray:
