@@ -125,8 +125,7 @@ def test_the_restart_from_inside_reaches_the_optimum_from_a_start_on_the_bound(b
     assert r.chi2 == pytest.approx(free_fit.chi2, rel=1e-7)
 
 
-@pytest.mark.parametrize("alpha", [1.0, 0.999999])
-def test_a_cpe_started_as_a_capacitor_leaves_alpha_1(alpha):
+def test_a_cpe_started_as_a_capacitor_leaves_alpha_1():
     """init CPE1.alpha = 1 ("start as a capacitor") on a SYNTHETIC R0 + R1 ∥ CPE1 (numpy
     formula, α = 0.99, 0.5 % noise, seed 3): the fit had stayed at α = 1 − 1e-6, "converged, at
     its upper bound", χ² 2.8× the optimum's. Moving α alone to the restart point (0.9)
@@ -137,11 +136,11 @@ def test_a_cpe_started_as_a_capacitor_leaves_alpha_1(alpha):
     z = _z_rcpe(truth, f) * (1 + 0.005 * (rng.standard_normal(31) + 1j * rng.standard_normal(31)) / np.sqrt(2))
     data = ix.make_spectrum(f, z)
     values, chi2 = _scipy_fit(data, {}, dict(zip(["R0", "R1", "CPE1.Q", "CPE1.alpha"], truth)))
-    r = ix.fit(MODEL, data, init={"CPE1.alpha": alpha}, n_starts=1)
+    r = ix.fit(MODEL, data, init={"CPE1.alpha": 1.0}, n_starts=1)
     assert r.converged and r.at_bound == ()
     assert r.chi2 == pytest.approx(chi2, rel=1e-6)
     assert r.values["CPE1.alpha"] == pytest.approx(values["CPE1.alpha"], abs=1e-5)
-    stack = ix.fit(MODEL, xr.concat([data] * 3, dim="cycle"), init={"CPE1.alpha": alpha}, n_starts=1).to_xarray()
+    stack = ix.fit(MODEL, xr.concat([data] * 3, dim="cycle"), init={"CPE1.alpha": 1.0}, n_starts=1).to_xarray()
     np.testing.assert_allclose(stack["value"].sel(param="CPE1.alpha").values, values["CPE1.alpha"], atol=1e-5)
     assert not stack["at_bound"].any()
 
