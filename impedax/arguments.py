@@ -29,6 +29,7 @@ from .errors import ParameterError
 
 __all__ = [
     "checked_arguments",
+    "variants_named",
     "count",
     "real",
     "seed",
@@ -392,6 +393,20 @@ def init_not_fixed(init, fixed) -> None:
     if both:
         listed = ", ".join(f"{n} (fixed at {shown(fixed[n])}, init {shown(init[n])})" for n in both)
         raise ParameterError(f"init: {listed} {'is' if len(both) == 1 else 'are'} fixed, so a starting value does nothing; drop {'it' if len(both) == 1 else 'them'} from init, or from fixed to fit {'it' if len(both) == 1 else 'them'} from that start")
+
+
+def variants_named(params, markers: Mapping[str, str], option: str, *, exclusive: bool = True) -> dict[str, bool]:
+    """Which model variants' parameters ``params`` hold, by the dict keys alone (static under
+    jit): ``markers`` maps each variant to its marker name (ending in "." for a prefix:
+    ``"CPE_EP."`` stands for ``CPE_EP.Q``, ``CPE_EP.alpha``). ``exclusive``: a `ParameterError`
+    when two are held, naming ``option``, which picks one (when the variant is to be read
+    from the names)."""
+    held = {v: any(isinstance(k, str) and (k.startswith(m) if m.endswith(".") else k == m) for k in params) for v, m in markers.items()}
+    both = [v for v, h in held.items() if h]
+    if exclusive and len(both) > 1:
+        shown_markers = " and ".join(markers[v] + ("*" if markers[v].endswith(".") else "") for v in both)
+        raise ParameterError(f"params hold both {shown_markers}: pass " + " or ".join(f"{option}={v!r}" for v in both))
+    return held
 
 
 def require_parameters(params, names, name: str = "params") -> None:

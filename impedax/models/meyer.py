@@ -28,7 +28,7 @@ import numpy as np
 import xarray as xr
 
 from ..circuits import Circuit, current_through, parse, voltage_across
-from ..arguments import checked_arguments, numeric_array, require_parameters, shown
+from ..arguments import checked_arguments, numeric_array, require_parameters, shown, variants_named
 from ..errors import DataError, ParameterError
 from ..constants import EPSILON_0
 
@@ -135,10 +135,8 @@ def _variant_of(params, variant) -> str:
     variant = _check_variant(variant, auto=True)
     if not isinstance(params, Mapping):
         require_parameters(params, ())
-    has = {"rc": "C_sc" in params, "cpe": any(isinstance(k, str) and k.startswith("CPE_sc.") for k in params)}
+    has = variants_named(params, {"rc": "C_sc", "cpe": "CPE_sc."}, "variant", exclusive=variant == VARIANT_AUTO)
     if variant == VARIANT_AUTO:
-        if has["rc"] and has["cpe"]:
-            raise ParameterError("params hold both C_sc and CPE_sc.*: pass variant='rc' or variant='cpe'")
         if not (has["rc"] or has["cpe"]):
             names = {v: meyer_circuit(v).parameter_names() for v in _CIRCUITS}
             missing = [n for n in names["rc"] if n not in params and n != "C_sc"]

@@ -23,7 +23,7 @@ import xarray as xr
 
 from ..circuits import Circuit, compile_circuit, parse, voltage_across
 from ..data import make_spectrum, validate_spectrum
-from ..arguments import checked_arguments, numeric_array, require_parameters, shown
+from ..arguments import checked_arguments, numeric_array, require_parameters, shown, variants_named
 from ..errors import DataError, ParameterError
 from ..constants import EPSILON_0, EPSILON_AIR
 
@@ -350,12 +350,9 @@ def _gap_thickness_hint(params) -> str:
 
 def _infer_ep(params) -> str:
     """``"C"`` or ``"CPE"`` from the names in ``params`` (static dict keys: jittable)."""
-    has_c = "C_EP" in params
-    has_cpe = any(isinstance(k, str) and k.startswith("CPE_EP.") for k in params)
-    if has_c and has_cpe:
-        raise ParameterError("params hold both C_EP and CPE_EP.*: pass ep='C' or ep='CPE'")
-    if has_c or has_cpe:
-        return "C" if has_c else "CPE"
+    held = variants_named(params, {"C": "C_EP", "CPE": "CPE_EP."}, "ep")
+    if any(held.values()):
+        return "C" if held["C"] else "CPE"
     message = f"params lacks C_EP or CPE_EP.Q, CPE_EP.alpha; the model's parameters are {_EP_NAMES['CPE']} (ep='CPE') or {_EP_NAMES['C']} (ep='C')"
     raise ParameterError(message + (_gap_thickness_hint(params) or "; for C_gap alone pass ep=None"))
 
