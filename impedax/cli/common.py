@@ -224,12 +224,28 @@ def positional_model(parser, args) -> None:
     del args.model_option
 
 
-def add_select_option(parser) -> None:
-    parser.add_argument(
-        "--select", action="append", metavar="DIM=LABEL",
-        help="one spectrum of a file that holds several (sheets, measurements, cycles): the one whose DIM is LABEL "
-        "(its 0-based position where DIM has no labels); repeat for each dimension (`impedax inspect` lists them)",
-    )
+#: ``--select``'s help after what the command does with it: the syntax of LABEL.
+SELECT_SYNTAX_HELP = (
+    "LABEL is DIM's coordinate value, or its 0-based position where DIM has no labels (only there). Several: a list "
+    "L1,L2,... (cycle=3,5,9) or a range FIRST:LAST of numeric labels or positions, both ends included, by value as "
+    "xarray's .sel(DIM=slice(FIRST, LAST)) (cycle=10:40: cycles 10 to 40; cycle=10: from 10 on). "
+    "Repeat for each dimension (`impedax inspect` lists them)"
+)
+
+
+def add_select_option(parser, *, several: bool | str = True) -> None:
+    """``--select DIM=LABEL`` (repeatable). ``several``: the command takes a file of several
+    spectra (fit, kk, drt, inspect), so a list or range keeps the spectra it picks; False: it
+    takes one, so the selection must leave one; a text: when it takes several (sample:
+    "with --shared")."""
+    what = "one spectrum of a file that holds several (sheets, measurements, cycles): the one whose DIM is LABEL"
+    if several is True:
+        what = "spectra of a file that holds several (sheets, measurements, cycles): the ones whose DIM is LABEL"
+    elif several:
+        what += f" (several {several})"
+    else:
+        what += "; a list or range must leave one"
+    parser.add_argument("--select", action="append", metavar="DIM=LABEL", help=f"{what}. {SELECT_SYNTAX_HELP}")
 
 
 def dimension_labels(data, dim: str) -> list:
@@ -238,25 +254,124 @@ def dimension_labels(data, dim: str) -> list:
     return data[dim].values.tolist() if dim in data.coords else list(range(data.sizes[dim]))
 
 
-def _position(data, dim: str, label: str, path: str) -> int:
+def _position(data, dim: str, label: str, path: str, item: str | None = None) -> int:
     """The position along ``dim`` of the spectrum labelled ``label`` (its coordinate's value as
-    text, or equal as a number), or at 0-based position ``label`` where ``dim`` has no coordinate."""
+    text, or equal as a number), or at 0-based position ``label`` where ``dim`` has no coordinate.
+    ``item``: the whole ``DIM=...`` text when ``label`` is one item of a list, which messages name."""
     size = data.sizes[dim]
+    said = f"--select {dim}={label}" if item is None else f"--select {item}"
     if dim not in data.coords:
         if label.strip().lstrip("-").isdigit() and 0 <= int(label) < size:
             return int(label)
-        raise ParameterError(f"--select {dim}={label}: {path} has no labels along {dim}; give a position 0..{size - 1}")
+        which = "" if item is None else f" {_quoted(label)} is not a position:"
+        raise ParameterError(f"{said}:{which} {path} has no labels along {dim}; give a position 0..{size - 1}{_unquote_hint(label, range(size))}")
     labels = data[dim].values.tolist()
     try:
         number = float(label)
     except ValueError:
         number = None
-    found = [i for i, v in enumerate(labels) if str(v) == label or (number is not None and isinstance(v, (int, float)) and not isinstance(v, bool) and v == number)]
+    found = [i for i, v in enumerate(labels) if str(v) == label or (number is not None and _is_number(v) and v == number)]
     if not found:
-        raise ParameterError(f"--select {dim}={label}: no spectrum of {path} has that label; its {dim} labels: {labels_text(labels)}")
+        that = "that label" if item is None else f"the label {_quoted(label)}"
+        raise ParameterError(f"{said}: no spectrum of {path} has {that}; its {dim} labels: {labels_text(labels)}{_unquote_hint(label, labels)}")
     if len(found) > 1:
-        raise ParameterError(f"--select {dim}={label}: {len(found)} spectra of {path} have that label (positions {', '.join(map(str, found))})")
+        that = "that label" if item is None else f"the label {_quoted(label)}"
+        raise ParameterError(f"{said}: {len(found)} spectra of {path} have {that} (positions {', '.join(map(str, found))})")
     return found[0]
+
+
+def _is_number(value) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
+def _quoted(text: str) -> str:
+    """``text`` in quotes, control characters escaped (`impedax.errors.escape_text`)."""
+    from ..errors import escape_text
+
+    return "'" + escape_text(text) + "'"
+
+
+def _unquote_hint(label: str, labels) -> str:
+    """A hint for a label written in quotes that the shell kept (``--select "cycle='3'"``)
+    whose text without them is a label."""
+    if len(label) >= 2 and label[0] == label[-1] and label[0] in "'\"":
+        bare = label[1:-1]
+        if any(str(v) == bare or (_is_number(v) and _as_number(bare) == v) for v in labels):
+            return f"; write {bare} without the quotes"
+    return ""
+
+
+def _as_number(text: str) -> float | None:
+    """``text`` as a finite number, or None."""
+    try:
+        value = float(text)
+    except ValueError:
+        return None
+    return value if math.isfinite(value) else None
+
+
+def _picked(data, dim: str, text: str, path: str, item: str) -> int | list[int]:
+    """What ``--select DIM=TEXT`` picks along ``dim``: the position of one label (`_position`,
+    the dimension then goes), or the positions of a list ``L1,L2,...`` and/or ranges
+    ``FIRST:LAST`` (in the order written; a range's in the file's order; the dimension stays).
+    A text that is one of ``dim``'s labels whole (a sheet named ``a,b``) is that label."""
+    labels = dimension_labels(data, dim)
+    if ("," not in text and ":" not in text) or (dim in data.coords and any(str(v) == text for v in labels)):
+        return _position(data, dim, text, path)
+    positions: list[int] = []
+    parts = text.split(",")
+    for k, part in enumerate(parts):
+        part = part.strip()
+        which = f"item {k + 1} of {len(parts)}"
+        if not part:
+            raise ParameterError(f"--select {item}: {which} is empty; write {dim}=L1,L2,... (labels separated by commas) or {dim}=FIRST:LAST")
+        if part.count(":") > 1:
+            raise ParameterError(f"--select {item}: {_quoted(part)} is not a range: a range is FIRST:LAST (both included), without a step")
+        found = _range_positions(data, dim, part, path, item) if ":" in part else [_position(data, dim, part, path, item)]
+        for i in found:
+            if i in positions:
+                raise ParameterError(f"--select {item}: {dim} {labels[i]} is picked twice; name each spectrum once")
+        positions += found
+    return positions
+
+
+def _range_positions(data, dim: str, part: str, path: str, item: str) -> list[int]:
+    """The positions, in the file's order, of the spectra whose ``dim`` label lies in
+    ``FIRST:LAST`` (``part``): both ends included, compared by value (a label range, as
+    xarray's ``sel(DIM=slice(FIRST, LAST))``; the ends need not be labels); an end left out
+    is open. Labels must be numbers (or texts that are all numbers); where ``dim`` has no
+    labels, its positions 0..n-1 are its labels."""
+    first, _, last = (end.strip() for end in part.partition(":"))
+    labels = dimension_labels(data, dim)
+    if dim not in data.coords:
+        values = list(range(len(labels)))
+        kind = f"{path} has no labels along {dim}, so a range is of positions 0..{len(labels) - 1}"
+        for end in (first, last):
+            if end and not end.isdigit():
+                raise ParameterError(f"--select {item}: {_quoted(end)} in {_quoted(part)} is not a position; {kind}")
+        ends = [int(end) if end else None for end in (first, last)]
+    else:
+        values = [v if _is_number(v) else _as_number(v) if isinstance(v, str) else None for v in labels]
+        if any(v is None for v in values):
+            example = ",".join([str(v) for v in labels if not set(str(v)) & set(",:")][:2])
+            example = "L1,L2" if example in map(str, labels) else example  # (a label of its own: not a list)
+            raise ParameterError(
+                f"--select {item}: a range FIRST:LAST needs numeric labels, and {path}'s {dim} labels are not all numbers "
+                f"({labels_text(labels)}): list the ones you want with commas, e.g. --select {dim}={example}"
+            )
+        ends = []
+        for end in (first, last):
+            number = _as_number(end) if end else None
+            if end and number is None:
+                raise ParameterError(f"--select {item}: {_quoted(end)} in {_quoted(part)} is not a number; the {dim} labels are numbers: {labels_text(labels)}")
+            ends.append(number)
+    lo, hi = ends
+    if lo is not None and hi is not None and lo > hi:
+        raise ParameterError(f"--select {item}: the range {part} is reversed (its first end is above its last); write {last}:{first}")
+    found = [i for i, v in enumerate(values) if v is not None and (lo is None or v >= lo) and (hi is None or v <= hi)]
+    if not found:
+        raise ParameterError(f"--select {item}: no spectrum of {path} has a {dim} label in {part} (both ends included); its {dim} labels: {labels_text(labels)}")
+    return found
 
 
 def part_of_joined(text: str, prefixes: Sequence[str], i: int) -> str | None:
@@ -272,20 +387,30 @@ def part_of_joined(text: str, prefixes: Sequence[str], i: int) -> str | None:
     return text[starts[i] + len(prefixes[i]) : end]
 
 
-def _attrs_of_pick(attrs: dict, dim: str, labels: Sequence[str], i: int) -> dict:
+def _attrs_of_pick(attrs: dict, dim: str, labels: Sequence[str], i: int | Sequence[int]) -> dict:
     """``attrs`` of a file of several spectra along ``dim`` narrowed to the spectrum at
     position ``i``: a text the reader joined from each spectrum's own (``sheet A: ...; sheet B:
-    ...``, `impedax.io` stacking) becomes that spectrum's, and its skipped rows only are kept."""
+    ...``, `impedax.io` stacking) becomes that spectrum's, and its skipped rows only are kept.
+    ``i`` a list of positions (a list or range of labels): the joined text and the skipped
+    rows of those spectra, each still led by its label."""
     prefixes = [f"{dim} {label}: " for label in labels]
+    several = not isinstance(i, int)
     out = {}
     for key, value in attrs.items():
         if key == "skipped_rows" and not isinstance(value, str):
             rows = [str(r) for r in value]
             if any(r.startswith(p) for r in rows for p in prefixes):
-                value = [r[len(prefixes[i]):] for r in rows if r.startswith(prefixes[i])]
+                if several:
+                    value = [r for r in rows if any(r.startswith(prefixes[k]) for k in i)]
+                else:
+                    value = [r[len(prefixes[i]):] for r in rows if r.startswith(prefixes[i])]
         elif isinstance(value, str):
-            part = part_of_joined(value, prefixes, i)
-            value = value if part is None else part
+            if several:
+                if part_of_joined(value, prefixes, 0) is not None:
+                    value = "; ".join(prefixes[k] + part_of_joined(value, prefixes, k) for k in i)
+            else:
+                part = part_of_joined(value, prefixes, i)
+                value = value if part is None else part
         out[key] = value
     return out
 
@@ -341,12 +466,18 @@ def load_selected_files(paths: Sequence[str], select: Sequence[str] | None) -> l
 
 
 def select_spectra(data, path: str, select: Sequence[str] | None, *, single: str | None = None, or_else: str = ""):
-    """``data`` (the spectra of file ``path``) narrowed by ``--select DIM=LABEL`` items.
+    """``data`` (the spectra of file ``path``) narrowed by ``--select DIM=LABEL`` items: one
+    label picks one spectrum along DIM (the dimension goes); a list ``L1,L2,...`` or a range
+    ``FIRST:LAST`` (both ends included, by value; `_picked`) keeps DIM with the spectra picked,
+    labelled as in the file (positions where DIM has no labels become its coordinate).
     ``single``: the command takes one spectrum; data that still hold several raise
-    `DataError` naming the dimensions, their labels, ``--select`` and ``or_else`` (the
-    command's other way with several: "or sample them jointly with --shared NAMES"). A selection is recorded
-    in the data's ``source`` (``path [DIM=LABEL]``), which later messages name."""
-    picks: dict[str, int] = {}
+    `DataError` naming the dimensions, their labels (how many a list or range picked, and
+    which), ``--select`` and ``or_else`` (the command's other way with several: "or sample
+    them jointly with --shared NAMES"); a list or range that picks one is that one spectrum.
+    A selection is recorded in the data's ``source`` (``path [DIM=LABEL]``), which later
+    messages name."""
+    picks: dict[str, int | list[int]] = {}
+    written: dict[str, str] = {}
     for item in select or ():
         dim, label = _select_item(item)
         extra = _extra_dims(data)
@@ -355,19 +486,37 @@ def select_spectra(data, path: str, select: Sequence[str] | None, *, single: str
             raise ParameterError(f"--select {item}: {path} has no dimension {dim!r} to select from; {have}")
         if dim in picks:
             raise ParameterError(f"--select: {dim} given twice")
-        picks[dim] = _position(data, dim, label, path)
+        pick = _picked(data, dim, label, path, f"{dim}={label}")
+        if single is not None and not isinstance(pick, int) and len(pick) == 1:
+            pick = pick[0]  # (a list or range of one: that spectrum, as its label would pick it)
+        picks[dim], written[dim] = pick, label
     if picks:
-        shown = ", ".join(f"{d}={dimension_labels(data, d)[i]}" for d, i in picks.items())
+        shown = ", ".join(f"{d}={dimension_labels(data, d)[i]}" if isinstance(i, int) else f"{d}={written[d]}" for d, i in picks.items())
         attrs = dict(data.attrs)
         for d, i in picks.items():
             attrs = _attrs_of_pick(attrs, d, [str(v) for v in dimension_labels(data, d)], i)
+        unlabelled = {d: i for d, i in picks.items() if not isinstance(i, int) and d not in data.coords}
         data = data.isel(picks)
+        if unlabelled:  # (their labels are their positions in the file, not in the pick)
+            data = data.assign_coords(unlabelled)
         data.attrs = {**attrs, "source": f"{path} [{shown}]"}
     extra = [d for d in data["Z"].dims if d != "frequency"]
     if single is not None and extra:
+        n = math.prod(data.sizes[d] for d in extra)
+        several = [d for d in extra if d in picks]
+        if several:
+            dim = several[0]
+            labels = dimension_labels(data, dim)
+            rest = [d for d in extra if d != dim]
+            raise DataError(
+                f"{single} takes one spectrum; --select {dim}={written[dim]} picks {len(labels)} ({dim}: {labels_text(labels)})"
+                + (f", {n} spectra over {', '.join(extra)} in all" if rest else "")
+                + f": give one label, e.g. --select {dim}={labels[0]}" + (f", and pick one along {', '.join(rest)} too" if rest else "")
+                + (f"; {or_else}" if or_else else ""),
+                path=path,
+            )
         dim = extra[0]
         labels = dimension_labels(data, dim)
-        n = math.prod(data.sizes[d] for d in extra)
         raise DataError(
             f"{single} takes one spectrum; the file holds {n} over {', '.join(extra)} ({dim}: {labels_text(labels)}): "
             f"pick one with --select {dim}=LABEL" + (" for each of them" if len(extra) > 1 else "") + f", e.g. --select {dim}={labels[0]}"

@@ -13,7 +13,7 @@ def register(sub) -> None:
         "AIC ranks (under --weighting sigma AIC = chi² + 2k, the sigma taken as the known noise; else n ln(chi²/n) + 2k).",
     )
     p.add_argument("data", metavar="DATA", help="spectrum file with one spectrum, or one picked with --select")
-    add_select_option(p)
+    add_select_option(p, several=False)
     p.add_argument("--model", action="append", required=True, metavar="MODEL", help="circuit text (give two or more)")
     p.add_argument("--fix", action="append", metavar="NAME=VALUE", help="hold a parameter fixed in every model that has it (repeatable)")
     p.add_argument("--init", action="append", metavar="NAME=VALUE", help="starting value in every model that has the parameter (repeatable)")

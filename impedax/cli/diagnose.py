@@ -28,7 +28,7 @@ def add_spectrum_command(sub, name: str, *, help: str, description: str, plot_he
 
     p = sub.add_parser(name, help=help, description=description)
     p.add_argument("data", metavar="DATA", help="spectrum file with one spectrum, or one picked with --select")
-    add_select_option(p)
+    add_select_option(p, several=False)
     add_model_argument(p, default=model_default)
     add_fit_options(p)
     p.add_argument("--effects", metavar="ID,ID", help="only these effects (comma-separated ids; default: all)")

@@ -12,7 +12,7 @@ GAP_OUT_HELP = (
 
 
 def register(sub) -> None:
-    from .common import add_output_options, number_option
+    from .common import SELECT_SYNTAX_HELP, add_output_options, number_option
     from ..arguments import GAP_MIN_STEPS
     from .sample import steps_option
 
@@ -43,9 +43,8 @@ def register(sub) -> None:
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     p.add_argument(
         "--select", action="append", metavar="DIM=LABEL",
-        help="narrow each of the three files that has dimension DIM to the spectra whose DIM is LABEL (its 0-based position "
-        "where DIM has no labels), e.g. one session of a file over session and trial; the remaining dimensions are the trials. "
-        "Repeat for each dimension (`impedax inspect` lists them)",
+        help="narrow each of the three files that has dimension DIM to the spectra whose DIM is LABEL, e.g. one session of a "
+        "file over session and trial; the remaining dimensions (and a list's or range's DIM) are the trials. " + SELECT_SYNTAX_HELP,
     )
     p.add_argument("--quiet", action="store_true", help="no progress line")
     add_output_options(p, plot="save impedance, gap posterior and force bands", out=GAP_OUT_HELP)

@@ -18,7 +18,7 @@ def register(sub) -> None:
         description="Sample the posterior of MODEL's parameters given the spectrum in DATA with emcee, starting from a least-squares fit. Reports medians, 5/16/84/95 % quantiles, acceptance, autocorrelation times, effective sample sizes, Laplace log evidence and WAIC.",
     )
     p.add_argument("data", metavar="DATA", help="spectrum file")
-    add_select_option(p)
+    add_select_option(p, several="with --shared")
     add_model_argument(p)
     p.add_argument("--walkers", type=int, metavar="N", help="number of walkers (even, at least 2 × parameters; default max(64, 4 × parameters))")
     p.add_argument("--steps", type=steps_option, default="auto", metavar="N|auto", help=f"steps per walker, or auto: until the chain after burn-in is {CHAIN_TAU_MULTIPLE} autocorrelation times long and τ has settled, at most {AUTO_MAX_STEPS} (default auto)")
