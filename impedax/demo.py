@@ -4,13 +4,16 @@ touchscreen to the air-gap thickness and the electrostatic force, by way of a mo
 a diagnosis that names the missing physics, and a refit whose error falls.
 
 Everything is written to a staging folder first and moved into the output folder only when
-the run has finished, so the output folder never holds a half-written result.
+the run has finished, all files together as every output of impedax is written
+(`impedax.io.atomic.OutputTransaction`), so the output folder never holds a half-written result.
 """
 
 from __future__ import annotations
 
+import functools
 import html
 import os
+import shutil
 import sys
 import time
 from pathlib import Path
@@ -18,12 +21,19 @@ from pathlib import Path
 import numpy as np
 
 from .data import format_frequency
-from .io.atomic import remove_temporary, temporary_folder
+from .io.atomic import OutputTransaction, check_writable, remove_temporary, temporary_folder
 
 __all__ = ["run_demo"]
 
 AREA = 130e-6  # m², Sirin et al.
 V0 = 75.0  # V drive amplitude, Sirin et al.
+#: The files the demo writes into its output folder; each is checked before the run as any
+#: output is (`impedax.io.atomic.check_writable`: a read-only file is refused, a link is
+#: written through), so a run is not lost at its end.
+OUTPUT_NAMES = (
+    "remaining_impedance.nc", "step2_naive_fit.png", "step3_refinement.png", "refined_circuit.png",
+    "step4_gap_and_force.png", "force_bands.nc", "step5_force.png", "report.html",
+)
 
 
 class _Story:
@@ -96,6 +106,16 @@ def _write_report(folder: Path, story: _Story, facts: dict) -> None:
     (folder / "report.html").write_text("\n".join(parts), encoding="utf-8")
 
 
+def _publish(staging: Path, out: Path) -> None:
+    """Move every file of ``staging`` into ``out`` under its name, all together or none
+    (`impedax.io.atomic.OutputTransaction`), as every output of impedax is written: through a
+    symbolic link (the link stays a link), with the permission bits of the file it replaces,
+    a read-only file refused (`DataError`) with nothing replaced."""
+    with OutputTransaction() as outputs:
+        for item in sorted(staging.iterdir()):
+            outputs.write(out / item.name, functools.partial(shutil.copyfile, item))
+
+
 def run_demo(out: str | os.PathLike = "out", *, fast: bool = False, stream=None) -> Path:
     """Run the demonstration; returns the path of ``report.html``. ``fast`` uses short MCMC
     chains (for tests and CI)."""
@@ -108,6 +128,8 @@ def run_demo(out: str | os.PathLike = "out", *, fast: bool = False, stream=None)
     stream = stream or sys.stdout
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
+    for name in OUTPUT_NAMES:  # before the run, not after it
+        check_writable(out / name, probe=False)  # (making the staging folder below is the probe)
     staging = temporary_folder(out, prefix=".demo-")  # removed on an interrupt too (impedax.cli.main)
     story = _Story(stream)
     t_start = time.perf_counter()
@@ -204,8 +226,7 @@ def run_demo(out: str | os.PathLike = "out", *, fast: bool = False, stream=None)
         story.finish()
         facts["total run time"] = f"{time.perf_counter() - t_start:.0f} s"
         _write_report(staging, story, facts)
-        for item in staging.iterdir():
-            os.replace(item, out / item.name)
+        _publish(staging, out)
     finally:
         story.finish()
         remove_temporary(staging)

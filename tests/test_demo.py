@@ -58,3 +58,47 @@ def test_demo_gap_thickness(demo):
     assert u == pytest.approx(U_TRUE_UM, rel=0.03)
     paper = float(re.search(r"paper's method: u = ([\d.]+) µm", text).group(1))
     assert paper == pytest.approx(U_TRUE_UM, rel=0.05)
+
+
+def test_a_read_only_output_is_refused_before_the_run(tmp_path, capsys):
+    """As every command's outputs (`impedax.io.atomic.check_writable`): the demo's report.html
+    read-only in the output folder stops the demo before its first step, naming the file, and
+    nothing is written. Before: the run went on and `os.replace` put a new file in its place."""
+    report = tmp_path / "report.html"
+    report.write_text("keep me")
+    report.chmod(0o444)
+    assert main(["demo", "--out", str(tmp_path), "--fast"]) == 2
+    captured = capsys.readouterr()
+    assert captured.err.count("error:") == 1 and str(report) in captured.err and "is read-only" in captured.err
+    assert "[1/6]" not in captured.out
+    assert [p.name for p in tmp_path.iterdir()] == ["report.html"] and report.read_text() == "keep me"
+
+
+def test_the_demos_files_are_written_as_every_output(tmp_path):
+    """Through a symbolic link (the link stays), keeping the permission bits of the file
+    replaced, all files together; a read-only one refuses the lot, leaving every file as it was."""
+    from impedax.demo import _publish
+    from impedax.errors import DataError
+
+    staging, out, elsewhere = (tmp_path / name for name in ("staging", "out", "elsewhere"))
+    for folder in (staging, out, elsewhere):
+        folder.mkdir()
+    (staging / "report.html").write_text("new report")
+    (staging / "step5_force.png").write_bytes(b"new figure")
+    (elsewhere / "report.html").write_text("old report")
+    (out / "report.html").symlink_to(elsewhere / "report.html")
+    (out / "step5_force.png").write_bytes(b"old figure")
+    (out / "step5_force.png").chmod(0o600)
+    _publish(staging, out)
+    assert (out / "report.html").is_symlink() and (elsewhere / "report.html").read_text() == "new report"
+    assert (out / "step5_force.png").read_bytes() == b"new figure" and (out / "step5_force.png").stat().st_mode & 0o777 == 0o600
+    assert sorted(p.name for p in out.iterdir()) == ["report.html", "step5_force.png"]  # no temporary left
+    assert sorted(p.name for p in elsewhere.iterdir()) == ["report.html"]
+
+    (staging / "report.html").write_text("newer report")
+    (out / "step5_force.png").chmod(0o444)
+    with pytest.raises(DataError, match="step5_force.png.*is read-only"):
+        _publish(staging, out)
+    assert (elsewhere / "report.html").read_text() == "new report" and (out / "step5_force.png").read_bytes() == b"new figure"
+    assert sorted(p.name for p in out.iterdir()) == ["report.html", "step5_force.png"]
+    assert sorted(p.name for p in elsewhere.iterdir()) == ["report.html"]

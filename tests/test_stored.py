@@ -211,3 +211,42 @@ def test_compiler_options_reach_the_stored_program_and_the_jitted_one(cache_dir)
     plain = StoredProgram("test-quick", 0, fn, compiler_options=stored.QUICK_COMPILE)(x, pair)
     for out in (first, second, plain):
         _close(out, oracle(x, pair))
+
+
+def test_an_entry_is_replaced_by_a_rename_never_written_through_a_link(tmp_path):
+    """A cache entry is not a user's output (`impedax.io.atomic`): a link at its name (one
+    planted in a shared cache folder) is replaced by the entry, the file it points to is left
+    alone, and the entry is private to its owner, as `tempfile.mkstemp` makes it."""
+    import pickle
+
+    victim = tmp_path / "elsewhere" / "notes.txt"
+    victim.parent.mkdir()
+    victim.write_text("mine")
+    entry = tmp_path / "cache" / "key.bin"
+    entry.parent.mkdir()
+    entry.symlink_to(victim)
+    stored._write(entry, ("blob", "tree"))
+    assert not entry.is_symlink() and victim.read_text() == "mine"
+    assert pickle.loads(entry.read_bytes()) == ("blob", "tree")
+    assert entry.stat().st_mode & 0o777 == 0o600
+    entry.chmod(0o400)  # a read-only entry is replaced too: the cache never refuses
+    stored._write(entry, ("new", "tree"))
+    assert pickle.loads(entry.read_bytes()) == ("new", "tree")
+
+
+def test_an_interrupted_write_leaves_no_temporary_file(tmp_path, monkeypatch):
+    """Before: only an `Exception` removed the temporary file, so Ctrl-C (or SIGTERM's
+    `Interrupted`, a KeyboardInterrupt) during the dump left a ``.tmp`` file in the cache."""
+    import pickle
+
+    def interrupted(obj, fh):
+        fh.write(b"half")
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(pickle, "dump", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        stored._write(tmp_path / "key.bin", ("blob", "tree"))
+    assert list(tmp_path.iterdir()) == []
+    monkeypatch.setattr(pickle, "dump", lambda obj, fh: (_ for _ in ()).throw(OSError(28, "No space left on device")))
+    stored._write(tmp_path / "key.bin", ("blob", "tree"))  # a failure is not an error
+    assert list(tmp_path.iterdir()) == []

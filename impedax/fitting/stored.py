@@ -191,14 +191,18 @@ def _read(path: Path):
 
 def _write(path: Path, stored) -> None:
     """Atomically (a temporary file renamed), so concurrent processes never read half a file;
-    a failure (a full disk, a read-only cache) leaves nothing behind and is not an error."""
+    a failure (a full disk, a read-only cache) leaves nothing behind and is not an error, and
+    an interrupt (Ctrl-C, SIGTERM's `Interrupted`) leaves no temporary file either."""
     tmp = None
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name, suffix=".tmp")
         with os.fdopen(fd, "wb") as fh:
             pickle.dump(stored, fh)
+        # a plain rename, not io.atomic's writer: an entry stays private (0600), a link planted in a shared cache is replaced, never written through, a read-only entry replaced, never refused
         os.replace(tmp, path)
-    except Exception:
+    except BaseException as exc:
         if tmp is not None and os.path.exists(tmp):
             os.remove(tmp)
+        if not isinstance(exc, Exception):
+            raise
