@@ -7,6 +7,9 @@ peers are reported and skipped). All tools run in this process on identical synt
 `bench_kk.py --scale [N ...]`: time and peak resident memory of one `kk_test` (and of
 `impedax kk --json` on a CSV file) at 1k, 10k, 100k and 1M points, each in a fresh subprocess
 (peak RSS of that process, so imports are included: about 0.2 GB of it is Python + JAX + numpy).
+
+`bench_kk.py --scale-zhit [N ...]`: the same for one `zhit` of `10 Ω + 1 kΩ‖10 µF` over
+1 mHz–1 MHz with 1 % complex Gaussian noise (σ = 1 % of |Z| split over Re and Im), 3 seeds a size.
 """
 
 from __future__ import annotations
@@ -94,6 +97,39 @@ print(elapsed, resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024, result
 """
 
 
+_SCALE_ZHIT_CHILD = """
+import math, resource, sys, time
+import numpy as np
+import impedax as ix
+n, seed = int(sys.argv[1]), int(sys.argv[2])
+f = np.geomspace(1e-3, 1e6, n)
+w = 2 * np.pi * f
+z = 10 + 1000 / (1 + 1j * w * 1e-2)
+rng = np.random.default_rng(seed)
+z = z + 0.01 * np.abs(z) * (rng.standard_normal(n) + 1j * rng.standard_normal(n)) / math.sqrt(2)
+start = time.perf_counter()
+result = ix.zhit((f, z))
+elapsed = time.perf_counter() - start
+print(elapsed, resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024, result.valid, int(result.flagged.sum()))
+"""
+
+
+def scale_zhit(sizes, seeds=3) -> None:
+    """Each size and seed in its own process: zhit time [s], peak RSS [GB], verdict, flagged points."""
+    import subprocess
+    import sys
+
+    print(f"{'points':>9s} {'seed':>4s} {'zhit [s]':>9s} {'peak RSS [GB]':>14s} {'valid':>6s} {'flagged':>8s}")
+    for n in sizes:
+        for seed in range(seeds):
+            out = subprocess.run([sys.executable, "-c", _SCALE_ZHIT_CHILD, str(n), str(seed)], capture_output=True, text=True)
+            if out.returncode != 0:
+                print(f"{n:9d} {seed:4d}  failed: {out.stderr.strip().splitlines()[-1] if out.stderr.strip() else out.returncode}")
+                continue
+            elapsed, rss, valid, flagged = out.stdout.split()
+            print(f"{n:9d} {seed:4d} {float(elapsed):9.2f} {int(rss) / 1e9:14.2f} {valid:>6s} {flagged:>8s}", flush=True)
+
+
 def scale(sizes) -> None:
     """Each size in its own process: kk_test time [s], peak RSS [GB], verdict and M."""
     import subprocess
@@ -112,7 +148,10 @@ def scale(sizes) -> None:
 if __name__ == "__main__":
     import sys
 
-    if "--scale" in sys.argv:
+    if "--scale-zhit" in sys.argv:
+        sizes = [int(a) for a in sys.argv[sys.argv.index("--scale-zhit") + 1 :]] or [1_000, 10_000, 100_000, 1_000_000]
+        scale_zhit(sizes)
+    elif "--scale" in sys.argv:
         sizes = [int(a) for a in sys.argv[sys.argv.index("--scale") + 1 :]] or [1_000, 10_000, 100_000, 1_000_000]
         scale(sizes)
     else:

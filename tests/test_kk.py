@@ -285,7 +285,7 @@ def test_verdict_does_not_depend_on_point_density(n_points):
     with 1 % noise is valid in at least 4 of 5 seeds at every density, and the drifting RC of
     `drifting_rc` (20 % during the sweep, 1 % noise) is flagged in 5 of 5. With the density-
     raised thresholds the expected false alarms per spectrum are those of 61 points (a few in
-    10⁴ from the tail bounds in `_thresholds_for`), so one false alarm in 5 already signals a
+    10⁴ from the tail bounds in `thresholds_for`), so one false alarm in 5 already signals a
     density effect; the bound allows it so that the test is not a coin flip on a rare event."""
     f = np.geomspace(0.1, 1e5, n_points)
     w = 2 * np.pi * f
@@ -327,15 +327,15 @@ def test_memory_is_linear_in_the_number_of_points():
 
 
 def test_thresholds_rise_with_density_and_are_idempotent():
-    from impedax.fitting.kk import DEFAULT_THRESHOLDS, _thresholds_for
+    from impedax.fitting.kk import DEFAULT_THRESHOLDS, thresholds_for
 
-    at_ref = _thresholds_for(DEFAULT_THRESHOLDS, 61)
+    at_ref = thresholds_for(DEFAULT_THRESHOLDS, 61)
     assert at_ref == dict(DEFAULT_THRESHOLDS)
-    dense = _thresholds_for(DEFAULT_THRESHOLDS, 6100)
+    dense = thresholds_for(DEFAULT_THRESHOLDS, 6100)
     # tail exp(−t²/2) per position × N positions held fixed: t² grows by 2 ln 100
     assert dense["point"] ** 2 == pytest.approx(25 + 2 * np.log(100))
     assert dense["run"] ** 2 == pytest.approx(9 + 2 * np.log(100) / 3)
-    assert _thresholds_for(dense, 6100) == dense
+    assert thresholds_for(dense, 6100) == dense
 
 
 def test_the_chosen_chain_is_never_underfitted_with_a_lead_inductance():

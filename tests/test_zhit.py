@@ -88,3 +88,52 @@ def test_cli_kk_method_zhit(tmp_path, capsys):
     assert {"conclusive", "bad_bands_hz", "bad_band_rules", "noise_estimate_rel", "point_threshold_rel", "run_threshold_rel", "run_length", "end_slope_local_hz", "sign_hint"} <= set(payload)
     assert payload["conclusive"] is True and payload["sign_hint"] is None
     assert (tmp_path / "z.png").read_bytes()[:4] == b"\x89PNG"
+
+
+# --- many points: the verdict does not depend on the point density -------------------------
+
+F_DENSE = np.geomspace(1e-3, 1e6, 100_000)  # 11,000 points a decade
+
+
+def dense_exact(kind, f=F_DENSE):
+    """R0 + R1‖C1 or R0 + R1‖CPE1 (numpy closed forms)."""
+    w = 2 * np.pi * f
+    return 10 + 1000 / (1 + 1j * w * 1e-2) if kind == "R||C" else 10 + 1 / (1 / 1000 + 1e-4 * (1j * w) ** 0.8)
+
+
+@pytest.mark.parametrize("kind", ["R||C", "R-CPE"])
+def test_dense_exact_spectra_are_reconstructed_as_sparse_ones(kind):
+    f = np.geomspace(1e-3, 1e6, 200_000)
+    z = dense_exact(kind, f)
+    result = ix.zhit((f, z))
+    # the first-order error of 71 points (< 1.5 %, above) holds at 2·10⁵: the smoothing spline
+    # fitted to every point was 0.16 rad off on this R‖C (docs/drt.md, "Many points")
+    assert np.max(np.abs(result.modulus / np.abs(z) - 1)) < 0.015
+    assert result.valid and result.conclusive
+
+
+@pytest.mark.parametrize("level", [0.01, 0.03])
+@pytest.mark.parametrize("kind", ["R||C", "R-CPE"])
+def test_dense_noisy_valid_spectra_are_not_flagged(kind, level):
+    n = F_DENSE.size
+    # the rules' factors rise with N so the false alarms per spectrum stay those of 61 points
+    # (docs/kk.md, "Point density"): t² grows by 2 ln(N/61), by (2/3) ln(N/61) for runs of 3
+    point = math.sqrt(5.0**2 + 2 * math.log(n / 61))
+    run = math.sqrt(3.0**2 + 2 / 3 * math.log(n / 61))
+    for seed in range(3):
+        result = ix.zhit((F_DENSE, noisy(dense_exact(kind), level, seed)))
+        assert result.valid, (seed, result.bad_bands[:3])
+        # σ of the modulus of Z(1 + level·(a + jb)/√2), a, b ~ N(0, 1): level/√2 (10 %: the Z-HIT error is smooth, the differences cancel it)
+        assert result.noise_estimate == pytest.approx(level / math.sqrt(2), rel=0.1)
+        scale = max(result.noise_estimate, 0.01)
+        assert result.threshold == pytest.approx(point * scale) and result.run_threshold == pytest.approx(run * scale)
+
+
+def test_dense_modulus_drift_is_still_flagged():
+    low = F_DENSE < 1e-2
+    for seed in range(3):
+        z = noisy(dense_exact("R||C"), 0.01, seed)
+        z[low] *= 1 + 0.05 * np.log10(1e-2 / F_DENSE[low])  # |Z| drifts up to 5 % over the slowest decade, the phase does not
+        result = ix.zhit((F_DENSE, z))
+        assert not result.valid and result.flagged[0]
+        assert np.all(F_DENSE[result.flagged] < 1e-2)  # nowhere else

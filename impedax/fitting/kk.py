@@ -31,7 +31,7 @@ from .grid import ResultGrid
 from .problem import frequency_and_z
 from .statistics import difference_noise, non_passive, residual_noise
 
-__all__ = ["KKResult", "KKBatchResult", "kk_test", "kk_test_batch", "kk_misfits", "rejudged", "DEFAULT_THRESHOLDS", "CONCLUSIVE_POINTS_MIN", "RULE_NAMES", "band_rules", "band_rule_counts", "points_text"]
+__all__ = ["KKResult", "KKBatchResult", "kk_test", "kk_test_batch", "kk_misfits", "rejudged", "DEFAULT_THRESHOLDS", "CONCLUSIVE_POINTS_MIN", "RULE_NAMES", "band_rules", "band_rule_counts", "points_text", "thresholds_for"]
 
 # below this many frequencies the chain (M ≤ N − 3 RC elements) is too stiff for the data, its
 # misfit is the chain's own and the noise estimate follows it: the test cannot fail
@@ -45,11 +45,11 @@ DEFAULT_THRESHOLDS: Mapping[str, float] = {
     "window_mean": 4.5,  # ... or the mean of Δ' or Δ'' over `window` neighbours > 4.5·scale/sqrt(window)
     "window": 9,
     "noise_floor": 2e-3,  # relative; below this, residuals are Voigt-approximation error, not data problems
-    "reference_points": 61,  # the thresholds above hold up to this many points; raised beyond (`_thresholds_for`)
+    "reference_points": 61,  # the thresholds above hold up to this many points; raised beyond (`thresholds_for`)
 }
 
 
-def _thresholds_for(rules: Mapping[str, float], n_points: int) -> dict[str, float]:
+def thresholds_for(rules: Mapping[str, float], n_points: int) -> dict[str, float]:
     """The thresholds applied to a spectrum of ``n_points`` frequencies.
 
     Each test looks at about N positions, so with fixed thresholds its false alarms would grow
@@ -66,7 +66,8 @@ def _thresholds_for(rules: Mapping[str, float], n_points: int) -> dict[str, floa
         return applied
     growth = 2.0 * math.log(n_points / n_ref)
     applied["point"] = math.sqrt(rules["point"] ** 2 + growth)
-    applied["window_mean"] = math.sqrt(rules["window_mean"] ** 2 + growth)
+    if "window_mean" in rules:  # (Z-HIT has no window test)
+        applied["window_mean"] = math.sqrt(rules["window_mean"] ** 2 + growth)
     applied["run"] = math.sqrt(rules["run"] ** 2 + growth / max(int(rules["run_length"]), 1))
     applied["reference_points"] = float(n_points)
     return applied
@@ -875,8 +876,8 @@ def _chosen_chains(freq, z, *, c, max_rc, n_rc, inductance, capacitance, thresho
             raise ParameterError(f"{name} must be True or False, got {flag!r}")
     if np.any(np.abs(z) == 0):
         raise DataError(f"{zero_impedance_text(freq, z)}; the 1/|Z| weighting needs |Z| > 0", path=source)
-    dense = freq.size > rules["reference_points"]  # (before `_thresholds_for` raises it to N)
-    rules = _thresholds_for(rules, freq.size)
+    dense = freq.size > rules["reference_points"]  # (before `thresholds_for` raises it to N)
+    rules = thresholds_for(rules, freq.size)
     floor = rules["noise_floor"] * (DENSE_CHAIN_FLOOR_SHARE if dense else 1.0)
     try:
         return rules, _kk_arrays(freq, z, c=c, max_rc=max_rc, n_rc=n_rc, inductance=bool(inductance), capacitance=bool(capacitance), floor=floor)
