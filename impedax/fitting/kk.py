@@ -31,7 +31,7 @@ from .grid import ResultGrid
 from .problem import frequency_and_z
 from .statistics import difference_noise, non_passive, residual_noise
 
-__all__ = ["KKResult", "KKBatchResult", "kk_test", "kk_test_batch", "kk_misfits", "rejudged", "DEFAULT_THRESHOLDS", "CONCLUSIVE_POINTS_MIN", "RULE_NAMES", "band_rules", "band_rule_counts", "points_text", "thresholds_for"]
+__all__ = ["KKResult", "KKBatchResult", "kk_test", "kk_test_batch", "kk_misfits", "rejudged", "DEFAULT_THRESHOLDS", "CONCLUSIVE_POINTS_MIN", "RULE_NAMES", "BAND_MERGE_DECADES", "band_rules", "band_rule_counts", "points_text", "thresholds_for"]
 
 # below this many frequencies the chain (M ≤ N − 3 RC elements) is too stiff for the data, its
 # misfit is the chain's own and the noise estimate follows it: the test cannot fail
@@ -157,7 +157,7 @@ class KKResult:
                 "Z_kk": ("frequency", self.kk_impedance, {"units": "ohm", "long_name": "fitted Kramers-Kronig (Voigt chain) impedance"}),
                 "residuals_real": ("frequency", self.residuals_real, {"units": "1", "long_name": "(Z'_data - Z'_kk)/|Z_data|"}),
                 "residuals_imag": ("frequency", self.residuals_imag, {"units": "1", "long_name": "(Z''_data - Z''_kk)/|Z_data|"}),
-                "flagged": ("frequency", self.flagged, {"long_name": "point inside a bad (non-KK) band"}),
+                "flagged": ("frequency", self.flagged, {"long_name": "point flagged as not KK-consistent (a bad band may hold unflagged points)"}),
                 "bad_band_f_min": ("band", lo, {"units": "Hz"}),
                 "bad_band_f_max": ("band", hi, {"units": "Hz"}),
                 "time_constant": ("rc", self.time_constants, {"units": "s"}),
@@ -202,11 +202,12 @@ class KKResult:
         t, s = self.thresholds, self.threshold_scale
         return {"point": t["point"] * s, "run": t["run"] * s, "window": t["window_mean"] * s / math.sqrt(t["window"])}
 
-    def _rule_masks(self) -> tuple[np.ndarray, dict[str, np.ndarray]]:
-        """(this result's flags, each rule's flags) in frequency order, at ``threshold_scale``."""
+    def _rule_masks(self) -> tuple[np.ndarray, dict[str, np.ndarray], np.ndarray]:
+        """(this result's flags, each rule's flags, the frequencies) in frequency order, at
+        ``threshold_scale``: the arguments of `band_rule_counts`."""
         order = np.argsort(self.frequency)
         masks = _rule_masks(self.residuals_real[order], self.residuals_imag[order], self.threshold_scale, self.thresholds)
-        return np.asarray(self.flagged, bool)[order], masks
+        return np.asarray(self.flagged, bool)[order], masks, self.frequency[order]
 
     @property
     def band_rules(self) -> tuple[tuple[str, ...], ...]:
@@ -692,19 +693,18 @@ def _bad_bands(freq, residual_real, residual_imag, order, scale, thresholds):
     return flagged, bands_of_flags(freq[order], flag)
 
 
-def band_rule_counts(flag, masks) -> list[dict[str, int]]:
-    """For each band of ``flag`` (runs of True, frequency order, as `bands_of_flags` makes them),
-    how many of its points each rule of ``masks`` (name → flags, frequency order) flagged."""
-    flag = np.asarray(flag, bool)
-    edges = np.diff(np.concatenate([[0], flag.astype(np.int8), [0]]))
-    first, stop = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
-    return [{name: int(np.count_nonzero(np.asarray(mask, bool)[i:j])) for name, mask in masks.items()} for i, j in zip(first.tolist(), stop.tolist())]
+def band_rule_counts(flag, masks, freq_sorted=None) -> list[dict[str, int]]:
+    """For each band of ``flag`` (frequency order), how many of its points each rule of ``masks``
+    (name → flags, frequency order) flagged. With ``freq_sorted`` the bands are those of
+    `bands_of_flags` (runs joined across gaps narrower than `BAND_MERGE_DECADES`); without, runs
+    of True."""
+    return [{name: int(np.count_nonzero(np.asarray(mask, bool)[i:j])) for name, mask in masks.items()} for i, j in _band_spans(flag, freq_sorted)]
 
 
-def band_rules(flag, masks) -> tuple[tuple[str, ...], ...]:
+def band_rules(flag, masks, freq_sorted=None) -> tuple[tuple[str, ...], ...]:
     """For each band of ``flag``, the names of the rules of ``masks`` that flagged points in it
     (`band_rule_counts`)."""
-    return tuple(tuple(name for name, n in counts.items() if n) for counts in band_rule_counts(flag, masks))
+    return tuple(tuple(name for name, n in counts.items() if n) for counts in band_rule_counts(flag, masks, freq_sorted))
 
 
 def points_text(n: int) -> str:
@@ -757,15 +757,39 @@ def long_runs(above, run_length: int) -> np.ndarray:
     return np.cumsum(marks[:-1]) > 0
 
 
+BAND_MERGE_DECADES = 0.05
+"""Flagged points less than this apart in log₁₀ f share a band (`bands_of_flags`), whatever lies
+between them: on 10⁴–10⁵ points noise splits a drift's flags into hundreds of runs. One good
+point puts 0.1 decade between bad ones at 20 points a decade, so spectra of up to 20 points a
+decade keep their bands; a third of Z-HIT's smoothing scale (0.17 decade, `zhit.BIN_PER_DECADE`):
+a systematic residual does not leave a level and come back that fast (docs/kk.md, "Bands on
+dense spectra")."""
+
+
+def _band_spans(flag, freq_sorted=None) -> list[tuple[int, int]]:
+    """[first, stop) of each band of ``flag`` (frequency order): runs of flagged points, joined when
+    the flagged points either side of a gap are less than `BAND_MERGE_DECADES` apart (runs alone
+    without ``freq_sorted``)."""
+    at = np.flatnonzero(np.asarray(flag, bool))
+    if at.size == 0:
+        return []
+    join = np.diff(at) == 1
+    if freq_sorted is not None:
+        join |= np.diff(np.log10(np.asarray(freq_sorted, dtype=float)[at])) < BAND_MERGE_DECADES
+    breaks = np.flatnonzero(~join)
+    first, last = at[np.concatenate([[0], breaks + 1])], at[np.concatenate([breaks, [at.size - 1]])]
+    return list(zip(first.tolist(), (last + 1).tolist()))
+
+
 def bands_of_flags(freq_sorted, flag) -> tuple[tuple[float, float], ...]:
-    """Runs of flagged points (in frequency order) as bands (f_min, f_max) [Hz], their edges
-    halfway in log f to the neighbouring good points, so a single point has a width."""
+    """Flagged points (in frequency order) as bands (f_min, f_max) [Hz]: runs of them, joined
+    across gaps narrower than `BAND_MERGE_DECADES`; the edges lie halfway in log f to the
+    neighbouring good points, so a single point has a width."""
     flag = np.asarray(flag, bool)
     freq_sorted = np.asarray(freq_sorted, dtype=float)
-    edges = np.diff(np.concatenate([[0], flag.astype(np.int8), [0]]))
-    first, last = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1
     bands = []
-    for i, j in zip(first.tolist(), last.tolist()):
+    for i, stop in _band_spans(flag, freq_sorted):
+        j = stop - 1
         lo = freq_sorted[i] if i == 0 else math.sqrt(freq_sorted[i - 1] * freq_sorted[i])
         hi = freq_sorted[j] if j == flag.size - 1 else math.sqrt(freq_sorted[j] * freq_sorted[j + 1])
         bands.append((float(lo), float(hi)))
@@ -801,8 +825,9 @@ def kk_test(
     frequencies, whatever ``max_rc`` or ``n_rc``).
     A point is bad when |Δ| > 5 s; every point of a run of ≥ 3 consecutive frequencies with
     |Δ| > 3 s is bad; and the 9 points of any window where the mean of Δ' or of Δ'' exceeds
-    4.5 s/3 are bad (slow drift). Bad points (single good gaps closed) form ``bad_bands`` (edges
-    halfway in log f to the good neighbours); ``valid`` is True when there are none. On 100
+    4.5 s/3 are bad (slow drift). Bad points (single good gaps closed) form ``bad_bands``: runs,
+    joined when less than `BAND_MERGE_DECADES` (0.05 decade) apart (the flags stay as they are),
+    edges halfway in log f to the good neighbours; ``valid`` is True when there are none. On 100
     synthetic spectra per case at 0.5 % and 2 % noise (RC, R-CPE, Randles, two arcs, finger EDL)
     none was flagged. Override with ``thresholds={"point", "run", "run_length", "window_mean",
     "window", "noise_floor"}``.

@@ -163,7 +163,7 @@ class ZHITResult:
         order = np.argsort(self.frequency)
         masks = _rule_masks(np.abs(self.residuals[order]), self.threshold, self.run_threshold, self.run_length)
         flag = np.asarray(self.flagged, bool)[order]
-        for (lo, hi), counts in zip(self.bad_bands, band_rule_counts(flag, masks)):  # (as the linear test writes them)
+        for (lo, hi), counts in zip(self.bad_bands, band_rule_counts(flag, masks, self.frequency[order])):  # (as the linear test writes them)
             said = [
                 f"{points_text(counts['point'])} with |residual| > {self.threshold * 100:.3g} % (point rule)" if counts["point"] else "",
                 f"{points_text(counts['run'])} in runs of ≥ {self.run_length} with |residual| > {self.run_threshold * 100:.3g} % (run rule)" if counts["run"] else "",
@@ -242,7 +242,9 @@ def zhit(data, *, noise_floor: float = 0.01, point: float = 5.0, run: float = 3.
     (frequency, Z) pair. A point is bad when |residual| > ``point`` × s, and every point of a run
     of ≥ ``run_length`` with |residual| > ``run`` × s, where s = max(noise estimate,
     ``noise_floor``) (the floor covers the first-order approximation error itself: on exact spectra
-    up to ≈ 1–1.5 % at ideal R‖C corners and on a Randles circuit, less on R‖CPE and HN). On more
+    up to ≈ 1–1.5 % at ideal R‖C corners and on a Randles circuit, less on R‖CPE and HN); bad
+    points form bands as the linear test's (`kk.bands_of_flags`: runs, joined when less than
+    0.05 decade apart). On more
     than `REFERENCE_POINTS` frequencies ``point`` and ``run`` are raised: t² by 2 ln(N/61), and by
     (2/``run_length``) ln(N/61) for runs (``result.threshold`` and ``run_threshold`` hold the levels applied).
     Raises DataError/ParameterError on bad input.
@@ -320,5 +322,5 @@ def _zhit(freq, z, *, noise_floor: float, point: float, run: float, run_length: 
         frequency=freq.copy(), impedance=z.copy(), modulus=modulus, residuals=residual,
         rms_rel=float(np.sqrt(np.mean(residual**2))), noise_estimate=noise, threshold=point * scale,
         flagged=flagged, bad_bands=bands, valid=not bands, offset=offset, run_threshold=run * scale, run_length=int(run_length),
-        band_rules=band_rules(flag, masks), end_slope_local=local,
+        band_rules=band_rules(flag, masks, freq[order]), end_slope_local=local,
     )
