@@ -228,3 +228,60 @@ def test_derive_names_a_parameter_the_model_has_not():
     fit = ix.fit(MODEL, interior())
     with pytest.raises(ix.ParameterError, match=r"derive: fn asked for: unknown parameter 'R_1'.*did you mean R1"):
         fit.derive(lambda p: p["R_1"] * 2)
+
+
+GAMRY = __import__("pathlib").Path(__file__).parent / "fixtures" / "real" / "exampleDataGamry.DTA"
+
+
+def test_no_correlation_warning_names_a_parameter_at_its_bound():
+    # Gamry's real example with R0 + L0 + R1 ∥ CPE1: R0 ends at its bound 0, where the
+    # linearisation correlates it with R1 (r ≈ -0.995); the result gives R0 no standard error
+    # and no correlations, so no warning may speak of one
+    r = ix.fit("R0 + L0 + R1 || CPE1", ix.load(GAMRY))
+    assert {"R0", "L0"} <= set(r.at_bound), r.report()
+    k = r.free_names.index("R0")
+    assert np.all(np.isnan(r.correlation[k]))
+    at = set(r.at_bound)
+    assert not [w for w in r.warnings if "strongly correlated" in w and any(f"{n} and " in w or f"and {n} are" in w for n in at)], r.warnings
+
+
+def test_a_cpe_at_its_bound_is_not_called_well_determined():
+    # the same file, R0 fixed at 1.6 kΩ, R0 + R1 ∥ CPE1 + W1: CPE1.alpha at its bound 1 and
+    # CPE1.Q at 73 % relative error; no note may call them well determined
+    r = ix.fit("R0 + R1 || CPE1 + W1", ix.load(GAMRY), fixed={"R0": 1600.0})
+    assert "CPE1.alpha" in r.at_bound, r.report()
+    assert not [w for w in r.warnings if "well determined" in w or "CPE1.Q and CPE1.alpha" in w], r.warnings
+
+
+def test_the_cpe_correlation_note_calls_q_and_alpha_well_determined_only_when_they_are():
+    from impedax.fitting.least_squares.result import WELL_DETERMINED, correlated_note
+
+    well = correlated_note("CPE1.Q", "CPE1.alpha", -0.995, (0.02, 0.004))
+    assert well.endswith("both are still well determined (relative errors 2% and 0.4%))"), well
+    loose = correlated_note("CPE1.Q", "CPE1.alpha", -0.992, (0.73, 0.05))
+    assert "well determined" not in loose and "(73% and 5%)" in loose, loose
+    assert "well determined" not in correlated_note("CPE1.Q", "CPE1.alpha", -0.99, (WELL_DETERMINED * 1.01, 0.01))
+    assert "well determined" not in correlated_note("CPE1.Q", "CPE1.alpha", -0.99, (math.nan, 0.01))
+
+
+def test_the_batch_plot_draws_no_error_bar_for_a_value_at_its_bound():
+    # R0 at its bound 0 in trial 0, off it in trial 1: text and JSON give trial 0's R0 no
+    # standard error, so the plot draws it without a bar, as an "at bound" marker; trial 1's
+    # bar is its stderr, on both sides
+    import matplotlib
+
+    matplotlib.use("Agg")
+    batch = ix.fit(MODEL, xr.concat([series_r_at_zero(), interior()], dim="trial"))
+    ds = batch.dataset
+    assert ds["at_bound"].sel(param="R0").values.tolist() == [True, False]
+    assert float(ds["linearised_stderr"].sel(param="R0")[0]) > 0  # (the bar drawn before)
+    fig = batch.plot()
+    (panel,) = [ax for ax in fig.axes if ax.get_title().startswith("R0")]
+    segments = [s for c in panel.collections for s in c.get_segments()]
+    assert [s[0][0] for s in segments] == [1.0], segments
+    r0, err = batch.values("R0").values[1], float(ds["stderr"].sel(param="R0")[1])
+    np.testing.assert_allclose([segments[0][0][1], segments[0][1][1]], [r0 - err, r0 + err], rtol=1e-9)
+    (marked,) = [line for line in panel.get_lines() if line.get_label() == "at bound (no stderr)"]
+    assert marked.get_xdata().tolist() == [0]
+    plt = __import__("matplotlib.pyplot").pyplot
+    plt.close(fig)

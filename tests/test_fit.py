@@ -483,7 +483,7 @@ def test_batch_plot_stops_error_bars_at_a_natural_bound():
     data = ix.load(Path(__file__).parents[1] / "examples" / "data" / "autoeis_battery_cycles.nc")
     batch = ix.fit("R0 + R1 || CPE1 + R2 || CPE2 + W1", data)
     assert batch.dataset["at_bound"].sel(param="CPE2.alpha").values.all()
-    # (no standard error at the bound; the bar is the linearisation's, one-sided)
+    # (no standard error at the bound, and no bar: the text and JSON give none)
     assert np.isnan(batch.dataset["stderr"].sel(param="CPE2.alpha").values).all()
     assert (batch.dataset["linearised_stderr"].sel(param="CPE2.alpha").values > 0.005).all()
     fig = batch.plot()

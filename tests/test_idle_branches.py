@@ -197,3 +197,19 @@ def test_an_open_branch_on_exact_data_is_at_its_bound_whatever_its_standard_erro
     small = ix.make_spectrum(F, 50.0 + 1 / (1 / 1e9 + 2e-5 * JW**0.85))
     r = ix.fit("R0 + R1 || CPE1", small, init={"R0": 50.0, "R1": 1e9, "CPE1.Q": 2e-5, "CPE1.alpha": 0.85})
     assert np.isfinite(r.stderr["R1"]) and r.at_bound == () and r.values["R1"] == pytest.approx(1e9, rel=1e-3)
+
+
+def test_a_warburg_absent_from_exact_data_is_not_reported_determined():
+    # exact R0 + R1 ∥ C1 + R2 ∥ CPE2 (no diffusion) fitted with a Warburg in series: W1.sigma
+    # ends ~1e-11 Ω s^-1/2, |Z_W| = σ√2/√ω below 1e-12 of |Z| at every point, yet its column
+    # ∂Z/∂σ = (1−j)/√ω does not shrink with σ and exact data make every standard error small.
+    # The fit must not call it determined: at its bound 0 (no standard error) with the chain note
+    f = np.geomspace(0.01, 1e5, 29)
+    jw = 2j * np.pi * f
+    z = 100.0 + 200.0 / (1 + 200.0 * 8e-7 * jw) + 500.0 / (1 + 500.0 * 4e-4 * jw**0.5)
+    r = ix.fit("R0 + R1 || CPE1 + R2 || CPE2 + W1", ix.make_spectrum(f, z))
+    sigma = r.values["W1.sigma"]
+    assert sigma * np.sqrt(2 / (2 * np.pi * f[0])) < 1e-6 * np.abs(z).min()  # (the term is absent)
+    assert "W1.sigma" in r.at_bound and r.to_table()[-1]["stderr"] is None, r.report()
+    notes = chain_notes(r.warnings)
+    assert len(notes) == 1 and notes[0].startswith("W1 takes at most "), r.warnings

@@ -12,8 +12,8 @@ from ..data import unit_text
 
 def plot_batch(batch, *, title: str | None = None):
     """One panel per free parameter (value ± stderr for each spectrum, in the order of the batch
-    dimensions, the x axis marked with the spectra's labels; a value at its bound has a one-sided
-    bar of its linearised error, `linearised_stderr`) and one for rms_rel; log scale
+    dimensions, the x axis marked with the spectra's labels; a value at its bound has no bar, as
+    text and JSON give it no standard error, and an open square marked "at bound") and one for rms_rel; log scale
     where a parameter spans decades; and a Nyquist panel of data and fits (`_plot_fits`) in
     the last row's free places (a row of its own when fewer than two are free). Returns a
     matplotlib Figure."""
@@ -41,14 +41,21 @@ def plot_batch(batch, *, title: str | None = None):
             y, err, unit = ds["rms_rel"].transpose(*batch.dims).values.ravel() * 100, None, "%"
         else:
             y = ds["value"].sel(param=name).transpose(*batch.dims).values.ravel()
-            err = ds["linearised_stderr" if "linearised_stderr" in ds else "stderr"].sel(param=name).transpose(*batch.dims).values.ravel()
+            # (the bars are the reported stderr, as text and JSON: none at a bound)
+            err = ds["stderr"].sel(param=name).transpose(*batch.dims).values.ravel()
+            linearised = ds["linearised_stderr" if "linearised_stderr" in ds else "stderr"].sel(param=name).transpose(*batch.dims).values.ravel()
             unit = unit_text(specs[name].unit)
+        at = np.zeros(y.size, bool) if name == "rms_rel" else ds["at_bound"].sel(param=name).transpose(*batch.dims).values.ravel().astype(bool)
         # (the undetermined, and values at a bound the data cannot place them from: a resistor open at ∞)
-        loose = np.zeros(y.size, bool) if name == "rms_rel" else batch.undetermined(name).transpose(*batch.dims).values.ravel() | (
-            ds["at_bound"].sel(param=name).transpose(*batch.dims).values.ravel() & np.isinf(err))
+        loose = np.zeros(y.size, bool) if name == "rms_rel" else batch.undetermined(name).transpose(*batch.dims).values.ravel() | (at & np.isinf(linearised))
         kept = ~loose
+        barred = kept & ~at
         bars = None if err is None else _bounded_bars(y, np.where(np.isfinite(err), err, 0.0), _bounds(ds, name, specs[name]))[:, kept]
-        ax.errorbar(index[kept], y[kept], yerr=bars, fmt="o", ms=3, lw=0.8, capsize=1.5)
+        if barred.any() or not (kept & at).any():
+            ax.errorbar(index[barred], y[barred], yerr=None if bars is None else bars[:, ~at[kept]], fmt="o", ms=3, lw=0.8, capsize=1.5)
+        if (kept & at).any():  # (no bar: text and JSON give no standard error at a bound)
+            ax.plot(index[kept & at], y[kept & at], "s", ms=3, mfc="none", color="C3", label="at bound (no stderr)")
+            ax.legend(fontsize=6.5, loc="best", handlelength=1.0, borderaxespad=0.3)
         scaled = y[kept & np.isfinite(y)]
         spread = scaled if scaled.size else y[np.isfinite(y)]  # (every value undetermined: all of them)
         if spread.size and np.all(spread > 0) and spread.max() > 20 * spread.min():

@@ -178,7 +178,8 @@ def vanishing_parameters(circuit: Circuit, registry: Registry, table: ParameterT
     Only fits with a ``candidates`` parameter (B, K: those the rule may change, `settle_vanishing`:
     determined and at no bound) are looked at; given the fits' ``jacobian`` (B, 2N, K) of the
     weighted residuals in the solver's variables, only those whose candidate's column is below
-    `VANISHING_COLUMN` × their median: a vanishing term's parameters move Z by at most ~10× its
+    `VANISHING_COLUMN` × their median, or whose column times |value| is below that × the median
+    of those (a scale run to ~0 in a series chain, as a Warburg σ): a vanishing term's parameters move Z by at most ~10× its
     share (an exponent's log ω factor), while the scales of a circuit move it by Z itself (Z is
     homogeneous of degree 1 in its impedance scales). The median, not the largest: an L at 0
     has a column 1e4 times the others'. A parameter at a bound or undetermined is no candidate."""
@@ -191,7 +192,13 @@ def vanishing_parameters(circuit: Circuit, registry: Registry, table: ParameterT
     if jacobian is not None:
         with np.errstate(all="ignore"):
             norms = np.sqrt(np.sum(np.abs(np.asarray(jacobian, float)) ** 2, axis=-2))
-            small = small & ~(norms >= VANISHING_COLUMN * np.median(norms, axis=-1, keepdims=True))
+            # ... or |x|·column, the change for a relative step: a series term's scale run to ~0 (a
+            # Warburg σ = 1e-11 Ω s^-1/2: Z_W = σ(1−j)/√ω) keeps its column ∂Z/∂σ, only x∂Z/∂x = Z_W shrinks
+            relative = norms * np.abs(values[:, table.free_index])
+            small = small & (
+                ~(norms >= VANISHING_COLUMN * np.median(norms, axis=-1, keepdims=True))
+                | ~(relative >= VANISHING_COLUMN * np.median(relative, axis=-1, keepdims=True))
+            )
     looked = np.flatnonzero(small.any(axis=-1))
     if looked.size < values.shape[0]:
         if looked.size:

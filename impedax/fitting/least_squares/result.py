@@ -350,15 +350,31 @@ def without_error(sides: np.ndarray, vanished: np.ndarray, free_stderr: np.ndarr
 
 # why two parameters of one element correlate, by the pair of their names
 _PAIR_REASONS = {
-    frozenset(("Q", "alpha")): " (a CPE's Q and α correlate when the data lie far from ω = 1 rad/s; both can still be well determined)",
+    frozenset(("Q", "alpha")): " (a CPE's Q and α correlate when the data lie far from ω = 1 rad/s{})",
     frozenset(("R", "tau")): " (a finite Warburg element's R and τ correlate where the data lie at ωτ ≫ 1: it acts there as an infinite Warburg, of which only R/√τ shows)",
 }
+WELL_DETERMINED = 0.1
+"""Relative standard errors up to which a correlated CPE's Q and α are called well determined."""
 
 
-def correlated_note(a: str, b: str, r: float) -> str:
+def correlated_note(a: str, b: str, r: float, relative_errors: tuple[float, float] | None = None) -> str:
+    """"R0 and R1 are strongly correlated (r = -0.995); …", with why for a pair of one element.
+    A CPE's Q and α are called still well determined only when both ``relative_errors`` (the
+    linearisation's, |stderr/value|) are finite and at most `WELL_DETERMINED`; otherwise the
+    note says their standard errors already hold the correlation, quoting them."""
     (owner_a, _, name_a), (owner_b, _, name_b) = a.rpartition("."), b.rpartition(".")
     why = _PAIR_REASONS.get(frozenset((name_a, name_b)), "; the data barely tell them apart") if owner_a and owner_a == owner_b else "; the data barely tell them apart"
+    if "{}" in why:
+        ea, eb = (math.nan, math.nan) if relative_errors is None else relative_errors
+        errors = f"{format_relative_error(ea)} and {format_relative_error(eb)}"
+        well = math.isfinite(ea) and math.isfinite(eb) and max(ea, eb) <= WELL_DETERMINED
+        why = why.format(f"; both are still well determined (relative errors {errors})" if well else f"; their standard errors ({errors}) already include the correlation" if relative_errors is not None else "")
     return f"{a} and {b} are strongly correlated (r = {r:+.3f}){why}"
+
+
+def _relative_error(value: float, stderr: float) -> float:
+    """|stderr/value|, NaN where the value is 0."""
+    return abs(stderr / value) if value else math.nan
 
 
 def undetermined_note(name: str, relative_error: float) -> str:
@@ -691,9 +707,13 @@ def diagnose_identifiability(names, values, stderr, corr, null_sets, ratio, at_b
                 f"singular-value ratio {ratio:.1e}): only a combination of them changes Z; fix one of them"
             )
         flagged.add(frozenset(group))
+    # (none with a parameter at a bound or a vanishing term's: its correlation is the
+    # linearisation's at a constrained point, and the result gives it none)
+    unreported = {n for n in names if n in at_bound or np.isinf(stderr[n])}
     for i, j in np.argwhere(np.abs(corr) > CORRELATION_LIMIT).tolist():  # in (i, j) order
-        if i < j and not any({names[i], names[j]} <= g for g in flagged):
-            notes.append(correlated_note(names[i], names[j], corr[i, j]))
+        if i < j and not any({names[i], names[j]} <= g for g in flagged) and not {names[i], names[j]} & unreported:
+            rel = (_relative_error(values[names[i]], stderr[names[i]]), _relative_error(values[names[j]], stderr[names[j]]))
+            notes.append(correlated_note(names[i], names[j], corr[i, j], rel))
     for n in names:
         v, e = values[n], stderr[n]
         if n not in at_bound and undetermined(v, e) and not any(n in g for g in flagged):
@@ -736,13 +756,15 @@ def stack_notes(
     v, e = values[:, free], stderr[:, free]
     notes: dict[int, list[str]] = collections.defaultdict(list)
     upper_triangle = np.triu(np.ones((len(names),) * 2, bool), 1)
-    correlated = np.argwhere((np.abs(corr) > CORRELATION_LIMIT) & upper_triangle)
-    for (b, i, j), r in zip(correlated.tolist(), corr[tuple(correlated.T)].tolist()):
-        notes[b].append(correlated_note(names[i], names[j], r))
     with np.errstate(all="ignore"):
         relative_error = np.abs(e / v)
     if sides is None:
         sides = bound_sides(table, values, None)
+    unreported = (np.asarray(sides) != 0) | np.isinf(e)  # (as `diagnose_identifiability`)
+    reported_pair = ~(unreported[:, :, None] | unreported[:, None, :])
+    correlated = np.argwhere((np.abs(corr) > CORRELATION_LIMIT) & upper_triangle & reported_pair)
+    for (b, i, j), r in zip(correlated.tolist(), corr[tuple(correlated.T)].tolist()):
+        notes[b].append(correlated_note(names[i], names[j], r, (float(relative_error[b, i]), float(relative_error[b, j]))))
     unknown = undetermined_mask(table, values, stderr, sides)
     for b, i in np.argwhere(unknown).tolist():
         notes[b].append(undetermined_note(names[i], float(relative_error[b, i])))
