@@ -94,7 +94,7 @@ def grouped_warnings(warnings: Mapping[str, Sequence[str]], n_spectra: int, *, h
         if not any("=" in p for p in places):  # not spectra: a global fit's own notes ("shared over trial")
             where = "; ".join(places)
         else:
-            where = f"all {n_spectra} spectra" if len(places) == n_spectra else f"{len(places)} of {n_spectra} spectra: {_spectra_text(places)}"
+            where = ("the 1 spectrum" if n_spectra == 1 else f"all {n_spectra} spectra") if len(places) == n_spectra else f"{len(places)} of {n_spectra} spectra: {_spectra_text(places)}"
         lines.append(f"{head} ({where}): {_spread([t for _, t in members])}")
     if len(ordered) > WARNING_GROUPS_SHOWN:
         lines.append(more.format(n=len(ordered) - WARNING_GROUPS_SHOWN))

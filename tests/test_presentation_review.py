@@ -627,9 +627,12 @@ def test_batch_error_bars_stop_at_a_user_bound_the_value_sits_on(shared):
     assert ds["at_bound"].sel(param="R0").values.all(), batch.report()
     fig = batch.plot()
     (panel,) = [ax for ax in fig.axes if ax.get_title().startswith("R0")]
-    # the bars' segments: none reaches below the bound (it was drawn down to 150 Ω − stderr)
-    segments = np.concatenate([c.get_segments() for c in panel.collections if hasattr(c, "get_segments")])
-    assert segments.size and segments[:, :, 1].min() >= 150.0 - 1e-6
+    # no bar reaches below the bound (it was drawn down to 150 Ω − stderr): a value at its
+    # bound has none (text and JSON give it no standard error), only the "at bound" marker
+    segments = [s for c in panel.collections if hasattr(c, "get_segments") for s in c.get_segments()]
+    assert all(np.min(np.asarray(s)[:, 1]) >= 150.0 - 1e-6 for s in segments)
+    (marked,) = [line for line in panel.get_lines() if line.get_label() == "at bound (no stderr)"]
+    assert np.all(marked.get_ydata() >= 150.0 - 1e-6) and len(marked.get_xdata()) == 3
     plt.close(fig)
 
 

@@ -18,7 +18,7 @@ import xarray as xr
 
 from ...arguments import unknown_parameter
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
-from ...data import column_width, concise_repr, unit_text
+from ...data import column_width, concise_repr, format_relative_error, unit_text
 from ...errors import DataError, ParameterError
 from ...warning_groups import grouped_warnings, warning_kinds
 from ..parameters import ParameterTable
@@ -230,7 +230,7 @@ class BatchFitResult:
 
         s = self.summary()
         rows = [{"parameter": p, "median": v["median"], "q16": v["q16"], "q84": v["q84"]} for p, v in s["params"].items()]
-        lines = [f"{self.n_spectra} spectra over {_dims_text(s['dims'])}: converged {s['converged_fraction'] * 100:.1f}%, median rms_rel {s['rms_rel_median'] * 100:.3g} %"]
+        lines = [f"{self.n_spectra} {'spectrum' if self.n_spectra == 1 else 'spectra'} over {_dims_text(s['dims'])}: converged {s['converged_fraction'] * 100:.1f}%, median rms_rel {s['rms_rel_median'] * 100:.3g} %"]
         return result_html(self.model, rows, lines=lines)
 
     def plot(self, *, title: str | None = None):
@@ -292,10 +292,26 @@ class BatchFitResult:
         return "\n".join(self._parameter_lines() + self._warning_lines())
 
     def _parameter_lines(self) -> list[str]:
+        """The header and the parameter table: one column per spectrum (value and relative
+        standard error, as a single fit's table) up to `SPECTRA_AS_COLUMNS` spectra, else the
+        median and 16/84 % quantiles across them."""
         s = self.summary()
         width = column_width(s["params"], 16)
-        lines = [f"model {self.model}: {self.n_spectra} spectra over {_dims_text(s['dims'])}", f"converged: {s['converged_fraction'] * 100:.1f}%   median rms_rel {s['rms_rel_median'] * 100:.3g} %", "", f"{'parameter':<{width}} {'median':>12} {'16%':>12} {'84%':>12}  unit"]
+        noun = "spectrum" if self.n_spectra == 1 else "spectra"
+        lines = [f"model {self.model}: {self.n_spectra} {noun} over {_dims_text(s['dims'])}", f"converged: {s['converged_fraction'] * 100:.1f}%   median rms_rel {s['rms_rel_median'] * 100:.3g} %", ""]
         specs = self.circuit.parameter_specs(self.registry)
+        if self.n_spectra <= SPECTRA_AS_COLUMNS:
+            rows = s["spectra"]
+            heads = [", ".join(f"{d}={c}" for d, c in r["labels"].items()) for r in rows]
+            fixed = {str(p): bool(f) for p, f in zip(self.dataset["param"].values, self.dataset["fixed"].values)}
+            cells = [[_cell(r["values"][p], r["stderr"][p], fixed[p], p in r["at_bound"]) for r in rows] for p in s["params"]]
+            col = max(22, *(len(h) for h in heads), *(len(c) for row in cells for c in row))
+            lines.append(f"{'parameter':<{width}} " + " ".join(f"{h:>{col}}" for h in heads) + "  unit")
+            for p, row in zip(s["params"], cells):
+                lines.append(f"{p:<{width}} " + " ".join(f"{c:>{col}}" for c in row) + f"  {unit_text(specs[p].unit)}".rstrip())
+            lines.append(f"{'rms_rel':<{width}} " + " ".join(f"{r['rms_rel'] * 100:>{col - 2}.3g} %" for r in rows))
+            return lines
+        lines.append(f"{'parameter':<{width}} {'median':>12} {'16%':>12} {'84%':>12}  unit")
         for p, v in s["params"].items():
             lines.append(f"{p:<{width}} {v['median']:>12.5g} {v['q16']:>12.5g} {v['q84']:>12.5g}  {unit_text(specs[p].unit)}".rstrip())
         return lines
@@ -304,6 +320,23 @@ class BatchFitResult:
         """The warnings, one line per kind with the spectra it applies to (`grouped_warnings`),
         after an empty line; none when there are none."""
         return ["", *grouped_warnings(self.warnings, self.n_spectra)] if any(self.warnings.values()) else []
+
+
+SPECTRA_AS_COLUMNS = 6
+"""`BatchFitResult.report` gives each spectrum its own column up to this many spectra (6
+columns of 23 characters fit a 160-character line with the names; the 16/84 % quantiles of so
+few values are interpolations between two of them), the median and quantiles beyond."""
+
+
+def _cell(value: float, stderr, fixed: bool, at_bound: bool) -> str:
+    """One spectrum's parameter as the single fit's table gives it: ``0.11946 ± 1.2%`` (value
+    and relative standard error), ``… (fixed)``, ``… at bound``, ``… ± —`` (no finite error)."""
+    if fixed:
+        return f"{value:.5g} (fixed)"
+    if at_bound:
+        return f"{value:.5g} at bound"
+    rel = format_relative_error(stderr / value) if stderr is not None and value else "—"
+    return f"{value:.5g} ± {rel}"
 
 
 def _looks_like(ds: xr.Dataset) -> str | None:
