@@ -39,6 +39,8 @@ def test_fit_and_kk_json_and_nc_name_the_file_and_the_selection(stack, tmp_path,
     assert summary["source"] == f"{stack} [cycle=3]"
     assert abs(summary["params"]["R1"]["value"] - R1S[3]) < 0.01 * R1S[3]  # (the pick was fitted)
     assert xr.open_dataset(out).attrs["source"] == f"{stack} [cycle=3]"
+    again = ix.load(out)  # (the result's data, read back: errors name this file, the data's own stays)
+    assert again.attrs["source"] == str(out) and again.attrs["saved_from"] == f"{stack} [cycle=3]"
     assert run_json(capsys, "kk", stack, "--select", "cycle=3", "--json")["source"] == f"{stack} [cycle=3]"
     assert run_json(capsys, "kk", stack, "--select", "cycle=3:4", "--json")["source"] == f"{stack} [cycle=3:4]"
     assert run_json(capsys, "fit", stack, "--model", "R0 + R1 || C1", "--json")["source"] == stack  # (no selection: the file)
