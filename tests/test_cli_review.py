@@ -317,11 +317,13 @@ def test_inspect_counts_skipped_ranges_in_good_english(capsys):
 
 
 def test_inspects_preview_names_the_spectrum_it_shows(files):
-    """Before: ``— first of 3 trial`` (and ``first of 4 sheet``)."""
+    """Before: ``— first of 3 trial`` (and ``first of 4 sheet``); then the first only, named
+    (``— trial=a, the first of 3 spectra``); now all three, named in the legend."""
     from impedax.cli.inspect import _preview
 
     fig = _preview(ix.load(files["three"]), "netCDF")
-    assert fig._suptitle.get_text().endswith("— trial=a, the first of 3 spectra (pick another with --select)")
+    assert fig._suptitle.get_text().endswith("— 3 spectra")
+    assert [t.get_text() for t in fig.axes[0].get_legend().get_texts()] == ["a", "b", "c"]
 
 
 def test_help_says_what_drt_and_kk_do(capsys):

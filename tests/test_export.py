@@ -199,4 +199,6 @@ def test_check_results_json_is_the_command_lines_json(command, tmp_path, capsys)
     result = ix.drt(data) if command == ["drt"] else ix.zhit(data) if "zhit" in command else ix.kk_test(data)
     ix.write_result(result, tmp_path / "r.json")
     written = json.loads((tmp_path / "r.json").read_text())
+    if command[0] == "kk":  # (the command line names the file it read; the API's result has none)
+        assert printed.pop("source") == str(tmp_path / "rc.nc")
     assert isinstance(written, dict) and written == printed

@@ -312,8 +312,9 @@ def test_cli_steps_auto_and_json_keys(tmp_path, capsys, monkeypatch):
 
 def test_progress_of_an_open_ended_run_shows_steps_and_the_estimate(monkeypatch, capsys):
     """No percentage for a run of unknown length: the steps so far, the steps needed as last
-    estimated and the cap; time left counted to that estimate (1 s per step after the first:
-    steps 2 → 10 need 8 s); the last step is reported when the run stops early."""
+    estimated and the cap; the time to that estimate as the least left (1 s per step after the
+    first: steps 2 → 10 need 8 s; the run may go on after it); the last step is reported when the
+    run stops early."""
     clock = iter([0.0, 30.0, 31.0, 31.5, 32.0])
     monkeypatch.setattr(progress.time, "perf_counter", lambda: next(clock))
     bar = progress.ProgressLine(20000, True, label="run", interactive=False, open_ended=True)
@@ -321,10 +322,10 @@ def test_progress_of_an_open_ended_run_shows_steps_and_the_estimate(monkeypatch,
     assert capsys.readouterr().err == "run: step 1 (steps needed not yet estimated; at most 20000), 30 s\n"
     bar.set_target(10, "50 τ")
     bar.update(2)
-    assert capsys.readouterr().err == "run: step 2 (≈10 needed for 50 τ; at most 20000), 31 s, ~8 s left\n"
+    assert capsys.readouterr().err == "run: step 2 (≈10 needed for 50 τ; at most 20000), 31 s, ≥ ~8 s left\n"
     bar.update(3)  # (within the log interval: not shown)
     bar.close()
-    assert capsys.readouterr().err == "run: step 3 (≈10 needed for 50 τ; at most 20000), 32 s, ~7 s left\n"
+    assert capsys.readouterr().err == "run: step 3 (≈10 needed for 50 τ; at most 20000), 32 s, ≥ ~7 s left\n"
 
 
 def test_sample_says_what_it_does_before_the_first_step(capsys):

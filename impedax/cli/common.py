@@ -185,6 +185,14 @@ def to_jsonable(obj):
     return jsonable(obj)
 
 
+def with_source(summary: dict, source: str | None) -> dict:
+    """A result's JSON ``summary`` with the key ``source``: the data's file and any ``--select``
+    (`data_source`), when given and the summary has none."""
+    if source is None or "source" in summary:
+        return summary
+    return {**summary, "source": source}
+
+
 def emit_json(obj) -> None:
     """Print ``obj`` as JSON (NaN/Inf become null, so the output is strict JSON)."""
     json.dump(to_jsonable(obj), sys.stdout, indent=2, allow_nan=False)
@@ -465,6 +473,11 @@ def load_selected_files(paths: Sequence[str], select: Sequence[str] | None) -> l
     return [select_spectra(data, path, [item for item, dim in items if dim in _extra_dims(data)]) for data, path in zip(datasets, paths)]
 
 
+#: Attributes of a file that describe all of it (its ``title``: "..., all 130 cycles"): a
+#: ``--select`` notes itself in them (`select_spectra`).
+DESCRIBING_ATTRS = ("title", "description", "summary", "comment")
+
+
 def select_spectra(data, path: str, select: Sequence[str] | None, *, single: str | None = None, or_else: str = ""):
     """``data`` (the spectra of file ``path``) narrowed by ``--select DIM=LABEL`` items: one
     label picks one spectrum along DIM (the dimension goes); a list ``L1,L2,...`` or a range
@@ -475,7 +488,8 @@ def select_spectra(data, path: str, select: Sequence[str] | None, *, single: str
     which), ``--select`` and ``or_else`` (the command's other way with several: "or sample
     them jointly with --shared NAMES"); a list or range that picks one is that one spectrum.
     A selection is recorded in the data's ``source`` (``path [DIM=LABEL]``), which later
-    messages name."""
+    messages name, and in ``selection`` (``DIM=LABEL``); the other attributes are kept, and the
+    `DESCRIBING_ATTRS` among them, which describe the whole file, end in ``[selection: DIM=LABEL]``."""
     picks: dict[str, int | list[int]] = {}
     written: dict[str, str] = {}
     for item in select or ():
@@ -499,7 +513,10 @@ def select_spectra(data, path: str, select: Sequence[str] | None, *, single: str
         data = data.isel(picks)
         if unlabelled:  # (their labels are their positions in the file, not in the pick)
             data = data.assign_coords(unlabelled)
-        data.attrs = {**attrs, "source": f"{path} [{shown}]"}
+        for key in DESCRIBING_ATTRS:  # (they describe the whole file: "..., all 130 cycles")
+            if isinstance(attrs.get(key), str):
+                attrs[key] = f"{attrs[key]} [selection: {shown}]"
+        data.attrs = {**attrs, "selection": shown, "source": f"{path} [{shown}]"}
     extra = [d for d in data["Z"].dims if d != "frequency"]
     if single is not None and extra:
         n = math.prod(data.sizes[d] for d in extra)
@@ -599,12 +616,13 @@ def naming_target(writer: Callable[[Path], None], target: str) -> Callable[[Path
     return write
 
 
-def result_writer(result) -> Callable[[Path], None]:
-    """A writer of ``result`` in the format of the path's extension (`impedax.io.write_result`)."""
+def result_writer(result, source: str | None = None) -> Callable[[Path], None]:
+    """A writer of ``result`` in the format of the path's extension (`impedax.io.write_result`),
+    naming the data's ``source`` (`data_source`) when given."""
     def write(path: Path) -> None:
         from ..io import write_result
 
-        write_result(result, path)
+        write_result(result, path, source=source)
 
     return write
 
@@ -619,14 +637,56 @@ def spectrum_writer(dataset: Callable[[], object]) -> Callable[[Path], None]:
     return write
 
 
-def figure_writer(figure: Callable[[], object]) -> Callable[[Path], None]:
-    """A writer of the matplotlib figure ``figure()`` (drawn only when written)."""
+def figure_writer(figure: Callable[[], object], source: str | None = None) -> Callable[[Path], None]:
+    """A writer of the matplotlib figure ``figure()`` (drawn only when written); ``source``
+    (`data_source`) is added to its title as `short_source`."""
     def write(path: Path) -> None:
         from ..plotting import save_figure
 
-        save_figure(figure(), path)
+        fig = figure()
+        if source:
+            title_with_source(fig, source)
+        save_figure(fig, path)
 
     return write
+
+
+def data_source(data) -> str | None:
+    """Where ``data`` came from: its ``source`` attribute, the file and any ``--select``
+    (``path [cycle=3]``, `select_spectra`); None for data built in memory."""
+    from ..errors import IN_MEMORY
+
+    source = data.attrs.get("source")
+    return None if source in (None, "", IN_MEMORY) else str(source)
+
+
+def short_source(source: str) -> str:
+    """``source`` (``path [DIM=LABEL]``) with the path shortened to the file's name."""
+    path, sep, selection = str(source).partition(" [")
+    return Path(path).name + (f" [{selection}" if sep else "")
+
+
+def title_with_source(fig, source: str) -> None:
+    """Add `short_source` of ``source`` to ``fig``'s title (a line of its own, wrapped to the
+    figure's width), unless the title names it already."""
+    from ..plotting import characters_across
+
+    shown = short_source(source)
+    title = fig._suptitle.get_text() if fig._suptitle is not None else ""
+    if shown in title:
+        return
+    line = "\n".join(_wrapped(shown, characters_across(fig.get_figwidth() - 0.4, 12)))
+    if title:
+        fig._suptitle.set_text(f"{title}\n{line}")
+    else:
+        fig.suptitle(line)
+
+
+def _wrapped(text: str, width: int) -> list[str]:
+    """``text`` on lines of at most ``width`` characters (a path without spaces broken anywhere)."""
+    import textwrap
+
+    return textwrap.wrap(text, width, break_long_words=True, break_on_hyphens=False) or [text]
 
 
 def write_stdout(data: bytes) -> None:
@@ -881,11 +941,12 @@ def check_memory(flag: str, needed_bytes: float, what: str) -> None:
         )
 
 
-def print_result(result, as_json: bool, **report_options) -> None:
-    """``result.summary()`` as JSON, or ``result.report(**report_options)`` as text (in the
-    command line's words: `command_line_words`)."""
+def print_result(result, as_json: bool, source: str | None = None, **report_options) -> None:
+    """``result.summary()`` as JSON (with ``source``, `with_source`), or
+    ``result.report(**report_options)`` as text (in the command line's words:
+    `command_line_words`)."""
     if as_json:
-        emit_json(result.summary())
+        emit_json(with_source(result.summary(), source))
     else:
         print(command_line_words(result.report(**report_options)))
 

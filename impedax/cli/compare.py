@@ -33,7 +33,7 @@ def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting.problem import open_spectrum
     from ..arguments import closest_name
-    from .common import emit_json, figure_writer, load_selected, parse_assignments, plan_outputs, progress_printer, result_writer
+    from .common import data_source, emit_json, figure_writer, with_source, load_selected, parse_assignments, plan_outputs, progress_printer, result_writer
     from .fit import check_max_steps
 
     if len(args.model) < 2:
@@ -65,9 +65,10 @@ def run(args) -> int:
         progress.close()
     comparison = compare(fits)
     # (--out: .csv `Comparison.to_table`, .json `Comparison.summary`, as `impedax.io.write_result` writes them)
-    outputs.save({"--out": result_writer(comparison), "--plot": figure_writer(comparison.plot)})
+    source = data_source(data)
+    outputs.save({"--out": result_writer(comparison, source), "--plot": figure_writer(comparison.plot, source)})
     if args.json:
-        emit_json(comparison.summary())
+        emit_json(with_source(comparison.summary(), source))
     elif not outputs.uses_stdout:  # (--out -: the JSON went to standard output)
         print(comparison.table(warnings_below=True))  # (`warning_lines` prints them under it)
         for fit_result in comparison.fits:  # (the table's rows do not show what was held)

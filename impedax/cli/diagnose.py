@@ -52,7 +52,7 @@ def effects_option(text):
 
 def run(args) -> int:
     from ..fitting import diagnose
-    from .common import figure_writer, fit_command, load_selected, plan_outputs, print_result, progress_printer, relative_noise, result_writer
+    from .common import data_source, figure_writer, fit_command, load_selected, plan_outputs, print_result, progress_printer, relative_noise, result_writer
     from .fit import check_max_steps
 
     outputs = plan_outputs([("--out", args.out, "result"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
@@ -65,7 +65,8 @@ def run(args) -> int:
         result = diagnose(data, args.model, effects=effects, noise=noise, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, progress=progress)
     finally:
         progress.close()
-    outputs.save({"--out": result_writer(result), "--plot": figure_writer(result.plot)})
+    source = data_source(data)
+    outputs.save({"--out": result_writer(result, source), "--plot": figure_writer(result.plot, source)})
     if not outputs.uses_stdout:
-        print_result(result, args.json, fit_command=fit_command(args))
+        print_result(result, args.json, source, fit_command=fit_command(args))
     return 0

@@ -28,6 +28,7 @@ def run(args) -> int:
 
     from ..errors import DataError
     from ..io.loader import NETCDF_SUFFIXES
+    from ..io.netcdf import RESULT_KINDS, result_kind
     from .common import Output, dimension_labels, emit_json, figure_writer, labels_text, load_selected, plan_outputs, spectrum_writer
 
     outputs = plan_outputs([("--out", args.out, "spectrum"), ("--plot", args.plot, "figure")], inputs=[args.file], stdout="--json" if args.json else None)
@@ -35,12 +36,14 @@ def run(args) -> int:
     extra = [d for d in ds["Z"].dims if d != "frequency"]
     if args.out and extra and Output("--out", args.out, "spectrum").suffix().lower() not in NETCDF_SUFFIXES:
         n = " × ".join(str(ds.sizes[d]) for d in extra)
-        raise DataError(
-            f"--out: a CSV file holds one spectrum, and {args.file} holds {n} over {', '.join(extra)}: "
-            f"give --out a .nc name, or pick one with --select {extra[0]}=LABEL", path=args.out,
-        )
+        picked = _picked_dims(ds)
+        holder = "the selection" if picked else args.file
+        first = dimension_labels(ds, extra[0])[0]
+        pick = f"select one label, e.g. --select {extra[0]}={first}" if extra[0] in picked else f"pick one with --select {extra[0]}=LABEL"
+        raise DataError(f"--out: a CSV file holds one spectrum, and {holder} holds {n} over {', '.join(extra)}: give --out a .nc name, or {pick}", path=args.out)
     freq = ds["frequency"].values
     z = ds["Z"].values
+    kind = result_kind(ds)
     skipped = [str(s) for s in ds.attrs.get("skipped_rows", [])]
     summary = {
         "file": str(ds.attrs.get("path", args.file)) if args.file == "-" else str(args.file),
@@ -53,31 +56,39 @@ def run(args) -> int:
         "z_abs_max_ohm": float(np.abs(z).max()),
         "has_sigma": "sigma" in ds,
         "sign_convention": str(ds.attrs.get("sign_convention", "impedax data model: Z = Z' + jZ''")),
-        "units": str(ds.attrs.get("units", "Hz, ohm")),
+        # (a saved result's own ``units`` are its parameters': its spectrum is in Hz and ohm)
+        "units": "Hz, ohm" if kind else str(ds.attrs.get("units", "Hz, ohm")),
         "skipped_rows": skipped,
         # the labels `--select DIM=LABEL` picks a spectrum by (positions where a dimension has none)
         "labels": {d: dimension_labels(ds, d) for d in extra},
         "attrs": {k: v for k, v in ds.attrs.items() if isinstance(v, (str, int, float, bool))},
         "sign_hint": _sign_hint(ds, extra),
     }
+    if kind:  # a saved result (impedax fit/sample --out FILE.nc): its data are what is shown
+        summary.update({"result_kind": kind, "result": RESULT_KINDS[kind][0], "parameter_units": _parameter_units(ds)})
     outputs.save({"--out": spectrum_writer(lambda: ds), "--plot": figure_writer(lambda: _preview(ds, summary["format"], summary["file"]))})
     if outputs.uses_stdout:
         return 0
     if args.json:
         emit_json(summary)
         return 0
-    print(f"{summary['file']}: {summary['format']}, {summary['points']} frequencies "
+    held = f" holding a saved {summary['result']} (its data shown here; read it in full with {RESULT_KINDS[kind][1]}(impedax.io.read_netcdf(path)))" if kind else ""
+    print(f"{summary['file']}: {summary['format']}{held}, {summary['points']} frequencies "
           f"{summary['frequency_min_hz']:.4g}–{summary['frequency_max_hz']:.4g} Hz, "
           f"|Z| {summary['z_abs_min_ohm']:.4g}–{summary['z_abs_max_ohm']:.4g} Ω, dims {summary['dims']}")
     for key in _HOW_KEYS:
         if key in ds.attrs or key in ("sign_convention", "units"):
             print(f"  {key.replace('_', ' ')}:{_per_spectrum(summary[key] if key in summary else ds.attrs[key], ds, extra)}")
+    if kind and summary["parameter_units"]:
+        print("  parameter units: " + ", ".join(f"{n} [{u}]" for n, u in summary["parameter_units"].items()))
     if summary["has_sigma"]:
         sigma = ds["sigma"].values
         print(f"  sigma: a standard deviation of Z per point, {np.nanmin(sigma):.3g}–{np.nanmax(sigma):.3g} Ω "
               "(fits weight by it with --weighting sigma; diagnose takes it as the noise)")
+    picked = _picked_dims(ds)
     for d, labels in summary["labels"].items():
-        print(f"  {d}: {len(labels)} spectra ({labels_text(labels)}); pick one with --select {d}=LABEL")
+        counted = f"{len(labels)} spectr{'um' if len(labels) == 1 else 'a'} ({labels_text(labels)})"
+        print(f"  {d}: {counted}, selected by --select {picked[d]}" if d in picked else f"  {d}: {counted}; pick one with --select {d}=LABEL")
     print("  skipped rows: none" if not skipped else f"  skipped rows ({len(skipped)} range{'' if len(skipped) == 1 else 's'}):")
     for line in skipped[:20]:
         print(f"    {line}")
@@ -90,6 +101,26 @@ def run(args) -> int:
     if summary["sign_hint"]:
         print(f"  hint: {summary['sign_hint']}")
     return 0
+
+
+def _parameter_units(ds) -> dict[str, str]:
+    """The units of a saved result's parameters (its ``units``, one per ``param``), by name."""
+    units = ds.attrs.get("units")
+    names = ds["param"].values if "param" in ds.coords else ()
+    if isinstance(units, str) or units is None or len(units) != len(names):
+        return {}
+    return {str(n): str(u) for n, u in zip(names, units)}
+
+
+def _picked_dims(ds) -> dict[str, str]:
+    """The dimensions a ``--select`` list or range kept, each with its ``DIM=LABELS`` (from the
+    data's ``source``, ``path [cycle=3:5, trial=1]``)."""
+    source = str(ds.attrs.get("source", ""))
+    if not source.endswith("]") or " [" not in source:
+        return {}
+    items = [item.strip() for item in source.rsplit(" [", 1)[1][:-1].split(", ")]
+    extra = [d for d in ds["Z"].dims if d != "frequency"]
+    return {d: item for item in items for d in [item.partition("=")[0]] if d in extra}
 
 
 def _sign_hint(ds, extra) -> str | None:
@@ -128,25 +159,37 @@ def _per_spectrum(text: str, ds, extra) -> str:
     return "".join(f"\n    {prefix}{part}" for prefix, part in zip(prefixes, parts))
 
 
+# most spectra the preview of a file of several draws (evenly spread over them, the title says which)
+PREVIEW_SPECTRA = 10
+
+
 def _preview(ds, fmt, name: str | None = None):
-    """Nyquist and Bode figure of the spectrum (the first one when the file holds several),
-    titled with ``name``, the file as the command was given it (``<stdin>`` for ``-``): not
-    every reader records a path in the data (the netCDF reader does not). Without ``name``,
-    the reader's ``path``, if any."""
+    """Nyquist and Bode figure of the spectrum, or of the spectra of a file of several (up to
+    `PREVIEW_SPECTRA`, evenly spread, coloured in order and named by their labels), titled with
+    the file's name (``name``, the file as the command was given it, ``<stdin>`` for ``-``: not
+    every reader records a path; without it the reader's ``path``), the selection, if any, and
+    the format, wrapped to the figure's width."""
     import math
 
-    from ..plotting import plot_spectrum
-    from .common import dimension_labels
+    import numpy as np
+
+    from ..plotting import characters_across, plot_spectra, plot_spectrum, wrap_model
+    from .common import dimension_labels, short_source
 
     name = name if name is not None else str(ds.attrs.get("path", ""))
-    first = ds
-    note = ""
+    source = str(ds.attrs.get("source", ""))
+    shown = short_source(source) if "[" in source else short_source(name) if name else ""  # (a --select pick: its labels)
+    head = f"{shown}: {fmt}" if shown else str(fmt)
+    width = characters_across(11.0 - 0.4, 12)
     extra = [d for d in ds["Z"].dims if d != "frequency"]
-    if extra:
-        first = ds.isel({d: 0 for d in extra})
-        n = math.prod(ds.sizes[d] for d in extra)
-        label = ", ".join(f"{d}={dimension_labels(ds, d)[0]}" for d in extra)
-        note = f" — {label}, the first of {n} spectra (pick another with --select)"
-    elif "[" in str(ds.attrs.get("source", "")):  # a --select pick: its labels
-        note = " — " + str(ds.attrs["source"]).rsplit("[", 1)[1].rstrip("]")
-    return plot_spectrum(first, title=f"{name}: {fmt}{note}" if name else f"{fmt}{note}", data_label="data")
+    if not extra:
+        return plot_spectrum(ds, title=wrap_model(head, width), data_label="data")
+    n = math.prod(ds.sizes[d] for d in extra)
+    stacked = ds["Z"].stack(_spectrum=extra).transpose("_spectrum", "frequency")
+    positions = np.unique(np.linspace(0, n - 1, min(n, PREVIEW_SPECTRA)).round().astype(int))
+    grid = np.indices([ds.sizes[d] for d in extra]).reshape(len(extra), -1).T
+    labels = [", ".join(str(dimension_labels(ds, d)[k]) for d, k in zip(extra, grid[i])) for i in positions]
+    freq = ds["frequency"].values
+    spectra = [(freq, stacked.values[i]) for i in positions]
+    drawn = f"{n} spectr{'um' if n == 1 else 'a'}" if len(positions) == n else f"{len(positions)} of {n} spectra, evenly spread (pick others with --select)"
+    return plot_spectra(spectra, labels, title=wrap_model(f"{head} — {drawn}", width), legend_title=", ".join(extra))

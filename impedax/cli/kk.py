@@ -32,7 +32,7 @@ LINEAR_ONLY = ("--c", "--max-rc", "--no-inductance", "--no-capacitance")
 def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting import kk_test, kk_test_batch, zhit
-    from .common import check_band_options, emit_json, figure_writer, load_selected, plan_outputs
+    from .common import check_band_options, data_source, emit_json, figure_writer, load_selected, plan_outputs, with_source
 
     if args.method == "zhit":
         given = [flag for flag, value in zip(LINEAR_ONLY, (args.c, args.max_rc, args.no_inductance or None, args.no_capacitance or None)) if value is not None]
@@ -53,12 +53,12 @@ def run(args) -> int:
         data = select_band(data, args.fmin, args.fmax, args.data)
     options = dict(c=0.85 if args.c is None else args.c, max_rc=args.max_rc, inductance=not args.no_inductance, capacitance=not args.no_capacitance)
     if any(d != "frequency" for d in data["Z"].dims):
-        _each_spectrum(kk_test_batch(data, **options), args.json, emit_json)
+        _each_spectrum(kk_test_batch(data, **options), args.json, lambda summary: emit_json(with_source(summary, data_source(data))))
         return 0
     result = zhit(data) if args.method == "zhit" else kk_test(data, **options)
-    outputs.save({"--plot": figure_writer(result.plot)})
+    outputs.save({"--plot": figure_writer(result.plot, data_source(data))})
     if args.json:
-        emit_json(result.summary())
+        emit_json(with_source(result.summary(), data_source(data)))
     else:
         print(result.report())
     return 0
@@ -74,14 +74,16 @@ def _each_spectrum(batch, as_json: bool, emit_json) -> None:
     from ..data import column_width, format_frequency
 
     where = batch.labels()
-    n_valid = sum(bool(r.valid) for r in batch.results)
+    n_valid = sum(bool(r.valid) for r in batch.results)  # (the JSON's: inconclusive spectra count as valid)
+    few = sum(not r.conclusive for r in batch.results)
     if as_json:
         emit_json({"dims": list(batch.dims), "n_spectra": len(batch.results), "n_valid": n_valid,
+                   "n_conclusive": len(batch.results) - few, "n_inconclusive": few,
                    "spectra": [{"labels": w, **r.summary()} for w, r in zip(where, batch.results)]})
         return
-    few = sum(not r.conclusive for r in batch.results)
-    print(f"linear KK test of {len(batch.results)} spectra over {', '.join(batch.dims)}: {n_valid} KK-consistent, {len(batch.results) - n_valid} not"
-          + (f" ({few} with too few frequencies for the test to tell)" if few else ""))
+    consistent = sum(bool(r.valid) and r.conclusive for r in batch.results)
+    print(f"linear KK test of {len(batch.results)} spectra over {', '.join(batch.dims)}: {consistent} KK-consistent, {len(batch.results) - few - consistent} not"
+          + (f", {few} inconclusive (too few frequencies to tell)" if few else ""))
     names = [", ".join(f"{d}={v}" for d, v in w.items()) for w in where]
     width = column_width(names, "spectrum")
     print(f"{'spectrum':<{width}}  {'verdict':<9} {'rms_rel':>9} {'noise':>9} {'M':>3}  bad bands [rules that flagged them]")

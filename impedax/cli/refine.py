@@ -28,7 +28,7 @@ def register(sub) -> None:
 def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting import refine
-    from .common import figure_writer, load_selected, plan_outputs, print_result, progress_printer, relative_noise, result_writer
+    from .common import data_source, figure_writer, load_selected, plan_outputs, print_result, progress_printer, relative_noise, result_writer
     from .diagnose import effects_option
     from .fit import check_max_steps
 
@@ -47,9 +47,10 @@ def run(args) -> int:
         )
     finally:
         progress.close()
-    outputs.save({"--out": result_writer(result), "--plot": figure_writer(result.plot)})
+    source = data_source(data)
+    outputs.save({"--out": result_writer(result, source), "--plot": figure_writer(result.plot, source)})
     if not outputs.uses_stdout:
-        print_result(result, args.json)
+        print_result(result, args.json, source)
         line = reproduce_line(result, args)
         if line and not args.json:
             print(line)

@@ -110,7 +110,7 @@ def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting import parse_prior
     from ..fitting.bayes.logprob import start_weighting
-    from .common import check_parameter_names, figure_writer, load_selected, parse_assignments, plan_outputs, print_result, result_writer
+    from .common import check_parameter_names, data_source, figure_writer, load_selected, parse_assignments, plan_outputs, print_result, result_writer
     from .fit import check_max_steps, shared_arguments
 
     circuit = parse(args.model)  # syntax errors before anything else
@@ -148,9 +148,10 @@ def run(args) -> int:
         circuit, data, priors=priors, noise=args.noise, walkers=args.walkers, steps=args.steps, burn=args.burn, thin=args.thin,
         seed=args.seed, fmin=args.fmin, fmax=args.fmax, progress=not (args.quiet or args.json), init=start, fixed=fixed or None, **sharing,
     )
-    outputs.save({"--out": result_writer(posterior), "--corner": figure_writer(lambda: posterior.corner()), "--plot": figure_writer(lambda: posterior.plot())})
+    source = data_source(data)
+    outputs.save({"--out": result_writer(posterior, source), "--corner": figure_writer(lambda: posterior.corner(), source), "--plot": figure_writer(lambda: posterior.plot(), source)})
     if not outputs.uses_stdout:
-        print_result(posterior, args.json)
+        print_result(posterior, args.json, source)
     if not args.json:
         if not args.quiet and posterior.warnings:
             print(f"impedax sample: {len(posterior.warnings)} warning(s); see the report", file=sys.stderr)

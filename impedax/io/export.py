@@ -120,14 +120,16 @@ def _required_arguments(method) -> list[str]:
     return [p.name for p in signature.parameters.values() if p.default is p.empty and p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY)]
 
 
-def write_result(result, path: str | Path) -> None:
+def write_result(result, path: str | Path, *, source: str | None = None) -> None:
     """Write ``result`` in the format of ``path``'s extension: ``.csv`` the tidy table
     (`result_table`), ``.json`` its ``summary()``, ``.nc`` its ``to_xarray()`` (lossless
     netCDF, `write_netcdf`). Atomic: the file is whole or not there. Anything but a result
     (a dict, None, a spectrum Dataset) is a `ParameterError` saying what to pass; a path that
     cannot be written is a `DataError` naming it, raised before the result is converted
     (`check_writable`). A model whose ``to_xarray`` needs arguments (`MeyerModel`: the
-    frequencies) is a `ParameterError` saying to write ``impedax.io.write_netcdf(m.to_xarray(freq), path)``."""
+    frequencies) is a `ParameterError` saying to write ``impedax.io.write_netcdf(m.to_xarray(freq), path)``.
+    ``source`` (where the data came from: ``path [cycle=3]``) is added to the JSON as the key
+    ``source`` and to the netCDF as the attribute ``source``, unless the result has its own."""
     if isinstance(result, (str, os.PathLike)) and _is_result(path):
         raise ParameterError(f"write_result takes (result, path); the arguments look swapped: got the path {shown(str(result))} first and a {type(path).__name__} second")
     if not isinstance(path, (str, os.PathLike)):
@@ -147,10 +149,16 @@ def write_result(result, path: str | Path) -> None:
     elif kind == "json":
         if not callable(getattr(result, "summary", None)):
             raise DataError(f"{type(result).__name__} has no summary; write it as .nc")
-        write_json(result.summary(), path)
+        summary = result.summary()
+        if source is not None and "source" not in summary:
+            summary = {**summary, "source": source}
+        write_json(summary, path)
     else:
         from .netcdf import write_netcdf
 
         if not callable(getattr(result, "to_xarray", None)):
             raise DataError(f"{type(result).__name__} has no dataset; write it as .json")
-        write_netcdf(result.to_xarray(), path)
+        ds = result.to_xarray()
+        if source is not None and "source" not in ds.attrs:
+            ds.attrs["source"] = source
+        write_netcdf(ds, path)

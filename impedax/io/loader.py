@@ -91,6 +91,10 @@ def load(path: str | os.PathLike, readers: Sequence[Reader] | None = None) -> xr
         ds.attrs.setdefault("format", reader.name)
         if ds.attrs.get("source") == IN_MEMORY:  # (a reader of the user's built it with make_spectrum: later errors name the file)
             ds.attrs["source"] = str(path)
+        elif "impedax_kind" in ds.attrs and ds.attrs.get("source") not in (None, str(path)):
+            # a saved result's data: errors name this file; the data's own file stays as ``saved_from``
+            ds.attrs["saved_from"] = ds.attrs["source"]
+            ds.attrs["source"] = str(path)
         return _checked(ds, path)
     head = _head(path)
     if not head_text(head).strip():  # binary or blank: decided from the first 64 kB, before reading the whole file

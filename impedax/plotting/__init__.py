@@ -21,7 +21,7 @@ import xarray as xr
 from ..data import SI_PREFIXES, si_prefix
 from ..io.atomic import atomic_path
 
-__all__ = ["plot_spectrum", "model_curve", "dense_model", "plot_nyquist", "equal_aspect", "nyquist_frame", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "plot_bode", "save_figure", "shade_bands", "refresh_legend", "plain_log_ticks", "plain_linear_ticks", "PlainTicks", "prefixable_unit", "wrap_model", "characters_across", "label_spectra_axis"]
+__all__ = ["plot_spectrum", "model_curve", "dense_model", "plot_nyquist", "equal_aspect", "nyquist_frame", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "plot_bode", "save_figure", "shade_bands", "refresh_legend", "plain_log_ticks", "plain_linear_ticks", "PlainTicks", "prefixable_unit", "wrap_model", "characters_across", "label_spectra_axis", "plot_spectra"]
 
 
 def _as_arrays(spectrum):
@@ -354,6 +354,31 @@ def plot_spectrum(
         freq_axes.append(ax_res)
     if bands:
         shade_bands(freq_axes, bands)
+    if title:
+        fig.suptitle(title)
+    return fig
+
+
+def plot_spectra(spectra: Sequence, labels: Sequence[str], *, title: str | None = None, legend_title: str | None = None):
+    """Several spectra ((frequency, Z) pairs) on one Nyquist and one Bode figure, coloured
+    from dark to light in their order (viridis) and named in the legend by ``labels``
+    (titled ``legend_title``)."""
+    arrays = [_as_arrays(s) for s in spectra]
+    fig, (ax_nyq, ax_mod, ax_ph, _) = spectrum_layout(nyquist_shape(*arrays), False)
+    colours = plt.get_cmap("viridis")(np.linspace(0.0, 0.9, max(len(arrays), 1)))
+    for (f, z), label, colour in zip(arrays, labels, colours):
+        kw = dict(ms=3.5, mfc="none", lw=0.8, color=colour, label=str(label))
+        ax_nyq.plot(z.real, -z.imag, "o-", **kw)
+        ax_mod.loglog(f, np.abs(z), "o-", **kw)
+        ax_ph.semilogx(f, np.degrees(np.angle(z)), "o-", **kw)
+    ax_nyq.set(xlabel="Z' [Ω]", ylabel="−Z'' [Ω]")
+    equal_aspect(ax_nyq)
+    ax_mod.set_ylabel("|Z| [Ω]")
+    plain_log_ticks(ax_mod.yaxis)
+    ax_ph.set(ylabel="phase [deg]", xlabel="frequency [Hz]")
+    for ax in (ax_nyq, ax_mod, ax_ph):
+        ax.grid(alpha=0.3, which="both")
+    ax_nyq.legend(fontsize=7, title=legend_title, title_fontsize=7, ncol=2 if len(arrays) > 5 else 1)
     if title:
         fig.suptitle(title)
     return fig

@@ -36,7 +36,8 @@ class ProgressLine:
 
     A run of unknown length (``total`` the most steps it may take, ``open_ended`` true: emcee's
     ``steps="auto"``) shows the steps so far and the current estimate of the steps it needs
-    (`set_target`) instead of a percentage, and its time left is counted to that estimate."""
+    (`set_target`) instead of a percentage, and the time to that estimate as the least time left
+    ("≥ ~8 s left", from a second on): the estimate grows as τ's does, and τ must settle after it."""
 
     def __init__(self, total: int, enabled: bool, label: str = "impedax sample", interactive: bool | None = None, *, open_ended: bool = False):
         self.total, self.enabled, self.label, self.open_ended = total, enabled, label, open_ended
@@ -82,7 +83,10 @@ class ProgressLine:
             goal = f"{self.target_note or 'steps needed not yet estimated'}; at most {self.total}"
         else:
             goal = f"≈{min(self.target, self.total)} needed{' for ' + self.target_note if self.target_note else ''}; at most {self.total}"
-        left = f", ~{(min(self.target, self.total) - done) * rate:.0f} s left" if rate is not None and self.target is not None and done < min(self.target, self.total) else ""
+        # the time to the estimate is the least left, not the time left: the estimate grows as
+        # τ's does and τ must settle after it ("~0 s left" was shown at 4 s of a 12 s run)
+        least = (min(self.target, self.total) - done) * rate if rate is not None and self.target is not None else 0.0
+        left = f", ≥ ~{least:.0f} s left" if least >= 1.0 else ""
         return f"{self.label}: step {done} ({goal}), {now:.0f} s{left}"
 
     def advance(self) -> None:
