@@ -59,7 +59,7 @@ def register(sub) -> None:
 def run(args) -> int:
     from ..fitting.drt import drt
     from ..fitting.problem import open_spectrum
-    from .common import check_band_options, emit_json, figure_writer, load_selected, plan_outputs
+    from .common import check_band_options, emit_json, figure_writer, load_selected, plan_outputs, progress_printer
 
     outputs = plan_outputs([("--out", args.out, "drt"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     # a file of several spectra: the DRT of each in one solve (`DRTBatchResult`), or one (--select)
@@ -70,8 +70,14 @@ def run(args) -> int:
 
         data = select_band(data, args.fmin, args.fmax, args.data)
     data = open_spectrum(data).data
+    progress = progress_printer()  # (130 cycles took 7 s without a word; printed only past PROGRESS_AFTER_S)
+    n_spectra = int(data["Z"].size // data.sizes["frequency"])
+    progress(f"DRT of {n_spectra} spectr{'um' if n_spectra == 1 else 'a'}: solving, then peaks and credible bands")
     result = drt(data, method=args.method, lam=_lam(args.lam), lam_method=args.lam_method, signed=args.signed, min_peak_fraction=args.min_peak_fraction)
+    if args.plot:  # (the slowest output: ~1 s for 130 curves)
+        progress(f"drawing {args.plot}")
     outputs.save({"--out": lambda path: _save(result, path), "--plot": figure_writer(result.plot)})
+    progress.close()
     if outputs.uses_stdout:
         return 0
     if args.json:

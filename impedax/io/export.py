@@ -55,6 +55,8 @@ def to_jsonable(obj):
     if isinstance(obj, (list, tuple)):
         return [to_jsonable(v) for v in obj]
     if isinstance(obj, np.ndarray):
+        if obj.dtype.kind in "fiub" and (obj.dtype.kind != "f" or np.isfinite(obj).all()):
+            return obj.tolist()  # (already JSON values: no walk element by element)
         return [to_jsonable(v) for v in obj.tolist()]
     if isinstance(obj, np.bool_):
         return bool(obj)

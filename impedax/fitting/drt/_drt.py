@@ -216,6 +216,10 @@ def drt(
     tau_out = np.exp(ln_tau_out)
     window = (1.0 / omega.max(), 1.0 / omega.min())
     rng = np.random.default_rng(0)
+    # the draws' factor u·√|s| of every covariance at once (one batched eigh; the same numbers as
+    # `Generator.multivariate_normal(method="eigh")` spectrum by spectrum, at half its time)
+    eig_s, eig_u = np.linalg.eigh(out["covariance"])
+    factors = eig_u * np.sqrt(np.abs(eig_s))[:, None, :]
     results = []
     for i in range(flat.shape[0]):
         x = out["x"][i]
@@ -227,8 +231,7 @@ def drt(
         inv_c = float(series.get("c", 0.0))
         c_f = math.inf if inv_c <= 0 else 1.0 / (inv_c * omega.min() * scale)
         # draws of γ for the peaks' uncertainty (Gaussian of the band, conditional on the active set)
-        cov = out["covariance"][i]
-        draws = rng.multivariate_normal(x, cov, size=_SAMPLES, method="eigh", check_valid="ignore") @ phi.T * scale
+        draws = (x + rng.standard_normal((_SAMPLES, x.size)) @ factors[i].T) @ phi.T * scale
         if not signed:
             draws = np.maximum(draws, 0.0)
         gamma = out["gamma"][i] * scale

@@ -165,6 +165,7 @@ class DRTResult:
                 "residual_sigma": ((), self.noise_estimate, {"units": "1", "long_name": "residual standard deviation of the DRT fit (relative)"}),
                 "difference_noise": ((), self.difference_noise, {"units": "1", "long_name": "first-difference noise estimate of the residuals (the KK test's)"}),
                 "dropped_r": ((), float(sum(p.r_ohm for p in self.dropped_peaks)), {"units": "ohm", "long_name": "R of the peaks dropped below the cut-off"}),
+                **_setting_variables((), (), [self]),
             },
             coords={"tau": ("tau", self.tau, {"units": "s"}), "frequency": ("frequency", self.frequency, {"units": "Hz"})},
             attrs={
@@ -204,6 +205,16 @@ class DRTResult:
                 "(impedax kk)" + ("" if self.signed else " or need γ < 0 somewhere (signed=True, --signed)")
             )
         return tuple(out)
+
+    @property
+    def notes(self) -> tuple[str, ...]:
+        """What the report says below `warnings`' thresholds: L < 0 of any size (no cell has a
+        negative inductance; `warnings` only names one beyond 5 % of |Z| at the top frequency)."""
+        if self.l_h < 0 and not any(w.startswith("L = ") for w in self.warnings):
+            return (f"L = {format_quantity(self.l_h, 'H')} is negative, which no physical cell or lead has (below the 5 % of |Z| that makes it a warning): "
+                    "likely a cable or sign-convention artefact, a high-frequency arc above the measured band that L stands in for, "
+                    "or noise about L = 0; read R_inf with care",)
+        return ()
 
     @property
     def lambda_text(self) -> str:
@@ -250,6 +261,7 @@ class DRTResult:
                 f"{len(d)} peak(s) below the cut-off ({self.cutoff_text}: min_peak_fraction, --min-peak-fraction) dropped, R = {format_quantity(sum(p.r_ohm for p in d), 'Ω')} in all "
                 f"(at τ = {', '.join(format_time(p.tau_s, 2) for p in d)})"
             )
+        lines += [f"note: {n}" for n in self.notes]
         lines += [f"warning: {w}" for w in self.warnings]
         return "\n".join(lines)
 
@@ -292,6 +304,7 @@ class DRTResult:
             "dropped_peaks": [{"tau_s": p.tau_s, "r_ohm": p.r_ohm, "inside_window": p.inside_window} for p in self.dropped_peaks],
             "dropped_r_ohm": float(sum(p.r_ohm for p in self.dropped_peaks)),
             "window_tau_s": list(self.window),
+            "notes": list(self.notes),
         }
 
     def _repr_html_(self) -> str:
@@ -308,6 +321,35 @@ class DRTResult:
         from ...plotting.drt import plot_drt
 
         return plot_drt(self, overlay=overlay, title=title)
+
+
+def _common_attrs(result: "DRTResult") -> dict:
+    """The global attributes of a batch's .nc: the options every spectrum shares."""
+    return {
+        "method": "Tikhonov-regularised DRT on a Gaussian RBF basis (impedax, docs/drt.md)",
+        "lambda_method": result.lambda_method,
+        "lambda_scale": "relative to z_ref^2 per spectrum, z_ref = max|Z| of that spectrum (variable z_ref, ohm)",
+        "min_peak_fraction": float(result.options.get("min_peak_fraction", 0.1)),
+        "signed": int(result.signed),
+        "derivative_order": result.derivative,
+        "basis_fwhm_decades": result.basis_fwhm_decades,
+        "band": "90 % credible band: Gaussian posterior at the evidence-chosen band_lambda (variable, per spectrum), widened to contain gamma (docs/drt.md)",
+    }
+
+
+def _setting_variables(dims: tuple, shape: tuple, results) -> dict:
+    """What λ was for each spectrum, as variables over ``dims`` (the batch file's global
+    attributes held the first spectrum's): ``z_ref``, ``lambda_choice``, ``band_lambda``, ``lambda_note``."""
+
+    def column(values, dtype):
+        return np.asarray(values, dtype).reshape(shape)
+
+    return {
+        "z_ref": (dims, column([r.z_ref for r in results], float), {"units": "ohm", "long_name": "max|Z|: lam is relative to z_ref^2"}),
+        "lambda_choice": (dims, column([r.lambda_choice for r in results], float), {"long_name": "lambda_method's own choice of lam, before the floor (NaN when lam was fixed)"}),
+        "band_lambda": (dims, column([r.band_lambda for r in results], float), {"long_name": "lam of the credible band (evidence-chosen)"}),
+        "lambda_note": (dims, column([r.lambda_note for r in results], object), {"long_name": "what moved lam from lambda_choice ('' when nothing did)"}),
+    }
 
 
 @dataclass(frozen=True, eq=False)
@@ -338,16 +380,40 @@ class DRTBatchResult(ResultGrid):
         values, freq = np.unique(counts, return_counts=True)
         spread = ", ".join(f"{int(f)} with {int(v)} peak(s)" for v, f in zip(values, freq))
         rms = np.array([r.rms_rel for r in self.results])
-        lines = [f"DRT of {len(self.results)} spectra over {' × '.join(self.dims)}: {spread}; rms_rel median {np.median(rms) * 100:.3g} %, max {rms.max() * 100:.3g} %"]
+        floored, note_of = self._lambda_notes()
+        lines = [f"DRT of {len(self.results)} spectra over {' × '.join(self.dims)}: {spread}; rms_rel median {np.median(rms) * 100:.3g} %, max {rms.max() * 100:.3g} %{floored}"]
         for where, one in zip(self.labels(), self.results):
             peaks = "; ".join(f"{p.tau_s:.3g} s ({p.r_ohm:.3g} Ω{'' if p.inside_window else ', outside the measured range'})" for p in one.peaks) or "none"
             dropped = f"; {len(one.dropped_peaks)} below the cut-off dropped ({sum(p.r_ohm for p in one.dropped_peaks):.3g} Ω)" if one.dropped_peaks else ""
-            note = f"; λ {one.lam:.2g}, {one.lambda_note}" if one.lambda_note else ""
+            note = note_of(one)
             lines.append(
                 f"  {', '.join(f'{d}={v}' for d, v in where.items())}: rms_rel {one.rms_rel * 100:.3g} %, R_inf {one.r_inf_ohm:.4g} Ω, "
                 f"R_pol {one.polarization_resistance:.4g} Ω, peaks {peaks}{dropped}{note}"
             )
         return "\n".join(lines)
+
+    def _lambda_notes(self):
+        """(the summary line's words on the spectra whose λ was raised to the floor, the note
+        each spectrum's line keeps): the floor is said once with the criterion's range; a line
+        names λ only when it differs from that (its criterion's optimum, or the grid's top)."""
+        low = [r for r in self.results if r.lambda_note.startswith("raised to the floor")]
+        if not low:
+            return "", lambda one: f"; λ {one.lam:.2g}, {one.lambda_note}" if one.lambda_note else ""
+        method = low[0].lambda_method
+        choices = [r.lambda_choice for r in low]
+        lo, hi = format_lambda(min(choices), 2), format_lambda(max(choices), 2)
+        bottom = sum("bottom of its grid" in r.lambda_note for r in low)
+        at_bottom = f"; {bottom} at the bottom of its grid, {format_lambda(float(low[0].lambda_grid[0]))}, or below" if bottom else ""
+        text = f"; λ raised to the floor {format_lambda(LAMBDA_FLOOR)} on {len(low)} of {len(self.results)} spectra ({method} chose {lo if lo == hi else f'{lo}–{hi}'}{at_bottom})"
+
+        def note_of(one) -> str:
+            if one.lambda_note.startswith("raised to the floor"):
+                return ""
+            if one.lambda_note:
+                return f"; λ {one.lam:.2g}, {one.lambda_note}"
+            return f"; λ {one.lam:.2g} ({one.lambda_method}'s optimum, above the floor)" if one.lambda_method != "fixed" else ""
+
+        return text, note_of
 
     def summary(self) -> dict:
         """The JSON of ``impedax drt --json`` for several spectra: ``dims``, ``n_spectra`` and
@@ -386,10 +452,14 @@ class DRTBatchResult(ResultGrid):
                 "inductance": (dims, stack(lambda r: r.l_h), {"units": "H"}),
                 "lam": (dims, stack(lambda r: r.lam)),
                 "rms_rel": (dims, stack(lambda r: r.rms_rel), {"units": "1"}),
+                **_setting_variables(dims, shape, self.results),
             },
             coords={"tau": ("tau", first.tau, {"units": "s"}), "frequency": ("frequency", first.frequency, {"units": "Hz"}), **{d: (d, np.asarray(v)) for d, v in self.coords.items()}},
         )
-        ds.attrs.update({k: v for k, v in first.to_xarray().attrs.items() if k != "source"})
+        # global attributes: only what every spectrum shares (λ's scale, note and band λ are
+        # per spectrum: the variables z_ref, lambda_choice, lambda_note, band_lambda)
+        common = _common_attrs(first)
+        ds.attrs.update(common)
         return ds
 
     def plot(self, *, title: str | None = None):

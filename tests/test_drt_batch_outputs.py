@@ -1,0 +1,154 @@
+"""Batch DRT outputs say per spectrum what is per spectrum: the .nc's z_ref, λ choice, note and
+band λ are variables over the batch (not the first spectrum's as global attributes), the text
+says the floor once, the figure's title counts peaks without "3–3", and a negative L is noted
+whatever its size. Spectra: numpy formulas (R0 + R‖C arcs), fixed noise seeds."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import impedax as ix
+from impedax.cli import main
+from impedax.fitting.drt import drt
+from impedax.fitting.drt.result import format_lambda
+
+F = np.geomspace(0.01, 1e5, 61)
+W = 2 * np.pi * F
+
+
+def arcs(scale: float) -> np.ndarray:
+    """R0 + R1‖C1 + R2‖C2 (τ 1 ms and 1 s), all resistances times ``scale``."""
+    return scale * (10.0 + 50.0 / (1 + 1j * W * 1e-3) + 100.0 / (1 + 1j * W * 1.0))
+
+
+def noisy(z, level, seed):
+    rng = np.random.default_rng(seed)
+    return z + level * np.abs(z) * (rng.standard_normal(z.size) + 1j * rng.standard_normal(z.size)) / math.sqrt(2)
+
+
+@pytest.fixture(scope="module")
+def cycles(tmp_path_factory):
+    """Two cycles whose max|Z| differ by a factor 2 (160 Ω and 320 Ω at f → 0), 0.5 % noise."""
+    spectra = np.stack([noisy(arcs(1.0), 0.005, 1), noisy(arcs(2.0), 0.005, 2)])
+    path = tmp_path_factory.mktemp("drtbatch") / "cycles.nc"
+    ix.save(ix.make_spectrum(F, spectra, dims=("cycle",), coords={"cycle": [1, 2]}), path)
+    return str(path), spectra
+
+
+def run(capsys, *argv):
+    code = main(["drt", *argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_the_batch_netcdf_stores_each_spectrums_lambda_settings_as_variables(cycles, tmp_path, capsys):
+    path, spectra = cycles
+    out = tmp_path / "d.nc"
+    assert run(capsys, path, "--out", str(out))[0] == 0
+    payload = json.loads(run(capsys, path, "--json")[1])
+    with xr.open_dataset(out) as ds:
+        # z_ref = max|Z| of each spectrum, computed here from the numbers written
+        assert ds["z_ref"].dims == ("cycle",)
+        assert ds["z_ref"].values == pytest.approx(np.abs(spectra).max(axis=1), rel=1e-12)
+        assert ds["lambda_choice"].values == pytest.approx([s["lambda_choice"] for s in payload["spectra"]], rel=1e-12)
+        assert ds["band_lambda"].values == pytest.approx([s["band_lambda"] for s in payload["spectra"]], rel=1e-12)
+        assert list(ds["lambda_note"].values) == [s["lambda_note"] or "" for s in payload["spectra"]]
+        # no per-spectrum value left among the global attributes
+        assert "band_lambda" not in ds.attrs and "lambda_note" not in ds.attrs
+        assert "z_ref" in ds.attrs["lambda_scale"] and not any(ch.isdigit() for ch in ds.attrs["lambda_scale"].replace("z_ref^2", ""))
+        assert ds.attrs["lambda_method"] == "gcv"
+    # the JSON carries each spectrum's own z_ref
+    assert [s["z_ref_ohm"] for s in payload["spectra"]] == pytest.approx(np.abs(spectra).max(axis=1), rel=1e-12)
+    assert ix.load(str(out))["z_ref"].size == 2  # read back by the package
+
+
+def test_the_batch_text_says_the_floor_once(cycles, capsys):
+    path, _ = cycles
+    batch = drt(ix.load(path))
+    floored = [r for r in batch.results if r.lambda_note.startswith("raised to the floor")]
+    lines = batch.report().splitlines()
+    assert len(lines) == 3
+    assert all("raised to the floor" not in line for line in lines[1:])
+    if floored:
+        assert f"λ raised to the floor 0.0001 on {len(floored)} of 2 spectra (gcv chose" in lines[0]
+    else:
+        assert "raised to the floor" not in lines[0]
+    # a spectrum whose λ is its criterion's own gets it on its line when others were floored
+    for line, one in zip(lines[1:], batch.results):
+        assert (f"λ {one.lam:.2g}" in line) == (bool(floored) and one not in floored)
+
+
+def test_many_floored_spectra_are_one_summary_with_the_range_of_choices():
+    # clean arcs at 0.1 % noise: GCV chooses below 1e-4 for every one
+    spectra = np.stack([noisy(arcs(s), 0.001, 10 + i) for i, s in enumerate((1.0, 1.5, 2.0, 2.5))])
+    batch = drt(ix.make_spectrum(F, spectra, dims=("cycle",), coords={"cycle": [0, 1, 2, 3]}))
+    choices = [r.lambda_choice for r in batch.results]
+    assert all(c < 1e-4 for c in choices), choices
+    first, *rest = batch.report().splitlines()
+    assert "λ raised to the floor 0.0001 on 4 of 4 spectra (gcv chose " in first
+    assert format_lambda(min(choices), 2) in first and format_lambda(max(choices), 2) in first
+    assert len(rest) == 4 and all("λ" not in line for line in rest)
+
+
+def test_the_batch_plot_title_says_n_peaks_when_all_spectra_have_n(cycles):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    batch = drt(ix.load(cycles[0]))
+    assert set(batch.n_peaks.ravel()) == {2}
+    fig = batch.plot()
+    try:
+        title = fig._suptitle.get_text()
+        assert title.endswith(": 2 peaks") and "–" not in title
+    finally:
+        plt.close(fig)
+
+
+def test_a_many_spectra_plot_draws_every_curve(tmp_path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    spectra = np.stack([noisy(arcs(1.0 + 0.05 * i), 0.005, 20 + i) for i in range(12)])
+    batch = drt(ix.make_spectrum(F, spectra, dims=("cycle",), coords={"cycle": list(range(12))}))
+    fig = batch.plot()
+    try:
+        ax = fig.axes[0]
+        curves = [seg for c in ax.collections for seg in getattr(c, "get_segments", lambda: [])()]
+        assert len(curves) == 12 and np.array_equal(curves[3][:, 1], batch.results[3].gamma)
+        assert ax.get_xscale() == "log"
+    finally:
+        plt.close(fig)
+
+
+def test_a_negative_inductance_is_noted_below_the_warning_threshold(tmp_path, capsys):
+    # R0 + R‖C + jωL with L = −1 µH: ω_max·|L| = 0.63 Ω, 3 % of |Z| ≈ 20 Ω at 100 kHz (under 5 %)
+    l_h = -1e-6
+    z = 20.0 + 100.0 / (1 + 1j * W * 1e-3) + 1j * W * l_h
+    top = abs(z[-1])
+    assert 2 * math.pi * F[-1] * abs(l_h) < 0.05 * top
+    path = tmp_path / "negl.csv"
+    ix.save(ix.make_spectrum(F, noisy(z, 0.002, 3)), path)
+    result = drt(ix.load(str(path)))
+    assert result.l_h == pytest.approx(l_h, rel=0.2)
+    assert not any(w.startswith("L = ") for w in result.warnings)
+    code, out, _ = run(capsys, str(path))
+    assert code == 0
+    note = [line for line in out.splitlines() if line.startswith("note: L = ")]
+    assert len(note) == 1 and "negative" in note[0] and "artefact" in note[0]
+    payload = json.loads(run(capsys, str(path), "--json")[1])
+    assert len(payload["notes"]) == 1 and payload["warnings"] == []
+
+
+def test_a_positive_inductance_has_no_note():
+    z = 20.0 + 100.0 / (1 + 1j * W * 1e-3) + 1j * W * 1e-6
+    result = drt((F, noisy(z, 0.002, 4)))
+    assert result.l_h > 0 and result.notes == ()
