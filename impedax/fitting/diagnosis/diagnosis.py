@@ -1345,6 +1345,8 @@ def _effect_pairs(base: FitResult, cands: Sequence[Suggestion], proposals: list[
     fits: list[FitResult] = []
     for k, s in enumerate(seeds, 1):
         first, p1 = by_circuit[str(s.fit.circuit)]
+        if say is not None:
+            say(f"pairs on top of {s.fit.model} ({first.id}; {k} of {len(seeds)})")
         ctx = _context(s.fit, _drt_evidence(s.fit, []) if with_drt else None)
         pairs = []
         for second, p2 in effects.proposals(ctx):
@@ -1354,7 +1356,7 @@ def _effect_pairs(base: FitResult, cands: Sequence[Suggestion], proposals: list[
                 pairs.append(_paired(first, p1, second, p2))
         if pairs:
             if say is not None:
-                say(f"fitting {len(pairs)} pairs on {s.fit.model} ({first.id}; {k} of {len(seeds)})")
+                say(f"fitting {len(pairs)} pairs on {s.fit.model}")
             pairs, pair_fits, shape = _fit_proposals(s.fit, spectrum, ctx, pairs, shape, n_starts=n_starts, max_steps=max_steps, seed=seed, say=say)
             out += pairs
             fits += pair_fits[1:]
