@@ -196,7 +196,10 @@ def test_refine_progress_quiet_when_the_run_is_short():
 def test_refine_text_gives_the_command_for_init():
     note = "fit of R0 + R1 || CPE1 from scratch reaches rms_rel 0.3 %; started from the refinement's values it reaches 0.2 % (pass init=)"
     assert "pass init=" not in command_line_words(note) and "--init" in command_line_words(note)
-    final = SimpleNamespace(model="R0 + R1 || CPE1", values={"R0": 0.1, "R1": 1.5, "CPE1.Q": 0.05, "CPE1.alpha": 0.5}, fixed=dict.fromkeys(["R0", "R1", "CPE1.Q", "CPE1.alpha"], False))
+    final = SimpleNamespace(
+        model="R0 + R1 || CPE1", values={"R0": 0.1, "R1": 1.5, "CPE1.Q": 0.05, "CPE1.alpha": 0.5}, fixed=dict.fromkeys(["R0", "R1", "CPE1.Q", "CPE1.alpha"], False),
+        frequency=np.array([1.0, 2.0, 10.0, 20.0, 100.0]),
+    )
     args = SimpleNamespace(select=["cycle=0"], weighting=None, fmin=None, fmax=1000.0)
     line = reproduce_line(SimpleNamespace(notes=(note,), final=final, masked_points=(), final_from_values=True), args)
     assert "impedax fit DATA --select cycle=0 --fmax 1000.0 --model 'R0 + R1 || CPE1' --init R0=0.1 --init R1=1.5" in line
@@ -204,7 +207,7 @@ def test_refine_text_gives_the_command_for_init():
     # another path's note of its own model does not make the final fit need its values (the line had claimed so)
     assert reproduce_line(SimpleNamespace(notes=(note,), final=final, masked_points=(), final_from_values=False), args) is None
     masked = reproduce_line(SimpleNamespace(notes=(note,), final=final, masked_points=(5.0, 50.0), final_from_values=True), args)
-    assert "2 point(s)" in masked
+    assert "without the 2 masked point(s)" in masked and "--fmax 1000.0 --exclude 5,50 --model" in masked
 
 
 @pytest.mark.parametrize("scratch_aic,says", [(-1000.0 + 0.15, "which the data do not tell apart"), (-1000.0 + 25.0, "; started from the refinement's values it reaches")])

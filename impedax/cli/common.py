@@ -20,7 +20,7 @@ __all__ = [
     "check_outputs", "save_outputs", "print_result", "result_out_help", "Output", "OutputPlan", "plan_outputs",
     "memory_limit", "check_memory", "MEMORY_LIMIT_ENV", "add_select_option", "load_selected", "select_spectra", "load_selected_files", "labels_text", "dimension_labels",
     "command_line_words", "naming_target", "part_of_joined", "announce_written", "option_words", "check_points", "check_band_options", "progress_printer", "PROGRESS_AFTER_S",
-    "relative_noise", "fit_command",
+    "relative_noise", "fit_command", "exclude_points",
 ]
 
 
@@ -125,18 +125,71 @@ def relative_noise(text: str | None) -> float | None:
     return value
 
 
-def fit_command(args=None) -> str:
+def fit_command(args=None, *, kept=None, masked=()) -> str:
     """The start of the ``impedax fit`` command that fits the spectrum and points a run of
     ``args`` (diagnose, refine) fitted: its file, shell-quoted (DATA when ``args`` names none),
-    --select, --weighting unless the default (modulus), --fmin and --fmax. The advice of those
-    commands ends it with --model and the values to start from."""
+    --select, --weighting unless the default (modulus), --fmin, --fmax and --exclude; with the
+    run's ``kept`` frequencies and the ``masked`` ones it left out, the --fmin/--fmax/--exclude
+    that leave those out too (`left_out_options`). The advice of those commands ends it with
+    --model and the values to start from."""
     import shlex
 
+    band = {"--fmin": getattr(args, "fmin", None), "--fmax": getattr(args, "fmax", None)}
+    excluded = [getattr(args, "exclude", None)] if getattr(args, "exclude", None) else []
+    if kept is not None and len(masked):
+        from ..fitting.diagnosis.diagnosis import left_out_options
+
+        for flag, value in left_out_options(kept, masked):
+            if flag == "--exclude":
+                excluded.append(value)
+            else:
+                band[flag] = value
     weighting = getattr(args, "weighting", None)
     options = [("--select", item) for item in getattr(args, "select", None) or ()]
-    options += [("--weighting", weighting if weighting != "modulus" else None), ("--fmin", getattr(args, "fmin", None)), ("--fmax", getattr(args, "fmax", None))]
+    options += [("--weighting", weighting if weighting != "modulus" else None), *band.items(), ("--exclude", ",".join(excluded) or None)]
     data = getattr(args, "data", None)
     return " ".join(["impedax fit", shlex.quote(data) if data else "DATA"] + [f"{flag} {shlex.quote(str(value))}" for flag, value in options if value is not None])
+
+
+def exclude_points(data, text: str | None):
+    """``data`` without the frequencies of ``--exclude F,F,...`` (Hz, SI prefixes as
+    `prefixed_number`: 5.34,1.12M): each names the nearest measured frequency, within
+    `EXCLUDE_RTOL` (0.5 %, so the three digits a report prints match). A value that names none,
+    or names one twice, is a `ParameterError` naming the nearest measured frequencies."""
+    if text is None:
+        return data
+    import numpy as np
+
+    from ..fitting.diagnosis.diagnosis import EXCLUDE_RTOL
+
+    measured = np.asarray(data["frequency"].values, float)
+    drop: dict[int, str] = {}
+    for item in (t.strip() for t in text.split(",")):
+        if not item:
+            continue
+        try:
+            value = prefixed_number(item)
+        except ValueError as error:
+            raise ParameterError(f"--exclude: {error}") from None
+        if not (value > 0 and math.isfinite(value)):
+            raise ParameterError(f"--exclude: frequencies are positive and finite, got {item}")
+        distance = np.abs(np.log(measured / value))
+        i = int(np.argmin(distance))
+        if abs(measured[i] / value - 1) > EXCLUDE_RTOL:
+            nearest = sorted(np.argsort(distance)[:2], key=lambda j: measured[j])
+            raise ParameterError(
+                f"--exclude {item}: no measured frequency within {EXCLUDE_RTOL * 100:g} % of {number_text(value)} Hz; "
+                f"the nearest are {' and '.join(f'{measured[j]:.6g} Hz' for j in nearest)}"
+            )
+        if i in drop:
+            raise ParameterError(f"--exclude: {drop[i]} and {item} name the same measured frequency, {measured[i]:.6g} Hz")
+        drop[i] = item
+    if not drop:
+        raise ParameterError(f"--exclude {text!r} names no frequency: give them in Hz, comma-separated (5.34,56.2,1.12M)")
+    keep = np.setdiff1d(np.arange(measured.size), list(drop))
+    if not keep.size:
+        raise ParameterError(f"--exclude leaves out every frequency of the data ({measured.size})")
+    return data.isel(frequency=keep)
 
 
 def check_points(points: int | None, fmin: float, fmax: float, *, default: int) -> int:
@@ -958,7 +1011,23 @@ _OPTION_OF_KEYWORD = {"max_steps": "--max-steps"}
 
 # phrases of the fitting code's messages that name a Python call, and what the command line
 # says instead (`impedax refine` prints the command after its report: cli/refine.py)
-_PHRASE_OF_CALL = {"(pass init=)": "(impedax fit --init NAME=VALUE …: the command is printed last)"}
+_PHRASE_OF_CALL = {
+    "(pass init=)": "(impedax fit --init NAME=VALUE …: the command is printed last)",
+    "leave them out (fmin/fmax)": "leave them out (--fmin/--fmax)",
+    "e.g. --noise 1% (noise=0.01)": "e.g. --noise 1%",
+}
+
+# a weighting named as Python's keyword (``consider weighting='modulus'``), which the command
+# line sets with --weighting NAME
+_WEIGHTING_KEYWORD = re.compile(r"(?<![\w.-])weighting=(['\"])(unit|modulus|proportional|sigma)\1")
+
+
+def _phrased(text: str, *, weighting: bool = True) -> str:
+    """``text`` with `_PHRASE_OF_CALL`'s phrases in the command line's words and, where the
+    command takes --weighting (``weighting``), ``weighting='NAME'`` as ``--weighting NAME``."""
+    for phrase, words in _PHRASE_OF_CALL.items():
+        text = text.replace(phrase, words)
+    return _WEIGHTING_KEYWORD.sub(r"--weighting \2", text) if weighting else text
 
 
 # per command, the Python keywords whose names the errors of the functions it calls start
@@ -1000,18 +1069,17 @@ def option_words(command: str, error: Exception) -> str:
     leading = re.compile(r"^(" + names + r")(?=\s+must\b|:|=)")
     band = "|".join(k for k in ("fmin", "fmax") if k in keywords) or "(?!)"
     valued = re.compile(r"(?<![\w.'\"/-])(" + band + r")(?= = )")
-    return head + valued.sub(lambda m: keywords[m.group(1)], leading.sub(lambda m: keywords[m.group(1)], text))
+    text = valued.sub(lambda m: keywords[m.group(1)], leading.sub(lambda m: keywords[m.group(1)], text))
+    return head + _phrased(text, weighting="weighting" in keywords)
 
 
 def command_line_words(text: str) -> str:
     """``text`` with the Python keywords it names replaced by their command-line options
     (``raise max_steps`` → ``raise --max-steps``, ``(pass init=)`` → the ``impedax fit --init``
-    command)."""
+    command, ``weighting='modulus'`` → ``--weighting modulus``: `_phrased`)."""
     for keyword, option in _OPTION_OF_KEYWORD.items():
         text = re.sub(rf"(?<![\w-]){keyword}\b", option, text)
-    for phrase, words in _PHRASE_OF_CALL.items():
-        text = text.replace(phrase, words)
-    return text
+    return _phrased(text)
 
 
 # --- progress of long runs ----------------------------------------------------------------------

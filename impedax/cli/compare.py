@@ -33,7 +33,7 @@ def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting.problem import open_spectrum
     from ..arguments import closest_name
-    from .common import data_source, emit_json, figure_writer, with_source, load_selected, parse_assignments, plan_outputs, progress_printer, result_writer
+    from .common import data_source, emit_json, exclude_points, figure_writer, load_selected, parse_assignments, plan_outputs, progress_printer, result_writer, with_source
     from .fit import check_max_steps
 
     if len(args.model) < 2:
@@ -50,7 +50,7 @@ def run(args) -> int:
                 raise ParameterError(f"{flag}: no model has a parameter {name!r}" + (f"; did you mean {close}?" if close else "") + f" (parameters: {', '.join(everywhere)})")
     outputs = plan_outputs([("--out", out_path(args.out), "result"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     max_steps = check_max_steps(args.max_steps)
-    data = open_spectrum(load_selected(args.data, args.select, single="impedax compare"), single="compare").data
+    data = open_spectrum(exclude_points(load_selected(args.data, args.select, single="impedax compare"), args.exclude), single="compare").data
 
     def own(flag, ns):
         return {k: v for k, v in given[flag].items() if k in ns} or None

@@ -52,14 +52,14 @@ def effects_option(text):
 
 def run(args) -> int:
     from ..fitting import diagnose
-    from .common import data_source, figure_writer, fit_command, load_selected, plan_outputs, print_result, progress_printer, relative_noise, result_writer
+    from .common import data_source, exclude_points, figure_writer, fit_command, load_selected, plan_outputs, print_result, progress_printer, relative_noise, result_writer
     from .fit import check_max_steps
 
     outputs = plan_outputs([("--out", args.out, "result"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     max_steps = check_max_steps(args.max_steps)
     noise = relative_noise(args.noise)
     effects = effects_option(args.effects)
-    data = load_selected(args.data, args.select, single="impedax diagnose")
+    data = exclude_points(load_selected(args.data, args.select, single="impedax diagnose"), args.exclude)
     progress = progress_printer()
     try:
         result = diagnose(data, args.model, effects=effects, noise=noise, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, progress=progress)
@@ -68,5 +68,5 @@ def run(args) -> int:
     source = data_source(data)
     outputs.save({"--out": result_writer(result, source), "--plot": figure_writer(result.plot, source)})
     if not outputs.uses_stdout:
-        print_result(result, args.json, source, fit_command=fit_command(args))
+        print_result(result, args.json, source, fit_command=fit_command(args, kept=result.baseline.frequency, masked=result.masked_points))
     return 0

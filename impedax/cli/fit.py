@@ -21,6 +21,8 @@ def add_fit_options(p) -> None:
     add_weighting_option(p, "residual weighting (default modulus: relative errors; see impedax.fitting.WEIGHTINGS)")
     p.add_argument("--fmin", type=number_option, help="ignore data below this frequency [Hz]")
     p.add_argument("--fmax", type=number_option, help="ignore data above this frequency [Hz]")
+    p.add_argument("--exclude", metavar="F,F", help="leave out these measured frequencies [Hz], comma-separated (5.34,56.2,1.12M): each names the nearest "
+                   "measured frequency within 0.5 %%, so values copied from a report match (the masked points diagnose and refine print)")
 
 
 def add_max_steps_option(p, default: int, what: str) -> None:
@@ -77,7 +79,7 @@ def register(sub) -> None:
 
 def run(args) -> int:
     from .. import FitResult, fit, parse
-    from .common import check_parameter_names, command_line_words, data_source, figure_writer, load_selected, parse_assignments, plan_outputs, print_result, progress_printer, result_writer
+    from .common import check_parameter_names, command_line_words, data_source, exclude_points, figure_writer, load_selected, parse_assignments, plan_outputs, print_result, progress_printer, result_writer
 
     outputs = plan_outputs([("--out", args.out, "result"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     max_steps = check_max_steps(args.max_steps)
@@ -88,7 +90,7 @@ def run(args) -> int:
     names = parse(args.model).parameter_names()
     for flag, given in (("--init", init), ("--fix", fixed)):
         check_parameter_names(given, names, flag, args.model)
-    data = load_selected(args.data, args.select)
+    data = exclude_points(load_selected(args.data, args.select), args.exclude)
     progress = progress_printer()  # (a batch of 3 cycles took 15 s without a word, 28 s on a first run)
     n_spectra = int(data["Z"].size // max(data.sizes.get("frequency", 1), 1))
     progress(f"fitting {args.model} to {n_spectra} spectra together (a circuit's first batch compiles its solvers)" if n_spectra > 1 else f"fitting {args.model} (a circuit's first fit compiles its solvers)")

@@ -28,7 +28,7 @@ def register(sub) -> None:
 def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting import refine
-    from .common import data_source, figure_writer, load_selected, plan_outputs, print_result, progress_printer, relative_noise, result_writer
+    from .common import data_source, exclude_points, figure_writer, load_selected, plan_outputs, print_result, progress_printer, relative_noise, result_writer
     from .diagnose import effects_option
     from .fit import check_max_steps
 
@@ -38,7 +38,7 @@ def run(args) -> int:
     solver_steps = check_max_steps(args.max_steps)
     noise = relative_noise(args.noise)
     effects = effects_option(args.effects)
-    data = load_selected(args.data, args.select, single="impedax refine")
+    data = exclude_points(load_selected(args.data, args.select, single="impedax refine"), args.exclude)
     progress = progress_printer()
     try:
         result = refine(
@@ -58,18 +58,22 @@ def run(args) -> int:
 
 
 def reproduce_line(refinement, args=None) -> str | None:
-    """The ``impedax fit`` command that reproduces the final fit from its values (on the run's
-    file and points: `fit_command`), when a fit of the final model from scratch ends at another
-    optimum (``Refinement.final_from_values``; a note of another path said so of its own model, and
-    had printed this line), else None."""
+    """The ``impedax fit`` command that reproduces the final fit (on the run's file and points:
+    `fit_command`, with the --fmin/--fmax/--exclude that leave out the masked points): from its
+    values when a fit of the final model from scratch ends at another optimum
+    (``Refinement.final_from_values``; a note of another path said so of its own model, and had
+    printed this line), else from scratch when points were masked (a fit of the file's every
+    point differs); else None (``impedax fit`` of the final model reproduces it)."""
     from .common import fit_command
 
-    if not refinement.final_from_values:
-        return None
     final = refinement.final
-    starts = " ".join(f"--{'fix' if final.fixed[k] else 'init'} {k}={v:.6g}" for k, v in final.values.items())
-    line = f"to reproduce the final fit from its values (a fit from scratch ends at another optimum; the notes give both): {fit_command(args)} --model '{final.model}' {starts}"
+    command = fit_command(args, kept=final.frequency, masked=refinement.masked_points)
     masked = len(refinement.masked_points)
-    if masked:  # impedax fit has no option to leave points out
-        line += f" (impedax fit keeps the {masked} point(s) the refinement left out, so its rms_rel differs)"
-    return line
+    without = f"; without the {masked} masked point(s)" if masked else ""
+    if refinement.final_from_values:
+        starts = " ".join(f"--{'fix' if final.fixed[k] else 'init'} {k}={v:.6g}" for k, v in final.values.items())
+        return f"to reproduce the final fit from its values (a fit from scratch ends at another optimum; the notes give both{without}): {command} --model '{final.model}' {starts}"
+    if masked:
+        fixed = " ".join(f"--fix {k}={v:.6g}" for k, v in final.values.items() if final.fixed[k])
+        return f"to reproduce the final fit (without the {masked} masked point(s), rms_rel {final.rms_rel * 100:.3g} %): {command} --model '{final.model}'" + (f" {fixed}" if fixed else "")
+    return None

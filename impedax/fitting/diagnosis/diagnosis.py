@@ -305,12 +305,16 @@ class Diagnosis:
             for p in self.drt.data_peaks
         ]
 
-    def report(self, *, fit_command: str = "impedax fit DATA") -> str:
+    def report(self, *, fit_command: str | None = None) -> str:
         """The diagnosis as a short story (the default text of ``impedax diagnose``).
         ``fit_command``: how the command that applies the best suggestion starts (``impedax
-        diagnose`` gives its file, --select, --fmin, --fmax and --weighting); it ends with
-        --model and the suggestion's values."""
+        diagnose`` gives its file, --select, --weighting and the --fmin, --fmax and --exclude
+        that leave out the masked points, `left_out_options`); default ``impedax fit DATA``
+        with those options. It ends with --model and the suggestion's values."""
         b = self.baseline
+        left_out = left_out_options(b.frequency, self.masked_points)
+        if fit_command is None:
+            fit_command = " ".join(["impedax fit DATA", left_out_words(left_out)]).strip()
         lines = [f"model {b.model}: rms_rel {b.rms_rel * 100:.3g} %, chi2_red {b.chi2_red:.3g}, AIC {b.aic:.1f} ({b.n_points} points, {b.n_params} free parameters)"]
         if self.kk is not None:
             kk_text = "the data are Kramers–Kronig consistent" if self.kk.valid else "the data are NOT Kramers–Kronig consistent in " + ", ".join(f"{format_frequency(lo)}–{format_frequency(hi)}" for lo, hi in self.kk.bad_bands)
@@ -343,10 +347,10 @@ class Diagnosis:
             starts = " ".join(f"--init {k}={v:.6g}" for k, v in best.values.items() if not best.fixed[k])
             lines.append(f"  to apply 1. from its fitted values (a fit from scratch may stop in another minimum): {fit_command} --model '{best.model}' {starts}")
             lines += _without_vanished_lines(best, fit_command)
-            if self.masked_points:  # (impedax fit takes every point the file holds)
+            if self.masked_points:  # (impedax fit takes every point the file holds unless told)
                 lines.append(
                     f"     note: this diagnosis left out {len(self.masked_points)} point(s) ({', '.join(format_frequency(f) for f in self.masked_points[:6])}{', …' if len(self.masked_points) > 6 else ''}); "
-                    "a fit of every point reaches other values (in Python: ix.fit(model, data, init=diagnosis.best.fit) on the data without them)"
+                    f"the command leaves them out too ({left_out_words(left_out)}); a fit of every point reaches other values (in Python: ix.fit(model, data, init=diagnosis.best.fit) on the data without them)"
                 )
         elif self.candidates and self.verdict == Verdict.ADEQUATE:
             top = self.candidates[0]
@@ -886,10 +890,11 @@ def _data_problem(fit: FitResult, kk: KKResult | None, noise: NoiseModel) -> Dat
     return DataProblem(None, none, f"the KK test flags {np.mean(flagged) * 100:.0f} % of the points, but the model's misfit there is more than {1 / KK_COMPARABLE:.0f}× the data's own: diagnosed with every point")
 
 
-def _fit_proposals(base: FitResult, spectrum: xr.Dataset, ctx: BaselineContext, proposals: list[tuple[Effect, Proposal]], shape: SolverShape | None, *, n_starts: int, max_steps: int, seed: int) -> tuple[list[tuple[Effect, Proposal]], list[FitResult], SolverShape]:
+def _fit_proposals(base: FitResult, spectrum: xr.Dataset, ctx: BaselineContext, proposals: list[tuple[Effect, Proposal]], shape: SolverShape | None, *, n_starts: int, max_steps: int, seed: int, say=None) -> tuple[list[tuple[Effect, Proposal]], list[FitResult], SolverShape]:
     """The baseline (refitted from its own values) and every proposal, fitted together; the
     proposals with those `_series_resistance_dropped` adds, and their fits after the
-    baseline's; and the solver shape used (``shape`` when it holds them)."""
+    baseline's; and the solver shape used (``shape`` when it holds them). ``say``: told as each
+    rung of further starts for the poor leaders begins (`diagnose`'s progress)."""
     fixed = {k: v for k, v in base.values.items() if base.fixed[k]}
     circuits = [base.circuit] + [p.circuit for _, p in proposals]
     inits = [[dict(base.values), ctx.start()]] + [list(p.starts) for _, p in proposals]
@@ -914,6 +919,8 @@ def _fit_proposals(base: FitResult, spectrum: xr.Dataset, ctx: BaselineContext, 
             poor = _poor_leaders(proposals, fits[1:], target, fits[0])
             if not poor:
                 break
+            if say is not None:
+                say(f"refitting {len(poor)} leading candidate(s) whose fits are still poor, from {starts} further starts each")
             redo = fit_candidates([proposals[i][1].circuit for i in poor], spectrum, init=[[dict(fits[1 + i].values)] for i in poor], **{**options, "n_starts": starts, "seed": seed + 7919 * rung, "step_limit": None})
             for i, again in zip(poor, redo):
                 if again.chi2 < fits[1 + i].chi2:
@@ -1319,12 +1326,12 @@ def _paired(first: Effect, p1: Proposal, second: Effect, p2: Proposal) -> tuple[
     return effect, Proposal(effect.id, p2.circuit, f"{p1.added} and {p2.added}", where, p2.starts, p1.removed + p2.removed, band, p1.vanished + p2.vanished)
 
 
-def _effect_pairs(base: FitResult, cands: Sequence[Suggestion], proposals: list[tuple[Effect, Proposal]], spectrum: xr.Dataset, effects: EffectCatalog, shape: SolverShape, *, with_drt: bool, max_params: int, n_starts: int, max_steps: int, seed: int) -> tuple[list[tuple[Effect, Proposal]], list[FitResult], SolverShape]:
+def _effect_pairs(base: FitResult, cands: Sequence[Suggestion], proposals: list[tuple[Effect, Proposal]], spectrum: xr.Dataset, effects: EffectCatalog, shape: SolverShape, *, with_drt: bool, max_params: int, n_starts: int, max_steps: int, seed: int, say=None) -> tuple[list[tuple[Effect, Proposal]], list[FitResult], SolverShape]:
     """Candidates of two effects: each of the best `PAIR_SEEDS` candidates that lower AIC by
     more than `DELTA_AIC_MIN` but leave parameters undetermined, with every effect of the
     catalog proposed on top of its fit (its own context: values, misfit and DRT evidence),
-    fitted as `_fit_proposals` fits the first ones. Returns the new proposals (`_paired`), their
-    fits and the solver shape.
+    fitted as `_fit_proposals` fits the first ones (``say``: told as each seed's pairs begin).
+    Returns the new proposals (`_paired`), their fits and the solver shape.
 
     A single effect can be undetermined because a second one is missing as well: on AutoEIS's
     battery cycle 0 with ``R0 + R1 || CPE1`` (23.6× the noise), a second arc leaves its R
@@ -1336,8 +1343,10 @@ def _effect_pairs(base: FitResult, cands: Sequence[Suggestion], proposals: list[
     seeds = sorted((s for s in cands if s.undetermined and s.delta_aic < -DELTA_AIC_MIN and str(s.fit.circuit) in by_circuit), key=lambda s: s.delta_aic)[:PAIR_SEEDS]
     out: list[tuple[Effect, Proposal]] = []
     fits: list[FitResult] = []
-    for s in seeds:
+    for k, s in enumerate(seeds, 1):
         first, p1 = by_circuit[str(s.fit.circuit)]
+        if say is not None:
+            say(f"pairs on top of {s.fit.model} ({first.id}; {k} of {len(seeds)})")
         ctx = _context(s.fit, _drt_evidence(s.fit, []) if with_drt else None)
         pairs = []
         for second, p2 in effects.proposals(ctx):
@@ -1346,7 +1355,9 @@ def _effect_pairs(base: FitResult, cands: Sequence[Suggestion], proposals: list[
                 seen.add(key)
                 pairs.append(_paired(first, p1, second, p2))
         if pairs:
-            pairs, pair_fits, shape = _fit_proposals(s.fit, spectrum, ctx, pairs, shape, n_starts=n_starts, max_steps=max_steps, seed=seed)
+            if say is not None:
+                say(f"fitting {len(pairs)} pairs on {s.fit.model}")
+            pairs, pair_fits, shape = _fit_proposals(s.fit, spectrum, ctx, pairs, shape, n_starts=n_starts, max_steps=max_steps, seed=seed, say=say)
             out += pairs
             fits += pair_fits[1:]
     return out, fits, shape
@@ -1389,6 +1400,62 @@ def _lead_behind(base: FitResult, cands: Sequence[Suggestion], proposals: list[t
     against_best = _suggestions(best.fit, pairs, fits[1:], sigma_rel, bands)
     kept = [(p, f) for p, f, s in zip(pairs, fits[1:], against_best) if s.significant]
     return [p for p, _ in kept], [f for _, f in kept], shape
+
+
+def _between(lo: float, hi: float, *, lo_open: bool, hi_open: bool, near: float) -> str:
+    """The shortest text of a number in the interval from ``lo`` to ``hi`` (each end open or
+    closed), rounded from ``near``."""
+    for digits in range(1, 18):
+        text = f"{near:.{digits}g}"
+        v = float(text)
+        if (v > lo if lo_open else v >= lo) and (v < hi if hi_open else v <= hi):
+            return text.replace("e+0", "e").replace("e+", "e").replace("e-0", "e-")
+    return repr(float(near))
+
+
+def frequency_text(f: float, measured) -> str:
+    """``f`` [Hz] as ``--exclude`` takes it: the shortest text (3 digits or more) whose nearest
+    measured frequency (of ``measured``) is ``f`` within `EXCLUDE_RTOL`."""
+    measured = np.asarray(measured, float)
+    for digits in range(3, 18):
+        text = f"{f:.{digits}g}"
+        v = float(text)
+        nearest = measured[np.argmin(np.abs(np.log(measured / v)))] if measured.size else f
+        if nearest == f and abs(v / f - 1) <= EXCLUDE_RTOL:
+            return text.replace("e+0", "e").replace("e+", "e").replace("e-0", "e-")
+    return repr(float(f))
+
+
+# how far a value of ``impedax fit --exclude`` may be from the measured frequency it names
+# (relative): a frequency copied from a report's three digits (5.34 Hz for 5.3367 Hz) matches
+EXCLUDE_RTOL = 5e-3
+
+
+def left_out_options(kept, masked) -> list[tuple[str, str]]:
+    """The ``impedax fit`` options that leave out the ``masked`` frequencies [Hz] of a fit on
+    ``kept`` ones: ``--fmin``/``--fmax`` for the masked points at the ends of the band,
+    ``--exclude F,F`` for those inside it (`frequency_text`). Empty when nothing is masked."""
+    kept = np.sort(np.asarray(kept, float))
+    masked = np.sort(np.asarray(masked, float))
+    if not masked.size or not kept.size:
+        return []
+    lo, hi = kept[0], kept[-1]
+    options = []
+    below, above = masked[masked < lo], masked[masked > hi]
+    if below.size:
+        options.append(("--fmin", _between(below[-1], lo, lo_open=True, hi_open=False, near=lo)))
+    if above.size:
+        options.append(("--fmax", _between(hi, above[0], lo_open=False, hi_open=True, near=hi)))
+    inside = masked[(masked > lo) & (masked < hi)]
+    if inside.size:
+        measured = np.concatenate([kept, masked])
+        options.append(("--exclude", ",".join(frequency_text(f, measured) for f in inside)))
+    return options
+
+
+def left_out_words(options) -> str:
+    """``options`` (`left_out_options`) as command-line text: ``--fmax 1e6 --exclude 5.34``."""
+    return " ".join(f"{flag} {value}" for flag, value in options)
 
 
 def _without_vanished_lines(fit: FitResult, fit_command: str) -> list[str]:
@@ -1553,7 +1620,7 @@ def diagnose(
     n_points = int(keep.sum())
     proposals = [(e, p) for e, p in effects.proposals(ctx) if len(p.circuit.parameter_names(base.registry)) < 2 * n_points]
     say(f"fitting {len(proposals)} candidate circuits of {len({e.id for e, _ in proposals})} effects")
-    proposals, fits, shape = _fit_proposals(base, spectrum, ctx, proposals, shape, n_starts=n_starts, max_steps=max_steps, seed=seed)
+    proposals, fits, shape = _fit_proposals(base, spectrum, ctx, proposals, shape, n_starts=n_starts, max_steps=max_steps, seed=seed, say=say)
     if masked:
         base = fits[0]
     elif fits[0].chi2 < base.chi2 * (1 - 1e-6):
@@ -1568,7 +1635,7 @@ def diagnose(
     bands, cands, verdict, reason = judged(base)
     if verdict == Verdict.ADEQUATE and _beyond_single_effects(bands, _noise_ratio(base, sigma_rel)):  # two effects missing at once?
         say("fitting pairs of effects (no single one is enough)")
-        pairs, pair_fits, shape = _effect_pairs(base, cands, proposals, spectrum, effects, shape, with_drt=evidence is not None, max_params=2 * n_points - 1, n_starts=n_starts, max_steps=max_steps, seed=seed)
+        pairs, pair_fits, shape = _effect_pairs(base, cands, proposals, spectrum, effects, shape, with_drt=evidence is not None, max_params=2 * n_points - 1, n_starts=n_starts, max_steps=max_steps, seed=seed, say=say)
         if pairs:
             proposals, fits = proposals + pairs, fits + pair_fits
             bands, cands, verdict, reason = judged(base)

@@ -23,7 +23,7 @@ from ..parameters import ParameterTable
 from ..problem import WEIGHTINGS, open_spectrum
 from .bands import format_frequency
 from .catalog import EffectCatalog
-from .diagnosis import CANDIDATE_STEPS, DELTA_AIC_MIN, NOISE_FRACTION_MIN, Diagnosis, Verdict, diagnose, noise_variance_explained, undetermined_parameters
+from .diagnosis import CANDIDATE_STEPS, DELTA_AIC_MIN, NOISE_FRACTION_MIN, Diagnosis, Verdict, diagnose, left_out_options, left_out_words, noise_variance_explained, undetermined_parameters
 from .effects import DEFAULT_EFFECTS, placement
 from .vanishing import share_words, vanished_parameters, vanished_terms
 
@@ -149,7 +149,10 @@ class Refinement:
             lines.append(f"undetermined in the final fit: {', '.join(sorted(loose))} (the data do not fix {'it' if len(loose) == 1 else 'them'}; see impedax fit of the final model)")
         if self.masked_points:
             listed = ", ".join(format_frequency(f) for f in self.masked_points[:6]) + (", …" if len(self.masked_points) > 6 else "")
-            lines.append(f"masked: {len(self.masked_points)} point(s) left out of every fit as the data's own problem ({listed}); impedax fit of the file keeps them, so its values and rms_rel differ")
+            lines.append(
+                f"masked: {len(self.masked_points)} point(s) left out of every fit as the data's own problem ({listed}); impedax fit of the file keeps them, "
+                f"so its values and rms_rel differ, unless told: {left_out_words(left_out_options(final.frequency, self.masked_points))}"
+            )
         return lines
 
     def plot(self, *, title: str | None = None):
@@ -651,12 +654,13 @@ def refine(
     ``solver_steps`` is the step limit's older name (with a FutureWarning).
     ``registry`` parses the circuit; only the points with ``fmin`` ≤ f ≤ ``fmax`` are used, at
     every step, less the points the first diagnosis masks (KK-flagged); ``drt_evidence`` as in
-    `diagnose`; ``progress`` is called with a line of text as each step starts. The final model
-    is refitted with `fit` on the same points (reproducible with ``impedax fit``); a last
-    step whose refit leaves parameters undetermined is dropped; an ``adequate`` end loses the
-    elements it added that an adequate model can do without (`_simplified`); then any end
-    loses a term its fit's flags say vanished (a resistor run open) and has a C in place of a
-    CPE at α = 1 (`_pruned`). Returns a `Refinement`."""
+    `diagnose`; ``progress`` is called with a line of text as each step starts, and indented
+    as each stage of a step's diagnosis starts. The final model is refitted with `fit` on the
+    same points (reproducible with ``impedax fit``); a last step whose refit leaves parameters
+    undetermined is dropped; an ``adequate`` end loses the elements it added that an adequate
+    model can do without (`_simplified`); then any end loses a term its fit's flags say
+    vanished (a resistor run open) and has a C in place of a CPE at α = 1 (`_pruned`). Returns a
+    `Refinement`."""
     if solver_steps is not None:
         if max_steps is not None:
             raise ParameterError("give max_steps (the step limit of the candidate fits; solver_steps is its older name), not both")
@@ -672,7 +676,11 @@ def refine(
     say = progress or (lambda text: None)
     ds = open_spectrum(data, fmin=fmin, fmax=fmax, single="refine").data
     say(f"step 0: diagnosing {circuit}")
-    first = diagnose(ds, circuit, effects=effects, noise=noise, weighting=weighting, registry=registry, n_starts=n_starts, max_steps=solver_steps, seed=seed, drt_evidence=drt_evidence)
+
+    def within(text: str) -> None:  # (a diagnosis' stages, under the step that runs it: none silent for long)
+        say(f"  {text}")
+
+    first = diagnose(ds, circuit, effects=effects, noise=noise, weighting=weighting, registry=registry, n_starts=n_starts, max_steps=solver_steps, seed=seed, drt_evidence=drt_evidence, progress=within)
     masked = first.masked_points
     # the KK test as the first diagnosis got it (before its local judgement, which every step
     # redoes): the discrepancy floor δ takes that test's flags, so each step has the first's noise
@@ -689,7 +697,7 @@ def refine(
         if known is not None and known.baseline.chi2 <= current.chi2 * (1 + REUSE_CHI2_RTOL):
             return known
         # every step through one compiled solver and on the first step's points (mask=False)
-        d = diagnose(current, data=ds, effects=effects, kk=kk, noise=noise, n_starts=n_starts, max_steps=solver_steps, seed=seed, drt_evidence=drt_evidence, solver_shape=shape, mask=False)
+        d = diagnose(current, data=ds, effects=effects, kk=kk, noise=noise, n_starts=n_starts, max_steps=solver_steps, seed=seed, drt_evidence=drt_evidence, solver_shape=shape, mask=False, progress=within)
         diagnoses[str(current.circuit)] = d
         return d
 

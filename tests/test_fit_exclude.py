@@ -1,0 +1,91 @@
+"""``--exclude F,F`` of the commands that fit, and the advice of ``diagnose`` and ``refine`` when
+their diagnosis masked points: the printed ``impedax fit`` command leaves the same points out
+(``--fmin``/``--fmax`` at the band's ends, ``--exclude`` inside it) and reaches the rms_rel the
+advice promised. REAL data: tests/fixtures/real (PowerSuite: 2 points with Re Z < 0 at the top;
+BioLogic: 4 KK-flagged points inside the band)."""
+
+import json
+import shlex
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import impedax as ix
+from impedax.cli import main
+from impedax.cli.common import exclude_points
+from impedax.errors import ParameterError
+from impedax.fitting.diagnosis.diagnosis import left_out_options
+
+REAL = Path(__file__).resolve().parent / "fixtures" / "real"
+POWERSUITE = REAL / "exampleDataPowersuite.txt"
+BIOLOGIC = REAL / "exampleDataBioLogic.mpt"
+
+
+def _run_json(argv, capsys) -> dict:
+    capsys.readouterr()
+    assert main(argv + ["--json"]) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+def _command(line: str) -> list[str]:
+    """The argv of the ``impedax fit`` command a line of advice ends with."""
+    return shlex.split(line[line.index("impedax fit "):])[1:]
+
+
+def test_left_out_options_cut_the_ends_and_name_the_inside():
+    f = np.geomspace(0.1, 1e5, 25)
+    masked = (f[0], f[10], f[23], f[24])
+    kept = np.delete(f, [0, 10, 23, 24])
+    options = dict(left_out_options(kept, masked))
+    assert set(options) == {"--fmin", "--fmax", "--exclude"}
+    assert f[0] < float(options["--fmin"]) <= f[1] and f[22] <= float(options["--fmax"]) < f[23]
+    assert [float(x) for x in options["--exclude"].split(",")] == pytest.approx([f[10]], rel=5e-3)
+    assert left_out_options(f, ()) == []
+
+
+def test_exclude_names_the_nearest_measured_frequency_and_refuses_what_names_none(capsys):
+    data = ix.load(BIOLOGIC)
+    f = data["frequency"].values
+    # the three digits the report prints (5.34 Hz for 5.336 Hz) and an SI prefix
+    i, j = int(np.argmin(abs(f - 5.34))), int(np.argmax(f))
+    kept = exclude_points(data, f"{f[i]:.3g},{f[j] / 1e3:.4g}k")
+    assert kept.sizes["frequency"] == f.size - 2 and f[i] not in kept["frequency"].values and f[j] not in kept["frequency"].values
+    with pytest.raises(ParameterError, match=r"--exclude 5\.0: no measured frequency within 0\.5 % of 5 Hz; the nearest are 4\.\d+ Hz and 5\.33\d+ Hz"):
+        exclude_points(data, "5.0")
+    with pytest.raises(ParameterError, match="name the same measured frequency"):
+        exclude_points(data, f"{f[i]:.3g},{f[i]:.5g}")
+    # the command line: one message, exit 2
+    assert main(["fit", str(BIOLOGIC), "--model", "R0 + R1 || C1", "--exclude", "5.0"]) == 2
+    assert "--exclude 5.0: no measured frequency" in capsys.readouterr().err
+
+
+def test_the_diagnose_advice_leaves_out_the_masked_points_and_reaches_the_promised_rms(tmp_path, capsys):
+    summary = tmp_path / "diagnosis.json"
+    assert main(["diagnose", str(POWERSUITE), "--model", "R0 + R1 || CPE1 + R2 || CPE2", "--out", str(summary)]) == 0
+    text = capsys.readouterr().out
+    diagnosis = json.loads(summary.read_text())
+    assert len(diagnosis["masked_points"]) == 2 and min(diagnosis["masked_points"]) > 1e6  # (1.12 MHz, 2 MHz: Re Z < 0)
+    promised = diagnosis["suggestions"][0]["rms_rel"]
+    assert f"rms_rel {promised * 100:.3g} %" in text
+    argv = _command(next(x for x in text.splitlines() if "to apply 1." in x))
+    assert "--fmax" in argv and "--exclude" not in argv
+    out = _run_json(argv, capsys)
+    assert out["n_points"] == diagnosis["baseline"]["n_points"]
+    assert out["rms_rel"] == pytest.approx(promised, rel=5e-3)  # (before: 40.6 % against 13.6 % promised)
+
+
+def test_the_refine_reproduce_line_leaves_out_the_interior_masked_points(tmp_path, capsys):
+    summary = tmp_path / "refinement.json"
+    assert main(["refine", str(BIOLOGIC), "--out", str(summary)]) == 0
+    text = capsys.readouterr().out
+    refinement = json.loads(summary.read_text())
+    masked = refinement["masked_points"]
+    assert len(masked) == 4  # (5.34, 56.2, 123, 270 Hz)
+    line = next(x for x in text.splitlines() if x.startswith("to reproduce the final fit"))
+    argv = _command(line)
+    excluded = [float(x) for x in argv[argv.index("--exclude") + 1].split(",")]
+    assert excluded == pytest.approx(sorted(masked), rel=5e-3) and "--fmin" not in argv and "--fmax" not in argv
+    out = _run_json(argv, capsys)
+    assert out["model"] == refinement["final_model"]
+    assert out["rms_rel"] == pytest.approx(refinement["final_rms_rel"], rel=1e-4)
