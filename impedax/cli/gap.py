@@ -56,7 +56,7 @@ def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting.bayes.chain import AUTO_STEPS, auto_step_cap
     from ..arguments import GAP_MIN_STEPS
-    from ..models.gap import HIERARCHICAL_AUTO_DRAWS, gap_analysis
+    from ..models.gap import HIERARCHICAL_AUTO_DRAWS, check_fingertip_area, gap_analysis
     from .common import check_memory, figure_writer, load_selected_files, plan_outputs, print_result, result_writer
 
     if args.pooled and args.method == "hierarchical":  # (argparse's exclusive groups let a default-valued --method through)
@@ -66,6 +66,8 @@ def run(args) -> int:
         raise ParameterError(f"--area must be positive (m²), got {args.area:g}")
     if not args.v0 > 0:
         raise ParameterError(f"--v0 must be positive (V), got {args.v0:g}")
+    if not args.no_area_check:
+        check_fingertip_area(args.area)  # (an option's error before any file's: gap_analysis checks it again)
     steps = args.steps
     if steps != AUTO_STEPS and steps < GAP_MIN_STEPS:
         raise ParameterError(f"--steps must be at least {GAP_MIN_STEPS}")

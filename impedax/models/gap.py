@@ -39,7 +39,7 @@ from .gap_inputs import check_gap_inputs, position_notes, spectra_used
 from .plausible import FINGERTIP_AREA_M2
 from .sirin import SIRIN_AREA, SIRIN_DRIVE_V, PaperGapEstimate, gap_force_peak, paper_gap_estimate, remainder_circuit, remaining_impedance, trial_mean, trial_remainders
 
-__all__ = ["GapAnalysis", "gap_analysis", "GAP_METHODS", "GAP_MIN_STEPS", "FINGERTIP_AREA_M2", "IDENTIFIED_C_REMAINDER", "C_GAP_BOUNDS_F", "HIERARCHICAL_AUTO_DRAWS", "gap_bounds"]
+__all__ = ["GapAnalysis", "gap_analysis", "GAP_METHODS", "GAP_MIN_STEPS", "FINGERTIP_AREA_M2", "IDENTIFIED_C_REMAINDER", "C_GAP_BOUNDS_F", "HIERARCHICAL_AUTO_DRAWS", "gap_bounds", "check_fingertip_area"]
 
 GAP_METHODS = ("hierarchical", "pooled")
 _EP_PER_TRIAL = ("R_EP", "CPE_EP.Q", "C_EP")  # the contact's EP branch varies with each trial
@@ -332,7 +332,7 @@ def gap_analysis(
         raise DataError(f"area must be positive (m²), got {area}")
     notes = [] if check_area else _fingertip_area_notes(area)
     if check_area:
-        _check_fingertip_area(area)
+        check_fingertip_area(area)
     if method not in GAP_METHODS:
         raise ParameterError(f"unknown gap method {method!r}; use one of {', '.join(GAP_METHODS)}")
     total, skin, touchscreen = check_gap_inputs(total, skin, touchscreen)  # (sign, grids, distinct: DataError naming the file)
@@ -448,7 +448,7 @@ def _naive_runaway_notes(naive) -> list[str]:
     ]
 
 
-def _check_fingertip_area(area: float) -> None:
+def check_fingertip_area(area: float) -> None:
     """A plausible fingertip contact area [m²] (`FINGERTIP_AREA_M2`), else a ParameterError."""
     low, high = FINGERTIP_AREA_M2
     if not low <= area <= high:
