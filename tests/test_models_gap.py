@@ -177,16 +177,19 @@ def test_a_large_area_keeps_c_gap_off_the_prior_bound():
 
 
 def test_swapped_spectra_are_refused_before_any_fit(monkeypatch):
-    """Total given as skin and screen too: Z_R = −Z_total, Re Z_R < 0 everywhere (DataError, no fit)."""
+    """Skin and total swapped: Z_R = Z_skin − Z_total − Z_TS, Re Z_R < 0 everywhere; the total given
+    three times: identical spectra (DataError, no fit, either way)."""
     import impedax.fitting
 
     def no_fit(*args, **kwargs):
         raise AssertionError("fitted before checking the remainder")
 
     monkeypatch.setattr(impedax.fitting, "fit", no_fit)
-    total, _, _ = _measurements(np.random.default_rng(2), n_trials=3)
+    total, skin, ts = _measurements(np.random.default_rng(2), n_trials=3)
     for method in ("pooled", "hierarchical"):
         with pytest.raises(ix.DataError, match=r"Re Z < 0 at 41 of 41 frequencies: check the order of the files \(TOTAL SKIN SCREEN\)"):
+            gap_analysis(skin, total, ts, area=AREA, method=method, progress=False)  # (skin − total − screen)
+        with pytest.raises(ix.DataError, match=r"total and skin hold identical spectra"):  # (the same data twice: models.gap_inputs)
             gap_analysis(total, total, total, area=AREA, method=method, progress=False)
 
 
@@ -196,7 +199,7 @@ def test_cli_gap_same_file_three_times_exits_2(capsys):
     z = str(Path(__file__).parent / "fixtures" / "real" / "exampleDataZPlot.z")
     assert main(["gap", z, z, z, "--area", "130e-6", "--pooled", "--quiet"]) == 2
     err = capsys.readouterr().err
-    assert "Re Z < 0 at 21 of 21 frequencies" in err and "TOTAL SKIN SCREEN" in err
+    assert f"total and skin are the same file, {z}" in err and "DATA_TOTAL" in err
 
 
 def test_single_spectra_need_pooled():

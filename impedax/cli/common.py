@@ -54,6 +54,18 @@ def number_option(text: str) -> float:
         raise argparse.ArgumentTypeError(str(error)) from None
 
 
+# what argparse should read as a negative number, not an option: -1e-4, -.5, -2.2n, -inf
+# (its own pattern, ^-\d+$|^-\d*\.\d+$, leaves out exponents and SI prefixes)
+NEGATIVE_NUMBER = re.compile(r"^-(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?\s*[fpnuµμmkMGT]?$|^-inf(?:inity)?$", re.IGNORECASE)
+
+
+def accept_negative_numbers(parser) -> None:
+    """Let ``parser`` (a command's, with no option that looks like a negative number) take
+    ``--area -1e-4`` as the option and its value, so the command's own check names the value,
+    instead of argparse's "expected one argument"."""
+    parser._negative_number_matcher = NEGATIVE_NUMBER
+
+
 def parse_assignments(items: Iterable[str] | None, flag: str) -> dict[str, float]:
     """``["R0=100", "C1=1u"]`` → ``{"R0": 100.0, "C1": 1e-06}`` (`prefixed_number`) with clear
     errors."""
@@ -570,6 +582,8 @@ def select_spectra(data, path: str, select: Sequence[str] | None, *, single: str
             if isinstance(attrs.get(key), str):
                 attrs[key] = f"{attrs[key]} [selection: {shown}]"
         data.attrs = {**attrs, "selection": shown, "source": f"{path} [{shown}]"}
+        if unlabelled:  # (which dims were picked by position, not label: `impedax gap` reports it per file)
+            data.attrs["selected_by_position"] = ",".join(unlabelled)
     extra = [d for d in data["Z"].dims if d != "frequency"]
     if single is not None and extra:
         n = math.prod(data.sizes[d] for d in extra)

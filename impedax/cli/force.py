@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .common import add_output_options, add_positional_model, check_memory, check_parameter_names, check_points, figure_writer, number_option, parse_assignments, plan_outputs, to_jsonable
+from .common import accept_negative_numbers, add_output_options, add_positional_model, check_memory, check_parameter_names, check_points, figure_writer, number_option, parse_assignments, plan_outputs, to_jsonable
 
 _MODELS = ("meyer", "vezzoli")
 _RANGES = {"meyer": (10.0, 1e9), "vezzoli": (1.0, 1e6)}
@@ -46,8 +46,10 @@ def register(sub) -> None:
         "--fmin or --fmax it still rises past the band, and that is said instead of a peak. "
         "vezzoli warns when C_i/C_s = eps_i h_s/(eps_s h_i) exceeds 0.1 (eq 8 assumes C_i << C_s).",
     )
+    accept_negative_numbers(p)  # (--fmin -10: the value, refused by name, not argparse's "expected one argument")
     add_positional_model(p, choices=_MODELS, help="which paper's model")
-    p.add_argument("--param", action="append", metavar="NAME=VALUE", help="override a parameter (repeatable)")
+    p.add_argument("--param", action="append", metavar="NAME=VALUE", help="override a parameter (repeatable); an area outside 1e-6–1e-2 m² (as impedax gap) or a meyer capacitance or resistance beyond 1000× either way of the thesis value is refused as a likely unit slip unless --no-param-check")
+    p.add_argument("--no-param-check", action="store_true", help="compute with any positive --param value: an implausible one gives a warning instead of an error")
     p.add_argument("--fmin", type=number_option, default=None, help="lowest frequency [Hz] (meyer 10, vezzoli 1)")
     p.add_argument("--fmax", type=number_option, default=None, help="highest frequency [Hz] (meyer 1e9, vezzoli 1e6)")
     p.add_argument("--points", type=int, default=None, help="number of frequencies (default 161; 1 when --fmin equals --fmax)")
@@ -65,8 +67,12 @@ def register(sub) -> None:
     p.set_defaults(run=run)
 
 
-def _parameters(model: str, items) -> tuple[dict[str, float], dict[str, float]]:
+def _parameters(model: str, items, check: bool = True) -> tuple[dict[str, float], dict[str, float], list[str]]:
+    """The parameters (the paper's, overridden by ``--param``), those given, and warnings: a
+    value given outside its plausible range (`models.plausible`) is a ParameterError, or with
+    ``check`` False (``--no-param-check``) a warning."""
     from ..errors import ParameterError
+    from ..models.plausible import implausible_message
 
     defaults = _defaults(model)
     listing = f"(parameters of {model}: {', '.join(defaults)})"
@@ -78,7 +84,14 @@ def _parameters(model: str, items) -> tuple[dict[str, float], dict[str, float]]:
     for name, value in given.items():
         if not (math.isfinite(value) and value > 0):
             raise ParameterError(f"--param {name}={value:g}: must be positive {listing}")
-    return {**defaults, **given}, given
+    notes = []
+    for name, value in given.items():
+        message = implausible_message(model, name, value)
+        if message and check:
+            raise ParameterError(f"--param {name}={value:g}: {message}; --no-param-check computes with it anyway")
+        if message:
+            notes.append(f"--param {name}={value:g}: {message}; computed as given (--no-param-check)")
+    return {**defaults, **given}, given, notes
 
 
 def _force(model: str, params: dict[str, float], freq: np.ndarray, convention: str) -> np.ndarray:
@@ -229,7 +242,7 @@ def _out_path(path: str | None) -> str | None:
 def run(args) -> int:
     from ..data import log_frequencies
 
-    params, given = _parameters(args.model, args.param)
+    params, given, param_notes = _parameters(args.model, args.param, check=not args.no_param_check)
     out = _out_path(args.out)
     outputs = plan_outputs([("--out", out, "result"), ("--plot", args.plot, "figure")])
     low, high = _RANGES[args.model]
@@ -237,7 +250,7 @@ def run(args) -> int:
     fmax = high if args.fmax is None else args.fmax
     points = check_points(args.points, fmin, fmax, default=161)
     check_memory("--points", points * POINT_BYTES, f"a force spectrum of {points} frequencies")
-    notes = _notes(args.model, params)
+    notes = param_notes + _notes(args.model, params)
     freq = log_frequencies(fmin, fmax, points)
     force = _finite_force(args.model, params, given, freq, args.convention)
     from ..models.peak import force_maximum

@@ -12,7 +12,7 @@ GAP_OUT_HELP = (
 
 
 def register(sub) -> None:
-    from .common import SELECT_SYNTAX_HELP, add_output_options, number_option
+    from .common import SELECT_SYNTAX_HELP, accept_negative_numbers, add_output_options, number_option
     from ..arguments import GAP_MIN_STEPS
     from .sample import steps_option
 
@@ -26,6 +26,7 @@ def register(sub) -> None:
         "reported with the spread between trials and a new trial's interval. --pooled: one model on the trial means (their SEM only). "
         "Force bands use the PEAK convention of Sirin eq 1.",
     )
+    accept_negative_numbers(p)  # (--area -1e-4: the value, refused by name, not argparse's "expected one argument")
     p.add_argument("total", metavar="DATA_TOTAL", help="finger-on-screen spectra (trials as an extra dimension)")
     p.add_argument("skin", metavar="DATA_SKIN", help="skin spectra")
     p.add_argument("touchscreen", metavar="DATA_TS", help="touchscreen spectra")
@@ -55,7 +56,7 @@ def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting.bayes.chain import AUTO_STEPS, auto_step_cap
     from ..arguments import GAP_MIN_STEPS
-    from ..models.gap import HIERARCHICAL_AUTO_DRAWS, gap_analysis
+    from ..models.gap import HIERARCHICAL_AUTO_DRAWS, check_fingertip_area, gap_analysis
     from .common import check_memory, figure_writer, load_selected_files, plan_outputs, print_result, result_writer
 
     if args.pooled and args.method == "hierarchical":  # (argparse's exclusive groups let a default-valued --method through)
@@ -65,6 +66,8 @@ def run(args) -> int:
         raise ParameterError(f"--area must be positive (m²), got {args.area:g}")
     if not args.v0 > 0:
         raise ParameterError(f"--v0 must be positive (V), got {args.v0:g}")
+    if not args.no_area_check:
+        check_fingertip_area(args.area)  # (an option's error before any file's: gap_analysis checks it again)
     steps = args.steps
     if steps != AUTO_STEPS and steps < GAP_MIN_STEPS:
         raise ParameterError(f"--steps must be at least {GAP_MIN_STEPS}")
@@ -78,6 +81,7 @@ def run(args) -> int:
     length = auto_length if steps == AUTO_STEPS else steps
     check_memory("--steps", length * 64 * 10 * 8 * 3, f"a gap-thickness chain of {'up to ' if steps == AUTO_STEPS and args.method == 'pooled' else ''}{length} steps")
     total, skin, touchscreen = load_selected_files([args.total, args.skin, args.touchscreen], args.select)
+    _check_distinct_paths({"total": args.total, "skin": args.skin, "touchscreen": args.touchscreen})  # (after reading: a bad file is named first)
     result = gap_analysis(total, skin, touchscreen, area=args.area, v0=args.v0, ep=args.ep, steps=steps, seed=args.seed, method=args.method, progress=not (args.quiet or args.json), check_area=not args.no_area_check)
     outputs.save({"--out": result_writer(result), "--plot": figure_writer(result.plot)})
     if not outputs.uses_stdout:
@@ -85,3 +89,28 @@ def run(args) -> int:
     if result.warnings and args.json:
         print(f"impedax gap: {len(result.warnings)} warning(s), see the JSON 'warnings'", file=sys.stderr)
     return 0
+
+
+def _check_distinct_paths(paths: dict[str, str]) -> None:
+    """A `ParameterError` when two of the three inputs name the same file (the same path, or
+    two paths to one file); identical spectra in different files are refused by
+    `gap_analysis` (`models.gap_inputs`)."""
+    import os
+
+    from ..errors import ParameterError
+
+    names = list(paths)
+    for i, a in enumerate(names):
+        for b in names[i + 1:]:
+            pa, pb = paths[a], paths[b]
+            if pa == "-" or pb == "-":
+                continue
+            try:
+                same = os.path.samefile(pa, pb)
+            except OSError:  # (a missing file: the reader names it)
+                same = os.path.abspath(pa) == os.path.abspath(pb)
+            if same:
+                raise ParameterError(
+                    f"{a} and {b} are the same file, {pb}: the gap analysis needs three different measurements "
+                    "(DATA_TOTAL: finger on the screen, DATA_SKIN: the skin alone, DATA_TS: the touchscreen alone), given in that order"
+                )

@@ -24,7 +24,7 @@ gap voltage and the electrostatic force, with uncertainty.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import xarray as xr
@@ -35,9 +35,11 @@ from ..arguments import GAP_MIN_STEPS, MAX_WALKERS, checked_arguments, choice, c
 from ..errors import CircuitError, DataError, ParameterError
 from ..constants import EPSILON_0, EPSILON_AIR
 from ..fitting.bayes.chain import AUTO_STEPS, steps_rule
+from .gap_inputs import check_gap_inputs, position_notes, spectra_used
+from .plausible import FINGERTIP_AREA_M2
 from .sirin import SIRIN_AREA, SIRIN_DRIVE_V, PaperGapEstimate, gap_force_peak, paper_gap_estimate, remainder_circuit, remaining_impedance, trial_mean, trial_remainders
 
-__all__ = ["GapAnalysis", "gap_analysis", "GAP_METHODS", "GAP_MIN_STEPS", "FINGERTIP_AREA_M2", "IDENTIFIED_C_REMAINDER", "C_GAP_BOUNDS_F", "HIERARCHICAL_AUTO_DRAWS", "gap_bounds"]
+__all__ = ["GapAnalysis", "gap_analysis", "GAP_METHODS", "GAP_MIN_STEPS", "FINGERTIP_AREA_M2", "IDENTIFIED_C_REMAINDER", "C_GAP_BOUNDS_F", "HIERARCHICAL_AUTO_DRAWS", "gap_bounds", "check_fingertip_area"]
 
 GAP_METHODS = ("hierarchical", "pooled")
 _EP_PER_TRIAL = ("R_EP", "CPE_EP.Q", "C_EP")  # the contact's EP branch varies with each trial
@@ -45,7 +47,6 @@ _EP_PER_TRIAL = ("R_EP", "CPE_EP.Q", "C_EP")  # the contact's EP branch varies w
 FORCE_CONVENTION = "peak"  # eq 1 at the voltage amplitude; the time average is half of it
 FORCE_CONDITIONS = "A taken as exact; skin and screen as their trial means, without their errors"
 
-FINGERTIP_AREA_M2 = (1e-6, 1e-2)  # plausible apparent contact of a fingertip: 1 mm² to 100 cm²
 C_GAP_BOUNDS_F = (1e-15, 1e-4)
 """Prior bounds of C_gap [F], 1 fF–100 µF, whatever the area: the capacitance is what the data
 determine, so the bounds of u = ε0 ε_gap A/C_gap follow the area (`gap_bounds`). They hold every
@@ -96,6 +97,7 @@ class GapAnalysis:
     method: str = "pooled"
     hierarchical: object = None
     model_requested: str | None = None
+    trials: dict | None = None  # `gap_inputs.spectra_used`: per input, the spectra analysed
 
     def draws(self, name: str) -> np.ndarray:
         """Posterior draws of ``u`` [m] or ``C_gap`` [F] (hierarchical: population medians)."""
@@ -174,6 +176,7 @@ class GapAnalysis:
             "edl_rms_rel": self.edl_fit.rms_rel,
             "area_m2": self.area,
             "v0": self.v0,
+            "trials": self.trials,
             "warnings": list(self.warnings),
         }
 
@@ -212,6 +215,8 @@ class GapAnalysis:
             f"force (peak, V0 = {self.v0:g} V) with EP: max {format_quantity(float(peak[i]), 'N')} at {format_frequency(float(peak['frequency'][i]))}",
             f"force bands     {FORCE_CONDITIONS} (A = {self.area:g} m²)",
         ]
+        if self.trials:
+            lines.append("spectra used    " + "; ".join(_trials_text(k, v) for k, v in self.trials.items()))
         lines += [f"warning: {w}" for w in self.warnings]
         return "\n".join(lines)
 
@@ -248,6 +253,14 @@ class GapAnalysis:
             "warnings": "\n".join(self.warnings),
         })
         return out
+
+
+def _trials_text(name: str, used: dict) -> str:
+    """``total 10 (sweep 0, 1, 2, …, 9)``: how many spectra of an input were analysed, and which."""
+    labels = ["/".join(map(str, v)) if isinstance(v, list) else str(v) for v in used["labels"]]
+    shown = ", ".join(labels if len(labels) <= 8 else labels[:3] + ["…"] + labels[-2:])
+    what = "/".join(f"{d} position" if d in used.get("by_position", ()) else d for d in used["dims"])
+    return f"{name} {used['count']}" + (f" ({what} {shown})" if labels else "")
 
 
 def gap_bounds(area: float, eps_gap: float = EPSILON_AIR) -> tuple[float, float]:
@@ -319,9 +332,12 @@ def gap_analysis(
         raise DataError(f"area must be positive (m²), got {area}")
     notes = [] if check_area else _fingertip_area_notes(area)
     if check_area:
-        _check_fingertip_area(area)
+        check_fingertip_area(area)
     if method not in GAP_METHODS:
         raise ParameterError(f"unknown gap method {method!r}; use one of {', '.join(GAP_METHODS)}")
+    total, skin, touchscreen = check_gap_inputs(total, skin, touchscreen)  # (sign, grids, distinct: DataError naming the file)
+    trials = spectra_used(total, skin, touchscreen)
+    notes += position_notes(trials)
     remaining = remaining_impedance(total, skin, touchscreen)
     _check_remainder_sign(remaining)
     if method == "hierarchical":
@@ -348,7 +364,8 @@ def gap_analysis(
     reparametrization = gap_thickness_reparametrization("C_gap", area=area, eps_r=eps_gap, lower=u_lower, upper=u_upper)
     if method == "hierarchical":
         draws = HIERARCHICAL_AUTO_DRAWS if steps == AUTO_STEPS else steps
-        return _hierarchical(total, skin, touchscreen, remaining, paper, naive, edl, circuit, reparametrization, area=area, v0=v0, ep=ep, eps_gap=eps_gap, steps=draws, warmup=draws if warmup is None else warmup, chains=chains, seed=seed, progress=progress, notes=notes, model_requested=str(requested))
+        result = _hierarchical(total, skin, touchscreen, remaining, paper, naive, edl, circuit, reparametrization, area=area, v0=v0, ep=ep, eps_gap=eps_gap, steps=draws, warmup=draws if warmup is None else warmup, chains=chains, seed=seed, progress=progress, notes=notes, model_requested=str(requested))
+        return replace(result, trials=trials)
     posterior = sample(
         circuit,
         remaining,
@@ -373,7 +390,7 @@ def gap_analysis(
     notes += _bound_notes(u_draws, reparametrization, area)
     notes += [f"EDL fit: {w}" for w in edl.warnings] + [f"sampling: {w}" for w in posterior.warnings if not w.startswith("least-squares start")]
     notes += _estimate_bound_notes("Bayesian gap thickness", float(np.median(u_draws)), paper, remaining, f"; draws span {_um(u_draws.min())}–{_um(u_draws.max())} µm")
-    return GapAnalysis(remaining, paper, naive, edl, posterior, force, area, v0, ep, tuple(notes), model_requested=str(requested))
+    return GapAnalysis(remaining, paper, naive, edl, posterior, force, area, v0, ep, tuple(notes), model_requested=str(requested), trials=trials)
 
 
 def _um(length_m: float) -> str:
@@ -431,7 +448,7 @@ def _naive_runaway_notes(naive) -> list[str]:
     ]
 
 
-def _check_fingertip_area(area: float) -> None:
+def check_fingertip_area(area: float) -> None:
     """A plausible fingertip contact area [m²] (`FINGERTIP_AREA_M2`), else a ParameterError."""
     low, high = FINGERTIP_AREA_M2
     if not low <= area <= high:

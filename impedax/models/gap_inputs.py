@@ -1,0 +1,193 @@
+"""The checks of `gap_analysis`'s three inputs (total, skin, touchscreen) before any fit, each a
+`DataError` naming the file (the data's ``source``) and how to fix it (docs/models.md,
+"Inputs of the gap analysis"):
+
+* sign: the physics of the gap analysis assumes passive, capacitive spectra, −Z'' > 0 over the
+  band, for the total, the skin and the screen alike. A file whose trial mean has Z'' > 0 at
+  more than half of its frequencies (`MAX_POSITIVE_SHARE`), or Z' < 0 there, looks stored with
+  the opposite sign (`impedax.io.sign_check`: the same hint `impedax inspect` prints) and is
+  refused: subtracting a conjugated spectrum gives a gap thickness off by any factor.
+* frequencies: each file's frequencies are sorted (a descending sweep is the same grid) and the
+  three grids must agree within `SWEEP_RTOL`, the tolerance the readers merge sweeps with;
+  otherwise the file whose grid differs from the other two is named, with the first frequency
+  that differs, and a constant ratio of 2π (rad/s read as Hz) or 10³ (kHz) is said as such.
+  Grids that agree are all given the total's frequencies.
+* identity: two of the three holding the same spectra (the same file given twice) are refused.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import xarray as xr
+
+from ..errors import DataError
+from ..io.sign_check import negative_real_evidence, negative_real_hint, opposite_sign_hint
+from ..io.table import SWEEP_RTOL
+
+__all__ = ["GAP_INPUTS", "MAX_POSITIVE_SHARE", "check_gap_inputs", "position_notes", "spectra_used"]
+
+GAP_INPUTS = ("total", "skin", "touchscreen")
+MAX_POSITIVE_SHARE = 0.5
+"""A gap input whose trial mean has Z'' > 0 (or Z' < 0) at more than this share of its
+frequencies is refused as stored with the opposite sign."""
+_RATIOS = ((2 * math.pi, "2π", "angular frequency ω in rad/s stored as frequency in Hz: divide it by 2π (impedax reads the column as Hz)"),
+           (1e3, "1000", "kHz (or ms) where Hz is read: give the frequencies in Hz"))
+
+
+def _named(name: str, data: xr.Dataset) -> str:
+    source = data.attrs.get("source")
+    return f"{name} ({source})" if source and source != "memory" else name  # (make_spectrum's default)
+
+
+def _mean_spectrum(data: xr.Dataset) -> np.ndarray:
+    z = data["Z"].transpose(..., "frequency").values
+    return z.reshape(-1, z.shape[-1]).mean(axis=0)
+
+
+def _check_sign(name: str, data: xr.Dataset) -> None:
+    """`DataError` when ``data``'s trial mean looks stored with the opposite sign."""
+    freq = np.asarray(data["frequency"].values, float)
+    z = _mean_spectrum(data)
+    n = z.size
+    what = _named(name, data)
+    real = negative_real_evidence(freq, z)
+    positive = int(np.count_nonzero(z.imag > 0))
+    if real is None and np.count_nonzero(z.real < 0) > MAX_POSITIVE_SHARE * n:
+        real = f"Z' < 0 at {int(np.count_nonzero(z.real < 0))} of {n} points, which no passive impedance has"
+    if real:
+        hint = negative_real_hint(real, imaginary_too=positive > MAX_POSITIVE_SHARE * n)
+        raise DataError(f"{what}: {hint}; the gap analysis needs every spectrum as measured (passive, Z' > 0)")
+    if positive > MAX_POSITIVE_SHARE * n:
+        evidence = f"Z'' > 0 at {positive} of {n} points of the trial mean, where a {name} spectrum is capacitive (−Z'' > 0 over the band)"
+        raise DataError(f"{what}: {opposite_sign_hint(evidence, data.attrs)}; the gap analysis assumes passive capacitive spectra and subtracts them, so a flipped sign gives a gap thickness off by any factor")
+
+
+def _differs(a: np.ndarray, b: np.ndarray) -> bool:
+    return a.shape != b.shape or bool(np.any(np.abs(a / b - 1) > SWEEP_RTOL))
+
+
+def _first_difference(a: np.ndarray, b: np.ndarray) -> int:
+    n = min(a.size, b.size)
+    bad = np.flatnonzero(np.abs(a[:n] / b[:n] - 1) > SWEEP_RTOL)
+    return int(bad[0]) if bad.size else n
+
+
+def _ratio_note(odd: np.ndarray, other: np.ndarray) -> str:
+    """A constant ratio of 2π or 10³ between the grids (either way), said as the likely slip."""
+    if odd.shape != other.shape:
+        return ""
+    ratio = odd / other
+    for factor, said, cause in _RATIOS:
+        for value, word in ((factor, "times"), (1 / factor, "divided by")):
+            if np.all(np.abs(ratio / value - 1) <= SWEEP_RTOL):
+                who = "its frequencies look like" if word == "times" else "the other two look like"
+                return f"; they are the other two's {word} {said} at every point: {who} {cause}"
+    return ""
+
+
+def _grid_text(freq: np.ndarray) -> str:
+    return f"{freq.size} points, {freq[0]:.6g}–{freq[-1]:.6g} Hz" if freq.size else "no points"
+
+
+def _check_grids(named: dict[str, xr.Dataset]) -> None:
+    """`DataError` naming the odd one out when the three sorted grids do not agree within
+    `SWEEP_RTOL` (the majority of three; all three named when each differs)."""
+    grids = {k: np.asarray(d["frequency"].values, float) for k, d in named.items()}
+    names = list(grids)
+    pairs = {(a, b): not _differs(grids[a], grids[b]) for i, a in enumerate(names) for b in names[i + 1:]}
+    if all(pairs.values()):
+        return
+    agreeing = [p for p, same in pairs.items() if same]
+    tolerance = f"within {SWEEP_RTOL:g} relative, the tolerance within which sweeps of one file merge"
+    if agreeing:
+        a, b = agreeing[0]
+        odd = next(n for n in names if n not in (a, b))
+        f_odd, f_ref = grids[odd], grids[a]
+        i = _first_difference(f_odd, f_ref)
+        if i < min(f_odd.size, f_ref.size):
+            first = f"first differing at point {i + 1}: {f_odd[i]:.6g} Hz where {a} and {b} have {f_ref[i]:.6g} Hz"
+        else:
+            first = f"the first {i} frequencies agree, then {'it' if f_odd.size > f_ref.size else 'they'} go on"
+        raise DataError(
+            f"{_named(odd, named[odd])}: its frequencies differ from those of {a} and {b}, which agree "
+            f"({odd}: {_grid_text(f_odd)}; {a} and {b}: {_grid_text(f_ref)}; {first}){_ratio_note(f_odd, f_ref)}; "
+            f"measure all three on one frequency grid ({tolerance})"
+        )
+    listed = "; ".join(f"{_named(n, named[n])}: {_grid_text(grids[n])}" for n in names)
+    firsts = []
+    for a, b in pairs:
+        i = _first_difference(grids[a], grids[b])
+        if i < min(grids[a].size, grids[b].size):
+            firsts.append(f"{a} and {b} first differ at point {i + 1} ({grids[a][i]:.6g} vs {grids[b][i]:.6g} Hz){_ratio_note(grids[a], grids[b]).replace('the other two', b).replace('its frequencies', a)}")
+    raise DataError(f"the frequencies of all three files differ ({listed}; {'; '.join(firsts)}); measure all three on one frequency grid ({tolerance})")
+
+
+def _check_distinct(named: dict[str, xr.Dataset]) -> None:
+    """`DataError` when two inputs come from the same file or hold the same spectra."""
+    names = list(named)
+    for i, a in enumerate(names):
+        for b in names[i + 1:]:
+            da, db = named[a], named[b]
+            pa, pb = da.attrs.get("path"), db.attrs.get("path")
+            same_file = pa is not None and pa == pb and pa != "-"
+            za, zb = da["Z"].transpose(..., "frequency").values, db["Z"].transpose(..., "frequency").values
+            if same_file or (za.shape == zb.shape and np.array_equal(za, zb)):
+                said = f"{a} and {b} are the same file, {pa}" if same_file else f"{_named(a, da)} and {_named(b, db)} hold identical spectra"
+                raise DataError(
+                    f"{said}: the gap analysis needs three different measurements "
+                    "(TOTAL: finger on the screen, SKIN: the skin alone, TS: the touchscreen alone), given in that order"
+                )
+
+
+def check_gap_inputs(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dataset) -> tuple[xr.Dataset, xr.Dataset, xr.Dataset]:
+    """The three inputs checked (module docstring) and sorted by frequency, skin and screen on
+    the total's frequencies; a `DataError` names the file at fault."""
+    named = {name: data.sortby("frequency") for name, data in zip(GAP_INPUTS, (total, skin, touchscreen))}
+    for name, data in zip(GAP_INPUTS, (total, skin, touchscreen)):
+        named[name].attrs = dict(data.attrs)
+    _check_distinct(named)
+    _check_grids(named)
+    for name, data in named.items():
+        _check_sign(name, data)
+    freq = named["total"]["frequency"].values
+    return named["total"], named["skin"].assign_coords(frequency=freq), named["touchscreen"].assign_coords(frequency=freq)
+
+
+def _label(data: xr.Dataset, dims: list[str], index: tuple[int, ...]):
+    values = [data[d].values[i].item() if d in data.coords else i for d, i in zip(dims, index)]
+    return values[0] if len(values) == 1 else values
+
+
+def spectra_used(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dataset) -> dict[str, dict]:
+    """Per input, the spectra (trials) the analysis uses: ``count``; ``dims``, the trial
+    dimensions; ``labels``, one per spectrum (its label along the one dimension, or the list of
+    its labels along ``dims``; a position where a dimension has no labels); ``by_position``, the
+    dimensions a ``--select`` picked by position because the file has no labels along them
+    (where another file's labels were meant, a different spectrum); ``source``, the file and
+    selection."""
+    out = {}
+    for name, data in zip(GAP_INPUTS, (total, skin, touchscreen)):
+        dims = [d for d in data["Z"].dims if d != "frequency"]
+        shape = tuple(data.sizes[d] for d in dims)
+        labels = [_label(data, dims, index) for index in np.ndindex(*shape)] if dims else []
+        positional = [d for d in str(data.attrs.get("selected_by_position", "")).split(",") if d]
+        out[name] = {"count": int(np.prod(shape)) if dims else 1, "dims": dims, "labels": labels, "by_position": positional, "source": data.attrs.get("source")}
+    return out
+
+
+def position_notes(trials: dict[str, dict]) -> list[str]:
+    """A warning for each dimension a ``--select`` picked by position in some files and by label
+    in others (`spectra_used`): the same text then names different spectra."""
+    notes = []
+    dims = {d for used in trials.values() for d in used["by_position"]}
+    for dim in sorted(dims):
+        by_position = [n for n, used in trials.items() if dim in used["by_position"]]
+        by_label = [n for n, used in trials.items() if dim in used["dims"] and dim not in used["by_position"]]
+        if by_label:
+            notes.append(
+                f"--select {dim}=…: {' and '.join(by_position)} {'has' if len(by_position) == 1 else 'have'} no labels along {dim}, so the selection picked "
+                f"0-based positions there but labels in {' and '.join(by_label)}: check that the same trials were meant (the report's 'spectra used')"
+            )
+    return notes

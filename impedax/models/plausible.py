@@ -1,0 +1,80 @@
+"""Plausibility ranges of physical inputs, shared by ``impedax gap`` (the contact area) and
+``impedax force`` (the area and Meyer's circuit values): a value far outside them is most
+likely a unit slip (2.2 for 2.2n F, 50 for 50e-6 m²), so the commands refuse it with a message
+saying the unit likely intended (docs/models.md, "Plausible values").
+
+The area range is a fingertip's apparent contact, 1 mm² to 100 cm² (`FINGERTIP_AREA_M2`).
+Meyer's capacitances and resistances may lie a factor `MEYER_FACTOR` (1000) either way of the
+thesis values (docs/physics.md, thesis eq 3.13: C_s 140 pF, C_i 1.7 nF, C_sc 2.2 nF, R_sc 130 kΩ,
+R_f 500 Ω): generous for other screens, skins and insulators, yet a missing SI prefix (a
+factor of 10⁹ for n, 10¹² for p) always falls outside.
+"""
+
+from __future__ import annotations
+
+import math
+
+from ..data import SI_PREFIXES
+from .meyer import THESIS_PARAMS
+
+__all__ = ["FINGERTIP_AREA_M2", "MEYER_FACTOR", "PARAMETER_UNITS", "plausible_range", "implausible_message"]
+
+FINGERTIP_AREA_M2 = (1e-6, 1e-2)  # plausible apparent contact of a fingertip: 1 mm² to 100 cm²
+MEYER_FACTOR = 1e3
+"""Meyer's circuit values are plausible within this factor either way of the thesis's."""
+PARAMETER_UNITS = {"C_s": "F", "C_i": "F", "C_sc": "F", "R_sc": "Ω", "R_f": "Ω", "area": "m²"}
+
+
+def plausible_range(model: str, name: str) -> tuple[float, float] | None:
+    """The plausible (low, high) of parameter ``name`` of ``model`` (``"meyer"``, ``"vezzoli"``,
+    ``"gap"``), or None when it has none: ``area`` in `FINGERTIP_AREA_M2` for every model; Meyer's
+    C_s, C_i, C_sc, R_sc, R_f within `MEYER_FACTOR` of `THESIS_PARAMS`."""
+    if name == "area":
+        return FINGERTIP_AREA_M2
+    if model == "meyer" and name in THESIS_PARAMS:
+        reference = THESIS_PARAMS[name]
+        return reference / MEYER_FACTOR, reference * MEYER_FACTOR
+    return None
+
+
+def _shown(value: float, unit: str) -> str:
+    """``value`` with an SI prefix (2.2e-09 F → '2.2 nF'); m² as it is."""
+    if unit == "m²" or not 1e-15 <= abs(value) < 1e15:  # (beyond the prefixes: 1e+300 Ω, not 1e+288 TΩ)
+        return f"{value:g} {unit}"
+    scale, prefix = next(((s, p) for s, p in SI_PREFIXES if abs(value) >= s), SI_PREFIXES[-1])
+    return f"{value / scale:.4g} {prefix}{unit}"
+
+
+def _intended(value: float, low: float, high: float, unit: str) -> str:
+    """What a value outside ``low``–``high`` likely meant: the SI prefix that brings it inside
+    (nearest the range's middle, in log), or for an area the mm² or cm² reading."""
+    if unit == "m²":
+        for factor, said in ((1e-6, "mm²"), (1e-4, "cm²")):
+            if low <= value * factor <= high:
+                return f"; the area is in m²: {value:g} {said} is {value * factor:g}"
+        return "; the area is in m² (130 mm² is 130e-6)"
+    middle = math.sqrt(low * high)
+    fits = [(abs(math.log(value * s / middle)), p, value * s) for s, p in SI_PREFIXES if p and low <= value * s <= high]
+    if not fits:
+        return f"; the value is in {unit}"
+    meant = min(fits)[2]
+    scale, prefix = next(((s, p) for s, p in SI_PREFIXES if abs(meant) >= s), SI_PREFIXES[-1])
+    written = "u" if prefix == "µ" else prefix
+    return f"; the value is in {unit} (an SI prefix scales it, e.g. 2.2n is 2.2e-9): {meant / scale:.4g}{written} ({_shown(meant, unit)}) was likely meant"
+
+
+def implausible_message(model: str, name: str, value: float) -> str | None:
+    """Why ``value`` of parameter ``name`` is implausible (outside `plausible_range`), with the
+    unit likely intended, or None when it is plausible or has no range."""
+    bounds = plausible_range(model, name)
+    if bounds is None:
+        return None
+    low, high = bounds
+    if low <= value <= high:
+        return None
+    unit = PARAMETER_UNITS.get(name, "")
+    if name == "area":
+        where = f"a fingertip's apparent contact is {low:g}–{high:g} m² ({low * 1e6:g}–{high * 1e6:g} mm²)"
+    else:
+        where = f"plausible {_shown(low, unit)}–{_shown(high, unit)}, {MEYER_FACTOR:g}× either way of the thesis's {_shown(THESIS_PARAMS[name], unit)}"
+    return f"{name} = {_shown(value, unit)} is implausible ({where}){_intended(value, low, high, unit)}"

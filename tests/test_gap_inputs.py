@@ -1,0 +1,278 @@
+"""The checks of `impedax gap`'s three inputs and of `impedax force`'s parameters (the review
+of the gap inputs): sign-flipped files, frequency grids (sorted, compared within SWEEP_RTOL, the
+odd file named), the same file twice, the spectra used per file, plausible force parameters
+and negative numbers as option values. All data are SYNTHETIC (numpy formulas,
+`spectra.sirin_measurements`); expectations are written here with numpy."""
+
+from __future__ import annotations
+
+import json
+import re
+
+import numpy as np
+import pytest
+
+import impedax as ix
+from impedax.cli import main
+from impedax.models.gap import gap_analysis
+from spectra import sirin_measurements
+from gap_files import saved_gap_files
+
+AREA = 130e-6
+
+
+def _measurements(seed=3, n_trials=4, points=31):
+    """SYNTHETIC total, skin and screen, ``n_trials`` trials each (dims ``trial``, labelled 1..n)."""
+    f, *spectra = sirin_measurements(np.random.default_rng(seed), n_trials, noise=0.005, trial_scatter=None, points=points)
+    labels = np.arange(1, n_trials + 1)
+    return tuple(ix.make_spectrum(f, z, dims=("trial",), coords={"trial": labels}) for z in spectra)
+
+
+def _flat(ds):
+    return ds["Z"].transpose(..., "frequency").values.reshape(-1, ds.sizes["frequency"])
+
+
+def _with(ds, *, freq=None, z=None):
+    """``ds`` with other frequencies or spectra (trials × frequency)."""
+    f = ds["frequency"].values if freq is None else freq
+    z = _flat(ds) if z is None else z
+    return ix.make_spectrum(f, z, dims=("trial",), coords={"trial": ds["trial"].values})
+
+
+def _run(argv, capsys):
+    try:
+        code = main(argv)
+    except SystemExit as exc:  # (argparse's own errors)
+        code = exc.code
+    out = capsys.readouterr()
+    return code, out.out, out.err
+
+
+class _Stop(Exception):
+    pass
+
+
+@pytest.fixture
+def captured_remainder(monkeypatch):
+    """Stops the pooled gap analysis at its sampler, keeping the remainder it was given."""
+    import impedax.fitting
+
+    seen = {}
+
+    def fake_sample(circuit, data, **kwargs):
+        seen["remaining"] = data
+        raise _Stop
+
+    monkeypatch.setattr(impedax.fitting, "sample", fake_sample)
+    return seen
+
+
+# --- 1. a sign-flipped input is refused, naming the file ----------------------------------------
+
+
+@pytest.mark.parametrize("which, name", [(0, "total"), (1, "skin"), (2, "touchscreen")])
+def test_conjugated_input_is_refused_naming_the_file(tmp_path, capsys, which, name):
+    parts = list(_measurements())
+    parts[which] = _with(parts[which], z=np.conj(_flat(parts[which])))
+    paths = saved_gap_files(tmp_path, parts)
+    out = tmp_path / "result.json"
+    code, _, err = _run(["gap", *paths, "--area", "130e-6", "--pooled", "--out", str(out)], capsys)
+    assert code == 2
+    assert f"{name} ({paths[which]})" in err and "opposite sign" in err and "Z'' > 0 at" in err
+    assert not out.exists()  # nothing half-written
+
+
+def test_conjugated_csv_names_the_column_to_rename(tmp_path, capsys):
+    total, skin, ts = (_flat(d).mean(0) for d in _measurements())
+    f = np.geomspace(1.0, 1e6, 31)
+    paths = []
+    for name, z in (("total", total), ("skin", skin), ("ts", np.conj(ts))):
+        path = tmp_path / f"{name}.csv"
+        path.write_text("frequency_hz,z_real_ohm,z_imag_ohm\n" + "".join(f"{a:.10g},{b.real:.10g},{b.imag:.10g}\n" for a, b in zip(f, z)))
+        paths.append(str(path))
+    code, _, err = _run(["gap", *paths, "--area", "130e-6", "--pooled"], capsys)
+    assert code == 2
+    assert "touchscreen" in err and "rename the column 'z_imag_ohm' to '-z_imag_ohm'" in err
+
+
+def test_negated_real_part_is_refused():
+    total, skin, ts = _measurements()
+    with pytest.raises(ix.DataError, match=r"skin: .*real part may be stored with the opposite sign"):
+        gap_analysis(total, _with(skin, z=-np.conj(_flat(skin))), ts, area=AREA, method="pooled", progress=False)
+
+
+def test_a_few_positive_points_pass(captured_remainder):
+    """Noise may lift Z'' above 0 at a few points (a resistive screen at low frequency): under half passes."""
+    total, skin, ts = _measurements()
+    z = _flat(ts).copy()
+    z[:, :5] = z[:, :5].real + 1j * np.abs(z[:, :5].imag)  # 5 of 31 points
+    with pytest.raises(_Stop):
+        gap_analysis(total, skin, _with(ts, z=z), area=AREA, method="pooled", progress=False)
+
+
+# --- 2. frequency grids --------------------------------------------------------------------------
+
+
+def test_descending_and_rounded_grids_give_the_sorted_remainder(captured_remainder):
+    total, skin, ts = _measurements()
+    f = total["frequency"].values
+    desc = _with(ts, freq=f[::-1], z=_flat(ts)[:, ::-1])
+    rounded = _with(skin, freq=np.array([float(f"{v:.6g}") for v in f]))
+    assert np.max(np.abs(rounded["frequency"].values / f - 1)) > 1e-9  # (refused before: rtol 1e-9)
+    with pytest.raises(_Stop):
+        gap_analysis(total, rounded, desc, area=AREA, method="pooled", progress=False)
+    remaining = captured_remainder["remaining"]
+    expected = _flat(total).mean(0) - _flat(skin).mean(0) - _flat(ts).mean(0)
+    np.testing.assert_allclose(remaining["frequency"].values, f)
+    np.testing.assert_allclose(remaining["Z"].values, expected, rtol=1e-12)
+
+
+def test_grid_beyond_the_sweep_tolerance_is_refused():
+    total, skin, ts = _measurements()
+    f = total["frequency"].values
+    shifted = f.copy()
+    shifted[7] *= 1.002  # beyond 1e-3
+    with pytest.raises(ix.DataError, match=re.escape(f"first differing at point 8: {shifted[7]:.6g} Hz where total and skin have {f[7]:.6g} Hz")):
+        gap_analysis(total, skin, _with(ts, freq=shifted), area=AREA, method="pooled", progress=False)
+
+
+def test_rad_per_second_total_is_named_with_the_ratio(tmp_path, capsys):
+    total, skin, ts = _measurements()
+    f = total["frequency"].values
+    paths = saved_gap_files(tmp_path, [_with(total, freq=2 * np.pi * f), skin, ts])
+    code, _, err = _run(["gap", *paths, "--area", "130e-6", "--pooled"], capsys)
+    assert code == 2
+    assert err.count("total (") == 1 and "differ from those of skin and touchscreen" in err
+    assert f"{2 * np.pi * f[0]:.6g} Hz where skin and touchscreen have {f[0]:.6g} Hz" in err
+    assert "2π" in err and "rad/s" in err
+
+
+def test_khz_screen_is_named_with_the_ratio():
+    total, skin, ts = _measurements()
+    f = total["frequency"].values
+    with pytest.raises(ix.DataError, match=r"touchscreen: its frequencies differ from those of total and skin.*divided by 1000.*kHz"):
+        gap_analysis(total, skin, _with(ts, freq=f / 1e3), area=AREA, method="pooled", progress=False)
+
+
+def test_shorter_grid_names_its_file_and_sizes():
+    total, skin, ts = _measurements()
+    short = _measurements(points=21)[1]
+    with pytest.raises(ix.DataError, match=r"skin: its frequencies differ from those of total and touchscreen.*skin: 21 points.*total and touchscreen: 31 points"):
+        gap_analysis(total, short, ts, area=AREA, method="pooled", progress=False)
+
+
+# --- 3. the same input twice ---------------------------------------------------------------------
+
+
+def test_same_file_twice_is_refused(tmp_path, capsys):
+    paths = saved_gap_files(tmp_path, _measurements())
+    code, _, err = _run(["gap", paths[0], paths[1], paths[1], "--area", "130e-6", "--pooled"], capsys)
+    assert code == 2
+    assert f"skin and touchscreen are the same file, {paths[1]}" in err
+
+
+def test_identical_spectra_in_two_files_are_refused(tmp_path, capsys):
+    total, skin, ts = _measurements()
+    paths = saved_gap_files(tmp_path, [total, skin, skin])
+    code, _, err = _run(["gap", *paths, "--area", "130e-6", "--pooled"], capsys)
+    assert code == 2
+    assert f"skin ({paths[1]}) and touchscreen ({paths[2]}) hold identical spectra" in err
+
+
+# --- 4. the spectra used, per file ---------------------------------------------------------------
+
+
+def test_select_reports_the_spectra_used_per_file(tmp_path, capsys):
+    total, skin, ts = _measurements(n_trials=5)
+    paths = saved_gap_files(tmp_path, [total, skin.isel(trial=[0, 1, 2]), ts])
+    out = tmp_path / "result.json"
+    code, text, _ = _run(["gap", *paths, "--area", "130e-6", "--pooled", "--steps", "20", "--quiet", "--select", "trial=2:4", "--out", str(out)], capsys)
+    assert code == 0
+    trials = json.loads(out.read_text())["trials"]
+    assert trials["total"]["count"] == 3 and trials["total"]["labels"] == [2, 3, 4] and trials["total"]["dims"] == ["trial"]
+    assert trials["skin"]["count"] == 2 and trials["skin"]["labels"] == [2, 3]  # (the skin file holds trials 1-3)
+    assert trials["touchscreen"]["labels"] == [2, 3, 4] and trials["touchscreen"]["by_position"] == []
+    assert "spectra used    total 3 (trial 2, 3, 4); skin 2 (trial 2, 3); touchscreen 3 (trial 2, 3, 4)" in text
+    assert "positions" not in text
+
+
+def test_select_by_position_in_one_file_is_reported(tmp_path, capsys):
+    """A skin file without trial labels: trial=1:2 picks positions 1, 2 there (its 2nd and 3rd
+    spectra) but the trials labelled 1 and 2 in the others; the report says so."""
+    total, skin, ts = _measurements(n_trials=4)
+    unlabelled = ix.make_spectrum(skin["frequency"].values, _flat(skin), dims=("trial",))
+    paths = saved_gap_files(tmp_path, [total, unlabelled, ts])
+    code, text, _ = _run(["gap", *paths, "--area", "130e-6", "--pooled", "--steps", "20", "--quiet", "--select", "trial=1:2", "--json"], capsys)
+    assert code == 0
+    document = json.JSONDecoder().raw_decode(text)[0]
+    assert document["trials"]["skin"]["by_position"] == ["trial"] and document["trials"]["skin"]["labels"] == [1, 2]
+    assert document["trials"]["total"]["labels"] == [1, 2] and document["trials"]["total"]["by_position"] == []
+    assert any("skin has no labels along trial" in w and "labels in total and touchscreen" in w for w in document["warnings"])
+
+
+def test_trials_over_two_dimensions_list_each_spectrum():
+    from impedax.models.gap_inputs import spectra_used
+
+    total, skin, ts = _measurements(n_trials=4)
+    z = _flat(total).reshape(2, 2, -1)
+    two = ix.make_spectrum(total["frequency"].values, z, dims=("session", "trial"), coords={"session": ["a", "b"], "trial": [1, 2]})
+    used = spectra_used(two, skin, ts)
+    assert used["total"] == {"count": 4, "dims": ["session", "trial"], "labels": [["a", 1], ["a", 2], ["b", 1], ["b", 2]], "by_position": [], "source": two.attrs.get("source")}
+    assert used["skin"]["count"] == 4 and used["skin"]["labels"] == [1, 2, 3, 4]
+
+
+# --- 5. force: plausible parameters --------------------------------------------------------------
+
+
+def test_force_ranges_are_1000x_the_thesis_values_and_gaps_area():
+    from impedax.models import gap, plausible
+
+    thesis = {"C_s": 140e-12, "C_i": 1.7e-9, "R_sc": 130e3, "C_sc": 2.2e-9, "R_f": 500.0}  # PHYSICS.md, thesis eq 3.13
+    for name, value in thesis.items():
+        np.testing.assert_allclose(plausible.plausible_range("meyer", name), (value / 1e3, value * 1e3))
+    assert plausible.plausible_range("meyer", "area") == gap.FINGERTIP_AREA_M2 == (1e-6, 1e-2)
+
+
+@pytest.mark.parametrize("param, fragment", [
+    ("C_sc=2.2", "C_sc = 2.2 F is implausible"),
+    ("C_sc=2.2", "2.2n (2.2 nF) was likely meant"),
+    ("area=50", "50 mm² is 5e-05"),
+    ("R_sc=0.13", "plausible 130 Ω–130 MΩ"),
+    ("C_i=1.7m", "C_i = 1.7 mF is implausible"),
+    ("C_i=1.7m", "1.7n (1.7 nF) was likely meant"),
+])
+def test_force_refuses_implausible_parameters(tmp_path, capsys, param, fragment):
+    out = tmp_path / "force.csv"
+    code, _, err = _run(["force", "meyer", "--param", param, "--points", "3", "--out", str(out)], capsys)
+    assert code == 2
+    assert f"--param {param.split('=')[0]}=" in err and "implausible" in err and fragment in err
+    assert not out.exists()
+
+
+def test_force_plausible_values_and_no_param_check(capsys):
+    code, _, _ = _run(["force", "meyer", "--param", "C_sc=2.2n", "--param", "area=50e-6", "--points", "3"], capsys)
+    assert code == 0
+    code, _, err = _run(["force", "meyer", "--param", "C_sc=2.2", "--points", "3", "--no-param-check"], capsys)
+    assert code == 0 and "warning: --param C_sc=2.2" in err
+
+
+# --- 6. negative numbers as option values --------------------------------------------------------
+
+
+@pytest.mark.parametrize("argv, fragment", [
+    (["--area", "-1e-4"], "--area must be positive (m²), got -0.0001"),
+    (["--v0", "-75"], "--v0 must be positive (V), got -75"),
+    (["--area", "-130u"], "--area must be positive (m²), got -0.00013"),
+])
+def test_gap_negative_values_reach_the_check(tmp_path, capsys, argv, fragment):
+    paths = saved_gap_files(tmp_path, _measurements())
+    base = ["--area", "130e-6"] if argv[0] != "--area" else []
+    code, _, err = _run(["gap", *paths, *base, *argv, "--pooled"], capsys)
+    assert code == 2
+    assert fragment in err and "expected one argument" not in err
+
+
+def test_force_negative_frequency_reaches_the_check(capsys):
+    code, _, err = _run(["force", "meyer", "--fmin", "-1e1", "--points", "3"], capsys)
+    assert code == 2
+    assert "fmin=-10" in err and "expected one argument" not in err
