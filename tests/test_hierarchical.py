@@ -95,9 +95,10 @@ def test_vector_cholesky_and_triangular_solve_match_numpy():
     np.testing.assert_allclose(single, np.linalg.solve(np.linalg.cholesky(a[0]), b[0, :, 0]), rtol=1e-9, atol=1e-12)
 
 
-def test_progress_counts_every_step_once_and_changes_nothing(clean, clean_post, monkeypatch):
+def test_progress_counts_every_step_once_and_changes_nothing(clean, clean_post, monkeypatch, capsys):
     """With ``progress`` the NUTS kernel reports each warm-up and draw step to the progress line
-    once for all (vmapped) chains, and the draws are those of the run without it."""
+    once for all (vmapped) chains, and the draws are those of the run without it. A line marks
+    each phase: compiling, warm-up, draws (the compilation took 30–70 s with no other output)."""
     from impedax.fitting.bayes import hierarchical
 
     seen = []
@@ -111,6 +112,9 @@ def test_progress_counts_every_step_once_and_changes_nothing(clean, clean_post, 
     post = sample_hierarchical(MODEL, clean, seed=1, progress=True, **SETTINGS)
     assert seen == [SETTINGS["warmup"] + SETTINGS["draws"]]
     np.testing.assert_array_equal(post.mu, clean_post.mu)
+    err = capsys.readouterr().err
+    phases = ["tracing and compiling the sampler", "compiled in", "warm-up done", f"drawing {SETTINGS['draws']} draws"]
+    assert all(p in err for p in phases) and [err.index(p) for p in phases] == sorted(err.index(p) for p in phases)
 
 
 def test_noise_from_trial_scatter_matches_the_generator(clean_post):

@@ -306,7 +306,47 @@ def test_ideal_ep_capacitor_gives_the_gap_of_the_summed_capacitance():
     assert result.gap["q95"] < 1.05 * u_sum and result.gap["q05"] > 0.95 * u_sum
     s = result.summary()
     assert s["model"] == "R_EP || C_gap" and s["model_requested"] == "R_EP || C_EP || C_gap"
+    assert s["gap_identified"] is False and s["gap_um_lower_bound"] == pytest.approx(result.gap["value"] * 1e6)
     assert any(w.startswith("--ep C (Python: ep='C'): in R_EP || C_EP || C_gap the two ideal capacitors are seen only as their sum") for w in result.warnings)
+
+
+def _ep_branch_spectra(rng, ep):
+    """Skin, screen and total written in numpy with the remainder R_EP ∥ EP ∥ C_gap, ``ep`` a
+    function of ω giving the EP element's admittance."""
+    f = np.geomspace(1.0, 1e6, 41)
+    w = 2 * np.pi * f
+    skin = r_cpe_series(w, 300.0, 2e5, 3e-8, 0.8)
+    ts = r_cpe_series(w, 50.0, 2e4, 8e-11, 0.9)
+    rem = 1.0 / (1.0 / 5e7 + ep(w) + 1j * w * C_GAP)
+    noisy = lambda z: ix.make_spectrum(f, z * (1 + 0.003 * (rng.normal(size=f.size) + 1j * rng.normal(size=f.size))))  # noqa: E731
+    return noisy(skin + ts + rem), noisy(skin), noisy(ts)
+
+
+def test_ideal_ep_capacitor_under_the_default_cpe_model_flags_u_as_undetermined():
+    """An ideal C_EP = 100 pF (numpy) analysed with the default --ep CPE: C_EP ∥ C_gap are two
+    capacitors in parallel, only their sum is identified, so u is not determined. The user's
+    10-trial set gave u = 2.079 µm (90 % 2.076–2.082; truth 4.0) with no such statement. Now the
+    result says so in text, JSON and attrs, with the lower bound ε0 ε A/(C_EP + C_gap) (within
+    5 %: the noise is 0.3 %) and no credible interval presented as u's."""
+    total, skin, ts = _ep_branch_spectra(np.random.default_rng(21), lambda w: 1j * w * 100e-12)
+    result = gap_analysis(total, skin, ts, area=AREA, method="pooled", steps=300, progress=False)
+    s = result.summary()
+    assert s["gap_identified"] is False and result.gap_identified is False
+    assert s["gap_um_lower_bound"] == pytest.approx(_u(100e-12 + C_GAP) * 1e6, rel=0.05)
+    assert "GAP NOT DETERMINED" in result.report() and "LOWER BOUND" in result.report()
+    assert result.to_xarray().attrs["gap_identified"] == 0
+    assert any("u is NOT determined by these data" in w for w in result.warnings)
+
+
+def test_cpe_ep_branch_keeps_u_determined():
+    """The same spectra with a CPE EP branch (Q = 4e-9, α = 0.3: the data tell it from C_gap):
+    no flag, u close to the truth, the lower-bound key None."""
+    total, skin, ts = _ep_branch_spectra(np.random.default_rng(21), lambda w: 4e-9 * (1j * w) ** 0.3)
+    result = gap_analysis(total, skin, ts, area=AREA, method="pooled", steps=300, progress=False)
+    s = result.summary()
+    assert s["gap_identified"] is True and s["gap_um_lower_bound"] is None
+    assert result.gap["value"] == pytest.approx(_u(C_GAP), rel=0.05)
+    assert "GAP NOT DETERMINED" not in result.report()
 
 
 def test_ideal_ep_capacitor_on_the_example_trial_means_is_near_the_paper_method():

@@ -64,6 +64,9 @@ equally well: C_gap alone is set by the prior (the least-squares split by its st
 the prior's bound. The sum is what the data give; calling all of it C_gap (C_EP = 0, as the
 paper's |Y_R|/ω above the cutoff does) gives the smallest u this model allows: a lower bound on u
 and an upper bound on the force (the gap voltage does not depend on the split)."""
+EP_ALPHA_IDEAL = 0.95
+"""An EP CPE whose exponent α has its posterior median at or above this is (nearly) an ideal
+capacitor in parallel with C_gap: only their sum is determined, and u is not (`_gap_identification`)."""
 _BOUND_FACTOR = 2.0  # draws of u within this factor of a prior bound count as "at the bound" ...
 _BOUND_SHARE = 0.1  # ... and this share of them means the posterior piles up there
 
@@ -98,6 +101,17 @@ class GapAnalysis:
     hierarchical: object = None
     model_requested: str | None = None
     trials: dict | None = None  # `gap_inputs.spectra_used`: per input, the spectra analysed
+    gap_lower_bound: float | None = None
+    """None when the data determine u; else the smallest u [m] the data allow (C_gap standing
+    for all the capacitance C_EP + C_gap: `IDENTIFIED_C_REMAINDER`), and u itself is not
+    determined (``ep="C"``, or an EP branch the fit cannot tell from C_gap)."""
+
+    @property
+    def gap_identified(self) -> bool:
+        """False when the data do not determine u apart from the EP branch (only a lower bound,
+        `gap_lower_bound`): ``ep="C"``, or a fit/posterior that cannot split C_gap from the EP
+        element (`_gap_identification`)."""
+        return self.gap_lower_bound is None
 
     def draws(self, name: str) -> np.ndarray:
         """Posterior draws of ``u`` [m] or ``C_gap`` [F] (hierarchical: population medians)."""
@@ -178,7 +192,19 @@ class GapAnalysis:
             "v0": self.v0,
             "trials": self.trials,
             "warnings": list(self.warnings),
+            "gap_identified": self.gap_identified,
+            "gap_um_lower_bound": None if self.gap_lower_bound is None else self.gap_lower_bound * 1e6,
+            "sampling": self._sampling_summary(),
         }
+
+    def _sampling_summary(self) -> dict | None:
+        """Hierarchical: the NUTS diagnostics (divergent transitions of all draws, the largest
+        R-hat and the smallest ESS of μ and the spreads); None when pooled."""
+        post = self.hierarchical
+        if post is None:
+            return None
+        rhat, ess = post.rhat(), post.ess()
+        return {"divergences": post.divergences, "draws": post.n_draws, "rhat_max": max(rhat.values()), "ess_min": min(ess.values()), "rhat": rhat, "ess": ess}
 
     def to_table(self) -> list[dict[str, object]]:
         """The tidy table of C_gap [F] and u [m]: ``method`` bayes (value: posterior median;
@@ -217,6 +243,20 @@ class GapAnalysis:
         ]
         if self.trials:
             lines.append("spectra used    " + "; ".join(_trials_text(k, v) for k, v in self.trials.items()))
+        if not self.gap_identified:
+            lines[0] = lines[0].replace("gap thickness u =", "sampled u (prior-set) =", 1).replace("90% credible interval", "90% interval of the draws, not of the gap", 1)
+            lines.insert(0, (
+                f"GAP NOT DETERMINED: C_gap and the EP branch are seen only as their sum, so the data give only a LOWER BOUND u ≥ {self.gap_lower_bound * 1e6:.3f} µm "
+                "(all the capacitance counted as C_gap); the u and interval below are set by the priors and the split, not the data"
+            ))
+        if self.hierarchical is not None:
+            post = self.hierarchical
+            d = self._sampling_summary()
+            if d["divergences"] > 0.01 * d["draws"] or not d["rhat_max"] < 1.05:
+                lines.insert(0, (
+                    f"SAMPLING UNRELIABLE: {d['divergences']} divergent transitions of {d['draws']} draws, R-hat up to {d['rhat_max']:.3f}, ESS down to {d['ess_min']:.0f}: "
+                    "the interval below may be wrong; rerun with more draws (--steps 2000) or another --seed, or use --pooled (the trial means)"
+                ))
         lines += [f"warning: {w}" for w in self.warnings]
         return "\n".join(lines)
 
@@ -249,6 +289,8 @@ class GapAnalysis:
             "paper_gap_lower_um": p.gap_lower * 1e6 if bounds else float("nan"),
             "paper_gap_upper_um": p.gap_upper * 1e6 if bounds else float("nan"),
             "paper_c_gap_pf": p.c_gap * 1e12,
+            "gap_identified": int(self.gap_identified),
+            "gap_um_lower_bound": float("nan") if self.gap_lower_bound is None else self.gap_lower_bound * 1e6,
             "n_warnings": len(self.warnings),
             "warnings": "\n".join(self.warnings),
         })
@@ -390,7 +432,8 @@ def gap_analysis(
     notes += _bound_notes(u_draws, reparametrization, area)
     notes += [f"EDL fit: {w}" for w in edl.warnings] + [f"sampling: {w}" for w in posterior.warnings if not w.startswith("least-squares start")]
     notes += _estimate_bound_notes("Bayesian gap thickness", float(np.median(u_draws)), paper, remaining, f"; draws span {_um(u_draws.min())}–{_um(u_draws.max())} µm")
-    return GapAnalysis(remaining, paper, naive, edl, posterior, force, area, v0, ep, tuple(notes), model_requested=str(requested), trials=trials)
+    lower = _identification(ep, str(requested), circuit, posterior.parameter_draws(), edl, notes, remaining, area, eps_gap)
+    return GapAnalysis(remaining, paper, naive, edl, posterior, force, area, v0, ep, tuple(notes), model_requested=str(requested), trials=trials, gap_lower_bound=lower)
 
 
 def _um(length_m: float) -> str:
@@ -521,6 +564,49 @@ def _bound_notes(u_draws, reparametrization, area: float) -> list[str]:
     return notes
 
 
+def _gap_identification(edl, notes, alpha_draws, ep_q: str | None = None) -> str | None:
+    """Why the data do not determine C_gap apart from the EP element, or None when they do:
+    the least-squares identifiability warning (of the EDL fit, or the sampler's) puts C_gap in a
+    group that is "not separately determined"; the EP CPE's α has its posterior median at or
+    above `EP_ALPHA_IDEAL` (an ideal capacitor in parallel with C_gap: only the sum counts); or
+    the EP CPE's Q (``ep_q``) piles up against the lower end of its prior (the CPE vanishes and C_gap takes all the capacitance: the remainder looks like
+    R_EP ∥ C, which an ideal EP capacitor in parallel with C_gap gives too, whatever the split)."""
+    texts = [w.removeprefix("EDL fit: ").removeprefix("sampling: ") for w in list(getattr(edl, "warnings", ())) + list(notes)]
+    for w in texts:
+        head = w.split(" are not separately determined", 1)
+        if len(head) == 2 and "C_gap" in head[0]:
+            return f"{head[0]} are not separately determined"
+    if ep_q is not None:
+        for w in texts:
+            if w.startswith(f"{ep_q} piles up against the lower end"):
+                return f"the EP CPE vanishes ({ep_q} piles up at the lower end of its prior): the remainder looks like R_EP ∥ C, as with an ideal EP capacitor beside C_gap"
+    if alpha_draws is not None and float(np.median(alpha_draws)) >= EP_ALPHA_IDEAL:
+        return f"the EP CPE's α is {float(np.median(alpha_draws)):.3f} (≥ {EP_ALPHA_IDEAL:g}): an ideal capacitor in parallel with C_gap"
+    return None
+
+
+MERGED_FIT_RATIO = 1.1
+"""u is not determined when `IDENTIFIED_C_REMAINDER` (R_EP ∥ one capacitor) fits the remainder
+with an rms_rel at most this times the EDL model's: the EP element adds nothing a capacitor
+beside C_gap would not (an ideal C_EP; the numpy test: 0.4 % against the EDL fit's 3.3 %; a CPE
+EP with α = 0.3: 10.7 % against 0.43 % on the shipped example)."""
+
+
+def _merged_fit(remaining: xr.Dataset, weighting: str):
+    """`IDENTIFIED_C_REMAINDER` fitted to the remainder (C_EP + C_gap, all counted as C_gap)."""
+    from ..fitting import fit
+
+    return fit(parse(IDENTIFIED_C_REMAINDER), remaining, weighting=weighting)
+
+
+def _unidentified_note(reason: str, bound: float) -> str:
+    return (
+        f"u is NOT determined by these data: {reason}, so C_gap and the EP branch are seen only as their sum; "
+        f"u ≥ {bound * 1e6:.3f} µm (the gap of the summed capacitance, fitted as {IDENTIFIED_C_REMAINDER}) is all they give, "
+        "and the reported u and its interval come from the priors (JSON gap_identified false, gap_um_lower_bound); the force is then an upper bound"
+    )
+
+
 def _force_bands(param_draws: dict, freq, z_skin, z_ts, circuit, *, area, v0, eps_gap) -> xr.Dataset:
     """PEAK force quantiles over ``freq`` from draws of the circuit parameters (vmapped)."""
     import jax
@@ -550,7 +636,7 @@ def _hierarchical(total, skin, touchscreen, remaining, paper, naive, edl, circui
     n_trials = int(np.prod([n for d, n in trials["Z"].sizes.items() if d != "frequency"]))
     announce(f"gap: fitting the EDL model to each of the {n_trials} total trials …", progress)
     batch = fit(circuit, trials, init=dict(edl.values), weighting="modulus")
-    announce(f"gap: compiling the hierarchical model and running NUTS ({chains} chains, warm-up {warmup} + {steps} draws) …", progress)
+    announce(f"gap: the hierarchical model, NUTS ({chains} chains, warm-up {warmup} + {steps} draws) …", progress)
     post = sample_hierarchical(circuit, trials, per_trial=per_trial, reparametrization=reparametrization, init=batch, chains=chains, warmup=warmup, draws=steps, seed=seed, progress=progress)
     freq = remaining["frequency"].values
     z_skin = trial_mean(skin)["Z"].values
@@ -561,4 +647,25 @@ def _hierarchical(total, skin, touchscreen, remaining, paper, naive, edl, circui
     notes = list(notes) + _bound_notes(pop["u"], reparametrization, area)
     notes += [f"EDL fit: {w}" for w in edl.warnings] + [f"sampling: {w}" for w in post.warnings]
     notes += _estimate_bound_notes("population gap thickness", float(np.median(pop["u"])), paper, remaining)
-    return GapAnalysis(remaining, paper, naive, edl, None, force, area, v0, ep, tuple(notes), method="hierarchical", hierarchical=post, model_requested=model_requested)
+    lower = _identification(ep, model_requested, circuit, pop, edl, notes, remaining, area, eps_gap)
+    return GapAnalysis(remaining, paper, naive, edl, None, force, area, v0, ep, tuple(notes), method="hierarchical", hierarchical=post, model_requested=model_requested, gap_lower_bound=lower)
+
+
+def _identification(ep, requested, circuit, draws, edl, notes, remaining, area, eps_gap) -> float | None:
+    """The lower bound of u [m] when u is not determined (``notes`` gains why), else None.
+    ``ep="C"`` (merged capacitors): the sampled u itself (median) is that bound."""
+    if ep == "C" and str(circuit) == IDENTIFIED_C_REMAINDER and str(requested) != str(circuit):
+        return float(np.median(draws["u"]))
+    if not any(n.startswith(("CPE_EP.", "C_EP")) for n in circuit.parameter_names()):
+        return None  # no EP element beside C_gap to confuse it with
+    alpha = next((np.asarray(v) for k, v in draws.items() if k.endswith(".alpha") and "EP" in k), None)
+    ep_q = next((k for k in circuit.parameter_names() if k.endswith(".Q") and "EP" in k), None)
+    reason = _gap_identification(edl, notes, alpha, ep_q)
+    merged = _merged_fit(remaining, "sigma" if "sigma" in remaining else "modulus")
+    if reason is None and merged.rms_rel <= MERGED_FIT_RATIO * edl.rms_rel:
+        reason = f"{IDENTIFIED_C_REMAINDER} fits the remainder as well as {circuit} (rms_rel {format_percent(merged.rms_rel)} against {format_percent(edl.rms_rel)}): the EP element acts as a capacitor beside C_gap"
+    if reason is None:
+        return None
+    bound = EPSILON_0 * eps_gap * area / float(merged.values["C_gap"])
+    notes.insert(0, _unidentified_note(reason, bound))
+    return bound

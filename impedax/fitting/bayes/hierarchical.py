@@ -39,6 +39,7 @@ from __future__ import annotations
 
 import functools
 import math
+import sys
 import time
 from dataclasses import dataclass, field
 from typing import Mapping, NamedTuple, Sequence
@@ -53,7 +54,7 @@ from ...data import column_width, make_spectrum
 from ...errors import DataError, FitError, ParameterError
 from ..derived import draw_indices
 from .reparam import Reparametrization
-from .progress import ProgressLine
+from .progress import ProgressLine, announce
 
 __all__ = ["HierarchicalPosterior", "sample_hierarchical", "hierarchical_log_density", "trial_scatter_noise", "HIERARCHICAL_PRIORS"]
 
@@ -66,6 +67,9 @@ HIERARCHICAL_PRIORS = {
 }
 
 _MU_SD = 2.0
+CENTRED_RATIO = 3.0
+"""``parameterisation="auto"`` samples a per-trial quantity centred when the median relative
+standard error of its per-trial fits is below 1/CENTRED_RATIO of their spread (sd of ln)."""
 _SPREAD_SCALE = 0.5
 _DELTA_SCALE = 0.1
 
@@ -102,7 +106,7 @@ class _Layout(NamedTuple):
     reparametrization: Reparametrization | None
     n_sessions: int  # 1: no session level
     discrepancy: bool
-    centred: bool  # sample ln θ_tj itself (centred) or η_tj (non-centred)
+    centred: tuple[bool, ...]  # per per-trial quantity: sample ln θ_tj itself (centred) or η_tj (non-centred)
     n_common: int  # leading components of the error shared by every trial (0: none)
     n_trial_modes: int = 0  # leading components of each trial's own smooth error (0: none)
 
@@ -133,11 +137,29 @@ def _trial_centre(pos, data: _Data, lay: _Layout):
     return centre
 
 
+def _split(lay: _Layout) -> tuple[list[int], list[int]]:
+    """Columns (of the K per-trial quantities) sampled centred and non-centred."""
+    return np.flatnonzero(np.asarray(lay.centred, dtype=bool)), np.flatnonzero(~np.asarray(lay.centred, dtype=bool))
+
+
+def _trial_log_values(pos, data: _Data, lay: _Layout):
+    """ln θ (T, K) from a position: a centred column is sampled itself (``log_theta``, its
+    columns only), a non-centred one as centre + s η (``eta``, its columns only)."""
+    cen, non = _split(lay)
+    parts = []
+    if cen.size:
+        parts.append(pos["log_theta"])
+    if non.size:
+        centre = _trial_centre(pos, data, lay)[:, non]
+        parts.append(centre + jnp.exp(pos["log_spread"])[None, non] * pos["eta"])
+    out = jnp.concatenate(parts, axis=1) if len(parts) > 1 else parts[0]
+    order = np.argsort(np.concatenate([cen, non]))
+    return out if np.all(order == np.arange(order.size)) else out[:, order]
+
+
 def _trial_values(pos, data: _Data, lay: _Layout):
     """Natural per-trial values θ (T, K) from a position."""
-    if lay.centred:
-        return jnp.exp(pos["log_theta"])
-    return jnp.exp(_trial_centre(pos, data, lay) + jnp.exp(pos["log_spread"])[None, :] * pos["eta"])
+    return jnp.exp(_trial_log_values(pos, data, lay))
 
 
 def _shared_values(pos, data: _Data, lay: _Layout):
@@ -173,10 +195,11 @@ def _half_normal_log(log_x, scale):
 def _log_density(pos, data: _Data, lay: _Layout, session_scale: float):
     lp = jnp.sum(-0.5 * ((pos["mu"] - data.mu_center) / _MU_SD) ** 2)
     lp += jnp.sum(_half_normal_log(pos["log_spread"], _SPREAD_SCALE))
-    if lay.centred:
-        spread = jnp.exp(pos["log_spread"])
-        lp += jnp.sum(-0.5 * ((pos["log_theta"] - _trial_centre(pos, data, lay)) / spread[None, :]) ** 2 - pos["log_spread"][None, :])
-    else:
+    cen, non = _split(lay)
+    if cen.size:
+        log_spread = pos["log_spread"][cen]
+        lp += jnp.sum(-0.5 * ((pos["log_theta"] - _trial_centre(pos, data, lay)[:, cen]) / jnp.exp(log_spread)[None, :]) ** 2 - log_spread[None, :])
+    if non.size:
         lp += jnp.sum(-0.5 * pos["eta"] ** 2)
     if lay.n_sessions > 1:
         lp += jnp.sum(_half_normal_log(pos["log_spread_session"], session_scale))
@@ -370,6 +393,33 @@ def _trial_error_components(data: xr.Dataset, z: np.ndarray, nu: np.ndarray, n_f
 _jitted_log_density = jax.jit(_log_density, static_argnums=(2, 3))
 
 _running: list = []  # the progress line of the run in progress (host side), if any
+
+
+class _Phases:
+    """One line on stderr at each change of phase of a hierarchical run, around its progress
+    line ``bar`` (steps are passed on to it): the compilation ends at the first step (tracing
+    and XLA's compilation take 30–70 s on the Sirin remainders, with no step to count), the
+    warm-up (step size and mass-matrix adaptation) at step ``warmup``, then the draws."""
+
+    def __init__(self, bar: ProgressLine, warmup: int, draws: int):
+        self.bar, self.warmup, self.draws, self.steps = bar, warmup, draws, 0
+
+    def _phase(self, text: str) -> None:
+        bar = self.bar
+        if bar.enabled:
+            if bar.shown and bar.interactive:
+                sys.stderr.write("\n")
+            announce(text, True)
+            bar.shown = False
+
+    def advance(self) -> None:
+        now = time.perf_counter() - self.bar.t0
+        if self.steps == 0:
+            self._phase(f"hierarchical: compiled in {now:.0f} s; warm-up: {self.warmup} NUTS steps adapting the step size and the mass matrix …")
+        elif self.steps == self.warmup:
+            self._phase(f"hierarchical: warm-up done at {now:.0f} s; drawing {self.draws} draws per chain …")
+        self.steps += 1
+        self.bar.advance()
 
 
 def _tick(device) -> None:
@@ -825,12 +875,18 @@ def _setup(circuit, data, *, per_trial, session_dim, reparametrization, fixed, d
             sh0.append(math.log(value))
 
     if parameterisation == "auto":
-        # centred when each trial pins its own values well (relative standard error of the
-        # per-trial fits below the spread between trials), non-centred otherwise (Betancourt &
-        # Girolami 2015: a centred funnel appears when the data say little about each trial)
-        use_centred = bool(np.all(np.median(rel_stderr, axis=0) < spread0))
+        # per quantity: centred when each trial pins its own value well (relative standard error
+        # of the per-trial fits below 1/CENTRED_RATIO of their spread), non-centred otherwise
+        # (Betancourt & Girolami 2015: a centred funnel appears when the data say little about
+        # each trial compared with the spread). The fits' spread holds their own noise too
+        # (spread0² ≈ s² + stderr²): a quantity the same in every trial (s = 0) has spread0 ≈
+        # stderr and would pass a plain "stderr < spread0" half the time — then its s runs into
+        # the funnel's neck (user data, R_EP and CPE_EP.Q equal in all trials: 686 divergent
+        # transitions of 2000, R-hat 1.3; docs/bayesian.md "Parameterisation")
+        use_centred = tuple(bool(c) for c in np.median(rel_stderr, axis=0) * CENTRED_RATIO < spread0)
     else:
-        use_centred = parameterisation == "centred"
+        use_centred = (parameterisation == "centred",) * len(per_trial)
+    cen_cols, non_cols = [j for j, c in enumerate(use_centred) if c], [j for j, c in enumerate(use_centred) if not c]
     lay = _Layout(circuit, registry, tuple(per_trial), shared_names, tuple(bounded), tuple(fixed), rp, n_sessions, bool(discrepancy), use_centred, common_basis.shape[0], trial_basis.shape[0])
     dat = _Data(
         jnp.asarray(freq), jnp.asarray(z), jnp.asarray(nu), jnp.asarray(session_codes, dtype=jnp.int32), jnp.asarray(mu0),
@@ -846,10 +902,10 @@ def _setup(circuit, data, *, per_trial, session_dim, reparametrization, fixed, d
             "log_spread": np.log(spread0) + 0.05 * rng.standard_normal(k),
             "shared": np.asarray(sh0) + 0.01 * rng.standard_normal(len(sh0)),
         }
-        if use_centred:
-            pos["log_theta"] = mu0 + offset0 + 0.002 * rng.standard_normal(log0.shape)
-        else:
-            pos["eta"] = offset0 / spread0 + 0.05 * rng.standard_normal(log0.shape)
+        if cen_cols:
+            pos["log_theta"] = (mu0 + offset0 + 0.002 * rng.standard_normal(log0.shape))[:, cen_cols]
+        if non_cols:
+            pos["eta"] = (offset0 / spread0 + 0.05 * rng.standard_normal(log0.shape))[:, non_cols]
         if n_sessions > 1:
             pos["log_spread_session"] = np.log(np.full(k, 0.5 * session_spread_scale))
             pos["zeta"] = 0.1 * rng.standard_normal((n_sessions, k))
@@ -915,13 +971,15 @@ def sample_hierarchical(
     )
     keys = jax.random.split(jax.random.PRNGKey(seed), chains)
     run = _compiled_sampler(lay, float(session_spread_scale), int(warmup), int(draws), float(target_accept), _chain_devices(int(chains)))
+    announce(f"hierarchical: tracing and compiling the sampler ({chains} chains; once per model layout and data shape in a process, often 30–70 s) …", progress)
     bar = ProgressLine(int(warmup) + int(draws), progress, label=f"impedax hierarchical ({chains} chains, warm-up {warmup} + draws {draws})")
-    _running.append(bar)
+    phases = _Phases(bar, int(warmup), int(draws))
+    _running.append(phases)
     try:
         positions, divergent, n_steps, accept, step_size = jax.block_until_ready(run(keys, init_pos, dat))
         jax.effects_barrier()
     finally:
-        _running.remove(bar)
+        _running.remove(phases)
         bar.close()
     positions = jax.tree_util.tree_map(np.asarray, positions)
 
