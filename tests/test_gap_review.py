@@ -386,7 +386,7 @@ def test_hierarchical_announces_its_stages(monkeypatch, capsys, progress):
     with pytest.raises(_Stop):
         gap_analysis(total, skin, ts, area=AREA, progress=progress)
     err = capsys.readouterr().err
-    stages = ["gap: fitting the EDL model R_EP || CPE_EP || C_gap to the trial mean", "gap: fitting the EDL model to each of the 3 total trials", "gap: compiling the hierarchical model"]
+    stages = ["gap: fitting the EDL model R_EP || CPE_EP || C_gap to the trial mean", "gap: fitting the EDL model to each of the 3 total trials", "gap: the hierarchical model, NUTS"]
     if progress:
         positions = [err.index(s) for s in stages] + [err.index("SAMPLER STARTED")]
         assert positions == sorted(positions)

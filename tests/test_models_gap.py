@@ -220,7 +220,7 @@ def test_single_trial_has_no_paper_bounds():
     assert [r for r in result.to_table() if r["method"] == "paper" and r["name"] == "u"][0]["low"] is None
     # its figure: no zero-width band of paper bounds; the histogram of u is drawn (bars of nonzero height)
     fig = result.plot()
-    posterior_panel = next(ax for ax in fig.axes if ax.get_title() == "air-gap thickness")
+    posterior_panel = next(ax for ax in fig.axes if ax.get_title().startswith("air-gap thickness"))  # (": NOT determined" here: C_gap runs to 0 on this one trial)
     labels = [t.get_text() for t in posterior_panel.get_legend().get_texts()]
     assert not any("paper bounds" in t for t in labels) and any(t.startswith("posterior of u") for t in labels)
     assert sum(p.get_height() > 0 for p in posterior_panel.patches) >= 5

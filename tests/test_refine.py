@@ -64,10 +64,12 @@ def test_final_fit_reproduces_with_fit_of_the_final_model(missing_series_resista
 
 
 def test_progress_is_reported_per_step(refined):
-    r, lines = refined
+    r, every = refined
     # one per diagnosis, one for the final refit, then (an adequate end) one for the fits without
-    # each added element (R_s stays: no step takes it out)
+    # each added element (R_s stays: no step takes it out); each diagnosis's stages indented under it
+    lines = [line for line in every if not line.startswith("  ")]
     assert len(lines) == len(r.steps) + 2 and len(r.steps) == 2
+    assert len(every) > len(lines) and all(line.startswith("  ") for line in every[1 : every.index(lines[1])])
     assert lines[0].startswith("step 0") and "from scratch" in lines[-2] and lines[-1] == "simplifying: fitting R1 || C1 + R_s without each of R_s"
 
 

@@ -165,6 +165,7 @@ def test_cli_sample_shared_out_reads_back(tmp_path, capsys):
     ix.save(ix.make_spectrum(FREQ, stack(7, (2,)), dims=("trial",), coords={"trial": [3, 7]}), data)
     assert main(["sample", str(data), "--model", MODEL, "--shared", "R0", "--steps", "30", "--walkers", "16", "--seed", "2", "--json", "--out", str(out)]) == 0
     printed = json.loads(capsys.readouterr().out)
+    assert printed.pop("source") == str(data)  # (the command's JSON names its data file; the saved posterior's summary does not)
     back = ix.SharedPosterior.from_xarray(ix.load(out))
     assert json.loads(json.dumps(ix.io.export.to_jsonable(back.summary()))) == printed
     assert back.settings["seed"] == 2 and back.settings["steps"] == 30 and back.n_walkers == 16
