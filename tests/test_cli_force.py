@@ -240,7 +240,9 @@ def test_out_with_json_and_plot(capsys, tmp_path):
     out = json.loads(captured.out)  # --json still prints the JSON
     lines = csv.read_text().splitlines()
     assert lines[0] == "frequency_hz,force_n" and len(lines) == 6
-    np.testing.assert_allclose([float(x.split(",")[1]) for x in lines[1:]], out["force_n"], rtol=1e-9)
+    # the shortest exact form: the same numbers as the JSON, bit for bit
+    assert [[float(x) for x in line.split(",")] for line in lines[1:]] == [list(p) for p in zip(out["frequency_hz"], out["force_n"])]
+    assert [line.split(",")[0] for line in lines[1:]] == [repr(f).removesuffix(".0") for f in out["frequency_hz"]]
     assert f"wrote {csv}" in captured.err and f"wrote {png}" in captured.err and png.stat().st_size > 1000
 
 

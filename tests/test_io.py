@@ -25,6 +25,25 @@ def test_csv_round_trip_is_exact(tmp_path):
     np.testing.assert_array_equal(back["frequency"].values, ds["frequency"].values)
 
 
+def test_csv_numbers_are_written_in_their_shortest_exact_form(tmp_path):
+    """9904.999 is written ``9904.999``, not 17 digits' ``9904.9989999999998``, and every
+    value (awkward ones included) reads back bit for bit."""
+    f = np.array([9904.999, 0.1, 1e-300, 123456789.123])
+    z = np.array([9904.999 - 0.3j, 1 / 3 - 2e-17j, 5e-324 - 1e300j, 2.0**0.5 - 7j])
+    sigma = np.array([0.1, 0.2, 0.30000000000000004, 1e-5])
+    ds = ix.make_spectrum(f, z)
+    ds["sigma"] = ("frequency", sigma)
+    path = tmp_path / "s.csv"
+    ix.save(ds, path)
+    rows = [line.split(",") for line in path.read_text().splitlines()[1:]]
+    assert rows[0][:2] == ["9904.999", "9904.999"] and rows[0][3] == "0.1"
+    assert rows[2][3] == "0.30000000000000004"  # (not the neighbouring 0.3)
+    back = ix.load(path)
+    assert back["frequency"].values.tobytes() == ds["frequency"].values.tobytes()
+    assert back["Z"].values.tobytes() == ds["Z"].values.tobytes()
+    assert back["sigma"].values.tobytes() == ds["sigma"].values.tobytes()
+
+
 def test_a_tsv_file_is_tab_separated_and_reads_back_exactly(tmp_path):
     ds = _spectrum()
     path = tmp_path / "s.tsv"

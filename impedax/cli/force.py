@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..arguments import number_text
 from .common import accept_negative_numbers, add_output_options, add_positional_model, check_memory, check_parameter_names, check_points, figure_writer, number_option, parse_assignments, plan_outputs, to_jsonable
 
 _MODELS = ("meyer", "vezzoli")
@@ -258,7 +259,8 @@ def run(args) -> int:
     peak = force_maximum(lambda f: float(_force(args.model, params, np.array([f]), args.convention)[0]), freq, force).to_dict()
     document = {"frequency_hz": freq, "force_n": force, "peak": peak, "params": params, "convention": args.convention, "model": args.model, "warnings": notes}
     json_text = json.dumps(to_jsonable(document), indent=2, allow_nan=False) + "\n"
-    csv_text = "\n".join(["frequency_hz,force_n"] + [f"{f:.10g},{v:.10g}" for f, v in zip(freq, force)]) + "\n"
+    # each number in its shortest exact form, as in the JSON: the CSV reads back bit for bit
+    csv_text = "\n".join(["frequency_hz,force_n"] + [f"{number_text(f)},{number_text(v)}" for f, v in zip(freq, force)]) + "\n"
 
     def text_writer(path: Path) -> None:
         path.write_text(json_text if Path(out).suffix.lower() == ".json" else csv_text, encoding="utf-8")

@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from ..arguments import number_text
 from ..errors import DataError
 from ._common import decimal_comma, decode_text, finish, read_bytes
 from .atomic import atomic_path
@@ -118,8 +119,9 @@ def read_csv(path: str | Path) -> xr.Dataset:
 
 
 def write_csv(ds: xr.Dataset, path: str | Path | None = None, *, delimiter: str = ",") -> str:
-    """Write one spectrum as ``frequency_hz,z_real_ohm,z_imag_ohm`` (17 significant digits;
-    ``delimiter`` "\t" for a .tsv file).
+    """Write one spectrum as ``frequency_hz,z_real_ohm,z_imag_ohm``, each number in its
+    shortest exact form (`number_text`: 9904.999 stays ``9904.999``, where 17 significant
+    digits print ``9904.9989999999998``; read back bit for bit); ``delimiter`` "\t" for a .tsv file.
 
     Returns the text; writes it atomically to ``path`` when given.
     """
@@ -135,7 +137,7 @@ def write_csv(ds: xr.Dataset, path: str | Path | None = None, *, delimiter: str 
         columns.append(ds["sigma"].values)
     lines = [delimiter.join(header)]
     for row in zip(*columns):
-        lines.append(delimiter.join(f"{v:.17g}" for v in row))
+        lines.append(delimiter.join(number_text(v) for v in row))
     text = "\n".join(lines) + "\n"
     if path is not None:
         with atomic_path(path) as tmp:
