@@ -125,6 +125,35 @@ def test_text_labels_take_lists_and_a_label_with_a_comma_is_itself(files, capsys
     assert err.count("error:") == 1 and "a range FIRST:LAST needs numeric labels" in err and "(a, b, a,b, c)" in err
 
 
+@pytest.fixture(scope="module")
+def temperatures(tmp_path_factory):
+    """Three small files of spectra over temperature: labelled 25.5, 30 (numbers), "25.5", "30"
+    (texts) and "25,5", "30" (texts, a decimal comma). Spectrum k has R1 = 100 Ω × (k + 1)."""
+    folder = tmp_path_factory.mktemp("temperatures")
+    z = np.stack([rc(100.0 * (k + 1), np.random.default_rng(k)) for k in range(2)])
+    paths = {}
+    for name, labels in {"numbers": [25.5, 30.0], "texts": ["25.5", "30"], "comma": ["25,5", "30"]}.items():
+        paths[name] = str(folder / f"{name}.nc")
+        ix.save(ix.make_spectrum(F, z, dims=("temperature",), coords={"temperature": labels}), paths[name])
+    return paths
+
+
+def test_a_decimal_comma_label_is_picked_whole_and_a_decimal_comma_list_is_asked_about(temperatures, capsys):
+    """temperature=25,5 picks the label "25,5" where there is one; where the label is 25.5 it
+    is the list 25, 5, which picks nothing: the message suggests 25.5."""
+    out = json_out(["inspect", temperatures["comma"], "--select", "temperature=25,5", "--json"], capsys)
+    assert out["labels"] == {} and out["attrs"]["source"].endswith("[temperature=25,5]")
+    assert out["z_abs_max_ohm"] == pytest.approx(np.abs(R0 + 100.0 / (1 + 1j * 2 * np.pi * F * 100.0 * C1)).max(), rel=0.01)
+    for name in ("numbers", "texts"):
+        assert main(["inspect", temperatures[name], "--select", "temperature=25,5"]) == 2
+        err = capsys.readouterr().err
+        assert err.count("error:") == 1 and "--select temperature=25,5: no spectrum of" in err and "has the label '25'" in err
+        assert "did you mean 25.5? --select takes '.' as the decimal mark; ',' separates a list" in err
+    assert main(["inspect", temperatures["numbers"], "--select", "temperature=25,6"]) == 2  # (25.6 is no label: no guess)
+    assert "did you mean" not in capsys.readouterr().err
+    assert json_out(["inspect", temperatures["numbers"], "--select", "temperature=25.5", "--json"], capsys)["labels"] == {}
+
+
 def test_a_range_of_text_labels_that_are_all_numbers_compares_them_as_numbers(tmp_path, capsys):
     """Sheets named 1, 2, 10: 2:10 is sheets 2 and 10 (as text, "10" < "2")."""
     path = str(tmp_path / "sheets.nc")

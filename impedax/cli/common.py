@@ -387,10 +387,42 @@ def _picked(data, dim: str, text: str, path: str, item: str) -> int | list[int]:
     """What ``--select DIM=TEXT`` picks along ``dim``: the position of one label (`_position`,
     the dimension then goes), or the positions of a list ``L1,L2,...`` and/or ranges
     ``FIRST:LAST`` (in the order written; a range's in the file's order; the dimension stays).
-    A text that is one of ``dim``'s labels whole (a sheet named ``a,b``) is that label."""
+    A text that is one of ``dim``'s labels whole (a sheet named ``a,b``, a temperature
+    ``25,5``) is that label; a list that picks nothing but reads as a decimal-comma number
+    equal to a label (``25,5`` for 25.5) is refused with that number suggested."""
     labels = dimension_labels(data, dim)
     if ("," not in text and ":" not in text) or (dim in data.coords and any(str(v) == text for v in labels)):
         return _position(data, dim, text, path)
+    try:
+        return _listed_positions(data, dim, text, path, item)
+    except ParameterError as error:
+        meant = _decimal_comma_label(data, dim, text)
+        if meant is None:
+            raise
+        raise ParameterError(f"{error}; did you mean {meant}? --select takes '.' as the decimal mark; ',' separates a list") from None
+
+
+#: A number written with a decimal comma (25,5): one comma between digits, nothing else.
+DECIMAL_COMMA_NUMBER = re.compile(r"[-+]?\d+,\d+")
+
+
+def _decimal_comma_label(data, dim: str, text: str) -> str | None:
+    """``text`` with its comma as the decimal mark (``25,5`` → ``25.5``) when that is a
+    number equal to one of ``dim``'s labels (a number, or a text that is one), else None: the
+    hint for a list that picks nothing, typed with a European decimal comma."""
+    if dim not in data.coords or not DECIMAL_COMMA_NUMBER.fullmatch(text):
+        return None
+    meant = text.replace(",", ".")
+    value = float(meant)
+    labels = dimension_labels(data, dim)
+    if any((_is_number(v) and v == value) or (isinstance(v, str) and _as_number(v) == value) for v in labels):
+        return meant
+    return None
+
+
+def _listed_positions(data, dim: str, text: str, path: str, item: str) -> list[int]:
+    """The positions of a list ``L1,L2,...`` and/or ranges ``FIRST:LAST`` (`_picked`)."""
+    labels = dimension_labels(data, dim)
     positions: list[int] = []
     parts = text.split(",")
     for k, part in enumerate(parts):
