@@ -28,13 +28,15 @@ DIAGNOSE_KEYS = {
 
 
 def test_the_advice_fits_the_selected_spectrum_on_the_run_s_points(tmp_path, capsys):
+    """A range that picks one cycle (cycles 0, 64, 129: 100:200 is 129) is advised as that
+    cycle's label: `impedax fit` reads a range as a batch (of one)."""
     summary = tmp_path / "diagnosis.json"
-    argv = ["diagnose", str(CYCLES), "--select", "cycle=129", "--fmin", "0.05", "--weighting", "proportional",
+    argv = ["diagnose", str(CYCLES), "--select", "cycle=100:200", "--fmin", "0.05", "--weighting", "proportional",
             "--model", "R0 + R1 || CPE1 + W1", "--effects", "extra_relaxation", "--out", str(summary)]
     assert main(argv) == 0
     line = next(x for x in capsys.readouterr().out.splitlines() if "to apply 1." in x)
     command = shlex.split(line[line.index("impedax fit "):])
-    assert command[:3] == ["impedax", "fit", str(CYCLES)] and "DATA" not in command
+    assert command[:5] == ["impedax", "fit", str(CYCLES), "--select", "cycle=129"] and "DATA" not in command
     diagnosis = json.loads(summary.read_text())
     assert set(diagnosis) >= DIAGNOSE_KEYS
     best = diagnosis["suggestions"][0]
@@ -50,6 +52,32 @@ def test_fit_command_quotes_the_file_and_leaves_out_the_defaults():
     args = SimpleNamespace(data="my data/cell 1.csv", select=["cycle=129"], weighting="modulus", fmin=None, fmax=1000.0)
     assert fit_command(args) == "impedax fit 'my data/cell 1.csv' --select cycle=129 --fmax 1000.0"
     assert fit_command() == "impedax fit DATA"  # (the Python API's report)
+
+
+def test_fit_command_gives_a_list_or_range_that_picked_one_spectrum_as_its_label():
+    """The labels the picks name (by value: 4:4, 3:5, 4.0:4.5 and 'a,b' whole) and, where a
+    dimension has no labels, the position a range's first end names; a plain label, and a
+    dimension the data still have, are repeated as written."""
+    import numpy as np
+
+    from impedax.cli.common import select_spectra
+
+    f = np.geomspace(1.0, 1e4, 4)
+    z = np.arange(1.0, 13.0).reshape(3, 4) + 0j
+    cycles = ix.make_spectrum(f, z, dims=("cycle",), coords={"cycle": [2, 4, 8]})
+    sheets = ix.make_spectrum(f, z, dims=("sheet",), coords={"sheet": ["a", "a,b", "c"]})
+    trials = ix.make_spectrum(f, z, dims=("trial",)).drop_vars("trial", errors="ignore")
+    cases = [
+        (cycles, "cycle=4:4", "cycle=4"), (cycles, "cycle=3:5", "cycle=4"), (cycles, "cycle=4.0:4.5", "cycle=4"), (cycles, "cycle=5:", "cycle=8"),
+        (cycles, "cycle=4", "cycle=4"), (sheets, "sheet=a,b", "sheet=a,b"),
+        (trials, "trial=1:1", "trial=1"), (trials, "trial=2:", "trial=2"), (trials, "trial=:0", "trial=0"),
+    ]
+    for data, item, expected in cases:
+        picked = select_spectra(data, "f.nc", [item], single="impedax diagnose")
+        assert picked["Z"].dims == ("frequency",)
+        assert fit_command(SimpleNamespace(data="f.nc", select=[item]), data=picked) == f"impedax fit f.nc --select {expected}"
+    several = select_spectra(cycles, "f.nc", ["cycle=3:9"])  # (two spectra: the range stays)
+    assert fit_command(SimpleNamespace(data="f.nc", select=["cycle=3:9"]), data=several) == "impedax fit f.nc --select cycle=3:9"
 
 
 @pytest.mark.parametrize("text, value", [("0.05", 0.05), ("5%", 0.05), (" 2.5 %", 0.025), ("99.5%", 0.995), (None, None)])

@@ -137,13 +137,14 @@ def relative_noise(text: str | None) -> float | None:
     return value
 
 
-def fit_command(args=None, *, kept=None, masked=()) -> str:
+def fit_command(args=None, *, kept=None, masked=(), data=None) -> str:
     """The start of the ``impedax fit`` command that fits the spectrum and points a run of
     ``args`` (diagnose, refine) fitted: its file, shell-quoted (DATA when ``args`` names none),
-    --select, --weighting unless the default (modulus), --fmin, --fmax and --exclude; with the
-    run's ``kept`` frequencies and the ``masked`` ones it left out, the --fmin/--fmax/--exclude
-    that leave those out too (`left_out_options`). The advice of those commands ends it with
-    --model and the values to start from."""
+    --select (with ``data``, the one spectrum the run took, a list or range that picked it
+    becomes its label: `single_selects`), --weighting unless the default (modulus), --fmin,
+    --fmax and --exclude; with the run's ``kept`` frequencies and the ``masked`` ones it left
+    out, the --fmin/--fmax/--exclude that leave those out too (`left_out_options`). The advice
+    of those commands ends it with --model and the values to start from."""
     import shlex
 
     band = {"--fmin": getattr(args, "fmin", None), "--fmax": getattr(args, "fmax", None)}
@@ -157,10 +158,31 @@ def fit_command(args=None, *, kept=None, masked=()) -> str:
             else:
                 band[flag] = value
     weighting = getattr(args, "weighting", None)
-    options = [("--select", item) for item in getattr(args, "select", None) or ()]
+    select = getattr(args, "select", None) or ()
+    options = [("--select", item) for item in (select if data is None else single_selects(select, data))]
     options += [("--weighting", weighting if weighting != "modulus" else None), *band.items(), ("--exclude", ",".join(excluded) or None)]
     data = getattr(args, "data", None)
     return " ".join(["impedax fit", shlex.quote(data) if data else "DATA"] + [f"{flag} {shlex.quote(str(value))}" for flag, value in options if value is not None])
+
+
+def single_selects(select: Sequence[str], data) -> list[str]:
+    """The ``--select`` items ``select`` that left ``data`` one spectrum, each list or range
+    written as the label it picked (``cycle=4:4`` → ``cycle=4``): `impedax fit` reads a list
+    or range as a batch, of one here, where the advice means that spectrum. A dimension that
+    ``data`` still has, or an item that is one label, is kept as written."""
+    out = []
+    for item in select:
+        dim, label = _select_item(item)
+        if ("," in label or ":" in label) and dim not in data["Z"].dims:
+            if dim in data.coords and data[dim].ndim == 0:
+                value = data[dim].item()
+                label = number_text(value) if _is_number(value) else str(value)
+            elif dim not in data.coords:  # (positions: one range FIRST:LAST, or FIRST: / :LAST, that picked one)
+                first = label.partition(":")[0].strip()
+                label = first or "0"
+            item = f"{dim}={label}"
+        out.append(item)
+    return out
 
 
 def exclude_points(data, text: str | None):

@@ -68,5 +68,5 @@ def run(args) -> int:
     source = data_source(data)
     outputs.save({"--out": result_writer(result, source), "--plot": figure_writer(result.plot, source)})
     if not outputs.uses_stdout:
-        print_result(result, args.json, source, fit_command=fit_command(args, kept=result.baseline.frequency, masked=result.masked_points))
+        print_result(result, args.json, source, fit_command=fit_command(args, kept=result.baseline.frequency, masked=result.masked_points, data=data))
     return 0

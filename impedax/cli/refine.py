@@ -51,23 +51,24 @@ def run(args) -> int:
     outputs.save({"--out": result_writer(result, source), "--plot": figure_writer(result.plot, source)})
     if not outputs.uses_stdout:
         print_result(result, args.json, source)
-        line = reproduce_line(result, args)
+        line = reproduce_line(result, args, data)
         if line and not args.json:
             print(line)
     return 0
 
 
-def reproduce_line(refinement, args=None) -> str | None:
+def reproduce_line(refinement, args=None, data=None) -> str | None:
     """The ``impedax fit`` command that reproduces the final fit (on the run's file and points:
     `fit_command`, with the --fmin/--fmax/--exclude that leave out the masked points): from its
     values when a fit of the final model from scratch ends at another optimum
     (``Refinement.final_from_values``; a note of another path said so of its own model, and had
     printed this line), else from scratch when points were masked (a fit of the file's every
-    point differs); else None (``impedax fit`` of the final model reproduces it)."""
+    point differs); else None (``impedax fit`` of the final model reproduces it). ``data``: the
+    spectrum refined, so that a --select list or range that picked it is given as its label."""
     from .common import fit_command
 
     final = refinement.final
-    command = fit_command(args, kept=final.frequency, masked=refinement.masked_points)
+    command = fit_command(args, kept=final.frequency, masked=refinement.masked_points, data=data)
     masked = len(refinement.masked_points)
     without = f"; without the {masked} masked point(s)" if masked else ""
     if refinement.final_from_values:
