@@ -11,7 +11,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable, Iterable, Mapping, Sequence
 
-from ..arguments import number_text
+from ..arguments import EXCLUDE_RTOL, number_text
 from ..errors import DataError, ParameterError
 from ..warning_groups import labels_text
 
@@ -193,8 +193,6 @@ def exclude_points(data, text: str | None):
     if text is None:
         return data
     import numpy as np
-
-    from ..fitting.diagnosis.diagnosis import EXCLUDE_RTOL
 
     measured = np.asarray(data["frequency"].values, float)
     drop: dict[int, str] = {}

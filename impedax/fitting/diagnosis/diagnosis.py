@@ -43,7 +43,7 @@ from typing import Callable, Mapping, NamedTuple, Sequence
 import numpy as np
 import xarray as xr
 
-from ...arguments import MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice, count, flag, frequency, instance_of, noise_fraction, seed as seed_rule
+from ...arguments import EXCLUDE_RTOL, MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice, count, flag, frequency, instance_of, noise_fraction, seed as seed_rule
 from ...circuits import Circuit, DEFAULT_REGISTRY, Element, Parallel, Registry, Series, parse
 from ...data import concise_repr, format_quantity, make_spectrum
 from ...errors import DataError, FitError, ImpedaxError, ParameterError
@@ -1424,11 +1424,6 @@ def frequency_text(f: float, measured) -> str:
         if nearest == f and abs(v / f - 1) <= EXCLUDE_RTOL:
             return text.replace("e+0", "e").replace("e+", "e").replace("e-0", "e-")
     return repr(float(f))
-
-
-# how far a value of ``impedax fit --exclude`` may be from the measured frequency it names
-# (relative): a frequency copied from a report's three digits (5.34 Hz for 5.3367 Hz) matches
-EXCLUDE_RTOL = 5e-3
 
 
 def left_out_options(kept, masked) -> list[tuple[str, str]]:
