@@ -548,6 +548,33 @@ def test_draws_piled_up_against_a_prior_end_or_a_bound_are_flagged(rcpe):
     assert any(w.startswith("CPE1.alpha piles up against its upper bound 1") and "the bound, not the data" in w for w in at_one.warnings), at_one.warnings
     _, _, _, post = rcpe
     assert not [w for w in post.warnings if "piles up" in w]
+    # the same facts as data: each parameter named in a warning, with the side the warning names
+    for p in (capped, at_one, post):
+        named = {w.split(" piles up against ")[0]: w for w in p.warnings if " piles up against " in w}
+        assert set(p.piled_up) == set(named) and p.summary()["piled_up"] == p.piled_up, (p.piled_up, p.warnings)
+        assert all(f" {'lower' if side == 'lower' else 'upper'} " in named[n] for n, side in p.piled_up.items() if side != "both")
+    assert capped.piled_up["R1"] == "upper" and at_one.piled_up["CPE1.alpha"] == "upper" and post.piled_up == {}
+
+
+def test_prior_edges_gives_each_piled_up_parameter_its_side_and_one_warning_per_side():
+    """Synthetic draws under uniform:0,1 priors: piled against 0, against 1, flat across the
+    whole prior (both ends: the likelihood falls off at neither), and a narrow bump inside it."""
+    from impedax.fitting.bayes.diagnostics import prior_edges
+    from impedax.fitting.bayes.priors import Prior
+
+    rng = np.random.default_rng(0)
+    n = 4000
+    draws = np.column_stack([
+        rng.exponential(0.05, n).clip(max=1.0),  # piled against the lower end
+        1.0 - rng.exponential(0.05, n).clip(max=1.0),  # ... the upper end
+        rng.uniform(0.0, 1.0, n),  # flat: both
+        rng.normal(0.5, 0.05, n),  # inside
+    ])
+    names = ("low", "high", "flat", "inside")
+    edges = prior_edges(names, ("Ohm",) * 4, draws, {m: Prior("uniform", 0.0, 1.0) for m in names}, (-np.inf,) * 4, (np.inf,) * 4)
+    assert edges.piled_up == {"low": "lower", "high": "upper", "flat": "both"}
+    assert [w.split(" piles up against the ")[0] for w in edges.warnings] == ["low", "high", "flat", "flat"]
+    assert [w.split(" piles up against the ")[1].split(" ")[0] for w in edges.warnings] == ["lower", "upper", "lower", "upper"]
 
 
 def test_waic_flagged_when_the_posterior_sits_away_from_the_datas_fit(rcpe):

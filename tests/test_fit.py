@@ -39,10 +39,14 @@ def test_meyer_cs_ci_not_identifiable_and_fixing_one_helps(rng):
     result = ix.fit("C_s + C_i + R_sc || C_sc + R_f", data)
     text = " ".join(result.warnings)
     assert "C_s, C_i are not separately determined" in text
+    assert result.unidentified_groups == (("C_s", "C_i"),)  # the same group as data
+    assert result.summary()["unidentified_groups"] == [["C_s", "C_i"]]
+    assert ix.FitResult.from_xarray(result.to_xarray()).unidentified_groups == (("C_s", "C_i"),)
     series = 1 / (1 / result.values["C_s"] + 1 / result.values["C_i"])
     assert series == pytest.approx(1 / (1 / 140e-12 + 1 / 1.7e-9), rel=0.05)
     fixed = ix.fit("C_s + C_i + R_sc || C_sc + R_f", data, fixed={"C_i": 1.7e-9})
     assert not any("C_s" in w for w in fixed.warnings)
+    assert fixed.unidentified_groups == () and fixed.summary()["unidentified_groups"] == []
     assert fixed.values["C_s"] == pytest.approx(140e-12, rel=0.05)
     assert fixed.fixed["C_i"] and np.isnan(fixed.stderr["C_i"])
 

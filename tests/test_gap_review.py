@@ -474,3 +474,27 @@ def test_remaining_impedance_example_header_matches_its_output(tmp_path):
     assert f"about {thin:.1f} % thin" in header
     for stale in ("415 pF", "424 pF", "2.71 µm", "3 % high"):
         assert stale not in header
+
+
+def test_gap_identification_reads_the_results_data_not_their_warning_text():
+    """u is not determined when the EDL fit's `unidentified_groups` put C_gap in a group with
+    another parameter, or the posterior's `piled_up` has the EP CPE's Q at the lower edge of its
+    prior; a warning's wording plays no part (a text naming C_gap with no group is no reason)."""
+    from types import SimpleNamespace
+
+    from impedax.models.gap import EP_ALPHA_IDEAL, _gap_identification
+
+    def edl(*groups, warnings=()):
+        return SimpleNamespace(unidentified_groups=groups, warnings=warnings)
+
+    together = _gap_identification(edl(("R_EP",), ("CPE_EP.Q", "C_gap")), {}, None, "CPE_EP.Q")
+    assert together is not None and together.startswith("CPE_EP.Q, C_gap are not separately determined")
+    alone = edl(("C_gap",), warnings=("CPE_EP.Q, C_gap are not separately determined by the data (…)", "CPE_EP.Q piles up against the lower end of its prior …"))
+    assert _gap_identification(alone, {}, None, "CPE_EP.Q") is None  # (a group of one: not a split of C_gap)
+    for side, vanishes in (("lower", True), ("both", True), ("upper", False)):
+        reason = _gap_identification(edl(), {"CPE_EP.Q": side}, None, "CPE_EP.Q")
+        assert (reason is not None and "the EP CPE vanishes (CPE_EP.Q piles up" in reason) is vanishes, (side, reason)
+    assert _gap_identification(edl(), {"CPE_EP.alpha": "lower"}, None, "CPE_EP.Q") is None
+    alpha = np.full(10, EP_ALPHA_IDEAL + 0.01)
+    assert "an ideal capacitor in parallel with C_gap" in _gap_identification(edl(), {}, alpha, "CPE_EP.Q")
+    assert _gap_identification(edl(), {}, alpha - 0.1, "CPE_EP.Q") is None

@@ -25,6 +25,7 @@ gap voltage and the electrostatic force, with uncertainty.
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
+from typing import Mapping
 
 import numpy as np
 import xarray as xr
@@ -432,7 +433,7 @@ def gap_analysis(
     notes += _bound_notes(u_draws, reparametrization, area)
     notes += [f"EDL fit: {w}" for w in edl.warnings] + [f"sampling: {w}" for w in posterior.warnings if not w.startswith("least-squares start")]
     notes += _estimate_bound_notes("Bayesian gap thickness", float(np.median(u_draws)), paper, remaining, f"; draws span {_um(u_draws.min())}–{_um(u_draws.max())} µm")
-    lower = _identification(ep, str(requested), circuit, posterior.parameter_draws(), edl, notes, remaining, area, eps_gap)
+    lower = _identification(ep, str(requested), circuit, posterior.parameter_draws(), edl, posterior.piled_up, notes, remaining, area, eps_gap)
     return GapAnalysis(remaining, paper, naive, edl, posterior, force, area, v0, ep, tuple(notes), model_requested=str(requested), trials=trials, gap_lower_bound=lower)
 
 
@@ -564,22 +565,19 @@ def _bound_notes(u_draws, reparametrization, area: float) -> list[str]:
     return notes
 
 
-def _gap_identification(edl, notes, alpha_draws, ep_q: str | None = None) -> str | None:
+def _gap_identification(edl, piled_up: Mapping[str, str], alpha_draws, ep_q: str | None = None) -> str | None:
     """Why the data do not determine C_gap apart from the EP element, or None when they do:
-    the least-squares identifiability warning (of the EDL fit, or the sampler's) puts C_gap in a
-    group that is "not separately determined"; the EP CPE's α has its posterior median at or
-    above `EP_ALPHA_IDEAL` (an ideal capacitor in parallel with C_gap: only the sum counts); or
-    the EP CPE's Q (``ep_q``) piles up against the lower end of its prior (the CPE vanishes and C_gap takes all the capacitance: the remainder looks like
+    the EDL fit puts C_gap in a group of parameters not separately determined
+    (`FitResult.unidentified_groups`); the EP CPE's α has its posterior median at or above
+    `EP_ALPHA_IDEAL` (an ideal capacitor in parallel with C_gap: only the sum counts); or the EP
+    CPE's Q (``ep_q``) piles up against the lower edge of its prior (``piled_up``, as
+    `Posterior.piled_up`: the CPE vanishes and C_gap takes all the capacitance: the remainder looks like
     R_EP ∥ C, which an ideal EP capacitor in parallel with C_gap gives too, whatever the split)."""
-    texts = [w.removeprefix("EDL fit: ").removeprefix("sampling: ") for w in list(getattr(edl, "warnings", ())) + list(notes)]
-    for w in texts:
-        head = w.split(" are not separately determined", 1)
-        if len(head) == 2 and "C_gap" in head[0]:
-            return f"{head[0]} are not separately determined"
-    if ep_q is not None:
-        for w in texts:
-            if w.startswith(f"{ep_q} piles up against the lower end"):
-                return f"the EP CPE vanishes ({ep_q} piles up at the lower end of its prior): the remainder looks like R_EP ∥ C, as with an ideal EP capacitor beside C_gap"
+    for group in edl.unidentified_groups:
+        if len(group) > 1 and "C_gap" in group:
+            return f"{', '.join(group)} are not separately determined"
+    if ep_q is not None and piled_up.get(ep_q) in ("lower", "both"):
+        return f"the EP CPE vanishes ({ep_q} piles up at the lower end of its prior): the remainder looks like R_EP ∥ C, as with an ideal EP capacitor beside C_gap"
     if alpha_draws is not None and float(np.median(alpha_draws)) >= EP_ALPHA_IDEAL:
         return f"the EP CPE's α is {float(np.median(alpha_draws)):.3f} (≥ {EP_ALPHA_IDEAL:g}): an ideal capacitor in parallel with C_gap"
     return None
@@ -647,12 +645,13 @@ def _hierarchical(total, skin, touchscreen, remaining, paper, naive, edl, circui
     notes = list(notes) + _bound_notes(pop["u"], reparametrization, area)
     notes += [f"EDL fit: {w}" for w in edl.warnings] + [f"sampling: {w}" for w in post.warnings]
     notes += _estimate_bound_notes("population gap thickness", float(np.median(pop["u"])), paper, remaining)
-    lower = _identification(ep, model_requested, circuit, pop, edl, notes, remaining, area, eps_gap)
+    lower = _identification(ep, model_requested, circuit, pop, edl, {}, notes, remaining, area, eps_gap)  # (the hierarchical posterior has no pile-up diagnosis)
     return GapAnalysis(remaining, paper, naive, edl, None, force, area, v0, ep, tuple(notes), method="hierarchical", hierarchical=post, model_requested=model_requested, gap_lower_bound=lower)
 
 
-def _identification(ep, requested, circuit, draws, edl, notes, remaining, area, eps_gap) -> float | None:
+def _identification(ep, requested, circuit, draws, edl, piled_up, notes, remaining, area, eps_gap) -> float | None:
     """The lower bound of u [m] when u is not determined (``notes`` gains why), else None.
+    ``piled_up``: the sampled parameters piled up against a prior's edge (`Posterior.piled_up`).
     ``ep="C"`` (merged capacitors): the sampled u itself (median) is that bound."""
     if ep == "C" and str(circuit) == IDENTIFIED_C_REMAINDER and str(requested) != str(circuit):
         return float(np.median(draws["u"]))
@@ -660,7 +659,7 @@ def _identification(ep, requested, circuit, draws, edl, notes, remaining, area, 
         return None  # no EP element beside C_gap to confuse it with
     alpha = next((np.asarray(v) for k, v in draws.items() if k.endswith(".alpha") and "EP" in k), None)
     ep_q = next((k for k in circuit.parameter_names() if k.endswith(".Q") and "EP" in k), None)
-    reason = _gap_identification(edl, notes, alpha, ep_q)
+    reason = _gap_identification(edl, piled_up, alpha, ep_q)
     merged = _merged_fit(remaining, "sigma" if "sigma" in remaining else "modulus")
     if reason is None and merged.rms_rel <= MERGED_FIT_RATIO * edl.rms_rel:
         reason = f"{IDENTIFIED_C_REMAINDER} fits the remainder as well as {circuit} (rms_rel {format_percent(merged.rms_rel)} against {format_percent(edl.rms_rel)}): the EP element acts as a capacitor beside C_gap"

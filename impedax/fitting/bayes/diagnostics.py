@@ -5,7 +5,7 @@ against a prior's edge, a linearised standard error far from the posterior's wid
 from __future__ import annotations
 
 import math
-from typing import Mapping, Sequence
+from typing import Mapping, NamedTuple, Sequence
 
 import numpy as np
 
@@ -13,7 +13,7 @@ from ...data import unit_text
 
 __all__ = [
     "CHAIN_TAU_MULTIPLE", "ACCEPTANCE_STUCK", "GAUSSIAN_ACCEPTANCE", "CORRELATION_WARNING", "EDGE_BAND", "EDGE_DENSITY", "EDGE_MIN_DRAWS",
-    "INTERVAL_RATIO_WARNING", "integrated_autocorr", "flat_acceptance", "acceptance_ceiling", "hdi", "chain_warnings", "prior_edge_warnings",
+    "INTERVAL_RATIO_WARNING", "integrated_autocorr", "flat_acceptance", "acceptance_ceiling", "hdi", "chain_warnings", "PriorEdges", "prior_edges",
     "acceptance_warnings", "interval_warnings", "figure",
 ]
 
@@ -178,15 +178,25 @@ def chain_warnings(
     return out
 
 
-def prior_edge_warnings(
+class PriorEdges(NamedTuple):
+    """The parameters whose draws pile up against an edge of their prior (`prior_edges`):
+    ``piled_up`` maps each to its side ("lower", "upper" or "both"), ``warnings`` says it in
+    words, one warning per side."""
+
+    warnings: list[str]
+    piled_up: dict[str, str]
+
+
+def prior_edges(
     names: Sequence[str],
     units: Sequence[str],
     draws: np.ndarray,
     priors: Mapping,
     lower: Sequence[float],
     upper: Sequence[float],
-) -> list[str]:
-    """A warning for each parameter whose posterior piles up against an edge of its prior.
+) -> PriorEdges:
+    """The parameters whose posterior piles up against an edge of their prior, as data and as
+    a warning for each (`PriorEdges`).
 
     In the prior's own coordinate t = F(x) (its cumulative probability: linear for a uniform
     prior, log for a log-uniform one), the prior is flat on [0, 1] and the posterior's density is
@@ -197,7 +207,7 @@ def prior_edge_warnings(
     parameter's own bound, the bound) and not the data sets that side of the interval.
     ``draws`` are flat natural values (sample, param); ``lower``/``upper`` the parameters' bounds.
     """
-    out = []
+    out, piled_up = [], {}
     for i, n in enumerate(names):
         prior = priors[n]
         x = np.asarray(draws[:, i], float)
@@ -217,6 +227,7 @@ def prior_edge_warnings(
         ):
             if share * t.size < EDGE_MIN_DRAWS or (share / band) < EDGE_DENSITY * (0.9 / central):
                 continue
+            piled_up[n] = "both" if n in piled_up else side
             where = f"{100 * share:.0f} % of the draws lie in the {'lowest' if side == 'lower' else 'highest'} {100 * band:.2g} % of its prior's range" + (" (log scale)" if prior.kind == "loguniform" else "" if prior.bounded else " (by prior mass)")
             unit = f" {unit_text(units[i])}".rstrip()
             interval = f"the {side} end of its 90 % interval ({'q05' if side == 'lower' else 'q95'} = {q:.3g}{unit})"
@@ -229,7 +240,7 @@ def prior_edge_warnings(
                     f"{n} piles up against the {side} end of its prior {prior} ({where}): the prior, not the data, sets {interval}; "
                     f"the data allow {beyond} values — give {n} a prior that says how {'small' if side == 'lower' else 'large'} it can be"
                 )
-    return out
+    return PriorEdges(out, piled_up)
 
 
 def interval_warnings(

@@ -25,7 +25,7 @@ from ...errors import DataError, ParameterError
 from ..derived import QUANTILES, draw_indices, draws_band, needs_freq
 from ..least_squares import FitResult
 from .chain import capped_at, length_text
-from .diagnostics import CHAIN_TAU_MULTIPLE, chain_warnings, figure, hdi, integrated_autocorr, interval_warnings, prior_edge_warnings
+from .diagnostics import CHAIN_TAU_MULTIPLE, PriorEdges, chain_warnings, figure, hdi, integrated_autocorr, interval_warnings, prior_edges
 from .logprob import NOISE_MODELS, NoiseModel
 from .priors import Prior
 from .reparam import Reparametrization, rebuild
@@ -150,14 +150,24 @@ class Posterior:
         against a prior's edge, linearised standard errors far from the posterior's widths, fit
         notes)."""
         out = chain_warnings(self.names, self.log_scale, self._sampled_space, self.autocorr, self.settings.get("thin", 1), self.mean_acceptance, step_cap=capped_at(self.settings))
-        edges = prior_edge_warnings(self.names, self.units, self.draws.reshape(-1, len(self.names)), self.priors, *self.bounds)
-        out.extend(edges)
-        out.extend(self._interval_warnings(edges))
+        out.extend(self._prior_edges.warnings)
+        out.extend(self._interval_warnings())
         out.extend(self.notes)
         out.extend(f"least-squares start: {w}" for w in self.fit.warnings)
         return tuple(out)
 
-    def _interval_warnings(self, edge_warnings) -> list[str]:
+    @functools.cached_property
+    def _prior_edges(self) -> PriorEdges:
+        return prior_edges(self.names, self.units, self.draws.reshape(-1, len(self.names)), self.priors, *self.bounds)
+
+    @property
+    def piled_up(self) -> dict[str, str]:
+        """The sampled parameters whose draws pile up against an edge of their prior or bound,
+        each with its side: "lower", "upper" or "both" (`diagnostics.prior_edges`; the
+        warnings say it in words)."""
+        return dict(self._prior_edges.piled_up)
+
+    def _interval_warnings(self) -> list[str]:
         """`interval_warnings` for the sampled circuit parameters free in the start fit."""
         q = self.quantiles()
         free = set(self.fit.free_names)
@@ -168,7 +178,7 @@ class Posterior:
             {n: 0.5 * float(q["q84"].sel(param=n) - q["q16"].sel(param=n)) for n in names},
             chain_converged=self.chain_converged,
             at_bound=self.fit.at_bound,
-            piled_up=[n for n in names if any(w.startswith(f"{n} piles up") for w in edge_warnings)],
+            piled_up=[n for n in names if n in self._prior_edges.piled_up],
         )
 
     # -- parameter draws ------------------------------------------------------------------
@@ -220,6 +230,7 @@ class Posterior:
             "autocorr": dict(self.autocorr),
             "ess": dict(self.ess),
             "warnings": list(self.warnings),
+            "piled_up": self.piled_up,
             "log_evidence": self.log_evidence,
             "waic": self.waic,
             "p_waic": self.p_waic,
@@ -392,7 +403,7 @@ class Posterior:
             "notes": list(self.notes),
             "warnings": list(self.warnings),
             "reparametrization": self.reparametrization.describe() if self.reparametrization is not None else None,
-            "fit": {"weighting": fr.weighting, "chi2": fr.chi2, "converged": fr.converged, "message": fr.message, "n_evaluations": fr.n_evaluations, "warnings": list(fr.warnings), "n_starts": fr.n_starts, "elapsed_s": fr.elapsed_s, "at_bound": list(fr.at_bound)},
+            "fit": {"weighting": fr.weighting, "chi2": fr.chi2, "converged": fr.converged, "message": fr.message, "n_evaluations": fr.n_evaluations, "warnings": list(fr.warnings), "n_starts": fr.n_starts, "elapsed_s": fr.elapsed_s, "at_bound": list(fr.at_bound), "unidentified_groups": [list(g) for g in fr.unidentified_groups]},
         }
         coords = {
             "walker": np.arange(self.n_walkers),
@@ -447,6 +458,7 @@ class Posterior:
             n_starts=int(fa["n_starts"]),
             elapsed_s=float(fa["elapsed_s"]),
             at_bound=tuple(str(n) for n in fa.get("at_bound", ())),  # (a file written before 2026-11-30: none)
+            unidentified_groups=tuple(tuple(str(n) for n in g) for g in fa.get("unidentified_groups", ())),  # (before 2026-12-01: none)
             registry=registry,
         )
         sampled = [str(n) for n in ds["param"].values]

@@ -38,7 +38,7 @@ from ..derived import QUANTILES, draws_band, needs_freq
 from ..least_squares import SharedFitResult, fit
 from ..parameters import ParameterTable
 from ..problem import open_spectrum
-from .diagnostics import chain_warnings, figure, hdi, integrated_autocorr, interval_warnings, prior_edge_warnings
+from .diagnostics import PriorEdges, chain_warnings, figure, hdi, integrated_autocorr, interval_warnings, prior_edges
 from .logprob import NOISE_MODELS, NoiseModel, start_weighting
 from .chain import AUTO_STEPS, auto_step_cap, ball_scales, capped_at, length_settings, length_text, run_emcee, start_walkers, support_in_sampled_space, undetermined_span
 from .posterior import Posterior
@@ -179,14 +179,24 @@ class SharedPosterior:
         one line per kind with the spectra it applies to, as a batch's report groups them
         (`_start_fit_warnings`)."""
         out = chain_warnings(self.names, self.log_scale, self._sampled_space, self.autocorr, self.settings.get("thin", 1), self.mean_acceptance, step_cap=capped_at(self.settings))
-        edges = prior_edge_warnings(self.names, self.units, self.draws.reshape(-1, len(self.names)), self.priors, *self.bounds)
-        out.extend(edges)
-        out.extend(self._interval_warnings(edges))
+        out.extend(self._prior_edges.warnings)
+        out.extend(self._interval_warnings())
         out.extend(self.notes)
         out.extend(_start_fit_warnings(self.fit.warnings, len(self.spectra)))
         return tuple(out)
 
-    def _interval_warnings(self, edge_warnings) -> list[str]:
+    @functools.cached_property
+    def _prior_edges(self) -> PriorEdges:
+        return prior_edges(self.names, self.units, self.draws.reshape(-1, len(self.names)), self.priors, *self.bounds)
+
+    @property
+    def piled_up(self) -> dict[str, str]:
+        """The sampled parameters whose draws pile up against an edge of their prior or bound,
+        each with its side: "lower", "upper" or "both" (`diagnostics.prior_edges`; the
+        warnings say it in words)."""
+        return dict(self._prior_edges.piled_up)
+
+    def _interval_warnings(self) -> list[str]:
         """`interval_warnings` (as `Posterior`'s) for the sampled circuit parameters, each against
         its spectrum's linearised standard error in the global start fit."""
         q = self.quantiles()
@@ -197,7 +207,7 @@ class SharedPosterior:
             {n: 0.5 * float(q["q84"].sel(param=n) - q["q16"].sel(param=n)) for n in names},
             chain_converged=self.chain_converged,
             at_bound=[n for n in names if start[n].at_bound],
-            piled_up=[n for n in names if any(w.startswith(f"{n} piles up") for w in edge_warnings)],
+            piled_up=[n for n in names if n in self._prior_edges.piled_up],
         )
 
     def quantiles(self) -> xr.Dataset:
@@ -232,6 +242,7 @@ class SharedPosterior:
             "autocorr": dict(self.autocorr),
             "ess": dict(self.ess),
             "warnings": list(self.warnings),
+            "piled_up": self.piled_up,
             "noise": self.noise.value,
             "walkers": self.n_walkers,
             "draws": self.n_draws,

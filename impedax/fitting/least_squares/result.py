@@ -21,7 +21,7 @@ from .solvers import SolverOutput, SolverStatus
 from .starts import attainable_misfit, inward_start, rms_rel_of
 
 __all__ = [
-    "FitResult", "fit_result", "fit_notes", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes",
+    "FitResult", "fit_result", "fit_notes", "parameter_groups", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes",
     "misfit_notes", "gross_misfits", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
     "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "shown_stderr", "without_error", "STDERR_NOTE", "LINEARISED_STDERR_NAME",
 ]
@@ -54,7 +54,10 @@ class FitResult:
     bound (``at_bound``) has no standard error (NaN: a symmetric one says nothing there; its
     linearised one is in `linearised_stderr`), nor has a vanishing term's (inf,
     `branches.settle_vanishing`); the row and column of either in ``correlation`` are NaN, the
-    diagonal too (docs/fitting.md, "Standard errors at a bound"). ``residuals`` are the complex
+    diagonal too (docs/fitting.md, "Standard errors at a bound"). ``unidentified_groups``: the
+    groups of free parameters along the Jacobian's near-null directions, which the data do not
+    determine separately (one name: not at all); the identifiability warnings name the same
+    groups (`diagnose_identifiability`). ``residuals`` are the complex
     relative residuals r_k = (Z_model,k − Z_data,k)/|Z_data,k| and
     ``rms_rel = sqrt(mean |r_k|²)`` (docs/physics.md, "Goodness of fit"). ``chi2`` is the sum of the squared
     weighted residuals, ``chi2_red = chi2/(2N − k)``; AIC/BIC see `information_criteria`.
@@ -81,6 +84,7 @@ class FitResult:
     n_starts: int = 1
     elapsed_s: float = 0.0
     at_bound: tuple[str, ...] = ()  # free parameters at a natural or user bound
+    unidentified_groups: tuple[tuple[str, ...], ...] = ()  # near-null directions' parameters (`statistics.null_sets`)
     registry: Registry = field(default=DEFAULT_REGISTRY, repr=False)
 
     @property
@@ -176,6 +180,7 @@ class FitResult:
             "message": self.message,
             "at_bound": list(self.at_bound),
             "warnings": list(self.warnings),
+            "unidentified_groups": [list(g) for g in self.unidentified_groups],
             "weighting": self.weighting,
             "n_evaluations": self.n_evaluations,
         }
@@ -267,7 +272,7 @@ class FitResult:
             attrs={
                 "impedax_kind": "fit", "model": self.model, "weighting": self.weighting, "rms_rel": self.rms_rel, "chi2": self.chi2,
                 "chi2_red": self.chi2_red, "aic": self.aic, "bic": self.bic, "converged": int(self.converged),
-                "message": self.message, "warnings": list(self.warnings),
+                "message": self.message, "warnings": list(self.warnings), "unidentified_groups": [list(g) for g in self.unidentified_groups],
                 "n_evaluations": int(self.n_evaluations), "n_starts": int(self.n_starts), "elapsed_s": float(self.elapsed_s),
             },
         )
@@ -278,7 +283,7 @@ class FitResult:
         `impedax.load`, or opened as stored (``xr.open_dataset`` of a file `impedax.write_result`
         or ``impedax fit --out FILE.nc`` wrote). ``registry``: the one the circuit's elements are
         in (None: the default one). A file written before 2026-11-30 lacks the evaluation count,
-        starts and time: 0, 1 and 0 s."""
+        starts and time: 0, 1 and 0 s; one written before 2026-12-01 the unidentified groups: none."""
         from ...io.netcdf import damaged_result, saved_result  # (io is imported only here: rarely needed)
 
         registry = DEFAULT_REGISTRY if registry is None else registry
@@ -308,6 +313,7 @@ class FitResult:
                 n_starts=int(ds.attrs.get("n_starts", 1)),
                 elapsed_s=float(ds.attrs.get("elapsed_s", 0.0)),
                 at_bound=tuple(n for n, b in zip(names, ds["at_bound"].values) if bool(b)),
+                unidentified_groups=parameter_groups(ds.attrs.get("unidentified_groups", ())),
                 registry=registry,
             )
 
@@ -322,6 +328,12 @@ STDERR_NOTE = "NaN: fixed, or at a bound (no symmetric standard error there); in
 COVARIANCE_NOTE = "the linearisation with every free parameter free, the bounds ignored"
 LINEARISED_STDERR_NAME = "stderr with a parameter at a bound given the linearisation's (bounds ignored): not a ± error there, the scale of chi2's curvature"
 CORRELATION_NOTE = "NaN in the rows and columns of parameters without a standard error (at a bound, a vanishing term's)"
+
+
+def parameter_groups(groups) -> tuple[tuple[str, ...], ...]:
+    """Groups of parameter names (lists, e.g. as JSON or netCDF attributes store them) as
+    `FitResult.unidentified_groups` holds them."""
+    return tuple(tuple(str(n) for n in g) for g in groups)
 
 
 def shown_stderr(stderr: float, fixed: bool) -> float | None:
@@ -695,7 +707,8 @@ def non_passive_notes(freq, z, sigma=None) -> tuple[str, ...]:
 
 
 def diagnose_identifiability(names, values, stderr, corr, null_sets, ratio, at_bound=()) -> list[str]:
-    """Identifiability warnings."""
+    """Identifiability warnings: one for each group of ``null_sets`` (kept as data in
+    `FitResult.unidentified_groups`), then correlations and large relative errors."""
     notes = []
     flagged: set[frozenset] = set()
     for group in null_sets:
@@ -864,5 +877,6 @@ def fit_result(
         n_starts=n_starts,
         elapsed_s=elapsed,
         at_bound=at_bound_names(table, sides),
+        unidentified_groups=parameter_groups(null_sets),
         registry=registry,
     )
