@@ -458,7 +458,7 @@ class Posterior:
             n_starts=int(fa["n_starts"]),
             elapsed_s=float(fa["elapsed_s"]),
             at_bound=tuple(str(n) for n in fa.get("at_bound", ())),  # (a file written before 2026-11-30: none)
-            unidentified_groups=tuple(tuple(str(n) for n in g) for g in fa.get("unidentified_groups", ())),  # (before 2026-12-01: none)
+            unidentified_groups=tuple(tuple(str(n) for n in g) for g in fa.get("unidentified_groups", ())),  # (a file written before 2026-11-30 21:00 UTC: none)
             registry=registry,
         )
         sampled = [str(n) for n in ds["param"].values]

@@ -283,7 +283,7 @@ class FitResult:
         `impedax.load`, or opened as stored (``xr.open_dataset`` of a file `impedax.write_result`
         or ``impedax fit --out FILE.nc`` wrote). ``registry``: the one the circuit's elements are
         in (None: the default one). A file written before 2026-11-30 lacks the evaluation count,
-        starts and time: 0, 1 and 0 s; one written before 2026-12-01 the unidentified groups: none."""
+        starts and time: 0, 1 and 0 s; one written before 2026-11-30 21:00 UTC the unidentified groups: none."""
         from ...io.netcdf import damaged_result, saved_result  # (io is imported only here: rarely needed)
 
         registry = DEFAULT_REGISTRY if registry is None else registry
