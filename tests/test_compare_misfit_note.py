@@ -85,3 +85,16 @@ def test_compare_command_with_the_data_s_sigma(tmp_path, capsys):
     (note,) = [w for w in simple["warnings"] if "misfit" in w]
     assert "exceeds the noise the data's sigma states" in note and "the misfit is this model's" in note
     assert not any(DATA_LIMIT_NOTE in w for w in simple["warnings"]) and not any("misfit" in w for w in right["warnings"])
+
+
+def test_without_an_f_test_a_clearly_lower_rms_rel_and_aic_decide(fits):
+    # (models not nested, or the larger one short of its optimum): the rule of `CLEARLY_LOWER_RMS`
+    from impedax.fitting.comparison import CLEARLY_LOWER_RMS, _model_not_data
+
+    simple, right = fits
+    labels = [simple.model, right.model]
+    assert simple.rms_rel > CLEARLY_LOWER_RMS * right.rms_rel
+    (note,) = _model_not_data(simple, 0, fits, labels, [], [simple.aic, right.aic]).warnings
+    assert note.startswith(f"R0 + R1 || CPE1 fits these data significantly better (rms_rel {right.rms_rel * 100:.3g}% against {simple.rms_rel * 100:.3g}%, ΔAIC {right.aic - simple.aic:.1f})")
+    assert _model_not_data(simple, 0, fits, labels, [], [right.aic, simple.aic]).warnings == simple.warnings  # a higher AIC: no
+    assert _model_not_data(right, 1, fits, labels, [], [simple.aic, right.aic]) is right  # no note to replace
