@@ -5,7 +5,7 @@ nested models fitted to the same data, the F-test of the extra parameters (docs/
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Mapping, Sequence
 
 import numpy as np
@@ -17,6 +17,7 @@ from ..data import column_width, format_quantity
 from ..errors import FitError
 from .least_squares import FitResult
 from .least_squares.branches import undetermined
+from .least_squares.result import DATA_LIMIT_NOTE
 
 __all__ = ["compare", "Comparison", "is_nested", "undetermined_names", "criteria", "akaike_weights", "KNOWN_SIGMA", "UNKNOWN_VARIANCE", "SIGMA_CHI2_RED_RANGE"]
 
@@ -386,6 +387,7 @@ def compare(fits: Sequence) -> Comparison:
             elif c.chi2_red < EXACT_CHI2_RED:
                 test.update(valid=False, note=f"{labels[j]} fits the data to rounding (chi2_red {c.chi2_red:.1e}): noise-free data, nothing to test against")
             tests.append(test)
+    results = [_model_not_data(r, i, results, labels, tests, [row["aic"] for row in rows]) for i, r in enumerate(results)]
     return Comparison(tuple(rows), tuple(tests), tuple(results), ics[0]["aic_form"])
 
 
@@ -402,6 +404,48 @@ not a fit short of its optimum."""
 EXACT_CHI2_RED = 1e-20
 """Below this reduced χ² a fit is exact to rounding (noise-free data): an F-test compares
 rounding errors."""
+
+
+SIGNIFICANTLY_BETTER_P = 0.01
+"""A model fits the data significantly better than one nested in it when their F-test's p is
+below this: the nested one's misfit is its own, and `_model_not_data` says so in place of its
+note that the data limit the fit (a SYNTHETIC R0 + R1 ∥ CPE1 spectrum, α = 0.97 with 1 % noise,
+fitted with R0 + R1 ∥ C1 at 2.85× the KK misfit gave p = 1e-39)."""
+CLEARLY_LOWER_RMS = 1.5
+"""Without a valid F-test (models not nested, or the larger one short of its optimum) another
+model fits clearly better when its rms_rel is at most 1/this of the fit's and its AIC is lower:
+χ² 2.25× lower, which k extra parameters on n real values give the noise alone only with
+k > 0.56 n (χ² shrinks as (n − k)/n), and a likelihood ratio n ln 2.25 ≥ 16 from 10 points on."""
+
+
+def _model_not_data(fit: FitResult, i: int, results: Sequence[FitResult], labels: Sequence[str], tests: Sequence[dict], aics: Sequence[float]) -> FitResult:
+    """``fit`` (``results[i]``) with its note that the data limit the fit (`misfit_notes`,
+    `DATA_LIMIT_NOTE`) replaced by one naming the model of the comparison that fits the same
+    data significantly better (a valid F-test with p below `SIGNIFICANTLY_BETTER_P`, else an
+    rms_rel `CLEARLY_LOWER_RMS` × lower with a lower AIC): the comparison's own numbers then
+    say the misfit is this model's, and the note sent the user to the data. Unchanged otherwise,
+    and for fits whose warnings are per spectrum (a mapping)."""
+    warnings = fit.warnings
+    if isinstance(warnings, Mapping) or not any(DATA_LIMIT_NOTE in w for w in warnings):
+        return fit
+    better = []  # (strength, j, evidence): the lowest p, else the largest rms_rel factor
+    for j, other in enumerate(results):
+        if j == i or not other.converged:
+            continue
+        test = next((t for t in tests if t["simple_label"] == labels[i] and t["complex_label"] == labels[j] and t["valid"]), None)
+        if test is not None:
+            if test["p_value"] < SIGNIFICANTLY_BETTER_P:
+                better.append((0, test["p_value"], j, f"F-test p = {test['p_value']:.2g}"))
+        elif fit.rms_rel >= CLEARLY_LOWER_RMS * other.rms_rel and aics[j] < aics[i]:
+            better.append((1, other.rms_rel / fit.rms_rel, j, f"ΔAIC {aics[j] - aics[i]:.1f}"))
+    if not better:
+        return fit
+    _, _, j, evidence = min(better)
+    note = (
+        f"{labels[j]} fits these data significantly better (rms_rel {results[j].rms_rel * 100:.3g}% against {fit.rms_rel * 100:.3g}%, {evidence}): "
+        "the misfit is this model's, not the data's noise; a diagnosis (impedax diagnose) shows where it fails and which effect is missing"
+    )
+    return replace(fit, warnings=tuple(note if DATA_LIMIT_NOTE in w else w for w in warnings))
 
 
 def _same_fit(a: FitResult, b: FitResult) -> bool:

@@ -1,0 +1,100 @@
+"""The misfit note of a too-simple model: `impedax compare` and the data's sigma say that the
+misfit is the model's where the note that the data limit the fit (`DATA_LIMIT_NOTE`) would send
+the user to the data (docs/fitting.md, "Weighting sanity and the model's misfit")."""
+
+import json
+
+import numpy as np
+import pytest
+
+import impedax as ix
+from impedax.fitting.least_squares.result import DATA_LIMIT_NOTE, SIGMA_EXCEEDED, misfit_notes
+
+FREQ = np.geomspace(0.1, 1e5, 50)
+S = 2j * np.pi * FREQ
+# SYNTHETIC R0 + R1 ∥ CPE1 (20 Ω, 1 kΩ, Q = 1e-5, α = 0.97), written here: R0 + R1 ∥ C1 stops at
+# ~3 % on it, between 1.2× and 5× the ~1.1 % of the KK test's Voigt chain on 1 % noise
+TRUTH = 20 + 1000 / (1 + 1000 * 1e-5 * S**0.97)
+_RNG = np.random.default_rng(0)
+NOISE = _RNG.normal(size=FREQ.size) + 1j * _RNG.normal(size=FREQ.size)
+Z = TRUTH * (1 + 0.01 * NOISE)
+SIGMA = 0.01 * np.abs(TRUTH)  # σ of Re and of Im, as the noise above has it
+
+
+@pytest.fixture(scope="module")
+def fits():
+    data = ix.make_spectrum(FREQ, Z)
+    return [ix.fit(m, data) for m in ("R0 + R1 || C1", "R0 + R1 || CPE1")]
+
+
+def test_compare_tells_the_too_simple_model_its_misfit_is_its_own(fits):
+    simple, right = fits
+    kk = ix.kk_test(ix.make_spectrum(FREQ, Z)).rms_rel
+    assert 1.2 * kk < simple.rms_rel < 5 * kk and right.rms_rel < 1.2 * kk
+    # the single fit cannot know: it keeps the note that the data limit the fit
+    assert any(DATA_LIMIT_NOTE in w for w in simple.warnings)
+    c = ix.compare(fits)
+    (test,) = c.f_tests
+    assert test["valid"] and test["p_value"] < 1e-20
+    (note,) = [w for w in c.fits[0].warnings if "misfit" in w]
+    assert note.startswith(f"R0 + R1 || CPE1 fits these data significantly better (rms_rel {right.rms_rel * 100:.3g}% against {simple.rms_rel * 100:.3g}%, F-test p = {test['p_value']:.2g})")
+    assert "the misfit is this model's, not the data's noise" in note
+    assert not any(DATA_LIMIT_NOTE in w for f in c.fits for w in f.warnings)
+    assert not any("misfit" in w or "Kramers–Kronig" in w for w in c.fits[1].warnings)  # the right model at the noise: nothing
+    assert simple.warnings != c.fits[0].warnings  # (the user's fit is left as it was)
+    common, own = c.warnings_by_model()
+    assert common == [] and note in own[0] and note in c.report() and c.summary()["models"][0]["warnings"] == list(c.fits[0].warnings)
+    # with one model, or with only a fit no better than it (no F-test, rms_rel alike), the note stays as the fit has it
+    assert ix.compare([simple]).fits[0].warnings == simple.warnings
+    pair = ix.compare([simple, simple])
+    assert pair.f_tests == () and [f.warnings for f in pair.fits] == [simple.warnings] * 2
+    assert any(DATA_LIMIT_NOTE in w for w in pair.warnings_by_model()[0])  # once, under every model
+
+
+def _mean_over_sigma(z_model, sigma):
+    dz = z_model - Z
+    return float(np.mean((dz.real**2 + dz.imag**2) / (2 * sigma**2)))
+
+
+def test_a_misfit_far_above_the_stated_sigma_is_the_model_s(fits):
+    # R0 + R1 ∥ C1 fitted to the α = 0.97 data: ~3 % rms_rel, mean (ΔRe² + ΔIm²)/2σ² ≈ 5
+    RC = fits[0].z_model
+    ratio = _mean_over_sigma(RC, SIGMA)
+    assert ratio > SIGMA_EXCEEDED
+    (without,), (with_sigma,) = misfit_notes(FREQ, Z, RC), misfit_notes(FREQ, Z, RC, sigma=SIGMA[None])
+    assert DATA_LIMIT_NOTE in without[0] and DATA_LIMIT_NOTE not in with_sigma[0]
+    assert f"mean (ΔRe² + ΔIm²)/2σ² = {ratio:.3g}, above {SIGMA_EXCEEDED:g}" in with_sigma[0] and "the misfit is this model's" in with_sigma[0]
+    noise_rms = np.sqrt(np.mean(2 * SIGMA**2 / np.abs(Z) ** 2))
+    assert f"within that noise ({noise_rms * 100:.2g}%)" in with_sigma[0]
+    # a σ five times too small: the KK chain is far outside it too, the data's noise is what limits
+    (understated,) = misfit_notes(FREQ, Z, RC, sigma=SIGMA[None] / 5)
+    assert DATA_LIMIT_NOTE in understated[0]
+    # the right model with 3 % noise and its σ: the residuals are the noise, no note at all
+    z3 = TRUTH * (1 + 0.03 * NOISE)
+    (right,) = misfit_notes(FREQ, z3, TRUTH, sigma=3 * SIGMA[None])
+    assert np.sqrt(np.mean(np.abs((TRUTH - z3) / z3) ** 2)) > 0.02 and right == ()
+
+
+def test_compare_command_with_the_data_s_sigma(tmp_path, capsys):
+    from impedax.cli import main
+
+    path = tmp_path / "cpe.csv"
+    ix.save(ix.make_spectrum(FREQ, Z, sigma=SIGMA), path)
+    assert main(["compare", str(path), "--model", "R0 + R1 || C1", "--model", "R0 + R1 || CPE1", "--weighting", "sigma", "--json"]) == 0
+    simple, right = json.loads(capsys.readouterr().out)["models"]
+    (note,) = [w for w in simple["warnings"] if "misfit" in w]
+    assert "exceeds the noise the data's sigma states" in note and "the misfit is this model's" in note
+    assert not any(DATA_LIMIT_NOTE in w for w in simple["warnings"]) and not any("misfit" in w for w in right["warnings"])
+
+
+def test_without_an_f_test_a_clearly_lower_rms_rel_and_aic_decide(fits):
+    # (models not nested, or the larger one short of its optimum): the rule of `CLEARLY_LOWER_RMS`
+    from impedax.fitting.comparison import CLEARLY_LOWER_RMS, _model_not_data
+
+    simple, right = fits
+    labels = [simple.model, right.model]
+    assert simple.rms_rel > CLEARLY_LOWER_RMS * right.rms_rel
+    (note,) = _model_not_data(simple, 0, fits, labels, [], [simple.aic, right.aic]).warnings
+    assert note.startswith(f"R0 + R1 || CPE1 fits these data significantly better (rms_rel {right.rms_rel * 100:.3g}% against {simple.rms_rel * 100:.3g}%, ΔAIC {right.aic - simple.aic:.1f})")
+    assert _model_not_data(simple, 0, fits, labels, [], [right.aic, simple.aic]).warnings == simple.warnings  # a higher AIC: no
+    assert _model_not_data(right, 1, fits, labels, [], [simple.aic, right.aic]) is right  # no note to replace
