@@ -63,7 +63,7 @@ def test_a_misfit_far_above_the_stated_sigma_is_the_model_s(fits):
     assert ratio > SIGMA_EXCEEDED
     (without,), (with_sigma,) = misfit_notes(FREQ, Z, RC), misfit_notes(FREQ, Z, RC, sigma=SIGMA[None])
     assert DATA_LIMIT_NOTE in without[0] and DATA_LIMIT_NOTE not in with_sigma[0]
-    assert f"mean (ΔRe² + ΔIm²)/2σ² = {ratio:.3g}, above {SIGMA_EXCEEDED:g}" in with_sigma[0] and "the misfit is this model's" in with_sigma[0]
+    assert f"mean (ΔRe² + ΔIm²)/2σ² above {SIGMA_EXCEEDED:g}" in with_sigma[0] and "the misfit is this model's" in with_sigma[0]
     noise_rms = np.sqrt(np.mean(2 * SIGMA**2 / np.abs(Z) ** 2))
     assert f"within that noise ({noise_rms * 100:.2g}%)" in with_sigma[0]
     # a σ five times too small: the KK chain is far outside it too, the data's noise is what limits

@@ -681,7 +681,7 @@ def misfit_notes(freq, z, z_model, known: dict[int, float] | None = None, sigma=
     noise σ states (mean of (ΔRe² + ΔIm²)/2σ² at most `SIGMA_EXPLAINED`): nothing is left to say
     then; and it becomes a note that the misfit is the model's where that mean is above
     `SIGMA_EXCEEDED` while the Voigt chain fits within the noise σ states: the stated noise
-    cannot be what limits the fit."""
+    cannot be what limits the fit (the note holds the threshold, not the fit's mean, as above)."""
     rms, checked, kks = _checked_misfits(freq, z, z_model, known)
     explained = np.zeros(rms.size, bool)
     ratio, noise_rms = np.full(rms.size, np.nan), np.full(rms.size, np.nan)
@@ -705,7 +705,7 @@ def misfit_notes(freq, z, z_model, known: dict[int, float] | None = None, sigma=
             )
         elif ratio[i] > SIGMA_EXCEEDED and kk <= math.sqrt(SIGMA_EXPLAINED) * noise_rms[i]:
             out[i] = (
-                f"the misfit exceeds the noise the data's sigma states (mean (ΔRe² + ΔIm²)/2σ² = {ratio[i]:.3g}, above {SIGMA_EXCEEDED:g}) while a Kramers–Kronig-consistent "
+                f"the misfit exceeds the noise the data's sigma states (mean (ΔRe² + ΔIm²)/2σ² above {SIGMA_EXCEEDED:g}) while a Kramers–Kronig-consistent "
                 f"model (the KK test's Voigt chain) reaches {kk * 100:.2g}% (rms_rel), within that noise ({noise_rms[i] * 100:.2g}%): the misfit is this model's, "
                 "not the data's noise; a diagnosis (impedax diagnose) shows where it fails and which effect is missing",
             )
