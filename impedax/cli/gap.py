@@ -48,6 +48,7 @@ def register(sub) -> None:
         "file over session and trial; the remaining dimensions (and a list's or range's DIM) are the trials. " + SELECT_SYNTAX_HELP,
     )
     p.add_argument("--quiet", action="store_true", help="no progress line")
+    p.add_argument("--remaining", metavar="FILE.nc|.csv", help="also save the trial-mean remainder total − skin − touchscreen that the EDL model is fitted to, as a spectrum (with sigma) that impedax fit reads; impedax remaining writes it without the sampling")
     add_output_options(p, plot="save impedance, gap posterior and force bands", out=GAP_OUT_HELP)
     p.set_defaults(run=run)
 
@@ -57,7 +58,7 @@ def run(args) -> int:
     from ..fitting.bayes.chain import AUTO_STEPS, auto_step_cap
     from ..arguments import GAP_MIN_STEPS
     from ..models.gap import HIERARCHICAL_AUTO_DRAWS, check_fingertip_area, gap_analysis
-    from .common import check_memory, figure_writer, load_selected_files, plan_outputs, print_result, result_writer
+    from .common import check_memory, figure_writer, load_selected_files, plan_outputs, print_result, result_writer, spectrum_writer
 
     if args.pooled and args.method == "hierarchical":  # (argparse's exclusive groups let a default-valued --method through)
         raise ParameterError("--pooled and --method hierarchical contradict each other: give one")
@@ -72,7 +73,7 @@ def run(args) -> int:
     if steps != AUTO_STEPS and steps < GAP_MIN_STEPS:
         raise ParameterError(f"--steps must be at least {GAP_MIN_STEPS}")
     outputs = plan_outputs(
-        [("--out", args.out, "result"), ("--plot", args.plot, "figure")],
+        [("--out", args.out, "result"), ("--plot", args.plot, "figure"), ("--remaining", args.remaining, "spectrum")],
         inputs=[args.total, args.skin, args.touchscreen], stdout="--json" if args.json else None,
     )
     # a chain keeps every step of every walker (chain): about 64 walkers × 8 parameters × 8 bytes, kept three times
@@ -83,7 +84,7 @@ def run(args) -> int:
     total, skin, touchscreen = load_selected_files([args.total, args.skin, args.touchscreen], args.select)
     _check_distinct_paths({"total": args.total, "skin": args.skin, "touchscreen": args.touchscreen})  # (after reading: a bad file is named first)
     result = gap_analysis(total, skin, touchscreen, area=args.area, v0=args.v0, ep=args.ep, steps=steps, seed=args.seed, method=args.method, progress=not args.quiet, check_area=not args.no_area_check)
-    outputs.save({"--out": result_writer(result), "--plot": figure_writer(result.plot)})
+    outputs.save({"--out": result_writer(result), "--plot": figure_writer(result.plot), "--remaining": spectrum_writer(lambda: result.remaining)})
     if not outputs.uses_stdout:
         print_result(result, args.json)
     if result.warnings and args.json:

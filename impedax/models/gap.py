@@ -39,7 +39,7 @@ from .gap_inputs import check_gap_inputs, position_notes, spectra_used
 from .plausible import FINGERTIP_AREA_M2
 from .sirin import SIRIN_AREA, SIRIN_DRIVE_V, PaperGapEstimate, gap_force_peak, paper_gap_estimate, remainder_circuit, remaining_impedance, trial_mean, trial_remainders
 
-__all__ = ["GapAnalysis", "gap_analysis", "GAP_METHODS", "GAP_MIN_STEPS", "FINGERTIP_AREA_M2", "IDENTIFIED_C_REMAINDER", "C_GAP_BOUNDS_F", "HIERARCHICAL_AUTO_DRAWS", "gap_bounds", "check_fingertip_area"]
+__all__ = ["GapAnalysis", "gap_analysis", "gap_remainder", "REMAINDER_KINDS", "GAP_METHODS", "GAP_MIN_STEPS", "FINGERTIP_AREA_M2", "IDENTIFIED_C_REMAINDER", "C_GAP_BOUNDS_F", "HIERARCHICAL_AUTO_DRAWS", "gap_bounds", "check_fingertip_area"]
 
 GAP_METHODS = ("hierarchical", "pooled")
 _EP_PER_TRIAL = ("R_EP", "CPE_EP.Q", "C_EP")  # the contact's EP branch varies with each trial
@@ -380,8 +380,7 @@ def gap_analysis(
     total, skin, touchscreen = check_gap_inputs(total, skin, touchscreen)  # (sign, grids, distinct: DataError naming the file)
     trials = spectra_used(total, skin, touchscreen)
     notes += position_notes(trials)
-    remaining = remaining_impedance(total, skin, touchscreen)
-    _check_remainder_sign(remaining)
+    remaining = _checked_remainder(total, skin, touchscreen)
     if method == "hierarchical":
         _check_hierarchical_trials(remaining)
     paper = paper_gap_estimate(total, skin, touchscreen, area=area, cutoff_hz=cutoff_hz, eps_gap=eps_gap)
@@ -521,6 +520,43 @@ def _merged_capacitors_note() -> str:
         "gap thickness this model allows (larger if part of the capacitance belongs to the EP branch) and the force its upper bound; "
         "--ep CPE (the default) has an EP branch the data tell from C_gap"
     )
+
+
+REMAINDER_KINDS = ("mean", "trials")
+"""``gap_remainder``'s ``kind``: the trial-mean remainder (what the least-squares fits and the
+pooled sampling fit) or every total trial's remainder (what the hierarchical model fits)."""
+
+
+def _checked_remainder(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dataset) -> xr.Dataset:
+    """`remaining_impedance` of inputs already through `check_gap_inputs`, refused when its sign
+    says the files are in the wrong order (`_check_remainder_sign`)."""
+    remaining = remaining_impedance(total, skin, touchscreen)
+    _check_remainder_sign(remaining)
+    return remaining
+
+
+def gap_remainder(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dataset, *, kind: str = "mean") -> tuple[xr.Dataset, list[str]]:
+    """The remaining impedance Z_R = Z_total − Z_skin − Z_TS (Sirin eq 5) exactly as
+    `gap_analysis` fits it, with no fit or sampling (``impedax remaining``), and the warnings
+    on the inputs (a ``--select`` read by position in some files only).
+
+    The inputs pass the same checks (`check_gap_inputs`: sign, frequency grids, distinct files;
+    the remainder's sign). ``kind`` ``"mean"``: `remaining_impedance`, the trial means with
+    ``sigma`` from their SEMs (the EDL least-squares fit and ``method="pooled"``); ``"trials"``:
+    `trial_remainders`, each total trial minus the skin and screen means, with the total's
+    trial dimensions (``method="hierarchical"``; its error modes are left out: a spectrum file
+    holds Z and sigma only). A spectrum Dataset in Ω over Hz, as `impedax.save` writes it."""
+    if kind not in REMAINDER_KINDS:
+        raise ParameterError(f"unknown remainder kind {kind!r}; use one of {', '.join(REMAINDER_KINDS)}")
+    notes = position_notes(spectra_used(total, skin, touchscreen))
+    total, skin, touchscreen = check_gap_inputs(total, skin, touchscreen)
+    remaining = _checked_remainder(total, skin, touchscreen)
+    if kind == "mean":
+        return remaining, notes
+    trials = trial_remainders(total, skin, touchscreen)
+    trials = trials.drop_vars([v for v in ("common_error_modes", "trial_error_modes") if v in trials])
+    trials.attrs.update({k: v for k, v in remaining.attrs.items() if k.startswith("n_trials_")})
+    return trials, notes
 
 
 def _check_remainder_sign(remaining: xr.Dataset) -> None:
