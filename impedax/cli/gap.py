@@ -6,7 +6,7 @@ import sys
 
 
 GAP_OUT_HELP = (
-    "save the gap result: .csv a table of C_gap and u (Bayesian and the paper's method), .json the --json summary, "
+    "save the gap result: .csv a table of C_gap [F] and u [m], one row per method (Bayesian, the paper's), each column named with its unit (c_gap_f, u_m, u_low_m, ...; the JSON gives u in µm), .json the --json summary, "
     ".nc the force bands with the gap summary as attributes (netCDF; read it back with impedax.io.read_netcdf); '-' the JSON to standard output"
 )
 

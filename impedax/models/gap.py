@@ -39,13 +39,16 @@ from .gap_inputs import check_gap_inputs, position_notes, spectra_used
 from .plausible import FINGERTIP_AREA_M2
 from .sirin import SIRIN_AREA, SIRIN_DRIVE_V, PaperGapEstimate, gap_force_peak, paper_gap_estimate, remainder_circuit, remaining_impedance, trial_mean, trial_remainders
 
-__all__ = ["GapAnalysis", "gap_analysis", "gap_remainder", "REMAINDER_KINDS", "GAP_METHODS", "GAP_MIN_STEPS", "FINGERTIP_AREA_M2", "IDENTIFIED_C_REMAINDER", "C_GAP_BOUNDS_F", "HIERARCHICAL_AUTO_DRAWS", "gap_bounds", "check_fingertip_area"]
+__all__ = ["GapAnalysis", "gap_analysis", "gap_remainder", "REMAINDER_KINDS", "GAP_TABLE_COLUMNS", "GAP_METHODS", "GAP_MIN_STEPS", "FINGERTIP_AREA_M2", "IDENTIFIED_C_REMAINDER", "C_GAP_BOUNDS_F", "HIERARCHICAL_AUTO_DRAWS", "gap_bounds", "check_fingertip_area"]
 
 GAP_METHODS = ("hierarchical", "pooled")
 _EP_PER_TRIAL = ("R_EP", "CPE_EP.Q", "C_EP")  # the contact's EP branch varies with each trial
 
 FORCE_CONVENTION = "peak"  # eq 1 at the voltage amplitude; the time average is half of it
 FORCE_CONDITIONS = "A taken as exact; skin and screen as their trial means, without their errors"
+GAP_TABLE_COLUMNS = ("method", "c_gap_f", "c_gap_low_f", "c_gap_high_f", "u_m", "u_low_m", "u_high_m", "gap_identified", "u_lower_bound_m")
+"""The columns of `GapAnalysis.to_table` (``impedax gap --out FILE.csv``), each quantity's SI
+unit in its name (``_f`` farad, ``_m`` metre)."""
 
 C_GAP_BOUNDS_F = (1e-15, 1e-4)
 """Prior bounds of C_gap [F], 1 fF–100 µF, whatever the area: the capacitance is what the data
@@ -207,17 +210,20 @@ class GapAnalysis:
         return {"divergences": post.divergences, "draws": post.n_draws, "rhat_max": max(rhat.values()), "ess_min": min(ess.values()), "rhat": rhat, "ess": ess}
 
     def to_table(self) -> list[dict[str, object]]:
-        """The tidy table of C_gap [F] and u [m]: ``method`` bayes (value: posterior median;
-        low/high: the 90% credible interval) and paper (the paper's method; for u its bounds
-        from the lowest/highest impedances; None with one trial of each)."""
+        """The table of ``--out FILE.csv``: one row per ``method``, bayes (C_gap and u their
+        posterior medians, low/high the 90% credible interval) and paper (the paper's method:
+        u's low/high its bounds from the lowest/highest impedances, None with one trial of each;
+        C_gap none). Every column name carries its SI unit (`GAP_TABLE_COLUMNS`: ``_f`` farad,
+        ``_m`` metre; the JSON's ``gap_um`` are the same u in µm); ``gap_identified`` and
+        ``u_lower_bound_m`` (the bound u ≥ when u is not determined) on the bayes row."""
         p = self.paper
-        interval = lambda q: {"value": q["value"], "low": q["q05"], "high": q["q95"]}  # noqa: E731
+        c, g = self.c_gap, self.gap
         low, high = (p.gap_lower, p.gap_upper) if self.paper_has_bounds else (None, None)
         return [
-            {"name": "C_gap", "method": "bayes", **interval(self.c_gap), "unit": "F"},
-            {"name": "u", "method": "bayes", **interval(self.gap), "unit": "m"},
-            {"name": "C_gap", "method": "paper", "value": p.c_gap, "low": None, "high": None, "unit": "F"},
-            {"name": "u", "method": "paper", "value": p.gap, "low": low, "high": high, "unit": "m"},
+            {"method": "bayes", "c_gap_f": c["value"], "c_gap_low_f": c["q05"], "c_gap_high_f": c["q95"], "u_m": g["value"], "u_low_m": g["q05"], "u_high_m": g["q95"],
+             "gap_identified": self.gap_identified, "u_lower_bound_m": self.gap_lower_bound},
+            {"method": "paper", "c_gap_f": p.c_gap, "c_gap_low_f": None, "c_gap_high_f": None, "u_m": p.gap, "u_low_m": low, "u_high_m": high,
+             "gap_identified": None, "u_lower_bound_m": None},
         ]
 
     def report(self) -> str:
