@@ -58,7 +58,7 @@ def run(args) -> int:
     from ..fitting.bayes.chain import AUTO_STEPS, auto_step_cap
     from ..arguments import GAP_MIN_STEPS
     from ..models.gap import HIERARCHICAL_AUTO_DRAWS, check_fingertip_area, gap_analysis
-    from .common import check_memory, figure_writer, load_selected_files, plan_outputs, print_result, result_writer, spectrum_writer
+    from .common import check_distinct_paths, check_memory, figure_writer, load_selected_files, plan_outputs, print_result, result_writer, spectrum_writer
 
     if args.pooled and args.method == "hierarchical":  # (argparse's exclusive groups let a default-valued --method through)
         raise ParameterError("--pooled and --method hierarchical contradict each other: give one")
@@ -82,7 +82,7 @@ def run(args) -> int:
     length = auto_length if steps == AUTO_STEPS else steps
     check_memory("--steps", length * 64 * 10 * 8 * 3, f"a gap-thickness chain of {'up to ' if steps == AUTO_STEPS and args.method == 'pooled' else ''}{length} steps")
     total, skin, touchscreen = load_selected_files([args.total, args.skin, args.touchscreen], args.select)
-    _check_distinct_paths({"total": args.total, "skin": args.skin, "touchscreen": args.touchscreen})  # (after reading: a bad file is named first)
+    check_distinct_paths({"total": args.total, "skin": args.skin, "touchscreen": args.touchscreen})  # (after reading: a bad file is named first)
     result = gap_analysis(total, skin, touchscreen, area=args.area, v0=args.v0, ep=args.ep, steps=steps, seed=args.seed, method=args.method, progress=not args.quiet, check_area=not args.no_area_check)
     outputs.save({"--out": result_writer(result), "--plot": figure_writer(result.plot), "--remaining": spectrum_writer(lambda: result.remaining)})
     if not outputs.uses_stdout:
@@ -90,28 +90,3 @@ def run(args) -> int:
     if result.warnings and args.json:
         print(f"impedax gap: {len(result.warnings)} warning(s), see the JSON 'warnings'", file=sys.stderr)
     return 0
-
-
-def _check_distinct_paths(paths: dict[str, str]) -> None:
-    """A `ParameterError` when two of the three inputs name the same file (the same path, or
-    two paths to one file); identical spectra in different files are refused by
-    `gap_analysis` (`models.gap_inputs`)."""
-    import os
-
-    from ..errors import ParameterError
-
-    names = list(paths)
-    for i, a in enumerate(names):
-        for b in names[i + 1:]:
-            pa, pb = paths[a], paths[b]
-            if pa == "-" or pb == "-":
-                continue
-            try:
-                same = os.path.samefile(pa, pb)
-            except OSError:  # (a missing file: the reader names it)
-                same = os.path.abspath(pa) == os.path.abspath(pb)
-            if same:
-                raise ParameterError(
-                    f"{a} and {b} are the same file, {pb}: the gap analysis needs three different measurements "
-                    "(DATA_TOTAL: finger on the screen, DATA_SKIN: the skin alone, DATA_TS: the touchscreen alone), given in that order"
-                )

@@ -36,15 +36,14 @@ def run(args) -> int:
     from ..errors import ParameterError
     from ..io import write_csv
     from ..models.gap import gap_remainder
-    from .common import load_selected_files, plan_outputs, spectrum_writer
-    from .gap import _check_distinct_paths
+    from .common import check_distinct_paths, load_selected_files, plan_outputs, spectrum_writer
 
     out = None if args.out == "-" else args.out
     if args.trials and (out is None or Path(out).suffix.lower() != ".nc"):
         raise ParameterError(f"--trials writes one spectrum per total trial, which only netCDF holds: give --out FILE.nc (got {'standard output' if out is None else out})")
     outputs = plan_outputs([("--out", out, "spectrum")], inputs=[args.total, args.skin, args.touchscreen])
     total, skin, touchscreen = load_selected_files([args.total, args.skin, args.touchscreen], args.select)
-    _check_distinct_paths({"total": args.total, "skin": args.skin, "touchscreen": args.touchscreen})
+    check_distinct_paths({"total": args.total, "skin": args.skin, "touchscreen": args.touchscreen})
     remaining, notes = gap_remainder(total, skin, touchscreen, kind="trials" if args.trials else "mean")
     remaining.attrs.update({"total": args.total, "skin": args.skin, "touchscreen": args.touchscreen})
     outputs.save({"--out": spectrum_writer(lambda: remaining)})
