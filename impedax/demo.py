@@ -37,7 +37,8 @@ OUTPUT_NAMES = (
 
 
 class _Story:
-    """Prints the narrative with step headers and timings; collects the report."""
+    """Prints the narrative with step headers and timings; collects the report (each step's
+    text under its title, the header printed on the terminal only)."""
 
     def __init__(self, stream):
         self.stream = stream
@@ -51,7 +52,7 @@ class _Story:
         self._title = f"{number}. {title}"
         self._t = time.perf_counter()
         self.sections.append((self._title, [], []))
-        self.say(f"\n[{number}/6] {title}")
+        self.say(f"\n[{number}/6] {title}", report=False)  # (the report's <h2> is the heading: not again in its text)
 
     def say(self, text: str = "", *, report: bool = True):
         print(text, file=self.stream, flush=True)
@@ -96,6 +97,8 @@ def _write_report(folder: Path, story: _Story, facts: dict) -> None:
         parts.append(f"<tr><th style='text-align:left'>{html.escape(key)}</th><td>{html.escape(value)}</td></tr>")
     parts.append("</table>")
     for title, lines, figures in story.sections:
+        if not lines and not figures:  # (the "Report" step itself: nothing to show but its timing)
+            continue
         parts.append(f"<h2>{html.escape(title)}</h2><pre>{html.escape(chr(10).join(lines))}</pre>")
         for name in figures:
             parts.append(f"<img src='{html.escape(name)}' alt='{html.escape(name)}'>")

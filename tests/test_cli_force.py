@@ -284,3 +284,75 @@ def test_a_flat_force_is_not_said_to_rise(capsys):
     assert out["peak"]["band_edge"] == "flat" and out["peak"]["at_band_edge"] is False
     err = _stderr_line(capsys, "meyer", "--param", "R_f=1e300", "--points", "9", "--no-param-check")
     assert "0 N at every frequency" in err and "rises" not in err
+
+
+# --- Meyer's CPE variant (R_sc ∥ CPE_sc, thesis Fig 5.3) ------------------------------------------
+
+
+CPE_BAND = ("--fmin", "10", "--fmax", "1e7", "--points", "13")  # (one grid: the CPE variant compiles once)
+
+
+def _meyer_cpe_force(f, q, alpha, convention, v_a=140.0, p=THESIS):
+    """Eq 3.6 by hand with Z_sc = R_sc ∥ CPE (1/Z_sc = 1/R_sc + Q (jω)^α) and the prefactor's
+    C_sc(ω) = Q ω^(α−1): time average K/2 (|V_F|² − |Q_f|²/C_i²); peak that plus K/2 |V_F² − Q_f²/C_i²|."""
+    w = 2 * np.pi * np.asarray(f, float)
+    jw = 1j * w
+    z_sc = 1 / (1 / p["R_sc"] + q * jw**alpha)
+    current = v_a / (1 / (jw * p["C_s"]) + 1 / (jw * p["C_i"]) + z_sc + p["R_f"])
+    v_f = current * (1 / (jw * p["C_i"]) + z_sc)
+    q_f_over_c_i = current * z_sc / (p["R_sc"] * jw) / p["C_i"]
+    c_sc = q * w ** (alpha - 1)
+    k = (p["C_i"] * c_sc / (p["C_i"] + c_sc)) ** 2 / (2 * AREA * E0)
+    mean = k / 2 * (np.abs(v_f) ** 2 - np.abs(q_f_over_c_i) ** 2)
+    return mean if convention == "time-average" else mean + k / 2 * np.abs(v_f**2 - q_f_over_c_i**2)
+
+
+@pytest.mark.parametrize("convention", ["time-average", "peak"])
+def test_meyer_cpe_force_against_eq_3_6_by_hand(capsys, convention):
+    out = _json(capsys, "meyer", "--param", "CPE_sc.Q=5n", "--param", "CPE_sc.alpha=0.85", *CPE_BAND, "--convention", convention)
+    assert out["variant"] == "cpe" and out["params"]["CPE_sc.Q"] == 5e-9 and out["params"]["CPE_sc.alpha"] == 0.85 and "C_sc" not in out["params"]
+    np.testing.assert_allclose(out["force_n"], _meyer_cpe_force(out["frequency_hz"], 5e-9, 0.85, convention), rtol=1e-9)
+
+
+def test_meyer_cpe_with_alpha_1_is_the_rc_variant_with_c_sc_q(capsys):
+    band = CPE_BAND
+    cpe = _json(capsys, "meyer", "--variant", "cpe", "--param", "CPE_sc.Q=3.3n", "--param", "CPE_sc.alpha=1", *band)
+    rc = _json(capsys, "meyer", "--param", "C_sc=3.3n", *band)
+    assert rc["variant"] == "rc" and cpe["variant"] == "cpe"
+    np.testing.assert_allclose(cpe["force_n"], rc["force_n"], rtol=1e-12)
+    np.testing.assert_allclose(rc["force_n"], _meyer_cpe_force(rc["frequency_hz"], 3.3e-9, 1.0, "time-average"), rtol=1e-9)
+
+
+def test_meyer_cpe_defaults_give_the_thesis_c_sc_at_1_khz(capsys):
+    out = _json(capsys, "meyer", "--variant", "cpe", "--param", "CPE_sc.alpha=0.7", *CPE_BAND)
+    q = out["params"]["CPE_sc.Q"]
+    assert q * (2 * np.pi * 1e3) ** (0.7 - 1) == pytest.approx(2.2e-9, rel=1e-12)
+    np.testing.assert_allclose(out["force_n"], _meyer_cpe_force(out["frequency_hz"], q, 0.7, "time-average"), rtol=1e-9)
+
+
+@pytest.mark.parametrize(
+    "args, match",
+    [
+        (["--param", "CPE_sc.Q=5.9"], "capacitance at 1 kHz, Q (2π·1 kHz)^(α−1) = 1.026 F"),
+        (["--param", "CPE_sc.Q=5.9"], "5.9n (5.9 nF s^(α−1)) was likely meant"),
+        (["--param", "CPE_sc.Q=5n", "--param", "CPE_sc.alpha=1.2"], "--param CPE_sc.alpha=1.2: must be in (0, 1]"),
+        (["--variant", "cpe", "--param", "C_sc=2n"], "--param C_sc belongs to the rc variant"),
+        (["--variant", "rc", "--param", "CPE_sc.Q=2n"], "--param CPE_sc.Q belongs to the cpe variant"),
+        (["--param", "C_sc=2n", "--param", "CPE_sc.alpha=0.9"], "belong to different Meyer variants"),
+    ],
+)
+def test_meyer_cpe_bad_input_exits_2(capsys, args, match):
+    assert main(["force", "meyer", *args]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and match in err[0]
+
+
+def test_meyer_cpe_implausible_q_computes_with_no_param_check(capsys):
+    out = _json(capsys, "meyer", "--param", "CPE_sc.Q=5.9", "--no-param-check", *CPE_BAND)
+    assert len(out["warnings"]) == 1 and "CPE_sc.Q = 5.9" in out["warnings"][0]
+    np.testing.assert_allclose(out["force_n"], _meyer_cpe_force(out["frequency_hz"], 5.9, 0.8, "time-average"), rtol=1e-9)
+
+
+def test_vezzoli_has_no_variant(capsys):
+    assert main(["force", "vezzoli", "--variant", "cpe"]) == 2
+    assert "only meyer has variants" in capsys.readouterr().err

@@ -60,6 +60,29 @@ def test_demo_gap_thickness(demo):
     assert paper == pytest.approx(U_TRUE_UM, rel=0.05)
 
 
+def test_report_gives_each_heading_once(tmp_path):
+    """The report's sections held their step header again as their first line ("[1/6] Load …"
+    under the heading "1. Load …"), and the empty "Report" step had a section of its own; now
+    the header is on the terminal only and a step with nothing to show has only its timing."""
+    import io
+
+    from impedax.demo import _Story, _write_report
+
+    terminal = io.StringIO()
+    story = _Story(terminal)
+    story.step(1, "Load the measurements")
+    story.say("  30 trials each")
+    story.step(6, "Report")
+    story.finish()
+    _write_report(tmp_path, story, {"key": "value"})
+    report = (tmp_path / "report.html").read_text()
+    assert "[1/6]" not in report and "[6/6]" not in report and "<pre></pre>" not in report
+    assert report.count("<h2>1. Load the measurements</h2>") == 1 and report.count("Load the measurements") == 2  # heading, timing row
+    assert "<h2>6. Report</h2>" not in report and report.count("6. Report") == 1  # its timing row only
+    assert "<pre>30 trials each</pre>" in report
+    assert "[1/6] Load the measurements" in terminal.getvalue() and "[6/6] Report" in terminal.getvalue()
+
+
 def test_a_read_only_output_is_refused_before_the_run(tmp_path, capsys):
     """As every command's outputs (`impedax.io.atomic.check_writable`): the demo's report.html
     read-only in the output folder stops the demo before its first step, naming the file, and

@@ -102,6 +102,28 @@ def test_cli_gap_json(tmp_path, capsys, monkeypatch, analysis):
     assert asked["area"] == pytest.approx(130e-6) and asked["steps"] == 200 and asked["method"] == "hierarchical"
 
 
+def test_gap_csv_names_the_unit_of_every_column(tmp_path, analysis):
+    """`gap --out FILE.csv`: one row per method, SI values with the unit in each column name
+    (the JSON's gap_um are the same u in µm)."""
+    import csv
+
+    path = tmp_path / "gap.csv"
+    ix.io.write_result(analysis, path)
+    with open(path, newline="") as handle:
+        rows = list(csv.DictReader(handle))
+    assert list(rows[0]) == ["method", "c_gap_f", "c_gap_low_f", "c_gap_high_f", "u_m", "u_low_m", "u_high_m", "gap_identified", "u_lower_bound_m"]
+    bayes, paper = rows
+    assert (bayes["method"], paper["method"]) == ("bayes", "paper")
+    summary = analysis.summary()
+    for column, key in (("u_m", "value"), ("u_low_m", "q05"), ("u_high_m", "q95")):
+        assert float(bayes[column]) * 1e6 == pytest.approx(summary["gap_um"][key], rel=1e-12)
+    assert float(bayes["c_gap_f"]) == pytest.approx(summary["c_gap"]["value"], rel=1e-12)
+    assert float(paper["u_m"]) * 1e6 == pytest.approx(summary["paper_method"]["gap_um"], rel=1e-12)
+    assert [float(paper["u_low_m"]) * 1e6, float(paper["u_high_m"]) * 1e6] == pytest.approx(summary["paper_method"]["gap_bounds_um"], rel=1e-12)
+    assert paper["c_gap_low_f"] == "" and bayes["gap_identified"] == "true" and bayes["u_lower_bound_m"] == ""
+    assert 1e-6 < float(bayes["u_m"]) < 1e-5  # metres: u = 2.79 µm
+
+
 @pytest.mark.slow
 def test_cli_gap_json_end_to_end(tmp_path, capsys):
     _cli_gap_json(tmp_path, capsys, np.random.default_rng(12))
@@ -217,7 +239,8 @@ def test_single_trial_has_no_paper_bounds():
     assert "bounds n/a (one trial)" in result.report()
     assert not any("paper method's bounds" in w for w in result.warnings)
     assert result.summary()["paper_method"]["gap_bounds_um"] is None
-    assert [r for r in result.to_table() if r["method"] == "paper" and r["name"] == "u"][0]["low"] is None
+    paper_row = [r for r in result.to_table() if r["method"] == "paper"][0]
+    assert paper_row["u_m"] == result.paper.gap and paper_row["u_low_m"] is None and paper_row["u_high_m"] is None
     # its figure: no zero-width band of paper bounds; the histogram of u is drawn (bars of nonzero height)
     fig = result.plot()
     posterior_panel = next(ax for ax in fig.axes if ax.get_title().startswith("air-gap thickness"))  # (": NOT determined" here: C_gap runs to 0 on this one trial)

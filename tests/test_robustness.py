@@ -38,6 +38,7 @@ FILE_COMMANDS = [  # (id, argv template with {input})
     ("kk-zhit", ["kk", "{input}", "--method", "zhit", "--json"]),
     ("drt", ["drt", "{input}", "--json"]),
     ("gap-skin", ["gap", "{tmp}/good.csv", "{input}", "{tmp}/good.csv", "--area", "130e-6", "--json"]),
+    ("remaining", ["remaining", "{input}", "{tmp}/good.csv", "{tmp}/good.csv", "--out", "{tmp}/remaining.nc"]),
 ]
 MODEL_COMMANDS = [  # (id, argv template with {model})
     ("info", ["info", "{model}"]),

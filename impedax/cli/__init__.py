@@ -17,7 +17,7 @@ import sys
 import threading
 from typing import NoReturn
 
-_COMMAND_MODULES = ("simulate", "info", "fit", "compare", "sample", "kk", "drt", "diagnose", "refine", "force", "gap", "draw", "inspect", "demo")
+_COMMAND_MODULES = ("simulate", "info", "fit", "compare", "sample", "kk", "drt", "diagnose", "refine", "force", "gap", "remaining", "draw", "inspect", "demo")
 # each command's one-line help, for ``impedax --help`` without importing any command (and JAX);
 # tests/test_cli_basic.py checks it against what the modules register
 COMMAND_HELP = {
@@ -32,6 +32,7 @@ COMMAND_HELP = {
     "refine": "diagnose, add the best missing effect, refit; repeat until adequate",
     "force": "electrostatic force spectrum of Meyer's or Vezzoli's model",
     "gap": "air-gap thickness, gap voltage and force from three spectra (Sirin et al.)",
+    "remaining": "the remaining impedance total − skin − touchscreen as a spectrum file, as impedax gap fits it",
     "draw": "draw a model's circuit diagram",
     "inspect": "show what impedax reads from a spectrum file, and how",
     "demo": "the whole story on the embedded data: fit, diagnose, refine, gap thickness, force (writes out/)",

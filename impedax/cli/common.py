@@ -1204,3 +1204,24 @@ class _Progress:
         self._timer.cancel()
         with self._lock:
             self._pending = None
+
+
+def check_distinct_paths(paths: dict[str, str]) -> None:
+    """A `ParameterError` when two of the three inputs name the same file (the same path, or
+    two paths to one file); identical spectra in different files are refused by
+    `gap_analysis` (`models.gap_inputs`). For ``impedax gap`` and ``impedax remaining``."""
+    names = list(paths)
+    for i, a in enumerate(names):
+        for b in names[i + 1:]:
+            pa, pb = paths[a], paths[b]
+            if pa == "-" or pb == "-":
+                continue
+            try:
+                same = os.path.samefile(pa, pb)
+            except OSError:  # (a missing file: the reader names it)
+                same = os.path.abspath(pa) == os.path.abspath(pb)
+            if same:
+                raise ParameterError(
+                    f"{a} and {b} are the same file, {pb}: the gap analysis needs three different measurements "
+                    "(DATA_TOTAL: finger on the screen, DATA_SKIN: the skin alone, DATA_TS: the touchscreen alone), given in that order"
+                )

@@ -26,14 +26,43 @@ OUT_SUFFIXES = (".csv", ".json")
 POINT_BYTES = 1024
 
 
-def _defaults(model: str) -> dict[str, float]:
-    if model == "meyer":
-        from ..models.meyer import THESIS_DRIVE_V, THESIS_PARAMS, THESIS_PHYSICAL
+MEYER_VARIANTS = ("rc", "cpe")
 
-        return {**THESIS_PARAMS, "area": THESIS_PHYSICAL.area, "v_a": THESIS_DRIVE_V}
+
+def _defaults(model: str, variant: str = "rc", alpha: float | None = None) -> dict[str, float]:
+    """The paper's parameters; Meyer's ``"cpe"`` variant has CPE_sc.Q = C_sc (2π·1 kHz)^(1−α)
+    with α = ``alpha`` (default 0.8), the thesis's C_sc at 1 kHz (`meyer_model`)."""
+    if model == "meyer":
+        from ..models.meyer import THESIS_DRIVE_V, THESIS_PHYSICAL, meyer_model
+
+        circuit = meyer_model(variant, **({} if alpha is None else {"alpha": alpha})).params
+        return {**circuit, "area": THESIS_PHYSICAL.area, "v_a": THESIS_DRIVE_V}
     from ..models.vezzoli import TABLE2
 
     return {k: v for k, v in TABLE2.items() if k != "frequency"}
+
+
+def _variant_of(params) -> str:
+    """Meyer's variant of a parameter set: ``"cpe"`` when it holds CPE_sc.Q, else ``"rc"``."""
+    return "cpe" if "CPE_sc.Q" in params else "rc"
+
+
+def _meyer_variant(requested: str | None, given: dict[str, float]) -> str:
+    """The Meyer variant: ``--variant`` when given, else read from the ``--param`` names
+    (CPE_sc.* → ``"cpe"``, as `impedax.models.meyer`'s ``variant="auto"``); a ParameterError
+    when the names belong to the other variant or to both."""
+    from ..errors import ParameterError
+
+    cpe = [n for n in given if n.startswith("CPE_sc.")]
+    rc = [n for n in given if n == "C_sc"]
+    takes = "--variant cpe takes CPE_sc.Q [F s^(α−1)] and CPE_sc.alpha in (0, 1] in place of C_sc"
+    if cpe and rc:
+        raise ParameterError(f"--param {rc[0]} and --param {cpe[0]} belong to different Meyer variants (rc: R_sc || C_sc, cpe: R_sc || CPE_sc): give one; {takes}")
+    if requested == "rc" and cpe:
+        raise ParameterError(f"--param {cpe[0]} belongs to the cpe variant (R_sc || CPE_sc), not to --variant rc; {takes}")
+    if requested == "cpe" and rc:
+        raise ParameterError(f"--param C_sc belongs to the rc variant (R_sc || C_sc), not to --variant cpe; {takes} (α = 1 with Q = C_sc is the rc variant)")
+    return requested or ("cpe" if cpe else "rc")
 
 
 def register(sub) -> None:
@@ -42,14 +71,16 @@ def register(sub) -> None:
         help="electrostatic force spectrum of Meyer's or Vezzoli's model",
         description="Force over log-spaced frequencies (both ends included). meyer: thesis eq 3.6, "
         "thesis values (eq 3.13) and V_A = 140 V; vezzoli: eqs 7-10, Table 2 values. "
-        "Parameters: meyer C_s C_i R_sc C_sc R_f [SI], area [m^2], v_a [V]; vezzoli h_i h_s [m], area [m^2], eps_i eps_s, rho_s [ohm m], v_m [V]. "
+        "Parameters: meyer C_s C_i R_sc C_sc R_f [SI], area [m^2], v_a [V], or with --variant cpe (R_sc || CPE_sc, thesis Fig 5.3) "
+        "CPE_sc.Q [F s^(alpha-1)] and CPE_sc.alpha in (0, 1] in place of C_sc (default alpha 0.8 and Q giving the thesis's C_sc at 1 kHz); vezzoli h_i h_s [m], area [m^2], eps_i eps_s, rho_s [ohm m], v_m [V]. "
         "The peak is the largest force refined between grid points (Brent, in log-frequency); when the force is largest at "
         "--fmin or --fmax it still rises past the band, and that is said instead of a peak. "
         "vezzoli warns when C_i/C_s = eps_i h_s/(eps_s h_i) exceeds 0.1 (eq 8 assumes C_i << C_s).",
     )
     accept_negative_numbers(p)  # (--fmin -10: the value, refused by name, not argparse's "expected one argument")
     add_positional_model(p, choices=_MODELS, help="which paper's model")
-    p.add_argument("--param", action="append", metavar="NAME=VALUE", help="override a parameter (repeatable); an area outside 1e-6–1e-2 m² (as impedax gap) or a meyer capacitance or resistance beyond 1000× either way of the thesis value is refused as a likely unit slip unless --no-param-check")
+    p.add_argument("--param", action="append", metavar="NAME=VALUE", help="override a parameter (repeatable); an area outside 1e-6–1e-2 m² (as impedax gap) or a meyer capacitance or resistance beyond 1000× either way of the thesis value (for CPE_sc.Q: its capacitance at 1 kHz, Q (2π·1 kHz)^(alpha−1), against C_sc's) is refused as a likely unit slip unless --no-param-check")
+    p.add_argument("--variant", type=str.lower, choices=MEYER_VARIANTS, help="meyer's stratum corneum: rc (R_sc || C_sc, thesis Fig 3.3) or cpe (R_sc || CPE_sc, the fractional variant of Fig 5.3; parameters CPE_sc.Q, CPE_sc.alpha); default: cpe when a --param names CPE_sc.Q or CPE_sc.alpha, else rc")
     p.add_argument("--no-param-check", action="store_true", help="compute with any positive --param value: an implausible one gives a warning instead of an error")
     p.add_argument("--fmin", type=number_option, default=None, help="lowest frequency [Hz] (meyer 10, vezzoli 1)")
     p.add_argument("--fmax", type=number_option, default=None, help="highest frequency [Hz] (meyer 1e9, vezzoli 1e6)")
@@ -68,19 +99,29 @@ def register(sub) -> None:
     p.set_defaults(run=run)
 
 
-def _parameters(model: str, items, check: bool = True) -> tuple[dict[str, float], dict[str, float], list[str]]:
-    """The parameters (the paper's, overridden by ``--param``), those given, and warnings: a
-    value given outside its plausible range (`models.plausible`) is a ParameterError, or with
-    ``check`` False (``--no-param-check``) a warning."""
+def _parameters(model: str, items, check: bool = True, variant: str | None = None) -> tuple[dict[str, float], dict[str, float], list[str]]:
+    """The parameters (the paper's, overridden by ``--param``; Meyer's ``variant`` as
+    `_meyer_variant`), those given, and warnings: a value given outside its plausible range
+    (`models.plausible`) is a ParameterError, or with ``check`` False (``--no-param-check``) a
+    warning. CPE_sc.alpha outside (0, 1] is always refused."""
     from ..errors import ParameterError
-    from ..models.plausible import implausible_message
+    from ..models.plausible import implausible_cpe_message, implausible_message
 
-    defaults = _defaults(model)
-    listing = f"(parameters of {model}: {', '.join(defaults)})"
+    if variant is not None and model != "meyer":
+        raise ParameterError(f"--variant {variant}: only meyer has variants (rc, cpe); {model} has none")
+    listing = f"(parameters of {model}: {', '.join(_defaults(model))})"
     try:
         given = parse_assignments(items, "--param")
     except ParameterError as exc:
         raise ParameterError(f"{exc} {listing}") from None
+    alpha = None
+    if model == "meyer":
+        variant = _meyer_variant(variant, given)
+        alpha = given.get("CPE_sc.alpha") if variant == "cpe" else None
+        if alpha is not None and not (math.isfinite(alpha) and 0 < alpha <= 1):
+            raise ParameterError(f"--param CPE_sc.alpha={alpha:g}: must be in (0, 1] (1: CPE_sc is the capacitor C_sc = Q; 0: a resistor)")
+    defaults = _defaults(model, variant or "rc", alpha)
+    listing = f"(parameters of {model}{' --variant cpe' if variant == 'cpe' else ''}: {', '.join(defaults)})"
     check_parameter_names(given, defaults, "--param", model)
     for name, value in given.items():
         if not (math.isfinite(value) and value > 0):
@@ -88,6 +129,8 @@ def _parameters(model: str, items, check: bool = True) -> tuple[dict[str, float]
     notes = []
     for name, value in given.items():
         message = implausible_message(model, name, value)
+        if name == "CPE_sc.Q":
+            message = implausible_cpe_message(value, defaults["CPE_sc.alpha"])
         if message and check:
             raise ParameterError(f"--param {name}={value:g}: {message}; --no-param-check computes with it anyway")
         if message:
@@ -100,8 +143,8 @@ def _force(model: str, params: dict[str, float], freq: np.ndarray, convention: s
         from ..models.meyer import force_peak, force_time_average
 
         function = force_peak if convention == "peak" else force_time_average
-        circuit = {k: params[k] for k in ("C_s", "C_i", "R_sc", "C_sc", "R_f")}
-        return np.asarray(function(circuit, freq, area=params["area"], v_a=params["v_a"]))
+        circuit = {k: v for k, v in params.items() if k not in ("area", "v_a")}  # (the variant read from the names)
+        return np.asarray(function(circuit, freq, area=params["area"], v_a=params["v_a"], variant=_variant_of(params)))
     from ..models.vezzoli import Eq8ValidityWarning, electrovibration_force, electrovibration_force_peak
 
     function = electrovibration_force_peak if convention == "peak" else electrovibration_force
@@ -124,7 +167,7 @@ def _finite_force(model: str, params: dict[str, float], given: dict[str, float],
         others = f" and {bad.size - 1} other frequenc{'y' if bad.size == 2 else 'ies'}" if bad.size > 1 else ""
         where = f"the force is not finite (overflow) at {freq[bad[0]]:g} Hz{others}"
         values = ", ".join(f"{n}={v:g}" for n, v in given.items())
-        frequencies_cause = not np.all(np.isfinite(_quiet_force(model, _defaults(model), freq[bad], convention)))
+        frequencies_cause = not np.all(np.isfinite(_quiet_force(model, _defaults(model, _variant_of(params)), freq[bad], convention)))
         parameters_cause = bool(given) and not (frequencies_cause and np.all(np.isfinite(_quiet_force(model, params, _inside_default_band(model, freq[bad]), convention))))
         if frequencies_cause:
             low, high = _RANGES[model]
@@ -166,12 +209,13 @@ def _notes(model: str, params: dict[str, float]) -> list[str]:
     return [message] if message else []
 
 
-_UNITS = {"C_s": "F", "C_i": "F", "C_sc": "F", "R_sc": "Ω", "R_f": "Ω", "area": "m²", "v_a": "V", "h_i": "m", "h_s": "m", "rho_s": "Ω m", "v_m": "V"}
+_UNITS = {"C_s": "F", "C_i": "F", "C_sc": "F", "R_sc": "Ω", "R_f": "Ω", "CPE_sc.Q": "F s^(α−1)", "area": "m²", "v_a": "V", "h_i": "m", "h_s": "m", "rho_s": "Ω m", "v_m": "V"}
 
 
 def _changed(model: str, params: dict[str, float]) -> dict[str, float]:
-    """The parameters whose values differ from the paper's (`_defaults`)."""
-    defaults = _defaults(model)
+    """The parameters whose values differ from the paper's (`_defaults`; Meyer's CPE variant:
+    those of its α)."""
+    defaults = _defaults(model, _variant_of(params), params.get("CPE_sc.alpha")) if model == "meyer" else _defaults(model)
     return {k: v for k, v in params.items() if v != defaults[k]}
 
 
@@ -186,10 +230,16 @@ def _plot_text(model: str, params: dict[str, float], convention: str) -> tuple[s
     average = convention == "time-average"
     if model == "meyer":
         what = "time-averaged force" if average else "peak force (largest over a period)"
-        figure = ", thesis Fig 3.4" if average and not changed else ""
-        title = f"Meyer (2012) thesis eq 3.6: {what}{figure}"
+        cpe = _variant_of(params) == "cpe"
+        figure = ", thesis Fig 3.4" if average and not changed and not cpe else ""
+        title = f"Meyer (2012) thesis eq 3.6{', R_sc ∥ CPE_sc' if cpe else ''}: {what}{figure}"
         drive = f"V_A = {params['v_a']:.4g} V" + ("" if "v_a" not in changed else f" (thesis {_defaults(model)['v_a']:g} V)")
-        if not changed:
+        if cpe:
+            alpha = params["CPE_sc.alpha"]
+            values = f"eq 3.13 values, CPE_sc α = {alpha:.4g}, Q = {params['CPE_sc.Q']:.4g} F s^(α−1)" + ("" if "CPE_sc.Q" in changed else " (C_sc of eq 3.13 at 1 kHz)")
+            listed = ", ".join(f"{k} = {v:.4g} {_UNITS.get(k, '')}".rstrip() for k, v in changed.items() if k not in ("v_a", "CPE_sc.Q", "CPE_sc.alpha"))
+            values += f"; changed: {listed}" if listed else ""
+        elif not changed:
             values = "thesis eq 3.13 values" + ("" if average else " (Fig 3.4 shows their time average)")
         else:
             values = "eq 3.13 values" + (f"; changed: {listed}" if listed else "")
@@ -243,7 +293,7 @@ def _out_path(path: str | None) -> str | None:
 def run(args) -> int:
     from ..data import log_frequencies
 
-    params, given, param_notes = _parameters(args.model, args.param, check=not args.no_param_check)
+    params, given, param_notes = _parameters(args.model, args.param, check=not args.no_param_check, variant=args.variant)
     out = _out_path(args.out)
     outputs = plan_outputs([("--out", out, "result"), ("--plot", args.plot, "figure")])
     low, high = _RANGES[args.model]
@@ -258,6 +308,8 @@ def run(args) -> int:
 
     peak = force_maximum(lambda f: float(_force(args.model, params, np.array([f]), args.convention)[0]), freq, force).to_dict()
     document = {"frequency_hz": freq, "force_n": force, "peak": peak, "params": params, "convention": args.convention, "model": args.model, "warnings": notes}
+    if args.model == "meyer":
+        document["variant"] = _variant_of(params)
     json_text = json.dumps(to_jsonable(document), indent=2, allow_nan=False) + "\n"
     # each number in its shortest exact form, as in the JSON: the CSV reads back bit for bit
     csv_text = "\n".join(["frequency_hz,force_n"] + [f"{number_text(f)},{number_text(v)}" for f, v in zip(freq, force)]) + "\n"

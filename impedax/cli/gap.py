@@ -6,7 +6,7 @@ import sys
 
 
 GAP_OUT_HELP = (
-    "save the gap result: .csv a table of C_gap and u (Bayesian and the paper's method), .json the --json summary, "
+    "save the gap result: .csv a table of C_gap [F] and u [m], one row per method (Bayesian, the paper's), each column named with its unit (c_gap_f, u_m, u_low_m, ...; the JSON gives u in µm), .json the --json summary, "
     ".nc the force bands with the gap summary as attributes (netCDF; read it back with impedax.io.read_netcdf); '-' the JSON to standard output"
 )
 
@@ -48,6 +48,7 @@ def register(sub) -> None:
         "file over session and trial; the remaining dimensions (and a list's or range's DIM) are the trials. " + SELECT_SYNTAX_HELP,
     )
     p.add_argument("--quiet", action="store_true", help="no progress line")
+    p.add_argument("--remaining", metavar="FILE.nc|.csv", help="also save the trial-mean remainder total − skin − touchscreen that the EDL model is fitted to, as a spectrum (with sigma) that impedax fit reads; impedax remaining writes it without the sampling")
     add_output_options(p, plot="save impedance, gap posterior and force bands", out=GAP_OUT_HELP)
     p.set_defaults(run=run)
 
@@ -57,7 +58,7 @@ def run(args) -> int:
     from ..fitting.bayes.chain import AUTO_STEPS, auto_step_cap
     from ..arguments import GAP_MIN_STEPS
     from ..models.gap import HIERARCHICAL_AUTO_DRAWS, check_fingertip_area, gap_analysis
-    from .common import check_memory, figure_writer, load_selected_files, plan_outputs, print_result, result_writer
+    from .common import check_distinct_paths, check_memory, figure_writer, load_selected_files, plan_outputs, print_result, result_writer, spectrum_writer
 
     if args.pooled and args.method == "hierarchical":  # (argparse's exclusive groups let a default-valued --method through)
         raise ParameterError("--pooled and --method hierarchical contradict each other: give one")
@@ -72,7 +73,7 @@ def run(args) -> int:
     if steps != AUTO_STEPS and steps < GAP_MIN_STEPS:
         raise ParameterError(f"--steps must be at least {GAP_MIN_STEPS}")
     outputs = plan_outputs(
-        [("--out", args.out, "result"), ("--plot", args.plot, "figure")],
+        [("--out", args.out, "result"), ("--plot", args.plot, "figure"), ("--remaining", args.remaining, "spectrum")],
         inputs=[args.total, args.skin, args.touchscreen], stdout="--json" if args.json else None,
     )
     # a chain keeps every step of every walker (chain): about 64 walkers × 8 parameters × 8 bytes, kept three times
@@ -81,36 +82,11 @@ def run(args) -> int:
     length = auto_length if steps == AUTO_STEPS else steps
     check_memory("--steps", length * 64 * 10 * 8 * 3, f"a gap-thickness chain of {'up to ' if steps == AUTO_STEPS and args.method == 'pooled' else ''}{length} steps")
     total, skin, touchscreen = load_selected_files([args.total, args.skin, args.touchscreen], args.select)
-    _check_distinct_paths({"total": args.total, "skin": args.skin, "touchscreen": args.touchscreen})  # (after reading: a bad file is named first)
+    check_distinct_paths({"total": args.total, "skin": args.skin, "touchscreen": args.touchscreen})  # (after reading: a bad file is named first)
     result = gap_analysis(total, skin, touchscreen, area=args.area, v0=args.v0, ep=args.ep, steps=steps, seed=args.seed, method=args.method, progress=not args.quiet, check_area=not args.no_area_check)
-    outputs.save({"--out": result_writer(result), "--plot": figure_writer(result.plot)})
+    outputs.save({"--out": result_writer(result), "--plot": figure_writer(result.plot), "--remaining": spectrum_writer(lambda: result.remaining)})
     if not outputs.uses_stdout:
         print_result(result, args.json)
     if result.warnings and args.json:
         print(f"impedax gap: {len(result.warnings)} warning(s), see the JSON 'warnings'", file=sys.stderr)
     return 0
-
-
-def _check_distinct_paths(paths: dict[str, str]) -> None:
-    """A `ParameterError` when two of the three inputs name the same file (the same path, or
-    two paths to one file); identical spectra in different files are refused by
-    `gap_analysis` (`models.gap_inputs`)."""
-    import os
-
-    from ..errors import ParameterError
-
-    names = list(paths)
-    for i, a in enumerate(names):
-        for b in names[i + 1:]:
-            pa, pb = paths[a], paths[b]
-            if pa == "-" or pb == "-":
-                continue
-            try:
-                same = os.path.samefile(pa, pb)
-            except OSError:  # (a missing file: the reader names it)
-                same = os.path.abspath(pa) == os.path.abspath(pb)
-            if same:
-                raise ParameterError(
-                    f"{a} and {b} are the same file, {pb}: the gap analysis needs three different measurements "
-                    "(DATA_TOTAL: finger on the screen, DATA_SKIN: the skin alone, DATA_TS: the touchscreen alone), given in that order"
-                )

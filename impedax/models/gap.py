@@ -40,13 +40,16 @@ from .gap_inputs import check_gap_inputs, position_notes, spectra_used
 from .plausible import FINGERTIP_AREA_M2
 from .sirin import SIRIN_AREA, SIRIN_DRIVE_V, PaperGapEstimate, gap_force_peak, paper_gap_estimate, remainder_circuit, remaining_impedance, trial_mean, trial_remainders
 
-__all__ = ["GapAnalysis", "gap_analysis", "GAP_METHODS", "GAP_MIN_STEPS", "FINGERTIP_AREA_M2", "IDENTIFIED_C_REMAINDER", "C_GAP_BOUNDS_F", "HIERARCHICAL_AUTO_DRAWS", "gap_bounds", "check_fingertip_area"]
+__all__ = ["GapAnalysis", "gap_analysis", "gap_remainder", "REMAINDER_KINDS", "GAP_TABLE_COLUMNS", "GAP_METHODS", "GAP_MIN_STEPS", "FINGERTIP_AREA_M2", "IDENTIFIED_C_REMAINDER", "C_GAP_BOUNDS_F", "HIERARCHICAL_AUTO_DRAWS", "gap_bounds", "check_fingertip_area"]
 
 GAP_METHODS = ("hierarchical", "pooled")
 _EP_PER_TRIAL = ("R_EP", "CPE_EP.Q", "C_EP")  # the contact's EP branch varies with each trial
 
 FORCE_CONVENTION = "peak"  # eq 1 at the voltage amplitude; the time average is half of it
 FORCE_CONDITIONS = "A taken as exact; skin and screen as their trial means, without their errors"
+GAP_TABLE_COLUMNS = ("method", "c_gap_f", "c_gap_low_f", "c_gap_high_f", "u_m", "u_low_m", "u_high_m", "gap_identified", "u_lower_bound_m")
+"""The columns of `GapAnalysis.to_table` (``impedax gap --out FILE.csv``), each quantity's SI
+unit in its name (``_f`` farad, ``_m`` metre)."""
 
 C_GAP_BOUNDS_F = (1e-15, 1e-4)
 """Prior bounds of C_gap [F], 1 fF–100 µF, whatever the area: the capacitance is what the data
@@ -208,17 +211,20 @@ class GapAnalysis:
         return {"divergences": post.divergences, "draws": post.n_draws, "rhat_max": max(rhat.values()), "ess_min": min(ess.values()), "rhat": rhat, "ess": ess}
 
     def to_table(self) -> list[dict[str, object]]:
-        """The tidy table of C_gap [F] and u [m]: ``method`` bayes (value: posterior median;
-        low/high: the 90% credible interval) and paper (the paper's method; for u its bounds
-        from the lowest/highest impedances; None with one trial of each)."""
+        """The table of ``--out FILE.csv``: one row per ``method``, bayes (C_gap and u their
+        posterior medians, low/high the 90% credible interval) and paper (the paper's method:
+        u's low/high its bounds from the lowest/highest impedances, None with one trial of each;
+        C_gap none). Every column name carries its SI unit (`GAP_TABLE_COLUMNS`: ``_f`` farad,
+        ``_m`` metre; the JSON's ``gap_um`` are the same u in µm); ``gap_identified`` and
+        ``u_lower_bound_m`` (the bound u ≥ when u is not determined) on the bayes row."""
         p = self.paper
-        interval = lambda q: {"value": q["value"], "low": q["q05"], "high": q["q95"]}  # noqa: E731
+        c, g = self.c_gap, self.gap
         low, high = (p.gap_lower, p.gap_upper) if self.paper_has_bounds else (None, None)
         return [
-            {"name": "C_gap", "method": "bayes", **interval(self.c_gap), "unit": "F"},
-            {"name": "u", "method": "bayes", **interval(self.gap), "unit": "m"},
-            {"name": "C_gap", "method": "paper", "value": p.c_gap, "low": None, "high": None, "unit": "F"},
-            {"name": "u", "method": "paper", "value": p.gap, "low": low, "high": high, "unit": "m"},
+            {"method": "bayes", "c_gap_f": c["value"], "c_gap_low_f": c["q05"], "c_gap_high_f": c["q95"], "u_m": g["value"], "u_low_m": g["q05"], "u_high_m": g["q95"],
+             "gap_identified": self.gap_identified, "u_lower_bound_m": self.gap_lower_bound},
+            {"method": "paper", "c_gap_f": p.c_gap, "c_gap_low_f": None, "c_gap_high_f": None, "u_m": p.gap, "u_low_m": low, "u_high_m": high,
+             "gap_identified": None, "u_lower_bound_m": None},
         ]
 
     def report(self) -> str:
@@ -381,8 +387,7 @@ def gap_analysis(
     total, skin, touchscreen = check_gap_inputs(total, skin, touchscreen)  # (sign, grids, distinct: DataError naming the file)
     trials = spectra_used(total, skin, touchscreen)
     notes += position_notes(trials)
-    remaining = remaining_impedance(total, skin, touchscreen)
-    _check_remainder_sign(remaining)
+    remaining = _checked_remainder(total, skin, touchscreen)
     if method == "hierarchical":
         _check_hierarchical_trials(remaining)
     paper = paper_gap_estimate(total, skin, touchscreen, area=area, cutoff_hz=cutoff_hz, eps_gap=eps_gap)
@@ -522,6 +527,43 @@ def _merged_capacitors_note() -> str:
         "gap thickness this model allows (larger if part of the capacitance belongs to the EP branch) and the force its upper bound; "
         "--ep CPE (the default) has an EP branch the data tell from C_gap"
     )
+
+
+REMAINDER_KINDS = ("mean", "trials")
+"""``gap_remainder``'s ``kind``: the trial-mean remainder (what the least-squares fits and the
+pooled sampling fit) or every total trial's remainder (what the hierarchical model fits)."""
+
+
+def _checked_remainder(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dataset) -> xr.Dataset:
+    """`remaining_impedance` of inputs already through `check_gap_inputs`, refused when its sign
+    says the files are in the wrong order (`_check_remainder_sign`)."""
+    remaining = remaining_impedance(total, skin, touchscreen)
+    _check_remainder_sign(remaining)
+    return remaining
+
+
+def gap_remainder(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dataset, *, kind: str = "mean") -> tuple[xr.Dataset, list[str]]:
+    """The remaining impedance Z_R = Z_total − Z_skin − Z_TS (Sirin eq 5) exactly as
+    `gap_analysis` fits it, with no fit or sampling (``impedax remaining``), and the warnings
+    on the inputs (a ``--select`` read by position in some files only).
+
+    The inputs pass the same checks (`check_gap_inputs`: sign, frequency grids, distinct files;
+    the remainder's sign). ``kind`` ``"mean"``: `remaining_impedance`, the trial means with
+    ``sigma`` from their SEMs (the EDL least-squares fit and ``method="pooled"``); ``"trials"``:
+    `trial_remainders`, each total trial minus the skin and screen means, with the total's
+    trial dimensions (``method="hierarchical"``; its error modes are left out: a spectrum file
+    holds Z and sigma only). A spectrum Dataset in Ω over Hz, as `impedax.save` writes it."""
+    if kind not in REMAINDER_KINDS:
+        raise ParameterError(f"unknown remainder kind {kind!r}; use one of {', '.join(REMAINDER_KINDS)}")
+    notes = position_notes(spectra_used(total, skin, touchscreen))
+    total, skin, touchscreen = check_gap_inputs(total, skin, touchscreen)
+    remaining = _checked_remainder(total, skin, touchscreen)
+    if kind == "mean":
+        return remaining, notes
+    trials = trial_remainders(total, skin, touchscreen)
+    trials = trials.drop_vars([v for v in ("common_error_modes", "trial_error_modes") if v in trials])
+    trials.attrs.update({k: v for k, v in remaining.attrs.items() if k.startswith("n_trials_")})
+    return trials, notes
 
 
 def _check_remainder_sign(remaining: xr.Dataset) -> None:

@@ -7,7 +7,10 @@ The area range is a fingertip's apparent contact, 1 mm² to 100 cm² (`FINGERTIP
 Meyer's capacitances and resistances may lie a factor `MEYER_FACTOR` (1000) either way of the
 thesis values (docs/physics.md, thesis eq 3.13: C_s 140 pF, C_i 1.7 nF, C_sc 2.2 nF, R_sc 130 kΩ,
 R_f 500 Ω): generous for other screens, skins and insulators, yet a missing SI prefix (a
-factor of 10⁹ for n, 10¹² for p) always falls outside.
+factor of 10⁹ for n, 10¹² for p) always falls outside. The CPE variant's CPE_sc.Q [F s^(α−1)]
+has no fixed range, since its unit moves with α: it is plausible when the capacitance it gives at
+1 kHz, C_sc(1 kHz) = Q (2π·1 kHz)^(α−1) (where the thesis quotes ε_sc; `meyer_parameters`), lies
+in C_sc's range (`implausible_cpe_message`).
 """
 
 from __future__ import annotations
@@ -17,12 +20,14 @@ import math
 from ..data import SI_PREFIXES
 from .meyer import THESIS_PARAMS
 
-__all__ = ["FINGERTIP_AREA_M2", "MEYER_FACTOR", "PARAMETER_UNITS", "plausible_range", "implausible_message"]
+__all__ = ["FINGERTIP_AREA_M2", "MEYER_FACTOR", "MEYER_CPE_REFERENCE_HZ", "PARAMETER_UNITS", "plausible_range", "implausible_message", "cpe_capacitance", "implausible_cpe_message"]
 
 FINGERTIP_AREA_M2 = (1e-6, 1e-2)  # plausible apparent contact of a fingertip: 1 mm² to 100 cm²
 MEYER_FACTOR = 1e3
 """Meyer's circuit values are plausible within this factor either way of the thesis's."""
-PARAMETER_UNITS = {"C_s": "F", "C_i": "F", "C_sc": "F", "R_sc": "Ω", "R_f": "Ω", "area": "m²"}
+PARAMETER_UNITS = {"C_s": "F", "C_i": "F", "C_sc": "F", "R_sc": "Ω", "R_f": "Ω", "area": "m²", "CPE_sc.Q": "F s^(α−1)", "CPE_sc.alpha": ""}
+MEYER_CPE_REFERENCE_HZ = 1e3
+"""The frequency at which CPE_sc.Q is compared with C_sc: the thesis quotes ρ_sc, ε_sc at 1 kHz."""
 
 
 def plausible_range(model: str, name: str) -> tuple[float, float] | None:
@@ -78,3 +83,26 @@ def implausible_message(model: str, name: str, value: float) -> str | None:
     else:
         where = f"plausible {_shown(low, unit)}–{_shown(high, unit)}, {MEYER_FACTOR:g}× either way of the thesis's {_shown(THESIS_PARAMS[name], unit)}"
     return f"{name} = {_shown(value, unit)} is implausible ({where}){_intended(value, low, high, unit)}"
+
+
+def cpe_capacitance(q: float, alpha: float, frequency_hz: float = MEYER_CPE_REFERENCE_HZ) -> float:
+    """The capacitance [F] with the CPE's impedance magnitude at ``frequency_hz``:
+    C(ω) = Q ω^(α−1) (|Z_CPE| = 1/(Q ω^α) = 1/(ω C)); α = 1 gives Q."""
+    return q * (2.0 * math.pi * frequency_hz) ** (alpha - 1.0)
+
+
+def implausible_cpe_message(q: float, alpha: float) -> str | None:
+    """Why Meyer's ``CPE_sc.Q`` = ``q`` with exponent ``alpha`` is implausible, or None: its
+    capacitance at 1 kHz (`cpe_capacitance`) must lie in C_sc's `plausible_range`; the message
+    gives that capacitance and the Q an SI prefix likely meant."""
+    low, high = plausible_range("meyer", "C_sc")
+    capacitance = cpe_capacitance(q, alpha)
+    if low <= capacitance <= high:
+        return None
+    scale = capacitance / q
+    unit = PARAMETER_UNITS["CPE_sc.Q"]
+    return (
+        f"CPE_sc.Q = {q:g} {unit} with CPE_sc.alpha = {alpha:g} is implausible: its capacitance at 1 kHz, Q (2π·1 kHz)^(α−1) = "
+        f"{_shown(capacitance, 'F')}, lies outside {_shown(low, 'F')}–{_shown(high, 'F')} ({MEYER_FACTOR:g}× either way of the thesis's "
+        f"C_sc {_shown(THESIS_PARAMS['C_sc'], 'F')}){_intended(q, low / scale, high / scale, unit)}"
+    )

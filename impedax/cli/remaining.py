@@ -1,0 +1,57 @@
+"""``impedax remaining TOTAL SKIN TOUCHSCREEN --out FILE``: the remainder Z_total − Z_skin − Z_TS
+that ``impedax gap`` fits (Sirin eq 5), written as a spectrum file, with no fit or sampling."""
+
+from __future__ import annotations
+
+import sys
+
+
+def register(sub) -> None:
+    from .common import SELECT_SYNTAX_HELP
+
+    p = sub.add_parser(
+        "remaining",
+        help="the remaining impedance total − skin − touchscreen as a spectrum file, as impedax gap fits it",
+        description="Subtract the skin and touchscreen spectra from the total (Sirin eq 5) with impedax gap's checks "
+        "(sign, one frequency grid, three different files) and write the remainder as a spectrum that impedax fit, "
+        "compare, diagnose, refine, sample and drt read. Default: the trial means with sigma from their standard errors, "
+        "what gap's least-squares fits and --pooled fit; --trials: every total trial minus the skin and screen means, "
+        "what gap's hierarchical model fits (the total's trial dimensions, so .nc). No fit, no sampling.",
+    )
+    p.add_argument("total", metavar="DATA_TOTAL", help="finger-on-screen spectra (trials as an extra dimension)")
+    p.add_argument("skin", metavar="DATA_SKIN", help="skin spectra")
+    p.add_argument("touchscreen", metavar="DATA_TS", help="touchscreen spectra")
+    p.add_argument("--trials", action="store_true", help="one remainder per total trial (Z_total,t − mean Z_skin − mean Z_TS) instead of the trial means; needs --out FILE.nc")
+    p.add_argument(
+        "--select", action="append", metavar="DIM=LABEL",
+        help="narrow each of the three files that has dimension DIM to the spectra whose DIM is LABEL, as impedax gap --select. " + SELECT_SYNTAX_HELP,
+    )
+    p.add_argument("--out", metavar="FILE.nc|.csv", help="the remainder as a spectrum: .nc (netCDF) or .csv (frequency_hz,z_real_ohm,z_imag_ohm,sigma_ohm); CSV to standard output when omitted or '-'")
+    p.set_defaults(run=run)
+
+
+def run(args) -> int:
+    from pathlib import Path
+
+    from ..errors import ParameterError
+    from ..io import write_csv
+    from ..models.gap import gap_remainder
+    from .common import check_distinct_paths, load_selected_files, plan_outputs, spectrum_writer
+
+    out = None if args.out == "-" else args.out
+    if args.trials and (out is None or Path(out).suffix.lower() != ".nc"):
+        raise ParameterError(f"--trials writes one spectrum per total trial, which only netCDF holds: give --out FILE.nc (got {'standard output' if out is None else out})")
+    outputs = plan_outputs([("--out", out, "spectrum")], inputs=[args.total, args.skin, args.touchscreen])
+    total, skin, touchscreen = load_selected_files([args.total, args.skin, args.touchscreen], args.select)
+    check_distinct_paths({"total": args.total, "skin": args.skin, "touchscreen": args.touchscreen})
+    remaining, notes = gap_remainder(total, skin, touchscreen, kind="trials" if args.trials else "mean")
+    remaining.attrs.update({"total": args.total, "skin": args.skin, "touchscreen": args.touchscreen})
+    outputs.save({"--out": spectrum_writer(lambda: remaining)})
+    if out is None:
+        sys.stdout.write(write_csv(remaining))
+    for note in notes:
+        print(f"impedax remaining: warning: {note}", file=sys.stderr)
+    counts = ", ".join(f"{remaining.attrs[f'n_trials_{k}']} {k}" for k in ("total", "skin", "touchscreen"))
+    what = "every total trial minus the skin and screen means" if args.trials else "trial means" + (", sigma from their standard errors" if "sigma" in remaining else ", no sigma (an input has one spectrum or no scatter)")
+    print(f"impedax remaining: Z_total − Z_skin − Z_TS at {remaining.sizes['frequency']} frequencies from {counts} spectra ({what})", file=sys.stderr)
+    return 0
