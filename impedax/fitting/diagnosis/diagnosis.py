@@ -939,7 +939,7 @@ def _fit_proposals(base: FitResult, spectrum: xr.Dataset, ctx: BaselineContext, 
             stalled = _stalled_behind_nested(proposals, fits[1:])
             if stalled:
                 if say is not None:
-                    say(f"refitting {len(stalled)} candidate(s) stalled short of a candidate nested in them, from its values")
+                    say(f"refitting {len(stalled)} candidate(s) stalled short of a candidate nested in them, from that one's optimum")
                 redo = fit_candidates([proposals[i][1].circuit for i, _ in stalled], spectrum, init=[[start] for _, start in stalled], **options)
                 for (i, _), again in zip(stalled, redo):
                     if again.chi2 < fits[1 + i].chi2:
