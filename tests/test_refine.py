@@ -36,10 +36,29 @@ def missing_series_resistance():
 
 
 @pytest.fixture(scope="module")
-def refined(missing_series_resistance):
+def refined_with_drts(missing_series_resistance):
+    """The refinement, its progress lines, and the input of every DRT its diagnoses solved
+    ((frequency, Z) and the keywords, as `drt` was called)."""
+    from impedax.fitting.diagnosis import diagnosis
+
     circuit, _, data = missing_series_resistance
-    lines = []
-    return ix.refine(data, circuit, max_effects=2, progress=lines.append), lines
+    lines, solved = [], []
+    real_drt = diagnosis.drt
+
+    def counted(spectrum, **options):
+        solved.append((np.array(spectrum[0]), np.array(spectrum[1]), options))
+        return real_drt(spectrum, **options)
+
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(diagnosis, "drt", counted)
+        refinement = ix.refine(data, circuit, max_effects=2, progress=lines.append)
+    return refinement, lines, solved
+
+
+@pytest.fixture(scope="module")
+def refined(refined_with_drts):
+    refinement, lines, _ = refined_with_drts
+    return refinement, lines
 
 
 def test_final_fit_reproduces_with_fit_of_the_final_model(missing_series_resistance, refined):
@@ -71,6 +90,28 @@ def test_progress_is_reported_per_step(refined):
     assert len(lines) == len(r.steps) + 2 and len(r.steps) == 2
     assert len(every) > len(lines) and all(line.startswith("  ") for line in every[1 : every.index(lines[1])])
     assert lines[0].startswith("step 0") and "from scratch" in lines[-2] and lines[-1] == "simplifying: fitting R1 || C1 + R_s without each of R_s"
+
+
+def test_the_data_drt_is_solved_once_per_refinement(refined_with_drts):
+    # the data's DRT depends on the data alone: one solve serves every step (each solved it
+    # again before, 2026-11-30), and no spectrum's DRT (a model's, a reference arc's) is solved twice
+    from impedax.fitting.drt import drt, unexplained_peaks
+
+    r, _, solved = refined_with_drts
+    judged = [s.diagnosis for s in r.steps if s.diagnosis is not None and s.diagnosis.drt is not None]
+    assert len(judged) == len(r.steps) == 2  # (two diagnoses, each with the data's DRT)
+    data_f, data_z = judged[0].baseline.frequency, judged[0].baseline.z_data
+    assert all(np.array_equal(d.baseline.z_data, data_z) for d in judged)  # (the same points at every step)
+    of_data = [z for f, z, _ in solved if np.array_equal(f, data_f) and np.array_equal(z, data_z)]
+    assert len(of_data) == 1
+    inputs = [(f.tobytes(), z.tobytes(), repr(sorted(options.items()))) for f, z, options in solved]
+    assert len(inputs) == len(set(inputs)) > len(judged)
+    # every step's evidence is what a DRT solved afresh for it gives (unchanged by the reuse)
+    for d in judged:
+        fresh = unexplained_peaks(drt((d.baseline.frequency, d.baseline.z_data)), d.baseline)
+        assert fresh.text == d.drt.text
+        assert [p.tau_s for p in fresh.data_peaks] == [p.tau_s for p in d.drt.data_peaks]
+        assert [p.tau_s for p in fresh.model_peaks] == [p.tau_s for p in d.drt.model_peaks]
 
 
 def test_max_effects_zero_diagnoses_only(missing_series_resistance):

@@ -603,14 +603,44 @@ def _context(fit: FitResult, evidence: PeakEvidence | None = None) -> BaselineCo
     return BaselineContext(fit.circuit, fit.values, fit.frequency[order], fit.z_data[order], fit.z_model[order], fit.registry, undetermined, evidence)
 
 
-def _drt_evidence(fit: FitResult, notes: list[str]) -> PeakEvidence | None:
-    """The data's DRT peaks against the baseline's (`unexplained_peaks`), or None with a note
-    when the DRT cannot be computed (too few points, a failed solve): the diagnosis then runs on
-    the misfit alone."""
+DRT_FAILURES = (ImpedaxError, ValueError, ArithmeticError, np.linalg.LinAlgError)
+"""What a DRT of a spectrum raises when it cannot be computed (too few points, a failed solve)."""
+
+
+class DRTMemo:
+    """`drt` of each spectrum solved once: the DRTs one diagnosis or one `refine` run has
+    computed, by their exact input (frequency and Z bit for bit, and the keywords), failures
+    (`DRT_FAILURES`) included. The data's DRT depends on the data alone, yet each step of a
+    refine solved it again, with every pair and lead it fitted (13 solves of one spectrum in a
+    refine of exampleData.csv), and a step's baseline is often the fit whose DRT the step before
+    solved; the same input gives the same result, so one run's results are bit-identical with
+    it. Keep one per run (`refine` makes one per call): it holds every result it returns."""
+
+    def __init__(self) -> None:
+        self._solved: dict[tuple, object] = {}
+
+    def __call__(self, data, **options):
+        frequency, z = data
+        key = (np.asarray(frequency, float).tobytes(), np.asarray(z, complex).tobytes(), tuple(sorted(options.items())))
+        if key not in self._solved:
+            try:
+                self._solved[key] = drt(data, **options)
+            except DRT_FAILURES as err:
+                self._solved[key] = err
+        out = self._solved[key]
+        if isinstance(out, BaseException):
+            raise out
+        return out
+
+
+def _drt_evidence(fit: FitResult, notes: list[str], solved: DRTMemo) -> PeakEvidence | None:
+    """The data's DRT peaks against the baseline's (`unexplained_peaks`, each DRT through
+    ``solved``), or None with a note when the DRT cannot be computed (too few points, a failed
+    solve): the diagnosis then runs on the misfit alone."""
     try:
-        data_drt = drt((fit.frequency, fit.z_data))  # one 1-D spectrum: a DRTResult
-        evidence = unexplained_peaks(data_drt, fit)
-    except (ImpedaxError, ValueError, ArithmeticError, np.linalg.LinAlgError) as err:
+        data_drt = solved((fit.frequency, fit.z_data))  # one 1-D spectrum: a DRTResult
+        evidence = unexplained_peaks(data_drt, fit, solve=solved)
+    except DRT_FAILURES as err:
         notes.append(f"DRT evidence not used: {getattr(err, 'detail', err)}")  # (the DRT ran on the fit's arrays: no file to name)
         return None
     return evidence
@@ -894,7 +924,8 @@ def _fit_proposals(base: FitResult, spectrum: xr.Dataset, ctx: BaselineContext, 
     """The baseline (refitted from its own values) and every proposal, fitted together; the
     proposals with those `_series_resistance_dropped` adds, and their fits after the
     baseline's; and the solver shape used (``shape`` when it holds them). ``say``: told as each
-    rung of further starts for the poor leaders begins (`diagnose`'s progress)."""
+    further solve begins (stalled candidates, each rung of further starts for the poor leaders,
+    the pruned circuits; `diagnose`'s progress: a step was silent 30 s on a loaded machine)."""
     fixed = {k: v for k, v in base.values.items() if base.fixed[k]}
     circuits = [base.circuit] + [p.circuit for _, p in proposals]
     inits = [[dict(base.values), ctx.start()]] + [list(p.starts) for _, p in proposals]
@@ -907,6 +938,8 @@ def _fit_proposals(base: FitResult, spectrum: xr.Dataset, ctx: BaselineContext, 
         def restart_stalled():
             stalled = _stalled_behind_nested(proposals, fits[1:])
             if stalled:
+                if say is not None:
+                    say(f"refitting {len(stalled)} candidate(s) stalled short of a candidate nested in them, from that one's optimum")
                 redo = fit_candidates([proposals[i][1].circuit for i, _ in stalled], spectrum, init=[[start] for _, start in stalled], **options)
                 for (i, _), again in zip(stalled, redo):
                     if again.chi2 < fits[1 + i].chi2:
@@ -929,6 +962,8 @@ def _fit_proposals(base: FitResult, spectrum: xr.Dataset, ctx: BaselineContext, 
         pruned = _series_resistance_dropped(base, proposals, fits[1:]) + _negligible_branch_dropped(base, proposals, fits[1:]) + _open_resistor_dropped(base, proposals, fits[1:])
         added = []
         if pruned:  # a pruned circuit already among the proposals keeps the better of its two fits
+            if say is not None:
+                say(f"fitting {len(pruned)} candidate(s) without what their fits made negligible (a resistance at zero, an idle branch, a resistor run open)")
             index = {str(p.circuit): i for i, (_, p) in enumerate(proposals)}
             for (effect, p), cf in zip(pruned, fit_candidates([p.circuit for _, p in pruned], spectrum, init=[list(p.starts) for _, p in pruned], **options)):
                 i = index.get(str(p.circuit))
@@ -1326,7 +1361,7 @@ def _paired(first: Effect, p1: Proposal, second: Effect, p2: Proposal) -> tuple[
     return effect, Proposal(effect.id, p2.circuit, f"{p1.added} and {p2.added}", where, p2.starts, p1.removed + p2.removed, band, p1.vanished + p2.vanished)
 
 
-def _effect_pairs(base: FitResult, cands: Sequence[Suggestion], proposals: list[tuple[Effect, Proposal]], spectrum: xr.Dataset, effects: EffectCatalog, shape: SolverShape, *, with_drt: bool, max_params: int, n_starts: int, max_steps: int, seed: int, say=None) -> tuple[list[tuple[Effect, Proposal]], list[FitResult], SolverShape]:
+def _effect_pairs(base: FitResult, cands: Sequence[Suggestion], proposals: list[tuple[Effect, Proposal]], spectrum: xr.Dataset, effects: EffectCatalog, shape: SolverShape, *, with_drt: bool, drts: DRTMemo, max_params: int, n_starts: int, max_steps: int, seed: int, say=None) -> tuple[list[tuple[Effect, Proposal]], list[FitResult], SolverShape]:
     """Candidates of two effects: each of the best `PAIR_SEEDS` candidates that lower AIC by
     more than `DELTA_AIC_MIN` but leave parameters undetermined, with every effect of the
     catalog proposed on top of its fit (its own context: values, misfit and DRT evidence),
@@ -1347,7 +1382,7 @@ def _effect_pairs(base: FitResult, cands: Sequence[Suggestion], proposals: list[
         first, p1 = by_circuit[str(s.fit.circuit)]
         if say is not None:
             say(f"pairs on top of {s.fit.model} ({first.id}; {k} of {len(seeds)})")
-        ctx = _context(s.fit, _drt_evidence(s.fit, []) if with_drt else None)
+        ctx = _context(s.fit, _drt_evidence(s.fit, [], drts) if with_drt else None)
         pairs = []
         for second, p2 in effects.proposals(ctx):
             key = str(p2.circuit)
@@ -1373,7 +1408,7 @@ def _inductive_top(base: FitResult, sigma_rel: np.ndarray) -> int:
     return up.size if up.all() else int(np.argmin(up))
 
 
-def _lead_behind(base: FitResult, cands: Sequence[Suggestion], proposals: list[tuple[Effect, Proposal]], spectrum: xr.Dataset, effects: EffectCatalog, shape: SolverShape, sigma_rel: np.ndarray, bands: Sequence[FailingBand], *, with_drt: bool, max_params: int, n_starts: int, max_steps: int, seed: int, say=lambda text: None) -> tuple[list[tuple[Effect, Proposal]], list[FitResult], SolverShape]:
+def _lead_behind(base: FitResult, cands: Sequence[Suggestion], proposals: list[tuple[Effect, Proposal]], spectrum: xr.Dataset, effects: EffectCatalog, shape: SolverShape, sigma_rel: np.ndarray, bands: Sequence[FailingBand], *, with_drt: bool, drts: DRTMemo, max_params: int, n_starts: int, max_steps: int, seed: int, say=lambda text: None) -> tuple[list[tuple[Effect, Proposal]], list[FitResult], SolverShape]:
     """A lead inductance hidden behind the effect named first: when the data's top is inductive
     (`_inductive_top`) and no ``series_inductance`` candidate is significant, ``series_inductance``
     on top of the best significant suggestion (a pair, `_paired`), kept when it is significant
@@ -1389,7 +1424,7 @@ def _lead_behind(base: FitResult, cands: Sequence[Suggestion], proposals: list[t
     if best is None or str(best.fit.circuit) not in by_circuit or _inductive_top(base, sigma_rel) < INDUCTIVE_TOP_POINTS:
         return [], [], shape
     first, p1 = by_circuit[str(best.fit.circuit)]
-    ctx = _context(best.fit, _drt_evidence(best.fit, []) if with_drt else None)
+    ctx = _context(best.fit, _drt_evidence(best.fit, [], drts) if with_drt else None)
     seen = set(by_circuit) | {str(base.circuit)}
     pairs = [_paired(first, p1, second, p2) for second, p2 in effects.select(["series_inductance"]).proposals(ctx)
              if str(p2.circuit) not in seen and len(p2.circuit.parameter_names(base.registry)) <= max_params]
@@ -1504,6 +1539,7 @@ def _verdict(cands: Sequence[Suggestion], bands: Sequence[FailingBand], ratio: f
     noise=noise_fraction, weighting=choice(WEIGHTINGS), registry=instance_of(Registry), fmin=frequency, fmax=frequency,
     n_starts=count(1, MAX_STARTS), max_steps=count(1, MAX_SOLVER_STEPS), seed=seed_rule, drt_evidence=flag,
     solver_shape=instance_of(SolverShape, optional=True, what="a SolverShape (e.g. an earlier Diagnosis.solver_shape)"), mask=flag,
+    drt_memo=instance_of(DRTMemo, optional=True, what="a DRTMemo (one per data, e.g. refine's)"),
 )
 def diagnose(
     fit_or_data,
@@ -1524,6 +1560,7 @@ def diagnose(
     solver_shape: SolverShape | None = None,
     mask: bool = True,
     progress: Callable[[str], None] | None = None,
+    drt_memo: DRTMemo | None = None,
 ) -> Diagnosis:
     """Diagnose a fit: where the model fails, which effect of ``effects`` is missing, verdict.
 
@@ -1541,7 +1578,9 @@ def diagnose(
     step's on, so its steps share one compilation). ``mask``: leave out the points the KK test
     blames (False: judge every point given; `refine` passes False after its first step, so
     that every step is judged on the same points). ``progress``: called with a line of text as
-    each stage begins (the CLI prints them once a run has taken a few seconds). Thresholds and
+    each stage begins (the CLI prints them once a run has taken a few seconds). ``drt_memo``: a
+    `DRTMemo` the diagnoses of one spectrum share (`refine` passes one, so the data's DRT is
+    solved once per run; default: one of this diagnosis' own). Thresholds and
     rules: module docstring and docs/diagnosis.md. Returns a `Diagnosis`.
     """
     if n_starts < 1 or max_steps < 1:
@@ -1610,7 +1649,8 @@ def diagnose(
 
     if drt_evidence:
         say("the DRT of the data and of the baseline")
-    evidence = _drt_evidence(base, notes) if drt_evidence else None
+    drts = DRTMemo() if drt_memo is None else drt_memo
+    evidence = _drt_evidence(base, notes, drts) if drt_evidence else None
     ctx = _context(base, evidence)
     n_points = int(keep.sum())
     proposals = [(e, p) for e, p in effects.proposals(ctx) if len(p.circuit.parameter_names(base.registry)) < 2 * n_points]
@@ -1630,12 +1670,12 @@ def diagnose(
     bands, cands, verdict, reason = judged(base)
     if verdict == Verdict.ADEQUATE and _beyond_single_effects(bands, _noise_ratio(base, sigma_rel)):  # two effects missing at once?
         say("fitting pairs of effects (no single one is enough)")
-        pairs, pair_fits, shape = _effect_pairs(base, cands, proposals, spectrum, effects, shape, with_drt=evidence is not None, max_params=2 * n_points - 1, n_starts=n_starts, max_steps=max_steps, seed=seed, say=say)
+        pairs, pair_fits, shape = _effect_pairs(base, cands, proposals, spectrum, effects, shape, with_drt=evidence is not None, drts=drts, max_params=2 * n_points - 1, n_starts=n_starts, max_steps=max_steps, seed=seed, say=say)
         if pairs:
             proposals, fits = proposals + pairs, fits + pair_fits
             bands, cands, verdict, reason = judged(base)
     if verdict == Verdict.MISSING_EFFECT:  # a lead inductance hidden behind the effect named first?
-        leads, lead_fits, shape = _lead_behind(base, cands, proposals, spectrum, effects, shape, sigma_rel, bands, with_drt=evidence is not None, max_params=2 * n_points - 1, n_starts=n_starts, max_steps=max_steps, seed=seed, say=say)
+        leads, lead_fits, shape = _lead_behind(base, cands, proposals, spectrum, effects, shape, sigma_rel, bands, with_drt=evidence is not None, drts=drts, max_params=2 * n_points - 1, n_starts=n_starts, max_steps=max_steps, seed=seed, say=say)
         if leads:
             proposals, fits = proposals + leads, fits + lead_fits
             bands, cands, verdict, reason = judged(base)

@@ -23,7 +23,7 @@ from ..parameters import ParameterTable
 from ..problem import WEIGHTINGS, open_spectrum
 from .bands import format_frequency
 from .catalog import EffectCatalog
-from .diagnosis import CANDIDATE_STEPS, DELTA_AIC_MIN, NOISE_FRACTION_MIN, Diagnosis, Verdict, diagnose, left_out_options, left_out_words, noise_variance_explained, undetermined_parameters
+from .diagnosis import CANDIDATE_STEPS, DELTA_AIC_MIN, NOISE_FRACTION_MIN, Diagnosis, DRTMemo, Verdict, diagnose, left_out_options, left_out_words, noise_variance_explained, undetermined_parameters
 from .effects import DEFAULT_EFFECTS, placement
 from .vanishing import share_words, vanished_parameters, vanished_terms
 
@@ -182,7 +182,7 @@ class Refinement:
         )
 
 
-def _reproduced(ds: xr.Dataset, last: FitResult, *, n_starts: int, seed: int) -> tuple[FitResult, str | None]:
+def _reproduced(ds: xr.Dataset, last: FitResult, *, n_starts: int, seed: int, say=lambda text: None) -> tuple[FitResult, str | None]:
     """The final model fitted from scratch with `fit` (what ``impedax fit`` of its model string
     does on the same points); when the loop's warm fit is better, or as good (χ² within 1e-6)
     with fewer undetermined parameters, `fit` started from it.
@@ -195,12 +195,14 @@ def _reproduced(ds: xr.Dataset, last: FitResult, *, n_starts: int, seed: int) ->
     scratch: on CHInstruments' spectrum R1 stopped at 1e14 Ω, leaving R1, C1 and R_relax2
     undetermined, where the loop's fit reached 5e259 Ω (at the bound, by which
     `undetermined_parameters` holds it) at the same χ² to 1e-9. Its term has then vanished:
-    `_pruned` takes it out of the final model."""
+    `_pruned` takes it out of the final model. ``say``: told before the fit from the loop's
+    values (the two fits of a 12-parameter model took 10 s on a loaded machine: not silently)."""
     fixed = {k: v for k, v in last.values.items() if last.fixed[k]} or None
     scratch = fit(last.circuit, ds, fixed=fixed, weighting=last.weighting, registry=last.registry, seed=seed)
     loose = undetermined_parameters(scratch) - undetermined_parameters(last)
     if scratch.chi2 <= last.chi2 * (1 + 1e-6) and not loose:
         return scratch, None
+    say(f"  refitting {last.model} from the refinement's values (from scratch: rms_rel {scratch.rms_rel * 100:.3g} %)")
     warm = fit(last.circuit, ds, init=last, fixed=fixed, weighting=last.weighting, registry=last.registry, seed=seed)
     if loose and warm.chi2 <= scratch.chi2 * (1 + 1e-6) and len(undetermined_parameters(warm)) < len(undetermined_parameters(scratch)):
         return warm, f"fit of {last.model} from scratch reaches rms_rel {scratch.rms_rel * 100:.3g} % with {', '.join(sorted(loose))} undetermined; started from the refinement's values it reaches {warm.rms_rel * 100:.3g} % with every parameter it had determined (pass init=)"
@@ -584,6 +586,7 @@ def _pruned(steps: list[RefinementStep], used: xr.Dataset, *, n_starts: int, see
                 trial = fit(circuit, used, init=start, fixed=fixed, weighting=last.weighting, registry=last.registry, n_starts=1, seed=seed)
             except (ParameterError, CircuitError):
                 continue
+            say(f"pruning: refitting {trial.model} from scratch")
             final, note = reproduced(used, trial, n_starts=n_starts, seed=seed)
             tolerance = BOUND_CHI2_FRACTION * last.chi2_red + 2 * last.n_points * 1e-28  # (`result.confirm_bounds`)
             if not (np.isfinite(final.chi2) and final.chi2 <= last.chi2 + tolerance and final.n_params < last.n_params):
@@ -680,7 +683,10 @@ def refine(
     def within(text: str) -> None:  # (a diagnosis' stages, under the step that runs it: none silent for long)
         say(f"  {text}")
 
-    first = diagnose(ds, circuit, effects=effects, noise=noise, weighting=weighting, registry=registry, n_starts=n_starts, max_steps=solver_steps, seed=seed, drt_evidence=drt_evidence, progress=within)
+    # the DRTs of the run's spectra, each solved once: the data's (the same at every step) and a
+    # model's met again (a step's baseline is the fit the step before proposed)
+    drts = DRTMemo()
+    first = diagnose(ds, circuit, effects=effects, noise=noise, weighting=weighting, registry=registry, n_starts=n_starts, max_steps=solver_steps, seed=seed, drt_evidence=drt_evidence, progress=within, drt_memo=drts)
     masked = first.masked_points
     # the KK test as the first diagnosis got it (before its local judgement, which every step
     # redoes): the discrepancy floor δ takes that test's flags, so each step has the first's noise
@@ -697,13 +703,13 @@ def refine(
         if known is not None and known.baseline.chi2 <= current.chi2 * (1 + REUSE_CHI2_RTOL):
             return known
         # every step through one compiled solver and on the first step's points (mask=False)
-        d = diagnose(current, data=ds, effects=effects, kk=kk, noise=noise, n_starts=n_starts, max_steps=solver_steps, seed=seed, drt_evidence=drt_evidence, solver_shape=shape, mask=False, progress=within)
+        d = diagnose(current, data=ds, effects=effects, kk=kk, noise=noise, n_starts=n_starts, max_steps=solver_steps, seed=seed, drt_evidence=drt_evidence, solver_shape=shape, mask=False, progress=within, drt_memo=drts)
         diagnoses[str(current.circuit)] = d
         return d
 
     def reproduced(used, fit, **options):
         if id(fit) not in refits or refits[id(fit)][0] is not fit:
-            refits[id(fit)] = (fit, _reproduced(used, fit, **options))  # (the fit kept: its id stays its own)
+            refits[id(fit)] = (fit, _reproduced(used, fit, say=say, **options))  # (the fit kept: its id stays its own)
             out = refits[id(fit)][1][0]
             # a refit is its own refit: a path whose end went back to the start hands the start
             # step, refitted, to the next path, which may end there too

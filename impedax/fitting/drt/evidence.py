@@ -54,7 +54,7 @@ def _model_spectrum(model):
         raise DataError(f"model must be a FitResult, a (frequency, Z_model) pair or a DRTResult, got {type(model).__name__}") from None
 
 
-def unexplained_peaks(data_drt: DRTResult, model, *, tolerance_decades: float = 0.5, distributed_ratio: float = 1.6) -> PeakEvidence:
+def unexplained_peaks(data_drt: DRTResult, model, *, tolerance_decades: float = 0.5, distributed_ratio: float = 1.6, solve=None) -> PeakEvidence:
     """The peaks of ``data_drt`` that the fitted ``model`` does not explain.
 
     Contract (for `diagnose` and other callers):
@@ -69,10 +69,14 @@ def unexplained_peaks(data_drt: DRTResult, model, *, tolerance_decades: float = 
       ``extra_relaxation`` (an R‖C or R‖CPE with τ = tau_s, R = r_ohm); ``distributed`` peaks
       suggest ``constant_phase``; ``text`` reads e.g. "the data's DRT has 3 peaks (at 2 ms,
       0.3 s, 40 s); the model explains 2; unexplained: 40 s (R ≈ 12 Ω)".
+    - ``solve``: what computes the model's and the reference DRTs, called as `drt` is
+      (default `drt`; `diagnose` passes its `DRTMemo`, so a spectrum met again is not solved again).
     Never raises for a model without peaks (all data peaks are then unexplained); raises
     `DataError` for a model that is none of the accepted kinds.
     """
     from ._drt import drt
+
+    solve = drt if solve is None else solve
 
     if not isinstance(data_drt, DRTResult):
         raise DataError(f"data_drt must be the DRTResult of one spectrum, got {type(data_drt).__name__}")
@@ -81,7 +85,7 @@ def unexplained_peaks(data_drt: DRTResult, model, *, tolerance_decades: float = 
         model_drt = model
     else:
         f, z = _model_spectrum(model)
-        model_drt = drt((f, z), lam=data_drt.lam, **options)
+        model_drt = solve((f, z), lam=data_drt.lam, **options)
     data_peaks, model_peaks = data_drt.peaks, model_drt.peaks
     used: set[int] = set()
     explained, unexplained = [], []
@@ -104,7 +108,7 @@ def unexplained_peaks(data_drt: DRTResult, model, *, tolerance_decades: float = 
         f = data_drt.frequency
         w = 2 * np.pi * f
         # one spectrum per call: the same compiled solve as the data's and the model's
-        reference = [drt((f, data_drt.r_inf_ohm + p.r_ohm / (1 + 1j * w * p.tau_s)), lam=data_drt.lam, **options) for p in unexplained]
+        reference = [solve((f, data_drt.r_inf_ohm + p.r_ohm / (1 + 1j * w * p.tau_s)), lam=data_drt.lam, **options) for p in unexplained]
         for p, ref in zip(unexplained, reference):
             near = [q for q in ref.peaks if abs(math.log10(q.tau_s / p.tau_s)) < tolerance_decades]
             if near and p.width_decades > distributed_ratio * near[0].width_decades:
