@@ -36,6 +36,8 @@ from ..arguments import GAP_MIN_STEPS, MAX_WALKERS, checked_arguments, choice, c
 from ..errors import CircuitError, DataError, ParameterError
 from ..constants import EPSILON_0, EPSILON_AIR
 from ..fitting.bayes.chain import AUTO_STEPS, steps_rule
+from ..fitting.least_squares.result import SUBTRACTION_CAUSE, listed_frequencies
+from ..fitting.statistics import non_passive
 from .gap_inputs import check_gap_inputs, position_notes, spectra_used
 from .plausible import FINGERTIP_AREA_M2
 from .sirin import SIRIN_AREA, SIRIN_DRIVE_V, PaperGapEstimate, gap_force_peak, paper_gap_estimate, remainder_circuit, remaining_impedance, trial_mean, trial_remainders
@@ -559,11 +561,29 @@ def gap_remainder(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dataset, 
     total, skin, touchscreen = check_gap_inputs(total, skin, touchscreen)
     remaining = _checked_remainder(total, skin, touchscreen)
     if kind == "mean":
-        return remaining, notes
+        return remaining, notes + _subtraction_notes(remaining)
     trials = trial_remainders(total, skin, touchscreen)
     trials = trials.drop_vars([v for v in ("common_error_modes", "trial_error_modes") if v in trials])
     trials.attrs.update({k: v for k, v in remaining.attrs.items() if k.startswith("n_trials_")})
-    return trials, notes
+    return trials, notes + _subtraction_notes(trials)
+
+
+def _subtraction_notes(remaining: xr.Dataset) -> list[str]:
+    """A note naming the frequencies where the remainder (of any trial) has Re Z < 0 beyond its
+    sigma (`non_passive`): no passive contact gives that, the subtraction does
+    (`SUBTRACTION_CAUSE`), and a fit would otherwise blame the instrument."""
+    z = remaining["Z"]
+    sigma = remaining["sigma"].broadcast_like(z).values if "sigma" in remaining else None
+    bad = xr.DataArray(non_passive(z.values, sigma), dims=z.dims).any([d for d in z.dims if d != "frequency"])
+    if not bad.any():
+        return []
+    trials = [d for d in z.dims if d != "frequency"]
+    return [
+        f"the remainder has Re Z < 0 beyond its sigma at {int(bad.sum())} of {bad.size} frequencies ({listed_frequencies(remaining['frequency'].values, bad.values)})"
+        + (" in some trials" if trials else "")
+        + f", which no passive contact gives: the cause is {SUBTRACTION_CAUSE}. A fit will flag these points; "
+        "leave them out (impedax fit --exclude or --fmin/--fmax)" + (", or fit the trial means (impedax remaining without --trials)" if trials else "")
+    ]
 
 
 def _check_remainder_sign(remaining: xr.Dataset) -> None:
