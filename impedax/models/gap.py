@@ -233,6 +233,8 @@ class GapAnalysis:
         g, c, p = self.gap, self.c_gap, self.paper
         peak = self.force.sel(branch="with_ep")["median"]
         i = int(np.argmax(peak.values))
+        bare = self.force.sel(branch="without_ep")["median"]  # (C_gap alone: the JSON's force_without_ep_n)
+        j = int(np.argmax(bare.values))
         if self.hierarchical is not None:
             spread, new = self.gap_spread, self.gap_new_trial
             lines = [
@@ -247,7 +249,8 @@ class GapAnalysis:
             f"paper method    u = {p.gap * 1e6:.3f} µm  {bounds}",
             f"C_gap           = {c['value'] * 1e12:.1f} pF (90%: {c['q05'] * 1e12:.1f}–{c['q95'] * 1e12:.1f} pF); paper method {p.c_gap * 1e12:.1f} pF",
             f"fits            naive C_gap: rms_rel {format_percent(self.naive_fit.rms_rel)};  {self.edl_fit.model}: rms_rel {format_percent(self.edl_fit.rms_rel)}",
-            f"force (peak, V0 = {self.v0:g} V) with EP: max {format_quantity(float(peak[i]), 'N')} at {format_frequency(float(peak['frequency'][i]))}",
+            f"force (peak, V0 = {self.v0:g} V) with EP: max {format_quantity(float(peak[i]), 'N')} at {format_frequency(float(peak['frequency'][i]))}; "
+            f"without EP: max {format_quantity(float(bare[j]), 'N')} at {format_frequency(float(bare['frequency'][j]))}",
             f"force bands     {FORCE_CONDITIONS} (A = {self.area:g} m²)",
         ]
         if self.trials:
