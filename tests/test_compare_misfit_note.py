@@ -98,3 +98,24 @@ def test_without_an_f_test_a_clearly_lower_rms_rel_and_aic_decide(fits):
     assert note.startswith(f"R0 + R1 || CPE1 fits these data significantly better (rms_rel {right.rms_rel * 100:.3g}% against {simple.rms_rel * 100:.3g}%, ΔAIC {right.aic - simple.aic:.1f})")
     assert _model_not_data(simple, 0, fits, labels, [], [right.aic, simple.aic]).warnings == simple.warnings  # a higher AIC: no
     assert _model_not_data(right, 1, fits, labels, [], [simple.aic, right.aic]) is right  # no note to replace
+
+
+def test_without_an_f_test_an_aic_lower_by_ten_decides(fits):
+    # non-nested models only 1.29× apart in rms_rel (R_EP ∥ C_gap against CPE_EP ∥ C_gap on a
+    # haptics spectrum, ΔAIC 61): Burnham & Anderson's ΔAIC ≥ 10 alone says the misfit is the model's
+    from dataclasses import replace
+
+    from impedax.fitting.comparison import CLEARLY_LOWER_RMS, DECISIVE_DELTA_AIC, _model_not_data
+
+    simple, right = fits
+    close = replace(right, z_model=Z + (simple.z_model - Z) / 1.29)  # rms_rel 1.29× below simple's
+    pair, labels = [simple, close], [simple.model, close.model]
+    assert simple.rms_rel < CLEARLY_LOWER_RMS * close.rms_rel and DECISIVE_DELTA_AIC == 10
+    (note,) = _model_not_data(simple, 0, pair, labels, [], [0.0, -61.0]).warnings
+    assert note.startswith(f"R0 + R1 || CPE1 fits these data significantly better (rms_rel {close.rms_rel * 100:.3g}% against {simple.rms_rel * 100:.3g}%, ΔAIC -61.0)")
+    assert _model_not_data(simple, 0, pair, labels, [], [0.0, -10.0]).warnings == (note.replace("-61.0", "-10.0"),)
+    # ΔAIC below 10 with the rms ratio below 1.5: no evidence, the note stays
+    assert _model_not_data(simple, 0, pair, labels, [], [0.0, -9.9]).warnings == simple.warnings
+    # the better model keeps its own warnings (a higher AIC never names the worse one)
+    with_note = replace(close, warnings=simple.warnings)
+    assert _model_not_data(with_note, 1, [simple, with_note], labels, [], [0.0, -61.0]).warnings == simple.warnings

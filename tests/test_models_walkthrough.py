@@ -17,6 +17,7 @@ import xarray as xr
 
 import impedax as ix
 from impedax.errors import DataError, ParameterError
+from impedax.data import format_frequency, format_quantity
 from impedax.models import meyer, sirin
 
 E0 = 8.8541878128e-12
@@ -238,6 +239,11 @@ def test_report_and_figure_scale_the_force_unit(stationary):
     assert 1.0 < peak.max() < 1e3  # the oracle's premise: the stationary example's force is of newtons
     line = next(x for x in result.report().splitlines() if x.startswith("force (peak"))
     assert f"max {float(f'{peak.max():.3g}'):g} N at" in line and "mN" not in line
+    # the maximum without EP on the same line (the JSON's force_without_ep_n)
+    bare = result.force.sel(branch="without_ep")["median"]
+    j = int(np.argmax(bare.values))
+    assert line.split("; ")[-1] == f"without EP: max {format_quantity(float(bare[j]), 'N')} at {format_frequency(float(bare['frequency'][j]))}"
+    assert not np.isclose(bare.values.max(), peak.max())  # (two branches, two maxima: the line can tell them apart)
     fig = result.plot()
     ax = fig.axes[2]
     assert ax.get_ylabel() == "peak force F_e [N]"

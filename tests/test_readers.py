@@ -116,18 +116,34 @@ def test_broken_instrument_files_name_file_and_line(tmp_path, name, old, new, fr
     assert_load_names(path, fragment, None if line is None else f"{line}:")
 
 
-def test_unrecognised_file_lists_every_format_tried(tmp_path):
+def test_unrecognised_file_counts_the_formats_tried(tmp_path):
     path = tmp_path / "mystery.txt"
     path.write_text("voltage,current\n1,2\n")
     with pytest.raises(ix.DataError) as info:
         ix.load(path)
     msg = str(info.value)
-    assert "not a recognised spectrum file" in msg and "\n" not in msg
-    for reader in READERS:
-        assert reader.name + ": " in msg
-    # why the text is not a table comes first: the reason a user of a text table needs
-    assert "not a recognised spectrum file: as delimited text, no frequency column in header ['voltage', 'current']; other formats tried: " in msg
+    # why the text is not a table first (the reason a user of a text table needs), then a count,
+    # not each format's reason (twenty of them buried that sentence: ~2,000 characters)
+    assert msg.endswith(
+        "not a recognised spectrum file: as delimited text, no frequency column in header ['voltage', 'current']; "
+        f"{len(READERS)} other formats tried (each one's reason: impedax.io.identify; the formats: docs/io.md)"
+    ) and "\n" not in msg
+    assert not any(reader.name + ": " in msg for reader in READERS)
+    # identify gives each reader's reason, as the message says
+    reader, tried = ix.io.identify(path)
+    assert reader is None and [t.split(": ")[0] for t in tried] == [r.name for r in READERS]
 
+
+def test_a_missing_impedance_column_is_one_short_message(tmp_path, capsys):
+    """A CSV with frequency and Re Z but no Im Z (a researcher's file): the one useful sentence, under 400 characters."""
+    from impedax.cli import main
+
+    path = tmp_path / "missing_col.csv"
+    path.write_text("frequency_hz,z_real_ohm\n1,100\n10,90\n")
+    assert main(["fit", str(path), "--model", "R1"]) == 2
+    (line,) = capsys.readouterr().err.strip().splitlines()
+    assert "cannot find impedance columns in header ['frequency_hz', 'z_real_ohm']; expected Z' and Z'' (or -Z''), or |Z| and phase" in line
+    assert f"; {len(READERS)} other formats tried" in line and len(line) - len(str(path)) < 300
 
 def test_hdf5_without_h5py_says_how_to_get_it(tmp_path, monkeypatch):
     path = tmp_path / "sweep.h5"
@@ -596,8 +612,9 @@ def test_a_user_reader_is_one_function_and_one_registration(tmp_path):
     assert loaded.attrs["source"] == str(path)  # (built by make_spectrum, whose source is "memory": later errors name the file)
     with pytest.raises(ix.DataError, match=re.escape(str(path)) + ": the KK test needs at least 4 frequencies"):
         ix.kk_test(loaded)
-    with pytest.raises(ix.DataError, match="My format: no 'MYFORMAT' signature"):
+    with pytest.raises(ix.DataError, match=f"; {len(readers)} other formats tried"):
         ix.load(_mystery(tmp_path), readers=readers)
+    assert "My format: no 'MYFORMAT' signature" in ix.io.identify(_mystery(tmp_path), readers)[1]
     assert ix.load(FIXTURES / "zplot_sweep.z", readers=readers).attrs["format"] == "Scribner ZPlot z"
 
 

@@ -49,13 +49,17 @@ def test_remaining_writes_the_trial_mean_remainder(tmp_path, capsys, synthetic_p
     paths = saved_gap_files(tmp_path, _datasets(synthetic_parts))
     out = tmp_path / f"rem{suffix}"
     assert main(["remaining", *paths, "--out", str(out)]) == 0
-    assert "4 total, 4 skin, 4 touchscreen" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert "4 total, 4 skin, 4 touchscreen" in err and "sigma from their standard errors: fit with --weighting sigma to use it" in err
+    assert "Re Z < 0" not in err  # (a passive remainder: no subtraction note)
     written = ix.load(out)
     z_rem, sigma = _by_hand(synthetic_parts)
     f = synthetic_parts["total"][0]
     np.testing.assert_allclose(written["frequency"].values, f, rtol=1e-14)
     np.testing.assert_allclose(written["Z"].values, z_rem, rtol=1e-12)
     np.testing.assert_allclose(written["sigma"].values, sigma, rtol=1e-12)
+    if suffix == ".nc":  # the three paths as attrs (a CSV holds none): a fit of the file knows it is a remainder
+        assert {k: written.attrs[k] for k in ("total", "skin", "touchscreen")} == dict(zip(("total", "skin", "touchscreen"), paths))
 
 
 def test_remaining_trials_keep_the_trial_dimension(tmp_path, capsys, synthetic_parts):
@@ -108,3 +112,63 @@ def test_gap_remaining_saves_the_remainder_it_fitted(tmp_path, capsys, monkeypat
     written = ix.load(out)
     np.testing.assert_allclose(written["Z"].values, z_rem, rtol=1e-12)
     np.testing.assert_allclose(written["sigma"].values, sigma, rtol=1e-12)
+    # the same path attrs as impedax remaining writes (`remainder_with_paths`): a fit of the file knows it is a remainder
+    assert {k: written.attrs[k] for k in ("total", "skin", "touchscreen")} == dict(zip(("total", "skin", "touchscreen"), paths))
+
+
+@pytest.mark.parametrize("name", ["rem.json", "rem.xyz"])
+def test_remaining_refuses_an_unknown_out_extension_before_any_work(tmp_path, capsys, synthetic_parts, name):
+    paths = saved_gap_files(tmp_path, _datasets(synthetic_parts))
+    out = tmp_path / name
+    assert main(["remaining", *paths, "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert f"--out: unknown spectrum extension {out.suffix!r}" in err and ".nc" in err and ".csv" in err and not out.exists()
+    # .txt is the spectrum CSV, as in every command writing spectra (docs/io.md, "Writing spectra")
+    txt = tmp_path / "rem.txt"
+    assert main(["remaining", *paths, "--out", str(txt)]) == 0
+    assert txt.read_text().startswith("frequency_hz,z_real_ohm,z_imag_ohm,sigma_ohm")
+    np.testing.assert_allclose(ix.load(txt)["Z"].values, _by_hand(synthetic_parts)[0], rtol=1e-12)
+
+
+TOP_NEGATIVE = 2  # the remainder's last frequencies with Re Z < 0
+
+
+@pytest.fixture(scope="module")
+def negative_top_parts():
+    """SYNTHETIC total, skin, screen whose remainder 1e5·(1 − 0.5j) Ω has Re Z = −3e4 Ω at its
+    last `TOP_NEGATIVE` frequencies (0.1 % trial scatter: far beyond its sigma and 5 % of |Z|)."""
+    rng = np.random.default_rng(11)
+    f = np.geomspace(10.0, 1e5, 9)
+    remainder = np.full(f.size, 1e5 - 5e4j)
+    remainder[-TOP_NEGATIVE:] = -3e4 - 5e4j
+
+    def scattered(z):
+        return z * (1 + 0.001 * rng.normal(size=(N_TRIALS, f.size)))
+
+    skin, ts = scattered(np.full(f.size, 2e5 - 3e5j)), scattered(np.full(f.size, 1e4 - 2e4j))
+    total = skin.mean(0) + ts.mean(0) + scattered(remainder)
+    return {"total": (f, total), "skin": (f, skin), "ts": (f, ts)}
+
+
+def test_a_remainder_with_re_z_below_zero_blames_the_subtraction(tmp_path, capsys, negative_top_parts):
+    paths = saved_gap_files(tmp_path, _datasets(negative_top_parts))
+    out = tmp_path / "rem.nc"
+    assert main(["remaining", *paths, "--out", str(out)]) == 0
+    (warning,) = [line for line in capsys.readouterr().err.splitlines() if "warning:" in line]
+    f = negative_top_parts["total"][0]
+    shown = ", ".join(f"{x:.4g} Hz" for x in f[-TOP_NEGATIVE:])
+    assert f"Re Z < 0 beyond its sigma at {TOP_NEGATIVE} of {f.size} frequencies ({shown})" in warning
+    assert "series resistance scatters between trials" in warning and "--exclude" in warning
+    # the fit of the written file names the subtraction; the same data without the path attrs, the instrument
+    data = ix.load(out)
+    (remainder_note,) = [w for w in ix.fit("R1 + C1", data).warnings if "Re Z < 0" in w]
+    (plain_note,) = [w for w in ix.fit("R1 + C1", _without_paths(data)).warnings if "Re Z < 0" in w]
+    assert f"{TOP_NEGATIVE} of {f.size} points have Re Z < 0 ({shown})" in remainder_note and f"{TOP_NEGATIVE} of {f.size} points" in plain_note
+    assert "in a remainder, the cause is the subtraction" in remainder_note and "measurement artifact" not in remainder_note
+    assert "measurement artifact" in plain_note and "subtraction" not in plain_note
+
+
+def _without_paths(data):
+    out = data.copy()
+    out.attrs = {k: v for k, v in data.attrs.items() if k not in ("total", "skin", "touchscreen")}
+    return out

@@ -317,7 +317,7 @@ def _check_failure(code, out, err, fragment, tmp_path, before, *, circuit=False,
         assert len(lines) - first <= 4, err
     elif not usage:
         assert first <= 1 and len(lines) == first + 1, err  # after at most one notice line
-    if "formats tried" not in message:  # (the one exception: the list of every reader tried and why)
+    if "formats tried" not in message:  # (the one exception: the reason the text is no table, its header's names, and a count of the formats tried)
         assert message_length(message) < MAX_MESSAGE, f"{message_length(message)} characters: {err[:400]}"
     assert sorted(p.name for p in tmp_path.iterdir()) == before  # nothing written, no temp files
 

@@ -1225,3 +1225,13 @@ def check_distinct_paths(paths: dict[str, str]) -> None:
                     f"{a} and {b} are the same file, {pb}: the gap analysis needs three different measurements "
                     "(DATA_TOTAL: finger on the screen, DATA_SKIN: the skin alone, DATA_TS: the touchscreen alone), given in that order"
                 )
+
+
+def remainder_with_paths(remaining, paths: dict[str, str]):
+    """The remainder Dataset with the paths of the three spectra it was subtracted from as its
+    attrs (`REMAINDER_ATTRS`: total, skin, touchscreen), as ``impedax remaining`` and
+    ``impedax gap --remaining`` both write it: a fit of the file then knows it is a remainder
+    (`is_remainder`) and blames Re Z < 0 on the subtraction, not the instrument."""
+    from ..fitting.least_squares.result import REMAINDER_ATTRS
+
+    return remaining.assign_attrs({k: str(paths[k]) for k in REMAINDER_ATTRS})

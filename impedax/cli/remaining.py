@@ -26,7 +26,12 @@ def register(sub) -> None:
         "--select", action="append", metavar="DIM=LABEL",
         help="narrow each of the three files that has dimension DIM to the spectra whose DIM is LABEL, as impedax gap --select. " + SELECT_SYNTAX_HELP,
     )
-    p.add_argument("--out", metavar="FILE.nc|.csv", help="the remainder as a spectrum: .nc (netCDF) or .csv (frequency_hz,z_real_ohm,z_imag_ohm,sigma_ohm); CSV to standard output when omitted or '-'")
+    p.add_argument(
+        "--out", metavar="FILE.nc|.csv",
+        help="the remainder as a spectrum: .nc (netCDF, also .nc4, .cdf) or .csv (frequency_hz,z_real_ohm,z_imag_ohm,sigma_ohm; "
+        ".txt and a name without extension are the same CSV, .tsv tab-separated); another extension is refused before any work; "
+        "CSV to standard output when omitted or '-'",
+    )
     p.set_defaults(run=run)
 
 
@@ -36,7 +41,7 @@ def run(args) -> int:
     from ..errors import ParameterError
     from ..io import write_csv
     from ..models.gap import gap_remainder
-    from .common import check_distinct_paths, load_selected_files, plan_outputs, spectrum_writer
+    from .common import check_distinct_paths, load_selected_files, plan_outputs, remainder_with_paths, spectrum_writer
 
     out = None if args.out == "-" else args.out
     if args.trials and (out is None or Path(out).suffix.lower() != ".nc"):
@@ -44,14 +49,16 @@ def run(args) -> int:
     outputs = plan_outputs([("--out", out, "spectrum")], inputs=[args.total, args.skin, args.touchscreen])
     total, skin, touchscreen = load_selected_files([args.total, args.skin, args.touchscreen], args.select)
     check_distinct_paths({"total": args.total, "skin": args.skin, "touchscreen": args.touchscreen})
+    paths = {"total": args.total, "skin": args.skin, "touchscreen": args.touchscreen}
+    check_distinct_paths(paths)
     remaining, notes = gap_remainder(total, skin, touchscreen, kind="trials" if args.trials else "mean")
-    remaining.attrs.update({"total": args.total, "skin": args.skin, "touchscreen": args.touchscreen})
+    remaining = remainder_with_paths(remaining, paths)
     outputs.save({"--out": spectrum_writer(lambda: remaining)})
     if out is None:
         sys.stdout.write(write_csv(remaining))
     for note in notes:
         print(f"impedax remaining: warning: {note}", file=sys.stderr)
     counts = ", ".join(f"{remaining.attrs[f'n_trials_{k}']} {k}" for k in ("total", "skin", "touchscreen"))
-    what = "every total trial minus the skin and screen means" if args.trials else "trial means" + (", sigma from their standard errors" if "sigma" in remaining else ", no sigma (an input has one spectrum or no scatter)")
+    what = "every total trial minus the skin and screen means" if args.trials else "trial means" + (", sigma from their standard errors: fit with --weighting sigma to use it" if "sigma" in remaining else ", no sigma (an input has one spectrum or no scatter)")
     print(f"impedax remaining: Z_total − Z_skin − Z_TS at {remaining.sizes['frequency']} frequencies from {counts} spectra ({what})", file=sys.stderr)
     return 0

@@ -416,13 +416,19 @@ CLEARLY_LOWER_RMS = 1.5
 model fits clearly better when its rms_rel is at most 1/this of the fit's and its AIC is lower:
 χ² 2.25× lower, which k extra parameters on n real values give the noise alone only with
 k > 0.56 n (χ² shrinks as (n − k)/n), and a likelihood ratio n ln 2.25 ≥ 16 from 10 points on."""
+DECISIVE_DELTA_AIC = 10.0
+"""Without a valid F-test another model also fits clearly better when its AIC is lower by at
+least this: Burnham & Anderson (2002, Model Selection and Multimodel Inference, §2.6) give a model
+ΔAIC > 10 behind the best essentially no support, the standard evidence between non-nested models
+(R_EP ∥ C_gap against CPE_EP ∥ C_gap: rms_rel only 1.29× apart, ΔAIC 61)."""
 
 
 def _model_not_data(fit: FitResult, i: int, results: Sequence[FitResult], labels: Sequence[str], tests: Sequence[dict], aics: Sequence[float]) -> FitResult:
     """``fit`` (``results[i]``) with its note that the data limit the fit (`misfit_notes`,
     `DATA_LIMIT_NOTE`) replaced by one naming the model of the comparison that fits the same
     data significantly better (a valid F-test with p below `SIGNIFICANTLY_BETTER_P`, else an
-    rms_rel `CLEARLY_LOWER_RMS` × lower with a lower AIC): the comparison's own numbers then
+    rms_rel `CLEARLY_LOWER_RMS` × lower with a lower AIC, or an AIC lower by `DECISIVE_DELTA_AIC`):
+    the comparison's own numbers then
     say the misfit is this model's, and the note sent the user to the data. Unchanged otherwise,
     and for fits whose warnings are per spectrum (a mapping)."""
     warnings = fit.warnings
@@ -436,7 +442,7 @@ def _model_not_data(fit: FitResult, i: int, results: Sequence[FitResult], labels
         if test is not None:
             if test["p_value"] < SIGNIFICANTLY_BETTER_P:
                 better.append((0, test["p_value"], j, f"F-test p = {test['p_value']:.2g}"))
-        elif fit.rms_rel >= CLEARLY_LOWER_RMS * other.rms_rel and aics[j] < aics[i]:
+        elif aics[j] < aics[i] and (fit.rms_rel >= CLEARLY_LOWER_RMS * other.rms_rel or aics[i] - aics[j] >= DECISIVE_DELTA_AIC):
             better.append((1, other.rms_rel / fit.rms_rel, j, f"ΔAIC {aics[j] - aics[i]:.1f}"))
     if not better:
         return fit

@@ -3,7 +3,7 @@
 A file is recognised by its content: each reader's ``sniff`` looks at the first 64 kB (and the
 name) and the first that claims the file reads it; plain delimited text is the fallback. A file
 no reader claims raises one `DataError`: first why it is not delimited text (the column names
-it found), then every other format tried and why it did not fit. Files that are not regular
+it found), then how many other formats were tried (`identify` gives each one's reason). Files that are not regular
 files (``/dev/zero``, pipes) or are larger than `MAX_FILE_BYTES` are refused before anything is
 read.
 """
@@ -118,12 +118,13 @@ def _checked(ds: xr.Dataset, path: Path) -> xr.Dataset:
 
 def _unrecognised(as_text: str | None, tried: Sequence[str]) -> str:
     """The message for a file no reader claims: why it is not delimited text first (the reason
-    a user of a text table needs; ``None``: the file is binary), then every other format tried
-    and why, on one line."""
+    a user of a text table needs; ``None``: the file is binary), then how many other formats
+    were tried, not each one's reason (twenty reasons buried the one sentence that matters:
+    ~2,000 characters); `identify` gives them, docs/io.md lists the formats."""
+    others = f"{len(tried)} other format{'s' if len(tried) != 1 else ''}"
+    listed = f"; {others} tried (each one's reason: impedax.io.identify; the formats: docs/io.md)" if tried else "; no other format is registered"
     if as_text is None:
-        listed = f"; formats tried: {'; '.join(tried)}" if tried else "; no reader is registered"
-        return f"not a recognised spectrum file: a binary file that no reader claims{listed}"
-    listed = f"; other formats tried: {'; '.join(tried)}" if tried else "; no other format is registered"
+        return f"not a recognised spectrum file: a binary file that no reader claims{listed.replace(' other format', ' format')}"
     return f"not a recognised spectrum file: as delimited text, {as_text}{listed}"
 
 

@@ -36,6 +36,8 @@ from ..arguments import GAP_MIN_STEPS, MAX_WALKERS, checked_arguments, choice, c
 from ..errors import CircuitError, DataError, ParameterError
 from ..constants import EPSILON_0, EPSILON_AIR
 from ..fitting.bayes.chain import AUTO_STEPS, steps_rule
+from ..fitting.least_squares.result import SUBTRACTION_CAUSE, listed_frequencies
+from ..fitting.statistics import non_passive
 from .gap_inputs import check_gap_inputs, position_notes, spectra_used
 from .plausible import FINGERTIP_AREA_M2
 from .sirin import SIRIN_AREA, SIRIN_DRIVE_V, PaperGapEstimate, gap_force_peak, paper_gap_estimate, remainder_circuit, remaining_impedance, trial_mean, trial_remainders
@@ -231,6 +233,8 @@ class GapAnalysis:
         g, c, p = self.gap, self.c_gap, self.paper
         peak = self.force.sel(branch="with_ep")["median"]
         i = int(np.argmax(peak.values))
+        bare = self.force.sel(branch="without_ep")["median"]  # (C_gap alone: the JSON's force_without_ep_n)
+        j = int(np.argmax(bare.values))
         if self.hierarchical is not None:
             spread, new = self.gap_spread, self.gap_new_trial
             lines = [
@@ -245,7 +249,8 @@ class GapAnalysis:
             f"paper method    u = {p.gap * 1e6:.3f} µm  {bounds}",
             f"C_gap           = {c['value'] * 1e12:.1f} pF (90%: {c['q05'] * 1e12:.1f}–{c['q95'] * 1e12:.1f} pF); paper method {p.c_gap * 1e12:.1f} pF",
             f"fits            naive C_gap: rms_rel {format_percent(self.naive_fit.rms_rel)};  {self.edl_fit.model}: rms_rel {format_percent(self.edl_fit.rms_rel)}",
-            f"force (peak, V0 = {self.v0:g} V) with EP: max {format_quantity(float(peak[i]), 'N')} at {format_frequency(float(peak['frequency'][i]))}",
+            f"force (peak, V0 = {self.v0:g} V) with EP: max {format_quantity(float(peak[i]), 'N')} at {format_frequency(float(peak['frequency'][i]))}; "
+            f"without EP: max {format_quantity(float(bare[j]), 'N')} at {format_frequency(float(bare['frequency'][j]))}",
             f"force bands     {FORCE_CONDITIONS} (A = {self.area:g} m²)",
         ]
         if self.trials:
@@ -559,11 +564,29 @@ def gap_remainder(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dataset, 
     total, skin, touchscreen = check_gap_inputs(total, skin, touchscreen)
     remaining = _checked_remainder(total, skin, touchscreen)
     if kind == "mean":
-        return remaining, notes
+        return remaining, notes + _subtraction_notes(remaining)
     trials = trial_remainders(total, skin, touchscreen)
     trials = trials.drop_vars([v for v in ("common_error_modes", "trial_error_modes") if v in trials])
     trials.attrs.update({k: v for k, v in remaining.attrs.items() if k.startswith("n_trials_")})
-    return trials, notes
+    return trials, notes + _subtraction_notes(trials)
+
+
+def _subtraction_notes(remaining: xr.Dataset) -> list[str]:
+    """A note naming the frequencies where the remainder (of any trial) has Re Z < 0 beyond its
+    sigma (`non_passive`): no passive contact gives that, the subtraction does
+    (`SUBTRACTION_CAUSE`), and a fit would otherwise blame the instrument."""
+    z = remaining["Z"]
+    sigma = remaining["sigma"].broadcast_like(z).values if "sigma" in remaining else None
+    bad = xr.DataArray(non_passive(z.values, sigma), dims=z.dims).any([d for d in z.dims if d != "frequency"])
+    if not bad.any():
+        return []
+    trials = [d for d in z.dims if d != "frequency"]
+    return [
+        f"the remainder has Re Z < 0 beyond its sigma at {int(bad.sum())} of {bad.size} frequencies ({listed_frequencies(remaining['frequency'].values, bad.values)})"
+        + (" in some trials" if trials else "")
+        + f", which no passive contact gives: the cause is {SUBTRACTION_CAUSE}. A fit will flag these points; "
+        "leave them out (impedax fit --exclude or --fmin/--fmax)" + (", or fit the trial means (impedax remaining without --trials)" if trials else "")
+    ]
 
 
 def _check_remainder_sign(remaining: xr.Dataset) -> None:

@@ -22,7 +22,7 @@ from .starts import attainable_misfit, inward_start, rms_rel_of
 
 __all__ = [
     "FitResult", "fit_result", "fit_notes", "parameter_groups", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes",
-    "misfit_notes", "DATA_LIMIT_NOTE", "SIGMA_EXCEEDED", "gross_misfits", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
+    "misfit_notes", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "SIGMA_EXCEEDED", "gross_misfits", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
     "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "shown_stderr", "without_error", "STDERR_NOTE", "LINEARISED_STDERR_NAME",
 ]
 
@@ -717,15 +717,39 @@ def misfit_notes(freq, z, z_model, known: dict[int, float] | None = None, sigma=
     return out
 
 
-def non_passive_notes(freq, z, sigma=None) -> tuple[str, ...]:
+REMAINDER_ATTRS = ("total", "skin", "touchscreen")
+"""The attrs naming the three spectra a remainder Z_total − Z_skin − Z_TS was subtracted from
+(``impedax remaining``, ``impedax gap --remaining``): data that carry them are a remainder, whose
+Re Z < 0 comes from the subtraction, not from the instrument."""
+SUBTRACTION_CAUSE = (
+    "the subtraction Z_total − Z_skin − Z_TS (the skin and touchscreen spectra's series resistance "
+    "scatters between trials by more than the remainder's real part there)"
+)
+
+
+def is_remainder(attrs) -> bool:
+    """Whether a spectrum's attrs mark it a remainder of a subtraction (`REMAINDER_ATTRS`)."""
+    return all(k in attrs for k in REMAINDER_ATTRS)
+
+
+def listed_frequencies(freq, mask, shown: int = 6) -> str:
+    """The first ``shown`` frequencies where ``mask`` holds, in Hz, then "…" when there are more."""
+    picked = np.sort(np.asarray(freq, float)[np.asarray(mask, bool)])
+    return ", ".join(f"{f:.4g} Hz" for f in picked[:shown]) + (", …" if picked.size > shown else "")
+
+
+def non_passive_notes(freq, z, sigma=None, *, remainder: bool = False) -> tuple[str, ...]:
     """A note naming the points with Re Z < 0 beyond the noise (`statistics.non_passive`),
-    which no passive circuit reaches: usually an instrument's phase error near the top of its band."""
+    which no passive circuit reaches: usually an instrument's phase error near the top of its
+    band; in a remainder (``remainder``, `is_remainder`) the subtraction's scatter."""
     bad = non_passive(z, sigma)
     if not bad.any():
         return ()
-    where = ", ".join(f"{f:.4g} Hz" for f in np.sort(np.asarray(freq, float)[bad])[:6]) + (", …" if bad.sum() > 6 else "")
+    head = f"{int(bad.sum())} of {bad.size} points have Re Z < 0 ({listed_frequencies(freq, bad)}), which no passive circuit reaches: "
+    if remainder:
+        return (head + f"in a remainder, the cause is {SUBTRACTION_CAUSE}; leave them out (fmin/fmax) or fit the trial means",)
     return (
-        f"{int(bad.sum())} of {bad.size} points have Re Z < 0 ({where}), which no passive circuit reaches: a measurement artifact "
+        head + "a measurement artifact "
         "(often a phase error at the top of the instrument's band); leave them out (fmin/fmax) or check the file's sign convention",
     )
 

@@ -43,7 +43,7 @@ from ..problem import residual_scale, weights
 from ..statistics import information_criteria
 from .batch import BatchFitResult, data_notes, fit_batch
 from .branches import idle_branch_notes, idle_branches, settle_vanishing, undetermined, undetermined_mask, vanishing_candidates, vanishing_parameters
-from .result import BOUND_CHI2_FRACTION, LINEARISED_STDERR_NAME, STDERR_NOTE, bound_note, bound_sides, on_bound, shown_stderr, stack_notes, vanishing_term_sides, without_error
+from .result import BOUND_CHI2_FRACTION, LINEARISED_STDERR_NAME, STDERR_NOTE, bound_note, bound_sides, is_remainder, on_bound, shown_stderr, stack_notes, vanishing_term_sides, without_error
 from .solvers import SolverArgs, tree_residuals
 
 __all__ = ["SharedFitResult", "SharedLayout", "shared_layout", "fit_shared", "JointSolution", "joint_solver", "joint_covariance", "SHARING_P_LIMIT"]
@@ -505,7 +505,7 @@ def fit_shared(
     # against its own Kramers–Kronig misfit, whose KK test runs only for the spectra at rms_rel
     # ≥ MISFIT_CHECKED_FROM), under the spectrum's key as in a batch
     flat_sigma = None if sigma is None else sigma.reshape(-1, n_freq)
-    for row, note in enumerate(data_notes(freq, z.reshape(-1, n_freq), z_model.reshape(-1, n_freq), flat_sigma, weighting, source)):
+    for row, note in enumerate(data_notes(freq, z.reshape(-1, n_freq), z_model.reshape(-1, n_freq), flat_sigma, weighting, source, remainder=is_remainder(data.attrs))):
         if note:
             spectrum_notes[row] = spectrum_notes.get(row, ()) + note
     group_notes = [
