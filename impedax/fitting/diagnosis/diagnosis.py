@@ -235,6 +235,11 @@ class Diagnosis:
     def best(self) -> Suggestion | None:
         return self.suggestions[0] if self.suggestions else None
 
+    def same_fits(self, suggestion: Suggestion) -> tuple[Suggestion, ...]:
+        """The other significant suggestions that are the same fit as ``suggestion`` within the
+        noise (`_same_fit`: the data cannot tell them apart), in their order."""
+        return tuple(t for t in self.suggestions if t is not suggestion and _same_fit(suggestion.fit, t.fit, self.noise))
+
     @property
     def noise_level(self) -> float:
         """Median relative noise σ per component."""

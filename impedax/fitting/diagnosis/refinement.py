@@ -36,7 +36,9 @@ class RefinementStep:
     elements the step left out (`Suggestion.removed`); a step of `_simplified` or `_pruned`
     adds nothing (``added`` and ``effect`` None) and lists the element(s) it took out, and a
     step of `_pruned` that put a simpler element in place of one (a CPE at α = 1 → a C) has
-    ``added`` that element, ``effect`` None and ``removed`` the one it replaced."""
+    ``added`` that element, ``effect`` None and ``removed`` the one it replaced. ``same_fit``:
+    the models of the other suggestions of the previous step's diagnosis that fit the data as
+    well within the noise (`Diagnosis.same_fits`): equally valid alternatives to this step."""
 
     __repr__ = concise_repr  # (the generated one printed every array)
 
@@ -45,6 +47,7 @@ class RefinementStep:
     effect: str | None
     diagnosis: Diagnosis | None
     removed: tuple[str, ...] = ()
+    same_fit: tuple[str, ...] = ()
 
     @property
     def model(self) -> str:
@@ -63,7 +66,7 @@ class RefinementStep:
         return f"− {', '.join(self.removed)} [simplified]" if self.removed else "(start)"
 
     def as_json(self) -> dict:
-        return {"model": self.model, "rms_rel": self.fit.rms_rel, "aic": self.fit.aic, "added": self.added, "effect": self.effect, "bic": self.fit.bic, "chi2_red": self.fit.chi2_red, "verdict": self.diagnosis.verdict if self.diagnosis else None, "removed": list(self.removed)}
+        return {"model": self.model, "rms_rel": self.fit.rms_rel, "aic": self.fit.aic, "added": self.added, "effect": self.effect, "bic": self.fit.bic, "chi2_red": self.fit.chi2_red, "verdict": self.diagnosis.verdict if self.diagnosis else None, "removed": list(self.removed), "same_fit": list(self.same_fit)}
 
 
 @dataclass(frozen=True, eq=False)
@@ -145,6 +148,9 @@ class Refinement:
             how = "fixed" if final.fixed[n] else "at its bound" if n in final.at_bound else f"± {e / abs(v) * 100:.2g} %" if math.isfinite(e) and v else "no error"
             shown.append(f"{n} = {format_quantity(v, specs[n].unit)} ({how})")
         lines = [f"final fit {final.model}: " + ", ".join(shown)]
+        for i, step in enumerate(self.steps):
+            if step.same_fit:
+                lines.append(f"step {i} has an alternative, the same fit within the noise (the data cannot tell them apart): {'; '.join(step.same_fit)}")
         if loose:
             lines.append(f"undetermined in the final fit: {', '.join(sorted(loose))} (the data do not fix {'it' if len(loose) == 1 else 'them'}; see impedax fit of the final model)")
         if self.masked_points:
@@ -254,7 +260,8 @@ def _greedy(steps: list[RefinementStep], best, limit: int, diagnosed, say, label
     while best is not None and added + effect_count(best.effect) <= limit:
         say(f"{label}step {len(steps)}: diagnosing {best.fit.model}")
         d = diagnosed(best.fit, steps[-1].diagnosis.solver_shape)
-        steps.append(RefinementStep(d.baseline, best.added, best.effect, d, tuple(best.removed)))
+        same = tuple(t.model for t in steps[-1].diagnosis.same_fits(best))
+        steps.append(RefinementStep(d.baseline, best.added, best.effect, d, tuple(best.removed), same))
         added += effect_count(best.effect)
         best = _best_within(d, limit - added)
     return steps
