@@ -251,6 +251,21 @@ def _best_within(diagnosis: Diagnosis, room: int):
     return next((s for s in diagnosis.suggestions if effect_count(s.effect) <= room), None)
 
 
+def _with_alternatives(steps: list[RefinementStep]) -> list[RefinementStep]:
+    """``steps`` with each effect step's ``same_fit``: the models of the suggestions of the step
+    before's diagnosis that are the same fit within the noise as the one the step took
+    (`Diagnosis.same_fits`), so that the report names what the data could not tell from it."""
+    out = list(steps)
+    for i in range(1, len(out)):
+        step, before = out[i], out[i - 1].diagnosis
+        if step.effect is None or before is None:
+            continue
+        taken = next((s for s in before.suggestions if s.added == step.added and s.effect == step.effect and s.fit.model == step.model), None)
+        if taken is not None:
+            out[i] = replace(step, same_fit=tuple(t.model for t in before.same_fits(taken)))
+    return out
+
+
 def _greedy(steps: list[RefinementStep], best, limit: int, diagnosed, say, label: str) -> list[RefinementStep]:
     """``steps`` continued greedily: add ``best`` (a `Suggestion` of the last step's diagnosis),
     diagnose the new model, add its best significant suggestion, ... until the verdict is not
@@ -260,8 +275,7 @@ def _greedy(steps: list[RefinementStep], best, limit: int, diagnosed, say, label
     while best is not None and added + effect_count(best.effect) <= limit:
         say(f"{label}step {len(steps)}: diagnosing {best.fit.model}")
         d = diagnosed(best.fit, steps[-1].diagnosis.solver_shape)
-        same = tuple(t.model for t in steps[-1].diagnosis.same_fits(best))
-        steps.append(RefinementStep(d.baseline, best.added, best.effect, d, tuple(best.removed), same))
+        steps.append(RefinementStep(d.baseline, best.added, best.effect, d, tuple(best.removed)))
         added += effect_count(best.effect)
         best = _best_within(d, limit - added)
     return steps
@@ -728,6 +742,7 @@ def refine(
     steps = _second_path(steps, picked, limit, diagnosed, say, notes, finished)
     steps = _simplified(steps, used, n_starts=n_starts, seed=seed, diagnosed=diagnosed, reproduced=reproduced, say=say, notes=notes)
     steps = _pruned(steps, used, n_starts=n_starts, seed=seed, diagnosed=diagnosed, reproduced=reproduced, say=say, notes=notes)
+    steps = _with_alternatives(steps)
     last = steps[-1].diagnosis
     if last.verdict == Verdict.MISSING_EFFECT and last.best is not None and sum(effect_count(s.effect) for s in steps) + effect_count(last.best.effect) > limit:
         notes.append(
