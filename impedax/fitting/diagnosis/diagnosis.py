@@ -59,7 +59,7 @@ from .bands import FailingBand, failing_bands, format_frequency, RUN_P
 from .catalog import BaselineContext, Effect, EffectCatalog, Proposal
 from .effects import DEFAULT_EFFECTS, FINITE_WARBURGS, IN_PLACE_OF_WARBURG, cited_where
 from .noise import NOISE_FLOOR, OUTLIER_MAX_FRACTION, NoiseModel, kk_indices, kk_judged_locally, kk_outliers, noise_model
-from .vanishing import share_words, vanished_terms
+from .vanishing import idle_elements, share_words, vanished_terms
 
 __all__ = [
     "Diagnosis", "Suggestion", "Verdict", "diagnose", "noise_variance_explained",
@@ -234,6 +234,11 @@ class Diagnosis:
     @property
     def best(self) -> Suggestion | None:
         return self.suggestions[0] if self.suggestions else None
+
+    def same_fits(self, suggestion: Suggestion) -> tuple[Suggestion, ...]:
+        """The other significant suggestions that are the same fit as ``suggestion`` within the
+        noise (`_same_fit`: the data cannot tell them apart), in their order."""
+        return tuple(t for t in self.suggestions if t is not suggestion and _same_fit(suggestion.fit, t.fit, self.noise))
 
     @property
     def noise_level(self) -> float:
@@ -727,7 +732,54 @@ def _claims_finite_diffusion(s: Suggestion) -> bool:
     return s.fit.registry[s.fit.circuit.element(s.added).symbol].symbol in FINITE_WARBURGS and not s.where.startswith(IN_PLACE_OF_WARBURG)
 
 
-def _rank(cands: list[Suggestion], evidence: PeakEvidence | None = None, loose: frozenset[str] = frozenset()) -> list[Suggestion]:
+def _holders(circuit: Circuit) -> dict[str, type | None]:
+    """element name → the kind of node that holds it directly (`Series`, `Parallel`; None for a
+    one-element circuit)."""
+    out: dict[str, type | None] = {}
+
+    def walk(node, parent):
+        if isinstance(node, Element):
+            out[node.name] = parent
+            return
+        for child in node.children:
+            walk(child, type(node))
+
+    walk(circuit, None)
+    return out
+
+
+def _changes_idle(s: Suggestion, idle: frozenset[str], base: Circuit | None) -> bool:
+    """Does candidate ``s`` change an ``idle`` element of the baseline circuit ``base``: replace
+    or leave it out (it is not in the candidate's circuit), or extend it (the candidate puts it
+    in a node of another kind: in series with a new element where it was a parallel branch, or
+    the reverse)?"""
+    if not idle or base is None:
+        return False
+    before, after = _holders(base), _holders(s.fit.circuit)
+    return any(e not in after or after[e] is not before.get(e) for e in idle)
+
+
+def _idle_first(order: list[Suggestion], idle: frozenset[str], base: Circuit | None, noise: np.ndarray | None) -> list[Suggestion]:
+    """``order`` with each candidate that changes an idle element of the baseline (`_changes_idle`)
+    moved ahead of the first one before it that is the same fit within the noise (`_same_fit`) and
+    changes none, when it is no larger and in the same class (with or without a warning). The two
+    fit the data alike, but changing an element the baseline left idle keeps every working
+    element's value and role, where the other reassigns them (R ∥ C_EP ∥ C_gap with C_EP idle:
+    C_gap → CPE_gap fits as well as C_EP → CPE_EP, but moves the gap's capacitance into C_EP).
+    Without idle elements or ties, ``order`` is returned unchanged."""
+    if noise is None or not idle or base is None:
+        return order
+    out = list(order)
+    for t in [s for s in order if _changes_idle(s, idle, base)]:
+        i = out.index(t)
+        tied = next((j for j, s in enumerate(out[:i]) if not _changes_idle(s, idle, base) and (s.warning is None) == (t.warning is None)
+                     and t.fit.n_params <= s.fit.n_params and _same_fit(s.fit, t.fit, noise)), None)
+        if tied is not None:
+            out.insert(tied, out.pop(i))
+    return out
+
+
+def _rank(cands: list[Suggestion], evidence: PeakEvidence | None = None, loose: frozenset[str] = frozenset(), idle: frozenset[str] = frozenset(), base: Circuit | None = None, noise: np.ndarray | None = None) -> list[Suggestion]:
     """Best first by AIC, with the same parsimony rule as the verdict: a candidate with more
     free parameters outranks a simpler one only if it lowers AIC by more than `DELTA_AIC_MIN`.
     A candidate "leaves an element out" when it drops a baseline element that is not in
@@ -744,7 +796,9 @@ def _rank(cands: list[Suggestion], evidence: PeakEvidence | None = None, loose: 
     leaving an element out changes what the user's elements stand for (R_sc of an arc becomes
     the series resistance), so it is the answer only when nothing that keeps them explains the
     data. Candidates with a warning
-    (undetermined or implausible parameters, no convergence) come after all the others."""
+    (undetermined or implausible parameters, no convergence) come after all the others. Last,
+    of candidates that are the same fit within ``noise``, one that changes an ``idle`` element
+    of the ``base`` circuit goes first (`_idle_first`)."""
     def left_out(s: Suggestion) -> bool:
         return not set(s.removed) <= loose | set(s.vanished)
 
@@ -762,7 +816,7 @@ def _rank(cands: list[Suggestion], evidence: PeakEvidence | None = None, loose: 
     clean = [s for s in cands if s.warning is None]
     keeping = ranked([s for s in clean if not left_out(s)])
     first = keeping + ranked([s for s in clean if left_out(s)]) if any(s.significant for s in keeping) else ranked(clean)
-    return first + ranked([s for s in cands if s.warning is not None])
+    return _idle_first(first + ranked([s for s in cands if s.warning is not None]), idle, base, noise)
 
 
 def non_passive_points(ds: xr.Dataset) -> np.ndarray:
@@ -1664,7 +1718,9 @@ def diagnose(
 
     def judged(base):
         bands = failing_bands(base, sigma_rel, kk_bad_bands=kk_bands)
-        cands = _rank(_suggestions(base, proposals, fits[1:], sigma_rel, bands, evidence), evidence, _undetermined_elements(base))
+        loose = _undetermined_elements(base)
+        idle = idle_elements(base, undetermined_parameters(base))
+        cands = _rank(_suggestions(base, proposals, fits[1:], sigma_rel, bands, evidence), evidence, loose, idle, base.circuit, sigma_rel)
         return (bands, cands) + _verdict(cands, bands, _noise_ratio(base, sigma_rel))
 
     bands, cands, verdict, reason = judged(base)

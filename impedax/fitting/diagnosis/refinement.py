@@ -36,7 +36,9 @@ class RefinementStep:
     elements the step left out (`Suggestion.removed`); a step of `_simplified` or `_pruned`
     adds nothing (``added`` and ``effect`` None) and lists the element(s) it took out, and a
     step of `_pruned` that put a simpler element in place of one (a CPE at α = 1 → a C) has
-    ``added`` that element, ``effect`` None and ``removed`` the one it replaced."""
+    ``added`` that element, ``effect`` None and ``removed`` the one it replaced. ``same_fit``:
+    the models of the other suggestions of the previous step's diagnosis that fit the data as
+    well within the noise (`Diagnosis.same_fits`): equally valid alternatives to this step."""
 
     __repr__ = concise_repr  # (the generated one printed every array)
 
@@ -45,6 +47,7 @@ class RefinementStep:
     effect: str | None
     diagnosis: Diagnosis | None
     removed: tuple[str, ...] = ()
+    same_fit: tuple[str, ...] = ()
 
     @property
     def model(self) -> str:
@@ -63,7 +66,7 @@ class RefinementStep:
         return f"− {', '.join(self.removed)} [simplified]" if self.removed else "(start)"
 
     def as_json(self) -> dict:
-        return {"model": self.model, "rms_rel": self.fit.rms_rel, "aic": self.fit.aic, "added": self.added, "effect": self.effect, "bic": self.fit.bic, "chi2_red": self.fit.chi2_red, "verdict": self.diagnosis.verdict if self.diagnosis else None, "removed": list(self.removed)}
+        return {"model": self.model, "rms_rel": self.fit.rms_rel, "aic": self.fit.aic, "added": self.added, "effect": self.effect, "bic": self.fit.bic, "chi2_red": self.fit.chi2_red, "verdict": self.diagnosis.verdict if self.diagnosis else None, "removed": list(self.removed), "same_fit": list(self.same_fit)}
 
 
 @dataclass(frozen=True, eq=False)
@@ -145,6 +148,9 @@ class Refinement:
             how = "fixed" if final.fixed[n] else "at its bound" if n in final.at_bound else f"± {e / abs(v) * 100:.2g} %" if math.isfinite(e) and v else "no error"
             shown.append(f"{n} = {format_quantity(v, specs[n].unit)} ({how})")
         lines = [f"final fit {final.model}: " + ", ".join(shown)]
+        for i, step in enumerate(self.steps):
+            if step.same_fit:
+                lines.append(f"step {i} has an alternative, the same fit within the noise (the data cannot tell them apart): {'; '.join(step.same_fit)}")
         if loose:
             lines.append(f"undetermined in the final fit: {', '.join(sorted(loose))} (the data do not fix {'it' if len(loose) == 1 else 'them'}; see impedax fit of the final model)")
         if self.masked_points:
@@ -245,6 +251,21 @@ def _best_within(diagnosis: Diagnosis, room: int):
     if effect_count(diagnosis.best.effect) <= room:
         return diagnosis.best
     return next((s for s in diagnosis.suggestions if effect_count(s.effect) <= room), None)
+
+
+def _with_alternatives(steps: list[RefinementStep]) -> list[RefinementStep]:
+    """``steps`` with each effect step's ``same_fit``: the models of the suggestions of the step
+    before's diagnosis that are the same fit within the noise as the one the step took
+    (`Diagnosis.same_fits`), so that the report names what the data could not tell from it."""
+    out = list(steps)
+    for i in range(1, len(out)):
+        step, before = out[i], out[i - 1].diagnosis
+        if step.effect is None or before is None:
+            continue
+        taken = next((s for s in before.suggestions if s.added == step.added and s.effect == step.effect and s.fit.model == step.model), None)
+        if taken is not None:
+            out[i] = replace(step, same_fit=tuple(t.model for t in before.same_fits(taken)))
+    return out
 
 
 def _greedy(steps: list[RefinementStep], best, limit: int, diagnosed, say, label: str) -> list[RefinementStep]:
@@ -727,6 +748,7 @@ def refine(
     steps = _second_path(steps, picked, limit, diagnosed, say, notes, finished)
     steps = _simplified(steps, used, n_starts=n_starts, seed=seed, diagnosed=diagnosed, reproduced=reproduced, say=say, notes=notes)
     steps = _pruned(steps, used, n_starts=n_starts, seed=seed, diagnosed=diagnosed, reproduced=reproduced, say=say, notes=notes)
+    steps = _with_alternatives(steps)
     last = steps[-1].diagnosis
     if last.verdict == Verdict.MISSING_EFFECT and last.best is not None and sum(effect_count(s.effect) for s in steps) + effect_count(last.best.effect) > limit:
         notes.append(

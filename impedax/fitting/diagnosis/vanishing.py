@@ -13,7 +13,7 @@ from ..least_squares import FitResult
 from ..least_squares.branches import VANISHING_SHARE, IdleBranch, idle_branches
 from ..parameters import ParameterTable
 
-__all__ = ["flagged_parameters", "vanished_terms", "vanished_parameters", "share_words"]
+__all__ = ["flagged_parameters", "idle_elements", "vanished_terms", "vanished_parameters", "share_words"]
 
 
 def flagged_parameters(fit: FitResult) -> set[str]:
@@ -50,6 +50,30 @@ def vanished_terms(fit: FitResult) -> list[tuple[IdleBranch, Circuit, tuple[str,
         gone = set(fit.circuit.parameter_names(fit.registry)) - set(reduced.parameter_names(fit.registry))
         out.append((branch, reduced, tuple(n for n in fit.free_names if n in gone and n in flagged)))
     return out
+
+
+def idle_elements(fit: FitResult, undetermined: frozenset[str]) -> frozenset[str]:
+    """The elements of ``fit``'s circuit in an idle term (`branches.idle_branches`: a branch
+    carrying below `branches.IDLE_BRANCH_SHARE` of its block's current, or a series term below
+    that share of its chain's voltage) holding one of the ``undetermined`` parameters — the
+    elements its idle note names. The fit gave them no role, so the diagnosis prefers changing
+    them among candidates the data cannot tell apart (`diagnosis._rank`)."""
+    if not undetermined or not np.isfinite(fit.chi2) or len(fit.circuit.element_names) < 2:
+        return frozenset()
+    try:
+        table = ParameterTable.build(fit.circuit, registry=fit.registry, fixed={k: v for k, v in fit.values.items() if fit.fixed[k]} or None)
+    except (ParameterError, CircuitError):
+        return frozenset()
+    values = np.array([[fit.values[n] for n in table.names]], float)
+    mask = np.array([[n in undetermined for n in table.free_names]])
+    out: set[str] = set()
+    for branch in idle_branches(fit.circuit, fit.registry, table, values, mask, fit.frequency):
+        try:
+            kept = parse(branch.reduced, fit.registry).element_names
+        except CircuitError:
+            continue
+        out |= set(fit.circuit.element_names) - set(kept)
+    return frozenset(out)
 
 
 def vanished_parameters(fit: FitResult) -> frozenset[str]:
