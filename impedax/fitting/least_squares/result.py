@@ -747,7 +747,7 @@ def non_passive_notes(freq, z, sigma=None, *, remainder: bool = False) -> tuple[
         return ()
     head = f"{int(bad.sum())} of {bad.size} points have Re Z < 0 ({listed_frequencies(freq, bad)}), which no passive circuit reaches: "
     if remainder:
-        return (head + f"in a remainder, the cause is {SUBTRACTION_CAUSE}; leave them out (fmin/fmax) or fit the trial means",)
+        return (head + f"in a remainder, the cause is {SUBTRACTION_CAUSE}; leave them out (fmin/fmax, or impedax fit --exclude); a remainder of the trial means (impedax remaining without --trials) scatters less",)
     return (
         head + "a measurement artifact "
         "(often a phase error at the top of the instrument's band); leave them out (fmin/fmax) or check the file's sign convention",
