@@ -36,7 +36,7 @@ from ..arguments import GAP_MIN_STEPS, MAX_WALKERS, checked_arguments, choice, c
 from ..errors import CircuitError, DataError, ParameterError
 from ..constants import EPSILON_0, EPSILON_AIR
 from ..fitting.bayes.chain import AUTO_STEPS, steps_rule
-from ..fitting.least_squares.result import SUBTRACTION_CAUSE, listed_frequencies
+from ..fitting.least_squares.result import REMAINDER_ATTRS, SUBTRACTION_CAUSE, listed_frequencies
 from ..fitting.statistics import non_passive
 from .gap_inputs import check_gap_inputs, position_notes, spectra_used
 from .plausible import FINGERTIP_AREA_M2
@@ -393,6 +393,7 @@ def gap_analysis(
     trials = spectra_used(total, skin, touchscreen)
     notes += position_notes(trials)
     remaining = _checked_remainder(total, skin, touchscreen)
+    notes += _subtraction_notes(remaining)
     if method == "hierarchical":
         _check_hierarchical_trials(remaining)
     paper = paper_gap_estimate(total, skin, touchscreen, area=area, cutoff_hz=cutoff_hz, eps_gap=eps_gap)
@@ -541,10 +542,13 @@ pooled sampling fit) or every total trial's remainder (what the hierarchical mod
 
 def _checked_remainder(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dataset) -> xr.Dataset:
     """`remaining_impedance` of inputs already through `check_gap_inputs`, refused when its sign
-    says the files are in the wrong order (`_check_remainder_sign`)."""
+    says the files are in the wrong order (`_check_remainder_sign`), with the inputs' paths as
+    its `REMAINDER_ATTRS` (``"in memory"`` for data read from no file): a fit of it, the EDL fit
+    of `gap_analysis` too, then blames Re Z < 0 on the subtraction, not on the instrument."""
     remaining = remaining_impedance(total, skin, touchscreen)
     _check_remainder_sign(remaining)
-    return remaining
+    paths = (str(ds.attrs.get("path", "in memory")) for ds in (total, skin, touchscreen))
+    return remaining.assign_attrs(dict(zip(REMAINDER_ATTRS, paths)))
 
 
 def gap_remainder(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dataset, *, kind: str = "mean") -> tuple[xr.Dataset, list[str]]:
@@ -567,7 +571,7 @@ def gap_remainder(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dataset, 
         return remaining, notes + _subtraction_notes(remaining)
     trials = trial_remainders(total, skin, touchscreen)
     trials = trials.drop_vars([v for v in ("common_error_modes", "trial_error_modes") if v in trials])
-    trials.attrs.update({k: v for k, v in remaining.attrs.items() if k.startswith("n_trials_")})
+    trials.attrs.update({k: v for k, v in remaining.attrs.items() if k.startswith("n_trials_") or k in REMAINDER_ATTRS})
     return trials, notes + _subtraction_notes(trials)
 
 
