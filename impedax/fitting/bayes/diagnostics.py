@@ -4,6 +4,7 @@ against a prior's edge, a linearised standard error far from the posterior's wid
 
 from __future__ import annotations
 
+import functools
 import math
 from typing import Mapping, NamedTuple, Sequence
 
@@ -13,7 +14,7 @@ from ...data import unit_text
 
 __all__ = [
     "CHAIN_TAU_MULTIPLE", "ACCEPTANCE_STUCK", "GAUSSIAN_ACCEPTANCE", "CORRELATION_WARNING", "EDGE_BAND", "EDGE_DENSITY", "EDGE_MIN_DRAWS",
-    "INTERVAL_RATIO_WARNING", "integrated_autocorr", "flat_acceptance", "acceptance_ceiling", "hdi", "chain_warnings", "PriorEdges", "prior_edges",
+    "INTERVAL_RATIO_WARNING", "integrated_autocorr", "flat_acceptance", "acceptance_ceiling", "hdi", "chain_warnings", "PriorEdges", "prior_edges", "PiledUp",
     "acceptance_warnings", "interval_warnings", "figure",
 ]
 
@@ -242,6 +243,23 @@ def prior_edges(
                 )
     return PriorEdges(out, piled_up)
 
+
+
+class PiledUp:
+    """The prior-edge check of a posterior (`Posterior`, `SharedPosterior`: they hold ``names``,
+    ``units``, ``draws``, ``priors`` and ``bounds``), computed once for its warnings and its
+    ``piled_up`` data."""
+
+    @functools.cached_property
+    def _prior_edges(self) -> PriorEdges:
+        return prior_edges(self.names, self.units, self.draws.reshape(-1, len(self.names)), self.priors, *self.bounds)
+
+    @property
+    def piled_up(self) -> dict[str, str]:
+        """The sampled parameters whose draws pile up against an edge of their prior or bound,
+        each with its side: "lower", "upper" or "both" (`prior_edges`; the warnings say it in
+        words)."""
+        return dict(self._prior_edges.piled_up)
 
 def interval_warnings(
     linearised: Mapping[str, float],

@@ -25,7 +25,7 @@ from ...errors import DataError, ParameterError
 from ..derived import QUANTILES, draw_indices, draws_band, needs_freq
 from ..least_squares import FitResult
 from .chain import capped_at, length_text
-from .diagnostics import CHAIN_TAU_MULTIPLE, PriorEdges, chain_warnings, figure, hdi, integrated_autocorr, interval_warnings, prior_edges
+from .diagnostics import CHAIN_TAU_MULTIPLE, PiledUp, chain_warnings, figure, hdi, integrated_autocorr, interval_warnings
 from .logprob import NOISE_MODELS, NoiseModel
 from .priors import Prior
 from .reparam import Reparametrization, rebuild
@@ -44,7 +44,7 @@ def _quantiles_by_name(q: xr.Dataset, names) -> dict[str, dict[str, float]]:
 
 
 @dataclass(frozen=True, eq=False)
-class Posterior:
+class Posterior(PiledUp):
     """Draws from the posterior of a circuit's parameters given one spectrum. Immutable.
 
     ``draws`` (walker, draw, param) are natural values of the sampled parameters ``names``
@@ -155,17 +155,6 @@ class Posterior:
         out.extend(self.notes)
         out.extend(f"least-squares start: {w}" for w in self.fit.warnings)
         return tuple(out)
-
-    @functools.cached_property
-    def _prior_edges(self) -> PriorEdges:
-        return prior_edges(self.names, self.units, self.draws.reshape(-1, len(self.names)), self.priors, *self.bounds)
-
-    @property
-    def piled_up(self) -> dict[str, str]:
-        """The sampled parameters whose draws pile up against an edge of their prior or bound,
-        each with its side: "lower", "upper" or "both" (`diagnostics.prior_edges`; the
-        warnings say it in words)."""
-        return dict(self._prior_edges.piled_up)
 
     def _interval_warnings(self) -> list[str]:
         """`interval_warnings` for the sampled circuit parameters free in the start fit."""

@@ -38,7 +38,7 @@ from ..derived import QUANTILES, draws_band, needs_freq
 from ..least_squares import SharedFitResult, fit
 from ..parameters import ParameterTable
 from ..problem import open_spectrum
-from .diagnostics import PriorEdges, chain_warnings, figure, hdi, integrated_autocorr, interval_warnings, prior_edges
+from .diagnostics import PiledUp, chain_warnings, figure, hdi, integrated_autocorr, interval_warnings
 from .logprob import NOISE_MODELS, NoiseModel, start_weighting
 from .chain import AUTO_STEPS, auto_step_cap, ball_scales, capped_at, length_settings, length_text, run_emcee, start_walkers, support_in_sampled_space, undetermined_span
 from .posterior import Posterior
@@ -95,7 +95,7 @@ def _log_prob_functions(st: _Structure):
 
 
 @dataclass(frozen=True, eq=False)
-class SharedPosterior:
+class SharedPosterior(PiledUp):
     """Draws from the joint posterior of a global fit. Immutable.
 
     ``names`` are the sampled parameters: the ``shared`` ones, then every other free parameter
@@ -184,17 +184,6 @@ class SharedPosterior:
         out.extend(self.notes)
         out.extend(_start_fit_warnings(self.fit.warnings, len(self.spectra)))
         return tuple(out)
-
-    @functools.cached_property
-    def _prior_edges(self) -> PriorEdges:
-        return prior_edges(self.names, self.units, self.draws.reshape(-1, len(self.names)), self.priors, *self.bounds)
-
-    @property
-    def piled_up(self) -> dict[str, str]:
-        """The sampled parameters whose draws pile up against an edge of their prior or bound,
-        each with its side: "lower", "upper" or "both" (`diagnostics.prior_edges`; the
-        warnings say it in words)."""
-        return dict(self._prior_edges.piled_up)
 
     def _interval_warnings(self) -> list[str]:
         """`interval_warnings` (as `Posterior`'s) for the sampled circuit parameters, each against

@@ -57,7 +57,7 @@ from ..problem import WEIGHTINGS, open_spectrum
 from ..statistics import information_criteria, non_passive
 from .bands import FailingBand, failing_bands, format_frequency, RUN_P
 from .catalog import BaselineContext, Effect, EffectCatalog, Proposal
-from .effects import DEFAULT_EFFECTS, FINITE_WARBURGS, IN_PLACE_OF_WARBURG, cited_where
+from .effects import DEFAULT_EFFECTS, FINITE_WARBURGS, IN_PLACE_OF_WARBURG, cited_where, element_parents
 from .noise import NOISE_FLOOR, OUTLIER_MAX_FRACTION, NoiseModel, kk_indices, kk_judged_locally, kk_outliers, noise_model
 from .vanishing import idle_elements, share_words, vanished_terms
 
@@ -732,22 +732,6 @@ def _claims_finite_diffusion(s: Suggestion) -> bool:
     return s.fit.registry[s.fit.circuit.element(s.added).symbol].symbol in FINITE_WARBURGS and not s.where.startswith(IN_PLACE_OF_WARBURG)
 
 
-def _holders(circuit: Circuit) -> dict[str, type | None]:
-    """element name → the kind of node that holds it directly (`Series`, `Parallel`; None for a
-    one-element circuit)."""
-    out: dict[str, type | None] = {}
-
-    def walk(node, parent):
-        if isinstance(node, Element):
-            out[node.name] = parent
-            return
-        for child in node.children:
-            walk(child, type(node))
-
-    walk(circuit, None)
-    return out
-
-
 def _changes_idle(s: Suggestion, idle: frozenset[str], base: Circuit | None) -> bool:
     """Does candidate ``s`` change an ``idle`` element of the baseline circuit ``base``: replace
     or leave it out (it is not in the candidate's circuit), or extend it (the candidate puts it
@@ -755,8 +739,8 @@ def _changes_idle(s: Suggestion, idle: frozenset[str], base: Circuit | None) -> 
     the reverse)?"""
     if not idle or base is None:
         return False
-    before, after = _holders(base), _holders(s.fit.circuit)
-    return any(e not in after or after[e] is not before.get(e) for e in idle)
+    before, after = element_parents(base), element_parents(s.fit.circuit)
+    return any(e not in after or type(after[e]) is not type(before.get(e)) for e in idle)
 
 
 def _idle_first(order: list[Suggestion], idle: frozenset[str], base: Circuit | None, noise: np.ndarray | None) -> list[Suggestion]:

@@ -22,13 +22,13 @@ from ...data import format_quantity
 from ..drt import PeakEvidence, r_cpe_tau
 from .catalog import BaselineContext, Effect, EffectCatalog, Proposal
 
-__all__ = ["DEFAULT_EFFECTS", "FINITE_WARBURGS", "IN_PLACE_OF_WARBURG", "cited_where", "drt_citation", "placement"]
+__all__ = ["DEFAULT_EFFECTS", "FINITE_WARBURGS", "IN_PLACE_OF_WARBURG", "cited_where", "drt_citation", "element_parents", "placement"]
 
 
 # --- tree helpers ---------------------------------------------------------------------------
 
 
-def _parents(circuit: Circuit) -> dict[str, Circuit | None]:
+def element_parents(circuit: Circuit) -> dict[str, Circuit | None]:
     """element name → the node that holds it directly (None for a one-element circuit)."""
     out: dict[str, Circuit | None] = {}
 
@@ -76,7 +76,7 @@ def _symbol(registry: Registry, e: Element) -> str:
 
 def _leaky_sibling(circuit: Circuit, name: str, registry: Registry) -> bool:
     """True when element ``name`` sits in a parallel block with a DC-conducting branch."""
-    parent = _parents(circuit)[name]
+    parent = element_parents(circuit)[name]
     if not isinstance(parent, Parallel):
         return False
     def conducts(node):  # a branch with a resistive element in it carries the low-frequency current
@@ -89,7 +89,7 @@ def _edl_leak_of(circuit: Circuit, name: str, registry: Registry) -> str | None:
     """The leak resistor of an electric double layer found before: the name of R_EP when
     capacitor ``name`` sits in a block R_EP ∥ ``name`` of two branches (R_EP: the name the
     electrode-polarization effect and the EDL model give it), else None."""
-    parent = _parents(circuit)[name]
+    parent = element_parents(circuit)[name]
     if not isinstance(parent, Parallel) or len(parent.children) != 2:
         return None
     other = next(c for c in parent.children if not (isinstance(c, Element) and c.name == name))
@@ -99,7 +99,7 @@ def _edl_leak_of(circuit: Circuit, name: str, registry: Registry) -> str | None:
 
 def _arc_resistors(circuit: Circuit, registry: Registry) -> list[str]:
     """Resistors that are one branch of a parallel block (or in series inside such a branch)."""
-    parents = _parents(circuit)
+    parents = element_parents(circuit)
     out = []
     for e in circuit.elements():
         if _symbol(registry, e) != "R":
@@ -201,7 +201,7 @@ def _distributed_alpha(ctx: BaselineContext, tau: float, tolerance_decades: floa
 
 def _constant_phase(circuit: Circuit, ctx: BaselineContext) -> list[Proposal]:
     out = []
-    parents = _parents(circuit)
+    parents = element_parents(circuit)
     for e in circuit.elements():
         if _symbol(ctx.registry, e) != "C":
             continue
@@ -289,7 +289,7 @@ def _arc_tau(circuit: Circuit, values: Mapping[str, float], registry: Registry, 
     """The time constant of the arc whose resistor is ``r_name``: R·C, or (R·Q)^(1/α) for a CPE
     beside it in the same parallel block (nan when it has neither; inf when a CPE's α near 0
     puts it beyond floating point)."""
-    parent = _parents(circuit)[r_name]
+    parent = element_parents(circuit)[r_name]
     r = values.get(r_name, np.nan)
     for x in parent.children if isinstance(parent, Parallel) else ():
         if isinstance(x, Element) and _symbol(registry, x) == "C":
@@ -399,7 +399,7 @@ def _beside_diffusion(circuit: Circuit, target: str | None, registry: Registry) 
     if target is None:
         chain = _top_series(circuit)
     else:
-        parent = _parents(circuit)[target]
+        parent = element_parents(circuit)[target]
         chain = parent.children if isinstance(parent, Series) else ()
     return any(isinstance(c, Element) and _symbol(registry, c) in ("W",) + FINITE_WARBURGS for c in chain)
 
@@ -551,7 +551,7 @@ def _loop_plausible(values, p: Proposal) -> str | None:
     other resistor of its parallel block)."""
     r_name, l_name = p.added.split(" + ")
     r_loop, inductance = values.get(r_name, np.nan), values.get(l_name, np.nan)
-    block = _holder(p.circuit, _parents(p.circuit)[r_name])
+    block = _holder(p.circuit, element_parents(p.circuit)[r_name])
     across = next((c.name for c in (block.children if block is not None else ()) if isinstance(c, Element) and c.symbol == "R"), None)
     r_arc = values.get(across, np.nan) if across else np.nan
     if not (np.isfinite(r_loop) and np.isfinite(inductance) and np.isfinite(r_arc) and r_loop > 0 and inductance > 0 and r_arc > 0):
