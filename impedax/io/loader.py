@@ -121,10 +121,11 @@ def _unrecognised(as_text: str | None, tried: Sequence[str]) -> str:
     a user of a text table needs; ``None``: the file is binary), then how many other formats
     were tried, not each one's reason (twenty reasons buried the one sentence that matters:
     ~2,000 characters); `identify` gives them, docs/io.md lists the formats."""
-    others = f"{len(tried)} other format{'s' if len(tried) != 1 else ''}"
-    listed = f"; {others} tried (each one's reason: impedax.io.identify; the formats: docs/io.md)" if tried else "; no other format is registered"
+    other = "" if as_text is None else " other"  # (a binary file was not tried as text)
+    count = f"{len(tried)}{other} format{'s' if len(tried) != 1 else ''}"
+    listed = f"; {count} tried (each one's reason: impedax.io.identify; the formats: docs/io.md)" if tried else f"; no{other} format is registered"
     if as_text is None:
-        return f"not a recognised spectrum file: a binary file that no reader claims{listed.replace(' other format', ' format')}"
+        return f"not a recognised spectrum file: a binary file that no reader claims{listed}"
     return f"not a recognised spectrum file: as delimited text, {as_text}{listed}"
 
 

@@ -33,7 +33,7 @@ import xarray as xr
 from ..circuits import parse
 from ..data import format_frequency, format_percent, format_quantity
 from ..arguments import GAP_MIN_STEPS, MAX_WALKERS, checked_arguments, choice, count, flag, real, seed
-from ..errors import CircuitError, DataError, ParameterError
+from ..errors import IN_MEMORY, CircuitError, DataError, ParameterError
 from ..constants import EPSILON_0, EPSILON_AIR
 from ..fitting.bayes.chain import AUTO_STEPS, steps_rule
 from ..fitting.least_squares.result import REMAINDER_ATTRS, SUBTRACTION_CAUSE, listed_frequencies
@@ -543,11 +543,12 @@ pooled sampling fit) or every total trial's remainder (what the hierarchical mod
 def _checked_remainder(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dataset) -> xr.Dataset:
     """`remaining_impedance` of inputs already through `check_gap_inputs`, refused when its sign
     says the files are in the wrong order (`_check_remainder_sign`), with the inputs' paths as
-    its `REMAINDER_ATTRS` (``"in memory"`` for data read from no file): a fit of it, the EDL fit
-    of `gap_analysis` too, then blames Re Z < 0 on the subtraction, not on the instrument."""
+    its `REMAINDER_ATTRS` (each input's ``source`` as `impedax.load` sets it, else its ``path``,
+    else `IN_MEMORY`): a fit of it, the EDL fit of `gap_analysis` too, then blames Re Z < 0 on
+    the subtraction, not on the instrument."""
     remaining = remaining_impedance(total, skin, touchscreen)
     _check_remainder_sign(remaining)
-    paths = (str(ds.attrs.get("path", "in memory")) for ds in (total, skin, touchscreen))
+    paths = (str(ds.attrs.get("source") or ds.attrs.get("path") or IN_MEMORY) for ds in (total, skin, touchscreen))
     return remaining.assign_attrs(dict(zip(REMAINDER_ATTRS, paths)))
 
 

@@ -33,6 +33,7 @@ from ..errors import DataError, ParameterError
 from ..constants import EPSILON_0
 
 __all__ = [
+    "CPE_REFERENCE_HZ",
     "MeyerPhysical",
     "MeyerModel",
     "THESIS_PHYSICAL",
@@ -58,7 +59,7 @@ __all__ = [
 THESIS_DRIVE_V = 140.0
 """Drive amplitude V_A [V] of thesis Fig 3.4."""
 
-_REFERENCE_HZ = 1e3  # the thesis quotes ρ_sc, ε_sc "at 1 kHz" (eq 3.13 text)
+CPE_REFERENCE_HZ = 1e3  # the thesis quotes ρ_sc, ε_sc "at 1 kHz" (eq 3.13 text): CPE_sc.Q gives C_sc there
 
 _CIRCUITS = {
     "rc": "C_s + C_i + R_sc || C_sc + R_f",
@@ -177,7 +178,7 @@ def meyer_parameters(physical: MeyerPhysical = THESIS_PHYSICAL, *, variant: str 
         params["C_sc"] = physical.c_sc
     else:
         _check_alpha(alpha)
-        params["CPE_sc.Q"] = physical.c_sc * (2.0 * math.pi * _REFERENCE_HZ) ** (1.0 - alpha)
+        params["CPE_sc.Q"] = physical.c_sc * (2.0 * math.pi * CPE_REFERENCE_HZ) ** (1.0 - alpha)
         params["CPE_sc.alpha"] = float(alpha)
     return params
 
@@ -230,7 +231,7 @@ def meyer_model(variant: str = "rc", *, physical: MeyerPhysical | None = None, a
         if variant == "cpe":
             _check_alpha(alpha)
             c_sc = params.pop("C_sc")
-            params["CPE_sc.Q"] = c_sc * (2.0 * math.pi * _REFERENCE_HZ) ** (1.0 - alpha)
+            params["CPE_sc.Q"] = c_sc * (2.0 * math.pi * CPE_REFERENCE_HZ) ** (1.0 - alpha)
             params["CPE_sc.alpha"] = float(alpha)
         area = THESIS_PHYSICAL.area
     else:

@@ -18,16 +18,14 @@ from __future__ import annotations
 import math
 
 from ..data import SI_PREFIXES
-from .meyer import THESIS_PARAMS
+from .meyer import CPE_REFERENCE_HZ, THESIS_PARAMS
 
-__all__ = ["FINGERTIP_AREA_M2", "MEYER_FACTOR", "MEYER_CPE_REFERENCE_HZ", "PARAMETER_UNITS", "plausible_range", "implausible_message", "cpe_capacitance", "implausible_cpe_message"]
+__all__ = ["FINGERTIP_AREA_M2", "MEYER_FACTOR", "PARAMETER_UNITS", "plausible_range", "implausible_message", "cpe_capacitance", "implausible_cpe_message"]
 
 FINGERTIP_AREA_M2 = (1e-6, 1e-2)  # plausible apparent contact of a fingertip: 1 mm² to 100 cm²
 MEYER_FACTOR = 1e3
 """Meyer's circuit values are plausible within this factor either way of the thesis's."""
 PARAMETER_UNITS = {"C_s": "F", "C_i": "F", "C_sc": "F", "R_sc": "Ω", "R_f": "Ω", "area": "m²", "CPE_sc.Q": "F s^(α−1)", "CPE_sc.alpha": ""}
-MEYER_CPE_REFERENCE_HZ = 1e3
-"""The frequency at which CPE_sc.Q is compared with C_sc: the thesis quotes ρ_sc, ε_sc at 1 kHz."""
 
 
 def plausible_range(model: str, name: str) -> tuple[float, float] | None:
@@ -85,7 +83,7 @@ def implausible_message(model: str, name: str, value: float) -> str | None:
     return f"{name} = {_shown(value, unit)} is implausible ({where}){_intended(value, low, high, unit)}"
 
 
-def cpe_capacitance(q: float, alpha: float, frequency_hz: float = MEYER_CPE_REFERENCE_HZ) -> float:
+def cpe_capacitance(q: float, alpha: float, frequency_hz: float = CPE_REFERENCE_HZ) -> float:
     """The capacitance [F] with the CPE's impedance magnitude at ``frequency_hz``:
     C(ω) = Q ω^(α−1) (|Z_CPE| = 1/(Q ω^α) = 1/(ω C)); α = 1 gives Q."""
     return q * (2.0 * math.pi * frequency_hz) ** (alpha - 1.0)
