@@ -30,6 +30,27 @@ def free_fit(biologic):
     return ix.fit(MODEL, biologic)
 
 
+@pytest.fixture(scope="module")
+def bounded_fit(biologic):
+    """``bounded_fit(bounds)``: the fit of `MODEL` to the BioLogic file within ``bounds``, each
+    computed once per module (several tests read the same bounded fits; none changes them)."""
+    fits = {}
+
+    def fit_within(bounds):
+        key = tuple(sorted(bounds.items()))
+        if key not in fits:
+            fits[key] = ix.fit(MODEL, biologic, bounds=bounds)
+        return fits[key]
+
+    return fit_within
+
+
+@pytest.fixture(scope="module")
+def alpha_held_at_1(biologic):
+    """`MODEL` fitted with CPE1.alpha fixed at 1 (read by the label and notebook-display tests)."""
+    return ix.fit(MODEL, biologic, fixed={"CPE1.alpha": 1})
+
+
 # ---------------------------------------------------------------- the oracle: R0 + R1 || CPE1 in numpy
 
 
@@ -61,12 +82,12 @@ def _scipy_fit(data, bounds, start):
 
 
 @pytest.mark.parametrize("bounds", [{"R0": (63.0, 64.0)}, {"CPE1.Q": (0.008368, 0.01023)}])
-def test_narrow_bounds_around_the_optimum_give_the_free_optimum(biologic, free_fit, bounds):
+def test_narrow_bounds_around_the_optimum_give_the_free_optimum(biologic, free_fit, bounded_fit, bounds):
     """The data-driven guess lay outside these bounds (R0 65.5 > 64, Q 0.01027 > 0.01023) and
     was clipped to 1e-6 below the upper bound, where the solver's logistic coordinate is flat:
     the fit stopped there, "converged" and "at its upper bound", χ² 3 % and 8.8 % above the
     optimum that lies inside the bounds."""
-    r = ix.fit(MODEL, biologic, bounds=bounds)
+    r = bounded_fit(bounds)
     assert r.converged and r.at_bound == ()
     assert r.chi2 == pytest.approx(free_fit.chi2, rel=1e-7)
     for n, v in free_fit.values.items():
@@ -89,10 +110,10 @@ def test_an_exponent_bounded_around_its_optimum_is_not_reported_at_its_bound():
     assert r.values["CPE1.alpha"] == pytest.approx(a, rel=1e-3)
 
 
-def test_a_true_bound_optimum_is_still_at_its_bound(biologic, free_fit):
+def test_a_true_bound_optimum_is_still_at_its_bound(biologic, free_fit, bounded_fit):
     """R0 ≤ 63 (the free optimum is 63.56): the constrained optimum is on the bound, χ² falls
     outward there; scipy agrees."""
-    r = ix.fit(MODEL, biologic, bounds={"R0": (60.0, 63.0)})
+    r = bounded_fit({"R0": (60.0, 63.0)})
     assert r.converged and r.at_bound == ("R0",)
     assert r.values["R0"] == pytest.approx(63.0, rel=1e-9)
     values, chi2 = _scipy_fit(biologic, {"R0": (60.0, 63.0)}, free_fit.values)
@@ -145,10 +166,10 @@ def test_a_cpe_started_as_a_capacitor_leaves_alpha_1():
     assert not stack["at_bound"].any()
 
 
-def test_a_batch_reaches_the_single_fits_optimum_and_flags(biologic):
+def test_a_batch_reaches_the_single_fits_optimum_and_flags(biologic, bounded_fit):
     stack = xr.concat([biologic] * 3, dim="cycle").assign_coords(cycle=[0, 1, 2])
     for bounds in ({"R0": (63.0, 64.0)}, {"CPE1.Q": (0.008368, 0.01023)}, {"R0": (60.0, 63.0)}):
-        single = ix.fit(MODEL, biologic, bounds=bounds)
+        single = bounded_fit(bounds)
         ds = ix.fit(MODEL, stack, bounds=bounds).to_xarray()
         assert bool(ds["converged"].all()) == single.converged
         for n, v in single.values.items():
@@ -268,8 +289,8 @@ def test_write_result_takes_a_result(biologic, tmp_path, bad):
 # ---------------------------------------------------------------- 5. labels of fits with fixed values
 
 
-def test_a_fit_with_fixed_values_is_labelled_by_them(biologic, free_fit, tmp_path):
-    held = ix.fit(MODEL, biologic, fixed={"CPE1.alpha": 1})
+def test_a_fit_with_fixed_values_is_labelled_by_them(free_fit, alpha_held_at_1, tmp_path):
+    held = alpha_held_at_1
     c = ix.compare([free_fit, held])
     assert [r["label"] for r in c.rows] == [MODEL, f"{MODEL} [CPE1.alpha=1]"]
     assert f"F-test {MODEL} [CPE1.alpha=1]  ⊂  {MODEL}:" in c.table()
@@ -333,8 +354,8 @@ def test_registry_and_effect_catalog_reprs_are_short_and_say_what_they_hold():
 # ---------------------------------------------------------------- 8. the smaller items
 
 
-def test_comparison_has_a_notebook_display(biologic, free_fit):
-    c = ix.compare([free_fit, ix.fit(MODEL, biologic, fixed={"CPE1.alpha": 1})])
+def test_comparison_has_a_notebook_display(free_fit, alpha_held_at_1):
+    c = ix.compare([free_fit, alpha_held_at_1])
     h = c._repr_html_()
     assert h.startswith('<div class="impedax-result">') and "<table>" in h and "data:image/png;base64," in h
     assert f"<td>{MODEL} [CPE1.alpha=1]</td>" in h and "best by AIC" in h and "F-test" in h
