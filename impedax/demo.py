@@ -17,6 +17,7 @@ import shutil
 import sys
 import time
 from pathlib import Path
+from typing import Sequence
 
 import numpy as np
 
@@ -36,20 +37,34 @@ OUTPUT_NAMES = (
 )
 
 
+def timings_line(steps: Sequence[tuple[str, float]]) -> str:
+    """The demo's closing line from (step name, seconds) pairs: ``Timings: 1. Load the
+    measurements: 3.2 s, 2. …`` (a bare step number did not say which step took the time)."""
+    return "Timings: " + ", ".join(f"{name}: {seconds:.1f} s" for name, seconds in steps)
+
+
 class _Story:
     """Prints the narrative with step headers and timings; collects the report (each step's
-    text under its title, the header printed on the terminal only)."""
+    text under its title, the header printed on the terminal only). ``timings``: (title,
+    seconds) per step, the report's table; ``short_timings``: (short name, seconds), the closing
+    line's (`timings_line`)."""
 
     def __init__(self, stream):
         self.stream = stream
         self.timings: list[tuple[str, float]] = []
+        self.short_timings: list[tuple[str, float]] = []
         self.sections: list[tuple[str, list[str], list[str]]] = []
         self._t = None
         self._title = None
+        self._short = None
 
-    def step(self, number: int, title: str):
+    def step(self, number: int, title: str, *, short: str | None = None):
+        """Start step ``number``, headed ``title``; ``short`` names it in the closing timings line
+        (default the title itself; the demo's headings run past 100 characters, too long for six
+        on one line)."""
         self._close()
         self._title = f"{number}. {title}"
+        self._short = f"{number}. {short if short is not None else title}"
         self._t = time.perf_counter()
         self.sections.append((self._title, [], []))
         self.say(f"\n[{number}/6] {title}", report=False)  # (the report's <h2> is the heading: not again in its text)
@@ -66,6 +81,7 @@ class _Story:
         if self._t is not None:
             dt = time.perf_counter() - self._t
             self.timings.append((self._title, dt))
+            self.short_timings.append((self._short, dt))
             print(f"      ({dt:.1f} s)", file=self.stream, flush=True)
             self._t = None
 
@@ -141,7 +157,7 @@ def run_demo(out: str | os.PathLike = "out", *, fast: bool = False, stream=None)
         story.say("impedax demo — what impedance spectra tell about a finger on a touchscreen", report=False)
         story.say("Data: SYNTHETIC measurements in the style of Sirin et al., embedded in impedax (not measured).", report=False)
 
-        story.step(1, "Load the measurements and isolate the air gap")
+        story.step(1, "Load the measurements and isolate the air gap", short="Load the measurements")
         spectra = example_spectra()
         total, skin, screen = spectra["total_sliding"], spectra["skin"], spectra["touchscreen"]
         n_trials = int(np.prod([total.sizes[d] for d in total["Z"].dims if d != "frequency"]))
@@ -154,7 +170,7 @@ def run_demo(out: str | os.PathLike = "out", *, fast: bool = False, stream=None)
         ix.save(remaining, staging / "remaining_impedance.nc")
         story.say("  Saved the remaining impedance as remaining_impedance.nc")
 
-        story.step(2, "Fit the naive model: the air gap as a pure capacitor")
+        story.step(2, "Fit the naive model: the air gap as a pure capacitor", short="Fit the naive model")
         naive = ix.fit("C_gap", remaining, weighting="sigma")
         first = ix.diagnose(naive, data=remaining)
         story.say(f"  Model C_gap: rms_rel = {naive.rms_rel * 100:.3g} % (relative misfit), C_gap = {naive.values['C_gap'] * 1e12:.0f} pF.")
@@ -164,7 +180,7 @@ def run_demo(out: str | os.PathLike = "out", *, fast: bool = False, stream=None)
         story.figure(_save(fig, staging, "step2_naive_fit.png"))
         facts["naive model rms_rel"] = f"{naive.rms_rel * 100:.3g} %"
 
-        story.step(3, "Diagnose: which physical effect is missing? Add it, refit, watch the error fall")
+        story.step(3, "Diagnose: which physical effect is missing? Add it, refit, watch the error fall", short="Diagnose and refine")
         kk = first.kk
         story.say(f"  Kramers–Kronig test of the data: {'valid' if kk.valid else 'NOT valid'} (rms_rel {kk.rms_rel * 100:.3g} %) — " + ("the misfit is the model's, not the data's." if kk.valid else "parts of the data are not causal/stationary."))
         story.say(f"  Verdict on C_gap: {first.verdict}.")
@@ -188,7 +204,7 @@ def run_demo(out: str | os.PathLike = "out", *, fast: bool = False, stream=None)
         facts["refined model"] = refinement.final_model
         facts["refined rms_rel"] = f"{final.rms_rel * 100:.3g} %"
 
-        story.step(4, "Hierarchical Bayesian fit of the refined model: the gap thickness, its spread between trials, a new trial")
+        story.step(4, "Hierarchical Bayesian fit of the refined model: the gap thickness, its spread between trials, a new trial", short="Hierarchical Bayesian fit")
         if "C_gap" not in final.circuit.element_names:
             raise RuntimeError(f"the refined model {final.model} lost C_gap")
         gap = gap_analysis(total, skin, screen, area=AREA, v0=V0, remainder=final.circuit, edl_fit=final, steps=150 if fast else 400, warmup=150 if fast else 400, progress=True)
@@ -211,7 +227,7 @@ def run_demo(out: str | os.PathLike = "out", *, fast: bool = False, stream=None)
         facts["gap thickness (paper method)"] = f"{p.gap * 1e6:.3f} µm, bounds [{p.gap_lower * 1e6:.3f}, {p.gap_upper * 1e6:.3f}]"
         facts["naive-model gap thickness"] = f"{ix.models.gap_thickness(naive.values['C_gap']) * 1e6:.3f} µm"
 
-        story.step(5, "Gap voltage and electrostatic force over frequency, with and without electrode polarization")
+        story.step(5, "Gap voltage and electrostatic force over frequency, with and without electrode polarization", short="Gap voltage and force")
         force = gap.force
         ff = force["frequency"].values
         with_ep, without = force.sel(branch="with_ep"), force.sel(branch="without_ep")
@@ -233,7 +249,7 @@ def run_demo(out: str | os.PathLike = "out", *, fast: bool = False, stream=None)
     finally:
         story.finish()
         remove_temporary(staging)
-    print("\nTimings: " + ", ".join(f"{t.split('.')[0]}: {dt:.1f} s" for t, dt in story.timings), file=stream)
+    print("\n" + timings_line(story.short_timings), file=stream)
     report = out / "report.html"
     print(f"Report: {report.resolve()}", file=stream)
     return report

@@ -125,3 +125,21 @@ def test_the_demos_files_are_written_as_every_output(tmp_path):
     assert (elsewhere / "report.html").read_text() == "new report" and (out / "step5_force.png").read_bytes() == b"new figure"
     assert sorted(p.name for p in out.iterdir()) == ["report.html", "step5_force.png"]
     assert sorted(p.name for p in elsewhere.iterdir()) == ["report.html"]
+
+
+def test_timings_line_names_each_step():
+    """The closing "Timings:" line names each step by its short name (it gave the step numbers
+    only), and the report's table keeps the full headings; no demo run (`_Story` alone)."""
+    import io
+
+    from impedax.demo import _Story, timings_line
+
+    assert timings_line([("1. Load the measurements", 3.24), ("6. Report", 0.06)]) == "Timings: 1. Load the measurements: 3.2 s, 6. Report: 0.1 s"
+    story = _Story(io.StringIO())
+    story.step(3, "Diagnose: which physical effect is missing? Add it, refit, watch the error fall", short="Diagnose and refine")
+    story.step(6, "Report")
+    story.finish()
+    assert [name for name, _ in story.short_timings] == ["3. Diagnose and refine", "6. Report"]  # (no short name: the title)
+    assert [title for title, _ in story.timings] == ["3. Diagnose: which physical effect is missing? Add it, refit, watch the error fall", "6. Report"]
+    assert [s for _, s in story.short_timings] == [s for _, s in story.timings]
+    assert re.fullmatch(r"Timings: 3\. Diagnose and refine: \d+\.\d s, 6\. Report: \d+\.\d s", timings_line(story.short_timings))

@@ -95,3 +95,24 @@ def test_refine_keeps_the_working_capacitor_and_names_the_alternative():
     assert len(alternative) == 1 and working not in ix.parse(alternative[0]).element_names
     assert r.summary()["steps"][1]["same_fit"] == list(alternative) and r.summary()["steps"][0]["same_fit"] == []
     assert f"step 1 has an alternative, the same fit within the noise (the data cannot tell them apart): {alternative[0]}" in r.report()
+
+
+def test_diagnose_json_lists_each_suggestions_same_fits(diagnosed):
+    """``impedax diagnose --json``'s suggestions[].same_fit: the models of `Diagnosis.same_fits`,
+    as refine's steps[].same_fit; the two capacitor placements name each other, and a suggestion
+    the data tell from every other has []."""
+    d = diagnosed
+    listed = d.summary()["suggestions"]
+    assert [s["model"] for s in listed] == [s.model for s in d.suggestions]
+    for entry, s in zip(listed, d.suggestions):
+        assert entry["same_fit"] == [t.model for t in d.same_fits(s)]
+    best, = (entry for entry in listed if entry["model"] == d.best.model)
+    other = next(s for s in d.suggestions if s is not d.best and s.effect == d.best.effect and "in place of the ideal capacitor" in s.where)
+    assert other.model in best["same_fit"] and d.best.model in next(e for e in listed if e["model"] == other.model)["same_fit"]
+    # "none", checked in numpy from the fits' curves: a suggestion whose model spectrum leaves
+    # every other's by twice the noise σ_k at some point cannot be the same fit as any
+    def apart(s, t):
+        return bool(np.any(np.abs(s.fit.z_model - t.fit.z_model) > 2 * d.noise * np.abs(s.fit.z_data)))
+
+    alone = [entry for entry, s in zip(listed, d.suggestions) if all(apart(s, t) for t in d.suggestions if t is not s)]
+    assert alone and all(entry["same_fit"] == [] for entry in alone)

@@ -83,6 +83,8 @@ def test_summary_json_contract(analysis):
     for key in ("c_gap", "gap_um"):
         assert set(s[key]) >= {"value", "q05", "q95"}
     assert set(s["force_n"]) >= {"frequency_hz", "median", "q05", "q95"}
+    assert set(s["force_without_ep_n"]) >= {"frequency_hz", "median", "q05", "q95"}
+    np.testing.assert_array_equal(s["force_without_ep_n"]["frequency_hz"], s["force_n"]["frequency_hz"])
     assert isinstance(s["warnings"], list)
     assert s["gap_um"]["value"] == pytest.approx(analysis.gap["value"] * 1e6)
 

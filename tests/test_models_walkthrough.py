@@ -233,6 +233,24 @@ def test_gap_help_says_one_thing_about_nc(capsys):
     assert described == [".nc the force bands with the gap summary as attributes (netCDF"], described
 
 
+def test_gap_json_gives_the_frequency_of_the_force_without_ep(stationary):
+    """``force_without_ep_n`` carries its own ``frequency_hz``, as ``force_n`` does: the
+    remainder's frequencies (the total's, from the example files), and the report's "without EP:
+    max … at F" is read off it."""
+    import json
+
+    from impedax.io.export import to_jsonable
+
+    result, (total, _, _) = stationary
+    s = json.loads(json.dumps(to_jsonable(result.summary()), allow_nan=False))  # (as `impedax gap --json` prints it)
+    bare, with_ep = s["force_without_ep_n"], s["force_n"]
+    np.testing.assert_array_equal(bare["frequency_hz"], total["frequency"].values)
+    assert bare["frequency_hz"] == with_ep["frequency_hz"] and len(bare["median"]) == len(bare["frequency_hz"])
+    j = int(np.argmax(bare["median"]))
+    line = next(x for x in result.report().splitlines() if x.startswith("force (peak"))
+    assert line.endswith(f"without EP: max {format_quantity(bare['median'][j], 'N')} at {format_frequency(bare['frequency_hz'][j])}")
+
+
 def test_report_and_figure_scale_the_force_unit(stationary):
     result, _ = stationary
     peak = result.force.sel(branch="with_ep")["median"].values

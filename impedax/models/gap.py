@@ -182,7 +182,10 @@ class GapAnalysis:
                 "q05": with_ep["q05"].values,
                 "q95": with_ep["q95"].values,
             },
-            "force_without_ep_n": {k: self.force.sel(branch="without_ep")[k].values for k in ("median", "q05", "q95")},
+            "force_without_ep_n": {  # (the same frequencies as force_n: both branches are one force band over "frequency")
+                "frequency_hz": self.force["frequency"].values,
+                **{k: self.force.sel(branch="without_ep")[k].values for k in ("median", "q05", "q95")},
+            },
             "convention": FORCE_CONVENTION,
             "paper_method": {
                 "c_gap": self.paper.c_gap,

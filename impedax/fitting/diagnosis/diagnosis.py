@@ -185,14 +185,16 @@ class Suggestion:
     def aic(self) -> float:
         return self.fit.aic
 
-    def as_json(self) -> dict:
+    def as_json(self, same_fit: Sequence[Suggestion] = ()) -> dict:
+        """The JSON of a suggestion; ``same_fit``: the other suggestions that are the same fit
+        within the noise (`Diagnosis.same_fits`), given by their models as refine's steps[].same_fit."""
         return {
             "effect": self.effect, "model": self.model, "rms_rel": self.rms_rel, "aic": self.aic, "delta_aic": self.delta_aic,
             "delta_bic": self.delta_bic, "explanation": self.explanation, "added": self.added, "where": self.where,
             "significant": self.significant, "bic": self.fit.bic, "chi2_red": self.fit.chi2_red,
             "fixed_bands": [list(b) for b in self.fixed_bands], "undetermined": list(self.undetermined), "warning": self.warning,
             "values": {k: float(v) for k, v in self.fit.values.items()}, "removed": list(self.removed),
-            "vanished": list(self.vanished),
+            "vanished": list(self.vanished), "same_fit": [t.model for t in same_fit],
         }
 
 
@@ -288,7 +290,7 @@ class Diagnosis:
             "verdict": self.verdict,
             "reason": self.reason,
             "beyond_catalog": self.beyond_catalog,
-            "suggestions": [s.as_json() for s in self.suggestions],
+            "suggestions": [s.as_json(self.same_fits(s)) for s in self.suggestions],
             "candidates": [
                 {"effect": s.effect, "model": s.model, "rms_rel": s.rms_rel, "aic": s.aic, "delta_aic": s.delta_aic, "delta_bic": s.delta_bic, "significant": s.significant, "undetermined": list(s.undetermined), "warning": s.warning}
                 for s in self.candidates
