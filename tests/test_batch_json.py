@@ -66,6 +66,7 @@ def test_the_command_line_json_has_the_spectra(stack, tmp_path, capsys):
     assert out["n_spectra"] == 4 and [r["cycle"] for r in out["spectra"]] == CYCLES
     assert out["spectra"][1]["values"] == pytest.approx({"R0": 12.0, "R1": 150.0, "C1": 2e-5}, rel=0.02)
     assert out["spectra"][3]["warnings"] and not out["spectra"][0]["warnings"]
+    assert [r["unidentified_groups"] for r in out["spectra"]] == [[], [], [], []]  # (every parameter determined: as each single fit)
 
 
 def test_a_dimension_without_coordinates_is_labelled_by_position(stack):
@@ -122,3 +123,47 @@ def test_a_dimension_named_like_a_result_variable_is_refused_before_fitting(stac
     assert main(["fit", str(path), "--model", MODEL, "--json"]) == 2
     err = capsys.readouterr().err
     assert str(path) in err and f"'{dim}'" in err and "Traceback" not in err
+
+
+@pytest.fixture(scope="module")
+def unidentifiable_stack(stack):
+    """Cycle 10 of ``stack`` (a noisy arc: every parameter determined) beside a noise-free
+    SYNTHETIC spectrum of R0 + R1 = 110 Ω whose arc lies far above the band (C1 = 1e-20 F):
+    there Z depends on R0 + R1 only, so R0 and R1 are a null direction of the Jacobian."""
+    resistor = _rc(10.0, 100.0, 1e-20)
+    return ix.make_spectrum(FREQ, np.array([stack["Z"].sel(cycle=10).values, resistor]), dims=("cycle",)).assign_coords(cycle=[10, 20])
+
+
+@pytest.mark.parametrize("max_steps", [2000, None], ids=["converged", "step-limited"])
+def test_each_spectrum_has_the_unidentified_groups_of_its_fit_alone(unidentifiable_stack, max_steps, tmp_path):
+    """The batch's groups per spectrum equal a single fit's `unidentified_groups` (the oracle),
+    whether the batch converges there (the stacked path, max_steps 2000) or stops at its step
+    limit on the pure resistance (the path through `fit_result`): the null direction is the
+    model's along R0 + R1, not the optimum's. They survive the .nc file."""
+    options = {} if max_steps is None else {"max_steps": max_steps}
+    batch = ix.fit(MODEL, unidentifiable_stack, **options)
+    rows = batch.summary()["spectra"]
+    for row in rows:
+        alone = ix.fit(MODEL, unidentifiable_stack.sel(cycle=row["cycle"]))
+        assert batch.unidentified_groups_of(cycle=row["cycle"]) == alone.unidentified_groups
+        assert row["unidentified_groups"] == alone.summary()["unidentified_groups"]
+    assert [r["unidentified_groups"] for r in rows] == [[], [["R0", "R1"]]]
+    assert any("R0, R1 are not separately determined" in w for w in rows[1]["warnings"])
+    path = tmp_path / "batch.nc"
+    ix.write_result(batch, path)
+    back = ix.BatchFitResult.from_xarray(ix.load(path))
+    assert back.unidentified_groups_of(cycle=20) == (("R0", "R1"),) and back.unidentified_groups_of(cycle=10) == ()
+    assert back.summary()["spectra"] == rows
+
+
+def test_a_result_without_recorded_groups_says_so(batch):
+    """A batch saved before the groups were recorded (attribute removed): its rows have no
+    ``unidentified_groups`` key rather than a false [], and `unidentified_groups_of` says how
+    to get them; a label not in the batch is named."""
+    old = ix.BatchFitResult.from_xarray(batch.to_xarray().drop_attrs(deep=False).assign_attrs({k: v for k, v in batch.to_xarray().attrs.items() if k != "unidentified_groups"}))
+    assert all("unidentified_groups" not in r for r in old.summary()["spectra"])
+    with pytest.raises(ix.ParameterError, match="does not record each spectrum's unidentified groups; fit_of"):
+        old.unidentified_groups_of(cycle=10)
+    with pytest.raises(ix.ParameterError, match="cycle=99 is not among the batch's labels"):
+        batch.unidentified_groups_of(cycle=99)
+    assert batch.unidentified_groups_of(cycle=10) == ()

@@ -10,6 +10,7 @@ program compiles once per discrepancy setting."""
 
 import numpy as np
 import pytest
+import xarray as xr
 
 import impedax as ix
 from scipy.stats import multivariate_normal
@@ -286,3 +287,50 @@ def test_sample_predictive_band_includes_the_noise():
     assert smooth < 0.6 * rough, (smooth, rough)
     with pytest.raises(ix.ParameterError, match="copies"):
         post.predict(noise=True, copies=0)
+
+
+def _constructed_edges_posterior(*, centres: bool = True):
+    """A `HierarchicalPosterior` built by hand (no sampling; SYNTHETIC draws, 2 chains × 2000):
+    R1's population median is drawn from its own prior (lognormal about 100 Ω, S = 2: the data
+    said nothing, so the draws fill the prior to both tails), CPE1.Q's is a narrow posterior
+    about 1e-5, the shared CPE1.alpha crowds its bound 1 (1 − |N(0, 0.01)|) and the shared R0
+    is a narrow posterior about 20 Ω inside its prior."""
+    from impedax.fitting.bayes.hierarchical import HierarchicalPosterior
+
+    rng = np.random.default_rng(11)
+    c, d, t = 2, 2000, 3  # (4000 draws: ~80 in each 2 % band of a prior the draws fill, above `EDGE_MIN_DRAWS`)
+    freq = np.geomspace(1.0, 1e5, 12)
+    centre = np.log([100.0, 1e-5])
+    mu = np.stack([centre[0] + 2.0 * rng.standard_normal((c, d)), centre[1] + 0.01 * rng.standard_normal((c, d))], axis=-1)
+    shared = np.stack([20.0 * np.exp(0.01 * rng.standard_normal((c, d))), 1.0 - np.abs(0.01 * rng.standard_normal((c, d)))], axis=-1)
+    index = xr.Dataset(coords={"trial": [0, 1, 2]}).stack(trial_index=("trial",))["trial_index"]
+    return HierarchicalPosterior(
+        circuit=ix.parse("R0 + R1 || CPE1"), trial_names=("R1", "CPE1.Q"), shared_names=("R0", "CPE1.alpha"), mu=mu, spread=np.full((c, d, 2), 0.1),
+        spread_session=np.zeros((c, d, 2)), trial_values=np.exp(mu[:, :, None, :] + np.zeros((1, 1, t, 1))), shared=shared, delta=np.full((c, d), 0.01),
+        frequency=freq, z_data=np.full((t, freq.size), 100.0 + 0j), nu=np.full(freq.size, 0.01), trial_index=index, sessions=1, discrepancy=True, divergences=0,
+        step_size=np.full(c, 0.3), mean_tree_steps=7.0, mean_acceptance=0.8, elapsed_s=0.0,
+        mu_prior_centre=centre if centres else None, shared_prior_centre=np.log([20.0, 0.5]) if centres else None,
+    )
+
+
+def test_prior_edges_of_the_population_medians_and_shared_parameters(tmp_path):
+    """The check of `Posterior` (`diagnostics.prior_edges`) on the quantities with a prior of
+    their own. Oracle by construction: draws that are the prior itself fill both tails of it
+    in its cumulative coordinate (as dense there as in the middle: "both"), a half-normal
+    against a bound crowds that bound ("upper"), narrow posteriors inside their priors do not.
+    The prior centres survive the .nc file; a result without them (written before they were
+    stored) checks only what its bounds give: the shared parameter in a bounded (uniform) prior."""
+    post = _constructed_edges_posterior()
+    assert post.piled_up == {"R1": "both", "CPE1.alpha": "upper"}
+    edge_notes = [w for w in post.warnings if "piles up" in w]
+    assert len(edge_notes) == 3  # (one per side)
+    assert edge_notes[0].startswith("R1 (population median) piles up against the lower tail of its prior lognormal:100,2")
+    assert any(w.startswith("CPE1.alpha piles up against its upper bound 1 (") and "the bound, not the data, sets the upper end of its 90 % interval" in w for w in edge_notes)
+    assert post.summary()["piled_up"] == post.piled_up and all(w in post.summary()["warnings"] for w in edge_notes)
+    path = tmp_path / "edges.nc"
+    ix.write_result(post, path)
+    back = type(post).from_xarray(ix.load(path))
+    np.testing.assert_array_equal(back.mu_prior_centre, post.mu_prior_centre)
+    assert back.piled_up == post.piled_up and back.warnings == post.warnings
+    older = _constructed_edges_posterior(centres=False)
+    assert older.piled_up == {"CPE1.alpha": "upper"}

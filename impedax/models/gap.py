@@ -718,7 +718,7 @@ def _hierarchical(total, skin, touchscreen, remaining, paper, naive, edl, circui
     notes = list(notes) + _bound_notes(pop["u"], reparametrization, area)
     notes += [f"EDL fit: {w}" for w in edl.warnings] + [f"sampling: {w}" for w in post.warnings]
     notes += _estimate_bound_notes("population gap thickness", float(np.median(pop["u"])), paper, remaining)
-    lower = _identification(ep, model_requested, circuit, pop, edl, {}, notes, remaining, area, eps_gap)  # (the hierarchical posterior has no pile-up diagnosis)
+    lower = _identification(ep, model_requested, circuit, pop, edl, {}, notes, remaining, area, eps_gap)  # (the rule reads a single posterior's pile-up; the hierarchical one's, `HierarchicalPosterior.piled_up`, is of population medians, and only its warnings are passed on)
     return GapAnalysis(remaining, paper, naive, edl, None, force, area, v0, ep, tuple(notes), method="hierarchical", hierarchical=post, model_requested=model_requested, gap_lower_bound=lower)
 
 

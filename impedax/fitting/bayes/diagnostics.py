@@ -248,7 +248,8 @@ def prior_edges(
 class PiledUp:
     """The prior-edge check of a posterior (`Posterior`, `SharedPosterior`: they hold ``names``,
     ``units``, ``draws``, ``priors`` and ``bounds``), computed once for its warnings and its
-    ``piled_up`` data."""
+    ``piled_up`` data. `HierarchicalPosterior` gives its own ``_prior_edges`` (its priors are
+    per quantity: population medians, shared parameters)."""
 
     @functools.cached_property
     def _prior_edges(self) -> PriorEdges:

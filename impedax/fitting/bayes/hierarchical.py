@@ -53,6 +53,8 @@ from ...circuits import DEFAULT_REGISTRY, Circuit, Registry, compile_circuit, pa
 from ...data import column_width, make_spectrum
 from ...errors import DataError, FitError, ParameterError
 from ..derived import draw_indices
+from .diagnostics import PiledUp, PriorEdges, prior_edges
+from .priors import Prior, PriorKind
 from .reparam import Reparametrization
 from .progress import ProgressLine, announce
 
@@ -522,13 +524,16 @@ def _rhat(x: np.ndarray) -> np.ndarray:
 
 
 @dataclass(frozen=True, eq=False)
-class HierarchicalPosterior:
+class HierarchicalPosterior(PiledUp):
     """Draws of the hierarchical model (module docstring). Natural units (SI) throughout.
 
     ``mu`` (chains, draws, K): ln of the population median of each per-trial quantity;
     ``spread`` (chains, draws, K): its sd of ln between trials; ``spread_session`` likewise
     between sessions (zeros without a session level); ``trial_values`` (chains, draws, T, K);
     ``shared`` (chains, draws, S); ``delta`` (chains, draws) the discrepancy floor (zeros when off).
+    ``mu_prior_centre`` (K,) and ``shared_prior_centre`` (S,): the centres (ln) of the normal
+    priors of μ and of the log-sampled shared parameters (None: not recorded, a file written
+    before 2026-12-01), which the prior-edge check (`piled_up`) needs for those.
     """
 
     circuit: Circuit
@@ -556,10 +561,55 @@ class HierarchicalPosterior:
     trial_sd: np.ndarray | None = None  # (2, N) sd of the Re and Im smooth error of each trial's own [Ω]
     reparametrization: Reparametrization | None = None
     registry: Registry = field(default=DEFAULT_REGISTRY, repr=False)
+    mu_prior_centre: np.ndarray | None = None  # (K,) ln of the median of μ's prior
+    shared_prior_centre: np.ndarray | None = None  # (S,) ln φ̂, the centre of a log-sampled shared parameter's prior
 
     @property
     def model(self) -> str:
         return str(self.circuit)
+
+    def _bounds_and_unit(self, name: str) -> tuple[float, float, str]:
+        """(lower, upper, unit) of a circuit or reparametrization parameter."""
+        rp = self.reparametrization
+        if rp is not None and name in rp.names:
+            i = rp.names.index(name)
+            return float(rp.lower[i]), float(rp.upper[i]), rp.units[i]
+        spec = self.circuit.parameter_specs(self.registry)[name]
+        return float(spec.lower), float(spec.upper), spec.unit
+
+    @functools.cached_property
+    def _prior_edges(self) -> PriorEdges:
+        """`prior_edges` of the quantities that have a prior of their own (the module
+        docstring's): each population median exp(μ_j) against its log-normal prior (median
+        exp of ``mu_prior_centre``, S = 2), each shared parameter against its uniform prior
+        within its bounds, or its log-normal one about φ̂. A per-trial value's prior is the
+        population itself, which moves with the data: not checked. In the warnings a
+        population median is "NAME (population median)", in ``piled_up`` it is NAME (the
+        per-trial and shared names are distinct)."""
+        shown, keys, units, priors, lower, upper, draws = [], [], [], {}, [], [], []
+
+        def add(key: str, label: str, unit: str, prior: Prior, lo: float, hi: float, x: np.ndarray) -> None:
+            shown.append(label)
+            keys.append(key)
+            units.append(unit)
+            priors[label] = prior
+            lower.append(lo)
+            upper.append(hi)
+            draws.append(np.asarray(x, float).ravel())
+
+        for j, n in enumerate(self.trial_names):
+            if self.mu_prior_centre is not None:
+                add(n, f"{n} (population median)", self._bounds_and_unit(n)[2], Prior(PriorKind.LOGNORMAL, math.exp(float(self.mu_prior_centre[j])), _MU_SD), 0.0, math.inf, np.exp(self.mu[..., j]))
+        for j, n in enumerate(self.shared_names):
+            lo, hi, unit = self._bounds_and_unit(n)
+            if math.isfinite(hi):  # (sampled through a logit: uniform within the bounds, as `_setup`)
+                add(n, n, unit, Prior(PriorKind.UNIFORM, lo, hi), lo, hi, self.shared[..., j])
+            elif self.shared_prior_centre is not None:
+                add(n, n, unit, Prior(PriorKind.LOGNORMAL, math.exp(float(self.shared_prior_centre[j])), _MU_SD), 0.0, math.inf, self.shared[..., j])
+        if not shown:
+            return PriorEdges([], {})
+        edges = prior_edges(shown, units, np.stack(draws, axis=1), priors, lower, upper)
+        return PriorEdges(edges.warnings, {keys[shown.index(label)]: side for label, side in edges.piled_up.items()})
 
     @property
     def n_draws(self) -> int:
@@ -625,6 +675,7 @@ class HierarchicalPosterior:
         low = [k for k, e in self.ess().items() if e < 100]
         if low:
             notes.append(f"effective sample size below 100 for {', '.join(low)}")
+        notes.extend(self._prior_edges.warnings)
         return tuple(notes)
 
     def predict(self, *, noise: bool = True, max_draws: int = 200, seed: int = 0) -> np.ndarray:
@@ -675,6 +726,7 @@ class HierarchicalPosterior:
             "rhat": self.rhat(),
             "divergences": self.divergences,
             "warnings": list(self.warnings),
+            "piled_up": self.piled_up,
         }
 
     def report(self) -> str:
@@ -716,6 +768,8 @@ class HierarchicalPosterior:
                 "step_size": ("chain", np.asarray(self.step_size)),
                 **({"common_sd": (("part", "frequency"), self.common_sd, {"units": "ohm", "long_name": "sd of the Re and Im error shared by every trial"})} if self.common_sd is not None else {}),
                 **({"trial_sd": (("part", "frequency"), self.trial_sd, {"units": "ohm", "long_name": "sd of the Re and Im smooth error of each trial's own"})} if self.trial_sd is not None else {}),
+                **({"mu_prior_centre": ("param", np.asarray(self.mu_prior_centre, float), {"long_name": "ln of the median of mu's log-normal prior (sd 2 in ln)"})} if self.mu_prior_centre is not None else {}),
+                **({"shared_prior_centre": ("shared_param", np.asarray(self.shared_prior_centre, float), {"long_name": "ln of the median of a log-sampled shared parameter's prior (sd 2 in ln)"})} if self.shared_prior_centre is not None else {}),
             },
             coords={
                 "param": k, "shared_param": s, "frequency": ("frequency", self.frequency, {"units": "Hz"}), "part": ["real", "imag"],
@@ -767,6 +821,8 @@ class HierarchicalPosterior:
                 mean_acceptance=float(ds.attrs["mean_acceptance"]), elapsed_s=float(ds.attrs["elapsed_s"]), fixed={str(n): float(v) for n, v in ds.attrs["fixed"].items()},
                 common_sd=values("common_sd", "part", "frequency") if "common_sd" in ds else None, trial_sd=values("trial_sd", "part", "frequency") if "trial_sd" in ds else None,
                 reparametrization=rp, registry=registry,
+                mu_prior_centre=values("mu_prior_centre", "param") if "mu_prior_centre" in ds else None,
+                shared_prior_centre=values("shared_prior_centre", "shared_param") if "shared_prior_centre" in ds else None,
             )
 
 
@@ -998,6 +1054,7 @@ def sample_hierarchical(
         step_size=np.asarray(step_size), mean_tree_steps=float(np.mean(n_steps)), mean_acceptance=float(np.mean(accept)),
         elapsed_s=time.perf_counter() - t0, fixed=dict(zip(lay.fixed_names, np.asarray(dat.fixed).tolist())), common_sd=_total_sd(dat.common_basis, dat.common_var) if lay.n_common else None,
         trial_sd=_total_sd(dat.trial_basis, dat.trial_var) if lay.n_trial_modes else None, reparametrization=lay.reparametrization, registry=registry,
+        mu_prior_centre=np.asarray(dat.mu_center), shared_prior_centre=np.asarray(dat.shared_center),
     )
 
 

@@ -26,7 +26,7 @@ from ..problem import residual_scale, weights
 from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, dominant_points, information_criteria, null_sets
 from .order import canonical_order
 from .branches import RELATIVE_ERROR_LIMIT, idle_branch_notes, settle_vanishing, undetermined, undetermined_mask, vanishing_candidates, vanishing_parameters
-from .result import BOUND_RESTARTS, is_remainder, LINEARISED_STDERR_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, shown_stderr, stack_notes, vanishing_term_sides, weighting_notes, without_error
+from .result import BOUND_RESTARTS, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, shown_stderr, stack_notes, vanishing_term_sides, weighting_notes, without_error
 from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, TreeSolvers, better, over_devices, padded_points, tree_solver, trimmed, unscale
 from .starts import SpectrumFeatures, climb_target, batch_outliers, escalation_rungs, guess_start, inward_start, rms_rel_of, rung_seed, rung_starts, to_solver_space
 
@@ -56,7 +56,9 @@ class BatchFitResult:
     ``chi2_red``, ``aic``, ``bic``, ``converged`` over dims, ``at_bound`` (whether a parameter
     is at a natural or user bound) over (param, *dims), the bounds themselves (``lower``,
     ``upper`` over param), and the data ``Z`` and ``Z_model`` over (*dims, frequency). ``warnings`` maps a spectrum's index (a dict of coordinates, as text)
-    to its warnings.
+    to its warnings; ``dataset.attrs["unidentified_groups"]`` the same index to its
+    unidentified groups (`FitResult.unidentified_groups`, only spectra that have any;
+    `unidentified_groups_of`).
     """
 
     __repr__ = concise_repr  # (the generated one printed every array)
@@ -169,23 +171,7 @@ class BatchFitResult:
             raise ParameterError("fit_of needs impedax.fitting.least_squares.single imported")
         fit = _spectrum_fit
         ds = self.dataset
-        unknown = sorted(set(labels) - set(self.dims))
-        missing = [d for d in self.dims if d not in labels]
-        if unknown or missing:
-            raise ParameterError(
-                f"fit_of needs one label for each batch dimension ({', '.join(self.dims)})"
-                + (f"; unknown: {', '.join(unknown)}" if unknown else "") + (f"; missing: {', '.join(missing)}" if missing else "")
-            )
-        one = ds
-        for dim, label in labels.items():
-            if dim in ds.coords:
-                if not np.any(ds[dim].values == label):
-                    raise ParameterError(f"{dim}={label!r} is not among the batch's labels ({', '.join(map(str, ds[dim].values[:10].tolist()))}{', …' if ds.sizes[dim] > 10 else ''})")
-                one = one.sel({dim: label})
-            else:
-                if not (isinstance(label, (int, np.integer)) and 0 <= label < ds.sizes[dim]):
-                    raise ParameterError(f"{dim}={label!r}: {dim} has no coordinates; give a position from 0 to {ds.sizes[dim] - 1}")
-                one = one.isel({dim: int(label)})
+        one = ds.isel(self._spectrum_position(labels, "fit_of"))
         spectrum = make_spectrum(ds["frequency"].values, one["Z"].values, sigma=one["sigma"].values if "sigma" in one else None, source=f"{self.model} batch, {labels}")
         names = [str(p) for p in ds["param"].values]
         value = {n: float(one["value"].sel(param=n)) for n in names}
@@ -195,6 +181,51 @@ class BatchFitResult:
         bounds = {n: b for n, b in user.items() if b != (specs[n].lower, specs[n].upper)} or None  # (the user's, not the natural ones)
         init = {n: v for n, v in value.items() if n not in fixed}
         return fit(self.circuit, spectrum, init=init, fixed=fixed, bounds=bounds, weighting=self.weighting, n_starts=1, registry=self.registry)
+
+    def _spectrum_position(self, labels: dict, what: str) -> dict[str, int]:
+        """The position along every batch dimension of the spectrum with ``labels`` (its label
+        along each, the 0-based position along one without coordinates); a `ParameterError`
+        from ``what`` (the method) when a dimension is missing, unknown or has no such label."""
+        ds = self.dataset
+        unknown = sorted(set(labels) - set(self.dims))
+        missing = [d for d in self.dims if d not in labels]
+        if unknown or missing:
+            raise ParameterError(
+                f"{what} needs one label for each batch dimension ({', '.join(self.dims)})"
+                + (f"; unknown: {', '.join(unknown)}" if unknown else "") + (f"; missing: {', '.join(missing)}" if missing else "")
+            )
+        position = {}
+        for dim, label in labels.items():
+            if dim in ds.coords:
+                found = np.flatnonzero(ds[dim].values == label)
+                if not found.size:
+                    raise ParameterError(f"{dim}={label!r} is not among the batch's labels ({', '.join(map(str, ds[dim].values[:10].tolist()))}{', …' if ds.sizes[dim] > 10 else ''})")
+                position[dim] = int(found[0])
+            else:
+                if not (isinstance(label, (int, np.integer)) and 0 <= label < ds.sizes[dim]):
+                    raise ParameterError(f"{dim}={label!r}: {dim} has no coordinates; give a position from 0 to {ds.sizes[dim] - 1}")
+                position[dim] = int(label)
+        return position
+
+    def unidentified_groups_of(self, **labels) -> tuple[tuple[str, ...], ...]:
+        """The unidentified groups of one spectrum's fit (`FitResult.unidentified_groups`: the
+        free parameters along each near-null direction of its Jacobian, `statistics.null_sets`),
+        picked by its labels as `fit_of`; () when the data determine every parameter. Kept in
+        ``dataset.attrs["unidentified_groups"]`` (spectrum → groups, keyed as `warnings`); a
+        result without them (a global fit, which does not compute them, or a file written
+        before 2026-12-01) raises a `ParameterError`."""
+        position = self._spectrum_position(labels, "unidentified_groups_of")
+        stored = self._stored_groups()
+        if stored is None:
+            raise ParameterError(f"unidentified_groups_of: this {'global fit' if self._KIND != 'batch_fit' else 'batch of fits (saved before 2026-12-01)'} does not record each spectrum's unidentified groups; fit_of(...) refits one spectrum and gives them")
+        ds = self.dataset
+        key = ", ".join(f"{d}={(ds[d].values[position[d]] if d in ds.coords else position[d])}" for d in self.dims)  # (as `fit_batch` keys them)
+        return parameter_groups(stored.get(key, ()))
+
+    def _stored_groups(self) -> dict | None:
+        """``dataset.attrs["unidentified_groups"]`` (spectrum → groups), None if not recorded."""
+        stored = self.dataset.attrs.get("unidentified_groups")
+        return None if stored is None else dict(stored)
 
     UNDETERMINED_RULE = f"relative error > {RELATIVE_ERROR_LIMIT:.0%} or none"  # (`undetermined`, as figures name it)
 
@@ -264,7 +295,8 @@ class BatchFitResult:
         (the position where a dimension has no coordinates), then ``labels`` (dimension → label,
         every dimension, as a KK or DRT batch's rows), ``values``, ``stderr`` (None when fixed or
         there is none, as `to_table`), ``rms_rel``, ``converged``, ``at_bound`` (names, as a
-        single fit's JSON) and its ``warnings``. A dimension named as one of these keys (a batch
+        single fit's JSON), its ``warnings`` and ``unidentified_groups`` (lists of names, as a
+        single fit's JSON; only where the result records them, `unidentified_groups_of`). A dimension named as one of these keys (a batch
         over ``values``) is only under ``labels``: its label would clobber the fit's key."""
         ds = self.dataset
         names = [str(p) for p in ds["param"].values]
@@ -272,6 +304,7 @@ class BatchFitResult:
         rms_rel, converged = (ds[v].transpose(*self.dims).values for v in ("rms_rel", "converged"))
         fixed = ds["fixed"].values.tolist()
         labels = [ds[d].values if d in ds.coords else np.arange(ds.sizes[d]) for d in self.dims]
+        stored_groups = self._stored_groups()
         rows = []
         for index in np.ndindex(*rms_rel.shape):
             where = {d: labels[i][j] for i, (d, j) in enumerate(zip(self.dims, index))}
@@ -284,6 +317,7 @@ class BatchFitResult:
                 "converged": bool(converged[index]),
                 "at_bound": [n for p, n in enumerate(names) if at_bound[index + (p,)]],
                 "warnings": list(self.warnings.get(key, ())),
+                **({} if stored_groups is None else {"unidentified_groups": [list(g) for g in parameter_groups(stored_groups.get(key, ()))]}),
             }
             rows.append({**{d: c for d, c in label.items() if d not in own and d != "labels"}, "labels": label, **own})
         return rows
@@ -658,12 +692,12 @@ class _LaneRunner:
         return out._replace(code=code, steps=np.array(steps), steps_total=np.array(steps_total), chi2_starts=out.chi2[:, None].copy())
 
 
-def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source, starts=None, remainder: bool = False) -> tuple[np.ndarray, list[tuple[str, ...]]]:
+def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source, starts=None, remainder: bool = False) -> tuple[np.ndarray, list[tuple[str, ...]], list[list[list[str]]]]:
     """One row per spectrum (values, stderr, linearised stderr, at-bound flags, chi2, converged,
-    evaluations, Re/Im of Z_model)
-    and its warnings, without a FitResult per spectrum: the uncertainties of all spectra in
-    one stacked computation (`covariances`), their warnings too (`stack_notes`); only spectra
-    that overflowed or did not converge go through `fit_result`."""
+    evaluations, Re/Im of Z_model), its warnings and its unidentified groups (`null_sets`, as
+    `FitResult.unidentified_groups`), without a FitResult per spectrum: the uncertainties of all
+    spectra in one stacked computation (`covariances`), their warnings too (`stack_notes`); only
+    spectra that overflowed or did not converge go through `fit_result`."""
     out, used, solver, inward = _solve_stack(circuit, table, freq, z, sigma, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source, starts=starts)
     out = canonical_order(circuit, table, freq, out, registry)
     b, k, n_res = z.shape[0], len(table.free_names), 2 * len(freq)
@@ -676,12 +710,14 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
     converged &= ~inward  # a fit left at a bound while chi² falls inward is not converged (`fit_result` says why)
     odd = ~converged  # these get `fit_result`'s handling of overflow and non-convergence
     notes: list[tuple[str, ...]] = [()] * b
+    groups: list[list[list[str]]] = [[] for _ in range(b)]
     corr, singular = np.zeros((b, k, k)), np.zeros(b, bool)
     if k:
         jac = out.jacobian if finite.all() else np.where(finite[:, None, None], out.jacobian, 0.0)
         cov, corr, sv, vt = covariances(jac, chi2 / (n_res - k) if n_res > k else np.full(b, np.nan), weighting)
         stderr[:, table.free_index] = np.sqrt(np.clip(np.einsum("bii->bi", cov), 0, None))
-        singular = np.any(sv < SINGULAR_RATIO_LIMIT * sv[:, :1], axis=1)
+        s_max = np.where(sv[:, :1] > 0, sv[:, :1], 1.0)  # (as `null_sets`)
+        singular = np.any(sv < SINGULAR_RATIO_LIMIT * s_max, axis=1)
     # parameters at a bound: as `fit_result`, the candidates of all regular fits confirmed at once
     sides = np.zeros((b, k), np.int8)
     regular = np.flatnonzero(~odd)
@@ -703,8 +739,8 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
         notes[plain[row]] = note
     names = table.names
     for i in np.flatnonzero(~odd & singular).tolist():
-        groups, ratio = null_sets(sv[i], vt[i], table.free_names)
-        notes[i] = fit_notes(table, dict(zip(names, values[i].tolist())), dict(zip(names, stderr[i].tolist())), corr[i], groups, ratio, finite=True, converged=True, message="", sides=sides[i], freq=freq, z=z[i])
+        groups[i], ratio = null_sets(sv[i], vt[i], table.free_names)
+        notes[i] = fit_notes(table, dict(zip(names, values[i].tolist())), dict(zip(names, stderr[i].tolist())), corr[i], groups[i], ratio, finite=True, converged=True, message="", sides=sides[i], freq=freq, z=z[i])
     # idle branches (the fits that did not converge get the note from `fit_result`)
     idle = idle_branch_notes(circuit, registry, table, values[regular], undetermined_mask(table, values[regular], stderr[regular], sides[regular]) | vanished, freq)
     for row, note in idle.items():
@@ -721,13 +757,14 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
         stderr[i] = [r.stderr[n] for n in names]
         linearised[i] = [r.linearised_stderr[n] for n in names]
         chi2[i], converged[i], z_model[i], notes[i] = r.chi2, r.converged, r.z_model, r.warnings
+        groups[i] = [list(g) for g in r.unidentified_groups]
         sides[i] = [n in r.at_bound for n in table.free_names]
     for i in np.flatnonzero(~odd):
         notes[i] = notes[i] + weighting_extra[i]
     at_bound = np.zeros(values.shape)
     at_bound[:, table.free_index] = sides != 0
     stats = np.stack([chi2, converged.astype(float), np.asarray(out.steps_total, float)], axis=-1)
-    return np.concatenate([values, stderr, linearised, at_bound, stats, z_model.real, z_model.imag], axis=-1), notes
+    return np.concatenate([values, stderr, linearised, at_bound, stats, z_model.real, z_model.imag], axis=-1), notes, groups
 
 
 # lane solver shapes: many lanes for large batches, few for the rest and stragglers (each pair
@@ -789,10 +826,10 @@ def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weig
         z2 = np.asarray(z_block).reshape(-1, n_freq)
         s2 = None if sigma_block is None else np.asarray(sigma_block).reshape(-1, n_freq)
         x0 = None if starts_block is None else np.asarray(starts_block).reshape(-1, n_par)
-        packed, notes = _packed_stack(circuit, table, freq, z2, s2, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source, starts=x0, remainder=is_remainder(data.attrs))
-        note_array = np.empty(len(notes), object)  # (tuples as elements, not as a further axis)
-        note_array[:] = notes
-        return packed.reshape(*shape, -1), note_array.reshape(shape)
+        packed, notes, groups = _packed_stack(circuit, table, freq, z2, s2, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source, starts=x0, remainder=is_remainder(data.attrs))
+        note_array, group_array = np.empty(len(notes), object), np.empty(len(groups), object)  # (tuples and lists as elements, not as a further axis)
+        note_array[:], group_array[:] = notes, groups
+        return packed.reshape(*shape, -1), note_array.reshape(shape), group_array.reshape(shape)
 
     width = 4 * n_par + len(_STATS) + 2 * n_freq
     if z_da.chunks is not None:
@@ -804,25 +841,30 @@ def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weig
         with python_warnings.catch_warnings():
             # dask builds its empty "meta" output by casting the complex input's meta to float
             python_warnings.simplefilter("ignore", np.exceptions.ComplexWarning)
-            packed_da, notes_da = xr.apply_ufunc(
+            packed_da, notes_da, groups_da = xr.apply_ufunc(
                 fit_block,
                 *inputs,
                 input_core_dims=core,
-                output_core_dims=[["fit_output"], []],
+                output_core_dims=[["fit_output"], [], []],
                 dask="parallelized",
-                output_dtypes=[np.float64, object],
+                output_dtypes=[np.float64, object, object],
                 dask_gufunc_kwargs={"output_sizes": {"fit_output": width}, "allow_rechunk": True},
             )
-            computed = xr.Dataset({"packed": packed_da, "notes": notes_da}).compute()  # one pass over the graph
+            computed = xr.Dataset({"packed": packed_da, "notes": notes_da, "groups": groups_da}).compute()  # one pass over the graph
         packed = computed["packed"].transpose(*extra, "fit_output").values
         notes = computed["notes"].transpose(*extra).values.ravel().tolist()
+        groups = computed["groups"].transpose(*extra).values.ravel().tolist()
     else:
-        packed, notes = fit_block(z_da.values, *([] if sigma_da is None else [sigma_da.values]), *([] if starts is None else [starts]))
-        notes = notes.ravel().tolist()
+        packed, notes, groups = fit_block(z_da.values, *([] if sigma_da is None else [sigma_da.values]), *([] if starts is None else [starts]))
+        notes, groups = notes.ravel().tolist(), groups.ravel().tolist()
     labels = [[f"{d}={c}" for c in (data[d].values if d in data.coords else range(n))] for d, n in zip(extra, z_da.shape)]
-    for idx, note in zip(np.ndindex(*z_da.shape[:-1]), notes):
+    unidentified: dict[str, list[list[str]]] = {}  # (as the warnings: only the spectra that have any)
+    for idx, note, group in zip(np.ndindex(*z_da.shape[:-1]), notes, groups):
+        key = ", ".join(label[i] for label, i in zip(labels, idx))
         if note:
-            warnings[", ".join(label[i] for label, i in zip(labels, idx))] = tuple(note)
+            warnings[key] = tuple(note)
+        if group:
+            unidentified[key] = [list(g) for g in group]
     coords = {d: data[d].values for d in extra if d in data.coords}
     values = packed[..., :n_par]
     stderr = packed[..., n_par : 2 * n_par]
@@ -859,7 +901,7 @@ def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weig
             "Z_model": ((*extra, "frequency"), z_model, {"units": "ohm"}),
         },
         coords={"param": list(names), "frequency": ("frequency", freq, {"units": "Hz"}), **coords},
-        attrs={"model": str(circuit), "weighting": weighting, "n_free": k},
+        attrs={"model": str(circuit), "weighting": weighting, "n_free": k, "unidentified_groups": unidentified},
     )
     if sigma_da is not None:  # (the data's own σ, which weighted the fits: `fit_of` refits with it)
         ds["sigma"] = ((*extra, "frequency"), sigma_da.values if sigma_da.chunks is None else sigma_da.compute().values, {"units": "ohm"})
