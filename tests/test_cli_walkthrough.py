@@ -84,8 +84,10 @@ def test_a_model_whose_extra_term_sits_at_its_bound_is_not_called_short_of_its_o
     assert code == 0
     out = json.loads(capsys.readouterr().out)
     (test,) = out["f_tests"]
-    assert test["valid"] and test["note"] is None, test
     assert test["f"] == pytest.approx(0.0, abs=1e-3) and test["p_value"] > 0.99
+    # no F-test with W1.sigma on its bound (Self & Liang 1987), and said to be the smaller model
+    assert test["valid"] is False and test["reason"] == "reduces_to_simple" and test["at_bound"] == ["W1.sigma"], test
+    assert "did not reach its optimum" not in test["note"] and "the extra element does nothing" in test["note"]
 
 
 # --- sign hints -------------------------------------------------------------------------------

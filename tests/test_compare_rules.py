@@ -17,7 +17,7 @@ def test_compare_finds_nesting_in_any_order_ties_and_tests_it_cannot_make():
     c = ix.compare([one, series, ladder])
     # nested whatever the order the circuits are written in
     assert {(t["simple"], t["complex"]) for t in c.f_tests} == {(one.model, series.model), (one.model, ladder.model)}
-    assert all(t["valid"] for t in c.f_tests)
+    assert all(t["valid"] and t["reason"] is None and t["at_bound"] == [] for t in c.f_tests)  # (a genuine nested pair)
     # two writings of one impedance function: one fit, marked as such
     rows = {r["model"]: r for r in c.rows}
     assert rows[series.model]["same_fit_as"] == ladder.model and rows[ladder.model]["same_fit_as"] == series.model
@@ -49,3 +49,27 @@ def test_compare_command_fixes_and_starts_each_model_that_has_the_parameter(tmp_
     assert "held fixed in R0 + R1 || CPE1: R0 = 12" in capsys.readouterr().out
     assert main(["compare", str(path), "--model", "R0 + R1 || C1", "--model", "R0 + R1 || CPE1", "--fix", "CPE1.a=1"]) == 2
     assert "no model has a parameter 'CPE1.a'; did you mean CPE1.alpha?" in capsys.readouterr().err
+
+
+def test_no_f_test_where_the_larger_models_extra_parameter_sits_at_its_bound():
+    """SYNTHETIC one arc (R0 = 10, 100 Ω ∥ 1 µF, 0.5 % noise), written here: the CPE's α runs
+    to its bound 1 and a series L0 to 0, where the smaller model is the edge of the larger one's
+    parameter space and F does not follow its distribution (Self & Liang 1987)."""
+    f = np.geomspace(0.01, 1e5, 50)
+    rng = np.random.default_rng(3)  # (a seed whose noise sends the CPE's α to 1)
+    z = 10 + 100 / (1 + 2j * np.pi * f * 100e-6)
+    data = ix.make_spectrum(f, z * (1 + 0.005 * (rng.normal(size=f.size) + 1j * rng.normal(size=f.size)) / np.sqrt(2)))
+    rc, cpe, inductive = (ix.fit(m, data) for m in ("R0 + R1 || C1", "R0 + R1 || CPE1", "L0 + R0 + R1 || C1"))
+    assert "CPE1.alpha" in cpe.at_bound and cpe.values["CPE1.alpha"] > 0.999999 and "L0" in inductive.at_bound
+    c = ix.compare([rc, cpe, inductive])
+    tests = {t["complex"]: t for t in c.f_tests}
+    assert set(tests) == {cpe.model, inductive.model}
+    for larger, name in ((cpe, "CPE1.alpha"), (inductive, "L0")):
+        t = tests[larger.model]
+        assert t["valid"] is False and t["at_bound"] == [name] and "Self & Liang" in t["note"], t
+        # the χ² did not fall by more than a hundredth of the reduced χ² (the bound rule's): the extra element does nothing
+        assert rc.chi2 - larger.chi2 <= 1e-2 * larger.chi2_red
+        assert t["reason"] == "reduces_to_simple" and t["note"].startswith(f"{larger.model} reduces to {rc.model}: {name} = ")
+        assert f"F-test {rc.model}  ⊂  {larger.model}: no test: {larger.model} reduces to {rc.model}" in c.table()
+    # without a valid test the misfit note's F-test evidence is not used (`_model_not_data`)
+    assert not any("F-test p" in w for fit in c.fits for w in fit.warnings)

@@ -4,6 +4,7 @@ their diagnosis masked points: the printed ``impedax fit`` command leaves the sa
 advice promised. REAL data: tests/fixtures/real (PowerSuite: 2 points with Re Z < 0 at the top;
 BioLogic: 4 KK-flagged points inside the band)."""
 
+import importlib
 import json
 import shlex
 from pathlib import Path
@@ -89,3 +90,37 @@ def test_the_refine_reproduce_line_leaves_out_the_interior_masked_points(tmp_pat
     out = _run_json(argv, capsys)
     assert out["model"] == refinement["final_model"]
     assert out["rms_rel"] == pytest.approx(refinement["final_rms_rel"], rel=1e-4)
+
+
+def test_kk_and_drt_take_the_exclude_that_refine_recommends(capsys, monkeypatch):
+    """The points refine masks on BioLogic's real file (``--exclude 5.34,56.2,123,270``) left out
+    of the KK test and the DRT as by hand (numpy: the measured frequencies within 0.5 % of each)."""
+    drt_module = importlib.import_module("impedax.fitting.drt")  # (the module: `impedax.fitting.drt` the attribute is its function)
+
+    data = ix.load(BIOLOGIC)
+    f, z = data["frequency"].values, data["Z"].values
+    given = [5.34, 56.2, 123.0, 270.0]
+    drop = np.array([np.any(np.abs(fk / np.array(given) - 1) <= 5e-3) for fk in f])
+    assert drop.sum() == len(given)
+    by_hand = ix.make_spectrum(f[~drop], z[~drop])
+    argv = ["--exclude", ",".join(f"{g:g}" for g in given)]
+    kk = _run_json(["kk", str(BIOLOGIC), *argv], capsys)
+    oracle = ix.kk_test(by_hand).summary()
+    assert kk["frequency_hz"] == pytest.approx(f[~drop].tolist(), rel=1e-12)
+    assert kk["rms_rel"] == pytest.approx(oracle["rms_rel"], rel=1e-9) and kk["n_rc"] == oracle["n_rc"] and kk["valid"] == oracle["valid"]
+    # the DRT is given the same points (its solve, ~6 s on this file, left out: stopped at the call)
+    given_to_drt = []
+
+    def stop(spectrum, **options):
+        given_to_drt.append(spectrum)
+        raise ParameterError("stopped here by the test")
+
+    monkeypatch.setattr(drt_module, "drt", stop)
+    assert main(["drt", str(BIOLOGIC), *argv]) == 2 and "stopped here by the test" in capsys.readouterr().err
+    (spectrum,) = given_to_drt
+    assert np.array_equal(spectrum["frequency"].values, f[~drop]) and np.array_equal(spectrum["Z"].values, z[~drop])
+    monkeypatch.undo()
+    # a value that names no measured frequency: one message, exit 2, as fit's
+    for command in ("kk", "drt"):
+        assert main([command, str(BIOLOGIC), "--exclude", "5.0"]) == 2
+        assert "--exclude 5.0: no measured frequency within 0.5 % of 5 Hz" in capsys.readouterr().err

@@ -184,6 +184,23 @@ def test_refine_progress_prints_the_line_said_before_the_delay():
     assert len(lines) == 2 and "step 0: diagnosing" in lines[0] and "step 1" in lines[1]
 
 
+def test_refine_progress_prints_every_line_said_before_the_delay_in_order():
+    # (refine of a real battery cycle said "step 0" and "fitting the baseline" in its first 2 s,
+    # and began its progress at the third line)
+    out = io.StringIO()
+    say = progress_printer(0.05, stream=out)
+    first = ["step 0: diagnosing R0 + R1 || CPE1", "  fitting the baseline R0 + R1 || CPE1", "  the DRT of the data and of the baseline"]
+    for text in first:
+        say(text)
+    deadline = time.monotonic() + 5.0
+    while time.monotonic() < deadline and "the DRT" not in out.getvalue():
+        time.sleep(0.01)
+    say("  fitting 12 candidate circuits of 4 effects")
+    say.close()
+    said = [re.sub(r"^\[\s*\d+\.\d s\] ", "", line) for line in out.getvalue().splitlines()]
+    assert said == [*first, "  fitting 12 candidate circuits of 4 effects"]
+
+
 def test_refine_progress_quiet_when_the_run_is_short():
     out = io.StringIO()
     say = progress_printer(0.05, stream=out)

@@ -1156,9 +1156,13 @@ PROGRESS_AFTER_S = 2.0
 
 def progress_printer(after_s: float = PROGRESS_AFTER_S, stream=None):
     """A progress callback that prints its lines to stderr (``stream``) once ``after_s`` seconds
-    have passed. The last line said before then is printed at ``after_s`` if no other has come
-    (the first diagnosis says its line at 0 s and may run for several seconds): a slow run is
-    never silent past ``after_s``. Its ``close()`` ends the wait; a line is printed at most once."""
+    have passed. The lines said before then are printed, in order and with their own times, at
+    ``after_s`` or at the first line after it, whichever comes first (the first diagnosis says
+    its line at 0 s and may run for several seconds): a slow run is never silent past
+    ``after_s``, and every run starts with the same lines (until 2026-11-30 only the last of them
+    was kept: refine of AutoEIS's battery cycle 10 began at "[  1.8 s]   the DRT of the data…",
+    without its step 0 and baseline lines). Its ``close()`` ends the wait; a line is printed at
+    most once."""
     return _Progress(after_s, stream)
 
 
@@ -1172,7 +1176,7 @@ class _Progress:
         self._after_s = after_s
         self._stream = stream
         self._lock = threading.Lock()
-        self._pending: tuple[float, str] | None = None
+        self._pending: list[tuple[float, str]] = []  # the lines said before ``after_s``
         self._timer = threading.Timer(after_s, self._flush)
         self._timer.daemon = True
         self._timer.start()
@@ -1184,26 +1188,26 @@ class _Progress:
 
     def _flush(self) -> None:
         with self._lock:
-            if self._pending is not None:
-                self._print(*self._pending)
-                self._pending = None
+            for line in self._pending:
+                self._print(*line)
+            self._pending = []
 
     def __call__(self, text: str) -> None:
         elapsed = self._clock() - self._start
         with self._lock:
             if elapsed > self._after_s:
-                if self._pending is not None:  # the timer has not run yet
-                    self._print(*self._pending)
-                self._pending = None
+                for line in self._pending:  # the timer has not run yet
+                    self._print(*line)
+                self._pending = []
                 self._print(elapsed, text)
             else:
-                self._pending = (elapsed, text)
+                self._pending.append((elapsed, text))
 
     def close(self) -> None:
         """No line after this: the run is over (its result is about to be printed)."""
         self._timer.cancel()
         with self._lock:
-            self._pending = None
+            self._pending = []
 
 
 def check_distinct_paths(paths: dict[str, str]) -> None:

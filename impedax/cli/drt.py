@@ -30,6 +30,7 @@ def _fraction(text: str) -> float:
 
 def register(sub) -> None:
     from .common import add_select_option, number_option
+    from .fit import add_exclude_option
 
     p = sub.add_parser(
         "drt",
@@ -50,6 +51,7 @@ def register(sub) -> None:
     )
     p.add_argument("--fmin", type=number_option, help="ignore data below this frequency [Hz]")
     p.add_argument("--fmax", type=number_option, help="ignore data above this frequency [Hz]")
+    add_exclude_option(p)
     p.add_argument("--json", action="store_true", help="machine-readable output")
     p.add_argument("--plot", metavar="FILE.png", help="save gamma vs tau with peaks and band, and the fit on Nyquist/Bode")
     p.add_argument("--out", metavar="FILE.csv|.json|.nc", help="save gamma over tau with its band (CSV), the --json summary (JSON) or gamma, its band and the fit (netCDF), as impedax.write_result does")
@@ -59,12 +61,12 @@ def register(sub) -> None:
 def run(args) -> int:
     from ..fitting.drt import drt
     from ..fitting.problem import open_spectrum
-    from .common import check_band_options, emit_json, figure_writer, load_selected, plan_outputs, progress_printer
+    from .common import check_band_options, emit_json, exclude_points, figure_writer, load_selected, plan_outputs, progress_printer
 
     outputs = plan_outputs([("--out", args.out, "drt"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     # a file of several spectra: the DRT of each in one solve (`DRTBatchResult`), or one (--select)
     check_band_options(args.fmin, args.fmax)
-    data = load_selected(args.data, args.select)
+    data = exclude_points(load_selected(args.data, args.select), args.exclude)
     if args.fmin is not None or args.fmax is not None:
         from ..fitting.problem import select_band
 

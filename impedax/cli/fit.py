@@ -21,6 +21,12 @@ def add_fit_options(p) -> None:
     add_weighting_option(p, "residual weighting (default modulus: relative errors; see impedax.fitting.WEIGHTINGS)")
     p.add_argument("--fmin", type=number_option, help="ignore data below this frequency [Hz]")
     p.add_argument("--fmax", type=number_option, help="ignore data above this frequency [Hz]")
+    add_exclude_option(p)
+
+
+def add_exclude_option(p) -> None:
+    """``--exclude F,F``, as `impedax.cli.common.exclude_points` reads it (fit, compare,
+    diagnose, refine, kk, drt: the points refine and diagnose masked can be left out of each)."""
     p.add_argument("--exclude", metavar="F,F", help="leave out these measured frequencies [Hz], comma-separated (5.34,56.2,1.12M): each names the nearest "
                    "measured frequency within 0.5 %%, so values copied from a report match (the masked points diagnose and refine print)")
 

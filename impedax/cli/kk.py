@@ -5,6 +5,7 @@ from __future__ import annotations
 
 def register(sub) -> None:
     from .common import add_select_option, number_option
+    from .fit import add_exclude_option
 
     p = sub.add_parser(
         "kk",
@@ -21,6 +22,7 @@ def register(sub) -> None:
     p.add_argument("--no-capacitance", action="store_true", help="no series capacitance in the KK model (linear test only)")
     p.add_argument("--fmin", type=number_option, help="ignore data below this frequency [Hz]")
     p.add_argument("--fmax", type=number_option, help="ignore data above this frequency [Hz]")
+    add_exclude_option(p)
     add_select_option(p)
     p.set_defaults(run=run)
 
@@ -32,7 +34,7 @@ LINEAR_ONLY = ("--c", "--max-rc", "--no-inductance", "--no-capacitance")
 def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting import kk_test, kk_test_batch, zhit
-    from .common import check_band_options, data_source, emit_json, figure_writer, load_selected, plan_outputs, with_source
+    from .common import check_band_options, data_source, emit_json, exclude_points, figure_writer, load_selected, plan_outputs, with_source
 
     if args.method == "zhit":
         given = [flag for flag, value in zip(LINEAR_ONLY, (args.c, args.max_rc, args.no_inductance or None, args.no_capacitance or None)) if value is not None]
@@ -45,7 +47,7 @@ def run(args) -> int:
     # a file of several spectra: every one tested (one table row each), as `fit` fits them
     # all; Z-HIT and the plot take one (--select)
     single = "impedax kk --method zhit" if args.method == "zhit" else "impedax kk --plot" if args.plot else None
-    data = load_selected(args.data, args.select, single=single)
+    data = exclude_points(load_selected(args.data, args.select, single=single), args.exclude)
     if args.fmin is not None or args.fmax is not None:
         from ..fitting.problem import select_band
 

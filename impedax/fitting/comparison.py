@@ -17,9 +17,9 @@ from ..data import column_width, format_quantity
 from ..errors import FitError
 from .least_squares import FitResult
 from .least_squares.branches import undetermined
-from .least_squares.result import DATA_LIMIT_NOTE
+from .least_squares.result import BOUND_CHI2_FRACTION, DATA_LIMIT_NOTE
 
-__all__ = ["compare", "Comparison", "is_nested", "undetermined_names", "criteria", "akaike_weights", "KNOWN_SIGMA", "UNKNOWN_VARIANCE", "SIGMA_CHI2_RED_RANGE"]
+__all__ = ["compare", "Comparison", "is_nested", "boundary_parameters", "undetermined_names", "criteria", "akaike_weights", "KNOWN_SIGMA", "UNKNOWN_VARIANCE", "SIGMA_CHI2_RED_RANGE"]
 
 
 def _nested(a: Circuit, b: Circuit) -> bool:
@@ -337,7 +337,9 @@ def compare(fits: Sequence) -> Comparison:
     n ln(χ²/n) + 2k otherwise; AICc = AIC + 2k(k + 1)/(n − k − 1), NaN where undefined), ΔAIC
     (to the lowest) and Akaike weights w_i = exp(−ΔAIC_i/2)/Σ exp(−ΔAIC_j/2), the same from
     AICc (``delta_aicc``, ``akaike_weight_aicc``), and an F-test for each nested pair:
-    F = ((χ²_s − χ²_c)/(k_c − k_s)) / (χ²_c/(n − k_c)). AIC ranks. Items may also be posteriors
+    F = ((χ²_s − χ²_c)/(k_c − k_s)) / (χ²_c/(n − k_c)), not made (``valid`` false, ``reason``
+    and ``note`` say why) when the larger model fits worse, sits with a parameter at its bound
+    (`boundary_parameters`) or fits to rounding. AIC ranks. Items may also be posteriors
     with a ``fit`` attribute; their ``log_evidence`` and ``waic`` become extra columns.
     """
     items = list(fits)
@@ -381,11 +383,14 @@ def compare(fits: Sequence) -> Comparison:
             denom = c.chi2 / (n - c.n_params)
             f_value = max(s.chi2 - c.chi2, 0.0) / dk / denom if denom > 0 else math.inf
             test = {"simple": s.model, "complex": c.model, "f": float(f_value), "df1": dk, "df2": n - c.n_params, "p_value": float(stats.f.sf(f_value, dk, n - c.n_params)), "valid": True, "note": None,
-                    "simple_label": labels[i], "complex_label": labels[j]}
+                    "simple_label": labels[i], "complex_label": labels[j], "reason": None, "at_bound": []}
+            on_boundary = boundary_parameters(s, c)
             if c.chi2 > s.chi2 * (1 + NESTED_WORSE_REL):
-                test.update(valid=False, note=f"{labels[j]} fits worse than {labels[i]}, which it contains: its fit did not reach its optimum")
+                test.update(valid=False, reason="not_at_optimum", note=f"{labels[j]} fits worse than {labels[i]}, which it contains: its fit did not reach its optimum")
+            elif on_boundary:
+                test.update(valid=False, at_bound=on_boundary, **_boundary_note(s, c, labels[i], labels[j], on_boundary))
             elif c.chi2_red < EXACT_CHI2_RED:
-                test.update(valid=False, note=f"{labels[j]} fits the data to rounding (chi2_red {c.chi2_red:.1e}): noise-free data, nothing to test against")
+                test.update(valid=False, reason="exact_fit", note=f"{labels[j]} fits the data to rounding (chi2_red {c.chi2_red:.1e}): noise-free data, nothing to test against")
             tests.append(test)
     results = [_model_not_data(r, i, results, labels, tests, [row["aic"] for row in rows]) for i, r in enumerate(results)]
     return Comparison(tuple(rows), tuple(tests), tuple(results), ics[0]["aic_form"])
@@ -399,11 +404,38 @@ ladder form), which would split the Akaike weight and the "best" by rounding."""
 NESTED_WORSE_REL = 1e-6
 """A model that contains another fits worse only when its χ² exceeds the other's by more than
 this fraction: below, the two are one optimum to the solver's tolerance (a term at its bound,
-W1.sigma = 0, leaves the smaller model; χ² 1.6e-8 apart on BioLogic's file), F = 0 and p = 1,
-not a fit short of its optimum."""
+W1.sigma = 0, leaves the smaller model; χ² 1.6e-8 apart on BioLogic's file), not a fit short of
+its optimum (the test is then not made for that bound, `boundary_parameters`)."""
 EXACT_CHI2_RED = 1e-20
 """Below this reduced χ² a fit is exact to rounding (noise-free data): an F-test compares
 rounding errors."""
+
+
+def boundary_parameters(simple: FitResult, complex_: FitResult) -> list[str]:
+    """The free parameters of ``complex_`` at a bound (`FitResult.at_bound`: CPE2.alpha at 1,
+    L0 at 0) that ``simple`` does not hold at that bound under the same name. The smaller model
+    is the larger one with such a parameter on the edge of its space, where neither F nor the
+    likelihood ratio follows its distribution (Self & Liang 1987: the LRT of one parameter on
+    its bound is a 50:50 mixture of χ²₀ and χ²₁), so the F-test is not made. Compared by name,
+    not by the parameter's role: an extra element named as one of the smaller model's is counted
+    too (an invalid test said so is the safe side)."""
+    return [n for n in complex_.at_bound if n not in simple.at_bound]
+
+
+def _boundary_note(simple: FitResult, complex_: FitResult, simple_label: str, complex_label: str, names: Sequence[str]) -> dict:
+    """``reason`` and ``note`` of an F-test not made because ``names`` of the larger model sit at
+    a bound (`boundary_parameters`): "reduces_to_simple" when its χ² is no lower than the smaller
+    model's by more than the solver's tolerance (`NESTED_WORSE_REL`) or than the fall the bound
+    rule takes for no fall (`BOUND_CHI2_FRACTION` of the reduced χ²: L0 within two standard
+    errors of 0 on a SYNTHETIC arc lowered χ² by 0.006 of it): the extra element does nothing;
+    else "at_bound"."""
+    where = ", ".join(f"{n} = {complex_.values[n]:.3g}" for n in names)
+    at = "is at its bound" if len(names) == 1 else "are at their bounds"
+    why = "an F-test with a parameter on its bound does not follow the F distribution (Self & Liang 1987)"
+    if simple.chi2 - complex_.chi2 <= max(NESTED_WORSE_REL * simple.chi2, BOUND_CHI2_FRACTION * complex_.chi2_red):
+        return {"reason": "reduces_to_simple",
+                "note": f"{complex_label} reduces to {simple_label}: {where} {at} and its χ² is no lower, so the extra element does nothing; {why}"}
+    return {"reason": "at_bound", "note": f"{where} {at} in {complex_label}: {why}; compare the two by AIC"}
 
 
 SIGNIFICANTLY_BETTER_P = 0.01
