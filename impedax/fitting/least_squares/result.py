@@ -14,6 +14,7 @@ import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
 from ...data import checked_frequencies, column_width, concise_repr, format_relative_error, unit_text
+from ..kk import sign_hints
 from ..parameters import ParameterTable, data_scales
 from ..statistics import covariances, information_criteria, non_passive, uncertainties
 from .branches import RELATIVE_ERROR_LIMIT, idle_branch_notes, settle_vanishing, undetermined, undetermined_mask, vanishing_candidates, vanishing_parameters
@@ -22,7 +23,7 @@ from .starts import attainable_misfit, inward_start, rms_rel_of
 
 __all__ = [
     "FitResult", "fit_result", "fit_notes", "parameter_groups", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes",
-    "misfit_notes", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "SIGMA_EXCEEDED", "gross_misfits", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
+    "misfit_notes", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "SIGN_HINT_LEAD", "SIGMA_EXCEEDED", "gross_misfits", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
     "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "shown_stderr", "without_error", "STDERR_NOTE", "LINEARISED_STDERR_NAME",
 ]
 
@@ -639,6 +640,9 @@ SIGMA_EXCEEDED = 2.0 * SIGMA_EXPLAINED
 # the end of the note that the data, not only the model, limit a fit (`misfit_notes`): `comparison.compare`
 # replaces it where another model fits the same data significantly better
 DATA_LIMIT_NOTE = "the data's noise, drift or artifacts limit the fit, not only the model (see impedax kk)"
+# ... followed, when the KK test says the imaginary part may be stored with the opposite sign
+# (`io.sign_check.sign_hint`), by this and the hint (`comparison` keeps it when it replaces the note)
+SIGN_HINT_LEAD = "hint: "
 
 
 def known_kk_misfits(freq, z, rows: np.ndarray, known: dict[int, float] | None) -> np.ndarray:
@@ -669,7 +673,7 @@ def gross_misfits(freq, z, z_model, known: dict[int, float] | None = None) -> np
     return checked[(kk > 0) & (rms[checked] > MISFIT_RATIO_MAX * kk)]
 
 
-def misfit_notes(freq, z, z_model, known: dict[int, float] | None = None, sigma=None) -> list[tuple[str, ...]]:
+def misfit_notes(freq, z, z_model, known: dict[int, float] | None = None, sigma=None, attrs=None) -> list[tuple[str, ...]]:
     """The misfit warning of each fit of spectra z (B, N) with models z_model (B, N) whose
     rms_rel is at least `MISFIT_CHECKED_FROM`: set against the rms_rel of the linear
     Kramers–Kronig test's Voigt chain (`starts.attainable_misfit`), either the model misses
@@ -681,7 +685,10 @@ def misfit_notes(freq, z, z_model, known: dict[int, float] | None = None, sigma=
     noise σ states (mean of (ΔRe² + ΔIm²)/2σ² at most `SIGMA_EXPLAINED`): nothing is left to say
     then; and it becomes a note that the misfit is the model's where that mean is above
     `SIGMA_EXCEEDED` while the Voigt chain fits within the noise σ states: the stated noise
-    cannot be what limits the fit (the note holds the threshold, not the fit's mean, as above)."""
+    cannot be what limits the fit (the note holds the threshold, not the fit's mean, as above).
+    The note that the data limit the fit ends with the KK test's hint when the data fail it
+    almost everywhere but conj(Z) passes (`kk.sign_hints`; ``attrs``: the data's, for how to
+    fix the file): a Z'' stored with the opposite sign, not noise or drift, then limits it."""
     rms, checked, kks = _checked_misfits(freq, z, z_model, known)
     explained = np.zeros(rms.size, bool)
     ratio, noise_rms = np.full(rms.size, np.nan), np.full(rms.size, np.nan)
@@ -693,6 +700,7 @@ def misfit_notes(freq, z, z_model, known: dict[int, float] | None = None, sigma=
             noise_rms = np.reshape(np.sqrt(np.mean(variance / np.abs(np.asarray(z)) ** 2, axis=-1)), rms.shape)  # (the rms_rel σ implies)
         explained = np.isfinite(ratio) & (ratio <= SIGMA_EXPLAINED)
     out: list[tuple[str, ...]] = [()] * rms.size
+    data_limited: list[int] = []
     for i, kk in zip(checked.tolist(), kks.tolist()):
         if not kk > 0:
             continue
@@ -714,6 +722,12 @@ def misfit_notes(freq, z, z_model, known: dict[int, float] | None = None, sigma=
                 f"the data are {kk * 100:.2g}% (rms_rel) from any Kramers–Kronig-consistent model (the KK test's Voigt chain), within {MISFIT_RATIO_MAX:g}× "
                 f"of this fit's misfit: {DATA_LIMIT_NOTE}",
             )
+            data_limited.append(i)
+    if data_limited:  # (the full KK test, and conj(Z)'s only where it fails almost everywhere)
+        rows = np.atleast_2d(z)
+        for i, hint in zip(data_limited, sign_hints(freq, rows[data_limited], attrs)):
+            if hint:
+                out[i] = (f"{out[i][0]}; {SIGN_HINT_LEAD}{hint}",)
     return out
 
 

@@ -505,7 +505,7 @@ def fit_shared(
     # against its own Kramers–Kronig misfit, whose KK test runs only for the spectra at rms_rel
     # ≥ MISFIT_CHECKED_FROM), under the spectrum's key as in a batch
     flat_sigma = None if sigma is None else sigma.reshape(-1, n_freq)
-    for row, note in enumerate(data_notes(freq, z.reshape(-1, n_freq), z_model.reshape(-1, n_freq), flat_sigma, weighting, source, remainder=is_remainder(data.attrs))):
+    for row, note in enumerate(data_notes(freq, z.reshape(-1, n_freq), z_model.reshape(-1, n_freq), flat_sigma, weighting, source, remainder=is_remainder(data.attrs), attrs=data.attrs)):
         if note:
             spectrum_notes[row] = spectrum_notes.get(row, ()) + note
     group_notes = [
