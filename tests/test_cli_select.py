@@ -5,6 +5,7 @@ written here from a closed form (R0 + R1 ∥ C1 with a different R1 each), so a 
 shows in the fitted values."""
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -242,3 +243,37 @@ def test_gap_bad_selection_is_one_message_and_exit_2(gap_files, gap_inputs, sele
     if select == "cycle=1":
         assert "has a dimension 'cycle' to select from; their dimensions besides frequency: session, trial" in err
     assert gap_inputs == []  # refused before the analysis
+
+
+BIOLOGIC = str(Path(__file__).resolve().parents[1] / "tests" / "fixtures" / "real" / "exampleDataBioLogic.mpt")  # (REAL: one spectrum, its attrs say cycle 1)
+
+
+@pytest.mark.parametrize("label", ["1", "1.0", "0:3", "1:"])
+def test_a_label_the_single_spectrum_carries_selects_it(label):
+    from impedax.cli.common import load_selected
+
+    data = ix.load(BIOLOGIC)
+    assert data.attrs["cycle"] == "1" and "cycle" not in data["Z"].dims  # (as `impedax inspect` shows it)
+    picked = load_selected(BIOLOGIC, [f"cycle={label}"])
+    assert picked.identical(data)  # a no-op
+
+
+def test_a_label_the_single_spectrum_does_not_carry_is_refused_with_its_value(capsys):
+    assert main(["kk", BIOLOGIC, "--select", "cycle=2"]) == 2
+    err = capsys.readouterr().err
+    assert "--select cycle=2: the file holds cycle 1 only" in err and BIOLOGIC in err
+    assert main(["kk", BIOLOGIC, "--select", "cycle=1", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["valid"] is not None
+    # a name it carries neither way is refused as before
+    assert main(["kk", BIOLOGIC, "--select", "trial=1"]) == 2
+    assert "has no dimension 'trial' to select from; it holds one spectrum" in capsys.readouterr().err
+
+
+def test_a_scalar_coordinate_is_a_carried_label():
+    from impedax.cli.common import select_spectra
+
+    z = R0 + 100.0 / (1 + 1j * 2 * np.pi * F * 100.0 * C1)  # R0 + R1 ∥ C1, noise-free
+    data = ix.make_spectrum(F, z).assign_coords(cycle=10)  # (a saved selection keeps its label so)
+    assert select_spectra(data, "one.nc", ["cycle=10"]).identical(data)
+    with pytest.raises(ix.errors.ParameterError, match="the file holds cycle 10 only"):
+        select_spectra(data, "one.nc", ["cycle=3"])

@@ -288,6 +288,8 @@ def test_drifting_sweep_is_data_invalid():
     d = ix.diagnose(ix.make_spectrum(f, z), "R0 + R1 || C1")
     assert d.verdict == "data_invalid"
     assert d.suggestions == () and not d.kk.valid
+    # a correctly signed sweep: no sign hint, the advice is to measure again
+    assert d.sign_hint is None and d.summary()["sign_hint"] is None and "Repeat or trim the measurement" in d.reason
 
 
 # --- two effects missing at once -----------------------------------------------------------------

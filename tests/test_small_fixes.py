@@ -13,7 +13,7 @@ import xarray as xr
 import impedax as ix
 from impedax.fitting.least_squares import FitResult
 from impedax.fitting.least_squares.batch import BatchFitResult
-from impedax.fitting.least_squares.result import at_bound_names, fit_notes, on_bound, stack_notes
+from impedax.fitting.least_squares.result import NUMERICALLY_ON_FRACTION, ON_BOUND_FRACTION, at_bound_names, fit_notes, on_bound, stack_notes
 from impedax.fitting.parameters import ParameterTable
 from spectra import r_cpe, rc
 
@@ -125,12 +125,17 @@ def test_bound_note_off_the_bound_gives_value_and_stderr():
     # a value at rounding level against |Z| ≥ 30 Ω is on the bound 0, whatever its stderr
     on_zero = fit_notes(table, {**values, "R1": 1.2e-15}, {**stderr, "R1": 1.2e-15}, np.eye(3), [], 1.0, finite=True, converged=True, message="", sides=sides, freq=f, z=z)
     assert "R1 is at its lower bound 0" in on_zero
+    # on it but not negligible to the solver: the single fit's note gives the value the table shows
+    near_zero = fit_notes(table, {**values, "R1": 2.5e-3}, stderr, np.eye(3), [], 1.0, finite=True, converged=True, message="", sides=sides, freq=f, z=z)
+    assert any(n.startswith("R1 = 0.0025 Ω runs to its lower bound 0") for n in near_zero)
     # the same rule for a stack of fits, and the JSON's at_bound is the flags, as before
     x = np.array([[values[n] for n in table.names], [1e9, 1e-3, 5e-4, 1 - 1e-12]])
     e = np.array([[stderr[n] for n in table.names]] * 2)
     stacked = stack_notes(table, x, e, np.stack([np.eye(3)] * 2), np.stack([sides, sides]), freq=f, z=np.stack([z, z]))
     assert "R1 = 7.96e+07 Ω cannot be told from its lower bound 0 (standard error 1.3e+18 Ω)" in stacked[0]
-    assert "R1 is at its lower bound 0" in stacked[1]  # 1e-3 Ω ≤ 1e-4 · 30 Ω
+    # 1e-3 Ω ≤ 1e-4 · 30 Ω: on it, but above 1e-8 · 30 Ω (NUMERICALLY_ON_FRACTION), so the note gives the value
+    assert "R1 = 0.001 Ω runs to its lower bound 0 (fitted in log space, it approaches 0 without reaching it; to the data it is 0)" in stacked[1]
+    assert not any("R1 is at its" in n for n in stacked[1])
     assert at_bound_names(table, sides) == ("R1", "CPE1.alpha")
 
 
@@ -156,11 +161,12 @@ def test_shared_bound_note_has_the_same_wording():
 
     def notes(r1):
         x[:, 1] = r1
-        on = on_bound(table, x[:1], flags[:1], np.tile(f, 2), spectra.reshape(1, -1))[0, list(layout.shared_slots)]
-        return _sharing_notes(layout, np.array([r1]), np.array([1.3e18]), flags[0, list(layout.shared_slots)], table, math.nan, math.nan, 0.0, True, 10, on=on)
+        on, exactly = (on_bound(table, x[:1], flags[:1], np.tile(f, 2), spectra.reshape(1, -1), fraction)[0, list(layout.shared_slots)] for fraction in (ON_BOUND_FRACTION, NUMERICALLY_ON_FRACTION))
+        return _sharing_notes(layout, np.array([r1]), np.array([1.3e18]), flags[0, list(layout.shared_slots)], table, math.nan, math.nan, 0.0, True, 10, on=on, exactly=exactly)
 
     assert notes(7.96e7) == ("shared R1 = 7.96e+07 Ω cannot be told from its lower bound 0 (standard error 1.3e+18 Ω)",)
-    assert notes(1e-9) == ("shared R1 is at its lower bound 0",)
+    assert notes(1e-5) == ("shared R1 = 1e-05 Ω runs to its lower bound 0 (fitted in log space, it approaches 0 without reaching it; to the data it is 0)",)
+    assert notes(1e-9) == ("shared R1 is at its lower bound 0",)  # below 1e-8 × 30 Ω: where the solver stopped
 
 
 def test_results_print_in_a_few_lines_with_arrays_as_their_shape():

@@ -590,6 +590,38 @@ def load_selected_files(paths: Sequence[str], select: Sequence[str] | None) -> l
     return [select_spectra(data, path, [item for item, dim in items if dim in _extra_dims(data)]) for data, path in zip(datasets, paths)]
 
 
+def _carried_value(data, dim: str):
+    """The value of ``dim`` that ``data`` carries without a dimension of it, as `impedax
+    inspect` shows it (a BioLogic file's ``cycle: 1``, a selection saved to .nc): a scalar
+    coordinate, else a number or text attribute; None when it carries none."""
+    if dim in data.coords and data.coords[dim].ndim == 0:
+        return data.coords[dim].values.item()
+    value = data.attrs.get(dim)
+    if isinstance(value, (str, int, float)) and not isinstance(value, bool):
+        return value
+    return None
+
+
+def _carries(data, dim: str, label: str, path: str, item: str) -> bool:
+    """Does ``--select DIM=LABEL`` (one label, a list or a range) name the value of ``dim``
+    that the spectra carry (`_carried_value`), by the rules a dimension's labels follow
+    (`_picked`)? True: the selection is a no-op. False when they carry none; a
+    `ParameterError` naming the value when it differs (inspect showed "cycle: 1", and
+    ``--select cycle=1`` was refused for want of a dimension)."""
+    import xarray as xr
+
+    value = _carried_value(data, dim)
+    if value is None:
+        return False
+    number = _as_number(value) if isinstance(value, str) else None  # (a reader's text "1" is the number 1, as a coordinate would be)
+    probe = value if number is None else int(number) if number.is_integer() else number
+    try:
+        _picked(xr.Dataset(coords={dim: [probe]}), dim, label, path, item)
+    except ParameterError:
+        raise ParameterError(f"--select {item}: the file holds {dim} {value} only ({path} holds one {dim}, not a dimension of them to select from)") from None
+    return True
+
+
 #: Attributes of a file that describe all of it (its ``title``: "..., all 130 cycles"): a
 #: ``--select`` notes itself in them (`select_spectra`).
 DESCRIBING_ATTRS = ("title", "description", "summary", "comment")
@@ -612,6 +644,8 @@ def select_spectra(data, path: str, select: Sequence[str] | None, *, single: str
     for item in select or ():
         dim, label = _select_item(item)
         extra = _extra_dims(data)
+        if dim not in extra and _carries(data, dim, label, path, item):
+            continue  # (the label the spectra carry: a no-op)
         if dim not in extra:
             have = f"its dimensions besides frequency: {', '.join(extra)}" if extra else "it holds one spectrum"
             raise ParameterError(f"--select {item}: {path} has no dimension {dim!r} to select from; {have}")

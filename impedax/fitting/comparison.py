@@ -17,7 +17,7 @@ from ..data import column_width, format_quantity
 from ..errors import FitError
 from .least_squares import FitResult
 from .least_squares.branches import undetermined
-from .least_squares.result import BOUND_CHI2_FRACTION, DATA_LIMIT_NOTE
+from .least_squares.result import BOUND_CHI2_FRACTION, DATA_LIMIT_NOTE, SIGN_HINT_LEAD
 
 __all__ = ["compare", "Comparison", "is_nested", "boundary_parameters", "undetermined_names", "criteria", "akaike_weights", "KNOWN_SIGMA", "UNKNOWN_VARIANCE", "SIGMA_CHI2_RED_RANGE"]
 
@@ -461,7 +461,8 @@ def _model_not_data(fit: FitResult, i: int, results: Sequence[FitResult], labels
     data significantly better (a valid F-test with p below `SIGNIFICANTLY_BETTER_P`, else an
     rms_rel `CLEARLY_LOWER_RMS` × lower with a lower AIC, or an AIC lower by `DECISIVE_DELTA_AIC`):
     the comparison's own numbers then
-    say the misfit is this model's, and the note sent the user to the data. Unchanged otherwise,
+    say the misfit is this model's, and the note sent the user to the data (its sign hint, if
+    any, is kept: `_sign_hint_of`). Unchanged otherwise,
     and for fits whose warnings are per spectrum (a mapping)."""
     warnings = fit.warnings
     if isinstance(warnings, Mapping) or not any(DATA_LIMIT_NOTE in w for w in warnings):
@@ -483,7 +484,14 @@ def _model_not_data(fit: FitResult, i: int, results: Sequence[FitResult], labels
         f"{labels[j]} fits these data significantly better (rms_rel {results[j].rms_rel * 100:.3g}% against {fit.rms_rel * 100:.3g}%, {evidence}): "
         "the misfit is this model's, not the data's noise; a diagnosis (impedax diagnose) shows where it fails and which effect is missing"
     )
-    return replace(fit, warnings=tuple(note if DATA_LIMIT_NOTE in w else w for w in warnings))
+    return replace(fit, warnings=tuple(note + _sign_hint_of(w) if DATA_LIMIT_NOTE in w else w for w in warnings))
+
+
+def _sign_hint_of(note: str) -> str:
+    """The end of a note that the data limit the fit that holds the KK test's sign hint
+    (`misfit_notes`, `SIGN_HINT_LEAD`), or "": it stays true when another model fits better."""
+    at = note.find(f"; {SIGN_HINT_LEAD}")
+    return note[at:] if at >= 0 else ""
 
 
 def _same_fit(a: FitResult, b: FitResult) -> bool:

@@ -225,6 +225,7 @@ class Diagnosis:
     kk_as_tested: KKResult | None = None  # the KK test before its local judgement (``kk`` is after it); the discrepancy floor δ takes its flags (refine passes it on, or kk_of_kept when points were masked)
     solver_shape: SolverShape | None = None  # the compiled candidate solver's shape (refine passes it on: one compilation for all steps)
     masked_impedance: tuple[complex, ...] = ()  # the measured Z [Ω] at each of ``masked_points`` (drawn, marked, in the figure)
+    sign_hint: str | None = None  # the KK test's (`io.sign_check.sign_hint`): Z'' (or Z) may be stored with the opposite sign
 
     def __post_init__(self):
         object.__setattr__(self, "verdict", Verdict(self.verdict))
@@ -279,6 +280,7 @@ class Diagnosis:
                 "bad_bands": [[float(lo), float(hi)] for lo, hi in kk.bad_bands] if kk is not None else [],
                 "noise_estimate": float(kk.noise_estimate) if kk is not None else None,
                 "conclusive": bool(kk.conclusive) if kk is not None else None,
+                "sign_hint": kk.sign_hint if kk is not None else None,
             },
             "noise": {
                 "level": self.noise_level, "source": self.noise_source, "ratio": self.noise_ratio, "discrepancy_floor": self.discrepancy,
@@ -299,6 +301,7 @@ class Diagnosis:
             "notes": list(self.notes),
             "drt_peaks": self._drt_peaks_json(),
             "drt_summary": self.drt.text if self.drt is not None else None,
+            "sign_hint": self.sign_hint,
         }
 
     def _drt_peaks_json(self) -> list[dict] | None:
@@ -914,10 +917,12 @@ def _require_noise_without_kk(n_points: int, noise: float | None, sigma, *, sour
         )
 
 
-def _kk_of(spectrum: xr.Dataset, notes: list[str]) -> KKResult | None:
-    """The Kramers–Kronig test of the spectrum, or None (with a note) when it cannot run."""
+def _kk_of(spectrum: xr.Dataset, notes: list[str], attrs: Mapping | None = None) -> KKResult | None:
+    """The Kramers–Kronig test of the spectrum, or None (with a note) when it cannot run;
+    ``attrs``: the data's, under the spectrum's own, for how its sign hint says to fix the file
+    (`io.sign_check.opposite_sign_hint`: which column to rename)."""
     try:
-        return kk_test(spectrum[["Z"]])
+        return kk_test(spectrum[["Z"]].assign_attrs({**(attrs or {}), **spectrum.attrs}))
     except ImpedaxError as err:
         notes.append(f"Kramers–Kronig test not run: {err}")
         return None
@@ -932,11 +937,14 @@ class DataProblem(NamedTuple):
     note: str | None
 
 
-def _data_problem(fit: FitResult, kk: KKResult | None, noise: NoiseModel) -> DataProblem:
+def _data_problem(fit: FitResult, kk: KKResult | None, noise: NoiseModel, sign_hint: str | None = None) -> DataProblem:
     """``data_invalid`` when the KK misfit is comparable to the model's (|Δ_kk| ≥ `KK_COMPARABLE`·|r|
     at a point the KK test flags) at at least `KK_INVALID_FRACTION` of the points; otherwise the
     flagged points are masked when they are at most `MASK_MAX_FRACTION` of the points and leave
-    enough to fit (≥ 3 per free parameter and ≥ 8)."""
+    enough to fit (≥ 3 per free parameter and ≥ 8). ``sign_hint``: the KK test's
+    (`io.sign_check.sign_hint`: it fails almost everywhere but passes on conj(Z)); the reason
+    then blames the sign convention and gives the fix, not the measurement (a good cell whose
+    file stores −Z'' under Z'' was sent to be measured again)."""
     none = np.zeros(fit.n_points, bool)
     if kk is None or kk.valid:
         return DataProblem(None, none, None)
@@ -947,6 +955,13 @@ def _data_problem(fit: FitResult, kk: KKResult | None, noise: NoiseModel) -> Dat
     dkk = np.hypot(kk.residuals_real[idx], kk.residuals_imag[idx])
     comparable = flagged & (dkk >= KK_COMPARABLE * np.abs(fit.residuals))
     share = float(np.mean(comparable))
+    if share >= KK_INVALID_FRACTION and sign_hint:
+        return DataProblem(
+            f"the data themselves are not Kramers–Kronig consistent where the model fails (at {share * 100:.0f} % of the points the KK misfit is at least "
+            f"{KK_COMPARABLE:.0%} of the model's; KK rms_rel {kk.rms_rel * 100:.2g} %, model {fit.rms_rel * 100:.2g} %), most likely because of how the file "
+            f"stores the sign, not the measurement: {sign_hint}; then diagnose again.",
+            none, None,
+        )
     if share >= KK_INVALID_FRACTION:
         return DataProblem(
             f"the data themselves are not Kramers–Kronig consistent where the model fails: at {share * 100:.0f} % of the points the KK misfit is at least "
@@ -1645,13 +1660,14 @@ def diagnose(
         )
     if kk is None:
         say("the Kramers–Kronig test of the data")
-        kk = _kk_of(spectrum, notes)
+        kk = _kk_of(spectrum, notes, data.attrs if data is not None else None)
     inconclusive = None  # (reported as the test; its flags and noise estimate would read the Voigt chain's misfit as noise)
     if kk is not None and not kk.conclusive:
         _require_noise_without_kk(kk.frequency.size, noise, sigma, source=data.attrs.get("source") if data is not None else None)
         notes.append(f"the Kramers–Kronig test is inconclusive on {kk.frequency.size} frequencies (it needs {CONCLUSIVE_POINTS_MIN}): its flags and noise estimate are not used")
         inconclusive, kk = kk, None
     kk_as_tested = kk  # (the noise model's floor δ takes the test's own flags)
+    sign_hint = kk_as_tested.sign_hint if kk_as_tested is not None else None  # (before `kk_judged_locally`, which may clear flags)
     if kk is not None and not kk.valid:
         local = kk_judged_locally(kk)
         cleared = int(np.sum(kk.flagged)) - int(np.sum(local.flagged))
@@ -1669,12 +1685,12 @@ def diagnose(
         problem = DataProblem(None, located[0], None)
         kk_bands = ()
     else:
-        problem = _data_problem(base, kk, nm)
+        problem = _data_problem(base, kk, nm, sign_hint)
         if not mask:
             problem = problem._replace(masked=np.zeros_like(problem.masked), note=None)
     if problem.invalid is not None:
         bands = failing_bands(base, nm.sigma_rel, kk_bad_bands=kk_bands)
-        return Diagnosis(base, kk if kk is not None else inconclusive, nm.sigma_rel, nm.source, bands, (), Verdict.DATA_INVALID, problem.invalid, tuple(notes), _thresholds(), None, nm.measurement, nm.discrepancy, not_passive, kk_as_tested=kk_as_tested, solver_shape=shape, masked_impedance=tuple(left_out.values()))
+        return Diagnosis(base, kk if kk is not None else inconclusive, nm.sigma_rel, nm.source, bands, (), Verdict.DATA_INVALID, problem.invalid, tuple(notes), _thresholds(), None, nm.measurement, nm.discrepancy, not_passive, kk_as_tested=kk_as_tested, solver_shape=shape, masked_impedance=tuple(left_out.values()), sign_hint=sign_hint)
     if problem.note:
         notes.append(problem.note)
     keep = ~problem.masked
@@ -1733,5 +1749,5 @@ def diagnose(
     masked = tuple(sorted(masked + not_passive))
     return Diagnosis(
         base, kk if kk is not None else inconclusive, sigma_rel, nm.source, bands, tuple(cands), verdict, reason, tuple(notes), _thresholds(), evidence, measurement, nm.discrepancy, masked, kk_kept, kk_as_tested, shape,
-        tuple(masked_z[f] for f in masked),
+        tuple(masked_z[f] for f in masked), sign_hint,
     )

@@ -718,7 +718,7 @@ class _LaneRunner:
         return out._replace(code=code, steps=np.array(steps), steps_total=np.array(steps_total), chi2_starts=out.chi2[:, None].copy())
 
 
-def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source, starts=None, remainder: bool = False) -> tuple[np.ndarray, list[tuple[str, ...]], list[list[list[str]]]]:
+def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source, starts=None, remainder: bool = False, attrs=None) -> tuple[np.ndarray, list[tuple[str, ...]], list[list[list[str]]]]:
     """One row per spectrum (values, stderr, linearised stderr, at-bound flags, chi2, converged,
     evaluations, Re/Im of Z_model), its warnings and its unidentified groups (`null_sets`, as
     `FitResult.unidentified_groups`), without a FitResult per spectrum: the uncertainties of all
@@ -776,7 +776,7 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
     linearised = stderr.copy()
     stderr[np.ix_(regular, table.free_index)] = without_error(sides[regular], vanished, free_stderr)[0]
     z_model = np.array(out.z_model)
-    weighting_extra = data_notes(freq, z, z_model, sigma, weighting, source, solver.kk_misfits, remainder=remainder)
+    weighting_extra = data_notes(freq, z, z_model, sigma, weighting, source, solver.kk_misfits, remainder=remainder, attrs=attrs)
     for i in np.flatnonzero(odd):
         r = fit_result(circuit, table, freq, z[i], out.row(i), weighting, int(used[i]), 0.0, registry, chi2_at_x=lambda p, s, i=i: solver.chi2_at_x(p, s + i), extra_notes=weighting_extra[i], weights=(inv_re[i], inv_im[i]))
         values[i] = [r.values[n] for n in names]
@@ -803,15 +803,16 @@ _FEW_LANES, _FEW_CAPACITY = 8, 64
 _MANY_LANES_FROM = 4 * _LANES
 
 
-def data_notes(freq, z, z_model, sigma, weighting: str, source: str, kk_misfits: dict[int, float] | None = None, *, remainder: bool = False) -> list[tuple[str, ...]]:
+def data_notes(freq, z, z_model, sigma, weighting: str, source: str, kk_misfits: dict[int, float] | None = None, *, remainder: bool = False, attrs=None) -> list[tuple[str, ...]]:
     """The warnings of fits to spectra z (B, N) with models z_model (B, N) that concern the data
     rather than the parameters, one tuple per spectrum, as a single fit gives them: a weighting
     dominated by a few points (`weighting_notes`), points with Re Z < 0 (`non_passive_notes`)
     and a gross misfit (`misfit_notes`; ``kk_misfits``: Kramers–Kronig misfits already known);
-    ``remainder``: the spectra are a subtraction's remainder (`is_remainder`), Re Z < 0 its cause."""
+    ``remainder``: the spectra are a subtraction's remainder (`is_remainder`), Re Z < 0 its cause;
+    ``attrs``: the data's, for how to fix a flipped sign (`misfit_notes`)."""
     b = len(z)
     weighted = weighting_notes(weighting, freq, *dominant_points(z, *weights(z, sigma, weighting, source, freq))) if weighting in ("unit", "proportional") else [()] * b
-    misfit = misfit_notes(freq, z, z_model, kk_misfits, sigma)
+    misfit = misfit_notes(freq, z, z_model, kk_misfits, sigma, attrs)
     return [tuple(weighted[i]) + non_passive_notes(freq, z[i], None if sigma is None else sigma[i], remainder=remainder) + misfit[i] for i in range(b)]
 
 
@@ -852,7 +853,7 @@ def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weig
         z2 = np.asarray(z_block).reshape(-1, n_freq)
         s2 = None if sigma_block is None else np.asarray(sigma_block).reshape(-1, n_freq)
         x0 = None if starts_block is None else np.asarray(starts_block).reshape(-1, n_par)
-        packed, notes, groups = _packed_stack(circuit, table, freq, z2, s2, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source, starts=x0, remainder=is_remainder(data.attrs))
+        packed, notes, groups = _packed_stack(circuit, table, freq, z2, s2, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source, starts=x0, remainder=is_remainder(data.attrs), attrs=data.attrs)
         note_array, group_array = np.empty(len(notes), object), np.empty(len(groups), object)  # (tuples and lists as elements, not as a further axis)
         note_array[:], group_array[:] = notes, groups
         return packed.reshape(*shape, -1), note_array.reshape(shape), group_array.reshape(shape)

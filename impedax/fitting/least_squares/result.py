@@ -14,6 +14,7 @@ import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
 from ...data import checked_frequencies, column_width, concise_repr, format_relative_error, unit_text
+from ..kk import sign_hints
 from ..parameters import ParameterTable, data_scales
 from ..statistics import covariances, information_criteria, non_passive, uncertainties
 from .branches import RELATIVE_ERROR_LIMIT, idle_branch_notes, settle_vanishing, undetermined, undetermined_mask, vanishing_candidates, vanishing_parameters
@@ -22,8 +23,8 @@ from .starts import attainable_misfit, inward_start, rms_rel_of
 
 __all__ = [
     "FitResult", "fit_result", "fit_notes", "parameter_groups", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes",
-    "misfit_notes", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "SIGMA_EXCEEDED", "gross_misfits", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
-    "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "shown_stderr", "without_error", "STDERR_NOTE", "LINEARISED_STDERR_NAME",
+    "misfit_notes", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "SIGN_HINT_LEAD", "SIGMA_EXCEEDED", "gross_misfits", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
+    "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "without_error", "STDERR_NOTE", "LINEARISED_STDERR_NAME",
 ]
 
 # identifiability thresholds (documented in the README; RELATIVE_ERROR_LIMIT in `branches`)
@@ -42,6 +43,12 @@ BOUND_CHI2_FRACTION = 1e-2
 # parameter); else the data only cannot tell it from the bound (R1 = 8e7 ± 1e18 Ω in a fit whose
 # misfit swamps it), and the note says so with its value and standard error
 ON_BOUND_FRACTION = 1e-4
+# ... and its note gives its value ("W1.sigma = 0.000677 Ω s^-1/2 runs to its lower bound 0")
+# unless it lies within this fraction of that scale: it then moves the model by less than the
+# solver's relative stopping tolerance (`lm.lm_iteration`'s rtol 1e-8), so its digits are where
+# the solver stopped, not what the data say (a single fit's R0 = 4.75e-204 Ω or 5.9e-16 Ω, a
+# batch's exact 0: one note, "R0 is at its lower bound 0")
+NUMERICALLY_ON_FRACTION = 1e-8
 
 
 @dataclass(frozen=True, eq=False)
@@ -398,25 +405,30 @@ def undetermined_note(name: str, relative_error: float) -> str:
     return f"{name} has a relative standard error of {format_relative_error(relative_error)}: it is not determined by the data"
 
 
-def bound_note(name: str, bound: float, side: str, *, value: float | None = None, stderr: float | None = None, unit: str = "") -> str:
-    """The note of a parameter at its ``side`` ("lower"/"upper") bound: on it (`on_bound`),
-    "R0 is at its lower bound 0"; off it (``value`` and its ``stderr`` given, in ``unit``) but
-    not told from it by the data, "R1 = 7.96e+07 Ω cannot be told from its lower bound 0
-    (standard error 1.3e+18 Ω)"."""
+def bound_note(name: str, bound: float, side: str, *, value: float | None = None, stderr: float | None = None, unit: str = "", on: bool = False) -> str:
+    """The note of a parameter at its ``side`` ("lower"/"upper") bound: on it (`on_bound`; ``on``
+    with its ``value``, or no value), "R0 is at its lower bound 0", or at a lower bound 0 that its
+    value (in ``unit``) approaches without reaching it (fitted in log space, `Transform.LOG`),
+    "W1.sigma = 0.000677 Ω s^-1/2 runs to its lower bound 0 (...)": a bare "at its lower bound
+    0" beside a value that is not 0 read as a contradiction; off it (``value`` and its
+    ``stderr`` given) but not told from it by the data, "R1 = 7.96e+07 Ω cannot be told from
+    its lower bound 0 (standard error 1.3e+18 Ω)"."""
     at = "∞" if bound == math.inf else f"{bound:g}"
-    if value is None:
-        return f"{name} is at its {side} bound {at}"
     u = unit_text(unit)
     u = f" {u}" if u else ""
+    if value is not None and on and bound == 0 and side == "lower" and value != 0:
+        return f"{name} = {value:.3g}{u} runs to its lower bound 0 (fitted in log space, it approaches 0 without reaching it; to the data it is 0)"
+    if value is None or on:
+        return f"{name} is at its {side} bound {at}"
     return f"{name} = {value:.3g}{u} cannot be told from its {side} bound {at} (standard error {stderr:.2g}{u})"
 
 
-def on_bound(table: ParameterTable, values: np.ndarray, sides: np.ndarray, freq=None, z=None) -> np.ndarray:
+def on_bound(table: ParameterTable, values: np.ndarray, sides: np.ndarray, freq=None, z=None, fraction: float = ON_BOUND_FRACTION) -> np.ndarray:
     """Whether the parameters at a bound (``sides`` (B, K) nonzero, `confirm_bounds`) of fits
     with values (B, P) to spectra ``z`` (B, N) at ``freq`` (N,) are numerically on it: within
-    `ON_BOUND_FRACTION` of the bound, or of a bound 0, of the data's scale for the unit (a unit
-    without one: only exactly on 0). Without the data (``z`` None) every one counts as on.
-    (B, K) bool, false where ``sides`` is 0."""
+    ``fraction`` (`ON_BOUND_FRACTION`) of the bound, or of a bound 0, of the data's scale for
+    the unit (a unit without one: only exactly on 0). Without the data (``z`` None) every one
+    counts as on. (B, K) bool, false where ``sides`` is 0."""
     sides = np.asarray(sides)
     flagged = sides != 0
     if z is None or not flagged.any():
@@ -433,17 +445,18 @@ def on_bound(table: ParameterTable, values: np.ndarray, sides: np.ndarray, freq=
             s = np.ones(len(v)) if unit == "1" else np.zeros(len(v)) if x is None else np.min(np.where(np.isfinite(x) & (x > 0), x, np.inf), axis=-1)
         scale[:, j] = np.where(bound[:, j] == 0, np.where(np.isfinite(s), s, 0.0), scale[:, j])
     with np.errstate(invalid="ignore"):
-        return flagged & (np.abs(v - bound) <= ON_BOUND_FRACTION * scale)
+        return flagged & (np.abs(v - bound) <= fraction * scale)
 
 
-def _bound_note_of(table: ParameterTable, b: int, j: int, values: np.ndarray, stderr: np.ndarray, sides: np.ndarray, on: np.ndarray) -> str:
-    """`bound_note` of free parameter j of fit b (values, stderr (B, P); sides, on (B, K))."""
+def _bound_note_of(table: ParameterTable, b: int, j: int, values: np.ndarray, stderr: np.ndarray, sides: np.ndarray, on: np.ndarray, exactly: np.ndarray) -> str:
+    """`bound_note` of free parameter j of fit b (values, stderr (B, P); sides, on (B, K));
+    ``exactly`` (B, K): on it within `NUMERICALLY_ON_FRACTION`, its value not given."""
     i = table.free_index[j]
     side = "upper" if sides[b, j] > 0 else "lower"
     bound = float(table.upper[i] if sides[b, j] > 0 else table.lower[i])
-    if on[b, j]:
+    if exactly[b, j]:
         return bound_note(table.names[i], bound, side)
-    return bound_note(table.names[i], bound, side, value=float(values[b, i]), stderr=float(stderr[b, i]), unit=table.units[i])
+    return bound_note(table.names[i], bound, side, value=float(values[b, i]), stderr=float(stderr[b, i]), unit=table.units[i], on=bool(on[b, j]))
 
 
 def bound_sides(table: ParameterTable, values: np.ndarray, stderr: np.ndarray | None) -> np.ndarray:
@@ -639,6 +652,9 @@ SIGMA_EXCEEDED = 2.0 * SIGMA_EXPLAINED
 # the end of the note that the data, not only the model, limit a fit (`misfit_notes`): `comparison.compare`
 # replaces it where another model fits the same data significantly better
 DATA_LIMIT_NOTE = "the data's noise, drift or artifacts limit the fit, not only the model (see impedax kk)"
+# ... followed, when the KK test says the imaginary part may be stored with the opposite sign
+# (`io.sign_check.sign_hint`), by this and the hint (`comparison` keeps it when it replaces the note)
+SIGN_HINT_LEAD = "hint: "
 
 
 def known_kk_misfits(freq, z, rows: np.ndarray, known: dict[int, float] | None) -> np.ndarray:
@@ -669,7 +685,7 @@ def gross_misfits(freq, z, z_model, known: dict[int, float] | None = None) -> np
     return checked[(kk > 0) & (rms[checked] > MISFIT_RATIO_MAX * kk)]
 
 
-def misfit_notes(freq, z, z_model, known: dict[int, float] | None = None, sigma=None) -> list[tuple[str, ...]]:
+def misfit_notes(freq, z, z_model, known: dict[int, float] | None = None, sigma=None, attrs=None) -> list[tuple[str, ...]]:
     """The misfit warning of each fit of spectra z (B, N) with models z_model (B, N) whose
     rms_rel is at least `MISFIT_CHECKED_FROM`: set against the rms_rel of the linear
     Kramers–Kronig test's Voigt chain (`starts.attainable_misfit`), either the model misses
@@ -681,7 +697,10 @@ def misfit_notes(freq, z, z_model, known: dict[int, float] | None = None, sigma=
     noise σ states (mean of (ΔRe² + ΔIm²)/2σ² at most `SIGMA_EXPLAINED`): nothing is left to say
     then; and it becomes a note that the misfit is the model's where that mean is above
     `SIGMA_EXCEEDED` while the Voigt chain fits within the noise σ states: the stated noise
-    cannot be what limits the fit (the note holds the threshold, not the fit's mean, as above)."""
+    cannot be what limits the fit (the note holds the threshold, not the fit's mean, as above).
+    The note that the data limit the fit ends with the KK test's hint when the data fail it
+    almost everywhere but conj(Z) passes (`kk.sign_hints`; ``attrs``: the data's, for how to
+    fix the file): a Z'' stored with the opposite sign, not noise or drift, then limits it."""
     rms, checked, kks = _checked_misfits(freq, z, z_model, known)
     explained = np.zeros(rms.size, bool)
     ratio, noise_rms = np.full(rms.size, np.nan), np.full(rms.size, np.nan)
@@ -693,6 +712,7 @@ def misfit_notes(freq, z, z_model, known: dict[int, float] | None = None, sigma=
             noise_rms = np.reshape(np.sqrt(np.mean(variance / np.abs(np.asarray(z)) ** 2, axis=-1)), rms.shape)  # (the rms_rel σ implies)
         explained = np.isfinite(ratio) & (ratio <= SIGMA_EXPLAINED)
     out: list[tuple[str, ...]] = [()] * rms.size
+    data_limited: list[int] = []
     for i, kk in zip(checked.tolist(), kks.tolist()):
         if not kk > 0:
             continue
@@ -714,6 +734,12 @@ def misfit_notes(freq, z, z_model, known: dict[int, float] | None = None, sigma=
                 f"the data are {kk * 100:.2g}% (rms_rel) from any Kramers–Kronig-consistent model (the KK test's Voigt chain), within {MISFIT_RATIO_MAX:g}× "
                 f"of this fit's misfit: {DATA_LIMIT_NOTE}",
             )
+            data_limited.append(i)
+    if data_limited:  # (the full KK test, and conj(Z)'s only where it fails almost everywhere)
+        rows = np.atleast_2d(z)
+        for i, hint in zip(data_limited, sign_hints(freq, rows[data_limited], attrs)):
+            if hint:
+                out[i] = (f"{out[i][0]}; {SIGN_HINT_LEAD}{hint}",)
     return out
 
 
@@ -798,8 +824,9 @@ def fit_notes(
     x = np.array([[values[n] for n in table.names]])
     e = np.array([[stderr[n] for n in table.names]])
     sides = np.asarray(sides)[None]
-    on = on_bound(table, x, sides, freq, None if z is None else np.asarray(z)[None])
-    notes += [_bound_note_of(table, 0, j, x, e, sides, on) for j in np.flatnonzero(sides[0]).tolist()]
+    z_rows = None if z is None else np.asarray(z)[None]
+    on, exactly = on_bound(table, x, sides, freq, z_rows), on_bound(table, x, sides, freq, z_rows, NUMERICALLY_ON_FRACTION)
+    notes += [_bound_note_of(table, 0, j, x, e, sides, on, exactly) for j in np.flatnonzero(sides[0]).tolist()]
     if not converged:
         notes.insert(0, f"fit did not converge: {message}")
     return tuple(notes)
@@ -829,9 +856,9 @@ def stack_notes(
     unknown = undetermined_mask(table, values, stderr, sides)
     for b, i in np.argwhere(unknown).tolist():
         notes[b].append(undetermined_note(names[i], float(relative_error[b, i])))
-    on = on_bound(table, values, sides, freq, z)
+    on, exactly = on_bound(table, values, sides, freq, z), on_bound(table, values, sides, freq, z, NUMERICALLY_ON_FRACTION)
     for b, i in np.argwhere(sides != 0).tolist():
-        notes[b].append(_bound_note_of(table, b, i, values, stderr, sides, on))
+        notes[b].append(_bound_note_of(table, b, i, values, stderr, sides, on, exactly))
     return {b: tuple(n) for b, n in notes.items()}
 
 

@@ -43,7 +43,7 @@ from ..problem import residual_scale, weights
 from ..statistics import information_criteria
 from .batch import BatchFitResult, data_notes, fit_batch
 from .branches import idle_branch_notes, idle_branches, settle_vanishing, undetermined, undetermined_mask, vanishing_candidates, vanishing_parameters
-from .result import BOUND_CHI2_FRACTION, LINEARISED_STDERR_NAME, STDERR_NOTE, bound_note, bound_sides, is_remainder, on_bound, shown_stderr, stack_notes, vanishing_term_sides, without_error
+from .result import BOUND_CHI2_FRACTION, LINEARISED_STDERR_NAME, STDERR_NOTE, bound_note, bound_sides, is_remainder, NUMERICALLY_ON_FRACTION, on_bound, shown_stderr, stack_notes, vanishing_term_sides, without_error
 from .solvers import SolverArgs, tree_residuals
 
 __all__ = ["SharedFitResult", "SharedLayout", "shared_layout", "fit_shared", "JointSolution", "joint_solver", "joint_covariance", "SHARING_P_LIMIT"]
@@ -505,12 +505,13 @@ def fit_shared(
     # against its own Kramers–Kronig misfit, whose KK test runs only for the spectra at rms_rel
     # ≥ MISFIT_CHECKED_FROM), under the spectrum's key as in a batch
     flat_sigma = None if sigma is None else sigma.reshape(-1, n_freq)
-    for row, note in enumerate(data_notes(freq, z.reshape(-1, n_freq), z_model.reshape(-1, n_freq), flat_sigma, weighting, source, remainder=is_remainder(data.attrs))):
+    for row, note in enumerate(data_notes(freq, z.reshape(-1, n_freq), z_model.reshape(-1, n_freq), flat_sigma, weighting, source, remainder=is_remainder(data.attrs), attrs=data.attrs)):
         if note:
             spectrum_notes[row] = spectrum_notes.get(row, ()) + note
     group_notes = [
         _sharing_notes(layout, shared_value[gi], shared_stderr[gi], sides.reshape(n_groups, m, k)[gi, 0, sh], table, f_stat[gi], f_p[gi], aic_joint[gi] - aic_ind[gi], bool(joint["converged"][gi]), int(joint["steps"][gi]),
-                       on=on_bound(table, values[gi, :1], sides.reshape(n_groups, m, k)[gi, :1], np.tile(freq, m), z[gi].reshape(1, -1))[0, sh])
+                       on=on_bound(table, values[gi, :1], sides.reshape(n_groups, m, k)[gi, :1], np.tile(freq, m), z[gi].reshape(1, -1))[0, sh],
+                       exactly=on_bound(table, values[gi, :1], sides.reshape(n_groups, m, k)[gi, :1], np.tile(freq, m), z[gi].reshape(1, -1), NUMERICALLY_ON_FRACTION)[0, sh])
         for gi in range(n_groups)
     ]
     for gi in range(n_groups):  # a shared parameter's idle branch: said once per global fit, when idle in every spectrum
@@ -633,17 +634,19 @@ def _shared_idle_notes(circuit, registry, table: ParameterTable, layout: SharedL
     return tuple("shared " + max(found, key=lambda b: b.share).text() for found in by_element.values() if len(found) == values.shape[0])
 
 
-def _sharing_notes(layout: SharedLayout, value, stderr, sides, table: ParameterTable, f, p, delta_aic, converged: bool, steps: int, *, on) -> tuple[str, ...]:
+def _sharing_notes(layout: SharedLayout, value, stderr, sides, table: ParameterTable, f, p, delta_aic, converged: bool, steps: int, *, on, exactly=None) -> tuple[str, ...]:
     """The notes of one global fit: convergence, the shared parameters' bounds (``on``: on the
-    bound, `result.on_bound`, else off it but not told from it) and determination, the F-test."""
+    bound, `result.on_bound`, else off it but not told from it; ``exactly``: on it within
+    `result.NUMERICALLY_ON_FRACTION`, its value not given) and determination, the F-test."""
+    exactly = on if exactly is None else exactly
     notes = []
     if not converged:
         notes.append(f"the global fit did not converge in {steps} steps; raise max_steps or check the model")
-    for n, v, e, side, at in zip(layout.shared, value.tolist(), stderr.tolist(), np.asarray(sides).tolist(), np.asarray(on).tolist()):
+    for n, v, e, side, at, at_exactly in zip(layout.shared, value.tolist(), stderr.tolist(), np.asarray(sides).tolist(), np.asarray(on).tolist(), np.asarray(exactly).tolist()):
         if side:
             i = table.names.index(n)
             bound, where = float((table.upper if side > 0 else table.lower)[i]), "upper" if side > 0 else "lower"
-            notes.append("shared " + (bound_note(n, bound, where) if at else bound_note(n, bound, where, value=v, stderr=e, unit=table.units[i])))
+            notes.append("shared " + (bound_note(n, bound, where) if at_exactly else bound_note(n, bound, where, value=v, stderr=e, unit=table.units[i], on=bool(at))))
         elif undetermined(v, e):
             relative = abs(e / v) if math.isfinite(e) else math.inf
             notes.append(f"shared {n} has " + (f"a relative standard error of {format_relative_error(relative)}" if math.isfinite(relative) else "no finite standard error") + ": the data do not determine it")

@@ -148,7 +148,7 @@ def fit(
     out = canonical_order(circuit, table, freq, out, registry)
     chi2_at_x = one_spectrum_chi2(solvers.chi2_x, args, out)
     notes = weighting_notes(weighting, freq, *dominant_points(z, inv_re, inv_im))[0] if weighting in ("unit", "proportional") else ()
-    notes = tuple(notes) + non_passive_notes(freq, z, sigma, remainder=is_remainder(data.attrs)) + misfit_notes(freq, z, out.z_model, sigma=None if sigma is None else np.asarray(sigma)[None])[0]
+    notes = tuple(notes) + non_passive_notes(freq, z, sigma, remainder=is_remainder(data.attrs)) + misfit_notes(freq, z, out.z_model, sigma=None if sigma is None else np.asarray(sigma)[None], attrs=data.attrs)[0]
     given = np.isfinite(table.values[table.free_index])
     start = "the given start" if given.all() and given.size else "the given start, the other parameters' from the data" if given.any() else "the data-driven start"
     return fit_result(circuit, table, freq, z, out, weighting, used, time.perf_counter() - t0, registry, chi2_at_x=chi2_at_x, extra_notes=notes, start=start, weights=(inv_re, inv_im))
