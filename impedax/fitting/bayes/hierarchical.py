@@ -533,7 +533,7 @@ class HierarchicalPosterior(PiledUp):
     ``shared`` (chains, draws, S); ``delta`` (chains, draws) the discrepancy floor (zeros when off).
     ``mu_prior_centre`` (K,) and ``shared_prior_centre`` (S,): the centres (ln) of the normal
     priors of μ and of the log-sampled shared parameters (None: not recorded, a file written
-    before 2026-12-01), which the prior-edge check (`piled_up`) needs for those.
+    before 2026-11-30), which the prior-edge check (`piled_up`) needs for those.
     """
 
     circuit: Circuit

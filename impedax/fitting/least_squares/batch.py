@@ -213,11 +213,11 @@ class BatchFitResult:
         picked by its labels as `fit_of`; () when the data determine every parameter. Kept in
         ``dataset.attrs["unidentified_groups"]`` (spectrum → groups, keyed as `warnings`); a
         result without them (a global fit, which does not compute them, or a file written
-        before 2026-12-01) raises a `ParameterError`."""
+        before 2026-11-30) raises a `ParameterError`."""
         position = self._spectrum_position(labels, "unidentified_groups_of")
         stored = self._stored_groups()
         if stored is None:
-            raise ParameterError(f"unidentified_groups_of: this {'global fit' if self._KIND != 'batch_fit' else 'batch of fits (saved before 2026-12-01)'} does not record each spectrum's unidentified groups; fit_of(...) refits one spectrum and gives them")
+            raise ParameterError(f"unidentified_groups_of: this {'global fit' if self._KIND != 'batch_fit' else 'batch of fits saved by an older impedax'} does not record each spectrum's unidentified groups; fit_of(...) refits one spectrum and gives them")
         ds = self.dataset
         key = ", ".join(f"{d}={(ds[d].values[position[d]] if d in ds.coords else position[d])}" for d in self.dims)  # (as `fit_batch` keys them)
         return parameter_groups(stored.get(key, ()))
