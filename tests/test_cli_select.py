@@ -277,3 +277,20 @@ def test_a_scalar_coordinate_is_a_carried_label():
     assert select_spectra(data, "one.nc", ["cycle=10"]).identical(data)
     with pytest.raises(ix.errors.ParameterError, match="the file holds cycle 10 only"):
         select_spectra(data, "one.nc", ["cycle=3"])
+
+
+def test_a_command_of_several_files_selects_a_label_one_of_them_carries(tmp_path):
+    """``impedax gap``'s inputs (`load_selected_files`): a label that one file carries as its
+    single spectrum's value (BioLogic's cycle 1) is a no-op there, as with one file, and the
+    same message names the value it holds otherwise."""
+    from impedax.cli.common import load_selected_files
+
+    z = R0 + 100.0 / (1 + 1j * 2 * np.pi * F * 100.0 * C1)
+    other = str(tmp_path / "other.nc")
+    ix.save(ix.make_spectrum(F, z), other)
+    picked = load_selected_files([BIOLOGIC, other, other], ["cycle=1"])
+    assert picked[0].identical(ix.load(BIOLOGIC)) and picked[1].identical(ix.load(other))
+    with pytest.raises(ix.errors.ParameterError, match="--select cycle=2: the file holds cycle 1 only"):
+        load_selected_files([BIOLOGIC, other, other], ["cycle=2"])
+    with pytest.raises(ix.errors.ParameterError, match="none of .* has a dimension 'trial' to select from; each holds one spectrum"):
+        load_selected_files([BIOLOGIC, other, other], ["trial=1"])

@@ -577,17 +577,21 @@ def load_selected(path: str, select: Sequence[str] | None, *, single: str | None
 
 def load_selected_files(paths: Sequence[str], select: Sequence[str] | None) -> list:
     """The spectra of several files (a command of several inputs: ``impedax gap``), each
-    narrowed by the ``--select DIM=LABEL`` items whose DIM it has (`select_spectra`: the same
-    checks and messages); a DIM that none of them has is a `ParameterError` naming their
-    dimensions."""
+    narrowed by the ``--select DIM=LABEL`` items whose DIM it has, as a dimension or as the
+    value its one spectrum carries (`select_spectra`, `_carried_value`: the same checks and
+    messages); a DIM that none of them has is a `ParameterError` naming their dimensions."""
     datasets = [_load_noting(p) for p in paths]
     items = [(item, _select_item(item)[0]) for item in select or ()]
+
+    def has(data, dim: str) -> bool:
+        return dim in _extra_dims(data) or _carried_value(data, dim) is not None
+
     for item, dim in items:
-        if not any(dim in _extra_dims(d) for d in datasets):
+        if not any(has(d, dim) for d in datasets):
             have = sorted({d for data in datasets for d in _extra_dims(data)})
             listed = f"their dimensions besides frequency: {', '.join(have)}" if have else "each holds one spectrum"
             raise ParameterError(f"--select {item}: none of {', '.join(paths)} has a dimension {dim!r} to select from; {listed}")
-    return [select_spectra(data, path, [item for item, dim in items if dim in _extra_dims(data)]) for data, path in zip(datasets, paths)]
+    return [select_spectra(data, path, [item for item, dim in items if has(data, dim)]) for data, path in zip(datasets, paths)]
 
 
 def _carried_value(data, dim: str):
