@@ -31,7 +31,7 @@ from .grid import ResultGrid
 from .problem import frequency_and_z
 from .statistics import difference_noise, non_passive, residual_noise
 
-__all__ = ["KKResult", "KKBatchResult", "kk_test", "kk_test_batch", "kk_misfits", "sign_hints", "rejudged", "DEFAULT_THRESHOLDS", "CONCLUSIVE_POINTS_MIN", "RULE_NAMES", "BAND_MERGE_DECADES", "band_rules", "band_rule_counts", "points_text", "thresholds_for"]
+__all__ = ["KKResult", "KKBatchResult", "kk_test", "kk_test_batch", "kk_misfits", "kk_verdicts", "rejudged", "DEFAULT_THRESHOLDS", "CONCLUSIVE_POINTS_MIN", "RULE_NAMES", "BAND_MERGE_DECADES", "band_rules", "band_rule_counts", "points_text", "thresholds_for"]
 
 # below this many frequencies the chain (M ≤ N − 3 RC elements) is too stiff for the data, its
 # misfit is the chain's own and the noise estimate follows it: the test cannot fail
@@ -881,18 +881,20 @@ def kk_misfits(data, **options) -> np.ndarray:
     return np.array([_rms_rel(zi, z_kk) for zi, (*_, z_kk) in zip(flat, chosen)], float).reshape(z.shape[:-1])
 
 
-def sign_hints(freq, z, attrs=None) -> list[str | None]:
-    """The ``sign_hint`` of `kk_test_batch` (default options) for each spectrum of z (B, N): why
-    and how its imaginary part may be stored with the opposite sign (`io.sign_check.sign_hint`;
-    ``attrs``: the data's, for how to fix the file), or None, also where the test cannot run.
-    For a note that the data limit a fit (`least_squares.result.misfit_notes`): conj(Z) is
-    tested only for a spectrum whose own test fails almost everywhere."""
+def kk_verdicts(freq, z, attrs=None) -> list[tuple[bool | None, str | None]]:
+    """`kk_test_batch`'s (default options) ``valid`` and ``sign_hint`` for each spectrum of z
+    (B, N): whether its residuals from the Voigt chain are noise (the data are
+    Kramers–Kronig-consistent within their own noise), and why and how its imaginary part may be
+    stored with the opposite sign (`io.sign_check.sign_hint`; ``attrs``: the data's, for how to
+    fix the file; conj(Z) is tested only for a spectrum whose own test fails almost
+    everywhere); (None, None) where the test cannot run. For the note that the data limit a fit
+    (`least_squares.result.misfit_notes`)."""
     try:
         freq, z, _, _, source = frequency_and_z((np.asarray(freq, float), np.atleast_2d(z)))
         batch = _run(freq, z, z.shape[:-1], ("spectrum",), {}, **_options_of_kk_test({}), source=source, attrs=attrs)
     except ImpedaxError:
-        return [None] * len(np.atleast_2d(z))
-    return [r.sign_hint for r in batch.results]
+        return [(None, None)] * len(np.atleast_2d(z))
+    return [(bool(r.valid), r.sign_hint) for r in batch.results]
 
 
 def _rms_rel(z, z_kk) -> float:

@@ -14,7 +14,7 @@ import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
 from ...data import checked_frequencies, column_width, concise_repr, format_relative_error, unit_text
-from ..kk import sign_hints
+from ..kk import kk_verdicts
 from ..parameters import ParameterTable, data_scales
 from ..statistics import covariances, information_criteria, non_passive, uncertainties
 from .branches import RELATIVE_ERROR_LIMIT, idle_branch_notes, settle_vanishing, undetermined, undetermined_mask, vanishing_candidates, vanishing_parameters
@@ -23,7 +23,7 @@ from .starts import attainable_misfit, inward_start, rms_rel_of
 
 __all__ = [
     "FitResult", "fit_result", "fit_notes", "parameter_groups", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes",
-    "misfit_notes", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "SIGN_HINT_LEAD", "SIGMA_EXCEEDED", "gross_misfits", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
+    "misfit_notes", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "SIGN_HINT_LEAD", "MODEL_MISFIT_OVER_CONSISTENT", "SIGMA_EXCEEDED", "gross_misfits", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
     "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "without_error", "STDERR_NOTE", "LINEARISED_STDERR_NAME",
 ]
 
@@ -655,6 +655,12 @@ DATA_LIMIT_NOTE = "the data's noise, drift or artifacts limit the fit, not only 
 # ... followed, when the KK test says the imaginary part may be stored with the opposite sign
 # (`io.sign_check.sign_hint`), by this and the hint (`comparison` keeps it when it replaces the note)
 SIGN_HINT_LEAD = "hint: "
+# ... and a fit of data that pass the KK test (the chain's misfit is their noise) is told its
+# misfit is its own above this multiple of the chain's rms_rel: χ²_red ≈ 4 against that noise,
+# decisive on any spectrum of 20 points or more (until 2026-11-30 the data were blamed up to 5×:
+# Meyer's RC-skin model on SYNTHETIC CPE-skin data with 1 % noise, at 2.7×, was told the data's
+# noise limited it)
+MODEL_MISFIT_OVER_CONSISTENT = 2.0
 
 
 def known_kk_misfits(freq, z, rows: np.ndarray, known: dict[int, float] | None) -> np.ndarray:
@@ -698,9 +704,13 @@ def misfit_notes(freq, z, z_model, known: dict[int, float] | None = None, sigma=
     then; and it becomes a note that the misfit is the model's where that mean is above
     `SIGMA_EXCEEDED` while the Voigt chain fits within the noise σ states: the stated noise
     cannot be what limits the fit (the note holds the threshold, not the fit's mean, as above).
-    The note that the data limit the fit ends with the KK test's hint when the data fail it
-    almost everywhere but conj(Z) passes (`kk.sign_hints`; ``attrs``: the data's, for how to
-    fix the file): a Z'' stored with the opposite sign, not noise or drift, then limits it."""
+    Where that note would be given, the full KK test is run (`kk.kk_verdicts`): when the data
+    pass it (their residuals from the chain are noise, so the chain's misfit is the noise) and
+    the fit's rms_rel is above `MODEL_MISFIT_OVER_CONSISTENT` × the chain's, the misfit is this
+    model's (a fit 2.7× the chain's on 1 % noise has χ²_red ≈ 7: decisive), and the note says so;
+    else the note that the data limit the fit, ending with the KK test's hint when the data fail
+    it almost everywhere but conj(Z) passes (``attrs``: the data's, for how to fix the file): a
+    Z'' stored with the opposite sign, not noise or drift, then limits it."""
     rms, checked, kks = _checked_misfits(freq, z, z_model, known)
     explained = np.zeros(rms.size, bool)
     ratio, noise_rms = np.full(rms.size, np.nan), np.full(rms.size, np.nan)
@@ -712,7 +722,7 @@ def misfit_notes(freq, z, z_model, known: dict[int, float] | None = None, sigma=
             noise_rms = np.reshape(np.sqrt(np.mean(variance / np.abs(np.asarray(z)) ** 2, axis=-1)), rms.shape)  # (the rms_rel σ implies)
         explained = np.isfinite(ratio) & (ratio <= SIGMA_EXPLAINED)
     out: list[tuple[str, ...]] = [()] * rms.size
-    data_limited: list[int] = []
+    data_limited: dict[int, float] = {}  # spectrum → its KK chain's rms_rel
     for i, kk in zip(checked.tolist(), kks.tolist()):
         if not kk > 0:
             continue
@@ -734,11 +744,16 @@ def misfit_notes(freq, z, z_model, known: dict[int, float] | None = None, sigma=
                 f"the data are {kk * 100:.2g}% (rms_rel) from any Kramers–Kronig-consistent model (the KK test's Voigt chain), within {MISFIT_RATIO_MAX:g}× "
                 f"of this fit's misfit: {DATA_LIMIT_NOTE}",
             )
-            data_limited.append(i)
+            data_limited[i] = kk
     if data_limited:  # (the full KK test, and conj(Z)'s only where it fails almost everywhere)
         rows = np.atleast_2d(z)
-        for i, hint in zip(data_limited, sign_hints(freq, rows[data_limited], attrs)):
-            if hint:
+        for (i, kk), (valid, hint) in zip(data_limited.items(), kk_verdicts(freq, rows[list(data_limited)], attrs)):
+            if valid and rms[i] > MODEL_MISFIT_OVER_CONSISTENT * kk:
+                out[i] = (
+                    f"the misfit is this model's: the data pass the Kramers–Kronig test (their {kk * 100:.2g}% rms_rel from its Voigt chain is their noise) "
+                    f"and this fit's rms_rel is over {MODEL_MISFIT_OVER_CONSISTENT:g}× that; a diagnosis (impedax diagnose) shows where it fails and which effect is missing",
+                )
+            elif hint:
                 out[i] = (f"{out[i][0]}; {SIGN_HINT_LEAD}{hint}",)
     return out
 
