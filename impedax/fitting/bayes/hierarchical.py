@@ -727,6 +727,7 @@ class HierarchicalPosterior(PiledUp):
             "divergences": self.divergences,
             "warnings": list(self.warnings),
             "piled_up": self.piled_up,
+            "fixed": {n: float(v) for n, v in self.fixed.items()},
         }
 
     def report(self) -> str:
