@@ -620,6 +620,22 @@ def test_sample_help_prints_percent_signs_once(capsys):
     assert stop.value.code == 0 and "%%" not in out and "5/16/84/95 % quantiles" in out
 
 
+def test_fit_and_sample_help_say_that_sample_proportional_noise_is_fit_modulus_weighting(capsys):
+    """The word proportional names two things: sample's σ_k = sigma_rel·|Z_k| is fit's modulus
+    weighting, and sample's start fit uses modulus (`start_weighting`); both --help texts say so."""
+    from impedax.fitting.bayes.logprob import start_weighting
+
+    assert start_weighting("proportional") == "modulus" and start_weighting("sigma") == "sigma"
+    helps = {}
+    for command in ("sample", "fit"):
+        with pytest.raises(SystemExit):
+            main([command, "--help"])
+        helps[command] = " ".join(capsys.readouterr().out.split())
+    assert "proportional noise is what impedax fit calls --weighting modulus" in helps["sample"]
+    assert "the weighting of impedax sample's --noise proportional" in helps["fit"]
+    assert all("divides Re by |Re Z| and Im by |Im Z|" in t or "Re divided by |Re Z| and Im by |Im Z|" in t for t in helps.values())
+
+
 def test_a_stuck_walker_makes_tau_unknown_without_a_raw_warning():
     """A walker that never moves over 60 kept draws has an autocorrelation of 0/0: τ is unknown
     (NaN, no RuntimeWarning from emcee) and the warning counts the stuck walker."""
