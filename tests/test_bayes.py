@@ -620,6 +620,22 @@ def test_sample_help_prints_percent_signs_once(capsys):
     assert stop.value.code == 0 and "%%" not in out and "5/16/84/95 % quantiles" in out
 
 
+def test_fit_and_sample_help_say_that_sample_proportional_noise_is_fit_modulus_weighting(capsys):
+    """The word proportional names two things: sample's σ_k = sigma_rel·|Z_k| is fit's modulus
+    weighting, and sample's start fit uses modulus (`start_weighting`); both --help texts say so."""
+    from impedax.fitting.bayes.logprob import start_weighting
+
+    assert start_weighting("proportional") == "modulus" and start_weighting("sigma") == "sigma"
+    helps = {}
+    for command in ("sample", "fit"):
+        with pytest.raises(SystemExit):
+            main([command, "--help"])
+        helps[command] = " ".join(capsys.readouterr().out.split())
+    assert "proportional noise is what impedax fit calls --weighting modulus" in helps["sample"]
+    assert "the weighting of impedax sample's --noise proportional" in helps["fit"]
+    assert all("divides Re by |Re Z| and Im by |Im Z|" in t or "Re divided by |Re Z| and Im by |Im Z|" in t for t in helps.values())
+
+
 def test_a_stuck_walker_makes_tau_unknown_without_a_raw_warning():
     """A walker that never moves over 60 kept draws has an autocorrelation of 0/0: τ is unknown
     (NaN, no RuntimeWarning from emcee) and the warning counts the stuck walker."""
@@ -684,3 +700,33 @@ def test_a_saved_posterior_of_a_custom_reparametrization_asks_for_it_and_is_not_
     with pytest.raises(ix.ParameterError, match=r"custom reparametrization \(tau in place of C1\); pass it as reparametrization=") as caught:
         ix.Posterior.from_xarray(read_netcdf(path))
     assert "damaged" not in str(caught.value)
+
+
+def test_a_bound_where_the_element_is_a_simpler_one_says_so():
+    """Synthetic draws piled against α = 1 of R_sc || CPE_sc (a capacitor there; α > 1 is not
+    physical): the warning says the data are consistent with the capacitor C_sc, not that the
+    data would take larger values. R_sc piled against its lower bound 0 keeps that wording."""
+    from impedax.circuits import DEFAULT_REGISTRY
+    from impedax.fitting.bayes.diagnostics import prior_edges, reducing_bounds
+    from impedax.fitting.bayes.priors import Prior
+
+    circuit = ix.parse("C_s + C_i + R_sc || CPE_sc + R_f")
+    reductions = reducing_bounds(circuit, DEFAULT_REGISTRY)
+    assert set(reductions) == {"CPE_sc.alpha"} and reductions["CPE_sc.alpha"][0] == "upper"
+    rng = np.random.default_rng(0)
+    n = 4000
+    draws = np.column_stack([
+        1.0 - rng.exponential(0.01, n).clip(max=0.5),  # α piled against its bound 1
+        rng.exponential(5.0, n).clip(max=1e3),  # R_sc [Ω] piled against its bound 0
+    ])
+    names = ("CPE_sc.alpha", "R_sc")
+    priors = {"CPE_sc.alpha": Prior("uniform", 0.0, 1.0), "R_sc": Prior("uniform", 0.0, 1e3)}
+    edges = prior_edges(names, ("", "Ohm"), draws, priors, (0.0, 0.0), (1.0, np.inf), reductions)
+    assert edges.piled_up == {"CPE_sc.alpha": "upper", "R_sc": "lower"}
+    alpha, r = edges.warnings
+    assert alpha.startswith("CPE_sc.alpha piles up against its upper bound 1 ")
+    assert "CPE_sc with alpha = 1 is a capacitor: the model with C_sc in its place may be enough" in alpha
+    assert "the data are consistent with CPE_sc.alpha = 1" in alpha and "larger values" not in alpha and "missing" not in alpha
+    assert r.startswith("R_sc piles up against its lower bound 0 ") and "the data would take smaller values (is the model missing something?)" in r
+    # without the reductions (as before), α's warning is the generic one
+    assert "is the model missing something?" in prior_edges(names, ("", "Ohm"), draws, priors, (0.0, 0.0), (1.0, np.inf)).warnings[0]

@@ -31,7 +31,9 @@ def _json(capsys, *argv):
 def test_fix_holds_a_parameter_in_the_start_and_the_sampling(capsys, spectrum):
     out = _json(capsys, spectrum, "--model", "R0 + R1 || C1", "--fix", "R0=12")
     assert "R0" not in out["params"] and {"R1", "C1"} <= set(out["params"])
+    assert out["fixed"] == {"R0": 12.0}  # (the text's "(fixed)" row; it was in no JSON key)
     free = _json(capsys, spectrum, "--model", "R0 + R1 || C1")
+    assert free["fixed"] == {}
     # R0 held 2 Ω above its value: R1 takes up the difference at low frequency (R0 + R1 ≈ 110 Ω)
     assert out["params"]["R1"]["median"] < free["params"]["R1"]["median"] - 1.0
 

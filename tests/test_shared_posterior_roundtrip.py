@@ -93,6 +93,7 @@ def test_sigma_noise_fixed_parameter_and_two_dimensions_round_trip(with_sigma, t
     np.testing.assert_array_equal(back.sigma, with_sigma.sigma)
     np.testing.assert_array_equal(ix.load(path)["sigma"].transpose("session", "trial", "frequency").values, 0.01 * np.abs(stack(2, (2, 1))))
     assert back.over == ("session", "trial") and back.spectra == ("session=a, trial=0", "session=b, trial=0")
+    assert with_sigma.summary()["fixed"] == back.summary()["fixed"] == {"R0": 50.0}  # (--json's key, as a single posterior's)
     fn = lambda p: p["R0"] * p["C1"]  # noqa: E731  (R0 fixed: given by value)
     out = back.derive(fn)
     xr.testing.assert_identical(out, with_sigma.derive(fn))
@@ -232,6 +233,7 @@ def test_hierarchical_with_sessions_reparametrization_and_error_sds_reads_back(t
     back = type(post).from_xarray(ix.load(path))
     assert_same_hierarchical(back, post)
     assert back.trial_index.to_index().names == ["session", "trial"] and back.population_parameters()["C1"].shape == (12,)
+    assert post.summary()["fixed"] == back.summary()["fixed"] == {"R2": 5.0}
     with xr.open_dataset(path) as raw:  # opened as stored
         assert_same_hierarchical(type(post).from_xarray(raw.load()), post)
 

@@ -18,7 +18,8 @@ def add_fit_options(p) -> None:
     """Options shared by fit-like commands (fit, compare, diagnose, refine)."""
     from .common import number_option
 
-    add_weighting_option(p, "residual weighting (default modulus: relative errors; see impedax.fitting.WEIGHTINGS)")
+    add_weighting_option(p, "residual weighting (default modulus: both parts divided by |Z|, relative errors, the weighting of impedax sample's --noise proportional; "
+                            "proportional: Re divided by |Re Z| and Im by |Im Z|; see impedax.fitting.WEIGHTINGS)")
     p.add_argument("--fmin", type=number_option, help="ignore data below this frequency [Hz]")
     p.add_argument("--fmax", type=number_option, help="ignore data above this frequency [Hz]")
     add_exclude_option(p)

@@ -26,7 +26,9 @@ def register(sub) -> None:
     p.add_argument("--thin", type=int, default=1, metavar="N", help="keep every N-th step (default 1)")
     p.add_argument("--seed", type=int, default=0, metavar="S", help="random seed (default 0)")
     p.add_argument("--prior", action="append", metavar="NAME=KIND:ARGS", help="prior for one parameter (repeatable), e.g. R1=loguniform:1e2,1e5; kinds: " + "; ".join(PRIOR_KINDS.values()))
-    p.add_argument("--noise", default="proportional", type=noise_model_option, choices=[str(m) for m in NOISE_MODELS], help="; ".join(f"{k}: {v}" for k, v in NOISE_MODELS.items()))
+    p.add_argument("--noise", default="proportional", type=noise_model_option, choices=[str(m) for m in NOISE_MODELS], help="; ".join(f"{k}: {v}" for k, v in NOISE_MODELS.items())
+                   + " (default proportional; proportional noise is what impedax fit calls --weighting modulus, and the start fit is weighted so — "
+                   "not fit's --weighting proportional, which divides Re by |Re Z| and Im by |Im Z|)")
     add_shared_options(p)
     p.add_argument("--fmin", type=number_option, help="ignore data below this frequency [Hz]")
     p.add_argument("--fmax", type=number_option, help="ignore data above this frequency [Hz]")

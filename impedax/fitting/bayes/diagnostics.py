@@ -10,11 +10,13 @@ from typing import Mapping, NamedTuple, Sequence
 
 import numpy as np
 
+from ...circuits import Circuit, Registry
 from ...data import unit_text
+from ..diagnosis.refinement import capacitor_name
 
 __all__ = [
     "CHAIN_TAU_MULTIPLE", "ACCEPTANCE_STUCK", "GAUSSIAN_ACCEPTANCE", "CORRELATION_WARNING", "EDGE_BAND", "EDGE_DENSITY", "EDGE_MIN_DRAWS",
-    "INTERVAL_RATIO_WARNING", "integrated_autocorr", "flat_acceptance", "acceptance_ceiling", "hdi", "chain_warnings", "PriorEdges", "prior_edges", "PiledUp",
+    "INTERVAL_RATIO_WARNING", "integrated_autocorr", "flat_acceptance", "acceptance_ceiling", "hdi", "chain_warnings", "PriorEdges", "prior_edges", "reducing_bounds", "PiledUp",
     "acceptance_warnings", "interval_warnings", "figure",
 ]
 
@@ -188,6 +190,20 @@ class PriorEdges(NamedTuple):
     piled_up: dict[str, str]
 
 
+def reducing_bounds(circuit: Circuit, registry: Registry) -> dict[str, tuple[str, str]]:
+    """{parameter: (side, words)} of ``circuit``'s parameters whose bound on that side is the
+    value at which their element is a simpler one: a CPE's alpha at its upper bound 1 is an
+    ideal capacitor C = Q (Z = 1/(Q (jω)^α)), named as `refine` names the C it puts in the
+    CPE's place (`capacitor_name`)."""
+    out = {}
+    for e in circuit.elements():
+        if registry[e.symbol].symbol != "CPE":
+            continue
+        _, alpha = registry[e.symbol].parameter_names(e.name)
+        out[alpha] = ("upper", f"{e.name} with alpha = 1 is a capacitor: the model with {capacitor_name(e.name, circuit.element_names)} in its place may be enough")
+    return out
+
+
 def prior_edges(
     names: Sequence[str],
     units: Sequence[str],
@@ -195,6 +211,7 @@ def prior_edges(
     priors: Mapping,
     lower: Sequence[float],
     upper: Sequence[float],
+    reductions: Mapping[str, tuple[str, str]] | None = None,
 ) -> PriorEdges:
     """The parameters whose posterior piles up against an edge of their prior, as data and as
     a warning for each (`PriorEdges`).
@@ -207,7 +224,11 @@ def prior_edges(
     does: the likelihood has not fallen off by the edge, so the prior (or, where the edge is the
     parameter's own bound, the bound) and not the data sets that side of the interval.
     ``draws`` are flat natural values (sample, param); ``lower``/``upper`` the parameters' bounds.
+    ``reductions`` (`reducing_bounds`): parameters whose bound makes their element a simpler
+    one; piled up there, the data are consistent with that simpler element (a CPE's alpha at 1
+    is a capacitor, and alpha > 1 is not physical), not asking for values beyond the bound.
     """
+    reductions = reductions or {}
     out, piled_up = [], {}
     for i, n in enumerate(names):
         prior = priors[n]
@@ -234,6 +255,8 @@ def prior_edges(
             interval = f"the {side} end of its 90 % interval ({'q05' if side == 'lower' else 'q95'} = {q:.3g}{unit})"
             if not prior.bounded:
                 out.append(f"{n} piles up against the {side} tail of its prior {prior} ({where}): the prior, not the data, sets {interval}")
+            elif end == bound and reductions.get(n, ("",))[0] == side:
+                out.append(f"{n} piles up against its {side} bound {end:g} ({where}): the bound, not the data, sets {interval}; the data are consistent with {n} = {end:g}, and {reductions[n][1]}")
             elif end == bound:
                 out.append(f"{n} piles up against its {side} bound {end:g} ({where}): the bound, not the data, sets {interval}; the data would take {beyond} values (is the model missing something?)")
             else:
@@ -253,7 +276,7 @@ class PiledUp:
 
     @functools.cached_property
     def _prior_edges(self) -> PriorEdges:
-        return prior_edges(self.names, self.units, self.draws.reshape(-1, len(self.names)), self.priors, *self.bounds)
+        return prior_edges(self.names, self.units, self.draws.reshape(-1, len(self.names)), self.priors, *self.bounds, reducing_bounds(self.circuit, self.registry))
 
     @property
     def piled_up(self) -> dict[str, str]:

@@ -53,7 +53,7 @@ from ...circuits import DEFAULT_REGISTRY, Circuit, Registry, compile_circuit, pa
 from ...data import column_width, make_spectrum
 from ...errors import DataError, FitError, ParameterError
 from ..derived import draw_indices
-from .diagnostics import PiledUp, PriorEdges, prior_edges
+from .diagnostics import PiledUp, PriorEdges, prior_edges, reducing_bounds
 from .priors import Prior, PriorKind
 from .reparam import Reparametrization
 from .progress import ProgressLine, announce
@@ -608,7 +608,7 @@ class HierarchicalPosterior(PiledUp):
                 add(n, n, unit, Prior(PriorKind.LOGNORMAL, math.exp(float(self.shared_prior_centre[j])), _MU_SD), 0.0, math.inf, self.shared[..., j])
         if not shown:
             return PriorEdges([], {})
-        edges = prior_edges(shown, units, np.stack(draws, axis=1), priors, lower, upper)
+        edges = prior_edges(shown, units, np.stack(draws, axis=1), priors, lower, upper, reducing_bounds(self.circuit, self.registry))
         return PriorEdges(edges.warnings, {keys[shown.index(label)]: side for label, side in edges.piled_up.items()})
 
     @property
@@ -727,6 +727,7 @@ class HierarchicalPosterior(PiledUp):
             "divergences": self.divergences,
             "warnings": list(self.warnings),
             "piled_up": self.piled_up,
+            "fixed": {n: float(v) for n, v in self.fixed.items()},
         }
 
     def report(self) -> str:

@@ -235,6 +235,7 @@ class Posterior(PiledUp):
             "thin": self.settings.get("thin"),
             "seed": self.settings.get("seed"),
             "map": dict(self.map_values),
+            "fixed": {n: float(v) for n, v in self.fixed.items()},  # (the report's "(fixed)" rows; the .nc's attribute)
         }
         if self.reparametrization is not None:
             cq = self.quantiles(circuit=True)

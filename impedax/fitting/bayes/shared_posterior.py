@@ -127,6 +127,12 @@ class SharedPosterior(PiledUp):
         return str(self.circuit)
 
     @property
+    def fixed(self) -> dict[str, float]:
+        """The parameters held fixed (name → value), as the start fit holds them."""
+        ds = self.fit.dataset
+        return {str(n): float(ds["value"].sel(param=n).values.ravel()[0]) for n in ds["param"].values if bool(ds["fixed"].sel(param=n))}
+
+    @property
     def n_walkers(self) -> int:
         return int(self.draws.shape[0])
 
@@ -240,6 +246,7 @@ class SharedPosterior(PiledUp):
             "steps_mode": self.settings.get("steps_mode", "fixed"),
             "step_cap": self.settings.get("step_cap"),
             "stopped": self.settings.get("stopped"),
+            "fixed": self.fixed,
         }
 
     def report(self) -> str:
@@ -274,9 +281,8 @@ class SharedPosterior(PiledUp):
         ``freq`` defaults to the data's frequencies when ``fn`` takes one."""
         if freq is None and needs_freq(fn):
             freq = np.asarray(self.fit.dataset["frequency"].values, float)
-        ds = self.fit.dataset
         total = self.n_walkers * self.n_draws
-        params = {str(n): np.full(total, float(ds["value"].sel(param=n).values.ravel()[0])) for n in ds["param"].values if bool(ds["fixed"].sel(param=n))}
+        params = {n: np.full(total, v) for n, v in self.fixed.items()}
         params.update(self.samples)
         return draws_band(fn, freq, params, self.model, draws=draws, max_draws=max_draws, method="joint posterior draws")
 

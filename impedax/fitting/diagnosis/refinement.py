@@ -27,7 +27,7 @@ from .diagnosis import CANDIDATE_STEPS, DELTA_AIC_MIN, NOISE_FRACTION_MIN, Diagn
 from .effects import DEFAULT_EFFECTS, placement
 from .vanishing import share_words, vanished_parameters, vanished_terms
 
-__all__ = ["Refinement", "RefinementStep", "refine"]
+__all__ = ["Refinement", "RefinementStep", "refine", "capacitor_name"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -528,7 +528,7 @@ def _simplified(steps: list[RefinementStep], used: xr.Dataset, *, n_starts: int,
     return steps
 
 
-def _capacitor_name(name: str, taken) -> str:
+def capacitor_name(name: str, taken) -> str:
     """A C's name for the CPE ``name`` it replaces: CPE1 → C1, CPE_relax → C_relax (C_relax2, ...
     when taken), as `effects` names a CPE for the C it replaces."""
     label = name[4:] if name.startswith("CPE_") else name[3:] if name.startswith("CPE") else name[2:] if name.startswith("Q_") else name[1:] if name.startswith("Q") else name
@@ -555,7 +555,7 @@ def _capacitors(fit: FitResult) -> list[tuple[str, str, Circuit, dict[str, float
         q, alpha = registry[e.symbol].parameter_names(e.name)
         if alpha not in fit.at_bound or fit.values[alpha] < 0.5 or fit.fixed[q]:  # (α at 1, not at 0)
             continue
-        name = _capacitor_name(e.name, fit.circuit.element_names)
+        name = capacitor_name(e.name, fit.circuit.element_names)
         circuit = fit.circuit.replace(e.name, Element("C", name))
         init = {k: v for k, v in fit.values.items() if k not in (q, alpha)}
         init[registry["C"].parameter_names(name)[0]] = fit.values[q]
