@@ -12,7 +12,6 @@ import numpy as np
 
 from ...circuits import Circuit, Registry
 from ...data import unit_text
-from ..diagnosis.refinement import capacitor_name
 
 __all__ = [
     "CHAIN_TAU_MULTIPLE", "ACCEPTANCE_STUCK", "GAUSSIAN_ACCEPTANCE", "CORRELATION_WARNING", "EDGE_BAND", "EDGE_DENSITY", "EDGE_MIN_DRAWS",
@@ -195,6 +194,8 @@ def reducing_bounds(circuit: Circuit, registry: Registry) -> dict[str, tuple[str
     value at which their element is a simpler one: a CPE's alpha at its upper bound 1 is an
     ideal capacitor C = Q (Z = 1/(Q (jω)^α)), named as `refine` names the C it puts in the
     CPE's place (`capacitor_name`)."""
+    from ..diagnosis.refinement import capacitor_name  # (here: sampling need not import the diagnosis)
+
     out = {}
     for e in circuit.elements():
         if registry[e.symbol].symbol != "CPE":
