@@ -17,7 +17,9 @@ from scipy import integrate, stats
 import impedax as ix
 from impedax.cli import main
 from impedax.fitting import Posterior, parse_prior
+from impedax.fitting.bayes.evidence import EVIDENCE_NOTE_LEAD
 from impedax.fitting.bayes.priors import prior_log_density
+from impedax.io.export import to_jsonable
 from impedax.io import read_netcdf, write_netcdf
 from spectra import CASES, meyer, noisy, rc, r_cpe
 
@@ -384,6 +386,32 @@ def test_laplace_evidence_prefers_the_true_model():
     comparison = ix.compare(results["cpe"])
     assert [r["log_evidence"] for r in comparison.rows] == [rc_on_cpe.log_evidence, cpe_on_cpe.log_evidence]
     assert "waic" in comparison.rows[0] and "log_evidence" in comparison.table()
+
+
+def test_compare_marks_an_unreliable_log_evidence_and_lists_the_posterior_s_warnings(rcpe):
+    """The rcpe posterior, and a copy whose CPE1.alpha draws pile up against 1 (30 % within
+    1e-5 of it) and whose notes call its Laplace log evidence unreliable, as `laplace_evidence`
+    writes it: the comparison marks that value and lists the posterior's own warnings (before,
+    only its least-squares start's)."""
+    _, _, _, post = rcpe
+    draws = post.draws.copy()
+    rng = np.random.default_rng(0)
+    piled = rng.random(draws.shape[:2]) < 0.3
+    draws[..., post.names.index("CPE1.alpha")][piled] = 1 - 1e-5 * rng.random(int(piled.sum()))
+    note = f"{EVIDENCE_NOTE_LEAD}is unreliable: the posterior is not Gaussian at the MAP along CPE1.alpha"
+    edgy = dataclasses.replace(post, draws=draws, notes=(note,))
+    assert any(w.startswith("CPE1.alpha piles up against its upper bound 1") for w in edgy.warnings)  # (the case)
+    c = ix.compare([post, edgy])
+    assert [r["log_evidence_reliable"] for r in c.rows] == [math.isfinite(post.log_evidence) and not any(w.startswith(EVIDENCE_NOTE_LEAD) for w in post.warnings), False]
+    row = next(line for line in c.table().splitlines() if line.startswith(c.rows[1]["label"] + " "))
+    assert f"{edgy.log_evidence:.2f}*" in row.split()
+    assert f"* log evidence unreliable or undefined by the posterior's own warnings (listed with the model's): {c.rows[1]['label']}; compare these models by WAIC" in c.table()
+    own = [w for w in edgy.warnings if not w.startswith("least-squares start: ")]
+    assert set(own) <= set(c.fits[1].warnings) and note in c.report()
+    assert set(c.fits[0].warnings) == set(post.fit.warnings) | {w for w in post.warnings if not w.startswith("least-squares start: ")}
+    doc = json.loads(json.dumps(to_jsonable(c.summary()), allow_nan=False))
+    assert doc["models"][1]["log_evidence_reliable"] is False and note in doc["models"][1]["warnings"]
+    assert c.rows[1]["same_fit_as"] == c.rows[0]["label"] and c.weak_evidence() is None  # (one fit twice: no rival)
 
 
 # --- known noise ----------------------------------------------------------------------------------

@@ -8,7 +8,7 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from impedax.fitting.bayes.evidence import laplace_evidence
+from impedax.fitting.bayes.evidence import EVIDENCE_NOTE_LEAD, laplace_evidence
 from impedax.fitting.bayes.logprob import LogProbFunctions
 
 jax.config.update("jax_enable_x64", True)
@@ -55,3 +55,4 @@ def test_a_parameter_left_to_its_flat_prior_is_named():
     out = laplace_evidence(chain_y, log_prob, None, _functions(log_density), [-np.inf, 0.0], [np.inf, 1.0], names=["R0", "W1.tau"])
     assert "unreliable" in out.note and "W1.tau" in out.note and "R0" not in out.note
     assert "left to its prior" in out.note
+    assert out.note.startswith(EVIDENCE_NOTE_LEAD)  # (how `impedax.compare` finds it)

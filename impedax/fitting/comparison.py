@@ -17,9 +17,10 @@ from ..data import column_width, format_quantity
 from ..errors import FitError
 from .least_squares import FitResult
 from .least_squares.branches import undetermined
+from .bayes.evidence import EVIDENCE_NOTE_LEAD
 from .least_squares.result import BOUND_CHI2_FRACTION, DATA_LIMIT_NOTE, SIGN_HINT_LEAD
 
-__all__ = ["compare", "Comparison", "is_nested", "boundary_parameters", "undetermined_names", "criteria", "akaike_weights", "KNOWN_SIGMA", "UNKNOWN_VARIANCE", "SIGMA_CHI2_RED_RANGE"]
+__all__ = ["compare", "Comparison", "WEAK_DELTA_AIC", "is_nested", "boundary_parameters", "undetermined_names", "criteria", "akaike_weights", "KNOWN_SIGMA", "UNKNOWN_VARIANCE", "SIGMA_CHI2_RED_RANGE"]
 
 
 def _nested(a: Circuit, b: Circuit) -> bool:
@@ -79,8 +80,27 @@ UNKNOWN_VARIANCE = "n ln(chi2/n) + 2k"
 estimated (σ̂² = χ²/n), −2 ln L = n ln(χ²/n) + const (lmfit's convention, `FitResult.aic`)."""
 SIGMA_CHI2_RED_RANGE = (0.5, 2.0)
 """Under ``weighting="sigma"`` the table says so when the lowest reduced χ² of the models is
-outside this range: the sigma do not describe the scatter about any model, and ΔAIC are about
-χ²_red times those of the unknown-variance form (n ln(χ²_a/χ²_b) ≈ Δχ²/χ²_red)."""
+outside this range: the sigma do not describe the scatter about the best-fitting model, and ΔAIC
+are about χ²_red times those of the unknown-variance form (n ln(χ²_a/χ²_b) ≈ Δχ²/χ²_red). Above
+it, about no model; below it, the line names the models below it when others are not."""
+
+
+WEAK_DELTA_AIC = 4.0
+"""The best model's lead is weak when a rival is less than this far behind in AIC: Burnham &
+Anderson (2002, Model Selection and Multimodel Inference, §2.6) give models within ΔAIC 2 of the
+best "substantial support" and those 4–7 behind "considerably less"; below 4 the data barely tell
+the two apart (a SYNTHETIC Meyer finger with a CPE skin at α = 0.99, 1 % noise: ΔAIC 2.66 for the
+CPE, BIC for the capacitor)."""
+UNRELIABLE_MARK = "*"
+"""The table's mark on a log evidence its posterior's warnings call unreliable (a footnote line
+under the table says so)."""
+
+
+def significant(x: float, digits: int = 3) -> str:
+    """``x`` to ``digits`` significant digits, trailing zeros kept (1.00 next to 1.02, where
+    ``:.3g`` printed 1), without a dangling point (100, not 100.)."""
+    text = f"{x:#.{digits}g}"
+    return text[:-1] if text.endswith(".") else text
 
 
 def criteria(fit: FitResult) -> dict:
@@ -167,12 +187,47 @@ class Comparison:
             # (the models' labels: the model text with the fixed values, `fit_label`)
             "best_label": self.rows[self.best_index]["label"], "best_determined_label": None if j is None else self.rows[j]["label"],
             "best_aicc_label": None if i is None else self.rows[i]["label"],
+            "weak_evidence": self.weak_evidence(),  # (added 2026-11-30: None when the best model's lead is clear)
         }
 
     def to_table(self) -> list[dict]:
         """One row per model, as ``compare --out FILE.csv`` writes them: the columns of the table
         with chi2, the AICc deltas and weights, and the undetermined parameters (``;``-joined)."""
         return [{**r, "undetermined": ";".join(undetermined_names(f))} for r, f in zip(self.rows, self.fits)]
+
+    def weak_evidence(self) -> dict | None:
+        """How weakly the data prefer the best model by AIC, or None when its lead is clear: a
+        rival less than `WEAK_DELTA_AIC` behind, or picked by BIC, or — when every row has a
+        reliable log evidence (posteriors) — by the log evidence. The rival is the model BIC
+        picks, else the one the log evidence picks, else the runner-up by AIC; a fit that is the
+        best's own (``same_fit_as``) is no rival. Keys: ``best``, ``rival`` (labels),
+        ``delta_aic`` (the rival's), ``threshold``, ``bic_prefers`` and
+        ``log_evidence_prefers`` (a label other than the best's, or None), ``note`` (the
+        table's line)."""
+        best = self.best_index
+        others = [i for i, r in enumerate(self.rows) if i != best and r.get("same_fit_as") != self.rows[best]["label"]]
+        if not others:
+            return None
+        label = lambda i: self.rows[i]["label"]  # noqa: E731
+        by_bic = min(range(len(self.rows)), key=lambda i: self.rows[i]["bic"])
+        bic_rival = by_bic if by_bic in others and self.rows[by_bic]["bic"] < self.rows[best]["bic"] else None
+        evidence_rival = None
+        if all(r.get("log_evidence_reliable") for r in self.rows):
+            by_evidence = max(range(len(self.rows)), key=lambda i: self.rows[i]["log_evidence"])
+            evidence_rival = by_evidence if by_evidence in others and self.rows[by_evidence]["log_evidence"] > self.rows[best]["log_evidence"] else None
+        runner_up = min(others, key=lambda i: self.rows[i]["aic"])
+        rival = next(i for i in (bic_rival, evidence_rival, runner_up) if i is not None)
+        delta = self.rows[rival]["delta_aic"]
+        if not delta < WEAK_DELTA_AIC and bic_rival is None and evidence_rival is None:
+            return None
+        reasons = [f"ΔAIC {delta:.2f}" + (f" < {WEAK_DELTA_AIC:g}" if delta < WEAK_DELTA_AIC else "")]
+        reasons += [f"BIC prefers {label(bic_rival)}"] if bic_rival is not None else []
+        reasons += [f"the log evidence prefers {label(evidence_rival)}"] if evidence_rival is not None else []
+        note = f"the data barely tell {label(best)} from {label(rival)}: {' and '.join(reasons) if delta < WEAK_DELTA_AIC else ', but '.join(reasons)}"
+        return {
+            "best": label(best), "rival": label(rival), "delta_aic": float(delta), "threshold": WEAK_DELTA_AIC,
+            "bic_prefers": None if bic_rival is None else label(bic_rival), "log_evidence_prefers": None if evidence_rival is None else label(evidence_rival), "note": note,
+        }
 
     def _best_mark(self, *, warnings_below: bool) -> str:
         """The table's mark of the best model by AIC, saying when its fit did not converge or has
@@ -222,8 +277,8 @@ class Comparison:
         best = self.best_index
         for i, r in enumerate(self.rows):
             aicc = "—" if math.isnan(r["aicc"]) else f"{r['aicc']:.2f}"
-            line = f"{r['label']:<{width}}  {r['n_params']:>2}  {r['rms_rel'] * 100:>8.3g}%  {r['chi2_red']:>10.4g}  {r['aic']:>9.2f}  {aicc:>9}  {r['bic']:>9.2f}  {r['delta_aic']:>7.2f}  {r['akaike_weight']:>6.3f}"
-            line += "".join(f"  {r.get(c, math.nan):>12.2f}" for c in extra)
+            line = f"{r['label']:<{width}}  {r['n_params']:>2}  {significant(r['rms_rel'] * 100):>8}%  {r['chi2_red']:>10.4g}  {r['aic']:>9.2f}  {aicc:>9}  {r['bic']:>9.2f}  {r['delta_aic']:>7.2f}  {r['akaike_weight']:>6.3f}"
+            line += "".join(f"  {self._extra_cell(r, c):>12}" for c in extra)
             if i == best:
                 line += self._best_mark(warnings_below=warnings_below)
             else:
@@ -237,28 +292,49 @@ class Comparison:
                 + (f"the best model with every parameter determined is {self.rows[determined]['label']} (ΔAIC {self.rows[determined]['delta_aic']:.2f})" if determined is not None
                    else "so does every other model" if len(self.rows) > 1 else "there is no other model")
             )
+        weak = self.weak_evidence()
+        if weak is not None:
+            lines.append(weak["note"])
+        unreliable = [r["label"] for r in self.rows if r.get("log_evidence_reliable") is False]
+        if unreliable:
+            lines.append(f"{UNRELIABLE_MARK} log evidence unreliable or undefined by the posterior's own warnings (listed with the model's): {', '.join(unreliable)}; compare these models by WAIC")
         lines += self._criteria_lines()
         for t in self.f_tests:
             test = f"F = {t['f']:.3g}, p = {t['p_value']:.3g}" if t.get("valid", True) else f"no test: {t['note']}"
             lines.append(f"F-test {t.get('simple_label', t['simple'])}  ⊂  {t.get('complex_label', t['complex'])}: {test}")
         return "\n".join(lines)
 
+    @staticmethod
+    def _extra_cell(row: dict, column: str) -> str:
+        """A posterior column's cell: the value, marked `UNRELIABLE_MARK` when it is a log
+        evidence the posterior's warnings call unreliable."""
+        value = f"{row.get(column, math.nan):.2f}"
+        return value + UNRELIABLE_MARK if column == "log_evidence" and row.get("log_evidence_reliable") is False else value
+
     def _criteria_lines(self) -> list[str]:
         """What the table says of its criteria: the AIC of known noise under sigma weighting (and
-        when the sigma do not describe the scatter, `SIGMA_CHI2_RED_RANGE`), the models without
+        when the sigma do not describe the scatter, `SIGMA_CHI2_RED_RANGE`: about every model,
+        or about the models named), the models without
         an AICc, and a best by AICc other than the best by AIC."""
         lines = []
         n = 2 * self.fits[0].n_points
         if self.aic_form == KNOWN_SIGMA:
             lines.append("AIC = χ² + 2k and BIC = χ² + k ln n: the data's sigma taken as the known noise (weighting sigma)")
-            lowest = min((r["chi2_red"] for r in self.rows if math.isfinite(r["chi2_red"])), default=math.nan)
+            finite = [r for r in self.rows if math.isfinite(r["chi2_red"])]
+            lowest = min((r["chi2_red"] for r in finite), default=math.nan)
             low, high = SIGMA_CHI2_RED_RANGE
             if lowest > high or lowest < low:
                 side = "understate" if lowest > high else "overstate"
-                lines.append(
-                    f"the lowest reduced χ² is {lowest:.3g}: the sigma {side} the scatter about every model, and these ΔAIC are about "
-                    f"{lowest:.3g}× those of the unknown-variance form n ln(χ²/n) + 2k; check the sigma, or compare with another weighting"
-                )
+                scale = f"these ΔAIC are about {lowest:.3g}× those of the unknown-variance form n ln(χ²/n) + 2k; check the sigma, or compare with another weighting"
+                below = [r for r in finite if r["chi2_red"] < low]
+                if lowest > high or len(below) == len(finite):  # (above the range: the lowest is, so every model is)
+                    lines.append(f"the lowest reduced χ² is {lowest:.3g}: the sigma {side} the scatter about every model, and {scale}")
+                else:  # (below it: only some may be; said of every model until 2026-11-30)
+                    named = lambda rs: ", ".join(f"{r['label']} {r['chi2_red']:.3g}" for r in rs)  # noqa: E731
+                    lines.append(
+                        f"the lowest reduced χ² is {lowest:.3g}: the sigma overstate the scatter about {named(below)}, "
+                        f"not about the other models ({named([r for r in finite if r['chi2_red'] >= low])}); {scale}"
+                    )
         for r in self.rows:
             if math.isnan(r["aicc"]):
                 k = r["n_params"]
@@ -284,7 +360,7 @@ class Comparison:
 
         best = self.best_index
         rows = [
-            {"model": r["label"], "k": r["n_params"], "rms_rel [%]": f"{r['rms_rel'] * 100:.3g}", "chi2_red": f"{r['chi2_red']:.4g}", "AIC": f"{r['aic']:.2f}",
+            {"model": r["label"], "k": r["n_params"], "rms_rel [%]": significant(r['rms_rel'] * 100), "chi2_red": f"{r['chi2_red']:.4g}", "AIC": f"{r['aic']:.2f}",
              "ΔAIC": f"{r['delta_aic']:.2f}", "weight": f"{r['akaike_weight']:.3f}", "BIC": f"{r['bic']:.2f}",
              "": self._best_mark(warnings_below=True).strip() if i == best else ("did not converge" if not r["converged"] else "")}
             for i, r in enumerate(self.rows)
@@ -345,7 +421,7 @@ def compare(fits: Sequence) -> Comparison:
     items = list(fits)
     if len(items) < 1:
         raise FitError("compare needs at least one fit")
-    results = [getattr(x, "fit", x) for x in items]
+    results = [_with_posterior_warnings(x) for x in items]
     ref = results[0]
     for i, r in enumerate(results[1:], 1):
         if r.n_points != ref.n_points or not np.allclose(r.frequency, ref.frequency) or not np.allclose(r.z_data, ref.z_data):
@@ -367,6 +443,8 @@ def compare(fits: Sequence) -> Comparison:
             value = getattr(item, extra, None)
             if value is not None:
                 row[extra] = float(value() if callable(value) else value)
+        if "log_evidence" in row:
+            row["log_evidence_reliable"] = math.isfinite(row["log_evidence"]) and not any(w.startswith(EVIDENCE_NOTE_LEAD) for w in _own_warnings(item))
         rows.append(row)
     for j, r in enumerate(results):  # a fit another model also gives: the data cannot tell them apart
         twin = next((rows[i]["label"] for i in range(len(results)) if i != j and _same_fit(results[i], r)), None)
@@ -394,6 +472,27 @@ def compare(fits: Sequence) -> Comparison:
             tests.append(test)
     results = [_model_not_data(r, i, results, labels, tests, [row["aic"] for row in rows]) for i, r in enumerate(results)]
     return Comparison(tuple(rows), tuple(tests), tuple(results), ics[0]["aic_form"])
+
+
+def _own_warnings(item) -> list[str]:
+    """The warnings of a posterior (an item with a ``fit``) that are its own, not its start
+    fit's (``least-squares start: …``, which the fit itself carries); [] for a fit."""
+    fit = getattr(item, "fit", None)
+    if fit is None or fit is item:
+        return []
+    return [w for w in getattr(item, "warnings", ()) if not w.startswith("least-squares start: ")]
+
+
+def _with_posterior_warnings(item) -> FitResult:
+    """The fit a comparison row stands for: ``item`` itself, or a posterior's least-squares start
+    with the posterior's own warnings (`_own_warnings`: draws piled up against a prior's edge, a
+    Laplace log evidence its shape makes unreliable, a short chain) added to the fit's, so the
+    comparison lists them with the model's other warnings."""
+    fit = getattr(item, "fit", item)
+    own = _own_warnings(item)
+    if not own or isinstance(fit.warnings, Mapping):
+        return fit
+    return replace(fit, warnings=tuple(fit.warnings) + tuple(w for w in own if w not in fit.warnings))
 
 
 SAME_FIT_RMS = 1e-3

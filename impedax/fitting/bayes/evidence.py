@@ -54,6 +54,11 @@ class WAIC(NamedTuple):
     n_unreliable: int = 0
 
 
+EVIDENCE_NOTE_LEAD = "Laplace log evidence "
+"""How the notes of `laplace_evidence` begin, each saying the value is unreliable or undefined:
+`impedax.compare` marks the log evidence of a posterior that carries one."""
+
+
 def laplace_evidence(chain_y, log_prob, args: LogProbArgs, functions: LogProbFunctions, lo_y, hi_y, names: Sequence[str] | None = None) -> LaplaceEvidence:
     """ln Z ≈ ln p(y*) + ln π(y*) + (d/2) ln 2π − ½ ln det(−H) at the MAP y* (sampled space).
 
@@ -85,13 +90,13 @@ def laplace_evidence(chain_y, log_prob, args: LogProbArgs, functions: LogProbFun
     h = np.asarray(functions.hessian(jnp.asarray(y_map), args), float)
     d = len(y_map)
     if not np.all(np.isfinite(h)):
-        return LaplaceEvidence(math.nan, y_map, "Laplace log evidence undefined: the Hessian at the MAP is not finite")
+        return LaplaceEvidence(math.nan, y_map, f"{EVIDENCE_NOTE_LEAD}undefined: the Hessian at the MAP is not finite")
     eig = np.linalg.eigvalsh(-0.5 * (h + h.T))
     if eig.min() <= 0:
-        return LaplaceEvidence(math.nan, y_map, "Laplace log evidence undefined: the log-posterior is not peaked at the MAP (a flat or unidentified direction)")
+        return LaplaceEvidence(math.nan, y_map, f"{EVIDENCE_NOTE_LEAD}undefined: the log-posterior is not peaked at the MAP (a flat or unidentified direction)")
     note = ""
     if eig.min() / eig.max() < 1e-12:
-        note = "Laplace log evidence is unreliable: the posterior is nearly flat along some direction (unidentified parameters)"
+        note = f"{EVIDENCE_NOTE_LEAD}is unreliable: the posterior is nearly flat along some direction (unidentified parameters)"
     else:
         note = _width_note(np.linalg.inv(-0.5 * (h + h.T)), chain_y, names)
     return LaplaceEvidence(lp_map + 0.5 * d * math.log(2 * math.pi) - 0.5 * float(np.sum(np.log(eig))), y_map, note)
@@ -113,7 +118,7 @@ def _width_note(covariance: np.ndarray, chain_y: np.ndarray, names: Sequence[str
     wide = any(ratio[k] > LAPLACE_WIDTH_RATIO for k in off)
     why = "; a Gaussian far wider than the draws marks a parameter left to its prior, or draws that have not yet spread over the posterior (a chain too short: see its warning)" if wide else ""
     return (
-        f"Laplace log evidence is unreliable: the posterior is not Gaussian at the MAP along {detail}{why}. "
+        f"{EVIDENCE_NOTE_LEAD}is unreliable: the posterior is not Gaussian at the MAP along {detail}{why}. "
         "Compare models by WAIC, or fix or bound that parameter"
     )
 
