@@ -242,6 +242,9 @@ def test_single_trial_has_no_paper_bounds():
     result = gap_analysis(total, skin, ts, area=AREA, method="pooled", steps=100, progress=False)
     assert not result.paper_has_bounds
     assert "bounds n/a (one trial)" in result.report()
+    # flagged (R_EP || C_gap fits within 1.1× the EDL model's rms_rel), with a lower bound below the truth: the fitted
+    # capacitance alone put it 0.47 % above, C + 2 stderr below
+    assert result.gap_identified is False and result.gap_lower_bound < U_TRUE
     assert "sigma" not in result.remaining  # (no trials, no SEM: the pooled sampling's noise is proportional, its level sampled)
     assert "Bayesian on one spectrum per file: noise ∝ |Z| at a sampled level" in result.report() and "Bayesian on the trial means" not in result.report()
     assert not any("paper method's bounds" in w for w in result.warnings)

@@ -698,6 +698,13 @@ beside C_gap would not (an ideal C_EP; the numpy test: 0.4 % against the EDL fit
 EP with α = 0.3: 10.7 % against 0.43 % on the shipped example)."""
 
 
+BOUND_STDERRS = 2.0
+"""The lower bound of u takes the summed capacitance at the upper end of its fit's interval,
+C + this × stderr (≈ 95 %, as `UNDETERMINED_STDERRS`): the fitted C itself is no bound, and on a
+single SYNTHETIC Sirin-style trial (tests/test_models_gap.py, seed 11) its gap lay 0.47 % above
+the true u, with a standard error of 0.74 % of C."""
+
+
 def _merged_fit(remaining: xr.Dataset, weighting: str):
     """`IDENTIFIED_C_REMAINDER` fitted to the remainder (C_EP + C_gap, all counted as C_gap)."""
     from ..fitting import fit
@@ -708,7 +715,7 @@ def _merged_fit(remaining: xr.Dataset, weighting: str):
 def _unidentified_note(reason: str, bound: float) -> str:
     return (
         f"u is NOT determined by these data: {reason}, so C_gap and the EP branch are seen only as their sum; "
-        f"u ≥ {bound * 1e6:.3f} µm (the gap of the summed capacitance, fitted as {IDENTIFIED_C_REMAINDER}) is all they give, "
+        f"u ≥ {bound * 1e6:.3f} µm (the gap of the summed capacitance, fitted as {IDENTIFIED_C_REMAINDER}, at the upper end C + {BOUND_STDERRS:g} stderr of its fit) is all they give, "
         "and the reported u and its interval come from the priors (JSON gap_identified false, gap_um_lower_bound); the force is then an upper bound"
     )
 
@@ -800,7 +807,12 @@ def _identification(ep, requested, circuit, draws, edl, piled_up, notes, remaini
         withheld = _withheld_text(misfit)
         notes.insert(0, f"u is NOT determined by these data: {reason}, and no lower bound is given: {withheld}; the reported u and its interval come from the priors (JSON gap_identified false, gap_um_lower_bound null, gap_bound_withheld)")
         return None, withheld
-    bound = EPSILON_0 * eps_gap * area / float(merged.values["C_gap"])
+    c_sum, c_stderr = float(merged.values["C_gap"]), float(merged.stderr["C_gap"])
+    if not np.isfinite(c_stderr):
+        withheld = f"the capacitance of {IDENTIFIED_C_REMAINDER} fitted to the remainder has no standard error, so its upper end, which the bound needs, is unknown"
+        notes.insert(0, f"u is NOT determined by these data: {reason}, and no lower bound is given: {withheld} (JSON gap_identified false, gap_um_lower_bound null, gap_bound_withheld)")
+        return None, withheld
+    bound = EPSILON_0 * eps_gap * area / (c_sum + BOUND_STDERRS * c_stderr)
     notes.insert(0, _unidentified_note(reason, bound))
     return bound, None
 
