@@ -395,6 +395,36 @@ def test_hierarchical_announces_its_stages(monkeypatch, capsys, progress):
         assert not any(s in err for s in stages)
 
 
+def test_no_lower_bound_of_u_from_a_model_that_misses_the_data(stationary, tmp_path):
+    """The shipped SYNTHETIC stationary example (truth C_gap = 8.26 nF, u = ε0 ε A/C_gap ≈ 0.139 µm):
+    the EDL fit misses the remainder (rms_rel 53 %, > 5× the KK misfit) and R_EP || C_gap, the
+    model of the lower bound, as badly; its 0.165 µm, once reported as "LOWER BOUND u ≥", lies
+    above the truth. No bound is stated now, u stays flagged as not determined, the report
+    leads with the misfit, and JSON, CSV and .nc say why."""
+    from impedax.io import write_result
+    from impedax.models.gap import _merged_fit
+
+    result, parts = stationary
+    u_true = EPS0 * EPS_AIR * AREA / 8.26e-9
+    merged = _merged_fit(result.remaining, "sigma")
+    assert EPS0 * EPS_AIR * AREA / merged.values["C_gap"] > u_true  # (what was stated as the bound: above the truth)
+    assert merged.rms_rel > 0.25 and result.edl_fit.rms_rel > 0.25
+    assert result.gap_lower_bound is None and result.gap_identified is False
+    s = result.summary()
+    assert s["gap_identified"] is False and s["gap_um_lower_bound"] is None
+    assert "R_EP || C_gap misses the remainder" in s["gap_bound_withheld"] and "misses the remainder" in s["edl_misfit"]
+    lines = result.report().splitlines()
+    assert lines[0].startswith("MODEL DOES NOT FIT: R_EP || CPE_EP || C_gap misses the remainder (rms_rel 53")
+    assert lines[1].startswith("GAP NOT DETERMINED, AND NO BOUND") and "LOWER BOUND" not in result.report()
+    assert not any("u ≥" in w for w in result.warnings)
+    assert any(w.startswith("u is NOT determined by these data") and "no lower bound is given" in w for w in result.warnings)
+    bayes = result.to_table()[0]
+    assert bayes["u_lower_bound_m"] is None and bayes["u_lower_bound_withheld"] == s["gap_bound_withheld"]
+    write_result(result, tmp_path / "gap.nc")
+    with xr.open_dataset(tmp_path / "gap.nc") as ds:
+        assert ds.attrs["gap_identified"] == 0 and np.isnan(ds.attrs["gap_um_lower_bound"])
+
+
 # --- 7. the .nc keeps warnings and the paper method -------------------------------------------
 
 

@@ -116,7 +116,7 @@ def test_gap_csv_names_the_unit_of_every_column(tmp_path, analysis):
     ix.io.write_result(analysis, path)
     with open(path, newline="") as handle:
         rows = list(csv.DictReader(handle))
-    assert list(rows[0]) == ["method", "c_gap_f", "c_gap_low_f", "c_gap_high_f", "u_m", "u_low_m", "u_high_m", "gap_identified", "u_lower_bound_m"]
+    assert list(rows[0]) == ["method", "c_gap_f", "c_gap_low_f", "c_gap_high_f", "u_m", "u_low_m", "u_high_m", "gap_identified", "u_lower_bound_m", "u_lower_bound_withheld"]
     bayes, paper = rows
     assert (bayes["method"], paper["method"]) == ("bayes", "paper")
     summary = analysis.summary()
@@ -125,7 +125,7 @@ def test_gap_csv_names_the_unit_of_every_column(tmp_path, analysis):
     assert float(bayes["c_gap_f"]) == pytest.approx(summary["c_gap"]["value"], rel=1e-12)
     assert float(paper["u_m"]) * 1e6 == pytest.approx(summary["paper_method"]["gap_um"], rel=1e-12)
     assert [float(paper["u_low_m"]) * 1e6, float(paper["u_high_m"]) * 1e6] == pytest.approx(summary["paper_method"]["gap_bounds_um"], rel=1e-12)
-    assert paper["c_gap_low_f"] == "" and bayes["gap_identified"] == "true" and bayes["u_lower_bound_m"] == ""
+    assert paper["c_gap_low_f"] == "" and bayes["gap_identified"] == "true" and bayes["u_lower_bound_m"] == "" and bayes["u_lower_bound_withheld"] == ""
     assert 1e-6 < float(bayes["u_m"]) < 1e-5  # metres: u = 2.79 µm
 
 
@@ -242,6 +242,11 @@ def test_single_trial_has_no_paper_bounds():
     result = gap_analysis(total, skin, ts, area=AREA, method="pooled", steps=100, progress=False)
     assert not result.paper_has_bounds
     assert "bounds n/a (one trial)" in result.report()
+    # flagged (R_EP || C_gap fits within 1.1× the EDL model's rms_rel), with a lower bound below the truth: the fitted
+    # capacitance alone put it 0.47 % above, C + 2 stderr below
+    assert result.gap_identified is False and result.gap_lower_bound < U_TRUE
+    assert "sigma" not in result.remaining  # (no trials, no SEM: the pooled sampling's noise is proportional, its level sampled)
+    assert "Bayesian on one spectrum per file: noise ∝ |Z| at a sampled level" in result.report() and "Bayesian on the trial means" not in result.report()
     assert not any("paper method's bounds" in w for w in result.warnings)
     assert result.summary()["paper_method"]["gap_bounds_um"] is None
     paper_row = [r for r in result.to_table() if r["method"] == "paper"][0]

@@ -36,7 +36,7 @@ from ..arguments import GAP_MIN_STEPS, MAX_WALKERS, checked_arguments, choice, c
 from ..errors import IN_MEMORY, CircuitError, DataError, ParameterError
 from ..constants import EPSILON_0, EPSILON_AIR
 from ..fitting.bayes.chain import AUTO_STEPS, steps_rule
-from ..fitting.least_squares.result import REMAINDER_ATTRS, SUBTRACTION_CAUSE, listed_frequencies
+from ..fitting.least_squares.result import MISFIT_RATIO_MAX, REMAINDER_ATTRS, SUBTRACTION_CAUSE, gross_misfits, known_kk_misfits, listed_frequencies
 from ..fitting.statistics import non_passive
 from .gap_inputs import check_gap_inputs, position_notes, spectra_used
 from .plausible import FINGERTIP_AREA_M2
@@ -49,9 +49,10 @@ _EP_PER_TRIAL = ("R_EP", "CPE_EP.Q", "C_EP")  # the contact's EP branch varies w
 
 FORCE_CONVENTION = "peak"  # eq 1 at the voltage amplitude; the time average is half of it
 FORCE_CONDITIONS = "A taken as exact; skin and screen as their trial means, without their errors"
-GAP_TABLE_COLUMNS = ("method", "c_gap_f", "c_gap_low_f", "c_gap_high_f", "u_m", "u_low_m", "u_high_m", "gap_identified", "u_lower_bound_m")
+GAP_TABLE_COLUMNS = ("method", "c_gap_f", "c_gap_low_f", "c_gap_high_f", "u_m", "u_low_m", "u_high_m", "gap_identified", "u_lower_bound_m", "u_lower_bound_withheld")
 """The columns of `GapAnalysis.to_table` (``impedax gap --out FILE.csv``), each quantity's SI
-unit in its name (``_f`` farad, ``_m`` metre)."""
+unit in its name (``_f`` farad, ``_m`` metre); ``u_lower_bound_withheld`` says why u is not
+determined and yet no bound is given (`GapAnalysis.gap_bound_withheld`)."""
 
 C_GAP_BOUNDS_F = (1e-15, 1e-4)
 """Prior bounds of C_gap [F], 1 fF–100 µF, whatever the area: the capacitance is what the data
@@ -111,13 +112,20 @@ class GapAnalysis:
     """None when the data determine u; else the smallest u [m] the data allow (C_gap standing
     for all the capacitance C_EP + C_gap: `IDENTIFIED_C_REMAINDER`), and u itself is not
     determined (``ep="C"``, or an EP branch the fit cannot tell from C_gap)."""
+    gap_bound_withheld: str | None = None
+    """Why u is not determined and yet no lower bound is given (`gap_lower_bound` None): the
+    model the bound would come from (`IDENTIFIED_C_REMAINDER`) misses the remainder grossly
+    (`_misfit_text`), so its capacitance is no sum of C_EP and C_gap and bounds nothing."""
+    edl_misfit: str | None = None
+    """How the EDL model misses the trial-mean remainder grossly (`_misfit_text`), else None:
+    then u, its interval and the force rest on a model the data reject."""
 
     @property
     def gap_identified(self) -> bool:
-        """False when the data do not determine u apart from the EP branch (only a lower bound,
-        `gap_lower_bound`): ``ep="C"``, or a fit/posterior that cannot split C_gap from the EP
-        element (`_gap_identification`)."""
-        return self.gap_lower_bound is None
+        """False when the data do not determine u apart from the EP branch (a lower bound,
+        `gap_lower_bound`, or none where its model misfits: `gap_bound_withheld`): ``ep="C"``,
+        or a fit/posterior that cannot split C_gap from the EP element (`_gap_identification`)."""
+        return self.gap_lower_bound is None and self.gap_bound_withheld is None
 
     def draws(self, name: str) -> np.ndarray:
         """Posterior draws of ``u`` [m] or ``C_gap`` [F] (hierarchical: population medians)."""
@@ -203,6 +211,8 @@ class GapAnalysis:
             "warnings": list(self.warnings),
             "gap_identified": self.gap_identified,
             "gap_um_lower_bound": None if self.gap_lower_bound is None else self.gap_lower_bound * 1e6,
+            "gap_bound_withheld": self.gap_bound_withheld,
+            "edl_misfit": self.edl_misfit,
             "sampling": self._sampling_summary(),
         }
 
@@ -221,15 +231,16 @@ class GapAnalysis:
         u's low/high its bounds from the lowest/highest impedances, None with one trial of each;
         C_gap none). Every column name carries its SI unit (`GAP_TABLE_COLUMNS`: ``_f`` farad,
         ``_m`` metre; the JSON's ``gap_um`` are the same u in µm); ``gap_identified`` and
-        ``u_lower_bound_m`` (the bound u ≥ when u is not determined) on the bayes row."""
+        ``u_lower_bound_m`` (the bound u ≥ when u is not determined) and ``u_lower_bound_withheld``
+        (why there is none although u is not determined) on the bayes row."""
         p = self.paper
         c, g = self.c_gap, self.gap
         low, high = (p.gap_lower, p.gap_upper) if self.paper_has_bounds else (None, None)
         return [
             {"method": "bayes", "c_gap_f": c["value"], "c_gap_low_f": c["q05"], "c_gap_high_f": c["q95"], "u_m": g["value"], "u_low_m": g["q05"], "u_high_m": g["q95"],
-             "gap_identified": self.gap_identified, "u_lower_bound_m": self.gap_lower_bound},
+             "gap_identified": self.gap_identified, "u_lower_bound_m": self.gap_lower_bound, "u_lower_bound_withheld": self.gap_bound_withheld},
             {"method": "paper", "c_gap_f": p.c_gap, "c_gap_low_f": None, "c_gap_high_f": None, "u_m": p.gap, "u_low_m": low, "u_high_m": high,
-             "gap_identified": None, "u_lower_bound_m": None},
+             "gap_identified": None, "u_lower_bound_m": None, "u_lower_bound_withheld": None},
         ]
 
     def report(self) -> str:
@@ -246,7 +257,7 @@ class GapAnalysis:
                 f"a new trial     u in {new['q05'] * 1e6:.3f}–{new['q95'] * 1e6:.3f} µm (90% predictive interval)",
             ]
         else:
-            lines = [f"gap thickness u = {g['value'] * 1e6:.3f} µm  (90% credible interval {g['q05'] * 1e6:.3f}–{g['q95'] * 1e6:.3f} µm, Bayesian on the trial means: their noise only, not the spread between trials; {self.edl_fit.model})"]
+            lines = [f"gap thickness u = {g['value'] * 1e6:.3f} µm  (90% credible interval {g['q05'] * 1e6:.3f}–{g['q95'] * 1e6:.3f} µm, {self._pooled_noise_text()}; {self.edl_fit.model})"]
         bounds = f"(bounds {p.gap_lower * 1e6:.3f}–{p.gap_upper * 1e6:.3f} µm from the lowest/highest impedances)" if self.paper_has_bounds else "bounds n/a (one trial)"
         lines += [
             f"paper method    u = {p.gap * 1e6:.3f} µm  {bounds}",
@@ -260,9 +271,20 @@ class GapAnalysis:
             lines.append("spectra used    " + "; ".join(_trials_text(k, v) for k, v in self.trials.items()))
         if not self.gap_identified:
             lines[0] = lines[0].replace("gap thickness u =", "sampled u (prior-set) =", 1).replace("90% credible interval", "90% interval of the draws, not of the gap", 1)
+            if self.gap_lower_bound is not None:
+                lines.insert(0, (
+                    f"GAP NOT DETERMINED: C_gap and the EP branch are seen only as their sum, so the data give only a LOWER BOUND u ≥ {self.gap_lower_bound * 1e6:.3f} µm "
+                    "(all the capacitance counted as C_gap); the u and interval below are set by the priors and the split, not the data"
+                ))
+            else:
+                lines.insert(0, (
+                    f"GAP NOT DETERMINED, AND NO BOUND: C_gap and the EP branch are not told apart, and {self.gap_bound_withheld}; "
+                    "the u and interval below are set by the priors and the split, not the data"
+                ))
+        if self.edl_misfit is not None:
             lines.insert(0, (
-                f"GAP NOT DETERMINED: C_gap and the EP branch are seen only as their sum, so the data give only a LOWER BOUND u ≥ {self.gap_lower_bound * 1e6:.3f} µm "
-                "(all the capacitance counted as C_gap); the u and interval below are set by the priors and the split, not the data"
+                f"MODEL DOES NOT FIT: {self.edl_misfit}; u, its interval and the force below rest on a model the data reject: "
+                "check the three files (impedax remaining, impedax diagnose on the remainder) before reading any of them"
             ))
         if self.hierarchical is not None:
             post = self.hierarchical
@@ -274,6 +296,17 @@ class GapAnalysis:
                 ))
         lines += [f"warning: {w}" for w in self.warnings]
         return "\n".join(lines)
+
+    def _pooled_noise_text(self) -> str:
+        """What the pooled interval's noise is: the trial means' SEM (``sigma`` of the
+        remainder), else, with an input of a single spectrum, noise proportional to |Z| at a
+        level sampled from the fit's residuals (`impedax.fitting.sample`'s ``proportional``)."""
+        if "sigma" in self.remaining:
+            return "Bayesian on the trial means: their noise only, not the spread between trials"
+        proportional = "noise ∝ |Z| at a sampled level (sigma_rel: the fit's residual scatter), not a measured noise nor a spread between trials"
+        if not self.paper_has_bounds:
+            return f"Bayesian on one spectrum per file: {proportional}"
+        return f"Bayesian on the trial means without their SEM (an input holds a single spectrum): {proportional}"
 
     def plot(self, *, true_gap: float | None = None):
         """Remaining impedance with both fits, the posterior of u against the paper's bounds
@@ -447,8 +480,10 @@ def gap_analysis(
     notes += _bound_notes(u_draws, reparametrization, area)
     notes += [f"EDL fit: {w}" for w in edl.warnings] + [f"sampling: {w}" for w in posterior.warnings if not w.startswith("least-squares start")]
     notes += _estimate_bound_notes("Bayesian gap thickness", float(np.median(u_draws)), paper, remaining, f"; draws span {_um(u_draws.min())}–{_um(u_draws.max())} µm")
-    lower = _identification(ep, str(requested), circuit, posterior.parameter_draws(), edl, posterior.piled_up, notes, remaining, area, eps_gap)
-    return GapAnalysis(remaining, paper, naive, edl, posterior, force, area, v0, ep, tuple(notes), model_requested=str(requested), trials=trials, gap_lower_bound=lower)
+    known_kk: dict[int, float] = {}
+    lower, withheld = _identification(ep, str(requested), circuit, posterior.parameter_draws(), edl, posterior.piled_up, notes, remaining, area, eps_gap, known_kk)
+    misfit = _misfit_text(edl, remaining, known_kk)
+    return GapAnalysis(remaining, paper, naive, edl, posterior, force, area, v0, ep, tuple(notes), model_requested=str(requested), trials=trials, gap_lower_bound=lower, gap_bound_withheld=withheld, edl_misfit=misfit)
 
 
 def _um(length_m: float) -> str:
@@ -663,6 +698,13 @@ beside C_gap would not (an ideal C_EP; the numpy test: 0.4 % against the EDL fit
 EP with α = 0.3: 10.7 % against 0.43 % on the shipped example)."""
 
 
+BOUND_STDERRS = 2.0
+"""The lower bound of u takes the summed capacitance at the upper end of its fit's interval,
+C + this × stderr (≈ 95 %, as `UNDETERMINED_STDERRS`): the fitted C itself is no bound, and on a
+single SYNTHETIC Sirin-style trial (tests/test_models_gap.py, seed 11) its gap lay 0.47 % above
+the true u, with a standard error of 0.74 % of C."""
+
+
 def _merged_fit(remaining: xr.Dataset, weighting: str):
     """`IDENTIFIED_C_REMAINDER` fitted to the remainder (C_EP + C_gap, all counted as C_gap)."""
     from ..fitting import fit
@@ -673,7 +715,7 @@ def _merged_fit(remaining: xr.Dataset, weighting: str):
 def _unidentified_note(reason: str, bound: float) -> str:
     return (
         f"u is NOT determined by these data: {reason}, so C_gap and the EP branch are seen only as their sum; "
-        f"u ≥ {bound * 1e6:.3f} µm (the gap of the summed capacitance, fitted as {IDENTIFIED_C_REMAINDER}) is all they give, "
+        f"u ≥ {bound * 1e6:.3f} µm (the gap of the summed capacitance, fitted as {IDENTIFIED_C_REMAINDER}, at the upper end C + {BOUND_STDERRS:g} stderr of its fit) is all they give, "
         "and the reported u and its interval come from the priors (JSON gap_identified false, gap_um_lower_bound); the force is then an upper bound"
     )
 
@@ -718,18 +760,40 @@ def _hierarchical(total, skin, touchscreen, remaining, paper, naive, edl, circui
     notes = list(notes) + _bound_notes(pop["u"], reparametrization, area)
     notes += [f"EDL fit: {w}" for w in edl.warnings] + [f"sampling: {w}" for w in post.warnings]
     notes += _estimate_bound_notes("population gap thickness", float(np.median(pop["u"])), paper, remaining)
-    lower = _identification(ep, model_requested, circuit, pop, edl, {}, notes, remaining, area, eps_gap)  # (the rule reads a single posterior's pile-up; the hierarchical one's, `HierarchicalPosterior.piled_up`, is of population medians, and only its warnings are passed on)
-    return GapAnalysis(remaining, paper, naive, edl, None, force, area, v0, ep, tuple(notes), method="hierarchical", hierarchical=post, model_requested=model_requested, gap_lower_bound=lower)
+    known_kk: dict[int, float] = {}
+    lower, withheld = _identification(ep, model_requested, circuit, pop, edl, {}, notes, remaining, area, eps_gap, known_kk)  # (the rule reads a single posterior's pile-up; the hierarchical one's, `HierarchicalPosterior.piled_up`, is of population medians, and only its warnings are passed on)
+    return GapAnalysis(remaining, paper, naive, edl, None, force, area, v0, ep, tuple(notes), method="hierarchical", hierarchical=post, model_requested=model_requested, gap_lower_bound=lower, gap_bound_withheld=withheld, edl_misfit=_misfit_text(edl, remaining, known_kk))
 
 
-def _identification(ep, requested, circuit, draws, edl, piled_up, notes, remaining, area, eps_gap) -> float | None:
-    """The lower bound of u [m] when u is not determined (``notes`` gains why), else None.
-    ``piled_up``: the sampled parameters piled up against a prior's edge (`Posterior.piled_up`).
-    ``ep="C"`` (merged capacitors): the sampled u itself (median) is that bound."""
+def _misfit_text(fitted, remaining: xr.Dataset, known_kk: dict[int, float]) -> str | None:
+    """How a least-squares fit of the trial-mean remainder misses it grossly, by the rule of its
+    misfit warning (`gross_misfits`: rms_rel ≥ `GROSS_MISFIT_FROM` and over `MISFIT_RATIO_MAX` ×
+    what a Kramers–Kronig-consistent model reaches, ``known_kk`` its memory), else None."""
+    freq, z = remaining["frequency"].values, remaining["Z"].values
+    if gross_misfits(freq, z, fitted.z_model, known_kk).size == 0:
+        return None
+    kk = float(known_kk_misfits(freq, z[None], np.array([0]), known_kk)[0])
+    return f"{fitted.model} misses the remainder (rms_rel {format_percent(fitted.rms_rel)}, over {MISFIT_RATIO_MAX:g}× the {format_percent(kk)} a Kramers–Kronig-consistent model reaches)"
+
+
+def _identification(ep, requested, circuit, draws, edl, piled_up, notes, remaining, area, eps_gap, known_kk=None) -> tuple[float | None, str | None]:
+    """(lower bound of u [m], None) when u is not determined (``notes`` gains why); (None, why
+    no bound) when it is not determined but the model of the bound, `IDENTIFIED_C_REMAINDER`,
+    misses the remainder grossly (`_misfit_text`: its capacitance is then no C_EP + C_gap, and
+    on the SYNTHETIC stationary example, 53 % off, its 0.165 µm lay above the true 0.139 µm);
+    (None, None) when u is determined. ``piled_up``: the sampled parameters piled up against a
+    prior's edge (`Posterior.piled_up`). ``ep="C"`` (merged capacitors): the sampled u itself
+    (median) is that bound. ``known_kk``: the remainder's KK misfit, once computed."""
+    known_kk = {} if known_kk is None else known_kk
     if ep == "C" and str(circuit) == IDENTIFIED_C_REMAINDER and str(requested) != str(circuit):
-        return float(np.median(draws["u"]))
+        misfit = _misfit_text(edl, remaining, known_kk)
+        if misfit is None:
+            return float(np.median(draws["u"])), None
+        withheld = _withheld_text(misfit)
+        notes.insert(0, f"u is NOT determined by --ep C (C_EP and C_gap are seen only as their sum), and no lower bound is given: {withheld}")
+        return None, withheld
     if not any(n.startswith(("CPE_EP.", "C_EP")) for n in circuit.parameter_names()):
-        return None  # no EP element beside C_gap to confuse it with
+        return None, None  # no EP element beside C_gap to confuse it with
     alpha = next((np.asarray(v) for k, v in draws.items() if k.endswith(".alpha") and "EP" in k), None)
     ep_q = next((k for k in circuit.parameter_names() if k.endswith(".Q") and "EP" in k), None)
     reason = _gap_identification(edl, piled_up, alpha, ep_q)
@@ -737,7 +801,25 @@ def _identification(ep, requested, circuit, draws, edl, piled_up, notes, remaini
     if reason is None and merged.rms_rel <= MERGED_FIT_RATIO * edl.rms_rel:
         reason = f"{IDENTIFIED_C_REMAINDER} fits the remainder as well as {circuit} (rms_rel {format_percent(merged.rms_rel)} against {format_percent(edl.rms_rel)}): the EP element acts as a capacitor beside C_gap"
     if reason is None:
-        return None
-    bound = EPSILON_0 * eps_gap * area / float(merged.values["C_gap"])
+        return None, None
+    misfit = _misfit_text(merged, remaining, known_kk)
+    if misfit is not None:
+        withheld = _withheld_text(misfit)
+        notes.insert(0, f"u is NOT determined by these data: {reason}, and no lower bound is given: {withheld}; the reported u and its interval come from the priors (JSON gap_identified false, gap_um_lower_bound null, gap_bound_withheld)")
+        return None, withheld
+    c_sum, c_stderr = float(merged.values["C_gap"]), float(merged.stderr["C_gap"])
+    if not np.isfinite(c_stderr):
+        withheld = f"the capacitance of {IDENTIFIED_C_REMAINDER} fitted to the remainder has no standard error, so its upper end, which the bound needs, is unknown"
+        notes.insert(0, f"u is NOT determined by these data: {reason}, and no lower bound is given: {withheld} (JSON gap_identified false, gap_um_lower_bound null, gap_bound_withheld)")
+        return None, withheld
+    bound = EPSILON_0 * eps_gap * area / (c_sum + BOUND_STDERRS * c_stderr)
     notes.insert(0, _unidentified_note(reason, bound))
-    return bound
+    return bound, None
+
+
+def _withheld_text(misfit: str) -> str:
+    """Why no lower bound of u is given: the model of the bound misfits (``misfit``)."""
+    return (
+        f"the bound would come from {IDENTIFIED_C_REMAINDER} (all the capacitance as C_gap), but {misfit}: "
+        "its capacitance is a compromise over a curve it does not follow, not C_EP + C_gap, and bounds nothing (u may lie below it)"
+    )

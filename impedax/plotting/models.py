@@ -65,11 +65,13 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None):
     if true_gap is not None:
         ax.axvline(true_gap * 1e6, color="tab:green", ls="--", label=f"truth (synthetic) {true_gap * 1e6:.2f} µm")
     identified = getattr(gap, "gap_identified", True)
-    if not identified:  # only C_EP + C_gap is determined: u ≥ the bound, the histogram is the priors'
+    bounded = getattr(gap, "gap_lower_bound", None) is not None
+    if bounded:  # only C_EP + C_gap is determined: u ≥ the bound, the histogram is the priors'
         bound = gap.gap_lower_bound * 1e6
         ax.axvline(bound, color="tab:red", lw=2, label=f"lower bound u ≥ {bound:.3g} µm (all that the data give)")
         ax.axvspan(bound, ax.get_xlim()[1], color="tab:red", alpha=0.06)
-    ax.set(xlabel="gap thickness u [µm]", ylabel="draws" if wide else "density", title="air-gap thickness" if identified else "air-gap thickness: NOT determined (lower bound only)")
+    title = "air-gap thickness" if identified else "air-gap thickness: NOT determined (lower bound only)" if bounded else "air-gap thickness: NOT determined (no bound: the model misfits)"
+    ax.set(xlabel="gap thickness u [µm]", ylabel="draws" if wide else "density", title=title)
     ax.legend(fontsize=7)
     ax = axes[2]
     unit = _force_bands(ax, gap.force, ep_label="with EP branch", scale="semilogx", alpha=0.2, suffix="median, 90% band")
