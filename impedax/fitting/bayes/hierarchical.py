@@ -512,6 +512,15 @@ def _ess(x: np.ndarray) -> np.ndarray:
     return out.reshape(x.shape[2:])
 
 
+def _bounds_and_unit(name: str, specs, rp: Reparametrization | None) -> tuple[float, float, str]:
+    """(lower, upper, unit) of parameter ``name``: the reparametrization's where it is one of its
+    own, else the circuit's spec (``specs``: `Circuit.parameter_specs`)."""
+    if rp is not None and name in rp.names:
+        i = rp.names.index(name)
+        return float(rp.lower[i]), float(rp.upper[i]), rp.units[i]
+    return float(specs[name].lower), float(specs[name].upper), specs[name].unit
+
+
 def _rhat(x: np.ndarray) -> np.ndarray:
     """Split-R̂ of draws (chains, draws, ...) (Gelman et al., BDA3 §11.4)."""
     c, n = x.shape[:2]
@@ -570,12 +579,7 @@ class HierarchicalPosterior(PiledUp):
 
     def _bounds_and_unit(self, name: str) -> tuple[float, float, str]:
         """(lower, upper, unit) of a circuit or reparametrization parameter."""
-        rp = self.reparametrization
-        if rp is not None and name in rp.names:
-            i = rp.names.index(name)
-            return float(rp.lower[i]), float(rp.upper[i]), rp.units[i]
-        spec = self.circuit.parameter_specs(self.registry)[name]
-        return float(spec.lower), float(spec.upper), spec.unit
+        return _bounds_and_unit(name, self.circuit.parameter_specs(self.registry), self.reparametrization)
 
     @functools.cached_property
     def _prior_edges(self) -> PriorEdges:
@@ -914,11 +918,7 @@ def _setup(circuit, data, *, per_trial, session_dim, reparametrization, fixed, d
     offset0 = np.clip(log0 - mu0, -2.0 * spread0, 2.0 * spread0)
     bounded, lo, hi, centre, sh0 = [], [], [], [], []
     for n in shared_names:
-        if rp is not None and n in rp.names:
-            i = rp.names.index(n)
-            b_lo, b_hi = rp.lower[i], rp.upper[i]
-        else:
-            b_lo, b_hi = specs[n].lower, specs[n].upper
+        b_lo, b_hi, _ = _bounds_and_unit(n, specs, rp)
         value = float(np.median(per_fit[n]))
         is_bounded = math.isfinite(b_hi)
         bounded.append(is_bounded)
