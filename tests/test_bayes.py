@@ -758,3 +758,19 @@ def test_a_bound_where_the_element_is_a_simpler_one_says_so():
     assert r.startswith("R_sc piles up against its lower bound 0 ") and "the data would take smaller values (is the model missing something?)" in r
     # without the reductions (as before), α's warning is the generic one
     assert "is the model missing something?" in prior_edges(names, ("", "Ohm"), draws, priors, (0.0, 0.0), (1.0, np.inf)).warnings[0]
+
+
+def test_a_start_fit_of_another_weighting_is_noted_and_a_matching_one_is_not():
+    """``init`` of weighting 'unit' under proportional noise (whose χ² is weighting 'modulus')
+    placed and spread the walkers without a word; now a note says so and names the matching
+    weighting. The default start (fitted by sample itself) gets no such note."""
+    f = np.geomspace(1, 1e5, 20)
+    z = 100 + 2000 / (1 + 1j * 2 * np.pi * f * 2000 * 1e-7)  # R0 + R1 ∥ C1
+    data = ix.make_spectrum(f, z * (1 + 0.01 * np.random.default_rng(0).normal(size=f.size)))
+    unit_start = ix.fit("R0 + R1 || C1", data, weighting="unit")
+    noted = ix.sample("R0 + R1 || C1", data, init=unit_start, steps=40, progress=False)
+    note = [n for n in noted.notes if n.startswith("init was fitted with weighting 'unit'")]
+    assert len(note) == 1 and "weighting='modulus'" in note[0]
+    assert note[0] in noted.warnings
+    plain = ix.sample("R0 + R1 || C1", data, init=ix.fit("R0 + R1 || C1", data, weighting="modulus"), steps=40, progress=False)
+    assert not any("init was fitted" in n for n in plain.notes)

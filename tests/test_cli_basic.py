@@ -119,6 +119,8 @@ def test_numbers_on_the_command_line_take_si_prefixes(capsys):
     assert [prefixed_number(t) for t in ("1k", "2.2u", "2.2µ", "10n", "5m", "1M", "-3p", ".5G", "1e3", "7")] == pytest.approx(
         [1e3, 2.2e-6, 2.2e-6, 1e-8, 5e-3, 1e6, -3e-12, 5e8, 1e3, 7.0], rel=1e-15
     )
+    # the float nearest the decimal written, as float() reads it: no 1.7000000000000001e-09 in JSON
+    assert [prefixed_number(t) for t in ("1.7n", "2.2u", "0.1f", "4.7p", "3.3k")] == [float("1.7e-9"), float("2.2e-6"), float("1e-16"), float("4.7e-12"), 3300.0]
     code = main(["simulate", "R0 + R1 || C1", "--param", "R0=10", "--param", "R1=1k", "--param", "C1=1u", "--fmin", "1", "--fmax", "100k", "--points", "11"])
     assert code == 0
     rows = np.array([[float(v) for v in ln.split(",")] for ln in capsys.readouterr().out.strip().splitlines()[1:]])

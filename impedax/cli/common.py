@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import decimal
 import json
 import math
 import os
@@ -27,6 +28,9 @@ __all__ = [
 # the SI prefixes a number on the command line may end with (`prefixed_number`): 2.2k, 10n, 1M
 # (mega) against 1m (milli), u or µ for micro
 NUMBER_PREFIXES = {"f": 1e-15, "p": 1e-12, "n": 1e-9, "u": 1e-6, "µ": 1e-6, "μ": 1e-6, "m": 1e-3, "k": 1e3, "M": 1e6, "G": 1e9, "T": 1e12}
+# each prefix's power of ten: 1.7n is read as the decimal 1.7e-9 (the float nearest it), not as
+# 1.7 × 1e-9 = 1.7000000000000001e-09, which a JSON output or a saved fit would show
+_PREFIX_EXPONENTS = {prefix: round(math.log10(scale)) for prefix, scale in NUMBER_PREFIXES.items()}
 _PREFIXED = re.compile(r"\s*([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)\s*([fpnuµμmkMGT])\s*")
 
 
@@ -41,7 +45,7 @@ def prefixed_number(text: str) -> float:
     match = _PREFIXED.fullmatch(text)
     if match is None:
         raise ValueError(f"{text!r} is not a number (write 1000, 1e3 or 1k; SI prefixes {' '.join(p for p in NUMBER_PREFIXES if p != 'μ')})")
-    return float(match.group(1)) * NUMBER_PREFIXES[match.group(2)]
+    return float(decimal.Decimal(match.group(1)).scaleb(_PREFIX_EXPONENTS[match.group(2)]))
 
 
 def number_option(text: str) -> float:

@@ -183,6 +183,20 @@ def _walker_count(walkers, n_params: int) -> int:
 # --- step 3: start and priors ----------------------------------------------------------------
 
 
+def _init_weighting_note(init: FitResult, noise: NoiseModel) -> str | None:
+    """A note when the user's start fit ``init`` minimised another χ² than the sampler's
+    likelihood: its optimum places the walkers and its covariance spreads them and widens the
+    priors of undetermined parameters (`_choose_priors`), so a start of another weighting costs
+    burn-in and may widen the wrong priors; ``None`` when it matches (`start_weighting`)."""
+    matching = start_weighting(noise)
+    if init.weighting == matching:
+        return None
+    return (
+        f"init was fitted with weighting {init.weighting!r}, but the {noise.value} noise model's likelihood is the χ² of weighting {matching!r}: "
+        f"the walkers start around that fit and its standard errors set their spread; for a start that matches, pass init=fit(..., weighting={matching!r})"
+    )
+
+
 def _least_squares_start(init: FitResult, space: SampledParameters, specs, rp: Reparametrization | None, noise: NoiseModel) -> list[float]:
     """Natural start values of the sampled parameters from the least-squares fit."""
     start = [init.values[n] for n in space.names if n in specs]
@@ -393,9 +407,11 @@ def sample(
     if init is None:
         announce("sample: fitting the least-squares start …", progress)
         init = fit(circuit, obs.data, fixed=fixed or None, weighting=start_weighting(noise), registry=registry)
+    weighting_note = _init_weighting_note(init, noise)
     fitted = _least_squares_start(init, space, specs, rp, noise)
     chosen_priors = _choose_priors(priors, space, fitted, init, obs)
     chosen, support, notes = chosen_priors.chosen, chosen_priors.support, chosen_priors.notes
+    notes = ([weighting_note] if weighting_note else []) + notes
     excluded = [n for i, n in enumerate(space.names) if n in priors and not support[i][0] < fitted[i] <= support[i][1]]
     announce(f"sample: compiling the log-probability (once per circuit and data size) and placing {walkers} walkers …", progress)
     args, structure = _log_prob_setup(circuit, registry, specs, fixed, rp, obs, space, chosen, support)
