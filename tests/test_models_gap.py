@@ -339,7 +339,10 @@ def test_ideal_ep_capacitor_gives_the_gap_of_the_summed_capacitance():
     assert result.gap["q95"] < 1.05 * u_sum and result.gap["q05"] > 0.95 * u_sum
     s = result.summary()
     assert s["model"] == "R_EP || C_gap" and s["model_requested"] == "R_EP || C_EP || C_gap"
-    assert s["gap_identified"] is False and s["gap_um_lower_bound"] == pytest.approx(result.gap["value"] * 1e6)
+    # the bound is the sampled u's lower end, Φ(−2) ≈ 2.3 % (it was the median, with half the
+    # posterior below it): under the 5 % quantile, within the noise's reach below u_sum
+    bound = s["gap_um_lower_bound"] * 1e-6
+    assert s["gap_identified"] is False and 0.97 * u_sum < bound < result.gap["q05"] < result.gap["value"]
     assert any(w.startswith("--ep C (Python: ep='C'): in R_EP || C_EP || C_gap the two ideal capacitors are seen only as their sum") for w in result.warnings)
 
 

@@ -24,6 +24,7 @@ gap voltage and the electrostatic force, with uncertainty.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field, replace
 from typing import Mapping
 
@@ -703,6 +704,10 @@ BOUND_STDERRS = 2.0
 C + this × stderr (≈ 95 %, as `UNDETERMINED_STDERRS`): the fitted C itself is no bound, and on a
 single SYNTHETIC Sirin-style trial (tests/test_models_gap.py, seed 11) its gap lay 0.47 % above
 the true u, with a standard error of 0.74 % of C."""
+BOUND_QUANTILE = 0.5 * math.erfc(BOUND_STDERRS / math.sqrt(2.0))
+"""With ``--ep C`` the bound is this quantile of the sampled u (Φ(−2) ≈ 2.3 %, the same reach as
+C + `BOUND_STDERRS` stderr, u being ∝ 1/C): the median, reported before, had half the posterior
+of the summed capacitance's gap below it."""
 
 
 def _merged_fit(remaining: xr.Dataset, weighting: str):
@@ -782,13 +787,13 @@ def _identification(ep, requested, circuit, draws, edl, piled_up, notes, remaini
     misses the remainder grossly (`_misfit_text`: its capacitance is then no C_EP + C_gap, and
     on the SYNTHETIC stationary example, 53 % off, its 0.165 µm lay above the true 0.139 µm);
     (None, None) when u is determined. ``piled_up``: the sampled parameters piled up against a
-    prior's edge (`Posterior.piled_up`). ``ep="C"`` (merged capacitors): the sampled u itself
-    (median) is that bound. ``known_kk``: the remainder's KK misfit, once computed."""
+    prior's edge (`Posterior.piled_up`). ``ep="C"`` (merged capacitors): the sampled u's lower
+    end (`BOUND_QUANTILE`) is that bound. ``known_kk``: the remainder's KK misfit, once computed."""
     known_kk = {} if known_kk is None else known_kk
     if ep == "C" and str(circuit) == IDENTIFIED_C_REMAINDER and str(requested) != str(circuit):
         misfit = _misfit_text(edl, remaining, known_kk)
         if misfit is None:
-            return float(np.median(draws["u"])), None
+            return float(np.quantile(np.asarray(draws["u"]), BOUND_QUANTILE)), None
         withheld = _withheld_text(misfit)
         notes.insert(0, f"u is NOT determined by --ep C (C_EP and C_gap are seen only as their sum), and no lower bound is given: {withheld}")
         return None, withheld
