@@ -680,13 +680,14 @@ def _gap_identification(edl, piled_up: Mapping[str, str], alpha_draws, ep_q: str
     (`FitResult.unidentified_groups`); the EP CPE's α has its posterior median at or above
     `EP_ALPHA_IDEAL` (an ideal capacitor in parallel with C_gap: only the sum counts); or the EP
     CPE's Q (``ep_q``) piles up against the lower edge of its prior (``piled_up``, as
-    `Posterior.piled_up`: the CPE vanishes and C_gap takes all the capacitance: the remainder looks like
-    R_EP ∥ C, which an ideal EP capacitor in parallel with C_gap gives too, whatever the split)."""
+    `Posterior.piled_up`: the CPE vanishes and C_gap takes all the capacitance: the fit is left
+    with R_EP ∥ C, which an ideal EP capacitor in parallel with C_gap gives too, whatever the
+    split; said of the model, not the remainder, which that model may miss: `_misfit_text`)."""
     for group in edl.unidentified_groups:
         if len(group) > 1 and "C_gap" in group:
             return f"{', '.join(group)} are not separately determined"
     if ep_q is not None and piled_up.get(ep_q) in ("lower", "both"):
-        return f"the EP CPE vanishes ({ep_q} piles up at the lower end of its prior): the remainder looks like R_EP ∥ C, as with an ideal EP capacitor beside C_gap"
+        return f"the EP CPE vanishes ({ep_q} piles up at the lower end of its prior): the fit is left with R_EP ∥ C_gap, which an ideal EP capacitor beside C_gap gives too"
     if alpha_draws is not None and float(np.median(alpha_draws)) >= EP_ALPHA_IDEAL:
         return f"the EP CPE's α is {float(np.median(alpha_draws)):.3f} (≥ {EP_ALPHA_IDEAL:g}): an ideal capacitor in parallel with C_gap"
     return None
