@@ -148,10 +148,21 @@ def test_rad_per_second_total_is_named_with_the_ratio(tmp_path, capsys):
 
 
 def test_khz_screen_is_named_with_the_ratio():
+    """A grid 1/1000 of the others is the one read in kHz: the message said "the other two look
+    like kHz" of it; one 1000× the others leaves the other two as the kHz ones; with all three
+    differing each slip is said of the file it fits."""
     total, skin, ts = _measurements()
     f = total["frequency"].values
-    with pytest.raises(ix.DataError, match=r"touchscreen: its frequencies differ from those of total and skin.*divided by 1000.*kHz"):
+    with pytest.raises(ix.DataError, match=r"touchscreen: its frequencies differ from those of total and skin.*they are the other two's divided by 1000 at every point: its frequencies look like kHz") as caught:
         gap_analysis(total, skin, _with(ts, freq=f / 1e3), area=AREA, method="pooled", progress=False)
+    assert "the other two's frequencies look like" not in str(caught.value)
+    with pytest.raises(ix.DataError, match=r"touchscreen: its frequencies differ.*they are the other two's times 1000 at every point: the other two's frequencies look like kHz"):
+        gap_analysis(total, skin, _with(ts, freq=f * 1e3), area=AREA, method="pooled", progress=False)
+    with pytest.raises(ix.DataError, match=r"the frequencies of all three files differ") as caught:
+        gap_analysis(_with(total, freq=f / 1e3), _with(skin, freq=2 * np.pi * f), ts, area=AREA, method="pooled", progress=False)
+    said = str(caught.value)
+    assert "they are touchscreen's divided by 1000 at every point: total's frequencies look like kHz" in said
+    assert "they are touchscreen's times 2π at every point: skin's frequencies look like angular frequency" in said
 
 
 def test_shorter_grid_names_its_file_and_sizes():

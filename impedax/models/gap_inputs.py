@@ -32,8 +32,10 @@ GAP_INPUTS = ("total", "skin", "touchscreen")
 MAX_POSITIVE_SHARE = 0.5
 """A gap input whose trial mean has Z'' > 0 (or Z' < 0) at more than this share of its
 frequencies is refused as stored with the opposite sign."""
+# the slips that scale a grid by a constant: (what the slip multiplies the numbers by, how the
+# message writes the factor, what the slipped file holds)
 _RATIOS = ((2 * math.pi, "2π", "angular frequency ω in rad/s stored as frequency in Hz: divide it by 2π (impedax reads the column as Hz)"),
-           (1e3, "1000", "kHz (or ms) where Hz is read: give the frequencies in Hz"))
+           (1e-3, "1000", "kHz (or ms) where Hz is read: give the frequencies in Hz"))
 
 
 def _named(name: str, data: xr.Dataset) -> str:
@@ -74,16 +76,18 @@ def _first_difference(a: np.ndarray, b: np.ndarray) -> int:
     return int(bad[0]) if bad.size else n
 
 
-def _ratio_note(odd: np.ndarray, other: np.ndarray) -> str:
-    """A constant ratio of 2π or 10³ between the grids (either way), said as the likely slip."""
+def _ratio_note(odd: np.ndarray, other: np.ndarray, odd_name: str = "its", other_name: str = "the other two's") -> str:
+    """A constant ratio of 2π or 10³ between the grids (either way), said as the likely slip,
+    of the grid the slip explains: ω in rad/s is 2π × the Hz values, kHz read as Hz 1/1000 of
+    them. ``odd_name``, ``other_name``: the two grids' owners, possessive."""
     if odd.shape != other.shape:
         return ""
     ratio = odd / other
-    for factor, said, cause in _RATIOS:
-        for value, word in ((factor, "times"), (1 / factor, "divided by")):
+    for slip, said, cause in _RATIOS:
+        for value, slipped in ((slip, odd_name), (1 / slip, other_name)):
             if np.all(np.abs(ratio / value - 1) <= SWEEP_RTOL):
-                who = "its frequencies look like" if word == "times" else "the other two look like"
-                return f"; they are the other two's {word} {said} at every point: {who} {cause}"
+                word = "times" if value > 1 else "divided by"
+                return f"; they are {other_name} {word} {said} at every point: {slipped} frequencies look like {cause}"
     return ""
 
 
@@ -120,7 +124,8 @@ def _check_grids(named: dict[str, xr.Dataset]) -> None:
     for a, b in pairs:
         i = _first_difference(grids[a], grids[b])
         if i < min(grids[a].size, grids[b].size):
-            firsts.append(f"{a} and {b} first differ at point {i + 1} ({grids[a][i]:.6g} vs {grids[b][i]:.6g} Hz){_ratio_note(grids[a], grids[b]).replace('the other two', b).replace('its frequencies', a)}")
+            slip = _ratio_note(grids[a], grids[b], a + "'s", b + "'s")
+            firsts.append(f"{a} and {b} first differ at point {i + 1} ({grids[a][i]:.6g} vs {grids[b][i]:.6g} Hz){slip}")
     raise DataError(f"the frequencies of all three files differ ({listed}; {'; '.join(firsts)}); measure all three on one frequency grid ({tolerance})")
 
 
