@@ -27,7 +27,7 @@ import xarray as xr
 from ..arguments import MAX_BASIS, checked_arguments, count, flag, instance_of, real, shown
 from ..data import checked_frequencies, concise_repr, format_frequency
 from ..errors import DataError, ImpedaxError, ParameterError
-from .grid import ResultGrid
+from .grid import ResultGrid, refuse_result_names
 from .problem import frequency_and_z
 from .statistics import difference_noise, non_passive, residual_noise
 
@@ -279,6 +279,15 @@ class KKResult:
         from ..plotting.kk import plot_kk
 
         return plot_kk(self, title=title)
+
+
+BATCH_RESULT_NAMES = frozenset({
+    "frequency", "band", "rc", "Z", "Z_kk", "residuals_real", "residuals_imag", "flagged", "bad_band_f_min", "bad_band_f_max", "time_constant", "resistance",
+    "n_rc", "mu", "rms_rel", "noise_estimate", "valid", "conclusive", "series_resistance", "series_inductance", "inverse_series_capacitance",
+})
+"""The dimensions and variables of `KKBatchResult.to_xarray`'s Dataset: `kk_test_batch` refuses a
+batch dimension of one of these names (`grid.refuse_result_names`), where ``to_xarray`` had
+failed with xarray's "conflicting sizes for dimension 'rc'"."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -852,9 +861,11 @@ def kk_test_batch(data, **options) -> KKBatchResult:
 
     All spectra are solved together (one batched QR per M), each stopping at its own M.
     Takes the keyword options of `kk_test` (same defaults, same validity rule); returns a
-    `KKBatchResult`.
+    `KKBatchResult`. A batch dimension named as a variable or dimension of its Dataset
+    (`BATCH_RESULT_NAMES`: ``rc``, ``band``, ``mu``, …) is a `DataError`, before any test.
     """
     freq, z, dims, coords, source = frequency_and_z(data)
+    refuse_result_names(dims, BATCH_RESULT_NAMES, "a KK batch result", source=source)
     return _run(freq, z, z.shape[:-1], dims, coords, **_options_of_kk_test(options), source=source, attrs=data.attrs if isinstance(data, xr.Dataset) else None)
 
 

@@ -352,6 +352,15 @@ def _setting_variables(dims: tuple, shape: tuple, results) -> dict:
     }
 
 
+BATCH_RESULT_NAMES = frozenset({
+    "tau", "frequency", "peak", "gamma", "gamma_q05", "gamma_q95", "Z", "Z_fit", "peak_tau", "peak_r", "peak_width", "peak_inside_window",
+    "dropped_r", "r_inf", "inductance", "lam", "rms_rel", "z_ref", "lambda_choice", "band_lambda", "lambda_note",
+})
+"""The dimensions and variables of `DRTBatchResult.to_xarray`'s Dataset: `drt` refuses a batch
+dimension of one of these names (`grid.refuse_result_names`), where ``to_xarray`` had failed
+with xarray's "conflicting sizes for dimension 'tau'"."""
+
+
 @dataclass(frozen=True, eq=False)
 class DRTBatchResult(ResultGrid):
     """DRTs of every spectrum of a Dataset with extra dimensions (trial, session, ...), computed
