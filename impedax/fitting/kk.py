@@ -155,8 +155,8 @@ class KKResult:
             {
                 "Z": ("frequency", self.impedance, {"units": "ohm", "long_name": "measured impedance"}),
                 "Z_kk": ("frequency", self.kk_impedance, {"units": "ohm", "long_name": "fitted Kramers-Kronig (Voigt chain) impedance"}),
-                "residuals_real": ("frequency", self.residuals_real, {"units": "1", "long_name": "(Z'_data - Z'_kk)/|Z_data|"}),
-                "residuals_imag": ("frequency", self.residuals_imag, {"units": "1", "long_name": "(Z''_data - Z''_kk)/|Z_data|"}),
+                "residuals_real": ("frequency", self.residuals_real, {"units": "1", "long_name": RESIDUAL_LONG_NAMES[0]}),
+                "residuals_imag": ("frequency", self.residuals_imag, {"units": "1", "long_name": RESIDUAL_LONG_NAMES[1]}),
                 "flagged": ("frequency", self.flagged, {"long_name": "point flagged as not KK-consistent (a bad band may hold unflagged points)"}),
                 "bad_band_f_min": ("band", lo, {"units": "Hz"}),
                 "bad_band_f_max": ("band", hi, {"units": "Hz"}),
@@ -281,6 +281,10 @@ class KKResult:
         return plot_kk(self, title=title)
 
 
+RESIDUAL_LONG_NAMES = ("(Z'_data - Z'_kk)/|Z_data|", "(Z''_data - Z''_kk)/|Z_data|")
+"""The sign of ``residuals_real``/``residuals_imag``, data minus KK fit (Boukamp's; a circuit
+fit's residuals are model minus data: docs/physics.md), as their ``long_name``s."""
+
 BATCH_RESULT_NAMES = frozenset({
     "frequency", "band", "rc", "Z", "Z_kk", "residuals_real", "residuals_imag", "flagged", "bad_band_f_min", "bad_band_f_max", "time_constant", "resistance",
     "n_rc", "mu", "rms_rel", "noise_estimate", "valid", "conclusive", "series_resistance", "series_inductance", "inverse_series_capacitance",
@@ -331,8 +335,8 @@ class KKBatchResult(ResultGrid):
             {
                 "Z": (per_freq, np.stack([r.impedance for r in self.results]).reshape(*shape, -1), {"units": "ohm"}),
                 "Z_kk": (per_freq, np.stack([r.kk_impedance for r in self.results]).reshape(*shape, -1), {"units": "ohm"}),
-                "residuals_real": (per_freq, stack(lambda r: r.residuals_real), {"units": "1"}),
-                "residuals_imag": (per_freq, stack(lambda r: r.residuals_imag), {"units": "1"}),
+                "residuals_real": (per_freq, stack(lambda r: r.residuals_real), {"units": "1", "long_name": RESIDUAL_LONG_NAMES[0]}),
+                "residuals_imag": (per_freq, stack(lambda r: r.residuals_imag), {"units": "1", "long_name": RESIDUAL_LONG_NAMES[1]}),
                 "flagged": (per_freq, stack(lambda r: r.flagged).astype(bool)),
                 "bad_band_f_min": ((*dims, "band"), stack(lambda r: [b[0] for b in r.bad_bands], n_band), {"units": "Hz"}),
                 "bad_band_f_max": ((*dims, "band"), stack(lambda r: [b[1] for b in r.bad_bands], n_band), {"units": "Hz"}),
