@@ -67,7 +67,8 @@ def make_spectrum(
             names = ("trial", "session", "condition") if Z.ndim <= 4 else tuple(f"dim_{i}" for i in range(Z.ndim - 1))
             example = names[: Z.ndim - 1]
             raise DataError(f"Z has {Z.ndim} dimensions; name the ones before frequency, e.g. dims={example!r} for Z over {(*example, 'frequency')!r}", path=source)
-        raise DataError(f"Z has {Z.ndim} dimensions but dims {all_dims} were given", path=source)
+        # (quoting the dims the caller gave: 'frequency', which impedax adds, is in neither)
+        raise DataError(f"Z has {Z.ndim} dimensions but dims={dims!r} were given (Z's dimensions before frequency: {Z.ndim - 1})", path=source)
     if Z.shape[-1] != frequency.size:
         raise DataError(f"Z has {Z.shape[-1]} values along frequency but there are {frequency.size} frequencies", path=source)
     data_vars = {"Z": (all_dims, Z, {"units": "ohm", "long_name": "complex impedance Z' + jZ''"})}

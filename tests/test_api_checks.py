@@ -67,8 +67,12 @@ def test_make_spectrum_names_the_dimensions_to_give():
     assert "were given" not in str(info.value)
     with pytest.raises(ix.DataError, match=r"Z has 3 dimensions; .*dims=\('trial', 'session'\)"):
         ix.make_spectrum(FREQ, z[None])
-    with pytest.raises(ix.DataError, match=r"Z has 2 dimensions but dims \('a', 'b', 'frequency'\) were given"):
+    with pytest.raises(ix.DataError, match=r"Z has 2 dimensions but dims=\('a', 'b'\) were given \(Z's dimensions before frequency: 1\)"):
         ix.make_spectrum(FREQ, z, dims=("a", "b"))
+    # the dims quoted are those given, without the 'frequency' impedax adds
+    with pytest.raises(ix.DataError) as info:
+        ix.make_spectrum(FREQ, np.stack([z] * 2), dims=("temperature",))
+    assert "dims=('temperature',) were given" in str(info.value) and "frequency')" not in str(info.value)
     assert ix.make_spectrum(FREQ, z, dims=("trial",)).sizes == {"trial": 3, "frequency": 31}
 
 

@@ -152,3 +152,21 @@ def test_a_positive_inductance_has_no_note():
     z = 20.0 + 100.0 / (1 + 1j * W * 1e-3) + 1j * W * 1e-6
     result = drt((F, noisy(z, 0.002, 4)))
     assert result.l_h > 0 and result.notes == ()
+
+
+def test_drt_residuals_are_data_minus_the_drt_model_and_the_names_are_the_datasets(cycles):
+    """`DRTResult.residuals` = (Z_data − Z_fit)/|Z_data| (docs/drt.md; the KK test's sign, a
+    circuit fit's is the opposite), Z_fit evaluated anew at the data's frequencies by
+    `predict`; the long_name says the same. `drt.result.BATCH_RESULT_NAMES`, the names a batch
+    dimension may not have, are exactly the batch Dataset's variables and dimensions."""
+    from impedax.fitting.drt.result import BATCH_RESULT_NAMES
+
+    path, spectra = cycles
+    batch = drt(path)
+    for k, one in enumerate(batch.results):
+        by_hand = (spectra[k] - one.predict(F)) / np.abs(spectra[k])
+        assert np.abs(by_hand).max() > 1e-3  # 0.5 % noise: the sign is measurable
+        np.testing.assert_allclose(one.residuals, by_hand, atol=1e-9)
+    assert batch[0].to_xarray()["residuals"].attrs["long_name"] == "(Z_data - Z_fit)/|Z_data|"
+    ds = batch.to_xarray()
+    assert (set(ds.variables) | set(ds.dims)) - {"cycle"} == BATCH_RESULT_NAMES

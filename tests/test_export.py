@@ -202,3 +202,16 @@ def test_check_results_json_is_the_command_lines_json(command, tmp_path, capsys)
     if command[0] == "kk":  # (the command line names the file it read; the API's result has none)
         assert printed.pop("source") == str(tmp_path / "rc.nc")
     assert isinstance(written, dict) and written == printed
+
+
+def test_fit_residuals_are_model_minus_data_as_their_long_name_says(rc_fit):
+    """`FitResult.residuals` = (Z_model − Z_data)/|Z_data| (docs/physics.md): the model evaluated
+    here by hand, R0 + R1/(1 + jωR1C1), and the netCDF's long_name say the same sign."""
+    v = rc_fit.values
+    w = 2 * np.pi * rc_fit.frequency
+    z_model = v["R0"] + v["R1"] / (1 + 1j * w * v["R1"] * v["C1"])
+    z_data = rc_fit.z_data
+    by_hand = (z_model - z_data) / np.abs(z_data)
+    assert np.abs(by_hand).max() > 1e-3  # 1 % noise: the sign is measurable
+    np.testing.assert_allclose(rc_fit.residuals, by_hand, atol=1e-9)
+    assert rc_fit.to_xarray()["residual_rel"].attrs["long_name"] == "(Z_model - Z_data)/|Z_data|"

@@ -299,7 +299,7 @@ def test_the_plot_draws_abs_delta_and_both_levels():
     z[20] *= 1.05
     result = ix.kk_test((f, z))
     fig = result.plot()
-    ax = next(a for a in fig.axes if a.get_ylabel() == "KK residual [%]")
+    ax = next(a for a in fig.axes if a.get_ylabel() == "KK residual (Z − Z_kk)/|Z| [%]")
     lines = {line.get_label(): line for line in ax.get_lines()}
     magnitude = next(line for label, line in lines.items() if label.startswith("|Δ|"))
     order = np.argsort(f)

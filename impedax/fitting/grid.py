@@ -1,15 +1,33 @@
 """`ResultGrid`: one method's results for every spectrum of a Dataset with extra dimensions
 (trial, session, ...), held in C order over those dimensions; the batch results of the KK test
-and the DRT are grids."""
+and the DRT are grids. `refuse_result_names`: the check, shared by every batch analysis, that
+no batch dimension has the name of its result's own variables and dimensions."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Mapping
+from typing import Collection, Mapping, Sequence
 
 import numpy as np
 
-__all__ = ["ResultGrid"]
+from ..errors import DataError
+
+__all__ = ["ResultGrid", "refuse_result_names"]
+
+
+def refuse_result_names(batch_dims: Sequence[str], result_names: Collection[str], result: str, *, source: object = None) -> None:
+    """`DataError` when a batch dimension has one of ``result_names``, the names of the
+    variables and dimensions of the batch result's Dataset (``result``: what it is, e.g. "a fit
+    result"): xarray had otherwise failed deep inside the analysis or in ``to_xarray`` (a
+    dimension ``tau`` of 4 spectra beside the DRT's ``tau`` of 155 points: "conflicting sizes"),
+    after the work was done. Called before any work, with the data's ``source`` for the message."""
+    clashing = [str(d) for d in batch_dims if d in result_names]
+    if clashing:
+        raise DataError(
+            f"the batch dimension(s) {', '.join(repr(d) for d in clashing)} have the name of {result}'s variable or dimension ({', '.join(sorted(result_names))}); "
+            f"rename them first, e.g. data.rename({clashing[0]}='{clashing[0]}_label')",
+            path=source,
+        )
 
 
 @dataclass(frozen=True, eq=False)

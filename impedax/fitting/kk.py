@@ -27,7 +27,7 @@ import xarray as xr
 from ..arguments import MAX_BASIS, checked_arguments, count, flag, instance_of, real, shown
 from ..data import checked_frequencies, concise_repr, format_frequency
 from ..errors import DataError, ImpedaxError, ParameterError
-from .grid import ResultGrid
+from .grid import ResultGrid, refuse_result_names
 from .problem import frequency_and_z
 from .statistics import difference_noise, non_passive, residual_noise
 
@@ -155,8 +155,8 @@ class KKResult:
             {
                 "Z": ("frequency", self.impedance, {"units": "ohm", "long_name": "measured impedance"}),
                 "Z_kk": ("frequency", self.kk_impedance, {"units": "ohm", "long_name": "fitted Kramers-Kronig (Voigt chain) impedance"}),
-                "residuals_real": ("frequency", self.residuals_real, {"units": "1", "long_name": "(Z'_data - Z'_kk)/|Z_data|"}),
-                "residuals_imag": ("frequency", self.residuals_imag, {"units": "1", "long_name": "(Z''_data - Z''_kk)/|Z_data|"}),
+                "residuals_real": ("frequency", self.residuals_real, {"units": "1", "long_name": RESIDUAL_LONG_NAMES[0]}),
+                "residuals_imag": ("frequency", self.residuals_imag, {"units": "1", "long_name": RESIDUAL_LONG_NAMES[1]}),
                 "flagged": ("frequency", self.flagged, {"long_name": "point flagged as not KK-consistent (a bad band may hold unflagged points)"}),
                 "bad_band_f_min": ("band", lo, {"units": "Hz"}),
                 "bad_band_f_max": ("band", hi, {"units": "Hz"}),
@@ -281,6 +281,19 @@ class KKResult:
         return plot_kk(self, title=title)
 
 
+RESIDUAL_LONG_NAMES = ("(Z'_data - Z'_kk)/|Z_data|", "(Z''_data - Z''_kk)/|Z_data|")
+"""The sign of ``residuals_real``/``residuals_imag``, data minus KK fit (Boukamp's; a circuit
+fit's residuals are model minus data: docs/physics.md), as their ``long_name``s."""
+
+BATCH_RESULT_NAMES = frozenset({
+    "frequency", "band", "rc", "Z", "Z_kk", "residuals_real", "residuals_imag", "flagged", "bad_band_f_min", "bad_band_f_max", "time_constant", "resistance",
+    "n_rc", "mu", "rms_rel", "noise_estimate", "valid", "conclusive", "series_resistance", "series_inductance", "inverse_series_capacitance",
+})
+"""The dimensions and variables of `KKBatchResult.to_xarray`'s Dataset: `kk_test_batch` refuses a
+batch dimension of one of these names (`grid.refuse_result_names`), where ``to_xarray`` had
+failed with xarray's "conflicting sizes for dimension 'rc'"."""
+
+
 @dataclass(frozen=True, eq=False)
 class KKBatchResult(ResultGrid):
     """KK tests of every spectrum of a Dataset with extra dimensions (trial, session, ...).
@@ -322,8 +335,8 @@ class KKBatchResult(ResultGrid):
             {
                 "Z": (per_freq, np.stack([r.impedance for r in self.results]).reshape(*shape, -1), {"units": "ohm"}),
                 "Z_kk": (per_freq, np.stack([r.kk_impedance for r in self.results]).reshape(*shape, -1), {"units": "ohm"}),
-                "residuals_real": (per_freq, stack(lambda r: r.residuals_real), {"units": "1"}),
-                "residuals_imag": (per_freq, stack(lambda r: r.residuals_imag), {"units": "1"}),
+                "residuals_real": (per_freq, stack(lambda r: r.residuals_real), {"units": "1", "long_name": RESIDUAL_LONG_NAMES[0]}),
+                "residuals_imag": (per_freq, stack(lambda r: r.residuals_imag), {"units": "1", "long_name": RESIDUAL_LONG_NAMES[1]}),
                 "flagged": (per_freq, stack(lambda r: r.flagged).astype(bool)),
                 "bad_band_f_min": ((*dims, "band"), stack(lambda r: [b[0] for b in r.bad_bands], n_band), {"units": "Hz"}),
                 "bad_band_f_max": ((*dims, "band"), stack(lambda r: [b[1] for b in r.bad_bands], n_band), {"units": "Hz"}),
@@ -852,9 +865,11 @@ def kk_test_batch(data, **options) -> KKBatchResult:
 
     All spectra are solved together (one batched QR per M), each stopping at its own M.
     Takes the keyword options of `kk_test` (same defaults, same validity rule); returns a
-    `KKBatchResult`.
+    `KKBatchResult`. A batch dimension named as a variable or dimension of its Dataset
+    (`BATCH_RESULT_NAMES`: ``rc``, ``band``, ``mu``, …) is a `DataError`, before any test.
     """
     freq, z, dims, coords, source = frequency_and_z(data)
+    refuse_result_names(dims, BATCH_RESULT_NAMES, "a KK batch result", source=source)
     return _run(freq, z, z.shape[:-1], dims, coords, **_options_of_kk_test(options), source=source, attrs=data.attrs if isinstance(data, xr.Dataset) else None)
 
 

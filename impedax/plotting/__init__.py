@@ -349,7 +349,7 @@ def plot_spectrum(
     if with_residuals:
         z_model = _model_at(d[0], m) if model_at_data is None else np.asarray(model_at_data, complex)
         r = (z_model - d[1]) / np.abs(d[1])
-        plot_residuals(ax_res, d[0], r.real, r.imag, labels=residual_labels)
+        plot_residuals(ax_res, d[0], r.real, r.imag, labels=residual_labels, ylabel="residual (Z_model − Z)/|Z| [%]")
         ax_ph.set_xlabel("")
         freq_axes.append(ax_res)
     if bands:

@@ -86,7 +86,7 @@ def plot_drt(result, *, overlay=None, title: str | None = None):
     ax_res.semilogx(f, result.residuals.imag[order] * 100, "s-", ms=3, lw=0.8, label="Im")
     ax_res.axhline(0, color="k", lw=0.6)
     ax_res.set_xlabel("frequency [Hz]")
-    ax_res.set_ylabel("DRT residual [%]")
+    ax_res.set_ylabel("DRT residual (Z − Z_fit)/|Z| [%]")
     ax_res.grid(alpha=0.3, which="both")
     ax_res.legend(fontsize=8, ncol=2)
     dropped = len(getattr(result, "dropped_peaks", ()))

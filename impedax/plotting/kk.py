@@ -17,7 +17,7 @@ def plot_kk(result, *, title: str | None = None):
     fig, (ax_nyq, ax_mod, ax_ph, ax_res) = spectrum_layout(nyquist_shape(data, model), True)
     plot_nyquist(ax_nyq, data, model, model_label=f"KK fit (M={result.n_rc})")
     plot_bode(ax_mod, ax_ph, data, model, model_label=f"KK fit (M={result.n_rc})")
-    plot_residuals(ax_res, result.frequency, result.residuals_real, result.residuals_imag, labels=("Δ re", "Δ im"), ylabel="KK residual [%]")
+    plot_residuals(ax_res, result.frequency, result.residuals_real, result.residuals_imag, labels=("Δ re", "Δ im"), ylabel="KK residual (Z − Z_kk)/|Z| [%]")
     order = np.argsort(result.frequency)
     magnitude = np.hypot(result.residuals_real, result.residuals_imag)[order]
     ax_res.semilogx(result.frequency[order], magnitude * 100, "-", color="0.25", lw=1.0, label="|Δ| (the rules test it)")

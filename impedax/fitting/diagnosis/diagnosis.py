@@ -50,6 +50,7 @@ from ...errors import DataError, FitError, ImpedaxError, ParameterError
 from ..drt import PeakEvidence, drt, r_cpe_tau, unexplained_peaks
 from ..kk import CONCLUSIVE_POINTS_MIN, KKResult, kk_test
 from ..least_squares import BatchFitResult, FitResult
+from ..least_squares.result import RESIDUAL_LONG_NAME
 from ..least_squares.branches import is_idle_note, parallel_branches
 from ..least_squares.candidates import SolverShape, fit_candidates, solver_shape
 from ..least_squares.starts import climb_target
@@ -390,7 +391,7 @@ class Diagnosis:
             {
                 "Z": ("frequency", b.z_data, {"units": "ohm"}),
                 "Z_model": ("frequency", b.z_model, {"units": "ohm"}),
-                "residual_rel": ("frequency", b.residuals),
+                "residual_rel": ("frequency", b.residuals, {"units": "1", "long_name": RESIDUAL_LONG_NAME}),
                 "noise_rel": ("frequency", self.noise, {"long_name": "relative noise per component (measurement and discrepancy floor)"}),
                 "failing": ("frequency", mask),
                 "candidate_model": ("candidate", [s.model for s in self.candidates]),

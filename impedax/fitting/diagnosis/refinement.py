@@ -18,7 +18,7 @@ from ...data import concise_repr, format_quantity
 from ...errors import CircuitError, ParameterError
 from ..least_squares import FitResult, fit
 from ..least_squares.candidates import fit_candidates
-from ..least_squares.result import BOUND_CHI2_FRACTION
+from ..least_squares.result import BOUND_CHI2_FRACTION, RESIDUAL_LONG_NAME
 from ..parameters import ParameterTable
 from ..problem import WEIGHTINGS, open_spectrum
 from .bands import format_frequency
@@ -180,7 +180,7 @@ class Refinement:
                 "rms_rel": ("step", [s.fit.rms_rel for s in self.steps]),
                 "aic": ("step", [s.fit.aic for s in self.steps]),
                 "bic": ("step", [s.fit.bic for s in self.steps]),
-                "residual_rel": (("step", "frequency"), np.stack([s.fit.residuals for s in self.steps])),
+                "residual_rel": (("step", "frequency"), np.stack([s.fit.residuals for s in self.steps]), {"units": "1", "long_name": RESIDUAL_LONG_NAME}),
                 "Z": ("frequency", self.steps[0].fit.z_data, {"units": "ohm"}),
             },
             coords={"step": np.arange(len(self.steps)), "frequency": ("frequency", f, {"units": "Hz"})},

@@ -9,12 +9,13 @@ import numpy as np
 
 from ...arguments import checked_arguments, count, flag, real
 from ...errors import DataError, ParameterError
+from ..grid import refuse_result_names
 from ..problem import frequency_and_z
 from ..statistics import residual_noise
 from ..stored import QUICK_COMPILE, StoredProgram
 from .basis import impedance_integrals, penalty_matrix, rbf_basis
 from .peaks import split_peaks
-from .result import LAMBDA_FLOOR as _LAMBDA_FLOOR, DRTBatchResult, DRTResult, format_lambda  # λ chosen below the floor is raised to it
+from .result import BATCH_RESULT_NAMES, LAMBDA_FLOOR as _LAMBDA_FLOOR, DRTBatchResult, DRTResult, format_lambda  # λ chosen below the floor is raised to it
 from .tikhonov import LAMBDA_METHODS, quantile_band, solve_batch
 
 __all__ = ["drt"]
@@ -140,9 +141,12 @@ def drt(
     Gaussian RBF basis (Wan et al., Electrochim. Acta 184 (2015) 483; docs/drt.md).
 
     Fits Z(ω) = R_∞ + jωL [+ 1/(jωC)] + Σ_m x_m ∫ φ_m(ln τ)/(1 + jωτ) d ln τ to the relative
-    residuals (Z_fit − Z)/|Z| with the penalty λ ∫ (d^k γ/d ln τ^k)² d ln τ (k = ``derivative``).
+    residuals (Z − Z_fit)/|Z| (data minus DRT model, the sign `DRTResult.residuals` holds) with
+    the penalty λ ∫ (d^k γ/d ln τ^k)² d ln τ (k = ``derivative``).
 
-    ``data``: a spectrum Dataset (extra dimensions → one vmapped solve, a `DRTBatchResult`), a
+    ``data``: a spectrum Dataset (extra dimensions → one vmapped solve, a `DRTBatchResult`; a
+    dimension named as a variable or dimension of its Dataset, `result.BATCH_RESULT_NAMES`:
+    ``tau``, ``peak``, …, is a DataError before any solve), a
     file path, or a (frequency, Z) pair with Z of shape (..., N). ``lam``: "auto" (chosen per
     spectrum by ``lam_method``, "gcv" (default) or "lcurve") or a positive number.
     ``signed``: allow γ < 0 (inductive loops, negative capacitances); otherwise γ ≥ 0 (x ≥ 0).
@@ -188,6 +192,7 @@ def drt(
             raise ParameterError(f"{name} must be a number ≥ {low:g}, got {value!r}")
 
     freq, z, dims, coords, source = frequency_and_z(data)
+    refuse_result_names(dims, BATCH_RESULT_NAMES, "a DRT batch result", source=source)
     if freq.size < 5:
         raise DataError(f"the DRT needs at least 5 frequencies, got {freq.size}", path=source)
     if np.any(np.abs(z) == 0):

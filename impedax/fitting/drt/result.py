@@ -150,7 +150,7 @@ class DRTResult:
                 "gamma_q95": ("tau", self.gamma_q95, {"units": "ohm", "long_name": "95 % credible quantile of γ"}),
                 "Z": ("frequency", self.impedance, {"units": "ohm", "long_name": "measured impedance"}),
                 "Z_fit": ("frequency", self.z_fit, {"units": "ohm", "long_name": "DRT model impedance"}),
-                "residuals": ("frequency", self.residuals, {"units": "1", "long_name": "(Z_data - Z_fit)/|Z_data|"}),
+                "residuals": ("frequency", self.residuals, {"units": "1", "long_name": RESIDUAL_LONG_NAME}),
                 "peak_tau": ("peak", np.array([p.tau_s for p in peaks], float), {"units": "s"}),
                 "peak_r": ("peak", np.array([p.r_ohm for p in peaks], float), {"units": "ohm"}),
                 "peak_width": ("peak", np.array([p.width_decades for p in peaks], float), {"units": "decades"}),
@@ -350,6 +350,19 @@ def _setting_variables(dims: tuple, shape: tuple, results) -> dict:
         "band_lambda": (dims, column([r.band_lambda for r in results], float), {"long_name": "lam of the credible band (evidence-chosen)"}),
         "lambda_note": (dims, column([r.lambda_note for r in results], object), {"long_name": "what moved lam from lambda_choice ('' when nothing did)"}),
     }
+
+
+RESIDUAL_LONG_NAME = "(Z_data - Z_fit)/|Z_data|"
+"""The sign of `DRTResult.residuals`, data minus DRT model (the KK test's; a circuit fit's are
+model minus data: docs/physics.md), as their ``long_name``."""
+
+BATCH_RESULT_NAMES = frozenset({
+    "tau", "frequency", "peak", "gamma", "gamma_q05", "gamma_q95", "Z", "Z_fit", "peak_tau", "peak_r", "peak_width", "peak_inside_window",
+    "dropped_r", "r_inf", "inductance", "lam", "rms_rel", "z_ref", "lambda_choice", "band_lambda", "lambda_note",
+})
+"""The dimensions and variables of `DRTBatchResult.to_xarray`'s Dataset: `drt` refuses a batch
+dimension of one of these names (`grid.refuse_result_names`), where ``to_xarray`` had failed
+with xarray's "conflicting sizes for dimension 'tau'"."""
 
 
 @dataclass(frozen=True, eq=False)

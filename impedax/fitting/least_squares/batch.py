@@ -21,6 +21,7 @@ from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ...data import column_width, concise_repr, format_relative_error, unit_text
 from ...errors import DataError, ParameterError
 from ...warning_groups import grouped_warnings, warning_kinds
+from ..grid import refuse_result_names
 from ..parameters import ParameterTable
 from ..problem import residual_scale, weights
 from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, dominant_points, information_criteria, null_sets
@@ -821,8 +822,8 @@ RESULT_NAMES = frozenset({
 })
 """The names of a batch result's dimensions and variables (`fit_batch`'s Dataset, and the core
 dimension of the chunked path's ``apply_ufunc``): a batch dimension of one of these names is
-refused, where xarray had failed deep inside the fit (or, for ``param``, built a Dataset with
-that dimension twice)."""
+refused (`grid.refuse_result_names`), where xarray had failed deep inside the fit (or, for
+``param``, built a Dataset with that dimension twice)."""
 
 
 def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weighting: str, n_starts: int, max_steps: int, seed: int, registry: Registry = DEFAULT_REGISTRY, source: str = "data", t0: float | None = None, starts: np.ndarray | None = None) -> BatchFitResult:
@@ -830,13 +831,7 @@ def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weig
     spectrum's own starting values (NaN: its data-driven guess), `BatchFitResult.per_spectrum_starts`."""
     t0 = time.perf_counter() if t0 is None else t0
     extra = tuple(d for d in data["Z"].dims if d != "frequency")
-    clashing = [str(d) for d in extra if d in RESULT_NAMES]
-    if clashing:
-        raise DataError(
-            f"the batch dimension(s) {', '.join(repr(d) for d in clashing)} have the name of a fit result's variable ({', '.join(sorted(RESULT_NAMES))}); "
-            f"rename them first, e.g. data.rename({clashing[0]}='{clashing[0]}_label')",
-            path=source,
-        )
+    refuse_result_names(extra, RESULT_NAMES, "a fit result", source=source)
     freq = np.asarray(data["frequency"].values, float)
     names = table.names
     n_par, n_freq = len(names), freq.size

@@ -273,7 +273,7 @@ class FitResult:
                 "correlation": (("free_param", "free_param_2"), self.correlation, {"note": CORRELATION_NOTE}),
                 "Z": ("frequency", self.z_data, {"units": "ohm"}),
                 "Z_model": ("frequency", self.z_model, {"units": "ohm"}),
-                "residual_rel": ("frequency", self.residuals),
+                "residual_rel": ("frequency", self.residuals, {"units": "1", "long_name": RESIDUAL_LONG_NAME}),
             },
             coords={"param": names, "free_param": free, "free_param_2": free, "frequency": ("frequency", self.frequency, {"units": "Hz"})},
             attrs={
@@ -331,6 +331,9 @@ _FIT_ATTRS = ("model", "weighting", "chi2", "converged", "message", "warnings")
 
 # what `FitResult.to_xarray` says of its stderr, covariance and correlation (docs/fitting.md,
 # "Standard errors at a bound")
+RESIDUAL_LONG_NAME = "(Z_model - Z_data)/|Z_data|"
+"""The sign of `FitResult.residuals`, model minus data, as the ``long_name`` of ``residual_rel``
+(the KK test's and the DRT's are data minus fit: docs/physics.md, "Goodness of fit")."""
 STDERR_NOTE = "NaN: fixed, or at a bound (no symmetric standard error there); inf: a vanishing term's parameter"
 COVARIANCE_NOTE = "the linearisation with every free parameter free, the bounds ignored"
 LINEARISED_STDERR_NAME = "stderr with a parameter at a bound given the linearisation's (bounds ignored): not a ± error there, the scale of chi2's curvature"
