@@ -355,7 +355,8 @@ class Diagnosis:
             lines.append(f"DRT: {self.drt.text}.")
         lines.append(f"verdict: {self.verdict_heading} — {self.reason}")
         if self.suggestions:
-            lines.append(f"what is missing (best first: by AIC; of candidates within {DELTA_AIC_MIN:g} of each other, the simpler first; "
+            lines.append(f"what is missing (best first: by AIC; of candidates within {DELTA_AIC_MIN:g} of each other, one that keeps every element of yours, then the simpler, "
+                         "then one that adds no finite Warburg as diffusion (within that margin its 45° region is not shown decisively), so a later one may have the lower ΔAIC; "
                          "ΔAIC and ΔBIC here weigh each point by its noise, so they differ from the fits' own AIC that impedax fit and compare print):")
             for i, (s, same) in enumerate(_folded(self.suggestions, self.noise)[:5], 1):
                 lines.append(f"  {i}. [{s.effect}] {s.explanation}")
