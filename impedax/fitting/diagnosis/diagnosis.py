@@ -29,6 +29,11 @@
    the catalog explains what is left. Only significant candidates are listed as suggestions.
    When no single effect is significant but the residuals stay structured beyond the noise,
    pairs of effects are tried first (`_effect_pairs`; their ``effect`` is ``"a+b"``).
+6. A fit held by the user's constraints (fixed values; free parameters on a bound the user set,
+   not the element's own) is refitted once from its values with them released
+   (`_constraint_verdict`): when that meets the fit's own rule (`constraints.constraint_explains`),
+   the verdict is ``constraint`` and no effect is named missing. A command the report prints
+   keeps the user's fixed values (``--fix``).
 """
 
 from __future__ import annotations
@@ -53,6 +58,7 @@ from ..least_squares import BatchFitResult, FitResult
 from ..least_squares.result import RESIDUAL_LONG_NAME
 from ..least_squares.branches import is_idle_note, parallel_branches
 from ..least_squares.candidates import SolverShape, fit_candidates, solver_shape
+from ..least_squares.constraints import binding_constraints, constraint_explains, constraint_words, released_fit
 from ..least_squares.starts import climb_target
 from ..problem import WEIGHTINGS, open_spectrum
 from ..statistics import information_criteria, non_passive
@@ -161,6 +167,7 @@ class Verdict(enum.StrEnum):
     ADEQUATE = "adequate"
     MISSING_EFFECT = "missing_effect"
     DATA_INVALID = "data_invalid"
+    CONSTRAINT = "constraint"  # the user's fixed value or bound, not the model, explains the misfit (`_constraint_verdict`)
 
 
 @dataclass(frozen=True, eq=False)
@@ -365,7 +372,7 @@ class Diagnosis:
                 for t in same:
                     lines.append(f"     the same fit within the noise (the data cannot tell them apart): {t.model} [{t.effect}]   ΔAIC {t.delta_aic:+.1f}")
             best = self.suggestions[0].fit
-            starts = " ".join(f"--init {k}={v:.6g}" for k, v in best.values.items() if not best.fixed[k])
+            starts = " ".join(f"--init {k}={v:.6g}" for k, v in best.values.items() if not best.fixed[k]) + _fixed_words(best)
             lines.append(f"  to apply 1. from its fitted values (a fit from scratch may stop in another minimum): {fit_command} --model '{best.model}' {starts}")
             lines += _without_vanished_lines(best, fit_command)
             if self.masked_points:  # (impedax fit takes every point the file holds unless told)
@@ -1579,6 +1586,32 @@ def left_out_words(options) -> str:
     return " ".join(f"{flag} {value}" for flag, value in options)
 
 
+def _fixed_words(fit: FitResult, kept=None) -> str:
+    """`` --fix NAME=VALUE`` for each fixed parameter of ``fit`` (in ``kept``, when given): a
+    command that applies a suggestion keeps the user's fixed values, which its fit kept."""
+    return "".join(f" --fix {k}={v:.6g}" for k, v in fit.values.items() if fit.fixed[k] and (kept is None or k in kept))
+
+
+def _constraint_verdict(user_fit: FitResult, spectrum: xr.Dataset, kk: KKResult | None, ratio: float) -> tuple[Verdict, str] | None:
+    """`Verdict.CONSTRAINT` and its reason when the user's binding constraints on ``user_fit``
+    (fixed values, a bounds= it sits on: `constraints.binding_constraints`) explain its misfit:
+    one local fit from its values with them released (`constraints.released_fit`, on the
+    diagnosis' ``spectrum``) meets the fit's own rule (`constraints.constraint_explains`
+    against the KK test's rms_rel), so no effect is named missing. None otherwise."""
+    constraints = binding_constraints(user_fit.values, user_fit.fixed, user_fit.at_bound, user_fit.bounds)
+    if not constraints:
+        return None
+    released = released_fit(user_fit.circuit, spectrum, user_fit.values, user_fit.fixed, user_fit.bounds, constraints, weighting=user_fit.weighting, registry=user_fit.registry)
+    if released is None or not constraint_explains(user_fit.rms_rel, released.rms_rel, kk.rms_rel if kk is not None else math.nan):
+        return None
+    names = ", ".join(dict.fromkeys(n for n, _, _ in constraints))
+    return Verdict.CONSTRAINT, (
+        f"the residuals are {ratio:.3g}× the noise, but the misfit is a constraint you set, not a missing effect: with {constraint_words(constraints)} "
+        f"the fit reaches rms_rel {user_fit.rms_rel * 100:.3g} %, and one local fit from its values with {names} free reaches {released.rms_rel * 100:.3g} %; "
+        f"fit with {names} free, or check the value you set."
+    )
+
+
 def _without_vanished_lines(fit: FitResult, fit_command: str) -> list[str]:
     """Under the "to apply" line: each term of the suggestion's fit that vanished (`vanishing`:
     a resistor run open, R1 = 1.19e282 Ω beside CPE1 on exampleData.csv) named, with the model
@@ -1587,7 +1620,7 @@ def _without_vanished_lines(fit: FitResult, fit_command: str) -> list[str]:
     lines = []
     for branch, reduced, names in vanished_terms(fit):
         kept = set(reduced.parameter_names(fit.registry))
-        starts = " ".join(f"--init {k}={v:.6g}" for k, v in fit.values.items() if k in kept and not fit.fixed[k])
+        starts = " ".join(f"--init {k}={v:.6g}" for k, v in fit.values.items() if k in kept and not fit.fixed[k]) + _fixed_words(fit, kept)
         specs = fit.circuit.parameter_specs(fit.registry)
         held = ", ".join(f"{n} = {format_quantity(fit.values[n], specs[n].unit)}{', at its bound' if n in fit.at_bound else ''}" for n in names)
         what = share_words(branch)
@@ -1685,6 +1718,7 @@ def diagnose(
         noise_given=noise is not None or kk is not None,
     )
     _require_points_for_diagnosis(base.n_points, base.n_params)
+    user_fit = base  # (the user's fit, whose fixed values and bounds `_constraint_verdict` checks)
     spectrum, sigma = _spectrum_of(base, data)
     not_passive = tuple(left_out)
     masked_z = dict(left_out)  # (each masked point's measured Z, for the figure)
@@ -1762,18 +1796,25 @@ def diagnose(
         return (bands, cands) + _verdict(cands, bands, _noise_ratio(base, sigma_rel))
 
     bands, cands, verdict, reason = judged(base)
-    if verdict == Verdict.ADEQUATE and _beyond_single_effects(bands, _noise_ratio(base, sigma_rel)):  # two effects missing at once?
+    # before naming a missing effect (or none): does a fixed value or bound of the user's explain the misfit?
+    constrained = None
+    if binding_constraints(user_fit.values, user_fit.fixed, user_fit.at_bound, user_fit.bounds):
+        say("checking the misfit with your fixed values and bounds released")
+        constrained = _constraint_verdict(user_fit, spectrum, kk_as_tested, _noise_ratio(user_fit if user_fit.n_points == sigma_rel.size else base, sigma_rel))
+    if constrained is not None:  # (no pairs, lead or baseline check: no effect is to be named)
+        verdict, reason = constrained
+    elif verdict == Verdict.ADEQUATE and _beyond_single_effects(bands, _noise_ratio(base, sigma_rel)):  # two effects missing at once?
         say("fitting pairs of effects (no single one is enough)")
         pairs, pair_fits, shape = _effect_pairs(base, cands, proposals, spectrum, effects, shape, with_drt=evidence is not None, drts=drts, max_params=2 * n_points - 1, n_starts=n_starts, max_steps=max_steps, seed=seed, say=say)
         if pairs:
             proposals, fits = proposals + pairs, fits + pair_fits
             bands, cands, verdict, reason = judged(base)
-    if verdict == Verdict.MISSING_EFFECT:  # a lead inductance hidden behind the effect named first?
+    if verdict == Verdict.MISSING_EFFECT and constrained is None:  # a lead inductance hidden behind the effect named first?
         leads, lead_fits, shape = _lead_behind(base, cands, proposals, spectrum, effects, shape, sigma_rel, bands, with_drt=evidence is not None, drts=drts, max_params=2 * n_points - 1, n_starts=n_starts, max_steps=max_steps, seed=seed, say=say)
         if leads:
             proposals, fits = proposals + leads, fits + lead_fits
             bands, cands, verdict, reason = judged(base)
-    if verdict == Verdict.MISSING_EFFECT:  # before naming a missing effect: is the baseline at its own optimum?
+    if verdict == Verdict.MISSING_EFFECT and constrained is None:  # before naming a missing effect: is the baseline at its own optimum?
         say("checking the baseline's own optimum before naming a missing effect")
         better = _baseline_checked(base, spectrum, shape, next(s.fit for s in cands if s.significant), seed=seed)
         if better is not None:

@@ -27,6 +27,7 @@ from ..problem import residual_scale, weights
 from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, dominant_points, information_criteria, null_sets
 from .order import canonical_order
 from .branches import RELATIVE_ERROR_LIMIT, idle_branch_notes, settle_vanishing, undetermined, undetermined_mask, vanishing_candidates, vanishing_parameters
+from .constraints import constraint_misfit_notes, with_constraint_notes
 from .result import BOUND_RESTARTS, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, shown_stderr, stack_notes, vanishing_term_sides, weighting_notes, without_error
 from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, TreeSolvers, better, over_devices, padded_points, tree_solver, trimmed, unscale
 from .starts import SpectrumFeatures, climb_target, batch_outliers, escalation_rungs, guess_start, inward_start, rms_rel_of, rung_seed, rung_starts, to_solver_space
@@ -777,7 +778,8 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
     linearised = stderr.copy()
     stderr[np.ix_(regular, table.free_index)] = without_error(sides[regular], vanished, free_stderr)[0]
     z_model = np.array(out.z_model)
-    weighting_extra = data_notes(freq, z, z_model, sigma, weighting, source, solver.kk_misfits, remainder=remainder, attrs=attrs)
+    misfit: list[tuple[str, ...]] = []
+    weighting_extra = data_notes(freq, z, z_model, sigma, weighting, source, solver.kk_misfits, remainder=remainder, attrs=attrs, misfit_out=misfit)
     for i in np.flatnonzero(odd):
         r = fit_result(circuit, table, freq, z[i], out.row(i), weighting, int(used[i]), 0.0, registry, chi2_at_x=lambda p, s, i=i: solver.chi2_at_x(p, s + i), extra_notes=weighting_extra[i], weights=(inv_re[i], inv_im[i]))
         values[i] = [r.values[n] for n in names]
@@ -788,6 +790,11 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
         sides[i] = [n in r.at_bound for n in table.free_names]
     for i in np.flatnonzero(~odd):
         notes[i] = notes[i] + weighting_extra[i]
+    # a misfit the user's fixed value or bound explains is told so, not blamed on the model (as a single fit's)
+    for i in [i for i in range(b) if misfit[i]]:
+        at = tuple(n for n, side in zip(table.free_names, sides[i].tolist()) if side)
+        checked = constraint_misfit_notes(circuit, table, registry, freq, z[i], z_model[i], None if sigma is None else sigma[i], dict(zip(names, values[i].tolist())), at, misfit[i], solver.kk_misfits.get(i), weighting=weighting, attrs=attrs)
+        notes[i] = with_constraint_notes(notes[i], misfit[i], checked)
     at_bound = np.zeros(values.shape)
     at_bound[:, table.free_index] = sides != 0
     stats = np.stack([chi2, converged.astype(float), np.asarray(out.steps_total, float)], axis=-1)
@@ -804,16 +811,19 @@ _FEW_LANES, _FEW_CAPACITY = 8, 64
 _MANY_LANES_FROM = 4 * _LANES
 
 
-def data_notes(freq, z, z_model, sigma, weighting: str, source: str, kk_misfits: dict[int, float] | None = None, *, remainder: bool = False, attrs=None) -> list[tuple[str, ...]]:
+def data_notes(freq, z, z_model, sigma, weighting: str, source: str, kk_misfits: dict[int, float] | None = None, *, remainder: bool = False, attrs=None, misfit_out: list | None = None) -> list[tuple[str, ...]]:
     """The warnings of fits to spectra z (B, N) with models z_model (B, N) that concern the data
     rather than the parameters, one tuple per spectrum, as a single fit gives them: a weighting
     dominated by a few points (`weighting_notes`), points with Re Z < 0 (`non_passive_notes`)
     and a gross misfit (`misfit_notes`; ``kk_misfits``: Kramers–Kronig misfits already known);
     ``remainder``: the spectra are a subtraction's remainder (`is_remainder`), Re Z < 0 its cause;
-    ``attrs``: the data's, for how to fix a flipped sign (`misfit_notes`)."""
+    ``attrs``: the data's, for how to fix a flipped sign (`misfit_notes`). ``misfit_out``: a list
+    extended with each spectrum's misfit notes alone (the last of its notes)."""
     b = len(z)
     weighted = weighting_notes(weighting, freq, *dominant_points(z, *weights(z, sigma, weighting, source, freq))) if weighting in ("unit", "proportional") else [()] * b
     misfit = misfit_notes(freq, z, z_model, kk_misfits, sigma, attrs)
+    if misfit_out is not None:
+        misfit_out.extend(misfit)
     return [tuple(weighted[i]) + non_passive_notes(freq, z[i], None if sigma is None else sigma[i], remainder=remainder) + misfit[i] for i in range(b)]
 
 

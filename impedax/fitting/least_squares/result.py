@@ -17,6 +17,7 @@ from ...data import checked_frequencies, column_width, concise_repr, format_rela
 from ..kk import kk_verdicts
 from ..parameters import ParameterTable, data_scales
 from ..statistics import covariances, information_criteria, non_passive, uncertainties
+from .constraints import user_bounds
 from .branches import RELATIVE_ERROR_LIMIT, idle_branch_notes, settle_vanishing, undetermined, undetermined_mask, vanishing_candidates, vanishing_parameters
 from .solvers import SolverOutput, SolverStatus
 from .starts import attainable_misfit, inward_start, rms_rel_of
@@ -93,6 +94,7 @@ class FitResult:
     at_bound: tuple[str, ...] = ()  # free parameters at a natural or user bound
     unidentified_groups: tuple[tuple[str, ...], ...] = ()  # near-null directions' parameters (`statistics.null_sets`)
     registry: Registry = field(default=DEFAULT_REGISTRY, repr=False)
+    bounds: dict[str, tuple[float, float]] = field(default_factory=dict, repr=False)  # the user's bounds= of free parameters (`constraints.user_bounds`)
 
     @property
     def linearised_stderr(self) -> dict[str, float]:
@@ -972,4 +974,5 @@ def fit_result(
         at_bound=at_bound_names(table, sides),
         unidentified_groups=parameter_groups(null_sets),
         registry=registry,
+        bounds=user_bounds(table, circuit, registry),
     )

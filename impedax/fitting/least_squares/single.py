@@ -6,6 +6,7 @@ the data have extra dimensions (trial, subject, ...), which are fitted in one vm
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from typing import Mapping, Sequence
 
@@ -19,6 +20,7 @@ from ...errors import ParameterError
 from ..problem import WEIGHTINGS, prepare_fit, residual_scale, weights
 from ..statistics import at_noise_floor, dominant_points, information_criteria
 from .batch import BatchFitResult, fit_batch, register_spectrum_fit
+from .constraints import constraint_misfit_notes, with_constraint_notes
 from .order import canonical_order
 from .result import BOUND_RESTARTS, FitResult, is_remainder, falling_inward, fit_result, misfit_notes, non_passive_notes, weighting_notes
 from .shared import SharedFitResult, fit_shared
@@ -148,10 +150,17 @@ def fit(
     out = canonical_order(circuit, table, freq, out, registry)
     chi2_at_x = one_spectrum_chi2(solvers.chi2_x, args, out)
     notes = weighting_notes(weighting, freq, *dominant_points(z, inv_re, inv_im))[0] if weighting in ("unit", "proportional") else ()
-    notes = tuple(notes) + non_passive_notes(freq, z, sigma, remainder=is_remainder(data.attrs)) + misfit_notes(freq, z, out.z_model, sigma=None if sigma is None else np.asarray(sigma)[None], attrs=data.attrs)[0]
+    kk_misfit: dict[int, float] = {}
+    misfit = misfit_notes(freq, z, out.z_model, kk_misfit, sigma=None if sigma is None else np.asarray(sigma)[None], attrs=data.attrs)[0]
+    notes = tuple(notes) + non_passive_notes(freq, z, sigma, remainder=is_remainder(data.attrs)) + misfit
     given = np.isfinite(table.values[table.free_index])
     start = "the given start" if given.all() and given.size else "the given start, the other parameters' from the data" if given.any() else "the data-driven start"
-    return fit_result(circuit, table, freq, z, out, weighting, used, time.perf_counter() - t0, registry, chi2_at_x=chi2_at_x, extra_notes=notes, start=start, weights=(inv_re, inv_im))
+    result = fit_result(circuit, table, freq, z, out, weighting, used, time.perf_counter() - t0, registry, chi2_at_x=chi2_at_x, extra_notes=notes, start=start, weights=(inv_re, inv_im))
+    # a misfit the user's fixed value or bound explains is told so, not blamed on the model (as a batch's)
+    checked = constraint_misfit_notes(circuit, table, registry, freq, z, result.z_model, sigma, result.values, result.at_bound, misfit, kk_misfit.get(0), weighting=weighting, attrs=data.attrs)
+    if checked != misfit:
+        result = dataclasses.replace(result, warnings=with_constraint_notes(result.warnings, misfit, checked), elapsed_s=time.perf_counter() - t0)
+    return result
 
 
 register_spectrum_fit(fit)  # (BatchFitResult.fit_of refits one spectrum with it)

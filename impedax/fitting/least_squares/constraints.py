@@ -1,0 +1,141 @@
+"""The user's constraints (``fixed=`` values, ``bounds=`` a fit sits on) as a cause of a misfit:
+a fit held by a wrong fixed value or bound misses the data, and the misfit note
+(`result.misfit_notes`) would blame the model and send the user to a diagnosis for a missing
+effect. `constraint_misfit_notes` checks that cheaply (one local fit from the fit's own values
+with the binding constraints released) and, where freeing them explains the misfit, says so
+instead. docs/fitting.md, "Misfit notes"."""
+
+from __future__ import annotations
+
+import math
+from typing import Mapping
+
+import numpy as np
+
+from ...circuits import Circuit, Registry
+from ...errors import ImpedaxError
+from ..parameters import ParameterTable
+
+__all__ = ["user_bounds", "binding_constraints", "constraint_words", "released_fit", "constraint_explains", "constraint_misfit_notes", "with_constraint_notes", "CONSTRAINT_MISFIT_GAIN"]
+
+# a constraint explains a fit's misfit when one local fit with it released (`released_fit`) at
+# least halves the rms_rel ... (a factor the data's noise cannot make: on the user's spectrum,
+# R0 fixed at 0.04 Ω where it is 0.05 Ω, 15.2 % → 0.387 %; a right fixed value changes nothing)
+CONSTRAINT_MISFIT_GAIN = 0.5
+
+
+def user_bounds(table: ParameterTable, circuit: Circuit, registry: Registry) -> dict[str, tuple[float, float]]:
+    """The bounds the user set (``bounds=``) on free parameters: those of ``table`` that differ
+    from the element's natural ones (`ParameterSpec.lower`/``upper``)."""
+    specs = circuit.parameter_specs(registry)
+    out = {}
+    for i, name in enumerate(table.names):
+        if table.fixed[i]:
+            continue
+        lo, hi = float(table.lower[i]), float(table.upper[i])
+        if lo != float(specs[name].lower) or hi != float(specs[name].upper):
+            out[name] = (lo, hi)
+    return out
+
+
+def binding_constraints(values: Mapping[str, float], fixed: Mapping[str, bool], at_bound, bounds: Mapping[str, tuple[float, float]]) -> list[tuple[str, str, float]]:
+    """The constraints of the user's that hold a fit: (name, "fixed" | "lower" | "upper", value)
+    for every fixed parameter and every free one at a bound the user set (``at_bound`` names
+    it and its value is nearer that bound of ``bounds`` than the other; a natural bound, e.g.
+    R at 0, is the model's, not the user's)."""
+    out = [(n, "fixed", float(v)) for n, v in values.items() if fixed.get(n, False)]
+    for n in at_bound:
+        if n in bounds:
+            lo, hi = bounds[n]
+            v = float(values[n])
+            side = "lower" if abs(v - lo) <= abs(hi - v) else "upper"
+            out.append((n, side, lo if side == "lower" else hi))
+    return out
+
+
+def constraint_words(constraints) -> str:
+    """``R0 fixed at 0.04 (your fixed=, --fix)`` / ``R0 on your upper bound 0.048 (bounds=)``, joined."""
+    parts = [f"{n} fixed at {v:.6g} (your fixed=, --fix)" if kind == "fixed" else f"{n} on your {kind} bound {v:.6g} (bounds=)" for n, kind, v in constraints]
+    return " and ".join(parts)
+
+
+def released_fit(circuit: Circuit, data, values: Mapping[str, float], fixed: Mapping[str, bool], bounds: Mapping[str, tuple[float, float]], constraints, *, weighting: str, registry: Registry):
+    """One local fit (``n_starts=1``) of ``data`` from ``values`` with ``constraints``
+    (`binding_constraints`) released: their fixed values freed, their bounds back to the
+    element's; every other fixed value and bound kept. A start on a bound it may not start on
+    is left to the data-driven guess. None where the fit cannot be made (an `ImpedaxError`)."""
+    from .single import fit  # (single imports this module's users)
+
+    released = {n for n, _, _ in constraints}
+    keep_fixed = {n: float(v) for n, v in values.items() if fixed.get(n, False) and n not in released}
+    keep_bounds = {n: b for n, b in bounds.items() if n not in released}
+    specs = circuit.parameter_specs(registry)
+    init = {}
+    for n, v in values.items():
+        if n in keep_fixed or not math.isfinite(v):
+            continue
+        lo, hi = keep_bounds.get(n, (specs[n].lower, specs[n].upper))
+        if lo < v < hi or (v == hi and n not in keep_bounds and specs[n].upper_inclusive):
+            init[n] = float(v)
+    try:
+        return fit(circuit, data, init=init or None, fixed=keep_fixed or None, bounds=keep_bounds or None, weighting=weighting, n_starts=1, registry=registry)
+    except ImpedaxError:
+        return None
+
+
+def constraint_explains(rms_constrained: float, rms_released: float, kk: float) -> bool:
+    """Whether releasing the constraints explains a misfit: the released fit's rms_rel is at
+    most `CONSTRAINT_MISFIT_GAIN` × the constrained one's and within what the misfit rules
+    accept of a model (below `result.MISFIT_CHECKED_FROM`, or within
+    `result.MODEL_MISFIT_OVER_CONSISTENT` × the KK test's Voigt chain's rms_rel ``kk``)."""
+    from .result import MISFIT_CHECKED_FROM, MODEL_MISFIT_OVER_CONSISTENT
+
+    accepted = max(MISFIT_CHECKED_FROM, MODEL_MISFIT_OVER_CONSISTENT * kk) if np.isfinite(kk) else MISFIT_CHECKED_FROM
+    return bool(np.isfinite(rms_released) and rms_released <= CONSTRAINT_MISFIT_GAIN * rms_constrained and rms_released <= accepted)
+
+
+def constraint_note(constraints, kk: float) -> str:
+    """The misfit note of a fit whose misfit its user's ``constraints`` explain; it holds the
+    constraints and the data's figure ``kk``, not the fits' (single and batch fits in other
+    local minima give the same text, as `result.misfit_notes`)."""
+    names = ", ".join(dict.fromkeys(n for n, _, _ in constraints))
+    return (
+        f"the misfit is a constraint you set, not the model's: with {constraint_words(constraints)} the fit misses the data, and one local fit from its values "
+        f"with {names} free reaches what the data allow (a Kramers–Kronig-consistent model reaches {kk * 100:.2g}% rms_rel) and at least halves the misfit; "
+        f"fit with {names} free, or check the value you set (no effect is missing for this misfit)"
+    )
+
+
+def constraint_misfit_notes(circuit: Circuit, table: ParameterTable, registry: Registry, freq, z, z_model, sigma, values: Mapping[str, float], at_bound, misfit: tuple[str, ...], kk: float | None, *, weighting: str, attrs=None) -> tuple[str, ...]:
+    """``misfit`` (one fit's `result.misfit_notes`) with its note replaced by `constraint_note`
+    where the user's binding constraints (`binding_constraints`) explain it
+    (`constraint_explains` of `released_fit` on the spectrum z (N,) at ``freq``, σ ``sigma``
+    (N,) or None, against the fit's model ``z_model``; ``kk``: the KK test's misfit that
+    `misfit_notes` used). Unchanged otherwise: no note, no binding constraint, or freeing them
+    does not explain the misfit."""
+    if not misfit or kk is None or not kk > 0:
+        return misfit
+    fixed = {n: bool(f) for n, f in zip(table.names, table.fixed)}
+    bounds = user_bounds(table, circuit, registry)
+    constraints = binding_constraints(values, fixed, at_bound, bounds)
+    if not constraints:
+        return misfit
+    from ...data import make_spectrum
+    from .starts import rms_rel_of
+
+    data = make_spectrum(np.asarray(freq, float), np.asarray(z, complex), sigma=None if sigma is None else np.asarray(sigma, float), attrs=dict(attrs or {}))
+    released = released_fit(circuit, data, values, fixed, bounds, constraints, weighting=weighting, registry=registry)
+    if released is None:
+        return misfit
+    rms_constrained = float(rms_rel_of(np.asarray(z_model)[None], np.asarray(z)[None])[0])
+    if not constraint_explains(rms_constrained, released.rms_rel, kk):
+        return misfit
+    return (constraint_note(constraints, kk),)
+
+
+def with_constraint_notes(notes: tuple[str, ...], misfit: tuple[str, ...], checked: tuple[str, ...]) -> tuple[str, ...]:
+    """A fit's ``notes``, which end with its ``misfit`` notes, ending with ``checked``
+    (`constraint_misfit_notes`) instead."""
+    if checked == misfit or not misfit or tuple(notes[-len(misfit):]) != tuple(misfit):
+        return tuple(notes)
+    return tuple(notes[: -len(misfit)]) + tuple(checked)
