@@ -145,3 +145,23 @@ def test_without_an_f_test_an_aic_lower_by_ten_decides(fits):
     # the better model keeps its own warnings (a higher AIC never names the worse one)
     with_note = replace(close, warnings=simple.warnings)
     assert _model_not_data(with_note, 1, [simple, with_note], labels, [], [0.0, -61.0]).warnings == simple.warnings
+
+
+def test_a_fit_not_weighted_by_the_stated_sigma_is_told_to_refit_with_it():
+    """SYNTHETIC R0 + R1 ∥ C1 (numpy) with σ rising from 1e-5 to 0.1 of |Z| over the band and
+    noise of that σ: the right model fitted with the modulus weighting leaves residuals over
+    9× σ² at the quiet low frequencies, and was told "the misfit is this model's"; now the
+    note says to refit with the sigma weighting, which then fits within σ with no note."""
+    f = np.geomspace(1, 1e5, 41)
+    z = 100 + 1e4 / (1 + 1j * 2 * np.pi * f * 1e4 * 1e-7)
+    sigma = np.abs(z) * np.geomspace(1e-5, 0.1, f.size)
+    rng = np.random.default_rng(1)
+    data = ix.make_spectrum(f, z + sigma * (rng.standard_normal(f.size) + 1j * rng.standard_normal(f.size)), sigma=sigma)
+    by_modulus = ix.fit("R0 + R1 || C1", data, weighting="modulus")
+    dz = by_modulus.z_model - data["Z"].values
+    assert np.mean((dz.real**2 + dz.imag**2) / (2 * sigma**2)) > 4  # (the rule's SIGMA_EXCEEDED, computed here)
+    (note,) = [w for w in by_modulus.warnings if "exceeds the noise the data's sigma states" in w]
+    assert "refit with the sigma weighting (impedax fit --weighting sigma; impedax sample --noise sigma)" in note
+    assert "the misfit is this model's" not in note
+    by_sigma = ix.fit("R0 + R1 || C1", data, weighting="sigma")
+    assert by_sigma.chi2_red < 2 and not any("sigma" in w for w in by_sigma.warnings)

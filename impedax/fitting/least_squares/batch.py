@@ -821,7 +821,7 @@ def data_notes(freq, z, z_model, sigma, weighting: str, source: str, kk_misfits:
     extended with each spectrum's misfit notes alone (the last of its notes)."""
     b = len(z)
     weighted = weighting_notes(weighting, freq, *dominant_points(z, *weights(z, sigma, weighting, source, freq))) if weighting in ("unit", "proportional") else [()] * b
-    misfit = misfit_notes(freq, z, z_model, kk_misfits, sigma, attrs)
+    misfit = misfit_notes(freq, z, z_model, kk_misfits, sigma, attrs, weighting=weighting)
     if misfit_out is not None:
         misfit_out.extend(misfit)
     return [tuple(weighted[i]) + non_passive_notes(freq, z[i], None if sigma is None else sigma[i], remainder=remainder) + misfit[i] for i in range(b)]

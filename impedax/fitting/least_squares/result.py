@@ -660,6 +660,14 @@ DATA_LIMIT_NOTE = "the data's noise, drift or artifacts limit the fit, not only 
 # ... followed, when the KK test says the imaginary part may be stored with the opposite sign
 # (`io.sign_check.sign_hint`), by this and the hint (`comparison` keeps it when it replaces the note)
 SIGN_HINT_LEAD = "hint: "
+# ... where the fit's weighting is not the data's sigma, the end of that note instead: a fit that
+# weighs points by |Z| spends its misfit where σ is large against |Z| (a remainder's noisy high
+# frequencies), so its residuals may exceed σ for the right model (a user's SYNTHETIC gap
+# remainder, R_EP ∥ CPE_EP ∥ C_gap: R_EP at 4.6e13 Ω under modulus, χ²_red 0.87 under sigma)
+SIGMA_EXCEEDED_UNWEIGHTED = (
+    "this fit weighs the points by another rule than their sigma, so its residuals need not follow that noise: refit with the sigma weighting "
+    "(impedax fit --weighting sigma; impedax sample --noise sigma) before looking for a missing effect"
+)
 # ... and a fit of data that pass the KK test (the chain's misfit is their noise) is told its
 # misfit is its own above this multiple of the chain's rms_rel: χ²_red ≈ 4 against that noise,
 # decisive on any spectrum of 20 points or more (until 2026-11-30 the data were blamed up to 5×:
@@ -696,7 +704,7 @@ def gross_misfits(freq, z, z_model, known: dict[int, float] | None = None) -> np
     return checked[(kk > 0) & (rms[checked] > MISFIT_RATIO_MAX * kk)]
 
 
-def misfit_notes(freq, z, z_model, known: dict[int, float] | None = None, sigma=None, attrs=None) -> list[tuple[str, ...]]:
+def misfit_notes(freq, z, z_model, known: dict[int, float] | None = None, sigma=None, attrs=None, weighting: str | None = None) -> list[tuple[str, ...]]:
     """The misfit warning of each fit of spectra z (B, N) with models z_model (B, N) whose
     rms_rel is at least `MISFIT_CHECKED_FROM`: set against the rms_rel of the linear
     Kramers–Kronig test's Voigt chain (`starts.attainable_misfit`), either the model misses
@@ -715,7 +723,10 @@ def misfit_notes(freq, z, z_model, known: dict[int, float] | None = None, sigma=
     model's (a fit 2.7× the chain's on 1 % noise has χ²_red ≈ 7: decisive), and the note says so;
     else the note that the data limit the fit, ending with the KK test's hint when the data fail
     it almost everywhere but conj(Z) passes (``attrs``: the data's, for how to fix the file): a
-    Z'' stored with the opposite sign, not noise or drift, then limits it."""
+    Z'' stored with the opposite sign, not noise or drift, then limits it. ``weighting``: the
+    fits'; one other than ``sigma`` minimised another χ² than σ's, so residuals beyond σ may be
+    that weighting's, and the note over σ says to refit with ``sigma`` rather than blame the model
+    (`SIGMA_EXCEEDED_UNWEIGHTED`)."""
     rms, checked, kks = _checked_misfits(freq, z, z_model, known)
     explained = np.zeros(rms.size, bool)
     ratio, noise_rms = np.full(rms.size, np.nan), np.full(rms.size, np.nan)
@@ -737,6 +748,11 @@ def misfit_notes(freq, z, z_model, known: dict[int, float] | None = None, sigma=
             out[i] = (
                 f"the model misses structure the data hold: its rms_rel is over {MISFIT_RATIO_MAX:g}× the {kk * 100:.2g}% a Kramers–Kronig-consistent model "
                 "(the KK test's Voigt chain) reaches; a diagnosis (impedax diagnose) shows where it fails and which effect is missing",
+            )
+        elif ratio[i] > SIGMA_EXCEEDED and kk <= math.sqrt(SIGMA_EXPLAINED) * noise_rms[i] and weighting not in (None, "sigma"):
+            out[i] = (
+                f"the misfit exceeds the noise the data's sigma states (mean (ΔRe² + ΔIm²)/2σ² above {SIGMA_EXCEEDED:g}) while a Kramers–Kronig-consistent "
+                f"model (the KK test's Voigt chain) reaches {kk * 100:.2g}% (rms_rel), within that noise ({noise_rms[i] * 100:.2g}%); {SIGMA_EXCEEDED_UNWEIGHTED}",
             )
         elif ratio[i] > SIGMA_EXCEEDED and kk <= math.sqrt(SIGMA_EXPLAINED) * noise_rms[i]:
             out[i] = (
