@@ -22,6 +22,7 @@ from ...arguments import MAX_CHAIN_VALUES, MAX_WALKERS, checked_arguments, choic
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, parse
 from ...errors import DataError, FitError, ParameterError
 from ..least_squares import FitResult, fit
+from ..least_squares.result import data_difference
 from ..problem import open_spectrum
 from .chain import (
     AUTO_CHECK_STEPS, AUTO_MAX_STEPS, AUTO_STEPS, AUTO_TAU_CHANGE, auto_step_cap, ball_scales, length_settings, run_emcee, start_walkers, steps_rule,
@@ -116,8 +117,9 @@ def _observations(data, noise: NoiseModel, fmin, fmax) -> _Observations:
 # --- step 2: which parameters are sampled ------------------------------------------------------
 
 
-def _fixed_values(circuit: Circuit, specs, fixed, init: FitResult | None, freq) -> dict[str, float]:
-    """The user's fixed values, plus those fixed in ``init`` (checked against circuit and data)."""
+def _fixed_values(circuit: Circuit, specs, fixed, init: FitResult | None, freq, z) -> dict[str, float]:
+    """The user's fixed values, plus those fixed in ``init`` (checked against circuit and data:
+    a fit of another spectrum would centre the priors and place the walkers on other data)."""
     fixed = {k: float(v) for k, v in (fixed or {}).items()}
     for n in fixed:
         if n not in specs:
@@ -127,6 +129,9 @@ def _fixed_values(circuit: Circuit, specs, fixed, init: FitResult | None, freq) 
             raise ParameterError("init must be a FitResult from impedax.fit for this circuit and data")
         if str(init.circuit) != str(circuit) or init.n_points != freq.size or not np.allclose(init.frequency, freq):
             raise ParameterError(f"init was fitted with {init.model} to {init.n_points} points; sample was given {circuit} and {freq.size} points")
+        difference = data_difference(freq, z, init.frequency, init.z_data)
+        if difference is not None:
+            raise ParameterError(f"init was fitted to different data: {difference} (fmin/fmax or another spectrum?); pass init=fit(circuit, data) of the spectrum sampled")
         fixed.update({n: init.values[n] for n, f in init.fixed.items() if f and n not in fixed})
     return fixed
 
@@ -394,7 +399,7 @@ def sample(
         )
     obs = _observations(data, noise, fmin, fmax)
     specs = circuit.parameter_specs(registry)
-    fixed = _fixed_values(circuit, specs, fixed, init, obs.freq)
+    fixed = _fixed_values(circuit, specs, fixed, init, obs.freq, obs.z)
     rp = reparametrization
     _check_reparametrization(rp, circuit, specs, fixed)
     space = _sampled_parameters(specs, fixed, rp, noise)

@@ -13,7 +13,7 @@ import numpy as np
 import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
-from ...data import checked_frequencies, column_width, concise_repr, format_relative_error, unit_text
+from ...data import checked_frequencies, column_width, concise_repr, format_quantity, format_relative_error, unit_text
 from ..kk import kk_verdicts
 from ..parameters import ParameterTable, data_scales
 from ..statistics import covariances, information_criteria, non_passive, uncertainties
@@ -24,8 +24,26 @@ from .starts import attainable_misfit, inward_start, rms_rel_of
 __all__ = [
     "FitResult", "fit_result", "fit_notes", "parameter_groups", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes",
     "misfit_notes", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "SIGN_HINT_LEAD", "MODEL_MISFIT_OVER_CONSISTENT", "SIGMA_EXCEEDED", "gross_misfits", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
-    "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "without_error", "STDERR_NOTE", "LINEARISED_STDERR_NAME",
+    "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "without_error", "STDERR_NOTE", "LINEARISED_STDERR_NAME", "data_difference",
 ]
+
+def data_difference(freq, z, ref_freq, ref_z) -> str | None:
+    """How a spectrum (``freq`` [Hz], ``z`` [Ω]) differs from a reference one, for the errors
+    of calls given fits of different data (`compare`, `sample`'s ``init``): point counts and
+    frequency ranges, else where the impedances first differ; None when they are the same (to
+    `np.isclose`'s tolerance: a fit stores the spectrum it was given)."""
+    freq, z, ref_freq, ref_z = (np.asarray(a) for a in (freq, z, ref_freq, ref_z))
+
+    def span(f) -> str:
+        return f"{f.size} points, {format_quantity(float(np.min(f)), 'Hz')}–{format_quantity(float(np.max(f)), 'Hz')}"
+
+    if freq.size != ref_freq.size or not np.allclose(freq, ref_freq):
+        return f"{span(ref_freq)} against {span(freq)}"
+    differ = np.flatnonzero(~np.isclose(z, ref_z))
+    if not differ.size:
+        return None
+    return f"the same {freq.size} frequencies, but Z differs (first at {format_quantity(float(ref_freq[differ[0]]), 'Hz')})"
+
 
 # identifiability thresholds (documented in the README; RELATIVE_ERROR_LIMIT in `branches`)
 CORRELATION_LIMIT = 0.99
