@@ -24,8 +24,14 @@ from .starts import attainable_misfit, inward_start, rms_rel_of
 __all__ = [
     "FitResult", "fit_result", "fit_notes", "parameter_groups", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes",
     "misfit_notes", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "SIGN_HINT_LEAD", "MODEL_MISFIT_OVER_CONSISTENT", "SIGMA_EXCEEDED", "gross_misfits", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
-    "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "without_error", "STDERR_NOTE", "LINEARISED_STDERR_NAME", "data_difference",
+    "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "without_error", "STDERR_NOTE", "LINEARISED_STDERR_NAME", "data_difference", "stored_bounds",
 ]
+
+def stored_bounds(stored) -> dict[str, tuple[float, float]]:
+    """A fit's user bounds as stored in an attribute (name → [lower, upper]); none in a file
+    written before 2026-12-01."""
+    return {str(n): (float(lo), float(hi)) for n, (lo, hi) in dict(stored or {}).items()}
+
 
 def data_difference(freq, z, ref_freq, ref_z) -> str | None:
     """How a spectrum (``freq`` [Hz], ``z`` [Ω]) differs from a reference one, for the errors
@@ -74,6 +80,8 @@ class FitResult:
     """A least-squares fit of ``circuit`` to one spectrum. Immutable.
 
     ``values``/``stderr`` are keyed by parameter name (stderr NaN for fixed parameters);
+    ``bounds`` the free parameters' bounds the user narrowed (``fit(bounds=...)``; name →
+    (lower, upper)), which a sampler started from this fit keeps (``sample(init=fit)``);
     ``covariance``/``correlation`` are over ``free_names``. ``covariance`` is the linearisation at
     the optimum with every free parameter free and the bounds ignored. A free parameter at a
     bound (``at_bound``) has no standard error (NaN: a symmetric one says nothing there; its
@@ -111,6 +119,7 @@ class FitResult:
     at_bound: tuple[str, ...] = ()  # free parameters at a natural or user bound
     unidentified_groups: tuple[tuple[str, ...], ...] = ()  # near-null directions' parameters (`statistics.null_sets`)
     registry: Registry = field(default=DEFAULT_REGISTRY, repr=False)
+    bounds: dict[str, tuple[float, float]] = field(default_factory=dict)  # the user's bounds of free parameters (`fit(bounds=...)`), those narrower than the element's
 
     @property
     def linearised_stderr(self) -> dict[str, float]:
@@ -299,6 +308,7 @@ class FitResult:
                 "chi2_red": self.chi2_red, "aic": self.aic, "bic": self.bic, "converged": int(self.converged),
                 "message": self.message, "warnings": list(self.warnings), "unidentified_groups": [list(g) for g in self.unidentified_groups],
                 "n_evaluations": int(self.n_evaluations), "n_starts": int(self.n_starts), "elapsed_s": float(self.elapsed_s),
+                "bounds": {n: [float(lo), float(hi)] for n, (lo, hi) in self.bounds.items()},
             },
         )
 
@@ -340,6 +350,7 @@ class FitResult:
                 at_bound=tuple(n for n, b in zip(names, ds["at_bound"].values) if bool(b)),
                 unidentified_groups=parameter_groups(ds.attrs.get("unidentified_groups", ())),
                 registry=registry,
+                bounds=stored_bounds(ds.attrs.get("bounds")),
             )
 
 
@@ -895,6 +906,18 @@ def stack_notes(
     return {b: tuple(n) for b, n in notes.items()}
 
 
+def user_bounds(circuit, registry: Registry, table: ParameterTable) -> dict[str, tuple[float, float]]:
+    """The bounds of ``table``'s free parameters that the user narrowed (`fit(bounds=...)`):
+    those that differ from the element's own, kept with the fit (`FitResult.bounds`) so that
+    a run started from it (``sample(init=fit)``) keeps them."""
+    specs = circuit.parameter_specs(registry)
+    return {
+        n: (float(table.lower[i]), float(table.upper[i]))
+        for i, n in enumerate(table.names)
+        if not table.fixed[i] and (table.lower[i], table.upper[i]) != (specs[n].lower, specs[n].upper)
+    }
+
+
 def fit_result(
     circuit, table: ParameterTable, freq, z, out: SolverOutput, weighting: str, n_starts: int, elapsed: float, registry: Registry,
     *, chi2_at_x: Callable | None = None, extra_notes: tuple[str, ...] = (), start: str = "the data-driven start", weights=None,
@@ -983,6 +1006,7 @@ def fit_result(
         n_evaluations=int(out.steps_total),
         warnings=notes,
         n_starts=n_starts,
+        bounds=user_bounds(circuit, registry, table),
         elapsed_s=elapsed,
         at_bound=at_bound_names(table, sides),
         unidentified_groups=parameter_groups(null_sets),
