@@ -173,13 +173,25 @@ def _narrowed_bounds(circuit: Circuit, specs, bounds, init: FitResult | None, fi
     return {n: b for n, b in narrowed.items() if n not in replaced}, notes
 
 
+# how far (a fraction of the bounds' span) an init value may lie past a bound and still count
+# as on it: a fit stopped at a bound reaches it through exp/log transforms, a few ulps either side
+BOUND_SLACK = 1e-9
+
+
+def _within_bounds(start: list[float], space: SampledParameters, narrowed: Mapping[str, tuple[float, float]]) -> list[float]:
+    """The start values with each parameter of the user's bounds ``narrowed`` clipped onto
+    them (a fit's value rounded a few ulps past its bound, `BOUND_SLACK`)."""
+    return [min(max(x, narrowed[n][0]), narrowed[n][1]) if n in narrowed else x for n, x in zip(space.names, start)]
+
+
 def _check_init_inside(init: FitResult, narrowed: Mapping[str, tuple[float, float]]) -> None:
     """A `ParameterError` when ``init``'s value of a parameter lies outside the bounds it is
     sampled within (``bounds=`` narrower than init's fit): its walkers would start outside the
-    prior. A value on a bound (a fit stopped there) is a start."""
+    prior. A value on a bound (a fit stopped there; rounding past it by `BOUND_SLACK` of the
+    span) is a start, moved onto the bound (`_within_bounds`)."""
     for n, (lo, hi) in narrowed.items():
-        value = init.values[n]
-        if not lo <= value <= hi:
+        value, slack = init.values[n], BOUND_SLACK * ((hi - lo) if math.isfinite(hi - lo) else max(abs(lo), 1.0))
+        if not lo - slack <= value <= hi + slack:
             raise ParameterError(f"init: {n}={number_text(value)} is outside its bounds ({number_text(lo)}, {number_text(hi)}) given to sample; start from a fit with these bounds: init=fit(circuit, data, bounds=...)")
 
 
@@ -457,7 +469,7 @@ def sample(
         announce("sample: fitting the least-squares start …", progress)
         init = fit(circuit, obs.data, fixed=fixed or None, bounds=narrowed or None, weighting=start_weighting(noise), registry=registry)
     weighting_note = _init_weighting_note(init, noise)
-    fitted = _least_squares_start(init, space, specs, rp, noise)
+    fitted = _within_bounds(_least_squares_start(init, space, specs, rp, noise), space, narrowed)
     chosen_priors = _choose_priors(priors, space, fitted, init, obs)
     chosen, support, notes = chosen_priors.chosen, chosen_priors.support, chosen_priors.notes
     notes = ([weighting_note] if weighting_note else []) + bound_notes + notes
