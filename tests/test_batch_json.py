@@ -57,6 +57,18 @@ def test_each_row_equals_a_fit_of_that_spectrum_alone(batch, stack):
         assert row["rms_rel"] == pytest.approx(alone.rms_rel, rel=1e-4)
 
 
+def test_fit_of_starts_a_value_on_a_user_bound_inside_it(batch):
+    """A batch value on a user bound (here the bound is put at cycle 10's optimum R0) was given
+    to the refit as its init and refused ("init: R0=… is on its upper bound"), an init the user
+    never gave; it starts nudged inside, as init=batch starts it, and the refit returns to it."""
+    ds = batch.to_xarray()
+    r0 = float(ds["value"].sel(cycle=10, param="R0"))
+    bounded = ix.BatchFitResult.from_xarray(ds.assign(upper=ds["upper"].where(ds["param"] != "R0", r0)))
+    one = bounded.fit_of(cycle=10)
+    assert one.bounds == {"R0": (0.0, r0)} and one.values["R0"] <= r0
+    assert one.values == pytest.approx({n: float(ds["value"].sel(cycle=10, param=n)) for n in ("R0", "R1", "C1")}, rel=1e-4)
+
+
 def test_the_command_line_json_has_the_spectra(stack, tmp_path, capsys):
     path = tmp_path / "stack.nc"
     ix.save(stack, path)

@@ -774,3 +774,45 @@ def test_a_start_fit_of_another_weighting_is_noted_and_a_matching_one_is_not():
     assert note[0] in noted.warnings
     plain = ix.sample("R0 + R1 || C1", data, init=ix.fit("R0 + R1 || C1", data, weighting="modulus"), steps=40, progress=False)
     assert not any("init was fitted" in n for n in plain.notes)
+
+
+def test_an_init_fitted_to_another_spectrum_of_the_same_frequencies_is_refused(rcpe):
+    """A fit of other impedances at the same frequencies centred the priors and placed the
+    walkers on the other data without a word; refused as `compare` refuses such fits."""
+    text, _, data, post = rcpe
+    other = dataclasses.replace(post.fit, z_data=post.fit.z_data * 1.01)
+    with pytest.raises(ix.ParameterError, match=r"init was fitted to different data: the same 40 frequencies, but Z differs \(first at "):
+        ix.sample(text, data, init=other, steps=20, progress=False)
+
+
+def test_the_bounds_of_init_and_of_bounds_are_the_sampled_space(rcpe, tmp_path):
+    """init's user bounds (`FitResult.bounds`, here R1 stopped at its upper bound) were dropped:
+    the priors reached past them. They bound the priors and the draws; ``bounds=`` too (winning
+    over init's), checked as `fit` checks them; a uniform prior reaching past them is refused,
+    a normal one is truncated to them."""
+    text, _, data, post = rcpe
+    r1 = post.fit.values["R1"]
+    bounded = dataclasses.replace(post.fit, bounds={"R1": (0.5 * r1, r1)})
+    run = ix.sample(text, data, init=bounded, steps=60, progress=False)
+    i = run.names.index("R1")
+    assert (run.bounds[0][i], run.bounds[1][i]) == (0.5 * r1, r1) and run.user_bounds == {"R1": (0.5 * r1, r1)}
+    prior = run.priors["R1"]
+    assert (prior.kind, prior.a, prior.b) == ("loguniform", 0.5 * r1, r1)  # (the default: log-uniform within the bounds)
+    assert 0.5 * r1 <= run.samples["R1"].min() and run.samples["R1"].max() <= r1
+    write_netcdf(run.to_xarray(), tmp_path / "bounded.nc")
+    back = Posterior.from_xarray(read_netcdf(tmp_path / "bounded.nc"))
+    assert back.bounds == run.bounds and back.fit.bounds == {"R1": (0.5 * r1, r1)}
+    # bounds= narrows further (its own win over init's); a normal prior centred outside is truncated
+    narrow = ix.sample(text, data, init=bounded, bounds={"R1": (0.9 * r1, 1.1 * r1)}, priors={"R1": f"normal:{2 * r1},{0.1 * r1}"}, steps=60, progress=False)
+    assert narrow.user_bounds == {"R1": (0.9 * r1, 1.1 * r1)} and narrow.samples["R1"].max() <= 1.1 * r1
+    for options, message in (
+        ({"priors": {"R1": f"uniform:{0.4 * r1},{r1}"}}, "prior for R1: uniform:.* reaches outside the parameter's bounds"),
+        ({"bounds": {"R1": (0.1 * r1, 0.5 * r1)}}, "init: R1=.* is outside its bounds .* given to sample; start from a fit with these bounds"),
+        ({"bounds": {"R9": (1.0, 2.0)}}, "bounds: unknown parameter 'R9'"),
+        ({"bounds": {"CPE1.alpha": (0.5, 1.5)}}, r"bounds for CPE1.alpha: \(0.5, 1.5\) reach outside the element's own bounds"),
+        ({"fixed": {"R0": 20.0}, "bounds": {"R0": (1.0, 10.0)}}, r"fixed: R0=20 is outside its bounds \(1, 10\)"),
+    ):
+        with pytest.raises(ix.ParameterError, match=message):
+            ix.sample(text, data, init=bounded, steps=20, progress=False, **options)
+    with pytest.raises(ix.ParameterError, match="takes no init, bounds or reparametrization"):
+        ix.sample(text, data, shared=["R0"], bounds={"R1": (1.0, 2.0)}, steps=20, progress=False)

@@ -89,6 +89,8 @@ def test_fixed_init_bounds_and_errors(rng):
     text, truth, data = _data("rc", rng)
     r = ix.fit(text, data, fixed={"R0": 50.0}, bounds={"C1": (1e-8, 1e-6)})
     assert r.values["R0"] == 50.0 and r.n_params == 2
+    # the user's bounds are kept with the fit (what sample(init=r) samples within), and stored
+    assert r.bounds == {"C1": (1e-8, 1e-6)} and ix.FitResult.from_xarray(r.to_xarray()).bounds == r.bounds
     with pytest.raises(ix.ParameterError, match="unknown parameter 'R9'"):
         ix.fit(text, data, fixed={"R9": 1.0})
     with pytest.raises(ix.ParameterError, match="did you mean C1"):

@@ -258,6 +258,17 @@ def test_bad_input(clean, kwargs, error, fragment):
         sample_hierarchical(MODEL, clean, **kwargs)
 
 
+def test_a_batch_init_of_other_trials_is_refused(rng):
+    """init=batch of the same frequencies but other impedances centred the priors and set the
+    noise from other data without a word; it is refused as `compare` refuses such fits."""
+    f = np.geomspace(10.0, 1e4, 6)  # (the shapes of `_resistor_trials`: its batch fit's program)
+    z = 100.0 * (1.0 + 0.02 * (rng.standard_normal((4, 6)) + 1j * rng.standard_normal((4, 6))))
+    batch = ix.fit("R1", ix.make_spectrum(f, z, dims=("trial",)), weighting="modulus")
+    other = ix.make_spectrum(f, z * 1.01, dims=("trial",))
+    with pytest.raises(ix.ParameterError, match=r"init was fitted to different data: trial 0 \(trial stacked\): the same 6 frequencies, but Z differs"):
+        hierarchical_log_density("R1", other, per_trial=("R1",), init=batch)
+
+
 def test_needs_replicates():
     ds = synthetic.generate_two_arc_trials(1, trials=8, points=31).isel(trial=0)
     with pytest.raises(ix.DataError, match="replicate"):

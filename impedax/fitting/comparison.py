@@ -13,12 +13,12 @@ import xarray as xr
 
 from ..arguments import checked_arguments, sequence_of
 from ..circuits import Circuit, Element
-from ..data import column_width, format_quantity
+from ..data import column_width
 from ..errors import FitError
 from .least_squares import FitResult
 from .least_squares.branches import undetermined
 from .bayes.evidence import EVIDENCE_NOTE_LEAD
-from .least_squares.result import BOUND_CHI2_FRACTION, DATA_LIMIT_NOTE, SIGN_HINT_LEAD
+from .least_squares.result import BOUND_CHI2_FRACTION, data_difference, DATA_LIMIT_NOTE, SIGN_HINT_LEAD
 
 __all__ = ["compare", "Comparison", "WEAK_DELTA_AIC", "is_nested", "boundary_parameters", "undetermined_names", "criteria", "akaike_weights", "KNOWN_SIGMA", "UNKNOWN_VARIANCE", "SIGMA_CHI2_RED_RANGE"]
 
@@ -393,18 +393,6 @@ def _batch_hint(item) -> str | None:
     )
 
 
-def _how_data_differ(r, ref) -> str:
-    """How the spectra of two fits differ, for `compare`'s error: point counts and frequency
-    ranges, else where the frequencies or the impedances first differ."""
-    def span(x) -> str:
-        return f"{int(x.n_points)} points, {format_quantity(float(np.min(x.frequency)), 'Hz')}–{format_quantity(float(np.max(x.frequency)), 'Hz')}"
-
-    if r.n_points != ref.n_points or not np.allclose(r.frequency, ref.frequency):
-        return f"{span(ref)} against {span(r)}"
-    k = int(np.flatnonzero(~np.isclose(r.z_data, ref.z_data))[0])
-    return f"the same {r.n_points} frequencies, but Z differs (first at {format_quantity(float(ref.frequency[k]), 'Hz')})"
-
-
 @checked_arguments(fits=sequence_of(FitResult, attribute="fit", what="FitResult (or Posterior)", hint=_batch_hint))
 def compare(fits: Sequence) -> Comparison:
     """Compare least-squares fits of several models to the same data.
@@ -424,9 +412,10 @@ def compare(fits: Sequence) -> Comparison:
     results = [_with_posterior_warnings(x) for x in items]
     ref = results[0]
     for i, r in enumerate(results[1:], 1):
-        if r.n_points != ref.n_points or not np.allclose(r.frequency, ref.frequency) or not np.allclose(r.z_data, ref.z_data):
+        difference = data_difference(r.frequency, r.z_data, ref.frequency, ref.z_data)
+        if difference is not None:
             which = f"fits[0] ({ref.model}) and fits[{i}] ({r.model})" if r.model != ref.model else f"fits[0] and fits[{i}] (both {r.model})"
-            raise FitError(f"{which} were fitted to different data: {_how_data_differ(r, ref)} (fmin/fmax or another spectrum?); compare fits of the same spectrum")
+            raise FitError(f"{which} were fitted to different data: {difference} (fmin/fmax or another spectrum?); compare fits of the same spectrum")
         if r.weighting != ref.weighting:
             raise FitError(f"models were fitted with different weightings ({r.weighting} vs {ref.weighting})")
     ics = [criteria(r) for r in results]

@@ -25,7 +25,7 @@ from ..arguments import number_text, unknown_parameter
 from ..circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ..errors import FitError, ParameterError
 
-__all__ = ["ParameterTable", "Transform", "starting_values", "to_external", "external_of_kind", "to_internal", "data_scales", "CPE_Q_UNIT"]
+__all__ = ["ParameterTable", "Transform", "starting_values", "to_external", "external_of_kind", "to_internal", "data_scales", "CPE_Q_UNIT", "checked_bounds", "outside_bounds_message"]
 
 
 class Transform(enum.IntEnum):
@@ -136,12 +136,7 @@ class ParameterTable:
         inclusive = np.array([specs[n].upper_inclusive for n in names])
         for name, (lo, hi) in (bounds or {}).items():
             i = names.index(name)
-            lo, hi = float(lo), float(hi)
-            if not lo < hi:
-                raise ParameterError(f"bounds for {name}: lower {number_text(lo)} must be below upper {number_text(hi)}")
-            if lo < lower[i] or hi > upper[i]:
-                raise ParameterError(f"bounds for {name}: ({number_text(lo)}, {number_text(hi)}) reach outside the element's own bounds {specs[name].bounds_text()}")
-            lower[i], upper[i] = lo, hi
+            lower[i], upper[i] = checked_bounds(name, lo, hi, specs[name])
             inclusive[i] = False
         values = np.full(len(names), np.nan)
         is_fixed = np.zeros(len(names), bool)
@@ -158,6 +153,17 @@ class ParameterTable:
         if is_fixed.all():
             raise FitError("every parameter is fixed; nothing to fit")
         return cls(names, tuple(specs[n].unit for n in names), lower, upper, kind, is_fixed, values)
+
+
+def checked_bounds(name: str, lower, upper, spec) -> tuple[float, float]:
+    """The user's bounds (lower, upper) of parameter ``name`` (its element's `ParameterSpec`
+    ``spec``) as floats: a `ParameterError` unless lower < upper within the element's own bounds."""
+    lo, hi = float(lower), float(upper)
+    if not lo < hi:
+        raise ParameterError(f"bounds for {name}: lower {number_text(lo)} must be below upper {number_text(hi)}")
+    if lo < spec.lower or hi > spec.upper:
+        raise ParameterError(f"bounds for {name}: ({number_text(lo)}, {number_text(hi)}) reach outside the element's own bounds {spec.bounds_text()}")
+    return lo, hi
 
 
 def outside_bounds_message(what: str, name: str, value: float, lower: float, upper: float, inclusive: bool, unit: str = "") -> str:

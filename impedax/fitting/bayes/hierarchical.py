@@ -840,6 +840,27 @@ def _interval(draws: np.ndarray, level: float) -> dict[str, float]:
     return out
 
 
+def _check_batch_init(init, circuit, order, freq, z) -> None:
+    """``init`` a batch of fits of ``circuit`` to these trials (``z`` (T, N) stacked along
+    ``order``): its per-trial fits give the start, the prior centres and the noise ν_k, so a
+    batch of other spectra (or of the same frequencies, other impedances) is refused."""
+    from ..least_squares.result import data_difference
+
+    ds = getattr(init, "dataset", None)
+    if not callable(getattr(init, "fit_of", None)) or not isinstance(ds, xr.Dataset) or "Z" not in ds:
+        raise ParameterError(f"init must be a BatchFitResult of fit({circuit}, data) over the trials, got {type(init).__name__}")
+    if str(init.model) != str(circuit) or sorted(init.dims) != sorted(order):
+        raise ParameterError(f"init was fitted with {init.model} over {' × '.join(init.dims)}; hierarchical sampling was given {circuit} over {' × '.join(order)}")
+    fit_freq = np.asarray(ds["frequency"].values, float)
+    z_fit = np.asarray(ds["Z"].transpose(*order, "frequency").values).reshape(-1, fit_freq.size)
+    if z_fit.shape != z.shape:
+        raise ParameterError(f"init was fitted to {z_fit.shape[0]} spectra of {fit_freq.size} points; the data have {z.shape[0]} of {freq.size}: pass init=fit(circuit, data) of the trials sampled")
+    for trial in range(z.shape[0]):
+        difference = data_difference(freq, z[trial], fit_freq, z_fit[trial])
+        if difference is not None:
+            raise ParameterError(f"init was fitted to different data: trial {trial} ({', '.join(order)} stacked): {difference}; pass init=fit(circuit, data) of the trials sampled")
+
+
 def _setup(circuit, data, *, per_trial, session_dim, reparametrization, fixed, discrepancy, session_spread_scale, chains, parameterisation, seed, registry, init):
     """Checks, per-trial least-squares fits, noise ν_k, priors and the chains' starts."""
     from ..least_squares import fit
@@ -887,6 +908,8 @@ def _setup(circuit, data, *, per_trial, session_dim, reparametrization, fixed, d
         # from the data-driven guess alone can land far off (R_EP → 1e47 Ω, α → 0.12 on Sirin seed 12)
         mean = make_spectrum(data["frequency"].values, data["Z"].mean(rep_dims).values, source="trial mean")
         init = fit(circuit, data, init=fit(circuit, mean, fixed=fixed or None, weighting="modulus", registry=registry), fixed=fixed or None, weighting="modulus", registry=registry)
+    else:
+        _check_batch_init(init, circuit, order, freq, z)
     batch = init
     vals = batch.dataset["value"].transpose("param", *order).values.reshape(len(batch.dataset["param"]), n_trials)
     pnames = [str(p) for p in batch.dataset["param"].values]

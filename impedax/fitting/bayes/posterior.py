@@ -24,6 +24,7 @@ from ...data import checked_frequencies, column_width, concise_repr, unit_text
 from ...errors import DataError, ParameterError
 from ..derived import QUANTILES, draw_indices, draws_band, needs_freq
 from ..least_squares import FitResult
+from ..least_squares.result import stored_bounds
 from .chain import capped_at, length_text
 from .diagnostics import CHAIN_TAU_MULTIPLE, PiledUp, chain_warnings, figure, hdi, integrated_autocorr, interval_warnings
 from .logprob import NOISE_MODELS, NoiseModel
@@ -81,6 +82,7 @@ class Posterior(PiledUp):
     settings: dict = field(default_factory=dict)
     reparametrization: Reparametrization | None = None
     registry: Registry | None = field(default=None, repr=False)  # None: the default registry
+    user_bounds: dict[str, tuple[float, float]] = field(default_factory=dict)  # sampled circuit parameters' bounds narrowed by the user (`sample(bounds=...)` or init's)
 
     def __post_init__(self):
         object.__setattr__(self, "noise", NoiseModel(self.noise))
@@ -129,12 +131,13 @@ class Posterior(PiledUp):
 
     @functools.cached_property
     def bounds(self) -> tuple[tuple[float, ...], tuple[float, ...]]:
-        """(lower, upper) bounds of the sampled parameters: the circuit's, the reparametrization's,
-        (0, ∞) for ``sigma_rel``."""
+        """(lower, upper) bounds of the sampled parameters: the user's (``user_bounds``), else the
+        circuit's, the reparametrization's, (0, ∞) for ``sigma_rel``."""
         specs = self.circuit.parameter_specs(self.registry)
         rp = self.reparametrization
         physical = {n: (lo, hi) for n, lo, hi in zip(rp.names, rp.lower, rp.upper)} if rp is not None else {}
-        pairs = [(specs[n].lower, specs[n].upper) if n in specs else physical.get(n, (0.0, math.inf)) for n in self.names]
+        natural = {n: (s.lower, s.upper) for n, s in specs.items()} | physical
+        pairs = [self.user_bounds.get(n, natural.get(n, (0.0, math.inf))) for n in self.names]
         return tuple(float(lo) for lo, _ in pairs), tuple(float(hi) for _, hi in pairs)
 
     @property
@@ -393,7 +396,8 @@ class Posterior(PiledUp):
             "notes": list(self.notes),
             "warnings": list(self.warnings),
             "reparametrization": self.reparametrization.describe() if self.reparametrization is not None else None,
-            "fit": {"weighting": fr.weighting, "chi2": fr.chi2, "converged": fr.converged, "message": fr.message, "n_evaluations": fr.n_evaluations, "warnings": list(fr.warnings), "n_starts": fr.n_starts, "elapsed_s": fr.elapsed_s, "at_bound": list(fr.at_bound), "unidentified_groups": [list(g) for g in fr.unidentified_groups]},
+            "fit": {"weighting": fr.weighting, "chi2": fr.chi2, "converged": fr.converged, "message": fr.message, "n_evaluations": fr.n_evaluations, "warnings": list(fr.warnings), "n_starts": fr.n_starts, "elapsed_s": fr.elapsed_s, "at_bound": list(fr.at_bound), "unidentified_groups": [list(g) for g in fr.unidentified_groups], "bounds": {n: [float(lo), float(hi)] for n, (lo, hi) in fr.bounds.items()}},
+            "user_bounds": {n: [float(lo), float(hi)] for n, (lo, hi) in self.user_bounds.items()},
         }
         coords = {
             "walker": np.arange(self.n_walkers),
@@ -450,6 +454,7 @@ class Posterior(PiledUp):
             at_bound=tuple(str(n) for n in fa.get("at_bound", ())),  # (a file written before 2026-11-30: none)
             unidentified_groups=tuple(tuple(str(n) for n in g) for g in fa.get("unidentified_groups", ())),  # (a file written before 2026-11-30 21:00 UTC: none)
             registry=registry,
+            bounds=stored_bounds(fa.get("bounds")),  # (a file written before 2026-12-01: none)
         )
         sampled = [str(n) for n in ds["param"].values]
         return cls(
@@ -475,6 +480,7 @@ class Posterior(PiledUp):
             settings=dict(ds.attrs["settings"]),
             reparametrization=rp,
             registry=registry,
+            user_bounds=stored_bounds(ds.attrs.get("user_bounds")),  # (a file written before 2026-12-01: none)
         )
 
 

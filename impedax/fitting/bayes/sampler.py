@@ -18,10 +18,12 @@ import jax.numpy as jnp
 import numpy as np
 import xarray as xr
 
-from ...arguments import MAX_CHAIN_VALUES, MAX_WALKERS, checked_arguments, choice, closest_name, count, flag, frequency, instance_of, parameter_values, seed as seed_rule
+from ...arguments import MAX_CHAIN_VALUES, MAX_WALKERS, checked_arguments, choice, closest_name, count, flag, frequency, instance_of, number_text, parameter_bounds, parameter_values, seed as seed_rule, unknown_parameter
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, parse
 from ...errors import DataError, FitError, ParameterError
 from ..least_squares import FitResult, fit
+from ..least_squares.result import data_difference
+from ..parameters import checked_bounds, outside_bounds_message
 from ..problem import open_spectrum
 from .chain import (
     AUTO_CHECK_STEPS, AUTO_MAX_STEPS, AUTO_STEPS, AUTO_TAU_CHANGE, auto_step_cap, ball_scales, length_settings, run_emcee, start_walkers, steps_rule,
@@ -116,8 +118,9 @@ def _observations(data, noise: NoiseModel, fmin, fmax) -> _Observations:
 # --- step 2: which parameters are sampled ------------------------------------------------------
 
 
-def _fixed_values(circuit: Circuit, specs, fixed, init: FitResult | None, freq) -> dict[str, float]:
-    """The user's fixed values, plus those fixed in ``init`` (checked against circuit and data)."""
+def _fixed_values(circuit: Circuit, specs, fixed, init: FitResult | None, freq, z) -> dict[str, float]:
+    """The user's fixed values, plus those fixed in ``init`` (checked against circuit and data:
+    a fit of another spectrum would centre the priors and place the walkers on other data)."""
     fixed = {k: float(v) for k, v in (fixed or {}).items()}
     for n in fixed:
         if n not in specs:
@@ -127,6 +130,9 @@ def _fixed_values(circuit: Circuit, specs, fixed, init: FitResult | None, freq) 
             raise ParameterError("init must be a FitResult from impedax.fit for this circuit and data")
         if str(init.circuit) != str(circuit) or init.n_points != freq.size or not np.allclose(init.frequency, freq):
             raise ParameterError(f"init was fitted with {init.model} to {init.n_points} points; sample was given {circuit} and {freq.size} points")
+        difference = data_difference(freq, z, init.frequency, init.z_data)
+        if difference is not None:
+            raise ParameterError(f"init was fitted to different data: {difference} (fmin/fmax or another spectrum?); pass init=fit(circuit, data) of the spectrum sampled")
         fixed.update({n: init.values[n] for n, f in init.fixed.items() if f and n not in fixed})
     return fixed
 
@@ -144,9 +150,56 @@ def _check_reparametrization(rp: Reparametrization | None, circuit: Circuit, spe
             raise ParameterError(f"reparametrization parameter {n!r} clashes with a circuit parameter name")
 
 
-def _sampled_parameters(specs, fixed, rp: Reparametrization | None, noise: NoiseModel) -> SampledParameters:
+def _narrowed_bounds(circuit: Circuit, specs, bounds, init: FitResult | None, fixed, rp: Reparametrization | None) -> tuple[dict[str, tuple[float, float]], list[str]]:
+    """The bounds the user narrowed for sampled circuit parameters, the support of their priors
+    and the space sampled: those of ``init``'s fit (`FitResult.bounds`), then ``bounds`` (checked
+    as `fit` checks them: `checked_bounds`; a fixed value must lie strictly inside), which win.
+    A parameter the reparametrization replaces is not sampled: ``bounds`` for it are refused,
+    init's dropped with a note. Returns (name → (lower, upper), notes)."""
+    narrowed = {n: b for n, b in (init.bounds if init is not None else {}).items() if n not in fixed}
     replaced = set(rp.replaces) if rp is not None else set()
-    rows = [(n, s.unit, s.lower, s.upper, s.upper_inclusive) for n, s in specs.items() if n not in fixed and n not in replaced]
+    for name, (lo, hi) in (bounds or {}).items():
+        if name not in specs:
+            raise unknown_parameter("bounds", name, tuple(specs), circuit)
+        lo, hi = checked_bounds(name, lo, hi, specs[name])
+        if name in replaced:
+            raise ParameterError(f"bounds for {name}: it is replaced by the reparametrization, whose parameters ({', '.join(rp.names)}) are sampled within their own bounds")
+        if name in fixed:
+            if not lo < fixed[name] < hi:
+                raise ParameterError(outside_bounds_message("fixed", name, fixed[name], lo, hi, False))
+            continue
+        narrowed[name] = (lo, hi)
+    notes = [f"init's bounds for {n} {number_text(narrowed[n][0])}–{number_text(narrowed[n][1])} are not applied: the reparametrization replaces {n}" for n in narrowed if n in replaced]
+    return {n: b for n, b in narrowed.items() if n not in replaced}, notes
+
+
+# how far (a fraction of the bounds' span) an init value may lie past a bound and still count
+# as on it: a fit stopped at a bound reaches it through exp/log transforms, a few ulps either side
+BOUND_SLACK = 1e-9
+
+
+def _within_bounds(start: list[float], space: SampledParameters, narrowed: Mapping[str, tuple[float, float]]) -> list[float]:
+    """The start values with each parameter of the user's bounds ``narrowed`` clipped onto
+    them (a fit's value rounded a few ulps past its bound, `BOUND_SLACK`)."""
+    return [min(max(x, narrowed[n][0]), narrowed[n][1]) if n in narrowed else x for n, x in zip(space.names, start)]
+
+
+def _check_init_inside(init: FitResult, narrowed: Mapping[str, tuple[float, float]]) -> None:
+    """A `ParameterError` when ``init``'s value of a parameter lies outside the bounds it is
+    sampled within (``bounds=`` narrower than init's fit): its walkers would start outside the
+    prior. A value on a bound (a fit stopped there; rounding past it by `BOUND_SLACK` of the
+    span) is a start, moved onto the bound (`_within_bounds`)."""
+    for n, (lo, hi) in narrowed.items():
+        value, slack = init.values[n], BOUND_SLACK * ((hi - lo) if math.isfinite(hi - lo) else max(abs(lo), 1.0))
+        if not lo - slack <= value <= hi + slack:
+            raise ParameterError(f"init: {n}={number_text(value)} is outside its bounds ({number_text(lo)}, {number_text(hi)}) given to sample; start from a fit with these bounds: init=fit(circuit, data, bounds=...)")
+
+
+def _sampled_parameters(specs, fixed, rp: Reparametrization | None, noise: NoiseModel, narrowed: Mapping[str, tuple[float, float]]) -> SampledParameters:
+    """The sampled parameters; a circuit parameter within the user's bounds ``narrowed`` where
+    given (upper end excluded, as `fit` excludes it), else its element's."""
+    replaced = set(rp.replaces) if rp is not None else set()
+    rows = [(n, s.unit, *narrowed[n], False) if n in narrowed else (n, s.unit, s.lower, s.upper, s.upper_inclusive) for n, s in specs.items() if n not in fixed and n not in replaced]
     if rp is not None:
         rows += [(n, u, lo, hi, False) for n, u, lo, hi in zip(rp.names, rp.units, rp.lower, rp.upper)]
     if noise is NoiseModel.PROPORTIONAL:
@@ -331,7 +384,7 @@ def _chain_fits_in_memory(arguments) -> None:
     _chain_fits_in_memory,
     priors=instance_of(Mapping, optional=True, what="a mapping name → Prior or 'kind:a,b'"), noise=choice(NOISE_MODELS, label="noise model", if_number="a number is a noise level, which diagnose and refine take; the proportional model samples it as sigma_rel"),
     walkers=count(2, MAX_WALKERS, optional=True), steps=steps_rule,
-    burn=count(0, optional=True), thin=count(1), seed=seed_rule, fixed=parameter_values(),
+    burn=count(0, optional=True), thin=count(1), seed=seed_rule, fixed=parameter_values(), bounds=parameter_bounds,
     reparametrization=instance_of(Reparametrization, optional=True), fmin=frequency, fmax=frequency, progress=flag,
     registry=instance_of(Registry, optional=True),
 )
@@ -348,6 +401,7 @@ def sample(
     seed: int = 0,
     init: FitResult | None = None,
     fixed: Mapping[str, float] | None = None,
+    bounds: Mapping[str, tuple[float, float]] | None = None,
     reparametrization: Reparametrization | None = None,
     fmin: float | None = None,
     fmax: float | None = None,
@@ -368,6 +422,10 @@ def sample(
     it; `default_prior`), uniform for exponents (α in (0, 1]), and log-uniform on [1e-5, 1] for
     ``sigma_rel``. ``reparametrization`` samples physical
     quantities behind some circuit parameters (`gap_thickness_reparametrization`).
+    ``bounds`` (name → (lower, upper), checked as `fit`'s) narrow circuit parameters: the
+    support of their priors (a default prior is log-uniform within them) and the space sampled;
+    an ``init`` fit's own bounds (`FitResult.bounds`) apply as its fixed parameters do, ``bounds``
+    taking precedence, and the start fit run without ``init`` is fitted within them.
     ``walkers`` (default max(64, 4·P)) start in a small ball around the least-squares fit
     ``init`` (run by `fit` when not given) and take ``steps`` steps each: a number, or
     ``"auto"`` (the default), which runs until the kept chain is `CHAIN_TAU_MULTIPLE` (50)
@@ -386,18 +444,21 @@ def sample(
     noise, burn = _check_settings(noise, steps, burn, thin)
     circuit = parse(circuit, registry)
     if shared is not None or over is not None:
-        if init is not None or reparametrization is not None:
-            raise ParameterError("sample with shared parameters starts from its own global fit and takes no init or reparametrization")
+        if init is not None or reparametrization is not None or bounds is not None:
+            raise ParameterError("sample with shared parameters starts from its own global fit and takes no init, bounds or reparametrization")
         return sample_shared(
             circuit, data, shared=shared, over=over, priors=priors, noise=noise, walkers=walkers, steps=steps, burn=burn, thin=thin, seed=seed,
             fixed=fixed, fmin=fmin, fmax=fmax, progress=progress, registry=registry,
         )
     obs = _observations(data, noise, fmin, fmax)
     specs = circuit.parameter_specs(registry)
-    fixed = _fixed_values(circuit, specs, fixed, init, obs.freq)
+    fixed = _fixed_values(circuit, specs, fixed, init, obs.freq, obs.z)
     rp = reparametrization
     _check_reparametrization(rp, circuit, specs, fixed)
-    space = _sampled_parameters(specs, fixed, rp, noise)
+    narrowed, bound_notes = _narrowed_bounds(circuit, specs, bounds, init, fixed, rp)
+    if init is not None:
+        _check_init_inside(init, narrowed)
+    space = _sampled_parameters(specs, fixed, rp, noise, narrowed)
     priors = coerce_priors(priors)
     _check_user_priors(priors, space, fixed, rp)
     walkers = _walker_count(walkers, len(space.names))
@@ -406,12 +467,12 @@ def sample(
 
     if init is None:
         announce("sample: fitting the least-squares start …", progress)
-        init = fit(circuit, obs.data, fixed=fixed or None, weighting=start_weighting(noise), registry=registry)
+        init = fit(circuit, obs.data, fixed=fixed or None, bounds=narrowed or None, weighting=start_weighting(noise), registry=registry)
     weighting_note = _init_weighting_note(init, noise)
-    fitted = _least_squares_start(init, space, specs, rp, noise)
+    fitted = _within_bounds(_least_squares_start(init, space, specs, rp, noise), space, narrowed)
     chosen_priors = _choose_priors(priors, space, fitted, init, obs)
     chosen, support, notes = chosen_priors.chosen, chosen_priors.support, chosen_priors.notes
-    notes = ([weighting_note] if weighting_note else []) + notes
+    notes = ([weighting_note] if weighting_note else []) + bound_notes + notes
     excluded = [n for i, n in enumerate(space.names) if n in priors and not support[i][0] < fitted[i] <= support[i][1]]
     announce(f"sample: compiling the log-probability (once per circuit and data size) and placing {walkers} walkers …", progress)
     args, structure = _log_prob_setup(circuit, registry, specs, fixed, rp, obs, space, chosen, support)
@@ -453,4 +514,5 @@ def sample(
         settings={"walkers": int(walkers), "steps": int(chain.steps), "burn": int(chain.burn), "thin": int(thin), "seed": int(seed), "elapsed_s": float(chain.elapsed_s), **length},
         reparametrization=rp,
         registry=registry,
+        user_bounds=dict(narrowed),
     )

@@ -30,7 +30,7 @@ from .branches import RELATIVE_ERROR_LIMIT, idle_branch_notes, settle_vanishing,
 from .constraints import constraint_misfit_notes, with_constraint_notes
 from .result import BOUND_RESTARTS, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, shown_stderr, stack_notes, vanishing_term_sides, weighting_notes, without_error
 from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, TreeSolvers, better, over_devices, padded_points, tree_solver, trimmed, unscale
-from .starts import SpectrumFeatures, climb_target, batch_outliers, escalation_rungs, guess_start, inward_start, rms_rel_of, rung_seed, rung_starts, to_solver_space
+from .starts import SpectrumFeatures, climb_target, batch_outliers, escalation_rungs, guess_start, inward_start, rms_rel_of, rung_seed, rung_starts, to_solver_space, values_inside
 
 __all__ = ["BatchFitResult", "fit_batch"]
 
@@ -165,8 +165,8 @@ class BatchFitResult:
         """The whole `FitResult` of one spectrum — standard errors, correlations, warnings,
         ``predict``, ``plot`` — picked by its label along every batch dimension (``cycle=64``;
         the 0-based position along a dimension without coordinates): the spectrum refitted from
-        this batch's values with one start, the fixed parameters and bounds kept, so it returns
-        to the batch's optimum."""
+        this batch's values with one start, the fixed parameters and bounds kept (a value on a bound
+        nudged inside, as ``fit(..., init=batch)`` starts it), so it returns to the batch's optimum."""
         from ...data import make_spectrum
 
         if _spectrum_fit is None:  # (not reached: a BatchFitResult comes from fit, whose module registers it)
@@ -181,7 +181,9 @@ class BatchFitResult:
         specs = self.circuit.parameter_specs(self.registry)
         user = {n: (float(ds["lower"].sel(param=n)), float(ds["upper"].sel(param=n))) for n in names if n not in fixed} if "lower" in ds else {}
         bounds = {n: b for n, b in user.items() if b != (specs[n].lower, specs[n].upper)} or None  # (the user's, not the natural ones)
-        init = {n: v for n, v in value.items() if n not in fixed}
+        # a value on a user bound (the batch's optimum there) is nudged inside, as init=batch does
+        table = ParameterTable.build(self.circuit, registry=self.registry, fixed=fixed, bounds=bounds)
+        init = values_inside({n: v for n, v in value.items() if n not in fixed}, table)
         return fit(self.circuit, spectrum, init=init, fixed=fixed, bounds=bounds, weighting=self.weighting, n_starts=1, registry=self.registry)
 
     def _spectrum_position(self, labels: dict, what: str) -> dict[str, int]:

@@ -13,7 +13,7 @@ import numpy as np
 import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
-from ...data import checked_frequencies, column_width, concise_repr, format_relative_error, unit_text
+from ...data import checked_frequencies, column_width, concise_repr, format_quantity, format_relative_error, unit_text
 from ..kk import kk_verdicts
 from ..parameters import ParameterTable, data_scales
 from ..statistics import covariances, information_criteria, non_passive, uncertainties
@@ -25,8 +25,32 @@ from .starts import attainable_misfit, inward_start, rms_rel_of
 __all__ = [
     "FitResult", "fit_result", "fit_notes", "parameter_groups", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes",
     "misfit_notes", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "SIGN_HINT_LEAD", "MODEL_MISFIT_OVER_CONSISTENT", "SIGMA_EXCEEDED", "gross_misfits", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
-    "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "without_error", "STDERR_NOTE", "LINEARISED_STDERR_NAME",
+    "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "without_error", "STDERR_NOTE", "LINEARISED_STDERR_NAME", "data_difference", "stored_bounds",
 ]
+
+def stored_bounds(stored) -> dict[str, tuple[float, float]]:
+    """A fit's user bounds as stored in an attribute (name → [lower, upper]); none in a file
+    written before 2026-12-01."""
+    return {str(n): (float(lo), float(hi)) for n, (lo, hi) in dict(stored or {}).items()}
+
+
+def data_difference(freq, z, ref_freq, ref_z) -> str | None:
+    """How a spectrum (``freq`` [Hz], ``z`` [Ω]) differs from a reference one, for the errors
+    of calls given fits of different data (`compare`, `sample`'s ``init``): point counts and
+    frequency ranges, else where the impedances first differ; None when they are the same (to
+    `np.isclose`'s tolerance: a fit stores the spectrum it was given)."""
+    freq, z, ref_freq, ref_z = (np.asarray(a) for a in (freq, z, ref_freq, ref_z))
+
+    def span(f) -> str:
+        return f"{f.size} points, {format_quantity(float(np.min(f)), 'Hz')}–{format_quantity(float(np.max(f)), 'Hz')}"
+
+    if freq.size != ref_freq.size or not np.allclose(freq, ref_freq):
+        return f"{span(ref_freq)} against {span(freq)}"
+    differ = np.flatnonzero(~np.isclose(z, ref_z))
+    if not differ.size:
+        return None
+    return f"the same {freq.size} frequencies, but Z differs (first at {format_quantity(float(ref_freq[differ[0]]), 'Hz')})"
+
 
 # identifiability thresholds (documented in the README; RELATIVE_ERROR_LIMIT in `branches`)
 CORRELATION_LIMIT = 0.99
@@ -57,6 +81,8 @@ class FitResult:
     """A least-squares fit of ``circuit`` to one spectrum. Immutable.
 
     ``values``/``stderr`` are keyed by parameter name (stderr NaN for fixed parameters);
+    ``bounds`` the free parameters' bounds the user narrowed (``fit(bounds=...)``; name →
+    (lower, upper)), which a sampler started from this fit keeps (``sample(init=fit)``);
     ``covariance``/``correlation`` are over ``free_names``. ``covariance`` is the linearisation at
     the optimum with every free parameter free and the bounds ignored. A free parameter at a
     bound (``at_bound``) has no standard error (NaN: a symmetric one says nothing there; its
@@ -94,7 +120,7 @@ class FitResult:
     at_bound: tuple[str, ...] = ()  # free parameters at a natural or user bound
     unidentified_groups: tuple[tuple[str, ...], ...] = ()  # near-null directions' parameters (`statistics.null_sets`)
     registry: Registry = field(default=DEFAULT_REGISTRY, repr=False)
-    bounds: dict[str, tuple[float, float]] = field(default_factory=dict, repr=False)  # the user's bounds= of free parameters (`constraints.user_bounds`)
+    bounds: dict[str, tuple[float, float]] = field(default_factory=dict, repr=False)  # the user's bounds of free parameters (`fit(bounds=...)`), those narrower than the element's (`constraints.user_bounds`)
 
     @property
     def linearised_stderr(self) -> dict[str, float]:
@@ -283,6 +309,7 @@ class FitResult:
                 "chi2_red": self.chi2_red, "aic": self.aic, "bic": self.bic, "converged": int(self.converged),
                 "message": self.message, "warnings": list(self.warnings), "unidentified_groups": [list(g) for g in self.unidentified_groups],
                 "n_evaluations": int(self.n_evaluations), "n_starts": int(self.n_starts), "elapsed_s": float(self.elapsed_s),
+                "bounds": {n: [float(lo), float(hi)] for n, (lo, hi) in self.bounds.items()},
             },
         )
 
@@ -324,6 +351,7 @@ class FitResult:
                 at_bound=tuple(n for n, b in zip(names, ds["at_bound"].values) if bool(b)),
                 unidentified_groups=parameter_groups(ds.attrs.get("unidentified_groups", ())),
                 registry=registry,
+                bounds=stored_bounds(ds.attrs.get("bounds")),
             )
 
 

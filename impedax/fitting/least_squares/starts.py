@@ -19,6 +19,8 @@
 from __future__ import annotations
 
 import functools
+import math
+from typing import Mapping
 
 import numpy as np
 
@@ -29,7 +31,7 @@ from ..parameters import ParameterTable, Transform, to_internal
 
 __all__ = [
     "SpectrumFeatures", "data_driven_guess", "data_driven_guesses", "random_starts", "guess_start", "multistart", "rung_starts", "rung_draws", "to_solver_space",
-    "INSIDE_FRACTION", "well_inside", "inward_start",
+    "INSIDE_FRACTION", "well_inside", "values_inside", "inward_start",
     "ESCALATION_RUNGS", "LARGE_CIRCUIT_FREE", "LARGE_CIRCUIT_RUNG", "escalation_rungs", "KK_MISFIT_FACTOR", "ESCALATION_FLOOR", "climb_target", "BATCH_OUTLIER_FACTOR", "attainable_misfit", "rms_rel_of", "rung_seed", "batch_outliers",
 ]
 
@@ -274,6 +276,16 @@ def _clip_inside(x, table: ParameterTable) -> np.ndarray:
     span_lo = np.where((lo == 0) & ~np.isfinite(hi), 1e-300, span_lo)
     span_hi = np.where(np.isfinite(hi), np.where(hi > 0, hi * (1 - 1e-6), hi - 1e-6), np.inf)
     return np.clip(x, span_lo, span_hi)
+
+
+def values_inside(values: Mapping[str, float], table: ParameterTable) -> dict[str, float]:
+    """Starting values by name moved inside ``table``'s bounds as a batch's own starts are
+    (`guess_start`, ``init=batch``; `_clip_inside`): a value on a bound nudged 1e-6 inside, one
+    outside moved `INSIDE_FRACTION` of the span inside. A fitted value may sit on a bound that
+    a start must lie strictly inside (`parameters.outside_bounds_message`)."""
+    x = np.array([float(values.get(n, math.nan)) for n in table.names])
+    moved = _clip_inside(np.where(np.isfinite(x), x, 1.0), table)
+    return {n: float(moved[i]) for i, n in enumerate(table.names) if n in values and math.isfinite(x[i])}
 
 
 def well_inside(x, table: ParameterTable, fraction: float = INSIDE_FRACTION) -> np.ndarray:
