@@ -54,7 +54,7 @@ from ...data import concise_repr, format_quantity, make_spectrum
 from ...errors import DataError, FitError, ImpedaxError, ParameterError
 from ..drt import PeakEvidence, drt, r_cpe_tau, unexplained_peaks
 from ..kk import CONCLUSIVE_POINTS_MIN, KKResult, kk_test
-from ..least_squares import BatchFitResult, FitResult
+from ..least_squares import BatchFitResult, FitResult, fit
 from ..least_squares.result import RESIDUAL_LONG_NAME
 from ..least_squares.branches import is_idle_note, parallel_branches
 from ..least_squares.candidates import SolverShape, fit_candidates, solver_shape
@@ -1601,7 +1601,7 @@ def _constraint_verdict(user_fit: FitResult, spectrum: xr.Dataset, kk: KKResult 
     constraints = binding_constraints(user_fit.values, user_fit.fixed, user_fit.at_bound, user_fit.bounds)
     if not constraints:
         return None
-    released = released_fit(user_fit.circuit, spectrum, user_fit.values, user_fit.fixed, user_fit.bounds, constraints, weighting=user_fit.weighting, registry=user_fit.registry)
+    released = released_fit(user_fit.circuit, spectrum, user_fit.values, user_fit.fixed, user_fit.bounds, constraints, weighting=user_fit.weighting, registry=user_fit.registry, fit=fit)
     if released is None or not constraint_explains(user_fit.rms_rel, released.rms_rel, kk.rms_rel if kk is not None else math.nan):
         return None
     names = ", ".join(dict.fromkeys(n for n, _, _ in constraints))

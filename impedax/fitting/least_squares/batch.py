@@ -795,7 +795,7 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
     # a misfit the user's fixed value or bound explains is told so, not blamed on the model (as a single fit's)
     for i in [i for i in range(b) if misfit[i]]:
         at = tuple(n for n, side in zip(table.free_names, sides[i].tolist()) if side)
-        checked = constraint_misfit_notes(circuit, table, registry, freq, z[i], z_model[i], None if sigma is None else sigma[i], dict(zip(names, values[i].tolist())), at, misfit[i], solver.kk_misfits.get(i), weighting=weighting, attrs=attrs)
+        checked = constraint_misfit_notes(circuit, table, registry, freq, z[i], z_model[i], None if sigma is None else sigma[i], dict(zip(names, values[i].tolist())), at, misfit[i], solver.kk_misfits.get(i), weighting=weighting, fit=_spectrum_fit, attrs=attrs)
         notes[i] = with_constraint_notes(notes[i], misfit[i], checked)
     at_bound = np.zeros(values.shape)
     at_bound[:, table.free_index] = sides != 0

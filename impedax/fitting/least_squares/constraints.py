@@ -8,34 +8,21 @@ instead. docs/fitting.md, "Misfit notes"."""
 from __future__ import annotations
 
 import math
-from typing import Mapping
+from typing import Callable, Mapping
 
 import numpy as np
 
 from ...circuits import Circuit, Registry
 from ...errors import ImpedaxError
 from ..parameters import ParameterTable
+from .result import MISFIT_CHECKED_FROM, MODEL_MISFIT_OVER_CONSISTENT, user_bounds
 
-__all__ = ["user_bounds", "binding_constraints", "constraint_words", "released_fit", "constraint_explains", "constraint_misfit_notes", "with_constraint_notes", "CONSTRAINT_MISFIT_GAIN"]
+__all__ = ["binding_constraints", "constraint_words", "released_fit", "constraint_explains", "constraint_misfit_notes", "with_constraint_notes", "CONSTRAINT_MISFIT_GAIN"]
 
 # a constraint explains a fit's misfit when one local fit with it released (`released_fit`) at
 # least halves the rms_rel ... (a factor the data's noise cannot make: on the user's spectrum,
 # R0 fixed at 0.04 Ω where it is 0.05 Ω, 15.2 % → 0.387 %; a right fixed value changes nothing)
 CONSTRAINT_MISFIT_GAIN = 0.5
-
-
-def user_bounds(table: ParameterTable, circuit: Circuit, registry: Registry) -> dict[str, tuple[float, float]]:
-    """The bounds the user set (``bounds=``) on free parameters: those of ``table`` that differ
-    from the element's natural ones (`ParameterSpec.lower`/``upper``)."""
-    specs = circuit.parameter_specs(registry)
-    out = {}
-    for i, name in enumerate(table.names):
-        if table.fixed[i]:
-            continue
-        lo, hi = float(table.lower[i]), float(table.upper[i])
-        if lo != float(specs[name].lower) or hi != float(specs[name].upper):
-            out[name] = (lo, hi)
-    return out
 
 
 def binding_constraints(values: Mapping[str, float], fixed: Mapping[str, bool], at_bound, bounds: Mapping[str, tuple[float, float]]) -> list[tuple[str, str, float]]:
@@ -59,13 +46,12 @@ def constraint_words(constraints) -> str:
     return " and ".join(parts)
 
 
-def released_fit(circuit: Circuit, data, values: Mapping[str, float], fixed: Mapping[str, bool], bounds: Mapping[str, tuple[float, float]], constraints, *, weighting: str, registry: Registry):
+def released_fit(circuit: Circuit, data, values: Mapping[str, float], fixed: Mapping[str, bool], bounds: Mapping[str, tuple[float, float]], constraints, *, weighting: str, registry: Registry, fit: Callable):
     """One local fit (``n_starts=1``) of ``data`` from ``values`` with ``constraints``
     (`binding_constraints`) released: their fixed values freed, their bounds back to the
     element's; every other fixed value and bound kept. A start on a bound it may not start on
-    is left to the data-driven guess. None where the fit cannot be made (an `ImpedaxError`)."""
-    from .single import fit  # (single imports this module's users)
-
+    is left to the data-driven guess. None where the fit cannot be made (an `ImpedaxError`).
+    ``fit``: `single.fit`, passed in (single.py imports this module)."""
     released = {n for n, _, _ in constraints}
     keep_fixed = {n: float(v) for n, v in values.items() if fixed.get(n, False) and n not in released}
     keep_bounds = {n: b for n, b in bounds.items() if n not in released}
@@ -88,8 +74,6 @@ def constraint_explains(rms_constrained: float, rms_released: float, kk: float) 
     most `CONSTRAINT_MISFIT_GAIN` × the constrained one's and within what the misfit rules
     accept of a model (below `result.MISFIT_CHECKED_FROM`, or within
     `result.MODEL_MISFIT_OVER_CONSISTENT` × the KK test's Voigt chain's rms_rel ``kk``)."""
-    from .result import MISFIT_CHECKED_FROM, MODEL_MISFIT_OVER_CONSISTENT
-
     accepted = max(MISFIT_CHECKED_FROM, MODEL_MISFIT_OVER_CONSISTENT * kk) if np.isfinite(kk) else MISFIT_CHECKED_FROM
     return bool(np.isfinite(rms_released) and rms_released <= CONSTRAINT_MISFIT_GAIN * rms_constrained and rms_released <= accepted)
 
@@ -106,13 +90,13 @@ def constraint_note(constraints, kk: float) -> str:
     )
 
 
-def constraint_misfit_notes(circuit: Circuit, table: ParameterTable, registry: Registry, freq, z, z_model, sigma, values: Mapping[str, float], at_bound, misfit: tuple[str, ...], kk: float | None, *, weighting: str, attrs=None) -> tuple[str, ...]:
+def constraint_misfit_notes(circuit: Circuit, table: ParameterTable, registry: Registry, freq, z, z_model, sigma, values: Mapping[str, float], at_bound, misfit: tuple[str, ...], kk: float | None, *, weighting: str, fit: Callable, attrs=None) -> tuple[str, ...]:
     """``misfit`` (one fit's `result.misfit_notes`) with its note replaced by `constraint_note`
     where the user's binding constraints (`binding_constraints`) explain it
     (`constraint_explains` of `released_fit` on the spectrum z (N,) at ``freq``, σ ``sigma``
     (N,) or None, against the fit's model ``z_model``; ``kk``: the KK test's misfit that
     `misfit_notes` used). Unchanged otherwise: no note, no binding constraint, or freeing them
-    does not explain the misfit."""
+    does not explain the misfit. ``fit``: `single.fit` (`released_fit`)."""
     if not misfit or kk is None or not kk > 0:
         return misfit
     fixed = {n: bool(f) for n, f in zip(table.names, table.fixed)}
@@ -124,7 +108,7 @@ def constraint_misfit_notes(circuit: Circuit, table: ParameterTable, registry: R
     from .starts import rms_rel_of
 
     data = make_spectrum(np.asarray(freq, float), np.asarray(z, complex), sigma=None if sigma is None else np.asarray(sigma, float), attrs=dict(attrs or {}))
-    released = released_fit(circuit, data, values, fixed, bounds, constraints, weighting=weighting, registry=registry)
+    released = released_fit(circuit, data, values, fixed, bounds, constraints, weighting=weighting, registry=registry, fit=fit)
     if released is None:
         return misfit
     rms_constrained = float(rms_rel_of(np.asarray(z_model)[None], np.asarray(z)[None])[0])

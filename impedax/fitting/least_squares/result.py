@@ -17,7 +17,6 @@ from ...data import checked_frequencies, column_width, concise_repr, format_quan
 from ..kk import kk_verdicts
 from ..parameters import ParameterTable, data_scales
 from ..statistics import covariances, information_criteria, non_passive, uncertainties
-from .constraints import user_bounds
 from .branches import RELATIVE_ERROR_LIMIT, idle_branch_notes, settle_vanishing, undetermined, undetermined_mask, vanishing_candidates, vanishing_parameters
 from .solvers import SolverOutput, SolverStatus
 from .starts import attainable_misfit, inward_start, rms_rel_of
@@ -25,7 +24,7 @@ from .starts import attainable_misfit, inward_start, rms_rel_of
 __all__ = [
     "FitResult", "fit_result", "fit_notes", "parameter_groups", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes",
     "misfit_notes", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "SIGN_HINT_LEAD", "MODEL_MISFIT_OVER_CONSISTENT", "SIGMA_EXCEEDED", "gross_misfits", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
-    "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "without_error", "STDERR_NOTE", "LINEARISED_STDERR_NAME", "data_difference", "stored_bounds",
+    "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "without_error", "STDERR_NOTE", "LINEARISED_STDERR_NAME", "data_difference", "stored_bounds", "user_bounds",
 ]
 
 def stored_bounds(stored) -> dict[str, tuple[float, float]]:
@@ -924,6 +923,20 @@ def stack_notes(
     for b, i in np.argwhere(sides != 0).tolist():
         notes[b].append(_bound_note_of(table, b, i, values, stderr, sides, on, exactly))
     return {b: tuple(n) for b, n in notes.items()}
+
+
+def user_bounds(table: ParameterTable, circuit: Circuit, registry: Registry) -> dict[str, tuple[float, float]]:
+    """The bounds the user set (``bounds=``) on free parameters: those of ``table`` that differ
+    from the element's natural ones (`ParameterSpec.lower`/``upper``)."""
+    specs = circuit.parameter_specs(registry)
+    out = {}
+    for i, name in enumerate(table.names):
+        if table.fixed[i]:
+            continue
+        lo, hi = float(table.lower[i]), float(table.upper[i])
+        if lo != float(specs[name].lower) or hi != float(specs[name].upper):
+            out[name] = (lo, hi)
+    return out
 
 
 def fit_result(

@@ -157,7 +157,7 @@ def fit(
     start = "the given start" if given.all() and given.size else "the given start, the other parameters' from the data" if given.any() else "the data-driven start"
     result = fit_result(circuit, table, freq, z, out, weighting, used, time.perf_counter() - t0, registry, chi2_at_x=chi2_at_x, extra_notes=notes, start=start, weights=(inv_re, inv_im))
     # a misfit the user's fixed value or bound explains is told so, not blamed on the model (as a batch's)
-    checked = constraint_misfit_notes(circuit, table, registry, freq, z, result.z_model, sigma, result.values, result.at_bound, misfit, kk_misfit.get(0), weighting=weighting, attrs=data.attrs)
+    checked = constraint_misfit_notes(circuit, table, registry, freq, z, result.z_model, sigma, result.values, result.at_bound, misfit, kk_misfit.get(0), weighting=weighting, fit=fit, attrs=data.attrs)
     if checked != misfit:
         result = dataclasses.replace(result, warnings=with_constraint_notes(result.warnings, misfit, checked), elapsed_s=time.perf_counter() - t0)
     return result
