@@ -18,7 +18,7 @@ from ...data import concise_repr, format_quantity
 from ...errors import CircuitError, ParameterError
 from ..least_squares import FitResult, fit
 from ..least_squares.candidates import fit_candidates
-from ..least_squares.result import BOUND_CHI2_FRACTION
+from ..least_squares.result import BOUND_CHI2_FRACTION, embedded_fit, fit_from_embedded
 from ..parameters import ParameterTable
 from ..problem import WEIGHTINGS, open_spectrum
 from .bands import format_frequency
@@ -170,9 +170,14 @@ class Refinement:
         return plot_refinement(self, title=title)
 
     def to_xarray(self) -> xr.Dataset:
-        """Per-step model, rms_rel, AIC, BIC, added element, and residuals over (step, frequency)."""
+        """Per-step model, rms_rel, AIC, BIC, added element, and residuals over (step, frequency);
+        the final fit in full (values, stderr, covariance, ...: `FitResult.to_xarray` with its
+        names prefixed ``final_fit_``, read back by `Refinement.final_fit_of`); the points every
+        fit left out in ``masked_points_hz`` (the data's own problem: ``Z`` holds only the
+        kept ones); ``impedax_kind`` "refinement"."""
         f = self.steps[0].fit.frequency
-        return xr.Dataset(
+        z = self.steps[0].fit.z_data
+        ds = xr.Dataset(
             {
                 "model": ("step", [s.model for s in self.steps]),
                 "added": ("step", [s.added or "" for s in self.steps]),
@@ -186,6 +191,14 @@ class Refinement:
             coords={"step": np.arange(len(self.steps)), "frequency": ("frequency", f, {"units": "Hz"})},
             attrs={"final_model": self.final_model, "verdict": str(self.verdict)},
         )
+        ds = xr.merge([ds, embedded_fit(self.final, FINAL_FIT_PREFIX, f, z)], combine_attrs="no_conflicts")
+        return ds.assign_attrs(impedax_kind="refinement", masked_points_hz=[float(x) for x in self.masked_points], notes=list(self.notes))
+
+    @staticmethod
+    def final_fit_of(ds: xr.Dataset, *, registry: Registry | None = None) -> FitResult:
+        """The final fit stored by `Refinement.to_xarray` (as returned or read back with
+        `impedax.io.read_netcdf`), as a `FitResult`."""
+        return fit_from_embedded(ds, FINAL_FIT_PREFIX, registry=registry)
 
 
 MAIN_PATH = "the refinement"
@@ -234,6 +247,10 @@ def _reproduced(ds: xr.Dataset, last: FitResult, *, n_starts: int, seed: int, sa
         return warm, f"fit of {last.model} from scratch reaches rms_rel {scratch.rms_rel * 100:.3g} %; started from {whose}'s values it reaches {warm.rms_rel * 100:.3g} % (pass init=)"
     return scratch, None
 
+
+FINAL_FIT_PREFIX = "final_fit_"
+"""The names of the final fit's variables, dimensions and attributes in `Refinement.to_xarray`
+(``final_fit_value``, ``final_fit_covariance``, ...): apart from the per-step ones."""
 
 BRANCH_WINDOW = 40.0
 """`refine`'s second path starts from the first diagnosis' best suggestion at another placement
