@@ -144,3 +144,18 @@ def test_kk_says_m_fit_was_used_when_mu_never_fell_below_c():
     given = ix.kk_test(data, n_rc=result.n_rc)
     assert given.n_rc == result.n_rc and not given.mu_reached
     assert f"(µ ≥ c={given.c:g} at the M given)" in given.report()
+
+
+def test_drt_support_follows_the_new_arc_under_a_baseline_arcs_name(swapped_candidate):
+    """An added R_relax ∥ C_relax in series with R1 ∥ C1 is exchangeable with it: in the order
+    every fit reports, the new arc's values may sit under R1, C1. The DRT still backs it."""
+    from impedax.fitting.diagnosis.diagnosis import _drt_supports
+
+    values = swapped_candidate.values
+    fit = SimpleNamespace(circuit=ix.parse("R0 + R1 || C1 + R_relax || C_relax"), registry=swapped_candidate.registry,
+                          values={"R0": values["R0"], "R1": values["R1"], "C1": values["C1"], "R_relax": values["R2"], "C_relax": values["C2"]})
+    fast_tau = FAST[0] * FAST[1]  # the new arc is the fast one, now listed first as R1 ∥ C1
+    evidence = SimpleNamespace(unexplained=[SimpleNamespace(tau_s=fast_tau)], distributed=[])
+    assert _drt_supports(SimpleNamespace(effect="extra_relaxation", fit=fit), evidence)
+    # a peak no arc of the fit lies near is no support
+    assert not _drt_supports(SimpleNamespace(effect="extra_relaxation", fit=fit), SimpleNamespace(unexplained=[SimpleNamespace(tau_s=1e3)], distributed=[]))

@@ -51,6 +51,7 @@ from ..drt import PeakEvidence, drt, r_cpe_tau, unexplained_peaks
 from ..kk import CONCLUSIVE_POINTS_MIN, KKResult, kk_test
 from ..least_squares import BatchFitResult, FitResult
 from ..least_squares.branches import is_idle_note, parallel_branches
+from ..least_squares.order import exchangeable_blocks
 from ..least_squares.candidates import SolverShape, fit_candidates, solver_shape
 from ..least_squares.result import embedded_fit, fit_from_embedded
 from ..least_squares.starts import climb_target
@@ -740,12 +741,20 @@ def _drt_supports(s: Suggestion, evidence: PeakEvidence | None) -> bool:
     if evidence is None or s.effect != "extra_relaxation":
         return False
     v = s.fit.values
-    r = next((v[k] for k in v if k.startswith("R_relax")), None)
-    c = next((v[k] for k in v if k.startswith("C_relax")), None)
-    if r is None or c is None or not (r * c > 0):
+    r = next((k for k in v if k.startswith("R_relax")), None)
+    c = next((k for k in v if k.startswith("C_relax")), None)
+    if r is None or c is None:
         return False
+    # the fit lists exchangeable blocks in one order (`canonical_order`): the new arc's values may
+    # sit under the name of a baseline arc of the same structure, so every such arc's τ counts
+    pairs = [(r, c)]
+    names = list(v)
+    for group in exchangeable_blocks(s.fit.circuit, names, np.zeros(len(names), bool), np.zeros(len(names)), np.zeros(len(names)), s.fit.registry):
+        members = [[names[i] for i in idx] for _, idx in group]
+        if [r, c] in members:  # (the group of R_relax ∥ C_relax itself: R ∥ C blocks, R's then C's parameter)
+            pairs += [(a, b) for a, b in members]
     narrow = [p for p in evidence.unexplained if not any(p is d for d in evidence.distributed)]
-    return any(abs(math.log10(r * c / p.tau_s)) <= 0.5 for p in narrow)
+    return any(v[a] * v[b] > 0 and abs(math.log10(v[a] * v[b] / p.tau_s)) <= 0.5 for a, b in pairs for p in narrow)
 
 
 def _claims_finite_diffusion(s: Suggestion) -> bool:
