@@ -28,7 +28,7 @@ def run(args) -> int:
 
     from ..errors import DataError
     from ..io.loader import NETCDF_SUFFIXES
-    from ..io.netcdf import RESULT_KINDS, result_kind
+    from ..io.netcdf import RESULT_KINDS, reader_call, result_kind
     from .common import Output, dimension_labels, emit_json, figure_writer, labels_text, load_selected, plan_outputs, spectrum_writer
 
     outputs = plan_outputs([("--out", args.out, "spectrum"), ("--plot", args.plot, "figure")], inputs=[args.file], stdout="--json" if args.json else None)
@@ -72,7 +72,7 @@ def run(args) -> int:
     if args.json:
         emit_json(summary)
         return 0
-    held = f" holding a saved {summary['result']} (its data shown here; read it in full with {RESULT_KINDS[kind][1]}(impedax.io.read_netcdf(path)))" if kind else ""
+    held = f" holding a saved {summary['result']} (its data shown here; read it in full with {reader_call(kind)})" if kind else ""
     print(f"{summary['file']}: {summary['format']}{held}, {summary['points']} frequencies "
           f"{summary['frequency_min_hz']:.4g}–{summary['frequency_max_hz']:.4g} Hz, "
           f"|Z| {summary['z_abs_min_ohm']:.4g}–{summary['z_abs_max_ohm']:.4g} Ω, dims {summary['dims']}")

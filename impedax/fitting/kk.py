@@ -124,6 +124,7 @@ class KKResult:
     thresholds: Mapping[str, float] = field(default_factory=lambda: dict(DEFAULT_THRESHOLDS))
     chain_error: float = 0.0
     sign_hint: str | None = None  # `io.sign_check.sign_hint`: Z'' may be stored with the opposite sign
+    n_rc_given: bool = False  # M was fixed by ``n_rc=`` (not chosen by the µ rule)
 
     def predict(self, freq) -> np.ndarray:
         """The KK fit's impedance [Ω] at ``freq`` [Hz]: R_0 + jωL + (1/C)/(jω) + Σ R_k/(1 +
@@ -220,7 +221,10 @@ class KKResult:
         verdict = "valid (KK-consistent)" if self.valid else "NOT valid: data are not KK-consistent"
         if not self.conclusive:
             verdict = f"inconclusive: {self.frequency.size} frequencies are too few for the test (it needs {CONCLUSIVE_POINTS_MIN})" + ("" if self.valid else "; it flags the bands below")
-        mu_note = "" if self.mu_reached else f" (µ never fell below c={self.c:g}; M capped)"
+        mu_note = "" if self.mu_reached else f" (µ ≥ c={self.c:g} at the M given)" if self.n_rc_given else (
+            # (docs/kk.md, "Choosing M": no M from M_fit up had µ < c and fitted the data)
+            f" (no M tried had µ < c={self.c:g} while fitting the data; M = M_fit, the smallest M that fits them, is used)"
+        )
         lines = [
             f"linear KK test: M = {self.n_rc} RC elements, µ = {self.mu:.3f}{mu_note}",
             f"rms_rel = {self.rms_rel * 100:.3g} %, noise estimate = {self.noise_estimate * 100:.3g} %",
@@ -972,6 +976,7 @@ def _run(freq, z, shape, dims, coords, *, c, max_rc, n_rc, inductance, capacitan
                 n_rc=int(m),
                 mu=mu,
                 mu_reached=reached,
+                n_rc_given=n_rc is not None,
                 rms_rel=_rms_rel(zi, z_kk),
                 noise_estimate=noise,
                 threshold_scale=scale,

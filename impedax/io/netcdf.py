@@ -137,6 +137,9 @@ RESULT_KINDS = {
     "shared_posterior": ("joint (shared-parameter) posterior", "SharedPosterior.from_xarray"),
     "hierarchical_posterior": ("hierarchical posterior", "HierarchicalPosterior.from_xarray"),
     "gap_analysis": ("gap analysis result (impedax gap)", "impedax.io.read_netcdf"),
+    # (their spectrum is the kept points' data; the fit inside them is read with the call named)
+    "refinement": ("refinement (impedax refine) with its final fit", "Refinement.final_fit_of"),
+    "diagnosis": ("diagnosis (impedax diagnose) with its baseline fit", "Diagnosis.baseline_of"),
 }
 
 
@@ -157,9 +160,13 @@ def not_a_spectrum(ds: xr.Dataset) -> str | None:
     kind = result_kind(ds) if "Z" not in ds.variables else None
     if kind is None:
         return None
-    what, call = RESULT_KINDS[kind]
-    reader = call if call == "impedax.io.read_netcdf" else f"{call}(impedax.io.read_netcdf(path))"
-    return f"this file holds a {what}, not a spectrum; read it with {reader}"
+    return f"this file holds a {RESULT_KINDS[kind][0]}, not a spectrum; read it with {reader_call(kind)}"
+
+
+def reader_call(kind: str) -> str:
+    """The call that reads a saved result of ``kind`` (a `RESULT_KINDS` key) from ``path``."""
+    call = RESULT_KINDS[kind][1]
+    return call + "(path)" if call == "impedax.io.read_netcdf" else f"{call}(impedax.io.read_netcdf(path))"
 
 
 def saved_result(ds, kind: str, *, variables=(), attrs=()) -> xr.Dataset:

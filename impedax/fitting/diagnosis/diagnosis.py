@@ -57,8 +57,10 @@ from ..kk import CONCLUSIVE_POINTS_MIN, KKResult, kk_test
 from ..least_squares import BatchFitResult, FitResult, fit
 from ..least_squares.result import RESIDUAL_LONG_NAME
 from ..least_squares.branches import is_idle_note, parallel_branches
+from ..least_squares.order import exchangeable_blocks
 from ..least_squares.candidates import SolverShape, fit_candidates, solver_shape
 from ..least_squares.constraints import binding_constraints, constraint_explains, constraint_words, released_fit
+from ..least_squares.result import embedded_fit, fit_from_embedded
 from ..least_squares.starts import climb_target
 from ..problem import WEIGHTINGS, open_spectrum
 from ..statistics import information_criteria, non_passive
@@ -73,6 +75,10 @@ __all__ = [
     "DELTA_AIC_MIN", "NOISE_FRACTION_MIN", "NOISE_RATIO_MAX", "NOISE_FLOOR", "KK_INVALID_FRACTION", "KK_INVALID_RMS", "BASELINE_STEPS",
     "KK_COMPARABLE", "MASK_MAX_FRACTION", "OPEN_RESISTANCE_FACTOR", "ARC_ORDERS_MAX", "RELATIVE_ERROR_MAX", "CORRELATION_MAX", "CORRELATED_ERROR_MAX", "CORRELATION_SINGULAR",
 ]
+
+BASELINE_FIT_PREFIX = "baseline_fit_"
+"""The names of the baseline fit's variables, dimensions and attributes in `Diagnosis.to_xarray`
+(``baseline_fit_value``, ``baseline_fit_covariance``, ...): apart from the diagnosis' own."""
 
 # --- documented thresholds (docs/diagnosis.md) ---
 DELTA_AIC_MIN = 10.0
@@ -399,12 +405,15 @@ class Diagnosis:
 
     def to_xarray(self) -> xr.Dataset:
         """Baseline spectra, residuals, noise and band mask over frequency; candidates over
-        ``candidate``; verdict and thresholds in attrs."""
+        ``candidate``; verdict and thresholds in attrs; the baseline fit in full (values,
+        stderr, covariance, ...: `FitResult.to_xarray` with its names prefixed
+        ``baseline_fit_``, read back by `Diagnosis.baseline_of`); the masked points in
+        ``masked_points_hz``; ``impedax_kind`` "diagnosis"."""
         b = self.baseline
         mask = np.zeros(b.frequency.size, bool)
         for band in self.failing_bands:
             mask |= (b.frequency >= band.f_min) & (b.frequency <= band.f_max)
-        return xr.Dataset(
+        ds = xr.Dataset(
             {
                 "Z": ("frequency", b.z_data, {"units": "ohm"}),
                 "Z_model": ("frequency", b.z_model, {"units": "ohm"}),
@@ -421,6 +430,17 @@ class Diagnosis:
             coords={"frequency": ("frequency", b.frequency, {"units": "Hz"}), "candidate": np.arange(len(self.candidates))},
             attrs={"model": b.model, "verdict": str(self.verdict), "reason": self.reason, "noise_source": self.noise_source, "baseline_rms_rel": b.rms_rel, "baseline_aic": b.aic, **{f"threshold_{k}": v for k, v in self.thresholds.items()}},
         )
+        ds = xr.merge([ds, embedded_fit(b, BASELINE_FIT_PREFIX, b.frequency, b.z_data)], combine_attrs="no_conflicts")
+        return ds.assign_attrs(impedax_kind="diagnosis", masked_points_hz=[float(f) for f in self.masked_points],
+            masked_impedance_real_ohm=[float(np.real(z)) for z in self.masked_impedance], masked_impedance_imag_ohm=[float(np.imag(z)) for z in self.masked_impedance],
+            notes=list(self.notes),
+        )
+
+    @staticmethod
+    def baseline_of(ds: xr.Dataset, *, registry: Registry | None = None) -> FitResult:
+        """The baseline fit stored by `Diagnosis.to_xarray` (as returned or read back with
+        `impedax.io.read_netcdf`), as a `FitResult`."""
+        return fit_from_embedded(ds, BASELINE_FIT_PREFIX, registry=registry)
 
     def to_table(self) -> list[dict[str, object]]:
         """The tidy table in clearly named rows: ``section`` "baseline" rows are the baseline
@@ -739,12 +759,20 @@ def _drt_supports(s: Suggestion, evidence: PeakEvidence | None) -> bool:
     if evidence is None or s.effect != "extra_relaxation":
         return False
     v = s.fit.values
-    r = next((v[k] for k in v if k.startswith("R_relax")), None)
-    c = next((v[k] for k in v if k.startswith("C_relax")), None)
-    if r is None or c is None or not (r * c > 0):
+    r = next((k for k in v if k.startswith("R_relax")), None)
+    c = next((k for k in v if k.startswith("C_relax")), None)
+    if r is None or c is None:
         return False
+    # the fit lists exchangeable blocks in one order (`canonical_order`): the new arc's values may
+    # sit under the name of a baseline arc of the same structure, so every such arc's τ counts
+    pairs = [(r, c)]
+    names = list(v)
+    for group in exchangeable_blocks(s.fit.circuit, names, np.zeros(len(names), bool), np.zeros(len(names)), np.zeros(len(names)), s.fit.registry):
+        members = [[names[i] for i in idx] for _, idx in group]
+        if [r, c] in members:  # (the group of R_relax ∥ C_relax itself: R ∥ C blocks, R's then C's parameter)
+            pairs += [(a, b) for a, b in members]
     narrow = [p for p in evidence.unexplained if not any(p is d for d in evidence.distributed)]
-    return any(abs(math.log10(r * c / p.tau_s)) <= 0.5 for p in narrow)
+    return any(v[a] * v[b] > 0 and abs(math.log10(v[a] * v[b] / p.tau_s)) <= 0.5 for a, b in pairs for p in narrow)
 
 
 def _claims_finite_diffusion(s: Suggestion) -> bool:

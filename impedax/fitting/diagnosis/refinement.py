@@ -18,7 +18,7 @@ from ...data import concise_repr, format_quantity
 from ...errors import CircuitError, ParameterError
 from ..least_squares import FitResult, fit
 from ..least_squares.candidates import fit_candidates
-from ..least_squares.result import BOUND_CHI2_FRACTION, RESIDUAL_LONG_NAME
+from ..least_squares.result import BOUND_CHI2_FRACTION, RESIDUAL_LONG_NAME, embedded_fit, fit_from_embedded
 from ..parameters import ParameterTable
 from ..problem import WEIGHTINGS, open_spectrum
 from .bands import format_frequency
@@ -170,9 +170,14 @@ class Refinement:
         return plot_refinement(self, title=title)
 
     def to_xarray(self) -> xr.Dataset:
-        """Per-step model, rms_rel, AIC, BIC, added element, and residuals over (step, frequency)."""
+        """Per-step model, rms_rel, AIC, BIC, added element, and residuals over (step, frequency);
+        the final fit in full (values, stderr, covariance, ...: `FitResult.to_xarray` with its
+        names prefixed ``final_fit_``, read back by `Refinement.final_fit_of`); the points every
+        fit left out in ``masked_points_hz`` (the data's own problem: ``Z`` holds only the
+        kept ones); ``impedax_kind`` "refinement"."""
         f = self.steps[0].fit.frequency
-        return xr.Dataset(
+        z = self.steps[0].fit.z_data
+        ds = xr.Dataset(
             {
                 "model": ("step", [s.model for s in self.steps]),
                 "added": ("step", [s.added or "" for s in self.steps]),
@@ -186,9 +191,23 @@ class Refinement:
             coords={"step": np.arange(len(self.steps)), "frequency": ("frequency", f, {"units": "Hz"})},
             attrs={"final_model": self.final_model, "verdict": str(self.verdict)},
         )
+        ds = xr.merge([ds, embedded_fit(self.final, FINAL_FIT_PREFIX, f, z)], combine_attrs="no_conflicts")
+        return ds.assign_attrs(impedax_kind="refinement", masked_points_hz=[float(x) for x in self.masked_points], notes=list(self.notes))
+
+    @staticmethod
+    def final_fit_of(ds: xr.Dataset, *, registry: Registry | None = None) -> FitResult:
+        """The final fit stored by `Refinement.to_xarray` (as returned or read back with
+        `impedax.io.read_netcdf`), as a `FitResult`."""
+        return fit_from_embedded(ds, FINAL_FIT_PREFIX, registry=registry)
 
 
-def _reproduced(ds: xr.Dataset, last: FitResult, *, n_starts: int, seed: int, say=lambda text: None) -> tuple[FitResult, str | None]:
+MAIN_PATH = "the refinement"
+"""How `_reproduced`'s note names the path it refits: the refinement's own (greedy) path."""
+SIDE_PATH = "this path"
+"""... or a further path of `_second_path` (its note is prefixed "second path: " and so on)."""
+
+
+def _reproduced(ds: xr.Dataset, last: FitResult, *, n_starts: int, seed: int, say=lambda text: None, whose: str = MAIN_PATH) -> tuple[FitResult, str | None]:
     """The final model fitted from scratch with `fit` (what ``impedax fit`` of its model string
     does on the same points); when the loop's warm fit is better, or as good (χ² within 1e-6)
     with fewer undetermined parameters, `fit` started from it.
@@ -202,26 +221,36 @@ def _reproduced(ds: xr.Dataset, last: FitResult, *, n_starts: int, seed: int, sa
     undetermined, where the loop's fit reached 5e259 Ω (at the bound, by which
     `undetermined_parameters` holds it) at the same χ² to 1e-9. Its term has then vanished:
     `_pruned` takes it out of the final model. ``say``: told before the fit from the loop's
-    values (the two fits of a 12-parameter model took 10 s on a loaded machine: not silently)."""
+    values (the two fits of a 12-parameter model took 10 s on a loaded machine: not silently).
+
+    ``whose``: the path ``last`` ends, as the note names it (`MAIN_PATH`, or `SIDE_PATH` for a
+    path `_second_path` compares with the kept one: its values are not the refinement's, and
+    whether they are reported is that comparison's to say)."""
     fixed = {k: v for k, v in last.values.items() if last.fixed[k]} or None
     scratch = fit(last.circuit, ds, fixed=fixed, weighting=last.weighting, registry=last.registry, seed=seed)
     loose = undetermined_parameters(scratch) - undetermined_parameters(last)
     if scratch.chi2 <= last.chi2 * (1 + 1e-6) and not loose:
         return scratch, None
-    say(f"  refitting {last.model} from the refinement's values (from scratch: rms_rel {scratch.rms_rel * 100:.3g} %)")
+    say(f"  refitting {last.model} from {whose}'s values (from scratch: rms_rel {scratch.rms_rel * 100:.3g} %)")
     warm = fit(last.circuit, ds, init=last, fixed=fixed, weighting=last.weighting, registry=last.registry, seed=seed)
     if loose and warm.chi2 <= scratch.chi2 * (1 + 1e-6) and len(undetermined_parameters(warm)) < len(undetermined_parameters(scratch)):
-        return warm, f"fit of {last.model} from scratch reaches rms_rel {scratch.rms_rel * 100:.3g} % with {', '.join(sorted(loose))} undetermined; started from the refinement's values it reaches {warm.rms_rel * 100:.3g} % with every parameter it had determined (pass init=)"
+        return warm, f"fit of {last.model} from scratch reaches rms_rel {scratch.rms_rel * 100:.3g} % with {', '.join(sorted(loose))} undetermined; started from {whose}'s values it reaches {warm.rms_rel * 100:.3g} % with every parameter it had determined (pass init=)"
     if warm.chi2 <= scratch.chi2:
         gap = scratch.aic - warm.aic
         if gap <= DELTA_AIC_MIN:  # (two optima the data do not tell apart: the scratch fit does not stop short)
             return warm, (
-                f"fit of {last.model} from scratch reaches rms_rel {scratch.rms_rel * 100:.3g} %, which the data do not tell apart from the "
-                f"refinement's {warm.rms_rel * 100:.3g} % (ΔAIC {gap:.2g}); the refinement's values are reported (pass init=)"
+                f"fit of {last.model} from scratch reaches rms_rel {scratch.rms_rel * 100:.3g} %, which the data do not tell apart from "
+                f"{whose}'s {warm.rms_rel * 100:.3g} % (ΔAIC {gap:.2g}); "
+                + ("the refinement's values are reported" if whose == MAIN_PATH else f"{whose} ends at its own values")
+                + " (pass init=)"
             )
-        return warm, f"fit of {last.model} from scratch reaches rms_rel {scratch.rms_rel * 100:.3g} %; started from the refinement's values it reaches {warm.rms_rel * 100:.3g} % (pass init=)"
+        return warm, f"fit of {last.model} from scratch reaches rms_rel {scratch.rms_rel * 100:.3g} %; started from {whose}'s values it reaches {warm.rms_rel * 100:.3g} % (pass init=)"
     return scratch, None
 
+
+FINAL_FIT_PREFIX = "final_fit_"
+"""The names of the final fit's variables, dimensions and attributes in `Refinement.to_xarray`
+(``final_fit_value``, ``final_fit_covariance``, ...): apart from the per-step ones."""
 
 BRANCH_WINDOW = 40.0
 """`refine`'s second path starts from the first diagnosis' best suggestion at another placement
@@ -449,14 +478,16 @@ def _finish(steps: list[RefinementStep], used: xr.Dataset, *, n_starts: int, see
     and the one before refitted instead (a path may start from a candidate with undetermined
     parameters, `_second_path`). ``reproduced``: `_reproduced` or a memo of it."""
     reproduced = reproduced or _reproduced
+    # a side path's note speaks of that path's values, not of the refinement's (which it may not keep)
+    whose = {"whose": SIDE_PATH} if label else {}
     steps = list(steps)
     say(f"{label}refitting the final model {steps[-1].model} from scratch")
-    final, note = reproduced(used, steps[-1].fit, n_starts=n_starts, seed=seed)
+    final, note = reproduced(used, steps[-1].fit, n_starts=n_starts, seed=seed, **whose)
     new_undetermined = undetermined_parameters(final) - undetermined_parameters(steps[0].fit)
     while new_undetermined and len(steps) > 1:
         notes.append(f"{label}{final.model}: the data do not determine {', '.join(sorted(new_undetermined))} when fitted from scratch; the step that added {steps[-1].added} is dropped")
         steps.pop()
-        final, note = reproduced(used, steps[-1].fit, n_starts=n_starts, seed=seed)
+        final, note = reproduced(used, steps[-1].fit, n_starts=n_starts, seed=seed, **whose)
         new_undetermined = undetermined_parameters(final) - undetermined_parameters(steps[0].fit)
     if note:
         notes.append(label + note)
@@ -728,13 +759,15 @@ def refine(
         diagnoses[str(current.circuit)] = d
         return d
 
-    def reproduced(used, fit, **options):
-        if id(fit) not in refits or refits[id(fit)][0] is not fit:
-            refits[id(fit)] = (fit, _reproduced(used, fit, say=say, **options))  # (the fit kept: its id stays its own)
+    def reproduced(used, fit, *, whose=MAIN_PATH, **options):
+        known = refits.get(id(fit))
+        # (a refit noted for one path is redone for another: its note names the path)
+        if known is None or known[0] is not fit or (known[1][1] is not None and known[2] != whose):
+            refits[id(fit)] = (fit, _reproduced(used, fit, say=say, whose=whose, **options), whose)  # (the fit kept: its id stays its own)
             out = refits[id(fit)][1][0]
             # a refit is its own refit: a path whose end went back to the start hands the start
             # step, refitted, to the next path, which may end there too
-            refits.setdefault(id(out), (out, (out, None)))
+            refits.setdefault(id(out), (out, (out, None), whose))
         return refits[id(fit)][1]
 
     used = ds if not masked else ds.sel(frequency=[f for f in ds["frequency"].values if float(f) not in set(masked)])
@@ -757,7 +790,7 @@ def refine(
         )
     # the final fit is reproduced from its values when its own refit kept the warm start (`_reproduced`
     # noted it): another path's note says nothing of the final model
-    from_values = any(out is steps[-1].fit and note is not None for _, (out, note) in refits.values())
+    from_values = any(out is steps[-1].fit and note is not None for _, (out, note), _ in refits.values())
     # only the final model's note points to the command printed last; other paths' notes name their own models
     own = f"fit of {steps[-1].fit.model} from scratch"
     notes = [n if from_values and own in n else n.replace(" (pass init=)", "") for n in notes]

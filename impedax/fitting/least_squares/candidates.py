@@ -29,6 +29,7 @@ from ..parameters import Transform, to_external, to_internal
 from ..problem import FitProblem, fit_problem, open_spectrum, weights
 from ..stored import QUICK_COMPILE, StoredProgram
 from .lm import solve_by_elimination, work_queue
+from .order import canonical_order
 from .result import FitResult, fit_result
 from .solvers import SolverArgs, SolverOutput, SolverStatus, over_devices, padded_points, trimmed
 from .starts import SpectrumFeatures, data_driven_guess, random_starts
@@ -270,6 +271,9 @@ def fit_candidates(
     results = []
     for problem, row, one in zip(prepared, rows, outputs):
         one = one._replace(x=one.x[row.flat], jacobian=one.jacobian[:, : row.n_free])
+        # exchangeable blocks in the order every fit reports (docs/fitting.md), so a
+        # candidate's R1 is the arc `impedax.fit` of its model from these values calls R1
+        one = canonical_order(problem.circuit, problem.table, freq, one, registry)
         results.append(fit_result(problem.circuit, problem.table, freq, z, one, weighting, n_starts + data_start, elapsed, registry))
     return results
 

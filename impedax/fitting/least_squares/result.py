@@ -25,6 +25,7 @@ __all__ = [
     "FitResult", "fit_result", "fit_notes", "parameter_groups", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes",
     "misfit_notes", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "SIGN_HINT_LEAD", "MODEL_MISFIT_OVER_CONSISTENT", "SIGMA_EXCEEDED", "gross_misfits", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
     "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "without_error", "STDERR_NOTE", "LINEARISED_STDERR_NAME", "data_difference", "stored_bounds", "user_bounds",
+    "embedded_fit", "fit_from_embedded",
 ]
 
 def stored_bounds(stored) -> dict[str, tuple[float, float]]:
@@ -356,6 +357,39 @@ class FitResult:
 
 _FIT_VARIABLES = ("value", "stderr", "fixed", "at_bound", "covariance", "correlation", "Z", "Z_model")
 _FIT_ATTRS = ("model", "weighting", "chi2", "converged", "message", "warnings")
+
+
+def embedded_fit(fit: FitResult, prefix: str, host_frequency=None, host_z=None) -> xr.Dataset:
+    """``fit.to_xarray()`` to merge into another result's dataset (a refinement's final fit, a
+    diagnosis' baseline): every variable, dimension and attribute named ``prefix`` + its own
+    name (``final_fit_value`` over ``final_fit_param``, ...), so the host's names stay as they
+    are. The frequency dimension is the host's own ``frequency`` and ``Z`` is left to the host
+    where the fit's points and data are the host's (``host_frequency``, ``host_z``); otherwise
+    they are prefixed too. `fit_from_embedded` reads it back."""
+    ds = fit.to_xarray()
+    shared = host_frequency is not None and np.array_equal(np.asarray(host_frequency, float), fit.frequency) and host_z is not None and np.array_equal(np.asarray(host_z), fit.z_data)
+    if shared:
+        ds = ds.drop_vars("Z")
+    renamed = {name: prefix + name for name in ds.variables if not (shared and name == "frequency")}
+    out = ds.rename(renamed)
+    out.attrs = {prefix + k: v for k, v in ds.attrs.items() if k != "impedax_kind"}
+    return out
+
+
+def fit_from_embedded(ds: xr.Dataset, prefix: str, *, registry: Registry | None = None) -> FitResult:
+    """The `FitResult` that `embedded_fit` stored in ``ds`` under ``prefix`` (``ds`` as returned
+    or read back with `impedax.io.read_netcdf`)."""
+    names = {name: name[len(prefix):] for name in ds.variables if str(name).startswith(prefix)}
+    if not names:
+        from ...errors import DataError  # (rarely needed)
+
+        raise DataError(f"no fit stored under {prefix!r} (variables {prefix}value, {prefix}covariance, ...)", path=ds.encoding.get("source"))
+    fit_ds = ds[[n for n in names if n in ds.data_vars]].rename(names)
+    if "Z" not in fit_ds.variables:  # (the host's points and data: `embedded_fit` left them to it)
+        fit_ds["Z"] = ds["Z"]
+    fit_ds.attrs = {"impedax_kind": "fit", **{k[len(prefix):]: v for k, v in ds.attrs.items() if k.startswith(prefix)}}
+    fit_ds.encoding["source"] = ds.encoding.get("source")
+    return FitResult.from_xarray(fit_ds, registry=registry)
 
 
 # what `FitResult.to_xarray` says of its stderr, covariance and correlation (docs/fitting.md,
