@@ -24,8 +24,9 @@ trials, so it is kept as one shared draw (docs/bayesian.md, "Errors shared by ev
 e_t is each Sirin trial's own skin and screen deviating from those means: a whole spectrum,
 correlated across frequencies, which independent noise would let the trial's parameters absorb.
 
-Priors: μ_j ~ N(ln θ̂_j, 2²) about the median of the per-trial least-squares fits (six decades
-at 95 %); s_j, τ_j ~ half-normal(0.5) and half-normal(``session_spread_scale``); δ ~
+Priors: μ_j ~ N(ln θ̂_j, 2²) about the median of the per-trial least-squares fits (95 % within
+±3.9 in ln, a factor 50 either way: 3.4 decades in all; so those fits must be sound:
+`impedax.models.gap` weights them by each trial's noise); s_j, τ_j ~ half-normal(0.5) and half-normal(``session_spread_scale``); δ ~
 half-normal(0.1); shared positive parameters ln φ ~ N(ln φ̂, 2²), bounded ones uniform within
 their bounds (sampled through a logit).
 
