@@ -706,7 +706,7 @@ def _per_trial_centre_notes(batch, edl, reparametrization, per_trial) -> list[st
     `_CENTRE_OFF_SDS` prior sds (ln) of the EDL fit of the trial mean: that median centres the
     prior of its population median, which then barely reaches the pooled value (noise-dominated
     trials fitted to R_EP ~ 1e12 Ω for 5e7 Ω on SYNTHETIC data weighted by |Z|)."""
-    from ..fitting.bayes.hierarchical import _MU_SD
+    from ..fitting.bayes.hierarchical import MU_PRIOR_SD
 
     values = {str(p): batch.dataset["value"].sel(param=p).values.ravel() for p in batch.dataset["param"].values}
     pooled = {k: np.asarray([v], float) for k, v in edl.values.items()}
@@ -719,11 +719,11 @@ def _per_trial_centre_notes(batch, edl, reparametrization, per_trial) -> list[st
         if not (np.all(trial_values > 0) and pooled_value > 0):
             continue
         median = float(np.exp(np.median(np.log(trial_values))))
-        off = abs(math.log(median / pooled_value)) / _MU_SD
+        off = abs(math.log(median / pooled_value)) / MU_PRIOR_SD
         if off > _CENTRE_OFF_SDS:
             notes.append(
                 f"the per-trial fits put {name} at {median:.3g} (median of {trial_values.size} trials) but the fit of the trial mean at {pooled_value:.3g}, "
-                f"{off:.1f} prior sds (ln) apart: that median centres the prior of the population's {name} (normal in ln, sd {_MU_SD:g}), which hardly reaches the mean's value; "
+                f"{off:.1f} prior sds (ln) apart: that median centres the prior of the population's {name} (normal in ln, sd {MU_PRIOR_SD:g}), which hardly reaches the mean's value; "
                 "single trials may be too noisy for this model (compare --pooled)"
             )
     return notes
