@@ -528,3 +528,160 @@ def test_gap_identification_reads_the_results_data_not_their_warning_text():
     alpha = np.full(10, EP_ALPHA_IDEAL + 0.01)
     assert "an ideal capacitor in parallel with C_gap" in _gap_identification(edl(), {}, alpha, "CPE_EP.Q")
     assert _gap_identification(edl(), {}, alpha - 0.1, "CPE_EP.Q") is None
+
+
+# --- 7. the per-trial fits that centre the hierarchical priors ---------------------------------
+
+R_EP_TRUE = 5e7  # Ω: a large R_EP, so above ~100 kHz each trial's remainder is mostly noise
+
+
+def _noise_dominated_trials(n_trials=3, points=31, seed=7):
+    """SYNTHETIC, written in numpy: skin and screen R_inf + R ∥ CPE, remainder R_EP ∥ CPE_EP ∥ C_gap
+    (R_EP = 5e7 Ω, Q = 5e-9, α = 0.35, u = 5 µm over 200 mm²), 1 % complex noise per point
+    (3 trials × 31 points: the shapes `_measurements(n_trials=3)` compiles)."""
+    f = np.geomspace(1.0, 1e6, points)
+    jw = 2j * np.pi * f
+    r_cpe = lambda r_inf, r, q, a: r_inf + r / (1 + r * q * jw**a)  # noqa: E731
+    c_gap = EPS0 * EPS_AIR * 200e-6 / 5e-6
+    remainder = 1 / (1 / R_EP_TRUE + 5e-9 * jw**0.35 + jw * c_gap)
+    rng = np.random.default_rng(seed)
+    noisy = lambda z: z * (1 + 0.01 * (rng.standard_normal((n_trials, points)) + 1j * rng.standard_normal((n_trials, points))) / np.sqrt(2))  # noqa: E731
+    skin, ts = r_cpe(1e3, 5e6, 1e-10, 0.85), r_cpe(100.0, 2e5, 1e-11, 0.9)
+    return tuple(ix.make_spectrum(f, z, dims=("trial",)) for z in (noisy(skin + ts + remainder), noisy(skin), noisy(ts)))
+
+
+def test_trial_remainder_sigma_is_a_trials_scatter_plus_the_subtracted_means_sem():
+    from impedax.models.gap import trial_remainder_sigma
+
+    total, skin, ts = _measurements(n_trials=5)
+    parts = [_flat(d) for d in (total, skin, ts)]
+    var = lambda z: (z.real.var(0, ddof=1) + z.imag.var(0, ddof=1)) / 2  # noqa: E731 (one sd for Re and Im, as `remaining_impedance`)
+    expected = np.sqrt(var(parts[0]) + var(parts[1]) / len(parts[1]) + var(parts[2]) / len(parts[2]))
+    np.testing.assert_allclose(trial_remainder_sigma(total, skin, ts), expected, rtol=1e-12)
+    same = [ix.make_spectrum(total["frequency"].values, np.repeat(z[:1], 3, axis=0), dims=("trial",)) for z in parts]
+    assert trial_remainder_sigma(*same) is None  # no input scatters: no noise to weight by
+
+
+def test_per_trial_fits_are_weighted_by_each_trials_noise(monkeypatch):
+    """The per-trial fits weighted by |Z| put R_EP at 1e11–1e12 Ω on noise-dominated trials (their
+    median then centres the prior of the population's R_EP 5 prior sds from the truth); weighted by
+    each trial's σ (`trial_remainder_sigma`) every trial's R_EP lies near the generating 5e7 Ω."""
+    import impedax.fitting.bayes.hierarchical as hierarchical
+    from impedax.fitting import fit
+    from impedax.models.gap import trial_remainder_sigma
+
+    seen = {}
+
+    def fake(circuit, data, **kwargs):
+        seen.update(kwargs, data=data)
+        raise _Stop
+
+    monkeypatch.setattr(hierarchical, "sample_hierarchical", fake)
+    total, skin, ts = _noise_dominated_trials()
+    with pytest.raises(_Stop):
+        gap_analysis(total, skin, ts, area=200e-6, progress=False)
+    batch, data = seen["init"], seen["data"]
+    np.testing.assert_allclose(data["sigma"].values, np.broadcast_to(trial_remainder_sigma(total, skin, ts), data["Z"].shape))
+    r_ep = batch.dataset["value"].sel(param="R_EP").values
+    assert batch.weighting == "sigma" and np.all(np.abs(np.log(r_ep / R_EP_TRUE)) < np.log(1.3)), r_ep
+    by_modulus = fit(batch.circuit, data.drop_vars("sigma"), init=dict(zip(batch.dataset["param"].values.tolist(), np.median(batch.dataset["value"].values, axis=1))), weighting="modulus")
+    assert np.median(by_modulus.dataset["value"].sel(param="R_EP").values) > 100 * R_EP_TRUE  # (the data reproduce the fault)
+
+
+def test_per_trial_fits_far_from_the_mean_fit_are_flagged():
+    """A per-trial quantity whose fits' median lies beyond 1.96 prior sds (ln, sd 2) of the fit of
+    the trial mean gets a warning; u compares through C_gap = ε0 ε A/u."""
+    from types import SimpleNamespace
+
+    from impedax.fitting import gap_thickness_reparametrization
+    from impedax.models.gap import _per_trial_centre_notes
+
+    def batch(**values):
+        names = list(values)
+        return SimpleNamespace(dataset=xr.Dataset({"value": (("param", "trial"), np.array([values[n] for n in names], float))}, coords={"param": names}))
+
+    rp = gap_thickness_reparametrization("C_gap", area=200e-6)
+    edl = SimpleNamespace(values={"R_EP": 5e7, "C_gap": 354e-12})
+    far = np.exp(2.0 * 1.96 * 1.01) * 5e7  # just beyond the prior's 95 % half-width
+    notes = _per_trial_centre_notes(batch(R_EP=[far, far * 1.1, far / 1.1], C_gap=[354e-12] * 3), edl, rp, ("u", "R_EP"))
+    assert len(notes) == 1 and notes[0].startswith(f"the per-trial fits put R_EP at {far:.3g} (median of 3 trials) but the fit of the trial mean at 5e+07")
+    near = np.exp(2.0 * 1.96 * 0.99) * 5e7
+    assert _per_trial_centre_notes(batch(R_EP=[near] * 3, C_gap=[354e-12] * 3), edl, rp, ("u", "R_EP")) == []
+    u_notes = _per_trial_centre_notes(batch(R_EP=[5e7] * 3, C_gap=[354e-12 / 100] * 3), edl, rp, ("u", "R_EP"))
+    assert len(u_notes) == 1 and u_notes[0].startswith("the per-trial fits put u at")
+
+
+# --- 8. the gap reparametrization's bounds follow the area, in Python as in the CLI ----------
+
+
+def test_gap_reparametrization_bounds_follow_the_area():
+    from impedax.fitting import gap_thickness_reparametrization
+    from impedax.fitting.bayes.reparam import rebuild
+    from impedax.models.gap import gap_bounds
+
+    for area in (130e-6, 200.0):
+        rp = gap_thickness_reparametrization("C_gap", area=area)
+        assert rp.lower[0] == pytest.approx(EPS0 * EPS_AIR * area / 1e-4, rel=1e-12) and rp.upper[0] == pytest.approx(EPS0 * EPS_AIR * area / 1e-15, rel=1e-12)
+        assert (rp.lower[0], rp.upper[0]) == gap_bounds(area)
+        assert rebuild(rp.describe()) == rp
+    legacy = gap_thickness_reparametrization("C_gap", area=200.0).describe()
+    del legacy["lower"], legacy["upper"]  # (a posterior saved before the bounds were stored)
+    assert (rebuild(legacy).lower, rebuild(legacy).upper) == ((1e-9,), (1e-3,))
+
+
+def test_u_piled_at_its_bound_points_at_the_area_not_the_model():
+    from impedax.fitting import gap_thickness_reparametrization
+    from impedax.fitting.bayes.diagnostics import prior_edges
+    from impedax.fitting.bayes.priors import Prior, PriorKind
+
+    rp = gap_thickness_reparametrization("C_gap", area=200.0, lower=1e-9, upper=1e-3)
+    draws = np.geomspace(0.9e-3, 0.99999e-3, 400)[:, None]  # every draw just below the upper bound
+    prior = {"u": Prior(PriorKind.LOGUNIFORM, 1e-9, 1e-3)}
+    with_cause = prior_edges(["u"], ["m"], draws, prior, [1e-9], [1e-3], None, dict(rp.bound_causes)).warnings
+    assert len(with_cause) == 1 and "piles up against its upper bound 0.001" in with_cause[0]
+    assert "A = 200 m² (2e+08 mm²)" in with_cause[0] and "check the area's unit first" in with_cause[0] and "is the model missing" not in with_cause[0]
+    plain = prior_edges(["u"], ["m"], draws, prior, [1e-9], [1e-3]).warnings
+    assert len(plain) == 1 and "(is the model missing something?)" in plain[0]
+
+
+# --- 9. the drive voltage's plausibility ----------------------------------------------------
+
+
+def test_drive_voltage_outside_the_papers_range_is_warned(monkeypatch):
+    import impedax.models.gap as gap_module
+    from impedax.models.gap import _drive_voltage_notes
+
+    assert _drive_voltage_notes(75.0) == [] and _drive_voltage_notes(2e3) == [] and _drive_voltage_notes(1.0) == []
+    high = _drive_voltage_notes(75e3)
+    assert len(high) == 1 and high[0].startswith("v0 = 75000 V (--v0) is above the largest drive of the papers (2000 V") and "Paschen" in high[0]
+    low = _drive_voltage_notes(0.075)
+    assert len(low) == 1 and "below 1 V" in low[0] and "75m is 0.075 V" in low[0]
+    seen = {}
+
+    def fake(*args, **kwargs):
+        seen.update(kwargs)
+        raise _Stop
+
+    monkeypatch.setattr(gap_module, "_hierarchical", fake)
+    total, skin, ts = _measurements(n_trials=3)
+    with pytest.raises(_Stop):
+        gap_analysis(total, skin, ts, area=AREA, v0=75e3, progress=False)
+    assert high[0] in seen["notes"]
+
+
+def test_gap_voltage_beyond_air_breakdown_is_warned():
+    """V_gap = u √(2F/(ε0 A)) at the peak of the median force (eq 1 solved for it), against air's
+    Paschen minimum (~330 V)."""
+    from impedax.models.gap import _gap_breakdown_notes
+
+    f = np.array([10.0, 250.0, 1e4])
+    u, area = 5e-6, 200e-6
+
+    def force(v_peak):
+        f_peak = 0.5 * EPS0 * area * v_peak**2 / u**2
+        median = np.array([[f_peak / 4, f_peak, f_peak / 2], [1.0, 1.0, 1.0]])
+        return xr.Dataset({"median": (("branch", "frequency"), median)}, coords={"branch": ["with_ep", "without_ep"], "frequency": f})
+
+    notes = _gap_breakdown_notes(force(65e3), u, area)
+    assert len(notes) == 1 and "at the force's peak (250 Hz) the air gap carries 6.5e+04 V across u = 5 µm" in notes[0]
+    assert _gap_breakdown_notes(force(300.0), u, area) == []

@@ -35,12 +35,12 @@ from ..circuits import parse
 from ..data import format_frequency, format_percent, format_quantity
 from ..arguments import GAP_MIN_STEPS, MAX_WALKERS, checked_arguments, choice, count, flag, real, seed
 from ..errors import IN_MEMORY, CircuitError, DataError, ParameterError
-from ..constants import EPSILON_0, EPSILON_AIR
+from ..constants import C_GAP_BOUNDS_F, EPSILON_0, EPSILON_AIR
 from ..fitting.bayes.chain import AUTO_STEPS, steps_rule
 from ..fitting.least_squares.result import MISFIT_RATIO_MAX, REMAINDER_ATTRS, SUBTRACTION_CAUSE, gross_misfits, known_kk_misfits, listed_frequencies
 from ..fitting.statistics import non_passive
 from .gap_inputs import check_gap_inputs, position_notes, spectra_used
-from .plausible import FINGERTIP_AREA_M2
+from .plausible import AIR_BREAKDOWN_V, DRIVE_VOLTAGE_V, FINGERTIP_AREA_M2
 from .sirin import SIRIN_AREA, SIRIN_DRIVE_V, PaperGapEstimate, gap_force_peak, paper_gap_estimate, remainder_circuit, remaining_impedance, trial_mean, trial_remainders
 
 __all__ = ["GapAnalysis", "gap_analysis", "gap_remainder", "REMAINDER_KINDS", "GAP_TABLE_COLUMNS", "GAP_METHODS", "GAP_MIN_STEPS", "FINGERTIP_AREA_M2", "IDENTIFIED_C_REMAINDER", "C_GAP_BOUNDS_F", "HIERARCHICAL_AUTO_DRAWS", "gap_bounds", "check_fingertip_area"]
@@ -55,11 +55,6 @@ GAP_TABLE_COLUMNS = ("method", "c_gap_f", "c_gap_low_f", "c_gap_high_f", "u_m", 
 unit in its name (``_f`` farad, ``_m`` metre); ``u_lower_bound_withheld`` says why u is not
 determined and yet no bound is given (`GapAnalysis.gap_bound_withheld`)."""
 
-C_GAP_BOUNDS_F = (1e-15, 1e-4)
-"""Prior bounds of C_gap [F], 1 fF–100 µF, whatever the area: the capacitance is what the data
-determine, so the bounds of u = ε0 ε_gap A/C_gap follow the area (`gap_bounds`). They hold every
-fingertip contact (`FINGERTIP_AREA_M2`) with u between 1 nm and 1 mm (8.9 fF–89 µF). A naive
-fit's C_gap outside them counts as run away."""
 HIERARCHICAL_AUTO_DRAWS = 500
 """``steps="auto"`` in the hierarchical method: NUTS draws per chain (and warm-up steps)."""
 NAIVE_RUNAWAY_RMS_REL = 0.99
@@ -357,8 +352,9 @@ def _trials_text(name: str, used: dict) -> str:
 def gap_bounds(area: float, eps_gap: float = EPSILON_AIR) -> tuple[float, float]:
     """Prior bounds (lower, upper) of u [m] for ``area`` [m²]: u = ε0 ε_gap A / C_gap at the
     upper and lower ends of `C_GAP_BOUNDS_F`, so every area gives the same bounds on C_gap."""
-    c_low, c_high = C_GAP_BOUNDS_F
-    return EPSILON_0 * eps_gap * area / c_high, EPSILON_0 * eps_gap * area / c_low
+    from ..fitting.bayes.reparam import gap_thickness_bounds
+
+    return gap_thickness_bounds(area, eps_gap)
 
 
 def _gap_steps(value, name):
@@ -421,7 +417,7 @@ def gap_analysis(
 
     if not area > 0:
         raise DataError(f"area must be positive (m²), got {area}")
-    notes = [] if check_area else _fingertip_area_notes(area)
+    notes = ([] if check_area else _fingertip_area_notes(area)) + _drive_voltage_notes(v0)
     if check_area:
         check_fingertip_area(area)
     if method not in GAP_METHODS:
@@ -479,6 +475,7 @@ def gap_analysis(
     force["median"].attrs.update(units="N", convention=FORCE_CONVENTION)
     u_draws = posterior.parameter_draws()["u"]
     notes += _bound_notes(u_draws, reparametrization, area)
+    notes += _gap_breakdown_notes(force, float(np.median(u_draws)), area)
     notes += [f"EDL fit: {w}" for w in edl.warnings] + [f"sampling: {w}" for w in posterior.warnings if not w.startswith("least-squares start")]
     notes += _estimate_bound_notes("Bayesian gap thickness", float(np.median(u_draws)), paper, remaining, f"; draws span {_um(u_draws.min())}–{_um(u_draws.max())} µm")
     known_kk: dict[int, float] = {}
@@ -561,6 +558,35 @@ def _fingertip_area_notes(area: float) -> list[str]:
     return [
         f"area = {area:g} m² ({area * 1e6:g} mm²) is outside the plausible fingertip contact ({low:g}–{high:g} m²); analysed as given "
         "because the area check is off (--no-area-check; Python: check_area=False): u = ε0 ε_gap A/C_gap scales with it"
+    ]
+
+
+def _drive_voltage_notes(v0: float) -> list[str]:
+    """A warning when the drive amplitude ``v0`` [V] lies outside `DRIVE_VOLTAGE_V`: the force of
+    eq 1 scales with V0² and has no breakdown of the air gap in it."""
+    low, high = DRIVE_VOLTAGE_V
+    if low <= v0 <= high:
+        return []
+    why = (
+        f"above the largest drive of the papers ({high:g} V, Vezzoli et al. across a 90 µm insulator; Sirin et al. 75 V, Meyer 140 V): "
+        "the air gap carries part of V0, and a µm air gap breaks down at a few hundred volts (Paschen minimum about 330 V in air at 1 atm), which eq 1's force does not model"
+        if v0 > high
+        else f"below {low:g} V, no electroadhesion drive (Sirin et al. 75 V): likely a unit slip (an SI prefix scales volts: 75m is 0.075 V)"
+    )
+    return [f"v0 = {v0:g} V (--v0) is {why}; analysed as given: the force scales with V0²"]
+
+
+def _gap_breakdown_notes(force: xr.Dataset, u: float, area: float) -> list[str]:
+    """A warning when the air gap's voltage at the peak of the median force (with EP), V_gap =
+    u √(2F/(ε0 A)) (eq 1 solved for it), exceeds `AIR_BREAKDOWN_V`: such a gap breaks down."""
+    peak = force.sel(branch="with_ep")["median"]
+    i = int(np.argmax(peak.values))
+    v_gap = u * math.sqrt(2.0 * float(peak[i]) / (EPSILON_0 * area))
+    if not v_gap > AIR_BREAKDOWN_V:
+        return []
+    return [
+        f"at the force's peak ({format_frequency(float(peak['frequency'][i]))}) the air gap carries {v_gap:.3g} V across u = {u * 1e6:.3g} µm, above the "
+        f"~{AIR_BREAKDOWN_V:g} V at which air breaks down (Paschen minimum, 1 atm): the gap would spark, which eq 1's force does not model; check --v0 (Python: v0)"
     ]
 
 
@@ -648,6 +674,59 @@ def _check_hierarchical_trials(remaining: xr.Dataset) -> None:
         raise DataError("total: a single spectrum; per-trial remainders need trials as an extra dimension; use --pooled (Python: method='pooled') for single spectra")
     if n_trials < 3:
         raise DataError(f"the hierarchical gap analysis needs at least 3 total trials, got {n_trials}; use --pooled (Python: method='pooled')")
+
+
+def trial_remainder_sigma(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dataset) -> np.ndarray | None:
+    """The noise sd [Ω] (frequency,) of one total trial's remainder Z_total,t − mean Z_skin −
+    mean Z_TS, for Re and Im alike: σ_k² = s_total,k² + SEM_skin,k² + SEM_TS,k², the total
+    trials' own scatter (sample sd) plus the two subtracted means' standard errors (each as
+    `remaining_impedance` pools Re and Im: √((σ_Re² + σ_Im²)/2)). It matches the hierarchical
+    likelihood's noise, |Z_tk| ν_k from the trials' scatter plus the shared error of the
+    subtracted means (`impedax.fitting.bayes.hierarchical`), so the per-trial least-squares fits
+    that centre its priors weight the points as it does. None when σ is zero at some frequency
+    (no input scatters there: a zero sd cannot weight a fit)."""
+    means = [trial_mean(ds) for ds in (total, skin, touchscreen)]
+    n_total = means[0].attrs["n_trials"]
+    if n_total < 2:
+        return None
+    scale = (n_total, 1, 1)  # the total's SEM × √n is one trial's sd; the subtracted means keep their SEM
+    var = sum(k * (m["sigma_real"].values ** 2 + m["sigma_imag"].values ** 2) / 2.0 for k, m in zip(scale, means))
+    sigma = np.sqrt(var)
+    return sigma if bool(np.all(sigma > 0)) else None
+
+
+# the per-trial fits centre the hierarchical priors of μ at their median, N(ln θ̂, 2²): a median
+# this many prior sds (in ln) from the fit of the trial mean puts that fit outside the prior's
+# 95 % range (±1.96 sd), where the sampler can hardly reach it
+_CENTRE_OFF_SDS = 1.96
+
+
+def _per_trial_centre_notes(batch, edl, reparametrization, per_trial) -> list[str]:
+    """A warning for each per-trial quantity whose per-trial fits' median lies beyond
+    `_CENTRE_OFF_SDS` prior sds (ln) of the EDL fit of the trial mean: that median centres the
+    prior of its population median, which then barely reaches the pooled value (noise-dominated
+    trials fitted to R_EP ~ 1e12 Ω for 5e7 Ω on SYNTHETIC data weighted by |Z|)."""
+    from ..fitting.bayes.hierarchical import MU_PRIOR_SD
+
+    values = {str(p): batch.dataset["value"].sel(param=p).values.ravel() for p in batch.dataset["param"].values}
+    pooled = {k: np.asarray([v], float) for k, v in edl.values.items()}
+    if reparametrization is not None and reparametrization.inverse is not None:
+        values.update(reparametrization.inverse({n: values[n] for n in reparametrization.replaces}, reparametrization.constant_values))
+        pooled.update(reparametrization.inverse({n: pooled[n] for n in reparametrization.replaces}, reparametrization.constant_values))
+    notes = []
+    for name in per_trial:
+        trial_values, pooled_value = np.asarray(values[name], float), float(np.asarray(pooled[name]).ravel()[0])
+        if not (np.all(trial_values > 0) and pooled_value > 0):
+            continue
+        median = float(np.exp(np.median(np.log(trial_values))))
+        off = abs(math.log(median / pooled_value)) / MU_PRIOR_SD
+        if off > _CENTRE_OFF_SDS:
+            notes.append(
+                f"the per-trial fits put {name} at {median:.3g} (median of {trial_values.size} trials) but the fit of the trial mean at {pooled_value:.3g}, "
+                f"{off:.1f} prior sds (ln) apart: that median centres the prior of the population's {name} (normal in ln, sd {MU_PRIOR_SD:g}), which hardly reaches the mean's value; "
+                "single trials may be too noisy for this model (compare --pooled)"
+            )
+    return notes
 
 
 def _has_bounds(remaining: xr.Dataset) -> bool:
@@ -754,7 +833,11 @@ def _hierarchical(total, skin, touchscreen, remaining, paper, naive, edl, circui
     per_trial = ("u",) + tuple(n for n in _EP_PER_TRIAL if n in free)
     n_trials = int(np.prod([n for d, n in trials["Z"].sizes.items() if d != "frequency"]))
     announce(f"gap: fitting the EDL model to each of the {n_trials} total trials …", progress)
-    batch = fit(circuit, trials, init=dict(edl.values), weighting="modulus")
+    sigma = trial_remainder_sigma(total, skin, touchscreen)
+    if sigma is not None:
+        trials = trials.assign(sigma=(trials["Z"].dims, np.broadcast_to(sigma, trials["Z"].shape).copy(), {"units": "ohm"}))
+    batch = fit(circuit, trials, init=dict(edl.values), weighting="modulus" if sigma is None else "sigma")
+    notes = list(notes) + _per_trial_centre_notes(batch, edl, reparametrization, per_trial)
     announce(f"gap: the hierarchical model, NUTS ({chains} chains, warm-up {warmup} + {steps} draws) …", progress)
     post = sample_hierarchical(circuit, trials, per_trial=per_trial, reparametrization=reparametrization, init=batch, chains=chains, warmup=warmup, draws=steps, seed=seed, progress=progress)
     freq = remaining["frequency"].values
@@ -763,7 +846,8 @@ def _hierarchical(total, skin, touchscreen, remaining, paper, naive, edl, circui
     pop = post.population_parameters()
     step = max(1, post.n_draws // 1000)
     force = _force_bands({k: v[::step] for k, v in pop.items()}, freq, z_skin, z_ts, circuit, area=area, v0=v0, eps_gap=eps_gap)
-    notes = list(notes) + _bound_notes(pop["u"], reparametrization, area)
+    notes += _bound_notes(pop["u"], reparametrization, area)
+    notes += _gap_breakdown_notes(force, float(np.median(pop["u"])), area)
     notes += [f"EDL fit: {w}" for w in edl.warnings] + [f"sampling: {w}" for w in post.warnings]
     notes += _estimate_bound_notes("population gap thickness", float(np.median(pop["u"])), paper, remaining)
     known_kk: dict[int, float] = {}

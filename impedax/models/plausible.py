@@ -20,9 +20,22 @@ import math
 from ..data import SI_PREFIXES
 from .meyer import CPE_REFERENCE_HZ, THESIS_PARAMS
 
-__all__ = ["FINGERTIP_AREA_M2", "MEYER_FACTOR", "PARAMETER_UNITS", "plausible_range", "implausible_message", "cpe_capacitance", "implausible_cpe_message"]
+__all__ = ["FINGERTIP_AREA_M2", "DRIVE_VOLTAGE_V", "AIR_BREAKDOWN_V", "MEYER_FACTOR", "PARAMETER_UNITS", "plausible_range", "implausible_message", "cpe_capacitance", "implausible_cpe_message"]
 
 FINGERTIP_AREA_M2 = (1e-6, 1e-2)  # plausible apparent contact of a fingertip: 1 mm² to 100 cm²
+DRIVE_VOLTAGE_V = (1.0, 2e3)
+"""Plausible drive amplitude V0 [V] of a finger's electroadhesion: up to the largest drive of the
+three papers (docs/physics.md), Vezzoli et al.'s 2 kV across a 90 µm insulator (Sirin et al.
+75 V, Meyer 140 V). The air gap carries part of V0 (V_gap = u √(2F/(ε0 A)) from eq 1: about
+87 % at the force's peak on a SYNTHETIC 200 mm², 5 µm contact: 65 kV of a 75 kV drive), and a
+µm air gap breaks down at a few hundred volts (air's Paschen minimum is about 330 V, near 10 µm
+at 1 atm), which eq 1's force does not model. Below 1 V: no drive of the papers,
+and a likely unit slip (75m is 0.075 V). Outside the range: a warning, not an error (the force
+is only ∝ V0², and a test rig may drive other voltages)."""
+AIR_BREAKDOWN_V = 330.0
+"""Air's Paschen minimum [V] at 1 atm (about 327 V, near a 7.5–10 µm gap): no air gap holds more
+without breaking down, and below ~5 µm field emission lowers the breakdown further. A gap
+voltage above it makes eq 1's force (no breakdown in it) unreachable."""
 MEYER_FACTOR = 1e3
 """Meyer's circuit values are plausible within this factor either way of the thesis's."""
 PARAMETER_UNITS = {"C_s": "F", "C_i": "F", "C_sc": "F", "R_sc": "Ω", "R_f": "Ω", "area": "m²", "CPE_sc.Q": "F s^(α−1)", "CPE_sc.alpha": ""}

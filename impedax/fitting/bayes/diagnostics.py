@@ -213,6 +213,7 @@ def prior_edges(
     lower: Sequence[float],
     upper: Sequence[float],
     reductions: Mapping[str, tuple[str, str]] | None = None,
+    bound_causes: Mapping[str, str] | None = None,
 ) -> PriorEdges:
     """The parameters whose posterior piles up against an edge of their prior, as data and as
     a warning for each (`PriorEdges`).
@@ -228,8 +229,11 @@ def prior_edges(
     ``reductions`` (`reducing_bounds`): parameters whose bound makes their element a simpler
     one; piled up there, the data are consistent with that simpler element (a CPE's alpha at 1
     is a capacitor, and alpha > 1 is not physical), not asking for values beyond the bound.
+    ``bound_causes``: {parameter: words} for parameters whose bounds follow an input (a gap
+    thickness's follow the area, `Reparametrization.bound_causes`); piled up at such a bound,
+    the warning points at that input, not at the model.
     """
-    reductions = reductions or {}
+    reductions, bound_causes = reductions or {}, bound_causes or {}
     out, piled_up = [], {}
     for i, n in enumerate(names):
         prior = priors[n]
@@ -258,6 +262,8 @@ def prior_edges(
                 out.append(f"{n} piles up against the {side} tail of its prior {prior} ({where}): the prior, not the data, sets {interval}")
             elif end == bound and reductions.get(n, ("",))[0] == side:
                 out.append(f"{n} piles up against its {side} bound {end:g} ({where}): the bound, not the data, sets {interval}; the data are consistent with {n} = {end:g}, and {reductions[n][1]}")
+            elif end == bound and n in bound_causes:
+                out.append(f"{n} piles up against its {side} bound {end:g} ({where}): the bound, not the data, sets {interval}; the data would take {beyond} values. {bound_causes[n]}")
             elif end == bound:
                 out.append(f"{n} piles up against its {side} bound {end:g} ({where}): the bound, not the data, sets {interval}; the data would take {beyond} values (is the model missing something?)")
             else:
@@ -277,7 +283,9 @@ class PiledUp:
 
     @functools.cached_property
     def _prior_edges(self) -> PriorEdges:
-        return prior_edges(self.names, self.units, self.draws.reshape(-1, len(self.names)), self.priors, *self.bounds, reducing_bounds(self.circuit, self.registry))
+        rp = getattr(self, "reparametrization", None)
+        causes = dict(rp.bound_causes) if rp is not None else {}
+        return prior_edges(self.names, self.units, self.draws.reshape(-1, len(self.names)), self.priors, *self.bounds, reducing_bounds(self.circuit, self.registry), causes)
 
     @property
     def piled_up(self) -> dict[str, str]:

@@ -24,8 +24,9 @@ trials, so it is kept as one shared draw (docs/bayesian.md, "Errors shared by ev
 e_t is each Sirin trial's own skin and screen deviating from those means: a whole spectrum,
 correlated across frequencies, which independent noise would let the trial's parameters absorb.
 
-Priors: μ_j ~ N(ln θ̂_j, 2²) about the median of the per-trial least-squares fits (six decades
-at 95 %); s_j, τ_j ~ half-normal(0.5) and half-normal(``session_spread_scale``); δ ~
+Priors: μ_j ~ N(ln θ̂_j, 2²) about the median of the per-trial least-squares fits (95 % within
+±3.9 in ln, a factor 50 either way: 3.4 decades in all; so those fits must be sound:
+`impedax.models.gap` weights them by each trial's noise); s_j, τ_j ~ half-normal(0.5) and half-normal(``session_spread_scale``); δ ~
 half-normal(0.1); shared positive parameters ln φ ~ N(ln φ̂, 2²), bounded ones uniform within
 their bounds (sampled through a logit).
 
@@ -68,7 +69,8 @@ HIERARCHICAL_PRIORS = {
     "shared": "normal(ln least-squares value, 2) in ln φ for positive φ; uniform within the bounds otherwise",
 }
 
-_MU_SD = 2.0
+MU_PRIOR_SD = 2.0
+"""sd (in ln) of the prior of each population median μ_j about ln θ̂_j (module docstring)."""
 CENTRED_RATIO = 3.0
 """``parameterisation="auto"`` samples a per-trial quantity centred when the median relative
 standard error of its per-trial fits is below 1/CENTRED_RATIO of their spread (sd of ln)."""
@@ -195,7 +197,7 @@ def _half_normal_log(log_x, scale):
 
 
 def _log_density(pos, data: _Data, lay: _Layout, session_scale: float):
-    lp = jnp.sum(-0.5 * ((pos["mu"] - data.mu_center) / _MU_SD) ** 2)
+    lp = jnp.sum(-0.5 * ((pos["mu"] - data.mu_center) / MU_PRIOR_SD) ** 2)
     lp += jnp.sum(_half_normal_log(pos["log_spread"], _SPREAD_SCALE))
     cen, non = _split(lay)
     if cen.size:
@@ -209,7 +211,7 @@ def _log_density(pos, data: _Data, lay: _Layout, session_scale: float):
     y = pos["shared"]
     bounded = jnp.asarray(lay.shared_bounded, dtype=bool)
     # uniform on (lo, hi) through a logistic: ln σ(y) + ln(1 − σ(y)) is the Jacobian
-    lp += jnp.sum(jnp.where(bounded, jax.nn.log_sigmoid(y) + jax.nn.log_sigmoid(-y), -0.5 * ((y - data.shared_center) / _MU_SD) ** 2))
+    lp += jnp.sum(jnp.where(bounded, jax.nn.log_sigmoid(y) + jax.nn.log_sigmoid(-y), -0.5 * ((y - data.shared_center) / MU_PRIOR_SD) ** 2))
     rel2 = data.nu**2
     if lay.discrepancy:
         lp += _half_normal_log(pos["log_delta"], _DELTA_SCALE)
@@ -603,13 +605,13 @@ class HierarchicalPosterior(PiledUp):
 
         for j, n in enumerate(self.trial_names):
             if self.mu_prior_centre is not None:
-                add(n, f"{n} (population median)", self._bounds_and_unit(n)[2], Prior(PriorKind.LOGNORMAL, math.exp(float(self.mu_prior_centre[j])), _MU_SD), 0.0, math.inf, np.exp(self.mu[..., j]))
+                add(n, f"{n} (population median)", self._bounds_and_unit(n)[2], Prior(PriorKind.LOGNORMAL, math.exp(float(self.mu_prior_centre[j])), MU_PRIOR_SD), 0.0, math.inf, np.exp(self.mu[..., j]))
         for j, n in enumerate(self.shared_names):
             lo, hi, unit = self._bounds_and_unit(n)
             if math.isfinite(hi):  # (sampled through a logit: uniform within the bounds, as `_setup`)
                 add(n, n, unit, Prior(PriorKind.UNIFORM, lo, hi), lo, hi, self.shared[..., j])
             elif self.shared_prior_centre is not None:
-                add(n, n, unit, Prior(PriorKind.LOGNORMAL, math.exp(float(self.shared_prior_centre[j])), _MU_SD), 0.0, math.inf, self.shared[..., j])
+                add(n, n, unit, Prior(PriorKind.LOGNORMAL, math.exp(float(self.shared_prior_centre[j])), MU_PRIOR_SD), 0.0, math.inf, self.shared[..., j])
         if not shown:
             return PriorEdges([], {})
         edges = prior_edges(shown, units, np.stack(draws, axis=1), priors, lower, upper, reducing_bounds(self.circuit, self.registry))

@@ -22,13 +22,14 @@ import numpy as np
 
 from ...arguments import number_text
 from ...errors import ArgumentNeeded, ParameterError
-from ...constants import EPSILON_0, EPSILON_AIR
+from ...constants import C_GAP_BOUNDS_F, EPSILON_0, EPSILON_AIR
 
 __all__ = [
     "Reparametrization",
     "ReparametrizationKind",
     "rebuild",
     "gap_thickness_reparametrization",
+    "gap_thickness_bounds",
     "stratum_corneum_reparametrization",
     "EPSILON_0",
 ]
@@ -64,6 +65,9 @@ class Reparametrization:
     inverse: Callable | None = field(default=None, compare=False)
     kind: ReparametrizationKind = ReparametrizationKind.CUSTOM
     description: str = field(default="", compare=False)
+    # (name, words) for a new parameter whose bound is set by an input, not by physics: its
+    # pile-up warning names that input instead of asking whether the model lacks something
+    bound_causes: tuple[tuple[str, str], ...] = field(default=(), compare=False)
 
     def __post_init__(self):
         if self.kind not in set(ReparametrizationKind):
@@ -114,17 +118,42 @@ class Reparametrization:
 # --- the air gap (Sirin et al.) --------------------------------------------------------------
 
 
-def gap_thickness_reparametrization(element: str = "C_gap", *, area: float, eps_r: float = EPSILON_AIR, name: str = "u", lower: float = 1e-9, upper: float = 1e-3) -> Reparametrization:
+LEGACY_GAP_BOUNDS_M = (1e-9, 1e-3)
+"""The bounds of u [m] every area had before 2026-12-01 (1 nm–1 mm): a posterior saved then
+without its bounds is rebuilt with them (`rebuild`)."""
+
+
+def gap_thickness_bounds(area: float, eps_r: float = EPSILON_AIR) -> tuple[float, float]:
+    """Bounds (lower, upper) of the gap thickness u [m] for ``area`` A [m²]: u = ε0 ε_r A/C at
+    the upper and lower ends of `C_GAP_BOUNDS_F` (1 fF–100 µF), so every area bounds C_gap alike
+    and the same data give the same C_gap whatever the area (11.5 pm–1.15 m at 130 mm²)."""
+    _check_positive(area=area, eps_r=eps_r)
+    c_low, c_high = C_GAP_BOUNDS_F
+    return EPSILON_0 * eps_r * area / c_high, EPSILON_0 * eps_r * area / c_low
+
+
+def gap_thickness_reparametrization(element: str = "C_gap", *, area: float, eps_r: float = EPSILON_AIR, name: str = "u", lower: float | None = None, upper: float | None = None) -> Reparametrization:
     """Sample the air-gap thickness u [m] behind the capacitor ``element``:
     C_gap = ε0 ε_r A / u (parallel plates; Sirin et al., with ε_gap = 1.00059 for air).
-    ``area`` A in m² (Sirin: 130 mm² = 1.3e-4 m²); u is bounded to (``lower``, ``upper``).
+    ``area`` A in m² (Sirin: 130 mm² = 1.3e-4 m²); u is bounded to (``lower``, ``upper``),
+    by default `gap_thickness_bounds` (C_gap within 1 fF–100 µF: the bounds follow the area, as
+    ``impedax gap``'s). u piled up at a bound means C_gap at 1 fF or 100 µF, or an ``area`` in
+    the wrong unit: the warning says so (`bound_causes`).
     """
     _check_positive(area=area, eps_r=eps_r)
+    default_lower, default_upper = gap_thickness_bounds(area, eps_r)
+    lower = default_lower if lower is None else lower
+    upper = default_upper if upper is None else upper
+    cause = (
+        f"{element} = ε0·ε_r·A/{name} with A = {area:g} m² ({area * 1e6:g} mm²) and ε_r = {eps_r:g}: a {name} at a bound of its range means {element} at "
+        f"{EPSILON_0 * eps_r * area / lower:.3g} F or {EPSILON_0 * eps_r * area / upper:.3g} F; check the area's unit first (m²; "
+        "200 mm² is 200e-6), then the bounds (lower=, upper=) and the data"
+    )
     return Reparametrization(
         names=(name,), units=("m",), lower=(float(lower),), upper=(float(upper),), replaces=(element,),
         forward=_GapMap(element, name), constants=(("area", float(area)), ("eps_r", float(eps_r))),
         inverse=_GapMap(element, name).inverse, kind=ReparametrizationKind.GAP_THICKNESS,
-        description=f"{element} = ε0·ε_r·A/{name} (A = {area:g} m², ε_r = {eps_r:g})",
+        description=f"{element} = ε0·ε_r·A/{name} (A = {area:g} m², ε_r = {eps_r:g})", bound_causes=((name, cause),),
     )
 
 
@@ -184,7 +213,8 @@ def rebuild(description: Mapping) -> Reparametrization:
     """A built-in reparametrization from its `Reparametrization.describe` form."""
     kind, constants, replaces, names = description["kind"], dict(description["constants"]), list(description["replaces"]), list(description["names"])
     if kind == ReparametrizationKind.GAP_THICKNESS:
-        bounds = {k: description[k][0] for k in ("lower", "upper") if k in description}  # (saved before 2026-11-29: the default bounds)
+        bounds = dict(zip(("lower", "upper"), LEGACY_GAP_BOUNDS_M))  # (saved before 2026-11-29 without them: the default bounds of then)
+        bounds.update({k: description[k][0] for k in ("lower", "upper") if k in description})
         return gap_thickness_reparametrization(replaces[0], area=constants["area"], eps_r=constants["eps_r"], name=names[0], **bounds)
     if kind == ReparametrizationKind.STRATUM_CORNEUM:
         return stratum_corneum_reparametrization(replaces[0], replaces[1], area=constants["area"], d_start=constants["d_start"], names=tuple(names))
