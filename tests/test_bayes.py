@@ -816,3 +816,21 @@ def test_the_bounds_of_init_and_of_bounds_are_the_sampled_space(rcpe, tmp_path):
             ix.sample(text, data, init=bounded, steps=20, progress=False, **options)
     with pytest.raises(ix.ParameterError, match="takes no init, bounds or reparametrization"):
         ix.sample(text, data, shared=["R0"], bounds={"R1": (1.0, 2.0)}, steps=20, progress=False)
+
+
+def test_a_gap_thickness_of_metres_is_told_to_check_the_area_s_unit():
+    """R_EP ∥ C_gap written in numpy (C_gap = 354 pF: u = 5 µm at 200 mm²). Sampled with
+    area=200.0 (m² for mm²), u's area-following bounds hold u = ε0 ε A/C ≈ 5 m without piling
+    up, and nothing was said; now a note asks to check the area's unit. With 200e-6 m², none."""
+    from impedax.fitting.bayes.reparam import gap_thickness_reparametrization
+
+    f = np.geomspace(1, 1e6, 25)
+    z = 1 / (1 / 5e7 + 1j * 2 * np.pi * f * 354e-12)
+    data = ix.make_spectrum(f, z * (1 + 0.01 * np.random.default_rng(0).normal(size=f.size)))
+    slipped = ix.sample("R_EP || C_gap", data, reparametrization=gap_thickness_reparametrization(area=200.0), steps=40, progress=False)
+    u = float(np.median(slipped.draws[..., slipped.names.index("u")]))
+    assert u == pytest.approx(8.8541878128e-12 * 1.00059 * 200.0 / 354e-12, rel=0.1)
+    (note,) = [w for w in slipped.warnings if "is no air gap" in w]
+    assert "check the area's unit first, A = 200 m² (2e+08 mm²" in note
+    right = ix.sample("R_EP || C_gap", data, reparametrization=gap_thickness_reparametrization(area=200e-6), steps=40, progress=False)
+    assert not any("is no air gap" in w for w in right.warnings)

@@ -29,7 +29,7 @@ from .chain import capped_at, length_text
 from .diagnostics import CHAIN_TAU_MULTIPLE, PiledUp, chain_warnings, figure, hdi, integrated_autocorr, interval_warnings
 from .logprob import NOISE_MODELS, NoiseModel
 from .priors import Prior
-from .reparam import Reparametrization, rebuild
+from .reparam import Reparametrization, implausible_gap_notes, rebuild
 
 __all__ = ["Posterior"]
 
@@ -155,6 +155,7 @@ class Posterior(PiledUp):
         out = chain_warnings(self.names, self.log_scale, self._sampled_space, self.autocorr, self.settings.get("thin", 1), self.mean_acceptance, step_cap=capped_at(self.settings))
         out.extend(self._prior_edges.warnings)
         out.extend(self._interval_warnings())
+        out.extend(implausible_gap_notes(self.reparametrization, {n: float(np.median(self.draws[..., i])) for i, n in enumerate(self.names)}))
         out.extend(self.notes)
         out.extend(f"least-squares start: {w}" for w in self.fit.warnings)
         return tuple(out)

@@ -30,6 +30,8 @@ __all__ = [
     "rebuild",
     "gap_thickness_reparametrization",
     "gap_thickness_bounds",
+    "implausible_gap_notes",
+    "PLAUSIBLE_GAP_M",
     "stratum_corneum_reparametrization",
     "EPSILON_0",
 ]
@@ -121,6 +123,29 @@ class Reparametrization:
 LEGACY_GAP_BOUNDS_M = (1e-9, 1e-3)
 """The bounds of u [m] every area had before 2026-12-01 (1 nm–1 mm): a posterior saved then
 without its bounds is rebuilt with them (`rebuild`)."""
+
+
+PLAUSIBLE_GAP_M = LEGACY_GAP_BOUNDS_M
+"""The air gaps a contact can hold (1 nm–1 mm: the papers' 0.1–10 µm with wide margins), far
+inside `gap_thickness_bounds`, which follow the area and bound C_gap, not u: a posterior median
+of u outside them is told to check the area's unit (`implausible_gap_notes`)."""
+
+
+def implausible_gap_notes(rp: Reparametrization | None, medians: Mapping[str, float]) -> list[str]:
+    """A note for a gap thickness (``rp`` of kind `GAP_THICKNESS`) whose posterior median
+    (``medians``: name → value) lies outside `PLAUSIBLE_GAP_M`: with ``area=200.0`` (m² for mm²)
+    the sampler found u = 5.14 m, inside its area-following bounds, and said nothing."""
+    if rp is None or rp.kind != ReparametrizationKind.GAP_THICKNESS:
+        return []
+    name, area = rp.names[0], dict(rp.constants).get("area", math.nan)
+    u = float(medians.get(name, math.nan))
+    low, high = PLAUSIBLE_GAP_M
+    if not math.isfinite(u) or low <= u <= high:
+        return []
+    return [
+        f"{name} = {u:.3g} m (posterior median) is no air gap ({low:g}–{high:g} m is): check the area's unit first, A = {area:g} m² ({area * 1e6:g} mm²; "
+        "200 mm² is 200e-6 m²), then the data"
+    ]
 
 
 def gap_thickness_bounds(area: float, eps_r: float = EPSILON_AIR) -> tuple[float, float]:
