@@ -564,8 +564,9 @@ def test_trial_remainder_sigma_is_a_trials_scatter_plus_the_subtracted_means_sem
 
 def test_per_trial_fits_are_weighted_by_each_trials_noise(monkeypatch):
     """The per-trial fits weighted by |Z| put R_EP at 1e11–1e12 Ω on noise-dominated trials (their
-    median then centres the prior of the population's R_EP 5 prior sds from the truth); weighted by
-    each trial's σ (`trial_remainder_sigma`) every trial's R_EP lies near the generating 5e7 Ω."""
+    median then centres the prior of the population's R_EP 5 prior sds from the truth); those
+    strays are fitted again weighted by each trial's σ (`trial_remainder_sigma`), and every
+    trial's R_EP lies near the generating 5e7 Ω."""
     import impedax.fitting.bayes.hierarchical as hierarchical
     from impedax.fitting import fit
     from impedax.models.gap import trial_remainder_sigma
@@ -581,10 +582,10 @@ def test_per_trial_fits_are_weighted_by_each_trials_noise(monkeypatch):
     with pytest.raises(_Stop):
         gap_analysis(total, skin, ts, area=200e-6, progress=False)
     batch, data = seen["init"], seen["data"]
-    np.testing.assert_allclose(data["sigma"].values, np.broadcast_to(trial_remainder_sigma(total, skin, ts), data["Z"].shape))
+    np.testing.assert_allclose(batch.dataset["sigma"].values, np.broadcast_to(trial_remainder_sigma(total, skin, ts), batch.dataset["sigma"].shape))
     r_ep = batch.dataset["value"].sel(param="R_EP").values
     assert batch.weighting == "sigma" and np.all(np.abs(np.log(r_ep / R_EP_TRUE)) < np.log(1.3)), r_ep
-    by_modulus = fit(batch.circuit, data.drop_vars("sigma"), init=dict(zip(batch.dataset["param"].values.tolist(), np.median(batch.dataset["value"].values, axis=1))), weighting="modulus")
+    by_modulus = fit(batch.circuit, data, init=dict(zip(batch.dataset["param"].values.tolist(), np.median(batch.dataset["value"].values, axis=1))), weighting="modulus")
     assert np.median(by_modulus.dataset["value"].sel(param="R_EP").values) > 100 * R_EP_TRUE  # (the data reproduce the fault)
 
 

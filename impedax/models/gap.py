@@ -833,11 +833,14 @@ def _hierarchical(total, skin, touchscreen, remaining, paper, naive, edl, circui
     per_trial = ("u",) + tuple(n for n in _EP_PER_TRIAL if n in free)
     n_trials = int(np.prod([n for d, n in trials["Z"].sizes.items() if d != "frequency"]))
     announce(f"gap: fitting the EDL model to each of the {n_trials} total trials …", progress)
-    sigma = trial_remainder_sigma(total, skin, touchscreen)
-    if sigma is not None:
-        trials = trials.assign(sigma=(trials["Z"].dims, np.broadcast_to(sigma, trials["Z"].shape).copy(), {"units": "ohm"}))
-    batch = fit(circuit, trials, init=dict(edl.values), weighting="modulus" if sigma is None else "sigma")
-    notes = list(notes) + _per_trial_centre_notes(batch, edl, reparametrization, per_trial)
+    batch = fit(circuit, trials, init=dict(edl.values), weighting="modulus")
+    strays = _per_trial_centre_notes(batch, edl, reparametrization, per_trial)
+    sigma = trial_remainder_sigma(total, skin, touchscreen) if strays else None
+    if sigma is not None:  # (|Z| weighting let noise-dominated bands move the trials' fits: weight them as the likelihood does)
+        weighted = trials.assign(sigma=(trials["Z"].dims, np.broadcast_to(sigma, trials["Z"].shape).copy(), {"units": "ohm"}))
+        batch = fit(circuit, weighted, init=dict(edl.values), weighting="sigma")
+        strays = _per_trial_centre_notes(batch, edl, reparametrization, per_trial)
+    notes = list(notes) + strays
     announce(f"gap: the hierarchical model, NUTS ({chains} chains, warm-up {warmup} + {steps} draws) …", progress)
     post = sample_hierarchical(circuit, trials, per_trial=per_trial, reparametrization=reparametrization, init=batch, chains=chains, warmup=warmup, draws=steps, seed=seed, progress=progress)
     freq = remaining["frequency"].values
