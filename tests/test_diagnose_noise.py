@@ -743,6 +743,7 @@ def test_a_candidate_behind_a_refitted_leader_it_contains_is_restarted_from_it()
     assert best.fit.chi2 <= nested.fit.chi2
 
 
+@pytest.mark.slow  # (22 s in the suite: make test-all runs it)
 def test_a_baseline_stuck_short_of_its_optimum_is_refitted_before_an_effect_is_named():
     # the correct 9-element ladder (SYNTHETIC draw, 1 % noise growing toward low frequency):
     # the baseline's starts (24 copies then) stopped at 2.84 % where `impedax fit` of the same

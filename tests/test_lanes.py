@@ -81,6 +81,7 @@ def rows_padded(rows, capacity):
     return SpectrumRows(*(np.concatenate([v, np.repeat(v[:1], capacity - len(v), axis=0)]) for v in rows))
 
 
+@pytest.mark.slow  # (11 s; the cold-lanes test below keeps the lanes against a single fit in the default suite)
 def test_lanes_reproduce_the_plain_solver_problem_by_problem(problems):
     z, u0, rows, shared, lanes = problems
     budget = np.full(len(z), 400)

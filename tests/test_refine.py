@@ -172,6 +172,7 @@ def test_every_step_of_a_refinement_is_judged_on_the_same_points():
     assert r.final.rms_rel == pytest.approx(ix.fit(r.final_model, used).rms_rel, rel=1e-6)
 
 
+@pytest.mark.slow  # (15 s in the suite: make test-all runs it)
 def test_a_first_step_in_the_wrong_place_is_revisited():
     """SYNTHETIC: a Randles cell with a CPE, R0 + (R1 + W) ∥ CPE, written here (W = σ(1 − j)/√ω,
     CPE = 1/(Q (jω)^α)), 0.5 % noise, refined from R0 + R1 ∥ C1. The first diagnosis ranks the
