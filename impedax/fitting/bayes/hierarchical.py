@@ -26,7 +26,8 @@ correlated across frequencies, which independent noise would let the trial's par
 
 Priors: μ_j ~ N(ln θ̂_j, 2²) about the median of the per-trial least-squares fits (95 % within
 ±3.9 in ln, a factor 50 either way: 3.4 decades in all; so those fits must be sound:
-`impedax.models.gap` weights them by each trial's noise); s_j, τ_j ~ half-normal(0.5) and half-normal(``session_spread_scale``); δ ~
+`impedax.models.gap` refits them weighted by each trial's noise where they stray from the trial
+mean's fit); s_j, τ_j ~ half-normal(0.5) and half-normal(``session_spread_scale``); δ ~
 half-normal(0.1); shared positive parameters ln φ ~ N(ln φ̂, 2²), bounded ones uniform within
 their bounds (sampled through a logit).
 

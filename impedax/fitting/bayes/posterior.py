@@ -24,7 +24,7 @@ from ...data import checked_frequencies, column_width, concise_repr, unit_text
 from ...errors import DataError, ParameterError
 from ..derived import QUANTILES, draw_indices, draws_band, needs_freq
 from ..least_squares import FitResult
-from ..least_squares.result import stored_bounds
+from ..least_squares.result import bounds_attr, stored_bounds
 from .chain import capped_at, length_text
 from .diagnostics import CHAIN_TAU_MULTIPLE, PiledUp, chain_warnings, figure, hdi, integrated_autocorr, interval_warnings
 from .logprob import NOISE_MODELS, NoiseModel
@@ -397,8 +397,8 @@ class Posterior(PiledUp):
             "notes": list(self.notes),
             "warnings": list(self.warnings),
             "reparametrization": self.reparametrization.describe() if self.reparametrization is not None else None,
-            "fit": {"weighting": fr.weighting, "chi2": fr.chi2, "converged": fr.converged, "message": fr.message, "n_evaluations": fr.n_evaluations, "warnings": list(fr.warnings), "n_starts": fr.n_starts, "elapsed_s": fr.elapsed_s, "at_bound": list(fr.at_bound), "unidentified_groups": [list(g) for g in fr.unidentified_groups], "bounds": {n: [float(lo), float(hi)] for n, (lo, hi) in fr.bounds.items()}},
-            "user_bounds": {n: [float(lo), float(hi)] for n, (lo, hi) in self.user_bounds.items()},
+            "fit": {"weighting": fr.weighting, "chi2": fr.chi2, "converged": fr.converged, "message": fr.message, "n_evaluations": fr.n_evaluations, "warnings": list(fr.warnings), "n_starts": fr.n_starts, "elapsed_s": fr.elapsed_s, "at_bound": list(fr.at_bound), "unidentified_groups": [list(g) for g in fr.unidentified_groups], "bounds": bounds_attr(fr.bounds)},
+            "user_bounds": bounds_attr(self.user_bounds),
         }
         coords = {
             "walker": np.arange(self.n_walkers),

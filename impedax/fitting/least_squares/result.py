@@ -14,6 +14,7 @@ import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
 from ...data import checked_frequencies, column_width, concise_repr, format_quantity, format_relative_error, unit_text
+from ...errors import DataError
 from ..kk import kk_verdicts
 from ..parameters import ParameterTable, data_scales
 from ..statistics import covariances, information_criteria, non_passive, uncertainties
@@ -25,12 +26,19 @@ __all__ = [
     "FitResult", "fit_result", "fit_notes", "parameter_groups", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes",
     "misfit_notes", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "SIGN_HINT_LEAD", "MODEL_MISFIT_OVER_CONSISTENT", "SIGMA_EXCEEDED", "gross_misfits", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
     "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "without_error", "STDERR_NOTE", "LINEARISED_STDERR_NAME", "data_difference", "stored_bounds", "user_bounds",
-    "embedded_fit", "fit_from_embedded",
+    "embedded_fit", "fit_from_embedded", "bounds_attr",
 ]
 
+
+def bounds_attr(bounds) -> dict[str, list[float]]:
+    """User bounds (name → (lower, upper)) as a JSON- and netCDF-attribute value (name →
+    [lower, upper]); `stored_bounds` reads it back."""
+    return {n: [float(lo), float(hi)] for n, (lo, hi) in bounds.items()}
+
+
 def stored_bounds(stored) -> dict[str, tuple[float, float]]:
-    """A fit's user bounds as stored in an attribute (name → [lower, upper]); none in a file
-    written before 2026-12-01."""
+    """A fit's user bounds as stored in an attribute (`bounds_attr`); none in a file written
+    before 2026-12-01."""
     return {str(n): (float(lo), float(hi)) for n, (lo, hi) in dict(stored or {}).items()}
 
 
@@ -309,7 +317,7 @@ class FitResult:
                 "chi2_red": self.chi2_red, "aic": self.aic, "bic": self.bic, "converged": int(self.converged),
                 "message": self.message, "warnings": list(self.warnings), "unidentified_groups": [list(g) for g in self.unidentified_groups],
                 "n_evaluations": int(self.n_evaluations), "n_starts": int(self.n_starts), "elapsed_s": float(self.elapsed_s),
-                "bounds": {n: [float(lo), float(hi)] for n, (lo, hi) in self.bounds.items()},
+                "bounds": bounds_attr(self.bounds),
             },
         )
 
@@ -381,8 +389,6 @@ def fit_from_embedded(ds: xr.Dataset, prefix: str, *, registry: Registry | None 
     or read back with `impedax.io.read_netcdf`)."""
     names = {name: name[len(prefix):] for name in ds.variables if str(name).startswith(prefix)}
     if not names:
-        from ...errors import DataError  # (rarely needed)
-
         raise DataError(f"no fit stored under {prefix!r} (variables {prefix}value, {prefix}covariance, ...)", path=ds.encoding.get("source"))
     fit_ds = ds[[n for n in names if n in ds.data_vars]].rename(names)
     if "Z" not in fit_ds.variables:  # (the host's points and data: `embedded_fit` left them to it)
@@ -392,11 +398,11 @@ def fit_from_embedded(ds: xr.Dataset, prefix: str, *, registry: Registry | None 
     return FitResult.from_xarray(fit_ds, registry=registry)
 
 
-# what `FitResult.to_xarray` says of its stderr, covariance and correlation (docs/fitting.md,
-# "Standard errors at a bound")
 RESIDUAL_LONG_NAME = "(Z_model - Z_data)/|Z_data|"
 """The sign of `FitResult.residuals`, model minus data, as the ``long_name`` of ``residual_rel``
 (the KK test's and the DRT's are data minus fit: docs/physics.md, "Goodness of fit")."""
+# what `FitResult.to_xarray` says of its stderr, covariance and correlation (docs/fitting.md,
+# "Standard errors at a bound")
 STDERR_NOTE = "NaN: fixed, or at a bound (no symmetric standard error there); inf: a vanishing term's parameter"
 COVARIANCE_NOTE = "the linearisation with every free parameter free, the bounds ignored"
 LINEARISED_STDERR_NAME = "stderr with a parameter at a bound given the linearisation's (bounds ignored): not a ± error there, the scale of chi2's curvature"
