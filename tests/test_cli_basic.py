@@ -144,6 +144,33 @@ def test_info_table_writes_units_as_symbols(capsys):
     assert json.loads(capsys.readouterr().out)["parameters"][0]["unit"] == "Ohm"
 
 
+@pytest.mark.parametrize("argv", [
+    ["simulate", "R0 + R1 || C1", "--param", "R0=10", "R1=1k", "C1=1u", "--points", "5"],
+    ["simulate", "--param", "R0=10", "R1=1k", "C1=1u", "R0 + R1 || C1", "--points", "5"],  # MODEL after the values stays MODEL
+    ["simulate", "R0 + R1 || C1", "--param=R0=10", "R1=1k", "--param", "C1=1u", "--points", "5"],
+])
+def test_several_name_value_after_one_param(capsys, argv):
+    """The README's `--param NAME=VALUE ...`: several values after one --param, as repeated
+    --param. Oracle: R0 + R1/(1 + jωR1C1) written out."""
+    assert main(argv) == 0
+    rows = np.array([[float(v) for v in ln.split(",")] for ln in capsys.readouterr().out.strip().splitlines()[1:]])
+    z = 10 + 1e3 / (1 + 1j * 2 * np.pi * rows[:, 0] * 1e3 * 1e-6)
+    np.testing.assert_allclose(rows[:, 1] + 1j * rows[:, 2], z, rtol=1e-12)
+
+
+def test_force_takes_several_name_value_after_one_param_and_a_stray_value_names_param(capsys):
+    """force: one --param with two values gives the force of both (Vezzoli eq 10 by hand, Fig 8's
+    1 µm insulator at 140 V, Table 2's rest); a NAME=VALUE without --param says to give it one."""
+    assert main(["force", "--param", "h_i=1u", "v_m=140", "vezzoli", "--fmin", "440", "--fmax", "440", "--points", "1"]) == 0
+    force = float(capsys.readouterr().out.splitlines()[1].split(",")[1])
+    e0, wt = 8.8541878128e-12, 2 * np.pi * 440 * 8.8541878128e-12 * 2340 * 3e4
+    assert force == pytest.approx(e0 * 1e-4 * 140**2 / (4 * (1e-6 + 350e-6) * (1e-6 / 3.35 + 350e-6 / 2340)) * wt**2 / (1 + wt**2), rel=1e-9)
+    with pytest.raises(SystemExit) as info:
+        main(["simulate", "R0 + C1", "R0=5", "C1=1u"])
+    err = capsys.readouterr().err
+    assert info.value.code == 2 and "unrecognized arguments: R0=5 C1=1u; a parameter value follows --param: --param R0=5 C1=1u" in err
+
+
 def test_commands_with_a_positional_model_take_the_model_option_too(capsys, tmp_path):
     """`simulate`, `info` and `draw` take MODEL as their first argument; `--model X` and
     `--model=X` (as `fit`, `diagnose` and the others take it) mean the same."""

@@ -267,6 +267,66 @@ def test_force_plausible_values_and_no_param_check(capsys):
     assert code == 0 and "warning: --param C_sc=2.2" in err
 
 
+def test_force_drive_and_vezzoli_ranges_come_from_the_papers():
+    """Oracle: the papers' numbers (docs/physics.md). Drives: gap's 1 V–2 kV. Vezzoli: h_i 10×
+    beyond 1 µm (Figs 8–10) and 90 µm (Table 2), h_s 10× beyond Fig 8's 100–500 µm, rho_s 100×
+    either way of Table 2's 3.0e4 Ω m, whose eq 8 corners 1/(2π ε0 ε_s ρ_s) then span the paper's
+    100 Hz–10 kHz."""
+    from impedax.models import gap, plausible
+
+    assert plausible.plausible_range("meyer", "v_a") == plausible.plausible_range("vezzoli", "v_m") == gap.DRIVE_VOLTAGE_V == (1.0, 2e3)
+    np.testing.assert_allclose(plausible.plausible_range("vezzoli", "h_i"), (1e-6 / 10, 90e-6 * 10))
+    np.testing.assert_allclose(plausible.plausible_range("vezzoli", "h_s"), (100e-6 / 10, 500e-6 * 10))
+    np.testing.assert_allclose(plausible.plausible_range("vezzoli", "rho_s"), (3.0e4 / 100, 3.0e4 * 100))
+    corners = [1 / (2 * np.pi * 8.8541878128e-12 * 2340 * rho) for rho in plausible.plausible_range("vezzoli", "rho_s")]
+    assert corners[1] < 100 and corners[0] > 10e3
+    assert plausible.plausible_range("vezzoli", "v_a") is None and plausible.plausible_range("meyer", "h_i") is None
+
+
+def _eq10(freq, *, h_i=90e-6, h_s=350e-6, area=1e-4, eps_i=3.35, eps_s=2340.0, rho_s=3.0e4, v_m=2000.0):
+    """Vezzoli eq 10 by hand (docs/physics.md), Table 2 defaults."""
+    wt = 2 * np.pi * freq * 8.8541878128e-12 * eps_s * rho_s
+    return 8.8541878128e-12 * area * v_m**2 / (4 * (h_i + h_s) * (h_i / eps_i + h_s / eps_s)) * wt**2 / (1 + wt**2)
+
+
+@pytest.mark.parametrize("model, param, fragments", [
+    ("meyer", "v_a=140k", ["v_a = 140 kV is implausible", "plausible 1 V–2 kV", "140 (140 V) was likely meant"]),
+    ("meyer", "v_a=0.14", ["v_a = 140 mV is implausible", "plausible 1 V–2 kV", "140 (140 V) was likely meant"]),
+    ("vezzoli", "v_m=2M", ["v_m = 2 MV is implausible", "plausible 1 V–2 kV", "2k (2 kV) was likely meant"]),
+    ("vezzoli", "h_i=90", ["h_i = 90 m is implausible", "plausible 100 nm–900 µm", "90u (90 µm) was likely meant"]),
+    ("vezzoli", "h_s=350", ["h_s = 350 m is implausible", "plausible 10 µm–5 mm", "350u (350 µm) was likely meant"]),
+    ("vezzoli", "rho_s=30", ["rho_s = 30 Ω m is implausible", "plausible 300 Ω m–3 MΩ m", "30k (30 kΩ m) was likely meant"]),
+])
+def test_force_warns_of_an_implausible_drive_thickness_or_resistivity_and_computes(capsys, model, param, fragments):
+    """A unit slip in the drive, a thickness or the resistivity is warned about (stderr and the
+    JSON's warnings, naming the --param, its value with unit and the range), not refused."""
+    code, out, err = _run(["force", model, "--param", param, "--fmin", "440", "--fmax", "440", "--points", "1", "--json"], capsys)
+    assert code == 0
+    document = json.loads(out)
+    [warning] = [w for w in document["warnings"] if "implausible" in w]
+    assert warning.startswith(f"--param {param.split('=')[0]}=") and "most likely a unit slip" in warning
+    assert all(f in warning for f in fragments), warning
+    assert f"warning: {warning}" in err
+    if model == "vezzoli":  # computed as given: eq 10 with the slipped value
+        name, value = param.split("=")
+        given = {"v_m": 2e6, "h_i": 90.0, "h_s": 350.0, "rho_s": 30.0}[name]
+        assert document["force_n"][0] == pytest.approx(_eq10(440.0, **{name: given}), rel=1e-9)
+
+
+def test_force_paper_values_give_no_plausibility_warning_and_eq8_warning_stays(capsys):
+    """Fig 8's 1 µm insulator is plausible (no unit-slip warning) yet outside eq 8's C_i ≪ C_s:
+    C_i/C_s = 3.35·350/(2340·1) = 0.501, still warned about; Table 2 and 140 V warn of nothing."""
+    code, out, _ = _run(["force", "vezzoli", "--param", "h_i=1u", "--fmin", "440", "--fmax", "440", "--points", "1", "--json"], capsys)
+    assert code == 0
+    [warning] = json.loads(out)["warnings"]
+    assert "C_i/C_s = ε_i h_s/(ε_s h_i) = 0.501" in warning and "implausible" not in warning
+    code, out, _ = _run(["force", "meyer", "--param", "v_a=140", "--fmin", "37k", "--fmax", "37k", "--points", "1", "--json"], capsys)
+    assert code == 0 and json.loads(out)["warnings"] == []
+    code, out, _ = _run(["force", "vezzoli", "--param", "h_s=350", "--param", "h_i=90u", "--fmin", "440", "--fmax", "440", "--points", "1", "--json"], capsys)
+    warnings = json.loads(out)["warnings"]
+    assert len(warnings) == 2 and "implausible" in warnings[0] and "Vezzoli eq 8 assumes C_i ≪ C_s" in warnings[1]
+
+
 # --- 6. negative numbers as option values --------------------------------------------------------
 
 

@@ -12,6 +12,7 @@ import contextlib
 import gc
 import importlib
 import os
+import re
 import signal
 import sys
 import threading
@@ -214,6 +215,9 @@ def _refuse_unknown(parser: argparse.ArgumentParser, command: str, unknown: list
         if close and close[0] not in hints:
             hints.append(close[0])
     hint = f"; did you mean {' or '.join(hints)}?" if hints else ""
+    assignments = [item for item in unknown if _ASSIGNMENT_RE.match(item)]
+    if assignments and PARAM_OPTION in sub._option_string_actions:  # (a value without its --param)
+        hint += f"; a parameter value follows {PARAM_OPTION}: {PARAM_OPTION} {' '.join(assignments)} (or {PARAM_OPTION} before each)"
     sub.error(f"unrecognized arguments: {' '.join(unknown)}{hint}")
 
 
@@ -230,12 +234,43 @@ def _refuse_unknown_command(parser: argparse.ArgumentParser, argv: list[str]) ->
         parser.error(f"argument COMMAND: invalid choice: {first!r}; did you mean {close[0]}? (choose from {', '.join(_COMMAND_MODULES)})")
 
 
+# a NAME=VALUE word: a parameter name (R0, C_s, CPE_sc.Q) then "="; a MODEL never holds "="
+_ASSIGNMENT_RE = re.compile(r"[A-Za-z_][\w.]*=")
+PARAM_OPTION = "--param"
+
+
+def _spread_params(argv: list[str]) -> list[str]:
+    """``--param A=1 B=2`` as ``--param A=1 --param B=2`` (the README's ``--param NAME=VALUE
+    ...``): each NAME=VALUE word right after a ``--param``'s value gets its own ``--param``, up
+    to the first other word or ``--``. Not argparse's ``nargs="+"``, which would also take a
+    MODEL written after the values (``simulate --param R0=5 R0``) as one more value."""
+    out: list[str] = []
+    spreading = False
+    words = iter(argv)
+    for word in words:
+        if word == "--":
+            return out + [word, *words]
+        if spreading and _ASSIGNMENT_RE.match(word):
+            out += [PARAM_OPTION, word]
+            continue
+        out.append(word)
+        spreading = word.startswith(PARAM_OPTION + "=")
+        if word == PARAM_OPTION:
+            value = next(words, None)
+            out += [] if value is None else [value]
+            spreading = value is not None
+    return out
+
+
 def _run(argv: list[str], command: list[str]) -> int:
     from ..errors import ImpedaxError
     from .common import option_words, positional_model
 
-    parser = build_parser(_command_of(argv))
+    name = _command_of(argv)
+    parser = build_parser(name)
     _refuse_unknown_command(parser, argv)
+    if name and PARAM_OPTION in _subparser(parser, name)._option_string_actions:
+        argv = _spread_params(argv)
     args, unknown = parser.parse_known_args(argv)
     command[0] = args.command
     if unknown:

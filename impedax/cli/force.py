@@ -79,7 +79,7 @@ def register(sub) -> None:
     )
     accept_negative_numbers(p)  # (--fmin -10: the value, refused by name, not argparse's "expected one argument")
     add_positional_model(p, choices=_MODELS, help="which paper's model")
-    p.add_argument("--param", action="append", metavar="NAME=VALUE", help="override a parameter (repeatable); an area outside 1e-6–1e-2 m² (as impedax gap) or a meyer capacitance or resistance beyond 1000× either way of the thesis value (for CPE_sc.Q: its capacitance at 1 kHz, Q (2π·1 kHz)^(alpha−1), against C_sc's) is refused as a likely unit slip unless --no-param-check")
+    p.add_argument("--param", action="append", metavar="NAME=VALUE", help="override a parameter; several after one --param (--param v_a=100 area=1e-4) or --param repeated; an area outside 1e-6–1e-2 m² (as impedax gap) or a meyer capacitance or resistance beyond 1000× either way of the thesis value (for CPE_sc.Q: its capacitance at 1 kHz, Q (2π·1 kHz)^(alpha−1), against C_sc's) is refused as a likely unit slip unless --no-param-check; a drive v_a or v_m outside 1 V–2 kV (as impedax gap --v0) or vezzoli's h_i outside 100 nm–900 µm, h_s outside 10 µm–5 mm or rho_s outside 300–3e6 ohm m gives a warning")
     p.add_argument("--variant", type=str.lower, choices=MEYER_VARIANTS, help="meyer's stratum corneum: rc (R_sc || C_sc, thesis Fig 3.3) or cpe (R_sc || CPE_sc, the fractional variant of Fig 5.3; parameters CPE_sc.Q, CPE_sc.alpha); default: cpe when a --param names CPE_sc.Q or CPE_sc.alpha, else rc")
     p.add_argument("--no-param-check", action="store_true", help="compute with any positive --param value: an implausible one gives a warning instead of an error")
     p.add_argument("--fmin", type=number_option, default=None, help="lowest frequency [Hz] (meyer 10, vezzoli 1)")
@@ -103,9 +103,10 @@ def _parameters(model: str, items, check: bool = True, variant: str | None = Non
     """The parameters (the paper's, overridden by ``--param``; Meyer's ``variant`` as
     `_meyer_variant`), those given, and warnings: a value given outside its plausible range
     (`models.plausible`) is a ParameterError, or with ``check`` False (``--no-param-check``) a
-    warning. CPE_sc.alpha outside (0, 1] is always refused."""
+    warning; the drive (v_a, v_m) and Vezzoli's h_i, h_s, rho_s (`WARNED_ONLY`) are always only
+    warned about, as gap's --v0. CPE_sc.alpha outside (0, 1] is always refused."""
     from ..errors import ParameterError
-    from ..models.plausible import implausible_cpe_message, implausible_message
+    from ..models.plausible import WARNED_ONLY, implausible_cpe_message, implausible_message
 
     if variant is not None and model != "meyer":
         raise ParameterError(f"--variant {variant}: only meyer has variants (rc, cpe); {model} has none")
@@ -131,6 +132,9 @@ def _parameters(model: str, items, check: bool = True, variant: str | None = Non
         message = implausible_message(model, name, value)
         if name == "CPE_sc.Q":
             message = implausible_cpe_message(value, defaults["CPE_sc.alpha"])
+        if message and name in WARNED_ONLY:
+            notes.append(f"--param {name}={value:g}: {message}; computed as given")
+            continue
         if message and check:
             raise ParameterError(f"--param {name}={value:g}: {message}; --no-param-check computes with it anyway")
         if message:

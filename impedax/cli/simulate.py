@@ -16,7 +16,7 @@ POINT_BYTES = 1024
 def register(sub) -> None:
     p = sub.add_parser("simulate", help="write a model's spectrum as CSV", description="Evaluate MODEL at log-spaced frequencies (both ends included) and write frequency_hz,z_real_ohm,z_imag_ohm.")
     add_model_argument(p, positional=True)
-    p.add_argument("--param", action="append", metavar="NAME=VALUE", help="parameter value (repeatable); unspecified ones take their defaults")
+    p.add_argument("--param", action="append", metavar="NAME=VALUE", help="parameter value; several after one --param (--param R0=10 C1=1u) or --param repeated; unspecified ones take their defaults")
     p.add_argument("--fmin", type=number_option, default=1.0, help="lowest frequency [Hz] (default 1)")
     p.add_argument("--fmax", type=number_option, default=1e6, help="highest frequency [Hz] (default 1e6)")
     p.add_argument("--points", type=int, default=None, help="number of frequencies (default 61; 1 when --fmin equals --fmax)")

@@ -321,7 +321,7 @@ def force_peak(params: Mapping[str, object], freq, *, area: float = THESIS_PHYSI
 
         F_peak = F̄ + (K/2) |V̂_F² − Q̂_f²/C_i²|  ≥  2 F̄,
 
-    equal to 2 F̄ only where V_F and Q_f are in phase. Thesis values: 2.0002 F̄ at 37 kHz, 2.18 F̄
+    equal to 2 F̄ only where V_F and Q_f are in phase. Thesis values: 2.0001 F̄ at 37 kHz, 2.18 F̄
     at 1 kHz, 7.4 F̄ at 100 Hz, 64 F̄ at 10 Hz, where the leaked charge cancels V_F's term on
     average but not at every instant (F(t) then swings below zero, to F̄ − (K/2)|…|). Pure JAX.
     |V̂_F² − Q̂_f²/C_i²| is evaluated as |V̂_F − Q̂_f/C_i|·|V̂_F + Q̂_f/C_i| (see `_force_phasors`).

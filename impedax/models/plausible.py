@@ -1,7 +1,10 @@
 """Plausibility ranges of physical inputs, shared by ``impedax gap`` (the contact area) and
 ``impedax force`` (the area and Meyer's circuit values): a value far outside them is most
 likely a unit slip (2.2 for 2.2n F, 50 for 50e-6 m²), so the commands refuse it with a message
-saying the unit likely intended (docs/models.md, "Plausible values").
+saying the unit likely intended (docs/models.md, "Plausible values"). The drive amplitude (gap's
+V0, warned about by `gap_analysis`; force's v_a and v_m, `DRIVE_PARAMETERS`) and Vezzoli's thicknesses and resistivity
+(`VEZZOLI_RANGES`) outside their ranges are warned about instead (`WARNED_ONLY`): a rig or a
+skin may differ from the papers', and a user may explore.
 
 The area range is a fingertip's apparent contact, 1 mm² to 100 cm² (`FINGERTIP_AREA_M2`).
 Meyer's capacitances and resistances may lie a factor `MEYER_FACTOR` (1000) either way of the
@@ -18,9 +21,10 @@ from __future__ import annotations
 import math
 
 from ..data import SI_PREFIXES
-from .meyer import CPE_REFERENCE_HZ, THESIS_PARAMS
+from .meyer import CPE_REFERENCE_HZ, THESIS_DRIVE_V, THESIS_PARAMS
+from .vezzoli import TABLE2
 
-__all__ = ["FINGERTIP_AREA_M2", "DRIVE_VOLTAGE_V", "AIR_BREAKDOWN_V", "MEYER_FACTOR", "PARAMETER_UNITS", "plausible_range", "implausible_message", "cpe_capacitance", "implausible_cpe_message"]
+__all__ = ["FINGERTIP_AREA_M2", "DRIVE_VOLTAGE_V", "AIR_BREAKDOWN_V", "MEYER_FACTOR", "VEZZOLI_RANGES", "DRIVE_PARAMETERS", "WARNED_ONLY", "PARAMETER_UNITS", "plausible_range", "implausible_message", "cpe_capacitance", "implausible_cpe_message"]
 
 FINGERTIP_AREA_M2 = (1e-6, 1e-2)  # plausible apparent contact of a fingertip: 1 mm² to 100 cm²
 DRIVE_VOLTAGE_V = (1.0, 2e3)
@@ -38,19 +42,51 @@ without breaking down, and below ~5 µm field emission lowers the breakdown furt
 voltage above it makes eq 1's force (no breakdown in it) unreachable."""
 MEYER_FACTOR = 1e3
 """Meyer's circuit values are plausible within this factor either way of the thesis's."""
-PARAMETER_UNITS = {"C_s": "F", "C_i": "F", "C_sc": "F", "R_sc": "Ω", "R_f": "Ω", "area": "m²", "CPE_sc.Q": "F s^(α−1)", "CPE_sc.alpha": ""}
+VEZZOLI_RANGES = {"h_i": (1e-7, 9e-4), "h_s": (1e-5, 5e-3), "rho_s": (3e2, 3e6)}
+"""Plausible values of Vezzoli et al.'s insulator thickness h_i [m], stratum corneum thickness
+h_s [m] and its resistivity ρ_s [Ω m] (docs/physics.md; the paper's Table 2 and Figs 8–10):
+h_i a factor 10 beyond the paper's insulators either way, from under 1 µm (SiO₂ for 0.03 N,
+Fig 9; the 1 µm of Figs 8 and 10) to Table 2's 90 µm film: 100 nm–900 µm; h_s a factor 10 beyond
+Fig 8's 100–500 µm (the fingertip's range, after Fruhstorfer 2000): 10 µm–5 mm; ρ_s 100× either
+way of Table 2's 3.0e4 Ω m, the paper's one value (at 440 Hz; it varies between subjects and with
+frequency, Yamamoto 1976), which moves eq 8's corner 1/(2π ε0 ε_s ρ_s) (256 Hz with Table 2)
+over 2.6 Hz–26 kHz, past the paper's 100 Hz–10 kHz. A dropped µ (90 for 90 µm, ×10⁶) or k (30 for
+30 kΩ m, ×10³) falls outside each."""
+DRIVE_PARAMETERS = {"meyer": "v_a", "vezzoli": "v_m"}
+"""The drive amplitude's name in each model: plausible within `DRIVE_VOLTAGE_V`."""
+WARNED_ONLY = frozenset({*DRIVE_PARAMETERS.values(), *VEZZOLI_RANGES})
+"""Parameters whose implausible value is a warning, not an error (a rig may drive other voltages,
+a film and a skin may be thinner or thicker than the papers'); the others are refused."""
+PARAMETER_UNITS = {"C_s": "F", "C_i": "F", "C_sc": "F", "R_sc": "Ω", "R_f": "Ω", "area": "m²", "CPE_sc.Q": "F s^(α−1)", "CPE_sc.alpha": "", "v_a": "V", "v_m": "V", "h_i": "m", "h_s": "m", "rho_s": "Ω m"}
 
 
 def plausible_range(model: str, name: str) -> tuple[float, float] | None:
     """The plausible (low, high) of parameter ``name`` of ``model`` (``"meyer"``, ``"vezzoli"``,
-    ``"gap"``), or None when it has none: ``area`` in `FINGERTIP_AREA_M2` for every model; Meyer's
-    C_s, C_i, C_sc, R_sc, R_f within `MEYER_FACTOR` of `THESIS_PARAMS`."""
+    ``"gap"``), or None when it has none: ``area`` in `FINGERTIP_AREA_M2` for every model; the
+    drive amplitude (`DRIVE_PARAMETERS`) in `DRIVE_VOLTAGE_V`; Meyer's C_s, C_i, C_sc, R_sc, R_f
+    within `MEYER_FACTOR` of `THESIS_PARAMS`; Vezzoli's h_i, h_s, rho_s in `VEZZOLI_RANGES`."""
     if name == "area":
         return FINGERTIP_AREA_M2
+    if name == DRIVE_PARAMETERS.get(model):
+        return DRIVE_VOLTAGE_V
+    if model == "vezzoli" and name in VEZZOLI_RANGES:
+        return VEZZOLI_RANGES[name]
     if model == "meyer" and name in THESIS_PARAMS:
         reference = THESIS_PARAMS[name]
         return reference / MEYER_FACTOR, reference * MEYER_FACTOR
     return None
+
+
+# the reading an SI prefix most likely meant for a drive: nearest the paper's own (v_m=2M: 2 kV, not 2 V)
+_REFERENCES = {"v_a": THESIS_DRIVE_V, "v_m": TABLE2["v_m"]}
+_DRIVES = "the drives of the papers: Sirin et al. 75 V, Meyer 140 V, Vezzoli et al. 2 kV"
+_RANGE_REASONS = {
+    "v_a": _DRIVES,
+    "v_m": _DRIVES,
+    "h_i": "10× beyond the paper's insulators, 1 µm (Figs 8–10) to Table 2's 90 µm film",
+    "h_s": "10× beyond Fig 8's stratum corneum, 100–500 µm",
+    "rho_s": "100× either way of Table 2's 30 kΩ m at 440 Hz",
+}
 
 
 def _shown(value: float, unit: str) -> str:
@@ -61,15 +97,16 @@ def _shown(value: float, unit: str) -> str:
     return f"{value / scale:.4g} {prefix}{unit}"
 
 
-def _intended(value: float, low: float, high: float, unit: str) -> str:
+def _intended(value: float, low: float, high: float, unit: str, centre: float | None = None) -> str:
     """What a value outside ``low``–``high`` likely meant: the SI prefix that brings it inside
-    (nearest the range's middle, in log), or for an area the mm² or cm² reading."""
+    (nearest ``centre``, by default the range's middle, in log), or for an area the mm² or cm²
+    reading."""
     if unit == "m²":
         for factor, said in ((1e-6, "mm²"), (1e-4, "cm²")):
             if low <= value * factor <= high:
                 return f"; the area is in m²: {value:g} {said} is {value * factor:g}"
         return "; the area is in m² (130 mm² is 130e-6)"
-    middle = math.sqrt(low * high)
+    middle = math.sqrt(low * high) if centre is None else centre
     fits = [(abs(math.log(value * s / middle)), p, value * s) for s, p in SI_PREFIXES if p and low <= value * s <= high]
     if not fits:
         return f"; the value is in {unit}"
@@ -81,7 +118,8 @@ def _intended(value: float, low: float, high: float, unit: str) -> str:
 
 def implausible_message(model: str, name: str, value: float) -> str | None:
     """Why ``value`` of parameter ``name`` is implausible (outside `plausible_range`), with the
-    unit likely intended, or None when it is plausible or has no range."""
+    unit likely intended, or None when it is plausible or has no range. A parameter of
+    `WARNED_ONLY` is said to be most likely a unit slip (the caller warns rather than refuses)."""
     bounds = plausible_range(model, name)
     if bounds is None:
         return None
@@ -91,6 +129,9 @@ def implausible_message(model: str, name: str, value: float) -> str | None:
     unit = PARAMETER_UNITS.get(name, "")
     if name == "area":
         where = f"a fingertip's apparent contact is {low:g}–{high:g} m² ({low * 1e6:g}–{high * 1e6:g} mm²)"
+    elif name in WARNED_ONLY:
+        where = f"plausible {_shown(low, unit)}–{_shown(high, unit)}, {_RANGE_REASONS[name]}"
+        return f"{name} = {_shown(value, unit)} is implausible ({where}), most likely a unit slip{_intended(value, low, high, unit, _REFERENCES.get(name))}"
     else:
         where = f"plausible {_shown(low, unit)}–{_shown(high, unit)}, {MEYER_FACTOR:g}× either way of the thesis's {_shown(THESIS_PARAMS[name], unit)}"
     return f"{name} = {_shown(value, unit)} is implausible ({where}){_intended(value, low, high, unit)}"
