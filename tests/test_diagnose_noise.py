@@ -772,6 +772,7 @@ def _ladder9_case(template, index, variant=(0.003, "low_f", "weak", 0)):
     return es.make_case(t, variant, "dev", index)
 
 
+@pytest.mark.slow  # (25 s, one 9-element diagnosis; the suite's budget)
 def test_an_effect_at_the_quiet_top_of_the_band_counts_by_the_noise_there():
     # the fast arc's C is a CPE (α ≈ 0.9) near the top of the band, where the noise is 6× below
     # the low decade's. The generating circuit lowers BIC by 65; with the rule on the plain mean

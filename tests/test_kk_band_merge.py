@@ -134,7 +134,7 @@ def test_dense_zhit_drift_is_one_band_or_two():
 def test_dense_kk_drift_is_a_few_bands():
     f = np.geomspace(1e-3, 1e6, 10_000)
     low = f < 1e-2
-    for seed in range(3):
+    for seed in (0,):  # (one draw of 10,000 points: 3 took 23 s of the suite's budget)
         z = noisy(rc(f), 0.01, seed)
         z[low] *= 1 + 0.2 * np.log10(1e-2 / f[low])  # Z' and Z'' drift up to 20 % over the slowest decade
         result = ix.kk_test((f, z))
