@@ -140,8 +140,10 @@ def run(args) -> int:
     for flag, given in (("--init", init), ("--fix", fixed), ("--bound", given_bounds)):
         check_parameter_names(given, circuit.parameter_names(), flag, args.model)
     bounds = checked_bound_options(given_bounds, circuit.parameter_specs(), init=init, fixed=fixed)
-    if sharing and (init or bounds or args.max_steps is not None):
-        raise ParameterError("--init, --bound and --max-steps are not available with --shared (the joint posterior starts from its own global fit); --fix is available")
+    if sharing and (init or args.max_steps is not None):
+        raise ParameterError("--init and --max-steps are not available with --shared (the joint posterior starts from its own global fit); --fix is available")
+    if sharing and bounds:
+        raise ParameterError("--bound is not available with --shared (the joint posterior samples within the elements' own bounds); --fix is available")
     max_steps = check_max_steps(args.max_steps) if args.max_steps is not None else None
     data = load_selected(args.data, args.select, single=None if sharing else "sample",
                          or_else="or sample them jointly with --shared NAMES (parameters one value for all, the others one per spectrum)")
