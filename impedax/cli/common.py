@@ -21,7 +21,7 @@ __all__ = [
     "check_outputs", "save_outputs", "print_result", "result_out_help", "Output", "OutputPlan", "plan_outputs",
     "memory_limit", "check_memory", "MEMORY_LIMIT_ENV", "add_select_option", "load_selected", "select_spectra", "load_selected_files", "labels_text", "dimension_labels",
     "command_line_words", "naming_target", "part_of_joined", "announce_written", "option_words", "check_points", "check_band_options", "progress_printer", "PROGRESS_AFTER_S",
-    "relative_noise", "fit_command", "exclude_points",
+    "relative_noise", "fit_command", "exclude_points", "parse_bounds", "checked_bound_options",
 ]
 
 
@@ -88,6 +88,70 @@ def parse_assignments(items: Iterable[str] | None, flag: str) -> dict[str, float
         if name in out:
             raise ParameterError(f"{flag}: {name} given twice")
         out[name] = number
+    return out
+
+
+def parse_bounds(items: Iterable[str] | None, flag: str = "--bound") -> dict[str, tuple[float | None, float | None, str]]:
+    """``["R1=10:1k", "R0=:10"]`` → ``{"R1": (10.0, 1000.0, "R1=10:1k"), "R0": (None, 10.0,
+    "R0=:10")}``: each NAME=LO:HI (`prefixed_number`) with the text given, an open side None
+    (`checked_bound_options` puts the element's own bound there); clear errors naming ``flag``."""
+    out: dict[str, tuple[float | None, float | None, str]] = {}
+    for item in items or ():
+        name, sep, ends = item.partition("=")
+        name = name.strip()
+        lower_text, colon, upper_text = ends.partition(":")
+        if not sep or not name or not colon:
+            raise ParameterError(f"{flag} {item!r}: expected NAME=LO:HI (e.g. R1=10:1k; leave a side empty to keep the element's own bound there: R0=:10)")
+        pair = []
+        for end, text in (("lower", lower_text.strip()), ("upper", upper_text.strip())):
+            if not text:
+                pair.append(None)
+                continue
+            try:
+                number = prefixed_number(text)
+            except ValueError as error:
+                raise ParameterError(f"{flag} {item!r}: {end} end: {error}") from None
+            if math.isnan(number):
+                raise ParameterError(f"{flag} {item!r}: {end} end must be a number, got {text}")
+            pair.append(number)
+        if pair == [None, None]:
+            raise ParameterError(f"{flag} {item!r}: give at least one end, LO:HI, LO: or :HI")
+        if name in out:
+            raise ParameterError(f"{flag}: {name} given twice")
+        out[name] = (pair[0], pair[1], item)
+    return out
+
+
+def checked_bound_options(given: Mapping[str, tuple[float | None, float | None, str]], specs: Mapping, *, init: Mapping[str, float] | None = None,
+                          fixed: Mapping[str, float] | None = None, flag: str = "--bound") -> dict[str, tuple[float, float]]:
+    """The ``bounds=`` of `impedax.fit`/`impedax.sample` from ``given`` (`parse_bounds`; names
+    among ``specs``, the parameters' `ParameterSpec`): an open side is the element's own bound.
+    A `ParameterError` naming ``flag`` and the parameter, before any data are read, where the API
+    would refuse later in its own words (`parameters.checked_bounds`, `outside_bounds_message`):
+    LO ≥ HI, a bound outside the element's own range, one that narrows nothing (the fit's
+    ``user_bounds`` would not list it), a parameter also fixed (``fixed``: --fix), or an ``init``
+    (--init) value not strictly inside its bounds (a start on a bound would not move off it)."""
+    from ..data import unit_text
+    from ..fitting.parameters import outside_bounds_message
+
+    out = {}
+    for name, (lower, upper, item) in given.items():
+        spec = specs[name]
+        lo = float(spec.lower) if lower is None else lower
+        hi = float(spec.upper) if upper is None else upper
+        unit = unit_text(spec.unit)
+        own = spec.bounds_text() + (f" [{unit}]" if unit else "")
+        if not lo < hi:
+            raise ParameterError(f"{flag} {item}: the lower end {number_text(lo)} must be below the upper end {number_text(hi)}")
+        if lo < spec.lower or hi > spec.upper:
+            raise ParameterError(f"{flag} {item}: ({number_text(lo)}, {number_text(hi)}) reaches outside {name}'s own range {own}")
+        if lo == spec.lower and hi == spec.upper:
+            raise ParameterError(f"{flag} {item}: {name}'s own range is {own}; this bound narrows nothing")
+        if fixed and name in fixed:
+            raise ParameterError(f"{flag} {item} and --fix {name}={number_text(fixed[name])}: a fixed parameter is not fitted, so it has no bounds; give one or the other")
+        if init and name in init and not lo < init[name] < hi:
+            raise ParameterError("--" + outside_bounds_message("init", name, init[name], lo, hi, False, unit) + f" ({flag} {item})")
+        out[name] = (lo, hi)
     return out
 
 
@@ -1121,6 +1185,7 @@ _OPTION_OF_KEYWORD = {"max_steps": "--max-steps"}
 # says instead (`impedax refine` prints the command after its report: cli/refine.py)
 _PHRASE_OF_CALL = {
     "(pass init=)": "(impedax fit --init NAME=VALUE …: the command is printed last)",
+    "(bounds=)": "(--bound)",
     "leave them out (fmin/fmax)": "leave them out (--fmin/--fmax)",
     "e.g. --noise 1% (noise=0.01)": "e.g. --noise 1%",
 }
@@ -1143,9 +1208,9 @@ def _phrased(text: str, *, weighting: bool = True) -> str:
 # them on the command line (`option_words`); the Python API keeps its own words
 OPTION_OF_KEYWORD_BY_COMMAND: dict[str, dict[str, str]] = {
     "simulate": {"points": "--points", "fmin": "--fmin", "fmax": "--fmax"},
-    "fit": {"fixed": "--fix", "init": "--init", "max_steps": "--max-steps", "fmin": "--fmin", "fmax": "--fmax", "weighting": "--weighting", "shared": "--shared", "over": "--over"},
-    "compare": {"fixed": "--fix", "init": "--init", "max_steps": "--max-steps", "fmin": "--fmin", "fmax": "--fmax", "weighting": "--weighting"},
-    "sample": {"fixed": "--fix", "init": "--init", "max_steps": "--max-steps", "steps": "--steps", "burn": "--burn", "thin": "--thin", "walkers": "--walkers", "seed": "--seed", "priors": "--prior", "noise": "--noise", "fmin": "--fmin", "fmax": "--fmax", "shared": "--shared", "over": "--over"},
+    "fit": {"fixed": "--fix", "init": "--init", "bounds": "--bound", "max_steps": "--max-steps", "fmin": "--fmin", "fmax": "--fmax", "weighting": "--weighting", "shared": "--shared", "over": "--over"},
+    "compare": {"fixed": "--fix", "init": "--init", "bounds": "--bound", "max_steps": "--max-steps", "fmin": "--fmin", "fmax": "--fmax", "weighting": "--weighting"},
+    "sample": {"fixed": "--fix", "init": "--init", "bounds": "--bound", "max_steps": "--max-steps", "steps": "--steps", "burn": "--burn", "thin": "--thin", "walkers": "--walkers", "seed": "--seed", "priors": "--prior", "noise": "--noise", "fmin": "--fmin", "fmax": "--fmax", "shared": "--shared", "over": "--over"},
     "kk": {"c": "--c", "max_rc": "--max-rc", "fmin": "--fmin", "fmax": "--fmax"},
     "drt": {"lam": "--lam", "lam_method": "--lam-method", "method": "--method", "min_peak_fraction": "--min-peak-fraction", "fmin": "--fmin", "fmax": "--fmax"},
     "diagnose": {"noise": "--noise", "effects": "--effects", "max_steps": "--max-steps", "fmin": "--fmin", "fmax": "--fmax", "weighting": "--weighting"},

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 def register(sub) -> None:
     from .common import add_select_option
-    from .fit import add_fit_options, add_max_steps_option
+    from .fit import add_bound_option, add_fit_options, add_max_steps_option
 
     p = sub.add_parser(
         "compare", help="fit several models to one spectrum and compare them",
@@ -17,6 +17,7 @@ def register(sub) -> None:
     p.add_argument("--model", action="append", required=True, metavar="MODEL", help="circuit text (give two or more)")
     p.add_argument("--fix", action="append", metavar="NAME=VALUE", help="hold a parameter fixed in every model that has it (repeatable)")
     p.add_argument("--init", action="append", metavar="NAME=VALUE", help="starting value in every model that has the parameter (repeatable)")
+    add_bound_option(p, " in every model that has the parameter")
     add_fit_options(p)
     add_max_steps_option(p, 400, "each model's fit")
     p.add_argument("--json", action="store_true", help="print the comparison as JSON")
@@ -33,14 +34,14 @@ def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting.problem import open_spectrum
     from ..arguments import closest_name
-    from .common import data_source, emit_json, exclude_points, figure_writer, load_selected, parse_assignments, plan_outputs, progress_printer, result_writer, with_source
+    from .common import checked_bound_options, data_source, emit_json, exclude_points, figure_writer, load_selected, parse_assignments, parse_bounds, plan_outputs, progress_printer, result_writer, with_source
     from .fit import check_max_steps
 
     if len(args.model) < 2:
         raise ParameterError("compare needs at least two --model options")
     circuits = [parse(m) for m in args.model]  # all syntax errors before any fitting
     refuse_same_circuits(args.model, circuits)
-    given = {"--init": parse_assignments(args.init, "--init"), "--fix": parse_assignments(args.fix, "--fix")}
+    given = {"--init": parse_assignments(args.init, "--init"), "--fix": parse_assignments(args.fix, "--fix"), "--bound": parse_bounds(args.bound)}
     names = [c.parameter_names() for c in circuits]
     everywhere = sorted({n for ns in names for n in ns})
     for flag, values in given.items():  # a name no model has is a typo
@@ -48,6 +49,8 @@ def run(args) -> int:
             if not any(name in ns for ns in names):
                 close = closest_name(name, everywhere)
                 raise ParameterError(f"{flag}: no model has a parameter {name!r}" + (f"; did you mean {close}?" if close else "") + f" (parameters: {', '.join(everywhere)})")
+    # each model's bounds, checked against its own elements (a name every model has is one element's parameter)
+    bounds = [checked_bound_options({k: v for k, v in given["--bound"].items() if k in ns}, c.parameter_specs(), init=given["--init"], fixed=given["--fix"]) for c, ns in zip(circuits, names)]
     outputs = plan_outputs([("--out", out_path(args.out), "result"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     max_steps = check_max_steps(args.max_steps)
     data = open_spectrum(exclude_points(load_selected(args.data, args.select, single="impedax compare"), args.exclude), single="compare").data
@@ -58,9 +61,9 @@ def run(args) -> int:
     progress = progress_printer()  # (three models took 6-12 s without a word)
     fits = []
     try:
-        for i, (c, ns) in enumerate(zip(circuits, names)):
+        for i, (c, ns, own_bounds) in enumerate(zip(circuits, names, bounds)):
             progress(f"fitting model {i + 1} of {len(circuits)}: {c}")
-            fits.append(fit(c, data, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, init=own("--init", ns), fixed=own("--fix", ns)))
+            fits.append(fit(c, data, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, init=own("--init", ns), fixed=own("--fix", ns), bounds=own_bounds or None))
     finally:
         progress.close()
     comparison = compare(fits)
@@ -75,6 +78,8 @@ def run(args) -> int:
             held = {n: v for n, v in fit_result.values.items() if fit_result.fixed.get(n) and n in given["--fix"]}
             if held:
                 print(f"held fixed in {fit_result.model}: " + ", ".join(f"{n} = {v:g}" for n, v in held.items()))
+            if fit_result.bounds:  # (--bound: the table's rows do not show them either)
+                print(f"bounded in {fit_result.model}: " + ", ".join(f"{n} within {lo:g}..{hi:g}" for n, (lo, hi) in fit_result.bounds.items()))
         print("\n".join(warning_lines(comparison)))
     return 0
 

@@ -45,6 +45,13 @@ def check_max_steps(n: int) -> int:
     return n
 
 
+def add_bound_option(p, where: str = "") -> None:
+    """``--bound NAME=LO:HI`` (repeatable), read by `common.parse_bounds` and
+    `common.checked_bound_options`: the ``bounds=`` of `impedax.fit` and `impedax.sample`."""
+    p.add_argument("--bound", action="append", metavar="NAME=LO:HI", help=f"fit a parameter within LO..HI{where} (repeatable; SI prefixes: R1=10:1k; "
+                   "an empty side keeps the element's own bound: R0=:10, R0=1m:); not with --fix of the same NAME, and an --init value must lie inside")
+
+
 def add_shared_options(p) -> None:
     """``--shared NAME[,NAME]`` and ``--over DIM[,DIM]``: a global fit with parameters shared
     across the spectra along DIM (docs/fitting.md, "Shared parameters")."""
@@ -77,6 +84,7 @@ def register(sub) -> None:
     add_model_argument(p)
     p.add_argument("--fix", action="append", metavar="NAME=VALUE", help="hold a parameter fixed (repeatable)")
     p.add_argument("--init", action="append", metavar="NAME=VALUE", help="starting value (repeatable); others are guessed from the data")
+    add_bound_option(p)
     add_shared_options(p)
     add_fit_options(p)
     add_max_steps_option(p, 400, "each fit")
@@ -86,7 +94,7 @@ def register(sub) -> None:
 
 def run(args) -> int:
     from .. import FitResult, fit, parse
-    from .common import check_parameter_names, command_line_words, data_source, exclude_points, figure_writer, load_selected, parse_assignments, plan_outputs, print_result, progress_printer, result_writer
+    from .common import check_parameter_names, checked_bound_options, command_line_words, data_source, exclude_points, figure_writer, load_selected, parse_assignments, parse_bounds, plan_outputs, print_result, progress_printer, result_writer
 
     outputs = plan_outputs([("--out", args.out, "result"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     max_steps = check_max_steps(args.max_steps)
@@ -94,15 +102,18 @@ def run(args) -> int:
     init, fixed = parse_assignments(args.init, "--init"), parse_assignments(args.fix, "--fix")
     # names checked before the data are read, with the command line's hint (`closest_name`:
     # --fix CPE1.a → CPE1.alpha; r1 → R1); bounds are the fit's to check
-    names = parse(args.model).parameter_names()
-    for flag, given in (("--init", init), ("--fix", fixed)):
+    circuit = parse(args.model)
+    names = circuit.parameter_names()
+    given_bounds = parse_bounds(args.bound)
+    for flag, given in (("--init", init), ("--fix", fixed), ("--bound", given_bounds)):
         check_parameter_names(given, names, flag, args.model)
+    bounds = checked_bound_options(given_bounds, circuit.parameter_specs(), init=init, fixed=fixed)
     data = exclude_points(load_selected(args.data, args.select), args.exclude)
     progress = progress_printer()  # (a batch of 3 cycles took 15 s without a word, 28 s on a first run)
     n_spectra = int(data["Z"].size // max(data.sizes.get("frequency", 1), 1))
     progress(f"fitting {args.model} to {n_spectra} spectra together (a circuit's first batch compiles its solvers)" if n_spectra > 1 else f"fitting {args.model} (a circuit's first fit compiles its solvers)")
     try:
-        result = fit(args.model, data, init=init, fixed=fixed, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, **sharing)
+        result = fit(args.model, data, init=init, fixed=fixed, bounds=bounds or None, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, **sharing)
     finally:
         progress.close()
     source = data_source(data)

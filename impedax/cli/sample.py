@@ -10,7 +10,7 @@ def register(sub) -> None:
     from ..fitting.bayes.diagnostics import CHAIN_TAU_MULTIPLE
     from ..fitting.bayes.sampler import AUTO_MAX_STEPS
     from .common import add_model_argument, add_output_options, add_select_option, number_option, result_out_help
-    from .fit import add_shared_options
+    from .fit import add_bound_option, add_shared_options
 
     p = sub.add_parser(
         "sample",
@@ -34,6 +34,7 @@ def register(sub) -> None:
     p.add_argument("--fmax", type=number_option, help="ignore data above this frequency [Hz]")
     p.add_argument("--fix", action="append", metavar="NAME=VALUE", help="hold a parameter fixed, in the start fit and the sampling (repeatable)")
     p.add_argument("--init", action="append", metavar="NAME=VALUE", help="starting value of the least-squares start fit (repeatable); others are guessed from the data")
+    add_bound_option(p, " in the start fit and the sampling (the support of its prior; not with --shared)")
     p.add_argument("--max-steps", type=int, default=None, metavar="N", help="Levenberg–Marquardt step limit of the least-squares start fit (default 400; --steps is the sampler's)")
     p.add_argument("--quiet", action="store_true", help="no progress line on stderr")
     p.add_argument("--corner", metavar="FILE.png", help="save a corner plot of the draws")
@@ -112,7 +113,7 @@ def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting import parse_prior
     from ..fitting.bayes.logprob import start_weighting
-    from .common import check_parameter_names, data_source, figure_writer, load_selected, parse_assignments, plan_outputs, print_result, result_writer
+    from .common import check_parameter_names, checked_bound_options, data_source, figure_writer, load_selected, parse_assignments, parse_bounds, plan_outputs, print_result, result_writer
     from .fit import check_max_steps, shared_arguments
 
     circuit = parse(args.model)  # syntax errors before anything else
@@ -135,20 +136,24 @@ def run(args) -> int:
     )
     check_sample_size(circuit, args.walkers, args.steps, priors)
     init, fixed = parse_assignments(args.init, "--init"), parse_assignments(args.fix, "--fix")
-    for flag, given in (("--init", init), ("--fix", fixed)):
+    given_bounds = parse_bounds(args.bound)
+    for flag, given in (("--init", init), ("--fix", fixed), ("--bound", given_bounds)):
         check_parameter_names(given, circuit.parameter_names(), flag, args.model)
+    bounds = checked_bound_options(given_bounds, circuit.parameter_specs(), init=init, fixed=fixed)
     if sharing and (init or args.max_steps is not None):
         raise ParameterError("--init and --max-steps are not available with --shared (the joint posterior starts from its own global fit); --fix is available")
+    if sharing and bounds:
+        raise ParameterError("--bound is not available with --shared (the joint posterior samples within the elements' own bounds); --fix is available")
     max_steps = check_max_steps(args.max_steps) if args.max_steps is not None else None
     data = load_selected(args.data, args.select, single=None if sharing else "sample",
                          or_else="or sample them jointly with --shared NAMES (parameters one value for all, the others one per spectrum)")
     start = None
     if init or max_steps is not None:  # the least-squares start, as `sample` runs it, from the given values or step limit
-        start = fit(circuit, data, init=init, fixed=fixed or None, weighting=start_weighting(args.noise), fmin=args.fmin, fmax=args.fmax,
+        start = fit(circuit, data, init=init, fixed=fixed or None, bounds=bounds or None, weighting=start_weighting(args.noise), fmin=args.fmin, fmax=args.fmax,
                     **({"max_steps": max_steps} if max_steps is not None else {}))
     posterior = sample(
         circuit, data, priors=priors, noise=args.noise, walkers=args.walkers, steps=args.steps, burn=args.burn, thin=args.thin,
-        seed=args.seed, fmin=args.fmin, fmax=args.fmax, progress=not (args.quiet or args.json), init=start, fixed=fixed or None, **sharing,
+        seed=args.seed, fmin=args.fmin, fmax=args.fmax, progress=not (args.quiet or args.json), init=start, fixed=fixed or None, bounds=bounds or None, **sharing,
     )
     source = data_source(data)
     outputs.save({"--out": result_writer(posterior, source), "--corner": figure_writer(lambda: posterior.corner(), source), "--plot": figure_writer(lambda: posterior.plot(), source)})

@@ -240,6 +240,7 @@ class Posterior(PiledUp):
             "seed": self.settings.get("seed"),
             "map": dict(self.map_values),
             "fixed": {n: float(v) for n, v in self.fixed.items()},  # (the report's "(fixed)" rows; the .nc's attribute)
+            "user_bounds": bounds_attr(self.user_bounds),  # (added 2026-12-01: bounds=, --bound, as the .nc's attribute and fit --json)
         }
         if self.reparametrization is not None:
             cq = self.quantiles(circuit=True)

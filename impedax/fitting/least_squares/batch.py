@@ -28,7 +28,7 @@ from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, domi
 from .order import canonical_order
 from .branches import RELATIVE_ERROR_LIMIT, idle_branch_notes, settle_vanishing, undetermined, undetermined_mask, vanishing_candidates, vanishing_parameters
 from .constraints import constraint_misfit_notes, with_constraint_notes
-from .result import BOUND_RESTARTS, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, shown_stderr, stack_notes, vanishing_term_sides, weighting_notes, without_error
+from .result import BOUND_RESTARTS, bounds_attr, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, shown_stderr, stack_notes, vanishing_term_sides, weighting_notes, without_error
 from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, TreeSolvers, better, over_devices, padded_points, tree_solver, trimmed, unscale
 from .starts import SpectrumFeatures, climb_target, batch_outliers, escalation_rungs, guess_start, inward_start, rms_rel_of, rung_seed, rung_starts, to_solver_space, values_inside
 
@@ -178,9 +178,7 @@ class BatchFitResult:
         names = [str(p) for p in ds["param"].values]
         value = {n: float(one["value"].sel(param=n)) for n in names}
         fixed = {n: value[n] for n in names if bool(ds["fixed"].sel(param=n))}
-        specs = self.circuit.parameter_specs(self.registry)
-        user = {n: (float(ds["lower"].sel(param=n)), float(ds["upper"].sel(param=n))) for n in names if n not in fixed} if "lower" in ds else {}
-        bounds = {n: b for n, b in user.items() if b != (specs[n].lower, specs[n].upper)} or None  # (the user's, not the natural ones)
+        bounds = self.user_bounds() or None  # (the user's, not the natural ones)
         # a value on a user bound (the batch's optimum there) is nudged inside, as init=batch does
         table = ParameterTable.build(self.circuit, registry=self.registry, fixed=fixed, bounds=bounds)
         init = values_inside({n: v for n, v in value.items() if n not in fixed}, table)
@@ -292,7 +290,24 @@ class BatchFitResult:
             "warning_kinds": warning_kinds(self.warnings),  # (each kind with its spectra, as report() groups them)
             "spectra": self._spectrum_rows(),
             "weighting": self.weighting,  # (as a single fit's JSON)
+            "user_bounds": bounds_attr(self.user_bounds()),  # (added 2026-12-01, as a single fit's JSON)
         }
+
+    def user_bounds(self) -> dict[str, tuple[float, float]]:
+        """The bounds the user set (``bounds=``, ``--bound``) on free parameters, as
+        `FitResult.bounds`: the dataset's ``lower``/``upper`` that differ from the element's own
+        (none in a batch saved before they were stored)."""
+        ds = self.dataset
+        if "lower" not in ds:
+            return {}
+        specs = self.circuit.parameter_specs(self.registry)
+        out = {}
+        for p in ds["param"].values:
+            n = str(p)
+            lo, hi = float(ds["lower"].sel(param=n)), float(ds["upper"].sel(param=n))
+            if not bool(ds["fixed"].sel(param=n).all()) and (lo, hi) != (float(specs[n].lower), float(specs[n].upper)):
+                out[n] = (lo, hi)
+        return out
 
     def _spectrum_rows(self) -> list[dict]:
         """Each spectrum's fit (the JSON's ``spectra``): its label along every batch dimension

@@ -226,6 +226,7 @@ class FitResult:
             "unidentified_groups": [list(g) for g in self.unidentified_groups],
             "weighting": self.weighting,
             "n_evaluations": self.n_evaluations,
+            "user_bounds": bounds_attr(self.bounds),  # (added 2026-12-01: the bounds=, --bound, of free parameters; an open end inf, null in JSON)
         }
 
     def report(self) -> str:
