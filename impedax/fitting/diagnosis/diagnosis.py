@@ -1798,7 +1798,8 @@ def diagnose(
     """Diagnose a fit: where the model fails, which effect of ``effects`` is missing, verdict.
 
     ``fit_or_data``: a `FitResult` (then ``data`` may give the Dataset it was fitted to, for its
-    ``sigma``; the fit's own registry and band are used), or a spectrum Dataset/path together
+    ``sigma``; the fit's own registry and band are used, and its fixed values and bounds are
+    kept in every candidate fit that has the parameter), or a spectrum Dataset/path together
     with ``circuit`` (parsed with ``registry`` and fitted first with ``weighting`` to the points
     with ``fmin`` ≤ f ≤ ``fmax``). ``kk``: a `KKResult` to reuse (default: `kk_test` of the
     fitted spectrum); ``noise``: a relative noise level to use instead of the estimate (needed,
