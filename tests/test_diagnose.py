@@ -271,6 +271,42 @@ def test_hidden_effect_is_named(name):
     assert best.explanation and best.added in best.explanation
 
 
+def test_a_bounded_fit_is_diagnosed_within_its_bounds():
+    """The SYNTHETIC R0 + R1 ∥ CPE1 spectrum (R1 = 3 kΩ, α = 0.75) diagnosed from an R ∥ C fit
+    whose user bounded R1 to 2–2.8 kΩ (it fits 2.57 kΩ, inside): unbounded, the best suggestion
+    (C1 → CPE1) moves R1 to 3 kΩ, outside that bound; diagnosed from the bounded fit, every
+    candidate keeps R1 within it (the CPE's R1 on its bound, at_bound), the report says so, and
+    the command that applies the suggestion carries --bound with an --init that impedax fit
+    takes (strictly inside). The unbounded fit's diagnosis is the one measured before bounds
+    were passed to the candidates (ΔAIC −700.6, rms_rel 1.2 %), with no --bound."""
+    from impedax.cli.common import checked_bound_options, parse_assignments, parse_bounds
+
+    circuit, _, data = case_data("constant_phase/r_rc")
+    bounds = {"R1": (2000.0, 2800.0)}
+    free, user = ix.fit(circuit, data), ix.fit(circuit, data, bounds=bounds)
+    assert user.at_bound == () and user.bounds == bounds
+    unbounded = ix.diagnose(free)
+    best = unbounded.suggestions[0]
+    assert best.model == "R0 + R1 || CPE1" and best.fit.values["R1"] > 2900 and best.fit.bounds == {}
+    assert best.delta_aic == pytest.approx(-700.6, abs=0.05) and best.rms_rel == pytest.approx(0.0120, abs=5e-5)
+    assert "--bound" not in unbounded.report() and not any("your bounds" in n for n in unbounded.notes)
+
+    d = ix.diagnose(user)
+    best = d.suggestions[0]
+    assert d.verdict == "missing_effect" and best.model == "R0 + R1 || CPE1"
+    assert best.fit.values["R1"] == pytest.approx(2800.0, rel=1e-9) and best.fit.at_bound == ("R1",) and best.fit.bounds == bounds
+    with_r1 = [s.fit for s in d.candidates if "R1" in s.fit.values]
+    assert len(with_r1) > 3 and all(f.bounds == bounds and 2000.0 * (1 - 1e-12) <= f.values["R1"] <= 2800.0 * (1 + 1e-12) for f in with_r1)  # (on a bound within rounding, as impedax.fit's)
+    assert any("your bounds (R1 within 2000..2800) are kept" in n for n in d.notes)
+    (line,) = [line for line in d.report().splitlines() if "to apply 1." in line]
+    assert line.endswith(" --bound R1=2000:2800")
+    words = line.split("minimum): ", 1)[1].split()
+    init = parse_assignments([w for flag, w in zip(words, words[1:]) if flag == "--init"], "--init")
+    given = parse_bounds([w for flag, w in zip(words, words[1:]) if flag == "--bound"])
+    assert 2799.99 < init["R1"] < 2800.0  # (the fitted 2800 moved inside: a start on a bound is refused)
+    assert checked_bound_options(given, ix.parse(best.model).parameter_specs(), init=init) == bounds
+
+
 def test_adequate_model_gets_no_suggestion():
     circuit, formula, params, frange = he.ADEQUATE["r_cpe"]
     f, z = he.spectrum(formula, params, frange, 0.01, np.random.default_rng(5))

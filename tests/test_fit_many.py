@@ -8,6 +8,7 @@ import os
 import subprocess
 import sys
 
+import jax
 import numpy as np
 import pytest
 
@@ -110,3 +111,28 @@ def test_candidate_queue_gives_every_start_the_same_fit_on_any_number_of_devices
     for a, b in zip(theirs["values"], mine["values"]):
         np.testing.assert_allclose(a, b, rtol=1e-7)
     assert theirs["steps"] == mine["steps"]
+
+
+def test_candidates_respect_bounds_as_impedax_fit_does(rng):
+    """``bounds=`` of `fit_candidates` gives the fit `impedax.fit` reports with the same bounds:
+    R1 bounded below its SYNTHETIC value (2 kΩ) ends on the upper bound in both, at_bound and
+    `FitResult.bounds` alike; a warm start outside the bounds (the true R1) is moved inside; a
+    bound on a parameter a candidate lacks does not apply to it; and the bounds are data of
+    the compiled solver, not part of its shape: no compilation after the unbounded fit."""
+    text, fn, truth, (lo, hi) = CASES["rc"]
+    f = np.geomspace(lo, hi, 30)
+    data = ix.make_spectrum(f, noisy(fn(f, truth), 0.01, rng))
+    bounds = {"R1": (500.0, 1500.0), "CPE9.alpha": (0.5, 0.9)}
+    single = ix.fit(text, data, bounds={"R1": bounds["R1"]}, n_starts=1)  # (one optimum within the bounds: the guess's fit reaches it)
+    (free,) = fit_candidates([text], data)  # (the compiled shape of the bounded fits below)
+    compiles = []
+    jax.monitoring.register_event_duration_secs_listener(lambda event, duration, **_: compiles.append(event) if event == "/jax/core/compile/backend_compile_duration" else None)
+    cold, warm = fit_candidates([text, text], data, bounds=bounds, init=[None, dict(truth)])
+    assert compiles == []
+    assert free.values["R1"] > 1900 and single.values["R1"] == pytest.approx(1500.0, rel=1e-6)
+    for r in (cold, warm):
+        assert r.at_bound == single.at_bound == ("R1",)
+        assert r.bounds == single.bounds == {"R1": (500.0, 1500.0)}
+        for name, value in single.values.items():
+            assert r.values[name] == pytest.approx(value, rel=1e-5), name
+        assert r.chi2 == pytest.approx(single.chi2, rel=1e-6)

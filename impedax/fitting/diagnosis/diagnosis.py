@@ -33,8 +33,10 @@
 6. A fit held by the user's constraints (fixed values; free parameters on a bound the user set,
    not the element's own) is refitted once from its values with them released
    (`_constraint_verdict`): when that meets the fit's own rule (`constraints.constraint_explains`),
-   the verdict is ``constraint`` and no effect is named missing. A command the report prints
-   keeps the user's fixed values (``--fix``).
+   the verdict is ``constraint`` and no effect is named missing. Every candidate fit keeps the
+   user's fixed values and bounds of the parameters it has (the baseline's refit included; a
+   bound on a parameter a candidate replaced does not apply), and a command the report prints
+   keeps them too (``--fix``, ``--bound``).
 """
 
 from __future__ import annotations
@@ -379,7 +381,7 @@ class Diagnosis:
                 for t in same:
                     lines.append(f"     the same fit within the noise (the data cannot tell them apart): {t.model} [{t.effect}]   ΔAIC {t.delta_aic:+.1f}")
             best = self.suggestions[0].fit
-            starts = " ".join(f"--init {k}={v:.6g}" for k, v in best.values.items() if not best.fixed[k]) + _fixed_words(best)
+            starts = _start_words(best) + _fixed_words(best) + _bound_words(best)
             lines.append(f"  to apply 1. from its fitted values (a fit from scratch may stop in another minimum): {fit_command} --model '{best.model}' {starts}")
             lines += _without_vanished_lines(best, fit_command)
             if self.masked_points:  # (impedax fit takes every point the file holds unless told)
@@ -1068,13 +1070,15 @@ def _fit_proposals(base: FitResult, spectrum: xr.Dataset, ctx: BaselineContext, 
     proposals with those `_series_resistance_dropped` adds, and their fits after the
     baseline's; and the solver shape used (``shape`` when it holds them). ``say``: told as each
     further solve begins (stalled candidates, each rung of further starts for the poor leaders,
-    the pruned circuits; `diagnose`'s progress: a step was silent 30 s on a loaded machine)."""
+    the pruned circuits; `diagnose`'s progress: a step was silent 30 s on a loaded machine).
+    Every fit keeps ``base``'s fixed values and the user's bounds (`FitResult.bounds`) of the
+    parameters it has."""
     fixed = {k: v for k, v in base.values.items() if base.fixed[k]}
     circuits = [base.circuit] + [p.circuit for _, p in proposals]
     inits = [[dict(base.values), ctx.start()]] + [list(p.starts) for _, p in proposals]
     n_freq = spectrum.sizes["frequency"]
     shape = (shape or solver_shape(circuits, base.registry, n_freq)).grown_to(circuits, base.registry, n_freq)
-    options = dict(fixed=fixed or None, weighting=base.weighting, n_starts=n_starts, seed=seed, registry=base.registry, shape=shape, max_steps=BASELINE_STEPS, step_limit=max_steps)
+    options = dict(fixed=fixed or None, bounds=dict(base.bounds) or None, weighting=base.weighting, n_starts=n_starts, seed=seed, registry=base.registry, shape=shape, max_steps=BASELINE_STEPS, step_limit=max_steps)
     try:
         fits = fit_candidates(circuits, spectrum, init=inits, **options)
 
@@ -1136,7 +1140,7 @@ def _baseline_checked(base: FitResult, spectrum: xr.Dataset, shape: SolverShape,
     the baseline from the candidate's values 0.511 %). Run only when a missing effect would
     be named."""
     fixed = {k: v for k, v in base.values.items() if base.fixed[k]}
-    again = fit_candidates([base.circuit], spectrum, init=[[dict(base.values)] + _starts_from(base, named)], fixed=fixed or None, weighting=base.weighting, n_starts=BASELINE_CHECK_STARTS, seed=seed, registry=base.registry, shape=shape, max_steps=BASELINE_STEPS)[0]
+    again = fit_candidates([base.circuit], spectrum, init=[[dict(base.values)] + _starts_from(base, named)], fixed=fixed or None, bounds=dict(base.bounds) or None, weighting=base.weighting, n_starts=BASELINE_CHECK_STARTS, seed=seed, registry=base.registry, shape=shape, max_steps=BASELINE_STEPS)[0]
     return again if np.isfinite(again.chi2) and again.chi2 < base.chi2 * (1 - 1e-6) else None
 
 
@@ -1637,6 +1641,66 @@ def _fixed_words(fit: FitResult, kept=None) -> str:
     return "".join(f" --fix {k}={v:.6g}" for k, v in fit.values.items() if fit.fixed[k] and (kept is None or k in kept))
 
 
+def _bound_ends(fit: FitResult, kept=None) -> dict[str, tuple[str, str]]:
+    """The user's bounds of ``fit``'s parameters (`FitResult.bounds`; in ``kept``, when given)
+    as ``--bound`` writes them: each end as --init prints numbers (.6g), an end that is the
+    element's own left empty (`cli.common.parse_bounds` puts it back); all digits where .6g
+    would make the two ends meet."""
+    specs = fit.circuit.parameter_specs(fit.registry)
+    out = {}
+    for name, (lo, hi) in fit.bounds.items():
+        if kept is not None and name not in kept:
+            continue
+        digits = 6 if float(f"{lo:.6g}") < float(f"{hi:.6g}") else 17
+        out[name] = tuple("" if end == own else f"{end:.{digits}g}" for end, own in ((lo, float(specs[name].lower)), (hi, float(specs[name].upper))))
+    return out
+
+
+def _bound_words(fit: FitResult, kept=None) -> str:
+    """`` --bound NAME=LO:HI`` for each bound of the user's on ``fit``'s parameters (in
+    ``kept``, when given): a command that applies a suggestion keeps the user's bounds, which
+    its fit kept (`_bound_ends`)."""
+    return "".join(f" --bound {name}={lo}:{hi}" for name, (lo, hi) in _bound_ends(fit, kept).items())
+
+
+def _start_words(fit: FitResult, kept=None) -> str:
+    """``--init NAME=VALUE`` for each free parameter of ``fit`` (in ``kept``, when given), .6g.
+    A value of a bounded parameter is written strictly inside the bounds `_bound_words` prints
+    (`impedax fit` refuses a start on a bound: `_inside_text`)."""
+    specs = fit.circuit.parameter_specs(fit.registry)
+    ends = _bound_ends(fit, kept)
+    words = []
+    for name, value in fit.values.items():
+        if fit.fixed[name] or (kept is not None and name not in kept):
+            continue
+        text = f"{value:.6g}"
+        if name in ends:
+            lo, hi = (float(t) if t else float(own) for t, own in zip(ends[name], (specs[name].lower, specs[name].upper)))
+            text = _inside_text(value, lo, hi)
+        words.append(f"--init {name}={text}")
+    return " ".join(words)
+
+
+def _inside_text(value: float, lo: float, hi: float) -> str:
+    """``value`` written strictly inside (lo, hi): .6g when that is inside; else (a fitted value
+    on its bound, or rounded onto it) moved 1e-6 of its bound inside (of the span, for a bound 0
+    or below) as `starts.values_inside` moves a start, with the fewest digits that keep it there."""
+    text = f"{value:.6g}"
+    if lo < float(text) < hi:
+        return text
+    span = hi - lo if math.isfinite(hi - lo) else 1.0
+    x = min(max(value, lo), hi)
+    if not x > lo:
+        x = lo * (1 + 1e-6) if lo > 0 else lo + 1e-6 * span
+    if not x < hi:
+        x = hi * (1 - 1e-6) if hi > 0 else hi - 1e-6 * span
+    for digits in (6, 9, 12):
+        text = f"{x:.{digits}g}"
+        if lo < float(text) < hi:
+            return text
+    return repr(x)
+
+
 def _constraint_verdict(user_fit: FitResult, spectrum: xr.Dataset, kk: KKResult | None, ratio: float) -> tuple[Verdict, str] | None:
     """`Verdict.CONSTRAINT` and its reason when the user's binding constraints on ``user_fit``
     (fixed values, a bounds= it sits on: `constraints.binding_constraints`) explain its misfit:
@@ -1665,7 +1729,7 @@ def _without_vanished_lines(fit: FitResult, fit_command: str) -> list[str]:
     lines = []
     for branch, reduced, names in vanished_terms(fit):
         kept = set(reduced.parameter_names(fit.registry))
-        starts = " ".join(f"--init {k}={v:.6g}" for k, v in fit.values.items() if k in kept and not fit.fixed[k]) + _fixed_words(fit, kept)
+        starts = _start_words(fit, kept) + _fixed_words(fit, kept) + _bound_words(fit, kept)
         specs = fit.circuit.parameter_specs(fit.registry)
         held = ", ".join(f"{n} = {format_quantity(fit.values[n], specs[n].unit)}{', at its bound' if n in fit.at_bound else ''}" for n in names)
         what = share_words(branch)
@@ -1734,7 +1798,8 @@ def diagnose(
     """Diagnose a fit: where the model fails, which effect of ``effects`` is missing, verdict.
 
     ``fit_or_data``: a `FitResult` (then ``data`` may give the Dataset it was fitted to, for its
-    ``sigma``; the fit's own registry and band are used), or a spectrum Dataset/path together
+    ``sigma``; the fit's own registry and band are used, and its fixed values and bounds are
+    kept in every candidate fit that has the parameter), or a spectrum Dataset/path together
     with ``circuit`` (parsed with ``registry`` and fitted first with ``weighting`` to the points
     with ``fmin`` ≤ f ≤ ``fmax``). ``kk``: a `KKResult` to reuse (default: `kk_test` of the
     fitted spectrum); ``noise``: a relative noise level to use instead of the estimate (needed,
@@ -1826,6 +1891,11 @@ def diagnose(
     n_points = int(keep.sum())
     proposals = [(e, p) for e, p in effects.proposals(ctx) if len(p.circuit.parameter_names(base.registry)) < 2 * n_points]
     say(f"fitting {len(proposals)} candidate circuits of {len({e.id for e, _ in proposals})} effects")
+    if base.bounds:
+        notes.append(
+            "your bounds (" + ", ".join(f"{n} within {lo:g}..{hi:g}" for n, (lo, hi) in base.bounds.items()) + ") are kept in every candidate fit that has the parameter, "
+            "the baseline's refit included, and in the commands printed (--bound); a candidate that replaces the element drops its bound"
+        )
     proposals, fits, shape = _fit_proposals(base, spectrum, ctx, proposals, shape, n_starts=n_starts, max_steps=max_steps, seed=seed, say=say)
     if masked:
         base = fits[0]

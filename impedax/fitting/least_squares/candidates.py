@@ -25,14 +25,14 @@ import xarray as xr
 
 from ...circuits import Circuit, CircuitProgram, DEFAULT_REGISTRY, ProgramLayout, Registry, default_theta, parse, program_value_and_columns
 from ...errors import FitError
-from ..parameters import Transform, to_external, to_internal
+from ..parameters import ParameterTable, Transform, to_external, to_internal
 from ..problem import FitProblem, fit_problem, open_spectrum, weights
 from ..stored import QUICK_COMPILE, StoredProgram
 from .lm import solve_by_elimination, work_queue
 from .order import canonical_order
 from .result import FitResult, fit_result
 from .solvers import SolverArgs, SolverOutput, SolverStatus, over_devices, padded_points, trimmed
-from .starts import SpectrumFeatures, data_driven_guess, random_starts
+from .starts import SpectrumFeatures, data_driven_guess, random_starts, values_inside
 
 __all__ = ["fit_candidates", "SolverShape", "solver_shape", "candidate_solver"]
 
@@ -210,6 +210,7 @@ def fit_candidates(
     *,
     init: Sequence[Mapping[str, float] | Sequence[Mapping[str, float]] | None] | None = None,
     fixed: Mapping[str, float] | None = None,
+    bounds: Mapping[str, tuple[float, float]] | None = None,
     weighting: str = "modulus",
     n_starts: int = 8,
     max_steps: int = 400,
@@ -227,7 +228,10 @@ def fit_candidates(
     data. ``init[i]`` may also be a list of such mappings: several warm starts (they replace the
     first random starts); when any candidate has starting values, every candidate also starts
     from the data-driven guess of its whole circuit (one start more: where `impedax.fit` of
-    its model string begins). ``fixed`` values apply to candidates that have those parameters.
+    its model string begins). ``fixed`` values and ``bounds`` (name → (lower, upper), as
+`impedax.fit`'s) apply to candidates that have those parameters; every start (warm, from the
+data, random) lies strictly inside the bounds (`_inside`). The bounds are data of the compiled
+solver (`CandidateRow.lower`/``upper``), never part of its shape.
     Every start of every candidate runs Levenberg–Marquardt to convergence or ``max_steps``
     steps (``step_limit``, when given, lowers it) and each candidate keeps its best start.
     ``seeds``: one random-start seed per candidate (default ``seed`` for all). ``shape`` (a
@@ -241,7 +245,7 @@ def fit_candidates(
     circuits = [parse(c, registry) for c in circuits]
     if not circuits:
         return []
-    prepared, warm = _prepare(circuits, data, init, fixed, registry=registry)
+    prepared, warm = _prepare(circuits, data, init, fixed, bounds, registry=registry)
     spectrum = prepared[0].data
     freq = np.asarray(spectrum["frequency"].values, float)
     z = np.asarray(spectrum["Z"].values, complex)
@@ -338,8 +342,9 @@ def _solve(rows: list["CandidateRow"], shared: SpectrumArgs, n_freq: int, layout
     return outputs
 
 
-def _prepare(circuits, data, init, fixed, *, registry) -> tuple[list[FitProblem], list[list[dict]]]:
-    """Each candidate's `FitProblem` (its first start as ``init``) and its further warm starts."""
+def _prepare(circuits, data, init, fixed, bounds, *, registry) -> tuple[list[FitProblem], list[list[dict]]]:
+    """Each candidate's `FitProblem` (its first start as ``init``; the ``fixed`` values and
+    ``bounds`` of its parameters) and its further warm starts, all inside its bounds."""
     init = list(init) if init is not None else [None] * len(circuits)
     if len(init) != len(circuits):
         raise FitError("init must give one mapping (or None) per circuit")
@@ -348,10 +353,13 @@ def _prepare(circuits, data, init, fixed, *, registry) -> tuple[list[FitProblem]
     for circuit, start in zip(circuits, init):
         names = circuit.parameter_names(registry)
         mine = {k: v for k, v in (fixed or {}).items() if k in names}
+        limits = {k: v for k, v in (bounds or {}).items() if k in names}
+        # (a table of the bounds alone checks them and places the warm starts inside them)
+        bounded = ParameterTable.build(circuit, registry=registry, bounds=limits) if limits else None
         starts = [start] if start is None or isinstance(start, Mapping) else list(start)
         starts = [{k: v for k, v in (one or {}).items() if k in names and k not in mine} for one in starts] or [{}]
-        warm.append([_inside(circuit, one, registry) for one in starts[1:]])
-        prepared.append(fit_problem(circuit, spectrum, init=_inside(circuit, starts[0], registry), fixed=mine, bounds=None, registry=registry))
+        warm.append([_inside(circuit, one, registry, bounded) for one in starts[1:]])
+        prepared.append(fit_problem(circuit, spectrum, init=_inside(circuit, starts[0], registry, bounded), fixed=mine, bounds=limits or None, registry=registry))
     if prepared[0].data["Z"].ndim != 1:
         raise FitError("fit_candidates fits one spectrum; select or average the extra dimensions first")
     return prepared, warm
@@ -427,8 +435,12 @@ def _stack_rows(rows: list[CandidateRow], capacity: int) -> CandidateRows:
     )
 
 
-def _inside(circuit: Circuit, values: Mapping[str, float], registry: Registry) -> dict[str, float]:
-    """Warm starts nudged strictly inside their bounds (a fitted α may sit at exactly 1)."""
+def _inside(circuit: Circuit, values: Mapping[str, float], registry: Registry, bounded: ParameterTable | None = None) -> dict[str, float]:
+    """Warm starts nudged strictly inside their bounds (a fitted α may sit at exactly 1). With
+    ``bounded`` (a table of the user's bounds), a start of a parameter bounded there is moved
+    inside them as `impedax.fit` moves a batch's starts (`starts.values_inside`): one on a
+    bound 1e-6 inside, one outside `starts.INSIDE_FRACTION` of the span inside (a start just
+    inside sits where the logistic is flat, and the solver stops there)."""
     specs = circuit.parameter_specs(registry)
     out = {}
     for name, value in values.items():
@@ -441,4 +453,7 @@ def _inside(circuit: Circuit, values: Mapping[str, float], registry: Registry) -
         if value >= spec.upper:
             value = spec.upper * (1 - 1e-6) if spec.upper > 0 else spec.upper - 1e-6
         out[name] = value
+    if bounded is not None:
+        narrowed = {n for n, lo, hi in zip(bounded.names, bounded.lower, bounded.upper) if lo != specs[n].lower or hi != specs[n].upper}
+        out.update(values_inside({n: v for n, v in out.items() if n in narrowed}, bounded))
     return out
