@@ -86,3 +86,29 @@ def test_rms_rel_keeps_its_significant_digits():
     c = ix.compare([ix.fit(m, spectrum(alpha=0.9, seed=1)) for m in MODELS])
     for row, line in zip(c.rows, c.table().splitlines()[1:]):
         assert f"{row['rms_rel'] * 100:#.3g}%" in line.split()
+
+
+def test_a_rival_that_reduces_to_the_best_is_no_weak_evidence():
+    """α = 1 (the capacitor true): CPE1.alpha runs to its bound 1, so the CPE model reduces to
+    the capacitor (its F-test says so) and trails by ΔAIC = 2Δk = 2 with χ² no lower, the
+    clearest lead AIC gives a smaller model. The table says it adds nothing, not "barely tell";
+    the Akaike weights stay the standard ones, computed here by numpy."""
+    c = ix.compare([ix.fit(m, spectrum(alpha=1.0, seed=2)) for m in MODELS])
+    (aic_rc, _), (aic_cpe, _) = by_hand(c)
+    test = c.f_tests[0]
+    assert test["reason"] == "reduces_to_simple" or (test["valid"] and test["f"] <= 1)  # (the case)
+    assert aic_cpe - aic_rc == pytest.approx(2, abs=0.02) and c.best_index == 0
+    w = np.exp(-np.array([0.0, aic_cpe - aic_rc]) / 2)
+    assert [r["akaike_weight"] for r in c.rows] == pytest.approx(w / w.sum(), abs=1e-4)
+    assert c.weak_evidence() is None and "barely" not in c.report()
+    reduced = c.reduces_to_best()
+    assert reduced["best"] == MODELS[0] and reduced["rivals"] == [MODELS[1]]
+    assert reduced["note"].startswith(f"{MODELS[1]} reduces to {MODELS[0]}: ") and f"the Akaike weight {c.rows[1]['akaike_weight']:.3f} is that penalty" in reduced["note"]
+    assert reduced["note"] in c.table().splitlines()
+    doc = json.loads(json.dumps(to_jsonable(c.summary()), allow_nan=False))
+    assert doc["reduces_to_best"]["rivals"] == [MODELS[1]] and doc["weak_evidence"] is None
+
+
+def test_a_clear_lead_has_no_reduction_line():
+    c = ix.compare([ix.fit(m, spectrum(alpha=0.9, seed=1)) for m in MODELS])
+    assert c.reduces_to_best() is None and c.summary()["reduces_to_best"] is None and "reduces to" not in c.table()

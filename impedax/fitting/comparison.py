@@ -188,6 +188,7 @@ class Comparison:
             "best_label": self.rows[self.best_index]["label"], "best_determined_label": None if j is None else self.rows[j]["label"],
             "best_aicc_label": None if i is None else self.rows[i]["label"],
             "weak_evidence": self.weak_evidence(),  # (added 2026-11-30: None when the best model's lead is clear)
+            "reduces_to_best": self.reduces_to_best(),  # (added 2026-12-01: None when no model reduces to the best)
         }
 
     def to_table(self) -> list[dict]:
@@ -200,12 +201,14 @@ class Comparison:
         rival less than `WEAK_DELTA_AIC` behind, or picked by BIC, or — when every row has a
         reliable log evidence (posteriors) — by the log evidence. The rival is the model BIC
         picks, else the one the log evidence picks, else the runner-up by AIC; a fit that is the
-        best's own (``same_fit_as``) is no rival. Keys: ``best``, ``rival`` (labels),
+        best's own (``same_fit_as``) is no rival, nor one that reduces to it (`reduces_to_best`:
+        its ΔAIC = 2Δk is all AIC can say for the smaller model, not a weak lead). Keys: ``best``, ``rival`` (labels),
         ``delta_aic`` (the rival's), ``threshold``, ``bic_prefers`` and
         ``log_evidence_prefers`` (a label other than the best's, or None), ``note`` (the
         table's line)."""
         best = self.best_index
-        others = [i for i, r in enumerate(self.rows) if i != best and r.get("same_fit_as") != self.rows[best]["label"]]
+        reduced = self.reduces_to_best_indices()
+        others = [i for i, r in enumerate(self.rows) if i != best and r.get("same_fit_as") != self.rows[best]["label"] and i not in reduced]
         if not others:
             return None
         label = lambda i: self.rows[i]["label"]  # noqa: E731
@@ -228,6 +231,39 @@ class Comparison:
             "best": label(best), "rival": label(rival), "delta_aic": float(delta), "threshold": WEAK_DELTA_AIC,
             "bic_prefers": None if bic_rival is None else label(bic_rival), "log_evidence_prefers": None if evidence_rival is None else label(evidence_rival), "note": note,
         }
+
+    def reduces_to_best_indices(self) -> list[int]:
+        """Positions of the models whose F-test with the best one says they reduce to it:
+        ``"reason": "reduces_to_simple"`` (`_boundary_note`: an extra parameter on its bound,
+        χ² no lower), or a valid test with F ≤ `NOISE_F` (the extra parameters lower χ² no more
+        than noise alone would)."""
+        best = self.rows[self.best_index]["label"]
+        reduced = {t["complex_label"] for t in self.f_tests if t.get("simple_label") == best
+                   and (t.get("reason") == "reduces_to_simple" or (t.get("valid", True) and t["f"] <= NOISE_F))}
+        return [i for i, r in enumerate(self.rows) if i != self.best_index and r["label"] in reduced]
+
+    def reduces_to_best(self) -> dict | None:
+        """The models that reduce to the best one (`reduces_to_best_indices`), or None. Their
+        χ² is no lower, so their ΔAIC is the 2 per extra parameter AIC charges, the clearest lead
+        AIC gives a smaller model (Burnham & Anderson 2002, §3.2; Arnold 2010, J. Wildl. Manage.
+        74:1175, on uninformative parameters). Their Akaike weights stay as computed (the
+        standard exp(−ΔAIC/2), normalised) and are that penalty, not support: the line says so,
+        and `weak_evidence` does not count them. Keys: ``best``, ``rivals`` (labels),
+        ``delta_aic`` (theirs), ``note`` (the table's line)."""
+        reduced = self.reduces_to_best_indices()
+        if not reduced:
+            return None
+        best = self.rows[self.best_index]["label"]
+        names = [self.rows[i]["label"] for i in reduced]
+        one = len(reduced) == 1
+        deltas = ", ".join(f"{self.rows[i]['delta_aic']:.2f}" for i in reduced)
+        weights = ", ".join(f"{self.rows[i]['akaike_weight']:.3f}" for i in reduced)
+        note = (
+            f"{names[0] if one else ', '.join(names[:-1]) + ' and ' + names[-1]} {'reduces' if one else 'reduce'} to {best}: the extra {'element lowers' if one else 'elements lower'} χ² "
+            f"no more than noise alone would, so {'it adds' if one else 'they add'} nothing; ΔAIC {deltas} {'is' if one else 'are'} about the 2 per extra parameter AIC charges, the clearest lead it gives "
+            f"the smaller model, and the Akaike weight{'' if one else 's'} {weights} {'is' if one else 'are'} that penalty, not support"
+        )
+        return {"best": best, "rivals": names, "delta_aic": [float(self.rows[i]["delta_aic"]) for i in reduced], "note": note}
 
     def _best_mark(self, *, warnings_below: bool) -> str:
         """The table's mark of the best model by AIC, saying when its fit did not converge or has
@@ -295,6 +331,9 @@ class Comparison:
         weak = self.weak_evidence()
         if weak is not None:
             lines.append(weak["note"])
+        reduced = self.reduces_to_best()
+        if reduced is not None:
+            lines.append(reduced["note"])
         unreliable = [r["label"] for r in self.rows if r.get("log_evidence_reliable") is False]
         if unreliable:
             lines.append(f"{UNRELIABLE_MARK} log evidence unreliable or undefined by the posterior's own warnings (listed with the model's): {', '.join(unreliable)}; compare these models by WAIC")
@@ -484,6 +523,11 @@ def _with_posterior_warnings(item) -> FitResult:
     return replace(fit, warnings=tuple(fit.warnings) + tuple(w for w in own if w not in fit.warnings))
 
 
+NOISE_F = 1.0
+"""A model nested over the best one reduces to it (`Comparison.reduces_to_best`) when their
+valid F-test has F at most this: extra parameters that do nothing lower χ² by about Δk·σ² on
+average (F has mean df2/(df2 − 2) ≈ 1 under the null), so a smaller fall is the noise's, and
+ΔAIC ≥ Δk (SYNTHETIC R0 + R1 ∥ C1 data, 1 % noise: R0 + R1 ∥ C1 + W1 gives F = 0.0145, ΔAIC 1.99)."""
 SAME_FIT_RMS = 1e-3
 """Two fits are one fit when they have as many parameters, χ² within 1e-6 (relative) and model
 spectra whose difference (rms, relative to |Z_data|) is below this fraction of their misfit
