@@ -4,6 +4,7 @@ smaller items. REAL data: impedance.py's example files (tests/fixtures/real, MIT
 
 from __future__ import annotations
 
+import csv
 import json
 import math
 import pathlib
@@ -312,6 +313,18 @@ def test_a_fit_with_fixed_values_is_labelled_by_them(free_fit, alpha_held_at_1, 
     # a fit passed twice: each F-test names the row it came from
     twice = ix.compare([held, free_fit, held])
     assert {(t["simple_label"], t["complex_label"]) for t in twice.summary()["f_tests"]} == {(f"{MODEL} [CPE1.alpha=1]", MODEL), (f"{MODEL} [CPE1.alpha=1] (2)", MODEL)}
+
+
+def test_a_bounded_fit_is_labelled_by_its_bounds(free_fit, alpha_held_at_1, bounded_fit, tmp_path):
+    """Before, the bounded fit read "M (2)", the label of the same fit given twice, and neither
+    report() nor the CSV said what it was bounded to."""
+    bounded = bounded_fit({"R0": (60.0, 63.0)})
+    c = ix.compare([free_fit, bounded, alpha_held_at_1])
+    assert [r["label"] for r in c.rows] == [MODEL, f"{MODEL} [R0 within 60..63]", f"{MODEL} [CPE1.alpha=1]"]
+    assert f"bounded in {MODEL} [R0 within 60..63]: R0 within 60..63" in c.report().splitlines()
+    ix.write_result(c, tmp_path / "c.csv")
+    rows = list(csv.DictReader(open(tmp_path / "c.csv")))
+    assert [r["bounds"] for r in rows] == ["", "R0 within 60..63", ""] and rows[1]["label"] == f"{MODEL} [R0 within 60..63]"
 
 
 def test_fits_without_fixed_values_keep_their_labels(biologic, free_fit):

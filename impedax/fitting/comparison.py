@@ -49,11 +49,20 @@ def _subsequence(small, big) -> bool:
 
 
 def fit_label(fit: FitResult) -> str:
-    """A fit's name in a comparison: its model, followed by its fixed values when it has any
-    (``R0 + R1 || CPE1 [CPE1.alpha=1]``), so the same circuit fitted free and with a parameter
-    held reads as two models."""
+    """A fit's name in a comparison: its model, followed by its fixed values and its bounds
+    (``bounds=``, `bounds_text`) when it has any (``R0 + R1 || CPE1 [CPE1.alpha=1]``,
+    ``R0 + R1 || CPE1 [R1 within 10..50]``), so the same circuit fitted free, with a parameter
+    held or with one bounded reads as that many models (a bounded fit read ``M (2)``, the label
+    of the same fit given twice)."""
     held = [f"{n}={fit.values[n]:g}" for n, is_fixed in fit.fixed.items() if is_fixed]
+    held += bounds_text(fit)
     return f"{fit.model} [{', '.join(held)}]" if held else fit.model
+
+
+def bounds_text(fit: FitResult) -> list[str]:
+    """``fit``'s user bounds (`FitResult.bounds`) as ``NAME within LO..HI``, as ``impedax
+    compare`` prints them ("bounded in MODEL: R1 within 10..50")."""
+    return [f"{n} within {lo:g}..{hi:g}" for n, (lo, hi) in fit.bounds.items()]
 
 
 def unique_labels(labels: Sequence[str]) -> list[str]:
@@ -193,8 +202,9 @@ class Comparison:
 
     def to_table(self) -> list[dict]:
         """One row per model, as ``compare --out FILE.csv`` writes them: the columns of the table
-        with chi2, the AICc deltas and weights, and the undetermined parameters (``;``-joined)."""
-        return [{**r, "undetermined": ";".join(undetermined_names(f))} for r, f in zip(self.rows, self.fits)]
+        with chi2, the AICc deltas and weights, the undetermined parameters and the user's bounds
+        (``bounds``, `bounds_text`; both ``;``-joined)."""
+        return [{**r, "undetermined": ";".join(undetermined_names(f)), "bounds": ";".join(bounds_text(f))} for r, f in zip(self.rows, self.fits)]
 
     def weak_evidence(self) -> dict | None:
         """How weakly the data prefer the best model by AIC, or None when its lead is clear: a
@@ -283,8 +293,11 @@ class Comparison:
         return mark
 
     def report(self) -> str:
-        """The table, then the warnings every model has (once) and each model's others."""
+        """The table, the bounds each fit had (``bounded in LABEL: R1 within 10..50``, as
+        ``impedax compare`` prints them), then the warnings every model has (once) and each
+        model's others."""
         lines = [self.table(warnings_below=True)]
+        lines += [f"bounded in {row['label']}: {', '.join(bounds_text(fit))}" for row, fit in zip(self.rows, self.fits) if fit.bounds]
         common, own = self.warnings_by_model()
         if common:
             lines += ["every model:"] + [f"  - {w}" for w in common]
