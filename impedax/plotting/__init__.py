@@ -14,7 +14,7 @@ from typing import Sequence
 import matplotlib.pyplot as plt
 from matplotlib.axes import Axes
 from matplotlib.transforms import Bbox
-from matplotlib.ticker import Formatter, ScalarFormatter
+from matplotlib.ticker import Formatter, MaxNLocator, ScalarFormatter
 import numpy as np
 import xarray as xr
 
@@ -235,12 +235,78 @@ class _PrefixedFormatter(ScalarFormatter):
 _BRACKETED_UNIT = re.compile(r"\[(T|G|M|k|m|µ|n|p|f)?(Ω|F|H)((?: [^\]]*)?)\]")
 
 
-def prefixed_axis(axis, *, along=(), label=None) -> None:
+def prefixed_axis(axis, *, along=(), label=None, max_bins="auto") -> None:
     """Count the linear ``axis`` (``ax.xaxis``) of a quantity in Ω, F or H, named in its label's
-    brackets (``Z' [Ω]``), in the SI prefix that suits its values (`_PrefixedFormatter`);
+    brackets (``Z' [Ω]``), in the SI prefix that suits its values (`_PrefixedFormatter`), with
+    as many ticks as their labels fit (`FittingLocator`, at most ``max_bins`` intervals);
     ``along``: axes that share the scale (a Nyquist panel's two); ``label``: the text that
     names the unit and gets the prefix when it is not the axis label (a panel's title)."""
     axis.set_major_formatter(_PrefixedFormatter(along, label))
+    axis.set_major_locator(FittingLocator(max_bins))
+
+
+# a tick label's width per character, in em: `characters_across`' conservative average
+LABEL_CHAR_EM = 0.62
+# the free space kept between neighbouring tick labels, in em
+LABEL_GAP_EM = 0.5
+
+
+def tick_label_size(axis) -> float:
+    """The font size [pt] of ``axis``' major tick labels."""
+    return float(axis.get_major_ticks(1)[0].label1.get_fontsize())
+
+
+def axis_length_pt(axis) -> float:
+    """The length [pt] of ``axis`` on the figure (its axes' box width or height)."""
+    ax = axis.axes
+    box = ax.get_position()  # (figure fraction, after the aspect is applied at draw)
+    width, height = ax.figure.get_size_inches() * 72
+    return float(box.width * width if axis is ax.xaxis else box.height * height)
+
+
+class FittingLocator(MaxNLocator):
+    """matplotlib's tick choice (`MaxNLocator`, at most ``nbins`` intervals) thinned until the
+    labels fit between their neighbours: on an x axis each label's width (its characters at
+    `LABEL_CHAR_EM`, as the axis' formatter writes them, plus `LABEL_GAP_EM`), on a y axis its
+    height, at most the ticks' spacing on the figure. A Nyquist panel a few millimetres wide
+    ran ``0``, ``0.001``, ``0.002`` into "00002"; it keeps one tick where no two fit."""
+
+    def __init__(self, nbins="auto"):
+        super().__init__(nbins=nbins, steps=[1, 2, 2.5, 5, 10])
+        self.most = nbins
+
+    def tick_values(self, vmin, vmax):
+        axis = self.axis
+        locs = super().tick_values(vmin, vmax)  # (matplotlib's choice, kept where its labels fit)
+        if axis is None or not np.isfinite([vmin, vmax]).all() or vmax == vmin:
+            return locs
+        lo, hi = sorted((vmin, vmax))
+        size, per_unit = tick_label_size(axis), axis_length_pt(axis) / (hi - lo)
+        in_view = lambda values: values[(values >= lo - 1e-9 * (hi - lo)) & (values <= hi + 1e-9 * (hi - lo))]  # noqa: E731
+        nbins = len(in_view(locs)) - 1
+        try:
+            while nbins >= 1 and len(in_view(locs)) >= 2 and not self._fit(in_view(locs), size, per_unit):
+                nbins -= 1
+                self.set_params(nbins=max(nbins, 1))
+                locs = super().tick_values(vmin, vmax)
+        finally:
+            self.set_params(nbins=self.most)
+        shown = in_view(locs)
+        if len(shown) >= 2 and not self._fit(shown, size, per_unit):
+            return shown[[np.argmin(np.abs(shown - (lo + hi) / 2))]]  # (no two labels fit: the one nearest the middle alone)
+        return locs
+
+    def _fit(self, shown, size: float, per_unit: float) -> bool:
+        """Whether the labels of ticks ``shown`` (values) fit between neighbours at ``per_unit``
+        points per axis unit and font ``size`` [pt]."""
+        spacing = float(np.min(np.diff(shown))) * per_unit
+        if self.axis.axes.yaxis is self.axis:
+            return spacing >= (1 + LABEL_GAP_EM) * size
+        formatter = self.axis.get_major_formatter()
+        formatter.set_locs(shown)
+        texts = [formatter(x) for x in shown]
+        widest = max(len(t) for t in texts)
+        return spacing >= (widest * LABEL_CHAR_EM + LABEL_GAP_EM) * size
 
 
 def prefixable_unit(text: str) -> bool:
@@ -457,12 +523,13 @@ def plot_residuals(ax, freq, real, imag, *, labels=("Re", "Im"), ylabel="residua
     ax.legend(fontsize=8, ncol=3 if limit is not None else 2)
 
 
-def _plain_number(x: float) -> str:
+def _plain_number(x: float, prefix_from: float = 1e4) -> str:
     """A tick value as printed: ``0.2``, ``40``, ``2000``; from 10⁴ up and below 10⁻³ with an SI
     prefix (``10k``, ``2M``, ``500µ``), where ``1e+06`` beside ``100000`` read badly; beyond the
     prefixes (below 1 f, from 1000 T up) in plain exponent form (``1e-20``, ``1e+18``), not
-    ``1e-05f``."""
-    if x == 0 or 1e-3 <= abs(x) < 1e4:
+    ``1e-05f``. ``prefix_from``: the value from which a prefix is written (1000: the minor
+    ticks of a log axis, 2k beside 20k)."""
+    if x == 0 or 1e-3 <= abs(x) < prefix_from:
         return f"{x:g}"
     smallest, largest = SI_PREFIXES[-1][0], SI_PREFIXES[0][0]
     if not smallest <= abs(x) < 1e3 * largest:
@@ -474,15 +541,60 @@ def _plain_number(x: float) -> str:
 def plain_log_ticks(axis) -> None:
     """Tick labels of a log-scaled ``axis`` (``ax.yaxis``) as plain numbers (0.2, 0.6, 2, 40,
     10k, 1M) instead of 2×10⁻¹ or 1e+06 (`_plain_number`): percentages read as they are
-    printed. Which ticks are labelled is matplotlib's choice, as before."""
+    printed. Which ticks are labelled is matplotlib's choice, thinned where the labels of the
+    minor ticks (an axis over about a decade) would not fit between each other (`_MinorLogLabels`);
+    those count in an SI prefix from 1000 up (2k, 3k next to 10k, 20k: "2000 3000 4000 6000"
+    ran into one string beside "20k 30k")."""
     from matplotlib.ticker import LogFormatter
 
     class _Plain(LogFormatter):
         def __call__(self, x, pos=None):
             return _plain_number(x) if super().__call__(x, pos) else ""
 
+    class _MinorLogLabels(LogFormatter):
+        def set_locs(self, locs=None):
+            super().set_locs(locs)
+            _thin_minor_labels(self)
+
+        def __call__(self, x, pos=None):
+            return _plain_number(x, prefix_from=1e3) if super().__call__(x, pos) else ""
+
     axis.set_major_formatter(_Plain())
-    axis.set_minor_formatter(_Plain(labelOnlyBase=False))
+    axis.set_minor_formatter(_MinorLogLabels(labelOnlyBase=False))
+
+
+# the sets of mantissas a log axis' minor ticks are labelled at, from the most to the fewest,
+# tried in turn after matplotlib's own choice until the labels fit (`_thin_minor_labels`)
+MINOR_LABEL_CHOICES = ((1, 2, 3, 4, 6), (1, 2, 5), (1, 3), (1,))
+
+
+def _thin_minor_labels(formatter) -> None:
+    """Narrow the mantissas ``formatter`` (a `LogFormatter` of minor ticks) labels to the first
+    of matplotlib's own choice and `MINOR_LABEL_CHOICES` (each no larger than it) whose labels fit between their
+    neighbours (`FittingLocator`'s measure: characters at `LABEL_CHAR_EM` and `LABEL_GAP_EM`
+    on an x axis, the font's height on a y axis)."""
+    axis = formatter.axis
+    chosen = getattr(formatter, "_sublabels", None)
+    if axis is None or not chosen or chosen == {1}:
+        return
+    vmin, vmax = sorted(axis.get_view_interval())
+    if not (vmin > 0 and vmax > vmin):
+        return
+    size = tick_label_size(axis)
+    per_decade = axis_length_pt(axis) / math.log10(vmax / vmin)
+    horizontal = axis is axis.axes.xaxis
+    for choice in (tuple(chosen), *(c for c in MINOR_LABEL_CHOICES if len(c) < len(chosen))):
+        marks = sorted(set(choice) | {1})
+        decades = range(math.floor(math.log10(vmin)), math.ceil(math.log10(vmax)) + 1)
+        values = [m * 10.0**d for d in decades for m in marks if vmin <= m * 10.0**d <= vmax]
+        if len(values) < 2:
+            break
+        where = np.log10(values) * per_decade
+        widths = [(len(_plain_number(v, prefix_from=1e3)) * LABEL_CHAR_EM if horizontal else 1.0) * size for v in values]
+        gaps = np.diff(where) - (np.array(widths[:-1]) + np.array(widths[1:])) / 2
+        if np.all(gaps >= LABEL_GAP_EM * size):
+            break
+    formatter._sublabels = set(marks)
 
 
 def characters_across(width_in: float, fontsize: float) -> int:

@@ -10,7 +10,6 @@ import math
 from typing import Mapping, Sequence
 
 import matplotlib.pyplot as plt
-from matplotlib.ticker import MaxNLocator
 import numpy as np
 
 from ..data import si_prefix, unit_text
@@ -123,19 +122,18 @@ def plot_corner(
                     plain_log_ticks(axis)
                 elif axis is ax.xaxis or i != j:
                     axis.set_label_text(labels[n])  # (the formatter's prefix goes into the label)
-                    prefixed_axis(axis)
-                    axis.set_major_locator(MaxNLocator(nbins=4))  # (five-digit ticks of a narrow panel ran together)
+                    prefixed_axis(axis, max_bins=4)  # (five-digit ticks of a narrow panel ran together: at most 4 intervals, fewer where they do not fit)
             if i == k - 1:
                 ax.set_xlabel(labels[j], fontsize=8)
             else:
                 ax.set_xlabel("")
-                ax.tick_params(labelbottom=False)
+                ax.tick_params(which="both", labelbottom=False)  # (the minor labels of a log axis too)
             if j == 0 and i > 0:
                 ax.set_ylabel(labels[i], fontsize=8)
             else:
                 ax.set_ylabel("")
-                ax.tick_params(labelleft=False)
-            ax.tick_params(labelsize=7)
+                ax.tick_params(which="both", labelleft=False)
+            ax.tick_params(which="both", labelsize=7)  # (the minor labels of a log axis too: they were larger than the major ones)
     shown = f"{every.shape[0]} draws" + (f"; {flat.shape[0]} in the scatter" if flat.shape[0] < every.shape[0] else "")
     fig.suptitle(f"{title} ({shown})", fontsize=9)
     return fig

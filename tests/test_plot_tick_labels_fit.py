@@ -1,0 +1,75 @@
+"""Tick labels do not run into each other on narrow panels: a Nyquist panel a few millimetres
+wide (`FittingLocator`) and a corner plot's log axis over about a decade (its minor labels,
+SI-prefixed and thinned: `plain_log_ticks`). Oracle: the labels' own boxes on an Agg canvas
+(matplotlib's `get_window_extent`); the spectra are SYNTHETIC, written here with numpy."""
+
+import re
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from impedax.plotting import equal_aspect, nyquist_frame  # noqa: E402
+from impedax.plotting.bayes import plot_corner  # noqa: E402
+
+
+def shown_labels(axis, renderer):
+    """(text, box) of the visible, non-empty tick labels of ``axis`` (major and minor) in view."""
+    lo, hi = sorted(axis.get_view_interval())
+    out = []
+    for tick in [*axis.get_major_ticks(), *axis.get_minor_ticks()]:
+        label = tick.label1
+        if label.get_visible() and label.get_text() and lo <= tick.get_loc() <= hi:
+            out.append((label.get_text(), label.get_window_extent(renderer)))
+    return out
+
+
+def assert_no_overlap(axis, renderer):
+    labels = shown_labels(axis, renderer)
+    for i, (a, box_a) in enumerate(labels):
+        for b, box_b in labels[i + 1 :]:
+            assert not box_a.overlaps(box_b), f"tick labels {a!r} and {b!r} overlap"
+    return [t for t, _ in labels]
+
+
+def test_a_narrow_nyquist_panel_keeps_its_labels_apart():
+    """Meyer's finger (SYNTHETIC, noise-free): −Z'' to 1.2 GΩ over Z' of 130 kΩ, so the equal
+    scales leave the panel a sliver; before, its x labels ran together ("0.0.001")."""
+    f = np.logspace(0, 6, 61)
+    jw = 2j * np.pi * f
+    z = 1 / (jw * 140e-12) + 1 / (jw * 1.7e-9) + 130e3 / (1 + jw * 130e3 * 2.2e-9) + 500
+    fig, ax = plt.subplots(figsize=(6, 6))
+    ax.plot(z.real, -z.imag, "o")
+    ax.set(xlabel="Z' [Ω]", ylabel="−Z'' [Ω]")
+    equal_aspect(ax, frame=nyquist_frame(z))
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    assert ax.get_window_extent(renderer).width < 0.1 * fig.bbox.width  # (the case: a sliver)
+    assert len(assert_no_overlap(ax.xaxis, renderer)) >= 1
+    assert len(assert_no_overlap(ax.yaxis, renderer)) >= 3
+    assert ax.get_xlabel() == "Z' [GΩ]"
+    plt.close(fig)
+
+
+def test_a_corner_log_axis_over_a_decade_has_prefixed_labels_apart():
+    """R1 log-normal about 8 kΩ (draws over a factor above 10: a log axis about 1.5 decades
+    wide, where matplotlib labels minor ticks); before, "2000 3000 4000 6000" ran together
+    beside "20k 30k", in a larger font than the major labels."""
+    rng = np.random.default_rng(5)
+    draws = np.c_[rng.normal(20, 0.2, 4000), np.exp(rng.normal(np.log(8000), 0.5, 4000)), np.exp(rng.normal(np.log(1e-6), 0.05, 4000))]
+    fig = plot_corner(draws, ["R0", "R1", "C1"], [True, True, True], units=["Ohm", "Ohm", "F"])
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    axes = np.array(fig.axes).reshape(3, 3)
+    for axis in (axes[2, 1].xaxis, axes[1, 0].yaxis):  # R1's log axes
+        assert axis.get_scale() == "log"
+        texts = assert_no_overlap(axis, renderer)
+        assert len(texts) >= 3 and "10k" in texts
+        assert all(re.fullmatch(r"\d+(\.\d+)?k", t) for t in texts), texts  # (SI-prefixed: 2k, not 2000)
+    for ax in fig.axes:
+        if ax.get_visible():
+            assert_no_overlap(ax.xaxis, renderer)
+            assert_no_overlap(ax.yaxis, renderer)
+    plt.close(fig)
