@@ -446,7 +446,8 @@ def sample(
     ``sigma_rel``. ``reparametrization`` samples physical
     quantities behind some circuit parameters (`gap_thickness_reparametrization`).
     ``bounds`` (name → (lower, upper), checked as `fit`'s) narrow circuit parameters: the
-    support of their priors (a default prior is log-uniform within them) and the space sampled;
+    support of their priors (a default prior is the default without them, cut to them:
+    `default_prior`'s ``own``) and the space sampled;
     an ``init`` fit's own bounds (`FitResult.bounds`) apply as its fixed parameters do, ``bounds``
     taking precedence, and the start fit run without ``init`` is fitted within them.
     ``walkers`` (default max(64, 4·P)) start in a small ball around the least-squares fit
