@@ -834,3 +834,92 @@ def test_a_gap_thickness_of_metres_is_told_to_check_the_area_s_unit():
     assert "check the area's unit first, A = 200 m² (2e+08 mm²" in note
     right = ix.sample("R_EP || C_gap", data, reparametrization=gap_thickness_reparametrization(area=200e-6), steps=40, progress=False)
     assert not any("is no air gap" in w for w in right.warnings)
+
+
+def test_a_pile_up_at_the_users_bound_names_that_bound_and_no_reduction():
+    """Synthetic draws of a CPE's α piled against the user's upper bound 0.78 (``--bound
+    CPE1.alpha=0.5:0.78``; true α 0.8): the user's bound sets that end and the data want larger
+    values — not "the model with C1 in its place", which holds only at the CPE's own α = 1. With
+    the user's bound 0.5:1 (the upper side the element's own) the pile-up at 1 keeps the
+    capacitor reduction."""
+    from impedax.circuits import DEFAULT_REGISTRY
+    from impedax.fitting.bayes.diagnostics import prior_edges, reducing_bounds, user_bound_sides
+    from impedax.fitting.bayes.priors import Prior
+
+    circuit = ix.parse("R0 + R1 || CPE1")
+    reductions = reducing_bounds(circuit, DEFAULT_REGISTRY)
+    assert user_bound_sides({"R1": (0.0, 1e7), "CPE1.alpha": (0.5, 1.0), "R0": (0.0, math.inf)}, circuit, DEFAULT_REGISTRY) == {"R1": {"upper"}, "CPE1.alpha": {"lower"}}
+    rng = np.random.default_rng(0)
+    for hi in (0.78, 1.0):
+        draws = (hi - rng.exponential(0.005, 4000).clip(max=0.25))[:, None]  # piled against hi
+        sides = user_bound_sides({"CPE1.alpha": (0.5, hi)}, circuit, DEFAULT_REGISTRY)
+        (warning,) = prior_edges(("CPE1.alpha",), ("",), draws, {"CPE1.alpha": Prior("uniform", 0.5, hi)}, (0.5,), (hi,), reductions, None, sides).warnings
+        if hi < 1:
+            assert warning.startswith("CPE1.alpha piles up against its upper bound 0.78, the bound you set (bounds=, --bound) "), warning
+            assert "your bound, not the data, sets the upper end" in warning and "the data want larger values" in warning
+            assert "capacitor" not in warning and "C1" not in warning.replace("CPE1", "")
+        else:
+            assert "the data are consistent with CPE1.alpha = 1, and CPE1 with alpha = 1 is a capacitor: the model with C1 in its place may be enough" in warning
+            assert "you set" not in warning
+
+
+def test_a_users_bound_cuts_the_default_prior_and_keeps_its_kind():
+    """The default prior within the user's bounds is the one without them cut to them
+    (docs/bayesian.md, "Priors"): an open lower side of R1's bound (its own 0) gave
+    uniform:0,1e7 in place of the log-uniform start ×/÷ 10³, and α's bound 0.5:1 a log-uniform
+    prior where exponents get a uniform one. Oracles by hand: start 1000 → [1, 1e6]."""
+    from impedax.fitting.bayes.priors import Prior, default_prior
+
+    unbounded = (0.0, math.inf)
+    assert default_prior(0.0, math.inf, 1000.0) == Prior("loguniform", 1.0, 1e6)
+    assert default_prior(0.0, 1e9, 1000.0, own=unbounded) == Prior("loguniform", 1.0, 1e6)  # not binding: unchanged
+    assert default_prior(0.0, 1e5, 1000.0, own=unbounded) == Prior("loguniform", 1.0, 1e5)  # binding: cut
+    assert default_prior(10.0, 1e5, 1000.0, own=unbounded) == Prior("loguniform", 10.0, 1e5)
+    assert default_prior(0.5, 1.0, 0.8, own=(0.0, 1.0)) == Prior("uniform", 0.5, 1.0)
+    assert default_prior(0.0, 1.0, 0.8) == Prior("uniform", 0.0, 1.0)
+
+
+def test_a_non_binding_bound_leaves_the_prior_and_the_posterior(rcpe):
+    """``bounds={"R1": (0, 10⁴·R1)}`` reaches past R1's default prior (R1 ×/÷ 10³): the prior
+    is the unbounded run's and, with the same seed, so are the medians (within 0.5 posterior
+    sd); ``(0, 10·R1)`` cuts the prior's upper end to 10·R1 and keeps its lower end."""
+    text, _, data, post = rcpe
+    r1 = post.fit.values["R1"]
+    loose = ix.sample(text, data, bounds={"R1": (0.0, 1e4 * r1)}, steps=200, burn=60, seed=1, progress=False)
+    assert loose.priors["R1"].kind == "loguniform"
+    assert (loose.priors["R1"].a, loose.priors["R1"].b) == pytest.approx((post.priors["R1"].a, post.priors["R1"].b), rel=1e-3)
+    for n in post.names:
+        assert abs(np.median(loose.samples[n]) - np.median(post.samples[n])) < 0.5 * np.std(post.samples[n]), n
+    cut = ix.sample(text, data, bounds={"R1": (0.0, 10 * r1)}, steps=20, seed=1, progress=False).priors["R1"]
+    assert cut.kind == "loguniform" and cut.a == pytest.approx(post.priors["R1"].a, rel=1e-3) and cut.b == 10 * r1
+
+
+def test_an_unreliable_waic_names_the_cause_that_applies():
+    """A constructed chain (sampled space) centred on the least-squares values, converged, of a
+    start fit that misses structure: p_waic is large because the model misfits, not because the
+    posterior sits away from the fit. Centred 5 sd off the fit: that is named (the parameter),
+    not the misfit. A chain not converged says to run more steps. The start fit of an RC to
+    fractional (α = 0.8) synthetic data with known σ is a misfit (its note, χ²_red ≫ 1); the
+    r_cpe model's is not."""
+    from impedax.fitting.bayes.evidence import waic_cause
+    from impedax.fitting.bayes.logprob import NoiseModel
+    from impedax.fitting.bayes.sampler import _start_misfit
+
+    rng = np.random.default_rng(0)
+    start = np.array([np.log(20.0), np.log(5000.0)])
+    chain = start + 0.01 * rng.standard_normal((32, 200, 2))
+    names = ("R0", "R1")
+    misfit = waic_cause(chain, names, start_y=start, converged=True, model_misfit=True)
+    assert misfit.startswith("the model misfits the data: the posterior sits on the least-squares fit") and "sits away" not in misfit and "run more steps" not in misfit
+    moved = waic_cause(chain + np.array([0.0, 0.05]), names, start_y=start, converged=True, model_misfit=True)
+    assert "the median of R1 lies over 2 posterior standard deviations from the least-squares value" in moved and "misfits" not in moved
+    assert "R0" not in moved
+    short = waic_cause(chain, names, start_y=start, converged=False, model_misfit=False)
+    assert short == "the chain has not converged (see the chain-length warning): run more steps"
+    text, fn, truth, (lo, hi) = CASES["r_cpe"]
+    f = np.geomspace(lo, hi, 40)
+    z = fn(f, truth)
+    data = ix.make_spectrum(f, noisy(z, NOISE, np.random.default_rng(7)), sigma=NOISE * np.abs(z))
+    rc_fit = ix.fit("R0 + R1 || C1", data, weighting="sigma")
+    assert rc_fit.chi2_red > 10 and _start_misfit(rc_fit, NoiseModel.SIGMA)
+    assert not _start_misfit(ix.fit(text, data, weighting="sigma"), NoiseModel.SIGMA)

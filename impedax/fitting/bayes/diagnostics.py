@@ -15,7 +15,7 @@ from ...data import unit_text
 
 __all__ = [
     "CHAIN_TAU_MULTIPLE", "ACCEPTANCE_STUCK", "GAUSSIAN_ACCEPTANCE", "CORRELATION_WARNING", "EDGE_BAND", "EDGE_DENSITY", "EDGE_MIN_DRAWS",
-    "INTERVAL_RATIO_WARNING", "integrated_autocorr", "flat_acceptance", "acceptance_ceiling", "hdi", "chain_warnings", "PriorEdges", "prior_edges", "reducing_bounds", "PiledUp",
+    "INTERVAL_RATIO_WARNING", "integrated_autocorr", "flat_acceptance", "acceptance_ceiling", "hdi", "chain_warnings", "PriorEdges", "prior_edges", "reducing_bounds", "user_bound_sides", "PiledUp",
     "acceptance_warnings", "interval_warnings", "figure",
 ]
 
@@ -205,6 +205,21 @@ def reducing_bounds(circuit: Circuit, registry: Registry) -> dict[str, tuple[str
     return out
 
 
+def user_bound_sides(user_bounds: Mapping[str, tuple[float, float]], circuit: Circuit, registry: Registry) -> dict[str, frozenset[str]]:
+    """{parameter: sides} of the bounds the user narrowed (``bounds=``, ``--bound``) that are
+    not the element's own: ``R1=:10M`` narrows only R1's "upper" side (its lower is the
+    element's 0), ``CPE1.alpha=0.5:1`` only the "lower" (1 is the CPE's own)."""
+    specs = circuit.parameter_specs(registry)
+    out = {}
+    for n, (lo, hi) in user_bounds.items():
+        if n not in specs:
+            continue
+        sides = frozenset(side for side, value, own in (("lower", lo, specs[n].lower), ("upper", hi, specs[n].upper)) if value is not None and float(value) != float(own))
+        if sides:
+            out[n] = sides
+    return out
+
+
 def prior_edges(
     names: Sequence[str],
     units: Sequence[str],
@@ -214,6 +229,7 @@ def prior_edges(
     upper: Sequence[float],
     reductions: Mapping[str, tuple[str, str]] | None = None,
     bound_causes: Mapping[str, str] | None = None,
+    user_sides: Mapping[str, frozenset[str]] | None = None,
 ) -> PriorEdges:
     """The parameters whose posterior piles up against an edge of their prior, as data and as
     a warning for each (`PriorEdges`).
@@ -232,8 +248,12 @@ def prior_edges(
     ``bound_causes``: {parameter: words} for parameters whose bounds follow an input (a gap
     thickness's follow the area, `Reparametrization.bound_causes`); piled up at such a bound,
     the warning points at that input, not at the model.
+    ``user_sides`` (`user_bound_sides`): the sides of parameters' bounds the user set; piled up
+    there, the warning names the user's bound as what sets that end (the data want values beyond
+    it), never a reduction, which holds only at the element's own bound (a CPE's α piled up at a
+    user's 0.78 is no capacitor).
     """
-    reductions, bound_causes = reductions or {}, bound_causes or {}
+    reductions, bound_causes, user_sides = reductions or {}, bound_causes or {}, user_sides or {}
     out, piled_up = [], {}
     for i, n in enumerate(names):
         prior = priors[n]
@@ -260,6 +280,11 @@ def prior_edges(
             interval = f"the {side} end of its 90 % interval ({'q05' if side == 'lower' else 'q95'} = {q:.3g}{unit})"
             if not prior.bounded:
                 out.append(f"{n} piles up against the {side} tail of its prior {prior} ({where}): the prior, not the data, sets {interval}")
+            elif end == bound and side in user_sides.get(n, ()):
+                out.append(
+                    f"{n} piles up against its {side} bound {end:g}, the bound you set (bounds=, --bound) ({where}): your bound, not the data, sets {interval}; "
+                    f"the data want {beyond} values — widen {n}'s bound if they are plausible"
+                )
             elif end == bound and reductions.get(n, ("",))[0] == side:
                 out.append(f"{n} piles up against its {side} bound {end:g} ({where}): the bound, not the data, sets {interval}; the data are consistent with {n} = {end:g}, and {reductions[n][1]}")
             elif end == bound and n in bound_causes:
@@ -285,7 +310,8 @@ class PiledUp:
     def _prior_edges(self) -> PriorEdges:
         rp = getattr(self, "reparametrization", None)
         causes = dict(rp.bound_causes) if rp is not None else {}
-        return prior_edges(self.names, self.units, self.draws.reshape(-1, len(self.names)), self.priors, *self.bounds, reducing_bounds(self.circuit, self.registry), causes)
+        sides = user_bound_sides(getattr(self, "user_bounds", None) or {}, self.circuit, self.registry)
+        return prior_edges(self.names, self.units, self.draws.reshape(-1, len(self.names)), self.priors, *self.bounds, reducing_bounds(self.circuit, self.registry), causes, sides)
 
     @property
     def piled_up(self) -> dict[str, str]:

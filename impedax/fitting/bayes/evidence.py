@@ -14,7 +14,7 @@ import numpy as np
 
 from .logprob import LogProbArgs, LogProbFunctions
 
-__all__ = ["LaplaceEvidence", "WAIC", "WAIC_MAX_DRAWS", "WAIC_POINT_LIMIT", "WAIC_PARAMETER_FACTOR", "LAPLACE_WIDTH_RATIO", "laplace_evidence", "waic"]
+__all__ = ["LaplaceEvidence", "WAIC", "waic_cause", "WAIC_FIT_DISTANCE", "WAIC_MAX_DRAWS", "WAIC_POINT_LIMIT", "WAIC_PARAMETER_FACTOR", "LAPLACE_WIDTH_RATIO", "laplace_evidence", "waic"]
 
 LAPLACE_WIDTH_RATIO = 2.0
 """The Laplace log evidence is flagged unreliable when, for some parameter, the Gaussian at the
@@ -34,6 +34,12 @@ WAIC_PARAMETER_FACTOR = 2.0
 regular posterior gives p_waic ≈ P; p_waic > P marks a badly misspecified model or posterior
 (the loo package's glossary, after Vehtari, Gelman & Gabry 2017). The factor 2 leaves room for
 the scatter of p_waic itself: p_waic/P was 0.74–1.25 on 20 correctly specified synthetic spectra."""
+
+WAIC_FIT_DISTANCE = 2.0
+"""A posterior whose median lies within this many of its standard deviations (sampled space)
+of the least-squares value, for every parameter, sits on the data's best fit: the draws' 95 %
+region holds it. Further off, the posterior has moved away from the fit (a prior excludes it,
+or the chain is still moving)."""
 
 
 class LaplaceEvidence(NamedTuple):
@@ -123,12 +129,49 @@ def _width_note(covariance: np.ndarray, chain_y: np.ndarray, names: Sequence[str
     )
 
 
-def waic(chain_y, args: LogProbArgs, functions: LogProbFunctions, excluded: Sequence[str] = ()) -> WAIC:
+def waic_cause(chain_y, names: Sequence[str], *, excluded: Sequence[str] = (), start_y=None, converged: bool = True, model_misfit: bool = False) -> str:
+    """Why the draws of ``chain_y`` (walker, draw, param; sampled space; parameters ``names``)
+    fit the data so differently from one another that p_waic is large, in words, from what
+    applies: the priors exclude the least-squares values of ``excluded``; the chain has not
+    converged (``converged`` false); the posterior median lies more than `WAIC_FIT_DISTANCE`
+    standard deviations from the least-squares values ``start_y`` (sampled space; None: not
+    known); or, with the posterior on that fit, the start fit misses structure the data hold
+    (``model_misfit``: its misfit note, or χ²_red ≫ 1 with the data's σ), so that every draw
+    fits some points well and others badly — a misspecified model, which more steps or another
+    prior do not mend."""
+    causes = []
+    if excluded:
+        causes.append(f"the posterior sits away from the data's best fit: the priors exclude where the data put {', '.join(excluded)} (the least-squares value lies outside)")
+    away: list[str] = []
+    if start_y is not None:
+        flat = chain_y.reshape(-1, chain_y.shape[-1])
+        sd = flat.std(axis=0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            distance = np.abs(np.median(flat, axis=0) - np.asarray(start_y, float)) / sd
+        away = [n for n, d in zip(names, distance) if n not in excluded and np.isfinite(d) and d > WAIC_FIT_DISTANCE]
+        if away:
+            causes.append(f"the posterior sits away from the data's best fit: the median of {', '.join(away)} lies over {WAIC_FIT_DISTANCE:g} posterior standard deviations from the least-squares value (a prior that excludes it, or a chain still moving)")
+    if model_misfit and not excluded and not away:
+        causes.insert(
+            0,
+            "the model misfits the data: the posterior sits on the least-squares fit, but that fit misses structure the data hold (see the start fit's misfit note), "
+            "so its residuals are many noise widths at most points and the draws' small moves about it change each point's log-likelihood by much more than one — "
+            "a misspecified model, which more steps or other priors do not mend; a diagnosis (impedax diagnose) shows which effect is missing"
+        )
+    if not converged:
+        causes.append("the chain has not converged (see the chain-length warning): run more steps")
+    if not causes:
+        return "the posterior sits away from the data's best fit, or the model misfits the data — a prior that excludes where the data put a parameter, or a chain still moving from its start (run more steps)"
+    return "; ".join(causes)
+
+
+def waic(chain_y, args: LogProbArgs, functions: LogProbFunctions, excluded: Sequence[str] = (), *, names: Sequence[str] | None = None, start_y=None, converged: bool = True, model_misfit: bool = False) -> WAIC:
     """WAIC = −2 (lppd − p_waic) over the frequency points (Watanabe 2010; Gelman et al. 2014),
     from at most `WAIC_MAX_DRAWS` evenly spaced draws of ``chain_y``. The note warns when
-    p_waic exceeds `WAIC_PARAMETER_FACTOR` × the number of sampled parameters, naming as the
-    likely cause the parameters in ``excluded`` (whose least-squares values lie outside their
-    priors) when there are any."""
+    p_waic exceeds `WAIC_PARAMETER_FACTOR` × the number of sampled parameters and names the
+    cause that applies (`waic_cause`: ``excluded``, the parameters whose least-squares values
+    lie outside their priors; the least-squares values ``start_y`` in the sampled space, of the
+    parameters ``names``; the chain's convergence; the start fit's ``model_misfit``)."""
     from scipy.special import logsumexp
 
     flat = chain_y.reshape(-1, chain_y.shape[-1])
@@ -146,15 +189,12 @@ def waic(chain_y, args: LogProbArgs, functions: LogProbFunctions, excluded: Sequ
     n_params = chain_y.shape[-1]
     if not p_waic > WAIC_PARAMETER_FACTOR * n_params:
         return WAIC(total, p_waic, "", high)
-    if excluded:
-        cause = f"here the priors exclude where the data put {', '.join(excluded)} (the least-squares value lies outside)"
-    else:
-        cause = "a prior that excludes where the data put a parameter, or a chain still moving from its start (run more steps)"
+    names = list(names) if names is not None and len(names) == n_params else [f"parameter {k}" for k in range(n_params)]
+    cause = waic_cause(chain_y, names, excluded=excluded, start_y=start_y, converged=converged, model_misfit=model_misfit)
     note = (
         f"WAIC is unreliable: its effective number of parameters p_waic = {p_waic:.3g} is over {WAIC_PARAMETER_FACTOR:g} × the "
         f"{n_params} sampled parameters (near the data's best fit p_waic ≈ {n_params}; p_waic > {n_params} marks a badly misspecified "
         f"model or posterior, Vehtari, Gelman & Gabry 2017), and {high} of {p_i.size} points have a pointwise p_waic above {WAIC_POINT_LIMIT} "
-        f"(largest {p_i.max():.3g}): the draws fit the data very differently from one another, because the posterior sits away from the "
-        f"data's best fit — {cause}. Do not compare models by this WAIC"
+        f"(largest {p_i.max():.3g}): the draws fit the data very differently from one another, because {cause}. Do not compare models by this WAIC"
     )
     return WAIC(total, p_waic, note, high)

@@ -240,8 +240,17 @@ def undetermined(lower: float, start: float, stderr: float | None, at_bound: boo
     return stderr is not None and (not math.isfinite(stderr) or start - UNDETERMINED_STDERRS * stderr <= lower)
 
 
-def default_prior(lower: float, upper: float, start: float, *, stderr: float | None = None, at_bound: bool = False, scale: tuple[float, float] | None = None) -> Prior:
-    """The prior of a parameter the user gave none: log-uniform within finite positive bounds,
+def default_prior(lower: float, upper: float, start: float, *, stderr: float | None = None, at_bound: bool = False, scale: tuple[float, float] | None = None, own: tuple[float, float] | None = None) -> Prior:
+    """The prior of a parameter the user gave none within its bounds (lower, upper).
+
+    ``own``: the element's own bounds, where the user narrowed them to (lower, upper)
+    (``bounds=``, ``--bound``): the prior is then the default prior within the element's own
+    bounds cut to the user's (`_cut_to`) — the same kind over the common range, so a
+    non-binding bound leaves the prior as it was (an open lower side of a resistor's bound,
+    ``R1=:10M``, keeps its log-uniform data-scaled prior, not uniform:0,1e7) and an exponent's
+    stays uniform (docs/bayesian.md, "Priors").
+
+    Without ``own``: log-uniform within finite positive bounds,
     uniform within finite bounds, else ``start`` ×/÷ 10^`DEFAULT_SPAN_DECADES` (log-uniform for
     non-negative parameters, uniform around ``start`` otherwise).
 
@@ -252,6 +261,9 @@ def default_prior(lower: float, upper: float, start: float, *, stderr: float | N
     ``scale``, or to the bottom of ``scale`` alone when the fit stopped at the bound (its value
     there says nothing about the scale). Without a ``scale`` (a unit impedax has no scaling
     for) the range reaches start + `STDERR_REACH`·stderr instead."""
+    if own is not None and (float(own[0]), float(own[1])) != (float(lower), float(upper)):
+        unbounded = default_prior(own[0], own[1], start, stderr=stderr, at_bound=at_bound, scale=scale)
+        return _cut_to(unbounded, lower, upper)
     if math.isfinite(upper) and lower > 0:
         return Prior(PriorKind.LOGUNIFORM, lower, upper)
     if math.isfinite(upper) and math.isfinite(lower):
@@ -273,6 +285,17 @@ def default_prior(lower: float, upper: float, start: float, *, stderr: float | N
     if stderr is not None and math.isfinite(stderr):
         half = max(half, STDERR_REACH * stderr)
     return Prior(PriorKind.UNIFORM, max(centre - half, lower), min(centre + half, upper))
+
+
+def _cut_to(prior: Prior, lower: float, upper: float) -> Prior:
+    """A uniform or log-uniform ``prior`` cut to the bounds (lower, upper): the same kind over
+    [max(a, lower), min(b, upper)] (the prior the sampler's support gives it anyway, `Prior.support`,
+    now also what the report and ``post.priors`` show). The ends of a log-uniform prior stay
+    positive (a user's lower bound 0 leaves its lower end)."""
+    a, b = max(prior.a, lower), min(prior.b, upper)
+    if not a < b:  # (the start lies within both, so only a degenerate range gets here)
+        return prior
+    return Prior(prior.kind, a, b)
 
 
 def check_prior_inside(name: str, prior: Prior, lower: float, upper: float, inclusive: bool) -> None:

@@ -22,14 +22,14 @@ from ...arguments import MAX_CHAIN_VALUES, MAX_WALKERS, checked_arguments, choic
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, parse
 from ...errors import DataError, FitError, ParameterError
 from ..least_squares import FitResult, fit
-from ..least_squares.result import data_difference
+from ..least_squares.result import MODEL_MISFIT_MARKS, data_difference
 from ..parameters import checked_bounds, outside_bounds_message
 from ..problem import open_spectrum
 from .chain import (
     AUTO_CHECK_STEPS, AUTO_MAX_STEPS, AUTO_STEPS, AUTO_TAU_CHANGE, auto_step_cap, ball_scales, length_settings, run_emcee, start_walkers, steps_rule,
     support_in_sampled_space, undetermined_span,
 )
-from .diagnostics import CHAIN_TAU_MULTIPLE
+from .diagnostics import CHAIN_TAU_MULTIPLE, integrated_autocorr
 from .evidence import laplace_evidence, waic
 from .logprob import NOISE_MODELS, LogProbArgs, LogProbFunctions, LogProbStructure, NoiseModel, log_prob_functions, start_weighting
 from .posterior import Posterior
@@ -272,14 +272,17 @@ class _Priors(NamedTuple):
     notes: list[str]
 
 
-def _choose_priors(priors: Mapping[str, Prior], space: SampledParameters, start: list[float], init: FitResult, obs: _Observations) -> _Priors:
+def _choose_priors(priors: Mapping[str, Prior], space: SampledParameters, start: list[float], init: FitResult, obs: _Observations, own_bounds: Mapping[str, tuple[float, float]] | None = None) -> _Priors:
     """Each sampled parameter's prior (the user's, or `default_prior`: widened to the data's
     impedance scale where the least-squares fit ``init`` leaves the parameter `undetermined`),
     its support within the bounds, and the start moved inside the support where the fit lies
     outside it (with a note when the prior is the user's). The walkers of an undetermined
     parameter with a default prior start spread over the fit's approximate 95 % interval
     (value ± 2·stderr) within the prior, log-uniformly, not in a ball around a value the data
-    do not fix (`undetermined_span`)."""
+    do not fix (`undetermined_span`). ``own_bounds``: the element's own bounds of the parameters
+    the user narrowed, whose default prior is the one without that narrowing cut to it
+    (`default_prior`'s ``own``)."""
+    own_bounds = own_bounds or {}
     chosen: dict[str, Prior] = {}
     spread: list[tuple[float, float] | None] = []
     z_abs = np.abs(obs.z)
@@ -293,7 +296,7 @@ def _choose_priors(priors: Mapping[str, Prior], space: SampledParameters, start:
         else:
             stderr = float(init_stderr[n]) if n in init.stderr and not init.fixed.get(n, False) else None
             at_bound = n in init.at_bound
-            chosen[n] = default_prior(space.lower[i], space.upper[i], start[i], stderr=stderr, at_bound=at_bound, scale=data_scale_range(space.units[i], obs.freq, z_abs))
+            chosen[n] = default_prior(space.lower[i], space.upper[i], start[i], stderr=stderr, at_bound=at_bound, scale=data_scale_range(space.units[i], obs.freq, z_abs), own=own_bounds.get(n))
             wide = undetermined_span(chosen[n], space.lower[i], space.upper[i], start[i], stderr, at_bound)
         spread.append(wide)
     support = [chosen[n].support(space.lower[i], space.upper[i]) for i, n in enumerate(space.names)]
@@ -308,6 +311,26 @@ def _choose_priors(priors: Mapping[str, Prior], space: SampledParameters, start:
             notes.append(f"the least-squares value of {n} ({start[i]:.4g}) is outside its prior {chosen[n]}; walkers start inside the prior")
             start[i] = inside
     return _Priors(chosen, support, start, spread, notes)
+
+
+CHI2_RED_MISFIT = 3.0
+"""With the data's σ (noise='sigma'), a start fit's χ²_red above this is a misfit beyond the
+noise: χ²_red of a model that fits has mean 1 and sd √(2/(2N − k)), 0.14 for 50 points."""
+
+
+def _start_misfit(init: FitResult, noise: NoiseModel) -> bool:
+    """Whether the least-squares start misses structure the data hold: its misfit note blames
+    the model (`MODEL_MISFIT_MARKS`), or, with the data's σ, its χ²_red exceeds `CHI2_RED_MISFIT`."""
+    if any(mark in w for w in init.warnings for mark in MODEL_MISFIT_MARKS):
+        return True
+    return noise is NoiseModel.SIGMA and init.weighting == "sigma" and math.isfinite(init.chi2_red) and init.chi2_red > CHI2_RED_MISFIT
+
+
+def _converged(chain_y: np.ndarray) -> bool:
+    """`Posterior.chain_converged` of the kept chain ``chain_y`` (walker, draw, param): at least
+    `CHAIN_TAU_MULTIPLE` autocorrelation times long for every parameter, τ known for all."""
+    tau = integrated_autocorr(chain_y)
+    return bool(np.all(np.isfinite(tau)) and chain_y.shape[1] >= CHAIN_TAU_MULTIPLE * max(float(np.max(tau)), 1.0))
 
 
 def _log_prob_setup(circuit, registry, specs, fixed, rp, obs: _Observations, space: SampledParameters, chosen, support):
@@ -423,7 +446,8 @@ def sample(
     ``sigma_rel``. ``reparametrization`` samples physical
     quantities behind some circuit parameters (`gap_thickness_reparametrization`).
     ``bounds`` (name → (lower, upper), checked as `fit`'s) narrow circuit parameters: the
-    support of their priors (a default prior is log-uniform within them) and the space sampled;
+    support of their priors (a default prior is the default without them, cut to them:
+    `default_prior`'s ``own``) and the space sampled;
     an ``init`` fit's own bounds (`FitResult.bounds`) apply as its fixed parameters do, ``bounds``
     taking precedence, and the start fit run without ``init`` is fitted within them.
     ``walkers`` (default max(64, 4·P)) start in a small ball around the least-squares fit
@@ -470,7 +494,7 @@ def sample(
         init = fit(circuit, obs.data, fixed=fixed or None, bounds=narrowed or None, weighting=start_weighting(noise), registry=registry)
     weighting_note = _init_weighting_note(init, noise)
     fitted = _within_bounds(_least_squares_start(init, space, specs, rp, noise), space, narrowed)
-    chosen_priors = _choose_priors(priors, space, fitted, init, obs)
+    chosen_priors = _choose_priors(priors, space, fitted, init, obs, {n: (specs[n].lower, specs[n].upper) for n in narrowed})
     chosen, support, notes = chosen_priors.chosen, chosen_priors.support, chosen_priors.notes
     notes = ([weighting_note] if weighting_note else []) + bound_notes + notes
     excluded = [n for i, n in enumerate(space.names) if n in priors and not support[i][0] < fitted[i] <= support[i][1]]
@@ -487,7 +511,8 @@ def sample(
     length = length_settings(chain, walkers)
 
     evidence = laplace_evidence(chain.chain_y, chain.log_prob, args, functions, lo_y, hi_y, names=space.names)
-    information = waic(chain.chain_y, args, functions, excluded)
+    start_y = np.where(np.asarray(space.log_scale), np.log(np.maximum(np.asarray(fitted, float), np.finfo(float).tiny)), np.asarray(fitted, float))
+    information = waic(chain.chain_y, args, functions, excluded, names=space.names, start_y=start_y, converged=_converged(chain.chain_y), model_misfit=_start_misfit(init, noise))
     notes += [note for note in (evidence.note, information.note) if note]
     log_scale = np.asarray(space.log_scale)
     map_x = np.where(log_scale, np.exp(evidence.map_y), evidence.map_y)

@@ -724,6 +724,9 @@ SIGMA_EXPLAINED = 2.0
 SIGMA_EXCEEDED = 2.0 * SIGMA_EXPLAINED
 # the end of the note that the data, not only the model, limit a fit (`misfit_notes`): `comparison.compare`
 # replaces it where another model fits the same data significantly better
+MODEL_MISFIT_MARKS = ("the model misses structure the data hold", "the misfit is this model's")
+"""Phrases of the `misfit_notes` that blame the model, not the data (the Bayesian run's WAIC
+warning reads the start fit's notes by them: `bayes.sampler`); keep them in those notes' text."""
 DATA_LIMIT_NOTE = "the data's noise, drift or artifacts limit the fit, not only the model (see impedax kk)"
 # ... followed, when the KK test says the imaginary part may be stored with the opposite sign
 # (`io.sign_check.sign_hint`), by this and the hint (`comparison` keeps it when it replaces the note)
