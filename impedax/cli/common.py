@@ -1190,6 +1190,11 @@ _PHRASE_OF_CALL = {
     "e.g. --noise 1% (noise=0.01)": "e.g. --noise 1%",
 }
 
+# a fixed value named as Python's keyword (``fixed={'C_i': VALUE}``, diagnose's note on
+# parameters not separately determined: `diagnosis.unidentified_note`), which the command line
+# sets with --fix NAME=VALUE
+_FIXED_KEYWORD = re.compile(r"fixed=\{'([^']+)': VALUE\}")
+
 # a weighting named as Python's keyword (``consider weighting='modulus'``), which the command
 # line sets with --weighting NAME
 _WEIGHTING_KEYWORD = re.compile(r"(?<![\w.-])weighting=(['\"])(unit|modulus|proportional|sigma)\1")
@@ -1200,6 +1205,7 @@ def _phrased(text: str, *, weighting: bool = True) -> str:
     command takes --weighting (``weighting``), ``weighting='NAME'`` as ``--weighting NAME``."""
     for phrase, words in _PHRASE_OF_CALL.items():
         text = text.replace(phrase, words)
+    text = _FIXED_KEYWORD.sub(r"--fix \1=VALUE", text)
     return _WEIGHTING_KEYWORD.sub(r"--weighting \2", text) if weighting else text
 
 
@@ -1213,8 +1219,8 @@ OPTION_OF_KEYWORD_BY_COMMAND: dict[str, dict[str, str]] = {
     "sample": {"fixed": "--fix", "init": "--init", "bounds": "--bound", "max_steps": "--max-steps", "steps": "--steps", "burn": "--burn", "thin": "--thin", "walkers": "--walkers", "seed": "--seed", "priors": "--prior", "noise": "--noise", "fmin": "--fmin", "fmax": "--fmax", "shared": "--shared", "over": "--over"},
     "kk": {"c": "--c", "max_rc": "--max-rc", "fmin": "--fmin", "fmax": "--fmax"},
     "drt": {"lam": "--lam", "lam_method": "--lam-method", "method": "--method", "min_peak_fraction": "--min-peak-fraction", "fmin": "--fmin", "fmax": "--fmax"},
-    "diagnose": {"noise": "--noise", "effects": "--effects", "max_steps": "--max-steps", "fmin": "--fmin", "fmax": "--fmax", "weighting": "--weighting"},
-    "refine": {"noise": "--noise", "effects": "--effects", "max_effects": "--max-effects", "solver_steps": "--max-steps", "fmin": "--fmin", "fmax": "--fmax", "weighting": "--weighting"},
+    "diagnose": {"fixed": "--fix", "noise": "--noise", "effects": "--effects", "max_steps": "--max-steps", "fmin": "--fmin", "fmax": "--fmax", "weighting": "--weighting"},
+    "refine": {"fixed": "--fix", "noise": "--noise", "effects": "--effects", "max_effects": "--max-effects", "solver_steps": "--max-steps", "fmin": "--fmin", "fmax": "--fmax", "weighting": "--weighting"},
     "force": {"points": "--points", "fmin": "--fmin", "fmax": "--fmax"},
     "gap": {"area": "--area", "v0": "--v0", "steps": "--steps", "seed": "--seed"},
 }

@@ -30,6 +30,8 @@ def add_spectrum_command(sub, name: str, *, help: str, description: str, plot_he
     p.add_argument("data", metavar="DATA", help="spectrum file with one spectrum, or one picked with --select")
     add_select_option(p, several=False)
     add_model_argument(p, default=model_default)
+    p.add_argument("--fix", action="append", metavar="NAME=VALUE", help="hold a parameter of MODEL fixed (repeatable; SI prefixes: C_i=1.7n), in the baseline fit "
+                   "and in every candidate that keeps the parameter; the commands printed carry it")
     add_fit_options(p)
     p.add_argument("--effects", metavar="ID,ID", help="only these effects (comma-separated ids; default: all)")
     p.add_argument("--noise", metavar="REL", help="relative noise level per component: a fraction of |Z| (0.05) or a percentage (5%%); default: from sigma or the KK residuals, which need 10 frequencies: on fewer give it")
@@ -50,6 +52,19 @@ def effects_option(text):
     return DEFAULT_EFFECTS.select(ids)
 
 
+def fixed_option(args) -> dict[str, float]:
+    """``--fix NAME=VALUE`` as ``fixed=`` (`common.parse_assignments`), its names checked
+    against ``--model``'s parameters before the data are read (`common.check_parameter_names`:
+    --fix C_I=1n → did you mean C_i?), as impedax fit checks them."""
+    from .. import parse
+    from .common import check_parameter_names, parse_assignments
+
+    fixed = parse_assignments(args.fix, "--fix")
+    if fixed:
+        check_parameter_names(fixed, parse(args.model).parameter_names(), "--fix", args.model)
+    return fixed
+
+
 def run(args) -> int:
     from ..fitting import diagnose
     from .common import data_source, exclude_points, figure_writer, fit_command, load_selected, plan_outputs, print_result, progress_printer, relative_noise, result_writer
@@ -59,10 +74,11 @@ def run(args) -> int:
     max_steps = check_max_steps(args.max_steps)
     noise = relative_noise(args.noise)
     effects = effects_option(args.effects)
+    fixed = fixed_option(args)
     data = exclude_points(load_selected(args.data, args.select, single="impedax diagnose"), args.exclude)
     progress = progress_printer()
     try:
-        result = diagnose(data, args.model, effects=effects, noise=noise, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, progress=progress)
+        result = diagnose(data, args.model, effects=effects, noise=noise, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, progress=progress, fixed=fixed or None)
     finally:
         progress.close()
     source = data_source(data)

@@ -29,7 +29,7 @@ def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting import refine
     from .common import data_source, exclude_points, figure_writer, load_selected, plan_outputs, print_result, progress_printer, relative_noise, result_writer
-    from .diagnose import effects_option
+    from .diagnose import effects_option, fixed_option
     from .fit import check_max_steps
 
     outputs = plan_outputs([("--out", args.out, "result"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
@@ -38,12 +38,13 @@ def run(args) -> int:
     solver_steps = check_max_steps(args.max_steps)
     noise = relative_noise(args.noise)
     effects = effects_option(args.effects)
+    fixed = fixed_option(args)
     data = exclude_points(load_selected(args.data, args.select, single="impedax refine"), args.exclude)
     progress = progress_printer()
     try:
         result = refine(
             data, args.model, max_effects=args.max_effects, max_steps=solver_steps, effects=effects, weighting=args.weighting, noise=noise,
-            fmin=args.fmin, fmax=args.fmax, progress=progress,
+            fmin=args.fmin, fmax=args.fmax, progress=progress, fixed=fixed or None,
         )
     finally:
         progress.close()
@@ -63,7 +64,8 @@ def reproduce_line(refinement, args=None, data=None) -> str | None:
     values when a fit of the final model from scratch ends at another optimum
     (``Refinement.final_from_values``; a note of another path said so of its own model, and had
     printed this line), else from scratch when points were masked (a fit of the file's every
-    point differs); else None (``impedax fit`` of the final model reproduces it). ``data``: the
+    point differs) or when it holds fixed values (--fix, which the command carries); else None
+    (``impedax fit`` of the final model reproduces it). ``data``: the
     spectrum refined, so that a --select list or range that picked it is given as its label."""
     from .common import fit_command
 
@@ -74,7 +76,8 @@ def reproduce_line(refinement, args=None, data=None) -> str | None:
     if refinement.final_from_values:
         starts = " ".join(f"--{'fix' if final.fixed[k] else 'init'} {k}={v:.6g}" for k, v in final.values.items())
         return f"to reproduce the final fit from its values (a fit from scratch ends at another optimum; the notes give both{without}): {command} --model '{final.model}' {starts}"
-    if masked:
-        fixed = " ".join(f"--fix {k}={v:.6g}" for k, v in final.values.items() if final.fixed[k])
-        return f"to reproduce the final fit (without the {masked} masked point(s), rms_rel {final.rms_rel * 100:.3g} %): {command} --model '{final.model}'" + (f" {fixed}" if fixed else "")
+    fixed = " ".join(f"--fix {k}={v:.6g}" for k, v in final.values.items() if final.fixed[k])
+    if masked or fixed:
+        how = ([f"without the {masked} masked point(s)"] if masked else []) + (["its fixed values held"] if fixed else []) + [f"rms_rel {final.rms_rel * 100:.3g} %"]
+        return f"to reproduce the final fit ({', '.join(how)}): {command} --model '{final.model}'" + (f" {fixed}" if fixed else "")
     return None

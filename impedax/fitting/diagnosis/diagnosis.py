@@ -51,7 +51,7 @@ from typing import Callable, Mapping, NamedTuple, Sequence
 import numpy as np
 import xarray as xr
 
-from ...arguments import EXCLUDE_RTOL, MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice, count, flag, frequency, instance_of, noise_fraction, seed as seed_rule
+from ...arguments import EXCLUDE_RTOL, MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice, count, flag, frequency, instance_of, noise_fraction, parameter_values, seed as seed_rule
 from ...circuits import Circuit, DEFAULT_REGISTRY, Element, Parallel, Registry, Series, parse
 from ...data import concise_repr, format_quantity, make_spectrum
 from ...errors import DataError, FitError, ImpedaxError, ParameterError
@@ -65,6 +65,7 @@ from ..least_squares.candidates import SolverShape, fit_candidates, solver_shape
 from ..least_squares.constraints import binding_constraints, constraint_explains, constraint_words, released_fit
 from ..least_squares.result import embedded_fit, fit_from_embedded
 from ..least_squares.starts import climb_target
+from ..parameters import ParameterTable
 from ..problem import WEIGHTINGS, open_spectrum
 from ..statistics import information_criteria, non_passive
 from .bands import FailingBand, failing_bands, format_frequency, RUN_P
@@ -873,7 +874,7 @@ def non_passive_points(ds: xr.Dataset) -> np.ndarray:
     return bad
 
 
-def _fit_baseline(data, circuit: Circuit | str, effects: EffectCatalog, *, registry: Registry, fmin, fmax, weighting: str, n_starts: int, seed: int, shape: SolverShape | None, noise_given: bool):
+def _fit_baseline(data, circuit: Circuit | str, effects: EffectCatalog, *, registry: Registry, fmin, fmax, weighting: str, n_starts: int, seed: int, shape: SolverShape | None, noise_given: bool, fixed: Mapping[str, float] | None = None):
     """Fit the user's circuit with the same compiled solver the candidates will use
     (`BASELINE_COPIES` copies of the circuit, each with its own random starts): one compilation
     in all.
@@ -883,7 +884,9 @@ def _fit_baseline(data, circuit: Circuit | str, effects: EffectCatalog, *, regis
     9-element ladder: 2.9 % with the scaling alone where λI reaches 1.8 %).
     Points with Re Z < 0 (`non_passive_points`) are left out. ``noise_given``: whether a noise
     level or a KK result was given (without one, too few points are refused before the fit,
-    `_require_noise_without_kk`). Returns (fit, spectrum Dataset of the points fitted, solver
+    `_require_noise_without_kk`). ``fixed``: the user's fixed values (name → value), held in
+    the baseline fit and so, through its `FitResult.fixed`, in every candidate fit that has the
+    parameter (`_fit_proposals`). Returns (fit, spectrum Dataset of the points fitted, solver
     shape, the points left out as not passive: frequency → Z)."""
     ds = open_spectrum(data, fmin=fmin, fmax=fmax, single="diagnose").data
     not_passive = non_passive_points(ds)
@@ -891,6 +894,8 @@ def _fit_baseline(data, circuit: Circuit | str, effects: EffectCatalog, *, regis
     if left_out:
         ds = ds.isel(frequency=np.nonzero(~not_passive)[0])
     circuit = parse(circuit, registry)  # (a circuit's errors before the data's, and both before the fit)
+    if fixed:  # (an unknown name, a value out of range or every parameter fixed: fit's own errors, before the fit)
+        ParameterTable.build(circuit, registry=registry, fixed=fixed)
     _require_points_for_diagnosis(ds.sizes["frequency"], len(circuit.parameter_names(registry)))
     if not noise_given:
         _require_noise_without_kk(ds.sizes["frequency"], None, ds["sigma"] if "sigma" in ds else None, source=ds.attrs.get("source"))
@@ -907,7 +912,7 @@ def _fit_baseline(data, circuit: Circuit | str, effects: EffectCatalog, *, regis
     shape = (shape or solver_shape([circuit] + proposed, registry, freq.size)).grown_to([circuit] + proposed, registry, freq.size)
     copies = _baseline_copies(circuit, registry)
     fits = fit_candidates(
-        [circuit] * (2 * copies), ds, weighting=weighting, n_starts=n_starts, max_steps=BASELINE_STEPS, seeds=[seed + i for i in range(copies)] * 2,
+        [circuit] * (2 * copies), ds, fixed=dict(fixed) if fixed else None, weighting=weighting, n_starts=n_starts, max_steps=BASELINE_STEPS, seeds=[seed + i for i in range(copies)] * 2,
         registry=registry, shape=shape, damping=["identity"] * copies + ["marquardt"] * copies,
     )
     best = min(fits, key=lambda r: r.chi2 if np.isfinite(r.chi2) else np.inf)
@@ -920,13 +925,16 @@ def _baseline_copies(circuit: Circuit, registry: Registry) -> int:
     return next(copies for most, copies in BASELINE_COPIES if most is None or k <= most)
 
 
-def _baseline(fit_or_data, circuit, *, data, effects, registry, fmin, fmax, weighting, n_starts, seed, shape, noise_given):
+def _baseline(fit_or_data, circuit, *, data, effects, registry, fmin, fmax, weighting, n_starts, seed, shape, noise_given, fixed=None):
     """The fit to diagnose, the data it was made on (or None), the solver shape (or None) and
-    the points left out as not passive, frequency → Z (data given with a circuit; a `FitResult`
-    is diagnosed on the points it was fitted to)."""
+    the points left out as not passive, frequency → Z (data given with a circuit, fitted with
+    ``fixed`` held; a `FitResult` is diagnosed on the points it was fitted to, with its own
+    fixed values)."""
     if isinstance(fit_or_data, FitResult):
         if circuit is not None:
             raise ParameterError("give either a FitResult or data with a circuit, not both")
+        if fixed:
+            raise ParameterError("fixed= goes with data and a circuit; a FitResult keeps the fixed values it was fitted with (fit(..., fixed=...) first)")
         if fmin is not None or fmax is not None:
             raise ParameterError("fmin/fmax select the band of data to fit; a FitResult keeps the band it was fitted on")
         return fit_or_data, data, shape, {}
@@ -936,7 +944,7 @@ def _baseline(fit_or_data, circuit, *, data, effects, registry, fmin, fmax, weig
         raise ParameterError("diagnose(data, circuit): the circuit to diagnose is missing")
     if data is not None:
         raise ParameterError("give the data once")
-    return _fit_baseline(fit_or_data, circuit, effects, registry=registry, fmin=fmin, fmax=fmax, weighting=weighting, n_starts=n_starts, seed=seed, shape=shape, noise_given=noise_given)
+    return _fit_baseline(fit_or_data, circuit, effects, registry=registry, fmin=fmin, fmax=fmax, weighting=weighting, n_starts=n_starts, seed=seed, shape=shape, noise_given=noise_given, fixed=fixed)
 
 
 MIN_DIAGNOSIS_POINTS = 4  # what the KK test needs (R_0, one RC element, L, C)
@@ -1635,6 +1643,22 @@ def left_out_words(options) -> str:
     return " ".join(f"{flag} {value}" for flag, value in options)
 
 
+def unidentified_note(fit: FitResult) -> str:
+    """The note of diagnose and refine on the groups of ``fit``'s parameters the data do not
+    determine separately (`FitResult.unidentified_groups`; fit's warning says the same): each
+    suggestion's fit inherits the ambiguity, so the remedy, a value fixed from elsewhere (an
+    insulator's datasheet capacitance: docs/PHYSICS.md), is named with the keyword that sets it
+    (``fixed={'C_i': VALUE}``; the command line says ``--fix C_i=VALUE``, `cli.common._phrased`)."""
+    parts = []
+    for group in fit.unidentified_groups:
+        remedy = " or ".join(f"fixed={{'{name}': VALUE}}" for name in group)
+        if len(group) == 1:
+            parts.append(f"{group[0]} is not determined by the data (Z hardly changes with it): fix it to a value known from elsewhere ({remedy})")
+        else:
+            parts.append(f"{', '.join(group)} are not separately determined by the data (only a combination of them changes Z): fix one of them to a value known from elsewhere, e.g. a datasheet's ({remedy})")
+    return "the baseline fit: " + "; ".join(parts) + "; every candidate that keeps them inherits this"
+
+
 def _fixed_words(fit: FitResult, kept=None) -> str:
     """`` --fix NAME=VALUE`` for each fixed parameter of ``fit`` (in ``kept``, when given): a
     command that applies a suggestion keeps the user's fixed values, which its fit kept."""
@@ -1772,7 +1796,7 @@ def _verdict(cands: Sequence[Suggestion], bands: Sequence[FailingBand], ratio: f
     noise=noise_fraction, weighting=choice(WEIGHTINGS), registry=instance_of(Registry), fmin=frequency, fmax=frequency,
     n_starts=count(1, MAX_STARTS), max_steps=count(1, MAX_SOLVER_STEPS), seed=seed_rule, drt_evidence=flag,
     solver_shape=instance_of(SolverShape, optional=True, what="a SolverShape (e.g. an earlier Diagnosis.solver_shape)"), mask=flag,
-    drt_memo=instance_of(DRTMemo, optional=True, what="a DRTMemo (one per data, e.g. refine's)"),
+    drt_memo=instance_of(DRTMemo, optional=True, what="a DRTMemo (one per data, e.g. refine's)"), fixed=parameter_values(),
 )
 def diagnose(
     fit_or_data,
@@ -1794,6 +1818,7 @@ def diagnose(
     mask: bool = True,
     progress: Callable[[str], None] | None = None,
     drt_memo: DRTMemo | None = None,
+    fixed: Mapping[str, float] | None = None,
 ) -> Diagnosis:
     """Diagnose a fit: where the model fails, which effect of ``effects`` is missing, verdict.
 
@@ -1801,7 +1826,8 @@ def diagnose(
     ``sigma``; the fit's own registry and band are used, and its fixed values and bounds are
     kept in every candidate fit that has the parameter), or a spectrum Dataset/path together
     with ``circuit`` (parsed with ``registry`` and fitted first with ``weighting`` to the points
-    with ``fmin`` ≤ f ≤ ``fmax``). ``kk``: a `KKResult` to reuse (default: `kk_test` of the
+    with ``fmin`` ≤ f ≤ ``fmax``; ``fixed``, name → value, is held in that fit and in every
+    candidate fit that has the parameter, as a FitResult's fixed values are). ``kk``: a `KKResult` to reuse (default: `kk_test` of the
     fitted spectrum); ``noise``: a relative noise level to use instead of the estimate (needed,
     or a sigma in the data, on fewer than `CONCLUSIVE_POINTS_MIN` frequencies: `DataError` without).
     Candidates are fitted warm-started together (``n_starts`` starts each, ``max_steps``
@@ -1825,14 +1851,14 @@ def diagnose(
     say("fitting the baseline" + (f" {circuit}" if circuit is not None and not isinstance(fit_or_data, FitResult) else ""))
     base, data, shape, left_out = _baseline(
         fit_or_data, circuit, data=data, effects=effects, registry=registry, fmin=fmin, fmax=fmax, weighting=weighting, n_starts=n_starts, seed=seed, shape=solver_shape,
-        noise_given=noise is not None or kk is not None,
+        noise_given=noise is not None or kk is not None, fixed=fixed,
     )
     _require_points_for_diagnosis(base.n_points, base.n_params)
     user_fit = base  # (the user's fit, whose fixed values and bounds `_constraint_verdict` checks)
     spectrum, sigma = _spectrum_of(base, data)
     not_passive = tuple(left_out)
     masked_z = dict(left_out)  # (each masked point's measured Z, for the figure)
-    notes: list[str] = []
+    notes: list[str] = [unidentified_note(base)] if base.unidentified_groups else []
     if not_passive:
         notes.append(
             f"{len(not_passive)} point(s) with Re Z < 0 beyond the noise ({', '.join(format_frequency(f) for f in not_passive[:6])}{', …' if len(not_passive) > 6 else ''}) "

@@ -7,12 +7,12 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass, replace
-from typing import Callable
+from typing import Callable, Mapping
 
 import numpy as np
 import xarray as xr
 
-from ...arguments import MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice, count, flag, frequency, instance_of, noise_fraction, seed as seed_rule
+from ...arguments import MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice, count, flag, frequency, instance_of, noise_fraction, parameter_values, seed as seed_rule
 from ...circuits import Circuit, DEFAULT_REGISTRY, Element, Registry
 from ...data import concise_repr, format_quantity
 from ...errors import CircuitError, ParameterError
@@ -23,7 +23,7 @@ from ..parameters import ParameterTable
 from ..problem import WEIGHTINGS, open_spectrum
 from .bands import format_frequency
 from .catalog import EffectCatalog
-from .diagnosis import CANDIDATE_STEPS, DELTA_AIC_MIN, NOISE_FRACTION_MIN, Diagnosis, DRTMemo, Verdict, diagnose, left_out_options, left_out_words, noise_variance_explained, undetermined_parameters
+from .diagnosis import CANDIDATE_STEPS, DELTA_AIC_MIN, NOISE_FRACTION_MIN, Diagnosis, DRTMemo, Verdict, diagnose, left_out_options, left_out_words, noise_variance_explained, undetermined_parameters, unidentified_note
 from .effects import DEFAULT_EFFECTS, placement
 from .vanishing import share_words, vanished_parameters, vanished_terms
 
@@ -679,7 +679,7 @@ limit whatever its size, as ``impedax refine --max-steps`` passes it)."""
     max_steps=count(1, MAX_SOLVER_STEPS, optional=True), max_effects=count(0, 64, optional=True, why="each effect adds one element"),
     solver_steps=count(1, MAX_SOLVER_STEPS, optional=True), effects=instance_of(EffectCatalog, what="an EffectCatalog (e.g. impedax.DEFAULT_EFFECTS)"),
     weighting=choice(WEIGHTINGS), noise=noise_fraction, registry=instance_of(Registry), fmin=frequency, fmax=frequency,
-    n_starts=count(1, MAX_STARTS), seed=seed_rule, drt_evidence=flag,
+    n_starts=count(1, MAX_STARTS), seed=seed_rule, drt_evidence=flag, fixed=parameter_values(),
 )
 def refine(
     data,
@@ -698,6 +698,7 @@ def refine(
     seed: int = 0,
     drt_evidence: bool = True,
     progress: Callable[[str], None] | None = None,
+    fixed: Mapping[str, float] | None = None,
 ) -> Refinement:
     """Refine ``circuit`` (default `REFINE_START`) on ``data``: diagnose → add the best
     significant effect → refit, until the verdict is not ``missing_effect`` (or no suggestion
@@ -710,7 +711,9 @@ def refine(
     ``registry`` parses the circuit; only the points with ``fmin`` ≤ f ≤ ``fmax`` are used, at
     every step, less the points the first diagnosis masks (KK-flagged); ``drt_evidence`` as in
     `diagnose`; ``progress`` is called with a line of text as each step starts, and indented
-    as each stage of a step's diagnosis starts. The final model is refitted with `fit` on the
+    as each stage of a step's diagnosis starts. ``fixed`` (name → value, as `fit`'s) holds at
+    every step in every model that still has the parameter (the first diagnosis' baseline fit
+    holds it, and each later fit keeps its start's fixed values). The final model is refitted with `fit` on the
     same points (reproducible with ``impedax fit``); a last step whose refit leaves parameters
     undetermined is dropped; an ``adequate`` end loses the elements it added that an adequate
     model can do without (`_simplified`); then any end loses a term its fit's flags say
@@ -738,7 +741,7 @@ def refine(
     # the DRTs of the run's spectra, each solved once: the data's (the same at every step) and a
     # model's met again (a step's baseline is the fit the step before proposed)
     drts = DRTMemo()
-    first = diagnose(ds, circuit, effects=effects, noise=noise, weighting=weighting, registry=registry, n_starts=n_starts, max_steps=solver_steps, seed=seed, drt_evidence=drt_evidence, progress=within, drt_memo=drts)
+    first = diagnose(ds, circuit, effects=effects, noise=noise, weighting=weighting, registry=registry, n_starts=n_starts, max_steps=solver_steps, seed=seed, drt_evidence=drt_evidence, progress=within, drt_memo=drts, fixed=fixed)
     masked = first.masked_points
     # the KK test as the first diagnosis got it (before its local judgement, which every step
     # redoes): the discrepancy floor δ takes that test's flags, so each step has the first's noise
@@ -771,7 +774,8 @@ def refine(
         return refits[id(fit)][1]
 
     used = ds if not masked else ds.sel(frequency=[f for f in ds["frequency"].values if float(f) not in set(masked)])
-    notes: list[str] = []
+    # (the first diagnosis' note on parameters its baseline does not determine apart: refine's report shows no diagnosis' notes)
+    notes: list[str] = [unidentified_note(first.baseline)] if first.baseline.unidentified_groups else []
 
     def finished(path, label):
         return _finish(path, used, n_starts=n_starts, seed=seed, say=say, notes=notes, label=label, reproduced=reproduced)
