@@ -64,6 +64,7 @@ def test_a_bad_fix_exits_2_naming_the_option(finger, item, says, capsys):
     assert "--fix" in err and says in err
 
 
+@pytest.mark.slow  # (5–7 s, a refine; the suite's budget: make test-all)
 def test_refine_keeps_a_fixed_value_in_the_final_model():
     data = ix.make_spectrum(F, meyer_cpe(np.random.default_rng(69)))
     effects = ix.DEFAULT_EFFECTS.select(["constant_phase"])
