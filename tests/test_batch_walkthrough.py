@@ -80,6 +80,7 @@ def test_batch_json_gives_the_weighting(first, cycles):
     assert ix.fit(MODEL, cycles, init=first, n_starts=1, weighting="proportional").summary()["weighting"] == "proportional"
 
 
+@pytest.mark.slow  # (the suite's 15-minute budget, 2026-12-01: make test-all runs it)
 def test_a_shared_fit_per_cell_labels_each_row_and_f_test(capsys):
     """Two cells × three cycles, shared over cycle: one R0 and one CPE1.alpha per cell. The rows
     and F-tests printed were unlabelled duplicates; the oracle is the Dataset's values by cell."""

@@ -194,6 +194,7 @@ def test_a_batch_fit_shows_its_warnings_grouped_with_their_spectra(capsys):
         assert any(re.sub(r"(?<![\w.])[-+]?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?( to [-+]?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?)?", "#", ln.split("): ", 1)[1]) == template for ln in lines), w
 
 
+@pytest.mark.slow  # (the suite's 15-minute budget, 2026-12-01: make test-all runs it)
 def test_a_batch_fit_s_report_in_python_shows_its_warnings_grouped():
     """Before: only the command line printed a batch's warnings; ``print(result.report())`` in
     Python showed none."""

@@ -538,6 +538,7 @@ def test_two_placements_that_are_one_function_are_listed_as_one_fit():
     assert report.count("the same fit within the noise") == sum(len(same) for _, same in groups[:5]) >= 1
 
 
+@pytest.mark.slow  # (the suite's 15-minute budget, 2026-12-01: make test-all runs it)
 def test_a_suggestion_with_its_series_resistance_at_zero_folds_into_the_one_without_it():
     # Gamry's REAL file (impedance.py's example) with R0 + R1 ∥ CPE1: each effect was listed
     # twice, without R0 and with R0 kept at 0 (2e-38 Ω), four of the five places for two
@@ -558,6 +559,7 @@ def test_a_suggestion_with_its_series_resistance_at_zero_folds_into_the_one_with
     assert not any("R0" in b.fit.circuit.element_names and str(b.fit.circuit.without("R0")) == str(a.fit.circuit) for a in listed for b in listed), d.report()
 
 
+@pytest.mark.slow  # (the suite's 15-minute budget, 2026-12-01: make test-all runs it)
 def test_an_adequate_verdict_beyond_the_catalog_says_so():
     """A SYNTHETIC R0 + R1 ∥ C1 + R2 ∥ C2 (numpy formula, 0.5 % noise) diagnosed as R0 + R1 ∥ C1
     with a catalog that holds only the series inductance: no candidate helps, the verdict is

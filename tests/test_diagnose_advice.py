@@ -27,6 +27,7 @@ DIAGNOSE_KEYS = {
 }
 
 
+@pytest.mark.slow  # (the suite's 15-minute budget, 2026-12-01: make test-all runs it)
 def test_the_advice_fits_the_selected_spectrum_on_the_run_s_points(tmp_path, capsys):
     """A range that picks one cycle (cycles 0, 64, 129: 100:200 is 129) is advised as that
     cycle's label: `impedax fit` reads a range as a batch (of one)."""
@@ -107,6 +108,7 @@ def test_noise_in_percent_is_the_fraction(capsys):
     assert out["noise"]["level"] == pytest.approx(0.05) and out["noise"]["source"] == "given"
 
 
+@pytest.mark.slow  # (the suite's 15-minute budget, 2026-12-01: make test-all runs it)
 def test_a_term_that_ran_open_in_the_advice_is_named_with_the_model_without_it(capsys):
     """REAL exampleData.csv with ``R0 + R1 || CPE1``: R1 runs open (1.19e+282 Ω) in the
     suggestion's fit too, so its "to apply" line needs ``--init R1=1.19e+282``. A note names the

@@ -61,6 +61,7 @@ def test_exclude_names_the_nearest_measured_frequency_and_refuses_what_names_non
     assert "--exclude 5.0: no measured frequency" in capsys.readouterr().err
 
 
+@pytest.mark.slow  # (the suite's 15-minute budget, 2026-12-01: make test-all runs it)
 def test_the_diagnose_advice_leaves_out_the_masked_points_and_reaches_the_promised_rms(tmp_path, capsys):
     summary = tmp_path / "diagnosis.json"
     assert main(["diagnose", str(POWERSUITE), "--model", "R0 + R1 || CPE1 + R2 || CPE2", "--out", str(summary)]) == 0

@@ -55,6 +55,7 @@ def test_the_trap_of_autoeis_test_spectrum_is_escaped_by_default():
     assert default.n_starts > 16  # it took more than the first rung
 
 
+@pytest.mark.slow  # (the suite's 15-minute budget, 2026-12-01: make test-all runs it)
 def test_the_trap_is_escaped_in_a_small_batch_too():
     rng = np.random.default_rng(1)
     f = np.geomspace(1e-3, 2e5, 67)

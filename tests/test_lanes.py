@@ -99,6 +99,7 @@ def test_lanes_reproduce_the_plain_solver_problem_by_problem(problems):
     assert done[budget == 400].all()
 
 
+@pytest.mark.slow  # (the suite's 15-minute budget, 2026-12-01: make test-all runs it)
 def test_cold_lanes_reproduce_a_single_fits_first_steps(problems):
     """Problems flagged for D = I (a batch's random starts, `batch._multistart_rung`) follow
     the trust-region rule from λ = 1, as a single fit's first steps do, beside problems with

@@ -77,7 +77,7 @@ def test_the_inductive_top_is_counted_down_from_the_highest_frequency_beyond_thr
     assert _inductive_top(_fit_like(np.r_[cap[:3], [100.0 + 2.0j] * 3], cap), sigma) == 0  # 2 % of |Z|: within 3σ
 
 
-@pytest.mark.parametrize("limit", [1, 2])
+@pytest.mark.parametrize("limit", [1, pytest.param(2, marks=pytest.mark.slow)])  # (limit 2 with make test-all: the suite's budget)
 def test_refine_counts_a_pair_as_two_effects(limit):
     """The first suggestion is a pair (the arc and the lead); with one effect allowed, refine adds
     the best single effect instead, and the effects added never exceed ``max_effects``."""

@@ -85,7 +85,7 @@ def _stand_in_refine(monkeypatch):
     ep = _suggestion("electrode_polarization", "R_EP || CPE_EP || C_gap", 4, "R_EP || CPE_EP", aic=-1261.0)
     cpe = _suggestion("constant_phase", "CPE_gap", 2, "CPE_gap", where="in place of the ideal capacitor C_gap", aic=-300.0)
     renamed = _suggestion("electrode_polarization", "R_EP || C_EP || CPE_gap", 4, "R_EP || C_EP", aic=-1108.0)
-    start = NS(circuit=ix.parse("C_gap"), model="C_gap", aic=-147.5, chi2=100.0, n_params=1, registry=ix.DEFAULT_REGISTRY)
+    start = NS(circuit=ix.parse("C_gap"), model="C_gap", aic=-147.5, chi2=100.0, n_params=1, registry=ix.DEFAULT_REGISTRY, unidentified_groups=())
 
     def diagnosis(baseline, verdict, best=None, suggestions=()):
         return NS(baseline=baseline, verdict=verdict, best=best, suggestions=suggestions, candidates=suggestions, solver_shape=None, masked_points=(), kk_of_kept=None, kk_as_tested=None, kk=None, same_fits=lambda s: ())

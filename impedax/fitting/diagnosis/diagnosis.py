@@ -1647,7 +1647,7 @@ def unidentified_note(fit: FitResult) -> str:
     """The note of diagnose and refine on the groups of ``fit``'s parameters the data do not
     determine separately (`FitResult.unidentified_groups`; fit's warning says the same): each
     suggestion's fit inherits the ambiguity, so the remedy, a value fixed from elsewhere (an
-    insulator's datasheet capacitance: docs/PHYSICS.md), is named with the keyword that sets it
+    insulator's datasheet capacitance: docs/physics.md), is named with the keyword that sets it
     (``fixed={'C_i': VALUE}``; the command line says ``--fix C_i=VALUE``, `cli.common._phrased`)."""
     parts = []
     for group in fit.unidentified_groups:
