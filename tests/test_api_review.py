@@ -167,6 +167,7 @@ def test_a_cpe_started_as_a_capacitor_leaves_alpha_1():
     assert not stack["at_bound"].any()
 
 
+@pytest.mark.slow  # (the suite's 15-minute budget, 2026-12-01: make test-all runs it)
 def test_a_batch_reaches_the_single_fits_optimum_and_flags(biologic, bounded_fit):
     stack = xr.concat([biologic] * 3, dim="cycle").assign_coords(cycle=[0, 1, 2])
     for bounds in ({"R0": (63.0, 64.0)}, {"CPE1.Q": (0.008368, 0.01023)}, {"R0": (60.0, 63.0)}):

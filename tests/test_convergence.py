@@ -217,6 +217,7 @@ def test_cli_tables_match_what_they_stand_for():
     assert (refine.max_effects, refine.max_steps) == (4, 11)  # effects added, solver steps
 
 
+@pytest.mark.slow  # (the suite's 15-minute budget, 2026-12-01: make test-all runs it)
 def test_the_step_limit_bounds_the_starts_screens_too(rng):
     """``max_steps`` is the step limit of every start, screen included: with 2 steps a fit
     of two arcs (numpy formula, 1 % noise) cannot converge, single or batch, and says so;

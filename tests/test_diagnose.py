@@ -376,6 +376,7 @@ def test_nothing_missing_tries_no_pair():
     assert not any("+" in s.effect for s in d.candidates)
 
 
+@pytest.mark.slow  # (the suite's 15-minute budget, 2026-12-01: make test-all runs it)
 def test_two_missing_effects_on_a_real_battery_cycle():
     """REAL: AutoEIS's battery cycle 0 with one arc (23.6× the noise). Before, every single
     effect was undetermined and the verdict `adequate` ("beyond the catalog")."""

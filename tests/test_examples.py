@@ -90,7 +90,7 @@ EXAMPLES = {
             (r"rc: rms_rel " + _NUMBER, _within(0.08, 1.0)),
             (r"CPE_sc\.alpha = " + _NUMBER, _near(0.8, 0.05)),
         ],
-        (),
+        (pytest.mark.slow,),  # (15 s; the suite's 15-minute budget: make test-all)
     ),
     "meyer_square_law.py": (
         ["meyer_fig5_1a_square_law.png"],

@@ -221,7 +221,7 @@ def test_a_large_batch_with_one_start_fits_each_spectrum_from_it_alone(rng, monk
 
 
 @pytest.mark.parametrize("name, seed, single_rms", [
-    ("exampleDataAutolab.txt", 0, 0.11348), ("exampleDataAutolab.txt", 2, 0.11348),
+    pytest.param("exampleDataAutolab.txt", 0, 0.11348, marks=pytest.mark.slow), ("exampleDataAutolab.txt", 2, 0.11348),  # (seed 0 with make test-all: the budget)
     pytest.param("exampleDataCHInstruments.txt", 0, 0.02795, marks=pytest.mark.slow),  # (11 s; the suite's budget: Autolab's two cases stay)
 ])
 def test_a_batch_screens_random_starts_as_a_single_fit_does(name, seed, single_rms, monkeypatch):

@@ -155,6 +155,7 @@ def test_batch_warnings_equal_single_fits(rng):
         assert any("strongly correlated (r = " in w for w in single.warnings)
 
 
+@pytest.mark.slow  # (the suite's 15-minute budget, 2026-12-01: make test-all runs it)
 def test_one_spectrum_of_a_batch_as_a_whole_fit():
     """`BatchFitResult.fit_of(cycle=64)`: the REAL battery cycle (AutoEIS's, MIT) as a
     `FitResult` at the batch's optimum — values within 1e-4, rms_rel within 1e-4 relative — and

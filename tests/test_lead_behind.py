@@ -29,6 +29,7 @@ def spectrum(arc: bool, inductance: float, seed: int = 0):
     return ix.make_spectrum(F, z * (1 + 0.002 * (rng.normal(size=F.size) + 1j * rng.normal(size=F.size)) / np.sqrt(2)))
 
 
+@pytest.mark.slow  # (the suite's 15-minute budget, 2026-12-01: make test-all runs it)
 def test_the_lead_behind_the_arc_is_named_with_it():
     data = spectrum(arc=True, inductance=6e-6)
     assert np.angle(data["Z"].values[-1]) > 0  # the top turns inductive ...

@@ -69,6 +69,7 @@ def test_single_fit_equals_the_unpadded_fit(rng, monkeypatch):
     # (not the step count: the stopping test at the last steps reacts to rounding)
 
 
+@pytest.mark.slow  # (the suite's 15-minute budget, 2026-12-01: make test-all runs it)
 def test_batch_fit_equals_the_unpadded_fit(rng, monkeypatch):
     f = np.geomspace(0.02, 1e4, 41)  # → 44 points
     data = ix.make_spectrum(f, spectrum(f, rng, 20), dims=("trial",))

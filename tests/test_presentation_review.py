@@ -275,6 +275,7 @@ def test_compound_units_are_written_with_omega():
     assert format_quantity(2200.0, "Ohm") == "2.2 kΩ"
 
 
+@pytest.mark.slow  # (the suite's 15-minute budget, 2026-12-01: make test-all runs it)
 def test_the_apply_line_says_when_the_diagnosis_left_points_out():
     """BioLogic's file: the diagnosis masks 4 points the KK test blames; `impedax fit` of the
     suggestion on every point reached 2.8 % where the suggestion has 1.69 %, and nothing said why."""

@@ -186,6 +186,7 @@ def test_on_the_real_battery_the_posterior_interval_is_the_one_to_use():
 # --- steps="auto" ---------------------------------------------------------------------------------
 
 
+@pytest.mark.slow  # (the suite's 15-minute budget, 2026-12-01: make test-all runs it)
 def test_auto_runs_until_the_kept_chain_is_fifty_tau_long():
     """steps="auto" stops on its own: the kept chain (after a quarter of the steps run) is at
     least 50 τ long by emcee's estimator (both parameters are sampled as ln x), so no

@@ -78,6 +78,7 @@ def test_start_at_bounds_is_strictly_inside_the_support():
     np.testing.assert_array_equal(p0, chain.start_walkers(start, [True, True], np.array([0.01, 0.01]), **kw))  # deterministic for a seed
 
 
+@pytest.mark.slow  # (the suite's 15-minute budget, 2026-12-01: make test-all runs it)
 def test_joint_start_with_fits_at_bound_has_no_infinite_walkers(monkeypatch):
     """The joint posterior's own log-probability at its own start: CPE2.α at 1 in all three
     spectra (before the fix 58 of 68 walkers started at −∞)."""
