@@ -229,9 +229,9 @@ def fit_candidates(
     first random starts); when any candidate has starting values, every candidate also starts
     from the data-driven guess of its whole circuit (one start more: where `impedax.fit` of
     its model string begins). ``fixed`` values and ``bounds`` (name → (lower, upper), as
-`impedax.fit`'s) apply to candidates that have those parameters; every start (warm, from the
-data, random) lies strictly inside the bounds (`_inside`). The bounds are data of the compiled
-solver (`CandidateRow.lower`/``upper``), never part of its shape.
+    `impedax.fit`'s) apply to candidates that have those parameters; every start (warm, from the
+    data, random) lies strictly inside the bounds (`_inside`). The bounds are data of the compiled
+    solver (`CandidateRow.lower`/``upper``), never part of its shape.
     Every start of every candidate runs Levenberg–Marquardt to convergence or ``max_steps``
     steps (``step_limit``, when given, lowers it) and each candidate keeps its best start.
     ``seeds``: one random-start seed per candidate (default ``seed`` for all). ``shape`` (a
