@@ -24,7 +24,7 @@ from .starts import attainable_misfit, inward_start, rms_rel_of
 
 __all__ = [
     "FitResult", "fit_result", "fit_notes", "parameter_groups", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes",
-    "misfit_notes", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "SIGN_HINT_LEAD", "MODEL_MISFIT_OVER_CONSISTENT", "SIGMA_EXCEEDED", "gross_misfits", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
+    "misfit_notes", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "MODEL_MISFIT_OVER_CONSISTENT", "SIGMA_EXCEEDED", "gross_misfits", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
     "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "without_error", "STDERR_NOTE", "LINEARISED_STDERR_NAME", "data_difference", "stored_bounds", "user_bounds",
     "embedded_fit", "fit_from_embedded", "bounds_attr",
 ]
@@ -722,11 +722,13 @@ SIGMA_EXPLAINED = 2.0
 # A SYNTHETIC R0 + R1 ∥ CPE1 spectrum (α = 0.97, 1 % noise and that σ) fitted with
 # R0 + R1 ∥ C1 reached 2.85× the KK misfit with the mean at 5.1, and was told its noise limited it
 SIGMA_EXCEEDED = 2.0 * SIGMA_EXPLAINED
+MODEL_MISSES_STRUCTURE = "the model misses structure the data hold"
+MISFIT_IS_MODELS = "the misfit is this model's"
+MODEL_MISFIT_MARKS = (MODEL_MISSES_STRUCTURE, MISFIT_IS_MODELS)
+"""Phrases of the `misfit_notes` that blame the model, not the data (their text is built from
+them; the Bayesian run's WAIC warning reads the start fit's notes by them: `bayes.sampler`)."""
 # the end of the note that the data, not only the model, limit a fit (`misfit_notes`): `comparison.compare`
 # replaces it where another model fits the same data significantly better
-MODEL_MISFIT_MARKS = ("the model misses structure the data hold", "the misfit is this model's")
-"""Phrases of the `misfit_notes` that blame the model, not the data (the Bayesian run's WAIC
-warning reads the start fit's notes by them: `bayes.sampler`); keep them in those notes' text."""
 DATA_LIMIT_NOTE = "the data's noise, drift or artifacts limit the fit, not only the model (see impedax kk)"
 # ... followed, when the KK test says the imaginary part may be stored with the opposite sign
 # (`io.sign_check.sign_hint`), by this and the hint (`comparison` keeps it when it replaces the note)
@@ -817,7 +819,7 @@ def misfit_notes(freq, z, z_model, known: dict[int, float] | None = None, sigma=
             continue
         if rms[i] > MISFIT_RATIO_MAX * kk:
             out[i] = (
-                f"the model misses structure the data hold: its rms_rel is over {MISFIT_RATIO_MAX:g}× the {kk * 100:.2g}% a Kramers–Kronig-consistent model "
+                f"{MODEL_MISSES_STRUCTURE}: its rms_rel is over {MISFIT_RATIO_MAX:g}× the {kk * 100:.2g}% a Kramers–Kronig-consistent model "
                 "(the KK test's Voigt chain) reaches; a diagnosis (impedax diagnose) shows where it fails and which effect is missing",
             )
         elif ratio[i] > SIGMA_EXCEEDED and kk <= math.sqrt(SIGMA_EXPLAINED) * noise_rms[i] and weighting not in (None, "sigma"):
@@ -828,7 +830,7 @@ def misfit_notes(freq, z, z_model, known: dict[int, float] | None = None, sigma=
         elif ratio[i] > SIGMA_EXCEEDED and kk <= math.sqrt(SIGMA_EXPLAINED) * noise_rms[i]:
             out[i] = (
                 f"the misfit exceeds the noise the data's sigma states (mean (ΔRe² + ΔIm²)/2σ² above {SIGMA_EXCEEDED:g}) while a Kramers–Kronig-consistent "
-                f"model (the KK test's Voigt chain) reaches {kk * 100:.2g}% (rms_rel), within that noise ({noise_rms[i] * 100:.2g}%): the misfit is this model's, "
+                f"model (the KK test's Voigt chain) reaches {kk * 100:.2g}% (rms_rel), within that noise ({noise_rms[i] * 100:.2g}%): {MISFIT_IS_MODELS}, "
                 "not the data's noise; a diagnosis (impedax diagnose) shows where it fails and which effect is missing",
             )
         else:
@@ -842,7 +844,7 @@ def misfit_notes(freq, z, z_model, known: dict[int, float] | None = None, sigma=
         for (i, kk), (valid, hint) in zip(data_limited.items(), kk_verdicts(freq, rows[list(data_limited)], attrs)):
             if valid and rms[i] > MODEL_MISFIT_OVER_CONSISTENT * kk:
                 out[i] = (
-                    f"the misfit is this model's: the data pass the Kramers–Kronig test (their {kk * 100:.2g}% rms_rel from its Voigt chain is their noise) "
+                    f"{MISFIT_IS_MODELS}: the data pass the Kramers–Kronig test (their {kk * 100:.2g}% rms_rel from its Voigt chain is their noise) "
                     f"and this fit's rms_rel is over {MODEL_MISFIT_OVER_CONSISTENT:g}× that; a diagnosis (impedax diagnose) shows where it fails and which effect is missing",
                 )
             elif hint:
