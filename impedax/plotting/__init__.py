@@ -245,7 +245,7 @@ def prefixed_axis(axis, *, along=(), label=None, max_bins="auto") -> None:
     axis.set_major_locator(FittingLocator(max_bins))
 
 
-# a tick label's width per character, in em: `characters_across`' conservative average
+# a label's width per character, in em: a conservative average (tick labels, `characters_across`' titles)
 LABEL_CHAR_EM = 0.62
 # the free space kept between neighbouring tick labels, in em
 LABEL_GAP_EM = 0.5
@@ -599,8 +599,8 @@ def _thin_minor_labels(formatter) -> None:
 
 def characters_across(width_in: float, fontsize: float) -> int:
     """How many characters of text at ``fontsize`` [pt] fit across ``width_in`` inches (a
-    conservative average character width of 0.62 em, so titles are wrapped, never cut)."""
-    return max(20, int(width_in * 72 / (0.62 * fontsize)))
+    conservative average character width of `LABEL_CHAR_EM`, so titles are wrapped, never cut)."""
+    return max(20, int(width_in * 72 / (LABEL_CHAR_EM * fontsize)))
 
 
 def wrap_model(text: str, width: int) -> str:
