@@ -326,6 +326,9 @@ def test_a_bounded_fit_is_labelled_by_its_bounds(free_fit, alpha_held_at_1, boun
     ix.write_result(c, tmp_path / "c.csv")
     rows = list(csv.DictReader(open(tmp_path / "c.csv")))
     assert [r["bounds"] for r in rows] == ["", "R0 within 60..63", ""] and rows[1]["label"] == f"{MODEL} [R0 within 60..63]"
+    # the dataset and the notebook display say it too (they did not)
+    assert list(c.to_xarray()["bounds"].values) == ["", "R0 within 60..63", ""]
+    assert f"bounded in {MODEL} [R0 within 60..63]: R0 within 60..63" in c._repr_html_()
 
 
 def test_fits_without_fixed_values_keep_their_labels(biologic, free_fit):
@@ -397,3 +400,4 @@ def test_a_one_parameter_element_may_have_a_suffix():
     assert ix.parse("R0 + W1").parameter_names() == ("R0", "W1.sigma")
     text = (pathlib.Path(__file__).parent.parent / "docs" / "circuits.md").read_text(encoding="utf-8")
     assert "`W1.sigma`, not `W1`" in text and "when the element has one parameter" not in text
+

@@ -296,8 +296,7 @@ class Comparison:
         """The table, the bounds each fit had (``bounded in LABEL: R1 within 10..50``, as
         ``impedax compare`` prints them), then the warnings every model has (once) and each
         model's others."""
-        lines = [self.table(warnings_below=True)]
-        lines += [f"bounded in {row['label']}: {', '.join(bounds_text(fit))}" for row, fit in zip(self.rows, self.fits) if fit.bounds]
+        lines = [self.table(warnings_below=True)] + self._bounded_lines()
         common, own = self.warnings_by_model()
         if common:
             lines += ["every model:"] + [f"  - {w}" for w in common]
@@ -396,18 +395,26 @@ class Comparison:
             lines.append(f"by AICc (small-sample correction) the best is {self.rows[i]['label']} (AICc weight {self.rows[i]['akaike_weight_aicc']:.3f}); the ranking above is by AIC")
         return lines
 
+    def _bounded_lines(self) -> list[str]:
+        """``bounded in LABEL: R1 within 10..50`` for each fit with bounds of the user's."""
+        return [f"bounded in {row['label']}: {', '.join(bounds_text(fit))}" for row, fit in zip(self.rows, self.fits) if fit.bounds]
+
     def to_xarray(self) -> xr.Dataset:
         # the coordinate "model" holds the labels (`fit_label`: a fit with fixed values named by
-        # them, so each fit has its own); the variable "circuit" the models' text
+        # them, so each fit has its own); the variable "circuit" the models' text; "bounds" and
+        # "undetermined" as in `to_table` (``;``-joined, "" for none)
         cols = [c for c in self.rows[0] if c not in ("model", "label")]
         data = {c: ("model", [r.get(c, math.nan) for r in self.rows]) for c in cols}
         data["circuit"] = ("model", [r["model"] for r in self.rows])
+        table = self.to_table()
+        for column in ("bounds", "undetermined"):
+            data[column] = ("model", [row[column] for row in table])
         return xr.Dataset(data, coords={"model": [r["label"] for r in self.rows]})
 
     def _repr_html_(self) -> str:
         """The notebook display, as `FitResult`'s: a row per model (its label, k, rms_rel,
         reduced χ², AIC, ΔAIC, Akaike weight, BIC), the best mark, what the table says under
-        its rows and the F-tests, and the figure of `plot`."""
+        its rows and the F-tests, the user's bounds (as `report`), and the figure of `plot`."""
         from ..plotting.html import result_html
 
         best = self.best_index
@@ -417,7 +424,7 @@ class Comparison:
              "": self._best_mark(warnings_below=True).strip() if i == best else ("did not converge" if not r["converged"] else "")}
             for i, r in enumerate(self.rows)
         ]
-        lines = self.table(warnings_below=True).splitlines()[len(self.rows) + 1 :]  # (the lines under the table's rows: best determined, criteria, F-tests)
+        lines = self.table(warnings_below=True).splitlines()[len(self.rows) + 1 :] + self._bounded_lines()  # (the lines under the table's rows: best determined, criteria, F-tests; then the bounds, as `report`)
         for fit, row in zip(self.fits, self.rows):  # each model's warnings, as `report`
             warnings = [w for ws in fit.warnings.values() for w in ws] if isinstance(fit.warnings, Mapping) else list(fit.warnings)
             lines += [f"{row['label']}: {w}" for w in warnings]
