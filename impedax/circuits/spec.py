@@ -104,6 +104,12 @@ class ParameterSpec:
             return self.role
         return _ROLE_BY_UNIT.get(self.unit, StartRole.DEFAULT)
 
+    def narrowed_sides(self, lower: float | None, upper: float | None) -> frozenset[str]:
+        """The sides ("lower", "upper") on which the bounds (``lower``, ``upper``; None: not
+        given) differ from this parameter's own: the bounds a user set (``bounds=``,
+        ``--bound``). ``R1=:10M`` narrows only R1's "upper" (its lower is R's own 0)."""
+        return frozenset(side for side, value, own in (("lower", lower, self.lower), ("upper", upper, self.upper)) if value is not None and float(value) != float(own))
+
     def full_name(self, element_name: str) -> str:
         return element_name if self.suffix is None else f"{element_name}.{self.suffix}"
 

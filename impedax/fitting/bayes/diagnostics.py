@@ -208,13 +208,14 @@ def reducing_bounds(circuit: Circuit, registry: Registry) -> dict[str, tuple[str
 def user_bound_sides(user_bounds: Mapping[str, tuple[float, float]], circuit: Circuit, registry: Registry) -> dict[str, frozenset[str]]:
     """{parameter: sides} of the bounds the user narrowed (``bounds=``, ``--bound``) that are
     not the element's own: ``R1=:10M`` narrows only R1's "upper" side (its lower is the
-    element's 0), ``CPE1.alpha=0.5:1`` only the "lower" (1 is the CPE's own)."""
+    element's 0), ``CPE1.alpha=0.5:1`` only the "lower" (1 is the CPE's own):
+    `ParameterSpec.narrowed_sides`."""
     specs = circuit.parameter_specs(registry)
     out = {}
     for n, (lo, hi) in user_bounds.items():
         if n not in specs:
             continue
-        sides = frozenset(side for side, value, own in (("lower", lo, specs[n].lower), ("upper", hi, specs[n].upper)) if value is not None and float(value) != float(own))
+        sides = specs[n].narrowed_sides(lo, hi)
         if sides:
             out[n] = sides
     return out

@@ -296,7 +296,7 @@ class BatchFitResult:
     def user_bounds(self) -> dict[str, tuple[float, float]]:
         """The bounds the user set (``bounds=``, ``--bound``) on free parameters, as
         `FitResult.bounds`: the dataset's ``lower``/``upper`` that differ from the element's own
-        (none in a batch saved before they were stored)."""
+        (`ParameterSpec.narrowed_sides`; none in a batch saved before they were stored)."""
         ds = self.dataset
         if "lower" not in ds:
             return {}
@@ -305,7 +305,7 @@ class BatchFitResult:
         for p in ds["param"].values:
             n = str(p)
             lo, hi = float(ds["lower"].sel(param=n)), float(ds["upper"].sel(param=n))
-            if not bool(ds["fixed"].sel(param=n).all()) and (lo, hi) != (float(specs[n].lower), float(specs[n].upper)):
+            if not bool(ds["fixed"].sel(param=n).all()) and specs[n].narrowed_sides(lo, hi):
                 out[n] = (lo, hi)
         return out
 

@@ -973,14 +973,14 @@ def stack_notes(
 
 def user_bounds(table: ParameterTable, circuit: Circuit, registry: Registry) -> dict[str, tuple[float, float]]:
     """The bounds the user set (``bounds=``) on free parameters: those of ``table`` that differ
-    from the element's natural ones (`ParameterSpec.lower`/``upper``)."""
+    from the element's natural ones (`ParameterSpec.narrowed_sides`)."""
     specs = circuit.parameter_specs(registry)
     out = {}
     for i, name in enumerate(table.names):
         if table.fixed[i]:
             continue
         lo, hi = float(table.lower[i]), float(table.upper[i])
-        if lo != float(specs[name].lower) or hi != float(specs[name].upper):
+        if specs[name].narrowed_sides(lo, hi):
             out[name] = (lo, hi)
     return out
 
