@@ -86,6 +86,11 @@ def test_binding_constraints_and_the_rule():
     assert constraint_explains(0.15, 0.004, 0.0039)
     assert not constraint_explains(0.15, 0.09, 0.0039)  # halved, but still far from what the data allow
     assert not constraint_explains(0.030, 0.019, 0.018)  # within what the data allow, but not halved
+    # ... which, with the points and constraints counted, the χ²/AIC rule decides: (3.0/1.9)² =
+    # 2.49 ≥ 1.25 and 2·50 ln 2.49 − 2 = 89 > 10; (2.1/1.9)² = 1.22 is under 1.25
+    assert constraint_explains(0.030, 0.019, 0.018, 50, 1)
+    assert not constraint_explains(0.021, 0.019, 0.018, 50, 1)
+    assert not constraint_explains(0.15, 0.09, 0.0039, 50, 1)  # still far from what the data allow
 
 
 def test_the_diagnosis_names_the_constraint_and_keeps_fix(wrong_fixed):
@@ -96,3 +101,31 @@ def test_the_diagnosis_names_the_constraint_and_keeps_fix(wrong_fixed):
     assert _fixed_words(fit) == " --fix R0=0.04"
     right = ix.fit(MODEL, ix.make_spectrum(F, z), fixed={"R0": R0}, n_starts=1)
     assert _constraint_verdict(right, ix.make_spectrum(F, z), None, 1.0) is None
+
+
+def test_only_the_constraint_that_holds_the_fit_is_named():
+    """R0 fixed wrong (0.04) beside CPE1.alpha fixed at its true 0.85: releasing R0 alone
+    explains the misfit, so the note and the diagnosis name R0 and not the harmless alpha."""
+    z = noisy(0)
+    fit = ix.fit(MODEL, ix.make_spectrum(F, z), fixed={"R0": 0.04, "CPE1.alpha": 0.85}, n_starts=1)
+    (note,) = [w for w in fit.warnings if CONSTRAINT_NOTE in w]
+    assert "R0 fixed at 0.04" in note and "fit with R0 free" in note and "alpha" not in note, note
+    verdict, reason = _constraint_verdict(fit, ix.make_spectrum(F, z), ix.kk_test(ix.make_spectrum(F, z)), 40.0)
+    assert verdict == Verdict.CONSTRAINT and "R0 fixed at 0.04" in reason and "alpha" not in reason, reason
+
+
+def test_a_constraint_within_twice_the_free_fit_is_still_named():
+    """1.5 % noise (the KK chain at 2.1 %, valid): R0 fixed at 0.048 leaves 3.8 %, under 2× the
+    free fit's 2.3 %, yet χ² 2.8× and ΔAIC = 82 ln 2.8 − 2 ≈ 83 on 41 points: the constraint's (the halving
+    rule alone kept the note that the data limit the fit). At 0.0495, 2.5 % (χ² 1.18×), the data
+    are still what limits it."""
+    rng = np.random.default_rng(3)
+    z = truth(F) * (1 + 0.015 * (rng.standard_normal(F.size) + 1j * rng.standard_normal(F.size)))
+    data = ix.make_spectrum(F, z)
+    held = ix.fit(MODEL, data, fixed={"R0": 0.048}, n_starts=1)
+    free = ix.fit(MODEL, data)
+    assert free.rms_rel < held.rms_rel < 2 * free.rms_rel and (held.rms_rel / free.rms_rel) ** 2 > 2.5
+    assert any(CONSTRAINT_NOTE in w and "R0 fixed at 0.048" in w for w in held.warnings), held.warnings
+    close = ix.fit(MODEL, data, fixed={"R0": 0.0495}, n_starts=1)
+    assert close.rms_rel > 0.02 and not any(CONSTRAINT_NOTE in w for w in close.warnings)
+    assert any("limit the fit" in w for w in close.warnings), close.warnings

@@ -900,20 +900,23 @@ def kk_misfits(data, **options) -> np.ndarray:
     return np.array([_rms_rel(zi, z_kk) for zi, (*_, z_kk) in zip(flat, chosen)], float).reshape(z.shape[:-1])
 
 
-def kk_verdicts(freq, z, attrs=None) -> list[tuple[bool | None, str | None]]:
-    """`kk_test_batch`'s (default options) ``valid`` and ``sign_hint`` for each spectrum of z
-    (B, N): whether its residuals from the Voigt chain are noise (the data are
-    Kramers–Kronig-consistent within their own noise), and why and how its imaginary part may be
+def kk_verdicts(freq, z, attrs=None) -> list[tuple[bool | None, str | None, int | None]]:
+    """`kk_test_batch`'s (default options) ``valid``, ``sign_hint`` and chain size for each
+    spectrum of z (B, N): whether its residuals from the Voigt chain are noise (the data are
+    Kramers–Kronig-consistent within their own noise), why and how its imaginary part may be
     stored with the opposite sign (`io.sign_check.sign_hint`; ``attrs``: the data's, for how to
     fix the file; conj(Z) is tested only for a spectrum whose own test fails almost
-    everywhere); (None, None) where the test cannot run. For the note that the data limit a fit
+    everywhere), and the number of the chain's linear parameters (M resistances, R_0, L and 1/C);
+    (None, None, None) where the test cannot run. For the note that the data limit a fit
     (`least_squares.result.misfit_notes`)."""
+    options = _options_of_kk_test({})
     try:
         freq, z, _, _, source = frequency_and_z((np.asarray(freq, float), np.atleast_2d(z)))
-        batch = _run(freq, z, z.shape[:-1], ("spectrum",), {}, **_options_of_kk_test({}), source=source, attrs=attrs)
+        batch = _run(freq, z, z.shape[:-1], ("spectrum",), {}, **options, source=source, attrs=attrs)
     except ImpedaxError:
-        return [(None, None)] * len(np.atleast_2d(z))
-    return [(bool(r.valid), r.sign_hint) for r in batch.results]
+        return [(None, None, None)] * len(np.atleast_2d(z))
+    series = 1 + int(bool(options["inductance"])) + int(bool(options["capacitance"]))
+    return [(bool(r.valid), r.sign_hint, int(r.n_rc) + series) for r in batch.results]
 
 
 def _rms_rel(z, z_kk) -> float:

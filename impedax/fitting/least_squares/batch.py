@@ -796,7 +796,7 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
     stderr[np.ix_(regular, table.free_index)] = without_error(sides[regular], vanished, free_stderr)[0]
     z_model = np.array(out.z_model)
     misfit: list[tuple[str, ...]] = []
-    weighting_extra = data_notes(freq, z, z_model, sigma, weighting, source, solver.kk_misfits, remainder=remainder, attrs=attrs, misfit_out=misfit)
+    weighting_extra = data_notes(freq, z, z_model, sigma, weighting, source, solver.kk_misfits, remainder=remainder, attrs=attrs, misfit_out=misfit, n_free=int(table.free_index.size))
     for i in np.flatnonzero(odd):
         r = fit_result(circuit, table, freq, z[i], out.row(i), weighting, int(used[i]), 0.0, registry, chi2_at_x=lambda p, s, i=i: solver.chi2_at_x(p, s + i), extra_notes=weighting_extra[i], weights=(inv_re[i], inv_im[i]))
         values[i] = [r.values[n] for n in names]
@@ -828,17 +828,18 @@ _FEW_LANES, _FEW_CAPACITY = 8, 64
 _MANY_LANES_FROM = 4 * _LANES
 
 
-def data_notes(freq, z, z_model, sigma, weighting: str, source: str, kk_misfits: dict[int, float] | None = None, *, remainder: bool = False, attrs=None, misfit_out: list | None = None) -> list[tuple[str, ...]]:
+def data_notes(freq, z, z_model, sigma, weighting: str, source: str, kk_misfits: dict[int, float] | None = None, *, remainder: bool = False, attrs=None, misfit_out: list | None = None, n_free: int | None = None) -> list[tuple[str, ...]]:
     """The warnings of fits to spectra z (B, N) with models z_model (B, N) that concern the data
     rather than the parameters, one tuple per spectrum, as a single fit gives them: a weighting
     dominated by a few points (`weighting_notes`), points with Re Z < 0 (`non_passive_notes`)
     and a gross misfit (`misfit_notes`; ``kk_misfits``: Kramers–Kronig misfits already known);
     ``remainder``: the spectra are a subtraction's remainder (`is_remainder`), Re Z < 0 its cause;
     ``attrs``: the data's, for how to fix a flipped sign (`misfit_notes`). ``misfit_out``: a list
-    extended with each spectrum's misfit notes alone (the last of its notes)."""
+    extended with each spectrum's misfit notes alone (the last of its notes); ``n_free``: each
+    fit's number of free parameters (`misfit_notes`; None for a shared fit's spectra)."""
     b = len(z)
     weighted = weighting_notes(weighting, freq, *dominant_points(z, *weights(z, sigma, weighting, source, freq))) if weighting in ("unit", "proportional") else [()] * b
-    misfit = misfit_notes(freq, z, z_model, kk_misfits, sigma, attrs, weighting=weighting)
+    misfit = misfit_notes(freq, z, z_model, kk_misfits, sigma, attrs, weighting=weighting, n_free=n_free)
     if misfit_out is not None:
         misfit_out.extend(misfit)
     return [tuple(weighted[i]) + non_passive_notes(freq, z[i], None if sigma is None else sigma[i], remainder=remainder) + misfit[i] for i in range(b)]

@@ -15,9 +15,9 @@ import numpy as np
 from ...circuits import Circuit, Registry
 from ...errors import ImpedaxError
 from ..parameters import ParameterTable
-from .result import MISFIT_CHECKED_FROM, MODEL_MISFIT_OVER_CONSISTENT, user_bounds
+from .result import MISFIT_CHECKED_FROM, MODEL_MISFIT_OVER_CONSISTENT, misfit_beyond_noise, user_bounds
 
-__all__ = ["binding_constraints", "constraint_words", "released_fit", "constraint_explains", "constraint_misfit_notes", "with_constraint_notes", "CONSTRAINT_MISFIT_GAIN"]
+__all__ = ["binding_constraints", "constraint_words", "released_fit", "constraint_explains", "explaining_constraints", "constraint_misfit_notes", "with_constraint_notes", "CONSTRAINT_MISFIT_GAIN"]
 
 # a constraint explains a fit's misfit when one local fit with it released (`released_fit`) at
 # least halves the rms_rel ... (a factor the data's noise cannot make: on the user's spectrum,
@@ -69,13 +69,47 @@ def released_fit(circuit: Circuit, data, values: Mapping[str, float], fixed: Map
         return None
 
 
-def constraint_explains(rms_constrained: float, rms_released: float, kk: float) -> bool:
-    """Whether releasing the constraints explains a misfit: the released fit's rms_rel is at
-    most `CONSTRAINT_MISFIT_GAIN` × the constrained one's and within what the misfit rules
-    accept of a model (below `result.MISFIT_CHECKED_FROM`, or within
-    `result.MODEL_MISFIT_OVER_CONSISTENT` × the KK test's Voigt chain's rms_rel ``kk``)."""
+def constraint_explains(rms_constrained: float, rms_released: float, kk: float, n_points: int | None = None, n_released: int | None = None) -> bool:
+    """Whether releasing the constraints explains a misfit: the released fit is within what the
+    misfit rules accept of a model (below `result.MISFIT_CHECKED_FROM`, or within
+    `result.MODEL_MISFIT_OVER_CONSISTENT` × the KK test's Voigt chain's rms_rel ``kk``) and its
+    rms_rel is at most `CONSTRAINT_MISFIT_GAIN` × the constrained one's, or, with the ``n_points``
+    and the ``n_released`` constraints known, below it by more than the noise by the rule that
+    blames a model against the KK chain (`result.misfit_beyond_noise`: χ² ratio and ΔAIC, the
+    released constraints counted as parameters)."""
     accepted = max(MISFIT_CHECKED_FROM, MODEL_MISFIT_OVER_CONSISTENT * kk) if np.isfinite(kk) else MISFIT_CHECKED_FROM
-    return bool(np.isfinite(rms_released) and rms_released <= CONSTRAINT_MISFIT_GAIN * rms_constrained and rms_released <= accepted)
+    if not (np.isfinite(rms_released) and rms_released <= accepted):
+        return False
+    if rms_released <= CONSTRAINT_MISFIT_GAIN * rms_constrained:
+        return True
+    return n_points is not None and n_released is not None and misfit_beyond_noise(rms_constrained, rms_released, n_points, n_released)
+
+
+def explaining_constraints(circuit: Circuit, data, values: Mapping[str, float], fixed: Mapping[str, bool], bounds: Mapping[str, tuple[float, float]], constraints, rms_constrained: float, kk: float, *, weighting: str, registry: Registry, fit: Callable):
+    """(the constraints that explain the misfit, the fit with them released) or None: every
+    binding constraint released at once (`released_fit`) must explain it (`constraint_explains`
+    on ``data``'s points); of several, those whose release alone explains it are named (a
+    harmless ``--fix C_i`` beside the bound that holds the fit is not), all of them when none
+    alone does. One local fit per constraint more, only where the first explains."""
+    n_points = int(np.asarray(data["frequency"]).size)
+
+    def explained(subset):
+        released = released_fit(circuit, data, values, fixed, bounds, subset, weighting=weighting, registry=registry, fit=fit)
+        n_released = len({n for n, _, _ in subset})
+        ok = released is not None and constraint_explains(rms_constrained, released.rms_rel, kk, n_points, n_released)
+        return released if ok else None
+
+    released = explained(constraints)
+    if released is None:
+        return None
+    if len(constraints) == 1:
+        return list(constraints), released
+    alone = [(c, r) for c in constraints if (r := explained([c])) is not None]
+    if not alone:
+        return list(constraints), released
+    if len(alone) == 1:
+        return [alone[0][0]], alone[0][1]
+    return [c for c, _ in alone], released
 
 
 def constraint_note(constraints, kk: float) -> str:
@@ -92,8 +126,8 @@ def constraint_note(constraints, kk: float) -> str:
 
 def constraint_misfit_notes(circuit: Circuit, table: ParameterTable, registry: Registry, freq, z, z_model, sigma, values: Mapping[str, float], at_bound, misfit: tuple[str, ...], kk: float | None, *, weighting: str, fit: Callable, attrs=None) -> tuple[str, ...]:
     """``misfit`` (one fit's `result.misfit_notes`) with its note replaced by `constraint_note`
-    where the user's binding constraints (`binding_constraints`) explain it
-    (`constraint_explains` of `released_fit` on the spectrum z (N,) at ``freq``, σ ``sigma``
+    where the user's binding constraints (`binding_constraints`) explain it, naming those that do
+    (`explaining_constraints` on the spectrum z (N,) at ``freq``, σ ``sigma``
     (N,) or None, against the fit's model ``z_model``; ``kk``: the KK test's misfit that
     `misfit_notes` used). Unchanged otherwise: no note, no binding constraint, or freeing them
     does not explain the misfit. ``fit``: `single.fit` (`released_fit`)."""
@@ -108,13 +142,11 @@ def constraint_misfit_notes(circuit: Circuit, table: ParameterTable, registry: R
     from .starts import rms_rel_of
 
     data = make_spectrum(np.asarray(freq, float), np.asarray(z, complex), sigma=None if sigma is None else np.asarray(sigma, float), attrs=dict(attrs or {}))
-    released = released_fit(circuit, data, values, fixed, bounds, constraints, weighting=weighting, registry=registry, fit=fit)
-    if released is None:
-        return misfit
     rms_constrained = float(rms_rel_of(np.asarray(z_model)[None], np.asarray(z)[None])[0])
-    if not constraint_explains(rms_constrained, released.rms_rel, kk):
+    found = explaining_constraints(circuit, data, values, fixed, bounds, constraints, rms_constrained, kk, weighting=weighting, registry=registry, fit=fit)
+    if found is None:
         return misfit
-    return (constraint_note(constraints, kk),)
+    return (constraint_note(found[0], kk),)
 
 
 def with_constraint_notes(notes: tuple[str, ...], misfit: tuple[str, ...], checked: tuple[str, ...]) -> tuple[str, ...]:

@@ -24,7 +24,7 @@ from .starts import attainable_misfit, inward_start, rms_rel_of
 
 __all__ = [
     "FitResult", "fit_result", "fit_notes", "parameter_groups", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes",
-    "misfit_notes", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "MODEL_MISFIT_OVER_CONSISTENT", "SIGMA_EXCEEDED", "gross_misfits", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
+    "misfit_notes", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
     "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "without_error", "STDERR_NOTE", "LINEARISED_STDERR_NAME", "data_difference", "stored_bounds", "user_bounds",
     "embedded_fit", "fit_from_embedded", "bounds_attr",
 ]
@@ -747,6 +747,41 @@ SIGMA_EXCEEDED_UNWEIGHTED = (
 # Meyer's RC-skin model on SYNTHETIC CPE-skin data with 1 % noise, at 2.7×, was told the data's
 # noise limited it)
 MODEL_MISFIT_OVER_CONSISTENT = 2.0
+# ... and below that multiple, when the fit's number of free parameters is known, by the rule a
+# diagnosis names a missing effect with (`diagnosis.DELTA_AIC_MIN`, `diagnosis.NOISE_FRACTION_MIN`),
+# with the chain in the candidate's place: its χ² (rms_rel², the same 1/|Z| weighting) at least
+# this much above the chain's, a share of the noise's own ...
+MODEL_MISFIT_NOISE_SHARE = 0.25
+# ... and its AIC (Gaussian, 2N real residuals, parameters counted) worse than the chain's by more
+# than this (until 2026-12-01 a fit at 1.6× the chain's rms_rel, χ² 2.6×, was told the data's
+# noise limited it while `impedax diagnose` named the missing effect: SYNTHETIC R0 + R1 ∥ CPE1 data,
+# α = 0.97, 1 % noise, fitted with R0 + R1 ∥ C1)
+MODEL_MISFIT_DELTA_AIC = 10.0
+
+
+def misfit_beyond_noise(rms_worse: float, rms_better: float, n_points: int, extra_params: int) -> bool:
+    """Whether a fit at rms_rel ``rms_worse`` misses by more than the noise what another fit of
+    the same N = ``n_points`` points reaches with ``extra_params`` more parameters (rms_rel
+    ``rms_better``): χ² ratio (rms_worse/rms_better)² ≥ 1 + `MODEL_MISFIT_NOISE_SHARE` and
+    ΔAIC = 2N ln χ²-ratio − 2·extra_params (Gaussian, Re and Im of each point) above
+    `MODEL_MISFIT_DELTA_AIC`."""
+    if not rms_better > 0:
+        return False
+    ratio = (rms_worse / rms_better) ** 2
+    return bool(ratio >= 1.0 + MODEL_MISFIT_NOISE_SHARE and 2 * n_points * math.log(ratio) - 2 * extra_params > MODEL_MISFIT_DELTA_AIC)
+
+
+def misfit_beyond_chain(rms: float, kk: float, n_points: int, n_free: int | None, chain_params: int | None) -> bool:
+    """Whether a fit at rms_rel ``rms`` of data that pass the Kramers–Kronig test misses what its
+    Voigt chain (rms_rel ``kk``, ``chain_params`` linear parameters) reaches by more than their
+    noise: rms above `MODEL_MISFIT_OVER_CONSISTENT` × kk, or, with the fit's ``n_free`` free
+    parameters known, `misfit_beyond_noise` against the chain (χ² ratio and ΔAIC, the chain's
+    extra parameters counted)."""
+    if rms > MODEL_MISFIT_OVER_CONSISTENT * kk:
+        return True
+    if n_free is None or chain_params is None:
+        return False
+    return misfit_beyond_noise(rms, kk, n_points, chain_params - n_free)
 
 
 def known_kk_misfits(freq, z, rows: np.ndarray, known: dict[int, float] | None) -> np.ndarray:
@@ -777,7 +812,7 @@ def gross_misfits(freq, z, z_model, known: dict[int, float] | None = None) -> np
     return checked[(kk > 0) & (rms[checked] > MISFIT_RATIO_MAX * kk)]
 
 
-def misfit_notes(freq, z, z_model, known: dict[int, float] | None = None, sigma=None, attrs=None, weighting: str | None = None) -> list[tuple[str, ...]]:
+def misfit_notes(freq, z, z_model, known: dict[int, float] | None = None, sigma=None, attrs=None, weighting: str | None = None, n_free: int | None = None) -> list[tuple[str, ...]]:
     """The misfit warning of each fit of spectra z (B, N) with models z_model (B, N) whose
     rms_rel is at least `MISFIT_CHECKED_FROM`: set against the rms_rel of the linear
     Kramers–Kronig test's Voigt chain (`starts.attainable_misfit`), either the model misses
@@ -792,14 +827,18 @@ def misfit_notes(freq, z, z_model, known: dict[int, float] | None = None, sigma=
     cannot be what limits the fit (the note holds the threshold, not the fit's mean, as above).
     Where that note would be given, the full KK test is run (`kk.kk_verdicts`): when the data
     pass it (their residuals from the chain are noise, so the chain's misfit is the noise) and
-    the fit's rms_rel is above `MODEL_MISFIT_OVER_CONSISTENT` × the chain's, the misfit is this
-    model's (a fit 2.7× the chain's on 1 % noise has χ²_red ≈ 7: decisive), and the note says so;
+    the fit's misfit is beyond the chain's by more than that noise (`misfit_beyond_chain`: rms_rel
+    above `MODEL_MISFIT_OVER_CONSISTENT` × the chain's, or, with the fits' ``n_free`` free
+    parameters, the rule a diagnosis names a missing effect by), the misfit is this model's, and
+    the note says so;
     else the note that the data limit the fit, ending with the KK test's hint when the data fail
     it almost everywhere but conj(Z) passes (``attrs``: the data's, for how to fix the file): a
     Z'' stored with the opposite sign, not noise or drift, then limits it. ``weighting``: the
     fits'; one other than ``sigma`` minimised another χ² than σ's, so residuals beyond σ may be
     that weighting's, and the note over σ says to refit with ``sigma`` rather than blame the model
-    (`SIGMA_EXCEEDED_UNWEIGHTED`)."""
+    (`SIGMA_EXCEEDED_UNWEIGHTED`). ``n_free``: the fits' number of free parameters (None: a
+    shared fit's, not one spectrum's; the 2× rule alone then, as for a weighting other than
+    ``modulus``, whose fit does not minimise the rms_rel the rule weighs)."""
     rms, checked, kks = _checked_misfits(freq, z, z_model, known)
     explained = np.zeros(rms.size, bool)
     ratio, noise_rms = np.full(rms.size, np.nan), np.full(rms.size, np.nan)
@@ -841,11 +880,17 @@ def misfit_notes(freq, z, z_model, known: dict[int, float] | None = None, sigma=
             data_limited[i] = kk
     if data_limited:  # (the full KK test, and conj(Z)'s only where it fails almost everywhere)
         rows = np.atleast_2d(z)
-        for (i, kk), (valid, hint) in zip(data_limited.items(), kk_verdicts(freq, rows[list(data_limited)], attrs)):
-            if valid and rms[i] > MODEL_MISFIT_OVER_CONSISTENT * kk:
+        n_points = rows.shape[-1]
+        same_metric = weighting in (None, "modulus")  # (the chain's 1/|Z| weighting: another one's fit need not minimise rms_rel)
+        for (i, kk), (valid, hint, chain_params) in zip(data_limited.items(), kk_verdicts(freq, rows[list(data_limited)], attrs)):
+            if valid and misfit_beyond_chain(rms[i], kk, n_points, n_free if same_metric else None, chain_params):
+                beyond = (
+                    f"this fit's rms_rel is over {MODEL_MISFIT_OVER_CONSISTENT:g}× that" if rms[i] > MODEL_MISFIT_OVER_CONSISTENT * kk
+                    else f"this fit's χ² is over {1 + MODEL_MISFIT_NOISE_SHARE:g}× the chain's, its AIC more than {MODEL_MISFIT_DELTA_AIC:g} worse with the parameters counted"
+                )
                 out[i] = (
                     f"{MISFIT_IS_MODELS}: the data pass the Kramers–Kronig test (their {kk * 100:.2g}% rms_rel from its Voigt chain is their noise) "
-                    f"and this fit's rms_rel is over {MODEL_MISFIT_OVER_CONSISTENT:g}× that; a diagnosis (impedax diagnose) shows where it fails and which effect is missing",
+                    f"and {beyond}; a diagnosis (impedax diagnose) shows where it fails and which effect is missing",
                 )
             elif hint:
                 out[i] = (f"{out[i][0]}; {SIGN_HINT_LEAD}{hint}",)

@@ -151,7 +151,7 @@ def fit(
     chi2_at_x = one_spectrum_chi2(solvers.chi2_x, args, out)
     notes = weighting_notes(weighting, freq, *dominant_points(z, inv_re, inv_im))[0] if weighting in ("unit", "proportional") else ()
     kk_misfit: dict[int, float] = {}
-    misfit = misfit_notes(freq, z, out.z_model, kk_misfit, sigma=None if sigma is None else np.asarray(sigma)[None], attrs=data.attrs, weighting=weighting)[0]
+    misfit = misfit_notes(freq, z, out.z_model, kk_misfit, sigma=None if sigma is None else np.asarray(sigma)[None], attrs=data.attrs, weighting=weighting, n_free=int(table.free_index.size))[0]
     notes = tuple(notes) + non_passive_notes(freq, z, sigma, remainder=is_remainder(data.attrs)) + misfit
     given = np.isfinite(table.values[table.free_index])
     start = "the given start" if given.all() and given.size else "the given start, the other parameters' from the data" if given.any() else "the data-driven start"
