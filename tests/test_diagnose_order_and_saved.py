@@ -16,6 +16,7 @@ from impedax.cli import main
 from impedax.fitting.diagnosis import refinement as rf
 from impedax.fitting.diagnosis.diagnosis import Diagnosis
 from impedax.fitting.diagnosis.refinement import Refinement, RefinementStep
+from impedax.fitting.drt import Peak
 from impedax.fitting.least_squares.candidates import fit_candidates
 from impedax.io.netcdf import read_netcdf, write_netcdf
 
@@ -155,7 +156,12 @@ def test_drt_support_follows_the_new_arc_under_a_baseline_arcs_name(swapped_cand
     fit = SimpleNamespace(circuit=ix.parse("R0 + R1 || C1 + R_relax || C_relax"), registry=swapped_candidate.registry,
                           values={"R0": values["R0"], "R1": values["R1"], "C1": values["C1"], "R_relax": values["R2"], "C_relax": values["C2"]})
     fast_tau = FAST[0] * FAST[1]  # the new arc is the fast one, now listed first as R1 ∥ C1
-    evidence = SimpleNamespace(unexplained=[SimpleNamespace(tau_s=fast_tau)], distributed=[])
+    def peak(tau, r_sd=0.1):
+        return Peak(tau_s=tau, r_ohm=1.0, width_decades=0.8, gamma_max_ohm=1.0, r_ohm_sd=r_sd)
+
+    evidence = SimpleNamespace(unexplained=[peak(fast_tau)], distributed=[])
     assert _drt_supports(SimpleNamespace(effect="extra_relaxation", fit=fit), evidence)
-    # a peak no arc of the fit lies near is no support
-    assert not _drt_supports(SimpleNamespace(effect="extra_relaxation", fit=fit), SimpleNamespace(unexplained=[SimpleNamespace(tau_s=1e3)], distributed=[]))
+    # a peak no arc of the fit lies near is no support, nor one whose R the DRT's band does not
+    # tell from zero (1 ± 0.8 Ω: under 2σ)
+    assert not _drt_supports(SimpleNamespace(effect="extra_relaxation", fit=fit), SimpleNamespace(unexplained=[peak(1e3)], distributed=[]))
+    assert not _drt_supports(SimpleNamespace(effect="extra_relaxation", fit=fit), SimpleNamespace(unexplained=[peak(fast_tau, 0.8)], distributed=[]))

@@ -340,6 +340,29 @@ def test_unexplained_peaks_names_the_missing_arc():
     assert full.unexplained == () and full.n_explained == 3
 
 
+def test_an_unexplained_peak_the_band_cannot_tell_from_zero_is_said_so():
+    """Two unexplained peaks put by hand beside a real DRT's: one of R 40 ± 5 Ω (resolved, 8σ)
+    and one of R 0.3 ± 0.5 Ω (under `RESOLVED_SIGMAS` = 2σ: a ripple). The text names the first
+    as unexplained and the second as not told from zero, with its ± (an ADEQUATE diagnosis
+    listed such a ripple as an unexplained relaxation); both stay τ guesses for proposals."""
+    import dataclasses
+
+    from impedax.fitting.drt import Peak, RESOLVED_SIGMAS, is_resolved
+
+    result = drt((F, noisy(10 + rc(500, 1e-3), 0.005, 11)))
+    firm = Peak(tau_s=10.0, r_ohm=40.0, width_decades=0.8, gamma_max_ohm=30.0, r_ohm_sd=5.0)
+    ripple = Peak(tau_s=1e-5, r_ohm=0.3, width_decades=0.8, gamma_max_ohm=0.2, r_ohm_sd=0.5)
+    data = dataclasses.replace(result, peaks=tuple(sorted(result.peaks + (firm, ripple), key=lambda p: p.tau_s)))
+    evidence = unexplained_peaks(data, result)  # the model: the one-arc DRT itself
+    assert RESOLVED_SIGMAS == 2.0 and is_resolved(firm) and not is_resolved(ripple)
+    assert is_resolved(dataclasses.replace(ripple, r_ohm_sd=math.nan))  # no band: nothing says otherwise
+    assert set(evidence.unexplained) == {firm, ripple} and evidence.unresolved == (ripple,)
+    assert "; unexplained: 10 s (R ≈ 40 Ω)" in evidence.text, evidence.text
+    assert "not told from zero by the DRT's uncertainty" in evidence.text and "(R ≈ 0.3 ± 0.5 Ω)" in evidence.text
+    only_ripple = unexplained_peaks(dataclasses.replace(result, peaks=tuple(sorted(result.peaks + (ripple,), key=lambda p: p.tau_s))), result)
+    assert "unexplained:" not in only_ripple.text and only_ripple.unresolved == (ripple,)
+
+
 def test_unexplained_peaks_flags_a_distributed_peak_as_cpe_like():
     result = drt((F, noisy(10 + zarc(1000, 1e-2, 0.65), 0.005, 12)))
     evidence = unexplained_peaks(result, (F, 10 + rc(1000, 1e-2)))

@@ -55,14 +55,14 @@ from ...arguments import EXCLUDE_RTOL, MAX_SOLVER_STEPS, MAX_STARTS, checked_arg
 from ...circuits import Circuit, DEFAULT_REGISTRY, Element, Parallel, Registry, Series, parse
 from ...data import concise_repr, format_quantity, make_spectrum
 from ...errors import DataError, FitError, ImpedaxError, ParameterError
-from ..drt import PeakEvidence, drt, r_cpe_tau, unexplained_peaks
+from ..drt import PeakEvidence, drt, is_resolved, r_cpe_tau, unexplained_peaks
 from ..kk import CONCLUSIVE_POINTS_MIN, KKResult, kk_test
 from ..least_squares import BatchFitResult, FitResult, fit
 from ..least_squares.result import RESIDUAL_LONG_NAME
 from ..least_squares.branches import is_idle_note, parallel_branches
 from ..least_squares.order import exchangeable_blocks
 from ..least_squares.candidates import SolverShape, fit_candidates, solver_shape
-from ..least_squares.constraints import binding_constraints, constraint_explains, constraint_words, released_fit
+from ..least_squares.constraints import binding_constraints, constraint_words, explaining_constraints
 from ..least_squares.result import embedded_fit, fit_from_embedded
 from ..least_squares.starts import climb_target
 from ..parameters import ParameterTable
@@ -759,7 +759,7 @@ def _explain(effect, p: Proposal, base: FitResult, cand: FitResult, d_aic: float
 def _drt_supports(s: Suggestion, evidence: PeakEvidence | None) -> bool:
     """Does the data's DRT back this candidate: an ``extra_relaxation`` whose new arc's τ (R·C
     of an added R ∥ C) lies within half a decade of a narrow (R ∥ C-like) peak the baseline
-    does not explain?"""
+    does not explain, one the DRT's uncertainty tells from zero (`is_resolved`)?"""
     if evidence is None or s.effect != "extra_relaxation":
         return False
     v = s.fit.values
@@ -775,7 +775,7 @@ def _drt_supports(s: Suggestion, evidence: PeakEvidence | None) -> bool:
         members = [[names[i] for i in idx] for _, idx in group]
         if [r, c] in members:  # (the group of R_relax ∥ C_relax itself: R ∥ C blocks, R's then C's parameter)
             pairs += [(a, b) for a, b in members]
-    narrow = [p for p in evidence.unexplained if not any(p is d for d in evidence.distributed)]
+    narrow = [p for p in evidence.unexplained if is_resolved(p) and not any(p is d for d in evidence.distributed)]
     return any(v[a] * v[b] > 0 and abs(math.log10(v[a] * v[b] / p.tau_s)) <= 0.5 for a, b in pairs for p in narrow)
 
 
@@ -1728,15 +1728,20 @@ def _inside_text(value: float, lo: float, hi: float) -> str:
 def _constraint_verdict(user_fit: FitResult, spectrum: xr.Dataset, kk: KKResult | None, ratio: float) -> tuple[Verdict, str] | None:
     """`Verdict.CONSTRAINT` and its reason when the user's binding constraints on ``user_fit``
     (fixed values, a bounds= it sits on: `constraints.binding_constraints`) explain its misfit:
-    one local fit from its values with them released (`constraints.released_fit`, on the
-    diagnosis' ``spectrum``) meets the fit's own rule (`constraints.constraint_explains`
-    against the KK test's rms_rel), so no effect is named missing. None otherwise."""
+    one local fit from its values with them released (`constraints.explaining_constraints`, on
+    the diagnosis' ``spectrum``, which also names only those whose release alone explains it)
+    meets the fit's own rule (`constraints.constraint_explains` against the KK test's rms_rel),
+    so no effect is named missing. None otherwise."""
     constraints = binding_constraints(user_fit.values, user_fit.fixed, user_fit.at_bound, user_fit.bounds)
     if not constraints:
         return None
-    released = released_fit(user_fit.circuit, spectrum, user_fit.values, user_fit.fixed, user_fit.bounds, constraints, weighting=user_fit.weighting, registry=user_fit.registry, fit=fit)
-    if released is None or not constraint_explains(user_fit.rms_rel, released.rms_rel, kk.rms_rel if kk is not None else math.nan):
+    found = explaining_constraints(
+        user_fit.circuit, spectrum, user_fit.values, user_fit.fixed, user_fit.bounds, constraints, user_fit.rms_rel, kk.rms_rel if kk is not None else math.nan,
+        weighting=user_fit.weighting, registry=user_fit.registry, fit=fit,
+    )
+    if found is None:
         return None
+    constraints, released = found
     names = ", ".join(dict.fromkeys(n for n, _, _ in constraints))
     return Verdict.CONSTRAINT, (
         f"the residuals are {ratio:.3g}× the noise, but the misfit is a constraint you set, not a missing effect: with {constraint_words(constraints)} "

@@ -16,4 +16,4 @@ from .analytic import (
     r_cpe_tau as r_cpe_tau,
     zarc_drt as zarc_drt,
 )
-from .evidence import PeakEvidence as PeakEvidence, unexplained_peaks as unexplained_peaks
+from .evidence import PeakEvidence as PeakEvidence, RESOLVED_SIGMAS as RESOLVED_SIGMAS, is_resolved as is_resolved, unexplained_peaks as unexplained_peaks

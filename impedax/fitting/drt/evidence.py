@@ -13,7 +13,18 @@ from ...errors import DataError
 from .peaks import Peak
 from .result import DRTResult
 
-__all__ = ["PeakEvidence", "unexplained_peaks"]
+__all__ = ["PeakEvidence", "unexplained_peaks", "is_resolved", "RESOLVED_SIGMAS"]
+
+RESOLVED_SIGMAS = 2.0
+"""A DRT peak is resolved when its R is at least this many of its standard deviations under
+the credible band (``Peak.r_ohm_sd``) from zero: a peak of R ≈ 0.3 ± 0.5 Ω is a ripple of the
+regularised solution, not a relaxation the data show."""
+
+
+def is_resolved(peak: Peak) -> bool:
+    """Whether ``peak``'s |R| is at least `RESOLVED_SIGMAS` × its standard deviation (True when
+    the DRT has no credible band to say otherwise: ``r_ohm_sd`` nan)."""
+    return not abs(peak.r_ohm) < RESOLVED_SIGMAS * peak.r_ohm_sd
 
 
 @dataclass(frozen=True, eq=False)
@@ -28,7 +39,9 @@ class PeakEvidence:
     τ of the closest model peak (the block the new arc sits beside; nan if the model has none);
     ``distributed``: data peaks wider than ``distributed_ratio`` × the matching model peak (or ×
     an ideal R‖C's peak under the same regularisation, when unexplained) — a CPE/ZARC where the
-    circuit has (or lacks) a capacitor; ``text``: one line for the diagnosis report.
+    circuit has (or lacks) a capacitor; ``unresolved``: the unexplained peaks whose R the DRT's
+    credible band does not tell from zero (`is_resolved`; still τ and R guesses for a proposal,
+    which the fit then judges); ``text``: one line for the diagnosis report.
     """
 
     data_peaks: tuple[Peak, ...]
@@ -38,6 +51,7 @@ class PeakEvidence:
     nearest_model_tau: tuple[float, ...]
     distributed: tuple[Peak, ...]
     text: str
+    unresolved: tuple[Peak, ...] = ()
 
     @property
     def n_explained(self) -> int:
@@ -114,15 +128,21 @@ def unexplained_peaks(data_drt: DRTResult, model, *, tolerance_decades: float = 
             if near and p.width_decades > distributed_ratio * near[0].width_decades:
                 distributed.append(p)
     distributed.sort(key=lambda p: p.tau_s)
+    unresolved = tuple(p for p in unexplained if not is_resolved(p))
     text = f"the data's DRT has {len(data_peaks)} peak{'s' if len(data_peaks) != 1 else ''}"
     if data_peaks:
         text += f" (at {', '.join(format_time(p.tau_s, 2) for p in data_peaks)})"
     text += f"; the model explains {len(explained)}"
-    if unexplained:
-        text += "; unexplained: " + ", ".join(f"{format_time(p.tau_s, 2)} (R ≈ {p.r_ohm:.3g} Ω)" for p in unexplained)
+    if len(unresolved) < len(unexplained):
+        text += "; unexplained: " + ", ".join(f"{format_time(p.tau_s, 2)} (R ≈ {p.r_ohm:.3g} Ω)" for p in unexplained if is_resolved(p))
+    if unresolved:
+        text += (
+            "; not told from zero by the DRT's uncertainty (a ripple, not a missing relaxation): "
+            + ", ".join(f"{format_time(p.tau_s, 2)} (R ≈ {p.r_ohm:.2g} ± {p.r_ohm_sd:.2g} Ω)" for p in unresolved)
+        )
     if distributed:
         text += "; distributed (CPE-like): " + ", ".join(format_time(p.tau_s, 2) for p in distributed)
     return PeakEvidence(
         data_peaks=data_peaks, model_peaks=model_peaks, explained=tuple(explained), unexplained=tuple(unexplained),
-        nearest_model_tau=nearest, distributed=tuple(distributed), text=text,
+        nearest_model_tau=nearest, distributed=tuple(distributed), text=text, unresolved=unresolved,
     )
