@@ -55,6 +55,7 @@ def json_out(args, capsys):
 def kk_labels(path, select, capsys, dim):
     out = json_out(["kk", path, "--select", select, "--json"], capsys)
     assert out["dims"] == [dim] and out["n_spectra"] == len(out["spectra"])
+    assert out["sizes"] == {dim: out["n_spectra"]}  # (the mapping fit's JSON calls "dims")
     return [s["labels"][dim] for s in out["spectra"]]
 
 
@@ -93,7 +94,7 @@ def test_a_list_keeps_the_order_written_and_mixes_with_ranges(files, capsys):
 
 def test_a_batch_fit_of_a_range_carries_the_selected_labels(files, tmp_path, capsys):
     out = json_out(["fit", files["cycles"], "--model", "R0 + R1 || C1", "--select", "cycle=4:13", "--json"], capsys)
-    assert out["dims"] == {"cycle": 3} and out["n_spectra"] == 3
+    assert out["dims"] == out["sizes"] == {"cycle": 3} and out["n_spectra"] == 3
     assert [s["labels"] for s in out["spectra"]] == [{"cycle": 5}, {"cycle": 8}, {"cycle": 13}]
     for spectrum in out["spectra"]:
         assert spectrum["values"]["R1"] == pytest.approx(100.0 * spectrum["labels"]["cycle"], rel=0.01)

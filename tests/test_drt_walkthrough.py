@@ -107,7 +107,7 @@ def test_a_batch_writes_label_columns_and_its_json_is_the_commands(tmp_path, bat
     assert main(["drt", str(source), "--json"]) == 0
     printed = json.loads(capsys.readouterr().out)
     assert printed == json.loads(json.dumps(to_jsonable(batch.summary())))
-    assert printed["dims"] == ["cycle"] and [s["labels"] for s in printed["spectra"]] == [{"cycle": 3}, {"cycle": 7}]
+    assert printed["dims"] == ["cycle"] and printed["sizes"] == {"cycle": 2} and [s["labels"] for s in printed["spectra"]] == [{"cycle": 3}, {"cycle": 7}]
     assert (tmp_path / "py.csv").read_bytes() == (tmp_path / "cli.csv").read_bytes()
     rows = _rows(tmp_path / "py.csv")
     n_tau = batch.results[0].tau.size

@@ -79,7 +79,7 @@ def _each_spectrum(batch, as_json: bool, emit_json) -> None:
     n_valid = sum(bool(r.valid) for r in batch.results)  # (the JSON's: inconclusive spectra count as valid)
     few = sum(not r.conclusive for r in batch.results)
     if as_json:
-        emit_json({"dims": list(batch.dims), "n_spectra": len(batch.results), "n_valid": n_valid,
+        emit_json({"dims": list(batch.dims), "sizes": dict(zip(batch.dims, map(int, batch.shape))), "n_spectra": len(batch.results), "n_valid": n_valid,
                    "n_conclusive": len(batch.results) - few, "n_inconclusive": few,
                    "spectra": [{"labels": w, **r.summary()} for w, r in zip(where, batch.results)]})
         return

@@ -429,9 +429,10 @@ class DRTBatchResult(ResultGrid):
         return text, note_of
 
     def summary(self) -> dict:
-        """The JSON of ``impedax drt --json`` for several spectra: ``dims``, ``n_spectra`` and
-        ``spectra``, each spectrum's ``labels`` then its `DRTResult.summary` keys."""
-        return {"dims": list(self.dims), "n_spectra": len(self.results), "spectra": [{"labels": where, **one.summary()} for where, one in zip(self.labels(), self.results)]}
+        """The JSON of ``impedax drt --json`` for several spectra: ``dims`` (their names),
+        ``sizes`` ({dimension: length}, the shape `impedax fit --json` gives its ``dims``),
+        ``n_spectra`` and ``spectra``, each spectrum's ``labels`` then its `DRTResult.summary` keys."""
+        return {"dims": list(self.dims), "sizes": dict(zip(self.dims, map(int, self.shape))), "n_spectra": len(self.results), "spectra": [{"labels": where, **one.summary()} for where, one in zip(self.labels(), self.results)]}
 
     def to_table(self) -> list[dict]:
         """`DRTResult.to_table` of every spectrum after a column per dimension (its label)."""

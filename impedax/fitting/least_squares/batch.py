@@ -278,6 +278,7 @@ class BatchFitResult:
         return {
             "model": self.model,
             "dims": {d: int(ds.sizes[d]) for d in self.dims},
+            "sizes": {d: int(ds.sizes[d]) for d in self.dims},  # (added 2026-12-01: the key kk and drt give too; "dims" here was already this mapping)
             "n_spectra": self.n_spectra,
             "params": {
                 str(p): {"median": float(ds["value"].sel(param=p).median()), "q16": float(ds["value"].sel(param=p).quantile(0.16)), "q84": float(ds["value"].sel(param=p).quantile(0.84))}
