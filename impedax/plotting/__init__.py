@@ -14,14 +14,14 @@ from typing import Sequence
 import matplotlib.pyplot as plt
 from matplotlib.axes import Axes
 from matplotlib.transforms import Bbox
-from matplotlib.ticker import Formatter, MaxNLocator, ScalarFormatter
+from matplotlib.ticker import Formatter, Locator, MaxNLocator, ScalarFormatter
 import numpy as np
 import xarray as xr
 
 from ..data import SI_PREFIXES, si_prefix
 from ..io.atomic import atomic_path
 
-__all__ = ["plot_spectrum", "model_curve", "dense_model", "plot_nyquist", "equal_aspect", "nyquist_frame", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "plot_bode", "save_figure", "shade_bands", "refresh_legend", "plain_log_ticks", "plain_linear_ticks", "PlainTicks", "prefixable_unit", "wrap_model", "characters_across", "label_spectra_axis", "plot_spectra"]
+__all__ = ["plot_spectrum", "model_curve", "dense_model", "plot_nyquist", "equal_aspect", "nyquist_frame", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "plot_bode", "save_figure", "shade_bands", "refresh_legend", "plain_log_ticks", "plain_linear_ticks", "PlainTicks", "prefixable_unit", "wrap_model", "characters_across", "label_spectra_axis", "SpectraLocator", "plot_spectra"]
 
 
 def _as_arrays(spectrum):
@@ -624,18 +624,73 @@ def wrap_model(text: str, width: int) -> str:
     return "\n".join(part for each in lines for part in (textwrap.wrap(each, width) or [each]))
 
 
-SPECTRUM_TICKS = 8  # most tick labels on an axis of spectra (batches)
+# the steps between the labelled spectra of a batch axis (`SpectraLocator`): these, times 1, 10,
+# 100, ..., tried from the smallest until the labels fit
+SPECTRUM_STEPS = (1, 2, 5)
+# a batch axis' labels longer than this many characters ("3, 0.5") are tilted by
+# `SPECTRUM_LABEL_TILT` degrees; shorter ones stand upright
+SPECTRUM_LABEL_LONG = 6
+SPECTRUM_LABEL_TILT = 30.0
+SPECTRUM_LABEL_SIZE = 8.0  # [pt]
+
+
+class SpectraLocator(Locator):
+    """Ticks of an axis whose positions 0, 1, ... are the spectra of a batch: every ``k``-th
+    spectrum from the first (0, k, 2k, ...), ``k`` the smallest of `SPECTRUM_STEPS` × 10ⁿ whose
+    labels fit between their neighbours on the figure (`FittingLocator`'s measure: upright,
+    the widest label's characters at `LABEL_CHAR_EM` plus `LABEL_GAP_EM`; tilted by ``tilt``
+    degrees, the font's height plus the gap across the slant). Chosen at every draw, so it
+    follows the panel's width. Ten days on a panel 3 inches wide are all labelled; before, an
+    even spread of 8 rounded to positions left out days 3 and 8, the very two the batch's
+    Nyquist panel does not draw."""
+
+    def __init__(self, labels: Sequence[str], tilt: float = 0.0):
+        self.labels = [str(label) for label in labels]
+        self.tilt = tilt
+
+    def __call__(self):
+        return self.tick_values(*self.axis.get_view_interval())
+
+    def step(self, span: float) -> int:
+        """Spectra between labelled ticks on a view ``span`` positions wide."""
+        n = len(self.labels)
+        if self.axis is None or n < 2 or not span > 0:
+            return 1
+        size = tick_label_size(self.axis)
+        per_spectrum = axis_length_pt(self.axis) / span
+        if self.tilt:
+            needed = (1 + LABEL_GAP_EM) * size / math.sin(math.radians(self.tilt))
+        else:
+            needed = (max(len(label) for label in self.labels) * LABEL_CHAR_EM + LABEL_GAP_EM) * size
+        for decade in range(int(math.log10(n)) + 2):
+            for base in SPECTRUM_STEPS:
+                if base * 10**decade * per_spectrum >= needed or base * 10**decade >= n:
+                    return base * 10**decade
+        return n
+
+    def tick_values(self, vmin, vmax):
+        lo, hi = sorted((vmin, vmax))
+        first, last = max(0, math.ceil(lo)), min(len(self.labels) - 1, math.floor(hi))
+        if last < first:
+            return np.zeros(0)
+        step = self.step(hi - lo)
+        return np.arange(math.ceil(first / step) * step, last + 1, step, dtype=float)
 
 
 def label_spectra_axis(ax, labels: Sequence[str], dims: Sequence[str]) -> None:
     """Mark an x axis whose positions 0, 1, ... are the spectra of a batch with their labels
-    (``129``, or ``1, 2`` over several dimensions), at most `SPECTRUM_TICKS` of them, and name
-    the dimensions."""
+    (``129``, or ``1, 2`` over several dimensions): every spectrum, or every k-th where their
+    labels do not all fit (`SpectraLocator`), and name the dimensions."""
+    from matplotlib.ticker import FuncFormatter
+
+    labels = [str(label) for label in labels]
     n = len(labels)
-    ticks = np.arange(n) if n <= SPECTRUM_TICKS else np.unique(np.linspace(0, n - 1, SPECTRUM_TICKS).round().astype(int))
-    ax.set_xticks(ticks)
-    long = max((len(str(labels[i])) for i in ticks), default=0) > 6
-    ax.set_xticklabels([str(labels[i]) for i in ticks], rotation=30 if long else 0, ha="right" if long else "center", fontsize=8)
+    tilt = SPECTRUM_LABEL_TILT if max(map(len, labels), default=0) > SPECTRUM_LABEL_LONG else 0.0
+    ax.xaxis.set_major_locator(SpectraLocator(labels, tilt))
+    ax.xaxis.set_major_formatter(FuncFormatter(lambda x, pos=None: labels[int(round(x))] if 0 <= round(x) < n and abs(x - round(x)) < 1e-6 else ""))
+    ax.tick_params(axis="x", labelsize=SPECTRUM_LABEL_SIZE, labelrotation=tilt)
+    for tick in ax.xaxis.get_major_ticks():  # (ticks made later copy the first one's alignment)
+        tick.label1.set_horizontalalignment("right" if tilt else "center")
     ax.set_xlim(-0.5, n - 0.5)
     ax.set_xlabel(", ".join(dims), fontsize=8)
 

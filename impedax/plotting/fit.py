@@ -19,7 +19,7 @@ def plot_batch(batch, *, title: str | None = None):
     matplotlib Figure."""
     import matplotlib.pyplot as plt
 
-    from . import characters_across, label_spectra_axis, plain_linear_ticks, prefixable_unit, prefixed_axis, wrap_model
+    from . import characters_across, label_spectra_axis, nyquist_panel_height, nyquist_shape, plain_linear_ticks, plain_log_ticks, prefixable_unit, prefixed_axis, wrap_model
 
     ds = batch.dataset
     free = [str(p) for p, fixed in zip(ds["param"].values, ds["fixed"].values) if not fixed]
@@ -29,8 +29,12 @@ def plot_batch(batch, *, title: str | None = None):
     left = rows * cols - len(panels)  # free places in the last row
     with_fits = "Z" in ds
     own_row = with_fits and left < 2
-    fig = plt.figure(figsize=(3.2 * max(cols, 2), 2.6 * rows + (3.2 if own_row else 0)), layout="constrained")
-    grid = fig.add_gridspec(rows + own_row, max(cols, 2), height_ratios=[1] * rows + ([1.3] if own_row else []))
+    width = 3.2 * max(cols, 2)
+    # (a row of its own as high as the drawn spectra's shape asks, `nyquist_panel_height`, from
+    # `FITS_ROW`; its box narrows to that shape, `_plot_fits`)
+    fits_row = max(FITS_ROW, nyquist_panel_height(nyquist_shape(*((None, z) for z in _drawn_spectra(ds, batch.dims)[1])), width)) if own_row else 0.0
+    fig = plt.figure(figsize=(width, 2.6 * rows + fits_row), layout="constrained")
+    grid = fig.add_gridspec(rows + own_row, max(cols, 2), height_ratios=[2.6] * rows + ([fits_row] if own_row else []))
     axes = [fig.add_subplot(grid[i // cols, i % cols]) for i in range(len(panels))]
     index = np.arange(batch.n_spectra)
     places = [ds[d].values.tolist() if d in ds.coords else list(range(ds.sizes[d])) for d in batch.dims]
@@ -60,6 +64,9 @@ def plot_batch(batch, *, title: str | None = None):
         spread = scaled if scaled.size else y[np.isfinite(y)]  # (every value undetermined: all of them)
         if spread.size and np.all(spread > 0) and spread.max() > 20 * spread.min():
             ax.set_yscale("log")
+            # (1M, 2M, 500k as on every other log axis, the minor labels thinned until they fit;
+            # matplotlib's "4×10⁶" ran into "3×10⁶" on R2 over 1.5 decades)
+            plain_log_ticks(ax.yaxis)
         if loose.any():
             # (the rule on its own line: on one, the legend was wider than the panel)
             _mark_undetermined(ax, index[loose], y[loose], scaled, f"undetermined\n({batch.UNDETERMINED_RULE})")
@@ -149,20 +156,33 @@ def _mark_undetermined(ax, x, y, determined, label: str) -> None:
 # a batch's Nyquist panel draws at most this many of its spectra (evenly spaced, the first and
 # the last among them): more overlap into one band
 FITS_DRAWN = 8
+# the least height [in] of a batch's Nyquist panel in a row of its own (`plot_batch`)
+FITS_ROW = 3.2
+
+
+def _drawn_spectra(ds, dims) -> tuple[np.ndarray, np.ndarray]:
+    """(indices, Z) of the spectra a batch's Nyquist panel draws: up to `FITS_DRAWN`, evenly
+    spaced from the first to the last, in the batch's flat order."""
+    z = ds["Z"].transpose(*dims, "frequency").values.reshape(-1, ds.sizes["frequency"])
+    drawn = np.unique(np.linspace(0, len(z) - 1, min(len(z), FITS_DRAWN)).round().astype(int))
+    return drawn, z[drawn]
 
 
 def _plot_fits(ax, ds, dims, labels, model) -> None:
     """Nyquist panel of a batch: the data (circles) and the fit (a curve of the compiled
     ``model`` at each spectrum's values, `dense_model`) of up to `FITS_DRAWN` spectra, each
-    pair in one colour along the batch's order, at equal scales."""
+    pair in one colour along the batch's order, at equal scales over the range of what is drawn
+    (`nyquist_frame`: the panel's box narrows to it). Before, the equal scales widened a wide
+    panel's Z' range to 8 MΩ beside data that end at 3.1 MΩ."""
     import matplotlib as mpl
 
-    from . import dense_model, equal_aspect
+    from . import dense_model, equal_aspect, nyquist_frame
 
     z = ds["Z"].transpose(*dims, "frequency").values.reshape(-1, ds.sizes["frequency"])
     z_model = ds["Z_model"].transpose(*dims, "frequency").values.reshape(z.shape)
     n = len(z)
-    drawn = np.unique(np.linspace(0, n - 1, min(n, FITS_DRAWN)).round().astype(int))
+    drawn = _drawn_spectra(ds, dims)[0]
+    curves = []
     colours = mpl.colormaps["viridis"](np.linspace(0, 0.9, drawn.size))
     values = ds["value"].transpose(*dims, "param").values.reshape(n, -1)
     names = [str(p) for p in ds["param"].values]
@@ -172,6 +192,7 @@ def _plot_fits(ax, ds, dims, labels, model) -> None:
         params = dict(zip(names, values[i].tolist()))
         curve = dense_model(freq, z_model[i], lambda grid, params=params: model(params, grid))[1]
         ax.plot(curve.real, -curve.imag, "-", lw=1.0, color=colour)
+        curves.append(curve)
     ax.set_xlabel("Z' [Ω]", fontsize=8)
     ax.set_ylabel("−Z'' [Ω]", fontsize=8)
     what = f"{drawn.size} of {n} spectra" if drawn.size < n else f"{n} spectr{'um' if n == 1 else 'a'}"
@@ -179,4 +200,4 @@ def _plot_fits(ax, ds, dims, labels, model) -> None:
     # beside the panel, where it covers no data (inside, the spectra's curves run everywhere)
     ax.legend(fontsize=7, title=", ".join(dims), title_fontsize=7, ncol=2 if drawn.size > 4 else 1, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     ax.grid(alpha=0.3)
-    equal_aspect(ax)
+    equal_aspect(ax, frame=nyquist_frame(z[drawn], *curves))

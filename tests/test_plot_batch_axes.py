@@ -1,0 +1,129 @@
+"""A batch fit's figure (`plot_batch`) over 10 days: every day labelled on the batch axes (before,
+an even spread of 8 ticks left out days 3 and 8, the two the Nyquist panel does not draw), the
+log panel's minor labels SI-prefixed and apart (before, "4×10⁶" ran into "3×10⁶"), and the
+Nyquist panel's Z' range ending near the data (before, equal scales on a wide panel ran it to
+8 MΩ beside data ending at 3.1 MΩ). Oracle: the labels' own boxes on an Agg canvas
+(`get_window_extent`) and the data's extent from numpy; the spectra are SYNTHETIC."""
+
+import re
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import pytest  # noqa: E402
+import xarray as xr  # noqa: E402
+
+import impedax as ix  # noqa: E402
+from impedax.plotting import label_spectra_axis  # noqa: E402
+
+DAYS = np.arange(1, 11)
+
+
+def labels_in_view(axis, renderer):
+    """(text, box) of the visible, non-empty tick labels of ``axis`` (major and minor) in view."""
+    lo, hi = sorted(axis.get_view_interval())
+    out = []
+    for tick in [*axis.get_major_ticks(), *axis.get_minor_ticks()]:
+        label = tick.label1
+        if label.get_visible() and label.get_text() and lo <= tick.get_loc() <= hi:
+            out.append((label.get_text(), label.get_window_extent(renderer)))
+    return out
+
+
+def assert_apart(axis, renderer) -> list[str]:
+    labels = labels_in_view(axis, renderer)
+    for i, (a, box_a) in enumerate(labels):
+        for b, box_b in labels[i + 1 :]:
+            assert not box_a.overlaps(box_b), f"tick labels {a!r} and {b!r} overlap"
+    return [text for text, _ in labels]
+
+
+@pytest.fixture(scope="module")
+def days_figure():
+    """SYNTHETIC coated metal drying over 10 days: R0 20 Ω, R1 from 5 MΩ down by 0.68 a day (1.5
+    decades: a log panel with minor labels), C1 2 nF, 0.5 % complex Gaussian noise (seed 3)."""
+    rng = np.random.default_rng(3)
+    f = np.logspace(-2, 5, 36)
+    r1 = 5e6 * 0.68 ** (DAYS - 1)
+    jw = 2j * np.pi * f
+    z = 20 + r1[:, None] / (1 + jw * r1[:, None] * 2e-9)
+    z = z * (1 + 0.005 * (rng.standard_normal(z.shape) + 1j * rng.standard_normal(z.shape)))
+    data = xr.Dataset({"Z": (("day", "frequency"), z)}, coords={"day": DAYS, "frequency": f})
+    fig = ix.fit("R0 + R1 || C1", data).plot()
+    fig.canvas.draw()
+    yield fig, z
+    plt.close(fig)
+
+
+def parameter_panels(fig):
+    return [ax for ax in fig.axes if not ax.get_title().startswith("data (○) and fits")]
+
+
+def test_every_day_is_labelled_on_the_batch_axes(days_figure):
+    fig, _ = days_figure
+    renderer = fig.canvas.get_renderer()
+    panels = parameter_panels(fig)
+    assert len(panels) == 4
+    for ax in panels:
+        assert assert_apart(ax.xaxis, renderer) == [str(d) for d in DAYS], ax.get_title()
+    nyquist = [ax for ax in fig.axes if ax not in panels][0]
+    drawn = [line.get_label() for line in nyquist.lines if line.get_marker() == "o"]
+    assert len(drawn) == 8 and "3" not in drawn  # (the case: days left out of the Nyquist panel)
+
+
+def test_the_log_panel_labels_its_minor_ticks_with_si_prefixes_apart(days_figure):
+    fig, _ = days_figure
+    renderer = fig.canvas.get_renderer()
+    (r1,) = [ax for ax in fig.axes if ax.get_title().startswith("R1")]
+    assert r1.get_yscale() == "log"
+    texts = assert_apart(r1.yaxis, renderer)
+    assert "1M" in texts and len(texts) >= 3, texts
+    assert all(re.fullmatch(r"\d+(\.\d+)?[kM]", t) for t in texts), texts  # (2M, 500k: not 2×10⁶)
+    for ax in fig.axes:
+        assert_apart(ax.yaxis, renderer)
+
+
+def test_the_nyquist_panel_ends_near_the_data_at_equal_scales(days_figure):
+    fig, z = days_figure
+    (nyquist,) = [ax for ax in fig.axes if ax not in parameter_panels(fig)]
+    x0, x1 = nyquist.get_xlim()
+    y0, y1 = nyquist.get_ylim()
+    top = z.real.max()  # (day 1's arc ends at R0 + R1 ≈ 5 MΩ)
+    assert top < x1 <= 1.3 * top and x0 < z.real.min()
+    assert y1 >= (-z.imag).max()
+    box = nyquist.get_window_extent(fig.canvas.get_renderer())
+    scale_x, scale_y = box.width / (x1 - x0), box.height / (y1 - y0)
+    assert scale_x == pytest.approx(scale_y, rel=0.02)  # (equal scales kept: pixels per Ω)
+
+
+@pytest.mark.parametrize("n, names", [(10, None), (130, None), (24, "cycle {}, T {}")])
+def test_a_batch_axis_labels_a_regular_subset_apart(n, names):
+    """Labels of n spectra on a panel 3.2 inches wide: all of 10; of 130 every k-th from the first,
+    k one of 1, 2, 5 × 10ⁿ; long (tilted) labels apart too."""
+    labels = [str(i) if names is None else names.format(i, 25 + 5 * (i % 3)) for i in range(n)]
+    fig, ax = plt.subplots(figsize=(3.2, 2.6), layout="constrained")
+    ax.plot(np.arange(n), np.ones(n), "o")
+    label_spectra_axis(ax, labels, ["cycle"])
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    if names is None:
+        texts = assert_apart(ax.xaxis, renderer)
+    else:  # (tilted, parallel labels: their upright boxes overlap, the slanted texts must not)
+        shown = [(tick.label1, tick.get_loc()) for tick in ax.xaxis.get_major_ticks() if tick.label1.get_text() and -0.5 <= tick.get_loc() <= n - 0.5]
+        texts = [label.get_text() for label, _ in shown]
+        tilt = np.radians(shown[0][0].get_rotation())
+        assert tilt > 0
+        anchors = np.array([ax.transData.transform((x, 0))[0] for _, x in shown])
+        height = shown[0][0].get_fontsize() * fig.dpi / 72  # (the font's size in pixels)
+        assert np.min(np.diff(anchors)) * np.sin(tilt) >= height  # (distance across the slant)
+    at = [labels.index(t) for t in texts]
+    steps = set(np.diff(at).tolist())
+    assert at[0] == 0 and len(steps) == 1
+    (step,) = steps
+    assert step in (1, 2, 5, 10, 20, 50)
+    if n == 10:
+        assert step == 1
+    assert len(texts) >= 3
+    plt.close(fig)
