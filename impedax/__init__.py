@@ -90,6 +90,7 @@ _LAZY = {
     "FitError": (".errors", "FitError"),
     "ImpedaxError": (".errors", "ImpedaxError"),
     "ParameterError": (".errors", "ParameterError"),
+    "SweepGridsDiffer": (".errors", "SweepGridsDiffer"),
     "draw_circuit": (".diagram", "draw_circuit"),
     "save_circuit_diagram": (".diagram", "save_circuit_diagram"),
     "DEFAULT_EFFECTS": (".fitting", "DEFAULT_EFFECTS"),

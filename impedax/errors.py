@@ -13,6 +13,7 @@ __all__ = [
     "CircuitSyntaxError",
     "CircuitError",
     "DataError",
+    "SweepGridsDiffer",
     "ParameterError",
     "ArgumentNeeded",
     "FitError",
@@ -132,6 +133,26 @@ class DataError(ImpedaxError, ValueError):
                 where += f", line {line}"
             where += ": "
         super().__init__(where + message)
+
+
+class SweepGridsDiffer(DataError):
+    """A file holding several sweeps one after another on different frequency grids, which
+    impedax will not merge into one spectrum. ``dim`` ('sweep' or 'cycle'), ``labels`` (one
+    per sweep) and `spectrum` (one sweep alone) let a caller read one of them:
+    ``impedax.io.load(path, sweep=LABEL)``, ``--select sweep=LABEL`` in the CLI."""
+
+    def __init__(self, message: str, *, path: object, line: int | None, dim: str, spectra: dict, found: str = ""):
+        super().__init__(message, path=path, line=line)
+        self.found = found or message  # (what the file holds, without how to proceed)
+        self.dim = dim
+        self.labels = list(spectra)
+        self._spectra = spectra
+
+    def spectrum(self, label: str):
+        """Sweep ``label`` alone (a `DataError` naming the labels when there is none such)."""
+        if str(label) not in self._spectra:
+            raise DataError(f"no {self.dim} {label!s}; its {self.dim}s: {', '.join(self.labels)}", path=self.path)
+        return self._spectra[str(label)]
 
 
 class ParameterError(ImpedaxError, ValueError):

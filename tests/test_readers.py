@@ -473,9 +473,9 @@ def test_sweeps_that_are_not_repeats_of_one_list(tmp_path):
     # down and back up: one spectrum with a repeated frequency, as before
     with pytest.raises(ix.DataError, match=r"line 6: duplicate frequency 0.1 Hz \(also on line 5\)"):
         ix.load(_sweeps_file(tmp_path / "updown.csv", [F_HZ, F_HZ[::-1]]))
-    # a second list on another grid: one spectrum of 8 points
-    ds = ix.load(_sweeps_file(tmp_path / "two_grids.csv", [F_HZ, F_HZ * 1.5]))
-    assert ds["Z"].dims == ("frequency",) and ds["frequency"].size == 8 and "sweeps" not in ds.attrs
+    # a second list on another grid: refused, naming where it starts (never merged into one spectrum)
+    with pytest.raises(ix.SweepGridsDiffer, match=r"two_grids.csv, line 6: the table holds 2 sweeps on different frequency grids"):
+        ix.load(_sweeps_file(tmp_path / "two_grids.csv", [F_HZ, F_HZ * 1.5]))
 
 
 # --- nothing skipped silently, nothing shifted --------------------------------------------------

@@ -626,21 +626,51 @@ def _extra_dims(data) -> list[str]:
 LOAD_WARNINGS = ("phase_unit_note",)
 
 
-def _load_noting(path: str, warn: bool = True):
-    """`impedax.io.load`, printing the reader's `LOAD_WARNINGS` notes to stderr."""
+def _load_noting(path: str, warn: bool = True, select: Sequence[str] | None = None):
+    """`impedax.io.load`, printing the reader's `LOAD_WARNINGS` notes to stderr. A file of
+    sweeps on different frequency grids (`SweepGridsDiffer`) is read one sweep alone when
+    ``select`` names one (`_sweep_alone`), else refused with the reader's message."""
+    from ..errors import SweepGridsDiffer
     from ..io import load
 
-    data = load(path)
+    try:
+        data = load(path)
+    except SweepGridsDiffer as exc:
+        data = _sweep_alone(exc, path, select)
     for key in LOAD_WARNINGS if warn else ():
         if key in data.attrs:
             print(f"impedax: warning: {data.attrs.get('path', path)}: {data.attrs[key]}", file=sys.stderr)  # (<stdin> for -)
     return data
 
 
+def _sweep_alone(exc, path: str, select: Sequence[str] | None):
+    """The one sweep ``--select DIM=LABEL`` names of a file whose sweeps lie on different grids
+    (``exc``, a `SweepGridsDiffer`), read alone (`impedax.io.load`'s ``sweep``) and recorded as
+    a selection (``source`` ``path [DIM=LABEL]``, ``selection``); ``exc`` itself when no item
+    names one, a `ParameterError` for a list, range or unknown label (one grid at a time)."""
+    from ..io import load
+
+    items = [item for item in select or () if _select_item(item)[0] == exc.dim]
+    if not items:
+        raise exc
+    item = items[0]
+    label = _select_item(item)[1]
+    if label not in exc.labels:
+        raise ParameterError(
+            f"--select {item}: {path} holds {len(exc.labels)} {exc.dim}s on different frequency grids, each read alone: "
+            f"give one label ({exc.dim}: {', '.join(exc.labels)}), e.g. --select {exc.dim}={exc.labels[0]}"
+        )
+    data = load(path, sweep=label)
+    shown = f"{exc.dim}={label}"
+    data.attrs = {**data.attrs, "selection": shown, "source": f"{path} [{shown}]"}
+    return data
+
+
 def load_selected(path: str, select: Sequence[str] | None, *, single: str | None = None, or_else: str = "", warn: bool = True):
     """The spectra of file ``path`` (`impedax.io.load`), narrowed by ``--select DIM=LABEL``
-    items (`select_spectra`); ``warn`` prints the reader's `LOAD_WARNINGS` notes."""
-    return select_spectra(_load_noting(path, warn), path, select, single=single, or_else=or_else)
+    items (`select_spectra`); ``warn`` prints the reader's `LOAD_WARNINGS` notes. Sweeps on
+    different grids are read one alone (`_sweep_alone`)."""
+    return select_spectra(_load_noting(path, warn, select), path, select, single=single, or_else=or_else)
 
 
 def load_selected_files(paths: Sequence[str], select: Sequence[str] | None) -> list:
@@ -648,7 +678,7 @@ def load_selected_files(paths: Sequence[str], select: Sequence[str] | None) -> l
     narrowed by the ``--select DIM=LABEL`` items whose DIM it has, as a dimension or as the
     value its one spectrum carries (`select_spectra`, `_carried_value`: the same checks and
     messages); a DIM that none of them has is a `ParameterError` naming their dimensions."""
-    datasets = [_load_noting(p) for p in paths]
+    datasets = [_load_noting(p, select=select) for p in paths]
     items = [(item, _select_item(item)[0]) for item in select or ()]
 
     def has(data, dim: str) -> bool:

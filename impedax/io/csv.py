@@ -76,6 +76,9 @@ def _read_canonical(path: Path, raw: bytes) -> xr.Dataset | None:
     near_first = np.abs(freq / freq[0] - 1) <= SWEEP_RTOL
     if np.any(near_first[1:] & ~near_first[:-1]):
         return None  # the first frequency came back: the general reader reads the sweeps
+    steps = np.diff(freq)
+    if not (np.all(steps > 0) or np.all(steps < 0)):
+        return None  # the list turns (a sweep restarting on another grid?): the general reader decides
     layout = detect_layout(list(CSV_HEADER), path, 1)
     lines = range(2, 2 + freq.size) if b"\n\n" not in raw and b"\n\r\n" not in raw else [None] * freq.size
     return finish(path, freq, table[:, 1] + 1j * table[:, 2], lines, {"format": "delimited text", **layout.notes()})

@@ -18,7 +18,7 @@ import xarray as xr
 
 from ..arguments import shown
 from ..data import CHECKED_FILE, validate_spectrum
-from ..errors import IN_MEMORY, DataError
+from ..errors import IN_MEMORY, DataError, SweepGridsDiffer
 from ._common import MAX_FILE_BYTES, check_file, head_text
 from .csv import read_csv, write_csv
 from .netcdf import not_a_spectrum, write_netcdf
@@ -66,7 +66,7 @@ def identify(path: str | os.PathLike, readers: Sequence[Reader] | None = None) -
     return None, tried
 
 
-def load(path: str | os.PathLike, readers: Sequence[Reader] | None = None) -> xr.Dataset:
+def load(path: str | os.PathLike, readers: Sequence[Reader] | None = None, *, sweep: str | None = None) -> xr.Dataset:
     """Load a spectrum file into the impedax data model (see `impedax.data`).
 
     ``readers`` is the registry to try, in order (default `impedax.io.READERS`; extend it with
@@ -75,6 +75,12 @@ def load(path: str | os.PathLike, readers: Sequence[Reader] | None = None) -> xr
     header. Rows that are not impedance points (DC rows at f = 0, repeated headers) are skipped
     and listed in ``attrs["skipped_rows"]``; ``attrs["sign_convention"]`` and ``attrs["units"]``
     say how Z was read. Raises `DataError` naming the file (and line).
+
+    A table of several sweeps one after another on different frequency grids is never merged
+    into one spectrum: it raises `SweepGridsDiffer` (where the second starts, each sweep's
+    points), unless ``sweep`` names one of them (its label: '0', '1', … or the cycle number),
+    which is then read alone. On a file whose sweeps share a grid (a ``sweep`` or ``cycle``
+    dimension) ``sweep`` picks that one; on a file of one spectrum it is an error.
     """
     if isinstance(path, xr.Dataset):
         return validate_spectrum(path)
@@ -82,6 +88,8 @@ def load(path: str | os.PathLike, readers: Sequence[Reader] | None = None) -> xr
     if str(path) == STDIN:
         return _load_stdin(readers)
     path = Path(path)
+    if sweep is not None:
+        return _one_sweep(path, readers, str(sweep))
     reader, tried = identify(path, readers)
     if reader is not None:
         ds = reader.read(path)
@@ -106,6 +114,25 @@ def load(path: str | os.PathLike, readers: Sequence[Reader] | None = None) -> xr
     except NoLayout as exc:
         raise DataError(_unrecognised(exc.reason, tried), path=exc.path, line=exc.line) from None
     return _checked(ds, path)
+
+
+def _one_sweep(path: Path, readers: Sequence[Reader] | None, label: str) -> xr.Dataset:
+    """Sweep ``label`` of file ``path`` (`load`'s ``sweep``): alone when the file's sweeps are on
+    different grids (`SweepGridsDiffer.spectrum`), else picked from its sweep or cycle dimension."""
+    try:
+        ds = load(path, readers)
+    except SweepGridsDiffer as exc:
+        ds = exc.spectrum(label)
+        ds.attrs.setdefault("format", "delimited text")
+        ds.attrs.setdefault("source", str(path))
+        return _checked(ds, path)
+    dims = [d for d in ("sweep", "cycle") if d in ds["Z"].dims]
+    if not dims:
+        raise DataError(f"sweep={label}: the file holds no sweeps to pick from ({'one spectrum' if ds['Z'].ndim == 1 else ', '.join(ds['Z'].dims)})", path=path)
+    labels = [str(v) for v in ds[dims[0]].values]
+    if label not in labels:
+        raise DataError(f"sweep={label}: no {dims[0]} {label}; its {dims[0]}s: {', '.join(labels)}", path=path)
+    return ds.isel({dims[0]: labels.index(label)})
 
 
 def _checked(ds: xr.Dataset, path: Path) -> xr.Dataset:

@@ -20,7 +20,7 @@ from typing import Sequence
 import numpy as np
 import xarray as xr
 
-from ..errors import DataError
+from ..errors import DataError, SweepGridsDiffer
 from ._common import UNIT_CELL, Skipped, decimal_comma, finish, first_line, head_text, number, read_text, split_header_cell, unit_scale, unquoted
 
 __all__ = ["ROLES", "FALLBACK_ROLES", "Layout", "detect_layout", "role_of", "fallback_role", "spectrum_from_rows"]
@@ -330,6 +330,8 @@ def spectrum_from_rows(
                   sigma=None if sigma is None else sigma[b], where=where)
         for b in blocks
     ]
+    if deviation is None:
+        raise _grids_differ(path, dim, labels, blocks, spectra, freq, lines, skipped, where)
     grid = spectra[0]["frequency"]
     ds = xr.concat([s.assign_coords(frequency=grid) for s in spectra], dim=dim, combine_attrs="override").assign_coords({dim: labels})
     note = f"{len(blocks)} {dim}s of {grid.size} points ({_sweep_starts(dim, blocks, lines)})"
@@ -349,13 +351,16 @@ SWEEP_RTOL = 1e-3
 
 
 def _sweep_blocks(freq: np.ndarray, cycles: np.ndarray | None, lines: Sequence[int], path: Path):
-    """``(dim, labels, blocks, deviation)`` of a table holding several sweeps of one frequency
-    list, each block the row indices of one sweep (rows at f = 0 left out); ``None`` for one
-    spectrum. A sweep starts where the cycle number changes or, without one, where the first
-    frequency comes back (within `SWEEP_RTOL`). The longest sweeps are the list; every sweep must
-    follow it (within `SWEEP_RTOL`), else the table is one spectrum. With two or more complete
-    sweeps, one cut short (the start of the list) is a `DataError` saying so; a single late
-    point near the first frequency (a check at the end of a sweep) is no sweep."""
+    """``(dim, labels, blocks, deviation)`` of a table holding several sweeps one after another,
+    each block the row indices of one sweep (rows at f = 0 left out); ``None`` for one spectrum.
+    A sweep starts where the cycle number changes or, without one, where the first frequency
+    comes back (within `SWEEP_RTOL`). The longest sweeps are the list; when every sweep follows
+    it (within `SWEEP_RTOL`) they share one grid, and ``deviation`` is how far they strayed.
+    With two or more complete sweeps, one cut short (the start of the list) is a `DataError`
+    saying so; a single late point near the first frequency (a check at the end of a sweep) is
+    no sweep. Sweeps that do not share a grid (`_restarts`: the list restarts near its first
+    frequency but not on it; or cycles of other frequencies) come back with ``deviation`` None:
+    the caller refuses them (`_grids_differ`) rather than merge them into one spectrum."""
     rows = np.flatnonzero(freq != 0)
     f = freq[rows]
     if cycles is not None and np.unique(cycles[rows]).size > 1:
@@ -367,9 +372,14 @@ def _sweep_blocks(freq: np.ndarray, cycles: np.ndarray | None, lines: Sequence[i
     else:
         near_first = np.abs(f / f[0] - 1) <= SWEEP_RTOL if f.size else np.zeros(0, bool)
         starts = [0, *(np.flatnonzero(near_first[1:] & ~near_first[:-1]) + 1).tolist()]
+        dim = "sweep"
         if len(starts) < 2:
-            return None
-        dim, labels = "sweep", [str(k) for k in range(len(starts))]
+            restarts = _restarts(f)
+            if restarts is None:
+                return None
+            blocks = np.split(rows, restarts[1:])
+            return dim, [str(k) for k in range(len(blocks))], blocks, None
+        labels = [str(k) for k in range(len(starts))]
     blocks = np.split(rows, starts[1:])
     if any(np.unique(freq[b]).size < b.size for b in blocks):
         return None  # a frequency repeated within a sweep (a sweep down and back up): not repeated sweeps
@@ -378,6 +388,12 @@ def _sweep_blocks(freq: np.ndarray, cycles: np.ndarray | None, lines: Sequence[i
     grid = freq[complete[0]]
     deviations = [float(np.max(np.abs(freq[b] / grid[: b.size] - 1))) for b in blocks]
     if len(complete) < 2 or max(deviations) > SWEEP_RTOL:
+        if dim == "cycle" and min(b.size for b in blocks) >= MIN_SWEEP_POINTS:
+            return dim, labels, blocks, None  # cycles one after another, on different grids
+        restarts = _restarts(f)
+        if dim == "sweep" and restarts is not None:
+            blocks = np.split(rows, restarts[1:])
+            return dim, [str(k) for k in range(len(blocks))], blocks, None
         return None
     if len(complete) < len(blocks):
         sizes = ", ".join(str(b.size) for b in blocks)
@@ -388,6 +404,75 @@ def _sweep_blocks(freq: np.ndarray, cycles: np.ndarray | None, lines: Sequence[i
             path=path, line=lines[short[0]],
         )
     return dim, labels, blocks, max(deviations)
+
+
+#: Fewest points of a sweep on a grid of its own: one or two points back near the start of the
+#: range are a check at the end of a sweep, not a second sweep.
+MIN_SWEEP_POINTS = 3
+#: How near (a share of the log-frequency span the sweep has covered) a step back must land to the
+#: sweep's first frequency to restart the list: a jump back to the start of the range, not a sweep
+#: that turns round (down and back up) nor a second range beyond the first (pieces of one spectrum).
+RESTART_SPAN_SHARE = 0.25
+
+
+def _restarts(f: np.ndarray) -> list[int] | None:
+    """Where the sweeps of a list of several start (position 0 first), or None when ``f`` is
+    not sweeps one after another: each sweep monotonic in one direction, the next starting
+    where the direction reverses with a jump back near the first one's start (within
+    `RESTART_SPAN_SHARE` of the span covered), each of at least `MIN_SWEEP_POINTS` points."""
+    if f.size < 2 * MIN_SWEEP_POINTS or not np.all(f > 0):
+        return None
+    log_f = np.log(f)
+    steps = np.diff(log_f)
+    direction = np.sign(steps[0])
+    if direction == 0:
+        return None
+    starts = [0]
+    for i in np.flatnonzero(steps * direction <= 0) + 1:
+        first = starts[-1]
+        covered = abs(log_f[i - 1] - log_f[first])
+        if steps[i - 1] == 0 or abs(log_f[i] - log_f[first]) > RESTART_SPAN_SHARE * covered:
+            return None  # a repeated frequency, or a turn that is no jump back to the start
+        starts.append(int(i))
+    sizes = np.diff([*starts, f.size])
+    if len(starts) < 2 or sizes.min() < MIN_SWEEP_POINTS:
+        return None
+    return starts
+
+
+def _grids_differ(path: Path, dim: str, labels: Sequence[str], blocks: Sequence[np.ndarray], spectra: Sequence[xr.Dataset],
+                  freq: np.ndarray, lines: Sequence[int], skipped: Skipped, where: str) -> SweepGridsDiffer:
+    """The error for sweeps one after another on different frequency grids: where the second
+    starts, how many sweeps, each one's points, range and lines, how far the grids differ, and
+    how to read one alone; it carries each sweep as a spectrum of its own (`SweepGridsDiffer`)."""
+    def span(b: np.ndarray) -> str:
+        f = freq[b]
+        return f"{b.size} points, {f[0]:.6g}–{f[-1]:.6g} Hz, lines {lines[b[0]]}–{lines[b[-1]]}"
+
+    described = "; ".join(f"{dim} {label}: {span(b)}" for label, b in zip(labels, blocks))
+    first = freq[blocks[0]]
+    same_size = [b for b in blocks[1:] if b.size == first.size]
+    if len(same_size) == len(blocks) - 1:
+        differ = max(float(np.max(np.abs(freq[b] / first - 1))) for b in same_size)
+        how = f"their frequencies differ by up to {differ:.1e} relative, beyond the {SWEEP_RTOL:g} a repeat of one grid may stray"
+    else:
+        how = "of different numbers of points"
+    others = ", ".join(f"{dim}={label}" for label in labels[1:3]) + (", …" if len(labels) > 3 else "")
+    found = f"{where}the table holds {len(blocks)} {dim}s on different frequency grids ({_sweep_starts(dim, blocks, lines)}; {described}), {how}"
+    message = (
+        f"{found}; impedax will not merge them into one spectrum: read one alone with --select {dim}={labels[0]} "
+        f"(or {others}; in Python impedax.io.load(path, sweep='{labels[0]}')), or export each to a file of its own"
+    )
+    alone = {}
+    for label, b, ds in zip(labels, blocks, spectra):
+        ds = ds.assign_coords({dim: label})
+        ds.attrs["sweeps"] = f"{dim} {label} of {len(blocks)}, read alone (lines {lines[b[0]]}–{lines[b[-1]]}): the file's {dim}s are on different frequency grids"
+        own = Skipped()  # (its DC rows and repeated headers: those among its lines)
+        own.rows = [(n, why) for n, why in skipped.rows if lines[b[0]] <= n <= lines[b[-1]]]
+        if len(own):
+            ds.attrs["skipped_rows"] = own.report()
+        alone[label] = ds
+    return SweepGridsDiffer(message, path=path, line=lines[blocks[1][0]], dim=dim, spectra=alone, found=found)
 
 
 def _sweep_starts(dim: str, blocks: Sequence[np.ndarray], lines: Sequence[int]) -> str:

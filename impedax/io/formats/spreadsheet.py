@@ -20,7 +20,7 @@ from pathlib import Path
 
 import xarray as xr
 
-from ...errors import DataError
+from ...errors import DataError, SweepGridsDiffer
 from .._common import check_file, max_file_bytes, stack
 from ..registry import Reader
 from ..table import NoLayout, detect_layout, spectrum_from_rows
@@ -96,7 +96,13 @@ def read_spreadsheet(path: str | Path) -> xr.Dataset:
             reasons.append(f"sheet {name!r}: {exc.reason}")
             continue
         attrs = {"format": "spreadsheet", "sheet": str(name)}
-        ds = spectrum_from_rows(where, layout, rows[1:], attrs, comma=False, split_sweeps=True)
+        try:
+            ds = spectrum_from_rows(where, layout, rows[1:], attrs, comma=False, split_sweeps=True)
+        except SweepGridsDiffer as exc:
+            if len(sheets) == 1:
+                raise
+            # (one sweep of one sheet of several cannot be picked alone: the sheets would go)
+            raise DataError(f"{exc.found}; impedax will not merge them into one spectrum: save each sweep to a sheet or file of its own", path=exc.path, line=exc.line) from None
         ds.attrs["path"] = str(path)
         spectra.append((str(name), ds))
     if not spectra:
