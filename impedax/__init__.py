@@ -122,6 +122,7 @@ _LAZY = {
     "load": (".io", "load"),
     "write_result": (".io", "write_result"),
     "save": (".io", "save"),
+    "stack_files": (".io", "stack_files"),
     # the subpackages, so that ``import impedax`` then ``impedax.io.write_netcdf`` works as before
     "circuits": (".circuits", None),
     "cli": (".cli", None),

@@ -39,6 +39,7 @@ FILE_COMMANDS = [  # (id, argv template with {input})
     ("drt", ["drt", "{input}", "--json"]),
     ("gap-skin", ["gap", "{tmp}/good.csv", "{input}", "{tmp}/good.csv", "--area", "130e-6", "--json"]),
     ("remaining", ["remaining", "{input}", "{tmp}/good.csv", "{tmp}/good.csv", "--out", "{tmp}/remaining.nc"]),
+    ("stack", ["stack", "{tmp}/good.csv", "{input}", "--out", "{tmp}/stacked.nc"]),
 ]
 MODEL_COMMANDS = [  # (id, argv template with {model})
     ("info", ["info", "{model}"]),
@@ -73,6 +74,7 @@ OUTPUT_COMMANDS = [  # (id, argv template with {output}, output extension)
     ("sample-plot", ["sample", "{good}", "--model", "R1 + C1", "--steps", "20", "--plot", "{output}"], ".png"),
     ("diagnose-plot", ["diagnose", "{good}", "--model", "R1 + C1", "--plot", "{output}"], ".png"),
     ("refine-plot", ["refine", "{good}", "--model", "R1 + C1", "--plot", "{output}"], ".png"),
+    ("stack", ["stack", "{good}", "{good}", "--coords", "1", "2", "--out", "{output}"], ".nc"),
 ]
 
 # --- bad inputs -----------------------------------------------------------------------------
@@ -247,6 +249,9 @@ BAD_OPTIONS = [  # (id, argv template with {good} a valid spectrum file and {tmp
     ("draw-missing-output", ["draw", "R1"], "the following arguments are required: -o/--out"),
     ("inspect-unknown-flag", ["inspect", "{good}", "--bogus"], "unrecognized arguments: --bogus"),
     ("demo-unknown-flag", ["demo", "--bogus"], "unrecognized arguments: --bogus"),
+    ("stack-coords-count", ["stack", "{good}", "{good}", "--coords", "1", "--out", "{tmp}/s.nc"], "--coords: 1 label for 2 files"),
+    ("stack-same-name-twice", ["stack", "{good}", "{good}", "--out", "{tmp}/s.nc"], "files 1 and 2 are both named 'good'"),
+    ("stack-out-csv", ["stack", "{good}", "{good}", "--coords", "1", "2", "--out", "{tmp}/s.csv"], "a stack of spectra is written as netCDF"),
     ("unknown-command", ["bogus"], "invalid choice: 'bogus'"),
 ]
 
@@ -255,7 +260,7 @@ TWO_POINTS_CSV = HEADER + "10,100,-50\n20,100,-25\n"
 SIX_POINTS_CSV = HEADER + "".join(f"{10 ** k:g},{100 + 1e3 / (1 + (10 ** k / 30) ** 2):.6g},{-1e3 * (10 ** k / 30) / (1 + (10 ** k / 30) ** 2):.6g}\n" for k in range(6))  # (an RC arc)
 HUGE_VALUES_CSV = HEADER + "".join(f"{10 ** (k / 4):g},1e300,-1e300\n" for k in range(20))
 UNDATA = [  # (id, file content, argv template with {input}, message fragment): valid files these analyses cannot use
-    ("fit-one-point", ONE_POINT_CSV, ["fit", "{input}", "--model", "R1 + C1"], "2 free parameters but only 2 real data values"),
+    ("fit-one-point", ONE_POINT_CSV, ["fit", "{input}", "--model", "R1 + C1"], "data.csv: 2 free parameters but only 2 real data values (1 frequency)"),
     ("compare-one-point", ONE_POINT_CSV, ["compare", "{input}", "--model", "R1 + C1", "--model", "R1 + C1 + R2"], "free parameters but only 2 real data values"),
     ("sample-one-point", ONE_POINT_CSV, ["sample", "{input}", "--model", "R1 + C1", "--steps", "20"], "free parameters but only 2 real data values"),
     ("diagnose-one-point", ONE_POINT_CSV, ["diagnose", "{input}", "--model", "R1"], "diagnose needs at least 4 frequencies"),
@@ -714,6 +719,13 @@ API_CASES = [
     ("load-nul-in-path", "load", lambda s: ix.load("a\x00b.csv"), D, "cannot contain a NUL character"),
     ("save-dataset-none", "save", lambda s: ix.save(None, "out.csv"), D, "save takes a spectrum Dataset"),
     ("save-path-none", "save", lambda s: ix.save(s.good, None), D, "a file path (str or pathlib.Path) is needed, got None"),
+    ("stack-files-one-path", "stack_files", lambda s: ix.stack_files("day01.csv"), P, "paths must be a list of files, got the single 'day01.csv'"),
+    ("stack-files-empty", "stack_files", lambda s: ix.stack_files([]), P, "paths is empty"),
+    ("stack-files-dim-frequency", "stack_files", lambda s: ix.stack_files(["a.csv"], dim="frequency"), P, "'frequency' is every spectrum's own dimension"),
+    ("stack-files-dim-number", "stack_files", lambda s: ix.stack_files(["a.csv"], dim=3), P, "dim must be the name of the new dimension"),
+    ("stack-files-coords-count", "stack_files", lambda s: ix.stack_files(["a.csv", "b.csv"], coords=[1]), P, "coords: 1 label for 2 files"),
+    ("stack-files-coords-repeated", "stack_files", lambda s: ix.stack_files(["a.csv", "b.csv"], coords=[1, 1.0]), P, "the label 1 is given twice"),
+    ("stack-files-missing-file", "stack_files", lambda s: ix.stack_files(["no/such/file.csv"]), D, "file not found"),
 ]
 
 

@@ -18,7 +18,7 @@ import sys
 import threading
 from typing import NoReturn
 
-_COMMAND_MODULES = ("simulate", "info", "fit", "compare", "sample", "kk", "drt", "diagnose", "refine", "force", "gap", "remaining", "draw", "inspect", "demo")
+_COMMAND_MODULES = ("simulate", "info", "fit", "compare", "sample", "kk", "drt", "diagnose", "refine", "force", "gap", "remaining", "draw", "inspect", "stack", "demo")
 # each command's one-line help, for ``impedax --help`` without importing any command (and JAX);
 # tests/test_cli_basic.py checks it against what the modules register
 COMMAND_HELP = {
@@ -36,6 +36,7 @@ COMMAND_HELP = {
     "remaining": "the remaining impedance total − skin − touchscreen as a spectrum file, as impedax gap fits it",
     "draw": "draw a model's circuit diagram",
     "inspect": "show what impedax reads from a spectrum file, and how",
+    "stack": "several files of one spectrum each as one series (a new dimension) in a netCDF file",
     "demo": "the whole story on the embedded data: fit, diagnose, refine, gap thickness, force (writes out/)",
 }
 
@@ -194,6 +195,11 @@ def _subparser(parser: argparse.ArgumentParser, command: str) -> argparse.Argume
     return next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction)).choices[command]
 
 
+# the commands that analyse every spectrum of one DATA file: a series from files of one
+# spectrum each is `impedax stack`'s output (named when such a command is given several files)
+SERIES_COMMANDS = ("fit", "kk", "drt")
+
+
 def _refuse_unknown(parser: argparse.ArgumentParser, command: str, unknown: list[str]) -> NoReturn:
     """Exit 2 with the command's own usage line and "unrecognized arguments", naming the
     closest option of that command for each unknown one (``--maxsteps`` → ``--max-steps``)."""
@@ -216,8 +222,14 @@ def _refuse_unknown(parser: argparse.ArgumentParser, command: str, unknown: list
             hints.append(close[0])
     hint = f"; did you mean {' or '.join(hints)}?" if hints else ""
     assignments = [item for item in unknown if _ASSIGNMENT_RE.match(item)]
-    if assignments and PARAM_OPTION in sub._option_string_actions:  # (a value without its --param)
+    takers = [o for o in ASSIGNMENT_OPTIONS if o in sub._option_string_actions]
+    if assignments and PARAM_OPTION in takers:  # (a value without its --param)
         hint += f"; a parameter value follows {PARAM_OPTION}: {PARAM_OPTION} {' '.join(assignments)} (or {PARAM_OPTION} before each)"
+    elif assignments and takers:  # (fit R1=5: which of --init, --fix, ... was meant is the user's to say)
+        hint += f"; a NAME=VALUE follows its option ({', '.join(takers)}): e.g. {takers[0]} {' '.join(assignments)}"
+    files = [item for item in unknown if not item.startswith("-") and os.path.isfile(item)]
+    if files and command in SERIES_COMMANDS:  # (fit day01.csv day02.csv: one DATA per run)
+        hint += f"; {command} reads one DATA file: join files of one spectrum each into one series with impedax stack FILE ... --out SERIES.nc, then impedax {command} SERIES.nc"
     sub.error(f"unrecognized arguments: {' '.join(unknown)}{hint}")
 
 
@@ -237,28 +249,35 @@ def _refuse_unknown_command(parser: argparse.ArgumentParser, argv: list[str]) ->
 # a NAME=VALUE word: a parameter name (R0, C_s, CPE_sc.Q) then "="; a MODEL never holds "="
 _ASSIGNMENT_RE = re.compile(r"[A-Za-z_][\w.]*=")
 PARAM_OPTION = "--param"
+# the options whose value is one NAME=... word and that may be followed by more of them
+# (``--init R1=43k C2=5u``), each read as if its option were repeated (`_spread_params`)
+ASSIGNMENT_OPTIONS = (PARAM_OPTION, "--init", "--fix", "--bound", "--prior")
 
 
-def _spread_params(argv: list[str]) -> list[str]:
+def _spread_params(argv: list[str], options: tuple[str, ...] = ASSIGNMENT_OPTIONS) -> list[str]:
     """``--param A=1 B=2`` as ``--param A=1 --param B=2`` (the README's ``--param NAME=VALUE
-    ...``): each NAME=VALUE word right after a ``--param``'s value gets its own ``--param``, up
-    to the first other word or ``--``. Not argparse's ``nargs="+"``, which would also take a
-    MODEL written after the values (``simulate --param R0=5 R0``) as one more value."""
+    ...``), and the same for every option of ``options`` (``--init``, ``--fix``, ``--bound``,
+    ``--prior``): each NAME=... word right after such an option's value gets that option of its
+    own, up to the first other word or ``--``. Not argparse's ``nargs="+"``, which would also
+    take a MODEL written after the values (``simulate --param R0=5 R0``) as one more value."""
     out: list[str] = []
-    spreading = False
+    spreading = None  # the option whose values are being spread
+    pending = None  # an option of ``options`` whose value comes next
     words = iter(argv)
     for word in words:
         if word == "--":
             return out + [word, *words]
-        if spreading and _ASSIGNMENT_RE.match(word):
-            out += [PARAM_OPTION, word]
+        if pending and not word.startswith("-"):  # (its value: argparse refuses an option there)
+            out.append(word)
+            spreading, pending = pending, None
+            continue
+        # (a word that names an existing file is a spectrum file, even when it reads run=3.csv)
+        if spreading and _ASSIGNMENT_RE.match(word) and not os.path.exists(word):
+            out += [spreading, word]
             continue
         out.append(word)
-        spreading = word.startswith(PARAM_OPTION + "=")
-        if word == PARAM_OPTION:
-            value = next(words, None)
-            out += [] if value is None else [value]
-            spreading = value is not None
+        spreading = next((o for o in options if word.startswith(o + "=")), None)
+        pending = word if word in options else None
     return out
 
 
@@ -269,8 +288,9 @@ def _run(argv: list[str], command: list[str]) -> int:
     name = _command_of(argv)
     parser = build_parser(name)
     _refuse_unknown_command(parser, argv)
-    if name and PARAM_OPTION in _subparser(parser, name)._option_string_actions:
-        argv = _spread_params(argv)
+    if name:
+        spread = tuple(o for o in ASSIGNMENT_OPTIONS if o in _subparser(parser, name)._option_string_actions)
+        argv = _spread_params(argv, spread) if spread else argv
     args, unknown = parser.parse_known_args(argv)
     command[0] = args.command
     if unknown:

@@ -1253,6 +1253,7 @@ OPTION_OF_KEYWORD_BY_COMMAND: dict[str, dict[str, str]] = {
     "refine": {"fixed": "--fix", "noise": "--noise", "effects": "--effects", "max_effects": "--max-effects", "solver_steps": "--max-steps", "fmin": "--fmin", "fmax": "--fmax", "weighting": "--weighting"},
     "force": {"points": "--points", "fmin": "--fmin", "fmax": "--fmax"},
     "gap": {"area": "--area", "v0": "--v0", "steps": "--steps", "seed": "--seed"},
+    "stack": {"dim": "--dim", "coords": "--coords"},
 }
 
 

@@ -30,7 +30,7 @@ def add_spectrum_command(sub, name: str, *, help: str, description: str, plot_he
     p.add_argument("data", metavar="DATA", help="spectrum file with one spectrum, or one picked with --select")
     add_select_option(p, several=False)
     add_model_argument(p, default=model_default)
-    p.add_argument("--fix", action="append", metavar="NAME=VALUE", help="hold a parameter of MODEL fixed (repeatable; SI prefixes: C_i=1.7n), in the baseline fit "
+    p.add_argument("--fix", action="append", metavar="NAME=VALUE", help="hold a parameter of MODEL fixed (several after one --fix, C_i=1.7n R_e=20, or --fix repeated; SI prefixes), in the baseline fit "
                    "and in every candidate that keeps the parameter; the commands printed carry it")
     add_fit_options(p)
     p.add_argument("--effects", metavar="ID,ID", help="only these effects (comma-separated ids; default: all)")

@@ -46,9 +46,9 @@ def check_max_steps(n: int) -> int:
 
 
 def add_bound_option(p, where: str = "") -> None:
-    """``--bound NAME=LO:HI`` (repeatable), read by `common.parse_bounds` and
+    """``--bound NAME=LO:HI ...`` (several after one, or repeated), read by `common.parse_bounds` and
     `common.checked_bound_options`: the ``bounds=`` of `impedax.fit` and `impedax.sample`."""
-    p.add_argument("--bound", action="append", metavar="NAME=LO:HI", help=f"fit a parameter within LO..HI{where} (repeatable; SI prefixes: R1=10:1k; "
+    p.add_argument("--bound", action="append", metavar="NAME=LO:HI", help=f"fit a parameter within LO..HI{where} (several after one --bound, R1=10:1k R0=:10, or --bound repeated; SI prefixes; "
                    "an empty side keeps the element's own bound: R0=:10, R0=1m:); not with --fix of the same NAME, and an --init value must lie inside")
 
 
@@ -82,8 +82,8 @@ def register(sub) -> None:
     p.add_argument("data", metavar="DATA", help="spectrum file")
     add_select_option(p)
     add_model_argument(p)
-    p.add_argument("--fix", action="append", metavar="NAME=VALUE", help="hold a parameter fixed (repeatable)")
-    p.add_argument("--init", action="append", metavar="NAME=VALUE", help="starting value (repeatable); others are guessed from the data")
+    p.add_argument("--fix", action="append", metavar="NAME=VALUE", help="hold a parameter fixed; several after one --fix (--fix R1=1M R0=20) or --fix repeated")
+    p.add_argument("--init", action="append", metavar="NAME=VALUE", help="starting value; several after one --init (--init R1=43k C2=5u) or --init repeated; others are guessed from the data")
     add_bound_option(p)
     add_shared_options(p)
     add_fit_options(p)

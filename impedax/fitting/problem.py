@@ -17,7 +17,7 @@ from ..arguments import shown
 from ..circuits import Circuit, parse
 from ..circuits.parser import ARGUMENT_ORDERS
 from ..data import format_frequency, make_spectrum, validate_spectrum
-from ..errors import DataError, FitError, ImpedaxError, ParameterError
+from ..errors import IN_MEMORY, DataError, FitError, ImpedaxError, ParameterError
 from .parameters import ParameterTable
 
 WEIGHTINGS = {
@@ -192,7 +192,9 @@ def fit_problem(circuit, spectrum: Spectrum, *, init, fixed, bounds, registry) -
     n_points = data.sizes["frequency"]
     k = int((~table.fixed).sum())
     if k >= 2 * n_points:
-        raise FitError(f"{k} free parameters but only {2 * n_points} real data values ({n_points} frequencies); fix parameters or use more data")
+        frequencies = f"{n_points} frequenc{'y' if n_points == 1 else 'ies'}"
+        where = "" if source in (None, "", "dataset", IN_MEMORY) else f"{source}: "  # (the file, when the data came from one)
+        raise FitError(f"{where}{k} free parameters but only {2 * n_points} real data values ({frequencies}); fix parameters or use more data")
     return FitProblem(circuit, data, table, source)
 
 

@@ -1,7 +1,8 @@
 """Reading and writing spectra: `load` recognises the file by content (see docs/io.md).
 
 Layout: `loader` (`load`, `save`: detection and dispatch), `registry` (`Reader`), `table`
-(tables with named columns), `csv` (delimited text), `netcdf` (impedax's lossless files), `export` (results as CSV tables, JSON, netCDF), and
+(tables with named columns), `csv` (delimited text), `netcdf` (impedax's lossless files), `export` (results as CSV tables, JSON, netCDF), `stack`
+(`stack_files`: one spectrum per file as one series), and
 ``formats/`` — one module per instrument format, each documenting its sign and unit conventions,
 and `READERS`/`register_reader`.
 """
@@ -30,10 +31,11 @@ from .formats.zplot import read_zplot as read_zplot
 from .loader import MAX_FILE_BYTES as MAX_FILE_BYTES, identify as identify, load as load, save as save
 from .netcdf import read_netcdf as read_netcdf, write_netcdf as write_netcdf
 from .registry import Reader as Reader
+from .stack import stack_files as stack_files
 
 __all__ = [
     "load", "save", "identify", "read_csv", "write_csv", "read_netcdf", "write_netcdf", "CSV_HEADER", "READERS", "Reader",
-    "register_reader", "MAX_FILE_BYTES", "write_result", "result_table",
+    "register_reader", "MAX_FILE_BYTES", "write_result", "result_table", "stack_files",
     "read_gamry", "read_biologic", "read_biologic_text", "read_biologic_mpr", "read_zplot", "read_z60w", "read_autolab",
     "read_dfr", "read_parstat", "read_powersuite", "read_chinstruments", "read_versastudio", "read_labone_csv",
     "read_labone_hdf5", "read_palmsens", "read_ivium", "read_spreadsheet",

@@ -25,7 +25,7 @@ from ..errors import DataError
 
 __all__ = [
     "UNIT_CELL", "MAX_FILE_BYTES", "MAX_FILE_BYTES_ENV", "max_file_bytes", "check_file", "read_bytes", "read_text", "decode_text", "head_text", "number",
-    "Skipped", "finish", "first_line", "stack", "unit_scale", "split_header_cell", "decimal_comma",
+    "Skipped", "finish", "first_line", "stack", "merged_attrs", "unit_scale", "split_header_cell", "decimal_comma",
 ]
 
 #: Largest file a reader reads whole (checked before reading). Instrument exports are
@@ -86,7 +86,7 @@ def check_file(path: Path) -> int:
             raise DataError("symlink loop (the symbolic links point at each other, never at a file)", path=path) from None
         raise DataError(f"cannot read file: {exc.strerror}", path=path) from None
     if stat.S_ISDIR(info.st_mode):
-        raise DataError("is a directory, not a spectrum file", path=path)
+        raise DataError("is a directory, not a spectrum file (its files of one spectrum each join into one series with impedax stack DIR/*.csv --out SERIES.nc, or impedax.stack_files)", path=path)
     if not stat.S_ISREG(info.st_mode):
         raise DataError("not a regular file (a device, pipe or socket); save the spectrum to a file first", path=path)
     limit = max_file_bytes()
@@ -299,11 +299,11 @@ def stack(path: Path, spectra: Sequence[tuple[str, xr.Dataset]], dim: str) -> xr
     coords = {dim: [label for label, _ in spectra], **{d: first[d].values for d in inner if d in first.coords}}
     return make_spectrum(
         f0, np.stack([ds["Z"].transpose(*inner, "frequency").values for _, ds in spectra]), dims=(dim, *inner), coords=coords,
-        attrs=_merged_attrs([(label, ds.attrs) for label, ds in spectra], dim), source=str(path),
+        attrs=merged_attrs([(label, ds.attrs) for label, ds in spectra], dim), source=str(path),
     )
 
 
-def _merged_attrs(parts: Sequence[tuple[str, Mapping]], dim: str) -> dict:
+def merged_attrs(parts: Sequence[tuple[str, Mapping]], dim: str) -> dict:
     """The attributes ``parts`` (label, attrs) of spectra read from one file: those they share,
     each one's own text labelled with its ``dim`` (a sheet's sign convention, a note), every
     skipped row's report."""
@@ -367,7 +367,7 @@ def _continued(path: Path, spectra: Sequence[tuple[str, xr.Dataset]], dim: str, 
     labels = [_numbered_cycles(ds, numbered) for _, ds in spectra]
     sources = [label for (label, _), mine in zip(spectra, labels) for _ in mine]
     z = [ds["Z"].transpose(numbered, "frequency").values if numbered in ds.dims else ds["Z"].values[None] for _, ds in spectra]
-    attrs = _merged_attrs([(label, {k: v for k, v in ds.attrs.items() if k not in ("sweeps", dim, numbered)}) for label, ds in spectra], dim)
+    attrs = merged_attrs([(label, {k: v for k, v in ds.attrs.items() if k not in ("sweeps", dim, numbered)}) for label, ds in spectra], dim)
     attrs[f"{dim}s"] = f"{numbered}s " + ", ".join(f"{mine[0]}–{mine[-1]} from {dim} {label}" if len(mine) > 1 else f"{mine[0]} from {dim} {label}" for (label, _), mine in zip(spectra, labels))
     ds = make_spectrum(
         spectra[0][1]["frequency"].values, np.concatenate(z), dims=(numbered,), coords={numbered: [v for mine in labels for v in mine]}, attrs=attrs, source=str(path),

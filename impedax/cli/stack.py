@@ -1,0 +1,42 @@
+"""``impedax stack FILE [FILE ...] [--dim NAME] [--coords V1 V2 ...] --out OUT.nc``: one
+spectrum per file (day01.csv … day10.csv) as one netCDF over a new dimension, which ``impedax
+fit OUT.nc --model ...`` fits as a batch (`impedax.io.stack_files`)."""
+
+from __future__ import annotations
+
+import sys
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "stack",
+        help="several files of one spectrum each as one series (a new dimension) in a netCDF file",
+        description="Read each FILE (any format impedax knows; one spectrum each) and write them as one netCDF file with Z over "
+        "(NAME, frequency), in the order given, which impedax fit, kk and drt then analyse as a batch. The files must share "
+        "one frequency grid (within 0.1 %). Labels along NAME: --coords, else the file names without extension.",
+    )
+    p.add_argument("files", nargs="+", metavar="FILE", help="spectrum files, one spectrum each, in the order of the series")
+    p.add_argument("--dim", default="file", metavar="NAME", help="name of the new dimension (default: file), e.g. day")
+    p.add_argument("--coords", nargs="+", metavar="V", help="one label per FILE, in order: numbers when every one reads as a number (1 2 3, 0.5 1.5), else text; default: the file names without extension (day01)")
+    p.add_argument("--out", required=True, metavar="OUT.nc", help="the stacked spectra (netCDF: .nc, .nc4, .cdf); written whole or not at all")
+    p.set_defaults(run=run)
+
+
+def run(args) -> int:
+    from pathlib import Path
+
+    from ..errors import DataError
+    from ..io.loader import NETCDF_SUFFIXES
+    from ..io.stack import stack_files
+    from .common import plan_outputs, spectrum_writer
+
+    if Path(args.out).suffix.lower() not in NETCDF_SUFFIXES:
+        raise DataError(f"--out: a stack of spectra is written as netCDF: give a {', '.join(NETCDF_SUFFIXES)} name (a CSV file holds one spectrum)", path=args.out)
+    outputs = plan_outputs([("--out", args.out, "spectrum")], inputs=args.files)
+    stacked = stack_files(args.files, dim=args.dim, coords=args.coords)
+    outputs.save({"--out": spectrum_writer(lambda: stacked)})
+    labels = stacked[args.dim].values.tolist()
+    shown = ", ".join(map(str, labels)) if len(labels) <= 6 else f"{', '.join(map(str, labels[:3]))}, …, {labels[-1]}"
+    print(f"impedax stack: {len(labels)} spectra at {stacked.sizes['frequency']} frequencies along {args.dim!r} ({shown}); "
+          f"fit them as a batch: impedax fit {args.out} --model MODEL", file=sys.stderr)
+    return 0

@@ -1,0 +1,205 @@
+"""A corrosion engineer's walk (2026-12-01): several NAME=VALUE after one --init, --fix, --bound
+or --prior; ``impedax stack`` (and `impedax.stack_files`) turning one file per day into one
+series that ``impedax fit`` fits as a batch; the too-few-points message naming the file in
+good grammar. Every spectrum here is SYNTHETIC: numpy formulas with seeded noise."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+import impedax as ix
+from impedax.cli import _spread_params, main
+
+FREQ = np.geomspace(0.1, 1e5, 31)  # Hz
+R0_TRUE = 20.0  # Ω, the electrolyte
+C1_TRUE = 5e-6  # F, the double layer
+R1_BY_DAY = (43e3, 30e3, 21e3)  # Ω, a charge-transfer resistance falling as the film breaks down
+
+
+def rc_impedance(freq, r0, r1, c1):
+    """R0 + R1 || C1: Z = R0 + R1 / (1 + jωR1C1), ω = 2πf."""
+    return r0 + r1 / (1 + 2j * np.pi * freq * r1 * c1)
+
+
+def write_day(path, r1, seed, freq=FREQ, noise=0.003):
+    """SYNTHETIC: one day's spectrum with 0.3 % relative Gaussian noise per component, as CSV."""
+    rng = np.random.default_rng(seed)
+    z = rc_impedance(freq, R0_TRUE, r1, C1_TRUE)
+    z = z + noise * np.abs(z) * (rng.normal(size=freq.size) + 1j * rng.normal(size=freq.size))
+    rows = "".join(f"{float(f)!r},{float(v.real)!r},{float(v.imag)!r}\n" for f, v in zip(freq, z))
+    path.write_text("frequency_hz,z_real_ohm,z_imag_ohm\n" + rows)
+    return z
+
+
+@pytest.fixture
+def days(tmp_path):
+    """Three SYNTHETIC days: (paths, Z written)."""
+    paths, zs = [], []
+    for day, r1 in enumerate(R1_BY_DAY, start=1):
+        path = tmp_path / f"day{day:02d}.csv"
+        zs.append(write_day(path, r1, seed=day))
+        paths.append(path)
+    return paths, np.array(zs)
+
+
+def run(argv, capsys):
+    try:
+        code = main([str(a) for a in argv])
+    except SystemExit as exc:  # argparse's own errors
+        code = exc.code
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+# --- 1. several NAME=VALUE after one option -------------------------------------------------------
+
+def test_spread_gives_each_assignment_its_own_option_and_stops_at_other_words():
+    argv = ["fit", "d.csv", "--init", "R1=43k", "C2=5u", "--fix=R0=20", "L1=1u", "--bound", "R1=1:1M", "C2=1n:1m", "--model", "R0", "--", "X=1"]
+    assert _spread_params(argv) == ["fit", "d.csv", "--init", "R1=43k", "--init", "C2=5u", "--fix=R0=20", "--fix", "L1=1u",
+                                    "--bound", "R1=1:1M", "--bound", "C2=1n:1m", "--model", "R0", "--", "X=1"]
+    # an option as the value is argparse's to refuse, not a value to spread after
+    assert _spread_params(["--init", "--fix", "R0=1", "C1=2"]) == ["--init", "--fix", "R0=1", "--fix", "C1=2"]
+
+
+@pytest.mark.parametrize("command", ["fit", "compare", "sample", "diagnose", "refine"])
+def test_every_command_with_fix_reads_a_second_value_after_one_fix(command, days, capsys):
+    """The second value reaches --fix's own check (an unknown name, named with its flag), where
+    it used to be argparse's "unrecognized arguments: C9=5u"."""
+    models = ["--model", "R0 + R1 || C1"] + (["--model", "R0 + C1"] if command == "compare" else [])
+    code, _, err = run([command, days[0][0], *models, "--fix", "R0=20", "C9=5u"], capsys)
+    assert code == 2 and "unrecognized" not in err and "C9" in err, err
+
+
+@pytest.mark.parametrize("option, values, fragment", [
+    ("--init", ["R1=43k", "C1=abc"], "--init 'C1=abc': 'abc' is not a number"),
+    ("--bound", ["R1=10:1M", "C1=5:1"], "--bound C1=5:1: the lower end 5 must be below the upper end 1"),
+    ("--prior", ["R1=loguniform:1e2,1e5", "C1=beta:1,2"], "unknown prior kind 'beta'"),
+])
+def test_init_bound_and_prior_read_every_value_after_one_option(option, values, fragment, days, capsys):
+    command = "sample" if option == "--prior" else "fit"
+    code, _, err = run([command, days[0][0], "--model", "R0 + R1 || C1", option, *values], capsys)
+    assert code == 2 and fragment in err, err
+
+
+def test_several_values_after_one_option_fit_as_the_repeated_options_do(days, capsys):
+    """``--fix R0=20 --init R1=43k C1=5u --bound R1=1k:1M C1=1n:1m`` is the repeated form, fit
+    for fit; the fixed value is held exactly and R1, C1 come back within 3 % of the formula's."""
+    data = days[0][0]
+    spread = ["--fix", "R0=20", "--init", "R1=43k", "C1=5u", "--bound", "R1=1k:1M", "C1=1n:1m"]
+    repeated = ["--fix", "R0=20", "--init", "R1=43k", "--init", "C1=5u", "--bound", "R1=1k:1M", "--bound", "C1=1n:1m"]
+    results = []
+    for options in (spread, repeated):
+        code, out, err = run(["fit", data, "--model", "R0 + R1 || C1", *options, "--json"], capsys)
+        assert code == 0, err
+        results.append(json.loads(out))
+    params = results[0]["params"]
+    assert params == results[1]["params"]
+    assert params["R0"] == {"value": 20.0, "stderr": None, "fixed": True}
+    assert results[0]["user_bounds"] == {"R1": [1e3, 1e6], "C1": [1e-9, 1e-3]}
+    assert params["R1"]["value"] == pytest.approx(R1_BY_DAY[0], rel=0.03) and params["C1"]["value"] == pytest.approx(C1_TRUE, rel=0.03)
+
+
+def test_a_stray_value_names_the_options_that_take_it_and_a_second_file_names_stack(days, capsys):
+    code, _, err = run(["fit", days[0][0], "R1=5", "--model", "R1 + C1"], capsys)
+    assert code == 2 and "unrecognized arguments: R1=5; a NAME=VALUE follows its option (--init, --fix, --bound): e.g. --init R1=5" in err
+    code, _, err = run(["fit", days[0][0], days[0][1], "--model", "R1 + C1"], capsys)
+    assert code == 2 and "fit reads one DATA file: join files of one spectrum each into one series with impedax stack" in err
+
+
+def test_a_file_whose_name_reads_like_an_assignment_stays_the_data(days, tmp_path, monkeypatch, capsys):
+    """``fit --fix R0=20 run=3.csv``: run=3.csv is a file here, so it is the DATA, not a --fix."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "run=3.csv").write_text(days[0][0].read_text())
+    assert _spread_params(["fit", "--fix", "R0=20", "run=3.csv"]) == ["fit", "--fix", "R0=20", "run=3.csv"]
+
+
+# --- 2. impedax stack / ix.stack_files ----------------------------------------------------------
+
+def test_stack_writes_one_series_with_the_files_values_labels_and_sources(days, tmp_path, capsys):
+    paths, z_written = days
+    out = tmp_path / "days.nc"
+    code, _, err = run(["stack", *paths, "--dim", "day", "--coords", "1", "2", "3", "--out", out], capsys)
+    assert code == 0, err
+    assert f"wrote {out}" in err and "3 spectra at 31 frequencies along 'day'" in err
+    series = ix.load(out)
+    assert series["Z"].dims == ("day", "frequency")
+    assert series["day"].values.tolist() == [1, 2, 3] and series["day"].dtype.kind == "i"
+    np.testing.assert_allclose(series["frequency"].values, FREQ, rtol=1e-15)
+    np.testing.assert_allclose(series["Z"].values, z_written, rtol=1e-15)  # (repr round-trips floats)
+    assert series.attrs["sources"] == [str(p) for p in paths] and series.attrs["stacked_along"] == "day"
+
+
+def test_stack_labels_are_the_file_stems_by_default_and_text_when_not_numbers(days, tmp_path):
+    paths, _ = days
+    assert ix.stack_files(paths)["file"].values.tolist() == ["day01", "day02", "day03"]
+    assert ix.stack_files(paths, dim="day", coords=["mon", "tue", "3"])["day"].values.tolist() == ["mon", "tue", "3"]
+    assert ix.stack_files(paths, coords=["0.5", "1", "1.5"])["file"].values.tolist() == [0.5, 1.0, 1.5]
+
+
+def test_stack_aligns_a_file_written_in_the_other_order_and_keeps_sigma(tmp_path):
+    """A descending sweep is the same grid: its Z lands at the first file's frequencies. sigma
+    (a SYNTHETIC 1 % of |Z|) is kept when every file has it."""
+    z = [rc_impedance(FREQ, R0_TRUE, r1, C1_TRUE) for r1 in R1_BY_DAY[:2]]
+    ix.save(ix.make_spectrum(FREQ, z[0], sigma=0.01 * np.abs(z[0])), tmp_path / "up.nc")
+    ix.save(ix.make_spectrum(FREQ[::-1], z[1][::-1], sigma=0.01 * np.abs(z[1][::-1])), tmp_path / "down.nc")
+    series = ix.stack_files([tmp_path / "up.nc", tmp_path / "down.nc"])
+    np.testing.assert_array_equal(series["Z"].values, np.array(z))
+    np.testing.assert_allclose(series["sigma"].values, 0.01 * np.abs(np.array(z)), rtol=1e-15)  # (|z| of a reversed view: ulps apart)
+
+
+def test_stack_refuses_another_grid_naming_the_file_and_writes_nothing(days, tmp_path, capsys):
+    paths, _ = days
+    odd = tmp_path / "day04.csv"
+    write_day(odd, 15e3, seed=4, freq=np.geomspace(0.1, 1e5, 25))
+    before = sorted(p.name for p in tmp_path.iterdir())
+    code, _, err = run(["stack", *paths, odd, "--out", tmp_path / "days.nc"], capsys)
+    assert code == 2 and f"error: {odd}: its frequency grid differs from {paths[0]}'s (25 vs 31 points" in err, err
+    assert "Traceback" not in err and len(err.strip().splitlines()) == 1
+    assert sorted(p.name for p in tmp_path.iterdir()) == before
+
+
+def test_stack_refuses_a_file_of_several_spectra_and_a_wrong_count_of_coords(days, tmp_path, capsys):
+    paths, _ = days
+    several = tmp_path / "week.nc"
+    assert main(["stack", *map(str, paths), "--dim", "day", "--out", str(several)]) == 0
+    capsys.readouterr()
+    code, _, err = run(["stack", paths[0], several, "--out", tmp_path / "again.nc"], capsys)
+    assert code == 2 and f"{several}: holds 3 spectra (over day); a stack takes one spectrum per file" in err, err
+    code, _, err = run(["stack", *paths, "--coords", "1", "2", "--out", tmp_path / "again.nc"], capsys)
+    assert code == 2 and "--coords: 2 labels for 3 files" in err, err
+    assert not (tmp_path / "again.nc").exists()
+
+
+def test_a_folder_names_stack(tmp_path, capsys):
+    code, _, err = run(["kk", tmp_path], capsys)
+    assert code == 2 and "is a directory, not a spectrum file (its files of one spectrum each join into one series with impedax stack" in err
+
+
+def test_fit_of_the_stacked_file_fits_every_day(days, tmp_path, capsys):
+    """The walk's end: impedax fit OUT.nc fits the three days as a batch over 'day'; each R1
+    within 3 % of its formula's value, in the files' order."""
+    paths, _ = days
+    out = tmp_path / "days.nc"
+    assert main(["stack", *map(str, paths), "--dim", "day", "--out", str(out)]) == 0
+    capsys.readouterr()
+    code, text, err = run(["fit", out, "--model", "R0 + R1 || C1", "--json"], capsys)
+    assert code == 0, err
+    summary = json.loads(text)
+    assert summary["sizes"] == {"day": 3} and summary["source"] == str(out)
+    assert [s["day"] for s in summary["spectra"]] == ["day01", "day02", "day03"]
+    np.testing.assert_allclose([s["values"]["R1"] for s in summary["spectra"]], R1_BY_DAY, rtol=0.03)
+    np.testing.assert_allclose([s["values"]["C1"] for s in summary["spectra"]], C1_TRUE, rtol=0.03)
+
+
+# --- 3. too few points: the file named, "1 frequency" -------------------------------------------
+
+def test_too_few_points_names_the_file_in_the_singular(tmp_path, capsys):
+    path = tmp_path / "day01.csv"
+    path.write_text("frequency_hz,z_real_ohm,z_imag_ohm\n1000,120,-35\n")  # SYNTHETIC: one point
+    code, _, err = run(["fit", path, "--model", "R0 + R1 || C1"], capsys)
+    assert code == 2 and f"error: {path}: 3 free parameters but only 2 real data values (1 frequency);" in err, err
+    with pytest.raises(ix.FitError, match=r"^4 free parameters but only 4 real data values \(2 frequencies\)"):
+        ix.fit("R0 + R1 || C1 + R2", ix.make_spectrum([10.0, 100.0], [120 - 35j, 110 - 20j]))  # in memory: no file to name
