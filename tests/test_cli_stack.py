@@ -130,6 +130,12 @@ def test_stack_writes_one_series_with_the_files_values_labels_and_sources(days, 
     np.testing.assert_allclose(series["frequency"].values, FREQ, rtol=1e-15)
     np.testing.assert_allclose(series["Z"].values, z_written, rtol=1e-15)  # (repr round-trips floats)
     assert series.attrs["sources"] == [str(p) for p in paths] and series.attrs["stacked_along"] == "day"
+    # the file is netCDF; its data were first read from delimited text (inspect said "delimited text")
+    assert series.attrs["format"] == "impedax netCDF" and series.attrs["data_format"] == "delimited text"
+    code, printed, _ = run(["inspect", out], capsys)
+    assert code == 0 and printed.startswith(f"{out}: impedax netCDF (its data first read from delimited text), 31 frequencies")
+    code, printed, _ = run(["inspect", out, "--json"], capsys)
+    assert json.loads(printed)["format"] == "impedax netCDF" and json.loads(printed)["data_format"] == "delimited text"
 
 
 def test_stack_labels_are_the_file_stems_by_default_and_text_when_not_numbers(days, tmp_path):

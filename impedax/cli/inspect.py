@@ -48,6 +48,7 @@ def run(args) -> int:
     summary = {
         "file": str(ds.attrs.get("path", args.file)) if args.file == "-" else str(args.file),
         "format": ds.attrs.get("format", "netCDF"),
+        "data_format": ds.attrs.get("data_format"),  # (added 2026-12-01: for a netCDF file, the format its data were first read from, else null)
         "dims": {k: int(v) for k, v in ds["Z"].sizes.items()},
         "points": int(freq.size),
         "frequency_min_hz": float(freq.min()),
@@ -73,7 +74,8 @@ def run(args) -> int:
         emit_json(summary)
         return 0
     held = f" holding a saved {summary['result']} (its data shown here; read it in full with {reader_call(kind)})" if kind else ""
-    print(f"{summary['file']}: {summary['format']}{held}, {summary['points']} frequencies "
+    first = f" (its data first read from {summary['data_format']})" if summary["data_format"] else ""
+    print(f"{summary['file']}: {summary['format']}{first}{held}, {summary['points']} frequencies "
           f"{summary['frequency_min_hz']:.4g}–{summary['frequency_max_hz']:.4g} Hz, "
           f"|Z| {summary['z_abs_min_ohm']:.4g}–{summary['z_abs_max_ohm']:.4g} Ω, dims {summary['dims']}")
     for key in _HOW_KEYS:
@@ -96,7 +98,7 @@ def run(args) -> int:
         print(f"    ... and {len(skipped) - 20} more")
     for key, value in summary["attrs"].items():
         # (a dimension's labels are listed above: the reader's text of them would repeat it)
-        if key not in ("format", "source", "path", *_HOW_KEYS, *extra):
+        if key not in ("format", "data_format", "source", "path", *_HOW_KEYS, *extra):
             print(f"  {key}: {str(value).splitlines()[0] if str(value) else ''}")
     if summary["sign_hint"]:
         print(f"  hint: {summary['sign_hint']}")

@@ -21,7 +21,7 @@ from ..data import CHECKED_FILE, validate_spectrum
 from ..errors import IN_MEMORY, DataError, SweepGridsDiffer
 from ._common import MAX_FILE_BYTES, check_file, head_text
 from .csv import read_csv, write_csv
-from .netcdf import not_a_spectrum, write_netcdf
+from .netcdf import NETCDF_FORMAT, not_a_spectrum, write_netcdf
 from .registry import Reader
 from .table import NoLayout
 
@@ -96,6 +96,11 @@ def load(path: str | os.PathLike, readers: Sequence[Reader] | None = None, *, sw
         held = not_a_spectrum(ds) if isinstance(ds, xr.Dataset) else None
         if held:  # (a saved result, e.g. of impedax gap: say how to read it, not that it lacks Z)
             raise DataError(held, path=path)
+        if reader.name == NETCDF_FORMAT and ds.attrs.get("format", reader.name) != reader.name:
+            # data saved from another format (an instrument file, stacked CSVs): this file is netCDF,
+            # the format its data were first read from stays as ``data_format``
+            ds.attrs["data_format"] = ds.attrs["format"]
+            ds.attrs["format"] = reader.name
         ds.attrs.setdefault("format", reader.name)
         if ds.attrs.get("source") == IN_MEMORY:  # (a reader of the user's built it with make_spectrum: later errors name the file)
             ds.attrs["source"] = str(path)

@@ -16,7 +16,7 @@ import xarray as xr
 from .atomic import atomic_path
 from ..errors import ArgumentNeeded, DataError
 
-__all__ = ["read_netcdf", "write_netcdf", "encode_dataset", "decode_dataset", "saved_result", "damaged_result", "result_kind", "not_a_spectrum"]
+__all__ = ["read_netcdf", "write_netcdf", "encode_dataset", "decode_dataset", "saved_result", "damaged_result", "result_kind", "not_a_spectrum", "NETCDF_FORMAT"]
 
 _JSON = "json:"
 # magic (4 bytes), record count (4), then the dimension, attribute and variable lists (8 each)
@@ -141,6 +141,11 @@ RESULT_KINDS = {
     "refinement": ("refinement (impedax refine) with its final fit", "Refinement.final_fit_of"),
     "diagnosis": ("diagnosis (impedax diagnose) with its baseline fit", "Diagnosis.baseline_of"),
 }
+
+
+NETCDF_FORMAT = "impedax netCDF"
+"""The ``format`` of data read from an impedax netCDF file (`formats.netcdf.READER`); the format
+its data were first read from, if another, is kept as ``data_format`` (`loader.load`)."""
 
 
 def result_kind(ds: xr.Dataset) -> str | None:

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..netcdf import read_netcdf
+from ..netcdf import NETCDF_FORMAT, read_netcdf
 from ..registry import Reader
 
 __all__ = ["READER"]
@@ -23,4 +23,4 @@ def sniff(path: Path, head: bytes) -> str | None:
     return "no netCDF signature"
 
 
-READER = Reader("impedax netCDF", SUFFIXES, sniff, read_netcdf, CONVENTIONS)
+READER = Reader(NETCDF_FORMAT, SUFFIXES, sniff, read_netcdf, CONVENTIONS)
