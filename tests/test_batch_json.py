@@ -179,3 +179,53 @@ def test_a_result_without_recorded_groups_says_so(batch):
     with pytest.raises(ix.ParameterError, match="cycle=99 is not among the batch's labels"):
         batch.unidentified_groups_of(cycle=99)
     assert batch.unidentified_groups_of(cycle=10) == ()
+
+
+STATISTICS = ("rms_rel", "chi2", "chi2_red", "aic", "bic")
+
+
+def test_each_row_has_the_goodness_of_fit_of_a_fit_of_that_spectrum_alone(batch, stack):
+    """rms_rel, chi2, chi2_red, aic, bic of each spectrum (the single fit's JSON keys): the
+    dataset's values, a fit of the spectrum alone's (to rounding: the optimum is reached from
+    other starts), and the textbook formulas on the residuals (oracle: modulus weighting,
+    n = 2N real residuals, k = 3 free parameters, AIC = n ln(χ²/n) + 2k, BIC = n ln(χ²/n) + k ln n)."""
+    rows = batch.summary()["spectra"]
+    ds = batch.dataset
+    n, k = 2 * FREQ.size, 3
+    for row in rows:
+        for key in STATISTICS:
+            assert row[key] == float(ds[key].sel(cycle=row["cycle"]))
+        z, z_model = stack["Z"].sel(cycle=row["cycle"]).values, ds["Z_model"].sel(cycle=row["cycle"]).values
+        chi2 = np.sum(np.abs((z - z_model) / np.abs(z)) ** 2)
+        assert row["chi2"] == pytest.approx(chi2, rel=1e-9)
+        assert row["chi2_red"] == pytest.approx(chi2 / (n - k), rel=1e-9)
+        assert row["aic"] == pytest.approx(n * np.log(chi2 / n) + 2 * k, rel=1e-9)
+        assert row["bic"] == pytest.approx(n * np.log(chi2 / n) + k * np.log(n), rel=1e-9)
+    for row in rows[:3]:
+        alone = ix.fit(MODEL, stack.sel(cycle=row["cycle"])).summary()
+        for key in ("rms_rel", "chi2", "chi2_red"):
+            assert row[key] == pytest.approx(alone[key], rel=1e-4), key
+        for key in ("aic", "bic"):  # (n · relative change of chi2: 80 × 1e-4)
+            assert row[key] == pytest.approx(alone[key], abs=0.01), key
+    # models compared spectrum by spectrum: the Warburg spectrum's misfit shows in its own AIC
+    assert rows[3]["aic"] > max(r["aic"] for r in rows[:3]) + 100
+
+
+def test_the_csv_rows_carry_their_spectrums_goodness_of_fit(batch, tmp_path):
+    ix.write_result(batch, tmp_path / "batch.csv")
+    table = np.genfromtxt(tmp_path / "batch.csv", delimiter=",", names=True, dtype=None, encoding="utf-8")
+    assert list(table.dtype.names) == ["cycle", "name", "value", "stderr", "unit", "fixed", *STATISTICS]
+    for key in STATISTICS:
+        expected = np.repeat(batch.dataset[key].sel(cycle=CYCLES).values, 3)  # (one row per parameter)
+        np.testing.assert_array_equal(table[key], expected)
+
+
+def test_each_warning_kind_gives_its_spectra_labels_as_dicts(batch):
+    kinds = batch.summary()["warning_kinds"]
+    assert kinds
+    for kind in kinds:
+        assert len(kind["labels"]) == len(kind["spectra"]) == kind["n_spectra"]
+        assert [", ".join(f"{d}={v}" for d, v in lab.items()) for lab in kind["labels"]] == kind["spectra"]  # same order
+    misfit = next(k for k in kinds if "misses structure" in k["warning"])
+    assert misfit["spectra"] == ["cycle=40"] and misfit["labels"] == [{"cycle": 40}]
+    json.dumps(kinds)  # (plain JSON values)

@@ -1,6 +1,7 @@
 """The text report of a batch fit (docs/fitting.md, "Batch fits"): each spectrum's own column
 (value ± relative standard error, as the single fit's table) up to `SPECTRA_AS_COLUMNS` spectra,
-the median and 16/84 % quantiles beyond; "1 spectrum" in the singular. SYNTHETIC spectra of
+the median and 16/84 % quantiles beyond, said to be across the spectra (not uncertainties) and
+followed by a row per spectrum up to `SPECTRA_AS_ROWS`; "1 spectrum" in the singular. SYNTHETIC spectra of
 R0 + R1 ∥ C1 written here as formulas, the expected cells from the batch's own values and
 standard errors."""
 
@@ -8,7 +9,7 @@ import numpy as np
 import xarray as xr
 
 import impedax as ix
-from impedax.fitting.least_squares.batch import SPECTRA_AS_COLUMNS
+from impedax.fitting.least_squares.batch import SPECTRA_AS_COLUMNS, SPECTRA_AS_ROWS
 
 F = np.geomspace(1, 1e5, 30)
 JW = 2j * np.pi * F
@@ -54,3 +55,38 @@ def test_a_larger_batch_gives_median_and_quantiles():
     assert head.split()[1:4] == ["median", "16%", "84%"]
     r0 = batch.dataset["value"].sel(param="R0").values
     assert rows["R0"].split()[1:4] == [f"{x:.5g}" for x in np.quantile(r0, [0.5, 0.16, 0.84])]
+
+
+def test_the_quantiles_are_said_to_be_across_the_spectra_and_each_spectrum_gets_a_row():
+    """Past `SPECTRA_AS_COLUMNS` the quantiles read like a confidence interval: a header says
+    they are a spread across the spectra; up to `SPECTRA_AS_ROWS` each spectrum's value ±
+    relative standard error and rms_rel follow, one row per spectrum."""
+    n = SPECTRA_AS_COLUMNS + 2
+    assert n <= SPECTRA_AS_ROWS
+    batch = ix.fit("R0 + R1 || C1", stack(n))
+    text = batch.report()
+    lines = text.splitlines()
+    head = lines.index(next(ln for ln in lines if ln.startswith("parameter")))
+    assert lines[head - 1].startswith(f"across the {n} spectra (not uncertainties): median, 16th and 84th percentiles")
+    start = lines.index("each spectrum's fit (value ± relative standard error):")
+    assert lines[start + 1].split() == ["spectrum", "R0", "R1", "C1", "rms_rel"]
+    rows = lines[start + 2 : start + 2 + n]
+    ds = batch.dataset
+    for k, row in enumerate(rows):
+        assert row.startswith(f"trial=t{k} ")
+        v, e = float(ds["value"].sel(param="R1").isel(trial=k)), float(ds["stderr"].sel(param="R1").isel(trial=k))
+        assert f"{v:.5g} ± {ix.data.format_relative_error(e / v)}" in row
+        assert row.endswith(f"{float(ds['rms_rel'].isel(trial=k)) * 100:.3g} %")
+
+
+def test_a_batch_beyond_the_rows_says_where_each_spectrums_fit_is(monkeypatch):
+    """Beyond `SPECTRA_AS_ROWS` (lowered here to keep the test fast) no per-spectrum rows: the
+    report names the table and the CSV, and the command line its options."""
+    from impedax.cli.common import command_line_words
+    from impedax.fitting.least_squares import batch as batch_module
+
+    monkeypatch.setattr(batch_module, "SPECTRA_AS_ROWS", SPECTRA_AS_COLUMNS + 1)
+    text = ix.fit("R0 + R1 || C1", stack(SPECTRA_AS_COLUMNS + 2)).report()
+    assert "each spectrum's fit (value" not in text and "trial=t0" not in text
+    assert "each spectrum's values, standard errors and rms_rel: batch.to_table()" in text
+    assert "each spectrum's values, standard errors and rms_rel: --out FILE.csv (a row per spectrum and parameter) or --json" in command_line_words(text)

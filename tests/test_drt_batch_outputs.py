@@ -170,3 +170,17 @@ def test_drt_residuals_are_data_minus_the_drt_model_and_the_names_are_the_datase
     assert batch[0].to_xarray()["residuals"].attrs["long_name"] == "(Z_data - Z_fit)/|Z_data|"
     ds = batch.to_xarray()
     assert (set(ds.variables) | set(ds.dims)) - {"cycle"} == BATCH_RESULT_NAMES
+
+
+def test_the_json_names_the_file_read_as_kk_does(cycles, tmp_path, capsys):
+    """``source`` (the file and any --select) at the top of the DRT JSON, of several spectra and
+    of one, as `impedax kk --json` gives it; the --out .json too."""
+    path, _ = cycles
+    code, out, _ = run(capsys, path, "--json")
+    assert code == 0 and json.loads(out)["source"] == path
+    code, out, _ = run(capsys, path, "--select", "cycle=2", "--json")
+    assert code == 0 and json.loads(out)["source"] == f"{path} [cycle=2]"
+    assert main(["kk", path, "--select", "cycle=2", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["source"] == f"{path} [cycle=2]"  # (the same key and text)
+    code, _, _ = run(capsys, path, "--out", str(tmp_path / "d.json"))
+    assert code == 0 and json.loads((tmp_path / "d.json").read_text())["source"] == path

@@ -76,7 +76,7 @@ def test_fit_json_is_the_summary_and_netcdf_reopens(rc_fit, tmp_path):
 def test_batch_csv_has_a_row_per_spectrum_and_parameter_with_coordinates(rc_batch, tmp_path):
     ix.write_result(rc_batch, tmp_path / "batch.csv")
     rows = _read_csv(tmp_path / "batch.csv")
-    assert list(rows[0]) == ["cell", "name", "value", "stderr", "unit", "fixed"]
+    assert list(rows[0]) == ["cell", "name", "value", "stderr", "unit", "fixed", "rms_rel", "chi2", "chi2_red", "aic", "bic"]  # (the spectrum's goodness of fit: added 2026-12-01)
     assert [(r["cell"], r["name"]) for r in rows] == [(c, n) for c in "abc" for n in ("R0", "R1", "C1")]
     for r in rows:
         assert float(r["value"]) == float(rc_batch.values(r["name"]).sel(cell=r["cell"]))
@@ -199,8 +199,8 @@ def test_check_results_json_is_the_command_lines_json(command, tmp_path, capsys)
     result = ix.drt(data) if command == ["drt"] else ix.zhit(data) if "zhit" in command else ix.kk_test(data)
     ix.write_result(result, tmp_path / "r.json")
     written = json.loads((tmp_path / "r.json").read_text())
-    if command[0] == "kk":  # (the command line names the file it read; the API's result has none)
-        assert printed.pop("source") == str(tmp_path / "rc.nc")
+    # the command line names the file it read; the API's result has none (drt too since 2026-12-01)
+    assert printed.pop("source") == str(tmp_path / "rc.nc")
     assert isinstance(written, dict) and written == printed
 
 

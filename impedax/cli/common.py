@@ -1218,6 +1218,9 @@ _PHRASE_OF_CALL = {
     "(bounds=)": "(--bound)",
     "leave them out (fmin/fmax)": "leave them out (--fmin/--fmax)",
     "e.g. --noise 1% (noise=0.01)": "e.g. --noise 1%",
+    # (a large batch's report: `least_squares.batch.EACH_SPECTRUM_WHERE`)
+    "batch.to_table() or ix.write_result(batch, 'FILE.csv') (a row per spectrum and parameter), batch.summary()['spectra']":
+        "--out FILE.csv (a row per spectrum and parameter) or --json (\"spectra\")",
 }
 
 # a fixed value named as Python's keyword (``fixed={'C_i': VALUE}``, diagnose's note on

@@ -61,7 +61,7 @@ def register(sub) -> None:
 def run(args) -> int:
     from ..fitting.drt import drt
     from ..fitting.problem import open_spectrum
-    from .common import check_band_options, emit_json, exclude_points, figure_writer, load_selected, plan_outputs, progress_printer
+    from .common import check_band_options, data_source, emit_json, exclude_points, figure_writer, load_selected, plan_outputs, progress_printer, with_source
 
     outputs = plan_outputs([("--out", args.out, "drt"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     # a file of several spectra: the DRT of each in one solve (`DRTBatchResult`), or one (--select)
@@ -71,6 +71,7 @@ def run(args) -> int:
         from ..fitting.problem import select_band
 
         data = select_band(data, args.fmin, args.fmax, args.data)
+    source = data_source(data)  # (the file and any --select: the JSON's ``source``, as kk's and fit's)
     data = open_spectrum(data).data
     progress = progress_printer()  # (130 cycles took 7 s without a word; printed only past PROGRESS_AFTER_S)
     n_spectra = int(data["Z"].size // data.sizes["frequency"])
@@ -78,20 +79,21 @@ def run(args) -> int:
     result = drt(data, method=args.method, lam=_lam(args.lam), lam_method=args.lam_method, signed=args.signed, min_peak_fraction=args.min_peak_fraction)
     if args.plot:  # (the slowest output: ~1 s for 130 curves)
         progress(f"drawing {args.plot}")
-    outputs.save({"--out": lambda path: _save(result, path), "--plot": figure_writer(result.plot)})
+    outputs.save({"--out": lambda path: _save(result, path, source), "--plot": figure_writer(result.plot)})
     progress.close()
     if outputs.uses_stdout:
         return 0
     if args.json:
-        emit_json(result.summary())
+        emit_json(with_source(result.summary(), source))
     else:
         print(result.report())
     return 0
 
 
-def _save(result, path) -> None:
+def _save(result, path, source: str | None = None) -> None:
     """``--out``: `impedax.write_result`, the same files as in Python (.csv γ over τ, a column
-    per dimension first for several spectra; .json the summary; .nc the lossless dataset)."""
+    per dimension first for several spectra; .json the summary, .nc the lossless dataset, each
+    naming the data's ``source`` as ``--json`` does)."""
     from ..io.export import write_result
 
-    write_result(result, path)
+    write_result(result, path, source=source)

@@ -242,21 +242,30 @@ class BatchFitResult:
     def to_table(self) -> list[dict[str, object]]:
         """The tidy table: one row per spectrum and parameter, the extra dimensions' coordinates
         (their index where they have none) as the first columns, then name, value, stderr (None
-        when fixed or there is none, as `FitResult.to_table`), unit and fixed
-        (`impedax.io.write_result` .csv)."""
+        when fixed or there is none, as `FitResult.to_table`), unit and fixed, then the
+        spectrum's `SPECTRUM_STATISTICS` (rms_rel, chi2, chi2_red, aic, bic: the keys of a single
+        fit's JSON; added 2026-12-01), repeated on each of its rows (`impedax.io.write_result` .csv)."""
         ds = self.dataset
         specs = self.circuit.parameter_specs(self.registry)
         names = [str(p) for p in ds["param"].values]
         value = ds["value"].transpose(*self.dims, "param").values
         stderr = ds["stderr"].transpose(*self.dims, "param").values
         fixed = ds["fixed"].values.tolist()
+        statistics = self._spectrum_statistics()
         labels = [ds[d].values.tolist() if d in ds.coords else list(range(ds.sizes[d])) for d in self.dims]
         rows = []
         for index in np.ndindex(*value.shape[:-1]):
             where = {d: labels[i][j] for i, (d, j) in enumerate(zip(self.dims, index))}
+            own = {k: float(a[index]) for k, a in statistics.items()}
             for p, n in enumerate(names):
-                rows.append({**where, "name": n, "value": float(value[index + (p,)]), "stderr": shown_stderr(float(stderr[index + (p,)]), fixed[p]), "unit": specs[n].unit, "fixed": fixed[p]})
+                rows.append({**where, "name": n, "value": float(value[index + (p,)]), "stderr": shown_stderr(float(stderr[index + (p,)]), fixed[p]), "unit": specs[n].unit, "fixed": fixed[p], **own})
         return rows
+
+    def _spectrum_statistics(self) -> dict[str, np.ndarray]:
+        """Each spectrum's `SPECTRUM_STATISTICS` over the batch dimensions (C order), as the
+        dataset holds them; NaN for one a file written by an older impedax lacks."""
+        ds = self.dataset
+        return {k: ds[k].transpose(*self.dims).values.astype(float) if k in ds else np.full(ds["rms_rel"].shape, np.nan) for k in SPECTRUM_STATISTICS}
 
     def _repr_html_(self) -> str:
         from ...plotting.html import result_html
@@ -274,6 +283,7 @@ class BatchFitResult:
         return plot_batch(self, title=title)
 
     def summary(self) -> dict:
+        """The JSON of ``impedax fit --json`` for several spectra (docs/fitting.md, "Batch fits")."""
         ds = self.dataset
         return {
             "model": self.model,
@@ -288,7 +298,7 @@ class BatchFitResult:
             "converged_fraction": float(ds["converged"].mean()),
             "at_bound": {str(p): int(n) for p, n in zip(ds["param"].values, ds["at_bound"].values.reshape(ds.sizes["param"], -1).sum(axis=1)) if n},
             "warnings": sorted({w for ws in self.warnings.values() for w in ws}),
-            "warning_kinds": warning_kinds(self.warnings),  # (each kind with its spectra, as report() groups them)
+            "warning_kinds": self._warning_kinds(),  # (each kind with its spectra, as report() groups them)
             "spectra": self._spectrum_rows(),
             "weighting": self.weighting,  # (as a single fit's JSON)
             "user_bounds": bounds_attr(self.user_bounds()),  # (added 2026-12-01, as a single fit's JSON)
@@ -310,30 +320,44 @@ class BatchFitResult:
                 out[n] = (lo, hi)
         return out
 
+    def _warning_kinds(self) -> list[dict]:
+        """`warning_kinds` of the spectra's warnings, each kind also with ``labels``: its spectra's
+        labels as dicts ({dimension: label}, as ``spectra[].labels``; same order as its
+        ``spectra``, the texts "cycle=64"; added 2026-12-01)."""
+        label_of = dict(self._spectrum_keys())
+        return [{**kind, "labels": [label_of.get(place, {}) for place in kind["spectra"]]} for kind in warning_kinds(self.warnings)]
+
+    def _spectrum_keys(self):
+        """(key, labels) of each spectrum in C order: the text `fit_batch` files its warnings
+        under ("cycle=64, cell=a") and its labels as JSON gives them ({dimension: label})."""
+        ds = self.dataset
+        labels = [ds[d].values if d in ds.coords else np.arange(ds.sizes[d]) for d in self.dims]
+        for index in np.ndindex(*(ds.sizes[d] for d in self.dims)):
+            where = {d: labels[i][j] for i, (d, j) in enumerate(zip(self.dims, index))}
+            yield ", ".join(f"{d}={c}" for d, c in where.items()), {d: _json_label(c) for d, c in where.items()}
+
     def _spectrum_rows(self) -> list[dict]:
         """Each spectrum's fit (the JSON's ``spectra``): its label along every batch dimension
         (the position where a dimension has no coordinates), then ``labels`` (dimension → label,
         every dimension, as a KK or DRT batch's rows), ``values``, ``stderr`` (None when fixed or
-        there is none, as `to_table`), ``rms_rel``, ``converged``, ``at_bound`` (names, as a
+        there is none, as `to_table`), ``rms_rel``, ``chi2``, ``chi2_red``, ``aic``, ``bic`` (as a
+        single fit's JSON; added 2026-12-01), ``converged``, ``at_bound`` (names, as a
         single fit's JSON), its ``warnings`` and ``unidentified_groups`` (lists of names, as a
         single fit's JSON; only where the result records them, `unidentified_groups_of`). A dimension named as one of these keys (a batch
         over ``values``) is only under ``labels``: its label would clobber the fit's key."""
         ds = self.dataset
         names = [str(p) for p in ds["param"].values]
         value, stderr, at_bound = (ds[v].transpose(*self.dims, "param").values for v in ("value", "stderr", "at_bound"))
-        rms_rel, converged = (ds[v].transpose(*self.dims).values for v in ("rms_rel", "converged"))
+        statistics = self._spectrum_statistics()
+        converged = ds["converged"].transpose(*self.dims).values
         fixed = ds["fixed"].values.tolist()
-        labels = [ds[d].values if d in ds.coords else np.arange(ds.sizes[d]) for d in self.dims]
         stored_groups = self._stored_groups()
         rows = []
-        for index in np.ndindex(*rms_rel.shape):
-            where = {d: labels[i][j] for i, (d, j) in enumerate(zip(self.dims, index))}
-            key = ", ".join(f"{d}={c}" for d, c in where.items())  # (as `fit_stack` names the spectra its warnings are about)
-            label = {d: _json_label(c) for d, c in where.items()}
+        for index, (key, label) in zip(np.ndindex(*converged.shape), self._spectrum_keys()):  # (key: as `fit_batch` names the spectra its warnings are about)
             own = {
                 "values": {n: float(value[index + (p,)]) for p, n in enumerate(names)},
                 "stderr": {n: shown_stderr(float(stderr[index + (p,)]), fixed[p]) for p, n in enumerate(names)},
-                "rms_rel": float(rms_rel[index]),
+                **{k: float(a[index]) for k, a in statistics.items()},
                 "converged": bool(converged[index]),
                 "at_bound": [n for p, n in enumerate(names) if at_bound[index + (p,)]],
                 "warnings": list(self.warnings.get(key, ())),
@@ -348,7 +372,9 @@ class BatchFitResult:
     def _parameter_lines(self) -> list[str]:
         """The header and the parameter table: one column per spectrum (value and relative
         standard error, as a single fit's table) up to `SPECTRA_AS_COLUMNS` spectra, else the
-        median and 16/84 % quantiles across them."""
+        median and 16/84 % quantiles across them, said to be a spread across the spectra (not
+        an uncertainty), then one row per spectrum up to `SPECTRA_AS_ROWS` (`_spectrum_lines`),
+        beyond that where to find each spectrum's fit."""
         s = self.summary()
         width = column_width(s["params"], 16)
         noun = "spectrum" if self.n_spectra == 1 else "spectra"
@@ -365,9 +391,30 @@ class BatchFitResult:
                 lines.append(f"{p:<{width}} " + " ".join(f"{c:>{col}}" for c in row) + f"  {unit_text(specs[p].unit)}".rstrip())
             lines.append(f"{'rms_rel':<{width}} " + " ".join(f"{r['rms_rel'] * 100:>{col - 2}.3g} %" for r in rows))
             return lines
+        # (the quantiles read like a confidence interval: say what they are)
+        lines.append(f"across the {self.n_spectra} spectra (not uncertainties): median, 16th and 84th percentiles of each parameter's values")
         lines.append(f"{'parameter':<{width}} {'median':>12} {'16%':>12} {'84%':>12}  unit")
         for p, v in s["params"].items():
             lines.append(f"{p:<{width}} {v['median']:>12.5g} {v['q16']:>12.5g} {v['q84']:>12.5g}  {unit_text(specs[p].unit)}".rstrip())
+        if self.n_spectra <= SPECTRA_AS_ROWS:
+            return lines + ["", *self._spectrum_lines(s)]
+        return lines + ["", f"each spectrum's values, standard errors and rms_rel: {EACH_SPECTRUM_WHERE}"]
+
+    def _spectrum_lines(self, s: dict) -> list[str]:
+        """Each spectrum's fit, one row per spectrum (its labels, then each parameter as the
+        columns of a small batch give it: value ± relative standard error, `_cell`; then
+        rms_rel), ``s`` the `summary`."""
+        rows = s["spectra"]
+        heads = [", ".join(f"{d}={c}" for d, c in r["labels"].items()) for r in rows]
+        fixed = {str(p): bool(f) for p, f in zip(self.dataset["param"].values, self.dataset["fixed"].values)}
+        names = list(s["params"])
+        cells = [[_cell(r["values"][p], r["stderr"][p], fixed[p], p in r["at_bound"]) for p in names] + [f"{r['rms_rel'] * 100:.3g} %"] for r in rows]
+        columns = names + ["rms_rel"]
+        widths = [max(len(c), *(len(row[j]) for row in cells)) for j, c in enumerate(columns)]
+        lead = column_width(heads, "spectrum")
+        lines = ["each spectrum's fit (value ± relative standard error):", f"{'spectrum':<{lead}}  " + "  ".join(f"{c:>{w}}" for c, w in zip(columns, widths))]
+        for head, row in zip(heads, cells):
+            lines.append(f"{head:<{lead}}  " + "  ".join(f"{c:>{w}}" for c, w in zip(row, widths)))
         return lines
 
     def _warning_lines(self) -> list[str]:
@@ -380,6 +427,20 @@ SPECTRA_AS_COLUMNS = 6
 """`BatchFitResult.report` gives each spectrum its own column up to this many spectra (6
 columns of 23 characters fit a 160-character line with the names; the 16/84 % quantiles of so
 few values are interpolations between two of them), the median and quantiles beyond."""
+
+
+SPECTRA_AS_ROWS = 20
+"""Beyond `SPECTRA_AS_COLUMNS` and up to this many spectra, `BatchFitResult.report` follows the
+quantiles with one row per spectrum (20 rows stay on one screen); beyond, it says where each
+spectrum's fit is (`EACH_SPECTRUM_WHERE`)."""
+
+EACH_SPECTRUM_WHERE = "batch.to_table() or ix.write_result(batch, 'FILE.csv') (a row per spectrum and parameter), batch.summary()['spectra']"
+"""Where a large batch's report sends the reader for each spectrum's fit (the command line
+gives its own options: `impedax.cli.common.command_line_words`)."""
+
+SPECTRUM_STATISTICS = ("rms_rel", "chi2", "chi2_red", "aic", "bic")
+"""Each spectrum's goodness of fit in a batch's JSON rows and CSV rows, under the keys of a
+single fit's JSON (`FitResult.summary`), so models can be compared spectrum by spectrum."""
 
 
 def _cell(value: float, stderr, fixed: bool, at_bound: bool) -> str:
