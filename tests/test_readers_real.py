@@ -228,3 +228,13 @@ def test_zplot_without_metadata_header(tmp_path):
     assert ds.attrs["format"] == "Scribner ZPlot z"
     np.testing.assert_allclose(ds["Z"].values, z, rtol=1e-6)
     np.testing.assert_array_equal(ds["time"].values, np.arange(29.0))
+
+
+def test_gamry_header_numbers_are_numbers():
+    """The DTA header's QUANT/POTEN values, read as the numbers the file writes (they were kept
+    as text, "-5.00000E-002"): lines 10–15 of the file, VDC −0.05 V, VAC 10 mV rms, area 1 cm²,
+    the sweep from 200 kHz to 20 mHz; the title stays text."""
+    attrs = ix.load(REAL / "exampleDataGamry.DTA").attrs
+    assert attrs["dc_voltage_v"] == -0.05 and attrs["ac_voltage_mv_rms"] == 10.0 and attrs["area_cm2"] == 1.0
+    assert (attrs["initial_frequency_hz"], attrs["final_frequency_hz"]) == (2e5, 0.02)
+    assert isinstance(attrs["title"], str)

@@ -62,7 +62,13 @@ def read_gamry(path: str | Path) -> xr.Dataset:
         elif key == "TAG" and len(cells) >= 2:
             attrs["experiment"] = cells[1].strip()
         elif len(cells) >= 3 and key in _ATTR_KEYS:
-            attrs[_ATTR_KEYS[key]] = cells[2].strip()
+            value = cells[2].strip()
+            if len(cells) > 1 and cells[1].strip() in ("QUANT", "IQUANT", "POTEN"):  # (a number, a potential: "-5.00000E-002" read as -0.05)
+                try:
+                    value = float(value)
+                except ValueError:
+                    pass
+            attrs[_ATTR_KEYS[key]] = value
         i += 1
     if not tables:
         raise DataError("no ZCURVE table (is this an impedance experiment?)", path=path)
