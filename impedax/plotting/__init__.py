@@ -399,11 +399,12 @@ def refresh_legend(ax) -> None:
 
 def plot_spectrum(
     data=None, model=None, *, title: str | None = None, bands=None, data_label="data", model_label="model", residual_labels=("Re", "Im"), model_at_data=None,
+    band_label="model fails", band_color="tab:red",
 ):
     """Nyquist, Bode (|Z|, phase) and, when both are given, relative residuals (Re, Im) of
     ``(Z_model − Z_data)/|Z_data|`` in percent: of ``model_at_data`` (the model at the data's
     frequencies) when given, so that a model drawn on its own grid (`model_curve`) is not
-    interpolated for them. ``bands`` are shaded on the frequency axes.
+    interpolated for them. ``bands`` are shaded on the frequency axes (``band_label``, ``band_color``).
     The axes are Nyquist, |Z|, phase (and residuals), in that order, in either layout
     (`spectrum_layout`)."""
     d, m = _as_arrays(data), _as_arrays(model)
@@ -419,7 +420,7 @@ def plot_spectrum(
         ax_ph.set_xlabel("")
         freq_axes.append(ax_res)
     if bands:
-        shade_bands(freq_axes, bands)
+        shade_bands(freq_axes, bands, label=band_label, color=band_color)
     if title:
         fig.suptitle(title)
     return fig

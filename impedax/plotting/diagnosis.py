@@ -19,6 +19,19 @@ from . import FLAT_NYQUIST, characters_across, equal_aspect, model_curve, nyquis
 __all__ = ["plot_diagnosis", "plot_refinement"]
 
 
+ADEQUATE_BANDS = "misfit no effect explains (adequate)"
+"""The legend of an ``adequate`` diagnosis' failing bands: structured residuals that no candidate
+explains significantly (docs/diagnosis.md, section 5), not a model that fails."""
+
+
+def band_shading(diagnosis) -> tuple[str, str]:
+    """Legend label and colour of ``diagnosis``' failing bands: "model fails" in red, or, when
+    its verdict is ``adequate``, `ADEQUATE_BANDS` in grey, so that figure and verdict agree."""
+    if getattr(diagnosis, "verdict", None) == "adequate":
+        return ADEQUATE_BANDS, "tab:grey"
+    return "model fails", "tab:red"
+
+
 def plot_diagnosis(diagnosis, *, title: str | None = None):
     """Nyquist, Bode and residual panels of the baseline with the failing bands shaded and the
     best suggestion overlaid (matplotlib Figure)."""
@@ -27,6 +40,7 @@ def plot_diagnosis(diagnosis, *, title: str | None = None):
     fig = plot_spectrum(
         (b.frequency, b.z_data), model_curve(b), title=title or f"{b.model}: {diagnosis.verdict} (rms_rel {b.rms_rel * 100:.3g} %)", bands=bands,
         model_label="baseline", residual_labels=("Re (baseline)", "Im (baseline)"), model_at_data=b.z_model,
+        band_label=band_shading(diagnosis)[0], band_color=band_shading(diagnosis)[1],
     )
     _mark_masked(fig.axes[0], diagnosis, fig.axes[1:3])
     best = diagnosis.best
@@ -112,6 +126,7 @@ def plot_refinement(refinement, *, title: str | None = None):
     ax.set_xlim(-0.5, n - 0.5)
     ax.grid(alpha=0.3, which="both")
     shown = list(range(n))[-5:] if n > 5 else list(range(n))
+    named: set[str] = set()  # (each kind of shading is named in the legend of the first row that shows it)
     for row, i in enumerate(shown):
         s = refinement.steps[i]
         a = fig.add_subplot(grid[row + below, 1])
@@ -120,14 +135,20 @@ def plot_refinement(refinement, *, title: str | None = None):
         a.semilogx(s.fit.frequency, r.imag, "s-", ms=2.5, lw=0.7, label="Im")
         a.axhline(0, color="k", lw=0.5)
         if s.diagnosis is not None:
-            # the first row's legend names the shading; the rows below shade alike
-            shade_bands([a], [(band.f_min, band.f_max) for band in s.diagnosis.failing_bands], label="model fails" if row == 0 else None)
+            # red where the step's diagnosis names a missing effect, grey where it is adequate (the verdict in the title)
+            label, color = band_shading(s.diagnosis)
+            bands = [(band.f_min, band.f_max) for band in s.diagnosis.failing_bands]
+            fresh = bool(bands) and label not in named
+            shade_bands([a], bands, label=label if fresh else None, color=color)
+            named.update([label] if fresh else [])
+        else:
+            fresh = False
         change = "start" if s.change == "(start)" else s.change
         head = wrap_model(f"step {i}: {change}  (rms_rel {s.fit.rms_rel * 100:.3g} %)", title_chars)
         a.set_title(head + "\n" + wrap_model(s.model, title_chars), fontsize=8)
         a.set_ylabel("res. [%]", fontsize=8)
         a.grid(alpha=0.3)
-        if row == 0:
+        if row == 0 or fresh:
             a.legend(fontsize=7, ncol=3)
     fig.axes[-1].set_xlabel("frequency [Hz]")
     nyquist = fig.add_subplot(grid[0, :] if across else left[0])

@@ -363,7 +363,8 @@ class Diagnosis:
         if self.masked_points:
             lines.append(f"masked: {len(self.masked_points)} point(s) left out of every fit as the data's own problem ({', '.join(format_frequency(f) for f in self.masked_points[:6])}{', …' if len(self.masked_points) > 6 else ''}; the notes say why).")
         if self.failing_bands:
-            lines.append("where the model fails:")
+            # (adequate: structure no effect of the catalog explains significantly, not a failing model)
+            lines.append("where the model fails:" if self.verdict != Verdict.ADEQUATE else "where the residuals are structured (below what an effect of the catalog explains significantly):")
             for band in self.failing_bands:
                 tag = " [data problem: KK flags this band]" if band.data_problem else ""
                 lines.append(f"  {format_frequency(band.f_min)} – {format_frequency(band.f_max)}: {band.pattern}{tag}")
@@ -392,13 +393,26 @@ class Diagnosis:
                 )
         elif self.candidates and self.verdict == Verdict.ADEQUATE:
             top = self.candidates[0]
-            lines.append(f"no effect improves the fit significantly (best: {top.effect}, ΔAIC {top.delta_aic:+.1f}, rms_rel {top.rms_rel * 100:.3g} %).")
+            lines.append(f"no effect improves the fit significantly (best: {top.effect}, ΔAIC {top.delta_aic:+.1f}, rms_rel {top.rms_rel * 100:.3g} %{self._why_not_significant(top)}).")
         rejected = [s for s in self.candidates if s.warning and s.delta_aic < -DELTA_AIC_MIN][:3]
         for s in rejected:
             lines.append(f"  not proposed: {s.model} (rms_rel {s.rms_rel * 100:.3g} %): {s.warning}")
         for n in self.notes:
             lines.append(f"note: {n}")
         return "\n".join(lines)
+
+    def _why_not_significant(self, candidate: Suggestion) -> str:
+        """Why ``candidate``, whose ΔAIC is beyond `DELTA_AIC_MIN`, is not significant when the
+        second rule (`NOISE_FRACTION_MIN`) holds it back:
+        ``"; it explains 12 % of the noise variance, under the 25 % …"``; empty otherwise."""
+        if candidate.delta_aic >= -DELTA_AIC_MIN:
+            return ""
+        explained = noise_variance_explained(self.baseline, candidate.fit, self)
+        if explained < NOISE_FRACTION_MIN:
+            return (f"; past ΔAIC {-DELTA_AIC_MIN:g}, but it explains {explained:.0%} of the noise variance, under the {NOISE_FRACTION_MIN:.0%} "
+                    f"a significant effect must explain (NOISE_FRACTION_MIN: the fall of mean(|r_k|²/σ_k²) over 2, σ_k the noise above; "
+                    f"ΔAIC is taken over the residuals divided by σ_k too, so it differs from the fits' own AICs that impedax compare gives)")
+        return ""  # (held back by its parameters: the "not proposed" line below says why)
 
     def plot(self, *, title: str | None = None):
         """Nyquist, Bode and residual panels of the baseline with the failing bands shaded and
