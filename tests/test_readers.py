@@ -228,6 +228,28 @@ def test_separators_and_decimal_commas(tmp_path, sep, comma, header):
     assert ("interpretation" in ds.attrs) == (header is None)
 
 
+@pytest.mark.parametrize(
+    "rows, at",
+    [
+        # a European export with '.' thousands in the frequency: 1.259 meant 1259 Hz, read as 1.259
+        (["1.000;108,080;-7,924", "1.259;107,473;-9,660"], "'1.000' has a '.'"),
+        # a US export with ',' thousands and '.' decimals: '1,000' made every comma a decimal mark
+        (["1,000;108.080;-7.924", "1,259;107.473;-9.660"], "'108.080' has a '.'"),
+    ],
+)
+def test_thousands_separators_are_refused_not_read_as_decimals(tmp_path, rows, at):
+    """Before, both files read as 1–1.259 Hz (a thousandth of the truth) and fitted without a
+    word; now one message names the line, column and cell, exit 2 in the CLI."""
+    path = tmp_path / "t.csv"
+    path.write_text("Frequency (Hz);Z' (Ohm);Z'' (Ohm)\n" + "\n".join(rows) + "\n")
+    with pytest.raises(ix.DataError, match=rf"line 2: column .*: {re.escape(at)}, and other numbers of this file a ','") as err:
+        ix.load(path)
+    assert "thousands separator" in str(err.value)
+    from impedax.cli import main
+
+    assert main(["inspect", str(path)]) == 2
+
+
 def test_polar_columns_with_negated_phase_and_radians(tmp_path):
     z = oracle(F_HZ)
     rows = ["frequency,|Z|,-phase"] + [f"{f!r},{abs(zi)!r},{float(-np.degrees(np.angle(zi)))!r}" for f, zi in zip(F_HZ.tolist(), z.tolist())]
