@@ -291,24 +291,36 @@ def test_column_names_of_other_software(tmp_path, header, polar, neg, scale):
 
 
 def test_a_phase_without_unit_that_looks_like_radians_is_noted(tmp_path, capsys):
+    """Radians without a unit beside a |Z| that falls 10.8× (the arc of `oracle`): phases within
+    ±0.894 read as degrees would let |Z| change at most e^((2/π)·0.894·π/180·ln 1e5) = 1.12×
+    (Bode's gain–phase relation), so the file is refused (until 2026-12-01 it was read in degrees
+    with a note). A nearly resistive sample with the same small values and a flat |Z| keeps the
+    note; a unit, or values beyond ±π/2, say what they are."""
     from impedax.cli import main
 
     z = oracle(F_HZ)
     for name, unit, phase in [("rad.csv", "", np.angle(z)), ("radu.csv", " (rad)", np.angle(z)), ("deg.csv", "", np.degrees(np.angle(z)))]:
         rows = [f"{f!r},{abs(zi)!r},{p!r}" for f, zi, p in zip(F_HZ.tolist(), z.tolist(), phase.tolist())]
         (tmp_path / name).write_text("\n".join([f"frequency,|Z|,phase{unit}", *rows]) + "\n")
-    note = ix.load(tmp_path / "rad.csv").attrs["phase_unit_note"]
-    assert "'phase' has no unit" in note and "'phase (rad)'" in note
+    with pytest.raises(ix.DataError, match=r"column 'phase' has no unit, and its values .* cannot be degrees: .* within about 1\.12× .* changes 10\.8×.*'phase \(rad\)'"):
+        ix.load(tmp_path / "rad.csv")
+    assert main(["fit", str(tmp_path / "rad.csv"), "--model", "R0 + R1 || C1"]) == 2
+    capsys.readouterr()
     assert "phase_unit_note" not in ix.load(tmp_path / "radu.csv").attrs  # the unit says radians
     assert "phase_unit_note" not in ix.load(tmp_path / "deg.csv").attrs  # up to 84°: degrees
+    # nearly resistive: phases of −0.3…−1.2 with |Z| within 0.2 %, degrees as likely as radians
+    rows = [f"{f!r},{m!r},{p!r}" for f, m, p in zip(F_HZ.tolist(), [100.0, 100.1, 100.2, 100.15], [-0.3, -1.2, -0.8, -0.5])]
+    (tmp_path / "flat.csv").write_text("\n".join(["frequency,|Z|,phase", *rows]) + "\n")
+    note = ix.load(tmp_path / "flat.csv").attrs["phase_unit_note"]
+    assert "'phase' has no unit" in note and "'phase (rad)'" in note
     # a resistor: the phase never leaves ±0.2°, far from a radian's range
     rows = [f"{f!r},100.0,{p!r}" for f, p in zip(F_HZ.tolist(), [0.1, -0.05, 0.0, -0.15])]
     (tmp_path / "resistor.csv").write_text("\n".join(["frequency,|Z|,phase", *rows]) + "\n")
     assert "phase_unit_note" not in ix.load(tmp_path / "resistor.csv").attrs
-    assert main(["fit", str(tmp_path / "rad.csv"), "--model", "R0 + R1 || C1"]) == 0
+    assert main(["fit", str(tmp_path / "flat.csv"), "--model", "R0"]) == 0
     err = capsys.readouterr().err
-    assert err.count("'phase' has no unit") == 1 and err.startswith(f"impedax: warning: {tmp_path / 'rad.csv'}: column 'phase'")
-    assert main(["inspect", str(tmp_path / "rad.csv")]) == 0
+    assert err.count("'phase' has no unit") == 1 and err.startswith(f"impedax: warning: {tmp_path / 'flat.csv'}: column 'phase'")
+    assert main(["inspect", str(tmp_path / "flat.csv")]) == 0
     captured = capsys.readouterr()
     assert "phase unit note: column 'phase' has no unit" in captured.out and "warning" not in captured.err
 

@@ -233,15 +233,36 @@ def detect_layout(header: Sequence[str], path: Path, line: int | None) -> Layout
     return layout
 
 
-def _radians_note(layout: Layout, phase: np.ndarray) -> dict:
+RADIANS_MODULUS_MARGIN = 3.0
+"""A phase read in degrees that never leaves ±π/2° cannot carry a |Z| that changes by more than
+this × what Bode's gain–phase relation lets such phases change it (`_radians_note`)."""
+
+
+def _radians_note(layout: Layout, phase: np.ndarray, freq: np.ndarray, modulus: np.ndarray, path: Path, line: int | None) -> dict:
     """A ``phase_unit_note`` when a phase column without a unit, read as degrees, holds
     values that look like radians: all within ±π/2 and some beyond ±0.2 (as degrees, a spectrum
-    that never leaves ±1.6° of a resistor's)."""
+    that never leaves ±1.6° of a resistor's). A `DataError` instead when |Z| says they are
+    radians: by Bode's gain–phase relation (d ln|Z|/d ln ω ≈ −(2/π) φ for a minimum-phase
+    impedance) phases within ±max|φ|° change ln|Z| by at most (2/π)·max|φ|·(π/180)·ln(f_max/f_min)
+    across the band; a |Z| that changes by over `RADIANS_MODULUS_MARGIN` × that (a capacitive arc's
+    100× fall beside phases ≤ 1.57) cannot be read in degrees, and impedax does not guess."""
     name = layout.name("phase" if "phase" in layout.columns else "neg_phase")
     found = role_of(name) or fallback_role(name)
     magnitude = np.abs(phase[np.isfinite(phase)])
     if found is None or found[2] or magnitude.size == 0 or magnitude.max() > np.pi / 2 or magnitude.max() < 0.2:
         return {}
+    finite = np.isfinite(freq) & (freq > 0) & np.isfinite(modulus) & (modulus > 0)
+    if finite.sum() >= 2:
+        span = float(np.log(freq[finite].max() / freq[finite].min()))
+        allowed = (2 / np.pi) * np.deg2rad(float(magnitude.max())) * span
+        change = float(np.log(modulus[finite].max() / modulus[finite].min()))
+        if change > RADIANS_MODULUS_MARGIN * allowed:
+            raise DataError(
+                f"column {name!r} has no unit, and its values (all within ±π/2 = ±1.571) cannot be degrees: phases within "
+                f"±{magnitude.max():.3g}° leave |Z| within about {np.exp(allowed):.3g}× across the band, but |Z| changes "
+                f"{np.exp(change):.3g}×; they look like radians: name the column '{name} (rad)' (or '{name} (deg)' if they are degrees)",
+                path=path, line=line,
+            )
     note = (f"column {name!r} has no unit and was read in degrees, but its values all lie within ±π/2 (±1.571), as radians "
             f"would: if they are radians, name the column '{name} (rad)'; if they are degrees (a nearly resistive sample), "
             f"nothing is wrong")
@@ -306,7 +327,7 @@ def spectrum_from_rows(
     else:
         phase = col["phase"] if "phase" in col else -col["neg_phase"]
         z = col["modulus"] * np.exp(1j * np.deg2rad(phase))
-        attrs = {**attrs, **_radians_note(layout, phase)}
+        attrs = {**attrs, **_radians_note(layout, phase, col["frequency"], col["modulus"], path, header_line)}
     attrs = {**attrs, **layout.notes()}
     if layout.ignored:
         attrs.setdefault("other_columns", ", ".join(layout.ignored))
