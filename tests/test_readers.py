@@ -680,3 +680,29 @@ def test_labone_hdf5_several_sweeps(tmp_path):
     ds = ix.load(_labone_h5(tmp_path / "sweeps.h5", [z, 2 * z]))
     assert ds["Z"].dims == ("sweep", "frequency")
     np.testing.assert_allclose(ds["Z"].values, np.stack([z, 2 * z]), rtol=1e-15)
+
+
+@pytest.mark.parametrize(
+    "preamble",
+    [
+        ["Instrument: FooStat 3000", "Date: 2026-11-30", "", "Area: 1 cm²"],  # notes, a blank line
+        ["Instrument,FooStat 3000", "Points,4", "Area (cm2),1"],  # key,value rows in the table's delimiter
+        ["Sample,1,2", "E_dc (V),0.1,0.0"],  # rows of as many cells, some of them numbers
+    ],
+)
+def test_text_above_the_header_is_passed_over_and_named(tmp_path, preamble):
+    """An instrument's or a user's lines above the table: the header is found below them (it was
+    refused as "no frequency column in header ['Instrument:', 'FooStat', '3000']"), the data read
+    as the oracle's, and attrs["preamble"] names the lines passed over."""
+    z = oracle(F_HZ)
+    rows = [f"{f!r},{zi.real!r},{zi.imag!r}" for f, zi in zip(F_HZ.tolist(), z.tolist())]
+    (tmp_path / "m.csv").write_text("\n".join([*preamble, "Frequency (Hz),Z' (Ohm),Z'' (Ohm)", *rows]) + "\n", encoding="utf-8")
+    ds = ix.load(tmp_path / "m.csv")
+    np.testing.assert_allclose(ds["frequency"].values, F_HZ, rtol=1e-15)
+    np.testing.assert_allclose(ds["Z"].values, z, rtol=1e-15)
+    header_line = len(preamble) + 1
+    assert ds.attrs["preamble"].startswith(f"lines 1–{header_line - 1}: text above the table's header (line {header_line})")
+    # a text with no header at all keeps its message
+    (tmp_path / "n.csv").write_text("Instrument: FooStat\nnothing here\n")
+    with pytest.raises(ix.DataError, match="line 1"):
+        ix.load(tmp_path / "n.csv")

@@ -84,6 +84,29 @@ def _read_canonical(path: Path, raw: bytes) -> xr.Dataset | None:
     return finish(path, freq, table[:, 1] + 1j * table[:, 2], lines, {"format": "delimited text", **layout.notes()})
 
 
+PREAMBLE_LINES_MAX = 100
+"""How far below the first line `read_csv` looks for a table's header when the first line is
+not one (an instrument's or a user's notes above the table: ``Instrument: FooStat 3000``)."""
+
+
+def _header_below(lines: list[tuple[int, str]], path: Path) -> tuple[int, str, Layout] | None:
+    """(index into ``lines``, delimiter, layout) of the first line within `PREAMBLE_LINES_MAX`
+    below the first that reads as a spectrum header and is followed by a row of as many numbers,
+    or None."""
+    for at in range(1, min(len(lines) - 1, PREAMBLE_LINES_MAX)):
+        number, text = lines[at]
+        delimiter = find_delimiter(text)
+        cells = split_line(text, delimiter)
+        following = split_line(lines[at + 1][1], delimiter)
+        if len(cells) < 2 or len(following) != len(cells) or not all(_NUMBER.fullmatch(c.strip().strip('"')) for c in following if c.strip()):
+            continue
+        try:
+            return at, delimiter, detect_layout(cells, path, number)
+        except DataError:
+            continue
+    return None
+
+
 def read_csv(path: str | Path) -> xr.Dataset:
     """Read one spectrum from delimited text. Errors name the file and line."""
     path = Path(path)
@@ -113,7 +136,15 @@ def read_csv(path: str | Path) -> xr.Dataset:
         rows = lines
         attrs["interpretation"] = HEADERLESS_NOTE
     else:
-        layout = detect_layout(cells, path, header_no)
+        try:
+            layout = detect_layout(cells, path, header_no)
+        except NoLayout:
+            below = _header_below(lines, path)
+            if below is None:
+                raise
+            at, delimiter, layout = below
+            attrs["preamble"] = f"lines {lines[0][0]}–{lines[at][0] - 1}: text above the table's header (line {lines[at][0]}), not read: {lines[0][1].strip()[:60]!r} …"
+            header_no, lines = lines[at][0], lines[at:]
         rows = lines[1:]
     comma = decimal_comma([c for _, ln in rows[:20] for c in split_line(ln, delimiter)], delimiter)
     if comma:
