@@ -27,6 +27,11 @@ POSITIVE_SHARE = 0.9
 """Z'' > 0 at at least this share of the points ("nearly all")."""
 FAILED_SHARE = 0.8
 """A validity test fails "(almost) everywhere" when it flags at least this share of the points."""
+RESISTIVE_PHASE = 0.02
+"""Points whose |Z''| is below this share of |Z| (a phase within ~1.1° of a resistor's: a DC
+plateau, a series resistance's end) say nothing of the sign of the imaginary part: their noise
+sets it. The share of `positive_imaginary_evidence` is counted over the others (a flipped arc
+with a resistive plateau at 1 mHz: Z'' > 0 at 87.7 % of all points, at every one of the others)."""
 _FALLING = 0.25
 """|Z| falls with frequency when Δln|Z| over the band is below −this × (2/π)∫φ d ln ω (for
 minimum-phase data the two are about equal)."""
@@ -34,15 +39,17 @@ minimum-phase data the two are about equal)."""
 
 def positive_imaginary_evidence(freq, z) -> str | None:
     """Why ``z`` looks conjugated from its values alone, or None: Z'' > 0 at nearly all points
-    (`POSITIVE_SHARE`) while |Z| falls with frequency (an inductive spectrum's rises)."""
+    (`POSITIVE_SHARE`; of those not nearly resistive, `RESISTIVE_PHASE`) while |Z| falls with
+    frequency (an inductive spectrum's rises)."""
     freq = np.asarray(freq, float)
     z = np.asarray(z, complex)
     keep = np.isfinite(freq) & np.isfinite(z) & (freq > 0) & (np.abs(z) > 0)
     freq, z = freq[keep], z[keep]
     if freq.size < 3 or np.ptp(np.log(freq)) == 0:
         return None
-    positive = int(np.count_nonzero(z.imag > 0))
-    if positive < POSITIVE_SHARE * freq.size:
+    telling = np.abs(z.imag) >= RESISTIVE_PHASE * np.abs(z)
+    positive = int(np.count_nonzero(telling & (z.imag > 0)))
+    if telling.sum() < 3 or positive < POSITIVE_SHARE * telling.sum():
         return None
     order = np.argsort(freq)
     x = np.log(freq[order])
@@ -51,7 +58,8 @@ def positive_imaginary_evidence(freq, z) -> str | None:
     expected = (2 / math.pi) * float(np.sum((phase[1:] + phase[:-1]) / 2 * np.diff(x)))  # > 0: the phase says |Z| rises
     if not (expected > 0 and rise < -_FALLING * expected):
         return None
-    return f"Z'' > 0 at {positive} of {freq.size} points while |Z| falls with frequency, which no passive circuit does"
+    shown = f"{positive} of {freq.size} points" if telling.all() else f"{positive} of the {int(telling.sum())} points not nearly resistive (|Z''| at least {RESISTIVE_PHASE:g}·|Z|)"
+    return f"Z'' > 0 at {shown} while |Z| falls with frequency, which no passive circuit does"
 
 
 def negative_real_evidence(freq, z) -> str | None:
