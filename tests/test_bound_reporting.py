@@ -285,3 +285,26 @@ def test_the_batch_plot_draws_no_error_bar_for_a_value_at_its_bound():
     assert marked.get_xdata().tolist() == [0]
     plt = __import__("matplotlib.pyplot").pyplot
     plt.close(fig)
+
+
+def test_a_value_within_two_standard_errors_of_its_bound_says_its_interval_is_not_symmetric():
+    """SYNTHETIC R0 + R1 ∥ CPE1 with R0 = 1 mΩ beside 1 kΩ (Q 1e-5, α 0.85), 0.1 % complex noise,
+    seed 3: R0 = 0.0016 ± 0.00094 Ω, off its bound 0 but within 2σ of it, so R0 ± 2σ reaches
+    below 0 where no resistance lies; the note says so (single and batch alike) and names the
+    posterior. With R0 = 50 Ω, far from 0, no such note."""
+    f = np.logspace(-2, 5, 50)
+    w = 2 * np.pi * f
+
+    def spectrum(r0, seed):
+        rng = np.random.default_rng(seed)
+        z = r0 + 1000 / (1 + 1000 * 1e-5 * (1j * w) ** 0.85)
+        return z * (1 + 0.001 * (rng.normal(size=f.size) + 1j * rng.normal(size=f.size)))
+
+    z = spectrum(1e-3, 3)
+    single = ix.fit("R0 + R1 || CPE1", ix.make_spectrum(f, z))
+    value, error = single.values["R0"], single.stderr["R0"]
+    assert 0 < value < 2 * error  # (off 0, within 2σ of it)
+    (note,) = [w for w in single.warnings if "not symmetric" in w]
+    assert note.startswith(f"R0 = {value:.3g} ± {error:.2g} Ω lies within 2 standard errors of its lower bound 0") and "impedax sample" in note
+    batch = ix.fit("R0 + R1 || CPE1", ix.make_spectrum(f, np.stack([z, spectrum(50.0, 3)]), dims=("copy",)))
+    assert note in batch.warnings["copy=0"] and not any("not symmetric" in w for w in batch.warnings.get("copy=1", ()))

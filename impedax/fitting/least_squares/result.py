@@ -25,7 +25,7 @@ from .starts import attainable_misfit, inward_start, rms_rel_of
 __all__ = [
     "FitResult", "fit_result", "fit_notes", "parameter_groups", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes",
     "misfit_notes", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
-    "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "without_error", "STDERR_NOTE", "LINEARISED_STDERR_NAME", "data_difference", "stored_bounds", "user_bounds",
+    "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "without_error", "near_bound_notes", "STDERR_NOTE", "LINEARISED_STDERR_NAME", "data_difference", "stored_bounds", "user_bounds",
     "embedded_fit", "fit_from_embedded", "bounds_attr",
 ]
 
@@ -981,9 +981,35 @@ def fit_notes(
     z_rows = None if z is None else np.asarray(z)[None]
     on, exactly = on_bound(table, x, sides, freq, z_rows), on_bound(table, x, sides, freq, z_rows, NUMERICALLY_ON_FRACTION)
     notes += [_bound_note_of(table, 0, j, x, e, sides, on, exactly) for j in np.flatnonzero(sides[0]).tolist()]
+    if finite:
+        notes += [note for _, note in near_bound_notes(table, x, e, sides)]
     if not converged:
         notes.insert(0, f"fit did not converge: {message}")
     return tuple(notes)
+
+
+def near_bound_notes(table: ParameterTable, values: np.ndarray, stderr: np.ndarray, sides: np.ndarray) -> list[tuple[int, str]]:
+    """(fit, note) for each free parameter of fits with values and stderr (B, P) that is not at a
+    bound (``sides`` (B, K) zero) and not undetermined, yet within `BOUND_STDERR_FRACTION`
+    standard errors of a finite bound (`bound_sides`: R0 = 0.00125 ± 0.00109 Ω beside 0, α =
+    0.99995 ± 0.0006 beside 1): its ± interval crosses the bound, where no value lies, so it is
+    not the symmetric interval it reads as; a statistician's audit found 103 of 122 such R0
+    values (true 1 mΩ) reported without a word. The note names the posterior as the honest one."""
+    values, stderr = np.atleast_2d(values), np.atleast_2d(stderr)
+    near = (bound_sides(table, values, stderr) != 0) & (np.asarray(sides) == 0) & ~undetermined_mask(table, values, stderr, sides)
+    out = []
+    for b, j in np.argwhere(near).tolist():
+        i = table.free_index[j]
+        value, error = float(values[b, i]), float(stderr[b, i])
+        lo, hi = float(table.lower[i]), float(table.upper[i])
+        side, bound = ("upper", hi) if math.isfinite(hi) and abs(hi - value) <= BOUND_STDERR_FRACTION * error else ("lower", lo)
+        u = unit_text(table.units[i])
+        u = f" {u}" if u else ""
+        out.append((b, (
+            f"{table.names[i]} = {value:.3g} ± {error:.2g}{u} lies within {BOUND_STDERR_FRACTION:g} standard errors of its {side} bound {bound:g}: "
+            "the ± is not symmetric there (no value lies beyond the bound); for an honest interval, sample the posterior (impedax sample)"
+        )))
+    return out
 
 
 def stack_notes(
@@ -1013,6 +1039,8 @@ def stack_notes(
     on, exactly = on_bound(table, values, sides, freq, z), on_bound(table, values, sides, freq, z, NUMERICALLY_ON_FRACTION)
     for b, i in np.argwhere(sides != 0).tolist():
         notes[b].append(_bound_note_of(table, b, i, values, stderr, sides, on, exactly))
+    for b, note in near_bound_notes(table, values, stderr, sides):
+        notes[b].append(note)
     return {b: tuple(n) for b, n in notes.items()}
 
 
