@@ -13,7 +13,7 @@ import numpy as np
 import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
-from ...data import checked_frequencies, column_width, concise_repr, format_quantity, format_relative_error, unit_text
+from ...data import checked_frequencies, column_width, concise_repr, format_frequency, format_quantity, format_relative_error, unit_text
 from ...errors import DataError
 from ..kk import kk_verdicts
 from ..parameters import ParameterTable, data_scales
@@ -24,7 +24,7 @@ from .starts import attainable_misfit, inward_start, rms_rel_of, well_inside
 
 __all__ = [
     "FitResult", "fit_result", "fit_notes", "parameter_groups", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes",
-    "misfit_notes", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
+    "misfit_notes", "uneven_residual_notes", "residual_band_rms", "UNEVEN_BAND_POINTS", "UNEVEN_RESIDUAL_RATIO", "UNEVEN_NOISE_NOTE", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
     "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "without_error", "near_bound_notes", "STDERR_NOTE", "LINEARISED_STDERR_NAME", "data_difference", "stored_bounds", "user_bounds",
     "embedded_fit", "fit_from_embedded", "bounds_attr",
 ]
@@ -720,6 +720,81 @@ def weighting_notes(weighting: str, freq, points: np.ndarray, share) -> list[tup
             f"the {weighting} weighting gives {int(row.sum())} of {row.size} points {s * 100:.0f}% of the weight ({where}): "
             "the fit is dominated by them; consider weighting='modulus'",
         ))
+    return out
+
+
+# a fit's weighted residuals are compared band by band (`uneven_residual_notes`) in bands of this
+# many consecutive frequencies (the last band takes the remainder of fewer): a fixed count, not a
+# decade, so that one threshold holds at any point density (a band's rms² of 2×8 real residuals
+# scatters as χ²₁₆/16 under uniform noise, its rms within 0.5–1.4× of the truth at 99.8 %), and
+# fine enough to place noise that changes within two decades (`LOCAL_WINDOW` of the diagnosis's
+# noise estimate is 9 for the same reason)
+UNEVEN_BAND_POINTS = 8
+# ... and a fit is told that the noise its weighting assumes is uneven where the largest band's rms
+# exceeds the smallest's by more than this. Measured 2026-12-01 (SYNTHETIC R0 + R1 ∥ CPE1 and
+# R0 + R1 ∥ CPE1 + R2 ∥ CPE2, 50 and 60 points over 7 decades, uniform complex noise 0.2–2 % of
+# |Z| log-uniform, modulus weighting; 200 batch fits and 50 single fits): the ratio's median 1.55,
+# 99th percentile 2.35, largest 2.53, no warning; pure noise in bands of 8 points stays above 4×
+# in 0.1 % of spectra of 400 points (50 bands), never at 50. The audit's uneven case (noise 5×
+# larger below 1 Hz, 0.2 % and 1 % base): ratio median 6.4, warned in 147 of 150 spectra (98 %)
+UNEVEN_RESIDUAL_RATIO = 4.0
+# ... checked for these weightings only: theirs is a noise model (σ ∝ |Z|; the stated σ), while
+# unit and proportional weights are not meant as one (`weighting_notes` speaks for them)
+UNEVEN_CHECKED_WEIGHTINGS = ("modulus", "sigma")
+UNEVEN_NOISE_NOTE = "the standard errors assume the noise is uniform after the weighting"
+
+
+def residual_band_rms(freq, z, z_model, inv_re, inv_im) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The rms of the weighted residuals ((ΔRe·inv_re, ΔIm·inv_im), both counted) of fits
+    z_model (B, N) of spectra z (B, N) in bands of `UNEVEN_BAND_POINTS` consecutive frequencies
+    (ascending; a last band of fewer joins the one before): (B, bands) rms, and each band's
+    lowest and highest frequency [Hz]."""
+    freq = np.asarray(freq, float)
+    order = np.argsort(freq)
+    z, z_model = np.atleast_2d(z)[:, order], np.atleast_2d(z_model)[:, order]
+    inv_re = np.broadcast_to(np.atleast_2d(inv_re), z.shape)[:, order]
+    inv_im = np.broadcast_to(np.atleast_2d(inv_im), z.shape)[:, order]
+    n_bands = max(freq.size // UNEVEN_BAND_POINTS, 1)
+    edges = np.arange(n_bands + 1) * UNEVEN_BAND_POINTS
+    edges[-1] = freq.size
+    with np.errstate(all="ignore"):  # (an overflowed fit's rms is inf: no note)
+        dz = z_model - z
+        squared = (dz.real * inv_re) ** 2 + (dz.imag * inv_im) ** 2
+        rms = np.stack([np.sqrt(np.mean(squared[:, a:b], axis=-1) / 2.0) for a, b in zip(edges[:-1], edges[1:])], axis=-1)
+    f = freq[order]
+    return rms, f[edges[:-1]], f[edges[1:] - 1]
+
+
+def uneven_residual_notes(freq, z, z_model, inv_re, inv_im, weighting: str, misfit=None) -> list[tuple[str, ...]]:
+    """The warning of each fit z_model (B, N) of spectra z (B, N) whose weighted residuals
+    (inverse weights inv_re, inv_im as `problem.weights`) are over `UNEVEN_RESIDUAL_RATIO`× larger
+    in rms in one band of frequencies than in another (`residual_band_rms`): the standard errors
+    assume the weighting's noise is the same everywhere, so they are wrong there (an audit's
+    SYNTHETIC R0 + R1 ∥ CPE1 with noise 5× larger below 1 Hz: R1's 1σ interval held the truth
+    in 42 % of spectra, the sigma weighting's in 65–71 %). Only for `UNEVEN_CHECKED_WEIGHTINGS`,
+    and none where ``misfit`` (`misfit_notes`, one tuple per fit) has a note other than that the
+    data limit the fit (`DATA_LIMIT_NOTE`, whose noise may be the uneven one): a model that misses
+    structure concentrates its residuals where it fails, and that note says so and where to look;
+    one over the data's σ already asks for the sigma weighting.
+    The text names the bands and the threshold, not the fit's ratio, so that a batch's fit
+    gives a single fit's text (as `misfit_notes`)."""
+    z = np.atleast_2d(z)
+    out: list[tuple[str, ...]] = [()] * len(z)
+    if weighting not in UNEVEN_CHECKED_WEIGHTINGS or np.asarray(freq).size < 2 * UNEVEN_BAND_POINTS:
+        return out
+    rms, lo, hi = residual_band_rms(freq, z, z_model, inv_re, inv_im)
+    for i, row in enumerate(rms):
+        if (misfit is not None and misfit[i] and DATA_LIMIT_NOTE not in misfit[i][0]) or not np.all(np.isfinite(row)):
+            continue
+        loud, quiet = int(np.argmax(row)), int(np.argmin(row))
+        if not row[loud] > UNEVEN_RESIDUAL_RATIO * row[quiet]:
+            continue
+        out[i] = (
+            f"the weighted residuals are over {UNEVEN_RESIDUAL_RATIO:g}× larger (rms) at {format_frequency(lo[loud])} – {format_frequency(hi[loud])} than at {format_frequency(lo[quiet])} – {format_frequency(hi[quiet])}: "
+            f"{UNEVEN_NOISE_NOTE} ({weighting} weighting), so they are not to be trusted; if the noise is larger there, give sigma "
+            "(impedax fit --weighting sigma with a sigma column; make_spectrum(sigma=...)) or use impedax sample; "
+            "if the model misses something there, a diagnosis (impedax diagnose) shows what",
+        )
     return out
 
 
