@@ -17,19 +17,9 @@ import xarray as xr  # noqa: E402
 
 import impedax as ix  # noqa: E402
 from impedax.plotting import label_spectra_axis  # noqa: E402
+from tick_labels import labels_in_view  # noqa: E402
 
 DAYS = np.arange(1, 11)
-
-
-def labels_in_view(axis, renderer):
-    """(text, box) of the visible, non-empty tick labels of ``axis`` (major and minor) in view."""
-    lo, hi = sorted(axis.get_view_interval())
-    out = []
-    for tick in [*axis.get_major_ticks(), *axis.get_minor_ticks()]:
-        label = tick.label1
-        if label.get_visible() and label.get_text() and lo <= tick.get_loc() <= hi:
-            out.append((label.get_text(), label.get_window_extent(renderer)))
-    return out
 
 
 def assert_apart(axis, renderer) -> list[str]:

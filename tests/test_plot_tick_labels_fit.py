@@ -13,21 +13,11 @@ import numpy as np  # noqa: E402
 
 from impedax.plotting import equal_aspect, nyquist_frame  # noqa: E402
 from impedax.plotting.bayes import plot_corner  # noqa: E402
-
-
-def shown_labels(axis, renderer):
-    """(text, box) of the visible, non-empty tick labels of ``axis`` (major and minor) in view."""
-    lo, hi = sorted(axis.get_view_interval())
-    out = []
-    for tick in [*axis.get_major_ticks(), *axis.get_minor_ticks()]:
-        label = tick.label1
-        if label.get_visible() and label.get_text() and lo <= tick.get_loc() <= hi:
-            out.append((label.get_text(), label.get_window_extent(renderer)))
-    return out
+from tick_labels import labels_in_view  # noqa: E402
 
 
 def assert_no_overlap(axis, renderer):
-    labels = shown_labels(axis, renderer)
+    labels = labels_in_view(axis, renderer)
     for i, (a, box_a) in enumerate(labels):
         for b, box_b in labels[i + 1 :]:
             assert not box_a.overlaps(box_b), f"tick labels {a!r} and {b!r} overlap"
