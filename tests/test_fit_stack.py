@@ -134,8 +134,8 @@ def test_stack_notes_equal_the_notes_of_one_fit(rng):
         one = fit_notes(TABLE, dict(zip(names, values[b].tolist())), dict(zip(names, stderr[b].tolist())), corr[b], [], 1.0, finite=True, converged=True, message="")
         assert got.get(b, ()) == one and (b in got) == bool(one)
         kinds |= {w.split(" ")[-1] for w in one}
-    # every kind of note was exercised: correlation (both texts; a CPE's Q and α with their errors), undetermined, either bound
-    assert {"apart", "correlation)", "data", "0.95", "50", "1"} <= kinds
+    # every kind of note was exercised: correlation (both texts; a CPE's Q and α with their errors), undetermined, either bound, near a bound
+    assert {"posterior's", "sample)", "correlation)", "data", "0.95", "50", "1"} <= kinds  # ("posterior's": two elements' pair, `correlated_note`)
     assert np.any(np.abs(corr) > CORRELATION_LIMIT)
 
 
