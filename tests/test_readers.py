@@ -706,3 +706,18 @@ def test_text_above_the_header_is_passed_over_and_named(tmp_path, preamble):
     (tmp_path / "n.csv").write_text("Instrument: FooStat\nnothing here\n")
     with pytest.raises(ix.DataError, match="line 1"):
         ix.load(tmp_path / "n.csv")
+
+
+def test_a_comment_line_inside_the_table_is_reported_among_the_skipped_rows():
+    """'# electrode re-seated here' between two rows was dropped without a word ("skipped rows:
+    none"); it is still not read, and now named with its line."""
+    import tempfile
+
+    z = oracle(F_HZ)
+    rows = [f"{f!r},{zi.real!r},{zi.imag!r}" for f, zi in zip(F_HZ.tolist(), z.tolist())]
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "c.csv"
+        path.write_text("\n".join(["# exported by hand", "frequency,Z',Z''", *rows[:2], "# electrode re-seated here", *rows[2:]]) + "\n")
+        ds = ix.load(path)
+    np.testing.assert_allclose(ds["Z"].values, z, rtol=1e-15)
+    assert ds.attrs["skipped_rows"] == ["line 5: comment line ('# electrode re-seated here')"]  # (the one above the header is no row)

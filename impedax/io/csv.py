@@ -21,7 +21,7 @@ import xarray as xr
 
 from ..arguments import number_text
 from ..errors import DataError
-from ._common import decimal_comma, decode_text, finish, read_bytes
+from ._common import Skipped, decimal_comma, decode_text, finish, read_bytes
 from .atomic import atomic_path
 from .table import SWEEP_RTOL, Layout, NoLayout, detect_layout, spectrum_from_rows
 
@@ -84,6 +84,10 @@ def _read_canonical(path: Path, raw: bytes) -> xr.Dataset | None:
     return finish(path, freq, table[:, 1] + 1j * table[:, 2], lines, {"format": "delimited text", **layout.notes()})
 
 
+COMMENT_MARKS = ("#", "%", "!")
+"""A line of delimited text starting with one of these is a comment: not read; inside the table
+it is reported among the skipped rows."""
+
 PREAMBLE_LINES_MAX = 100
 """How far below the first line `read_csv` looks for a table's header when the first line is
 not one (an instrument's or a user's notes above the table: ``Instrument: FooStat 3000``)."""
@@ -118,7 +122,8 @@ def read_csv(path: str | Path) -> xr.Dataset:
         text = decode_text(raw, path)
     except DataError:
         raise NoLayout("its bytes are not text (UTF-8, Latin-1 or UTF-16)", path=path) from None
-    lines = [(i + 1, ln) for i, ln in enumerate(text.splitlines()) if ln.strip() and not ln.lstrip().startswith(("#", "%", "!"))]
+    all_lines = text.splitlines()
+    lines = [(i + 1, ln) for i, ln in enumerate(all_lines) if ln.strip() and not ln.lstrip().startswith(COMMENT_MARKS)]
     if not lines:
         raise NoLayout("file is empty (no header, no data)", path=path)
     header_no, header = lines[0]
@@ -149,7 +154,12 @@ def read_csv(path: str | Path) -> xr.Dataset:
     comma = decimal_comma([c for _, ln in rows[:20] for c in split_line(ln, delimiter)], delimiter)
     if comma:
         attrs["decimal_mark"] = "comma"
-    return spectrum_from_rows(path, layout, [(n, split_line(ln, delimiter)) for n, ln in rows], attrs, comma=comma, delimiter=delimiter, header_line=header_no, split_sweeps=True)
+    skipped = Skipped()  # (a comment line inside the table, "# electrode re-seated here", is reported, not dropped unseen)
+    last = rows[-1][0] if rows else header_no
+    for number, text_line in enumerate(all_lines[header_no:last], start=header_no + 1):
+        if text_line.lstrip().startswith(COMMENT_MARKS):
+            skipped.add(number, f"comment line ({text_line.strip()[:40]!r})")
+    return spectrum_from_rows(path, layout, [(n, split_line(ln, delimiter)) for n, ln in rows], attrs, comma=comma, delimiter=delimiter, header_line=header_no, split_sweeps=True, skipped=skipped)
 
 
 def write_csv(ds: xr.Dataset, path: str | Path | None = None, *, delimiter: str = ",") -> str:
