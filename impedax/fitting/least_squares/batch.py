@@ -334,7 +334,7 @@ class BatchFitResult:
         labels = [ds[d].values if d in ds.coords else np.arange(ds.sizes[d]) for d in self.dims]
         for index in np.ndindex(*(ds.sizes[d] for d in self.dims)):
             where = {d: labels[i][j] for i, (d, j) in enumerate(zip(self.dims, index))}
-            yield ", ".join(f"{d}={c}" for d, c in where.items()), {d: _json_label(c) for d, c in where.items()}
+            yield labels_key(where), {d: _json_label(c) for d, c in where.items()}
 
     def _spectrum_rows(self) -> list[dict]:
         """Each spectrum's fit (the JSON's ``spectra``): its label along every batch dimension
@@ -382,7 +382,7 @@ class BatchFitResult:
         specs = self.circuit.parameter_specs(self.registry)
         if self.n_spectra <= SPECTRA_AS_COLUMNS:
             rows = s["spectra"]
-            heads = [", ".join(f"{d}={c}" for d, c in r["labels"].items()) for r in rows]
+            heads = [labels_key(r["labels"]) for r in rows]
             fixed = {str(p): bool(f) for p, f in zip(self.dataset["param"].values, self.dataset["fixed"].values)}
             cells = [[_cell(r["values"][p], r["stderr"][p], fixed[p], p in r["at_bound"]) for r in rows] for p in s["params"]]
             col = max(22, *(len(h) for h in heads), *(len(c) for row in cells for c in row))
@@ -405,7 +405,7 @@ class BatchFitResult:
         columns of a small batch give it: value ± relative standard error, `_cell`; then
         rms_rel), ``s`` the `summary`."""
         rows = s["spectra"]
-        heads = [", ".join(f"{d}={c}" for d, c in r["labels"].items()) for r in rows]
+        heads = [labels_key(r["labels"]) for r in rows]
         fixed = {str(p): bool(f) for p, f in zip(self.dataset["param"].values, self.dataset["fixed"].values)}
         names = list(s["params"])
         cells = [[_cell(r["values"][p], r["stderr"][p], fixed[p], p in r["at_bound"]) for p in names] + [f"{r['rms_rel'] * 100:.3g} %"] for r in rows]
@@ -427,6 +427,12 @@ SPECTRA_AS_COLUMNS = 6
 """`BatchFitResult.report` gives each spectrum its own column up to this many spectra (6
 columns of 23 characters fit a 160-character line with the names; the 16/84 % quantiles of so
 few values are interpolations between two of them), the median and quantiles beyond."""
+
+
+def labels_key(labels) -> str:
+    """A spectrum's labels ({dimension: label}) as `fit_batch` files its warnings under them and
+    the report heads its rows: "cycle=64, cell=a"."""
+    return ", ".join(f"{d}={c}" for d, c in labels.items())
 
 
 SPECTRA_AS_ROWS = 20
