@@ -672,18 +672,18 @@ def test_drive_voltage_outside_the_papers_range_is_warned(monkeypatch):
 
 
 def test_gap_voltage_beyond_air_breakdown_is_warned():
-    """V_gap = u √(2F/(ε0 A)) at the peak of the median force (eq 1 solved for it), against air's
-    Paschen minimum (~330 V)."""
+    """V_gap = u √(2F/(ε0 ε_gap A)) at the peak of the median force (eq 1 solved for it), against
+    air's Paschen minimum (~330 V)."""
     from impedax.models.gap import _gap_breakdown_notes
 
     f = np.array([10.0, 250.0, 1e4])
     u, area = 5e-6, 200e-6
 
     def force(v_peak):
-        f_peak = 0.5 * EPS0 * area * v_peak**2 / u**2
+        f_peak = 0.5 * EPS0 * 1.00059 * area * v_peak**2 / u**2
         median = np.array([[f_peak / 4, f_peak, f_peak / 2], [1.0, 1.0, 1.0]])
         return xr.Dataset({"median": (("branch", "frequency"), median)}, coords={"branch": ["with_ep", "without_ep"], "frequency": f})
 
-    notes = _gap_breakdown_notes(force(65e3), u, area)
+    notes = _gap_breakdown_notes(force(65e3), u, area, 1.00059)
     assert len(notes) == 1 and "at the force's peak (250 Hz) the air gap carries 6.5e+04 V across u = 5 µm" in notes[0]
-    assert _gap_breakdown_notes(force(300.0), u, area) == []
+    assert _gap_breakdown_notes(force(300.0), u, area, 1.00059) == []

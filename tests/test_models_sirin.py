@@ -171,10 +171,13 @@ def test_force_with_and_without_ep():
     assert without.max() == pytest.approx(without[0], rel=1e-2)
     above = F61 >= 250
     assert np.all(np.diff(without[above]) < 0) and without[F61 >= 1e4][0] < 0.5 * without.max()
-    # eq 1 by hand at 1 Hz, no EP: 1/2 eps0 A |dV|^2 / u^2, u from C_gap
+    # eq 1 by hand, no EP: 1/2 eps0 eps_gap A |dV|^2 / u^2 = 1/2 C_gap |dV|^2 / u, u from C_gap
     u = E0 * 1.00059 * 130e-6 / 413e-12
     dv = _node_voltage_gap(1 / (2j * np.pi * F61 * 413e-12))
-    np.testing.assert_allclose(without, 0.5 * E0 * 130e-6 * np.abs(dv) ** 2 / u**2, rtol=1e-10)
+    np.testing.assert_allclose(without, 0.5 * 413e-12 * np.abs(dv) ** 2 / u, rtol=1e-10)
+    # another gap medium (eps_gap 3): the same C_gap gives a 3x thicker gap and, by 1/2 C V^2/u, a third of the force
+    third = np.asarray(sirin.gap_force_peak(params, F61, SKIN, TS, ep=None, eps_gap=3.0))
+    np.testing.assert_allclose(third, 0.5 * 413e-12 * np.abs(dv) ** 2 / (E0 * 3.0 * 130e-6 / 413e-12), rtol=1e-10)
     np.testing.assert_allclose(np.asarray(sirin.gap_force_time_average(params, F61, SKIN, TS, ep=None)), without / 2, rtol=1e-12)
 
 

@@ -44,12 +44,12 @@ def remainder_numpy(params, f=F61):
 
 
 def force_numpy(params, skin=SKIN, ts=TS, f=F61, v0=75.0):
-    """Sirin eq 1 at the amplitude, F = ½ ε0 A |ΔV|²/u², with the node equations (the voltage
-    across the parallel remainder is ΔV = V0 Z_R/(Z_TS + Z_R + Z_skin))."""
+    """Sirin eq 1 at the amplitude with the gap's permittivity, F = ½ ε0 ε_gap A |ΔV|²/u², with
+    the node equations (the voltage across the parallel remainder is ΔV = V0 Z_R/(Z_TS + Z_R + Z_skin))."""
     z_r = remainder_numpy(params, f)
     dv = v0 * z_r / (ts + z_r + skin)
     u = E0 * EPS_AIR * AREA / params["C_gap"]
-    return 0.5 * E0 * AREA * np.abs(dv) ** 2 / u**2
+    return 0.5 * E0 * EPS_AIR * AREA * np.abs(dv) ** 2 / u**2
 
 
 # --- 1. the remainder is read from the parameter names -----------------------------------------

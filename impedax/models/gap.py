@@ -475,7 +475,7 @@ def gap_analysis(
     force["median"].attrs.update(units="N", convention=FORCE_CONVENTION)
     u_draws = posterior.parameter_draws()["u"]
     notes += _bound_notes(u_draws, reparametrization, area)
-    notes += _gap_breakdown_notes(force, float(np.median(u_draws)), area)
+    notes += _gap_breakdown_notes(force, float(np.median(u_draws)), area, eps_gap)
     notes += [f"EDL fit: {w}" for w in edl.warnings] + [f"sampling: {w}" for w in posterior.warnings if not w.startswith("least-squares start")]
     notes += _estimate_bound_notes("Bayesian gap thickness", float(np.median(u_draws)), paper, remaining, f"; draws span {_um(u_draws.min())}–{_um(u_draws.max())} µm")
     known_kk: dict[int, float] = {}
@@ -576,12 +576,12 @@ def _drive_voltage_notes(v0: float) -> list[str]:
     return [f"v0 = {v0:g} V (--v0) is {why}; analysed as given: the force scales with V0²"]
 
 
-def _gap_breakdown_notes(force: xr.Dataset, u: float, area: float) -> list[str]:
+def _gap_breakdown_notes(force: xr.Dataset, u: float, area: float, eps_gap: float) -> list[str]:
     """A warning when the air gap's voltage at the peak of the median force (with EP), V_gap =
-    u √(2F/(ε0 A)) (eq 1 solved for it), exceeds `AIR_BREAKDOWN_V`: such a gap breaks down."""
+    u √(2F/(ε0 ε_gap A)) (eq 1 solved for it), exceeds `AIR_BREAKDOWN_V`: such a gap breaks down."""
     peak = force.sel(branch="with_ep")["median"]
     i = int(np.argmax(peak.values))
-    v_gap = u * math.sqrt(2.0 * float(peak[i]) / (EPSILON_0 * area))
+    v_gap = u * math.sqrt(2.0 * float(peak[i]) / (EPSILON_0 * eps_gap * area))
     if not v_gap > AIR_BREAKDOWN_V:
         return []
     return [
@@ -850,7 +850,7 @@ def _hierarchical(total, skin, touchscreen, remaining, paper, naive, edl, circui
     step = max(1, post.n_draws // 1000)
     force = _force_bands({k: v[::step] for k, v in pop.items()}, freq, z_skin, z_ts, circuit, area=area, v0=v0, eps_gap=eps_gap)
     notes += _bound_notes(pop["u"], reparametrization, area)
-    notes += _gap_breakdown_notes(force, float(np.median(pop["u"])), area)
+    notes += _gap_breakdown_notes(force, float(np.median(pop["u"])), area, eps_gap)
     notes += [f"EDL fit: {w}" for w in edl.warnings] + [f"sampling: {w}" for w in post.warnings]
     notes += _estimate_bound_notes("population gap thickness", float(np.median(pop["u"])), paper, remaining)
     known_kk: dict[int, float] = {}

@@ -439,14 +439,16 @@ def gap_voltage(params: Mapping[str, object], freq, z_skin, z_ts, *, v0: float =
 
 @checked_arguments(_over_freq, freq=_FREQ, z_skin=_IMPEDANCE, z_ts=_IMPEDANCE, area=numeric_array(positive=True), v0=numeric_array(), eps_gap=numeric_array(positive=True), gap=numeric_array(positive=True, optional=True))
 def gap_force_peak(params: Mapping[str, object], freq, z_skin, z_ts, *, area: float = SIRIN_AREA, v0: float = SIRIN_DRIVE_V, ep: str | None = EP_AUTO, eps_gap: float = EPSILON_AIR, gap=None, remainder: str | Circuit | None = None):
-    """PEAK electrostatic force [N] over a drive period, Sirin eq 1 at the voltage amplitude:
-    F = ½ ε0 A |ΔV_gap|²/u², with u = ε0 ε_gap A/C_gap from ``params["C_gap"]`` unless ``gap``
-    [m] is given. Arguments as `gap_voltage` (``ep="auto"``: the remainder from the parameter
-    names). Pure JAX in ``params`` (vmap over draws)."""
+    """PEAK electrostatic force [N] over a drive period, Sirin eq 1 at the voltage amplitude
+    with the gap's permittivity: F = ½ ε0 ε_gap A |ΔV_gap|²/u² (= ½ C_gap |ΔV_gap|²/u, the
+    parallel-plate force of the circuit's C_gap; eq 1 as printed, for air, leaves out ε_gap =
+    1.00059, 0.06 %), with u = ε0 ε_gap A/C_gap from ``params["C_gap"]`` unless ``gap`` [m] is
+    given. Arguments as `gap_voltage` (``ep="auto"``: the remainder from the parameter names).
+    Pure JAX in ``params`` (vmap over draws)."""
     _remainder(params, ep, remainder)
     u = gap_thickness(params["C_gap"], area=area, eps_gap=eps_gap) if gap is None else gap
     v_gap = gap_voltage(params, freq, z_skin, z_ts, v0=v0, ep=ep, remainder=remainder)
-    return 0.5 * EPSILON_0 * area * jnp.abs(v_gap) ** 2 / u**2
+    return 0.5 * EPSILON_0 * eps_gap * area * jnp.abs(v_gap) ** 2 / u**2
 
 
 def gap_force_time_average(params: Mapping[str, object], freq, z_skin, z_ts, **kwargs):
