@@ -721,3 +721,150 @@ def test_a_comment_line_inside_the_table_is_reported_among_the_skipped_rows():
         ds = ix.load(path)
     np.testing.assert_allclose(ds["Z"].values, z, rtol=1e-15)
     assert ds.attrs["skipped_rows"] == ["line 5: comment line ('# electrode re-seated here')"]  # (the one above the header is no row)
+
+
+# --- a technician's files from five labs (2026-12-01) ---------------------------------------------
+# SYNTHETIC: every table below is the RC spectrum Z = 100 + 300/(1 + j·2πf·1 ms) Ω on a log
+# grid, with 0.1 % Gaussian noise (fixed seed), written by each test in the layout it exercises.
+
+
+def _lab_spectrum(n=13):
+    freq = np.logspace(5, -1, n)
+    rng = np.random.default_rng(71)
+    z = 100 + 300 / (1 + 1j * 2 * np.pi * freq * 1e-3)
+    z = z * (1 + 1e-3 * (rng.standard_normal(n) + 1j * rng.standard_normal(n)))
+    return freq, z
+
+
+@pytest.mark.parametrize("header", ["omega", "ω", "omega (rad/s)", "w (rad/s)", "ω/rad s-1", "Frequency (rad/s)"])
+def test_an_angular_frequency_column_is_converted_to_hz_and_said(tmp_path, header, capsys):
+    """'omega (rad/s)' and the like were 'no frequency column'; now f = ω/2π, and `units` (which
+    `impedax inspect` prints) names the conversion."""
+    freq, z = _lab_spectrum()
+    omega = 2 * np.pi * freq
+    rows = [f"{w!r},{zi.real!r},{zi.imag!r}" for w, zi in zip(omega.tolist(), z.tolist())]
+    path = tmp_path / "w.csv"
+    path.write_text("\n".join([f"{header},Z',Z''", *rows]) + "\n", encoding="utf-8")
+    ds = ix.load(path)
+    np.testing.assert_allclose(ds["frequency"].values, omega / (2 * np.pi), rtol=1e-15)
+    np.testing.assert_allclose(ds["Z"].values, z, rtol=1e-15)
+    assert f"{header!r} as angular frequency ω in rad/s, converted to Hz: f = ω/2π" in ds.attrs["units"]
+    from impedax.cli import main
+
+    assert main(["inspect", str(path)]) == 0
+    assert "f = ω/2π" in capsys.readouterr().out
+
+
+def test_freq_dot_is_a_frequency_a_bare_w_is_not_and_hz_wins_over_omega(tmp_path):
+    freq, z = _lab_spectrum()
+    rows = [f"{f!r},{zi.real!r},{zi.imag!r}" for f, zi in zip(freq.tolist(), z.tolist())]
+    (tmp_path / "dot.csv").write_text("\n".join(["Freq.,Z',Z''", *rows]) + "\n")
+    np.testing.assert_allclose(ix.load(tmp_path / "dot.csv")["frequency"].values, freq, rtol=1e-15)
+    (tmp_path / "w.csv").write_text("\n".join(["w,Z',Z''", *rows]) + "\n")
+    with pytest.raises(ix.DataError, match=r"no frequency column in header \['w'"):  # (a bare w is not guessed as ω)
+        ix.load(tmp_path / "w.csv")
+    both = [f"{f!r},{2 * np.pi * f!r},{zi.real!r},{zi.imag!r}" for f, zi in zip(freq.tolist(), z.tolist())]
+    (tmp_path / "both.csv").write_text("\n".join(["f (Hz),omega (rad/s),Z',Z''", *both]) + "\n", encoding="utf-8")
+    ds = ix.load(tmp_path / "both.csv")
+    np.testing.assert_allclose(ds["frequency"].values, freq, rtol=1e-15)
+    assert ds.attrs["other_columns"] == "omega (rad/s)"
+
+
+@pytest.mark.parametrize("sep", [";", "\t", ","])
+def test_quoted_decimal_commas_are_read_when_every_number_agrees(tmp_path, sep):
+    """Excel's German export quotes every cell, "0,1";"120,5"; with ',' between cells such a
+    file was refused ('0,1' is not a number), as was a file whose first decimal comma came below
+    row 20 (integer frequencies first)."""
+    freq, z = _lab_spectrum(30)
+    freq[:25] = np.round(freq[:25])  # (integers first: 1e5 ... 1 Hz, the decimals below row 20)
+    cells = [[f"{v:.6g}".replace(".", ",") for v in (f, zi.real, zi.imag)] for f, zi in zip(freq, z)]
+    rows = [sep.join(f'"{c}"' for c in row) for row in cells]
+    path = tmp_path / "de.csv"
+    path.write_text("\n".join([sep.join(['"Frequency (Hz)"', '"Z\' (Ohm)"', '"Z\'\' (Ohm)"']), *rows]) + "\n", encoding="utf-8")
+    ds = ix.load(path)
+    expected = np.array([[float(c.replace(",", ".")) for c in row] for row in cells])
+    np.testing.assert_allclose(ds["frequency"].values, expected[:, 0], rtol=1e-15)
+    np.testing.assert_allclose(ds["Z"].values, expected[:, 1] + 1j * expected[:, 2], rtol=1e-15)
+    np.testing.assert_allclose(ds["Z"].values, z, rtol=1e-5)  # (6 digits kept)
+    assert ds.attrs["decimal_mark"] == "comma"
+
+
+
+def test_a_first_decimal_comma_below_row_20_is_still_a_decimal_comma(tmp_path):
+    """Only the first 20 rows were looked at: a table of whole numbers there and "0,5" below was
+    refused ('0,5' is not a number)."""
+    # SYNTHETIC: whole hertz 1e4 ... 3 Hz on 22 rows, then 0.5, 0.2, 0.1 Hz; Z' and Z'' in whole ohms, as a coarse meter writes them
+    freq = np.concatenate([np.round(np.logspace(4, 0.5, 22)), [0.5, 0.2, 0.1]])
+    assert np.unique(freq).size == freq.size
+    zc = 100 + 300 / (1 + 1j * 2 * np.pi * freq * 1e-3)
+    z = np.round(zc.real) + 1j * np.round(zc.imag)
+    rows = [";".join([f"{f:.6g}".replace(".", ","), f"{zi.real:.0f}", f"{zi.imag:.0f}"]) for f, zi in zip(freq, z)]
+    (tmp_path / "late.csv").write_text("\n".join(["f (Hz);Z' (Ohm);Z'' (Ohm)", *rows]) + "\n")
+    ds = ix.load(tmp_path / "late.csv")
+    np.testing.assert_allclose(ds["frequency"].values, [float(f"{f:.6g}") for f in freq], rtol=1e-15)
+    np.testing.assert_array_equal(ds["Z"].values, z)
+    assert ds.attrs["decimal_mark"] == "comma"
+
+
+def test_quoted_thousands_in_a_comma_separated_file_are_refused(tmp_path):
+    """A US export quotes its thousands: "1,000" is a thousand there, one in a German file."""
+    path = tmp_path / "us.csv"
+    path.write_text('Frequency (Hz),Z\' (Ohm),Z\'\' (Ohm)\n"1,000",108,-7\n"1,259",107,-9\n"1,585",106,-11\n')
+    with pytest.raises(ix.DataError, match=r"us\.csv, line 2: '1,000' is a quoted number .* thousands separator"):
+        ix.load(path)
+
+
+def _fixed_rows(freq, z, sep="\t"):
+    return [sep.join(f"{v:.6E}" for v in (f, zi.real, zi.imag)) for f, zi in zip(freq, z)]
+
+
+@pytest.mark.parametrize("cut, message", [
+    (lambda row: row.rsplit("\t", 1)[0], "the last row has 2 fields, but the header has 3"),
+    (lambda row: row[:-5], r"column \"Z'' \(Ohm\)\": '-[0-9.]+' on the last row has fewer digits than on every other row"),
+    (lambda row: row[:-2], r"column \"Z'' \(Ohm\)\": '-[0-9.]+E-' on the last row has fewer digits"),
+])
+def test_a_last_row_cut_short_is_refused_naming_its_line(tmp_path, cut, message):
+    """A file cut while copying ends without a line end inside its last row: a row of two fields,
+    or a last number missing its last digits (read as another value, without a word, before)."""
+    freq, z = _lab_spectrum()
+    rows = _fixed_rows(freq, z)
+    path = tmp_path / "cut.txt"
+    path.write_text("\n".join(["Frequency (Hz)\tZ' (Ohm)\tZ'' (Ohm)", *rows[:-1], cut(rows[-1])]))
+    with pytest.raises(ix.DataError, match=rf"cut\.txt, line 14: {message}") as err:
+        ix.load(path)
+    assert "ends without a line end" in str(err.value)
+    # the whole file without a final line end, and a cut file's rows with varying digits, read as before
+    path.write_text("\n".join(["Frequency (Hz)\tZ' (Ohm)\tZ'' (Ohm)", *rows]))
+    np.testing.assert_allclose(ix.load(path)["Z"].values, z, rtol=1e-6)
+
+
+def test_a_header_less_table_with_the_frequency_last_is_refused_naming_the_column(tmp_path):
+    """Z', Z'', f without a header was read as f = Z', Z' = Z'', Z'' = f, silently."""
+    freq, z = _lab_spectrum()
+    path = tmp_path / "order.csv"
+    path.write_text("\n".join(f"{zi.real!r},{zi.imag!r},{f!r}" for f, zi in zip(freq.tolist(), z.tolist())) + "\n")
+    with pytest.raises(ix.DataError, match=r"order\.csv, line 1: no header, and column 1 does not look like frequencies .* where column 3 does.*z_real_ohm,z_imag_ohm,frequency_hz"):
+        ix.load(path)
+    # Z'', Z', f (column 1 negative: 'frequency must be positive' before) gets the same message
+    path.write_text("\n".join(f"{zi.imag!r},{zi.real!r},{f!r}" for f, zi in zip(freq.tolist(), z.tolist())) + "\n")
+    with pytest.raises(ix.DataError, match=r"order\.csv, line 1: no header, and column 1 does not look like frequencies .* where column 3 does"):
+        ix.load(path)
+    # in the order f, Z', Z'' (a DC row first) it reads as before
+    path.write_text("\n".join(["0,350.0,0.0", *(f"{f!r},{zi.real!r},{zi.imag!r}" for f, zi in zip(freq.tolist(), z.tolist()))]) + "\n")
+    np.testing.assert_allclose(ix.load(path)["Z"].values, z, rtol=1e-15)
+
+
+def test_xlsx_formulas_without_stored_values_are_named_by_sheet_and_cell(tmp_path):
+    """openpyxl (and other programs without a spreadsheet engine) store formulas but no values:
+    the cells read empty ('column Z' is empty (missing value)'); now the message names the cell
+    and says how to get the values stored."""
+    openpyxl = pytest.importorskip("openpyxl")
+    workbook = openpyxl.Workbook()
+    sheet = workbook.active
+    sheet.title = "run 1"
+    sheet.append(["Frequency (Hz)", "Z' (Ohm)", "Z'' (Ohm)"])
+    for row, f in enumerate(np.logspace(5, -1, 7).tolist(), start=2):  # SYNTHETIC: the RC spectrum, as formulas
+        sheet.append([f, f"=100+300/(1+(2*PI()*A{row}*0.001)^2)", f"=-300*2*PI()*A{row}*0.001/(1+(2*PI()*A{row}*0.001)^2)"])
+    workbook.save(tmp_path / "calc.xlsx")
+    with pytest.raises(ix.DataError, match=r"calc\.xlsx \[sheet run 1\]: cell B2 holds a formula \(=100\+300/.*\) with no stored value, and so do 13 more cells.*open it in a spreadsheet program"):
+        ix.load(tmp_path / "calc.xlsx")

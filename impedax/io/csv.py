@@ -4,8 +4,11 @@ Canonical header: ``frequency_hz,z_real_ohm,z_imag_ohm`` with Z = Z' + jZ'' (Z''
 capacitive data). Other headers are read by `impedax.io.table` (``freq``, ``Zreal``, ``Z''``,
 ``-Z''``, ``|Z|`` with ``phase``, units such as ``Frequency (mHz)`` — case-sensitive prefixes).
 A file of exactly three numeric columns and no header is read as f [Hz], Z' [Ω], Z'' [Ω], and
-``attrs["interpretation"]`` says so. Decimal commas are accepted when the separator is not a
-comma. Lines starting with ``#``, ``%`` or ``!`` are comments.
+``attrs["interpretation"]`` says so; refused when column 1 does not look like frequencies and
+exactly one other column does (`_check_headerless_order`). Decimal commas are accepted when the
+separator is not a comma, and in quoted cells when it is (`_decimal_mark`). A last row cut short
+(no line end, fields or digits missing) is refused (`_check_last_row_complete`). Lines starting
+with ``#``, ``%`` or ``!`` are comments.
 """
 
 from __future__ import annotations
@@ -111,6 +114,129 @@ def _header_below(lines: list[tuple[int, str]], path: Path) -> tuple[int, str, L
     return None
 
 
+_QUOTED_DECIMAL_COMMA = re.compile(r"[-+]?\d*,\d+(?:[eE][-+]?\d+)?")
+#: One comma followed by three digits: '1,000' is a thousand in a US export, one in a German one.
+_THOUSANDS_SHAPE = re.compile(r"[-+]?\d{1,3},\d{3}")
+
+
+def _decimal_mark(path: Path, rows: list[tuple[int, str]], delimiter: str | None) -> bool:
+    """Whether the numbers of ``rows`` are written with decimal commas: any cell of the first 20
+    rows, or of every row when a later one holds a ',' (`decimal_comma`). In a comma-separated
+    file a decimal comma can only stand in a quoted cell (``"0,1","120,5"``); there '1,000' may
+    be a thousand (a US export quotes its thousands separators), so a file whose every such cell
+    has that shape is refused as ambiguous, naming the first."""
+    if delimiter == ",":
+        quoted = [(n, c.strip()) for n, ln in rows if '"' in ln for c in split_line(ln, delimiter) if "," in c]
+        numeric = [(n, c) for n, c in quoted if _QUOTED_DECIMAL_COMMA.fullmatch(c)]
+        if numeric and all(_THOUSANDS_SHAPE.fullmatch(c) for _, c in numeric):
+            raise DataError(
+                f"{numeric[0][1]!r} is a quoted number with a ',' in a comma-separated file, and every such number has the shape of a "
+                "thousands separator (1,000): impedax does not guess whether it is a thousand or one; export the numbers without "
+                "thousands separators (or with a ';' between cells when ',' is the decimal mark)",
+                path=path, line=numeric[0][0],
+            )
+        return bool(numeric)
+    comma = decimal_comma([c for _, ln in rows[:20] for c in split_line(ln, delimiter)], delimiter)
+    if not comma and any("," in ln for _, ln in rows[20:]):  # (the first decimal comma below the 20th row)
+        comma = decimal_comma([c for _, ln in rows for c in split_line(ln, delimiter)], delimiter)
+    return comma
+
+
+FREQUENCY_SPAN_MIN = 10.0
+"""Smallest max/min ratio (one decade) of the values of a column that looks like a frequency
+list (`_looks_like_frequencies`): a sweep spans decades, a Z' column rarely one."""
+
+
+def _looks_like_frequencies(values: np.ndarray) -> bool:
+    """Whether a column reads as a frequency sweep: its non-zero values (a DC row is f = 0)
+    positive, strictly monotonic and spanning at least `FREQUENCY_SPAN_MIN`."""
+    v = values[values != 0]
+    if v.size < 3 or not np.all(v > 0):
+        return False
+    steps = np.diff(v)
+    return bool((np.all(steps > 0) or np.all(steps < 0)) and v.max() / v.min() >= FREQUENCY_SPAN_MIN)
+
+
+def _check_headerless_order(path: Path, line: int, columns: list[np.ndarray]) -> None:
+    """A header-less table is read as f, Z', Z'' (`HEADERLESS_NOTE`); refused, naming the column
+    that looks like the frequencies, when column 1 does not (`_looks_like_frequencies`) and
+    exactly one other column does (Z', Z'', f read as f, Z', Z'' gives nonsense without a word)."""
+    looks = [_looks_like_frequencies(c) for c in columns]
+    if looks[0] or sum(looks[1:]) != 1:
+        return
+    at = looks.index(True)
+    names = ["z_real_ohm", "z_imag_ohm"]
+    header = ",".join(names.pop(0) if k != at else "frequency_hz" for k in range(3))
+    raise DataError(
+        f"no header, and column 1 does not look like frequencies (positive, strictly monotonic, spanning a decade or more) "
+        f"where column {at + 1} does: a header-less table is read as f, Z', Z'' only when column 1 holds the frequencies; "
+        f"add a header naming the columns, e.g. {header}",
+        path=path, line=line,
+    )
+
+
+def _headerless_columns(rows: list[tuple[int, str]], delimiter: str | None, comma: bool) -> list[np.ndarray] | None:
+    """The three columns of a header-less table as numbers, or None when a row is not three numbers."""
+    table = []
+    for _, text in rows:
+        cells = [c.strip().strip('"') for c in split_line(text, delimiter)]
+        if len(cells) != 3:
+            return None
+        try:
+            table.append([float(c.replace(",", ".") if comma else c) for c in cells])
+        except ValueError:
+            return None
+    return list(np.array(table, dtype=np.float64).T)
+
+
+def _digit_shape(cell: str) -> tuple[int, int] | None:
+    """(digits after the decimal mark, digits of the exponent) of a number cell; None for other text."""
+    m = re.fullmatch(r"[-+]?\d*(?:[.,](\d*))?(?:[eE][-+]?(\d*))?", cell.strip().strip('"').strip())
+    return None if m is None else (len(m.group(1) or ""), len(m.group(2) or ""))
+
+
+LAST_ROW_SAMPLE = 1000
+"""How many rows above the last `_check_last_row_complete` compares its digits with (all of a
+short file's; a long file's nearest, to keep reading it fast)."""
+
+
+def _check_last_row_complete(path: Path, layout: Layout, rows: list[tuple[int, str]], delimiter: str | None) -> None:
+    """For a file that ends without a line end (cut while copying?): its last row is refused,
+    naming its line, when it has fewer fields than the header, or when its last cell, read as a
+    column, has fewer digits (after the decimal mark, or of the exponent) than that cell of
+    every other row (up to `LAST_ROW_SAMPLE` above it), which all have the same (a fixed format
+    such as 1.234560E+02)."""
+    if not rows:
+        return
+    header = list(layout.header)
+    while header and not header[-1]:
+        header.pop()
+    line, text = rows[-1]
+    cells = split_line(text, delimiter)
+    while len(cells) > len(header) and not cells[-1]:
+        cells.pop()
+    cut = "the file ends without a line end, as a file cut short does (copied before it was complete?): copy it again, or delete the line"
+    if len(cells) < len(header):
+        raise DataError(f"the last row has {len(cells)} fields, but the header has {len(header)}; {cut}", path=path, line=line)
+    column = len(header) - 1
+    if len(cells) != len(header) or len(rows) < 3 or column not in {index for index, _ in layout.columns.values()}:
+        return
+    shapes = set()
+    for _, other in rows[-1 - LAST_ROW_SAMPLE:-1]:
+        others = split_line(other, delimiter)
+        shapes.add(_digit_shape(others[column]) if len(others) > column else None)
+        if len(shapes) > 1:
+            return
+    (usual,) = shapes
+    last = _digit_shape(cells[column])
+    if usual is not None and last is not None and last != usual and all(a <= b for a, b in zip(last, usual)):
+        what = f"{usual[0]} digits after the decimal mark" + (f" and {usual[1]} in the exponent" if usual[1] else "")
+        raise DataError(
+            f"column {header[column]!r}: {cells[column]!r} on the last row has fewer digits than on every other row ({what}); {cut}",
+            path=path, line=line,
+        )
+
+
 def read_csv(path: str | Path) -> xr.Dataset:
     """Read one spectrum from delimited text. Errors name the file and line."""
     path = Path(path)
@@ -151,15 +277,27 @@ def read_csv(path: str | Path) -> xr.Dataset:
             attrs["preamble"] = f"lines {lines[0][0]}–{lines[at][0] - 1}: text above the table's header (line {lines[at][0]}), not read: {lines[0][1].strip()[:60]!r} …"
             header_no, lines = lines[at][0], lines[at:]
         rows = lines[1:]
-    comma = decimal_comma([c for _, ln in rows[:20] for c in split_line(ln, delimiter)], delimiter)
+    comma = _decimal_mark(path, rows, delimiter)
     if comma:
         attrs["decimal_mark"] = "comma"
+    if not text.endswith(("\n", "\r")):
+        _check_last_row_complete(path, layout, rows, delimiter)
     skipped = Skipped()  # (a comment line inside the table, "# electrode re-seated here", is reported, not dropped unseen)
     last = rows[-1][0] if rows else header_no
     for number, text_line in enumerate(all_lines[header_no:last], start=header_no + 1):
         if text_line.lstrip().startswith(COMMENT_MARKS):
             skipped.add(number, f"comment line ({text_line.strip()[:40]!r})")
-    return spectrum_from_rows(path, layout, [(n, split_line(ln, delimiter)) for n, ln in rows], attrs, comma=comma, delimiter=delimiter, header_line=header_no, split_sweeps=True, skipped=skipped)
+    headerless = "interpretation" in attrs
+    try:
+        ds = spectrum_from_rows(path, layout, [(n, split_line(ln, delimiter)) for n, ln in rows], attrs, comma=comma, delimiter=delimiter, header_line=header_no, split_sweeps=True, skipped=skipped)
+    except DataError:
+        columns = _headerless_columns(rows, delimiter, comma) if headerless else None
+        if columns is not None:  # (Z'', Z', f fails as 'frequency must be positive': the column order is the cause)
+            _check_headerless_order(path, rows[0][0], columns)
+        raise
+    if headerless and ds["Z"].ndim == 1:  # (the columns in file order, but for DC rows: `finish` never reorders)
+        _check_headerless_order(path, rows[0][0], [ds["frequency"].values, ds["Z"].values.real, ds["Z"].values.imag])
+    return ds
 
 
 def write_csv(ds: xr.Dataset, path: str | Path | None = None, *, delimiter: str = ",") -> str:

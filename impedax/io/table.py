@@ -4,7 +4,8 @@ VersaStudio ...).
 
 A header cell is a name and an optional unit, ``Frequency (mHz)``, ``Re(Z)/Ohm``, ``Z' (kΩ)``;
 unit prefixes are case-sensitive (mHz is 1e-3 Hz, MHz 1e6 Hz) and an all-capitals ``MHZ`` is
-refused as ambiguous. Z comes from Z' with Z'' or −Z'' columns, or from |Z| with the phase (or
+refused as ambiguous. An angular frequency (``omega``, ``ω``, ``w (rad/s)``) is converted to Hz,
+f = ω/2π, and ``attrs["units"]`` says so. Z comes from Z' with Z'' or −Z'' columns, or from |Z| with the phase (or
 −phase) in degrees or radians. Rows equal to the header are skipped and reported; a row with a
 field too many or too few, or an empty Z cell, is an error naming the line: values are never
 shifted onto other columns.
@@ -30,7 +31,7 @@ _IMAG = {"z_imag", "z_im", "im_z", "im(z)", "imag(z)", "z''", "imag", "imaginary
 _PHASE = {"phase", "phase(z)", "z_phase", "phi", "theta", "zphz", "phase_angle", "arg(z)", "argz", "θz", "θ(z)", "theta_z",
           "phase_z", "phi_z", "phasedeg"}
 ROLES: dict[str, set[str]] = {
-    "frequency": {"frequency", "freq", "f", "frequencyhz", "freqhz", "fhz"},
+    "frequency": {"frequency", "freq", "freq.", "f", "frequencyhz", "freqhz", "fhz"},
     "real": {"z_real", "z_re", "re_z", "re(z)", "real(z)", "z'", "real", "zr", "realz", "z'(a)"},
     "imag": _IMAG,
     "neg_imag": {"-" + k for k in _IMAG} | {"neg_z_imag", "minus_z_imag"},
@@ -99,9 +100,37 @@ def _named(key: str, names: dict[str, str]) -> tuple[str | None, str]:
     return None, ""
 
 
+ANGULAR_NAMES = {"omega", "ω", "angularfrequency", "angfreq"}
+"""Header names (as `_key` gives them) of an angular-frequency column, read in rad/s when it
+carries no unit. A bare ``w`` is not among them: ``w (rad/s)`` is, by its unit."""
+_RAD_PER_SECOND = {"rad/s", "rads-1", "rad/sec", "rads^-1", "rads⁻¹", "rad·s-1", "rad·s⁻¹", "rad*s-1", "rad*s^-1"}
+#: Hz per rad/s: f = ω/2π.
+ANGULAR_SCALE = 1 / (2 * np.pi)
+ANGULAR_UNIT = "rad/s"
+
+
+def _angular(cell: str) -> bool:
+    """Whether a header cell names an angular frequency ω in rad/s: ``omega``, ``ω``, ``angular
+    frequency`` without a unit or with rad/s, and ``w``, ``f``, ``frequency`` with rad/s
+    (``w (rad/s)``, ``ω/rad s-1``, ``Frequency (rad/s)``)."""
+    m = UNIT_CELL.match(unquoted(cell))
+    name, unit = (m.group("name"), m.group("u1") if m.group("u1") is not None else m.group("u2")) if m else (unquoted(cell), "")
+    if m and not re.sub(r"\s+", "", unit or "").lower() in _RAD_PER_SECOND:
+        name, unit = unquoted(cell), ""  # ('omega (Hz)' is no angular frequency with a unit)
+    if "Ω" in name or "Ω" in name:  # (the ohm sign, which lower() would turn into ω)
+        return False
+    key = _squash(_key(name))
+    if unit:
+        return key in ANGULAR_NAMES or key in ("w", *(_squash(n) for n in ROLES["frequency"]))
+    return key in ANGULAR_NAMES
+
+
 def role_of(cell: str) -> tuple[str, float, str] | None:
     """``(role, scale to SI, unit)`` of a header cell named as in `ROLES`, or ``None`` when it
-    names no role (generic names: `fallback_role`)."""
+    names no role (generic names: `fallback_role`). An angular frequency (`_angular`) is the
+    frequency role with the scale ``1/2π`` (f = ω/2π) and the unit ``rad/s``."""
+    if _angular(cell):
+        return "frequency", ANGULAR_SCALE, ANGULAR_UNIT
     name, unit = split_header_cell(cell)
     key = _key(name)
     role, suffix_unit = _named(key, _ROLE_OF_NAME)
@@ -176,6 +205,9 @@ class Layout:
         units = []
         for role in ["frequency", *parts]:
             index, scale = self.columns[role]
+            if role == "frequency" and scale == ANGULAR_SCALE:
+                units.append(f"{self.header[index]!r} as angular frequency ω in rad/s, converted to Hz: f = ω/2π")
+                continue
             units.append(f"{self.header[index]!r}" + ("" if scale == 1 else f" ×{scale:g}"))
         return {"sign_convention": sign, "units": "columns used (scaled to Hz, Ω, degrees): " + ", ".join(units)}
 
@@ -190,8 +222,9 @@ class NoLayout(DataError):
 
 def detect_layout(header: Sequence[str], path: Path, line: int | None) -> Layout:
     """The `Layout` of a header row; `NoLayout` when it names no frequency/Z columns. Columns
-    named as in `ROLES` first; then each generic name of `FALLBACK_ROLES` fills a quantity none
-    of them holds, when no other generic column asks for it."""
+    named as in `ROLES` first (of a column in Hz and one of ω in rad/s, the one in Hz); then
+    each generic name of `FALLBACK_ROLES` fills a quantity none of them holds, when no other
+    generic column asks for it."""
     columns: dict[str, tuple[int, float]] = {}
     ignored: dict[int, str] = {}
     generic: list[tuple[int, str, float]] = []
@@ -208,7 +241,13 @@ def detect_layout(header: Sequence[str], path: Path, line: int | None) -> Layout
                 ignored[index] = cell.strip()
             continue
         role, scale, _ = found
-        if role in columns:
+        if role == "frequency" and role in columns and ANGULAR_SCALE in (scale, columns[role][1]) and scale != columns[role][1]:
+            # a column in Hz beside one of ω in rad/s: the Hz one is read, ω is another column
+            if scale == ANGULAR_SCALE:
+                ignored[index] = cell.strip()
+                continue
+            ignored[columns[role][0]] = header[columns[role][0]].strip()
+        elif role in columns:
             raise DataError(f"two columns for {role}: {header[columns[role][0]]!r} and {cell!r}", path=path, line=line)
         columns[role] = (index, scale)
     held = {_SLOT.get(role, role) for role in columns}

@@ -6,7 +6,8 @@ Each sheet is a table whose first non-empty row names the columns, read by `impe
 ``|Z|`` with ``phase`` or ``-phase``, units such as ``Frequency (mHz)`` case-sensitively). Sheets
 on the same grid become a ``sheet`` dimension; sheets whose cycle numbers carry on (1, 2 / 3, 4)
 become one ``cycle`` dimension (`impedax.io._common.stack`). Line numbers in errors are
-spreadsheet rows.
+spreadsheet rows. A formula cell with no stored value (a file written by a program that does not
+compute formulas) is named by sheet and cell (`_formulas_without_values`).
 
 Conventions: as named by each column header (a ``-`` prefix means the column stores the negated
 quantity); numbers are taken as stored in the cells.
@@ -64,6 +65,26 @@ def _cell(value) -> str:
     return str(value)
 
 
+def _formulas_without_values(path: Path, sheet: str) -> list[tuple[str, str]]:
+    """(cell, formula) of each formula cell of ``sheet`` with no stored value, in reading order:
+    pandas (openpyxl with ``data_only``) reads such a cell as empty. A program that writes
+    .xlsx without a spreadsheet engine (openpyxl, many exporters) stores formulas only."""
+    import openpyxl
+
+    try:
+        formulas = openpyxl.load_workbook(path, data_only=False)[sheet]
+        values = openpyxl.load_workbook(path, data_only=True)[sheet]
+    except Exception:  # (the engines raise many types for damaged files: then the first error stands)
+        return []
+    found = []
+    for row in formulas.iter_rows():
+        for cell in row:
+            text = cell.value if isinstance(cell.value, str) else getattr(cell.value, "text", None)  # (an ArrayFormula holds its text)
+            if isinstance(text, str) and text.startswith("=") and values[cell.coordinate].value is None:
+                found.append((cell.coordinate, text))
+    return found
+
+
 def read_spreadsheet(path: str | Path) -> xr.Dataset:
     """Read every sheet of an ``.xlsx``/``.ods`` workbook (see module docstring)."""
     path = Path(path)
@@ -103,6 +124,17 @@ def read_spreadsheet(path: str | Path) -> xr.Dataset:
                 raise
             # (one sweep of one sheet of several cannot be picked alone: the sheets would go)
             raise DataError(f"{exc.found}; impedax will not merge them into one spectrum: save each sweep to a sheet or file of its own", path=exc.path, line=exc.line) from None
+        except DataError:
+            uncomputed = _formulas_without_values(path, name) if engine == "openpyxl" else []
+            if not uncomputed:
+                raise
+            (cell, formula), more = uncomputed[0], len(uncomputed) - 1
+            raise DataError(
+                f"cell {cell} holds a formula ({formula[:40]}) with no stored value" + (f", and so do {more} more cells" if more else "")
+                + ": the file was written by a program that stores formulas without computing them; open it in a spreadsheet "
+                "program (Excel, LibreOffice) and save it, so that their values are stored, or export the sheet as CSV",
+                path=where,
+            ) from None
         ds.attrs["path"] = str(path)
         spectra.append((str(name), ds))
     if not spectra:
