@@ -1,6 +1,6 @@
 """Batches after a user walkthrough on REAL battery spectra (benchmarks/data/autoeis_battery_130.nc):
 a batch of fits as the starts of the next (docs/fitting.md, "What the default costs"), the
-messages of compare() for batches and for data that differ, the batch JSON's weighting, and
+compare() of batches and its message for data that differ, the batch JSON's weighting, and
 the labels of a shared fit's groups. Oracles: the first batch's own values and χ², the data's
 labels and point counts, and the options given."""
 
@@ -105,15 +105,18 @@ def test_a_shared_fit_per_cell_labels_each_row_and_f_test(capsys):
     assert "labels" not in one.summary()["shared"]["R0"] and "sharing vs independent fits: F = " in one.report()
 
 
-def test_compare_of_batches_says_how_to_compare_them(cycles, first):
+def test_compare_of_batches_compares_them_spectrum_by_spectrum(cycles, first):
+    """Refused until 2026-12-01 (compare took fits of one spectrum); now a `BatchComparison`
+    (tests/test_compare_batches.py). The same batch twice: one fit, so every spectrum splits
+    the weight 0.5/0.5 and the second is labelled "(2)", as the single path labels it."""
     from impedax.errors import ParameterError as PE
 
+    both = ix.compare([first, first])
+    assert both.labels == [MODEL, f"{MODEL} (2)"] and both.n_spectra == 4
+    assert np.allclose(both.dataset["delta_aic"].values, 0.0) and np.allclose(both.dataset["akaike_weight"].values, 0.5)
     with pytest.raises(PE) as info:
-        ix.compare([first, first])
-    text = str(info.value)
-    assert text.startswith("fits[0] must be a FitResult (or Posterior), got a BatchFitResult of R0 + R1 || CPE1 + R2 || CPE2 over cycle (4 spectra)")
-    assert "batch1.fit_of(cycle=…)" in text and "aic and bic in batch.to_xarray()" in text
-    assert "Element(" not in text and len(text) < 400
+        ix.compare([first, "R0 + R1"])
+    assert str(info.value).startswith("fits[1] must be a FitResult (or Posterior, or BatchFitResult), got ")
 
 
 def test_compare_of_fits_to_different_data_says_how_they_differ(cycles):

@@ -67,7 +67,6 @@ def test_without_select_a_fit_is_a_batch_and_the_rest_ask_for_a_pick(stacks, tmp
     one_spectrum = {
         "impedax kk --method zhit": ["kk", "--method", "zhit"], "impedax kk --plot": ["kk", "--plot", str(tmp_path / "kk.png")],
         "impedax diagnose": ["diagnose", "--model", "R0 + R1 || C1"], "impedax refine": ["refine", "--model", "R0 + R1 || C1"],
-        "impedax compare": ["compare", "--model", "R0 + R1", "--model", "R0 + R1 || C1"],
     }
     for name, args in one_spectrum.items():
         assert main([args[0], stacks["text"], *args[1:]]) == 2

@@ -208,7 +208,6 @@ def test_a_bad_position_in_a_list_or_range(files, select, fragment, capsys):
 def test_one_spectrum_commands_refuse_a_pick_of_several_naming_how_many_and_which(files, tmp_path, capsys):
     one_spectrum = {
         "impedax diagnose": ["diagnose", "--model", "R0 + R1 || C1"], "impedax refine": ["refine", "--model", "R0 + R1 || C1"],
-        "impedax compare": ["compare", "--model", "R0 + R1", "--model", "R0 + R1 || C1"],
         "impedax kk --method zhit": ["kk", "--method", "zhit"], "impedax kk --plot": ["kk", "--plot", str(tmp_path / "kk.png")],
         "sample": ["sample", "--model", "R0 + R1 || C1"],
     }

@@ -25,7 +25,7 @@ COMMAND_HELP = {
     "simulate": "write a model's spectrum as CSV",
     "info": "list a model's parameters",
     "fit": "least-squares fit of a circuit to a spectrum",
-    "compare": "fit several models to one spectrum and compare them",
+    "compare": "fit several models to one spectrum (or to each of several) and compare them",
     "sample": "Bayesian fit (emcee): posterior draws, credible intervals, diagnostics",
     "kk": "linear Kramers-Kronig test of a spectrum (data problems vs model problems)",
     "drt": "distribution of relaxation times (Tikhonov, Gaussian RBFs): peaks, R_inf, L, credible band",

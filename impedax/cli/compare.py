@@ -1,6 +1,9 @@
-"""``impedax compare DATA --model M1 --model M2 ...``: fit several models and rank them."""
+"""``impedax compare DATA --model M1 --model M2 ...``: fit several models and rank them, on one
+spectrum or spectrum by spectrum over several (`BatchComparison`)."""
 
 from __future__ import annotations
+
+import math
 
 
 def register(sub) -> None:
@@ -8,12 +11,14 @@ def register(sub) -> None:
     from .fit import add_bound_option, add_fit_options, add_max_steps_option
 
     p = sub.add_parser(
-        "compare", help="fit several models to one spectrum and compare them",
+        "compare", help="fit several models to one spectrum (or to each of several) and compare them",
         description="Fit each MODEL to DATA and compare rms_rel, reduced chi², AIC, AICc, BIC, Akaike weights and F-tests of nested models; "
-        "AIC ranks (under --weighting sigma AIC = chi² + 2k, the sigma taken as the known noise; else n ln(chi²/n) + 2k).",
+        "AIC ranks (under --weighting sigma AIC = chi² + 2k, the sigma taken as the known noise; else n ln(chi²/n) + 2k). "
+        "A file of several spectra (or a --select leaving several) is compared spectrum by spectrum: each model's wins, "
+        "and its AIC summed over the spectra (their joint AIC, the spectra being independent).",
     )
-    p.add_argument("data", metavar="DATA", help="spectrum file with one spectrum, or one picked with --select")
-    add_select_option(p, several=False)
+    p.add_argument("data", metavar="DATA", help="spectrum file: one spectrum, or several (compared spectrum by spectrum and summed)")
+    add_select_option(p)
     p.add_argument("--model", action="append", required=True, metavar="MODEL", help="circuit text (give two or more)")
     p.add_argument("--fix", action="append", metavar="NAME=VALUE", help="hold a parameter fixed in every model that has it; several after one --fix (--fix R1=1M R0=20) or --fix repeated")
     p.add_argument("--init", action="append", metavar="NAME=VALUE", help="starting value in every model that has the parameter; several after one --init (--init R1=43k C2=5u) or --init repeated")
@@ -21,10 +26,10 @@ def register(sub) -> None:
     add_fit_options(p)
     add_max_steps_option(p, 400, "each model's fit")
     p.add_argument("--json", action="store_true", help="print the comparison as JSON")
-    p.add_argument("--plot", metavar="FILE.png", help="save data with every model's fit and residuals")
+    p.add_argument("--plot", metavar="FILE.png", help="save data with every model's fit and residuals (several spectra: each model's ΔAIC per spectrum)")
     p.add_argument(
         "--out", metavar="FILE.csv|.json",
-        help="also write the comparison to FILE: .csv one row per model (the table's columns), .json the --json document; '-' the JSON to standard output",
+        help="also write the comparison to FILE: .csv one row per model (the table's columns; several spectra: per spectrum and model), .json the --json document; '-' the JSON to standard output",
     )
     p.set_defaults(run=run)
 
@@ -53,7 +58,11 @@ def run(args) -> int:
     bounds = [checked_bound_options({k: v for k, v in given["--bound"].items() if k in ns}, c.parameter_specs(), init=given["--init"], fixed=given["--fix"]) for c, ns in zip(circuits, names)]
     outputs = plan_outputs([("--out", out_path(args.out), "result"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     max_steps = check_max_steps(args.max_steps)
-    data = open_spectrum(exclude_points(load_selected(args.data, args.select, single="impedax compare"), args.exclude), single="compare").data
+    data = open_spectrum(exclude_points(load_selected(args.data, args.select), args.exclude)).data
+    extra = [d for d in data["Z"].dims if d != "frequency"]
+    if extra and math.prod(data.sizes[d] for d in extra) == 1:  # (a list or range that picks one: that spectrum, as before)
+        data = data.isel({d: 0 for d in extra})
+        extra = []
 
     def own(flag, ns):
         return {k: v for k, v in given[flag].items() if k in ns} or None
@@ -62,16 +71,19 @@ def run(args) -> int:
     fits = []
     try:
         for i, (c, ns, own_bounds) in enumerate(zip(circuits, names, bounds)):
-            progress(f"fitting model {i + 1} of {len(circuits)}: {c}")
+            progress(f"fitting model {i + 1} of {len(circuits)}: {c}" + (f" to {math.prod(data.sizes[d] for d in extra)} spectra" if extra else ""))
             fits.append(fit(c, data, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, init=own("--init", ns), fixed=own("--fix", ns), bounds=own_bounds or None))
     finally:
         progress.close()
     comparison = compare(fits)
-    # (--out: .csv `Comparison.to_table`, .json `Comparison.summary`, as `impedax.io.write_result` writes them)
+    # (--out: .csv `Comparison.to_table`, .json `Comparison.summary`, as `impedax.io.write_result` writes them; a `BatchComparison`'s alike)
     source = data_source(data)
     outputs.save({"--out": result_writer(comparison, source), "--plot": figure_writer(comparison.plot, source)})
     if args.json:
         emit_json(with_source(comparison.summary(), source))
+    elif extra and not outputs.uses_stdout:  # several spectra: the `BatchComparison`'s report
+        pick = f"--select {extra[0]}=LABEL" + (" for each dimension" if len(extra) > 1 else "")
+        print(comparison.report(each_spectrum_where=f"--out FILE.csv (a row per spectrum and model) or --json's spectra; one spectrum's full comparison: {pick}"))
     elif not outputs.uses_stdout:  # (--out -: the JSON went to standard output)
         print(comparison.table(warnings_below=True))  # (`warning_lines` prints them under it)
         for fit_result in comparison.fits:  # (the table's rows do not show what was held)

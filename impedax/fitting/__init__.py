@@ -14,6 +14,7 @@ from .bayes import (
     stratum_corneum_reparametrization as stratum_corneum_reparametrization,
 )
 from .comparison import Comparison as Comparison, compare as compare, is_nested as is_nested
+from .batch_comparison import BatchComparison as BatchComparison  # (registers compare's batch path)
 from .derived import derive as derive, derive_fit as derive_fit
 from .diagnosis import (
     DEFAULT_EFFECTS as DEFAULT_EFFECTS,

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
-from typing import Mapping, Sequence
+from typing import Callable, Mapping, Sequence
 
 import numpy as np
 import xarray as xr
@@ -15,12 +15,12 @@ from ..arguments import checked_arguments, sequence_of
 from ..circuits import Circuit, Element
 from ..data import column_width
 from ..errors import FitError
-from .least_squares import FitResult
+from .least_squares import BatchFitResult, FitResult
 from .least_squares.branches import undetermined
 from .bayes.evidence import EVIDENCE_NOTE_LEAD
 from .least_squares.result import BOUND_CHI2_FRACTION, data_difference, DATA_LIMIT_NOTE, SIGN_HINT_LEAD
 
-__all__ = ["compare", "Comparison", "WEAK_DELTA_AIC", "is_nested", "boundary_parameters", "undetermined_names", "criteria", "akaike_weights", "KNOWN_SIGMA", "UNKNOWN_VARIANCE", "SIGMA_CHI2_RED_RANGE"]
+__all__ = ["compare", "Comparison", "WEAK_DELTA_AIC", "is_nested", "boundary_parameters", "undetermined_names", "criteria", "akaike_weights", "KNOWN_SIGMA", "UNKNOWN_VARIANCE", "SIGMA_CHI2_RED_RANGE", "register_batch_compare"]
 
 
 def _nested(a: Circuit, b: Circuit) -> bool:
@@ -117,7 +117,9 @@ def criteria(fit: FitResult) -> dict:
     and k free parameters. Under ``weighting="sigma"`` (`KNOWN_SIGMA`): AIC = χ² + 2k,
     BIC = χ² + k ln n; otherwise (`UNKNOWN_VARIANCE`) the fit's own, n ln(χ²/n) + 2k and
     n ln(χ²/n) + k ln n. AICc = AIC + 2k(k + 1)/(n − k − 1) (Hurvich & Tsai 1989), NaN where
-    n − k − 1 ≤ 0 (undefined)."""
+    n − k − 1 ≤ 0 (undefined). ``fit``: a `FitResult`, or anything with its ``n_points``,
+    ``n_params``, ``chi2``, ``weighting``, ``aic`` and ``bic`` (a batch's spectrum,
+    `batch_comparison.SpectrumStatistics`)."""
     n, k, chi2 = 2 * fit.n_points, fit.n_params, float(fit.chi2)
     if fit.weighting == "sigma":
         aic, bic, form = chi2 + 2 * k, chi2 + k * math.log(n), KNOWN_SIGMA
@@ -438,22 +440,19 @@ class Comparison:
         return plot_comparison(self)
 
 
-def _batch_hint(item) -> str | None:
-    """What `compare` says of a batch of fits (its repr printed every parameter): what it is
-    and how to compare per spectrum."""
-    if not callable(getattr(item, "fit_of", None)):
-        return None
-    dims = tuple(getattr(item, "dims", ()))
-    labels = ", ".join(f"{d}=…" for d in dims)
-    return (
-        f"a {type(item).__name__} of {getattr(item, 'model', '?')} over {' × '.join(dims)} ({getattr(item, 'n_spectra', '?')} spectra); "
-        f"compare compares fits of one spectrum: compare([batch1.fit_of({labels}), batch2.fit_of({labels})]) for one of them, "
-        "or each spectrum's aic and bic in batch.to_xarray() for all"
-    )
+_batch_compare: Callable | None = None
+"""`batch_comparison.compare_batches`, registered by that module (`register_batch_compare`) for
+`compare` of batches: this module may not import it, since it imports this one."""
 
 
-@checked_arguments(fits=sequence_of(FitResult, attribute="fit", what="FitResult (or Posterior)", hint=_batch_hint))
-def compare(fits: Sequence) -> Comparison:
+def register_batch_compare(compare_batches: Callable) -> None:
+    """Let `compare` hand batches of fits to ``compare_batches``."""
+    global _batch_compare
+    _batch_compare = compare_batches
+
+
+@checked_arguments(fits=sequence_of(FitResult, BatchFitResult, attribute="fit", what="FitResult (or Posterior, or BatchFitResult)"))
+def compare(fits: Sequence) -> "Comparison | BatchComparison":  # (BatchComparison: batch_comparison.py)
     """Compare least-squares fits of several models to the same data.
 
     Columns: rms_rel, chi2_red, AIC, AICc, BIC (`criteria`: χ² + 2k under ``weighting="sigma"``,
@@ -464,10 +463,24 @@ def compare(fits: Sequence) -> Comparison:
     and ``note`` say why) when the larger model fits worse, sits with a parameter at its bound
     (`boundary_parameters`) or fits to rounding. AIC ranks. Items may also be posteriors
     with a ``fit`` attribute; their ``log_evidence`` and ``waic`` become extra columns.
+
+    Items that are batches of fits (`BatchFitResult`: ``fit`` of a stack of spectra, one per
+    model, all of the same spectra with the same weighting) give a `BatchComparison`
+    (`batch_comparison.compare_batches`): each spectrum's criteria, each model's wins and its
+    AIC summed over the spectra (their joint AIC, the spectra being independent).
     """
     items = list(fits)
     if len(items) < 1:
         raise FitError("compare needs at least one fit")
+    batches = [isinstance(x, BatchFitResult) for x in items]
+    if any(batches):
+        if not all(batches):
+            i, j = batches.index(True), batches.index(False)
+            raise FitError(f"compare takes fits of one spectrum or batches of fits of many, not both: fits[{i}] is a {type(items[i]).__name__} of {items[i].n_spectra} spectra, "
+                           f"fits[{j}] a fit of one spectrum; for that spectrum use batch.fit_of(DIM=LABEL)")
+        if _batch_compare is None:  # (not reached: impedax.fitting imports batch_comparison, which registers it)
+            raise FitError("compare of batches needs impedax.fitting.batch_comparison imported")
+        return _batch_compare(items)
     results = [_with_posterior_warnings(x) for x in items]
     ref = results[0]
     for i, r in enumerate(results[1:], 1):

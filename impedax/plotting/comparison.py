@@ -44,3 +44,37 @@ def plot_comparison(comparison):
     ax_res.legend(fontsize=7)
     fig.suptitle(f"model comparison — best by AIC: {comparison.best}")
     return fig
+
+
+SPECTRUM_TICKS_LABELLED = 30
+"""`plot_batch_comparison` labels each spectrum's tick with its labels up to this many spectra
+(30 labels rotated 90° fit an 11-inch axis at 7 pt); beyond, the axis is the spectrum index."""
+
+
+def plot_batch_comparison(comparison):
+    """Each model's ΔAIC (to the spectrum's best) against the spectrum, one line per model, for
+    a `BatchComparison`; the lowest summed AIC in the title. Figure."""
+    import matplotlib.pyplot as plt
+
+    rows = comparison.spectra()
+    index = np.arange(len(rows))
+    fig, ax = plt.subplots(figsize=(11, 4.5))
+    markers = ("o", "s", "^", "D", "v")
+    summed = {m["label"]: m for m in comparison.models()}
+    for k, label in enumerate(comparison.labels):
+        delta = np.array([r["models"][k]["delta_aic"] for r in rows], float)
+        m = summed[label]
+        ax.plot(index, delta, marker=markers[k % len(markers)], ms=4, lw=1, label=f"{label} (best on {m['wins']} of {len(rows)}, ΔΣAIC {m['delta_aic_sum']:.1f})")
+    # (4: `fitting.comparison.WEAK_DELTA_AIC`, which this lower layer may not import)
+    ax.axhline(4.0, color="0.5", ls=":", lw=1, label="ΔAIC 4 (weaker support beyond, Burnham & Anderson 2002)")
+    ax.set_yscale("symlog", linthresh=10.0)
+    ax.set_ylim(bottom=-0.5)  # (ΔAIC ≥ 0: no room below the winners' line)
+    heads = [", ".join(f"{d}={v}" for d, v in r["labels"].items()) for r in rows]
+    if len(rows) <= SPECTRUM_TICKS_LABELLED:
+        ax.set_xticks(index, heads, rotation=90, fontsize=7)
+    ax.set(xlabel="spectrum" if len(rows) <= SPECTRUM_TICKS_LABELLED else f"spectrum index (0 = {heads[0]}, {len(rows) - 1} = {heads[-1]})", ylabel="ΔAIC to the spectrum's best")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=7, loc="best")
+    fig.suptitle(f"model comparison over {len(rows)} spectra — lowest summed AIC: {comparison.labels[comparison.best_index]}")
+    fig.tight_layout()
+    return fig

@@ -1,0 +1,342 @@
+"""Model comparison over many spectra: several batches of fits (one circuit each, `fit` of a
+stack of spectra) ranked spectrum by spectrum and over the whole stack (docs/fitting.md,
+"Comparing models over many spectra")."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from types import SimpleNamespace
+from typing import Sequence
+
+import numpy as np
+import xarray as xr
+
+from ..data import column_width, concise_repr
+from ..errors import FitError
+from .comparison import WEAK_DELTA_AIC, Comparison, akaike_weights, compare, criteria, fit_label, register_batch_compare, significant, unique_labels
+from .least_squares import BatchFitResult, SharedFitResult
+from .least_squares.batch import SPECTRA_AS_ROWS, labels_key
+from .least_squares.result import data_difference
+
+__all__ = ["BatchComparison", "compare_batches", "PER_SPECTRUM_CRITERIA", "SUM_NOTE"]
+
+PER_SPECTRUM_CRITERIA = ("rms_rel", "chi2", "chi2_red", "aic", "aicc", "bic", "delta_aic", "akaike_weight", "converged")
+"""Each spectrum's row for each model: the columns of a single `Comparison`'s table."""
+
+SUM_NOTE = "AIC summed over the spectra: the spectra are independent, so the joint log-likelihood, the parameter count and the joint AIC are sums"
+"""What the summed AIC is (Burnham & Anderson 2002, §2.2: AIC = −2 ln L + 2K with ln L and K
+summed over independent data sets; each spectrum keeps its own noise scale)."""
+
+
+EACH_SPECTRUM_WHERE = "comparison.to_table() or summary()['spectra']; one spectrum's full comparison: comparison_of(DIM=LABEL)"
+"""Where `BatchComparison.report` sends the reader beyond `SPECTRA_AS_ROWS` spectra."""
+
+
+@dataclass(frozen=True)
+class SpectrumStatistics:
+    """One spectrum's fit in a batch as `criteria` reads a fit: N frequencies (``n_points``),
+    k free parameters, χ², its ``weighting`` and the AIC and BIC the batch computed with the
+    formula of `FitResult.aic` (`statistics.information_criteria`)."""
+
+    n_points: int
+    n_params: int
+    chi2: float
+    aic: float
+    bic: float
+    weighting: str
+
+
+def _spectra_flat(batch: BatchFitResult, dims: Sequence[str], name: str) -> np.ndarray:
+    """``batch.dataset[name]`` over ``dims`` (the first batch's order), flattened in C order."""
+    return np.asarray(batch.dataset[name].transpose(*dims).values).ravel()
+
+
+def _label_view(batch: BatchFitResult) -> SimpleNamespace:
+    """What `fit_label` reads of a fit, from a batch: its model, fixed values (the same in every
+    spectrum), user bounds."""
+    ds = batch.dataset
+    names = [str(p) for p in ds["param"].values]
+    fixed = {n: bool(f) for n, f in zip(names, ds["fixed"].values)}
+    first = ds["value"].transpose("param", *batch.dims).values.reshape(len(names), -1)[:, 0]
+    return SimpleNamespace(model=batch.model, values={n: float(v) for n, v in zip(names, first)}, fixed=fixed, bounds=batch.user_bounds())
+
+
+def _refuse_other_data(batches: Sequence[BatchFitResult]) -> None:
+    """`FitError` unless every batch is of the same spectra (dimensions, sizes, labels,
+    frequencies and impedances, `data_difference`) with the same weighting; a shared (joint) fit,
+    whose spectra share parameters, has no per-spectrum AIC to compare."""
+    for i, b in enumerate(batches):
+        if isinstance(b, SharedFitResult):
+            raise FitError(f"fits[{i}] ({b.model}) is a shared fit: its spectra share parameters, so it has no AIC of its own per spectrum; compare batches of independent fits (fit without shared=)")
+    ref = batches[0]
+    dims = ref.dims
+    for i, b in enumerate(batches[1:], 1):
+        which = f"fits[0] ({ref.model}) and fits[{i}] ({b.model})" if b.model != ref.model else f"fits[0] and fits[{i}] (both {b.model})"
+        if set(b.dims) != set(dims) or any(b.dataset.sizes[d] != ref.dataset.sizes[d] for d in dims):
+            def shape(x):
+                return " × ".join(f"{d} ({x.dataset.sizes[d]})" for d in x.dims)
+            raise FitError(f"{which} were fitted to different spectra: {shape(ref)} against {shape(b)}; compare batches of the same spectra")
+        for d in dims:
+            ours, theirs = (x.dataset[d].values.tolist() if d in x.dataset.coords else None for x in (ref, b))
+            if ours != theirs:
+                raise FitError(f"{which} were fitted to different spectra: their labels along {d} differ ({ours[:5] if ours else 'none'} against {theirs[:5] if theirs else 'none'}); compare batches of the same spectra")
+        z_ref = ref.dataset["Z"].transpose(*dims, "frequency").values.reshape(ref.n_spectra, -1)
+        z = b.dataset["Z"].transpose(*dims, "frequency").values.reshape(b.n_spectra, -1)
+        f_ref, f = ref.dataset["frequency"].values, b.dataset["frequency"].values
+        for s, key in enumerate(_keys(ref)):
+            difference = data_difference(f, z[s], f_ref, z_ref[s])
+            if difference is not None:
+                raise FitError(f"{which} were fitted to different data: at {key}, {difference} (fmin/fmax or another file?); compare batches of the same spectra")
+        if b.weighting != ref.weighting:
+            raise FitError(f"models were fitted with different weightings ({b.weighting} vs {ref.weighting})")
+
+
+def _labels(batch: BatchFitResult) -> list[dict]:
+    """Each spectrum's labels ({dimension: label}, the position where a dimension has no
+    coordinates) in C order over the batch's dimensions."""
+    ds = batch.dataset
+    along = [ds[d].values.tolist() if d in ds.coords else list(range(ds.sizes[d])) for d in batch.dims]
+    return [{d: along[i][j] for i, (d, j) in enumerate(zip(batch.dims, index))} for index in np.ndindex(*(ds.sizes[d] for d in batch.dims))]
+
+
+def _keys(batch: BatchFitResult) -> list[str]:
+    """Each spectrum's `labels_key` ("cycle=64, cell=a"), in C order."""
+    return [labels_key(labels) for labels in _labels(batch)]
+
+
+def compare_batches(batches: Sequence[BatchFitResult]) -> "BatchComparison":
+    """`compare` of batches of fits to the same spectra (`compare` calls it when given batches).
+
+    For each spectrum the single comparison's criteria (`criteria`: AIC, AICc, BIC; ΔAIC and
+    Akaike weights, `akaike_weights`), and for each model the number of spectra it is best on by
+    AIC and its AIC summed over the spectra (`SUM_NOTE`: the joint AIC of independent spectra is
+    the sum) with that sum's Δ and Akaike weight, and its median ΔAIC."""
+    batches = list(batches)
+    _refuse_other_data(batches)
+    ref = batches[0]
+    dims = ref.dims
+    n_points = int(ref.dataset.sizes["frequency"])
+    labels = unique_labels([fit_label(_label_view(b)) for b in batches])
+    columns: dict[str, list[np.ndarray]] = {c: [] for c in PER_SPECTRUM_CRITERIA}
+    forms = set()
+    for b in batches:
+        k = int((~b.dataset["fixed"].values.astype(bool)).sum())
+        chi2, aic, bic = (_spectra_flat(b, dims, v).astype(float) for v in ("chi2", "aic", "bic"))
+        ics = [criteria(SpectrumStatistics(n_points, k, *values, b.weighting)) for values in zip(chi2, aic, bic)]
+        forms |= {c["aic_form"] for c in ics}
+        columns["rms_rel"].append(_spectra_flat(b, dims, "rms_rel").astype(float))
+        columns["chi2"].append(chi2)
+        columns["chi2_red"].append(_spectra_flat(b, dims, "chi2_red").astype(float))
+        for name in ("aic", "aicc", "bic"):
+            columns[name].append(np.array([c[name] for c in ics]))
+        columns["converged"].append(_spectra_flat(b, dims, "converged").astype(bool))
+    aic = np.array(columns["aic"])  # (model, spectrum)
+    delta, weight = np.full(aic.shape, math.nan), np.full(aic.shape, math.nan)
+    for s in range(aic.shape[1]):
+        delta[:, s], weight[:, s] = akaike_weights(aic[:, s])
+    columns["delta_aic"], columns["akaike_weight"] = list(delta), list(weight)
+    shape = tuple(ref.dataset.sizes[d] for d in dims)
+    coords = {d: ref.dataset[d].values for d in dims if d in ref.dataset.coords}
+    data = {c: (("model", *dims), np.array(v).reshape(len(batches), *shape)) for c, v in columns.items()}
+    with np.errstate(invalid="ignore"):
+        aic_sum = aic.sum(axis=1)
+    delta_sum, weight_sum = akaike_weights(aic_sum)
+    data.update(
+        circuit=("model", [b.model for b in batches]), n_params=("model", [int((~b.dataset["fixed"].values.astype(bool)).sum()) for b in batches]),
+        aic_sum=("model", aic_sum), delta_aic_sum=("model", delta_sum), akaike_weight_sum=("model", weight_sum),
+    )
+    ds = xr.Dataset(data, coords={"model": labels, **coords}, attrs={"aic_form": forms.pop() if len(forms) == 1 else "mixed", "weighting": ref.weighting, "note": SUM_NOTE})
+    ds["rms_rel"].attrs["units"] = "1"
+    return BatchComparison(tuple(batches), ds)
+
+
+@dataclass(frozen=True, eq=False)
+class BatchComparison:
+    """Several models compared over the same spectra: ``dataset`` holds each spectrum's
+    `PER_SPECTRUM_CRITERIA` over (model, *the batches' dimensions), and per model ``circuit``,
+    ``n_params`` and ``aic_sum`` (`SUM_NOTE`), with its ``delta_aic_sum`` and
+    ``akaike_weight_sum``. The best model has the lowest summed AIC; ``batches`` are the fits,
+    in the order given. Immutable."""
+
+    __repr__ = concise_repr
+
+    batches: tuple[BatchFitResult, ...]
+    dataset: xr.Dataset
+
+    @property
+    def labels(self) -> list[str]:
+        """Each model's label (`fit_label`: its text, with its fixed values and bounds)."""
+        return [str(m) for m in self.dataset["model"].values]
+
+    @property
+    def dims(self) -> tuple[str, ...]:
+        return self.batches[0].dims
+
+    @property
+    def n_spectra(self) -> int:
+        return self.batches[0].n_spectra
+
+    @property
+    def best_index(self) -> int:
+        """Position of the model with the lowest summed AIC."""
+        return int(np.nanargmin(np.where(np.isnan(self.dataset["aic_sum"].values), np.inf, self.dataset["aic_sum"].values)))
+
+    @property
+    def best(self) -> str:
+        return self.batches[self.best_index].model
+
+    def _per_spectrum(self, name: str) -> np.ndarray:
+        """``dataset[name]`` as (model, spectrum), spectra in C order."""
+        return self.dataset[name].transpose("model", *self.dims).values.reshape(len(self.batches), -1)
+
+    def _winners(self) -> tuple[np.ndarray, np.ndarray]:
+        """Each spectrum's best model by AIC (its position; −1 when no model has a finite AIC)
+        and the runner-up's ΔAIC (NaN with one model)."""
+        aic = np.where(np.isnan(self._per_spectrum("aic")), np.inf, self._per_spectrum("aic"))
+        finite = np.isfinite(aic).any(axis=0)
+        best = np.where(finite, np.argmin(aic, axis=0), -1)
+        delta = self._per_spectrum("delta_aic")
+        runner_up = np.full(best.shape, math.nan)
+        if len(self.batches) > 1:
+            masked = np.where(np.arange(len(self.batches))[:, None] == best[None, :], np.inf, np.where(np.isnan(delta), np.inf, delta))
+            runner_up = np.where(finite, masked.min(axis=0), math.nan)
+        return best, runner_up
+
+    def models(self) -> list[dict]:
+        """Per model: ``model``, ``label``, ``n_params``, ``wins`` (spectra it is best on by AIC),
+        ``weak_wins`` (of those, the ones where the runner-up is less than `WEAK_DELTA_AIC`
+        behind), ``aic_sum`` with ``delta_aic_sum`` and ``akaike_weight_sum``,
+        ``median_delta_aic``, ``converged_fraction`` and ``rms_rel_median``."""
+        best, runner_up = self._winners()
+        delta, rms, converged = self._per_spectrum("delta_aic"), self._per_spectrum("rms_rel"), self._per_spectrum("converged")
+        ds = self.dataset
+        out = []
+        for m, label in enumerate(self.labels):
+            mine = best == m
+            out.append({
+                "model": str(ds["circuit"].values[m]), "label": label, "n_params": int(ds["n_params"].values[m]),
+                "wins": int(mine.sum()), "weak_wins": int((mine & (runner_up < WEAK_DELTA_AIC)).sum()),
+                "aic_sum": float(ds["aic_sum"].values[m]), "delta_aic_sum": float(ds["delta_aic_sum"].values[m]), "akaike_weight_sum": float(ds["akaike_weight_sum"].values[m]),
+                "median_delta_aic": float(np.nanmedian(delta[m])) if np.isfinite(delta[m]).any() else math.nan,
+                "converged_fraction": float(np.mean(converged[m])), "rms_rel_median": float(np.nanmedian(rms[m])),
+                "spectra_with_warnings": sum(1 for ws in self.batches[m].warnings.values() if ws),
+            })
+        return out
+
+    def spectra(self) -> list[dict]:
+        """Per spectrum: its labels along every batch dimension (as a batch's JSON rows:
+        each dimension, then ``labels``), ``best`` and ``best_label`` (by AIC; None when no
+        model has a finite AIC), ``runner_up_delta_aic``, ``weak_evidence`` (that ΔAIC below
+        `WEAK_DELTA_AIC`) and ``models``: each model's `PER_SPECTRUM_CRITERIA` with its
+        ``model`` and ``label``."""
+        best, runner_up = self._winners()
+        values = {c: self._per_spectrum(c) for c in PER_SPECTRUM_CRITERIA}
+        rows = []
+        for s, labels in enumerate(_labels(self.batches[0])):
+            b = int(best[s])
+            rows.append({
+                **labels, "labels": labels,
+                "best": self.batches[b].model if b >= 0 else None, "best_label": self.labels[b] if b >= 0 else None,
+                "runner_up_delta_aic": float(runner_up[s]), "weak_evidence": bool(runner_up[s] < WEAK_DELTA_AIC),
+                "models": [{"model": batch.model, "label": label, **{c: (bool(values[c][m, s]) if c == "converged" else float(values[c][m, s])) for c in PER_SPECTRUM_CRITERIA}}
+                           for m, (batch, label) in enumerate(zip(self.batches, self.labels))],
+            })
+        return rows
+
+    def summary(self) -> dict:
+        """The JSON of ``impedax compare --json`` for several spectra: ``models`` (`models`),
+        ``spectra`` (`spectra`), ``best``/``best_label`` (lowest summed AIC), ``ranked_by``
+        ("aic_sum"), ``aic_form`` (`criteria`), ``weighting``, ``sizes`` (dimension → number of
+        spectra), ``n_spectra``, ``weak_spectra`` (spectra whose winner leads by less than
+        `WEAK_DELTA_AIC`) and ``note`` (`SUM_NOTE`)."""
+        spectra = self.spectra()
+        return {
+            "models": self.models(), "spectra": spectra, "best": self.best, "best_label": self.labels[self.best_index], "ranked_by": "aic_sum",
+            "aic_form": self.dataset.attrs["aic_form"], "weighting": self.dataset.attrs["weighting"], "dims": list(self.dims),
+            "sizes": {d: int(self.dataset.sizes[d]) for d in self.dims}, "n_spectra": self.n_spectra,
+            "weak_spectra": sum(r["weak_evidence"] for r in spectra), "weak_threshold": WEAK_DELTA_AIC, "note": SUM_NOTE,
+        }
+
+    def to_table(self) -> list[dict]:
+        """One row per spectrum and model (``compare --out FILE.csv``): the spectrum's labels,
+        ``model`` (the label), ``circuit``, `PER_SPECTRUM_CRITERIA` and ``best`` (whether it is
+        that spectrum's best by AIC)."""
+        best, _ = self._winners()
+        return [{**{d: v for d, v in r["labels"].items()}, **{k: v for k, v in m.items() if k not in ("model", "label")}, "model": m["label"], "circuit": m["model"], "best": bool(best[s] == j)}
+                for s, r in enumerate(self.spectra()) for j, m in enumerate(r["models"])]
+
+    def to_xarray(self) -> xr.Dataset:
+        """``dataset``: the criteria over (model, *dims), the sums over model."""
+        return self.dataset
+
+    def comparison_of(self, **labels) -> Comparison:
+        """The single-spectrum `Comparison` (F-tests, warnings, notes) of the spectrum with
+        ``labels`` (one per batch dimension, as `BatchFitResult.fit_of`): each batch's
+        `fit_of` that spectrum, compared."""
+        return compare([b.fit_of(**labels) for b in self.batches])
+
+    def report(self, *, each_spectrum_where: str = EACH_SPECTRUM_WHERE) -> str:
+        """The models' table (k, wins, summed AIC with its Δ and weight, median ΔAIC,
+        converged, median rms_rel), the summed AIC's note, then up to `SPECTRA_AS_ROWS` spectra
+        one row each (the best, the runner-up's ΔAIC, each model's ΔAIC); beyond, where each
+        spectrum's is (``each_spectrum_where``: the command line names its options)."""
+        models = self.models()
+        width = column_width(self.labels, "model")
+        noun = "spectrum" if self.n_spectra == 1 else "spectra"
+        sizes = " × ".join(f"{d} ({self.dataset.sizes[d]})" for d in self.dims)
+        lines = [f"comparison of {len(models)} models over {self.n_spectra} {noun} ({sizes}), weighting {self.dataset.attrs['weighting']}", ""]
+        lines.append(f"{'model':<{width}}  {'k':>2}  {'wins':>9}  {'ΣAIC':>11}  {'ΔΣAIC':>9}  {'weight':>6}  {'median ΔAIC':>11}  {'converged':>9}  {'median rms_rel':>14}")
+        best = self.best_index
+        for i, m in enumerate(models):
+            wins = f"{m['wins']}/{self.n_spectra}"
+            line = (f"{m['label']:<{width}}  {m['n_params']:>2}  {wins:>9}  {m['aic_sum']:>11.2f}  {m['delta_aic_sum']:>9.2f}  {m['akaike_weight_sum']:>6.3f}  "
+                    f"{m['median_delta_aic']:>11.2f}  {m['converged_fraction'] * 100:>8.0f}%  {significant(m['rms_rel_median'] * 100):>13}%")
+            lines.append(line + ("   ← best by summed AIC" if i == best else ""))
+        lines += ["", SUM_NOTE + "; wins count the spectra each model is best on by its own AIC"]
+        weak = [m for m in models if m["weak_wins"]]
+        if weak:
+            lines.append(f"won by less than ΔAIC {WEAK_DELTA_AIC:g} (the data barely tell the models apart there): " + ", ".join(f"{m['weak_wins']} of {m['label']}'s {m['wins']}" for m in weak))
+        warned = [m for m in models if m["spectra_with_warnings"]]
+        if warned:
+            lines.append("fits with warnings: " + ", ".join(f"{m['label']} on {m['spectra_with_warnings']} {'spectrum' if m['spectra_with_warnings'] == 1 else 'spectra'}" for m in warned) + " (each batch's report() lists them)")
+        if self.n_spectra <= SPECTRA_AS_ROWS:
+            lines += ["", *self._spectrum_lines()]
+        else:
+            lines += ["", f"each spectrum's winner and criteria: {each_spectrum_where}"]
+        return "\n".join(lines)
+
+    def _spectrum_lines(self) -> list[str]:
+        """One row per spectrum: its labels (`labels_key`), the best model, the runner-up's ΔAIC,
+        each model's ΔAIC."""
+        rows = self.spectra()
+        heads = [labels_key(r["labels"]) for r in rows]
+        lead = column_width(heads, "spectrum")
+        best_width = column_width((r["best_label"] or "—" for r in rows), "best")
+        columns = [f"ΔAIC {i + 1}" for i in range(len(self.labels))]
+        lines = ["each spectrum's best model by AIC (ΔAIC i: model i of the table above, in its order):",
+                 f"{'spectrum':<{lead}}  {'best':<{best_width}}  {'lead':>7}  " + "  ".join(f"{c:>8}" for c in columns)]
+        for head, r in zip(heads, rows):
+            lead_text = "—" if math.isnan(r["runner_up_delta_aic"]) else f"{r['runner_up_delta_aic']:.2f}"
+            cells = "  ".join(f"{m['delta_aic']:>8.2f}" for m in r["models"])
+            lines.append(f"{head:<{lead}}  {(r['best_label'] or '—'):<{best_width}}  {lead_text:>7}  {cells}" + ("   (weak)" if r["weak_evidence"] else ""))
+        return lines
+
+    def _repr_html_(self) -> str:
+        """The notebook display: a row per model (label, k, wins, summed AIC, its Δ and weight,
+        median ΔAIC) and the summed AIC's note."""
+        from ..plotting.html import result_html
+
+        best = self.best_index
+        rows = [{"model": m["label"], "k": m["n_params"], "wins": f"{m['wins']}/{self.n_spectra}", "ΣAIC": f"{m['aic_sum']:.2f}", "ΔΣAIC": f"{m['delta_aic_sum']:.2f}",
+                 "weight": f"{m['akaike_weight_sum']:.3f}", "median ΔAIC": f"{m['median_delta_aic']:.2f}", "": "← best" if i == best else ""} for i, m in enumerate(self.models())]
+        return result_html(f"comparison of {len(rows)} models over {self.n_spectra} spectra: best {self.labels[best]}", rows, lines=[SUM_NOTE])
+
+    def plot(self):
+        """Each model's ΔAIC per spectrum (Figure; `plotting.comparison.plot_batch_comparison`)."""
+        from ..plotting.comparison import plot_batch_comparison
+
+        return plot_batch_comparison(self)
+
+
+register_batch_compare(compare_batches)

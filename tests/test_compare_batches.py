@@ -1,0 +1,142 @@
+"""`compare` of batches of fits (`BatchComparison`) and ``impedax compare`` on a file of several
+spectra. SYNTHETIC stack: 6 spectra of R0 + R1 ∥ C1 and 6 of R0 + R1 ∥ CPE1 (α = 0.8), built
+from the impedance formulas below with 1 % complex noise and a fixed seed. Oracles: which
+formula made each spectrum, and the single-spectrum path (`compare` of each batch's `fit_of`)
+for the criteria and their sum."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import impedax as ix
+from impedax.cli import main
+from impedax.errors import FitError
+from impedax.io.export import to_jsonable
+
+RC, CPE = "R0 + R1 || C1", "R0 + R1 || CPE1"
+FREQ = np.logspace(-1, 5, 30)  # Hz
+N_EACH = 6
+R0, C1, Q1, ALPHA = 20.0, 1e-6, 1e-6, 0.8  # Ω, F, F s^(α−1), 1
+
+
+def rc_spectrum(r1: float) -> np.ndarray:
+    """Z = R0 + R1/(1 + jωR1C1)."""
+    w = 2 * np.pi * FREQ
+    return R0 + r1 / (1 + 1j * w * r1 * C1)
+
+
+def cpe_spectrum(r1: float) -> np.ndarray:
+    """Z = R0 + R1/(1 + R1 Q (jω)^α)."""
+    w = 2 * np.pi * FREQ
+    return R0 + r1 / (1 + r1 * Q1 * (1j * w) ** ALPHA)
+
+
+@pytest.fixture(scope="module")
+def stack() -> xr.Dataset:
+    # SYNTHETIC: R1 from 1 kΩ up by 10 % per subject, 1 % relative noise on Re and Im, seed fixed
+    rng = np.random.default_rng(20261201)
+    z = np.array([rc_spectrum(1e3 * (1 + 0.1 * i)) for i in range(N_EACH)] + [cpe_spectrum(1e3 * (1 + 0.1 * i)) for i in range(N_EACH)])
+    z = z * (1 + 0.01 * (rng.standard_normal(z.shape) + 1j * rng.standard_normal(z.shape)))
+    return xr.Dataset({"Z": (("subject", "frequency"), z)}, coords={"frequency": FREQ, "subject": [f"s{i}" for i in range(2 * N_EACH)]})
+
+
+@pytest.fixture(scope="module")
+def batches(stack):
+    return ix.fit(RC, stack, n_starts=1), ix.fit(CPE, stack, n_starts=1)
+
+
+@pytest.fixture(scope="module")
+def comparison(batches):
+    return ix.compare(list(batches))
+
+
+def test_the_cpe_model_wins_the_cpe_spectra_and_the_rc_model_wins_or_ties_the_rc_ones(comparison):
+    assert isinstance(comparison, ix.fitting.BatchComparison)
+    rows = comparison.spectra()
+    assert [r["labels"] for r in rows] == [{"subject": f"s{i}"} for i in range(2 * N_EACH)]
+    for r in rows[N_EACH:]:  # a CPE of α = 0.8 is far from a capacitor: decisive
+        assert r["best"] == CPE and r["runner_up_delta_aic"] > 10
+    for r in rows[:N_EACH]:  # the CPE's extra α buys at most noise: the RC model wins, or the CPE leads weakly
+        rc_row = next(m for m in r["models"] if m["model"] == RC)
+        assert rc_row["delta_aic"] < 4.0
+    models = {m["model"]: m for m in comparison.models()}
+    assert models[CPE]["wins"] >= N_EACH and models[RC]["wins"] + models[CPE]["wins"] == 2 * N_EACH
+    assert models[RC]["wins"] >= N_EACH // 2
+    assert comparison.best == CPE and models[CPE]["delta_aic_sum"] == 0.0 and models[CPE]["akaike_weight_sum"] == pytest.approx(1.0)
+
+
+def test_summed_aic_is_the_sum_of_the_single_comparisons_aic(comparison, batches):
+    """Oracle: the single path, `compare` of the two `fit_of` fits of each spectrum."""
+    singles = [ix.compare([b.fit_of(subject=f"s{i}") for b in batches]) for i in range(2 * N_EACH)]
+    n = 2 * FREQ.size  # real data values
+    for m, batch in enumerate(batches):
+        # by hand from the batch's χ²: AIC = n ln(χ²/n) + 2k (unknown variance, weighting modulus)
+        k = 3 + m
+        by_hand = n * np.log(batch.dataset["chi2"].values / n) + 2 * k
+        assert comparison.dataset["aic"].isel(model=m).values == pytest.approx(by_hand, rel=1e-12)
+        assert comparison.models()[m]["aic_sum"] == pytest.approx(by_hand.sum(), rel=1e-12)
+        # the single path: fit_of refits each spectrum from the batch's optimum, which it finds
+        # again to the solver's tolerance (χ² within ~1e-5 relative: AIC within 0.01)
+        per_spectrum = np.array([s.rows[m]["aic"] for s in singles])
+        assert comparison.dataset["aic"].isel(model=m).values == pytest.approx(per_spectrum, abs=1e-2)
+        assert comparison.models()[m]["aic_sum"] == pytest.approx(per_spectrum.sum(), abs=1e-2 * 2 * N_EACH)
+        deltas = np.array([s.rows[m]["delta_aic"] for s in singles])
+        assert comparison.dataset["delta_aic"].isel(model=m).values == pytest.approx(deltas, abs=2e-2)
+        assert comparison.models()[m]["median_delta_aic"] == pytest.approx(float(np.median(deltas)), abs=2e-2)
+    # the summed AICs' Δ and Akaike weight, by hand: exp(−Δ/2) normalised
+    sums = np.array([m["aic_sum"] for m in comparison.models()])
+    w = np.exp(-(sums - sums.min()) / 2)
+    assert [m["akaike_weight_sum"] for m in comparison.models()] == pytest.approx(list(w / w.sum()))
+    # one spectrum's full comparison is the single path's
+    one = comparison.comparison_of(subject="s7")
+    assert isinstance(one, ix.fitting.Comparison) and one.best == CPE and one.rows[0]["aic"] == pytest.approx(singles[7].rows[0]["aic"], abs=1e-2)
+
+
+def test_report_xarray_summary_and_table(comparison):
+    text = comparison.report()
+    assert text.startswith("comparison of 2 models over 12 spectra (subject (12))") and "← best by summed AIC" in text
+    assert "joint AIC are sums" in text and "subject=s11" in text  # (≤ 20 spectra: a row each)
+    ds = comparison.to_xarray()
+    assert ds["aic"].dims == ("model", "subject") and list(ds["model"].values) == [RC, CPE]
+    assert float(ds["aic_sum"].sel(model=RC)) == pytest.approx(float(ds["aic"].sel(model=RC).sum()))
+    s = comparison.summary()
+    assert {"models", "spectra", "best", "best_label", "ranked_by", "aic_form", "sizes", "n_spectra"} <= set(s)
+    assert s["sizes"] == {"subject": 12} and s["ranked_by"] == "aic_sum"
+    assert {"wins", "aic_sum", "delta_aic_sum", "akaike_weight_sum", "median_delta_aic"} <= set(s["models"][0])
+    json.dumps(to_jsonable(s), allow_nan=False)
+    table = comparison.to_table()
+    assert len(table) == 24 and sum(r["best"] for r in table) == 12
+    assert "comparison of 2 models over 12 spectra" in comparison._repr_html_()
+
+
+def test_batches_of_other_data_or_weighting_and_mixed_items_are_refused(batches, stack):
+    rc, cpe = batches
+    with pytest.raises(FitError, match=r"different spectra: subject \(12\) against subject \(11\)"):
+        ix.compare([rc, ix.fit(CPE, stack.isel(subject=slice(0, 11)), n_starts=1)])
+    with pytest.raises(FitError, match="different weightings"):
+        ix.compare([rc, ix.fit(CPE, stack, n_starts=1, weighting="proportional")])
+    with pytest.raises(FitError, match="fits of one spectrum or batches of fits of many, not both"):
+        ix.compare([rc, cpe.fit_of(subject="s0")])
+
+
+def test_cli_compares_a_file_of_several_spectra(stack, tmp_path, capsys):
+    path = tmp_path / "subjects.nc"
+    ix.save(stack, path)
+    assert main(["compare", str(path), "--model", RC, "--model", CPE, "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert {"models", "spectra", "sizes", "best", "source"} <= set(out)
+    assert out["sizes"] == {"subject": 12} and out["best"] == CPE and len(out["spectra"]) == 12
+    assert {"wins", "aic_sum", "delta_aic_sum", "akaike_weight_sum", "median_delta_aic"} <= set(out["models"][0])
+    assert out["spectra"][7]["subject"] == "s7" and out["spectra"][7]["best"] == CPE
+    csv, png = tmp_path / "c.csv", tmp_path / "c.png"
+    assert main(["compare", str(path), "--model", RC, "--model", CPE, "--select", "subject=s6,s7,s8", "--out", str(csv), "--plot", str(png)]) == 0
+    text = capsys.readouterr().out
+    assert "over 3 spectra" in text and "subject=s8" in text
+    lines = csv.read_text().splitlines()
+    assert lines[0].startswith("subject,") and len(lines) == 1 + 3 * 2
+    assert png.stat().st_size > 10_000
