@@ -10,8 +10,14 @@ Two studies over fresh synthetic data sets (seeds 1..N):
   ε0 ε_gap A / 413 pF = 2.789 µm.
 * ``two_arc``: `generate_two_arc_trials` (R0 + R1 ∥ CPE1 + R2 ∥ CPE2, 20 trials; R0 and the
   exponents shared, R1, Q1, R2, Q2 per trial); targets: population medians of R1 and R2, and R0.
+* ``single``: one spectrum of R0 + R1 ∥ CPE1 + R2 ∥ CPE2 (`two_arcs`, a numpy formula here; 50
+  points, 10 mHz–100 kHz, Re and Im each with Gaussian noise 1 % of |Z|), sampled by `ix.sample`
+  with its defaults (emcee, proportional noise, chain length ``auto``); targets: every one of the
+  seven parameters, by the equal-tailed intervals of the posterior and by the least-squares
+  fit's linearised ± (value ± 1.645 σ and ± σ, default weighting).
 
-Usage: ``python benchmarks/bench_coverage.py [--sets 50] [--study sirin|two_arc|all] [--ess]``.
+Usage: ``python benchmarks/bench_coverage.py [--sets 50] [--study sirin|two_arc|single|all] [--ess]``
+(``all``: the two hierarchical studies).
 Results are appended as JSON lines to ``--out`` (default benchmarks/coverage_results.jsonl) as
 they come, so an interrupted run keeps the sets it finished; the table prints the coverage with
 its 95 % binomial (Wilson) interval.
@@ -79,19 +85,53 @@ def two_arc_set(seed: int, *, chains: int, warmup: int, draws: int) -> dict:
     return {"study": "two_arc", "seed": seed, "R1": _covers(post, "R1", t["R1"]), "R2": _covers(post, "R2", t["R2"]), "R0": _covers(post, "R0", t["R0"], shared=True), "divergences": post.divergences, "seconds": post.elapsed_s, "load_1min": os.getloadavg()[0], "ess": post.ess()}
 
 
+SINGLE_TRUTH = {"R0": 20.0, "R1": 100.0, "CPE1.Q": 1e-5, "CPE1.alpha": 0.85, "R2": 200.0, "CPE2.Q": 1e-3, "CPE2.alpha": 0.8}
+SINGLE_NOISE = 0.01  # of |Z|, on Re and Im each
+
+
+def two_arcs(f: np.ndarray, p: dict) -> np.ndarray:
+    """R0 + R1/(1 + R1 Q1 (jω)^α1) + R2/(1 + R2 Q2 (jω)^α2), written apart from impedax's compiler."""
+    jw = 2j * np.pi * f
+    return p["R0"] + p["R1"] / (1 + p["R1"] * p["CPE1.Q"] * jw ** p["CPE1.alpha"]) + p["R2"] / (1 + p["R2"] * p["CPE2.Q"] * jw ** p["CPE2.alpha"])
+
+
+def single_set(seed: int, **_) -> dict:
+    rng = np.random.default_rng(seed)
+    f = np.logspace(-2, 5, 50)
+    z = two_arcs(f, SINGLE_TRUTH)
+    ds = ix.make_spectrum(f, z + SINGLE_NOISE * np.abs(z) * (rng.normal(size=f.size) + 1j * rng.normal(size=f.size)))
+    t = time.perf_counter()
+    post = ix.sample("R0 + R1 || CPE1 + R2 || CPE2", ds, seed=seed, progress=False)
+    seconds = time.perf_counter() - t
+    q = post.quantiles(circuit=True)
+    fit = ix.fit("R0 + R1 || CPE1 + R2 || CPE2", ds)
+    row = {"study": "single", "seed": seed, "seconds": seconds, "load_1min": os.getloadavg()[0], "steps": post.settings.get("steps"), "warnings": len(post.warnings)}
+    for name, truth in SINGLE_TRUTH.items():
+        s = q.sel(param=name)
+        value, sd = fit.values[name], fit.stderr.get(name, float("nan"))
+        row[name] = {
+            "90": bool(float(s["q05"]) <= truth <= float(s["q95"])), "68": bool(float(s["q16"]) <= truth <= float(s["q84"])),
+            "lsq90": bool(abs(value - truth) <= 1.645 * sd), "lsq68": bool(abs(value - truth) <= sd),
+        }
+    return row
+
+
 def table(rows: list[dict]) -> str:
     lines = ["| study | target | sets | 90 % covers | (95 % binomial) | 68 % covers | (95 % binomial) |", "|---|---|---|---|---|---|---|"]
-    for study, targets in (("sirin", ("u",)), ("two_arc", ("R1", "R2", "R0"))):
+    for study, targets in (("sirin", ("u",)), ("two_arc", ("R1", "R2", "R0")), ("single", tuple(SINGLE_TRUTH))):
         sub = [r for r in rows if r["study"] == study]
         if not sub:
             continue
         for target in targets:
-            n = len(sub)
-            k90 = sum(r[target]["90"] for r in sub)
-            k68 = sum(r[target]["68"] for r in sub)
-            a, b = wilson(k90, n)
-            c, d = wilson(k68, n)
-            lines.append(f"| {study} | {target} | {n} | {k90 / n:.0%} | {a:.0%}–{b:.0%} | {k68 / n:.0%} | {c:.0%}–{d:.0%} |")
+            for kind, (k90_key, k68_key) in (("", ("90", "68")), (" (least squares ±)", ("lsq90", "lsq68"))):
+                if k90_key not in sub[0][target]:
+                    continue
+                n = len(sub)
+                k90 = sum(r[target][k90_key] for r in sub)
+                k68 = sum(r[target][k68_key] for r in sub)
+                a, b = wilson(k90, n)
+                c, d = wilson(k68, n)
+                lines.append(f"| {study}{kind} | {target} | {n} | {k90 / n:.0%} | {a:.0%}–{b:.0%} | {k68 / n:.0%} | {c:.0%}–{d:.0%} |")
     return "\n".join(lines)
 
 
@@ -141,7 +181,7 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sets", type=int, default=50)
     ap.add_argument("--first", type=int, default=1)
-    ap.add_argument("--study", choices=("sirin", "two_arc", "all"), default="all")
+    ap.add_argument("--study", choices=("sirin", "two_arc", "single", "all"), default="all")
     ap.add_argument("--chains", type=int, default=2)
     ap.add_argument("--warmup", type=int, default=250)
     ap.add_argument("--draws", type=int, default=250)
@@ -149,8 +189,8 @@ def main() -> None:
     ap.add_argument("--out", default=str(HERE / "coverage_results.jsonl"))
     args = ap.parse_args()
     out = Path(args.out)
-    studies = {"sirin": sirin_set, "two_arc": two_arc_set}
-    chosen = list(studies) if args.study == "all" else [args.study]
+    studies = {"sirin": sirin_set, "two_arc": two_arc_set, "single": single_set}
+    chosen = ["sirin", "two_arc"] if args.study == "all" else [args.study]
     rows = []
     for seed in range(args.first, args.first + args.sets):
         for study in chosen:

@@ -299,7 +299,7 @@ class BatchComparison:
             lines.append(f"won by less than ΔAIC {WEAK_DELTA_AIC:g} (the data barely tell the models apart there): " + ", ".join(f"{m['weak_wins']} of {m['label']}'s {m['wins']}" for m in weak))
         warned = [m for m in models if m["spectra_with_warnings"]]
         if warned:
-            lines.append("fits with warnings: " + ", ".join(f"{m['label']} on {m['spectra_with_warnings']} {'spectrum' if m['spectra_with_warnings'] == 1 else 'spectra'}" for m in warned) + " (each batch's report() lists them)")
+            lines.append("fits with warnings: " + ", ".join(f"{m['label']} on {m['spectra_with_warnings']} {'spectrum' if m['spectra_with_warnings'] == 1 else 'spectra'}" for m in warned) + " (each batch's report() lists them; from the command line, impedax fit FILE --model MODEL)")
         if self.n_spectra <= SPECTRA_AS_ROWS:
             lines += ["", *self._spectrum_lines()]
         else:
