@@ -434,11 +434,7 @@ def _sweep_blocks(freq: np.ndarray, cycles: np.ndarray | None, lines: Sequence[i
         starts = [0, *(np.flatnonzero(near_first[1:] & ~near_first[:-1]) + 1).tolist()]
         dim = "sweep"
         if len(starts) < 2:
-            restarts = _restarts(f)
-            if restarts is None:
-                return None
-            blocks = np.split(rows, restarts[1:])
-            return dim, [str(k) for k in range(len(blocks))], blocks, None
+            return _restarted_sweeps(rows, f)
         labels = [str(k) for k in range(len(starts))]
     blocks = np.split(rows, starts[1:])
     if any(np.unique(freq[b]).size < b.size for b in blocks):
@@ -450,11 +446,7 @@ def _sweep_blocks(freq: np.ndarray, cycles: np.ndarray | None, lines: Sequence[i
     if len(complete) < 2 or max(deviations) > SWEEP_RTOL:
         if dim == "cycle" and min(b.size for b in blocks) >= MIN_SWEEP_POINTS:
             return dim, labels, blocks, None  # cycles one after another, on different grids
-        restarts = _restarts(f)
-        if dim == "sweep" and restarts is not None:
-            blocks = np.split(rows, restarts[1:])
-            return dim, [str(k) for k in range(len(blocks))], blocks, None
-        return None
+        return _restarted_sweeps(rows, f) if dim == "sweep" else None
     if len(complete) < len(blocks):
         sizes = ", ".join(str(b.size) for b in blocks)
         short = next(b for b in blocks if b.size != n)
@@ -473,6 +465,16 @@ MIN_SWEEP_POINTS = 3
 #: sweep's first frequency to restart the list: a jump back to the start of the range, not a sweep
 #: that turns round (down and back up) nor a second range beyond the first (pieces of one spectrum).
 RESTART_SPAN_SHARE = 0.25
+
+
+def _restarted_sweeps(rows: np.ndarray, f: np.ndarray):
+    """`_sweep_blocks`'s answer for sweeps on grids of their own (`_restarts`), ``deviation``
+    None (the caller refuses them), or None when the list does not restart."""
+    restarts = _restarts(f)
+    if restarts is None:
+        return None
+    blocks = np.split(rows, restarts[1:])
+    return "sweep", [str(k) for k in range(len(blocks))], blocks, None
 
 
 def _restarts(f: np.ndarray) -> list[int] | None:
