@@ -20,8 +20,9 @@ import functools
 import inspect
 import math
 import numbers
+import re
 import sys
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 
 import numpy as np
 
@@ -44,6 +45,7 @@ __all__ = [
     "require_parameters",
     "unknown_parameter",
     "closest_name",
+    "impedance_py_parameter",
     "numeric_array",
     "shown",
     "number_text",
@@ -249,9 +251,9 @@ def instance_of(*types: type, optional: bool = False, what: str = "") -> Rule:
     return check
 
 
-def _mapping(value, name, what: str):
+def _mapping(value, name, what: str, example: str = "{'R1': 100.0}"):
     if not isinstance(value, Mapping):
-        raise ParameterError(f"{name} must be a mapping {what}, e.g. {{'R1': 100.0}}; got {type(value).__name__}")
+        raise ParameterError(f"{name} must be a mapping {what}, e.g. {example}; got {type(value).__name__}")
     for key in value:
         if not isinstance(key, str):
             raise ParameterError(f"{name}: parameter names are strings, got {shown(key)} ({type(key).__name__})")
@@ -277,6 +279,11 @@ def sequence_of(*types: type, attribute: str | None = None, what: str = "", hint
     return check
 
 
+INIT_FROM_LIST = "init=dict(zip(circuit.parameter_names(), initial_guess))"
+"""How impedance.py's ``initial_guess`` list becomes ``init``: a circuit read by
+``from_impedance_py`` lists its parameters in impedance.py's order."""
+
+
 def parameter_values(*, results: bool = False) -> Rule:
     """A mapping parameter name → finite number, or None; with ``results``, also anything
     with a ``values`` mapping (a `FitResult` whose values start a fit)."""
@@ -291,6 +298,8 @@ def parameter_values(*, results: bool = False) -> Rule:
         kind = "name → value" + (" or a FitResult" if results else "")
         if results and callable(value) and callable(getattr(getattr(value, "__self__", None), "per_spectrum_starts", None)):
             raise ParameterError(f"{name} must be a mapping {kind}, got the method BatchFitResult.values; pass the batch itself ({name}=batch) to start each spectrum from its own optimum")
+        if isinstance(value, (list, tuple, np.ndarray)) and name == "init":
+            raise ParameterError(f"{name} must be a mapping {kind}, got a {type(value).__name__}; from impedance.py's initial_guess list: {INIT_FROM_LIST}")
         _mapping(value, name, kind)
         out = {}
         for key, number in value.items():
@@ -309,7 +318,12 @@ def parameter_bounds(value, name):
     """A mapping parameter name → (lower, upper) of numbers (±inf allowed), or None."""
     if value is None:
         return None
-    _mapping(value, name, "name → (lower, upper)")
+    if _lower_and_upper_lists(value):
+        raise ParameterError(
+            f"{name} looks like impedance.py's (lower list, upper list); impedax takes a mapping name → (lower, upper), "
+            f"e.g. {{'R1': (10.0, 1e3)}}: {name}={{n: (lo, hi) for n, lo, hi in zip(circuit.parameter_names(), lower, upper)}}"
+        )
+    _mapping(value, name, "name → (lower, upper)", "{'R1': (10.0, 1e3)}")
     out = {}
     for key, pair in value.items():
         label = f"{name}[{shown(key)}]"
@@ -325,6 +339,14 @@ def parameter_bounds(value, name):
                 raise ParameterError(f"{label}: {end} must be a number, got {shown(number)}")
         out[key] = (float(lower), float(upper))
     return out
+
+
+def _lower_and_upper_lists(value) -> bool:
+    """``value`` is impedance.py's ``bounds``: a pair of equally long lists of numbers."""
+    if isinstance(value, (str, bytes, Mapping)) or not isinstance(value, (list, tuple)) or len(value) != 2:
+        return False
+    lower, upper = value
+    return all(isinstance(v, (list, tuple, np.ndarray)) and len(v) > 0 for v in (lower, upper)) and len(lower) == len(upper)
 
 
 def numeric_array(*, positive: bool = False, optional: bool = False) -> Rule:
@@ -360,11 +382,13 @@ def _is_tracer(value) -> bool:
     return jax is not None and isinstance(value, jax.core.Tracer)
 
 
-def closest_name(name: str, known: Sequence[str]) -> str | None:
+def closest_name(name: str, known: Sequence[str], *, impedance_py_symbols: Mapping[str, str] | None = None) -> str | None:
     """The parameter of ``known`` a mistyped ``name`` most likely means, or None: the one
     equal but for case (``r1`` → ``R1``); else, for ``ELEMENT.attr``, the parameter of that
     element (case aside) whose attribute starts with the typed one (``CPE1.a`` →
-    ``CPE1.alpha``, not the closer spelling ``CPE1.Q``); else the closest spelling (`difflib`)."""
+    ``CPE1.alpha``, not the closer spelling ``CPE1.Q``); else the impedax name of an
+    impedance.py parameter name (`impedance_py_parameter`: ``CPE1_1`` → ``CPE1.alpha``, ``W1`` →
+    ``W1.sigma``); else the closest spelling (`difflib`)."""
     known = list(known)
     folded = [k for k in known if k.casefold() == name.casefold()]
     if folded:
@@ -375,14 +399,43 @@ def closest_name(name: str, known: Sequence[str]) -> str | None:
         started = [k for k in same_element if k.partition(".")[2].casefold().startswith(attribute.casefold())]
         if started:
             return started[0]
+    meant = impedance_py_parameter(name, known, impedance_py_symbols)
+    if meant:
+        return " or ".join(meant)
     close = difflib.get_close_matches(name, known, n=1)
     return close[0] if close else None
 
 
-def unknown_parameter(what: str, name, known, circuit: object = None) -> ParameterError:
+# an impedance.py parameter name: element symbol, its number, and the parameter's index when the
+# element has several (CPE1_1, Wo1_0, R_0, W1)
+_IMPEDANCE_PY_PARAMETER_RE = re.compile(r"([A-Za-z]+)_?([0-9]+)(?:_([0-9]+))?")
+
+
+def impedance_py_parameter(name: str, known: Sequence[str], impedance_py_symbols: Mapping[str, str] | None = None) -> list[str]:
+    """The parameters of ``known`` (a circuit's, in each element's declaration order) that the
+    impedance.py parameter name ``name`` means, or []: impedance.py numbers an element's
+    parameters in the order impedax declares them (``CPE1_0``, ``CPE1_1`` → ``CPE1.Q``,
+    ``CPE1.alpha``; ``Wo1_1`` → ``Wo1.tau``) and names a one-parameter element's by the element
+    (``W1`` → ``W1.sigma``); a bare name of an element with several gives them all.
+    ``impedance_py_symbols``: impedance.py symbol → impedax symbol where they differ
+    (``Registry.impedance_py_symbols``: ``Zarc1_2`` → ``CC1.alpha``)."""
+    match = _IMPEDANCE_PY_PARAMETER_RE.fullmatch(name) if isinstance(name, str) else None
+    if match is None:
+        return []
+    symbol, number, index = match.groups()
+    labels = {f"{symbol}{number}".casefold()}
+    if impedance_py_symbols and symbol in impedance_py_symbols:
+        labels.add(f"{impedance_py_symbols[symbol]}{number}".casefold())
+    parameters = [k for k in known if k.partition(".")[0].casefold() in labels]
+    if index is None:
+        return parameters
+    return [parameters[int(index)]] if int(index) < len(parameters) else []
+
+
+def unknown_parameter(what: str, name, known, circuit: object = None, *, impedance_py_symbols: Mapping[str, str] | None = None) -> ParameterError:
     """The error for a parameter name ``name`` (given in ``what``, e.g. ``init``) that is not
     among ``known`` (of ``circuit``), with the closest known name (`closest_name`) as a hint."""
-    close = closest_name(name, known) if isinstance(name, str) else None
+    close = closest_name(name, known, impedance_py_symbols=impedance_py_symbols) if isinstance(name, str) else None
     hint = f"; did you mean {close}?" if close else ""
     where = f" for {circuit}" if circuit is not None else ""
     return ParameterError(f"{what}: unknown parameter {shown(name)}{where}{hint} (parameters: {', '.join(known)})")
@@ -467,11 +520,24 @@ def checked_arguments(*relations: Callable[[Mapping[str, object]], None], **rule
     return decorate
 
 
+IMPEDANCE_PY_KEYWORDS = {
+    "constants": ("fixed", "fixed={name: value}, e.g. fixed={'CPE1.alpha': 0.9}"),
+    "initial_guess": ("init", f"init={{name: value}}, e.g. {INIT_FROM_LIST}"),
+    "weight_by_modulus": ("weighting", 'weighting="modulus" (impedax\'s default; impedance.py\'s default is weighting="unit")'),
+}
+"""impedance.py's ``CustomCircuit``/``fit`` keywords → (impedax argument, what to write): a call
+written in impedance.py's words is answered with impedax's, not with the nearest spelling
+(``constants`` is not ``n_starts``)."""
+
+
 def _binding_message(label: str, signature: inspect.Signature, n_positional: int, kwargs: Mapping, exc: TypeError) -> str:
     names = list(signature.parameters)
     takes_any_keyword = any(p.kind is p.VAR_KEYWORD for p in signature.parameters.values())
     for key in kwargs:
         if key not in signature.parameters and not takes_any_keyword:
+            renamed = IMPEDANCE_PY_KEYWORDS.get(key)
+            if renamed is not None and renamed[0] in signature.parameters:
+                return f"{label}() has no argument {key!r}: for impedance.py's {key}= write {renamed[1]} (docs/migrating.md)"
             close = difflib.get_close_matches(key, names, n=1)
             hint = f"; did you mean {close[0]}?" if close else ""
             return f"{label}() has no argument {shown(key)}{hint}"

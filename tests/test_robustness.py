@@ -133,7 +133,7 @@ BAD_MODELS = [  # (id, model, message fragment)
     ("syntax-error-at-the-end", "R1 + C1 +", "found end of input"),
     ("stray-closing-parenthesis", "R1 + C1)", "unbalanced ')'"),
     ("single-bar", "R1 | C1", "a single '|' is not an operator"),
-    ("dash-for-series", "R1-C1", "series is written '+'"),
+    ("dash-for-series", "R0 + R1-C1", "series is written '+'"),  # ('R1-C1' alone is read as impedance.py notation)
     ("whitespace-only", " \t ", "empty circuit"),
     ("lowercase-symbol", "r1 + C1", "symbols are case-sensitive"),
     ("cyrillic-capital-es", "R1 + С1", "did you mean the Latin 'C'?"),

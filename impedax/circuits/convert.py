@@ -106,7 +106,11 @@ class _ImpedancePyReader:
         sym, digits = m.groups()
         spec = self.registry.by_impedance_py.get(sym)
         if spec is None:
-            raise CircuitSyntaxError(src, self.pos, f"impedance.py element {sym!r} has no impedax equivalent", "supported: " + ", ".join(self.registry.by_impedance_py))
+            raise CircuitSyntaxError(
+                src, self.pos, f"impedance.py element {sym!r} has no impedax equivalent",
+                "supported: " + ", ".join(self.registry.by_impedance_py)
+                + f"; register your own: ElementSpec(..., impedance_py={sym!r}) (docs/circuits.md, \"Adding an element\")",
+            )
         name = f"{spec.symbol}{digits}"
         if name in self.names:
             raise CircuitSyntaxError(src, self.pos, f"duplicate element name {name!r}")

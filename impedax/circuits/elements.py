@@ -182,7 +182,7 @@ DEFAULT_REGISTRY = Registry(
             "CC", "Cole–Cole relaxation", "Z = R/(1 + (jωτ)^α)",
             (_resistance("relaxation strength"), _time_constant(1e-3), _fraction("alpha", "broadening exponent")),
             _cole_cole,
-            dc=DCPath.CONDUCTS,
+            dc=DCPath.CONDUCTS, impedance_py="Zarc",
         ),
         ElementSpec(
             "HN", "Havriliak–Negami relaxation", "Z = R/(1 + (jωτ)^α)^β",

@@ -261,6 +261,12 @@ class Registry:
         """impedance.py symbol → spec, for the elements that have one."""
         return {s.impedance_py: s for s in self.specs if s.impedance_py is not None}
 
+    @cached_property
+    def impedance_py_symbols(self) -> Mapping[str, str]:
+        """impedance.py symbol → impedax symbol, where they differ (``Zarc`` → ``CC``): how an
+        impedance.py parameter name (``Zarc1_2``) is read in a hint (`impedax.arguments.closest_name`)."""
+        return {s.impedance_py: s.symbol for s in self.specs if s.impedance_py is not None and s.impedance_py != s.symbol}
+
     def __contains__(self, symbol: str) -> bool:
         return symbol in self._by_symbol
 

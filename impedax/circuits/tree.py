@@ -105,11 +105,19 @@ class Circuit:
 
     def impedance_py_names(self, registry: Registry = DEFAULT_REGISTRY) -> dict[str, str]:
         """Element name → its name in `to_impedance_py`: impedance.py names an element by its
-        symbol and a number, so ``R0`` or ``CPE1`` stay and other names (``R_sc``, ``Q1``)
-        take the symbol and the lowest number not yet used for it, in element order."""
-        symbols = {e.name: _notation_symbol(e, registry, "impedance_py", "impedance.py") for e in self.elements()}
+        symbol and a number, so ``R0`` or ``CPE1`` stay, an impedax symbol and number keeps its
+        number under impedance.py's symbol (``CC1`` → ``Zarc1``) and other names (``R_sc``,
+        ``Q1``) take the symbol and the lowest number not yet used for it, in element order."""
+        elements = list(self.elements())
+        symbols = {e.name: _notation_symbol(e, registry, "impedance_py", "impedance.py") for e in elements}
         renamed = {name: name for name, sym in symbols.items() if re.fullmatch(re.escape(sym) + r"[0-9]+", name)}
         taken = set(renamed.values())
+        for element in elements:  # an impedax name of symbol and number keeps its number (CC1 → Zarc1)
+            number = re.fullmatch(re.escape(registry[element.symbol].symbol) + r"([0-9]+)", element.name)
+            own = f"{symbols[element.name]}{number.group(1)}" if number else None
+            if element.name not in renamed and own is not None and own not in taken:
+                renamed[element.name] = own
+                taken.add(own)
         for name, sym in symbols.items():
             if name not in renamed:
                 number = next(k for k in itertools.count() if f"{sym}{k}" not in taken)

@@ -283,7 +283,7 @@ def _spread_params(argv: list[str], options: tuple[str, ...] = ASSIGNMENT_OPTION
 
 def _run(argv: list[str], command: list[str]) -> int:
     from ..errors import ImpedaxError
-    from .common import option_words, positional_model
+    from .common import option_words, positional_model, read_impedance_py_model
 
     name = _command_of(argv)
     parser = build_parser(name)
@@ -298,6 +298,7 @@ def _run(argv: list[str], command: list[str]) -> int:
     positional_model(_subparser(parser, args.command), args)
     _configure_jax_cache()
     try:
+        read_impedance_py_model(args, args.command)
         return int(args.run(args) or 0)
     except ImpedaxError as exc:
         # (in the command line's words: ``--max-rc must be ...``, where Python says max_rc)

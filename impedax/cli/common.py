@@ -162,8 +162,9 @@ def check_parameter_names(names: Iterable[str], known: Iterable[str], flag: str,
     for name in names:
         if name not in known:
             from ..arguments import closest_name
+            from ..circuits import DEFAULT_REGISTRY
 
-            close = closest_name(name, known)
+            close = closest_name(name, known, impedance_py_symbols=DEFAULT_REGISTRY.impedance_py_symbols)
             hint = f"; did you mean {close}?" if close else ""
             raise ParameterError(f"{flag}: unknown parameter {name!r} for model {model!r}{hint} (parameters: {', '.join(known)})")
 
@@ -355,13 +356,43 @@ def emit_json(obj) -> None:
 def add_model_argument(parser, *, positional: bool = False, default: str | None = None) -> None:
     """MODEL (``positional``: first argument, or --model as the commands that fit take it) or
     --model, required unless a ``default`` is given."""
-    help_text = "circuit text, e.g. 'R0 + R1 || C1' (quote it in the shell)"
+    help_text = "circuit text, e.g. 'R0 + R1 || C1', or an impedance.py string, 'R0-p(R1,C1)' (quote it in the shell)"
+    parser.set_defaults(circuit_model=True)  # (read by `read_impedance_py_model`)
     if positional:
         add_positional_model(parser, help=help_text)
     elif default is not None:
         parser.add_argument("--model", default=default, metavar="MODEL", help=f"{help_text}; default '{default}'")
     else:
         parser.add_argument("--model", required=True, metavar="MODEL", help=help_text)
+
+
+def looks_like_impedance_py(text: str) -> bool:
+    """Circuit text written in impedance.py's notation: ``p(`` or a ``-`` between elements
+    (impedax writes series ``+``; its own text never holds either)."""
+    return "p(" in text or re.search(r"[A-Za-z0-9_)]\s*-\s*[A-Za-z(]", text) is not None
+
+
+def read_impedance_py_model(args, command: str) -> None:
+    """``args.model`` of a command that takes a circuit (`add_model_argument`), given as an
+    impedance.py string (`looks_like_impedance_py`) that is no impedax text: replaced by its
+    impedax text (`impedax.from_impedance_py`), with one note on stderr saying how it was read.
+    A string that neither reads is refused with the impedax parser's message when it holds
+    impedax's operators (``+``, ``|``: impedax text with a stray ``-``), else the impedance.py
+    reader's."""
+    model = getattr(args, "model", None)
+    if not getattr(args, "circuit_model", False) or not isinstance(model, str) or not looks_like_impedance_py(model):
+        return
+    from ..circuits import from_impedance_py, parse
+    from ..errors import CircuitSyntaxError
+
+    try:
+        parse(model)
+        return
+    except CircuitSyntaxError:
+        if "+" in model or "|" in model:
+            raise
+    args.model = str(from_impedance_py(model))
+    print(f"impedax {command}: read as impedance.py notation: {args.model}", file=sys.stderr)
 
 
 def add_positional_model(parser, **kwargs) -> None:

@@ -130,7 +130,7 @@ class ParameterTable:
         for what, mapping in (("init", init), ("fixed", fixed), ("bounds", bounds)):
             for name in mapping or {}:
                 if name not in specs:
-                    raise unknown_parameter(what, name, names, circuit)
+                    raise unknown_parameter(what, name, names, circuit, impedance_py_symbols=registry.impedance_py_symbols)
         lower = np.array([specs[n].lower for n in names], float)
         upper = np.array([specs[n].upper for n in names], float)
         inclusive = np.array([specs[n].upper_inclusive for n in names])

@@ -18,14 +18,18 @@ from matplotlib.ticker import Formatter, Locator, MaxNLocator, ScalarFormatter
 import numpy as np
 import xarray as xr
 
+from ..arguments import shown
 from ..data import SI_PREFIXES, si_prefix
+from ..errors import ParameterError
 from ..io.atomic import atomic_path
 
 __all__ = ["plot_spectrum", "model_curve", "dense_model", "plot_nyquist", "equal_aspect", "nyquist_frame", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "plot_bode", "save_figure", "shade_bands", "refresh_legend", "plain_log_ticks", "plain_linear_ticks", "PlainTicks", "prefixable_unit", "wrap_model", "characters_across", "label_spectra_axis", "SpectraLocator", "plot_spectra"]
 
 
-def _as_arrays(spectrum):
-    """(frequency, Z) from a 1-D Dataset or a (frequency, Z) pair."""
+def _as_arrays(spectrum, what: str = "data", function: str = "plot_spectrum", *, frequency_needed: bool = True):
+    """(frequency, Z) from a 1-D Dataset or a (frequency, Z) pair; without
+    ``frequency_needed`` (a Nyquist plot) also from a 1-D complex array of Z, as (None, Z).
+    Anything else is a `ParameterError` naming ``function``'s argument ``what``."""
     if spectrum is None:
         return None
     if isinstance(spectrum, xr.Dataset):
@@ -33,8 +37,26 @@ def _as_arrays(spectrum):
         if z.ndim != 1:
             z = z.mean([d for d in z.dims if d != "frequency"])
         return np.asarray(spectrum["frequency"].values), np.asarray(z.values)
-    f, z = spectrum
-    return np.asarray(f, dtype=float), np.asarray(z, dtype=complex)
+    pair_text = "a pair (frequency [Hz], Z [Ω])"
+    takes = f"a spectrum Dataset (impedax.load) or {pair_text}" if frequency_needed else f"a spectrum Dataset (impedax.load), {pair_text} or a complex array of Z"
+    pair = isinstance(spectrum, (tuple, list)) and len(spectrum) == 2 and all(np.ndim(part) >= 1 for part in spectrum)
+    if not pair:
+        try:
+            z = np.asarray(spectrum)
+        except (TypeError, ValueError):  # (a ragged list)
+            z = np.zeros(0)
+        if z.ndim == 1 and np.iscomplexobj(z):
+            if frequency_needed:
+                raise ParameterError(f"{function}: {what} is a complex array of Z without frequencies; pass {takes}")
+            return None, z.astype(complex)
+        raise ParameterError(f"{function}: {what} must be {takes}; got {shown(spectrum)} ({type(spectrum).__name__})")
+    try:
+        f, z = np.asarray(spectrum[0], dtype=float), np.asarray(spectrum[1], dtype=complex)
+    except (TypeError, ValueError):
+        raise ParameterError(f"{function}: {what} must be {takes}; got a pair that is not numbers") from None
+    if f.shape != z.shape:
+        raise ParameterError(f"{function}: {what}: frequency and Z differ in shape, {f.shape} and {z.shape}")
+    return f, z
 
 
 # a fit's model is drawn as a curve through this many points per decade of the data's band (at
@@ -83,8 +105,11 @@ def _model_at(freq, model):
 
 
 def plot_nyquist(ax, data=None, model=None, *, data_label="data", model_label="model"):
-    """Nyquist plot (Z' vs −Z'', equal axes) on ``ax``."""
-    d, m = _as_arrays(data), _as_arrays(model)
+    """Nyquist plot (Z' vs −Z'', equal axes) on ``ax``. ``data``, ``model``: a spectrum
+    Dataset, a pair (frequency [Hz], Z [Ω]) or a complex array of Z [Ω] (impedance.py's
+    ``plot_nyquist(Z)``)."""
+    d = _as_arrays(data, "data", "plot_nyquist", frequency_needed=False)
+    m = _as_arrays(model, "model", "plot_nyquist", frequency_needed=False)
     if d is not None:
         ax.plot(d[1].real, -d[1].imag, "o", ms=3.5, mfc="none", label=data_label)
     if m is not None:
@@ -360,7 +385,7 @@ def plain_linear_ticks(axis) -> None:
 
 def plot_bode(ax_mod, ax_phase, data=None, model=None, *, data_label="data", model_label="model"):
     """|Z| (log-log) and phase [deg] against frequency."""
-    for spec, style, label in ((_as_arrays(data), "o", data_label), (_as_arrays(model), "-", model_label)):
+    for spec, style, label in ((_as_arrays(data, "data", "plot_bode"), "o", data_label), (_as_arrays(model, "model", "plot_bode"), "-", model_label)):
         if spec is None:
             continue
         f, z = spec
@@ -430,7 +455,7 @@ def plot_spectra(spectra: Sequence, labels: Sequence[str], *, title: str | None 
     """Several spectra ((frequency, Z) pairs) on one Nyquist and one Bode figure, coloured
     from dark to light in their order (viridis) and named in the legend by ``labels``
     (titled ``legend_title``)."""
-    arrays = [_as_arrays(s) for s in spectra]
+    arrays = [_as_arrays(s, f"spectra[{i}]", "plot_spectra") for i, s in enumerate(spectra)]
     fig, (ax_nyq, ax_mod, ax_ph, _) = spectrum_layout(nyquist_shape(*arrays), False)
     colours = plt.get_cmap("viridis")(np.linspace(0.0, 0.9, max(len(arrays), 1)))
     for (f, z), label, colour in zip(arrays, labels, colours):

@@ -1,0 +1,266 @@
+"""Coming from impedance.py (docs/migrating.md): its elements, names, keywords and results map
+onto impedax's as the page says.
+
+Oracles: impedance.py's own functions and fits (installed with the bench extras; those tests
+are skipped without it), and formulas written out here. Data: impedance.py's REAL example
+spectrum (tests/fixtures/real/exampleData.csv), and SYNTHETIC spectra from numpy formulas.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import impedax as ix
+from impedax.circuits import ElementSpec, ParameterSpec
+from impedax.cli import main
+
+EXAMPLE = Path(__file__).parent / "fixtures" / "real" / "exampleData.csv"  # REAL: impedance.py's example
+FREQ = np.logspace(-2, 5, 36)  # Hz
+
+
+def synthetic_rc() -> "ix.xarray.Dataset":
+    """SYNTHETIC: R0 + R1 || C1 (10 Ω, 100 Ω, 1 µF) with 0.5 % proportional noise, seed 3."""
+    rng = np.random.default_rng(3)
+    z = 10 + 100 / (1 + 1j * 2 * np.pi * FREQ * 100 * 1e-6)
+    z = z * (1 + 0.005 * (rng.standard_normal(FREQ.size) + 1j * rng.standard_normal(FREQ.size)))
+    return ix.make_spectrum(FREQ, z)
+
+
+# --- elements -------------------------------------------------------------------------------
+
+# impedance.py symbol → parameter values in impedance.py's order (p[0], p[1], ...)
+ELEMENT_VALUES = {
+    "R": [47.0], "C": [3e-6], "L": [2e-7], "CPE": [4e-5, 0.83], "W": [35.0],
+    "Wo": [80.0, 0.4], "Ws": [60.0, 2.5], "G": [30.0, 4e-3], "Zarc": [25.0, 1.5e-3, 0.72],
+}
+
+
+@pytest.mark.parametrize("symbol", sorted(ELEMENT_VALUES))
+def test_every_mapped_element_is_impedance_pys_formula_in_its_parameter_order(symbol):
+    """impedax's element with ``impedance_py=symbol``, its parameters in declaration order,
+    against impedance.py's own element function with the same list."""
+    elements = pytest.importorskip("impedance.models.circuits.elements")
+    spec = ix.DEFAULT_REGISTRY.by_impedance_py[symbol]
+    values = ELEMENT_VALUES[symbol]
+    z_impedance_py = np.asarray(getattr(elements, symbol)(values, FREQ))
+    z_impedax = np.asarray(spec.impedance(2 * np.pi * FREQ, *values))
+    np.testing.assert_allclose(z_impedax, z_impedance_py, rtol=1e-13)
+
+
+def test_zarc_is_cole_cole_both_ways():
+    circuit = ix.from_impedance_py("R0-p(R1,CPE1)-Zarc1")
+    assert str(circuit) == "R0 + R1 || CPE1 + CC1"
+    assert circuit.parameter_names()[-3:] == ("CC1.R", "CC1.tau", "CC1.alpha")
+    assert ix.to_impedance_py("R0 + R1 || CPE1 + CC1") == "R0-p(R1,CPE1)-Zarc1"  # CC1 keeps its number
+    assert ix.to_impedance_py("R0 + Q1") == "R0-CPE0"  # an alias's number is not kept (test_convert)
+
+
+def test_an_element_without_equivalent_names_the_way_out():
+    with pytest.raises(ix.CircuitSyntaxError) as caught:
+        ix.from_impedance_py("R0-K1")
+    text = str(caught.value)
+    assert "'K' has no impedax equivalent" in text and "Zarc" in text
+    assert "impedance_py='K'" in text and '"Adding an element"' in text
+
+
+def test_the_pages_user_k_element_is_impedance_pys_k():
+    """docs/migrating.md, "Elements": K registered with ``impedance_py="K"``."""
+    elements = pytest.importorskip("impedance.models.circuits.elements")
+
+    def k_element(omega, r, tau):
+        return r / (1.0 + 1j * omega * tau)
+
+    k_spec = ElementSpec(
+        "K", "RC relaxation (impedance.py's K)", "Z = R/(1 + jωτ)",
+        (ParameterSpec("R", "Ohm", 100.0), ParameterSpec("tau", "s", 1e-3)), k_element, impedance_py="K",
+    )
+    registry = ix.DEFAULT_REGISTRY.register(k_spec)
+    circuit = ix.from_impedance_py("R0-K1", registry)
+    assert circuit.parameter_names(registry) == ("R0", "K1.R", "K1.tau")
+    z = np.asarray(ix.compile_circuit(circuit, registry)({"R0": 5.0, "K1.R": 40.0, "K1.tau": 2e-3}, FREQ))
+    np.testing.assert_allclose(z, 5.0 + np.asarray(elements.K([40.0, 2e-3], FREQ)), rtol=1e-13)
+
+
+# --- names and keywords ---------------------------------------------------------------------
+
+NAME_HINTS = [
+    ("fixed", "CPE1_1", "CPE1.alpha"),  # was "CPE1.Q", the closer spelling
+    ("fixed", "CPE1_0", "CPE1.Q"),
+    ("init", "Wo1_0", "Wo1.R"),
+    ("init", "Wo1_1", "Wo1.tau"),
+    ("fixed", "W1", "W1.sigma"),  # a bare element name: its one parameter
+    ("fixed", "Zarc1_2", "CC1.alpha"),  # impedance.py's symbol, read through the registry
+    ("bounds", "R_0", "R0"),
+]
+
+
+@pytest.mark.parametrize(("keyword", "name", "meant"), NAME_HINTS)
+def test_an_impedance_py_parameter_name_is_answered_with_impedaxs(keyword, name, meant):
+    circuit = ix.from_impedance_py("R0-p(R1,CPE1)-Wo1-W1-Zarc1")
+    value = (0.0, 1.0) if keyword == "bounds" else 0.5
+    with pytest.raises(ix.ParameterError, match=rf"unknown parameter '{name}'.*; did you mean {meant}\?"):
+        ix.fit(circuit, synthetic_rc(), **{keyword: {name: value}})
+
+
+def test_a_bare_name_of_an_element_with_several_parameters_gives_them_all():
+    from impedax.arguments import closest_name
+
+    assert closest_name("CPE1", ["R0", "CPE1.Q", "CPE1.alpha"]) == "CPE1.Q or CPE1.alpha"
+    assert closest_name("CPE1_2", ["R0", "CPE1.Q", "CPE1.alpha"]) != "CPE1.alpha"  # no third parameter
+    assert closest_name("CPE1.a", ["CPE1.Q", "CPE1.alpha"]) == "CPE1.alpha"  # the earlier rules stand
+
+
+@pytest.mark.parametrize(
+    ("keywords", "expected"),
+    [
+        ({"constants": {"R0": 10.0}}, "for impedance.py's constants= write fixed={name: value}"),
+        ({"initial_guess": [10.0, 100.0, 1e-6]}, "init=dict(zip(circuit.parameter_names(), initial_guess))"),
+        ({"weight_by_modulus": True}, 'write weighting="modulus"'),
+    ],
+)
+def test_impedance_py_keywords_are_answered_with_impedaxs(keywords, expected):
+    with pytest.raises(ix.ParameterError) as caught:
+        ix.fit("R0 + R1 || C1", synthetic_rc(), **keywords)
+    assert expected in str(caught.value) and "n_starts" not in str(caught.value)
+
+
+def test_init_as_a_list_shows_the_translation():
+    with pytest.raises(ix.ParameterError, match=r"got a list; from impedance.py's initial_guess list: init=dict\(zip"):
+        ix.fit("R0 + R1 || C1", synthetic_rc(), init=[10.0, 100.0, 1e-6])
+
+
+def test_bounds_as_two_lists_shows_the_translation_and_a_pair_example():
+    with pytest.raises(ix.ParameterError) as caught:
+        ix.fit("R0 + R1 || C1", synthetic_rc(), bounds=([0, 0, 0], [1e3, 1e3, 1]))
+    text = str(caught.value)
+    assert "impedance.py's (lower list, upper list)" in text and "{'R1': (10.0, 1e3)}" in text
+    assert "zip(circuit.parameter_names(), lower, upper)" in text
+    with pytest.raises(ix.ParameterError, match=r"e\.g\. \{'R1': \(10\.0, 1e3\)\}; got list"):
+        ix.fit("R0 + R1 || C1", synthetic_rc(), bounds=[1.0, 2.0])
+
+
+def test_the_pages_init_from_a_list_follows_impedance_pys_order():
+    circuits = pytest.importorskip("impedance.models.circuits")
+    text = "R0-p(R1,CPE1)-p(R2-Wo1,CPE2)-Zarc1"
+    circuit = ix.from_impedance_py(text)
+    names, _ = circuits.CustomCircuit(text, initial_guess=[1.0] * len(circuit.parameter_names())).get_param_names()
+    by_hint = [ix.arguments.closest_name(n, circuit.parameter_names(), impedance_py_symbols=ix.DEFAULT_REGISTRY.impedance_py_symbols) for n in names]
+    assert by_hint == list(circuit.parameter_names())  # the hints map impedance.py's names one to one, in order
+
+
+# --- data and results -----------------------------------------------------------------------
+
+
+def test_ignore_below_x_one_liner_keeps_impedance_pys_points():
+    preprocessing = pytest.importorskip("impedance.preprocessing")
+    f, z = preprocessing.ignoreBelowX(*preprocessing.readCSV(str(EXAMPLE)))
+    data = ix.load(EXAMPLE)
+    data = data.isel(frequency=np.flatnonzero(data.Z.values.imag < 0))
+    order = np.argsort(f)
+    np.testing.assert_array_equal(data.frequency.values, f[order])
+    np.testing.assert_array_equal(data.Z.values, z[order])
+
+
+def test_kk_test_is_linkk_complex_with_capacitor(monkeypatch):
+    validation = pytest.importorskip("impedance.validation")
+    preprocessing = pytest.importorskip("impedance.preprocessing")
+    # (numpy 2 writes np.float64(...) into the string linKK evaluates: it needs np there)
+    monkeypatch.setitem(validation.circuit_elements, "np", np)
+    f, z = preprocessing.ignoreBelowX(*preprocessing.readCSV(str(EXAMPLE)))
+    m, mu, _, res_real, res_imag = validation.linKK(f, z, c=0.85, fit_type="complex", add_cap=True)
+    data = ix.load(EXAMPLE)
+    kk = ix.kk_test(data.isel(frequency=np.flatnonzero(data.Z.values.imag < 0)), c=0.85)
+    assert kk.n_rc == m and kk.mu == pytest.approx(mu, rel=1e-6)
+    order = np.argsort(f)
+    np.testing.assert_allclose(kk.residuals_real, res_real[order], atol=1e-7)
+    np.testing.assert_allclose(kk.residuals_imag, res_imag[order], atol=1e-7)
+
+
+@pytest.mark.slow  # (two fits from impedance.py's start, ~7 s with their compilation)
+def test_the_same_weighting_gives_impedance_pys_fit():
+    """docs/migrating.md, "The same fit, the same numbers": unit ≡ impedance.py's default,
+    modulus ≡ weight_by_modulus=True; arcs listed highest-frequency first."""
+    circuits = pytest.importorskip("impedance.models.circuits")
+    preprocessing = pytest.importorskip("impedance.preprocessing")
+    f, z = preprocessing.ignoreBelowX(*preprocessing.readCSV(str(EXAMPLE)))
+    data = ix.load(EXAMPLE)
+    data = data.isel(frequency=np.flatnonzero(data.Z.values.imag < 0))
+    text, guess = "R0-p(R1,CPE1)-p(R2,CPE2)", [0.01, 0.01, 10, 0.9, 0.01, 1, 0.9]
+    circuit = ix.from_impedance_py(text)
+    init = dict(zip(circuit.parameter_names(), guess))
+    for weighting, by_modulus in (("unit", False), ("modulus", True)):
+        theirs = circuits.CustomCircuit(text, initial_guess=guess)
+        theirs.fit(f, z, weight_by_modulus=by_modulus)
+        p = dict(zip(theirs.get_param_names()[0], theirs.parameters_))
+        conf = dict(zip(theirs.get_param_names()[0], theirs.conf_))
+        ours = ix.fit(circuit, data, init=init, weighting=weighting, n_starts=1)
+        # arcs by time constant τ = (R Q)^(1/α), shortest (highest frequency) first
+        arcs = sorted((1, 2), key=lambda k: (p[f"R{k}"] * p[f"CPE{k}_0"]) ** (1 / p[f"CPE{k}_1"]))
+        for mine, k in zip((1, 2), arcs):
+            for ours_name, theirs_name in ((f"R{mine}", f"R{k}"), (f"CPE{mine}.Q", f"CPE{k}_0"), (f"CPE{mine}.alpha", f"CPE{k}_1")):
+                assert ours.values[ours_name] == pytest.approx(p[theirs_name], rel=2e-3), (weighting, ours_name)
+                assert ours.stderr[ours_name] == pytest.approx(conf[theirs_name], rel=2e-2), (weighting, ours_name)
+        assert ours.values["R0"] == pytest.approx(p["R0"], rel=1e-3)
+        np.testing.assert_allclose(ours.predict(f), theirs.predict(f), rtol=1e-3)
+
+
+# --- plotting -------------------------------------------------------------------------------
+
+
+def test_plot_nyquist_takes_a_complex_array():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from impedax.plotting import plot_bode, plot_nyquist
+
+    z = 10 + 100 / (1 + 1j * FREQ / 100)  # SYNTHETIC
+    fig, ax = plt.subplots()
+    plot_nyquist(ax, z, list(z * 1.01))
+    (x, y), (xm, _) = ax.lines[0].get_data(), ax.lines[1].get_data()
+    np.testing.assert_array_equal(x, z.real)
+    np.testing.assert_array_equal(y, -z.imag)
+    np.testing.assert_allclose(xm, 1.01 * z.real)
+    with pytest.raises(ix.ParameterError, match="plot_bode: data is a complex array of Z without frequencies"):
+        plot_bode(ax, ax, z)
+    with pytest.raises(ix.ParameterError, match=r"plot_nyquist: data must be a spectrum Dataset .* or a complex array of Z; got array of shape"):
+        plot_nyquist(ax, FREQ)  # real numbers: no Z
+    with pytest.raises(ix.ParameterError, match=r"frequency and Z differ in shape"):
+        plot_nyquist(ax, (FREQ, z[:3]))
+    plt.close(fig)
+
+
+# --- command line ---------------------------------------------------------------------------
+
+
+def test_cli_reads_an_impedance_py_model_and_says_so(capsys):
+    assert main(["info", "R0-p(R1,CPE1)-Zarc1", "--json"]) == 0
+    captured = capsys.readouterr()
+    assert json.loads(captured.out)["model"] == "R0 + R1 || CPE1 + CC1"
+    assert captured.err.strip() == "impedax info: read as impedance.py notation: R0 + R1 || CPE1 + CC1"
+    assert main(["info", "R0 + R1 || C1"]) == 0
+    assert "impedance.py" not in capsys.readouterr().err  # impedax text: no note
+
+
+def test_cli_refuses_an_impedance_py_model_it_cannot_read_with_the_readers_message(capsys):
+    assert main(["info", "R0-K1"]) == 2
+    err = capsys.readouterr().err
+    assert "impedance.py element 'K' has no impedax equivalent" in err and "Traceback" not in err
+
+
+def test_cli_keeps_impedaxs_message_for_impedax_text_with_a_stray_minus(capsys):
+    assert main(["info", "R0 + R1 - C1"]) == 2
+    err = capsys.readouterr().err
+    assert "series is written '+'" in err and "read as impedance.py" not in err
+
+
+def test_cli_fix_hints_an_impedance_py_parameter_name(capsys):
+    assert main(["fit", str(EXAMPLE), "--model", "R0-p(R1,CPE1)", "--fix", "CPE1_1=0.9"]) == 2
+    err = capsys.readouterr().err
+    assert "read as impedance.py notation: R0 + R1 || CPE1" in err
+    assert "unknown parameter 'CPE1_1'" in err and "did you mean CPE1.alpha?" in err
