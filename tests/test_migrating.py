@@ -264,3 +264,12 @@ def test_cli_fix_hints_an_impedance_py_parameter_name(capsys):
     err = capsys.readouterr().err
     assert "read as impedance.py notation: R0 + R1 || CPE1" in err
     assert "unknown parameter 'CPE1_1'" in err and "did you mean CPE1.alpha?" in err
+
+
+def test_cli_compare_reads_impedance_py_models(capsys):
+    """compare's --model is a list: each impedance.py string read and named once."""
+    assert main(["compare", str(EXAMPLE), "--model", "R0-p(R1,C1)", "--model", "R0 + R1 || CPE1", "--json"]) == 0
+    captured = capsys.readouterr()
+    assert [row["model"] for row in json.loads(captured.out)["models"]] == ["R0 + R1 || C1", "R0 + R1 || CPE1"]
+    assert captured.err.count("read as impedance.py notation") == 1
+    assert "impedax compare: read as impedance.py notation: R0 + R1 || C1" in captured.err

@@ -380,19 +380,30 @@ def read_impedance_py_model(args, command: str) -> None:
     impedax's operators (``+``, ``|``: impedax text with a stray ``-``), else the impedance.py
     reader's."""
     model = getattr(args, "model", None)
-    if not getattr(args, "circuit_model", False) or not isinstance(model, str) or not looks_like_impedance_py(model):
-        return
+    if getattr(args, "circuit_model", False) and isinstance(model, str):
+        args.model = impedax_text(model, command)
+
+
+def impedax_text(model: str, command: str) -> str:
+    """``model`` as impedax circuit text: itself, or, for an impedance.py string that is no
+    impedax text (`looks_like_impedance_py`), its impedax text (`impedax.from_impedance_py`), with
+    one note on stderr saying how it was read. A string that neither reads is refused with the
+    impedax parser's message when it holds impedax's operators (``+``, ``|``: impedax text with a
+    stray ``-``), else the impedance.py reader's."""
+    if not looks_like_impedance_py(model):
+        return model
     from ..circuits import from_impedance_py, parse
     from ..errors import CircuitSyntaxError
 
     try:
         parse(model)
-        return
+        return model
     except CircuitSyntaxError:
         if "+" in model or "|" in model:
             raise
-    args.model = str(from_impedance_py(model))
-    print(f"impedax {command}: read as impedance.py notation: {args.model}", file=sys.stderr)
+    text = str(from_impedance_py(model))
+    print(f"impedax {command}: read as impedance.py notation: {text}", file=sys.stderr)
+    return text
 
 
 def add_positional_model(parser, **kwargs) -> None:

@@ -39,11 +39,12 @@ def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting.problem import open_spectrum
     from ..arguments import closest_name
-    from .common import checked_bound_options, data_source, emit_json, exclude_points, figure_writer, load_selected, parse_assignments, parse_bounds, plan_outputs, progress_printer, result_writer, with_source
+    from .common import checked_bound_options, data_source, emit_json, exclude_points, figure_writer, impedax_text, load_selected, parse_assignments, parse_bounds, plan_outputs, progress_printer, result_writer, with_source
     from .fit import check_max_steps
 
     if len(args.model) < 2:
         raise ParameterError("compare needs at least two --model options")
+    args.model = [impedax_text(m, "compare") for m in args.model]
     circuits = [parse(m) for m in args.model]  # all syntax errors before any fitting
     refuse_same_circuits(args.model, circuits)
     given = {"--init": parse_assignments(args.init, "--init"), "--fix": parse_assignments(args.fix, "--fix"), "--bound": parse_bounds(args.bound)}
