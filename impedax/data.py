@@ -10,6 +10,7 @@
 
 from __future__ import annotations
 
+import math
 import re
 from typing import Mapping, Sequence
 
@@ -347,6 +348,87 @@ def format_uncertain(value: float, stderr: float, unit: str) -> str:
     error = abs(stderr) / scale
     shown = f"{float(f'{error:.2g}'):g}" if np.isfinite(error) else f"{error}"
     return f"{number} ± {shown}" + (f" {label}" if label else "")
+
+
+# significant digits a standard error is given to, and its value rounded to the same last
+# digit (GUM, JCGM 100:2008 §7.2.6: "at most two significant digits")
+ERROR_DIGITS = 2
+# a value (or an error larger than it) from 10^-3 up to below 10^6 is written out (0.01235, 533,
+# 123456); beyond, both numbers share its power of ten, (1.0002 ± 0.0028)e-06
+PLAIN_EXPONENTS = range(-3, 6)
+
+
+def round_to_error(value: float, error: float, digits: int = ERROR_DIGITS) -> tuple[str, str, int]:
+    """(value, error, exponent) as written for ``value ± error``: the error to ``digits``
+    significant digits, the value to the error's last digit, both by decimal rounding half up
+    of the numbers as Python prints them (533.3168 ± 13.0249 → "533", "13"; 0.012345 ± 0.00067
+    → "0.01235", "0.00067"). ``exponent`` is 0, or the power of ten both are scaled by outside
+    `PLAIN_EXPONENTS` (1.0002e-06 ± 2.82e-09 → "1.0002", "0.0028", −6). An error that is not
+    finite or not positive gives "" and the value to 5 significant digits."""
+    import decimal
+
+    if not (math.isfinite(value) and math.isfinite(error) and error > 0):
+        return (f"{value:.5g}" if math.isfinite(value) else str(value)), "", 0
+    exact_value, exact_error = decimal.Decimal(repr(float(value))), decimal.Decimal(repr(float(error)))
+    place = exact_error.adjusted() - (digits - 1)  # (the power of ten of the error's last digit)
+    rounded = exact_error.quantize(decimal.Decimal(1).scaleb(place), rounding=decimal.ROUND_HALF_UP)
+    if rounded.adjusted() > exact_error.adjusted():  # (9.96 → 10: still two digits, "10" not "10.0")
+        place += 1
+    size = max(exact_value.adjusted(), rounded.adjusted()) if value != 0 else rounded.adjusted()
+    exponent = 0 if size in PLAIN_EXPONENTS else size
+    step = decimal.Decimal(1).scaleb(place - exponent)
+
+    def written(number: decimal.Decimal) -> str:
+        shown = number.scaleb(-exponent).quantize(step, rounding=decimal.ROUND_HALF_UP)
+        return format(abs(shown) if shown == 0 else shown, "f")  # (no "-0.0")
+
+    return written(exact_value), written(exact_error), exponent
+
+
+def format_value_error(value: float, error: float, unit: str = "") -> str:
+    """``533 ± 13 Ω``, ``0.01235 ± 0.00067``, ``(1.0002 ± 0.0028)e-06 F``: `round_to_error`
+    as text (the value alone where there is no error)."""
+    number, err, exponent = round_to_error(value, error)
+    label = unit_text(unit) if unit else ""
+    if not err:
+        text = number
+    elif exponent:
+        text = f"({number} ± {err})e{exponent:+03d}"
+    else:
+        text = f"{number} ± {err}"
+    return f"{text} {label}" if label else text
+
+
+def latex_unit(unit: str) -> str:
+    """A parameter's unit (its element spec's spelling) in plain LaTeX math, no package needed:
+    ``Ohm`` → ``$\\Omega$``, ``Ohm s^-1/2`` → ``$\\Omega\\,\\mathrm{s}^{-1/2}$``, ``F s^(alpha-1)``
+    → ``$\\mathrm{F}\\,\\mathrm{s}^{\\alpha-1}$``; a dimensionless ``1`` as nothing."""
+    if not unit or unit == "1":
+        return ""
+    parts = []
+    for token in unit.split():
+        base, _, power = token.partition("^")
+        base = r"\Omega" if base.lower() == "ohm" else rf"\mathrm{{{base}}}"
+        power = re.sub(r"\balpha\b", r"\\alpha", power[1:-1] if power.startswith("(") and power.endswith(")") else power)
+        parts.append(f"{base}^{{{power}}}" if power else base)
+    return "$" + r"\,".join(parts) + "$"
+
+
+def latex_value_error(value: float, error: float) -> str:
+    """`round_to_error` in LaTeX math: ``$533 \\pm 13$``, ``$(1.0002 \\pm 0.0028) \\times
+    10^{-6}$``; the value alone where there is no error."""
+    number, err, exponent = round_to_error(value, error)
+    if not err:
+        mantissa, e, power = number.partition("e")
+        return f"${mantissa} \\times 10^{{{int(power)}}}$" if e and power.lstrip("+-").isdigit() else f"${number}$"
+    pair = f"{number} \\pm {err}"
+    return f"$({pair}) \\times 10^{{{exponent}}}$" if exponent else f"${pair}$"
+
+
+def latex_text(text: str) -> str:
+    """``text`` with LaTeX's special characters escaped (``R_sc`` → ``R\\_sc``)."""
+    special = {"\\": r"\textbackslash{}", "&": r"\&", "%": r"\%", "$": r"\$", "#": r"\#", "_": r"\_", "{": r"\{", "}": r"\}", "~": r"\textasciitilde{}", "^": r"\textasciicircum{}"}
+    return "".join(special.get(c, c) for c in text)
 
 
 def concise_repr(result) -> str:

@@ -841,17 +841,49 @@ def select_spectra(data, path: str, select: Sequence[str] | None, *, single: str
 
 
 RESULT_OUT_METAVAR = "FILE.csv|.json|.nc"
+PLOT_METAVAR = "FILE"
+# the resolution of a raster figure without --dpi: `impedax.plotting.FIGURE_DPI`, repeated so
+# that --help does not import matplotlib (tests/test_figure_output.py checks that they agree)
+FIGURE_DPI = 120
+PLOT_FORMATS_HELP = "the format follows the extension: .png, .pdf, .svg, .eps (vector: .pdf, .svg, .eps); none: PNG"
 
 
 def add_output_options(parser, *, json: str | None = "print the result as JSON", plot: str | None = None, out: str | None = None, out_metavar: str = RESULT_OUT_METAVAR) -> None:
-    """The output options of a command: ``--json`` (help ``json``), ``--plot FILE.png`` (help
-    ``plot``) and ``--out`` (help ``out``); an option whose help is None is not added."""
+    """The output options of a command: ``--json`` (help ``json``), ``--plot FILE`` with
+    ``--dpi`` and ``--title`` (help ``plot``, `add_plot_option`) and ``--out`` (help ``out``);
+    an option whose help is None is not added."""
     if json:
         parser.add_argument("--json", action="store_true", help=json)
     if plot:
-        parser.add_argument("--plot", metavar="FILE.png", help=plot)
+        add_plot_option(parser, plot)
     if out:
         parser.add_argument("--out", metavar=out_metavar, help=out)
+
+
+def add_plot_option(parser, help: str, *, flag: str = "--plot") -> None:
+    """``flag FILE`` (help ``help``, and that the format follows the extension), with the
+    figure options ``--dpi N`` and ``--title TEXT`` (`figure_options`), once per parser."""
+    parser.add_argument(flag, metavar=PLOT_METAVAR, help=f"{help} ({PLOT_FORMATS_HELP})")
+    if not any("--dpi" in action.option_strings for action in parser._actions):
+        parser.add_argument("--dpi", type=dpi_option, default=None, metavar="N",
+                            help=f"resolution of a raster figure (.png, .jpg, .tif) in dots per inch (default {FIGURE_DPI}); a vector figure has none")
+        parser.add_argument("--title", default=None, metavar="TEXT",
+                            help="the figure's title in place of the one impedax writes (which names the data file); --title '' for none")
+
+
+def dpi_option(text: str) -> float:
+    """``--dpi``: a positive number (`prefixed_number`), as an argparse ``type`` (exit 2)."""
+    import argparse
+
+    value = number_option(text)
+    if not (math.isfinite(value) and value > 0):
+        raise argparse.ArgumentTypeError(f"expected a positive number of dots per inch, got {text!r}")
+    return value
+
+
+def figure_options(args) -> dict:
+    """The ``--dpi`` and ``--title`` of a command's ``args`` as keywords of `figure_writer`."""
+    return {"dpi": getattr(args, "dpi", None), "title": getattr(args, "title", None)}
 
 
 def result_out_help(what: str) -> str:
@@ -913,6 +945,17 @@ def naming_target(writer: Callable[[Path], None], target: str) -> Callable[[Path
     return write
 
 
+LATEX_SUFFIX = ".tex"
+
+
+def latex_writer(result) -> Callable[[Path], None]:
+    """A writer of ``result.to_latex()`` (a LaTeX table of a fit's parameters), UTF-8."""
+    def write(path: Path) -> None:
+        Path(path).write_text(result.to_latex(), encoding="utf-8")
+
+    return write
+
+
 def result_writer(result, source: str | None = None) -> Callable[[Path], None]:
     """A writer of ``result`` in the format of the path's extension (`impedax.io.write_result`),
     naming the data's ``source`` (`data_source`) when given."""
@@ -934,16 +977,19 @@ def spectrum_writer(dataset: Callable[[], object]) -> Callable[[Path], None]:
     return write
 
 
-def figure_writer(figure: Callable[[], object], source: str | None = None) -> Callable[[Path], None]:
-    """A writer of the matplotlib figure ``figure()`` (drawn only when written); ``source``
-    (`data_source`) is added to its title as `short_source`."""
+def figure_writer(figure: Callable[[], object], source: str | None = None, *, dpi: float | None = None, title: str | None = None) -> Callable[[Path], None]:
+    """A writer of the matplotlib figure ``figure()`` (drawn only when written) at ``dpi``
+    (`impedax.plotting.save_figure`; None: its default); ``source`` (`data_source`) is added to
+    its title as `short_source`, unless ``title`` is given: the figure's title then ("" none)."""
     def write(path: Path) -> None:
         from ..plotting import save_figure
 
         fig = figure()
-        if source:
+        if title is not None:
+            replace_title(fig, title)
+        elif source:
             title_with_source(fig, source)
-        save_figure(fig, path)
+        save_figure(fig, path, **({} if dpi is None else {"dpi": dpi}))  # (no keyword unless given: a save_figure stand-in of two arguments still works)
 
     return write
 
@@ -966,17 +1012,29 @@ def short_source(source: str) -> str:
 def title_with_source(fig, source: str) -> None:
     """Add `short_source` of ``source`` to ``fig``'s title (a line of its own, wrapped to the
     figure's width), unless the title names it already."""
-    from ..plotting import characters_across
+    from ..plotting import characters_across, font_size
 
     shown = short_source(source)
     title = fig._suptitle.get_text() if fig._suptitle is not None else ""
     if shown in title:
         return
-    line = "\n".join(_wrapped(shown, characters_across(fig.get_figwidth() - 0.4, 12)))
+    line = "\n".join(_wrapped(shown, characters_across(fig.get_figwidth() - 0.4, font_size("suptitle", 12))))
     if title:
         fig._suptitle.set_text(f"{title}\n{line}")
     else:
         fig.suptitle(line)
+
+
+def replace_title(fig, title: str) -> None:
+    """``title`` as ``fig``'s title (its suptitle; the title of a figure of one panel without
+    one): "" removes it."""
+    if fig._suptitle is None and len(fig.axes) == 1 and fig.axes[0].get_title():
+        fig.axes[0].set_title(title)
+    elif fig._suptitle is not None and not title:
+        fig._suptitle.remove()
+        fig._suptitle = None
+    elif title:
+        fig.suptitle(title)
 
 
 def _wrapped(text: str, width: int) -> list[str]:
@@ -1042,6 +1100,8 @@ class OutputKind:
 
 OUTPUT_KINDS = {
     "result": OutputKind("result", _result_extensions, ".json", ".json"),
+    # (a fit of one spectrum: also .tex, `FitResult.to_latex`; ``impedax fit --out``)
+    "fit": OutputKind("result", lambda: (*_result_extensions(), LATEX_SUFFIX), ".json", ".json"),
     "spectrum": OutputKind("spectrum", _spectrum_extensions, ".csv", ".csv"),
     "figure": OutputKind("figure", lambda: ("", *_figure_extensions()), ".png", None),
     "diagram": OutputKind("circuit diagram", lambda: ("", ".png", ".svg", ".pdf"), ".png", None),

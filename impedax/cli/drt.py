@@ -29,7 +29,7 @@ def _fraction(text: str) -> float:
 
 
 def register(sub) -> None:
-    from .common import add_select_option, number_option
+    from .common import add_plot_option, add_select_option, number_option
     from .fit import add_exclude_option
 
     p = sub.add_parser(
@@ -53,7 +53,7 @@ def register(sub) -> None:
     p.add_argument("--fmax", type=number_option, help="ignore data above this frequency [Hz]")
     add_exclude_option(p)
     p.add_argument("--json", action="store_true", help="machine-readable output")
-    p.add_argument("--plot", metavar="FILE.png", help="save gamma vs tau with peaks and band, and the fit on Nyquist/Bode")
+    add_plot_option(p, "save gamma vs tau with peaks and band, and the fit on Nyquist/Bode")
     p.add_argument("--out", metavar="FILE.csv|.json|.nc", help="save gamma over tau with its band (CSV), the --json summary (JSON) or gamma, its band and the fit (netCDF), as impedax.write_result does")
     p.set_defaults(run=run)
 
@@ -61,7 +61,7 @@ def register(sub) -> None:
 def run(args) -> int:
     from ..fitting.drt import drt
     from ..fitting.problem import open_spectrum
-    from .common import check_band_options, data_source, emit_json, exclude_points, figure_writer, load_selected, plan_outputs, progress_printer, with_source
+    from .common import check_band_options, data_source, emit_json, exclude_points, figure_options, figure_writer, load_selected, plan_outputs, progress_printer, with_source
 
     outputs = plan_outputs([("--out", args.out, "drt"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     # a file of several spectra: the DRT of each in one solve (`DRTBatchResult`), or one (--select)
@@ -79,7 +79,7 @@ def run(args) -> int:
     result = drt(data, method=args.method, lam=_lam(args.lam), lam_method=args.lam_method, signed=args.signed, min_peak_fraction=args.min_peak_fraction)
     if args.plot:  # (the slowest output: ~1 s for 130 curves)
         progress(f"drawing {args.plot}")
-    outputs.save({"--out": lambda path: _save(result, path, source), "--plot": figure_writer(result.plot)})
+    outputs.save({"--out": lambda path: _save(result, path, source), "--plot": figure_writer(result.plot, **figure_options(args))})
     progress.close()
     if outputs.uses_stdout:
         return 0

@@ -88,15 +88,19 @@ def register(sub) -> None:
     add_shared_options(p)
     add_fit_options(p)
     add_max_steps_option(p, 400, "each fit")
-    add_output_options(p, plot="save data vs model with residuals", out=result_out_help("the result (.nc: parameters, covariance, spectra)"))
+    add_output_options(p, plot="save data vs model with residuals", out=result_out_help("the result (.nc: parameters, covariance, spectra)") + "; .tex a LaTeX table of value ± standard error (one spectrum)", out_metavar="FILE.csv|.json|.nc|.tex")
     p.set_defaults(run=run)
 
 
 def run(args) -> int:
-    from .. import FitResult, fit, parse
-    from .common import check_parameter_names, checked_bound_options, command_line_words, data_source, exclude_points, figure_writer, load_selected, parse_assignments, parse_bounds, plan_outputs, print_result, progress_printer, result_writer
+    from pathlib import Path
 
-    outputs = plan_outputs([("--out", args.out, "result"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
+    from .. import FitResult, fit, parse
+    from ..errors import ParameterError
+    from .common import check_parameter_names, checked_bound_options, command_line_words, data_source, exclude_points, figure_options, figure_writer, latex_writer, load_selected, parse_assignments, parse_bounds, plan_outputs, print_result, progress_printer, result_writer, LATEX_SUFFIX
+
+    outputs = plan_outputs([("--out", args.out, "fit"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
+    latex = bool(args.out) and Path(args.out).suffix.lower() == LATEX_SUFFIX
     max_steps = check_max_steps(args.max_steps)
     sharing = shared_arguments(args)
     init, fixed = parse_assignments(args.init, "--init"), parse_assignments(args.fix, "--fix")
@@ -111,13 +115,15 @@ def run(args) -> int:
     data = exclude_points(load_selected(args.data, args.select), args.exclude)
     progress = progress_printer()  # (a batch of 3 cycles took 15 s without a word, 28 s on a first run)
     n_spectra = int(data["Z"].size // max(data.sizes.get("frequency", 1), 1))
+    if latex and n_spectra > 1:
+        raise ParameterError(f"--out {args.out}: a LaTeX table holds the fit of one spectrum, and {args.data} holds {n_spectra}: pick one with --select, or write .csv (a row per spectrum and parameter)")
     progress(f"fitting {args.model} to {n_spectra} spectra together (a circuit's first batch compiles its solvers)" if n_spectra > 1 else f"fitting {args.model} (a circuit's first fit compiles its solvers)")
     try:
         result = fit(args.model, data, init=init, fixed=fixed, bounds=bounds or None, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, **sharing)
     finally:
         progress.close()
     source = data_source(data)
-    outputs.save({"--out": result_writer(result, source), "--plot": figure_writer(result.plot, source)})
+    outputs.save({"--out": latex_writer(result) if latex else result_writer(result, source), "--plot": figure_writer(result.plot, source, **figure_options(args))})
     if not outputs.uses_stdout:
         print_result(result, args.json, source)  # (a batch's report groups its warnings by kind, naming the spectra)
     if isinstance(result, FitResult) and not result.converged:  # (the report's status line says it; stderr too, as with --json)

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from ..arguments import number_text
-from .common import accept_negative_numbers, add_output_options, add_positional_model, check_memory, check_parameter_names, check_points, figure_writer, number_option, parse_assignments, plan_outputs, to_jsonable
+from .common import accept_negative_numbers, add_output_options, add_positional_model, check_memory, check_parameter_names, check_points, figure_options, figure_writer, number_option, parse_assignments, plan_outputs, to_jsonable
 
 _MODELS = ("meyer", "vezzoli")
 _RANGES = {"meyer": (10.0, 1e9), "vezzoli": (1.0, 1e6)}
@@ -324,7 +324,7 @@ def run(args) -> int:
     def figure():
         return _figure(args.model, freq, force, peak, params, args.convention, notes)
 
-    outputs.save({"--out": text_writer, "--plot": figure_writer(figure)})
+    outputs.save({"--out": text_writer, "--plot": figure_writer(figure, **figure_options(args))})
     if args.json:
         sys.stdout.write(json_text)
     elif out is None:

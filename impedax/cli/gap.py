@@ -58,7 +58,7 @@ def run(args) -> int:
     from ..fitting.bayes.chain import AUTO_STEPS, auto_step_cap
     from ..arguments import GAP_MIN_STEPS
     from ..models.gap import HIERARCHICAL_AUTO_DRAWS, check_fingertip_area, gap_analysis
-    from .common import check_distinct_paths, check_memory, figure_writer, load_selected_files, plan_outputs, print_result, remainder_with_paths, result_writer, spectrum_writer
+    from .common import check_distinct_paths, check_memory, figure_options, figure_writer, load_selected_files, plan_outputs, print_result, remainder_with_paths, result_writer, spectrum_writer
 
     if args.pooled and args.method == "hierarchical":  # (argparse's exclusive groups let a default-valued --method through)
         raise ParameterError("--pooled and --method hierarchical contradict each other: give one")
@@ -85,7 +85,7 @@ def run(args) -> int:
     paths = {"total": args.total, "skin": args.skin, "touchscreen": args.touchscreen}
     check_distinct_paths(paths)  # (after reading: a bad file is named first)
     result = gap_analysis(total, skin, touchscreen, area=args.area, v0=args.v0, ep=args.ep, steps=steps, seed=args.seed, method=args.method, progress=not args.quiet, check_area=not args.no_area_check)
-    outputs.save({"--out": result_writer(result), "--plot": figure_writer(result.plot), "--remaining": spectrum_writer(lambda: remainder_with_paths(result.remaining, paths))})
+    outputs.save({"--out": result_writer(result), "--plot": figure_writer(result.plot, **figure_options(args)), "--remaining": spectrum_writer(lambda: remainder_with_paths(result.remaining, paths))})
     if not outputs.uses_stdout:
         print_result(result, args.json)
     if result.warnings and args.json:

@@ -1,4 +1,4 @@
-"""``impedax inspect FILE [--json] [--out FILE.csv|nc] [--plot FILE.png]``: what impedax reads
+"""``impedax inspect FILE [--json] [--out FILE.csv|nc] [--plot FILE]``: what impedax reads
 from a spectrum file and how — the format recognised, the sign convention and units applied,
 rows skipped (and why), how a header-less table was interpreted — with an optional Nyquist/Bode
 preview."""
@@ -29,7 +29,7 @@ def run(args) -> int:
     from ..errors import DataError
     from ..io.loader import NETCDF_SUFFIXES
     from ..io.netcdf import RESULT_KINDS, reader_call, result_kind
-    from .common import Output, dimension_labels, emit_json, figure_writer, labels_text, load_selected, plan_outputs, spectrum_writer
+    from .common import Output, dimension_labels, emit_json, figure_options, figure_writer, labels_text, load_selected, plan_outputs, spectrum_writer
 
     outputs = plan_outputs([("--out", args.out, "spectrum"), ("--plot", args.plot, "figure")], inputs=[args.file], stdout="--json" if args.json else None)
     ds = load_selected(args.file, args.select, warn=False)  # (its report shows the notes)
@@ -67,7 +67,7 @@ def run(args) -> int:
     }
     if kind:  # a saved result (impedax fit/sample --out FILE.nc): its data are what is shown
         summary.update({"result_kind": kind, "result": RESULT_KINDS[kind][0], "parameter_units": _parameter_units(ds)})
-    outputs.save({"--out": spectrum_writer(lambda: ds), "--plot": figure_writer(lambda: _preview(ds, summary["format"], summary["file"]))})
+    outputs.save({"--out": spectrum_writer(lambda: ds), "--plot": figure_writer(lambda: _preview(ds, summary["format"], summary["file"]), **figure_options(args))})
     if outputs.uses_stdout:
         return 0
     if args.json:

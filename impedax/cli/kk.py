@@ -4,7 +4,7 @@ from __future__ import annotations
 
 
 def register(sub) -> None:
-    from .common import add_select_option, number_option
+    from .common import add_plot_option, add_select_option, number_option
     from .fit import add_exclude_option
 
     p = sub.add_parser(
@@ -15,7 +15,7 @@ def register(sub) -> None:
     p.add_argument("data", metavar="DATA", help="spectrum file; a file of several spectra is tested spectrum by spectrum (one line each), or pick one with --select")
     p.add_argument("--method", choices=("linear", "zhit"), default="linear", help="linear: Voigt-chain KK test (default); zhit: |Z| reconstructed from the phase (Z-HIT, docs/drt.md; --c, --max-rc, --no-inductance and --no-capacitance set the linear test's chain and are refused with it)")
     p.add_argument("--json", action="store_true", help="machine-readable output")
-    p.add_argument("--plot", metavar="FILE.png", help="save data vs KK fit and the residuals with bad bands shaded")
+    add_plot_option(p, "save data vs KK fit and the residuals with bad bands shaded")
     p.add_argument("--c", type=float, default=None, help="µ cut-off (default 0.85; linear test only)")
     p.add_argument("--max-rc", type=int, default=None, metavar="M", help="largest number of RC elements tried (default: N/2 for N frequencies, at most 100; on data sparser than about 7 points a decade, 3.5 per decade of the band; linear test only)")
     p.add_argument("--no-inductance", action="store_true", help="no series inductance in the KK model (linear test only)")
@@ -34,7 +34,7 @@ LINEAR_ONLY = ("--c", "--max-rc", "--no-inductance", "--no-capacitance")
 def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting import kk_test, kk_test_batch, zhit
-    from .common import check_band_options, data_source, emit_json, exclude_points, figure_writer, load_selected, plan_outputs, with_source
+    from .common import check_band_options, data_source, emit_json, exclude_points, figure_options, figure_writer, load_selected, plan_outputs, with_source
 
     if args.method == "zhit":
         given = [flag for flag, value in zip(LINEAR_ONLY, (args.c, args.max_rc, args.no_inductance or None, args.no_capacitance or None)) if value is not None]
@@ -58,7 +58,7 @@ def run(args) -> int:
         _each_spectrum(kk_test_batch(data, **options), args.json, lambda summary: emit_json(with_source(summary, data_source(data))))
         return 0
     result = zhit(data) if args.method == "zhit" else kk_test(data, **options)
-    outputs.save({"--plot": figure_writer(result.plot, data_source(data))})
+    outputs.save({"--plot": figure_writer(result.plot, data_source(data), **figure_options(args))})
     if args.json:
         emit_json(with_source(result.summary(), data_source(data)))
     else:

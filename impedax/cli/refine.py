@@ -28,7 +28,7 @@ def register(sub) -> None:
 def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting import refine
-    from .common import data_source, exclude_points, figure_writer, load_selected, plan_outputs, print_result, progress_printer, relative_noise, result_writer
+    from .common import data_source, exclude_points, figure_options, figure_writer, load_selected, plan_outputs, print_result, progress_printer, relative_noise, result_writer
     from .diagnose import effects_option, fixed_option
     from .fit import check_max_steps
 
@@ -49,7 +49,7 @@ def run(args) -> int:
     finally:
         progress.close()
     source = data_source(data)
-    outputs.save({"--out": result_writer(result, source), "--plot": figure_writer(result.plot, source)})
+    outputs.save({"--out": result_writer(result, source), "--plot": figure_writer(result.plot, source, **figure_options(args))})
     if not outputs.uses_stdout:
         print_result(result, args.json, source)
         line = reproduce_line(result, args, data)

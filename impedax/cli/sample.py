@@ -9,7 +9,7 @@ def register(sub) -> None:
     from ..fitting import NOISE_MODELS, PRIOR_KINDS
     from ..fitting.bayes.diagnostics import CHAIN_TAU_MULTIPLE
     from ..fitting.bayes.sampler import AUTO_MAX_STEPS
-    from .common import add_model_argument, add_output_options, add_select_option, number_option, result_out_help
+    from .common import add_model_argument, add_output_options, add_plot_option, add_select_option, number_option, result_out_help
     from .fit import add_bound_option, add_shared_options
 
     p = sub.add_parser(
@@ -37,7 +37,7 @@ def register(sub) -> None:
     add_bound_option(p, " in the start fit and the sampling (the support of its prior; not with --shared)")
     p.add_argument("--max-steps", type=int, default=None, metavar="N", help="Levenberg–Marquardt step limit of the least-squares start fit (default 400; --steps is the sampler's)")
     p.add_argument("--quiet", action="store_true", help="no progress line on stderr")
-    p.add_argument("--corner", metavar="FILE.png", help="save a corner plot of the draws")
+    add_plot_option(p, "save a corner plot of the draws", flag="--corner")
     add_output_options(p, json="print the result as JSON (no progress line)", plot="save data with posterior bands (Nyquist, Bode)", out=result_out_help("the posterior (.nc: draws, diagnostics, start fit, data; .csv: quantiles per parameter)"))
     p.set_defaults(run=run)
 
@@ -113,7 +113,7 @@ def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting import parse_prior
     from ..fitting.bayes.logprob import start_weighting
-    from .common import check_parameter_names, checked_bound_options, data_source, figure_writer, load_selected, parse_assignments, parse_bounds, plan_outputs, print_result, result_writer
+    from .common import check_parameter_names, checked_bound_options, data_source, figure_options, figure_writer, load_selected, parse_assignments, parse_bounds, plan_outputs, print_result, result_writer
     from .fit import check_max_steps, shared_arguments
 
     circuit = parse(args.model)  # syntax errors before anything else
@@ -156,7 +156,7 @@ def run(args) -> int:
         seed=args.seed, fmin=args.fmin, fmax=args.fmax, progress=not (args.quiet or args.json), init=start, fixed=fixed or None, bounds=bounds or None, **sharing,
     )
     source = data_source(data)
-    outputs.save({"--out": result_writer(posterior, source), "--corner": figure_writer(lambda: posterior.corner(), source), "--plot": figure_writer(lambda: posterior.plot(), source)})
+    outputs.save({"--out": result_writer(posterior, source), "--corner": figure_writer(lambda: posterior.corner(), source, **figure_options(args)), "--plot": figure_writer(lambda: posterior.plot(), source, **figure_options(args))})
     if not outputs.uses_stdout:
         print_result(posterior, args.json, source)
     if not args.json:

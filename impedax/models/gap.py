@@ -304,13 +304,14 @@ class GapAnalysis:
             return f"Bayesian on one spectrum per file: {proportional}"
         return f"Bayesian on the trial means without their SEM (an input holds a single spectrum): {proportional}"
 
-    def plot(self, *, true_gap: float | None = None):
+    def plot(self, *, true_gap: float | None = None, figsize: tuple[float, float] | None = None):
         """Remaining impedance with both fits, the posterior of u against the paper's bounds
         (and ``true_gap`` [m] when known, e.g. for synthetic data), and the force bands with and
-        without the EP branch (matplotlib Figure)."""
+        without the EP branch (matplotlib Figure; ``figsize`` (width, height) [in], default
+        15 × 4.6)."""
         from ..plotting.models import plot_gap_analysis
 
-        return plot_gap_analysis(self, true_gap=true_gap)
+        return plot_gap_analysis(self, true_gap=true_gap, figsize=figsize)
 
     def to_xarray(self) -> xr.Dataset:
         """The force bands with the gap summary as attrs (what ``--out FILE.nc`` writes): C_gap

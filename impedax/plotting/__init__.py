@@ -23,7 +23,33 @@ from ..data import SI_PREFIXES, si_prefix
 from ..errors import ParameterError
 from ..io.atomic import atomic_path
 
-__all__ = ["plot_spectrum", "model_curve", "dense_model", "plot_nyquist", "equal_aspect", "nyquist_frame", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "plot_bode", "save_figure", "shade_bands", "refresh_legend", "plain_log_ticks", "plain_linear_ticks", "PlainTicks", "prefixable_unit", "wrap_model", "characters_across", "label_spectra_axis", "SpectraLocator", "plot_spectra"]
+__all__ = ["plot_spectrum", "model_curve", "dense_model", "plot_nyquist", "equal_aspect", "nyquist_frame", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "plot_bode", "save_figure", "FIGURE_DPI", "fitting_ylabel", "shade_bands", "refresh_legend", "plain_log_ticks", "plain_linear_ticks", "PlainTicks", "prefixable_unit", "wrap_model", "characters_across", "font_size", "label_spectra_axis", "SpectraLocator", "plot_spectra"]
+
+
+# the rcParams key each kind of impedax's text follows (`font_size`)
+FONT_ROLES = {
+    "legend": "legend.fontsize",
+    "title": "axes.titlesize",
+    "suptitle": "figure.titlesize",
+    "label": "axes.labelsize",
+    "tick": "xtick.labelsize",
+    "text": "font.size",
+}
+
+
+def font_size(role: str, points: float) -> float:
+    """The size [pt] of a ``role`` text (a key of `FONT_ROLES`) that impedax draws at ``points``
+    with matplotlib's default rcParams: the rcParams size of that role when it was changed
+    from matplotlib's default (``plt.rcParams["legend.fontsize"] = 14``, a style sheet), else
+    ``points`` scaled by ``font.size`` over its default (10 pt): with default rcParams every
+    figure looks as before, and a style or a larger base font takes effect."""
+    from matplotlib import rcParams, rcParamsDefault
+    from matplotlib.font_manager import FontProperties
+
+    key = FONT_ROLES[role]
+    if key != "font.size" and rcParams[key] is not None and rcParams[key] != rcParamsDefault[key]:
+        return float(FontProperties(size=rcParams[key]).get_size_in_points())
+    return points * float(rcParams["font.size"]) / float(rcParamsDefault["font.size"])
 
 
 def _as_arrays(spectrum, what: str = "data", function: str = "plot_spectrum", *, frequency_needed: bool = True):
@@ -118,7 +144,7 @@ def plot_nyquist(ax, data=None, model=None, *, data_label="data", model_label="m
     ax.set_ylabel("−Z'' [Ω]")
     equal_aspect(ax)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=font_size("legend", 8))
 
 
 # the margin a Nyquist panel keeps below (left of) the data on the side its widened range does
@@ -398,7 +424,7 @@ def plot_bode(ax_mod, ax_phase, data=None, model=None, *, data_label="data", mod
     ax_phase.set_xlabel("frequency [Hz]")
     for ax in (ax_mod, ax_phase):
         ax.grid(alpha=0.3, which="both")
-    ax_mod.legend(fontsize=8)
+    ax_mod.legend(fontsize=font_size("legend", 8))
 
 
 def shade_bands(axes: Sequence, bands, *, color="tab:red", alpha=0.12, label="model fails"):
@@ -424,17 +450,17 @@ def refresh_legend(ax) -> None:
 
 def plot_spectrum(
     data=None, model=None, *, title: str | None = None, bands=None, data_label="data", model_label="model", residual_labels=("Re", "Im"), model_at_data=None,
-    band_label="model fails", band_color="tab:red",
+    band_label="model fails", band_color="tab:red", figsize: tuple[float, float] | None = None,
 ):
     """Nyquist, Bode (|Z|, phase) and, when both are given, relative residuals (Re, Im) of
     ``(Z_model − Z_data)/|Z_data|`` in percent: of ``model_at_data`` (the model at the data's
     frequencies) when given, so that a model drawn on its own grid (`model_curve`) is not
     interpolated for them. ``bands`` are shaded on the frequency axes (``band_label``, ``band_color``).
     The axes are Nyquist, |Z|, phase (and residuals), in that order, in either layout
-    (`spectrum_layout`)."""
+    (`spectrum_layout`, which ``figsize`` (width, height) [in] sizes)."""
     d, m = _as_arrays(data), _as_arrays(model)
     with_residuals = d is not None and m is not None
-    fig, (ax_nyq, ax_mod, ax_ph, ax_res) = spectrum_layout(nyquist_shape(d, m), with_residuals)
+    fig, (ax_nyq, ax_mod, ax_ph, ax_res) = spectrum_layout(nyquist_shape(d, m), with_residuals, figsize=figsize)
     plot_nyquist(ax_nyq, data, model, data_label=data_label, model_label=model_label)
     plot_bode(ax_mod, ax_ph, data, model, data_label=data_label, model_label=model_label)
     freq_axes = [ax_mod, ax_ph]
@@ -470,7 +496,7 @@ def plot_spectra(spectra: Sequence, labels: Sequence[str], *, title: str | None 
     ax_ph.set(ylabel="phase [deg]", xlabel="frequency [Hz]")
     for ax in (ax_nyq, ax_mod, ax_ph):
         ax.grid(alpha=0.3, which="both")
-    ax_nyq.legend(fontsize=7, title=legend_title, title_fontsize=7, ncol=2 if len(arrays) > 5 else 1)
+    ax_nyq.legend(fontsize=font_size("legend", 7), title=legend_title, title_fontsize=font_size("legend", 7), ncol=2 if len(arrays) > 5 else 1)
     if title:
         fig.suptitle(title)
     return fig
@@ -505,16 +531,19 @@ def nyquist_shape(*spectra) -> float:
     return height / width if width > 0 else math.inf
 
 
-def spectrum_layout(shape: float, with_residuals: bool, *, width: float = 11.0):
+def spectrum_layout(shape: float, with_residuals: bool, *, width: float = 11.0, figsize: tuple[float, float] | None = None):
     """A figure and its axes (Nyquist, |Z|, phase, residuals or None) for a spectrum whose
     Nyquist plot has ``shape`` (`nyquist_shape`). Up to `FLAT_NYQUIST`: the Nyquist panel
     across the top, as high as the spectrum's shape asks (`nyquist_panel_height`), |Z| and
     phase side by side below, the residuals across the bottom. Otherwise: the Nyquist panel
     down the left, |Z|, phase and residuals stacked on the right. The frequency axes are
-    shared."""
+    shared. ``figsize`` (width, height) [in]: the figure's size (the panels keep their
+    proportions), in place of ``width`` and the height the layout asks."""
+    if figsize is not None:
+        width = float(figsize[0])
     if shape <= FLAT_NYQUIST:
         heights = [nyquist_panel_height(shape, width), 2.6] + ([2.2] if with_residuals else [])
-        fig = plt.figure(figsize=(width, sum(heights) + 0.6), layout="constrained")
+        fig = plt.figure(figsize=figsize or (width, sum(heights) + 0.6), layout="constrained")
         grid = fig.add_gridspec(len(heights), 2, height_ratios=heights)
         ax_nyq = fig.add_subplot(grid[0, :])
         ax_mod = fig.add_subplot(grid[1, 0])
@@ -523,7 +552,7 @@ def spectrum_layout(shape: float, with_residuals: bool, *, width: float = 11.0):
         if not with_residuals:  # (|Z| stands beside the phase panel, which names the axis)
             ax_mod.set_xlabel("frequency [Hz]")
     else:
-        fig = plt.figure(figsize=(width, 6.5 if with_residuals else 5), layout="constrained")
+        fig = plt.figure(figsize=figsize or (width, 6.5 if with_residuals else 5), layout="constrained")
         grid = fig.add_gridspec(3 if with_residuals else 2, 2, width_ratios=[1, 1.2])
         ax_nyq = fig.add_subplot(grid[:, 0])
         ax_mod = fig.add_subplot(grid[0, 1])
@@ -543,10 +572,64 @@ def plot_residuals(ax, freq, real, imag, *, labels=("Re", "Im"), ylabel="residua
         for sign in (-1, 1):
             ax.axhline(sign * limit * 100, color="tab:red", lw=0.7, ls="--", label="point threshold" if sign > 0 else None)
     ax.axhline(0, color="k", lw=0.6)
-    ax.set_ylabel(ylabel)
+    fitting_ylabel(ax, ylabel)
     ax.set_xlabel("frequency [Hz]")
     ax.grid(alpha=0.3, which="both")
-    ax.legend(fontsize=8, ncol=3 if limit is not None else 2)
+    ax.legend(fontsize=font_size("legend", 8), ncol=3 if limit is not None else 2)
+
+
+# how far [× the panel's height] a y label may run along its panel before `fitting_ylabel`
+# takes a shorter form: the residual label of a fit's figure at matplotlib's default 10 pt runs
+# 8 % past its 1.9 in panel, into the space between the panels, and is kept as it was
+LABEL_OVERRUN = 1.15
+
+
+def fitting_ylabel(ax, label: str) -> None:
+    """Set ``label`` on ``ax``'s y axis, or, where it is longer than the panel is high (at a
+    large font or a small figure, `LABEL_OVERRUN`) and has the form ``NAME (FORMULA... [UNIT]``,
+    the first of ``NAME [UNIT]`` over ``(FORMULA...`` and ``NAME [UNIT]`` that fits: a 14 pt
+    label ran past its panel into the next one. Chosen each time the figure's layout engine
+    places the panels (the label as given first, then the layout again if it changed), so it
+    holds at any figure size."""
+    ax.set_ylabel(label)
+    match = re.fullmatch(r"(.+?) (\(.+) (\[[^\[\]]+\])", label)
+    if match is None:
+        return
+    name, formula, unit = match.groups()
+    forms = (label, f"{name} {unit}\n{formula}", f"{name} {unit}")
+    fig = ax.get_figure()
+    engine = fig.get_layout_engine()
+    if engine is None:  # (no layout: measured once, on the panel's place now)
+        _shortest_fitting(ax, forms)
+        return
+    fitted = getattr(engine, "fitted_labels", None)
+    if fitted is None:
+        fitted = engine.fitted_labels = []
+        layout = engine.execute
+
+        def execute(figure):
+            for axes, texts in fitted:
+                axes.set_ylabel(texts[0])
+            layout(figure)
+            if any([_shortest_fitting(axes, texts) for axes, texts in fitted]):
+                layout(figure)
+
+        engine.execute = execute
+    fitted.append((ax, forms))
+
+
+def _shortest_fitting(ax, forms: Sequence[str]) -> bool:
+    """Label ``ax``'s y axis with the first of ``forms`` whose longest line fits
+    `LABEL_OVERRUN` × the panel's height (the last if none does); whether it is not the first."""
+    from matplotlib.textpath import TextPath
+
+    room = LABEL_OVERRUN * ax.get_position().height * ax.get_figure().get_figheight() * 72.0  # [pt]
+    font = ax.yaxis.label.get_fontproperties()
+    for i, text in enumerate(forms):
+        if max(TextPath((0, 0), line, prop=font).get_extents().width for line in text.split("\n")) <= room:
+            break
+    ax.set_ylabel(text)
+    return i > 0
 
 
 def _plain_number(x: float, prefix_from: float = 1e4) -> str:
@@ -714,16 +797,22 @@ def label_spectra_axis(ax, labels: Sequence[str], dims: Sequence[str]) -> None:
     tilt = SPECTRUM_LABEL_TILT if max(map(len, labels), default=0) > SPECTRUM_LABEL_LONG else 0.0
     ax.xaxis.set_major_locator(SpectraLocator(labels, tilt))
     ax.xaxis.set_major_formatter(FuncFormatter(lambda x, pos=None: labels[int(round(x))] if 0 <= round(x) < n and abs(x - round(x)) < 1e-6 else ""))
-    ax.tick_params(axis="x", labelsize=SPECTRUM_LABEL_SIZE, labelrotation=tilt)
+    ax.tick_params(axis="x", labelsize=font_size("tick", SPECTRUM_LABEL_SIZE), labelrotation=tilt)
     for tick in ax.xaxis.get_major_ticks():  # (ticks made later copy the first one's alignment)
         tick.label1.set_horizontalalignment("right" if tilt else "center")
     ax.set_xlim(-0.5, n - 0.5)
-    ax.set_xlabel(", ".join(dims), fontsize=8)
+    ax.set_xlabel(", ".join(dims), fontsize=font_size("label", 8))
 
 
-def save_figure(fig, path) -> None:
-    """Save ``fig`` atomically (the format follows the extension) and close it."""
+# the resolution [dots per inch] of a raster figure `save_figure` writes unless told
+FIGURE_DPI = 120
+
+
+def save_figure(fig, path, *, dpi: float | None = None) -> None:
+    """Save ``fig`` atomically and close it. The format follows the extension (``.png``,
+    ``.pdf``, ``.svg``, ``.eps``, any matplotlib writes; none: PNG); ``dpi`` the resolution of
+    a raster format (default `FIGURE_DPI`)."""
     with atomic_path(path) as tmp:
         fmt = str(path).rsplit(".", 1)[-1].lower() if "." in str(path) else "png"
-        fig.savefig(tmp, dpi=120, format=fmt)
+        fig.savefig(tmp, dpi=FIGURE_DPI if dpi is None else dpi, format=fmt)
     plt.close(fig)

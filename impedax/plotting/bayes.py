@@ -13,21 +13,22 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from ..data import si_prefix, unit_text
-from . import equal_aspect, nyquist_shape, plain_log_ticks, prefixed_axis, spectrum_layout
+from . import equal_aspect, font_size, nyquist_shape, plain_log_ticks, prefixed_axis, spectrum_layout
 
 __all__ = ["plot_posterior_bands", "plot_corner"]
 
 BAND_QUANTILES = (0.05, 0.16, 0.5, 0.84, 0.95)
 
 
-def plot_posterior_bands(frequency, z_data, model_frequency, z_draws, *, title: str, n_lines: int = 40, z_predictive=None):
+def plot_posterior_bands(frequency, z_data, model_frequency, z_draws, *, title: str, n_lines: int = 40, z_predictive=None, figsize=None):
     """Data (``frequency`` [Hz], ``z_data`` [Ω]) with the model's draws ``z_draws`` (draws,
     ``model_frequency``): Nyquist with ``n_lines`` draws as thin lines and the median, and Bode
     |Z| and phase with the 68% and 90% credible bands; ``z_predictive`` (draws with the noise
-    added, same shape) adds the 90% posterior predictive band as dashed lines."""
+    added, same shape) adds the 90% posterior predictive band as dashed lines. ``figsize``
+    (width, height) [in]: the figure's size (`spectrum_layout`)."""
     f, zs, z = np.asarray(model_frequency, float), np.asarray(z_draws, complex), np.asarray(z_data, complex)
     med = np.median(zs.real, axis=0) + 1j * np.median(zs.imag, axis=0)
-    fig, (ax_nyq, ax_mod, ax_ph, _) = spectrum_layout(nyquist_shape((frequency, z), (f, med)), False)
+    fig, (ax_nyq, ax_mod, ax_ph, _) = spectrum_layout(nyquist_shape((frequency, z), (f, med)), False, figsize=figsize)
     for k in np.linspace(0, zs.shape[0] - 1, min(n_lines, zs.shape[0])).astype(int):
         ax_nyq.plot(zs[k].real, -zs[k].imag, "-", color="tab:blue", alpha=0.08, lw=0.8)
     ax_nyq.plot(med.real, -med.imag, "-", color="tab:blue", lw=1.5, label="posterior median")
@@ -51,8 +52,8 @@ def plot_posterior_bands(frequency, z_data, model_frequency, z_draws, *, title: 
     ax_ph.set(ylabel="phase [deg]", xlabel="frequency [Hz]")
     for ax in (ax_nyq, ax_mod, ax_ph):
         ax.grid(alpha=0.3, which="both")
-    ax_nyq.legend(fontsize=8)
-    ax_mod.legend(fontsize=8)
+    ax_nyq.legend(fontsize=font_size("legend", 8))
+    ax_mod.legend(fontsize=font_size("legend", 8))
     fig.suptitle(title)
     return fig
 
@@ -90,7 +91,7 @@ def plot_corner(
     labels = [f"{n} [{u}]" if u else n for n, u in zip(names, units)]
     size = min(2.0 * k + 1, 16)
     fig, axes = plt.subplots(k, k, figsize=(size, size), squeeze=False, layout="constrained")
-    title_chars = int(0.85 * size / k * 72 / (7 * 0.6))  # characters of 7 pt (≈ 0.6 em wide) a panel holds
+    title_chars = int(0.85 * size / k * 72 / (font_size("title", 7) * 0.6))  # characters of the titles' 7 pt (≈ 0.6 em wide) a panel holds
     for i in range(k):
         for j in range(k):
             ax = axes[i, j]
@@ -107,7 +108,7 @@ def plot_corner(
                 for qv, style in ((q05, "--"), (q50, "-"), (q95, "--")):
                     ax.axvline(qv, color="k", lw=0.8, ls=style)
                 text = f"{names[i]} = {interval_text(q50, q05, q95, units[i], significant=logs[i])}"
-                ax.set_title(text if len(text) <= title_chars else text.replace(" = ", " =\n", 1), fontsize=7)  # (a long one on two lines, within its panel)
+                ax.set_title(text if len(text) <= title_chars else text.replace(" = ", " =\n", 1), fontsize=font_size("title", 7))  # (a long one on two lines, within its panel)
                 ax.set_yticks([])
             else:
                 if logs[i]:
@@ -124,18 +125,18 @@ def plot_corner(
                     axis.set_label_text(labels[n])  # (the formatter's prefix goes into the label)
                     prefixed_axis(axis, max_bins=4)  # (five-digit ticks of a narrow panel ran together: at most 4 intervals, fewer where they do not fit)
             if i == k - 1:
-                ax.set_xlabel(labels[j], fontsize=8)
+                ax.set_xlabel(labels[j], fontsize=font_size("label", 8))
             else:
                 ax.set_xlabel("")
                 ax.tick_params(which="both", labelbottom=False)  # (the minor labels of a log axis too)
             if j == 0 and i > 0:
-                ax.set_ylabel(labels[i], fontsize=8)
+                ax.set_ylabel(labels[i], fontsize=font_size("label", 8))
             else:
                 ax.set_ylabel("")
                 ax.tick_params(which="both", labelleft=False)
-            ax.tick_params(which="both", labelsize=7)  # (the minor labels of a log axis too: they were larger than the major ones)
+            ax.tick_params(which="both", labelsize=font_size("tick", 7))  # (the minor labels of a log axis too: they were larger than the major ones)
     shown = f"{every.shape[0]} draws" + (f"; {flat.shape[0]} in the scatter" if flat.shape[0] < every.shape[0] else "")
-    fig.suptitle(f"{title} ({shown})", fontsize=9)
+    fig.suptitle(f"{title} ({shown})", fontsize=font_size("suptitle", 9))
     return fig
 
 

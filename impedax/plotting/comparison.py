@@ -4,16 +4,19 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import font_size
 
-def plot_comparison(comparison):
+
+def plot_comparison(comparison, *, figsize: tuple[float, float] | None = None):
     """Data with every model's fit (Nyquist, |Z|, phase), and each model's relative residuals,
-    for a `Comparison`, in the layout of a single spectrum (`spectrum_layout`). Figure."""
+    for a `Comparison`, in the layout of a single spectrum (`spectrum_layout`, which
+    ``figsize`` (width, height) [in] sizes). Figure."""
     from . import equal_aspect, model_curve, nyquist_frame, nyquist_shape, plain_log_ticks, spectrum_layout
 
     ref = comparison.fits[0]
     f, z = ref.frequency, ref.z_data
     # the layout and the Nyquist limits follow the data: a poor model's curve may run past them
-    fig, (ax_nyq, ax_mod, ax_ph, ax_res) = spectrum_layout(nyquist_shape((f, z)), True)
+    fig, (ax_nyq, ax_mod, ax_ph, ax_res) = spectrum_layout(nyquist_shape((f, z)), True, figsize=figsize)
     ax_nyq.plot(z.real, -z.imag, "o", mfc="none", ms=3.5, color="k", label="data")
     ax_mod.loglog(f, np.abs(z), "o", mfc="none", ms=3.5, color="k", label="data")
     ax_ph.semilogx(f, np.degrees(np.angle(z)), "o", mfc="none", ms=3.5, color="k", label="data")
@@ -33,7 +36,7 @@ def plot_comparison(comparison):
         ax_res.semilogx(f, np.abs(r.residuals) * 100, ".", ls=ls, label=label)
     ax_nyq.set(xlabel="Z' [Ω]", ylabel="−Z'' [Ω]", title="Nyquist")
     equal_aspect(ax_nyq, frame=nyquist_frame(z, *curves))
-    ax_nyq.legend(fontsize=7, loc="best")  # (data and every model; the Bode panels draw them alike)
+    ax_nyq.legend(fontsize=font_size("legend", 7), loc="best")  # (data and every model; the Bode panels draw them alike)
     ax_mod.set(xlabel="frequency [Hz]", ylabel="|Z| [Ω]")
     plain_log_ticks(ax_mod.yaxis)
     ax_ph.set(xlabel="frequency [Hz]", ylabel="phase [deg]")
@@ -41,7 +44,7 @@ def plot_comparison(comparison):
     plain_log_ticks(ax_res.yaxis)
     for ax in (ax_nyq, ax_mod, ax_ph, ax_res):
         ax.grid(alpha=0.3, which="both")
-    ax_res.legend(fontsize=7)
+    ax_res.legend(fontsize=font_size("legend", 7))
     fig.suptitle(f"model comparison — best by AIC: {comparison.best}")
     return fig
 

@@ -14,7 +14,7 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 
-from . import FLAT_NYQUIST, characters_across, equal_aspect, model_curve, nyquist_panel_height, nyquist_shape, plain_log_ticks, plot_spectrum, refresh_legend, shade_bands, wrap_model
+from . import FLAT_NYQUIST, characters_across, equal_aspect, font_size, model_curve, nyquist_panel_height, nyquist_shape, plain_log_ticks, plot_spectrum, refresh_legend, shade_bands, wrap_model
 
 __all__ = ["plot_diagnosis", "plot_refinement"]
 
@@ -32,15 +32,15 @@ def band_shading(diagnosis) -> tuple[str, str]:
     return "model fails", "tab:red"
 
 
-def plot_diagnosis(diagnosis, *, title: str | None = None):
+def plot_diagnosis(diagnosis, *, title: str | None = None, figsize: tuple[float, float] | None = None):
     """Nyquist, Bode and residual panels of the baseline with the failing bands shaded and the
-    best suggestion overlaid (matplotlib Figure)."""
+    best suggestion overlaid (matplotlib Figure; ``figsize`` (width, height) [in], `spectrum_layout`)."""
     b = diagnosis.baseline
     bands = [(band.f_min, band.f_max) for band in diagnosis.failing_bands]
     fig = plot_spectrum(
         (b.frequency, b.z_data), model_curve(b), title=title or f"{b.model}: {diagnosis.verdict} (rms_rel {b.rms_rel * 100:.3g} %)", bands=bands,
         model_label="baseline", residual_labels=("Re (baseline)", "Im (baseline)"), model_at_data=b.z_model,
-        band_label=band_shading(diagnosis)[0], band_color=band_shading(diagnosis)[1],
+        band_label=band_shading(diagnosis)[0], band_color=band_shading(diagnosis)[1], figsize=figsize,
     )
     _mark_masked(fig.axes[0], diagnosis, fig.axes[1:3])
     best = diagnosis.best
@@ -55,7 +55,7 @@ def plot_diagnosis(diagnosis, *, title: str | None = None):
         if len(axes) > 3:
             r = best.fit.residuals * 100
             axes[3].plot(b.frequency, np.abs(r), "-", color="tab:green", lw=1.0, label=f"|res| with {best.effect}")
-            axes[3].legend(fontsize=8, ncol=3)
+            axes[3].legend(fontsize=font_size("legend", 8), ncol=3)
         refresh_legend(axes[0])
         refresh_legend(axes[1])
     return fig
@@ -92,7 +92,7 @@ def plot_refinement(refinement, *, title: str | None = None):
     rows = min(n, 5)
     width, ratios = 11.0, (1.0, 1.6)
     # the models (and the suptitle) are wrapped to the width of their panel (of the figure), never cut
-    title_chars = characters_across(width * ratios[1] / sum(ratios) - 0.6, 8)
+    title_chars = characters_across(width * ratios[1] / sum(ratios) - 0.6, font_size("title", 8))
     first, last = refinement.steps[0].fit, refinement.steps[-1].fit
     shape = nyquist_shape((first.frequency, first.z_data), (last.frequency, last.z_model))  # (`_refinement_nyquist`: the start may run off)
     across = shape <= FLAT_NYQUIST
@@ -114,11 +114,11 @@ def plot_refinement(refinement, *, title: str | None = None):
             label += "\n" + (f"{', '.join(s.removed)} → {s.added}" if s.added and s.effect is None else "− " + ", ".join(s.removed))  # (as `RefinementStep.change`)
         # labels of the later steps run leftwards, so that none leaves the panel
         right = i > 0 and i >= (n - 1) / 2
-        ax.annotate(label, (i, rms[i]), textcoords="offset points", xytext=(-4, 6) if right else (4, 6), ha="right" if right else "left", fontsize=8)
+        ax.annotate(label, (i, rms[i]), textcoords="offset points", xytext=(-4, 6) if right else (4, 6), ha="right" if right else "left", fontsize=font_size("text", 8))
     last_d = refinement.steps[-1].diagnosis
     if last_d is not None and last_d.noise_ratio > 0:  # (the rms_rel the verdict calls 1× the noise: its noise ratio's scale)
         ax.axhline(last_d.baseline.rms_rel / last_d.noise_ratio * 100, color="grey", ls="--", lw=0.8, label="noise level (the verdict's 1×)")
-        ax.legend(fontsize=8)
+        ax.legend(fontsize=font_size("legend", 8))
     ax.set_xlabel("refinement step")
     ax.set_ylabel("rms_rel [%]")
     plain_log_ticks(ax.yaxis)
@@ -145,15 +145,15 @@ def plot_refinement(refinement, *, title: str | None = None):
             fresh = False
         change = "start" if s.change == "(start)" else s.change
         head = wrap_model(f"step {i}: {change}  (rms_rel {s.fit.rms_rel * 100:.3g} %)", title_chars)
-        a.set_title(head + "\n" + wrap_model(s.model, title_chars), fontsize=8)
-        a.set_ylabel("res. [%]", fontsize=8)
+        a.set_title(head + "\n" + wrap_model(s.model, title_chars), fontsize=font_size("title", 8))
+        a.set_ylabel("res. [%]", fontsize=font_size("label", 8))
         a.grid(alpha=0.3)
         if row == 0 or fresh:
-            a.legend(fontsize=7, ncol=3)
+            a.legend(fontsize=font_size("legend", 7), ncol=3)
     fig.axes[-1].set_xlabel("frequency [Hz]")
     nyquist = fig.add_subplot(grid[0, :] if across else left[0])
-    _refinement_nyquist(nyquist, refinement, characters_across((width if across else width * ratios[0] / sum(ratios)) - 1.0, 8))
-    fig.suptitle(title or wrap_model(f"refinement: {refinement.steps[0].model} → {refinement.final_model} ({refinement.verdict})", characters_across(width - 0.4, 12)))
+    _refinement_nyquist(nyquist, refinement, characters_across((width if across else width * ratios[0] / sum(ratios)) - 1.0, font_size("legend", 8)))
+    fig.suptitle(title or wrap_model(f"refinement: {refinement.steps[0].model} → {refinement.final_model} ({refinement.verdict})", characters_across(width - 0.4, font_size("suptitle", 12))))
     return fig
 
 
@@ -183,4 +183,4 @@ def _refinement_nyquist(ax, refinement, legend_chars: int) -> None:
     ax.set_ylabel("−Z'' [Ω]")
     equal_aspect(ax)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=font_size("legend", 8))

@@ -8,7 +8,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from ..data import format_quantity, format_time
-from . import FLAT_NYQUIST, dense_model, label_spectra_axis, nyquist_panel_height, nyquist_shape, plain_log_ticks, plot_bode, plot_nyquist, prefixed_axis, shade_bands
+from . import FLAT_NYQUIST, dense_model, font_size, label_spectra_axis, nyquist_panel_height, nyquist_shape, plain_log_ticks, plot_bode, plot_nyquist, prefixed_axis, shade_bands
 
 __all__ = ["plot_drt", "plot_drt_batch", "plot_gamma", "plot_zhit"]
 
@@ -21,7 +21,7 @@ def plot_gamma(ax, result, *, overlay=None, label="data DRT", overlay_label=None
     ax.semilogx(result.tau, result.gamma, color="tab:blue", lw=1.6, label=label)
     for p in result.peaks:
         ax.plot(p.tau_s, p.gamma_max_ohm, "v", color="tab:red", ms=7)
-        ax.annotate(f"{format_time(p.tau_s)}\n{format_quantity(p.r_ohm, 'Ω')}", (p.tau_s, p.gamma_max_ohm), textcoords="offset points", xytext=(0, 8), ha="center", fontsize=7)
+        ax.annotate(f"{format_time(p.tau_s)}\n{format_quantity(p.r_ohm, 'Ω')}", (p.tau_s, p.gamma_max_ohm), textcoords="offset points", xytext=(0, 8), ha="center", fontsize=font_size("text", 7))
     for i, p in enumerate(getattr(result, "dropped_peaks", ())):  # below the cut-off: marked, not counted
         ax.plot(p.tau_s, p.gamma_max_ohm, "v", mfc="none", color="0.45", ms=6, label="peak below the cut-off (dropped)" if i == 0 else None)
     if overlay is not None:
@@ -33,7 +33,7 @@ def plot_gamma(ax, result, *, overlay=None, label="data DRT", overlay_label=None
         for i, (tau, r) in enumerate(shown):
             ax.vlines(tau, 0, top, color="tab:orange", lw=1.2, ls=":", label="R‖C deltas (R in labels)" if i == 0 else None)
             # (along the line from its foot: at its top the label lay under the peak's marker)
-            ax.annotate(f"δ {format_quantity(r, 'Ω')}", (tau, 0.0), textcoords="offset points", xytext=(2, 3), rotation=90, ha="left", va="bottom", fontsize=7, color="tab:orange")
+            ax.annotate(f"δ {format_quantity(r, 'Ω')}", (tau, 0.0), textcoords="offset points", xytext=(2, 3), rotation=90, ha="left", va="bottom", fontsize=font_size("text", 7), color="tab:orange")
         outside = [(tau, r) for tau, r in deltas if (tau, r) not in shown]
         if outside:  # no line to draw: the legend says where they are (a fitted block far off the data)
             where = ", ".join(f"δ {format_quantity(r, 'Ω')} at τ = {format_time(tau, 2)}" for tau, r in outside[:3]) + (", …" if len(outside) > 3 else "")
@@ -52,9 +52,9 @@ def plot_gamma(ax, result, *, overlay=None, label="data DRT", overlay_label=None
     ax.update_datalim([(float(result.tau[0]), GAMMA_HEADROOM * max(float(np.nanmax(g)) for g in drawn))], updatex=False)
     ax.autoscale_view()
     if legend_above:  # (inside, the legend covered the labels of the peaks it stood over)
-        ax.legend(fontsize=7, ncol=2, loc="lower left", bbox_to_anchor=(0.0, 1.01), borderaxespad=0.0, frameon=False)
+        ax.legend(fontsize=font_size("legend", 7), ncol=2, loc="lower left", bbox_to_anchor=(0.0, 1.01), borderaxespad=0.0, frameon=False)
     else:
-        ax.legend(fontsize=7)
+        ax.legend(fontsize=font_size("legend", 7))
 
 
 # the γ panel's range above its highest curve, as a multiple of it (the peak labels' room)
@@ -88,7 +88,7 @@ def plot_drt(result, *, overlay=None, title: str | None = None):
     ax_res.set_xlabel("frequency [Hz]")
     ax_res.set_ylabel("DRT residual (Z − Z_fit)/|Z| [%]")
     ax_res.grid(alpha=0.3, which="both")
-    ax_res.legend(fontsize=8, ncol=2)
+    ax_res.legend(fontsize=font_size("legend", 8), ncol=2)
     dropped = len(getattr(result, "dropped_peaks", ()))
     fig.suptitle(title or f"DRT: {len(result.peaks)} peak(s){f' (+{dropped} below the cut-off)' if dropped else ''}, λ = {result.lam:.2g} ({result.lambda_method}), rms_rel {result.rms_rel * 100:.2g} %")
     return fig
@@ -107,7 +107,7 @@ def plot_drt_batch(batch, *, title: str | None = None):
     if n <= LEGEND_MAX:
         for i, (one, label) in enumerate(zip(batch.results, labels)):
             ax.semilogx(one.tau, one.gamma, color=colours[i], lw=1.2, label=f"{label}: {len(one.peaks)} peak(s)")
-        ax.legend(fontsize=8)
+        ax.legend(fontsize=font_size("legend", 8))
     else:  # one LineCollection, not a Line2D per spectrum (130 of them took most of the figure's time)
         from matplotlib.collections import LineCollection
 
@@ -150,7 +150,7 @@ def plot_zhit(result, *, title: str | None = None):
     ax_res.set_xlabel("frequency [Hz]")
     for ax in (ax_mod, ax_ph, ax_res):
         ax.grid(alpha=0.3, which="both")
-    ax_mod.legend(fontsize=8)
+    ax_mod.legend(fontsize=font_size("legend", 8))
     if result.bad_bands:
         shade_bands([ax_mod, ax_ph, ax_res], result.bad_bands, label="inconsistent |Z| and phase")
     fig.suptitle(title or f"Z-HIT: {'valid' if result.valid else 'not valid'}, rms {result.rms_rel * 100:.2g} %")

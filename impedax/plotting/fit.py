@@ -8,14 +8,16 @@ import math
 import numpy as np
 
 from ..data import unit_text
+from . import font_size
 
 
-def plot_batch(batch, *, title: str | None = None):
+def plot_batch(batch, *, title: str | None = None, figsize: tuple[float, float] | None = None):
     """One panel per free parameter (value ± stderr for each spectrum, in the order of the batch
     dimensions, the x axis marked with the spectra's labels; a value at its bound has no bar, as
     text and JSON give it no standard error, and an open square marked "at bound") and one for rms_rel; log scale
     where a parameter spans decades; and a Nyquist panel of data and fits (`_plot_fits`) in
-    the last row's free places (a row of its own when fewer than two are free). Returns a
+    the last row's free places (a row of its own when fewer than two are free). ``figsize``
+    (width, height) [in]: the figure's size, the panels keeping their proportions. Returns a
     matplotlib Figure."""
     import matplotlib.pyplot as plt
 
@@ -29,11 +31,11 @@ def plot_batch(batch, *, title: str | None = None):
     left = rows * cols - len(panels)  # free places in the last row
     with_fits = "Z" in ds
     own_row = with_fits and left < 2
-    width = 3.2 * max(cols, 2)
+    width = 3.2 * max(cols, 2) if figsize is None else float(figsize[0])
     # (a row of its own as high as the drawn spectra's shape asks, `nyquist_panel_height`, from
     # `FITS_ROW`; its box narrows to that shape, `_plot_fits`)
     fits_row = max(FITS_ROW, nyquist_panel_height(nyquist_shape(*((None, z) for z in _drawn_spectra(ds, batch.dims)[1])), width)) if own_row else 0.0
-    fig = plt.figure(figsize=(width, 2.6 * rows + fits_row), layout="constrained")
+    fig = plt.figure(figsize=figsize or (width, 2.6 * rows + fits_row), layout="constrained")
     grid = fig.add_gridspec(rows + own_row, max(cols, 2), height_ratios=[2.6] * rows + ([fits_row] if own_row else []))
     axes = [fig.add_subplot(grid[i // cols, i % cols]) for i in range(len(panels))]
     index = np.arange(batch.n_spectra)
@@ -59,7 +61,7 @@ def plot_batch(batch, *, title: str | None = None):
             ax.errorbar(index[barred], y[barred], yerr=None if bars is None else bars[:, ~at[kept]], fmt="o", ms=3, lw=0.8, capsize=1.5)
         if (kept & at).any():  # (no bar: text and JSON give no standard error at a bound)
             ax.plot(index[kept & at], y[kept & at], "s", ms=3, mfc="none", color="C3", label="at bound (no stderr)")
-            ax.legend(fontsize=6.5, loc="best", handlelength=1.0, borderaxespad=0.3)
+            ax.legend(fontsize=font_size("legend", 6.5), loc="best", handlelength=1.0, borderaxespad=0.3)
         scaled = y[kept & np.isfinite(y)]
         spread = scaled if scaled.size else y[np.isfinite(y)]  # (every value undetermined: all of them)
         if spread.size and np.all(spread > 0) and spread.max() > 20 * spread.min():
@@ -70,7 +72,7 @@ def plot_batch(batch, *, title: str | None = None):
         if loose.any():
             # (the rule on its own line: on one, the legend was wider than the panel)
             _mark_undetermined(ax, index[loose], y[loose], scaled, f"undetermined\n({batch.UNDETERMINED_RULE})")
-        ax.set_title(f"{name} [{unit}]" if unit else name, fontsize=9)
+        ax.set_title(f"{name} [{unit}]" if unit else name, fontsize=font_size("title", 9))
         if ax.get_yscale() == "linear":
             shown = y[np.isfinite(y)] if loose.all() else y[kept & np.isfinite(y)]
             _window_flat(ax, shown, None if bars is None else bars[:, np.isfinite(y[kept])])
@@ -84,7 +86,7 @@ def plot_batch(batch, *, title: str | None = None):
         ax_nyq = fig.add_subplot(grid[rows, :] if own_row else grid[rows - 1, cols - left :])
         _plot_fits(ax_nyq, ds, batch.dims, labels, batch.circuit.compile(batch.registry))
     converged = float(ds["converged"].mean()) * 100
-    fig.suptitle(title or wrap_model(f"{batch.model}: {batch.n_spectra} spectr{'um' if batch.n_spectra == 1 else 'a'}, {converged:.0f}% converged", characters_across(3.2 * cols, 12)))
+    fig.suptitle(title or wrap_model(f"{batch.model}: {batch.n_spectra} spectr{'um' if batch.n_spectra == 1 else 'a'}, {converged:.0f}% converged", characters_across(fig.get_figwidth() if figsize else 3.2 * cols, font_size("suptitle", 12))))
     return fig
 
 
@@ -150,7 +152,7 @@ def _mark_undetermined(ax, x, y, determined, label: str) -> None:
     else:
         ax.plot(x, y, "o", ms=3.5, mfc="none", color="0.55", label=label)
     # the best place among the markers, the ▲ / ▼ at the edge included (they count as data)
-    ax.legend(fontsize=6.5, loc="best", handlelength=1.0, borderaxespad=0.3)
+    ax.legend(fontsize=font_size("legend", 6.5), loc="best", handlelength=1.0, borderaxespad=0.3)
 
 
 # a batch's Nyquist panel draws at most this many of its spectra (evenly spaced, the first and
@@ -193,11 +195,11 @@ def _plot_fits(ax, ds, dims, labels, model) -> None:
         curve = dense_model(freq, z_model[i], lambda grid, params=params: model(params, grid))[1]
         ax.plot(curve.real, -curve.imag, "-", lw=1.0, color=colour)
         curves.append(curve)
-    ax.set_xlabel("Z' [Ω]", fontsize=8)
-    ax.set_ylabel("−Z'' [Ω]", fontsize=8)
+    ax.set_xlabel("Z' [Ω]", fontsize=font_size("label", 8))
+    ax.set_ylabel("−Z'' [Ω]", fontsize=font_size("label", 8))
     what = f"{drawn.size} of {n} spectra" if drawn.size < n else f"{n} spectr{'um' if n == 1 else 'a'}"
-    ax.set_title(f"data (○) and fits (—), {what}", fontsize=9)
+    ax.set_title(f"data (○) and fits (—), {what}", fontsize=font_size("title", 9))
     # beside the panel, where it covers no data (inside, the spectra's curves run everywhere)
-    ax.legend(fontsize=7, title=", ".join(dims), title_fontsize=7, ncol=2 if drawn.size > 4 else 1, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
+    ax.legend(fontsize=font_size("legend", 7), title=", ".join(dims), title_fontsize=font_size("legend", 7), ncol=2 if drawn.size > 4 else 1, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     ax.grid(alpha=0.3)
     equal_aspect(ax, frame=nyquist_frame(z[drawn], *curves))

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.transforms import blended_transform_factory
 
-from . import dense_model, nyquist_shape, plot_bode, plot_nyquist, plot_residuals, refresh_legend, shade_bands, spectrum_layout
+from . import dense_model, font_size, nyquist_shape, plot_bode, plot_nyquist, plot_residuals, refresh_legend, shade_bands, spectrum_layout
 
 
 def plot_kk(result, *, title: str | None = None):
@@ -46,9 +46,9 @@ def add_rule_levels(ax, *, point: float, run: float, run_length: int, bands=(), 
     on_top = blended_transform_factory(ax.transData, ax.transAxes)
     for (lo, hi), rules in zip(bands, band_rules):
         if rules:
-            ax.text(float(np.sqrt(lo * hi)), 0.97, " + ".join(rules) + " rule", transform=on_top, ha="center", va="top", fontsize=7, color="tab:red",
+            ax.text(float(np.sqrt(lo * hi)), 0.97, " + ".join(rules) + " rule", transform=on_top, ha="center", va="top", fontsize=font_size("text", 7), color="tab:red",
                     bbox={"boxstyle": "round,pad=0.15", "facecolor": "white", "edgecolor": "none", "alpha": 0.8})
     if ax.get_legend() is None:
-        ax.legend(fontsize=8, ncol=2)
+        ax.legend(fontsize=font_size("legend", 8), ncol=2)
     else:
         refresh_legend(ax)

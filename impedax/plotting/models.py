@@ -5,11 +5,17 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import font_size
+
 MODEL_MARGIN = 10.0
 """How far [×] a model curve may extend the |Z_R| axis of `plot_gap_analysis` beyond the data."""
 
 
-def plot_gap_analysis(gap, *, true_gap: float | None = None):
+# the size [in] of `plot_gap_analysis`'s figure of three panels side by side
+GAP_FIGSIZE = (15.0, 4.6)
+
+
+def plot_gap_analysis(gap, *, true_gap: float | None = None, figsize: tuple[float, float] | None = None):
     """Remaining impedance with both fits, the posterior of u against the paper's bounds
     (and ``true_gap`` [m] when known, e.g. for synthetic data), and the force bands with and
     without the EP branch (matplotlib Figure)."""
@@ -18,7 +24,7 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None):
     from ..data import format_percent
     from . import model_curve, plain_log_ticks
 
-    fig, axes = plt.subplots(1, 3, figsize=(15, 4.6), layout="constrained")
+    fig, axes = plt.subplots(1, 3, figsize=figsize or GAP_FIGSIZE, layout="constrained")
     f = gap.remaining["frequency"].values
     z = gap.remaining["Z"].values
     ax = axes[0]
@@ -46,7 +52,7 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None):
         ax.set_ylim(low / 1.5, high * 1.5)
     ax.set(xlabel="frequency [Hz]", ylabel="|Z_R| [Ω]", title="remaining impedance (Sirin eq 5)")
     plain_log_ticks(ax.yaxis)
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=font_size("legend", 7))
     ax = axes[1]
     u = gap.draws("u") * 1e6
     shown = np.concatenate([u, [gap.paper.gap * 1e6]])
@@ -72,11 +78,11 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None):
         ax.axvspan(bound, ax.get_xlim()[1], color="tab:red", alpha=0.06)
     title = "air-gap thickness" if identified else "air-gap thickness: NOT determined (lower bound only)" if bounded else "air-gap thickness: NOT determined (no bound: the model misfits)"
     ax.set(xlabel="gap thickness u [µm]", ylabel="draws" if wide else "density", title=title)
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=font_size("legend", 7))
     ax = axes[2]
     unit = _force_bands(ax, gap.force, ep_label="with EP branch", scale="semilogx", alpha=0.2, suffix="median, 90% band")
     ax.set(xlabel="frequency [Hz]", ylabel=f"peak force F_e [{unit}]", title=f"electrostatic force, V0 = {gap.v0:g} V (Sirin eq 1, peak)")
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=font_size("legend", 7))
     for a in axes:
         a.grid(alpha=0.3, which="both")
     return fig
@@ -116,7 +122,7 @@ def plot_force_bands(gap):
     unit = _force_bands(ax, gap.force, ep_label="with electrode polarization (refined model)", scale="loglog", alpha=0.25, suffix="median and 90% band")
     ax.set(xlabel="frequency [Hz]", ylabel=f"electrostatic force [{unit}] (peak, Sirin eq 1)", title=f"Force on the finger for V0 = {gap.v0:g} V (Sirin Fig 2f story; SYNTHETIC data)")
     ax.grid(alpha=0.3, which="both")
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=font_size("legend", 8))
     return fig
 
 
@@ -135,7 +141,7 @@ def plot_force_spectrum(freq, force, *, title: str, convention: str = "time-aver
     if peak is not None:
         label = ("largest at the band's end" if peak["at_band_edge"] else "peak") + f": {peak['force_n'] * 1e3:.4g} mN at {peak['frequency_hz']:.4g} Hz"
         ax.plot([peak["frequency_hz"]], [peak["force_n"] * 1e3], "v", color="C3", label=label)
-        ax.legend(fontsize=8)
+        ax.legend(fontsize=font_size("legend", 8))
     ax.set_xlabel("frequency [Hz]")
     ax.set_ylabel(("peak" if convention == "peak" else "time-averaged") + " force [mN]")
     ax.set_title(title)
@@ -143,10 +149,10 @@ def plot_force_spectrum(freq, force, *, title: str, convention: str = "time-aver
     if not subtitle and not notes:
         fig.tight_layout()
         return fig
-    ax.set_title("\n".join(textwrap.wrap(title, 80) + textwrap.wrap(subtitle, 95)), fontsize=8.5)
+    ax.set_title("\n".join(textwrap.wrap(title, 80) + textwrap.wrap(subtitle, 95)), fontsize=font_size("title", 8.5))
     lines = [line for note in notes for line in textwrap.wrap(f"warning: {note}", 110)]
     if lines:
         fig.set_size_inches(6.5, 4.4 + 0.16 * len(lines))
-        fig.text(0.01, 0.01, "\n".join(lines), fontsize=6.5, color="C3", ha="left", va="bottom")
+        fig.text(0.01, 0.01, "\n".join(lines), fontsize=font_size("text", 6.5), color="C3", ha="left", va="bottom")
     fig.tight_layout(rect=(0, 0.14 * len(lines) / fig.get_size_inches()[1] + (0.03 if lines else 0), 1, 1))
     return fig

@@ -336,16 +336,17 @@ class Posterior(PiledUp):
         return result_html(f"{self.model}: posterior", self.to_table(), lines=lines)
 
     # -- figures (drawn by impedax.plotting.bayes) -----------------------------------------
-    def plot(self, *, title: str | None = None, n_lines: int = 40):
+    def plot(self, *, title: str | None = None, n_lines: int = 40, figsize: tuple[float, float] | None = None):
         """Data with posterior bands: Nyquist (draws as thin lines) and Bode |Z| and phase with
         the 68% and 90% credible bands of the model and the 90% posterior predictive band
-        (model and noise: where new measurements fall) (matplotlib Figure)."""
+        (model and noise: where new measurements fall) (matplotlib Figure; ``figsize`` (width,
+        height) [in] in place of the size that follows the spectrum's shape)."""
         from ...plotting.bayes import plot_posterior_bands
 
         f = np.geomspace(self.frequency.min(), self.frequency.max(), 200)
         return plot_posterior_bands(
             self.frequency, self.z_data, f, self.predict(f), n_lines=n_lines, z_predictive=self.predict(f, noise=True, copies=PREDICTIVE_COPIES),
-            title=title or f"{self.model}: posterior bands ({self.n_walkers * self.n_draws} draws)",
+            title=title or f"{self.model}: posterior bands ({self.n_walkers * self.n_draws} draws)", figsize=figsize,
         )
 
     def corner(self, *, truths: Mapping[str, float] | None = None, bins: int = 30, max_points: int = 4000):

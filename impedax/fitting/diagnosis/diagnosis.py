@@ -414,12 +414,13 @@ class Diagnosis:
                     f"ΔAIC is taken over the residuals divided by σ_k too, so it differs from the fits' own AICs that impedax compare gives)")
         return ""  # (held back by its parameters: the "not proposed" line below says why)
 
-    def plot(self, *, title: str | None = None):
+    def plot(self, *, title: str | None = None, figsize: tuple[float, float] | None = None):
         """Nyquist, Bode and residual panels of the baseline with the failing bands shaded and
-        the best suggestion overlaid (matplotlib Figure; `impedax.plotting.diagnosis`)."""
+        the best suggestion overlaid (matplotlib Figure; `impedax.plotting.diagnosis`);
+        ``figsize`` (width, height) [in] in place of the size that follows the spectrum's shape."""
         from ...plotting.diagnosis import plot_diagnosis
 
-        return plot_diagnosis(self, title=title)
+        return plot_diagnosis(self, title=title, figsize=figsize)
 
     def to_xarray(self) -> xr.Dataset:
         """Baseline spectra, residuals, noise and band mask over frequency; candidates over

@@ -267,6 +267,28 @@ class FitResult:
             for n, v in self.values.items()
         ]
 
+    def to_latex(self) -> str:
+        """The parameters as a plain LaTeX ``tabular`` (no package needed): name, value ± standard
+        error with the error to two significant digits and the value to its last digit
+        (`impedax.data.round_to_error`: 533.3168 ± 13.0249 → $533 \\pm 13$), unit (Ω as
+        ``\\Omega``); a fixed parameter or one at a bound (no standard error, `to_table`) is
+        marked so. A comment line names the model and rms_rel (``impedax fit --out FILE.tex``)."""
+        from ...data import latex_text, latex_unit, latex_value_error
+
+        lines = [
+            f"% impedax fit: {self.model}, weighting {self.weighting}, rms_rel {self.rms_rel * 100:.3g} %; value ± standard error",
+            r"\begin{tabular}{lll}",
+            r"\hline",
+            r"parameter & value & unit \\",
+            r"\hline",
+        ]
+        for row in self.to_table():
+            note = " (fixed)" if row["fixed"] else " (at bound)" if row["name"] in self.at_bound else ""
+            cell = latex_value_error(row["value"], math.nan if row["stderr"] is None else row["stderr"]) + note
+            lines.append(f"{latex_text(row['name'])} & {cell} & {latex_unit(row['unit'])} \\\\")
+        lines += [r"\hline", r"\end{tabular}"]
+        return "\n".join(lines) + "\n"
+
     def _repr_html_(self) -> str:
         from ...plotting.html import result_html
 
@@ -282,8 +304,9 @@ class FitResult:
 
         return derive_fit(self, fn, freq)
 
-    def plot(self, *, title: str | None = None, bands=None):
-        """Data vs model: Nyquist, Bode and relative residuals (matplotlib Figure)."""
+    def plot(self, *, title: str | None = None, bands=None, figsize: tuple[float, float] | None = None):
+        """Data vs model: Nyquist, Bode and relative residuals (matplotlib Figure);
+        ``figsize`` (width, height) [in] in place of the size that follows the spectrum's shape."""
         from ...plotting import model_curve, plot_spectrum
 
         return plot_spectrum(
@@ -293,6 +316,7 @@ class FitResult:
             bands=bands,
             model_label="fit",
             model_at_data=self.z_model,
+            figsize=figsize,
         )
 
     def to_xarray(self) -> xr.Dataset:
