@@ -123,6 +123,13 @@ def test_dpi_sets_the_png_pixel_size(spectrum_csv, tmp_path):
     assert low[0] == pytest.approx(default[0] / 2, abs=1)
 
 
+def test_compare_takes_the_figure_options(spectrum_csv, tmp_path):
+    """compare's --plot has --dpi and --title as every other command's (11 in wide at 40 dpi)."""
+    path = tmp_path / "compare.png"
+    assert main(["compare", str(spectrum_csv), "--model", "R0 + R1 || C1", "--model", "R0 + R1 || CPE1", "--plot", str(path), "--dpi", "40", "--title", ""]) == 0
+    assert mpimg.imread(path).shape[1] == 11 * 40
+
+
 @pytest.mark.parametrize("ext, head", [(".pdf", (b"%PDF",)), (".svg", (b"<?xml", b"<svg")), (".eps", (b"%!PS",))])
 def test_plot_writes_vector_formats_by_extension(spectrum_csv, tmp_path, ext, head):
     path = tmp_path / f"fit{ext}"

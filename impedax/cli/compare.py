@@ -7,7 +7,7 @@ import math
 
 
 def register(sub) -> None:
-    from .common import add_select_option
+    from .common import add_plot_option, add_select_option
     from .fit import add_bound_option, add_fit_options, add_max_steps_option
 
     p = sub.add_parser(
@@ -26,7 +26,7 @@ def register(sub) -> None:
     add_fit_options(p)
     add_max_steps_option(p, 400, "each model's fit")
     p.add_argument("--json", action="store_true", help="print the comparison as JSON")
-    p.add_argument("--plot", metavar="FILE.png", help="save data with every model's fit and residuals (several spectra: each model's ΔAIC per spectrum)")
+    add_plot_option(p, "save data with every model's fit and residuals (several spectra: each model's ΔAIC per spectrum)")
     p.add_argument(
         "--out", metavar="FILE.csv|.json",
         help="also write the comparison to FILE: .csv one row per model (the table's columns; several spectra: per spectrum and model), .json the --json document; '-' the JSON to standard output",
@@ -39,7 +39,7 @@ def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting.problem import open_spectrum
     from ..arguments import closest_name
-    from .common import checked_bound_options, data_source, emit_json, exclude_points, figure_writer, impedax_text, load_selected, parse_assignments, parse_bounds, plan_outputs, progress_printer, result_writer, with_source
+    from .common import checked_bound_options, data_source, emit_json, exclude_points, figure_options, figure_writer, impedax_text, load_selected, parse_assignments, parse_bounds, plan_outputs, progress_printer, result_writer, with_source
     from .fit import check_max_steps
 
     if len(args.model) < 2:
@@ -79,7 +79,7 @@ def run(args) -> int:
     comparison = compare(fits)
     # (--out: .csv `Comparison.to_table`, .json `Comparison.summary`, as `impedax.io.write_result` writes them; a `BatchComparison`'s alike)
     source = data_source(data)
-    outputs.save({"--out": result_writer(comparison, source), "--plot": figure_writer(comparison.plot, source)})
+    outputs.save({"--out": result_writer(comparison, source), "--plot": figure_writer(comparison.plot, source, **figure_options(args))})
     if args.json:
         emit_json(with_source(comparison.summary(), source))
     elif extra and not outputs.uses_stdout:  # several spectra: the `BatchComparison`'s report

@@ -332,11 +332,12 @@ class BatchComparison:
                  "weight": f"{m['akaike_weight_sum']:.3f}", "median ΔAIC": f"{m['median_delta_aic']:.2f}", "": "← best" if i == best else ""} for i, m in enumerate(self.models())]
         return result_html(f"comparison of {len(rows)} models over {self.n_spectra} spectra: best {self.labels[best]}", rows, lines=[SUM_NOTE])
 
-    def plot(self):
-        """Each model's ΔAIC per spectrum (Figure; `plotting.comparison.plot_batch_comparison`)."""
+    def plot(self, *, figsize: tuple[float, float] | None = None):
+        """Each model's ΔAIC per spectrum (Figure; `plotting.comparison.plot_batch_comparison`;
+        ``figsize`` (width, height) [in])."""
         from ..plotting.comparison import plot_batch_comparison
 
-        return plot_batch_comparison(self)
+        return plot_batch_comparison(self, figsize=figsize)
 
 
 register_batch_compare(compare_batches)

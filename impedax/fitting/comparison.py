@@ -432,12 +432,12 @@ class Comparison:
             lines += [f"{row['label']}: {w}" for w in warnings]
         return result_html(f"comparison of {len(self.rows)} model{'s' if len(self.rows) != 1 else ''}: best {self.rows[best]['label']}", rows, lines=lines, figure=self.plot)
 
-    def plot(self):
+    def plot(self, *, figsize: tuple[float, float] | None = None):
         """Data with every model's fit, and each model's relative residuals (Figure;
-        `plotting.comparison.plot_comparison`)."""
+        `plotting.comparison.plot_comparison`; ``figsize`` (width, height) [in])."""
         from ..plotting.comparison import plot_comparison
 
-        return plot_comparison(self)
+        return plot_comparison(self, figsize=figsize)
 
 
 _batch_compare: Callable | None = None

@@ -54,14 +54,15 @@ SPECTRUM_TICKS_LABELLED = 30
 (30 labels rotated 90° fit an 11-inch axis at 7 pt); beyond, the axis is the spectrum index."""
 
 
-def plot_batch_comparison(comparison):
+def plot_batch_comparison(comparison, *, figsize: tuple[float, float] | None = None):
     """Each model's ΔAIC (to the spectrum's best) against the spectrum, one line per model, for
-    a `BatchComparison`; the lowest summed AIC in the title. Figure."""
+    a `BatchComparison`; the lowest summed AIC in the title; ``figsize`` (width, height) [in],
+    default 11 × 4.5. Figure."""
     import matplotlib.pyplot as plt
 
     rows = comparison.spectra()
     index = np.arange(len(rows))
-    fig, ax = plt.subplots(figsize=(11, 4.5))
+    fig, ax = plt.subplots(figsize=figsize or (11, 4.5))
     markers = ("o", "s", "^", "D", "v")
     summed = {m["label"]: m for m in comparison.models()}
     for k, label in enumerate(comparison.labels):
@@ -74,10 +75,10 @@ def plot_batch_comparison(comparison):
     ax.set_ylim(bottom=-0.5)  # (ΔAIC ≥ 0: no room below the winners' line)
     heads = [", ".join(f"{d}={v}" for d, v in r["labels"].items()) for r in rows]
     if len(rows) <= SPECTRUM_TICKS_LABELLED:
-        ax.set_xticks(index, heads, rotation=90, fontsize=7)
+        ax.set_xticks(index, heads, rotation=90, fontsize=font_size("tick", 7))
     ax.set(xlabel="spectrum" if len(rows) <= SPECTRUM_TICKS_LABELLED else f"spectrum index (0 = {heads[0]}, {len(rows) - 1} = {heads[-1]})", ylabel="ΔAIC to the spectrum's best")
     ax.grid(alpha=0.3, which="both")
-    ax.legend(fontsize=7, loc="best")
+    ax.legend(fontsize=font_size("legend", 7), loc="best")
     fig.suptitle(f"model comparison over {len(rows)} spectra — lowest summed AIC: {comparison.labels[comparison.best_index]}")
     fig.tight_layout()
     return fig
