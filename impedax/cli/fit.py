@@ -94,7 +94,7 @@ def register(sub) -> None:
 
 def run(args) -> int:
     from .. import FitResult, fit, parse
-    from .common import check_parameter_names, checked_bound_options, command_line_words, data_source, exclude_points, figure_writer, load_selected, parse_assignments, parse_bounds, plan_outputs, print_result, progress_printer, result_writer
+    from .common import check_parameter_names, checked_bound_options, command_line_words, command_provenance, data_source, exclude_points, figure_writer, load_selected, parse_assignments, parse_bounds, plan_outputs, print_result, progress_printer, result_writer
 
     outputs = plan_outputs([("--out", args.out, "result"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     max_steps = check_max_steps(args.max_steps)
@@ -117,9 +117,10 @@ def run(args) -> int:
     finally:
         progress.close()
     source = data_source(data)
-    outputs.save({"--out": result_writer(result, source), "--plot": figure_writer(result.plot, source)})
+    record = command_provenance(args, source=source, data_files=[args.data])
+    outputs.save({"--out": result_writer(result, source, record), "--plot": figure_writer(result.plot, source)})
     if not outputs.uses_stdout:
-        print_result(result, args.json, source)  # (a batch's report groups its warnings by kind, naming the spectra)
+        print_result(result, args.json, source, record)  # (a batch's report groups its warnings by kind, naming the spectra)
     if isinstance(result, FitResult) and not result.converged:  # (the report's status line says it; stderr too, as with --json)
         print(f"impedax fit: warning: the fit did not converge: {command_line_words(result.message)}", file=sys.stderr)
     return 0
