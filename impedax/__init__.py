@@ -194,4 +194,4 @@ def __dir__():
 
 __all__ = sorted([*_LAZY, "clear_caches", "use_compilation_cache"])
 
-__version__ = "0.1.0"
+from .constants import IMPEDAX_VERSION as __version__  # noqa: E402 (one source: the writers record it, impedax.io.provenance)

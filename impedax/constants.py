@@ -1,5 +1,9 @@
 """Physical constants (SI) shared by the models and the reparametrizations of the fitting code."""
 
+IMPEDAX_VERSION = "0.1.0"
+"""impedax's version (``impedax.__version__``; pyproject.toml's ``version``): here, at the bottom
+layer, so that every writer can record it (`impedax.io.provenance`)."""
+
 EPSILON_0 = 8.8541878128e-12
 """Vacuum permittivity ε0 [F/m] (CODATA 2018; docs/physics.md, "Conventions")."""
 

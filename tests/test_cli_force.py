@@ -4,6 +4,7 @@ time-domain maximum of eq 3.6 / eq 7, --out files, and eq 8's validity warning."
 
 import json
 import math
+import re
 
 import numpy as np
 import pytest
@@ -49,7 +50,7 @@ def test_csv_output_and_plot(capsys, tmp_path):
     assert main(["force", "meyer", "--points", "5", "--plot", str(png)]) == 0
     captured = capsys.readouterr()
     lines = captured.out.strip().splitlines()
-    assert lines[0] == "frequency_hz,force_n" and len(lines) == 6
+    assert lines[0].startswith("frequency_hz,force_n,convention,") and len(lines) == 6  # (then model, parameters, provenance: 2026-12-01)
     assert "peak" in captured.err and png.stat().st_size > 1000
 
 
@@ -227,7 +228,8 @@ def test_out_writes_what_stdout_would_show(capsys, tmp_path, suffix):
     path = tmp_path / f"force{suffix}"
     assert main(args + ["--out", str(path)]) == 0
     captured = capsys.readouterr()
-    assert path.read_text(encoding="utf-8") == expected
+    stamp = re.compile(r"\d{4}-\d\d-\d\dT\d\d:\d\d:\d\dZ")  # (written_utc: the runs may fall in different seconds)
+    assert stamp.sub("T", path.read_text(encoding="utf-8")) == stamp.sub("T", expected)
     assert captured.out == ""  # the spectrum went to the file
     assert f"wrote {path}" in captured.err.splitlines()
     assert sorted(p.name for p in tmp_path.iterdir()) == [path.name]  # no temporary left behind
@@ -239,9 +241,9 @@ def test_out_with_json_and_plot(capsys, tmp_path):
     captured = capsys.readouterr()
     out = json.loads(captured.out)  # --json still prints the JSON
     lines = csv.read_text().splitlines()
-    assert lines[0] == "frequency_hz,force_n" and len(lines) == 6
+    assert lines[0].startswith("frequency_hz,force_n,convention,model,") and len(lines) == 6
     # the shortest exact form: the same numbers as the JSON, bit for bit
-    assert [[float(x) for x in line.split(",")] for line in lines[1:]] == [list(p) for p in zip(out["frequency_hz"], out["force_n"])]
+    assert [[float(x) for x in line.split(",")[:2]] for line in lines[1:]] == [list(p) for p in zip(out["frequency_hz"], out["force_n"])]
     assert [line.split(",")[0] for line in lines[1:]] == [repr(f).removesuffix(".0") for f in out["frequency_hz"]]
     assert f"wrote {csv}" in captured.err and f"wrote {png}" in captured.err and png.stat().st_size > 1000
 

@@ -91,7 +91,7 @@ def test_drt_without_select_solves_every_spectrum_of_the_file(stacks, tmp_path, 
     assert text.startswith("DRT of 3 spectra") and "trial=b: rms_rel" in text
     lines = csv.read_text().splitlines()
     n_tau = len(out["spectra"][0]["tau_s"])
-    assert lines[0] == "trial,tau_s,gamma_ohm,gamma_q05_ohm,gamma_q95_ohm" and len(lines) == 1 + 3 * n_tau
+    assert lines[0].startswith("trial,tau_s,gamma_ohm,gamma_q05_ohm,gamma_q95_ohm,impedax_version,") and len(lines) == 1 + 3 * n_tau  # (then the provenance: docs/io.md)
     assert [ln.split(",")[0] for ln in lines[1 :: n_tau]] == ["a", "b", "c"] and png.stat().st_size > 10_000
     assert main(["drt", stacks["text"], "--out", str(nc)]) == 0
     saved = ix.io.read_netcdf(nc)  # written as write_result writes it: complex Z restored
@@ -212,7 +212,7 @@ def gap_inputs(monkeypatch):
 
 def test_gap_select_narrows_each_file_that_has_the_dimension(gap_files, gap_inputs, capsys):
     files = [gap_files[k] for k in ("total", "skin", "ts")]
-    assert json_out(["gap", *files, "--area", "130e-6", "--select", "session=s2", "--json"], capsys) == {"method": "stub"}
+    assert json_out(["gap", *files, "--area", "130e-6", "--select", "session=s2", "--json"], capsys) | {"provenance": None} == {"method": "stub", "provenance": None}  # (provenance: docs/io.md)
     (total, skin, ts), = gap_inputs
     assert total["Z"].dims == ("trial", "frequency") and ts["Z"].dims == ("trial", "frequency")
     np.testing.assert_array_equal(total["Z"].values, ix.load(files[0]).sel(session="s2")["Z"].values)
@@ -220,7 +220,7 @@ def test_gap_select_narrows_each_file_that_has_the_dimension(gap_files, gap_inpu
     np.testing.assert_array_equal(skin["Z"].values, ix.load(files[1])["Z"].values)  # no session: all of it
     assert total.attrs["source"] == f"{files[0]} [session=s2]"
     # without --select every session is a replicate, as before
-    assert json_out(["gap", *files, "--area", "130e-6", "--json"], capsys) == {"method": "stub"}
+    assert json_out(["gap", *files, "--area", "130e-6", "--json"], capsys) | {"provenance": None} == {"method": "stub", "provenance": None}
     assert gap_inputs[1][0]["Z"].dims == ("session", "trial", "frequency")
 
 

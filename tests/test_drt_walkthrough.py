@@ -71,6 +71,12 @@ def _rows(path):
         return list(csv.DictReader(fh))
 
 
+def _same_table(python_csv, cli_csv) -> bool:
+    """The command line's CSV is the Python one's, cell for cell, with provenance columns after."""
+    py, cli = _rows(python_csv), _rows(cli_csv)
+    return len(py) == len(cli) and all(a == {k: b[k] for k in a} for a, b in zip(py, cli)) and list(cli[0])[: len(py[0])] == list(py[0])
+
+
 def test_python_and_the_command_line_write_the_same_drt_files(tmp_path, battery, capsys):
     """.csv (γ over τ, lossless), .json (the summary) and .nc from `write_result` and from
     ``impedax drt --out``: both accept all three and write the same bytes / values."""
@@ -82,9 +88,10 @@ def test_python_and_the_command_line_write_the_same_drt_files(tmp_path, battery,
         ix.write_result(r, tmp_path / f"py.{ext}")
         assert main(["drt", str(source), "--out", str(tmp_path / f"cli.{ext}")]) == 0
     capsys.readouterr()
-    assert (tmp_path / "py.csv").read_bytes() == (tmp_path / "cli.csv").read_bytes()
+    # the same table; the command line's has the provenance columns after it (docs/io.md, "Provenance")
+    assert _same_table(tmp_path / "py.csv", tmp_path / "cli.csv")
     rows = _rows(tmp_path / "cli.csv")
-    assert list(rows[0]) == ["tau_s", "gamma_ohm", "gamma_q05_ohm", "gamma_q95_ohm"]
+    assert list(rows[0])[:5] == ["tau_s", "gamma_ohm", "gamma_q05_ohm", "gamma_q95_ohm", "impedax_version"]
     # lossless: every float reads back to the same double (10 significant digits did not)
     assert np.array_equal([float(row["tau_s"]) for row in rows], r.tau)
     assert np.array_equal([float(row["gamma_ohm"]) for row in rows], r.gamma)
@@ -92,7 +99,9 @@ def test_python_and_the_command_line_write_the_same_drt_files(tmp_path, battery,
     expected = json.loads(json.dumps(to_jsonable(r.summary())))
     written = json.loads((tmp_path / "cli.json").read_text())
     assert written.pop("source") == str(source)  # (the command line names the file it read, as kk and fit: 2026-12-01)
-    assert written == expected == json.loads((tmp_path / "py.json").read_text())
+    from_python = json.loads((tmp_path / "py.json").read_text())
+    assert written.pop("provenance")["command"] == "impedax drt" and "provenance" not in from_python  # (docs/io.md, "Provenance")
+    assert written == expected == from_python
     for name in ("py.nc", "cli.nc"):
         saved = read_netcdf(tmp_path / name)
         assert np.array_equal(saved["Z"].values, r.impedance) and np.array_equal(saved["gamma"].values, r.gamma)
@@ -109,9 +118,10 @@ def test_a_batch_writes_label_columns_and_its_json_is_the_commands(tmp_path, bat
     assert main(["drt", str(source), "--json"]) == 0
     printed = json.loads(capsys.readouterr().out)
     assert printed.pop("source") == str(source)  # (the command line names the file it read, as kk and fit: 2026-12-01)
+    assert printed.pop("provenance")["command"] == "impedax drt"
     assert printed == json.loads(json.dumps(to_jsonable(batch.summary())))
     assert printed["dims"] == ["cycle"] and printed["sizes"] == {"cycle": 2} and [s["labels"] for s in printed["spectra"]] == [{"cycle": 3}, {"cycle": 7}]
-    assert (tmp_path / "py.csv").read_bytes() == (tmp_path / "cli.csv").read_bytes()
+    assert _same_table(tmp_path / "py.csv", tmp_path / "cli.csv")
     rows = _rows(tmp_path / "py.csv")
     n_tau = batch.results[0].tau.size
     assert list(rows[0])[0] == "cycle" and len(rows) == 2 * n_tau

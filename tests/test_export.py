@@ -201,6 +201,7 @@ def test_check_results_json_is_the_command_lines_json(command, tmp_path, capsys)
     written = json.loads((tmp_path / "r.json").read_text())
     # the command line names the file it read; the API's result has none (drt too since 2026-12-01)
     assert printed.pop("source") == str(tmp_path / "rc.nc")
+    assert printed.pop("provenance")["command"] == f"impedax {command[0]}"  # (and what made it: docs/io.md, "Provenance")
     assert isinstance(written, dict) and written == printed
 
 

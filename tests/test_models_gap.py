@@ -116,8 +116,11 @@ def test_gap_csv_names_the_unit_of_every_column(tmp_path, analysis):
     ix.io.write_result(analysis, path)
     with open(path, newline="") as handle:
         rows = list(csv.DictReader(handle))
-    assert list(rows[0]) == ["method", "c_gap_f", "c_gap_low_f", "c_gap_high_f", "u_m", "u_low_m", "u_high_m", "gap_identified", "u_lower_bound_m", "u_lower_bound_withheld"]
-    bayes, paper = rows
+    assert list(rows[0])[:10] == ["method", "c_gap_f", "c_gap_low_f", "c_gap_high_f", "u_m", "u_low_m", "u_high_m", "gap_identified", "u_lower_bound_m", "u_lower_bound_withheld"]
+    bayes, paper = rows[:2]
+    # then a row per EDL parameter, with its unit (added 2026-12-01)
+    parameters = {r["parameter"]: r for r in rows[2:]}
+    assert {r["method"] for r in rows[2:]} == {"bayes_parameter"} and parameters["u"]["unit"] == "m" and float(parameters["u"]["value"]) == float(bayes["u_m"])
     assert (bayes["method"], paper["method"]) == ("bayes", "paper")
     summary = analysis.summary()
     for column, key in (("u_m", "value"), ("u_low_m", "q05"), ("u_high_m", "q95")):

@@ -230,7 +230,7 @@ def test_gap_help_says_one_thing_about_nc(capsys):
         main(["gap", "--help"])
     text = " ".join(capsys.readouterr().out.split())
     described = re.findall(r"\.nc[ :][^;.]*", text.split("--out FILE.csv|.json|.nc", 2)[-1])  # what --out's help says a .nc holds
-    assert described == [".nc the force bands with the gap summary as attributes (netCDF"], described
+    assert described == [".nc the force bands with the gap summary as attributes, the EDL parameters and the draws of u (netCDF"], described
 
 
 def test_gap_json_gives_the_frequency_of_the_force_without_ep(stationary):

@@ -21,7 +21,7 @@ __all__ = [
     "check_outputs", "save_outputs", "print_result", "result_out_help", "Output", "OutputPlan", "plan_outputs",
     "memory_limit", "check_memory", "MEMORY_LIMIT_ENV", "add_select_option", "load_selected", "select_spectra", "load_selected_files", "labels_text", "dimension_labels",
     "command_line_words", "naming_target", "part_of_joined", "announce_written", "option_words", "check_points", "check_band_options", "progress_printer", "PROGRESS_AFTER_S",
-    "relative_noise", "fit_command", "exclude_points", "parse_bounds", "checked_bound_options",
+    "relative_noise", "fit_command", "exclude_points", "parse_bounds", "checked_bound_options", "command_provenance",
 ]
 
 
@@ -339,12 +339,34 @@ def to_jsonable(obj):
     return jsonable(obj)
 
 
-def with_source(summary: dict, source: str | None) -> dict:
+def with_source(summary: dict, source: str | None, provenance: Mapping | None = None) -> dict:
     """A result's JSON ``summary`` with the key ``source``: the data's file and any ``--select``
-    (`data_source`), when given and the summary has none."""
-    if source is None or "source" in summary:
-        return summary
-    return {**summary, "source": source}
+    (`data_source`), when given and the summary has none; and the key ``provenance``
+    (`command_provenance`) when given."""
+    if source is not None and "source" not in summary:
+        summary = {**summary, "source": source}
+    if provenance is not None:
+        summary = {**summary, "provenance": dict(provenance)}
+    return summary
+
+
+# what `command_provenance` leaves out of a command's settings: where the outputs go and how
+# the run talks (not how the result was made), and the data files (its ``data_files``)
+_NOT_SETTINGS = frozenset({"run", "command", "json", "out", "plot", "corner", "quiet", "remaining", "data", "total", "skin", "touchscreen"})
+
+
+def command_provenance(args, *, source=None, data_files: Sequence[str] = (), **used) -> dict:
+    """The `impedax.io.provenance.provenance` of a command run with ``args``: ``command``
+    ``impedax NAME``, ``settings`` every option of the command as parsed (defaults included:
+    the seed, weighting, convention a run used without naming them), updated by ``used``
+    (values the run settled itself, e.g. the steps ``auto`` became); ``source`` and
+    ``data_files`` as given. The same record goes to ``--json`` and ``--out``."""
+    from ..io.provenance import provenance
+
+    settings = {k: v for k, v in vars(args).items() if k not in _NOT_SETTINGS and not callable(v)}
+    settings.update(used)
+    name = getattr(args, "command", None)
+    return provenance(command=f"impedax {name}" if name else None, settings=settings, source=source, data_files=data_files)
 
 
 def emit_json(obj) -> None:
@@ -956,13 +978,14 @@ def latex_writer(result) -> Callable[[Path], None]:
     return write
 
 
-def result_writer(result, source: str | None = None) -> Callable[[Path], None]:
+def result_writer(result, source: str | None = None, provenance: Mapping | None = None) -> Callable[[Path], None]:
     """A writer of ``result`` in the format of the path's extension (`impedax.io.write_result`),
-    naming the data's ``source`` (`data_source`) when given."""
+    naming the data's ``source`` (`data_source`) and recording ``provenance``
+    (`command_provenance`) when given."""
     def write(path: Path) -> None:
         from ..io import write_result
 
-        write_result(result, path, source=source)
+        write_result(result, path, source=source, provenance=provenance)
 
     return write
 
@@ -1298,12 +1321,12 @@ def check_memory(flag: str, needed_bytes: float, what: str) -> None:
         )
 
 
-def print_result(result, as_json: bool, source: str | None = None, **report_options) -> None:
-    """``result.summary()`` as JSON (with ``source``, `with_source`), or
+def print_result(result, as_json: bool, source: str | None = None, provenance: Mapping | None = None, **report_options) -> None:
+    """``result.summary()`` as JSON (with ``source`` and ``provenance``, `with_source`), or
     ``result.report(**report_options)`` as text (in the command line's words:
     `command_line_words`)."""
     if as_json:
-        emit_json(with_source(result.summary(), source))
+        emit_json(with_source(result.summary(), source, provenance))
     else:
         print(command_line_words(result.report(**report_options)))
 

@@ -67,7 +67,7 @@ def fixed_option(args) -> dict[str, float]:
 
 def run(args) -> int:
     from ..fitting import diagnose
-    from .common import data_source, exclude_points, figure_options, figure_writer, fit_command, load_selected, plan_outputs, print_result, progress_printer, relative_noise, result_writer
+    from .common import command_provenance, data_source, exclude_points, figure_options, figure_writer, fit_command, load_selected, plan_outputs, print_result, progress_printer, relative_noise, result_writer
     from .fit import check_max_steps
 
     outputs = plan_outputs([("--out", args.out, "result"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
@@ -82,7 +82,8 @@ def run(args) -> int:
     finally:
         progress.close()
     source = data_source(data)
-    outputs.save({"--out": result_writer(result, source), "--plot": figure_writer(result.plot, source, **figure_options(args))})
+    record = command_provenance(args, source=source, data_files=[args.data])
+    outputs.save({"--out": result_writer(result, source, record), "--plot": figure_writer(result.plot, source, **figure_options(args))})
     if not outputs.uses_stdout:
-        print_result(result, args.json, source, fit_command=fit_command(args, kept=result.baseline.frequency, masked=result.masked_points, data=data))
+        print_result(result, args.json, source, record, fit_command=fit_command(args, kept=result.baseline.frequency, masked=result.masked_points, data=data))
     return 0

@@ -61,7 +61,7 @@ def register(sub) -> None:
 def run(args) -> int:
     from ..fitting.drt import drt
     from ..fitting.problem import open_spectrum
-    from .common import check_band_options, data_source, emit_json, exclude_points, figure_options, figure_writer, load_selected, plan_outputs, progress_printer, with_source
+    from .common import check_band_options, command_provenance, data_source, emit_json, exclude_points, figure_options, figure_writer, load_selected, plan_outputs, progress_printer, with_source
 
     outputs = plan_outputs([("--out", args.out, "drt"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     # a file of several spectra: the DRT of each in one solve (`DRTBatchResult`), or one (--select)
@@ -79,21 +79,23 @@ def run(args) -> int:
     result = drt(data, method=args.method, lam=_lam(args.lam), lam_method=args.lam_method, signed=args.signed, min_peak_fraction=args.min_peak_fraction)
     if args.plot:  # (the slowest output: ~1 s for 130 curves)
         progress(f"drawing {args.plot}")
-    outputs.save({"--out": lambda path: _save(result, path, source), "--plot": figure_writer(result.plot, **figure_options(args))})
+    record = command_provenance(args, source=source, data_files=[args.data])
+    outputs.save({"--out": lambda path: _save(result, path, source, record), "--plot": figure_writer(result.plot, **figure_options(args))})
     progress.close()
     if outputs.uses_stdout:
         return 0
     if args.json:
-        emit_json(with_source(result.summary(), source))
+        emit_json(with_source(result.summary(), source, record))
     else:
         print(result.report())
     return 0
 
 
-def _save(result, path, source: str | None = None) -> None:
+def _save(result, path, source: str | None = None, provenance=None) -> None:
     """``--out``: `impedax.write_result`, the same files as in Python (.csv γ over τ, a column
     per dimension first for several spectra; .json the summary, .nc the lossless dataset, each
-    naming the data's ``source`` as ``--json`` does)."""
+    naming the data's ``source`` and ``provenance`` as ``--json`` does; the CSV with the
+    provenance columns, docs/io.md "Provenance")."""
     from ..io.export import write_result
 
-    write_result(result, path, source=source)
+    write_result(result, path, source=source, provenance=provenance)

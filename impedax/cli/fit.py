@@ -97,7 +97,7 @@ def run(args) -> int:
 
     from .. import FitResult, fit, parse
     from ..errors import ParameterError
-    from .common import check_parameter_names, checked_bound_options, command_line_words, data_source, exclude_points, figure_options, figure_writer, latex_writer, load_selected, parse_assignments, parse_bounds, plan_outputs, print_result, progress_printer, result_writer, LATEX_SUFFIX
+    from .common import check_parameter_names, checked_bound_options, command_line_words, command_provenance, data_source, exclude_points, figure_options, figure_writer, latex_writer, load_selected, parse_assignments, parse_bounds, plan_outputs, print_result, progress_printer, result_writer, LATEX_SUFFIX
 
     outputs = plan_outputs([("--out", args.out, "fit"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     latex = bool(args.out) and Path(args.out).suffix.lower() == LATEX_SUFFIX
@@ -123,9 +123,10 @@ def run(args) -> int:
     finally:
         progress.close()
     source = data_source(data)
-    outputs.save({"--out": latex_writer(result) if latex else result_writer(result, source), "--plot": figure_writer(result.plot, source, **figure_options(args))})
+    record = command_provenance(args, source=source, data_files=[args.data])
+    outputs.save({"--out": latex_writer(result) if latex else result_writer(result, source, record), "--plot": figure_writer(result.plot, source, **figure_options(args))})
     if not outputs.uses_stdout:
-        print_result(result, args.json, source)  # (a batch's report groups its warnings by kind, naming the spectra)
+        print_result(result, args.json, source, record)  # (a batch's report groups its warnings by kind, naming the spectra)
     if isinstance(result, FitResult) and not result.converged:  # (the report's status line says it; stderr too, as with --json)
         print(f"impedax fit: warning: the fit did not converge: {command_line_words(result.message)}", file=sys.stderr)
     return 0

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from ..arguments import number_text
-from .common import accept_negative_numbers, add_output_options, add_positional_model, check_memory, check_parameter_names, check_points, figure_options, figure_writer, number_option, parse_assignments, plan_outputs, to_jsonable
+from .common import accept_negative_numbers, add_output_options, add_positional_model, check_memory, check_parameter_names, check_points, command_provenance, figure_options, figure_writer, number_option, parse_assignments, plan_outputs, to_jsonable
 
 _MODELS = ("meyer", "vezzoli")
 _RANGES = {"meyer": (10.0, 1e9), "vezzoli": (1.0, 1e6)}
@@ -92,7 +92,7 @@ def register(sub) -> None:
     )
     add_output_options(
         p, json="print JSON instead of CSV", plot="also save a plot of force against frequency",
-        out="also write the spectrum to FILE: .csv as frequency_hz,force_n, .json the --json document; nothing then goes to "
+        out="also write the spectrum to FILE: .csv as frequency_hz,force_n then, on every row, convention, model, the parameters (param_NAME) and impedax_version, written_utc; .json the --json document; nothing then goes to "
         "standard output unless --json is given ('-': standard output, as without --out)",
         out_metavar="FILE.csv|.json",
     )
@@ -290,8 +290,23 @@ def _out_path(path: str | None) -> str | None:
         return path  # (`plan_outputs` says "empty file name")
     suffix = Path(path).suffix.lower()
     if suffix not in OUT_SUFFIXES:
-        raise DataError(f"--out: unknown extension {suffix or '(none)'!r} for a force spectrum; use .csv (frequency_hz,force_n) or .json (the --json document)", path=path)
+        raise DataError(f"--out: unknown extension {suffix or '(none)'!r} for a force spectrum; use .csv (frequency_hz,force_n, ...) or .json (the --json document)", path=path)
     return path
+
+
+def _csv_text(freq, force, model: str, convention: str, variant: str | None, params: dict[str, float], record: dict) -> str:
+    """The force spectrum as CSV: ``frequency_hz,force_n``, then, the same on every row, what
+    makes it (docs/models.md, "Force on the command line"): ``convention`` (time-average or
+    peak: a factor 2 to 64 apart), ``model``, ``variant`` (meyer), each parameter as used
+    (``param_NAME``, SI; the drive ``param_v_a``/``param_v_m`` [V] among them) and
+    ``impedax_version``, ``written_utc``. Each number in its shortest exact form, as in the
+    JSON: the CSV reads back bit for bit."""
+    constant = {"convention": convention, "model": model, **({"variant": variant} if variant else {})}
+    constant.update({f"param_{name}": number_text(value) for name, value in params.items()})
+    constant.update({"impedax_version": record["impedax_version"], "written_utc": record["written_utc"]})
+    tail = ",".join(str(v) for v in constant.values())
+    lines = [",".join(["frequency_hz", "force_n", *constant])] + [f"{number_text(f)},{number_text(v)},{tail}" for f, v in zip(freq, force)]
+    return "\n".join(lines) + "\n"
 
 
 def run(args) -> int:
@@ -314,9 +329,10 @@ def run(args) -> int:
     document = {"frequency_hz": freq, "force_n": force, "peak": peak, "params": params, "convention": args.convention, "model": args.model, "warnings": notes}
     if args.model == "meyer":
         document["variant"] = _variant_of(params)
+    record = command_provenance(args, fmin_used=fmin, fmax_used=fmax, points_used=points, variant_used=document.get("variant"), params_used=params)
+    document["provenance"] = record
     json_text = json.dumps(to_jsonable(document), indent=2, allow_nan=False) + "\n"
-    # each number in its shortest exact form, as in the JSON: the CSV reads back bit for bit
-    csv_text = "\n".join(["frequency_hz,force_n"] + [f"{number_text(f)},{number_text(v)}" for f, v in zip(freq, force)]) + "\n"
+    csv_text = _csv_text(freq, force, args.model, args.convention, document.get("variant"), params, record)
 
     def text_writer(path: Path) -> None:
         path.write_text(json_text if Path(out).suffix.lower() == ".json" else csv_text, encoding="utf-8")

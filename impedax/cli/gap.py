@@ -7,7 +7,9 @@ import sys
 
 GAP_OUT_HELP = (
     "save the gap result: .csv a table of C_gap [F] and u [m], one row per method (Bayesian, the paper's), each column named with its unit (c_gap_f, u_m, u_low_m, ...; the JSON gives u in µm), .json the --json summary, "
-    ".nc the force bands with the gap summary as attributes (netCDF; read it back with impedax.io.read_netcdf); '-' the JSON to standard output"
+    "then a bayes_parameter row per EDL parameter (value, low, high, unit, fit_value, fit_stderr); "
+    ".nc the force bands with the gap summary as attributes, the EDL parameters and the draws of u (netCDF; read it back with impedax.io.read_netcdf); '-' the JSON to standard output. "
+    "Each records impedax's version, these options and the three files (docs/io.md, Provenance)"
 )
 
 
@@ -58,7 +60,7 @@ def run(args) -> int:
     from ..fitting.bayes.chain import AUTO_STEPS, auto_step_cap
     from ..arguments import GAP_MIN_STEPS
     from ..models.gap import HIERARCHICAL_AUTO_DRAWS, check_fingertip_area, gap_analysis
-    from .common import check_distinct_paths, check_memory, figure_options, figure_writer, load_selected_files, plan_outputs, print_result, remainder_with_paths, result_writer, spectrum_writer
+    from .common import check_distinct_paths, check_memory, command_provenance, figure_options, figure_writer, load_selected_files, plan_outputs, print_result, remainder_with_paths, result_writer, spectrum_writer
 
     if args.pooled and args.method == "hierarchical":  # (argparse's exclusive groups let a default-valued --method through)
         raise ParameterError("--pooled and --method hierarchical contradict each other: give one")
@@ -85,9 +87,10 @@ def run(args) -> int:
     paths = {"total": args.total, "skin": args.skin, "touchscreen": args.touchscreen}
     check_distinct_paths(paths)  # (after reading: a bad file is named first)
     result = gap_analysis(total, skin, touchscreen, area=args.area, v0=args.v0, ep=args.ep, steps=steps, seed=args.seed, method=args.method, progress=not args.quiet, check_area=not args.no_area_check)
-    outputs.save({"--out": result_writer(result), "--plot": figure_writer(result.plot, **figure_options(args)), "--remaining": spectrum_writer(lambda: remainder_with_paths(result.remaining, paths))})
+    record = command_provenance(args, source=paths, data_files=list(paths.values()), **{f"{k}_used": v for k, v in (getattr(result, "settings", None) or {}).items()})
+    outputs.save({"--out": result_writer(result, provenance=record), "--plot": figure_writer(result.plot, **figure_options(args)), "--remaining": spectrum_writer(lambda: remainder_with_paths(result.remaining, paths))})
     if not outputs.uses_stdout:
-        print_result(result, args.json)
+        print_result(result, args.json, provenance=record)
     if result.warnings and args.json:
         print(f"impedax gap: {len(result.warnings)} warning(s), see the JSON 'warnings'", file=sys.stderr)
     return 0

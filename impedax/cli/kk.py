@@ -34,7 +34,7 @@ LINEAR_ONLY = ("--c", "--max-rc", "--no-inductance", "--no-capacitance")
 def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting import kk_test, kk_test_batch, zhit
-    from .common import check_band_options, data_source, emit_json, exclude_points, figure_options, figure_writer, load_selected, plan_outputs, with_source
+    from .common import check_band_options, command_provenance, data_source, emit_json, exclude_points, figure_options, figure_writer, load_selected, plan_outputs, with_source
 
     if args.method == "zhit":
         given = [flag for flag, value in zip(LINEAR_ONLY, (args.c, args.max_rc, args.no_inductance or None, args.no_capacitance or None)) if value is not None]
@@ -54,13 +54,14 @@ def run(args) -> int:
         check_band_options(args.fmin, args.fmax)
         data = select_band(data, args.fmin, args.fmax, args.data)
     options = dict(c=0.85 if args.c is None else args.c, max_rc=args.max_rc, inductance=not args.no_inductance, capacitance=not args.no_capacitance)
+    record = command_provenance(args, source=data_source(data), data_files=[args.data], c=options["c"])
     if any(d != "frequency" for d in data["Z"].dims):
-        _each_spectrum(kk_test_batch(data, **options), args.json, lambda summary: emit_json(with_source(summary, data_source(data))))
+        _each_spectrum(kk_test_batch(data, **options), args.json, lambda summary: emit_json(with_source(summary, data_source(data), record)))
         return 0
     result = zhit(data) if args.method == "zhit" else kk_test(data, **options)
     outputs.save({"--plot": figure_writer(result.plot, data_source(data), **figure_options(args))})
     if args.json:
-        emit_json(with_source(result.summary(), data_source(data)))
+        emit_json(with_source(result.summary(), data_source(data), record))
     else:
         print(result.report())
     return 0

@@ -28,7 +28,7 @@ def register(sub) -> None:
 def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting import refine
-    from .common import data_source, exclude_points, figure_options, figure_writer, load_selected, plan_outputs, print_result, progress_printer, relative_noise, result_writer
+    from .common import command_provenance, data_source, exclude_points, figure_options, figure_writer, load_selected, plan_outputs, print_result, progress_printer, relative_noise, result_writer
     from .diagnose import effects_option, fixed_option
     from .fit import check_max_steps
 
@@ -49,9 +49,10 @@ def run(args) -> int:
     finally:
         progress.close()
     source = data_source(data)
-    outputs.save({"--out": result_writer(result, source), "--plot": figure_writer(result.plot, source, **figure_options(args))})
+    record = command_provenance(args, source=source, data_files=[args.data])
+    outputs.save({"--out": result_writer(result, source, record), "--plot": figure_writer(result.plot, source, **figure_options(args))})
     if not outputs.uses_stdout:
-        print_result(result, args.json, source)
+        print_result(result, args.json, source, record)
         line = reproduce_line(result, args, data)
         if line and not args.json:
             print(line)

@@ -113,7 +113,7 @@ def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting import parse_prior
     from ..fitting.bayes.logprob import start_weighting
-    from .common import check_parameter_names, checked_bound_options, data_source, figure_options, figure_writer, load_selected, parse_assignments, parse_bounds, plan_outputs, print_result, result_writer
+    from .common import check_parameter_names, checked_bound_options, command_provenance, data_source, figure_options, figure_writer, load_selected, parse_assignments, parse_bounds, plan_outputs, print_result, result_writer
     from .fit import check_max_steps, shared_arguments
 
     circuit = parse(args.model)  # syntax errors before anything else
@@ -156,9 +156,15 @@ def run(args) -> int:
         seed=args.seed, fmin=args.fmin, fmax=args.fmax, progress=not (args.quiet or args.json), init=start, fixed=fixed or None, bounds=bounds or None, **sharing,
     )
     source = data_source(data)
-    outputs.save({"--out": result_writer(posterior, source), "--corner": figure_writer(lambda: posterior.corner(), source, **figure_options(args)), "--plot": figure_writer(lambda: posterior.plot(), source, **figure_options(args))})
+    # what the run settled itself (--steps auto, the default burn-in and walkers), beside the options as given
+    chain = getattr(posterior, "settings", None) if isinstance(getattr(posterior, "settings", None), dict) else {}
+    settled = {f"{k}_used": chain.get(k) for k in ("steps", "burn") if chain.get(k) is not None}
+    if getattr(posterior, "n_walkers", None) is not None:
+        settled["walkers_used"] = posterior.n_walkers
+    record = command_provenance(args, source=source, data_files=[args.data], **settled)
+    outputs.save({"--out": result_writer(posterior, source, record), "--corner": figure_writer(lambda: posterior.corner(), source, **figure_options(args)), "--plot": figure_writer(lambda: posterior.plot(), source, **figure_options(args))})
     if not outputs.uses_stdout:
-        print_result(posterior, args.json, source)
+        print_result(posterior, args.json, source, record)
     if not args.json:
         if not args.quiet and posterior.warnings:
             print(f"impedax sample: {len(posterior.warnings)} warning(s); see the report", file=sys.stderr)

@@ -1,7 +1,7 @@
 """Reading and writing spectra: `load` recognises the file by content (see docs/io.md).
 
 Layout: `loader` (`load`, `save`: detection and dispatch), `registry` (`Reader`), `table`
-(tables with named columns), `csv` (delimited text), `netcdf` (impedax's lossless files), `export` (results as CSV tables, JSON, netCDF), `stack`
+(tables with named columns), `csv` (delimited text), `netcdf` (impedax's lossless files), `export` (results as CSV tables, JSON, netCDF), `provenance` (what made a written result), `stack`
 (`stack_files`: one spectrum per file as one series), and
 ``formats/`` — one module per instrument format, each documenting its sign and unit conventions,
 and `READERS`/`register_reader`.

@@ -122,7 +122,7 @@ def _required_arguments(method) -> list[str]:
     return [p.name for p in signature.parameters.values() if p.default is p.empty and p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY)]
 
 
-def write_result(result, path: str | Path, *, source: str | None = None) -> None:
+def write_result(result, path: str | Path, *, source: str | None = None, provenance: Mapping[str, object] | None = None) -> None:
     """Write ``result`` in the format of ``path``'s extension: ``.csv`` the tidy table
     (`result_table`), ``.json`` its ``summary()``, ``.nc`` its ``to_xarray()`` (lossless
     netCDF, `write_netcdf`). Atomic: the file is whole or not there. Anything but a result
@@ -131,7 +131,12 @@ def write_result(result, path: str | Path, *, source: str | None = None) -> None
     (`check_writable`). A model whose ``to_xarray`` needs arguments (`MeyerModel`: the
     frequencies) is a `ParameterError` saying to write ``impedax.io.write_netcdf(m.to_xarray(freq), path)``.
     ``source`` (where the data came from: ``path [cycle=3]``) is added to the JSON as the key
-    ``source`` and to the netCDF as the attribute ``source``, unless the result has its own."""
+    ``source`` and to the netCDF as the attribute ``source``, unless the result has its own.
+    ``provenance`` (`impedax.io.provenance.provenance`: version, command, settings, data, time)
+    is the netCDF attributes of `provenance_attrs` (by default a record naming this version,
+    ``source`` and now), and, only when given (the command line gives it), the JSON key
+    ``provenance`` and the CSV columns of `provenance_columns` on every row (a JSON or CSV
+    without it stays the result's own ``summary()``/table: docs/io.md, "Provenance")."""
     if isinstance(result, (str, os.PathLike)) and _is_result(path):
         raise ParameterError(f"write_result takes (result, path); the arguments look swapped: got the path {shown(str(result))} first and a {type(path).__name__} second")
     if not isinstance(path, (str, os.PathLike)):
@@ -146,15 +151,23 @@ def write_result(result, path: str | Path, *, source: str | None = None) -> None
         name, given = type(result).__name__, ", ".join(needs)
         raise ParameterError(f"a {name} has a dataset only at a given {given}: save m.to_xarray({given}) with impedax.io.write_netcdf(m.to_xarray({given}), path)")
     check_writable(path)
+    from .provenance import PROVENANCE_KEY, provenance_attrs, provenance_columns
+    from .provenance import provenance as made
+
+    record = dict(provenance) if provenance is not None else made(source=source)
     if kind == "csv":
-        write_table(result_table(result), path)
+        rows = result_table(result)
+        if provenance is not None:
+            columns = provenance_columns(record)
+            rows = [{**row, **{k: v for k, v in columns.items() if k not in row}} for row in rows]
+        write_table(rows, path)
     elif kind == "json":
         if not callable(getattr(result, "summary", None)):
             raise DataError(f"{type(result).__name__} has no summary; write it as .nc")
         summary = result.summary()
         if source is not None and "source" not in summary:
             summary = {**summary, "source": source}
-        write_json(summary, path)
+        write_json({**summary, PROVENANCE_KEY: record} if provenance is not None else summary, path)
     else:
         from .netcdf import write_netcdf
 
@@ -163,4 +176,5 @@ def write_result(result, path: str | Path, *, source: str | None = None) -> None
         ds = result.to_xarray()
         if source is not None and "source" not in ds.attrs:
             ds.attrs["source"] = source
+        ds = ds.assign_attrs(provenance_attrs(record))  # (a new Dataset: a result's own is not changed)
         write_netcdf(ds, path)

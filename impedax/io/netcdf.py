@@ -197,6 +197,11 @@ def saved_result(ds, kind: str, *, variables=(), attrs=()) -> xr.Dataset:
     if missing or missing_attrs:
         parts = ([f"variable(s) {', '.join(missing)}"] if missing else []) + ([f"attribute(s) {', '.join(missing_attrs)}"] if missing_attrs else [])
         raise DataError(f"incomplete saved {what}: missing {' and '.join(parts)}", path=source)
+    from .provenance import PROVENANCE_ATTRS
+
+    if any(k in ds.attrs for k in PROVENANCE_ATTRS):  # (what made the file, not part of the result: a result written again records its own)
+        ds = ds.copy(deep=False)
+        ds.attrs = {k: v for k, v in ds.attrs.items() if k not in PROVENANCE_ATTRS}
     return ds
 
 

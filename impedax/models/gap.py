@@ -43,7 +43,7 @@ from .gap_inputs import check_gap_inputs, position_notes, spectra_used
 from .plausible import AIR_BREAKDOWN_V, DRIVE_VOLTAGE_V, FINGERTIP_AREA_M2
 from .sirin import SIRIN_AREA, SIRIN_DRIVE_V, PaperGapEstimate, gap_force_peak, paper_gap_estimate, remainder_circuit, remaining_impedance, trial_mean, trial_remainders
 
-__all__ = ["GapAnalysis", "gap_analysis", "gap_remainder", "REMAINDER_KINDS", "GAP_TABLE_COLUMNS", "GAP_METHODS", "GAP_MIN_STEPS", "FINGERTIP_AREA_M2", "IDENTIFIED_C_REMAINDER", "C_GAP_BOUNDS_F", "HIERARCHICAL_AUTO_DRAWS", "gap_bounds", "check_fingertip_area"]
+__all__ = ["GapAnalysis", "gap_analysis", "gap_remainder", "REMAINDER_KINDS", "GAP_TABLE_COLUMNS", "GAP_METHODS", "GAP_MIN_STEPS", "FINGERTIP_AREA_M2", "IDENTIFIED_C_REMAINDER", "C_GAP_BOUNDS_F", "HIERARCHICAL_AUTO_DRAWS", "GAP_DRAW_ALIASES", "GAP_SAVED_DRAWS", "gap_bounds", "check_fingertip_area"]
 
 GAP_METHODS = ("hierarchical", "pooled")
 _EP_PER_TRIAL = ("R_EP", "CPE_EP.Q", "C_EP")  # the contact's EP branch varies with each trial
@@ -56,6 +56,11 @@ unit in its name (``_f`` farad, ``_m`` metre); ``u_lower_bound_withheld`` says w
 determined and yet no bound is given (`GapAnalysis.gap_bound_withheld`)."""
 
 HIERARCHICAL_AUTO_DRAWS = 500
+# the names `GapAnalysis.draws` takes besides the parameters': those of its properties `gap` and `c_gap`
+GAP_DRAW_ALIASES = {"gap": "u", "u": "u", "c_gap": "C_gap", "C_gap": "C_gap"}
+# draws of u kept in a saved gap analysis (.nc): enough for the posterior panel's histogram and
+# its 5/95 % quantiles to 1 % (2000 draws of the default 4 chains × 500), a file of 32 kB at most
+GAP_SAVED_DRAWS = 4000
 """``steps="auto"`` in the hierarchical method: NUTS draws per chain (and warm-up steps)."""
 NAIVE_RUNAWAY_RMS_REL = 0.99
 """A naive fit (C_gap alone) with rms_rel at or above this misses the data entirely (a model
@@ -115,6 +120,10 @@ class GapAnalysis:
     edl_misfit: str | None = None
     """How the EDL model misses the trial-mean remainder grossly (`_misfit_text`), else None:
     then u, its interval and the force rest on a model the data reject."""
+    settings: dict | None = None
+    """What `gap_analysis` ran with, defaults included: ``eps_gap``, ``cutoff_hz``, ``seed``,
+    ``steps`` (hierarchical: draws per chain; pooled: emcee steps, as run when ``"auto"``),
+    ``steps_requested``, ``warmup`` and ``chains`` (hierarchical), ``walkers`` (pooled)."""
 
     @property
     def gap_identified(self) -> bool:
@@ -123,11 +132,44 @@ class GapAnalysis:
         or a fit/posterior that cannot split C_gap from the EP element (`_gap_identification`)."""
         return self.gap_lower_bound is None and self.gap_bound_withheld is None
 
-    def draws(self, name: str) -> np.ndarray:
-        """Posterior draws of ``u`` [m] or ``C_gap`` [F] (hierarchical: population medians)."""
+    def _all_draws(self) -> dict[str, np.ndarray]:
+        """Posterior draws of every parameter (hierarchical: of a typical trial, the population
+        medians; pooled: the emcee draws), u [m] and C_gap [F] among them."""
         if self.hierarchical is not None:
-            return np.asarray(self.hierarchical.population_parameters()[name])
-        return np.asarray(self.posterior.parameter_draws()[name])
+            return self.hierarchical.population_parameters()
+        return self.posterior.parameter_draws()
+
+    def draws(self, name: str) -> np.ndarray:
+        """Posterior draws of ``u`` [m] (also named ``"gap"``, as the property `gap`), ``C_gap``
+        [F] (also ``"c_gap"``) or another parameter of the EDL model, e.g. ``"R_EP"``
+        (hierarchical: population medians). Another name is a `ParameterError` listing these."""
+        values = self._all_draws()
+        key = GAP_DRAW_ALIASES.get(name, name)
+        if key not in values:
+            names = ", ".join([*GAP_DRAW_ALIASES, *(n for n in values if n not in GAP_DRAW_ALIASES.values())])
+            raise ParameterError(f"GapAnalysis.draws: no draws named {name!r}; the names are {names}")
+        return np.asarray(values[key])
+
+    @property
+    def edl_parameters(self) -> dict[str, dict[str, object]]:
+        """Every parameter of the EDL model with its uncertainty: ``value``, ``q05``, ``q95``
+        the posterior median and 90 % interval (hierarchical: of the population median, a typical
+        trial's value), ``unit``, and ``fit_value``, ``fit_stderr`` the least-squares fit on the
+        trial-mean remainder (None for u, which the fit does not have)."""
+        units = {row["name"]: row["unit"] for row in self.edl_fit.to_table()}
+        units["u"] = "m"
+        fitted, stderr = dict(self.edl_fit.values), dict(self.edl_fit.stderr)
+        out = {}
+        for name, draws in self._all_draws().items():
+            q05, q50, q95 = np.quantile(np.asarray(draws, float), [0.05, 0.5, 0.95])
+            out[name] = {"value": float(q50), "q05": float(q05), "q95": float(q95), "unit": units.get(name),
+                         "fit_value": fitted.get(name), "fit_stderr": stderr.get(name)}
+        return out
+
+    def u_draws(self, max_draws: int = GAP_SAVED_DRAWS) -> np.ndarray:
+        """The draws of u [m], thinned evenly to at most ``max_draws`` (what ``.nc`` saves)."""
+        u = np.asarray(self.draws("u"), float)
+        return u[:: max(1, -(-u.size // max_draws))]
 
     def _quantiles(self, name: str) -> dict[str, float]:
         q05, q50, q95 = np.quantile(self.draws(name), [0.05, 0.5, 0.95])
@@ -210,6 +252,8 @@ class GapAnalysis:
             "gap_bound_withheld": self.gap_bound_withheld,
             "edl_misfit": self.edl_misfit,
             "sampling": self._sampling_summary(),
+            "edl_parameters": self.edl_parameters,
+            "settings": dict(self.settings) if self.settings is not None else None,
         }
 
     def _sampling_summary(self) -> dict | None:
@@ -228,7 +272,10 @@ class GapAnalysis:
         C_gap none). Every column name carries its SI unit (`GAP_TABLE_COLUMNS`: ``_f`` farad,
         ``_m`` metre; the JSON's ``gap_um`` are the same u in µm); ``gap_identified`` and
         ``u_lower_bound_m`` (the bound u ≥ when u is not determined) and ``u_lower_bound_withheld``
-        (why there is none although u is not determined) on the bayes row."""
+        (why there is none although u is not determined) on the bayes row. Then one
+        ``bayes_parameter`` row per parameter of the EDL model (`edl_parameters`): ``parameter``,
+        ``value``, ``low``, ``high`` (posterior median, 90 % interval), ``unit`` (SI, the element's),
+        ``fit_value``, ``fit_stderr`` (the least-squares fit on the trial mean; added 2026-12-01)."""
         p = self.paper
         c, g = self.c_gap, self.gap
         low, high = (p.gap_lower, p.gap_upper) if self.paper_has_bounds else (None, None)
@@ -237,6 +284,8 @@ class GapAnalysis:
              "gap_identified": self.gap_identified, "u_lower_bound_m": self.gap_lower_bound, "u_lower_bound_withheld": self.gap_bound_withheld},
             {"method": "paper", "c_gap_f": p.c_gap, "c_gap_low_f": None, "c_gap_high_f": None, "u_m": p.gap, "u_low_m": low, "u_high_m": high,
              "gap_identified": None, "u_lower_bound_m": None, "u_lower_bound_withheld": None},
+            *({"method": "bayes_parameter", "parameter": name, "value": q["value"], "low": q["q05"], "high": q["q95"], "unit": q["unit"],
+               "fit_value": q["fit_value"], "fit_stderr": q["fit_stderr"]} for name, q in self.edl_parameters.items()),
         ]
 
     def report(self) -> str:
@@ -317,7 +366,11 @@ class GapAnalysis:
         """The force bands with the gap summary as attrs (what ``--out FILE.nc`` writes): C_gap
         and u quantiles, the paper method (``paper_gap_um``, ``paper_gap_lower_um``,
         ``paper_gap_upper_um`` — NaN with one spectrum per file — and ``paper_c_gap_pf``) and
-        ``warnings``, one string with a warning per line (``n_warnings`` of them); ``impedax_kind``
+        ``warnings``, one string with a warning per line (``n_warnings`` of them), the
+        ``setting_*`` it ran with (`settings`), the EDL parameters over ``parameter``
+        (``parameter_value``, ``_q05``, ``_q95``, ``_fit_value``, ``_fit_stderr``, ``_unit``:
+        `edl_parameters`) and u's draws ``u_draws`` [m] over ``draw`` (`u_draws`, at most
+        `GAP_SAVED_DRAWS`; added 2026-12-01); ``impedax_kind``
         ``"gap_analysis"`` marks the file (``impedax.load`` refuses it as a spectrum and names
         `impedax.io.read_netcdf`, which reads it)."""
         out = self.force.copy()
@@ -339,6 +392,14 @@ class GapAnalysis:
             "n_warnings": len(self.warnings),
             "warnings": "\n".join(self.warnings),
         })
+        out.attrs.update({f"setting_{k}": v for k, v in (self.settings or {}).items() if v is not None})
+        table = self.edl_parameters
+        out = out.assign_coords(parameter=list(table))
+        for key in ("value", "q05", "q95", "fit_value", "fit_stderr"):
+            out[f"parameter_{key}"] = ("parameter", [np.nan if q[key] is None else float(q[key]) for q in table.values()])
+        out["parameter_unit"] = ("parameter", [q["unit"] or "" for q in table.values()])
+        out["parameter_value"].attrs["description"] = "posterior median (hierarchical: of the population median); q05/q95 the 90 % interval; fit_* the least-squares fit on the trial mean"
+        out["u_draws"] = ("draw", self.u_draws(), {"units": "m", "description": f"posterior draws of the gap thickness u, thinned evenly to at most {GAP_SAVED_DRAWS}"})
         return out
 
 
@@ -452,8 +513,10 @@ def gap_analysis(
     reparametrization = gap_thickness_reparametrization("C_gap", area=area, eps_r=eps_gap, lower=u_lower, upper=u_upper)
     if method == "hierarchical":
         draws = HIERARCHICAL_AUTO_DRAWS if steps == AUTO_STEPS else steps
-        result = _hierarchical(total, skin, touchscreen, remaining, paper, naive, edl, circuit, reparametrization, area=area, v0=v0, ep=ep, eps_gap=eps_gap, steps=draws, warmup=draws if warmup is None else warmup, chains=chains, seed=seed, progress=progress, notes=notes, model_requested=str(requested))
-        return replace(result, trials=trials)
+        warm = draws if warmup is None else warmup
+        result = _hierarchical(total, skin, touchscreen, remaining, paper, naive, edl, circuit, reparametrization, area=area, v0=v0, ep=ep, eps_gap=eps_gap, steps=draws, warmup=warm, chains=chains, seed=seed, progress=progress, notes=notes, model_requested=str(requested))
+        used = {"eps_gap": eps_gap, "cutoff_hz": cutoff_hz, "seed": seed, "steps": draws, "steps_requested": steps, "warmup": warm, "chains": chains}
+        return replace(result, trials=trials, settings=used)
     posterior = sample(
         circuit,
         remaining,
@@ -482,7 +545,8 @@ def gap_analysis(
     known_kk: dict[int, float] = {}
     lower, withheld = _identification(ep, str(requested), circuit, posterior.parameter_draws(), edl, posterior.piled_up, notes, remaining, area, eps_gap, known_kk)
     misfit = _misfit_text(edl, remaining, known_kk)
-    return GapAnalysis(remaining, paper, naive, edl, posterior, force, area, v0, ep, tuple(notes), model_requested=str(requested), trials=trials, gap_lower_bound=lower, gap_bound_withheld=withheld, edl_misfit=misfit)
+    used = {"eps_gap": eps_gap, "cutoff_hz": cutoff_hz, "seed": seed, "steps": posterior.settings.get("steps"), "steps_requested": steps, "walkers": posterior.n_walkers}
+    return GapAnalysis(remaining, paper, naive, edl, posterior, force, area, v0, ep, tuple(notes), model_requested=str(requested), trials=trials, gap_lower_bound=lower, gap_bound_withheld=withheld, edl_misfit=misfit, settings=used)
 
 
 def _um(length_m: float) -> str:
