@@ -214,3 +214,20 @@ def test_gap_draws_accept_the_property_names_and_say_which_exist():
     with pytest.raises(ParameterError, match=r"no draws named 'thickness'.*gap, u, c_gap, C_gap.*R_EP"):
         g.draws("thickness")
     assert g.u_draws(max_draws=100).size <= 100
+
+
+def test_compare_records_its_provenance(tmp_path, capsys):
+    """compare's --json carries the same record as the other commands: version, command, the
+    models as read, the default weighting; how the figure looks (--dpi, --title) is no setting."""
+    import impedax
+    from impedax.cli import main
+
+    data = tmp_path / "spectrum.csv"
+    f = np.logspace(-1, 5, 30)
+    z = 10 + 100 / (1 + 2j * np.pi * f * 100 * 1e-6)  # SYNTHETIC R0 + R1 || C1, noise-free
+    np.savetxt(data, np.column_stack([f, z.real, z.imag]), delimiter=",", header="frequency,z_real,z_imag", comments="")
+    assert main(["compare", str(data), "--model", "R0 + R1 || C1", "--model", "R0 + R1 || CPE1", "--json"]) == 0
+    record = json.loads(capsys.readouterr().out)["provenance"]
+    assert record["impedax_version"] == impedax.__version__ and record["command"] == "impedax compare"
+    assert record["settings"]["model"] == ["R0 + R1 || C1", "R0 + R1 || CPE1"] and record["settings"]["weighting"] == "modulus"
+    assert "dpi" not in record["settings"] and "title" not in record["settings"]

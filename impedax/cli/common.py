@@ -350,9 +350,9 @@ def with_source(summary: dict, source: str | None, provenance: Mapping | None = 
     return summary
 
 
-# what `command_provenance` leaves out of a command's settings: where the outputs go and how
+# what `command_provenance` leaves out of a command's settings: where the outputs go, how they look and how
 # the run talks (not how the result was made), and the data files (its ``data_files``)
-_NOT_SETTINGS = frozenset({"run", "command", "json", "out", "plot", "corner", "quiet", "remaining", "data", "total", "skin", "touchscreen"})
+_NOT_SETTINGS = frozenset({"run", "command", "json", "out", "plot", "corner", "dpi", "title", "quiet", "remaining", "data", "total", "skin", "touchscreen"})
 
 
 def command_provenance(args, *, source=None, data_files: Sequence[str] = (), **used) -> dict:

@@ -39,7 +39,7 @@ def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting.problem import open_spectrum
     from ..arguments import closest_name
-    from .common import checked_bound_options, data_source, emit_json, exclude_points, figure_options, figure_writer, impedax_text, load_selected, parse_assignments, parse_bounds, plan_outputs, progress_printer, result_writer, with_source
+    from .common import checked_bound_options, command_provenance, data_source, emit_json, exclude_points, figure_options, figure_writer, impedax_text, load_selected, parse_assignments, parse_bounds, plan_outputs, progress_printer, result_writer, with_source
     from .fit import check_max_steps
 
     if len(args.model) < 2:
@@ -79,9 +79,10 @@ def run(args) -> int:
     comparison = compare(fits)
     # (--out: .csv `Comparison.to_table`, .json `Comparison.summary`, as `impedax.io.write_result` writes them; a `BatchComparison`'s alike)
     source = data_source(data)
-    outputs.save({"--out": result_writer(comparison, source), "--plot": figure_writer(comparison.plot, source, **figure_options(args))})
+    record = command_provenance(args, source=source, data_files=[args.data])
+    outputs.save({"--out": result_writer(comparison, source, record), "--plot": figure_writer(comparison.plot, source, **figure_options(args))})
     if args.json:
-        emit_json(with_source(comparison.summary(), source))
+        emit_json(with_source(comparison.summary(), source, record))
     elif extra and not outputs.uses_stdout:  # several spectra: the `BatchComparison`'s report
         pick = f"--select {extra[0]}=LABEL" + (" for each dimension" if len(extra) > 1 else "")
         print(comparison.report(each_spectrum_where=f"--out FILE.csv (a row per spectrum and model) or --json's spectra; one spectrum's full comparison: {pick}"))
