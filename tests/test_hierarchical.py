@@ -134,13 +134,13 @@ def test_blocks_of_one_step_draw_what_growing_blocks_draw(clean, clean_post, mon
 
 
 def test_the_sampler_is_kept_in_the_persistent_cache(clean_post):
-    """The warm-up's and the draws' programs are in JAX's persistent cache (the suite's own,
-    tests/conftest.py) after a run: they hold no host callback, which JAX refuses to store, so a
-    new process reads them instead of compiling them again (docs/bayesian.md, "Compilation")."""
+    """The sampler's program is in JAX's persistent cache (the suite's own, tests/conftest.py)
+    after a run: it holds no host callback, which JAX refuses to store, so a new process reads
+    it instead of compiling it again (docs/bayesian.md, "Compilation")."""
     import jax
 
     names = {entry.name.split("-")[0] for entry in os.scandir(jax.config.jax_compilation_cache_dir)}
-    assert {"jit_warm", "jit_draw"} <= names
+    assert "jit_hierarchical_nuts" in names
 
 
 def test_noise_from_trial_scatter_matches_the_generator(clean_post):
