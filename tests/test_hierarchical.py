@@ -8,6 +8,8 @@ input gives impedax's errors.
 All runs share one data shape (8 trials × 31 points) and sampler settings, so the NUTS
 program compiles once per discrepancy setting."""
 
+import os
+
 import numpy as np
 import pytest
 import xarray as xr
@@ -97,8 +99,9 @@ def test_vector_cholesky_and_triangular_solve_match_numpy():
 
 
 def test_progress_counts_every_step_once_and_changes_nothing(clean, clean_post, monkeypatch, capsys):
-    """With ``progress`` the NUTS kernel reports each warm-up and draw step to the progress line
-    once for all (vmapped) chains, and the draws are those of the run without it. A line marks
+    """With ``progress`` every warm-up and draw step reaches the progress line once for all
+    (vmapped) chains (the sampler runs in blocks of steps, the line advancing between them), and
+    the draws are those of the run without it. A line marks
     each phase: compiling, warm-up, draws (the compilation took 30–70 s with no other output)."""
     from impedax.fitting.bayes import hierarchical
 
@@ -116,6 +119,28 @@ def test_progress_counts_every_step_once_and_changes_nothing(clean, clean_post, 
     err = capsys.readouterr().err
     phases = ["tracing and compiling the sampler", "compiled in", "warm-up done", f"drawing {SETTINGS['draws']} draws"]
     assert all(p in err for p in phases) and [err.index(p) for p in phases] == sorted(err.index(p) for p in phases)
+
+
+def test_blocks_of_one_step_draw_what_growing_blocks_draw(clean, clean_post, monkeypatch):
+    """The sampler runs its steps as calls of blocks that grow while a call is short
+    (`BLOCK_SECONDS`); how the steps are cut into blocks changes no draw: one step per call
+    (never growing) gives the run of the fixture bit for bit."""
+    from impedax.fitting.bayes import hierarchical
+
+    monkeypatch.setattr(hierarchical, "BLOCK_SECONDS", 0.0)
+    post = sample_hierarchical(MODEL, clean, seed=1, **SETTINGS)
+    for name in ("mu", "spread", "trial_values", "shared", "delta", "step_size"):
+        np.testing.assert_array_equal(getattr(post, name), getattr(clean_post, name), err_msg=name)
+
+
+def test_the_sampler_is_kept_in_the_persistent_cache(clean_post):
+    """The sampler's program is in JAX's persistent cache (the suite's own, tests/conftest.py)
+    after a run: it holds no host callback, which JAX refuses to store, so a new process reads
+    it instead of compiling it again (docs/bayesian.md, "Compilation")."""
+    import jax
+
+    names = {entry.name.split("-")[0] for entry in os.scandir(jax.config.jax_compilation_cache_dir)}
+    assert "jit_hierarchical_nuts" in names
 
 
 def test_noise_from_trial_scatter_matches_the_generator(clean_post):

@@ -397,14 +397,13 @@ def _trial_error_components(data: xr.Dataset, z: np.ndarray, nu: np.ndarray, n_f
 # and lowering for the remainders of tests/test_models_gap.py; the same draws)
 _jitted_log_density = jax.jit(_log_density, static_argnums=(2, 3))
 
-_running: list = []  # the progress line of the run in progress (host side), if any
-
 
 class _Phases:
     """One line on stderr at each change of phase of a hierarchical run, around its progress
     line ``bar`` (steps are passed on to it): the compilation ends at the first step (tracing
-    and XLA's compilation take 30–70 s on the Sirin remainders, with no step to count), the
-    warm-up (step size and mass-matrix adaptation) at step ``warmup``, then the draws."""
+    and XLA's compilation take 30–70 s on the Sirin remainders when JAX's persistent cache does
+    not have the programs yet), the warm-up (step size and mass-matrix adaptation) at step
+    ``warmup``, then the draws."""
 
     def __init__(self, bar: ProgressLine, warmup: int, draws: int):
         self.bar, self.warmup, self.draws, self.steps = bar, warmup, draws, 0
@@ -426,26 +425,20 @@ class _Phases:
         self.steps += 1
         self.bar.advance()
 
-
-def _tick(device) -> None:
-    """Host callback after every NUTS step of the chains of one device (they run vmapped):
-    the first device's steps are counted."""
-    if _running and int(device) == 0:
-        _running[-1].advance()
-
-
-def _ticking(kernel):
-    """A NUTS kernel that reports each step to the progress line."""
-
-    def step(*args, **kwargs):
-        out = kernel(*args, **kwargs)
-        jax.debug.callback(_tick, jax.lax.axis_index(_CHAIN_AXIS))
-        return out
-
-    return step
+    def advance_to(self, steps: int) -> None:
+        """Steps done so far, all chains (a block of steps run by one call)."""
+        while self.steps < steps:
+            self.advance()
 
 
 _CHAIN_AXIS = "device"
+
+BLOCK_SECONDS = 0.25
+"""The sampler runs as calls of a block of NUTS steps each, the progress line advancing between
+them (a callback from inside one compiled program would keep JAX's persistent cache from storing
+it: every process compiled again, 30–70 s; docs/bayesian.md, "Compilation"). A block grows from one
+step, doubling while a call takes less than this [s]: the line moves a few times a second, and
+the ~1 ms a call costs stays below 1 % of the run."""
 
 
 def _chain_devices(chains: int) -> int:
@@ -453,39 +446,133 @@ def _chain_devices(chains: int) -> int:
     return max(d for d in range(1, min(chains, len(jax.devices())) + 1) if chains % d == 0)
 
 
+class _Sampler(NamedTuple):
+    """The compiled program of one hierarchical run over every chain (split evenly over the
+    devices, vmapped on each; ``jit_hierarchical_nuts`` in JAX's cache): ``run(phase, state,
+    init, warm_keys, run_keys, schedule, out, begin, end, data)`` → (state, out). Phase `START`: the NUTS and adaptation state at the
+    initial positions ``init``; `WARM`: warm-up steps begin … end − 1; `DRAW`: draws begin …
+    end − 1 into ``out`` (positions, divergent, integration steps, acceptance, step size). One
+    program for the three: the log density's gradient and the NUTS kernel compile once (three
+    programs of their own took 32 s of XLA against 21.5 s for one, Sirin remainders).
+    ``state_of(init, data)``: the state's shapes (`jax.eval_shape`); ``over_chains``: the
+    placement of per-chain arrays (given so to the first call too, or the second would compile
+    again for the new placement)."""
+
+    run: object
+    state_of: object
+    over_chains: jax.sharding.Sharding
+
+
+START, WARM, DRAW = 0, 1, 2
+
+
+def _warmup_engine(target_accept: float):
+    """blackjax's window adaptation (``blackjax.window_adaptation``'s defaults: diagonal mass
+    matrix, Stan's schedule, initial step size 1) as its (init, step, final) functions, so that
+    the warm-up can run in blocks; the same arithmetic as its ``run``."""
+    from blackjax.adaptation.metric_recipes import lookup_recipe
+    from blackjax.adaptation.staged_adaptation import _make_engine, build_schedule
+    from blackjax.adaptation.window_adaptation import _pick_recipe_name
+
+    core = lookup_recipe(_pick_recipe_name(is_mass_matrix_diagonal=True)).build_core(imm_shrinkage_to_previous=0.0, initial_inverse_mass_matrix=None)
+    init, step, final = _make_engine(core, target_acceptance_rate=target_accept, n_da_updates=1, metric_telemetry=False)
+    return init, step, final, build_schedule
+
+
 @functools.lru_cache(maxsize=16)
-def _compiled_sampler(lay: _Layout, session_scale: float, warmup: int, draws: int, target_accept: float, n_devices: int):
-    """One jitted function (keys, initial positions, data) → (positions, stats) running the
-    window adaptation and NUTS in every chain: the chains split evenly over ``n_devices``
-    devices (``jax.shard_map``, one compilation), vmapped on each. A vmapped NUTS step lasts
-    as long as its longest trajectory, so fewer chains per device also waste fewer steps."""
-    import types
-
+def _compiled_sampler(lay: _Layout, session_scale: float, target_accept: float, n_devices: int) -> _Sampler:
+    """The program of `_Sampler`, jitted: it closes over nothing but the layout (static), so
+    JAX's persistent cache finds it again in a new process. Same draws as blackjax's
+    ``window_adaptation(...).run`` followed by ``nuts(...).step`` in a scan."""
     import blackjax
+    from blackjax.mcmc.integrators import velocity_verlet
 
-    # blackjax's NUTS with a kernel that ticks the progress line (warm-up steps)
-    nuts = types.SimpleNamespace(init=blackjax.nuts.init, build_kernel=lambda integrator: _ticking(blackjax.nuts.build_kernel(integrator)))
+    adapt_init, adapt_step, adapt_final, _ = _warmup_engine(target_accept)
+    kernel = blackjax.nuts.build_kernel(velocity_verlet)
 
-    def one_chain(key, init, data):
-        def logdensity(pos):
-            return _jitted_log_density(pos, data, lay, session_scale)
+    def start(init, logdensity):
+        state = (blackjax.nuts.init(init, logdensity), adapt_init(init, 1.0))
+        # weak types made strong (same dtype, same values): a block's output has them strong, and
+        # a weak input would compile the program again for the second block
+        return jax.tree_util.tree_map(lambda x: jax.lax.convert_element_type(x, jnp.result_type(x)), state)
 
-        k_warm, k_run = jax.random.split(key)
-        adapt = blackjax.window_adaptation(nuts, logdensity, target_acceptance_rate=target_accept)
-        (state, params), _ = adapt.run(k_warm, init, num_steps=warmup)
-        step = _ticking(blackjax.nuts(logdensity, **params).step)
+    def hierarchical_nuts(phase, state, init, warm_keys, run_keys, schedule, out, begin, end, data):
+        logdensity = functools.partial(_jitted_log_density, data=data, lay=lay, session_scale=session_scale)
 
-        def body(state, k):
-            state, info = step(k, state)
-            return state, (state.position, info.is_divergent, info.num_integration_steps, info.acceptance_rate)
+        def warm_step(i, carry):
+            chain, adaptation = carry
+            chain, info = kernel(warm_keys[i], chain, logdensity, adaptation.step_size, adaptation.inverse_mass_matrix)
+            return chain, adapt_step(adaptation, schedule[i], chain.position, chain.logdensity_grad, info.acceptance_rate, i)
 
-        _, (positions, divergent, n_steps, accept) = jax.lax.scan(body, state, jax.random.split(k_run, draws))
-        return positions, divergent, n_steps, accept, params["step_size"]
+        def draw_step(i, carry):
+            (chain, adaptation), (positions, divergent, n_steps, accept, _) = carry
+            step_size, inverse_mass_matrix = adapt_final(adaptation)
+            chain, info = kernel(run_keys[i], chain, logdensity, step_size, inverse_mass_matrix)
+            put = lambda buf, x: jax.lax.dynamic_update_index_in_dim(buf, x, i, 0)  # noqa: E731
+            return (chain, adaptation), (jax.tree_util.tree_map(put, positions, chain.position), put(divergent, info.is_divergent), put(n_steps, info.num_integration_steps), put(accept, info.acceptance_rate), step_size)
+
+        return jax.lax.switch(phase, [
+            lambda: (start(init, logdensity), out),
+            lambda: (jax.lax.fori_loop(begin, end, warm_step, state), out),
+            lambda: jax.lax.fori_loop(begin, end, draw_step, (state, out)),
+        ])
 
     mesh = jax.sharding.Mesh(np.array(jax.devices()[:n_devices]), (_CHAIN_AXIS,))
     spread, same = jax.sharding.PartitionSpec(_CHAIN_AXIS), jax.sharding.PartitionSpec()
-    chains_here = jax.vmap(one_chain, in_axes=(0, 0, None))
-    return jax.jit(jax.shard_map(chains_here, mesh=mesh, in_specs=(spread, spread, same), out_specs=spread, check_vma=False))
+    # per chain: state, init, warm_keys, run_keys, out; shared: phase, schedule, begin, end, data
+    mapped = jax.vmap(hierarchical_nuts, in_axes=(None, 0, 0, 0, 0, None, 0, None, None, None))
+    specs = (same, spread, spread, spread, spread, same, spread, same, same, same)
+    program = jax.jit(jax.shard_map(mapped, mesh=mesh, in_specs=specs, out_specs=spread, check_vma=False))
+
+    def state_of(init, data):
+        return jax.vmap(lambda x: start(x, functools.partial(_jitted_log_density, data=data, lay=lay, session_scale=session_scale)))(init)
+
+    return _Sampler(program, state_of, jax.sharding.NamedSharding(mesh, spread))
+
+
+def _run_blocks(block, total: int, phases: _Phases, offset: int) -> None:
+    """Run ``total`` steps as calls ``block(begin, end)`` of growing blocks (`BLOCK_SECONDS`),
+    the progress line advancing to ``offset + end`` after each."""
+    begin, size = 0, 1
+    while begin < total:
+        end = min(begin + size, total)
+        t = time.perf_counter()
+        jax.block_until_ready(block(begin, end))
+        if time.perf_counter() - t < BLOCK_SECONDS:
+            size *= 2
+        phases.advance_to(offset + end)
+        begin = end
+
+
+def _sample(lay: _Layout, dat: _Data, init_pos, keys, session_scale: float, warmup: int, draws: int, target_accept: float, n_devices: int, phases):
+    """(positions, divergent, integration steps, acceptance, step size) of every chain: the
+    program of `_compiled_sampler`, compiled (or read from JAX's persistent cache) before the
+    first step, run in blocks."""
+    sampler = _compiled_sampler(lay, session_scale, target_accept, n_devices)
+    schedule = _warmup_engine(target_accept)[3](warmup)
+    split = jax.vmap(jax.random.split)(keys)  # each chain's (warm-up key, draws key)
+    warm_keys = jax.vmap(lambda k: jax.random.split(k, warmup))(split[:, 0])
+    run_keys = jax.vmap(lambda k: jax.random.split(k, draws))(split[:, 1])
+    chains = keys.shape[0]
+    out = (
+        jax.tree_util.tree_map(lambda x: jnp.zeros((chains, draws) + x.shape[1:], x.dtype), init_pos),
+        jnp.zeros((chains, draws), bool), jnp.zeros((chains, draws), int), jnp.zeros((chains, draws)), jnp.zeros(chains),
+    )
+    state = jax.tree_util.tree_map(lambda s: jnp.zeros(s.shape, s.dtype), jax.eval_shape(sampler.state_of, init_pos, dat))
+    state, init_pos, warm_keys, run_keys, out = jax.device_put((state, init_pos, warm_keys, run_keys, out), sampler.over_chains)
+    carry = list(sampler.run(START, state, init_pos, warm_keys, run_keys, schedule, out, 0, 0, dat))
+    jax.block_until_ready(carry)
+
+    def block(phase):
+        def call(begin, end):
+            carry[:] = sampler.run(phase, carry[0], init_pos, warm_keys, run_keys, schedule, carry[1], begin, end, dat)
+            return carry
+
+        return call
+
+    _run_blocks(block(WARM), warmup, phases, 0)
+    _run_blocks(block(DRAW), draws, phases, warmup)
+    return carry[1]
 
 
 def _ess(x: np.ndarray) -> np.ndarray:
@@ -1053,16 +1140,12 @@ def sample_hierarchical(
         session_spread_scale=session_spread_scale, chains=chains, parameterisation=parameterisation, seed=seed, registry=registry, init=init,
     )
     keys = jax.random.split(jax.random.PRNGKey(seed), chains)
-    run = _compiled_sampler(lay, float(session_spread_scale), int(warmup), int(draws), float(target_accept), _chain_devices(int(chains)))
-    announce(f"hierarchical: tracing and compiling the sampler ({chains} chains; once per model layout and data shape in a process, often 30–70 s) …", progress)
+    announce(f"hierarchical: tracing and compiling the sampler ({chains} chains; 30–70 s the first time, a few seconds once JAX's persistent cache holds it) …", progress)
     bar = ProgressLine(int(warmup) + int(draws), progress, label=f"impedax hierarchical ({chains} chains, warm-up {warmup} + draws {draws})")
     phases = _Phases(bar, int(warmup), int(draws))
-    _running.append(phases)
     try:
-        positions, divergent, n_steps, accept, step_size = jax.block_until_ready(run(keys, init_pos, dat))
-        jax.effects_barrier()
+        positions, divergent, n_steps, accept, step_size = _sample(lay, dat, init_pos, keys, float(session_spread_scale), int(warmup), int(draws), float(target_accept), _chain_devices(int(chains)), phases)
     finally:
-        _running.remove(phases)
         bar.close()
     positions = jax.tree_util.tree_map(np.asarray, positions)
 
