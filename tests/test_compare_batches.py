@@ -97,6 +97,38 @@ def test_summed_aic_is_the_sum_of_the_single_comparisons_aic(comparison, batches
     assert isinstance(one, ix.fitting.Comparison) and one.best == CPE and one.rows[0]["aic"] == pytest.approx(singles[7].rows[0]["aic"], abs=1e-2)
 
 
+def test_a_cpe_at_alpha_one_reduces_to_the_rc_model_and_is_no_weak_rival(comparison, batches):
+    """Where the CPE fit of an RC spectrum lowers χ² no more than noise would (F by hand ≤ 1;
+    most end at α = 1), the CPE reduces to the RC model: its ΔAIC of ~2 is AIC's charge for α,
+    not a rival's lead, so the RC win is no weak one, and the spectrum's single comparison says
+    the same (at α = 1: no 'not at its optimum' from a refit a hair inside the bound)."""
+    rc, cpe = batches
+    n = 2 * FREQ.size
+    chi2_rc, chi2_cpe = rc.dataset["chi2"].values, cpe.dataset["chi2"].values
+    alpha = cpe.dataset["value"].sel(param="CPE1.alpha").values
+    f_by_hand = np.maximum(chi2_rc - chi2_cpe, 0.0) / 1 / (chi2_cpe / (n - 4))
+    rows = comparison.spectra()
+    reducing = [i for i, r in enumerate(rows) if r["best"] == RC and f_by_hand[i] <= 1.0]
+    assert reducing, "SYNTHETIC RC spectra whose CPE fit sits at alpha = 1 are expected"
+    for i in reducing:
+        assert rows[i]["reduces_to_best"] == [CPE] and rows[i]["lead"] is None and not rows[i]["weak_evidence"]
+        assert 0.0 < rows[i]["runner_up_delta_aic"] <= 2.0 + 1e-3  # (kept: the plain ΔAIC; 2 for α minus at most the noise's fall, χ² equal to the solver's tolerance)
+    models = {m["model"]: m for m in comparison.models()}
+    rc_weak = sum(1 for r in rows if r["best"] == RC and r["weak_evidence"])
+    assert models[RC]["weak_wins"] == rc_weak and rc_weak <= models[RC]["wins"] - len(reducing)
+    # the CPE's leads on its wins, by hand from the RC model's ΔAIC there
+    cpe_leads = [r["models"][0]["delta_aic"] for r in rows if r["best"] == CPE]
+    assert models[CPE]["lead_min"] == pytest.approx(min(cpe_leads)) and models[CPE]["lead_max"] == pytest.approx(max(cpe_leads))
+    assert models[CPE]["decisive_wins"] == sum(d >= 10 for d in cpe_leads)
+    report = comparison.report()
+    assert f"{CPE} reduces to {RC} on {len(reducing)} spectr" in report and "(— where every rival does)" in report
+    at_one = [i for i in reducing if alpha[i] >= 1 - 1e-6]
+    assert at_one, "an RC spectrum whose CPE fit ends on alpha = 1 is expected"
+    one = comparison.comparison_of(subject=f"s{at_one[0]}")
+    test = next(t for t in one.f_tests if t["complex"] == CPE)
+    assert test["reason"] == "reduces_to_simple" and one.reduces_to_best() is not None
+
+
 def test_report_xarray_summary_and_table(comparison):
     text = comparison.report()
     assert text.startswith("comparison of 2 models over 12 spectra (subject (12))") and "← best by summed AIC" in text

@@ -14,7 +14,7 @@ import xarray as xr
 
 from ..data import column_width, concise_repr
 from ..errors import FitError
-from .comparison import WEAK_DELTA_AIC, Comparison, akaike_weights, compare, criteria, fit_label, register_batch_compare, significant, unique_labels
+from .comparison import DECISIVE_DELTA_AIC, NOISE_F, WEAK_DELTA_AIC, Comparison, akaike_weights, compare, criteria, fit_label, is_nested, register_batch_compare, significant, unique_labels
 from .least_squares import BatchFitResult, SharedFitResult
 from .least_squares.batch import SPECTRA_AS_ROWS, labels_key
 from .least_squares.result import data_difference
@@ -151,6 +151,14 @@ def compare_batches(batches: Sequence[BatchFitResult]) -> "BatchComparison":
     return BatchComparison(tuple(batches), ds)
 
 
+def _lead_text(model: dict) -> str:
+    """A model's lead over its wins as the report prints it: ``372 (152–527)``, ``—`` without
+    a lead (no wins, or only rivals that reduce to it)."""
+    if model["lead_median"] is None:
+        return "—"
+    return f"{model['lead_median']:.1f} ({model['lead_min']:.1f}–{model['lead_max']:.1f})"
+
+
 @dataclass(frozen=True, eq=False)
 class BatchComparison:
     """Several models compared over the same spectra: ``dataset`` holds each spectrum's
@@ -190,6 +198,26 @@ class BatchComparison:
         """``dataset[name]`` as (model, spectrum), spectra in C order."""
         return self.dataset[name].transpose("model", *self.dims).values.reshape(len(self.batches), -1)
 
+    def _reduces_to_winner(self, best: np.ndarray) -> np.ndarray:
+        """(model, spectrum): whether model m reduces to that spectrum's winner, as
+        `Comparison.reduces_to_best_indices` decides for one spectrum: m contains the winner
+        (`is_nested`, more free parameters) and their F-test, F = ((χ²_s − χ²_c)/Δk)/(χ²_c/(n − k_c)),
+        n = 2N, gives F ≤ `NOISE_F` (its extra parameters, e.g. a CPE's α on its bound 1, lower χ²
+        no more than noise alone would). Its ΔAIC is then the 2 per parameter AIC charges, not
+        a rival's."""
+        chi2 = self._per_spectrum("chi2")
+        k = self.dataset["n_params"].values
+        n = 2 * int(self.batches[0].dataset.sizes["frequency"])
+        out = np.zeros(chi2.shape, bool)
+        for w in range(len(self.batches)):
+            for m in range(len(self.batches)):
+                if m == w or k[m] <= k[w] or not is_nested(self.batches[w].circuit, self.batches[m].circuit):
+                    continue
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    f_value = np.maximum(chi2[w] - chi2[m], 0.0) / (k[m] - k[w]) / (chi2[m] / (n - k[m]))
+                out[m] |= (best == w) & (f_value <= NOISE_F)
+        return out
+
     def _winners(self) -> tuple[np.ndarray, np.ndarray]:
         """Each spectrum's best model by AIC (its position; −1 when no model has a finite AIC)
         and the runner-up's ΔAIC (NaN with one model)."""
@@ -203,20 +231,37 @@ class BatchComparison:
             runner_up = np.where(finite, masked.min(axis=0), math.nan)
         return best, runner_up
 
+    def _leads(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Each spectrum's winner (as `_winners`), the reduces-to mask (`_reduces_to_winner`)
+        and the winner's lead: the ΔAIC of the nearest rival that does not reduce to it (inf
+        when every rival does; NaN with one model or no finite AIC)."""
+        best, runner_up = self._winners()
+        reduces = self._reduces_to_winner(best)
+        delta = self._per_spectrum("delta_aic")
+        rival = np.where((np.arange(len(self.batches))[:, None] == best[None, :]) | reduces | np.isnan(delta), np.inf, delta)
+        lead = np.where(np.isnan(runner_up), math.nan, rival.min(axis=0))
+        return best, reduces, lead
+
     def models(self) -> list[dict]:
         """Per model: ``model``, ``label``, ``n_params``, ``wins`` (spectra it is best on by AIC),
-        ``weak_wins`` (of those, the ones where the runner-up is less than `WEAK_DELTA_AIC`
-        behind), ``aic_sum`` with ``delta_aic_sum`` and ``akaike_weight_sum``,
+        ``weak_wins`` (of those, the ones where a rival that does not reduce to it,
+        `_reduces_to_winner`, is less than `WEAK_DELTA_AIC` behind), ``decisive_wins`` (every such
+        rival at least `DECISIVE_DELTA_AIC` behind: essentially no support, Burnham & Anderson
+        2002, §2.6), ``lead_median``, ``lead_min``, ``lead_max``
+        (the lead over its wins, `_leads`; null without wins or where only reducing rivals
+        trail), ``aic_sum`` with ``delta_aic_sum`` and ``akaike_weight_sum``,
         ``median_delta_aic``, ``converged_fraction`` and ``rms_rel_median``."""
-        best, runner_up = self._winners()
+        best, _, lead = self._leads()
         delta, rms, converged = self._per_spectrum("delta_aic"), self._per_spectrum("rms_rel"), self._per_spectrum("converged")
         ds = self.dataset
         out = []
         for m, label in enumerate(self.labels):
             mine = best == m
+            leads = lead[mine & np.isfinite(lead)]
             out.append({
                 "model": str(ds["circuit"].values[m]), "label": label, "n_params": int(ds["n_params"].values[m]),
-                "wins": int(mine.sum()), "weak_wins": int((mine & (runner_up < WEAK_DELTA_AIC)).sum()),
+                "wins": int(mine.sum()), "weak_wins": int((mine & (lead < WEAK_DELTA_AIC)).sum()), "decisive_wins": int((mine & (lead >= DECISIVE_DELTA_AIC)).sum()),
+                "lead_median": float(np.median(leads)) if leads.size else None, "lead_min": float(leads.min()) if leads.size else None, "lead_max": float(leads.max()) if leads.size else None,
                 "aic_sum": float(ds["aic_sum"].values[m]), "delta_aic_sum": float(ds["delta_aic_sum"].values[m]), "akaike_weight_sum": float(ds["akaike_weight_sum"].values[m]),
                 "median_delta_aic": float(np.nanmedian(delta[m])) if np.isfinite(delta[m]).any() else math.nan,
                 "converged_fraction": float(np.mean(converged[m])), "rms_rel_median": float(np.nanmedian(rms[m])),
@@ -227,10 +272,13 @@ class BatchComparison:
     def spectra(self) -> list[dict]:
         """Per spectrum: its labels along every batch dimension (as a batch's JSON rows:
         each dimension, then ``labels``), ``best`` and ``best_label`` (by AIC; None when no
-        model has a finite AIC), ``runner_up_delta_aic``, ``weak_evidence`` (that ΔAIC below
-        `WEAK_DELTA_AIC`) and ``models``: each model's `PER_SPECTRUM_CRITERIA` with its
-        ``model`` and ``label``."""
+        model has a finite AIC), ``runner_up_delta_aic``, ``reduces_to_best`` (the labels of the
+        models that reduce to the best, `_reduces_to_winner`: their ΔAIC is AIC's charge for
+        parameters that do nothing), ``lead`` (the nearest other rival's ΔAIC; null when every
+        rival reduces to the best), ``weak_evidence`` (that lead below `WEAK_DELTA_AIC`) and
+        ``models``: each model's `PER_SPECTRUM_CRITERIA` with its ``model`` and ``label``."""
         best, runner_up = self._winners()
+        _, reduces, lead = self._leads()
         values = {c: self._per_spectrum(c) for c in PER_SPECTRUM_CRITERIA}
         rows = []
         for s, labels in enumerate(_labels(self.batches[0])):
@@ -238,7 +286,8 @@ class BatchComparison:
             rows.append({
                 **labels, "labels": labels,
                 "best": self.batches[b].model if b >= 0 else None, "best_label": self.labels[b] if b >= 0 else None,
-                "runner_up_delta_aic": float(runner_up[s]), "weak_evidence": bool(runner_up[s] < WEAK_DELTA_AIC),
+                "runner_up_delta_aic": float(runner_up[s]), "reduces_to_best": [self.labels[m] for m in np.flatnonzero(reduces[:, s])],
+                "lead": float(lead[s]) if np.isfinite(lead[s]) else None, "weak_evidence": bool(lead[s] < WEAK_DELTA_AIC),
                 "models": [{"model": batch.model, "label": label, **{c: (bool(values[c][m, s]) if c == "converged" else float(values[c][m, s])) for c in PER_SPECTRUM_CRITERIA}}
                            for m, (batch, label) in enumerate(zip(self.batches, self.labels))],
             })
@@ -286,14 +335,19 @@ class BatchComparison:
         noun = "spectrum" if self.n_spectra == 1 else "spectra"
         sizes = " × ".join(f"{d} ({self.dataset.sizes[d]})" for d in self.dims)
         lines = [f"comparison of {len(models)} models over {self.n_spectra} {noun} ({sizes}), weighting {self.dataset.attrs['weighting']}", ""]
-        lines.append(f"{'model':<{width}}  {'k':>2}  {'wins':>9}  {'ΣAIC':>11}  {'ΔΣAIC':>9}  {'weight':>6}  {'median ΔAIC':>11}  {'converged':>9}  {'median rms_rel':>14}")
+        leads = [_lead_text(m) for m in models]
+        lead_width = column_width(leads, "lead: median (range)")
+        lines.append(f"{'model':<{width}}  {'k':>2}  {'wins':>9}  {'decisive':>8}  {'lead: median (range)':<{lead_width}}  {'ΣAIC':>11}  {'ΔΣAIC':>9}  {'weight':>6}  {'converged':>9}  {'median rms_rel':>14}")
         best = self.best_index
-        for i, m in enumerate(models):
+        for i, (m, lead) in enumerate(zip(models, leads)):
             wins = f"{m['wins']}/{self.n_spectra}"
-            line = (f"{m['label']:<{width}}  {m['n_params']:>2}  {wins:>9}  {m['aic_sum']:>11.2f}  {m['delta_aic_sum']:>9.2f}  {m['akaike_weight_sum']:>6.3f}  "
-                    f"{m['median_delta_aic']:>11.2f}  {m['converged_fraction'] * 100:>8.0f}%  {significant(m['rms_rel_median'] * 100):>13}%")
+            line = (f"{m['label']:<{width}}  {m['n_params']:>2}  {wins:>9}  {m['decisive_wins']:>8}  {lead:<{lead_width}}  {m['aic_sum']:>11.2f}  {m['delta_aic_sum']:>9.2f}  {m['akaike_weight_sum']:>6.3f}  "
+                    f"{m['converged_fraction'] * 100:>8.0f}%  {significant(m['rms_rel_median'] * 100):>13}%")
             lines.append(line + ("   ← best by summed AIC" if i == best else ""))
-        lines += ["", SUM_NOTE + "; wins count the spectra each model is best on by its own AIC"]
+        lines += ["", SUM_NOTE + f"; wins count the spectra each model is best on by its own AIC; its lead there is the ΔAIC of the nearest rival "
+                  f"that does not reduce to it (— where every rival does), decisive from {DECISIVE_DELTA_AIC:g} (Burnham & Anderson 2002: essentially no support for the rival)"]
+        reduced = self._reduced_lines()
+        lines += reduced
         weak = [m for m in models if m["weak_wins"]]
         if weak:
             lines.append(f"won by less than ΔAIC {WEAK_DELTA_AIC:g} (the data barely tell the models apart there): " + ", ".join(f"{m['weak_wins']} of {m['label']}'s {m['wins']}" for m in weak))
@@ -306,6 +360,19 @@ class BatchComparison:
             lines += ["", f"each spectrum's winner and criteria: {each_spectrum_where}"]
         return "\n".join(lines)
 
+    def _reduced_lines(self) -> list[str]:
+        """A line per (model, winner) pair where the model reduces to the winner on some spectra
+        (`_reduces_to_winner`), as the single comparison's `Comparison.reduces_to_best` says it."""
+        best, reduces, _ = self._leads()
+        lines = []
+        for m, label in enumerate(self.labels):
+            for w, winner in enumerate(self.labels):
+                count = int((reduces[m] & (best == w)).sum())
+                if count:
+                    lines.append(f"{label} reduces to {winner} on {count} {'spectrum' if count == 1 else 'spectra'}: its extra parameters lower χ² no more than noise alone "
+                                 "would (e.g. a CPE's α on its bound 1), so its ΔAIC there is the 2 per parameter AIC charges, not a rival's lead")
+        return lines
+
     def _spectrum_lines(self) -> list[str]:
         """One row per spectrum: its labels (`labels_key`), the best model, the runner-up's ΔAIC,
         each model's ΔAIC."""
@@ -314,12 +381,13 @@ class BatchComparison:
         lead = column_width(heads, "spectrum")
         best_width = column_width((r["best_label"] or "—" for r in rows), "best")
         columns = [f"ΔAIC {i + 1}" for i in range(len(self.labels))]
-        lines = ["each spectrum's best model by AIC (ΔAIC i: model i of the table above, in its order):",
+        lines = ["each spectrum's best model by AIC (ΔAIC i: model i of the table above, in its order; lead: the nearest rival that does not reduce to the best):",
                  f"{'spectrum':<{lead}}  {'best':<{best_width}}  {'lead':>7}  " + "  ".join(f"{c:>8}" for c in columns)]
         for head, r in zip(heads, rows):
-            lead_text = "—" if math.isnan(r["runner_up_delta_aic"]) else f"{r['runner_up_delta_aic']:.2f}"
+            lead_text = "—" if r["lead"] is None else f"{r['lead']:.2f}"
             cells = "  ".join(f"{m['delta_aic']:>8.2f}" for m in r["models"])
-            lines.append(f"{head:<{lead}}  {(r['best_label'] or '—'):<{best_width}}  {lead_text:>7}  {cells}" + ("   (weak)" if r["weak_evidence"] else ""))
+            mark = "   (weak)" if r["weak_evidence"] else ("   (" + ", ".join(r["reduces_to_best"]) + " reduces to it)" if r["reduces_to_best"] and r["lead"] is None else "")
+            lines.append(f"{head:<{lead}}  {(r['best_label'] or '—'):<{best_width}}  {lead_text:>7}  {cells}{mark}")
         return lines
 
     def _repr_html_(self) -> str:

@@ -59,6 +59,7 @@ def plot_batch_comparison(comparison, *, figsize: tuple[float, float] | None = N
     a `BatchComparison`; the lowest summed AIC in the title; ``figsize`` (width, height) [in],
     default 11 × 4.5. Figure."""
     import matplotlib.pyplot as plt
+    import matplotlib.ticker
 
     rows = comparison.spectra()
     index = np.arange(len(rows))
@@ -68,11 +69,16 @@ def plot_batch_comparison(comparison, *, figsize: tuple[float, float] | None = N
     for k, label in enumerate(comparison.labels):
         delta = np.array([r["models"][k]["delta_aic"] for r in rows], float)
         m = summed[label]
-        ax.plot(index, delta, marker=markers[k % len(markers)], ms=4, lw=1, label=f"{label} (best on {m['wins']} of {len(rows)}, ΔΣAIC {m['delta_aic_sum']:.1f})")
+        # (markers alone: the spectra are independent, a line between them would suggest a trend)
+        ax.plot(index, delta, marker=markers[k % len(markers)], ms=5, ls="none", label=f"{label} (best on {m['wins']} of {len(rows)}, ΔΣAIC {m['delta_aic_sum']:.1f})")
     # (4: `fitting.comparison.WEAK_DELTA_AIC`, which this lower layer may not import)
     ax.axhline(4.0, color="0.5", ls=":", lw=1, label="ΔAIC 4 (weaker support beyond, Burnham & Anderson 2002)")
-    ax.set_yscale("symlog", linthresh=10.0)
+    ax.set_yscale("symlog", linthresh=10.0, linscale=2.0)
     ax.set_ylim(bottom=-0.5)  # (ΔAIC ≥ 0: no room below the winners' line)
+    # ticks in the linear part too (2: the charge of one parameter that does nothing; 4: weak)
+    top = max(10.0, float(np.nanmax([r["models"][k]["delta_aic"] for r in rows for k in range(len(comparison.labels))] or [10.0])))
+    ax.set_yticks([t for t in (0, 2, 4, 6, 8, 10, 100, 1_000, 10_000, 100_000) if t <= 10 * top])
+    ax.yaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g}"))
     heads = [", ".join(f"{d}={v}" for d, v in r["labels"].items()) for r in rows]
     if len(rows) <= SPECTRUM_TICKS_LABELLED:
         ax.set_xticks(index, heads, rotation=90, fontsize=font_size("tick", 7))
