@@ -231,3 +231,14 @@ def test_compare_records_its_provenance(tmp_path, capsys):
     assert record["impedax_version"] == impedax.__version__ and record["command"] == "impedax compare"
     assert record["settings"]["model"] == ["R0 + R1 || C1", "R0 + R1 || CPE1"] and record["settings"]["weighting"] == "modulus"
     assert "dpi" not in record["settings"] and "title" not in record["settings"]
+
+
+def test_a_list_setting_reads_back_from_the_csv(tmp_path):
+    """Circuit texts hold spaces: a list of them in a CSV cell is joined by '; ' and splits back
+    whole; --init repeated (a list of lists) is one flat list of assignments."""
+    from impedax.io.provenance import provenance, provenance_columns
+
+    models = ["R0 + R1 || C1", "R0 + R1 || CPE1"]
+    columns = provenance_columns(provenance(settings={"model": models, "init": [["R0=1", "R1=2"], ["C1=3u"]], "seed": 0}))
+    assert columns["setting_model"].split("; ") == models and "," not in columns["setting_model"]
+    assert columns["setting_init"].split("; ") == ["R0=1", "R1=2", "C1=3u"] and columns["setting_seed"] == 0

@@ -17,6 +17,8 @@ from ..constants import IMPEDAX_VERSION
 
 __all__ = ["provenance", "provenance_columns", "provenance_attrs", "PROVENANCE_KEY", "PROVENANCE_ATTRS"]
 
+LIST_SEPARATOR = "; "
+"""Between a list setting's items in a CSV cell (`provenance_columns`)."""
 PROVENANCE_KEY = "provenance"
 """The JSON key and netCDF attribute holding `provenance`."""
 PROVENANCE_ATTRS = ("impedax_version", "written_utc", PROVENANCE_KEY)
@@ -43,14 +45,17 @@ def provenance(*, command: str | None = None, settings: Mapping[str, object] | N
 
 
 def _text(value) -> str | None:
-    """A setting as one CSV cell: a list as its items joined by a space (``R0=1 R1=2``, as typed
-    after one option), a mapping as ``key=value`` joined by ``; ``, None as None (empty)."""
+    """A setting as one CSV cell: a list as its items joined by ``; `` (``R0 + R1 || C1; R0 +
+    R1 || CPE1``; a list of lists, ``--init`` repeated, flattened: ``R0=1; R1=2; C1=3u``), a
+    mapping as ``key=value`` joined by ``; ``, None as None (empty). Not a space, which circuit
+    texts hold, nor a comma, which ``numpy.genfromtxt`` would split: ``cell.split("; ")``
+    reads a list back."""
     if value is None:
         return None
     if isinstance(value, Mapping):
-        return "; ".join(f"{k}={_text(v)}" for k, v in value.items())
+        return LIST_SEPARATOR.join(f"{k}={_text(v)}" for k, v in value.items())
     if isinstance(value, (list, tuple)):
-        return " ".join(str(_text(v)) for v in value)
+        return LIST_SEPARATOR.join(str(_text(v)) for v in value)
     return value if isinstance(value, (bool, int, float)) else str(value)
 
 
