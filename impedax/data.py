@@ -353,41 +353,78 @@ def format_uncertain(value: float, stderr: float, unit: str) -> str:
 # significant digits a standard error is given to, and its value rounded to the same last
 # digit (GUM, JCGM 100:2008 §7.2.6: "at most two significant digits")
 ERROR_DIGITS = 2
-# a value (or an error larger than it) from 10^-3 up to below 10^6 is written out (0.01235, 533,
-# 123456); beyond, both numbers share its power of ten, (1.0002 ± 0.0028)e-06
-PLAIN_EXPONENTS = range(-3, 6)
+# one rule for every row: a value whose power of ten (after rounding) is from −2 to 3, 0.01 ≤
+# |value| < 10⁴, is written out (0.01235, 533, 1234.5); any other value and its error share
+# the value's power of ten, (1.0002 ± 0.0028)e-06, (1.2346 ± 0.0012)e+04
+PLAIN_EXPONENTS = range(-2, 4)
+
+
+def _round_half_up(number, place: int):
+    """``number`` (a Decimal) rounded half up to the digit of 10^``place``."""
+    import decimal
+
+    return number.quantize(decimal.Decimal(1).scaleb(place), rounding=decimal.ROUND_HALF_UP)
+
+
+def _significant(number, digits: int) -> str:
+    """``number`` (a nonzero Decimal) to ``digits`` significant digits, half up, written out
+    where its power of ten is in `PLAIN_EXPONENTS` ("5.0", "120"), else as "2.2e+07"; a
+    rounding that carries (9.96 → 10) moves the power of ten."""
+    rounded = _round_half_up(number, number.adjusted() - (digits - 1))
+    rounded = _round_half_up(rounded, rounded.adjusted() - (digits - 1))  # (10.0 → 10)
+    size = rounded.adjusted()
+    if size in PLAIN_EXPONENTS:
+        return format(rounded, "f")
+    return f"{format(rounded.scaleb(-size), 'f')}e{size:+03d}"
 
 
 def round_to_error(value: float, error: float, digits: int = ERROR_DIGITS) -> tuple[str, str, int]:
     """(value, error, exponent) as written for ``value ± error``: the error to ``digits``
     significant digits, the value to the error's last digit, both by decimal rounding half up
     of the numbers as Python prints them (533.3168 ± 13.0249 → "533", "13"; 0.012345 ± 0.00067
-    → "0.01235", "0.00067"). ``exponent`` is 0, or the power of ten both are scaled by outside
-    `PLAIN_EXPONENTS` (1.0002e-06 ± 2.82e-09 → "1.0002", "0.0028", −6). An error that is not
-    finite or not positive gives "" and the value to 5 significant digits."""
+    → "0.01235", "0.00067"). ``exponent`` is 0, or the value's power of ten after rounding
+    where that is outside `PLAIN_EXPONENTS` (0.01 ≤ |value| < 10⁴ is written out), both numbers
+    then scaled by it: 1.0002e-06 ± 2.82e-09 → "1.0002", "0.0028", −6; 9.996e-4 ± 9.96e-6 →
+    "1.000", "0.010", −3 (the carry moves the exponent). A value below its error (0 < |value|
+    < error, relative error above 100 %: the data do not determine it) would round to "0.0"
+    at the error's digit; it is given instead to ``digits`` significant digits, as is the
+    error, each with its own power of ten (2.18e7 ± 2.8e15 → "2.2e+07", "2.8e+15", 0; 5 ± 120
+    → "5.0", "120", 0). An error that is not finite or not positive gives "" and the value to
+    5 significant digits."""
     import decimal
 
     if not (math.isfinite(value) and math.isfinite(error) and error > 0):
         return (f"{value:.5g}" if math.isfinite(value) else str(value)), "", 0
     exact_value, exact_error = decimal.Decimal(repr(float(value))), decimal.Decimal(repr(float(error)))
+    if 0 < abs(value) < error:
+        return _significant(exact_value, digits), _significant(exact_error, digits), 0
     place = exact_error.adjusted() - (digits - 1)  # (the power of ten of the error's last digit)
-    rounded = exact_error.quantize(decimal.Decimal(1).scaleb(place), rounding=decimal.ROUND_HALF_UP)
-    if rounded.adjusted() > exact_error.adjusted():  # (9.96 → 10: still two digits, "10" not "10.0")
+    rounded_error = _round_half_up(exact_error, place)
+    if rounded_error.adjusted() > exact_error.adjusted():  # (9.96 → 10: still two digits, "10" not "10.0")
         place += 1
-    size = max(exact_value.adjusted(), rounded.adjusted()) if value != 0 else rounded.adjusted()
+    rounded_value = _round_half_up(exact_value, place)
+    size = rounded_value.adjusted() if rounded_value != 0 else rounded_error.adjusted()
     exponent = 0 if size in PLAIN_EXPONENTS else size
-    step = decimal.Decimal(1).scaleb(place - exponent)
 
     def written(number: decimal.Decimal) -> str:
-        shown = number.scaleb(-exponent).quantize(step, rounding=decimal.ROUND_HALF_UP)
+        shown = _round_half_up(number.scaleb(-exponent), place - exponent)
         return format(abs(shown) if shown == 0 else shown, "f")  # (no "-0.0")
 
     return written(exact_value), written(exact_error), exponent
 
 
+def exact_number(value: float) -> str:
+    """``value`` as given: the shortest decimal that reads back as the same float (``repr``),
+    without a trailing ".0" (12.3456 → "12.3456", 2000.0 → "2000", 1e-06 → "1e-06"); for a
+    fixed parameter, which has no error to round to."""
+    text = repr(float(value))
+    return text[:-2] if text.endswith(".0") else text
+
+
 def format_value_error(value: float, error: float, unit: str = "") -> str:
-    """``533 ± 13 Ω``, ``0.01235 ± 0.00067``, ``(1.0002 ± 0.0028)e-06 F``: `round_to_error`
-    as text (the value alone where there is no error)."""
+    """``533 ± 13 Ω``, ``0.01235 ± 0.00067``, ``(1.0002 ± 0.0028)e-06 F``, ``2.2e+07 ±
+    2.8e+15 Ω`` (a value below its error): `round_to_error` as text (the value alone where
+    there is no error)."""
     number, err, exponent = round_to_error(value, error)
     label = unit_text(unit) if unit else ""
     if not err:
@@ -414,14 +451,22 @@ def latex_unit(unit: str) -> str:
     return "$" + r"\,".join(parts) + "$"
 
 
-def latex_value_error(value: float, error: float) -> str:
+def latex_number(text: str) -> str:
+    """A number as Python writes it in LaTeX math, without the ``$``: "2.2e+07" → ``2.2
+    \\times 10^{7}``, "533" as it is."""
+    mantissa, e, power = text.partition("e")
+    return f"{mantissa} \\times 10^{{{int(power)}}}" if e and power.lstrip("+-").isdigit() else text
+
+
+def latex_value_error(value: float, error: float, *, exact: bool = False) -> str:
     """`round_to_error` in LaTeX math: ``$533 \\pm 13$``, ``$(1.0002 \\pm 0.0028) \\times
-    10^{-6}$``; the value alone where there is no error."""
+    10^{-6}$``, ``$2.2 \\times 10^{7} \\pm 2.8 \\times 10^{15}$`` (a value below its error,
+    each with its own power of ten); the value alone where there is no error, to 5 significant
+    digits or, ``exact``, as given (`exact_number`: a fixed value)."""
     number, err, exponent = round_to_error(value, error)
     if not err:
-        mantissa, e, power = number.partition("e")
-        return f"${mantissa} \\times 10^{{{int(power)}}}$" if e and power.lstrip("+-").isdigit() else f"${number}$"
-    pair = f"{number} \\pm {err}"
+        return f"${latex_number(exact_number(value) if exact and math.isfinite(value) else number)}$"
+    pair = f"{latex_number(number)} \\pm {latex_number(err)}"
     return f"$({pair}) \\times 10^{{{exponent}}}$" if exponent else f"${pair}$"
 
 

@@ -17,7 +17,7 @@ import pytest  # noqa: E402
 
 import impedax as ix  # noqa: E402
 from impedax.cli import main  # noqa: E402
-from impedax.data import format_value_error, latex_unit, round_to_error  # noqa: E402
+from impedax.data import exact_number, format_value_error, latex_unit, latex_value_error, round_to_error  # noqa: E402
 from impedax.plotting import plot_spectrum  # noqa: E402
 
 R0, R1, C1 = 20.0, 500.0, 1e-6  # SYNTHETIC: R0 + R1 || C1, 1 % complex noise, seed 7
@@ -169,12 +169,22 @@ ROUNDING_ORACLE = [
     (20.014, 0.0624, ("20.014", "0.062", 0)),
     (499.01, 0.885, ("499.01", "0.89", 0)),  # (0.885 → 0.89: half up)
     (9.96, 9.96, ("10", "10", 0)),  # (the error rounds to the next decade: still two digits)
-    (5.0, 120.0, ("10", "120", 0)),  # (an error larger than the value: value to the tens)
+    (5.0, 120.0, ("5.0", "120", 0)),  # (a value below its error: each to two significant digits)
+    (0.95, 1.0, ("0.95", "1.0", 0)),
     (-3.0, 0.96, ("-3.00", "0.96", 0)),
-    (-0.0001, 0.5, ("0.00", "0.50", 0)),  # (no "-0.00")
+    (-0.0001, 0.5, ("-1.0e-04", "0.50", 0)),  # (not "0.00": each with its own power of ten)
+    (0.0, 0.5, ("0.00", "0.50", 0)),  # (a value of zero: at the error's digit)
+    (2.18e7, 2.8e15, ("2.2e+07", "2.8e+15", 0)),  # (not "(0.0 ± 2.8)×10^15", which reads R = 0)
+    (1e5, 1e12, ("1.0e+05", "1.0e+12", 0)),
     (1.0002e-6, 2.82e-9, ("1.0002", "0.0028", -6)),
     (1.5e7, 2.5e5, ("1.500", "0.025", 7)),
-    (123456.0, 7.0, ("123456.0", "7.0", 0)),
+    (123456.0, 7.0, ("1.234560", "0.000070", 5)),  # (10^5: outside 0.01 ≤ |value| < 10^4)
+    (1234.5, 0.12, ("1234.50", "0.12", 0)),
+    (0.0099, 0.001, ("9.9", "1.0", -3)),
+    (9.996e-4, 9.96e-6, ("1.000", "0.010", -3)),  # (the carry 9.996 → 10.00 moves the exponent)
+    (9999.6, 50.0, ("1.0000", "0.0050", 4)),  # (9999.6 → 10000 at the tens: now 10^4)
+    (1.0003e-3, 1.7e-6, ("1.0003", "0.0017", -3)),  # (CC1.tau and HN1.tau: one rule, both scaled)
+    (9.96e-4, 2.2e-5, ("9.96", "0.22", -4)),
     (2.5e-4, 1.5e-5, ("2.50", "0.15", -4)),
     (1.0, 0.0, ("1", "", 0)),  # (no error: the value to 5 significant digits)
     (1.234567, float("nan"), ("1.2346", "", 0)),
@@ -191,6 +201,30 @@ def test_format_value_error_reads_as_written_by_hand():
     assert format_value_error(0.012345, 0.00067) == "0.01235 ± 0.00067"
     assert format_value_error(1.0002e-6, 2.82e-9, "F") == "(1.0002 ± 0.0028)e-06 F"
     assert format_value_error(0.5, float("nan"), "1") == "0.5"
+    assert format_value_error(2.18e7, 2.8e15, "Ohm") == "2.2e+07 ± 2.8e+15 Ω"
+
+
+# (value, error) → the LaTeX cell, written by hand
+LATEX_ORACLE = [
+    (533.3168, 13.0249, r"$533 \pm 13$"),
+    (1.0002e-6, 2.82e-9, r"$(1.0002 \pm 0.0028) \times 10^{-6}$"),
+    (9.996e-4, 9.96e-6, r"$(1.000 \pm 0.010) \times 10^{-3}$"),
+    (2.18e7, 2.8e15, r"$2.2 \times 10^{7} \pm 2.8 \times 10^{15}$"),
+    (-0.0001, 0.5, r"$-1.0 \times 10^{-4} \pm 0.50$"),
+    (5.0, 120.0, r"$5.0 \pm 120$"),
+    (1.234567e7, float("nan"), r"$1.2346 \times 10^{7}$"),
+]
+
+
+@pytest.mark.parametrize("value, error, expected", LATEX_ORACLE)
+def test_latex_value_error_matches_hand_text(value, error, expected):
+    assert latex_value_error(value, error) == expected
+
+
+def test_a_fixed_value_is_written_as_given():
+    assert [exact_number(v) for v in (12.3456, 2000.0, 1e-6, 0.1 + 0.2)] == ["12.3456", "2000", "1e-06", "0.30000000000000004"]
+    assert latex_value_error(12.3456, float("nan"), exact=True) == "$12.3456$"
+    assert latex_value_error(1e-6, float("nan"), exact=True) == r"$1 \times 10^{-6}$"
 
 
 def test_latex_units_need_no_package():
@@ -213,6 +247,15 @@ def test_to_latex_holds_the_rounded_pairs(fit_result):
     assert r"R0 & $533 \pm 13$ & $\Omega$ \\" in lines
     assert r"R1 & $0.01235 \pm 0.00067$ & $\Omega$ \\" in lines
     assert r"C1 & $(1.0002 \pm 0.0028) \times 10^{-6}$ & $\mathrm{F}$ \\" in lines
+
+
+def test_to_latex_writes_a_fixed_value_as_given_and_marks_the_undetermined(fit_result):
+    fixed = ix.fit("R0 + R1 || C1", ix.make_spectrum(FREQ, _z_noisy()), fixed={"R0": 12.3456}).to_latex()
+    assert r"R0 & $12.3456$ (fixed) & $\Omega$ \\" in fixed.splitlines()
+    # the walkthrough's R1 = 2.18e7 ± 2.8e15 Ω in place of the fit's own R1 (a frozen dataclass)
+    loose = dataclasses.replace(fit_result, values={**fit_result.values, "R1": 2.18e7}, stderr={**fit_result.stderr, "R1": 2.8e15})
+    assert r"R1 & $2.2 \times 10^{7} \pm 2.8 \times 10^{15}$ (undetermined) & $\Omega$ \\" in loose.to_latex().splitlines()
+    assert "(undetermined)" not in fit_result.to_latex()
 
 
 def test_fit_out_tex_writes_the_latex_table(spectrum_csv, tmp_path, fit_result):

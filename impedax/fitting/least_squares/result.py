@@ -271,8 +271,11 @@ class FitResult:
         """The parameters as a plain LaTeX ``tabular`` (no package needed): name, value ± standard
         error with the error to two significant digits and the value to its last digit
         (`impedax.data.round_to_error`: 533.3168 ± 13.0249 → $533 \\pm 13$), unit (Ω as
-        ``\\Omega``); a fixed parameter or one at a bound (no standard error, `to_table`) is
-        marked so. A comment line names the model and rms_rel (``impedax fit --out FILE.tex``)."""
+        ``\\Omega``); a fixed parameter (its value as given, `impedax.data.exact_number`) or one
+        at a bound (no standard error, `to_table`) is marked so, and one the data do not
+        determine (relative standard error above 100 %, the value and error then each to two
+        significant digits with its own power of ten) is marked "(undetermined)". A comment
+        line names the model and rms_rel (``impedax fit --out FILE.tex``)."""
         from ...data import latex_text, latex_unit, latex_value_error
 
         lines = [
@@ -283,8 +286,14 @@ class FitResult:
             r"\hline",
         ]
         for row in self.to_table():
-            note = " (fixed)" if row["fixed"] else " (at bound)" if row["name"] in self.at_bound else ""
-            cell = latex_value_error(row["value"], math.nan if row["stderr"] is None else row["stderr"]) + note
+            error = math.nan if row["stderr"] is None else row["stderr"]
+            if row["fixed"]:
+                note = " (fixed)"
+            elif row["name"] in self.at_bound:
+                note = " (at bound)"
+            else:  # (the fits' rule, `branches.undetermined`: relative standard error above 100 %, or none)
+                note = " (undetermined)" if undetermined(row["value"], error) else ""
+            cell = latex_value_error(row["value"], error, exact=row["fixed"]) + note
             lines.append(f"{latex_text(row['name'])} & {cell} & {latex_unit(row['unit'])} \\\\")
         lines += [r"\hline", r"\end{tabular}"]
         return "\n".join(lines) + "\n"
