@@ -481,7 +481,13 @@ def require_parameters(params, names, name: str = "params") -> None:
         check(params[n], f"{name}[{n!r}]")
 
 
-def checked_arguments(*relations: Callable[[Mapping[str, object]], None], **rules: Rule):
+CircuitParameters = Callable[[Mapping[str, object]], "tuple[Sequence[str], Mapping[str, str]]"]
+"""A function of a call's arguments (bound so far, by name) → the circuit's parameter names and
+its registry's impedance.py symbols (`impedance_py_parameter`); it may raise (no circuit yet,
+text that does not parse), and then the messages go without them."""
+
+
+def checked_arguments(*relations: Callable[[Mapping[str, object]], None], circuit_parameters: CircuitParameters | None = None, **rules: Rule):
     """Decorate a public function so that its arguments are checked before it runs.
 
     The call is bound to the function's signature: a wrong keyword, a missing or an extra
@@ -489,6 +495,9 @@ def checked_arguments(*relations: Callable[[Mapping[str, object]], None], **rule
     Then each argument with a rule is replaced by ``rule(value, name)``; ``fmin`` above
     ``fmax`` is refused, and each of ``relations`` (a function of the checked arguments by
     name) may raise for combinations. The signature and docstring stay the function's own.
+    ``circuit_parameters``: the circuit's parameter names and impedance.py symbols from the
+    arguments (`CircuitParameters`), for the examples of an impedance.py keyword's message
+    (``constants={'CPE1_1': 0.9}`` → ``fixed={'CPE1.alpha': 0.9}``).
     """
 
     def decorate(fn):
@@ -503,7 +512,7 @@ def checked_arguments(*relations: Callable[[Mapping[str, object]], None], **rule
             try:
                 bound = signature.bind(*args, **kwargs)
             except TypeError as exc:
-                raise ParameterError(_binding_message(label, signature, len(args), kwargs, exc)) from None
+                raise ParameterError(_binding_message(label, signature, len(args), kwargs, exc, _parameters_of_call(signature, args, kwargs, circuit_parameters))) from None
             arguments = bound.arguments
             for name, rule in rules.items():
                 if name in arguments:
@@ -520,6 +529,59 @@ def checked_arguments(*relations: Callable[[Mapping[str, object]], None], **rule
     return decorate
 
 
+def _parameters_of_call(signature: inspect.Signature, args, kwargs, circuit_parameters: CircuitParameters | None):
+    if circuit_parameters is None:
+        return None
+    try:
+        bound = signature.bind_partial(*args, **{k: v for k, v in kwargs.items() if k in signature.parameters})
+        names, symbols = circuit_parameters(bound.arguments)
+        return [str(n) for n in names], dict(symbols)
+    except Exception:  # (any failure: the message is given without the circuit's names)
+        return None
+
+
+MAX_EXAMPLE = 120  # characters of an example built from the user's values; a longer one is left out
+
+
+def _values_text(values: Mapping) -> str:
+    """A mapping as Python text, each number as written (``10.0``, a NumPy scalar as its Python number)."""
+    return "{" + ", ".join(f"{k!r}: {repr(v.item() if isinstance(v, np.generic) else v) if _is_real(v) else shown(v, 20)}" for k, v in values.items()) + "}"
+
+
+def _impedax_names(names, parameters) -> list:
+    """``names`` with each impedance.py parameter name (``CPE1_1``) that means one parameter of
+    the circuit replaced by it (``CPE1.alpha``); a name already the circuit's, or unknown, is kept."""
+    if parameters is None:
+        return list(names)
+    known, symbols = parameters
+    out = []
+    for name in names:
+        meant = [] if name in known else impedance_py_parameter(name, known, symbols)
+        out.append(meant[0] if len(meant) == 1 else name)
+    return out
+
+
+def _constants_example(value, parameters) -> str:
+    """impedance.py's ``constants`` (a mapping name → value) written as ``fixed``, or ""."""
+    if not isinstance(value, Mapping) or not value or not all(isinstance(k, str) for k in value):
+        return ""
+    text = f"fixed={_values_text(dict(zip(_impedax_names(value, parameters), value.values())))}"
+    return text if len(text) <= MAX_EXAMPLE else ""
+
+
+def _initial_guess_example(value, parameters) -> str:
+    """impedance.py's ``initial_guess`` (a list in the circuit's parameter order) written as
+    ``init``, or "" (no circuit names, or a list of another length)."""
+    if parameters is None or isinstance(value, (str, Mapping)) or not isinstance(value, (Sequence, np.ndarray)):
+        return ""
+    known = parameters[0]
+    values = list(np.asarray(value).ravel()) if isinstance(value, np.ndarray) else list(value)
+    if len(values) != len(known):
+        return ""
+    text = f"init={_values_text(dict(zip(known, values)))}"
+    return text if len(text) <= MAX_EXAMPLE else ""
+
+
 IMPEDANCE_PY_KEYWORDS = {
     "constants": ("fixed", "fixed={name: value}, e.g. fixed={'CPE1.alpha': 0.9}"),
     "initial_guess": ("init", f"init={{name: value}}, e.g. {INIT_FROM_LIST}"),
@@ -530,14 +592,23 @@ written in impedance.py's words is answered with impedax's, not with the nearest
 (``constants`` is not ``n_starts``)."""
 
 
-def _binding_message(label: str, signature: inspect.Signature, n_positional: int, kwargs: Mapping, exc: TypeError) -> str:
+# impedance.py keyword → the example built from the user's own value (and the circuit's parameter
+# names, when known), which replaces the canned one of `IMPEDANCE_PY_KEYWORDS`
+IMPEDANCE_PY_EXAMPLES = {"constants": _constants_example, "initial_guess": _initial_guess_example}
+
+
+def _binding_message(label: str, signature: inspect.Signature, n_positional: int, kwargs: Mapping, exc: TypeError, parameters=None) -> str:
     names = list(signature.parameters)
     takes_any_keyword = any(p.kind is p.VAR_KEYWORD for p in signature.parameters.values())
     for key in kwargs:
         if key not in signature.parameters and not takes_any_keyword:
             renamed = IMPEDANCE_PY_KEYWORDS.get(key)
             if renamed is not None and renamed[0] in signature.parameters:
-                return f"{label}() has no argument {key!r}: for impedance.py's {key}= write {renamed[1]} (docs/migrating.md)"
+                write = renamed[1]
+                example = IMPEDANCE_PY_EXAMPLES[key](kwargs[key], parameters) if key in IMPEDANCE_PY_EXAMPLES else ""
+                if example:
+                    write = f"{write.partition(', e.g. ')[0]}, here {example}"
+                return f"{label}() has no argument {key!r}: for impedance.py's {key}= write {write} (docs/migrating.md)"
             close = difflib.get_close_matches(key, names, n=1)
             hint = f"; did you mean {close[0]}?" if close else ""
             return f"{label}() has no argument {shown(key)}{hint}"

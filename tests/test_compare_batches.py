@@ -129,6 +129,24 @@ def test_a_cpe_at_alpha_one_reduces_to_the_rc_model_and_is_no_weak_rival(compari
     assert test["reason"] == "reduces_to_simple" and one.reduces_to_best() is not None
 
 
+def test_json_rows_carry_each_fits_warnings_on_that_spectrum(comparison, batches, stack):
+    """Each spectrum-model row of the JSON holds that batch's warnings for that spectrum (the
+    batch's ``warnings`` under the spectrum's labels, "subject=s3"), [] where it has none; the
+    CSV row holds them joined by "; "."""
+    summary = json.loads(json.dumps(to_jsonable(comparison.summary())))
+    table = comparison.to_table()
+    seen = 0
+    for s, row in enumerate(summary["spectra"]):
+        key = f"subject={stack['subject'].values[s]}"
+        for m, (model, batch) in enumerate(zip(row["models"], batches)):
+            assert model["warnings"] == list(batch.warnings.get(key, ())), (key, model["model"])
+            assert table[s * len(batches) + m]["warnings"] == "; ".join(batch.warnings.get(key, ()))
+            seen += bool(model["warnings"])
+    # the CPE batch at α = 1 on the capacitor spectra says so: the reason is in the JSON
+    assert seen == sum(1 for b in batches for ws in b.warnings.values() if ws) > 0
+    assert any("CPE1.alpha is at its upper bound 1" in w for r in summary["spectra"] for w in r["models"][1]["warnings"])
+
+
 def test_report_xarray_summary_and_table(comparison):
     text = comparison.report()
     assert text.startswith("comparison of 2 models over 12 spectra (subject (12))") and "← best by summed AIC" in text

@@ -118,7 +118,8 @@ def test_a_bare_name_of_an_element_with_several_parameters_gives_them_all():
     ("keywords", "expected"),
     [
         ({"constants": {"R0": 10.0}}, "for impedance.py's constants= write fixed={name: value}"),
-        ({"initial_guess": [10.0, 100.0, 1e-6]}, "init=dict(zip(circuit.parameter_names(), initial_guess))"),
+        ({"initial_guess": [10.0, 100.0, 1e-6]}, "for impedance.py's initial_guess= write init={name: value}, here init={'R0': 10.0, 'R1': 100.0, 'C1': 1e-06}"),
+        ({"initial_guess": [10.0, 100.0]}, "init=dict(zip(circuit.parameter_names(), initial_guess))"),  # (2 values for 3 parameters: the recipe)
         ({"weight_by_modulus": True}, 'write weighting="modulus"'),
     ],
 )
@@ -126,6 +127,41 @@ def test_impedance_py_keywords_are_answered_with_impedaxs(keywords, expected):
     with pytest.raises(ix.ParameterError) as caught:
         ix.fit("R0 + R1 || C1", synthetic_rc(), **keywords)
     assert expected in str(caught.value) and "n_starts" not in str(caught.value)
+
+
+def test_the_constants_hint_shows_the_users_own_values_as_fixed():
+    with pytest.raises(ix.ParameterError) as caught:
+        ix.fit("R0 + R1 || C1", synthetic_rc(), constants={"R0": 10.0})
+    assert str(caught.value) == "fit() has no argument 'constants': for impedance.py's constants= write fixed={name: value}, here fixed={'R0': 10.0} (docs/migrating.md)"
+
+
+@pytest.mark.parametrize("circuit", ["R0-p(R1,CPE1)", "R0 + R1 || CPE1", "from_impedance_py"])
+def test_the_constants_and_initial_guess_hints_write_impedance_py_names_as_impedaxs(circuit):
+    circuit = ix.from_impedance_py("R0-p(R1,CPE1)") if circuit == "from_impedance_py" else circuit
+    with pytest.raises(ix.ParameterError) as caught:
+        ix.fit(circuit, synthetic_rc(), constants={"R0": 10.0, "CPE1_1": 0.9})
+    assert "here fixed={'R0': 10.0, 'CPE1.alpha': 0.9} (docs/migrating.md)" in str(caught.value)
+    with pytest.raises(ix.ParameterError) as caught:
+        ix.diagnose(synthetic_rc(), circuit, constants={"CPE1_0": 1e-6})
+    assert "here fixed={'CPE1.Q': 1e-06}" in str(caught.value)
+    with pytest.raises(ix.ParameterError) as caught:
+        ix.fit(circuit, synthetic_rc(), initial_guess=[10, 100, 1e-6, 0.9])
+    assert "here init={'R0': 10, 'R1': 100, 'CPE1.Q': 1e-06, 'CPE1.alpha': 0.9}" in str(caught.value)
+
+
+def test_an_impedance_py_string_in_python_is_answered_with_from_impedance_py():
+    with pytest.raises(ix.CircuitSyntaxError) as caught:
+        ix.fit("R0-p(R1,CPE1)", synthetic_rc())
+    assert caught.value.hint == "series is written '+'; in Python an impedance.py string is passed as ix.from_impedance_py('R0-p(R1,CPE1)') (the command line reads it by itself)"
+
+
+@pytest.mark.parametrize(("model", "shown"), [("R0-p(R1,CPE1)", "CPE1.alpha=0.5:1"), ("R0 + R1 || CPE1", "CPE1.alpha=0.5:1"), ("R0 + R1 || C1", "CPE1_1=0.5:1")])
+def test_cli_misspelt_bound_option_shows_the_option_it_names_and_impedaxs_name(model, shown, capsys):
+    with pytest.raises(SystemExit) as caught:
+        main(["fit", "data.csv", "--model", model, "--bounds", "CPE1_1=0.5:1"])
+    assert caught.value.code == 2
+    err = capsys.readouterr().err
+    assert f"unrecognized arguments: --bounds CPE1_1=0.5:1; did you mean --bound?; a NAME=VALUE follows its option (--init, --fix, --bound): e.g. --bound {shown}\n" in err
 
 
 def test_init_as_a_list_shows_the_translation():

@@ -101,6 +101,26 @@ def test_python_write_result_records_the_version_without_changing_the_result(rc_
     assert {r["setting_seed"] for r in csv.DictReader((tmp_path / "p.csv").open())} == {"11"}
 
 
+def test_python_write_result_records_the_loaded_files_source_by_default(rc_file, tmp_path):
+    """No ``source=``: the netCDF attribute, the provenance record and the JSON name the CSV
+    that `ix.load` read (its ``attrs["source"]``), for a fit and for a comparison of fits of it;
+    data built in memory record none."""
+    data = ix.load(rc_file)
+    fit = ix.fit("R0 + R1 || C1", data, n_starts=1)
+    comparison = ix.compare([fit, ix.fit("R0 + R1 || CPE1", data, n_starts=1)])
+    for name, result in (("fit", fit), ("comparison", comparison)):
+        ix.write_result(result, tmp_path / f"{name}.nc")
+        with xr.open_dataset(tmp_path / f"{name}.nc") as ds:
+            assert ds.attrs["source"] == str(rc_file), name
+            assert json.loads(ds.attrs["provenance"])["source"] == str(rc_file), name
+    ix.write_result(fit, tmp_path / "fit.json")
+    assert json.loads((tmp_path / "fit.json").read_text())["source"] == str(rc_file)
+    in_memory = ix.fit("R0 + R1 || C1", (data["frequency"].values, data["Z"].values), n_starts=1)
+    ix.write_result(in_memory, tmp_path / "memory.nc")
+    with xr.open_dataset(tmp_path / "memory.nc") as ds:
+        assert "source" not in ds.attrs and json.loads(ds.attrs["provenance"])["source"] is None
+
+
 def test_sample_records_the_default_seed_and_the_steps_run(rc_file, tmp_path, capsys):
     """A short chain (SYNTHETIC data, 60 steps): the seed not given is the default 0, the one
     given is recorded as given, and the steps and walkers the run used."""

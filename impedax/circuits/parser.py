@@ -42,6 +42,14 @@ class Token:
     column: int  # 0-based offset in the source
 
 
+IMPEDANCE_PY_CALL = "ix.from_impedance_py"  # the reader of impedance.py strings, as docs/migrating.md writes it
+MAX_CALL_TEXT = 60  # characters of the user's text quoted in that call; a longer text is shown as "..."
+
+
+def _call_text(source: str) -> str:
+    return repr(source) if len(source) <= MAX_CALL_TEXT else '"..."'
+
+
 def tokenize(source: str) -> list[Token]:
     """Split ``source`` into tokens that keep their character offsets."""
     tokens: list[Token] = []
@@ -59,7 +67,7 @@ def tokenize(source: str) -> list[Token]:
         elif ch == "|":
             raise CircuitSyntaxError(source, i, "a single '|' is not an operator", "parallel is written '||'")
         elif ch == "-" or ch == ",":
-            hint = "series is written '+'" + (" (impedance.py strings: impedax.from_impedance_py)" if ch == "-" else "")
+            hint = "series is written '+'" + (f"; in Python an impedance.py string is passed as {IMPEDANCE_PY_CALL}({_call_text(source)}) (the command line reads it by itself)" if ch == "-" else "")
             raise CircuitSyntaxError(source, i, f"unexpected {ch!r}", hint)
         else:
             m = _IDENT_RE.match(source, i)

@@ -200,9 +200,47 @@ def _subparser(parser: argparse.ArgumentParser, command: str) -> argparse.Argume
 SERIES_COMMANDS = ("fit", "kk", "drt")
 
 
-def _refuse_unknown(parser: argparse.ArgumentParser, command: str, unknown: list[str]) -> NoReturn:
+def _model_parameters(model) -> list[tuple[list[str], dict[str, str]]]:
+    """(parameter names, impedance.py symbols) of each circuit of ``model`` (``args.model``: a
+    text, or a list of them for compare), impedax or impedance.py text; those that do not read
+    are left out."""
+    from .. import circuits
+
+    out = []
+    for text in [model] if isinstance(model, str) else list(model or []):
+        if not isinstance(text, str):
+            continue
+        try:
+            circuit = circuits.parse(text)
+        except Exception:
+            try:
+                circuit = circuits.from_impedance_py(text)
+            except Exception:
+                continue
+        out.append((list(circuit.parameter_names()), dict(circuits.DEFAULT_REGISTRY.impedance_py_symbols)))
+    return out
+
+
+def _impedax_assignment(item: str, parameters: list[tuple[list[str], dict[str, str]]]) -> str:
+    """A NAME=... word with an impedance.py parameter name (``CPE1_1=0.5:1``) written with the
+    impedax name it means in the model (``CPE1.alpha=0.5:1``, `impedance_py_parameter`)."""
+    from ..arguments import impedance_py_parameter
+
+    name, _, rest = item.partition("=")
+    for known, symbols in parameters:
+        if name in known:
+            return item
+        meant = impedance_py_parameter(name, known, symbols)
+        if len(meant) == 1:
+            return f"{meant[0]}={rest}"
+    return item
+
+
+def _refuse_unknown(parser: argparse.ArgumentParser, command: str, unknown: list[str], model=None) -> NoReturn:
     """Exit 2 with the command's own usage line and "unrecognized arguments", naming the
-    closest option of that command for each unknown one (``--maxsteps`` → ``--max-steps``)."""
+    closest option of that command for each unknown one (``--maxsteps`` → ``--max-steps``).
+    A NAME=VALUE word is shown after the option named (else the first that takes one), with
+    the impedax name of an impedance.py parameter name of ``model`` (``args.model``)."""
     import difflib
 
     sub = _subparser(parser, command)
@@ -223,10 +261,14 @@ def _refuse_unknown(parser: argparse.ArgumentParser, command: str, unknown: list
     hint = f"; did you mean {' or '.join(hints)}?" if hints else ""
     assignments = [item for item in unknown if _ASSIGNMENT_RE.match(item)]
     takers = [o for o in ASSIGNMENT_OPTIONS if o in sub._option_string_actions]
+    if assignments and takers:
+        parameters = _model_parameters(model)
+        assignments = [_impedax_assignment(item, parameters) for item in assignments]
     if assignments and PARAM_OPTION in takers:  # (a value without its --param)
         hint += f"; a parameter value follows {PARAM_OPTION}: {PARAM_OPTION} {' '.join(assignments)} (or {PARAM_OPTION} before each)"
-    elif assignments and takers:  # (fit R1=5: which of --init, --fix, ... was meant is the user's to say)
-        hint += f"; a NAME=VALUE follows its option ({', '.join(takers)}): e.g. {takers[0]} {' '.join(assignments)}"
+    elif assignments and takers:  # (fit R1=5: which of --init, --fix, ... was meant is the user's to say, unless a misspelt one is named)
+        example = next((h for h in hints if h in takers), takers[0])
+        hint += f"; a NAME=VALUE follows its option ({', '.join(takers)}): e.g. {example} {' '.join(assignments)}"
     files = [item for item in unknown if not item.startswith("-") and os.path.isfile(item)]
     if files and command in SERIES_COMMANDS:  # (fit day01.csv day02.csv: one DATA per run)
         hint += f"; {command} reads one DATA file: join files of one spectrum each into one series with impedax stack FILE ... --out SERIES.nc, then impedax {command} SERIES.nc"
@@ -294,7 +336,7 @@ def _run(argv: list[str], command: list[str]) -> int:
     args, unknown = parser.parse_known_args(argv)
     command[0] = args.command
     if unknown:
-        _refuse_unknown(parser, args.command, unknown)
+        _refuse_unknown(parser, args.command, unknown, getattr(args, "model", None))
     positional_model(_subparser(parser, args.command), args)
     _configure_jax_cache()
     try:

@@ -173,6 +173,13 @@ class BatchComparison:
     dataset: xr.Dataset
 
     @property
+    def source(self) -> str | None:
+        """Where the data came from, when every batch says the same (`FitResult.source`), else None:
+        what `impedax.write_result` records."""
+        sources = {getattr(f, "source", None) for f in self.batches}
+        return sources.pop() if len(sources) == 1 else None
+
+    @property
     def labels(self) -> list[str]:
         """Each model's label (`fit_label`: its text, with its fixed values and bounds)."""
         return [str(m) for m in self.dataset["model"].values]
@@ -276,10 +283,12 @@ class BatchComparison:
         models that reduce to the best, `_reduces_to_winner`: their ΔAIC is AIC's charge for
         parameters that do nothing), ``lead`` (the nearest other rival's ΔAIC; null when every
         rival reduces to the best), ``weak_evidence`` (that lead below `WEAK_DELTA_AIC`) and
-        ``models``: each model's `PER_SPECTRUM_CRITERIA` with its ``model`` and ``label``."""
+        ``models``: each model's `PER_SPECTRUM_CRITERIA` with its ``model``, ``label`` and
+        ``warnings`` (its fit's warnings on that spectrum, `BatchFitResult.warnings`; [] if none)."""
         best, runner_up = self._winners()
         _, reduces, lead = self._leads()
         values = {c: self._per_spectrum(c) for c in PER_SPECTRUM_CRITERIA}
+        warned = [[list(batch.warnings.get(key, ())) for key in _keys(batch)] for batch in self.batches]
         rows = []
         for s, labels in enumerate(_labels(self.batches[0])):
             b = int(best[s])
@@ -288,7 +297,7 @@ class BatchComparison:
                 "best": self.batches[b].model if b >= 0 else None, "best_label": self.labels[b] if b >= 0 else None,
                 "runner_up_delta_aic": float(runner_up[s]), "reduces_to_best": [self.labels[m] for m in np.flatnonzero(reduces[:, s])],
                 "lead": float(lead[s]) if np.isfinite(lead[s]) else None, "weak_evidence": bool(lead[s] < WEAK_DELTA_AIC),
-                "models": [{"model": batch.model, "label": label, **{c: (bool(values[c][m, s]) if c == "converged" else float(values[c][m, s])) for c in PER_SPECTRUM_CRITERIA}}
+                "models": [{"model": batch.model, "label": label, **{c: (bool(values[c][m, s]) if c == "converged" else float(values[c][m, s])) for c in PER_SPECTRUM_CRITERIA}, "warnings": warned[m][s]}
                            for m, (batch, label) in enumerate(zip(self.batches, self.labels))],
             })
         return rows
@@ -310,9 +319,10 @@ class BatchComparison:
     def to_table(self) -> list[dict]:
         """One row per spectrum and model (``compare --out FILE.csv``): the spectrum's labels,
         ``model`` (the label), ``circuit``, `PER_SPECTRUM_CRITERIA` and ``best`` (whether it is
-        that spectrum's best by AIC)."""
+        that spectrum's best by AIC), then ``warnings`` (that fit's warnings joined by "; ", as
+        `spectra`' list; "" if none)."""
         best, _ = self._winners()
-        return [{**{d: v for d, v in r["labels"].items()}, **{k: v for k, v in m.items() if k not in ("model", "label")}, "model": m["label"], "circuit": m["model"], "best": bool(best[s] == j)}
+        return [{**{d: v for d, v in r["labels"].items()}, **{k: v for k, v in m.items() if k not in ("model", "label", "warnings")}, "model": m["label"], "circuit": m["model"], "best": bool(best[s] == j), "warnings": "; ".join(m["warnings"])}
                 for s, r in enumerate(self.spectra()) for j, m in enumerate(r["models"])]
 
     def to_xarray(self) -> xr.Dataset:

@@ -158,6 +158,13 @@ class Comparison:
     aic_form: str = UNKNOWN_VARIANCE  # `KNOWN_SIGMA` under weighting="sigma" (`criteria`)
 
     @property
+    def source(self) -> str | None:
+        """Where the data came from, when every fit says the same (`FitResult.source`), else None:
+        what `impedax.write_result` records."""
+        sources = {getattr(f, "source", None) for f in self.fits}
+        return sources.pop() if len(sources) == 1 else None
+
+    @property
     def best_index(self) -> int:
         """Position of the best model by AIC in ``rows`` and ``fits`` (models may repeat: the
         same circuit fixed and free)."""

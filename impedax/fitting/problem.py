@@ -14,7 +14,7 @@ import numpy as np
 import xarray as xr
 
 from ..arguments import shown
-from ..circuits import Circuit, parse
+from ..circuits import DEFAULT_REGISTRY, Circuit, from_impedance_py, parse
 from ..circuits.parser import ARGUMENT_ORDERS
 from ..data import format_frequency, make_spectrum, validate_spectrum
 from ..errors import IN_MEMORY, DataError, FitError, ImpedaxError, ParameterError
@@ -87,6 +87,20 @@ def open_spectrum(data: xr.Dataset | str | os.PathLike, *, fmin: float | None = 
 # the functions that open their spectrum by name (``single=``) and take a circuit too, in this
 # order (named when the two look swapped; fit, which passes no name, gets `parser.ARGUMENT_ORDERS`)
 SWAPPABLE = {"sample": "(circuit, data)", "diagnose": "(data, circuit)", "refine": "(data, circuit)"}
+
+
+def circuit_parameters(arguments) -> tuple[tuple[str, ...], dict[str, str]]:
+    """The parameter names of a call's ``circuit`` (impedax text, else impedance.py text, or a
+    `Circuit`) and its ``registry``'s impedance.py symbols: `impedax.arguments.CircuitParameters`,
+    for the messages answering impedance.py's keywords (``constants=``, ``initial_guess=``)."""
+    registry = arguments.get("registry", DEFAULT_REGISTRY)
+    circuit = arguments["circuit"]
+    if isinstance(circuit, str):
+        try:
+            circuit = parse(circuit, registry)
+        except ImpedaxError:
+            circuit = from_impedance_py(circuit, registry)
+    return circuit.parameter_names(registry), dict(registry.impedance_py_symbols)
 
 
 def circuit_text(text: str) -> bool:

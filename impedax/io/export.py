@@ -22,9 +22,9 @@ import numpy as np
 
 from .atomic import atomic_path, check_writable
 from ..arguments import shown
-from ..errors import DataError, ParameterError
+from ..errors import IN_MEMORY, DataError, ParameterError
 
-__all__ = ["RESULT_FORMATS", "result_format", "result_table", "write_result", "write_table", "write_json", "to_jsonable"]
+__all__ = ["RESULT_FORMATS", "result_format", "result_table", "result_source", "write_result", "write_table", "write_json", "to_jsonable"]
 
 # extension → format of `write_result` (what each writes: docs/io.md)
 RESULT_FORMATS = {".csv": "csv", ".json": "json", ".nc": "netcdf"}
@@ -122,6 +122,14 @@ def _required_arguments(method) -> list[str]:
     return [p.name for p in signature.parameters.values() if p.default is p.empty and p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY)]
 
 
+def result_source(result) -> str | None:
+    """Where a result's data came from, as the result knows it (its ``source``: `FitResult`,
+    `BatchFitResult`, a comparison of fits of one data, ...), or None (data built in memory,
+    `IN_MEMORY`, or a result that keeps no source)."""
+    source = getattr(result, "source", None)
+    return source if isinstance(source, str) and source not in ("", IN_MEMORY) else None
+
+
 def write_result(result, path: str | Path, *, source: str | None = None, provenance: Mapping[str, object] | None = None) -> None:
     """Write ``result`` in the format of ``path``'s extension: ``.csv`` the tidy table
     (`result_table`), ``.json`` its ``summary()``, ``.nc`` its ``to_xarray()`` (lossless
@@ -130,8 +138,10 @@ def write_result(result, path: str | Path, *, source: str | None = None, provena
     cannot be written is a `DataError` naming it, raised before the result is converted
     (`check_writable`). A model whose ``to_xarray`` needs arguments (`MeyerModel`: the
     frequencies) is a `ParameterError` saying to write ``impedax.io.write_netcdf(m.to_xarray(freq), path)``.
-    ``source`` (where the data came from: ``path [cycle=3]``) is added to the JSON as the key
-    ``source`` and to the netCDF as the attribute ``source``, unless the result has its own.
+    ``source`` (where the data came from: ``path [cycle=3]``; by default the result's own
+    ``source``, its data's ``attrs["source"]``, as `impedax.load` sets it: `result_source`) is
+    added to the JSON as the key ``source`` and to the netCDF as the attribute ``source``, unless
+    the result's summary or dataset has its own, and is the provenance record's ``source``.
     ``provenance`` (`impedax.io.provenance.provenance`: version, command, settings, data, time)
     is the netCDF attributes of `provenance_attrs` (by default a record naming this version,
     ``source`` and now), and, only when given (the command line gives it), the JSON key
@@ -154,6 +164,7 @@ def write_result(result, path: str | Path, *, source: str | None = None, provena
     from .provenance import PROVENANCE_KEY, provenance_attrs, provenance_columns
     from .provenance import provenance as made
 
+    source = result_source(result) if source is None else source
     record = dict(provenance) if provenance is not None else made(source=source)
     if kind == "csv":
         rows = result_table(result)

@@ -66,7 +66,7 @@ from ..least_squares.constraints import binding_constraints, constraint_words, e
 from ..least_squares.result import embedded_fit, fit_from_embedded
 from ..least_squares.starts import climb_target
 from ..parameters import ParameterTable
-from ..problem import WEIGHTINGS, open_spectrum
+from ..problem import WEIGHTINGS, circuit_parameters, open_spectrum
 from ..statistics import information_criteria, non_passive
 from .bands import FailingBand, failing_bands, format_frequency, RUN_P
 from .catalog import BaselineContext, Effect, EffectCatalog, Proposal
@@ -253,6 +253,11 @@ class Diagnosis:
     solver_shape: SolverShape | None = None  # the compiled candidate solver's shape (refine passes it on: one compilation for all steps)
     masked_impedance: tuple[complex, ...] = ()  # the measured Z [Ω] at each of ``masked_points`` (drawn, marked, in the figure)
     sign_hint: str | None = None  # the KK test's (`io.sign_check.sign_hint`): Z'' (or Z) may be stored with the opposite sign
+
+    @property
+    def source(self) -> str | None:
+        """Where the data came from (the baseline fit's `FitResult.source`): what `impedax.write_result` records."""
+        return self.baseline.source
 
     def __post_init__(self):
         object.__setattr__(self, "verdict", Verdict(self.verdict))
@@ -1811,7 +1816,7 @@ def _verdict(cands: Sequence[Suggestion], bands: Sequence[FailingBand], ratio: f
     return Verdict.ADEQUATE, reason
 
 
-@checked_arguments(
+@checked_arguments(circuit_parameters=circuit_parameters,
     effects=instance_of(EffectCatalog, what="an EffectCatalog (e.g. impedax.DEFAULT_EFFECTS)"), kk=instance_of(KKResult, optional=True),
     noise=noise_fraction, weighting=choice(WEIGHTINGS), registry=instance_of(Registry), fmin=frequency, fmax=frequency,
     n_starts=count(1, MAX_STARTS), max_steps=count(1, MAX_SOLVER_STEPS), seed=seed_rule, drt_evidence=flag,

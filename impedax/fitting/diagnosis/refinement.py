@@ -20,7 +20,7 @@ from ..least_squares import FitResult, fit
 from ..least_squares.candidates import fit_candidates
 from ..least_squares.result import BOUND_CHI2_FRACTION, RESIDUAL_LONG_NAME, embedded_fit, fit_from_embedded
 from ..parameters import ParameterTable
-from ..problem import WEIGHTINGS, open_spectrum
+from ..problem import WEIGHTINGS, circuit_parameters, open_spectrum
 from .bands import format_frequency
 from .catalog import EffectCatalog
 from .diagnosis import CANDIDATE_STEPS, DELTA_AIC_MIN, NOISE_FRACTION_MIN, Diagnosis, DRTMemo, Verdict, diagnose, left_out_options, left_out_words, noise_variance_explained, undetermined_parameters, unidentified_note
@@ -87,6 +87,11 @@ class Refinement:
     @property
     def final(self) -> FitResult:
         return self.steps[-1].fit
+
+    @property
+    def source(self) -> str | None:
+        """Where the data came from (the first step's `FitResult.source`): what `impedax.write_result` records."""
+        return self.steps[0].fit.source if self.steps else None
 
     @property
     def final_model(self) -> str:
@@ -694,7 +699,7 @@ limit whatever its size, as ``impedax refine --max-steps`` passes it)."""
 
 
 @checked_arguments(
-    max_steps=count(1, MAX_SOLVER_STEPS, optional=True), max_effects=count(0, 64, optional=True, why="each effect adds one element"),
+    circuit_parameters=circuit_parameters, max_steps=count(1, MAX_SOLVER_STEPS, optional=True), max_effects=count(0, 64, optional=True, why="each effect adds one element"),
     solver_steps=count(1, MAX_SOLVER_STEPS, optional=True), effects=instance_of(EffectCatalog, what="an EffectCatalog (e.g. impedax.DEFAULT_EFFECTS)"),
     weighting=choice(WEIGHTINGS), noise=noise_fraction, registry=instance_of(Registry), fmin=frequency, fmax=frequency,
     n_starts=count(1, MAX_STARTS), seed=seed_rule, drt_evidence=flag, fixed=parameter_values(),

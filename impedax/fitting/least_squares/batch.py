@@ -71,6 +71,7 @@ class BatchFitResult:
     warnings: dict[str, tuple[str, ...]]
     elapsed_s: float = 0.0
     registry: Registry = field(default=DEFAULT_REGISTRY, repr=False)
+    source: str | None = field(default=None, repr=False)  # where the data came from (their ``attrs["source"]``), None if unknown: `impedax.write_result` records it
 
     @property
     def model(self) -> str:

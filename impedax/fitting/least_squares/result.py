@@ -129,6 +129,7 @@ class FitResult:
     unidentified_groups: tuple[tuple[str, ...], ...] = ()  # near-null directions' parameters (`statistics.null_sets`)
     registry: Registry = field(default=DEFAULT_REGISTRY, repr=False)
     bounds: dict[str, tuple[float, float]] = field(default_factory=dict, repr=False)  # the user's bounds of free parameters (`fit(bounds=...)`), those narrower than the element's (`constraints.user_bounds`)
+    source: str | None = field(default=None, repr=False)  # where the data came from (their ``attrs["source"]``, `impedax.load`'s path), None if unknown: `impedax.write_result` records it
 
     @property
     def linearised_stderr(self) -> dict[str, float]:

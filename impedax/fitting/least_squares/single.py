@@ -16,8 +16,8 @@ import numpy as np
 
 from ...arguments import MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice, count, frequency, init_not_fixed, instance_of, parameter_bounds, parameter_values, seed as seed_rule
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
-from ...errors import ParameterError
-from ..problem import WEIGHTINGS, prepare_fit, residual_scale, weights
+from ...errors import IN_MEMORY, ParameterError
+from ..problem import WEIGHTINGS, circuit_parameters, prepare_fit, residual_scale, weights
 from ..statistics import at_noise_floor, dominant_points, information_criteria
 from .batch import BatchFitResult, fit_batch, register_spectrum_fit
 from .constraints import constraint_misfit_notes, with_constraint_notes
@@ -31,7 +31,7 @@ __all__ = ["fit", "FitResult", "BatchFitResult", "SharedFitResult", "WEIGHTINGS"
 
 
 @checked_arguments(
-    init=parameter_values(results=True), fixed=parameter_values(), bounds=parameter_bounds, weighting=choice(WEIGHTINGS),
+    circuit_parameters=circuit_parameters, init=parameter_values(results=True), fixed=parameter_values(), bounds=parameter_bounds, weighting=choice(WEIGHTINGS),
     fmin=frequency, fmax=frequency, n_starts=count(1, MAX_STARTS, why="starts are solved together in memory"),
     max_steps=count(1, MAX_SOLVER_STEPS), seed=seed_rule, registry=instance_of(Registry),
 )
@@ -97,8 +97,10 @@ def fit(
         starts = batch_init.per_spectrum_starts(data, table.names)
     if shared is not None or over is not None:
         return fit_shared(circuit, data, table, shared=shared, over=over, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source, t0=t0)
+    known_source = data_source(data)
     if extra:
-        return fit_batch(circuit, data, table, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source, t0=t0, starts=starts)
+        batch = fit_batch(circuit, data, table, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source, t0=t0, starts=starts)
+        return dataclasses.replace(batch, source=known_source)
     freq = np.asarray(data["frequency"].values, float)
     z = np.asarray(data["Z"].values, complex)
     sigma = np.asarray(data["sigma"].values, float) if "sigma" in data else None
@@ -161,7 +163,14 @@ def fit(
     checked = constraint_misfit_notes(circuit, table, registry, freq, z, result.z_model, sigma, result.values, result.at_bound, misfit, kk_misfit.get(0), weighting=weighting, fit=fit, attrs=data.attrs)
     if checked != misfit:
         result = dataclasses.replace(result, warnings=with_constraint_notes(result.warnings, misfit, checked), elapsed_s=time.perf_counter() - t0)
-    return result
+    return dataclasses.replace(result, source=known_source)
+
+
+def data_source(data: xr.Dataset) -> str | None:
+    """Where ``data`` came from, as its ``attrs["source"]`` says (`impedax.load`'s path, with any
+    selection), or None for data built in memory (`make_spectrum`'s `IN_MEMORY`)."""
+    source = data.attrs.get("source")
+    return None if not isinstance(source, str) or source in ("", IN_MEMORY) else source
 
 
 register_spectrum_fit(fit)  # (BatchFitResult.fit_of refits one spectrum with it)
