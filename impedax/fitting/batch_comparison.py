@@ -14,7 +14,7 @@ import xarray as xr
 
 from ..data import column_width, concise_repr
 from ..errors import FitError
-from .comparison import DECISIVE_DELTA_AIC, NOISE_F, WEAK_DELTA_AIC, Comparison, akaike_weights, compare, criteria, fit_label, is_nested, register_batch_compare, significant, unique_labels
+from .comparison import DECISIVE_DELTA_AIC, common_source, NOISE_F, WEAK_DELTA_AIC, Comparison, akaike_weights, compare, criteria, fit_label, is_nested, register_batch_compare, significant, unique_labels
 from .least_squares import BatchFitResult, SharedFitResult
 from .least_squares.batch import SPECTRA_AS_ROWS, labels_key
 from .least_squares.result import data_difference
@@ -174,10 +174,8 @@ class BatchComparison:
 
     @property
     def source(self) -> str | None:
-        """Where the data came from, when every batch says the same (`FitResult.source`), else None:
-        what `impedax.write_result` records."""
-        sources = {getattr(f, "source", None) for f in self.batches}
-        return sources.pop() if len(sources) == 1 else None
+        """Where the data came from (`common_source` of the batches): what `impedax.write_result` records."""
+        return common_source(self.batches)
 
     @property
     def labels(self) -> list[str]:

@@ -159,10 +159,8 @@ class Comparison:
 
     @property
     def source(self) -> str | None:
-        """Where the data came from, when every fit says the same (`FitResult.source`), else None:
-        what `impedax.write_result` records."""
-        sources = {getattr(f, "source", None) for f in self.fits}
-        return sources.pop() if len(sources) == 1 else None
+        """Where the data came from (`common_source` of the fits): what `impedax.write_result` records."""
+        return common_source(self.fits)
 
     @property
     def best_index(self) -> int:
@@ -456,6 +454,13 @@ def register_batch_compare(compare_batches: Callable) -> None:
     """Let `compare` hand batches of fits to ``compare_batches``."""
     global _batch_compare
     _batch_compare = compare_batches
+
+
+def common_source(fits) -> str | None:
+    """Where the data of ``fits`` came from when every one says the same (their ``source``,
+    `FitResult.source`), else None."""
+    sources = {getattr(f, "source", None) for f in fits}
+    return sources.pop() if len(sources) == 1 else None
 
 
 @checked_arguments(fits=sequence_of(FitResult, BatchFitResult, attribute="fit", what="FitResult (or Posterior, or BatchFitResult)"))
