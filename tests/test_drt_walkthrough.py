@@ -100,6 +100,7 @@ def test_python_and_the_command_line_write_the_same_drt_files(tmp_path, battery,
     written = json.loads((tmp_path / "cli.json").read_text())
     assert written.pop("source") == str(source)  # (the command line names the file it read, as kk and fit: 2026-12-01)
     from_python = json.loads((tmp_path / "py.json").read_text())
+    assert from_python.pop("source") == str(source)  # (write_result names the result's own source by default: 2026-12-01)
     assert written.pop("provenance")["command"] == "impedax drt" and "provenance" not in from_python  # (docs/io.md, "Provenance")
     assert written == expected == from_python
     for name in ("py.nc", "cli.nc"):
