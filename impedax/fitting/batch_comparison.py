@@ -93,16 +93,14 @@ def _refuse_other_data(batches: Sequence[BatchFitResult]) -> None:
 
 
 def _labels(batch: BatchFitResult) -> list[dict]:
-    """Each spectrum's labels ({dimension: label}, the position where a dimension has no
-    coordinates) in C order over the batch's dimensions."""
-    ds = batch.dataset
-    along = [ds[d].values.tolist() if d in ds.coords else list(range(ds.sizes[d])) for d in batch.dims]
-    return [{d: along[i][j] for i, (d, j) in enumerate(zip(batch.dims, index))} for index in np.ndindex(*(ds.sizes[d] for d in batch.dims))]
+    """Each spectrum's labels ({dimension: label}, as its JSON rows give them), in C order
+    (`BatchFitResult.spectrum_keys`)."""
+    return [labels for _, labels in batch.spectrum_keys()]
 
 
 def _keys(batch: BatchFitResult) -> list[str]:
-    """Each spectrum's `labels_key` ("cycle=64, cell=a"), in C order."""
-    return [labels_key(labels) for labels in _labels(batch)]
+    """Each spectrum's `labels_key` ("cycle=64, cell=a": what its warnings are filed under), in C order."""
+    return [key for key, _ in batch.spectrum_keys()]
 
 
 def compare_batches(batches: Sequence[BatchFitResult]) -> "BatchComparison":

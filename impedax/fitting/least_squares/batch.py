@@ -326,10 +326,10 @@ class BatchFitResult:
         """`warning_kinds` of the spectra's warnings, each kind also with ``labels``: its spectra's
         labels as dicts ({dimension: label}, as ``spectra[].labels``; same order as its
         ``spectra``, the texts "cycle=64"; added 2026-12-01)."""
-        label_of = dict(self._spectrum_keys())
+        label_of = dict(self.spectrum_keys())
         return [{**kind, "labels": [label_of.get(place, {}) for place in kind["spectra"]]} for kind in warning_kinds(self.warnings)]
 
-    def _spectrum_keys(self):
+    def spectrum_keys(self):
         """(key, labels) of each spectrum in C order: the text `fit_batch` files its warnings
         under ("cycle=64, cell=a") and its labels as JSON gives them ({dimension: label})."""
         ds = self.dataset
@@ -355,7 +355,7 @@ class BatchFitResult:
         fixed = ds["fixed"].values.tolist()
         stored_groups = self._stored_groups()
         rows = []
-        for index, (key, label) in zip(np.ndindex(*converged.shape), self._spectrum_keys()):  # (key: as `fit_batch` names the spectra its warnings are about)
+        for index, (key, label) in zip(np.ndindex(*converged.shape), self.spectrum_keys()):  # (key: as `fit_batch` names the spectra its warnings are about)
             own = {
                 "values": {n: float(value[index + (p,)]) for p, n in enumerate(names)},
                 "stderr": {n: shown_stderr(float(stderr[index + (p,)]), fixed[p]) for p, n in enumerate(names)},
