@@ -395,12 +395,8 @@ def looks_like_impedance_py(text: str) -> bool:
 
 
 def read_impedance_py_model(args, command: str) -> None:
-    """``args.model`` of a command that takes a circuit (`add_model_argument`), given as an
-    impedance.py string (`looks_like_impedance_py`) that is no impedax text: replaced by its
-    impedax text (`impedax.from_impedance_py`), with one note on stderr saying how it was read.
-    A string that neither reads is refused with the impedax parser's message when it holds
-    impedax's operators (``+``, ``|``: impedax text with a stray ``-``), else the impedance.py
-    reader's."""
+    """``args.model`` of a command that takes a circuit (`add_model_argument`) as impedax text
+    (`impedax_text`: an impedance.py string read through `impedax.from_impedance_py`)."""
     model = getattr(args, "model", None)
     if getattr(args, "circuit_model", False) and isinstance(model, str):
         args.model = impedax_text(model, command)
