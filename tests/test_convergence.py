@@ -37,7 +37,7 @@ def test_natural_bound_optimum_is_converged_with_at_bound():
     assert result.converged, result.message
     assert set(result.at_bound) == {"R0", "CPE1.alpha"}
     assert "R0 is at its lower bound 0" in result.warnings
-    assert "CPE1.alpha is at its upper bound 1" in result.warnings
+    assert "CPE1.alpha is at its upper bound 1 (CPE1 with alpha = 1 is a capacitor: the model with C1 in its place may be enough)" in result.warnings  # (a CPE at α = 1 is a C: the note names the simpler model)
     assert not any("relative standard error" in w for w in result.warnings)
     assert not any("did not converge" in w for w in result.warnings)
     assert result.values["R1"] == pytest.approx(1000.0, rel=1e-6)
@@ -340,3 +340,20 @@ def test_a_batch_started_at_a_reference_alpha_1_reaches_each_single_fits_optimum
     assert batch["converged"].all()
     single = np.array([ix.fit(TWO_ARCS, ix.make_spectrum(f, z[i])).chi2 for i in range(24)])
     np.testing.assert_allclose(batch["chi2"].values, single, rtol=1e-6)
+
+
+def test_alpha_at_one_names_the_capacitor_model_in_single_and_batch_fits():
+    """A CPE at α = 1 is an ideal capacitor (Z = 1/(Q jω)): the bound note names the model with
+    a C in its place, in single and batch fits alike; α stopped by the user's own bound is not
+    the CPE's reduction and gets the plain note. Data of `beyond_bounds` (α = 1.05, 0.5 % noise;
+    SYNTHETIC) put α's optimum on 1."""
+    rng = np.random.default_rng(3)
+    f = np.geomspace(0.1, 1e5, 40)
+    z = np.stack([beyond_bounds(f, 1000.0, 1e-6, rng) for _ in range(3)])
+    words = "CPE1.alpha is at its upper bound 1 (CPE1 with alpha = 1 is a capacitor: the model with C1 in its place may be enough)"
+    single = ix.fit(MODEL, ix.make_spectrum(f, z[0]))
+    assert "CPE1.alpha" in single.at_bound and words in single.warnings
+    batch = ix.fit(MODEL, ix.make_spectrum(f, z, dims=("trial",)))
+    assert all(words in batch.warnings[f"trial={i}"] for i in range(3))
+    capped = ix.fit(MODEL, ix.make_spectrum(f, z[0]), bounds={"CPE1.alpha": (0.5, 0.9)})
+    assert "CPE1.alpha is at its upper bound 0.9" in capped.warnings and not any("capacitor" in w for w in capped.warnings)

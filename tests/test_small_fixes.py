@@ -120,7 +120,7 @@ def test_bound_note_off_the_bound_gives_value_and_stderr():
     table, f, z, values, stderr, sides = _r_cpe_case()
     notes = fit_notes(table, values, stderr, np.eye(3), [], 1.0, finite=True, converged=True, message="", sides=sides, freq=f, z=z)
     assert "R1 = 7.96e+07 Ω cannot be told from its lower bound 0 (standard error 1.3e+18 Ω)" in notes
-    assert "CPE1.alpha is at its upper bound 1" in notes  # within 1e-4 of 1: on it
+    assert "CPE1.alpha is at its upper bound 1 (CPE1 with alpha = 1 is a capacitor: the model with C1 in its place may be enough)" in notes  # within 1e-4 of 1: on it
     assert not any(n.startswith("R1 is at") for n in notes)
     # a value at rounding level against |Z| ≥ 30 Ω is on the bound 0, whatever its stderr
     on_zero = fit_notes(table, {**values, "R1": 1.2e-15}, {**stderr, "R1": 1.2e-15}, np.eye(3), [], 1.0, finite=True, converged=True, message="", sides=sides, freq=f, z=z)

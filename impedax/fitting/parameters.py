@@ -15,7 +15,7 @@ from __future__ import annotations
 import enum
 import functools
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Mapping
 
 import jax.numpy as jnp
@@ -24,6 +24,7 @@ import numpy as np
 from ..arguments import number_text, unknown_parameter
 from ..circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ..errors import FitError, ParameterError
+from .reductions import reducing_bounds
 
 __all__ = ["ParameterTable", "Transform", "starting_values", "to_external", "external_of_kind", "to_internal", "data_scales", "CPE_Q_UNIT", "checked_bounds", "outside_bounds_message"]
 
@@ -97,6 +98,7 @@ class ParameterTable:
     kind: np.ndarray  # `Transform` values
     fixed: np.ndarray  # bool
     values: np.ndarray  # fixed values and user starts (NaN where no start was given)
+    reductions: Mapping[str, tuple[str, str]] = field(default_factory=dict)  # {name: (side, words)}: free parameters whose element's own bound on that side makes it a simpler one (`reductions.reducing_bounds`), as the bound notes name it
 
     @functools.cached_property
     def free_names(self) -> tuple[str, ...]:
@@ -152,7 +154,8 @@ class ParameterTable:
         kind = np.array([Transform.for_bounds(lower[i], upper[i], specs[n].unit) for i, n in enumerate(names)], np.int32)
         if is_fixed.all():
             raise FitError("every parameter is fixed; nothing to fit")
-        return cls(names, tuple(specs[n].unit for n in names), lower, upper, kind, is_fixed, values)
+        reductions = {n: (side, words) for n, (side, words) in reducing_bounds(circuit, registry).items() if not is_fixed[names.index(n)] and (upper if side == "upper" else lower)[names.index(n)] == getattr(specs[n], side)}
+        return cls(names, tuple(specs[n].unit for n in names), lower, upper, kind, is_fixed, values, reductions)
 
 
 def checked_bounds(name: str, lower, upper, spec) -> tuple[float, float]:

@@ -12,6 +12,7 @@ import numpy as np
 
 from ...circuits import Circuit, Registry
 from ...data import unit_text
+from ..reductions import reducing_bounds
 
 __all__ = [
     "CHAIN_TAU_MULTIPLE", "ACCEPTANCE_STUCK", "GAUSSIAN_ACCEPTANCE", "CORRELATION_WARNING", "EDGE_BAND", "EDGE_DENSITY", "EDGE_MIN_DRAWS",
@@ -187,22 +188,6 @@ class PriorEdges(NamedTuple):
 
     warnings: list[str]
     piled_up: dict[str, str]
-
-
-def reducing_bounds(circuit: Circuit, registry: Registry) -> dict[str, tuple[str, str]]:
-    """{parameter: (side, words)} of ``circuit``'s parameters whose bound on that side is the
-    value at which their element is a simpler one: a CPE's alpha at its upper bound 1 is an
-    ideal capacitor C = Q (Z = 1/(Q (jω)^α)), named as `refine` names the C it puts in the
-    CPE's place (`capacitor_name`)."""
-    from ..diagnosis.refinement import capacitor_name  # (here: sampling need not import the diagnosis)
-
-    out = {}
-    for e in circuit.elements():
-        if registry[e.symbol].symbol != "CPE":
-            continue
-        _, alpha = registry[e.symbol].parameter_names(e.name)
-        out[alpha] = ("upper", f"{e.name} with alpha = 1 is a capacitor: the model with {capacitor_name(e.name, circuit.element_names)} in its place may be enough")
-    return out
 
 
 def user_bound_sides(user_bounds: Mapping[str, tuple[float, float]], circuit: Circuit, registry: Registry) -> dict[str, frozenset[str]]:

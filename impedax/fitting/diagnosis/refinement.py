@@ -20,6 +20,7 @@ from ..least_squares import FitResult, fit
 from ..least_squares.candidates import fit_candidates
 from ..least_squares.result import BOUND_CHI2_FRACTION, RESIDUAL_LONG_NAME, embedded_fit, fit_from_embedded
 from ..parameters import ParameterTable
+from ..reductions import capacitor_name
 from ..problem import WEIGHTINGS, circuit_parameters, open_spectrum
 from .bands import format_frequency
 from .catalog import EffectCatalog
@@ -580,21 +581,6 @@ def _simplified(steps: list[RefinementStep], used: xr.Dataset, *, n_starts: int,
         else:
             break
     return steps
-
-
-def capacitor_name(name: str, taken) -> str:
-    """A C's name for the CPE ``name`` it replaces: CPE1 → C1, CPE_relax → C_relax (C_relax2, ...
-    when taken), as `effects` names a CPE for the C it replaces."""
-    label = name[4:] if name.startswith("CPE_") else name[3:] if name.startswith("CPE") else name[2:] if name.startswith("Q_") else name[1:] if name.startswith("Q") else name
-    if label.isdigit() or not label:
-        k = int(label) if label else 1
-        while f"C{k}" in taken:
-            k += 1
-        return f"C{k}"
-    candidate, k = f"C_{label}", 2
-    while candidate in taken:
-        candidate, k = f"C_{label}{k}", k + 1
-    return candidate
 
 
 def _capacitors(fit: FitResult) -> list[tuple[str, str, Circuit, dict[str, float]]]:

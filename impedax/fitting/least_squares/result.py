@@ -561,13 +561,19 @@ def on_bound(table: ParameterTable, values: np.ndarray, sides: np.ndarray, freq=
 
 def _bound_note_of(table: ParameterTable, b: int, j: int, values: np.ndarray, stderr: np.ndarray, sides: np.ndarray, on: np.ndarray, exactly: np.ndarray) -> str:
     """`bound_note` of free parameter j of fit b (values, stderr (B, P); sides, on (B, K));
-    ``exactly`` (B, K): on it within `NUMERICALLY_ON_FRACTION`, its value not given."""
+    ``exactly`` (B, K): on it within `NUMERICALLY_ON_FRACTION`, its value not given. At a bound
+    where its element is a simpler one (``table.reductions``: a CPE's α at 1) the note names the
+    simpler model: "CPE2.alpha is at its upper bound 1 (CPE2 with alpha = 1 is a capacitor: the
+    model with C2 in its place may be enough)"."""
     i = table.free_index[j]
     side = "upper" if sides[b, j] > 0 else "lower"
     bound = float(table.upper[i] if sides[b, j] > 0 else table.lower[i])
     if exactly[b, j]:
-        return bound_note(table.names[i], bound, side)
-    return bound_note(table.names[i], bound, side, value=float(values[b, i]), stderr=float(stderr[b, i]), unit=table.units[i], on=bool(on[b, j]))
+        note = bound_note(table.names[i], bound, side)
+    else:
+        note = bound_note(table.names[i], bound, side, value=float(values[b, i]), stderr=float(stderr[b, i]), unit=table.units[i], on=bool(on[b, j]))
+    reduced_side, simpler = table.reductions.get(table.names[i], (None, ""))
+    return f"{note} ({simpler})" if reduced_side == side else note
 
 
 def bound_sides(table: ParameterTable, values: np.ndarray, stderr: np.ndarray | None) -> np.ndarray:
