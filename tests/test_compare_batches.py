@@ -120,6 +120,11 @@ def test_a_cpe_at_alpha_one_reduces_to_the_rc_model_and_is_no_weak_rival(compari
     cpe_leads = [r["models"][0]["delta_aic"] for r in rows if r["best"] == CPE]
     assert models[CPE]["lead_min"] == pytest.approx(min(cpe_leads)) and models[CPE]["lead_max"] == pytest.approx(max(cpe_leads))
     assert models[CPE]["decisive_wins"] == sum(d >= 10 for d in cpe_leads)
+    # a win over a rival that only reduces to the winner has no lead: never decisive (a battery
+    # user saw "130/130, decisive 130, lead —" for a CPE at alpha = 1 against its C model)
+    rc_leads = [r["lead"] for r in rows if r["best"] == RC]
+    assert models[RC]["decisive_wins"] == sum(1 for d in rc_leads if d is not None and d >= 10)
+    assert models[RC]["wins_over_reducing_only"] == sum(1 for d in rc_leads if d is None) >= len(reducing)
     report = comparison.report()
     assert f"{CPE} reduces to {RC} on {len(reducing)} spectr" in report and "(— where every rival does)" in report
     at_one = [i for i in reducing if alpha[i] >= 1 - 1e-6]

@@ -250,7 +250,8 @@ class BatchComparison:
         ``weak_wins`` (of those, the ones where a rival that does not reduce to it,
         `_reduces_to_winner`, is less than `WEAK_DELTA_AIC` behind), ``decisive_wins`` (every such
         rival at least `DECISIVE_DELTA_AIC` behind: essentially no support, Burnham & Anderson
-        2002, §2.6), ``lead_median``, ``lead_min``, ``lead_max``
+        2002, §2.6; a win with no such rival, every rival reducing to it, is not decisive: it is
+        counted in ``wins_over_reducing_only``, added 2026-12-01), ``lead_median``, ``lead_min``, ``lead_max``
         (the lead over its wins, `_leads`; null without wins or where only reducing rivals
         trail), ``aic_sum`` with ``delta_aic_sum`` and ``akaike_weight_sum``,
         ``median_delta_aic``, ``converged_fraction`` and ``rms_rel_median``."""
@@ -263,7 +264,8 @@ class BatchComparison:
             leads = lead[mine & np.isfinite(lead)]
             out.append({
                 "model": str(ds["circuit"].values[m]), "label": label, "n_params": int(ds["n_params"].values[m]),
-                "wins": int(mine.sum()), "weak_wins": int((mine & (lead < WEAK_DELTA_AIC)).sum()), "decisive_wins": int((mine & (lead >= DECISIVE_DELTA_AIC)).sum()),
+                "wins": int(mine.sum()), "weak_wins": int((mine & (lead < WEAK_DELTA_AIC)).sum()), "decisive_wins": int((mine & np.isfinite(lead) & (lead >= DECISIVE_DELTA_AIC)).sum()),
+                "wins_over_reducing_only": int((mine & np.isinf(lead)).sum()),
                 "lead_median": float(np.median(leads)) if leads.size else None, "lead_min": float(leads.min()) if leads.size else None, "lead_max": float(leads.max()) if leads.size else None,
                 "aic_sum": float(ds["aic_sum"].values[m]), "delta_aic_sum": float(ds["delta_aic_sum"].values[m]), "akaike_weight_sum": float(ds["akaike_weight_sum"].values[m]),
                 "median_delta_aic": float(np.nanmedian(delta[m])) if np.isfinite(delta[m]).any() else math.nan,
