@@ -97,7 +97,8 @@ class BatchFitResult:
         """Rebuild a batch of fits from `BatchFitResult.to_xarray` output: as returned, read back
         by `impedax.load`, or opened as stored (``xr.open_dataset`` of a file `impedax.write_result`
         or ``impedax fit --out FILE.nc`` wrote). ``registry``: the one the circuit's elements are
-        in (None: the default one). A file written before 2026-11-30 lacks the warnings: none."""
+        in (None: the default one). A file written before 2026-11-30 lacks the warnings: none.
+        ``source``: the data's file the saved result names (`impedax.io.netcdf.saved_source`)."""
         return cls._rebuilt(ds, "batch_fit", registry)
 
     @classmethod
@@ -105,7 +106,7 @@ class BatchFitResult:
         """``from_xarray`` of a saved result of ``kind`` (``fields``: a subclass's own, from the
         dataset)."""
         from ...circuits import parse
-        from ...io.netcdf import damaged_result, saved_result  # (io is imported only here: rarely needed)
+        from ...io.netcdf import damaged_result, saved_result, saved_source  # (io is imported only here: rarely needed)
 
         registry = DEFAULT_REGISTRY if registry is None else registry
         if isinstance(ds, xr.Dataset) and "impedax_kind" not in ds.attrs and _looks_like(ds) == kind:  # (written before the kind was stored)
@@ -116,7 +117,7 @@ class BatchFitResult:
             elapsed = float(ds.attrs.get("elapsed_s", 0.0))
             dataset = ds.copy()
             dataset.attrs = {k: v for k, v in ds.attrs.items() if k not in ("impedax_kind", "warnings", "elapsed_s", "format")}
-            return cls(circuit=parse(ds.attrs["model"], registry), dataset=dataset, weighting=str(ds.attrs["weighting"]), warnings=warnings, elapsed_s=elapsed, registry=registry, **{k: f(ds) for k, f in fields.items()})
+            return cls(circuit=parse(ds.attrs["model"], registry), dataset=dataset, weighting=str(ds.attrs["weighting"]), warnings=warnings, elapsed_s=elapsed, registry=registry, source=saved_source(ds), **{k: f(ds) for k, f in fields.items()})
 
     def values(self, name: str) -> xr.DataArray:
         """Fitted values of parameter ``name`` over the batch dimensions."""
