@@ -174,6 +174,16 @@ def test_batches_of_other_data_or_weighting_and_mixed_items_are_refused(batches,
         ix.compare([rc, cpe.fit_of(subject="s0")])
 
 
+def test_one_batch_is_no_comparison(batches):
+    """A list of one batch (one model) is refused, naming the batch (before 2026-12-01 it gave a
+    comparison of one model that won every spectrum); so is an empty list."""
+    rc, _ = batches
+    with pytest.raises(FitError, match=r"needs at least two batches .* got 1, a BatchFitResult of R0 \+ R1 \|\| C1 over 12 spectra \(subject\)"):
+        ix.compare([rc])
+    with pytest.raises(FitError, match="got none"):
+        ix.fitting.batch_comparison.compare_batches([])
+
+
 def test_cli_compares_a_file_of_several_spectra(stack, tmp_path, capsys):
     path = tmp_path / "subjects.nc"
     ix.save(stack, path)

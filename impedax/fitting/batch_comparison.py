@@ -109,8 +109,13 @@ def compare_batches(batches: Sequence[BatchFitResult]) -> "BatchComparison":
     For each spectrum the single comparison's criteria (`criteria`: AIC, AICc, BIC; ΔAIC and
     Akaike weights, `akaike_weights`), and for each model the number of spectra it is best on by
     AIC and its AIC summed over the spectra (`SUM_NOTE`: the joint AIC of independent spectra is
-    the sum) with that sum's Δ and Akaike weight, and its median ΔAIC."""
+    the sum) with that sum's Δ and Akaike weight, and its median ΔAIC. Fewer than two batches
+    is a `FitError` naming what was given: with one model there is nothing to rank."""
     batches = list(batches)
+    if len(batches) < 2:
+        given = f"1, a {type(batches[0]).__name__} of {batches[0].model} over {batches[0].n_spectra} spectra ({', '.join(batches[0].dims)})" if batches else "none"
+        raise FitError(f"compare of batches needs at least two batches of fits of the same spectra, one per model, to rank them: got {given}; "
+                       "fit another model to the same spectra and compare both (one batch's own fits: batch.report())")
     _refuse_other_data(batches)
     ref = batches[0]
     dims = ref.dims
