@@ -15,7 +15,7 @@ import xarray as xr
 
 import impedax as ix
 from impedax.cli import main
-from impedax.errors import FitError
+from impedax.errors import FitError, ParameterError
 from impedax.io.export import to_jsonable
 
 RC, CPE = "R0 + R1 || C1", "R0 + R1 || CPE1"
@@ -179,6 +179,16 @@ def test_batches_of_other_data_or_weighting_and_mixed_items_are_refused(batches,
         ix.compare([rc, cpe.fit_of(subject="s0")])
 
 
+def test_one_batch_is_no_comparison(batches):
+    """A list of one batch (one model) is refused, naming the batch (before 2026-12-01 it gave a
+    comparison of one model that won every spectrum); so is an empty list."""
+    rc, _ = batches
+    with pytest.raises(FitError, match=r"needs at least two batches .* got 1, a BatchFitResult of R0 \+ R1 \|\| C1 over 12 spectra \(subject\)"):
+        ix.compare([rc])
+    with pytest.raises(FitError, match="got none"):
+        ix.fitting.batch_comparison.compare_batches([])
+
+
 def test_cli_compares_a_file_of_several_spectra(stack, tmp_path, capsys):
     path = tmp_path / "subjects.nc"
     ix.save(stack, path)
@@ -195,3 +205,43 @@ def test_cli_compares_a_file_of_several_spectra(stack, tmp_path, capsys):
     lines = csv.read_text().splitlines()
     assert lines[0].startswith("subject,") and len(lines) == 1 + 3 * 2
     assert png.stat().st_size > 10_000
+
+
+def test_batches_over_the_same_dimensions_in_another_order_are_aligned():
+    """A batch of a stack transposed, (cycle, cell) against (cell, cycle), is lined up with the
+    first batch: each spectrum's row carries that spectrum's criteria and its own fit's warnings
+    (before 2026-12-01 the second batch's warnings were looked up by the first batch's keys and
+    missed). SYNTHETIC 2 × 2 stack: cell a of R0 + R1 ∥ C1 spectra, cell b of R0 + R1 ∥ CPE1
+    (α = 0.8), 1 % complex noise, seed 11. Oracle: a CPE fitted to a capacitor's spectrum ends
+    with α on its bound 1, and says so; on the CPE spectra it does not."""
+    rng = np.random.default_rng(11)
+    z = np.array([[rc_spectrum(1e3 * (1 + 0.2 * k)) for k in range(2)], [cpe_spectrum(1e3 * (1 + 0.2 * k)) for k in range(2)]])  # (cell, cycle, frequency)
+    z = z * (1 + 0.01 * (rng.standard_normal(z.shape) + 1j * rng.standard_normal(z.shape)))
+    stack = xr.Dataset({"Z": (("cell", "cycle", "frequency"), z)}, coords={"frequency": FREQ, "cell": ["a", "b"], "cycle": [1, 2]})
+    rc = ix.fit(RC, stack, n_starts=1)
+    cpe = ix.fit(CPE, stack.transpose("cycle", "cell", "frequency"), n_starts=1)
+    assert rc.dims == ("cell", "cycle") and cpe.dims == ("cycle", "cell")
+    comparison = ix.compare([rc, cpe])
+    assert comparison.dims == ("cell", "cycle") and comparison.batches[1].dims == ("cell", "cycle")
+    rows = comparison.spectra()
+    assert [r["labels"] for r in rows] == [{"cell": c, "cycle": k} for c in "ab" for k in (1, 2)]
+    for r in rows:
+        cpe_row = next(m for m in r["models"] if m["model"] == CPE)
+        at_bound = any("CPE1.alpha" in w and "bound" in w for w in cpe_row["warnings"])
+        assert at_bound == (r["cell"] == "a"), (r["labels"], cpe_row["warnings"])
+        rc_row = next(m for m in r["models"] if m["model"] == RC)
+        if r["cell"] == "b":  # a CPE of α = 0.8 is far from a capacitor: decisive
+            assert r["best"] == CPE and r["runner_up_delta_aic"] > 10
+        else:  # the CPE's α buys at most noise: the RC model wins, or the CPE leads weakly
+            assert rc_row["delta_aic"] < 4.0
+        # each row's χ² is that spectrum's own fit, whichever order its batch was fitted in
+        assert cpe_row["chi2"] == float(cpe.dataset["chi2"].sel(cell=r["cell"], cycle=r["cycle"]))
+    assert comparison.comparison_of(cell="b", cycle=2).fits[1].values["CPE1.alpha"] == pytest.approx(ALPHA, abs=0.05)  # (the generating α)
+    for cell in "ab":  # (the unidentified groups, filed by the same keys, follow)
+        assert comparison.batches[1].unidentified_groups_of(cell=cell, cycle=2) == cpe.unidentified_groups_of(cell=cell, cycle=2)
+    with pytest.raises(ParameterError, match=r"transpose takes the batch's dimensions \(cycle, cell\), each once"):
+        cpe.transpose("cell", "cell")
+    # labels that differ cannot be lined up: refused, naming the dimension
+    relabelled = ix.fit(CPE, stack.assign_coords(cycle=[1, 3]).transpose("cycle", "cell", "frequency"), n_starts=1)
+    with pytest.raises(FitError, match=r"their labels along cycle differ \(\[1, 2\] against \[1, 3\]\)"):
+        ix.compare([rc, relabelled])

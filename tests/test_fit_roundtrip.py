@@ -129,3 +129,25 @@ def test_results_of_other_kinds_without_a_kind_are_not_taken_for_fits(batch):
         ix.BatchFitResult.from_xarray(ix.kk_test_batch(data).to_xarray())
     with pytest.raises(DataError, match="not a saved impedax least-squares fit"):
         ix.FitResult.from_xarray(batch.dataset)  # (a batch written before the kind was stored)
+
+
+@pytest.mark.parametrize("how", ["ix.load", "xr.open_dataset", "read_netcdf"])
+def test_a_saved_fit_read_back_names_its_datas_file(how, tmp_path):
+    """A fit read back from its netCDF has the ``source`` it was written with (its data's file;
+    lost before 2026-12-01), for a single fit and a batch, however the file is opened; data built
+    in memory name none. SYNTHETIC R0 + R1 || C1 (20 Ω, 1 kΩ, 1 µF), 1 % complex noise, seed 5."""
+    rng = np.random.default_rng(5)
+    f = np.logspace(0, 5, 25)
+    z = (20 + 1e3 / (1 + 2j * np.pi * f * 1e3 * 1e-6)) * (1 + 0.01 * rng.standard_normal(f.size) + 0.01j * rng.standard_normal(f.size))
+    data_file = tmp_path / "rc.csv"
+    np.savetxt(data_file, np.column_stack([f, z.real, z.imag]), delimiter=",", header="frequency_hz,z_real_ohm,z_imag_ohm", comments="")
+    stack_file = tmp_path / "two.nc"
+    ix.save(ix.make_spectrum(f, np.stack([z, z * 1.01]), dims=("cell",)), stack_file)
+    opened = {"ix.load": ix.load, "xr.open_dataset": xr.open_dataset, "read_netcdf": ix.io.read_netcdf}[how]
+    for name, fitted, kind in (("fit", ix.fit("R0 + R1 || C1", ix.load(data_file), n_starts=1), ix.FitResult),
+                               ("batch", ix.fit("R0 + R1 || C1", ix.load(stack_file), n_starts=1), ix.BatchFitResult),
+                               ("memory", ix.fit("R0 + R1 || C1", (f, z), n_starts=1), ix.FitResult)):
+        ix.write_result(fitted, tmp_path / f"{name}.nc")
+        back = kind.from_xarray(opened(tmp_path / f"{name}.nc"))
+        expected = {"fit": str(data_file), "batch": str(stack_file), "memory": None}[name]
+        assert fitted.source == expected and back.source == expected, name

@@ -1,5 +1,5 @@
 """Provenance of written results (docs/io.md, "Provenance"): every ``--out`` and ``--json`` of
-fit, sample, gap, force, kk and drt records impedax's version, the command with its settings
+fit, sample, gap, force, kk, drt and (since 2026-12-01) the spectra of simulate, inspect, stack and remaining records impedax's version, the command with its settings
 (defaults included: the seed a run used without naming it), the data file and the UTC time; the
 force CSV says its convention and parameters; the gap exports hold the EDL parameters and u's
 draws. Each file is read back with the reader a user would take (json, csv, xarray)."""
@@ -262,3 +262,77 @@ def test_a_list_setting_reads_back_from_the_csv(tmp_path):
     columns = provenance_columns(provenance(settings={"model": models, "init": [["R0=1", "R1=2"], ["C1=3u"]], "seed": 0}))
     assert columns["setting_model"].split("; ") == models and "," not in columns["setting_model"]
     assert columns["setting_init"].split("; ") == ["R0=1", "R1=2", "C1=3u"] and columns["setting_seed"] == 0
+
+
+# --- the commands that write spectra (since 2026-12-01): simulate, inspect, stack, remaining ----------
+
+
+def _nc_record(path):
+    with xr.open_dataset(path) as ds:
+        return json.loads(ds.attrs["provenance"])
+
+
+def test_simulate_out_records_the_model_and_its_values(tmp_path, capsys):
+    """`impedax simulate --out` (CSV and netCDF): the command, the model, the values used
+    (defaults included) and no data file; the CSV's spectrum is still read back whole: R0 +
+    R1/(1 + jωR1C1) by hand (10 Ω, 100 Ω, 1 µF)."""
+    args = ["simulate", "R0 + R1 || C1", "--param", "R0=10", "R1=100", "C1=1u", "--points", "7"]
+    for ext in (".csv", ".nc"):
+        assert main([*args, "--out", str(tmp_path / f"s{ext}")]) == 0
+    capsys.readouterr()
+    rows = list(csv.DictReader((tmp_path / "s.csv").open(newline="")))
+    assert list(rows[0])[:3] == ["frequency_hz", "z_real_ohm", "z_imag_ohm"]  # (the spectrum's own columns first)
+    assert {(r["command"], r["setting_model"], r["setting_points_used"], r["data_files"], r["impedax_version"]) for r in rows} == {("impedax simulate", "R0 + R1 || C1", "7", "", ix.__version__)}
+    back = ix.load(tmp_path / "s.csv")
+    f = np.logspace(0, 6, 7)
+    np.testing.assert_allclose(back["Z"].values, 10 + 100 / (1 + 2j * np.pi * f * 100 * 1e-6), rtol=1e-12)
+    record = _nc_record(tmp_path / "s.nc")
+    assert record["command"] == "impedax simulate" and record["data_files"] == [] and _recent(record["written_utc"])
+    assert record["settings"]["params_used"] == {"R0": 10.0, "R1": 100.0, "C1": 1e-6}
+
+
+def test_inspect_json_and_out_record_the_file(rc_file, tmp_path, capsys):
+    """`impedax inspect --json` and its --out (netCDF, CSV) name the command and the file read."""
+    assert main(["inspect", str(rc_file), "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["file"] == str(rc_file)  # (the keys it had stay)
+    record = summary["provenance"]
+    assert record["command"] == "impedax inspect" and record["data_files"] == [str(rc_file.resolve())] and record["source"] == str(rc_file)
+    for ext in (".nc", ".csv"):
+        assert main(["inspect", str(rc_file), "--out", str(tmp_path / f"c{ext}")]) == 0
+    capsys.readouterr()
+    assert _nc_record(tmp_path / "c.nc")["data_files"] == [str(rc_file.resolve())]
+    assert {r["command"] for r in csv.DictReader((tmp_path / "c.csv").open(newline=""))} == {"impedax inspect"}
+
+
+def test_stack_out_records_every_file(rc_file, tmp_path, capsys):
+    """`impedax stack --out`: the command, --dim and --coords, and every file stacked, in order."""
+    second = tmp_path / "second.csv"
+    second.write_text(rc_file.read_text())
+    out = tmp_path / "days.nc"
+    assert main(["stack", str(rc_file), str(second), "--dim", "day", "--coords", "1", "2", "--out", str(out)]) == 0
+    capsys.readouterr()
+    record = _nc_record(out)
+    assert record["command"] == "impedax stack" and record["settings"] == {"dim": "day", "coords": ["1", "2"]}
+    assert record["data_files"] == [str(rc_file.resolve()), str(second.resolve())]
+    assert ix.load(out).sizes["day"] == 2  # (the stack reads back as before)
+
+
+def test_remaining_out_records_the_three_files(tmp_path, capsys):
+    """`impedax remaining --out` (netCDF and CSV): the three inputs by role, as `gap` records them.
+    SYNTHETIC parts: 3 trials × 6 frequencies of constant passive spectra with 1 % noise, seed 4."""
+    rng = np.random.default_rng(4)
+    f = np.geomspace(10.0, 1e5, 6)
+    parts = [ix.make_spectrum(f, level * (1 - 1j) * (1 + 0.01 * rng.standard_normal((3, f.size))), dims=("trial",))
+             for level in (1e6, 1e4, 1e3)]
+    paths = saved_gap_files(tmp_path, parts)
+    for ext in (".nc", ".csv"):
+        assert main(["remaining", *paths, "--out", str(tmp_path / f"rem{ext}")]) == 0
+    capsys.readouterr()
+    record = _nc_record(tmp_path / "rem.nc")
+    assert record["command"] == "impedax remaining" and record["source"] == dict(zip(("total", "skin", "touchscreen"), paths))
+    assert record["data_files"] == [str((tmp_path / n).resolve()) for n in ("total.nc", "skin.nc", "ts.nc")]
+    assert record["settings"]["trials"] is False
+    rows = list(csv.DictReader((tmp_path / "rem.csv").open(newline="")))
+    assert len(rows) == f.size and {r["command"] for r in rows} == {"impedax remaining"}
+    assert {r["data_files"] for r in rows} == {"; ".join(record["data_files"])}

@@ -84,7 +84,7 @@ impedax.save = save
 INSIDE_DASK = """
 import dask
 import impedax.io
-def save(ds, path):  # the write waits on a dask computation whose task is interrupted
+def save(ds, path, **options):  # the write waits on a dask computation whose task is interrupted
     def task(x):
         kill()
         return x

@@ -351,8 +351,8 @@ def with_source(summary: dict, source: str | None, provenance: Mapping | None = 
 
 
 # what `command_provenance` leaves out of a command's settings: where the outputs go, how they look and how
-# the run talks (not how the result was made), and the data files (its ``data_files``)
-_NOT_SETTINGS = frozenset({"run", "command", "json", "out", "plot", "corner", "dpi", "title", "quiet", "remaining", "data", "total", "skin", "touchscreen"})
+# the run talks (not how the result was made), and the data files (its ``data_files``: DATA, FILE, gap's three)
+_NOT_SETTINGS = frozenset({"run", "command", "json", "out", "plot", "corner", "dpi", "title", "quiet", "remaining", "data", "file", "files", "total", "skin", "touchscreen"})
 
 
 def command_provenance(args, *, source=None, data_files: Sequence[str] = (), **used) -> dict:
@@ -986,12 +986,16 @@ def result_writer(result, source: str | None = None, provenance: Mapping | None 
     return write
 
 
-def spectrum_writer(dataset: Callable[[], object]) -> Callable[[Path], None]:
-    """A writer of the spectrum ``dataset()`` (CSV or netCDF by extension, `impedax.io.save`)."""
+def spectrum_writer(dataset: Callable[[], object], provenance: Mapping | None = None, path: str | None = None) -> Callable[[Path], None]:
+    """A writer of the spectrum ``dataset()`` (CSV or netCDF by extension, `impedax.io.save`),
+    recording ``provenance`` (`command_provenance`) when given, unless the output's ``path`` is
+    ``-``: a spectrum on standard output stays the canonical columns a pipe reads, as the CSV
+    `simulate` and `remaining` print without ``--out`` (docs/io.md, "Provenance")."""
+    provenance = None if path == "-" else provenance
     def write(path: Path) -> None:
         from ..io import save
 
-        save(dataset(), path)
+        save(dataset(), path, provenance=provenance)
 
     return write
 

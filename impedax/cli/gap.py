@@ -88,7 +88,7 @@ def run(args) -> int:
     check_distinct_paths(paths)  # (after reading: a bad file is named first)
     result = gap_analysis(total, skin, touchscreen, area=args.area, v0=args.v0, ep=args.ep, steps=steps, seed=args.seed, method=args.method, progress=not args.quiet, check_area=not args.no_area_check)
     record = command_provenance(args, source=paths, data_files=list(paths.values()), **{f"{k}_used": v for k, v in (getattr(result, "settings", None) or {}).items()})
-    outputs.save({"--out": result_writer(result, provenance=record), "--plot": figure_writer(result.plot, **figure_options(args)), "--remaining": spectrum_writer(lambda: remainder_with_paths(result.remaining, paths))})
+    outputs.save({"--out": result_writer(result, provenance=record), "--plot": figure_writer(result.plot, **figure_options(args)), "--remaining": spectrum_writer(lambda: remainder_with_paths(result.remaining, paths), record, args.remaining)})
     if not outputs.uses_stdout:
         print_result(result, args.json, provenance=record)
     if result.warnings and args.json:

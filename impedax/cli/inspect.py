@@ -29,7 +29,7 @@ def run(args) -> int:
     from ..errors import DataError
     from ..io.loader import NETCDF_SUFFIXES
     from ..io.netcdf import RESULT_KINDS, reader_call, result_kind
-    from .common import Output, dimension_labels, emit_json, figure_options, figure_writer, labels_text, load_selected, plan_outputs, spectrum_writer
+    from .common import Output, command_provenance, data_source, dimension_labels, emit_json, figure_options, figure_writer, labels_text, load_selected, plan_outputs, spectrum_writer, with_source
 
     outputs = plan_outputs([("--out", args.out, "spectrum"), ("--plot", args.plot, "figure")], inputs=[args.file], stdout="--json" if args.json else None)
     ds = load_selected(args.file, args.select, warn=False)  # (its report shows the notes)
@@ -67,11 +67,12 @@ def run(args) -> int:
     }
     if kind:  # a saved result (impedax fit/sample --out FILE.nc): its data are what is shown
         summary.update({"result_kind": kind, "result": RESULT_KINDS[kind][0], "parameter_units": _parameter_units(ds)})
-    outputs.save({"--out": spectrum_writer(lambda: ds), "--plot": figure_writer(lambda: _preview(ds, summary["format"], summary["file"]), **figure_options(args))})
+    record = command_provenance(args, source=data_source(ds), data_files=[args.file])
+    outputs.save({"--out": spectrum_writer(lambda: ds, record, args.out), "--plot": figure_writer(lambda: _preview(ds, summary["format"], summary["file"]), **figure_options(args))})
     if outputs.uses_stdout:
         return 0
     if args.json:
-        emit_json(summary)
+        emit_json(with_source(summary, data_source(ds), record))
         return 0
     held = f" holding a saved {summary['result']} (its data shown here; read it in full with {reader_call(kind)})" if kind else ""
     first = f" (its data first read from {summary['data_format']})" if summary["data_format"] else ""

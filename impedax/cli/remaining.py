@@ -41,7 +41,7 @@ def run(args) -> int:
     from ..errors import ParameterError
     from ..io import write_csv
     from ..models.gap import gap_remainder
-    from .common import check_distinct_paths, load_selected_files, plan_outputs, remainder_with_paths, spectrum_writer
+    from .common import check_distinct_paths, command_provenance, load_selected_files, plan_outputs, remainder_with_paths, spectrum_writer
 
     out = None if args.out == "-" else args.out
     if args.trials and (out is None or Path(out).suffix.lower() != ".nc"):
@@ -52,7 +52,8 @@ def run(args) -> int:
     check_distinct_paths(paths)
     remaining, notes = gap_remainder(total, skin, touchscreen, kind="trials" if args.trials else "mean")
     remaining = remainder_with_paths(remaining, paths)
-    outputs.save({"--out": spectrum_writer(lambda: remaining)})
+    record = command_provenance(args, source=paths, data_files=list(paths.values()))  # (as impedax gap records them)
+    outputs.save({"--out": spectrum_writer(lambda: remaining, record)})
     if out is None:
         sys.stdout.write(write_csv(remaining))
     for note in notes:

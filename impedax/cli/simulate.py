@@ -6,7 +6,7 @@ import sys
 
 import numpy as np
 
-from .common import add_model_argument, add_output_options, check_memory, check_points, figure_options, figure_writer, model_and_values, number_option, plan_outputs, spectrum_writer
+from .common import add_model_argument, add_output_options, check_memory, check_points, command_provenance, figure_options, figure_writer, model_and_values, number_option, plan_outputs, spectrum_writer
 
 # memory per frequency while simulating and writing CSV: the frequencies, the complex impedance
 # and JAX's intermediates, and the CSV text with its line list (measured about 0.4 kB)
@@ -48,7 +48,8 @@ def run(args) -> int:
 
         return plot_spectrum(model=ds, title=str(circuit), model_label=str(circuit))
 
-    outputs.save({"--out": spectrum_writer(lambda: ds), "--plot": figure_writer(figure, **figure_options(args))})
+    record = command_provenance(args, points_used=points, params_used=params)  # (no data file: the model and its values made it)
+    outputs.save({"--out": spectrum_writer(lambda: ds, record, args.out), "--plot": figure_writer(figure, **figure_options(args))})
     if not args.out:
         sys.stdout.write(write_csv(ds))
     if defaulted:  # (said once the spectrum is out: not before an error)

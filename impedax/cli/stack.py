@@ -28,13 +28,14 @@ def run(args) -> int:
     from ..errors import DataError
     from ..io.loader import NETCDF_SUFFIXES
     from ..io.stack import stack_files
-    from .common import plan_outputs, spectrum_writer
+    from .common import command_provenance, data_source, plan_outputs, spectrum_writer
 
     if Path(args.out).suffix.lower() not in NETCDF_SUFFIXES:
         raise DataError(f"--out: a stack of spectra is written as netCDF: give a {', '.join(NETCDF_SUFFIXES)} name (a CSV file holds one spectrum)", path=args.out)
     outputs = plan_outputs([("--out", args.out, "spectrum")], inputs=args.files)
     stacked = stack_files(args.files, dim=args.dim, coords=args.coords)
-    outputs.save({"--out": spectrum_writer(lambda: stacked)})
+    record = command_provenance(args, source=data_source(stacked), data_files=args.files)
+    outputs.save({"--out": spectrum_writer(lambda: stacked, record)})
     labels = stacked[args.dim].values.tolist()
     shown = ", ".join(map(str, labels)) if len(labels) <= 6 else f"{', '.join(map(str, labels[:3]))}, …, {labels[-1]}"
     print(f"impedax stack: {len(labels)} spectra at {stacked.sizes['frequency']} frequencies along {args.dim!r} ({shown}); "

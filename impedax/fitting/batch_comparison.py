@@ -109,11 +109,21 @@ def compare_batches(batches: Sequence[BatchFitResult]) -> "BatchComparison":
     For each spectrum the single comparison's criteria (`criteria`: AIC, AICc, BIC; ΔAIC and
     Akaike weights, `akaike_weights`), and for each model the number of spectra it is best on by
     AIC and its AIC summed over the spectra (`SUM_NOTE`: the joint AIC of independent spectra is
-    the sum) with that sum's Δ and Akaike weight, and its median ΔAIC."""
+    the sum) with that sum's Δ and Akaike weight, and its median ΔAIC. A batch over the same
+    dimensions in another order (a stack transposed) is lined up with the first
+    (`BatchFitResult.transpose`); its labels must match. Fewer than two batches
+    is a `FitError` naming what was given: with one model there is nothing to rank."""
     batches = list(batches)
+    if len(batches) < 2:
+        given = f"1, a {type(batches[0]).__name__} of {batches[0].model} over {batches[0].n_spectra} spectra ({', '.join(batches[0].dims)})" if batches else "none"
+        raise FitError(f"compare of batches needs at least two batches of fits of the same spectra, one per model, to rank them: got {given}; "
+                       "fit another model to the same spectra and compare both (one batch's own fits: batch.report())")
     _refuse_other_data(batches)
     ref = batches[0]
     dims = ref.dims
+    # the same dimensions in another order (a stack transposed): lined up with the first batch,
+    # so that a spectrum's position, key and warnings are the same in every batch
+    batches = [b.transpose(*dims) for b in batches]
     n_points = int(ref.dataset.sizes["frequency"])
     labels = unique_labels([fit_label(_label_view(b)) for b in batches])
     columns: dict[str, list[np.ndarray]] = {c: [] for c in PER_SPECTRUM_CRITERIA}
@@ -163,7 +173,8 @@ class BatchComparison:
     `PER_SPECTRUM_CRITERIA` over (model, *the batches' dimensions), and per model ``circuit``,
     ``n_params`` and ``aic_sum`` (`SUM_NOTE`), with its ``delta_aic_sum`` and
     ``akaike_weight_sum``. The best model has the lowest summed AIC; ``batches`` are the fits,
-    in the order given. Immutable."""
+    in the order given, each over the first one's dimension order (`BatchFitResult.transpose`).
+    Immutable."""
 
     __repr__ = concise_repr
 

@@ -18,6 +18,7 @@ import io
 import re
 import warnings
 from pathlib import Path
+from typing import Mapping
 
 import numpy as np
 import xarray as xr
@@ -26,6 +27,7 @@ from ..arguments import number_text
 from ..errors import DataError
 from ._common import Skipped, decimal_comma, decode_text, finish, read_bytes
 from .atomic import atomic_path
+from .export import table_cell
 from .table import SWEEP_RTOL, Layout, NoLayout, detect_layout, spectrum_from_rows
 
 __all__ = ["read_csv", "write_csv", "CSV_HEADER", "split_line", "find_delimiter"]
@@ -300,10 +302,13 @@ def read_csv(path: str | Path) -> xr.Dataset:
     return ds
 
 
-def write_csv(ds: xr.Dataset, path: str | Path | None = None, *, delimiter: str = ",") -> str:
+def write_csv(ds: xr.Dataset, path: str | Path | None = None, *, delimiter: str = ",", columns: Mapping[str, object] | None = None) -> str:
     """Write one spectrum as ``frequency_hz,z_real_ohm,z_imag_ohm``, each number in its
     shortest exact form (`number_text`: 9904.999 stays ``9904.999``, where 17 significant
     digits print ``9904.9989999999998``; read back bit for bit); ``delimiter`` "\t" for a .tsv file.
+    ``columns`` (name → value, e.g. `impedax.io.provenance.provenance_columns`) follow the
+    spectrum's own, the same on every row (`table_cell`, quoted where CSV needs it); `read_csv`
+    reads the spectrum back and lists them in ``attrs["other_columns"]``.
 
     Returns the text; writes it atomically to ``path`` when given.
     """
@@ -313,13 +318,20 @@ def write_csv(ds: xr.Dataset, path: str | Path | None = None, *, delimiter: str 
     f = ds["frequency"].values
     zv = z.values
     header = list(CSV_HEADER)
-    columns = [f, zv.real, zv.imag]
+    values = [f, zv.real, zv.imag]
     if "sigma" in ds:
         header.append("sigma_ohm")
-        columns.append(ds["sigma"].values)
+        values.append(ds["sigma"].values)
+    constant = ""
+    if columns:
+        buffer = io.StringIO()
+        writer = _csv.writer(buffer, delimiter=delimiter, lineterminator="")
+        writer.writerow([table_cell(v) for v in columns.values()])
+        constant = delimiter + buffer.getvalue()
+        header.extend(columns)
     lines = [delimiter.join(header)]
-    for row in zip(*columns):
-        lines.append(delimiter.join(number_text(v) for v in row))
+    for row in zip(*values):
+        lines.append(delimiter.join(number_text(v) for v in row) + constant)
     text = "\n".join(lines) + "\n"
     if path is not None:
         with atomic_path(path) as tmp:

@@ -68,7 +68,7 @@ def to_jsonable(obj):
     return obj
 
 
-def _cell(value) -> str:
+def table_cell(value) -> str:
     """One CSV cell: floats in their shortest exact form (``repr``), booleans as true/false,
     None and NaN as an empty cell."""
     if value is None:
@@ -92,7 +92,7 @@ def write_table(rows: Sequence[Mapping[str, object]], path: str | Path) -> None:
     writer = csv.writer(buffer, lineterminator="\n")
     writer.writerow(columns)
     for row in rows:
-        writer.writerow([_cell(row.get(c)) for c in columns])
+        writer.writerow([table_cell(row.get(c)) for c in columns])
     with atomic_path(path) as tmp:
         tmp.write_text(buffer.getvalue(), encoding="utf-8")
 

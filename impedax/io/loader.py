@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
-from typing import Sequence
+from typing import Mapping, Sequence
 
 import xarray as xr
 
@@ -215,16 +215,22 @@ def _check_path(path) -> None:
         raise DataError(f"a file name cannot contain a NUL character: {shown(str(path))}")
 
 
-def save(ds: xr.Dataset, path: str | os.PathLike) -> None:
+def save(ds: xr.Dataset, path: str | os.PathLike, *, provenance: Mapping[str, object] | None = None) -> None:
     """Save a spectrum: ``.nc`` → lossless netCDF, ``.csv``/``.txt`` (or no extension) →
-    canonical CSV, ``.tsv`` → the same columns separated by tabs. Atomic."""
+    canonical CSV, ``.tsv`` → the same columns separated by tabs. Atomic. ``provenance``
+    (`impedax.io.provenance.provenance`; the command line gives it) is recorded as a written
+    result records it (docs/io.md, "Provenance"): the netCDF attributes of `provenance_attrs`,
+    the CSV columns of `provenance_columns` after the spectrum's own."""
     if not isinstance(ds, xr.Dataset):
         raise DataError(f"save takes a spectrum Dataset (impedax.make_spectrum, impedax.load), got {shown(ds)} ({type(ds).__name__})")
     _check_path(path)
     path = Path(path)
     kind = spectrum_format(path)
     validate_spectrum(ds)
+    from .provenance import provenance_attrs, provenance_columns
+
     if kind == "netcdf":
-        write_netcdf(ds, path)
+        write_netcdf(ds if provenance is None else ds.assign_attrs(provenance_attrs(provenance)), path)
     else:
-        write_csv(ds, path, delimiter="\t" if path.suffix.lower() == ".tsv" else ",")
+        columns = None if provenance is None else provenance_columns(provenance)
+        write_csv(ds, path, delimiter="\t" if path.suffix.lower() == ".tsv" else ",", columns=columns)

@@ -14,9 +14,9 @@ import numpy as np
 import xarray as xr
 
 from .atomic import atomic_path
-from ..errors import ArgumentNeeded, DataError
+from ..errors import IN_MEMORY, ArgumentNeeded, DataError
 
-__all__ = ["read_netcdf", "write_netcdf", "encode_dataset", "decode_dataset", "saved_result", "damaged_result", "result_kind", "not_a_spectrum", "NETCDF_FORMAT"]
+__all__ = ["read_netcdf", "write_netcdf", "encode_dataset", "decode_dataset", "saved_result", "saved_source", "damaged_result", "result_kind", "not_a_spectrum", "NETCDF_FORMAT"]
 
 _JSON = "json:"
 # magic (4 bytes), record count (4), then the dimension, attribute and variable lists (8 each)
@@ -203,6 +203,16 @@ def saved_result(ds, kind: str, *, variables=(), attrs=()) -> xr.Dataset:
         ds = ds.copy(deep=False)
         ds.attrs = {k: v for k, v in ds.attrs.items() if k not in PROVENANCE_ATTRS}
     return ds
+
+
+def saved_source(ds: xr.Dataset) -> str | None:
+    """Where a saved result's data came from, as `impedax.write_result` recorded it (the
+    attribute ``source``), so that a result read back has the ``source`` it had: ``saved_from``
+    when `impedax.load` read the file (it names the file read as ``source`` and keeps the one
+    saved as ``saved_from``), else ``source``; None when neither is there or the data were
+    built in memory (`IN_MEMORY`)."""
+    source = ds.attrs.get("saved_from", ds.attrs.get("source"))
+    return str(source) if source not in (None, "", IN_MEMORY) else None
 
 
 class damaged_result:

@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 import time
 import warnings as python_warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Callable
 
 import jax
@@ -97,7 +97,8 @@ class BatchFitResult:
         """Rebuild a batch of fits from `BatchFitResult.to_xarray` output: as returned, read back
         by `impedax.load`, or opened as stored (``xr.open_dataset`` of a file `impedax.write_result`
         or ``impedax fit --out FILE.nc`` wrote). ``registry``: the one the circuit's elements are
-        in (None: the default one). A file written before 2026-11-30 lacks the warnings: none."""
+        in (None: the default one). A file written before 2026-11-30 lacks the warnings: none.
+        ``source``: the data's file the saved result names (`impedax.io.netcdf.saved_source`)."""
         return cls._rebuilt(ds, "batch_fit", registry)
 
     @classmethod
@@ -105,7 +106,7 @@ class BatchFitResult:
         """``from_xarray`` of a saved result of ``kind`` (``fields``: a subclass's own, from the
         dataset)."""
         from ...circuits import parse
-        from ...io.netcdf import damaged_result, saved_result  # (io is imported only here: rarely needed)
+        from ...io.netcdf import damaged_result, saved_result, saved_source  # (io is imported only here: rarely needed)
 
         registry = DEFAULT_REGISTRY if registry is None else registry
         if isinstance(ds, xr.Dataset) and "impedax_kind" not in ds.attrs and _looks_like(ds) == kind:  # (written before the kind was stored)
@@ -116,7 +117,7 @@ class BatchFitResult:
             elapsed = float(ds.attrs.get("elapsed_s", 0.0))
             dataset = ds.copy()
             dataset.attrs = {k: v for k, v in ds.attrs.items() if k not in ("impedax_kind", "warnings", "elapsed_s", "format")}
-            return cls(circuit=parse(ds.attrs["model"], registry), dataset=dataset, weighting=str(ds.attrs["weighting"]), warnings=warnings, elapsed_s=elapsed, registry=registry, **{k: f(ds) for k, f in fields.items()})
+            return cls(circuit=parse(ds.attrs["model"], registry), dataset=dataset, weighting=str(ds.attrs["weighting"]), warnings=warnings, elapsed_s=elapsed, registry=registry, source=saved_source(ds), **{k: f(ds) for k, f in fields.items()})
 
     def values(self, name: str) -> xr.DataArray:
         """Fitted values of parameter ``name`` over the batch dimensions."""
@@ -332,11 +333,38 @@ class BatchFitResult:
     def spectrum_keys(self):
         """(key, labels) of each spectrum in C order: the text `fit_batch` files its warnings
         under ("cycle=64, cell=a") and its labels as JSON gives them ({dimension: label})."""
+        for where in self._spectrum_labels():
+            yield labels_key(where), {d: _json_label(c) for d, c in where.items()}
+
+    def _spectrum_labels(self):
+        """Each spectrum's labels as stored ({dimension: label}, the position along a dimension
+        without coordinates), in C order over `dims`."""
         ds = self.dataset
         labels = [ds[d].values if d in ds.coords else np.arange(ds.sizes[d]) for d in self.dims]
         for index in np.ndindex(*(ds.sizes[d] for d in self.dims)):
-            where = {d: labels[i][j] for i, (d, j) in enumerate(zip(self.dims, index))}
-            yield labels_key(where), {d: _json_label(c) for d, c in where.items()}
+            yield {d: labels[i][j] for i, (d, j) in enumerate(zip(self.dims, index))}
+
+    def transpose(self, *dims: str) -> "BatchFitResult":
+        """The same fits with the batch dimensions in the order ``dims`` (as
+        ``xarray.Dataset.transpose``; a batch of a transposed stack lined up with another, as
+        `compare` does): each variable's batch dimensions in that order, its other dimensions
+        where they were, and the warnings and unidentified groups filed under that order's keys
+        (`labels_key`: "cell=a, cycle=1" for "cycle=1, cell=a"). A `ParameterError` unless
+        ``dims`` are the batch's dimensions, each once."""
+        if sorted(dims) != sorted(self.dims):
+            raise ParameterError(f"transpose takes the batch's dimensions ({', '.join(self.dims)}), each once, in a new order; got {', '.join(map(str, dims)) or 'none'}")
+        if tuple(dims) == self.dims:
+            return self
+        ds = self.dataset.copy()
+        for name in self.dataset.data_vars:
+            own = ds[name].dims
+            ordered = iter(d for d in dims if d in own)
+            ds[name] = ds[name].transpose(*(next(ordered) if d in dims else d for d in own))
+        keys = {labels_key(where): labels_key({d: where[d] for d in dims}) for where in self._spectrum_labels()}
+        stored = self._stored_groups()
+        if stored is not None:
+            ds.attrs["unidentified_groups"] = {keys.get(k, k): v for k, v in stored.items()}
+        return replace(self, dataset=ds, warnings={keys.get(k, k): v for k, v in self.warnings.items()})
 
     def _spectrum_rows(self) -> list[dict]:
         """Each spectrum's fit (the JSON's ``spectra``): its label along every batch dimension

@@ -362,8 +362,10 @@ class FitResult:
         `impedax.load`, or opened as stored (``xr.open_dataset`` of a file `impedax.write_result`
         or ``impedax fit --out FILE.nc`` wrote). ``registry``: the one the circuit's elements are
         in (None: the default one). A file written before 2026-11-30 lacks the evaluation count,
-        starts and time: 0, 1 and 0 s; one written before 2026-11-30 21:00 UTC the unidentified groups: none."""
-        from ...io.netcdf import damaged_result, saved_result  # (io is imported only here: rarely needed)
+        starts and time: 0, 1 and 0 s; one written before 2026-11-30 21:00 UTC the unidentified groups: none.
+        ``source`` is the data's file the saved result names (`impedax.io.netcdf.saved_source`;
+        None before 2026-12-01, when a fit read back lost it)."""
+        from ...io.netcdf import damaged_result, saved_result, saved_source  # (io is imported only here: rarely needed)
 
         registry = DEFAULT_REGISTRY if registry is None else registry
         if isinstance(ds, xr.Dataset) and "impedax_kind" not in ds.attrs and "value" in ds.variables and ds["value"].dims == ("param",) and "covariance" in ds.variables:  # (written before the kind was stored)
@@ -395,6 +397,7 @@ class FitResult:
                 unidentified_groups=parameter_groups(ds.attrs.get("unidentified_groups", ())),
                 registry=registry,
                 bounds=stored_bounds(ds.attrs.get("bounds")),
+                source=saved_source(ds),
             )
 
 
