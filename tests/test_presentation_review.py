@@ -34,7 +34,7 @@ from impedax.cli.common import progress_printer
 from impedax.cli.refine import reproduce_line
 from impedax.plotting import plot_spectrum
 from impedax.plotting.comparison import plot_comparison
-from impedax.plotting.diagnosis import plot_diagnosis, plot_refinement
+from impedax.plotting.diagnosis import NOISE_LEVEL_LABEL, plot_diagnosis, plot_refinement
 
 F = np.geomspace(1e-2, 1e4, 31)
 
@@ -106,10 +106,33 @@ def test_refinement_figure_plain_percent_ticks_named_shading_and_start():
     first = fig.axes[1]
     assert "model fails" in legend_texts(first)
     assert "(start)" not in first.get_title() and first.get_title().startswith("step 0: start")
-    # the noise line sits where the verdict's noise ratio is 1: the last rms_rel / its ratio (0.5),
-    # twice the last step's 0.141 %
-    (noise,) = [line for line in fig.axes[0].get_lines() if line.get_label() == "noise level (the verdict's 1×)"]
-    assert noise.get_ydata()[0] == pytest.approx(2 * 0.2 / np.sqrt(2), rel=1e-3)
+    # the noise mark sits where the step's noise ratio is 1: its rms_rel / its ratio (0.5), twice
+    # the last step's 0.141 %; the start's stand-in diagnosis has no ratio, so no mark
+    (noise,) = [line for line in fig.axes[0].get_lines() if line.get_label() == NOISE_LEVEL_LABEL]
+    assert list(noise.get_xdata()) == [1] and noise.get_ydata()[0] == pytest.approx(2 * 0.2 / np.sqrt(2), rel=1e-3)
+    plt.close(fig)
+
+
+def test_refinement_figure_draws_each_point_on_the_side_of_its_noise_mark_its_verdict_says():
+    """Each step is judged against its own noise level: rms_rel / noise ratio (the ratio weighs σ
+    by where the residuals lie). One line from the last step's ratio (here 0.01: at 14.1 %) put
+    the start (11.7 %, judged 1.26× the noise) below it, as on BioLogic (start 2.07 % judged
+    1.26×, line at 2.24 %). Read back from the figure: a step judged above 1× lies above its
+    mark, one judged below lies below."""
+    refinement = refinement_stand_in()
+    refinement.steps[0].diagnosis.noise_ratio = 1.26
+    refinement.steps[1].diagnosis.noise_ratio = 0.01
+    fig = plot_refinement(refinement)
+    error = fig.axes[0]
+    (points,) = [line for line in error.get_lines() if line.get_marker() == "o"]
+    (noise,) = [line for line in error.get_lines() if line.get_label() == NOISE_LEVEL_LABEL]
+    assert NOISE_LEVEL_LABEL in legend_texts(error)
+    rms = np.array([s.fit.rms_rel * 100 for s in refinement.steps])  # (11.7 %, 0.141 %)
+    np.testing.assert_allclose(points.get_ydata(), rms)
+    assert list(noise.get_xdata()) == [0, 1]
+    np.testing.assert_allclose(noise.get_ydata(), rms / np.array([1.26, 0.01]))
+    above = np.asarray(points.get_ydata()) > np.asarray(noise.get_ydata())
+    assert list(above) == [True, False]  # (1.26× above its mark, 0.01× below it)
     plt.close(fig)
 
 
