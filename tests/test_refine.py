@@ -735,3 +735,20 @@ def test_another_paths_note_does_not_ask_for_the_final_fits_values(tmp_path, cap
     again = ix.fit(final, ix.load(path).sel(session=1, trial=1))
     reported = float(re.search(r"rms_rel fell from \S+ % to (\S+) %", out).group(1))
     assert again.rms_rel * 100 == pytest.approx(reported, rel=0.01)
+
+
+@pytest.mark.parametrize("command", ["refine", "diagnose"])
+@pytest.mark.parametrize("steps, noted", [("3", True), ("39", True), ("40", False), ("100", False)])
+def test_cli_a_small_max_steps_is_noted_as_the_solver_limit(tmp_path, capsys, command, steps, noted):
+    """``--max-steps`` of the CLI is the solver's step limit per fit (issue 14); a value below
+    the 40 steps every start is screened for (`SCREEN_STEPS`) most likely meant refine's
+    number of effects: one stderr note names --max-effects (the Python API refuses
+    ``refine(max_steps=3)``). A missing file ends the run (exit 2) after the note, so no fit runs."""
+    missing = tmp_path / "absent.csv"
+    assert main([command, str(missing), "--model", "R0 + R1 || C1", "--max-steps", steps]) == 2
+    err = capsys.readouterr().err
+    note = f"impedax {command}: note: --max-steps {steps} is the solver's step limit per fit"
+    assert (note in err) == noted, err
+    if noted:
+        assert err.count("note: --max-steps") == 1 and "the number of effects refine may add is --max-effects" in err
+    assert "absent.csv: file not found" in err
