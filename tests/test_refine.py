@@ -786,6 +786,35 @@ def test_path_notes_are_numbered_as_reported_and_a_path_dropped_to_the_start_say
     assert not any("third path" in n or "ARC2" in n for n in notes), notes
 
 
+def test_an_effect_step_that_leaves_an_element_out_says_why():
+    """A step that adds an effect and leaves a baseline element out (ZPlot's "+ R_relax ||
+    CPE_relax [extra_relaxation], − R0") carries the suggestion's reason, in the report and
+    the JSON, as the simplifications' notes do; `_greedy` keeps the suggestion's placement.
+    SYNTHETIC: an RC arc (numpy formula below) with 0.5 % complex noise, seed 3."""
+    from types import SimpleNamespace as NS
+
+    from impedax.fitting.diagnosis.refinement import Refinement, RefinementStep, _greedy
+
+    f = np.logspace(-1, 5, 31)
+    rng = np.random.default_rng(3)
+    z = 50.0 / (1 + 2j * np.pi * f * 50.0 * 1e-4) * (1 + 0.005 * (rng.standard_normal(f.size) + 1j * rng.standard_normal(f.size)))
+    start_fit = end_fit = ix.fit("R0 + R1 || C1", ix.make_spectrum(f, z))  # (one compiled fit: the report reads the final fit's parameters)
+    reason = "it fell to 3.63 µΩ: the data do not reach a series-resistance plateau (nor a bend)"
+    where = f"in place of the ideal capacitor C1, and R0 left out ({reason})"
+    best = NS(added="R1 || C1", effect="constant_phase", removed=("R0",), where=where, fit=end_fit)
+
+    def diagnosed(fit, shape):
+        return NS(baseline=fit, best=None, verdict="adequate", verdict_heading="ADEQUATE", reason="(a stand-in)", solver_shape=None, suggestions=())
+
+    start = RefinementStep(start_fit, None, None, NS(solver_shape=None, verdict="missing_effect", verdict_heading="MISSING EFFECT", reason="(a stand-in)"))
+    steps = _greedy([start], best, 4, diagnosed, lambda text: None, "")
+    assert steps[1].where == where and steps[1].removal_reasons == {"R0": reason}
+    report = Refinement(tuple(steps), "adequate").report()
+    assert f"step 1 leaves out R0 ({reason})" in report, report
+    assert steps[1].as_json()["removal_reasons"] == {"R0": reason} and steps[1].as_json()["where"] == where
+    assert start.removal_reasons == {} and "leaves out" not in Refinement((start,), "adequate").report()
+
+
 @pytest.mark.parametrize("command", ["refine", "diagnose"])
 @pytest.mark.parametrize("steps, noted", [("3", True), ("39", True), ("40", False), ("100", False)])
 def test_cli_a_small_max_steps_is_noted_as_the_solver_limit(tmp_path, capsys, command, steps, noted):

@@ -48,10 +48,33 @@ class RefinementStep:
     diagnosis: Diagnosis | None
     removed: tuple[str, ...] = ()
     same_fit: tuple[str, ...] = ()
+    where: str = ""  # the suggestion's placement in words (`Suggestion.where`), with why it left an element out
 
     @property
     def model(self) -> str:
         return self.fit.model
+
+    @property
+    def removal_reasons(self) -> dict[str, str]:
+        """Why an effect step left each of its ``removed`` elements out (name → reason), read
+        from its placement text, where `diagnosis._left_out` (and the stray capacitance's
+        proposal) put it: "…, and R0 left out (it fell to 3.63 µΩ: the data do not reach a
+        series-resistance plateau)". Empty for a step that adds nothing (`_simplified` and
+        `_pruned` give their reasons as notes)."""
+        reasons = {}
+        for name in self.removed if self.added and self.effect else ():
+            head = f"{name} left out ("
+            at = self.where.find(head)
+            if at < 0:
+                continue
+            start = at + len(head)
+            depth = 1
+            for end in range(start, len(self.where)):  # (to the matching parenthesis: a reason may hold its own)
+                depth += {"(": 1, ")": -1}.get(self.where[end], 0)
+                if depth == 0:
+                    reasons[name] = self.where[start:end]
+                    break
+        return reasons
 
     @property
     def change(self) -> str:
@@ -66,7 +89,7 @@ class RefinementStep:
         return f"− {', '.join(self.removed)} [simplified]" if self.removed else "(start)"
 
     def as_json(self) -> dict:
-        return {"model": self.model, "rms_rel": self.fit.rms_rel, "aic": self.fit.aic, "added": self.added, "effect": self.effect, "bic": self.fit.bic, "chi2_red": self.fit.chi2_red, "verdict": self.diagnosis.verdict if self.diagnosis else None, "removed": list(self.removed), "same_fit": list(self.same_fit)}
+        return {"model": self.model, "rms_rel": self.fit.rms_rel, "aic": self.fit.aic, "added": self.added, "effect": self.effect, "bic": self.fit.bic, "chi2_red": self.fit.chi2_red, "verdict": self.diagnosis.verdict if self.diagnosis else None, "removed": list(self.removed), "same_fit": list(self.same_fit), "where": self.where or None, "removal_reasons": self.removal_reasons}
 
 
 @dataclass(frozen=True, eq=False)
@@ -154,6 +177,9 @@ class Refinement:
             shown.append(f"{n} = {format_quantity(v, specs[n].unit)} ({how})")
         lines = [f"final fit {final.model}: " + ", ".join(shown)]
         for i, step in enumerate(self.steps):
+            reasons = step.removal_reasons
+            if step.removed and step.added and step.effect:  # (an effect step that took an element out says why, as every simplification's note does)
+                lines.append(f"step {i} leaves out " + "; ".join(f"{n} ({reasons[n]})" if n in reasons else f"{n} ({step.where})" for n in step.removed))
             if step.same_fit:
                 lines.append(f"step {i} has an alternative, the same fit within the noise (the data cannot tell them apart): {'; '.join(step.same_fit)}")
         if loose:
@@ -316,7 +342,7 @@ def _greedy(steps: list[RefinementStep], best, limit: int, diagnosed, say, label
     while best is not None and added + effect_count(best.effect) <= limit:
         say(f"{label}step {len(steps)}: diagnosing {best.fit.model}")
         d = diagnosed(best.fit, steps[-1].diagnosis.solver_shape)
-        steps.append(RefinementStep(d.baseline, best.added, best.effect, d, tuple(best.removed)))
+        steps.append(RefinementStep(d.baseline, best.added, best.effect, d, tuple(best.removed), where=getattr(best, "where", "") or ""))
         added += effect_count(best.effect)
         best = _best_within(d, limit - added)
     return steps
