@@ -405,11 +405,11 @@ def test_a_path_of_cheaper_effects_is_kept_when_it_ends_as_good_with_fewer_param
     assert [s.model for s in path] == kept, notes
     if greedy_verdict == "adequate":  # a path from each cheaper effect; the one from CPE ends at 4 parameters, 866 AIC above
         assert len(notes) == 2 and notes[0].startswith("a second path, starting from series_resistance"), notes
-        assert (": it is kept in place of the first path's" in notes[0]) == (kept[-1] == "RS+CPE")
+        assert (": it is kept in place of the first path's end" in notes[0]) == (kept[-1] == "RS+CPE")
         assert ("do not tell the two apart" in notes[0]) == (end_k == 6)
         # compared with the end kept so far, named as its path (the first path's no longer, once the second replaced it)
         holder = "the second path" if kept[-1] == "RS+CPE" else "the first path"
-        assert notes[1].startswith("a third path, starting from constant_phase") and notes[1].endswith(f"{holder}'s is kept"), notes
+        assert notes[1].startswith("a third path, starting from constant_phase") and notes[1].endswith(f"{holder}'s end is kept"), notes
         assert f"against {holder}'s end {kept[-1]} (AIC" in notes[1], notes
     else:
         assert notes == []
@@ -782,7 +782,7 @@ def test_path_notes_are_numbered_as_reported_and_a_path_dropped_to_the_start_say
     assert notes[0].startswith("second path: CPE: the data do not determine Q"), notes
     assert len(notes) == 2 and notes[1].startswith("a second path, starting from constant_phase"), notes
     assert "drops every step it took (its note above) and so ends at the start, start (AIC -270.0, 3 parameters)" in notes[1]
-    assert notes[1].endswith("against the first path's end ARC (AIC -1266.6, 6 parameters): the first path's is kept"), notes[1]
+    assert notes[1].endswith("against the first path's end ARC (AIC -1266.6, 6 parameters): the first path's end is kept"), notes[1]
     assert not any("third path" in n or "ARC2" in n for n in notes), notes
 
 

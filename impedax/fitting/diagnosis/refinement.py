@@ -441,7 +441,7 @@ def _second_path(steps: list[RefinementStep], picked, limit: int, diagnosed, say
         notes.append(
             f"a {label}, starting from {_first_step_text(alt)} instead of {_first_step_text(picked)}, "
             f"{end}, against {holder}'s end {steps[-1].model} (AIC {a.aic:.1f}, {a.n_params} parameters): "
-            + (f"it is kept in place of {holder}'s" if better else f"{holder}'s is kept")
+            + (f"it is kept in place of {holder}'s end" if better else f"{holder}'s end is kept")
             + (f" (it fits better by AIC, but with {b.n_params - a.n_params} more parameter(s) it explains under {NOISE_FRACTION_MIN:.0%} of the noise variance more)" if slight else "")
             + (f"; the data do not tell the two apart (AIC within {DELTA_AIC_MIN:g}, as many parameters)" if tie else "")
             + (f", and it keeps {', '.join(restored)}, which {holder} left out" if tie and better else "")
