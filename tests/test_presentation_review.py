@@ -802,3 +802,55 @@ def test_diagnose_says_each_stage_as_it_begins():
     assert said[0] == "fitting the baseline R0 + R1 || C1" and said[1] == "the Kramers–Kronig test of the data"
     assert any(re.fullmatch(r"fitting \d+ candidate circuits of \d+ effects", s) for s in said), said
 
+
+
+def _points_under_legend(ax) -> int:
+    """How many of the points ``ax``'s lines draw (their data through transData) lie inside its
+    frame and under its legend: the oracle, apart from `drawn_points`."""
+    box, frame = ax.get_legend().get_window_extent(), ax.get_window_extent()
+    count = 0
+    for line in ax.get_lines():
+        if line.get_transform() != ax.transData:  # (axhline and the like)
+            continue
+        xy = ax.transData.transform(np.column_stack([line.get_xdata(), line.get_ydata()]).astype(float))
+        inside = (xy[:, 0] >= frame.x0) & (xy[:, 0] <= frame.x1) & (xy[:, 1] >= frame.y0) & (xy[:, 1] <= frame.y1)
+        under = (xy[:, 0] >= box.x0) & (xy[:, 0] <= box.x1) & (xy[:, 1] >= box.y0) & (xy[:, 1] <= box.y1)
+        count += int(np.sum(inside & under))
+    return count
+
+
+def test_a_legend_that_would_cover_data_is_moved_out_of_the_panel():
+    """A panel filled with points (a 15 × 15 grid: every spot "best" tries covers some) has its
+    legend moved out of the frame, over none of them; a legend with room inside stays there."""
+    from impedax.plotting import legends_off_data
+
+    fig, (full, room) = plt.subplots(1, 2, figsize=(8, 3.5), layout="constrained")
+    gx, gy = np.meshgrid(np.linspace(0, 1, 15), np.linspace(0, 1, 15))
+    full.plot(gx.ravel(), gy.ravel(), "o", ms=3, label="data everywhere")
+    full.legend()
+    room.plot([0.0, 0.1, 0.2], [0.0, 0.1, 0.05], "o", label="data in a corner")
+    room.set_xlim(0, 1)
+    room.set_ylim(0, 1)
+    room.legend(loc="upper right")
+    fig.draw_without_rendering()
+    assert _points_under_legend(full) > 0  # (the oracle sees the overlap before)
+    legends_off_data(fig)
+    fig.draw_without_rendering()
+    assert _points_under_legend(full) == 0 and _points_under_legend(room) == 0
+    box, frame = full.get_legend().get_window_extent(), full.get_window_extent()
+    assert box.y0 >= frame.y1 - 1  # above the frame (the panel has no title)
+    kept, frame = room.get_legend().get_window_extent(), room.get_window_extent()
+    assert frame.contains(*kept.p0) and frame.contains(*kept.p1)  # (room inside: left where it was)
+    plt.close(fig)
+
+
+def test_refinement_and_diagnosis_figures_put_no_legend_over_their_data():
+    """Every legend of the refine and diagnose figures (stand-ins: a two-arc spectrum whose
+    Nyquist panel the legend of long model names would cover) lies over none of the points
+    its panel draws (read back from the figure after layout)."""
+    for fig in (plot_refinement(refinement_stand_in()), plot_diagnosis(diagnosis_stand_in())):
+        fig.draw_without_rendering()
+        for ax in fig.axes:
+            if ax.get_legend() is not None:
+                assert _points_under_legend(ax) == 0, [t.get_text() for t in ax.get_legend().get_texts()]
+        plt.close(fig)

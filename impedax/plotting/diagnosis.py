@@ -14,7 +14,7 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 
-from . import FLAT_NYQUIST, characters_across, equal_aspect, font_size, model_curve, nyquist_panel_height, nyquist_shape, plain_log_ticks, plot_spectrum, refresh_legend, shade_bands, wrap_model
+from . import FLAT_NYQUIST, characters_across, equal_aspect, font_size, model_curve, nyquist_panel_height, nyquist_shape, plain_log_ticks, plot_spectrum, legends_off_data, refresh_legend, shade_bands, wrap_model
 
 __all__ = ["plot_diagnosis", "plot_refinement", "noise_levels", "NOISE_LEVEL_LABEL"]
 
@@ -58,6 +58,7 @@ def plot_diagnosis(diagnosis, *, title: str | None = None, figsize: tuple[float,
             axes[3].legend(fontsize=font_size("legend", 8), ncol=3)
         refresh_legend(axes[0])
         refresh_legend(axes[1])
+    legends_off_data(fig)
     return fig
 
 
@@ -174,6 +175,7 @@ def plot_refinement(refinement, *, title: str | None = None):
     nyquist = fig.add_subplot(grid[0, :] if across else left[0])
     _refinement_nyquist(nyquist, refinement, characters_across((width if across else width * ratios[0] / sum(ratios)) - 1.0, font_size("legend", 8)))
     fig.suptitle(title or wrap_model(f"refinement: {refinement.steps[0].model} → {refinement.final_model} ({refinement.verdict})", characters_across(width - 0.4, font_size("suptitle", 12))))
+    legends_off_data(fig)
     return fig
 
 
