@@ -138,7 +138,7 @@ def plot_refinement(refinement, *, title: str | None = None):
     judged = noise_levels(refinement.steps)
     if judged:  # (a mark per step: the rms_rel at which that step's verdict calls the residuals 1× the noise)
         at, levels = zip(*judged)
-        ax.plot(at, levels, ls=":", marker="_", ms=18, mew=1.6, lw=0.8, color="grey", label=NOISE_LEVEL_LABEL)
+        ax.plot(at, levels, ls="none", marker="_", ms=18, mew=1.6, color="grey", label=NOISE_LEVEL_LABEL)  # (marks alone: a line between them crossed the steps' line)
         ax.legend(fontsize=font_size("legend", 8), loc="best")
     ax.set_xlabel("refinement step")
     ax.set_ylabel("rms_rel [%]")
