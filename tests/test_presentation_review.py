@@ -34,7 +34,7 @@ from impedax.cli.common import progress_printer
 from impedax.cli.refine import reproduce_line
 from impedax.plotting import plot_spectrum
 from impedax.plotting.comparison import plot_comparison
-from impedax.plotting.diagnosis import plot_diagnosis, plot_refinement
+from impedax.plotting.diagnosis import NOISE_LEVEL_LABEL, plot_diagnosis, plot_refinement
 
 F = np.geomspace(1e-2, 1e4, 31)
 
@@ -106,10 +106,33 @@ def test_refinement_figure_plain_percent_ticks_named_shading_and_start():
     first = fig.axes[1]
     assert "model fails" in legend_texts(first)
     assert "(start)" not in first.get_title() and first.get_title().startswith("step 0: start")
-    # the noise line sits where the verdict's noise ratio is 1: the last rms_rel / its ratio (0.5),
-    # twice the last step's 0.141 %
-    (noise,) = [line for line in fig.axes[0].get_lines() if line.get_label() == "noise level (the verdict's 1×)"]
-    assert noise.get_ydata()[0] == pytest.approx(2 * 0.2 / np.sqrt(2), rel=1e-3)
+    # the noise mark sits where the step's noise ratio is 1: its rms_rel / its ratio (0.5), twice
+    # the last step's 0.141 %; the start's stand-in diagnosis has no ratio, so no mark
+    (noise,) = [line for line in fig.axes[0].get_lines() if line.get_label() == NOISE_LEVEL_LABEL]
+    assert list(noise.get_xdata()) == [1] and noise.get_ydata()[0] == pytest.approx(2 * 0.2 / np.sqrt(2), rel=1e-3)
+    plt.close(fig)
+
+
+def test_refinement_figure_draws_each_point_on_the_side_of_its_noise_mark_its_verdict_says():
+    """Each step is judged against its own noise level: rms_rel / noise ratio (the ratio weighs σ
+    by where the residuals lie). One line from the last step's ratio (here 0.01: at 14.1 %) put
+    the start (11.7 %, judged 1.26× the noise) below it, as on BioLogic (start 2.07 % judged
+    1.26×, line at 2.24 %). Read back from the figure: a step judged above 1× lies above its
+    mark, one judged below lies below."""
+    refinement = refinement_stand_in()
+    refinement.steps[0].diagnosis.noise_ratio = 1.26
+    refinement.steps[1].diagnosis.noise_ratio = 0.01
+    fig = plot_refinement(refinement)
+    error = fig.axes[0]
+    (points,) = [line for line in error.get_lines() if line.get_marker() == "o"]
+    (noise,) = [line for line in error.get_lines() if line.get_label() == NOISE_LEVEL_LABEL]
+    assert NOISE_LEVEL_LABEL in legend_texts(error)
+    rms = np.array([s.fit.rms_rel * 100 for s in refinement.steps])  # (11.7 %, 0.141 %)
+    np.testing.assert_allclose(points.get_ydata(), rms)
+    assert list(noise.get_xdata()) == [0, 1]
+    np.testing.assert_allclose(noise.get_ydata(), rms / np.array([1.26, 0.01]))
+    above = np.asarray(points.get_ydata()) > np.asarray(noise.get_ydata())
+    assert list(above) == [True, False]  # (1.26× above its mark, 0.01× below it)
     plt.close(fig)
 
 
@@ -779,3 +802,55 @@ def test_diagnose_says_each_stage_as_it_begins():
     assert said[0] == "fitting the baseline R0 + R1 || C1" and said[1] == "the Kramers–Kronig test of the data"
     assert any(re.fullmatch(r"fitting \d+ candidate circuits of \d+ effects", s) for s in said), said
 
+
+
+def _points_under_legend(ax) -> int:
+    """How many of the points ``ax``'s lines draw (their data through transData) lie inside its
+    frame and under its legend: the oracle, apart from `drawn_points`."""
+    box, frame = ax.get_legend().get_window_extent(), ax.get_window_extent()
+    count = 0
+    for line in ax.get_lines():
+        if line.get_transform() != ax.transData:  # (axhline and the like)
+            continue
+        xy = ax.transData.transform(np.column_stack([line.get_xdata(), line.get_ydata()]).astype(float))
+        inside = (xy[:, 0] >= frame.x0) & (xy[:, 0] <= frame.x1) & (xy[:, 1] >= frame.y0) & (xy[:, 1] <= frame.y1)
+        under = (xy[:, 0] >= box.x0) & (xy[:, 0] <= box.x1) & (xy[:, 1] >= box.y0) & (xy[:, 1] <= box.y1)
+        count += int(np.sum(inside & under))
+    return count
+
+
+def test_a_legend_that_would_cover_data_is_moved_out_of_the_panel():
+    """A panel filled with points (a 15 × 15 grid: every spot "best" tries covers some) has its
+    legend moved out of the frame, over none of them; a legend with room inside stays there."""
+    from impedax.plotting import legends_off_data
+
+    fig, (full, room) = plt.subplots(1, 2, figsize=(8, 3.5), layout="constrained")
+    gx, gy = np.meshgrid(np.linspace(0, 1, 15), np.linspace(0, 1, 15))
+    full.plot(gx.ravel(), gy.ravel(), "o", ms=3, label="data everywhere")
+    full.legend()
+    room.plot([0.0, 0.1, 0.2], [0.0, 0.1, 0.05], "o", label="data in a corner")
+    room.set_xlim(0, 1)
+    room.set_ylim(0, 1)
+    room.legend(loc="upper right")
+    fig.draw_without_rendering()
+    assert _points_under_legend(full) > 0  # (the oracle sees the overlap before)
+    legends_off_data(fig)
+    fig.draw_without_rendering()
+    assert _points_under_legend(full) == 0 and _points_under_legend(room) == 0
+    box, frame = full.get_legend().get_window_extent(), full.get_window_extent()
+    assert box.y0 >= frame.y1 - 1  # above the frame (the panel has no title)
+    kept, frame = room.get_legend().get_window_extent(), room.get_window_extent()
+    assert frame.contains(*kept.p0) and frame.contains(*kept.p1)  # (room inside: left where it was)
+    plt.close(fig)
+
+
+def test_refinement_and_diagnosis_figures_put_no_legend_over_their_data():
+    """Every legend of the refine and diagnose figures (stand-ins: a two-arc spectrum whose
+    Nyquist panel the legend of long model names would cover) lies over none of the points
+    its panel draws (read back from the figure after layout)."""
+    for fig in (plot_refinement(refinement_stand_in()), plot_diagnosis(diagnosis_stand_in())):
+        fig.draw_without_rendering()
+        for ax in fig.axes:
+            if ax.get_legend() is not None:
+                assert _points_under_legend(ax) == 0, [t.get_text() for t in ax.get_legend().get_texts()]
+        plt.close(fig)

@@ -405,9 +405,12 @@ def test_a_path_of_cheaper_effects_is_kept_when_it_ends_as_good_with_fewer_param
     assert [s.model for s in path] == kept, notes
     if greedy_verdict == "adequate":  # a path from each cheaper effect; the one from CPE ends at 4 parameters, 866 AIC above
         assert len(notes) == 2 and notes[0].startswith("a second path, starting from series_resistance"), notes
-        assert notes[0].endswith(": it is kept") == (kept[-1] == "RS+CPE")
+        assert (": it is kept in place of the first path's end" in notes[0]) == (kept[-1] == "RS+CPE")
         assert ("do not tell the two apart" in notes[0]) == (end_k == 6)
-        assert notes[1].startswith("a third path, starting from constant_phase") and notes[1].endswith("the path before it is kept")
+        # compared with the end kept so far, named as its path (the first path's no longer, once the second replaced it)
+        holder = "the second path" if kept[-1] == "RS+CPE" else "the first path"
+        assert notes[1].startswith("a third path, starting from constant_phase") and notes[1].endswith(f"{holder}'s end is kept"), notes
+        assert f"against {holder}'s end {kept[-1]} (AIC" in notes[1], notes
     else:
         assert notes == []
 
@@ -505,7 +508,7 @@ def test_at_a_tie_the_path_that_leaves_out_fewer_elements_is_kept(greedy_removed
     path = _second_path(greedy, greedy[0].diagnosis.best, 4, diagnosed, lambda text: None, notes, lambda path, label: path)
     assert path[-1].model == kept, notes
     assert "do not tell the two apart" in notes[0]
-    assert ("it keeps R2, which the path before left out" in notes[0]) == (kept == "L+W")
+    assert ("it keeps R2, which the first path left out" in notes[0]) == (kept == "L+W")
 
 
 @pytest.mark.parametrize("keeping_end, kept", [(("L+W", -1280.0, 9), "L+W"), (("L+W+RC", -1282.0, 12), "L'+RC"), (None, "L'+RC")])
@@ -735,3 +738,95 @@ def test_another_paths_note_does_not_ask_for_the_final_fits_values(tmp_path, cap
     again = ix.fit(final, ix.load(path).sel(session=1, trial=1))
     reported = float(re.search(r"rms_rel fell from \S+ % to (\S+) %", out).group(1))
     assert again.rms_rel * 100 == pytest.approx(reported, rel=0.01)
+
+
+def test_path_notes_are_numbered_as_reported_and_a_path_dropped_to_the_start_says_so(monkeypatch):
+    """`_second_path` with stand-ins: the greedy path ended adequate at ARC (6 parameters); the
+    path from RS ends at ARC2, ARC's circuit under other names (not reported, and its refit's
+    note goes with it); the path from CPE drops every step in its refit (`_finish`) and ends at
+    the start. The notes name it the second path (not the third), say it ends at the start
+    rather than calling the start its end, and name the first path's end as the one kept
+    (Gamry with --fmin 2.3e3 jumped from the second path to the fourth and called the start
+    model "R0 + R1 || C1" a path's end "with R0 left out")."""
+    from types import SimpleNamespace as NS
+
+    from impedax.fitting.diagnosis import refinement
+    from impedax.fitting.diagnosis.refinement import RefinementStep, _second_path
+
+    monkeypatch.setattr(refinement, "_same_network", lambda a, b: {a.model, b.model} == {"ARC", "ARC2"})
+
+    def suggestion(effect, model, aic, k):
+        return NS(where="in series", effect=effect, delta_aic=aic, added=model, fit=_fit_stand_in(model=model, aic=aic, n_params=k, converged=True), removed=(), undetermined=())
+
+    arc, rs, cpe = suggestion("extra_relaxation", "ARC", -1266.6, 6), suggestion("series_resistance", "RS", -522.0, 4), suggestion("constant_phase", "CPE", -400.0, 4)
+    first = NS(best=arc, suggestions=(arc, rs, cpe), candidates=(arc, rs, cpe), solver_shape=None, noise=_STAND_IN_NOISE, baseline=NS(frequency=_STAND_IN_FREQUENCY, n_params=3))
+    start = RefinementStep(_fit_stand_in(model="start", aic=-270.0, n_params=3), None, None, first)
+    greedy = [start, RefinementStep(arc.fit, "arc", "extra_relaxation", NS(solver_shape=None, verdict="adequate"))]
+
+    def diagnosed(fit, shape):  # RS → ARC2 (as good, as many parameters), then adequate
+        nxt = {"RS": suggestion("extra_relaxation", "ARC2", -1266.0, 6)}.get(fit.model)
+        return NS(baseline=fit, best=nxt, verdict="missing_effect" if nxt else "adequate", solver_shape=None)
+
+    notes = []
+
+    def finished(path, label):
+        if label and path[-1].model == "ARC2":
+            notes.append(f"{label}ARC2: refitted")
+        if label and path[-1].model == "CPE":
+            notes.append(f"{label}CPE: the data do not determine Q when fitted from scratch; the step that added CPE is dropped")
+            return path[:1]
+        return path
+
+    path = _second_path(greedy, arc, 4, diagnosed, lambda text: None, notes, finished)
+    assert [s.model for s in path] == ["start", "ARC"]
+    assert notes[0].startswith("second path: CPE: the data do not determine Q"), notes
+    assert len(notes) == 2 and notes[1].startswith("a second path, starting from constant_phase"), notes
+    assert "drops every step it took (its note above) and so ends at the start, start (AIC -270.0, 3 parameters)" in notes[1]
+    assert notes[1].endswith("against the first path's end ARC (AIC -1266.6, 6 parameters): the first path's end is kept"), notes[1]
+    assert not any("third path" in n or "ARC2" in n for n in notes), notes
+
+
+def test_an_effect_step_that_leaves_an_element_out_says_why():
+    """A step that adds an effect and leaves a baseline element out (ZPlot's "+ R_relax ||
+    CPE_relax [extra_relaxation], − R0") carries the suggestion's reason, in the report and
+    the JSON, as the simplifications' notes do; `_greedy` keeps the suggestion's placement.
+    SYNTHETIC: an RC arc (numpy formula below) with 0.5 % complex noise, seed 3."""
+    from types import SimpleNamespace as NS
+
+    from impedax.fitting.diagnosis.refinement import Refinement, RefinementStep, _greedy
+
+    f = np.logspace(-1, 5, 31)
+    rng = np.random.default_rng(3)
+    z = 50.0 / (1 + 2j * np.pi * f * 50.0 * 1e-4) * (1 + 0.005 * (rng.standard_normal(f.size) + 1j * rng.standard_normal(f.size)))
+    start_fit = end_fit = ix.fit("R0 + R1 || C1", ix.make_spectrum(f, z))  # (one compiled fit: the report reads the final fit's parameters)
+    reason = "it fell to 3.63 µΩ: the data do not reach a series-resistance plateau (nor a bend)"
+    where = f"in place of the ideal capacitor C1, and R0 left out ({reason})"
+    best = NS(added="R1 || C1", effect="constant_phase", removed=("R0",), where=where, fit=end_fit)
+
+    def diagnosed(fit, shape):
+        return NS(baseline=fit, best=None, verdict="adequate", verdict_heading="ADEQUATE", reason="(a stand-in)", solver_shape=None, suggestions=())
+
+    start = RefinementStep(start_fit, None, None, NS(solver_shape=None, verdict="missing_effect", verdict_heading="MISSING EFFECT", reason="(a stand-in)"))
+    steps = _greedy([start], best, 4, diagnosed, lambda text: None, "")
+    assert steps[1].where == where and steps[1].removal_reasons == {"R0": reason}
+    report = Refinement(tuple(steps), "adequate").report()
+    assert f"step 1 leaves out R0 ({reason})" in report, report
+    assert steps[1].as_json()["removal_reasons"] == {"R0": reason} and steps[1].as_json()["where"] == where
+    assert start.removal_reasons == {} and "leaves out" not in Refinement((start,), "adequate").report()
+
+
+@pytest.mark.parametrize("command", ["refine", "diagnose"])
+@pytest.mark.parametrize("steps, noted", [("3", True), ("39", True), ("40", False), ("100", False)])
+def test_cli_a_small_max_steps_is_noted_as_the_solver_limit(tmp_path, capsys, command, steps, noted):
+    """``--max-steps`` of the CLI is the solver's step limit per fit (issue 14); a value below
+    the 40 steps every start is screened for (`SCREEN_STEPS`) most likely meant refine's
+    number of effects: one stderr note names --max-effects (the Python API refuses
+    ``refine(max_steps=3)``). A missing file ends the run (exit 2) after the note, so no fit runs."""
+    missing = tmp_path / "absent.csv"
+    assert main([command, str(missing), "--model", "R0 + R1 || C1", "--max-steps", steps]) == 2
+    err = capsys.readouterr().err
+    note = f"impedax {command}: note: --max-steps {steps} is the solver's step limit per fit"
+    assert (note in err) == noted, err
+    if noted:
+        assert err.count("note: --max-steps") == 1 and "the number of effects refine may add is --max-effects" in err
+    assert "absent.csv: file not found" in err

@@ -68,10 +68,11 @@ def fixed_option(args) -> dict[str, float]:
 def run(args) -> int:
     from ..fitting import diagnose
     from .common import command_provenance, data_source, exclude_points, figure_options, figure_writer, fit_command, load_selected, plan_outputs, print_result, progress_printer, relative_noise, result_writer
-    from .fit import check_max_steps
+    from .fit import check_max_steps, note_solver_step_limit
 
     outputs = plan_outputs([("--out", args.out, "result"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     max_steps = check_max_steps(args.max_steps)
+    note_solver_step_limit(max_steps, "diagnose")
     noise = relative_noise(args.noise)
     effects = effects_option(args.effects)
     fixed = fixed_option(args)

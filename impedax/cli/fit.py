@@ -45,6 +45,24 @@ def check_max_steps(n: int) -> int:
     return n
 
 
+def note_solver_step_limit(n: int, command: str) -> None:
+    """One stderr note when ``--max-steps N`` of ``diagnose`` or ``refine`` is below
+    `SCREEN_STEPS` (40), the Levenberg–Marquardt steps every start of a fit is screened for:
+    a solver limit that small is no sensible one, and it most likely meant refine's number of
+    effects (``--max-effects``; ``--max-steps`` was that number before issue 14, and
+    ``impedax.refine(max_steps=3)`` is refused for it). The value is still used as the step limit."""
+    import sys
+
+    from ..fitting.least_squares.solvers import SCREEN_STEPS
+
+    if n < SCREEN_STEPS:
+        print(
+            f"impedax {command}: note: --max-steps {n} is the solver's step limit per fit (below the {SCREEN_STEPS} steps each start is screened for); "
+            f"the number of effects refine may add is --max-effects",
+            file=sys.stderr,
+        )
+
+
 def add_bound_option(p, where: str = "") -> None:
     """``--bound NAME=LO:HI ...`` (several after one, or repeated), read by `common.parse_bounds` and
     `common.checked_bound_options`: the ``bounds=`` of `impedax.fit` and `impedax.sample`."""

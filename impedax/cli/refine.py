@@ -30,12 +30,13 @@ def run(args) -> int:
     from ..fitting import refine
     from .common import command_provenance, data_source, exclude_points, figure_options, figure_writer, load_selected, plan_outputs, print_result, progress_printer, relative_noise, result_writer
     from .diagnose import effects_option, fixed_option
-    from .fit import check_max_steps
+    from .fit import check_max_steps, note_solver_step_limit
 
     outputs = plan_outputs([("--out", args.out, "result"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     if args.max_effects < 0:
         raise ParameterError(f"--max-effects must be 0 or more, got {args.max_effects}")
     solver_steps = check_max_steps(args.max_steps)
+    note_solver_step_limit(solver_steps, "refine")
     noise = relative_noise(args.noise)
     effects = effects_option(args.effects)
     fixed = fixed_option(args)

@@ -23,7 +23,7 @@ from ..data import SI_PREFIXES, si_prefix
 from ..errors import ParameterError
 from ..io.atomic import atomic_path
 
-__all__ = ["plot_spectrum", "model_curve", "dense_model", "plot_nyquist", "equal_aspect", "nyquist_frame", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "plot_bode", "save_figure", "FIGURE_DPI", "fitting_ylabel", "shade_bands", "refresh_legend", "plain_log_ticks", "plain_linear_ticks", "PlainTicks", "prefixable_unit", "wrap_model", "characters_across", "font_size", "label_spectra_axis", "SpectraLocator", "plot_spectra"]
+__all__ = ["plot_spectrum", "model_curve", "dense_model", "plot_nyquist", "equal_aspect", "nyquist_frame", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "plot_bode", "save_figure", "FIGURE_DPI", "fitting_ylabel", "shade_bands", "refresh_legend", "legends_off_data", "drawn_points", "plain_log_ticks", "plain_linear_ticks", "PlainTicks", "prefixable_unit", "wrap_model", "characters_across", "font_size", "label_spectra_axis", "SpectraLocator", "plot_spectra"]
 
 
 # the rcParams key each kind of impedax's text follows (`font_size`)
@@ -446,6 +446,85 @@ def refresh_legend(ax) -> None:
     texts = legend.get_texts()
     size = texts[0].get_fontsize() if texts else 8
     ax.legend(fontsize=size, ncol=getattr(legend, "_ncols", 1))
+
+
+def drawn_points(ax) -> np.ndarray:
+    """The display coordinates (N, 2) of what ``ax`` draws inside its frame: every point of its
+    lines, with points put along each segment (a line between two markers crosses what lies
+    between), and the offsets of its scatter collections. Shaded bands and the frame are not data."""
+    inside = ax.get_window_extent()
+    parts = []
+    for line in ax.get_lines():
+        if not line.get_visible():
+            continue
+        xy = line.get_transform().transform(np.asarray(line.get_xydata(), float))
+        xy = xy[np.all(np.isfinite(xy), axis=1)]
+        if len(xy) > 1 and line.get_linestyle() not in ("None", "none", "", " "):
+            t = np.linspace(0.0, 1.0, 9)[:-1]
+            xy = np.concatenate([(xy[:-1, None, :] * (1 - t[None, :, None]) + xy[1:, None, :] * t[None, :, None]).reshape(-1, 2), xy[-1:]])
+        parts.append(xy)
+    for collection in ax.collections:
+        offsets = np.asarray(collection.get_offsets(), float)
+        if offsets.size and collection.get_visible():
+            parts.append(collection.get_offset_transform().transform(offsets))
+    if not parts:
+        return np.empty((0, 2))
+    xy = np.concatenate(parts)
+    keep = (xy[:, 0] >= inside.x0) & (xy[:, 0] <= inside.x1) & (xy[:, 1] >= inside.y0) & (xy[:, 1] <= inside.y1)
+    return xy[keep]
+
+
+def legends_off_data(fig) -> None:
+    """Move each legend of ``fig`` that covers drawn data (`drawn_points`, after the figure's
+    layout) out of its axes, across their width (same entries, columns, font size and title):
+    above the frame, or, when the axes has a title, below its tick labels and axis label; the
+    figure's constrained layout then makes room for it. Matplotlib's "best" spot is the least
+    covering of nine, not one that covers nothing: the legend of the CHI refine's tall Nyquist
+    panel sat on its high-|Z| data and fitted curve, and the diagnosis' |Z| legend on the
+    baseline. (Beside the frame, a legend of wrapped model names squeezed the panels to
+    nothing.) A legend moved out changes the layout, so the others are checked again (at most
+    `LEGEND_PASSES` times). Call it last (a legend redrawn after, `refresh_legend`, goes back inside)."""
+    from matplotlib.transforms import offset_copy
+
+    moved: set[int] = set()
+    for _ in range(LEGEND_PASSES):
+        fig.draw_without_rendering()
+        covering = [ax for ax in fig.axes if id(ax) not in moved and ax.get_legend() is not None and _covers_data(ax)]
+        if not covering:
+            return
+        for ax in covering:
+            legend = ax.get_legend()
+            texts = legend.get_texts()
+            title = legend.get_title().get_text()
+            options = dict(
+                fontsize=texts[0].get_fontsize() if texts else font_size("legend", 8),
+                title=title or None, title_fontsize=legend.get_title().get_fontsize() if title else None, borderaxespad=0.0,
+            )
+            frame = ax.get_window_extent()
+            if ax.get_title():  # (below: the title holds the space above)
+                drop = (frame.y0 - ax.get_tightbbox(for_layout_only=True).y0) * 72.0 / fig.dpi + 3.0  # [pt]: the tick labels and the axis label
+                options.update(loc="upper center", bbox_to_anchor=(0.5, 0.0), bbox_transform=offset_copy(ax.transAxes, fig=fig, y=-drop, units="points"))
+            else:
+                options.update(loc="lower center", bbox_to_anchor=(0.5, 1.02), bbox_transform=ax.transAxes)
+            # as many columns as fit the panel's width (a legend wider than its panel would
+            # squeeze the panel in the layout), one at least
+            for ncol in range(max(len(texts), 1), 0, -1):
+                placed = ax.legend(ncol=ncol, **options)
+                if ncol == 1 or placed.get_window_extent(fig.canvas.get_renderer()).width <= frame.width:
+                    break
+            moved.add(id(ax))
+
+
+LEGEND_PASSES = 3
+"""`legends_off_data` checks the legends again after moving some out (the panels narrow), at
+most this many times."""
+
+
+def _covers_data(ax) -> bool:
+    """Whether ``ax``'s legend (inside its frame) lies over a point it draws (`drawn_points`)."""
+    box = ax.get_legend().get_window_extent()
+    xy = drawn_points(ax)
+    return bool(np.any((xy[:, 0] >= box.x0) & (xy[:, 0] <= box.x1) & (xy[:, 1] >= box.y0) & (xy[:, 1] <= box.y1)))
 
 
 def plot_spectrum(

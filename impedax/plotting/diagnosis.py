@@ -14,9 +14,9 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 
-from . import FLAT_NYQUIST, characters_across, equal_aspect, font_size, model_curve, nyquist_panel_height, nyquist_shape, plain_log_ticks, plot_spectrum, refresh_legend, shade_bands, wrap_model
+from . import FLAT_NYQUIST, characters_across, equal_aspect, font_size, model_curve, nyquist_panel_height, nyquist_shape, plain_log_ticks, plot_spectrum, legends_off_data, refresh_legend, shade_bands, wrap_model
 
-__all__ = ["plot_diagnosis", "plot_refinement"]
+__all__ = ["plot_diagnosis", "plot_refinement", "noise_levels", "NOISE_LEVEL_LABEL"]
 
 
 ADEQUATE_BANDS = "misfit no effect explains (adequate)"
@@ -58,6 +58,7 @@ def plot_diagnosis(diagnosis, *, title: str | None = None, figsize: tuple[float,
             axes[3].legend(fontsize=font_size("legend", 8), ncol=3)
         refresh_legend(axes[0])
         refresh_legend(axes[1])
+    legends_off_data(fig)
     return fig
 
 
@@ -81,8 +82,27 @@ def _mark_masked(nyquist, diagnosis, bode=()) -> None:
         refresh_legend(ax_mod)
 
 
+NOISE_LEVEL_LABEL = "noise level each step is judged against (1×)"
+"""The legend of the refinement figure's noise marks (`noise_levels`)."""
+
+
+def noise_levels(steps) -> list[tuple[int, float]]:
+    """(step, rms_rel [%]) at which each step's diagnosis calls the residuals 1× the noise: the
+    step's plotted rms_rel divided by its noise ratio (√(mean |r|²/(2σ²)), docs/diagnosis.md,
+    section 2). The ratio weighs σ by where the residuals lie, so the level moves from step to
+    step: one line from the last step's ratio put a start judged 1.26× the noise (BioLogic)
+    below it. A step's point lies above its mark exactly when its ratio exceeds 1. Steps
+    without a diagnosis or a positive ratio have no mark."""
+    out = []
+    for i, s in enumerate(steps):
+        ratio = getattr(s.diagnosis, "noise_ratio", None) if s.diagnosis is not None else None
+        if ratio is not None and np.isfinite(ratio) and ratio > 0:
+            out.append((i, s.fit.rms_rel / ratio * 100))
+    return out
+
+
 def plot_refinement(refinement, *, title: str | None = None):
-    """Error per step (rms_rel, log scale, with the final noise level √2σ), the relative
+    """Error per step (rms_rel, log scale, with each step's noise level, `noise_levels`), the relative
     residuals of the last five steps vs frequency, each step's failing bands shaded, and a
     Nyquist panel of the data with the first and the last step's model (matplotlib Figure).
     The axes are: the error per step, the residual panels from the top, the Nyquist panel. A
@@ -115,10 +135,11 @@ def plot_refinement(refinement, *, title: str | None = None):
         # labels of the later steps run leftwards, so that none leaves the panel
         right = i > 0 and i >= (n - 1) / 2
         ax.annotate(label, (i, rms[i]), textcoords="offset points", xytext=(-4, 6) if right else (4, 6), ha="right" if right else "left", fontsize=font_size("text", 8))
-    last_d = refinement.steps[-1].diagnosis
-    if last_d is not None and last_d.noise_ratio > 0:  # (the rms_rel the verdict calls 1× the noise: its noise ratio's scale)
-        ax.axhline(last_d.baseline.rms_rel / last_d.noise_ratio * 100, color="grey", ls="--", lw=0.8, label="noise level (the verdict's 1×)")
-        ax.legend(fontsize=font_size("legend", 8))
+    judged = noise_levels(refinement.steps)
+    if judged:  # (a mark per step: the rms_rel at which that step's verdict calls the residuals 1× the noise)
+        at, levels = zip(*judged)
+        ax.plot(at, levels, ls="none", marker="_", ms=18, mew=1.6, color="grey", label=NOISE_LEVEL_LABEL)  # (marks alone: a line between them crossed the steps' line)
+        ax.legend(fontsize=font_size("legend", 8), loc="best")
     ax.set_xlabel("refinement step")
     ax.set_ylabel("rms_rel [%]")
     plain_log_ticks(ax.yaxis)
@@ -154,6 +175,7 @@ def plot_refinement(refinement, *, title: str | None = None):
     nyquist = fig.add_subplot(grid[0, :] if across else left[0])
     _refinement_nyquist(nyquist, refinement, characters_across((width if across else width * ratios[0] / sum(ratios)) - 1.0, font_size("legend", 8)))
     fig.suptitle(title or wrap_model(f"refinement: {refinement.steps[0].model} → {refinement.final_model} ({refinement.verdict})", characters_across(width - 0.4, font_size("suptitle", 12))))
+    legends_off_data(fig)
     return fig
 
 

@@ -49,10 +49,33 @@ class RefinementStep:
     diagnosis: Diagnosis | None
     removed: tuple[str, ...] = ()
     same_fit: tuple[str, ...] = ()
+    where: str = ""  # the suggestion's placement in words (`Suggestion.where`), with why it left an element out
 
     @property
     def model(self) -> str:
         return self.fit.model
+
+    @property
+    def removal_reasons(self) -> dict[str, str]:
+        """Why an effect step left each of its ``removed`` elements out (name → reason), read
+        from its placement text, where `diagnosis._left_out` (and the stray capacitance's
+        proposal) put it: "…, and R0 left out (it fell to 3.63 µΩ: the data do not reach a
+        series-resistance plateau)". Empty for a step that adds nothing (`_simplified` and
+        `_pruned` give their reasons as notes)."""
+        reasons = {}
+        for name in self.removed if self.added and self.effect else ():
+            head = f"{name} left out ("
+            at = self.where.find(head)
+            if at < 0:
+                continue
+            start = at + len(head)
+            depth = 1
+            for end in range(start, len(self.where)):  # (to the matching parenthesis: a reason may hold its own)
+                depth += {"(": 1, ")": -1}.get(self.where[end], 0)
+                if depth == 0:
+                    reasons[name] = self.where[start:end]
+                    break
+        return reasons
 
     @property
     def change(self) -> str:
@@ -67,7 +90,7 @@ class RefinementStep:
         return f"− {', '.join(self.removed)} [simplified]" if self.removed else "(start)"
 
     def as_json(self) -> dict:
-        return {"model": self.model, "rms_rel": self.fit.rms_rel, "aic": self.fit.aic, "added": self.added, "effect": self.effect, "bic": self.fit.bic, "chi2_red": self.fit.chi2_red, "verdict": self.diagnosis.verdict if self.diagnosis else None, "removed": list(self.removed), "same_fit": list(self.same_fit)}
+        return {"model": self.model, "rms_rel": self.fit.rms_rel, "aic": self.fit.aic, "added": self.added, "effect": self.effect, "bic": self.fit.bic, "chi2_red": self.fit.chi2_red, "verdict": self.diagnosis.verdict if self.diagnosis else None, "removed": list(self.removed), "same_fit": list(self.same_fit), "where": self.where or None, "removal_reasons": self.removal_reasons}
 
 
 @dataclass(frozen=True, eq=False)
@@ -155,6 +178,9 @@ class Refinement:
             shown.append(f"{n} = {format_quantity(v, specs[n].unit)} ({how})")
         lines = [f"final fit {final.model}: " + ", ".join(shown)]
         for i, step in enumerate(self.steps):
+            reasons = step.removal_reasons
+            if step.removed and step.added and step.effect:  # (an effect step that took an element out says why, as every simplification's note does)
+                lines.append(f"step {i} leaves out " + "; ".join(f"{n} ({reasons[n]})" if n in reasons else f"{n} ({step.where})" for n in step.removed))
             if step.same_fit:
                 lines.append(f"step {i} has an alternative, the same fit within the noise (the data cannot tell them apart): {'; '.join(step.same_fit)}")
         if loose:
@@ -262,6 +288,11 @@ BRANCH_WINDOW = 40.0
 """`refine`'s second path starts from the first diagnosis' best suggestion at another placement
 (or of another effect) when it is within this much AIC of the chosen one."""
 
+PATH_LABELS = ("second path", "third path", "fourth path", "fifth path", "sixth path", "seventh path")
+"""The names of `_second_path`'s further paths, in the order the notes report them (the greedy
+path is "the first path"): a path the report leaves out (the kept end's circuit under other
+names) passes its name on to the next, so the notes never skip one."""
+
 REUSE_CHI2_RTOL = 1e-6
 """A refine path that reaches a model another path diagnosed reuses that diagnosis when the
 earlier fit's χ² is at most this much (relatively) above the path's own fit."""
@@ -312,7 +343,7 @@ def _greedy(steps: list[RefinementStep], best, limit: int, diagnosed, say, label
     while best is not None and added + effect_count(best.effect) <= limit:
         say(f"{label}step {len(steps)}: diagnosing {best.fit.model}")
         d = diagnosed(best.fit, steps[-1].diagnosis.solver_shape)
-        steps.append(RefinementStep(d.baseline, best.added, best.effect, d, tuple(best.removed)))
+        steps.append(RefinementStep(d.baseline, best.added, best.effect, d, tuple(best.removed), where=getattr(best, "where", "") or ""))
         added += effect_count(best.effect)
         best = _best_within(d, limit - added)
     return steps
@@ -381,14 +412,23 @@ def _second_path(steps: list[RefinementStep], picked, limit: int, diagnosed, say
     starts = [alt for alt in alternatives + sorted(hidden, key=lambda c: c.delta_aic)[:1] + leaving[:1] + keeping + cheaper if effect_count(alt.effect) <= limit]  # (a pair over the limit would start no path)
     # a start that is the first choice or an earlier start under other names would only repeat that path
     starts = _distinct_networks(starts, picked)
-    for label, alt in zip(("second path", "third path", "fourth path", "fifth path", "sixth path", "seventh path"), starts):
+    # the paths are numbered as the notes report them (a path not reported passes its number on),
+    # and each note names the path whose end it is compared with: the one kept so far
+    holder, reported = "the first path", 0
+    for alt in starts:
+        if reported >= len(PATH_LABELS):
+            break
+        label = PATH_LABELS[reported]
+        own_notes = len(notes)
         other = finished(_greedy(steps[:1], alt, limit, diagnosed, say, f"{label}, "), f"{label}: ")
         a, b = steps[-1].fit, other[-1].fit
         tie = abs(b.aic - a.aic) <= DELTA_AIC_MIN and b.n_params == a.n_params
         kept_more = _elements_left_out(other) < _elements_left_out(steps)
         better = b.aic < a.aic - DELTA_AIC_MIN or (b.aic <= a.aic + DELTA_AIC_MIN and b.n_params < a.n_params) or (tie and kept_more)
         if _same_network(a, b) and not better:  # one model, under the same or other names, and not to be kept: nothing to compare, the first-found stays
+            del notes[own_notes:]  # (its refit's notes speak of a path the report does not name)
             continue
+        reported += 1
         # more parameters are kept by the rules that add one: AIC and a quarter of the noise variance;
         # but parameters that are the user's own elements, which the path before left out, are kept by
         # the rule that takes an element out (`_simplified`): it goes only when that costs at most DELTA_AIC_MIN
@@ -396,18 +436,21 @@ def _second_path(steps: list[RefinementStep], picked, limit: int, diagnosed, say
         own = better and bool(restored) and 0 < b.n_params - a.n_params <= _parameter_count(b, restored)
         slight = better and b.n_params > a.n_params and not own and noise_variance_explained(a, b, first) < NOISE_FRACTION_MIN
         better = better and not slight
+        # a path whose every step was dropped (`_finish`) ends where every path starts: the start, not a model of its own
+        end = (f"drops every step it took (its note above) and so ends at the start, {other[-1].model} (AIC {b.aic:.1f}, {b.n_params} parameters)" if len(other) == 1
+               else f"ends at {other[-1].model} (AIC {b.aic:.1f}, {b.n_params} parameters)")
         notes.append(
             f"a {label}, starting from {_first_step_text(alt)} instead of {_first_step_text(picked)}, "
-            f"ends at {other[-1].model} (AIC {b.aic:.1f}, {b.n_params} parameters) against {steps[-1].model} (AIC {a.aic:.1f}, {a.n_params} parameters): "
-            + ("it is kept" if better else "the path before it is kept")
+            f"{end}, against {holder}'s end {steps[-1].model} (AIC {a.aic:.1f}, {a.n_params} parameters): "
+            + (f"it is kept in place of {holder}'s end" if better else f"{holder}'s end is kept")
             + (f" (it fits better by AIC, but with {b.n_params - a.n_params} more parameter(s) it explains under {NOISE_FRACTION_MIN:.0%} of the noise variance more)" if slight else "")
             + (f"; the data do not tell the two apart (AIC within {DELTA_AIC_MIN:g}, as many parameters)" if tie else "")
-            + (f", and it keeps {', '.join(restored)}, which the path before left out" if tie and better else "")
-            + (f" (it keeps {', '.join(restored)}, the starting circuit's, which the path before left out: leaving {'them' if len(restored) > 1 else 'it'} out costs "
+            + (f", and it keeps {', '.join(restored)}, which {holder} left out" if tie and better else "")
+            + (f" (it keeps {', '.join(restored)}, the starting circuit's, which {holder} left out: leaving {'them' if len(restored) > 1 else 'it'} out costs "
                f"{a.aic - b.aic:.1f} of AIC, more than {DELTA_AIC_MIN:g}, the most refine lets an element go for)" if own else "")
         )
         if better:
-            steps = other
+            steps, holder = other, f"the {label}"
     return steps
 
 
