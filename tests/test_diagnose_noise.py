@@ -867,3 +867,18 @@ def test_kk_flagged_and_non_passive_points_keep_their_own_measured_impedance():
     by_f = dict(zip(np.round(f, 6), z))
     assert list(d.masked_impedance) == [by_f[round(fm, 6)] for fm in d.masked_points]
     assert list(d.masked_points) == sorted(d.masked_points)
+
+
+@pytest.mark.slow
+def test_a_series_resistance_within_its_error_of_zero_but_not_near_it_is_not_said_to_have_fallen():
+    """REAL ZPlot file (impedance.py's example data, MIT): with the arc added in series, R0 ends
+    at 72.1 ± 481 Ω: not told from 0, but not at 0 either ("it fell to 72.1 Ω" read oddly);
+    nested behind R1 it runs to µΩ: there it fell (`FELL_SHARE_OF_ERROR`)."""
+    import os
+
+    path = os.path.join(os.path.dirname(__file__), "fixtures", "real", "exampleDataZPlot.z")
+    d = ix.diagnose(ix.load(path), "R0 + R1 || C1 + L_lead")
+    wheres = [s.where for s in d.suggestions if s.removed == ("R0",)]
+    within = [w for w in wheres if "not told from 0" in w]
+    assert within and all("fell to" not in w for w in within), wheres
+    assert any("it fell to" in w and "µΩ" in w for w in wheres), wheres

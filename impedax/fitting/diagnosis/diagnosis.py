@@ -1254,8 +1254,10 @@ def _series_resistance_dropped(base: FitResult, proposals: list[tuple[Effect, Pr
             value, error = float(cf.values[name]), float(cf.linearised_stderr[name])
             why = "the data do not reach a series-resistance plateau" if isinstance(p.circuit, Series) else "the capacitance across the circuit shunts it at the top of the band"
             fell = name in cf.at_bound or (math.isfinite(error) and value <= error)  # (at 0, or within its standard error of it)
-            if fell:
+            if name in cf.at_bound or (math.isfinite(error) and value <= FELL_SHARE_OF_ERROR * error):
                 how = f"it fell to {format_quantity(value, 'Ω')}"
+            elif fell:  # (within its error of 0 but not near it: "fell to 72.1 Ω" (± 481 Ω) read oddly on a real ZPlot file)
+                how = f"it is {format_quantity(value, 'Ω')} ± {format_quantity(error, 'Ω')}, not told from 0"
             elif math.isfinite(error):
                 how = f"it is {format_quantity(value, 'Ω')} ± {format_quantity(error, 'Ω')}, traded against the other resistances"
             else:
@@ -1266,6 +1268,12 @@ def _series_resistance_dropped(base: FitResult, proposals: list[tuple[Effect, Pr
                 out.append(left)
             break
     return out
+
+
+FELL_SHARE_OF_ERROR = 0.1
+"""A series resistance left out of a candidate "fell to" its value when at its bound 0 or below
+this share of its standard error (251 µΩ ± 19.6 Ω: the log transform approaching 0); within its
+error but above that share (72.1 Ω ± 481 Ω) it is "not told from 0"."""
 
 
 def _series_with_all(circuit: Circuit) -> tuple[Circuit, ...]:
