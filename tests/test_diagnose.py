@@ -66,6 +66,20 @@ def test_proposals_are_valid_circuits_with_fresh_names(text):
             assert set(start) <= set(again.parameter_names())
 
 
+def test_an_added_arcs_elements_share_one_number():
+    """The elements an effect adds together pair by their names: beside a baseline that already
+    has R_relax, C_relax (a CPE_relax swapped for a C) and CPE_relax2, the next arc is R_relax3 ∥
+    C_relax3 or ∥ CPE_relax3 — numbered one by one it was R_relax2 ∥ CPE_relax3 (a REAL
+    VersaStudio refine ended with R_relax3 beside CPE_relax2)."""
+    circuit = ix.parse("R0 + R_relax || C_relax + CPE_relax2")
+    f = np.logspace(0, 5, 20)
+    z = 100 + 1 / (1j * f * 1e-6)
+    ctx = BaselineContext(circuit, {k: 1.0 for k in circuit.parameter_names()}, f, z, z * 1.01)
+    added = {p.added for p in ix.DEFAULT_EFFECTS["extra_relaxation"].propose(circuit, ctx)}
+    assert added == {"R_relax3 || C_relax3", "R_relax3 || CPE_relax3"}
+    assert ctx.fresh_group("EP", "R", "C", "CPE") == {"R": "R_EP", "C": "C_EP", "CPE": "CPE_EP"}
+
+
 @pytest.mark.parametrize("text,added", [
     # no diffusion yet: at the end and behind each arc resistor
     ("R0 + R1 || C1 + R2 || C2", {"end", "R1", "R2"}),

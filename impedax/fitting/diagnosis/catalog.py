@@ -59,11 +59,19 @@ class BaselineContext:
 
     def fresh(self, symbol: str, label: str) -> str:
         """An element name ``symbol_label`` not used in the baseline (``R_EP``, ``R_EP2``, ...)."""
+        return self.fresh_group(label, symbol)[symbol]
+
+    def fresh_group(self, label: str, *symbols: str) -> dict[str, str]:
+        """Names ``symbol_label`` of elements added together (an arc's R and its C or CPE), one
+        number for all so that they pair: {R: R_relax2, C: C_relax2, CPE: CPE_relax2} when any
+        of ``R_relax``, ``C_relax``, ``CPE_relax`` is used in the baseline. Numbered one by one,
+        a refine on REAL VersaStudio data ended with R_relax3 beside CPE_relax2 and R_relax2
+        beside C_relax."""
         taken = set(self.circuit.element_names)
-        name, k = f"{symbol}_{label}", 2
-        while name in taken:
-            name, k = f"{symbol}_{label}{k}", k + 1
-        return name
+        suffix, k = "", 2
+        while any(f"{s}_{label}{suffix}" in taken for s in symbols):
+            suffix, k = str(k), k + 1
+        return {s: f"{s}_{label}{suffix}" for s in symbols}
 
     def ends(self, k: int = 3):
         """Indices of the k lowest and k highest frequencies."""

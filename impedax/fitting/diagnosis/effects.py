@@ -324,10 +324,11 @@ def _extra_relaxation(circuit: Circuit, ctx: BaselineContext) -> list[Proposal]:
     nested behind each arc resistor, started from the data's unexplained DRT peaks and the
     misfit. Which DRT peak a fitted arc stands for is said after the fit (`cited_where`)."""
     out = []
-    r_name = ctx.fresh("R", "relax")
+    names = ctx.fresh_group("relax", "R", "C", "CPE")  # (one number for the arc's elements: they pair)
+    r_name = names["R"]
     resistors = _arc_resistors(circuit, ctx.registry)
     for sym in ("C", "CPE"):
-        c_name = ctx.fresh(sym, "relax")
+        c_name = names[sym]
         arc = Parallel((Element("R", r_name), Element(sym, c_name)))
         starts = _relaxation_starts(ctx, r_name, c_name, sym == "CPE")
         out.append(Proposal("extra_relaxation", circuit + arc, str(arc), "in series with the whole circuit", starts))
@@ -461,12 +462,13 @@ def _electrode_polarization(circuit: Circuit, ctx: BaselineContext) -> list[Prop
             out.append(Proposal("electrode_polarization", completed, b_name, f"across {e.name} beside {leak} (the double layer's capacitive part)", starts))
         if sym not in ("C", "CPE") or _leaky_sibling(circuit, e.name, ctx.registry):
             continue
-        r_name = ctx.fresh("R", "EP")
+        ep_names = ctx.fresh_group("EP", "R", "C", "CPE")  # (R_EP pairs with its C_EP or CPE_EP)
+        r_name = ep_names["R"]
         where = f"across {e.name} (electric double layer, Sirin et al.)"
         starts = tuple(ctx.start(**{r_name: s / g0}) for s in (1.0, 0.2, 5.0))
         out.append(Proposal("electrode_polarization", circuit.replace(e.name, Parallel((Element("R", r_name), Element(e.symbol, e.name)))), r_name, where, starts))
         b_sym = "CPE" if sym == "C" else "C"
-        b_name = ctx.fresh(b_sym, "EP")
+        b_name = ep_names[b_sym]
         branch = Parallel((Element("R", r_name), Element(b_sym, b_name)))
         starts = []
         for s_r, alpha in ((1.0, 0.5), (5.0, 0.25), (0.2, 0.75), (1.0, 0.25)):
@@ -513,7 +515,8 @@ def _inductive_loop(circuit: Circuit, ctx: BaselineContext) -> list[Proposal]:
         excess = max(min(drop, 0.95 * r_value), 1e-6 * r_value)  # R − R ∥ R_loop at DC (a resistor run open: next to none of it)
         r_loop = _positive(r_value * (r_value / excess - 1.0), 1e-3 * r_value)
         l_loop = float(np.sqrt(r_loop) * np.sqrt(r_value + r_loop)) / w_peak
-        r_name, l_name = ctx.fresh("R", "loop"), ctx.fresh("L", "loop")
+        loop_names = ctx.fresh_group("loop", "R", "L")
+        r_name, l_name = loop_names["R"], loop_names["L"]
         starts = tuple(ctx.start(**{r_name: r_loop, l_name: l_loop * s}) for s in (1.0, 0.1, 10.0))
         new = circuit.replace(r, Parallel((Element("R", r), Series((Element("R", r_name), Element("L", l_name))))))
         out.append(Proposal("inductive_loop", new, f"{r_name} + {l_name}", f"across {r} (a low-frequency inductive loop)", starts, band=band))
