@@ -91,6 +91,20 @@ def test_a_data_invalid_reason_names_the_band_the_kk_test_passes_and_its_trim(mo
     assert ("diagnose that band" in problem.invalid) is (not model_right)
 
 
+@pytest.mark.slow  # (7 s alone, 30 s at load 2–3)
+def test_diagnose_of_the_real_gamry_file_names_the_trim_to_the_kk_valid_band():
+    """REAL exampleDataGamry.DTA with refine's step-1 model: ``data_invalid`` as before, and the
+    reason names the band the KK test passes (2.53 kHz–200 kHz, the 20 points above its flagged
+    band: walkthrough E's 0.46 % there) with the trim, and the model's 6.4 % miss there."""
+    data = ix.load(REAL / "exampleDataGamry.DTA")
+    f = data["frequency"].values
+    d = ix.diagnose(data, "R0 + (R1 + R_relax || CPE_relax) || C1")
+    assert d.verdict == "data_invalid" and d.misses_valid_band, d.reason
+    assert d.kk_valid_band == (pytest.approx(f[f > 2.3e3].min()), pytest.approx(f.max()))
+    assert 2.26e3 < _fmin_of(d.reason) <= f[f > 2.3e3].min() and "KK rms_rel 0.46 %" in d.reason
+    assert d.summary()["kk_valid_band"] == list(d.kk_valid_band) and d.summary()["misses_valid_band"] is True
+
+
 @pytest.mark.slow  # (35–70 s at load 2–3: a whole refine, then again on the valid band)
 def test_refine_of_the_real_gamry_file_judges_the_model_where_the_kk_test_passes():
     """REAL exampleDataGamry.DTA: the KK test fails at 16 mHz–2.26 kHz (1–12 %) and passes above
