@@ -9,7 +9,10 @@
    (`KK_COMPARABLE`) over at least `KK_INVALID_FRACTION` of the points; otherwise the points the
    KK test flags where it is (the data's own misfit) are masked (`Diagnosis.masked_points`, at
    most `MASK_MAX_FRACTION`) and the rest is diagnosed; a flagged point the model misses by
-   more than 1/`KK_COMPARABLE`× the KK misfit stays in, as the model's problem.
+   more than 1/`KK_COMPARABLE`× the KK misfit stays in, as the model's problem. A
+   ``data_invalid`` reason names the run the KK test passes (`kk_valid_run`), the trim that keeps
+   it and whether the model misses it clearly (`Diagnosis.misses_valid_band`: refine then
+   starts again on it).
 3. Failing bands (`impedax.fitting.diagnosis.bands`): runs of one sign in Re or Im of the
    relative residual that are structured beyond the noise, each described in words.
 4. Candidates: every effect of the catalog (`impedax.fitting.diagnosis.effects`) proposes augmented
@@ -253,6 +256,8 @@ class Diagnosis:
     solver_shape: SolverShape | None = None  # the compiled candidate solver's shape (refine passes it on: one compilation for all steps)
     masked_impedance: tuple[complex, ...] = ()  # the measured Z [Ω] at each of ``masked_points`` (drawn, marked, in the figure)
     sign_hint: str | None = None  # the KK test's (`io.sign_check.sign_hint`): Z'' (or Z) may be stored with the opposite sign
+    kk_valid_band: tuple[float, float] | None = None  # data_invalid: the run of points [Hz, lowest and highest] the KK test passes (`kk_valid_run`), which --fmin/--fmax keep
+    misses_valid_band: bool = False  # data_invalid: the model misses ``kk_valid_band`` clearly (an effect is missing there; refine starts again on it)
 
     @property
     def source(self) -> str | None:
@@ -334,6 +339,8 @@ class Diagnosis:
             "drt_peaks": self._drt_peaks_json(),
             "drt_summary": self.drt.text if self.drt is not None else None,
             "sign_hint": self.sign_hint,
+            "kk_valid_band": list(self.kk_valid_band) if self.kk_valid_band is not None else None,
+            "misses_valid_band": self.misses_valid_band,
         }
 
     def _drt_peaks_json(self) -> list[dict] | None:
@@ -1007,11 +1014,61 @@ def _kk_of(spectrum: xr.Dataset, notes: list[str], attrs: Mapping | None = None)
 
 class DataProblem(NamedTuple):
     """The data's own problems at the fit's points: why they are invalid (or None) and which
-    points to mask (bool per point of the fit)."""
+    points to mask (bool per point of the fit); when invalid, the band the KK test passes that a
+    trim keeps (`kk_valid_run`, or None) and whether the model misses it clearly there."""
 
     invalid: str | None
     masked: np.ndarray
     note: str | None
+    valid_band: tuple[float, float] | None = None
+    misses_valid_band: bool = False
+
+
+def kk_valid_run(frequency: np.ndarray, flagged: np.ndarray, n_params: int) -> np.ndarray | None:
+    """The longest run of adjacent points (in frequency order) the KK test does not flag, as a
+    bool per point of ``frequency`` (any order): what ``--fmin``/``--fmax`` keep of the band.
+    None when it holds fewer than `MIN_KEPT_POINTS` or 3 per free parameter (each point gives two
+    numbers; the rule by which flagged points are masked), or every point."""
+    order = np.argsort(frequency)
+    ok = ~np.asarray(flagged, bool)[order]
+    best, start = (0, 0), None
+    for i, good in enumerate(np.append(ok, False)):
+        if good and start is None:
+            start = i
+        elif not good and start is not None:
+            best, start = max(best, (i - start, start)), None
+    length, first = best
+    if length < max(MIN_KEPT_POINTS, 3 * n_params) or length == ok.size:
+        return None
+    run = np.zeros(ok.size, bool)
+    run[order[first:first + length]] = True
+    return run
+
+
+def _valid_band_words(fit: FitResult, kk: KKResult, run: np.ndarray, dkk: np.ndarray, noise: NoiseModel) -> tuple[str, bool]:
+    """What a ``data_invalid`` reason adds when part of the band passes the KK test (``run``,
+    `kk_valid_run`): where it fails, where it passes, the exact ``--fmin``/``--fmax`` that keep
+    the passing run, and whether the model misses clearly there — its rms_rel at least
+    1/`KK_COMPARABLE`× the KK misfit there (the rule that keeps a flagged point as the model's
+    problem) and above `NOISE_RATIO_MAX` × the noise (a missing effect, not the data's).
+    Returns the words and that flag."""
+    f = fit.frequency
+    trim = left_out_words(left_out_options(f[run], f[~run]))
+    model_rms = float(np.sqrt(np.mean(np.abs(fit.residuals[run]) ** 2)))
+    kk_rms = float(np.sqrt(np.mean(dkk[run] ** 2)))
+    ratio = float(np.sqrt(np.mean(np.abs(fit.residuals[run]) ** 2 / (2 * noise.sigma_rel[run] ** 2))))
+    misses = model_rms >= kk_rms / KK_COMPARABLE and ratio > NOISE_RATIO_MAX
+    failing = ", ".join(f"{format_frequency(lo)}–{format_frequency(hi)}" for lo, hi in kk.bad_bands)
+    words = (
+        f" The KK test fails at {failing} and passes at {format_frequency(float(f[run].min()))}–{format_frequency(float(f[run].max()))} "
+        f"({int(run.sum())} points, KK rms_rel {kk_rms * 100:.2g} %): trim the measurement to that band ({trim})"
+    )
+    if misses:
+        words += (
+            f"; the model misses those points by {model_rms * 100:.3g} % rms, {model_rms / max(kk_rms, 1e-300):.2g}× the data's own misfit there "
+            f"and {ratio:.2g}× the noise: diagnose that band ({trim}) to find what is missing (refine does so on its own)"
+        )
+    return words + ".", misses
 
 
 def _data_problem(fit: FitResult, kk: KKResult | None, noise: NoiseModel, sign_hint: str | None = None) -> DataProblem:
@@ -1041,11 +1098,17 @@ def _data_problem(fit: FitResult, kk: KKResult | None, noise: NoiseModel, sign_h
             none, None,
         )
     if share >= KK_INVALID_FRACTION:
+        # the band the KK test passes, named with the trim that keeps it: a model that misses it
+        # clearly lacks an effect there (Gamry's real file: KK fails below 2.3 kHz, passes above at
+        # 0.46 %, where R0 + (R1 + R_relax ∥ CPE_relax) ∥ C1 misses by 6.45 %: C1 wants a CPE)
+        run = kk_valid_run(fit.frequency, flagged, fit.n_params)
+        band_words, misses = _valid_band_words(fit, kk, run, dkk, noise) if run is not None else ("", False)
         return DataProblem(
             f"the data themselves are not Kramers–Kronig consistent where the model fails: at {share * 100:.0f} % of the points the KK misfit is at least "
             f"{KK_COMPARABLE:.0%} of the model's (KK rms_rel {kk.rms_rel * 100:.2g} %, model {fit.rms_rel * 100:.2g} %): drift, movement or a non-stationary "
-            "sample during the sweep; no circuit should be asked to fit them. Repeat or trim the measurement.",
+            "sample during the sweep; no circuit should be asked to fit them. Repeat or trim the measurement." + band_words,
             none, None,
+            None if run is None else (float(fit.frequency[run].min()), float(fit.frequency[run].max())), misses,
         )
     # only the points whose misfit is the data's own are masked: a flagged point the model misses
     # by more than 1/`KK_COMPARABLE`× the KK misfit is the model's problem (AutoEIS's real
@@ -1929,7 +1992,8 @@ def diagnose(
             problem = problem._replace(masked=np.zeros_like(problem.masked), note=None)
     if problem.invalid is not None:
         bands = failing_bands(base, nm.sigma_rel, kk_bad_bands=kk_bands)
-        return Diagnosis(base, kk if kk is not None else inconclusive, nm.sigma_rel, nm.source, bands, (), Verdict.DATA_INVALID, problem.invalid, tuple(notes), _thresholds(), None, nm.measurement, nm.discrepancy, not_passive, kk_as_tested=kk_as_tested, solver_shape=shape, masked_impedance=tuple(left_out.values()), sign_hint=sign_hint)
+        return Diagnosis(base, kk if kk is not None else inconclusive, nm.sigma_rel, nm.source, bands, (), Verdict.DATA_INVALID, problem.invalid, tuple(notes), _thresholds(), None, nm.measurement, nm.discrepancy, not_passive, kk_as_tested=kk_as_tested, solver_shape=shape, masked_impedance=tuple(left_out.values()), sign_hint=sign_hint,
+                         kk_valid_band=problem.valid_band, misses_valid_band=problem.misses_valid_band)
     if problem.note:
         notes.append(problem.note)
     keep = ~problem.masked

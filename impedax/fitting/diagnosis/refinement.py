@@ -626,6 +626,39 @@ def _simplified(steps: list[RefinementStep], used: xr.Dataset, *, n_starts: int,
     return steps
 
 
+def _on_valid_band(ds: xr.Dataset, band: xr.Dataset, steps: list[RefinementStep], circuit, *, say, **options) -> Refinement:
+    """`refine` of ``circuit`` again on ``band``, the run of points the KK test passes, when a
+    step of the path ``steps`` on all of ``ds`` ended ``data_invalid`` (the misfit left is the
+    data's own over at least `KK_INVALID_FRACTION` of the points) while its model still misses
+    that run clearly (`Diagnosis.misses_valid_band`). The points outside the run are in the
+    result's ``masked_points`` (its report prints the ``--fmin``/``--fmax`` that leave them
+    out) and a note says why. The case behind it (2026-12-01): on Gamry's real file the KK test
+    fails at 16 mHz–2.26 kHz (1–12 % misfit) and passes above (0.46 %); after one step refine
+    stopped ``data_invalid`` at 6.64 % with a model 6.45 % off the passing band (its C1 wanted
+    a CPE); with ``--fmin 2.3e3`` it ends ``adequate`` at 0.516 %."""
+    stop = steps[-1]
+    lo, hi = stop.diagnosis.kk_valid_band
+    f = ds["frequency"].values
+    outside = tuple(sorted(float(x) for x in f if not lo <= x <= hi))
+    trim = left_out_words(left_out_options(band["frequency"].values, outside))
+    path = " → ".join(s.fit.model for s in steps)
+    run = (stop.fit.frequency >= lo) & (stop.fit.frequency <= hi)
+    missed = float(np.sqrt(np.mean(np.abs(stop.fit.residuals[run]) ** 2)))
+    say(f"starting again on the {band.sizes['frequency']} points the KK test passes ({format_frequency(lo)}–{format_frequency(hi)}; {trim})")
+    again = refine(band, circuit, progress=say, **options)
+    note = (
+        f"on all {f.size} points the path {path} ended data_invalid after {len(steps) - 1} step(s): the misfit left is the data's own over much of the band "
+        f"(the KK test fails outside {format_frequency(lo)}–{format_frequency(hi)}), but {stop.fit.model} still misses the {band.sizes['frequency']} points it passes"
+        + f" by {missed * 100:.3g} % rms: refine started again on those points ({trim}; the {len(outside)} outside are left out as the data's own problem)"
+    )
+    masked = tuple(sorted(set(outside) | set(again.masked_points)))
+    # the first step's diagnosis carries them too, with their measured Z: the figures mark them
+    start = again.steps[0].diagnosis
+    measured = dict(zip(start.masked_points, start.masked_impedance)) | {float(x): complex(v) for x, v in zip(f, ds["Z"].values) if not lo <= x <= hi}
+    first = replace(again.steps[0], diagnosis=replace(start, masked_points=masked, masked_impedance=tuple(measured[x] for x in masked)))
+    return Refinement((first,) + tuple(again.steps[1:]), again.verdict, (note,) + again.notes, masked, final_from_values=again.final_from_values)
+
+
 def _capacitors(fit: FitResult) -> list[tuple[str, str, Circuit, dict[str, float]]]:
     """The CPEs of ``fit`` whose α is at its upper bound 1 (``at_bound``): each one an ideal
     capacitor C = Q (Z = 1/(Q (jω)^α)). As (CPE name, the C's name, the circuit with the C in
@@ -834,6 +867,17 @@ def refine(
 
     picked = _best_within(first, limit)
     steps = _greedy([RefinementStep(first.baseline, None, None, first)], picked, limit, diagnosed, say, "")
+    stop = steps[-1].diagnosis
+    if stop.verdict == Verdict.DATA_INVALID and stop.misses_valid_band and stop.kk_valid_band is not None:
+        # the misfit left is the data's own over much of the band, but the model still misses the
+        # band the KK test passes: judge it there (`_on_valid_band`), not give up on the whole
+        lo, hi = stop.kk_valid_band
+        band = ds.isel(frequency=np.nonzero((ds["frequency"].values >= lo) & (ds["frequency"].values <= hi))[0])
+        if 0 < band.sizes["frequency"] < ds.sizes["frequency"]:  # (each start again drops points: it ends)
+            return _on_valid_band(
+                ds, band, steps, circuit, say=say, max_steps=solver_steps, max_effects=limit, effects=effects, weighting=weighting, noise=noise, registry=registry,
+                n_starts=n_starts, seed=seed, drt_evidence=drt_evidence, fixed=fixed,
+            )
     steps = _second_path(steps, picked, limit, diagnosed, say, notes, finished)
     steps = _simplified(steps, used, n_starts=n_starts, seed=seed, diagnosed=diagnosed, reproduced=reproduced, say=say, notes=notes)
     steps = _pruned(steps, used, n_starts=n_starts, seed=seed, diagnosed=diagnosed, reproduced=reproduced, say=say, notes=notes)

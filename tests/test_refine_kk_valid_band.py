@@ -1,0 +1,143 @@
+"""A ``data_invalid`` verdict names the band the KK test passes and the exact trim that keeps it,
+and refine judges a model that still misses that band clearly there instead of giving up
+(`kk_valid_run`, `Diagnosis.kk_valid_band`, docs/diagnosis.md "Is it the data?")."""
+
+import re
+from pathlib import Path
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+import impedax as ix
+from impedax.fitting.diagnosis.diagnosis import MIN_KEPT_POINTS, _data_problem, kk_valid_run
+from impedax.fitting.diagnosis.noise import kk_judged_locally, noise_model
+from impedax.fitting.kk import kk_test
+
+REAL = Path(__file__).parent / "fixtures" / "real"
+
+
+def _mask(text: str) -> np.ndarray:
+    return np.array([c == "x" for c in text])
+
+
+@pytest.mark.parametrize("flags, run", [
+    ("xxxxxxx.........", ".......xxxxxxxxx"),  # flagged low end: the nine points above it
+    ("....xxxxxxxxx...", None),                  # no run of 8 (4 and 3 points)
+    ("..xx..........xx", "....xxxxxxxxxx.."),  # the longest run between two flagged bands
+    ("................", None),                  # nothing flagged: nothing to trim
+    ("xxxxxxxxxxxxxxxx", None),
+])
+def test_the_kk_valid_run_is_the_longest_unflagged_run(flags, run):
+    assert MIN_KEPT_POINTS == 8
+    f = np.logspace(-2, 5, len(flags))
+    got = kk_valid_run(f, _mask(flags), n_params=2)
+    expected = None if run is None else _mask(run)
+    if expected is None:
+        assert got is None
+        return
+    np.testing.assert_array_equal(got, expected)
+    # the points' order does not matter (files list them high to low)
+    np.testing.assert_array_equal(kk_valid_run(f[::-1], _mask(flags)[::-1], n_params=2), expected[::-1])
+    # 3 points per free parameter: 9 points hold 3 parameters, not 4
+    assert (kk_valid_run(f, _mask(flags), n_params=4) is None) == (expected.sum() < 12)
+
+
+R0, R1, Q1, ALPHA = 20.0, 2e3, 2e-6, 0.8
+C_EFF = (R1 * Q1) ** (1 / ALPHA) / R1  # the R ∥ CPE's effective capacitance (Hsu–Mansfeld), 0.50 µF
+
+
+def _drifting_cpe_arc(walk: float = 0.1, seed: int = 7):
+    """SYNTHETIC R0 + R1 ∥ CPE1 (20 Ω, 2 kΩ, Q 2 µF s^(α−1), α 0.8) at 33 frequencies 100 kHz–10 Hz
+    (8 a decade), 0.5 % noise, its lowest decade (≤ 100 Hz) times 1 + a random walk of steps
+    ``walk`` along the sweep in Re and Im: a sample that changes while it is measured, not KK."""
+    f = np.logspace(5, 1, 33)
+    z = R0 + R1 / (1 + R1 * Q1 * (2j * np.pi * f) ** ALPHA)
+    rng = np.random.default_rng(seed)
+    low = f <= 100.0 * (1 + 1e-9)
+    walk_re, walk_im = np.cumsum(rng.standard_normal((2, int(low.sum()))), axis=1) * walk
+    z[low] = z[low] * (1 + walk_re + 1j * walk_im)
+    return f, z * (1 + 0.005 * (rng.standard_normal(f.size) + 1j * rng.standard_normal(f.size)))
+
+
+def _fmin_of(reason: str) -> float:
+    return float(re.search(r"--fmin (\S+?)\)", reason).group(1))
+
+
+@pytest.mark.parametrize("model_right", [False, True])
+def test_a_data_invalid_reason_names_the_band_the_kk_test_passes_and_its_trim(model_right):
+    """Over the flagged band the model's misfit is the data's own (1.5× the KK residual), over more
+    than `KK_INVALID_FRACTION` of the points: ``data_invalid``. Above it the KK test passes; an
+    R0 + R1 ∥ C1 model (numpy, hand values) misses those points by far more than the noise, the
+    right R0 + R1 ∥ CPE1 by the noise alone."""
+    f, z = _drifting_cpe_arc()
+    local = kk_judged_locally(kk_test(ix.make_spectrum(f, z)))
+    flagged = np.asarray(local.flagged, bool)
+    assert 0.25 * f.size < flagged.sum() and not flagged[f > 4e3].any() and flagged[f <= 100].sum() >= 5
+    dkk = np.hypot(local.residuals_real, local.residuals_imag)
+    clean = R0 + R1 / (1 + R1 * Q1 * (2j * np.pi * f) ** ALPHA)
+    model = clean if model_right else R0 + R1 / (1 + 2j * np.pi * f * R1 * C_EFF)
+    residuals = np.where(flagged, 1.5 * dkk, np.abs(model - z) / np.abs(z))
+    fit = SimpleNamespace(frequency=f, residuals=residuals, n_params=3, n_points=f.size, rms_rel=float(np.sqrt(np.mean(residuals ** 2))))
+    problem = _data_problem(fit, local, noise_model(f, z, noise=None, sigma=None, kk=local, fallback_rms=fit.rms_rel))
+    assert problem.invalid is not None and not problem.masked.any()
+    # the trim keeps exactly the unflagged points above the flagged band
+    top_flagged, lowest_kept = f[flagged].max(), f[f > f[flagged].max()].min()
+    assert problem.valid_band == (pytest.approx(lowest_kept), pytest.approx(f.max()))
+    fmin = _fmin_of(problem.invalid)
+    assert top_flagged < fmin <= lowest_kept, problem.invalid
+    assert "trim the measurement to that band" in problem.invalid
+    assert problem.misses_valid_band is (not model_right), problem.invalid
+    assert ("diagnose that band" in problem.invalid) is (not model_right)
+
+
+@pytest.mark.slow  # (7 s alone, 30 s at load 2–3)
+def test_diagnose_of_the_real_gamry_file_names_the_trim_to_the_kk_valid_band():
+    """REAL exampleDataGamry.DTA with refine's step-1 model: ``data_invalid`` as before, and the
+    reason names the band the KK test passes (2.53 kHz–200 kHz, the 20 points above its flagged
+    band: walkthrough E's 0.46 % there) with the trim, and the model's 6.4 % miss there."""
+    data = ix.load(REAL / "exampleDataGamry.DTA")
+    f = data["frequency"].values
+    d = ix.diagnose(data, "R0 + (R1 + R_relax || CPE_relax) || C1")
+    assert d.verdict == "data_invalid" and d.misses_valid_band, d.reason
+    assert d.kk_valid_band == (pytest.approx(f[f > 2.3e3].min()), pytest.approx(f.max()))
+    assert 2.26e3 < _fmin_of(d.reason) <= f[f > 2.3e3].min() and "KK rms_rel 0.46 %" in d.reason
+    assert d.summary()["kk_valid_band"] == list(d.kk_valid_band) and d.summary()["misses_valid_band"] is True
+
+
+@pytest.mark.slow  # (35–70 s at load 2–3: a whole refine, then again on the valid band)
+def test_refine_of_the_real_gamry_file_judges_the_model_where_the_kk_test_passes():
+    """REAL exampleDataGamry.DTA: the KK test fails at 16 mHz–2.26 kHz (1–12 %) and passes above
+    (0.46 %). Refine from R0 + R1 ∥ C1 stopped ``data_invalid`` after one step at 6.64 % with a
+    model 6.45 % off the passing band; with ``--fmin 2.3e3`` it ends adequate at 0.516 %
+    (walkthrough E, 2026-12-01). Now it gets there on its own and says so."""
+    data = ix.load(REAL / "exampleDataGamry.DTA")
+    f = data["frequency"].values
+    r = ix.refine(data, "R0 + R1 || C1")
+    assert r.verdict == "adequate", r.report()
+    assert any("CPE" in s.fit.model for s in r.steps[1:]) and r.final.rms_rel < 0.006, r.report()
+    assert sorted(r.masked_points) == sorted(float(x) for x in f[f < 2.3e3])
+    assert "refine started again on those points (--fmin" in r.notes[0] and "--fmin" in r.report()
+
+
+@pytest.mark.slow  # (6–110 s each at load 2–3: a whole refine of a SYNTHETIC spectrum)
+@pytest.mark.parametrize("cpe, walk", [(True, 0.06), (True, 0.1), (False, 0.06)])
+def test_refine_on_a_drifting_low_decade_adds_the_cpe_or_names_the_trim(cpe, walk):
+    """SYNTHETIC `_drifting_cpe_arc` (the KK test flags 10 Hz–1.2 kHz at walk 0.06, 10 Hz–3.7 kHz
+    at 0.1): from R0 + R1 ∥ C1, refine does not stop ``data_invalid`` at its start; it adds the
+    CPE, and ends adequate or names the exact ``--fmin`` that keeps the band the KK test passes
+    (at 0.1, once R0 + R1 ∥ CPE1 fits that band). From the right model (an R ∥ C spectrum, the
+    same drift) it adds no effect."""
+    f, z = _drifting_cpe_arc(walk=walk)
+    if not cpe:
+        z = z / (R0 + R1 / (1 + R1 * Q1 * (2j * np.pi * f) ** ALPHA)) * (R0 + R1 / (1 + 2j * np.pi * f * R1 * C_EFF))
+    r = ix.refine(ix.make_spectrum(f, z), "R0 + R1 || C1")
+    last = r.steps[-1].diagnosis
+    if cpe:
+        assert len(r.steps) > 1 and any("CPE" in s.fit.model for s in r.steps[1:]), r.report()
+    else:
+        assert all(s.effect is None for s in r.steps), r.report()
+    if r.verdict == "data_invalid":
+        assert "--fmin" in last.reason and f[f >= _fmin_of(last.reason)].size >= MIN_KEPT_POINTS, last.reason
+    else:
+        assert r.verdict == "adequate", r.report()
