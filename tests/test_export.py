@@ -51,7 +51,7 @@ def _read_csv(path):
 def test_fit_csv_rows_are_the_fitted_parameters(rc_fit, tmp_path):
     ix.write_result(rc_fit, tmp_path / "fit.csv")
     rows = _read_csv(tmp_path / "fit.csv")
-    assert list(rows[0]) == ["name", "value", "stderr", "unit", "fixed"]
+    assert list(rows[0]) == ["name", "value", "stderr", "unit", "fixed", "converged", "at_bound", "undetermined"]  # (the flags: added 2026-12-01)
     assert [r["name"] for r in rows] == ["R0", "R1", "C1"]
     for r in rows:
         assert float(r["value"]) == rc_fit.values[r["name"]]  # shortest exact text: no rounding
@@ -76,7 +76,7 @@ def test_fit_json_is_the_summary_and_netcdf_reopens(rc_fit, tmp_path):
 def test_batch_csv_has_a_row_per_spectrum_and_parameter_with_coordinates(rc_batch, tmp_path):
     ix.write_result(rc_batch, tmp_path / "batch.csv")
     rows = _read_csv(tmp_path / "batch.csv")
-    assert list(rows[0]) == ["cell", "name", "value", "stderr", "unit", "fixed", "rms_rel", "chi2", "chi2_red", "aic", "bic"]  # (the spectrum's goodness of fit: added 2026-12-01)
+    assert list(rows[0]) == ["cell", "name", "value", "stderr", "unit", "fixed", "rms_rel", "chi2", "chi2_red", "aic", "bic", "converged", "at_bound", "undetermined"]  # (goodness of fit and flags: added 2026-12-01)
     assert [(r["cell"], r["name"]) for r in rows] == [(c, n) for c in "abc" for n in ("R0", "R1", "C1")]
     for r in rows:
         assert float(r["value"]) == float(rc_batch.values(r["name"]).sel(cell=r["cell"]))
@@ -86,6 +86,28 @@ def test_batch_csv_has_a_row_per_spectrum_and_parameter_with_coordinates(rc_batc
     np.testing.assert_allclose(r1, [1000.0, 2000.0, 4000.0], rtol=0.05)  # the truth of each cell
     ix.write_result(rc_batch, tmp_path / "batch.json")
     assert json.loads((tmp_path / "batch.json").read_text()) == json.loads(json.dumps(rc_batch.summary()))
+
+
+def test_csv_rows_flag_a_value_at_a_bound_or_undetermined_and_an_unconverged_spectrum(rc_fit, rc_batch, tmp_path):
+    # the batch's values edited by hand: cell b's R1 with a relative error of 5e24 (undetermined,
+    # as R2 = 1.08e25 ± 5e49 on a real battery cycle), cell c's C1 on its bound, cell a not converged
+    ds = rc_batch.dataset.copy(deep=True)
+    ds["stderr"].loc[dict(param="R1", cell="b")] = 5e27
+    ds["at_bound"].loc[dict(param="C1", cell="c")] = True
+    ds["converged"].loc[dict(cell="a")] = False
+    edited = dataclasses.replace(rc_batch, dataset=ds)
+    ix.write_result(edited, tmp_path / "batch.csv")
+    rows = {(r["cell"], r["name"]): r for r in _read_csv(tmp_path / "batch.csv")}
+    assert {k for k, r in rows.items() if r["undetermined"] == "true"} == {("b", "R1")}
+    assert {k for k, r in rows.items() if r["at_bound"] == "true"} == {("c", "C1")}
+    assert {k for k, r in rows.items() if r["converged"] == "false"} == {("a", n) for n in ("R0", "R1", "C1")}
+    for (cell, name), r in rows.items():  # the same rule as the batch's own `undetermined`
+        assert (r["undetermined"] == "true") == bool(edited.undetermined(name).sel(cell=cell))
+    # a single fit's rows: its R1 made undetermined, its C1 put at a bound; R0 is fixed (never flagged)
+    single = dataclasses.replace(rc_fit, stderr={**rc_fit.stderr, "R1": 3.0 * rc_fit.values["R1"]}, at_bound=("C1",), converged=False)
+    table = {r["name"]: r for r in single.to_table()}
+    assert [(n, r["converged"], r["at_bound"], r["undetermined"]) for n, r in table.items()] == [("R0", False, False, False), ("R1", False, False, True), ("C1", False, True, False)]
+    assert all(r["converged"] and not r["undetermined"] and not r["at_bound"] for r in rc_fit.to_table())
 
 
 def test_posterior_csv_holds_the_quantiles_of_the_draws(rc_fit, tmp_path):

@@ -245,13 +245,19 @@ class BatchFitResult:
         (their index where they have none) as the first columns, then name, value, stderr (None
         when fixed or there is none, as `FitResult.to_table`), unit and fixed, then the
         spectrum's `SPECTRUM_STATISTICS` (rms_rel, chi2, chi2_red, aic, bic: the keys of a single
-        fit's JSON; added 2026-12-01), repeated on each of its rows (`impedax.io.write_result` .csv)."""
+        fit's JSON; added 2026-12-01), repeated on each of its rows (`impedax.io.write_result` .csv),
+        then the flags (added 2026-12-01, as `FitResult.to_table`): ``converged`` (the spectrum's),
+        ``at_bound`` and ``undetermined`` (this parameter's; the rule of `undetermined`)."""
         ds = self.dataset
         specs = self.circuit.parameter_specs(self.registry)
         names = [str(p) for p in ds["param"].values]
         value = ds["value"].transpose(*self.dims, "param").values
         stderr = ds["stderr"].transpose(*self.dims, "param").values
+        at_bound = ds["at_bound"].transpose(*self.dims, "param").values.astype(bool)
+        converged = ds["converged"].transpose(*self.dims).values.astype(bool)
         fixed = ds["fixed"].values.tolist()
+        # (`undetermined`'s rule for every parameter at once: never fixed, never at a bound)
+        flagged = undetermined(value, stderr) & ~at_bound & ~np.asarray(fixed, bool)
         statistics = self._spectrum_statistics()
         labels = [ds[d].values.tolist() if d in ds.coords else list(range(ds.sizes[d])) for d in self.dims]
         rows = []
@@ -259,7 +265,10 @@ class BatchFitResult:
             where = {d: labels[i][j] for i, (d, j) in enumerate(zip(self.dims, index))}
             own = {k: float(a[index]) for k, a in statistics.items()}
             for p, n in enumerate(names):
-                rows.append({**where, "name": n, "value": float(value[index + (p,)]), "stderr": shown_stderr(float(stderr[index + (p,)]), fixed[p]), "unit": specs[n].unit, "fixed": fixed[p], **own})
+                rows.append({
+                    **where, "name": n, "value": float(value[index + (p,)]), "stderr": shown_stderr(float(stderr[index + (p,)]), fixed[p]), "unit": specs[n].unit, "fixed": fixed[p], **own,
+                    "converged": bool(converged[index]), "at_bound": bool(at_bound[index + (p,)]), "undetermined": bool(flagged[index + (p,)]),
+                })
         return rows
 
     def _spectrum_statistics(self) -> dict[str, np.ndarray]:

@@ -261,10 +261,17 @@ class FitResult:
     def to_table(self) -> list[dict[str, object]]:
         """The tidy table of parameters: one row per parameter with name, value, stderr (None
         when fixed or there is none: at a bound, a vanishing term's, an overflowed fit's), unit
-        (from the element specs) and fixed (`impedax.io.write_result` .csv)."""
+        (from the element specs) and fixed, then the flags (added 2026-12-01, as
+        `BatchFitResult.to_table`): ``converged`` (the fit's), ``at_bound`` and ``undetermined``
+        (the fits' rule, `branches.undetermined`: relative standard error above 100 % or none,
+        never for a fixed parameter or one at a bound) (`impedax.io.write_result` .csv)."""
         specs = self.circuit.parameter_specs(self.registry)
         return [
-            {"name": n, "value": v, "stderr": shown_stderr(self.stderr[n], self.fixed[n]), "unit": specs[n].unit, "fixed": self.fixed[n]}
+            {
+                "name": n, "value": v, "stderr": shown_stderr(self.stderr[n], self.fixed[n]), "unit": specs[n].unit, "fixed": self.fixed[n],
+                "converged": bool(self.converged), "at_bound": n in self.at_bound,
+                "undetermined": bool(undetermined(v, self.stderr[n])) and not self.fixed[n] and n not in self.at_bound,
+            }
             for n, v in self.values.items()
         ]
 
@@ -305,7 +312,8 @@ class FitResult:
         status = "converged" if self.converged else "NOT converged"
         lines = [f"rms_rel {self.rms_rel * 100:.3g} %, chi2_red {self.chi2_red:.4g}, AIC {self.aic:.2f} ({self.n_points} points, {status})", *self.warnings]
         # as the text table: a parameter at a bound has no meaningful linearised error to show
-        rows = [{**row, "stderr": "at bound"} if row["name"] in self.at_bound else row for row in self.to_table()]
+        # (and the status line above says whether the fit converged)
+        rows = [{k: v for k, v in ({**row, "stderr": "at bound"} if row["name"] in self.at_bound else row).items() if k != "converged"} for row in self.to_table()]
         return result_html(self.model, rows, lines=lines, figure=self.plot)
 
     def derive(self, fn, freq=None):
