@@ -10,6 +10,7 @@ import json
 
 import numpy as np
 import pytest
+import xarray as xr
 
 import impedax as ix
 from impedax.cli import main
@@ -108,6 +109,24 @@ def test_csv_rows_flag_a_value_at_a_bound_or_undetermined_and_an_unconverged_spe
     table = {r["name"]: r for r in single.to_table()}
     assert [(n, r["converged"], r["at_bound"], r["undetermined"]) for n, r in table.items()] == [("R0", False, False, False), ("R1", False, False, True), ("C1", False, True, False)]
     assert all(r["converged"] and not r["undetermined"] and not r["at_bound"] for r in rc_fit.to_table())
+
+
+def test_netcdf_of_a_fit_names_each_parameters_unit_and_reads_back_with_or_without_it(rc_fit, rc_batch, tmp_path):
+    for result, reader in ((rc_fit, ix.FitResult), (rc_batch, ix.BatchFitResult)):
+        ds = result.to_xarray()
+        assert dict(zip(ds["param"].values.tolist(), ds["unit"].values.tolist())) == RC_UNITS  # (added 2026-12-01)
+        path = tmp_path / f"{reader.__name__}.nc"
+        ix.write_result(result, path)
+        with xr.open_dataset(path) as stored:
+            assert dict(zip(stored["param"].values.tolist(), stored["unit"].values.tolist())) == RC_UNITS
+            np.testing.assert_array_equal(stored["value"].values, ds["value"].values)
+        loaded = ix.load(path)
+        back = reader.from_xarray(loaded)
+        assert back.to_table() == result.to_table()
+        older = reader.from_xarray(loaded.drop_vars("unit"))  # a file written before the units were
+        assert older.to_table() == result.to_table()
+        assert dict(zip(older.to_xarray()["param"].values.tolist(), older.to_xarray()["unit"].values.tolist())) == RC_UNITS
+    assert ix.BatchFitResult.from_xarray(rc_batch.to_xarray()).dataset.identical(rc_batch.dataset)  # (the unit is not kept twice)
 
 
 def test_posterior_csv_holds_the_quantiles_of_the_draws(rc_fit, tmp_path):

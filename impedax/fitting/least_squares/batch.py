@@ -28,7 +28,7 @@ from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, domi
 from .order import canonical_order
 from .branches import RELATIVE_ERROR_LIMIT, idle_branch_notes, settle_vanishing, undetermined, undetermined_mask, vanishing_candidates, vanishing_parameters
 from .constraints import constraint_misfit_notes, with_constraint_notes
-from .result import BOUND_RESTARTS, bounds_attr, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, uneven_residual_notes, shown_stderr, stack_notes, vanishing_term_sides, weighting_notes, without_error
+from .result import BOUND_RESTARTS, bounds_attr, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, PARAMETER_UNIT_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, uneven_residual_notes, shown_stderr, stack_notes, vanishing_term_sides, weighting_notes, without_error
 from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, TreeSolvers, better, over_devices, padded_points, tree_solver, trimmed, unscale
 from .starts import SpectrumFeatures, climb_target, batch_outliers, escalation_rungs, guess_start, inward_start, rms_rel_of, rung_seed, rung_starts, to_solver_space, values_inside
 
@@ -89,8 +89,11 @@ class BatchFitResult:
 
     def to_xarray(self) -> xr.Dataset:
         """``dataset`` with what `from_xarray` needs besides in its attrs: the warnings (spectrum
-        → its warnings, as ``warnings``) and the time taken."""
-        return self.dataset.assign_attrs(impedax_kind=self._KIND, warnings={k: list(v) for k, v in self.warnings.items()}, elapsed_s=float(self.elapsed_s))
+        → its warnings, as ``warnings``) and the time taken; and ``unit`` along ``param``, each
+        parameter's unit (the element specs', as the CSV's ``unit``; added 2026-12-01)."""
+        specs = self.circuit.parameter_specs(self.registry)
+        units = [specs[str(p)].unit if str(p) in specs else "" for p in self.dataset["param"].values]
+        return self.dataset.assign_coords(unit=("param", units, {"long_name": PARAMETER_UNIT_NAME})).assign_attrs(impedax_kind=self._KIND, warnings={k: list(v) for k, v in self.warnings.items()}, elapsed_s=float(self.elapsed_s))
 
     @classmethod
     def from_xarray(cls, ds: xr.Dataset, *, registry: Registry | None = None) -> "BatchFitResult":
@@ -114,7 +117,7 @@ class BatchFitResult:
         with damaged_result(kind, ds):
             warnings = {str(k): (v,) if isinstance(v, str) else tuple(str(w) for w in v) for k, v in dict(ds.attrs.get("warnings", {})).items()}
             elapsed = float(ds.attrs.get("elapsed_s", 0.0))
-            dataset = ds.copy()
+            dataset = ds.drop_vars("unit", errors="ignore")  # (to_xarray's, from the specs; a file before 2026-12-01 has none)
             dataset.attrs = {k: v for k, v in ds.attrs.items() if k not in ("impedax_kind", "warnings", "elapsed_s", "format")}
             return cls(circuit=parse(ds.attrs["model"], registry), dataset=dataset, weighting=str(ds.attrs["weighting"]), warnings=warnings, elapsed_s=elapsed, registry=registry, **{k: f(ds) for k, f in fields.items()})
 
@@ -928,7 +931,7 @@ def data_notes(freq, z, z_model, sigma, weighting: str, source: str, kk_misfits:
 
 
 RESULT_NAMES = frozenset({
-    "param", "fit_output", "value", "stderr", "linearised_stderr", "fixed", "lower", "upper", "at_bound", "chi2", "chi2_red", "aic", "bic", "rms_rel", "converged", "n_evaluations", "Z_model", "sigma",
+    "param", "fit_output", "value", "stderr", "linearised_stderr", "fixed", "lower", "upper", "at_bound", "chi2", "chi2_red", "aic", "bic", "rms_rel", "converged", "n_evaluations", "Z_model", "sigma", "unit",  # ("unit": to_xarray's coordinate along param)
 })
 """The names of a batch result's dimensions and variables (`fit_batch`'s Dataset, and the core
 dimension of the chunked path's ``apply_ufunc``): a batch dimension of one of these names is

@@ -338,9 +338,11 @@ class FitResult:
         )
 
     def to_xarray(self) -> xr.Dataset:
-        """Parameters (with stderr), covariance and the spectra as a Dataset."""
+        """Parameters (with stderr), covariance and the spectra as a Dataset; ``unit`` along
+        ``param`` gives each parameter's unit (the element specs', as the CSV's ``unit``; added 2026-12-01)."""
         names = list(self.values)
         free = list(self.free_names)
+        specs = self.circuit.parameter_specs(self.registry)
         return xr.Dataset(
             {
                 "value": ("param", [self.values[n] for n in names]),
@@ -354,7 +356,7 @@ class FitResult:
                 "Z_model": ("frequency", self.z_model, {"units": "ohm"}),
                 "residual_rel": ("frequency", self.residuals, {"units": "1", "long_name": RESIDUAL_LONG_NAME}),
             },
-            coords={"param": names, "free_param": free, "free_param_2": free, "frequency": ("frequency", self.frequency, {"units": "Hz"})},
+            coords={"param": names, "unit": ("param", [specs[n].unit for n in names], {"long_name": PARAMETER_UNIT_NAME}), "free_param": free, "free_param_2": free, "frequency": ("frequency", self.frequency, {"units": "Hz"})},
             attrs={
                 "impedax_kind": "fit", "model": self.model, "weighting": self.weighting, "rms_rel": self.rms_rel, "chi2": self.chi2,
                 "chi2_red": self.chi2_red, "aic": self.aic, "bic": self.bic, "converged": int(self.converged),
@@ -449,6 +451,7 @@ RESIDUAL_LONG_NAME = "(Z_model - Z_data)/|Z_data|"
 STDERR_NOTE = "NaN: fixed, or at a bound (no symmetric standard error there); inf: a vanishing term's parameter"
 COVARIANCE_NOTE = "the linearisation with every free parameter free, the bounds ignored"
 LINEARISED_STDERR_NAME = "stderr with a parameter at a bound given the linearisation's (bounds ignored): not a ± error there, the scale of chi2's curvature"
+PARAMETER_UNIT_NAME = "unit of each parameter (the element specs')"  # (the ``unit`` coordinate of a fit's to_xarray)
 CORRELATION_NOTE = "NaN in the rows and columns of parameters without a standard error (at a bound, a vanishing term's)"
 
 
