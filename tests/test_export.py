@@ -129,6 +129,22 @@ def test_netcdf_of_a_fit_names_each_parameters_unit_and_reads_back_with_or_witho
     assert ix.BatchFitResult.from_xarray(rc_batch.to_xarray()).dataset.identical(rc_batch.dataset)  # (the unit is not kept twice)
 
 
+def test_save_given_a_result_names_write_result(rc_fit, rc_batch, tmp_path):
+    class Table:  # anything write_result takes: here a summary
+        def summary(self):
+            return {"a": 1}
+
+    for result in (rc_fit, rc_batch, Table()):
+        with pytest.raises(ix.DataError) as info:
+            ix.save(result, tmp_path / "x.nc")
+        assert f"impedax.write_result(result, '{tmp_path / 'x.nc'}')" in str(info.value) and type(result).__name__ in str(info.value)
+    with pytest.raises(ix.DataError, match=r"save takes a spectrum Dataset \(impedax.make_spectrum, impedax.load\), got None") as info:
+        ix.save(None, tmp_path / "x.nc")  # (not a result: the message as before)
+    assert "write_result" not in str(info.value) and list(tmp_path.iterdir()) == []
+    ix.write_result(rc_batch, tmp_path / "x.nc")  # what it names works
+    assert ix.BatchFitResult.from_xarray(ix.load(tmp_path / "x.nc")).to_table() == rc_batch.to_table()
+
+
 def test_posterior_csv_holds_the_quantiles_of_the_draws(rc_fit, tmp_path):
     post = ix.sample("R0 + R1 || C1", _rc_data(), steps=120, burn=40, walkers=16, seed=0, progress=False)
     ix.write_result(post, tmp_path / "post.csv")

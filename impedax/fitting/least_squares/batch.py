@@ -90,7 +90,9 @@ class BatchFitResult:
     def to_xarray(self) -> xr.Dataset:
         """``dataset`` with what `from_xarray` needs besides in its attrs: the warnings (spectrum
         → its warnings, as ``warnings``) and the time taken; and ``unit`` along ``param``, each
-        parameter's unit (the element specs', as the CSV's ``unit``; added 2026-12-01)."""
+        parameter's unit (the element specs', as the CSV's ``unit``; added 2026-12-01). Its attrs
+        are Python objects (dicts of warnings and unidentified groups) that ``.to_netcdf`` refuses:
+        a file is written with ``impedax.write_result(batch, "fits.nc")``, which encodes them."""
         specs = self.circuit.parameter_specs(self.registry)
         units = [specs[str(p)].unit if str(p) in specs else "" for p in self.dataset["param"].values]
         return self.dataset.assign_coords(unit=("param", units, {"long_name": PARAMETER_UNIT_NAME})).assign_attrs(impedax_kind=self._KIND, warnings={k: list(v) for k, v in self.warnings.items()}, elapsed_s=float(self.elapsed_s))

@@ -339,7 +339,9 @@ class FitResult:
 
     def to_xarray(self) -> xr.Dataset:
         """Parameters (with stderr), covariance and the spectra as a Dataset; ``unit`` along
-        ``param`` gives each parameter's unit (the element specs', as the CSV's ``unit``; added 2026-12-01)."""
+        ``param`` gives each parameter's unit (the element specs', as the CSV's ``unit``; added 2026-12-01). Its attrs are Python
+        objects (lists of warnings and groups, a dict of bounds) that ``.to_netcdf`` refuses: a
+        file is written with ``impedax.write_result(result, "fit.nc")``, which encodes them."""
         names = list(self.values)
         free = list(self.free_names)
         specs = self.circuit.parameter_specs(self.registry)
