@@ -436,7 +436,7 @@ class BatchFitResult:
     def _warning_lines(self) -> list[str]:
         """The warnings, one line per kind with the spectra it applies to (`grouped_warnings`),
         after an empty line; none when there are none."""
-        return ["", *grouped_warnings(self.warnings, self.n_spectra)] if any(self.warnings.values()) else []
+        return ["", *grouped_warnings(self.warnings, self.n_spectra, spectra=[key for key, _ in self.spectrum_keys()])] if any(self.warnings.values()) else []
 
 
 SPECTRA_AS_COLUMNS = 6
