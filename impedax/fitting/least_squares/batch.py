@@ -290,13 +290,14 @@ class BatchFitResult:
         lines = [f"{self.n_spectra} {'spectrum' if self.n_spectra == 1 else 'spectra'} over {_dims_text(s['dims'])}: converged {s['converged_fraction'] * 100:.1f}%, median rms_rel {s['rms_rel_median'] * 100:.3g} %"]
         return result_html(self.model, rows, lines=lines)
 
-    def plot(self, *, title: str | None = None, figsize: tuple[float, float] | None = None):
+    def plot(self, *, title: str | None = None, figsize: tuple[float, float] | None = None, params=None):
         """Each free parameter (± stderr) and rms_rel across the spectra (matplotlib Figure;
         `plotting.fit.plot_batch`); ``figsize`` (width, height) [in] in place of the size that
-        follows the number of panels."""
+        follows the number of panels; ``params`` (a list of names) draws those parameters only,
+        in that order (an unknown name: a `ParameterError` naming the circuit's parameters)."""
         from ...plotting.fit import plot_batch
 
-        return plot_batch(self, title=title, figsize=figsize)
+        return plot_batch(self, title=title, figsize=figsize, params=params)
 
     def summary(self) -> dict:
         """The JSON of ``impedax fit --json`` for several spectra (docs/fitting.md, "Batch fits")."""
