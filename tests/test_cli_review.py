@@ -421,3 +421,21 @@ def test_the_batch_fit_figure_marks_the_spectra_with_their_labels():
         assert [t.get_text() for t in ax.get_xticklabels()] == ["0", "64", "129"] and ax.get_xlabel() == "cycle"
     assert [line.get_label() for line in fig.axes[-1].lines if line.get_marker() == "o"] == ["0", "64", "129"]  # the Nyquist legend: the same labels
     assert outside_the_figure(fig) == []
+
+
+def test_fit_plot_params_draws_those_panels_and_refuses_what_it_cannot(files, tmp_path, capsys):
+    """``impedax fit STACK --plot F.png --plot-params R1`` (added 2026-12-01): the batch figure's
+    R1 and rms_rel panels only; an unknown name, no --plot, or one spectrum: exit 2 before the fit."""
+    out = tmp_path / "batch.png"
+    assert main(["fit", files["three"], "--model", "R0 + R1 || C1", "--plot", str(out), "--plot-params", "R1", "--json"]) == 0
+    assert out.stat().st_size > 0
+    capsys.readouterr()
+    for args, message in (
+        (["--plot", str(tmp_path / "x.png"), "--plot-params", "R1", "C2"], "--plot-params: unknown parameter 'C2' for model 'R0 + R1 || C1'"),
+        (["--plot-params", "R1"], "--plot-params picks the parameters of the figure --plot FILE.png draws: give --plot too"),
+    ):
+        assert main(["fit", files["three"], "--model", "R0 + R1 || C1", *args]) == 2
+        err = capsys.readouterr().err
+        assert message in err and "Traceback" not in err
+    assert main(["fit", files["one"], "--model", "R0 + R1 || C1", "--plot", str(tmp_path / "y.png"), "--plot-params", "R1"]) == 2
+    assert "holds one" in capsys.readouterr().err and not (tmp_path / "y.png").exists() and not (tmp_path / "x.png").exists()
