@@ -219,9 +219,9 @@ def save(ds: xr.Dataset, path: str | os.PathLike) -> None:
     """Save a spectrum: ``.nc`` → lossless netCDF, ``.csv``/``.txt`` (or no extension) →
     canonical CSV, ``.tsv`` → the same columns separated by tabs. Atomic."""
     if not isinstance(ds, xr.Dataset):
-        from .export import _is_result  # (what write_result takes: a summary or a to_xarray)
+        from .export import is_result  # (what write_result takes: a summary or a to_xarray)
 
-        if _is_result(ds):
+        if is_result(ds):
             where = str(path) if isinstance(path, (str, os.PathLike)) else "result.nc"
             raise DataError(f"save takes a spectrum Dataset, got a {type(ds).__name__}: a result is written with impedax.write_result(result, {where!r}) (.nc, .csv or .json)")
         raise DataError(f"save takes a spectrum Dataset (impedax.make_spectrum, impedax.load), got {shown(ds)} ({type(ds).__name__})")
