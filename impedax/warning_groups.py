@@ -1,6 +1,7 @@
 """The warnings of a batch of fits as a few lines of text: one line per kind of warning (texts
-that differ only in their numbers are one kind, the numbers shown as ranges), naming the
-spectra it applies to. `BatchFitResult.report` and the command line print them (no JAX here:
+that differ only in their numbers, or in the wording inside their brackets, are one kind, the
+numbers shown as ranges), naming the spectra it applies to (or, when it applies to more than
+half, the spectra it does not). `BatchFitResult.report` and the command line print them (no JAX here:
 the command line's messages use it before anything heavy is imported)."""
 
 from __future__ import annotations
@@ -52,13 +53,84 @@ def _spectra_text(places: Sequence[str]) -> str:
     return shown + (f"; ... ({len(places)} in all)" if len(places) > LABELS_SHOWN else "")
 
 
+def _segments(text: str) -> list[str] | None:
+    """``text`` cut into the pieces outside and inside its top-level brackets, alternately (the
+    first outside, possibly empty): ``"a (b (c)) d"`` → ``["a ", "(b (c))", " d"]``; None when its
+    brackets do not pair up."""
+    pieces, depth, start = [], 0, 0
+    for i, ch in enumerate(text):
+        if ch == "(":
+            if depth == 0:
+                pieces.append(text[start:i])
+                start = i
+            depth += 1
+        elif ch == ")":
+            depth -= 1
+            if depth < 0:
+                return None
+            if depth == 0:
+                pieces.append(text[start : i + 1])
+                start = i + 1
+    return None if depth else pieces + [text[start:]]
+
+
+def _template(text: str) -> str:
+    """A text with its numbers as ``#``: texts of one wording have one template."""
+    return _NUMBER.sub("#", text)
+
+
+def _kind_key(text: str) -> str:
+    """The kind of a warning: its template outside its top-level brackets, each bracket's
+    wording ignored (``(…)``), so one finding worded two ways by a detail in brackets is one kind
+    (a CPE's correlated Q and α "both are still well determined (...)" or "their standard errors
+    (...) already include the correlation", by the relative errors' side of
+    `WELL_DETERMINED`); the whole template where the brackets do not pair up."""
+    pieces = _segments(text)
+    if pieces is None:
+        return _template(text)
+    return "".join(_template(p) if i % 2 == 0 else "(…)" for i, p in enumerate(pieces))
+
+
+def _wordings(members: Sequence[tuple[str, str]]) -> list[list[tuple[str, str]]]:
+    """The members of one kind by wording (template), the most frequent first."""
+    groups: dict[str, list[tuple[str, str]]] = {}
+    for place, text in members:
+        groups.setdefault(_template(text), []).append((place, text))
+    return sorted(groups.values(), key=len, reverse=True)
+
+
+def _kind_text(members: Sequence[tuple[str, str]]) -> str:
+    """One text for a kind: the numbers that differ as ranges (`_spread`); when it has several
+    wordings, the most frequent one's brackets, the numbers outside them over every member, and
+    after ``;`` each other wording's differing brackets with the spectra they are of
+    (``…; in cycle 4, 14: (… their standard errors (10%) already include the correlation)``)."""
+    wordings = _wordings(members)
+    if len(wordings) == 1:
+        return _spread([t for _, t in members])
+    cut = [[_segments(t) for _, t in w] for w in wordings]
+    first = cut[0]
+    out = []
+    for i in range(len(first[0])):
+        if i % 2 == 0 or all(_template(c[i]) == _template(first[0][i]) for w in cut for c in w):  # (outside, or one wording for all)
+            out.append(_spread([c[i] for w in cut for c in w]))
+        else:
+            out.append(_spread([c[i] for c in first]))
+    text = "".join(out)
+    for wording, pieces in zip(wordings[1:], cut[1:]):
+        differ = [i for i in range(1, len(first[0]), 2) if _template(pieces[0][i]) != _template(first[0][i])]
+        places = list(dict.fromkeys(place for place, _ in wording))
+        where = _spectra_text(places) if all("=" in p for p in places) else "; ".join(places)
+        text += f"; in {where}: " + " ".join(_spread([c[i] for c in pieces]) for i in differ)
+    return text
+
+
 def _kinds(warnings: Mapping[str, Sequence[str]]) -> list[list[tuple[str, str]]]:
-    """The (spectrum, text) pairs of each kind of warning (texts equal but for their numbers),
-    the most frequent kind first."""
+    """The (spectrum, text) pairs of each kind of warning (texts equal but for their numbers
+    and the wording in their brackets, `_kind_key`), the most frequent kind first."""
     groups: dict[str, list[tuple[str, str]]] = {}
     for place, texts in warnings.items():
         for text in dict.fromkeys(texts):
-            groups.setdefault(_NUMBER.sub("#", text), []).append((place, text))
+            groups.setdefault(_kind_key(text), []).append((place, text))
     return sorted(groups.values(), key=len, reverse=True)
 
 
@@ -66,14 +138,20 @@ def warning_kinds(warnings: Mapping[str, Sequence[str]]) -> list[dict]:
     """The warnings of a batch's spectra by kind, for JSON: each kind's text with the numbers
     that differ as ranges (as `grouped_warnings` prints it), the spectra it applies to and
     their number (and ``scope``: the keys that name no spectrum, a global fit's "shared over
-    trial"); the most frequent kind first, every kind."""
+    trial"); the most frequent kind first, every kind. A kind worded in several ways (by a
+    detail in brackets, `_kind_key`) also has ``wordings``: each wording's text (numbers as
+    ranges) and its spectra, the most frequent first (added 2026-12-01; before, each wording
+    was a kind of its own)."""
     out = []
     for members in _kinds(warnings):
         places = list(dict.fromkeys(place for place, _ in members))
         spectra = [p for p in places if "=" in p]  # (a global fit's own notes are filed under "shared over trial")
-        kind = {"warning": _spread([t for _, t in members]), "spectra": spectra, "n_spectra": len(spectra)}
+        kind = {"warning": _kind_text(members), "spectra": spectra, "n_spectra": len(spectra)}
         if len(spectra) < len(places):
             kind["scope"] = [p for p in places if "=" not in p]
+        wordings = _wordings(members)
+        if len(wordings) > 1:
+            kind["wordings"] = [{"warning": _spread([t for _, t in w]), "spectra": list(dict.fromkeys(p for p, _ in w))} for w in wordings]
         out.append(kind)
     return out
 
@@ -81,21 +159,28 @@ def warning_kinds(warnings: Mapping[str, Sequence[str]]) -> list[dict]:
 MORE_KINDS = "... and {n} more kinds of warning (the result's warnings, and the JSON's, list every text)"
 
 
-def grouped_warnings(warnings: Mapping[str, Sequence[str]], n_spectra: int, *, head: str = "warning", more: str = MORE_KINDS) -> list[str]:
+def grouped_warnings(warnings: Mapping[str, Sequence[str]], n_spectra: int, *, head: str = "warning", more: str = MORE_KINDS, spectra: Sequence[str] | None = None) -> list[str]:
     """The warnings of a batch's spectra (``{"cycle=0": (text, ...), ...}``) as text lines:
-    one per kind of warning with the spectra it applies to, the most frequent first, at most
-    `WARNING_GROUPS_SHOWN`; a key that names no spectrum (a global fit's ``"shared over
-    trial"``) is given as it is. ``head`` begins each line (``warning (2 of 3 spectra: ...):
-    TEXT``); ``more`` is the closing line past the kinds shown, ``{n}`` their number."""
+    one per kind of warning (`_kind_key`) with the spectra it applies to, the most frequent
+    first, at most `WARNING_GROUPS_SHOWN`; a key that names no spectrum (a global fit's
+    ``"shared over trial"``) is given as it is. ``spectra``: every spectrum's key, in order
+    (`BatchFitResult.spectrum_keys`); given, a kind that applies to more than half of them names
+    the others (``128 of 130 spectra: all but cycle 8, 14``). ``head`` begins each line
+    (``warning (2 of 3 spectra: ...): TEXT``); ``more`` is the closing line past the kinds
+    shown, ``{n}`` their number."""
     ordered = _kinds(warnings)
     lines = []
     for members in ordered[:WARNING_GROUPS_SHOWN]:
         places = list(dict.fromkeys(place for place, _ in members))
         if not any("=" in p for p in places):  # not spectra: a global fit's own notes ("shared over trial")
             where = "; ".join(places)
+        elif len(places) == n_spectra:
+            where = "the 1 spectrum" if n_spectra == 1 else f"all {n_spectra} spectra"
+        elif spectra is not None and 2 * len(places) > n_spectra and (others := [p for p in spectra if p not in set(places)]):
+            where = f"{len(places)} of {n_spectra} spectra: all but {_spectra_text(others)}"
         else:
-            where = ("the 1 spectrum" if n_spectra == 1 else f"all {n_spectra} spectra") if len(places) == n_spectra else f"{len(places)} of {n_spectra} spectra: {_spectra_text(places)}"
-        lines.append(f"{head} ({where}): {_spread([t for _, t in members])}")
+            where = f"{len(places)} of {n_spectra} spectra: {_spectra_text(places)}"
+        lines.append(f"{head} ({where}): {_kind_text(members)}")
     if len(ordered) > WARNING_GROUPS_SHOWN:
         lines.append(more.format(n=len(ordered) - WARNING_GROUPS_SHOWN))
     return lines

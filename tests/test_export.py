@@ -10,6 +10,7 @@ import json
 
 import numpy as np
 import pytest
+import xarray as xr
 
 import impedax as ix
 from impedax.cli import main
@@ -51,7 +52,7 @@ def _read_csv(path):
 def test_fit_csv_rows_are_the_fitted_parameters(rc_fit, tmp_path):
     ix.write_result(rc_fit, tmp_path / "fit.csv")
     rows = _read_csv(tmp_path / "fit.csv")
-    assert list(rows[0]) == ["name", "value", "stderr", "unit", "fixed"]
+    assert list(rows[0]) == ["name", "value", "stderr", "unit", "fixed", "converged", "at_bound", "undetermined"]  # (the flags: added 2026-12-01)
     assert [r["name"] for r in rows] == ["R0", "R1", "C1"]
     for r in rows:
         assert float(r["value"]) == rc_fit.values[r["name"]]  # shortest exact text: no rounding
@@ -76,7 +77,7 @@ def test_fit_json_is_the_summary_and_netcdf_reopens(rc_fit, tmp_path):
 def test_batch_csv_has_a_row_per_spectrum_and_parameter_with_coordinates(rc_batch, tmp_path):
     ix.write_result(rc_batch, tmp_path / "batch.csv")
     rows = _read_csv(tmp_path / "batch.csv")
-    assert list(rows[0]) == ["cell", "name", "value", "stderr", "unit", "fixed", "rms_rel", "chi2", "chi2_red", "aic", "bic"]  # (the spectrum's goodness of fit: added 2026-12-01)
+    assert list(rows[0]) == ["cell", "name", "value", "stderr", "unit", "fixed", "rms_rel", "chi2", "chi2_red", "aic", "bic", "converged", "at_bound", "undetermined"]  # (goodness of fit and flags: added 2026-12-01)
     assert [(r["cell"], r["name"]) for r in rows] == [(c, n) for c in "abc" for n in ("R0", "R1", "C1")]
     for r in rows:
         assert float(r["value"]) == float(rc_batch.values(r["name"]).sel(cell=r["cell"]))
@@ -86,6 +87,62 @@ def test_batch_csv_has_a_row_per_spectrum_and_parameter_with_coordinates(rc_batc
     np.testing.assert_allclose(r1, [1000.0, 2000.0, 4000.0], rtol=0.05)  # the truth of each cell
     ix.write_result(rc_batch, tmp_path / "batch.json")
     assert json.loads((tmp_path / "batch.json").read_text()) == json.loads(json.dumps(rc_batch.summary()))
+
+
+def test_csv_rows_flag_a_value_at_a_bound_or_undetermined_and_an_unconverged_spectrum(rc_fit, rc_batch, tmp_path):
+    # the batch's values edited by hand: cell b's R1 with a relative error of 5e24 (undetermined,
+    # as R2 = 1.08e25 ± 5e49 on a real battery cycle), cell c's C1 on its bound, cell a not converged
+    ds = rc_batch.dataset.copy(deep=True)
+    ds["stderr"].loc[dict(param="R1", cell="b")] = 5e27
+    ds["at_bound"].loc[dict(param="C1", cell="c")] = True
+    ds["converged"].loc[dict(cell="a")] = False
+    edited = dataclasses.replace(rc_batch, dataset=ds)
+    ix.write_result(edited, tmp_path / "batch.csv")
+    rows = {(r["cell"], r["name"]): r for r in _read_csv(tmp_path / "batch.csv")}
+    assert {k for k, r in rows.items() if r["undetermined"] == "true"} == {("b", "R1")}
+    assert {k for k, r in rows.items() if r["at_bound"] == "true"} == {("c", "C1")}
+    assert {k for k, r in rows.items() if r["converged"] == "false"} == {("a", n) for n in ("R0", "R1", "C1")}
+    for (cell, name), r in rows.items():  # the same rule as the batch's own `undetermined`
+        assert (r["undetermined"] == "true") == bool(edited.undetermined(name).sel(cell=cell))
+    # a single fit's rows: its R1 made undetermined, its C1 put at a bound; R0 is fixed (never flagged)
+    single = dataclasses.replace(rc_fit, stderr={**rc_fit.stderr, "R1": 3.0 * rc_fit.values["R1"]}, at_bound=("C1",), converged=False)
+    table = {r["name"]: r for r in single.to_table()}
+    assert [(n, r["converged"], r["at_bound"], r["undetermined"]) for n, r in table.items()] == [("R0", False, False, False), ("R1", False, False, True), ("C1", False, True, False)]
+    assert all(r["converged"] and not r["undetermined"] and not r["at_bound"] for r in rc_fit.to_table())
+
+
+def test_netcdf_of_a_fit_names_each_parameters_unit_and_reads_back_with_or_without_it(rc_fit, rc_batch, tmp_path):
+    for result, reader in ((rc_fit, ix.FitResult), (rc_batch, ix.BatchFitResult)):
+        ds = result.to_xarray()
+        assert dict(zip(ds["param"].values.tolist(), ds["unit"].values.tolist())) == RC_UNITS  # (added 2026-12-01)
+        path = tmp_path / f"{reader.__name__}.nc"
+        ix.write_result(result, path)
+        with xr.open_dataset(path) as stored:
+            assert dict(zip(stored["param"].values.tolist(), stored["unit"].values.tolist())) == RC_UNITS
+            np.testing.assert_array_equal(stored["value"].values, ds["value"].values)
+        loaded = ix.load(path)
+        back = reader.from_xarray(loaded)
+        assert back.to_table() == result.to_table()
+        older = reader.from_xarray(loaded.drop_vars("unit"))  # a file written before the units were
+        assert older.to_table() == result.to_table()
+        assert dict(zip(older.to_xarray()["param"].values.tolist(), older.to_xarray()["unit"].values.tolist())) == RC_UNITS
+    assert ix.BatchFitResult.from_xarray(rc_batch.to_xarray()).dataset.identical(rc_batch.dataset)  # (the unit is not kept twice)
+
+
+def test_save_given_a_result_names_write_result(rc_fit, rc_batch, tmp_path):
+    class Table:  # anything write_result takes: here a summary
+        def summary(self):
+            return {"a": 1}
+
+    for result in (rc_fit, rc_batch, Table()):
+        with pytest.raises(ix.DataError) as info:
+            ix.save(result, tmp_path / "x.nc")
+        assert f"impedax.write_result(result, '{tmp_path / 'x.nc'}')" in str(info.value) and type(result).__name__ in str(info.value)
+    with pytest.raises(ix.DataError, match=r"save takes a spectrum Dataset \(impedax.make_spectrum, impedax.load\), got None") as info:
+        ix.save(None, tmp_path / "x.nc")  # (not a result: the message as before)
+    assert "write_result" not in str(info.value) and list(tmp_path.iterdir()) == []
+    ix.write_result(rc_batch, tmp_path / "x.nc")  # what it names works
+    assert ix.BatchFitResult.from_xarray(ix.load(tmp_path / "x.nc")).to_table() == rc_batch.to_table()
 
 
 def test_posterior_csv_holds_the_quantiles_of_the_draws(rc_fit, tmp_path):

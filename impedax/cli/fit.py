@@ -107,6 +107,7 @@ def register(sub) -> None:
     add_fit_options(p)
     add_max_steps_option(p, 400, "each fit")
     add_output_options(p, plot="save data vs model with residuals", out=result_out_help("the result (.nc: parameters, covariance, spectra)") + "; .tex a LaTeX table of value ± standard error (one spectrum)", out_metavar="FILE.csv|.json|.nc|.tex")
+    p.add_argument("--plot-params", nargs="+", metavar="NAME", help="the parameters --plot draws for several spectra, in that order (default: every free one)")
     p.set_defaults(run=run)
 
 
@@ -130,11 +131,18 @@ def run(args) -> int:
     for flag, given in (("--init", init), ("--fix", fixed), ("--bound", given_bounds)):
         check_parameter_names(given, names, flag, args.model)
     bounds = checked_bound_options(given_bounds, circuit.parameter_specs(), init=init, fixed=fixed)
+    plot_params = args.plot_params
+    if plot_params is not None:
+        if not args.plot:
+            raise ParameterError("--plot-params picks the parameters of the figure --plot FILE.png draws: give --plot too")
+        check_parameter_names(plot_params, names, "--plot-params", args.model)
     data = exclude_points(load_selected(args.data, args.select), args.exclude)
     progress = progress_printer()  # (a batch of 3 cycles took 15 s without a word, 28 s on a first run)
     n_spectra = int(data["Z"].size // max(data.sizes.get("frequency", 1), 1))
     if latex and n_spectra > 1:
         raise ParameterError(f"--out {args.out}: a LaTeX table holds the fit of one spectrum, and {args.data} holds {n_spectra}: pick one with --select, or write .csv (a row per spectrum and parameter)")
+    if plot_params is not None and n_spectra == 1:
+        raise ParameterError(f"--plot-params picks the parameter panels of a figure of several spectra, and {args.data} holds one (its figure is data against model, no parameter panels): leave --plot-params out")
     progress(f"fitting {args.model} to {n_spectra} spectra together (a circuit's first batch compiles its solvers)" if n_spectra > 1 else f"fitting {args.model} (a circuit's first fit compiles its solvers)")
     try:
         result = fit(args.model, data, init=init, fixed=fixed, bounds=bounds or None, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, **sharing)
@@ -142,7 +150,7 @@ def run(args) -> int:
         progress.close()
     source = data_source(data)
     record = command_provenance(args, source=source, data_files=[args.data])
-    outputs.save({"--out": latex_writer(result) if latex else result_writer(result, source, record), "--plot": figure_writer(result.plot, source, **figure_options(args))})
+    outputs.save({"--out": latex_writer(result) if latex else result_writer(result, source, record), "--plot": figure_writer(result.plot if plot_params is None else lambda: result.plot(params=plot_params), source, **figure_options(args))})
     if not outputs.uses_stdout:
         print_result(result, args.json, source, record)  # (a batch's report groups its warnings by kind, naming the spectra)
     if isinstance(result, FitResult) and not result.converged:  # (the report's status line says it; stderr too, as with --json)

@@ -104,7 +104,7 @@ def write_json(obj, path: str | Path) -> None:
         tmp.write_text(text, encoding="utf-8")
 
 
-def _is_result(obj) -> bool:
+def is_result(obj) -> bool:
     """Whether ``obj`` is something `write_result` writes (a result with a summary or a dataset)."""
     return callable(getattr(obj, "summary", None)) or callable(getattr(obj, "to_xarray", None))
 
@@ -147,12 +147,12 @@ def write_result(result, path: str | Path, *, source: str | None = None, provena
     ``source`` and now), and, only when given (the command line gives it), the JSON key
     ``provenance`` and the CSV columns of `provenance_columns` on every row (a JSON or CSV
     without it stays the result's own ``summary()``/table: docs/io.md, "Provenance")."""
-    if isinstance(result, (str, os.PathLike)) and _is_result(path):
+    if isinstance(result, (str, os.PathLike)) and is_result(path):
         raise ParameterError(f"write_result takes (result, path); the arguments look swapped: got the path {shown(str(result))} first and a {type(path).__name__} second")
     if not isinstance(path, (str, os.PathLike)):
         raise ParameterError(f"write_result: path must be a file path (str or pathlib.Path), got {shown(path)} ({type(path).__name__})")
     kind = result_format(path)
-    if not _is_result(result):
+    if not is_result(result):
         got = "None" if result is None else type(result).__name__
         spectrum = "; a spectrum Dataset is written with impedax.save(data, path)" if hasattr(result, "data_vars") else ""
         raise ParameterError(f"write_result takes a result (FitResult, BatchFitResult, Comparison, Diagnosis, Refinement, Posterior, ...), got {got}{spectrum}")

@@ -222,6 +222,11 @@ def save(ds: xr.Dataset, path: str | os.PathLike, *, provenance: Mapping[str, ob
     result records it (docs/io.md, "Provenance"): the netCDF attributes of `provenance_attrs`,
     the CSV columns of `provenance_columns` after the spectrum's own."""
     if not isinstance(ds, xr.Dataset):
+        from .export import is_result  # (what write_result takes: a summary or a to_xarray)
+
+        if is_result(ds):
+            where = str(path) if isinstance(path, (str, os.PathLike)) else "result.nc"
+            raise DataError(f"save takes a spectrum Dataset, got a {type(ds).__name__}: a result is written with impedax.write_result(result, {where!r}) (.nc, .csv or .json)")
         raise DataError(f"save takes a spectrum Dataset (impedax.make_spectrum, impedax.load), got {shown(ds)} ({type(ds).__name__})")
     _check_path(path)
     path = Path(path)

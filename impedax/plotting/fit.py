@@ -11,20 +11,22 @@ from ..data import unit_text
 from . import font_size
 
 
-def plot_batch(batch, *, title: str | None = None, figsize: tuple[float, float] | None = None):
+def plot_batch(batch, *, title: str | None = None, figsize: tuple[float, float] | None = None, params=None):
     """One panel per free parameter (value ± stderr for each spectrum, in the order of the batch
     dimensions, the x axis marked with the spectra's labels; a value at its bound has no bar, as
     text and JSON give it no standard error, and an open square marked "at bound") and one for rms_rel; log scale
     where a parameter spans decades; and a Nyquist panel of data and fits (`_plot_fits`) in
     the last row's free places (a row of its own when fewer than two are free). ``figsize``
-    (width, height) [in]: the figure's size, the panels keeping their proportions. Returns a
-    matplotlib Figure."""
+    (width, height) [in]: the figure's size, the panels keeping their proportions. ``params``:
+    the parameters to draw, in that order (a list of names, or one name; None: every free one;
+    added 2026-12-01), the rms_rel panel after them; an unknown name is a `ParameterError`
+    naming the circuit's parameters. Returns a matplotlib Figure."""
     import matplotlib.pyplot as plt
 
     from . import characters_across, label_spectra_axis, nyquist_panel_height, nyquist_shape, plain_linear_ticks, plain_log_ticks, prefixable_unit, prefixed_axis, wrap_model
 
     ds = batch.dataset
-    free = [str(p) for p, fixed in zip(ds["param"].values, ds["fixed"].values) if not fixed]
+    free = [str(p) for p, fixed in zip(ds["param"].values, ds["fixed"].values) if not fixed] if params is None else _chosen(batch, params)
     panels = free + ["rms_rel"]
     cols = min(4, len(panels))
     rows = math.ceil(len(panels) / cols)
@@ -88,6 +90,26 @@ def plot_batch(batch, *, title: str | None = None, figsize: tuple[float, float] 
     converged = float(ds["converged"].mean()) * 100
     fig.suptitle(title or wrap_model(f"{batch.model}: {batch.n_spectra} spectr{'um' if batch.n_spectra == 1 else 'a'}, {converged:.0f}% converged", characters_across(fig.get_figwidth() if figsize else 3.2 * cols, font_size("suptitle", 12))))
     return fig
+
+
+def _chosen(batch, params) -> list[str]:
+    """The parameter names ``params`` (`plot_batch`) as a list, each a parameter of the batch's
+    circuit (`unknown_parameter` otherwise: the names and the closest one), none twice."""
+    from ..arguments import shown, unknown_parameter
+    from ..errors import ParameterError
+
+    names = [str(p) for p in batch.dataset["param"].values]
+    chosen = [params] if isinstance(params, str) else params
+    try:
+        chosen = list(chosen)
+    except TypeError:
+        raise ParameterError(f"plot(params=...): a list of parameter names ({', '.join(names)}), got {shown(params)}") from None
+    if not chosen:
+        raise ParameterError(f"plot(params=...): no parameter named; give some of {', '.join(names)} (None draws every free one)")
+    for name in chosen:
+        if not isinstance(name, str) or name not in names:
+            raise unknown_parameter("plot(params=...)", name, names, batch.model)
+    return list(dict.fromkeys(chosen))
 
 
 # values of a parameter across the spectra that span less than this, relative to their size,

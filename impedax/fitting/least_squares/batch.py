@@ -28,7 +28,7 @@ from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, domi
 from .order import canonical_order
 from .branches import RELATIVE_ERROR_LIMIT, idle_branch_notes, settle_vanishing, undetermined, undetermined_mask, vanishing_candidates, vanishing_parameters
 from .constraints import constraint_misfit_notes, with_constraint_notes
-from .result import BOUND_RESTARTS, bounds_attr, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, uneven_residual_notes, shown_stderr, stack_notes, vanishing_term_sides, weighting_notes, without_error
+from .result import BOUND_RESTARTS, bounds_attr, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, PARAMETER_UNIT_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, uneven_residual_notes, shown_stderr, stack_notes, vanishing_term_sides, weighting_notes, without_error
 from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, TreeSolvers, better, over_devices, padded_points, tree_solver, trimmed, unscale
 from .starts import SpectrumFeatures, climb_target, batch_outliers, escalation_rungs, guess_start, inward_start, rms_rel_of, rung_seed, rung_starts, to_solver_space, values_inside
 
@@ -89,8 +89,13 @@ class BatchFitResult:
 
     def to_xarray(self) -> xr.Dataset:
         """``dataset`` with what `from_xarray` needs besides in its attrs: the warnings (spectrum
-        → its warnings, as ``warnings``) and the time taken."""
-        return self.dataset.assign_attrs(impedax_kind=self._KIND, warnings={k: list(v) for k, v in self.warnings.items()}, elapsed_s=float(self.elapsed_s))
+        → its warnings, as ``warnings``) and the time taken; and ``unit`` along ``param``, each
+        parameter's unit (the element specs', as the CSV's ``unit``; added 2026-12-01). Its attrs
+        are Python objects (dicts of warnings and unidentified groups) that ``.to_netcdf`` refuses:
+        a file is written with ``impedax.write_result(batch, "fits.nc")``, which encodes them."""
+        specs = self.circuit.parameter_specs(self.registry)
+        units = [specs[str(p)].unit if str(p) in specs else "" for p in self.dataset["param"].values]
+        return self.dataset.assign_coords(unit=("param", units, {"long_name": PARAMETER_UNIT_NAME})).assign_attrs(impedax_kind=self._KIND, warnings={k: list(v) for k, v in self.warnings.items()}, elapsed_s=float(self.elapsed_s))
 
     @classmethod
     def from_xarray(cls, ds: xr.Dataset, *, registry: Registry | None = None) -> "BatchFitResult":
@@ -115,7 +120,7 @@ class BatchFitResult:
         with damaged_result(kind, ds):
             warnings = {str(k): (v,) if isinstance(v, str) else tuple(str(w) for w in v) for k, v in dict(ds.attrs.get("warnings", {})).items()}
             elapsed = float(ds.attrs.get("elapsed_s", 0.0))
-            dataset = ds.copy()
+            dataset = ds.drop_vars("unit", errors="ignore")  # (to_xarray's, from the specs; a file before 2026-12-01 has none)
             dataset.attrs = {k: v for k, v in ds.attrs.items() if k not in ("impedax_kind", "warnings", "elapsed_s", "format")}
             return cls(circuit=parse(ds.attrs["model"], registry), dataset=dataset, weighting=str(ds.attrs["weighting"]), warnings=warnings, elapsed_s=elapsed, registry=registry, source=saved_source(ds), **{k: f(ds) for k, f in fields.items()})
 
@@ -246,13 +251,19 @@ class BatchFitResult:
         (their index where they have none) as the first columns, then name, value, stderr (None
         when fixed or there is none, as `FitResult.to_table`), unit and fixed, then the
         spectrum's `SPECTRUM_STATISTICS` (rms_rel, chi2, chi2_red, aic, bic: the keys of a single
-        fit's JSON; added 2026-12-01), repeated on each of its rows (`impedax.io.write_result` .csv)."""
+        fit's JSON; added 2026-12-01), repeated on each of its rows (`impedax.io.write_result` .csv),
+        then the flags (added 2026-12-01, as `FitResult.to_table`): ``converged`` (the spectrum's),
+        ``at_bound`` and ``undetermined`` (this parameter's; the rule of `undetermined`)."""
         ds = self.dataset
         specs = self.circuit.parameter_specs(self.registry)
         names = [str(p) for p in ds["param"].values]
         value = ds["value"].transpose(*self.dims, "param").values
         stderr = ds["stderr"].transpose(*self.dims, "param").values
+        at_bound = ds["at_bound"].transpose(*self.dims, "param").values.astype(bool)
+        converged = ds["converged"].transpose(*self.dims).values.astype(bool)
         fixed = ds["fixed"].values.tolist()
+        # (`undetermined`'s rule for every parameter at once: never fixed, never at a bound)
+        flagged = undetermined(value, stderr) & ~at_bound & ~np.asarray(fixed, bool)
         statistics = self._spectrum_statistics()
         labels = [ds[d].values.tolist() if d in ds.coords else list(range(ds.sizes[d])) for d in self.dims]
         rows = []
@@ -260,7 +271,10 @@ class BatchFitResult:
             where = {d: labels[i][j] for i, (d, j) in enumerate(zip(self.dims, index))}
             own = {k: float(a[index]) for k, a in statistics.items()}
             for p, n in enumerate(names):
-                rows.append({**where, "name": n, "value": float(value[index + (p,)]), "stderr": shown_stderr(float(stderr[index + (p,)]), fixed[p]), "unit": specs[n].unit, "fixed": fixed[p], **own})
+                rows.append({
+                    **where, "name": n, "value": float(value[index + (p,)]), "stderr": shown_stderr(float(stderr[index + (p,)]), fixed[p]), "unit": specs[n].unit, "fixed": fixed[p], **own,
+                    "converged": bool(converged[index]), "at_bound": bool(at_bound[index + (p,)]), "undetermined": bool(flagged[index + (p,)]),
+                })
         return rows
 
     def _spectrum_statistics(self) -> dict[str, np.ndarray]:
@@ -277,13 +291,14 @@ class BatchFitResult:
         lines = [f"{self.n_spectra} {'spectrum' if self.n_spectra == 1 else 'spectra'} over {_dims_text(s['dims'])}: converged {s['converged_fraction'] * 100:.1f}%, median rms_rel {s['rms_rel_median'] * 100:.3g} %"]
         return result_html(self.model, rows, lines=lines)
 
-    def plot(self, *, title: str | None = None, figsize: tuple[float, float] | None = None):
+    def plot(self, *, title: str | None = None, figsize: tuple[float, float] | None = None, params=None):
         """Each free parameter (± stderr) and rms_rel across the spectra (matplotlib Figure;
         `plotting.fit.plot_batch`); ``figsize`` (width, height) [in] in place of the size that
-        follows the number of panels."""
+        follows the number of panels; ``params`` (a list of names) draws those parameters only,
+        in that order (an unknown name: a `ParameterError` naming the circuit's parameters)."""
         from ...plotting.fit import plot_batch
 
-        return plot_batch(self, title=title, figsize=figsize)
+        return plot_batch(self, title=title, figsize=figsize, params=params)
 
     def summary(self) -> dict:
         """The JSON of ``impedax fit --json`` for several spectra (docs/fitting.md, "Batch fits")."""
@@ -450,7 +465,7 @@ class BatchFitResult:
     def _warning_lines(self) -> list[str]:
         """The warnings, one line per kind with the spectra it applies to (`grouped_warnings`),
         after an empty line; none when there are none."""
-        return ["", *grouped_warnings(self.warnings, self.n_spectra)] if any(self.warnings.values()) else []
+        return ["", *grouped_warnings(self.warnings, self.n_spectra, spectra=[key for key, _ in self.spectrum_keys()])] if any(self.warnings.values()) else []
 
 
 SPECTRA_AS_COLUMNS = 6
@@ -947,7 +962,7 @@ def data_notes(freq, z, z_model, sigma, weighting: str, source: str, kk_misfits:
 
 
 RESULT_NAMES = frozenset({
-    "param", "fit_output", "value", "stderr", "linearised_stderr", "fixed", "lower", "upper", "at_bound", "chi2", "chi2_red", "aic", "bic", "rms_rel", "converged", "n_evaluations", "Z_model", "sigma",
+    "param", "fit_output", "value", "stderr", "linearised_stderr", "fixed", "lower", "upper", "at_bound", "chi2", "chi2_red", "aic", "bic", "rms_rel", "converged", "n_evaluations", "Z_model", "sigma", "unit",  # ("unit": to_xarray's coordinate along param)
 })
 """The names of a batch result's dimensions and variables (`fit_batch`'s Dataset, and the core
 dimension of the chunked path's ``apply_ufunc``): a batch dimension of one of these names is

@@ -261,10 +261,17 @@ class FitResult:
     def to_table(self) -> list[dict[str, object]]:
         """The tidy table of parameters: one row per parameter with name, value, stderr (None
         when fixed or there is none: at a bound, a vanishing term's, an overflowed fit's), unit
-        (from the element specs) and fixed (`impedax.io.write_result` .csv)."""
+        (from the element specs) and fixed, then the flags (added 2026-12-01, as
+        `BatchFitResult.to_table`): ``converged`` (the fit's), ``at_bound`` and ``undetermined``
+        (the fits' rule, `branches.undetermined`: relative standard error above 100 % or none,
+        never for a fixed parameter or one at a bound) (`impedax.io.write_result` .csv)."""
         specs = self.circuit.parameter_specs(self.registry)
         return [
-            {"name": n, "value": v, "stderr": shown_stderr(self.stderr[n], self.fixed[n]), "unit": specs[n].unit, "fixed": self.fixed[n]}
+            {
+                "name": n, "value": v, "stderr": shown_stderr(self.stderr[n], self.fixed[n]), "unit": specs[n].unit, "fixed": self.fixed[n],
+                "converged": bool(self.converged), "at_bound": n in self.at_bound,
+                "undetermined": bool(undetermined(v, self.stderr[n])) and not self.fixed[n] and n not in self.at_bound,
+            }
             for n, v in self.values.items()
         ]
 
@@ -305,7 +312,8 @@ class FitResult:
         status = "converged" if self.converged else "NOT converged"
         lines = [f"rms_rel {self.rms_rel * 100:.3g} %, chi2_red {self.chi2_red:.4g}, AIC {self.aic:.2f} ({self.n_points} points, {status})", *self.warnings]
         # as the text table: a parameter at a bound has no meaningful linearised error to show
-        rows = [{**row, "stderr": "at bound"} if row["name"] in self.at_bound else row for row in self.to_table()]
+        # (and the status line above says whether the fit converged)
+        rows = [{k: v for k, v in ({**row, "stderr": "at bound"} if row["name"] in self.at_bound else row).items() if k != "converged"} for row in self.to_table()]
         return result_html(self.model, rows, lines=lines, figure=self.plot)
 
     def derive(self, fn, freq=None):
@@ -330,9 +338,13 @@ class FitResult:
         )
 
     def to_xarray(self) -> xr.Dataset:
-        """Parameters (with stderr), covariance and the spectra as a Dataset."""
+        """Parameters (with stderr), covariance and the spectra as a Dataset; ``unit`` along
+        ``param`` gives each parameter's unit (the element specs', as the CSV's ``unit``; added 2026-12-01). Its attrs are Python
+        objects (lists of warnings and groups, a dict of bounds) that ``.to_netcdf`` refuses: a
+        file is written with ``impedax.write_result(result, "fit.nc")``, which encodes them."""
         names = list(self.values)
         free = list(self.free_names)
+        specs = self.circuit.parameter_specs(self.registry)
         return xr.Dataset(
             {
                 "value": ("param", [self.values[n] for n in names]),
@@ -346,7 +358,7 @@ class FitResult:
                 "Z_model": ("frequency", self.z_model, {"units": "ohm"}),
                 "residual_rel": ("frequency", self.residuals, {"units": "1", "long_name": RESIDUAL_LONG_NAME}),
             },
-            coords={"param": names, "free_param": free, "free_param_2": free, "frequency": ("frequency", self.frequency, {"units": "Hz"})},
+            coords={"param": names, "unit": ("param", [specs[n].unit for n in names], {"long_name": PARAMETER_UNIT_NAME}), "free_param": free, "free_param_2": free, "frequency": ("frequency", self.frequency, {"units": "Hz"})},
             attrs={
                 "impedax_kind": "fit", "model": self.model, "weighting": self.weighting, "rms_rel": self.rms_rel, "chi2": self.chi2,
                 "chi2_red": self.chi2_red, "aic": self.aic, "bic": self.bic, "converged": int(self.converged),
@@ -444,6 +456,7 @@ RESIDUAL_LONG_NAME = "(Z_model - Z_data)/|Z_data|"
 STDERR_NOTE = "NaN: fixed, or at a bound (no symmetric standard error there); inf: a vanishing term's parameter"
 COVARIANCE_NOTE = "the linearisation with every free parameter free, the bounds ignored"
 LINEARISED_STDERR_NAME = "stderr with a parameter at a bound given the linearisation's (bounds ignored): not a ± error there, the scale of chi2's curvature"
+PARAMETER_UNIT_NAME = "unit of each parameter (the element specs')"  # (the ``unit`` coordinate of a fit's to_xarray)
 CORRELATION_NOTE = "NaN in the rows and columns of parameters without a standard error (at a bound, a vanishing term's)"
 
 
