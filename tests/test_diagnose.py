@@ -624,3 +624,21 @@ def test_the_baseline_runs_the_same_starts_whatever_the_catalog_and_the_solver_s
     copies = 16  # (3 parameters: BASELINE_COPIES)
     assert circuits == ["R0 + R1 || C1"] * (2 * copies) and seeds == [5 + i for i in range(copies)] * 2 and n_starts == 2
     assert damping == ["identity"] * copies + ["marquardt"] * copies
+
+
+def test_the_report_says_which_rule_ranks_a_suggestion_before_one_with_a_lower_aic():
+    """`_ranked_before` names the first of `_rank`'s rules that tells two suggestions apart:
+    stand-ins with hand-set ΔAIC, parameter counts and removed elements."""
+    from types import SimpleNamespace as NS
+
+    from impedax.fitting.diagnosis.diagnosis import _ranked_before
+
+    def suggestion(effect, aic, k, removed=(), vanished=(), model="M"):
+        return NS(effect=effect, delta_aic=aic, fit=NS(n_params=k), removed=removed, vanished=vanished, model=model, added="X", where="")
+
+    cpe, warburg = suggestion("constant_phase", -78.2, 4), suggestion("diffusion", -85.7, 5)
+    assert _ranked_before(cpe, warburg) == "within ΔAIC 10 of each other the data barely tell them apart, and the simpler goes first (4 free parameters against 5)"
+    dropped = suggestion("extra_relaxation", -120.0, 5, removed=("R0",), model="R1 || C1 + R_relax || C_relax")
+    assert _ranked_before(cpe, dropped).startswith("it keeps every element of yours (R1 || C1 + R_relax || C_relax leaves R0 out")
+    fell = suggestion("extra_relaxation", -80.0, 4, removed=("R0",), vanished=("R0",))
+    assert _ranked_before(cpe, fell) == "within ΔAIC 10 of each other the data barely tell them apart, and the one that leaves no element out goes first"

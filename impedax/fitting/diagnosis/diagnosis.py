@@ -386,12 +386,12 @@ class Diagnosis:
             lines.append(f"DRT: {self.drt.text}.")
         lines.append(f"verdict: {self.verdict_heading} — {self.reason}")
         if self.suggestions:
-            lines.append(f"what is missing (best first: by AIC; of candidates within {DELTA_AIC_MIN:g} of each other, one that keeps every element of yours, then the simpler, "
-                         "then one that adds no finite Warburg as diffusion (within that margin its 45° region is not shown decisively), so a later one may have the lower ΔAIC; "
-                         "ΔAIC and ΔBIC here weigh each point by its noise, so they differ from the fits' own AIC that impedax fit and compare print):")
-            for i, (s, same) in enumerate(_folded(self.suggestions, self.noise)[:5], 1):
+            lines.append("what is missing (best first; ΔAIC and ΔBIC here weigh each point by its noise, so they differ from the fits' own AIC that impedax fit and compare print):")
+            shown = _folded(self.suggestions, self.noise)[:5]
+            for i, (s, same) in enumerate(shown, 1):
                 lines.append(f"  {i}. [{s.effect}] {s.explanation}")
                 lines.append(f"     model {s.model}   rms_rel {s.rms_rel * 100:.3g} %   ΔAIC {s.delta_aic:+.1f}   ΔBIC {s.delta_bic:+.1f}")
+                lines += [f"     ranked before {j}. (ΔAIC {t.delta_aic:+.1f}): {_ranked_before(s, t)}" for j, (t, _) in enumerate(shown, 1) if j > i and t.delta_aic < s.delta_aic]
                 for t in same:
                     lines.append(f"     the same fit within the noise (the data cannot tell them apart): {t.model} [{t.effect}]   ΔAIC {t.delta_aic:+.1f}")
             best = self.suggestions[0].fit
@@ -804,6 +804,27 @@ def _drt_supports(s: Suggestion, evidence: PeakEvidence | None) -> bool:
             pairs += [(a, b) for a, b in members]
     narrow = [p for p in evidence.unexplained if is_resolved(p) and not any(p is d for d in evidence.distributed)]
     return any(v[a] * v[b] > 0 and abs(math.log10(v[a] * v[b] / p.tau_s)) <= 0.5 for a, b in pairs for p in narrow)
+
+
+def _ranked_before(s: Suggestion, t: Suggestion) -> str:
+    """Why ``s`` ranks before ``t`` although ``t`` lowers AIC more (`_rank`'s rules, the first
+    that tells them apart), in words for the report. Before 2026-12-01 the report's heading
+    spelled out every rule on every run (60 words), and a reader of BioLogic's REAL spectrum
+    could not tell which one put CPE1 (ΔAIC −78.2) before a Warburg (−85.7): the simpler."""
+    margin = f"within ΔAIC {DELTA_AIC_MIN:g} of each other the data barely tell them apart, and"
+    if set(t.removed) - set(t.vanished) and not set(s.removed) - set(s.vanished):
+        return f"it keeps every element of yours ({t.model} leaves {', '.join(sorted(set(t.removed) - set(t.vanished)))} out, which changes what your elements stand for)"
+    if t.delta_aic < s.delta_aic - DELTA_AIC_MIN:
+        return "see the ranking rules, docs/diagnosis.md"
+    if s.fit.n_params < t.fit.n_params:
+        return f"{margin} the simpler goes first ({s.fit.n_params} free parameters against {t.fit.n_params})"
+    if t.removed and not s.removed:
+        return f"{margin} the one that leaves no element out goes first"
+    if _claims_finite_diffusion(t) and not _claims_finite_diffusion(s):
+        return f"{margin} a finite Warburg's 45° region is not shown decisively"
+    if s.effect == "extra_relaxation" and t.effect != "extra_relaxation":
+        return f"{margin} the data's DRT backs the added arc"
+    return f"{margin} of candidates that are the same fit within the noise, one that changes an idle element goes first"
 
 
 def _claims_finite_diffusion(s: Suggestion) -> bool:
