@@ -401,3 +401,31 @@ def test_a_one_parameter_element_may_have_a_suffix():
     text = (pathlib.Path(__file__).parent.parent / "docs" / "circuits.md").read_text(encoding="utf-8")
     assert "`W1.sigma`, not `W1`" in text and "when the element has one parameter" not in text
 
+
+
+def test_fit_says_its_stages_to_progress_and_fits_the_same():
+    """``fit(..., progress=callback)`` says each stage as it begins (a batch's first call of a
+    circuit compiled for 10-15 s without a word from Python), and the fits are those without it.
+    SYNTHETIC: R0 + R1 ∥ C1 by hand, 1 % noise, seed 2, a stack of 12 (a reference spectrum's
+    start search from `REFERENCE_MIN_SPECTRA` on)."""
+    import numpy as np
+
+    import impedax as ix
+
+    rng = np.random.default_rng(2)
+    f = np.geomspace(1.0, 1e5, 30)
+    r1 = np.linspace(500.0, 1500.0, 12)[:, None]
+    z = (20.0 + r1 / (1 + 2j * np.pi * f * r1 * 1e-6)) * (1 + 0.01 * (rng.normal(size=(12, 30)) + 1j * rng.normal(size=(12, 30))))
+    stack = ix.make_spectrum(f, z, dims=("cell",))
+    lines: list[str] = []
+    said = ix.fit("R0 + R1 || C1", stack, progress=lines.append)
+    assert lines[0] == "fitting R0 + R1 || C1 to 12 spectra together (a circuit's first batch compiles its solvers)"
+    assert "local fits of the 12 spectra" in lines and lines[-1] == "standard errors, bounds and warnings of the 12 fits"
+    assert not any("of the 1 spectra" in line for line in lines)  # (the reference's own stack of one is not said)
+    quiet = ix.fit("R0 + R1 || C1", stack)
+    np.testing.assert_array_equal(said.dataset["value"].values, quiet.dataset["value"].values)
+    one: list[str] = []
+    ix.fit("R0 + R1 || C1", stack.isel(cell=0), progress=one.append)
+    assert one[0] == "fitting R0 + R1 || C1 (a circuit's first fit compiles its solvers)"
+    with pytest.raises(ix.ParameterError, match="progress must be a function of one line of text"):
+        ix.fit("R0 + R1 || C1", stack.isel(cell=0), progress=True)

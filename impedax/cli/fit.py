@@ -143,9 +143,8 @@ def run(args) -> int:
         raise ParameterError(f"--out {args.out}: a LaTeX table holds the fit of one spectrum, and {args.data} holds {n_spectra}: pick one with --select, or write .csv (a row per spectrum and parameter)")
     if plot_params is not None and n_spectra == 1:
         raise ParameterError(f"--plot-params picks the parameter panels of a figure of several spectra, and {args.data} holds one (its figure is data against model, no parameter panels): leave --plot-params out")
-    progress(f"fitting {args.model} to {n_spectra} spectra together (a circuit's first batch compiles its solvers)" if n_spectra > 1 else f"fitting {args.model} (a circuit's first fit compiles its solvers)")
-    try:
-        result = fit(args.model, data, init=init, fixed=fixed, bounds=bounds or None, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, **sharing)
+    try:  # (fit says its stages: the first line, then a batch's start search, local fits, statistics)
+        result = fit(args.model, data, init=init, fixed=fixed, bounds=bounds or None, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, progress=progress, **sharing)
     finally:
         progress.close()
     source = data_source(data)

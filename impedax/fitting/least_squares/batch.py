@@ -20,6 +20,7 @@ from ...arguments import unknown_parameter
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ...data import column_width, concise_repr, format_relative_error, unit_text
 from ...errors import DataError, ParameterError
+from ...progress import say, silenced
 from ...warning_groups import grouped_warnings, warning_kinds
 from ..grid import refuse_result_names
 from ..parameters import ParameterTable
@@ -591,7 +592,10 @@ def _started_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting,
     guesses = guess_start(circuit, table, features, registry, starts=starts)
     large = b >= REFERENCE_MIN_SPECTRA
     if large and n_starts > 1:
-        guesses = _with_reference_start(guesses, solver, circuit, table, freq, z, sigma, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
+        say("the start search on a reference spectrum, whose optimum every spectrum is offered")
+        with silenced():  # (it fits the reference as a stack of one: its stages are this one)
+            guesses = _with_reference_start(guesses, solver, circuit, table, freq, z, sigma, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
+    say(f"local fits of the {b} spectra")
     u, chi2, done, steps = solver.solve(guesses, np.arange(b), np.full(b, max_steps))
     out = unscale(solver.outputs(u, np.arange(b), done, steps, steps), scale)
     used = np.ones(b, int)
@@ -611,6 +615,7 @@ def _started_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting,
             poor, target = poor[still], target[still]
         if not poor.size:
             break
+        say(f"{poor.size} of the fits {'not at the noise' if not rung else 'still poor'}: {multiple * n_starts} more starts each")
         out = _multistart_rung(out, solver, circuit, table, features, poor, n_starts, multiple, rung, seed, scale, max_steps, registry)
         used[poor] = np.where(used[poor] > 1, used[poor], 0) + multiple * n_starts
     return out, used, solver
@@ -642,6 +647,7 @@ def _outliers_restarted(out, u, used, solver, circuit, table, features, freq, z,
         if not poor.size:
             break
         before = np.array(out.chi2[poor])
+        say(f"{poor.size} of the fits poor beside the others or against their KK misfit: {n_starts} more starts each")
         out = _multistart_rung(out, solver, circuit, table, features, poor, n_starts, 1, 0, seed, scale, max_steps, registry)
         used[poor] = n_starts
         tried[poor] = True
@@ -857,6 +863,7 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
     spectra in one stacked computation (`covariances`), their warnings too (`stack_notes`); only
     spectra that overflowed or did not converge go through `fit_result`."""
     out, used, solver, inward = _solve_stack(circuit, table, freq, z, sigma, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source, starts=starts)
+    say(f"standard errors, bounds and warnings of the {len(z)} fits")
     out = canonical_order(circuit, table, freq, out, registry)
     b, k, n_res = z.shape[0], len(table.free_names), 2 * len(freq)
     chi2 = np.array(out.chi2, float)  # copies: device_get's arrays are read-only
