@@ -245,3 +245,20 @@ def test_batches_over_the_same_dimensions_in_another_order_are_aligned():
     relabelled = ix.fit(CPE, stack.assign_coords(cycle=[1, 3]).transpose("cycle", "cell", "frequency"), n_starts=1)
     with pytest.raises(FitError, match=r"their labels along cycle differ \(\[1, 2\] against \[1, 3\]\)"):
         ix.compare([rc, relabelled])
+
+
+def test_the_comparison_figure_labels_its_axis_with_the_spectra_labels(comparison):
+    """The x axis of `plot_batch_comparison` names the batch dimension and ticks the spectra by
+    their labels (s0 … s11), as a batch fit's figure does; it read "spectrum index (0 = …)"
+    beyond 30 spectra and "subject=s0" per tick below."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig = comparison.plot()
+    ax = fig.axes[0]
+    fig.canvas.draw()
+    shown = [t.get_text() for t in ax.get_xticklabels() if t.get_text()]
+    assert ax.get_xlabel() == "subject" and shown and set(shown) <= {f"s{i}" for i in range(12)}
+    plt.close(fig)

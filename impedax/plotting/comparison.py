@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import font_size
+from . import font_size, label_spectra_axis
 
 
 def plot_comparison(comparison, *, figsize: tuple[float, float] | None = None):
@@ -49,11 +49,6 @@ def plot_comparison(comparison, *, figsize: tuple[float, float] | None = None):
     return fig
 
 
-SPECTRUM_TICKS_LABELLED = 30
-"""`plot_batch_comparison` labels each spectrum's tick with its labels up to this many spectra
-(30 labels rotated 90° fit an 11-inch axis at 7 pt); beyond, the axis is the spectrum index."""
-
-
 def plot_batch_comparison(comparison, *, figsize: tuple[float, float] | None = None):
     """Each model's ΔAIC (to the spectrum's best) against the spectrum, one line per model, for
     a `BatchComparison`; the lowest summed AIC in the title; ``figsize`` (width, height) [in],
@@ -79,10 +74,10 @@ def plot_batch_comparison(comparison, *, figsize: tuple[float, float] | None = N
     top = max(10.0, float(np.nanmax([r["models"][k]["delta_aic"] for r in rows for k in range(len(comparison.labels))] or [10.0])))
     ax.set_yticks([t for t in (0, 2, 4, 6, 8, 10, 100, 1_000, 10_000, 100_000) if t <= 10 * top])
     ax.yaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g}"))
-    heads = [", ".join(f"{d}={v}" for d, v in r["labels"].items()) for r in rows]
-    if len(rows) <= SPECTRUM_TICKS_LABELLED:
-        ax.set_xticks(index, heads, rotation=90, fontsize=font_size("tick", 7))
-    ax.set(xlabel="spectrum" if len(rows) <= SPECTRUM_TICKS_LABELLED else f"spectrum index (0 = {heads[0]}, {len(rows) - 1} = {heads[-1]})", ylabel="ΔAIC to the spectrum's best")
+    # each spectrum's labels on the x axis (every k-th where they do not all fit), the batch's
+    # dimensions named: the axis read "spectrum index (0 = cycle=0, …)" beyond 30 spectra
+    label_spectra_axis(ax, [", ".join(str(v) for v in r["labels"].values()) for r in rows], list(comparison.dims))
+    ax.set_ylabel("ΔAIC to the spectrum's best")
     ax.grid(alpha=0.3, which="both")
     ax.legend(fontsize=font_size("legend", 7), loc="best")
     fig.suptitle(f"model comparison over {len(rows)} spectra — lowest summed AIC: {comparison.labels[comparison.best_index]}")
