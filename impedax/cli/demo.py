@@ -4,7 +4,11 @@ from __future__ import annotations
 
 
 def register(sub) -> None:
-    p = sub.add_parser("demo", help="the whole story on the embedded data: fit, diagnose, refine, gap thickness, force (writes out/)")
+    p = sub.add_parser(
+        "demo", help="the whole story on the embedded data: fit, diagnose, refine, gap thickness, force (writes out/)",
+        description="The whole story on the embedded SYNTHETIC finger data (Sirin et al.'s setup): a naive fit, its diagnosis and refinement, "
+        "the air-gap thickness with its posterior, and the electrostatic force; figures and a report in --out (default out/).",
+    )
     p.add_argument("--out", default="out", help="output folder (default out/)")
     p.add_argument("--fast", action="store_true", help="short MCMC chains (used by the tests and CI)")
     p.set_defaults(run=run)

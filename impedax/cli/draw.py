@@ -1,4 +1,4 @@
-"""``impedax draw MODEL -o FILE.png|svg [--param NAME=VALUE]...``: the circuit's schematic."""
+"""``impedax draw MODEL -o FILE.png|.svg|.pdf [--param NAME=VALUE]...``: the circuit's schematic."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ def register(sub) -> None:
 
     p = sub.add_parser("draw", help="draw a model's circuit diagram", description="Draw the schematic of MODEL (series in a row, parallel branches stacked) with element names and, optionally, values. Needs schemdraw (pip install impedax[draw]).")
     add_model_argument(p, positional=True)
-    p.add_argument("-o", "--out", required=True, metavar="FILE.png|svg", help="output file (.png, .svg or .pdf; a name without an extension is a PNG under that name); written atomically")
+    p.add_argument("-o", "--out", required=True, metavar="FILE.png|.svg|.pdf", help="output file (.png, .svg or .pdf; a name without an extension is a PNG under that name); written atomically")
     p.add_argument("--param", action="append", metavar="NAME=VALUE", help="value to print under its element, e.g. a fitted value; several after one --param (--param R0=10 C1=1u) or --param repeated")
     p.set_defaults(run=run)
 

@@ -1,4 +1,4 @@
-"""``impedax inspect FILE [--json] [--out FILE.csv|nc] [--plot FILE]``: what impedax reads
+"""``impedax inspect FILE [--json] [--out FILE.csv|.nc] [--plot FILE]``: what impedax reads
 from a spectrum file and how — the format recognised, the sign convention and units applied,
 rows skipped (and why), how a header-less table was interpreted — with an optional Nyquist/Bode
 preview."""
@@ -19,7 +19,7 @@ def register(sub) -> None:
     )
     p.add_argument("file", metavar="FILE", help="spectrum file")
     add_select_option(p)
-    add_output_options(p, json="machine-readable output", plot="write a Nyquist and Bode preview of the data", out="also save the spectrum in impedax's canonical form", out_metavar="FILE.csv|nc")
+    add_output_options(p, json="machine-readable output", plot="write a Nyquist and Bode preview of the data", out="also save the spectrum in impedax's canonical form", out_metavar="FILE.csv|.nc")
     p.set_defaults(run=run)
 
 
