@@ -160,7 +160,7 @@ def run(args) -> int:
     chain = getattr(posterior, "settings", None) if isinstance(getattr(posterior, "settings", None), dict) else {}
     settled = {f"{k}_used": chain.get(k) for k in ("steps", "burn") if chain.get(k) is not None}
     if getattr(posterior, "n_walkers", None) is not None:
-        settled["walkers_used"] = posterior.n_walkers
+        settled["walkers_used"] = chain.get("walkers", posterior.n_walkers)  # (the run's: with straggler walkers left out, the draws hold fewer)
     record = command_provenance(args, source=source, data_files=[args.data], **settled)
     outputs.save({"--out": result_writer(posterior, source, record), "--corner": figure_writer(lambda: posterior.corner(), source, **figure_options(args)), "--plot": figure_writer(lambda: posterior.plot(), source, **figure_options(args))})
     if not outputs.uses_stdout:

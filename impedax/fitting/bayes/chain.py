@@ -2,7 +2,7 @@
 joint posteriors alike (`start_walkers`; `run_emcee`): a fixed number of steps, or
 ``steps="auto"``, which stops when the kept chain is `CHAIN_TAU_MULTIPLE` autocorrelation times
 long and τ has settled (emcee's recipe, "Saving & monitoring progress"; docs/bayesian.md,
-"Chain length")."""
+"Chain length"); straggler walkers are left out of the kept chain (`find_stragglers`)."""
 
 from __future__ import annotations
 
@@ -14,12 +14,12 @@ import numpy as np
 
 from ...arguments import MAX_CHAIN_VALUES, MAX_SAMPLER_STEPS, count, shown
 from ...errors import FitError, ParameterError
-from .diagnostics import CHAIN_TAU_MULTIPLE, integrated_autocorr
+from .diagnostics import CHAIN_TAU_MULTIPLE, NO_STRAGGLERS, Stragglers, find_stragglers, integrated_autocorr
 from .priors import UNDETERMINED_STDERRS, Prior, undetermined
 from .progress import ProgressLine
 
 __all__ = [
-    "AUTO_STEPS", "AUTO_MAX_STEPS", "AUTO_CHECK_STEPS", "AUTO_TAU_CHANGE", "Chain", "ChainLength", "AUTO_MAX_CHAIN_NUMBERS", "steps_rule", "auto_step_cap", "run_emcee", "length_settings", "length_text", "capped_at",
+    "AUTO_STEPS", "AUTO_MAX_STEPS", "AUTO_CHECK_STEPS", "AUTO_TAU_CHANGE", "Chain", "ChainLength", "AUTO_MAX_CHAIN_NUMBERS", "steps_rule", "auto_step_cap", "run_emcee", "without_stragglers", "length_settings", "length_text", "capped_at",
     "START_MARGIN", "support_in_sampled_space", "inside_support", "ball_scales", "undetermined_span", "start_walkers",
 ]
 
@@ -55,7 +55,8 @@ def steps_rule(value, name):
 
 
 class Chain(NamedTuple):
-    """What an emcee run leaves, after burn and thin."""
+    """What an emcee run leaves, after burn and thin, without its straggler walkers
+    (``stragglers``, `find_stragglers`: the walkers left out, in the run's numbering)."""
 
     chain_y: np.ndarray  # (walker, draw, param), sampled space
     log_prob: np.ndarray  # (walker, draw)
@@ -64,6 +65,7 @@ class Chain(NamedTuple):
     steps: int  # the steps run
     burn: int
     stopped: str | None  # steps="auto": "converged" or "cap"; None for a fixed length
+    stragglers: Stragglers = NO_STRAGGLERS
 
 
 AUTO_MAX_CHAIN_NUMBERS = 30_000_000
@@ -135,8 +137,9 @@ def run_emcee(p0: np.ndarray, log_prob: Callable[[np.ndarray], np.ndarray], *, s
     """emcee's stretch move from ``p0`` (walkers, parameters) with ``log_prob`` (all walkers'
     coordinates → their log-probabilities, one vectorised call) over ``steps`` (or, ``"auto"``,
     until `ChainLength` says the chain is long enough, `auto_step_cap` steps at most); the chain
-    after ``burn`` (None: a quarter of the steps run) and ``thin``. Single and joint posteriors
-    (`sample`, `sample_shared`) run through here."""
+    after ``burn`` (None: a quarter of the steps run) and ``thin``, its straggler walkers left out
+    (`without_stragglers`). Single and joint posteriors (`sample`, `sample_shared`) run through
+    here."""
     import emcee
 
     walkers, n_params = p0.shape
@@ -164,7 +167,17 @@ def run_emcee(p0: np.ndarray, log_prob: Callable[[np.ndarray], np.ndarray], *, s
     chain_y = np.transpose(sampler.get_chain(discard=burn, thin=thin), (1, 0, 2))  # (W, D, P)
     log_prob_kept = np.transpose(sampler.get_log_prob(discard=burn, thin=thin))
     stopped = ("converged" if converged else "cap") if auto else None
-    return Chain(chain_y, log_prob_kept, np.asarray(sampler.acceptance_fraction, float), elapsed, ran, burn, stopped)
+    return without_stragglers(Chain(chain_y, log_prob_kept, np.asarray(sampler.acceptance_fraction, float), elapsed, ran, burn, stopped))
+
+
+def without_stragglers(chain: Chain) -> Chain:
+    """``chain`` without its straggler walkers (`find_stragglers` on its kept log-probabilities),
+    which it names in ``stragglers``; the very same chain when there are none."""
+    stragglers = find_stragglers(chain.log_prob, chain.acceptance)
+    if not stragglers.walkers:
+        return chain
+    kept = np.setdiff1d(np.arange(chain.log_prob.shape[0]), stragglers.walkers)
+    return chain._replace(chain_y=chain.chain_y[kept], log_prob=chain.log_prob[kept], acceptance=chain.acceptance[kept], stragglers=stragglers)
 
 
 def _length_goal(length: ChainLength, ran: int) -> tuple[int | None, str]:

@@ -1,6 +1,7 @@
-"""Convergence diagnostics of an emcee chain: autocorrelation time, highest-density interval and
-the warnings a `Posterior` raises (chain length, acceptance, strong correlations, draws piled up
-against a prior's edge, a linearised standard error far from the posterior's width)."""
+"""Convergence diagnostics of an emcee chain: autocorrelation time, highest-density interval,
+straggler walkers and the warnings a `Posterior` raises (straggler walkers left out, chain
+length, acceptance, strong correlations, draws piled up against a prior's edge, a linearised
+standard error far from the posterior's width)."""
 
 from __future__ import annotations
 
@@ -17,7 +18,7 @@ from ..reductions import reducing_bounds
 __all__ = [
     "CHAIN_TAU_MULTIPLE", "ACCEPTANCE_STUCK", "GAUSSIAN_ACCEPTANCE", "CORRELATION_WARNING", "EDGE_BAND", "EDGE_DENSITY", "EDGE_MIN_DRAWS",
     "INTERVAL_RATIO_WARNING", "integrated_autocorr", "flat_acceptance", "acceptance_ceiling", "hdi", "chain_warnings", "PriorEdges", "prior_edges", "reducing_bounds", "user_bound_sides", "PiledUp",
-    "acceptance_warnings", "interval_warnings", "figure",
+    "acceptance_warnings", "interval_warnings", "figure", "STRAGGLER_LOG_PROB_GAP", "Stragglers", "NO_STRAGGLERS", "find_stragglers", "straggler_warnings", "walkers_text", "kept_walkers",
 ]
 
 CHAIN_TAU_MULTIPLE = 50
@@ -34,6 +35,118 @@ INTERVAL_RATIO_WARNING = 2.0
 """A linearised standard error more than this factor from the posterior's 68 % half-width (or
 less than its inverse): the two disagree beyond what a well-sampled, locally Gaussian posterior
 shows (0.97–1.05 on the BioLogic example; docs/bayesian.md, "Which interval to trust")."""
+
+STRAGGLER_LOG_PROB_GAP = 20.0
+"""A walker whose median log-probability over the kept draws lies more than this many nats below
+the median of all walkers' medians is a straggler (`find_stragglers`): where it sits, the
+posterior density is below e^-20 ≈ 2e-9 of where the others sit. A walker that mixes cannot lag
+so far: a Gaussian posterior's log-probability lies χ²_d/2 below its peak, and even a single
+draw's lies more than (χ²_d quantile 0.9999 − median)/2 below the median with probability
+1e-4 — 7.3 nats for d = 1, 10.7 for 5, 16.5 for 20 (scipy.stats.chi2.ppf) — while a walker's
+median over its draws is far tighter still (its spread falls as 1/√(draws/τ): at d = 60,
+`MAX_JOINT_PARAMETERS`, a single draw's 99.99 % gap is 25 nats, but the median of just 5
+independent draws has a standard deviation of 3.1). On the
+BioLogic example (R0 + R1 ∥ CPE1, α ≥ 0.5, seed 2) the 61 healthy walkers' medians lie within
+0.7 nats of one another and the 3 stragglers 56.5–58.0 nats below (docs/bayesian.md,
+"Diagnostics")."""
+
+
+class Stragglers(NamedTuple):
+    """The straggler walkers of a run (`find_stragglers`), for its warning and its results:
+    ``walkers`` their indices among the run's walkers, ``log_prob_gap`` how far [nats] each one's
+    median log-probability lies below the median of all walkers' medians, ``acceptance`` their
+    acceptance fractions, ``others_acceptance`` the median acceptance of the other walkers and
+    ``draws`` the kept draws per walker (each straggler's left out of the posterior)."""
+
+    walkers: tuple[int, ...] = ()
+    log_prob_gap: tuple[float, ...] = ()
+    acceptance: tuple[float, ...] = ()
+    others_acceptance: float = math.nan
+    draws: int = 0
+
+    def to_attr(self) -> dict:
+        """A netCDF/JSON attribute of plain numbers (`from_attr` reads it back)."""
+        return {"walkers": list(self.walkers), "log_prob_gap": list(self.log_prob_gap), "acceptance": list(self.acceptance), "others_acceptance": self.others_acceptance if math.isfinite(self.others_acceptance) else None, "draws": self.draws}
+
+    @classmethod
+    def from_attr(cls, attr) -> "Stragglers":
+        """`to_attr`'s dict back (None, from a file written before 2026-12-01: none)."""
+        if not attr or not attr.get("walkers"):
+            return NO_STRAGGLERS
+        others = attr.get("others_acceptance")
+        return cls(
+            tuple(int(w) for w in attr["walkers"]), tuple(float(g) for g in attr["log_prob_gap"]), tuple(float(a) for a in attr["acceptance"]),
+            math.nan if others is None else float(others), int(attr.get("draws", 0)),
+        )
+
+
+NO_STRAGGLERS = Stragglers()
+
+
+def find_stragglers(log_prob: np.ndarray, acceptance: np.ndarray) -> Stragglers:
+    """The walkers of ``log_prob`` (walker, draw: the kept chain's log-probabilities) whose median
+    log-probability lies more than `STRAGGLER_LOG_PROB_GAP` below the median of all walkers'
+    medians — walkers in a region of negligible posterior weight: a second mode, or stuck since
+    their start — with their gaps and acceptance (``acceptance``: per walker), and the others'
+    median acceptance (`Stragglers`). A walker at −∞ is one; fewer than half the walkers can be."""
+    log_prob = np.asarray(log_prob, float)
+    if log_prob.ndim != 2 or log_prob.shape[1] == 0:
+        return NO_STRAGGLERS
+    medians = np.median(log_prob, axis=1)
+    with np.errstate(invalid="ignore"):
+        gap = np.median(medians) - medians
+        straggling = gap > STRAGGLER_LOG_PROB_GAP
+    if not np.any(straggling):
+        return NO_STRAGGLERS
+    acceptance = np.asarray(acceptance, float)
+    walkers = np.flatnonzero(straggling)
+    return Stragglers(
+        tuple(int(w) for w in walkers), tuple(float(g) for g in gap[walkers]), tuple(float(a) for a in acceptance[walkers]),
+        float(np.median(acceptance[~straggling])), int(log_prob.shape[1]),
+    )
+
+
+def _span(values, spec: str) -> str:
+    """"a" for one value or equal ones, "a–b" for a range (a report's figure of several walkers)."""
+    lo, hi = format(min(values), spec), format(max(values), spec)
+    return lo if lo == hi else f"{lo}–{hi}"
+
+
+def straggler_warnings(stragglers: Stragglers, n_walkers: int) -> list[str]:
+    """The warning for a run's ``stragglers`` (`find_stragglers`) among its ``n_walkers``
+    walkers: how many, how far below the others their log-probability lies, their acceptance
+    against the others', that they sat where the posterior has no weight, and that their draws
+    were left out."""
+    if not stragglers.walkers:
+        return []
+    k = len(stragglers.walkers)
+    gaps = [g for g in stragglers.log_prob_gap if math.isfinite(g)]
+    gap_text = f"{_span(gaps, '.1f')} nats" if gaps else "infinitely far"
+    if len(gaps) < k and gaps:
+        gap_text += " (or infinitely far)"
+    weight = f"a relative posterior density of e^-{min(gaps):.0f} or less" if gaps else "zero posterior density"
+    accepted = [a for a in stragglers.acceptance if math.isfinite(a)]
+    acceptance = f"acceptance {_span(accepted, '.3f')} against a median {stragglers.others_acceptance:.3f} for the others" if accepted and math.isfinite(stragglers.others_acceptance) else ""
+    indices = ", ".join(str(w) for w in stragglers.walkers)
+    return [
+        f"{k} of {n_walkers} walkers (walker{'s' if k != 1 else ''} {indices}) {'are stragglers' if k != 1 else 'is a straggler'}: {'their' if k != 1 else 'its'} median log-probability lies {gap_text} below "
+        f"the median of all walkers' (more than {STRAGGLER_LOG_PROB_GAP:g} nats)" + (f", {acceptance}" if acceptance else "")
+        + f": {'they' if k != 1 else 'it'} sat in a region of negligible posterior weight ({weight}: a second mode, or walkers stuck since the start), "
+        f"so {'their' if k != 1 else 'its'} {k * stragglers.draws} draws are left out of the posterior: every summary, interval, plot and saved draw is of the other {n_walkers - k} walkers"
+    ]
+
+
+def walkers_text(n_walkers: int, stragglers: Stragglers) -> str:
+    """A report's count of walkers: the ``n_walkers`` whose draws make the posterior, or the run's
+    with the ``stragglers`` left out ("64 walkers (3 stragglers left out)")."""
+    k = len(stragglers.walkers)
+    return f"{n_walkers} walkers" if not k else f"{n_walkers + k} walkers ({k} straggler{'s' if k != 1 else ''} left out)"
+
+
+def kept_walkers(n_walkers: int, stragglers: Stragglers) -> np.ndarray:
+    """The run's indices of the ``n_walkers`` walkers whose draws make the posterior (those not
+    among ``stragglers``): 0 … n_walkers − 1 when there are none."""
+    return np.setdiff1d(np.arange(n_walkers + len(stragglers.walkers)), np.asarray(stragglers.walkers, int))
 
 
 def integrated_autocorr(chain_y: np.ndarray) -> np.ndarray:

@@ -26,7 +26,7 @@ from ..derived import QUANTILES, draw_indices, draws_band, needs_freq
 from ..least_squares import FitResult
 from ..least_squares.result import bounds_attr, stored_bounds
 from .chain import capped_at, length_text
-from .diagnostics import CHAIN_TAU_MULTIPLE, PiledUp, chain_warnings, figure, hdi, integrated_autocorr, interval_warnings
+from .diagnostics import CHAIN_TAU_MULTIPLE, NO_STRAGGLERS, PiledUp, Stragglers, chain_warnings, figure, hdi, integrated_autocorr, interval_warnings, kept_walkers, straggler_warnings, walkers_text
 from .logprob import NOISE_MODELS, NoiseModel
 from .priors import Prior
 from .reparam import Reparametrization, implausible_gap_notes, rebuild
@@ -54,8 +54,10 @@ class Posterior(PiledUp):
     Diagnostics: ``acceptance`` per walker, ``autocorr`` (integrated autocorrelation time in
     sampler steps), ``ess`` (effective sample size), ``chain_converged``, ``warnings``;
     ``settings`` holds the run's walkers, steps (those that ran), burn, thin, seed and, for
-    ``steps="auto"``, ``steps_mode``, ``step_cap`` and ``stopped``. Model comparison:
-    ``log_evidence`` (Laplace, at the MAP) and ``waic`` (deviance scale: lower is better).
+    ``steps="auto"``, ``steps_mode``, ``step_cap`` and ``stopped``; ``stragglers`` the walkers
+    whose draws were left out (`find_stragglers`: ``draws``, ``log_prob`` and ``acceptance`` hold
+    the other walkers'). Model comparison: ``log_evidence`` (Laplace, at the MAP) and ``waic``
+    (deviance scale: lower is better).
     """
 
     __repr__ = concise_repr  # (the generated one printed every array)
@@ -83,6 +85,7 @@ class Posterior(PiledUp):
     reparametrization: Reparametrization | None = None
     registry: Registry | None = field(default=None, repr=False)  # None: the default registry
     user_bounds: dict[str, tuple[float, float]] = field(default_factory=dict)  # sampled circuit parameters' bounds narrowed by the user (`sample(bounds=...)` or init's)
+    stragglers: Stragglers = NO_STRAGGLERS  # the run's walkers left out of the draws (`find_stragglers`)
 
     def __post_init__(self):
         object.__setattr__(self, "noise", NoiseModel(self.noise))
@@ -149,10 +152,11 @@ class Posterior(PiledUp):
 
     @functools.cached_property
     def warnings(self) -> tuple[str, ...]:
-        """Diagnostics that need attention (chain length, acceptance, correlations, draws piled up
-        against a prior's edge, linearised standard errors far from the posterior's widths, fit
-        notes)."""
-        out = chain_warnings(self.names, self.log_scale, self._sampled_space, self.autocorr, self.settings.get("thin", 1), self.mean_acceptance, step_cap=capped_at(self.settings))
+        """Diagnostics that need attention (straggler walkers left out, chain length, acceptance,
+        correlations, draws piled up against a prior's edge, linearised standard errors far from
+        the posterior's widths, fit notes)."""
+        out = straggler_warnings(self.stragglers, self.n_walkers + len(self.stragglers.walkers))
+        out += chain_warnings(self.names, self.log_scale, self._sampled_space, self.autocorr, self.settings.get("thin", 1), self.mean_acceptance, step_cap=capped_at(self.settings))
         out.extend(self._prior_edges.warnings)
         out.extend(self._interval_warnings())
         out.extend(implausible_gap_notes(self.reparametrization, {n: float(np.median(self.draws[..., i])) for i, n in enumerate(self.names)}))
@@ -224,6 +228,7 @@ class Posterior(PiledUp):
             "ess": dict(self.ess),
             "warnings": list(self.warnings),
             "piled_up": self.piled_up,
+            "straggler_walkers": list(self.stragglers.walkers),  # (added 2026-12-01: the run's walkers left out of the draws; as the .nc's attribute)
             "log_evidence": self.log_evidence,
             "waic": self.waic,
             "p_waic": self.p_waic,
@@ -258,7 +263,7 @@ class Posterior(PiledUp):
         lines = [
             f"model      {self.model}",
             f"noise      {self.noise}: {NOISE_MODELS[self.noise]}",
-            f"sampler    emcee, {self.n_walkers} walkers, {self.settings.get('steps')} steps ({length_text(self.settings)}burn {self.settings.get('burn')}, thin {self.settings.get('thin')}), {self.n_walkers * self.n_draws} draws, acceptance {self.mean_acceptance:.3f}",
+            f"sampler    emcee, {walkers_text(self.n_walkers, self.stragglers)}, {self.settings.get('steps')} steps ({length_text(self.settings)}burn {self.settings.get('burn')}, thin {self.settings.get('thin')}), {self.n_walkers * self.n_draws} draws, acceptance {self.mean_acceptance:.3f}",
             (f"evidence   Laplace ln Z = {self.log_evidence:.2f}" if math.isfinite(self.log_evidence) else "evidence   Laplace ln Z undefined (see the warnings)")
             + f"    WAIC = {self.waic:.2f} (p_waic {self.p_waic:.3g})",
             "",
@@ -401,9 +406,11 @@ class Posterior(PiledUp):
             "reparametrization": self.reparametrization.describe() if self.reparametrization is not None else None,
             "fit": {"weighting": fr.weighting, "chi2": fr.chi2, "converged": fr.converged, "message": fr.message, "n_evaluations": fr.n_evaluations, "warnings": list(fr.warnings), "n_starts": fr.n_starts, "elapsed_s": fr.elapsed_s, "at_bound": list(fr.at_bound), "unidentified_groups": [list(g) for g in fr.unidentified_groups], "bounds": bounds_attr(fr.bounds)},
             "user_bounds": bounds_attr(self.user_bounds),
+            "straggler_walkers": list(self.stragglers.walkers),
+            "stragglers": self.stragglers.to_attr(),
         }
         coords = {
-            "walker": np.arange(self.n_walkers),
+            "walker": kept_walkers(self.n_walkers, self.stragglers),  # (the run's numbering: stragglers left out)
             "draw": np.arange(self.n_draws),
             "param": list(self.names),
             "circuit_param": names,
@@ -484,6 +491,7 @@ class Posterior(PiledUp):
             reparametrization=rp,
             registry=registry,
             user_bounds=stored_bounds(ds.attrs.get("user_bounds")),  # (a file written before 2026-12-01: none)
+            stragglers=Stragglers.from_attr(ds.attrs.get("stragglers")),  # (a file written before 2026-12-01: none)
         )
 
 

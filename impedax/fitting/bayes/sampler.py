@@ -540,4 +540,5 @@ def sample(
         reparametrization=rp,
         registry=registry,
         user_bounds=dict(narrowed),
+        stragglers=chain.stragglers,
     )

@@ -38,7 +38,7 @@ from ..derived import QUANTILES, draws_band, needs_freq
 from ..least_squares import SharedFitResult, fit
 from ..parameters import ParameterTable
 from ..problem import open_spectrum
-from .diagnostics import PiledUp, chain_warnings, figure, hdi, integrated_autocorr, interval_warnings
+from .diagnostics import NO_STRAGGLERS, PiledUp, Stragglers, chain_warnings, figure, hdi, integrated_autocorr, interval_warnings, kept_walkers, straggler_warnings, walkers_text
 from .logprob import NOISE_MODELS, NoiseModel, start_weighting
 from .chain import AUTO_STEPS, auto_step_cap, ball_scales, capped_at, length_settings, length_text, run_emcee, start_walkers, support_in_sampled_space, undetermined_span
 from .posterior import Posterior
@@ -102,7 +102,8 @@ class SharedPosterior(PiledUp):
     per spectrum as ``NAME[dim=coordinate]`` (spectrum order of ``spectra``), then ``sigma_rel``
     (proportional noise); ``draws`` (walker, draw, param) their natural values, ``log_prob``
     the log-posterior, ``fit`` the global least-squares fit the walkers started from (its
-    ``dataset["Z"]`` the data), ``sigma`` the data's σ [Ω] if it has one (shaped as that Z)."""
+    ``dataset["Z"]`` the data), ``sigma`` the data's σ [Ω] if it has one (shaped as that Z),
+    ``stragglers`` the run's walkers left out of the draws (`find_stragglers`)."""
 
     circuit: Circuit
     shared: tuple[str, ...]
@@ -121,6 +122,7 @@ class SharedPosterior(PiledUp):
     notes: tuple[str, ...] = ()
     settings: dict = field(default_factory=dict)
     registry: Registry = field(default=DEFAULT_REGISTRY, repr=False)
+    stragglers: Stragglers = NO_STRAGGLERS
 
     @property
     def model(self) -> str:
@@ -184,7 +186,8 @@ class SharedPosterior(PiledUp):
         parameters named with their spectrum (``R2[cycle=64]``); then notes and the start fit's,
         one line per kind with the spectra it applies to, as a batch's report groups them
         (`_start_fit_warnings`)."""
-        out = chain_warnings(self.names, self.log_scale, self._sampled_space, self.autocorr, self.settings.get("thin", 1), self.mean_acceptance, step_cap=capped_at(self.settings))
+        out = straggler_warnings(self.stragglers, self.n_walkers + len(self.stragglers.walkers))
+        out += chain_warnings(self.names, self.log_scale, self._sampled_space, self.autocorr, self.settings.get("thin", 1), self.mean_acceptance, step_cap=capped_at(self.settings))
         out.extend(self._prior_edges.warnings)
         out.extend(self._interval_warnings())
         out.extend(self.notes)
@@ -238,6 +241,7 @@ class SharedPosterior(PiledUp):
             "ess": dict(self.ess),
             "warnings": list(self.warnings),
             "piled_up": self.piled_up,
+            "straggler_walkers": list(self.stragglers.walkers),  # (added 2026-12-01, as `Posterior.summary`'s)
             "noise": self.noise.value,
             "walkers": self.n_walkers,
             "draws": self.n_draws,
@@ -255,7 +259,7 @@ class SharedPosterior(PiledUp):
         lines = [
             f"model      {self.model}   (joint posterior: {', '.join(self.shared)} shared over {', '.join(self.over)}, {len(self.spectra)} spectra)",
             f"noise      {self.noise}: {NOISE_MODELS[self.noise]}",
-            f"sampler    emcee, {self.n_walkers} walkers, {self.settings.get('steps')} steps ({length_text(self.settings)}burn {self.settings.get('burn')}, thin {self.settings.get('thin')}), {self.n_walkers * self.n_draws} draws, acceptance {self.mean_acceptance:.3f}",
+            f"sampler    emcee, {walkers_text(self.n_walkers, self.stragglers)}, {self.settings.get('steps')} steps ({length_text(self.settings)}burn {self.settings.get('burn')}, thin {self.settings.get('thin')}), {self.n_walkers * self.n_draws} draws, acceptance {self.mean_acceptance:.3f}",
             "",
             f"{'parameter':<{width}}  {'median':>11}  {'q05':>11}  {'q95':>11}  {'τ [steps]':>9}  {'ESS':>7}  unit",
         ]
@@ -314,9 +318,9 @@ class SharedPosterior(PiledUp):
             "spectra": list(self.spectra), "units": list(self.units), "priors": {n: [p.kind.value, p.a, p.b] for n, p in self.priors.items()},
             "settings": dict(self.settings), "notes": list(self.notes), "warnings": list(self.warnings),
             "fit": {"weighting": fr.weighting, "warnings": {k: list(v) for k, v in fr.warnings.items()}, "elapsed_s": fr.elapsed_s, "attrs": dict(fr.dataset.attrs)},
-            "fit_variables": stored, "fit_dims": stored_dims,
+            "fit_variables": stored, "fit_dims": stored_dims, "straggler_walkers": list(self.stragglers.walkers), "stragglers": self.stragglers.to_attr(),
         }
-        coords = {"walker": np.arange(self.n_walkers), "draw": np.arange(self.n_draws), "param": list(self.names), **fit_coords}
+        coords = {"walker": kept_walkers(self.n_walkers, self.stragglers), "draw": np.arange(self.n_draws), "param": list(self.names), **fit_coords}
         return xr.Dataset(data, coords=coords, attrs=attrs)
 
     @classmethod
@@ -363,6 +367,7 @@ class SharedPosterior(PiledUp):
             priors={n: priors[n] for n in names}, noise=NoiseModel(ds.attrs["noise"]), fit=fit_result,
             sigma=np.asarray(ds["sigma"].transpose(*fit_ds["Z"].dims).values, float) if "sigma" in ds else None, notes=tuple(ds.attrs.get("notes", ())),
             settings=dict(ds.attrs["settings"]), registry=registry,
+            stragglers=Stragglers.from_attr(ds.attrs.get("stragglers")),  # (a file written before 2026-12-01: none)
         )
 
 
@@ -565,5 +570,5 @@ def sample_shared(
         draws=draws, log_prob=chain.log_prob, acceptance=chain.acceptance, priors=chosen, noise=noise, fit=start,
         sigma=np.asarray(ds["sigma"].transpose(*start.dataset["Z"].dims).values, float) if "sigma" in ds else None,
         settings={"walkers": int(walkers), "steps": int(chain.steps), **length_settings(chain, walkers), "burn": int(chain.burn), "thin": int(thin), "seed": int(seed), "elapsed_s": float(chain.elapsed_s)},
-        registry=registry,
+        registry=registry, stragglers=chain.stragglers,
     )
