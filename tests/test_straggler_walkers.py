@@ -108,6 +108,7 @@ def test_stragglers_are_saved_and_read_back(healthy, tmp_path):
     _, post = healthy
     left_out = Stragglers((0,), (31.5,), (0.09,), 0.6, post.n_draws)
     fewer = dataclasses.replace(post, draws=post.draws[1:], log_prob=post.log_prob[1:], acceptance=post.acceptance[1:], stragglers=left_out)
+    assert fewer.summary()["walkers"] == 64 and fewer.summary()["walkers_kept"] == 63
     assert fewer.summary()["straggler_walkers"] == [0] and fewer.warnings[0].startswith("1 of 64 walkers (walker 0) is a straggler")
     assert "64 walkers (1 straggler left out)" in fewer.report()
     ix.write_result(fewer, tmp_path / "post.nc")
@@ -129,7 +130,8 @@ def test_the_biologic_example_leaves_out_its_stragglers_in_a_second_mode(tmp_pat
     out, err = capsys.readouterr()
     assert code == 0, err
     doc = json.loads(out)
-    assert doc["straggler_walkers"] and doc["walkers"] == 64 - len(doc["straggler_walkers"])
+    assert doc["straggler_walkers"] and doc["walkers"] == 64 and doc["walkers_kept"] == 64 - len(doc["straggler_walkers"])
+    assert doc["draws_total"] == doc["walkers_kept"] * doc["draws"]
     assert any("are stragglers" in w and "left out of the posterior" in w for w in doc["warnings"])
     assert doc["params"]["CPE1.Q"]["q95"] < 20
     assert read_netcdf(out_nc).attrs["straggler_walkers"] == doc["straggler_walkers"]

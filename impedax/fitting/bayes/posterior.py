@@ -233,7 +233,8 @@ class Posterior(PiledUp):
             "waic": self.waic,
             "p_waic": self.p_waic,
             "noise": self.noise.value,
-            "walkers": self.n_walkers,
+            "walkers": self.n_walkers + len(self.stragglers.walkers),  # (the run's, as before 2026-12-01)
+            "walkers_kept": self.n_walkers,  # (added 2026-12-01: the walkers whose draws the posterior holds, `straggler_walkers` left out)
             "draws": self.n_draws,
             "draws_total": self.n_walkers * self.n_draws,
             "steps": self.settings.get("steps"),
