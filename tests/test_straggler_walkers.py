@@ -135,3 +135,20 @@ def test_the_biologic_example_leaves_out_its_stragglers_in_a_second_mode(tmp_pat
     assert any("are stragglers" in w and "left out of the posterior" in w for w in doc["warnings"])
     assert doc["params"]["CPE1.Q"]["q95"] < 20
     assert read_netcdf(out_nc).attrs["straggler_walkers"] == doc["straggler_walkers"]
+
+
+def test_the_json_holds_the_least_squares_start_beside_the_intervals(healthy):
+    """`summary()["start_fit"]` (added 2026-12-01) is the least-squares fit the walkers started
+    around: its values and ± as `impedax fit --json` gives them, so the posterior's interval can
+    be set beside the linearised one without a second run; for R ∥ C data (SYNTHETIC, 1 %), R1's
+    90 % interval is close to ± 1.645 standard errors (a near-Gaussian posterior)."""
+    data, post = healthy
+    start = post.summary()["start_fit"]
+    fitted = ix.fit("R0 + R1 || C1", data)
+    assert start["model"] == "R0 + R1 || C1" and start["weighting"] == fitted.weighting and start["converged"]
+    for name in ("R0", "R1", "C1"):
+        assert start["values"][name] == pytest.approx(fitted.values[name], rel=1e-6)
+        assert start["stderr"][name] == pytest.approx(fitted.stderr[name], rel=1e-4)
+    q = post.summary()["params"]["R1"]
+    assert (q["q95"] - q["q05"]) / (2 * 1.645 * start["stderr"]["R1"]) == pytest.approx(1.0, abs=0.35)
+    assert json.loads(json.dumps(start)) == start

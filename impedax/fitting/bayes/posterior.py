@@ -24,7 +24,7 @@ from ...data import checked_frequencies, column_width, concise_repr, unit_text
 from ...errors import DataError, ParameterError
 from ..derived import QUANTILES, draw_indices, draws_band, needs_freq
 from ..least_squares import FitResult
-from ..least_squares.result import bounds_attr, stored_bounds
+from ..least_squares.result import bounds_attr, shown_stderr, stored_bounds
 from .chain import capped_at, length_text
 from .diagnostics import CHAIN_TAU_MULTIPLE, NO_STRAGGLERS, PiledUp, Stragglers, chain_warnings, figure, hdi, integrated_autocorr, interval_warnings, kept_walkers, straggler_warnings, walkers_text
 from .logprob import NOISE_MODELS, NoiseModel
@@ -245,6 +245,13 @@ class Posterior(PiledUp):
             "thin": self.settings.get("thin"),
             "seed": self.settings.get("seed"),
             "map": dict(self.map_values),
+            # (added 2026-12-01: the least-squares fit the walkers started around, its ± beside the posterior's intervals; a
+            # Bayesian user saw the two compared only in a warning when they differ 2×)
+            "start_fit": {
+                "model": self.fit.model, "weighting": self.fit.weighting, "rms_rel": self.fit.rms_rel,
+                "values": dict(self.fit.values), "stderr": {n: shown_stderr(e, self.fit.fixed[n]) for n, e in self.fit.stderr.items()},
+                "at_bound": list(self.fit.at_bound), "converged": self.fit.converged,
+            },
             "fixed": {n: float(v) for n, v in self.fixed.items()},  # (the report's "(fixed)" rows; the .nc's attribute)
             "user_bounds": bounds_attr(self.user_bounds),  # (added 2026-12-01: bounds=, --bound, as the .nc's attribute and fit --json)
         }
