@@ -406,21 +406,22 @@ def test_a_one_parameter_element_may_have_a_suffix():
 def test_fit_says_its_stages_to_progress_and_fits_the_same():
     """``fit(..., progress=callback)`` says each stage as it begins (a batch's first call of a
     circuit compiled for 10-15 s without a word from Python), and the fits are those without it.
-    SYNTHETIC: R0 + R1 ∥ C1 by hand, 1 % noise, seed 2, a stack of 12 (a reference spectrum's
-    start search from `REFERENCE_MIN_SPECTRA` on)."""
+    SYNTHETIC: R0 + R1 ∥ C1 by hand, 1 % noise, seed 2, a stack of 16 (`REFERENCE_MIN_SPECTRA`:
+    the batch's reference spectrum climbs the start ladder, as a stack of one, said once)."""
     import numpy as np
 
     import impedax as ix
 
     rng = np.random.default_rng(2)
     f = np.geomspace(1.0, 1e5, 30)
-    r1 = np.linspace(500.0, 1500.0, 12)[:, None]
-    z = (20.0 + r1 / (1 + 2j * np.pi * f * r1 * 1e-6)) * (1 + 0.01 * (rng.normal(size=(12, 30)) + 1j * rng.normal(size=(12, 30))))
+    r1 = np.linspace(500.0, 1500.0, 16)[:, None]
+    z = (20.0 + r1 / (1 + 2j * np.pi * f * r1 * 1e-6)) * (1 + 0.01 * (rng.normal(size=(16, 30)) + 1j * rng.normal(size=(16, 30))))
     stack = ix.make_spectrum(f, z, dims=("cell",))
     lines: list[str] = []
     said = ix.fit("R0 + R1 || C1", stack, progress=lines.append)
-    assert lines[0] == "fitting R0 + R1 || C1 to 12 spectra together (a circuit's first batch compiles its solvers)"
-    assert "local fits of the 12 spectra" in lines and lines[-1] == "standard errors, bounds and warnings of the 12 fits"
+    assert lines[0] == "fitting R0 + R1 || C1 to 16 spectra together (a circuit's first batch compiles its solvers)"
+    assert lines[1] == "the start search on a reference spectrum, whose optimum every spectrum is offered"
+    assert "local fits of the 16 spectra" in lines and lines[-1] == "standard errors, bounds and warnings of the 16 fits"
     assert not any("of the 1 spectra" in line for line in lines)  # (the reference's own stack of one is not said)
     quiet = ix.fit("R0 + R1 || C1", stack)
     np.testing.assert_array_equal(said.dataset["value"].values, quiet.dataset["value"].values)
