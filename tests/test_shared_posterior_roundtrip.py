@@ -258,3 +258,19 @@ def test_hierarchical_bad_files_name_the_file(proportional, tmp_path):
     with pytest.raises(ix.DataError, match=r"damaged saved hierarchical posterior: .*cycle") as info:
         HierarchicalPosterior.from_xarray(read_netcdf(path))
     assert info.value.path == str(path)
+
+
+def test_a_joint_posterior_without_straggler_walkers_counts_the_runs_walkers(proportional):
+    """The joint posterior's JSON, as the single one's: ``walkers`` the run's, ``walkers_kept``
+    those whose draws it holds, ``draws_total`` their draws (one walker left out by hand)."""
+    import dataclasses
+
+    from impedax.fitting.bayes.diagnostics import Stragglers
+
+    run = proportional.n_walkers
+    fewer = dataclasses.replace(proportional, draws=proportional.draws[1:], log_prob=proportional.log_prob[1:], acceptance=proportional.acceptance[1:],
+                                stragglers=Stragglers((0,), (31.5,), (0.09,), 0.6, proportional.n_draws))
+    s = fewer.summary()
+    assert (s["walkers"], s["walkers_kept"], s["straggler_walkers"]) == (run, run - 1, [0])
+    assert s["draws_total"] == (run - 1) * proportional.n_draws
+    assert proportional.summary()["walkers"] == proportional.summary()["walkers_kept"] == run

@@ -243,7 +243,8 @@ class SharedPosterior(PiledUp):
             "piled_up": self.piled_up,
             "straggler_walkers": list(self.stragglers.walkers),  # (added 2026-12-01, as `Posterior.summary`'s)
             "noise": self.noise.value,
-            "walkers": self.n_walkers,
+            "walkers": self.n_walkers + len(self.stragglers.walkers),  # (the run's, as `Posterior.summary`)
+            "walkers_kept": self.n_walkers,  # (added 2026-12-01: those whose draws the posterior holds)
             "draws": self.n_draws,
             "draws_total": self.n_walkers * self.n_draws,
             **{k: self.settings.get(k) for k in ("steps", "burn", "thin", "seed")},
