@@ -26,6 +26,7 @@ from ..errors import DataError
 __all__ = [
     "UNIT_CELL", "MAX_FILE_BYTES", "MAX_FILE_BYTES_ENV", "max_file_bytes", "check_file", "read_bytes", "read_text", "decode_text", "head_text", "number",
     "Skipped", "finish", "first_line", "stack", "merged_attrs", "unit_scale", "split_header_cell", "decimal_comma",
+    "check_field_count", "CUT_SHORT",
 ]
 
 #: Largest file a reader reads whole (checked before reading). Instrument exports are
@@ -203,6 +204,20 @@ def decimal_comma(cells: Sequence[str], delimiter: str | None) -> bool:
     if delimiter == ",":
         return False
     return any(re.fullmatch(r"\s*[-+]?\d*,\d+(?:[eE][-+]?\d+)?\s*", c) for c in cells)
+
+
+CUT_SHORT = "the file ends without a line end, as a file cut short does (copied before it was complete?): copy it again, or delete the line"
+"""What a refusal of a last row adds when the file ends without a line end."""
+
+
+def check_field_count(cells: Sequence[str], n_fields: int, path: Path, line: int | None, *, where: str = "", last_of_cut_file: bool = False) -> None:
+    """A table row must have as many fields as its header ("Rules every reader follows": a
+    missing or extra cell would shift values onto other columns, and a row cut short would be
+    read as other numbers); `DataError` naming the line otherwise, saying the file looks cut
+    short when ``last_of_cut_file`` (its last row, with no line end after it)."""
+    if len(cells) != n_fields:
+        cause = f"; {CUT_SHORT}" if last_of_cut_file and len(cells) < n_fields else ""
+        raise DataError(f"{where}{len(cells)} fields, but the header has {n_fields} (a missing or extra cell would shift values){cause}", path=path, line=line)
 
 
 class Skipped:

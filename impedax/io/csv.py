@@ -25,7 +25,7 @@ import xarray as xr
 
 from ..arguments import number_text
 from ..errors import DataError
-from ._common import Skipped, decimal_comma, decode_text, finish, read_bytes
+from ._common import CUT_SHORT, Skipped, decimal_comma, decode_text, finish, read_bytes
 from .atomic import atomic_path
 from .export import table_cell
 from .table import SWEEP_RTOL, Layout, NoLayout, detect_layout, spectrum_from_rows
@@ -217,7 +217,7 @@ def _check_last_row_complete(path: Path, layout: Layout, rows: list[tuple[int, s
     cells = split_line(text, delimiter)
     while len(cells) > len(header) and not cells[-1]:
         cells.pop()
-    cut = "the file ends without a line end, as a file cut short does (copied before it was complete?): copy it again, or delete the line"
+    cut = CUT_SHORT
     if len(cells) < len(header):
         raise DataError(f"the last row has {len(cells)} fields, but the header has {len(header)}; {cut}", path=path, line=line)
     column = len(header) - 1

@@ -22,7 +22,7 @@ import numpy as np
 import xarray as xr
 
 from ..errors import DataError, SweepGridsDiffer
-from ._common import UNIT_CELL, Skipped, decimal_comma, finish, first_line, head_text, number, read_text, split_header_cell, unit_scale, unquoted
+from ._common import UNIT_CELL, Skipped, check_field_count, decimal_comma, finish, first_line, head_text, number, read_text, split_header_cell, unit_scale, unquoted
 
 __all__ = ["ROLES", "FALLBACK_ROLES", "Layout", "detect_layout", "role_of", "fallback_role", "spectrum_from_rows"]
 
@@ -348,8 +348,7 @@ def spectrum_from_rows(
         if [c.strip('"').strip() for c in cells] == [h.strip('"').strip() for h in header]:
             skipped.add(line, "repeated header")
             continue
-        if len(cells) != n_fields:
-            raise DataError(f"{where}{len(cells)} fields, but the header has {n_fields} (a missing or extra cell would shift values)", path=path, line=line)
+        check_field_count(cells, n_fields, path, line, where=where)
         for role, (index, scale) in wanted.items():
             values[role].append(number(cells[index], path, line, header[index], comma=comma) * scale)
         for name, index in list(optional.items()):

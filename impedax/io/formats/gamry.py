@@ -19,7 +19,7 @@ import numpy as np
 import xarray as xr
 
 from ...errors import DataError
-from .._common import Skipped, decimal_comma, finish, head_text, number, read_text, stack, unit_scale
+from .._common import Skipped, check_field_count, decimal_comma, finish, head_text, number, read_text, stack, unit_scale
 from ..registry import Reader
 
 __all__ = ["read_gamry", "READER"]
@@ -39,7 +39,8 @@ def sniff(path: Path, head: bytes) -> str | None:
 def read_gamry(path: str | Path) -> xr.Dataset:
     """Read the impedance table(s) (``ZCURVE``) of a Gamry ``.DTA`` file (see module docstring)."""
     path = Path(path)
-    lines = read_text(path).splitlines()
+    text = read_text(path)
+    lines = text.splitlines()
     attrs: dict[str, object] = {"format": "Gamry DTA", "instrument": "Gamry"}
     tables: list[int] = []
     notes: list[str] = []
@@ -80,16 +81,25 @@ def read_gamry(path: str | Path) -> xr.Dataset:
     attrs["units"] = "Freq in Hz, Zreal and Zimag in ohm (from the units row)"
     names = [lines[start].split("\t")[0].strip() for start in tables]
     labels = [n if names.count(n) == 1 else f"{n} #{k + 1}" for k, n in enumerate(names)]
-    spectra = [(label, _table(path, lines, start, dict(attrs))) for label, start in zip(labels, tables)]
+    ends_cut = not text.endswith(("\n", "\r"))
+    spectra = [(label, _table(path, lines, start, dict(attrs), ends_cut=ends_cut)) for label, start in zip(labels, tables)]
     return stack(path, spectra, "curve")
 
 
-def _table(path: Path, lines: list[str], start: int, attrs: dict) -> xr.Dataset:
+def _table(path: Path, lines: list[str], start: int, attrs: dict, *, ends_cut: bool = False) -> xr.Dataset:
+    """One ``ZCURVE`` table from its column-name row on ``lines[start + 1]``. Every data row must
+    have as many fields as that row (`check_field_count`: a row cut short is refused, never read
+    as other numbers); ``ends_cut``: the file ends without a line end. Decimal commas are decided
+    on every row (`decimal_comma`), so that a ',' below the first rows is not read as text, and
+    a row with a '.' beside them is refused (`number`)."""
     if start + 2 >= len(lines):
         raise DataError("ZCURVE table has no column-name and units rows", path=path, line=start + 1)
     names = [c.strip() for c in lines[start + 1].split("\t")]
     units = [c.strip() for c in lines[start + 2].split("\t")]
     index = {name: k for k, name in enumerate(names) if name}
+    n_fields = len(names)
+    while n_fields and not names[n_fields - 1]:
+        n_fields -= 1
     missing = [n for n in ("Freq", "Zreal", "Zimag") if n not in index]
     if missing:
         raise DataError(f"ZCURVE table lacks column(s) {missing}; found {[n for n in names if n]}", path=path, line=start + 2)
@@ -108,15 +118,16 @@ def _table(path: Path, lines: list[str], start: int, attrs: dict) -> xr.Dataset:
         if not line.startswith("\t"):
             break  # end of the table: the next KEY line (EXPERIMENTABORTED, another table ...)
         rows.append((k + 1, line.split("\t")))
-    comma = decimal_comma([c for _, cells in rows[:20] for c in cells], "\t")
+    comma = decimal_comma([c for _, cells in rows for c in cells], "\t")
     wanted = {"Freq": index["Freq"], "Zreal": index["Zreal"], "Zimag": index["Zimag"]}
     if "Time" in index:
         wanted["Time"] = index["Time"]
     cols: dict[str, list[float]] = {n: [] for n in wanted}
     for line_no, cells in rows:
+        while len(cells) > n_fields and not cells[-1].strip():
+            cells = cells[:-1]  # (a trailing tab)
+        check_field_count(cells, n_fields, path, line_no, last_of_cut_file=ends_cut and line_no == len(lines))
         for name, col in wanted.items():
-            if col >= len(cells):
-                raise DataError(f"row has {len(cells)} fields; column {name!r} is missing", path=path, line=line_no)
             cols[name].append(number(cells[col], path, line_no, name, comma=comma) * scales.get(name, 1.0))
     arr = {n: np.array(v) for n, v in cols.items()}
     extra = {"time": (arr["Time"], "s", "time of the measurement")} if "Time" in arr else None

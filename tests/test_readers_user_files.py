@@ -1,0 +1,100 @@
+"""Readers on files as users make them (a walkthrough of 2026-12-01): a Gamry table cut short,
+a units row under a CSV or spreadsheet header, notes above a spreadsheet's header, rows of bare
+delimiters, and refusals that say what to do next.
+
+Every file is written by its test. Data are SYNTHETIC: Z = R0 + R1 ∥ CPE(Q, n) with R0 = 20 Ω,
+R1 = 500 Ω, Q = 2e-5 F·s^(n−1), n = 0.85 on 12 log-spaced frequencies from 100 kHz down to
+0.1 Hz, with 1 % complex Gaussian noise (seed 73); the oracle is that array, written into each
+file in the file's own layout.
+"""
+
+import numpy as np
+import pytest
+
+import impedax as ix
+from impedax.cli import main
+from impedax.errors import DataError
+
+FREQ = np.logspace(5, -1, 12)
+_RNG = np.random.default_rng(73)
+# SYNTHETIC: R0 + R1 || CPE, Z_CPE = 1 / (Q (j w)^n); 1 % noise on each part
+_Z_TRUE = 20 + 500 / (1 + 500 * 2e-5 * (2j * np.pi * FREQ) ** 0.85)
+Z = _Z_TRUE * (1 + 0.01 * (_RNG.standard_normal(FREQ.size) + 1j * _RNG.standard_normal(FREQ.size)))
+
+
+def _gamry(rows_text: list[str], *, end: str = "\r\n") -> str:
+    """A Gamry .DTA (EISPOT) around ``rows_text``, the ZCURVE rows without their line ends."""
+    head = [
+        "EXPLAIN", "TAG\tEISPOT", "TITLE\tLABEL\tPotentiostatic EIS\tTest &Identifier",
+        "ZCURVE\tTABLE",
+        "\tPt\tTime\tFreq\tZreal\tZimag\tZsig\tZmod\tZphz\tIdc\tVdc\tIERange",
+        "\t#\ts\tHz\tohm\tohm\tV\tohm\t°\tA\tV\t#",
+    ]
+    return "\r\n".join(head + rows_text) + end
+
+
+def _gamry_rows(decimal: str = ".") -> list[str]:
+    rows = []
+    for k, (f, z) in enumerate(zip(FREQ, Z)):
+        cells = [k, 2 * k, f"{f:.7g}", f"{z.real:.7g}", f"{z.imag:.7g}", 1, f"{abs(z):.7g}", f"{np.degrees(np.angle(z)):.7g}", "-1E-006", "-0.34", 7]
+        rows.append("\t" + "\t".join(str(c).replace(".", decimal) for c in cells))
+    return rows
+
+
+# --- 1. Gamry: a row with another field count than the header is refused --------------------
+
+
+def test_gamry_reads_the_synthetic_table(tmp_path):
+    path = tmp_path / "g.DTA"
+    path.write_text(_gamry(_gamry_rows()), encoding="latin-1")
+    ds = ix.load(path)
+    np.testing.assert_allclose(ds["Z"].values, Z, rtol=1e-6)
+    np.testing.assert_allclose(ds["frequency"].values, FREQ, rtol=1e-6)
+
+
+def test_gamry_last_row_cut_mid_number_is_refused_not_read(tmp_path):
+    rows = _gamry_rows()
+    cut = rows[-1][: rows[-1].index("\t", rows[-1].index(f"{Z[-1].real:.7g}")) + 5]  # (Zimag cut after 4 characters)
+    path = tmp_path / "cut.DTA"
+    path.write_text(_gamry(rows[:-1] + [cut], end=""), encoding="latin-1")
+    with pytest.raises(DataError) as info:
+        ix.load(path)
+    message = str(info.value)
+    assert "line 18: 6 fields, but the header has 12" in message
+    assert "cut short" in message and "cut.DTA" in message
+    assert main(["inspect", str(path)]) == 2
+
+
+def test_gamry_row_short_of_fields_inside_the_table_is_refused(tmp_path):
+    rows = _gamry_rows()
+    rows[3] = rows[3].rsplit("\t", 2)[0]  # (two cells lost: Vdc and IERange)
+    path = tmp_path / "short.DTA"
+    path.write_text(_gamry(rows), encoding="latin-1")
+    with pytest.raises(DataError, match=r"line 10: 10 fields, but the header has 12") as info:
+        ix.load(path)
+    assert "cut short" not in str(info.value)
+
+
+def test_gamry_trailing_tab_is_not_a_field(tmp_path):
+    path = tmp_path / "tab.DTA"
+    path.write_text(_gamry([r + "\t" for r in _gamry_rows()]), encoding="latin-1")
+    np.testing.assert_allclose(ix.load(path)["Z"].values, Z, rtol=1e-6)
+
+
+def test_gamry_decimal_comma_is_decided_on_every_row(tmp_path):
+    # the first 20 rows' numbers carry no ',' (whole numbers), a later row's do: read as decimal commas
+    freq = np.arange(30, 0, -1) * 1000.0
+    z = 100.0 - 10j * np.arange(1, 31)
+    rows = [f"\t{k}\t{k}\t{f:g}\t{zk.real:g}\t{zk.imag:g}\t1\t1\t1\t1\t1\t7" for k, (f, zk) in enumerate(zip(freq, z))]
+    rows[25] = rows[25].replace("\t100\t", "\t100,5\t")
+    path = tmp_path / "late_comma.DTA"
+    path.write_text(_gamry(rows), encoding="latin-1")
+    ds = ix.load(path)
+    expected = z.copy()
+    expected[25] += 0.5
+    np.testing.assert_allclose(ds["Z"].values, expected)
+    # a '.' beside them is two locales in one file: refused, naming the line
+    rows[28] = rows[28].replace("\t100\t", "\t100.25\t")
+    path.write_text(_gamry(rows), encoding="latin-1")
+    with pytest.raises(DataError, match=r"line 35: column 'Zreal': '100.25' has a '.'"):
+        ix.load(path)
