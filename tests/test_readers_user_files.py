@@ -98,3 +98,63 @@ def test_gamry_decimal_comma_is_decided_on_every_row(tmp_path):
     path.write_text(_gamry(rows), encoding="latin-1")
     with pytest.raises(DataError, match=r"line 35: column 'Zreal': '100.25' has a '.'"):
         ix.load(path)
+
+
+# --- 2. a units row under the header ---------------------------------------------------------
+
+
+def _comma(x: float) -> str:
+    return f"{x:.9g}".replace(".", ",")
+
+
+def test_csv_units_row_is_read_as_the_header_units_and_applied(tmp_path):
+    # SYNTHETIC: f in kHz, |Z| in kOhm, phase in degrees, decimal commas, units on line 2
+    lines = ["Frequency;|Z|;Phase", "kHz;kOhm;deg"]
+    lines += [f"{_comma(f / 1e3)};{_comma(abs(z) / 1e3)};{_comma(np.degrees(np.angle(z)))}" for f, z in zip(FREQ, Z)]
+    path = tmp_path / "units_row.csv"
+    path.write_text("\n".join(lines) + "\n")
+    ds = ix.load(path)
+    np.testing.assert_allclose(ds["frequency"].values, FREQ, rtol=1e-8)
+    np.testing.assert_allclose(ds["Z"].values, Z, rtol=1e-7)
+    assert ds.attrs["units_row"] == "line 2: units under the header (kHz, kOhm, deg), read as the columns' units"
+    assert "'Frequency (kHz)' ×1000" in ds.attrs["units"]
+
+
+def test_csv_units_row_in_milliohm_and_minus_z_imag(tmp_path):
+    lines = ["Frequency;Z';-Z''", "Hz;mOhm;mOhm"] + [f"{_comma(f)};{_comma(z.real * 1e3)};{_comma(-z.imag * 1e3)}" for f, z in zip(FREQ, Z)]
+    path = tmp_path / "milliohm.csv"
+    path.write_text("\n".join(lines) + "\n")
+    np.testing.assert_allclose(ix.load(path)["Z"].values, Z, rtol=1e-7)
+
+
+def test_csv_units_row_below_a_preamble(tmp_path):
+    lines = ["Instrument: FooStat 3000", "Operator: J. Doe", "Frequency,Z',Z''", "Hz,Ohm,Ohm"] + [f"{f:.17g},{z.real:.17g},{z.imag:.17g}" for f, z in zip(FREQ, Z)]
+    path = tmp_path / "preamble_units.csv"
+    path.write_text("\n".join(lines) + "\n")
+    ds = ix.load(path)
+    np.testing.assert_array_equal(ds["Z"].values, Z)
+    assert ds.attrs["units_row"].startswith("line 4: ")
+
+
+@pytest.mark.parametrize("second", ["Hz;1;Ohm", "Hz;Ohm;note"])
+def test_a_row_that_is_not_all_units_is_still_a_data_row(tmp_path, second):
+    path = tmp_path / "not_units.csv"
+    path.write_text("\n".join(["Frequency;Z';-Z''", second, "100;1;2"]) + "\n")
+    with pytest.raises(DataError, match=r"line 2: column 'Frequency': 'Hz' is not a number"):
+        ix.load(path)
+
+
+def test_xlsx_units_row_is_read_and_applied(tmp_path):
+    openpyxl = pytest.importorskip("openpyxl")
+    workbook = openpyxl.Workbook()
+    sheet = workbook.active
+    sheet.append(["Frequency", "Z'", "-Z''"])
+    sheet.append(["kHz", "kOhm", "kOhm"])
+    for f, z in zip(FREQ, Z):
+        sheet.append([f / 1e3, z.real / 1e3, -z.imag / 1e3])
+    path = tmp_path / "units.xlsx"
+    workbook.save(path)
+    ds = ix.load(path)
+    np.testing.assert_allclose(ds["frequency"].values, FREQ, rtol=1e-12)
+    np.testing.assert_allclose(ds["Z"].values, Z, rtol=1e-12)
+    assert ds.attrs["units_row"].startswith("row 2: units under the header (kHz, kOhm, kOhm)")

@@ -28,7 +28,10 @@ from ..errors import DataError
 from ._common import CUT_SHORT, Skipped, decimal_comma, decode_text, finish, read_bytes
 from .atomic import atomic_path
 from .export import table_cell
-from .table import SWEEP_RTOL, Layout, NoLayout, detect_layout, spectrum_from_rows
+from .table import (
+    NUMBER_CELL, PREAMBLE_ROWS_MAX, SWEEP_RTOL, Layout, NoLayout, detect_layout, find_header, header_layout, preamble_note, spectrum_from_rows,
+    units_row_note,
+)
 
 __all__ = ["read_csv", "write_csv", "CSV_HEADER", "split_line", "find_delimiter"]
 
@@ -37,7 +40,7 @@ UnrecognisedText = NoLayout  # the name `load` used before the table engine
 CSV_HEADER = ("frequency_hz", "z_real_ohm", "z_imag_ohm")
 
 HEADERLESS_NOTE = "no header: columns read as frequency [Hz], Z' [Ω], Z'' [Ω] (Z'' < 0 for capacitive data); add a header to say otherwise"
-_NUMBER = re.compile(r"[-+]?(\d+([.,]\d*)?|[.,]\d+)([eE][-+]?\d+)?")
+_NUMBER = NUMBER_CELL
 
 
 def find_delimiter(line: str) -> str | None:
@@ -93,27 +96,9 @@ COMMENT_MARKS = ("#", "%", "!")
 """A line of delimited text starting with one of these is a comment: not read; inside the table
 it is reported among the skipped rows."""
 
-PREAMBLE_LINES_MAX = 100
+PREAMBLE_LINES_MAX = PREAMBLE_ROWS_MAX
 """How far below the first line `read_csv` looks for a table's header when the first line is
-not one (an instrument's or a user's notes above the table: ``Instrument: FooStat 3000``)."""
-
-
-def _header_below(lines: list[tuple[int, str]], path: Path) -> tuple[int, str, Layout] | None:
-    """(index into ``lines``, delimiter, layout) of the first line within `PREAMBLE_LINES_MAX`
-    below the first that reads as a spectrum header and is followed by a row of as many numbers,
-    or None."""
-    for at in range(1, min(len(lines) - 1, PREAMBLE_LINES_MAX)):
-        number, text = lines[at]
-        delimiter = find_delimiter(text)
-        cells = split_line(text, delimiter)
-        following = split_line(lines[at + 1][1], delimiter)
-        if len(cells) < 2 or len(following) != len(cells) or not all(_NUMBER.fullmatch(c.strip().strip('"')) for c in following if c.strip()):
-            continue
-        try:
-            return at, delimiter, detect_layout(cells, path, number)
-        except DataError:
-            continue
-    return None
+not one (`impedax.io.table.find_header`)."""
 
 
 _QUOTED_DECIMAL_COMMA = re.compile(r"[-+]?\d*,\d+(?:[eE][-+]?\d+)?")
@@ -270,15 +255,18 @@ def read_csv(path: str | Path) -> xr.Dataset:
         attrs["interpretation"] = HEADERLESS_NOTE
     else:
         try:
-            layout = detect_layout(cells, path, header_no)
+            layout, units_row = header_layout(cells, split_line(lines[1][1], delimiter) if len(lines) > 1 else None, path, header_no)
         except NoLayout:
-            below = _header_below(lines, path)
-            if below is None:
+            found = find_header(len(lines), lambda at, k: split_line(lines[k][1], find_delimiter(lines[at][1])), lambda k: lines[k][0], path,
+                                limit=PREAMBLE_LINES_MAX)
+            if found is None:
                 raise
-            at, delimiter, layout = below
-            attrs["preamble"] = f"lines {lines[0][0]}–{lines[at][0] - 1}: text above the table's header (line {lines[at][0]}), not read: {lines[0][1].strip()[:60]!r} …"
-            header_no, lines = lines[at][0], lines[at:]
-        rows = lines[1:]
+            delimiter, layout, units_row = find_delimiter(lines[found.at][1]), found.layout, found.units_row
+            attrs["preamble"] = preamble_note(lines[0][0], lines[found.at][0], lines[0][1])
+            header_no, lines = lines[found.at][0], lines[found.at:]
+        if units_row:
+            attrs["units_row"] = units_row_note(lines[1][0], split_line(lines[1][1], delimiter))
+        rows = lines[2:] if units_row else lines[1:]
     comma = _decimal_mark(path, rows, delimiter)
     if comma:
         attrs["decimal_mark"] = "comma"

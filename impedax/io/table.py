@@ -16,7 +16,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Sequence
+from typing import Callable, Sequence
 
 import numpy as np
 import xarray as xr
@@ -24,7 +24,8 @@ import xarray as xr
 from ..errors import DataError, SweepGridsDiffer
 from ._common import UNIT_CELL, Skipped, check_field_count, decimal_comma, finish, first_line, head_text, number, read_text, split_header_cell, unit_scale, unquoted
 
-__all__ = ["ROLES", "FALLBACK_ROLES", "Layout", "detect_layout", "role_of", "fallback_role", "spectrum_from_rows"]
+__all__ = ["ROLES", "FALLBACK_ROLES", "Layout", "detect_layout", "role_of", "fallback_role", "spectrum_from_rows",
+           "NUMBER_CELL", "PREAMBLE_ROWS_MAX", "HeaderFound", "with_units_row", "header_layout", "find_header", "preamble_note", "units_row_note"]
 
 
 _IMAG = {"z_imag", "z_im", "im_z", "im(z)", "imag(z)", "z''", "imag", "imaginary", "zi", "imagz", "zimg", "z''(b)", "zimaginary"}
@@ -270,6 +271,116 @@ def detect_layout(header: Sequence[str], path: Path, line: int | None) -> Layout
             f"cannot find impedance columns in header {cells}; expected Z' and Z'' (or -Z''), or |Z| and phase", path=path, line=line
         )
     return layout
+
+
+# --- where a table's header is, and a units row under it ---------------------------------------
+
+#: A cell holding one number, with a decimal point or comma (``1.5E+03``, ``0,1``).
+NUMBER_CELL = re.compile(r"[-+]?(\d+([.,]\d*)?|[.,]\d+)([eE][-+]?\d+)?")
+
+PREAMBLE_ROWS_MAX = 100
+"""How far below the first row `find_header` looks for a table's header when the first row is
+not one (an instrument's or a user's notes above the table: ``Instrument: FooStat 3000``)."""
+
+#: Units of columns that hold no spectrum quantity (time, potential, current, point number ...),
+#: which a units row may hold beside Hz, Ω and degrees (`with_units_row`).
+OTHER_UNITS = {"s", "ms", "sec", "min", "h", "V", "mV", "A", "mA", "µA", "μA", "uA", "nA", "W", "°C", "K", "%", "#", "bits"}
+
+
+def _unit_text(cell: str) -> str | None:
+    """The unit a units-row cell holds (``Hz``, ``[kOhm]``, ``(°)`` → ``Hz``, ``kOhm``, ``°``),
+    or None when the cell is no unit (a number, a name, a lost Ω shown as '?')."""
+    text = unquoted(cell)
+    if len(text) >= 2 and (text[0], text[-1]) in (("(", ")"), ("[", "]")):
+        text = text[1:-1].strip()
+    if not text or NUMBER_CELL.fullmatch(text):
+        return None
+    if text in OTHER_UNITS or re.sub(r"\s+", "", text).lower() in _RAD_PER_SECOND:
+        return text
+    for quantity in ("frequency", "resistance", "angle"):
+        try:
+            if unit_scale(text, quantity) is not None:
+                return text
+        except DataError:
+            return text  # (an ambiguous unit, 'MHZ': a unit, which the header's reading refuses by name)
+    return None
+
+
+def with_units_row(header: Sequence[str], below: Sequence[str] | None) -> list[str] | None:
+    """The header cells with the units of the row ``below`` written into them, ``Frequency`` over
+    ``kHz`` → ``Frequency (kHz)``, when that row is a units row (as Gamry writes, and many
+    spreadsheets): every non-empty cell a unit (`_unit_text`; no number, no other text), at least
+    one, each under a named header cell that carries no unit or the same one. None otherwise."""
+    if below is None:
+        return None
+    header, below = [c.strip() for c in header], [c.strip() for c in below]
+    if len(below) > len(header) and any(below[len(header):]):
+        return None
+    units = [_unit_text(c) if c else "" for c in below[: len(header)]]
+    if not any(units) or any(u is None for u in units):
+        return None
+    merged = list(header)
+    for k, unit in enumerate(units):
+        if not unit:
+            continue
+        own = split_header_cell(header[k])[1] if header[k] else None
+        if own is None or (own and own != unit):
+            return None  # (a unit under no name, or under a name that has another)
+        if not own:
+            merged[k] = f"{unquoted(header[k])} ({unit})"
+    return merged
+
+
+def header_layout(header: Sequence[str], below: Sequence[str] | None, path: Path, line: int | None) -> tuple[Layout, bool]:
+    """(`detect_layout` of ``header``, whether the row ``below`` held its units): the units of a
+    units row (`with_units_row`) are read as if they had been in the header."""
+    merged = with_units_row(header, below)
+    return detect_layout(merged if merged is not None else header, path, line), merged is not None
+
+
+@dataclass(frozen=True)
+class HeaderFound:
+    """A table's header found below other rows (`find_header`): its position among the rows
+    searched, its `Layout`, and whether a units row follows it (`with_units_row`)."""
+
+    at: int
+    layout: Layout
+    units_row: bool
+
+
+def find_header(count: int, cells: Callable[[int, int], Sequence[str]], line_of: Callable[[int], int], path: Path, *, first: int = 1,
+                limit: int = PREAMBLE_ROWS_MAX) -> HeaderFound | None:
+    """The first of ``count`` rows, from ``first`` to ``limit``, that reads as a spectrum header
+    (`detect_layout`, through a units row under it) and is followed by a row of as many numbers;
+    None when there is none. ``cells(at, k)`` are the cells of row ``k`` as row ``at`` splits
+    them (a text file's delimiter is the header's); ``line_of(k)`` its line (or sheet row)."""
+    for at in range(first, min(count - 1, limit)):
+        header = cells(at, at)
+        if len(header) < 2:
+            continue
+        merged = with_units_row(header, cells(at, at + 1))
+        data = at + 2 if merged is not None else at + 1
+        if data >= count:
+            continue
+        following = cells(at, data)
+        if len(following) != len(header) or not all(NUMBER_CELL.fullmatch(c.strip().strip('"')) for c in following if c.strip()):
+            continue
+        try:
+            layout = detect_layout(merged if merged is not None else header, path, line_of(at))
+        except DataError:
+            continue
+        return HeaderFound(at, layout, merged is not None)
+    return None
+
+
+def preamble_note(first: int, header: int, text: str, word: str = "lines") -> str:
+    """``attrs["preamble"]``: the lines (or sheet rows) above a table's header, not read."""
+    return f"{word} {first}–{header - 1}: text above the table's header ({word.rstrip('s')} {header}), not read: {text.strip()[:60]!r} …"
+
+
+def units_row_note(line: int, units: Sequence[str], word: str = "line") -> str:
+    """``attrs["units_row"]``: a units row under the header, read as the columns' units."""
+    return f"{word} {line}: units under the header ({', '.join(u.strip() for u in units if u.strip())}), read as the columns' units"
 
 
 RADIANS_MODULUS_MARGIN = 3.0

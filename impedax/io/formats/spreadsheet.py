@@ -24,7 +24,7 @@ import xarray as xr
 from ...errors import DataError, SweepGridsDiffer
 from .._common import check_file, max_file_bytes, stack
 from ..registry import Reader
-from ..table import NoLayout, detect_layout, spectrum_from_rows
+from ..table import NoLayout, header_layout, spectrum_from_rows, units_row_note
 
 __all__ = ["read_spreadsheet", "READER"]
 
@@ -112,13 +112,15 @@ def read_spreadsheet(path: str | Path) -> xr.Dataset:
         header_row, header = rows[0]
         where = Path(f"{path} [sheet {name}]")
         try:
-            layout = detect_layout(header, where, header_row)
+            layout, units_row = header_layout(header, rows[1][1] if len(rows) > 1 else None, where, header_row)
         except NoLayout as exc:
             reasons.append(f"sheet {name!r}: {exc.reason}")
             continue
         attrs = {"format": "spreadsheet", "sheet": str(name)}
+        if units_row:
+            attrs["units_row"] = units_row_note(rows[1][0], rows[1][1], "row")
         try:
-            ds = spectrum_from_rows(where, layout, rows[1:], attrs, comma=False, split_sweeps=True)
+            ds = spectrum_from_rows(where, layout, rows[2:] if units_row else rows[1:], attrs, comma=False, split_sweeps=True)
         except SweepGridsDiffer as exc:
             if len(sheets) == 1:
                 raise
