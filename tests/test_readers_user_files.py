@@ -158,3 +158,34 @@ def test_xlsx_units_row_is_read_and_applied(tmp_path):
     np.testing.assert_allclose(ds["frequency"].values, FREQ, rtol=1e-12)
     np.testing.assert_allclose(ds["Z"].values, Z, rtol=1e-12)
     assert ds.attrs["units_row"].startswith("row 2: units under the header (kHz, kOhm, kOhm)")
+
+
+# --- 3. notes above a spreadsheet's header ---------------------------------------------------
+
+
+def test_xlsx_with_notes_above_the_header_loads_as_the_same_csv_does(tmp_path):
+    openpyxl = pytest.importorskip("openpyxl")
+    preamble = [["Instrument: FooStat"], ["Date", "2026-11-30"], []]
+    table = [["Frequency (Hz)", "Z' (Ohm)", "-Z'' (Ohm)"]] + [[float(f), float(z.real), float(-z.imag)] for f, z in zip(FREQ, Z)]
+    workbook = openpyxl.Workbook()
+    for row in preamble + table:
+        workbook.active.append(row)
+    path = tmp_path / "notes.xlsx"
+    workbook.save(path)
+    text = tmp_path / "notes.csv"
+    text.write_text("\n".join(",".join(str(c) for c in row) for row in preamble + table) + "\n")
+    ds, same = ix.load(path), ix.load(text)
+    np.testing.assert_allclose(ds["Z"].values, Z, rtol=1e-14)  # (the .xlsx keeps 15 digits or so)
+    np.testing.assert_allclose(ds["Z"].values, same["Z"].values, rtol=1e-14)
+    assert ds.attrs["preamble"].startswith("rows 1–3: text above the table's header (row 4), not read: 'Instrument: FooStat'")
+
+
+def test_xlsx_of_notes_only_still_names_the_missing_frequency_column(tmp_path):
+    openpyxl = pytest.importorskip("openpyxl")
+    workbook = openpyxl.Workbook()
+    for row in (["Instrument: FooStat"], ["Operator", "J. Doe"], ["Points", 50]):
+        workbook.active.append(row)
+    path = tmp_path / "notes_only.xlsx"
+    workbook.save(path)
+    with pytest.raises(DataError, match=r"no sheet holds a spectrum table: sheet 'Sheet': no frequency column"):
+        ix.load(path)

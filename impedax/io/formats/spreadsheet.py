@@ -1,7 +1,9 @@
 """Spreadsheets: Excel ``.xlsx`` (needs ``openpyxl``) and OpenDocument ``.ods`` (needs ``odfpy``),
 read through pandas: ``pip install impedax[spreadsheet]``.
 
-Each sheet is a table whose first non-empty row names the columns, read by `impedax.io.table`
+Each sheet is a table whose first non-empty row names the columns (or, below notes, the first row
+that reads as a header followed by numbers: `impedax.io.table.find_header`, as for delimited
+text; a units row under it is read as the columns' units), read by `impedax.io.table`
 (``f``/``freq``/``frequency``, ``Z'``/``Zre``/``real``, ``Z''``/``imaginary`` or ``-Zim``,
 ``|Z|`` with ``phase`` or ``-phase``, units such as ``Frequency (mHz)`` case-sensitively). Sheets
 on the same grid become a ``sheet`` dimension; sheets whose cycle numbers carry on (1, 2 / 3, 4)
@@ -24,7 +26,7 @@ import xarray as xr
 from ...errors import DataError, SweepGridsDiffer
 from .._common import check_file, max_file_bytes, stack
 from ..registry import Reader
-from ..table import NoLayout, header_layout, spectrum_from_rows, units_row_note
+from ..table import NoLayout, find_header, header_layout, preamble_note, spectrum_from_rows, units_row_note
 
 __all__ = ["read_spreadsheet", "READER"]
 
@@ -111,12 +113,18 @@ def read_spreadsheet(path: str | Path) -> xr.Dataset:
             continue
         header_row, header = rows[0]
         where = Path(f"{path} [sheet {name}]")
+        attrs = {"format": "spreadsheet", "sheet": str(name)}
         try:
             layout, units_row = header_layout(header, rows[1][1] if len(rows) > 1 else None, where, header_row)
         except NoLayout as exc:
-            reasons.append(f"sheet {name!r}: {exc.reason}")
-            continue
-        attrs = {"format": "spreadsheet", "sheet": str(name)}
+            found = find_header(len(rows), lambda at, k: rows[k][1], lambda k: rows[k][0], where)
+            if found is None:
+                reasons.append(f"sheet {name!r}: {exc.reason}")
+                continue
+            layout, units_row = found.layout, found.units_row
+            first_text = " ".join(c for c in rows[0][1] if c.strip())
+            attrs["preamble"] = preamble_note(rows[0][0], rows[found.at][0], first_text, "rows")
+            rows = rows[found.at:]
         if units_row:
             attrs["units_row"] = units_row_note(rows[1][0], rows[1][1], "row")
         try:
