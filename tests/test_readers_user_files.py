@@ -189,3 +189,36 @@ def test_xlsx_of_notes_only_still_names_the_missing_frequency_column(tmp_path):
     workbook.save(path)
     with pytest.raises(DataError, match=r"no sheet holds a spectrum table: sheet 'Sheet': no frequency column"):
         ix.load(path)
+
+
+# --- 4. rows of delimiters only --------------------------------------------------------------
+
+
+@pytest.mark.parametrize("end", ["\n", ""])
+def test_csv_rows_of_commas_at_the_end_are_skipped_and_listed(tmp_path, end):
+    lines = ["frequency_hz,z_real_ohm,z_imag_ohm"] + [f"{f:.17g},{z.real:.17g},{z.imag:.17g}" for f, z in zip(FREQ, Z)] + [",,", ",,"]
+    path = tmp_path / "excel_tail.csv"
+    path.write_text("\n".join(lines) + end)
+    ds = ix.load(path)
+    np.testing.assert_array_equal(ds["Z"].values, Z)
+    assert ds.attrs["skipped_rows"] == ["lines 14–15: empty row (delimiters only)"]
+
+
+def test_semicolon_row_in_the_middle_is_skipped_and_inspect_lists_it(tmp_path, capsys):
+    rows = [f"{_comma(f)};{_comma(z.real)};{_comma(-z.imag)}" for f, z in zip(FREQ, Z)]
+    lines = ["Frequency (Hz);Z' (Ohm);-Z'' (Ohm)"] + rows[:5] + [";;"] + rows[5:]
+    path = tmp_path / "excel_gap.csv"
+    path.write_text("\n".join(lines) + "\n")
+    ds = ix.load(path)
+    np.testing.assert_allclose(ds["Z"].values, Z, rtol=1e-8)
+    assert ds.attrs["skipped_rows"] == ["line 7: empty row (delimiters only)"]
+    assert main(["inspect", str(path), "--json"]) == 0
+    assert '"line 7: empty row (delimiters only)"' in capsys.readouterr().out
+
+
+def test_a_row_with_one_empty_cell_is_still_a_missing_value(tmp_path):
+    lines = ["frequency_hz,z_real_ohm,z_imag_ohm", "100,1,-2", "10,,-3", "1,1,-4"]
+    path = tmp_path / "gap_cell.csv"
+    path.write_text("\n".join(lines) + "\n")
+    with pytest.raises(DataError, match=r"line 3: column 'z_real_ohm' is empty \(missing value\)"):
+        ix.load(path)

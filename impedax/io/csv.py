@@ -200,6 +200,8 @@ def _check_last_row_complete(path: Path, layout: Layout, rows: list[tuple[int, s
         header.pop()
     line, text = rows[-1]
     cells = split_line(text, delimiter)
+    if not any(c.strip('"') for c in cells):
+        return  # (a row of delimiters only: skipped as a blank line)
     while len(cells) > len(header) and not cells[-1]:
         cells.pop()
     cut = CUT_SHORT

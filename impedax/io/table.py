@@ -8,7 +8,7 @@ refused as ambiguous. An angular frequency (``omega``, ``ω``, ``w (rad/s)``) is
 f = ω/2π, and ``attrs["units"]`` says so. Z comes from Z' with Z'' or −Z'' columns, or from |Z| with the phase (or
 −phase) in degrees or radians. Rows equal to the header are skipped and reported; a row with a
 field too many or too few, or an empty Z cell, is an error naming the line: values are never
-shifted onto other columns.
+shifted onto other columns. A row of delimiters only (``,,``) is skipped and reported, as a blank line.
 """
 
 from __future__ import annotations
@@ -25,7 +25,7 @@ from ..errors import DataError, SweepGridsDiffer
 from ._common import UNIT_CELL, Skipped, check_field_count, decimal_comma, finish, first_line, head_text, number, read_text, split_header_cell, unit_scale, unquoted
 
 __all__ = ["ROLES", "FALLBACK_ROLES", "Layout", "detect_layout", "role_of", "fallback_role", "spectrum_from_rows",
-           "NUMBER_CELL", "PREAMBLE_ROWS_MAX", "HeaderFound", "with_units_row", "header_layout", "find_header", "preamble_note", "units_row_note"]
+           "NUMBER_CELL", "PREAMBLE_ROWS_MAX", "HeaderFound", "with_units_row", "header_layout", "find_header", "preamble_note", "units_row_note", "EMPTY_ROW"]
 
 
 _IMAG = {"z_imag", "z_im", "im_z", "im(z)", "imag(z)", "z''", "imag", "imaginary", "zi", "imagz", "zimg", "z''(b)", "zimaginary"}
@@ -419,6 +419,10 @@ def _radians_note(layout: Layout, phase: np.ndarray, freq: np.ndarray, modulus: 
     return {"phase_unit_note": note}
 
 
+#: How `spectrum_from_rows` reports a row of delimiters only (``,,`` or ``;;``), skipped as a blank line.
+EMPTY_ROW = "empty row (delimiters only)"
+
+
 def spectrum_from_rows(
     path: Path,
     layout: Layout,
@@ -458,6 +462,9 @@ def spectrum_from_rows(
             cells.pop()  # a trailing separator, as in the header
         if [c.strip('"').strip() for c in cells] == [h.strip('"').strip() for h in header]:
             skipped.add(line, "repeated header")
+            continue
+        if not any(c.strip('"').strip() for c in cells):
+            skipped.add(line, EMPTY_ROW)  # (',,' or ';;' as a spreadsheet program leaves them: a blank line)
             continue
         check_field_count(cells, n_fields, path, line, where=where)
         for role, (index, scale) in wanted.items():
