@@ -222,3 +222,28 @@ def test_a_row_with_one_empty_cell_is_still_a_missing_value(tmp_path):
     path.write_text("\n".join(lines) + "\n")
     with pytest.raises(DataError, match=r"line 3: column 'z_real_ohm' is empty \(missing value\)"):
         ix.load(path)
+
+
+# --- 5. refusals that say what to do next ----------------------------------------------------
+
+
+def _canonical(rows) -> str:
+    return "frequency_hz,z_real_ohm,z_imag_ohm\n" + "".join(f"{f:.17g},{z.real:.17g},{z.imag:.17g}\n" for f, z in rows)
+
+
+def test_second_sweep_turning_back_is_named_with_its_line_and_a_way_out(tmp_path):
+    path = tmp_path / "down_up.csv"
+    path.write_text(_canonical(list(zip(FREQ, Z)) + list(zip(FREQ[::-1], Z[::-1]))))
+    with pytest.raises(DataError) as info:
+        ix.load(path)
+    message = str(info.value)
+    assert "line 14: duplicate frequency 0.1 Hz (also on line 13): a second sweep starts on line 14" in message
+    assert "lines 2–13 and 14–25" in message and "--select sweep=0" in message
+
+
+def test_single_repeated_point_is_named_with_a_remedy(tmp_path):
+    rows = list(zip(FREQ, Z))
+    path = tmp_path / "dupe.csv"
+    path.write_text(_canonical(rows[:6] + [rows[5]] + rows[6:]))
+    with pytest.raises(DataError, match=r"line 8: duplicate frequency 187.382 Hz \(also on line 7\): a point measured twice\? delete one"):
+        ix.load(path)

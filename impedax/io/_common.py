@@ -284,7 +284,7 @@ def finish(
     if repeats.size:
         second = int(order[repeats + 1].min())
         first = int(np.flatnonzero(freq == freq[second])[0])
-        raise DataError(f"duplicate frequency {freq[second]:g} Hz (also on line {lines[first]})", path=path, line=lines[second])
+        raise DataError(f"duplicate frequency {freq[second]:g} Hz (also on line {lines[first]}){_duplicate_remedy(freq, lines, second)}", path=path, line=lines[second])
     attrs = {"path": str(path), **{k: v for k, v in attrs.items() if v not in (None, "")}}
     if len(skipped):
         attrs["skipped_rows"] = skipped.report()
@@ -292,6 +292,35 @@ def finish(
     for name, (values, units, long_name) in (extra or {}).items():
         ds[name] = ("frequency", np.asarray(values, dtype=np.float64), {"units": units, "long_name": long_name})
     return ds
+
+
+#: How far (relative) the frequencies of a repeated sweep may stray from the first sweep's: an
+#: instrument's measured frequencies vary in their last digits from sweep to sweep.
+SWEEP_RTOL = 1e-3
+
+
+def _duplicate_remedy(freq: np.ndarray, lines: Sequence[int], second: int) -> str:
+    """What to do about a repeated frequency first met at ``freq[second]``: when the list turns
+    there (each part monotonic, the part from ``second`` on the earlier part's frequencies,
+    within `SWEEP_RTOL`, 3 points or more), a second sweep starts there; otherwise a point was
+    measured twice."""
+    head, tail = freq[:second], freq[second:]
+
+    def monotonic(f: np.ndarray) -> bool:
+        steps = np.diff(f)
+        return bool(np.all(steps > 0) or np.all(steps < 0))
+
+    grid = np.sort(head)
+    near = np.clip(np.searchsorted(grid, tail), 1, grid.size - 1) if grid.size > 1 else np.zeros(tail.size, int)
+    on_grid = np.minimum(np.abs(tail / grid[near] - 1), np.abs(tail / grid[near - 1] - 1)) <= SWEEP_RTOL if grid.size > 1 else tail == grid[0]
+    if tail.size >= 3 and head.size >= 3 and monotonic(head) and monotonic(tail) and np.all(on_grid):
+        return (
+            f": a second sweep starts on line {lines[second]} (the frequencies turn back: {head[0]:g} → {head[-1]:g} Hz, then {tail[0]:g} → "
+            f"{tail[-1]:g} Hz, on the same frequencies); impedax holds one frequency grid per spectrum, in the file's order: save each sweep "
+            f"to a file of its own (lines {lines[0]}–{lines[second - 1]} and {lines[second]}–{lines[-1]}), or write the second in the first "
+            "one's order, so that the sweeps read as a sweep dimension (--select sweep=0 picks one; docs/io.md, 'Several sweeps in one table')"
+        )
+    return ": a point measured twice? delete one of the two lines, or average them into one point"
 
 
 def stack(path: Path, spectra: Sequence[tuple[str, xr.Dataset]], dim: str) -> xr.Dataset:

@@ -22,7 +22,7 @@ import numpy as np
 import xarray as xr
 
 from ..errors import DataError, SweepGridsDiffer
-from ._common import UNIT_CELL, Skipped, check_field_count, decimal_comma, finish, first_line, head_text, number, read_text, split_header_cell, unit_scale, unquoted
+from ._common import SWEEP_RTOL, UNIT_CELL, Skipped, check_field_count, decimal_comma, finish, first_line, head_text, number, read_text, split_header_cell, unit_scale, unquoted
 
 __all__ = ["ROLES", "FALLBACK_ROLES", "Layout", "detect_layout", "role_of", "fallback_role", "spectrum_from_rows",
            "NUMBER_CELL", "PREAMBLE_ROWS_MAX", "HeaderFound", "with_units_row", "header_layout", "find_header", "preamble_note", "units_row_note", "EMPTY_ROW"]
@@ -522,9 +522,6 @@ def spectrum_from_rows(
 
 #: Header names (as `_key` gives them) of a column numbering the sweeps: EC-Lab's ``cycle number``.
 _CYCLE_NAMES = ("cyclenumber", "cycle")
-#: How far (relative) the frequencies of a repeated sweep may stray from the first sweep's: an
-#: instrument's measured frequencies vary in their last digits from sweep to sweep.
-SWEEP_RTOL = 1e-3
 
 
 def _sweep_blocks(freq: np.ndarray, cycles: np.ndarray | None, lines: Sequence[int], path: Path):
