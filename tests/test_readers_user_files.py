@@ -247,3 +247,40 @@ def test_single_repeated_point_is_named_with_a_remedy(tmp_path):
     path.write_text(_canonical(rows[:6] + [rows[5]] + rows[6:]))
     with pytest.raises(DataError, match=r"line 8: duplicate frequency 187.382 Hz \(also on line 7\): a point measured twice\? delete one"):
         ix.load(path)
+
+
+@pytest.mark.parametrize("header", [
+    "Frequency (Hz),Z' cell1 (Ohm),Z'' cell1 (Ohm),Z' cell2 (Ohm),Z'' cell2 (Ohm)",
+    "f1 (Hz),Z' 1 (Ohm),Z'' 1 (Ohm),f2 (Hz),Z' 2 (Ohm),Z'' 2 (Ohm)",
+])
+def test_spectra_side_by_side_are_named_as_such(tmp_path, header):
+    n = header.count(",") + 1
+    path = tmp_path / "side.csv"
+    path.write_text(header + "\n" + "\n".join(",".join(["1"] * n) for _ in range(3)) + "\n")
+    with pytest.raises(DataError) as info:
+        ix.load(path)
+    message = str(info.value)
+    assert "the header holds spectra side by side (" in message and "Z'' 2 (Ohm)" in message.replace("cell", "")
+    assert "a sheet of its own" in message and "one below the other" in message
+
+
+def test_one_labelled_spectrum_is_not_side_by_side(tmp_path):
+    path = tmp_path / "one.csv"
+    path.write_text("Frequency (Hz),Z' cell1 (Ohm),Z'' cell1 (Ohm)\n1,2,3\n")
+    with pytest.raises(DataError, match="cannot find impedance columns") as info:
+        ix.load(path)
+    assert "side by side" not in str(info.value)
+
+
+def test_no_frequency_column_lists_the_accepted_names_for_a_spectrum_header(tmp_path):
+    path = tmp_path / "frequenz.csv"
+    path.write_text("Frequenz (Hz);Z' / Ohm;-Z'' / Ohm\n100;1;2\n")
+    with pytest.raises(DataError, match=r"'Frequenz \(Hz\)' is in a frequency unit, but a frequency column is named 'Frequency', 'Freq', 'Freq.', 'f'"):
+        ix.load(path)
+
+
+def test_question_mark_unit_hints_at_a_lost_ohm(tmp_path):
+    path = tmp_path / "cp1252.csv"
+    path.write_bytes("Frequency / Hz;Z' / ?;-Z'' / ?\n100;1;2\n".encode("cp1252"))
+    with pytest.raises(DataError, match=r"unit '\?' not understood .*an Ω lost when the file was saved in an encoding without it"):
+        ix.load(path)

@@ -154,7 +154,11 @@ def role_of(cell: str) -> tuple[str, float, str] | None:
         if from_suffix:  # 'Z_deg' is no modulus in degrees: another column
             return None
         expected = {"frequency": "Hz, mHz, kHz, MHz", "resistance": "Ω (Ohm), mΩ, kΩ, MΩ", "angle": "deg or rad"}[_QUANTITY[role]]
-        raise DataError(f"column {cell.strip()!r}: unit {unit!r} not understood (expected {expected})")
+        lost = ""
+        if _QUANTITY[role] == "resistance" and ("?" in unit or "\ufffd" in unit):
+            lost = ("; a '?' where a unit stands is most often an Ω lost when the file was saved in an encoding without it (Windows' "
+                    "cp1252, a Latin-1 CSV): write Ohm in the header, or save the file as UTF-8")
+        raise DataError(f"column {cell.strip()!r}: unit {unit!r} not understood (expected {expected}){lost}")
     return role, scale, unit
 
 
@@ -259,8 +263,24 @@ def detect_layout(header: Sequence[str], path: Path, line: int | None) -> Layout
         else:
             columns[role] = (index, scale)
     cells = [c.strip() for c in header]
+    side_by_side = _side_by_side(cells) if not ("frequency" in columns and (
+        "real" in columns and ("imag" in columns or "neg_imag" in columns) or "modulus" in columns and ("phase" in columns or "neg_phase" in columns))) else None
+    if side_by_side:
+        raise NoLayout(
+            f"the header holds spectra side by side ({', '.join(repr(c) for c in side_by_side)}), which impedax does not read: one table "
+            "holds one spectrum. Give each spectrum a sheet of its own (sheets on one frequency grid become a sheet dimension), put them "
+            "one below the other under one header (a sweep dimension when they share the frequencies), or save each to a file of its own "
+            "(docs/io.md, 'Several sweeps in one table')",
+            path=path, line=line,
+        )
     if "frequency" not in columns:
-        raise NoLayout(f"no frequency column in header {cells}", path=path, line=line)
+        in_hz = [c for c in cells if _safe_unit(split_header_cell(c)[1], "frequency")]
+        hint = ""
+        if in_hz or columns:  # (a table of Z, or a column in Hz: a spectrum whose frequency column has another name)
+            hint = (f"; {in_hz[0]!r} is in a frequency unit, but" if in_hz else "; ") + (
+                f"{' a' if in_hz else 'a'} frequency column is named {', '.join(repr(n) for n in _FREQUENCY_NAMES)} (any case, with a unit such "
+                "as 'Frequency (Hz)' or 'f / kHz'), or 'omega' for an angular frequency in rad/s: rename it so (docs/io.md, 'Column names of a table')")
+        raise NoLayout(f"no frequency column in header {cells}{hint}", path=path, line=line)
     if "imag" in columns and "neg_imag" in columns:
         raise DataError("both Z'' and -Z'' columns given; keep one", path=path, line=line)
     if "phase" in columns and "neg_phase" in columns and not ("real" in columns and ("imag" in columns or "neg_imag" in columns)):
@@ -381,6 +401,40 @@ def preamble_note(first: int, header: int, text: str, word: str = "lines") -> st
 def units_row_note(line: int, units: Sequence[str], word: str = "line") -> str:
     """``attrs["units_row"]``: a units row under the header, read as the columns' units."""
     return f"{word} {line}: units under the header ({', '.join(u.strip() for u in units if u.strip())}), read as the columns' units"
+
+
+#: The frequency names a refusal lists (`ROLES` holds them all, in the form `_key` gives them).
+_FREQUENCY_NAMES = ("Frequency", "Freq", "Freq.", "f")
+#: A label that numbers a spectrum in a header cell: ``Z' cell1``, ``Z'' 2``, ``f1``.
+_LABEL = re.compile(r"^(?P<base>.*?\S)(?:\s+\S+|[\s_-]*\d+)$")
+
+
+def _safe_unit(unit: str, quantity: str) -> bool:
+    """Whether ``unit`` is one of ``quantity`` (an ambiguous 'MHZ' counts)."""
+    try:
+        return bool(unit) and unit_scale(unit, quantity) is not None
+    except DataError:
+        return True
+
+
+def _side_by_side(cells: Sequence[str]) -> list[str]:
+    """The header cells of spectra side by side (``Z' cell1 (Ohm)``, ``Z'' cell1 (Ohm)``, ``Z' cell2
+    (Ohm)``…): named as a Z quantity (`ROLES`) once a label after the name is taken off, one such
+    quantity twice or more; [] otherwise."""
+    labelled: list[tuple[str, str]] = []
+    for cell in cells:
+        name, unit = split_header_cell(cell)
+        m = _LABEL.match(name)
+        if not m or not cell.strip():
+            continue
+        try:
+            found = role_of(f"{m.group('base')} ({unit})" if unit else m.group("base"))
+        except DataError:
+            continue
+        if found is not None and found[0] != "frequency" and found[0] != "sigma":
+            labelled.append((_SLOT.get(found[0], found[0]), cell.strip()))
+    roles = [role for role, _ in labelled]
+    return [cell for role, cell in labelled if roles.count(role) > 1] if any(roles.count(r) > 1 for r in roles) else []
 
 
 RADIANS_MODULUS_MARGIN = 3.0
