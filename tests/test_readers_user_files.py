@@ -284,3 +284,28 @@ def test_question_mark_unit_hints_at_a_lost_ohm(tmp_path):
     path.write_bytes("Frequency / Hz;Z' / ?;-Z'' / ?\n100;1;2\n".encode("cp1252"))
     with pytest.raises(DataError, match=r"unit '\?' not understood .*an Ω lost when the file was saved in an encoding without it"):
         ix.load(path)
+
+
+FIXTURES = __import__("pathlib").Path(__file__).parent / "fixtures"
+
+
+def test_biologic_header_count_that_misses_the_column_names_says_where_they_are(tmp_path):
+    lines = (FIXTURES / "biologic_peis.mpt").read_bytes().decode("latin-1").split("\n")
+    del lines[5]  # (a header line deleted by hand: the names move from line 19 to 18; the count still says 19)
+    path = tmp_path / "edited.mpt"
+    path.write_bytes("\n".join(lines).encode("latin-1"))
+    with pytest.raises(DataError, match=r"line 2: 'Nb header lines : 19' puts the column names on line 19, but they are on line 18 "
+                                        r"\(was a header line deleted\?\): write 'Nb header lines : 18'"):
+        ix.load(path)
+
+
+def test_zplot_with_decimal_commas_says_so(tmp_path):
+    names = "Freq(Hz)\tAmpl\tBias\tTime(Sec)\tZ'(a)\tZ''(b)\tGD\tErr\tRange"
+    rows = [f"{f:.6E}\t1.0000E-02\t0.0000E+00\t{k:.6E}\t{z.real:.4E}\t{z.imag:.4E}\t0.0000E+00\t0\t3" for k, (f, z) in enumerate(zip(FREQ, Z))]
+    head = ["ZPLOT2 ASCII", "  Data Points:                12", "  " + names, "End Comments"]
+    path = tmp_path / "points.z"
+    path.write_text("\r\n".join(head + rows) + "\r\n")
+    np.testing.assert_allclose(ix.load(path)["Z"].values, Z, rtol=1e-4)  # (5 significant digits in the file)
+    path.write_text("\r\n".join(head + [r.replace(".", ",") for r in rows]) + "\r\n")
+    with pytest.raises(DataError, match=r"line 5: 16 fields, but the header has 9: the numbers are written with decimal commas \('1,000000E\+05'\)"):
+        ix.load(path)

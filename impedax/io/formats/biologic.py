@@ -71,7 +71,27 @@ def read_biologic(path: str | Path) -> xr.Dataset:
             attrs["electrode_surface_area"] = value.strip()
         elif key == "Run on channel":
             attrs["channel"] = value.strip()
+    _check_header_count(path, lines, n_header)
     return _columns(path, lines, n_header - 1, attrs)
+
+
+#: The column names an EC-Lab impedance export holds (`_columns`).
+REQUIRED_COLUMNS = ("freq/Hz", "Re(Z)/Ohm", "-Im(Z)/Ohm")
+
+
+def _check_header_count(path: Path, lines: list[str], n_header: int) -> None:
+    """``Nb header lines : N`` puts the column names on line N; when they are not there but on
+    another line of the header (a line deleted or added by hand), `DataError` naming both."""
+    names = [c.strip() for c in lines[n_header - 1].split("\t")]
+    if all(n in names for n in REQUIRED_COLUMNS):
+        return
+    found = next((k for k, ln in enumerate(lines[: n_header + 20]) if all(n in [c.strip() for c in ln.split("\t")] for n in REQUIRED_COLUMNS)), None)
+    if found is not None:
+        raise DataError(
+            f"'Nb header lines : {n_header}' puts the column names on line {n_header}, but they are on line {found + 1} "
+            f"(was a header line {'deleted' if found + 1 < n_header else 'added'}?): write 'Nb header lines : {found + 1}' on line 2",
+            path=path, line=2,
+        )
 
 
 def read_biologic_text(path: str | Path) -> xr.Dataset:
@@ -85,8 +105,7 @@ def _columns(path: Path, lines: list[str], header_index: int, attrs: dict) -> xr
     if header_index >= len(lines):
         raise DataError("file ends before the column-name line", path=path, line=header_index + 1)
     names = [c.strip() for c in lines[header_index].split("\t")]
-    required = ("freq/Hz", "Re(Z)/Ohm", "-Im(Z)/Ohm")
-    missing = [n for n in required if n not in names]
+    missing = [n for n in REQUIRED_COLUMNS if n not in names]
     if missing:
         found = [n for n in names if n][:8]
         raise DataError(f"columns {missing} not found on header line {header_index + 1}; found {found}", path=path, line=header_index + 1)

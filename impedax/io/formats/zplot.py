@@ -4,6 +4,7 @@ Layout: ``ZPLOT2 ASCII`` and ``Key: value`` lines ending with ``End Comments`` (
 it may name the columns), then one row per point separated by tabs or commas:
 ``Freq(Hz) Ampl Bias Time(Sec) Z'(a) Z''(b) GD Err Range``. The variant without metadata starts
 with that column-name line. A ``Data Points: N`` header that differs from the rows is reported in ``attrs``.
+Numbers with decimal commas are refused, saying so (`_check_decimal_commas`): a ',' separates fields.
 
 Conventions: frequency in Hz; Z = ``Z'(a)`` + j·``Z''(b)`` in Ω, Z'' stored as is (negative for
 capacitive data).
@@ -17,7 +18,7 @@ from pathlib import Path
 import xarray as xr
 
 from ...errors import DataError
-from .._common import head_text, read_text
+from .._common import decimal_comma, head_text, read_text
 from ..registry import Reader
 from ..table import Layout, NoLayout, detect_layout, spectrum_from_rows
 
@@ -83,9 +84,28 @@ def read_zplot(path: str | Path) -> xr.Dataset:
             layout = detect_layout(split_row(names_line), path, end)
         except NoLayout:
             layout = FIXED_LAYOUT
+    _check_decimal_commas(path, lines, rows, len(layout.header))
     if announced is not None and announced != len(rows):
         attrs["point_count_note"] = f"header says 'Data Points: {announced}'; the file holds {len(rows)} rows (sweep stopped early?)"
     return spectrum_from_rows(path, layout, rows, attrs, comma=False)
+
+
+def _check_decimal_commas(path: Path, lines: list[str], rows: list[tuple[int, list[str]]], n_fields: int) -> None:
+    """A row with more fields than the column names whose tab-separated cells are numbers with
+    decimal commas (``1,000000E+05``, as a Windows locale or a spreadsheet writes them): refused,
+    naming the line and the decimal commas, since a ',' also separates ZPlot's fields."""
+    for line, cells in rows:
+        text = lines[line - 1]
+        if len(cells) > n_fields and "\t" in text:
+            tab_cells = [c.strip() for c in text.strip().split("\t")]
+            if len(tab_cells) <= n_fields and decimal_comma(tab_cells, "\t"):
+                raise DataError(
+                    f"{len(cells)} fields, but the header has {n_fields}: the numbers are written with decimal commas "
+                    f"({tab_cells[0]!r}), and a ',' also separates the fields of a ZPlot file, so each one splits a number; export "
+                    "the file with decimal points (a Windows locale or a spreadsheet wrote the commas)",
+                    path=path, line=line,
+                )
+            return
 
 
 READER = Reader("Scribner ZPlot z", (".z",), sniff, read_zplot, CONVENTIONS)
