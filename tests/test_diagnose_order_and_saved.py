@@ -112,7 +112,7 @@ def test_a_saved_diagnosis_holds_its_baseline(swapped_candidate, tmp_path, capsy
 def test_a_side_paths_refit_note_speaks_of_that_path(monkeypatch):
     """A second path's refit had said "the refinement's 0.281 % … the refinement's values are
     reported" of its own fit, which the next note discarded (stand-in fits: χ² and AIC only)."""
-    last = SimpleNamespace(model="R0 + R1 || CPE1", values={"R0": 1.0}, fixed={"R0": False}, circuit=None, weighting="modulus", registry=None, chi2=1.0, aic=-1000.0, rms_rel=0.00281)
+    last = SimpleNamespace(model="R0 + R1 || CPE1", values={"R0": 1.0}, fixed={"R0": False}, bounds={}, circuit=None, weighting="modulus", registry=None, chi2=1.0, aic=-1000.0, rms_rel=0.00281)
     scratch = SimpleNamespace(chi2=1.001, aic=-1000.0 + 0.047, rms_rel=0.00282)
     warm = SimpleNamespace(chi2=1.0, aic=-1000.0, rms_rel=0.00281)
     monkeypatch.setattr(rf, "fit", lambda *a, init=None, **k: warm if init is not None else scratch)

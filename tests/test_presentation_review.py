@@ -237,7 +237,7 @@ def test_refine_text_gives_the_command_for_init():
     note = "fit of R0 + R1 || CPE1 from scratch reaches rms_rel 0.3 %; started from the refinement's values it reaches 0.2 % (pass init=)"
     assert "pass init=" not in command_line_words(note) and "--init" in command_line_words(note)
     final = SimpleNamespace(
-        model="R0 + R1 || CPE1", values={"R0": 0.1, "R1": 1.5, "CPE1.Q": 0.05, "CPE1.alpha": 0.5}, fixed=dict.fromkeys(["R0", "R1", "CPE1.Q", "CPE1.alpha"], False),
+        model="R0 + R1 || CPE1", values={"R0": 0.1, "R1": 1.5, "CPE1.Q": 0.05, "CPE1.alpha": 0.5}, fixed=dict.fromkeys(["R0", "R1", "CPE1.Q", "CPE1.alpha"], False), bounds={},
         frequency=np.array([1.0, 2.0, 10.0, 20.0, 100.0]),
     )
     args = SimpleNamespace(select=["cycle=0"], weighting=None, fmin=None, fmax=1000.0)
@@ -257,7 +257,7 @@ def test_a_fit_from_scratch_at_an_optimum_as_good_is_not_said_to_stop_short(monk
     (stand-in fits: χ² and AIC only)."""
     from impedax.fitting.diagnosis import refinement as rf
 
-    last = SimpleNamespace(model="R0 + R1 || CPE1", values={"R0": 1.0}, fixed={"R0": False}, circuit=None, weighting="modulus", registry=None, chi2=1.0, aic=-1000.0, rms_rel=0.010)
+    last = SimpleNamespace(model="R0 + R1 || CPE1", values={"R0": 1.0}, fixed={"R0": False}, bounds={}, circuit=None, weighting="modulus", registry=None, chi2=1.0, aic=-1000.0, rms_rel=0.010)
     scratch = SimpleNamespace(chi2=1.001, aic=scratch_aic, rms_rel=0.0101)
     warm = SimpleNamespace(chi2=1.0, aic=-1000.0, rms_rel=0.010)
     monkeypatch.setattr(rf, "fit", lambda *a, init=None, **k: warm if init is not None else scratch)

@@ -335,7 +335,7 @@ def test_an_element_that_stood_in_for_a_later_effect_is_taken_out_again(monkeypa
     def stand_in(model, aic):
         circuit = parse(model)
         names = circuit.parameter_names(DEFAULT_REGISTRY)
-        return NS(circuit=circuit, model=model, aic=aic, n_params=len(names), values=dict.fromkeys(names, 1.0), fixed=dict.fromkeys(names, False), registry=DEFAULT_REGISTRY, weighting="modulus")
+        return NS(circuit=circuit, model=model, aic=aic, n_params=len(names), values=dict.fromkeys(names, 1.0), fixed=dict.fromkeys(names, False), bounds={}, registry=DEFAULT_REGISTRY, weighting="modulus")
 
     aic_without = {"CPE_relax": shorter_aic, "R_relax": -900.0, "R_EP": -1100.0, "CPE_EP": -1200.0}
     calls = []

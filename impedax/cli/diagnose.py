@@ -21,10 +21,10 @@ def register(sub) -> None:
 
 def add_spectrum_command(sub, name: str, *, help: str, description: str, plot_help: str, out_help: str, run, model_default: str | None = None):
     """A diagnosis command on one spectrum with a model (diagnose, refine): DATA, --model
-    (required unless ``model_default``), the fit options, --effects, --noise, --json, --plot,
+    (required unless ``model_default``), --fix, --bound, the fit options, --effects, --noise, --json, --plot,
     --out; runs ``run(args)``."""
     from .common import add_model_argument, add_output_options, add_select_option, result_out_help
-    from .fit import add_fit_options
+    from .fit import add_bound_option, add_fit_options
 
     p = sub.add_parser(name, help=help, description=description)
     p.add_argument("data", metavar="DATA", help="spectrum file with one spectrum, or one picked with --select")
@@ -32,6 +32,7 @@ def add_spectrum_command(sub, name: str, *, help: str, description: str, plot_he
     add_model_argument(p, default=model_default)
     p.add_argument("--fix", action="append", metavar="NAME=VALUE", help="hold a parameter of MODEL fixed (several after one --fix, C_i=1.7n R_e=20, or --fix repeated; SI prefixes), in the baseline fit "
                    "and in every candidate that keeps the parameter; the commands printed carry it")
+    add_bound_option(p, " in the baseline fit and in every candidate that keeps the parameter")
     add_fit_options(p)
     p.add_argument("--effects", metavar="ID,ID", help="only these effects (comma-separated ids; default: all)")
     p.add_argument("--noise", metavar="REL", help="relative noise level per component: a fraction of |Z| (0.05) or a percentage (5%%); default: from sigma or the KK residuals, which need 10 frequencies: on fewer give it")
@@ -65,6 +66,22 @@ def fixed_option(args) -> dict[str, float]:
     return fixed
 
 
+def bounds_option(args, fixed: dict[str, float]) -> dict[str, tuple[float, float]]:
+    """``--bound NAME=LO:HI`` as ``bounds=`` (`common.parse_bounds`), checked before the data are
+    read as impedax fit checks it: names against ``--model``'s parameters
+    (`common.check_parameter_names`), then the ends (`common.checked_bound_options`: LO ≥ HI,
+    outside the element's range, narrowing nothing, a parameter also in ``fixed``, --fix)."""
+    from .. import parse
+    from .common import check_parameter_names, checked_bound_options, parse_bounds
+
+    given = parse_bounds(args.bound)
+    if not given:
+        return {}
+    circuit = parse(args.model)
+    check_parameter_names(given, circuit.parameter_names(), "--bound", args.model)
+    return checked_bound_options(given, circuit.parameter_specs(), fixed=fixed)
+
+
 def run(args) -> int:
     from ..fitting import diagnose
     from .common import command_provenance, data_source, exclude_points, figure_options, figure_writer, fit_command, load_selected, plan_outputs, print_result, progress_printer, relative_noise, result_writer
@@ -76,10 +93,11 @@ def run(args) -> int:
     noise = relative_noise(args.noise)
     effects = effects_option(args.effects)
     fixed = fixed_option(args)
+    bounds = bounds_option(args, fixed)
     data = exclude_points(load_selected(args.data, args.select, single="impedax diagnose"), args.exclude)
     progress = progress_printer()
     try:
-        result = diagnose(data, args.model, effects=effects, noise=noise, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, progress=progress, fixed=fixed or None)
+        result = diagnose(data, args.model, effects=effects, noise=noise, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, progress=progress, fixed=fixed or None, bounds=bounds or None)
     finally:
         progress.close()
     source = data_source(data)

@@ -29,7 +29,7 @@ def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting import refine
     from .common import command_provenance, data_source, exclude_points, figure_options, figure_writer, load_selected, plan_outputs, print_result, progress_printer, relative_noise, result_writer
-    from .diagnose import effects_option, fixed_option
+    from .diagnose import bounds_option, effects_option, fixed_option
     from .fit import check_max_steps, note_solver_step_limit
 
     outputs = plan_outputs([("--out", args.out, "result"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
@@ -40,12 +40,13 @@ def run(args) -> int:
     noise = relative_noise(args.noise)
     effects = effects_option(args.effects)
     fixed = fixed_option(args)
+    bounds = bounds_option(args, fixed)
     data = exclude_points(load_selected(args.data, args.select, single="impedax refine"), args.exclude)
     progress = progress_printer()
     try:
         result = refine(
             data, args.model, max_effects=args.max_effects, max_steps=solver_steps, effects=effects, weighting=args.weighting, noise=noise,
-            fmin=args.fmin, fmax=args.fmax, progress=progress, fixed=fixed or None,
+            fmin=args.fmin, fmax=args.fmax, progress=progress, fixed=fixed or None, bounds=bounds or None,
         )
     finally:
         progress.close()
@@ -66,20 +67,23 @@ def reproduce_line(refinement, args=None, data=None) -> str | None:
     values when a fit of the final model from scratch ends at another optimum
     (``Refinement.final_from_values``; a note of another path said so of its own model, and had
     printed this line), else from scratch when points were masked (a fit of the file's every
-    point differs) or when it holds fixed values (--fix, which the command carries); else None
+    point differs) or when it holds fixed values or bounds of the user's (--fix, --bound, which the
+    command carries; from values, each start strictly inside its bounds); else None
     (``impedax fit`` of the final model reproduces it). ``data``: the
     spectrum refined, so that a --select list or range that picked it is given as its label."""
+    from ..fitting.diagnosis.diagnosis import bound_words, restart_words
     from .common import fit_command
 
     final = refinement.final
     command = fit_command(args, kept=final.frequency, masked=refinement.masked_points, data=data)
     masked = len(refinement.masked_points)
     without = f"; without the {masked} masked point(s)" if masked else ""
+    bounded = bound_words(final)
     if refinement.final_from_values:
-        starts = " ".join(f"--{'fix' if final.fixed[k] else 'init'} {k}={v:.6g}" for k, v in final.values.items())
+        starts = restart_words(final) if bounded else " ".join(f"--{'fix' if final.fixed[k] else 'init'} {k}={v:.6g}" for k, v in final.values.items())
         return f"to reproduce the final fit from its values (a fit from scratch ends at another optimum; the notes give both{without}): {command} --model '{final.model}' {starts}"
     fixed = " ".join(f"--fix {k}={v:.6g}" for k, v in final.values.items() if final.fixed[k])
-    if masked or fixed:
-        how = ([f"without the {masked} masked point(s)"] if masked else []) + (["its fixed values held"] if fixed else []) + [f"rms_rel {final.rms_rel * 100:.3g} %"]
-        return f"to reproduce the final fit ({', '.join(how)}): {command} --model '{final.model}'" + (f" {fixed}" if fixed else "")
+    if masked or fixed or bounded:
+        how = ([f"without the {masked} masked point(s)"] if masked else []) + (["its fixed values held"] if fixed else []) + (["within your bounds"] if bounded else []) + [f"rms_rel {final.rms_rel * 100:.3g} %"]
+        return f"to reproduce the final fit ({', '.join(how)}): {command} --model '{final.model}'" + (f" {fixed}" if fixed else "") + bounded
     return None

@@ -54,7 +54,7 @@ from typing import Callable, Mapping, NamedTuple, Sequence
 import numpy as np
 import xarray as xr
 
-from ...arguments import EXCLUDE_RTOL, MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice, count, flag, frequency, instance_of, noise_fraction, parameter_values, seed as seed_rule
+from ...arguments import EXCLUDE_RTOL, MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice, count, flag, frequency, instance_of, noise_fraction, parameter_bounds, parameter_values, seed as seed_rule
 from ...circuits import Circuit, DEFAULT_REGISTRY, Element, Parallel, Registry, Series, parse
 from ...data import concise_repr, format_quantity, make_spectrum
 from ...errors import DataError, FitError, ImpedaxError, ParameterError
@@ -66,7 +66,7 @@ from ..least_squares.branches import is_idle_note, parallel_branches
 from ..least_squares.order import exchangeable_blocks
 from ..least_squares.candidates import SolverShape, fit_candidates, solver_shape
 from ..least_squares.constraints import binding_constraints, constraint_words, explaining_constraints
-from ..least_squares.result import embedded_fit, fit_from_embedded
+from ..least_squares.result import bounds_attr, embedded_fit, fit_from_embedded
 from ..least_squares.starts import climb_target
 from ..parameters import ParameterTable
 from ..problem import WEIGHTINGS, circuit_parameters, open_spectrum
@@ -310,7 +310,8 @@ class Diagnosis:
         return {
             "model": b.model,
             "baseline": {"rms_rel": b.rms_rel, "chi2_red": b.chi2_red, "aic": b.aic, "bic": b.bic, "n_points": b.n_points, "n_params": b.n_params,
-                         "params": b.summary()["params"], "at_bound": list(b.at_bound)},
+                         "params": b.summary()["params"], "at_bound": list(b.at_bound),
+                         "user_bounds": bounds_attr(b.bounds)},  # (added 2026-12-01: the bounds=, --bound, as fit --json's user_bounds)
             "kk": {
                 "valid": bool(kk.valid) if kk is not None else None,
                 "rms_rel": float(kk.rms_rel) if kk is not None else None,
@@ -395,7 +396,7 @@ class Diagnosis:
                 for t in same:
                     lines.append(f"     the same fit within the noise (the data cannot tell them apart): {t.model} [{t.effect}]   ΔAIC {t.delta_aic:+.1f}")
             best = self.suggestions[0].fit
-            starts = _start_words(best) + _fixed_words(best) + _bound_words(best)
+            starts = _start_words(best) + _fixed_words(best) + bound_words(best)
             lines.append(f"  to apply 1. from its fitted values (a fit from scratch may stop in another minimum): {fit_command} --model '{best.model}' {starts}")
             lines += _without_vanished_lines(best, fit_command)
             if self.masked_points:  # (impedax fit takes every point the file holds unless told)
@@ -922,7 +923,8 @@ def non_passive_points(ds: xr.Dataset) -> np.ndarray:
     return bad
 
 
-def _fit_baseline(data, circuit: Circuit | str, effects: EffectCatalog, *, registry: Registry, fmin, fmax, weighting: str, n_starts: int, seed: int, shape: SolverShape | None, noise_given: bool, fixed: Mapping[str, float] | None = None):
+def _fit_baseline(data, circuit: Circuit | str, effects: EffectCatalog, *, registry: Registry, fmin, fmax, weighting: str, n_starts: int, seed: int, shape: SolverShape | None, noise_given: bool, fixed: Mapping[str, float] | None = None,
+                  bounds: Mapping[str, tuple[float, float]] | None = None):
     """Fit the user's circuit with the same compiled solver the candidates will use
     (`BASELINE_COPIES` copies of the circuit, each with its own random starts): one compilation
     in all.
@@ -934,7 +936,8 @@ def _fit_baseline(data, circuit: Circuit | str, effects: EffectCatalog, *, regis
     level or a KK result was given (without one, too few points are refused before the fit,
     `_require_noise_without_kk`). ``fixed``: the user's fixed values (name → value), held in
     the baseline fit and so, through its `FitResult.fixed`, in every candidate fit that has the
-    parameter (`_fit_proposals`). Returns (fit, spectrum Dataset of the points fitted, solver
+    parameter (`_fit_proposals`); ``bounds`` (name → (lower, upper)), the user's bounds, kept the
+    same way through `FitResult.bounds`. Returns (fit, spectrum Dataset of the points fitted, solver
     shape, the points left out as not passive: frequency → Z)."""
     ds = open_spectrum(data, fmin=fmin, fmax=fmax, single="diagnose").data
     not_passive = non_passive_points(ds)
@@ -942,8 +945,8 @@ def _fit_baseline(data, circuit: Circuit | str, effects: EffectCatalog, *, regis
     if left_out:
         ds = ds.isel(frequency=np.nonzero(~not_passive)[0])
     circuit = parse(circuit, registry)  # (a circuit's errors before the data's, and both before the fit)
-    if fixed:  # (an unknown name, a value out of range or every parameter fixed: fit's own errors, before the fit)
-        ParameterTable.build(circuit, registry=registry, fixed=fixed)
+    if fixed or bounds:  # (an unknown name, a value or bound out of range, lower ≥ upper, every parameter fixed: fit's own errors, before the fit)
+        ParameterTable.build(circuit, registry=registry, fixed=fixed, bounds=bounds)
     _require_points_for_diagnosis(ds.sizes["frequency"], len(circuit.parameter_names(registry)))
     if not noise_given:
         _require_noise_without_kk(ds.sizes["frequency"], None, ds["sigma"] if "sigma" in ds else None, source=ds.attrs.get("source"))
@@ -960,7 +963,7 @@ def _fit_baseline(data, circuit: Circuit | str, effects: EffectCatalog, *, regis
     shape = (shape or solver_shape([circuit] + proposed, registry, freq.size)).grown_to([circuit] + proposed, registry, freq.size)
     copies = _baseline_copies(circuit, registry)
     fits = fit_candidates(
-        [circuit] * (2 * copies), ds, fixed=dict(fixed) if fixed else None, weighting=weighting, n_starts=n_starts, max_steps=BASELINE_STEPS, seeds=[seed + i for i in range(copies)] * 2,
+        [circuit] * (2 * copies), ds, fixed=dict(fixed) if fixed else None, bounds=dict(bounds) if bounds else None, weighting=weighting, n_starts=n_starts, max_steps=BASELINE_STEPS, seeds=[seed + i for i in range(copies)] * 2,
         registry=registry, shape=shape, damping=["identity"] * copies + ["marquardt"] * copies,
     )
     best = min(fits, key=lambda r: r.chi2 if np.isfinite(r.chi2) else np.inf)
@@ -973,16 +976,18 @@ def _baseline_copies(circuit: Circuit, registry: Registry) -> int:
     return next(copies for most, copies in BASELINE_COPIES if most is None or k <= most)
 
 
-def _baseline(fit_or_data, circuit, *, data, effects, registry, fmin, fmax, weighting, n_starts, seed, shape, noise_given, fixed=None):
+def _baseline(fit_or_data, circuit, *, data, effects, registry, fmin, fmax, weighting, n_starts, seed, shape, noise_given, fixed=None, bounds=None):
     """The fit to diagnose, the data it was made on (or None), the solver shape (or None) and
     the points left out as not passive, frequency → Z (data given with a circuit, fitted with
-    ``fixed`` held; a `FitResult` is diagnosed on the points it was fitted to, with its own
-    fixed values)."""
+    ``fixed`` held and within ``bounds``; a `FitResult` is diagnosed on the points it was fitted
+    to, with its own fixed values and bounds)."""
     if isinstance(fit_or_data, FitResult):
         if circuit is not None:
             raise ParameterError("give either a FitResult or data with a circuit, not both")
         if fixed:
             raise ParameterError("fixed= goes with data and a circuit; a FitResult keeps the fixed values it was fitted with (fit(..., fixed=...) first)")
+        if bounds:
+            raise ParameterError("bounds= goes with data and a circuit; a FitResult keeps the bounds it was fitted with (fit(..., bounds=...) first)")
         if fmin is not None or fmax is not None:
             raise ParameterError("fmin/fmax select the band of data to fit; a FitResult keeps the band it was fitted on")
         return fit_or_data, data, shape, {}
@@ -992,7 +997,7 @@ def _baseline(fit_or_data, circuit, *, data, effects, registry, fmin, fmax, weig
         raise ParameterError("diagnose(data, circuit): the circuit to diagnose is missing")
     if data is not None:
         raise ParameterError("give the data once")
-    return _fit_baseline(fit_or_data, circuit, effects, registry=registry, fmin=fmin, fmax=fmax, weighting=weighting, n_starts=n_starts, seed=seed, shape=shape, noise_given=noise_given, fixed=fixed)
+    return _fit_baseline(fit_or_data, circuit, effects, registry=registry, fmin=fmin, fmax=fmax, weighting=weighting, n_starts=n_starts, seed=seed, shape=shape, noise_given=noise_given, fixed=fixed, bounds=bounds)
 
 
 MIN_DIAGNOSIS_POINTS = 4  # what the KK test needs (R_0, one RC element, L, C)
@@ -1782,6 +1787,8 @@ def _bound_ends(fit: FitResult, kept=None) -> dict[str, tuple[str, str]]:
     as ``--bound`` writes them: each end as --init prints numbers (.6g), an end that is the
     element's own left empty (`cli.common.parse_bounds` puts it back); all digits where .6g
     would make the two ends meet."""
+    if not fit.bounds:
+        return {}
     specs = fit.circuit.parameter_specs(fit.registry)
     out = {}
     for name, (lo, hi) in fit.bounds.items():
@@ -1792,16 +1799,23 @@ def _bound_ends(fit: FitResult, kept=None) -> dict[str, tuple[str, str]]:
     return out
 
 
-def _bound_words(fit: FitResult, kept=None) -> str:
+def bound_words(fit: FitResult, kept=None) -> str:
     """`` --bound NAME=LO:HI`` for each bound of the user's on ``fit``'s parameters (in
     ``kept``, when given): a command that applies a suggestion keeps the user's bounds, which
     its fit kept (`_bound_ends`)."""
     return "".join(f" --bound {name}={lo}:{hi}" for name, (lo, hi) in _bound_ends(fit, kept).items())
 
 
+def restart_words(fit: FitResult) -> str:
+    """``--init``, ``--fix`` and ``--bound`` words that restart ``fit`` from its values under the
+    user's constraints (`_start_words`, `_fixed_words`, `bound_words`): each start strictly inside
+    its bounds, as `impedax fit` requires (refine's reproduce line, `cli.refine.reproduce_line`)."""
+    return _start_words(fit) + _fixed_words(fit) + bound_words(fit)
+
+
 def _start_words(fit: FitResult, kept=None) -> str:
     """``--init NAME=VALUE`` for each free parameter of ``fit`` (in ``kept``, when given), .6g.
-    A value of a bounded parameter is written strictly inside the bounds `_bound_words` prints
+    A value of a bounded parameter is written strictly inside the bounds `bound_words` prints
     (`impedax fit` refuses a start on a bound: `_inside_text`)."""
     specs = fit.circuit.parameter_specs(fit.registry)
     ends = _bound_ends(fit, kept)
@@ -1870,7 +1884,7 @@ def _without_vanished_lines(fit: FitResult, fit_command: str) -> list[str]:
     lines = []
     for branch, reduced, names in vanished_terms(fit):
         kept = set(reduced.parameter_names(fit.registry))
-        starts = _start_words(fit, kept) + _fixed_words(fit, kept) + _bound_words(fit, kept)
+        starts = _start_words(fit, kept) + _fixed_words(fit, kept) + bound_words(fit, kept)
         specs = fit.circuit.parameter_specs(fit.registry)
         held = ", ".join(f"{n} = {format_quantity(fit.values[n], specs[n].unit)}{', at its bound' if n in fit.at_bound else ''}" for n in names)
         what = share_words(branch)
@@ -1914,6 +1928,7 @@ def _verdict(cands: Sequence[Suggestion], bands: Sequence[FailingBand], ratio: f
     n_starts=count(1, MAX_STARTS), max_steps=count(1, MAX_SOLVER_STEPS), seed=seed_rule, drt_evidence=flag,
     solver_shape=instance_of(SolverShape, optional=True, what="a SolverShape (e.g. an earlier Diagnosis.solver_shape)"), mask=flag,
     drt_memo=instance_of(DRTMemo, optional=True, what="a DRTMemo (one per data, e.g. refine's)"), fixed=parameter_values(),
+    bounds=parameter_bounds,
 )
 def diagnose(
     fit_or_data,
@@ -1936,6 +1951,7 @@ def diagnose(
     progress: Callable[[str], None] | None = None,
     drt_memo: DRTMemo | None = None,
     fixed: Mapping[str, float] | None = None,
+    bounds: Mapping[str, tuple[float, float]] | None = None,
 ) -> Diagnosis:
     """Diagnose a fit: where the model fails, which effect of ``effects`` is missing, verdict.
 
@@ -1944,7 +1960,9 @@ def diagnose(
     kept in every candidate fit that has the parameter), or a spectrum Dataset/path together
     with ``circuit`` (parsed with ``registry`` and fitted first with ``weighting`` to the points
     with ``fmin`` ≤ f ≤ ``fmax``; ``fixed``, name → value, is held in that fit and in every
-    candidate fit that has the parameter, as a FitResult's fixed values are). ``kk``: a `KKResult` to reuse (default: `kk_test` of the
+    candidate fit that has the parameter, as a FitResult's fixed values are, and ``bounds``,
+    name → (lower, upper) as `fit`'s, are kept the same way, as a FitResult's bounds are: a
+    bound the optimum presses against can make the verdict ``constraint``). ``kk``: a `KKResult` to reuse (default: `kk_test` of the
     fitted spectrum); ``noise``: a relative noise level to use instead of the estimate (needed,
     or a sigma in the data, on fewer than `CONCLUSIVE_POINTS_MIN` frequencies: `DataError` without).
     Candidates are fitted warm-started together (``n_starts`` starts each, ``max_steps``
@@ -1968,7 +1986,7 @@ def diagnose(
     say("fitting the baseline" + (f" {circuit}" if circuit is not None and not isinstance(fit_or_data, FitResult) else ""))
     base, data, shape, left_out = _baseline(
         fit_or_data, circuit, data=data, effects=effects, registry=registry, fmin=fmin, fmax=fmax, weighting=weighting, n_starts=n_starts, seed=seed, shape=solver_shape,
-        noise_given=noise is not None or kk is not None, fixed=fixed,
+        noise_given=noise is not None or kk is not None, fixed=fixed, bounds=bounds,
     )
     _require_points_for_diagnosis(base.n_points, base.n_params)
     user_fit = base  # (the user's fit, whose fixed values and bounds `_constraint_verdict` checks)

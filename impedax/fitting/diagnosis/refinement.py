@@ -12,13 +12,14 @@ from typing import Callable, Mapping
 import numpy as np
 import xarray as xr
 
-from ...arguments import MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice, count, flag, frequency, instance_of, noise_fraction, parameter_values, seed as seed_rule
+from ...arguments import MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice, count, flag, frequency, instance_of, noise_fraction, parameter_bounds, parameter_values, seed as seed_rule
 from ...circuits import Circuit, DEFAULT_REGISTRY, Element, Registry
 from ...data import concise_repr, format_quantity
 from ...errors import CircuitError, ParameterError
 from ..least_squares import FitResult, fit
 from ..least_squares.candidates import fit_candidates
-from ..least_squares.result import BOUND_CHI2_FRACTION, RESIDUAL_LONG_NAME, embedded_fit, fit_from_embedded
+from ..least_squares.result import BOUND_CHI2_FRACTION, RESIDUAL_LONG_NAME, bounds_attr, embedded_fit, fit_from_embedded
+from ..least_squares.starts import values_inside
 from ..parameters import ParameterTable
 from ..reductions import capacitor_name
 from ..problem import WEIGHTINGS, circuit_parameters, open_spectrum
@@ -130,6 +131,7 @@ class Refinement:
         return {
             "steps": [s.as_json() for s in self.steps], "final_model": self.final_model, "verdict": self.verdict,
             "final_rms_rel": final.rms_rel, "n_params": final.n_params, "final_params": final.summary()["params"], "final_at_bound": list(final.at_bound),
+            "final_user_bounds": bounds_attr(final.bounds),  # (added 2026-12-01: the bounds=, --bound, the final fit kept, as fit --json's user_bounds)
             "undetermined": sorted(undetermined_parameters(final) | vanished_parameters(final)),
             "masked_points": [float(f) for f in self.masked_points], "notes": list(self.notes),
             "beyond_catalog": last.beyond_catalog if last is not None else False, "noise_ratio": last.noise_ratio if last is not None else None,
@@ -257,14 +259,23 @@ def _reproduced(ds: xr.Dataset, last: FitResult, *, n_starts: int, seed: int, sa
 
     ``whose``: the path ``last`` ends, as the note names it (`MAIN_PATH`, or `SIDE_PATH` for a
     path `_second_path` compares with the kept one: its values are not the refinement's, and
-    whether they are reported is that comparison's to say)."""
+    whether they are reported is that comparison's to say).
+
+    Both fits keep ``last``'s fixed values and the user's bounds (`FitResult.bounds`); the
+    start from its values is moved strictly inside those bounds (`starts.values_inside`: an
+    optimum pressed against a bound sits on it, where `fit` takes no start)."""
     fixed = {k: v for k, v in last.values.items() if last.fixed[k]} or None
-    scratch = fit(last.circuit, ds, fixed=fixed, weighting=last.weighting, registry=last.registry, seed=seed)
+    bounds = dict(last.bounds) or None
+    scratch = fit(last.circuit, ds, fixed=fixed, bounds=bounds, weighting=last.weighting, registry=last.registry, seed=seed)
     loose = undetermined_parameters(scratch) - undetermined_parameters(last)
     if scratch.chi2 <= last.chi2 * (1 + 1e-6) and not loose:
         return scratch, None
     say(f"  refitting {last.model} from {whose}'s values (from scratch: rms_rel {scratch.rms_rel * 100:.3g} %)")
-    warm = fit(last.circuit, ds, init=last, fixed=fixed, weighting=last.weighting, registry=last.registry, seed=seed)
+    start = last
+    if bounds:
+        table = ParameterTable.build(last.circuit, registry=last.registry, fixed=fixed, bounds=bounds)
+        start = values_inside({k: v for k, v in last.values.items() if not last.fixed[k]}, table)
+    warm = fit(last.circuit, ds, init=start, fixed=fixed, bounds=bounds, weighting=last.weighting, registry=last.registry, seed=seed)
     if loose and warm.chi2 <= scratch.chi2 * (1 + 1e-6) and len(undetermined_parameters(warm)) < len(undetermined_parameters(scratch)):
         return warm, f"fit of {last.model} from scratch reaches rms_rel {scratch.rms_rel * 100:.3g} % with {', '.join(sorted(loose))} undetermined; started from {whose}'s values it reaches {warm.rms_rel * 100:.3g} % with every parameter it had determined (pass init=)"
     if warm.chi2 <= scratch.chi2:
@@ -604,7 +615,7 @@ def _simplified(steps: list[RefinementStep], used: xr.Dataset, *, n_starts: int,
         # in the last diagnosis' compiled solver (it held larger circuits), from the last model's values
         fixed = {k: v for k, v in last.values.items() if last.fixed[k]} or None
         fits = fit_candidates([c for _, c in shorter], used, init=[{k: last.values[k] for k in c.parameter_names(last.registry)} for _, c in shorter],
-                              fixed=fixed, weighting=last.weighting, n_starts=n_starts, seed=seed, registry=last.registry, shape=steps[-1].diagnosis.solver_shape)
+                              fixed=fixed, bounds=dict(last.bounds) or None, weighting=last.weighting, n_starts=n_starts, seed=seed, registry=last.registry, shape=steps[-1].diagnosis.solver_shape)
         trials = [(trial.aic, name, trial) for (name, _), trial in zip(shorter, fits) if np.isfinite(trial.aic) and trial.aic <= last.aic + DELTA_AIC_MIN]
         for _, name, trial in sorted(trials, key=lambda t: t[0]):
             final, note = reproduced(used, trial, n_starts=n_starts, seed=seed)
@@ -716,11 +727,12 @@ def _pruned(steps: list[RefinementStep], used: xr.Dataset, *, n_starts: int, see
         for added, removed, circuit, init, why in changes:
             names = set(circuit.parameter_names(last.registry))
             fixed = {k: v for k, v in fixed_all.items() if k in names} or None
+            bounds = {k: v for k, v in last.bounds.items() if k in names} or None  # (the user's, kept where the parameter is)
             start = {k: v for k, v in init.items() if k not in (fixed or {})}
             try:  # (a value on its bound is no start: the fit guesses that one)
-                table = ParameterTable.build(circuit, registry=last.registry)
+                table = ParameterTable.build(circuit, registry=last.registry, bounds=bounds)
                 start = {k: v for k, v in start.items() if table.lower[table.names.index(k)] < v < table.upper[table.names.index(k)]}
-                trial = fit(circuit, used, init=start, fixed=fixed, weighting=last.weighting, registry=last.registry, n_starts=1, seed=seed)
+                trial = fit(circuit, used, init=start, fixed=fixed, bounds=bounds, weighting=last.weighting, registry=last.registry, n_starts=1, seed=seed)
             except (ParameterError, CircuitError):
                 continue
             say(f"pruning: refitting {trial.model} from scratch")
@@ -764,7 +776,7 @@ limit whatever its size, as ``impedax refine --max-steps`` passes it)."""
     circuit_parameters=circuit_parameters, max_steps=count(1, MAX_SOLVER_STEPS, optional=True), max_effects=count(0, 64, optional=True, why="each effect adds one element"),
     solver_steps=count(1, MAX_SOLVER_STEPS, optional=True), effects=instance_of(EffectCatalog, what="an EffectCatalog (e.g. impedax.DEFAULT_EFFECTS)"),
     weighting=choice(WEIGHTINGS), noise=noise_fraction, registry=instance_of(Registry), fmin=frequency, fmax=frequency,
-    n_starts=count(1, MAX_STARTS), seed=seed_rule, drt_evidence=flag, fixed=parameter_values(),
+    n_starts=count(1, MAX_STARTS), seed=seed_rule, drt_evidence=flag, fixed=parameter_values(), bounds=parameter_bounds,
 )
 def refine(
     data,
@@ -784,6 +796,7 @@ def refine(
     drt_evidence: bool = True,
     progress: Callable[[str], None] | None = None,
     fixed: Mapping[str, float] | None = None,
+    bounds: Mapping[str, tuple[float, float]] | None = None,
 ) -> Refinement:
     """Refine ``circuit`` (default `REFINE_START`) on ``data``: diagnose → add the best
     significant effect → refit, until the verdict is not ``missing_effect`` (or no suggestion
@@ -798,7 +811,9 @@ def refine(
     `diagnose`; ``progress`` is called with a line of text as each step starts, and indented
     as each stage of a step's diagnosis starts. ``fixed`` (name → value, as `fit`'s) holds at
     every step in every model that still has the parameter (the first diagnosis' baseline fit
-    holds it, and each later fit keeps its start's fixed values). The final model is refitted with `fit` on the
+    holds it, and each later fit keeps its start's fixed values); ``bounds`` (name → (lower,
+    upper), as `fit`'s) are kept the same way, as a FitResult's bounds are, the final refit
+    included (an element replaced, C → CPE, drops its bound). The final model is refitted with `fit` on the
     same points (reproducible with ``impedax fit``); a last step whose refit leaves parameters
     undetermined is dropped; an ``adequate`` end loses the elements it added that an adequate
     model can do without (`_simplified`); then any end loses a term its fit's flags say
@@ -826,7 +841,7 @@ def refine(
     # the DRTs of the run's spectra, each solved once: the data's (the same at every step) and a
     # model's met again (a step's baseline is the fit the step before proposed)
     drts = DRTMemo()
-    first = diagnose(ds, circuit, effects=effects, noise=noise, weighting=weighting, registry=registry, n_starts=n_starts, max_steps=solver_steps, seed=seed, drt_evidence=drt_evidence, progress=within, drt_memo=drts, fixed=fixed)
+    first = diagnose(ds, circuit, effects=effects, noise=noise, weighting=weighting, registry=registry, n_starts=n_starts, max_steps=solver_steps, seed=seed, drt_evidence=drt_evidence, progress=within, drt_memo=drts, fixed=fixed, bounds=bounds)
     masked = first.masked_points
     # the KK test as the first diagnosis got it (before its local judgement, which every step
     # redoes): the discrepancy floor δ takes that test's flags, so each step has the first's noise
@@ -876,7 +891,7 @@ def refine(
         if 0 < band.sizes["frequency"] < ds.sizes["frequency"]:  # (each start again drops points: it ends)
             return _on_valid_band(
                 ds, band, steps, circuit, say=say, max_steps=solver_steps, max_effects=limit, effects=effects, weighting=weighting, noise=noise, registry=registry,
-                n_starts=n_starts, seed=seed, drt_evidence=drt_evidence, fixed=fixed,
+                n_starts=n_starts, seed=seed, drt_evidence=drt_evidence, fixed=fixed, bounds=bounds,
             )
     steps = _second_path(steps, picked, limit, diagnosed, say, notes, finished)
     steps = _simplified(steps, used, n_starts=n_starts, seed=seed, diagnosed=diagnosed, reproduced=reproduced, say=say, notes=notes)
