@@ -32,7 +32,7 @@ def add_spectrum_command(sub, name: str, *, help: str, description: str, plot_he
     add_model_argument(p, default=model_default)
     p.add_argument("--fix", action="append", metavar="NAME=VALUE", help="hold a parameter of MODEL fixed (several after one --fix, C_i=1.7n R_e=20, or --fix repeated; SI prefixes), in the baseline fit "
                    "and in every candidate that keeps the parameter; the commands printed carry it")
-    add_bound_option(p, " in the baseline fit and in every candidate that keeps the parameter")
+    add_bound_option(p, " in the baseline fit and in every candidate that keeps the parameter", with_init=False)
     add_fit_options(p)
     p.add_argument("--effects", metavar="ID,ID", help="only these effects (comma-separated ids; default: all)")
     p.add_argument("--noise", metavar="REL", help="relative noise level per component: a fraction of |Z| (0.05) or a percentage (5%%); default: from sigma or the KK residuals, which need 10 frequencies: on fewer give it")

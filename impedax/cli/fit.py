@@ -63,11 +63,13 @@ def note_solver_step_limit(n: int, command: str) -> None:
         )
 
 
-def add_bound_option(p, where: str = "") -> None:
+def add_bound_option(p, where: str = "", *, with_init: bool = True) -> None:
     """``--bound NAME=LO:HI ...`` (several after one, or repeated), read by `common.parse_bounds` and
-    `common.checked_bound_options`: the ``bounds=`` of `impedax.fit` and `impedax.sample`."""
+    `common.checked_bound_options`: the ``bounds=`` of `impedax.fit`, `impedax.sample`, `diagnose`
+    and `refine` (``with_init=False`` for the commands without ``--init``)."""
+    init_rule = ", and an --init value must lie inside" if with_init else ""
     p.add_argument("--bound", action="append", metavar="NAME=LO:HI", help=f"fit a parameter within LO..HI{where} (several after one --bound, R1=10:1k R0=:10, or --bound repeated; SI prefixes; "
-                   "an empty side keeps the element's own bound: R0=:10, R0=1m:); not with --fix of the same NAME, and an --init value must lie inside")
+                   f"an empty side keeps the element's own bound: R0=:10, R0=1m:); not with --fix of the same NAME{init_rule}")
 
 
 def add_shared_options(p) -> None:
