@@ -149,7 +149,19 @@ def test_posterior_csv_holds_the_quantiles_of_the_draws(rc_fit, tmp_path):
     post = ix.sample("R0 + R1 || C1", _rc_data(), steps=120, burn=40, walkers=16, seed=0, progress=False)
     ix.write_result(post, tmp_path / "post.csv")
     rows = _read_csv(tmp_path / "post.csv")
-    assert list(rows[0]) == ["name", "median", "q05", "q16", "q84", "q95", "unit"]
+    assert list(rows[0]) == ["name", "median", "q05", "q16", "q84", "q95", "unit", "autocorr", "ess"]
+    # τ and ESS as the JSON's keys: emcee's own estimator on the kept draws in the sampled
+    # space (c = 5, tol = 0; log for a log-sampled parameter), ESS = walkers × draws / τ
+    import emcee
+
+    for r in rows:
+        i = post.names.index(r["name"])
+        y = post.draws[..., i]
+        y = np.log(y) if post.log_scale[i] else y
+        tau = float(emcee.autocorr.integrated_time(np.transpose(y)[:, :, None], c=5, tol=0)[0])
+        assert float(r["autocorr"]) == pytest.approx(tau, rel=1e-8)
+        assert float(r["ess"]) == pytest.approx(post.n_walkers * post.n_draws / max(tau, 1.0), rel=1e-8)
+        assert float(r["autocorr"]) == post.summary()["autocorr"][r["name"]] and float(r["ess"]) == post.summary()["ess"][r["name"]]
     names = [r["name"] for r in rows]
     assert {"R0", "R1", "C1"} <= set(names)
     for r in rows:

@@ -690,7 +690,9 @@ def test_review_edge_cases_of_the_prefixes():
     # the prefix of a value as printed, and of an interval by its largest member
     assert format_quantity(999.6, "Ω") == "1 kΩ" and format_quantity(0.9996, "Ω") == "1 Ω"
     assert interval_text(999.0, 984.0, 1017.0, "Ω") == "0.999 [0.984, 1.017] kΩ"
-    assert interval_text(1.0e-5, 0.968e-5, 1.034e-5, "F s^(α-1)") == "1.000 [0.968, 1.034] ×10⁻⁵ F s^(α-1)"
+    # a compound unit led by F counts in a prefix, as its axis does (was "×10⁻⁵ F s^(α-1)" beside an axis in µF s^(α-1))
+    assert interval_text(1.0e-5, 0.968e-5, 1.034e-5, "F s^(α-1)") == "10.00 [9.68, 10.34] µF s^(α-1)"
+    assert interval_text(1.0e-5, 0.968e-5, 1.034e-5, "m") == "1.000 [0.968, 1.034] ×10⁻⁵ m"
     assert format_relative_error(float("nan")) == "—" and format_relative_error(99.996) == "1e+04%"
     # a label the user wrote with a prefix (values already in kΩ) is left as it is
     fig, ax = plt.subplots()
@@ -855,4 +857,26 @@ def test_refinement_and_diagnosis_figures_put_no_legend_over_their_data():
         for ax in fig.axes:
             if ax.get_legend() is not None:
                 assert _points_under_legend(ax) == 0, [t.get_text() for t in ax.get_legend().get_texts()]
+        plt.close(fig)
+
+
+def test_corner_title_and_axis_of_a_small_q_use_one_prefix():
+    """A CPE's Q of 8.6e-5 F s^(α-1) (SYNTHETIC draws, normal, sd 4 %): the diagonal title read
+    ×10⁻⁵ while its axis counted in µ; now both count in the prefix of the axis. And where the
+    draws' tail reaches past 1e-3 though q95 stays below it, the title follows the axis (m)."""
+    from impedax.plotting.bayes import plot_corner
+
+    rng = np.random.default_rng(7)
+    for center, sd, prefix, scale in ((8.6e-5, 0.04 * 8.6e-5, "µ", 1e-6), (0.9e-3, 0.04e-3, "m", 1e-3)):
+        q = rng.normal(center, sd, 20000)
+        alpha = rng.normal(0.8, 0.01, 20000)
+        fig = plot_corner(np.stack([q, alpha], axis=-1), ["CPE1.Q", "CPE1.alpha"], [True, False], units=["F s^(alpha-1)", "1"])
+        fig.canvas.draw()
+        axes = np.array(fig.axes).reshape(2, 2)
+        assert axes[1, 0].get_xlabel() == f"CPE1.Q [{prefix}F s^(α-1)]" and axes[1, 0].xaxis.get_major_formatter().scale == scale
+        title = axes[0, 0].get_title().replace("\n", " ")
+        assert title.endswith(f" {prefix}F s^(α-1)") and "×10" not in title, title
+        median = float(title.removeprefix("CPE1.Q = ").split(" ")[0])
+        low, high = map(float, title.split("[")[1].split("]")[0].split(", "))
+        np.testing.assert_allclose([median, low, high], np.quantile(q, [0.5, 0.05, 0.95]) / scale, rtol=2e-3)
         plt.close(fig)

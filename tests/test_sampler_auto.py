@@ -221,6 +221,34 @@ def test_auto_stops_at_its_cap_and_says_so(monkeypatch):
     assert back.settings == post.settings and any("stopped at its cap of 300 steps" in w for w in back.warnings)
 
 
+def _gaussian_with_a_trap(coords):
+    """ln p of a standard 2-D Gaussian, and a constant −40 in a box 1e-3 wide about (100, 100):
+    a walker started there never moves (every stretch proposal lands where ln p ≈ −5000), its
+    median ln p ~39 nats below the others' (a straggler, `STRAGGLER_LOG_PROB_GAP` 20)."""
+    coords = np.asarray(coords, float)
+    trapped = np.all(np.abs(coords - 100.0) < 5e-4, axis=-1)
+    return np.where(trapped, -40.0, -0.5 * np.sum(coords**2, axis=-1))
+
+
+def test_auto_stops_on_the_kept_walkers_tau_a_stuck_straggler_does_not_hold_it(monkeypatch):
+    """The stop rule estimates τ on the walkers the posterior keeps (stragglers left out, as
+    `without_stragglers`): a straggler stuck since its start made every τ unknown (0/0), so the
+    run went on to its cap (here 6 000 steps, monkeypatched) though the kept chain was 50 τ long
+    long before. Oracle: emcee's own estimator on the kept chain."""
+    monkeypatch.setattr(chain, "AUTO_MAX_STEPS", 6000)
+    rng = np.random.default_rng(3)
+    p0 = rng.normal(size=(16, 2))
+    p0[0] = 100.0  # (walker 0 in the trap)
+    run = chain.run_emcee(p0, _gaussian_with_a_trap, steps="auto", burn=None, thin=1, seed=3, progress=False)
+    assert run.stragglers.walkers == (0,)
+    assert run.stopped == "converged" and run.steps < 6000, (run.stopped, run.steps)
+    assert run.chain_y.shape[0] == 15 and run.chain_y.shape[1] == run.steps - run.steps // 4
+    tau = _emcee_tau(run.chain_y)
+    assert run.chain_y.shape[1] >= CHAIN_TAU_MULTIPLE * tau.max(), (run.chain_y.shape, tau)
+    # the straggler's chain is constant: with it τ is unknown, which is what held the old rule
+    assert not np.all(np.isfinite(integrated_autocorr(np.concatenate([np.full((1, run.chain_y.shape[1], 2), 100.0), run.chain_y]))))
+
+
 def _joint_stack(seed=0, n=20):
     """Two SYNTHETIC R0 + R1 || C1 spectra (1 % proportional noise) with R0 common."""
     f = np.geomspace(1.0, 1e5, n)

@@ -13,7 +13,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from ..data import si_prefix, unit_text
-from . import equal_aspect, font_size, nyquist_shape, plain_log_ticks, prefixed_axis, spectrum_layout
+from . import equal_aspect, font_size, nyquist_shape, plain_log_ticks, prefixable_unit, prefixed_axis, spectrum_layout
 
 __all__ = ["plot_posterior_bands", "plot_corner"]
 
@@ -91,6 +91,7 @@ def plot_corner(
     labels = [f"{n} [{u}]" if u else n for n, u in zip(names, units)]
     size = min(2.0 * k + 1, 16)
     fig, axes = plt.subplots(k, k, figsize=(size, size), squeeze=False, layout="constrained")
+    quantiles: dict[int, tuple[float, float, float]] = {}  # (the diagonal's median, q05, q95: titled once every panel is drawn)
     title_chars = int(0.85 * size / k * 72 / (font_size("title", 7) * 0.6))  # characters of the titles' 7 pt (≈ 0.6 em wide) a panel holds
     for i in range(k):
         for j in range(k):
@@ -107,8 +108,7 @@ def plot_corner(
                 q05, q50, q95 = np.nanquantile(every[:, i], [0.05, 0.5, 0.95])
                 for qv, style in ((q05, "--"), (q50, "-"), (q95, "--")):
                     ax.axvline(qv, color="k", lw=0.8, ls=style)
-                text = f"{names[i]} = {interval_text(q50, q05, q95, units[i], significant=logs[i])}"
-                ax.set_title(text if len(text) <= title_chars else text.replace(" = ", " =\n", 1), fontsize=font_size("title", 7))  # (a long one on two lines, within its panel)
+                quantiles[i] = (q50, q05, q95)
                 ax.set_yticks([])
             else:
                 if logs[i]:
@@ -135,21 +135,30 @@ def plot_corner(
                 ax.set_ylabel("")
                 ax.tick_params(which="both", labelleft=False)
             ax.tick_params(which="both", labelsize=font_size("tick", 7))  # (the minor labels of a log axis too: they were larger than the major ones)
+    for i, (q50, q05, q95) in quantiles.items():
+        # (a linear axis counts in the prefix of the largest value it shows, `prefixed_axis`: the title in that
+        # of the labelled axis of its parameter, the bottom panel of its column, whose view the row's y axes share)
+        shown_top = None if logs[i] else max(abs(v) for v in axes[k - 1, i].get_xlim())
+        text = f"{names[i]} = {interval_text(q50, q05, q95, units[i], significant=logs[i], top=shown_top)}"
+        axes[i, i].set_title(text if len(text) <= title_chars else text.replace(" = ", " =\n", 1), fontsize=font_size("title", 7))  # (a long one on two lines, within its panel)
     shown = f"{every.shape[0]} draws" + (f"; {flat.shape[0]} in the scatter" if flat.shape[0] < every.shape[0] else "")
     fig.suptitle(f"{title} ({shown})", fontsize=font_size("suptitle", 9))
     return fig
 
 
-def interval_text(median: float, low: float, high: float, unit: str = "", *, significant: bool = False) -> str:
+def interval_text(median: float, low: float, high: float, unit: str = "", *, significant: bool = False, top: float | None = None) -> str:
     """``63.57 [63.10, 64.04] Ω``, ``4.80 [4.70, 4.90] MΩ``: a median and its interval in one
-    SI prefix (Ω, F, H; chosen by the largest of the three, so 999 [984, 1017] Ω reads 0.999
-    [0.984, 1.017] kΩ), or with a shared power of ten for another unit far from 1
-    (``1.000 [0.968, 1.034] ×10⁻⁵ F s^(α-1)``), with the decimals that give the interval's
+    SI prefix (Ω, F, H, or a compound unit led by one, as `prefixed_axis` counts an axis:
+    ``86.0 [79.8, 92.4] µF s^(α-1)``; chosen by the largest of the three, so 999 [984, 1017] Ω
+    reads 0.999 [0.984, 1.017] kΩ, or by ``top``, the largest value the panel's axis shows, so
+    title and axis use one prefix), or with a shared power of ten for another unit far from 1
+    (``1.000 [0.968, 1.034] ×10⁻⁵ m``), with the decimals that give the interval's
     half-width two significant digits; ``significant``: three significant digits each, for an
     interval over decades (``1.2 [0.013, 95.1] kΩ``)."""
-    top = max((abs(v) for v in (median, low, high) if np.isfinite(v)), default=0.0)
+    if top is None or not np.isfinite(top):
+        top = max((abs(v) for v in (median, low, high) if np.isfinite(v)), default=0.0)
     scale, prefix = 1.0, ""
-    if top > 0 and unit in ("Ω", "F", "H"):
+    if top > 0 and prefixable_unit(f"[{unit}]"):
         scale, prefix = si_prefix(top)
     elif top > 0 and not (1e-3 <= top < 1e4):
         exponent = math.floor(math.log10(top))

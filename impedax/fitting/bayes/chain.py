@@ -86,7 +86,8 @@ def auto_step_cap(walkers: int, n_params: int = 0) -> int:
 class ChainLength:
     """When a ``steps="auto"`` run stops (emcee's recipe): every `AUTO_CHECK_STEPS` steps, τ of
     each parameter is estimated on the chain the run would keep (after ``burn``, default a
-    quarter of the steps so far, and ``thin``) exactly as the `Posterior` will; the run stops
+    quarter of the steps so far, and ``thin``; without the straggler walkers of that chain,
+    `find_stragglers`) exactly as the `Posterior` will; the run stops
     when that chain is at least `CHAIN_TAU_MULTIPLE` τ long for every parameter and τ changed
     by less than `AUTO_TAU_CHANGE` since the previous estimate. While the chain is too short,
     the next estimate waits for the steps the last one says are needed."""
@@ -117,6 +118,12 @@ class ChainLength:
             self.next_check = burn + AUTO_CHECK_STEPS
             return False
         kept = np.transpose(sampler.get_chain(discard=burn, thin=self.thin), (1, 0, 2))
+        # the walkers the posterior will keep (`without_stragglers`): a straggler stuck since its
+        # start made every τ unknown, and one in a second mode lengthened it, so the run went on
+        # to its cap, or far past the 50 τ of the chain it reports
+        stragglers = find_stragglers(np.transpose(sampler.get_log_prob(discard=burn, thin=self.thin)), sampler.acceptance_fraction)
+        if stragglers.walkers:
+            kept = np.delete(kept, stragglers.walkers, axis=0)
         tau_draws = integrated_autocorr(kept)
         tau = tau_draws * self.thin
         known = bool(np.all(np.isfinite(tau)))

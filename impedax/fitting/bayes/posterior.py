@@ -31,13 +31,20 @@ from .logprob import NOISE_MODELS, NoiseModel
 from .priors import Prior
 from .reparam import Reparametrization, implausible_gap_notes, rebuild
 
-__all__ = ["Posterior"]
+__all__ = ["Posterior", "chain_figures"]
 
 SUMMARY_QUANTILES = ("median", "q05", "q16", "q84", "q95")  # per parameter in the JSON summary
 
 PREDICTIVE_COPIES = 10
 """Noisy copies of each draw in a figure's posterior predictive band: 4,000 samples per frequency
 where one copy of 400 draws left the band's edges jagged by their sampling error."""
+
+
+def chain_figures(autocorr: Mapping[str, float], ess: Mapping[str, float], name: str) -> dict[str, float | None]:
+    """A table row's ``autocorr`` (τ [steps]) and ``ess`` of parameter ``name``, None where
+    unknown (the JSON's null; an empty CSV cell)."""
+    known = lambda x: float(x) if math.isfinite(x) else None  # noqa: E731
+    return {"autocorr": known(autocorr[name]), "ess": known(ess[name])}
 
 
 def _quantiles_by_name(q: xr.Dataset, names) -> dict[str, dict[str, float]]:
@@ -326,15 +333,20 @@ class Posterior(PiledUp):
         return z + sigma * (rng.standard_normal(z.shape) + 1j * rng.standard_normal(z.shape))
 
     def to_table(self) -> list[dict[str, object]]:
-        """The tidy table: one row per sampled parameter with name, median, q05, q16, q84, q95
-        and unit (`impedax.io.write_result` .csv); with a reparametrization, the circuit
-        parameters it replaces follow (derived from the draws)."""
+        """The tidy table: one row per sampled parameter with name, median, q05, q16, q84, q95,
+        unit, and (added 2026-12-01, as the JSON's keys) ``autocorr`` (τ [steps]) and ``ess``
+        (None, an empty cell, where unknown) (`impedax.io.write_result` .csv); with a
+        reparametrization, the circuit parameters it replaces follow (derived from the draws;
+        no τ or ESS of their own: empty)."""
         q = self.quantiles()
-        rows = [{"name": n, **{k: float(q[k].sel(param=n)) for k in SUMMARY_QUANTILES}, "unit": u} for n, u in zip(self.names, self.units)]
+        rows = [
+            {"name": n, **{k: float(q[k].sel(param=n)) for k in SUMMARY_QUANTILES}, "unit": u, **chain_figures(self.autocorr, self.ess, n)}
+            for n, u in zip(self.names, self.units)
+        ]
         if self.reparametrization is not None:
             cq = self.quantiles(circuit=True)
             specs = self.circuit.parameter_specs(self.registry)
-            rows += [{"name": n, **{k: float(cq[k].sel(param=n)) for k in SUMMARY_QUANTILES}, "unit": specs[n].unit} for n in self.reparametrization.replaces]
+            rows += [{"name": n, **{k: float(cq[k].sel(param=n)) for k in SUMMARY_QUANTILES}, "unit": specs[n].unit, "autocorr": None, "ess": None} for n in self.reparametrization.replaces]
         return rows
 
     def _repr_html_(self) -> str:

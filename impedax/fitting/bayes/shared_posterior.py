@@ -41,7 +41,7 @@ from ..problem import open_spectrum
 from .diagnostics import NO_STRAGGLERS, PiledUp, Stragglers, chain_warnings, figure, hdi, integrated_autocorr, interval_warnings, kept_walkers, straggler_warnings, walkers_text
 from .logprob import NOISE_MODELS, NoiseModel, start_weighting
 from .chain import AUTO_STEPS, auto_step_cap, ball_scales, capped_at, length_settings, length_text, run_emcee, start_walkers, support_in_sampled_space, undetermined_span
-from .posterior import Posterior
+from .posterior import Posterior, chain_figures
 from .priors import SIGMA_REL_PRIOR, Prior, check_prior_inside, coerce_priors, data_scale_range, default_prior, prior_log_density
 
 __all__ = ["SharedPosterior", "sample_shared", "MAX_JOINT_PARAMETERS"]
@@ -276,9 +276,13 @@ class SharedPosterior(PiledUp):
         return plot_corner(self.draws, self.names, self.log_scale, units=self.units, truths=truths, bins=bins, max_points=max_points, title=f"{self.model}: joint posterior")
 
     def to_table(self) -> list[dict[str, object]]:
-        """One row per sampled parameter: name, the summary quantiles, unit."""
+        """One row per sampled parameter: name, the summary quantiles, unit, and (added
+        2026-12-01, as the JSON's keys) ``autocorr`` (τ [steps]) and ``ess``, None where unknown."""
         q = self.quantiles()
-        return [{"name": n, **{k: float(q[k].sel(param=n)) for k in SUMMARY_QUANTILES}, "unit": u} for n, u in zip(self.names, self.units)]
+        return [
+            {"name": n, **{k: float(q[k].sel(param=n)) for k in SUMMARY_QUANTILES}, "unit": u, **chain_figures(self.autocorr, self.ess, n)}
+            for n, u in zip(self.names, self.units)
+        ]
 
     def derive(self, fn: Callable, freq=None, *, draws: bool = False, max_draws: int | None = None) -> xr.Dataset:
         """`Posterior.derive` over the joint draws: ``fn(params[, freq])`` gets every sampled

@@ -27,7 +27,7 @@ from ..parameters import ParameterTable
 from ..problem import residual_scale, weights
 from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, dominant_points, information_criteria, null_sets
 from .order import canonical_order
-from .branches import RELATIVE_ERROR_LIMIT, idle_branch_notes, settle_vanishing, undetermined, undetermined_mask, vanishing_candidates, vanishing_parameters
+from .branches import RELATIVE_ERROR_LIMIT, idle_branch_notes, settle_vanishing, undetermined, unidentified_stderr, undetermined_mask, vanishing_candidates, vanishing_parameters
 from .constraints import constraint_misfit_notes, with_constraint_notes
 from .result import BOUND_RESTARTS, bounds_attr, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, PARAMETER_UNIT_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, uneven_residual_notes, shown_stderr, stack_notes, vanishing_term_sides, weighting_notes, without_error
 from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, TreeSolvers, better, over_devices, padded_points, tree_solver, trimmed, unscale
@@ -896,6 +896,12 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
         candidates = vanishing_candidates(sides[regular], free_values, free_stderr)
         vanishing = vanishing_parameters(circuit, registry, table, values[regular], freq, candidates, jac[regular])
     sides[regular], free_stderr, vanished = settle_vanishing(vanishing, sides[regular], free_values, free_stderr)
+    # the parameters of near-null directions are undetermined whatever χ²_red is (as `fit_result`)
+    ratios = {}
+    for row, i in enumerate(regular.tolist()):
+        if singular[i]:
+            groups[i], ratios[i] = null_sets(sv[i], vt[i], table.free_names)
+            free_stderr[row] = unidentified_stderr(table.free_names, groups[i], sides[i], free_stderr[row])
     stderr[np.ix_(regular, table.free_index)] = free_stderr
     # the exact warning text of a single fit: for most spectra built for the stack at once,
     # for those with near-null directions (rare) one by one
@@ -904,7 +910,7 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
         notes[plain[row]] = note
     names = table.names
     for i in np.flatnonzero(~odd & singular).tolist():
-        groups[i], ratio = null_sets(sv[i], vt[i], table.free_names)
+        ratio = ratios[i]
         notes[i] = fit_notes(table, dict(zip(names, values[i].tolist())), dict(zip(names, stderr[i].tolist())), corr[i], groups[i], ratio, finite=True, converged=True, message="", sides=sides[i], freq=freq, z=z[i])
     # idle branches (the fits that did not converge get the note from `fit_result`)
     idle = idle_branch_notes(circuit, registry, table, values[regular], undetermined_mask(table, values[regular], stderr[regular], sides[regular]) | vanished, freq)

@@ -18,7 +18,7 @@ from ...errors import DataError
 from ..kk import kk_verdicts
 from ..parameters import ParameterTable, data_scales
 from ..statistics import covariances, information_criteria, non_passive, uncertainties
-from .branches import RELATIVE_ERROR_LIMIT, idle_branch_notes, settle_vanishing, undetermined, undetermined_mask, vanishing_candidates, vanishing_parameters
+from .branches import RELATIVE_ERROR_LIMIT, idle_branch_notes, settle_vanishing, undetermined, unidentified_stderr, undetermined_mask, vanishing_candidates, vanishing_parameters
 from .solvers import SolverOutput, SolverStatus
 from .starts import attainable_misfit, inward_start, rms_rel_of, well_inside
 
@@ -1274,6 +1274,7 @@ def fit_result(
     vanishing = vanishing_parameters(circuit, registry, table, x_all, freq, candidates, np.asarray(out.jacobian)[None])[0] if finite and k else np.zeros(k, np.int8)
     sides, free_stderr, vanished = settle_vanishing(vanishing[None], np.asarray(sides)[None], free_values, free_stderr)
     sides = sides[0]
+    free_stderr = unidentified_stderr(free_names, null_sets, sides, free_stderr[0])[None]  # (undetermined whatever χ²_red is)
     stderr.update(zip(free_names, free_stderr[0].tolist()))
     # the warnings speak of the linearisation (a bound note off its bound quotes its standard error)
     notes = fit_notes(table, values, stderr, corr, null_sets, ratio, finite=finite, converged=converged, message=message, sides=sides, freq=freq, z=z)
