@@ -81,6 +81,18 @@ def test_gamry_trailing_tab_is_not_a_field(tmp_path):
     np.testing.assert_allclose(ix.load(path)["Z"].values, Z, rtol=1e-6)
 
 
+def test_gamry_table_without_its_units_row_says_the_row_is_missing(tmp_path):
+    text = _gamry(_gamry_rows()).replace("\t#\ts\tHz\tohm\tohm\tV\tohm\t°\tA\tV\t#\r\n", "")
+    path = tmp_path / "nounits.DTA"
+    path.write_text(text, encoding="latin-1")
+    with pytest.raises(DataError) as info:
+        ix.load(path)
+    message = str(info.value)
+    # (the column names are on line 5, so the missing units row would be line 6: the first data row)
+    assert "line 6" in message and "no units row" in message and "Freq = " in message
+    assert main(["inspect", str(path)]) == 2
+
+
 def test_gamry_decimal_comma_is_decided_on_every_row(tmp_path):
     # the first 20 rows' numbers carry no ',' (whole numbers), a later row's do: read as decimal commas
     freq = np.arange(30, 0, -1) * 1000.0

@@ -108,6 +108,12 @@ def _table(path: Path, lines: list[str], start: int, attrs: dict, *, ends_cut: b
         unit = units[index[name]] if index[name] < len(units) else ""
         scale = unit_scale(unit, quantity) if unit else 1.0
         if scale is None:
+            if _is_number(unit):
+                raise DataError(
+                    f"ZCURVE table has no units row: the line under its column names holds numbers ({name} = {unit}); "
+                    "Gamry writes one (#, s, Hz, ohm, ...) there: put it back, or save the table as CSV",
+                    path=path, line=start + 3,
+                )
             raise DataError(f"ZCURVE column {name} has unit {unit!r}, expected {'Hz' if quantity == 'frequency' else 'ohm'}", path=path, line=start + 3)
         scales[name] = scale
     rows = []
@@ -137,3 +143,12 @@ def _table(path: Path, lines: list[str], start: int, attrs: dict, *, ends_cut: b
 
 
 READER = Reader("Gamry DTA", (".dta",), sniff, read_gamry, CONVENTIONS)
+
+
+def _is_number(text: str) -> bool:
+    """Whether a units-row cell reads as a number, in either decimal mark (a data row in its place)."""
+    try:
+        float(text.replace(",", "."))
+    except ValueError:
+        return False
+    return True
