@@ -341,13 +341,25 @@ def format_quantity(value: float, unit: str, digits: int = 3) -> str:
 
 
 def format_uncertain(value: float, stderr: float, unit: str) -> str:
-    """``731 ± 120 Ω``, ``3.94 ± 0.19 kΩ``: a value (3 digits) and its standard error (2, its
-    size) in the SI prefix `format_quantity` gives the value; without a prefix where it gives
-    none (compound units, zero, not finite)."""
-    number, scale, label = _quantity_parts(value, unit, 3)
-    error = abs(stderr) / scale
-    shown = f"{float(f'{error:.2g}'):g}" if np.isfinite(error) else f"{error}"
-    return f"{number} ± {shown}" + (f" {label}" if label else "")
+    """``730 ± 120 Ω``, ``3.94 ± 0.19 kΩ``, ``1.1500 ± 0.0056 Ω``: `format_value_error`'s rule
+    (the error to two significant digits, the value to the error's last digit, GUM JCGM
+    100:2008 §7.2.6, `round_to_error`) in the SI prefix of the value as so rounded; without a
+    prefix where `format_quantity` gives none (compound units, zero, not finite: then
+    ``(2.00 ± 0.30)e-05 F s^(α-1)``). An error that is not finite or not positive leaves the
+    value to 3 significant digits (``3.94 ± nan kΩ``). (Until 2026-12-01 the value always had
+    3 digits whatever its error: ``1.15 ± 0.0056 Ω`` beside ``773 ± 5.1 mΩ``.)"""
+    stderr = abs(stderr)  # (an error is a size)
+    if not (math.isfinite(value) and math.isfinite(stderr) and stderr > 0):
+        number, scale, label = _quantity_parts(value, unit, 3)
+        error = stderr / scale
+        shown = f"{float(f'{error:.2g}'):g}" if np.isfinite(error) else f"{error}"
+        return f"{number} ± {shown}" + (f" {label}" if label else "")
+    number, _, exponent = round_to_error(value, stderr)
+    rounded = float(f"{number}e{exponent}") if exponent else float(number)  # (the prefix of the value as printed: 999.96 ± 5 Ω is 1.0000 ± 0.0050 kΩ)
+    _, scale, label = _quantity_parts(rounded, unit, 15)  # (15 digits: a float's, so the rounded value keeps its magnitude)
+    number, error, exponent = round_to_error(value / scale, stderr / scale)
+    text = f"({number} ± {error})e{exponent:+03d}" if exponent else f"{number} ± {error}"
+    return f"{text} {label}" if label else text
 
 
 # significant digits a standard error is given to, and its value rounded to the same last

@@ -2,7 +2,7 @@
 
 - an output named without an extension (``--plot out``) is written as the default format
   (PNG, CSV) at that name, for every command, and no error names impedax's temporary file;
-- an unknown option gets the command's own usage line and the closest option;
+- an unknown option gets the closest option of the command, its message first and the command's short usage line after it;
 - the text says what the JSON says: each model's warnings under `compare`'s table, a batch
   fit's warnings grouped by kind with their spectra, the element a refinement step removed,
   the warning of a fit that did not converge, in the command line's words (``--max-steps``);
@@ -128,22 +128,43 @@ def test_a_writers_error_names_the_users_path_never_the_temporary(tmp_path):
 # --- 2. an unknown option --------------------------------------------------------------------
 
 @pytest.mark.parametrize(
-    "args, usage, hint",
+    "args, first_line, usage",
     [
-        (["fit", "{one}", "--model", "R1", "--maxsteps", "5"], "usage: impedax fit", "did you mean --max-steps?"),
-        (["fit", "{one}", "--model", "R1", "--max_steps=5"], "usage: impedax fit", "did you mean --max-steps?"),
-        (["kk", "{one}", "--maxrc", "3"], "usage: impedax kk", "did you mean --max-rc?"),
-        (["info", "R1", "--bogus"], "usage: impedax info", None),
+        (["fit", "{one}", "--model", "R1", "--maxsteps", "5"], "impedax fit: error: unrecognized arguments: --maxsteps 5; did you mean --max-steps?", "usage: impedax fit [options] DATA (impedax fit --help lists them)"),
+        (["fit", "{one}", "--model", "R1", "--max_steps=5"], "impedax fit: error: unrecognized arguments: --max_steps=5; did you mean --max-steps?", "usage: impedax fit [options] DATA (impedax fit --help lists them)"),
+        (["kk", "{one}", "--maxrc", "3"], "impedax kk: error: unrecognized arguments: --maxrc 3; did you mean --max-rc?", "usage: impedax kk [options] DATA (impedax kk --help lists them)"),
+        (["info", "R1", "--bogus"], "impedax info: error: unrecognized arguments: --bogus", "usage: impedax info [options] [MODEL] (impedax info --help lists them)"),
+        (["simulate", "R1", "--points", "ten"], "impedax simulate: error: argument --points: invalid int value: 'ten'", "usage: impedax simulate [options] [MODEL] (impedax simulate --help lists them)"),
+        (["fitt", "{one}"], "impedax: error: argument COMMAND: invalid choice: 'fitt'; did you mean fit? (choose from ", "usage: impedax [options] COMMAND ... (impedax --help lists them)"),
     ],
 )
-def test_an_unknown_option_gets_the_commands_usage_and_the_closest_option(files, args, usage, hint, capsys):
-    """Before: the top-level ``usage: impedax [-h] [--version] COMMAND ...`` and no hint."""
+def test_a_usage_error_is_its_message_first_then_one_short_usage_line(files, args, first_line, usage, capsys):
+    """Before: the top-level ``usage: impedax [-h] [--version] COMMAND ...`` and no hint; then
+    (until 2026-12-01) the command's whole usage block (nine lines for fit) above the message and
+    its hint. Now the message with the closest option first, the short usage line after it."""
     with pytest.raises(SystemExit) as info:
         main([a.format(**files) for a in args])
     assert info.value.code == 2
-    err = capsys.readouterr().err
-    assert err.startswith(usage) and "unrecognized arguments:" in err
-    assert (hint in err) if hint else ("did you mean" not in err)
+    lines = capsys.readouterr().err.splitlines()
+    assert lines[0].startswith(first_line) and lines[1:] == [usage], lines
+    if "did you mean" not in first_line:
+        assert "did you mean" not in lines[0]
+
+
+def test_the_program_names_the_misspelt_flag_and_its_hint_on_the_first_line_of_stderr():
+    # the real program (exit status, stderr as a terminal shows it) on a REAL file
+    import subprocess
+    import sys
+
+    data = Path(__file__).parents[1] / "examples" / "data" / "autoeis_battery_cycles.nc"
+    run = subprocess.run(
+        [sys.executable, "-m", "impedax", "fit", str(data), "--model", "R0+R1||C1", "--max-stesp", "5"],
+        capture_output=True, text=True, timeout=120,
+    )
+    assert run.returncode == 2 and run.stdout == ""
+    first, *rest = run.stderr.splitlines()
+    assert first == "impedax fit: error: unrecognized arguments: --max-stesp 5; did you mean --max-steps?"
+    assert rest == ["usage: impedax fit [options] DATA (impedax fit --help lists them)"]
 
 
 # --- 3. the text says what the JSON says ----------------------------------------------------

@@ -358,7 +358,7 @@ def test_an_unexplained_peak_the_band_cannot_tell_from_zero_is_said_so():
     assert is_resolved(dataclasses.replace(ripple, r_ohm_sd=math.nan))  # no band: nothing says otherwise
     assert set(evidence.unexplained) == {firm, ripple} and evidence.unresolved == (ripple,)
     assert "; unexplained: 10 s (R ≈ 40 Ω)" in evidence.text, evidence.text
-    assert "not told from zero by the DRT's uncertainty" in evidence.text and "(R ≈ 0.3 ± 0.5 Ω)" in evidence.text
+    assert "not told from zero by the DRT's uncertainty" in evidence.text and "(R ≈ 300 ± 500 mΩ)" in evidence.text
     only_ripple = unexplained_peaks(dataclasses.replace(result, peaks=tuple(sorted(result.peaks + (ripple,), key=lambda p: p.tau_s))), result)
     assert "unexplained:" not in only_ripple.text and only_ripple.unresolved == (ripple,)
 
@@ -488,17 +488,46 @@ def test_the_report_writes_its_values_with_si_prefixes():
 
 
 def test_format_uncertain_reads_as_written_by_hand():
+    # the value to the last digit of its error, the error to two significant digits (GUM §7.2.6),
+    # in the SI prefix of the value as rounded (rule of 2026-12-01; it had 3 digits whatever the error)
     from impedax.data import format_uncertain
 
-    assert format_uncertain(730.8, 120.0, "Ohm") == "731 ± 120 Ω"
+    assert format_uncertain(730.8, 120.0, "Ohm") == "730 ± 120 Ω"
     assert format_uncertain(3939.0, 190.0, "Ohm") == "3.94 ± 0.19 kΩ"
-    assert format_uncertain(2.78e-6, 1e-7, "H") == "2.78 ± 0.1 µH"
-    assert format_uncertain(999.6, 5.0, "Ohm") == "1 ± 0.005 kΩ"  # the prefix of the value as printed
-    assert format_uncertain(0.5, 0.1, "1") == "0.5 ± 0.1"
-    assert format_uncertain(0.0, 1.0, "Ohm") == "0 ± 1 Ω"
-    assert format_uncertain(2e-5, 3e-6, "F s^(alpha-1)") == "2e-05 ± 3e-06 F s^(α-1)"
+    assert format_uncertain(2.78e-6, 1e-7, "H") == "2.78 ± 0.10 µH"
+    assert format_uncertain(1.15, 0.0056, "Ohm") == "1.1500 ± 0.0056 Ω"  # the user's line, was "1.15 ± 0.0056 Ω"
+    assert format_uncertain(0.7732, 0.0051, "Ohm") == "773.2 ± 5.1 mΩ"  # beside it, was "773 ± 5.1 mΩ"
+    assert format_uncertain(999.6, 5.0, "Ohm") == "999.6 ± 5.0 Ω"  # the prefix of the value as rounded to its error
+    assert format_uncertain(999.96, 5.0, "Ohm") == "1.0000 ± 0.0050 kΩ"  # (999.96 at the 0.1 digit is 1000.0)
+    assert format_uncertain(0.5, 0.1, "1") == "0.50 ± 0.10"
+    assert format_uncertain(0.0, 1.0, "Ohm") == "0.0 ± 1.0 Ω"
+    assert format_uncertain(0.3, 0.5, "Ohm") == "300 ± 500 mΩ"  # below its error: each to 2 digits
+    assert format_uncertain(2e-5, 3e-6, "F s^(alpha-1)") == "(2.00 ± 0.30)e-05 F s^(α-1)"
     assert format_uncertain(3939.0, float("nan"), "Ohm") == "3.94 ± nan kΩ"  # the value keeps its prefix
-    assert format_uncertain(999.6, -5.0, "Ohm") == "1 ± 0.005 kΩ"  # an error is a size
+    assert format_uncertain(999.6, -5.0, "Ohm") == "999.6 ± 5.0 Ω"  # an error is a size
+
+
+def _decimals(number: str) -> int:
+    """Digits after the decimal point of a number as printed ("773.2" → 1, "120" → 0)."""
+    return len(number.partition(".")[2])
+
+
+def test_cli_drt_peak_values_have_the_decimals_of_their_errors_on_real_data(capsys):
+    # REAL data (AutoEIS battery cycle 64): the user saw "1.15 ± 0.0056 Ω" beside "773 ± 5.1 mΩ"
+    import re
+    from pathlib import Path
+
+    from impedax.cli import main
+
+    path = Path(__file__).parents[1] / "examples" / "data" / "autoeis_battery_cycles.nc"
+    assert main(["drt", str(path), "--select", "cycle=64"]) == 0
+    text = capsys.readouterr().out
+    pairs = re.findall(r"R = (-?\d+(?:\.\d+)?) ± (\d+(?:\.\d+)?) (mΩ|Ω|kΩ)", text)
+    assert len(pairs) == 3, text  # three peaks, each "R = value ± error unit"
+    for value, error, _ in pairs:
+        assert _decimals(value) == _decimals(error), (value, error)
+        assert len(error.replace(".", "").lstrip("0")) == 2, error  # two significant digits
+    assert any(unit == "Ω" and _decimals(value) == 4 for value, _, unit in pairs), pairs  # the 73 ms peak: ± 0.0056 Ω
 
 
 def test_the_drt_model_predicts_between_the_data_and_is_drawn_as_a_curve():

@@ -216,7 +216,7 @@ def test_the_two_paths_are_compared_as_they_end_after_the_final_refit():
         nxt = {"B1": suggestion("in series", "B2", -200.0, 7)}.get(fit.model)
         return NS(baseline=fit, best=nxt, verdict="missing_effect" if nxt else "adequate", solver_shape=None)
 
-    def finished(path, label):  # the final refit drops A3 (undetermined from scratch)
+    def finished(path, label, progress_label=None):  # the final refit drops A3 (undetermined from scratch)
         return path[:-1] if path[-1].model == "A3" else path
 
     notes = []
@@ -245,12 +245,12 @@ def test_a_suggestion_that_leaves_an_element_out_gets_a_path_of_its_own(leaving_
     greedy = [step("start", 0.0, 3, first), step("K1", -200.0, 4, NS(solver_shape=None, verdict="adequate"), "R_s")]
     diagnosed = lambda fit, shape: NS(baseline=fit, best=None, verdict="adequate", solver_shape=None)  # noqa: E731
     notes = []
-    kept_path = _second_path(greedy, greedy[0].diagnosis.best, 4, diagnosed, lambda text: None, notes, lambda path, label: path)
+    kept_path = _second_path(greedy, greedy[0].diagnosis.best, 4, diagnosed, lambda text: None, notes, lambda path, label, progress_label=None: path)
     assert [s.model for s in kept_path] == kept, notes
     assert len(notes) == 1 and notes[0].startswith("a second path, starting from extra_relaxation")
     # max_effects=0: the greedy path took no step, and no other path is tried
     notes = []
-    assert [s.model for s in _second_path(greedy[:1], greedy[0].diagnosis.best, 0, diagnosed, lambda text: None, notes, lambda path, label: path)] == ["start"] and notes == []
+    assert [s.model for s in _second_path(greedy[:1], greedy[0].diagnosis.best, 0, diagnosed, lambda text: None, notes, lambda path, label, progress_label=None: path)] == ["start"] and notes == []
 
 
 @pytest.mark.parametrize("ep_own_aic, path", [(None, True), (-300.0, True), (-545.0, False)])
@@ -283,7 +283,7 @@ def test_an_effect_undetermined_alone_gets_a_path_of_its_own(ep_own_aic, path):
         return NS(baseline=fit, best=nxt, verdict="missing_effect" if nxt else "adequate", solver_shape=None)
 
     notes = []
-    kept = _second_path(greedy, greedy[0].diagnosis.best, 4, diagnosed, lambda text: None, notes, lambda path, label: path)
+    kept = _second_path(greedy, greedy[0].diagnosis.best, 4, diagnosed, lambda text: None, notes, lambda path, label, progress_label=None: path)
     from_ep = [n for n in notes if "starting from electrode_polarization (EP, " in n]
     if path:
         assert [s.model for s in kept] == ["start", "EP", "EP+RS"], notes
@@ -401,7 +401,7 @@ def test_a_path_of_cheaper_effects_is_kept_when_it_ends_as_good_with_fewer_param
         return NS(baseline=fit, best=nxt, verdict="missing_effect" if nxt else "adequate", solver_shape=None)
 
     notes = []
-    path = _second_path(greedy, greedy[0].diagnosis.best, 4, diagnosed, lambda text: None, notes, lambda path, label: path)
+    path = _second_path(greedy, greedy[0].diagnosis.best, 4, diagnosed, lambda text: None, notes, lambda path, label, progress_label=None: path)
     assert [s.model for s in path] == kept, notes
     if greedy_verdict == "adequate":  # a path from each cheaper effect; the one from CPE ends at 4 parameters, 866 AIC above
         assert len(notes) == 2 and notes[0].startswith("a second path, starting from series_resistance"), notes
@@ -443,7 +443,7 @@ def test_no_cheaper_path_repeats_the_single_effect_taken_in_place_of_a_pair():
         return NS(baseline=fit, best=None, verdict="adequate", solver_shape=None)
 
     notes = []
-    path = _second_path(greedy, picked, 1, diagnosed, lambda text: None, notes, lambda path, label: path)
+    path = _second_path(greedy, picked, 1, diagnosed, lambda text: None, notes, lambda path, label, progress_label=None: path)
     assert [s.model for s in path] == ["start", "RS"] and "RS" not in started, (started, notes)
     assert not any("instead of series_resistance" in n and "starting from series_resistance" in n for n in notes), notes
 
@@ -505,7 +505,7 @@ def test_at_a_tie_the_path_that_leaves_out_fewer_elements_is_kept(greedy_removed
         return NS(baseline=fit, best=nxt, verdict="missing_effect" if nxt else "adequate", solver_shape=None)
 
     notes = []
-    path = _second_path(greedy, greedy[0].diagnosis.best, 4, diagnosed, lambda text: None, notes, lambda path, label: path)
+    path = _second_path(greedy, greedy[0].diagnosis.best, 4, diagnosed, lambda text: None, notes, lambda path, label, progress_label=None: path)
     assert path[-1].model == kept, notes
     assert "do not tell the two apart" in notes[0]
     assert ("it keeps R2, which the first path left out" in notes[0]) == (kept == "L+W")
@@ -546,7 +546,7 @@ def test_a_first_step_that_left_an_element_out_is_tried_with_it_kept(keeping_end
         return NS(baseline=fit, best=nxt, verdict="missing_effect" if nxt else "adequate", solver_shape=None)
 
     notes = []
-    path = _second_path(greedy, greedy[0].diagnosis.best, 4, diagnosed, lambda text: None, notes, lambda path, label: path)
+    path = _second_path(greedy, greedy[0].diagnosis.best, 4, diagnosed, lambda text: None, notes, lambda path, label, progress_label=None: path)
     assert path[-1].model == kept, notes
     if keeping_end is None:
         assert seen == [] and notes == []
@@ -689,7 +689,7 @@ def test_paths_that_meet_do_not_diagnose_a_model_twice(monkeypatch):
     r = ix.refine(ix.make_spectrum(f, z), "R1 || C1", progress=said.append)
     assert ix.parse(r.final_model) == ix.parse("R1 || CPE1 + R_s"), r.report()
     final = str(r.final.circuit)
-    met = [s for s in said if " path, step " in s and s.endswith(f"diagnosing {final}")]
+    met = [s for s in said if re.match(r"further path \d+ of \d+, step ", s) and s.endswith(f"diagnosing {final}")]
     assert met, said  # the paths met (another path reached the final model) ...
     # ... and, one model, they are not compared in a note (since 2026-11-30)
     assert not [n for n in r.notes if f"ends at {final} " in n and f"against {final} " in n], r.notes
@@ -769,7 +769,7 @@ def test_path_notes_are_numbered_as_reported_and_a_path_dropped_to_the_start_say
 
     notes = []
 
-    def finished(path, label):
+    def finished(path, label, progress_label=None):
         if label and path[-1].model == "ARC2":
             notes.append(f"{label}ARC2: refitted")
         if label and path[-1].model == "CPE":
@@ -784,6 +784,72 @@ def test_path_notes_are_numbered_as_reported_and_a_path_dropped_to_the_start_say
     assert "drops every step it took (its note above) and so ends at the start, start (AIC -270.0, 3 parameters)" in notes[1]
     assert notes[1].endswith("against the first path's end ARC (AIC -1266.6, 6 parameters): the first path's end is kept"), notes[1]
     assert not any("third path" in n or "ARC2" in n for n in notes), notes
+
+
+def test_progress_names_a_further_path_by_its_place_until_the_report_labels_it(monkeypatch):
+    """`_second_path` with stand-ins: the greedy path ended at ARC; the path from RS ends at
+    ARC2, ARC's circuit under other names (left out of the report), the path from CPE is the
+    report's second path. Progress had announced the left-out path as "second path" and then
+    the reported one as "second path" again (Gamry with --fmin 2.3e3: "third path" twice and a
+    "fourth path" the report never named); it now numbers the further paths among the starts
+    and says which report label each gets, or that it is left out."""
+    from types import SimpleNamespace as NS
+
+    from impedax.fitting.diagnosis import refinement
+    from impedax.fitting.diagnosis.refinement import RefinementStep, _second_path
+
+    monkeypatch.setattr(refinement, "_same_network", lambda a, b: {a.model, b.model} == {"ARC", "ARC2"})
+
+    def suggestion(effect, model, aic, k):
+        return NS(where="in series", effect=effect, delta_aic=aic, added=model, fit=_fit_stand_in(model=model, aic=aic, n_params=k, converged=True), removed=(), undetermined=())
+
+    arc, rs, cpe = suggestion("extra_relaxation", "ARC", -1266.6, 6), suggestion("series_resistance", "RS", -522.0, 4), suggestion("constant_phase", "CPE", -400.0, 4)
+    first = NS(best=arc, suggestions=(arc, rs, cpe), candidates=(arc, rs, cpe), solver_shape=None, noise=_STAND_IN_NOISE, baseline=NS(frequency=_STAND_IN_FREQUENCY, n_params=3))
+    start = RefinementStep(_fit_stand_in(model="start", aic=-270.0, n_params=3), None, None, first)
+    greedy = [start, RefinementStep(arc.fit, "arc", "extra_relaxation", NS(solver_shape=None, verdict="adequate"))]
+
+    def diagnosed(fit, shape):  # RS → ARC2 (as good, as many parameters), then adequate
+        nxt = {"RS": suggestion("extra_relaxation", "ARC2", -1266.0, 6)}.get(fit.model)
+        return NS(baseline=fit, best=nxt, verdict="missing_effect" if nxt else "adequate", solver_shape=None)
+
+    said, notes = [], []
+
+    def finished(path, label, progress_label=None):  # as `_finish` says it
+        said.append(f"{label if progress_label is None else progress_label}refitting the final model {path[-1].model} from scratch")
+        return path
+
+    _second_path(greedy, arc, 4, diagnosed, said.append, notes, finished)
+    assert said == [
+        "refitting the final model ARC from scratch",  # (the first path's, unlabelled as before)
+        "further path 1 of 2, step 1: diagnosing RS",
+        "further path 1 of 2, step 2: diagnosing ARC2",
+        "further path 1 of 2: refitting the final model ARC2 from scratch",
+        "further path 1 of 2: ends at the first path's end, ARC, as one circuit; left out of the report",
+        "further path 2 of 2, step 1: diagnosing CPE",
+        "further path 2 of 2: refitting the final model CPE from scratch",
+        "further path 2 of 2: the report's second path",
+    ], said
+    assert len(notes) == 1 and notes[0].startswith("a second path, starting from constant_phase"), notes
+
+
+@pytest.mark.slow  # (~25 s: four further paths)
+def test_refine_progress_uses_no_path_label_the_report_does_not_on_real_data():
+    """REAL data: Gamry's example file (tests/fixtures/real) above 2.3 kHz, where two of the
+    four further paths end at the kept end's circuit and are left out of the report. Progress
+    had said "third path" for two paths and "fourth path", which the report never names."""
+    from pathlib import Path
+
+    data = ix.load(Path(__file__).parent / "fixtures" / "real" / "exampleDataGamry.DTA")
+    said = []
+    r = ix.refine(data, "R0 + R1 || C1", fmin=2.3e3, progress=said.append)
+    ordinal = r"(second|third|fourth|fifth|sixth|seventh) path"
+    in_report = set(re.findall(ordinal, r.report()))
+    assert in_report, r.report()  # (the case: at least one further path reported)
+    announced = [m for line in said for m in re.findall(r"the report's " + ordinal, line)]
+    assert sorted(announced) == sorted(in_report), (said, in_report)  # each reported path announced once, under its label
+    assert {m for line in said for m in re.findall(ordinal, line)} <= in_report, said  # no label the report does not use
+    assert not [line for line in said if re.match(ordinal + "[,:]", line)], said  # no path announced under a label before it has one
+    assert any("left out of the report" in line for line in said), said
 
 
 def test_an_effect_step_that_leaves_an_element_out_says_why():

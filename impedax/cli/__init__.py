@@ -48,10 +48,28 @@ def _configure_jax_cache() -> None:
     use_compilation_cache()
 
 
+class CommandLineParser(argparse.ArgumentParser):
+    """argparse's parser whose usage error is one message: ``impedax fit: error: unrecognized
+    arguments: --max-step 5; did you mean --max-steps?`` first, then one short usage line
+    naming the positional arguments and ``--help`` (exit 2). argparse printed its whole usage
+    block first (nine lines for ``impedax fit``), so the message and its hint came last, under
+    it. Each command's parser is of this class too (``add_subparsers`` makes its parent's)."""
+
+    def short_usage(self) -> str:
+        """``usage: impedax fit [options] DATA (impedax fit --help lists them)``."""
+        formatter = self._get_formatter()
+        formatter.add_usage(None, [a for a in self._actions if not a.option_strings], [], prefix="")
+        positionals = " ".join(formatter.format_help().split()).removeprefix(self.prog).strip()
+        return f"usage: {self.prog} [options] {positionals} ({self.prog} --help lists them)".replace("  ", " ")
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"{self.prog}: error: {message}\n{self.short_usage()}\n")
+
+
 def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     """The parser of every command; given ``command``, only that one is built in full (its
     module imported) and the others are listed by name and help."""
-    parser = argparse.ArgumentParser(prog="impedax", description="Equivalent-circuit modeling and fitting of impedance spectra.")
+    parser = CommandLineParser(prog="impedax", description="Equivalent-circuit modeling and fitting of impedance spectra.")
     from .. import __version__
 
     parser.add_argument("--version", action="version", version=f"impedax {__version__}")
@@ -237,8 +255,9 @@ def _impedax_assignment(item: str, parameters: list[tuple[list[str], dict[str, s
 
 
 def _refuse_unknown(parser: argparse.ArgumentParser, command: str, unknown: list[str], model=None) -> NoReturn:
-    """Exit 2 with the command's own usage line and "unrecognized arguments", naming the
-    closest option of that command for each unknown one (``--maxsteps`` → ``--max-steps``).
+    """Exit 2 with "unrecognized arguments" naming the closest option of that command for each
+    unknown one (``--maxsteps`` → ``--max-steps``), then the command's own short usage line
+    (`CommandLineParser.error`).
     A NAME=VALUE word is shown after the option named (else the first that takes one), with
     the impedax name of an impedance.py parameter name of ``model`` (``args.model``)."""
     import difflib

@@ -426,20 +426,26 @@ def _second_path(steps: list[RefinementStep], picked, limit: int, diagnosed, say
     # the paths are numbered as the notes report them (a path not reported passes its number on),
     # and each note names the path whose end it is compared with: the one kept so far
     holder, reported = "the first path", 0
-    for alt in starts:
+    for number, alt in enumerate(starts, 1):
         if reported >= len(PATH_LABELS):
             break
         label = PATH_LABELS[reported]
+        # progress names the path by its place among the starts, never by a report label, which
+        # it gets only once compared: a path left out passes its label on (Gamry, --fmin 2.3e3:
+        # "third path" announced twice, "fourth path" that the report never named)
+        trial = f"further path {number} of {len(starts)}"
         own_notes = len(notes)
-        other = finished(_greedy(steps[:1], alt, limit, diagnosed, say, f"{label}, "), f"{label}: ")
+        other = finished(_greedy(steps[:1], alt, limit, diagnosed, say, f"{trial}, "), f"{label}: ", f"{trial}: ")
         a, b = steps[-1].fit, other[-1].fit
         tie = abs(b.aic - a.aic) <= DELTA_AIC_MIN and b.n_params == a.n_params
         kept_more = _elements_left_out(other) < _elements_left_out(steps)
         better = b.aic < a.aic - DELTA_AIC_MIN or (b.aic <= a.aic + DELTA_AIC_MIN and b.n_params < a.n_params) or (tie and kept_more)
         if _same_network(a, b) and not better:  # one model, under the same or other names, and not to be kept: nothing to compare, the first-found stays
             del notes[own_notes:]  # (its refit's notes speak of a path the report does not name)
+            say(f"{trial}: ends at {holder}'s end, {a.model}, as one circuit; left out of the report")
             continue
         reported += 1
+        say(f"{trial}: the report's {label}")
         # more parameters are kept by the rules that add one: AIC and a quarter of the noise variance;
         # but parameters that are the user's own elements, which the path before left out, are kept by
         # the rule that takes an element out (`_simplified`): it goes only when that costs at most DELTA_AIC_MIN
@@ -550,16 +556,18 @@ def _cheaper_starts(steps: list[RefinementStep], picked, taken) -> list:
     return list(best_per_effect.values())[:CHEAPER_PATHS]
 
 
-def _finish(steps: list[RefinementStep], used: xr.Dataset, *, n_starts: int, seed: int, say, notes: list[str], label: str, reproduced=None) -> list[RefinementStep]:
+def _finish(steps: list[RefinementStep], used: xr.Dataset, *, n_starts: int, seed: int, say, notes: list[str], label: str, progress_label: str | None = None, reproduced=None) -> list[RefinementStep]:
     """``steps`` with the last model refitted from scratch on ``used`` (`_reproduced`); while that
     fit leaves parameters undetermined that the start's fit determined, the last step is dropped
     and the one before refitted instead (a path may start from a candidate with undetermined
-    parameters, `_second_path`). ``reproduced``: `_reproduced` or a memo of it."""
+    parameters, `_second_path`). ``reproduced``: `_reproduced` or a memo of it. ``label``
+    starts the notes (a side path's report label), ``progress_label`` the progress line
+    (``label`` when None)."""
     reproduced = reproduced or _reproduced
     # a side path's note speaks of that path's values, not of the refinement's (which it may not keep)
     whose = {"whose": SIDE_PATH} if label else {}
     steps = list(steps)
-    say(f"{label}refitting the final model {steps[-1].model} from scratch")
+    say(f"{label if progress_label is None else progress_label}refitting the final model {steps[-1].model} from scratch")
     final, note = reproduced(used, steps[-1].fit, n_starts=n_starts, seed=seed, **whose)
     new_undetermined = undetermined_parameters(final) - undetermined_parameters(steps[0].fit)
     while new_undetermined and len(steps) > 1:
@@ -877,8 +885,8 @@ def refine(
     # (the first diagnosis' note on parameters its baseline does not determine apart: refine's report shows no diagnosis' notes)
     notes: list[str] = [unidentified_note(first.baseline)] if first.baseline.unidentified_groups else []
 
-    def finished(path, label):
-        return _finish(path, used, n_starts=n_starts, seed=seed, say=say, notes=notes, label=label, reproduced=reproduced)
+    def finished(path, label, progress_label=None):
+        return _finish(path, used, n_starts=n_starts, seed=seed, say=say, notes=notes, label=label, progress_label=progress_label, reproduced=reproduced)
 
     picked = _best_within(first, limit)
     steps = _greedy([RefinementStep(first.baseline, None, None, first)], picked, limit, diagnosed, say, "")

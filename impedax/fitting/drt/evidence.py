@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...data import format_time
+from ...data import format_time, format_uncertain
 from ...errors import DataError
 from .peaks import Peak
 from .result import DRTResult
@@ -138,7 +138,7 @@ def unexplained_peaks(data_drt: DRTResult, model, *, tolerance_decades: float = 
     if unresolved:
         text += (
             "; not told from zero by the DRT's uncertainty (a ripple, not a missing relaxation): "
-            + ", ".join(f"{format_time(p.tau_s, 2)} (R ≈ {p.r_ohm:.2g} ± {p.r_ohm_sd:.2g} Ω)" for p in unresolved)
+            + ", ".join(f"{format_time(p.tau_s, 2)} (R ≈ {format_uncertain(p.r_ohm, p.r_ohm_sd, 'Ω')})" for p in unresolved)
         )
     if distributed:
         text += "; distributed (CPE-like): " + ", ".join(format_time(p.tau_s, 2) for p in distributed)
