@@ -8,6 +8,8 @@ R1 = 500 Ω, Q = 2e-5 F·s^(n−1), n = 0.85 on 12 log-spaced frequencies from 1
 file in the file's own layout.
 """
 
+import json
+
 import numpy as np
 import pytest
 
@@ -321,3 +323,21 @@ def test_zplot_with_decimal_commas_says_so(tmp_path):
     path.write_text("\r\n".join(head + [r.replace(".", ",") for r in rows]) + "\r\n")
     with pytest.raises(DataError, match=r"line 5: 16 fields, but the header has 9: the numbers are written with decimal commas \('1,000000E\+05'\)"):
         ix.load(path)
+
+
+# --- inspect shows the values as read ----------------------------------------------------------
+
+
+def test_inspect_shows_the_first_and_last_points_as_read_with_their_signs(tmp_path, capsys):
+    # SYNTHETIC: a semicolon, decimal-comma table with -Z'' in kOhm, written in the file's order
+    # (descending frequency); the truth is typed here, not taken from the reader
+    path = tmp_path / "euro.csv"
+    path.write_text("Frequency (Hz);Z' (kOhm);-Z'' (kOhm)\n1000;0,5;0,25\n10;2,5;1,5\n", encoding="utf-8")
+    assert main(["inspect", str(path)]) == 0
+    text = capsys.readouterr().out
+    assert "first point f = 1 kHz: Z' = 500 Ω, Z'' = -250 Ω" in text
+    assert "last point f = 10 Hz: Z' = 2500 Ω, Z'' = -1500 Ω" in text
+    assert main(["inspect", str(path), "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["first_point"] == {"frequency_hz": 1000.0, "z_real_ohm": 500.0, "z_imag_ohm": -250.0}
+    assert summary["last_point"] == {"frequency_hz": 10.0, "z_real_ohm": 2500.0, "z_imag_ohm": -1500.0}

@@ -64,6 +64,10 @@ def run(args) -> int:
         "labels": {d: dimension_labels(ds, d) for d in extra},
         "attrs": {k: v for k, v in ds.attrs.items() if isinstance(v, (str, int, float, bool))},
         "sign_hint": _sign_hint(ds, extra),
+        # the first and last rows as read, in the file's order (of the first spectrum of several):
+        # the values themselves, to set beside the file (added 2026-12-01)
+        "first_point": _point(ds, extra, 0),
+        "last_point": _point(ds, extra, -1),
     }
     if kind:  # a saved result (impedax fit/sample --out FILE.nc): its data are what is shown
         summary.update({"result_kind": kind, "result": RESULT_KINDS[kind][0], "parameter_units": _parameter_units(ds)})
@@ -84,6 +88,8 @@ def run(args) -> int:
             print(f"  {key.replace('_', ' ')}:{_per_spectrum(summary[key] if key in summary else ds.attrs[key], ds, extra)}")
     if kind and summary["parameter_units"]:
         print("  parameter units: " + ", ".join(f"{n} [{u}]" for n, u in summary["parameter_units"].items()))
+    whose = f" (of the first spectrum, {_first_labels(ds, extra)})" if extra else ""
+    print(f"  as read{whose}: first point {_point_text(summary['first_point'])}; last point {_point_text(summary['last_point'])}")
     if summary["has_sigma"]:
         sigma = ds["sigma"].values
         print(f"  sigma: a standard deviation of Z per point, {np.nanmin(sigma):.3g}–{np.nanmax(sigma):.3g} Ω "
@@ -104,6 +110,27 @@ def run(args) -> int:
     if summary["sign_hint"]:
         print(f"  hint: {summary['sign_hint']}")
     return 0
+
+
+def _point(ds, extra, position: int) -> dict[str, float]:
+    """The point at ``position`` of the first spectrum along ``frequency`` (file order), as
+    ``{"frequency_hz", "z_real_ohm", "z_imag_ohm"}``."""
+    z = ds["Z"].isel({d: 0 for d in extra}).values
+    return {"frequency_hz": float(ds["frequency"].values[position]), "z_real_ohm": float(z[position].real), "z_imag_ohm": float(z[position].imag)}
+
+
+def _point_text(point: dict[str, float]) -> str:
+    """``f = 200 kHz: Z' = 1597 Ω, Z'' = -2.14 Ω`` (Z'' with its sign as impedax holds it)."""
+    from ..data import format_quantity
+
+    return f"f = {format_quantity(point['frequency_hz'], 'Hz')}: Z' = {point['z_real_ohm']:.6g} Ω, Z'' = {point['z_imag_ohm']:.6g} Ω"
+
+
+def _first_labels(ds, extra) -> str:
+    """``cycle 1, trial a``: the labels of the first spectrum of several."""
+    from .common import dimension_labels
+
+    return ", ".join(f"{d} {dimension_labels(ds, d)[0]}" for d in extra)
 
 
 def _parameter_units(ds) -> dict[str, str]:
