@@ -341,3 +341,22 @@ def test_inspect_shows_the_first_and_last_points_as_read_with_their_signs(tmp_pa
     summary = json.loads(capsys.readouterr().out)
     assert summary["first_point"] == {"frequency_hz": 1000.0, "z_real_ohm": 500.0, "z_imag_ohm": -250.0}
     assert summary["last_point"] == {"frequency_hz": 10.0, "z_real_ohm": 2500.0, "z_imag_ohm": -1500.0}
+
+
+@pytest.mark.parametrize("unit", ["Ohm cm2", "Ω·cm²", "ohm*m^2"])
+def test_an_area_specific_impedance_is_refused_with_the_conversion_to_ohm(tmp_path, unit):
+    path = tmp_path / "area.csv"
+    path.write_text(f"Frequency (Hz),Z' ({unit}),Z'' ({unit})\n1000,0.5,-0.25\n10,2.5,-1.5\n", encoding="utf-8")
+    with pytest.raises(DataError) as info:
+        ix.load(path)
+    message = str(info.value)
+    assert "area-specific" in message and "divide the column by the electrode area" in message and "line 1" in message
+    assert main(["inspect", str(path)]) == 2
+
+
+def test_a_plain_ohm_unit_gets_no_area_hint(tmp_path):
+    path = tmp_path / "bad.csv"
+    path.write_text("Frequency (Hz),Z' (Siemens),Z'' (Siemens)\n1000,0.5,-0.25\n10,2.5,-1.5\n", encoding="utf-8")
+    with pytest.raises(DataError) as info:
+        ix.load(path)
+    assert "not understood" in str(info.value) and "area-specific" not in str(info.value)

@@ -158,8 +158,16 @@ def role_of(cell: str) -> tuple[str, float, str] | None:
         if _QUANTITY[role] == "resistance" and ("?" in unit or "\ufffd" in unit):
             lost = ("; a '?' where a unit stands is most often an Ω lost when the file was saved in an encoding without it (Windows' "
                     "cp1252, a Latin-1 CSV): write Ohm in the header, or save the file as UTF-8")
+        elif _QUANTITY[role] == "resistance" and _AREA_SPECIFIC.search(unit):
+            lost = ("; an area-specific impedance (Ω·cm²) is not read as such: impedax fits Z in Ω, and the gap and force "
+                    "need it; divide the column by the electrode area (Ω·cm² / cm² = Ω) and write Ohm in the header, "
+                    "or write Ohm to fit per unit area (R then reads in Ω·cm², C in F/cm²)")
         raise DataError(f"column {cell.strip()!r}: unit {unit!r} not understood (expected {expected}){lost}")
     return role, scale, unit
+
+
+# a resistance unit times an area (Ohm cm2, Ω·cm², ohm*m^2): area-specific impedance
+_AREA_SPECIFIC = re.compile(r"(?:[cm]?m|cm)\s*(?:\^?2|²)\s*$", re.IGNORECASE)
 
 
 def fallback_role(cell: str) -> tuple[str, float, str] | None:
