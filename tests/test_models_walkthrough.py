@@ -270,3 +270,68 @@ def test_report_and_figure_scale_the_force_unit(stationary):
     naive = next(t for t in labels if t.startswith("C_gap only"))
     percent = result.naive_fit.rms_rel * 100  # (near 100 %: 3 digits, no exponent, where .2g wrote 1e+02)
     assert f"rms_rel {float(f'{percent:.3g}'):g} %" in naive and "e+" not in naive
+
+
+def _voltage_oracle(draws, f, z_skin, z_ts, v0, with_ep):
+    """|ΔV_gap| [V] per draw (draw, frequency) by the node equations of docs/physics.md, written
+    with numpy: I = V0/(Z_TS + Z_R + Z_skin), ΔV = V0 − Z_TS I − Z_skin I, all of it across C_gap
+    (the elements of the remainder are in parallel)."""
+    w = 2 * np.pi * f[None, :]
+    y = 1j * w * draws["C_gap"][:, None]
+    if with_ep:
+        y = y + 1 / draws["R_EP"][:, None] + draws["CPE_EP.Q"][:, None] * (1j * w) ** draws["CPE_EP.alpha"][:, None]
+    z_r = 1 / y
+    current = v0 / (z_ts + z_r + z_skin)
+    return np.abs(v0 - z_ts * current - z_skin * current)
+
+
+def test_gap_voltage_is_output_beside_the_force_from_the_same_draws(stationary, tmp_path):
+    """The gap voltage promised by `impedax gap --help` (2026-12-01: it was only in Python's
+    `sirin.gap_voltage`): JSON ``gap_voltage_v`` / ``gap_voltage_without_ep_v`` on the force's
+    frequencies, equal to the numpy node equations over the posterior draws; eq 1 over those
+    draws gives back the force band (so both come from the same draws); the report's line, the
+    CSV's bayes row and the .nc's variables give it too. SYNTHETIC data (the shipped example)."""
+    import csv
+
+    result, (total, skin, ts) = stationary
+    draws = {k: np.asarray(v, float) for k, v in result.posterior.parameter_draws().items()}
+    f = total["frequency"].values
+
+    def mean_z(ds):
+        z = ds["Z"].transpose(..., "frequency").values
+        return z.reshape(-1, z.shape[-1]).mean(axis=0)
+
+    z_skin, z_ts = mean_z(skin), mean_z(ts)
+    s = result.summary()
+    u = E0 * EPS_AIR * AREA / draws["C_gap"]  # (the gap of each draw's C_gap)
+    for key, force_key, with_ep in (("gap_voltage_v", "force_n", True), ("gap_voltage_without_ep_v", "force_without_ep_n", False)):
+        volts = _voltage_oracle(draws, f, z_skin, z_ts, result.v0, with_ep)
+        q05, q50, q95 = np.quantile(volts, [0.05, 0.5, 0.95], axis=0)
+        np.testing.assert_array_equal(s[key]["frequency_hz"], s[force_key]["frequency_hz"])
+        np.testing.assert_allclose(s[key]["median"], q50, rtol=1e-9)
+        np.testing.assert_allclose(s[key]["q05"], q05, rtol=1e-9)
+        np.testing.assert_allclose(s[key]["q95"], q95, rtol=1e-9)
+        force = 0.5 * E0 * EPS_AIR * AREA * volts**2 / u[:, None] ** 2  # eq 1 on the same draws
+        np.testing.assert_allclose(s[force_key]["median"], np.median(force, axis=0), rtol=1e-9)
+    # the voltage at the force maximum with EP, in the report, the CSV and the .nc
+    i = int(np.argmax(s["force_n"]["median"]))
+    at_max = result.gap_voltage_at_force_max()
+    assert at_max["frequency_hz"] == f[i] and at_max["value"] == s["gap_voltage_v"]["median"][i] and at_max["q05"] < at_max["value"] < at_max["q95"]
+    line = next(x for x in result.report().splitlines() if x.startswith("gap voltage"))
+    printed = re.search(r"with EP: ([\d.]+) V \(90%: ([\d.]+)–([\d.]+) V\) at (\S+ \S+);", line)
+    assert printed and printed[4] == format_frequency(f[i]) and printed[2] != printed[3], line  # (the ends told apart)
+    for text, key in zip(printed.groups()[:3], ("value", "q05", "q95")):
+        assert float(text) == pytest.approx(at_max[key], abs=0.51 * 10 ** -len(text.split(".")[1]))  # (rounded to the printed decimals)
+    assert "without EP: " in line
+    path = tmp_path / "gap.csv"
+    ix.io.write_result(result, path)
+    with open(path, newline="") as handle:
+        bayes = next(csv.DictReader(handle))
+    assert float(bayes["gap_voltage_v"]) == pytest.approx(at_max["value"], rel=1e-12) and float(bayes["force_max_frequency_hz"]) == pytest.approx(f[i], rel=1e-12)
+    assert float(bayes["gap_voltage_low_v"]) == pytest.approx(at_max["q05"], rel=1e-12) and float(bayes["gap_voltage_high_v"]) == pytest.approx(at_max["q95"], rel=1e-12)
+    nc = result.to_xarray()
+    assert nc["gap_voltage_median"].attrs["units"] == "V"
+    np.testing.assert_array_equal(nc["gap_voltage_q95"].sel(branch="without_ep").values, s["gap_voltage_without_ep_v"]["q95"])
+    fig = result.plot()
+    assert fig.axes[3].get_ylabel().startswith("gap voltage |ΔV_gap| [V]")
+    assert np.allclose(fig.axes[3].lines[0].get_ydata(), s["gap_voltage_v"]["median"])
