@@ -335,3 +335,49 @@ def test_gap_voltage_is_output_beside_the_force_from_the_same_draws(stationary, 
     fig = result.plot()
     assert fig.axes[3].get_ylabel().startswith("gap voltage |ΔV_gap| [V]")
     assert np.allclose(fig.axes[3].lines[0].get_ydata(), s["gap_voltage_v"]["median"])
+
+
+def test_gap_correlation_warning_says_what_a_gap_user_can_do():
+    """The sampler's correlation warning ends "fix one or give it an informative prior", options
+    `impedax gap` does not have (2026-12-01: `--fix R_EP=1e8` was refused): in the gap analysis
+    it says instead how much the pair matters to u — u's correlation r with each (log space) and
+    the narrowing 1 − √(1 − r²) knowing one would give (the Gaussian conditional sd, numpy
+    here) — and the Python call that fixes one. SYNTHETIC draws, r(u, R_EP) = −0.42 as on the
+    walkthrough's set; a pair that reaches u (r = 0.9) is said to widen it."""
+    from impedax.fitting.bayes.diagnostics import chain_warnings
+    from impedax.models.gap import _correlation_advice
+
+    rng = np.random.default_rng(3)
+    n = 4000
+    for r_u, verdict in ((-0.42, "this matters little to u"), (0.9, "this widens u's interval")):
+        z_u, z_r = rng.standard_normal((2, n))
+        ln_r = 17.7 + 0.01 * (r_u * z_u + np.sqrt(1 - r_u**2) * z_r)  # (ln R_EP: correlation r_u with ln u)
+        ln_q = -19.6 + 0.98 * (ln_r - 17.7) + 0.002 * rng.standard_normal(n)  # (ln Q tied to ln R_EP, r ≈ 0.98)
+        ln_u = np.log(4.02e-6) + 0.0015 * z_u
+        chain = np.stack([ln_r, ln_q, ln_u], axis=-1).reshape(40, 100, 3)
+        raw = [w for w in chain_warnings(["R_EP", "CPE_EP.Q", "u"], [True] * 3, chain, {"R_EP": 1.0, "CPE_EP.Q": 1.0, "u": 1.0}, 1, 0.3) if "strongly correlated" in w]
+        assert len(raw) == 1 and raw[0].endswith("fix one or give it an informative prior")  # (the generic text, as `impedax sample` says it)
+        draws = {"R_EP": np.exp(ln_r), "CPE_EP.Q": np.exp(ln_q), "u": np.exp(ln_u), "C_gap": E0 * EPS_AIR * 100e-6 / np.exp(ln_u)}
+        (said,) = _correlation_advice(raw, draws, "R_EP || CPE_EP || C_gap")
+        r = [np.corrcoef(ln_u, x)[0, 1] for x in (ln_r, ln_q)]
+        narrowing = 1 - np.sqrt(1 - max(v * v for v in r))
+        assert said.startswith(raw[0][: raw[0].index("; fix one")]) and "fix one or give it an informative prior" not in said
+        assert f"; {verdict}: " in said and f"{r[0]:+.2f} with R_EP and {r[1]:+.2f} with CPE_EP.Q" in said and f"by at most {narrowing:.0%}" in said
+        assert "impedax gap has no --fix or --prior" in said and "fixed={'R_EP': …}" in said and "edl_fit=ix.fit('R_EP || CPE_EP || C_gap', ix.models.remaining_impedance(total, skin, touchscreen)" in said
+        assert all(callable(getattr(ix.models, name)) for name in re.findall(r"ix\.models\.(\w+)\(", said))  # (the call it gives exists)
+    other = ["the chain (225 draws per walker after burn-in) is shorter than 50 autocorrelation times"]
+    assert _correlation_advice(other, draws, "R_EP || CPE_EP || C_gap") == other  # (other warnings as they are)
+
+
+@pytest.mark.parametrize(("words", "hint"), [(["--fix", "R_EP=1e8"], None), (["--prior", "R_EP=x"], None), (["--stps", "30"], "--steps"), (["--quite"], "--quiet")])
+def test_gap_names_no_far_fetched_option(capsys, words, hint):
+    """`impedax gap --fix R_EP=1e8` named "--dpi" (difflib ratio 0.6, two of its five characters
+    the shared "--"); an unknown option is now named only from a ratio of 0.7 on, so --fix and
+    --prior get no hint while a slip (--stps, --quite) still does."""
+    from impedax.cli import main
+
+    with pytest.raises(SystemExit) as stop:
+        main(["gap", "t.nc", "s.nc", "ts.nc", "--area", "100e-6", *words])
+    err = capsys.readouterr().err
+    assert stop.value.code == 2 and f"unrecognized arguments: {' '.join(words)}" in err
+    assert ("did you mean" not in err) if hint is None else (f"did you mean {hint}?" in err)
