@@ -21,6 +21,7 @@ from typing import Sequence
 
 import numpy as np
 
+from .constants import EPSILON_AIR
 from .data import format_frequency
 from .io.atomic import OutputTransaction, check_writable, remove_temporary, temporary_folder
 
@@ -213,6 +214,8 @@ def run_demo(out: str | os.PathLike = "out", *, fast: bool = False, stream=None)
         story.say(f"  Every one of the {n_trials} total trials gets its own u, R_EP and CPE_EP.Q, drawn from a log-normal population;")
         story.say("  the noise per frequency comes from the trial scatter, plus a sampled discrepancy floor for misfit the model lacks.")
         story.say(f"  u = {g['value'] * 1e6:.3f} µm, 90% credible interval {g['q05'] * 1e6:.3f}–{g['q95'] * 1e6:.3f} µm (population median; NUTS, {post.mu.shape[0]} chains × {post.mu.shape[1]} draws)")
+        c = gap.c_gap  # (the draws' C_gap = ε0 ε_gap A/u, so its median is that of u's median)
+        story.say(f"  C_gap = {c['value'] * 1e12:.1f} pF, 90% credible interval {c['q05'] * 1e12:.1f}–{c['q95'] * 1e12:.1f} pF (u = ε0 ε_gap A/C_gap, ε_gap = {EPSILON_AIR:g}, A = {AREA * 1e6:g} mm²)")
         story.say(f"  spread between trials: {spread['relative']['value']:.1%} (sd of ln u, 90%: {spread['relative']['q05']:.1%}–{spread['relative']['q95']:.1%}), ≈ {spread['sd_m'] * 1e6:.3f} µm")
         story.say(f"  a new trial: u in {new['q05'] * 1e6:.3f}–{new['q95'] * 1e6:.3f} µm (90% predictive interval)")
         delta = post.summary()["discrepancy"]
@@ -223,6 +226,7 @@ def run_demo(out: str | os.PathLike = "out", *, fast: bool = False, stream=None)
         story.say(f"  (the synthetic data were made with a population median u = {true_gap * 1e6:.3f} µm, trials varying by 7%; `impedax gap --pooled` gives the analysis of the trial means)")
         story.figure(_save(gap.plot(true_gap=true_gap), staging, "step4_gap_and_force.png"))
         facts["gap thickness (hierarchical Bayesian, population median)"] = f"{g['value'] * 1e6:.3f} µm [{g['q05'] * 1e6:.3f}, {g['q95'] * 1e6:.3f}] (90%)"
+        facts["air-gap capacitance C_gap (hierarchical Bayesian, population median)"] = f"{c['value'] * 1e12:.1f} pF [{c['q05'] * 1e12:.1f}, {c['q95'] * 1e12:.1f}] (90%)"
         facts["spread of u between trials"] = f"{spread['relative']['value']:.1%} (≈ {spread['sd_m'] * 1e6:.3f} µm); a new trial: [{new['q05'] * 1e6:.3f}, {new['q95'] * 1e6:.3f}] µm (90%)"
         facts["gap thickness (paper method)"] = f"{p.gap * 1e6:.3f} µm, bounds [{p.gap_lower * 1e6:.3f}, {p.gap_upper * 1e6:.3f}]"
         facts["naive-model gap thickness"] = f"{ix.models.gap_thickness(naive.values['C_gap']) * 1e6:.3f} µm"

@@ -143,3 +143,18 @@ def test_timings_line_names_each_step():
     assert [title for title, _ in story.timings] == ["3. Diagnose: which physical effect is missing? Add it, refit, watch the error fall", "6. Report"]
     assert [s for _, s in story.short_timings] == [s for _, s in story.timings]
     assert re.fullmatch(r"Timings: 3\. Diagnose and refine: \d+\.\d s, 6\. Report: \d+\.\d s", timings_line(story.short_timings))
+
+
+def test_demo_prints_c_gap_beside_u(demo):
+    """Step 4 gives the posterior C_gap with its interval (2026-12-01: only u was printed, so
+    u = ε0 ε_gap A/C_gap could not be checked from the story): the oracle is that formula with
+    ε0, ε_gap = 1.00059 (air) and A = 130 mm² written here; u's interval maps onto C_gap's
+    reversed (C_gap falls as u grows). The report's facts give it too."""
+    _, text, out = demo
+    u, u_lo, u_hi = (float(x) * 1e-6 for x in re.search(r"u = ([\d.]+) µm, 90% credible interval ([\d.]+)–([\d.]+) µm", text).groups())
+    c, c_lo, c_hi = (float(x) * 1e-12 for x in re.search(r"C_gap = ([\d.]+) pF, 90% credible interval ([\d.]+)–([\d.]+) pF", text).groups())
+    eps0, eps_air, area = 8.8541878128e-12, 1.00059, 130e-6
+    assert c == pytest.approx(eps0 * eps_air * area / u, rel=5e-4)  # (u printed to 1 nm, C_gap to 0.1 pF)
+    assert c_lo == pytest.approx(eps0 * eps_air * area / u_hi, rel=5e-4) and c_hi == pytest.approx(eps0 * eps_air * area / u_lo, rel=5e-4)
+    assert 380e-12 < c < 450e-12  # near the generator's 413 pF
+    assert f"{c * 1e12:.1f} pF [{c_lo * 1e12:.1f}, {c_hi * 1e12:.1f}] (90%)" in (out / "report.html").read_text()
