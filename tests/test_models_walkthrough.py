@@ -381,3 +381,17 @@ def test_gap_names_no_far_fetched_option(capsys, words, hint):
     err = capsys.readouterr().err
     assert stop.value.code == 2 and f"unrecognized arguments: {' '.join(words)}" in err
     assert ("did you mean" not in err) if hint is None else (f"did you mean {hint}?" in err)
+
+
+def test_undetermined_gap_line_does_not_read_as_the_gap_range(stationary):
+    """On the stationary example (u not determined: the priors set it) the report read "(90%
+    interval of the draws, not of the gap 0.161–0.168 µm, …", as if that range were the gap's
+    (2026-12-01). Now the range follows "interval of the draws:" and what it is not comes after
+    it; the numbers are the draws' 5 and 95 % quantiles (numpy)."""
+    result, _ = stationary
+    assert not result.gap_identified  # (the premise: the stationary total does not determine u)
+    u = result.posterior.parameter_draws()["u"] * 1e6
+    low, high = np.quantile(u, [0.05, 0.95])
+    first = next(x for x in result.report().splitlines() if x.startswith("sampled u (prior-set)"))
+    assert f"(90% interval of the draws: {low:.3f}–{high:.3f} µm, set by the priors, not a range of the gap, " in first, first
+    assert "not of the gap" not in first

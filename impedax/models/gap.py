@@ -354,7 +354,8 @@ class GapAnalysis:
         if self.trials:
             lines.append("spectra used    " + "; ".join(_trials_text(k, v) for k, v in self.trials.items()))
         if not self.gap_identified:
-            lines[0] = lines[0].replace("gap thickness u =", "sampled u (prior-set) =", 1).replace("90% credible interval", "90% interval of the draws, not of the gap", 1)
+            # (the range right after "not of the gap" read as the gap's: the range first, then what it is not)
+            lines[0] = re.sub(r"90% credible interval ([\d.]+–[\d.]+ µm)", r"90% interval of the draws: \1, set by the priors, not a range of the gap", lines[0].replace("gap thickness u =", "sampled u (prior-set) =", 1), count=1)
             if self.gap_lower_bound is not None:
                 lines.insert(0, (
                     f"GAP NOT DETERMINED: C_gap and the EP branch are seen only as their sum, so the data give only a LOWER BOUND u ≥ {self.gap_lower_bound * 1e6:.3f} µm "
