@@ -923,3 +923,34 @@ def test_an_unreliable_waic_names_the_cause_that_applies():
     rc_fit = ix.fit("R0 + R1 || C1", data, weighting="sigma")
     assert rc_fit.chi2_red > 10 and _start_misfit(rc_fit, NoiseModel.SIGMA)
     assert not _start_misfit(ix.fit(text, data, weighting="sigma"), NoiseModel.SIGMA)
+
+
+def test_progress_time_left_leaves_out_the_costly_first_warmup_steps(monkeypatch, capsys):
+    """SYNTHETIC timings shaped as the demo's hierarchical run (steps 1–96 0.31 s each, then
+    0.048 s): 800 steps whose first 100 (before the first mass-matrix adaptation, ``settle``)
+    cost 0.3 s and the rest 0.05 s, after a 5 s compilation. Before step 100 the time left is
+    the upper bound of the rate so far ("≤ ~"); after it the rate since step 100, so at step 400
+    it is 400 × 0.05 = 20 s, where the mean rate since step 1 said 400 × 0.1125 = 45 s (2026-12-01:
+    "step 24/800, 11 s, ~177 s left" on a run that ended at 63 s)."""
+    from impedax.fitting.bayes import progress
+    from impedax.fitting.bayes.hierarchical import _first_metric_step
+
+    assert _first_metric_step(400) == 100 and _first_metric_step(100) == 90  # (blackjax's Stan schedule: 75 + 25; 15 % + 75 %)
+    cost = np.where(np.arange(1, 801) <= 100, 0.3, 0.05)
+    times = 5.0 + np.concatenate([[0.0], np.cumsum(cost[1:])])  # (the clock at step k: the first step ends the compilation)
+    clock = iter([0.0, *times, 0.0])  # (the last: the clock when the bar without settle is made)
+    monkeypatch.setattr(progress.time, "perf_counter", lambda: next(clock))
+    bar = progress.ProgressLine(800, True, label="run", interactive=False, settle=100)
+    lines = {}
+    for k in range(1, 801):
+        bar.advance()
+        for line in capsys.readouterr().err.splitlines():
+            lines[int(line.split("step ")[1].split("/")[0])] = line
+    early = next(k for k in sorted(lines) if 1 < k < 100)
+    rate_so_far = (times[early - 1] - times[0]) / (early - 1)
+    assert lines[early].endswith(f", ≤ ~{(800 - early) * rate_so_far:.0f} s left"), lines[early]
+    late = next(k for k in sorted(lines) if k >= 400)
+    assert lines[late].endswith(f", ~{(800 - late) * 0.05:.0f} s left"), lines[late]
+    without = progress.ProgressLine(800, True, label="run", interactive=False)
+    without.first, without.done = (times[0], 1), late
+    assert without.text(late, times[late - 1]).endswith(f", ~{(800 - late) * (times[late - 1] - times[0]) / (late - 1):.0f} s left")  # (no settle: as before)

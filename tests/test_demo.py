@@ -143,3 +143,43 @@ def test_timings_line_names_each_step():
     assert [title for title, _ in story.timings] == ["3. Diagnose: which physical effect is missing? Add it, refit, watch the error fall", "6. Report"]
     assert [s for _, s in story.short_timings] == [s for _, s in story.timings]
     assert re.fullmatch(r"Timings: 3\. Diagnose and refine: \d+\.\d s, 6\. Report: \d+\.\d s", timings_line(story.short_timings))
+
+
+def test_demo_prints_c_gap_beside_u(demo):
+    """Step 4 gives the posterior C_gap with its interval (2026-12-01: only u was printed, so
+    u = ε0 ε_gap A/C_gap could not be checked from the story): the oracle is that formula with
+    ε0, ε_gap = 1.00059 (air) and A = 130 mm² written here; u's interval maps onto C_gap's
+    reversed (C_gap falls as u grows). The report's facts give it too."""
+    _, text, out = demo
+    u, u_lo, u_hi = (float(x) * 1e-6 for x in re.search(r"u = ([\d.]+) µm, 90% credible interval ([\d.]+)–([\d.]+) µm", text).groups())
+    c, c_lo, c_hi = (float(x) * 1e-12 for x in re.search(r"C_gap = ([\d.]+) pF, 90% credible interval ([\d.]+)–([\d.]+) pF", text).groups())
+    eps0, eps_air, area = 8.8541878128e-12, 1.00059, 130e-6
+    assert c == pytest.approx(eps0 * eps_air * area / u, rel=5e-4)  # (u printed to 1 nm, C_gap to 0.1 pF)
+    assert c_lo == pytest.approx(eps0 * eps_air * area / u_hi, rel=5e-4) and c_hi == pytest.approx(eps0 * eps_air * area / u_lo, rel=5e-4)
+    assert 380e-12 < c < 450e-12  # near the generator's 413 pF
+    assert f"{c * 1e12:.1f} pF [{c_lo * 1e12:.1f}, {c_hi * 1e12:.1f}] (90%)" in (out / "report.html").read_text()
+
+
+def test_demo_force_lines_give_both_intervals_and_the_gap_voltage(demo):
+    """Step 5 gave the force without EP without its interval ("287 mN with EP [275, 301] vs
+    393 mN without EP") and no gap voltage though titled so (2026-12-01): each line now gives
+    median [q05, q95] for both branches, of the force and of |ΔV_gap|, read back here from
+    force_bands.nc (the same bands); and a gap
+    voltage is at most the drive V0 = 75 V (the remainder is one element of a passive divider)."""
+    import numpy as np
+
+    import impedax as ix
+
+    _, text, out = demo
+    bands = ix.io.read_netcdf(out / "force_bands.nc")
+    number = r"\s*([\d.e+-]+) \[([\d.e+-]+), ([\d.e+-]+)\]"
+    lines = re.findall(rf"^\s+(\S+ \S?Hz): force{number} mN with EP\s+vs{number} mN without EP;\s+gap voltage{number} V vs{number} V$", text, flags=re.M)
+    assert len(lines) == 4, text
+    ff = bands["frequency"].values
+    for where, *values in lines:
+        i = next(k for k, f in enumerate(ff) if ix.data.format_frequency(f) == where)
+        printed = np.array(values, float).reshape(4, 3)  # (force with, force without [mN], voltage with, without [V])
+        for row, (branch, prefix, scale) in zip(printed, [("with_ep", "", 1e3), ("without_ep", "", 1e3), ("with_ep", "gap_voltage_", 1.0), ("without_ep", "gap_voltage_", 1.0)]):
+            expected = [bands[f"{prefix}{k}"].sel(branch=branch).values[i] * scale for k in ("median", "q05", "q95")]
+            assert row == pytest.approx(expected, rel=5e-3) and row[1] <= row[0] <= row[2]
+        assert printed[2:, 2].max() <= 75.0

@@ -85,6 +85,11 @@ def test_summary_json_contract(analysis):
     assert set(s["force_n"]) >= {"frequency_hz", "median", "q05", "q95"}
     assert set(s["force_without_ep_n"]) >= {"frequency_hz", "median", "q05", "q95"}
     np.testing.assert_array_equal(s["force_without_ep_n"]["frequency_hz"], s["force_n"]["frequency_hz"])
+    # the gap voltage on the force's frequencies, from the hierarchical draws too (added 2026-12-01)
+    for key in ("gap_voltage_v", "gap_voltage_without_ep_v"):
+        band = s[key]
+        np.testing.assert_array_equal(band["frequency_hz"], s["force_n"]["frequency_hz"])
+        assert np.all(band["q05"] <= band["median"]) and np.all(band["median"] <= band["q95"]) and 0 < np.max(band["q95"]) <= analysis.v0 * 1.5
     assert isinstance(s["warnings"], list)
     assert s["gap_um"]["value"] == pytest.approx(analysis.gap["value"] * 1e6)
 

@@ -270,3 +270,128 @@ def test_report_and_figure_scale_the_force_unit(stationary):
     naive = next(t for t in labels if t.startswith("C_gap only"))
     percent = result.naive_fit.rms_rel * 100  # (near 100 %: 3 digits, no exponent, where .2g wrote 1e+02)
     assert f"rms_rel {float(f'{percent:.3g}'):g} %" in naive and "e+" not in naive
+
+
+def _voltage_oracle(draws, f, z_skin, z_ts, v0, with_ep):
+    """|ΔV_gap| [V] per draw (draw, frequency) by the node equations of docs/physics.md, written
+    with numpy: I = V0/(Z_TS + Z_R + Z_skin), ΔV = V0 − Z_TS I − Z_skin I, all of it across C_gap
+    (the elements of the remainder are in parallel)."""
+    w = 2 * np.pi * f[None, :]
+    y = 1j * w * draws["C_gap"][:, None]
+    if with_ep:
+        y = y + 1 / draws["R_EP"][:, None] + draws["CPE_EP.Q"][:, None] * (1j * w) ** draws["CPE_EP.alpha"][:, None]
+    z_r = 1 / y
+    current = v0 / (z_ts + z_r + z_skin)
+    return np.abs(v0 - z_ts * current - z_skin * current)
+
+
+def test_gap_voltage_is_output_beside_the_force_from_the_same_draws(stationary, tmp_path):
+    """The gap voltage promised by `impedax gap --help` (2026-12-01: it was only in Python's
+    `sirin.gap_voltage`): JSON ``gap_voltage_v`` / ``gap_voltage_without_ep_v`` on the force's
+    frequencies, equal to the numpy node equations over the posterior draws; eq 1 over those
+    draws gives back the force band (so both come from the same draws); the report's line, the
+    CSV's bayes row and the .nc's variables give it too. SYNTHETIC data (the shipped example)."""
+    import csv
+
+    result, (total, skin, ts) = stationary
+    draws = {k: np.asarray(v, float) for k, v in result.posterior.parameter_draws().items()}
+    f = total["frequency"].values
+
+    def mean_z(ds):
+        z = ds["Z"].transpose(..., "frequency").values
+        return z.reshape(-1, z.shape[-1]).mean(axis=0)
+
+    z_skin, z_ts = mean_z(skin), mean_z(ts)
+    s = result.summary()
+    u = E0 * EPS_AIR * AREA / draws["C_gap"]  # (the gap of each draw's C_gap)
+    for key, force_key, with_ep in (("gap_voltage_v", "force_n", True), ("gap_voltage_without_ep_v", "force_without_ep_n", False)):
+        volts = _voltage_oracle(draws, f, z_skin, z_ts, result.v0, with_ep)
+        q05, q50, q95 = np.quantile(volts, [0.05, 0.5, 0.95], axis=0)
+        np.testing.assert_array_equal(s[key]["frequency_hz"], s[force_key]["frequency_hz"])
+        np.testing.assert_allclose(s[key]["median"], q50, rtol=1e-9)
+        np.testing.assert_allclose(s[key]["q05"], q05, rtol=1e-9)
+        np.testing.assert_allclose(s[key]["q95"], q95, rtol=1e-9)
+        force = 0.5 * E0 * EPS_AIR * AREA * volts**2 / u[:, None] ** 2  # eq 1 on the same draws
+        np.testing.assert_allclose(s[force_key]["median"], np.median(force, axis=0), rtol=1e-9)
+    # the voltage at the force maximum with EP, in the report, the CSV and the .nc
+    i = int(np.argmax(s["force_n"]["median"]))
+    at_max = result.gap_voltage_at_force_max()
+    assert at_max["frequency_hz"] == f[i] and at_max["value"] == s["gap_voltage_v"]["median"][i] and at_max["q05"] < at_max["value"] < at_max["q95"]
+    line = next(x for x in result.report().splitlines() if x.startswith("gap voltage"))
+    printed = re.search(r"with EP: ([\d.]+) V \(90%: ([\d.]+)–([\d.]+) V\) at (\S+ \S+);", line)
+    assert printed and printed[4] == format_frequency(f[i]) and printed[2] != printed[3], line  # (the ends told apart)
+    for text, key in zip(printed.groups()[:3], ("value", "q05", "q95")):
+        assert float(text) == pytest.approx(at_max[key], abs=0.51 * 10 ** -len(text.split(".")[1]))  # (rounded to the printed decimals)
+    assert "without EP: " in line
+    path = tmp_path / "gap.csv"
+    ix.io.write_result(result, path)
+    with open(path, newline="") as handle:
+        bayes = next(csv.DictReader(handle))
+    assert float(bayes["gap_voltage_v"]) == pytest.approx(at_max["value"], rel=1e-12) and float(bayes["force_max_frequency_hz"]) == pytest.approx(f[i], rel=1e-12)
+    assert float(bayes["gap_voltage_low_v"]) == pytest.approx(at_max["q05"], rel=1e-12) and float(bayes["gap_voltage_high_v"]) == pytest.approx(at_max["q95"], rel=1e-12)
+    nc = result.to_xarray()
+    assert nc["gap_voltage_median"].attrs["units"] == "V"
+    np.testing.assert_array_equal(nc["gap_voltage_q95"].sel(branch="without_ep").values, s["gap_voltage_without_ep_v"]["q95"])
+    fig = result.plot()
+    assert fig.axes[3].get_ylabel().startswith("gap voltage |ΔV_gap| [V]")
+    assert np.allclose(fig.axes[3].lines[0].get_ydata(), s["gap_voltage_v"]["median"])
+
+
+def test_gap_correlation_warning_says_what_a_gap_user_can_do():
+    """The sampler's correlation warning ends "fix one or give it an informative prior", options
+    `impedax gap` does not have (2026-12-01: `--fix R_EP=1e8` was refused): in the gap analysis
+    it says instead how much the pair matters to u — u's correlation r with each (log space) and
+    the narrowing 1 − √(1 − r²) knowing one would give (the Gaussian conditional sd, numpy
+    here) — and the Python call that fixes one. SYNTHETIC draws, r(u, R_EP) = −0.42 as on the
+    walkthrough's set; a pair that reaches u (r = 0.9) is said to widen it."""
+    from impedax.fitting.bayes.diagnostics import chain_warnings
+    from impedax.models.gap import _correlation_advice
+
+    rng = np.random.default_rng(3)
+    n = 4000
+    for r_u, verdict in ((-0.42, "this matters little to u"), (0.9, "this widens u's interval")):
+        z_u, z_r = rng.standard_normal((2, n))
+        ln_r = 17.7 + 0.01 * (r_u * z_u + np.sqrt(1 - r_u**2) * z_r)  # (ln R_EP: correlation r_u with ln u)
+        ln_q = -19.6 + 0.98 * (ln_r - 17.7) + 0.002 * rng.standard_normal(n)  # (ln Q tied to ln R_EP, r ≈ 0.98)
+        ln_u = np.log(4.02e-6) + 0.0015 * z_u
+        chain = np.stack([ln_r, ln_q, ln_u], axis=-1).reshape(40, 100, 3)
+        raw = [w for w in chain_warnings(["R_EP", "CPE_EP.Q", "u"], [True] * 3, chain, {"R_EP": 1.0, "CPE_EP.Q": 1.0, "u": 1.0}, 1, 0.3) if "strongly correlated" in w]
+        assert len(raw) == 1 and raw[0].endswith("fix one or give it an informative prior")  # (the generic text, as `impedax sample` says it)
+        draws = {"R_EP": np.exp(ln_r), "CPE_EP.Q": np.exp(ln_q), "u": np.exp(ln_u), "C_gap": E0 * EPS_AIR * 100e-6 / np.exp(ln_u)}
+        (said,) = _correlation_advice(raw, draws, "R_EP || CPE_EP || C_gap")
+        r = [np.corrcoef(ln_u, x)[0, 1] for x in (ln_r, ln_q)]
+        narrowing = 1 - np.sqrt(1 - max(v * v for v in r))
+        assert said.startswith(raw[0][: raw[0].index("; fix one")]) and "fix one or give it an informative prior" not in said
+        assert f"; {verdict}: " in said and f"{r[0]:+.2f} with R_EP and {r[1]:+.2f} with CPE_EP.Q" in said and f"by at most {narrowing:.0%}" in said
+        assert "impedax gap has no --fix or --prior" in said and "fixed={'R_EP': …}" in said and "edl_fit=ix.fit('R_EP || CPE_EP || C_gap', ix.models.remaining_impedance(total, skin, touchscreen)" in said
+        assert all(callable(getattr(ix.models, name)) for name in re.findall(r"ix\.models\.(\w+)\(", said))  # (the call it gives exists)
+    other = ["the chain (225 draws per walker after burn-in) is shorter than 50 autocorrelation times"]
+    assert _correlation_advice(other, draws, "R_EP || CPE_EP || C_gap") == other  # (other warnings as they are)
+
+
+@pytest.mark.parametrize(("words", "hint"), [(["--fix", "R_EP=1e8"], None), (["--prior", "R_EP=x"], None), (["--stps", "30"], "--steps"), (["--quite"], "--quiet")])
+def test_gap_names_no_far_fetched_option(capsys, words, hint):
+    """`impedax gap --fix R_EP=1e8` named "--dpi" (difflib ratio 0.6, two of its five characters
+    the shared "--"); an unknown option is now named only from a ratio of 0.7 on, so --fix and
+    --prior get no hint while a slip (--stps, --quite) still does."""
+    from impedax.cli import main
+
+    with pytest.raises(SystemExit) as stop:
+        main(["gap", "t.nc", "s.nc", "ts.nc", "--area", "100e-6", *words])
+    err = capsys.readouterr().err
+    assert stop.value.code == 2 and f"unrecognized arguments: {' '.join(words)}" in err
+    assert ("did you mean" not in err) if hint is None else (f"did you mean {hint}?" in err)
+
+
+def test_undetermined_gap_line_does_not_read_as_the_gap_range(stationary):
+    """On the stationary example (u not determined: the priors set it) the report read "(90%
+    interval of the draws, not of the gap 0.161–0.168 µm, …", as if that range were the gap's
+    (2026-12-01). Now the range follows "interval of the draws:" and what it is not comes after
+    it; the numbers are the draws' 5 and 95 % quantiles (numpy)."""
+    result, _ = stationary
+    assert not result.gap_identified  # (the premise: the stationary total does not determine u)
+    u = result.posterior.parameter_draws()["u"] * 1e6
+    low, high = np.quantile(u, [0.05, 0.95])
+    first = next(x for x in result.report().splitlines() if x.startswith("sampled u (prior-set)"))
+    assert f"(90% interval of the draws: {low:.3f}–{high:.3f} µm, set by the priors, not a range of the gap, " in first, first
+    assert "not of the gap" not in first

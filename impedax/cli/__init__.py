@@ -254,6 +254,12 @@ def _impedax_assignment(item: str, parameters: list[tuple[list[str], dict[str, s
     return item
 
 
+OPTION_HINT_CUTOFF = 0.7
+"""The least difflib ratio of an unknown option to the one `_refuse_unknown` names: its "--" is
+shared by all, so difflib's 0.6 named --dpi for --fix (0.6) and --plot for --prior (0.62) on
+`impedax gap`; the slips it is for score ≥ 0.85 (--maxsteps 0.95, --quite 0.86, --fmx 0.91)."""
+
+
 def _refuse_unknown(parser: argparse.ArgumentParser, command: str, unknown: list[str], model=None) -> NoReturn:
     """Exit 2 with "unrecognized arguments" naming the closest option of that command for each
     unknown one (``--maxsteps`` → ``--max-steps``), then the command's own short usage line
@@ -274,7 +280,7 @@ def _refuse_unknown(parser: argparse.ArgumentParser, command: str, unknown: list
             continue
         name = item.split("=", 1)[0]
         same = [o for o in options if squeezed(o) == squeezed(name)]
-        close = same or difflib.get_close_matches(name, options, n=1, cutoff=0.6)
+        close = same or difflib.get_close_matches(name, options, n=1, cutoff=OPTION_HINT_CUTOFF)
         if close and close[0] not in hints:
             hints.append(close[0])
     hint = f"; did you mean {' or '.join(hints)}?" if hints else ""

@@ -25,6 +25,7 @@ gap voltage and the electrostatic force, with uncertainty.
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass, field, replace
 from typing import Mapping
 
@@ -37,11 +38,12 @@ from ..arguments import GAP_MIN_STEPS, MAX_WALKERS, checked_arguments, choice, c
 from ..errors import IN_MEMORY, CircuitError, DataError, ParameterError
 from ..constants import C_GAP_BOUNDS_F, EPSILON_0, EPSILON_AIR
 from ..fitting.bayes.chain import AUTO_STEPS, steps_rule
+from ..fitting.bayes.diagnostics import CORRELATION_ADVICE
 from ..fitting.least_squares.result import MISFIT_RATIO_MAX, REMAINDER_ATTRS, SUBTRACTION_CAUSE, gross_misfits, known_kk_misfits, listed_frequencies
 from ..fitting.statistics import non_passive
 from .gap_inputs import check_gap_inputs, position_notes, spectra_used
 from .plausible import AIR_BREAKDOWN_V, DRIVE_VOLTAGE_V, FINGERTIP_AREA_M2
-from .sirin import SIRIN_AREA, SIRIN_DRIVE_V, PaperGapEstimate, gap_force_peak, paper_gap_estimate, remainder_circuit, remaining_impedance, trial_mean, trial_remainders
+from .sirin import SIRIN_AREA, SIRIN_DRIVE_V, PaperGapEstimate, gap_force_peak, gap_voltage, paper_gap_estimate, remainder_circuit, remaining_impedance, trial_mean, trial_remainders
 
 __all__ = ["GapAnalysis", "gap_analysis", "gap_remainder", "REMAINDER_KINDS", "GAP_TABLE_COLUMNS", "GAP_METHODS", "GAP_MIN_STEPS", "FINGERTIP_AREA_M2", "IDENTIFIED_C_REMAINDER", "C_GAP_BOUNDS_F", "HIERARCHICAL_AUTO_DRAWS", "GAP_DRAW_ALIASES", "GAP_SAVED_DRAWS", "gap_bounds", "check_fingertip_area"]
 
@@ -50,10 +52,12 @@ _EP_PER_TRIAL = ("R_EP", "CPE_EP.Q", "C_EP")  # the contact's EP branch varies w
 
 FORCE_CONVENTION = "peak"  # eq 1 at the voltage amplitude; the time average is half of it
 FORCE_CONDITIONS = "A taken as exact; skin and screen as their trial means, without their errors"
-GAP_TABLE_COLUMNS = ("method", "c_gap_f", "c_gap_low_f", "c_gap_high_f", "u_m", "u_low_m", "u_high_m", "gap_identified", "u_lower_bound_m", "u_lower_bound_withheld")
+GAP_TABLE_COLUMNS = ("method", "c_gap_f", "c_gap_low_f", "c_gap_high_f", "u_m", "u_low_m", "u_high_m", "gap_identified", "u_lower_bound_m", "u_lower_bound_withheld", "force_max_frequency_hz", "gap_voltage_v", "gap_voltage_low_v", "gap_voltage_high_v")
 """The columns of `GapAnalysis.to_table` (``impedax gap --out FILE.csv``), each quantity's SI
-unit in its name (``_f`` farad, ``_m`` metre); ``u_lower_bound_withheld`` says why u is not
-determined and yet no bound is given (`GapAnalysis.gap_bound_withheld`)."""
+unit in its name (``_f`` farad, ``_m`` metre, ``_v`` volt); ``u_lower_bound_withheld`` says why u is not
+determined and yet no bound is given (`GapAnalysis.gap_bound_withheld`); ``gap_voltage_v`` (low,
+high: its 90 % interval) the amplitude of the gap voltage at ``force_max_frequency_hz``, where the
+median force with EP is largest (added 2026-12-01)."""
 
 HIERARCHICAL_AUTO_DRAWS = 500
 # the names `GapAnalysis.draws` takes besides the parameters': those of its properties `gap` and `c_gap`
@@ -91,7 +95,9 @@ class GapAnalysis:
     the means (their SEM), not the variation of the contact between trials.
 
     ``force`` holds the PEAK force [N] bands over frequency (``median``, ``q05``, ``q95``) with
-    the EP branch (``with_ep``) and without it (``without_ep``, same C_gap draws); the bands
+    the EP branch (``with_ep``) and without it (``without_ep``, same C_gap draws), and the
+    amplitude of the gap voltage |ΔV_gap| [V] from the same draws (``gap_voltage_median``,
+    ``gap_voltage_q05``, ``gap_voltage_q95``; `gap_voltage_at_force_max`); the bands
     condition on ``area`` being exact and on the skin and screen trial means (no error).
     """
 
@@ -232,6 +238,8 @@ class GapAnalysis:
                 "frequency_hz": self.force["frequency"].values,
                 **{k: self.force.sel(branch="without_ep")[k].values for k in ("median", "q05", "q95")},
             },
+            "gap_voltage_v": self._voltage_band("with_ep"),
+            "gap_voltage_without_ep_v": self._voltage_band("without_ep"),
             "convention": FORCE_CONVENTION,
             "paper_method": {
                 "c_gap": self.paper.c_gap,
@@ -256,6 +264,27 @@ class GapAnalysis:
             "settings": dict(self.settings) if self.settings is not None else None,
         }
 
+    def _voltage_band(self, branch: str) -> dict | None:
+        """The JSON's ``gap_voltage_v`` / ``gap_voltage_without_ep_v``: |ΔV_gap| [V] over the
+        force's frequencies (``frequency_hz``, ``median``, ``q05``, ``q95``); None for a force
+        band made without it."""
+        if "gap_voltage_median" not in self.force:
+            return None
+        band = self.force.sel(branch=branch)
+        return {"frequency_hz": self.force["frequency"].values, **{k: band[f"gap_voltage_{k}"].values for k in ("median", "q05", "q95")}}
+
+    def gap_voltage_at_force_max(self, branch: str = "with_ep") -> dict[str, float] | None:
+        """The amplitude of the gap voltage |ΔV_gap| [V] (``value`` its posterior median,
+        ``q05``, ``q95``) at ``frequency_hz``, where the median PEAK force of ``branch``
+        (``"with_ep"`` or ``"without_ep"``) is largest: the voltage behind the reported force
+        maximum (eq 1, F = ½ ε0 ε_gap A |ΔV_gap|²/u²). None for a force band made without it."""
+        if "gap_voltage_median" not in self.force:
+            return None
+        band = self.force.sel(branch=branch)
+        i = int(np.argmax(band["median"].values))
+        return {"frequency_hz": float(self.force["frequency"][i]), "value": float(band["gap_voltage_median"][i]),
+                "q05": float(band["gap_voltage_q05"][i]), "q95": float(band["gap_voltage_q95"][i])}
+
     def _sampling_summary(self) -> dict | None:
         """Hierarchical: the NUTS diagnostics (divergent transitions of all draws, the largest
         R-hat and the smallest ESS of μ and the spreads); None when pooled."""
@@ -275,15 +304,21 @@ class GapAnalysis:
         (why there is none although u is not determined) on the bayes row. Then one
         ``bayes_parameter`` row per parameter of the EDL model (`edl_parameters`): ``parameter``,
         ``value``, ``low``, ``high`` (posterior median, 90 % interval), ``unit`` (SI, the element's),
-        ``fit_value``, ``fit_stderr`` (the least-squares fit on the trial mean; added 2026-12-01)."""
+        ``fit_value``, ``fit_stderr`` (the least-squares fit on the trial mean; added 2026-12-01).
+        The bayes row also gives the gap voltage at the force maximum with EP
+        (`gap_voltage_at_force_max`: ``gap_voltage_v``, ``_low_v``, ``_high_v`` at
+        ``force_max_frequency_hz``; added 2026-12-01)."""
         p = self.paper
         c, g = self.c_gap, self.gap
         low, high = (p.gap_lower, p.gap_upper) if self.paper_has_bounds else (None, None)
+        v = self.gap_voltage_at_force_max() or dict.fromkeys(("frequency_hz", "value", "q05", "q95"))
         return [
             {"method": "bayes", "c_gap_f": c["value"], "c_gap_low_f": c["q05"], "c_gap_high_f": c["q95"], "u_m": g["value"], "u_low_m": g["q05"], "u_high_m": g["q95"],
-             "gap_identified": self.gap_identified, "u_lower_bound_m": self.gap_lower_bound, "u_lower_bound_withheld": self.gap_bound_withheld},
+             "gap_identified": self.gap_identified, "u_lower_bound_m": self.gap_lower_bound, "u_lower_bound_withheld": self.gap_bound_withheld,
+             "force_max_frequency_hz": v["frequency_hz"], "gap_voltage_v": v["value"], "gap_voltage_low_v": v["q05"], "gap_voltage_high_v": v["q95"]},
             {"method": "paper", "c_gap_f": p.c_gap, "c_gap_low_f": None, "c_gap_high_f": None, "u_m": p.gap, "u_low_m": low, "u_high_m": high,
-             "gap_identified": None, "u_lower_bound_m": None, "u_lower_bound_withheld": None},
+             "gap_identified": None, "u_lower_bound_m": None, "u_lower_bound_withheld": None,
+             "force_max_frequency_hz": None, "gap_voltage_v": None, "gap_voltage_low_v": None, "gap_voltage_high_v": None},
             *({"method": "bayes_parameter", "parameter": name, "value": q["value"], "low": q["q05"], "high": q["q95"], "unit": q["unit"],
                "fit_value": q["fit_value"], "fit_stderr": q["fit_stderr"]} for name, q in self.edl_parameters.items()),
         ]
@@ -312,10 +347,15 @@ class GapAnalysis:
             f"without EP: max {format_quantity(float(bare[j]), 'N')} at {format_frequency(float(bare['frequency'][j]))}",
             f"force bands     {FORCE_CONDITIONS} (A = {self.area:g} m²)",
         ]
+        voltages = [(what, self.gap_voltage_at_force_max(branch)) for what, branch in (("with EP", "with_ep"), ("without EP", "without_ep"))]
+        if all(v is not None for _, v in voltages):
+            lines.insert(-1, "gap voltage     |ΔV_gap| (amplitude) at each force maximum: " + "; ".join(
+                f"{what}: {_volts_with_interval(v)} at {format_frequency(v['frequency_hz'])}" for what, v in voltages))
         if self.trials:
             lines.append("spectra used    " + "; ".join(_trials_text(k, v) for k, v in self.trials.items()))
         if not self.gap_identified:
-            lines[0] = lines[0].replace("gap thickness u =", "sampled u (prior-set) =", 1).replace("90% credible interval", "90% interval of the draws, not of the gap", 1)
+            # (the range right after "not of the gap" read as the gap's: the range first, then what it is not)
+            lines[0] = re.sub(r"90% credible interval ([\d.]+–[\d.]+ µm)", r"90% interval of the draws: \1, set by the priors, not a range of the gap", lines[0].replace("gap thickness u =", "sampled u (prior-set) =", 1), count=1)
             if self.gap_lower_bound is not None:
                 lines.insert(0, (
                     f"GAP NOT DETERMINED: C_gap and the EP branch are seen only as their sum, so the data give only a LOWER BOUND u ≥ {self.gap_lower_bound * 1e6:.3f} µm "
@@ -401,6 +441,14 @@ class GapAnalysis:
         out["parameter_value"].attrs["description"] = "posterior median (hierarchical: of the population median); q05/q95 the 90 % interval; fit_* the least-squares fit on the trial mean"
         out["u_draws"] = ("draw", self.u_draws(), {"units": "m", "description": f"posterior draws of the gap thickness u, thinned evenly to at most {GAP_SAVED_DRAWS}"})
         return out
+
+
+def _volts_with_interval(q: Mapping[str, float]) -> str:
+    """``71.00 V (90%: 70.95–71.05 V)``: a voltage and its interval with decimals enough to tell
+    the interval's ends apart (two significant digits of its width, at least one decimal)."""
+    width = q["q95"] - q["q05"]
+    decimals = int(np.clip(1 - math.floor(math.log10(width) + 1e-9), 1, 6)) if width > 0 else 1
+    return f"{q['value']:.{decimals}f} V (90%: {q['q05']:.{decimals}f}–{q['q95']:.{decimals}f} V)"
 
 
 def _trials_text(name: str, used: dict) -> str:
@@ -534,19 +582,60 @@ def gap_analysis(
     bands = []
     for branch, model in (("with_ep", str(circuit)), ("without_ep", "C_gap")):
         q = posterior.derive(lambda p, f, m=model: gap_force_peak(p, f, z_skin, z_ts, area=area, v0=v0, remainder=m, eps_gap=eps_gap), freq)
-        bands.append(xr.Dataset({k: ("frequency", np.asarray(q[k].values)) for k in ("median", "q05", "q95")}, coords={"frequency": freq}))
-    force = xr.concat(bands, dim=xr.DataArray(["with_ep", "without_ep"], dims="branch"))
-    force["median"].attrs.update(units="N", convention=FORCE_CONVENTION)
+        v = posterior.derive(lambda p, f, m=model: _gap_voltage_amplitude(p, f, z_skin, z_ts, v0=v0, remainder=m), freq)  # (the same draws as the force)
+        bands.append(_band_dataset(q, v, freq))
+    force = _branches(bands)
     u_draws = posterior.parameter_draws()["u"]
     notes += _bound_notes(u_draws, reparametrization, area)
     notes += _gap_breakdown_notes(force, float(np.median(u_draws)), area, eps_gap)
-    notes += [f"EDL fit: {w}" for w in edl.warnings] + [f"sampling: {w}" for w in posterior.warnings if not w.startswith("least-squares start")]
+    sampled = [w for w in posterior.warnings if not w.startswith("least-squares start")]
+    notes += [f"EDL fit: {w}" for w in edl.warnings] + [f"sampling: {w}" for w in _correlation_advice(sampled, posterior.parameter_draws(), circuit)]
     notes += _estimate_bound_notes("Bayesian gap thickness", float(np.median(u_draws)), paper, remaining, f"; draws span {_um(u_draws.min())}–{_um(u_draws.max())} µm")
     known_kk: dict[int, float] = {}
     lower, withheld = _identification(ep, str(requested), circuit, posterior.parameter_draws(), edl, posterior.piled_up, notes, remaining, area, eps_gap, known_kk)
     misfit = _misfit_text(edl, remaining, known_kk)
     used = {"eps_gap": eps_gap, "cutoff_hz": cutoff_hz, "seed": seed, "steps": posterior.settings.get("steps"), "steps_requested": steps, "walkers": posterior.settings.get("walkers", posterior.n_walkers)}
     return GapAnalysis(remaining, paper, naive, edl, posterior, force, area, v0, ep, tuple(notes), model_requested=str(requested), trials=trials, gap_lower_bound=lower, gap_bound_withheld=withheld, edl_misfit=misfit, settings=used)
+
+
+_CORRELATION_RE = re.compile(r"^(?P<a>\S+) and (?P<b>\S+) are strongly correlated in the posterior .*; " + re.escape(CORRELATION_ADVICE) + "$")
+U_CORRELATION_MATTERS = 0.25
+"""A pair of correlated parameters matters to u when knowing either exactly would narrow u's
+interval by this share or more: 1 − √(1 − r²) ≥ 0.25, |r| ≥ 0.66 between u and it (the
+conditional sd of a Gaussian; on the walkthrough's SYNTHETIC set, r = −0.42 for R_EP predicted
+9 %, and R_EP fixed at its median narrowed the interval by 11 %)."""
+
+
+def _correlation_advice(warnings, draws: Mapping[str, np.ndarray], circuit) -> list[str]:
+    """``warnings`` of the pooled sampling with the advice of each correlation warning
+    (`CORRELATION_ADVICE`: ``--fix``, ``--prior``, options ``impedax gap`` does not have) replaced
+    by what it means for u and what a user of the gap analysis can do: u's correlation r with
+    each of the pair (in log space) and how much knowing it would narrow u's interval,
+    1 − √(1 − r²) (`U_CORRELATION_MATTERS`), and the Python call that fixes one."""
+    u = np.log(np.asarray(draws["u"], float))
+    q05, q50, q95 = np.exp(np.quantile(u, [0.05, 0.5, 0.95]))
+    out = []
+    for w in warnings:
+        pair = _CORRELATION_RE.match(w)
+        if pair is None or "u" in (pair["a"], pair["b"]) or not all(n in draws for n in (pair["a"], pair["b"])):
+            out.append(w)
+            continue
+        rs = {}
+        for name in (pair["a"], pair["b"]):
+            x = np.asarray(draws[name], float)
+            x = np.log(x) if np.all(x > 0) else x
+            rs[name] = float(np.corrcoef(u, x)[0, 1]) if np.std(x) > 0 and np.std(u) > 0 else 0.0
+        narrowing = 1.0 - math.sqrt(1.0 - min(1.0, max(r * r for r in rs.values())))
+        correlations = " and ".join(f"{r:+.2f} with {n}" for n, r in rs.items())
+        verdict = ("this matters little to u" if narrowing < U_CORRELATION_MATTERS else "this widens u's interval") + (
+            f": u's interval {_um(q05)}–{_um(q95)} µm (±{(q95 - q05) / (2 * q50):.2%}) already carries it, u's correlation (log space) is {correlations}, "
+            f"so knowing either exactly would narrow it by at most {narrowing:.0%} (√(1 − r²))"
+        )
+        out.append(
+            w[: -len(CORRELATION_ADVICE)] + verdict + "; impedax gap has no --fix or --prior: in Python, fix one in the EDL fit the pooled sampling starts from, "
+            f"ix.models.gap_analysis(total, skin, touchscreen, area=…, method='pooled', edl_fit=ix.fit('{circuit}', ix.models.remaining_impedance(total, skin, touchscreen), fixed={{'{pair['a']}': …}}))"
+        )
+    return out
 
 
 def _um(length_m: float) -> str:
@@ -879,11 +968,33 @@ def _force_bands(param_draws: dict, freq, z_skin, z_ts, circuit, *, area, v0, ep
     bands = []
     for model in (str(circuit), "C_gap"):
         fn = jax.jit(jax.vmap(lambda p, m=model: gap_force_peak(p, jnp.asarray(freq), z_skin, z_ts, area=area, v0=v0, remainder=m, eps_gap=eps_gap)))
-        values = np.asarray(fn(draws))
-        q05, q50, q95 = np.quantile(values, [0.05, 0.5, 0.95], axis=0)
-        bands.append(xr.Dataset({"median": ("frequency", q50), "q05": ("frequency", q05), "q95": ("frequency", q95)}, coords={"frequency": freq}))
+        volts = jax.jit(jax.vmap(lambda p, m=model: _gap_voltage_amplitude(p, jnp.asarray(freq), z_skin, z_ts, v0=v0, remainder=m)))
+        quantiles = [dict(zip(("q05", "median", "q95"), np.quantile(np.asarray(g(draws)), [0.05, 0.5, 0.95], axis=0))) for g in (fn, volts)]
+        bands.append(_band_dataset(*quantiles, freq))
+    return _branches(bands)
+
+
+def _gap_voltage_amplitude(params, freq, z_skin, z_ts, *, v0, remainder):
+    """|ΔV_gap| [V], the amplitude of the voltage across C_gap (`gap_voltage`); pure JAX."""
+    import jax.numpy as jnp
+
+    return jnp.abs(gap_voltage(params, freq, z_skin, z_ts, v0=v0, remainder=remainder))
+
+
+def _band_dataset(force, voltage, freq) -> xr.Dataset:
+    """One branch's bands over ``frequency``: the force's ``median``, ``q05``, ``q95`` [N] and the
+    gap voltage's ``gap_voltage_median``, ``_q05``, ``_q95`` [V] (mappings of those quantiles)."""
+    data = {k: ("frequency", np.asarray(force[k], float)) for k in ("median", "q05", "q95")}
+    data.update({f"gap_voltage_{k}": ("frequency", np.asarray(voltage[k], float)) for k in ("median", "q05", "q95")})
+    return xr.Dataset(data, coords={"frequency": freq})
+
+
+def _branches(bands) -> xr.Dataset:
+    """The with-EP and without-EP bands (`_band_dataset`) over ``branch``, with their units."""
     force = xr.concat(bands, dim=xr.DataArray(["with_ep", "without_ep"], dims="branch"))
     force["median"].attrs.update(units="N", convention=FORCE_CONVENTION)
+    for k in ("median", "q05", "q95"):
+        force[f"gap_voltage_{k}"].attrs.update(units="V", description="amplitude |ΔV_gap| of the voltage across C_gap for a drive of amplitude v0 (Sirin §2.4)")
     return force
 
 

@@ -82,7 +82,7 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None, figsize: tuple[floa
     ax = axes[2]
     unit = _force_bands(ax, gap.force, ep_label="with EP branch", scale="semilogx", alpha=0.2, suffix="median, 90% band")
     ax.set(xlabel="frequency [Hz]", ylabel=f"peak force F_e [{unit}]", title=f"electrostatic force, V0 = {gap.v0:g} V (Sirin eq 1, peak)")
-    ax.legend(fontsize=font_size("legend", 7))
+    _legend(ax, _gap_voltage_axis(ax, gap.force), font_size("legend", 7))
     for a in axes:
         a.grid(alpha=0.3, which="both")
     return fig
@@ -113,6 +113,29 @@ def _force_bands(ax, force, *, ep_label: str, scale: str, alpha: float, suffix: 
     return unit
 
 
+def _gap_voltage_axis(ax, force):
+    """The gap voltage's amplitude |ΔV_gap| [V] (medians, dotted, with and without the EP branch)
+    on a twin axis at the right of the force axis ``ax``; None when ``force`` has no gap voltage."""
+    if "gap_voltage_median" not in force:
+        return None
+    twin = ax.twinx()
+    ff = force["frequency"].values
+    for branch, color, label in (("with_ep", "tab:blue", "with EP"), ("without_ep", "tab:red", "without EP")):
+        twin.plot(ff, force.sel(branch=branch)["gap_voltage_median"].values, ":", color=color, lw=1.5, label=f"gap voltage |ΔV_gap| {label} (median, right axis)")
+    twin.set_ylabel("gap voltage |ΔV_gap| [V] (amplitude, dotted)")
+    twin.set_ylim(bottom=0)
+    return twin
+
+
+def _legend(ax, twin, size) -> None:
+    """One legend on ``ax`` for its curves and those of its twin axis (if any)."""
+    handles, labels = ax.get_legend_handles_labels()
+    if twin is not None:
+        more = twin.get_legend_handles_labels()
+        handles, labels = handles + more[0], labels + more[1]
+    ax.legend(handles, labels, fontsize=size)
+
+
 def plot_force_bands(gap):
     """The force on the finger with and without the EP branch, median and 90 % bands, for a
     `GapAnalysis` (the demo's last figure)."""
@@ -122,7 +145,7 @@ def plot_force_bands(gap):
     unit = _force_bands(ax, gap.force, ep_label="with electrode polarization (refined model)", scale="loglog", alpha=0.25, suffix="median and 90% band")
     ax.set(xlabel="frequency [Hz]", ylabel=f"electrostatic force [{unit}] (peak, Sirin eq 1)", title=f"Force on the finger for V0 = {gap.v0:g} V (Sirin Fig 2f story; SYNTHETIC data)")
     ax.grid(alpha=0.3, which="both")
-    ax.legend(fontsize=font_size("legend", 8))
+    _legend(ax, _gap_voltage_axis(ax, gap.force), font_size("legend", 8))
     return fig
 
 

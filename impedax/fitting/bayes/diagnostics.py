@@ -17,7 +17,7 @@ from ..reductions import reducing_bounds
 
 __all__ = [
     "CHAIN_TAU_MULTIPLE", "ACCEPTANCE_STUCK", "GAUSSIAN_ACCEPTANCE", "CORRELATION_WARNING", "EDGE_BAND", "EDGE_DENSITY", "EDGE_MIN_DRAWS",
-    "INTERVAL_RATIO_WARNING", "integrated_autocorr", "flat_acceptance", "acceptance_ceiling", "hdi", "chain_warnings", "PriorEdges", "prior_edges", "reducing_bounds", "user_bound_sides", "PiledUp",
+    "INTERVAL_RATIO_WARNING", "CORRELATION_ADVICE", "integrated_autocorr", "flat_acceptance", "acceptance_ceiling", "hdi", "chain_warnings", "PriorEdges", "prior_edges", "reducing_bounds", "user_bound_sides", "PiledUp",
     "acceptance_warnings", "interval_warnings", "figure", "STRAGGLER_LOG_PROB_GAP", "Stragglers", "NO_STRAGGLERS", "find_stragglers", "straggler_warnings", "walkers_text", "kept_walkers",
 ]
 
@@ -28,6 +28,9 @@ GAUSSIAN_ACCEPTANCE = (0.807, 0.716, 0.647, 0.594, 0.551, 0.516, 0.486, 0.460, 0
 d = 1…15, measured with emcee (docs/bayesian.md, "Acceptance"): the same for correlated and
 uncorrelated Gaussians (the move is affine-invariant) and for 2d + 2 walkers."""
 CORRELATION_WARNING = 0.9
+CORRELATION_ADVICE = "fix one or give it an informative prior"
+"""The end of the correlation warning of `chain_warnings`: what `impedax sample` (``--fix``,
+``--prior``) can do; a caller without those options (`impedax gap`) replaces it with its own."""
 EDGE_BAND = 0.02  # the outer 2 % of a prior's range (in its own coordinate) ...
 EDGE_DENSITY = 0.5  # ... holding draws at least half as dense as over their central 90 %: piled up
 EDGE_MIN_DRAWS = 20  # fewer draws in the band than this say nothing
@@ -289,7 +292,7 @@ def chain_warnings(
                     space = "log " if log_scale[i] and log_scale[j] else ""
                     out.append(
                         f"{names[i]} and {names[j]} are strongly correlated in the posterior (r = {corr[i, j]:+.3f} in {space}space): "
-                        "the data constrain a combination of them; fix one or give it an informative prior"
+                        f"the data constrain a combination of them; {CORRELATION_ADVICE}"
                     )
     return out
 

@@ -530,6 +530,17 @@ def _compiled_sampler(lay: _Layout, session_scale: float, target_accept: float, 
     return _Sampler(program, state_of, jax.sharding.NamedSharding(mesh, spread))
 
 
+def _first_metric_step(warmup: int) -> int:
+    """The warm-up steps done when the mass matrix is first adapted (the end of the first slow
+    window of Stan's schedule, `blackjax`'s ``build_schedule``: 100 of 400 steps, 90 of 100); 0
+    when ``warmup`` has no such window. Before it NUTS runs with the identity metric and takes long
+    trajectories: the steps the progress line's time left leaves out (`ProgressLine` ``settle``)."""
+    from blackjax.adaptation.staged_adaptation import build_schedule
+
+    ends = np.flatnonzero(np.asarray(build_schedule(warmup))[:, 1]) if warmup > 0 else np.array([], int)
+    return int(ends[0]) + 1 if ends.size else 0
+
+
 def _run_blocks(block, total: int, phases: _Phases, offset: int) -> None:
     """Run ``total`` steps as calls ``block(begin, end)`` of growing blocks (`BLOCK_SECONDS`),
     the progress line advancing to ``offset + end`` after each."""
@@ -1141,7 +1152,7 @@ def sample_hierarchical(
     )
     keys = jax.random.split(jax.random.PRNGKey(seed), chains)
     announce(f"hierarchical: tracing and compiling the sampler ({chains} chains; 30–70 s the first time, a few seconds once JAX's persistent cache holds it) …", progress)
-    bar = ProgressLine(int(warmup) + int(draws), progress, label=f"impedax hierarchical ({chains} chains, warm-up {warmup} + draws {draws})")
+    bar = ProgressLine(int(warmup) + int(draws), progress, label=f"impedax hierarchical ({chains} chains, warm-up {warmup} + draws {draws})", settle=_first_metric_step(int(warmup)))
     phases = _Phases(bar, int(warmup), int(draws))
     try:
         positions, divergent, n_steps, accept, step_size = _sample(lay, dat, init_pos, keys, float(session_spread_scale), int(warmup), int(draws), float(target_accept), _chain_devices(int(chains)), phases)
