@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import decimal
+import functools
 import json
 import math
 import os
@@ -1321,14 +1322,14 @@ def check_memory(flag: str, needed_bytes: float, what: str) -> None:
         )
 
 
-def print_result(result, as_json: bool, source: str | None = None, provenance: Mapping | None = None, **report_options) -> None:
+def print_result(result, as_json: bool, source: str | None = None, provenance: Mapping | None = None, *, command: str | None = None, **report_options) -> None:
     """``result.summary()`` as JSON (with ``source`` and ``provenance``, `with_source`), or
-    ``result.report(**report_options)`` as text (in the command line's words:
+    ``result.report(**report_options)`` as text (in the words of ``impedax command``:
     `command_line_words`)."""
     if as_json:
         emit_json(with_source(result.summary(), source, provenance))
     else:
-        print(command_line_words(result.report(**report_options)))
+        print(command_line_words(result.report(**report_options), command))
 
 
 # the Python keywords that messages of the fitting code name, and the options that set them on
@@ -1336,17 +1337,22 @@ def print_result(result, as_json: bool, source: str | None = None, provenance: M
 _OPTION_OF_KEYWORD = {"max_steps": "--max-steps"}
 
 
-# phrases of the fitting code's messages that name a Python call, and what the command line
-# says instead (`impedax refine` prints the command after its report: cli/refine.py)
-_PHRASE_OF_CALL = {
-    "(pass init=)": "(impedax fit --init NAME=VALUE …: the command is printed last)",
-    "(bounds=)": "(--bound)",
-    "leave them out (fmin/fmax)": "leave them out (--fmin/--fmax)",
-    "e.g. --noise 1% (noise=0.01)": "e.g. --noise 1%",
+# phrases of the fitting code's messages that name a Python call, what the command line says
+# instead, and the options of the command those words name: a command without one of them keeps
+# the Python words (`impedax gap` has no --bound)
+_PHRASE_OF_CALL: dict[str, tuple[str, tuple[str, ...]]] = {
+    "(bounds=)": ("(--bound)", ("--bound",)),
+    "leave them out (fmin/fmax)": ("leave them out (--fmin/--fmax)", ("--fmin", "--fmax")),
+    "e.g. --noise 1% (noise=0.01)": ("e.g. --noise 1%", ("--noise",)),
     # (a large batch's report: `least_squares.batch.EACH_SPECTRUM_WHERE`)
     "batch.to_table() or ix.write_result(batch, 'FILE.csv') (a row per spectrum and parameter), batch.summary()['spectra']":
-        "--out FILE.csv (a row per spectrum and parameter) or --json (\"spectra\")",
+        ("--out FILE.csv (a row per spectrum and parameter) or --json (\"spectra\")", ("--out", "--json")),
 }
+
+# a refinement's note on a start from earlier values (`refinement.py`), which `impedax refine`
+# turns into the `impedax fit --init` command it prints after its report (cli/refine.py)
+_INIT_PHRASE = ("(pass init=)", "(impedax fit --init NAME=VALUE …: the command is printed last)")
+_COMMANDS_PRINTING_FIT_COMMAND = ("refine",)
 
 # a fixed value named as Python's keyword (``fixed={'C_i': VALUE}``, diagnose's note on
 # parameters not separately determined: `diagnosis.unidentified_note`), which the command line
@@ -1358,13 +1364,41 @@ _FIXED_KEYWORD = re.compile(r"fixed=\{'([^']+)': VALUE\}")
 _WEIGHTING_KEYWORD = re.compile(r"(?<![\w.-])weighting=(['\"])(unit|modulus|proportional|sigma)\1")
 
 
-def _phrased(text: str, *, weighting: bool = True) -> str:
-    """``text`` with `_PHRASE_OF_CALL`'s phrases in the command line's words and, where the
-    command takes --weighting (``weighting``), ``weighting='NAME'`` as ``--weighting NAME``."""
-    for phrase, words in _PHRASE_OF_CALL.items():
-        text = text.replace(phrase, words)
-    text = _FIXED_KEYWORD.sub(r"--fix \1=VALUE", text)
-    return _WEIGHTING_KEYWORD.sub(r"--weighting \2", text) if weighting else text
+def command_options(command: str) -> frozenset[str]:
+    """The option strings ``impedax command`` accepts (``--weighting``, ``-h``, ...), read from
+    its argparse parser (`impedax.cli.build_parser`)."""
+    return _command_options(command)
+
+
+@functools.lru_cache(maxsize=None)
+def _command_options(command: str) -> frozenset[str]:
+    import argparse
+
+    from . import build_parser
+
+    parser = build_parser(command)
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction)).choices[command]
+    return frozenset(s for action in sub._actions for s in action.option_strings)
+
+
+def _phrased(text: str, command: str | None = None) -> str:
+    """``text`` with the Python calls and keywords it names (`_PHRASE_OF_CALL`, ``fixed={'C_i':
+    VALUE}``, ``weighting='NAME'``) in the words of ``impedax command``, each only where that
+    command has the options the words name (`command_options`): ``impedax gap``, which has no
+    --weighting, keeps ``weighting='modulus'``. ``command`` None: every translation."""
+    options = None if command is None else command_options(command)
+
+    def has(*flags: str) -> bool:
+        return options is None or all(f in options for f in flags)
+
+    for phrase, (words, flags) in _PHRASE_OF_CALL.items():
+        if has(*flags):
+            text = text.replace(phrase, words)
+    if command is None or command in _COMMANDS_PRINTING_FIT_COMMAND:
+        text = text.replace(*_INIT_PHRASE)
+    if has("--fix"):
+        text = _FIXED_KEYWORD.sub(r"--fix \1=VALUE", text)
+    return _WEIGHTING_KEYWORD.sub(r"--weighting \2", text) if has("--weighting") else text
 
 
 # per command, the Python keywords whose names the errors of the functions it calls start
@@ -1408,16 +1442,21 @@ def option_words(command: str, error: Exception) -> str:
     band = "|".join(k for k in ("fmin", "fmax") if k in keywords) or "(?!)"
     valued = re.compile(r"(?<![\w.'\"/-])(" + band + r")(?= = )")
     text = valued.sub(lambda m: keywords[m.group(1)], leading.sub(lambda m: keywords[m.group(1)], text))
-    return head + _phrased(text, weighting="weighting" in keywords)
+    return head + _phrased(text, command)
 
 
-def command_line_words(text: str) -> str:
-    """``text`` with the Python keywords it names replaced by their command-line options
-    (``raise max_steps`` → ``raise --max-steps``, ``(pass init=)`` → the ``impedax fit --init``
-    command, ``weighting='modulus'`` → ``--weighting modulus``: `_phrased`)."""
+def command_line_words(text: str, command: str | None = None) -> str:
+    """``text`` with the Python keywords it names replaced by the options of ``impedax
+    command`` that set them (``raise max_steps`` → ``raise --max-steps``, ``(pass init=)`` →
+    the ``impedax fit --init`` command, ``weighting='modulus'`` → ``--weighting modulus``:
+    `_phrased`); a keyword the command has no option for keeps its Python words (``impedax
+    gap`` has neither --max-steps nor --weighting; until 2026-12-01 its report said "consider
+    --weighting modulus", an option it refuses). ``command`` None: every translation."""
+    options = None if command is None else command_options(command)
     for keyword, option in _OPTION_OF_KEYWORD.items():
-        text = re.sub(rf"(?<![\w-]){keyword}\b", option, text)
-    return _phrased(text)
+        if options is None or option in options:
+            text = re.sub(rf"(?<![\w-]){keyword}\b", option, text)
+    return _phrased(text, command)
 
 
 # --- progress of long runs ----------------------------------------------------------------------

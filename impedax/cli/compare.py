@@ -149,13 +149,13 @@ def warning_lines(comparison) -> list[str]:
     lines = []
     if common:
         lines.append(f"  every model: {len(common)} warning(s)")
-        lines += [f"    - {command_line_words(w)}" for w in common]
+        lines += [f"    - {command_line_words(w, 'compare')}" for w in common]
     for i, (r, own) in enumerate(zip(comparison.fits, own_of)):
         if not own:
             continue
         best = " (best by AIC)" if i == comparison.best_index else ""
         lines.append(f"  {r.model}{best}: {len(own)} warning(s)" + (" besides those of every model" if common else ""))
-        lines += [f"    - {command_line_words(w)}" for w in own[:WARNINGS_SHOWN]]
+        lines += [f"    - {command_line_words(w, 'compare')}" for w in own[:WARNINGS_SHOWN]]
         if len(own) > WARNINGS_SHOWN:
             lines.append(f"    ... and {len(own) - WARNINGS_SHOWN} more (--json lists them all)")
     return ["", "warnings:", *lines] if lines else []

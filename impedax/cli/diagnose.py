@@ -104,5 +104,5 @@ def run(args) -> int:
     record = command_provenance(args, source=source, data_files=[args.data])
     outputs.save({"--out": result_writer(result, source, record), "--plot": figure_writer(result.plot, source, **figure_options(args))})
     if not outputs.uses_stdout:
-        print_result(result, args.json, source, record, fit_command=fit_command(args, kept=result.baseline.frequency, masked=result.masked_points, data=data))
+        print_result(result, args.json, source, record, command="diagnose", fit_command=fit_command(args, kept=result.baseline.frequency, masked=result.masked_points, data=data))
     return 0

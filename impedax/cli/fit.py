@@ -153,7 +153,7 @@ def run(args) -> int:
     record = command_provenance(args, source=source, data_files=[args.data])
     outputs.save({"--out": latex_writer(result) if latex else result_writer(result, source, record), "--plot": figure_writer(result.plot if plot_params is None else lambda: result.plot(params=plot_params), source, **figure_options(args))})
     if not outputs.uses_stdout:
-        print_result(result, args.json, source, record)  # (a batch's report groups its warnings by kind, naming the spectra)
+        print_result(result, args.json, source, record, command="fit")  # (a batch's report groups its warnings by kind, naming the spectra)
     if isinstance(result, FitResult) and not result.converged:  # (the report's status line says it; stderr too, as with --json)
-        print(f"impedax fit: warning: the fit did not converge: {command_line_words(result.message)}", file=sys.stderr)
+        print(f"impedax fit: warning: the fit did not converge: {command_line_words(result.message, 'fit')}", file=sys.stderr)
     return 0

@@ -90,7 +90,7 @@ def run(args) -> int:
     record = command_provenance(args, source=paths, data_files=list(paths.values()), **{f"{k}_used": v for k, v in (getattr(result, "settings", None) or {}).items()})
     outputs.save({"--out": result_writer(result, provenance=record), "--plot": figure_writer(result.plot, **figure_options(args)), "--remaining": spectrum_writer(lambda: remainder_with_paths(result.remaining, paths), record, args.remaining)})
     if not outputs.uses_stdout:
-        print_result(result, args.json, provenance=record)
+        print_result(result, args.json, provenance=record, command="gap")
     if result.warnings and args.json:
         print(f"impedax gap: {len(result.warnings)} warning(s), see the JSON 'warnings'", file=sys.stderr)
     return 0

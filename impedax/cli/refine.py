@@ -54,7 +54,7 @@ def run(args) -> int:
     record = command_provenance(args, source=source, data_files=[args.data])
     outputs.save({"--out": result_writer(result, source, record), "--plot": figure_writer(result.plot, source, **figure_options(args))})
     if not outputs.uses_stdout:
-        print_result(result, args.json, source, record)
+        print_result(result, args.json, source, record, command="refine")
         line = reproduce_line(result, args, data)
         if line and not args.json:
             print(line)

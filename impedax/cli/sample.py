@@ -164,7 +164,7 @@ def run(args) -> int:
     record = command_provenance(args, source=source, data_files=[args.data], **settled)
     outputs.save({"--out": result_writer(posterior, source, record), "--corner": figure_writer(lambda: posterior.corner(), source, **figure_options(args)), "--plot": figure_writer(lambda: posterior.plot(), source, **figure_options(args))})
     if not outputs.uses_stdout:
-        print_result(posterior, args.json, source, record)
+        print_result(posterior, args.json, source, record, command="sample")
     if not args.json:
         if not args.quiet and posterior.warnings:
             print(f"impedax sample: {len(posterior.warnings)} warning(s); see the report", file=sys.stderr)
