@@ -731,17 +731,33 @@ def _drive_voltage_notes(v0: float) -> list[str]:
 
 
 def _gap_breakdown_notes(force: xr.Dataset, u: float, area: float, eps_gap: float) -> list[str]:
-    """A warning when the air gap's voltage at the peak of the median force (with EP), V_gap =
-    u √(2F/(ε0 ε_gap A)) (eq 1 solved for it), exceeds `AIR_BREAKDOWN_V`: such a gap breaks down."""
-    peak = force.sel(branch="with_ep")["median"]
+    """A warning when the amplitude of the air gap's voltage |ΔV_gap| at the peak of the median
+    force (with EP) exceeds `AIR_BREAKDOWN_V`, air's Paschen minimum: such a gap breaks down. Read
+    from the force's gap-voltage band (``gap_voltage_median``, ``_q05``, ``_q95``: the same draws
+    as the force, Sirin §2.4's node voltages), so the warning also comes when only the upper end
+    of the 90 % interval crosses the threshold (the posterior puts more than 5 % on a spark). A
+    band without the gap voltage gives the median alone, from eq 1 solved for it:
+    V_gap = u √(2F/(ε0 ε_gap A)) with ``u`` the median gap [m]."""
+    band = force.sel(branch="with_ep")
+    peak = band["median"]
     i = int(np.argmax(peak.values))
-    v_gap = u * math.sqrt(2.0 * float(peak[i]) / (EPSILON_0 * eps_gap * area))
-    if not v_gap > AIR_BREAKDOWN_V:
-        return []
-    return [
-        f"at the force's peak ({format_frequency(float(peak['frequency'][i]))}) the air gap carries {v_gap:.3g} V across u = {u * 1e6:.3g} µm, above the "
-        f"~{AIR_BREAKDOWN_V:g} V at which air breaks down (Paschen minimum, 1 atm): the gap would spark, which eq 1's force does not model; check --v0 (Python: v0)"
-    ]
+    if "gap_voltage_median" in band:
+        v_median, v_low, v_high = (float(band[f"gap_voltage_{k}"][i]) for k in ("median", "q05", "q95"))
+    else:
+        v_median = u * math.sqrt(2.0 * float(peak[i]) / (EPSILON_0 * eps_gap * area))
+        v_low = v_high = math.nan
+    where = f"at the force's peak ({format_frequency(float(peak['frequency'][i]))}) the air gap carries {v_median:.3g} V"
+    interval = f" (90% interval {v_low:.3g}–{v_high:.3g} V)" if math.isfinite(v_high) else ""
+    threshold = f"the ~{AIR_BREAKDOWN_V:g} V at which air breaks down (Paschen minimum, 1 atm)"
+    unmodelled = "which eq 1's force does not model; check --v0 (Python: v0)"
+    if v_median > AIR_BREAKDOWN_V:
+        return [f"{where}{interval} across u = {u * 1e6:.3g} µm, above {threshold}: the gap would spark, {unmodelled}"]
+    if v_high > AIR_BREAKDOWN_V:
+        return [
+            f"{where}{interval} across u = {u * 1e6:.3g} µm: the median is below {threshold}, but the upper end of the 90% interval "
+            f"({v_high:.3g} V) is above it: the gap may spark (more than 5% of the posterior), {unmodelled}"
+        ]
+    return []
 
 
 def _merged_capacitors_note() -> str:
