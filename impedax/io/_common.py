@@ -26,7 +26,7 @@ from ..errors import DataError
 __all__ = [
     "UNIT_CELL", "MAX_FILE_BYTES", "MAX_FILE_BYTES_ENV", "max_file_bytes", "check_file", "read_bytes", "read_text", "decode_text", "head_text", "number",
     "Skipped", "finish", "first_line", "stack", "merged_attrs", "unit_scale", "split_header_cell", "decimal_comma",
-    "check_field_count", "CUT_SHORT",
+    "check_field_count", "CUT_SHORT", "cut_last_line",
 ]
 
 #: Largest file a reader reads whole (checked before reading). Instrument exports are
@@ -208,6 +208,12 @@ def decimal_comma(cells: Sequence[str], delimiter: str | None) -> bool:
 
 CUT_SHORT = "the file ends without a line end, as a file cut short does (copied before it was complete?): copy it again, or delete the line"
 """What a refusal of a last row adds when the file ends without a line end."""
+
+
+def cut_last_line(text: str, lines: Sequence[str]) -> int | None:
+    """The line number (1-based) of the last of ``lines`` (``text.splitlines()``) when ``text``
+    ends without a line end, as a file cut short while copied does; None when it ends with one."""
+    return len(lines) if lines and text and not text.endswith(("\n", "\r")) else None
 
 
 def check_field_count(cells: Sequence[str], n_fields: int, path: Path, line: int | None, *, where: str = "", last_of_cut_file: bool = False) -> None:
