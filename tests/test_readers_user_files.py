@@ -460,3 +460,74 @@ def test_an_ivium_table_cut_short_at_the_end_says_so(tmp_path):
     with pytest.raises(DataError, match=r"line 17: 2 fields, expected Z', Z'', f") as info:
         ix.load(path)
     assert CUT_SHORT in str(info.value)
+
+
+# --- inspect names the columns it read: sigma's, and every role's in --json "columns" --------
+
+
+def _entry(column, unit, scale=1.0, negated=False):
+    return {"column": column, "unit": unit, "scale": scale, "negated": negated}
+
+
+def test_inspect_names_the_sigma_column_and_maps_each_column_to_its_role(tmp_path, capsys):
+    # SYNTHETIC: the spectrum above in kHz and kOhm, -Z'' stored, sigma = 1 % of |Z| in Ohm
+    sigma = 0.01 * np.abs(Z)
+    rows = [f"{f / 1e3:.17g};{z.real / 1e3:.17g};{-z.imag / 1e3:.17g};{s:.17g}" for f, z, s in zip(FREQ, Z, sigma)]
+    path = tmp_path / "kohm.csv"
+    path.write_text("Frequency (kHz);Z' (kOhm);-Z'' (kOhm);sigma (Ohm)\n" + "\n".join(rows) + "\n", encoding="utf-8")
+    ds = ix.load(path)
+    np.testing.assert_allclose(ds["Z"].values, Z, rtol=1e-12)
+    np.testing.assert_allclose(ds["sigma"].values, sigma, rtol=1e-12)
+    assert main(["inspect", str(path)]) == 0
+    text = capsys.readouterr().out
+    assert f"sigma: a standard deviation of Z per point, {sigma.min():.3g}–{sigma.max():.3g} Ω, from column 'sigma (Ohm)' (" in text
+    assert main(["inspect", str(path), "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["columns"] == {
+        "frequency": _entry("Frequency (kHz)", "kHz", 1000.0),
+        "z_real": _entry("Z' (kOhm)", "kOhm", 1000.0),
+        "z_imag": _entry("-Z'' (kOhm)", "kOhm", 1000.0, negated=True),
+        "sigma": _entry("sigma (Ohm)", "Ohm"),
+    }
+    # the free-text key stays as it was (JSON keys are a public contract)
+    assert summary["units"] == "columns used (scaled to Hz, Ω, degrees): 'Frequency (kHz)' ×1000, \"Z' (kOhm)\" ×1000, \"-Z'' (kOhm)\" ×1000"
+    # a netCDF file saved from it keeps the record of the columns its data were first read from
+    saved = tmp_path / "kohm.nc"
+    ix.save(ds, saved)
+    assert main(["inspect", str(saved), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["columns"] == summary["columns"]
+
+
+def test_inspect_columns_of_an_instrument_file_polar_columns_and_omega(tmp_path, capsys):
+    # Gamry: names from its column row, units from its units row
+    path = tmp_path / "g.DTA"
+    path.write_text(_gamry(_gamry_rows()), encoding="latin-1")
+    assert main(["inspect", str(path), "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["columns"] == {"frequency": _entry("Freq", "Hz"), "z_real": _entry("Zreal", "ohm"), "z_imag": _entry("Zimag", "ohm")}
+    assert not summary["has_sigma"] and "sigma" not in capsys.readouterr().out
+    # SYNTHETIC: |Z| with -phase in radians beside an angular frequency in rad/s; no sigma column
+    omega = 2 * np.pi * FREQ
+    rows = [f"{w:.17g},{abs(z):.17g},{-np.angle(z):.17g}" for w, z in zip(omega, Z)]
+    path = tmp_path / "polar.csv"
+    path.write_text("omega (rad/s),|Z| (Ohm),-phase (rad)\n" + "\n".join(rows) + "\n", encoding="utf-8")
+    np.testing.assert_allclose(ix.load(path)["Z"].values, Z, rtol=1e-12)
+    assert main(["inspect", str(path), "--json"]) == 0
+    columns = json.loads(capsys.readouterr().out)["columns"]
+    assert columns == {
+        "frequency": _entry("omega (rad/s)", "rad/s", pytest.approx(1 / (2 * np.pi), rel=1e-15)),
+        "z_modulus": _entry("|Z| (Ohm)", "Ohm"),
+        "z_phase": _entry("-phase (rad)", "rad", pytest.approx(180 / np.pi, rel=1e-15), negated=True),
+    }
+    assert main(["inspect", str(path)]) == 0
+    assert "sigma" not in capsys.readouterr().out
+
+
+def test_biologic_records_its_negated_imaginary_column(tmp_path):
+    head, cells, delimiter, _ = _CUT_LAYOUTS["biologic.mpt"]
+    path = tmp_path / "b.mpt"
+    path.write_text("\n".join(head + [delimiter.join(cells(f, z, k)) for k, (f, z) in enumerate(zip(FREQ, Z))]) + "\n", encoding="utf-8")
+    ds = ix.load(path)
+    np.testing.assert_allclose(ds["Z"].values, Z, rtol=1e-6)
+    assert ds.attrs["columns"] == {"frequency": _entry("freq/Hz", "Hz"), "z_real": _entry("Re(Z)/Ohm", "Ohm"),
+                                   "z_imag": _entry("-Im(Z)/Ohm", "Ohm", negated=True)}

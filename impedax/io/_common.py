@@ -26,7 +26,7 @@ from ..errors import DataError
 __all__ = [
     "UNIT_CELL", "MAX_FILE_BYTES", "MAX_FILE_BYTES_ENV", "max_file_bytes", "check_file", "read_bytes", "read_text", "decode_text", "head_text", "number",
     "Skipped", "finish", "first_line", "stack", "merged_attrs", "unit_scale", "split_header_cell", "decimal_comma",
-    "check_field_count", "CUT_SHORT", "cut_last_line",
+    "check_field_count", "CUT_SHORT", "cut_last_line", "column_entry", "COLUMN_ROLES", "SI_UNITS",
 ]
 
 #: Largest file a reader reads whole (checked before reading). Instrument exports are
@@ -204,6 +204,22 @@ def decimal_comma(cells: Sequence[str], delimiter: str | None) -> bool:
     if delimiter == ",":
         return False
     return any(re.fullmatch(r"\s*[-+]?\d*,\d+(?:[eE][-+]?\d+)?\s*", c) for c in cells)
+
+
+#: The roles of the columns a reader records in ``attrs["columns"]`` (`column_entry`), each with
+#: the quantity its values are scaled to.
+COLUMN_ROLES = {"frequency": "frequency", "z_real": "resistance", "z_imag": "resistance", "z_modulus": "resistance",
+                "z_phase": "angle", "sigma": "resistance"}
+#: The unit impedax holds each quantity in, and assumes for a column that names none.
+SI_UNITS = {"frequency": "Hz", "resistance": "ohm", "angle": "deg"}
+
+
+def column_entry(role: str, column: str, unit: str = "", scale: float = 1.0, *, negated: bool = False) -> dict:
+    """What a reader records in ``attrs["columns"][role]`` of the column it read ``role`` from
+    (a key of `COLUMN_ROLES`): ``{"column": its name in the file, "unit": the unit its values
+    were read in (the SI one of `SI_UNITS` when the file names none), "scale": the factor to
+    Hz, Ω or degrees, "negated": whether the file holds the negated quantity (-Z'', -phase)}``."""
+    return {"column": column, "unit": unit or SI_UNITS[COLUMN_ROLES[role]], "scale": float(scale), "negated": bool(negated)}
 
 
 CUT_SHORT = "the file ends without a line end, as a file cut short does (copied before it was complete?): copy it again, or delete the line"

@@ -22,7 +22,7 @@ import numpy as np
 import xarray as xr
 
 from ..errors import DataError, SweepGridsDiffer
-from ._common import SWEEP_RTOL, UNIT_CELL, Skipped, check_field_count, cut_last_line, decimal_comma, finish, first_line, head_text, number, read_text, split_header_cell, unit_scale, unquoted
+from ._common import SWEEP_RTOL, UNIT_CELL, Skipped, check_field_count, column_entry, cut_last_line, decimal_comma, finish, first_line, head_text, number, read_text, split_header_cell, unit_scale, unquoted
 
 __all__ = ["ROLES", "FALLBACK_ROLES", "Layout", "detect_layout", "role_of", "fallback_role", "spectrum_from_rows",
            "NUMBER_CELL", "PREAMBLE_ROWS_MAX", "HeaderFound", "with_units_row", "header_layout", "find_header", "preamble_note", "units_row_note", "EMPTY_ROW"]
@@ -222,7 +222,33 @@ class Layout:
                 units.append(f"{self.header[index]!r} as angular frequency ω in rad/s, converted to Hz: f = ω/2π")
                 continue
             units.append(f"{self.header[index]!r}" + ("" if scale == 1 else f" ×{scale:g}"))
-        return {"sign_convention": sign, "units": "columns used (scaled to Hz, Ω, degrees): " + ", ".join(units)}
+        return {"sign_convention": sign, "units": "columns used (scaled to Hz, Ω, degrees): " + ", ".join(units), "columns": self.record(parts)}
+
+    def record(self, parts: Sequence[str]) -> dict[str, dict]:
+        """``attrs["columns"]``: each column used (frequency, ``parts``, sigma) by its role, with
+        its name, unit, scale and sign (`_common.column_entry`)."""
+        out = {}
+        for role in ["frequency", *parts, *(["sigma"] if "sigma" in self.columns else [])]:
+            index, scale = self.columns[role]
+            cell = self.header[index]
+            unit = ANGULAR_UNIT if role == "frequency" and scale == ANGULAR_SCALE else _unit_of(cell)
+            out[_RECORDED_ROLE[role]] = column_entry(_RECORDED_ROLE[role], cell.strip(), unit, scale, negated=role in ("neg_imag", "neg_phase"))
+        return out
+
+
+#: The ``attrs["columns"]`` role of each layout role (a role and its negation record as one).
+_RECORDED_ROLE = {"frequency": "frequency", "real": "z_real", "imag": "z_imag", "neg_imag": "z_imag", "modulus": "z_modulus",
+                  "phase": "z_phase", "neg_phase": "z_phase", "sigma": "sigma"}
+
+
+def _unit_of(cell: str) -> str:
+    """The unit a header cell names (``'Frequency (kHz)'`` → ``'kHz'``, ``'ReZ_Ohm'`` → ``'Ω'``),
+    or ``''`` when it names none."""
+    try:
+        found = role_of(cell) or fallback_role(cell)
+    except DataError:
+        return ""
+    return found[2] if found else ""
 
 
 class NoLayout(DataError):

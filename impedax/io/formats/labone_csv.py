@@ -20,10 +20,10 @@ import numpy as np
 import xarray as xr
 
 from ...errors import DataError
-from .._common import CUT_SHORT, Skipped, check_field_count, cut_last_line, finish, head_text, number, read_text, stack
+from .._common import CUT_SHORT, Skipped, check_field_count, column_entry, cut_last_line, finish, head_text, number, read_text, stack
 from ..registry import Reader
 
-__all__ = ["read_labone_csv", "READER"]
+__all__ = ["read_labone_csv", "READER", "recorded_columns"]
 
 CONVENTIONS = "frequency (or grid) [Hz]; Z = realz + j·imagz [Ω], or absz·exp(j·phasez [rad])"
 
@@ -125,8 +125,17 @@ def _sweep(path: Path, chunk: str, fields: dict[str, list[tuple[int, str]]], cut
     a = {k: np.array(v) for k, v in values.items()}
     z = a["realz"] + 1j * a["imagz"] if parts == ("realz", "imagz") else a["absz"] * np.exp(1j * a["phasez"])
     attrs = {"sign_convention": "realz, imagz hold Z', Z'' as stored" if parts[0] == "realz" else "Z = absz·exp(j·phasez), phase in radians",
-             "units": f"{fkey} in Hz, Z in ohm"}
+             "units": f"{fkey} in Hz, Z in ohm", "columns": recorded_columns(fkey, parts)}
     return finish(path, a[fkey], z, where, attrs, skipped=skipped)
+
+
+def recorded_columns(fkey: str, parts: tuple[str, str]) -> dict[str, dict]:
+    """``attrs["columns"]`` of a sweep read from the fields ``fkey`` and ``parts`` (LabOne's units: Hz, Ω, rad); the HDF5 reader's too."""
+    roles = ("z_real", "z_imag") if parts == ("realz", "imagz") else ("z_modulus", "z_phase")
+    out = {"frequency": column_entry("frequency", fkey)}
+    for role, name in zip(roles, parts):
+        out[role] = column_entry(role, name, "rad", 180 / np.pi) if role == "z_phase" else column_entry(role, name)
+    return out
 
 
 READER = Reader("Zurich Instruments LabOne CSV", (".csv",), sniff, read_labone_csv, CONVENTIONS)
