@@ -16,6 +16,7 @@ import pytest
 import impedax as ix
 from impedax.cli import main
 from impedax.errors import DataError
+from impedax.io._common import CUT_SHORT
 
 FREQ = np.logspace(5, -1, 12)
 _RNG = np.random.default_rng(73)
@@ -360,3 +361,173 @@ def test_a_plain_ohm_unit_gets_no_area_hint(tmp_path):
     with pytest.raises(DataError) as info:
         ix.load(path)
     assert "not understood" in str(info.value) and "area-specific" not in str(info.value)
+
+
+# --- a last row cut short: every reader that counts fields says the file looks cut short ------
+
+
+def _cut_file(head: list[str], rows: list[list[str]], delimiter: str, *, end: str) -> str:
+    """``head`` lines, then ``rows`` joined by ``delimiter``, the last row cut inside its middle
+    field (half its fields and two characters of the next kept), then ``end``."""
+    last = rows[-1]
+    keep = len(last) // 2
+    cut = delimiter.join(last[:keep]) + delimiter + last[keep][:2]
+    return "\n".join(head + [delimiter.join(r) for r in rows[:-1]] + [cut]) + end
+
+
+def _g(x: float) -> str:
+    return f"{x:.7E}"
+
+
+# SYNTHETIC: each layout holds FREQ and Z above, written by the test in the instrument's own form
+_CUT_LAYOUTS = {
+    "biologic.mpt": (
+        ["EC-Lab ASCII FILE", "Nb header lines : 5", "", "Potentio Electrochemical Impedance Spectroscopy",
+         "freq/Hz\tRe(Z)/Ohm\t-Im(Z)/Ohm\t|Z|/Ohm\tPhase(Z)/deg\ttime/s\tcycle number"],
+        lambda f, z, k: [_g(f), _g(z.real), _g(-z.imag), _g(abs(z)), _g(np.degrees(np.angle(z))), _g(k), "1"], "\t", "BioLogic EC-Lab mpt"),
+    "biologic_text.txt": (
+        ["freq/Hz\tRe(Z)/Ohm\t-Im(Z)/Ohm\t|Z|/Ohm\tPhase(Z)/deg"],
+        lambda f, z, k: [_g(f), _g(z.real), _g(-z.imag), _g(abs(z)), _g(np.degrees(np.angle(z)))], "\t", "BioLogic EC-Lab text"),
+    "zplot.z": (
+        ["ZPLOT2 ASCII", "  Data Points:                12", "  Freq(Hz)\tAmpl\tBias\tTime(Sec)\tZ'(a)\tZ''(b)\tGD\tErr\tRange", "End Comments"],
+        lambda f, z, k: [_g(f), "1.0000E-02", "0.0000E+00", _g(k), _g(z.real), _g(z.imag), "0.0000E+00", "0", "3"], "\t", "Scribner ZPlot z"),
+    "nova.txt": (
+        ["Index;Frequency (Hz);Z' (Ω);-Z'' (Ω);Z (Ω);-Phase (°);Time (s)"],
+        lambda f, z, k: [str(k + 1), _g(f), _g(z.real), _g(-z.imag), _g(abs(z)), _g(-np.degrees(np.angle(z))), _g(k)], ";", "Metrohm Autolab NOVA text"),
+    "chi.txt": (
+        ["Dec. 1, 2026   10:00:00", "A.C. Impedance", "Instrument Model:  CHI660E", "", 'Freq/Hz, Z\'/ohm, Z"/ohm, Z/ohm, Phase/deg', ""],
+        lambda f, z, k: [_g(f), _g(z.real), _g(z.imag), _g(abs(z)), _g(np.degrees(np.angle(z)))], ", ", "CH Instruments text"),
+    "parstat.txt": (
+        ["Potential (V)\tCurrent (A)\tElapsed Time (s)\tFrequency (Hz)\tZre (ohms)\tZim (ohms)\t|Vac| (V)\t|Iac| (A)"],
+        lambda f, z, k: ["0.1", "1E-06", _g(k), _g(f), _g(z.real), _g(z.imag), "0.01", "1E-05"], "\t", "Parstat text"),
+    "z60w.txt": (
+        ['"Z60W Data File: Version 1.1"', *(f'"comment {i}"' for i in range(7)), "1,0,0", "12",
+         '"Freq (Hz) Ampl Bias Time(Sec) Z\'(a) Z\'\'(b) GD Err Range"'],
+        lambda f, z, k: [_g(f), "0.01", "0", _g(k), _g(z.real), _g(z.imag), "0", "0", "3"], ",", "Autolab FRA Z60W"),
+    "labone_table.csv": (
+        ["frequency;realz;imagz;absz"],
+        lambda f, z, k: [_g(f), _g(z.real), _g(z.imag), _g(abs(z))], ";", "Zurich Instruments LabOne CSV"),
+}
+
+
+@pytest.mark.parametrize("name", sorted(_CUT_LAYOUTS))
+def test_a_last_row_cut_short_says_the_file_looks_cut_short_in_every_table_reader(tmp_path, name):
+    head, cells, delimiter, fmt = _CUT_LAYOUTS[name]
+    rows = [cells(f, z, k) for k, (f, z) in enumerate(zip(FREQ, Z))]
+    last_line = len(head) + len(rows)
+    path = tmp_path / name
+    # the whole table, with no line end after its last row: read exactly (the oracle)
+    path.write_text("\n".join(head + [delimiter.join(r) for r in rows]), encoding="utf-8")
+    ds = ix.load(path)
+    assert ds.attrs["format"] == fmt
+    np.testing.assert_allclose(ds["Z"].values, Z, rtol=1e-6)
+    # its last row cut inside a number: refused, naming the line, saying the file looks cut short
+    path.write_text(_cut_file(head, rows, delimiter, end=""), encoding="utf-8")
+    with pytest.raises(DataError) as info:
+        ix.load(path)
+    message = str(info.value)
+    assert f"line {last_line}:" in message and name in message
+    assert CUT_SHORT in message
+    assert main(["inspect", str(path)]) == 2
+    # the same short row with a line end after it: refused, but the file is not said to be cut
+    path.write_text(_cut_file(head, rows, delimiter, end="\n"), encoding="utf-8")
+    with pytest.raises(DataError, match=rf"line {last_line}:") as info:
+        ix.load(path)
+    assert "cut short" not in str(info.value)
+
+
+def test_a_labone_field_line_cut_short_says_the_file_looks_cut_short(tmp_path):
+    # SYNTHETIC: one line per field (the LabOne sweeper layout), the imagz line last and cut
+    head = ["chunk;timestamp;size;fieldname"]
+    rows = [["0", "1", "12", name, *map(_g, values)] for name, values in (("frequency", FREQ), ("realz", Z.real), ("imagz", Z.imag))]
+    path = tmp_path / "sweep.csv"
+    path.write_text("\n".join(head + [";".join(r) for r in rows]), encoding="utf-8")
+    np.testing.assert_allclose(ix.load(path)["Z"].values, Z, rtol=1e-6)
+    path.write_text(_cut_file(head, rows, ";", end=""), encoding="utf-8")
+    with pytest.raises(DataError, match=r"line 4: sweep \(chunk\) 0, point 5: imagz missing") as info:
+        ix.load(path)
+    assert CUT_SHORT in str(info.value)
+
+
+def test_an_ivium_table_cut_short_at_the_end_says_so(tmp_path):
+    # SYNTHETIC: an .idf's key lines and its primary_data table (Z', Z'', f per row), the file's last
+    head = ["Technique=Impedance", "Solarcell=false", "primary_data", "3", "12"]
+    rows = [[_g(z.real), _g(z.imag), _g(f)] for f, z in zip(FREQ, Z)]
+    path = tmp_path / "m.idf"
+    path.write_text("\n".join(head + ["  ".join(r) for r in rows]), encoding="latin-1")
+    np.testing.assert_allclose(ix.load(path)["Z"].values, Z, rtol=1e-6)
+    path.write_text(_cut_file(head, rows, "  ", end=""), encoding="latin-1")
+    with pytest.raises(DataError, match=r"line 17: 2 fields, expected Z', Z'', f") as info:
+        ix.load(path)
+    assert CUT_SHORT in str(info.value)
+
+
+# --- inspect names the columns it read: sigma's, and every role's in --json "columns" --------
+
+
+def _entry(column, unit, scale=1.0, negated=False):
+    return {"column": column, "unit": unit, "scale": scale, "negated": negated}
+
+
+def test_inspect_names_the_sigma_column_and_maps_each_column_to_its_role(tmp_path, capsys):
+    # SYNTHETIC: the spectrum above in kHz and kOhm, -Z'' stored, sigma = 1 % of |Z| in Ohm
+    sigma = 0.01 * np.abs(Z)
+    rows = [f"{f / 1e3:.17g};{z.real / 1e3:.17g};{-z.imag / 1e3:.17g};{s:.17g}" for f, z, s in zip(FREQ, Z, sigma)]
+    path = tmp_path / "kohm.csv"
+    path.write_text("Frequency (kHz);Z' (kOhm);-Z'' (kOhm);sigma (Ohm)\n" + "\n".join(rows) + "\n", encoding="utf-8")
+    ds = ix.load(path)
+    np.testing.assert_allclose(ds["Z"].values, Z, rtol=1e-12)
+    np.testing.assert_allclose(ds["sigma"].values, sigma, rtol=1e-12)
+    assert main(["inspect", str(path)]) == 0
+    text = capsys.readouterr().out
+    assert f"sigma: a standard deviation of Z per point, {sigma.min():.3g}–{sigma.max():.3g} Ω, from column 'sigma (Ohm)' (" in text
+    assert main(["inspect", str(path), "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["columns"] == {
+        "frequency": _entry("Frequency (kHz)", "kHz", 1000.0),
+        "z_real": _entry("Z' (kOhm)", "kOhm", 1000.0),
+        "z_imag": _entry("-Z'' (kOhm)", "kOhm", 1000.0, negated=True),
+        "sigma": _entry("sigma (Ohm)", "Ohm"),
+    }
+    # the free-text key stays as it was (JSON keys are a public contract)
+    assert summary["units"] == "columns used (scaled to Hz, Ω, degrees): 'Frequency (kHz)' ×1000, \"Z' (kOhm)\" ×1000, \"-Z'' (kOhm)\" ×1000"
+    # a netCDF file saved from it keeps the record of the columns its data were first read from
+    saved = tmp_path / "kohm.nc"
+    ix.save(ds, saved)
+    assert main(["inspect", str(saved), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["columns"] == summary["columns"]
+
+
+def test_inspect_columns_of_an_instrument_file_polar_columns_and_omega(tmp_path, capsys):
+    # Gamry: names from its column row, units from its units row
+    path = tmp_path / "g.DTA"
+    path.write_text(_gamry(_gamry_rows()), encoding="latin-1")
+    assert main(["inspect", str(path), "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["columns"] == {"frequency": _entry("Freq", "Hz"), "z_real": _entry("Zreal", "ohm"), "z_imag": _entry("Zimag", "ohm")}
+    assert not summary["has_sigma"] and "sigma" not in capsys.readouterr().out
+    # SYNTHETIC: |Z| with -phase in radians beside an angular frequency in rad/s; no sigma column
+    omega = 2 * np.pi * FREQ
+    rows = [f"{w:.17g},{abs(z):.17g},{-np.angle(z):.17g}" for w, z in zip(omega, Z)]
+    path = tmp_path / "polar.csv"
+    path.write_text("omega (rad/s),|Z| (Ohm),-phase (rad)\n" + "\n".join(rows) + "\n", encoding="utf-8")
+    np.testing.assert_allclose(ix.load(path)["Z"].values, Z, rtol=1e-12)
+    assert main(["inspect", str(path), "--json"]) == 0
+    columns = json.loads(capsys.readouterr().out)["columns"]
+    assert columns == {
+        "frequency": _entry("omega (rad/s)", "rad/s", pytest.approx(1 / (2 * np.pi), rel=1e-15)),
+        "z_modulus": _entry("|Z| (Ohm)", "Ohm"),
+        "z_phase": _entry("-phase (rad)", "rad", pytest.approx(180 / np.pi, rel=1e-15), negated=True),
+    }
+    assert main(["inspect", str(path)]) == 0
+    assert "sigma" not in capsys.readouterr().out
+
+
+def test_biologic_records_its_negated_imaginary_column(tmp_path):
+    head, cells, delimiter, _ = _CUT_LAYOUTS["biologic.mpt"]
+    path = tmp_path / "b.mpt"
+    path.write_text("\n".join(head + [delimiter.join(cells(f, z, k)) for k, (f, z) in enumerate(zip(FREQ, Z))]) + "\n", encoding="utf-8")
+    ds = ix.load(path)
+    np.testing.assert_allclose(ds["Z"].values, Z, rtol=1e-6)
+    assert ds.attrs["columns"] == {"frequency": _entry("freq/Hz", "Hz"), "z_real": _entry("Re(Z)/Ohm", "Ohm"),
+                                   "z_imag": _entry("-Im(Z)/Ohm", "Ohm", negated=True)}

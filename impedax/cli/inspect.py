@@ -59,6 +59,10 @@ def run(args) -> int:
         "sign_convention": str(ds.attrs.get("sign_convention", "impedax data model: Z = Z' + jZ''")),
         # (a saved result's own ``units`` are its parameters': its spectrum is in Hz and ohm)
         "units": "Hz, ohm" if kind else str(ds.attrs.get("units", "Hz, ohm")),
+        # (added 2026-12-01) each column used by its role (frequency, z_real, z_imag or z_modulus
+        # and z_phase, sigma): {"column", "unit", "scale" to Hz/Ω/deg, "negated"}, as the reader
+        # recorded it; {} when it recorded none
+        "columns": _columns(ds),
         "skipped_rows": skipped,
         # the labels `--select DIM=LABEL` picks a spectrum by (positions where a dimension has none)
         "labels": {d: dimension_labels(ds, d) for d in extra},
@@ -92,7 +96,9 @@ def run(args) -> int:
     print(f"  as read{whose}: first point {_point_text(summary['first_point'])}; last point {_point_text(summary['last_point'])}")
     if summary["has_sigma"]:
         sigma = ds["sigma"].values
-        print(f"  sigma: a standard deviation of Z per point, {np.nanmin(sigma):.3g}–{np.nanmax(sigma):.3g} Ω "
+        source = summary["columns"].get("sigma")
+        named = f", from column {source['column']!r}" + ("" if source.get("scale", 1) == 1 else f" ×{source['scale']:g}") if source else ""
+        print(f"  sigma: a standard deviation of Z per point, {np.nanmin(sigma):.3g}–{np.nanmax(sigma):.3g} Ω{named} "
               "(fits weight by it with --weighting sigma; diagnose takes it as the noise)")
     picked = _picked_dims(ds)
     for d, labels in summary["labels"].items():
@@ -110,6 +116,15 @@ def run(args) -> int:
     if summary["sign_hint"]:
         print(f"  hint: {summary['sign_hint']}")
     return 0
+
+
+def _columns(ds) -> dict[str, dict]:
+    """The reader's record of the columns it read (``attrs["columns"]``, `impedax.io` readers),
+    as JSON values; {} when there is none (a file of several spectra whose columns differ)."""
+    record = ds.attrs.get("columns")
+    if not isinstance(record, dict):
+        return {}
+    return {str(role): {str(k): (v.item() if hasattr(v, "item") else v) for k, v in entry.items()} for role, entry in record.items() if isinstance(entry, dict)}
 
 
 def _point(ds, extra, position: int) -> dict[str, float]:

@@ -26,7 +26,7 @@ from ..errors import DataError
 __all__ = [
     "UNIT_CELL", "MAX_FILE_BYTES", "MAX_FILE_BYTES_ENV", "max_file_bytes", "check_file", "read_bytes", "read_text", "decode_text", "head_text", "number",
     "Skipped", "finish", "first_line", "stack", "merged_attrs", "unit_scale", "split_header_cell", "decimal_comma",
-    "check_field_count", "CUT_SHORT",
+    "check_field_count", "CUT_SHORT", "cut_last_line", "column_entry", "COLUMN_ROLES", "SI_UNITS",
 ]
 
 #: Largest file a reader reads whole (checked before reading). Instrument exports are
@@ -206,8 +206,30 @@ def decimal_comma(cells: Sequence[str], delimiter: str | None) -> bool:
     return any(re.fullmatch(r"\s*[-+]?\d*,\d+(?:[eE][-+]?\d+)?\s*", c) for c in cells)
 
 
+#: The roles of the columns a reader records in ``attrs["columns"]`` (`column_entry`), each with
+#: the quantity its values are scaled to.
+COLUMN_ROLES = {"frequency": "frequency", "z_real": "resistance", "z_imag": "resistance", "z_modulus": "resistance",
+                "z_phase": "angle", "sigma": "resistance"}
+#: The unit impedax holds each quantity in, and assumes for a column that names none.
+SI_UNITS = {"frequency": "Hz", "resistance": "ohm", "angle": "deg"}
+
+
+def column_entry(role: str, column: str, unit: str = "", scale: float = 1.0, *, negated: bool = False) -> dict:
+    """What a reader records in ``attrs["columns"][role]`` of the column it read ``role`` from
+    (a key of `COLUMN_ROLES`): ``{"column": its name in the file, "unit": the unit its values
+    were read in (the SI one of `SI_UNITS` when the file names none), "scale": the factor to
+    Hz, Ω or degrees, "negated": whether the file holds the negated quantity (-Z'', -phase)}``."""
+    return {"column": column, "unit": unit or SI_UNITS[COLUMN_ROLES[role]], "scale": float(scale), "negated": bool(negated)}
+
+
 CUT_SHORT = "the file ends without a line end, as a file cut short does (copied before it was complete?): copy it again, or delete the line"
 """What a refusal of a last row adds when the file ends without a line end."""
+
+
+def cut_last_line(text: str, lines: Sequence[str]) -> int | None:
+    """The line number (1-based) of the last of ``lines`` (``text.splitlines()``) when ``text``
+    ends without a line end, as a file cut short while copied does; None when it ends with one."""
+    return len(lines) if lines and text and not text.endswith(("\n", "\r")) else None
 
 
 def check_field_count(cells: Sequence[str], n_fields: int, path: Path, line: int | None, *, where: str = "", last_of_cut_file: bool = False) -> None:

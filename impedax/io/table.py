@@ -22,7 +22,7 @@ import numpy as np
 import xarray as xr
 
 from ..errors import DataError, SweepGridsDiffer
-from ._common import SWEEP_RTOL, UNIT_CELL, Skipped, check_field_count, decimal_comma, finish, first_line, head_text, number, read_text, split_header_cell, unit_scale, unquoted
+from ._common import SWEEP_RTOL, UNIT_CELL, Skipped, check_field_count, column_entry, cut_last_line, decimal_comma, finish, first_line, head_text, number, read_text, split_header_cell, unit_scale, unquoted
 
 __all__ = ["ROLES", "FALLBACK_ROLES", "Layout", "detect_layout", "role_of", "fallback_role", "spectrum_from_rows",
            "NUMBER_CELL", "PREAMBLE_ROWS_MAX", "HeaderFound", "with_units_row", "header_layout", "find_header", "preamble_note", "units_row_note", "EMPTY_ROW"]
@@ -222,7 +222,33 @@ class Layout:
                 units.append(f"{self.header[index]!r} as angular frequency ω in rad/s, converted to Hz: f = ω/2π")
                 continue
             units.append(f"{self.header[index]!r}" + ("" if scale == 1 else f" ×{scale:g}"))
-        return {"sign_convention": sign, "units": "columns used (scaled to Hz, Ω, degrees): " + ", ".join(units)}
+        return {"sign_convention": sign, "units": "columns used (scaled to Hz, Ω, degrees): " + ", ".join(units), "columns": self.record(parts)}
+
+    def record(self, parts: Sequence[str]) -> dict[str, dict]:
+        """``attrs["columns"]``: each column used (frequency, ``parts``, sigma) by its role, with
+        its name, unit, scale and sign (`_common.column_entry`)."""
+        out = {}
+        for role in ["frequency", *parts, *(["sigma"] if "sigma" in self.columns else [])]:
+            index, scale = self.columns[role]
+            cell = self.header[index]
+            unit = ANGULAR_UNIT if role == "frequency" and scale == ANGULAR_SCALE else _unit_of(cell)
+            out[_RECORDED_ROLE[role]] = column_entry(_RECORDED_ROLE[role], cell.strip(), unit, scale, negated=role in ("neg_imag", "neg_phase"))
+        return out
+
+
+#: The ``attrs["columns"]`` role of each layout role (a role and its negation record as one).
+_RECORDED_ROLE = {"frequency": "frequency", "real": "z_real", "imag": "z_imag", "neg_imag": "z_imag", "modulus": "z_modulus",
+                  "phase": "z_phase", "neg_phase": "z_phase", "sigma": "sigma"}
+
+
+def _unit_of(cell: str) -> str:
+    """The unit a header cell names (``'Frequency (kHz)'`` → ``'kHz'``, ``'ReZ_Ohm'`` → ``'Ω'``),
+    or ``''`` when it names none."""
+    try:
+        found = role_of(cell) or fallback_role(cell)
+    except DataError:
+        return ""
+    return found[2] if found else ""
 
 
 class NoLayout(DataError):
@@ -497,8 +523,11 @@ def spectrum_from_rows(
     where: str = "",
     header_line: int | None = None,
     split_sweeps: bool = False,
+    cut_line: int | None = None,
 ) -> xr.Dataset:
-    """One spectrum from ``rows`` (line number, cells) laid out as ``layout``. With
+    """One spectrum from ``rows`` (line number, cells) laid out as ``layout``. ``cut_line``: the
+    file's last line when the file ends without a line end (`_common.cut_last_line`); a row
+    there short of fields is refused saying the file looks cut short (`check_field_count`). With
     ``split_sweeps``, a table of several sweeps of one frequency list (the list restarts, or an
     EC-Lab ``cycle number`` column changes) becomes a ``sweep`` (``cycle``) dimension
     (`_sweep_blocks`)."""
@@ -528,7 +557,7 @@ def spectrum_from_rows(
         if not any(c.strip('"').strip() for c in cells):
             skipped.add(line, EMPTY_ROW)  # (',,' or ';;' as a spreadsheet program leaves them: a blank line)
             continue
-        check_field_count(cells, n_fields, path, line, where=where)
+        check_field_count(cells, n_fields, path, line, where=where, last_of_cut_file=line == cut_line)
         for role, (index, scale) in wanted.items():
             values[role].append(number(cells[index], path, line, header[index], comma=comma) * scale)
         for name, index in list(optional.items()):
@@ -737,11 +766,12 @@ def read_headed_table(path: str | Path, attrs: dict, delimiter: str = "\t") -> x
     """A file that is one table: the first non-blank line its header (column roles by
     `detect_layout`), every further non-blank line a row."""
     path = Path(path)
-    lines = read_text(path).splitlines()
+    text = read_text(path)
+    lines = text.splitlines()
     k = first_line(lines, path)
     layout = detect_layout(lines[k].split(delimiter), path, k + 1)
     rows = [(j + 1, lines[j].split(delimiter)) for j in range(k + 1, len(lines)) if lines[j].strip()]
-    return spectrum_from_rows(path, layout, rows, attrs, delimiter=delimiter)
+    return spectrum_from_rows(path, layout, rows, attrs, delimiter=delimiter, cut_line=cut_last_line(text, lines))
 
 
 def first_line_sniffer(is_header, expected: str):

@@ -18,7 +18,7 @@ from pathlib import Path
 import xarray as xr
 
 from ...errors import DataError
-from .._common import head_text, read_text
+from .._common import cut_last_line, head_text, read_text
 from ..registry import Reader
 from ..table import NoLayout, detect_layout, spectrum_from_rows
 
@@ -44,7 +44,8 @@ def sniff_text(path: Path, head: bytes) -> str | None:
 def read_biologic(path: str | Path) -> xr.Dataset:
     """Read a BioLogic EC-Lab ``.mpt`` text export (PEIS/GEIS); see the module docstring."""
     path = Path(path)
-    lines = read_text(path).splitlines()
+    text = read_text(path)
+    lines = text.splitlines()
     if len(lines) < 2:
         raise DataError("EC-Lab file ends after its first line", path=path)
     m = re.match(r"\s*Nb header lines\s*:\s*(\d+)", lines[1])
@@ -72,7 +73,7 @@ def read_biologic(path: str | Path) -> xr.Dataset:
         elif key == "Run on channel":
             attrs["channel"] = value.strip()
     _check_header_count(path, lines, n_header)
-    return _columns(path, lines, n_header - 1, attrs)
+    return _columns(path, lines, n_header - 1, attrs, cut_line=cut_last_line(text, lines))
 
 
 #: The column names an EC-Lab impedance export holds (`_columns`).
@@ -97,11 +98,14 @@ def _check_header_count(path: Path, lines: list[str], n_header: int) -> None:
 def read_biologic_text(path: str | Path) -> xr.Dataset:
     """Read EC-Lab's bare column export: the ``freq/Hz  Re(Z)/Ohm  -Im(Z)/Ohm ...`` line, then data."""
     path = Path(path)
-    lines = read_text(path).splitlines()
-    return _columns(path, lines, 0, {"format": "BioLogic EC-Lab text", "instrument": "BioLogic"})
+    text = read_text(path)
+    lines = text.splitlines()
+    return _columns(path, lines, 0, {"format": "BioLogic EC-Lab text", "instrument": "BioLogic"}, cut_line=cut_last_line(text, lines))
 
 
-def _columns(path: Path, lines: list[str], header_index: int, attrs: dict) -> xr.Dataset:
+def _columns(path: Path, lines: list[str], header_index: int, attrs: dict, *, cut_line: int | None = None) -> xr.Dataset:
+    """The table under the column names on ``lines[header_index]``; ``cut_line``: the file's last
+    line when the file ends without a line end (a row there short of fields: cut short)."""
     if header_index >= len(lines):
         raise DataError("file ends before the column-name line", path=path, line=header_index + 1)
     names = [c.strip() for c in lines[header_index].split("\t")]
@@ -114,7 +118,7 @@ def _columns(path: Path, lines: list[str], header_index: int, attrs: dict) -> xr
     except NoLayout as exc:
         raise DataError(exc.reason, path=path, line=header_index + 1) from None
     rows = [(k + 1, lines[k].split("\t")) for k in range(header_index + 1, len(lines)) if lines[k].strip()]
-    return spectrum_from_rows(path, layout, rows, attrs, delimiter="\t", split_sweeps=True)
+    return spectrum_from_rows(path, layout, rows, attrs, delimiter="\t", split_sweeps=True, cut_line=cut_line)
 
 
 READER = Reader("BioLogic EC-Lab mpt", (".mpt",), sniff, read_biologic, CONVENTIONS)

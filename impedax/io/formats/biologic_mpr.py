@@ -15,7 +15,7 @@ import numpy as np
 import xarray as xr
 
 from ...errors import DataError
-from .._common import finish, optional_module
+from .._common import column_entry, finish, optional_module
 from ..registry import Reader
 
 __all__ = ["read_biologic_mpr", "READER"]
@@ -46,7 +46,9 @@ def read_biologic_mpr(path: str | Path) -> xr.Dataset:
     if bad.size:
         raise DataError(f"point {bad[0]} is not finite", path=path)
     attrs = {"format": "BioLogic EC-Lab mpr", "instrument": "BioLogic",
-             "sign_convention": "-Im(Z)/Ohm holds -Z''; negated to Z''", "units": "Hz, ohm"}
+             "sign_convention": "-Im(Z)/Ohm holds -Z''; negated to Z''", "units": "Hz, ohm",
+             "columns": {"frequency": column_entry("frequency", "freq/Hz", "Hz"), "z_real": column_entry("z_real", "Re(Z)/Ohm", "Ohm"),
+                         "z_imag": column_entry("z_imag", "-Im(Z)/Ohm", "Ohm", negated=True)}}
     return finish(path, freq, z, list(range(1, freq.size + 1)), attrs)
 
 

@@ -15,7 +15,7 @@ from pathlib import Path
 import xarray as xr
 
 from ...errors import DataError
-from .._common import head_text, read_text
+from .._common import cut_last_line, head_text, read_text
 from ..registry import Reader
 from ..table import detect_layout, spectrum_from_rows
 
@@ -34,7 +34,8 @@ def sniff(path: Path, head: bytes) -> str | None:
 def read_chinstruments(path: str | Path) -> xr.Dataset:
     """Read a CH Instruments impedance export (see module docstring)."""
     path = Path(path)
-    lines = read_text(path).splitlines()
+    text = read_text(path)
+    lines = text.splitlines()
     k = next((i for i, ln in enumerate(lines) if ln.strip().startswith("Freq/Hz")), None)
     if k is None:
         raise DataError("no 'Freq/Hz, Z'/ohm, ...' column-name line", path=path)
@@ -47,7 +48,7 @@ def read_chinstruments(path: str | Path) -> xr.Dataset:
         attrs["date"] = " ".join(lines[0].split())
     layout = detect_layout(lines[k].split(","), path, k + 1)
     rows = [(j + 1, lines[j].split(",")) for j in range(k + 1, len(lines)) if lines[j].strip()]
-    return spectrum_from_rows(path, layout, rows, attrs, delimiter=",")
+    return spectrum_from_rows(path, layout, rows, attrs, delimiter=",", cut_line=cut_last_line(text, lines))
 
 
 READER = Reader("CH Instruments text", (".txt",), sniff, read_chinstruments, CONVENTIONS)

@@ -19,7 +19,7 @@ import numpy as np
 import xarray as xr
 
 from ...errors import DataError
-from .._common import Skipped, check_field_count, decimal_comma, finish, head_text, number, read_text, stack, unit_scale
+from .._common import Skipped, check_field_count, column_entry, decimal_comma, finish, head_text, number, read_text, stack, unit_scale
 from ..registry import Reader
 
 __all__ = ["read_gamry", "READER"]
@@ -104,7 +104,8 @@ def _table(path: Path, lines: list[str], start: int, attrs: dict, *, ends_cut: b
     if missing:
         raise DataError(f"ZCURVE table lacks column(s) {missing}; found {[n for n in names if n]}", path=path, line=start + 2)
     scales = {}
-    for name, quantity in (("Freq", "frequency"), ("Zreal", "resistance"), ("Zimag", "resistance")):
+    recorded = {}
+    for name, quantity, role in (("Freq", "frequency", "frequency"), ("Zreal", "resistance", "z_real"), ("Zimag", "resistance", "z_imag")):
         unit = units[index[name]] if index[name] < len(units) else ""
         scale = unit_scale(unit, quantity) if unit else 1.0
         if scale is None:
@@ -116,6 +117,8 @@ def _table(path: Path, lines: list[str], start: int, attrs: dict, *, ends_cut: b
                 )
             raise DataError(f"ZCURVE column {name} has unit {unit!r}, expected {'Hz' if quantity == 'frequency' else 'ohm'}", path=path, line=start + 3)
         scales[name] = scale
+        recorded[role] = column_entry(role, name, unit, scale)
+    attrs["columns"] = recorded
     rows = []
     for k in range(start + 3, len(lines)):
         line = lines[k]

@@ -18,7 +18,7 @@ import numpy as np
 import xarray as xr
 
 from ...errors import DataError
-from .._common import finish, number, read_bytes, stack
+from .._common import CUT_SHORT, column_entry, finish, number, read_bytes, stack
 from ..registry import Reader
 
 __all__ = ["read_ivium", "READER"]
@@ -60,14 +60,18 @@ def read_ivium(path: str | Path) -> xr.Dataset:
         for j in range(k + 3, k + 3 + n):
             cells = re.split(r"[ \t]+", lines[j].strip())
             if len(cells) != 3:
-                raise DataError(f"{len(cells)} fields, expected Z', Z'', f", path=path, line=j + 1)
+                cut = f"; {CUT_SHORT}" if len(cells) < 3 and j == len(lines) - 1 and lines[j] else ""  # (the last line, with no line end after it)
+                raise DataError(f"{len(cells)} fields, expected Z', Z'', f{cut}", path=path, line=j + 1)
             real.append(number(cells[0], path, j + 1, "Z'"))
             imag.append(number(cells[1], path, j + 1, "Z''"))
             freq.append(number(cells[2], path, j + 1, "f"))
             where.append(j + 1)
         technique = re.search(rb"Technique=([^\r\n]*)", raw)
         attrs = {"format": "IviumSoft idf/ids", "instrument": "Ivium", "technique": technique.group(1).decode("latin-1").strip() if technique else "",
-                 "sign_convention": "Z'' stored as is (negative for capacitive data)", "units": "ohm, ohm, Hz"}
+                 "sign_convention": "Z'' stored as is (negative for capacitive data)", "units": "ohm, ohm, Hz",
+                 # (the table names no columns: they are its positions, Z', Z'', f)
+                 "columns": {"frequency": column_entry("frequency", "column 3"), "z_real": column_entry("z_real", "column 1"),
+                             "z_imag": column_entry("z_imag", "column 2")}}
         spectra.append((str(i), finish(path, np.array(freq), np.array(real) + 1j * np.array(imag), where, attrs)))
     return stack(path, spectra, "measurement")
 

@@ -20,10 +20,10 @@ import numpy as np
 import xarray as xr
 
 from ...errors import DataError
-from .._common import Skipped, finish, head_text, number, read_text, stack
+from .._common import CUT_SHORT, Skipped, check_field_count, column_entry, cut_last_line, finish, head_text, number, read_text, stack
 from ..registry import Reader
 
-__all__ = ["read_labone_csv", "READER"]
+__all__ = ["read_labone_csv", "READER", "recorded_columns"]
 
 CONVENTIONS = "frequency (or grid) [Hz]; Z = realz + j·imagz [Ω], or absz·exp(j·phasez [rad])"
 
@@ -56,6 +56,7 @@ def read_labone_csv(path: str | Path) -> xr.Dataset:
         raise DataError("not a LabOne sweeper CSV export", path=path)
     kind, delimiter = layout
     lines = text.splitlines()
+    cut_line = cut_last_line(text, lines)
     # chunk -> field -> [(line, cell) per point]
     chunks: dict[str, dict[str, list[tuple[int, str]]]] = {}
     if kind == "rows":
@@ -64,7 +65,8 @@ def read_labone_csv(path: str | Path) -> xr.Dataset:
                 continue
             cells = line.split(delimiter)
             if len(cells) < 5:
-                raise DataError(f"expected chunk;timestamp;size;fieldname;values..., got {len(cells)} fields", path=path, line=k)
+                cut = f"; {CUT_SHORT}" if k == cut_line else ""
+                raise DataError(f"expected chunk;timestamp;size;fieldname;values..., got {len(cells)} fields{cut}", path=path, line=k)
             chunks.setdefault(cells[0].strip(), {})[cells[3].strip().lower()] = [(k, c) for c in cells[4:]]
     else:
         names = [c.strip().lower() for c in lines[0].split(delimiter)]
@@ -73,12 +75,11 @@ def read_labone_csv(path: str | Path) -> xr.Dataset:
             if not line.strip():
                 continue
             cells = line.split(delimiter)
-            if len(cells) != len(names):
-                raise DataError(f"{len(cells)} fields, but the header has {len(names)}", path=path, line=k)
+            check_field_count(cells, len(names), path, k, last_of_cut_file=k == cut_line)
             fields = chunks.setdefault(cells[chunk_col].strip() if chunk_col is not None else "0", {})
             for name, cell in zip(names, cells):
                 fields.setdefault(name, []).append((k, cell))
-    sweeps = [(chunk, _sweep(path, chunk, fields)) for chunk, fields in chunks.items()]
+    sweeps = [(chunk, _sweep(path, chunk, fields, cut_line)) for chunk, fields in chunks.items()]
     if not sweeps:
         raise DataError("no sweep data after the header line", path=path, line=1)
     ds = stack(path, sweeps, "sweep")
@@ -89,7 +90,9 @@ def read_labone_csv(path: str | Path) -> xr.Dataset:
     return ds
 
 
-def _sweep(path: Path, chunk: str, fields: dict[str, list[tuple[int, str]]]) -> xr.Dataset:
+def _sweep(path: Path, chunk: str, fields: dict[str, list[tuple[int, str]]], cut_line: int | None = None) -> xr.Dataset:
+    """One sweep from its fields' (line, cell) lists; ``cut_line``: the file's last line when the
+    file ends without a line end (a field missing there: the file looks cut short)."""
     fkey = "frequency" if "frequency" in fields else "grid" if "grid" in fields else None
     if fkey is None:
         raise DataError(f"sweep (chunk) {chunk}: no 'frequency' or 'grid' field", path=path)
@@ -114,15 +117,25 @@ def _sweep(path: Path, chunk: str, fields: dict[str, list[tuple[int, str]]]) -> 
             continue
         if empty:
             name = empty[0]
-            raise DataError(f"sweep (chunk) {chunk}, point {i}: {', '.join(empty)} missing (the other fields have a value there)", path=path, line=cells[name][0])
+            cut = f"; {CUT_SHORT}" if cells[name][0] == cut_line else ""
+            raise DataError(f"sweep (chunk) {chunk}, point {i}: {', '.join(empty)} missing (the other fields have a value there){cut}", path=path, line=cells[name][0])
         for name in used:
             values[name].append(number(cells[name][1], path, cells[name][0], f"{name}[{i}]"))
         where.append(line_of_point)
     a = {k: np.array(v) for k, v in values.items()}
     z = a["realz"] + 1j * a["imagz"] if parts == ("realz", "imagz") else a["absz"] * np.exp(1j * a["phasez"])
     attrs = {"sign_convention": "realz, imagz hold Z', Z'' as stored" if parts[0] == "realz" else "Z = absz·exp(j·phasez), phase in radians",
-             "units": f"{fkey} in Hz, Z in ohm"}
+             "units": f"{fkey} in Hz, Z in ohm", "columns": recorded_columns(fkey, parts)}
     return finish(path, a[fkey], z, where, attrs, skipped=skipped)
+
+
+def recorded_columns(fkey: str, parts: tuple[str, str]) -> dict[str, dict]:
+    """``attrs["columns"]`` of a sweep read from the fields ``fkey`` and ``parts`` (LabOne's units: Hz, Ω, rad); the HDF5 reader's too."""
+    roles = ("z_real", "z_imag") if parts == ("realz", "imagz") else ("z_modulus", "z_phase")
+    out = {"frequency": column_entry("frequency", fkey)}
+    for role, name in zip(roles, parts):
+        out[role] = column_entry(role, name, "rad", 180 / np.pi) if role == "z_phase" else column_entry(role, name)
+    return out
 
 
 READER = Reader("Zurich Instruments LabOne CSV", (".csv",), sniff, read_labone_csv, CONVENTIONS)

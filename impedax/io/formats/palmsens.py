@@ -19,7 +19,7 @@ import numpy as np
 import xarray as xr
 
 from ...errors import DataError
-from .._common import decode_text, finish, head_text, read_bytes, stack
+from .._common import column_entry, decode_text, finish, head_text, read_bytes, stack
 from ..registry import Reader
 
 __all__ = ["read_palmsens", "READER"]
@@ -80,7 +80,9 @@ def read_palmsens(path: str | Path) -> xr.Dataset:
             raise DataError(f"{where}: {f.size} frequencies, {re_.size} ZRe and {neg_im.size} ZIm values", path=path)
         label = title if title not in [s[0] for s in spectra] else f"{title} ({i})"
         attrs = {"format": "PalmSens pssession", "instrument": f"PalmSens {m.get('DeviceSerial', '')}".strip(), "title": title,
-                 "sign_convention": "ZIm holds -Z''; negated to Z''", "units": "Frequency in Hz, ZRe and ZIm in ohm"}
+                 "sign_convention": "ZIm holds -Z''; negated to Z''", "units": "Frequency in Hz, ZRe and ZIm in ohm",
+                 "columns": {"frequency": column_entry("frequency", "Frequency"), "z_real": column_entry("z_real", "ZRe"),
+                             "z_imag": column_entry("z_imag", "ZIm", negated=True)}}
         spectra.append((label, finish(path, f, re_ - 1j * neg_im, list(range(1, f.size + 1)), attrs)))
     if not spectra:
         raise DataError(f"PalmSens session holds no EIS measurement ({len(measurements)} measurements of other kinds)", path=path)

@@ -15,7 +15,7 @@ from pathlib import Path
 import xarray as xr
 
 from ...errors import DataError
-from .._common import head_text, read_text
+from .._common import cut_last_line, head_text, read_text
 from ..registry import Reader
 from ..table import spectrum_from_rows
 from .zplot import FIXED_LAYOUT
@@ -34,7 +34,8 @@ def sniff(path: Path, head: bytes) -> str | None:
 def read_z60w(path: str | Path) -> xr.Dataset:
     """Read an FRA ``Z60W Data File`` export (see module docstring)."""
     path = Path(path)
-    lines = read_text(path).splitlines()
+    text = read_text(path)
+    lines = text.splitlines()
     header = next((k for k, ln in enumerate(lines[:40]) if "Freq" in ln and "Z'(a)" in ln and "Z''(b)" in ln), None)
     if header is None:
         raise DataError("no column-name line with Freq, Z'(a) and Z''(b)", path=path)
@@ -47,7 +48,7 @@ def read_z60w(path: str | Path) -> xr.Dataset:
     attrs = {"format": "Autolab FRA Z60W", "instrument": "Metrohm Autolab (FRA)", "version": lines[0].strip().strip('"')}
     if announced.isdigit() and int(announced) != len(rows):
         attrs["point_count_note"] = f"header announces {announced} points; the file holds {len(rows)} rows (sweep stopped early?)"
-    return spectrum_from_rows(path, FIXED_LAYOUT, rows, attrs, comma=False)
+    return spectrum_from_rows(path, FIXED_LAYOUT, rows, attrs, comma=False, cut_line=cut_last_line(text, lines))
 
 
 READER = Reader("Autolab FRA Z60W", (".txt", ".z60w"), sniff, read_z60w, CONVENTIONS)

@@ -18,7 +18,7 @@ from pathlib import Path
 import xarray as xr
 
 from ...errors import DataError
-from .._common import decimal_comma, head_text, read_text
+from .._common import cut_last_line, decimal_comma, head_text, read_text
 from ..registry import Reader
 from ..table import Layout, NoLayout, detect_layout, spectrum_from_rows
 
@@ -49,7 +49,8 @@ def sniff(path: Path, head: bytes) -> str | None:
 def read_zplot(path: str | Path) -> xr.Dataset:
     """Read a ZPlot/ZView ``.z`` file (see module docstring)."""
     path = Path(path)
-    lines = read_text(path).splitlines()
+    text = read_text(path)
+    lines = text.splitlines()
     end = next((k for k, ln in enumerate(lines) if ln.strip() == "End Comments"), None)
     attrs: dict[str, object] = {"format": "Scribner ZPlot z", "instrument": "Scribner ZPlot"}
     announced = None
@@ -87,7 +88,7 @@ def read_zplot(path: str | Path) -> xr.Dataset:
     _check_decimal_commas(path, lines, rows, len(layout.header))
     if announced is not None and announced != len(rows):
         attrs["point_count_note"] = f"header says 'Data Points: {announced}'; the file holds {len(rows)} rows (sweep stopped early?)"
-    return spectrum_from_rows(path, layout, rows, attrs, comma=False)
+    return spectrum_from_rows(path, layout, rows, attrs, comma=False, cut_line=cut_last_line(text, lines))
 
 
 def _check_decimal_commas(path: Path, lines: list[str], rows: list[tuple[int, list[str]]], n_fields: int) -> None:
