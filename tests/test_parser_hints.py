@@ -1,0 +1,69 @@
+"""Parse-error hints for text that mixes notations or is pasted from elsewhere: each case's
+column and message fragments are written by hand from the input."""
+
+from __future__ import annotations
+
+import pytest
+
+import impedax as ix
+from impedax.cli import main
+
+
+def syntax_error(text: str) -> ix.CircuitSyntaxError:
+    with pytest.raises(ix.CircuitSyntaxError) as caught:
+        ix.parse(text)
+    return caught.value
+
+
+def assert_caret(err: ix.CircuitSyntaxError, text: str, column: int) -> None:
+    assert err.column == column
+    lines = str(err).splitlines()
+    assert lines[1] == "  " + text and lines[2] == "  " + " " * column + "^"
+
+
+# --- impedance.py's p(a,b) inside impedax text ------------------------------------------------
+
+MIXED = "p(a,b) is a || b in impedax's notation, and the two notations cannot be mixed: write the whole string in one, "
+
+
+@pytest.mark.parametrize(
+    "text, column, found, rewrites",
+    [
+        ("R0 + p(R1,C1)", 9, "unexpected ','", "R0 + R1 || C1 (impedax) or R0-p(R1,C1) (impedance.py)"),
+        ("p(R1,C1) + R0", 4, "unexpected ','", "R1 || C1 + R0 (impedax) or p(R1,C1)-R0 (impedance.py)"),
+        ("R0 || p(R1, C1)", 10, "unexpected ','", "R0 || R1 || C1 (impedax) or p(R0,R1,C1) (impedance.py)"),
+        ("R0+p(R1-C1,C2)", 7, "unexpected '-'", "R0 + (R1 + C1) || C2 (impedax) or R0-p(R1-C1,C2) (impedance.py)"),
+        ("R0 + p(R1||C1)", 5, "unexpected 'p('", "R0 + R1 || C1 (impedax) or R0-p(R1,C1) (impedance.py)"),
+        ("R0 + p(R1,HN1)", 9, "unexpected ','", "R0 + R1 || HN1 (impedax)"),  # HN: no impedance.py element
+        ("R0 + p(R1,X1)", 9, "unexpected ','", "e.g. R0 + R1 || C1 (impedax) or R0-p(R1,C1) (impedance.py)"),  # X: unreadable
+    ],
+)
+def test_p_group_in_impedax_text_says_the_notations_cannot_be_mixed(text, column, found, rewrites):
+    err = syntax_error(text)
+    assert_caret(err, text, column)
+    assert err.reason == found
+    assert err.hint == MIXED + rewrites
+
+
+def test_p_group_alone_is_answered_with_from_impedance_py():
+    err = syntax_error("p(R1,C1)-R0")
+    assert_caret(err, "p(R1,C1)-R0", 4)
+    assert err.hint == "p(a,b) is impedance.py's notation for a || b; in Python an impedance.py string is passed as ix.from_impedance_py('p(R1,C1)-R0') (the command line reads it by itself)"
+
+
+def test_comma_and_dash_without_p_group_keep_their_hints():
+    assert syntax_error("R0 + R1, C1").hint == "series is written '+'"
+    assert syntax_error("R0 + R1 - C1").hint.startswith("series is written '+'; in Python")
+
+
+def test_long_mixed_text_gets_the_example_not_a_rewrite():
+    text = " + ".join(f"R{k}" for k in range(30)) + " + p(R99,C99)"
+    assert syntax_error(text).hint == MIXED + "e.g. R0 + R1 || C1 (impedax) or R0-p(R1,C1) (impedance.py)"
+
+
+def test_cli_mixed_notation_exits_2_with_the_hint(capsys):
+    assert main(["info", "R0 + p(R1,C1)"]) == 2
+    err = capsys.readouterr().err
+    assert "unexpected ',' at column 10" in err
+    assert "hint: " + MIXED + "R0 + R1 || C1 (impedax) or R0-p(R1,C1) (impedance.py)" in err
+    assert "series is written" not in err and "read as impedance.py" not in err and "Traceback" not in err
