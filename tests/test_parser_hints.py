@@ -67,3 +67,30 @@ def test_cli_mixed_notation_exits_2_with_the_hint(capsys):
     assert "unexpected ',' at column 10" in err
     assert "hint: " + MIXED + "R0 + R1 || C1 (impedax) or R0-p(R1,C1) (impedance.py)" in err
     assert "series is written" not in err and "read as impedance.py" not in err and "Traceback" not in err
+
+
+# --- a space between an element's symbol and its number or label ---------------------------
+
+
+@pytest.mark.parametrize(
+    "text, column, shown, name",
+    [
+        ("R0 + R 1", 6, "'R 1'", "R1"),
+        ("R0 + Ws 2", 7, "'Ws 2'", "Ws2"),
+        ("R 1", 1, "'R 1'", "R1"),
+        ("R0 + R  12 || C1", 6, "'R  12'", "R12"),  # caret on the first space
+        ("R0 + R _sc", 6, "'R _sc'", "R_sc"),
+        ("R0 + R_ 1", 7, "'R_ 1'", "R_1"),
+    ],
+)
+def test_space_inside_an_element_name_is_named(text, column, shown, name):
+    err = syntax_error(text)
+    assert_caret(err, text, column)
+    assert err.reason == f"space inside the element name {shown}"
+    assert err.hint == f"no space inside an element name: {name}"
+
+
+def test_digit_after_a_whole_element_name_keeps_the_generic_message():
+    err = syntax_error("R0 + R1 2")  # 'R1' already has its number: not a split name
+    assert_caret(err, "R0 + R1 2", 8)
+    assert err.reason == "unexpected character '2' (U+0032 DIGIT TWO)"

@@ -73,11 +73,29 @@ def tokenize(source: str, registry: Registry = DEFAULT_REGISTRY) -> list[Token]:
         else:
             m = _IDENT_RE.match(source, i)
             if m is None:
+                _check_spaced_name(source, i, tokens)
                 raise CircuitSyntaxError(source, i, f"unexpected character {describe_character(ch)}", _character_hint(ch))
             tokens.append(Token("element", m.group(), i))
             i = m.end()
     tokens.append(Token("end", "", n))
     return tokens
+
+
+_SYMBOL_ONLY_RE = re.compile(r"[A-Za-z]+_?\Z")  # an element name cut before its number or label: R, Ws, R_
+_NAME_REST_RE = re.compile(r"[A-Za-z0-9_]*")
+
+
+def _check_spaced_name(source: str, i: int, tokens: list[Token]) -> None:
+    """Raise for a digit or '_' at ``i`` that continues the previous word across spaces
+    (``R 1``, ``Ws 2``, ``R _sc``): an element name with a space inside. Caret on the space."""
+    previous = tokens[-1] if tokens else None
+    if not (source[i].isdigit() or source[i] == "_") or previous is None or previous.kind != "element":
+        return
+    end = previous.column + len(previous.text)
+    if not _SYMBOL_ONLY_RE.match(previous.text) or source[end:i].strip():
+        return
+    rest = _NAME_REST_RE.match(source, i).group()
+    raise CircuitSyntaxError(source, end, f"space inside the element name {source[previous.column:i + len(rest)]!r}", f"no space inside an element name: {previous.text}{rest}")
 
 
 # impedance.py's parallel group ``p(``: a 'p' that is no part of a longer name, then '('
