@@ -94,3 +94,33 @@ def test_digit_after_a_whole_element_name_keeps_the_generic_message():
     err = syntax_error("R0 + R1 2")  # 'R1' already has its number: not a split name
     assert_caret(err, "R0 + R1 2", 8)
     assert err.reason == "unexpected character '2' (U+0032 DIGIT TWO)"
+
+
+# --- impedance.py's element names --------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "text, column, reason, hint",
+    [
+        ("R0 + Zarc1", 5, "unknown element symbol 'Zarc' in 'Zarc1'", "impedance.py's Zarc is impedax's CC: CC1"),
+        ("Zarc_skin + R0", 0, "unknown element symbol 'Zarc' in 'Zarc_skin'", "impedance.py's Zarc is impedax's CC: CC_skin"),
+        ("R0 + Zarc", 5, "unknown element 'Zarc'", "impedance.py's Zarc is impedax's CC: e.g. CC1"),
+        ("R0 + La1", 5, "unknown element symbol 'La' in 'La1'", "impedance.py's La has no built-in impedax element: register one with impedance_py='La' (docs/circuits.md, \"Adding an element\")"),
+        ("R0 + TLMQ2", 5, "unknown element symbol 'TLMQ' in 'TLMQ2'", "impedance.py's TLMQ has no built-in impedax element: register one with impedance_py='TLMQ' (docs/circuits.md, \"Adding an element\")"),
+        ("R0 + X1", 5, "unknown element symbol 'X' in 'X1'", "known symbols: C, CC, CPE, G, HN, L, Q, R, W, Wo, Ws"),
+    ],
+)
+def test_impedance_py_element_names_are_named_with_impedaxs(text, column, reason, hint):
+    err = syntax_error(text)
+    assert_caret(err, text, column)
+    assert err.reason == reason and err.hint == hint
+
+
+def test_a_users_element_with_an_impedance_py_name_is_named_too():
+    from impedax.circuits import ElementSpec, ParameterSpec
+
+    lead = ElementSpec("Lk", "lead inductance", "Z = jωL", (ParameterSpec("L", "H", 1e-6),), lambda omega, l: 1j * omega * l, impedance_py="La")
+    registry = ix.DEFAULT_REGISTRY.register(lead)
+    with pytest.raises(ix.CircuitSyntaxError) as caught:
+        ix.parse("R0 + La1", registry)
+    assert caught.value.hint == "impedance.py's La is impedax's Lk: Lk1"

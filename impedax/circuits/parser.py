@@ -229,7 +229,18 @@ def _split_element(source: str, tok: Token, registry: Registry) -> str:
     return symbol
 
 
+# impedance.py's elements that no built-in impedax element implements (docs/migrating.md,
+# "Elements"); the others are read through `Registry.by_impedance_py`
+IMPEDANCE_PY_WITHOUT_EQUIVALENT = ("Gs", "K", "La", "T", "TLMQ")
+
+
 def _symbol_hint(letters: str, rest: str, registry: Registry) -> str:
+    spec = registry.by_impedance_py.get(letters)
+    if spec is not None:  # Zarc1: impedance.py's name of CC
+        name = f"{spec.symbol}{rest}" if rest.isdigit() or rest.startswith("_") else f"e.g. {spec.symbol}1"
+        return f"impedance.py's {letters} is impedax's {spec.symbol}: {name}"
+    if letters in IMPEDANCE_PY_WITHOUT_EQUIVALENT:
+        return f"impedance.py's {letters} has no built-in impedax element: register one with impedance_py={letters!r} (docs/circuits.md, \"Adding an element\")"
     if letters.upper() in registry or letters.capitalize() in registry:
         fixed = letters.upper() if letters.upper() in registry else letters.capitalize()
         return f"symbols are case-sensitive: did you mean {fixed}{rest}?"
