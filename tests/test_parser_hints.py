@@ -124,3 +124,36 @@ def test_a_users_element_with_an_impedance_py_name_is_named_too():
     with pytest.raises(ix.CircuitSyntaxError) as caught:
         ix.parse("R0 + La1", registry)
     assert caught.value.hint == "impedance.py's La is impedax's Lk: Lk1"
+
+
+# --- dashes pasted from a paper ----------------------------------------------------------------
+
+DASH_HINT = "series is written '+' (or '-' in impedance.py's notation)"
+
+
+@pytest.mark.parametrize(
+    "text, column, described, kind",
+    [
+        ("R0 \u2013 R1", 3, "'\u2013' (U+2013 EN DASH)", "a dash '\u2013'"),
+        ("R0 \u2014 R1", 3, "'\u2014' (U+2014 EM DASH)", "a dash '\u2014'"),
+        ("R0 \u2212 R1", 3, "'\u2212' (U+2212 MINUS SIGN)", "a minus sign '\u2212'"),
+        ("R0 + R1\u2011C1", 7, "'\u2011' (U+2011 NON-BREAKING HYPHEN)", "a dash '\u2011'"),
+        ("R0 \uff0d R1", 3, "'\uff0d' (U+FF0D FULLWIDTH HYPHEN-MINUS)", "a dash '\uff0d'"),  # by NFKC
+    ],
+)
+def test_dashes_say_how_series_is_written(text, column, described, kind):
+    err = syntax_error(text)
+    assert err.column == column  # (a full-width '－' takes two terminal columns: no caret check)
+    assert err.reason == f"unexpected character {described}"
+    assert err.hint == f"{kind}: {DASH_HINT}"
+
+
+def test_dash_in_a_caret_line():
+    assert_caret(syntax_error("R0 \u2013 R1"), "R0 \u2013 R1", 3)
+
+
+def test_cli_en_dash_in_an_impedance_py_string_names_the_ascii_dash(capsys):
+    assert main(["info", "R0\u2013p(R1,C1)"]) == 2  # read by from_impedance_py: it has 'p(' and no '+'
+    err = capsys.readouterr().err
+    assert "unexpected '\u2013' at column 3" in err
+    assert "hint: a dash '\u2013': impedance.py's series is the ASCII '-'" in err and "Traceback" not in err

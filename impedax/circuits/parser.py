@@ -174,6 +174,9 @@ LOOKALIKES = {
     "Ο": "O", "Ρ": "P", "Τ": "T", "Υ": "Y", "Χ": "X", "ο": "o", "ν": "v",
     # digits and operators that look like the circuit language's
     "−": "-", "∥": "||", "‖": "||", "ǀ": "|",
+    # dashes, as pasted from a paper or a word processor (NFKC keeps them): hyphen, non-breaking
+    # hyphen, figure dash, en dash, em dash, horizontal bar
+    "‐": "-", "‑": "-", "‒": "-", "–": "-", "—": "-", "―": "-",
 }
 
 
@@ -196,8 +199,9 @@ def _character_hint(ch: str) -> str:
     ascii_twin = lookalike(ch)
     if ascii_twin is None:
         return "expected an element such as R1 or C_gap, '(' , '+' or '||'"
-    if ascii_twin == "-":
-        return "it looks like '-': series is written '+'"
+    if ascii_twin == "-":  # '-' is series in impedance.py's notation; impedax writes '+'
+        kind = "a minus sign" if ch == "−" else "a dash"
+        return f"{kind} '{ch}': series is written '+' (or '-' in impedance.py's notation)"
     if ascii_twin.isalpha():
         return f"did you mean the Latin {ascii_twin!r}? this character only looks like it; retype it"
     return f"did you mean {ascii_twin!r}? this character only looks like it; retype it"
