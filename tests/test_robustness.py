@@ -134,6 +134,10 @@ BAD_MODELS = [  # (id, model, message fragment)
     ("stray-closing-parenthesis", "R1 + C1)", "unbalanced ')'"),
     ("single-bar", "R1 | C1", "a single '|' is not an operator"),
     ("dash-for-series", "R0 + R1-C1", "series is written '+'"),  # ('R1-C1' alone is read as impedance.py notation)
+    ("mixed-notation-p-group", "R0 + p(R1,C1)", "p(a,b) is a || b in impedax's notation, and the two notations cannot be mixed"),
+    ("space-inside-element-name", "R0 + Ws 2", "no space inside an element name: Ws2"),
+    ("impedance-py-element-name", "R0 + Zarc1", "impedance.py's Zarc is impedax's CC: CC1"),
+    ("en-dash-for-series", "R0 \u2013 R1", "a dash '\u2013': series is written '+' (or '-' in impedance.py's notation)"),
     ("whitespace-only", " \t ", "empty circuit"),
     ("lowercase-symbol", "r1 + C1", "symbols are case-sensitive"),
     ("cyrillic-capital-es", "R1 + С1", "did you mean the Latin 'C'?"),

@@ -22,7 +22,7 @@ import re
 
 from ..errors import CircuitError, CircuitSyntaxError
 from .elements import DEFAULT_REGISTRY
-from .parser import MAX_ELEMENTS, MAX_NESTING, parse, require_text
+from .parser import MAX_ELEMENTS, MAX_NESTING, lookalike, parse, require_text
 from .spec import Registry
 from .tree import Circuit, Element, parallel, series
 
@@ -75,7 +75,11 @@ class _ImpedancePyReader:
     def read(self) -> Circuit:
         out = self.series()
         if self.pos != len(self.src):
-            raise CircuitSyntaxError(self.src, self.pos, f"unexpected {self.src[self.pos]!r}", "impedance.py strings use '-' and p(a,b)")
+            ch = self.src[self.pos]
+            hint = "impedance.py strings use '-' and p(a,b)"
+            if ch != "-" and lookalike(ch) == "-":  # a dash pasted from a paper
+                hint = f"{'a minus sign' if ch == '−' else 'a dash'} '{ch}': impedance.py's series is the ASCII '-'"
+            raise CircuitSyntaxError(self.src, self.pos, f"unexpected {ch!r}", hint)
         return out
 
     def skip(self) -> None:

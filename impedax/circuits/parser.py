@@ -18,7 +18,7 @@ import re
 import unicodedata
 from dataclasses import dataclass
 
-from ..errors import CircuitError, CircuitSyntaxError, ParameterError, escape_text
+from ..errors import CircuitError, CircuitSyntaxError, ImpedaxError, ParameterError, escape_text
 from .elements import DEFAULT_REGISTRY
 from .spec import Registry
 from .tree import Circuit, Element, parallel, series
@@ -44,14 +44,16 @@ class Token:
 
 IMPEDANCE_PY_CALL = "ix.from_impedance_py"  # the reader of impedance.py strings, as docs/migrating.md writes it
 MAX_CALL_TEXT = 60  # characters of the user's text quoted in that call; a longer text is shown as "..."
+MAX_REWRITE_TEXT = 40  # characters of each rewrite of a mixed-notation text in its hint (a longer one: an example), so the message stays under 300
 
 
 def _call_text(source: str) -> str:
     return repr(source) if len(source) <= MAX_CALL_TEXT else '"..."'
 
 
-def tokenize(source: str) -> list[Token]:
-    """Split ``source`` into tokens that keep their character offsets."""
+def tokenize(source: str, registry: Registry = DEFAULT_REGISTRY) -> list[Token]:
+    """Split ``source`` into tokens that keep their character offsets (``registry``: the
+    elements a hint's rewrite of the text may name)."""
     tokens: list[Token] = []
     i, n = 0, len(source)
     while i < n:
@@ -67,16 +69,96 @@ def tokenize(source: str) -> list[Token]:
         elif ch == "|":
             raise CircuitSyntaxError(source, i, "a single '|' is not an operator", "parallel is written '||'")
         elif ch == "-" or ch == ",":
-            hint = "series is written '+'" + (f"; in Python an impedance.py string is passed as {IMPEDANCE_PY_CALL}({_call_text(source)}) (the command line reads it by itself)" if ch == "-" else "")
-            raise CircuitSyntaxError(source, i, f"unexpected {ch!r}", hint)
+            raise CircuitSyntaxError(source, i, f"unexpected {ch!r}", _notation_hint(source, ch, registry))
         else:
             m = _IDENT_RE.match(source, i)
             if m is None:
+                _check_spaced_name(source, i, tokens)
                 raise CircuitSyntaxError(source, i, f"unexpected character {describe_character(ch)}", _character_hint(ch))
             tokens.append(Token("element", m.group(), i))
             i = m.end()
     tokens.append(Token("end", "", n))
     return tokens
+
+
+_SYMBOL_ONLY_RE = re.compile(r"[A-Za-z]+_?\Z")  # an element name cut before its number or label: R, Ws, R_
+_NAME_REST_RE = re.compile(r"[A-Za-z0-9_]*")
+
+
+def _check_spaced_name(source: str, i: int, tokens: list[Token]) -> None:
+    """Raise for a digit or '_' at ``i`` that continues the previous word across spaces
+    (``R 1``, ``Ws 2``, ``R _sc``): an element name with a space inside. Caret on the space."""
+    previous = tokens[-1] if tokens else None
+    if not (source[i].isdigit() or source[i] == "_") or previous is None or previous.kind != "element":
+        return
+    end = previous.column + len(previous.text)
+    if not _SYMBOL_ONLY_RE.match(previous.text) or source[end:i].strip():
+        return
+    rest = _NAME_REST_RE.match(source, i).group()
+    raise CircuitSyntaxError(source, end, f"space inside the element name {source[previous.column:i + len(rest)]!r}", f"no space inside an element name: {previous.text}{rest}")
+
+
+# impedance.py's parallel group ``p(``: a 'p' that is no part of a longer name, then '('
+_IMPEDANCE_PY_GROUP_RE = re.compile(r"(?<![A-Za-z0-9_])p\(")
+
+
+def _notation_hint(source: str, ch: str, registry: Registry) -> str:
+    """The hint for a ``-``, ``,`` or ``p(``: impedance.py's series, branches and parallel. Mixed with
+    impedax's ``+`` / ``||`` the string is in neither notation (say so, and write it in each);
+    alone, it is an impedance.py string passed where impedax text goes."""
+    has_group = _IMPEDANCE_PY_GROUP_RE.search(source) is not None
+    if has_group and ("+" in source or "||" in source):
+        return "p(a,b) is a || b in impedax's notation, and the two notations cannot be mixed: write the whole string in one, " + _in_one_notation(source, registry)
+    call = f"in Python an impedance.py string is passed as {IMPEDANCE_PY_CALL}({_call_text(source)}) (the command line reads it by itself)"
+    if ch == "-":
+        return "series is written '+'; " + call
+    if has_group:
+        return "p(a,b) is impedance.py's notation for a || b; " + call
+    return "series is written '+'"
+
+
+def _in_one_notation(source: str, registry: Registry) -> str:
+    """``source``, which mixes impedax's ``+`` / ``||`` with impedance.py's ``-`` / ``p(a,b)``,
+    written in each notation alone (``R0 + R1 || C1 (impedax) or R0-p(R1,C1) (impedance.py)``),
+    read as ``-`` → ``+`` and ``p(a,b)`` → ``((a) || (b))``; an example if it does not read so
+    or a rewrite would be longer than `MAX_REWRITE_TEXT`."""
+    example = "e.g. R0 + R1 || C1 (impedax) or R0-p(R1,C1) (impedance.py)"
+    if len(source) > 4 * MAX_REWRITE_TEXT:
+        return example
+    out: list[str] = []
+    groups: list[str] = []  # the open parentheses: "p(" or "("
+    i = 0
+    while i < len(source):
+        ch = source[i]
+        if _IMPEDANCE_PY_GROUP_RE.match(source, i):
+            groups.append("p(")
+            out.append("((")
+            i += 2
+            continue
+        if ch == "(":
+            groups.append("(")
+        elif ch == ")" and groups:
+            ch = "))" if groups.pop() == "p(" else ")"
+        elif ch == ",":
+            if groups[-1:] != ["p("]:
+                return example
+            ch = ") || ("
+        elif ch == "-":
+            ch = "+"
+        out.append(ch)
+        i += 1
+    try:
+        circuit = parse("".join(out), registry)
+    except ImpedaxError:
+        return example
+    impedax_text = str(circuit)
+    if len(impedax_text) > MAX_REWRITE_TEXT:
+        return example
+    try:
+        impedance_py_text = circuit.to_impedance_py(registry)
+    except ImpedaxError:  # an element impedance.py lacks (HN)
+        return f"{impedax_text} (impedax)"
+    return f"{impedax_text} (impedax) or {impedance_py_text} (impedance.py)" if len(impedance_py_text) <= MAX_REWRITE_TEXT else f"{impedax_text} (impedax)"
 
 
 # Letters of other scripts drawn exactly like Latin ones (after Unicode's confusables list,
@@ -92,6 +174,9 @@ LOOKALIKES = {
     "Ο": "O", "Ρ": "P", "Τ": "T", "Υ": "Y", "Χ": "X", "ο": "o", "ν": "v",
     # digits and operators that look like the circuit language's
     "−": "-", "∥": "||", "‖": "||", "ǀ": "|",
+    # dashes, as pasted from a paper or a word processor (NFKC keeps them): hyphen, non-breaking
+    # hyphen, figure dash, en dash, em dash, horizontal bar
+    "‐": "-", "‑": "-", "‒": "-", "–": "-", "—": "-", "―": "-",
 }
 
 
@@ -114,8 +199,9 @@ def _character_hint(ch: str) -> str:
     ascii_twin = lookalike(ch)
     if ascii_twin is None:
         return "expected an element such as R1 or C_gap, '(' , '+' or '||'"
-    if ascii_twin == "-":
-        return "it looks like '-': series is written '+'"
+    if ascii_twin == "-":  # '-' is series in impedance.py's notation; impedax writes '+'
+        kind = "a minus sign" if ch == "−" else "a dash"
+        return f"{kind} '{ch}': series is written '+' (or '-' in impedance.py's notation)"
     if ascii_twin.isalpha():
         return f"did you mean the Latin {ascii_twin!r}? this character only looks like it; retype it"
     return f"did you mean {ascii_twin!r}? this character only looks like it; retype it"
@@ -147,7 +233,18 @@ def _split_element(source: str, tok: Token, registry: Registry) -> str:
     return symbol
 
 
+# impedance.py's elements that no built-in impedax element implements (docs/migrating.md,
+# "Elements"); the others are read through `Registry.by_impedance_py`
+IMPEDANCE_PY_WITHOUT_EQUIVALENT = ("Gs", "K", "La", "T", "TLMQ")
+
+
 def _symbol_hint(letters: str, rest: str, registry: Registry) -> str:
+    spec = registry.by_impedance_py.get(letters)
+    if spec is not None:  # Zarc1: impedance.py's name of CC
+        name = f"{spec.symbol}{rest}" if rest.isdigit() or rest.startswith("_") else f"e.g. {spec.symbol}1"
+        return f"impedance.py's {letters} is impedax's {spec.symbol}: {name}"
+    if letters in IMPEDANCE_PY_WITHOUT_EQUIVALENT:
+        return f"impedance.py's {letters} has no built-in impedax element: register one with impedance_py={letters!r} (docs/circuits.md, \"Adding an element\")"
     if letters.upper() in registry or letters.capitalize() in registry:
         fixed = letters.upper() if letters.upper() in registry else letters.capitalize()
         return f"symbols are case-sensitive: did you mean {fixed}{rest}?"
@@ -165,7 +262,7 @@ class _Parser:
     def __init__(self, source: str, registry: Registry):
         self.source = source
         self.registry = registry
-        self.tokens = tokenize(source)
+        self.tokens = tokenize(source, registry)
         self.pos = 0
         self.names: dict[str, int] = {}
         self.depth = 0
@@ -212,6 +309,8 @@ class _Parser:
     def term(self) -> Circuit:
         tok = self.take()
         if tok.kind == "element":
+            if tok.text == "p" and self.peek().kind == "(":
+                raise CircuitSyntaxError(self.source, tok.column, "unexpected 'p('", _notation_hint(self.source, "p(", self.registry))
             symbol = _split_element(self.source, tok, self.registry)
             if tok.text in self.names:
                 first = self.names[tok.text] + 1

@@ -1,0 +1,159 @@
+"""Parse-error hints for text that mixes notations or is pasted from elsewhere: each case's
+column and message fragments are written by hand from the input."""
+
+from __future__ import annotations
+
+import pytest
+
+import impedax as ix
+from impedax.cli import main
+
+
+def syntax_error(text: str) -> ix.CircuitSyntaxError:
+    with pytest.raises(ix.CircuitSyntaxError) as caught:
+        ix.parse(text)
+    return caught.value
+
+
+def assert_caret(err: ix.CircuitSyntaxError, text: str, column: int) -> None:
+    assert err.column == column
+    lines = str(err).splitlines()
+    assert lines[1] == "  " + text and lines[2] == "  " + " " * column + "^"
+
+
+# --- impedance.py's p(a,b) inside impedax text ------------------------------------------------
+
+MIXED = "p(a,b) is a || b in impedax's notation, and the two notations cannot be mixed: write the whole string in one, "
+
+
+@pytest.mark.parametrize(
+    "text, column, found, rewrites",
+    [
+        ("R0 + p(R1,C1)", 9, "unexpected ','", "R0 + R1 || C1 (impedax) or R0-p(R1,C1) (impedance.py)"),
+        ("p(R1,C1) + R0", 4, "unexpected ','", "R1 || C1 + R0 (impedax) or p(R1,C1)-R0 (impedance.py)"),
+        ("R0 || p(R1, C1)", 10, "unexpected ','", "R0 || R1 || C1 (impedax) or p(R0,R1,C1) (impedance.py)"),
+        ("R0+p(R1-C1,C2)", 7, "unexpected '-'", "R0 + (R1 + C1) || C2 (impedax) or R0-p(R1-C1,C2) (impedance.py)"),
+        ("R0 + p(R1||C1)", 5, "unexpected 'p('", "R0 + R1 || C1 (impedax) or R0-p(R1,C1) (impedance.py)"),
+        ("R0 + p(R1,HN1)", 9, "unexpected ','", "R0 + R1 || HN1 (impedax)"),  # HN: no impedance.py element
+        ("R0 + p(R1,X1)", 9, "unexpected ','", "e.g. R0 + R1 || C1 (impedax) or R0-p(R1,C1) (impedance.py)"),  # X: unreadable
+    ],
+)
+def test_p_group_in_impedax_text_says_the_notations_cannot_be_mixed(text, column, found, rewrites):
+    err = syntax_error(text)
+    assert_caret(err, text, column)
+    assert err.reason == found
+    assert err.hint == MIXED + rewrites
+
+
+def test_p_group_alone_is_answered_with_from_impedance_py():
+    err = syntax_error("p(R1,C1)-R0")
+    assert_caret(err, "p(R1,C1)-R0", 4)
+    assert err.hint == "p(a,b) is impedance.py's notation for a || b; in Python an impedance.py string is passed as ix.from_impedance_py('p(R1,C1)-R0') (the command line reads it by itself)"
+
+
+def test_comma_and_dash_without_p_group_keep_their_hints():
+    assert syntax_error("R0 + R1, C1").hint == "series is written '+'"
+    assert syntax_error("R0 + R1 - C1").hint.startswith("series is written '+'; in Python")
+
+
+def test_long_mixed_text_gets_the_example_not_a_rewrite():
+    text = " + ".join(f"R{k}" for k in range(30)) + " + p(R99,C99)"
+    assert syntax_error(text).hint == MIXED + "e.g. R0 + R1 || C1 (impedax) or R0-p(R1,C1) (impedance.py)"
+
+
+def test_cli_mixed_notation_exits_2_with_the_hint(capsys):
+    assert main(["info", "R0 + p(R1,C1)"]) == 2
+    err = capsys.readouterr().err
+    assert "unexpected ',' at column 10" in err
+    assert "hint: " + MIXED + "R0 + R1 || C1 (impedax) or R0-p(R1,C1) (impedance.py)" in err
+    assert "series is written" not in err and "read as impedance.py" not in err and "Traceback" not in err
+
+
+# --- a space between an element's symbol and its number or label ---------------------------
+
+
+@pytest.mark.parametrize(
+    "text, column, shown, name",
+    [
+        ("R0 + R 1", 6, "'R 1'", "R1"),
+        ("R0 + Ws 2", 7, "'Ws 2'", "Ws2"),
+        ("R 1", 1, "'R 1'", "R1"),
+        ("R0 + R  12 || C1", 6, "'R  12'", "R12"),  # caret on the first space
+        ("R0 + R _sc", 6, "'R _sc'", "R_sc"),
+        ("R0 + R_ 1", 7, "'R_ 1'", "R_1"),
+    ],
+)
+def test_space_inside_an_element_name_is_named(text, column, shown, name):
+    err = syntax_error(text)
+    assert_caret(err, text, column)
+    assert err.reason == f"space inside the element name {shown}"
+    assert err.hint == f"no space inside an element name: {name}"
+
+
+def test_digit_after_a_whole_element_name_keeps_the_generic_message():
+    err = syntax_error("R0 + R1 2")  # 'R1' already has its number: not a split name
+    assert_caret(err, "R0 + R1 2", 8)
+    assert err.reason == "unexpected character '2' (U+0032 DIGIT TWO)"
+
+
+# --- impedance.py's element names --------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "text, column, reason, hint",
+    [
+        ("R0 + Zarc1", 5, "unknown element symbol 'Zarc' in 'Zarc1'", "impedance.py's Zarc is impedax's CC: CC1"),
+        ("Zarc_skin + R0", 0, "unknown element symbol 'Zarc' in 'Zarc_skin'", "impedance.py's Zarc is impedax's CC: CC_skin"),
+        ("R0 + Zarc", 5, "unknown element 'Zarc'", "impedance.py's Zarc is impedax's CC: e.g. CC1"),
+        ("R0 + La1", 5, "unknown element symbol 'La' in 'La1'", "impedance.py's La has no built-in impedax element: register one with impedance_py='La' (docs/circuits.md, \"Adding an element\")"),
+        ("R0 + TLMQ2", 5, "unknown element symbol 'TLMQ' in 'TLMQ2'", "impedance.py's TLMQ has no built-in impedax element: register one with impedance_py='TLMQ' (docs/circuits.md, \"Adding an element\")"),
+        ("R0 + X1", 5, "unknown element symbol 'X' in 'X1'", "known symbols: C, CC, CPE, G, HN, L, Q, R, W, Wo, Ws"),
+    ],
+)
+def test_impedance_py_element_names_are_named_with_impedaxs(text, column, reason, hint):
+    err = syntax_error(text)
+    assert_caret(err, text, column)
+    assert err.reason == reason and err.hint == hint
+
+
+def test_a_users_element_with_an_impedance_py_name_is_named_too():
+    from impedax.circuits import ElementSpec, ParameterSpec
+
+    lead = ElementSpec("Lk", "lead inductance", "Z = jωL", (ParameterSpec("L", "H", 1e-6),), lambda omega, l: 1j * omega * l, impedance_py="La")
+    registry = ix.DEFAULT_REGISTRY.register(lead)
+    with pytest.raises(ix.CircuitSyntaxError) as caught:
+        ix.parse("R0 + La1", registry)
+    assert caught.value.hint == "impedance.py's La is impedax's Lk: Lk1"
+
+
+# --- dashes pasted from a paper ----------------------------------------------------------------
+
+DASH_HINT = "series is written '+' (or '-' in impedance.py's notation)"
+
+
+@pytest.mark.parametrize(
+    "text, column, described, kind",
+    [
+        ("R0 \u2013 R1", 3, "'\u2013' (U+2013 EN DASH)", "a dash '\u2013'"),
+        ("R0 \u2014 R1", 3, "'\u2014' (U+2014 EM DASH)", "a dash '\u2014'"),
+        ("R0 \u2212 R1", 3, "'\u2212' (U+2212 MINUS SIGN)", "a minus sign '\u2212'"),
+        ("R0 + R1\u2011C1", 7, "'\u2011' (U+2011 NON-BREAKING HYPHEN)", "a dash '\u2011'"),
+        ("R0 \uff0d R1", 3, "'\uff0d' (U+FF0D FULLWIDTH HYPHEN-MINUS)", "a dash '\uff0d'"),  # by NFKC
+    ],
+)
+def test_dashes_say_how_series_is_written(text, column, described, kind):
+    err = syntax_error(text)
+    assert err.column == column  # (a full-width '－' takes two terminal columns: no caret check)
+    assert err.reason == f"unexpected character {described}"
+    assert err.hint == f"{kind}: {DASH_HINT}"
+
+
+def test_dash_in_a_caret_line():
+    assert_caret(syntax_error("R0 \u2013 R1"), "R0 \u2013 R1", 3)
+
+
+def test_cli_en_dash_in_an_impedance_py_string_names_the_ascii_dash(capsys):
+    assert main(["info", "R0\u2013p(R1,C1)"]) == 2  # read by from_impedance_py: it has 'p(' and no '+'
+    err = capsys.readouterr().err
+    assert "unexpected '\u2013' at column 3" in err
+    assert "hint: a dash '\u2013': impedance.py's series is the ASCII '-'" in err and "Traceback" not in err
