@@ -181,6 +181,17 @@ def test_force_with_and_without_ep():
     np.testing.assert_allclose(np.asarray(sirin.gap_force_time_average(params, F61, SKIN, TS, ep=None)), without / 2, rtol=1e-12)
 
 
+def test_auto_reads_c_gap_alone_as_no_ep_branch():
+    # ep="auto" on {"C_gap": …}: the gap alone, eq 1 by hand with the node equations (numpy)
+    force = np.asarray(sirin.gap_force_peak({"C_gap": 4.13e-10}, F61, SKIN, TS))
+    u = E0 * 1.00059 * 130e-6 / 4.13e-10
+    dv = _node_voltage_gap(1 / (2j * np.pi * F61 * 4.13e-10))
+    np.testing.assert_allclose(force, 0.5 * E0 * 1.00059 * 130e-6 * np.abs(dv) ** 2 / u**2, rtol=1e-10)
+    # R_EP without C_EP or CPE_EP.*: which branch is ambiguous, so it still asks
+    with pytest.raises(ParameterError, match="C_EP or CPE_EP"):
+        sirin.gap_force_peak({"R_EP": 1e8, "C_gap": 4.13e-10}, F61, SKIN, TS)
+
+
 def test_force_vmaps_over_posterior_draws():
     rng = np.random.default_rng(5)
     draws = {k: v * np.exp(rng.normal(0, 0.05, 16)) for k, v in EDL.items()}
