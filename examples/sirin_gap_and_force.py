@@ -18,9 +18,11 @@ below ≈ 30 Hz, where the double layer leaks the charge across the gap.
 
 Runtime: at the default settings the hierarchical model samples 4 chains × (2000 warm-up + 2000
 draws) with NUTS, which takes many minutes: ≈ 7 min on the project's idle 2-core machine (scaled
-from `make demo`'s 77 s for 400 + 400), and 20–30 min were seen on a busy one; the progress line
-on stderr estimates the time left. --fast samples 300 + 300 per chain (the smoke test's setting):
-≈ 1 min idle (4 min busy), with wider, less settled intervals.
+from `make demo`'s 77 s for 400 + 400), and 20–30 min were seen on a busy one. --fast samples
+300 + 300 per chain (the smoke test's setting), with wider, less settled intervals: it took
+2 min 46 s on the shared 2-core machine under load (78 s of CPU: ≈ 1.5 min idle), with the
+compiled sampler already in JAX's persistent cache; the first run compiles for 30–70 s more.
+Both print on stderr what runs (each stage) and a progress line with the time left.
 
 Run: python examples/sirin_gap_and_force.py [OUT_DIR] [--fast]
 """
@@ -38,7 +40,7 @@ from impedax.models.synthetic import SIRIN_SYNTHETIC_TRUTH
 def main(argv=None):
     args = _example.parse_args(__doc__, argv)
     spectra = example_spectra()
-    result = gap_analysis(spectra["total_sliding"], spectra["skin"], spectra["touchscreen"], area=130e-6, v0=75.0, steps=300 if args.fast else 2000, progress=not args.fast)
+    result = gap_analysis(spectra["total_sliding"], spectra["skin"], spectra["touchscreen"], area=130e-6, v0=75.0, steps=300 if args.fast else 2000, progress=True)
     g, p = result.gap, result.paper
     print(f"paper method     C_gap = {p.c_gap * 1e12:.1f} pF   u = {p.gap * 1e6:.3f} µm   bounds {p.gap_lower * 1e6:.3f}–{p.gap_upper * 1e6:.3f} µm")
     print(f"Bayesian         u = {g['value'] * 1e6:.3f} µm   90% interval {g['q05'] * 1e6:.3f}–{g['q95'] * 1e6:.3f} µm   ({result.edl_fit.model})")

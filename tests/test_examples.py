@@ -120,7 +120,7 @@ EXAMPLES = {
             (r"Bayesian\s+u = " + _NUMBER + " µm", _within(2.70, 2.85)),
             (None, lambda out: "with EP" in out and "without EP" in out),
         ],
-        (pytest.mark.slow,),  # ~30 s; the demo test tells the same story
+        (pytest.mark.slow,),  # 80 s of CPU (2 min 46 s under load); the demo test tells the same story
     ),
     "hidden_effect_walkthrough.py": (
         ["hidden_effect_diagnosis.png", "hidden_effect_refinement.png"],
