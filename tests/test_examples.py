@@ -140,6 +140,12 @@ EXAMPLES = {
             (r"touchscreen\s+PPS peak\s+\S+ % at\s+" + _NUMBER + " Hz", _within(5e4, 2e5)),  # paper: ≈ 100 kHz
             # paper: until ≈ 100 kHz; the last frequency where the remainder leads, not the first where it is overtaken (126 kHz)
             (r"largest MR up to " + _NUMBER + " kHz", lambda khz: abs(khz - _remainder_leads_up_to_khz()) <= 0.5),
+            # the skin's MR (the docstring): above the touchscreen's at low frequency, flat ≈ 0.07 to 30 kHz, rising above
+            (r"skin MR " + _NUMBER + " at 1 Hz", _within(0.15, 0.2)),
+            (r"above the touchscreen's up to " + _NUMBER + " Hz", _within(100.0, 250.0)),
+            (r"skin MR .*, " + _NUMBER + "–", _within(0.055, 0.08)),
+            (r"skin MR .*–" + _NUMBER + " over 30 Hz–30 kHz", _within(0.06, 0.085)),
+            (r"over 30 Hz–30 kHz, " + _NUMBER + " at 100 kHz", _within(0.11, 0.2)),
         ],
         (),
     ),
