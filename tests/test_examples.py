@@ -72,7 +72,7 @@ EXAMPLES = {
     "meyer_force_spectrum.py": (
         ["meyer_fig3_4_force_spectrum.png"],
         [
-            (r"peak force\s+" + _NUMBER + " mN", _near(164.0, 1.0)),  # thesis Fig 3.4: 164 mN
+            (r"peak force\s+" + _NUMBER + " mN", _near(164.0, 1.0)),  # Fig 3.4's computed reference (docs/physics.md): 164 mN
             (r"peak force\s+\S+ mN at " + _NUMBER + " kHz", _near(37.0, 0.1)),  # refined (force_maximum): 37.0 kHz on either grid
             (r"unrounded values\s+peak\s+" + _NUMBER + " mN", _near(164.9, 0.1)),  # docs/models.md: 164.9 mN at 36.6 kHz
             (r"unrounded values\s+peak\s+\S+ mN at " + _NUMBER + " kHz", _near(36.6, 0.1)),
