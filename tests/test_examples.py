@@ -176,6 +176,8 @@ EXAMPLES = {
         [
             (r"lift at 2 µm amplitude: " + _NUMBER + " N", _near(0.17, 0.01)),  # levitates 0.2 N just above 2 µm
             (r"levitation of a 0\.2 N finger at an amplitude of " + _NUMBER + " µm", _within(2.0, 2.5)),
+            # eq 1 as printed, (µ − Δµ)/µ = F_s/F_n, is inconsistent; the theory is Fig 7's (the text says Figure 8)
+            (None, lambda out: "(µ − Δµ)/µ = F_s/F_n, which is inconsistent" in out and "Fig 7's (its caption)" in out),
         ],
         (),
     ),
