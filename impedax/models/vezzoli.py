@@ -88,7 +88,8 @@ def instantaneous_force(v_e, *, h_i=TABLE2["h_i"], h_s=TABLE2["h_s"], area=TABLE
 
 EQ8_RATIO_LIMIT = 0.1
 """Largest C_i/C_s = ε_i h_s/(ε_s h_i) taken as "C_i ≪ C_s", the condition the paper states for
-eq 8 (an order of magnitude below 1; the paper gives no number). Table 2 (90 µm film): 0.0056.
+eq 8 (an order of magnitude below 1; the paper gives no number: impedax's choice, docs/physics.md,
+"impedax's own choices and derived values"). Table 2 (90 µm film): 0.0056.
 The paper's own Figs 8–10 use 1 µm insulators and lie above it: Fig 8 (ε_i = 3.4) 0.15–0.73 for
 h_s = 100–500 µm, Fig 10 (ε_i 1–36, h_s = 350 µm) 0.15–5.4."""
 
