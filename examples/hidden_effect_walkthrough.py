@@ -8,8 +8,10 @@ pointed to) and a second, faster relaxation, with 1 % proportional noise, 0.1 Hz
 What to look for: the naive R + R∥C model misses the second, depressed arc (rms_rel ≈ 24 %); the
 Kramers–Kronig test says the data are fine, so the misfit is the model's; the diagnosis says in
 words where and how the model fails and ranks the candidate effects by ΔAIC — a further
-relaxation (R ∥ CPE) first, a constant-phase skin next; adding the best one drops rms_rel to the
-noise level (≈ 1.4 % for 1 % noise on Re and Im) and the verdict becomes "adequate".
+relaxation (R ∥ CPE) first, a constant-phase skin next; adding the best one drops rms_rel to
+1.18 %, the noise level (1 % noise on each of Re and Im is √2 · 1 % ≈ 1.4 % on average; this
+seed's draw is 1.23 %, and the fit's 7 parameters absorb a little of it), and the verdict
+becomes "adequate".
 
 Run: python examples/hidden_effect_walkthrough.py [OUT_DIR] [--fast]
 """

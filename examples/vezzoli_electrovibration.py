@@ -7,7 +7,11 @@ conditions (140 V, 1 µm insulator, ε_i = 3.4; A, ε_s, ρ_s from Table 2, whic
 restate for Fig 8); Fig 9, force over insulator thickness for ε_i from 1 to 36 (500 Hz, 140 V);
 Fig 10, the voltage needed for 0.01 N against ε_i (1 µm insulator, 500 Hz). Fig 9's dotted
 lines (the caption's "selected materials") are drawn for ZrO₂ (ε_i = 25), ZnO (8.5) and SiO₂ (3.9),
-with the thicknesses the paper's text gives for 0.03 N marked.
+with the thicknesses the paper's text gives for 0.03 N marked. The materials are AMBIGUOUS: the
+text names "ZnO_2 … ZnO … SO_2", its list "silicium dioxide (glass), zirconium oxide and
+zirconium dioxide"; impedax reads ZrO₂, zinc oxide (ε_i 8.5) and SiO₂, and the ZnO verdict
+below rests on zinc oxide (a zirconium oxide of ε_i ≈ 14, which the paper does not print, would
+agree with the text).
 Data: none measured — model curves with the paper's parameters. All forces are time averages.
 DISAGREEMENT with the paper's Fig 9 text: "0.03 N needs 8.5 µm of ZrO₂, 2.5 µm of ZnO and under
 1 µm of SiO₂" (500 Hz, 140 V). The paper does not restate h_s, ε_s, ρ_s, A for Fig 9; with Table 2's
@@ -34,13 +38,17 @@ import numpy as np
 import _example
 from impedax.models import vezzoli
 
-SC_THICKNESSES = np.array([100e-6, 200e-6, 350e-6, 500e-6])  # m, Fig 8
+# m, Fig 8: impedax's choice around Table 2's 350 µm; the paper gives only "the range given by
+# (Fruhstorfer, 2000)" (docs/physics.md, "impedax's own choices and derived values")
+SC_THICKNESSES = np.array([100e-6, 200e-6, 350e-6, 500e-6])
 INSULATOR_PERMITTIVITIES = np.array([1.0, 3.4, 7.0, 12.0, 24.0, 36.0])  # Fig 9
 FIG9 = {"frequency": 500.0, "v_m": 140.0, "force": 0.03}
 """Fig 9's conditions and the force (N) its text discusses."""
 MATERIALS = {"ZrO₂": (25.0, 8.5e-6), "ZnO": (8.5, 2.5e-6), "SiO₂": (3.9, 1e-6)}
 """Fig 9's materials: (ε_i, the thickness [m] the text says gives 0.03 N; for SiO₂ "less than" it).
-ε_i: typical values (ZrO₂ ≈ 25, ZnO ≈ 8.5, SiO₂ 3.9; the paper does not print them)."""
+ε_i: typical values (ZrO₂ ≈ 25, ZnO ≈ 8.5, SiO₂ 3.9; the paper does not print them). The names
+are impedax's reading of the text's "ZnO_2 … ZnO … SO_2"; the paper's list says "silicium
+dioxide, zirconium oxide and zirconium dioxide", so "ZnO" may be a zirconium oxide instead."""
 EPSILON_0 = 8.8541878128e-12  # F/m
 
 
@@ -85,6 +93,9 @@ def _fig9_materials() -> dict[str, dict[str, float]]:
     print("  -> DISAGREES with the paper for ZrO₂ and ZnO (about 2/3 of 0.03 N); SiO₂ under 1 µm agrees. "
           "No single h_s, A or V_m reconciles both; the paper's Fig 9 inputs are not all stated. "
           f"(C_i/C_s at the text's points: {ratios}, outside eq 8's C_i << C_s as well.)")
+    print("  AMBIGUOUS materials: the text names \"ZnO_2 … ZnO … SO_2\", its list \"silicium dioxide, zirconium oxide and zirconium dioxide\";"
+          " read here as ZrO₂, zinc oxide (ε_i 8.5) and SiO₂. The ZnO verdict rests on zinc oxide: if the list's zirconium oxide is meant"
+          f" (ε_i not printed), the text's 2.5 µm holds for ε_i ≈ {rows['ZnO']['eps_i']:.3g}.")
     return rows
 
 

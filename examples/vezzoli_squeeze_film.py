@@ -5,10 +5,13 @@ effect (eqs 2–6, σ → ∞) against the plate's vibration amplitude, for fing
 0.2–0.4 N (Table 1). The paper's measured points are not reproduced (no data are shipped).
 Data: none measured — model curves with Table 1 (h_r = 1.8 µm, h_e = 50 µm, L_e = 350 µm,
 f_r = 38.22 kHz, η = 1.85e-5 Pa·s, p0 = 1e5 Pa).
-Assumptions (printed by the script; Table 1 omits A and l0 and eq 1 is garbled in the text):
-contact area A = 1 cm² (Table 2's apparent area) and contact length l0 = √A = 1 cm; eq 5's "A"
-read as l0² so the squeeze number σ is dimensionless; eq 1 read as Δµ/µ = F_s/F_n capped at 1
-(levitation when the lift reaches the finger force).
+Assumptions (printed by the script; Table 1 omits A and l0, and eq 1 as printed is
+inconsistent): contact area A = 1 cm² (Table 2's apparent area) and contact length l0 = √A =
+1 cm; eq 5's "A" read as l0² so the squeeze number σ is dimensionless; eq 1 read as Δµ/µ =
+F_s/F_n capped at 1 (levitation when the lift reaches the finger force): the paper prints
+(µ − Δµ)/µ = F_s/F_n, which read literally makes the remaining friction rise with the lift;
+Coulomb friction on the load the film does not carry, µ(F_n − F_s), gives Δµ/µ = F_s/F_n.
+The theory curves are those of Fig 7's caption; the paper's text calls them "Figure 8".
 What to look for: the lift grows steeply with amplitude; about 2 µm lifts ≈ 0.17 N, so just
 above 2 µm a finger pressing with 0.2 N is levitated, as the paper states (its measurements
 instead level off — the model cannot explain that, the paper says); σ ≫ 10 justifies σ → ∞.
@@ -29,7 +32,10 @@ ASSUMPTIONS = (
     "contact length l0 = √A = 1 cm",
     "eq 5's area read as l0², so the squeeze number σ = 12 η ω l0²/(p0 h0²) is dimensionless",
     "σ → ∞ pressure of eq 6, averaged exactly over a period and over x ∈ [−l0/2, l0/2]",
-    "eq 1 read as Δµ/µ = F_s/F_n, capped at 1 (levitation when F_s ≥ F_n)",
+    "eq 1 read as Δµ/µ = F_s/F_n, capped at 1 (levitation when F_s ≥ F_n): the paper prints (µ − Δµ)/µ = F_s/F_n,"
+    " which is inconsistent (read literally, friction rises with the lift and vanishes without it);"
+    " friction µ(F_n − F_s) on the load the film does not carry gives Δµ/µ = F_s/F_n",
+    "the theory curves are Fig 7's (its caption); the paper's text says \"Figure 8\", which is the electrovibration force",
 )
 
 

@@ -181,6 +181,37 @@ def test_force_with_and_without_ep():
     np.testing.assert_allclose(np.asarray(sirin.gap_force_time_average(params, F61, SKIN, TS, ep=None)), without / 2, rtol=1e-12)
 
 
+def test_fig2d_circuit_puts_the_force_peak_below_100_hz():
+    """docs/models.md, Fig 2f: with the paper's C_gap, its EP range (corner at 30 Hz) and the
+    example's skin and screen, Fig 2d's circuit peaks near 48 Hz, not at the paper's 250 Hz;
+    250 Hz needs the EP corner near 420 Hz. Oracle: F = ½ ε0 ε_gap A |V0 Z_R/Z_total|²/u²."""
+    freq = np.geomspace(1.0, 1e6, 1201)
+    skin, ts = rcpe(freq, 800.0, 2.0e7, 1.049e-8, 0.90), rcpe(freq, 90.0, 1.7e5, 1.184e-9, 0.92)
+    c_gap, u = 413e-12, E0 * 1.00059 * 130e-6 / 413e-12
+
+    def peak_hz(corner_hz, c_ep):
+        params = {"R_EP": 1 / (2 * np.pi * corner_hz * (c_ep + c_gap)), "C_EP": c_ep, "C_gap": c_gap}
+        force = np.asarray(sirin.gap_force_peak(params, freq, skin, ts))
+        z_r = edl(freq, **params)
+        np.testing.assert_allclose(force, 0.5 * E0 * 1.00059 * 130e-6 * np.abs(75.0 * z_r / (z_r + skin + ts)) ** 2 / u**2, rtol=1e-10)
+        return freq[np.argmax(force)]
+
+    for c_ep in (0.01 * c_gap, 0.5 * c_gap, 2.0 * c_gap):
+        assert 44.0 <= peak_hz(30.0, c_ep) <= 52.0
+    assert peak_hz(420.0, 0.01 * c_gap) == pytest.approx(250.0, rel=0.05)
+
+
+def test_auto_reads_c_gap_alone_as_no_ep_branch():
+    # ep="auto" on {"C_gap": …}: the gap alone, eq 1 by hand with the node equations (numpy)
+    force = np.asarray(sirin.gap_force_peak({"C_gap": 4.13e-10}, F61, SKIN, TS))
+    u = E0 * 1.00059 * 130e-6 / 4.13e-10
+    dv = _node_voltage_gap(1 / (2j * np.pi * F61 * 4.13e-10))
+    np.testing.assert_allclose(force, 0.5 * E0 * 1.00059 * 130e-6 * np.abs(dv) ** 2 / u**2, rtol=1e-10)
+    # R_EP without C_EP or CPE_EP.*: which branch is ambiguous, so it still asks
+    with pytest.raises(ParameterError, match="C_EP or CPE_EP"):
+        sirin.gap_force_peak({"R_EP": 1e8, "C_gap": 4.13e-10}, F61, SKIN, TS)
+
+
 def test_force_vmaps_over_posterior_draws():
     rng = np.random.default_rng(5)
     draws = {k: v * np.exp(rng.normal(0, 0.05, 16)) for k, v in EDL.items()}

@@ -59,7 +59,7 @@ __all__ = [
 THESIS_DRIVE_V = 140.0
 """Drive amplitude V_A [V] of thesis Fig 3.4."""
 
-CPE_REFERENCE_HZ = 1e3  # the thesis quotes ρ_sc, ε_sc "at 1 kHz" (eq 3.13 text): CPE_sc.Q gives C_sc there
+CPE_REFERENCE_HZ = 1e3  # the thesis quotes ρ_sc, ε_sc "at 1 kHz" (eq 3.13 text): CPE_sc.Q gives C_sc there (impedax's choice: docs/physics.md)
 
 _CIRCUITS = {
     "rc": "C_s + C_i + R_sc || C_sc + R_f",

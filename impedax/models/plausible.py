@@ -37,14 +37,16 @@ at 1 atm), which eq 1's force does not model. Below 1 V: no drive of the papers,
 and a likely unit slip (75m is 0.075 V). Outside the range: a warning, not an error (the force
 is only ∝ V0², and a test rig may drive other voltages)."""
 AIR_BREAKDOWN_V = 330.0
-"""Air's Paschen minimum [V] at 1 atm (about 327 V, near a 7.5–10 µm gap): no air gap holds more
+"""Air's Paschen minimum [V] at 1 atm (about 327 V, near a 7.5–10 µm gap; a textbook value, not in
+the papers: docs/physics.md, "impedax's own choices and derived values"): no air gap holds more
 without breaking down, and below ~5 µm field emission lowers the breakdown further. A gap
 voltage above it makes eq 1's force (no breakdown in it) unreachable."""
 MEYER_FACTOR = 1e3
 """Meyer's circuit values are plausible within this factor either way of the thesis's."""
 VEZZOLI_RANGES = {"h_i": (1e-7, 9e-4), "h_s": (1e-5, 5e-3), "rho_s": (3e2, 3e6)}
 """Plausible values of Vezzoli et al.'s insulator thickness h_i [m], stratum corneum thickness
-h_s [m] and its resistivity ρ_s [Ω m] (docs/physics.md; the paper's Table 2 and Figs 8–10):
+h_s [m] and its resistivity ρ_s [Ω m] (docs/physics.md, "Vezzoli" and, for Fig 8's h_s, which the
+paper does not print, "impedax's own choices and derived values"; the paper's Table 2 and Figs 8–10):
 h_i a factor 10 beyond the paper's insulators either way, from under 1 µm (SiO₂ for 0.03 N,
 Fig 9; the 1 µm of Figs 8 and 10) to Table 2's 90 µm film: 100 nm–900 µm; h_s a factor 10 beyond
 Fig 8's 100–500 µm (the fingertip's range, after Fruhstorfer 2000): 10 µm–5 mm; ρ_s 100× either

@@ -301,7 +301,8 @@ def paper_gap_estimate(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Data
 
 EP_AUTO = "auto"
 """``ep`` of the gap functions read from the parameter names: ``C_EP`` → ``"C"``,
-``CPE_EP.*`` → ``"CPE"`` (the default, so draws of either analysis fit without naming it)."""
+``CPE_EP.*`` → ``"CPE"`` (the default, so draws of either analysis fit without naming it),
+no name of an EP branch (no ``R_EP``, ``C_EP``, ``CPE_EP.*``) → None (C_gap alone)."""
 _EP_NAMES = {"C": "R_EP, C_EP, C_gap", "CPE": "R_EP, CPE_EP.Q, CPE_EP.alpha, C_gap"}
 
 
@@ -348,11 +349,14 @@ def _gap_thickness_hint(params) -> str:
     return ""
 
 
-def _infer_ep(params) -> str:
-    """``"C"`` or ``"CPE"`` from the names in ``params`` (static dict keys: jittable)."""
+def _infer_ep(params) -> str | None:
+    """``"C"``, ``"CPE"`` or None (C_gap alone: no name of an EP branch) from the names in
+    ``params`` (static dict keys: jittable)."""
     held = variants_named(params, {"C": "C_EP", "CPE": "CPE_EP."}, "ep")
     if any(held.values()):
         return "C" if held["C"] else "CPE"
+    if isinstance(params, Mapping) and "R_EP" not in params and "C_gap" in params:
+        return None  # {"C_gap": …}: the remainder without electrode polarization
     message = f"params lacks C_EP or CPE_EP.Q, CPE_EP.alpha; the model's parameters are {_EP_NAMES['CPE']} (ep='CPE') or {_EP_NAMES['C']} (ep='C')"
     raise ParameterError(message + (_gap_thickness_hint(params) or "; for C_gap alone pass ep=None"))
 

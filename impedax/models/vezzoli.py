@@ -88,7 +88,8 @@ def instantaneous_force(v_e, *, h_i=TABLE2["h_i"], h_s=TABLE2["h_s"], area=TABLE
 
 EQ8_RATIO_LIMIT = 0.1
 """Largest C_i/C_s = ε_i h_s/(ε_s h_i) taken as "C_i ≪ C_s", the condition the paper states for
-eq 8 (an order of magnitude below 1; the paper gives no number). Table 2 (90 µm film): 0.0056.
+eq 8 (an order of magnitude below 1; the paper gives no number: impedax's choice, docs/physics.md,
+"impedax's own choices and derived values"). Table 2 (90 µm film): 0.0056.
 The paper's own Figs 8–10 use 1 µm insulators and lie above it: Fig 8 (ε_i = 3.4) 0.15–0.73 for
 h_s = 100–500 µm, Fig 10 (ε_i 1–36, h_s = 350 µm) 0.15–5.4."""
 
@@ -266,13 +267,22 @@ def squeeze_film_lift(amplitude, *, normal_force=0.2, area=TABLE2["area"], lengt
     Film: h = h_r + h_v(1 + cos ωt) + h_e(1 + cos kx), k = 2π/L_e (eq 3). In the σ → ∞ limit the
     pressure is eq 6; eq 2 averages P − 1 over a period and over x ∈ [−l0/2, l0/2], times p0 A.
     The time average is exact: ⟨1/(a + ε cos ωt)⟩ = 1/√(a² − ε²); x is integrated by the
-    trapezoid rule on ``points`` points. Assumptions (Table 1 omits them; eq 1 is garbled in
-    the paper's text):
+    trapezoid rule on ``points`` points. Assumptions (Table 1 omits A and l0; eq 1 as printed
+    is inconsistent):
 
     * contact area A = 1 cm² (Table 2's apparent area) and contact length l0 = √A = 1 cm;
     * eq 5's "A" read as l0², so σ is dimensionless;
     * the friction law of eq 1 read as Δµ/µ = F_s/F_n (friction µ(F_n − F_s)), capped at 1:
-      levitation when F_s ≥ F_n.
+      levitation when F_s ≥ F_n. The paper prints (µ − Δµ)/µ = F_s/F_n, cleanly, but that is
+      inconsistent with its own words: read literally, the remaining friction µ − Δµ grows with
+      the lift F_s and vanishes without it (F_s = 0), while Fig 7 shows the reduction Δµ/µ
+      growing with amplitude to levitation. Coulomb friction on the load the film does not
+      carry, µ (F_n − F_s), gives (µ − Δµ)/µ = 1 − F_s/F_n, i.e. Δµ/µ = F_s/F_n: the printed
+      equation lacks its "1 −".
+
+    The squeeze-film theory curves are those of Fig 7 (its caption: "the predicted friction
+    reduction by the squeeze film effect"); the paper's text says "Figure 8", which is the
+    electrovibration force (Fig 8's caption).
 
     With these, h_v ≈ 2 µm lifts ≈ 0.17 N, so just above 2 µm levitates a 0.2 N finger, as the
     paper says.
@@ -300,7 +310,8 @@ def squeeze_film_lift(amplitude, *, normal_force=0.2, area=TABLE2["area"], lengt
 
 @checked_arguments(lift=numeric_array(), normal_force=numeric_array(positive=True))
 def friction_reduction(lift, normal_force):
-    """Δµ/µ = F_s/F_n clipped to [0, 1] (our reading of eq 1; 1 means levitation) for the lift
+    """Δµ/µ = F_s/F_n clipped to [0, 1] (our reading of eq 1, whose printed (µ − Δµ)/µ = F_s/F_n
+    is inconsistent: see `squeeze_film_lift`; 1 means levitation) for the lift
     F_s [N] and the finger's normal force F_n [N] (positive: with no finger force the ratio is
     undefined, and a `ParameterError` is raised). Broadcasts."""
     return np.clip(np.asarray(lift, float) / np.asarray(normal_force, float), 0.0, 1.0)
