@@ -20,7 +20,7 @@ from .least_squares.branches import undetermined
 from .bayes.evidence import EVIDENCE_NOTE_LEAD
 from .least_squares.result import BOUND_CHI2_FRACTION, data_difference, DATA_LIMIT_NOTE, SIGN_HINT_LEAD
 
-__all__ = ["compare", "Comparison", "WEAK_DELTA_AIC", "is_nested", "boundary_parameters", "undetermined_names", "criteria", "akaike_weights", "KNOWN_SIGMA", "UNKNOWN_VARIANCE", "SIGMA_CHI2_RED_RANGE", "register_batch_compare"]
+__all__ = ["compare", "Comparison", "WEAK_DELTA_AIC", "is_nested", "boundary_parameters", "undetermined_names", "criteria", "akaike_weights", "KNOWN_SIGMA", "UNKNOWN_VARIANCE", "TIE_CHI2_REL", "criteria_tie", "SIGMA_CHI2_RED_RANGE", "register_batch_compare"]
 
 
 def _nested(a: Circuit, b: Circuit) -> bool:
@@ -105,6 +105,24 @@ UNRELIABLE_MARK = "*"
 under the table says so)."""
 
 
+TIE_CHI2_REL = 1e-6
+"""Two information criteria tie when they differ by no more than a relative change of χ² this
+size would make them: the solver's tolerance, as `NESTED_WORSE_REL` (one optimum reached from two
+starts or in two writings; `_same_fit` calls fits with χ² this close one fit). The solver stops
+when a step lowers χ² by less than 1e-8 of it (`lm_iteration`'s rtol), so the χ² of one optimum
+differ by about that and more; on BioLogic's real file ``R0 + R1 || CPE1`` and ``R0 + CC1`` (one
+impedance function) gave AICs 5.7e-13 apart, which picked "best" by rounding."""
+
+
+def criteria_tie(value: float, other: float, aic_form: str, chi2: float, n: int) -> bool:
+    """Whether the information criteria ``value`` and ``other`` (AIC, AICc or BIC of fits to the
+    same n real values) tie: they differ by at most the change a relative change `TIE_CHI2_REL`
+    of χ² makes, n·TIE_CHI2_REL under `UNKNOWN_VARIANCE` (d(n ln χ²) = n dχ²/χ²) and
+    χ²·TIE_CHI2_REL under `KNOWN_SIGMA` (``chi2``: the larger of the two fits')."""
+    scale = n if aic_form == UNKNOWN_VARIANCE else chi2
+    return abs(value - other) <= TIE_CHI2_REL * scale
+
+
 def significant(x: float, digits: int = 3) -> str:
     """``x`` to ``digits`` significant digits, trailing zeros kept (1.00 next to 1.02, where
     ``:.3g`` printed 1), without a dangling point (100, not 100.)."""
@@ -162,17 +180,41 @@ class Comparison:
         """Where the data came from (`common_source` of the fits): what `impedax.write_result` records."""
         return common_source(self.fits)
 
+    def _lowest(self, indices, column: str = "aic") -> int | None:
+        """The position among ``indices`` of the lowest ``column`` (an information criterion),
+        ties (`criteria_tie`) broken by the fewer free parameters, then the order given: which
+        of two fits of one optimum is "best" is not left to the solver's rounding."""
+        indices = list(indices)
+        if not indices:
+            return None
+        low = min(self.rows[i][column] for i in indices)
+        tied = [i for i in indices if criteria_tie(self.rows[i][column], low, self.aic_form, self.rows[i]["chi2"], 2 * self.fits[0].n_points)]
+        return min(tied, key=lambda i: (self.rows[i]["n_params"], i))
+
     @property
     def best_index(self) -> int:
         """Position of the best model by AIC in ``rows`` and ``fits`` (models may repeat: the
-        same circuit fixed and free)."""
-        return min(range(len(self.rows)), key=lambda i: self.rows[i]["aic"])
+        same circuit fixed and free); of AICs tied to the solver's tolerance (`criteria_tie`),
+        the model with fewer free parameters, then the one given first."""
+        return self._lowest(range(len(self.rows)))
+
+    def tied_with_best_indices(self) -> list[int]:
+        """Positions of the other models whose AIC ties with the best one's (`criteria_tie`): the
+        data cannot rank them, and `best_index` chose by the tie-break."""
+        best = self.best_index
+        aic, chi2, n = self.rows[best]["aic"], self.rows[best]["chi2"], 2 * self.fits[0].n_points
+        return [i for i, r in enumerate(self.rows) if i != best and criteria_tie(r["aic"], aic, self.aic_form, max(r["chi2"], chi2), n)]
+
+    @property
+    def best_label_with_ties(self) -> str:
+        """The best model's label, with the models tied with it: ``X (tied with Y)`` (the plot's title)."""
+        tied = [self.rows[i]["label"] for i in self.tied_with_best_indices()]
+        return self.rows[self.best_index]["label"] + (f" (tied with {', '.join(tied)})" if tied else "")
 
     @property
     def best_determined_index(self) -> int | None:
-        """Position of `best_determined`, or None."""
-        determined = [i for i, f in enumerate(self.fits) if not undetermined_names(f)]
-        return min(determined, key=lambda i: self.rows[i]["aic"]) if determined else None
+        """Position of `best_determined`, or None (ties broken as `best_index`)."""
+        return self._lowest(i for i, f in enumerate(self.fits) if not undetermined_names(f))
 
     @property
     def best(self) -> str:
@@ -181,8 +223,7 @@ class Comparison:
     @property
     def best_aicc_index(self) -> int | None:
         """Position of the lowest AICc, or None when no model has one (n − k − 1 ≤ 0)."""
-        defined = [i for i, r in enumerate(self.rows) if not math.isnan(r["aicc"])]
-        return min(defined, key=lambda i: self.rows[i]["aicc"]) if defined else None
+        return self._lowest((i for i, r in enumerate(self.rows) if not math.isnan(r["aicc"])), "aicc")
 
     @property
     def best_determined(self) -> str | None:
@@ -205,6 +246,7 @@ class Comparison:
             "best_aicc_label": None if i is None else self.rows[i]["label"],
             "weak_evidence": self.weak_evidence(),  # (added 2026-11-30: None when the best model's lead is clear)
             "reduces_to_best": self.reduces_to_best(),  # (added 2026-12-01: None when no model reduces to the best)
+            "tied_with_best": [self.rows[i]["label"] for i in self.tied_with_best_indices()],  # (added 2026-12-01: [] when no AIC ties the best's)
         }
 
     def to_table(self) -> list[dict]:
@@ -250,14 +292,27 @@ class Comparison:
         }
 
     def reduces_to_best_indices(self) -> list[int]:
-        """Positions of the models whose F-test with the best one says they reduce to it:
-        ``"reason": "reduces_to_simple"`` (`_boundary_note`: an extra parameter on its bound,
-        χ² no lower), or a valid test with F ≤ `NOISE_F` (the extra parameters lower χ² no more
-        than noise alone would)."""
-        best = self.rows[self.best_index]["label"]
-        reduced = {t["complex_label"] for t in self.f_tests if t.get("simple_label") == best
-                   and (t.get("reason") == "reduces_to_simple" or (t.get("valid", True) and t["f"] <= NOISE_F))}
-        return [i for i, r in enumerate(self.rows) if i != self.best_index and r["label"] in reduced]
+        """Positions of the models whose F-test with the best one, or with a model tied with it
+        (`tied_with_best_indices`), says they reduce to it: ``"reason": "reduces_to_simple"``
+        (`_boundary_note`: an extra parameter on its bound, χ² no lower), or a valid test with
+        F ≤ `NOISE_F` (the extra parameters lower χ² no more than noise alone would)."""
+        return sorted(self._reduced_to_best())
+
+    def _reduced_to_best(self) -> dict[int, int]:
+        """{position of a model that reduces to the best or to a model tied with it: position of
+        that model} (`reduces_to_best_indices`), the best preferred."""
+        best = self.best_index
+        ties = [best] + self.tied_with_best_indices()
+        position = {r["label"]: i for i, r in enumerate(self.rows)}
+        out: dict[int, int] = {}
+        for t in self.f_tests:
+            simple, complex_ = position.get(t.get("simple_label")), position.get(t.get("complex_label"))
+            if simple not in ties or complex_ is None or complex_ in ties:
+                continue
+            if t.get("reason") == "reduces_to_simple" or (t.get("valid", True) and t["f"] <= NOISE_F):
+                if complex_ not in out or ties.index(simple) < ties.index(out[complex_]):
+                    out[complex_] = simple
+        return out
 
     def reduces_to_best(self) -> dict | None:
         """The models that reduce to the best one (`reduces_to_best_indices`), or None. Their
@@ -267,7 +322,8 @@ class Comparison:
         standard exp(−ΔAIC/2), normalised) and are that penalty, not support: the line says so,
         and `weak_evidence` does not count them. Keys: ``best``, ``rivals`` (labels),
         ``delta_aic`` (theirs), ``note`` (the table's line)."""
-        reduced = self.reduces_to_best_indices()
+        targets = self._reduced_to_best()
+        reduced = sorted(targets)
         if not reduced:
             return None
         best = self.rows[self.best_index]["label"]
@@ -275,12 +331,16 @@ class Comparison:
         one = len(reduced) == 1
         deltas = ", ".join(f"{self.rows[i]['delta_aic']:.2f}" for i in reduced)
         weights = ", ".join(f"{self.rows[i]['akaike_weight']:.3f}" for i in reduced)
+        into = sorted(set(targets.values()))
+        to = " and ".join(self.rows[j]["label"] + ("" if j == self.best_index else f" (tied with the best, {best})") for j in into)
         note = (
-            f"{names[0] if one else ', '.join(names[:-1]) + ' and ' + names[-1]} {'reduces' if one else 'reduce'} to {best}: the extra {'element lowers' if one else 'elements lower'} χ² "
+            f"{names[0] if one else ', '.join(names[:-1]) + ' and ' + names[-1]} {'reduces' if one else 'reduce'} to {to}: the extra {'element lowers' if one else 'elements lower'} χ² "
             f"no more than noise alone would, so {'it adds' if one else 'they add'} nothing; ΔAIC {deltas} {'is' if one else 'are'} about the 2 per extra parameter AIC charges, the clearest lead it gives "
             f"the smaller model, and the Akaike weight{'' if one else 's'} {weights} {'is' if one else 'are'} that penalty, not support"
         )
-        return {"best": best, "rivals": names, "delta_aic": [float(self.rows[i]["delta_aic"]) for i in reduced], "note": note}
+        # ("reduces_to", added 2026-12-01: for each rival, the label of the model it reduces to, the best or one tied with it)
+        return {"best": best, "rivals": names, "delta_aic": [float(self.rows[i]["delta_aic"]) for i in reduced], "note": note,
+                "reduces_to": [self.rows[targets[i]]["label"] for i in reduced]}
 
     def _best_mark(self, *, warnings_below: bool) -> str:
         """The table's mark of the best model by AIC, saying when its fit did not converge or has
@@ -295,8 +355,12 @@ class Comparison:
         mark = "   ← best" + (f" by AIC, with {n} warning(s) {where}" if n else "")
         if not self.rows[best]["converged"]:
             mark += " (its fit did not converge)"
-        if self.rows[best].get("same_fit_as"):
-            mark += f"; tied with {self.rows[best]['same_fit_as']}: the same fit, the data cannot tell them apart"
+        same = self.rows[best].get("same_fit_as")
+        if same:
+            mark += f"; tied with {same}: the same fit, the data cannot tell them apart"
+        tied = [self.rows[i]["label"] for i in self.tied_with_best_indices() if self.rows[i]["label"] != same]
+        if tied:
+            mark += f"; {'' if same else 'tied '}with the same AIC as {', '.join(tied)} (to the solver's tolerance): best by the fewer parameters, then the order given"
         return mark
 
     def report(self) -> str:
@@ -435,7 +499,7 @@ class Comparison:
         for fit, row in zip(self.fits, self.rows):  # each model's warnings, as `report`
             warnings = [w for ws in fit.warnings.values() for w in ws] if isinstance(fit.warnings, Mapping) else list(fit.warnings)
             lines += [f"{row['label']}: {w}" for w in warnings]
-        return result_html(f"comparison of {len(self.rows)} model{'s' if len(self.rows) != 1 else ''}: best {self.rows[best]['label']}", rows, lines=lines, figure=self.plot)
+        return result_html(f"comparison of {len(self.rows)} model{'s' if len(self.rows) != 1 else ''}: best {self.best_label_with_ties}", rows, lines=lines, figure=self.plot)
 
     def plot(self, *, figsize: tuple[float, float] | None = None):
         """Data with every model's fit, and each model's relative residuals (Figure;

@@ -24,7 +24,7 @@ import numpy as np
 from ..arguments import number_text, unknown_parameter
 from ..circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ..errors import FitError, ParameterError
-from .reductions import reducing_bounds
+from .reductions import reducing_bounds, resistor_like_exponents
 
 __all__ = ["ParameterTable", "Transform", "starting_values", "to_external", "external_of_kind", "to_internal", "data_scales", "CPE_Q_UNIT", "checked_bounds", "outside_bounds_message"]
 
@@ -99,6 +99,7 @@ class ParameterTable:
     fixed: np.ndarray  # bool
     values: np.ndarray  # fixed values and user starts (NaN where no start was given)
     reductions: Mapping[str, tuple[str, str]] = field(default_factory=dict)  # {name: (side, words)}: free parameters whose element's own bound on that side makes it a simpler one (`reductions.reducing_bounds`), as the bound notes name it
+    resistor_like: Mapping[str, tuple[str, str, str | None]] = field(default_factory=dict)  # {alpha: (CPE, Q, R or None)}: free CPE exponents, whose element acts nearly as a resistor below `reductions.RESISTOR_LIKE_ALPHA` (`reductions.resistor_like_exponents`), as the fits' notes name it
 
     @functools.cached_property
     def free_names(self) -> tuple[str, ...]:
@@ -155,7 +156,8 @@ class ParameterTable:
         if is_fixed.all():
             raise FitError("every parameter is fixed; nothing to fit")
         reductions = {n: (side, words) for n, (side, words) in reducing_bounds(circuit, registry).items() if not is_fixed[names.index(n)] and (upper if side == "upper" else lower)[names.index(n)] == getattr(specs[n], side)}
-        return cls(names, tuple(specs[n].unit for n in names), lower, upper, kind, is_fixed, values, reductions)
+        resistor_like = {n: what for n, what in resistor_like_exponents(circuit, registry).items() if not is_fixed[names.index(n)]}
+        return cls(names, tuple(specs[n].unit for n in names), lower, upper, kind, is_fixed, values, reductions, resistor_like)
 
 
 def checked_bounds(name: str, lower, upper, spec) -> tuple[float, float]:

@@ -45,7 +45,7 @@ def plot_comparison(comparison, *, figsize: tuple[float, float] | None = None):
     for ax in (ax_nyq, ax_mod, ax_ph, ax_res):
         ax.grid(alpha=0.3, which="both")
     ax_res.legend(fontsize=font_size("legend", 7))
-    fig.suptitle(f"model comparison — best by AIC: {comparison.best}")
+    fig.suptitle(f"model comparison — best by AIC: {getattr(comparison, 'best_label_with_ties', comparison.best)}")  # ("X (tied with Y)": `Comparison.best_label_with_ties`)
     return fig
 
 

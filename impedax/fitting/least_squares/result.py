@@ -17,6 +17,7 @@ from ...data import checked_frequencies, column_width, concise_repr, format_freq
 from ...errors import DataError
 from ..kk import kk_verdicts
 from ..parameters import ParameterTable, data_scales
+from ..reductions import RESISTOR_LIKE_ALPHA
 from ..statistics import covariances, information_criteria, non_passive, uncertainties
 from .branches import RELATIVE_ERROR_LIMIT, idle_branch_notes, settle_vanishing, undetermined, unidentified_stderr, undetermined_mask, vanishing_candidates, vanishing_parameters
 from .solvers import SolverOutput, SolverStatus
@@ -25,7 +26,7 @@ from .starts import attainable_misfit, inward_start, rms_rel_of, well_inside
 __all__ = [
     "FitResult", "fit_result", "fit_notes", "parameter_groups", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes",
     "misfit_notes", "uneven_residual_notes", "residual_band_rms", "UNEVEN_BAND_POINTS", "UNEVEN_RESIDUAL_RATIO", "UNEVEN_NOISE_NOTE", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
-    "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "without_error", "near_bound_notes", "STDERR_NOTE", "LINEARISED_STDERR_NAME", "data_difference", "stored_bounds", "user_bounds",
+    "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "without_error", "near_bound_notes", "resistor_like_notes", "STDERR_NOTE", "LINEARISED_STDERR_NAME", "data_difference", "stored_bounds", "user_bounds",
     "embedded_fit", "fit_from_embedded", "bounds_attr",
 ]
 
@@ -1140,6 +1141,7 @@ def fit_notes(
     notes += [_bound_note_of(table, 0, j, x, e, sides, on, exactly) for j in np.flatnonzero(sides[0]).tolist()]
     if finite:
         notes += [note for _, note in near_bound_notes(table, x, e, sides)]
+    notes += [note for _, note in resistor_like_notes(table, x, freq)]
     if not converged:
         notes.insert(0, f"fit did not converge: {message}")
     return tuple(notes)
@@ -1166,6 +1168,31 @@ def near_bound_notes(table: ParameterTable, values: np.ndarray, stderr: np.ndarr
             f"{table.names[i]} = {value:.3g} ± {error:.2g}{u} lies within {BOUND_STDERR_FRACTION:g} standard errors of its {side} bound {bound:g}: "
             "the ± is not symmetric there (no value lies beyond the bound); for an honest interval, sample the posterior (impedax sample)"
         )))
+    return out
+
+
+def resistor_like_notes(table: ParameterTable, values: np.ndarray, freq=None) -> list[tuple[int, str]]:
+    """(fit, note) for each free CPE exponent of fits with values (B, P) below
+    `RESISTOR_LIKE_ALPHA` (``table.resistor_like``): the CPE acts nearly as a resistor, Z =
+    (jω)^−α/Q of phase −απ/2, whose value 1/(Q ω^α) still varies with frequency (given at the
+    ends of ``freq`` [Hz]); the note names the R that may take its place, as the α = 1 bound note
+    names the C (`reductions.reducing_bounds`)."""
+    values = np.atleast_2d(np.asarray(values, float))
+    out = []
+    for alpha_name, (element, q_name, resistor) in table.resistor_like.items():
+        a, q = table.names.index(alpha_name), table.names.index(q_name)
+        for b in np.flatnonzero(values[:, a] < RESISTOR_LIKE_ALPHA).tolist():
+            alpha, big_q = float(values[b, a]), float(values[b, q])
+            varies = ""
+            if freq is not None and np.size(freq) and big_q > 0:
+                f_lo, f_hi = float(np.min(freq)), float(np.max(freq))
+                r_of = lambda f: 1 / (big_q * (2 * math.pi * f) ** alpha)  # noqa: E731
+                varies = f", {format_quantity(r_of(f_hi), 'Ohm')} at {format_frequency(f_hi)} to {format_quantity(r_of(f_lo), 'Ohm')} at {format_frequency(f_lo)}"
+            simpler = f"; the model with {resistor} in its place may be enough" if resistor is not None else ""
+            out.append((b, (
+                f"{alpha_name} = {alpha:.2g} is below {RESISTOR_LIKE_ALPHA:g}: {element} acts nearly as a resistor (Z = (jω)^−α/Q, phase −{90 * alpha:.2g}°), "
+                f"one whose value 1/(Q ω^α) still varies with frequency{varies}{simpler}"
+            )))
     return out
 
 
@@ -1197,6 +1224,8 @@ def stack_notes(
     for b, i in np.argwhere(sides != 0).tolist():
         notes[b].append(_bound_note_of(table, b, i, values, stderr, sides, on, exactly))
     for b, note in near_bound_notes(table, values, stderr, sides):
+        notes[b].append(note)
+    for b, note in resistor_like_notes(table, values, freq):
         notes[b].append(note)
     return {b: tuple(n) for b, n in notes.items()}
 
