@@ -262,3 +262,17 @@ def test_the_comparison_figure_labels_its_axis_with_the_spectra_labels(compariso
     shown = [t.get_text() for t in ax.get_xticklabels() if t.get_text()]
     assert ax.get_xlabel() == "subject" and shown and set(shown) <= {f"s{i}" for i in range(12)}
     plt.close(fig)
+
+
+@pytest.mark.parametrize("swap", [False, True])
+def test_batches_of_one_impedance_function_tie_and_the_first_given_is_best(stack, batches, swap):
+    # R0 + R1 || CPE1 and R0 + CC1 are one impedance function (CC1 = R || CPE, 3 parameters):
+    # their summed AICs agree to the solver's tolerance, so "best" is the fewer parameters
+    # (equal here: 4 and 4), then the first given, whichever rounding falls lower
+    cc = ix.fit("R0 + CC1", stack, n_starts=1)
+    given = [cc, batches[1]] if swap else [batches[1], cc]
+    comparison = ix.compare(given)
+    aic = comparison.dataset["aic_sum"].values
+    assert abs(aic[0] - aic[1]) <= 1e-6 * 2 * FREQ.size * 2 * N_EACH  # (the premise: a tie)
+    assert comparison.best_index == 0
+    assert comparison.best == given[0].model

@@ -14,7 +14,7 @@ import xarray as xr
 
 from ..data import column_width, concise_repr
 from ..errors import FitError
-from .comparison import DECISIVE_DELTA_AIC, common_source, NOISE_F, WEAK_DELTA_AIC, Comparison, akaike_weights, compare, criteria, fit_label, is_nested, register_batch_compare, significant, unique_labels
+from .comparison import DECISIVE_DELTA_AIC, common_source, NOISE_F, criteria_tie, WEAK_DELTA_AIC, Comparison, akaike_weights, compare, criteria, fit_label, is_nested, register_batch_compare, significant, unique_labels
 from .least_squares import BatchFitResult, SharedFitResult
 from .least_squares.batch import SPECTRA_AS_ROWS, labels_key
 from .least_squares.result import data_difference
@@ -201,8 +201,20 @@ class BatchComparison:
 
     @property
     def best_index(self) -> int:
-        """Position of the model with the lowest summed AIC."""
-        return int(np.nanargmin(np.where(np.isnan(self.dataset["aic_sum"].values), np.inf, self.dataset["aic_sum"].values)))
+        """Position of the model with the lowest summed AIC; of sums tied to the solver's
+        tolerance (`criteria_tie` over all n = 2N·spectra values: two writings of one impedance
+        function), the one with fewer free parameters, then the first given, as
+        `Comparison.best_index`: not the solver's rounding."""
+        aic = np.where(np.isnan(self.dataset["aic_sum"].values), np.inf, self.dataset["aic_sum"].values)
+        low = int(np.argmin(aic))
+        if not np.isfinite(aic[low]):
+            return low
+        n = 2 * int(self.batches[0].dataset.sizes["frequency"]) * self.n_spectra
+        chi2 = self._per_spectrum("chi2").sum(axis=1)
+        form = self.dataset.attrs["aic_form"]
+        tied = [m for m in range(aic.size) if np.isfinite(aic[m]) and criteria_tie(float(aic[m]), float(aic[low]), form, float(max(chi2[m], chi2[low])), n)]
+        k = self.dataset["n_params"].values
+        return min(tied, key=lambda m: (int(k[m]), m))
 
     @property
     def best(self) -> str:
