@@ -84,16 +84,21 @@ def test_gamry_trailing_tab_is_not_a_field(tmp_path):
     np.testing.assert_allclose(ix.load(path)["Z"].values, Z, rtol=1e-6)
 
 
+def _refused(path) -> str:
+    """The message `ix.load` refuses ``path`` with; ``impedax inspect`` exits 2 on it."""
+    with pytest.raises(DataError) as info:
+        ix.load(path)
+    assert main(["inspect", str(path)]) == 2
+    return str(info.value)
+
+
 def test_gamry_table_without_its_units_row_says_the_row_is_missing(tmp_path):
     text = _gamry(_gamry_rows()).replace("\t#\ts\tHz\tohm\tohm\tV\tohm\t°\tA\tV\t#\r\n", "")
     path = tmp_path / "nounits.DTA"
     path.write_text(text, encoding="latin-1")
-    with pytest.raises(DataError) as info:
-        ix.load(path)
-    message = str(info.value)
+    message = _refused(path)
     # (the column names are on line 5, so the missing units row would be line 6: the first data row)
     assert "line 6" in message and "no units row" in message and "Freq = " in message
-    assert main(["inspect", str(path)]) == 2
 
 
 def test_gamry_decimal_comma_is_decided_on_every_row(tmp_path):
@@ -348,11 +353,8 @@ def test_inspect_shows_the_first_and_last_points_as_read_with_their_signs(tmp_pa
 def test_an_area_specific_impedance_is_refused_with_the_conversion_to_ohm(tmp_path, unit):
     path = tmp_path / "area.csv"
     path.write_text(f"Frequency (Hz),Z' ({unit}),Z'' ({unit})\n1000,0.5,-0.25\n10,2.5,-1.5\n", encoding="utf-8")
-    with pytest.raises(DataError) as info:
-        ix.load(path)
-    message = str(info.value)
+    message = _refused(path)
     assert "area-specific" in message and "divide the column by the electrode area" in message and "line 1" in message
-    assert main(["inspect", str(path)]) == 2
 
 
 def test_a_plain_ohm_unit_gets_no_area_hint(tmp_path):

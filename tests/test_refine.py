@@ -740,18 +740,14 @@ def test_another_paths_note_does_not_ask_for_the_final_fits_values(tmp_path, cap
     assert again.rms_rel * 100 == pytest.approx(reported, rel=0.01)
 
 
-def test_path_notes_are_numbered_as_reported_and_a_path_dropped_to_the_start_says_so(monkeypatch):
-    """`_second_path` with stand-ins: the greedy path ended adequate at ARC (6 parameters); the
-    path from RS ends at ARC2, ARC's circuit under other names (not reported, and its refit's
-    note goes with it); the path from CPE drops every step in its refit (`_finish`) and ends at
-    the start. The notes name it the second path (not the third), say it ends at the start
-    rather than calling the start its end, and name the first path's end as the one kept
-    (Gamry with --fmin 2.3e3 jumped from the second path to the fourth and called the start
-    model "R0 + R1 || C1" a path's end "with R0 left out")."""
+def _three_path_stand_ins(monkeypatch):
+    """Stand-ins for `_second_path`: the greedy path ended adequate at ARC (6 parameters); the
+    path from RS ends at ARC2, ARC's circuit under other names (`_same_network` patched), the
+    path from CPE ends at CPE. Returns (greedy path, ARC's suggestion, the diagnosis stand-in)."""
     from types import SimpleNamespace as NS
 
     from impedax.fitting.diagnosis import refinement
-    from impedax.fitting.diagnosis.refinement import RefinementStep, _second_path
+    from impedax.fitting.diagnosis.refinement import RefinementStep
 
     monkeypatch.setattr(refinement, "_same_network", lambda a, b: {a.model, b.model} == {"ARC", "ARC2"})
 
@@ -766,6 +762,21 @@ def test_path_notes_are_numbered_as_reported_and_a_path_dropped_to_the_start_say
     def diagnosed(fit, shape):  # RS → ARC2 (as good, as many parameters), then adequate
         nxt = {"RS": suggestion("extra_relaxation", "ARC2", -1266.0, 6)}.get(fit.model)
         return NS(baseline=fit, best=nxt, verdict="missing_effect" if nxt else "adequate", solver_shape=None)
+
+    return greedy, arc, diagnosed
+
+
+def test_path_notes_are_numbered_as_reported_and_a_path_dropped_to_the_start_says_so(monkeypatch):
+    """`_second_path` with stand-ins: the greedy path ended adequate at ARC (6 parameters); the
+    path from RS ends at ARC2, ARC's circuit under other names (not reported, and its refit's
+    note goes with it); the path from CPE drops every step in its refit (`_finish`) and ends at
+    the start. The notes name it the second path (not the third), say it ends at the start
+    rather than calling the start its end, and name the first path's end as the one kept
+    (Gamry with --fmin 2.3e3 jumped from the second path to the fourth and called the start
+    model "R0 + R1 || C1" a path's end "with R0 left out")."""
+    from impedax.fitting.diagnosis.refinement import _second_path
+
+    greedy, arc, diagnosed = _three_path_stand_ins(monkeypatch)
 
     notes = []
 
@@ -793,24 +804,9 @@ def test_progress_names_a_further_path_by_its_place_until_the_report_labels_it(m
     the reported one as "second path" again (Gamry with --fmin 2.3e3: "third path" twice and a
     "fourth path" the report never named); it now numbers the further paths among the starts
     and says which report label each gets, or that it is left out."""
-    from types import SimpleNamespace as NS
+    from impedax.fitting.diagnosis.refinement import _second_path
 
-    from impedax.fitting.diagnosis import refinement
-    from impedax.fitting.diagnosis.refinement import RefinementStep, _second_path
-
-    monkeypatch.setattr(refinement, "_same_network", lambda a, b: {a.model, b.model} == {"ARC", "ARC2"})
-
-    def suggestion(effect, model, aic, k):
-        return NS(where="in series", effect=effect, delta_aic=aic, added=model, fit=_fit_stand_in(model=model, aic=aic, n_params=k, converged=True), removed=(), undetermined=())
-
-    arc, rs, cpe = suggestion("extra_relaxation", "ARC", -1266.6, 6), suggestion("series_resistance", "RS", -522.0, 4), suggestion("constant_phase", "CPE", -400.0, 4)
-    first = NS(best=arc, suggestions=(arc, rs, cpe), candidates=(arc, rs, cpe), solver_shape=None, noise=_STAND_IN_NOISE, baseline=NS(frequency=_STAND_IN_FREQUENCY, n_params=3))
-    start = RefinementStep(_fit_stand_in(model="start", aic=-270.0, n_params=3), None, None, first)
-    greedy = [start, RefinementStep(arc.fit, "arc", "extra_relaxation", NS(solver_shape=None, verdict="adequate"))]
-
-    def diagnosed(fit, shape):  # RS → ARC2 (as good, as many parameters), then adequate
-        nxt = {"RS": suggestion("extra_relaxation", "ARC2", -1266.0, 6)}.get(fit.model)
-        return NS(baseline=fit, best=nxt, verdict="missing_effect" if nxt else "adequate", solver_shape=None)
+    greedy, arc, diagnosed = _three_path_stand_ins(monkeypatch)
 
     said, notes = [], []
 
