@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import xarray as xr
 
 import impedax as ix
 from impedax.fitting.comparison import undetermined_names
@@ -44,6 +45,33 @@ def flags(fit):
 WRITINGS = ORDERS + ("R0 + CPE1 || (W1 + R1)", "CPE1 || (R1 + W1) + R0", "R0 + (W1 + R1) || CPE1")
 
 
+DETERMINED = ("R0", "CPE1.Q", "CPE1.alpha")
+
+
+def reduced_stderr(fit):
+    """Standard errors of R0, Q, α with the open branch held (numpy alone): √diag of
+    χ²_red (JᵀJ)⁻¹ over the columns of R0 + CPE1, Z = R0 + 1/(Q (jω)^α), modulus weighting
+    (residuals over |Z_data|), χ²_red over the fit's 2N − 5 degrees of freedom."""
+    v, z, w = fit.values, fit.z_data, 2 * np.pi * fit.frequency
+    jw_a = (1j * w) ** v["CPE1.alpha"]
+    model = v["R0"] + 1 / (v["CPE1.Q"] * jw_a)
+    columns = [np.ones_like(model), -1 / (v["CPE1.Q"] ** 2 * jw_a), -np.log(1j * w) / (v["CPE1.Q"] * jw_a)]
+    j = np.concatenate([np.stack([c.real for c in columns], 1), np.stack([c.imag for c in columns], 1)]) / np.concatenate([np.abs(z)] * 2)[:, None]
+    chi2 = np.sum(np.abs(model - z) ** 2 / np.abs(z) ** 2)
+    return np.sqrt(np.diag(chi2 / (2 * z.size - 5) * np.linalg.inv(j.T @ j)))
+
+
+def test_the_writing_stopped_where_w1_sigma_ran_open_gives_the_reduced_circuit_s_errors():
+    """CPE1 || (R1 + W1) + R0 stops at R1 = 4.2e8 Ω, W1.sigma = 2.6e106: its branch's columns,
+    a capacitance's there, inflated the others' errors ~15× (R0 ± 7.49 Ω, Q ± 7.65e-05, α ± 0.076)
+    while the other writings gave R0 ± 2.16; held, all give the reduced circuit's (± 2.02 Ω)."""
+    fit = ix.fit(WRITINGS[3], ix.load(REAL / "exampleDataCHInstruments.txt"))
+    assert fit.values["W1.sigma"] > 1e100 and set(undetermined_names(fit)) == {"R1", "W1.sigma"}
+    np.testing.assert_allclose([fit.stderr[n] for n in DETERMINED], reduced_stderr(fit), rtol=0.01)
+    assert fit.stderr["R0"] == pytest.approx(2.02, rel=0.01)
+    assert not any("bound" in w or "strongly correlated" in w for w in fit.warnings), fit.warnings
+
+
 @pytest.mark.slow  # (13 s; the suite's budget)
 def test_every_order_on_ch_instruments_real_file_gives_the_same_flags():
     data = ix.load(REAL / "exampleDataCHInstruments.txt")
@@ -54,6 +82,13 @@ def test_every_order_on_ch_instruments_real_file_gives_the_same_flags():
         assert max(fit.values["R1"], fit.values["W1.sigma"]) > 1e12
         # no bound for the open branch's R1 nor for W1.sigma beside it
         assert not any("bound" in w for w in fit.warnings), fit.warnings
+    # the determined parameters' errors do not depend on where along the valley the fit stopped:
+    # each is the reduced circuit's (the branch held), within 1 % (CPE1 || (R1 + W1) + R0 stopped
+    # at W1.sigma = 2.6e106 and gave errors ~15× these, CPE1.Q "within 2 standard errors of 0")
+    for fit in fits:
+        np.testing.assert_allclose([fit.stderr[n] for n in DETERMINED], reduced_stderr(fit), rtol=0.01)
+    batch = ix.fit(WRITINGS[3], xr.concat([data, data], dim="copy"), init=dict(fits[3].values), n_starts=1)
+    np.testing.assert_allclose(batch.dataset["stderr"].isel(copy=0).sel(param=list(DETERMINED)).values, reduced_stderr(fits[3]), rtol=0.01)
     seen = [flags(f) for f in fits]
     assert all(s == seen[0] for s in seen), seen
     assert seen[0] == {"at_bound": set(), "undetermined": {"R1", "W1.sigma"}, "bound notes": [], "idle": True}
@@ -123,8 +158,6 @@ def test_an_off_bound_side_outside_a_vanishing_term_is_kept():
 def test_a_batch_of_the_real_spectrum_gives_the_single_fits_flags():
     """The same rule in batch fits: a stack of CH Instruments' spectrum, fitted from the single
     fit's values, flags no bound for the open branch, as the single fit does."""
-    import xarray as xr
-
     data = ix.load(REAL / "exampleDataCHInstruments.txt")
     single = ix.fit(ORDERS[0], data)
     assert single.at_bound == ()

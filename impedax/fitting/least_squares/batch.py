@@ -27,7 +27,7 @@ from ..parameters import ParameterTable
 from ..problem import residual_scale, weights
 from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, dominant_points, information_criteria, null_sets
 from .order import canonical_order
-from .branches import RELATIVE_ERROR_LIMIT, idle_branch_notes, settle_vanishing, undetermined, unidentified_stderr, undetermined_mask, vanishing_candidates, vanishing_parameters
+from .branches import RELATIVE_ERROR_LIMIT, held_covariances, idle_branch_notes, settle_vanishing, vanishing_term_mask, undetermined, unidentified_stderr, undetermined_mask, vanishing_candidates, vanishing_parameters
 from .constraints import constraint_misfit_notes, with_constraint_notes
 from .result import BOUND_RESTARTS, bounds_attr, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, PARAMETER_UNIT_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, uneven_residual_notes, shown_stderr, stack_notes, vanishing_term_sides, weighting_notes, without_error
 from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, TreeSolvers, better, over_devices, padded_points, tree_solver, trimmed, unscale
@@ -879,7 +879,8 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
     corr, singular = np.zeros((b, k, k)), np.zeros(b, bool)
     if k:
         jac = out.jacobian if finite.all() else np.where(finite[:, None, None], out.jacobian, 0.0)
-        cov, corr, sv, vt = covariances(jac, chi2 / (n_res - k) if n_res > k else np.full(b, np.nan), weighting)
+        chi2_red = chi2 / (n_res - k) if n_res > k else np.full(b, np.nan)
+        cov, corr, sv, vt = covariances(jac, chi2_red, weighting)
         stderr[:, table.free_index] = np.sqrt(np.clip(np.einsum("bii->bi", cov), 0, None))
         s_max = np.where(sv[:, :1] > 0, sv[:, :1], 1.0)  # (as `null_sets`)
         singular = np.any(sv < SINGULAR_RATIO_LIMIT * s_max, axis=1)
@@ -896,6 +897,11 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
         candidates = vanishing_candidates(sides[regular], free_values, free_stderr)
         vanishing = vanishing_parameters(circuit, registry, table, values[regular], freq, candidates, jac[regular])
     sides[regular], free_stderr, vanished = settle_vanishing(vanishing, sides[regular], free_values, free_stderr)
+    if k and regular.size:  # the others' errors hold a vanishing term's parameters at no bound at their values (as `fit_result`)
+        held = vanishing_term_mask(circuit, registry, table, values[regular], freq, jac[regular]) & (sides[regular] == 0)
+        if held.any():
+            cov[regular], corr[regular] = held_covariances(jac[regular], chi2_red[regular], weighting, cov[regular], corr[regular], held)
+            free_stderr = np.where(held | vanished, free_stderr, np.sqrt(np.clip(np.einsum("bii->bi", cov[regular]), 0, None)))
     # the parameters of near-null directions are undetermined whatever χ²_red is (as `fit_result`)
     ratios = {}
     for row, i in enumerate(regular.tolist()):

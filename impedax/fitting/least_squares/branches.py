@@ -16,10 +16,12 @@ import numpy as np
 from ...circuits import Circuit, Element, Parallel, Registry, Series
 from ...circuits.compile import node_function
 from ..parameters import ParameterTable
+from ..statistics import covariances
 
 __all__ = [
     "IDLE_BRANCH_SHARE", "VANISHING_SHARE", "RELATIVE_ERROR_LIMIT", "IdleBranch", "undetermined", "undetermined_mask", "parallel_branches", "circuit_terms",
     "idle_branches", "idle_branch_notes", "is_idle_note", "vanishing_parameters", "VANISHED", "settle_vanishing", "vanishing_candidates", "unidentified_stderr",
+    "vanishing_term_mask", "held_covariances",
 ]
 
 RELATIVE_ERROR_LIMIT = 1.0
@@ -230,6 +232,43 @@ def vanishing_parameters(circuit: Circuit, registry: Registry, table: ParameterT
                     code[_shares(node, registry, table, moved, omega)[c] < 0.5 * share[rows]] = side
                 found[rows, k] = np.where(found[rows, k] == 0, code, found[rows, k])
     return found
+
+
+def vanishing_term_mask(circuit: Circuit, registry: Registry, table: ParameterTable, values: np.ndarray, freq, jacobian) -> np.ndarray:
+    """(B, K) bool over the free parameters of fits with values (B, P) and Jacobians (B, 2N, K):
+    the parameters of a term whose share stays below `VANISHING_SHARE` at every frequency
+    (`vanishing_parameters` with every free parameter a candidate), determined or not, at a
+    bound or not. Such a term changes Z by less than any instrument resolves: the data hold the
+    reduced circuit, and its parameters are undetermined whatever their standard errors say."""
+    values = np.asarray(values, float)
+    everyone = np.ones((values.shape[0], len(table.free_names)), bool)
+    return vanishing_parameters(circuit, registry, table, values, freq, everyone, jacobian) != 0
+
+
+def held_covariances(jacobian: np.ndarray, chi2_red, weighting: str, cov: np.ndarray, corr: np.ndarray, held: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Covariances and correlations (B, K, K) of fits with Jacobians (B, 2N, K), reduced χ²
+    (B,) and `covariances`' ``cov``, ``corr``, with the parameters ``held`` (B, K,
+    `vanishing_term_mask`) held at their values for the others: the others' block from J
+    without the held columns (JᵀJ without their rows and columns: the covariance conditional
+    on them, the reduced circuit's), the held ones' block kept from the full linearisation,
+    no cross terms. A vanishing term's columns are its linearisation at wherever along the flat
+    valley the solver stopped (R1 + W1 open beside a CPE: a conductance where R1 dominates,
+    a capacitance where W1.sigma does), and inflated the others' errors up to 15× at one point of
+    it (CH Instruments' file, ``CPE1 || (R1 + W1) + R0``) but not at another."""
+    cov, corr, held = np.array(cov, float), np.array(corr, float), np.asarray(held, bool)
+    chi2_red = np.broadcast_to(np.asarray(chi2_red, float), held.shape[:1])
+    patterns, which = np.unique(held, axis=0, return_inverse=True)
+    for pattern, code in zip(patterns, range(len(patterns))):
+        keep = ~pattern
+        if not pattern.any() or not keep.any():
+            continue
+        rows = np.flatnonzero(np.ravel(which) == code)
+        kept_cov, kept_corr, _, _ = covariances(np.asarray(jacobian, float)[rows][:, :, keep], chi2_red[rows], weighting)
+        for full, kept in ((cov, kept_cov), (corr, kept_corr)):
+            full[np.ix_(rows, keep, keep)] = kept
+            full[np.ix_(rows, keep, pattern)] = 0.0
+            full[np.ix_(rows, pattern, keep)] = 0.0
+    return cov, corr
 
 
 def vanishing_candidates(sides: np.ndarray, free_values: np.ndarray, free_stderr: np.ndarray) -> np.ndarray:

@@ -19,7 +19,7 @@ from ..kk import kk_verdicts
 from ..parameters import ParameterTable, data_scales
 from ..reductions import RESISTOR_LIKE_ALPHA
 from ..statistics import covariances, information_criteria, non_passive, uncertainties
-from .branches import RELATIVE_ERROR_LIMIT, idle_branch_notes, settle_vanishing, undetermined, unidentified_stderr, undetermined_mask, vanishing_candidates, vanishing_parameters
+from .branches import RELATIVE_ERROR_LIMIT, held_covariances, idle_branch_notes, settle_vanishing, vanishing_term_mask, undetermined, unidentified_stderr, undetermined_mask, vanishing_candidates, vanishing_parameters
 from .solvers import SolverOutput, SolverStatus
 from .starts import attainable_misfit, inward_start, rms_rel_of, well_inside
 
@@ -93,7 +93,8 @@ class FitResult:
     ``bounds`` the free parameters' bounds the user narrowed (``fit(bounds=...)``; name →
     (lower, upper)), which a sampler started from this fit keeps (``sample(init=fit)``);
     ``covariance``/``correlation`` are over ``free_names``. ``covariance`` is the linearisation at
-    the optimum with every free parameter free and the bounds ignored. A free parameter at a
+    the optimum with every free parameter free and the bounds ignored, except that the others'
+    block holds a vanishing term's parameters at no bound (`branches.held_covariances`). A free parameter at a
     bound (``at_bound``) has no standard error (NaN: a symmetric one says nothing there; its
     linearised one is in `linearised_stderr`), nor has a vanishing term's (inf,
     `branches.settle_vanishing`); the row and column of either in ``correlation`` are NaN, the
@@ -455,7 +456,7 @@ RESIDUAL_LONG_NAME = "(Z_model - Z_data)/|Z_data|"
 # what `FitResult.to_xarray` says of its stderr, covariance and correlation (docs/fitting.md,
 # "Standard errors at a bound")
 STDERR_NOTE = "NaN: fixed, or at a bound (no symmetric standard error there); inf: a vanishing term's parameter"
-COVARIANCE_NOTE = "the linearisation with every free parameter free, the bounds ignored"
+COVARIANCE_NOTE = "the linearisation with every free parameter free, the bounds ignored (a vanishing term's parameters at no bound held for the others: no cross terms)"
 LINEARISED_STDERR_NAME = "stderr with a parameter at a bound given the linearisation's (bounds ignored): not a ± error there, the scale of chi2's curvature"
 PARAMETER_UNIT_NAME = "unit of each parameter (the element specs')"  # (the ``unit`` coordinate of a fit's to_xarray)
 CORRELATION_NOTE = "NaN in the rows and columns of parameters without a standard error (at a bound, a vanishing term's)"
@@ -1303,6 +1304,11 @@ def fit_result(
     vanishing = vanishing_parameters(circuit, registry, table, x_all, freq, candidates, np.asarray(out.jacobian)[None])[0] if finite and k else np.zeros(k, np.int8)
     sides, free_stderr, vanished = settle_vanishing(vanishing[None], np.asarray(sides)[None], free_values, free_stderr)
     sides = sides[0]
+    if finite and k:  # the others' errors hold a vanishing term's parameters at no bound at their values (`held_covariances`)
+        held = vanishing_term_mask(circuit, registry, table, x_all, freq, np.asarray(out.jacobian)[None]) & (sides == 0)
+        if held.any():
+            cov, corr = (a[0] for a in held_covariances(np.asarray(out.jacobian)[None], chi2_red, weighting, cov[None], corr[None], held))
+            free_stderr = np.where(held | vanished, free_stderr, np.sqrt(np.clip(np.diag(cov), 0, None)))
     free_stderr = unidentified_stderr(free_names, null_sets, sides, free_stderr[0])[None]  # (undetermined whatever χ²_red is)
     stderr.update(zip(free_names, free_stderr[0].tolist()))
     # the warnings speak of the linearisation (a bound note off its bound quotes its standard error)
