@@ -145,3 +145,20 @@ def test_plot_draws_the_parameters_asked_for_in_their_order_and_names_the_valid_
     with pytest.raises(ix.ParameterError, match="no parameter named"):
         batch.plot(params=[])
     assert plt.get_fignums() == open_figures  # (refused before a figure is made)
+
+
+def test_a_flat_panel_on_a_bound_does_not_reach_past_it():
+    # every value at α = 1 (the CPE's natural upper bound): the ±1 % window (0.99–1.01) showed
+    # room above 1, where α cannot go; it now ends 5 % of its height above the bound
+    from impedax.plotting.fit import _window_flat
+
+    fig, ax = plt.subplots()
+    ax.plot([0, 1, 2], [1.0, 1.0, 1.0], "s")
+    _window_flat(ax, np.array([1.0, 1.0, 1.0]), None, (0.0, 1.0))
+    low, high = ax.get_ylim()
+    assert high == pytest.approx(1.0 + 0.05 * 0.02) and low == pytest.approx(1.0 + 0.001 - 0.02)
+    _window_flat(ax, np.array([0.0, 0.0]) + 5.0, None, (5.0, np.inf))  # (on a lower bound: mirrored)
+    assert ax.get_ylim() == pytest.approx((5.0 - 0.005, 5.0 - 0.005 + 0.1))
+    _window_flat(ax, np.array([0.5, 0.5]), None, (0.0, 1.0))  # (inside: centred as before)
+    assert ax.get_ylim() == pytest.approx((0.495, 0.505))
+    plt.close(fig)

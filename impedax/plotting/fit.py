@@ -77,7 +77,7 @@ def plot_batch(batch, *, title: str | None = None, figsize: tuple[float, float] 
         ax.set_title(f"{name} [{unit}]" if unit else name, fontsize=font_size("title", 9))
         if ax.get_yscale() == "linear":
             shown = y[np.isfinite(y)] if loose.all() else y[kept & np.isfinite(y)]
-            _window_flat(ax, shown, None if bars is None else bars[:, np.isfinite(y[kept])])
+            _window_flat(ax, shown, None if bars is None else bars[:, np.isfinite(y[kept])], None if name == "rms_rel" else _bounds(ds, name, specs[name]))
             if prefixable_unit(ax.get_title()):  # (R_sc [MΩ] with ticks 1.0, 1.5, not 1e6 apart)
                 prefixed_axis(ax.yaxis, label=ax.title)
             else:  # (σ 1760, 1770, not 6.4 under "1e-9+1.767766953e3"; rms_rel 1e-13, not 1.0 under "1e-13")
@@ -117,12 +117,16 @@ def _chosen(batch, params) -> list[str]:
 # tick, or an axis "1e-9+1.767766953e3"); their panel shows ±`FLAT_WINDOW` of it, symmetric
 FLAT_SPAN = 1e-6
 FLAT_WINDOW = 0.01
+FLAT_BOUND_MARGIN = 0.05  # (of a flat window's height: room above a bound for the markers on it)
 
 
-def _window_flat(ax, values, bars=None) -> None:
+def _window_flat(ax, values, bars=None, bounds=None) -> None:
     """A linear panel of ``values`` (with error ``bars``, 2 × n, below and above) that barely
     vary (their extent below `FLAT_SPAN` of their size): y limits centred on their median,
-    ±`FLAT_WINDOW` of it (±1 around 0), so its ticks read 99, 99.5, 100, 100.5, 101."""
+    ±`FLAT_WINDOW` of it (±1 around 0), so its ticks read 99, 99.5, 100, 100.5, 101; a window
+    that would cross one of the parameter's ``bounds`` (lower, upper) the values do not pass is
+    moved inside it, up to `FLAT_BOUND_MARGIN` of its height (α = 1 in every spectrum: 0.981–1.001,
+    not 0.99–1.01, where α cannot go)."""
     values = np.asarray(values, float)
     if not values.size:
         return
@@ -134,7 +138,14 @@ def _window_flat(ax, values, bars=None) -> None:
     if float(np.max(high) - np.min(low)) > FLAT_SPAN * size:
         return
     half = FLAT_WINDOW * abs(centre) if centre != 0 else 1.0
-    ax.set_ylim(centre - half, centre + half)
+    bottom, top = centre - half, centre + half
+    lower, upper = bounds if bounds is not None else (-np.inf, np.inf)
+    margin = FLAT_BOUND_MARGIN * 2 * half
+    if top > upper + margin and float(np.max(high)) <= upper:
+        bottom, top = upper + margin - 2 * half, upper + margin
+    elif bottom < lower - margin and float(np.min(low)) >= lower:
+        bottom, top = lower - margin, lower - margin + 2 * half
+    ax.set_ylim(bottom, top)
 
 
 def _bounds(ds, name: str, spec) -> tuple[float, float]:
