@@ -21,6 +21,7 @@ import xarray as xr
 from ...errors import DataError
 from .._common import Skipped, check_field_count, column_entry, decimal_comma, finish, head_text, number, read_text, stack, unit_scale
 from ..registry import Reader
+from ..table import NUMBER_CELL
 
 __all__ = ["read_gamry", "READER"]
 
@@ -109,7 +110,7 @@ def _table(path: Path, lines: list[str], start: int, attrs: dict, *, ends_cut: b
         unit = units[index[name]] if index[name] < len(units) else ""
         scale = unit_scale(unit, quantity) if unit else 1.0
         if scale is None:
-            if _is_number(unit):
+            if NUMBER_CELL.fullmatch(unit):
                 raise DataError(
                     f"ZCURVE table has no units row: the line under its column names holds numbers ({name} = {unit}); "
                     "Gamry writes one (#, s, Hz, ohm, ...) there: put it back, or save the table as CSV",
@@ -146,12 +147,3 @@ def _table(path: Path, lines: list[str], start: int, attrs: dict, *, ends_cut: b
 
 
 READER = Reader("Gamry DTA", (".dta",), sniff, read_gamry, CONVENTIONS)
-
-
-def _is_number(text: str) -> bool:
-    """Whether a units-row cell reads as a number, in either decimal mark (a data row in its place)."""
-    try:
-        float(text.replace(",", "."))
-    except ValueError:
-        return False
-    return True
