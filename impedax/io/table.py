@@ -167,7 +167,7 @@ def role_of(cell: str) -> tuple[str, float, str] | None:
 
 
 # a resistance unit times an area (Ohm cm2, Ω·cm², ohm*m^2): area-specific impedance
-_AREA_SPECIFIC = re.compile(r"(?:[cm]?m|cm)\s*(?:\^?2|²)\s*$", re.IGNORECASE)
+_AREA_SPECIFIC = re.compile(r"[cm]?m\s*(?:\^?2|²)\s*$", re.IGNORECASE)
 
 
 def fallback_role(cell: str) -> tuple[str, float, str] | None:

@@ -329,15 +329,20 @@ class GapAnalysis:
         i = int(np.argmax(peak.values))
         bare = self.force.sel(branch="without_ep")["median"]  # (C_gap alone: the JSON's force_without_ep_n)
         j = int(np.argmax(bare.values))
+        band = f"{g['q05'] * 1e6:.3f}–{g['q95'] * 1e6:.3f} µm"
+        if self.gap_identified:
+            head, interval = "gap thickness u", f"90% credible interval {band}"
+        else:  # (the range first, then what it is not: after "not of the gap" it read as the gap's)
+            head, interval = "sampled u (prior-set)", f"90% interval of the draws: {band}, set by the priors, not a range of the gap"
         if self.hierarchical is not None:
             spread, new = self.gap_spread, self.gap_new_trial
             lines = [
-                f"gap thickness u = {g['value'] * 1e6:.3f} µm  (population median of the trials; 90% credible interval {g['q05'] * 1e6:.3f}–{g['q95'] * 1e6:.3f} µm, hierarchical Bayesian, {self.edl_fit.model})",
+                f"{head} = {g['value'] * 1e6:.3f} µm  (population median of the trials; {interval}, hierarchical Bayesian, {self.edl_fit.model})",
                 f"between trials  u varies by {spread['relative']['value']:.1%} (sd of ln u; 90%: {spread['relative']['q05']:.1%}–{spread['relative']['q95']:.1%}), ≈ {spread['sd_m'] * 1e6:.3f} µm",
                 f"a new trial     u in {new['q05'] * 1e6:.3f}–{new['q95'] * 1e6:.3f} µm (90% predictive interval)",
             ]
         else:
-            lines = [f"gap thickness u = {g['value'] * 1e6:.3f} µm  (90% credible interval {g['q05'] * 1e6:.3f}–{g['q95'] * 1e6:.3f} µm, {self._pooled_noise_text()}; {self.edl_fit.model})"]
+            lines = [f"{head} = {g['value'] * 1e6:.3f} µm  ({interval}, {self._pooled_noise_text()}; {self.edl_fit.model})"]
         bounds = f"(bounds {p.gap_lower * 1e6:.3f}–{p.gap_upper * 1e6:.3f} µm from the lowest/highest impedances)" if self.paper_has_bounds else "bounds n/a (one trial)"
         lines += [
             f"paper method    u = {p.gap * 1e6:.3f} µm  {bounds}",
@@ -354,8 +359,6 @@ class GapAnalysis:
         if self.trials:
             lines.append("spectra used    " + "; ".join(_trials_text(k, v) for k, v in self.trials.items()))
         if not self.gap_identified:
-            # (the range right after "not of the gap" read as the gap's: the range first, then what it is not)
-            lines[0] = re.sub(r"90% credible interval ([\d.]+–[\d.]+ µm)", r"90% interval of the draws: \1, set by the priors, not a range of the gap", lines[0].replace("gap thickness u =", "sampled u (prior-set) =", 1), count=1)
             if self.gap_lower_bound is not None:
                 lines.insert(0, (
                     f"GAP NOT DETERMINED: C_gap and the EP branch are seen only as their sum, so the data give only a LOWER BOUND u ≥ {self.gap_lower_bound * 1e6:.3f} µm "
