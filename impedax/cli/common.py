@@ -734,6 +734,15 @@ def load_selected(path: str, select: Sequence[str] | None, *, single: str | None
     return select_spectra(_load_noting(path, warn, select), path, select, single=single, or_else=or_else)
 
 
+def note_unused_sigma(data, command: str, used: bool, option: str) -> None:
+    """One line on stderr when ``data`` carry σ per point (a ``sigma`` variable: a sigma, std
+    or sem column) that the command's weighting or noise model does not use (``used`` false):
+    a walkthrough's file with a sigma column was fitted by |Z| without a word, and the
+    uneven-noise warning then asked for a sigma column. ``option``: the flag that uses it."""
+    if not used and "sigma" in data:
+        print(f"impedax {command}: note: the data carry sigma (σ per point), which this run does not use: {option} weighs by it", file=sys.stderr)
+
+
 def load_selected_files(paths: Sequence[str], select: Sequence[str] | None) -> list:
     """The spectra of several files (a command of several inputs: ``impedax gap``), each
     narrowed by the ``--select DIM=LABEL`` items whose DIM it has, as a dimension or as the

@@ -39,7 +39,7 @@ def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting.problem import open_spectrum
     from ..arguments import closest_name
-    from .common import checked_bound_options, command_provenance, data_source, emit_json, exclude_points, figure_options, figure_writer, impedax_text, load_selected, parse_assignments, parse_bounds, plan_outputs, progress_printer, result_writer, with_source
+    from .common import checked_bound_options, command_provenance, data_source, emit_json, exclude_points, figure_options, figure_writer, impedax_text, load_selected, note_unused_sigma, parse_assignments, parse_bounds, plan_outputs, progress_printer, result_writer, with_source
     from .fit import check_max_steps
 
     if len(args.model) < 2:
@@ -60,6 +60,7 @@ def run(args) -> int:
     outputs = plan_outputs([("--out", out_path(args.out), "result"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     max_steps = check_max_steps(args.max_steps)
     data = open_spectrum(exclude_points(load_selected(args.data, args.select), args.exclude)).data
+    note_unused_sigma(data, "compare", args.weighting == "sigma", "--weighting sigma")
     extra = [d for d in data["Z"].dims if d != "frequency"]
     if extra and math.prod(data.sizes[d] for d in extra) == 1:  # (a list or range that picks one: that spectrum, as before)
         data = data.isel({d: 0 for d in extra})

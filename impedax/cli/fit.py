@@ -118,7 +118,7 @@ def run(args) -> int:
 
     from .. import FitResult, fit, parse
     from ..errors import ParameterError
-    from .common import check_parameter_names, checked_bound_options, command_line_words, command_provenance, data_source, exclude_points, figure_options, figure_writer, latex_writer, load_selected, parse_assignments, parse_bounds, plan_outputs, print_result, progress_printer, result_writer, LATEX_SUFFIX
+    from .common import check_parameter_names, checked_bound_options, command_line_words, command_provenance, data_source, exclude_points, figure_options, figure_writer, latex_writer, load_selected, note_unused_sigma, parse_assignments, parse_bounds, plan_outputs, print_result, progress_printer, result_writer, LATEX_SUFFIX
 
     outputs = plan_outputs([("--out", args.out, "fit"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     latex = bool(args.out) and Path(args.out).suffix.lower() == LATEX_SUFFIX
@@ -139,6 +139,7 @@ def run(args) -> int:
             raise ParameterError("--plot-params picks the parameters of the figure --plot FILE.png draws: give --plot too")
         check_parameter_names(plot_params, names, "--plot-params", args.model)
     data = exclude_points(load_selected(args.data, args.select), args.exclude)
+    note_unused_sigma(data, "fit", args.weighting == "sigma", "--weighting sigma")
     progress = progress_printer()  # (a batch of 3 cycles took 15 s without a word, 28 s on a first run)
     n_spectra = int(data["Z"].size // max(data.sizes.get("frequency", 1), 1))
     if latex and n_spectra > 1:

@@ -113,7 +113,7 @@ def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting import parse_prior
     from ..fitting.bayes.logprob import start_weighting
-    from .common import check_parameter_names, checked_bound_options, command_provenance, data_source, figure_options, figure_writer, load_selected, parse_assignments, parse_bounds, plan_outputs, print_result, result_writer
+    from .common import check_parameter_names, checked_bound_options, command_provenance, data_source, figure_options, figure_writer, load_selected, note_unused_sigma, parse_assignments, parse_bounds, plan_outputs, print_result, result_writer
     from .fit import check_max_steps, shared_arguments
 
     circuit = parse(args.model)  # syntax errors before anything else
@@ -147,6 +147,7 @@ def run(args) -> int:
     max_steps = check_max_steps(args.max_steps) if args.max_steps is not None else None
     data = load_selected(args.data, args.select, single=None if sharing else "sample",
                          or_else="or sample them jointly with --shared NAMES (parameters one value for all, the others one per spectrum)")
+    note_unused_sigma(data, "sample", str(args.noise) == "sigma", "--noise sigma")
     start = None
     if init or max_steps is not None:  # the least-squares start, as `sample` runs it, from the given values or step limit
         start = fit(circuit, data, init=init, fixed=fixed or None, bounds=bounds or None, weighting=start_weighting(args.noise), fmin=args.fmin, fmax=args.fmax,

@@ -14,7 +14,7 @@ import numpy as np
 
 from .logprob import LogProbArgs, LogProbFunctions
 
-__all__ = ["LaplaceEvidence", "WAIC", "waic_cause", "WAIC_FIT_DISTANCE", "WAIC_MAX_DRAWS", "WAIC_POINT_LIMIT", "WAIC_PARAMETER_FACTOR", "LAPLACE_WIDTH_RATIO", "laplace_evidence", "waic"]
+__all__ = ["LaplaceEvidence", "WAIC", "waic_cause", "START_BEYOND_SIGMA", "WAIC_FIT_DISTANCE", "WAIC_MAX_DRAWS", "WAIC_POINT_LIMIT", "WAIC_PARAMETER_FACTOR", "LAPLACE_WIDTH_RATIO", "laplace_evidence", "waic"]
 
 LAPLACE_WIDTH_RATIO = 2.0
 """The Laplace log evidence is flagged unreliable when, for some parameter, the Gaussian at the
@@ -129,7 +129,13 @@ def _width_note(covariance: np.ndarray, chain_y: np.ndarray, names: Sequence[str
     )
 
 
-def waic_cause(chain_y, names: Sequence[str], *, excluded: Sequence[str] = (), start_y=None, converged: bool = True, model_misfit: bool = False) -> str:
+START_BEYOND_SIGMA = "beyond sigma"
+"""``model_misfit`` of `waic_cause` when the start fit's only mark of a misfit is a χ²_red far
+above 1 with the data's σ (no misfit note blames the model): a σ that understates the noise
+does that as well as a model that misses structure."""
+
+
+def waic_cause(chain_y, names: Sequence[str], *, excluded: Sequence[str] = (), start_y=None, converged: bool = True, model_misfit: bool | str = False) -> str:
     """Why the draws of ``chain_y`` (walker, draw, param; sampled space; parameters ``names``)
     fit the data so differently from one another that p_waic is large, in words, from what
     applies: the priors exclude the least-squares values of ``excluded``; the chain has not
@@ -138,7 +144,8 @@ def waic_cause(chain_y, names: Sequence[str], *, excluded: Sequence[str] = (), s
     known); or, with the posterior on that fit, the start fit misses structure the data hold
     (``model_misfit``: its misfit note, or χ²_red ≫ 1 with the data's σ), so that every draw
     fits some points well and others badly — a misspecified model, which more steps or another
-    prior do not mend."""
+    prior do not mend; ``model_misfit`` `START_BEYOND_SIGMA`: only χ²_red says so, and the
+    cause named is a σ that understates the noise or a model that misses structure."""
     causes = []
     if excluded:
         causes.append(f"the posterior sits away from the data's best fit: the priors exclude where the data put {', '.join(excluded)} (the least-squares value lies outside)")
@@ -151,7 +158,14 @@ def waic_cause(chain_y, names: Sequence[str], *, excluded: Sequence[str] = (), s
         away = [n for n, d in zip(names, distance) if n not in excluded and np.isfinite(d) and d > WAIC_FIT_DISTANCE]
         if away:
             causes.append(f"the posterior sits away from the data's best fit: the median of {', '.join(away)} lies over {WAIC_FIT_DISTANCE:g} posterior standard deviations from the least-squares value (a prior that excludes it, or a chain still moving)")
-    if model_misfit and not excluded and not away:
+    if model_misfit == START_BEYOND_SIGMA and not excluded and not away:
+        causes.insert(
+            0,
+            "the start fit's residuals are several times the data's sigma (see its note): either σ understates the noise, so that the likelihood is too narrow "
+            "and the draws' small moves change each point's log-likelihood by much more than one (the intervals are then too narrow as well; check the sigma column), "
+            "or the model misses structure the data hold, which a diagnosis (impedax diagnose) shows; more steps or other priors mend neither"
+        )
+    elif model_misfit and not excluded and not away:
         causes.insert(
             0,
             "the model misfits the data: the posterior sits on the least-squares fit, but that fit misses structure the data hold (see the start fit's misfit note), "
@@ -165,7 +179,7 @@ def waic_cause(chain_y, names: Sequence[str], *, excluded: Sequence[str] = (), s
     return "; ".join(causes)
 
 
-def waic(chain_y, args: LogProbArgs, functions: LogProbFunctions, excluded: Sequence[str] = (), *, names: Sequence[str] | None = None, start_y=None, converged: bool = True, model_misfit: bool = False) -> WAIC:
+def waic(chain_y, args: LogProbArgs, functions: LogProbFunctions, excluded: Sequence[str] = (), *, names: Sequence[str] | None = None, start_y=None, converged: bool = True, model_misfit: bool | str = False) -> WAIC:
     """WAIC = −2 (lppd − p_waic) over the frequency points (Watanabe 2010; Gelman et al. 2014),
     from at most `WAIC_MAX_DRAWS` evenly spaced draws of ``chain_y``. The note warns when
     p_waic exceeds `WAIC_PARAMETER_FACTOR` × the number of sampled parameters and names the

@@ -30,7 +30,7 @@ from .chain import (
     support_in_sampled_space, undetermined_span,
 )
 from .diagnostics import CHAIN_TAU_MULTIPLE, integrated_autocorr
-from .evidence import laplace_evidence, waic
+from .evidence import START_BEYOND_SIGMA, laplace_evidence, waic
 from .logprob import NOISE_MODELS, LogProbArgs, LogProbFunctions, LogProbStructure, NoiseModel, log_prob_functions, start_weighting
 from .posterior import Posterior
 from .progress import announce
@@ -318,12 +318,14 @@ CHI2_RED_MISFIT = 3.0
 noise: χ²_red of a model that fits has mean 1 and sd √(2/(2N − k)), 0.14 for 50 points."""
 
 
-def _start_misfit(init: FitResult, noise: NoiseModel) -> bool:
-    """Whether the least-squares start misses structure the data hold: its misfit note blames
-    the model (`MODEL_MISFIT_MARKS`), or, with the data's σ, its χ²_red exceeds `CHI2_RED_MISFIT`."""
+def _start_misfit(init: FitResult, noise: NoiseModel) -> bool | str:
+    """Whether the least-squares start misses the data: True where its misfit note blames the
+    model (`MODEL_MISFIT_MARKS`); `evidence.START_BEYOND_SIGMA` where only its χ²_red, with the
+    data's σ, exceeds `CHI2_RED_MISFIT` (an understated σ or a missing effect); else False."""
     if any(mark in w for w in init.warnings for mark in MODEL_MISFIT_MARKS):
         return True
-    return noise is NoiseModel.SIGMA and init.weighting == "sigma" and math.isfinite(init.chi2_red) and init.chi2_red > CHI2_RED_MISFIT
+    beyond = noise is NoiseModel.SIGMA and init.weighting == "sigma" and math.isfinite(init.chi2_red) and init.chi2_red > CHI2_RED_MISFIT
+    return START_BEYOND_SIGMA if beyond else False
 
 
 def _converged(chain_y: np.ndarray) -> bool:

@@ -29,7 +29,7 @@ from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, domi
 from .order import canonical_order
 from .branches import RELATIVE_ERROR_LIMIT, held_covariances, idle_branch_notes, settle_vanishing, vanishing_term_mask, undetermined, unidentified_stderr, undetermined_mask, vanishing_candidates, vanishing_parameters
 from .constraints import constraint_misfit_notes, with_constraint_notes
-from .result import BOUND_RESTARTS, bounds_attr, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, PARAMETER_UNIT_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, uneven_residual_notes, shown_stderr, stack_notes, vanishing_term_sides, weighting_notes, without_error
+from .result import BOUND_RESTARTS, bounds_attr, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, PARAMETER_UNIT_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, sigma_scale_notes, uneven_residual_notes, shown_stderr, stack_notes, vanishing_term_sides, weighting_notes, without_error
 from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, TreeSolvers, better, over_devices, padded_points, tree_solver, trimmed, unscale
 from .starts import SpectrumFeatures, climb_target, batch_outliers, escalation_rungs, guess_start, inward_start, rms_rel_of, rung_seed, rung_starts, to_solver_space, values_inside
 
@@ -964,7 +964,8 @@ def data_notes(freq, z, z_model, sigma, weighting: str, source: str, kk_misfits:
     """The warnings of fits to spectra z (B, N) with models z_model (B, N) that concern the data
     rather than the parameters, one tuple per spectrum, as a single fit gives them: a weighting
     dominated by a few points (`weighting_notes`), points with Re Z < 0 (`non_passive_notes`)
-    residuals uneven across the band (`uneven_residual_notes`)
+    residuals uneven across the band (`uneven_residual_notes`), residuals beyond or below the
+    stated σ (`sigma_scale_notes`)
     and a gross misfit (`misfit_notes`; ``kk_misfits``: Kramers–Kronig misfits already known);
     ``remainder``: the spectra are a subtraction's remainder (`is_remainder`), Re Z < 0 its cause;
     ``attrs``: the data's, for how to fix a flipped sign (`misfit_notes`). ``misfit_out``: a list
@@ -974,10 +975,11 @@ def data_notes(freq, z, z_model, sigma, weighting: str, source: str, kk_misfits:
     inverse_weights = weights(z, sigma, weighting, source, freq)
     weighted = weighting_notes(weighting, freq, *dominant_points(z, *inverse_weights)) if weighting in ("unit", "proportional") else [()] * b
     misfit = misfit_notes(freq, z, z_model, kk_misfits, sigma, attrs, weighting=weighting, n_free=n_free)
-    uneven = uneven_residual_notes(freq, z, z_model, *inverse_weights, weighting, misfit)
+    uneven = uneven_residual_notes(freq, z, z_model, *inverse_weights, weighting, misfit, has_sigma=sigma is not None)
+    scale = sigma_scale_notes(z, z_model, *inverse_weights, weighting, n_free, misfit)
     if misfit_out is not None:
         misfit_out.extend(misfit)
-    return [tuple(weighted[i]) + non_passive_notes(freq, z[i], None if sigma is None else sigma[i], remainder=remainder) + uneven[i] + misfit[i] for i in range(b)]
+    return [tuple(weighted[i]) + non_passive_notes(freq, z[i], None if sigma is None else sigma[i], remainder=remainder) + uneven[i] + scale[i] + misfit[i] for i in range(b)]
 
 
 RESULT_NAMES = frozenset({

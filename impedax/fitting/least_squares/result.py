@@ -25,7 +25,7 @@ from .starts import attainable_misfit, inward_start, rms_rel_of, well_inside
 
 __all__ = [
     "FitResult", "fit_result", "fit_notes", "parameter_groups", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes",
-    "misfit_notes", "uneven_residual_notes", "residual_band_rms", "UNEVEN_BAND_POINTS", "UNEVEN_RESIDUAL_RATIO", "UNEVEN_NOISE_NOTE", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
+    "misfit_notes", "uneven_residual_notes", "sigma_scale_notes", "chi2_red_range", "SIGMA_SCALE_FACTOR", "residual_band_rms", "UNEVEN_BAND_POINTS", "UNEVEN_RESIDUAL_RATIO", "UNEVEN_NOISE_NOTE", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
     "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "without_error", "near_bound_notes", "resistor_like_notes", "STDERR_NOTE", "LINEARISED_STDERR_NAME", "data_difference", "stored_bounds", "user_bounds",
     "embedded_fit", "fit_from_embedded", "bounds_attr",
 ]
@@ -823,7 +823,7 @@ def residual_band_rms(freq, z, z_model, inv_re, inv_im) -> tuple[np.ndarray, np.
     return rms, f[edges[:-1]], f[edges[1:] - 1]
 
 
-def uneven_residual_notes(freq, z, z_model, inv_re, inv_im, weighting: str, misfit=None) -> list[tuple[str, ...]]:
+def uneven_residual_notes(freq, z, z_model, inv_re, inv_im, weighting: str, misfit=None, *, has_sigma: bool = False) -> list[tuple[str, ...]]:
     """The warning of each fit z_model (B, N) of spectra z (B, N) whose weighted residuals
     (inverse weights inv_re, inv_im as `problem.weights`) are over `UNEVEN_RESIDUAL_RATIO`× larger
     in rms in one band of frequencies than in another (`residual_band_rms`): the standard errors
@@ -835,7 +835,10 @@ def uneven_residual_notes(freq, z, z_model, inv_re, inv_im, weighting: str, misf
     structure concentrates its residuals where it fails, and that note says so and where to look;
     one over the data's σ already asks for the sigma weighting.
     The text names the bands and the threshold, not the fit's ratio, so that a batch's fit
-    gives a single fit's text (as `misfit_notes`)."""
+    gives a single fit's text (as `misfit_notes`). Its advice follows the weighting: under
+    ``modulus`` to weigh by σ (``has_sigma``: the data carry one, which the fit did not use), the
+    fit's and the sampler's way alike (the sampler's default noise model is the same σ ∝ |Z|, so
+    it is no remedy); under ``sigma`` that the stated σ misstates the noise in one of the bands."""
     z = np.atleast_2d(z)
     out: list[tuple[str, ...]] = [()] * len(z)
     if weighting not in UNEVEN_CHECKED_WEIGHTINGS or np.asarray(freq).size < 2 * UNEVEN_BAND_POINTS:
@@ -847,12 +850,74 @@ def uneven_residual_notes(freq, z, z_model, inv_re, inv_im, weighting: str, misf
         loud, quiet = int(np.argmax(row)), int(np.argmin(row))
         if not row[loud] > UNEVEN_RESIDUAL_RATIO * row[quiet]:
             continue
+        loud_band, quiet_band = f"{format_frequency(lo[loud])} – {format_frequency(hi[loud])}", f"{format_frequency(lo[quiet])} – {format_frequency(hi[quiet])}"
+        if weighting == "sigma":
+            remedy = (f"the data's sigma understates the noise at {loud_band} or overstates it at {quiet_band}: check the sigma column "
+                      "there (impedax sample --noise sigma takes σ as stated too)")
+        else:
+            remedy = ("if the noise is larger there, weigh by σ: the data carry a sigma column, which this weighting does not use (impedax fit --weighting sigma; impedax sample --noise sigma)"
+                      if has_sigma else
+                      "if the noise is larger there, give sigma (a sigma column, or make_spectrum(sigma=...)) and weigh by it (impedax fit --weighting sigma; impedax sample --noise sigma)")
         out[i] = (
-            f"the weighted residuals are over {UNEVEN_RESIDUAL_RATIO:g}× larger (rms) at {format_frequency(lo[loud])} – {format_frequency(hi[loud])} than at {format_frequency(lo[quiet])} – {format_frequency(hi[quiet])}: "
-            f"{UNEVEN_NOISE_NOTE} ({weighting} weighting), so they are not to be trusted; if the noise is larger there, give sigma "
-            "(impedax fit --weighting sigma with a sigma column; make_spectrum(sigma=...)) or use impedax sample; "
+            f"the weighted residuals are over {UNEVEN_RESIDUAL_RATIO:g}× larger (rms) at {loud_band} than at {quiet_band}: "
+            f"{UNEVEN_NOISE_NOTE} ({weighting} weighting), so they are not to be trusted; {remedy}; "
             "if the model misses something there, a diagnosis (impedax diagnose) shows what",
         )
+    return out
+
+
+# a fit weighted by the data's σ is told that σ misstates the noise (`sigma_scale_notes`) where its
+# weighted residuals are, in rms, this many times σ or more, or this many times fewer: its standard
+# errors take σ as stated (χ² not rescaled), so they are off by that factor. Below 1.5× the note
+# would mostly repeat what χ²'s own scatter allows on small spectra and tell a user little
+SIGMA_SCALE_FACTOR = 1.5
+# ... and only where χ²_red also lies outside the range that residuals of the stated σ reach in
+# 99.8 % of spectra (χ²_ν/ν, ν = 2N − free parameters): at ν = 10 it is 0.15–2.96, so a few
+# points cannot trigger the note by chance
+SIGMA_SCALE_TAIL = 0.001
+"""Each tail's probability outside `chi2_red_range`."""
+
+
+def chi2_red_range(dof: int) -> tuple[float, float]:
+    """The `SIGMA_SCALE_TAIL` and 1 − `SIGMA_SCALE_TAIL` quantiles of χ²_ν/ν (ν = ``dof``)."""
+    from scipy.special import chdtri  # (the inverse of χ²'s survival function)
+
+    return float(chdtri(dof, 1.0 - SIGMA_SCALE_TAIL)) / dof, float(chdtri(dof, SIGMA_SCALE_TAIL)) / dof
+
+
+def sigma_scale_notes(z, z_model, inv_re, inv_im, weighting: str, n_free: int | None, misfit=None) -> list[tuple[str, ...]]:
+    """The warning of each fit z_model (B, N) weighted by the data's σ (``inv_re`` = ``inv_im``
+    = 1/σ) whose χ²_red lies outside `chi2_red_range` and whose residuals are at least
+    `SIGMA_SCALE_FACTOR`× σ, or that many times below it, in rms (√χ²_red): the standard errors
+    take σ as stated, so they are √χ²_red times too small (σ understated) or too large
+    (overstated). A walkthrough's SYNTHETIC R0 + R1 ∥ C1 with σ stated 3× too small: χ²_red
+    7.2, R0 6.5 stderr from the truth, and no word of it. Over σ it is left out where ``misfit``
+    (`misfit_notes`) blames the model (which then explains the excess); ``n_free`` None (a
+    shared fit's spectrum) or fewer than one degree of freedom: no note."""
+    z = np.atleast_2d(z)
+    out: list[tuple[str, ...]] = [()] * len(z)
+    dof = 2 * z.shape[-1] - (n_free or 0)
+    if weighting != "sigma" or n_free is None or dof < 1:
+        return out
+    low, high = chi2_red_range(dof)
+    with np.errstate(all="ignore"):
+        dz = np.atleast_2d(z_model) - z
+        chi2_red = np.sum((dz.real * inv_re) ** 2 + (dz.imag * inv_im) ** 2, axis=-1) / dof
+    for i, c in enumerate(np.broadcast_to(chi2_red, (len(z),)).tolist()):
+        if not math.isfinite(c):
+            continue
+        factor = math.sqrt(c)
+        if c > high and factor >= SIGMA_SCALE_FACTOR and not (misfit is not None and misfit[i] and any(m in misfit[i][0] for m in MODEL_MISFIT_MARKS)):
+            out[i] = (
+                f"the residuals are {factor:.2g}× the data's sigma in rms (χ²_red {c:.3g}, where residuals of the stated σ give {low:.2f}–{high:.2f}): "
+                f"either σ understates the noise, and the standard errors, which take σ as stated, are then {factor:.2g}× too small, "
+                "or the model misses something (a diagnosis, impedax diagnose, shows what)",
+            )
+        elif c < low and factor <= 1.0 / SIGMA_SCALE_FACTOR:
+            out[i] = (
+                f"the residuals are {factor:.2g}× the data's sigma in rms (χ²_red {c:.3g}, where residuals of the stated σ give {low:.2f}–{high:.2f}): "
+                f"σ overstates the noise (or the model follows the noise with too many parameters), and the standard errors, which take σ as stated, are then {1 / factor:.2g}× too large",
+            )
     return out
 
 

@@ -23,7 +23,7 @@ from ..statistics import at_noise_floor, dominant_points, information_criteria
 from .batch import BatchFitResult, fit_batch, register_spectrum_fit
 from .constraints import constraint_misfit_notes, with_constraint_notes
 from .order import canonical_order
-from .result import BOUND_RESTARTS, FitResult, is_remainder, falling_inward, fit_result, misfit_notes, non_passive_notes, uneven_residual_notes, weighting_notes
+from .result import BOUND_RESTARTS, FitResult, is_remainder, falling_inward, fit_result, misfit_notes, non_passive_notes, sigma_scale_notes, uneven_residual_notes, weighting_notes
 from .shared import SharedFitResult, fit_shared
 from .solvers import IDENTITY_DAMPING_STEPS, SCREEN_STEPS, SharedArgs, SolverStatus, SpectrumRows, better, padded_points, solver_args, tree_solver, trimmed, unscale
 from .starts import SpectrumFeatures, escalation_rungs, climb_target, guess_start, inward_start, rms_rel_of, rung_draws, rung_seed, to_solver_space
@@ -168,7 +168,8 @@ def fit(
     notes = weighting_notes(weighting, freq, *dominant_points(z, inv_re, inv_im))[0] if weighting in ("unit", "proportional") else ()
     kk_misfit: dict[int, float] = {}
     misfit = misfit_notes(freq, z, out.z_model, kk_misfit, sigma=None if sigma is None else np.asarray(sigma)[None], attrs=data.attrs, weighting=weighting, n_free=int(table.free_index.size))[0]
-    uneven = uneven_residual_notes(freq, z, out.z_model, inv_re, inv_im, weighting, [misfit])[0]
+    uneven = uneven_residual_notes(freq, z, out.z_model, inv_re, inv_im, weighting, [misfit], has_sigma=sigma is not None)[0]
+    uneven += sigma_scale_notes(z, out.z_model, inv_re, inv_im, weighting, int(table.free_index.size), [misfit])[0]
     notes = tuple(notes) + non_passive_notes(freq, z, sigma, remainder=is_remainder(data.attrs)) + uneven + misfit
     given = np.isfinite(table.values[table.free_index])
     start = "the given start" if given.all() and given.size else "the given start, the other parameters' from the data" if given.any() else "the data-driven start"
