@@ -37,7 +37,6 @@ from ..arguments import GAP_MIN_STEPS, MAX_WALKERS, checked_arguments, choice, c
 from ..errors import IN_MEMORY, CircuitError, DataError, ParameterError
 from ..constants import C_GAP_BOUNDS_F, EPSILON_0, EPSILON_AIR
 from ..fitting.bayes.chain import AUTO_STEPS, steps_rule
-from ..fitting.bayes.diagnostics import CorrelationWarningText
 from ..fitting.least_squares.result import MISFIT_RATIO_MAX, REMAINDER_ATTRS, SUBTRACTION_CAUSE, gross_misfits, known_kk_misfits, listed_frequencies
 from ..fitting.statistics import non_passive
 from .gap_inputs import check_gap_inputs, position_notes, spectra_used
@@ -591,7 +590,7 @@ def gap_analysis(
     notes += _bound_notes(u_draws, reparametrization, area)
     notes += _gap_breakdown_notes(force, float(np.median(u_draws)), area, eps_gap)
     sampled = [w for w in posterior.warnings if not w.startswith("least-squares start")]
-    notes += [f"EDL fit: {w}" for w in edl.warnings] + [f"sampling: {w}" for w in _correlation_advice(sampled, posterior.parameter_draws(), circuit)]
+    notes += [f"EDL fit: {w}" for w in edl.warnings] + [f"sampling: {w}" for w in _correlation_advice(sampled, posterior.strong_correlations, posterior.parameter_draws(), circuit)]
     notes += _estimate_bound_notes("Bayesian gap thickness", float(np.median(u_draws)), paper, remaining, f"; draws span {_um(u_draws.min())}–{_um(u_draws.max())} µm")
     known_kk: dict[int, float] = {}
     lower, withheld = _identification(ep, str(requested), circuit, posterior.parameter_draws(), edl, posterior.piled_up, notes, remaining, area, eps_gap, known_kk)
@@ -607,19 +606,20 @@ conditional sd of a Gaussian; on the walkthrough's SYNTHETIC set, r = −0.42 fo
 9 %, and R_EP fixed at its median narrowed the interval by 11 %)."""
 
 
-def _correlation_advice(warnings, draws: Mapping[str, np.ndarray], circuit) -> list[str]:
+def _correlation_advice(warnings, correlations, draws: Mapping[str, np.ndarray], circuit) -> list[str]:
     """``warnings`` of the pooled sampling with the advice of each correlation warning
     (`diagnostics.CORRELATION_ADVICE`: ``--fix``, ``--prior``, options ``impedax gap`` does not
     have) replaced by what it means for u and what a user of the gap analysis can do: u's
     correlation r with each of the pair (in log space) and how much knowing it would narrow u's
     interval, 1 − √(1 − r²) (`U_CORRELATION_MATTERS`), and the Python call that fixes one. A
-    correlation warning is known by the finding it carries (`CorrelationWarningText`: the pair
-    and r), not by its words."""
+    correlation warning is known as the `StrongCorrelation.warning` of one of the posterior's
+    ``correlations`` (`Posterior.strong_correlations`: the pair and r), not by matching its words."""
     u = np.log(np.asarray(draws["u"], float))
     q05, q50, q95 = np.exp(np.quantile(u, [0.05, 0.5, 0.95]))
+    by_warning = {c.warning: c for c in correlations}
     out = []
     for w in warnings:
-        found = w.correlation if isinstance(w, CorrelationWarningText) else None
+        found = by_warning.get(w)
         pair = (found.first, found.second) if found is not None else ()
         if found is None or "u" in pair or not all(n in draws for n in pair):
             out.append(w)

@@ -18,7 +18,7 @@ from ..reductions import reducing_bounds
 
 __all__ = [
     "CHAIN_TAU_MULTIPLE", "ACCEPTANCE_STUCK", "GAUSSIAN_ACCEPTANCE", "CORRELATION_WARNING", "EDGE_BAND", "EDGE_DENSITY", "EDGE_MIN_DRAWS",
-    "INTERVAL_RATIO_WARNING", "CORRELATION_ADVICE", "StrongCorrelation", "CorrelationWarningText", "strong_correlations", "integrated_autocorr", "flat_acceptance", "acceptance_ceiling", "hdi", "chain_warnings", "PriorEdges", "prior_edges", "reducing_bounds", "user_bound_sides", "PiledUp",
+    "INTERVAL_RATIO_WARNING", "CORRELATION_ADVICE", "StrongCorrelation", "strong_correlations", "integrated_autocorr", "flat_acceptance", "acceptance_ceiling", "hdi", "chain_warnings", "PriorEdges", "prior_edges", "reducing_bounds", "user_bound_sides", "PiledUp",
     "acceptance_warnings", "interval_warnings", "figure", "STRAGGLER_LOG_PROB_GAP", "Stragglers", "NO_STRAGGLERS", "find_stragglers", "straggler_warnings", "walkers_text", "kept_walkers",
 ]
 
@@ -32,7 +32,7 @@ CORRELATION_WARNING = 0.9
 CORRELATION_ADVICE = "fix one or give it an informative prior"
 """The end of the correlation warning of `chain_warnings`: what `impedax sample` (``--fix``,
 ``--prior``) can do; a caller without those options (`impedax gap`) says its own after the
-warning's `StrongCorrelation.finding`, which the warning carries (`CorrelationWarningText`)."""
+`StrongCorrelation.finding`, knowing the warning as `StrongCorrelation.warning`."""
 EDGE_BAND = 0.02  # the outer 2 % of a prior's range (in its own coordinate) ...
 EDGE_DENSITY = 0.5  # ... holding draws at least half as dense as over their central 90 %: piled up
 EDGE_MIN_DRAWS = 20  # fewer draws in the band than this say nothing
@@ -261,26 +261,15 @@ class StrongCorrelation:
         space = "log " if self.log_space else ""
         return f"{self.first} and {self.second} are strongly correlated in the posterior (r = {self.r:+.3f} in {space}space): the data constrain a combination of them"
 
+    @property
+    def warning(self) -> str:
+        """The warning `chain_warnings` gives of it: the finding, then `CORRELATION_ADVICE`
+        (a caller with advice of its own, `impedax gap`, knows the warning by this text)."""
+        return f"{self.finding}; {CORRELATION_ADVICE}"
+
     def to_attr(self) -> dict:
         """A JSON object of plain values (``impedax sample --json``'s ``strong_correlations``)."""
         return {"first": self.first, "second": self.second, "r": self.r, "log_space": self.log_space}
-
-
-class CorrelationWarningText(str):
-    """The warning of a `StrongCorrelation`, its `~StrongCorrelation.finding` then
-    `CORRELATION_ADVICE`: a ``str`` like every other warning that carries the finding as
-    ``correlation``, so code that words its own advice (`impedax gap`) reads the pair and r from
-    it, never from the text."""
-
-    correlation: StrongCorrelation
-
-    def __new__(cls, correlation: StrongCorrelation):
-        text = super().__new__(cls, f"{correlation.finding}; {CORRELATION_ADVICE}")
-        text.correlation = correlation
-        return text
-
-    def __getnewargs__(self):  # (pickle and copy rebuild it from the finding, not from the text)
-        return (self.correlation,)
 
 
 def strong_correlations(names: Sequence[str], log_scale: Sequence[bool], chain_y: np.ndarray) -> tuple[StrongCorrelation, ...]:
@@ -317,7 +306,7 @@ def chain_warnings(
     ``step_cap``, the cap at which the automatic chain length stopped, the warning says so),
     mean acceptance below `ACCEPTANCE_STUCK` or above `acceptance_ceiling`, pairs of
     parameters of different elements correlated beyond `CORRELATION_WARNING`
-    (`strong_correlations`; each warning a `CorrelationWarningText` carrying its finding)."""
+    (`strong_correlations`, each `StrongCorrelation.warning`)."""
     out = []
     n_draws = chain_y.shape[1]
     taus = {n: t / thin for n, t in autocorr_steps.items()}
@@ -344,7 +333,7 @@ def chain_warnings(
                 f"(τ = {finite[worst] * thin:.3g} steps for {worst}){capped}: run more steps before trusting the intervals"
             )
     out.extend(acceptance_warnings(mean_acceptance, len(names)))
-    out.extend(CorrelationWarningText(c) for c in strong_correlations(names, log_scale, chain_y))
+    out.extend(c.warning for c in strong_correlations(names, log_scale, chain_y))
     return out
 
 
