@@ -664,6 +664,58 @@ def test_fit_and_sample_help_say_that_sample_proportional_noise_is_fit_modulus_w
     assert all("divides Re by |Re Z| and Im by |Im Z|" in t or "Re divided by |Re Z| and Im by |Im Z|" in t for t in helps.values())
 
 
+def test_strong_correlations_are_data_whose_r_is_numpy_s_corrcoef_of_the_draws():
+    """The posterior-correlation warning's pair and r are data (`StrongCorrelation`), carried by
+    the warning (`StrongCorrelation.warning`, the same words as before 2026-12-01) and listed by
+    `strong_correlations`: r is numpy's corrcoef of the draws in the sampled space (of the
+    logarithms where both are sampled in log), a pair of one element (a CPE's Q and α at
+    r ≈ 0.99) is left out. SYNTHETIC draws: 32 walkers
+    × 250 draws, r(R0, ln R1) ≈ +0.93 (R0 sampled linearly), r(ln R1, ln C1) ≈ −0.95."""
+    from impedax.fitting.bayes.diagnostics import StrongCorrelation, chain_warnings, strong_correlations
+
+    z = np.random.default_rng(11).standard_normal((5, 32 * 250))
+    r1 = 1000.0 * np.exp(0.05 * z[1])
+    c1 = 1e-6 * np.exp(0.05 * (-0.95 * z[1] + np.sqrt(1 - 0.95**2) * z[2]))
+    r0 = 10.0 + 0.1 * (0.93 * z[1] + np.sqrt(1 - 0.93**2) * z[3])  # (r with ln C1 ≈ −0.88: below 0.9)
+    q = 1e-5 * np.exp(0.05 * z[4])
+    alpha = 0.8 + 0.01 * (0.99 * z[4] + np.sqrt(1 - 0.99**2) * z[0])
+    names, log_scale = ("R0", "R1", "C1", "CPE1.Q", "CPE1.alpha"), (False, True, True, True, False)
+    chain = np.stack([r0, np.log(r1), np.log(c1), np.log(q), alpha], axis=-1).reshape(32, 250, 5)
+    r_r0_r1 = np.corrcoef(r0, np.log(r1))[0, 1]
+    r_r1_c1 = np.corrcoef(np.log(r1), np.log(c1))[0, 1]
+    assert 0.9 < r_r0_r1 < 0.96 and -0.97 < r_r1_c1 < -0.9 and np.corrcoef(np.log(q), alpha)[0, 1] > 0.98  # (the design holds)
+    found = strong_correlations(names, log_scale, chain)
+    assert [(c.first, c.second, c.log_space) for c in found] == [("R0", "R1", False), ("R1", "C1", True)]
+    assert found[0].r == pytest.approx(r_r0_r1, abs=1e-12) and found[1].r == pytest.approx(r_r1_c1, abs=1e-12)
+    texts = [w for w in chain_warnings(names, log_scale, chain, dict.fromkeys(names, 1.0), 1, 0.3) if "strongly correlated" in w]
+    assert texts == [
+        f"R0 and R1 are strongly correlated in the posterior (r = {r_r0_r1:+.3f} in space): the data constrain a combination of them; fix one or give it an informative prior",
+        f"R1 and C1 are strongly correlated in the posterior (r = {r_r1_c1:+.3f} in log space): the data constrain a combination of them; fix one or give it an informative prior",
+    ]
+    assert [c.warning for c in found] == texts
+    assert StrongCorrelation("R1", "C1", -0.95, True).to_attr() == {"first": "R1", "second": "C1", "r": -0.95, "log_space": True}
+
+
+def test_a_posterior_lists_its_strong_correlations(rcpe):
+    """`Posterior.strong_correlations` and ``--json``'s ``strong_correlations`` (added
+    2026-12-01) hold the pairs its warnings name, r = numpy's corrcoef of the draws. SYNTHETIC
+    draws in place of the fixture's, the same shape: ln R0 and ln R1 at r ≈ −0.95, the rest
+    independent near the fixture's medians."""
+    _, _, _, post = rcpe
+    assert post.strong_correlations == () and post.summary()["strong_correlations"] == []  # (the fixture's posterior: none)
+    walkers, n_draws, k = post.draws.shape
+    z = np.random.default_rng(12).standard_normal((k + 1, walkers * n_draws))
+    y = np.log(np.median(post.draws.reshape(-1, k), axis=0))[:, None] + 0.02 * z[:k]
+    i0, i1 = post.names.index("R0"), post.names.index("R1")
+    y[i1] = y[i1].mean() + 0.02 * (-0.95 * z[i0] + np.sqrt(1 - 0.95**2) * z[k])
+    synthetic = dataclasses.replace(post, draws=np.exp(y.T).reshape(walkers, n_draws, k))
+    r = np.corrcoef(np.log(synthetic.samples["R0"]), np.log(synthetic.samples["R1"]))[0, 1]
+    (found,) = synthetic.strong_correlations
+    assert (found.first, found.second, found.log_space) == ("R0", "R1", True) and found.r == pytest.approx(r, abs=1e-12)
+    assert synthetic.summary()["strong_correlations"] == [{"first": "R0", "second": "R1", "r": found.r, "log_space": True}]
+    assert any(w.startswith(f"R0 and R1 are strongly correlated in the posterior (r = {r:+.3f} in log space)") for w in synthetic.warnings)
+
+
 def test_a_stuck_walker_makes_tau_unknown_without_a_raw_warning():
     """A walker that never moves over 60 kept draws has an autocorrelation of 0/0: τ is unknown
     (NaN, no RuntimeWarning from emcee) and the warning counts the stuck walker."""

@@ -344,7 +344,7 @@ def test_gap_correlation_warning_says_what_a_gap_user_can_do():
     the narrowing 1 − √(1 − r²) knowing one would give (the Gaussian conditional sd, numpy
     here) — and the Python call that fixes one. SYNTHETIC draws, r(u, R_EP) = −0.42 as on the
     walkthrough's set; a pair that reaches u (r = 0.9) is said to widen it."""
-    from impedax.fitting.bayes.diagnostics import chain_warnings
+    from impedax.fitting.bayes.diagnostics import chain_warnings, strong_correlations
     from impedax.models.gap import _correlation_advice
 
     rng = np.random.default_rng(3)
@@ -358,7 +358,7 @@ def test_gap_correlation_warning_says_what_a_gap_user_can_do():
         raw = [w for w in chain_warnings(["R_EP", "CPE_EP.Q", "u"], [True] * 3, chain, {"R_EP": 1.0, "CPE_EP.Q": 1.0, "u": 1.0}, 1, 0.3) if "strongly correlated" in w]
         assert len(raw) == 1 and raw[0].endswith("fix one or give it an informative prior")  # (the generic text, as `impedax sample` says it)
         draws = {"R_EP": np.exp(ln_r), "CPE_EP.Q": np.exp(ln_q), "u": np.exp(ln_u), "C_gap": E0 * EPS_AIR * 100e-6 / np.exp(ln_u)}
-        (said,) = _correlation_advice(raw, draws, "R_EP || CPE_EP || C_gap")
+        (said,) = _correlation_advice(raw, strong_correlations(["R_EP", "CPE_EP.Q", "u"], [True] * 3, chain), draws, "R_EP || CPE_EP || C_gap")
         r = [np.corrcoef(ln_u, x)[0, 1] for x in (ln_r, ln_q)]
         narrowing = 1 - np.sqrt(1 - max(v * v for v in r))
         assert said.startswith(raw[0][: raw[0].index("; fix one")]) and "fix one or give it an informative prior" not in said
@@ -366,7 +366,35 @@ def test_gap_correlation_warning_says_what_a_gap_user_can_do():
         assert "impedax gap has no --fix or --prior" in said and "fixed={'R_EP': …}" in said and "edl_fit=ix.fit('R_EP || CPE_EP || C_gap', ix.models.remaining_impedance(total, skin, touchscreen)" in said
         assert all(callable(getattr(ix.models, name)) for name in re.findall(r"ix\.models\.(\w+)\(", said))  # (the call it gives exists)
     other = ["the chain (225 draws per walker after burn-in) is shorter than 50 autocorrelation times"]
-    assert _correlation_advice(other, draws, "R_EP || CPE_EP || C_gap") == other  # (other warnings as they are)
+    assert _correlation_advice(other, strong_correlations(["R_EP", "CPE_EP.Q", "u"], [True] * 3, chain), draws, "R_EP || CPE_EP || C_gap") == other  # (other warnings as they are)
+
+
+def test_gap_correlation_advice_keys_on_the_finding_not_the_warning_s_words(monkeypatch):
+    """Up to 2026-12-01 the gap advice found the sampler's correlation warning by a regular
+    expression over its words: with the sampler's advice reworded, the warning passed through
+    ending in advice `impedax gap` cannot follow. It now knows the warning as the
+    `StrongCorrelation.warning` of the posterior's pairs: reworded, it is still replaced, after
+    the finding with numpy's r; the same words with no such pair among the findings are left as they are. SYNTHETIC draws: ln R_EP and
+    ln CPE_EP.Q at r ≈ 0.98, u independent of both."""
+    from impedax.fitting.bayes import diagnostics
+    from impedax.models.gap import _correlation_advice
+
+    monkeypatch.setattr(diagnostics, "CORRELATION_ADVICE", "reconsider the model")
+    z = np.random.default_rng(5).standard_normal((3, 4000))
+    ln_r = 17.7 + 0.01 * z[0]
+    ln_q = -19.6 + 0.98 * (ln_r - 17.7) + 0.002 * z[1]
+    ln_u = np.log(4.02e-6) + 0.0015 * z[2]
+    chain = np.stack([ln_r, ln_q, ln_u], axis=-1).reshape(40, 100, 3)
+    (raw,) = [w for w in diagnostics.chain_warnings(["R_EP", "CPE_EP.Q", "u"], [True] * 3, chain, {"R_EP": 1.0, "CPE_EP.Q": 1.0, "u": 1.0}, 1, 0.3) if "strongly correlated" in w]
+    finding = f"R_EP and CPE_EP.Q are strongly correlated in the posterior (r = {np.corrcoef(ln_r, ln_q)[0, 1]:+.3f} in log space): the data constrain a combination of them"
+    assert raw == f"{finding}; reconsider the model"  # (the sampler's warning, reworded)
+    draws = {"R_EP": np.exp(ln_r), "CPE_EP.Q": np.exp(ln_q), "u": np.exp(ln_u), "C_gap": E0 * EPS_AIR * 100e-6 / np.exp(ln_u)}
+    found = diagnostics.strong_correlations(["R_EP", "CPE_EP.Q", "u"], [True] * 3, chain)
+    (said,) = _correlation_advice([raw], found, draws, "R_EP || CPE_EP || C_gap")
+    r = [np.corrcoef(ln_u, x)[0, 1] for x in (ln_r, ln_q)]
+    assert said.startswith(f"{finding}; this matters little to u: ") and "reconsider the model" not in said
+    assert f"{r[0]:+.2f} with R_EP and {r[1]:+.2f} with CPE_EP.Q" in said and "impedax gap has no --fix or --prior" in said and "fixed={'R_EP': …}" in said
+    assert _correlation_advice([raw], (), draws, "R_EP || CPE_EP || C_gap") == [raw]
 
 
 @pytest.mark.parametrize(("words", "hint"), [(["--fix", "R_EP=1e8"], None), (["--prior", "R_EP=x"], None), (["--stps", "30"], "--steps"), (["--quite"], "--quiet")])

@@ -25,7 +25,6 @@ gap voltage and the electrostatic force, with uncertainty.
 from __future__ import annotations
 
 import math
-import re
 from dataclasses import dataclass, field, replace
 from typing import Mapping
 
@@ -38,7 +37,6 @@ from ..arguments import GAP_MIN_STEPS, MAX_WALKERS, checked_arguments, choice, c
 from ..errors import IN_MEMORY, CircuitError, DataError, ParameterError
 from ..constants import C_GAP_BOUNDS_F, EPSILON_0, EPSILON_AIR
 from ..fitting.bayes.chain import AUTO_STEPS, steps_rule
-from ..fitting.bayes.diagnostics import CORRELATION_ADVICE
 from ..fitting.least_squares.result import MISFIT_RATIO_MAX, REMAINDER_ATTRS, SUBTRACTION_CAUSE, gross_misfits, known_kk_misfits, listed_frequencies
 from ..fitting.statistics import non_passive
 from .gap_inputs import check_gap_inputs, position_notes, spectra_used
@@ -592,7 +590,7 @@ def gap_analysis(
     notes += _bound_notes(u_draws, reparametrization, area)
     notes += _gap_breakdown_notes(force, float(np.median(u_draws)), area, eps_gap)
     sampled = [w for w in posterior.warnings if not w.startswith("least-squares start")]
-    notes += [f"EDL fit: {w}" for w in edl.warnings] + [f"sampling: {w}" for w in _correlation_advice(sampled, posterior.parameter_draws(), circuit)]
+    notes += [f"EDL fit: {w}" for w in edl.warnings] + [f"sampling: {w}" for w in _correlation_advice(sampled, posterior.strong_correlations, posterior.parameter_draws(), circuit)]
     notes += _estimate_bound_notes("Bayesian gap thickness", float(np.median(u_draws)), paper, remaining, f"; draws span {_um(u_draws.min())}–{_um(u_draws.max())} µm")
     known_kk: dict[int, float] = {}
     lower, withheld = _identification(ep, str(requested), circuit, posterior.parameter_draws(), edl, posterior.piled_up, notes, remaining, area, eps_gap, known_kk)
@@ -601,7 +599,6 @@ def gap_analysis(
     return GapAnalysis(remaining, paper, naive, edl, posterior, force, area, v0, ep, tuple(notes), model_requested=str(requested), trials=trials, gap_lower_bound=lower, gap_bound_withheld=withheld, edl_misfit=misfit, settings=used)
 
 
-_CORRELATION_RE = re.compile(r"^(?P<a>\S+) and (?P<b>\S+) are strongly correlated in the posterior .*; " + re.escape(CORRELATION_ADVICE) + "$")
 U_CORRELATION_MATTERS = 0.25
 """A pair of correlated parameters matters to u when knowing either exactly would narrow u's
 interval by this share or more: 1 − √(1 − r²) ≥ 0.25, |r| ≥ 0.66 between u and it (the
@@ -609,22 +606,26 @@ conditional sd of a Gaussian; on the walkthrough's SYNTHETIC set, r = −0.42 fo
 9 %, and R_EP fixed at its median narrowed the interval by 11 %)."""
 
 
-def _correlation_advice(warnings, draws: Mapping[str, np.ndarray], circuit) -> list[str]:
+def _correlation_advice(warnings, correlations, draws: Mapping[str, np.ndarray], circuit) -> list[str]:
     """``warnings`` of the pooled sampling with the advice of each correlation warning
-    (`CORRELATION_ADVICE`: ``--fix``, ``--prior``, options ``impedax gap`` does not have) replaced
-    by what it means for u and what a user of the gap analysis can do: u's correlation r with
-    each of the pair (in log space) and how much knowing it would narrow u's interval,
-    1 − √(1 − r²) (`U_CORRELATION_MATTERS`), and the Python call that fixes one."""
+    (`diagnostics.CORRELATION_ADVICE`: ``--fix``, ``--prior``, options ``impedax gap`` does not
+    have) replaced by what it means for u and what a user of the gap analysis can do: u's
+    correlation r with each of the pair (in log space) and how much knowing it would narrow u's
+    interval, 1 − √(1 − r²) (`U_CORRELATION_MATTERS`), and the Python call that fixes one. A
+    correlation warning is known as the `StrongCorrelation.warning` of one of the posterior's
+    ``correlations`` (`Posterior.strong_correlations`: the pair and r), not by matching its words."""
     u = np.log(np.asarray(draws["u"], float))
     q05, q50, q95 = np.exp(np.quantile(u, [0.05, 0.5, 0.95]))
+    by_warning = {c.warning: c for c in correlations}
     out = []
     for w in warnings:
-        pair = _CORRELATION_RE.match(w)
-        if pair is None or "u" in (pair["a"], pair["b"]) or not all(n in draws for n in (pair["a"], pair["b"])):
+        found = by_warning.get(w)
+        pair = (found.first, found.second) if found is not None else ()
+        if found is None or "u" in pair or not all(n in draws for n in pair):
             out.append(w)
             continue
         rs = {}
-        for name in (pair["a"], pair["b"]):
+        for name in pair:
             x = np.asarray(draws[name], float)
             x = np.log(x) if np.all(x > 0) else x
             rs[name] = float(np.corrcoef(u, x)[0, 1]) if np.std(x) > 0 and np.std(u) > 0 else 0.0
@@ -635,8 +636,8 @@ def _correlation_advice(warnings, draws: Mapping[str, np.ndarray], circuit) -> l
             f"so knowing either exactly would narrow it by at most {narrowing:.0%} (√(1 − r²))"
         )
         out.append(
-            w[: -len(CORRELATION_ADVICE)] + verdict + "; impedax gap has no --fix or --prior: in Python, fix one in the EDL fit the pooled sampling starts from, "
-            f"ix.models.gap_analysis(total, skin, touchscreen, area=…, method='pooled', edl_fit=ix.fit('{circuit}', ix.models.remaining_impedance(total, skin, touchscreen), fixed={{'{pair['a']}': …}}))"
+            f"{found.finding}; {verdict}; impedax gap has no --fix or --prior: in Python, fix one in the EDL fit the pooled sampling starts from, "
+            f"ix.models.gap_analysis(total, skin, touchscreen, area=…, method='pooled', edl_fit=ix.fit('{circuit}', ix.models.remaining_impedance(total, skin, touchscreen), fixed={{'{found.first}': …}}))"
         )
     return out
 

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import functools
 import math
+from dataclasses import dataclass
 from typing import Mapping, NamedTuple, Sequence
 
 import numpy as np
@@ -17,7 +18,7 @@ from ..reductions import reducing_bounds
 
 __all__ = [
     "CHAIN_TAU_MULTIPLE", "ACCEPTANCE_STUCK", "GAUSSIAN_ACCEPTANCE", "CORRELATION_WARNING", "EDGE_BAND", "EDGE_DENSITY", "EDGE_MIN_DRAWS",
-    "INTERVAL_RATIO_WARNING", "CORRELATION_ADVICE", "integrated_autocorr", "flat_acceptance", "acceptance_ceiling", "hdi", "chain_warnings", "PriorEdges", "prior_edges", "reducing_bounds", "user_bound_sides", "PiledUp",
+    "INTERVAL_RATIO_WARNING", "CORRELATION_ADVICE", "StrongCorrelation", "strong_correlations", "integrated_autocorr", "flat_acceptance", "acceptance_ceiling", "hdi", "chain_warnings", "PriorEdges", "prior_edges", "reducing_bounds", "user_bound_sides", "PiledUp",
     "acceptance_warnings", "interval_warnings", "figure", "STRAGGLER_LOG_PROB_GAP", "Stragglers", "NO_STRAGGLERS", "find_stragglers", "straggler_warnings", "walkers_text", "kept_walkers",
 ]
 
@@ -30,7 +31,8 @@ uncorrelated Gaussians (the move is affine-invariant) and for 2d + 2 walkers."""
 CORRELATION_WARNING = 0.9
 CORRELATION_ADVICE = "fix one or give it an informative prior"
 """The end of the correlation warning of `chain_warnings`: what `impedax sample` (``--fix``,
-``--prior``) can do; a caller without those options (`impedax gap`) replaces it with its own."""
+``--prior``) can do; a caller without those options (`impedax gap`) says its own after the
+`StrongCorrelation.finding`, knowing the warning as `StrongCorrelation.warning`."""
 EDGE_BAND = 0.02  # the outer 2 % of a prior's range (in its own coordinate) ...
 EDGE_DENSITY = 0.5  # ... holding draws at least half as dense as over their central 90 %: piled up
 EDGE_MIN_DRAWS = 20  # fewer draws in the band than this say nothing
@@ -240,6 +242,55 @@ def acceptance_warnings(mean_acceptance: float, n_params: int) -> list[str]:
     return []
 
 
+@dataclass(frozen=True)
+class StrongCorrelation:
+    """Two sampled parameters of different elements whose draws correlate beyond
+    `CORRELATION_WARNING` (`strong_correlations`): ``first`` and ``second`` their names, in the
+    order they are sampled, ``r`` Pearson's correlation coefficient of their draws over all
+    walkers in the sampled space — of their logarithms where ``log_space`` (both sampled in log)."""
+
+    first: str
+    second: str
+    r: float
+    log_space: bool
+
+    @property
+    def finding(self) -> str:
+        """The warning without its advice: "R_EP and CPE_EP.Q are strongly correlated in the
+        posterior (r = +0.972 in log space): the data constrain a combination of them"."""
+        space = "log " if self.log_space else ""
+        return f"{self.first} and {self.second} are strongly correlated in the posterior (r = {self.r:+.3f} in {space}space): the data constrain a combination of them"
+
+    @property
+    def warning(self) -> str:
+        """The warning `chain_warnings` gives of it: the finding, then `CORRELATION_ADVICE`
+        (a caller with advice of its own, `impedax gap`, knows the warning by this text)."""
+        return f"{self.finding}; {CORRELATION_ADVICE}"
+
+    def to_attr(self) -> dict:
+        """A JSON object of plain values (``impedax sample --json``'s ``strong_correlations``)."""
+        return {"first": self.first, "second": self.second, "r": self.r, "log_space": self.log_space}
+
+
+def strong_correlations(names: Sequence[str], log_scale: Sequence[bool], chain_y: np.ndarray) -> tuple[StrongCorrelation, ...]:
+    """The pairs of parameters of different elements whose draws ``chain_y`` (walker, draw,
+    param; sampled space) correlate beyond `CORRELATION_WARNING` (|r|, Pearson over all walkers'
+    draws), in the order of ``names``. Parameters of one element (a CPE's Q and α: correlated
+    yet well determined) are left out; none from 2 draws or fewer, or one parameter."""
+    ys = chain_y.reshape(-1, len(names))
+    if ys.shape[0] <= 2 or len(names) < 2:
+        return ()
+    with np.errstate(all="ignore"):
+        corr = np.corrcoef(ys, rowvar=False)
+    out = []
+    for i in range(len(names)):
+        for j in range(i + 1, len(names)):
+            same_element = names[i].split(".")[0] == names[j].split(".")[0]
+            if np.isfinite(corr[i, j]) and abs(corr[i, j]) > CORRELATION_WARNING and not same_element:
+                out.append(StrongCorrelation(names[i], names[j], float(corr[i, j]), bool(log_scale[i] and log_scale[j])))
+    return tuple(out)
+
+
 def chain_warnings(
     names: Sequence[str],
     log_scale: Sequence[bool],
@@ -254,7 +305,8 @@ def chain_warnings(
     `CHAIN_TAU_MULTIPLE` autocorrelation times (``autocorr_steps`` in sampler steps; with
     ``step_cap``, the cap at which the automatic chain length stopped, the warning says so),
     mean acceptance below `ACCEPTANCE_STUCK` or above `acceptance_ceiling`, pairs of
-    parameters of different elements correlated beyond `CORRELATION_WARNING`."""
+    parameters of different elements correlated beyond `CORRELATION_WARNING`
+    (`strong_correlations`, each `StrongCorrelation.warning`)."""
     out = []
     n_draws = chain_y.shape[1]
     taus = {n: t / thin for n, t in autocorr_steps.items()}
@@ -281,19 +333,7 @@ def chain_warnings(
                 f"(τ = {finite[worst] * thin:.3g} steps for {worst}){capped}: run more steps before trusting the intervals"
             )
     out.extend(acceptance_warnings(mean_acceptance, len(names)))
-    ys = chain_y.reshape(-1, len(names))
-    if ys.shape[0] > 2 and len(names) > 1:
-        with np.errstate(all="ignore"):
-            corr = np.corrcoef(ys, rowvar=False)
-        for i in range(len(names)):
-            for j in range(i + 1, len(names)):
-                same_element = names[i].split(".")[0] == names[j].split(".")[0]  # a CPE's Q and α: correlated yet well determined
-                if np.isfinite(corr[i, j]) and abs(corr[i, j]) > CORRELATION_WARNING and not same_element:
-                    space = "log " if log_scale[i] and log_scale[j] else ""
-                    out.append(
-                        f"{names[i]} and {names[j]} are strongly correlated in the posterior (r = {corr[i, j]:+.3f} in {space}space): "
-                        f"the data constrain a combination of them; {CORRELATION_ADVICE}"
-                    )
+    out.extend(c.warning for c in strong_correlations(names, log_scale, chain_y))
     return out
 
 

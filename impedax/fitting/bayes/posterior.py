@@ -26,7 +26,7 @@ from ..derived import QUANTILES, draw_indices, draws_band, needs_freq
 from ..least_squares import FitResult
 from ..least_squares.result import bounds_attr, shown_stderr, stored_bounds
 from .chain import capped_at, length_text
-from .diagnostics import CHAIN_TAU_MULTIPLE, NO_STRAGGLERS, PiledUp, Stragglers, chain_warnings, figure, hdi, integrated_autocorr, interval_warnings, kept_walkers, straggler_warnings, walkers_text
+from .diagnostics import CHAIN_TAU_MULTIPLE, NO_STRAGGLERS, PiledUp, StrongCorrelation, Stragglers, chain_warnings, figure, hdi, integrated_autocorr, interval_warnings, kept_walkers, straggler_warnings, strong_correlations, walkers_text
 from .logprob import NOISE_MODELS, NoiseModel
 from .priors import Prior
 from .reparam import Reparametrization, implausible_gap_notes, rebuild
@@ -171,6 +171,13 @@ class Posterior(PiledUp):
         out.extend(f"least-squares start: {w}" for w in self.fit.warnings)
         return tuple(out)
 
+    @functools.cached_property
+    def strong_correlations(self) -> tuple[StrongCorrelation, ...]:
+        """The pairs of sampled parameters the correlation warnings name, as data: names and
+        Pearson's r in the sampled space (`diagnostics.strong_correlations` of the draws the
+        warnings read; each warning is the pair's `StrongCorrelation.warning`)."""
+        return strong_correlations(self.names, self.log_scale, self._sampled_space)
+
     def _interval_warnings(self) -> list[str]:
         """`interval_warnings` for the sampled circuit parameters free in the start fit."""
         q = self.quantiles()
@@ -236,6 +243,7 @@ class Posterior(PiledUp):
             "warnings": list(self.warnings),
             "piled_up": self.piled_up,
             "straggler_walkers": list(self.stragglers.walkers),  # (added 2026-12-01: the run's walkers left out of the draws; as the .nc's attribute)
+            "strong_correlations": [c.to_attr() for c in self.strong_correlations],  # (added 2026-12-01: the correlation warnings' pairs and r)
             "log_evidence": self.log_evidence,
             "waic": self.waic,
             "p_waic": self.p_waic,

@@ -170,6 +170,7 @@ class SharedPosterior(PiledUp):
         return {n: float(self.n_walkers * self.n_draws / t) for n, t in zip(self.names, tau)}
 
     chain_converged = Posterior.chain_converged  # (the same rule as a single spectrum's)
+    strong_correlations = Posterior.strong_correlations  # (the correlation warnings' pairs and r, as a single spectrum's)
 
     @functools.cached_property
     def bounds(self) -> tuple[tuple[float, ...], tuple[float, ...]]:
@@ -242,6 +243,7 @@ class SharedPosterior(PiledUp):
             "warnings": list(self.warnings),
             "piled_up": self.piled_up,
             "straggler_walkers": list(self.stragglers.walkers),  # (added 2026-12-01, as `Posterior.summary`'s)
+            "strong_correlations": [c.to_attr() for c in self.strong_correlations],  # (added 2026-12-01, as `Posterior.summary`'s)
             "noise": self.noise.value,
             "walkers": self.n_walkers + len(self.stragglers.walkers),  # (the run's, as `Posterior.summary`)
             "walkers_kept": self.n_walkers,  # (added 2026-12-01: those whose draws the posterior holds)
