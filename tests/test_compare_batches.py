@@ -264,15 +264,67 @@ def test_the_comparison_figure_labels_its_axis_with_the_spectra_labels(compariso
     plt.close(fig)
 
 
+@pytest.fixture(scope="module")
+def cc_batch(stack):
+    """R0 + CC1: the impedance function of R0 + R1 || CPE1 written otherwise (CC1 = R || CPE)."""
+    return ix.fit("R0 + CC1", stack, n_starts=1)
+
+
 @pytest.mark.parametrize("swap", [False, True])
-def test_batches_of_one_impedance_function_tie_and_the_first_given_is_best(stack, batches, swap):
+def test_batches_of_one_impedance_function_tie_and_the_first_given_is_best(stack, batches, cc_batch, swap):
     # R0 + R1 || CPE1 and R0 + CC1 are one impedance function (CC1 = R || CPE, 3 parameters):
     # their summed AICs agree to the solver's tolerance, so "best" is the fewer parameters
     # (equal here: 4 and 4), then the first given, whichever rounding falls lower
-    cc = ix.fit("R0 + CC1", stack, n_starts=1)
+    cc = cc_batch
     given = [cc, batches[1]] if swap else [batches[1], cc]
     comparison = ix.compare(given)
     aic = comparison.dataset["aic_sum"].values
     assert abs(aic[0] - aic[1]) <= 1e-6 * 2 * FREQ.size * 2 * N_EACH  # (the premise: a tie)
     assert comparison.best_index == 0
     assert comparison.best == given[0].model
+
+
+def aic_by_hand(batch, k: int) -> np.ndarray:
+    """Each spectrum's AIC = n ln(χ²/n) + 2k, n = 2N real values, χ² of modulus weighting
+    recomputed from the data and the batch's model impedance."""
+    z, z_model = batch.dataset["Z"].values, batch.dataset["Z_model"].values
+    chi2 = np.sum(np.abs((z_model - z) / np.abs(z)) ** 2, axis=-1)
+    n = 2 * FREQ.size
+    return n * np.log(chi2 / n) + 2 * k
+
+
+@pytest.mark.parametrize("swap", [False, True])
+def test_each_spectrums_tie_of_one_impedance_function_goes_to_the_first_given(batches, cc_batch, swap):
+    """Two writings of one impedance function on 12 SYNTHETIC spectra: every spectrum's AICs
+    tie to the solver's tolerance, the rounding falling either way (the premise: the lower AIC
+    split the wins between them), so each spectrum's win goes to the first given (equal k),
+    in the wins, the JSON rows, the table and the report."""
+    given = [cc_batch, batches[1]] if swap else [batches[1], cc_batch]
+    n = 2 * FREQ.size
+    gap = aic_by_hand(given[0], 4) - aic_by_hand(given[1], 4)
+    assert np.all(np.abs(gap) <= 1e-6 * n) and (gap < 0).any() and (gap > 0).any()
+    comparison = ix.compare(given)
+    assert [m["wins"] for m in comparison.models()] == [2 * N_EACH, 0]
+    assert [r["best"] for r in comparison.spectra()] == [given[0].model] * (2 * N_EACH)
+    assert all(row["best"] == (row["circuit"] == given[0].model) for row in comparison.to_table())
+    lines = comparison.report().splitlines()
+    assert f"{2 * N_EACH}/{2 * N_EACH}" in next(line for line in lines if line.startswith(given[0].model))
+    assert f"0/{2 * N_EACH}" in next(line for line in lines if line.startswith(given[1].model))
+
+
+def test_a_better_model_still_wins_each_spectrum_over_a_tied_pair(batches, cc_batch):
+    """R0 + R1 ∥ C1 against the tied pair R0 + CC1, R0 + R1 ∥ CPE1 (4 parameters each): on
+    each spectrum the lowest AIC by hand wins, of the pair the first given; the pair's extra
+    parameter does not lose it the CPE spectra (α = 0.8, ΔAIC > 10), where the tie-break's
+    preference for fewer parameters applies only among tied AICs."""
+    rc, cpe = batches
+    comparison = ix.compare([rc, cc_batch, cpe])
+    by_hand = np.array([aic_by_hand(rc, 3), aic_by_hand(cc_batch, 4), aic_by_hand(cpe, 4)])
+    pair = by_hand[1:].min(axis=0)
+    assert np.all(np.abs(by_hand[0] - pair) > 1e-3)  # (no spectrum ties the capacitor with the pair)
+    expected = np.where(by_hand[0] < pair, rc.model, cc_batch.model)
+    assert [r["best"] for r in comparison.spectra()] == expected.tolist()
+    assert all(r["best"] == cc_batch.model for r in comparison.spectra()[N_EACH:])
+    assert by_hand[0, N_EACH:].min() - pair[N_EACH:].max() > 10
+    wins = {m["model"]: m["wins"] for m in comparison.models()}
+    assert wins[cpe.model] == 0 and wins[rc.model] + wins[cc_batch.model] == 2 * N_EACH

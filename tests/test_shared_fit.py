@@ -242,6 +242,83 @@ def test_poorly_determined_shared_parameter_is_reported():
     assert not r.dataset["at_bound"].sel(param="R1").any()  # near 0 within its huge stderr, but not at it
 
 
+SERIES_PAIR = "R0 + R1 + R2 || C2"  # R0 and R1 in series: only R0 + R1 changes Z
+R_SERIES = (20.0, 30.0)  # Ω: R0, R1
+PAIR_WORDS = "R0, R1 are not separately determined by the data (near-singular Jacobian, singular-value ratio "  # (a single fit's warning, `result.unidentified_group_note`)
+
+
+def series_pair_data(noise: float, seed: int = 7):
+    """SYNTHETIC: two spectra of R0 + R1 + R2 ∥ C2 written out, R0 + R1/(… ) = R0 + R1 + R2/(1 + jωR2C2),
+    one R0, R1, C2 and R2 of 800 and 1500 Ω, with ``noise`` relative complex noise (fixed seed)."""
+    rng = np.random.default_rng(seed)
+    r2 = np.array([800.0, 1500.0])
+    w = 2 * np.pi * FREQ
+    z = np.stack([sum(R_SERIES) + r / (1 + 1j * w * r * 4e-7) for r in r2])
+    z = z * (1 + noise * (rng.normal(size=z.shape) + 1j * rng.normal(size=z.shape)))
+    return ix.make_spectrum(FREQ, z, dims=("trial",), coords={"trial": [1, 2]}), r2
+
+
+@pytest.mark.parametrize("noise", [0.0, 0.01])
+def test_series_pair_with_one_shared_is_reported_unidentified_in_each_spectrum(noise, tmp_path):
+    """R0 shared, R1 each spectrum's own: moving R0 by δ and every R1 by −δ leaves every
+    spectrum's Z alone, a null direction of the joint Jacobian through shared and own
+    parameters. Each spectrum reports the group (as `FitResult.unidentified_groups`, in a single
+    fit's words) and both have no standard error, on noise-free data too (where χ²_red ≈ 1e-30
+    shrank the regularised variance to a finite stderr before); the identified R2, C2 keep theirs."""
+    data, r2 = series_pair_data(noise)
+    r = ix.fit(SERIES_PAIR, data, shared=["R0"])
+    for trial in (1, 2):
+        assert r.unidentified_groups_of(trial=trial) == (("R0", "R1"),)
+        assert any(w.startswith(PAIR_WORDS) and w.endswith("only a combination of them changes Z; fix one of them") for w in r.warnings[f"trial={trial}"])
+    assert [row["unidentified_groups"] for row in r.summary()["spectra"]] == [[["R0", "R1"]]] * 2
+    assert np.all(np.isinf(r.dataset["stderr"].sel(param=["R0", "R1"]).values))
+    assert np.isinf(float(r.dataset["shared_stderr"].sel(shared_param="R0")))
+    assert np.all(np.isinf(r.dataset["linearised_stderr"].sel(param=["R0", "R1"]).values))
+    # oracle: the sum and the identified parameters are those written above, with finite errors
+    total = r.dataset["value"].sel(param="R0").values + r.dataset["value"].sel(param="R1").values
+    np.testing.assert_allclose(total, sum(R_SERIES), rtol=1e-6 if noise == 0 else 0.02)
+    np.testing.assert_allclose(r.values("R2").values, r2, rtol=1e-6 if noise == 0 else 0.05)
+    assert np.all(np.isfinite(r.dataset["stderr"].sel(param=["R2", "C2"]).values))
+    assert not any("R2" in w or "C2" in w for ws in r.warnings.values() for w in ws if "not separately determined" in w)
+    if noise:  # (the groups survive the .nc file)
+        ix.write_result(r, tmp_path / "shared.nc")
+        back = ix.SharedFitResult.from_xarray(ix.load(tmp_path / "shared.nc"))
+        assert back.unidentified_groups_of(trial=2) == (("R0", "R1"),)
+
+
+def test_series_pair_both_shared_is_said_once_per_global_fit():
+    """R0 and R1 both shared: a direction of shared parameters alone, said once under the
+    global fit's key ("shared " + a single fit's words), its pair's −1 correlation not said
+    again in each spectrum; each spectrum's groups still hold it (its fit's parameters)."""
+    data, _ = series_pair_data(0.01)
+    r = ix.fit(SERIES_PAIR, data, shared=["R0", "R1"])
+    (notes,) = [w for key, w in r.warnings.items() if key == "shared over trial"]
+    assert any(n.startswith("shared " + PAIR_WORDS) for n in notes)
+    assert not any(n.startswith(("shared R0 has", "shared R1 has")) for n in notes)
+    assert not any("R0 and R1 are strongly correlated" in w for ws in r.warnings.values() for w in ws)
+    assert r.unidentified_groups_of(trial=1) == r.unidentified_groups_of(trial=2) == (("R0", "R1"),)
+    assert np.all(np.isinf(r.dataset["shared_stderr"].values))
+
+
+def test_no_group_where_the_data_determine_every_parameter(problem, shared_fit):
+    """R0 + R1 ∥ C1 with R0 shared over 4 noisy spectra: no near-null direction, so no groups
+    (an empty record, not a missing one), finite standard errors near each spectrum's fit alone
+    (the independent batch, `test_batch_json`: equal to single fits): R1, C1 within 2×, the
+    pooled R0 below the single fits' but above a quarter of them (4 spectra: about 1/√4)."""
+    r = shared_fit
+    assert r.dataset.attrs["unidentified_groups"] == {}
+    assert all(r.unidentified_groups_of(trial=t) == () for t in (1, 2, 3, 4))
+    assert all(row["unidentified_groups"] == [] for row in r.summary()["spectra"])
+    assert not any("not separately determined" in w or "not determined by the data" in w for ws in r.warnings.values() for w in ws)
+    single = ix.fit("R0 + R1 || C1", problem[0])
+    for name in ("R1", "C1"):
+        ratio = r.dataset["stderr"].sel(param=name).values / single.dataset["stderr"].sel(param=name).values
+        assert np.all(np.isfinite(ratio)) and np.all((ratio > 0.5) & (ratio < 2.0))
+    pooled = float(r.dataset["shared_stderr"].sel(shared_param="R0"))
+    alone = single.dataset["stderr"].sel(param="R0").values
+    assert np.all((pooled < alone) & (pooled > alone / 4))
+
+
 def test_cli_sample_shared_corner_and_no_band_plot(problem, tmp_path, capsys):
     path, png = tmp_path / "three.nc", tmp_path / "corner.png"
     ix.save(problem[0].isel(trial=slice(0, 2)), path)

@@ -246,10 +246,22 @@ class BatchComparison:
 
     def _winners(self) -> tuple[np.ndarray, np.ndarray]:
         """Each spectrum's best model by AIC (its position; −1 when no model has a finite AIC)
-        and the runner-up's ΔAIC (NaN with one model)."""
+        and the runner-up's ΔAIC (NaN with one model). Of AICs tied with the spectrum's lowest
+        to the solver's tolerance (`criteria_tie` over its n = 2N values: two writings of one
+        impedance function), the one with fewer free parameters, then the first given, as
+        `best_index` picks of the sums: not the solver's rounding, which split such a pair's
+        wins between them."""
         aic = np.where(np.isnan(self._per_spectrum("aic")), np.inf, self._per_spectrum("aic"))
         finite = np.isfinite(aic).any(axis=0)
-        best = np.where(finite, np.argmin(aic, axis=0), -1)
+        lowest = np.argmin(aic, axis=0)
+        spectra = np.arange(aic.shape[1])
+        chi2 = self._per_spectrum("chi2")
+        n = 2 * int(self.batches[0].dataset.sizes["frequency"])
+        with np.errstate(invalid="ignore"):
+            tied = np.isfinite(aic) & criteria_tie(aic, aic[lowest, spectra][None, :], self.dataset.attrs["aic_form"], np.maximum(chi2, chi2[lowest, spectra][None, :]), n)
+        models = np.arange(len(self.batches))
+        order = np.where(tied, self.dataset["n_params"].values[:, None] * len(self.batches) + models[:, None], np.iinfo(np.int64).max)  # (fewer parameters, then the order given)
+        best = np.where(finite, np.argmin(order, axis=0), -1)
         delta = self._per_spectrum("delta_aic")
         runner_up = np.full(best.shape, math.nan)
         if len(self.batches) > 1:
@@ -269,7 +281,8 @@ class BatchComparison:
         return best, reduces, lead
 
     def models(self) -> list[dict]:
-        """Per model: ``model``, ``label``, ``n_params``, ``wins`` (spectra it is best on by AIC),
+        """Per model: ``model``, ``label``, ``n_params``, ``wins`` (spectra it is best on by AIC;
+        a tie to the solver's tolerance goes to the fewer parameters, then the first given, `_winners`),
         ``weak_wins`` (of those, the ones where a rival that does not reduce to it,
         `_reduces_to_winner`, is less than `WEAK_DELTA_AIC` behind), ``decisive_wins`` (every such
         rival at least `DECISIVE_DELTA_AIC` behind: essentially no support, Burnham & Anderson

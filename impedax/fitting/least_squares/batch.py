@@ -221,13 +221,15 @@ class BatchFitResult:
         """The unidentified groups of one spectrum's fit (`FitResult.unidentified_groups`: the
         free parameters along each near-null direction of its Jacobian, `statistics.null_sets`),
         picked by its labels as `fit_of`; () when the data determine every parameter. Kept in
-        ``dataset.attrs["unidentified_groups"]`` (spectrum → groups, keyed as `warnings`); a
-        result without them (a global fit, which does not compute them, or a file written
-        before 2026-11-30) raises a `ParameterError`."""
+        ``dataset.attrs["unidentified_groups"]`` (spectrum → groups, keyed as `warnings`; a
+        global fit's over each spectrum's own and shared parameters, `shared.joint_null_sets`);
+        a result without them (a batch written before 2026-11-30, a global fit before
+        2026-12-01) raises a `ParameterError`."""
         position = self._spectrum_position(labels, "unidentified_groups_of")
         stored = self._stored_groups()
         if stored is None:
-            raise ParameterError(f"unidentified_groups_of: this {'global fit' if self._KIND != 'batch_fit' else 'batch of fits saved by an older impedax'} does not record each spectrum's unidentified groups; fit_of(...) refits one spectrum and gives them")
+            raise ParameterError(f"unidentified_groups_of: this {'global fit' if self._KIND != 'batch_fit' else 'batch of fits'} saved by an older impedax does not record each spectrum's unidentified groups; "
+                                 + ("fit_of(...) refits one spectrum and gives them" if self._KIND == "batch_fit" else "fit the data again with this impedax to get them"))
         ds = self.dataset
         key = ", ".join(f"{d}={(ds[d].values[position[d]] if d in ds.coords else position[d])}" for d in self.dims)  # (as `fit_batch` keys them)
         return parameter_groups(stored.get(key, ()))

@@ -27,7 +27,7 @@ __all__ = [
     "FitResult", "fit_result", "fit_notes", "parameter_groups", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes",
     "misfit_notes", "uneven_residual_notes", "sigma_scale_notes", "chi2_red_range", "SIGMA_SCALE_FACTOR", "residual_band_rms", "UNEVEN_BAND_POINTS", "UNEVEN_RESIDUAL_RATIO", "UNEVEN_NOISE_NOTE", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
     "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "without_error", "near_bound_notes", "resistor_like_notes", "STDERR_NOTE", "LINEARISED_STDERR_NAME", "data_difference", "stored_bounds", "user_bounds",
-    "embedded_fit", "fit_from_embedded", "bounds_attr",
+    "embedded_fit", "fit_from_embedded", "bounds_attr", "unidentified_group_note",
 ]
 
 
@@ -1158,19 +1158,25 @@ def non_passive_notes(freq, z, sigma=None, *, remainder: bool = False) -> tuple[
     )
 
 
+def unidentified_group_note(group, ratio: float) -> str:
+    """The warning on one near-null direction's parameters ``group`` (`statistics.null_sets`)
+    with the smallest-to-largest singular-value ``ratio``: single, batch and global fits say it
+    in these words."""
+    if len(group) == 1:
+        return f"{group[0]} is not determined by the data (near-singular Jacobian, singular-value ratio {ratio:.1e}): Z hardly changes with it"
+    return (
+        f"{', '.join(group)} are not separately determined by the data (near-singular Jacobian, "
+        f"singular-value ratio {ratio:.1e}): only a combination of them changes Z; fix one of them"
+    )
+
+
 def diagnose_identifiability(names, values, stderr, corr, null_sets, ratio, at_bound=()) -> list[str]:
     """Identifiability warnings: one for each group of ``null_sets`` (kept as data in
     `FitResult.unidentified_groups`), then correlations and large relative errors."""
     notes = []
     flagged: set[frozenset] = set()
     for group in null_sets:
-        if len(group) == 1:
-            notes.append(f"{group[0]} is not determined by the data (near-singular Jacobian, singular-value ratio {ratio:.1e}): Z hardly changes with it")
-        else:
-            notes.append(
-                f"{', '.join(group)} are not separately determined by the data (near-singular Jacobian, "
-                f"singular-value ratio {ratio:.1e}): only a combination of them changes Z; fix one of them"
-            )
+        notes.append(unidentified_group_note(group, ratio))
         flagged.add(frozenset(group))
     # (none with a parameter at a bound or a vanishing term's: its correlation is the
     # linearisation's at a constrained point, and the result gives it none)

@@ -40,13 +40,13 @@ from ...data import column_width, concise_repr, format_relative_error, unit_text
 from ...errors import DataError, ParameterError
 from ..parameters import ParameterTable, to_internal
 from ..problem import residual_scale, weights
-from ..statistics import information_criteria
+from ..statistics import SINGULAR_RATIO_LIMIT, information_criteria
 from .batch import BatchFitResult, data_notes, fit_batch
-from .branches import idle_branch_notes, idle_branches, settle_vanishing, undetermined, undetermined_mask, vanishing_candidates, vanishing_parameters
-from .result import BOUND_CHI2_FRACTION, LINEARISED_STDERR_NAME, STDERR_NOTE, bound_note, bound_sides, is_remainder, NUMERICALLY_ON_FRACTION, on_bound, shown_stderr, stack_notes, vanishing_term_sides, without_error
+from .branches import idle_branch_notes, idle_branches, settle_vanishing, undetermined, undetermined_mask, unidentified_stderr, vanishing_candidates, vanishing_parameters
+from .result import BOUND_CHI2_FRACTION, LINEARISED_STDERR_NAME, STDERR_NOTE, bound_note, bound_sides, fit_notes, is_remainder, NUMERICALLY_ON_FRACTION, on_bound, shown_stderr, stack_notes, unidentified_group_note, vanishing_term_sides, without_error
 from .solvers import SolverArgs, tree_residuals
 
-__all__ = ["SharedFitResult", "SharedLayout", "shared_layout", "fit_shared", "JointSolution", "joint_solver", "joint_covariance", "SHARING_P_LIMIT"]
+__all__ = ["SharedFitResult", "SharedLayout", "shared_layout", "fit_shared", "JointSolution", "joint_solver", "joint_covariance", "joint_null_sets", "JointNullSets", "SHARING_P_LIMIT"]
 
 # sharing is reported as contradicted by the data when the F-test of shared against
 # independent fits rejects it at this level
@@ -291,6 +291,127 @@ def joint_covariance(jac: np.ndarray, own: Sequence[int], shared: Sequence[int])
     return schur_inv, full
 
 
+class JointNullSets(NamedTuple):
+    """The near-null directions of one global fit (`joint_null_sets`): ``groups``, per spectrum,
+    the groups of its free parameters (own and shared) along each direction, as
+    `FitResult.unidentified_groups` (those of ``shared_groups`` included); ``ratios`` (M,), per
+    spectrum, the smallest of its directions' singular values over the largest (1 without
+    any); ``shared_groups``, the directions of shared parameters alone (said once per global
+    fit), with ``shared_ratio``."""
+
+    groups: list[list[list[str]]]
+    ratios: np.ndarray
+    shared_groups: list[list[str]]
+    shared_ratio: float
+
+
+# a direction's parameters are those with a component above this share of it (`statistics.null_sets`' rule)
+_NULL_COMPONENT = 0.2
+
+
+def _unit_columns(jac: np.ndarray, axes: tuple[int, ...]) -> np.ndarray:
+    """``jac`` with each column scaled to unit norm over ``axes`` (divided by its largest entry
+    first, as `statistics.covariances`, so that no square overflows); a zero column stays zero."""
+    peak = np.max(np.abs(jac), axis=axes, keepdims=True) if jac.size else np.ones((1,) * jac.ndim)
+    scaled = jac / np.where(peak > 0, peak, 1.0)
+    norm = np.sqrt(np.sum(scaled**2, axis=axes, keepdims=True))
+    return scaled / np.where(norm > 0, norm, 1.0)
+
+
+def _joint_product(e_own: np.ndarray, e_shared: np.ndarray, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """J̃v of the joint equilibrated Jacobian (blocks ``e_own`` (M, 2N, Ko), ``e_shared``
+    (M, 2N, Ks)) and v = (x (M, Ko), y (Ks,)): (M, 2N)."""
+    return np.einsum("mnk,mk->mn", e_own, x) + e_shared @ y
+
+
+def _largest_singular_value(e_own: np.ndarray, e_shared: np.ndarray, steps: int = 200) -> float:
+    """The largest singular value of the joint equilibrated Jacobian (`_joint_product`), by power
+    iteration on J̃ᵀJ̃ (to 1e-3: it sets a threshold of 1e-8 of it); at least 1, the
+    norm of each nonzero unit column."""
+    x, y = np.ones(e_own.shape[::2]), np.ones(e_shared.shape[-1])
+    estimate = 0.0
+    for _ in range(steps):
+        norm = math.sqrt(float(np.sum(x**2) + np.sum(y**2)))
+        if norm == 0:
+            break
+        x, y = x / norm, y / norm
+        r = _joint_product(e_own, e_shared, x, y)
+        x, y = np.einsum("mnk,mn->mk", e_own, r), np.einsum("mns,mn->s", e_shared, r)
+        previous, estimate = estimate, math.sqrt(math.sqrt(float(np.sum(x**2) + np.sum(y**2))))
+        if abs(estimate - previous) <= 1e-3 * estimate:
+            break
+    return max(estimate, 1.0)
+
+
+def joint_null_sets(jac: np.ndarray, own: Sequence[int], shared: Sequence[int], names: Sequence[str]) -> JointNullSets:
+    """The near-null directions of a global fit's joint Jacobian, from the per-spectrum
+    Jacobians ``jac`` (M, 2N, K) over the free parameters ``names`` (positions ``own`` and
+    ``shared``), by the rule of single fits (`statistics.null_sets`): a singular value of the
+    column-equilibrated joint Jacobian below `SINGULAR_RATIO_LIMIT` × its largest, its
+    parameters those with a component above 0.2, here of the direction as each spectrum's own
+    fit sees it (its shared components scaled by the spectrum's share of the shared column:
+    R0 shared against R1 of each spectrum is (−1/√M, 1/√M) jointly, ±0.71 in each spectrum).
+
+    The joint Jacobian is never formed. A direction either moves only a spectrum's own
+    parameters (a near-null singular value of its own equilibrated block, by SVD) or moves the
+    shared ones by y: then each spectrum's own parameters follow it by the least-squares
+    x_i = −J̃_i⁺ S̃_i y, and the direction is near-null when y is a near-null right singular
+    vector of the shared columns with what each spectrum's own columns explain projected out,
+    ((I − U_iU_iᵀ) S̃_i)_i stacked (the square root of the Schur complement, without squaring the
+    condition number as JᵀJ does). Its singular value is ‖J̃v‖/‖v‖ of v = (x, y). An
+    overflowed Jacobian (an inf or NaN entry) has none, as a single fit's."""
+    jac = np.asarray(jac, float)
+    own, shared = np.asarray(own, int), np.asarray(shared, int)
+    m = jac.shape[0]
+    groups: list[list[list[str]]] = [[] for _ in range(m)]
+    ratios = np.ones(m)
+    shared_groups: list[list[str]] = []
+    shared_ratio = 1.0
+    if not jac.size or not np.all(np.isfinite(jac)):
+        return JointNullSets(groups, ratios, shared_groups, shared_ratio)
+    e_own = _unit_columns(jac[:, :, own], (1,))
+    e_shared = _unit_columns(jac[:, :, shared], (0, 1))
+    s_max = _largest_singular_value(e_own, e_shared)
+    limit = SINGULAR_RATIO_LIMIT * s_max
+    own_names, shared_names = [names[i] for i in own], [names[i] for i in shared]
+    # directions of one spectrum's own parameters alone
+    if own.size:
+        u, s, vt = np.linalg.svd(e_own, full_matrices=False)
+    else:
+        u, s, vt = np.zeros((m, jac.shape[1], 0)), np.zeros((m, 0)), np.zeros((m, 0, 0))
+    kept = s >= limit
+    for i, j in np.argwhere(~kept).tolist():
+        groups[i].append([own_names[c] for c in np.flatnonzero(np.abs(vt[i, j]) > _NULL_COMPONENT)])
+        ratios[i] = min(ratios[i], float(s[i, j]) / s_max)
+    # directions that move the shared parameters
+    if not shared.size:
+        return JointNullSets(groups, ratios, shared_groups, shared_ratio)
+    u_kept = u * kept[:, None, :]
+    remainder = e_shared - u_kept @ (np.swapaxes(u_kept, 1, 2) @ e_shared)
+    _, t, yt = np.linalg.svd(remainder.reshape(-1, shared.size), full_matrices=False)
+    column_share = np.sqrt(np.sum(e_shared**2, axis=1))  # (M, Ks): each spectrum's share of a shared unit column
+    for y in yt[t < limit]:
+        along = np.einsum("mnk,mn->mk", u_kept, e_shared @ y)
+        x = -np.einsum("mjk,mj->mk", vt, np.where(kept, along / np.where(kept, s, 1.0), 0.0))
+        size = float(np.linalg.norm(_joint_product(e_own, e_shared, x, y))) / math.sqrt(float(np.sum(x**2) + np.sum(y**2))) / s_max
+        members = [shared_names[c] for c in np.flatnonzero(np.abs(y) > _NULL_COMPONENT)]
+        seen = np.zeros((m, len(names)))  # each spectrum's view: own components x_i, shared ones y scaled by its share
+        seen[:, own], seen[:, shared] = x, y[None, :] * column_share
+        norms = np.linalg.norm(seen, axis=1, keepdims=True)
+        spectrum_members = np.abs(seen) > _NULL_COMPONENT * np.where(norms > 0, norms, np.inf)
+        if not spectrum_members[:, own].any():  # shared parameters alone: one group for the global fit
+            shared_groups.append(members)
+            shared_ratio = min(shared_ratio, size)
+            for i in range(m):
+                groups[i].append(members)
+                ratios[i] = min(ratios[i], size)
+            continue
+        for i in np.flatnonzero(spectrum_members.any(axis=1)).tolist():
+            groups[i].append([names[c] for c in np.flatnonzero(spectrum_members[i])])
+            ratios[i] = min(ratios[i], size)
+    return JointNullSets(groups, ratios, shared_groups, shared_ratio)
+
+
 def _correlation(cov: np.ndarray) -> np.ndarray:
     d = np.sqrt(np.clip(np.einsum("...ii->...i", cov), 0, None))
     with np.errstate(all="ignore"):
@@ -490,14 +611,45 @@ def fit_shared(
     vanishing = vanishing_parameters(circuit, registry, table, flat_values, freq, candidates)
     vanishing[:, sh] = 0
     sides, flat_stderr[:, free], vanished = settle_vanishing(vanishing, sides, flat_values[:, free], flat_stderr[:, free])
+    # the parameters of the joint Jacobian's near-null directions (`joint_null_sets`) have no
+    # standard error, whatever χ²_red scales the linearisation by (as `fit_result`): a shared
+    # one in every spectrum of its global fit
+    shared_columns = table.free_index[sh]
+    null_groups = [found for f in fits for found in f.null.groups]  # (per spectrum, flat order)
+    null_ratios = np.concatenate([f.null.ratios for f in fits])
+    for row, found in enumerate(null_groups):
+        if found:
+            flat_stderr[row, free] = unidentified_stderr(table.free_names, found, sides[row], flat_stderr[row, free])
+    shared_flagged = np.zeros((n_groups, k_shared), bool)
+    for gi, f in enumerate(fits):
+        shared_flagged[gi] = np.isinf(unidentified_stderr(layout.shared, [g for found in f.null.groups for g in found], sides[gi * m, sh], np.zeros(k_shared)))
+        shared_stderr[gi] = np.where(shared_flagged[gi], np.inf, shared_stderr[gi])
+        flat_stderr[gi * m : (gi + 1) * m, shared_columns] = np.where(shared_flagged[gi], np.inf, flat_stderr[gi * m : (gi + 1) * m, shared_columns])
     stderr = flat_stderr.reshape(values.shape)
     # (a shared parameter's bound and determination are said once per global fit, below)
-    shared_columns = table.free_index[sh]
     quiet_stderr = flat_stderr.copy()
     quiet_stderr[:, shared_columns] = 0.0
     quiet_sides = sides.copy()
     quiet_sides[:, sh] = 0
-    spectrum_notes = stack_notes(table, flat_values, quiet_stderr, corr_full.reshape(-1, k, k), quiet_sides, freq=freq, z=z.reshape(-1, n_freq))
+    # (the correlation of two shared parameters of one near-null direction is that direction's,
+    # whose note is said per global fit, below: none of its own in each spectrum)
+    quiet_corr = corr_full.reshape(-1, k, k).copy()
+    for gi, f in enumerate(fits):
+        for group in f.null.shared_groups:
+            columns = np.array([table.free_names.index(n) for n in group], int)
+            quiet_corr[gi * m : (gi + 1) * m, columns[:, None], columns[None, :]] = np.eye(columns.size)
+    spectrum_notes = stack_notes(table, flat_values, quiet_stderr, quiet_corr, quiet_sides, freq=freq, z=z.reshape(-1, n_freq))
+    # a spectrum with a near-null direction through its own parameters: a single fit's warnings
+    # with that group's (`fit_notes`, as a batch's); one of shared parameters alone is said per global fit
+    alone = [[sorted(g) for g in f.null.shared_groups] for f in fits]
+    for row, found in enumerate(null_groups):
+        told = [g for g in found if sorted(g) not in alone[row // m]]
+        if told:
+            names = table.names
+            note = fit_notes(table, dict(zip(names, flat_values[row].tolist())), dict(zip(names, quiet_stderr[row].tolist())), quiet_corr[row], told, float(null_ratios[row]),
+                             finite=True, converged=True, message="", sides=quiet_sides[row], freq=freq, z=z.reshape(-1, n_freq)[row])
+            if note:
+                spectrum_notes[row] = note
     for row, note in idle_branch_notes(circuit, registry, table, flat_values, undetermined_mask(table, flat_values, quiet_stderr, quiet_sides) | vanished, freq).items():
         spectrum_notes[row] = spectrum_notes.get(row, ()) + note
     # what concerns each spectrum's data in the global fit, the rules and texts of single and
@@ -510,7 +662,7 @@ def fit_shared(
             spectrum_notes[row] = spectrum_notes.get(row, ()) + note
     group_notes = [
         _sharing_notes(layout, shared_value[gi], shared_stderr[gi], sides.reshape(n_groups, m, k)[gi, 0, sh], table, f_stat[gi], f_p[gi], aic_joint[gi] - aic_ind[gi], bool(joint["converged"][gi]), int(joint["steps"][gi]),
-                       on=on_bound(table, values[gi, :1], sides.reshape(n_groups, m, k)[gi, :1], np.tile(freq, m), z[gi].reshape(1, -1))[0, sh],
+                       null=fits[gi].null, flagged=shared_flagged[gi], on=on_bound(table, values[gi, :1], sides.reshape(n_groups, m, k)[gi, :1], np.tile(freq, m), z[gi].reshape(1, -1))[0, sh],
                        exactly=on_bound(table, values[gi, :1], sides.reshape(n_groups, m, k)[gi, :1], np.tile(freq, m), z[gi].reshape(1, -1), NUMERICALLY_ON_FRACTION)[0, sh])
         for gi in range(n_groups)
     ]
@@ -531,7 +683,7 @@ def fit_shared(
         cov_full=cov_full, corr_full=corr_full, shared_value=shared_value, shared_stderr=shared_stderr, shared_linearised_stderr=shared_linearised_stderr, corr_shared=corr_shared, joint=joint,
         stats={"joint_chi2": joint["chi2"], "joint_chi2_red": noise, "joint_dof": np.full(n_groups, float(dof)), "joint_aic": aic_joint, "joint_bic": bic_joint,
                "independent_chi2": chi2_indep, "independent_aic": aic_ind, "delta_aic": aic_joint - aic_ind, "f_statistic": f_stat, "f_pvalue": f_p},
-        spectrum_notes=spectrum_notes, group_notes=group_notes, weighting=weighting,
+        spectrum_notes=spectrum_notes, group_notes=group_notes, weighting=weighting, null_groups=null_groups,
     )
     return SharedFitResult(circuit, dataset, weighting, warnings, time.perf_counter() - t0, registry, shared=layout.shared, over=layout.over)
 
@@ -539,8 +691,9 @@ def fit_shared(
 class _GroupFit(NamedTuple):
     """One global fit: all parameters ``values`` (M, P) and the free ones ``x_free`` (M, K), each
     spectrum's weighted ``chi2`` (M,) and ``z_model`` (M, N), the unscaled covariances (shared
-    block, and each spectrum's over its free parameters), convergence, steps, and the solver's
-    ``args`` with their residual ``scale`` (for χ² at other points)."""
+    block, and each spectrum's over its free parameters), convergence, steps, the solver's
+    ``args`` with their residual ``scale`` (for χ² at other points) and the near-null
+    directions (`joint_null_sets`)."""
 
     values: np.ndarray
     x_free: np.ndarray
@@ -552,6 +705,7 @@ class _GroupFit(NamedTuple):
     steps: int
     args: SolverArgs
     scale: float
+    null: JointNullSets
 
 
 def _solve_group(solver, table: ParameterTable, layout: SharedLayout, freq, z, inv_re, inv_im, x_independent, chi2_independent, *, weighting: str, max_steps: int) -> _GroupFit:
@@ -575,7 +729,8 @@ def _solve_group(solver, table: ParameterTable, layout: SharedLayout, freq, z, i
     n = z.shape[1]
     cov_shared, cov_full = joint_covariance(jac, own, shared)
     z_model = z + r[:, :n] / inv_re + 1j * r[:, n:] / inv_im
-    return _GroupFit(values, x_free, np.sum(r**2, axis=1), z_model, cov_shared, cov_full, bool(sol.done), int(sol.steps), args, scale)
+    null = joint_null_sets(jac, own, shared, table.free_names)
+    return _GroupFit(values, x_free, np.sum(r**2, axis=1), z_model, cov_shared, cov_full, bool(sol.done), int(sol.steps), args, scale, null)
 
 
 def _confirm_sides(sides, x_free, table: ParameterTable, shared_slots, chi2_x, args, chi2_red: float, n_residuals: int) -> np.ndarray:
@@ -634,20 +789,26 @@ def _shared_idle_notes(circuit, registry, table: ParameterTable, layout: SharedL
     return tuple("shared " + max(found, key=lambda b: b.share).text() for found in by_element.values() if len(found) == values.shape[0])
 
 
-def _sharing_notes(layout: SharedLayout, value, stderr, sides, table: ParameterTable, f, p, delta_aic, converged: bool, steps: int, *, on, exactly=None) -> tuple[str, ...]:
-    """The notes of one global fit: convergence, the shared parameters' bounds (``on``: on the
-    bound, `result.on_bound`, else off it but not told from it; ``exactly``: on it within
-    `result.NUMERICALLY_ON_FRACTION`, its value not given) and determination, the F-test."""
+def _sharing_notes(layout: SharedLayout, value, stderr, sides, table: ParameterTable, f, p, delta_aic, converged: bool, steps: int, *, on, exactly=None,
+                   null: JointNullSets | None = None, flagged=None) -> tuple[str, ...]:
+    """The notes of one global fit: convergence, the near-null directions of shared parameters
+    alone (``null``, `joint_null_sets`, in a single fit's words), the shared parameters' bounds
+    (``on``: on the bound, `result.on_bound`, else off it but not told from it; ``exactly``: on
+    it within `result.NUMERICALLY_ON_FRACTION`, its value not given) and determination (not of
+    one in a near-null direction, ``flagged``: that direction's note speaks for it), the F-test."""
     exactly = on if exactly is None else exactly
+    flagged = np.zeros(len(layout.shared), bool) if flagged is None else np.asarray(flagged, bool)
     notes = []
     if not converged:
         notes.append(f"the global fit did not converge in {steps} steps; raise max_steps or check the model")
-    for n, v, e, side, at, at_exactly in zip(layout.shared, value.tolist(), stderr.tolist(), np.asarray(sides).tolist(), np.asarray(on).tolist(), np.asarray(exactly).tolist()):
+    for group in () if null is None else null.shared_groups:
+        notes.append("shared " + unidentified_group_note(group, null.shared_ratio))
+    for n, v, e, side, at, at_exactly, in_group in zip(layout.shared, value.tolist(), stderr.tolist(), np.asarray(sides).tolist(), np.asarray(on).tolist(), np.asarray(exactly).tolist(), flagged.tolist()):
         if side:
             i = table.names.index(n)
             bound, where = float((table.upper if side > 0 else table.lower)[i]), "upper" if side > 0 else "lower"
             notes.append("shared " + (bound_note(n, bound, where) if at_exactly else bound_note(n, bound, where, value=v, stderr=e, unit=table.units[i], on=bool(at))))
-        elif undetermined(v, e):
+        elif undetermined(v, e) and not in_group:
             relative = abs(e / v) if math.isfinite(e) else math.inf
             notes.append(f"shared {n} has " + (f"a relative standard error of {format_relative_error(relative)}" if math.isfinite(relative) else "no finite standard error") + ": the data do not determine it")
     if math.isfinite(p) and p < SHARING_P_LIMIT:
@@ -659,9 +820,10 @@ def _sharing_notes(layout: SharedLayout, value, stderr, sides, table: ParameterT
 
 
 def _result_dataset(circuit, data, table, layout: SharedLayout, extra, keep_shape, over_shape, *, values, stderr, linearised_stderr, chi2, z_model, sides, cov_full, corr_full,
-                    shared_value, shared_stderr, shared_linearised_stderr, corr_shared, joint, stats, spectrum_notes, group_notes, weighting):
-    """The result's Dataset (the variables of `BatchFitResult` plus the shared ones) and its
-    warnings keyed as a batch fit's."""
+                    shared_value, shared_stderr, shared_linearised_stderr, corr_shared, joint, stats, spectrum_notes, group_notes, weighting, null_groups=None):
+    """The result's Dataset (the variables of `BatchFitResult` plus the shared ones, and as its
+    attribute ``unidentified_groups`` each spectrum's ``null_groups`` (flat order) that has any,
+    keyed as a batch's) and its warnings keyed as a batch fit's."""
     names = table.names
     n_freq = data.sizes["frequency"]
     grouped = (*layout.keep, *layout.over)
@@ -722,11 +884,17 @@ def _result_dataset(circuit, data, table, layout: SharedLayout, extra, keep_shap
     )
     labels = {d: [f"{d}={c}" for c in (data[d].values if d in data.coords else range(data.sizes[d]))] for d in extra}
     warnings: dict[str, tuple[str, ...]] = {}
+    unidentified: dict[str, list[list[str]]] = {}  # (as a batch's: only the spectra that have any)
     for flat, index in enumerate(np.ndindex(*shape)):
         where = dict(zip(grouped, index))
+        key = ", ".join(labels[d][where[d]] for d in extra)
         note = spectrum_notes.get(flat, ())
         if note:
-            warnings[", ".join(labels[d][where[d]] for d in extra)] = tuple(note)
+            warnings[key] = tuple(note)
+        if null_groups is not None and null_groups[flat]:
+            unidentified[key] = [list(g) for g in null_groups[flat]]
+    if null_groups is not None:  # (added 2026-12-01; a global fit saved before has none)
+        ds.attrs["unidentified_groups"] = unidentified
     for gi, index in enumerate(np.ndindex(*keep_shape)):
         if group_notes[gi]:
             label = ", ".join(labels[d][i] for d, i in zip(layout.keep, index))
