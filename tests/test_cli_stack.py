@@ -138,6 +138,40 @@ def test_stack_writes_one_series_with_the_files_values_labels_and_sources(days, 
     assert json.loads(printed)["format"] == "impedax netCDF" and json.loads(printed)["data_format"] == "delimited text"
 
 
+def _entry(column, unit, scale=1.0, negated=False):
+    return {"column": column, "unit": unit, "scale": scale, "negated": negated}
+
+
+def test_stacked_files_of_different_headers_keep_each_files_columns(days, tmp_path, capsys):
+    """SYNTHETIC: day 1 as written by `write_day` (Hz, Ω), day 2 the same formula written in kHz
+    and kΩ with -Z'' on ';': the series keeps each file's record of its columns, by file path."""
+    first = days[0][0]
+    z2 = rc_impedance(FREQ, R0_TRUE, R1_BY_DAY[1], C1_TRUE)
+    second = tmp_path / "day02_khz.csv"
+    second.write_text("Frequency (kHz);Z' (kOhm);-Z'' (kOhm)\n" + "".join(f"{float(f) / 1e3!r};{float(v.real) / 1e3!r};{float(-v.imag) / 1e3!r}\n" for f, v in zip(FREQ, z2)))
+    series = ix.stack_files([first, second])
+    np.testing.assert_allclose(series["Z"].values[1], z2, rtol=1e-12)
+    hz = {"frequency": _entry("frequency_hz", "Hz"), "z_real": _entry("z_real_ohm", "Ω"), "z_imag": _entry("z_imag_ohm", "Ω")}
+    khz = {"frequency": _entry("Frequency (kHz)", "kHz", 1000.0), "z_real": _entry("Z' (kOhm)", "kOhm", 1000.0),
+           "z_imag": _entry("-Z'' (kOhm)", "kOhm", 1000.0, negated=True)}
+    assert ix.load(first).attrs["columns"] == hz  # (the oracle's spelling of the first file's record)
+    assert "columns" not in series.attrs
+    assert series.attrs["columns_by_file"] == {str(first): hz, str(second): khz}
+    out = tmp_path / "mixed.nc"
+    code, _, err = run(["stack", first, second, "--out", out], capsys)
+    assert code == 0, err
+    code, printed, _ = run(["inspect", out, "--json"], capsys)
+    summary = json.loads(printed)
+    assert summary["columns"] == {} and summary["columns_by_file"] == {str(first): hz, str(second): khz}
+    # files that agree keep one record, as before, and no per-file one
+    paths, _ = days
+    agreed = ix.stack_files(paths)
+    assert agreed.attrs["columns"] == hz and "columns_by_file" not in agreed.attrs
+    code, printed, _ = run(["stack", *paths, "--out", tmp_path / "agreed.nc"], capsys)
+    code, printed, _ = run(["inspect", tmp_path / "agreed.nc", "--json"], capsys)
+    assert json.loads(printed)["columns"] == hz and json.loads(printed)["columns_by_file"] == {}
+
+
 def test_stack_labels_are_the_file_stems_by_default_and_text_when_not_numbers(days, tmp_path):
     paths, _ = days
     assert ix.stack_files(paths)["file"].values.tolist() == ["day01", "day02", "day03"]

@@ -157,3 +157,91 @@ def test_cli_en_dash_in_an_impedance_py_string_names_the_ascii_dash(capsys):
     err = capsys.readouterr().err
     assert "unexpected '\u2013' at column 3" in err
     assert "hint: a dash '\u2013': impedance.py's series is the ASCII '-'" in err and "Traceback" not in err
+
+
+# --- impedance.py strings: series inside p( ), 'p (' with a space, lower-case names --------------
+
+
+def test_series_inside_a_p_group_is_read_with_its_impedance():
+    # R0-p(R1-C1,C2) is valid impedance.py (series inside a parallel branch): Z = R0 + 1/(1/(R1 + 1/(jωC1)) + jωC2)
+    import numpy as np
+
+    circuit = ix.from_impedance_py("R0-p(R1-C1,C2)")
+    assert str(circuit) == "R0 + (R1 + C1) || C2"
+    values = {"R0": 12.0, "R1": 300.0, "C1": 4e-6, "C2": 7e-8}
+    f = np.logspace(-2, 6, 9)
+    w = 2 * np.pi * f
+    expected = 12.0 + 1 / (1 / (300.0 + 1 / (1j * w * 4e-6)) + 1j * w * 7e-8)
+    np.testing.assert_allclose(np.asarray(ix.compile_circuit(circuit)(values, f)), expected, rtol=1e-12)
+
+
+@pytest.mark.parametrize("text", ["R0-p (R1,C1)", "R0-p  (R1,C1)", "R0 - p (R1, C1)"])
+def test_space_before_a_p_groups_parenthesis_is_read_as_impedance_py_reads_it(text):
+    # impedance.py removes every space from a circuit string (CustomCircuit.__init__), so 'p (' is 'p('
+    assert ix.from_impedance_py(text) == ix.parse("R0 + R1 || C1")
+
+
+def test_p_space_group_in_impedax_text_is_rewritten_like_p_group():
+    err = syntax_error("R0 + p (R1,C1)")
+    assert_caret(err, "R0 + p (R1,C1)", 10)
+    assert err.hint == MIXED + "R0 + R1 || C1 (impedax) or R0-p(R1,C1) (impedance.py)"
+
+
+@pytest.mark.parametrize(
+    "text, column, reason, hint",
+    [
+        ("zarc1", 0, "unknown element symbol 'zarc' in 'zarc1'", "symbols are case-sensitive, and impedance.py's Zarc is impedax's CC: CC1"),
+        ("R0 + zarc_skin", 5, "unknown element symbol 'zarc' in 'zarc_skin'", "symbols are case-sensitive, and impedance.py's Zarc is impedax's CC: CC_skin"),
+        ("r0 + R1", 0, "unknown element symbol 'r' in 'r0'", "symbols are case-sensitive: did you mean R0?"),
+        ("R0 + cpe1", 5, "unknown element symbol 'cpe' in 'cpe1'", "symbols are case-sensitive: did you mean CPE1?"),
+    ],
+)
+def test_lower_case_names_are_named_in_the_right_spelling(text, column, reason, hint):
+    err = syntax_error(text)
+    assert_caret(err, text, column)
+    assert err.reason == reason and err.hint == hint
+
+
+@pytest.mark.parametrize(
+    "text, column, reason, hint",
+    [
+        ("R0-p(R1,zarc1)", 8, "unknown impedance.py element 'zarc' in 'zarc1'", "symbols are case-sensitive: did you mean Zarc1 (impedax's CC1)?"),
+        ("r0-p(R1,C1)", 0, "unknown impedance.py element 'r' in 'r0'", "symbols are case-sensitive: did you mean R0?"),
+        ("R0-p(R1,cpe1)", 8, "unknown impedance.py element 'cpe' in 'cpe1'", "symbols are case-sensitive: did you mean CPE1?"),
+        ("R0-p(R1,wo1)", 8, "unknown impedance.py element 'wo' in 'wo1'", "symbols are case-sensitive: did you mean Wo1?"),
+    ],
+)
+def test_lower_case_names_in_impedance_py_strings_are_named_in_the_right_spelling(text, column, reason, hint):
+    with pytest.raises(ix.CircuitSyntaxError) as caught:
+        ix.from_impedance_py(text)
+    assert_caret(caught.value, text, column)
+    assert caught.value.reason == reason and caught.value.hint == hint
+
+
+@pytest.mark.parametrize(
+    "model, shown, caret, hint",
+    [
+        ("zarc1", "zarc1", 0, "symbols are case-sensitive, and impedance.py's Zarc is impedax's CC: CC1"),
+        ("R0-p(R1,zarc1)", "R0-p(R1,zarc1)", 8, "symbols are case-sensitive: did you mean Zarc1 (impedax's CC1)?"),
+        ("R0 + cpe1", "R0 + cpe1", 5, "symbols are case-sensitive: did you mean CPE1?"),
+    ],
+)
+def test_cli_fit_lower_case_names_exit_2_with_the_hint(tmp_path, capsys, model, shown, caret, hint):
+    data = tmp_path / "spectrum.csv"  # SYNTHETIC: never read, the model is refused first
+    data.write_text("freq,zreal,zimag\n1000,10,-1\n100,12,-5\n10,20,-9\n")
+    assert main(["fit", str(data), "--model", model]) == 2
+    err = capsys.readouterr().err
+    assert f"  {shown}\n  {' ' * caret}^\n" in err and f"hint: {hint}" in err and "Traceback" not in err
+
+
+def test_cli_fit_reads_p_space_group(tmp_path, capsys):
+    # SYNTHETIC spectrum of R0 + R1 || C1 (R0 = 10 Ω, R1 = 100 Ω, C1 = 1 µF), 1 % noise, seed 7
+    import numpy as np
+
+    f = np.logspace(5, -1, 25)
+    z = 10 + 100 / (1 + 1j * 2 * np.pi * f * 100 * 1e-6)
+    z = z * (1 + 0.01 * np.random.default_rng(7).standard_normal(f.size))
+    data = tmp_path / "spectrum.csv"
+    data.write_text("freq,zreal,zimag\n" + "".join(f"{a:.6e},{b.real:.6e},{b.imag:.6e}\n" for a, b in zip(f, z)))
+    assert main(["fit", str(data), "--model", "R0-p (R1,C1)"]) == 0
+    assert "read as impedance.py notation: R0 + R1 || C1" in capsys.readouterr().err

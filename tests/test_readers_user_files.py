@@ -464,6 +464,97 @@ def test_an_ivium_table_cut_short_at_the_end_says_so(tmp_path):
     assert CUT_SHORT in str(info.value)
 
 
+# --- a last row cut inside its LAST field keeps its field count: its digits say it was cut ------
+
+
+def _gamry_vdc_last(cut_to: str | None = None) -> str:
+    """A Gamry .DTA-like ZCURVE table whose last column is Vdc, written %.7g like Gamry's
+    numbers (SYNTHETIC: -8.440604 V drifting by 1e-4 V per point, 7 significant digits on every
+    row), with no line end after its last row; ``cut_to``: that row's Vdc as the cut left it."""
+    head = ["EXPLAIN", "TAG\tEISPOT", "ZCURVE\tTABLE", "\tPt\tTime\tFreq\tZreal\tZimag\tVdc", "\t#\ts\tHz\tohm\tohm\tV"]
+    rows = [f"\t{k}\t{2 * k}\t{f:.7g}\t{z.real:.7g}\t{z.imag:.7g}\t{-8.440604 - 1e-4 * k:.7g}" for k, (f, z) in enumerate(zip(FREQ, Z))]
+    if cut_to is not None:
+        rows[-1] = rows[-1].rsplit("\t", 1)[0] + "\t" + cut_to
+    return "\r\n".join(head + rows)
+
+
+def test_gamry_last_row_cut_inside_its_last_field_is_refused(tmp_path):
+    path = tmp_path / "vdc.DTA"
+    # control: no line end after the last row, but every digit there: read exactly
+    path.write_text(_gamry_vdc_last(), encoding="latin-1")
+    np.testing.assert_allclose(ix.load(path)["Z"].values, Z, rtol=1e-6)
+    full = f"{-8.440604 - 1e-4 * 11:.7g}"
+    assert full == "-8.441704"
+    # cut after '-8.44': the same field count, 3 significant digits under rows of 7
+    path.write_text(_gamry_vdc_last(cut_to=full[:5]), encoding="latin-1")
+    message = _refused(path)
+    assert "vdc.DTA" in message and "line 17:" in message
+    assert "column 'Vdc': '-8.44' on the last row has 3 significant digits, every other row at least 7" in message
+    assert CUT_SHORT in message
+    # the same row with a line end after it: the file was not cut, so it is read as written
+    path.write_text(_gamry_vdc_last(cut_to=full[:5]) + "\r\n", encoding="latin-1")
+    np.testing.assert_allclose(ix.load(path)["Z"].values, Z, rtol=1e-6)
+
+
+def test_cli_inspect_of_a_gamry_file_cut_inside_its_last_field_exits_2(tmp_path, capsys):
+    path = tmp_path / "vdc.DTA"
+    path.write_text(_gamry_vdc_last(cut_to="-8.4"), encoding="latin-1")
+    assert main(["inspect", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert "vdc.DTA" in err and "line 17" in err and "cut short" in err and "Traceback" not in err
+
+
+# the layouts above whose last field is a measured number (not a constant such as a range or cycle)
+_LAST_FIELD_MEASURED = ("biologic_text.txt", "chi.txt", "labone_table.csv", "nova.txt")
+
+
+@pytest.mark.parametrize("name", _LAST_FIELD_MEASURED)
+def test_a_last_row_cut_inside_its_last_field_says_the_file_looks_cut_short(tmp_path, name):
+    head, cells, delimiter, _ = _CUT_LAYOUTS[name]
+    rows = [cells(f, z, k) for k, (f, z) in enumerate(zip(FREQ, Z))]
+    last_line = len(head) + len(rows)
+    kept = rows[-1][-1][:4]  # (1.2345670E+01 cut to '1.23', -3.1877124E-02 to '-3.1': a number still, of 3 or 2 digits, not 10)
+    digits = sum(c.isdigit() for c in kept)
+    rows[-1] = rows[-1][:-1] + [kept]
+    path = tmp_path / name
+    path.write_text("\n".join(head + [delimiter.join(r) for r in rows]), encoding="utf-8")
+    message = _refused(path)
+    assert f"line {last_line}:" in message and name in message
+    assert f"{kept!r} on the last row has {digits} significant digits, every other row at least 10" in message and CUT_SHORT in message
+    # with a line end after it, the short value is what the file says: read as written
+    path.write_text("\n".join(head + [delimiter.join(r) for r in rows]) + "\n", encoding="utf-8")
+    assert ix.load(path)["Z"].size == FREQ.size
+
+
+def test_an_ivium_table_cut_inside_its_last_frequency_says_so(tmp_path):
+    # SYNTHETIC: the .idf table above, its last f (1.0000000E-01) cut to '1.00'
+    head = ["Technique=Impedance", "Solarcell=false", "primary_data", "3", "12"]
+    rows = [[_g(z.real), _g(z.imag), _g(f)] for f, z in zip(FREQ, Z)]
+    rows[-1][-1] = rows[-1][-1][:4]
+    path = tmp_path / "m.idf"
+    path.write_text("\n".join(head + ["  ".join(r) for r in rows]), encoding="latin-1")
+    message = _refused(path)
+    assert "line 17:" in message and "column 'f': '1.00' on the last row has 3 significant digits" in message and CUT_SHORT in message
+
+
+def test_a_labone_field_line_cut_inside_its_last_value_says_so(tmp_path):
+    # SYNTHETIC: one line per field, the imagz line last, its last value cut to 4 characters
+    head = ["chunk;timestamp;size;fieldname"]
+    rows = [["0", "1", "12", name, *map(_g, values)] for name, values in (("frequency", FREQ), ("realz", Z.real), ("imagz", Z.imag))]
+    rows[-1][-1] = rows[-1][-1][:4]
+    path = tmp_path / "sweep.csv"
+    path.write_text("\n".join(head + [";".join(r) for r in rows]), encoding="utf-8")
+    message = _refused(path)
+    assert "line 4:" in message and "column 'imagz'" in message and CUT_SHORT in message
+
+
+def test_significant_digits_of_number_cells():
+    from impedax.io._common import significant_digits
+
+    cases = {"-8.440604": 7, "-8.44": 3, "0.00120": 3, "1.5E+03": 4, "1E-0": 2, "100000": 6, "0": 1, "0.0000000E+00": 10, '"3.25"': 3, "1,25": 3, "abc": None, "": None, "-": None}
+    assert {cell: significant_digits(cell) for cell in cases} == cases
+
+
 # --- inspect names the columns it read: sigma's, and every role's in --json "columns" --------
 
 

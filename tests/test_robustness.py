@@ -140,6 +140,8 @@ BAD_MODELS = [  # (id, model, message fragment)
     ("en-dash-for-series", "R0 \u2013 R1", "a dash '\u2013': series is written '+' (or '-' in impedance.py's notation)"),
     ("whitespace-only", " \t ", "empty circuit"),
     ("lowercase-symbol", "r1 + C1", "symbols are case-sensitive"),
+    ("lowercase-impedance-py-name", "R0 + zarc1", "symbols are case-sensitive, and impedance.py's Zarc is impedax's CC: CC1"),
+    ("lowercase-in-impedance-py-string", "R0-p(R1,zarc1)", "symbols are case-sensitive: did you mean Zarc1 (impedax's CC1)?"),
     ("cyrillic-capital-es", "R1 + С1", "did you mean the Latin 'C'?"),
     ("cyrillic-capital-er", "Р1 + C1", "U+0420 CYRILLIC CAPITAL LETTER ER"),
     ("cyrillic-small-o-in-label", "R_sо + C1", "did you mean the Latin 'o'?"),

@@ -22,13 +22,16 @@ import re
 
 from ..errors import CircuitError, CircuitSyntaxError
 from .elements import DEFAULT_REGISTRY
-from .parser import MAX_ELEMENTS, MAX_NESTING, lookalike, parse, require_text
+from .parser import MAX_ELEMENTS, MAX_NESTING, impedance_py_spelling, lookalike, parse, require_text
 from .spec import Registry
 from .tree import Circuit, Element, parallel, series
 
 __all__ = ["CDCConvention", "from_cdc", "from_impedance_py", "to_cdc", "to_impedance_py"]
 
 _IMPEDANCE_PY_ELEMENT_RE = re.compile(r"([A-Za-z]+)_?([0-9]+)")
+# ``p(`` opening a parallel group, spaces allowed before the '(' (impedance.py removes every
+# space from a circuit string before reading it, so it reads ``p (R1,C1)`` as ``p(R1,C1)``)
+_IMPEDANCE_PY_GROUP_RE = re.compile(r"p\s*\(")
 
 
 class CDCConvention(enum.StrEnum):
@@ -102,13 +105,19 @@ class _ImpedancePyReader:
     def item(self) -> Circuit:
         src = self.src
         self.skip()
-        if src.startswith("p(", self.pos):
-            return self.parallel_group()
+        group = _IMPEDANCE_PY_GROUP_RE.match(src, self.pos)
+        if group:
+            return self.parallel_group(group.end())
         m = _IMPEDANCE_PY_ELEMENT_RE.match(src, self.pos)
         if m is None:
             raise CircuitSyntaxError(src, self.pos, "expected an element such as R0 or p(", None)
         sym, digits = m.groups()
         spec = self.registry.by_impedance_py.get(sym)
+        spelled = impedance_py_spelling(sym, self.registry)
+        if spec is None and spelled is not None:  # cpe1, zarc1: symbols are case-sensitive
+            meant = self.registry.by_impedance_py[spelled].symbol
+            also = f" (impedax's {meant}{digits})" if meant != spelled else ""
+            raise CircuitSyntaxError(src, self.pos, f"unknown impedance.py element {sym!r} in {m.group()!r}", f"symbols are case-sensitive: did you mean {spelled}{digits}{also}?")
         if spec is None:
             raise CircuitSyntaxError(
                 src, self.pos, f"impedance.py element {sym!r} has no impedax equivalent",
@@ -124,12 +133,13 @@ class _ImpedancePyReader:
         self.pos = m.end()
         return Element(spec.symbol, name)
 
-    def parallel_group(self) -> Circuit:
+    def parallel_group(self, inside: int) -> Circuit:
+        """The group whose ``p(`` starts at ``self.pos`` and ends before ``inside``."""
         src, start = self.src, self.pos
         if self.depth >= MAX_NESTING:
             raise CircuitSyntaxError(src, start, f"p(...) nested deeper than {MAX_NESTING} levels")
         self.depth += 1
-        self.pos += 2
+        self.pos = inside
         parts = self.separated(",", self.series)
         if self.pos >= len(src) or src[self.pos] != ")":
             raise CircuitSyntaxError(src, self.pos, "expected ')' closing p(", f"p( opened at column {start + 1}")

@@ -98,8 +98,9 @@ def _check_spaced_name(source: str, i: int, tokens: list[Token]) -> None:
     raise CircuitSyntaxError(source, end, f"space inside the element name {source[previous.column:i + len(rest)]!r}", f"no space inside an element name: {previous.text}{rest}")
 
 
-# impedance.py's parallel group ``p(``: a 'p' that is no part of a longer name, then '('
-_IMPEDANCE_PY_GROUP_RE = re.compile(r"(?<![A-Za-z0-9_])p\(")
+# impedance.py's parallel group ``p(``: a 'p' that is no part of a longer name, then '(' (after
+# spaces too: impedance.py removes every space from a circuit string before reading it)
+_IMPEDANCE_PY_GROUP_RE = re.compile(r"(?<![A-Za-z0-9_])p\s*\(")
 
 
 def _notation_hint(source: str, ch: str, registry: Registry) -> str:
@@ -130,10 +131,11 @@ def _in_one_notation(source: str, registry: Registry) -> str:
     i = 0
     while i < len(source):
         ch = source[i]
-        if _IMPEDANCE_PY_GROUP_RE.match(source, i):
+        group = _IMPEDANCE_PY_GROUP_RE.match(source, i)
+        if group:
             groups.append("p(")
             out.append("((")
-            i += 2
+            i = group.end()
             continue
         if ch == "(":
             groups.append("(")
@@ -243,6 +245,11 @@ def _symbol_hint(letters: str, rest: str, registry: Registry) -> str:
     if spec is not None:  # Zarc1: impedance.py's name of CC
         name = f"{spec.symbol}{rest}" if rest.isdigit() or rest.startswith("_") else f"e.g. {spec.symbol}1"
         return f"impedance.py's {letters} is impedax's {spec.symbol}: {name}"
+    spelled = impedance_py_spelling(letters, registry)
+    if spelled is not None and spelled not in registry:  # zarc1: impedance.py's Zarc in lower case
+        spec = registry.by_impedance_py[spelled]
+        name = f"{spec.symbol}{rest}" if rest.isdigit() or rest.startswith("_") else f"e.g. {spec.symbol}1"
+        return f"symbols are case-sensitive, and impedance.py's {spelled} is impedax's {spec.symbol}: {name}"
     if letters in IMPEDANCE_PY_WITHOUT_EQUIVALENT:
         return f"impedance.py's {letters} has no built-in impedax element: register one with impedance_py={letters!r} (docs/circuits.md, \"Adding an element\")"
     if letters.upper() in registry or letters.capitalize() in registry:
@@ -256,6 +263,12 @@ def _symbol_hint(letters: str, rest: str, registry: Registry) -> str:
             label = letters[len(sym):] + rest.lstrip("_")
             return f"did you mean {sym}_{label}?"
     return "known symbols: " + ", ".join(sorted(registry.symbols()))
+
+
+def impedance_py_spelling(letters: str, registry: Registry) -> str | None:
+    """The impedance.py symbol ``letters`` spells in another case (``zarc`` → ``Zarc``,
+    ``cpe`` → ``CPE``), or None; symbols are case-sensitive in both notations."""
+    return next((symbol for symbol in registry.by_impedance_py if symbol.lower() == letters.lower() and symbol != letters), None)
 
 
 class _Parser:

@@ -390,9 +390,9 @@ def add_model_argument(parser, *, positional: bool = False, default: str | None 
 
 
 def looks_like_impedance_py(text: str) -> bool:
-    """Circuit text written in impedance.py's notation: ``p(`` or a ``-`` between elements
+    """Circuit text written in impedance.py's notation: ``p(`` (``p (``) or a ``-`` between elements
     (impedax writes series ``+``; its own text never holds either)."""
-    return "p(" in text or re.search(r"[A-Za-z0-9_)]\s*-\s*[A-Za-z(]", text) is not None
+    return re.search(r"(?<![A-Za-z0-9_])p\s*\(", text) is not None or re.search(r"[A-Za-z0-9_)]\s*-\s*[A-Za-z(]", text) is not None
 
 
 def read_impedance_py_model(args, command: str) -> None:

@@ -63,6 +63,10 @@ def run(args) -> int:
         # and z_phase, sigma): {"column", "unit", "scale" to Hz/Ω/deg, "negated"}, as the reader
         # recorded it; {} when it recorded none
         "columns": _columns(ds),
+        # (added 2026-12-01) files stacked into one series whose columns differ (Hz in one, kHz in
+        # another: "columns" is {} then): each file's record as "columns" holds it, by file path
+        # as in attrs "sources"; {} when the files agree or nothing was stacked
+        "columns_by_file": _columns_by_file(ds),
         "skipped_rows": skipped,
         # the labels `--select DIM=LABEL` picks a spectrum by (positions where a dimension has none)
         "labels": {d: dimension_labels(ds, d) for d in extra},
@@ -121,10 +125,24 @@ def run(args) -> int:
 def _columns(ds) -> dict[str, dict]:
     """The reader's record of the columns it read (``attrs["columns"]``, `impedax.io` readers),
     as JSON values; {} when there is none (a file of several spectra whose columns differ)."""
-    record = ds.attrs.get("columns")
+    return _column_record(ds.attrs.get("columns"))
+
+
+def _column_record(record) -> dict[str, dict]:
+    """A record of columns (role → {"column", "unit", "scale", "negated"}) as JSON values; {}
+    for anything else."""
     if not isinstance(record, dict):
         return {}
     return {str(role): {str(k): (v.item() if hasattr(v, "item") else v) for k, v in entry.items()} for role, entry in record.items() if isinstance(entry, dict)}
+
+
+def _columns_by_file(ds) -> dict[str, dict[str, dict]]:
+    """``attrs["columns_by_file"]`` (`impedax.stack_files`, files whose columns differ) as JSON
+    values: file path → that file's record (`_column_record`); {} when there is none."""
+    records = ds.attrs.get("columns_by_file")
+    if not isinstance(records, dict):
+        return {}
+    return {str(path): _column_record(record) for path, record in records.items()}
 
 
 def _point(ds, extra, position: int) -> dict[str, float]:

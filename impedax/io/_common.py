@@ -27,6 +27,7 @@ __all__ = [
     "UNIT_CELL", "MAX_FILE_BYTES", "MAX_FILE_BYTES_ENV", "max_file_bytes", "check_file", "read_bytes", "read_text", "decode_text", "head_text", "number",
     "Skipped", "finish", "first_line", "stack", "merged_attrs", "unit_scale", "split_header_cell", "decimal_comma",
     "check_field_count", "CUT_SHORT", "cut_last_line", "column_entry", "COLUMN_ROLES", "SI_UNITS",
+    "significant_digits", "check_last_field_digits", "LAST_FIELD_SAMPLE", "LAST_FIELD_MIN_ROWS",
 ]
 
 #: Largest file a reader reads whole (checked before reading). Instrument exports are
@@ -240,6 +241,50 @@ def check_field_count(cells: Sequence[str], n_fields: int, path: Path, line: int
     if len(cells) != n_fields:
         cause = f"; {CUT_SHORT}" if last_of_cut_file and len(cells) < n_fields else ""
         raise DataError(f"{where}{len(cells)} fields, but the header has {n_fields} (a missing or extra cell would shift values){cause}", path=path, line=line)
+
+
+_NUMBER_DIGITS = re.compile(r"[-+]?(\d*)(?:[.,](\d*))?(?:[eE][-+]?(\d*))?")
+
+
+def significant_digits(cell: str) -> int | None:
+    """The digits of a number cell from its first non-zero digit on, those of the exponent
+    included (``-8.440604`` → 7, ``0.00120`` → 3, ``1.5E+03`` → 4); a zero's are all it is
+    written with (``0.0000000E+00`` → 10, ``0`` → 1: the precision of its format); None for a
+    cell that is no number. A number cut short anywhere after its first non-zero digit has fewer."""
+    m = _NUMBER_DIGITS.fullmatch(cell.strip().strip('"').strip())
+    if m is None or not (m.group(1) or m.group(2)):
+        return None
+    mantissa = (m.group(1) or "") + (m.group(2) or "")
+    return len(mantissa.lstrip("0") or mantissa) + len(m.group(3) or "")
+
+
+#: Rows above the last that `check_last_field_digits` compares with (a long file's nearest, to
+#: keep reading it fast), and how many it needs: with fewer, one value written short (0.5 in a
+#: column of 0.5123) is as likely as a cut.
+LAST_FIELD_SAMPLE = 1000
+LAST_FIELD_MIN_ROWS = 3
+
+
+def check_last_field_digits(column: Sequence[str], path: Path, line: int | None, *, name: str = "") -> None:
+    """``column``: the last field of every data row, in file order, of a file that ends without
+    a line end (`cut_last_line`). A row cut inside its last field keeps its field count, so
+    `check_field_count` passes it; it is refused here, naming ``line``, when that field has
+    fewer `significant_digits` than the column has on every other row (the least of up to
+    `LAST_FIELD_SAMPLE` rows above it, at least `LAST_FIELD_MIN_ROWS`): ``-8.44`` under rows
+    of ``-8.440604``. A column holding any cell that is no number is not judged."""
+    if len(column) <= LAST_FIELD_MIN_ROWS:
+        return
+    last = significant_digits(column[-1])
+    others = [significant_digits(cell) for cell in column[-1 - LAST_FIELD_SAMPLE:-1]]
+    if last is None or None in others:
+        return
+    fewest = min(others)
+    if last < fewest:
+        what = f"column {name!r}: " if name else ""
+        raise DataError(
+            f"{what}{column[-1].strip()!r} on the last row has {last} significant digits, every other row at least {fewest}; {CUT_SHORT}",
+            path=path, line=line,
+        )
 
 
 class Skipped:

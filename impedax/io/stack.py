@@ -31,7 +31,9 @@ def stack_files(paths: Sequence[str | os.PathLike], dim: str = "file", coords: S
     grid: the same frequencies in any order, each within `SWEEP_RTOL` (0.1 %, the tolerance the
     readers merge sweeps with) of the first file's, whose values and order the result keeps.
     ``sigma`` is kept when every file has it. ``attrs["sources"]`` lists the files, and attributes
-    that differ between them are kept labelled (``day01: ...; day02: ...``).
+    that differ between them are kept labelled (``day01: ...; day02: ...``); the readers' records
+    of the columns they read (``attrs["columns"]``) are kept as one when the files agree, else
+    each file's in ``attrs["columns_by_file"]`` (file path → record).
     Raises `ParameterError` for bad ``dim``/``coords`` and `DataError` naming the file that cannot
     join (missing, unreadable, several spectra, another grid, sigma in some files only).
     """
@@ -70,6 +72,11 @@ def stack_files(paths: Sequence[str | os.PathLike], dim: str = "file", coords: S
         attrs.pop(key, None)
     attrs["sources"] = [str(p) for p in paths]
     attrs["stacked_along"] = dim
+    records = [ds.attrs.get("columns") for ds in spectra]
+    if "columns" not in attrs and any(isinstance(r, dict) for r in records):
+        # the files' readers recorded different columns (Hz here, kHz there): each file's record,
+        # by its path as in "sources" ({} for a file whose reader recorded none)
+        attrs["columns_by_file"] = {str(p): dict(r) if isinstance(r, dict) else {} for p, r in zip(paths, records)}
     source = first_path if len(paths) == 1 else f"{first_path} … {paths[-1]} ({len(paths)} files)"
     return make_spectrum(f0, z, sigma=sigma, dims=(dim,), coords={dim: labels}, attrs=attrs, source=source)
 

@@ -22,7 +22,7 @@ import numpy as np
 import xarray as xr
 
 from ..errors import DataError, SweepGridsDiffer
-from ._common import SWEEP_RTOL, UNIT_CELL, Skipped, check_field_count, column_entry, cut_last_line, decimal_comma, finish, first_line, head_text, number, read_text, split_header_cell, unit_scale, unquoted
+from ._common import SWEEP_RTOL, UNIT_CELL, Skipped, check_field_count, check_last_field_digits, column_entry, cut_last_line, decimal_comma, finish, first_line, head_text, number, read_text, split_header_cell, unit_scale, unquoted
 
 __all__ = ["ROLES", "FALLBACK_ROLES", "Layout", "detect_layout", "role_of", "fallback_role", "spectrum_from_rows",
            "NUMBER_CELL", "PREAMBLE_ROWS_MAX", "HeaderFound", "with_units_row", "header_layout", "find_header", "preamble_note", "units_row_note", "EMPTY_ROW"]
@@ -527,7 +527,8 @@ def spectrum_from_rows(
 ) -> xr.Dataset:
     """One spectrum from ``rows`` (line number, cells) laid out as ``layout``. ``cut_line``: the
     file's last line when the file ends without a line end (`_common.cut_last_line`); a row
-    there short of fields is refused saying the file looks cut short (`check_field_count`). With
+    there short of fields, or cut inside its last field (`check_last_field_digits`), is refused
+    saying the file looks cut short (`check_field_count`). With
     ``split_sweeps``, a table of several sweeps of one frequency list (the list restarts, or an
     EC-Lab ``cycle number`` column changes) becomes a ``sweep`` (``cycle``) dimension
     (`_sweep_blocks`)."""
@@ -547,6 +548,7 @@ def spectrum_from_rows(
     # optional columns: read while every cell is a number; one of text or gaps is just another column
     optional = {name: index for name, index in (("time", time_col), ("cycle", cycle_col)) if index is not None}
     optional_values: dict[str, list[float]] = {name: [] for name in optional}
+    last_fields: list[str] = []  # (the last cell of each data row, for `check_last_field_digits`)
     for line, cells in rows:
         cells = [c.strip() for c in cells]
         while len(cells) > n_fields and not cells[-1]:
@@ -558,6 +560,9 @@ def spectrum_from_rows(
             skipped.add(line, EMPTY_ROW)  # (',,' or ';;' as a spreadsheet program leaves them: a blank line)
             continue
         check_field_count(cells, n_fields, path, line, where=where, last_of_cut_file=line == cut_line)
+        last_fields.append(cells[-1])
+        if line == cut_line:
+            check_last_field_digits(last_fields, path, line, name=header[-1])
         for role, (index, scale) in wanted.items():
             values[role].append(number(cells[index], path, line, header[index], comma=comma) * scale)
         for name, index in list(optional.items()):

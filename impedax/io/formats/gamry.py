@@ -19,7 +19,7 @@ import numpy as np
 import xarray as xr
 
 from ...errors import DataError
-from .._common import Skipped, check_field_count, column_entry, decimal_comma, finish, head_text, number, read_text, stack, unit_scale
+from .._common import Skipped, check_field_count, check_last_field_digits, column_entry, decimal_comma, finish, head_text, number, read_text, stack, unit_scale
 from ..registry import Reader
 from ..table import NUMBER_CELL
 
@@ -90,7 +90,8 @@ def read_gamry(path: str | Path) -> xr.Dataset:
 def _table(path: Path, lines: list[str], start: int, attrs: dict, *, ends_cut: bool = False) -> xr.Dataset:
     """One ``ZCURVE`` table from its column-name row on ``lines[start + 1]``. Every data row must
     have as many fields as that row (`check_field_count`: a row cut short is refused, never read
-    as other numbers); ``ends_cut``: the file ends without a line end. Decimal commas are decided
+    as other numbers; so is a last row cut inside its last field, `check_last_field_digits`);
+    ``ends_cut``: the file ends without a line end. Decimal commas are decided
     on every row (`decimal_comma`), so that a ',' below the first rows is not read as text, and
     a row with a '.' beside them is refused (`number`)."""
     if start + 2 >= len(lines):
@@ -137,6 +138,8 @@ def _table(path: Path, lines: list[str], start: int, attrs: dict, *, ends_cut: b
         while len(cells) > n_fields and not cells[-1].strip():
             cells = cells[:-1]  # (a trailing tab)
         check_field_count(cells, n_fields, path, line_no, last_of_cut_file=ends_cut and line_no == len(lines))
+        if ends_cut and line_no == len(lines):
+            check_last_field_digits([row[n_fields - 1] for _, row in rows], path, line_no, name=names[n_fields - 1])
         for name, col in wanted.items():
             cols[name].append(number(cells[col], path, line_no, name, comma=comma) * scales.get(name, 1.0))
     arr = {n: np.array(v) for n, v in cols.items()}

@@ -18,7 +18,7 @@ import numpy as np
 import xarray as xr
 
 from ...errors import DataError
-from .._common import CUT_SHORT, column_entry, finish, number, read_bytes, stack
+from .._common import CUT_SHORT, check_last_field_digits, column_entry, finish, number, read_bytes, stack
 from ..registry import Reader
 
 __all__ = ["read_ivium", "READER"]
@@ -57,6 +57,7 @@ def read_ivium(path: str | Path) -> xr.Dataset:
         if not 1 <= n <= len(lines) - k - 3:
             raise DataError(f"'primary_data' announces {n} points but {len(lines) - k - 3} lines follow", path=path, line=k + 3)
         freq, real, imag, where = [], [], [], []
+        last_fields: list[str] = []
         for j in range(k + 3, k + 3 + n):
             cells = re.split(r"[ \t]+", lines[j].strip())
             if len(cells) != 3:
@@ -65,7 +66,10 @@ def read_ivium(path: str | Path) -> xr.Dataset:
             real.append(number(cells[0], path, j + 1, "Z'"))
             imag.append(number(cells[1], path, j + 1, "Z''"))
             freq.append(number(cells[2], path, j + 1, "f"))
+            last_fields.append(cells[2])
             where.append(j + 1)
+            if j == len(lines) - 1 and lines[j]:  # (the last line, with no line end after it: cut inside f?)
+                check_last_field_digits(last_fields, path, j + 1, name="f")
         technique = re.search(rb"Technique=([^\r\n]*)", raw)
         attrs = {"format": "IviumSoft idf/ids", "instrument": "Ivium", "technique": technique.group(1).decode("latin-1").strip() if technique else "",
                  "sign_convention": "Z'' stored as is (negative for capacitive data)", "units": "ohm, ohm, Hz",

@@ -20,7 +20,7 @@ import numpy as np
 import xarray as xr
 
 from ...errors import DataError
-from .._common import CUT_SHORT, Skipped, check_field_count, column_entry, cut_last_line, finish, head_text, number, read_text, stack
+from .._common import CUT_SHORT, Skipped, check_field_count, check_last_field_digits, column_entry, cut_last_line, finish, head_text, number, read_text, stack
 from ..registry import Reader
 
 __all__ = ["read_labone_csv", "READER", "recorded_columns"]
@@ -59,6 +59,7 @@ def read_labone_csv(path: str | Path) -> xr.Dataset:
     cut_line = cut_last_line(text, lines)
     # chunk -> field -> [(line, cell) per point]
     chunks: dict[str, dict[str, list[tuple[int, str]]]] = {}
+    cut_field = None  # (the values, line and field name of the last line, when the file ends without a line end)
     if kind == "rows":
         for k, line in enumerate(lines[1:], start=2):
             if not line.strip():
@@ -67,21 +68,30 @@ def read_labone_csv(path: str | Path) -> xr.Dataset:
             if len(cells) < 5:
                 cut = f"; {CUT_SHORT}" if k == cut_line else ""
                 raise DataError(f"expected chunk;timestamp;size;fieldname;values..., got {len(cells)} fields{cut}", path=path, line=k)
+            if k == cut_line:  # the values of one field along the line: judged after the sweeps (a value missing is said first)
+                cut_field = (cells[4:], k, cells[3].strip())
             chunks.setdefault(cells[0].strip(), {})[cells[3].strip().lower()] = [(k, c) for c in cells[4:]]
     else:
         names = [c.strip().lower() for c in lines[0].split(delimiter)]
         chunk_col = names.index("chunk") if "chunk" in names else None
+        last_fields: list[str] = []  # (the last cell of each row, for `check_last_field_digits`)
         for k, line in enumerate(lines[1:], start=2):
             if not line.strip():
                 continue
             cells = line.split(delimiter)
             check_field_count(cells, len(names), path, k, last_of_cut_file=k == cut_line)
+            last_fields.append(cells[-1])
+            if k == cut_line:
+                check_last_field_digits(last_fields, path, k, name=names[-1])
             fields = chunks.setdefault(cells[chunk_col].strip() if chunk_col is not None else "0", {})
             for name, cell in zip(names, cells):
                 fields.setdefault(name, []).append((k, cell))
     sweeps = [(chunk, _sweep(path, chunk, fields, cut_line)) for chunk, fields in chunks.items()]
     if not sweeps:
         raise DataError("no sweep data after the header line", path=path, line=1)
+    if cut_field is not None:
+        values, line, name = cut_field
+        check_last_field_digits(values, path, line, name=name)
     ds = stack(path, sweeps, "sweep")
     ds.attrs.update({"format": "Zurich Instruments LabOne CSV", "instrument": "Zurich Instruments"})
     device = re.search(r"dev\d+", path.name, re.I)
