@@ -8,7 +8,7 @@ C_sc = 2.2 nF, R_f = 500 Ω, A = π(4 mm)²); the curve with the unrounded physi
 (ρ_sc = 33 kΩ·m, ε_sc = 1000, d_sc = 200 µm, ε_i = 3.9, d_i = 1 µm) is drawn for comparison.
 What to look for: no force at DC (charge leaks through R_sc and cancels the field), a broad
 plateau, peak ≈ 164 mN near 37 kHz, half of the peak at ≈ 0.53 kHz and ≈ 2.6 MHz (marked;
-computed reference values of PHYSICS.md / docs/physics.md, not printed in the thesis, whose
+computed reference values of docs/physics.md, not printed in the thesis, whose
 Fig 3.4 is a curve only),
 and the fall at high frequency where R_f starves the capacitors. Also drawn: the finger
 voltage |V_F| and the leaked-charge term |Q_f|/C_i whose difference makes the force.
@@ -52,8 +52,8 @@ def main(argv=None):
     f_low, f_high = half_peak_frequencies(freq, force, peak.force_n)
     force_10hz = float(np.asarray(model.force(np.array([10.0])))[0])
     print("Meyer Fig 3.4 — time-averaged force, 140 V sine, thesis parameters (eq 3.13, rounded)")
-    print(f"  peak force        {peak.force_n * 1e3:.1f} mN at {peak.frequency_hz / 1e3:.1f} kHz   (computed reference, PHYSICS.md: ≈ 164 mN near 37 kHz; the thesis's Fig 3.4 is a curve, no values printed)")
-    print(f"  half-peak         {f_low / 1e3:.2f} kHz and {f_high / 1e6:.2f} MHz   (computed reference, PHYSICS.md: ≈ 0.53 kHz and ≈ 2.6 MHz)")
+    print(f"  peak force        {peak.force_n * 1e3:.1f} mN at {peak.frequency_hz / 1e3:.1f} kHz   (computed reference, docs/physics.md: ≈ 164 mN near 37 kHz; the thesis's Fig 3.4 is a curve, no values printed)")
+    print(f"  half-peak         {f_low / 1e3:.2f} kHz and {f_high / 1e6:.2f} MHz   (computed reference, docs/physics.md: ≈ 0.53 kHz and ≈ 2.6 MHz)")
     print(f"  force at 10 Hz    {force_10hz * 1e3:.3f} mN")
     print(f"  unrounded values  peak {peak_physical.force_n * 1e3:.1f} mN at {peak_physical.frequency_hz / 1e3:.1f} kHz")
 

@@ -176,7 +176,7 @@ def run_demo(out: str | os.PathLike = "out", *, fast: bool = False, stream=None)
         story.say("  leaves the impedance of the gap region: Z_R = Z_total − Z_skin − Z_TS (mean of the trials ± standard error).")
         remaining = remaining_impedance(total, skin, screen)
         ix.save(remaining, staging / "remaining_impedance.nc")
-        story.say("  Saved the remaining impedance as remaining_impedance.nc")
+        story.say("  The remaining impedance goes to remaining_impedance.nc (written with the other outputs at the end).")
 
         story.step(2, "Fit the naive model: the air gap as a pure capacitor", short="Fit the naive model")
         naive = ix.fit("C_gap", remaining, weighting="sigma")

@@ -981,7 +981,7 @@ def test_progress_time_left_leaves_out_the_costly_first_warmup_steps(monkeypatch
     """SYNTHETIC timings shaped as the demo's hierarchical run (steps 1–96 0.31 s each, then
     0.048 s): 800 steps whose first 100 (before the first mass-matrix adaptation, ``settle``)
     cost 0.3 s and the rest 0.05 s, after a 5 s compilation. Before step 100 the time left is
-    the upper bound of the rate so far ("≤ ~"); after it the rate since step 100, so at step 400
+    from the rate so far, said to be the warm-up's pace; after it the rate since step 100, so at step 400
     it is 400 × 0.05 = 20 s, where the mean rate since step 1 said 400 × 0.1125 = 45 s (2026-12-01:
     "step 24/800, 11 s, ~177 s left" on a run that ended at 63 s)."""
     from impedax.fitting.bayes import progress
@@ -1000,7 +1000,7 @@ def test_progress_time_left_leaves_out_the_costly_first_warmup_steps(monkeypatch
             lines[int(line.split("step ")[1].split("/")[0])] = line
     early = next(k for k in sorted(lines) if 1 < k < 100)
     rate_so_far = (times[early - 1] - times[0]) / (early - 1)
-    assert lines[early].endswith(f", ≤ ~{(800 - early) * rate_so_far:.0f} s left"), lines[early]
+    assert lines[early].endswith(f", ~{(800 - early) * rate_so_far:.0f} s left at the warm-up's pace (faster from step 100)"), lines[early]
     late = next(k for k in sorted(lines) if k >= 400)
     assert lines[late].endswith(f", ~{(800 - late) * 0.05:.0f} s left"), lines[late]
     without = progress.ProgressLine(800, True, label="run", interactive=False)

@@ -42,7 +42,8 @@ class ProgressLine:
     ``settle``: the number of first steps that cost more than the rest (a NUTS warm-up before its
     first mass-matrix adaptation takes long trajectories: on the demo's hierarchical run, steps
     1–96 0.31 s each, steps 96–800 0.048 s). Until they are done the time left, from the rate so
-    far, is shown as the most it likely is ("≤ ~223 s left"); from then on it uses the rate since
+    far, says so ("~223 s left at the warm-up's pace (faster from step 100)"; until 2026-12-01
+    "≤ ~223 s left", a bound that grew 7× in a walkthrough's run on a busy machine); from then on it uses the rate since
     step ``settle`` alone (on the demo: "~43 s left" at step 152, 30 s before the end, where the
     rate since step 1 said ~146 s)."""
 
@@ -87,13 +88,13 @@ class ProgressLine:
         since, steps = now - self.first[0], done - self.first[1]
         rate = since / steps if since > 0 and steps > 0 else None
         if not self.open_ended:
-            bound = ""
+            pace = ""
             if self.settle:
                 if self.settled is not None and done > self.settled[1]:
                     rate = (now - self.settled[0]) / (done - self.settled[1])
-                else:  # (the costly first steps in the rate: more than is left, likely)
-                    bound = "≤ "
-            left = f", {bound}~{(self.total - done) * rate:.0f} s left" if rate is not None and done < self.total else ""
+                else:  # (the costly first steps in the rate: more than is left, likely, but not a bound: a busier machine slows them further)
+                    pace = f" at the warm-up's pace (faster from step {self.settle})"
+            left = f", ~{(self.total - done) * rate:.0f} s left{pace}" if rate is not None and done < self.total else ""
             return f"{self.label}: step {done}/{self.total} ({100 * done / self.total:.0f}%), {now:.0f} s{left}"
         if self.target is None:
             goal = f"{self.target_note or 'steps needed not yet estimated'}; at most {self.total}"
