@@ -110,3 +110,10 @@ def test_cli_says_when_the_files_sigma_is_not_used(tmp_path):
     default, weighted = run(), run("--weighting", "sigma")
     assert default.returncode == 0 and "the data carry sigma (σ per point), which this run does not use: --weighting sigma weighs by it" in default.stderr
     assert weighted.returncode == 0 and "does not use" not in weighted.stderr
+
+
+def test_sigma_weighting_without_sigma_names_the_columns_it_reads():
+    """A walkthrough's file with sigma_re, sigma_im columns was told only "needs a 'sigma' variable"."""
+    z, _ = spectrum(5)
+    with pytest.raises(ix.DataError, match=r"a column headed sem, sigma, sigma_z or std \(σ in Ω, one for Re and for Im: separate σ of Re and of Im are not read\)"):
+        ix.fit("R0 + R1 || C1", ix.make_spectrum(FREQ, z), weighting="sigma")

@@ -18,6 +18,7 @@ from ..circuits import DEFAULT_REGISTRY, Circuit, from_impedance_py, parse
 from ..circuits.parser import ARGUMENT_ORDERS
 from ..data import format_frequency, make_spectrum, validate_spectrum
 from ..errors import IN_MEMORY, DataError, FitError, ImpedaxError, ParameterError
+from ..io.table import ROLES
 from .parameters import ParameterTable
 
 WEIGHTINGS = {
@@ -212,6 +213,14 @@ def fit_problem(circuit, spectrum: Spectrum, *, init, fixed, bounds, registry) -
     return FitProblem(circuit, data, table, source)
 
 
+SIGMA_SOURCES = (
+    f"a column headed {', '.join(sorted(ROLES['sigma'])[:-1])} or {sorted(ROLES['sigma'])[-1]} (σ in Ω, one for Re and for Im: separate σ of Re and of Im are not read), "
+    "or make_spectrum(sigma=...)"
+)
+"""Where a 'sigma' variable comes from, for the errors that ask for one (a walkthrough's file with
+``sigma_re``, ``sigma_im`` columns was told only that a 'sigma' variable was missing)."""
+
+
 def weights(z: np.ndarray, sigma: np.ndarray | None, weighting: str, source: str, frequency=None):
     """Inverse weights (1/w_re, 1/w_im) of the real and imaginary residuals for `WEIGHTINGS`;
     ``frequency`` [Hz] (Z's last axis) names the points whose weight is zero."""
@@ -226,7 +235,7 @@ def weights(z: np.ndarray, sigma: np.ndarray | None, weighting: str, source: str
         w_re, w_im = np.maximum(np.abs(z.real), floor), np.maximum(np.abs(z.imag), floor)
     else:
         if sigma is None:
-            raise DataError("weighting='sigma' needs a 'sigma' variable in the data (e.g. the SEM of repeated trials)", path=source)
+            raise DataError(f"weighting='sigma' needs a 'sigma' variable in the data (e.g. the SEM of repeated trials): {SIGMA_SOURCES}", path=source)
         w_re = w_im = sigma
     bad = ~np.isfinite(w_re) | (w_re <= 0) | ~np.isfinite(w_im) | (w_im <= 0)
     if np.any(bad):

@@ -24,7 +24,7 @@ from ...errors import DataError, FitError, ParameterError
 from ..least_squares import FitResult, fit
 from ..least_squares.result import MODEL_MISFIT_MARKS, data_difference
 from ..parameters import checked_bounds, outside_bounds_message
-from ..problem import open_spectrum
+from ..problem import SIGMA_SOURCES, open_spectrum
 from .chain import (
     AUTO_CHECK_STEPS, AUTO_MAX_STEPS, AUTO_STEPS, AUTO_TAU_CHANGE, auto_step_cap, ball_scales, length_settings, run_emcee, start_walkers, steps_rule,
     support_in_sampled_space, undetermined_span,
@@ -108,7 +108,7 @@ def _observations(data, noise: NoiseModel, fmin, fmax) -> _Observations:
     z = np.asarray(ds["Z"].values, complex)
     sigma = np.asarray(ds["sigma"].values, float) if "sigma" in ds else None
     if noise is NoiseModel.SIGMA and sigma is None:
-        raise DataError("noise='sigma' needs a 'sigma' variable in the data (e.g. the SEM of repeated trials); use noise='proportional' otherwise", path=source)
+        raise DataError(f"noise='sigma' needs a 'sigma' variable in the data (e.g. the SEM of repeated trials): {SIGMA_SOURCES}; use noise='proportional' otherwise", path=source)
     scale = np.abs(z) if noise is NoiseModel.PROPORTIONAL else sigma
     if np.any(~np.isfinite(scale) | (scale <= 0)):
         raise DataError(f"noise model {noise.value!r}: zero or non-finite noise scale (|Z| or sigma is 0 somewhere)", path=source)

@@ -37,7 +37,7 @@ from ...warning_groups import grouped_warnings
 from ..derived import QUANTILES, draws_band, needs_freq
 from ..least_squares import SharedFitResult, fit
 from ..parameters import ParameterTable
-from ..problem import open_spectrum
+from ..problem import SIGMA_SOURCES, open_spectrum
 from .diagnostics import NO_STRAGGLERS, PiledUp, Stragglers, chain_warnings, figure, hdi, integrated_autocorr, interval_warnings, kept_walkers, straggler_warnings, walkers_text
 from .logprob import NOISE_MODELS, NoiseModel, start_weighting
 from .chain import AUTO_STEPS, auto_step_cap, ball_scales, capped_at, length_settings, length_text, run_emcee, start_walkers, support_in_sampled_space, undetermined_span
@@ -489,7 +489,7 @@ def sample_shared(
     ds, source = spectrum.data, spectrum.source
     weighting = start_weighting(noise)
     if noise is NoiseModel.SIGMA and "sigma" not in ds:
-        raise DataError("noise='sigma' needs a 'sigma' variable in the data (e.g. the SEM of repeated trials); use noise='proportional' otherwise", path=source)
+        raise DataError(f"noise='sigma' needs a 'sigma' variable in the data (e.g. the SEM of repeated trials): {SIGMA_SOURCES}; use noise='proportional' otherwise", path=source)
     start = fit(circuit, ds, fixed=fixed or None, shared=shared, over=over, weighting=weighting, registry=registry)
     if start.keep:
         raise ParameterError(f"sample with shared parameters takes one global fit; these data also vary along {', '.join(start.keep)}: select one index of it")
