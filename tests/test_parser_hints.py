@@ -108,9 +108,14 @@ def test_digit_after_a_whole_element_name_keeps_the_generic_message():
         ("R0 + La1", 5, "unknown element symbol 'La' in 'La1'", "impedance.py's La has no built-in impedax element: register one with impedance_py='La' (docs/circuits.md, \"Adding an element\")"),
         ("R0 + TLMQ2", 5, "unknown element symbol 'TLMQ' in 'TLMQ2'", "impedance.py's TLMQ has no built-in impedax element: register one with impedance_py='TLMQ' (docs/circuits.md, \"Adding an element\")"),
         ("R0 + X1", 5, "unknown element symbol 'X' in 'X1'", "known symbols: C, CC, CPE, G, HN, L, Q, R, W, Wo, Ws"),
+        # lower-case names: the right spelling (2026-12-01)
+        ("zarc1", 0, "unknown element symbol 'zarc' in 'zarc1'", "symbols are case-sensitive, and impedance.py's Zarc is impedax's CC: CC1"),
+        ("R0 + zarc_skin", 5, "unknown element symbol 'zarc' in 'zarc_skin'", "symbols are case-sensitive, and impedance.py's Zarc is impedax's CC: CC_skin"),
+        ("r0 + R1", 0, "unknown element symbol 'r' in 'r0'", "symbols are case-sensitive: did you mean R0?"),
+        ("R0 + cpe1", 5, "unknown element symbol 'cpe' in 'cpe1'", "symbols are case-sensitive: did you mean CPE1?"),
     ],
 )
-def test_impedance_py_element_names_are_named_with_impedaxs(text, column, reason, hint):
+def test_impedance_py_and_lower_case_element_names_are_named_with_impedaxs(text, column, reason, hint):
     err = syntax_error(text)
     assert_caret(err, text, column)
     assert err.reason == reason and err.hint == hint
@@ -187,19 +192,6 @@ def test_p_space_group_in_impedax_text_is_rewritten_like_p_group():
     assert err.hint == MIXED + "R0 + R1 || C1 (impedax) or R0-p(R1,C1) (impedance.py)"
 
 
-@pytest.mark.parametrize(
-    "text, column, reason, hint",
-    [
-        ("zarc1", 0, "unknown element symbol 'zarc' in 'zarc1'", "symbols are case-sensitive, and impedance.py's Zarc is impedax's CC: CC1"),
-        ("R0 + zarc_skin", 5, "unknown element symbol 'zarc' in 'zarc_skin'", "symbols are case-sensitive, and impedance.py's Zarc is impedax's CC: CC_skin"),
-        ("r0 + R1", 0, "unknown element symbol 'r' in 'r0'", "symbols are case-sensitive: did you mean R0?"),
-        ("R0 + cpe1", 5, "unknown element symbol 'cpe' in 'cpe1'", "symbols are case-sensitive: did you mean CPE1?"),
-    ],
-)
-def test_lower_case_names_are_named_in_the_right_spelling(text, column, reason, hint):
-    err = syntax_error(text)
-    assert_caret(err, text, column)
-    assert err.reason == reason and err.hint == hint
 
 
 @pytest.mark.parametrize(
