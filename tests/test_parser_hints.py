@@ -192,8 +192,6 @@ def test_p_space_group_in_impedax_text_is_rewritten_like_p_group():
     assert err.hint == MIXED + "R0 + R1 || C1 (impedax) or R0-p(R1,C1) (impedance.py)"
 
 
-
-
 @pytest.mark.parametrize(
     "text, column, reason, hint",
     [
