@@ -19,11 +19,11 @@ from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ...errors import IN_MEMORY, ParameterError
 from ...progress import progress_to, say
 from ..problem import WEIGHTINGS, circuit_parameters, prepare_fit, residual_scale, weights
-from ..statistics import at_noise_floor, dominant_points, information_criteria
-from .batch import BatchFitResult, fit_batch, register_spectrum_fit
+from ..statistics import at_noise_floor, information_criteria
+from .batch import BatchFitResult, data_notes, fit_batch, register_spectrum_fit
 from .constraints import constraint_misfit_notes, with_constraint_notes
 from .order import canonical_order
-from .result import BOUND_RESTARTS, FitResult, is_remainder, falling_inward, fit_result, misfit_notes, non_passive_notes, sigma_scale_notes, uneven_residual_notes, weighting_notes
+from .result import BOUND_RESTARTS, FitResult, is_remainder, falling_inward, fit_result
 from .shared import SharedFitResult, fit_shared
 from .solvers import IDENTITY_DAMPING_STEPS, SCREEN_STEPS, SharedArgs, SolverStatus, SpectrumRows, better, padded_points, solver_args, tree_solver, trimmed, unscale
 from .starts import SpectrumFeatures, escalation_rungs, climb_target, guess_start, inward_start, rms_rel_of, rung_draws, rung_seed, to_solver_space
@@ -165,12 +165,12 @@ def fit(
     out = restarted_inward(out, lambda u: solve(u[None])[0], table, z, inv_re, inv_im, weighting, lambda o: one_spectrum_chi2(solvers.chi2_x, args, o))
     out = canonical_order(circuit, table, freq, out, registry)
     chi2_at_x = one_spectrum_chi2(solvers.chi2_x, args, out)
-    notes = weighting_notes(weighting, freq, *dominant_points(z, inv_re, inv_im))[0] if weighting in ("unit", "proportional") else ()
+    # the data's notes as a batch gives them (`batch.data_notes`: one assembly for both paths)
     kk_misfit: dict[int, float] = {}
-    misfit = misfit_notes(freq, z, out.z_model, kk_misfit, sigma=None if sigma is None else np.asarray(sigma)[None], attrs=data.attrs, weighting=weighting, n_free=int(table.free_index.size))[0]
-    uneven = uneven_residual_notes(freq, z, out.z_model, inv_re, inv_im, weighting, [misfit], has_sigma=sigma is not None)[0]
-    uneven += sigma_scale_notes(z, out.z_model, inv_re, inv_im, weighting, int(table.free_index.size), [misfit])[0]
-    notes = tuple(notes) + non_passive_notes(freq, z, sigma, remainder=is_remainder(data.attrs)) + uneven + misfit
+    misfits: list[tuple[str, ...]] = []
+    (notes,) = data_notes(freq, z[None], np.asarray(out.z_model)[None], None if sigma is None else sigma[None], weighting, source, kk_misfit,
+                          remainder=is_remainder(data.attrs), attrs=data.attrs, misfit_out=misfits, n_free=int(table.free_index.size))
+    misfit = misfits[0]
     given = np.isfinite(table.values[table.free_index])
     start = "the given start" if given.all() and given.size else "the given start, the other parameters' from the data" if given.any() else "the data-driven start"
     result = fit_result(circuit, table, freq, z, out, weighting, used, time.perf_counter() - t0, registry, chi2_at_x=chi2_at_x, extra_notes=notes, start=start, weights=(inv_re, inv_im))
