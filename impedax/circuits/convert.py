@@ -22,16 +22,13 @@ import re
 
 from ..errors import CircuitError, CircuitSyntaxError
 from .elements import DEFAULT_REGISTRY
-from .parser import MAX_ELEMENTS, MAX_NESTING, impedance_py_spelling, lookalike, parse, require_text
+from .parser import IMPEDANCE_PY_GROUP_RE, MAX_ELEMENTS, MAX_NESTING, impedance_py_spelling, lookalike, parse, require_text
 from .spec import Registry
 from .tree import Circuit, Element, parallel, series
 
 __all__ = ["CDCConvention", "from_cdc", "from_impedance_py", "to_cdc", "to_impedance_py"]
 
 _IMPEDANCE_PY_ELEMENT_RE = re.compile(r"([A-Za-z]+)_?([0-9]+)")
-# ``p(`` opening a parallel group, spaces allowed before the '(' (impedance.py removes every
-# space from a circuit string before reading it, so it reads ``p (R1,C1)`` as ``p(R1,C1)``)
-_IMPEDANCE_PY_GROUP_RE = re.compile(r"p\s*\(")
 
 
 class CDCConvention(enum.StrEnum):
@@ -105,7 +102,7 @@ class _ImpedancePyReader:
     def item(self) -> Circuit:
         src = self.src
         self.skip()
-        group = _IMPEDANCE_PY_GROUP_RE.match(src, self.pos)
+        group = IMPEDANCE_PY_GROUP_RE.match(src, self.pos)
         if group:
             return self.parallel_group(group.end())
         m = _IMPEDANCE_PY_ELEMENT_RE.match(src, self.pos)

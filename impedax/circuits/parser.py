@@ -100,14 +100,14 @@ def _check_spaced_name(source: str, i: int, tokens: list[Token]) -> None:
 
 # impedance.py's parallel group ``p(``: a 'p' that is no part of a longer name, then '(' (after
 # spaces too: impedance.py removes every space from a circuit string before reading it)
-_IMPEDANCE_PY_GROUP_RE = re.compile(r"(?<![A-Za-z0-9_])p\s*\(")
+IMPEDANCE_PY_GROUP_RE = re.compile(r"(?<![A-Za-z0-9_])p\s*\(")
 
 
 def _notation_hint(source: str, ch: str, registry: Registry) -> str:
     """The hint for a ``-``, ``,`` or ``p(``: impedance.py's series, branches and parallel. Mixed with
     impedax's ``+`` / ``||`` the string is in neither notation (say so, and write it in each);
     alone, it is an impedance.py string passed where impedax text goes."""
-    has_group = _IMPEDANCE_PY_GROUP_RE.search(source) is not None
+    has_group = IMPEDANCE_PY_GROUP_RE.search(source) is not None
     if has_group and ("+" in source or "||" in source):
         return "p(a,b) is a || b in impedax's notation, and the two notations cannot be mixed: write the whole string in one, " + _in_one_notation(source, registry)
     call = f"in Python an impedance.py string is passed as {IMPEDANCE_PY_CALL}({_call_text(source)}) (the command line reads it by itself)"
@@ -131,7 +131,7 @@ def _in_one_notation(source: str, registry: Registry) -> str:
     i = 0
     while i < len(source):
         ch = source[i]
-        group = _IMPEDANCE_PY_GROUP_RE.match(source, i)
+        group = IMPEDANCE_PY_GROUP_RE.match(source, i)
         if group:
             groups.append("p(")
             out.append("((")
