@@ -124,6 +124,27 @@ def test_sharing_contradicted_by_data_is_reported():
     assert any("disagree with sharing R0 over trial" in w for ws in r.warnings.values() for w in ws)
 
 
+def rc_cpe_warburg_impedance(f, r1, q=1e-5, alpha=0.8, sigma=50.0):
+    """R0 + R1 || CPE1 + W1 written out: 10 + 1/(1/R1 + Q(jω)^α) + σ/√(jω), R0 = 10 Ω."""
+    jw = 2j * np.pi * np.asarray(f)
+    return 10.0 + 1.0 / (1.0 / r1 + q * jw**alpha) + sigma / np.sqrt(jw)
+
+
+def test_noise_free_sharing_is_not_contradicted_by_rounding():
+    # SYNTHETIC, no noise, one CPE1.alpha and W1.sigma in all three: the global fit matches every
+    # spectrum to rounding (1e-16 relative), where the F-test once read F ≈ 400 into rounding and
+    # the uneven-residual rule a 4× band ratio of rounding errors
+    freq = np.logspace(-1, 5, 40)
+    z = np.stack([rc_cpe_warburg_impedance(freq, r1) for r1 in (100.0, 150.0, 220.0)])
+    r = ix.fit("R0 + R1 || CPE1 + W1", ix.make_spectrum(freq, z, dims=("trial",)), shared=["CPE1.alpha", "W1.sigma"])
+    assert float(r.dataset["rms_rel"].max()) < 1e-12
+    assert r.warnings == {}
+    # ... and a sharing the same noise-free spectra contradict is still told
+    z = np.stack([rc_cpe_warburg_impedance(freq, 150.0, sigma=s) for s in (30.0, 50.0, 80.0)])
+    r = ix.fit("R0 + R1 || CPE1 + W1", ix.make_spectrum(freq, z, dims=("trial",)), shared=["W1.sigma"])
+    assert any("disagree with sharing W1.sigma over trial" in w for ws in r.warnings.values() for w in ws)
+
+
 def test_keep_dimension_gives_one_global_fit_per_index(rng):
     z_a, _, _ = rc_stack(rng, m=3, r0=30.0)
     z_b, _, _ = rc_stack(rng, m=3, r0=90.0)

@@ -802,6 +802,21 @@ UNEVEN_CHECKED_WEIGHTINGS = ("modulus", "sigma")
 UNEVEN_NOISE_NOTE = "the standard errors assume the noise is uniform after the weighting"
 
 
+# a fit whose residuals are, in rms, at most this fraction of |Z| matches its data to rounding
+# (SYNTHETIC data without noise: 1e-16–1e-13 after a converged fit); the notes that judge the
+# residuals' statistics (uneven bands, the F-test of a sharing) have no noise to judge there
+ROUNDING_RESIDUAL = 1e-10
+
+
+def at_rounding(z, z_model) -> np.ndarray:
+    """Per fit z_model (B, N) of spectra z (B, N): whether its residuals, rms of |ΔZ|/|Z|, are at
+    most `ROUNDING_RESIDUAL` (the data matched to rounding)."""
+    z, z_model = np.atleast_2d(z), np.atleast_2d(z_model)
+    with np.errstate(all="ignore"):
+        rms = np.sqrt(np.mean(np.abs((z_model - z) / np.abs(z)) ** 2, axis=-1))
+    return np.isfinite(rms) & (rms <= ROUNDING_RESIDUAL)
+
+
 def residual_band_rms(freq, z, z_model, inv_re, inv_im) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The rms of the weighted residuals ((ΔRe·inv_re, ΔIm·inv_im), both counted) of fits
     z_model (B, N) of spectra z (B, N) in bands of `UNEVEN_BAND_POINTS` consecutive frequencies
@@ -830,6 +845,7 @@ def uneven_residual_notes(freq, z, z_model, inv_re, inv_im, weighting: str, misf
     assume the weighting's noise is the same everywhere, so they are wrong there (an audit's
     SYNTHETIC R0 + R1 ∥ CPE1 with noise 5× larger below 1 Hz: R1's 1σ interval held the truth
     in 42 % of spectra, the sigma weighting's in 65–71 %). Only for `UNEVEN_CHECKED_WEIGHTINGS`,
+    none for a fit that matches its data to rounding (`at_rounding`: no noise to be uneven),
     and none where ``misfit`` (`misfit_notes`, one tuple per fit) has a note other than that the
     data limit the fit (`DATA_LIMIT_NOTE`, whose noise may be the uneven one): a model that misses
     structure concentrates its residuals where it fails, and that note says so and where to look;
@@ -844,8 +860,9 @@ def uneven_residual_notes(freq, z, z_model, inv_re, inv_im, weighting: str, misf
     if weighting not in UNEVEN_CHECKED_WEIGHTINGS or np.asarray(freq).size < 2 * UNEVEN_BAND_POINTS:
         return out
     rms, lo, hi = residual_band_rms(freq, z, z_model, inv_re, inv_im)
+    exact = at_rounding(z, z_model)
     for i, row in enumerate(rms):
-        if (misfit is not None and misfit[i] and DATA_LIMIT_NOTE not in misfit[i][0]) or not np.all(np.isfinite(row)):
+        if (misfit is not None and misfit[i] and DATA_LIMIT_NOTE not in misfit[i][0]) or not np.all(np.isfinite(row)) or exact[i]:
             continue
         loud, quiet = int(np.argmax(row)), int(np.argmin(row))
         if not row[loud] > UNEVEN_RESIDUAL_RATIO * row[quiet]:

@@ -43,7 +43,7 @@ from ..problem import residual_scale, weights
 from ..statistics import SINGULAR_RATIO_LIMIT, information_criteria
 from .batch import BatchFitResult, data_notes, fit_batch
 from .branches import idle_branch_notes, idle_branches, settle_vanishing, undetermined, undetermined_mask, unidentified_stderr, vanishing_candidates, vanishing_parameters
-from .result import BOUND_CHI2_FRACTION, LINEARISED_STDERR_NAME, STDERR_NOTE, bound_note, bound_sides, fit_notes, is_remainder, NUMERICALLY_ON_FRACTION, on_bound, shown_stderr, stack_notes, unidentified_group_note, vanishing_term_sides, without_error
+from .result import BOUND_CHI2_FRACTION, LINEARISED_STDERR_NAME, STDERR_NOTE, at_rounding, bound_note, bound_sides, fit_notes, is_remainder, NUMERICALLY_ON_FRACTION, on_bound, shown_stderr, stack_notes, unidentified_group_note, vanishing_term_sides, without_error
 from .solvers import SolverArgs, tree_residuals
 
 __all__ = ["SharedFitResult", "SharedLayout", "shared_layout", "fit_shared", "JointSolution", "joint_solver", "joint_covariance", "joint_null_sets", "JointNullSets", "SHARING_P_LIMIT"]
@@ -662,7 +662,7 @@ def fit_shared(
             spectrum_notes[row] = spectrum_notes.get(row, ()) + note
     group_notes = [
         _sharing_notes(layout, shared_value[gi], shared_stderr[gi], sides.reshape(n_groups, m, k)[gi, 0, sh], table, f_stat[gi], f_p[gi], aic_joint[gi] - aic_ind[gi], bool(joint["converged"][gi]), int(joint["steps"][gi]),
-                       null=fits[gi].null, flagged=shared_flagged[gi], on=on_bound(table, values[gi, :1], sides.reshape(n_groups, m, k)[gi, :1], np.tile(freq, m), z[gi].reshape(1, -1))[0, sh],
+                       null=fits[gi].null, flagged=shared_flagged[gi], exact=bool(np.all(at_rounding(z[gi], z_model[gi]))), on=on_bound(table, values[gi, :1], sides.reshape(n_groups, m, k)[gi, :1], np.tile(freq, m), z[gi].reshape(1, -1))[0, sh],
                        exactly=on_bound(table, values[gi, :1], sides.reshape(n_groups, m, k)[gi, :1], np.tile(freq, m), z[gi].reshape(1, -1), NUMERICALLY_ON_FRACTION)[0, sh])
         for gi in range(n_groups)
     ]
@@ -790,12 +790,14 @@ def _shared_idle_notes(circuit, registry, table: ParameterTable, layout: SharedL
 
 
 def _sharing_notes(layout: SharedLayout, value, stderr, sides, table: ParameterTable, f, p, delta_aic, converged: bool, steps: int, *, on, exactly=None,
-                   null: JointNullSets | None = None, flagged=None) -> tuple[str, ...]:
+                   null: JointNullSets | None = None, flagged=None, exact: bool = False) -> tuple[str, ...]:
     """The notes of one global fit: convergence, the near-null directions of shared parameters
     alone (``null``, `joint_null_sets`, in a single fit's words), the shared parameters' bounds
     (``on``: on the bound, `result.on_bound`, else off it but not told from it; ``exactly``: on
     it within `result.NUMERICALLY_ON_FRACTION`, its value not given) and determination (not of
-    one in a near-null direction, ``flagged``: that direction's note speaks for it), the F-test."""
+    one in a near-null direction, ``flagged``: that direction's note speaks for it), the F-test
+    (none where the global fit matches every spectrum to rounding, ``exact``, `result.at_rounding`:
+    residuals of rounding size make any F large, SYNTHETIC noise-free spectra F ≈ 400)."""
     exactly = on if exactly is None else exactly
     flagged = np.zeros(len(layout.shared), bool) if flagged is None else np.asarray(flagged, bool)
     notes = []
@@ -811,7 +813,7 @@ def _sharing_notes(layout: SharedLayout, value, stderr, sides, table: ParameterT
         elif undetermined(v, e) and not in_group:
             relative = abs(e / v) if math.isfinite(e) else math.inf
             notes.append(f"shared {n} has " + (f"a relative standard error of {format_relative_error(relative)}" if math.isfinite(relative) else "no finite standard error") + ": the data do not determine it")
-    if math.isfinite(p) and p < SHARING_P_LIMIT:
+    if math.isfinite(p) and p < SHARING_P_LIMIT and not exact:
         notes.append(
             f"the spectra disagree with sharing {', '.join(layout.shared)} over {', '.join(layout.over)}: independent fits are better "
             f"(F = {f:.3g}, p = {p:.2g}, ΔAIC = {delta_aic:+.1f}); the shared values are a compromise"
