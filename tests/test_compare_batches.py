@@ -126,7 +126,7 @@ def test_a_cpe_at_alpha_one_reduces_to_the_rc_model_and_is_no_weak_rival(compari
     assert models[RC]["decisive_wins"] == sum(1 for d in rc_leads if d is not None and d >= 10)
     assert models[RC]["wins_over_reducing_only"] == sum(1 for d in rc_leads if d is None) >= len(reducing)
     report = comparison.report()
-    assert f"{CPE} reduces to {RC} on {len(reducing)} spectr" in report and "(— where every rival does)" in report
+    assert f"{CPE} reduces to {RC} on {len(reducing)} spectr" in report and "(— where no rival is left)" in report
     at_one = [i for i in reducing if alpha[i] >= 1 - 1e-6]
     assert at_one, "an RC spectrum whose CPE fit ends on alpha = 1 is expected"
     one = comparison.comparison_of(subject=f"s{at_one[0]}")
@@ -328,3 +328,24 @@ def test_a_better_model_still_wins_each_spectrum_over_a_tied_pair(batches, cc_ba
     assert by_hand[0, N_EACH:].min() - pair[N_EACH:].max() > 10
     wins = {m["model"]: m["wins"] for m in comparison.models()}
     assert wins[cpe.model] == 0 and wins[rc.model] + wins[cc_batch.model] == 2 * N_EACH
+
+
+def test_the_other_writing_of_the_winner_is_no_rival_for_its_lead(batches, cc_batch):
+    """Of the tied pair (R0 + CC1 given first, R0 + R1 ∥ CPE1), the second is the winner's fit
+    in another writing on every spectrum the pair wins: it is named in ``same_fit_as_best`` and
+    the lead is the capacitor's ΔAIC by hand there (> 10 on the CPE spectra), not the pair's ~0,
+    which read "weak"; the report names the same fit."""
+    rc, cpe = batches
+    comparison = ix.compare([cc_batch, cpe, rc])
+    by_hand = np.array([aic_by_hand(cc_batch, 4), aic_by_hand(cpe, 4), aic_by_hand(rc, 3)])
+    rows = comparison.spectra()
+    for s, row in enumerate(rows):
+        if row["best"] != cc_batch.model:
+            assert row["same_fit_as_best"] == []
+            continue
+        assert row["same_fit_as_best"] == [cpe.model]
+        assert row["lead"] == pytest.approx(by_hand[2, s] - by_hand[0, s], abs=1e-3)
+    assert all(not r["weak_evidence"] and r["lead"] > 10 for r in rows[N_EACH:])
+    cc_row = next(m for m in comparison.models() if m["model"] == cc_batch.model)
+    assert cc_row["decisive_wins"] >= N_EACH
+    assert f"{cpe.model} is the same fit as {cc_batch.model} on" in comparison.report()

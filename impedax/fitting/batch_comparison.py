@@ -14,7 +14,7 @@ import xarray as xr
 
 from ..data import column_width, concise_repr
 from ..errors import FitError
-from .comparison import DECISIVE_DELTA_AIC, common_source, NOISE_F, criteria_tie, WEAK_DELTA_AIC, Comparison, akaike_weights, compare, criteria, fit_label, is_nested, register_batch_compare, significant, unique_labels
+from .comparison import DECISIVE_DELTA_AIC, common_source, NOISE_F, SAME_FIT_RMS, criteria_tie, WEAK_DELTA_AIC, Comparison, akaike_weights, compare, criteria, fit_label, is_nested, register_batch_compare, significant, unique_labels
 from .least_squares import BatchFitResult, SharedFitResult
 from .least_squares.batch import SPECTRA_AS_ROWS, labels_key
 from .least_squares.result import data_difference
@@ -269,14 +269,35 @@ class BatchComparison:
             runner_up = np.where(finite, masked.min(axis=0), math.nan)
         return best, runner_up
 
+    def _same_as_winner(self, best: np.ndarray) -> np.ndarray:
+        """(model, spectrum): whether model m's fit of that spectrum is the winner's fit, as
+        `comparison._same_fit` decides for one spectrum: as many parameters, χ² within 1e-6
+        (relative) and model spectra within `SAME_FIT_RMS` of their misfit rms_rel (or 1e-9):
+        two writings of one impedance function (``R0 + R1 || C1`` and ``R1 || C1 + R0``), whose
+        ΔAIC ≈ 0 is rounding, not a rival's lead."""
+        chi2, rms, k = self._per_spectrum("chi2"), self._per_spectrum("rms_rel"), self.dataset["n_params"].values
+        out = np.zeros(chi2.shape, bool)
+        z_data = self.batches[0].dataset["Z"].transpose(*self.dims, "frequency").values.reshape(chi2.shape[1], -1)
+        z_models = [b.dataset["Z_model"].transpose(*self.dims, "frequency").values.reshape(chi2.shape[1], -1) for b in self.batches]
+        for w in range(len(self.batches)):
+            for m in range(len(self.batches)):
+                if m == w or k[m] != k[w]:
+                    continue
+                with np.errstate(all="ignore"):
+                    close = np.abs(chi2[m] - chi2[w]) <= 1e-6 * np.maximum(np.maximum(chi2[m], chi2[w]), 1e-300)
+                    apart = np.sqrt(np.mean(np.abs((z_models[m] - z_models[w]) / np.abs(z_data)) ** 2, axis=-1))
+                out[m] |= (best == w) & close & (apart < np.maximum(SAME_FIT_RMS * np.maximum(rms[m], rms[w]), 1e-9))
+        return out
+
     def _leads(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Each spectrum's winner (as `_winners`), the reduces-to mask (`_reduces_to_winner`)
-        and the winner's lead: the ΔAIC of the nearest rival that does not reduce to it (inf
-        when every rival does; NaN with one model or no finite AIC)."""
+        and the winner's lead: the ΔAIC of the nearest rival that neither reduces to it nor is
+        its own fit in another writing (`_same_as_winner`; inf when every rival is one of those;
+        NaN with one model or no finite AIC)."""
         best, runner_up = self._winners()
         reduces = self._reduces_to_winner(best)
         delta = self._per_spectrum("delta_aic")
-        rival = np.where((np.arange(len(self.batches))[:, None] == best[None, :]) | reduces | np.isnan(delta), np.inf, delta)
+        rival = np.where((np.arange(len(self.batches))[:, None] == best[None, :]) | reduces | self._same_as_winner(best) | np.isnan(delta), np.inf, delta)
         lead = np.where(np.isnan(runner_up), math.nan, rival.min(axis=0))
         return best, reduces, lead
 
@@ -286,7 +307,8 @@ class BatchComparison:
         ``weak_wins`` (of those, the ones where a rival that does not reduce to it,
         `_reduces_to_winner`, is less than `WEAK_DELTA_AIC` behind), ``decisive_wins`` (every such
         rival at least `DECISIVE_DELTA_AIC` behind: essentially no support, Burnham & Anderson
-        2002, §2.6; a win with no such rival, every rival reducing to it, is not decisive: it is
+        2002, §2.6; a win with no such rival, every rival reducing to it or its fit in another
+        writing (`_same_as_winner`), is not decisive: it is
         counted in ``wins_over_reducing_only``, added 2026-12-01), ``lead_median``, ``lead_min``, ``lead_max``
         (the lead over its wins, `_leads`; null without wins or where only reducing rivals
         trail), ``aic_sum`` with ``delta_aic_sum`` and ``akaike_weight_sum``,
@@ -315,12 +337,14 @@ class BatchComparison:
         each dimension, then ``labels``), ``best`` and ``best_label`` (by AIC; None when no
         model has a finite AIC), ``runner_up_delta_aic``, ``reduces_to_best`` (the labels of the
         models that reduce to the best, `_reduces_to_winner`: their ΔAIC is AIC's charge for
-        parameters that do nothing), ``lead`` (the nearest other rival's ΔAIC; null when every
-        rival reduces to the best), ``weak_evidence`` (that lead below `WEAK_DELTA_AIC`) and
+        parameters that do nothing), ``same_fit_as_best`` (the labels of the models whose fit is
+        the best one's in another writing, `_same_as_winner`), ``lead`` (the nearest other
+        rival's ΔAIC; null when every rival is one of those), ``weak_evidence`` (that lead below `WEAK_DELTA_AIC`) and
         ``models``: each model's `PER_SPECTRUM_CRITERIA` with its ``model``, ``label`` and
         ``warnings`` (its fit's warnings on that spectrum, `BatchFitResult.warnings`; [] if none)."""
         best, runner_up = self._winners()
         _, reduces, lead = self._leads()
+        same = self._same_as_winner(best)
         values = {c: self._per_spectrum(c) for c in PER_SPECTRUM_CRITERIA}
         warned = [[list(batch.warnings.get(key, ())) for key in _keys(batch)] for batch in self.batches]
         rows = []
@@ -330,6 +354,7 @@ class BatchComparison:
                 **labels, "labels": labels,
                 "best": self.batches[b].model if b >= 0 else None, "best_label": self.labels[b] if b >= 0 else None,
                 "runner_up_delta_aic": float(runner_up[s]), "reduces_to_best": [self.labels[m] for m in np.flatnonzero(reduces[:, s])],
+                "same_fit_as_best": [self.labels[m] for m in np.flatnonzero(same[:, s])],
                 "lead": float(lead[s]) if np.isfinite(lead[s]) else None, "weak_evidence": bool(lead[s] < WEAK_DELTA_AIC),
                 "models": [{"model": batch.model, "label": label, **{c: (bool(values[c][m, s]) if c == "converged" else float(values[c][m, s])) for c in PER_SPECTRUM_CRITERIA}, "warnings": warned[m][s]}
                            for m, (batch, label) in enumerate(zip(self.batches, self.labels))],
@@ -389,7 +414,7 @@ class BatchComparison:
                     f"{m['converged_fraction'] * 100:>8.0f}%  {significant(m['rms_rel_median'] * 100):>13}%")
             lines.append(line + ("   ← best by summed AIC" if i == best else ""))
         lines += ["", SUM_NOTE + f"; wins count the spectra each model is best on by its own AIC; its lead there is the ΔAIC of the nearest rival "
-                  f"that does not reduce to it (— where every rival does), decisive from {DECISIVE_DELTA_AIC:g} (Burnham & Anderson 2002: essentially no support for the rival)"]
+                  f"that neither reduces to it nor is its fit in another writing (— where no rival is left), decisive from {DECISIVE_DELTA_AIC:g} (Burnham & Anderson 2002: essentially no support for the rival)"]
         reduced = self._reduced_lines()
         lines += reduced
         weak = [m for m in models if m["weak_wins"]]
@@ -405,10 +430,18 @@ class BatchComparison:
         return "\n".join(lines)
 
     def _reduced_lines(self) -> list[str]:
-        """A line per (model, winner) pair where the model reduces to the winner on some spectra
+        """A line per (model, winner) pair where the model is the winner's fit in another
+        writing on some spectra (`_same_as_winner`) and where it reduces to the winner
         (`_reduces_to_winner`), as the single comparison's `Comparison.reduces_to_best` says it."""
         best, reduces, _ = self._leads()
+        same = self._same_as_winner(best)
         lines = []
+        for m, label in enumerate(self.labels):
+            for w, winner in enumerate(self.labels):
+                count = int((same[m] & (best == w)).sum())
+                if count:
+                    lines.append(f"{label} is the same fit as {winner} on {count} {'spectrum' if count == 1 else 'spectra'} (two writings of one impedance function: "
+                                 "as many parameters, the same χ² and model spectrum): not a rival; such a tie goes to the fewer parameters, then the first given")
         for m, label in enumerate(self.labels):
             for w, winner in enumerate(self.labels):
                 count = int((reduces[m] & (best == w)).sum())
@@ -425,12 +458,13 @@ class BatchComparison:
         lead = column_width(heads, "spectrum")
         best_width = column_width((r["best_label"] or "—" for r in rows), "best")
         columns = [f"ΔAIC {i + 1}" for i in range(len(self.labels))]
-        lines = ["each spectrum's best model by AIC (ΔAIC i: model i of the table above, in its order; lead: the nearest rival that does not reduce to the best):",
+        lines = ["each spectrum's best model by AIC (ΔAIC i: model i of the table above, in its order; lead: the nearest rival that neither reduces to the best nor is its fit):",
                  f"{'spectrum':<{lead}}  {'best':<{best_width}}  {'lead':>7}  " + "  ".join(f"{c:>8}" for c in columns)]
         for head, r in zip(heads, rows):
             lead_text = "—" if r["lead"] is None else f"{r['lead']:.2f}"
             cells = "  ".join(f"{m['delta_aic']:>8.2f}" for m in r["models"])
-            mark = "   (weak)" if r["weak_evidence"] else ("   (" + ", ".join(r["reduces_to_best"]) + " reduces to it)" if r["reduces_to_best"] and r["lead"] is None else "")
+            unrivalled = [f"{', '.join(r['same_fit_as_best'])} the same fit"] * bool(r["same_fit_as_best"]) + [f"{', '.join(r['reduces_to_best'])} reduces to it"] * bool(r["reduces_to_best"])
+            mark = "   (weak)" if r["weak_evidence"] else ("   (" + "; ".join(unrivalled) + ")" if unrivalled and r["lead"] is None else "")
             lines.append(f"{head:<{lead}}  {(r['best_label'] or '—'):<{best_width}}  {lead_text:>7}  {cells}{mark}")
         return lines
 
