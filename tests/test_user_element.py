@@ -144,3 +144,21 @@ def test_bad_facts_are_refused_at_declaration(field, value):
     with pytest.raises(ix.CircuitError, match="element Lk"):
         dataclasses.replace(LEAKY, **{field: value})
 
+
+
+def test_a_changed_formula_under_the_same_symbol_is_compiled_anew():
+    """Two registries whose `Kx` differ only in the formula (R/(1 + jωτ) and 2R/(1 + jωτ), the
+    declared equation text left the same) are
+    two registries: the compiled solvers cached by registry once served the first formula to
+    the second, so its fit gave Kx1.R = 100 where the data say 50, with no message."""
+    spec = ElementSpec("Kx", "test arc", "Z = R/(1 + jωτ)", (ParameterSpec("R", "Ohm", 100.0), ParameterSpec("tau", "s", 1e-3)), lambda w, r, t: r / (1 + 1j * w * t))
+    doubled = dataclasses.replace(spec, impedance=lambda w, r, t: 2 * r / (1 + 1j * w * t))
+    assert spec != doubled
+    one, two = ix.DEFAULT_REGISTRY.register(spec), ix.DEFAULT_REGISTRY.register(doubled)
+    assert one != two and hash(one) != hash(two)
+    w = 2 * np.pi * F
+    data = ix.make_spectrum(F, 10.0 + 100.0 / (1 + 1j * w * 1e-3))
+    assert ix.fit("R0 + Kx1", data, registry=one).values["Kx1.R"] == pytest.approx(100.0, rel=1e-6)
+    assert ix.fit("R0 + Kx1", data, registry=two).values["Kx1.R"] == pytest.approx(50.0, rel=1e-6)
+    batch = ix.fit("R0 + Kx1", ix.make_spectrum(F, np.stack([data["Z"].values] * 2), dims=("trial",)), registry=two)
+    np.testing.assert_allclose(batch.values("Kx1.R").values, 50.0, rtol=1e-6)

@@ -147,9 +147,9 @@ class ElementSpec:
     name: str
     equation: str
     parameters: tuple[ParameterSpec, ...]
-    impedance: Callable[..., jnp.ndarray] = field(compare=False)
+    impedance: Callable[..., jnp.ndarray]
     aliases: tuple[str, ...] = ()
-    admittance: Callable[..., jnp.ndarray] | None = field(default=None, compare=False)
+    admittance: Callable[..., jnp.ndarray] | None = None
     dc: DCPath | None = None
     draw: str | None = None
     cdc: str | None = None
