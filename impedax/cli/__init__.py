@@ -18,6 +18,8 @@ import sys
 import threading
 from typing import NoReturn
 
+from .plugins import PLUGIN_OPTION, add_plugin_option
+
 _COMMAND_MODULES = ("simulate", "info", "fit", "compare", "sample", "kk", "drt", "diagnose", "refine", "force", "gap", "remaining", "draw", "inspect", "stack", "demo")
 # each command's one-line help, for ``impedax --help`` without importing any command (and JAX);
 # tests/test_cli_basic.py checks it against what the modules register
@@ -73,19 +75,39 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     from .. import __version__
 
     parser.add_argument("--version", action="version", version=f"impedax {__version__}")
+    add_plugin_option(parser)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True
     for name in _COMMAND_MODULES:
         if command is None or name == command:
             importlib.import_module(f"{__name__}.{name}").register(sub)
+            add_plugin_option(sub.choices[name], after_command=True)
         else:
             sub.add_parser(name, help=COMMAND_HELP[name])
     return parser
 
 
+def _load_plugins(args) -> None:
+    """The plugin files of ``$IMPEDAX_PLUGINS`` and every ``--plugin`` (`impedax.cli.plugins`),
+    executed: ``args.plugin`` becomes their list, ``args.registry`` the element registry with
+    theirs and ``args.readers`` the readers `impedax.io.load` tries (None: the built-in ones)."""
+    from .plugins import PLUGIN_AFTER, load_plugins, plugin_files
+
+    files = plugin_files([*(getattr(args, "plugin", None) or ()), *vars(args).pop(PLUGIN_AFTER, ())])
+    plugins = load_plugins(files)
+    args.plugin, args.registry, args.readers = files, plugins.registry, plugins.readers
+
+
 def _first_word(argv: list[str]) -> str | None:
-    """The first argument that is not an option (the command, as typed), or None."""
-    return next((a for a in argv if not a.startswith("-")), None)
+    """The first argument that is not an option nor the value of ``--plugin`` before the
+    command (the command, as typed), or None."""
+    words = iter(argv)
+    for a in words:
+        if a == PLUGIN_OPTION:
+            next(words, None)
+        elif not a.startswith("-"):
+            return a
+    return None
 
 
 def _command_of(argv: list[str]) -> str:
@@ -365,6 +387,7 @@ def _run(argv: list[str], command: list[str]) -> int:
     positional_model(_subparser(parser, args.command), args)
     _configure_jax_cache()
     try:
+        _load_plugins(args)
         read_impedance_py_model(args, args.command)
         return int(args.run(args) or 0)
     except ImpedaxError as exc:

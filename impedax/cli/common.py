@@ -156,16 +156,17 @@ def checked_bound_options(given: Mapping[str, tuple[float | None, float | None, 
     return out
 
 
-def check_parameter_names(names: Iterable[str], known: Iterable[str], flag: str, model: str) -> None:
+def check_parameter_names(names: Iterable[str], known: Iterable[str], flag: str, model: str, registry=None) -> None:
     """`ParameterError` naming ``flag`` and the nearest known name (`closest_name`) for the
-    first of ``names`` that is not one of ``known``, the parameters of ``model``."""
+    first of ``names`` that is not one of ``known``, the parameters of ``model`` (elements of
+    ``registry``, None: the default one)."""
     known = list(known)
     for name in names:
         if name not in known:
             from ..arguments import closest_name
             from ..circuits import DEFAULT_REGISTRY
 
-            close = closest_name(name, known, impedance_py_symbols=DEFAULT_REGISTRY.impedance_py_symbols)
+            close = closest_name(name, known, impedance_py_symbols=(registry or DEFAULT_REGISTRY).impedance_py_symbols)
             hint = f"; did you mean {close}?" if close else ""
             raise ParameterError(f"{flag}: unknown parameter {name!r} for model {model!r}{hint} (parameters: {', '.join(known)})")
 
@@ -231,6 +232,7 @@ def fit_command(args=None, *, kept=None, masked=(), data=None) -> str:
     select = getattr(args, "select", None) or ()
     options = [("--select", item) for item in (select if data is None else single_selects(select, data))]
     options += [("--weighting", weighting if weighting != "modulus" else None), *band.items(), ("--exclude", ",".join(excluded) or None)]
+    options += [("--plugin", path) for path in getattr(args, "plugin", None) or ()]  # (the elements and reader the run used)
     data = getattr(args, "data", None)
     return " ".join(["impedax fit", shlex.quote(data) if data else "DATA"] + [f"{flag} {shlex.quote(str(value))}" for flag, value in options if value is not None])
 
@@ -320,15 +322,17 @@ def check_bounds(values: Mapping[str, float], specs: Mapping, flag: str) -> None
             raise ParameterError(outside_bounds_message(flag, name, value, spec.lower, spec.upper, spec.upper_inclusive, unit))
 
 
-def model_and_values(model: str, items, flag: str):
-    """Parse ``model`` and the ``NAME=VALUE`` ``items`` given with ``flag``; check the names and
-    bounds. Returns (circuit, parameter specs, values)."""
-    from .. import parse
+def model_and_values(model: str, items, flag: str, registry=None):
+    """Parse ``model`` (elements of ``registry``, None: the default one) and the ``NAME=VALUE``
+    ``items`` given with ``flag``; check the names and bounds. Returns (circuit, parameter
+    specs, values)."""
+    from .. import DEFAULT_REGISTRY, parse
 
-    circuit = parse(model)
-    specs = circuit.parameter_specs()
+    registry = registry or DEFAULT_REGISTRY
+    circuit = parse(model, registry)
+    specs = circuit.parameter_specs(registry)
     values = parse_assignments(items, flag)
-    check_parameter_names(values, specs, flag, model)
+    check_parameter_names(values, specs, flag, model, registry)
     check_bounds(values, specs, flag)
     return circuit, specs, values
 
@@ -353,7 +357,8 @@ def with_source(summary: dict, source: str | None, provenance: Mapping | None = 
 
 # what `command_provenance` leaves out of a command's settings: where the outputs go, how they look and how
 # the run talks (not how the result was made), and the data files (its ``data_files``: DATA, FILE, gap's three)
-_NOT_SETTINGS = frozenset({"run", "command", "json", "out", "plot", "corner", "dpi", "title", "quiet", "remaining", "data", "file", "files", "total", "skin", "touchscreen"})
+# (and what `--plugin` made: the files stay, as ``plugin``, when given)
+_NOT_SETTINGS = frozenset({"run", "command", "json", "out", "plot", "corner", "dpi", "title", "quiet", "remaining", "data", "file", "files", "total", "skin", "touchscreen", "registry", "readers"})
 
 
 def command_provenance(args, *, source=None, data_files: Sequence[str] = (), **used) -> dict:
@@ -365,6 +370,10 @@ def command_provenance(args, *, source=None, data_files: Sequence[str] = (), **u
     from ..io.provenance import provenance
 
     settings = {k: v for k, v in vars(args).items() if k not in _NOT_SETTINGS and not callable(v)}
+    if settings.get("plugin"):  # (added 2026-12-01: the --plugin files a run used, as absolute paths)
+        settings["plugin"] = [os.path.abspath(p) for p in settings["plugin"]]
+    else:
+        settings.pop("plugin", None)
     settings.update(used)
     name = getattr(args, "command", None)
     return provenance(command=f"impedax {name}" if name else None, settings=settings, source=source, data_files=data_files)
@@ -397,13 +406,14 @@ def looks_like_impedance_py(text: str) -> bool:
 
 def read_impedance_py_model(args, command: str) -> None:
     """``args.model`` of a command that takes a circuit (`add_model_argument`) as impedax text
-    (`impedax_text`: an impedance.py string read through `impedax.from_impedance_py`)."""
+    (`impedax_text`: an impedance.py string read through `impedax.from_impedance_py`, with the
+    elements of ``args.registry``, the --plugin files' too)."""
     model = getattr(args, "model", None)
     if getattr(args, "circuit_model", False) and isinstance(model, str):
-        args.model = impedax_text(model, command)
+        args.model = impedax_text(model, command, getattr(args, "registry", None))
 
 
-def impedax_text(model: str, command: str) -> str:
+def impedax_text(model: str, command: str, registry=None) -> str:
     """``model`` as impedax circuit text: itself, or, for an impedance.py string that is no
     impedax text (`looks_like_impedance_py`), its impedax text (`impedax.from_impedance_py`), with
     one note on stderr saying how it was read. A string that neither reads is refused with the
@@ -411,16 +421,17 @@ def impedax_text(model: str, command: str) -> str:
     stray ``-``), else the impedance.py reader's."""
     if not looks_like_impedance_py(model):
         return model
-    from ..circuits import from_impedance_py, parse
+    from ..circuits import DEFAULT_REGISTRY, from_impedance_py, parse
     from ..errors import CircuitSyntaxError
 
+    registry = registry or DEFAULT_REGISTRY
     try:
-        parse(model)
+        parse(model, registry)
         return model
     except CircuitSyntaxError:
         if "+" in model or "|" in model:
             raise
-    text = str(from_impedance_py(model))
+    text = str(from_impedance_py(model, registry))
     print(f"impedax {command}: read as impedance.py notation: {text}", file=sys.stderr)
     return text
 
@@ -687,24 +698,25 @@ def _extra_dims(data) -> list[str]:
 LOAD_WARNINGS = ("phase_unit_note",)
 
 
-def _load_noting(path: str, warn: bool = True, select: Sequence[str] | None = None):
-    """`impedax.io.load`, printing the reader's `LOAD_WARNINGS` notes to stderr. A file of
+def _load_noting(path: str, warn: bool = True, select: Sequence[str] | None = None, readers=None):
+    """`impedax.io.load` with ``readers`` (None: the built-in ones; a run's ``args.readers``
+    adds the --plugin files'), printing the reader's `LOAD_WARNINGS` notes to stderr. A file of
     sweeps on different frequency grids (`SweepGridsDiffer`) is read one sweep alone when
     ``select`` names one (`_sweep_alone`), else refused with the reader's message."""
     from ..errors import SweepGridsDiffer
     from ..io import load
 
     try:
-        data = load(path)
+        data = load(path, readers)
     except SweepGridsDiffer as exc:
-        data = _sweep_alone(exc, path, select)
+        data = _sweep_alone(exc, path, select, readers)
     for key in LOAD_WARNINGS if warn else ():
         if key in data.attrs:
             print(f"impedax: warning: {data.attrs.get('path', path)}: {data.attrs[key]}", file=sys.stderr)  # (<stdin> for -)
     return data
 
 
-def _sweep_alone(exc, path: str, select: Sequence[str] | None):
+def _sweep_alone(exc, path: str, select: Sequence[str] | None, readers=None):
     """The one sweep ``--select DIM=LABEL`` names of a file whose sweeps lie on different grids
     (``exc``, a `SweepGridsDiffer`), read alone (`impedax.io.load`'s ``sweep``) and recorded as
     a selection (``source`` ``path [DIM=LABEL]``, ``selection``); ``exc`` itself when no item
@@ -721,17 +733,17 @@ def _sweep_alone(exc, path: str, select: Sequence[str] | None):
             f"--select {item}: {path} holds {len(exc.labels)} {exc.dim}s on different frequency grids, each read alone: "
             f"give one label ({exc.dim}: {', '.join(exc.labels)}), e.g. --select {exc.dim}={exc.labels[0]}"
         )
-    data = load(path, sweep=label)
+    data = load(path, readers, sweep=label)
     shown = f"{exc.dim}={label}"
     data.attrs = {**data.attrs, "selection": shown, "source": f"{path} [{shown}]"}
     return data
 
 
-def load_selected(path: str, select: Sequence[str] | None, *, single: str | None = None, or_else: str = "", warn: bool = True):
-    """The spectra of file ``path`` (`impedax.io.load`), narrowed by ``--select DIM=LABEL``
-    items (`select_spectra`); ``warn`` prints the reader's `LOAD_WARNINGS` notes. Sweeps on
-    different grids are read one alone (`_sweep_alone`)."""
-    return select_spectra(_load_noting(path, warn, select), path, select, single=single, or_else=or_else)
+def load_selected(path: str, select: Sequence[str] | None, *, single: str | None = None, or_else: str = "", warn: bool = True, readers=None):
+    """The spectra of file ``path`` (`impedax.io.load` with ``readers``, None: the built-in
+    ones), narrowed by ``--select DIM=LABEL`` items (`select_spectra`); ``warn`` prints the
+    reader's `LOAD_WARNINGS` notes. Sweeps on different grids are read one alone (`_sweep_alone`)."""
+    return select_spectra(_load_noting(path, warn, select, readers), path, select, single=single, or_else=or_else)
 
 
 def note_unused_sigma(data, command: str, used: bool, option: str) -> None:
@@ -743,12 +755,12 @@ def note_unused_sigma(data, command: str, used: bool, option: str) -> None:
         print(f"impedax {command}: note: the data carry sigma (σ per point), which this run does not use: {option} weighs by it", file=sys.stderr)
 
 
-def load_selected_files(paths: Sequence[str], select: Sequence[str] | None) -> list:
+def load_selected_files(paths: Sequence[str], select: Sequence[str] | None, readers=None) -> list:
     """The spectra of several files (a command of several inputs: ``impedax gap``), each
     narrowed by the ``--select DIM=LABEL`` items whose DIM it has, as a dimension or as the
     value its one spectrum carries (`select_spectra`, `_carried_value`: the same checks and
     messages); a DIM that none of them has is a `ParameterError` naming their dimensions."""
-    datasets = [_load_noting(p, select=select) for p in paths]
+    datasets = [_load_noting(p, select=select, readers=readers) for p in paths]
     items = [(item, _select_item(item)[0]) for item in select or ()]
 
     def has(data, dim: str) -> bool:
@@ -1428,6 +1440,31 @@ OPTION_OF_KEYWORD_BY_COMMAND: dict[str, dict[str, str]] = {
 }
 
 
+# where the circuit parser, the converters and the registry send a user to declare an element
+# of their own (Python's words), and how the command line takes one: a --plugin file
+_PLUGIN_WORDS = {
+    'docs/circuits.md, "Adding an element")': 'docs/circuits.md, "Adding an element"; on the command line: declare it in a Python file and pass --plugin FILE.py)',
+    "an element of your own registry: pass it here too, e.g. circuit.parameter_names(registry), compile_circuit(circuit, registry), fit(..., registry=registry)":
+        "an element of your own: declare it in a Python file and pass --plugin FILE.py, docs/circuits.md",
+}
+_UNKNOWN_SYMBOL = re.compile(r"unknown element symbol '([A-Za-z]+)'")
+
+
+def plugin_words(error: Exception) -> str:
+    """The message of ``error`` with the Python recipe for an element of one's own
+    (`_PLUGIN_WORDS`) in the command line's words, ``--plugin FILE.py``; an unknown element
+    symbol (``Gx1``) gets a last hint line saying so too."""
+    from ..errors import CircuitSyntaxError
+
+    text = str(error)
+    for phrase, words in _PLUGIN_WORDS.items():
+        text = text.replace(phrase, words)
+    found = _UNKNOWN_SYMBOL.match(getattr(error, "reason", "")) if isinstance(error, CircuitSyntaxError) else None
+    if found:
+        text += f"\n  or, if {found.group(1)} is an element of your own: declare it in a Python file and pass --plugin FILE.py (docs/circuits.md)"
+    return text
+
+
 def option_words(command: str, error: Exception) -> str:
     """The message of ``error`` as ``impedax command`` prints it: a Python keyword of
     `OPTION_OF_KEYWORD_BY_COMMAND` that names what the message is about is replaced by the
@@ -1435,8 +1472,9 @@ def option_words(command: str, error: Exception) -> str:
     (``max_rc must be ...`` → ``--max-rc must be ...``, ``fixed: unknown ...``), and a band's
     ends anywhere as ``from fmin = 10 Hz``. Keywords inside a sentence otherwise stay (``use
     noise='proportional'`` names Python's value). A file name that leads a `DataError` (``c:
-    line 3: ...``) is left as it is."""
-    text = str(error)
+    line 3: ...``) is left as it is. An element of one's own is declared with --plugin
+    (`plugin_words`)."""
+    text = plugin_words(error)
     keywords = OPTION_OF_KEYWORD_BY_COMMAND.get(command, {})
     if not keywords:
         return text

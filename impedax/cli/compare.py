@@ -44,11 +44,11 @@ def run(args) -> int:
 
     if len(args.model) < 2:
         raise ParameterError("compare needs at least two --model options")
-    args.model = [impedax_text(m, "compare") for m in args.model]
-    circuits = [parse(m) for m in args.model]  # all syntax errors before any fitting
-    refuse_same_circuits(args.model, circuits)
+    args.model = [impedax_text(m, "compare", args.registry) for m in args.model]
+    circuits = [parse(m, args.registry) for m in args.model]  # all syntax errors before any fitting
+    refuse_same_circuits(args.model, circuits, args.registry)
     given = {"--init": parse_assignments(args.init, "--init"), "--fix": parse_assignments(args.fix, "--fix"), "--bound": parse_bounds(args.bound)}
-    names = [c.parameter_names() for c in circuits]
+    names = [c.parameter_names(args.registry) for c in circuits]
     everywhere = sorted({n for ns in names for n in ns})
     for flag, values in given.items():  # a name no model has is a typo
         for name in values:
@@ -56,10 +56,10 @@ def run(args) -> int:
                 close = closest_name(name, everywhere)
                 raise ParameterError(f"{flag}: no model has a parameter {name!r}" + (f"; did you mean {close}?" if close else "") + f" (parameters: {', '.join(everywhere)})")
     # each model's bounds, checked against its own elements (a name every model has is one element's parameter)
-    bounds = [checked_bound_options({k: v for k, v in given["--bound"].items() if k in ns}, c.parameter_specs(), init=given["--init"], fixed=given["--fix"]) for c, ns in zip(circuits, names)]
+    bounds = [checked_bound_options({k: v for k, v in given["--bound"].items() if k in ns}, c.parameter_specs(args.registry), init=given["--init"], fixed=given["--fix"]) for c, ns in zip(circuits, names)]
     outputs = plan_outputs([("--out", out_path(args.out), "result"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     max_steps = check_max_steps(args.max_steps)
-    data = open_spectrum(exclude_points(load_selected(args.data, args.select), args.exclude)).data
+    data = open_spectrum(exclude_points(load_selected(args.data, args.select, readers=args.readers), args.exclude)).data
     note_unused_sigma(data, "compare", args.weighting == "sigma", "--weighting sigma")
     extra = [d for d in data["Z"].dims if d != "frequency"]
     if extra and math.prod(data.sizes[d] for d in extra) == 1:  # (a list or range that picks one: that spectrum, as before)
@@ -74,7 +74,7 @@ def run(args) -> int:
     try:
         for i, (c, ns, own_bounds) in enumerate(zip(circuits, names, bounds)):
             progress(f"fitting model {i + 1} of {len(circuits)}: {c}" + (f" to {math.prod(data.sizes[d] for d in extra)} spectra" if extra else ""))
-            fits.append(fit(c, data, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, init=own("--init", ns), fixed=own("--fix", ns), bounds=own_bounds or None))
+            fits.append(fit(c, data, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, init=own("--init", ns), fixed=own("--fix", ns), bounds=own_bounds or None, registry=args.registry))
     finally:
         progress.close()
     comparison = compare(fits)
@@ -117,19 +117,20 @@ def out_path(path: str | None) -> str | None:
     return path
 
 
-def refuse_same_circuits(texts, circuits) -> None:
+def refuse_same_circuits(texts, circuits, registry=None) -> None:
     """`ParameterError` (before any fitting) when two ``--model`` give one circuit: the same
     canonical text (``str(parse(m))``), or the same `Circuit.structure_key` under other element names.
     Both would fit alike and split the Akaike weight between them (0.5/0.5)."""
     from ..errors import ParameterError
 
+    key_registry = () if registry is None else (registry,)
     for j in range(len(circuits)):
         for i in range(j):
             a, b = texts[i], texts[j]
             if str(circuits[i]) == str(circuits[j]):
                 same = f"--model {a!r} is given twice" + ("" if a == b else f" (again as {b!r})")
                 raise ParameterError(f"{same}; compare needs different circuits")
-            if circuits[i].structure_key() == circuits[j].structure_key():
+            if circuits[i].structure_key(*key_registry) == circuits[j].structure_key(*key_registry):
                 raise ParameterError(
                     f"--model {a!r} and --model {b!r} are the same circuit (the same elements connected alike, under other names); "
                     "they would fit alike and split the Akaike weight: compare needs different circuits"

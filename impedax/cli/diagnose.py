@@ -62,7 +62,7 @@ def fixed_option(args) -> dict[str, float]:
 
     fixed = parse_assignments(args.fix, "--fix")
     if fixed:
-        check_parameter_names(fixed, parse(args.model).parameter_names(), "--fix", args.model)
+        check_parameter_names(fixed, parse(args.model, args.registry).parameter_names(args.registry), "--fix", args.model, args.registry)
     return fixed
 
 
@@ -77,9 +77,9 @@ def bounds_option(args, fixed: dict[str, float]) -> dict[str, tuple[float, float
     given = parse_bounds(args.bound)
     if not given:
         return {}
-    circuit = parse(args.model)
-    check_parameter_names(given, circuit.parameter_names(), "--bound", args.model)
-    return checked_bound_options(given, circuit.parameter_specs(), fixed=fixed)
+    circuit = parse(args.model, args.registry)
+    check_parameter_names(given, circuit.parameter_names(args.registry), "--bound", args.model, args.registry)
+    return checked_bound_options(given, circuit.parameter_specs(args.registry), fixed=fixed)
 
 
 def run(args) -> int:
@@ -94,10 +94,10 @@ def run(args) -> int:
     effects = effects_option(args.effects)
     fixed = fixed_option(args)
     bounds = bounds_option(args, fixed)
-    data = exclude_points(load_selected(args.data, args.select, single="impedax diagnose"), args.exclude)
+    data = exclude_points(load_selected(args.data, args.select, single="impedax diagnose", readers=args.readers), args.exclude)
     progress = progress_printer()
     try:
-        result = diagnose(data, args.model, effects=effects, noise=noise, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, progress=progress, fixed=fixed or None, bounds=bounds or None)
+        result = diagnose(data, args.model, effects=effects, noise=noise, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, progress=progress, fixed=fixed or None, bounds=bounds or None, registry=args.registry)
     finally:
         progress.close()
     source = data_source(data)

@@ -17,7 +17,7 @@ def run(args) -> int:
     from ..diagram import save_circuit_diagram
     from .common import model_and_values, plan_outputs
 
-    circuit, _, given = model_and_values(args.model, args.param, "--param")
+    circuit, _, given = model_and_values(args.model, args.param, "--param", args.registry)
     outputs = plan_outputs([("--out", args.out, "diagram")])
-    outputs.save({"--out": lambda path: save_circuit_diagram(circuit, path, values=given)})  # (says "wrote FILE" on stderr)
+    outputs.save({"--out": lambda path: save_circuit_diagram(circuit, path, values=given, registry=args.registry)})  # (says "wrote FILE" on stderr)
     return 0

@@ -66,7 +66,7 @@ def run(args) -> int:
     outputs = plan_outputs([("--out", args.out, "drt"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     # a file of several spectra: the DRT of each in one solve (`DRTBatchResult`), or one (--select)
     check_band_options(args.fmin, args.fmax)
-    data = exclude_points(load_selected(args.data, args.select), args.exclude)
+    data = exclude_points(load_selected(args.data, args.select, readers=args.readers), args.exclude)
     if args.fmin is not None or args.fmax is not None:
         from ..fitting.problem import select_band
 

@@ -127,18 +127,18 @@ def run(args) -> int:
     init, fixed = parse_assignments(args.init, "--init"), parse_assignments(args.fix, "--fix")
     # names checked before the data are read, with the command line's hint (`closest_name`:
     # --fix CPE1.a → CPE1.alpha; r1 → R1); bounds are the fit's to check
-    circuit = parse(args.model)
-    names = circuit.parameter_names()
+    circuit = parse(args.model, args.registry)
+    names = circuit.parameter_names(args.registry)
     given_bounds = parse_bounds(args.bound)
     for flag, given in (("--init", init), ("--fix", fixed), ("--bound", given_bounds)):
-        check_parameter_names(given, names, flag, args.model)
-    bounds = checked_bound_options(given_bounds, circuit.parameter_specs(), init=init, fixed=fixed)
+        check_parameter_names(given, names, flag, args.model, args.registry)
+    bounds = checked_bound_options(given_bounds, circuit.parameter_specs(args.registry), init=init, fixed=fixed)
     plot_params = args.plot_params
     if plot_params is not None:
         if not args.plot:
             raise ParameterError("--plot-params picks the parameters of the figure --plot FILE.png draws: give --plot too")
-        check_parameter_names(plot_params, names, "--plot-params", args.model)
-    data = exclude_points(load_selected(args.data, args.select), args.exclude)
+        check_parameter_names(plot_params, names, "--plot-params", args.model, args.registry)
+    data = exclude_points(load_selected(args.data, args.select, readers=args.readers), args.exclude)
     note_unused_sigma(data, "fit", args.weighting == "sigma", "--weighting sigma")
     progress = progress_printer()  # (a batch of 3 cycles took 15 s without a word, 28 s on a first run)
     n_spectra = int(data["Z"].size // max(data.sizes.get("frequency", 1), 1))
@@ -147,7 +147,7 @@ def run(args) -> int:
     if plot_params is not None and n_spectra == 1:
         raise ParameterError(f"--plot-params picks the parameter panels of a figure of several spectra, and {args.data} holds one (its figure is data against model, no parameter panels): leave --plot-params out")
     try:  # (fit says its stages: the first line, then a batch's start search, local fits, statistics)
-        result = fit(args.model, data, init=init, fixed=fixed, bounds=bounds or None, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, progress=progress, **sharing)
+        result = fit(args.model, data, init=init, fixed=fixed, bounds=bounds or None, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, progress=progress, registry=args.registry, **sharing)
     finally:
         progress.close()
     source = data_source(data)

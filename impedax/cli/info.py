@@ -13,14 +13,15 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from .. import DEFAULT_REGISTRY, parse
+    from .. import parse
     from ..data import column_width, unit_text
     from .common import emit_json
 
-    circuit = parse(args.model)
+    registry = args.registry  # (the default one with the --plugin files' elements)
+    circuit = parse(args.model, registry)
     rows = []
     for e in circuit.elements():
-        spec = DEFAULT_REGISTRY[e.symbol]
+        spec = registry[e.symbol]
         for p in spec.parameters:
             rows.append({
                 "name": p.full_name(e.name), "element": e.name, "element_kind": spec.name,
@@ -33,6 +34,6 @@ def run(args) -> int:
     print(f"model: {circuit}")
     width = column_width((r["name"] for r in rows), "parameter")
     print(f"{'parameter':<{width}}  {'unit':<14} {'default':>10}  bounds          description")
-    for r, p in zip(rows, (p for e in circuit.elements() for p in DEFAULT_REGISTRY[e.symbol].parameters)):
+    for r, p in zip(rows, (p for e in circuit.elements() for p in registry[e.symbol].parameters)):
         print(f"{r['name']:<{width}}  {unit_text(r['unit']):<14} {r['default']:>10.4g}  {p.bounds_text():<15} {r['element_kind']}: {r['description']}")
     return 0

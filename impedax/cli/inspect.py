@@ -32,7 +32,7 @@ def run(args) -> int:
     from .common import Output, command_provenance, data_source, dimension_labels, emit_json, figure_options, figure_writer, labels_text, load_selected, plan_outputs, spectrum_writer, with_source
 
     outputs = plan_outputs([("--out", args.out, "spectrum"), ("--plot", args.plot, "figure")], inputs=[args.file], stdout="--json" if args.json else None)
-    ds = load_selected(args.file, args.select, warn=False)  # (its report shows the notes)
+    ds = load_selected(args.file, args.select, warn=False, readers=args.readers)  # (its report shows the notes)
     extra = [d for d in ds["Z"].dims if d != "frequency"]
     if args.out and extra and Output("--out", args.out, "spectrum").suffix().lower() not in NETCDF_SUFFIXES:
         n = " × ".join(str(ds.sizes[d]) for d in extra)

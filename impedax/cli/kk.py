@@ -47,7 +47,7 @@ def run(args) -> int:
     # a file of several spectra: every one tested (one table row each), as `fit` fits them
     # all; Z-HIT and the plot take one (--select)
     single = "impedax kk --method zhit" if args.method == "zhit" else "impedax kk --plot" if args.plot else None
-    data = exclude_points(load_selected(args.data, args.select, single=single), args.exclude)
+    data = exclude_points(load_selected(args.data, args.select, single=single, readers=args.readers), args.exclude)
     if args.fmin is not None or args.fmax is not None:
         from ..fitting.problem import select_band
 

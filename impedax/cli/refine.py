@@ -41,12 +41,12 @@ def run(args) -> int:
     effects = effects_option(args.effects)
     fixed = fixed_option(args)
     bounds = bounds_option(args, fixed)
-    data = exclude_points(load_selected(args.data, args.select, single="impedax refine"), args.exclude)
+    data = exclude_points(load_selected(args.data, args.select, single="impedax refine", readers=args.readers), args.exclude)
     progress = progress_printer()
     try:
         result = refine(
             data, args.model, max_effects=args.max_effects, max_steps=solver_steps, effects=effects, weighting=args.weighting, noise=noise,
-            fmin=args.fmin, fmax=args.fmax, progress=progress, fixed=fixed or None, bounds=bounds or None,
+            fmin=args.fmin, fmax=args.fmax, progress=progress, fixed=fixed or None, bounds=bounds or None, registry=args.registry,
         )
     finally:
         progress.close()

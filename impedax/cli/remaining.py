@@ -47,7 +47,7 @@ def run(args) -> int:
     if args.trials and (out is None or Path(out).suffix.lower() != ".nc"):
         raise ParameterError(f"--trials writes one spectrum per total trial, which only netCDF holds: give --out FILE.nc (got {'standard output' if out is None else out})")
     outputs = plan_outputs([("--out", out, "spectrum")], inputs=[args.total, args.skin, args.touchscreen])
-    total, skin, touchscreen = load_selected_files([args.total, args.skin, args.touchscreen], args.select)
+    total, skin, touchscreen = load_selected_files([args.total, args.skin, args.touchscreen], args.select, args.readers)
     paths = {"total": args.total, "skin": args.skin, "touchscreen": args.touchscreen}
     check_distinct_paths(paths)
     remaining, notes = gap_remainder(total, skin, touchscreen, kind="trials" if args.trials else "mean")

@@ -74,7 +74,7 @@ def noise_model_option(text: str) -> str:
     )
 
 
-def check_sample_size(circuit, walkers, steps, priors) -> None:
+def check_sample_size(circuit, walkers, steps, priors, registry=None) -> None:
     """Refuse, before any work, a run whose chain would not fit in memory (`check_memory`;
     ``--steps auto``: a chain as long as its cap)."""
     from ..errors import ParameterError
@@ -85,7 +85,7 @@ def check_sample_size(circuit, walkers, steps, priors) -> None:
         raise ParameterError(f"--steps must be at least 1, got {steps}")
     if walkers is not None and walkers < 2:
         raise ParameterError(f"--walkers must be at least 2 (an even number, at least 2 × the sampled parameters), got {walkers}")
-    dims = len(circuit.parameter_names()) + 2  # + the noise parameter, + the log-probability
+    dims = len(circuit.parameter_names(*(() if registry is None else (registry,)))) + 2  # + the noise parameter, + the log-probability
     chain_walkers = walkers if walkers is not None else max(64, 4 * dims)
     length = auto_step_cap(chain_walkers, dims - 1) if steps == "auto" else steps
     what = f"a chain of up to {length} steps (--steps auto) × {chain_walkers} walkers" if steps == "auto" else f"a chain of {steps} steps × {chain_walkers} walkers"
@@ -116,7 +116,7 @@ def run(args) -> int:
     from .common import check_parameter_names, checked_bound_options, command_provenance, data_source, figure_options, figure_writer, load_selected, note_unused_sigma, parse_assignments, parse_bounds, plan_outputs, print_result, result_writer
     from .fit import check_max_steps, shared_arguments
 
-    circuit = parse(args.model)  # syntax errors before anything else
+    circuit = parse(args.model, args.registry)  # syntax errors before anything else
     sharing = shared_arguments(args)
     if sharing and args.plot:
         raise ParameterError("--plot is not available with --shared (the joint posterior has no band figure yet); use --corner FILE.png or --out FILE.nc")
@@ -134,27 +134,27 @@ def run(args) -> int:
         [("--out", args.out, "result"), ("--corner", args.corner, "figure"), ("--plot", args.plot, "figure")],
         inputs=[args.data], stdout="--json" if args.json else None,
     )
-    check_sample_size(circuit, args.walkers, args.steps, priors)
+    check_sample_size(circuit, args.walkers, args.steps, priors, args.registry)
     init, fixed = parse_assignments(args.init, "--init"), parse_assignments(args.fix, "--fix")
     given_bounds = parse_bounds(args.bound)
     for flag, given in (("--init", init), ("--fix", fixed), ("--bound", given_bounds)):
-        check_parameter_names(given, circuit.parameter_names(), flag, args.model)
-    bounds = checked_bound_options(given_bounds, circuit.parameter_specs(), init=init, fixed=fixed)
+        check_parameter_names(given, circuit.parameter_names(args.registry), flag, args.model, args.registry)
+    bounds = checked_bound_options(given_bounds, circuit.parameter_specs(args.registry), init=init, fixed=fixed)
     if sharing and (init or args.max_steps is not None):
         raise ParameterError("--init and --max-steps are not available with --shared (the joint posterior starts from its own global fit); --fix is available")
     if sharing and bounds:
         raise ParameterError("--bound is not available with --shared (the joint posterior samples within the elements' own bounds); --fix is available")
     max_steps = check_max_steps(args.max_steps) if args.max_steps is not None else None
-    data = load_selected(args.data, args.select, single=None if sharing else "sample",
+    data = load_selected(args.data, args.select, single=None if sharing else "sample", readers=args.readers,
                          or_else="or sample them jointly with --shared NAMES (parameters one value for all, the others one per spectrum)")
     note_unused_sigma(data, "sample", str(args.noise) == "sigma", "--noise sigma")
     start = None
     if init or max_steps is not None:  # the least-squares start, as `sample` runs it, from the given values or step limit
-        start = fit(circuit, data, init=init, fixed=fixed or None, bounds=bounds or None, weighting=start_weighting(args.noise), fmin=args.fmin, fmax=args.fmax,
+        start = fit(circuit, data, init=init, fixed=fixed or None, bounds=bounds or None, weighting=start_weighting(args.noise), fmin=args.fmin, fmax=args.fmax, registry=args.registry,
                     **({"max_steps": max_steps} if max_steps is not None else {}))
     posterior = sample(
         circuit, data, priors=priors, noise=args.noise, walkers=args.walkers, steps=args.steps, burn=args.burn, thin=args.thin,
-        seed=args.seed, fmin=args.fmin, fmax=args.fmax, progress=not (args.quiet or args.json), init=start, fixed=fixed or None, bounds=bounds or None, **sharing,
+        seed=args.seed, fmin=args.fmin, fmax=args.fmax, progress=not (args.quiet or args.json), init=start, fixed=fixed or None, bounds=bounds or None, registry=args.registry, **sharing,
     )
     source = data_source(data)
     # what the run settled itself (--steps auto, the default burn-in and walkers), beside the options as given

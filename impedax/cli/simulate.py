@@ -31,14 +31,14 @@ def run(args) -> int:
     from ..errors import ParameterError
     from ..io import write_csv
 
-    circuit, specs, given = model_and_values(args.model, args.param, "--param")
+    circuit, specs, given = model_and_values(args.model, args.param, "--param", args.registry)
     outputs = plan_outputs([("--out", args.out, "spectrum"), ("--plot", args.plot, "figure")])
     points = check_points(args.points, args.fmin, args.fmax, default=61)
     check_memory("--points", points * POINT_BYTES, f"a spectrum of {points} frequencies")
-    params = {**circuit.defaults(), **given}
+    params = {**circuit.defaults(args.registry), **given}
     defaulted = [n for n in specs if n not in given]
     freq = log_frequencies(args.fmin, args.fmax, points)
-    z = np.asarray(compile_circuit(circuit)(params, freq))
+    z = np.asarray(compile_circuit(circuit, args.registry)(params, freq))
     bad = np.flatnonzero(~np.isfinite(z))
     if bad.size:
         raise ParameterError(f"the model's impedance is not finite (overflow) at {freq[bad[0]]:g} Hz and {bad.size - 1} other frequencies; check the parameter values ({', '.join(f'{n}={params[n]:g}' for n in specs)})")

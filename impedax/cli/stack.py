@@ -33,7 +33,7 @@ def run(args) -> int:
     if Path(args.out).suffix.lower() not in NETCDF_SUFFIXES:
         raise DataError(f"--out: a stack of spectra is written as netCDF: give a {', '.join(NETCDF_SUFFIXES)} name (a CSV file holds one spectrum)", path=args.out)
     outputs = plan_outputs([("--out", args.out, "spectrum")], inputs=args.files)
-    stacked = stack_files(args.files, dim=args.dim, coords=args.coords)
+    stacked = stack_files(args.files, dim=args.dim, coords=args.coords, readers=args.readers)
     record = command_provenance(args, source=data_source(stacked), data_files=args.files)
     outputs.save({"--out": spectrum_writer(lambda: stacked, record)})
     labels = stacked[args.dim].values.tolist()

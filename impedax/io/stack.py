@@ -22,7 +22,7 @@ from .table import SWEEP_RTOL
 __all__ = ["stack_files", "stack_labels"]
 
 
-def stack_files(paths: Sequence[str | os.PathLike], dim: str = "file", coords: Sequence | None = None) -> xr.Dataset:
+def stack_files(paths: Sequence[str | os.PathLike], dim: str = "file", coords: Sequence | None = None, *, readers: Sequence | None = None) -> xr.Dataset:
     """The spectra of ``paths`` (each read by `impedax.load`, each holding one spectrum) as one
     spectrum Dataset with Z over (``dim``, frequency), in the order given.
 
@@ -36,6 +36,7 @@ def stack_files(paths: Sequence[str | os.PathLike], dim: str = "file", coords: S
     each file's in ``attrs["columns_by_file"]`` (file path → record).
     Raises `ParameterError` for bad ``dim``/``coords`` and `DataError` naming the file that cannot
     join (missing, unreadable, several spectra, another grid, sigma in some files only).
+    ``readers``: as `impedax.load`'s (None: the built-in ones).
     """
     if isinstance(paths, (str, bytes, os.PathLike)):
         raise ParameterError(f"paths must be a list of files, got the single {shown(str(paths))}: give [path] for one file")
@@ -50,7 +51,7 @@ def stack_files(paths: Sequence[str | os.PathLike], dim: str = "file", coords: S
     if dim == "frequency":
         raise ParameterError("dim: 'frequency' is every spectrum's own dimension; name the new one otherwise, e.g. 'day'")
     labels = stack_labels([Path(str(p)).stem for p in paths] if coords is None else coords, len(paths), given=coords is not None)
-    spectra = [_one_spectrum(path, dim) for path in paths]
+    spectra = [_one_spectrum(path, dim, readers) for path in paths]
     first, first_path = spectra[0], str(paths[0])
     f0 = first["frequency"].values
     order0 = np.argsort(f0)
@@ -120,9 +121,9 @@ def _number(value) -> float | None:
     return number if math.isfinite(number) else None
 
 
-def _one_spectrum(path, dim: str) -> xr.Dataset:
+def _one_spectrum(path, dim: str, readers=None) -> xr.Dataset:
     """The one spectrum of file ``path``; a file of several is a `DataError` naming it."""
-    ds = load(path)
+    ds = load(path, readers)
     extra = [d for d in ds["Z"].dims if d != "frequency"]
     if extra:
         held = " × ".join(str(ds.sizes[d]) for d in extra)

@@ -1,0 +1,258 @@
+"""``--plugin FILE.py`` (and ``$IMPEDAX_PLUGINS``): a user's own element and reader on the command
+line (walkthrough 2026-12-01, item 3: neither could be used from ``impedax`` at all, while the
+hint for impedance.py's Gs sent the user to a Python-only ElementSpec).
+
+The plugin, written here as a user would, declares a Gerischer-like element ``Gx``,
+Z = R/√(1 + jωτ), and a reader of a made-up ``.lab`` text format (kHz, |Z| and phase in degrees,
+one ``key=value`` line per point) that the delimited-text fallback cannot read. Every spectrum
+is SYNTHETIC: a numpy formula with seeded noise."""
+
+from __future__ import annotations
+
+import json
+import os
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from impedax.cli import _first_word, main
+from impedax.cli.common import fit_command
+
+FREQ = np.geomspace(0.1, 1e5, 40)  # Hz
+R0_TRUE, GX_R_TRUE, GX_TAU_TRUE = 12.0, 250.0, 2e-3  # Ω, Ω, s
+NOISE = 0.003  # relative, per component
+
+PLUGIN = '''\
+"""My lab's element and file format (a user's plugin)."""
+import jax.numpy as jnp
+import numpy as np
+
+import impedax as ix
+from impedax.io import Reader, register_reader
+
+
+def gx_impedance(omega, r, tau):
+    """Gerischer-like: Z = R / sqrt(1 + j omega tau)."""
+    return r / jnp.sqrt(1 + 1j * omega * tau)
+
+
+GX = ix.ElementSpec(
+    "Gx", "Gerischer-like", "Z = R/sqrt(1 + jωτ)",
+    (ix.ParameterSpec("R", "Ohm", 100.0, description="DC resistance"), ix.ParameterSpec("tau", "s", 1e-3, description="time constant")),
+    gx_impedance, impedance_py="Gxp",
+)
+
+
+def sniff_lab(path, head):
+    return None if head.startswith(b"LABFMT 1") else "no 'LABFMT 1' first line"
+
+
+def read_lab(path):
+    values = []
+    for number, line in enumerate(open(path), start=1):
+        if number == 1 or not line.strip():
+            continue
+        fields = dict(item.split("=") for item in line.split())
+        values.append((float(fields["f_kHz"]) * 1e3, float(fields["mag"]), float(fields["phase_deg"])))
+    f, mag, phase = np.array(values).T
+    return ix.make_spectrum(f, mag * np.exp(1j * np.deg2rad(phase)), attrs={"format": "LAB text"})
+
+
+LAB_READERS = register_reader(Reader("LAB text", (".lab",), sniff_lab, read_lab))
+'''
+
+
+def gx_model(freq, r0, r, tau):
+    """R0 + Gx: Z = R0 + R/√(1 + jωτ), ω = 2πf (written apart from the plugin's formula)."""
+    return r0 + r * (1 + 2j * np.pi * freq * tau) ** -0.5
+
+
+def write_lab(path, seed=3):
+    """SYNTHETIC: R0 + Gx with 0.3 % relative Gaussian noise per component, in the '.lab' layout."""
+    rng = np.random.default_rng(seed)
+    z = gx_model(FREQ, R0_TRUE, GX_R_TRUE, GX_TAU_TRUE)
+    z = z + NOISE * np.abs(z) * (rng.normal(size=FREQ.size) + 1j * rng.normal(size=FREQ.size))
+    lines = [f"f_kHz={float(f) / 1e3!r} mag={float(abs(v))!r} phase_deg={float(np.degrees(np.angle(v)))!r}" for f, v in zip(FREQ, z)]
+    path.write_text("LABFMT 1\n" + "\n".join(lines) + "\n")
+    return z
+
+
+@pytest.fixture
+def lab(tmp_path):
+    """(plugin path, SYNTHETIC .lab path) in tmp_path."""
+    plugin = tmp_path / "mylab.py"
+    plugin.write_text(PLUGIN, encoding="utf-8")
+    data = tmp_path / "run1.lab"
+    write_lab(data)
+    return plugin, data
+
+
+def run(argv, capsys):
+    try:
+        code = main([str(a) for a in argv])
+    except SystemExit as exc:  # argparse's own errors
+        code = exc.code
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def values(params: dict) -> dict[str, float]:
+    return {name: p["value"] for name, p in params.items()}
+
+
+def test_fit_recovers_the_user_element_from_a_file_only_the_user_reader_reads(lab, capsys):
+    plugin, data = lab
+    code, out, err = run(["fit", data, "--model", "R0 + Gx1", "--plugin", plugin, "--json"], capsys)
+    assert code == 0, err
+    summary = json.loads(out)
+    fitted = values(summary["params"])
+    assert fitted["R0"] == pytest.approx(R0_TRUE, rel=0.02)
+    assert fitted["Gx1.R"] == pytest.approx(GX_R_TRUE, rel=0.01)
+    assert fitted["Gx1.tau"] == pytest.approx(GX_TAU_TRUE, rel=0.02)
+    assert summary["rms_rel"] < 2 * NOISE  # at the noise: the plugin's formula, not another one
+    assert summary["provenance"]["settings"]["plugin"] == [os.path.abspath(plugin)]  # (added key: what the run used)
+    # without the plugin, the file is no spectrum impedax knows
+    code, _, err = run(["inspect", data], capsys)
+    assert code == 2 and "run1.lab" in err
+
+
+def test_the_program_option_and_the_environment_variable_load_it_too(lab, capsys, monkeypatch):
+    plugin, data = lab
+    code, out, err = run(["--plugin", plugin, "inspect", data, "--json"], capsys)  # (before the command)
+    assert code == 0, err
+    shown = json.loads(out)
+    assert shown["format"] == "LAB text" and shown["points"] == FREQ.size
+    assert shown["frequency_min_hz"] == pytest.approx(0.1) and shown["frequency_max_hz"] == pytest.approx(1e5)
+    monkeypatch.setenv("IMPEDAX_PLUGINS", os.pathsep.join(["", str(plugin)]))  # (an empty entry is skipped)
+    code, out, err = run(["inspect", data, "--json"], capsys)
+    assert code == 0, err
+    assert json.loads(out)["format"] == "LAB text"
+    # the same file from the variable and the option: read once (else 'Gx' would be declared twice)
+    code, out, err = run(["info", "Gx1", "--plugin", plugin, "--json"], capsys)
+    assert code == 0, err
+    rows = json.loads(out)["parameters"]
+    assert [(r["name"], r["unit"], r["default"]) for r in rows] == [("Gx1.R", "Ohm", 100.0), ("Gx1.tau", "s", 1e-3)]
+
+
+def test_simulate_evaluates_the_user_formula(lab, capsys):
+    plugin, _ = lab
+    code, out, err = run(["simulate", "R0 + Gx1", "--plugin", plugin, "--param", "R0=5", "Gx1.R=1k", "Gx1.tau=1m", "--fmin", "1", "--fmax", "100k", "--points", "6"], capsys)
+    assert code == 0, err
+    rows = np.array([[float(v) for v in line.split(",")] for line in out.strip().splitlines()[1:]])
+    expected = gx_model(rows[:, 0], 5.0, 1e3, 1e-3)
+    np.testing.assert_allclose(rows[:, 1] + 1j * rows[:, 2], expected, rtol=1e-12)
+
+
+def test_compare_ranks_the_user_element_first_in_either_notation(lab, capsys):
+    plugin, data = lab
+    # R0-Gxp1: impedance.py's notation with the plugin's impedance_py symbol
+    code, out, err = run(["compare", data, "--model", "R0-Gxp1", "--model", "R0 + R1 || C1", "--plugin", plugin, "--json"], capsys)
+    assert code == 0, err
+    assert "read as impedance.py notation: R0 + Gx1" in err
+    summary = json.loads(out)
+    assert summary["best"] == "R0 + Gx1"
+    best = next(m for m in summary["models"] if m["model"] == "R0 + Gx1")
+    assert values(best["params"])["Gx1.tau"] == pytest.approx(GX_TAU_TRUE, rel=0.02)
+
+
+def test_a_saved_fit_of_the_user_element_is_read_back_with_the_same_plugin(lab, tmp_path, capsys):
+    plugin, data = lab
+    saved = tmp_path / "fit.nc"
+    code, _, err = run(["fit", data, "--model", "R0 + Gx1", "--plugin", plugin, "--out", saved], capsys)
+    assert code == 0, err
+    code, out, err = run(["inspect", saved, "--plugin", plugin, "--json"], capsys)
+    assert code == 0, err
+    shown = json.loads(out)
+    assert shown["result_kind"] == "fit" and shown["attrs"]["model"] == "R0 + Gx1"  # (the element by its symbol: its formula is the plugin's)
+    assert json.loads(shown["attrs"]["provenance"])["settings"]["plugin"] == [os.path.abspath(plugin)]
+    # its data refitted, the model named as the file records it
+    code, out, err = run(["fit", saved, "--model", shown["attrs"]["model"], "--plugin", plugin, "--json"], capsys)
+    assert code == 0, err
+    assert values(json.loads(out)["params"])["Gx1.R"] == pytest.approx(GX_R_TRUE, rel=0.01)
+
+
+def test_without_the_plugin_the_hints_name_it(capsys):
+    code, _, err = run(["fit", "no.csv", "--model", "R0 + Gx1"], capsys)
+    assert code == 2
+    assert "if Gx is an element of your own: declare it in a Python file and pass --plugin FILE.py" in err
+    code, _, err = run(["info", "R0-Gs1"], capsys)
+    assert code == 2
+    assert "ElementSpec(..., impedance_py='Gs')" in err and "--plugin FILE.py" in err
+
+
+BAD_PLUGINS = {
+    "syntax": ("import impedax\n\nx = (1,\n", "bad.py, line 3: syntax error"),
+    "raises": ("import impedax\n\n\nraise RuntimeError('no licence file')\n", "bad.py, line 4: executing it raised RuntimeError: no licence file"),
+    "bad spec": (
+        "import impedax as ix\nX = ix.ElementSpec('gx', 'lower', 'Z = R', (ix.ParameterSpec('R', 'Ohm', 1.0),), lambda w, r: r)\n",
+        "bad.py, line 2: executing it raised CircuitError: element symbol 'gx' must be a capital letter",
+    ),
+    "built-in symbol": (
+        "import impedax as ix\nX = ix.ElementSpec('G', 'mine', 'Z = R', (ix.ParameterSpec('R', 'Ohm', 1.0),), lambda w, r: r + 0 * w)\n",
+        "bad.py: element symbol 'G' of element 'mine' is impedax's built-in Gerischer: choose another",
+    ),
+    "declares nothing": ("TOLERANCE = 1e-3\n", "bad.py: declares no ElementSpec and no impedax.io.Reader"),
+}
+
+
+@pytest.mark.parametrize("source, message", BAD_PLUGINS.values(), ids=BAD_PLUGINS.keys())
+def test_a_bad_plugin_is_one_message_naming_the_file_and_exit_2(source, message, tmp_path, capsys):
+    bad = tmp_path / "bad.py"
+    bad.write_text(source)
+    code, out, err = run(["info", "R0", "--plugin", bad], capsys)
+    assert code == 2 and out == ""
+    assert f"impedax info: error: --plugin {bad}" in err and message in err
+    assert "Traceback" not in err and len(err.strip().splitlines()) == 1
+
+
+def test_a_missing_plugin_and_a_symbol_in_two_plugins_are_refused(lab, tmp_path, capsys):
+    plugin, _ = lab
+    code, _, err = run(["--plugin", tmp_path / "nothere.py", "info", "R0"], capsys)
+    assert code == 2 and f"--plugin {tmp_path / 'nothere.py'}: no such file" in err
+    other = tmp_path / "other.py"
+    other.write_text("import impedax as ix\nELEMENTS = [ix.ElementSpec('Gx', 'another Gx', 'Z = R', (ix.ParameterSpec('R', 'Ohm', 1.0),), lambda w, r: r + 0 * w)]\n")
+    code, _, err = run(["info", "R0", "--plugin", plugin, "--plugin", other], capsys)
+    assert code == 2 and f"--plugin {other}: element symbol 'Gx' of element 'another Gx' is declared in {plugin} too (Gerischer-like)" in err
+
+
+def test_the_command_is_found_after_the_program_option_and_fit_advice_carries_it():
+    assert _first_word(["--plugin", "fit.py", "fit", "data.lab"]) == "fit"
+    args = SimpleNamespace(data="run 1.lab", weighting="modulus", plugin=["my lab.py"])
+    assert fit_command(args) == "impedax fit 'run 1.lab' --plugin 'my lab.py'"
+
+
+@pytest.mark.slow  # (about 10 s: a diagnosis fits candidates of every effect)
+def test_diagnose_finds_the_user_model_adequate(lab, capsys):
+    plugin, data = lab
+    code, out, err = run(["diagnose", data, "--model", "R0 + Gx1", "--plugin", plugin, "--json"], capsys)
+    assert code == 0, err
+    summary = json.loads(out)
+    assert summary["verdict"] == "adequate"
+
+
+def test_a_user_reader_that_fails_is_one_message_naming_the_data_file_and_the_plugin(lab, tmp_path, capsys):
+    plugin, _ = lab
+    broken = tmp_path / "broken.lab"
+    broken.write_text("LABFMT 1\nf_kHz=1 mag=oops phase_deg=-10\n")  # (a bad number: the plugin's float() raises)
+    code, out, err = run(["inspect", broken, "--plugin", plugin], capsys)
+    assert code == 2 and out == ""
+    line = next(i for i, text in enumerate(PLUGIN.splitlines(), start=1) if "values.append(" in text)
+    assert f"{broken}: the reader 'LAB text' of --plugin {plugin} (line {line}) raised ValueError: could not convert string to float: 'oops'" in err
+    assert "Traceback" not in err
+
+
+def test_stack_joins_files_only_the_user_reader_reads(lab, tmp_path, capsys):
+    plugin, first = lab
+    second = tmp_path / "run2.lab"
+    z2 = write_lab(second, seed=4)
+    out = tmp_path / "both.nc"
+    code, _, err = run(["stack", first, second, "--out", out, "--plugin", plugin], capsys)
+    assert code == 0, err
+    code, printed, err = run(["inspect", out, "--json"], capsys)  # (netCDF: no plugin needed to read it back)
+    assert code == 0, err
+    assert json.loads(printed)["dims"] == {"file": 2, "frequency": FREQ.size}
+    import impedax as ix
+
+    stacked = ix.load(out)
+    np.testing.assert_allclose(stacked["Z"].sel(file="run2").values, z2, rtol=1e-12)
