@@ -31,14 +31,17 @@ class CircuitSyntaxError(ImpedaxError, ValueError):
     The message shows the source around the offending column (at most `SOURCE_WINDOW`
     characters, control and formatting characters escaped so a terminal shows them as text),
     a caret under the column, what was expected and, when one exists, a hint
-    (``did you mean C_sc?``). ``source`` and ``column`` keep the whole text and the offset.
+    (``did you mean C_sc?``). ``source`` and ``column`` keep the whole text and the offset;
+    ``unknown_symbol``: the element symbol the registry lacks, when that is the error (a user's
+    element read without its registry).
     """
 
-    def __init__(self, source: str, column: int, message: str, hint: str | None = None):
+    def __init__(self, source: str, column: int, message: str, hint: str | None = None, *, unknown_symbol: str | None = None):
         self.source = source
         self.column = column  # 0-based offset into `source`
         self.reason = message
         self.hint = hint
+        self.unknown_symbol = unknown_symbol
         shown, caret = source_window(source, column)
         text = f"{escape_text(message)} at column {column + 1}\n  {shown}\n  {' ' * caret}^"
         if hint:

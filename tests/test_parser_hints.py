@@ -107,7 +107,7 @@ def test_digit_after_a_whole_element_name_keeps_the_generic_message():
         ("R0 + Zarc", 5, "unknown element 'Zarc'", "impedance.py's Zarc is impedax's CC: e.g. CC1"),
         ("R0 + La1", 5, "unknown element symbol 'La' in 'La1'", "impedance.py's La has no built-in impedax element: register one with impedance_py='La' (docs/circuits.md, \"Adding an element\")"),
         ("R0 + TLMQ2", 5, "unknown element symbol 'TLMQ' in 'TLMQ2'", "impedance.py's TLMQ has no built-in impedax element: register one with impedance_py='TLMQ' (docs/circuits.md, \"Adding an element\")"),
-        ("R0 + X1", 5, "unknown element symbol 'X' in 'X1'", "known symbols: C, CC, CPE, G, HN, L, Q, R, W, Wo, Ws"),
+        ("R0 + X1", 5, "unknown element symbol 'X' in 'X1'", "if X is an element of your own, pass the registry that declares it (registry= in Python); known symbols: C, CC, CPE, G, HN, L, Q, R, W, Wo, Ws"),
         # lower-case names: the right spelling (2026-12-01)
         ("zarc1", 0, "unknown element symbol 'zarc' in 'zarc1'", "symbols are case-sensitive, and impedance.py's Zarc is impedax's CC: CC1"),
         ("R0 + zarc_skin", 5, "unknown element symbol 'zarc' in 'zarc_skin'", "symbols are case-sensitive, and impedance.py's Zarc is impedax's CC: CC_skin"),

@@ -132,7 +132,7 @@ def test_conversion_refuses_it_by_name_unless_it_declares_a_symbol():
     circuit = ix.parse("R1 + Lk1 || C1", named)
     assert circuit.to_cdc(named) == "R(KC)" and ix.from_cdc("R(KC)", named) == circuit
     assert circuit.to_impedance_py(named) == "R1-p(Lk1,C1)" and ix.from_impedance_py("R1-p(Lk1,C1)", named) == circuit
-    with pytest.raises(ix.CircuitError, match="CDC letter 'R' is declared twice"):
+    with pytest.raises(ix.CircuitError, match="element Lk: CDC letter 'R' is already taken by the built-in resistor element \\(R: Z = R\\); choose another CDC letter"):
         ix.DEFAULT_REGISTRY.register(dataclasses.replace(LEAKY, cdc="R"))
 
 

@@ -9,8 +9,9 @@ the elements' own derivatives. The other compiled forms build on the node functi
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field
-from typing import Callable, Mapping
+from typing import Callable, Iterable, Mapping
 
 import jax
 import jax.numpy as jnp
@@ -21,10 +22,14 @@ from ..data import checked_frequencies
 from ..errors import CircuitError, ParameterError
 from .elements import DEFAULT_REGISTRY
 from .parser import parse
-from .spec import Registry
+from .spec import ElementSpec, Registry
 from .tree import Circuit, Element, Parallel
 
-__all__ = ["CompiledCircuit", "compile_circuit", "check_element_names", "checked_parameters", "node_function"]
+__all__ = ["CompiledCircuit", "compile_circuit", "check_element_names", "check_user_elements", "checked_parameters", "node_function"]
+
+# frequencies a user's element is traced at once (`check_user_elements`): a sweep's usual length
+TRIAL_FREQUENCIES = 30
+BUILT_IN_SPECS = frozenset(DEFAULT_REGISTRY.specs)
 
 
 def check_element_names(circuit: Circuit, registry: Registry) -> None:
@@ -35,6 +40,46 @@ def check_element_names(circuit: Circuit, registry: Registry) -> None:
         if e.name in seen:
             raise CircuitError(f"duplicate element name {e.name!r} in {circuit}")
         seen.add(e.name)
+
+
+def check_user_elements(specs: Iterable[ElementSpec]) -> None:
+    """Raise `CircuitError` naming the element when a user's formula (a spec not built in)
+    cannot run as the solvers run it: traced by JAX with ω of shape (F,) and scalar
+    parameters, returning an array that broadcasts to (F,). Each spec is traced once per
+    session (cached): a formula written with NumPy, ``float()`` or a Python ``if`` on a
+    parameter failed deep in a solver, and a wrong shape as an ``add`` of (30,) and (3,)."""
+    for spec in specs:
+        if spec not in BUILT_IN_SPECS:
+            _check_user_element(spec)
+
+
+@functools.lru_cache(maxsize=None)
+def _check_user_element(spec: ElementSpec) -> None:
+    omega = jax.ShapeDtypeStruct((TRIAL_FREQUENCIES,), jnp.float64)
+    scalars = [jax.ShapeDtypeStruct((), jnp.float64)] * len(spec.parameters)
+    for form, formula in (("impedance", spec.impedance), ("admittance", spec.admittance)):
+        if formula is None:
+            continue
+        try:
+            out = jax.eval_shape(formula, omega, *scalars)
+        except Exception as exc:  # (whatever a user's formula raises when traced)
+            reason = (str(exc).strip().splitlines() or [""])[0][:MAX_MESSAGE // 2]
+            raise CircuitError(
+                f"element {spec.symbol}: its {form} function failed under JAX ({type(exc).__name__}: {reason}); "
+                "write it with jax.numpy (jnp) rather than numpy or math, and with jnp.where rather than a Python if or float() on its arguments"
+            ) from None
+        shape = getattr(out, "shape", None)
+        if not isinstance(out, jax.ShapeDtypeStruct) or not np.issubdtype(out.dtype, np.number):
+            raise CircuitError(f"element {spec.symbol}: its {form} function returns {type(out).__name__}, not an array of numbers")
+        try:
+            fits = np.broadcast_shapes(shape, omega.shape) == omega.shape
+        except ValueError:
+            fits = False
+        if not fits:
+            raise CircuitError(
+                f"element {spec.symbol}: its {form} function returns shape {shape} for {TRIAL_FREQUENCIES} frequencies; "
+                f"it must return one value per frequency (shape ({TRIAL_FREQUENCIES},)) or a scalar"
+            )
 
 
 def _element_fn(e: Element, registry: Registry, form: str = "Z"):
@@ -278,6 +323,7 @@ def compile_circuit(circuit: Circuit | str, registry: Registry = DEFAULT_REGISTR
     """Compile ``circuit`` once into a pure ``fn(params, freq) -> Z`` (no string work when called)."""
     circuit = parse(circuit, registry)
     check_element_names(circuit, registry)
+    check_user_elements(dict.fromkeys(registry[e.symbol] for e in circuit.elements()))
     names = circuit.parameter_names(registry)
     index = {n: i for i, n in enumerate(names)}
     return CompiledCircuit(circuit, registry, names, node_function(circuit, registry), _node_derivatives_fn(circuit, registry, index))

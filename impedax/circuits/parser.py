@@ -215,7 +215,7 @@ def _split_element(source: str, tok: Token, registry: Registry) -> str:
     if "_" in text:
         symbol, _, label = text.partition("_")
         if symbol not in registry:
-            raise CircuitSyntaxError(source, tok.column, f"unknown element symbol {symbol!r} in {text!r}", _symbol_hint(symbol, "_" + label, registry))
+            raise CircuitSyntaxError(source, tok.column, f"unknown element symbol {symbol!r} in {text!r}", _symbol_hint(symbol, "_" + label, registry), unknown_symbol=symbol)
         if not _LABEL_RE.match(label):
             raise CircuitSyntaxError(source, tok.column + len(symbol) + 1, f"bad label {label!r} in {text!r}", "a label is letters and digits, optionally joined by single '_'")
         return symbol
@@ -228,10 +228,10 @@ def _split_element(source: str, tok: Token, registry: Registry) -> str:
             raise CircuitSyntaxError(source, tok.column, f"element {text!r} needs a number or a label", f"write {text}1 or {text}_name")
         if letters in registry:
             raise CircuitSyntaxError(source, tok.column, f"cannot read element name {text!r}", f"did you mean {letters}_{rest}?")
-        raise CircuitSyntaxError(source, tok.column, f"unknown element {text!r}", _symbol_hint(letters, rest, registry))
+        raise CircuitSyntaxError(source, tok.column, f"unknown element {text!r}", _symbol_hint(letters, rest, registry), unknown_symbol=letters)
     symbol, _digits = m.groups()
     if symbol not in registry:
-        raise CircuitSyntaxError(source, tok.column, f"unknown element symbol {symbol!r} in {text!r}", _symbol_hint(symbol, _digits, registry))
+        raise CircuitSyntaxError(source, tok.column, f"unknown element symbol {symbol!r} in {text!r}", _symbol_hint(symbol, _digits, registry), unknown_symbol=symbol)
     return symbol
 
 
@@ -255,14 +255,17 @@ def _symbol_hint(letters: str, rest: str, registry: Registry) -> str:
     if letters.upper() in registry or letters.capitalize() in registry:
         fixed = letters.upper() if letters.upper() in registry else letters.capitalize()
         return f"symbols are case-sensitive: did you mean {fixed}{rest}?"
+    # a symbol of the user's own (Gfl) is unknown to a registry that lacks it: say so before a
+    # built-in it resembles, which would fit another element under a label (G_fl1)
+    own = f"if {letters} is an element of your own, pass the registry that declares it (registry= in Python); " if letters.isascii() and letters.isalpha() and letters[0].isupper() else ""
     for sym in registry.symbols():  # letters swapped: CEP1 is CPE1 (not C with label EP1)
         if len(sym) == len(letters) > 1 and sorted(sym) == sorted(letters):
-            return f"did you mean {sym}{rest}?"
+            return f"{own}{'else ' if own else ''}did you mean {sym}{rest}?"
     for sym in registry.symbols():  # longest first, so CPE wins over C
         if letters.startswith(sym) and len(letters) > len(sym):
             label = letters[len(sym):] + rest.lstrip("_")
-            return f"did you mean {sym}_{label}?"
-    return "known symbols: " + ", ".join(sorted(registry.symbols()))
+            return f"{own}{'else ' if own else ''}did you mean {sym}_{label}?"
+    return f"{own}known symbols: " + ", ".join(sorted(registry.symbols()))
 
 
 def impedance_py_spelling(letters: str, registry: Registry) -> str | None:

@@ -16,7 +16,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..errors import CircuitError, ParameterError
-from .compile import check_element_names
+from .compile import check_element_names, check_user_elements
 from .elements import DEFAULT_REGISTRY
 from .parser import parse
 from .spec import MAX_ELEMENT_PARAMS, Registry
@@ -96,6 +96,7 @@ class CircuitProgram:
     def build(cls, circuit: Circuit | str, registry: Registry = DEFAULT_REGISTRY, layout: ProgramLayout | None = None) -> "CircuitProgram":
         circuit = parse(circuit, registry)
         check_element_names(circuit, registry)
+        check_user_elements(registry.specs)  # (every kind's slots are evaluated)
         elements = list(circuit.elements())
         counts = [0] * len(registry.specs)
         for e in elements:

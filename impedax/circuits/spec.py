@@ -12,7 +12,9 @@ The registry is an immutable value; `Registry.register` returns a new registry.
 from __future__ import annotations
 
 import enum
+import inspect
 import math
+import numbers
 import re
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -32,6 +34,9 @@ _SUFFIX_RE = re.compile(r"[A-Za-z][A-Za-z0-9]*\Z")
 _CDC_RE = re.compile(r"[A-Z]\Z")
 _IMPEDANCE_PY_RE = re.compile(r"[A-Za-z]+\Z")
 _DRAW_RE = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
+# where the built-in elements' formulas live (a clash with one says "built-in"; that module
+# imports this one, so it is named, not imported)
+BUILT_IN_MODULE = f"{__package__}.elements"
 
 
 class DCPath(enum.StrEnum):
@@ -82,6 +87,8 @@ class ParameterSpec:
     ``role`` says how the data-driven starting guess finds a value (`StartRole`); ``None``
     infers it from the unit (Ohm: arc resistance, F: capacitance, H: inductance, s: time
     constant, 1: exponent, anything else: the default), see `start_role`.
+    Refused when declared (`CircuitError` naming the parameter and the field): bounds or default
+    that are not numbers, ``lower >= upper``, a default that is not finite or outside its bounds.
     """
 
     suffix: str | None
@@ -94,8 +101,34 @@ class ParameterSpec:
     role: StartRole | None = None
 
     def __post_init__(self):
+        what = self.label
+        if self.suffix is not None and not isinstance(self.suffix, str):
+            raise CircuitError(f"parameter suffix must be text or None (the element's single parameter), got {_value_text(self.suffix)}")
+        for name in ("unit", "description"):
+            if not isinstance(getattr(self, name), str):
+                raise CircuitError(f"{what}: {name} must be text, got {_value_text(getattr(self, name))}")
+        if not isinstance(self.upper_inclusive, bool):
+            raise CircuitError(f"{what}: upper_inclusive must be True or False, got {_value_text(self.upper_inclusive)}")
+        for name in ("default", "lower", "upper"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, numbers.Real):
+                raise CircuitError(f"{what}: {name} must be a number, got {_value_text(value)}")
+            object.__setattr__(self, name, float(value))
+        if math.isnan(self.lower) or math.isnan(self.upper) or self.lower == math.inf or self.upper == -math.inf:
+            raise CircuitError(f"{what}: bounds must be numbers (lower may be -inf, upper inf), got lower={self.lower}, upper={self.upper}")
+        if not self.lower < self.upper:
+            raise CircuitError(f"{what}: lower={number_text(self.lower)} must be below upper={number_text(self.upper)}")
+        if not math.isfinite(self.default):
+            raise CircuitError(f"{what}: default must be a finite number, got {self.default}")
+        if not self.contains(self.default):
+            raise CircuitError(f"{what}: default={number_text(self.default)} is outside its bounds {self.bounds_text()}")
         if self.role is not None:
-            object.__setattr__(self, "role", _enum_value(StartRole, self.role, "start role"))
+            object.__setattr__(self, "role", _enum_value(StartRole, self.role, f"{what}: start role"))
+
+    @property
+    def label(self) -> str:
+        """How messages name it: ``parameter 'tau'``, or ``the unnamed parameter``."""
+        return "the unnamed parameter" if self.suffix is None else f"parameter {self.suffix!r}"
 
     @property
     def start_role(self) -> StartRole:
@@ -141,6 +174,9 @@ class ElementSpec:
       impedance.py; ``None``: the notation cannot express it and converters refuse it;
     * ``program_capacity``: slots reserved for it in the smallest padded program layout
       (`impedax.circuits.ProgramLayout.sized`; larger layouts multiply it).
+
+    ``parameters`` may be given as a list (or one `ParameterSpec` alone); formulas whose
+    signature cannot take ω and one argument per parameter are refused when declared.
     """
 
     symbol: str
@@ -157,12 +193,21 @@ class ElementSpec:
     program_capacity: int = 2
 
     def __post_init__(self):
+        if not isinstance(self.symbol, str):
+            raise CircuitError(f"element symbol must be text, got {_value_text(self.symbol)}")
+        for name in ("name", "equation"):
+            if not isinstance(getattr(self, name), str):
+                raise CircuitError(f"element {self.symbol}: {name} must be text, got {_value_text(getattr(self, name))}")
+        if isinstance(self.aliases, str):
+            raise CircuitError(f"element {self.symbol}: aliases must be a tuple of symbols, e.g. ({self.aliases!r},), got the text {self.aliases!r}")
+        object.__setattr__(self, "aliases", tuple(self.aliases))
         for sym in (self.symbol, *self.aliases):
-            if not _SYMBOL_RE.match(sym):
+            if not isinstance(sym, str) or not _SYMBOL_RE.match(sym):
                 raise CircuitError(
                     f"element symbol {sym!r} must be a capital letter followed by letters only "
                     "(digits and '_' start the element's label)"
                 )
+        self._check_parameters()
         if not 1 <= len(self.parameters) <= MAX_ELEMENT_PARAMS:
             raise CircuitError(
                 f"element {self.symbol} must have 1 to {MAX_ELEMENT_PARAMS} parameters"
@@ -175,7 +220,48 @@ class ElementSpec:
                 raise CircuitError(f"element {self.symbol}: bad parameter suffix {s!r}")
         if len(set(suffixes)) != len(suffixes):
             raise CircuitError(f"element {self.symbol}: duplicate parameter suffixes")
+        self._check_formulas()
         self._check_facts()
+
+    def _check_parameters(self) -> None:
+        """``parameters`` as a tuple of `ParameterSpec` (a list, or one spec alone, is taken)."""
+        parameters = self.parameters
+        if isinstance(parameters, ParameterSpec):
+            parameters = (parameters,)
+        elif isinstance(parameters, list):
+            parameters = tuple(parameters)
+        if not isinstance(parameters, tuple):
+            raise CircuitError(f"element {self.symbol}: parameters must be a tuple of ParameterSpec, got {_value_text(parameters)}")
+        for i, p in enumerate(parameters):
+            if not isinstance(p, ParameterSpec):
+                raise CircuitError(f"element {self.symbol}: parameters[{i}] must be a ParameterSpec(suffix, unit, default, ...), got {_value_text(p)}")
+        object.__setattr__(self, "parameters", parameters)
+
+    def _check_formulas(self) -> None:
+        """``impedance`` (and ``admittance`` when given) callable with ω and one argument per
+        parameter, where the signature can be read (``*args`` takes any number)."""
+        count = len(self.parameters)
+        for name in ("impedance", "admittance"):
+            formula = getattr(self, name)
+            if formula is None and name == "admittance":
+                continue
+            if not callable(formula):
+                raise CircuitError(f"element {self.symbol}: {name} must be a function f(omega, {', '.join(self._argument_names())}), got {_value_text(formula)}")
+            try:
+                signature = inspect.signature(formula)
+            except (TypeError, ValueError):  # (a builtin or C function: nothing to check)
+                continue
+            try:
+                signature.bind(*range(count + 1))
+            except TypeError:
+                takes = [p.name for p in signature.parameters.values() if p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD)]
+                raise CircuitError(
+                    f"element {self.symbol}: its {name} function takes ({', '.join(takes)}), but it is called as "
+                    f"f(omega, {', '.join(self._argument_names())}): omega and one argument per parameter ({count})"
+                ) from None
+
+    def _argument_names(self) -> list[str]:
+        return [p.suffix or self.symbol.lower() for p in self.parameters]
 
     def _check_facts(self) -> None:
         if self.dc is not None:
@@ -225,6 +311,11 @@ class Registry:
     specs: tuple[ElementSpec, ...]
 
     def __post_init__(self):
+        if not isinstance(self.specs, tuple):
+            object.__setattr__(self, "specs", tuple(self.specs))
+        for spec in self.specs:
+            if not isinstance(spec, ElementSpec):
+                raise CircuitError(f"a Registry holds ElementSpec declarations, got {_value_text(spec)}")
         _check_unique([sym for spec in self.specs for sym in (spec.symbol, *spec.aliases)], "element symbol")
         _check_unique([spec.cdc for spec in self.specs if spec.cdc is not None], "CDC letter")
         _check_unique([spec.impedance_py for spec in self.specs if spec.impedance_py is not None], "impedance.py symbol")
@@ -291,8 +382,33 @@ class Registry:
         return self.specs.index(spec)
 
     def register(self, spec: ElementSpec) -> "Registry":
-        """Return a new registry with ``spec`` added (the original is unchanged)."""
+        """Return a new registry with ``spec`` added (the original is unchanged). A symbol,
+        alias, CDC letter or impedance.py symbol already taken is refused naming who has it."""
+        if not isinstance(spec, ElementSpec):
+            raise CircuitError(f"Registry.register expects an ElementSpec(symbol, name, equation, parameters, impedance), got {_value_text(spec)}")
+        for what, taken, wanted in (
+            ("element symbol", self._by_symbol, (spec.symbol, *spec.aliases)),
+            ("CDC letter", self.by_cdc, (spec.cdc,)),
+            ("impedance.py symbol", self.by_impedance_py, (spec.impedance_py,)),
+        ):
+            for value in wanted:
+                holder = taken.get(value)
+                if holder is None:
+                    continue
+                whose = "the built-in" if getattr(holder.impedance, "__module__", None) == BUILT_IN_MODULE else "this registry's"
+                ours = "symbol" if what == "element symbol" else what
+                called = holder.name if holder.name.endswith("element") else f"{holder.name} element"
+                raise CircuitError(
+                    f"element {spec.symbol}: {what} {value!r} is already taken by {whose} {called} "
+                    f"({holder.symbol}: {holder.equation}); choose another {ours}"
+                )
         return Registry(self.specs + (spec,))
+
+
+def _value_text(value) -> str:
+    """A value in a message: its type and a short repr (``str '0'``, ``function``)."""
+    text = repr(value)
+    return f"{type(value).__name__} {text if len(text) <= 60 else text[:57] + '...'}"
 
 
 def _enum_value(kind: type[enum.StrEnum], value, what: str):

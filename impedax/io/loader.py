@@ -50,20 +50,37 @@ def _head(path: Path) -> bytes:
 
 def identify(path: str | os.PathLike, readers: Sequence[Reader] | None = None) -> tuple[Reader | None, list[str]]:
     """The reader that claims ``path`` (``None`` for plain text) and the reasons of those that did not."""
+    reader, tried, _faults = _identify(path, readers)
+    return reader, tried
+
+
+def _identify(path: str | os.PathLike, readers: Sequence[Reader] | None) -> tuple[Reader | None, list[str], list[str]]:
+    """`identify`, and what the sniffs that broke their contract did (raised, or returned
+    neither None, a reason text nor a bool): named first when no reader claims the file."""
     if readers is None:
         from .formats import READERS as readers
     path = Path(path)
     head = _head(path)
-    tried = []
+    tried, faults = [], []
     for reader in readers:
         try:
-            reason = reader.sniff(path, head)
+            answer = reader.sniff(path, head)
         except Exception as exc:  # a user's sniff must not hide the other formats
             reason = f"sniff failed ({type(exc).__name__})"
-        if reason is None:
-            return reader, tried
+            detail = (str(exc).strip().splitlines() or [""])[0][:200]
+            faults.append(f"reader {reader.name!r}: its sniff raised {type(exc).__name__}{': ' + detail if detail else ''}")
+        else:
+            if answer is None or answer is True:
+                return reader, tried, faults
+            if answer is False:
+                reason = "sniff returned False"
+            elif isinstance(answer, str):
+                reason = answer
+            else:
+                reason = f"sniff returned {type(answer).__name__}"
+                faults.append(f"reader {reader.name!r}: its sniff returned {type(answer).__name__} {shown(answer)}")
         tried.append(f"{reader.name}: {reason}")
-    return None, tried
+    return None, tried, faults
 
 
 def load(path: str | os.PathLike, readers: Sequence[Reader] | None = None, *, sweep: str | None = None) -> xr.Dataset:
@@ -90,9 +107,11 @@ def load(path: str | os.PathLike, readers: Sequence[Reader] | None = None, *, sw
     path = Path(path)
     if sweep is not None:
         return _one_sweep(path, readers, str(sweep))
-    reader, tried = identify(path, readers)
+    reader, tried, faults = _identify(path, readers)
     if reader is not None:
         ds = reader.read(path)
+        if not isinstance(ds, xr.Dataset):
+            raise DataError(f"reader {reader.name!r} returned {type(ds).__name__}, not a spectrum Dataset (build it with impedax.make_spectrum)", path=path)
         held = not_a_spectrum(ds) if isinstance(ds, xr.Dataset) else None
         if held:  # (a saved result, e.g. of impedax gap: say how to read it, not that it lacks Z)
             raise DataError(held, path=path)
@@ -112,12 +131,12 @@ def load(path: str | os.PathLike, readers: Sequence[Reader] | None = None, *, sw
     head = _head(path)
     if not head_text(head).strip():  # binary or blank: decided from the first 64 kB, before reading the whole file
         if head.strip(b" \t\r\n"):
-            raise DataError(_unrecognised(None, tried), path=path)
+            raise DataError(_unrecognised(None, tried, faults), path=path)
         raise DataError("file is empty", path=path)
     try:
         ds = read_csv(path)
     except NoLayout as exc:
-        raise DataError(_unrecognised(exc.reason, tried), path=exc.path, line=exc.line) from None
+        raise DataError(_unrecognised(exc.reason, tried, faults), path=exc.path, line=exc.line) from None
     return _checked(ds, path)
 
 
@@ -148,11 +167,15 @@ def _checked(ds: xr.Dataset, path: Path) -> xr.Dataset:
     return ds
 
 
-def _unrecognised(as_text: str | None, tried: Sequence[str]) -> str:
+def _unrecognised(as_text: str | None, tried: Sequence[str], faults: Sequence[str] = ()) -> str:
     """The message for a file no reader claims: why it is not delimited text first (the reason
     a user of a text table needs; ``None``: the file is binary), then how many other formats
     were tried, not each one's reason (twenty reasons buried the one sentence that matters:
-    ~2,000 characters); `identify` gives them, docs/io.md lists the formats."""
+    ~2,000 characters); `identify` gives them, docs/io.md lists the formats. A sniff that broke
+    its contract (``faults``) comes before all that: most likely a user's reader meant the file."""
+    if faults:
+        contract = "a sniff returns None (or True) for a file in its format, else the reason it is not"
+        return f"not a recognised spectrum file: {'; '.join(faults)} ({contract}); " + _unrecognised(as_text, tried).removeprefix("not a recognised spectrum file: ")
     other = "" if as_text is None else " other"  # (a binary file was not tried as text)
     count = f"{len(tried)}{other} format{'s' if len(tried) != 1 else ''}"
     listed = f"; {count} tried (each one's reason: impedax.io.identify; the formats: docs/io.md)" if tried else f"; no{other} format is registered"

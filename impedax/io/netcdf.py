@@ -228,6 +228,13 @@ class damaged_result:
     def __exit__(self, exc_type, exc, tb):
         if isinstance(exc, DataError) and exc.path is not None or isinstance(exc, ArgumentNeeded):  # (an argument the call lacks: not damage)
             return False
+        symbol = getattr(exc, "unknown_symbol", None)
+        if symbol is not None:  # (a user's element, read without its registry: not damage either)
+            where = f"{self.source}: " if self.source else ""
+            raise ArgumentNeeded(
+                f"{where}the saved {self.what} uses element {symbol!r}, which is not in the registry: "
+                "pass the registry that declares it (registry=)"
+            ) from None
         if isinstance(exc, (KeyError, ValueError, TypeError, IndexError, AttributeError)):  # (impedax's own errors are ValueErrors)
             detail = (str(exc).strip().splitlines() or [type(exc).__name__])[0]
             raise DataError(f"damaged saved {self.what}: {detail}", path=self.source) from None

@@ -34,12 +34,35 @@ class Reader:
 
     ``sniff(path, head)`` looks at the file name and its first bytes and returns ``None`` when
     the file is in this format, otherwise a short reason it is not (shown when no reader fits);
+    ``True`` and ``False`` are read as "mine" and "not mine". A sniff that raises or returns
+    anything else is named with what it did when no reader claims the file (`impedax.load`).
     ``read(path)`` returns the spectrum Dataset or raises `impedax.DataError` naming the line.
+    ``extensions``: the suffixes it is known by (``(".lab",)``; one text alone is one suffix).
     ``conventions`` says in one line how the file stores Z and its units (README, ``inspect``).
     """
 
     name: str
     extensions: tuple[str, ...]
-    sniff: Callable[[Path, bytes], str | None]
+    sniff: Callable[[Path, bytes], str | bool | None]
     read: Callable[[Path], xr.Dataset]
     conventions: str = ""
+
+    def __post_init__(self):
+        if not isinstance(self.name, str) or not self.name.strip():
+            raise TypeError(f"Reader: name must be non-empty text, got {self.name!r}")
+        extensions = (self.extensions,) if isinstance(self.extensions, str) else self.extensions
+        try:
+            extensions = tuple(extensions)
+        except TypeError:
+            raise TypeError(f"Reader {self.name!r}: extensions must be a tuple of suffixes such as ('.lab',), got {self.extensions!r}") from None
+        for ext in extensions:
+            if not isinstance(ext, str):
+                raise TypeError(f"Reader {self.name!r}: each extension is a suffix such as '.lab', got {ext!r}")
+            if not (ext.startswith(".") and len(ext) > 1):
+                raise ValueError(f"Reader {self.name!r}: each extension is a suffix that starts with '.', such as '.lab', got {ext!r}")
+        object.__setattr__(self, "extensions", extensions)
+        for field_name in ("sniff", "read"):
+            if not callable(getattr(self, field_name)):
+                raise TypeError(f"Reader {self.name!r}: {field_name} must be a function, got {type(getattr(self, field_name)).__name__}")
+        if not isinstance(self.conventions, str):
+            raise TypeError(f"Reader {self.name!r}: conventions must be text, got {type(self.conventions).__name__}")

@@ -12,7 +12,7 @@ from typing import Callable, Iterator, Mapping
 import numpy as np
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
-from ...errors import ParameterError
+from ...errors import CircuitError, ParameterError
 from ..drt import PeakEvidence
 
 __all__ = ["Effect", "EffectCatalog", "Proposal", "BaselineContext"]
@@ -107,6 +107,10 @@ class Effect:
     plausible: Callable[[Mapping[str, float], Proposal], str | None] | None = field(default=None, repr=False, compare=False)
 
 
+# where the built-in effects' proposal functions live (their errors are impedax's bugs, not a
+# user's; that module imports this one, so it is named, not imported)
+BUILT_IN_MODULE = f"{__package__}.effects"
+
 REPR_IDS = 8  # effect ids an EffectCatalog's repr names
 
 
@@ -158,9 +162,49 @@ class EffectCatalog:
         seen = {str(ctx.circuit)}
         out = []
         for effect in self.effects:
-            for proposal in effect.propose(ctx.circuit, ctx):
+            for proposal in _checked_proposals(effect, ctx):
                 key = str(proposal.circuit)
                 if key not in seen:
                     seen.add(key)
                     out.append((effect, proposal))
         return out
+
+
+def _checked_proposals(effect: Effect, ctx: BaselineContext) -> list[Proposal]:
+    """``effect.propose(ctx.circuit, ctx)``, a user's effect's mistakes refused naming it: a
+    propose that raises, returns something other than a list of `Proposal`, a proposal of
+    another effect's id, a circuit as text or with an element the registry lacks, or starting
+    values of parameters neither the proposed circuit nor the baseline has (a typo). The
+    built-in effects are trusted: an error of theirs is a bug in impedax, shown as such."""
+    if getattr(effect.propose, "__module__", None) == BUILT_IN_MODULE:
+        return effect.propose(ctx.circuit, ctx)
+    where = f"effect {effect.id!r}: its propose"
+    try:
+        proposals = effect.propose(ctx.circuit, ctx)
+    except Exception as exc:  # (a user's function: whatever it raises is named)
+        raise ParameterError(f"{where} raised {type(exc).__name__}: {exc}") from exc
+    if isinstance(proposals, Proposal):
+        proposals = [proposals]
+    if not isinstance(proposals, (list, tuple)):
+        raise ParameterError(f"{where} returned {type(proposals).__name__}, not a list of Proposal (an empty list when it has nothing to propose)")
+    known = set(ctx.values)
+    for i, p in enumerate(proposals):
+        item = f"{where} returned, as item {i},"
+        if not isinstance(p, Proposal):
+            raise ParameterError(f"{item} {type(p).__name__}, not a Proposal(effect, circuit, added, where, starts)")
+        if p.effect != effect.id:
+            raise ParameterError(f"{item} a Proposal of effect {p.effect!r}: its first field is the proposing effect's id, {effect.id!r}")
+        if not isinstance(p.circuit, Circuit):
+            hint = f" (parse it: impedax.parse({str(p.circuit)!r}, ctx.registry), or build it: circuit + Element(symbol, name))" if isinstance(p.circuit, str) else ""
+            raise ParameterError(f"{item} a circuit that is {type(p.circuit).__name__}, not a Circuit{hint}")
+        try:
+            names = set(p.circuit.parameter_names(ctx.registry))
+        except CircuitError as exc:
+            raise CircuitError(f"{item} the circuit {p.circuit}: {exc}") from None
+        if not isinstance(p.starts, (tuple, list)) or not all(isinstance(start, Mapping) for start in p.starts):
+            raise ParameterError(f"{item} starts that are not a tuple of name → value mappings (ctx.start(**new) makes one), got {type(p.starts).__name__}")
+        for start in p.starts:
+            unknown = sorted(set(start) - names - known)
+            if unknown:
+                raise ParameterError(f"{item} starting values of {', '.join(map(repr, unknown))}, which {p.circuit} does not have (its parameters: {', '.join(sorted(names))})")
+    return list(proposals)
