@@ -284,9 +284,18 @@ INIT_FROM_LIST = "init=dict(zip(circuit.parameter_names(), initial_guess))"
 ``from_impedance_py`` lists its parameters in impedance.py's order."""
 
 
-def parameter_values(*, results: bool = False) -> Rule:
+def _labelled_array(value) -> bool:
+    """Whether ``value`` is an xarray.DataArray of at least one dimension (by its attributes:
+    this module does not import xarray)."""
+    return hasattr(value, "dims") and hasattr(value, "coords") and np.ndim(value) > 0
+
+
+def parameter_values(*, results: bool = False, per_spectrum: bool = False) -> Rule:
     """A mapping parameter name → finite number, or None; with ``results``, also anything
-    with a ``values`` mapping (a `FitResult` whose values start a fit)."""
+    with a ``values`` mapping (a `FitResult` whose values start a fit); with ``per_spectrum``,
+    a value may also be an xarray.DataArray of finite numbers over some of the data's extra
+    dimensions (one value per spectrum: `fit`, which checks its dimensions and labels against
+    the data's, `per_spectrum.split_fits`)."""
 
     def check(value, name):
         if value is None:
@@ -303,10 +312,22 @@ def parameter_values(*, results: bool = False) -> Rule:
         _mapping(value, name, kind)
         out = {}
         for key, number in value.items():
+            if _labelled_array(number):
+                numbers = np.asarray(getattr(number, "values", number))
+                if not per_spectrum:
+                    raise ParameterError(
+                        f"{name}[{shown(key)}] must be a number, got an xarray.DataArray over {', '.join(map(str, number.dims))}: one value per spectrum "
+                        f"is taken by fit's fixed= and init= (a batch); here give one number, or loop over the spectra (data.sel(...)) with one each"
+                    )
+                if numbers.dtype.kind not in "iuf" or numbers.dtype == bool or not np.all(np.isfinite(numbers)):
+                    raise ParameterError(f"{name}[{shown(key)}]: a DataArray of one value per spectrum must hold finite numbers, got {shown(numbers.tolist())}")
+                out[key] = number
+                continue
             if results and np.ndim(number) > 0 and not isinstance(number, (str, bytes)):
                 raise ParameterError(
                     f"{name}[{shown(key)}] must be a number, got an array of shape {np.shape(number)}: a mapping gives every spectrum the same start; "
                     f"to start each spectrum of a batch from its own values pass the BatchFitResult itself ({name}=batch)"
+                    + (", or an xarray.DataArray over the data's extra dimensions (one value per spectrum)" if per_spectrum else "")
                 )
             out[key] = real()(number, f"{name}[{shown(key)}]")
         return out

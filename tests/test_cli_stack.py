@@ -207,7 +207,8 @@ def test_stack_refuses_a_file_of_several_spectra_and_a_wrong_count_of_coords(day
     assert main(["stack", *map(str, paths), "--dim", "day", "--out", str(several)]) == 0
     capsys.readouterr()
     code, _, err = run(["stack", paths[0], several, "--out", tmp_path / "again.nc"], capsys)
-    assert code == 2 and f"{several}: holds 3 spectra (over day); a stack takes one spectrum per file" in err, err
+    # (a file of several spectra joins files of the same dimensions only, 2026-12-01: tests/test_stack_dimensions.py)
+    assert code == 2 and f"{several}: holds 3 spectra (over day) but {paths[0]} holds one spectrum; a stack joins files of the same dimensions" in err, err
     code, _, err = run(["stack", *paths, "--coords", "1", "2", "--out", tmp_path / "again.nc"], capsys)
     assert code == 2 and "--coords: 2 labels for 3 files" in err, err
     assert not (tmp_path / "again.nc").exists()

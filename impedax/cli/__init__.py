@@ -64,8 +64,28 @@ class CommandLineParser(argparse.ArgumentParser):
         positionals = " ".join(formatter.format_help().split()).removeprefix(self.prog).strip()
         return f"usage: {self.prog} [options] {positionals} ({self.prog} --help lists them)".replace("  ", " ")
 
+    def parse_known_args(self, args=None, namespace=None):
+        self._words = list(sys.argv[1:] if args is None else args)  # (for `error`'s hint on a required option)
+        return super().parse_known_args(args, namespace)
+
     def error(self, message: str) -> NoReturn:
-        self.exit(2, f"{self.prog}: error: {message}\n{self.short_usage()}\n")
+        self.exit(2, f"{self.prog}: error: {message}{self._misspelt_required_hint(message)}\n{self.short_usage()}\n")
+
+    def _misspelt_required_hint(self, message: str) -> str:
+        """``; did you mean --model? (--models is not an option of impedax compare)`` when a
+        required option is missing and an unknown option word given is a slip of one
+        (`closest_options`): argparse refuses the missing option before it gets to the unknown
+        ones, so ``compare --models A`` was told only "required: --model"."""
+        if not message.startswith("the following arguments are required"):
+            return ""
+        known = set(self._option_string_actions)
+        options = [o for o in self._option_string_actions if o.startswith("--")]
+        unknown = [w for w in getattr(self, "_words", ()) if w.startswith("--") and w.split("=", 1)[0] not in known]
+        hints = closest_options(unknown, options)
+        if not hints:
+            return ""
+        words = ", ".join(w.split("=", 1)[0] for w in unknown)
+        return f"; did you mean {' or '.join(hints)}? ({words} {'is not an option' if len(unknown) == 1 else 'are not options'} of {self.prog})"
 
 
 def build_parser(command: str | None = None) -> argparse.ArgumentParser:
@@ -282,22 +302,17 @@ shared by all, so difflib's 0.6 named --dpi for --fix (0.6) and --plot for --pri
 `impedax gap`; the slips it is for score ≥ 0.85 (--maxsteps 0.95, --quite 0.86, --fmx 0.91)."""
 
 
-def _refuse_unknown(parser: argparse.ArgumentParser, command: str, unknown: list[str], model=None) -> NoReturn:
-    """Exit 2 with "unrecognized arguments" naming the closest option of that command for each
-    unknown one (``--maxsteps`` → ``--max-steps``), then the command's own short usage line
-    (`CommandLineParser.error`).
-    A NAME=VALUE word is shown after the option named (else the first that takes one), with
-    the impedax name of an impedance.py parameter name of ``model`` (``args.model``)."""
+def closest_options(words: list[str], options: list[str]) -> list[str]:
+    """The option of ``options`` each unknown option word of ``words`` is a slip of (the same
+    letters but for dashes, underscores and case, else difflib's closest at `OPTION_HINT_CUTOFF`),
+    each once; words that are no options are passed over."""
     import difflib
-
-    sub = _subparser(parser, command)
-    options = [o for action in sub._actions for o in action.option_strings if o.startswith("--")]
 
     def squeezed(option: str) -> str:
         return option.lstrip("-").replace("-", "").replace("_", "").lower()
 
     hints = []
-    for item in unknown:
+    for item in words:
         if not item.startswith("-") or item == "-":
             continue
         name = item.split("=", 1)[0]
@@ -305,6 +320,19 @@ def _refuse_unknown(parser: argparse.ArgumentParser, command: str, unknown: list
         close = same or difflib.get_close_matches(name, options, n=1, cutoff=OPTION_HINT_CUTOFF)
         if close and close[0] not in hints:
             hints.append(close[0])
+    return hints
+
+
+def _refuse_unknown(parser: argparse.ArgumentParser, command: str, unknown: list[str], model=None) -> NoReturn:
+    """Exit 2 with "unrecognized arguments" naming the closest option of that command for each
+    unknown one (``--maxsteps`` → ``--max-steps``), then the command's own short usage line
+    (`CommandLineParser.error`).
+    A NAME=VALUE word is shown after the option named (else the first that takes one), with
+    the impedax name of an impedance.py parameter name of ``model`` (``args.model``)."""
+
+    sub = _subparser(parser, command)
+    options = [o for action in sub._actions for o in action.option_strings if o.startswith("--")]
+    hints = closest_options(unknown, options)
     hint = f"; did you mean {' or '.join(hints)}?" if hints else ""
     assignments = [item for item in unknown if _ASSIGNMENT_RE.match(item)]
     takers = [o for o in ASSIGNMENT_OPTIONS if o in sub._option_string_actions]

@@ -869,11 +869,15 @@ def select_spectra(data, path: str, select: Sequence[str] | None, *, single: str
                 + (f"; {or_else}" if or_else else ""),
                 path=path,
             )
-        dim = extra[0]
-        labels = dimension_labels(data, dim)
+        # every extra dimension's labels and one --select each: one spectrum needs a label along all of them
+        # (a walkthrough's material × voltage file was shown only material's, and tried --select material=glass alone)
+        labels = {d: dimension_labels(data, d) for d in extra}
+        held = "; ".join(f"{d}: {labels_text(v)}" for d, v in labels.items())
+        picks_text = " ".join(f"--select {d}=LABEL" for d in extra)
+        example = " ".join(f"--select {d}={v[0]}" for d, v in labels.items())
         raise DataError(
-            f"{single} takes one spectrum; the file holds {n} over {', '.join(extra)} ({dim}: {labels_text(labels)}): "
-            f"pick one with --select {dim}=LABEL" + (" for each of them" if len(extra) > 1 else "") + f", e.g. --select {dim}={labels[0]}"
+            f"{single} takes one spectrum; the file holds {n} over {', '.join(extra)} ({held}): "
+            f"pick one with {picks_text}" + (" (a label along each dimension)" if len(extra) > 1 else "") + f", e.g. {example}"
             + (f"; {or_else}" if or_else else ""),
             path=path,
         )

@@ -1,6 +1,7 @@
 """``impedax stack FILE [FILE ...] [--dim NAME] [--coords V1 V2 ...] --out OUT.nc``: one
-spectrum per file (day01.csv … day10.csv) as one netCDF over a new dimension, which ``impedax
-fit OUT.nc --model ...`` fits as a batch (`impedax.io.stack_files`)."""
+spectrum per file (day01.csv … day10.csv), or files of spectra over the same dimensions, as one
+netCDF over a new dimension, which ``impedax fit OUT.nc --model ...`` fits as a batch
+(`impedax.io.stack_files`)."""
 
 from __future__ import annotations
 
@@ -12,10 +13,12 @@ def register(sub) -> None:
         "stack",
         help="several files of one spectrum each as one series (a new dimension) in a netCDF file",
         description="Read each FILE (any format impedax knows; one spectrum each) and write them as one netCDF file with Z over "
-        "(NAME, frequency), in the order given, which impedax fit, kk and drt then analyse as a batch. The files must share "
+        "(NAME, frequency), in the order given, which impedax fit, kk and drt then analyse as a batch. Files that each hold "
+        "spectra over the same dimensions (per-material files over voltage) give Z over (NAME, those dimensions, frequency), "
+        "the spectra lined up by their labels. The files must share "
         "one frequency grid (within 0.1 %). Labels along NAME: --coords, else the file names without extension.",
     )
-    p.add_argument("files", nargs="+", metavar="FILE", help="spectrum files, one spectrum each, in the order of the series")
+    p.add_argument("files", nargs="+", metavar="FILE", help="spectrum files, one spectrum each (or each over the same dimensions), in the order of the series")
     p.add_argument("--dim", default="file", metavar="NAME", help="name of the new dimension (default: file), e.g. day")
     p.add_argument("--coords", nargs="+", metavar="V", help="one label per FILE, in order: numbers when every one reads as a number (1 2 3, 0.5 1.5), else text; default: the file names without extension (day01)")
     p.add_argument("--out", required=True, metavar="OUT.nc", help="the stacked spectra (netCDF: .nc, .nc4, .cdf); written whole or not at all")
@@ -38,6 +41,9 @@ def run(args) -> int:
     outputs.save({"--out": spectrum_writer(lambda: stacked, record)})
     labels = stacked[args.dim].values.tolist()
     shown = ", ".join(map(str, labels)) if len(labels) <= 6 else f"{', '.join(map(str, labels[:3]))}, …, {labels[-1]}"
-    print(f"impedax stack: {len(labels)} spectra at {stacked.sizes['frequency']} frequencies along {args.dim!r} ({shown}); "
+    others = [d for d in stacked["Z"].dims if d not in (args.dim, "frequency")]  # (the files' own dimensions, each file over them)
+    n = stacked["Z"].size // stacked.sizes["frequency"]
+    over = f" × {' × '.join(f'{d} ({stacked.sizes[d]})' for d in others)}" if others else ""
+    print(f"impedax stack: {n} spectra at {stacked.sizes['frequency']} frequencies along {args.dim!r} ({shown}){over}; "
           f"fit them as a batch: impedax fit {args.out} --model MODEL", file=sys.stderr)
     return 0

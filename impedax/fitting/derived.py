@@ -4,7 +4,9 @@
 and optionally of frequency [Hz]; it returns a real scalar or array. For a posterior it is
 evaluated over every draw in one vmapped call; for a least-squares fit the delta method
 propagates the covariance: Cov[g] = J Σ Jᵀ with J = ∂g/∂θ from JAX at the fitted values.
-Both return an xarray Dataset with ``median``, ``q05``, ``q16``, ``q84``, ``q95``.
+Both return an xarray Dataset with ``median``, ``q05``, ``q16``, ``q84``, ``q95``; for a batch of
+fits (`BatchFitResult`) the delta method runs per spectrum, with each spectrum's covariance, and
+every variable gains the batch's dimensions (`derive_batch`).
 """
 
 from __future__ import annotations
@@ -20,7 +22,7 @@ from ..data import checked_frequencies
 from ..arguments import count, shown, unknown_parameter
 from ..errors import ParameterError
 
-__all__ = ["derive", "derive_fit", "QUANTILES", "band_dataset", "bind_frequency", "check_real", "needs_freq", "draws_band", "called"]
+__all__ = ["derive", "derive_fit", "derive_batch", "QUANTILES", "band_dataset", "bind_frequency", "check_real", "needs_freq", "draws_band", "called"]
 
 QUANTILES = {"q05": 0.05, "q16": 0.16, "median": 0.5, "q84": 0.84, "q95": 0.95}
 
@@ -137,6 +139,91 @@ def derive_fit(result, fn, freq=None) -> xr.Dataset:
     return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
+def derive_batch(batch, fn, freq=None) -> xr.Dataset:
+    """`derive_fit` of every spectrum of a batch of fits (`BatchFitResult`, `SharedFitResult`) in
+    one vmapped call: Var[g] = J Σ Jᵀ per spectrum, J = ∂g/∂θ_free at its fitted values (its fixed
+    ones too, which may differ between spectra) and Σ its ``covariance`` (a batch saved before
+    2026-12-01 has none: each spectrum's is its `BatchFitResult.fit_of`'s). Returns the Dataset of
+    `derive_fit` (``value``, ``stderr``, ``median``, ``q05``, ``q16``, ``q84``, ``q95``,
+    ``covariance`` for outputs of at most one dimension, ``jacobian``) with the batch's dimensions
+    (and their labels) first in every variable, and ``at_bound`` (bool over those dimensions):
+    whether the quantity depends on a parameter at its bound in that spectrum, where the band is
+    the linearisation's (attrs ``at_bound`` name the parameters, ``note`` says so)."""
+    ds = batch.dataset
+    dims = tuple(batch.dims)
+    if freq is None and needs_freq(fn):
+        freq = np.asarray(ds["frequency"].values, float)
+    g = bind_frequency(fn, freq)
+    names = [str(p) for p in ds["param"].values]
+    fixed = np.asarray(ds["fixed"].values, bool).reshape(-1)
+    free = [n for n, f in zip(names, fixed) if not f]
+    shape = tuple(ds.sizes[d] for d in dims)
+    values = ds["value"].transpose(*dims, "param").values.reshape(-1, len(names)).astype(float)
+    covariance = _spectrum_covariances(batch, free).reshape(-1, len(free), len(free))
+    free_index = np.array([names.index(n) for n in free], int)
+
+    def of_free(x, base):
+        params = {n: base[i] for i, n in enumerate(names)}
+        params.update({n: x[j] for j, n in enumerate(free)})
+        return g(params)
+
+    x0 = jnp.asarray(values[:, free_index])
+    base = jnp.asarray(values)
+    value = called(lambda x: jax.vmap(of_free)(x, base), x0, names, batch.model)
+    check_real(value)
+    value = np.asarray(value, float)
+    out_shape = value.shape[1:]
+    m = int(np.prod(out_shape))
+    jac = np.asarray(jax.vmap(jax.jacfwd(of_free))(x0, base), float).reshape(len(values), m, len(free))
+    cov = jac @ covariance @ np.swapaxes(jac, -1, -2)
+    stderr = np.sqrt(np.clip(np.einsum("bii->bi", cov), 0, None)).reshape(value.shape)
+    from scipy import stats
+
+    own_dims, coords = _dims(out_shape, freq)
+    full = dims + own_dims
+    lead = lambda a: a.reshape(shape + a.shape[1:])  # noqa: E731
+    data = {"value": (full, lead(value)), "stderr": (full, lead(stderr)), "median": (full, lead(value))}
+    for k, q in QUANTILES.items():
+        if k != "median":
+            data[k] = (full, lead(value + stats.norm.ppf(q) * stderr))
+    if len(out_shape) <= 1:
+        d = own_dims[0] if own_dims else "dim_0"
+        data["covariance"] = (dims + (d, d + "_2"), lead(cov)) if len(out_shape) == 1 else (dims, lead(cov.reshape(-1)))
+    data["jacobian"] = (full + ("free_param",), lead(jac.reshape(len(values), *out_shape, len(free))))
+    coords["free_param"] = free
+    coords.update({d: ds[d].values for d in dims if d in ds.coords})
+    # a parameter at a bound that the quantity depends on, spectrum by spectrum (as `derive_fit`)
+    at_bound = ds["at_bound"].transpose(*dims, "param").values.reshape(len(values), len(names))[:, free_index].astype(bool)
+    depends = np.any(jac != 0, axis=1)
+    bounded_here = at_bound & depends
+    data["at_bound"] = (dims, lead(bounded_here.any(axis=1)))
+    attrs = {"method": "delta method per spectrum: Var = J Σ Jᵀ", "model": batch.model}
+    bounded = [n for j, n in enumerate(free) if bounded_here[:, j].any()]
+    if bounded:
+        attrs["at_bound"] = ", ".join(bounded)
+        attrs["note"] = (f"in {int(bounded_here.any(axis=1).sum())} of {len(values)} spectra (at_bound) it depends on {', '.join(bounded)} at "
+                         f"{'its' if len(bounded) == 1 else 'their'} bound: the band there is the linearisation's, which ignores the bound "
+                         "(impedax sample gives an interval that respects it)")
+    return xr.Dataset(data, coords=coords, attrs=attrs)
+
+
+def _spectrum_covariances(batch, free: list[str]) -> np.ndarray:
+    """Each spectrum's covariance of the ``free`` parameters, (*batch dims, K, K): the batch's
+    own (``dataset["covariance"]``), or for a batch saved before it was stored each spectrum's
+    `BatchFitResult.fit_of` (a refit from its values)."""
+    ds = batch.dataset
+    dims = tuple(batch.dims)
+    k = len(free)
+    if "covariance" in ds:
+        return ds["covariance"].sel(free_param=free, free_param_2=free).transpose(*dims, "free_param", "free_param_2").values.astype(float)
+    out = np.empty((*(ds.sizes[d] for d in dims), k, k))
+    for index in np.ndindex(*(ds.sizes[d] for d in dims)):
+        one = batch.fit_of(**{d: ds[d].values[i] if d in ds.coords else i for d, i in zip(dims, index)})
+        order = [list(one.free_names).index(n) for n in free]
+        out[index] = np.asarray(one.covariance, float)[np.ix_(order, order)]
+    return out
+
+
 def called(g, x, known, model):
     """``g(x)`` with a parameter name ``fn`` asked for that the model has not (a KeyError from
     inside JAX's trace) as one `ParameterError` naming it and the closest known name."""
@@ -168,9 +255,13 @@ def draws_band(fn, freq, params: dict, model: str, *, draws: bool, max_draws: in
 
 def derive(result, fn, freq=None, **kwargs) -> xr.Dataset:
     """Propagate a fit or a posterior to ``fn(params[, freq])``: `Posterior.derive` for a
-    posterior (all draws, one vmapped call), `derive_fit` (delta method) for a `FitResult`."""
+    posterior (all draws, one vmapped call), `derive_fit` (delta method) for a `FitResult`,
+    `derive_batch` (the delta method per spectrum, over the batch's dimensions) for a
+    `BatchFitResult` or `SharedFitResult`."""
     if hasattr(result, "draws") and hasattr(result, "derive"):
         return result.derive(fn, freq, **kwargs)
     if hasattr(result, "covariance") and hasattr(result, "free_names"):
         return derive_fit(result, fn, freq)
-    raise ParameterError(f"derive: expected a FitResult or a Posterior, got {type(result).__name__}")
+    if callable(getattr(result, "spectrum_keys", None)) and isinstance(getattr(result, "dataset", None), xr.Dataset):
+        return derive_batch(result, fn, freq)
+    raise ParameterError(f"derive: expected a FitResult, a BatchFitResult or a Posterior, got {type(result).__name__}")

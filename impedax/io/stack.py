@@ -1,6 +1,6 @@
-"""`stack_files`: one spectrum per file (a corrosion test's day01.csv … day10.csv) as one
-Dataset over a new dimension, which `impedax.fit` then fits as a batch (docs/io.md, "Several
-files as one series")."""
+"""`stack_files`: one spectrum per file (a corrosion test's day01.csv … day10.csv), or files of
+spectra over the same dimensions (per-material files over voltage), as one Dataset over a new
+dimension, which `impedax.fit` then fits as a batch (docs/io.md, "Several files as one series")."""
 
 from __future__ import annotations
 
@@ -23,8 +23,10 @@ __all__ = ["stack_files", "stack_labels"]
 
 
 def stack_files(paths: Sequence[str | os.PathLike], dim: str = "file", coords: Sequence | None = None, *, readers: Sequence | None = None) -> xr.Dataset:
-    """The spectra of ``paths`` (each read by `impedax.load`, each holding one spectrum) as one
-    spectrum Dataset with Z over (``dim``, frequency), in the order given.
+    """The spectra of ``paths`` (each read by `impedax.load`) as one spectrum Dataset with Z over
+    (``dim``, frequency), in the order given; files that each hold spectra over the same extra
+    dimensions (per-material files over voltage) give Z over (``dim``, *those dimensions*,
+    frequency), each file's spectra lined up by their labels (in any order; added 2026-12-01).
 
     ``coords``: one label per file (`stack_labels`: text that reads as numbers becomes numbers);
     default the file names without extension (``day01``). The files must share one frequency
@@ -35,7 +37,8 @@ def stack_files(paths: Sequence[str | os.PathLike], dim: str = "file", coords: S
     of the columns they read (``attrs["columns"]``) are kept as one when the files agree, else
     each file's in ``attrs["columns_by_file"]`` (file path → record).
     Raises `ParameterError` for bad ``dim``/``coords`` and `DataError` naming the file that cannot
-    join (missing, unreadable, several spectra, another grid, sigma in some files only).
+    join (missing, unreadable, other dimensions or labels than the first file's, already over
+    ``dim``, another grid, sigma in some files only).
     ``readers``: as `impedax.load`'s (None: the built-in ones).
     """
     if isinstance(paths, (str, bytes, os.PathLike)):
@@ -51,11 +54,13 @@ def stack_files(paths: Sequence[str | os.PathLike], dim: str = "file", coords: S
     if dim == "frequency":
         raise ParameterError("dim: 'frequency' is every spectrum's own dimension; name the new one otherwise, e.g. 'day'")
     labels = stack_labels([Path(str(p)).stem for p in paths] if coords is None else coords, len(paths), given=coords is not None)
-    spectra = [_one_spectrum(path, dim, readers) for path in paths]
+    spectra = [_spectra_of(path, dim, readers) for path in paths]
     first, first_path = spectra[0], str(paths[0])
+    extra = tuple(d for d in first["Z"].dims if d != "frequency")
+    spectra = [_aligned(ds, path, first, first_path, extra) for ds, path in zip(spectra, paths)]
     f0 = first["frequency"].values
     order0 = np.argsort(f0)
-    z = np.empty((len(paths), f0.size), complex)
+    z = np.empty((len(paths), *(first.sizes[d] for d in extra), f0.size), complex)
     with_sigma = ["sigma" in ds for ds in spectra]
     if any(with_sigma) and not all(with_sigma):
         having, lacking = with_sigma.index(True), with_sigma.index(False)
@@ -65,9 +70,9 @@ def stack_files(paths: Sequence[str | os.PathLike], dim: str = "file", coords: S
         f = ds["frequency"].values
         order = np.argsort(f)
         _check_grid(f[order], f0[order0], path, first_path)
-        z[i, order0] = ds["Z"].values[order]
+        z[i][..., order0] = ds["Z"].transpose(*extra, "frequency").values[..., order]
         if sigma is not None:
-            sigma[i, order0] = ds["sigma"].values[order]
+            sigma[i][..., order0] = ds["sigma"].transpose(*extra, "frequency").values[..., order]
     attrs = merged_attrs([(str(label), ds.attrs) for label, ds in zip(labels, spectra)], dim)
     for key in ("path", "saved_from"):  # (each file's own: the list below names them all)
         attrs.pop(key, None)
@@ -79,7 +84,11 @@ def stack_files(paths: Sequence[str | os.PathLike], dim: str = "file", coords: S
         # by its path as in "sources" ({} for a file whose reader recorded none)
         attrs["columns_by_file"] = {str(p): dict(r) if isinstance(r, dict) else {} for p, r in zip(paths, records)}
     source = first_path if len(paths) == 1 else f"{first_path} … {paths[-1]} ({len(paths)} files)"
-    return make_spectrum(f0, z, sigma=sigma, dims=(dim,), coords={dim: labels}, attrs=attrs, source=source)
+    stacked = make_spectrum(f0, z, sigma=sigma, dims=(dim, *extra), coords={dim: labels, **{d: first[d].values for d in extra if d in first.coords}}, attrs=attrs, source=source)
+    for d in extra:  # (the files' labels keep their attributes: a voltage's units)
+        if d in first.coords:
+            stacked[d].attrs = dict(first[d].attrs)
+    return stacked
 
 
 def stack_labels(values: Sequence, count: int, *, given: bool = True) -> np.ndarray:
@@ -121,20 +130,63 @@ def _number(value) -> float | None:
     return number if math.isfinite(number) else None
 
 
-def _one_spectrum(path, dim: str, readers=None) -> xr.Dataset:
-    """The one spectrum of file ``path``; a file of several is a `DataError` naming it."""
+def _spectra_of(path, dim: str, readers=None) -> xr.Dataset:
+    """The spectra of file ``path`` (one, or several over extra dimensions) read by ``readers``
+    (as `impedax.load`'s); a file already over ``dim`` is a `DataError` naming it."""
     ds = load(path, readers)
     extra = [d for d in ds["Z"].dims if d != "frequency"]
-    if extra:
-        held = " × ".join(str(ds.sizes[d]) for d in extra)
+    if dim in extra:
         raise DataError(
-            f"holds {held} spectra (over {', '.join(extra)}); a stack takes one spectrum per file: export each to a file of its own "
-            f"(impedax inspect FILE --select {extra[0]}=LABEL --out ONE.csv), or fit this file as it is",
+            f"holds spectra over {', '.join(extra)} already, {dim} among them; the stack adds a new dimension: name it otherwise (--dim), "
+            f"e.g. the quantity that tells the files apart (material, cell)",
             path=path,
         )
     if dim in ds.coords:  # (a scalar coordinate the reader set, e.g. a cycle number)
         ds = ds.drop_vars(dim)
     return ds
+
+
+def _aligned(ds: xr.Dataset, path, first: xr.Dataset, first_path: str, extra: tuple[str, ...]) -> xr.Dataset:
+    """``ds`` (the spectra of ``path``) over the extra dimensions ``extra`` of the first file,
+    each spectrum lined up with the first file's of the same labels (its labels in any order); a
+    `DataError` naming ``path`` when its dimensions, sizes or labels differ from the first file's
+    (a stack of files over voltage along a new material needs every file over the same voltages)."""
+    own = tuple(d for d in ds["Z"].dims if d != "frequency")
+    if set(own) != set(extra):
+        def over(spectra, dims):
+            return f"{math.prod(spectra.sizes[d] for d in dims)} spectra (over {', '.join(dims)})" if dims else "one spectrum"
+
+        raise DataError(
+            f"holds {over(ds, own)} but {first_path} holds {over(first, extra)}; a stack joins files of the same dimensions along a new one "
+            + (f"(a file of one spectrum each: export one, impedax inspect FILE --select {own[0]}=LABEL --out ONE.csv)" if own and not extra else "(stack files of one kind at a time)"),
+            path=path,
+        )
+    for d in extra:
+        if ds.sizes[d] != first.sizes[d]:
+            raise DataError(f"has {ds.sizes[d]} spectra along {d}, {first_path} {first.sizes[d]}; a stack needs the same labels along {d} in every file", path=path)
+        if (d in ds.coords) != (d in first.coords):
+            raise DataError(f"{d} {'has' if d in ds.coords else 'has no'} labels (coordinates) here but {'has' if d in first.coords else 'none'} in {first_path}; label both or neither", path=path)
+        if d not in first.coords:
+            continue  # (positions: the same size is all there is to match)
+        ours, theirs = first[d].values.tolist(), ds[d].values.tolist()
+        if ours == theirs:
+            continue
+        missing = [v for v in ours if v not in theirs]
+        unknown = [v for v in theirs if v not in ours]
+        if missing or unknown or len(set(theirs)) != len(theirs):
+            said = "; ".join(part for part in (
+                f"not in {first_path}: {_labels(unknown)}" if unknown else "",
+                f"missing here: {_labels(missing)}" if missing else "",
+                "its labels repeat" if not (missing or unknown) else "",
+            ) if part)
+            raise DataError(f"its labels along {d} ({_labels(theirs)}) are not {first_path}'s ({_labels(ours)}): {said}; a stack lines spectra up by their labels", path=path)
+        ds = ds.sel({d: ours})  # the same labels in another order: each spectrum goes under its label
+    return ds
+
+
+def _labels(values: list) -> str:
+    """At most six labels as text, then how many there are."""
+    return ", ".join(map(str, values[:6])) + (f", … ({len(values)} in all)" if len(values) > 6 else "")
 
 
 def _check_grid(f: np.ndarray, f0: np.ndarray, path, first_path: str) -> None:

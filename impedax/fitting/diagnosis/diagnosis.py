@@ -2,7 +2,7 @@
 (docs/diagnosis.md). `diagnose` runs these steps:
 
 1. Noise model σ_k (relative, per frequency and component; `impedax.fitting.diagnosis.noise`):
-   the data's ``sigma`` (trial scatter) when present, else a local estimate from the
+   the data's ``sigma`` (a sigma column or the trial scatter, `noise.sigma_origin`) when present, else a local estimate from the
    Kramers–Kronig residuals (`kk_test`), plus a model-discrepancy floor from the KK residuals'
    structured part, floored at `NOISE_FLOOR`.
 2. Is it the data? ``data_invalid`` only when the KK misfit is comparable to the model's
@@ -74,7 +74,7 @@ from ..statistics import information_criteria, non_passive
 from .bands import FailingBand, failing_bands, format_frequency, RUN_P
 from .catalog import BaselineContext, Effect, EffectCatalog, Proposal
 from .effects import DEFAULT_EFFECTS, FINITE_WARBURGS, IN_PLACE_OF_WARBURG, cited_where, element_parents
-from .noise import NOISE_FLOOR, OUTLIER_MAX_FRACTION, NoiseModel, kk_indices, kk_judged_locally, kk_outliers, noise_model
+from .noise import NOISE_FLOOR, OUTLIER_MAX_FRACTION, NoiseModel, kk_indices, kk_judged_locally, kk_outliers, noise_model, sigma_origin
 from .vanishing import idle_elements, share_words, vanished_terms
 
 __all__ = [
@@ -355,6 +355,18 @@ class Diagnosis:
             for p in self.drt.data_peaks
         ]
 
+    def _chi2_red_basis(self) -> str:
+        """What the baseline's chi2_red is measured against, when that is not the noise the
+        report's next lines judge by: `` (modulus weighting: residuals relative to |Z|, not to
+        the noise; against the noise σ below ≈ 216, the residuals 14.7× it)``. A walkthrough read
+        "chi2_red 0.0218" beside "the residuals are 14.7× the noise" as a contradiction; a fit
+        weighted by the data's sigma (χ² against it) needs no note."""
+        if self.baseline.weighting == "sigma":
+            return ""
+        ratio = self.noise_ratio
+        scale = WEIGHTING_SCALES.get(self.baseline.weighting, f"its {self.baseline.weighting} weights")
+        return f" ({self.baseline.weighting} weighting: residuals relative to {scale}, not to the noise; against the noise σ below ≈ {ratio**2:.3g}, the residuals {ratio:.3g}× it)"
+
     def report(self, *, fit_command: str | None = None) -> str:
         """The diagnosis as a short story (the default text of ``impedax diagnose``).
         ``fit_command``: how the command that applies the best suggestion starts (``impedax
@@ -365,7 +377,7 @@ class Diagnosis:
         left_out = left_out_options(b.frequency, self.masked_points)
         if fit_command is None:
             fit_command = " ".join(["impedax fit DATA", left_out_words(left_out)]).strip()
-        lines = [f"model {b.model}: rms_rel {b.rms_rel * 100:.3g} %, chi2_red {b.chi2_red:.3g}, AIC {b.aic:.1f} ({b.n_points} points, {b.n_params} free parameters)"]
+        lines = [f"model {b.model}: rms_rel {b.rms_rel * 100:.3g} %, chi2_red {b.chi2_red:.3g}{self._chi2_red_basis()}, AIC {b.aic:.1f} ({b.n_points} points, {b.n_params} free parameters)"]
         if self.kk is not None:
             kk_text = "the data are Kramers–Kronig consistent" if self.kk.valid else "the data are NOT Kramers–Kronig consistent in " + ", ".join(f"{format_frequency(lo)}–{format_frequency(hi)}" for lo, hi in self.kk.bad_bands)
             if not self.kk.conclusive:
@@ -669,6 +681,11 @@ def _held_at_bounds(cov: np.ndarray, bound: Sequence[int]) -> np.ndarray:
     held = np.zeros_like(cov)
     held[np.ix_(free, free)] = held_corr * np.outer(sd[free], sd[free])
     return held
+
+
+WEIGHTING_SCALES = {"modulus": "|Z|", "proportional": "|Re Z| and |Im Z|", "unit": "1 Ω"}
+"""What each weighting (`problem.WEIGHTINGS` but sigma) divides the residuals by, as
+`Diagnosis.report` says of a chi2_red that is not against the noise."""
 
 
 def _noise_ratio(fit: FitResult, noise: np.ndarray) -> float:
@@ -2021,7 +2038,8 @@ def diagnose(
     kk_bands = kk.bad_bands if kk is not None else ()
     located = kk_outliers(spectrum, kk, max_fraction=OUTLIER_MAX_FRACTION) if mask and kk is not None and not kk.valid else None
     kk_kept = located[1] if located is not None else None
-    nm = noise_model(base.frequency, base.z_data, noise=noise, sigma=sigma, kk=kk_kept or kk, fallback_rms=base.rms_rel, floor_kk=kk_kept or kk_as_tested)
+    nm = noise_model(base.frequency, base.z_data, noise=noise, sigma=sigma, kk=kk_kept or kk, fallback_rms=base.rms_rel, floor_kk=kk_kept or kk_as_tested,
+                     sigma_kind=sigma_origin(data.attrs if data is not None else None))
     if located is not None:  # a few erratic points: mask exactly them, the rest is KK consistent
         problem = DataProblem(None, located[0], None)
         kk_bands = ()

@@ -3,7 +3,8 @@
 σ_k, the relative standard deviation per component at frequency k that the residuals are judged
 against, has two parts:
 
-* the measurement noise σ_meas,k: the data's trial scatter (``sigma``) where they have it, else
+* the measurement noise σ_meas,k: the data's ``sigma`` (a sigma column, or the trial scatter
+  `sigma_origin` recognises) where they have it, else
   a local robust estimate from the first differences of the Kramers–Kronig residuals in a
   window of `LOCAL_WINDOW` frequencies (heteroscedastic: noise that grows toward low frequency
   is seen where it is);
@@ -26,7 +27,7 @@ import numpy as np
 
 from ..kk import KKResult, kk_test, rejudged
 
-__all__ = ["NoiseModel", "noise_model", "kk_indices", "kk_outliers", "kk_judged_locally", "OUTLIER_MAX_FRACTION", "OUTLIER_MAX_RUN", "OUTLIER_MIN_RATIO", "NOISE_FLOOR", "DISCREPANCY_FACTOR", "LOCAL_WINDOW", "GLOBAL_SHARE"]
+__all__ = ["NoiseModel", "noise_model", "sigma_origin", "kk_indices", "kk_outliers", "kk_judged_locally", "OUTLIER_MAX_FRACTION", "OUTLIER_MAX_RUN", "OUTLIER_MIN_RATIO", "NOISE_FLOOR", "DISCREPANCY_FACTOR", "LOCAL_WINDOW", "GLOBAL_SHARE"]
 
 NOISE_FLOOR = 1e-3
 """Relative noise floor (0.1 %): below this, misfits are instrument accuracy, not physics."""
@@ -120,11 +121,25 @@ def _usable(local: np.ndarray | None) -> bool:
     return local is not None and bool(np.all(np.isfinite(local))) and local.size >= 2
 
 
-def noise_model(frequency: np.ndarray, z_data: np.ndarray, *, noise: float | None, sigma: np.ndarray | None, kk: KKResult | None, fallback_rms: float, floor_kk: KKResult | None = None) -> NoiseModel:
+def sigma_origin(attrs) -> str:
+    """What a spectrum's ``sigma`` is, by its attrs: ``"trial scatter"`` when they say it was
+    computed from replicate trials (``sigma_method``, as `sirin.remaining_impedance` writes it;
+    ``n_trials``, as `sirin.trial_mean`), else ``"sigma column"`` (a column of the file or
+    ``make_spectrum(sigma=...)``, whose origin impedax does not know). A walkthrough's sigma column
+    was called "trial scatter" (2026-12-01)."""
+    attrs = attrs or {}
+    method = str(attrs.get("sigma_method", "")).lower()
+    if "trial" in method or "sem" in method or "n_trials" in attrs or "n_trials_total" in attrs:
+        return "trial scatter"
+    return "sigma column"
+
+
+def noise_model(frequency: np.ndarray, z_data: np.ndarray, *, noise: float | None, sigma: np.ndarray | None, kk: KKResult | None, fallback_rms: float, floor_kk: KKResult | None = None, sigma_kind: str = "sigma column") -> NoiseModel:
     """The `NoiseModel` at ``frequency``: a ``noise`` level given by the user (used as it is,
     no discrepancy floor), else the data's ``sigma`` (|Z|-relative trial scatter), else the
     local KK estimate (`local_noise`, interpolated in log f), else ``fallback_rms``/√2 (the
-    fit's own residuals); plus the discrepancy floor δ from the KK residuals (`_discrepancy`)
+    fit's own residuals; ``sigma_kind``: what the sigma is, `sigma_origin`, which the source
+    names); plus the discrepancy floor δ from the KK residuals (`_discrepancy`)
     over the points ``floor_kk`` (default ``kk``) does not flag: the diagnosis passes the KK
     test as it flagged them, so that points cleared by its local judgement
     (`kk_judged_locally`) count for σ_meas but cannot raise δ (at the edge of a flagged run
@@ -136,7 +151,7 @@ def noise_model(frequency: np.ndarray, z_data: np.ndarray, *, noise: float | Non
     local = local_noise(kk) if kk is not None else None
     usable = _usable(local)
     if sigma is not None:
-        meas, source = np.asarray(sigma, float) / np.abs(z_data), "the data's sigma (trial scatter)"
+        meas, source = np.asarray(sigma, float) / np.abs(z_data), "the data's sigma column" if sigma_kind == "sigma column" else f"the data's sigma ({sigma_kind})"
     elif usable:
         order = np.argsort(kk.frequency)
         meas = np.interp(np.log(frequency), np.log(np.asarray(kk.frequency, float)[order]), local[order])

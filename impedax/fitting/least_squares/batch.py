@@ -29,7 +29,7 @@ from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, domi
 from .order import canonical_order
 from .branches import RELATIVE_ERROR_LIMIT, held_covariances, idle_branch_notes, settle_vanishing, vanishing_term_mask, undetermined, unidentified_stderr, undetermined_mask, vanishing_candidates, vanishing_parameters
 from .constraints import constraint_misfit_notes, with_constraint_notes
-from .result import BOUND_RESTARTS, bounds_attr, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, PARAMETER_UNIT_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, sigma_scale_notes, uneven_residual_notes, shown_stderr, stack_notes, vanishing_term_sides, weighting_notes, without_error
+from .result import COVARIANCE_NOTE, BOUND_RESTARTS, bounds_attr, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, PARAMETER_UNIT_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, sigma_scale_notes, uneven_residual_notes, shown_stderr, stack_notes, vanishing_term_sides, weighting_notes, without_error
 from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, TreeSolvers, better, over_devices, padded_points, tree_solver, trimmed, unscale
 from .starts import SpectrumFeatures, climb_target, batch_outliers, escalation_rungs, guess_start, inward_start, rms_rel_of, rung_seed, rung_starts, to_solver_space, values_inside
 
@@ -58,7 +58,9 @@ class BatchFitResult:
     `FitResult.linearised_stderr`), ``rms_rel``, ``chi2``,
     ``chi2_red``, ``aic``, ``bic``, ``converged`` over dims, ``at_bound`` (whether a parameter
     is at a natural or user bound) over (param, *dims), the bounds themselves (``lower``,
-    ``upper`` over param), and the data ``Z`` and ``Z_model`` over (*dims, frequency). ``warnings`` maps a spectrum's index (a dict of coordinates, as text)
+    ``upper`` over param), the data ``Z`` and ``Z_model`` over (*dims, frequency) and each
+    spectrum's ``covariance`` of its free parameters over (*dims, free_param, free_param_2), as
+    `FitResult.covariance` (what `derive` propagates; added 2026-12-01, absent from older files). ``warnings`` maps a spectrum's index (a dict of coordinates, as text)
     to its warnings; ``dataset.attrs["unidentified_groups"]`` the same index to its
     unidentified groups (`FitResult.unidentified_groups`, only spectra that have any;
     `unidentified_groups_of`).
@@ -860,7 +862,7 @@ class _LaneRunner:
 
 def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source, starts=None, remainder: bool = False, attrs=None) -> tuple[np.ndarray, list[tuple[str, ...]], list[list[list[str]]]]:
     """One row per spectrum (values, stderr, linearised stderr, at-bound flags, chi2, converged,
-    evaluations, Re/Im of Z_model), its warnings and its unidentified groups (`null_sets`, as
+    evaluations, Re/Im of Z_model, the covariance of the free parameters as a `FitResult`'s), its warnings and its unidentified groups (`null_sets`, as
     `FitResult.unidentified_groups`), without a FitResult per spectrum: the uncertainties of all
     spectra in one stacked computation (`covariances`), their warnings too (`stack_notes`); only
     spectra that overflowed or did not converge go through `fit_result`."""
@@ -878,7 +880,7 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
     odd = ~converged  # these get `fit_result`'s handling of overflow and non-convergence
     notes: list[tuple[str, ...]] = [()] * b
     groups: list[list[list[str]]] = [[] for _ in range(b)]
-    corr, singular = np.zeros((b, k, k)), np.zeros(b, bool)
+    cov, corr, singular = np.zeros((b, k, k)), np.zeros((b, k, k)), np.zeros(b, bool)
     if k:
         jac = out.jacobian if finite.all() else np.where(finite[:, None, None], out.jacobian, 0.0)
         chi2_red = chi2 / (n_res - k) if n_res > k else np.full(b, np.nan)
@@ -939,6 +941,7 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
         chi2[i], converged[i], z_model[i], notes[i] = r.chi2, r.converged, r.z_model, r.warnings
         groups[i] = [list(g) for g in r.unidentified_groups]
         sides[i] = [n in r.at_bound for n in table.free_names]
+        cov[i] = r.covariance
     for i in np.flatnonzero(~odd):
         notes[i] = notes[i] + weighting_extra[i]
     # a misfit the user's fixed value or bound explains is told so, not blamed on the model (as a single fit's)
@@ -949,7 +952,7 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
     at_bound = np.zeros(values.shape)
     at_bound[:, table.free_index] = sides != 0
     stats = np.stack([chi2, converged.astype(float), np.asarray(out.steps_total, float)], axis=-1)
-    return np.concatenate([values, stderr, linearised, at_bound, stats, z_model.real, z_model.imag], axis=-1), notes, groups
+    return np.concatenate([values, stderr, linearised, at_bound, stats, z_model.real, z_model.imag, cov.reshape(b, k * k)], axis=-1), notes, groups
 
 
 # lane solver shapes: many lanes for large batches, few for the rest and stragglers (each pair
@@ -986,6 +989,7 @@ def data_notes(freq, z, z_model, sigma, weighting: str, source: str, kk_misfits:
 
 RESULT_NAMES = frozenset({
     "param", "fit_output", "value", "stderr", "linearised_stderr", "fixed", "lower", "upper", "at_bound", "chi2", "chi2_red", "aic", "bic", "rms_rel", "converged", "n_evaluations", "Z_model", "sigma", "unit",  # ("unit": to_xarray's coordinate along param)
+    "covariance", "free_param", "free_param_2",  # (each spectrum's covariance, added 2026-12-01)
 })
 """The names of a batch result's dimensions and variables (`fit_batch`'s Dataset, and the core
 dimension of the chunked path's ``apply_ufunc``): a batch dimension of one of these names is
@@ -1020,7 +1024,9 @@ def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weig
         note_array[:], group_array[:] = notes, groups
         return packed.reshape(*shape, -1), note_array.reshape(shape), group_array.reshape(shape)
 
-    width = 4 * n_par + len(_STATS) + 2 * n_freq
+    free_names = list(table.free_names)
+    n_free = len(free_names)
+    width = 4 * n_par + len(_STATS) + 2 * n_freq + n_free * n_free
     if z_da.chunks is not None:
         inputs = [z_da] + ([sigma_da] if sigma_da is not None else [])
         core = [["frequency"]] * len(inputs)
@@ -1061,7 +1067,8 @@ def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weig
     at_bound = packed[..., 3 * n_par : 4 * n_par] != 0
     chi2, converged, n_eval = (packed[..., 4 * n_par + i] for i in range(3))
     off = 4 * n_par + 3
-    z_model = packed[..., off : off + n_freq] + 1j * packed[..., off + n_freq :]
+    z_model = packed[..., off : off + n_freq] + 1j * packed[..., off + n_freq : off + 2 * n_freq]
+    covariance = packed[..., off + 2 * n_freq :].reshape(*packed.shape[:-1], n_free, n_free)
     z_data = z_da.values if z_da.chunks is None else z_da.compute().values
     with np.errstate(all="ignore"):  # overflowed fits carry +inf
         rel = (z_model - z_data) / np.abs(z_data)
@@ -1088,8 +1095,9 @@ def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weig
             "n_evaluations": (extra, n_eval.astype(np.int64)),
             "Z": ((*extra, "frequency"), z_data, {"units": "ohm"}),
             "Z_model": ((*extra, "frequency"), z_model, {"units": "ohm"}),
+            "covariance": ((*extra, "free_param", "free_param_2"), covariance, {"note": COVARIANCE_NOTE}),
         },
-        coords={"param": list(names), "frequency": ("frequency", freq, {"units": "Hz"}), **coords},
+        coords={"param": list(names), "free_param": free_names, "free_param_2": free_names, "frequency": ("frequency", freq, {"units": "Hz"}), **coords},
         attrs={"model": str(circuit), "weighting": weighting, "n_free": k, "unidentified_groups": unidentified},
     )
     if sigma_da is not None:  # (the data's own σ, which weighted the fits: `fit_of` refits with it)

@@ -18,11 +18,12 @@ from ...arguments import MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ...errors import IN_MEMORY, ParameterError
 from ...progress import progress_to, say
-from ..problem import WEIGHTINGS, circuit_parameters, prepare_fit, residual_scale, weights
+from ..problem import WEIGHTINGS, circuit_parameters, open_spectrum, prepare_fit, residual_scale, weights
 from ..statistics import at_noise_floor, information_criteria
 from .batch import BatchFitResult, data_notes, fit_batch, register_spectrum_fit
 from .constraints import constraint_misfit_notes, with_constraint_notes
 from .order import canonical_order
+from .per_spectrum import has_per_spectrum_values, split_fits
 from .result import BOUND_RESTARTS, FitResult, is_remainder, falling_inward, fit_result
 from .shared import SharedFitResult, fit_shared
 from .solvers import IDENTITY_DAMPING_STEPS, SCREEN_STEPS, SharedArgs, SolverStatus, SpectrumRows, better, padded_points, solver_args, tree_solver, trimmed, unscale
@@ -32,7 +33,7 @@ __all__ = ["fit", "FitResult", "BatchFitResult", "SharedFitResult", "WEIGHTINGS"
 
 
 @checked_arguments(
-    circuit_parameters=circuit_parameters, init=parameter_values(results=True), fixed=parameter_values(), bounds=parameter_bounds, weighting=choice(WEIGHTINGS),
+    circuit_parameters=circuit_parameters, init=parameter_values(results=True, per_spectrum=True), fixed=parameter_values(per_spectrum=True), bounds=parameter_bounds, weighting=choice(WEIGHTINGS),
     fmin=frequency, fmax=frequency, n_starts=count(1, MAX_STARTS, why="starts are solved together in memory"),
     max_steps=count(1, MAX_SOLVER_STEPS), seed=seed_rule, registry=instance_of(Registry),
 )
@@ -73,7 +74,9 @@ def fit(
     parameters this circuit shares with it (e.g. refitting with one element added), or a
     `BatchFitResult` over the same dimensions and labels as ``data``: each spectrum starts from
     its own fitted values (with ``n_starts=1``, one local fit each; `BatchFitResult.per_spectrum_starts`).
-    ``fixed`` pins parameters; ``bounds`` narrows them; ``weighting`` is one of `WEIGHTINGS`.
+    ``fixed`` pins parameters; ``bounds`` narrows them; a value of ``fixed`` or ``init`` may be an
+    xarray.DataArray over some of the data's extra dimensions, labelled as the data, one value per
+    spectrum (`per_spectrum.split_fits`: the spectra fitted in groups that share the values; added 2026-12-01); ``weighting`` is one of `WEIGHTINGS`.
     ``data`` is a spectrum Dataset, a path or a (frequency, Z) pair of arrays. Extra dimensions
     (trial, subject, ...) are fitted together and give a `BatchFitResult`; dask-backed data are
     fitted chunk by chunk.
@@ -94,6 +97,11 @@ def fit(
             return fit(circuit, data, init=init, fixed=fixed, bounds=bounds, weighting=weighting, fmin=fmin, fmax=fmax, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, shared=shared, over=over)
     t0 = time.perf_counter()
     init_not_fixed(init, fixed)
+    if has_per_spectrum_values(fixed, init):  # one value per spectrum: the batch fitted in groups that share them
+        if shared is not None or over is not None:
+            raise ParameterError("fixed=/init=: one value per spectrum (a DataArray) is for a batch fit; a shared fit (shared=) takes one number per parameter: fit each group with data.sel(...) and its own value")
+        spectrum = open_spectrum(data, fmin=fmin, fmax=fmax)
+        return split_fits(fit, circuit, spectrum.data, spectrum.source, fixed=fixed, init=init, bounds=bounds, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry)
     # a batch of fits (`BatchFitResult`): each spectrum of this batch starts from its own optimum
     batch_init, init = (init, None) if callable(getattr(init, "per_spectrum_starts", None)) else (None, init)
     problem = prepare_fit(circuit, data, init=init, fixed=fixed, bounds=bounds, fmin=fmin, fmax=fmax, registry=registry)
