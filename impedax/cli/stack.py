@@ -25,6 +25,7 @@ def register(sub) -> None:
 def run(args) -> int:
     from pathlib import Path
 
+    from ..data import counted
     from ..errors import DataError
     from ..io.loader import NETCDF_SUFFIXES
     from ..io.stack import stack_files
@@ -38,6 +39,6 @@ def run(args) -> int:
     outputs.save({"--out": spectrum_writer(lambda: stacked, record)})
     labels = stacked[args.dim].values.tolist()
     shown = ", ".join(map(str, labels)) if len(labels) <= 6 else f"{', '.join(map(str, labels[:3]))}, …, {labels[-1]}"
-    print(f"impedax stack: {len(labels)} spectra at {stacked.sizes['frequency']} frequencies along {args.dim!r} ({shown}); "
+    print(f"impedax stack: {counted(len(labels), 'spectrum', 'spectra')} at {stacked.sizes['frequency']} frequencies along {args.dim!r} ({shown}); "
           f"fit them as a batch: impedax fit {args.out} --model MODEL", file=sys.stderr)
     return 0
