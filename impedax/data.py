@@ -304,6 +304,13 @@ def unit_text(unit: str) -> str:
     return "" if unit == "1" else re.sub(r"\balpha\b", "α", re.sub(r"\b[Oo]hm\b", "Ω", unit))
 
 
+def counted(n: int, singular: str, plural: str | None = None) -> str:
+    """``n`` and the noun in its number: ``1 spectrum``, ``3 spectra``, ``1 free parameter``
+    (``plural`` default: ``singular`` + "s"). The CLI's counts read so (until 2026-12-01 some
+    said "1 free parameters", "1 spectra")."""
+    return f"{n} {singular if n == 1 else plural or singular + 's'}"
+
+
 def column_width(entries, header: str | int) -> int:
     """The width of a text table's first column: its longest entry, and at least its
     ``header`` (or that many characters), so that the columns after it stay under theirs."""

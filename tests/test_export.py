@@ -52,7 +52,7 @@ def _read_csv(path):
 def test_fit_csv_rows_are_the_fitted_parameters(rc_fit, tmp_path):
     ix.write_result(rc_fit, tmp_path / "fit.csv")
     rows = _read_csv(tmp_path / "fit.csv")
-    assert list(rows[0]) == ["name", "value", "stderr", "unit", "fixed", "converged", "at_bound", "undetermined"]  # (the flags: added 2026-12-01)
+    assert list(rows[0]) == ["name", "value", "stderr", "unit", "fixed", "rms_rel", "chi2", "chi2_red", "aic", "bic", "converged", "at_bound", "undetermined"]  # (goodness of fit and flags: added 2026-12-01)
     assert [r["name"] for r in rows] == ["R0", "R1", "C1"]
     for r in rows:
         assert float(r["value"]) == rc_fit.values[r["name"]]  # shortest exact text: no rounding
@@ -271,6 +271,7 @@ def test_check_results_json_is_the_command_lines_json(command, tmp_path, capsys)
     # the command line names the file it read; the API's result has none (drt too since 2026-12-01)
     assert printed.pop("source") == str(tmp_path / "rc.nc")
     assert printed.pop("provenance")["command"] == f"impedax {command[0]}"  # (and what made it: docs/io.md, "Provenance")
+    assert printed.pop("skipped_rows") == []  # (the reader's, which the file's data carry: added 2026-12-01)
     assert isinstance(written, dict) and written == printed
 
 

@@ -323,8 +323,8 @@ def test_cli_fit_json_contract(rng, tmp_path, capsys):
     assert code == 0
     out = json.loads(capsys.readouterr().out)
     assert set(out) >= {"model", "n_points", "n_params", "params", "rms_rel", "chi2", "chi2_red", "aic", "bic", "converged", "message", "warnings"}
-    assert out["params"]["R0"] == {"value": 50.0, "stderr": None, "fixed": True}
-    assert set(out["params"]["R1"]) == {"value", "stderr", "fixed"} and out["n_params"] == 2
+    assert out["params"]["R0"] == {"value": 50.0, "stderr": None, "fixed": True, "unit": "Ohm"}  # (unit: added 2026-12-01)
+    assert set(out["params"]["R1"]) == {"value", "stderr", "fixed", "unit"} and out["n_params"] == 2
     assert (tmp_path / "p.png").exists() and ix.io.read_netcdf(tmp_path / "r.nc")["value"].size == 3
 
 

@@ -272,7 +272,7 @@ UNDATA = [  # (id, file content, argv template with {input}, message fragment): 
     ("diagnose-one-point", ONE_POINT_CSV, ["diagnose", "{input}", "--model", "R1"], "diagnose needs at least 4 frequencies"),
     ("diagnose-two-points", TWO_POINTS_CSV, ["diagnose", "{input}", "--model", "R1"], "diagnose needs at least 4 frequencies"),
     ("diagnose-six-points-no-noise", SIX_POINTS_CSV, ["diagnose", "{input}", "--model", "R1 + C1"], "6 frequencies are too few to tell the model's misfit from noise"),
-    ("refine-one-point", ONE_POINT_CSV, ["refine", "{input}", "--model", "R1"], "diagnose needs at least 4 frequencies"),
+    ("refine-one-point", ONE_POINT_CSV, ["refine", "{input}", "--model", "R1"], "refine needs at least 4 frequencies"),
     ("kk-one-point", ONE_POINT_CSV, ["kk", "{input}"], "the KK test needs at least 4 frequencies"),
     ("zhit-two-points", TWO_POINTS_CSV, ["kk", "{input}", "--method", "zhit"], "Z-HIT needs at least 6 frequencies"),
     ("drt-two-points", TWO_POINTS_CSV, ["drt", "{input}"], "the DRT needs at least 5 frequencies"),
@@ -598,7 +598,7 @@ API_CASES = [
     ("refine-max-effects-huge", "refine", lambda s: ix.refine(s.good, RC, max_effects=10**6), P, "max_effects=1000000 is above the limit 64"),
     ("refine-effects-string", "refine", lambda s: ix.refine(s.good, RC, effects="bogus"), P, "effects must be an EffectCatalog"),
     ("refine-n-starts-bool", "refine", lambda s: ix.refine(s.good, RC, n_starts=True), P, "n_starts must be an integer, got True"),
-    ("refine-one-point", "refine", lambda s: ix.refine(s.one, "R1"), D, "diagnose needs at least 4 frequencies"),
+    ("refine-one-point", "refine", lambda s: ix.refine(s.one, "R1"), D, "refine needs at least 4 frequencies"),
     # compare
     ("compare-none", "compare", lambda s: ix.compare(None), P, "fits must be a list"),
     ("compare-string", "compare", lambda s: ix.compare("R1"), P, "fits must be a list"),

@@ -43,6 +43,7 @@ OUTPUT_FLAGS = [
     ("sample-corner", ["sample", "{good}", "--model", "R1 + C1", "--steps", "20", "--corner", "{output}"], ".png", "figure"),
     ("sample-plot", ["sample", "{good}", "--model", "R1 + C1", "--steps", "20", "--plot", "{output}"], ".png", "figure"),
     ("kk-plot", ["kk", "{good}", "--plot", "{output}"], ".png", "figure"),
+    ("kk-out", ["kk", "{good}", "--out", "{output}"], ".json", "result"),  # (added 2026-12-01)
     ("drt-out", ["drt", "{good}", "--out", "{output}"], ".csv", "drt"),
     ("drt-plot", ["drt", "{good}", "--plot", "{output}"], ".png", "figure"),
     ("diagnose-out", ["diagnose", "{good}", "--model", "R1 + C1", "--out", "{output}"], ".csv", "result"),
@@ -77,6 +78,7 @@ OUT_IS_INPUT = [
     ("gap", ["gap", "{good}", "{other}", "{other}", "--area", "130e-6", "--out", "{same}"]),
     ("inspect", ["inspect", "{good}", "--out", "{same}"]),
     ("drt", ["drt", "{good}", "--out", "{same}"]),
+    ("kk", ["kk", "{good}", "--out", "{same}"]),
 ]
 SAME_FILE_SPELLINGS = [  # (id, how the input is named as the output)
     ("same-path", "{tmp}/good.csv"),
@@ -98,6 +100,7 @@ TWO_OUTPUTS_ONE_PATH = [  # (id, argv, message fragment)
     ("gap-stdout-twice", ["gap", "{good}", "{good}", "{good}", "--area", "1e-4", "--out", "-", "--json"], "both write to standard output"),
     ("inspect-stdout-twice", ["inspect", "{good}", "--out", "-", "--json"], "both write to standard output"),
     ("drt-stdout-twice", ["drt", "{good}", "--out", "-", "--json"], "both write to standard output"),
+    ("kk-stdout-twice", ["kk", "{good}", "--out", "-", "--json"], "both write to standard output"),
     ("stdin-read-twice", ["gap", "-", "-", "{good}", "--area", "1e-4"], "read only once"),
 ]
 
@@ -109,6 +112,7 @@ FAILED_WRITES = [
     pytest.param(["inspect", "{good}", "--out", "{out}", "--plot", "{plot}"], ".nc", id="inspect"),
     pytest.param(["force", "meyer", "--points", "9", "--out", "{out}", "--plot", "{plot}"], ".json", id="force"),
     pytest.param(["drt", "{good}", "--out", "{out}", "--plot", "{plot}"], ".csv", id="drt"),
+    pytest.param(["kk", "{good}", "--out", "{out}", "--plot", "{plot}"], ".csv", id="kk"),
     pytest.param(["sample", "{good}", "--model", "R0 + R1 || C1", "--steps", "30", "--quiet", "--out", "{out}", "--plot", "{plot}"], ".nc", id="sample"),
     pytest.param(["diagnose", "{good}", "--model", "R0 + R1 || C1", "--out", "{out}", "--plot", "{plot}"], ".json", id="diagnose", marks=pytest.mark.slow),
     pytest.param(["refine", "{good}", "--model", "R0 + R1 || C1", "--max-effects", "1", "--out", "{out}", "--plot", "{plot}"], ".json", id="refine", marks=pytest.mark.slow),

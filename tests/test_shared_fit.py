@@ -108,7 +108,7 @@ def test_result_layout_summary_and_report(shared_fit):
     corr = ds["correlation"].values
     np.testing.assert_allclose(np.diagonal(corr, axis1=1, axis2=2), 1.0)
     s = r.summary()
-    assert set(s["shared"]["R0"]) == {"value", "stderr", "fixed"} and s["over"] == ["trial"]
+    assert set(s["shared"]["R0"]) == {"value", "stderr", "fixed", "unit"} and s["shared"]["R0"]["unit"] == "Ohm" and s["over"] == ["trial"]  # (unit: added 2026-12-01)
     assert {"chi2", "dof", "f_statistic", "f_pvalue", "delta_aic", "independent_chi2"} <= set(s["sharing"])
     assert {"model", "dims", "n_spectra", "params", "rms_rel_median", "converged_fraction", "at_bound", "warnings"} <= set(s)
     assert "shared over trial" in r.report() and "F =" in r.report()

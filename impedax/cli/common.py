@@ -728,22 +728,30 @@ def _sweep_alone(exc, path: str, select: Sequence[str] | None, readers=None):
         raise exc
     item = items[0]
     label = _select_item(item)[1]
+    name = _shown_path(path)
     if label not in exc.labels:
         raise ParameterError(
-            f"--select {item}: {path} holds {len(exc.labels)} {exc.dim}s on different frequency grids, each read alone: "
+            f"--select {item}: {name} holds {len(exc.labels)} {exc.dim}s on different frequency grids, each read alone: "
             f"give one label ({exc.dim}: {', '.join(exc.labels)}), e.g. --select {exc.dim}={exc.labels[0]}"
         )
-    data = load(path, readers, sweep=label)
+    data = exc.spectrum(label) if path == "-" else load(path, readers, sweep=label)  # (standard input is read once: its sweeps came with the error)
     shown = f"{exc.dim}={label}"
-    data.attrs = {**data.attrs, "selection": shown, "source": f"{path} [{shown}]"}
+    data.attrs = {**data.attrs, "selection": shown, "source": f"{name} [{shown}]"}
     return data
+
+
+def _shown_path(path: str) -> str:
+    """``path`` as messages and a selection's ``source`` name it: ``<stdin>`` for ``-``."""
+    from ..io.loader import STDIN, STDIN_NAME
+
+    return STDIN_NAME if str(path) == STDIN else path
 
 
 def load_selected(path: str, select: Sequence[str] | None, *, single: str | None = None, or_else: str = "", warn: bool = True, readers=None):
     """The spectra of file ``path`` (`impedax.io.load` with ``readers``, None: the built-in
     ones), narrowed by ``--select DIM=LABEL`` items (`select_spectra`); ``warn`` prints the
     reader's `LOAD_WARNINGS` notes. Sweeps on different grids are read one alone (`_sweep_alone`)."""
-    return select_spectra(_load_noting(path, warn, select, readers), path, select, single=single, or_else=or_else)
+    return select_spectra(_load_noting(path, warn, select, readers), _shown_path(path), select, single=single, or_else=or_else)
 
 
 def note_unused_sigma(data, command: str, used: bool, option: str) -> None:
@@ -753,6 +761,44 @@ def note_unused_sigma(data, command: str, used: bool, option: str) -> None:
     uneven-noise warning then asked for a sigma column. ``option``: the flag that uses it."""
     if not used and "sigma" in data:
         print(f"impedax {command}: note: the data carry sigma (σ per point), which this run does not use: {option} weighs by it", file=sys.stderr)
+
+
+def skipped_rows(data) -> list[str]:
+    """The rows of the file the reader skipped (its ``attrs["skipped_rows"]``: DC rows at f = 0,
+    repeated headers; narrowed to the spectra a ``--select`` picked), one text per range of
+    lines, as ``impedax inspect --json`` lists them under ``skipped_rows``; [] when none."""
+    rows = data.attrs.get("skipped_rows", [])
+    return [rows] if isinstance(rows, str) else [str(r) for r in rows]
+
+
+def note_skipped_rows(data, command: str, path: str) -> None:
+    """One line on stderr naming the rows of file ``path`` the reader skipped (`skipped_rows`),
+    for a command's text report; its JSON holds them under ``skipped_rows`` (added 2026-12-01:
+    the 781 DC rows of a REAL Parstat file were skipped without a word; only ``impedax
+    inspect`` listed them)."""
+    rows = skipped_rows(data)
+    if rows:
+        shown = "; ".join(rows[:SKIPPED_ROWS_SHOWN]) + (f"; … ({len(rows)} ranges in all: impedax inspect lists them)" if len(rows) > SKIPPED_ROWS_SHOWN else "")
+        print(f"impedax {command}: note: {_shown_path(path)}: rows skipped as no impedance points: {shown}", file=sys.stderr)
+
+
+SKIPPED_ROWS_SHOWN = 3
+"""The ranges of skipped rows `note_skipped_rows` names on its one line (inspect lists 20)."""
+
+
+class WithSummaryKeys:
+    """``result`` whose ``summary()`` (``--json``, ``--out FILE.json``) also holds ``keys``
+    (``skipped_rows``: what the reader of the data left out), so that both outputs stay the
+    same; every other attribute is the result's own."""
+
+    def __init__(self, result, keys: Mapping[str, object]):
+        self._result, self._keys = result, dict(keys)
+
+    def summary(self) -> dict:
+        return {**self._result.summary(), **self._keys}
+
+    def __getattr__(self, name: str):
+        return getattr(self._result, name)
 
 
 def load_selected_files(paths: Sequence[str], select: Sequence[str] | None, readers=None) -> list:
@@ -771,7 +817,7 @@ def load_selected_files(paths: Sequence[str], select: Sequence[str] | None, read
             have = sorted({d for data in datasets for d in _extra_dims(data)})
             listed = f"their dimensions besides frequency: {', '.join(have)}" if have else "each holds one spectrum"
             raise ParameterError(f"--select {item}: none of {', '.join(paths)} has a dimension {dim!r} to select from; {listed}")
-    return [select_spectra(data, path, [item for item, dim in items if has(data, dim)]) for data, path in zip(datasets, paths)]
+    return [select_spectra(data, _shown_path(path), [item for item, dim in items if has(data, dim)]) for data, path in zip(datasets, paths)]
 
 
 def _carried_value(data, dim: str):

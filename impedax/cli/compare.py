@@ -36,6 +36,7 @@ def register(sub) -> None:
 
 def run(args) -> int:
     from .. import compare, fit, parse
+    from ..data import counted
     from ..errors import ParameterError
     from ..fitting.problem import open_spectrum
     from ..arguments import closest_name
@@ -73,7 +74,7 @@ def run(args) -> int:
     fits = []
     try:
         for i, (c, ns, own_bounds) in enumerate(zip(circuits, names, bounds)):
-            progress(f"fitting model {i + 1} of {len(circuits)}: {c}" + (f" to {math.prod(data.sizes[d] for d in extra)} spectra" if extra else ""))
+            progress(f"fitting model {i + 1} of {len(circuits)}: {c}" + (f" to {counted(math.prod(data.sizes[d] for d in extra), 'spectrum', 'spectra')}" if extra else ""))
             fits.append(fit(c, data, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, init=own("--init", ns), fixed=own("--fix", ns), bounds=own_bounds or None, registry=args.registry))
     finally:
         progress.close()

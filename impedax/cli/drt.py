@@ -61,7 +61,7 @@ def register(sub) -> None:
 def run(args) -> int:
     from ..fitting.drt import drt
     from ..fitting.problem import open_spectrum
-    from .common import check_band_options, command_provenance, data_source, emit_json, exclude_points, figure_options, figure_writer, load_selected, plan_outputs, progress_printer, with_source
+    from .common import check_band_options, command_provenance, data_source, emit_json, exclude_points, figure_options, figure_writer, load_selected, note_skipped_rows, plan_outputs, progress_printer, skipped_rows, with_source, WithSummaryKeys
 
     outputs = plan_outputs([("--out", args.out, "drt"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     # a file of several spectra: the DRT of each in one solve (`DRTBatchResult`), or one (--select)
@@ -70,7 +70,7 @@ def run(args) -> int:
     if args.fmin is not None or args.fmax is not None:
         from ..fitting.problem import select_band
 
-        data = select_band(data, args.fmin, args.fmax, args.data)
+        data = select_band(data, args.fmin, args.fmax, data_source(data) or args.data)  # (<stdin> for -, and any --select)
     source = data_source(data)  # (the file and any --select: the JSON's ``source``, as kk's and fit's)
     data = open_spectrum(data).data
     progress = progress_printer()  # (130 cycles took 7 s without a word; printed only past PROGRESS_AFTER_S)
@@ -80,14 +80,16 @@ def run(args) -> int:
     if args.plot:  # (the slowest output: ~1 s for 130 curves)
         progress(f"drawing {args.plot}")
     record = command_provenance(args, source=source, data_files=[args.data])
-    outputs.save({"--out": lambda path: _save(result, path, source, record), "--plot": figure_writer(result.plot, **figure_options(args))})
+    read = WithSummaryKeys(result, {"skipped_rows": skipped_rows(data)})  # (the JSON's, as inspect --json's: added 2026-12-01)
+    outputs.save({"--out": lambda path: _save(read, path, source, record), "--plot": figure_writer(result.plot, **figure_options(args))})
     progress.close()
     if outputs.uses_stdout:
         return 0
     if args.json:
-        emit_json(with_source(result.summary(), source, record))
+        emit_json(with_source(read.summary(), source, record))
     else:
         print(result.report())
+        note_skipped_rows(data, "drt", args.data)
     return 0
 
 

@@ -118,7 +118,7 @@ def run(args) -> int:
 
     from .. import FitResult, fit, parse
     from ..errors import ParameterError
-    from .common import check_parameter_names, checked_bound_options, command_line_words, command_provenance, data_source, exclude_points, figure_options, figure_writer, latex_writer, load_selected, note_unused_sigma, parse_assignments, parse_bounds, plan_outputs, print_result, progress_printer, result_writer, LATEX_SUFFIX
+    from .common import check_parameter_names, checked_bound_options, command_line_words, command_provenance, data_source, exclude_points, figure_options, figure_writer, latex_writer, load_selected, note_skipped_rows, note_unused_sigma, parse_assignments, parse_bounds, plan_outputs, print_result, progress_printer, result_writer, skipped_rows, WithSummaryKeys, LATEX_SUFFIX
 
     outputs = plan_outputs([("--out", args.out, "fit"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     latex = bool(args.out) and Path(args.out).suffix.lower() == LATEX_SUFFIX
@@ -152,9 +152,12 @@ def run(args) -> int:
         progress.close()
     source = data_source(data)
     record = command_provenance(args, source=source, data_files=[args.data])
-    outputs.save({"--out": latex_writer(result) if latex else result_writer(result, source, record), "--plot": figure_writer(result.plot if plot_params is None else lambda: result.plot(params=plot_params), source, **figure_options(args))})
+    read = WithSummaryKeys(result, {"skipped_rows": skipped_rows(data)})  # (the JSON's, as inspect --json's: added 2026-12-01)
+    outputs.save({"--out": latex_writer(result) if latex else result_writer(read, source, record), "--plot": figure_writer(result.plot if plot_params is None else lambda: result.plot(params=plot_params), source, **figure_options(args))})
     if not outputs.uses_stdout:
-        print_result(result, args.json, source, record, command="fit")  # (a batch's report groups its warnings by kind, naming the spectra)
+        print_result(read, args.json, source, record, command="fit")  # (a batch's report groups its warnings by kind, naming the spectra)
+        if not args.json:
+            note_skipped_rows(data, "fit", args.data)
     if isinstance(result, FitResult) and not result.converged:  # (the report's status line says it; stderr too, as with --json)
         print(f"impedax fit: warning: the fit did not converge: {command_line_words(result.message, 'fit')}", file=sys.stderr)
     return 0

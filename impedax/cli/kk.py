@@ -16,6 +16,8 @@ def register(sub) -> None:
     p.add_argument("--method", choices=("linear", "zhit"), default="linear", help="linear: Voigt-chain KK test (default); zhit: |Z| reconstructed from the phase (Z-HIT, docs/drt.md; --c, --max-rc, --no-inductance and --no-capacitance set the linear test's chain and are refused with it)")
     p.add_argument("--json", action="store_true", help="machine-readable output")
     add_plot_option(p, "save data vs KK fit and the residuals with bad bands shaded")
+    p.add_argument("--out", metavar="FILE.csv|.json|.nc", help="save the test, as impedax.write_result does: .csv a row per frequency (data, KK fit, residuals, flagged; "
+                   "a column per dimension first for several spectra), .json the --json summary, .nc the full result as netCDF; '-' the JSON to standard output")
     p.add_argument("--c", type=float, default=None, help="µ cut-off (default 0.85; linear test only)")
     p.add_argument("--max-rc", type=int, default=None, metavar="M", help="largest number of RC elements tried (default: N/2 for N frequencies, at most 100; on data sparser than about 7 points a decade, 3.5 per decade of the band; linear test only)")
     p.add_argument("--no-inductance", action="store_true", help="no series inductance in the KK model (linear test only)")
@@ -34,7 +36,8 @@ LINEAR_ONLY = ("--c", "--max-rc", "--no-inductance", "--no-capacitance")
 def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting import kk_test, kk_test_batch, zhit
-    from .common import check_band_options, command_provenance, data_source, emit_json, exclude_points, figure_options, figure_writer, load_selected, plan_outputs, with_source
+    from .common import (check_band_options, command_provenance, data_source, emit_json, exclude_points, figure_options, figure_writer, load_selected, note_skipped_rows,
+                         plan_outputs, result_writer, skipped_rows, with_source, WithSummaryKeys)
 
     if args.method == "zhit":
         given = [flag for flag, value in zip(LINEAR_ONLY, (args.c, args.max_rc, args.no_inductance or None, args.no_capacitance or None)) if value is not None]
@@ -43,7 +46,7 @@ def run(args) -> int:
                 f"{', '.join(given)} set{'s' if len(given) == 1 else ''} the linear test's Voigt chain; --method zhit has none: "
                 f"leave {'it' if len(given) == 1 else 'them'} out, or drop --method zhit"
             )
-    outputs = plan_outputs([("--plot", args.plot, "figure")], inputs=[args.data])
+    outputs = plan_outputs([("--out", args.out, "result"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     # a file of several spectra: every one tested (one table row each), as `fit` fits them
     # all; Z-HIT and the plot take one (--select)
     single = "impedax kk --method zhit" if args.method == "zhit" else "impedax kk --plot" if args.plot else None
@@ -52,40 +55,41 @@ def run(args) -> int:
         from ..fitting.problem import select_band
 
         check_band_options(args.fmin, args.fmax)
-        data = select_band(data, args.fmin, args.fmax, args.data)
+        data = select_band(data, args.fmin, args.fmax, data_source(data) or args.data)  # (<stdin> for -, and any --select)
     options = dict(c=0.85 if args.c is None else args.c, max_rc=args.max_rc, inductance=not args.no_inductance, capacitance=not args.no_capacitance)
-    record = command_provenance(args, source=data_source(data), data_files=[args.data], c=options["c"])
-    if any(d != "frequency" for d in data["Z"].dims):
-        _each_spectrum(kk_test_batch(data, **options), args.json, lambda summary: emit_json(with_source(summary, data_source(data), record)))
+    source = data_source(data)
+    record = command_provenance(args, source=source, data_files=[args.data], c=options["c"])
+    several = any(d != "frequency" for d in data["Z"].dims)
+    result = kk_test_batch(data, **options) if several else zhit(data) if args.method == "zhit" else kk_test(data, **options)
+    # the reader's skipped rows in the JSON, as inspect --json gives them (added 2026-12-01); --out as
+    # fit's and drt's (added 2026-12-01: docs/io.md listed kk --out, which kk refused)
+    read = WithSummaryKeys(result, {"skipped_rows": skipped_rows(data)})
+    outputs.save({"--out": result_writer(read, source, record), "--plot": figure_writer(lambda: result.plot(), source, **figure_options(args))})  # (a batch has no plot: --plot takes one spectrum)
+    if outputs.uses_stdout:
         return 0
-    result = zhit(data) if args.method == "zhit" else kk_test(data, **options)
-    outputs.save({"--plot": figure_writer(result.plot, data_source(data), **figure_options(args))})
     if args.json:
-        emit_json(with_source(result.summary(), data_source(data), record))
+        emit_json(with_source(read.summary(), source, record))
+        return 0
+    if several:
+        _each_spectrum(result)
     else:
         print(result.report())
+    note_skipped_rows(data, "kk", args.data)
     return 0
 
 
-def _each_spectrum(batch, as_json: bool, emit_json) -> None:
-    """The KK test of every spectrum of a stack: JSON ``spectra`` (each spectrum's labels,
-    then the keys of one spectrum's test), or one line per spectrum (each
-    bad band with the rules that flagged it) and, once, the hint of the first spectrum that has
-    one."""
+def _each_spectrum(batch) -> None:
+    """The KK test of every spectrum of a stack, one line per spectrum (each bad band with the
+    rules that flagged it) and, once, the hint of the first spectrum that has one (the JSON:
+    `KKBatchResult.summary`)."""
     import math
 
-    from ..data import column_width, format_frequency
+    from ..data import column_width, counted, format_frequency
 
     where = batch.labels()
-    n_valid = sum(bool(r.valid) for r in batch.results)  # (the JSON's: inconclusive spectra count as valid)
     few = sum(not r.conclusive for r in batch.results)
-    if as_json:
-        emit_json({"dims": list(batch.dims), "sizes": dict(zip(batch.dims, map(int, batch.shape))), "n_spectra": len(batch.results), "n_valid": n_valid,
-                   "n_conclusive": len(batch.results) - few, "n_inconclusive": few,
-                   "spectra": [{"labels": w, **r.summary()} for w, r in zip(where, batch.results)]})
-        return
     consistent = sum(bool(r.valid) and r.conclusive for r in batch.results)
-    print(f"linear KK test of {len(batch.results)} spectra over {', '.join(batch.dims)}: {consistent} KK-consistent, {len(batch.results) - few - consistent} not"
+    print(f"linear KK test of {counted(len(batch.results), 'spectrum', 'spectra')} over {', '.join(batch.dims)}: {consistent} KK-consistent, {len(batch.results) - few - consistent} not"
           + (f", {few} inconclusive (too few frequencies to tell)" if few else ""))
     names = [", ".join(f"{d}={v}" for d, v in w.items()) for w in where]
     width = column_width(names, "spectrum")
@@ -101,4 +105,4 @@ def _each_spectrum(batch, as_json: bool, emit_json) -> None:
     with_hint = [i for i, h in enumerate(hints) if h]
     if with_hint:
         listed = ", ".join(names[i] for i in with_hint[:3]) + (", …" if len(with_hint) > 3 else "")
-        print(f"hint: in {len(with_hint)} of {len(hints)} spectra ({listed}): {hints[with_hint[0]]}")
+        print(f"hint: in {len(with_hint)} of {counted(len(hints), 'spectrum', 'spectra')} ({listed}): {hints[with_hint[0]]}")

@@ -28,6 +28,7 @@ def register(sub) -> None:
 def run(args) -> int:
     from pathlib import Path
 
+    from ..data import counted
     from ..errors import DataError
     from ..io.loader import NETCDF_SUFFIXES
     from ..io.stack import stack_files
@@ -44,6 +45,6 @@ def run(args) -> int:
     others = [d for d in stacked["Z"].dims if d not in (args.dim, "frequency")]  # (the files' own dimensions, each file over them)
     n = stacked["Z"].size // stacked.sizes["frequency"]
     over = f" × {' × '.join(f'{d} ({stacked.sizes[d]})' for d in others)}" if others else ""
-    print(f"impedax stack: {n} spectra at {stacked.sizes['frequency']} frequencies along {args.dim!r} ({shown}){over}; "
+    print(f"impedax stack: {counted(n, 'spectrum', 'spectra')} at {stacked.sizes['frequency']} frequencies along {args.dim!r} ({shown}){over}; "
           f"fit them as a batch: impedax fit {args.out} --model MODEL", file=sys.stderr)
     return 0

@@ -192,8 +192,54 @@ class KKResult:
             "noise_estimate_rel": self.noise_estimate, "chain_error_rel": self.chain_error, "threshold_scale_rel": self.threshold_scale,
             "point_threshold_rel": levels["point"], "run_threshold_rel": levels["run"], "run_length": int(self.thresholds["run_length"]),
             "window_threshold_rel": levels["window"], "window": int(self.thresholds["window"]), "sign_hint": self.sign_hint,
+            # (added 2026-12-01) the report's notes on what the verdict rests on, and what to heed
+            # (the key fit, compare and sample give): every note, and the sign hint
+            "notes": self.notes, "warnings": self.notes + ([self.sign_hint] if self.sign_hint else []),
         })
         return out
+
+    def to_table(self) -> list[dict[str, object]]:
+        """One row per frequency, in the data's order (``impedax kk --out FILE.csv``,
+        `impedax.io.write_result`; added 2026-12-01): ``frequency_hz``, the measured and the
+        KK-fitted impedance (``z_real_ohm``, ``z_imag_ohm``, ``z_kk_real_ohm``,
+        ``z_kk_imag_ohm``), the residuals Δ', Δ'' (fractions of |Z|, data minus fit as
+        ``residuals_real``/``residuals_imag``) and ``flagged``."""
+        return [
+            {"frequency_hz": float(f), "z_real_ohm": float(z.real), "z_imag_ohm": float(z.imag), "z_kk_real_ohm": float(k.real), "z_kk_imag_ohm": float(k.imag),
+             "residual_real": float(dr), "residual_imag": float(di), "flagged": bool(flag)}
+            for f, z, k, dr, di, flag in zip(self.frequency, self.impedance, self.kk_impedance, self.residuals_real, self.residuals_imag, self.flagged)
+        ]
+
+    @property
+    def notes(self) -> list[str]:
+        """The caveats the report states besides the numbers (the JSON's ``notes`` and
+        ``warnings``): too few frequencies for the test (`conclusive`), sparse data whose
+        residuals are judged against the chain's own misfit (`sparse_note`), points with Re Z < 0
+        (`non_passive_note`)."""
+        notes = [] if self.conclusive else [f"inconclusive: {self.frequency.size} frequencies are too few for the test (it needs {CONCLUSIVE_POINTS_MIN})"]
+        return notes + [n for n in (self.sparse_note, self.non_passive_note) if n]
+
+    @property
+    def sparse_note(self) -> str | None:
+        """On data too sparse for the Voigt chain to fit a single relaxation within the noise
+        (``chain_error`` above the noise estimate and the floor): the residuals are judged against
+        that misfit, not the noise. None otherwise."""
+        if self.chain_error <= max(self.noise_estimate if math.isfinite(self.noise_estimate) else 0.0, self.thresholds["noise_floor"]):
+            return None
+        decades = math.log10(self.frequency.max() / self.frequency.min())
+        return (f"sparse data: at {self.frequency.size / decades:.2g} points a decade the Voigt chain fits a single relaxation only to "
+                f"{self.chain_error * 100:.2g} % rms; residuals are judged against that, not the noise")
+
+    @property
+    def non_passive_note(self) -> str | None:
+        """On points with Re Z < 0 beyond the noise (`non_passive_frequencies`), which this test
+        keeps and diagnose and refine leave out; None when there are none."""
+        bad = self.non_passive_frequencies
+        if not bad.size:
+            return None
+        where = ", ".join(format_frequency(f) for f in bad[:6]) + (", …" if bad.size > 6 else "")
+        return (f"{bad.size} of {self.frequency.size} points have Re Z < 0 ({where}), which no passive circuit reaches; they are "
+                "part of this test (impedax diagnose and refine leave them out before theirs: their verdicts may differ); leave them out with --fmin/--fmax")
 
     @property
     def rule_levels(self) -> dict[str, float]:
@@ -230,12 +276,8 @@ class KKResult:
             f"rms_rel = {self.rms_rel * 100:.3g} %, noise estimate = {self.noise_estimate * 100:.3g} %",
             f"verdict: {verdict}",
         ]
-        if self.chain_error > max(self.noise_estimate if math.isfinite(self.noise_estimate) else 0.0, self.thresholds["noise_floor"]):
-            decades = math.log10(self.frequency.max() / self.frequency.min())
-            lines.append(
-                f"sparse data: at {self.frequency.size / decades:.2g} points a decade the Voigt chain fits a single relaxation only to "
-                f"{self.chain_error * 100:.2g} % rms; residuals are judged against that, not the noise"
-            )
+        if self.sparse_note:
+            lines.append(self.sparse_note)
         if self.bad_bands:
             lines.append(self._rules_text())
             t, levels = self.thresholds, self.rule_levels
@@ -247,13 +289,8 @@ class KKResult:
                 ]
                 said = "; ".join(x for x in said if x)
                 lines.append(f"  bad band: {format_frequency(lo)} – {format_frequency(hi)}" + (f": {said}" if said else ""))
-        bad = self.non_passive_frequencies
-        if bad.size:
-            where = ", ".join(format_frequency(f) for f in bad[:6]) + (", …" if bad.size > 6 else "")
-            lines.append(
-                f"note: {bad.size} of {self.frequency.size} points have Re Z < 0 ({where}), which no passive circuit reaches; they are "
-                "part of this test (impedax diagnose and refine leave them out before theirs: their verdicts may differ); leave them out with --fmin/--fmax"
-            )
+        if self.non_passive_note:
+            lines.append(f"note: {self.non_passive_note}")
         if self.sign_hint:
             lines.append(f"hint: {self.sign_hint}")
         return "\n".join(lines)
@@ -319,6 +356,21 @@ class KKBatchResult(ResultGrid):
     @property
     def n_rc(self) -> np.ndarray:
         return self.per_spectrum("n_rc", int)
+
+    def summary(self) -> dict:
+        """The JSON of ``impedax kk --json`` for several spectra: ``dims``, ``sizes``,
+        ``n_spectra``, ``n_valid`` (inconclusive spectra count as valid), ``n_conclusive``,
+        ``n_inconclusive`` and ``spectra`` (each spectrum's ``labels``, then the keys of
+        `KKResult.summary`); ``warnings`` (added 2026-12-01): the spectra's warnings, each once."""
+        few = sum(not r.conclusive for r in self.results)
+        spectra = [{"labels": where, **r.summary()} for where, r in zip(self.labels(), self.results)]
+        return {"dims": list(self.dims), "sizes": dict(zip(self.dims, map(int, self.shape))), "n_spectra": len(self.results), "n_valid": sum(bool(r.valid) for r in self.results),
+                "n_conclusive": len(self.results) - few, "n_inconclusive": few, "spectra": spectra,
+                "warnings": sorted({w for row in spectra for w in row["warnings"]})}
+
+    def to_table(self) -> list[dict[str, object]]:
+        """`KKResult.to_table` of every spectrum after a column per dimension (its label)."""
+        return [{**where, **row} for where, r in zip(self.labels(), self.results) for row in r.to_table()]
 
     def to_xarray(self) -> xr.Dataset:
         """Each spectrum's `KKResult.to_xarray()` stacked over ``dims`` (bands and RC elements

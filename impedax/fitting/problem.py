@@ -31,10 +31,13 @@ WEIGHTINGS = {
 
 @dataclass(frozen=True, eq=False)
 class Spectrum:
-    """A checked spectrum Dataset and where it came from (a path, or the Dataset's ``source``)."""
+    """A checked spectrum Dataset and where it came from (a path, or the Dataset's ``source``);
+    ``band``: the limits that left out some of its points (`band_text`: "at or above fmin = 10
+    Hz"), None when fmin and fmax left out none."""
 
     data: xr.Dataset
     source: str
+    band: str | None = None
 
     @property
     def extra_dims(self) -> tuple[str, ...]:
@@ -50,9 +53,19 @@ def select_band(ds: xr.Dataset, fmin: float | None, fmax: float | None, source: 
     if fmax is not None:
         keep &= f <= fmax
     if not keep.any():
-        band = f"at or above fmin = {fmin:g} Hz" if fmax is None else f"at or below fmax = {fmax:g} Hz" if fmin is None else f"from fmin = {fmin:g} Hz to fmax = {fmax:g} Hz"
-        raise DataError(f"no frequencies {band} (the data span {f.min():.4g}–{f.max():.4g} Hz)", path=source)
+        raise DataError(f"no frequencies {band_text(fmin, fmax)} (the data span {f.min():.4g}–{f.max():.4g} Hz)", path=source)
     return ds.isel(frequency=np.flatnonzero(keep)) if not keep.all() else ds
+
+
+def band_text(fmin: float | None, fmax: float | None) -> str:
+    """The band ``fmin``..``fmax`` [Hz] in the words of messages: ``at or above fmin = 10 Hz``,
+    ``at or below fmax = …``, ``from fmin = … to fmax = …`` (the command line names its --fmin
+    and --fmax there: `impedax.cli.common.option_words`)."""
+    if fmax is None:
+        return f"at or above fmin = {fmin:g} Hz"
+    if fmin is None:
+        return f"at or below fmax = {fmax:g} Hz"
+    return f"from fmin = {fmin:g} Hz to fmax = {fmax:g} Hz"
 
 
 def open_spectrum(data: xr.Dataset | str | os.PathLike, *, fmin: float | None = None, fmax: float | None = None, single: str | None = None) -> Spectrum:
@@ -73,7 +86,8 @@ def open_spectrum(data: xr.Dataset | str | os.PathLike, *, fmin: float | None = 
 
         source = str(data)
         data = load(data)
-    spectrum = Spectrum(select_band(data, fmin, fmax, source), source)
+    selected = select_band(data, fmin, fmax, source)
+    spectrum = Spectrum(selected, source, band_text(fmin, fmax) if selected.sizes["frequency"] < data.sizes["frequency"] else None)
     check_magnitudes(spectrum.data["frequency"], abs(spectrum.data["Z"]), source)
     if single is not None and spectrum.extra_dims:
         raise DataError(
@@ -207,9 +221,11 @@ def fit_problem(circuit, spectrum: Spectrum, *, init, fixed, bounds, registry) -
     n_points = data.sizes["frequency"]
     k = int((~table.fixed).sum())
     if k >= 2 * n_points:
-        frequencies = f"{n_points} frequenc{'y' if n_points == 1 else 'ies'}"
+        # (the band the user's limits left, when they left out points: "1 frequency" alone sent
+        # the user to the file, which holds 31; added 2026-12-01)
+        frequencies = f"{n_points} frequenc{'y' if n_points == 1 else 'ies'}" + (f" {spectrum.band}" if spectrum.band else "")
         where = "" if source in (None, "", "dataset", IN_MEMORY) else f"{source}: "  # (the file, when the data came from one)
-        raise FitError(f"{where}{k} free parameters but only {2 * n_points} real data values ({frequencies}); fix parameters or use more data")
+        raise FitError(f"{where}{k} free parameters but only {2 * n_points} real data values ({frequencies}); fix parameters or use more data" + (" (a wider band)" if spectrum.band else ""))
     return FitProblem(circuit, data, table, source)
 
 

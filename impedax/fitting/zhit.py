@@ -151,7 +151,25 @@ class ZHITResult:
             "noise_estimate": self.noise_estimate, "noise_estimate_rel": self.noise_estimate, "point_threshold_rel": self.threshold, "run_threshold_rel": self.run_threshold, "run_length": self.run_length,
             "frequency_hz": self.frequency, "modulus_zhit_ohm": self.modulus, "residuals_modulus": self.residuals,
             "end_slope_local_hz": np.sort(self.frequency[end_local]), "sign_hint": self.sign_hint,
+            "notes": self.notes, "warnings": self.notes + ([self.sign_hint] if self.sign_hint else []),  # (added 2026-12-01, as the linear test's)
         }
+
+    def to_table(self) -> list[dict[str, object]]:
+        """One row per frequency, in the data's order (``impedax kk --method zhit --out
+        FILE.csv``; added 2026-12-01): ``frequency_hz``, ``z_abs_ohm`` (|Z| measured),
+        ``modulus_zhit_ohm`` (reconstructed from the phase), ``residual_modulus`` and ``flagged``."""
+        return [
+            {"frequency_hz": float(f), "z_abs_ohm": float(abs(z)), "modulus_zhit_ohm": float(m), "residual_modulus": float(r), "flagged": bool(flag)}
+            for f, z, m, r, flag in zip(self.frequency, self.impedance, self.modulus, self.residuals, self.flagged)
+        ]
+
+    @property
+    def notes(self) -> list[str]:
+        """The caveats on the verdict (the JSON's ``notes`` and ``warnings``, as
+        `KKResult.notes`): too few frequencies for Z-HIT (`conclusive`)."""
+        if self.conclusive:
+            return []
+        return [f"inconclusive: {self.frequency.size} frequencies are too few for Z-HIT (it needs {CONCLUSIVE_POINTS_MIN}, and {CONCLUSIVE_PER_DECADE_MIN:g} a decade)"]
 
     def report(self) -> str:
         """rms_rel, noise estimate, verdict, the bad bands with the rule that flagged each."""

@@ -22,6 +22,7 @@ from ..errors import IN_MEMORY, DataError, SweepGridsDiffer
 from ._common import MAX_FILE_BYTES, check_file, head_text
 from .csv import read_csv, write_csv
 from .netcdf import NETCDF_FORMAT, not_a_spectrum, write_netcdf
+from .provenance import STDIN_NAME as PROVENANCE_STDIN_NAME
 from .registry import Reader
 from .table import NoLayout
 
@@ -36,7 +37,7 @@ SPECTRUM_SUFFIXES = NETCDF_SUFFIXES + CSV_SUFFIXES
 
 #: The path that means standard input (``impedax fit - --model ...``); named so in messages.
 STDIN = "-"
-STDIN_NAME = "<stdin>"
+STDIN_NAME = PROVENANCE_STDIN_NAME  # ("<stdin>": the provenance's data_files name it so too)
 
 
 def _head(path: Path) -> bytes:
@@ -103,7 +104,7 @@ def load(path: str | os.PathLike, readers: Sequence[Reader] | None = None, *, sw
         return validate_spectrum(path)
     _check_path(path)
     if str(path) == STDIN:
-        return _load_stdin(readers)
+        return _load_stdin(readers, sweep)
     path = Path(path)
     if sweep is not None:
         return _one_sweep(path, readers, str(sweep))
@@ -146,10 +147,7 @@ def _one_sweep(path: Path, readers: Sequence[Reader] | None, label: str) -> xr.D
     try:
         ds = load(path, readers)
     except SweepGridsDiffer as exc:
-        ds = exc.spectrum(label)
-        ds.attrs.setdefault("format", "delimited text")
-        ds.attrs.setdefault("source", str(path))
-        return _checked(ds, path)
+        return _sweep_of(exc, label, path)
     dims = [d for d in ("sweep", "cycle") if d in ds["Z"].dims]
     if not dims:
         raise DataError(f"sweep={label}: the file holds no sweeps to pick from ({'one spectrum' if ds['Z'].ndim == 1 else ', '.join(ds['Z'].dims)})", path=path)
@@ -157,6 +155,15 @@ def _one_sweep(path: Path, readers: Sequence[Reader] | None, label: str) -> xr.D
     if label not in labels:
         raise DataError(f"sweep={label}: no {dims[0]} {label}; its {dims[0]}s: {', '.join(labels)}", path=path)
     return ds.isel({dims[0]: labels.index(label)})
+
+
+def _sweep_of(exc: SweepGridsDiffer, label: str, path: Path) -> xr.Dataset:
+    """Sweep ``label`` of file ``path`` whose sweeps lie on different grids (``exc``), as `load`
+    gives a spectrum: its format and source named, validated."""
+    ds = exc.spectrum(label)
+    ds.attrs.setdefault("format", "delimited text")
+    ds.attrs.setdefault("source", str(path))
+    return _checked(ds, path)
 
 
 def _checked(ds: xr.Dataset, path: Path) -> xr.Dataset:
@@ -184,9 +191,12 @@ def _unrecognised(as_text: str | None, tried: Sequence[str], faults: Sequence[st
     return f"not a recognised spectrum file: as delimited text, {as_text}{listed}"
 
 
-def _load_stdin(readers: Sequence[Reader] | None) -> xr.Dataset:
+def _load_stdin(readers: Sequence[Reader] | None, sweep: str | None = None) -> xr.Dataset:
     """A spectrum from standard input: read (at most `max_file_bytes`), kept in a temporary
-    file while a reader recognises it by content, and named ``<stdin>`` in messages."""
+    file while a reader recognises it by content, and named ``<stdin>`` in messages and in the
+    data's attrs (`_named_stdin`). ``sweep`` as `load`'s; a table of sweeps on different grids
+    raises `SweepGridsDiffer` holding each sweep read (standard input is read once: the
+    command line's ``--select sweep=LABEL`` takes its sweep from there)."""
     import sys
     import tempfile
 
@@ -207,15 +217,39 @@ def _load_stdin(readers: Sequence[Reader] | None) -> xr.Dataset:
         path = folder / "stdin"
         path.write_bytes(raw)
         try:
-            ds = load(path, readers)
+            ds = load(path, readers, sweep=sweep)
         except DataError as exc:
             text = str(exc)
             for prefix in (f"{path}, line {exc.line}: ", f"{path}: "):
                 if text.startswith(prefix):
                     text = text[len(prefix):]
                     break
-            raise DataError(text.replace(str(path), STDIN_NAME), path=STDIN_NAME, line=exc.line) from None
-    ds.attrs["path"] = STDIN_NAME
+            text = text.replace(str(path), STDIN_NAME)
+            if isinstance(exc, SweepGridsDiffer):
+                spectra = {label: _named_stdin(_sweep_of(exc, label, path), str(path)) for label in exc.labels}
+                raise SweepGridsDiffer(text, path=STDIN_NAME, line=exc.line, dim=exc.dim, spectra=spectra, found=exc.found.replace(str(path), STDIN_NAME)) from None
+            raise DataError(text, path=STDIN_NAME, line=exc.line) from None
+    return _named_stdin(ds, str(path))
+
+
+def _named_stdin(ds: xr.Dataset, copy: str) -> xr.Dataset:
+    """``ds`` read from ``copy``, the temporary file that held standard input, with every mention
+    of that file (attrs ``path`` and ``source``, as every reader sets them, and any text attribute
+    holding it) as `STDIN_NAME`: the JSON ``source``, the provenance and the ``--out`` columns name
+    ``<stdin>``, never a deleted temporary path (until 2026-12-01 they named
+    ``/tmp/.impedax-stdin-XXXX/stdin``)."""
+    def named(value):
+        if isinstance(value, str):
+            return value.replace(copy, STDIN_NAME)
+        if isinstance(value, (list, tuple)) and all(isinstance(v, str) for v in value):
+            return type(value)(v.replace(copy, STDIN_NAME) for v in value)
+        return value
+
+    ds.attrs = {key: named(value) for key, value in ds.attrs.items()}
+    ds.attrs["path"] = ds.attrs["source"] = STDIN_NAME
+    for key in ("source", CHECKED_FILE):
+        if ds.encoding.get(key) == copy:
+            ds.encoding[key] = STDIN_NAME
     return ds
 
 

@@ -15,6 +15,9 @@ from typing import Mapping, Sequence
 
 from ..constants import IMPEDAX_VERSION
 
+STDIN_NAME = "<stdin>"
+"""Standard input (``-``) in ``data_files``, as `impedax.io.loader.STDIN_NAME` names it."""
+
 __all__ = ["provenance", "provenance_columns", "provenance_attrs", "PROVENANCE_KEY", "PROVENANCE_ATTRS"]
 
 LIST_SEPARATOR = "; "
@@ -32,7 +35,8 @@ def provenance(*, command: str | None = None, settings: Mapping[str, object] | N
     ISO 8601 to the second with ``Z``), ``command`` (``impedax fit``; None from Python), its
     ``settings`` (option → value as used, defaults included), ``source`` (the data as the other
     outputs name them: ``path [DIM=LABEL]``, or one per input) and ``data_files`` (their
-    absolute paths, so a file moved later is still named)."""
+    absolute paths, so a file moved later is still named; standard input, ``-``, as ``<stdin>``:
+    until 2026-12-01 it was left out)."""
     written = datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0).isoformat().replace("+00:00", "Z")
     return {
         "impedax_version": IMPEDAX_VERSION,
@@ -40,7 +44,7 @@ def provenance(*, command: str | None = None, settings: Mapping[str, object] | N
         "command": command,
         "settings": dict(settings or {}),
         "source": dict(source) if isinstance(source, Mapping) else source,
-        "data_files": [os.path.abspath(p) for p in data_files if p and p != "-"],
+        "data_files": [STDIN_NAME if p == "-" else os.path.abspath(p) for p in data_files if p],
     }
 
 

@@ -16,10 +16,14 @@ from ..arguments import shown
 from ..data import make_spectrum
 from ..errors import DataError, ParameterError
 from ._common import merged_attrs
-from .loader import load
+from .loader import STDIN, STDIN_NAME, load
 from .table import SWEEP_RTOL
 
 __all__ = ["stack_files", "stack_labels"]
+
+
+STDIN_LABEL = "stdin"
+"""The label of standard input (``-``) along the new dimension when no ``coords`` are given."""
 
 
 def stack_files(paths: Sequence[str | os.PathLike], dim: str = "file", coords: Sequence | None = None, *, readers: Sequence | None = None) -> xr.Dataset:
@@ -53,8 +57,10 @@ def stack_files(paths: Sequence[str | os.PathLike], dim: str = "file", coords: S
         raise ParameterError(f"dim must be the name of the new dimension (text, e.g. 'day'), got {shown(dim)}")
     if dim == "frequency":
         raise ParameterError("dim: 'frequency' is every spectrum's own dimension; name the new one otherwise, e.g. 'day'")
-    labels = stack_labels([Path(str(p)).stem for p in paths] if coords is None else coords, len(paths), given=coords is not None)
+    # (standard input, "-", is named as load names it, <stdin>, and labelled "stdin"; added 2026-12-01)
+    labels = stack_labels([STDIN_LABEL if str(p) == STDIN else Path(str(p)).stem for p in paths] if coords is None else coords, len(paths), given=coords is not None)
     spectra = [_spectra_of(path, dim, readers) for path in paths]
+    paths = [STDIN_NAME if str(p) == STDIN else p for p in paths]
     first, first_path = spectra[0], str(paths[0])
     extra = tuple(d for d in first["Z"].dims if d != "frequency")
     spectra = [_aligned(ds, path, first, first_path, extra) for ds, path in zip(spectra, paths)]

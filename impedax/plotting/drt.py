@@ -7,7 +7,7 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 
-from ..data import format_quantity, format_time
+from ..data import counted, format_quantity, format_time
 from . import FLAT_NYQUIST, dense_model, font_size, label_spectra_axis, nyquist_panel_height, nyquist_shape, plain_log_ticks, plot_bode, plot_nyquist, prefixed_axis, shade_bands
 
 __all__ = ["plot_drt", "plot_drt_batch", "plot_gamma", "plot_zhit"]
@@ -127,7 +127,7 @@ def plot_drt_batch(batch, *, title: str | None = None):
     counts = [len(one.peaks) for one in batch.results]
     low, high = min(counts), max(counts)
     peaks = f"{low} peak{'' if low == 1 else 's'}" if low == high else f"{low}–{high} peaks"
-    fig.suptitle(title or f"DRT of {n} spectra over {', '.join(batch.dims)}: {peaks}")
+    fig.suptitle(title or f"DRT of {counted(n, 'spectrum', 'spectra')} over {', '.join(batch.dims)}: {peaks}")
     return fig
 
 

@@ -32,7 +32,7 @@ import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
 from ...errors import DataError, ParameterError
-from ...data import column_width, unit_text
+from ...data import column_width, counted, unit_text
 from ...warning_groups import grouped_warnings
 from ..derived import QUANTILES, draws_band, needs_freq
 from ..least_squares import SharedFitResult, fit
@@ -260,7 +260,7 @@ class SharedPosterior(PiledUp):
         q = self.quantiles()
         width = column_width(self.names, "parameter")
         lines = [
-            f"model      {self.model}   (joint posterior: {', '.join(self.shared)} shared over {', '.join(self.over)}, {len(self.spectra)} spectra)",
+            f"model      {self.model}   (joint posterior: {', '.join(self.shared)} shared over {', '.join(self.over)}, {counted(len(self.spectra), 'spectrum', 'spectra')})",
             f"noise      {self.noise}: {NOISE_MODELS[self.noise]}",
             f"sampler    emcee, {walkers_text(self.n_walkers, self.stragglers)}, {self.settings.get('steps')} steps ({length_text(self.settings)}burn {self.settings.get('burn')}, thin {self.settings.get('thin')}), {self.n_walkers * self.n_draws} draws, acceptance {self.mean_acceptance:.3f}",
             "",

@@ -56,7 +56,7 @@ import xarray as xr
 
 from ...arguments import EXCLUDE_RTOL, MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice, count, flag, frequency, instance_of, noise_fraction, parameter_bounds, parameter_values, seed as seed_rule
 from ...circuits import Circuit, DEFAULT_REGISTRY, Element, Parallel, Registry, Series, parse
-from ...data import concise_repr, format_quantity, make_spectrum
+from ...data import concise_repr, counted, format_quantity, make_spectrum
 from ...errors import DataError, FitError, ImpedaxError, ParameterError
 from ..drt import PeakEvidence, drt, is_resolved, r_cpe_tau, unexplained_peaks
 from ..kk import CONCLUSIVE_POINTS_MIN, KKResult, kk_test
@@ -225,6 +225,7 @@ class Suggestion:
             "fixed_bands": [list(b) for b in self.fixed_bands], "undetermined": list(self.undetermined), "warning": self.warning,
             "values": {k: float(v) for k, v in self.fit.values.items()}, "removed": list(self.removed),
             "vanished": list(self.vanished), "same_fit": [t.model for t in same_fit],
+            "units": {k: spec.unit for k, spec in self.fit.circuit.parameter_specs(self.fit.registry).items()},  # (of "values", as fit --json's params give them: added 2026-12-01)
         }
 
 
@@ -298,6 +299,14 @@ class Diagnosis:
         return self.verdict == Verdict.ADEQUATE and _beyond_single_effects(self.failing_bands, self.noise_ratio)
 
     @property
+    def warnings(self) -> list[str]:
+        """What to heed before trusting the verdict (JSON ``warnings``, the key fit, compare and
+        sample give; added 2026-12-01): every one of ``notes`` (masked points, refits, KK flags,
+        what the data do not determine) but the one saying the user's bounds were kept, and the
+        sign hint (``sign_hint``)."""
+        return [n for n in self.notes if not n.startswith(BOUNDS_KEPT_LEAD)] + ([self.sign_hint] if self.sign_hint else [])
+
+    @property
     def verdict_heading(self) -> str:
         """The verdict as the report heads it: ``ADEQUATE WITHIN THE CATALOG`` for an adequate
         verdict `beyond_catalog` (a bare "adequate" read as "fits the data" at 10× the noise)."""
@@ -311,7 +320,8 @@ class Diagnosis:
             "model": b.model,
             "baseline": {"rms_rel": b.rms_rel, "chi2_red": b.chi2_red, "aic": b.aic, "bic": b.bic, "n_points": b.n_points, "n_params": b.n_params,
                          "params": b.summary()["params"], "at_bound": list(b.at_bound),
-                         "user_bounds": bounds_attr(b.bounds)},  # (added 2026-12-01: the bounds=, --bound, as fit --json's user_bounds)
+                         "user_bounds": bounds_attr(b.bounds),  # (added 2026-12-01: the bounds=, --bound, as fit --json's user_bounds)
+                         "converged": bool(b.converged)},  # (added 2026-12-01, as fit --json's)
             "kk": {
                 "valid": bool(kk.valid) if kk is not None else None,
                 "rms_rel": float(kk.rms_rel) if kk is not None else None,
@@ -337,6 +347,7 @@ class Diagnosis:
             ],
             "thresholds": dict(self.thresholds),
             "notes": list(self.notes),
+            "warnings": self.warnings,
             "drt_peaks": self._drt_peaks_json(),
             "drt_summary": self.drt.text if self.drt is not None else None,
             "sign_hint": self.sign_hint,
@@ -377,7 +388,7 @@ class Diagnosis:
         left_out = left_out_options(b.frequency, self.masked_points)
         if fit_command is None:
             fit_command = " ".join(["impedax fit DATA", left_out_words(left_out)]).strip()
-        lines = [f"model {b.model}: rms_rel {b.rms_rel * 100:.3g} %, chi2_red {b.chi2_red:.3g}{self._chi2_red_basis()}, AIC {b.aic:.1f} ({b.n_points} points, {b.n_params} free parameters)"]
+        lines = [f"model {b.model}: rms_rel {b.rms_rel * 100:.3g} %, chi2_red {b.chi2_red:.3g}{self._chi2_red_basis()}, AIC {b.aic:.1f} ({b.n_points} points, {counted(b.n_params, 'free parameter')})"]
         if self.kk is not None:
             kk_text = "the data are Kramers–Kronig consistent" if self.kk.valid else "the data are NOT Kramers–Kronig consistent in " + ", ".join(f"{format_frequency(lo)}–{format_frequency(hi)}" for lo, hi in self.kk.bad_bands)
             if not self.kk.conclusive:
@@ -835,7 +846,7 @@ def _ranked_before(s: Suggestion, t: Suggestion) -> str:
     if t.delta_aic < s.delta_aic - DELTA_AIC_MIN:
         return "see the ranking rules, docs/diagnosis.md"
     if s.fit.n_params < t.fit.n_params:
-        return f"{margin} the simpler goes first ({s.fit.n_params} free parameters against {t.fit.n_params})"
+        return f"{margin} the simpler goes first ({counted(s.fit.n_params, 'free parameter')} against {t.fit.n_params})"
     if t.removed and not s.removed:
         return f"{margin} the one that leaves no element out goes first"
     if _claims_finite_diffusion(t) and not _claims_finite_diffusion(s):
@@ -964,7 +975,7 @@ def _fit_baseline(data, circuit: Circuit | str, effects: EffectCatalog, *, regis
     circuit = parse(circuit, registry)  # (a circuit's errors before the data's, and both before the fit)
     if fixed or bounds:  # (an unknown name, a value or bound out of range, lower ≥ upper, every parameter fixed: fit's own errors, before the fit)
         ParameterTable.build(circuit, registry=registry, fixed=fixed, bounds=bounds)
-    _require_points_for_diagnosis(ds.sizes["frequency"], len(circuit.parameter_names(registry)))
+    require_points_for_diagnosis(ds.sizes["frequency"], len(circuit.parameter_names(registry)))
     if not noise_given:
         _require_noise_without_kk(ds.sizes["frequency"], None, ds["sigma"] if "sigma" in ds else None, source=ds.attrs.get("source"))
     # the candidates depend on the circuit's structure: propose them around a stand-in fit, so
@@ -1017,17 +1028,22 @@ def _baseline(fit_or_data, circuit, *, data, effects, registry, fmin, fmax, weig
     return _fit_baseline(fit_or_data, circuit, effects, registry=registry, fmin=fmin, fmax=fmax, weighting=weighting, n_starts=n_starts, seed=seed, shape=shape, noise_given=noise_given, fixed=fixed, bounds=bounds)
 
 
+BOUNDS_KEPT_LEAD = "your bounds ("
+"""The start of the note that the user's bounds were kept in every candidate fit: information,
+not a caveat, so it is no one of `Diagnosis.warnings`."""
+
 MIN_DIAGNOSIS_POINTS = 4  # what the KK test needs (R_0, one RC element, L, C)
 
 
-def _require_points_for_diagnosis(n_points: int, n_free: int) -> None:
+def require_points_for_diagnosis(n_points: int, n_free: int, command: str = "diagnose") -> None:
     """`DataError` when the spectrum is too short to judge a model (before, one point was
     judged "adequate"): the KK test needs `MIN_DIAGNOSIS_POINTS` frequencies, and the real
     values must outnumber the free parameters by as many (a model with as many parameters as
-    data values fits anything)."""
+    data values fits anything). ``command``: who needs them (refine checks before its first
+    diagnosis, whose words "diagnose needs" had answered ``impedax refine``)."""
     needed = max(MIN_DIAGNOSIS_POINTS, -(-(n_free + MIN_DIAGNOSIS_POINTS) // 2))
     if n_points < needed:
-        raise DataError(f"diagnose needs at least {needed} frequencies for {n_free} free parameters and the Kramers–Kronig test, got {n_points}")
+        raise DataError(f"{command} needs at least {needed} frequencies for {counted(n_free, 'free parameter')} and the Kramers–Kronig test, got {n_points}")
 
 
 def _require_noise_without_kk(n_points: int, noise: float | None, sigma, *, source: str | None) -> None:
@@ -1177,7 +1193,7 @@ def _data_problem(fit: FitResult, kk: KKResult | None, noise: NoiseModel, sign_h
         return DataProblem(None, none, kept_words and f"{kept_words}: diagnosed with every point")
     return DataProblem(None, none, (
         f"the KK test flags {np.mean(flagged) * 100:.0f} % of the points and the model's misfit is the data's own at {np.mean(trimmed) * 100:.0f} %, "
-        f"too many to leave out ({n_left} would be left for {fit.n_params} free parameters): diagnosed with every point"
+        f"too many to leave out ({n_left} would be left for {counted(fit.n_params, 'free parameter')}): diagnosed with every point"
     ))
 
 
@@ -2005,7 +2021,7 @@ def diagnose(
         fit_or_data, circuit, data=data, effects=effects, registry=registry, fmin=fmin, fmax=fmax, weighting=weighting, n_starts=n_starts, seed=seed, shape=solver_shape,
         noise_given=noise is not None or kk is not None, fixed=fixed, bounds=bounds,
     )
-    _require_points_for_diagnosis(base.n_points, base.n_params)
+    require_points_for_diagnosis(base.n_points, base.n_params)
     user_fit = base  # (the user's fit, whose fixed values and bounds `_constraint_verdict` checks)
     spectrum, sigma = _spectrum_of(base, data)
     not_passive = tuple(left_out)
@@ -2073,7 +2089,7 @@ def diagnose(
     say(f"fitting {len(proposals)} candidate circuits of {len({e.id for e, _ in proposals})} effects")
     if base.bounds:
         notes.append(
-            "your bounds (" + ", ".join(f"{n} within {lo:g}..{hi:g}" for n, (lo, hi) in base.bounds.items()) + ") are kept in every candidate fit that has the parameter, "
+            BOUNDS_KEPT_LEAD + ", ".join(f"{n} within {lo:g}..{hi:g}" for n, (lo, hi) in base.bounds.items()) + ") are kept in every candidate fit that has the parameter, "
             "the baseline's refit included, and in the commands printed (--bound); a candidate that replaces the element drops its bound"
         )
     proposals, fits, shape = _fit_proposals(base, spectrum, ctx, proposals, shape, n_starts=n_starts, max_steps=max_steps, seed=seed, say=say)

@@ -13,7 +13,7 @@ import numpy as np
 import xarray as xr
 
 from ...arguments import MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice, count, flag, frequency, instance_of, noise_fraction, parameter_bounds, parameter_values, seed as seed_rule
-from ...circuits import Circuit, DEFAULT_REGISTRY, Element, Registry
+from ...circuits import Circuit, DEFAULT_REGISTRY, Element, Registry, parse
 from ...data import concise_repr, format_quantity
 from ...errors import CircuitError, ParameterError
 from ..least_squares import FitResult, fit
@@ -25,7 +25,7 @@ from ..reductions import capacitor_name
 from ..problem import WEIGHTINGS, circuit_parameters, open_spectrum
 from .bands import format_frequency
 from .catalog import EffectCatalog
-from .diagnosis import CANDIDATE_STEPS, DELTA_AIC_MIN, NOISE_FRACTION_MIN, Diagnosis, DRTMemo, Verdict, diagnose, left_out_options, left_out_words, noise_variance_explained, undetermined_parameters, unidentified_note
+from .diagnosis import CANDIDATE_STEPS, DELTA_AIC_MIN, NOISE_FRACTION_MIN, Diagnosis, DRTMemo, Verdict, diagnose, left_out_options, left_out_words, noise_variance_explained, non_passive_points, require_points_for_diagnosis, undetermined_parameters, unidentified_note
 from .effects import DEFAULT_EFFECTS, placement
 from .vanishing import share_words, vanished_parameters, vanished_terms
 
@@ -136,6 +136,10 @@ class Refinement:
             "masked_points": [float(f) for f in self.masked_points], "notes": list(self.notes),
             "beyond_catalog": last.beyond_catalog if last is not None else False, "noise_ratio": last.noise_ratio if last is not None else None,
             "final_from_values": self.final_from_values,
+            "final_converged": bool(final.converged),  # (added 2026-12-01: the final fit's, as fit --json's converged)
+            # (added 2026-12-01) what to heed before trusting the final model, the key fit, compare and
+            # sample give: every note of a refinement is such (dropped steps, other paths, refits)
+            "warnings": list(self.notes),
         }
 
     def to_table(self) -> list[dict[str, object]]:
@@ -866,6 +870,9 @@ def refine(
     solver_steps = CANDIDATE_STEPS if max_steps is None else max_steps
     say = progress or (lambda text: None)
     ds = open_spectrum(data, fmin=fmin, fmax=fmax, single="refine").data
+    # (too few points are refine's to name, before its first diagnosis says "diagnose needs …")
+    parsed = parse(circuit, registry) if isinstance(circuit, str) else circuit
+    require_points_for_diagnosis(int((~non_passive_points(ds)).sum()), len(parsed.parameter_names(registry)), "refine")
     say(f"step 0: diagnosing {circuit}")
 
     def within(text: str) -> None:  # (a diagnosis' stages, under the step that runs it: none silent for long)

@@ -9,7 +9,7 @@ from typing import Mapping
 import numpy as np
 import xarray as xr
 
-from ...data import checked_frequencies, concise_repr, format_quantity, format_time, format_uncertain
+from ...data import checked_frequencies, concise_repr, counted, format_quantity, format_time, format_uncertain
 from ...errors import IN_MEMORY
 from .peaks import Peak
 from ..grid import ResultGrid
@@ -394,7 +394,7 @@ class DRTBatchResult(ResultGrid):
         spread = ", ".join(f"{int(f)} with {int(v)} peak(s)" for v, f in zip(values, freq))
         rms = np.array([r.rms_rel for r in self.results])
         floored, note_of = self._lambda_notes()
-        lines = [f"DRT of {len(self.results)} spectra over {' × '.join(self.dims)}: {spread}; rms_rel median {np.median(rms) * 100:.3g} %, max {rms.max() * 100:.3g} %{floored}"]
+        lines = [f"DRT of {counted(len(self.results), 'spectrum', 'spectra')} over {' × '.join(self.dims)}: {spread}; rms_rel median {np.median(rms) * 100:.3g} %, max {rms.max() * 100:.3g} %{floored}"]
         for where, one in zip(self.labels(), self.results):
             peaks = "; ".join(f"{p.tau_s:.3g} s ({p.r_ohm:.3g} Ω{'' if p.inside_window else ', outside the measured range'})" for p in one.peaks) or "none"
             dropped = f"; {len(one.dropped_peaks)} below the cut-off dropped ({sum(p.r_ohm for p in one.dropped_peaks):.3g} Ω)" if one.dropped_peaks else ""
@@ -417,7 +417,7 @@ class DRTBatchResult(ResultGrid):
         lo, hi = format_lambda(min(choices), 2), format_lambda(max(choices), 2)
         bottom = sum("bottom of its grid" in r.lambda_note for r in low)
         at_bottom = f"; {bottom} at the bottom of its grid, {format_lambda(float(low[0].lambda_grid[0]))}, or below" if bottom else ""
-        text = f"; λ raised to the floor {format_lambda(LAMBDA_FLOOR)} on {len(low)} of {len(self.results)} spectra ({method} chose {lo if lo == hi else f'{lo}–{hi}'}{at_bottom})"
+        text = f"; λ raised to the floor {format_lambda(LAMBDA_FLOOR)} on {len(low)} of {counted(len(self.results), 'spectrum', 'spectra')} ({method} chose {lo if lo == hi else f'{lo}–{hi}'}{at_bottom})"
 
         def note_of(one) -> str:
             if one.lambda_note.startswith("raised to the floor"):

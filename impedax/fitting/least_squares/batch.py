@@ -18,7 +18,7 @@ import xarray as xr
 
 from ...arguments import unknown_parameter
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
-from ...data import column_width, concise_repr, format_relative_error, unit_text
+from ...data import column_width, concise_repr, counted, format_relative_error, unit_text
 from ...errors import DataError, ParameterError
 from ...progress import say, silenced
 from ...warning_groups import grouped_warnings, warning_kinds
@@ -29,7 +29,7 @@ from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, domi
 from .order import canonical_order
 from .branches import RELATIVE_ERROR_LIMIT, held_covariances, idle_branch_notes, settle_vanishing, vanishing_term_mask, undetermined, unidentified_stderr, undetermined_mask, vanishing_candidates, vanishing_parameters
 from .constraints import constraint_misfit_notes, with_constraint_notes
-from .result import COVARIANCE_NOTE, BOUND_RESTARTS, bounds_attr, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, PARAMETER_UNIT_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, sigma_scale_notes, uneven_residual_notes, shown_stderr, stack_notes, vanishing_term_sides, weighting_notes, without_error
+from .result import COVARIANCE_NOTE, BOUND_RESTARTS, FIT_STATISTICS, bounds_attr, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, PARAMETER_UNIT_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, sigma_scale_notes, uneven_residual_notes, shown_stderr, stack_notes, vanishing_term_sides, weighting_notes, without_error
 from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, TreeSolvers, better, over_devices, padded_points, tree_solver, trimmed, unscale
 from .starts import SpectrumFeatures, climb_target, batch_outliers, escalation_rungs, guess_start, inward_start, rms_rel_of, rung_seed, rung_starts, to_solver_space, values_inside
 
@@ -308,13 +308,14 @@ class BatchFitResult:
     def summary(self) -> dict:
         """The JSON of ``impedax fit --json`` for several spectra (docs/fitting.md, "Batch fits")."""
         ds = self.dataset
+        specs = self.circuit.parameter_specs(self.registry)
         return {
             "model": self.model,
             "dims": {d: int(ds.sizes[d]) for d in self.dims},
             "sizes": {d: int(ds.sizes[d]) for d in self.dims},  # (added 2026-12-01: the key kk and drt give too; "dims" here was already this mapping)
             "n_spectra": self.n_spectra,
-            "params": {
-                str(p): {"median": float(ds["value"].sel(param=p).median()), "q16": float(ds["value"].sel(param=p).quantile(0.16)), "q84": float(ds["value"].sel(param=p).quantile(0.84))}
+            "params": {  # (the spread across the spectra, and each one's unit: added 2026-12-01, as a single fit's)
+                str(p): {"median": float(ds["value"].sel(param=p).median()), "q16": float(ds["value"].sel(param=p).quantile(0.16)), "q84": float(ds["value"].sel(param=p).quantile(0.84)), "unit": specs[str(p)].unit}
                 for p in ds["param"].values
             },
             "rms_rel_median": float(ds["rms_rel"].median()),
@@ -494,7 +495,7 @@ EACH_SPECTRUM_WHERE = "batch.to_table() or ix.write_result(batch, 'FILE.csv') (a
 """Where a large batch's report sends the reader for each spectrum's fit (the command line
 gives its own options: `impedax.cli.common.command_line_words`)."""
 
-SPECTRUM_STATISTICS = ("rms_rel", "chi2", "chi2_red", "aic", "bic")
+SPECTRUM_STATISTICS = FIT_STATISTICS
 """Each spectrum's goodness of fit in a batch's JSON rows and CSV rows, under the keys of a
 single fit's JSON (`FitResult.summary`), so models can be compared spectrum by spectrum."""
 
@@ -599,7 +600,7 @@ def _started_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting,
         say("the start search on a reference spectrum, whose optimum every spectrum is offered")
         with silenced():  # (it fits the reference as a stack of one: its stages are this one)
             guesses = _with_reference_start(guesses, solver, circuit, table, freq, z, sigma, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
-    say(f"local fits of the {b} spectra")
+    say(f"local fits of the {counted(b, 'spectrum', 'spectra')}")
     u, chi2, done, steps = solver.solve(guesses, np.arange(b), np.full(b, max_steps))
     out = unscale(solver.outputs(u, np.arange(b), done, steps, steps), scale)
     used = np.ones(b, int)

@@ -27,8 +27,12 @@ __all__ = [
     "FitResult", "fit_result", "fit_notes", "parameter_groups", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes",
     "misfit_notes", "uneven_residual_notes", "sigma_scale_notes", "chi2_red_range", "SIGMA_SCALE_FACTOR", "residual_band_rms", "UNEVEN_BAND_POINTS", "UNEVEN_RESIDUAL_RATIO", "UNEVEN_NOISE_NOTE", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
     "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "without_error", "near_bound_notes", "resistor_like_notes", "STDERR_NOTE", "LINEARISED_STDERR_NAME", "data_difference", "stored_bounds", "user_bounds",
-    "embedded_fit", "fit_from_embedded", "bounds_attr", "unidentified_group_note",
+    "embedded_fit", "fit_from_embedded", "bounds_attr", "unidentified_group_note", "FIT_STATISTICS",
 ]
+
+FIT_STATISTICS = ("rms_rel", "chi2", "chi2_red", "aic", "bic")
+"""A fit's goodness of fit under the keys of its JSON (`FitResult.summary`), the columns of its
+CSV table (`FitResult.to_table`) and of a batch's (`batch.SPECTRUM_STATISTICS`)."""
 
 
 def bounds_attr(bounds) -> dict[str, list[float]]:
@@ -211,12 +215,15 @@ class FitResult:
         return np.asarray(compile_circuit(self.circuit, self.registry)(self.values, checked_frequencies(freq)))
 
     def summary(self) -> dict:
-        """The JSON summary used by ``impedax fit --json``."""
+        """The JSON summary used by ``impedax fit --json``: each of ``params`` with its value,
+        stderr, fixed and ``unit`` (the element spec's, as `to_table` and ``sample --json`` give
+        it; added 2026-12-01)."""
+        specs = self.circuit.parameter_specs(self.registry)
         return {
             "model": self.model,
             "n_points": self.n_points,
             "n_params": self.n_params,
-            "params": {n: {"value": self.values[n], "stderr": shown_stderr(self.stderr[n], self.fixed[n]), "fixed": self.fixed[n]} for n in self.values},
+            "params": {n: {"value": self.values[n], "stderr": shown_stderr(self.stderr[n], self.fixed[n]), "fixed": self.fixed[n], "unit": specs[n].unit} for n in self.values},
             "rms_rel": self.rms_rel,
             "chi2": self.chi2,
             "chi2_red": self.chi2_red,
@@ -263,14 +270,17 @@ class FitResult:
     def to_table(self) -> list[dict[str, object]]:
         """The tidy table of parameters: one row per parameter with name, value, stderr (None
         when fixed or there is none: at a bound, a vanishing term's, an overflowed fit's), unit
-        (from the element specs) and fixed, then the flags (added 2026-12-01, as
-        `BatchFitResult.to_table`): ``converged`` (the fit's), ``at_bound`` and ``undetermined``
-        (the fits' rule, `branches.undetermined`: relative standard error above 100 % or none,
-        never for a fixed parameter or one at a bound) (`impedax.io.write_result` .csv)."""
+        (from the element specs) and fixed, then the fit's `FIT_STATISTICS` (rms_rel, chi2,
+        chi2_red, aic, bic), repeated on each row as a batch's table has them (added
+        2026-12-01), then the flags (added 2026-12-01, as `BatchFitResult.to_table`):
+        ``converged`` (the fit's), ``at_bound`` and ``undetermined`` (the fits' rule,
+        `branches.undetermined`: relative standard error above 100 % or none, never for a fixed
+        parameter or one at a bound) (`impedax.io.write_result` .csv)."""
         specs = self.circuit.parameter_specs(self.registry)
+        statistics = {k: float(getattr(self, k)) for k in FIT_STATISTICS}
         return [
             {
-                "name": n, "value": v, "stderr": shown_stderr(self.stderr[n], self.fixed[n]), "unit": specs[n].unit, "fixed": self.fixed[n],
+                "name": n, "value": v, "stderr": shown_stderr(self.stderr[n], self.fixed[n]), "unit": specs[n].unit, "fixed": self.fixed[n], **statistics,
                 "converged": bool(self.converged), "at_bound": n in self.at_bound,
                 "undetermined": bool(undetermined(v, self.stderr[n])) and not self.fixed[n] and n not in self.at_bound,
             }
@@ -315,7 +325,7 @@ class FitResult:
         lines = [f"rms_rel {self.rms_rel * 100:.3g} %, chi2_red {self.chi2_red:.4g}, AIC {self.aic:.2f} ({self.n_points} points, {status})", *self.warnings]
         # as the text table: a parameter at a bound has no meaningful linearised error to show
         # (and the status line above says whether the fit converged)
-        rows = [{k: v for k, v in ({**row, "stderr": "at bound"} if row["name"] in self.at_bound else row).items() if k != "converged"} for row in self.to_table()]
+        rows = [{k: v for k, v in ({**row, "stderr": "at bound"} if row["name"] in self.at_bound else row).items() if k not in ("converged", *FIT_STATISTICS)} for row in self.to_table()]
         return result_html(self.model, rows, lines=lines, figure=self.plot)
 
     def derive(self, fn, freq=None):

@@ -489,10 +489,11 @@ class SharedFitResult(BatchFitResult):
         independent fits)."""
         out = super().summary()
         ds = self.dataset
+        specs = self.circuit.parameter_specs(self.registry)  # (each shared parameter's unit, as a single fit's: added 2026-12-01)
         out["over"] = list(self.over)
         groups = {"labels": self.group_labels()} if self.keep else {}  # (which group each list entry is)
         out["shared"] = {
-            n: {"value": self._scalar_or_list(ds["shared_value"].sel(shared_param=n)), "stderr": _shown(self._scalar_or_list(ds["shared_stderr"].sel(shared_param=n))), "fixed": False, **groups}
+            n: {"value": self._scalar_or_list(ds["shared_value"].sel(shared_param=n)), "stderr": _shown(self._scalar_or_list(ds["shared_stderr"].sel(shared_param=n))), "fixed": False, "unit": specs[n].unit, **groups}
             for n in self.shared
         }
         keys = ("joint_chi2", "joint_chi2_red", "joint_dof", "joint_aic", "joint_bic", "independent_chi2", "independent_aic", "delta_aic", "f_statistic", "f_pvalue")

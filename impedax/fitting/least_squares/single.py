@@ -16,6 +16,7 @@ import numpy as np
 
 from ...arguments import MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice, count, frequency, init_not_fixed, instance_of, parameter_bounds, parameter_values, seed as seed_rule
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
+from ...data import counted
 from ...errors import IN_MEMORY, ParameterError
 from ...progress import progress_to, say
 from ..problem import WEIGHTINGS, circuit_parameters, open_spectrum, prepare_fit, residual_scale, weights
@@ -115,7 +116,7 @@ def fit(
             raise ParameterError("init: a BatchFitResult starts each spectrum of a batch fit from its own optimum; a shared fit (shared=) takes a mapping name → value or a FitResult")
         starts = batch_init.per_spectrum_starts(data, table.names)
     n_spectra = int(np.prod([data.sizes[d] for d in extra])) if extra else 1
-    say(f"fitting {circuit} to {n_spectra} spectra together (a circuit's first batch compiles its solvers)" if extra else f"fitting {circuit} (a circuit's first fit compiles its solvers)")
+    say(f"fitting {circuit} to {counted(n_spectra, 'spectrum', 'spectra')} together (a circuit's first batch compiles its solvers)" if extra else f"fitting {circuit} (a circuit's first fit compiles its solvers)")
     if shared is not None or over is not None:
         return fit_shared(circuit, data, table, shared=shared, over=over, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source, t0=t0)
     known_source = data_source(data)
