@@ -20,7 +20,7 @@ import xarray as xr
 from .arguments import MAX_POINTS, checked_arguments, count, real, shown
 from .errors import IN_MEMORY, DataError, ParameterError
 
-__all__ = ["make_spectrum", "validate_spectrum", "log_frequencies", "checked_frequencies"]
+__all__ = ["make_spectrum", "validate_spectrum", "log_frequencies", "checked_frequencies", "label_value"]
 
 
 @checked_arguments(fmin=real(), fmax=real(), points=count(1, MAX_POINTS, why="80 MB of frequencies"))
@@ -273,6 +273,27 @@ def _check_sigma(ds: xr.Dataset, sigma: xr.Variable, z_var: xr.Variable, source:
         raise DataError(f"sigma must be positive and finite; at {point_text(ds, sigma.dims, idx)} it is {values[tuple(idx)]:g}", path=source)
 
 
+def label_value(label):
+    """A coordinate label as plain Python, as JSON and text hold it: a bool, integer or float
+    (numpy's too) as itself; a date or time (numpy ``datetime64``/``timedelta64``) as its ISO
+    text, not the count of nanoseconds that ``.item()`` gives; text (``str``, ``numpy.str_``,
+    bytes decoded as UTF-8) and anything else as its ``str``. A label read from netCDF is often
+    a ``str`` in an object array, which has no ``.item()``."""
+    if isinstance(label, (bool, np.bool_)):
+        return bool(label)
+    if isinstance(label, np.datetime64):
+        return str(np.datetime_as_string(label))
+    if isinstance(label, np.timedelta64):
+        return str(label)
+    if isinstance(label, (int, np.integer)):
+        return int(label)
+    if isinstance(label, (float, np.floating)):
+        return float(label)
+    if isinstance(label, bytes):
+        return label.decode("utf-8", errors="replace")
+    return str(label)
+
+
 def point_text(ds: xr.Dataset, dims, idx) -> str:
     """A point of a variable over ``dims`` at positions ``idx``, named by its coordinates:
     ``cycle=64, f=1.5 kHz`` (a dimension without coordinates by its position, ``trial #3``;
@@ -282,8 +303,7 @@ def point_text(ds: xr.Dataset, dims, idx) -> str:
         if dim == "frequency":
             parts.append(f"f={format_frequency(float(ds['frequency'].values[i]))} (point {i})")
         elif dim in ds.coords:
-            label = ds[dim].values[i]
-            parts.append(f"{dim}={label.item() if hasattr(label, 'item') else label}")
+            parts.append(f"{dim}={label_value(ds[dim].values[i])}")
         else:
             parts.append(f"{dim} #{i}")
     return ", ".join(parts)

@@ -37,9 +37,10 @@ from ..arguments import GAP_MIN_STEPS, MAX_WALKERS, checked_arguments, choice, c
 from ..errors import IN_MEMORY, CircuitError, DataError, ParameterError
 from ..constants import C_GAP_BOUNDS_F, EPSILON_0, EPSILON_AIR
 from ..fitting.bayes.chain import AUTO_STEPS, steps_rule
+from ..fitting.bayes.reparam import AREA_UNIT_ADVICE, PLAUSIBLE_GAP_M
 from ..fitting.least_squares.result import MISFIT_RATIO_MAX, REMAINDER_ATTRS, SUBTRACTION_CAUSE, gross_misfits, known_kk_misfits, listed_frequencies
 from ..fitting.statistics import non_passive
-from .gap_inputs import check_gap_inputs, position_notes, spectra_used
+from .gap_inputs import check_gap_inputs, condition_notes, position_notes, spectra_used
 from .plausible import AIR_BREAKDOWN_V, DRIVE_VOLTAGE_V, FINGERTIP_AREA_M2
 from .sirin import SIRIN_AREA, SIRIN_DRIVE_V, PaperGapEstimate, gap_force_peak, gap_voltage, paper_gap_estimate, remainder_circuit, remaining_impedance, trial_mean, trial_remainders
 
@@ -124,6 +125,10 @@ class GapAnalysis:
     edl_misfit: str | None = None
     """How the EDL model misses the trial-mean remainder grossly (`_misfit_text`), else None:
     then u, its interval and the force rest on a model the data reject."""
+    force_upper_bound: xr.DataArray | None = None
+    """With `gap_lower_bound`: the PEAK force [N] over ``frequency`` with EP at u = that bound
+    (`_force_upper_bound`): eq 1 goes as 1/u², so u ≥ the bound gives F ≤ this, the largest force
+    the data allow; else None (u determined, or no bound). Added 2026-12-01."""
     settings: dict | None = None
     """What `gap_analysis` ran with, defaults included: ``eps_gap``, ``cutoff_hz``, ``seed``,
     ``steps`` (hierarchical: draws per chain; pooled: emcee steps, as run when ``"auto"``),
@@ -257,10 +262,22 @@ class GapAnalysis:
             "gap_um_lower_bound": None if self.gap_lower_bound is None else self.gap_lower_bound * 1e6,
             "gap_bound_withheld": self.gap_bound_withheld,
             "edl_misfit": self.edl_misfit,
+            "force_determined": self.gap_identified,
+            "force_upper_bound_n": self._force_bound_summary(),
             "sampling": self._sampling_summary(),
             "edl_parameters": self.edl_parameters,
             "settings": dict(self.settings) if self.settings is not None else None,
         }
+
+    def _force_bound_summary(self) -> dict | None:
+        """The JSON's ``force_upper_bound_n``: the force [N] at u's lower bound over the force's
+        frequencies (``frequency_hz``, ``value``) and its largest value (``max``, at
+        ``max_frequency_hz``); None without a bound (`force_upper_bound`)."""
+        bound = self.force_upper_bound
+        if bound is None:
+            return None
+        i = int(np.argmax(bound.values))
+        return {"frequency_hz": bound["frequency"].values, "value": bound.values, "max": float(bound.values[i]), "max_frequency_hz": float(bound["frequency"][i])}
 
     def _voltage_band(self, branch: str) -> dict | None:
         """The JSON's ``gap_voltage_v`` / ``gap_voltage_without_ep_v``: |ΔV_gap| [V] over the
@@ -344,9 +361,9 @@ class GapAnalysis:
         bounds = f"(bounds {p.gap_lower * 1e6:.3f}–{p.gap_upper * 1e6:.3f} µm from the lowest/highest impedances)" if self.paper_has_bounds else "bounds n/a (one trial)"
         lines += [
             f"paper method    u = {p.gap * 1e6:.3f} µm  {bounds}",
-            f"C_gap           = {c['value'] * 1e12:.1f} pF (90%: {c['q05'] * 1e12:.1f}–{c['q95'] * 1e12:.1f} pF); paper method {p.c_gap * 1e12:.1f} pF",
+            f"C_gap{' (prior-set)' if self._prior_set else '          '} = {c['value'] * 1e12:.1f} pF (90%: {c['q05'] * 1e12:.1f}–{c['q95'] * 1e12:.1f} pF); paper method {p.c_gap * 1e12:.1f} pF",
             f"fits            naive C_gap: rms_rel {format_percent(self.naive_fit.rms_rel)};  {self.edl_fit.model}: rms_rel {format_percent(self.edl_fit.rms_rel)}",
-            f"force (peak, V0 = {self.v0:g} V) with EP: max {format_quantity(float(peak[i]), 'N')} at {format_frequency(float(peak['frequency'][i]))}; "
+            f"force (peak, V0 = {self.v0:g} V){self._force_qualifier()} with EP: max {format_quantity(float(peak[i]), 'N')} at {format_frequency(float(peak['frequency'][i]))}; "
             f"without EP: max {format_quantity(float(bare[j]), 'N')} at {format_frequency(float(bare['frequency'][j]))}",
             f"force bands     {FORCE_CONDITIONS} (A = {self.area:g} m²)",
         ]
@@ -354,6 +371,9 @@ class GapAnalysis:
         if all(v is not None for _, v in voltages):
             lines.insert(-1, "gap voltage     |ΔV_gap| (amplitude) at each force maximum: " + "; ".join(
                 f"{what}: {_volts_with_interval(v)} at {format_frequency(v['frequency_hz'])}" for what, v in voltages))
+        bound_line = self._force_bound_line()
+        if bound_line:
+            lines.insert(next(k for k, line in enumerate(lines) if line.startswith("force (peak")) + 1, bound_line)
         if self.trials:
             lines.append("spectra used    " + "; ".join(_trials_text(k, v) for k, v in self.trials.items()))
         if not self.gap_identified:
@@ -382,6 +402,36 @@ class GapAnalysis:
                 ))
         lines += [f"warning: {w}" for w in self.warnings]
         return "\n".join(lines)
+
+    @property
+    def _prior_set(self) -> bool:
+        """u and C_gap are set by the priors (u not determined), not by the data: every case of
+        an undetermined u but ``--ep C``, whose C_gap is the summed capacitance C_EP + C_gap."""
+        return not self.gap_identified and not (self.ep == "C" and self.edl_fit.model == IDENTIFIED_C_REMAINDER)
+
+    def _force_qualifier(self) -> str:
+        """What the sampled force line is when u is not determined: with ``--ep C`` the force at
+        the summed capacitance's gap (u at its smallest, so the force at its largest); else the
+        force of a u the priors set, no estimate (docs/models.md, "The force when u is not
+        determined")."""
+        if self.gap_identified:
+            return ""
+        if not self._prior_set:
+            return " at the gap of the summed capacitance (u's smallest value, so the force's largest),"
+        return " of the prior-set u, NO ESTIMATE of the force:"
+
+    def _force_bound_line(self) -> str | None:
+        """The report's ``force bound`` line when u is not determined: the largest force the data
+        allow (`force_upper_bound`), or that there is none."""
+        if self.gap_identified:
+            return None
+        if self.force_upper_bound is None:
+            return "force bound     none: u has no lower bound here, so the data bound the force neither (eq 1 goes as 1/u²)"
+        bound = self._force_bound_summary()
+        return (
+            f"force bound     F ≤ {format_quantity(bound['max'], 'N')} (peak, with EP, largest at {format_frequency(bound['max_frequency_hz'])}): "
+            f"eq 1 at u's lower bound {self.gap_lower_bound * 1e6:.3f} µm, the smallest u and so the largest force the data allow (F ∝ 1/u²)"
+        )
 
     def _pooled_noise_text(self) -> str:
         """What the pooled interval's noise is: the trial means' SEM (``sigma`` of the
@@ -430,6 +480,7 @@ class GapAnalysis:
             "paper_c_gap_pf": p.c_gap * 1e12,
             "gap_identified": int(self.gap_identified),
             "gap_um_lower_bound": float("nan") if self.gap_lower_bound is None else self.gap_lower_bound * 1e6,
+            "force_upper_bound_max_n": float("nan") if self.force_upper_bound is None else float(self.force_upper_bound.max()),
             "n_warnings": len(self.warnings),
             "warnings": "\n".join(self.warnings),
         })
@@ -535,7 +586,7 @@ def gap_analysis(
         raise ParameterError(f"unknown gap method {method!r}; use one of {', '.join(GAP_METHODS)}")
     total, skin, touchscreen = check_gap_inputs(total, skin, touchscreen)  # (sign, grids, distinct: DataError naming the file)
     trials = spectra_used(total, skin, touchscreen)
-    notes += position_notes(trials)
+    notes += condition_notes(total, skin, touchscreen) + position_notes(trials)
     remaining = _checked_remainder(total, skin, touchscreen)
     notes += _subtraction_notes(remaining)
     if method == "hierarchical":
@@ -593,10 +644,12 @@ def gap_analysis(
     notes += [f"EDL fit: {w}" for w in edl.warnings] + [f"sampling: {w}" for w in _correlation_advice(sampled, posterior.strong_correlations, posterior.parameter_draws(), circuit)]
     notes += _estimate_bound_notes("Bayesian gap thickness", float(np.median(u_draws)), paper, remaining, f"; draws span {_um(u_draws.min())}–{_um(u_draws.max())} µm")
     known_kk: dict[int, float] = {}
-    lower, withheld = _identification(ep, str(requested), circuit, posterior.parameter_draws(), edl, posterior.piled_up, notes, remaining, area, eps_gap, known_kk)
+    lower, withheld, merged = _identification(ep, str(requested), circuit, posterior.parameter_draws(), edl, posterior.piled_up, notes, remaining, area, eps_gap, known_kk)
+    bound_force = _force_upper_bound(merged, lower, freq, z_skin, z_ts, area=area, v0=v0, eps_gap=eps_gap)
+    notes = _area_advice(notes, paper, lower is None and withheld is None)
     misfit = _misfit_text(edl, remaining, known_kk)
     used = {"eps_gap": eps_gap, "cutoff_hz": cutoff_hz, "seed": seed, "steps": posterior.settings.get("steps"), "steps_requested": steps, "walkers": posterior.settings.get("walkers", posterior.n_walkers)}
-    return GapAnalysis(remaining, paper, naive, edl, posterior, force, area, v0, ep, tuple(notes), model_requested=str(requested), trials=trials, gap_lower_bound=lower, gap_bound_withheld=withheld, edl_misfit=misfit, settings=used)
+    return GapAnalysis(remaining, paper, naive, edl, posterior, force, area, v0, ep, tuple(notes), model_requested=str(requested), trials=trials, gap_lower_bound=lower, gap_bound_withheld=withheld, edl_misfit=misfit, settings=used, force_upper_bound=bound_force)
 
 
 U_CORRELATION_MATTERS = 0.25
@@ -704,7 +757,7 @@ def check_fingertip_area(area: float) -> None:
         raise ParameterError(
             f"area = {area:g} m² ({area * 1e6:g} mm²) is not a plausible fingertip contact ({low:g}–{high:g} m², i.e. "
             f"{low * 1e6:g}–{high * 1e6:g} mm²): the area is in m², and an SI prefix scales m² (130m is 0.13 m²), so 130 mm² is 130e-6; "
-            "for another contact, --no-area-check (Python: check_area=False) analyses any positive area, with a warning"
+            "for a contact other than a fingertip (a gripper pad, an electrode), --no-area-check (Python: gap_analysis(..., check_area=False)) analyses any positive area, with a warning"
         )
 
 
@@ -806,6 +859,7 @@ def gap_remainder(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dataset, 
         raise ParameterError(f"unknown remainder kind {kind!r}; use one of {', '.join(REMAINDER_KINDS)}")
     notes = position_notes(spectra_used(total, skin, touchscreen))
     total, skin, touchscreen = check_gap_inputs(total, skin, touchscreen)
+    notes = condition_notes(total, skin, touchscreen) + notes
     remaining = _checked_remainder(total, skin, touchscreen)
     if kind == "mean":
         return remaining, notes + _subtraction_notes(remaining)
@@ -971,12 +1025,62 @@ def _merged_fit(remaining: xr.Dataset, weighting: str):
     return fit(parse(IDENTIFIED_C_REMAINDER), remaining, weighting=weighting)
 
 
-def _unidentified_note(reason: str, bound: float) -> str:
+_PRIOR_TOP = 0.9  # the sampled u "reaches the upper edge of its prior" when its q95 lies above this share of the prior's range in ln u
+
+
+def _unidentified_note(reason: str, bound: float, u_draws, u_prior: tuple[float, float]) -> str:
+    """The warning when u is not determined and the data give the lower bound ``bound`` [m]:
+    eq 1 goes as 1/u², so the bound gives an UPPER bound of the force, and the force of the
+    sampled u (``u_draws``, set by the priors; ``u_prior`` the prior's bounds [m], `gap_bounds`)
+    is no estimate: the larger u runs, the smaller that force."""
+    u = np.asarray(u_draws, float)
+    low, u_prior_upper = u_prior
+    at_top = math.log(float(np.quantile(u, 0.95)) / low) >= _PRIOR_TOP * math.log(u_prior_upper / low)
+    median = float(np.median(u))
+    sampled = "the sampled forces come from the prior-set u and are no estimate"
+    if median > _BOUND_FACTOR * bound:
+        ratio = median / bound
+        sampled += (
+            f": the sampled u's median, {median * 1e6:.4g} µm, lies {ratio:.3g}× above the bound, which puts the force about {ratio * ratio:.3g}× below the largest the data allow"
+            + (f" (its draws run to the upper edge of u's prior, {u_prior_upper:.3g} m, where the force is smallest)" if at_top else "")
+            + ": a force drawn from it is at best a lower bound, not an upper one"
+        )
     return (
         f"u is NOT determined by these data: {reason}, so C_gap and the EP branch are seen only as their sum; "
         f"u ≥ {bound * 1e6:.3f} µm (the gap of the summed capacitance, fitted as {IDENTIFIED_C_REMAINDER}, at the upper end C + {BOUND_STDERRS:g} stderr of its fit) is all they give, "
-        "and the reported u and its interval come from the priors (JSON gap_identified false, gap_um_lower_bound); the force is then an upper bound"
+        "and the reported u and its interval come from the priors (JSON gap_identified false, gap_um_lower_bound). "
+        "The force is NOT determined either: eq 1 goes as 1/u², so u ≥ that bound gives only an upper bound of the force, the force at u = the bound "
+        f"(the report's 'force bound', JSON force_upper_bound_n); {sampled}"
     )
+
+
+def _force_upper_bound(values: Mapping[str, float] | None, lower: float | None, freq, z_skin, z_ts, *, area: float, v0: float, eps_gap: float) -> xr.DataArray | None:
+    """The PEAK force [N] over ``freq`` at u = ``lower`` [m], u's lower bound: eq 1,
+    F = ½ ε0 ε_gap A |ΔV_gap|²/u², with the gap voltage of `IDENTIFIED_C_REMAINDER` at ``values``
+    (fitted to the remainder: the voltage across C_EP + C_gap, whatever their split). u ≥ ``lower``
+    gives F ≤ this. None without a bound."""
+    if lower is None or values is None:
+        return None
+    params = {k: float(v) for k, v in values.items()}
+    force = gap_force_peak(params, np.asarray(freq, float), z_skin, z_ts, area=area, v0=v0, remainder=IDENTIFIED_C_REMAINDER, eps_gap=eps_gap, gap=lower)
+    return xr.DataArray(np.asarray(force, float), dims="frequency", coords={"frequency": np.asarray(freq, float)}, name="force_upper_bound",
+                        attrs={"units": "N", "convention": FORCE_CONVENTION, "description": "peak force at u's lower bound: the largest the data allow (eq 1, F ∝ 1/u²)"})
+
+
+def _area_advice(notes: list[str], paper: PaperGapEstimate, identified: bool) -> list[str]:
+    """``notes`` with the advice "check the area's unit first" (`AREA_UNIT_ADVICE`, of u at a
+    bound of its prior or outside `PLAUSIBLE_GAP_M`) replaced where the area's unit cannot be
+    the cause: the paper's method gives an air gap (u within `PLAUSIBLE_GAP_M`) at this area,
+    which a unit slip of the area (a factor 10⁶ for mm² as m²) would not. The cause is then u not
+    determined (when ``identified`` is False), else the data or the model."""
+    low, high = PLAUSIBLE_GAP_M
+    if not low <= paper.gap <= high:
+        return notes
+    instead = (
+        f"the area's unit is not the cause (the paper's method gives u = {_um(paper.gap)} µm at A = {paper.area:g} m², an air gap): "
+        + ("u is not determined by these data (the warning 'u is NOT determined')" if not identified else "check the three spectra and the model")
+    )
+    return [note[: note.index(AREA_UNIT_ADVICE)] + instead if AREA_UNIT_ADVICE in note else note for note in notes]
 
 
 def _force_bands(param_draws: dict, freq, z_skin, z_ts, circuit, *, area, v0, eps_gap) -> xr.Dataset:
@@ -1050,8 +1154,10 @@ def _hierarchical(total, skin, touchscreen, remaining, paper, naive, edl, circui
     notes += [f"EDL fit: {w}" for w in edl.warnings] + [f"sampling: {w}" for w in post.warnings]
     notes += _estimate_bound_notes("population gap thickness", float(np.median(pop["u"])), paper, remaining)
     known_kk: dict[int, float] = {}
-    lower, withheld = _identification(ep, model_requested, circuit, pop, edl, {}, notes, remaining, area, eps_gap, known_kk)  # (the rule reads a single posterior's pile-up; the hierarchical one's, `HierarchicalPosterior.piled_up`, is of population medians, and only its warnings are passed on)
-    return GapAnalysis(remaining, paper, naive, edl, None, force, area, v0, ep, tuple(notes), method="hierarchical", hierarchical=post, model_requested=model_requested, gap_lower_bound=lower, gap_bound_withheld=withheld, edl_misfit=_misfit_text(edl, remaining, known_kk))
+    lower, withheld, merged = _identification(ep, model_requested, circuit, pop, edl, {}, notes, remaining, area, eps_gap, known_kk)  # (the rule reads a single posterior's pile-up; the hierarchical one's, `HierarchicalPosterior.piled_up`, is of population medians, and only its warnings are passed on)
+    bound_force = _force_upper_bound(merged, lower, freq, z_skin, z_ts, area=area, v0=v0, eps_gap=eps_gap)
+    notes = _area_advice(notes, paper, lower is None and withheld is None)
+    return GapAnalysis(remaining, paper, naive, edl, None, force, area, v0, ep, tuple(notes), method="hierarchical", hierarchical=post, model_requested=model_requested, gap_lower_bound=lower, gap_bound_withheld=withheld, edl_misfit=_misfit_text(edl, remaining, known_kk), force_upper_bound=bound_force)
 
 
 def _misfit_text(fitted, remaining: xr.Dataset, known_kk: dict[int, float]) -> str | None:
@@ -1065,24 +1171,26 @@ def _misfit_text(fitted, remaining: xr.Dataset, known_kk: dict[int, float]) -> s
     return f"{fitted.model} misses the remainder (rms_rel {format_percent(fitted.rms_rel)}, over {MISFIT_RATIO_MAX:g}× the {format_percent(kk)} a Kramers–Kronig-consistent model reaches)"
 
 
-def _identification(ep, requested, circuit, draws, edl, piled_up, notes, remaining, area, eps_gap, known_kk=None) -> tuple[float | None, str | None]:
+def _identification(ep, requested, circuit, draws, edl, piled_up, notes, remaining, area, eps_gap, known_kk=None) -> tuple[float | None, str | None, dict | None]:
     """(lower bound of u [m], None) when u is not determined (``notes`` gains why); (None, why
     no bound) when it is not determined but the model of the bound, `IDENTIFIED_C_REMAINDER`,
     misses the remainder grossly (`_misfit_text`: its capacitance is then no C_EP + C_gap, and
     on the SYNTHETIC stationary example, 53 % off, its 0.165 µm lay above the true 0.139 µm);
     (None, None) when u is determined. ``piled_up``: the sampled parameters piled up against a
     prior's edge (`Posterior.piled_up`). ``ep="C"`` (merged capacitors): the sampled u's lower
-    end (`BOUND_QUANTILE`) is that bound. ``known_kk``: the remainder's KK misfit, once computed."""
+    end (`BOUND_QUANTILE`) is that bound. ``known_kk``: the remainder's KK misfit, once computed.
+    Third: the values of `IDENTIFIED_C_REMAINDER` fitted to the remainder when there is a bound
+    (the force's upper bound takes its gap voltage: `_force_upper_bound`), else None."""
     known_kk = {} if known_kk is None else known_kk
     if ep == "C" and str(circuit) == IDENTIFIED_C_REMAINDER and str(requested) != str(circuit):
         misfit = _misfit_text(edl, remaining, known_kk)
         if misfit is None:
-            return float(np.quantile(np.asarray(draws["u"]), BOUND_QUANTILE)), None
+            return float(np.quantile(np.asarray(draws["u"]), BOUND_QUANTILE)), None, dict(edl.values)
         withheld = _withheld_text(misfit)
         notes.insert(0, f"u is NOT determined by --ep C (C_EP and C_gap are seen only as their sum), and no lower bound is given: {withheld}")
-        return None, withheld
+        return None, withheld, None
     if not any(n.startswith(("CPE_EP.", "C_EP")) for n in circuit.parameter_names()):
-        return None, None  # no EP element beside C_gap to confuse it with
+        return None, None, None  # no EP element beside C_gap to confuse it with
     alpha = next((np.asarray(v) for k, v in draws.items() if k.endswith(".alpha") and "EP" in k), None)
     ep_q = next((k for k in circuit.parameter_names() if k.endswith(".Q") and "EP" in k), None)
     reason = _gap_identification(edl, piled_up, alpha, ep_q)
@@ -1090,20 +1198,20 @@ def _identification(ep, requested, circuit, draws, edl, piled_up, notes, remaini
     if reason is None and merged.rms_rel <= MERGED_FIT_RATIO * edl.rms_rel:
         reason = f"{IDENTIFIED_C_REMAINDER} fits the remainder as well as {circuit} (rms_rel {format_percent(merged.rms_rel)} against {format_percent(edl.rms_rel)}): the EP element acts as a capacitor beside C_gap"
     if reason is None:
-        return None, None
+        return None, None, None
     misfit = _misfit_text(merged, remaining, known_kk)
     if misfit is not None:
         withheld = _withheld_text(misfit)
-        notes.insert(0, f"u is NOT determined by these data: {reason}, and no lower bound is given: {withheld}; the reported u and its interval come from the priors (JSON gap_identified false, gap_um_lower_bound null, gap_bound_withheld)")
-        return None, withheld
+        notes.insert(0, f"u is NOT determined by these data: {reason}, and no lower bound is given: {withheld}; the reported u and its interval come from the priors (JSON gap_identified false, gap_um_lower_bound null, gap_bound_withheld), and the force drawn from them is no estimate and bounds nothing")
+        return None, withheld, None
     c_sum, c_stderr = float(merged.values["C_gap"]), float(merged.stderr["C_gap"])
     if not np.isfinite(c_stderr):
         withheld = f"the capacitance of {IDENTIFIED_C_REMAINDER} fitted to the remainder has no standard error, so its upper end, which the bound needs, is unknown"
         notes.insert(0, f"u is NOT determined by these data: {reason}, and no lower bound is given: {withheld} (JSON gap_identified false, gap_um_lower_bound null, gap_bound_withheld)")
-        return None, withheld
+        return None, withheld, None
     bound = EPSILON_0 * eps_gap * area / (c_sum + BOUND_STDERRS * c_stderr)
-    notes.insert(0, _unidentified_note(reason, bound))
-    return bound, None
+    notes.insert(0, _unidentified_note(reason, bound, draws["u"], gap_bounds(area, eps_gap)))
+    return bound, None, dict(merged.values)
 
 
 def _withheld_text(misfit: str) -> str:

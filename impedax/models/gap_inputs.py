@@ -13,25 +13,38 @@
   that differs, and a constant ratio of 2π (rad/s read as Hz) or 10³ (kHz) is said as such.
   Grids that agree are all given the total's frequencies.
 * identity: two of the three holding the same spectra (the same file given twice) are refused.
+
+Every extra dimension of a file is averaged as replicates. A dimension whose name says nothing
+of replicates (`REPLICATE_DIM_WORDS`: ``voltage``, ``material``) may be a condition, which the
+average would mix: `condition_notes` warns of each and names ``--select DIM=LABEL``.
 """
 
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import xarray as xr
 
+from ..data import label_value
 from ..errors import DataError
 from ..io.sign_check import negative_real_evidence, negative_real_hint, opposite_sign_hint
 from ..io.table import SWEEP_RTOL
 
-__all__ = ["GAP_INPUTS", "MAX_POSITIVE_SHARE", "check_gap_inputs", "position_notes", "spectra_used"]
+__all__ = ["GAP_INPUTS", "MAX_POSITIVE_SHARE", "REPLICATE_DIM_WORDS", "check_gap_inputs", "condition_notes", "position_notes", "spectra_used"]
 
 GAP_INPUTS = ("total", "skin", "touchscreen")
 MAX_POSITIVE_SHARE = 0.5
 """A gap input whose trial mean has Z'' > 0 (or Z' < 0) at more than this share of its
 frequencies is refused as stored with the opposite sign."""
+REPLICATE_DIM_WORDS = ("trial", "repeat", "repetition", "replicate", "rep", "cycle", "sweep", "session", "run", "scan", "measurement", "touch")
+"""A dimension is taken for replicates without a word when a word of its name is one of these
+(the name split at non-letters and at a lower-to-upper case change, a plural ``s`` dropped:
+``trial``, ``trials``, ``trial_id``, ``sweepIndex``): the trials and sessions of docs/models.md,
+the readers' ``sweep`` and ``cycle``, and their usual synonyms. Any other dimension with more than
+one spectrum is averaged with a warning (`condition_notes`)."""
+_SHOWN_LABELS = 5  # labels a condition warning lists before "…"
 # the slips that scale a grid by a constant: (what the slip multiplies the numbers by, how the
 # message writes the factor, what the slipped file holds)
 _RATIOS = ((2 * math.pi, "2π", "angular frequency ω in rad/s stored as frequency in Hz: divide it by 2π (impedax reads the column as Hz)"),
@@ -161,7 +174,9 @@ def check_gap_inputs(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Datase
 
 
 def _label(data: xr.Dataset, dims: list[str], index: tuple[int, ...]):
-    values = [data[d].values[i].item() if d in data.coords else i for d, i in zip(dims, index)]
+    """The spectrum at ``index``'s label(s) as `label_value` gives them (text, a number, a date as
+    ISO text), or its position along a dimension without labels."""
+    values = [label_value(data[d].values[i]) if d in data.coords else i for d, i in zip(dims, index)]
     return values[0] if len(values) == 1 else values
 
 
@@ -180,6 +195,48 @@ def spectra_used(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dataset) -
         positional = [d for d in str(data.attrs.get("selected_by_position", "")).split(",") if d]
         out[name] = {"count": int(np.prod(shape)) if dims else 1, "dims": dims, "labels": labels, "by_position": positional, "source": data.attrs.get("source")}
     return out
+
+
+def _name_words(dim: str) -> list[str]:
+    """The words of a dimension name (`REPLICATE_DIM_WORDS`): split at non-letters and at a
+    lower-to-upper case change, lower case, a plural ``s`` dropped."""
+    words = re.findall(r"[A-Z]?[a-z]+|[A-Z]+(?![a-z])", re.sub(r"[^A-Za-z]+", " ", dim))
+    return [w.lower()[:-1] if len(w) > 3 and w.lower().endswith("s") else w.lower() for w in words]
+
+
+def is_replicate_dim(dim: str) -> bool:
+    """True when a word of ``dim``'s name says it holds replicates (`REPLICATE_DIM_WORDS`)."""
+    return any(w in REPLICATE_DIM_WORDS for w in _name_words(str(dim)))
+
+
+def condition_notes(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dataset) -> list[str]:
+    """A warning for each extra dimension with more than one spectrum whose name says nothing
+    of replicates (`is_replicate_dim`: ``voltage``, ``material``): the analysis averages it as
+    replicates, so conditions would be mixed into one remainder (and, in ``impedax gap``, under
+    one drive V0). Each names the files that have it, its labels, and ``--select DIM=LABEL``."""
+    found: dict[str, dict] = {}
+    for name, data in zip(GAP_INPUTS, (total, skin, touchscreen)):
+        for dim in data["Z"].dims:
+            if dim == "frequency" or data.sizes[dim] < 2 or is_replicate_dim(dim):
+                continue
+            entry = found.setdefault(dim, {"files": [], "labels": None})
+            entry["files"].append(name)
+            if entry["labels"] is None:
+                entry["labels"] = [label_value(v) for v in data[dim].values] if dim in data.coords else list(range(data.sizes[dim]))
+                entry["positions"] = dim not in data.coords
+    notes = []
+    for dim, entry in found.items():
+        labels = [format(v, ".12g") if isinstance(v, float) else str(v) for v in entry["labels"]]
+        shown = ", ".join(labels[:_SHOWN_LABELS] + (["…"] if len(labels) > _SHOWN_LABELS else []))
+        what = f"{len(labels)} {'positions' if entry['positions'] else 'labels'}: {shown}"
+        files = entry["files"]
+        files = files[0] if len(files) == 1 else f"{', '.join(files[:-1])} and {files[-1]}"
+        notes.append(
+            f"{dim} ({what}) of {files} is averaged as replicates together with the trials, although its name is none of a replicate dimension "
+            f"({', '.join(REPLICATE_DIM_WORDS)}): if {dim} is a condition (a voltage, a material), the spectra of different conditions are mixed into one remainder; "
+            f"analyse one at a time with --select {dim}=LABEL (Python: data.sel({dim}=LABEL)), e.g. --select {dim}={labels[0]}"
+        )
+    return notes
 
 
 def position_notes(trials: dict[str, dict]) -> list[str]:

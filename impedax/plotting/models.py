@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..data import format_quantity
 from . import font_size
 
 MODEL_MARGIN = 10.0
@@ -81,11 +82,22 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None, figsize: tuple[floa
     ax.legend(fontsize=font_size("legend", 7))
     ax = axes[2]
     unit = _force_bands(ax, gap.force, ep_label="with EP branch", scale="semilogx", alpha=0.2, suffix="median, 90% band")
-    ax.set(xlabel="frequency [Hz]", ylabel=f"peak force F_e [{unit}]", title=f"electrostatic force, V0 = {gap.v0:g} V (Sirin eq 1, peak)")
+    ax.set(xlabel="frequency [Hz]", ylabel=f"peak force F_e [{unit}]", title=f"electrostatic force, V0 = {gap.v0:g} V (Sirin eq 1, peak)" + _force_title_note(gap))
     _legend(ax, _gap_voltage_axis(ax, gap.force), font_size("legend", 7))
     for a in axes:
         a.grid(alpha=0.3, which="both")
     return fig
+
+
+def _force_title_note(gap) -> str:
+    """The force panel's second title line when u is not determined: the bands then come from
+    u set by the priors (``--ep C``: from the summed capacitance's gap), and the data bound the
+    force only from above, at u's lower bound (`GapAnalysis.force_upper_bound`), or not at all."""
+    if getattr(gap, "gap_identified", True):
+        return ""
+    bound = getattr(gap, "force_upper_bound", None)
+    limit = f"F ≤ {format_quantity(float(bound.max()), 'N')} at u's lower bound" if bound is not None else "no bound"
+    return f"\nNOT determined (u is not): {limit}"
 
 
 def force_unit(force_n) -> tuple[float, str]:

@@ -32,6 +32,7 @@ __all__ = [
     "gap_thickness_bounds",
     "implausible_gap_notes",
     "PLAUSIBLE_GAP_M",
+    "AREA_UNIT_ADVICE",
     "stratum_corneum_reparametrization",
     "EPSILON_0",
 ]
@@ -131,6 +132,12 @@ inside `gap_thickness_bounds`, which follow the area and bound C_gap, not u: a p
 of u outside them is told to check the area's unit (`implausible_gap_notes`)."""
 
 
+AREA_UNIT_ADVICE = "check the area's unit first"
+"""The words that end a note on u at a bound of its range or outside `PLAUSIBLE_GAP_M` and start
+its advice (`implausible_gap_notes`, `gap_thickness_reparametrization`'s bound cause): the gap
+analysis replaces that advice where the area's unit cannot be the cause (`impedax.models.gap`)."""
+
+
 def implausible_gap_notes(rp: Reparametrization | None, medians: Mapping[str, float]) -> list[str]:
     """A note for a gap thickness (``rp`` of kind `GAP_THICKNESS`) whose posterior median
     (``medians``: name → value) lies outside `PLAUSIBLE_GAP_M`: with ``area=200.0`` (m² for mm²)
@@ -143,7 +150,7 @@ def implausible_gap_notes(rp: Reparametrization | None, medians: Mapping[str, fl
     if not math.isfinite(u) or low <= u <= high:
         return []
     return [
-        f"{name} = {u:.3g} m (posterior median) is no air gap ({low:g}–{high:g} m is): check the area's unit first, A = {area:g} m² ({area * 1e6:g} mm²; "
+        f"{name} = {u:.3g} m (posterior median) is no air gap ({low:g}–{high:g} m is): {AREA_UNIT_ADVICE}, A = {area:g} m² ({area * 1e6:g} mm²; "
         "200 mm² is 200e-6 m²), then the data"
     ]
 
@@ -171,7 +178,7 @@ def gap_thickness_reparametrization(element: str = "C_gap", *, area: float, eps_
     upper = default_upper if upper is None else upper
     cause = (
         f"{element} = ε0·ε_r·A/{name} with A = {area:g} m² ({area * 1e6:g} mm²) and ε_r = {eps_r:g}: a {name} at a bound of its range means {element} at "
-        f"{EPSILON_0 * eps_r * area / lower:.3g} F or {EPSILON_0 * eps_r * area / upper:.3g} F; check the area's unit first (m²; "
+        f"{EPSILON_0 * eps_r * area / lower:.3g} F or {EPSILON_0 * eps_r * area / upper:.3g} F; {AREA_UNIT_ADVICE} (m²; "
         "200 mm² is 200e-6), then the bounds (lower=, upper=) and the data"
     )
     return Reparametrization(
