@@ -175,7 +175,8 @@ def test_a_saved_fit_of_the_user_element_is_read_back_with_the_same_plugin(lab, 
 def test_without_the_plugin_the_hints_name_it(capsys):
     code, _, err = run(["fit", "no.csv", "--model", "R0 + Gx1"], capsys)
     assert code == 2
-    assert "if Gx is an element of your own: declare it in a Python file and pass --plugin FILE.py" in err
+    assert "if Gx is an element of your own, declare it in a Python file and pass --plugin FILE.py" in err
+    assert err.count("--plugin") == 1  # (the parser's hint in the command line's words, not a second line)
     code, _, err = run(["info", "R0-Gs1"], capsys)
     assert code == 2
     assert "ElementSpec(..., impedance_py='Gs')" in err and "--plugin FILE.py" in err

@@ -1496,22 +1496,17 @@ _PLUGIN_WORDS = {
     'docs/circuits.md, "Adding an element")': 'docs/circuits.md, "Adding an element"; on the command line: declare it in a Python file and pass --plugin FILE.py)',
     "an element of your own registry: pass it here too, e.g. circuit.parameter_names(registry), compile_circuit(circuit, registry), fit(..., registry=registry)":
         "an element of your own: declare it in a Python file and pass --plugin FILE.py, docs/circuits.md",
+    "pass the registry that declares it (registry= in Python)": "declare it in a Python file and pass --plugin FILE.py (docs/circuits.md)",
 }
-_UNKNOWN_SYMBOL = re.compile(r"unknown element symbol '([A-Za-z]+)'")
 
 
 def plugin_words(error: Exception) -> str:
     """The message of ``error`` with the Python recipe for an element of one's own
-    (`_PLUGIN_WORDS`) in the command line's words, ``--plugin FILE.py``; an unknown element
-    symbol (``Gx1``) gets a last hint line saying so too."""
-    from ..errors import CircuitSyntaxError
-
+    (`_PLUGIN_WORDS`: the parser's hint for an unknown symbol a user could declare, ``Gx1``, and
+    the converters' and the registry's words) in the command line's words, ``--plugin FILE.py``."""
     text = str(error)
     for phrase, words in _PLUGIN_WORDS.items():
         text = text.replace(phrase, words)
-    found = _UNKNOWN_SYMBOL.match(getattr(error, "reason", "")) if isinstance(error, CircuitSyntaxError) else None
-    if found:
-        text += f"\n  or, if {found.group(1)} is an element of your own: declare it in a Python file and pass --plugin FILE.py (docs/circuits.md)"
     return text
 
 
