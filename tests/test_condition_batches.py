@@ -65,6 +65,11 @@ def gap_of(p):
     return EPS0 * AREA / p["C_gap"]
 
 
+def test_derive_of_a_batch_refuses_a_posteriors_keyword(two_element_batch):
+    with pytest.raises(ix.ParameterError, match=r"^derive: keyword 'draws' is not taken for a batch of fits \(delta method per spectrum\): it takes no keywords besides freq"):
+        ix.derive(two_element_batch, gap_of, draws=True)
+
+
 def test_derive_of_a_batch_is_each_spectrums_derive_over_the_batch_dimensions(two_element_batch):
     batch = two_element_batch
     derived = ix.derive(batch, gap_of)

@@ -320,3 +320,29 @@ def _proposal(effect, circuit, start):
     from impedax.fitting.diagnosis import Proposal
 
     return Proposal(effect, circuit, "L_x", "in series", (start,))
+
+
+@pytest.mark.parametrize(
+    "element, start, message",
+    [
+        ("R", {"R_x": -5.0}, "effect 'mine': its propose returned, as item 0, a start R_x=-5.0, outside R_x's bounds (0, inf)"),
+        ("CPE", {"CPE_x.Q": 1e-6, "CPE_x.alpha": 1.5}, "effect 'mine': its propose returned, as item 0, a start CPE_x.alpha=1.5, outside CPE_x.alpha's bounds (0, 1]"),
+        ("R", {"R_x": 5.0, "R1": -150.0}, "effect 'mine': its propose returned, as item 0, a start R1=-150.0, outside R1's bounds (0, inf)"),
+        ("R", {"R_x": "5"}, "effect 'mine': its propose returned, as item 0, a start R_x='5', outside R_x's bounds (0, inf)"),
+    ],
+)
+def test_a_users_effect_starting_outside_the_bounds_is_named(element, start, message):
+    catalog = ix.fitting.diagnosis.EffectCatalog((_propose(lambda c, x: [_proposal("mine", c + Element(element, f"{element}_x"), {**x.start(), **start})]),))
+    with pytest.raises(ix.ParameterError) as caught:
+        catalog.proposals(_context())
+    assert str(caught.value).startswith(message), str(caught.value)
+
+
+def test_a_users_effect_may_keep_a_baseline_value_on_its_bound_and_start_inside():
+    # the baseline's own fitted values pass as they are (a fitted CPE alpha may sit at 1, on
+    # its bound); the values the effect sets lie inside their bounds
+    ctx = _context("R0 + R1 || CPE1", {"R0": 10.0, "R1": 150.0, "CPE1.Q": 1e-4, "CPE1.alpha": 1.0})
+    ctx = dataclasses.replace(ctx, values={**ctx.values, "R0": 0.0})  # a series R fitted to zero, its lower bound
+    catalog = ix.fitting.diagnosis.EffectCatalog((_propose(lambda c, x: [_proposal("mine", c + Element("L", "L_x"), x.start(L_x=1e-6))]),))
+    [(_, proposal)] = catalog.proposals(ctx)
+    assert proposal.starts[0] == {"R0": 0.0, "R1": 150.0, "CPE1.Q": 1e-4, "CPE1.alpha": 1.0, "L_x": 1e-6}

@@ -111,6 +111,63 @@ def test_subtraction_bad_input():
     assert "sigma" not in out and "not available" in out.attrs["sigma_method"]
 
 
+def _conditions_data(seed=5):
+    """SYNTHETIC: total over material x voltage x trial (C_gap per material, R_EP per voltage),
+    skin over voltage x trial (its Re scales with the voltage), screen over trial; 2 % noise."""
+    rng = np.random.default_rng(seed)
+    freq = np.geomspace(10.0, 1e5, 8)
+    c_gap = {"glass": 413e-12, "pet": 250e-12}
+    r_ep = {50: 2e7, 100: 1e7, 150: 5e6}
+    noisy = lambda z, shape: z * (1 + 0.02 * (rng.standard_normal(shape + z.shape[-1:]) + 1j * rng.standard_normal(shape + z.shape[-1:])))  # noqa: E731
+    skin = np.stack([noisy(rcpe(freq, 800.0 * (1 + v / 500), 2e7, 1e-8, 0.9), (5,)) for v in r_ep])  # (voltage, trial, f)
+    screen = noisy(rcpe(freq, 90.0, 1.7e5, 1.2e-9, 0.92), (6,))  # (trial, f)
+    total = np.stack([[noisy(edl(freq, r, 50e-12, c) + rcpe(freq, 800.0 * (1 + v / 500), 2e7, 1e-8, 0.9) + rcpe(freq, 90.0, 1.7e5, 1.2e-9, 0.92), (4,)) for v, r in r_ep.items()] for c in c_gap.values()])
+    coords = {"material": list(c_gap), "voltage": list(r_ep)}
+    return (
+        freq,
+        (total, skin, screen),
+        (
+            ix.make_spectrum(freq, total, dims=("material", "voltage", "trial"), coords=coords),
+            ix.make_spectrum(freq, skin, dims=("voltage", "trial"), coords={"voltage": list(r_ep)}),
+            ix.make_spectrum(freq, screen, dims=("trial",)),
+        ),
+    )
+
+
+def test_conditions_not_in_over_are_kept_and_subtracted_per_condition():
+    freq, (total, skin, screen), datasets = _conditions_data()
+    out = sirin.remaining_impedance(*datasets, over=["trial"])
+    # oracle (numpy): trial means and SEMs (ddof 1) of each, the skin paired voltage by voltage
+    sem2 = lambda z, axes: (z.real.var(axis=axes, ddof=1) / np.prod([z.shape[a] for a in axes]), z.imag.var(axis=axes, ddof=1) / np.prod([z.shape[a] for a in axes]))  # noqa: E731
+    expected = total.mean(axis=2) - skin.mean(axis=1)[None] - screen.mean(axis=0)[None, None]
+    (t_re, t_im), (s_re, s_im), (m_re, m_im) = sem2(total, (2,)), sem2(skin, (1,)), sem2(screen, (0,))
+    assert out["Z"].dims == ("material", "voltage", "frequency") and list(out["material"].values) == ["glass", "pet"]
+    assert list(out["voltage"].values) == [50, 100, 150] and out.attrs["condition_dims"] == "material, voltage"
+    np.testing.assert_allclose(out["Z"].values, expected, rtol=1e-12)
+    np.testing.assert_allclose(out["sigma_real"].values, np.sqrt(t_re + s_re[None] + m_re[None, None]), rtol=1e-12)
+    np.testing.assert_allclose(out["sigma_imag"].values, np.sqrt(t_im + s_im[None] + m_im[None, None]), rtol=1e-12)
+    assert out.attrs["n_trials_total"] == 4 and out.attrs["n_trials_skin"] == 5 and out.attrs["n_trials_touchscreen"] == 6
+    # one condition of it is the remainder of that condition's spectra alone
+    one = sirin.remaining_impedance(*(d.sel(voltage=100) for d in datasets[:2]), datasets[2], over=["trial"])
+    np.testing.assert_allclose(out["Z"].sel(voltage=100).values, one["Z"].values, rtol=1e-12)
+    # averaging the voltages too leaves material only; the default (every dim) a single spectrum
+    assert sirin.remaining_impedance(*datasets, over=["voltage", "trial"])["Z"].dims == ("material", "frequency")
+    assert sirin.remaining_impedance(*datasets)["Z"].dims == ("frequency",)
+
+
+def test_kept_conditions_are_refused_where_one_spectrum_is_needed():
+    freq, _, (total, skin, screen) = _conditions_data()
+    with pytest.raises(DataError, match=r"skin: its voltage \(\[50, 100, 200\]\) differs from the total's \(\[50, 100, 150\]\)"):
+        sirin.remaining_impedance(total, skin.assign_coords(voltage=[50, 100, 200]), screen, over=["trial"])
+    z_r = sirin.remaining_impedance(total, skin, screen, over=["trial"])
+    with pytest.raises(DataError, match=r"condition dims material, voltage .*z_r\.sel\(material='glass', voltage=50\)"):
+        sirin.gap_capacitance_paper(z_r)
+    assert sirin.gap_capacitance_paper(z_r.sel(material="glass", voltage=50)) > 0
+    batch = type("Batch", (), {"dims": ("material",)})()  # what a fit of z_r is: a batch over its conditions
+    with pytest.raises(ParameterError, match=r"edl_fit is a batch of fits over material .*--select material=LABEL"):
+        ix.models.gap_analysis(total, skin, screen, area=130e-6, edl_fit=batch, progress=False)
+
+
 def test_paper_capacitance_method():
     pure = 1 / (2j * np.pi * F61 * 413e-12)
     assert sirin.gap_capacitance_paper(pure, F61) == pytest.approx(413e-12, rel=1e-12)

@@ -19,7 +19,7 @@ import numpy as np
 import xarray as xr
 
 from ..data import checked_frequencies
-from ..arguments import count, shown, unknown_parameter
+from ..arguments import closest_name, count, shown, unknown_parameter
 from ..errors import ParameterError
 
 __all__ = ["derive", "derive_fit", "derive_batch", "QUANTILES", "band_dataset", "bind_frequency", "check_real", "needs_freq", "draws_band", "called"]
@@ -253,15 +253,41 @@ def draws_band(fn, freq, params: dict, model: str, *, draws: bool, max_draws: in
     return band_dataset(np.asarray(out, float), freq, keep_draws=draws, attrs={"method": method, "model": model})
 
 
+def _keywords_of(method) -> tuple[str, ...]:
+    """The keyword-only arguments of a bound ``derive`` method (a posterior's: draws, max_draws)."""
+    try:
+        return tuple(n for n, p in inspect.signature(method).parameters.items() if p.kind is p.KEYWORD_ONLY)
+    except (TypeError, ValueError):
+        return ()
+
+
+def _refuse_keywords(kwargs, taken: tuple[str, ...], path: str) -> None:
+    """A `ParameterError` for the first keyword of ``kwargs`` not in ``taken``: ``derive`` of
+    ``path`` would otherwise ignore it (a least-squares fit took ``draws=True`` silently)."""
+    unknown = [k for k in kwargs if k not in taken]
+    if not unknown:
+        return
+    close = closest_name(str(unknown[0]), taken) if taken else None
+    hint = f"; did you mean {close}?" if close else ""
+    takes = f"the keywords {', '.join(taken)}" if taken else "no keywords besides freq"
+    also = "" if taken else "; draws and max_draws are a posterior's"
+    raise ParameterError(f"derive: {'keywords' if len(unknown) > 1 else 'keyword'} {', '.join(shown(k) for k in unknown)} {'are' if len(unknown) > 1 else 'is'} not taken for {path}: it takes {takes}{also}{hint}")
+
+
 def derive(result, fn, freq=None, **kwargs) -> xr.Dataset:
     """Propagate a fit or a posterior to ``fn(params[, freq])``: `Posterior.derive` for a
     posterior (all draws, one vmapped call), `derive_fit` (delta method) for a `FitResult`,
     `derive_batch` (the delta method per spectrum, over the batch's dimensions) for a
-    `BatchFitResult` or `SharedFitResult`."""
+    `BatchFitResult` or `SharedFitResult`. Keywords beyond ``freq`` are the posterior's
+    (``draws``, ``max_draws``); one the chosen path does not take is a `ParameterError` naming
+    it and the keywords that path takes (a fit's delta method has no draws to keep or thin)."""
     if hasattr(result, "draws") and hasattr(result, "derive"):
+        _refuse_keywords(kwargs, _keywords_of(result.derive), f"a {type(result).__name__} (posterior draws)")
         return result.derive(fn, freq, **kwargs)
     if hasattr(result, "covariance") and hasattr(result, "free_names"):
+        _refuse_keywords(kwargs, (), "a least-squares fit (delta method)")
         return derive_fit(result, fn, freq)
     if callable(getattr(result, "spectrum_keys", None)) and isinstance(getattr(result, "dataset", None), xr.Dataset):
+        _refuse_keywords(kwargs, (), "a batch of fits (delta method per spectrum)")
         return derive_batch(result, fn, freq)
     raise ParameterError(f"derive: expected a FitResult, a BatchFitResult or a Posterior, got {type(result).__name__}")

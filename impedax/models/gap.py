@@ -584,6 +584,7 @@ def gap_analysis(
         check_fingertip_area(area)
     if method not in GAP_METHODS:
         raise ParameterError(f"unknown gap method {method!r}; use one of {', '.join(GAP_METHODS)}")
+    _check_single_edl_fit(edl_fit)
     total, skin, touchscreen = check_gap_inputs(total, skin, touchscreen)  # (sign, grids, distinct: DataError naming the file)
     trials = spectra_used(total, skin, touchscreen)
     notes += condition_notes(total, skin, touchscreen) + position_notes(trials)
@@ -657,6 +658,17 @@ U_CORRELATION_MATTERS = 0.25
 interval by this share or more: 1 − √(1 − r²) ≥ 0.25, |r| ≥ 0.66 between u and it (the
 conditional sd of a Gaussian; on the walkthrough's SYNTHETIC set, r = −0.42 for R_EP predicted
 9 %, and R_EP fixed at its median narrowed the interval by 11 %)."""
+
+
+def _check_single_edl_fit(edl_fit) -> None:
+    """Refuse an ``edl_fit`` that is a batch of fits (of a remainder that kept condition dims,
+    `remaining_impedance` with ``over``): the analysis takes one condition's spectra."""
+    dims = tuple(getattr(edl_fit, "dims", ()) or ()) if edl_fit is not None else ()
+    if dims:
+        raise ParameterError(
+            f"edl_fit is a batch of fits over {', '.join(map(str, dims))} (condition dims kept by remaining_impedance(..., over=...)); gap_analysis analyses one condition: "
+            f"pass that condition's total, skin and touchscreen (data.sel({dims[0]}=LABEL); impedax gap --select {dims[0]}=LABEL) and a fit of its remainder"
+        )
 
 
 def _correlation_advice(warnings, correlations, draws: Mapping[str, np.ndarray], circuit) -> list[str]:

@@ -22,7 +22,7 @@ import numpy as np
 import xarray as xr
 
 from ..circuits import Circuit, compile_circuit, parse, voltage_across
-from ..data import make_spectrum, validate_spectrum
+from ..data import label_value, make_spectrum, validate_spectrum
 from ..arguments import checked_arguments, numeric_array, require_parameters, shown, variants_named
 from ..errors import DataError, ParameterError
 from ..constants import EPSILON_0, EPSILON_AIR
@@ -112,41 +112,79 @@ def remaining_impedance(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dat
     ``sigma_real``, ``sigma_imag`` and ``sigma`` = √((σ_Re² + σ_Im²)/2) (one sd for Re and Im,
     as the data model's ``sigma``); no ``sigma`` when an input has a single spectrum or the
     trials do not scatter (a zero standard error cannot weight a fit).
+
+    Dims of the total not in ``over`` (conditions: ``material``, ``voltage``) are kept: eq 5
+    per condition, every variable over (*conditions, frequency) and attrs ``condition_dims``.
+    Skin and screen are averaged over all their dims but those conditions; one they share with
+    the total pairs label by label (the same labels, else a DataError), one they lack is
+    subtracted from every condition alike.
     """
     parts = {"total": _spectrum(total, "total"), "skin": _spectrum(skin, "skin"), "touchscreen": _spectrum(touchscreen, "touchscreen")}
     freq = parts["total"]["frequency"].values
     for name in ("skin", "touchscreen"):
         _same_frequencies(freq, parts[name]["frequency"].values, name)
-    means = {name: trial_mean(ds, over=over if name == "total" else None) for name, ds in parts.items()}
-    z_r = means["total"]["Z"].values - means["skin"]["Z"].values - means["touchscreen"]["Z"].values
-    var_re = sum(m["sigma_real"].values ** 2 for m in means.values())
-    var_im = sum(m["sigma_imag"].values ** 2 for m in means.values())
+    means = {"total": trial_mean(parts["total"], over=over)}
+    kept = tuple(d for d in means["total"]["Z"].dims if d != "frequency")
+    for name in ("skin", "touchscreen"):
+        shared = [d for d in kept if d in parts[name]["Z"].dims]
+        _same_conditions(parts["total"], parts[name], shared, name)
+        means[name] = trial_mean(parts[name], over=[d for d in parts[name]["Z"].dims if d != "frequency" and d not in shared])
+    sizes = {**{d: means["total"].sizes[d] for d in kept}, "frequency": freq.size}
+
+    def spread(mean: xr.Dataset, name: str) -> np.ndarray:  # (*kept, frequency)
+        return _over_conditions(mean[name], sizes)
+
+    z_r = spread(means["total"], "Z") - spread(means["skin"], "Z") - spread(means["touchscreen"], "Z")
+    var_re = sum(spread(m, "sigma_real") ** 2 for m in means.values())
+    var_im = sum(spread(m, "sigma_imag") ** 2 for m in means.values())
     counts = {name: m.attrs["n_trials"] for name, m in means.items()}
-    extra_dims = tuple(d for d in means["total"]["Z"].dims if d != "frequency")
-    if extra_dims:
-        raise DataError(f"total: dims {', '.join(extra_dims)} remain after averaging; name every replicate dim in `over`")
     sigma = np.sqrt((var_re + var_im) / 2.0)
     have_sigma = all(n >= 2 for n in counts.values()) and bool(np.all(sigma > 0))
     sigma = sigma if have_sigma else None
-    ds = make_spectrum(
-        freq,
-        z_r,
-        sigma=sigma,
-        attrs={
-            "quantity": "remaining impedance Z_R = Z_total - Z_skin - Z_TS (Sirin et al. eq 5), trial means",
-            "sigma_method": "SEM of Re and Im of each measurement over its trials, added in quadrature; sigma = sqrt((sigma_real^2 + sigma_imag^2)/2)"
-            if have_sigma
-            else "not available: an input has a single spectrum, or the trials do not scatter",
-            "n_trials_total": counts["total"],
-            "n_trials_skin": counts["skin"],
-            "n_trials_touchscreen": counts["touchscreen"],
-        },
-        source="remaining_impedance",
-    )
+    attrs = {
+        "quantity": "remaining impedance Z_R = Z_total - Z_skin - Z_TS (Sirin et al. eq 5), trial means",
+        "sigma_method": "SEM of Re and Im of each measurement over its trials, added in quadrature; sigma = sqrt((sigma_real^2 + sigma_imag^2)/2)"
+        if have_sigma
+        else "not available: an input has a single spectrum, or the trials do not scatter",
+        "n_trials_total": counts["total"],
+        "n_trials_skin": counts["skin"],
+        "n_trials_touchscreen": counts["touchscreen"],
+    }
+    if kept:
+        attrs["condition_dims"] = ", ".join(kept)
+    coords = {d: parts["total"][d].values for d in kept if d in parts["total"].coords}
+    ds = make_spectrum(freq, z_r, sigma=sigma, dims=kept, coords=coords, attrs=attrs, source="remaining_impedance")
     if have_sigma:
-        ds["sigma_real"] = ("frequency", np.sqrt(var_re), {"units": "ohm", "long_name": "standard error of Re Z_R"})
-        ds["sigma_imag"] = ("frequency", np.sqrt(var_im), {"units": "ohm", "long_name": "standard error of Im Z_R"})
+        ds["sigma_real"] = ((*kept, "frequency"), np.sqrt(var_re), {"units": "ohm", "long_name": "standard error of Re Z_R"})
+        ds["sigma_imag"] = ((*kept, "frequency"), np.sqrt(var_im), {"units": "ohm", "long_name": "standard error of Im Z_R"})
     return ds
+
+
+def _same_conditions(total: xr.Dataset, part: xr.Dataset, dims: Sequence[str], name: str) -> None:
+    """A condition dim that ``part`` shares with the total has its size and labels (where both
+    have labels): eq 5 subtracts the skin or screen of the same condition."""
+    for d in dims:
+        labelled = d in total.coords and d in part.coords
+        if part.sizes[d] != total.sizes[d] or (labelled and not np.array_equal(np.asarray(part[d].values), np.asarray(total[d].values))):
+            mine, theirs = (_labels_text(ds, d) for ds in (part, total))
+            raise DataError(f"{name}: its {d} ({mine}) differs from the total's ({theirs}); a condition kept (not in `over`) pairs the spectra of one label")
+
+
+SHOWN_LABELS = 6  # labels of a dim a message lists before "…"
+
+
+def _labels_text(ds: xr.Dataset, dim: str) -> str:
+    """``dim``'s labels as a message shows them (``[50, 100, 150]``), or its size."""
+    if dim not in ds.coords:
+        return f"{ds.sizes[dim]} positions"
+    labels = [repr(label_value(v)) for v in ds[dim].values]
+    return "[" + ", ".join(labels[:SHOWN_LABELS] + (["…"] if len(labels) > SHOWN_LABELS else [])) + "]"
+
+
+def _over_conditions(values: xr.DataArray, sizes: Mapping[str, int]) -> np.ndarray:
+    """``values`` as an array over the dims ``sizes`` (in order), repeated along those it lacks
+    (a skin or screen mean measured once for every condition)."""
+    return values.variable.set_dims(dict(sizes)).transpose(*sizes).values
 
 
 def trial_remainders(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dataset) -> xr.Dataset:
@@ -191,6 +229,11 @@ def trial_remainders(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Datase
 def _complex_and_freq(z, freq=None):
     if isinstance(z, xr.Dataset):
         z = _spectrum(z, "remaining impedance")
+        conditions = [d for d in str(z.attrs.get("condition_dims", "")).split(", ") if d in z["Z"].dims]
+        if conditions:
+            labelled = all(d in z.coords for d in conditions)
+            example = ", ".join(f"{d}={shown(label_value(z[d].values[0])) if labelled else 0}" for d in conditions)
+            raise DataError(f"the remaining impedance has the condition dims {', '.join(conditions)} (remaining_impedance kept them): take one condition at a time, e.g. z_r.{'sel' if labelled else 'isel'}({example})")
         if any(d != "frequency" for d in z["Z"].dims):
             z = trial_mean(z)
         return np.asarray(z["Z"].values), np.asarray(z["frequency"].values, dtype=np.float64)

@@ -12,6 +12,7 @@ from typing import Callable, Iterator, Mapping
 import numpy as np
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
+from ...arguments import shown
 from ...errors import CircuitError, ParameterError
 from ..drt import PeakEvidence
 
@@ -173,8 +174,9 @@ class EffectCatalog:
 def _checked_proposals(effect: Effect, ctx: BaselineContext) -> list[Proposal]:
     """``effect.propose(ctx.circuit, ctx)``, a user's effect's mistakes refused naming it: a
     propose that raises, returns something other than a list of `Proposal`, a proposal of
-    another effect's id, a circuit as text or with an element the registry lacks, or starting
-    values of parameters neither the proposed circuit nor the baseline has (a typo). The
+    another effect's id, a circuit as text or with an element the registry lacks, starting
+    values of parameters neither the proposed circuit nor the baseline has (a typo), or a start
+    it sets outside its parameter's bounds (`_check_start_bounds`). The
     built-in effects are trusted: an error of theirs is a bug in impedax, shown as such."""
     if getattr(effect.propose, "__module__", None) == BUILT_IN_MODULE:
         return effect.propose(ctx.circuit, ctx)
@@ -207,4 +209,26 @@ def _checked_proposals(effect: Effect, ctx: BaselineContext) -> list[Proposal]:
             unknown = sorted(set(start) - names - known)
             if unknown:
                 raise ParameterError(f"{item} starting values of {', '.join(map(repr, unknown))}, which {p.circuit} does not have (its parameters: {', '.join(sorted(names))})")
+            _check_start_bounds(start, p.circuit.parameter_specs(ctx.registry), ctx.values, item)
     return list(proposals)
+
+
+def _check_start_bounds(start: Mapping[str, object], specs: Mapping, baseline: Mapping[str, float], item: str) -> None:
+    """Refuse a start value the effect sets (one not the baseline's own fitted value, which may
+    sit on a bound) that is not a number inside its element parameter's bounds
+    (`ParameterSpec.contains`): a negative resistance, an alpha above 1. The fit would move it
+    inside without a word (`values_inside`), so the effect's mistake would go unseen."""
+    for name, value in start.items():
+        spec = specs.get(name)
+        if spec is None or (name in baseline and _same_number(value, baseline[name])):
+            continue
+        number = float(value) if isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool) else None
+        if number is None or not spec.contains(number):
+            raise ParameterError(f"{item} a start {name}={shown(value)}, outside {name}'s bounds {spec.bounds_text()} (a start lies strictly inside them)")
+
+
+def _same_number(a, b) -> bool:
+    try:
+        return float(a) == float(b)
+    except (TypeError, ValueError):
+        return False
