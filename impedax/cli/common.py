@@ -379,6 +379,35 @@ def command_provenance(args, *, source=None, data_files: Sequence[str] = (), **u
     return provenance(command=f"impedax {name}" if name else None, settings=settings, source=source, data_files=data_files)
 
 
+JSON_SUMMARY_HELP = "print a JSON summary of what was written on standard output (docs/robustness.md, \"JSON for programs\")"
+
+
+def check_json_with_spectrum_out(as_json: bool, out: str | None, command: str) -> None:
+    """``--json`` of a command that prints its spectrum as CSV without ``--out`` (simulate,
+    remaining): refused unless ``--out FILE`` takes the spectrum, as standard output holds one
+    of the two (``--out -`` with ``--json`` `plan_outputs` refuses)."""
+    if as_json and (out is None or out == ""):
+        raise ParameterError(f"impedax {command} --json prints its summary on standard output, where the spectrum goes without --out: give --out FILE.csv or FILE.nc")
+
+
+def spectrum_summary(ds) -> dict:
+    """The shape of a written spectrum file for the ``--json`` of stack, simulate and remaining:
+    ``dims`` (each dimension of Z and its size, frequency included, as inspect --json gives
+    them), ``spectra`` (their number), ``frequencies``, ``frequency_min_hz``,
+    ``frequency_max_hz`` and ``has_sigma``."""
+    import numpy as np
+
+    freq = np.asarray(ds["frequency"].values, dtype=float)
+    return {
+        "dims": {str(k): int(v) for k, v in ds["Z"].sizes.items()},
+        "spectra": int(ds["Z"].size // max(ds.sizes["frequency"], 1)),
+        "frequencies": int(freq.size),
+        "frequency_min_hz": float(freq.min()),
+        "frequency_max_hz": float(freq.max()),
+        "has_sigma": "sigma" in ds,
+    }
+
+
 def emit_json(obj) -> None:
     """Print ``obj`` as JSON (NaN/Inf become null, so the output is strict JSON)."""
     json.dump(to_jsonable(obj), sys.stdout, indent=2, allow_nan=False)
@@ -1557,7 +1586,17 @@ PROGRESS_AFTER_S = 2.0
 """Progress lines go to stderr once a run has taken this long."""
 
 
-def progress_printer(after_s: float = PROGRESS_AFTER_S, stream=None):
+QUIET_HELP = "no progress lines on stderr (warnings and notes still go there)"
+
+
+def add_quiet_option(parser) -> None:
+    """``--quiet``: no progress lines (`progress_printer`'s, a sampler's) on stderr; warnings and
+    notes are still printed there (added 2026-12-01 to every command that prints progress: a
+    pipeline's log held 79 progress lines of one refine run under --json)."""
+    parser.add_argument("--quiet", action="store_true", help=QUIET_HELP)
+
+
+def progress_printer(after_s: float | None = None, stream=None, *, quiet: bool = False):
     """A progress callback that prints its lines to stderr (``stream``) once ``after_s`` seconds
     have passed. The lines said before then are printed, in order and with their own times, at
     ``after_s`` or at the first line after it, whichever comes first (the first diagnosis says
@@ -1565,8 +1604,21 @@ def progress_printer(after_s: float = PROGRESS_AFTER_S, stream=None):
     ``after_s``, and every run starts with the same lines (until 2026-11-30 only the last of them
     was kept: refine of AutoEIS's battery cycle 10 began at "[  1.8 s]   the DRT of the data…",
     without its step 0 and baseline lines). Its ``close()`` ends the wait; a line is printed at
-    most once."""
-    return _Progress(after_s, stream)
+    most once. ``after_s`` None: `PROGRESS_AFTER_S`; ``quiet`` (``--quiet``): a printer that
+    prints nothing."""
+    if quiet:
+        return _SilentProgress()
+    return _Progress(PROGRESS_AFTER_S if after_s is None else after_s, stream)
+
+
+class _SilentProgress:
+    """The progress callback of ``--quiet``: every line dropped."""
+
+    def __call__(self, text: str) -> None:
+        pass
+
+    def close(self) -> None:
+        pass
 
 
 class _Progress:

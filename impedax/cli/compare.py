@@ -40,7 +40,7 @@ def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting.problem import open_spectrum
     from ..arguments import closest_name
-    from .common import checked_bound_options, command_provenance, data_source, emit_json, exclude_points, figure_options, figure_writer, impedax_text, load_selected, note_unused_sigma, parse_assignments, parse_bounds, plan_outputs, progress_printer, result_writer, with_source
+    from .common import checked_bound_options, command_provenance, data_source, emit_json, exclude_points, figure_options, figure_writer, impedax_text, load_selected, note_skipped_rows, note_unused_sigma, parse_assignments, parse_bounds, plan_outputs, progress_printer, result_writer, skipped_rows, with_source, WithSummaryKeys
     from .fit import check_max_steps
 
     if len(args.model) < 2:
@@ -70,7 +70,7 @@ def run(args) -> int:
     def own(flag, ns):
         return {k: v for k, v in given[flag].items() if k in ns} or None
 
-    progress = progress_printer()  # (three models took 6-12 s without a word)
+    progress = progress_printer(quiet=args.quiet)  # (three models took 6-12 s without a word)
     fits = []
     try:
         for i, (c, ns, own_bounds) in enumerate(zip(circuits, names, bounds)):
@@ -78,7 +78,7 @@ def run(args) -> int:
             fits.append(fit(c, data, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, init=own("--init", ns), fixed=own("--fix", ns), bounds=own_bounds or None, registry=args.registry))
     finally:
         progress.close()
-    comparison = compare(fits)
+    comparison = WithSummaryKeys(compare(fits), {"skipped_rows": skipped_rows(data)})  # (the JSON's, as fit's and inspect --json's: added 2026-12-01)
     # (--out: .csv `Comparison.to_table`, .json `Comparison.summary`, as `impedax.io.write_result` writes them; a `BatchComparison`'s alike)
     source = data_source(data)
     record = command_provenance(args, source=source, data_files=[args.data])
@@ -97,6 +97,8 @@ def run(args) -> int:
             if fit_result.bounds:  # (--bound: the table's rows do not show them either)
                 print(f"bounded in {fit_result.model}: " + ", ".join(f"{n} within {lo:g}..{hi:g}" for n, (lo, hi) in fit_result.bounds.items()))
         print("\n".join(warning_lines(comparison)))
+    if not args.json and not outputs.uses_stdout:
+        note_skipped_rows(data, "compare", args.data)
     return 0
 
 

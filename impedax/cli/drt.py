@@ -29,7 +29,7 @@ def _fraction(text: str) -> float:
 
 
 def register(sub) -> None:
-    from .common import add_plot_option, add_select_option, number_option
+    from .common import add_plot_option, add_quiet_option, add_select_option, number_option
     from .fit import add_exclude_option
 
     p = sub.add_parser(
@@ -55,6 +55,7 @@ def register(sub) -> None:
     p.add_argument("--json", action="store_true", help="machine-readable output")
     add_plot_option(p, "save gamma vs tau with peaks and band, and the fit on Nyquist/Bode")
     p.add_argument("--out", metavar="FILE.csv|.json|.nc", help="save gamma over tau with its band (CSV), the --json summary (JSON) or gamma, its band and the fit (netCDF), as impedax.write_result does")
+    add_quiet_option(p)
     p.set_defaults(run=run)
 
 
@@ -73,7 +74,7 @@ def run(args) -> int:
         data = select_band(data, args.fmin, args.fmax, data_source(data) or args.data)  # (<stdin> for -, and any --select)
     source = data_source(data)  # (the file and any --select: the JSON's ``source``, as kk's and fit's)
     data = open_spectrum(data).data
-    progress = progress_printer()  # (130 cycles took 7 s without a word; printed only past PROGRESS_AFTER_S)
+    progress = progress_printer(quiet=args.quiet)  # (130 cycles took 7 s without a word; printed only past PROGRESS_AFTER_S)
     n_spectra = int(data["Z"].size // data.sizes["frequency"])
     progress(f"DRT of {n_spectra} spectr{'um' if n_spectra == 1 else 'a'}: solving, then peaks and credible bands")
     result = drt(data, method=args.method, lam=_lam(args.lam), lam_method=args.lam_method, signed=args.signed, min_peak_fraction=args.min_peak_fraction)

@@ -15,14 +15,16 @@ def add_weighting_option(p, help_text: str) -> None:
 
 
 def add_fit_options(p) -> None:
-    """Options shared by fit-like commands (fit, compare, diagnose, refine)."""
-    from .common import number_option
+    """Options shared by fit-like commands (fit, compare, diagnose, refine), ``--quiet``
+    (`common.add_quiet_option`) among them: each prints progress lines."""
+    from .common import add_quiet_option, number_option
 
     add_weighting_option(p, "residual weighting (default modulus: both parts divided by |Z|, relative errors, the weighting of impedax sample's --noise proportional; "
                             "proportional: Re divided by |Re Z| and Im by |Im Z|; see impedax.fitting.WEIGHTINGS)")
     p.add_argument("--fmin", type=number_option, help="ignore data below this frequency [Hz]")
     p.add_argument("--fmax", type=number_option, help="ignore data above this frequency [Hz]")
     add_exclude_option(p)
+    add_quiet_option(p)
 
 
 def add_exclude_option(p) -> None:
@@ -140,7 +142,7 @@ def run(args) -> int:
         check_parameter_names(plot_params, names, "--plot-params", args.model, args.registry)
     data = exclude_points(load_selected(args.data, args.select, readers=args.readers), args.exclude)
     note_unused_sigma(data, "fit", args.weighting == "sigma", "--weighting sigma")
-    progress = progress_printer()  # (a batch of 3 cycles took 15 s without a word, 28 s on a first run)
+    progress = progress_printer(quiet=args.quiet)  # (a batch of 3 cycles took 15 s without a word, 28 s on a first run)
     n_spectra = int(data["Z"].size // max(data.sizes.get("frequency", 1), 1))
     if latex and n_spectra > 1:
         raise ParameterError(f"--out {args.out}: a LaTeX table holds the fit of one spectrum, and {args.data} holds {n_spectra}: pick one with --select, or write .csv (a row per spectrum and parameter)")

@@ -14,7 +14,7 @@ GAP_OUT_HELP = (
 
 
 def register(sub) -> None:
-    from .common import SELECT_SYNTAX_HELP, accept_negative_numbers, add_output_options, number_option
+    from .common import SELECT_SYNTAX_HELP, accept_negative_numbers, add_output_options, add_quiet_option, number_option
     from ..arguments import GAP_MIN_STEPS
     from .sample import steps_option
 
@@ -49,7 +49,7 @@ def register(sub) -> None:
         help="narrow each of the three files that has dimension DIM to the spectra whose DIM is LABEL, e.g. one session of a "
         "file over session and trial; the remaining dimensions (and a list's or range's DIM) are the trials. " + SELECT_SYNTAX_HELP,
     )
-    p.add_argument("--quiet", action="store_true", help="no progress line")
+    add_quiet_option(p)
     p.add_argument("--remaining", metavar="FILE.nc|.csv", help="also save the trial-mean remainder total − skin − touchscreen that the EDL model is fitted to, as a spectrum (with sigma) that impedax fit reads; impedax remaining writes it without the sampling")
     add_output_options(p, plot="save impedance, gap posterior and force bands", out=GAP_OUT_HELP)
     p.set_defaults(run=run)

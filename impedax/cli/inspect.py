@@ -28,7 +28,7 @@ def run(args) -> int:
 
     from ..errors import DataError
     from ..io.loader import NETCDF_SUFFIXES
-    from ..io.netcdf import RESULT_KINDS, reader_call, result_kind
+    from ..io.netcdf import RESULT_KINDS, result_kind
     from .common import Output, command_provenance, data_source, dimension_labels, emit_json, figure_options, figure_writer, labels_text, load_selected, plan_outputs, spectrum_writer, with_source
 
     outputs = plan_outputs([("--out", args.out, "spectrum"), ("--plot", args.plot, "figure")], inputs=[args.file], stdout="--json" if args.json else None)
@@ -78,7 +78,8 @@ def run(args) -> int:
         "last_point": _point(ds, extra, -1),
     }
     if kind:  # a saved result (impedax fit/sample --out FILE.nc): its data are what is shown
-        summary.update({"result_kind": kind, "result": RESULT_KINDS[kind][0], "parameter_units": _parameter_units(ds)})
+        # (read_with added 2026-12-01: the call that reads it, naming registry= for an element of the user's own)
+        summary.update({"result_kind": kind, "result": RESULT_KINDS[kind][0], "parameter_units": _parameter_units(ds), "read_with": _read_with(kind, ds)})
     record = command_provenance(args, source=data_source(ds), data_files=[args.file])
     outputs.save({"--out": spectrum_writer(lambda: ds, record, args.out), "--plot": figure_writer(lambda: _preview(ds, summary["format"], summary["file"]), **figure_options(args))})
     if outputs.uses_stdout:
@@ -86,7 +87,7 @@ def run(args) -> int:
     if args.json:
         emit_json(with_source(summary, data_source(ds), record))
         return 0
-    held = f" holding a saved {summary['result']} (its data shown here; read it in full with {reader_call(kind)})" if kind else ""
+    held = f" holding a saved {summary['result']} (its data shown here; read it in full with {summary['read_with']})" if kind else ""
     first = f" (its data first read from {summary['data_format']})" if summary["data_format"] else ""
     print(f"{summary['file']}: {summary['format']}{first}{held}, {summary['points']} frequencies "
           f"{summary['frequency_min_hz']:.4g}–{summary['frequency_max_hz']:.4g} Hz, "
@@ -167,12 +168,47 @@ def _first_labels(ds, extra) -> str:
 
 
 def _parameter_units(ds) -> dict[str, str]:
-    """The units of a saved result's parameters (its ``units``, one per ``param``), by name."""
-    units = ds.attrs.get("units")
+    """The units of a saved result's parameters, by name: its ``unit`` coordinate along
+    ``param`` (what a fit's ``to_xarray`` stores), else its attrs ``units``, one per ``param``
+    (until 2026-12-01 only the attrs were read, and a saved fit showed ``{}``)."""
     names = ds["param"].values if "param" in ds.coords else ()
+    if "unit" in ds.coords and ds["unit"].dims == ("param",):
+        return {str(n): str(u) for n, u in zip(names, ds["unit"].values)}
+    units = ds.attrs.get("units")
     if isinstance(units, str) or units is None or len(units) != len(names):
         return {}
     return {str(n): str(u) for n, u in zip(names, units)}
+
+
+def _foreign_models(ds) -> list[str]:
+    """The circuit texts of a saved result (its attrs ``model``, ``*_model``) that the default
+    element registry cannot parse: they use an element of the user's own, whose registry the
+    reader call needs (``registry=``; ``--plugin FILE.py`` on the command line)."""
+    from .. import DEFAULT_REGISTRY, parse
+    from ..errors import CircuitSyntaxError
+
+    foreign = []
+    for key, text in ds.attrs.items():
+        if (key == "model" or key.endswith("_model")) and isinstance(text, str) and text.strip():
+            try:
+                parse(text, DEFAULT_REGISTRY)
+            except CircuitSyntaxError:
+                foreign.append(text)
+    return foreign
+
+
+def _read_with(kind: str, ds) -> str:
+    """The call that reads the saved result ``ds`` of ``kind`` in full (`reader_call`), with
+    ``registry=`` and the command line's ``--plugin FILE.py`` named when its circuit uses an
+    element the default registry lacks (`_foreign_models`)."""
+    from ..io.netcdf import reader_call
+
+    call = reader_call(kind)
+    foreign = _foreign_models(ds) if call.endswith("(impedax.io.read_netcdf(path))") else []
+    if not foreign:
+        return call
+    return (f"{call[:-1]}, registry=REGISTRY) (its model {foreign[0]!r} uses an element not in the default registry: REGISTRY is the one "
+            "that declares it; on the command line, --plugin FILE.py)")
 
 
 def _picked_dims(ds) -> dict[str, str]:

@@ -28,7 +28,7 @@ def register(sub) -> None:
 def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting import refine
-    from .common import command_provenance, data_source, exclude_points, figure_options, figure_writer, load_selected, plan_outputs, print_result, progress_printer, relative_noise, result_writer
+    from .common import command_provenance, data_source, exclude_points, figure_options, figure_writer, load_selected, note_skipped_rows, plan_outputs, print_result, progress_printer, relative_noise, result_writer, skipped_rows, WithSummaryKeys
     from .diagnose import bounds_option, effects_option, fixed_option
     from .fit import check_max_steps, note_solver_step_limit
 
@@ -42,7 +42,7 @@ def run(args) -> int:
     fixed = fixed_option(args)
     bounds = bounds_option(args, fixed)
     data = exclude_points(load_selected(args.data, args.select, single="impedax refine", readers=args.readers), args.exclude)
-    progress = progress_printer()
+    progress = progress_printer(quiet=args.quiet)
     try:
         result = refine(
             data, args.model, max_effects=args.max_effects, max_steps=solver_steps, effects=effects, weighting=args.weighting, noise=noise,
@@ -52,12 +52,15 @@ def run(args) -> int:
         progress.close()
     source = data_source(data)
     record = command_provenance(args, source=source, data_files=[args.data])
-    outputs.save({"--out": result_writer(result, source, record), "--plot": figure_writer(result.plot, source, **figure_options(args))})
+    read = WithSummaryKeys(result, {"skipped_rows": skipped_rows(data)})  # (the JSON's, as fit's and inspect --json's: added 2026-12-01)
+    outputs.save({"--out": result_writer(read, source, record), "--plot": figure_writer(result.plot, source, **figure_options(args))})
     if not outputs.uses_stdout:
-        print_result(result, args.json, source, record, command="refine")
+        print_result(read, args.json, source, record, command="refine")
         line = reproduce_line(result, args, data)
         if line and not args.json:
             print(line)
+        if not args.json:
+            note_skipped_rows(data, "refine", args.data)
     return 0
 
 

@@ -7,7 +7,7 @@ import sys
 
 
 def register(sub) -> None:
-    from .common import SELECT_SYNTAX_HELP
+    from .common import JSON_SUMMARY_HELP, SELECT_SYNTAX_HELP
 
     p = sub.add_parser(
         "remaining",
@@ -32,6 +32,7 @@ def register(sub) -> None:
         ".txt and a name without extension are the same CSV, .tsv tab-separated); another extension is refused before any work; "
         "CSV to standard output when omitted or '-'",
     )
+    p.add_argument("--json", action="store_true", help=JSON_SUMMARY_HELP + " (needs --out FILE): written, kind, n_trials, dims, spectra, frequencies, has_sigma, warnings, ...")
     p.set_defaults(run=run)
 
 
@@ -41,23 +42,29 @@ def run(args) -> int:
     from ..errors import ParameterError
     from ..io import write_csv
     from ..models.gap import gap_remainder
-    from .common import check_distinct_paths, command_provenance, load_selected_files, plan_outputs, remainder_with_paths, spectrum_writer
+    from .common import check_distinct_paths, check_json_with_spectrum_out, command_provenance, emit_json, load_selected_files, plan_outputs, remainder_with_paths, spectrum_summary, spectrum_writer
 
     out = None if args.out == "-" else args.out
     if args.trials and (out is None or Path(out).suffix.lower() != ".nc"):
         raise ParameterError(f"--trials writes one spectrum per total trial, which only netCDF holds: give --out FILE.nc (got {'standard output' if out is None else out})")
-    outputs = plan_outputs([("--out", out, "spectrum")], inputs=[args.total, args.skin, args.touchscreen])
+    check_json_with_spectrum_out(args.json, out, "remaining")
+    outputs = plan_outputs([("--out", out, "spectrum")], inputs=[args.total, args.skin, args.touchscreen], stdout="--json" if args.json else None)
     total, skin, touchscreen = load_selected_files([args.total, args.skin, args.touchscreen], args.select, args.readers)
     paths = {"total": args.total, "skin": args.skin, "touchscreen": args.touchscreen}
     check_distinct_paths(paths)
     remaining, notes = gap_remainder(total, skin, touchscreen, kind="trials" if args.trials else "mean")
     remaining = remainder_with_paths(remaining, paths)
     record = command_provenance(args, source=paths, data_files=list(paths.values()))  # (as impedax gap records them)
-    outputs.save({"--out": spectrum_writer(lambda: remaining, record)})
+    written = outputs.save({"--out": spectrum_writer(lambda: remaining, record)})
     if out is None:
         sys.stdout.write(write_csv(remaining))
     for note in notes:
         print(f"impedax remaining: warning: {note}", file=sys.stderr)
+    if args.json:  # (added 2026-12-01: what a pipeline reads of the run; docs/robustness.md, "JSON for programs")
+        emit_json({"command": "remaining", "written": list(written), "kind": "trials" if args.trials else "mean",
+                   "n_trials": {k: int(remaining.attrs[f"n_trials_{k}"]) for k in ("total", "skin", "touchscreen")}, **spectrum_summary(remaining),
+                   "warnings": [str(n) for n in notes], "source": paths, "provenance": record})
+        return 0
     counts = ", ".join(f"{remaining.attrs[f'n_trials_{k}']} {k}" for k in ("total", "skin", "touchscreen"))
     what = "every total trial minus the skin and screen means" if args.trials else "trial means" + (", sigma from their standard errors: fit with --weighting sigma to use it" if "sigma" in remaining else ", no sigma (an input has one spectrum or no scatter)")
     print(f"impedax remaining: Z_total − Z_skin − Z_TS at {remaining.sizes['frequency']} frequencies from {counts} spectra ({what})", file=sys.stderr)

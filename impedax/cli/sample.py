@@ -9,7 +9,7 @@ def register(sub) -> None:
     from ..fitting import NOISE_MODELS, PRIOR_KINDS
     from ..fitting.bayes.diagnostics import CHAIN_TAU_MULTIPLE
     from ..fitting.bayes.sampler import AUTO_MAX_STEPS
-    from .common import add_model_argument, add_output_options, add_plot_option, add_select_option, number_option, result_out_help
+    from .common import add_model_argument, add_output_options, add_plot_option, add_quiet_option, add_select_option, number_option, result_out_help
     from .fit import add_bound_option, add_shared_options
 
     p = sub.add_parser(
@@ -36,9 +36,9 @@ def register(sub) -> None:
     p.add_argument("--init", action="append", metavar="NAME=VALUE", help="starting value of the least-squares start fit; several after one --init (--init R1=43k C2=5u) or --init repeated; others are guessed from the data")
     add_bound_option(p, " in the start fit and the sampling (the support of its prior; not with --shared)")
     p.add_argument("--max-steps", type=int, default=None, metavar="N", help="Levenberg–Marquardt step limit of the least-squares start fit (default 400; --steps is the sampler's)")
-    p.add_argument("--quiet", action="store_true", help="no progress line on stderr")
+    add_quiet_option(p)
     add_plot_option(p, "save a corner plot of the draws", flag="--corner")
-    add_output_options(p, json="print the result as JSON (no progress line)", plot="save data with posterior bands (Nyquist, Bode)", out=result_out_help("the posterior (.nc: draws, diagnostics, start fit, data; .csv: quantiles per parameter)"))
+    add_output_options(p, json="print the result as JSON (progress lines still go to stderr: --quiet drops them)", plot="save data with posterior bands (Nyquist, Bode)", out=result_out_help("the posterior (.nc: draws, diagnostics, start fit, data; .csv: quantiles per parameter)"))
     p.set_defaults(run=run)
 
 
@@ -113,7 +113,7 @@ def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting import parse_prior
     from ..fitting.bayes.logprob import start_weighting
-    from .common import check_parameter_names, checked_bound_options, command_provenance, data_source, figure_options, figure_writer, load_selected, note_unused_sigma, parse_assignments, parse_bounds, plan_outputs, print_result, result_writer
+    from .common import check_parameter_names, checked_bound_options, command_provenance, data_source, figure_options, figure_writer, load_selected, note_skipped_rows, note_unused_sigma, parse_assignments, parse_bounds, plan_outputs, print_result, result_writer, skipped_rows, WithSummaryKeys
     from .fit import check_max_steps, shared_arguments
 
     circuit = parse(args.model, args.registry)  # syntax errors before anything else
@@ -154,7 +154,7 @@ def run(args) -> int:
                     **({"max_steps": max_steps} if max_steps is not None else {}))
     posterior = sample(
         circuit, data, priors=priors, noise=args.noise, walkers=args.walkers, steps=args.steps, burn=args.burn, thin=args.thin,
-        seed=args.seed, fmin=args.fmin, fmax=args.fmax, progress=not (args.quiet or args.json), init=start, fixed=fixed or None, bounds=bounds or None, registry=args.registry, **sharing,
+        seed=args.seed, fmin=args.fmin, fmax=args.fmax, progress=not args.quiet, init=start, fixed=fixed or None, bounds=bounds or None, registry=args.registry, **sharing,
     )
     source = data_source(data)
     # what the run settled itself (--steps auto, the default burn-in and walkers), beside the options as given
@@ -163,10 +163,12 @@ def run(args) -> int:
     if getattr(posterior, "n_walkers", None) is not None:
         settled["walkers_used"] = chain.get("walkers", posterior.n_walkers)  # (the run's: with straggler walkers left out, the draws hold fewer)
     record = command_provenance(args, source=source, data_files=[args.data], **settled)
-    outputs.save({"--out": result_writer(posterior, source, record), "--corner": figure_writer(lambda: posterior.corner(), source, **figure_options(args)), "--plot": figure_writer(lambda: posterior.plot(), source, **figure_options(args))})
+    read = WithSummaryKeys(posterior, {"skipped_rows": skipped_rows(data)})  # (the JSON's, as fit's and inspect --json's: added 2026-12-01)
+    outputs.save({"--out": result_writer(read, source, record), "--corner": figure_writer(lambda: posterior.corner(), source, **figure_options(args)), "--plot": figure_writer(lambda: posterior.plot(), source, **figure_options(args))})
     if not outputs.uses_stdout:
-        print_result(posterior, args.json, source, record, command="sample")
-    if not args.json:
-        if not args.quiet and posterior.warnings:
-            print(f"impedax sample: {len(posterior.warnings)} warning(s); see the report", file=sys.stderr)
+        print_result(read, args.json, source, record, command="sample")
+        if not args.json:
+            note_skipped_rows(data, "sample", args.data)
+    if posterior.warnings:  # (--quiet drops progress lines only: warnings are said, as gap says them)
+        print(f"impedax sample: {len(posterior.warnings)} warning(s); see the {'JSON' + chr(39) + 's warnings' if args.json else 'report'}", file=sys.stderr)
     return 0

@@ -6,7 +6,8 @@ import sys
 
 import numpy as np
 
-from .common import add_model_argument, add_output_options, check_memory, check_points, command_provenance, figure_options, figure_writer, model_and_values, number_option, plan_outputs, spectrum_writer
+from .common import (JSON_SUMMARY_HELP, add_model_argument, add_output_options, check_json_with_spectrum_out, check_memory, check_points, command_provenance, emit_json, figure_options, figure_writer,
+                     model_and_values, number_option, plan_outputs, spectrum_summary, spectrum_writer)
 
 # memory per frequency while simulating and writing CSV: the frequencies, the complex impedance
 # and JAX's intermediates, and the CSV text with its line list (measured about 0.4 kB)
@@ -20,7 +21,7 @@ def register(sub) -> None:
     p.add_argument("--fmin", type=number_option, default=1.0, help="lowest frequency [Hz] (default 1)")
     p.add_argument("--fmax", type=number_option, default=1e6, help="highest frequency [Hz] (default 1e6)")
     p.add_argument("--points", type=int, default=None, help="number of frequencies (default 61; 1 when --fmin equals --fmax)")
-    add_output_options(p, json=None, plot="also save Nyquist/Bode plots", out="output file (.csv or .nc); stdout when omitted or '-'", out_metavar="FILE.csv")
+    add_output_options(p, json=JSON_SUMMARY_HELP + " (needs --out FILE): written, model, parameters, parameter_units, defaulted, frequencies, ...", plot="also save Nyquist/Bode plots", out="output file (.csv or .nc); stdout when omitted or '-'", out_metavar="FILE.csv")
     p.set_defaults(run=run)
 
 
@@ -32,7 +33,8 @@ def run(args) -> int:
     from ..io import write_csv
 
     circuit, specs, given = model_and_values(args.model, args.param, "--param", args.registry)
-    outputs = plan_outputs([("--out", args.out, "spectrum"), ("--plot", args.plot, "figure")])
+    check_json_with_spectrum_out(args.json, args.out, "simulate")
+    outputs = plan_outputs([("--out", args.out, "spectrum"), ("--plot", args.plot, "figure")], stdout="--json" if args.json else None)
     points = check_points(args.points, args.fmin, args.fmax, default=61)
     check_memory("--points", points * POINT_BYTES, f"a spectrum of {points} frequencies")
     params = {**circuit.defaults(args.registry), **given}
@@ -49,8 +51,11 @@ def run(args) -> int:
         return plot_spectrum(model=ds, title=str(circuit), model_label=str(circuit))
 
     record = command_provenance(args, points_used=points, params_used=params)  # (no data file: the model and its values made it)
-    outputs.save({"--out": spectrum_writer(lambda: ds, record, args.out), "--plot": figure_writer(figure, **figure_options(args))})
-    if not args.out:
+    written = outputs.save({"--out": spectrum_writer(lambda: ds, record, args.out), "--plot": figure_writer(figure, **figure_options(args))})
+    if args.json:  # (added 2026-12-01: what a pipeline reads of the run; docs/robustness.md, "JSON for programs")
+        emit_json({"command": "simulate", "written": [p for p in written if p != "-"], "model": str(circuit), "parameters": {n: float(params[n]) for n in specs},
+                   "parameter_units": {n: specs[n].unit for n in specs}, "defaulted": defaulted, **spectrum_summary(ds), "provenance": record})
+    elif not args.out:
         sys.stdout.write(write_csv(ds))
     if defaulted:  # (said once the spectrum is out: not before an error)
         print(f"impedax simulate: defaults used for {', '.join(f'{n}={params[n]:g}' for n in defaulted)}", file=sys.stderr)

@@ -9,6 +9,8 @@ import sys
 
 
 def register(sub) -> None:
+    from .common import JSON_SUMMARY_HELP
+
     p = sub.add_parser(
         "stack",
         help="several files of one spectrum each as one series (a new dimension) in a netCDF file",
@@ -22,6 +24,7 @@ def register(sub) -> None:
     p.add_argument("--dim", default="file", metavar="NAME", help="name of the new dimension (default: file), e.g. day")
     p.add_argument("--coords", nargs="+", metavar="V", help="one label per FILE, in order: numbers when every one reads as a number (1 2 3, 0.5 1.5), else text; default: the file names without extension (day01)")
     p.add_argument("--out", required=True, metavar="OUT.nc", help="the stacked spectra (netCDF: .nc, .nc4, .cdf); written whole or not at all")
+    p.add_argument("--json", action="store_true", help=JSON_SUMMARY_HELP + ": written, files, dim, labels, dims, spectra, frequencies, ...")
     p.set_defaults(run=run)
 
 
@@ -32,15 +35,19 @@ def run(args) -> int:
     from ..errors import DataError
     from ..io.loader import NETCDF_SUFFIXES
     from ..io.stack import stack_files
-    from .common import command_provenance, data_source, plan_outputs, spectrum_writer
+    from .common import command_provenance, data_source, emit_json, plan_outputs, spectrum_summary, spectrum_writer, with_source
 
     if Path(args.out).suffix.lower() not in NETCDF_SUFFIXES:
         raise DataError(f"--out: a stack of spectra is written as netCDF: give a {', '.join(NETCDF_SUFFIXES)} name (a CSV file holds one spectrum)", path=args.out)
     outputs = plan_outputs([("--out", args.out, "spectrum")], inputs=args.files)
     stacked = stack_files(args.files, dim=args.dim, coords=args.coords, readers=args.readers)
     record = command_provenance(args, source=data_source(stacked), data_files=args.files)
-    outputs.save({"--out": spectrum_writer(lambda: stacked, record)})
+    written = outputs.save({"--out": spectrum_writer(lambda: stacked, record)})
     labels = stacked[args.dim].values.tolist()
+    if args.json:  # (added 2026-12-01: what a pipeline reads of the run; docs/robustness.md, "JSON for programs")
+        emit_json(with_source({"command": "stack", "written": list(written), "files": [str(f) for f in args.files], "dim": args.dim, "labels": labels, **spectrum_summary(stacked)},
+                              data_source(stacked), record))
+        return 0
     shown = ", ".join(map(str, labels)) if len(labels) <= 6 else f"{', '.join(map(str, labels[:3]))}, …, {labels[-1]}"
     others = [d for d in stacked["Z"].dims if d not in (args.dim, "frequency")]  # (the files' own dimensions, each file over them)
     n = stacked["Z"].size // stacked.sizes["frequency"]
