@@ -25,8 +25,9 @@ __all__ = ["BROAD_FACTOR", "WARBURG_SLOPE_RANGE", "diffusion_slopes", "reference
 
 BROAD_FACTOR = 1.4
 """A peak this many times as wide (FWHM, decades) as one R‖C's at the same λ is called broad.
-SYNTHETIC, 71 points over 7 decades: two R‖C one decade apart merged at 5 % noise, 4.5×; a ZARC
-α 0.8, 1.6–2.3×; α 0.6, 2.1–4.8×; separate R‖C peaks 0.9–1.2× (docs/drt.md, "Shape notes")."""
+SYNTHETIC, 71 points over 7 decades, noise 0.3–5 %: one R‖C 0.96–1.03×; two resolved R‖C 1
+decade apart 0.97–1.16×, 0.7 decade apart up to 1.34×; a merged pair 1 decade apart 1.43–1.54×;
+a ZARC α 0.8 1.3–2.0× (docs/drt.md, "Shape notes")."""
 
 WARBURG_SLOPE_RANGE = (-0.7, -0.3)
 """d ln(−Im Z)/d ln ω of both halves of the lowest decade must lie here for a diffusion tail:
