@@ -178,7 +178,7 @@ class DRTResult:
                 "derivative_order": self.derivative,
                 "basis_fwhm_decades": self.basis_fwhm_decades,
                 "band_lambda": self.band_lambda,
-                "band": "90 % credible band: Gaussian posterior at the evidence-chosen band_lambda, widened to contain gamma (docs/drt.md)",
+                "band": "90 % credible band: Gaussian posterior at the evidence-chosen band_lambda, widened to contain gamma; it covers the noise, not the smoothing bias at peaks (docs/drt.md)",
                 "source": self.source,
             },
         )
@@ -209,7 +209,13 @@ class DRTResult:
     @property
     def notes(self) -> tuple[str, ...]:
         """What the report says below `warnings`' thresholds: L < 0 of any size (no cell has a
-        negative inductance; `warnings` only names one beyond 5 % of |Z| at the top frequency)."""
+        negative inductance; `warnings` only names one beyond 5 % of |Z| at the top frequency),
+        then `shape.shape_notes` (a diffusion tail, peaks broader than one R‖C's)."""
+        from .shape import shape_notes
+
+        return self._negative_l_notes() + shape_notes(self)
+
+    def _negative_l_notes(self) -> tuple[str, ...]:
         if self.l_h < 0 and not any(w.startswith("L = ") for w in self.warnings):
             return (f"L = {format_quantity(self.l_h, 'H')} is negative, which no physical cell or lead has (below the 5 % of |Z| that makes it a warning): "
                     "likely a cable or sign-convention artefact, a high-frequency arc above the measured band that L stands in for, "
@@ -226,7 +232,7 @@ class DRTResult:
     def lambda_scale_text(self) -> str:
         """What λ is relative to, and the credible band's λ."""
         return (f"λ is relative to max|Z|² = ({format_quantity(self.z_ref, 'Ω')})² (residuals relative to |Z|, penalty on γ/max|Z|; γ is reported in Ω); "
-                f"credible band at λ = {format_lambda(self.band_lambda, 2)} (evidence)")
+                f"credible band at λ = {format_lambda(self.band_lambda, 2)} (evidence; noise only: it leaves out the smoothing that lowers peaks, docs/drt.md)")
 
     @property
     def cutoff_text(self) -> str:
@@ -333,7 +339,7 @@ def _common_attrs(result: "DRTResult") -> dict:
         "signed": int(result.signed),
         "derivative_order": result.derivative,
         "basis_fwhm_decades": result.basis_fwhm_decades,
-        "band": "90 % credible band: Gaussian posterior at the evidence-chosen band_lambda (variable, per spectrum), widened to contain gamma (docs/drt.md)",
+        "band": "90 % credible band: Gaussian posterior at the evidence-chosen band_lambda (variable, per spectrum), widened to contain gamma; it covers the noise, not the smoothing bias at peaks (docs/drt.md)",
     }
 
 

@@ -1,0 +1,88 @@
+"""Shape notes of the DRT (`impedax.fitting.drt.shape`, docs/drt.md "Shape notes"): a diffusion
+tail (−Im Z ∝ ω^−½ at the low end: a Warburg, whose fitted γ shows fake peaks) and a peak too
+broad for one R‖C at the chosen λ. SYNTHETIC spectra from numpy formulas written here: 71 points,
+10 mHz–100 kHz, complex noise of relative σ `level`, fixed seeds. Oracles: the slopes' closed
+forms (a Warburg's −Im Z = σ/√(2ω), an arc below its corner −Im Z ≈ Rωτ) and the width of an
+ideal R‖C's own DRT at the same λ.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import impedax as ix
+from impedax.fitting.drt.shape import BROAD_FACTOR, diffusion_slopes, reference_width
+
+F = np.logspace(-2, 5, 71)
+W = 2 * np.pi * F
+
+
+def rc(r, tau):
+    return r / (1 + 1j * W * tau)
+
+
+def noisy(z, level, seed):
+    """SYNTHETIC: z with complex Gaussian noise of relative σ ``level``."""
+    rng = np.random.default_rng(seed)
+    return z + level * np.abs(z) * (rng.standard_normal(z.size) + 1j * rng.standard_normal(z.size)) / math.sqrt(2)
+
+
+WARBURG = 10 + rc(100, 1e-3) + 50 / np.sqrt(1j * W)  # σ = 50 Ω s^-½: true γ = (σ/π)√τ, no peak
+TWO_ARCS = 10 + rc(100, 1e-3) + rc(100, 10**-0.5)  # 2.5 decades apart
+
+
+def test_diffusion_slopes_follow_the_closed_forms():
+    """A Warburg alone: ln(−Im Z) = ln(σ/√2) − ½ ln ω exactly; an arc far below its corner:
+    −Im Z = Rωτ/(1 + ω²τ²) ≈ Rωτ, slope +1; a series C: slope −1."""
+    np.testing.assert_allclose(diffusion_slopes(F, 50 / np.sqrt(1j * W)), (-0.5, -0.5), atol=1e-9)
+    np.testing.assert_allclose(diffusion_slopes(F, rc(100, 1e-4)), (1.0, 1.0), atol=1e-6)
+    np.testing.assert_allclose(diffusion_slopes(F, 10 + 1 / (1j * W * 1e-3)), (-1.0, -1.0), atol=1e-9)
+
+
+def test_warburg_tail_is_noted_and_its_peaks_are_named_not_arcs():
+    """The walkthrough's case: the DRT of R‖C + 50/√(jω) shows peaks at ≈ 4 s and ≈ 60 s that
+    are no arcs; the note names them and no broad-peak note is made of them."""
+    result = ix.drt((F, noisy(WARBURG, 0.01, 3)))
+    tail = [n for n in result.notes if "diffusion" in n]
+    assert len(tail) == 1, result.notes
+    slow = [p for p in result.peaks if p.tau_s > 1.0]
+    assert slow, result.peaks  # the fake peaks this note is about (else the test is moot)
+    assert all(ix.data.format_time(p.tau_s, 3) in tail[0] for p in slow)
+    assert not any("as wide as one R‖C" in n for n in result.notes)
+    assert "note: the low-frequency part looks like diffusion" in result.report()
+    assert any("diffusion" in n for n in result.summary()["notes"])
+
+
+def test_two_separate_arcs_get_no_shape_note():
+    result = ix.drt((F, noisy(TWO_ARCS, 0.01, 4)))
+    assert len(result.peaks) == 2
+    assert not any("diffusion" in n or "as wide as one R‖C" in n for n in result.notes), result.notes
+
+
+def test_reference_width_is_an_ideal_rc_drt_width():
+    """On a single R‖C spectrum the reference (its own kind, same λ) is its peak's width."""
+    result = ix.drt((F, noisy(10 + rc(100, 1e-3), 0.01, 5)))
+    (peak,) = result.peaks
+    assert reference_width(result, 1e-3) == pytest.approx(peak.width_decades, rel=0.05)
+
+
+def test_two_rc_merged_by_a_large_lambda_get_a_broad_peak_note():
+    """Two R‖C one decade apart at a fixed λ = 1 merge into one peak (as GCV's λ merged them at 5 %
+    noise in the walkthrough, 1.50 decades wide); one R‖C at the same λ is not broad."""
+    merged = ix.drt((F, noisy(10 + rc(100, 1e-3) + rc(100, 1e-2), 0.01, 6)), lam=1.0)
+    assert len([p for p in merged.peaks if p.inside_window]) == 1
+    broad = [n for n in merged.notes if "as wide as one R‖C" in n]
+    assert len(broad) == 1 and "it may hold more than one relaxation" in broad[0]
+    peak = max(merged.peaks, key=lambda p: p.r_ohm)
+    assert peak.width_decades >= BROAD_FACTOR * reference_width(merged, peak.tau_s)
+    single = ix.drt((F, noisy(10 + rc(200, 10**-2.5), 0.01, 6)), lam=1.0)
+    assert not any("as wide as one R‖C" in n for n in single.notes), single.notes
+
+
+def test_report_says_the_band_covers_noise_only():
+    result = ix.drt((F, noisy(10 + rc(100, 1e-3), 0.01, 5)))
+    assert "noise only: it leaves out the smoothing that lowers peaks" in result.report()
+    assert "not the smoothing bias at peaks" in result.to_xarray().attrs["band"]
