@@ -17,6 +17,7 @@ import pytest
 
 import impedax as ix
 from impedax.cli import main
+from impedax.data import format_time
 from impedax.io.export import to_jsonable
 from impedax.io.netcdf import read_netcdf
 
@@ -142,7 +143,8 @@ def test_a_batch_report_has_a_line_per_spectrum_as_the_command_prints(tmp_path, 
     assert len(lines) == 4 and lines[0].startswith("DRT of 3 spectra over cycle")
     for line, label, one in zip(lines[1:], (0, 64, 129), batch.results):
         assert line.startswith(f"  cycle={label}: rms_rel") and f"R_inf {one.r_inf_ohm:.4g} Ω" in line and f"R_pol {one.polarization_resistance:.4g} Ω" in line
-        assert all(f"{p.tau_s:.3g} s ({p.r_ohm:.3g} Ω" in line for p in one.peaks)
+        # τ as the single report prints it ("167 µs", not "0.000167 s"; 2026-12-01)
+        assert all(f"{format_time(p.tau_s)} ({p.r_ohm:.3g} Ω" in line for p in one.peaks)
     assert main(["drt", str(source)]) == 0
     assert capsys.readouterr().out == text + "\n"
 

@@ -13,6 +13,12 @@ from . import FLAT_NYQUIST, dense_model, font_size, label_spectra_axis, nyquist_
 __all__ = ["plot_drt", "plot_drt_batch", "plot_gamma", "plot_zhit"]
 
 
+def counted_peaks(peaks) -> list:
+    """The peaks a title counts: resolved (R told from zero) and inside the measured τ window,
+    the rule of `fitting.drt.peaks.counted_peaks` (which this lower layer may not import)."""
+    return [p for p in peaks if getattr(p, "resolved", True) and p.inside_window]
+
+
 def plot_gamma(ax, result, *, overlay=None, label="data DRT", overlay_label=None, legend_above=False) -> None:
     """γ(τ) [Ω] on log τ with the 90 % band, peaks marked (τ and R), the measured τ range
     outside shaded, and ``overlay`` (an `AnalyticDRT` or a `DRTResult`) on top; the legend
@@ -90,7 +96,8 @@ def plot_drt(result, *, overlay=None, title: str | None = None):
     ax_res.grid(alpha=0.3, which="both")
     ax_res.legend(fontsize=font_size("legend", 8), ncol=2)
     dropped = len(getattr(result, "dropped_peaks", ()))
-    fig.suptitle(title or f"DRT: {len(result.peaks)} peak(s){f' (+{dropped} below the cut-off)' if dropped else ''}, λ = {result.lam:.2g} ({result.lambda_method}), rms_rel {result.rms_rel * 100:.2g} %")
+    n_counted = len(counted_peaks(result.peaks))  # resolved, inside the measured range (docs/drt.md, "Peaks")
+    fig.suptitle(title or f"DRT: {n_counted} peak(s){f' (+{dropped} below the cut-off)' if dropped else ''}, λ = {result.lam:.2g} ({result.lambda_method}), rms_rel {result.rms_rel * 100:.2g} %")
     return fig
 
 
@@ -106,7 +113,7 @@ def plot_drt_batch(batch, *, title: str | None = None):
     colours = plt.get_cmap("viridis")(np.linspace(0, 1, max(n, 2)))
     if n <= LEGEND_MAX:
         for i, (one, label) in enumerate(zip(batch.results, labels)):
-            ax.semilogx(one.tau, one.gamma, color=colours[i], lw=1.2, label=f"{label}: {len(one.peaks)} peak(s)")
+            ax.semilogx(one.tau, one.gamma, color=colours[i], lw=1.2, label=f"{label}: {len(counted_peaks(one.peaks))} peak(s)")
         ax.legend(fontsize=font_size("legend", 8))
     else:  # one LineCollection, not a Line2D per spectrum (130 of them took most of the figure's time)
         from matplotlib.collections import LineCollection
@@ -116,6 +123,14 @@ def plot_drt_batch(batch, *, title: str | None = None):
         ax.autoscale_view()
         bar = fig.colorbar(plt.cm.ScalarMappable(norm=plt.Normalize(0, n - 1), cmap="viridis"), ax=ax)
         bar.set_label(f"spectrum ({labels[0]} … {labels[-1]})")
+    # the measured τ window, shaded outside as `plot_drt` does (the union of the spectra's windows)
+    lo = min(one.window[0] for one in batch.results)
+    hi = max(one.window[1] for one in batch.results)
+    tau_min = min(float(one.tau.min()) for one in batch.results)
+    tau_max = max(float(one.tau.max()) for one in batch.results)
+    ax.axvspan(tau_min, lo, color="0.9", lw=0, zorder=0)
+    ax.axvspan(hi, tau_max, color="0.9", lw=0, zorder=0, label="outside measured range")
+    ax.set_xlim(tau_min, tau_max)
     ax.set_xlabel("τ [s]")
     ax.set_ylabel("γ [Ω]")
     prefixed_axis(ax.yaxis)
@@ -124,10 +139,10 @@ def plot_drt_batch(batch, *, title: str | None = None):
     label_spectra_axis(ax_rms, [", ".join(str(v) for v in where.values()) for where in batch.labels()], batch.dims)
     ax_rms.set_ylabel("DRT fit rms_rel [%]")
     ax_rms.grid(alpha=0.3)
-    counts = [len(one.peaks) for one in batch.results]
+    counts = [len(counted_peaks(one.peaks)) for one in batch.results]  # resolved, inside the measured τ window
     low, high = min(counts), max(counts)
     peaks = f"{low} peak{'' if low == 1 else 's'}" if low == high else f"{low}–{high} peaks"
-    fig.suptitle(title or f"DRT of {counted(n, 'spectrum', 'spectra')} over {', '.join(batch.dims)}: {peaks}")
+    fig.suptitle(title or f"DRT of {counted(n, 'spectrum', 'spectra')} over {', '.join(batch.dims)}: {peaks} in the measured τ range (shaded: outside)")
     return fig
 
 

@@ -84,10 +84,13 @@ def _needs_capacitance(freq, z) -> bool:
     return bool(np.any(np.angle(z[..., k], deg=True) < -60.0))
 
 
-def _check_finite(x: np.ndarray, fixed: float | None, source: str) -> None:
+def _check_finite(x: np.ndarray, fixed: float | None, source: str, lam: np.ndarray | None = None, lam_method: str = "gcv") -> None:
     """A solution that is not finite is an error, not a result: with a fixed λ too small for
     the spectrum, H = AᵀA + λΓ is numerically singular and its Cholesky factor NaN (the
-    threshold depends on the spectrum: 1e-16 worked on one real file, 1e-9 failed on another)."""
+    threshold depends on the spectrum: 1e-16 worked on one real file, 1e-9 failed on another).
+    With an automatic λ the data are not to blame (`frequency_and_z` has refused non-finite and
+    extreme values; the L-curve once gave NaN on exact data): the error names the solve, its λ
+    (``lam``, per spectrum) and what to give instead."""
     bad = ~np.all(np.isfinite(x), axis=-1)
     if not np.any(bad):
         return
@@ -98,7 +101,15 @@ def _check_finite(x: np.ndarray, fixed: float | None, source: str) -> None:
             f"solution is not finite (the smallest λ that works depends on the spectrum; an automatic λ is never below {_LAMBDA_FLOOR:g}); "
             "give a larger value or 'auto'"
         )
-    raise DataError(f"the DRT solve gave a non-finite solution{which}: check the data for extreme values", path=source)
+    lam_text = ""
+    if lam is not None:
+        values = np.atleast_1d(np.asarray(lam, float))[np.atleast_1d(bad)]
+        lam_text = f" at λ = {', '.join(format_lambda(float(v)) if math.isfinite(v) else 'nan' for v in values[:3])}{', …' if values.size > 3 else ''}"
+    other = "lcurve" if lam_method == "gcv" else "gcv"
+    raise ParameterError(
+        f"the DRT solve gave a non-finite solution{which}{lam_text} chosen by {lam_method}: a numerical failure of the solve, not of the data "
+        f"(which are finite); give a fixed λ (lam=1e-3, --lam 1e-3) or lam_method={other!r} (--lam-method {other})"
+    )
 
 
 def _lambda_note(method: str, choice: float, index: int) -> str:
@@ -108,6 +119,10 @@ def _lambda_note(method: str, choice: float, index: int) -> str:
     last = _LOG_LAMBDA_GRID.size - 1 - (method == "lcurve")
     if choice < _LAMBDA_FLOOR:
         where = f"{method}'s optimum is at the bottom of its grid, {format_lambda(math.exp(_LOG_LAMBDA_GRID[0]))}, or below" if index <= (method == "lcurve") else f"{method} chose {format_lambda(choice, 2)}"
+        if method == "lcurve" and index <= 1:
+            # `tikhonov._choose_log_lambda`: no finite curvature above the grid's first point
+            where = (f"the L-curve has no corner inside its grid, as on exact or nearly exact data whose residual reaches its floor; "
+                     f"its best finite grid point, {format_lambda(math.exp(_LOG_LAMBDA_GRID[1]))}, is used")
         return f"raised to the floor {format_lambda(_LAMBDA_FLOOR)} ({where})"
     if index >= last:
         return f"at the top of its grid ({format_lambda(math.exp(_LOG_LAMBDA_GRID[-1]))}; {method}'s optimum may lie above: the data ask for at least this much smoothing)"
@@ -211,7 +226,7 @@ def drt(
         design_re, design_im, weights, zn.real, zn.imag, gamma_penalty, r_inv, mask, phi, _LOG_LAMBDA_GRID, fixed_log, math.log(_LAMBDA_FLOOR),
     )
     out = {k: np.asarray(v) for k, v in out.items()}
-    _check_finite(out["x"], fixed, source)
+    _check_finite(out["x"], fixed, source, np.exp(out["log_lambda"]), lam_method)
     q05, q95 = (np.asarray(v) for v in quantile_band(out["band_mean"], out["band_sd"], bool(signed), out["gamma"]))
     n_series = len(names)
     options = dict(signed=bool(signed), derivative=int(derivative), inductance=bool(inductance), capacitance=use_c, points_per_decade=float(points_per_decade),

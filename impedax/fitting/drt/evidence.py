@@ -10,20 +10,15 @@ import numpy as np
 
 from ...data import format_time, format_uncertain
 from ...errors import DataError
-from .peaks import Peak
+from .peaks import RESOLVED_SIGMAS, Peak
 from .result import DRTResult
 
 __all__ = ["PeakEvidence", "unexplained_peaks", "is_resolved", "RESOLVED_SIGMAS"]
 
-RESOLVED_SIGMAS = 2.0
-"""A DRT peak is resolved when its R is at least this many of its standard deviations under
-the credible band (``Peak.r_ohm_sd``) from zero: a peak of R ≈ 0.3 ± 0.5 Ω is a ripple of the
-regularised solution, not a relaxation the data show."""
-
-
 def is_resolved(peak: Peak) -> bool:
     """Whether ``peak``'s |R| is at least `RESOLVED_SIGMAS` × its standard deviation (True when
-    the DRT has no credible band to say otherwise: ``r_ohm_sd`` nan)."""
+    the DRT has no credible band to say otherwise: ``r_ohm_sd`` nan); the rule `Peak.resolved`
+    holds (peaks.py), here for a peak built or edited by hand too."""
     return not abs(peak.r_ohm) < RESOLVED_SIGMAS * peak.r_ohm_sd
 
 
