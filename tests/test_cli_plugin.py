@@ -16,8 +16,10 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from impedax.cli import _first_word, main
+from impedax.cli import _first_word
 from impedax.cli.common import fit_command
+
+from cli_run import run
 
 FREQ = np.geomspace(0.1, 1e5, 40)  # Hz
 R0_TRUE, GX_R_TRUE, GX_TAU_TRUE = 12.0, 250.0, 2e-3  # Ω, Ω, s
@@ -86,15 +88,6 @@ def lab(tmp_path):
     data = tmp_path / "run1.lab"
     write_lab(data)
     return plugin, data
-
-
-def run(argv, capsys):
-    try:
-        code = main([str(a) for a in argv])
-    except SystemExit as exc:  # argparse's own errors
-        code = exc.code
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 def values(params: dict) -> dict[str, float]:

@@ -13,6 +13,8 @@ import pytest
 import impedax as ix
 from impedax.cli import _spread_params, main
 
+from cli_run import run
+
 FREQ = np.geomspace(0.1, 1e5, 31)  # Hz
 R0_TRUE = 20.0  # Ω, the electrolyte
 C1_TRUE = 5e-6  # F, the double layer
@@ -43,15 +45,6 @@ def days(tmp_path):
         zs.append(write_day(path, r1, seed=day))
         paths.append(path)
     return paths, np.array(zs)
-
-
-def run(argv, capsys):
-    try:
-        code = main([str(a) for a in argv])
-    except SystemExit as exc:  # argparse's own errors
-        code = exc.code
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 # --- 1. several NAME=VALUE after one option -------------------------------------------------------

@@ -12,7 +12,8 @@ import pytest
 import xarray as xr
 
 import impedax as ix
-from impedax.cli import main
+
+from cli_run import run
 
 FREQ = np.geomspace(1.0, 1e6, 31)  # Hz
 EPS0 = 8.8541878128e-12  # F/m, CODATA 2018 vacuum permittivity
@@ -41,15 +42,6 @@ def gripper_data(*, with_c_ep=True, noise=0.01, seed=75):
             z[i, j] = 1 / y
     noisy = z + noise * np.abs(z) * (rng.standard_normal(z.shape) + 1j * rng.standard_normal(z.shape))
     return ix.make_spectrum(FREQ, noisy, sigma=noise * np.abs(z), dims=("material", "voltage"), coords={"material": list(MATERIALS), "voltage": list(VOLTS)})
-
-
-def run(argv, capsys):
-    try:
-        code = main([str(a) for a in argv])
-    except SystemExit as exc:  # argparse's own errors
-        code = exc.code
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 @pytest.fixture(scope="module")
