@@ -434,20 +434,19 @@ class BatchComparison:
         writing on some spectra (`_same_as_winner`) and where it reduces to the winner
         (`_reduces_to_winner`), as the single comparison's `Comparison.reduces_to_best` says it."""
         best, reduces, _ = self._leads()
-        same = self._same_as_winner(best)
+        kinds = (
+            (self._same_as_winner(best), "is the same fit as {winner} on {spectra} (two writings of one impedance function: as many parameters, the same χ² and model "
+                                         "spectrum): not a rival; such a tie goes to the fewer parameters, then the first given"),
+            (reduces, "reduces to {winner} on {spectra}: its extra parameters lower χ² no more than noise alone would (e.g. a CPE's α on its bound 1), so its ΔAIC "
+                      "there is the 2 per parameter AIC charges, not a rival's lead"),
+        )
         lines = []
-        for m, label in enumerate(self.labels):
-            for w, winner in enumerate(self.labels):
-                count = int((same[m] & (best == w)).sum())
-                if count:
-                    lines.append(f"{label} is the same fit as {winner} on {count} {'spectrum' if count == 1 else 'spectra'} (two writings of one impedance function: "
-                                 "as many parameters, the same χ² and model spectrum): not a rival; such a tie goes to the fewer parameters, then the first given")
-        for m, label in enumerate(self.labels):
-            for w, winner in enumerate(self.labels):
-                count = int((reduces[m] & (best == w)).sum())
-                if count:
-                    lines.append(f"{label} reduces to {winner} on {count} {'spectrum' if count == 1 else 'spectra'}: its extra parameters lower χ² no more than noise alone "
-                                 "would (e.g. a CPE's α on its bound 1), so its ΔAIC there is the 2 per parameter AIC charges, not a rival's lead")
+        for mask, text in kinds:
+            for m, label in enumerate(self.labels):
+                for w, winner in enumerate(self.labels):
+                    count = int((mask[m] & (best == w)).sum())
+                    if count:
+                        lines.append(f"{label} " + text.format(winner=winner, spectra=f"{count} {'spectrum' if count == 1 else 'spectra'}"))
         return lines
 
     def _spectrum_lines(self) -> list[str]:
