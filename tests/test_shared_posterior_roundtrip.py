@@ -170,6 +170,7 @@ def test_cli_sample_shared_out_reads_back(tmp_path, capsys):
     printed = json.loads(capsys.readouterr().out)
     assert printed.pop("source") == str(data)  # (the command's JSON names its data file; the saved posterior's summary does not)
     assert printed.pop("provenance")["settings"]["seed"] == 2  # (nor what made it: the file's attributes hold that)
+    assert printed.pop("skipped_rows") == []  # (nor what its reader skipped: a key of the command's JSON, as fit's)
     back = ix.SharedPosterior.from_xarray(ix.load(out))
     assert json.loads(json.dumps(ix.io.export.to_jsonable(back.summary()))) == printed
     assert back.settings["seed"] == 2 and back.settings["steps"] == 30 and back.n_walkers == 16
