@@ -163,6 +163,7 @@ def test_batch_equals_one_by_one(rng):
         assert float(ds["rms_rel"].sel(problem=i)) == pytest.approx(single.rms_rel, rel=1e-8)
 
 
+@pytest.mark.slow  # (14 s: make test-all; the suite's budget; tests/test_convergence.py compares single and batch flags in the fast set)
 def test_batch_with_fixed_and_bounded_parameters_equals_one_by_one(rng):
     """Solvers are specialised on the free set (which positions, which transforms): a fixed
     parameter held at its value, a bounded one, and the rest free, batch as single."""

@@ -76,6 +76,7 @@ def test_an_open_resistor_is_flagged_as_a_vanished_term():
     assert "masked: 2 point(s) left out of every fit as the data's own problem (5.34 Hz, 56.2 Hz); impedax fit of the file keeps them" in text
 
 
+@pytest.mark.slow  # (a whole refine of a REAL file, 21 s: make test-all; the suite's budget)
 def test_the_ch_instruments_refinement_ends_without_an_open_resistor(ch_refined, capsys):
     r = ch_refined
     final = r.final

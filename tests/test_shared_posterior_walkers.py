@@ -257,6 +257,7 @@ def test_many_kinds_of_start_fit_warning_say_how_many_more():
 # --- (d) no RuntimeWarning ------------------------------------------------------------------------
 
 
+@pytest.mark.slow  # (15 s: make test-all; the suite's budget)
 def test_no_runtime_warning_when_fits_sit_at_bounds():
     """The at-bound case that leaked emcee's 'invalid value encountered in scalar subtract'
     (walkers at −∞ before the fix), sampled with RuntimeWarning as an error."""
