@@ -23,7 +23,7 @@ import re
 from ..errors import CircuitError, CircuitSyntaxError
 from .elements import DEFAULT_REGISTRY
 from .parser import IMPEDANCE_PY_GROUP_RE, MAX_ELEMENTS, MAX_NESTING, impedance_py_spelling, lookalike, parse, require_text
-from .spec import Registry
+from .spec import ADDING_AN_ELEMENT, Registry
 from .tree import Circuit, Element, parallel, series
 
 __all__ = ["CDCConvention", "from_cdc", "from_impedance_py", "to_cdc", "to_impedance_py"]
@@ -119,7 +119,7 @@ class _ImpedancePyReader:
             raise CircuitSyntaxError(
                 src, self.pos, f"impedance.py element {sym!r} has no impedax equivalent",
                 "supported: " + ", ".join(self.registry.by_impedance_py)
-                + f"; register your own: ElementSpec(..., impedance_py={sym!r}) (docs/circuits.md, \"Adding an element\")",
+                + f"; register your own: ElementSpec(..., impedance_py={sym!r}) {ADDING_AN_ELEMENT}",
             )
         name = f"{spec.symbol}{digits}"
         if name in self.names:

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 from ..errors import CircuitError, CircuitSyntaxError, ImpedaxError, ParameterError, escape_text
 from .elements import DEFAULT_REGISTRY
-from .spec import Registry
+from .spec import ADDING_AN_ELEMENT, PASS_DECLARING_REGISTRY, Registry
 from .tree import Circuit, Element, parallel, series
 
 __all__ = ["parse", "require_text", "Token", "tokenize", "MAX_NESTING", "MAX_ELEMENTS"]
@@ -251,13 +251,13 @@ def _symbol_hint(letters: str, rest: str, registry: Registry) -> str:
         name = f"{spec.symbol}{rest}" if rest.isdigit() or rest.startswith("_") else f"e.g. {spec.symbol}1"
         return f"symbols are case-sensitive, and impedance.py's {spelled} is impedax's {spec.symbol}: {name}"
     if letters in IMPEDANCE_PY_WITHOUT_EQUIVALENT:
-        return f"impedance.py's {letters} has no built-in impedax element: register one with impedance_py={letters!r} (docs/circuits.md, \"Adding an element\")"
+        return f"impedance.py's {letters} has no built-in impedax element: register one with impedance_py={letters!r} {ADDING_AN_ELEMENT}"
     if letters.upper() in registry or letters.capitalize() in registry:
         fixed = letters.upper() if letters.upper() in registry else letters.capitalize()
         return f"symbols are case-sensitive: did you mean {fixed}{rest}?"
     # a symbol of the user's own (Gfl) is unknown to a registry that lacks it: say so before a
     # built-in it resembles, which would fit another element under a label (G_fl1)
-    own = f"if {letters} is an element of your own, pass the registry that declares it (registry= in Python); " if letters.isascii() and letters.isalpha() and letters[0].isupper() else ""
+    own = f"if {letters} is an element of your own, {PASS_DECLARING_REGISTRY}; " if letters.isascii() and letters.isalpha() and letters[0].isupper() else ""
     for sym in registry.symbols():  # letters swapped: CEP1 is CPE1 (not C with label EP1)
         if len(sym) == len(letters) > 1 and sorted(sym) == sorted(letters):
             return f"{own}{'else ' if own else ''}did you mean {sym}{rest}?"

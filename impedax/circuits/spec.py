@@ -26,7 +26,14 @@ import numpy as np
 from ..arguments import number_text
 from ..errors import CircuitError
 
-__all__ = ["ParameterSpec", "ElementSpec", "Registry", "DCPath", "StartRole", "MAX_ELEMENT_PARAMS"]
+__all__ = ["ParameterSpec", "ElementSpec", "Registry", "DCPath", "StartRole", "MAX_ELEMENT_PARAMS", "ADDING_AN_ELEMENT", "PASS_OWN_REGISTRY", "PASS_DECLARING_REGISTRY"]
+
+# the words that send a user to declare an element of their own, in Python's terms (the
+# command line says the same in its own, --plugin FILE.py: `impedax.cli.common.plugin_words`)
+ADDING_AN_ELEMENT = '(docs/circuits.md, "Adding an element")'
+PASS_OWN_REGISTRY = ("an element of your own registry: pass it here too, "
+                     "e.g. circuit.parameter_names(registry), compile_circuit(circuit, registry), fit(..., registry=registry)")
+PASS_DECLARING_REGISTRY = "pass the registry that declares it (registry= in Python)"
 
 MAX_ELEMENT_PARAMS = 4  # Havriliak–Negami has four; the padded fitting program relies on this
 _SYMBOL_RE = re.compile(r"[A-Z][A-Za-z]*\Z")
@@ -366,8 +373,7 @@ class Registry:
             return self._by_symbol[symbol]
         except KeyError:
             raise CircuitError(
-                f"unknown element symbol {symbol!r}; known: {self.symbols()} (an element of your own registry: pass it here too, "
-                "e.g. circuit.parameter_names(registry), compile_circuit(circuit, registry), fit(..., registry=registry))"
+                f"unknown element symbol {symbol!r}; known: {self.symbols()} ({PASS_OWN_REGISTRY})"
             ) from None
 
     def __iter__(self) -> Iterator[ElementSpec]:

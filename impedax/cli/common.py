@@ -1521,20 +1521,22 @@ OPTION_OF_KEYWORD_BY_COMMAND: dict[str, dict[str, str]] = {
 
 # where the circuit parser, the converters and the registry send a user to declare an element
 # of their own (Python's words), and how the command line takes one: a --plugin file
-_PLUGIN_WORDS = {
-    'docs/circuits.md, "Adding an element")': 'docs/circuits.md, "Adding an element"; on the command line: declare it in a Python file and pass --plugin FILE.py)',
-    "an element of your own registry: pass it here too, e.g. circuit.parameter_names(registry), compile_circuit(circuit, registry), fit(..., registry=registry)":
-        "an element of your own: declare it in a Python file and pass --plugin FILE.py, docs/circuits.md",
-    "pass the registry that declares it (registry= in Python)": "declare it in a Python file and pass --plugin FILE.py (docs/circuits.md)",
-}
+def _plugin_words() -> dict[str, str]:
+    from ..circuits.spec import ADDING_AN_ELEMENT, PASS_DECLARING_REGISTRY, PASS_OWN_REGISTRY
+
+    return {
+        ADDING_AN_ELEMENT: ADDING_AN_ELEMENT[:-1] + "; on the command line: declare it in a Python file and pass --plugin FILE.py)",
+        PASS_OWN_REGISTRY: "an element of your own: declare it in a Python file and pass --plugin FILE.py, docs/circuits.md",
+        PASS_DECLARING_REGISTRY: "declare it in a Python file and pass --plugin FILE.py (docs/circuits.md)",
+    }
 
 
 def plugin_words(error: Exception) -> str:
     """The message of ``error`` with the Python recipe for an element of one's own
-    (`_PLUGIN_WORDS`: the parser's hint for an unknown symbol a user could declare, ``Gx1``, and
+    (`_plugin_words`: the parser's hint for an unknown symbol a user could declare, ``Gx1``, and
     the converters' and the registry's words) in the command line's words, ``--plugin FILE.py``."""
     text = str(error)
-    for phrase, words in _PLUGIN_WORDS.items():
+    for phrase, words in _plugin_words().items():
         text = text.replace(phrase, words)
     return text
 
