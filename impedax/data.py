@@ -20,7 +20,7 @@ import xarray as xr
 from .arguments import MAX_POINTS, checked_arguments, count, real, shown
 from .errors import IN_MEMORY, DataError, ParameterError
 
-__all__ = ["make_spectrum", "validate_spectrum", "log_frequencies", "checked_frequencies", "label_value"]
+__all__ = ["make_spectrum", "validate_spectrum", "log_frequencies", "checked_frequencies", "label_value", "coordinate_labels"]
 
 
 @checked_arguments(fmin=real(), fmax=real(), points=count(1, MAX_POINTS, why="80 MB of frequencies"))
@@ -276,7 +276,8 @@ def _check_sigma(ds: xr.Dataset, sigma: xr.Variable, z_var: xr.Variable, source:
 def label_value(label):
     """A coordinate label as plain Python, as JSON and text hold it: a bool, integer or float
     (numpy's too) as itself; a date or time (numpy ``datetime64``/``timedelta64``) as its ISO
-    text, not the count of nanoseconds that ``.item()`` gives; text (``str``, ``numpy.str_``,
+    text (as ``str`` of it gives), not the count of nanoseconds that ``.item()`` and
+    ``.tolist()`` give; text (``str``, ``numpy.str_``,
     bytes decoded as UTF-8) and anything else as its ``str``. A label read from netCDF is often
     a ``str`` in an object array, which has no ``.item()``."""
     if isinstance(label, (bool, np.bool_)):
@@ -292,6 +293,14 @@ def label_value(label):
     if isinstance(label, bytes):
         return label.decode("utf-8", errors="replace")
     return str(label)
+
+
+def coordinate_labels(ds, dim: str) -> list:
+    """The labels of ``ds``'s spectra along ``dim``, each as `label_value` gives it (a date as
+    its ISO text), or the positions 0..n-1 where ``dim`` has no coordinate."""
+    if dim not in ds.coords:
+        return list(range(ds.sizes[dim]))
+    return [label_value(v) for v in ds[dim].values]
 
 
 def point_text(ds: xr.Dataset, dims, idx) -> str:

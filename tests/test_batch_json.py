@@ -96,6 +96,23 @@ def test_date_labels_are_written_as_text(stack):
     rows = json.loads(json.dumps(to_jsonable(result.summary())))["spectra"]
     assert [r["cycle"] for r in rows] == [str(t) for t in times]
     assert rows[3]["warnings"] == list(result.warnings[f"cycle={times[3]}"]) and rows[3]["warnings"]
+    # the tidy table (the CSV's rows) gave each date as its count of nanoseconds (numpy's .tolist())
+    assert sorted({r["cycle"] for r in result.to_table()}) == [str(t) for t in times]
+
+
+def test_a_date_label_is_selected_by_its_iso_text(stack, tmp_path, capsys):
+    """`--select cycle=2026-11-02T10:00` finds the spectrum whose label is that date (stored to
+    the nanosecond: its full text has ':' and '.', which --select had read as a range)."""
+    from impedax.cli import main
+
+    times = np.array(["2026-11-01T10:00", "2026-11-02T10:00", "2026-11-03T10:00", "2026-11-04T10:00"], dtype="datetime64[ns]")
+    path = tmp_path / "dated.nc"
+    ix.save(stack.assign_coords(cycle=times), path)
+    assert main(["fit", str(path), "--model", MODEL, "--select", "cycle=2026-11-02T10:00", "--json", "--quiet"]) == 0
+    picked = json.loads(capsys.readouterr().out)
+    assert picked["params"]["R1"]["value"] == pytest.approx(ix.fit(MODEL, stack.isel(cycle=1)).values["R1"], rel=1e-6)
+    assert main(["fit", str(path), "--model", MODEL, "--select", "cycle=2026-11-09T10:00", "--quiet"]) == 2
+    assert "no spectrum of" in capsys.readouterr().err
 
 
 def test_every_row_has_its_labels_by_dimension(batch):

@@ -513,7 +513,9 @@ def add_select_option(parser, *, several: bool | str = True) -> None:
 def dimension_labels(data, dim: str) -> list:
     """The labels of ``data``'s spectra along ``dim``: its coordinate's values, or the positions
     where ``dim`` has no coordinate."""
-    return data[dim].values.tolist() if dim in data.coords else list(range(data.sizes[dim]))
+    from ..data import coordinate_labels
+
+    return coordinate_labels(data, dim)
 
 
 def _position(data, dim: str, label: str, path: str, item: str | None = None) -> int:
@@ -532,7 +534,10 @@ def _position(data, dim: str, label: str, path: str, item: str | None = None) ->
         number = float(label)
     except ValueError:
         number = None
+    moment = _as_moment(data, dim, label)
     found = [i for i, v in enumerate(labels) if str(v) == label or (number is not None and _is_number(v) and v == number)]
+    if moment is not None:
+        found = [i for i, v in enumerate(data[dim].values) if v == moment]
     if not found:
         that = "that label" if item is None else f"the label {_quoted(label)}"
         raise ParameterError(f"{said}: no spectrum of {path} has {that}; its {dim} labels: {labels_text(labels)}{_unquote_hint(label, labels)}")
@@ -540,6 +545,20 @@ def _position(data, dim: str, label: str, path: str, item: str | None = None) ->
         that = "that label" if item is None else f"the label {_quoted(label)}"
         raise ParameterError(f"{said}: {len(found)} spectra of {path} have {that} (positions {', '.join(map(str, found))})")
     return found[0]
+
+
+def _as_moment(data, dim: str, text: str):
+    """``text`` as a date and time (``numpy.datetime64``) when ``dim``'s labels are dates and
+    ``text`` reads as one in ISO form (``2026-11-04T10:00`` finds the label written
+    ``2026-11-04T10:00:00.000000000``), else None."""
+    import numpy as np
+
+    if dim not in data.coords or data[dim].dtype.kind != "M":
+        return None
+    try:
+        return np.datetime64(text.strip())
+    except ValueError:
+        return None
 
 
 def _is_number(value) -> bool:
@@ -580,7 +599,7 @@ def _picked(data, dim: str, text: str, path: str, item: str) -> int | list[int]:
     ``25,5``) is that label; a list that picks nothing but reads as a decimal-comma number
     equal to a label (``25,5`` for 25.5) is refused with that number suggested."""
     labels = dimension_labels(data, dim)
-    if ("," not in text and ":" not in text) or (dim in data.coords and any(str(v) == text for v in labels)):
+    if ("," not in text and ":" not in text) or (dim in data.coords and any(str(v) == text for v in labels)) or _as_moment(data, dim, text) is not None:
         return _position(data, dim, text, path)
     try:
         return _listed_positions(data, dim, text, path, item)

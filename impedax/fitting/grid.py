@@ -10,6 +10,7 @@ from typing import Collection, Mapping, Sequence
 
 import numpy as np
 
+from ..data import label_value
 from ..errors import DataError
 
 __all__ = ["ResultGrid", "refuse_result_names"]
@@ -52,7 +53,7 @@ class ResultGrid:
     def labels(self) -> list[dict]:
         """Each result's place, in the order of ``results``: {dimension: its coordinate's value
         there, or the position where the dimension has no coordinate}."""
-        axes = [np.asarray(self.coords[d]).tolist() if d in self.coords else list(range(n)) for d, n in zip(self.dims, self.shape)]
+        axes = [[label_value(v) for v in np.asarray(self.coords[d])] if d in self.coords else list(range(n)) for d, n in zip(self.dims, self.shape)]
         return [{d: axes[k][i] for k, (d, i) in enumerate(zip(self.dims, index))} for index in np.ndindex(*self.shape)]
 
     def per_spectrum(self, name: str, dtype=float) -> np.ndarray:

@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 
-from ..data import unit_text
+from ..data import coordinate_labels, unit_text
 from . import font_size
 
 
@@ -41,7 +41,7 @@ def plot_batch(batch, *, title: str | None = None, figsize: tuple[float, float] 
     grid = fig.add_gridspec(rows + own_row, max(cols, 2), height_ratios=[2.6] * rows + ([fits_row] if own_row else []))
     axes = [fig.add_subplot(grid[i // cols, i % cols]) for i in range(len(panels))]
     index = np.arange(batch.n_spectra)
-    places = [ds[d].values.tolist() if d in ds.coords else list(range(ds.sizes[d])) for d in batch.dims]
+    places = [coordinate_labels(ds, d) for d in batch.dims]
     labels = [", ".join(str(places[k][i]) for k, i in enumerate(at)) for at in np.ndindex(*(ds.sizes[d] for d in batch.dims))]
     specs = batch.circuit.parameter_specs(batch.registry)
     for ax, name in zip(axes, panels):

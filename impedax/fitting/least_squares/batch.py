@@ -18,7 +18,7 @@ import xarray as xr
 
 from ...arguments import unknown_parameter
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
-from ...data import column_width, concise_repr, counted, format_relative_error, unit_text
+from ...data import column_width, concise_repr, coordinate_labels, counted, format_relative_error, label_value, unit_text
 from ...errors import DataError, ParameterError
 from ...progress import say, silenced
 from ...warning_groups import grouped_warnings, warning_kinds
@@ -270,7 +270,7 @@ class BatchFitResult:
         # (`undetermined`'s rule for every parameter at once: never fixed, never at a bound)
         flagged = undetermined(value, stderr) & ~at_bound & ~np.asarray(fixed, bool)
         statistics = self._spectrum_statistics()
-        labels = [ds[d].values.tolist() if d in ds.coords else list(range(ds.sizes[d])) for d in self.dims]
+        labels = [coordinate_labels(ds, d) for d in self.dims]
         rows = []
         for index in np.ndindex(*value.shape[:-1]):
             where = {d: labels[i][j] for i, (d, j) in enumerate(zip(self.dims, index))}
@@ -355,7 +355,7 @@ class BatchFitResult:
         """(key, labels) of each spectrum in C order: the text `fit_batch` files its warnings
         under ("cycle=64, cell=a") and its labels as JSON gives them ({dimension: label})."""
         for where in self._spectrum_labels():
-            yield labels_key(where), {d: _json_label(c) for d, c in where.items()}
+            yield labels_key(where), {d: label_value(c) for d, c in where.items()}
 
     def _spectrum_labels(self):
         """Each spectrum's labels as stored ({dimension: label}, the position along a dimension
@@ -518,12 +518,6 @@ def _looks_like(ds: xr.Dataset) -> str | None:
     if "value" not in ds.variables or "rms_rel" not in ds.variables or not ds["rms_rel"].dims or len(ds["value"].dims) < 2:
         return None
     return "shared_fit" if "shared_value" in ds.variables else "batch_fit"
-
-
-def _json_label(label):
-    """A coordinate value as JSON holds it: a number or bool as itself, anything else (a date,
-    a string) as its text."""
-    return label.item() if isinstance(label, (np.integer, np.floating, np.bool_)) else label if isinstance(label, (int, float, bool)) else str(label)
 
 
 def _dims_text(dims: dict[str, int]) -> str:

@@ -36,7 +36,7 @@ import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit
 from ...arguments import closest_name
-from ...data import column_width, concise_repr, format_relative_error, unit_text
+from ...data import column_width, concise_repr, coordinate_labels, format_relative_error, unit_text
 from ...errors import DataError, ParameterError
 from ..parameters import ParameterTable, to_internal
 from ..problem import residual_scale, weights
@@ -476,7 +476,7 @@ class SharedFitResult(BatchFitResult):
         import itertools
 
         ds = self.dataset
-        axes = [[(d, v) for v in (ds[d].values.tolist() if d in ds.coords else range(ds.sizes[d]))] for d in self.keep]
+        axes = [[(d, v) for v in coordinate_labels(ds, d)] for d in self.keep]
         return [dict(combo) for combo in itertools.product(*axes)]
 
     def _group_texts(self) -> list[str]:
