@@ -603,7 +603,7 @@ def test_per_trial_fits_far_from_the_mean_fit_are_flagged():
         return SimpleNamespace(dataset=xr.Dataset({"value": (("param", "trial"), np.array([values[n] for n in names], float))}, coords={"param": names}))
 
     rp = gap_thickness_reparametrization("C_gap", area=200e-6)
-    edl = SimpleNamespace(values={"R_EP": 5e7, "C_gap": 354e-12})
+    edl = SimpleNamespace(values={"R_EP": 5e7, "C_gap": 354e-12}, stderr={"R_EP": 1e6, "C_gap": 1e-12}, at_bound=())
     far = np.exp(2.0 * 1.96 * 1.01) * 5e7  # just beyond the prior's 95 % half-width
     notes = _per_trial_centre_notes(batch(R_EP=[far, far * 1.1, far / 1.1], C_gap=[354e-12] * 3), edl, rp, ("u", "R_EP"))
     assert len(notes) == 1 and notes[0].startswith(f"the per-trial fits put R_EP at {far:.3g} (median of 3 trials) but the fit of the trial mean at 5e+07")
@@ -611,6 +611,12 @@ def test_per_trial_fits_far_from_the_mean_fit_are_flagged():
     assert _per_trial_centre_notes(batch(R_EP=[near] * 3, C_gap=[354e-12] * 3), edl, rp, ("u", "R_EP")) == []
     u_notes = _per_trial_centre_notes(batch(R_EP=[5e7] * 3, C_gap=[354e-12 / 100] * 3), edl, rp, ("u", "R_EP"))
     assert len(u_notes) == 1 and u_notes[0].startswith("the per-trial fits put u at")
+    # a trial mean that does not determine R_EP (an ideal C_EP: R_EP at 1.9e36 Ω with no finite
+    # error, or held at a bound) has no value for the prior to miss: no note
+    loose = SimpleNamespace(values={"R_EP": 1.89e36, "C_gap": 354e-12}, stderr={"R_EP": np.inf, "C_gap": 1e-12}, at_bound=())
+    assert _per_trial_centre_notes(batch(R_EP=[far] * 3, C_gap=[354e-12] * 3), loose, rp, ("u", "R_EP")) == []
+    held = SimpleNamespace(values={"R_EP": 1e12, "C_gap": 354e-12}, stderr={"R_EP": 1.0, "C_gap": 1e-12}, at_bound=("R_EP",))
+    assert _per_trial_centre_notes(batch(R_EP=[far] * 3, C_gap=[354e-12] * 3), held, rp, ("u", "R_EP")) == []
 
 
 # --- 8. the gap reparametrization's bounds follow the area, in Python as in the CLI ----------

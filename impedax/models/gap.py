@@ -945,8 +945,10 @@ def _per_trial_centre_notes(batch, edl, reparametrization, per_trial) -> list[st
     """A warning for each per-trial quantity whose per-trial fits' median lies beyond
     `_CENTRE_OFF_SDS` prior sds (ln) of the EDL fit of the trial mean: that median centres the
     prior of its population median, which then barely reaches the pooled value (noise-dominated
-    trials fitted to R_EP ~ 1e12 Ω for 5e7 Ω on SYNTHETIC data weighted by |Z|)."""
+    trials fitted to R_EP ~ 1e12 Ω for 5e7 Ω on SYNTHETIC data weighted by |Z|). None for a
+    quantity the fit of the trial mean leaves undetermined or at a bound: it has no value to miss."""
     from ..fitting.bayes.hierarchical import MU_PRIOR_SD
+    from ..fitting.least_squares.branches import undetermined
 
     values = {str(p): batch.dataset["value"].sel(param=p).values.ravel() for p in batch.dataset["param"].values}
     pooled = {k: np.asarray([v], float) for k, v in edl.values.items()}
@@ -958,6 +960,8 @@ def _per_trial_centre_notes(batch, edl, reparametrization, per_trial) -> list[st
         trial_values, pooled_value = np.asarray(values[name], float), float(np.asarray(pooled[name]).ravel()[0])
         if not (np.all(trial_values > 0) and pooled_value > 0):
             continue
+        if name in edl.at_bound or (name in edl.stderr and bool(undetermined(edl.values[name], edl.stderr[name]))):
+            continue  # the trial mean does not determine it (R_EP at 1.9e36 Ω where C_EP is ideal): no value for the prior to miss
         median = float(np.exp(np.median(np.log(trial_values))))
         off = abs(math.log(median / pooled_value)) / MU_PRIOR_SD
         if off > _CENTRE_OFF_SDS:
