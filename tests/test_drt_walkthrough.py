@@ -146,7 +146,11 @@ def test_a_batch_report_has_a_line_per_spectrum_as_the_command_prints(tmp_path, 
         # τ as the single report prints it ("167 µs", not "0.000167 s"; 2026-12-01)
         assert all(f"{format_time(p.tau_s)} ({p.r_ohm:.3g} Ω" in line for p in one.peaks)
     assert main(["drt", str(source)]) == 0
-    assert capsys.readouterr().out == text + "\n"
+    # the report, then (2026-12-02) the starting circuit most spectra suggest
+    out, suggestion = capsys.readouterr().out, batch.results[0].suggested_circuit()
+    report, last = out.removesuffix("\n").rsplit("\n", 1)
+    assert report == text
+    assert last.startswith(f"starting circuit from the DRT (the one 3 of 3 spectra suggest, starts from the first of them): {suggestion.model} — fit it with: impedax fit ")
 
 
 def test_an_overlay_delta_off_the_tau_axis_is_named_in_the_legend_not_drawn(cycle64):

@@ -36,7 +36,8 @@ def register(sub) -> None:
         "drt",
         help="distribution of relaxation times (Tikhonov, Gaussian RBFs): peaks, R_inf, L, credible band",
         description="Compute the distribution of relaxation times of a spectrum by Tikhonov regularisation on a Gaussian RBF basis, "
-        "lambda chosen by (modified) GCV or the L-curve; a file of several spectra gets the DRT of each (one line each). See docs/drt.md.",
+        "lambda chosen by (modified) GCV or the L-curve; a file of several spectra gets the DRT of each (one line each). "
+        "The report ends with a starting circuit read off the peaks and the 'impedax fit' command that fits it. See docs/drt.md.",
     )
     p.add_argument("data", metavar="DATA", help="spectrum file (any format impedax reads); a file of several spectra gets a DRT of each, or pick one with --select")
     add_select_option(p)
@@ -90,8 +91,24 @@ def run(args) -> int:
         emit_json(with_source(read.summary(), source, record))
     else:
         print(result.report())
+        print(_suggestion_line(result, args.data, args.select))
         note_skipped_rows(data, "drt", args.data)
     return 0
+
+
+def _suggestion_line(result, path: str, select=None) -> str:
+    """The report's last line: the starting circuit read off the DRT and the ``impedax fit``
+    command that fits it (`DRTResult.suggested_circuit`); for several spectra the circuit most
+    of them suggest, with the starts of the first of those (`suggest.most_common_suggestion`)."""
+    import shlex
+
+    from ..fitting.drt.suggest import most_common_suggestion
+
+    results = getattr(result, "results", (result,))
+    suggestion, count = most_common_suggestion(results)
+    share = "" if len(results) == 1 else f" (the one {count} of {len(results)} spectra suggest, starts from the first of them)"
+    data = " ".join([shlex.quote(path)] + [f"--select {shlex.quote(item)}" for item in select or ()])
+    return f"starting circuit from the DRT{share}: {suggestion.model} — fit it with: {suggestion.fit_command(data)}"
 
 
 def _save(result, path, source: str | None = None, provenance=None) -> None:

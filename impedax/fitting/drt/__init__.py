@@ -2,7 +2,8 @@
 
 `drt` (Tikhonov-regularised, Gaussian RBF basis, λ by GCV or L-curve, batched with vmap),
 closed-form DRTs of circuits in `analytic`, and `unexplained_peaks`: the data's DRT peaks a
-fitted circuit does not explain (evidence for the diagnosis). See docs/drt.md.
+fitted circuit does not explain (evidence for the diagnosis), and `suggest_circuit`: a starting
+circuit read off the peaks (`DRTResult.suggested_circuit`). See docs/drt.md.
 """
 
 from ._drt import drt as drt
@@ -16,4 +17,5 @@ from .analytic import (
     r_cpe_tau as r_cpe_tau,
     zarc_drt as zarc_drt,
 )
+from .suggest import SuggestedCircuit as SuggestedCircuit, suggest_circuit as suggest_circuit
 from .evidence import PeakEvidence as PeakEvidence, RESOLVED_SIGMAS as RESOLVED_SIGMAS, is_resolved as is_resolved, unexplained_peaks as unexplained_peaks

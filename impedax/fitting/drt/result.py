@@ -323,6 +323,7 @@ class DRTResult:
             "dropped_r_ohm": float(sum(p.r_ohm for p in self.dropped_peaks)),
             "window_tau_s": list(self.window),
             "notes": list(self.notes),
+            **_suggestion_keys(self.suggested_circuit()),
         }
 
     def _repr_html_(self) -> str:
@@ -332,6 +333,14 @@ class DRTResult:
         lines = [f"{self.lambda_text}; R_inf = {self.r_inf_ohm:.4g} Ω, R_pol = {self.polarization_resistance:.4g} Ω; rms_rel {self.rms_rel * 100:.3g} %; {_peak_count_text(self.peaks)}"]
         return result_html("distribution of relaxation times", rows, lines=lines)
 
+    def suggested_circuit(self):
+        """A starting circuit read off this DRT (`suggest.SuggestedCircuit`: ``model``, ``init``,
+        ``reasons``): R0 + one R‖CPE per counted peak, + W1 on a diffusion tail, + L1 when L is
+        visible (`suggest.suggest_circuit`; docs/drt.md, "From the DRT to a circuit")."""
+        from .suggest import suggest_circuit
+
+        return suggest_circuit(self)
+
     def plot(self, *, overlay=None, title: str | None = None):
         """γ vs τ with the credible band and peaks marked, and the fit on Nyquist/Bode; ``overlay``
         (an `AnalyticDRT` or another `DRTResult`, e.g. of a fitted circuit) is drawn on the γ
@@ -339,6 +348,11 @@ class DRTResult:
         from ...plotting.drt import plot_drt
 
         return plot_drt(self, overlay=overlay, title=title)
+
+
+def _suggestion_keys(suggestion) -> dict:
+    """The JSON keys of `DRTResult.suggested_circuit` (added 2026-12-02)."""
+    return {"suggested_model": suggestion.model, "suggested_init": dict(suggestion.init), "suggestion_reasons": list(suggestion.reasons)}
 
 
 def _common_attrs(result: "DRTResult") -> dict:

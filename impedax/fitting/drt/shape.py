@@ -21,7 +21,7 @@ from ...data import format_time
 from .basis import impedance_integrals, penalty_matrix
 from .peaks import find_peaks
 
-__all__ = ["BROAD_FACTOR", "WARBURG_SLOPE_RANGE", "diffusion_slopes", "reference_width", "shape_notes"]
+__all__ = ["BROAD_FACTOR", "WARBURG_SLOPE_RANGE", "diffusion_slopes", "diffusion_tail_tau", "reference_width", "shape_notes"]
 
 BROAD_FACTOR = 1.4
 """A peak this many times as wide (FWHM, decades) as one R‖C's at the same λ is called broad.
@@ -53,9 +53,14 @@ def diffusion_slopes(frequency, impedance) -> tuple[float, float]:
     return out[0], out[1]
 
 
-def _is_diffusion_tail(result) -> bool:
+def diffusion_tail_tau(result) -> float:
+    """τ [s] from which ``result``'s spectrum is a diffusion tail: 1/(2π · 10 f_min), the top of
+    the lowest decade, when both `diffusion_slopes` lie in `WARBURG_SLOPE_RANGE`; inf when not.
+    The DRT's peaks at or beyond it are the Warburg's, not arcs (`shape_notes`, `suggest`)."""
     lo, hi = WARBURG_SLOPE_RANGE
-    return all(lo <= s <= hi for s in diffusion_slopes(result.frequency, result.impedance))
+    if not all(lo <= s <= hi for s in diffusion_slopes(result.frequency, result.impedance)):
+        return math.inf
+    return 1.0 / (2 * math.pi * float(result.frequency.min()) * 10.0)
 
 
 @functools.lru_cache(maxsize=16)
@@ -116,10 +121,9 @@ def shape_notes(result) -> tuple[str, ...]:
     if result.signed or not result.peaks:
         return ()
     notes = []
-    tail_from = math.inf
-    if _is_diffusion_tail(result):
+    tail_from = diffusion_tail_tau(result)
+    if not math.isinf(tail_from):
         f_min = float(result.frequency.min())
-        tail_from = 1.0 / (2 * math.pi * f_min * 10.0)  # τ of the lowest decade's top frequency
         inside = [p for p in result.peaks if p.tau_s >= tail_from]
         named = f": the peak(s) at τ = {', '.join(format_time(p.tau_s, 3) for p in inside)} are not separate arcs" if inside else ""
         notes.append(

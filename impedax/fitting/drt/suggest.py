@@ -1,0 +1,138 @@
+"""A starting equivalent circuit from a DRT: DRT → circuit → fit in one step (docs/drt.md,
+"From the DRT to a circuit").
+
+R0 (R_∞) + one R_k‖CPE_k per peak the report counts (`peaks.counted_peaks`: resolved and inside
+the measured τ window), started at R_k = the peak's R, α = 0.9, Q_k = τ_k^α / R_k (so that
+(R_k Q_k)^{1/α} = τ_k); a Warburg W1 in series when the data end in a diffusion tail
+(`shape.diffusion_tail_tau`; the peaks at the tail's τ are its own, not arcs); else a series CPE
+for a resolved peak beyond the slowest point (the data show only its arc's fast side,
+R/(jωτ)^α); L1 when the DRT's L is a visible part of |Z| at the top frequency; a series C when
+the DRT fitted one. Unresolved peaks and peaks faster than the top frequency are left out.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import Counter
+from dataclasses import dataclass, field
+from typing import Mapping
+
+import numpy as np
+
+from ...data import format_quantity, format_time, format_uncertain
+from .peaks import RESOLVED_SIGMAS, counted_peaks
+from .shape import diffusion_tail_tau
+
+__all__ = ["SuggestedCircuit", "suggest_circuit", "most_common_suggestion", "START_ALPHA", "R0_FLOOR_SHARE", "INDUCTIVE_SHARE"]
+
+START_ALPHA = 0.9
+"""The CPE exponent each arc starts at (the registry's default for CPE.alpha)."""
+
+R0_FLOOR_SHARE = 1e-6
+"""R0 starts at R_∞, but at least this share of max|Z|: a fit starts a resistance above 0 (a
+DRT's R_∞ can be 0 or slightly negative when the data stop before the high-frequency limit)."""
+
+INDUCTIVE_SHARE = 0.05
+"""An inductor L1 joins the circuit when ω_max·L is at least this share of |Z| at the top
+frequency: the share at which `DRTResult.warnings` names a negative L (below it, L is noise
+about 0 or a lead the fit does not need)."""
+
+
+@dataclass(frozen=True)
+class SuggestedCircuit:
+    """A starting circuit read off a DRT: ``model`` (circuit text, e.g. ``"R0 + R1 || CPE1"``),
+    ``init`` (parameter name → start, SI units) and ``reasons`` (one short text per part, and per
+    peak left out)."""
+
+    model: str
+    init: Mapping[str, float] = field(default_factory=dict)
+    reasons: tuple[str, ...] = ()
+
+    @property
+    def n_arcs(self) -> int:
+        """The R‖CPE arcs in ``model``."""
+        return self.model.count("||")
+
+    def fit_command(self, data: str = "FILE") -> str:
+        """The ``impedax fit`` command line that fits ``model`` to ``data`` from ``init``."""
+        starts = " ".join(f"{name}={value:.4g}" for name, value in self.init.items())
+        return f"impedax fit {data} --model '{self.model}' --init {starts}"
+
+
+def suggest_circuit(result) -> SuggestedCircuit:
+    """The starting circuit of a `DRTResult` (module docstring): R0 + one R_k‖CPE_k per counted
+    peak outside a diffusion tail (+ W1, + L1, + C). Without an arc (and no tail) R0 + C1: it fits
+    a spectrum that stays resistive (C1 grows) or turns capacitive at its low end."""
+    z_top = abs(result.impedance[int(np.argmax(result.frequency))])
+    init = {"R0": max(float(result.r_inf_ohm), R0_FLOOR_SHARE * float(result.z_ref))}
+    parts, reasons = ["R0"], [f"R0: the series resistance R_inf = {format_quantity(result.r_inf_ohm, 'Ω', 4)}"]
+    omega_max = 2 * math.pi * float(result.frequency.max())
+    if result.l_h > 0 and omega_max * result.l_h >= INDUCTIVE_SHARE * z_top:
+        parts.append("L1")
+        init["L1"] = float(result.l_h)
+        reasons.append(f"L1: the DRT's L = {format_quantity(result.l_h, 'H')}, ωL = {omega_max * result.l_h / z_top * 100:.2g} % of |Z| at the top frequency")
+    tail_from = diffusion_tail_tau(result)
+    counted = {id(p) for p in counted_peaks(result.peaks)}
+    slow_end = result.window[1]
+    k, beyond = 0, None
+    for p in result.peaks:
+        at = f"the peak at τ = {format_time(p.tau_s)} ({format_uncertain(p.r_ohm, p.r_ohm_sd, 'Ω')})"
+        if p.tau_s >= tail_from:
+            reasons.append(f"{at} left out: it lies in the diffusion tail (W1 holds it)")
+        elif p.r_ohm <= 0:
+            reasons.append(f"{at} left out: a negative R (signed DRT) is no R‖CPE arc")
+        elif p.resolved and p.tau_s > slow_end and beyond is None:
+            beyond = p
+        elif id(p) not in counted:
+            why = "outside the measured τ window" if not p.inside_window else f"its R is not told from zero ({RESOLVED_SIGMAS:g} sd)"
+            reasons.append(f"{at} left out: {why}")
+        else:
+            k += 1
+            parts.append(f"R{k} || CPE{k}")
+            init |= {f"R{k}": p.r_ohm, f"CPE{k}.Q": p.tau_s**START_ALPHA / p.r_ohm, f"CPE{k}.alpha": START_ALPHA}
+            reasons.append(f"R{k} || CPE{k}: {at}, resolved and inside the measured τ window")
+    if beyond is not None:
+        # an arc whose τ lies beyond the slowest point shows only its fast side, R/(jωτ)^α for
+        # ωτ ≫ 1: a series CPE, Q = τ^α/R (its R the data cannot tell)
+        name = f"CPE{k + 1}"
+        parts.append(name)
+        init |= {f"{name}.Q": beyond.tau_s**START_ALPHA / beyond.r_ohm, f"{name}.alpha": START_ALPHA}
+        reasons.append(f"{name} in series: the peak at τ = {format_time(beyond.tau_s)} lies beyond the slowest point (τ {format_time(slow_end)}); "
+                       "the data show only its arc's start, R/(jωτ)^α")
+    if not math.isinf(tail_from):
+        parts.append("W1")
+        init["W1.sigma"] = _warburg_sigma(result)
+        reasons.append(f"W1: −Im Z goes as ω^−½ below {10 * float(result.frequency.min()):.3g} Hz (a diffusion tail)")
+    if not math.isinf(result.c_f):
+        parts.append(f"C{k + 1}")
+        init[f"C{k + 1}"] = float(result.c_f)
+        reasons.append(f"C{k + 1}: the DRT's series C = {format_quantity(result.c_f, 'F')}")
+    elif k == 0 and beyond is None and math.isinf(tail_from):
+        parts.append("C1")
+        init["C1"] = _low_end_capacitance(result)
+        reasons.append("C1: no arc is resolved inside the measured τ window; R0 + C1 fits a spectrum that stays resistive (C1 grows) "
+                       "or turns capacitive at its low end; measure lower frequencies to see an arc")
+    return SuggestedCircuit(" + ".join(parts), init, tuple(reasons))
+
+
+def _warburg_sigma(result) -> float:
+    """σ [Ω s^−½] of σ(1 − j)/√ω from the lowest half decade: the median of −Im Z·√ω."""
+    f = np.asarray(result.frequency, float)
+    low = f <= f.min() * math.sqrt(10.0)
+    values = -np.imag(result.impedance[low]) * np.sqrt(2 * math.pi * f[low])
+    return float(np.median(values[values > 0])) if np.any(values > 0) else 1.0
+
+
+def _low_end_capacitance(result) -> float:
+    """C [F] with 1/(ω_min C) = −Im Z at the lowest frequency (at least 0.1 % of |Z| there)."""
+    low = int(np.argmin(result.frequency))
+    z = result.impedance[low]
+    return 1.0 / (2 * math.pi * float(result.frequency[low]) * max(-float(np.imag(z)), 1e-3 * abs(z)))
+
+
+def most_common_suggestion(results) -> tuple[SuggestedCircuit, int]:
+    """(the suggestion whose model most spectra of ``results`` share — the first spectrum's of
+    them, with its starts —, how many share it); ties go to the model met first."""
+    suggestions = [r.suggested_circuit() for r in results]
+    model, count = Counter(s.model for s in suggestions).most_common(1)[0]
+    return next(s for s in suggestions if s.model == model), count
