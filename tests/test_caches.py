@@ -16,6 +16,7 @@ def _memory_maps() -> int:
         return sum(1 for _ in maps)
 
 
+@pytest.mark.slow  # (an end-to-end run of ~10 s: make test-all; the fast suite's 15-minute budget)
 def test_clear_caches_releases_what_fits_compiled():
     freq = np.logspace(5, -1, 30)
     omega = 2 * np.pi * freq

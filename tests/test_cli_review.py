@@ -415,6 +415,7 @@ def outside_the_figure(fig) -> list[str]:
     return out
 
 
+@pytest.mark.slow  # (an end-to-end run of ~10 s: make test-all; the fast suite's 15-minute budget)
 def test_the_refinement_figure_keeps_every_title_inside(files):
     """Before: the suptitle and the step titles of long models ran off the figure (the
     review's refine of cycle 129)."""

@@ -285,6 +285,7 @@ def test_batch_figure_of_identical_spectra_reads_plainly():
         plt.close(fig)
 
 
+@pytest.mark.slow  # (an end-to-end run of ~10 s: make test-all; the fast suite's 15-minute budget)
 def test_compare_figure_has_a_nyquist_legend_and_follows_the_data():
     import matplotlib.pyplot as plt
 

@@ -155,6 +155,7 @@ def test_an_off_bound_side_outside_a_vanishing_term_is_kept():
     np.testing.assert_array_equal(vanishing_term_sides(circuit, ix.DEFAULT_REGISTRY, table, values, sides, f, z[None]), np.zeros((1, 5)))
 
 
+@pytest.mark.slow  # (an end-to-end run of ~10 s: make test-all; the fast suite's 15-minute budget)
 def test_a_batch_of_the_real_spectrum_gives_the_single_fits_flags():
     """The same rule in batch fits: a stack of CH Instruments' spectrum, fitted from the single
     fit's values, flags no bound for the open branch, as the single fit does."""

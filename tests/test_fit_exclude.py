@@ -77,6 +77,7 @@ def test_the_diagnose_advice_leaves_out_the_masked_points_and_reaches_the_promis
     assert out["rms_rel"] == pytest.approx(promised, rel=5e-3)  # (before: 40.6 % against 13.6 % promised)
 
 
+@pytest.mark.slow  # (an end-to-end run of ~10 s: make test-all; the fast suite's 15-minute budget)
 def test_the_refine_reproduce_line_leaves_out_the_interior_masked_points(tmp_path, capsys):
     summary = tmp_path / "refinement.json"
     assert main(["refine", str(BIOLOGIC), "--out", str(summary)]) == 0

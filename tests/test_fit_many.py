@@ -17,6 +17,7 @@ from impedax.fitting.least_squares.candidates import fit_candidates
 from spectra import CASES, noisy
 
 
+@pytest.mark.slow  # (an end-to-end run of ~10 s: make test-all; the fast suite's 15-minute budget)
 def test_candidates_match_single_fits(rng):
     text, fn, truth, (lo, hi) = CASES["r_cpe"]
     f = np.geomspace(lo, hi, 40)
@@ -92,7 +93,7 @@ def _every_start_here() -> dict:
     return json.loads(here.getvalue().strip().splitlines()[-1])
 
 
-@pytest.mark.parametrize("devices", [pytest.param("1", marks=pytest.mark.slow), "3"])  # (one device: 13 s, slow for the suite's budget; three devices stay)
+@pytest.mark.parametrize("devices", [pytest.param("1", marks=pytest.mark.slow), pytest.param("3", marks=pytest.mark.slow)])  # (13 s and 12 s: make test-all, the suite's budget; tests/test_devices.py keeps a many-device run in the fast suite)
 def test_candidate_queue_gives_every_start_the_same_fit_on_any_number_of_devices(devices):
     """The work queue runs on every JAX device at once, problem p on device p mod D. A start's
     Levenberg–Marquardt iteration depends on nothing but its own problem, so every start of

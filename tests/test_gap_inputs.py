@@ -193,6 +193,7 @@ def test_identical_spectra_in_two_files_are_refused(tmp_path, capsys):
 # --- 4. the spectra used, per file ---------------------------------------------------------------
 
 
+@pytest.mark.slow  # (an end-to-end run of ~10 s: make test-all; the fast suite's 15-minute budget)
 def test_select_reports_the_spectra_used_per_file(tmp_path, capsys):
     total, skin, ts = _measurements(n_trials=5)
     paths = saved_gap_files(tmp_path, [total, skin.isel(trial=[0, 1, 2]), ts])

@@ -488,6 +488,7 @@ def test_models_doc_fences_pair_up():
 # --- 10. the example's header states what it prints --------------------------------------------
 
 
+@pytest.mark.slow  # (an end-to-end run of ~10 s: make test-all; the fast suite's 15-minute budget)
 def test_remaining_impedance_example_header_matches_its_output(tmp_path):
     import subprocess
 

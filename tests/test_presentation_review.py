@@ -790,6 +790,7 @@ def test_a_lone_prefixed_tick_is_written_as_its_value():
     plt.close(fig)
 
 
+@pytest.mark.slow  # (an end-to-end run of ~10 s: make test-all; the fast suite's 15-minute budget)
 def test_diagnose_says_each_stage_as_it_begins():
     """`diagnose(progress=)` is called as each stage begins, in order (the CLI prints the lines
     once a run has taken 2 s): SYNTHETIC R0 + R1 ∥ C1 + a second arc, fitted with one arc."""

@@ -268,6 +268,7 @@ def test_the_cap_keeps_a_large_joint_chain_in_memory():
     assert chain.auto_step_cap(10**6, 1) == 15
 
 
+@pytest.mark.slow  # (an end-to-end run of ~10 s: make test-all; the fast suite's 15-minute budget)
 def test_a_joint_posterior_stops_by_the_same_rule(monkeypatch):
     """steps="auto" (the default) with ``shared=``: the joint sampler runs the single one's rule
     and says so (here stopped at a monkeypatched cap of 300 steps, then from the .nc)."""
