@@ -195,12 +195,26 @@ def test_diagnose_says_what_chi2_red_is_against_and_names_a_sigma_column():
     first, noise_line = diagnosis.report().splitlines()[0], diagnosis.report().splitlines()[2]
     ratio = diagnosis.noise_ratio
     assert ratio > 5  # (C_gap alone misses the leakage R_EP by far more than the 1 % noise)
-    assert f"(modulus weighting: residuals relative to |Z|, not to the noise; against the noise σ below ≈ {ratio**2:.3g}, the residuals {ratio:.3g}× it)" in first
+    assert f"(modulus weighting: residuals relative to |Z|, not to the noise; against the noise σ given below, chi2_red ≈ {ratio**2:.3g}, as the residuals are {ratio:.3g}× that noise)" in first
     # mean |Δ|²/(2σ²) from the data's own sigma: the figure the note gives
     z, sigma = one["Z"].values, one["sigma"].values
     by_hand = np.mean(np.abs(diagnosis.baseline.z_model - z) ** 2 / (2 * sigma**2))
     assert ratio**2 == pytest.approx(by_hand, rel=0.01)
     assert diagnosis.noise_source == "the data's sigma column" and "trial scatter" not in noise_line
+
+
+def test_the_chi2_red_note_reads_as_chi2_red_against_the_noise_not_as_a_bound_on_sigma():
+    """`Diagnosis._chi2_red_basis` on a stand-in (fast): "against the noise σ below ≈ 1.46e+03"
+    read as "σ is below 1460" (walkthrough 2026-12-02); the figure is chi2_red against that σ,
+    (the noise ratio)², here 38.2² = 1459.24 by hand."""
+    from types import SimpleNamespace as NS
+
+    from impedax.fitting.diagnosis.diagnosis import Diagnosis
+
+    note = Diagnosis._chi2_red_basis(NS(baseline=NS(weighting="modulus"), noise_ratio=38.2))
+    assert note == " (modulus weighting: residuals relative to |Z|, not to the noise; against the noise σ given below, chi2_red ≈ 1.46e+03, as the residuals are 38.2× that noise)"
+    assert "σ below" not in note
+    assert Diagnosis._chi2_red_basis(NS(baseline=NS(weighting="sigma"), noise_ratio=38.2)) == ""
 
 
 def test_a_sigma_from_trials_is_named_trial_scatter():

@@ -68,6 +68,15 @@ def test_a_few_erratic_points_are_masked_and_the_rest_diagnosed():
     assert d.suggestions[0].effect == effect
     assert d.baseline.n_points == f.size - len(d.masked_points)
     assert d.summary()["masked_points"] == list(d.masked_points)
+    # (2026-12-02) the verdict says it was judged without them, and JSON says how many
+    verdict = next(x for x in d.report().splitlines() if x.startswith("verdict:"))
+    kept = np.setdiff1d(np.round(f, 6), np.round(d.masked_points, 6))
+    assert verdict.startswith(
+        f"verdict: MISSING_EFFECT on {ix.fitting.diagnosis.bands.format_frequency(kept.min())} – {ix.fitting.diagnosis.bands.format_frequency(kept.max())} "
+        f"({kept.size} of {f.size} points; the other {len(d.masked_points)} left out as not Kramers–Kronig consistent) — "
+    ), verdict
+    assert (d.summary()["n_points_judged"], d.summary()["n_points_left_out"]) == (kept.size, len(d.masked_points))
+    assert d.summary()["verdict_band_hz"] == [pytest.approx(kept.min()), pytest.approx(kept.max())]
 
 
 def _with_non_passive_top(formula, params, frange, seed):
@@ -89,6 +98,11 @@ def test_points_with_a_negative_real_part_are_left_out_of_a_correct_model():
     assert set(np.round(f[top], 6)) <= set(np.round(d.masked_points, 6))
     assert d.baseline.n_points == f.size - len(d.masked_points)
     assert "Re Z < 0" in d.report()
+    # (2026-12-02) the verdict names the points it was judged on and why the others were left out
+    assert set(np.round(d.not_passive_points, 6)) == set(np.round(f[top], 6))
+    verdict = next(x for x in d.report().splitlines() if x.startswith("verdict:"))
+    assert f"({f.size - len(d.masked_points)} of {f.size} points; the other {len(d.masked_points)} left out" in verdict, verdict
+    assert "for Re Z < 0, which no passive circuit gives)" in verdict and verdict.startswith("verdict: ADEQUATE on "), verdict
     # the fit of the rest finds the generating parameters (0.5 % noise: R1 within 3 %)
     assert d.baseline.values["R1"] == pytest.approx(params["R1"], rel=0.03)
     # each masked point keeps its measured Z, and the figure marks it (red crosses)

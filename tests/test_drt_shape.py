@@ -76,6 +76,8 @@ def test_two_rc_merged_by_a_large_lambda_get_a_broad_peak_note():
     assert len([p for p in merged.peaks if p.inside_window]) == 1
     broad = [n for n in merged.notes if "as wide as one R‖C" in n]
     assert len(broad) == 1 and "it may hold more than one relaxation" in broad[0]
+    # (2026-12-02) it names what "both" are: it ended "; fit both" and left a beginner guessing
+    assert broad[0].endswith("fit both there and compare them: two arcs (R‖C + R‖C) against one distributed arc (R‖CPE)"), broad[0]
     peak = max(merged.peaks, key=lambda p: p.r_ohm)
     assert peak.width_decades >= BROAD_FACTOR * reference_width(merged, peak.tau_s)
     single = ix.drt((F, noisy(10 + rc(200, 10**-2.5), 0.01, 6)), lam=1.0)

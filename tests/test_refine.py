@@ -904,3 +904,27 @@ def test_cli_a_small_max_steps_is_noted_as_the_solver_limit(tmp_path, capsys, co
     if noted:
         assert err.count("note: --max-steps") == 1 and "the number of effects refine may add is --max-effects" in err
     assert "absent.csv: file not found" in err
+
+
+def test_a_further_path_of_the_same_effect_says_what_differs_not_the_effect_twice():
+    """`_starts_compared`: on Gamry's REAL file the note read "starting from extra_relaxation (…)
+    instead of extra_relaxation (…)" (walkthrough 2026-12-02). Of one effect, the effect is named
+    once and the two additions and the models they give are told apart; of two effects, each
+    start is named with its model (stand-ins, the placements Gamry's diagnosis gave)."""
+    from types import SimpleNamespace as NS
+
+    from impedax.fitting.diagnosis.refinement import _starts_compared
+
+    nested = NS(effect="extra_relaxation", added="R_relax || CPE_relax", where="nested in series with R1 (a layer behind that arc)", fit=NS(model="(R1 + R_relax || CPE_relax) || C1"))
+    outer = NS(effect="extra_relaxation", added="R_relax || CPE_relax", where="in series with the whole circuit", fit=NS(model="R1 || C1 + R_relax || CPE_relax"))
+    cpe = NS(effect="constant_phase", added="CPE1", where="in place of the ideal capacitor C1", fit=NS(model="R1 || CPE1"))
+    same = _starts_compared(nested, outer)
+    assert same == (
+        "starting from extra_relaxation too, but adding R_relax || CPE_relax, nested in series with R1 (a layer behind that arc), giving (R1 + R_relax || CPE_relax) || C1, "
+        "where the first path added R_relax || CPE_relax, in series with the whole circuit, giving R1 || C1 + R_relax || CPE_relax"
+    )
+    assert same.count("extra_relaxation") == 1
+    assert _starts_compared(cpe, outer) == (
+        "starting from constant_phase (CPE1, in place of the ideal capacitor C1), giving R1 || CPE1, "
+        "instead of the first path's extra_relaxation (R_relax || CPE_relax, in series with the whole circuit), giving R1 || C1 + R_relax || CPE_relax"
+    )

@@ -118,6 +118,14 @@ def test_refine_of_the_real_gamry_file_judges_the_model_where_the_kk_test_passes
     assert any("CPE" in s.fit.model for s in r.steps[1:]) and r.final.rms_rel < 0.006, r.report()
     assert sorted(r.masked_points) == sorted(float(x) for x in f[f < 2.3e3])
     assert "refine started again on those points (--fmin" in r.notes[0] and "--fmin" in r.report()
+    # (2026-12-02) the verdict says it describes the top band only, and the JSON says so too
+    kept = f[f > 2.3e3]
+    assert "verdict: ADEQUATE on 2.53 kHz – 200 kHz (20 of 72 points; the other 52 left out as not Kramers–Kronig consistent) — " in r.report()
+    summary = r.summary()
+    assert summary["verdict_band_hz"] == [pytest.approx(kept.min()), pytest.approx(kept.max())]
+    assert (summary["n_points_judged"], summary["n_points_left_out"]) == (kept.size, f.size - kept.size) == (20, 52)
+    # the notes of further paths of one effect name it once and tell the two starts apart
+    assert not any(n.count("extra_relaxation (") > 1 for n in r.notes), r.notes
 
 
 @pytest.mark.slow  # (6–110 s each at load 2–3: a whole refine of a SYNTHETIC spectrum)
@@ -141,3 +149,55 @@ def test_refine_on_a_drifting_low_decade_adds_the_cpe_or_names_the_trim(cpe, wal
         assert "--fmin" in last.reason and f[f >= _fmin_of(last.reason)].size >= MIN_KEPT_POINTS, last.reason
     else:
         assert r.verdict == "adequate", r.report()
+
+
+# --- the verdict says what it was judged on (walkthrough 2026-12-02) ----------------------------
+
+GAMRY_LIKE = np.logspace(np.log10(0.0159), np.log10(2.0e5), 72)  # 72 points, 15.9 mHz–200 kHz, as Gamry's file
+
+
+def test_the_verdict_scope_names_the_band_and_the_points_it_was_judged_on():
+    """`verdict_scope_words`: refine left out Gamry's 52 lowest points and printed a bare
+    "verdict: ADEQUATE", read as a model of the whole spectrum. The scope names the band of the
+    points kept (by hand: the 53rd to 72nd of `GAMRY_LIKE`) and the count."""
+    from impedax.fitting.diagnosis.diagnosis import verdict_scope_words
+
+    kept, left = GAMRY_LIKE[52:], GAMRY_LIKE[:52]
+    lo, hi = ix.fitting.diagnosis.bands.format_frequency(kept[0]), ix.fitting.diagnosis.bands.format_frequency(kept[-1])
+    # by hand: point k of 72 is 10^(log10 0.0159 + k/71 · log10(2e5/0.0159)); k = 52: 2518 Hz, k = 69: 126.2 kHz
+    assert (lo, hi) == ("2.52 kHz", "200 kHz")
+    assert verdict_scope_words(kept, tuple(left)) == " on 2.52 kHz – 200 kHz (20 of 72 points; the other 52 left out as not Kramers–Kronig consistent)"
+    # two points left out for Re Z < 0 (at the top), the rest by the KK test: both reasons, with their counts
+    kept, left = GAMRY_LIKE[52:70], GAMRY_LIKE[:52].tolist() + GAMRY_LIKE[70:].tolist()
+    assert verdict_scope_words(kept, left, GAMRY_LIKE[70:]) == (
+        " on 2.52 kHz – 126 kHz (18 of 72 points; the other 54 left out: 52 as not Kramers–Kronig consistent, 2 for Re Z < 0, which no passive circuit gives)"
+    )
+    assert verdict_scope_words(GAMRY_LIKE, ()) == ""  # nothing left out: the verdict is on every point, as before
+
+
+def test_refinement_report_and_json_say_where_the_verdict_was_judged():
+    """A `Refinement` of one step (a real fit of SYNTHETIC R0 + R1 ∥ C1 data on 20 points
+    2.5 kHz–200 kHz, with 52 lower points "masked", a stand-in diagnosis): the verdict line names
+    the band and the count, and the JSON has ``verdict_band_hz``, ``n_points_judged`` and
+    ``n_points_left_out`` (keys added; none renamed)."""
+    from types import SimpleNamespace as NS
+
+    from impedax.fitting.diagnosis.refinement import Refinement, RefinementStep
+
+    f = np.logspace(np.log10(2.5e3), np.log10(2e5), 20)
+    rng = np.random.default_rng(12)
+    z = 20 + 4e3 / (1 + 2j * np.pi * f * 4e3 * 3e-10)  # SYNTHETIC R0 + R1 ∥ C1, 0.5 % noise
+    z = z * (1 + 0.005 * (rng.standard_normal(f.size) + 1j * rng.standard_normal(f.size)))
+    fit = ix.fit("R0 + R1 || C1", (f, z), init={"R0": 20.0, "R1": 4e3, "C1": 3e-10})
+    masked = tuple(float(x) for x in np.logspace(np.log10(0.0159), np.log10(2.2e3), 52))
+    judged = NS(verdict="adequate", verdict_heading="ADEQUATE", reason="the residuals are noise", beyond_catalog=False, noise_ratio=0.9, not_passive_points=())
+    r = Refinement((RefinementStep(fit, None, None, judged),), "adequate", (), masked)
+    line = next(x for x in r.report().splitlines() if x.startswith("verdict:"))
+    assert line == "verdict: ADEQUATE on 2.5 kHz – 200 kHz (20 of 72 points; the other 52 left out as not Kramers–Kronig consistent) — the residuals are noise"
+    summary = r.summary()
+    assert summary["verdict_band_hz"] == [pytest.approx(2.5e3), pytest.approx(2e5)]
+    assert summary["n_points_judged"] == 20 and summary["n_points_left_out"] == 52
+    assert summary["verdict"] == "adequate" and len(summary["masked_points"]) == 52  # (the old keys stay)
+    # nothing left out: the line is as it was
+    whole = Refinement((RefinementStep(fit, None, None, judged),), "adequate")
+    assert "verdict: ADEQUATE — the residuals are noise" in whole.report() and whole.summary()["n_points_left_out"] == 0

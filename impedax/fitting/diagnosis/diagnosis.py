@@ -259,6 +259,7 @@ class Diagnosis:
     sign_hint: str | None = None  # the KK test's (`io.sign_check.sign_hint`): Z'' (or Z) may be stored with the opposite sign
     kk_valid_band: tuple[float, float] | None = None  # data_invalid: the run of points [Hz, lowest and highest] the KK test passes (`kk_valid_run`), which --fmin/--fmax keep
     misses_valid_band: bool = False  # data_invalid: the model misses ``kk_valid_band`` clearly (an effect is missing there; refine starts again on it)
+    not_passive_points: tuple[float, ...] = ()  # those of ``masked_points`` [Hz] left out for Re Z < 0 beyond the noise (the rest: the KK test's)
 
     @property
     def source(self) -> str | None:
@@ -312,6 +313,19 @@ class Diagnosis:
         verdict `beyond_catalog` (a bare "adequate" read as "fits the data" at 10× the noise)."""
         return self.verdict.upper() + (" WITHIN THE CATALOG" if self.beyond_catalog else "")
 
+    @property
+    def verdict_band(self) -> tuple[float, float]:
+        """The lowest and highest frequency [Hz] of the points the verdict was judged on (the
+        baseline fit's, without ``masked_points``)."""
+        f = self.baseline.frequency
+        return float(np.min(f)), float(np.max(f))
+
+    @property
+    def verdict_scope(self) -> str:
+        """`verdict_scope_words` of this diagnosis: the band and the number of points its verdict
+        was judged on, when points were left out; empty when none were."""
+        return verdict_scope_words(self.baseline.frequency, self.masked_points, self.not_passive_points)
+
     def summary(self) -> dict:
         """The JSON of ``impedax diagnose --json`` (keys fixed by the issue; extra keys added)."""
         b = self.baseline
@@ -353,6 +367,8 @@ class Diagnosis:
             "sign_hint": self.sign_hint,
             "kk_valid_band": list(self.kk_valid_band) if self.kk_valid_band is not None else None,
             "misses_valid_band": self.misses_valid_band,
+            # (added 2026-12-02) what the verdict was judged on: the band [Hz] of the points kept, their number and how many were left out
+            "verdict_band_hz": list(self.verdict_band), "n_points_judged": int(self.baseline.n_points), "n_points_left_out": len(self.masked_points),
         }
 
     def _drt_peaks_json(self) -> list[dict] | None:
@@ -369,14 +385,16 @@ class Diagnosis:
     def _chi2_red_basis(self) -> str:
         """What the baseline's chi2_red is measured against, when that is not the noise the
         report's next lines judge by: `` (modulus weighting: residuals relative to |Z|, not to
-        the noise; against the noise σ below ≈ 216, the residuals 14.7× it)``. A walkthrough read
-        "chi2_red 0.0218" beside "the residuals are 14.7× the noise" as a contradiction; a fit
-        weighted by the data's sigma (χ² against it) needs no note."""
+        the noise; against the noise σ given below, chi2_red ≈ 216, as the residuals are 14.7×
+        that noise)``. A walkthrough read "chi2_red 0.0218" beside "the residuals are 14.7× the
+        noise" as a contradiction; a fit weighted by the data's sigma (χ² against it) needs no
+        note. (2026-12-02: it read "against the noise σ below ≈ 216", which a walkthrough took
+        for "σ is below 216".)"""
         if self.baseline.weighting == "sigma":
             return ""
         ratio = self.noise_ratio
         scale = WEIGHTING_SCALES.get(self.baseline.weighting, f"its {self.baseline.weighting} weights")
-        return f" ({self.baseline.weighting} weighting: residuals relative to {scale}, not to the noise; against the noise σ below ≈ {ratio**2:.3g}, the residuals {ratio:.3g}× it)"
+        return f" ({self.baseline.weighting} weighting: residuals relative to {scale}, not to the noise; against the noise σ given below, chi2_red ≈ {ratio**2:.3g}, as the residuals are {ratio:.3g}× that noise)"
 
     def report(self, *, fit_command: str | None = None) -> str:
         """The diagnosis as a short story (the default text of ``impedax diagnose``).
@@ -408,7 +426,7 @@ class Diagnosis:
             lines.append("no band of the residuals is structured beyond the noise on its own" + (" (the verdict below weighs all points together)." if self.verdict == Verdict.MISSING_EFFECT else "."))
         if self.drt is not None:
             lines.append(f"DRT: {self.drt.text}.")
-        lines.append(f"verdict: {self.verdict_heading} — {self.reason}")
+        lines.append(f"verdict: {self.verdict_heading}{self.verdict_scope} — {self.reason}")
         if self.suggestions:
             lines.append("what is missing (best first; ΔAIC and ΔBIC here weigh each point by its noise, so they differ from the fits' own AIC that impedax fit and compare print):")
             shown = _folded(self.suggestions, self.noise)[:5]
@@ -512,7 +530,7 @@ class Diagnosis:
         from ...plotting.html import result_html
 
         rows = [{"effect": s.effect, "model": s.model, "rms_rel [%]": f"{s.rms_rel * 100:.3g}", "ΔAIC": s.delta_aic, "significant": s.significant} for s in self.candidates[:8]]
-        lines = [f"verdict: {self.verdict} — {self.reason}", f"baseline rms_rel {self.baseline.rms_rel * 100:.3g} %, AIC {self.baseline.aic:.2f}"]
+        lines = [f"verdict: {self.verdict}{self.verdict_scope} — {self.reason}", f"baseline rms_rel {self.baseline.rms_rel * 100:.3g} %, AIC {self.baseline.aic:.2f}"]
         return result_html(f"diagnosis of {self.baseline.model}", rows, lines=lines)
 
 
@@ -1766,6 +1784,24 @@ def frequency_text(f: float, measured) -> str:
     return repr(float(f))
 
 
+def verdict_scope_words(judged, left_out, not_passive=()) -> str:
+    """Where a verdict was judged, when points were left out of it: `` on 2.53 kHz – 200 kHz (20
+    of 72 points; the other 52 left out as not Kramers–Kronig consistent)``; empty when none
+    were. ``judged``: the frequencies [Hz] the verdict rests on; ``left_out``: those left out,
+    of which ``not_passive`` for Re Z < 0 (the others: the KK test's). A bare "verdict:
+    ADEQUATE" after refine had left out Gamry's 52 lowest points read as a model of the whole
+    spectrum, where it described 2.53–200 kHz only (walkthrough 2026-12-02)."""
+    judged = np.asarray(judged, float)
+    if not len(left_out) or not judged.size:
+        return ""
+    negative = len(set(map(float, not_passive)) & set(map(float, left_out)))
+    inconsistent = len(left_out) - negative
+    given = [(why, n) for why, n in (("as not Kramers–Kronig consistent", inconsistent), ("for Re Z < 0, which no passive circuit gives", negative)) if n]
+    why_text = f"left out {given[0][0]}" if len(given) == 1 else "left out: " + ", ".join(f"{n} {why}" for why, n in given)
+    return (f" on {format_frequency(float(judged.min()))} – {format_frequency(float(judged.max()))} ({judged.size} of {judged.size + len(left_out)} points; "
+            f"the other {len(left_out)} {why_text})")
+
+
 def left_out_options(kept, masked) -> list[tuple[str, str]]:
     """The ``impedax fit`` options that leave out the ``masked`` frequencies [Hz] of a fit on
     ``kept`` ones: ``--fmin``/``--fmax`` for the masked points at the ends of the band,
@@ -2066,7 +2102,7 @@ def diagnose(
     if problem.invalid is not None:
         bands = failing_bands(base, nm.sigma_rel, kk_bad_bands=kk_bands)
         return Diagnosis(base, kk if kk is not None else inconclusive, nm.sigma_rel, nm.source, bands, (), Verdict.DATA_INVALID, problem.invalid, tuple(notes), _thresholds(), None, nm.measurement, nm.discrepancy, not_passive, kk_as_tested=kk_as_tested, solver_shape=shape, masked_impedance=tuple(left_out.values()), sign_hint=sign_hint,
-                         kk_valid_band=problem.valid_band, misses_valid_band=problem.misses_valid_band)
+                         kk_valid_band=problem.valid_band, misses_valid_band=problem.misses_valid_band, not_passive_points=not_passive)
     if problem.note:
         notes.append(problem.note)
     keep = ~problem.masked
@@ -2137,5 +2173,5 @@ def diagnose(
     masked = tuple(sorted(masked + not_passive))
     return Diagnosis(
         base, kk if kk is not None else inconclusive, sigma_rel, nm.source, bands, tuple(cands), verdict, reason, tuple(notes), _thresholds(), evidence, measurement, nm.discrepancy, masked, kk_kept, kk_as_tested, shape,
-        tuple(masked_z[f] for f in masked), sign_hint,
+        tuple(masked_z[f] for f in masked), sign_hint, not_passive_points=not_passive,
     )

@@ -25,7 +25,7 @@ from ..reductions import capacitor_name
 from ..problem import WEIGHTINGS, circuit_parameters, open_spectrum
 from .bands import format_frequency
 from .catalog import EffectCatalog
-from .diagnosis import CANDIDATE_STEPS, DELTA_AIC_MIN, NOISE_FRACTION_MIN, Diagnosis, DRTMemo, Verdict, diagnose, left_out_options, left_out_words, noise_variance_explained, non_passive_points, require_points_for_diagnosis, undetermined_parameters, unidentified_note
+from .diagnosis import CANDIDATE_STEPS, DELTA_AIC_MIN, NOISE_FRACTION_MIN, Diagnosis, DRTMemo, Verdict, diagnose, left_out_options, left_out_words, noise_variance_explained, non_passive_points, require_points_for_diagnosis, undetermined_parameters, unidentified_note, verdict_scope_words
 from .effects import DEFAULT_EFFECTS, placement
 from .vanishing import share_words, vanished_parameters, vanished_terms
 
@@ -122,6 +122,21 @@ class Refinement:
     def final_model(self) -> str:
         return self.final.model
 
+    @property
+    def verdict_band(self) -> tuple[float, float]:
+        """The lowest and highest frequency [Hz] of the points the verdict was judged on: the
+        final fit's, without ``masked_points``."""
+        f = self.final.frequency
+        return float(np.min(f)), float(np.max(f))
+
+    @property
+    def verdict_scope(self) -> str:
+        """The band and the number of points the verdict was judged on when points were left
+        out (`diagnosis.verdict_scope_words`): `` on 2.53 kHz – 200 kHz (20 of 72 points; the
+        other 52 left out as not Kramers–Kronig consistent)``; empty when none were."""
+        start = self.steps[0].diagnosis
+        return verdict_scope_words(self.final.frequency, self.masked_points, getattr(start, "not_passive_points", ()))
+
     def summary(self) -> dict:
         """The JSON of ``impedax refine --json``: the steps, the final model with its parameters
         (``final_params``, as ``impedax fit --json``'s ``params``) and what they do not determine,
@@ -140,6 +155,8 @@ class Refinement:
             # (added 2026-12-01) what to heed before trusting the final model, the key fit, compare and
             # sample give: every note of a refinement is such (dropped steps, other paths, refits)
             "warnings": list(self.notes),
+            # (added 2026-12-02) what the verdict was judged on: the band [Hz] of the final fit's points, their number and how many every fit left out
+            "verdict_band_hz": list(self.verdict_band), "n_points_judged": int(final.frequency.size), "n_points_left_out": len(self.masked_points),
         }
 
     def to_table(self) -> list[dict[str, object]]:
@@ -150,7 +167,7 @@ class Refinement:
         from ...plotting.html import result_html
 
         rows = [{"step": i, "change": s.change, "model": s.model, "rms_rel [%]": f"{s.fit.rms_rel * 100:.3g}", "AIC": s.fit.aic} for i, s in enumerate(self.steps)]
-        return result_html(f"refinement: {self.final_model}", rows, lines=[f"verdict: {self.verdict}"])
+        return result_html(f"refinement: {self.final_model}", rows, lines=[f"verdict: {self.verdict}{self.verdict_scope}"])
 
     def table(self) -> str:
         lines = [f"{'step':>4}  {'rms_rel':>9}  {'AIC':>9}  change / model"]
@@ -165,7 +182,8 @@ class Refinement:
         if len(self.steps) > 1:
             lines.append(f"rms_rel fell from {first.rms_rel * 100:.3g} % to {last.rms_rel * 100:.3g} % in {len(self.steps) - 1} step(s); AIC {first.aic:.1f} → {last.aic:.1f}.")
         last_d = self.steps[-1].diagnosis
-        lines.append(f"verdict: {last_d.verdict_heading if last_d is not None and last_d.verdict == self.verdict else self.verdict.upper()}" + (f" — {last_d.reason}" if last_d is not None else ""))
+        heading = last_d.verdict_heading if last_d is not None and last_d.verdict == self.verdict else self.verdict.upper()
+        lines.append(f"verdict: {heading}{self.verdict_scope}" + (f" — {last_d.reason}" if last_d is not None else ""))
         lines += self._final_lines()
         lines += [f"note: {n}" for n in self.notes]
         return "\n".join(lines)
@@ -319,6 +337,23 @@ def _first_step_text(s) -> str:
     return f"{s.effect} ({s.added})" if "+" in s.effect else f"{s.effect} ({s.added}, {s.where})"
 
 
+def _addition_text(s) -> str:
+    """What a path's first step adds and where, without the effect's name: ``R_relax ||
+    CPE_relax nested in series with R1 (…)`` (a pair: what it adds only, `_first_step_text`)."""
+    return s.added if "+" in s.effect else f"{s.added}, {s.where}"
+
+
+def _starts_compared(alt, picked) -> str:
+    """How a further path's start ``alt`` differs from the first path's ``picked``, each with the
+    model it gives. Of one effect, the effect is named once and the two additions told apart: the
+    note read "starting from extra_relaxation (…) instead of extra_relaxation (…)" (Gamry's real
+    file, walkthrough 2026-12-02), the same name twice for two placements."""
+    if alt.effect == picked.effect:
+        return (f"starting from {alt.effect} too, but adding {_addition_text(alt)}, giving {alt.fit.model}, "
+                f"where the first path added {_addition_text(picked)}, giving {picked.fit.model}")
+    return f"starting from {_first_step_text(alt)}, giving {alt.fit.model}, instead of the first path's {_first_step_text(picked)}, giving {picked.fit.model}"
+
+
 def effect_count(effect: str | None) -> int:
     """How many effects a step adds: none for the start, two for a pair (its effect is "a+b")."""
     return 0 if effect is None else effect.count("+") + 1
@@ -461,7 +496,7 @@ def _second_path(steps: list[RefinementStep], picked, limit: int, diagnosed, say
         end = (f"drops every step it took (its note above) and so ends at the start, {other[-1].model} (AIC {b.aic:.1f}, {b.n_params} parameters)" if len(other) == 1
                else f"ends at {other[-1].model} (AIC {b.aic:.1f}, {b.n_params} parameters)")
         notes.append(
-            f"a {label}, starting from {_first_step_text(alt)} instead of {_first_step_text(picked)}, "
+            f"a {label}, {_starts_compared(alt, picked)}, "
             f"{end}, against {holder}'s end {steps[-1].model} (AIC {a.aic:.1f}, {a.n_params} parameters): "
             + (f"it is kept in place of {holder}'s end" if better else f"{holder}'s end is kept")
             + (f" (it fits better by AIC, but with {b.n_params - a.n_params} more parameter(s) it explains under {NOISE_FRACTION_MIN:.0%} of the noise variance more)" if slight else "")

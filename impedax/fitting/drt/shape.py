@@ -137,6 +137,7 @@ def shape_notes(result) -> tuple[str, ...]:
         if ref > 0 and p.width_decades >= BROAD_FACTOR * ref:
             notes.append(
                 f"the peak at τ = {format_time(p.tau_s, 3)} is {p.width_decades / ref:.1f}× as wide as one R‖C's at this λ "
-                f"({p.width_decades:.2f} against {ref:.2f} decades): it may hold more than one relaxation (or a distributed one, a CPE); fit both"
+                f"({p.width_decades:.2f} against {ref:.2f} decades): it may hold more than one relaxation (or a distributed one, a CPE); "
+                f"fit both there and compare them: two arcs (R‖C + R‖C) against one distributed arc (R‖CPE)"
             )
     return tuple(notes)
