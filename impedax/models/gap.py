@@ -1179,9 +1179,11 @@ def _hierarchical(total, skin, touchscreen, remaining, paper, naive, edl, circui
 def _misfit_text(fitted, remaining: xr.Dataset, known_kk: dict[int, float]) -> str | None:
     """How a least-squares fit of the trial-mean remainder misses it grossly, by the rule of its
     misfit warning (`gross_misfits`: rms_rel ≥ `GROSS_MISFIT_FROM` and over `MISFIT_RATIO_MAX` ×
-    what a Kramers–Kronig-consistent model reaches, ``known_kk`` its memory), else None."""
+    what a Kramers–Kronig-consistent model reaches, ``known_kk`` its memory, and, for a fit
+    weighted by the remainder's sigma, χ²_red beyond what that noise gives), else None."""
     freq, z = remaining["frequency"].values, remaining["Z"].values
-    if gross_misfits(freq, z, fitted.z_model, known_kk).size == 0:
+    sigma = remaining["sigma"].values if "sigma" in remaining else None
+    if gross_misfits(freq, z, fitted.z_model, known_kk, sigma=sigma, weighting=fitted.weighting, n_free=len(fitted.free_names)).size == 0:
         return None
     kk = float(known_kk_misfits(freq, z[None], np.array([0]), known_kk)[0])
     return f"{fitted.model} misses the remainder (rms_rel {format_percent(fitted.rms_rel)}, over {MISFIT_RATIO_MAX:g}× the {format_percent(kk)} a Kramers–Kronig-consistent model reaches)"
