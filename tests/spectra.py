@@ -85,3 +85,33 @@ def sirin_measurements(rng, n_trials, *, noise=0.005, trial_scatter=0.0, points=
 
     return f, trials(skin + ts + rem), trials(skin), trials(ts)
 
+
+
+def sirin_scattered_measurements(rng, n_trials, *, skin_scatter=0.2, screen_scatter=0.05, gap_scatter=0.05, noise=0.005, points=41, area=100e-6, gap=3.5e-6):
+    """SYNTHETIC Sirin-style trials in which skin, screen and gap vary independently between
+    trials (unlike `sirin_measurements`, whose one per-trial factor scales the whole sum): each
+    trial draws its own skin factor exp(N(0, ``skin_scatter``)) on R_inf and R (and 1/factor
+    on the CPE's Q), screen factor likewise, and gap u·exp(N(0, ``gap_scatter``)); the total's
+    skin and screen are draws of their own, apart from the separately measured sets. Remainder
+    R_EP ∥ CPE_EP ∥ C_gap with C_gap = ε0 ε_air A/u. Returns (f, total, skin, screen, trial u)."""
+    eps0, eps_air = 8.8541878128e-12, 1.00059
+    f = np.geomspace(1.0, 1e6, points)
+    w = 2 * np.pi * f
+
+    def skin(k):
+        return r_cpe_series(w, 300.0 * k, 2e5 * k, 3e-8 / k, 0.8)
+
+    def screen(k):
+        return r_cpe_series(w, 50.0 * k, 2e4 * k, 8e-11 / k, 0.9)
+
+    def remainder(u):
+        return 1.0 / (1.0 / 2e7 + 7.5e-10 * (1j * w) ** 0.3 + 1j * w * eps0 * eps_air * area / u)
+
+    def factor(scatter):
+        return np.exp(scatter * rng.normal())
+
+    gaps = gap * np.exp(gap_scatter * rng.normal(size=n_trials))
+    total = np.array([skin(factor(skin_scatter)) + screen(factor(screen_scatter)) + remainder(u) for u in gaps])
+    skins = np.array([skin(factor(skin_scatter)) for _ in range(n_trials)])
+    screens = np.array([screen(factor(screen_scatter)) for _ in range(n_trials)])
+    return f, noisy(total, noise, rng), noisy(skins, noise, rng), noisy(screens, noise, rng), gaps

@@ -986,27 +986,34 @@ FIGURE_DPI = 120
 PLOT_FORMATS_HELP = "the format follows the extension: .png, .pdf, .svg, .eps (vector: .pdf, .svg, .eps); none: PNG"
 
 
-def add_output_options(parser, *, json: str | None = "print the result as JSON", plot: str | None = None, out: str | None = None, out_metavar: str = RESULT_OUT_METAVAR) -> None:
+# what the title impedax writes names, in ``--title``'s help (a command without a data file,
+# `impedax force`, says what its title names instead)
+DEFAULT_TITLE_NAMES = "the data file"
+
+
+def add_output_options(parser, *, json: str | None = "print the result as JSON", plot: str | None = None, out: str | None = None, out_metavar: str = RESULT_OUT_METAVAR,
+                       title_names: str = DEFAULT_TITLE_NAMES) -> None:
     """The output options of a command: ``--json`` (help ``json``), ``--plot FILE`` with
-    ``--dpi`` and ``--title`` (help ``plot``, `add_plot_option`) and ``--out`` (help ``out``);
-    an option whose help is None is not added."""
+    ``--dpi`` and ``--title`` (help ``plot`` and ``title_names``, `add_plot_option`) and
+    ``--out`` (help ``out``); an option whose help is None is not added."""
     if json:
         parser.add_argument("--json", action="store_true", help=json)
     if plot:
-        add_plot_option(parser, plot)
+        add_plot_option(parser, plot, title_names=title_names)
     if out:
         parser.add_argument("--out", metavar=out_metavar, help=out)
 
 
-def add_plot_option(parser, help: str, *, flag: str = "--plot") -> None:
+def add_plot_option(parser, help: str, *, flag: str = "--plot", title_names: str = DEFAULT_TITLE_NAMES) -> None:
     """``flag FILE`` (help ``help``, and that the format follows the extension), with the
-    figure options ``--dpi N`` and ``--title TEXT`` (`figure_options`), once per parser."""
+    figure options ``--dpi N`` and ``--title TEXT`` (`figure_options`; its help says the
+    default title names ``title_names``), once per parser."""
     parser.add_argument(flag, metavar=PLOT_METAVAR, help=f"{help} ({PLOT_FORMATS_HELP})")
     if not any("--dpi" in action.option_strings for action in parser._actions):
         parser.add_argument("--dpi", type=dpi_option, default=None, metavar="N",
                             help=f"resolution of a raster figure (.png, .jpg, .tif) in dots per inch (default {FIGURE_DPI}); a vector figure has none")
         parser.add_argument("--title", default=None, metavar="TEXT",
-                            help="the figure's title in place of the one impedax writes (which names the data file); --title '' for none")
+                            help=f"the figure's title in place of the one impedax writes (which names {title_names}); --title '' for none")
 
 
 def dpi_option(text: str) -> float:

@@ -95,6 +95,7 @@ def register(sub) -> None:
         out="also write the spectrum to FILE: .csv as frequency_hz,force_n then, on every row, convention, model, the parameters (param_NAME) and impedax_version, written_utc; .json the --json document; nothing then goes to "
         "standard output unless --json is given ('-': standard output, as without --out)",
         out_metavar="FILE.csv|.json",
+        title_names="the paper, the equation and the force convention; the drive and any changed parameters go in a subtitle",
     )
     p.set_defaults(run=run)
 

@@ -208,6 +208,13 @@ class GapAnalysis:
         return _has_bounds(self.remaining)
 
     @property
+    def paper_bounds_no_interval(self) -> bool:
+        """True when a warning says the paper's bounds are no interval for its u (`_paper_interval_notes`:
+        u outside them, or them much narrower than the single trials' spread; `_paper_bound_notes`:
+        u far outside them). Added 2026-12-02."""
+        return any(w.startswith(("the paper method's bounds ", "the paper method's u = ")) for w in self.warnings)
+
+    @property
     def c_gap(self) -> dict[str, float]:
         """Posterior median and 90% interval of C_gap [F]."""
         return self._quantiles("C_gap")
@@ -248,6 +255,7 @@ class GapAnalysis:
                 "c_gap": self.paper.c_gap,
                 "gap_um": self.paper.gap * 1e6,
                 "gap_bounds_um": [self.paper.gap_lower * 1e6, self.paper.gap_upper * 1e6] if self.paper_has_bounds else None,
+                "gap_trials_um": [self.paper.gap_trial_min * 1e6, self.paper.gap_trial_max * 1e6] if np.isfinite(self.paper.gap_trial_min) else None,
             },
             "force_conditions": FORCE_CONDITIONS,
             "model": self.edl_fit.model,
@@ -309,6 +317,29 @@ class GapAnalysis:
         rhat, ess = post.rhat(), post.ess()
         return {"divergences": post.divergences, "draws": post.n_draws, "rhat_max": max(rhat.values()), "ess_min": min(ess.values()), "rhat": rhat, "ess": ess}
 
+    def _sampling_unreliable(self) -> bool:
+        """Hierarchical: more than `SAMPLING_DIVERGENT_MAX` of the draws divergent, or an R-hat
+        not below `SAMPLING_RHAT_MAX` (the report's "SAMPLING UNRELIABLE")."""
+        d = self._sampling_summary()
+        return d is not None and (d["divergences"] > SAMPLING_DIVERGENT_MAX * d["draws"] or not d["rhat_max"] < SAMPLING_RHAT_MAX)
+
+    def _sampling_alarm(self) -> str:
+        d = self._sampling_summary()
+        return f"SAMPLING UNRELIABLE: {d['divergences']} divergent transitions of {d['draws']} draws, R-hat up to {d['rhat_max']:.3f}, ESS down to {d['ess_min']:.0f}"
+
+    @property
+    def alarms(self) -> tuple[str, ...]:
+        """The states that void the result, as the report's first lines name them, short (the
+        figure's red banner): "MODEL DOES NOT FIT" (`edl_misfit`) and "SAMPLING UNRELIABLE"
+        (hierarchical NUTS diagnostics); empty when neither holds. An undetermined u is marked
+        apart (`gap_identified`). Added 2026-12-02."""
+        out = []
+        if self.edl_misfit is not None:
+            out.append("MODEL DOES NOT FIT: u, its interval and the force rest on a model the data reject")
+        if self._sampling_unreliable():
+            out.append(f"{self._sampling_alarm()}: the bands may be wrong")
+        return tuple(out)
+
     def to_table(self) -> list[dict[str, object]]:
         """The table of ``--out FILE.csv``: one row per ``method``, bayes (C_gap and u their
         posterior medians, low/high the 90% credible interval) and paper (the paper's method:
@@ -358,7 +389,7 @@ class GapAnalysis:
             ]
         else:
             lines = [f"{head} = {g['value'] * 1e6:.3f} µm  ({interval}, {self._pooled_noise_text()}; {self.edl_fit.model})"]
-        bounds = f"(bounds {p.gap_lower * 1e6:.3f}–{p.gap_upper * 1e6:.3f} µm from the lowest/highest impedances)" if self.paper_has_bounds else "bounds n/a (one trial)"
+        bounds = f"(bounds {p.gap_lower * 1e6:.3f}–{p.gap_upper * 1e6:.3f} µm from the lowest/highest impedances{'; no interval for u, see the warning' if self.paper_bounds_no_interval else ''})" if self.paper_has_bounds else "bounds n/a (one trial)"
         lines += [
             f"paper method    u = {p.gap * 1e6:.3f} µm  {bounds}",
             f"C_gap{' (prior-set)' if self._prior_set else '          '} = {c['value'] * 1e12:.1f} pF (90%: {c['q05'] * 1e12:.1f}–{c['q95'] * 1e12:.1f} pF); paper method {p.c_gap * 1e12:.1f} pF",
@@ -392,14 +423,11 @@ class GapAnalysis:
                 f"MODEL DOES NOT FIT: {self.edl_misfit}; u, its interval and the force below rest on a model the data reject: "
                 "check the three files (impedax remaining, impedax diagnose on the remainder) before reading any of them"
             ))
-        if self.hierarchical is not None:
-            post = self.hierarchical
-            d = self._sampling_summary()
-            if d["divergences"] > 0.01 * d["draws"] or not d["rhat_max"] < 1.05:
-                lines.insert(0, (
-                    f"SAMPLING UNRELIABLE: {d['divergences']} divergent transitions of {d['draws']} draws, R-hat up to {d['rhat_max']:.3f}, ESS down to {d['ess_min']:.0f}: "
-                    "the interval below may be wrong; rerun with more draws (--steps 2000) or another --seed, or use --pooled (the trial means)"
-                ))
+        if self._sampling_unreliable():
+            lines.insert(0, (
+                f"{self._sampling_alarm()}: "
+                "the interval below may be wrong; rerun with more draws (--steps 2000) or another --seed, or use --pooled (the trial means)"
+            ))
         lines += [f"warning: {w}" for w in self.warnings]
         return "\n".join(lines)
 
@@ -603,7 +631,7 @@ def gap_analysis(
         notes.append(_merged_capacitors_note())
     if "C_gap" not in circuit.element_names:
         raise CircuitError(f"the remainder model {circuit} has no element named C_gap")
-    notes += _paper_bound_notes(paper, remaining)
+    notes += _paper_bound_notes(paper, remaining) + _paper_interval_notes(paper, remaining)
     announce("gap: fitting the naive model (C_gap alone) to the trial mean …", progress)
     naive = fit(remainder_circuit(None), remaining, weighting=weighting)
     notes += _naive_runaway_notes(naive)
@@ -712,6 +740,14 @@ def _um(length_m: float) -> str:
     return f"{length_m * 1e6:.3g}"
 
 
+# the hierarchical sampling is called unreliable (the report's first line, the figure's banner)
+# with more divergent transitions than this share of the draws, or an R-hat not below
+# SAMPLING_RHAT_MAX (1.05: between the 1.1 of Gelman et al., Bayesian Data Analysis 3rd ed.,
+# and the 1.01 of Vehtari et al. 2021, Bayesian Analysis 16:667)
+SAMPLING_DIVERGENT_MAX = 0.01
+SAMPLING_RHAT_MAX = 1.05
+
+
 # the paper's u is called far outside its own bounds beyond max(this × u, the bounds' width):
 # the extreme trials need not bracket the means' u. On SYNTHETIC Sirin-style sets from
 # `tests/spectra.sirin_measurements` (seeds 0–39 each) u lay outside in 22 of 40 without trial
@@ -737,6 +773,43 @@ def _paper_bound_notes(paper: PaperGapEstimate, remaining: xr.Dataset) -> list[s
         f"the paper method's u = {_um(u)} µm lies far outside its own bounds {_um(low)}–{_um(high)} µm "
         f"(by more than their width and {PAPER_BOUND_SLACK:.0%} of u): the lowest- and highest-impedance trials are far from bracketing the trial means, "
         "so those bounds are no interval for u; check the three files (TOTAL SKIN SCREEN: the right measurements, in that order)"
+    ]
+
+
+# the paper's bounds are called much narrower than the trials' own spread of u below this share
+# of it (the range of u over single total trials, each minus the mean skin and screen): on the
+# SYNTHETIC walkthrough set (12 trials; skin scatter 20 %, u 5 %) the bounds were 0.008 µm wide
+# against a 0.5 µm range of single-trial u (1.6 %)
+PAPER_BOUND_NARROW = 0.25
+
+
+def _um4(length_m: float) -> str:
+    """A length [m] in µm with 4 significant digits (the paper's bounds can lie 0.2 % apart)."""
+    return f"{length_m * 1e6:.4g}"
+
+
+def _paper_interval_notes(paper: PaperGapEstimate, remaining: xr.Dataset) -> list[str]:
+    """A warning that the paper's bounds are no interval for u when its u lies outside them, or
+    when they are narrower than `PAPER_BOUND_NARROW` × the range of single-trial u: the lowest
+    (highest) skin and screen are subtracted from the lowest (highest) total, so the extremes of
+    the three sets offset each other. Left to `_paper_bound_notes` when u is far outside."""
+    u, low, high = paper.gap, paper.gap_lower, paper.gap_upper
+    if not _has_bounds(remaining) or _far_outside(u, low, high):
+        return []
+    spread = paper.gap_trial_max - paper.gap_trial_min  # NaN with one total spectrum
+    outside = not low <= u <= high
+    narrow = bool(np.isfinite(spread)) and (high - low) < PAPER_BOUND_NARROW * spread
+    if not (outside or narrow):
+        return []
+    found = []
+    if outside:
+        found.append(f"lie {'below' if u > high else 'above'} its u = {_um4(u)} µm")
+    if narrow:
+        found.append(f"are {_um4(high - low)} µm wide while single total trials (each minus the mean skin and screen) give u = {_um4(paper.gap_trial_min)}–{_um4(paper.gap_trial_max)} µm")
+    return [
+        f"the paper method's bounds {_um4(low)}–{_um4(high)} µm {' and '.join(found)}: they are no interval for u, "
+        "since the paper subtracts the lowest-impedance skin and screen from the lowest-impedance total (and the highest from the highest), "
+        "so the extremes of the three sets offset each other; read the Bayesian interval for u, or the single trials' range for its scatter (docs/models.md, \"The paper's bounds\")"
     ]
 
 
@@ -799,6 +872,23 @@ def _drive_voltage_notes(v0: float) -> list[str]:
     return [f"v0 = {v0:g} V (--v0) is {why}; analysed as given: the force scales with V0²"]
 
 
+# the most significant digits a voltage interval of `_gap_breakdown_notes` is printed with; ends
+# that agree to these many are printed once, "≈ 941 V" (a band 0.1 % wide says nothing more)
+VOLTAGE_DIGITS_MAX = 4
+
+
+def _distinct_digits(low: float, high: float) -> int:
+    """The fewest significant digits, 3 to `VOLTAGE_DIGITS_MAX`, that print ``low`` and
+    ``high`` apart ("941–941 V" hid a real interval), or 0 when they agree to all of those."""
+    return next((n for n in range(3, VOLTAGE_DIGITS_MAX + 1) if f"{low:.{n}g}" != f"{high:.{n}g}"), 0)
+
+
+def _volts(voltage: float, digits: int) -> str:
+    """``voltage`` [V] to ``digits`` significant digits; beyond 3 with its trailing zeros kept, so
+    the ends of one interval read alike (940.6–941.0 V, not 940.6–941 V)."""
+    return f"{voltage:.{digits}g}" if digits <= 3 else f"{voltage:#.{digits}g}".rstrip(".")
+
+
 def _gap_breakdown_notes(force: xr.Dataset, u: float, area: float, eps_gap: float) -> list[str]:
     """A warning when the amplitude of the air gap's voltage |ΔV_gap| at the peak of the median
     force (with EP) exceeds `AIR_BREAKDOWN_V`, air's Paschen minimum: such a gap breaks down. Read
@@ -815,8 +905,10 @@ def _gap_breakdown_notes(force: xr.Dataset, u: float, area: float, eps_gap: floa
     else:
         v_median = u * math.sqrt(2.0 * float(peak[i]) / (EPSILON_0 * eps_gap * area))
         v_low = v_high = math.nan
-    where = f"at the force's peak ({format_frequency(float(peak['frequency'][i]))}) the air gap carries {v_median:.3g} V"
-    interval = f" (90% interval {v_low:.3g}–{v_high:.3g} V)" if math.isfinite(v_high) else ""
+    apart = _distinct_digits(v_low, v_high) if math.isfinite(v_high) else 3
+    digits = apart or VOLTAGE_DIGITS_MAX
+    where = f"at the force's peak ({format_frequency(float(peak['frequency'][i]))}) the air gap carries {_volts(v_median, digits)} V"
+    interval = "" if not math.isfinite(v_high) else f" (90% interval {_volts(v_low, digits)}–{_volts(v_high, digits)} V)" if apart else f" (90% interval ≈ {_volts(v_high, digits)} V)"
     threshold = f"the ~{AIR_BREAKDOWN_V:g} V at which air breaks down (Paschen minimum, 1 atm)"
     unmodelled = "which eq 1's force does not model; check --v0 (Python: v0)"
     if v_median > AIR_BREAKDOWN_V:
@@ -824,7 +916,7 @@ def _gap_breakdown_notes(force: xr.Dataset, u: float, area: float, eps_gap: floa
     if v_high > AIR_BREAKDOWN_V:
         return [
             f"{where}{interval} across u = {u * 1e6:.3g} µm: the median is below {threshold}, but the upper end of the 90% interval "
-            f"({v_high:.3g} V) is above it: the gap may spark (more than 5% of the posterior), {unmodelled}"
+            f"({_volts(v_high, digits)} V) is above it: the gap may spark (more than 5% of the posterior), {unmodelled}"
         ]
     return []
 

@@ -293,6 +293,10 @@ class PaperGapEstimate:
     cutoff_hz: float
     area: float
     eps_gap: float
+    # the smallest and largest u of single total trials (each minus the mean skin and screen),
+    # NaN with one total spectrum: the trials' own spread the bounds can be set against
+    gap_trial_min: float = float("nan")
+    gap_trial_max: float = float("nan")
 
     def to_xarray(self) -> xr.Dataset:
         return xr.Dataset(
@@ -303,15 +307,24 @@ class PaperGapEstimate:
                 "c_gap_high_impedance": ((), self.c_gap_high_impedance, {"units": "F"}),
                 "gap_lower": ((), self.gap_lower, {"units": "m"}),
                 "gap_upper": ((), self.gap_upper, {"units": "m"}),
+                "gap_trial_min": ((), self.gap_trial_min, {"units": "m"}),
+                "gap_trial_max": ((), self.gap_trial_max, {"units": "m"}),
             },
             attrs={"method": "Sirin et al. 2.3: mean |Y_R|/omega above the cutoff; bounds from extreme-impedance trials", "cutoff_hz": self.cutoff_hz, "area_m2": self.area, "eps_gap": self.eps_gap},
         )
 
 
-def _extreme_trial(ds: xr.Dataset, keep: np.ndarray, pick: str) -> np.ndarray:
+def _trial_rows(ds: xr.Dataset) -> np.ndarray:
+    """Every spectrum of ``ds`` as a row (trials, frequency) of complex Z."""
     z = ds["Z"]
     dims = tuple(d for d in z.dims if d != "frequency")
-    flat = z.transpose(*dims, "frequency").values.reshape(-1, z.sizes["frequency"])
+    return z.transpose(*dims, "frequency").values.reshape(-1, z.sizes["frequency"])
+
+
+def _extreme_trial(ds: xr.Dataset, keep: np.ndarray, pick: str) -> np.ndarray:
+    """The trial of ``ds`` with the lowest or highest impedance (``pick``), ranked by the mean
+    of log|Z| over the frequencies ``keep``."""
+    flat = _trial_rows(ds)
     score = np.mean(np.log(np.abs(flat[:, keep])), axis=1)
     return flat[np.argmin(score) if pick == "lowest" else np.argmax(score)]
 
@@ -322,7 +335,12 @@ def paper_gap_estimate(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Data
     lowest and highest impedances measured for skin, touchscreen and the total": for each of the
     three measurements take the trial with the lowest (highest) impedance — ranked by the mean of
     log|Z| over the frequencies used — subtract, and convert as above. The bounds are the
-    smaller and larger of the two resulting thicknesses."""
+    smaller and larger of the two resulting thicknesses (``gap_lower`` ≤ ``gap_upper``; the
+    lowest-impedance set need not give the smaller u). They are no interval for u: the lowest
+    skin and screen are subtracted from the lowest total, so the extremes offset each other and
+    the two values can lie close together, even both on one side of u (docs/models.md, "The
+    paper's bounds"). ``gap_trial_min``/``gap_trial_max``: u of each total trial minus the mean
+    skin and screen (as `trial_remainders`), the trials' own spread, NaN with one total."""
     z_r = remaining_impedance(total, skin, touchscreen)
     freq = z_r["frequency"].values
     c_gap = gap_capacitance_paper(z_r, cutoff_hz=cutoff_hz, fmax_hz=fmax_hz)
@@ -334,8 +352,15 @@ def paper_gap_estimate(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Data
         z = _extreme_trial(total, keep, pick) - _extreme_trial(skin, keep, pick) - _extreme_trial(touchscreen, keep, pick)
         c_extreme[pick] = gap_capacitance_paper(z, freq, cutoff_hz=cutoff_hz, fmax_hz=fmax_hz)
     gaps = sorted(float(gap_thickness(c, area=area, eps_gap=eps_gap)) for c in c_extreme.values())
+    totals = _trial_rows(total)
+    trial_min = trial_max = float("nan")
+    if totals.shape[0] >= 2:
+        others = _trial_rows(skin).mean(axis=0) + _trial_rows(touchscreen).mean(axis=0)
+        trial_gaps = [float(gap_thickness(gap_capacitance_paper(z - others, freq, cutoff_hz=cutoff_hz, fmax_hz=fmax_hz), area=area, eps_gap=eps_gap)) for z in totals]
+        trial_min, trial_max = min(trial_gaps), max(trial_gaps)
     return PaperGapEstimate(
-        c_gap, float(gap_thickness(c_gap, area=area, eps_gap=eps_gap)), c_extreme["lowest"], c_extreme["highest"], gaps[0], gaps[1], float(cutoff_hz), float(area), float(eps_gap)
+        c_gap, float(gap_thickness(c_gap, area=area, eps_gap=eps_gap)), c_extreme["lowest"], c_extreme["highest"], gaps[0], gaps[1], float(cutoff_hz), float(area), float(eps_gap),
+        trial_min, trial_max,
     )
 
 

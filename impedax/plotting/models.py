@@ -19,7 +19,8 @@ GAP_FIGSIZE = (15.0, 4.6)
 def plot_gap_analysis(gap, *, true_gap: float | None = None, figsize: tuple[float, float] | None = None):
     """Remaining impedance with both fits, the posterior of u against the paper's bounds
     (and ``true_gap`` [m] when known, e.g. for synthetic data), and the force bands with and
-    without the EP branch (matplotlib Figure)."""
+    without the EP branch (matplotlib Figure). The states that void the result (``gap.alarms``:
+    "MODEL DOES NOT FIT", "SAMPLING UNRELIABLE") head the figure in red."""
     import matplotlib.pyplot as plt
 
     from ..data import format_percent
@@ -68,7 +69,7 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None, figsize: tuple[floa
     ax.axvspan(g["q05"] * 1e6, g["q95"] * 1e6, color="tab:blue", alpha=0.15, label="90% credible interval")
     ax.axvline(gap.paper.gap * 1e6, color="k", label=f"paper method {gap.paper.gap * 1e6:.2f} µm")
     if gap.paper_has_bounds:  # (one trial of each: no interval)
-        ax.axvspan(gap.paper.gap_lower * 1e6, gap.paper.gap_upper * 1e6, color="tab:orange", alpha=0.15, label="paper bounds (extreme impedances)")
+        ax.axvspan(gap.paper.gap_lower * 1e6, gap.paper.gap_upper * 1e6, color="tab:orange", alpha=0.15, label="paper bounds (extreme impedances)" + ("; NO interval for u: see the warning" if getattr(gap, "paper_bounds_no_interval", False) else ""))
     if true_gap is not None:
         ax.axvline(true_gap * 1e6, color="tab:green", ls="--", label=f"truth (synthetic) {true_gap * 1e6:.2f} µm")
     identified = getattr(gap, "gap_identified", True)
@@ -86,6 +87,11 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None, figsize: tuple[floa
     _legend(ax, _gap_voltage_axis(ax, gap.force), font_size("legend", 7))
     for a in axes:
         a.grid(alpha=0.3, which="both")
+    alarms = getattr(gap, "alarms", ())
+    if alarms:  # (the report's first lines: the whole figure rests on them, as on the text)
+        import textwrap
+
+        fig.suptitle("\n".join(line for alarm in alarms for line in textwrap.wrap(alarm, 150)), color="tab:red", fontweight="bold", fontsize=font_size("title", 10))
     return fig
 
 
