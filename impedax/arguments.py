@@ -82,7 +82,7 @@ EXCLUDE_RTOL = 5e-3
 """How far a value of ``--exclude F,F,...`` may be from the measured frequency it names
 (relative; ``impedax.cli.common.exclude_points``): a frequency copied from a report's three
 digits (5.34 Hz for 5.3367 Hz) matches. The advice's commands write the frequencies they leave
-out to match within it (``impedax.fitting.diagnosis.diagnosis.frequency_text``)."""
+out to match within it (``impedax.fitting.kk.frequency_text``)."""
 
 
 def shown(value: object, limit: int = 40) -> str:

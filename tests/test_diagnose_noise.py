@@ -620,11 +620,14 @@ def test_noise_growing_toward_low_frequency_is_not_masked_as_the_datas_problem()
     # a battery whose Warburg tail shows in the lowest decades, 0.3 % noise growing ×6 toward
     # low frequency: the KK test's one global scale flags 14 of its 60 points, most at the
     # noisy end. Masked, they took the points that tell a Warburg from one more arc. Judged
-    # against the local noise they are data
+    # against the local noise they are data. Since 2026-12-02 the test leaves its lone spikes out
+    # of the Voigt chain's fit (docs/kk.md, "The validity rule", 5): it flags 4, and the one at
+    # 25.5 mHz (7.5 s in the fit that followed it, 9.5 s in the one without it; its neighbours
+    # 1.6 s and 0.8 s) stays masked against the local noise too
     case, data = _draw("diffusion/battery", 20, variant=1)
-    assert int(ix.kk_test(data).flagged.sum()) >= 10
+    assert int(ix.kk_test(data).flagged.sum()) >= 4
     d = ix.diagnose(data, case.circuit)
-    assert d.masked_points == () and d.baseline.n_points == data.sizes["frequency"]
+    assert len(d.masked_points) <= 1 and d.baseline.n_points >= data.sizes["frequency"] - 1
     assert any("within the noise where they are" in note for note in d.notes)
     assert d.suggestions[0].effect == "diffusion", d.report()
 

@@ -208,16 +208,24 @@ def relative_noise(text: str | None) -> float | None:
     return value
 
 
-def fit_command(args=None, *, kept=None, masked=(), data=None) -> str:
+def fit_command(args=None, *, kept=None, masked=(), data=None, program: str = "impedax fit") -> str:
     """The start of the ``impedax fit`` command that fits the spectrum and points a run of
     ``args`` (diagnose, refine) fitted: its file, shell-quoted (DATA when ``args`` names none),
     --select (with ``data``, the one spectrum the run took, a list or range that picked it
     becomes its label: `single_selects`), --weighting unless the default (modulus), --fmin,
     --fmax and --exclude; with the run's ``kept`` frequencies and the ``masked`` ones it left
     out, the --fmin/--fmax/--exclude that leave those out too (`left_out_options`). The advice
-    of those commands ends it with --model and the values to start from."""
+    of those commands ends it with --model and the values to start from. ``program``: another
+    command that takes these options (``impedax kk``: its next step)."""
     import shlex
 
+    data_file = getattr(args, "data", None)
+    options = run_options(args, kept=kept, masked=masked, data=data)
+    return " ".join([program, shlex.quote(data_file) if data_file else "DATA"] + [f"{flag} {shlex.quote(str(value))}" for flag, value in options if value is not None])
+
+
+def run_options(args=None, *, kept=None, masked=(), data=None) -> list[tuple[str, object]]:
+    """The (flag, value) options of `fit_command` (value None: not given)."""
     band = {"--fmin": getattr(args, "fmin", None), "--fmax": getattr(args, "fmax", None)}
     excluded = [getattr(args, "exclude", None)] if getattr(args, "exclude", None) else []
     if kept is not None and len(masked):
@@ -233,8 +241,7 @@ def fit_command(args=None, *, kept=None, masked=(), data=None) -> str:
     options = [("--select", item) for item in (select if data is None else single_selects(select, data))]
     options += [("--weighting", weighting if weighting != "modulus" else None), *band.items(), ("--exclude", ",".join(excluded) or None)]
     options += [("--plugin", path) for path in getattr(args, "plugin", None) or ()]  # (the elements and reader the run used)
-    data = getattr(args, "data", None)
-    return " ".join(["impedax fit", shlex.quote(data) if data else "DATA"] + [f"{flag} {shlex.quote(str(value))}" for flag, value in options if value is not None])
+    return options
 
 
 def single_selects(select: Sequence[str], data) -> list[str]:

@@ -63,7 +63,9 @@ def run(args) -> int:
     result = kk_test_batch(data, **options) if several else zhit(data) if args.method == "zhit" else kk_test(data, **options)
     # the reader's skipped rows in the JSON, as inspect --json gives them (added 2026-12-01); --out as
     # fit's and drt's (added 2026-12-01: docs/io.md listed kk --out, which kk refused)
-    read = WithSummaryKeys(result, {"skipped_rows": skipped_rows(data)})
+    command, options = _next_command(args, result, data) if not several and args.method == "linear" else (None, None)
+    added = {"skipped_rows": skipped_rows(data)} if options is None else {"skipped_rows": skipped_rows(data), "suggested_options": options}
+    read = WithSummaryKeys(result, added)
     outputs.save({"--out": result_writer(read, source, record), "--plot": figure_writer(lambda: result.plot(), source, **figure_options(args))})  # (a batch has no plot: --plot takes one spectrum)
     if outputs.uses_stdout:
         return 0
@@ -73,9 +75,31 @@ def run(args) -> int:
     if several:
         _each_spectrum(result)
     else:
-        print(result.report())
+        print(result.report(command) if args.method == "linear" else result.report())
     note_skipped_rows(data, "kk", args.data)
     return 0
+
+
+def _next_command(args, result, data) -> tuple[str | None, list[str]]:
+    """The ``impedax kk`` command that tests the spectrum again without the points the test
+    suggests leaving out (`KKResult.excludable_frequencies`), this run's options kept and its
+    --fmin/--fmax/--exclude merged with the new ones (`common.run_options`), and those three as
+    words (the JSON's ``suggested_options`` on the command line: to give in place of the run's);
+    (None, []) when there is nothing to leave out."""
+    import numpy as np
+    import shlex
+
+    from .common import fit_command, run_options
+
+    drop = result.excludable_frequencies
+    if not drop.size:
+        return None, []
+    kept = np.setdiff1d(result.frequency, drop)
+    chain = [("--c", args.c), ("--max-rc", args.max_rc), ("--no-inductance", args.no_inductance or None), ("--no-capacitance", args.no_capacitance or None)]
+    command = fit_command(args, kept=kept, masked=drop, data=data, program="impedax kk") + "".join(
+        f" {flag}" if value is True else f" {flag} {shlex.quote(str(value))}" for flag, value in chain if value is not None)
+    words = [str(w) for flag, value in run_options(args, kept=kept, masked=drop, data=data) if flag in ("--fmin", "--fmax", "--exclude") and value is not None for w in (flag, value)]
+    return command, words
 
 
 def _each_spectrum(batch) -> None:

@@ -24,14 +24,14 @@ from typing import Mapping
 import numpy as np
 import xarray as xr
 
-from ..arguments import MAX_BASIS, checked_arguments, count, flag, instance_of, real, shown
+from ..arguments import EXCLUDE_RTOL, MAX_BASIS, checked_arguments, count, flag, instance_of, real, shown
 from ..data import checked_frequencies, concise_repr, format_frequency
 from ..errors import DataError, ImpedaxError, ParameterError
 from .grid import ResultGrid, refuse_result_names
 from .problem import frequency_and_z
 from .statistics import difference_noise, non_passive, residual_noise
 
-__all__ = ["KKResult", "KKBatchResult", "kk_test", "kk_test_batch", "kk_misfits", "kk_verdicts", "rejudged", "DEFAULT_THRESHOLDS", "CONCLUSIVE_POINTS_MIN", "RULE_NAMES", "BAND_MERGE_DECADES", "band_rules", "band_rule_counts", "points_text", "thresholds_for"]
+__all__ = ["KKResult", "KKBatchResult", "kk_test", "kk_test_batch", "kk_misfits", "kk_verdicts", "rejudged", "DEFAULT_THRESHOLDS", "CONCLUSIVE_POINTS_MIN", "RULE_NAMES", "BAND_MERGE_DECADES", "band_rules", "band_rule_counts", "points_text", "thresholds_for", "left_out_options", "frequency_text"]
 
 # below this many frequencies the chain (M ≤ N − 3 RC elements) is too stiff for the data, its
 # misfit is the chain's own and the noise estimate follows it: the test cannot fail
@@ -80,8 +80,24 @@ _JSON_KEYS = {
     "noise_estimate": "noise_estimate", "frequency_hz": "frequency", "residuals_real": "residuals_real", "residuals_imag": "residuals_imag",
     "conclusive": "conclusive", "chain_error": "chain_error", "non_passive_hz": "non_passive_frequencies",
 }
+# (added 2026-12-02) per band its flagged measured frequencies, the options that leave the
+# failing points out, and whether only marginal isolated points are left
+_JSON_KEYS_ADDED = {"bad_band_frequencies_hz": "band_frequencies", "suggested_options": "suggested_options", "marginal_points_only": "marginal_points_only"}
 # added keys (never renamed): the method, units in the name (``_hz``; ``_rel`` = a fraction of |Z|)
 # and the rules that flagged each band with their levels (`KKResult.summary`)
+
+FEW_BAND_POINTS = 3
+"""A band of at most this many flagged points is "a few points": the report names their measured
+frequencies (which ``--exclude`` takes; the band's edges lie between points), and one inside the
+range is left out by ``--exclude`` in `KKResult.suggested_options`. More points in a row inside
+the range are a disturbance during the sweep, not stray points (docs/kk.md, "What to do")."""
+
+MARGINAL_POINT_RATIO = 1.2
+"""An isolated point whose |Δ| is below this multiple of the point rule's level (6 s for the 5 s
+level) is marginal: when every bad band is one such point, the report says to stop leaving points
+out (`KKResult.marginal_points_only`). On BioLogic's REAL file the points flagged after the first
+round of exclusions were at 5.03 s, each exclusion letting the chain refit and another point of
+the scatter's tail cross 5 s (docs/kk.md, "When to stop")."""
 
 RULE_NAMES = ("point", "run", "window")
 """The validity rules (`kk_test`), as `KKResult.band_rules` names them."""
@@ -196,6 +212,8 @@ class KKResult:
             # (the key fit, compare and sample give): every note, and the sign hint
             "notes": self.notes, "warnings": self.notes + ([self.sign_hint] if self.sign_hint else []),
         })
+        out.update({key: getattr(self, attribute) for key, attribute in _JSON_KEYS_ADDED.items()})
+        out["bad_band_frequencies_hz"] = [list(f) for f in self.band_frequencies]
         return out
 
     def to_table(self) -> list[dict[str, object]]:
@@ -261,9 +279,89 @@ class KKResult:
         """For each of ``bad_bands``, the rules (`RULE_NAMES`) that flagged points in it."""
         return band_rules(*self._rule_masks())
 
-    def report(self) -> str:
+    @property
+    def band_frequencies(self) -> tuple[tuple[float, ...], ...]:
+        """For each of ``bad_bands``, the measured frequencies [Hz] of its flagged points, ascending
+        (the band's edges lie halfway to the neighbours; ``--exclude`` takes these)."""
+        flag, _, freq = self._rule_masks()
+        return tuple(tuple(float(f) for f in freq[i:j][flag[i:j]]) for i, j in _band_spans(flag, freq))
+
+    @property
+    def excludable_frequencies(self) -> np.ndarray:
+        """The measured frequencies [Hz] whose removal `suggested_options` proposes: every point
+        from an end of the data through a band at that end (``--fmin``/``--fmax``), and the flagged
+        points of each band of at most `FEW_BAND_POINTS` inside the range (``--exclude``). Empty
+        when the test passed, when the sign hint explains the failure, or when that would leave
+        fewer than half of the points or fewer than `CONCLUSIVE_POINTS_MIN` (leaving points out is
+        then no remedy)."""
+        if self.valid or self.sign_hint:
+            return np.zeros(0)
+        flag, _, freq = self._rule_masks()
+        drop = np.zeros(freq.size, bool)
+        for i, j in _band_spans(flag, freq):
+            if i == 0 or j == freq.size:
+                drop[i:j] = True
+            elif np.count_nonzero(flag[i:j]) <= FEW_BAND_POINTS:
+                drop[i:j] |= flag[i:j]
+        left = freq.size - np.count_nonzero(drop)
+        if left < max(CONCLUSIVE_POINTS_MIN, freq.size / 2):
+            return np.zeros(0)
+        return freq[drop]
+
+    @property
+    def suggested_options(self) -> list[str]:
+        """The command-line words that leave `excludable_frequencies` out, as every command that
+        reads a spectrum takes them (``["--fmin", "12", "--exclude", "56.2,123"]``: the masked
+        points' options of diagnose and refine, `left_out_options`); [] when none."""
+        drop = self.excludable_frequencies
+        keep = np.setdiff1d(self.frequency, drop)
+        return [word for option in left_out_options(keep, drop) for word in option]
+
+    @property
+    def marginal_points_only(self) -> bool:
+        """Whether every bad band is one point flagged by the point rule alone with |Δ| below
+        `MARGINAL_POINT_RATIO` times its level: the tail of the data's own scatter, where leaving
+        points out one at a time need not end (docs/kk.md, "When to stop")."""
+        if self.valid:
+            return False
+        flag, masks, freq = self._rule_masks()
+        order = np.argsort(self.frequency)
+        size = np.hypot(self.residuals_real, self.residuals_imag)[order]
+        level = self.rule_levels["point"] * MARGINAL_POINT_RATIO
+        return all(j - i == 1 and not masks["run"][i] and not masks["window"][i] and size[i] < level for i, j in _band_spans(flag, freq))
+
+    def next_step(self, command: str | None = None) -> list[str]:
+        """The report's closing lines when the test failed: the options that leave the failing
+        points out (`suggested_options`), appended to ``command`` (the run's own command line,
+        those options merged into it) when given; that ``impedax refine`` leaves them out by
+        itself; when to stop (`marginal_points_only`); and the bands that leaving points out does
+        not mend. [] when the test passed, was inconclusive, or the sign hint explains it."""
+        if self.valid or self.sign_hint or not self.conclusive:
+            return []
+        words = self.suggested_options
+        size = np.hypot(self.residuals_real, self.residuals_imag) / self.threshold_scale
+        lines = []
+        if self.marginal_points_only:
+            where = ", ".join(f"{format_frequency(float(f))} at {s:.3g} s" for f, s in sorted(zip(self.frequency[self.flagged], size[self.flagged])))
+            lines.append(f"next: stop leaving points out: {'the point is' if np.count_nonzero(self.flagged) == 1 else 'each point is'} isolated and just over the point level "
+                         f"({where}; level {self.thresholds['point']:.3g} s): the tail of the data's own scatter; without it the chain refits and another such point "
+                         "may cross the level (docs/kk.md, \"When to stop\"). Fit with or without it")
+        elif words:
+            lines.append(f"next: leave them out and test again: {command if command else ' '.join(words)}")
+            lines.append("  impedax fit, diagnose and refine take the same options; impedax refine leaves the KK-flagged points out by itself")
+        spans = _band_spans(*self._rule_masks()[::2])
+        inside = [(lo, hi) for (lo, hi), f, (i, j) in zip(self.bad_bands, self.band_frequencies, spans) if len(f) > FEW_BAND_POINTS and i > 0 and j < self.frequency.size]
+        if inside or not words and not self.marginal_points_only:
+            what = ", ".join(f"{format_frequency(lo)} – {format_frequency(hi)}" for lo, hi in inside) if inside else "the bands"
+            lines.append(f"{'  ' if lines else 'next: '}{what}: too many points to leave out one by one: a disturbance during the sweep (drift, movement); measure again, or fit knowing it (docs/kk.md, \"What to do\")")
+        return lines
+
+    def report(self, command: str | None = None) -> str:
         """A few lines: M, µ, rms_rel, noise, verdict, the rules' levels and the bad bands with the
-        rules that flagged each, and the sign hint."""
+        rules that flagged each (and the measured frequencies of a band of at most
+        `FEW_BAND_POINTS`), the sign hint, and when the test failed what to do (`next_step`:
+        ``command``, the run's command line with the suggested options, in place of the options
+        alone)."""
         verdict = "valid (KK-consistent)" if self.valid else "NOT valid: data are not KK-consistent"
         if not self.conclusive:
             verdict = f"inconclusive: {self.frequency.size} frequencies are too few for the test (it needs {CONCLUSIVE_POINTS_MIN})" + ("" if self.valid else "; it flags the bands below")
@@ -281,18 +379,21 @@ class KKResult:
         if self.bad_bands:
             lines.append(self._rules_text())
             t, levels = self.thresholds, self.rule_levels
-            for (lo, hi), counts in zip(self.bad_bands, band_rule_counts(*self._rule_masks())):
+            for (lo, hi), counts, points in zip(self.bad_bands, band_rule_counts(*self._rule_masks()), self.band_frequencies):
                 said = [
                     f"{points_text(counts['point'])} with |Δ| > {levels['point'] * 100:.3g} % (point rule)" if counts["point"] else "",
                     f"{points_text(counts['run'])} in runs of ≥ {int(t['run_length'])} with |Δ| > {levels['run'] * 100:.3g} % (run rule)" if counts["run"] else "",
                     f"{points_text(counts['window'])} under a {int(t['window'])}-point mean of Δ' or Δ'' > {levels['window'] * 100:.3g} % (window rule)" if counts["window"] else "",
                 ]
                 said = "; ".join(x for x in said if x)
-                lines.append(f"  bad band: {format_frequency(lo)} – {format_frequency(hi)}" + (f": {said}" if said else ""))
+                # (the measured points themselves: the edges lie halfway to the neighbours, and --exclude takes points)
+                measured = f" (the point{'s' if len(points) > 1 else ''} at {', '.join(format_frequency(f) for f in points)})" if len(points) <= FEW_BAND_POINTS else ""
+                lines.append(f"  bad band: {format_frequency(lo)} – {format_frequency(hi)}{measured}" + (f": {said}" if said else ""))
         if self.non_passive_note:
             lines.append(f"note: {self.non_passive_note}")
         if self.sign_hint:
             lines.append(f"hint: {self.sign_hint}")
+        lines += self.next_step(command)
         return "\n".join(lines)
 
     def _rules_text(self) -> str:
@@ -638,6 +739,37 @@ def _fits_like_reference(rss, n_params, rss_ref, n_params_ref, n_points, floor) 
 # On fewer points the window spans the ripple and averages it out: the floor itself holds.
 DENSE_CHAIN_FLOOR_SHARE = 0.5
 
+SPIKE_SHARE_MAX = 0.1
+"""Stray points — over the point rule's level (|Δ| > 5 s) and a local peak of |Δ| — are left out of
+the Voigt chain's fit, and every point judged against that fit again (`kk_test`), while they are
+at most this share of the spectrum: their pull on the least-squares chain otherwise flags their
+neighbours (a +20 % point on 41 points of an RC arc at 0.5 % noise, SYNTHETIC, seeds 0–9 at
+three places: a band of that point alone in 0 of 30 before, 30 of 30 after). More are a
+disturbance the chain is judged on as a whole."""
+
+SPIKE_ROUNDS = 3
+"""Rounds of leaving stray points out (`SPIKE_SHARE_MAX`): a point whose pull hid a smaller one
+shows it in the next round; bounded, so dense data cost at most this many more chain fits."""
+
+
+STRAY_PEAK_RATIO = 2.0
+"""A stray point's |Δ| is at least this many times each neighbour's (in frequency order): a lone
+spike, not the top of a drift (whose neighbours share its size: a random walk over the lowest
+decade of an R ∥ CPE arc, SYNTHETIC, peaked at 20.8 s between 11.1 s and 19.8 s, where a +20 %
+point stood at 25.5 s between 2.2 s and 5.2 s)."""
+
+
+def _peaks(size, order) -> np.ndarray:
+    """Whether each |Δ| (data order) is at least `STRAY_PEAK_RATIO` times its neighbours' in
+    frequency order."""
+    ranked = np.asarray(size)[order]
+    peak = np.ones(ranked.size, bool)
+    peak[1:] &= ranked[1:] >= STRAY_PEAK_RATIO * ranked[:-1]
+    peak[:-1] &= ranked[:-1] >= STRAY_PEAK_RATIO * ranked[1:]
+    out = np.empty_like(peak)
+    out[order] = peak
+    return out
+
 _SCAN_AFTER_FIT = 20  # M values tried above the smallest non-underfitted M for µ < c
 
 
@@ -739,8 +871,13 @@ def _rule_masks(residual_real, residual_imag, scale, thresholds) -> dict[str, np
         window_scale = scale if np.ndim(scale) == 0 else np.convolve(scale, kernel, mode="valid")
         limit = thresholds["window_mean"] * window_scale / math.sqrt(width)
         starts = np.zeros(m.size - width + 1, bool)
+        # the mean of the window's points the point rule left alone: one point far off, flagged
+        # itself, does not drag its 2·width − 2 neighbours into a band
+        kept = (~masks["point"]).astype(float)
+        count = np.convolve(kept, np.ones(width), mode="valid")
         for component in (residual_real, residual_imag):
-            starts |= np.abs(np.convolve(component, kernel, mode="valid")) > limit
+            total = np.convolve(np.asarray(component) * kept, np.ones(width), mode="valid")
+            starts |= np.abs(total) > limit * count
         # every point of a window whose mean is too large: a point is covered when one of the
         # `width` windows containing it starts a flagged window
         covered = np.convolve(starts.astype(float), np.ones(width), mode="full")[: m.size] > 0.5
@@ -850,6 +987,52 @@ def _band_spans(flag, freq_sorted=None) -> list[tuple[int, int]]:
     return list(zip(first.tolist(), (last + 1).tolist()))
 
 
+def _between(lo: float, hi: float, *, lo_open: bool, hi_open: bool, near: float) -> str:
+    """The shortest text of a number in the interval from ``lo`` to ``hi`` (each end open or
+    closed), rounded from ``near``."""
+    for digits in range(1, 18):
+        text = f"{near:.{digits}g}"
+        v = float(text)
+        if (v > lo if lo_open else v >= lo) and (v < hi if hi_open else v <= hi):
+            return text.replace("e+0", "e").replace("e+", "e").replace("e-0", "e-")
+    return repr(float(near))
+
+
+def frequency_text(f: float, measured) -> str:
+    """``f`` [Hz] as ``--exclude`` takes it: the shortest text (3 digits or more) whose nearest
+    measured frequency (of ``measured``) is ``f`` within `EXCLUDE_RTOL`."""
+    measured = np.asarray(measured, float)
+    for digits in range(3, 18):
+        text = f"{f:.{digits}g}"
+        v = float(text)
+        nearest = measured[np.argmin(np.abs(np.log(measured / v)))] if measured.size else f
+        if nearest == f and abs(v / f - 1) <= EXCLUDE_RTOL:
+            return text.replace("e+0", "e").replace("e+", "e").replace("e-0", "e-")
+    return repr(float(f))
+
+
+def left_out_options(kept, masked) -> list[tuple[str, str]]:
+    """The ``impedax fit`` options that leave out the ``masked`` frequencies [Hz] of a fit on
+    ``kept`` ones: ``--fmin``/``--fmax`` for the masked points at the ends of the band,
+    ``--exclude F,F`` for those inside it (`frequency_text`). Empty when nothing is masked."""
+    kept = np.sort(np.asarray(kept, float))
+    masked = np.sort(np.asarray(masked, float))
+    if not masked.size or not kept.size:
+        return []
+    lo, hi = kept[0], kept[-1]
+    options = []
+    below, above = masked[masked < lo], masked[masked > hi]
+    if below.size:
+        options.append(("--fmin", _between(below[-1], lo, lo_open=True, hi_open=False, near=lo)))
+    if above.size:
+        options.append(("--fmax", _between(hi, above[0], lo_open=False, hi_open=True, near=hi)))
+    inside = masked[(masked > lo) & (masked < hi)]
+    if inside.size:
+        measured = np.concatenate([kept, masked])
+        options.append(("--exclude", ",".join(frequency_text(f, measured) for f in inside)))
+    return options
+
+
 def bands_of_flags(freq_sorted, flag) -> tuple[tuple[float, float], ...]:
     """Flagged points (in frequency order) as bands (f_min, f_max) [Hz]: runs of them, joined
     across gaps narrower than `BAND_MERGE_DECADES`; the edges lie halfway in log f to the
@@ -896,7 +1079,11 @@ def kk_test(
     |Δ| > 3 s is bad; and the 9 points of any window where the mean of Δ' or of Δ'' exceeds
     4.5 s/3 are bad (slow drift). Bad points (single good gaps closed) form ``bad_bands``: runs,
     joined when less than `BAND_MERGE_DECADES` (0.05 decade) apart (the flags stay as they are),
-    edges halfway in log f to the good neighbours; ``valid`` is True when there are none. On 100
+    edges halfway in log f to the good neighbours; ``valid`` is True when there are none. The
+    window means leave out the points the point rule flags, and lone spikes over the point level
+    (`STRAY_PEAK_RATIO`) are left out of the chain's fit and every point judged against it again
+    (`SPIKE_ROUNDS`, `SPIKE_SHARE_MAX`; not with ``n_rc``): one point far off is a band of that
+    point, not of its neighbours (docs/kk.md, "The validity rule", 5). On 100
     synthetic spectra per case at 0.5 % and 2 % noise (RC, R-CPE, Randles, two arcs, finger EDL)
     none was flagged. Override with ``thresholds={"point", "run", "run_length", "window_mean",
     "window", "noise_floor"}``.
@@ -1014,11 +1201,30 @@ def _run(freq, z, shape, dims, coords, *, c, max_rc, n_rc, inductance, capacitan
     # own is judged as strictly as before, not excused by its own coarseness
     chain_floor = chain_error(freq, reference_rc(freq, n_series), bool(inductance), bool(capacitance))
     floor = max(rules["noise_floor"], chain_floor)
+    dense = freq.size > {**DEFAULT_THRESHOLDS, **(thresholds or {})}["reference_points"]
+    chain_floor_share = rules["noise_floor"] * (DENSE_CHAIN_FLOOR_SHARE if dense else 1.0)  # (the floor of `_chosen_chains`)
     results = []
     for zi, (m, mu, reached, taus, coef, z_kk) in zip(flat, chosen):
         residual = (zi - z_kk) / np.abs(zi)
         noise = residual_noise(residual.real, residual.imag, order, coef.size)
         scale = max(noise, floor) if math.isfinite(noise) else floor
+        # stray points far off pull the least-squares chain toward them and their neighbours off
+        # it: the chain (M chosen again: such a point also loosens the χ² bound) is fitted without
+        # them, every point judged against it (`SPIKE_SHARE_MAX`, `SPIKE_ROUNDS`)
+        left_out = np.zeros(freq.size, bool)
+        for _ in range(SPIKE_ROUNDS):
+            size = np.hypot(residual.real, residual.imag)
+            stray = (size > rules["point"] * scale) & ~left_out & _peaks(size, order)
+            if n_rc is not None or not stray.any() or np.count_nonzero(left_out | stray) > SPIKE_SHARE_MAX * freq.size or (
+                    max_rc is not None and max_rc > np.count_nonzero(~(left_out | stray)) - n_series):
+                break
+            left_out |= stray
+            (m, mu, reached, taus, coef, _), = _kk_arrays(freq[~left_out], zi[None, ~left_out], c=_mu_limit(c), max_rc=max_rc, n_rc=n_rc, inductance=bool(inductance),
+                                                          capacitance=bool(capacitance), floor=chain_floor_share)
+            z_kk = _evaluate(2 * np.pi * freq, taus, coef, bool(inductance), bool(capacitance))
+            residual = (zi - z_kk) / np.abs(zi)
+            noise = residual_noise(residual.real, residual.imag, order, coef.size)
+            scale = max(noise, floor) if math.isfinite(noise) else floor
         flagged, bands = _bad_bands(freq, residual.real, residual.imag, order, scale, rules)
         results.append(
             KKResult(

@@ -54,12 +54,12 @@ from typing import Callable, Mapping, NamedTuple, Sequence
 import numpy as np
 import xarray as xr
 
-from ...arguments import EXCLUDE_RTOL, MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice, count, flag, frequency, instance_of, noise_fraction, parameter_bounds, parameter_values, seed as seed_rule
+from ...arguments import MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice, count, flag, frequency, instance_of, noise_fraction, parameter_bounds, parameter_values, seed as seed_rule
 from ...circuits import Circuit, DEFAULT_REGISTRY, Element, Parallel, Registry, Series, parse
 from ...data import concise_repr, counted, format_quantity, make_spectrum
 from ...errors import DataError, FitError, ImpedaxError, ParameterError
 from ..drt import PeakEvidence, drt, is_resolved, r_cpe_tau, unexplained_peaks
-from ..kk import CONCLUSIVE_POINTS_MIN, KKResult, kk_test
+from ..kk import CONCLUSIVE_POINTS_MIN, KKResult, frequency_text, kk_test, left_out_options  # (frequency_text, left_out_options: here before 2026-12-02)
 from ..least_squares import BatchFitResult, FitResult, fit
 from ..least_squares.result import RESIDUAL_LONG_NAME
 from ..least_squares.branches import is_idle_note, parallel_branches
@@ -1760,30 +1760,6 @@ def _lead_behind(base: FitResult, cands: Sequence[Suggestion], proposals: list[t
     return [p for p, _ in kept], [f for _, f in kept], shape
 
 
-def _between(lo: float, hi: float, *, lo_open: bool, hi_open: bool, near: float) -> str:
-    """The shortest text of a number in the interval from ``lo`` to ``hi`` (each end open or
-    closed), rounded from ``near``."""
-    for digits in range(1, 18):
-        text = f"{near:.{digits}g}"
-        v = float(text)
-        if (v > lo if lo_open else v >= lo) and (v < hi if hi_open else v <= hi):
-            return text.replace("e+0", "e").replace("e+", "e").replace("e-0", "e-")
-    return repr(float(near))
-
-
-def frequency_text(f: float, measured) -> str:
-    """``f`` [Hz] as ``--exclude`` takes it: the shortest text (3 digits or more) whose nearest
-    measured frequency (of ``measured``) is ``f`` within `EXCLUDE_RTOL`."""
-    measured = np.asarray(measured, float)
-    for digits in range(3, 18):
-        text = f"{f:.{digits}g}"
-        v = float(text)
-        nearest = measured[np.argmin(np.abs(np.log(measured / v)))] if measured.size else f
-        if nearest == f and abs(v / f - 1) <= EXCLUDE_RTOL:
-            return text.replace("e+0", "e").replace("e+", "e").replace("e-0", "e-")
-    return repr(float(f))
-
-
 def verdict_scope_words(judged, left_out, not_passive=()) -> str:
     """Where a verdict was judged, when points were left out of it: `` on 2.53 kHz – 200 kHz (20
     of 72 points; the other 52 left out as not Kramers–Kronig consistent)``; empty when none
@@ -1800,28 +1776,6 @@ def verdict_scope_words(judged, left_out, not_passive=()) -> str:
     why_text = f"left out {given[0][0]}" if len(given) == 1 else "left out: " + ", ".join(f"{n} {why}" for why, n in given)
     return (f" on {format_frequency(float(judged.min()))} – {format_frequency(float(judged.max()))} ({judged.size} of {judged.size + len(left_out)} points; "
             f"the other {len(left_out)} {why_text})")
-
-
-def left_out_options(kept, masked) -> list[tuple[str, str]]:
-    """The ``impedax fit`` options that leave out the ``masked`` frequencies [Hz] of a fit on
-    ``kept`` ones: ``--fmin``/``--fmax`` for the masked points at the ends of the band,
-    ``--exclude F,F`` for those inside it (`frequency_text`). Empty when nothing is masked."""
-    kept = np.sort(np.asarray(kept, float))
-    masked = np.sort(np.asarray(masked, float))
-    if not masked.size or not kept.size:
-        return []
-    lo, hi = kept[0], kept[-1]
-    options = []
-    below, above = masked[masked < lo], masked[masked > hi]
-    if below.size:
-        options.append(("--fmin", _between(below[-1], lo, lo_open=True, hi_open=False, near=lo)))
-    if above.size:
-        options.append(("--fmax", _between(hi, above[0], lo_open=False, hi_open=True, near=hi)))
-    inside = masked[(masked > lo) & (masked < hi)]
-    if inside.size:
-        measured = np.concatenate([kept, masked])
-        options.append(("--exclude", ",".join(frequency_text(f, measured) for f in inside)))
-    return options
 
 
 def left_out_words(options) -> str:
