@@ -201,3 +201,7 @@ def test_refinement_report_and_json_say_where_the_verdict_was_judged():
     # nothing left out: the line is as it was
     whole = Refinement((RefinementStep(fit, None, None, judged),), "adequate")
     assert "verdict: ADEQUATE — the residuals are noise" in whole.report() and whole.summary()["n_points_left_out"] == 0
+    # the refinement figure's title says it too (it read "(adequate)" alone)
+    from impedax.plotting.diagnosis import _verdict_where
+
+    assert _verdict_where(r) == "adequate on 2.5 kHz – 200 kHz, 20 of 72 points" and _verdict_where(whole) == "adequate"

@@ -174,9 +174,21 @@ def plot_refinement(refinement, *, title: str | None = None):
     fig.axes[-1].set_xlabel("frequency [Hz]")
     nyquist = fig.add_subplot(grid[0, :] if across else left[0])
     _refinement_nyquist(nyquist, refinement, characters_across((width if across else width * ratios[0] / sum(ratios)) - 1.0, font_size("legend", 8)))
-    fig.suptitle(title or wrap_model(f"refinement: {refinement.steps[0].model} → {refinement.final_model} ({refinement.verdict})", characters_across(width - 0.4, font_size("suptitle", 12))))
+    fig.suptitle(title or wrap_model(f"refinement: {refinement.steps[0].model} → {refinement.final_model} ({_verdict_where(refinement)})", characters_across(width - 0.4, font_size("suptitle", 12))))
     legends_off_data(fig)
     return fig
+
+
+def _verdict_where(refinement) -> str:
+    """The verdict, and where it was judged when points were left out (the report's
+    `Refinement.verdict_scope`, short): ``adequate on 2.53 kHz – 200 kHz, 20 of 72 points``."""
+    if not refinement.masked_points:
+        return str(refinement.verdict)
+    from ..data import format_frequency
+
+    lo, hi = refinement.verdict_band
+    n = refinement.final.frequency.size
+    return f"{refinement.verdict} on {format_frequency(lo)} – {format_frequency(hi)}, {n} of {n + len(refinement.masked_points)} points"
 
 
 def _refinement_nyquist(ax, refinement, legend_chars: int) -> None:
