@@ -264,3 +264,19 @@ def test_a_double_prime_written_as_a_quote_names_the_imaginary_part(tmp_path, he
     path = tmp_path / "double_prime.csv"
     path.write_text(header + "\n" + "".join(f"{a:.10g}{delimiter}{b.real / scale:.10g}{delimiter}{sign * b.imag / scale:.10g}\n" for a, b in zip(f, z)))
     np.testing.assert_allclose(ix.load(path)["Z"].values, z, rtol=1e-9)  # (the quote had been stripped: 'Z' read as |Z|, the file refused)
+
+
+def test_inspect_ends_with_the_next_commands_and_they_run(capsys):
+    """A beginner's walkthrough: `inspect` suggested no next command. It ends with the `kk` and
+    `drt` commands of the same file and selection, and both run as written (REAL ZPlot file)."""
+    import shlex
+
+    path = str(Path(__file__).parent / "fixtures" / "real" / "exampleDataZPlot.z")
+    assert main(["inspect", path]) == 0
+    last = capsys.readouterr().out.strip().splitlines()[-1]
+    assert last.startswith(f"next: impedax kk {path} (")
+    for command in re.findall(r"impedax (\w+ [^(]+?) \(", last):
+        words = shlex.split(command)
+        assert words[0] in ("kk", "drt") and main(words) == 0
+    out = capsys.readouterr().out
+    assert "verdict: valid" in out and "starting circuit from the DRT" in out

@@ -120,6 +120,11 @@ def run(args) -> int:
             print(f"  {key}: {str(value).splitlines()[0] if str(value) else ''}")
     if summary["sign_hint"]:
         print(f"  hint: {summary['sign_hint']}")
+    if not kind and args.file != "-":
+        import shlex
+
+        name = shlex.quote(str(args.file)) + "".join(f" --select {shlex.quote(str(s))}" for s in args.select or ())
+        print(f"next: impedax kk {name} (are the data themselves sound?), then impedax drt {name} (how many arcs; it ends with a starting circuit to fit)")
     return 0
 
 
