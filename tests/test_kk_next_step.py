@@ -122,3 +122,16 @@ def test_a_valid_spectrum_has_no_next_step():
     result = ix.kk_test((FREQ, rc_spectrum()))
     assert result.suggested_options == [] and result.band_frequencies == () and "next:" not in result.report()
     assert result.summary()["suggested_options"] == [] and result.summary()["bad_band_frequencies_hz"] == []
+
+
+def test_the_report_says_what_m_mu_and_rms_rel_are():
+    """A beginner met "M = 9 RC elements, µ = 0.745" and the chain's rms_rel unexplained: the
+    report says what the chain is, what µ < c means, and what its rms_rel stands for (REAL ZPlot
+    file, impedance.py's example data)."""
+    import os
+
+    result = ix.kk_test(ix.load(os.path.join(os.path.dirname(__file__), "fixtures", "real", "exampleDataZPlot.z")))
+    lines = result.report().splitlines()
+    assert lines[0].startswith(f"linear KK test: M = {result.n_rc} RC elements, µ = {result.mu:.3f} (µ < c = {result.c:g}: few negative R")
+    assert "a chain of M R‖C in series" in lines[1] and "Schönleber et al. 2014" in lines[1]
+    assert lines[2].startswith(f"rms_rel = {result.rms_rel * 100:.3g} % (the chain's misfit relative to |Z|")

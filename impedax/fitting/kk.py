@@ -369,9 +369,12 @@ class KKResult:
             # (docs/kk.md, "Choosing M": no M from M_fit up had µ < c and fitted the data)
             f" (no M tried had µ < c={self.c:g} while fitting the data; M = M_fit, the smallest M that fits them, is used)"
         )
+        # (what M, µ and rms_rel are, in a few words: a beginner's walkthrough met them unexplained)
+        mu_words = f" (µ < c = {self.c:g}: few negative R in the chain, so it follows the data, not their noise)" if self.mu_reached and not self.n_rc_given else ""
         lines = [
-            f"linear KK test: M = {self.n_rc} RC elements, µ = {self.mu:.3f}{mu_note}",
-            f"rms_rel = {self.rms_rel * 100:.3g} %, noise estimate = {self.noise_estimate * 100:.3g} %",
+            f"linear KK test: M = {self.n_rc} RC elements, µ = {self.mu:.3f}{mu_note}{mu_words}",
+            f"  (a chain of M R‖C in series, which is Kramers–Kronig consistent by construction, fitted to the data: Schönleber et al. 2014; docs/kk.md)",
+            f"rms_rel = {self.rms_rel * 100:.3g} % (the chain's misfit relative to |Z|: about what a sound model can reach), noise estimate = {self.noise_estimate * 100:.3g} %",
             f"verdict: {verdict}",
         ]
         if self.sparse_note:
