@@ -119,6 +119,7 @@ def run(args) -> int:
     from pathlib import Path
 
     from .. import FitResult, fit, parse
+    from ..fitting.least_squares.result import misfit_hint
     from ..errors import ParameterError
     from .common import check_parameter_names, checked_bound_options, command_line_words, command_provenance, data_source, exclude_points, figure_options, figure_writer, latex_writer, load_selected, note_skipped_rows, note_unused_sigma, parse_assignments, parse_bounds, plan_outputs, print_result, progress_printer, result_writer, skipped_rows, WithSummaryKeys, LATEX_SUFFIX
 
@@ -154,12 +155,19 @@ def run(args) -> int:
         progress.close()
     source = data_source(data)
     record = command_provenance(args, source=source, data_files=[args.data])
-    read = WithSummaryKeys(result, {"skipped_rows": skipped_rows(data)})  # (the JSON's, as inspect --json's: added 2026-12-01)
+    # (hints added 2026-12-02: a single fit's misfit that looks small and is many times what the data allow, `misfit_hint`)
+    hint = misfit_hint(result) if isinstance(result, FitResult) else None
+    read = WithSummaryKeys(result, {"skipped_rows": skipped_rows(data), **({"hints": [hint] if hint else []} if isinstance(result, FitResult) else {})})  # (the JSON's, as inspect --json's: added 2026-12-01)
     outputs.save({"--out": latex_writer(result) if latex else result_writer(read, source, record), "--plot": figure_writer(result.plot if plot_params is None else lambda: result.plot(params=plot_params), source, **figure_options(args))})
     if not outputs.uses_stdout:
         print_result(read, args.json, source, record, command="fit")  # (a batch's report groups its warnings by kind, naming the spectra)
         if not args.json:
             note_skipped_rows(data, "fit", args.data)
+            if hint:
+                import shlex
+
+                picks = "".join(f" --select {shlex.quote(str(s))}" for s in args.select or ())
+                print(f"hint: {hint}: impedax diagnose {shlex.quote(str(args.data))}{picks} --model {shlex.quote(args.model)}")
     if isinstance(result, FitResult) and not result.converged:  # (the report's status line says it; stderr too, as with --json)
         print(f"impedax fit: warning: the fit did not converge: {command_line_words(result.message, 'fit')}", file=sys.stderr)
     return 0

@@ -25,7 +25,7 @@ from .starts import attainable_misfit, inward_start, rms_rel_of, well_inside
 
 __all__ = [
     "FitResult", "fit_result", "fit_notes", "parameter_groups", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes",
-    "misfit_notes", "uneven_residual_notes", "sigma_scale_notes", "chi2_red_range", "SIGMA_SCALE_FACTOR", "residual_band_rms", "UNEVEN_BAND_POINTS", "UNEVEN_RESIDUAL_RATIO", "UNEVEN_NOISE_NOTE", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "within_stated_noise", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
+    "misfit_notes", "uneven_residual_notes", "sigma_scale_notes", "chi2_red_range", "SIGMA_SCALE_FACTOR", "residual_band_rms", "UNEVEN_BAND_POINTS", "UNEVEN_RESIDUAL_RATIO", "UNEVEN_NOISE_NOTE", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "within_stated_noise", "misfit_hint", "MISFIT_HINT_FROM", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
     "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "without_error", "near_bound_notes", "resistor_like_notes", "STDERR_NOTE", "LINEARISED_STDERR_NAME", "data_difference", "stored_bounds", "user_bounds",
     "embedded_fit", "fit_from_embedded", "bounds_attr", "unidentified_group_note", "FIT_STATISTICS",
 ]
@@ -1074,6 +1074,29 @@ def within_stated_noise(z, z_model, sigma, weighting: str | None, n_free: int | 
         dz = np.atleast_2d(z_model) - z
         chi2_red = np.sum((dz.real**2 + dz.imag**2) / np.atleast_2d(np.asarray(sigma, float)) ** 2, axis=-1) / dof
     return np.isfinite(chi2_red) & (chi2_red <= chi2_red_range(dof)[1])
+
+
+# a single fit under |Z| weighting below `MISFIT_CHECKED_FROM` gets a hint (not a warning: a
+# batch, which pays the Kramers–Kronig fit per spectrum, checks no fit below it, and a spectrum's
+# warnings are the same alone and in a batch) from this rms_rel on: below it the misfit is at
+# most ~2–3× a good instrument's noise
+MISFIT_HINT_FROM = 0.002
+
+
+def misfit_hint(fit) -> str | None:
+    """A hint for a single fit weighted by |Z| whose rms_rel lies between `MISFIT_HINT_FROM` and
+    `MISFIT_CHECKED_FROM` (where `misfit_notes` begins) and is above `MISFIT_RATIO_MAX` × what
+    the Kramers–Kronig test's Voigt chain reaches (`starts.attainable_misfit`, ~0.5 ms): the
+    model misses structure the data hold though its misfit looks small (REAL ZPlot file,
+    `R0 + R1 || CPE1`: 1.35 % against the chain's 0.137 %, a lead inductance missing; a
+    beginner's walkthrough kept its values). None otherwise."""
+    if fit.weighting != "modulus" or not MISFIT_HINT_FROM <= fit.rms_rel < MISFIT_CHECKED_FROM:
+        return None
+    chain = float(attainable_misfit(fit.frequency, np.asarray(fit.z_data)[None])[0])
+    if not chain > 0 or fit.rms_rel <= MISFIT_RATIO_MAX * chain:
+        return None
+    return (f"rms_rel {fit.rms_rel * 100:.3g} % is {fit.rms_rel / chain:.3g}× the {chain * 100:.3g} % a Kramers–Kronig-consistent model reaches: "
+            "the model misses structure the data hold, small as the misfit looks (a diagnosis shows where and what)")
 
 
 def gross_misfits(freq, z, z_model, known: dict[int, float] | None = None, *, sigma=None, weighting: str | None = None, n_free: int | None = None) -> np.ndarray:
