@@ -96,7 +96,7 @@ def refinement_stand_in() -> SimpleNamespace:
         SimpleNamespace(fit=final, effect="extra_relaxation", removed=(), change="+ R2 || C2 [extra_relaxation]", model="R0 + R1 || C1 + R2 || C2",
                         diagnosis=SimpleNamespace(failing_bands=[], noise_level=1e-3, baseline=final, noise_ratio=0.5)),
     ]
-    return SimpleNamespace(steps=steps, final_model=steps[-1].model, verdict="adequate")
+    return SimpleNamespace(steps=steps, final_model=steps[-1].model, verdict="adequate", masked_points=())
 
 
 def test_refinement_figure_plain_percent_ticks_named_shading_and_start():
@@ -173,7 +173,7 @@ def test_refinement_figure_marks_the_points_every_step_left_out():
 def test_refinement_figure_of_a_steep_spectrum_puts_its_nyquist_panel_above_the_error():
     z = 0.1 + 1.0 / (1j * 2 * np.pi * F * 1e-3) ** 0.9  # a blocking electrode: a near-vertical line
     steps = [SimpleNamespace(fit=fit("R0 + C1", z * 1.05, z), effect=None, removed=(), change="(start)", model="R0 + C1", diagnosis=None)]
-    fig = plot_refinement(SimpleNamespace(steps=steps, final_model="R0 + C1", verdict="missing_effect"))
+    fig = plot_refinement(SimpleNamespace(steps=steps, final_model="R0 + C1", verdict="missing_effect", masked_points=()))
     nyquist, error = fig.axes[-1], fig.axes[0]
     assert [line.get_label() for line in nyquist.get_lines()] == ["data", "start: R0 + C1 (3.54 %)"]  # 5 %/√2
     fig.canvas.draw()
@@ -646,7 +646,7 @@ def test_refinement_nyquist_is_scaled_to_the_data_and_the_last_model_not_a_start
         SimpleNamespace(fit=fit("C1", capacitor, arc), effect=None, removed=(), change="(start)", model="C1", diagnosis=None),
         SimpleNamespace(fit=fit("R1 || C1", arc * 1.001, arc), effect="parallel_resistance", removed=(), change="+ R1", model="R1 || C1", diagnosis=None),
     ]
-    fig = plot_refinement(SimpleNamespace(steps=steps, final_model="R1 || C1", verdict="adequate"))
+    fig = plot_refinement(SimpleNamespace(steps=steps, final_model="R1 || C1", verdict="adequate", masked_points=()))
     nyquist = fig.axes[-1]
     fig.canvas.draw()
     x0, x1 = nyquist.get_xlim()
