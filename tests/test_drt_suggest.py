@@ -106,3 +106,21 @@ def test_the_other_parts(name, z_true, model):
     assert suggestion.model == model, name
     assert set(suggestion.init) == set(ix.parse(model).parameter_names())
     assert all(value > 0 for value in suggestion.init.values())
+
+
+def test_the_fit_command_keeps_the_band_the_drt_was_taken_on(capsys):
+    """`impedax drt FILE --fmin 5000`: the suggestion's starts come from the DRT of the points
+    above 5 kHz, so its `impedax fit` command leaves out the same points (it had dropped
+    --fmin/--fmax/--exclude), and runs as written (REAL ZPlot file, impedance.py, MIT)."""
+    import os
+    import shlex
+
+    from impedax.cli import main
+
+    path = os.path.join(os.path.dirname(__file__), "fixtures", "real", "exampleDataZPlot.z")
+    assert main(["drt", path, "--fmin", "5000", "--quiet"]) == 0
+    command = capsys.readouterr().out.strip().splitlines()[-1].split("fit it with: ")[1]
+    words = shlex.split(command)
+    assert words[:3] == ["impedax", "fit", path] and words[words.index("--fmin") + 1] == "5000.0"
+    assert main(words[1:] + ["--json", "--quiet"]) == 0
+    assert json.loads(capsys.readouterr().out)["n_points"] == int(np.sum(ix.load(path)["frequency"].values >= 5000))

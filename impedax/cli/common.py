@@ -229,7 +229,7 @@ def run_options(args=None, *, kept=None, masked=(), data=None) -> list[tuple[str
     band = {"--fmin": getattr(args, "fmin", None), "--fmax": getattr(args, "fmax", None)}
     excluded = [getattr(args, "exclude", None)] if getattr(args, "exclude", None) else []
     if kept is not None and len(masked):
-        from ..fitting.diagnosis.diagnosis import left_out_options
+        from ..fitting.kk import left_out_options
 
         for flag, value in left_out_options(kept, masked):
             if flag == "--exclude":

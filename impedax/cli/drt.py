@@ -91,24 +91,24 @@ def run(args) -> int:
         emit_json(with_source(read.summary(), source, record))
     else:
         print(result.report())
-        print(_suggestion_line(result, args.data, args.select))
+        print(_suggestion_line(result, args, data))
         note_skipped_rows(data, "drt", args.data)
     return 0
 
 
-def _suggestion_line(result, path: str, select=None) -> str:
+def _suggestion_line(result, args, data) -> str:
     """The report's last line: the starting circuit read off the DRT and the ``impedax fit``
-    command that fits it (`DRTResult.suggested_circuit`); for several spectra the circuit most
-    of them suggest, with the starts of the first of those (`suggest.most_common_suggestion`)."""
-    import shlex
-
+    command that fits it (`DRTResult.suggested_circuit`) to the points the DRT took (the run's
+    --select, --fmin/--fmax, --exclude and --plugin: `common.fit_command`); for several spectra
+    the circuit most of them suggest, with the starts of the first of those
+    (`suggest.most_common_suggestion`)."""
     from ..fitting.drt.suggest import most_common_suggestion
+    from .common import fit_command
 
     results = getattr(result, "results", (result,))
     suggestion, count = most_common_suggestion(results)
     share = "" if len(results) == 1 else f" (the one {count} of {len(results)} spectra suggest, starts from the first of them)"
-    data = " ".join([shlex.quote(path)] + [f"--select {shlex.quote(item)}" for item in select or ()])
-    return f"starting circuit from the DRT{share}: {suggestion.model} — fit it with: {suggestion.fit_command(data)}"
+    return f"starting circuit from the DRT{share}: {suggestion.model} — fit it with: {fit_command(args, data=data)} {suggestion.fit_options()}"
 
 
 def _save(result, path, source: str | None = None, provenance=None) -> None:

@@ -166,8 +166,9 @@ def run(args) -> int:
             if hint:
                 import shlex
 
-                picks = "".join(f" --select {shlex.quote(str(s))}" for s in args.select or ())
-                print(f"hint: {hint}: impedax diagnose {shlex.quote(str(args.data))}{picks} --model {shlex.quote(args.model)}")
+                from .common import fit_command
+
+                print(f"hint: {hint}: {fit_command(args, data=data, program='impedax diagnose')} --model {shlex.quote(args.model)}")
     if isinstance(result, FitResult) and not result.converged:  # (the report's status line says it; stderr too, as with --json)
         print(f"impedax fit: warning: the fit did not converge: {command_line_words(result.message, 'fit')}", file=sys.stderr)
     return 0

@@ -121,10 +121,13 @@ def run(args) -> int:
     if summary["sign_hint"]:
         print(f"  hint: {summary['sign_hint']}")
     if not kind and args.file != "-":
-        import shlex
+        import argparse
 
-        name = shlex.quote(str(args.file)) + "".join(f" --select {shlex.quote(str(s))}" for s in args.select or ())
-        print(f"next: impedax kk {name} (are the data themselves sound?), then impedax drt {name} (how many arcs; it ends with a starting circuit to fit)")
+        from .common import fit_command
+
+        run = argparse.Namespace(**{**vars(args), "data": args.file})  # (the file, --select and --plugin of this run)
+        kk, drt = (fit_command(run, data=ds, program=f"impedax {name}") for name in ("kk", "drt"))
+        print(f"next: {kk} (are the data themselves sound?), then {drt} (how many arcs; it ends with a starting circuit to fit)")
     return 0
 
 

@@ -373,7 +373,7 @@ class KKResult:
         mu_words = f" (µ < c = {self.c:g}: few negative R in the chain, so it follows the data, not their noise)" if self.mu_reached and not self.n_rc_given else ""
         lines = [
             f"linear KK test: M = {self.n_rc} RC elements, µ = {self.mu:.3f}{mu_note}{mu_words}",
-            f"  (a chain of M R‖C in series, which is Kramers–Kronig consistent by construction, fitted to the data: Schönleber et al. 2014; docs/kk.md)",
+            "  (a chain of M R‖C in series, which is Kramers–Kronig consistent by construction, fitted to the data: Schönleber et al. 2014; docs/kk.md)",
             f"rms_rel = {self.rms_rel * 100:.3g} % (the chain's misfit relative to |Z|: about what a sound model can reach), noise estimate = {self.noise_estimate * 100:.3g} %",
             f"verdict: {verdict}",
         ]

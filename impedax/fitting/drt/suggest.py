@@ -53,10 +53,14 @@ class SuggestedCircuit:
         """The R‖CPE arcs in ``model``."""
         return self.model.count("||")
 
+    def fit_options(self) -> str:
+        """The ``impedax fit`` options that fit ``model`` from ``init``: ``--model '…' --init …``."""
+        starts = " ".join(f"{name}={value:.4g}" for name, value in self.init.items())
+        return f"--model '{self.model}' --init {starts}"
+
     def fit_command(self, data: str = "FILE") -> str:
         """The ``impedax fit`` command line that fits ``model`` to ``data`` from ``init``."""
-        starts = " ".join(f"{name}={value:.4g}" for name, value in self.init.items())
-        return f"impedax fit {data} --model '{self.model}' --init {starts}"
+        return f"impedax fit {data} {self.fit_options()}"
 
 
 def suggest_circuit(result) -> SuggestedCircuit:
