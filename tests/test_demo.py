@@ -1,25 +1,57 @@
 """`make demo` in fast mode: every step runs, the files appear together, the story names the
-missing effect and the error falls, and the gap thickness is near the synthetic truth."""
+missing effect and the error falls, and the gap thickness is near the synthetic truth. The
+hierarchical `GapAnalysis` the demo samples also serves the gap's rendering tests (summary JSON,
+CSV, report, `impedax gap --json`), so the fast suite runs that sampler once."""
 
 import re
 
+import numpy as np
 import pytest
 
+import impedax as ix
 from impedax.cli import main
+from gap_files import saved_gap_files
+from test_models_gap import _cli_gap_json, _measurements
 
 U_TRUE_UM = 2.787  # C_gap = 413 pF, A = 130 mm² (docs/physics.md: ≈ 2.79 µm)
 
 
 @pytest.fixture(scope="module")
-def demo(tmp_path_factory):
+def demo_run(tmp_path_factory):
+    """`impedax demo --fast`, with the hierarchical `GapAnalysis` its step 4 made (recorded on its
+    way out of `gap_analysis`): (exit code, terminal text, output folder, analysis)."""
     out = tmp_path_factory.mktemp("demo")
     import contextlib
     import io
 
+    import impedax.models.gap as gap_module
+
+    made = []
+    analysed = gap_module.gap_analysis
+
+    def recorded(*args, **options):
+        made.append(analysed(*args, **options))
+        return made[-1]
+
     buffer = io.StringIO()
-    with contextlib.redirect_stdout(buffer):
+    with pytest.MonkeyPatch.context() as patch, contextlib.redirect_stdout(buffer):
+        patch.setattr(gap_module, "gap_analysis", recorded)
         code = main(["demo", "--out", str(out), "--fast"])
-    return code, buffer.getvalue(), out
+    assert len(made) == 1
+    return code, buffer.getvalue(), out, made[0]
+
+
+@pytest.fixture(scope="module")
+def demo(demo_run):
+    return demo_run[:3]
+
+
+@pytest.fixture(scope="module")
+def analysis(demo_run):
+    """The demo's hierarchical gap analysis (30 SYNTHETIC trials, the refined remainder model):
+    the sampled `GapAnalysis` the rendering tests below take, so that the fast suite compiles and
+    runs the hierarchical sampler once (test_models_gap.py's own 8-trial analysis is slow)."""
+    return demo_run[3]
 
 
 def test_demo_writes_everything(demo):
@@ -183,3 +215,114 @@ def test_demo_force_lines_give_both_intervals_and_the_gap_voltage(demo):
             expected = [bands[f"{prefix}{k}"].sel(branch=branch).values[i] * scale for k in ("median", "q05", "q95")]
             assert row == pytest.approx(expected, rel=5e-3) and row[1] <= row[0] <= row[2]
         assert printed[2:, 2].max() <= 75.0
+
+
+# --- the demo's hierarchical analysis, rendered as `impedax gap` renders it (JSON, CSV, report) --
+
+
+def test_hierarchical_reports_spread_and_new_trial(analysis):
+    """The default method: population median with its interval and a new trial's wider
+    interval (the spread the demo's trials were made with is checked in test_demo_gap_thickness)."""
+    assert analysis.method == "hierarchical"
+    s = analysis.summary()
+    pop, new = s["gap_um_population"], s["gap_um_new_trial"]
+    assert pop == s["gap_um"] and new["q05"] <= pop["q05"] and new["q95"] >= pop["q95"]
+    assert 0 < s["gap_um_spread"] < 0.15 * pop["value"]
+
+
+def test_naive_model_fails_and_edl_model_fits(analysis):
+    assert analysis.naive_fit.rms_rel > 5 * analysis.edl_fit.rms_rel
+
+
+def test_force_with_ep_is_lower_than_without_below_30_hz(analysis):
+    low = analysis.force["frequency"] < 30
+    with_ep = analysis.force.sel(branch="with_ep")["median"][low]
+    without = analysis.force.sel(branch="without_ep")["median"][low]
+    assert bool((with_ep < without).all())
+    # closed form of the no-EP force at the lowest frequency for the posterior median:
+    # F = ½ ε0 A |V_gap|²/u², V_gap = V0·Z_gap/(Z_skin + Z_TS + Z_gap)
+    s = analysis.summary()
+    assert s["convention"] == "peak" and len(s["force_n"]["median"]) == analysis.force.sizes["frequency"]
+
+
+def test_summary_json_contract(analysis):
+    s = analysis.summary()
+    for key in ("c_gap", "gap_um"):
+        assert set(s[key]) >= {"value", "q05", "q95"}
+    assert set(s["force_n"]) >= {"frequency_hz", "median", "q05", "q95"}
+    assert set(s["force_without_ep_n"]) >= {"frequency_hz", "median", "q05", "q95"}
+    np.testing.assert_array_equal(s["force_without_ep_n"]["frequency_hz"], s["force_n"]["frequency_hz"])
+    # the gap voltage on the force's frequencies, from the hierarchical draws too (added 2026-12-01)
+    for key in ("gap_voltage_v", "gap_voltage_without_ep_v"):
+        band = s[key]
+        np.testing.assert_array_equal(band["frequency_hz"], s["force_n"]["frequency_hz"])
+        assert np.all(band["q05"] <= band["median"]) and np.all(band["median"] <= band["q95"]) and 0 < np.max(band["q95"]) <= analysis.v0 * 1.5
+    assert isinstance(s["warnings"], list)
+    assert s["gap_um"]["value"] == pytest.approx(analysis.gap["value"] * 1e6)
+
+
+def test_cli_gap_json(tmp_path, capsys, monkeypatch, analysis):
+    """`impedax gap --json` passes its options on and renders the hierarchical analysis. The
+    analysis is the demo's (its sampling is tested above), so the CLI's own part runs without a
+    second sampling; the whole run from the command line is test_models_gap.py's
+    `test_cli_gap_json_end_to_end` (slow: ~2 min)."""
+    import impedax.models.gap as gap_module
+
+    asked = {}
+
+    def analysed(total, skin, touchscreen, **options):
+        asked.update(options)
+        return analysis
+
+    monkeypatch.setattr(gap_module, "gap_analysis", analysed)
+    _cli_gap_json(tmp_path, capsys, np.random.default_rng(11))
+    assert asked["area"] == pytest.approx(130e-6) and asked["steps"] == 200 and asked["method"] == "hierarchical"
+
+
+def test_gap_csv_names_the_unit_of_every_column(tmp_path, analysis):
+    """`gap --out FILE.csv`: one row per method, SI values with the unit in each column name
+    (the JSON's gap_um are the same u in µm)."""
+    import csv
+
+    path = tmp_path / "gap.csv"
+    ix.io.write_result(analysis, path)
+    with open(path, newline="") as handle:
+        rows = list(csv.DictReader(handle))
+    assert list(rows[0])[:10] == ["method", "c_gap_f", "c_gap_low_f", "c_gap_high_f", "u_m", "u_low_m", "u_high_m", "gap_identified", "u_lower_bound_m", "u_lower_bound_withheld"]
+    bayes, paper = rows[:2]
+    # then a row per EDL parameter, with its unit (added 2026-12-01)
+    parameters = {r["parameter"]: r for r in rows[2:]}
+    assert {r["method"] for r in rows[2:]} == {"bayes_parameter"} and parameters["u"]["unit"] == "m" and float(parameters["u"]["value"]) == float(bayes["u_m"])
+    assert (bayes["method"], paper["method"]) == ("bayes", "paper")
+    summary = analysis.summary()
+    for column, key in (("u_m", "value"), ("u_low_m", "q05"), ("u_high_m", "q95")):
+        assert float(bayes[column]) * 1e6 == pytest.approx(summary["gap_um"][key], rel=1e-12)
+    assert float(bayes["c_gap_f"]) == pytest.approx(summary["c_gap"]["value"], rel=1e-12)
+    assert float(paper["u_m"]) * 1e6 == pytest.approx(summary["paper_method"]["gap_um"], rel=1e-12)
+    assert [float(paper["u_low_m"]) * 1e6, float(paper["u_high_m"]) * 1e6] == pytest.approx(summary["paper_method"]["gap_bounds_um"], rel=1e-12)
+    assert paper["c_gap_low_f"] == "" and bayes["gap_identified"] == "true" and bayes["u_lower_bound_m"] == "" and bayes["u_lower_bound_withheld"] == ""
+    assert 1e-6 < float(bayes["u_m"]) < 1e-5  # metres: u = 2.79 µm
+
+
+def test_report_says_what_the_force_bands_condition_on(analysis):
+    assert "A taken as exact; skin and screen as their trial means, without their errors" in analysis.report()
+    assert analysis.summary()["force_conditions"].startswith("A taken as exact")
+    assert not any("piles up at the" in w for w in analysis.warnings)  # u = 2.79 µm is far from 1 nm and 1 mm
+
+
+@pytest.mark.parametrize("flag, expected", [([], True), (["--no-area-check"], False)])
+def test_cli_gap_passes_the_area_check_on(tmp_path, capsys, monkeypatch, analysis, flag, expected):
+    import impedax.models.gap as gap_module
+
+    asked = {}
+    monkeypatch.setattr(gap_module, "gap_analysis", lambda total, skin, touchscreen, **options: asked.update(options) or analysis)
+    paths = saved_gap_files(tmp_path, _measurements(np.random.default_rng(4), n_trials=3))
+    assert main(["gap", *paths, "--area", "130e-6", "--steps", "20", "--json", *flag]) == 0
+    assert asked["check_area"] is expected
+
+
+def test_no_area_warning_for_a_fingertip_area(analysis):
+    from impedax.models.gap import _fingertip_area_notes
+
+    assert _fingertip_area_notes(130e-6) == [] and _fingertip_area_notes(1e-6) == [] and len(_fingertip_area_notes(2e-2)) == 1
+    assert not any("fingertip" in w for w in analysis.warnings)
