@@ -132,6 +132,77 @@ def test_the_report_says_what_m_mu_and_rms_rel_are():
 
     result = ix.kk_test(ix.load(os.path.join(os.path.dirname(__file__), "fixtures", "real", "exampleDataZPlot.z")))
     lines = result.report().splitlines()
-    assert lines[0].startswith(f"linear KK test: M = {result.n_rc} RC elements, µ = {result.mu:.3f} (µ < c = {result.c:g}: few negative R")
+    r = result.resistances
+    assert result.mu > 2 * result.c - 1  # (µ just below c: the onset of negative R)
+    assert lines[0].startswith(f"linear KK test: M = {result.n_rc} RC elements, µ = {result.mu:.3f} (µ < c = {result.c:g}: negative R are starting to appear "
+                               f"({np.count_nonzero(r < 0)} of {r.size} R negative, Σ|R<0| = {-r[r < 0].sum() / r[r >= 0].sum() * 100:.0f} % of Σ R≥0)")
     assert "a chain of M R‖C in series" in lines[1] and "Schönleber et al. 2014" in lines[1]
-    assert lines[2].startswith(f"rms_rel = {result.rms_rel * 100:.3g} % (the chain's misfit relative to |Z|")
+    assert lines[2].startswith(f"rms_rel = {result.rms_rel * 100:.3g} % (the chain's misfit relative to |Z|: about what a sound model can reach")
+
+
+REAL = __import__("pathlib").Path(__file__).parent / "fixtures" / "real"
+
+
+def test_mu_far_below_c_is_read_as_many_negative_r():
+    """REAL exampleData.csv without the series C (walkthrough 77b): M = 32, µ = 0.038, 16 of 32
+    R_k negative; the report had said "few negative R ... follows the data, not their noise"."""
+    result = ix.kk_test(ix.load(REAL / "exampleData.csv"), capacitance=False)
+    r = result.resistances
+    negative, positive = -r[r < 0].sum(), r[r >= 0].sum()
+    assert result.mu == pytest.approx(1 - negative / positive, rel=1e-9) and result.mu < 0.2  # Schönleber 2014 eq 21
+    first = result.report().splitlines()[0]
+    assert f"(µ far below c = 0.85: many negative R ({np.count_nonzero(r < 0)} of {r.size} R negative, Σ|R<0| = {negative / positive * 100:.0f} % of Σ R≥0)" in first
+    assert "the chain may follow the noise at this M" in first and "not yet their noise" not in first and "few negative" not in first
+
+
+@pytest.mark.parametrize("resistances, words", [
+    ([60.0, 40.0, -20.0], "µ < c = 0.85: negative R are starting to appear (1 of 3 R negative, Σ|R<0| = 20 % of Σ R≥0), Schönleber's sign"),  # µ = 0.80
+    ([60.0, 40.0, -29.0], "µ < c = 0.85: negative R are starting to appear (1 of 3 R negative, Σ|R<0| = 29 % of Σ R≥0)"),  # µ = 0.71
+    ([60.0, 40.0, -31.0], "µ far below c = 0.85: many negative R (1 of 3 R negative, Σ|R<0| = 31 % of Σ R≥0): the chain may follow the noise"),  # µ = 0.69
+])
+def test_the_mu_words_follow_the_negative_share(resistances, words):
+    """Hand numbers on a SYNTHETIC result: µ = 1 − 20/100 just below c reads as the onset; past
+    twice the 1 − c = 15 % the cut-off allows (µ ≤ 0.7) as a chain that may follow the noise."""
+    clean = ix.kk_test((FREQ, rc_spectrum()))
+    r = np.array(resistances)
+    mu = 1 - (-r[r < 0].sum()) / r[r >= 0].sum()
+    result = dataclasses.replace(clean, resistances=r, mu=mu, mu_reached=True)
+    assert words in result.report().splitlines()[0]
+    fixed = dataclasses.replace(result, n_rc_given=True).report().splitlines()[0]
+    assert "Choosing M" not in fixed and ("Schönleber's sign" not in fixed)
+
+
+def test_a_near_c_synthetic_chain_reads_as_the_onset():
+    """SYNTHETIC 100 Ω + 1 kΩ‖1 ms, 61 points from 100 kHz to 0.1 Hz, 0.5 % noise, seed 1: the
+    chain's µ lies just below c (0.82 when written), and the report says negative R are starting."""
+    rng = np.random.default_rng(1)
+    freq = np.logspace(-1, 5, 61)
+    z = (100 + 1000 / (1 + 1j * 2 * np.pi * freq * 1e-3)) * (1 + 0.005 * (rng.standard_normal(freq.size) + 1j * rng.standard_normal(freq.size)))
+    result = ix.kk_test((freq, z))
+    r = result.resistances
+    share = -r[r < 0].sum() / r[r >= 0].sum()
+    assert result.valid and result.mu < 0.85 and share < 2 * 0.15
+    assert f"negative R are starting to appear ({np.count_nonzero(r < 0)} of {r.size} R negative, Σ|R<0| = {share * 100:.0f} % of Σ R≥0)" in result.report()
+
+
+def test_the_report_names_the_stray_points_left_out_of_the_chain():
+    """A point 20 % off (SYNTHETIC, `one_corrupted`) is left out of the chain's fit: the report
+    and the JSON (``stray_points_hz``) name it; a clean spectrum has none."""
+    result = ix.kk_test((FREQ, one_corrupted()))
+    np.testing.assert_array_equal(result.stray_frequencies, [FREQ[BAD]])
+    assert json.loads(json.dumps(result.summary(), default=list))["stray_points_hz"] == [FREQ[BAD]]
+    assert f"left out of the chain's fit as stray (lone spikes over the point level): {format_frequency(FREQ[BAD])};" in result.report()
+    clean = ix.kk_test((FREQ, rc_spectrum()))
+    assert clean.stray_frequencies.size == 0 and "left out of the chain's fit" not in clean.report()
+
+
+def test_gamrys_report_names_its_left_out_point_and_does_not_praise_its_misfit():
+    """REAL Gamry file (walkthrough 77b): the lowest frequency is left out of the chain's fit,
+    and rms_rel = 5.21 % stood next to "NOT valid" as "about what a sound model can reach"."""
+    data = ix.load(REAL / "exampleDataGamry.DTA")
+    result = ix.kk_test(data)
+    lowest = float(data.frequency.min())
+    assert not result.valid and list(result.stray_frequencies) == [lowest]
+    text = result.report()
+    assert f"left out of the chain's fit as stray (lone spikes over the point level): {format_frequency(lowest)};" in text
+    assert "sound model can reach" not in text and "failing points included: no circuit is expected to fit closer" in text

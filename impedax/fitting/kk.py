@@ -82,7 +82,8 @@ _JSON_KEYS = {
 }
 # (added 2026-12-02) per band its flagged measured frequencies, the options that leave the
 # failing points out, and whether only marginal isolated points are left
-_JSON_KEYS_ADDED = {"bad_band_frequencies_hz": "band_frequencies", "suggested_options": "suggested_options", "marginal_points_only": "marginal_points_only"}
+_JSON_KEYS_ADDED = {"bad_band_frequencies_hz": "band_frequencies", "suggested_options": "suggested_options", "marginal_points_only": "marginal_points_only",
+                    "stray_points_hz": "stray_frequencies"}
 # added keys (never renamed): the method, units in the name (``_hz``; ``_rel`` = a fraction of |Z|)
 # and the rules that flagged each band with their levels (`KKResult.summary`)
 
@@ -98,6 +99,14 @@ level) is marginal: when every bad band is one such point, the report says to st
 out (`KKResult.marginal_points_only`). On BioLogic's REAL file the points flagged after the first
 round of exclusions were at 5.03 s, each exclusion letting the chain refit and another point of
 the scatter's tail cross 5 s (docs/kk.md, "When to stop")."""
+
+NEGATIVE_SHARE_FAR = 2.0
+"""µ is far below c when the negative resistances' share Σ|R_k<0|/Σ|R_k≥0| = 1 − µ is at least
+this many times the 1 − c the cut-off allows (µ ≤ 0.7 for c = 0.85): the chain has gone well past
+the onset of negative R where Schönleber's rule stops (a reading of µ, no paper value). REAL
+exampleData.csv without the series C: M = 32, µ = 0.038, 16 of 32 R negative; SYNTHETIC
+100 Ω + 1 kΩ‖1 ms at 0.5 % noise, 61 points, seeds 0–4: µ 0.52–0.82 at M = 18–20, all valid
+(impedax's M is the first with µ < c that fits the data, docs/kk.md "Choosing M"; `KKResult.mu_words`)."""
 
 RULE_NAMES = ("point", "run", "window")
 """The validity rules (`kk_test`), as `KKResult.band_rules` names them."""
@@ -141,6 +150,9 @@ class KKResult:
     chain_error: float = 0.0
     sign_hint: str | None = None  # `io.sign_check.sign_hint`: Z'' may be stored with the opposite sign
     n_rc_given: bool = False  # M was fixed by ``n_rc=`` (not chosen by the µ rule)
+    # (added 2026-12-02) the measured frequencies [Hz] of the stray points left out of the chain's
+    # fit, ascending (`kk_test`; docs/kk.md, "Stray points"); they are judged like the others
+    stray_frequencies: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     def predict(self, freq) -> np.ndarray:
         """The KK fit's impedance [Ω] at ``freq`` [Hz]: R_0 + jωL + (1/C)/(jω) + Σ R_k/(1 +
@@ -370,13 +382,18 @@ class KKResult:
             f" (no M tried had µ < c={self.c:g} while fitting the data; M = M_fit, the smallest M that fits them, is used)"
         )
         # (what M, µ and rms_rel are, in a few words: a beginner's walkthrough met them unexplained)
-        mu_words = f" (µ < c = {self.c:g}: few negative R in the chain, so it follows the data, not their noise)" if self.mu_reached and not self.n_rc_given else ""
+        misfit_words = ("about what a sound model can reach" if self.valid else
+                        # (next to "NOT valid" the figure is no promise: it holds the failing points' misfit)
+                        "failing points included: no circuit is expected to fit closer, and reaching it would not make the data sound")
         lines = [
-            f"linear KK test: M = {self.n_rc} RC elements, µ = {self.mu:.3f}{mu_note}{mu_words}",
+            f"linear KK test: M = {self.n_rc} RC elements, µ = {self.mu:.3f}{mu_note}{self.mu_words}",
             "  (a chain of M R‖C in series, which is Kramers–Kronig consistent by construction, fitted to the data: Schönleber et al. 2014; docs/kk.md)",
-            f"rms_rel = {self.rms_rel * 100:.3g} % (the chain's misfit relative to |Z|: about what a sound model can reach), noise estimate = {self.noise_estimate * 100:.3g} %",
+            f"rms_rel = {self.rms_rel * 100:.3g} % (the chain's misfit relative to |Z|: {misfit_words}), noise estimate = {self.noise_estimate * 100:.3g} %",
             f"verdict: {verdict}",
         ]
+        if self.stray_frequencies.size:
+            where = ", ".join(format_frequency(float(f)) for f in self.stray_frequencies)
+            lines.append(f"left out of the chain's fit as stray (lone spikes over the point level): {where}; judged against the chain without them (docs/kk.md, \"Stray points\")")
         if self.sparse_note:
             lines.append(self.sparse_note)
         if self.bad_bands:
@@ -398,6 +415,25 @@ class KKResult:
             lines.append(f"hint: {self.sign_hint}")
         lines += self.next_step(command)
         return "\n".join(lines)
+
+    @property
+    def mu_words(self) -> str:
+        """The report's words on µ once µ < c: how many R_k are negative and their share
+        Σ|R_k<0|/Σ|R_k≥0| = 1 − µ (Schönleber 2014, eq 21), read as the onset of negative R (what
+        the µ rule looks for) or, at `NEGATIVE_SHARE_FAR` times the 1 − c the cut-off allows or more,
+        as a chain that may follow the noise; "" when µ ≥ c (the report's note says why)."""
+        if not self.mu_reached or self.mu >= self.c:
+            return ""
+        r = self.resistances
+        positive = float(np.sum(r[r >= 0]))
+        share = f"Σ|R<0| = {-np.sum(r[r < 0]) / positive * 100:.0f} % of Σ R≥0" if positive > 0 else "none positive"
+        counts = f"{np.count_nonzero(r < 0)} of {r.size} R negative, {share}"
+        if 1 - self.mu >= NEGATIVE_SHARE_FAR * (1 - self.c):
+            why = "" if self.n_rc_given else "; no smaller M both fitted the data and had µ < c, docs/kk.md \"Choosing M\""
+            return f" (µ far below c = {self.c:g}: many negative R ({counts}): the chain may follow the noise at this M{why})"
+        if self.n_rc_given:
+            return f" (µ < c = {self.c:g}: {counts})"
+        return f" (µ < c = {self.c:g}: negative R are starting to appear ({counts}), Schönleber's sign that the chain follows the data, not yet their noise)"
 
     def _rules_text(self) -> str:
         """One line: the scale s and the level of each rule (`rule_levels`)."""
@@ -1254,6 +1290,7 @@ def _run(freq, z, shape, dims, coords, *, c, max_rc, n_rc, inductance, capacitan
                 c=float(c),
                 thresholds=rules,
                 chain_error=chain_floor,
+                stray_frequencies=np.sort(freq[left_out]),
             )
         )
     if sign_check:
