@@ -3,6 +3,7 @@ a walkthrough's SYNTHETIC R0 + R1 ∥ C1 with σ stated 3× too small got χ²_r
 from the truth and no word of it. Also: the uneven-noise note's advice follows the weighting, and
 the CLI says when the data's σ goes unused."""
 
+import json
 import subprocess
 import sys
 
@@ -108,8 +109,12 @@ def test_cli_says_when_the_files_sigma_is_not_used(tmp_path):
     np.savetxt(path, np.column_stack([FREQ, z.real, z.imag, sigma]), delimiter=",", header="frequency,z_real,z_imag,sigma", comments="")
     run = lambda *extra: subprocess.run([sys.executable, "-m", "impedax", "fit", str(path), "--model", "R0 + R1 || C1", *extra], capture_output=True, text=True)
     default, weighted = run(), run("--weighting", "sigma")
-    assert default.returncode == 0 and "the data carry sigma (σ per point), which this run does not use: --weighting sigma weighs by it" in default.stderr
-    assert weighted.returncode == 0 and "does not use" not in weighted.stderr
+    # (since 2026-12-02 the fit's report says it, once, as the Python result's notes: not stderr too)
+    assert default.returncode == 0 and "note: the data carry sigma (σ per point), which this fit's modulus weighting does not use: --weighting sigma weighs each point by it" in default.stdout
+    assert "does not use" not in default.stderr
+    assert weighted.returncode == 0 and "does not use" not in weighted.stderr + weighted.stdout
+    as_json = json.loads(run("--json").stdout)
+    assert len(as_json["notes"]) == 1 and "does not use" in as_json["notes"][0]
 
 
 def test_sigma_weighting_without_sigma_names_the_columns_it_reads():

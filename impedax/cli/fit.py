@@ -142,7 +142,6 @@ def run(args) -> int:
             raise ParameterError("--plot-params picks the parameters of the figure --plot FILE.png draws: give --plot too")
         check_parameter_names(plot_params, names, "--plot-params", args.model, args.registry)
     data = exclude_points(load_selected(args.data, args.select, readers=args.readers), args.exclude)
-    note_unused_sigma(data, "fit", args.weighting == "sigma", "--weighting sigma")
     progress = progress_printer(quiet=args.quiet)  # (a batch of 3 cycles took 15 s without a word, 28 s on a first run)
     n_spectra = int(data["Z"].size // max(data.sizes.get("frequency", 1), 1))
     if latex and n_spectra > 1:
@@ -159,7 +158,9 @@ def run(args) -> int:
     hint = misfit_hint(result) if isinstance(result, FitResult) else None
     read = WithSummaryKeys(result, {"skipped_rows": skipped_rows(data), **({"hints": [hint] if hint else []} if isinstance(result, FitResult) else {})})  # (the JSON's, as inspect --json's: added 2026-12-01)
     outputs.save({"--out": latex_writer(result) if latex else result_writer(read, source, record), "--plot": figure_writer(result.plot if plot_params is None else lambda: result.plot(params=plot_params), source, **figure_options(args))})
-    if not outputs.uses_stdout:
+    if outputs.uses_stdout:  # (the report, which ends with the result's notes, is not printed: σ unused is said on stderr, as before 2026-12-02)
+        note_unused_sigma(data, "fit", args.weighting == "sigma", "--weighting sigma")
+    else:  # (the report and the JSON carry the result's notes: σ the weighting does not use, once; added 2026-12-02)
         print_result(read, args.json, source, record, command="fit")  # (a batch's report groups its warnings by kind, naming the spectra)
         if not args.json:
             note_skipped_rows(data, "fit", args.data)

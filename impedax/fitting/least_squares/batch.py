@@ -29,7 +29,7 @@ from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, domi
 from .order import canonical_order
 from .branches import RELATIVE_ERROR_LIMIT, held_covariances, idle_branch_notes, settle_vanishing, vanishing_term_mask, undetermined, unidentified_stderr, undetermined_mask, vanishing_candidates, vanishing_parameters
 from .constraints import constraint_misfit_notes, with_constraint_notes
-from .result import COVARIANCE_NOTE, BOUND_RESTARTS, FIT_STATISTICS, bounds_attr, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, PARAMETER_UNIT_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, sigma_scale_notes, uneven_residual_notes, shown_stderr, stack_notes, vanishing_term_sides, weighting_notes, without_error
+from .result import stored_notes, COVARIANCE_NOTE, BOUND_RESTARTS, FIT_STATISTICS, bounds_attr, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, PARAMETER_UNIT_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, sigma_scale_notes, uneven_residual_notes, shown_stderr, stack_notes, vanishing_term_sides, weighting_notes, without_error
 from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, TreeSolvers, better, over_devices, padded_points, tree_solver, trimmed, unscale
 from .starts import SpectrumFeatures, climb_target, batch_outliers, escalation_rungs, guess_start, inward_start, rms_rel_of, rung_seed, rung_starts, to_solver_space, values_inside
 
@@ -75,6 +75,7 @@ class BatchFitResult:
     elapsed_s: float = 0.0
     registry: Registry = field(default=DEFAULT_REGISTRY, repr=False)
     source: str | None = field(default=None, repr=False)  # where the data came from (their ``attrs["source"]``), None if unknown: `impedax.write_result` records it
+    notes: tuple[str, ...] = ()  # advice for every spectrum that is not a warning, as `FitResult.notes` (added 2026-12-02)
 
     @property
     def model(self) -> str:
@@ -98,7 +99,7 @@ class BatchFitResult:
         a file is written with ``impedax.write_result(batch, "fits.nc")``, which encodes them."""
         specs = self.circuit.parameter_specs(self.registry)
         units = [specs[str(p)].unit if str(p) in specs else "" for p in self.dataset["param"].values]
-        return self.dataset.assign_coords(unit=("param", units, {"long_name": PARAMETER_UNIT_NAME})).assign_attrs(impedax_kind=self._KIND, warnings={k: list(v) for k, v in self.warnings.items()}, elapsed_s=float(self.elapsed_s))
+        return self.dataset.assign_coords(unit=("param", units, {"long_name": PARAMETER_UNIT_NAME})).assign_attrs(impedax_kind=self._KIND, warnings={k: list(v) for k, v in self.warnings.items()}, elapsed_s=float(self.elapsed_s), notes=list(self.notes))
 
     @classmethod
     def from_xarray(cls, ds: xr.Dataset, *, registry: Registry | None = None) -> "BatchFitResult":
@@ -124,8 +125,9 @@ class BatchFitResult:
             warnings = {str(k): (v,) if isinstance(v, str) else tuple(str(w) for w in v) for k, v in dict(ds.attrs.get("warnings", {})).items()}
             elapsed = float(ds.attrs.get("elapsed_s", 0.0))
             dataset = ds.drop_vars("unit", errors="ignore")  # (to_xarray's, from the specs; a file before 2026-12-01 has none)
-            dataset.attrs = {k: v for k, v in ds.attrs.items() if k not in ("impedax_kind", "warnings", "elapsed_s", "format")}
-            return cls(circuit=parse(ds.attrs["model"], registry), dataset=dataset, weighting=str(ds.attrs["weighting"]), warnings=warnings, elapsed_s=elapsed, registry=registry, source=saved_source(ds), **{k: f(ds) for k, f in fields.items()})
+            dataset.attrs = {k: v for k, v in ds.attrs.items() if k not in ("impedax_kind", "warnings", "elapsed_s", "format", "notes")}
+            return cls(circuit=parse(ds.attrs["model"], registry), dataset=dataset, weighting=str(ds.attrs["weighting"]), warnings=warnings, elapsed_s=elapsed, registry=registry, source=saved_source(ds),
+                       notes=stored_notes(ds.attrs.get("notes", ())), **{k: f(ds) for k, f in fields.items()})  # (notes: none in a file before 2026-12-02)
 
     def values(self, name: str) -> xr.DataArray:
         """Fitted values of parameter ``name`` over the batch dimensions."""
@@ -293,7 +295,7 @@ class BatchFitResult:
 
         s = self.summary()
         rows = [{"parameter": p, "median": v["median"], "q16": v["q16"], "q84": v["q84"]} for p, v in s["params"].items()]
-        lines = [f"{self.n_spectra} {'spectrum' if self.n_spectra == 1 else 'spectra'} over {_dims_text(s['dims'])}: converged {s['converged_fraction'] * 100:.1f}%, median rms_rel {s['rms_rel_median'] * 100:.3g} %"]
+        lines = [f"{self.n_spectra} {'spectrum' if self.n_spectra == 1 else 'spectra'} over {_dims_text(s['dims'])}: converged {s['converged_fraction'] * 100:.1f}%, median rms_rel {s['rms_rel_median'] * 100:.3g} %", *(f"note: {n}" for n in self.notes)]
         return result_html(self.model, rows, lines=lines)
 
     def plot(self, *, title: str | None = None, figsize: tuple[float, float] | None = None, params=None):
@@ -326,6 +328,7 @@ class BatchFitResult:
             "spectra": self._spectrum_rows(),
             "weighting": self.weighting,  # (as a single fit's JSON)
             "user_bounds": bounds_attr(self.user_bounds()),  # (added 2026-12-01, as a single fit's JSON)
+            "notes": list(self.notes),  # (added 2026-12-02, as a single fit's JSON)
         }
 
     def user_bounds(self) -> dict[str, tuple[float, float]]:
@@ -470,8 +473,9 @@ class BatchFitResult:
 
     def _warning_lines(self) -> list[str]:
         """The warnings, one line per kind with the spectra it applies to (`grouped_warnings`),
-        after an empty line; none when there are none."""
-        return ["", *grouped_warnings(self.warnings, self.n_spectra, spectra=[key for key, _ in self.spectrum_keys()])] if any(self.warnings.values()) else []
+        then the notes (`notes`), after an empty line; none when there are none."""
+        warned = ["", *grouped_warnings(self.warnings, self.n_spectra, spectra=[key for key, _ in self.spectrum_keys()])] if any(self.warnings.values()) else []
+        return warned + ([""] if self.notes and not warned else []) + [f"note: {n}" for n in self.notes]
 
 
 SPECTRA_AS_COLUMNS = 6

@@ -25,7 +25,7 @@ from .starts import attainable_misfit, inward_start, rms_rel_of, well_inside
 
 __all__ = [
     "FitResult", "fit_result", "fit_notes", "parameter_groups", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes",
-    "misfit_notes", "uneven_residual_notes", "sigma_scale_notes", "chi2_red_range", "SIGMA_SCALE_FACTOR", "residual_band_rms", "UNEVEN_BAND_POINTS", "UNEVEN_RESIDUAL_RATIO", "UNEVEN_NOISE_NOTE", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "within_stated_noise", "misfit_hint", "MISFIT_HINT_FROM", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
+    "misfit_notes", "uneven_residual_notes", "sigma_scale_notes", "sigma_unit_slip", "SIGMA_UNIT_SLIP_FACTOR", "SIGMA_UNIT_SLIP_FRACTION", "SIGMA_RELATIVE_Z", "unused_sigma_notes", "stored_notes", "chi2_red_range", "SIGMA_SCALE_FACTOR", "residual_band_rms", "UNEVEN_BAND_POINTS", "UNEVEN_RESIDUAL_RATIO", "UNEVEN_NOISE_NOTE", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "within_stated_noise", "misfit_hint", "MISFIT_HINT_FROM", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
     "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "without_error", "near_bound_notes", "resistor_like_notes", "STDERR_NOTE", "LINEARISED_STDERR_NAME", "data_difference", "stored_bounds", "user_bounds",
     "embedded_fit", "fit_from_embedded", "bounds_attr", "unidentified_group_note", "FIT_STATISTICS",
 ]
@@ -109,6 +109,8 @@ class FitResult:
     relative residuals r_k = (Z_model,k − Z_data,k)/|Z_data,k| and
     ``rms_rel = sqrt(mean |r_k|²)`` (docs/physics.md, "Goodness of fit"). ``chi2`` is the sum of the squared
     weighted residuals, ``chi2_red = chi2/(2N − k)``; AIC/BIC see `information_criteria`.
+    ``warnings`` say what may be wrong with the fit; ``notes`` give advice that is not a warning
+    (σ the weighting does not use: `unused_sigma_notes`), shown after them by `report`.
     """
 
     __repr__ = concise_repr  # (the generated one printed every array)
@@ -136,6 +138,7 @@ class FitResult:
     registry: Registry = field(default=DEFAULT_REGISTRY, repr=False)
     bounds: dict[str, tuple[float, float]] = field(default_factory=dict, repr=False)  # the user's bounds of free parameters (`fit(bounds=...)`), those narrower than the element's (`constraints.user_bounds`)
     source: str | None = field(default=None, repr=False)  # where the data came from (their ``attrs["source"]``, `impedax.load`'s path), None if unknown: `impedax.write_result` records it
+    notes: tuple[str, ...] = ()  # advice that is not a warning (`unused_sigma_notes`; added 2026-12-02)
 
     @property
     def linearised_stderr(self) -> dict[str, float]:
@@ -237,6 +240,7 @@ class FitResult:
             "weighting": self.weighting,
             "n_evaluations": self.n_evaluations,
             "user_bounds": bounds_attr(self.bounds),  # (added 2026-12-01: the bounds=, --bound, of free parameters; an open end inf, null in JSON)
+            "notes": list(self.notes),  # (added 2026-12-02: advice that is not a warning, e.g. σ the weighting does not use)
         }
 
     def report(self) -> str:
@@ -265,6 +269,7 @@ class FitResult:
         for w in self.warnings:
             if not w.startswith("fit did not converge"):  # the status line says it once
                 lines.append(f"warning: {w}")
+        lines += [f"note: {n}" for n in self.notes]
         return "\n".join(lines)
 
     def to_table(self) -> list[dict[str, object]]:
@@ -322,7 +327,7 @@ class FitResult:
         from ...plotting.html import result_html
 
         status = "converged" if self.converged else "NOT converged"
-        lines = [f"rms_rel {self.rms_rel * 100:.3g} %, chi2_red {self.chi2_red:.4g}, AIC {self.aic:.2f} ({self.n_points} points, {status})", *self.warnings]
+        lines = [f"rms_rel {self.rms_rel * 100:.3g} %, chi2_red {self.chi2_red:.4g}, AIC {self.aic:.2f} ({self.n_points} points, {status})", *self.warnings, *(f"note: {n}" for n in self.notes)]
         # as the text table: a parameter at a bound has no meaningful linearised error to show
         # (and the status line above says whether the fit converged)
         rows = [{k: v for k, v in ({**row, "stderr": "at bound"} if row["name"] in self.at_bound else row).items() if k not in ("converged", *FIT_STATISTICS)} for row in self.to_table()]
@@ -376,7 +381,7 @@ class FitResult:
                 "chi2_red": self.chi2_red, "aic": self.aic, "bic": self.bic, "converged": int(self.converged),
                 "message": self.message, "warnings": list(self.warnings), "unidentified_groups": [list(g) for g in self.unidentified_groups],
                 "n_evaluations": int(self.n_evaluations), "n_starts": int(self.n_starts), "elapsed_s": float(self.elapsed_s),
-                "bounds": bounds_attr(self.bounds),
+                "bounds": bounds_attr(self.bounds), "notes": list(self.notes),
             },
         )
 
@@ -422,7 +427,13 @@ class FitResult:
                 registry=registry,
                 bounds=stored_bounds(ds.attrs.get("bounds")),
                 source=saved_source(ds),
+                notes=stored_notes(ds.attrs.get("notes", ())),  # (none in a file before 2026-12-02)
             )
+
+
+def stored_notes(notes) -> tuple[str, ...]:
+    """A saved result's ``notes`` attribute (a text or a list of texts) as a tuple."""
+    return (notes,) if isinstance(notes, str) else tuple(str(n) for n in notes)
 
 
 _FIT_VARIABLES = ("value", "stderr", "fixed", "at_bound", "covariance", "correlation", "Z", "Z_model")
@@ -791,6 +802,21 @@ def weighting_notes(weighting: str, freq, points: np.ndarray, share) -> list[tup
     return out
 
 
+def unused_sigma_notes(has_sigma: bool, weighting: str) -> tuple[str, ...]:
+    """The note of a fit whose data carry σ per point (``has_sigma``: a ``sigma`` variable, from
+    ``make_spectrum(sigma=...)`` or a file's sigma column) that its ``weighting`` does not use
+    (any but ``sigma``): advice, not a warning (`FitResult.notes`). A walkthrough's σ was ignored
+    by the Python fit without a word, its |Z|-weighted standard errors 3.4× too large (R_s) and
+    0.55× too small (R_p) on noise 10× larger below 10 Hz; the command line said it on stderr."""
+    if not has_sigma or weighting == "sigma":
+        return ()
+    return (
+        f"the data carry sigma (σ per point), which this fit's {weighting} weighting does not use: weighting='sigma' "
+        "weighs each point by it and takes the standard errors from it, where this weighting scales them to the residuals as if the noise were "
+        + ("proportional to |Z|" if weighting == "modulus" else "the same after its weights"),
+    )
+
+
 # a fit's weighted residuals are compared band by band (`uneven_residual_notes`) in bands of this
 # many consecutive frequencies (the last band takes the remainder of fewer): a fixed count, not a
 # decade, so that one threshold holds at any point density (a band's rms² of 2×8 real residuals
@@ -934,7 +960,15 @@ def sigma_scale_notes(z, z_model, inv_re, inv_im, weighting: str, n_free: int | 
         if not math.isfinite(c):
             continue
         factor = math.sqrt(c)
-        if c > high and factor >= SIGMA_SCALE_FACTOR and not (misfit is not None and misfit[i] and any(m in misfit[i][0] for m in MODEL_MISFIT_MARKS)):
+        slip = sigma_unit_slip(z[i], 1.0 / np.broadcast_to(np.atleast_2d(inv_re), z.shape)[i], factor)
+        if slip:  # (before the model is blamed: a σ in the wrong unit weighs the points wrongly, and the misfit may be that)
+            out[i] = (
+                f"the residuals are {factor:.2g}× the data's sigma in rms (χ²_red {c:.3g}, where residuals of the stated σ give {low:.2f}–{high:.2f}): "
+                f"σ looks given in the wrong unit ({slip}), not understated by a noise a model could miss by: σ is in Ω, per point, for Re and Im alike, "
+                f"and a relative σ is given as sigma = rel·|Z| (e.g. make_spectrum(f, Z, sigma={_relative_example(z[i], 1.0 / np.broadcast_to(np.atleast_2d(inv_re), z.shape)[i])} * abs(Z)); a file's sigma column in Ω); "
+                f"until then the standard errors, which take σ as stated, are {factor:.2g}× too small, and the points are weighed by a wrong noise, so the fit's other warnings may be that weighting's",
+            )
+        elif c > high and factor >= SIGMA_SCALE_FACTOR and not (misfit is not None and misfit[i] and any(m in misfit[i][0] for m in MODEL_MISFIT_MARKS)):
             out[i] = (
                 f"the residuals are {factor:.2g}× the data's sigma in rms (χ²_red {c:.3g}, where residuals of the stated σ give {low:.2f}–{high:.2f}): "
                 f"either σ understates the noise, and the standard errors, which take σ as stated, are then {factor:.2g}× too small, "
@@ -946,6 +980,50 @@ def sigma_scale_notes(z, z_model, inv_re, inv_im, weighting: str, n_free: int | 
                 f"σ overstates the noise (or the model follows the noise with too many parameters), and the standard errors, which take σ as stated, are then {1 / factor:.2g}× too large",
             )
     return out
+
+
+# ... and told that σ looks given in the wrong unit (`sigma_unit_slip`) where its residuals are this
+# many times σ in rms or more: a model that misses by 10 % rms against a σ of 0.1 % of |Z| (an
+# impedance analyser's accuracy) reaches it; a walkthrough's σ = 0.03 (meant as 3 %) on 2 kΩ–5 MΩ
+# gave 2.6e6–3e6×, and was told that σ understates the noise or the model misses something
+SIGMA_UNIT_SLIP_FACTOR = 100.0
+# ... and σ is, in median, below this fraction of |Z|: 0.01 %, ten times below 0.1 %, a typical
+# specified accuracy of impedance analysers, so not a noise that real data reach
+SIGMA_UNIT_SLIP_FRACTION = 1e-4
+# ... or σ looks like a fraction of |Z|: every σ below 1 (Ω) while |Z| is, in median, at least
+# this many ohms (a relative 0.01–0.05 read as ohms then lies below 0.05 % of |Z|)
+SIGMA_RELATIVE_Z = 100.0
+
+
+def sigma_unit_slip(z, sigma, factor: float) -> str | None:
+    """Why σ (Ω, per point) of spectrum z looks given in the wrong unit for a fit whose weighted
+    residuals are ``factor``× σ in rms (√χ²_red): at least `SIGMA_UNIT_SLIP_FACTOR` and σ either
+    below `SIGMA_UNIT_SLIP_FRACTION` of |Z| in median or all below 1 while |Z| is, in median, at
+    least `SIGMA_RELATIVE_Z` (a relative σ read as ohms); None when it does not."""
+    if not factor >= SIGMA_UNIT_SLIP_FACTOR:
+        return None
+    modulus, sigma = np.abs(np.asarray(z)), np.asarray(sigma, float)
+    with np.errstate(all="ignore"):
+        fraction = float(np.median(sigma / modulus))
+    relative = bool(np.all(sigma < 1.0)) and float(np.median(modulus)) >= SIGMA_RELATIVE_Z
+    if relative:
+        return f"σ is {_span(sigma)} Ω, all below 1 Ω, while |Z| is {_span(modulus)} Ω: a fraction of |Z| read as ohms"
+    if fraction < SIGMA_UNIT_SLIP_FRACTION:
+        return f"σ is in median {fraction:.2g} of |Z|, below what an impedance analyser resolves"
+    return None
+
+
+def _span(values) -> str:
+    """The smallest and largest of ``values`` as text (one number when they agree to 3 digits)."""
+    lo, hi = f"{float(np.min(values)):.3g}", f"{float(np.max(values)):.3g}"
+    return lo if lo == hi else f"{lo}–{hi}"
+
+
+def _relative_example(z, sigma) -> str:
+    """The relative σ of `sigma_unit_slip`'s example: the data's σ when all are below 1 (read as
+    the fraction meant), else 0.01."""
+    sigma = np.asarray(sigma, float)
+    return f"{float(np.median(sigma)):.3g}" if np.all(sigma < 1.0) else "0.01"
 
 
 # a fit's misfit is compared with what the data allow (`misfit_notes`) from this rms_rel on:

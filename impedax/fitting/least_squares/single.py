@@ -25,7 +25,7 @@ from .batch import BatchFitResult, data_notes, fit_batch, register_spectrum_fit
 from .constraints import constraint_misfit_notes, with_constraint_notes
 from .order import canonical_order
 from .per_spectrum import has_per_spectrum_values, split_fits
-from .result import BOUND_RESTARTS, FitResult, is_remainder, falling_inward, fit_result
+from .result import BOUND_RESTARTS, FitResult, is_remainder, falling_inward, fit_result, unused_sigma_notes
 from .shared import SharedFitResult, fit_shared
 from .solvers import IDENTITY_DAMPING_STEPS, SCREEN_STEPS, SharedArgs, SolverStatus, SpectrumRows, better, padded_points, solver_args, tree_solver, trimmed, unscale
 from .starts import SpectrumFeatures, escalation_rungs, climb_target, guess_start, inward_start, rms_rel_of, rung_draws, rung_seed, to_solver_space
@@ -117,12 +117,14 @@ def fit(
         starts = batch_init.per_spectrum_starts(data, table.names)
     n_spectra = int(np.prod([data.sizes[d] for d in extra])) if extra else 1
     say(f"fitting {circuit} to {counted(n_spectra, 'spectrum', 'spectra')} together (a circuit's first batch compiles its solvers)" if extra else f"fitting {circuit} (a circuit's first fit compiles its solvers)")
+    # σ the weighting does not use is said in the result (`unused_sigma_notes`), a batch's as a single fit's
+    sigma_notes = unused_sigma_notes("sigma" in data, weighting)
     if shared is not None or over is not None:
-        return fit_shared(circuit, data, table, shared=shared, over=over, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source, t0=t0)
+        return dataclasses.replace(fit_shared(circuit, data, table, shared=shared, over=over, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source, t0=t0), notes=sigma_notes)
     known_source = data_source(data)
     if extra:
         batch = fit_batch(circuit, data, table, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source, t0=t0, starts=starts)
-        return dataclasses.replace(batch, source=known_source)
+        return dataclasses.replace(batch, source=known_source, notes=sigma_notes)
     freq = np.asarray(data["frequency"].values, float)
     z = np.asarray(data["Z"].values, complex)
     sigma = np.asarray(data["sigma"].values, float) if "sigma" in data else None
@@ -187,7 +189,7 @@ def fit(
     checked = constraint_misfit_notes(circuit, table, registry, freq, z, result.z_model, sigma, result.values, result.at_bound, misfit, kk_misfit.get(0), weighting=weighting, fit=fit, attrs=data.attrs)
     if checked != misfit:
         result = dataclasses.replace(result, warnings=with_constraint_notes(result.warnings, misfit, checked), elapsed_s=time.perf_counter() - t0)
-    return dataclasses.replace(result, source=known_source)
+    return dataclasses.replace(result, source=known_source, notes=sigma_notes)
 
 
 def data_source(data: xr.Dataset) -> str | None:
