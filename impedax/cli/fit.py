@@ -160,7 +160,7 @@ def run(args) -> int:
     read = WithSummaryKeys(result, {"skipped_rows": skipped_rows(data), **({"hints": [hint] if hint else []} if isinstance(result, FitResult) else {})})  # (the JSON's, as inspect --json's: added 2026-12-01)
     outputs.save({"--out": latex_writer(result) if latex else result_writer(read, source, record), "--plot": figure_writer(result.plot if plot_params is None else lambda: result.plot(params=plot_params), source, **figure_options(args))})
     if not outputs.uses_stdout:
-        print_result(read, args.json, source, record, command="fit")  # (a batch's report groups its warnings by kind, naming the spectra)
+        print_result(read, args.json, source, record, command="fit", written=args.out)  # (a batch's report groups its warnings by kind, naming the spectra)
         if not args.json:
             note_skipped_rows(data, "fit", args.data)
             if hint:
