@@ -19,7 +19,7 @@ from ..warning_groups import labels_text
 
 __all__ = [
     "parse_assignments", "prefixed_number", "number_option", "NUMBER_PREFIXES", "check_parameter_names", "emit_json", "to_jsonable", "add_model_argument", "add_output_options",
-    "check_outputs", "save_outputs", "print_result", "result_out_help", "Output", "OutputPlan", "plan_outputs",
+    "check_outputs", "save_outputs", "print_result", "each_spectrum_written", "result_out_help", "Output", "OutputPlan", "plan_outputs",
     "memory_limit", "check_memory", "MEMORY_LIMIT_ENV", "add_select_option", "load_selected", "select_spectra", "load_selected_files", "labels_text", "dimension_labels",
     "command_line_words", "naming_target", "part_of_joined", "announce_written", "option_words", "check_points", "check_band_options", "progress_printer", "PROGRESS_AFTER_S",
     "relative_noise", "fit_command", "exclude_points", "parse_bounds", "checked_bound_options", "command_provenance",
@@ -1455,14 +1455,40 @@ def check_memory(flag: str, needed_bytes: float, what: str) -> None:
         )
 
 
-def print_result(result, as_json: bool, source: str | None = None, provenance: Mapping | None = None, *, command: str | None = None, **report_options) -> None:
+def print_result(result, as_json: bool, source: str | None = None, provenance: Mapping | None = None, *, command: str | None = None, written: str | None = None, **report_options) -> None:
     """``result.summary()`` as JSON (with ``source`` and ``provenance``, `with_source`), or
     ``result.report(**report_options)`` as text (in the words of ``impedax command``:
-    `command_line_words`)."""
+    `command_line_words`). ``written``: the run's ``--out`` FILE, which a batch's report names
+    as where each spectrum's values are (`each_spectrum_written`) instead of suggesting the
+    options that write them."""
     if as_json:
         emit_json(with_source(result.summary(), source, provenance))
-    else:
-        print(command_line_words(result.report(**report_options), command))
+        return
+    text = result.report(**report_options)
+    where = each_spectrum_written(written)
+    if where:
+        from ..fitting.least_squares.batch import EACH_SPECTRUM_WHERE
+
+        text = text.replace(EACH_SPECTRUM_WHERE, where)
+    print(command_line_words(text, command))
+
+
+def each_spectrum_written(out: str | None, rows: str = "a row per spectrum and parameter") -> str | None:
+    """Where a run's ``--out`` FILE holds each spectrum's results, in the words of a batch
+    report's closing line ("written to fits.csv (a row per spectrum and parameter)"; ``rows``:
+    what a CSV row is); None without a file (no ``--out``, or ``-``: the JSON went to standard
+    output and no report is printed). Until 2026-12-02 a run with ``--out batch.json`` still
+    ended by suggesting ``--out FILE.csv … or --json``."""
+    if not out or out == "-":
+        return None
+    suffix = Path(out).suffix.lower()
+    if suffix == ".csv":
+        return f"written to {out} ({rows})"
+    if suffix == ".json":
+        return f'written to {out} (its "spectra")'
+    if suffix == ".nc":
+        return f"written to {out} (netCDF: value, stderr and rms_rel over the batch's dimensions)"
+    return None
 
 
 # the Python keywords that messages of the fitting code name, and the options that set them on

@@ -40,7 +40,7 @@ def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting.problem import open_spectrum
     from ..arguments import closest_name
-    from .common import checked_bound_options, command_provenance, data_source, emit_json, exclude_points, figure_options, figure_writer, impedax_text, load_selected, note_skipped_rows, note_unused_sigma, parse_assignments, parse_bounds, plan_outputs, progress_printer, result_writer, skipped_rows, with_source, WithSummaryKeys
+    from .common import checked_bound_options, command_provenance, data_source, each_spectrum_written, emit_json, exclude_points, figure_options, figure_writer, impedax_text, load_selected, note_skipped_rows, note_unused_sigma, parse_assignments, parse_bounds, plan_outputs, progress_printer, result_writer, skipped_rows, with_source, WithSummaryKeys
     from .fit import check_max_steps
 
     if len(args.model) < 2:
@@ -87,7 +87,8 @@ def run(args) -> int:
         emit_json(with_source(comparison.summary(), source, record))
     elif extra and not outputs.uses_stdout:  # several spectra: the `BatchComparison`'s report
         pick = f"--select {extra[0]}=LABEL" + (" for each dimension" if len(extra) > 1 else "")
-        print(comparison.report(each_spectrum_where=f"--out FILE.csv (a row per spectrum and model) or --json's spectra; one spectrum's full comparison: {pick}"))
+        where = each_spectrum_written(args.out, rows="a row per spectrum and model") or "--out FILE.csv (a row per spectrum and model) or --json's spectra"  # (not the options the run used)
+        print(comparison.report(each_spectrum_where=f"{where}; one spectrum's full comparison: {pick}"))
     elif not outputs.uses_stdout:  # (--out -: the JSON went to standard output)
         print(comparison.table(warnings_below=True))  # (`warning_lines` prints them under it)
         for fit_result in comparison.fits:  # (the table's rows do not show what was held)

@@ -161,7 +161,7 @@ def run(args) -> int:
     if outputs.uses_stdout:  # (the report, which ends with the result's notes, is not printed: σ unused is said on stderr, as before 2026-12-02)
         note_unused_sigma(data, "fit", args.weighting == "sigma", "--weighting sigma")
     else:  # (the report and the JSON carry the result's notes: σ the weighting does not use, once; added 2026-12-02)
-        print_result(read, args.json, source, record, command="fit")  # (a batch's report groups its warnings by kind, naming the spectra)
+        print_result(read, args.json, source, record, command="fit", written=args.out)  # (a batch's report groups its warnings by kind, naming the spectra)
         if not args.json:
             note_skipped_rows(data, "fit", args.data)
             if hint:

@@ -16,7 +16,7 @@ from ..data import column_width, concise_repr
 from ..errors import FitError
 from .comparison import DECISIVE_DELTA_AIC, common_source, NOISE_F, SAME_FIT_RMS, criteria_tie, WEAK_DELTA_AIC, Comparison, akaike_weights, compare, criteria, fit_label, is_nested, register_batch_compare, significant, unique_labels
 from .least_squares import BatchFitResult, SharedFitResult
-from .least_squares.batch import SPECTRA_AS_ROWS, labels_key
+from .least_squares.batch import SPECTRA_AS_ROWS, labels_by_keyword, labels_key
 from .least_squares.result import data_difference
 
 __all__ = ["BatchComparison", "compare_batches", "PER_SPECTRUM_CRITERIA", "SUM_NOTE"]
@@ -388,10 +388,11 @@ class BatchComparison:
         """``dataset``: the criteria over (model, *dims), the sums over model."""
         return self.dataset
 
+    @labels_by_keyword
     def comparison_of(self, **labels) -> Comparison:
         """The single-spectrum `Comparison` (F-tests, warnings, notes) of the spectrum with
         ``labels`` (one per batch dimension, as `BatchFitResult.fit_of`): each batch's
-        `fit_of` that spectrum, compared."""
+        `fit_of` that spectrum, compared. Labels by keyword only (`labels_by_keyword`)."""
         return compare([b.fit_of(**labels) for b in self.batches])
 
     def report(self, *, each_spectrum_where: str = EACH_SPECTRUM_WHERE) -> str:

@@ -6,6 +6,7 @@ dask="parallelized")``, so the same call scales out on a ``dask.distributed`` cl
 
 from __future__ import annotations
 
+import functools
 import math
 import time
 import warnings as python_warnings
@@ -33,7 +34,7 @@ from .result import stored_notes, COVARIANCE_NOTE, BOUND_RESTARTS, FIT_STATISTIC
 from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, TreeSolvers, better, over_devices, padded_points, tree_solver, trimmed, unscale
 from .starts import SpectrumFeatures, climb_target, batch_outliers, escalation_rungs, guess_start, inward_start, rms_rel_of, rung_seed, rung_starts, to_solver_space, values_inside
 
-__all__ = ["BatchFitResult", "fit_batch"]
+__all__ = ["BatchFitResult", "fit_batch", "labels_by_keyword"]
 
 _STATS = ("chi2", "converged", "n_evaluations")
 
@@ -47,6 +48,44 @@ def register_spectrum_fit(fit: Callable) -> None:
     """Let `BatchFitResult.fit_of` refit one spectrum with ``fit`` (`single.fit`)."""
     global _spectrum_fit
     _spectrum_fit = fit
+
+
+def labels_by_keyword(method: Callable) -> Callable:
+    """A method that picks one spectrum by its labels, one keyword per batch dimension
+    (``fit_of(cycle=64)``), made to refuse a positional argument with a `ParameterError` that
+    says how to call it (the batch's dimensions, an example with a real label) instead of
+    Python's bare TypeError (README: impedax's functions raise its own errors, naming the
+    argument). A position is refused even along one dimension: there a label and a position
+    differ as soon as the labels do not count from 0 (cycles 1, 2, …), and a spectrum picked by
+    the wrong one would go unnoticed. ``self`` has ``dims`` and ``dataset`` (the labels)."""
+
+    @functools.wraps(method)
+    def by_labels(self, *positional, **labels):
+        if positional:
+            raise ParameterError(positional_labels_message(method.__name__, positional, self.dims, self.dataset))
+        return method(self, **labels)
+
+    return by_labels
+
+
+def positional_labels_message(what: str, positional: tuple, dims: tuple[str, ...], ds: xr.Dataset) -> str:
+    """The message of `labels_by_keyword`: ``what`` (the method) called with ``positional``
+    on a batch over ``dims`` (labels from ``ds``, a dimension without coordinates by position)."""
+    labels = {d: coordinate_labels(ds, d) for d in dims}
+    example = {d: (labels[d][0] if labels[d] else 0) for d in dims}
+    given = positional[0]
+    note = ""
+    if len(dims) == 1 and len(positional) == 1:
+        (dim,) = dims
+        if given in labels[dim]:  # (a label: the keyword was left out)
+            example[dim] = given
+        elif isinstance(given, (int, np.integer)) and not isinstance(given, bool) and -len(labels[dim]) <= given < len(labels[dim]):
+            example[dim] = labels[dim][int(given)]
+            note = f"; {given!r} is not among the labels along {dim}: the spectrum at position {int(given)} is the one with {dim}={example[dim]!r}"
+        shown = ", ".join(map(repr, labels[dim][:6])) + (", …" if len(labels[dim]) > 6 else "")
+        note += f" (the labels along {dim}: {shown})"
+    call = f"{what}(" + ", ".join(f"{d}={v!r}" for d, v in example.items()) + ")"
+    return (f"{what} takes the spectrum by its labels, one keyword per batch dimension ({', '.join(dims)}), not by position: {call}{note}")
 
 
 @dataclass(frozen=True, eq=False)
@@ -173,12 +212,16 @@ class BatchFitResult:
             raise unknown_parameter(f"{what}()", name, names, self.model)
         return name
 
+    @labels_by_keyword
     def fit_of(self, **labels):
         """The whole `FitResult` of one spectrum — standard errors, correlations, warnings,
         ``predict``, ``plot`` — picked by its label along every batch dimension (``cycle=64``;
         the 0-based position along a dimension without coordinates): the spectrum refitted from
         this batch's values with one start, the fixed parameters and bounds kept (a value on a bound
-        nudged inside, as ``fit(..., init=batch)`` starts it), so it returns to the batch's optimum."""
+        nudged inside, as ``fit(..., init=batch)`` starts it), so it returns to the batch's optimum.
+        Labels only, by keyword: ``fit_of(0)`` is a `ParameterError` naming the call to make, even
+        for a batch of one dimension (`labels_by_keyword`; a position is the label at it,
+        ``fit_of(cycle=batch.dataset.cycle.values[0])``)."""
         from ...data import make_spectrum
 
         if _spectrum_fit is None:  # (not reached: a BatchFitResult comes from fit, whose module registers it)
@@ -221,6 +264,7 @@ class BatchFitResult:
                 position[dim] = int(label)
         return position
 
+    @labels_by_keyword
     def unidentified_groups_of(self, **labels) -> tuple[tuple[str, ...], ...]:
         """The unidentified groups of one spectrum's fit (`FitResult.unidentified_groups`: the
         free parameters along each near-null direction of its Jacobian, `statistics.null_sets`),

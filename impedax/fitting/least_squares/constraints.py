@@ -14,6 +14,7 @@ import numpy as np
 
 from ...circuits import Circuit, Registry
 from ...errors import ImpedaxError
+from ...progress import silenced
 from ..parameters import ParameterTable
 from .result import MISFIT_CHECKED_FROM, MODEL_MISFIT_OVER_CONSISTENT, misfit_beyond_noise, user_bounds
 
@@ -143,7 +144,8 @@ def constraint_misfit_notes(circuit: Circuit, table: ParameterTable, registry: R
 
     data = make_spectrum(np.asarray(freq, float), np.asarray(z, complex), sigma=None if sigma is None else np.asarray(sigma, float), attrs=dict(attrs or {}))
     rms_constrained = float(rms_rel_of(np.asarray(z_model)[None], np.asarray(z)[None])[0])
-    found = explaining_constraints(circuit, data, values, fixed, bounds, constraints, rms_constrained, kk, weighting=weighting, registry=registry, fit=fit)
+    with silenced():  # (its refits are part of the fit said already: their own lines repeated "fitting …", 2026-12-02)
+        found = explaining_constraints(circuit, data, values, fixed, bounds, constraints, rms_constrained, kk, weighting=weighting, registry=registry, fit=fit)
     if found is None:
         return misfit
     return (constraint_note(found[0], kk),)

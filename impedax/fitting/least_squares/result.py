@@ -1474,7 +1474,7 @@ def user_bounds(table: ParameterTable, circuit: Circuit, registry: Registry) -> 
 
 def fit_result(
     circuit, table: ParameterTable, freq, z, out: SolverOutput, weighting: str, n_starts: int, elapsed: float, registry: Registry,
-    *, chi2_at_x: Callable | None = None, extra_notes: tuple[str, ...] = (), start: str = "the data-driven start", weights=None,
+    *, chi2_at_x: Callable | None = None, extra_notes: tuple[str, ...] = (), start: str = "the data-driven start", weights=None, starts_words: str | None = None,
 ) -> FitResult:
     """The `FitResult` of one spectrum's `SolverOutput`: uncertainties, status and warnings.
     ``chi2_at_x`` (as `confirm_bounds`, for this spectrum as number 0) lets parameters be
@@ -1482,7 +1482,8 @@ def fit_result(
     bound are. ``extra_notes`` (e.g. `weighting_notes`) follow the others. ``weights`` (the
     inverse weights (Re, Im) of the residuals, (N,) each) lets a converged fit be checked for a
     parameter at a bound while chi² falls inward (`falling_inward`): such a fit is reported not
-    converged, and the parameter not at its bound."""
+    converged, and the parameter not at its bound. ``starts_words``: what a multistart's
+    ``n_starts`` starts were (`single.starts_words`), after "best of N starts: " in the message."""
     names = table.names
     free_names = table.free_names
     x = out.x
@@ -1509,7 +1510,7 @@ def fit_result(
     if not finite:
         message = "the model's impedance or weighted residuals are not finite (overflow) at every start; check bounds, fixed values and the frequency range"
     elif code == SolverStatus.CONVERGED:
-        origin = f"from {start}" if n_starts == 1 else f"best of {n_starts} starts"
+        origin = f"from {start}" if n_starts == 1 else f"best of {n_starts} starts" + (f": {starts_words}" if starts_words else "")
         message = f"converged in {int(out.steps)} step{'' if int(out.steps) == 1 else 's'} ({origin})"
     else:
         message = code.message

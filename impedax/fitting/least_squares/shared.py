@@ -436,9 +436,10 @@ class SharedFitResult(BatchFitResult):
 
     __repr__ = concise_repr  # (the generated one printed every array)
 
-    def fit_of(self, **labels):
+    def fit_of(self, *positional, **labels):
         """Not for a global fit: one spectrum refitted alone would move the shared parameters
-        (`BatchFitResult.fit_of`); `ParameterError` saying so."""
+        (`BatchFitResult.fit_of`); `ParameterError` saying so, however it is called (a position
+        too, not Python's TypeError)."""
         raise ParameterError(
             "fit_of refits one spectrum alone, which would move the shared parameters of this global fit; "
             "fix them instead: ix.fit(model, one_spectrum, fixed={shared name: its value}, init=the spectrum's values)"

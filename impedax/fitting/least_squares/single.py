@@ -28,7 +28,7 @@ from .per_spectrum import has_per_spectrum_values, split_fits
 from .result import BOUND_RESTARTS, FitResult, is_remainder, falling_inward, fit_result, unused_sigma_notes
 from .shared import SharedFitResult, fit_shared
 from .solvers import IDENTITY_DAMPING_STEPS, SCREEN_STEPS, SharedArgs, SolverStatus, SpectrumRows, better, padded_points, solver_args, tree_solver, trimmed, unscale
-from .starts import SpectrumFeatures, escalation_rungs, climb_target, guess_start, inward_start, rms_rel_of, rung_draws, rung_seed, to_solver_space
+from .starts import KK_MISFIT_FACTOR, SpectrumFeatures, draw_words, escalation_rungs, climb_target, guess_start, inward_start, rms_rel_of, rung_draws, rung_seed, to_solver_space
 
 __all__ = ["fit", "FitResult", "BatchFitResult", "SharedFitResult", "WEIGHTINGS", "information_criteria"]
 
@@ -165,13 +165,16 @@ def fit(
                 outs.append(trimmed(unscale(out, scale), freq.size))
         return outs
 
+    given = np.isfinite(table.values[table.free_index])
+    start = "the given start" if given.all() and given.size else "the given start, the other parameters' from the data" if given.any() else "the data-driven start"
+    guess_words = "the given start (the other parameters' from the data)" if given.any() and not given.all() else start  # (in a list of starts)
     (out,) = solve(guess_start(circuit, table, features, registry))
     used = 1
     # the multistart also when the guess's fit took many steps: the guess was far from the
     # optimum it reached, which may be a local one (docs/fitting.md, "Starts")
     far = int(out.steps) > IDENTITY_DAMPING_STEPS
     if n_starts > 1 and (far or not at_noise_floor(freq, z, out.z_model, inv_re, inv_im, out.code)[()]):
-        say("the fit from the data's guess is " + ("far from its start" if far else "not at the noise") + f": draws of {n_starts} starts (the start ladder)")
+        say(f"the fit from {start} is " + ("far from its start" if far else "not at the noise") + f": {n_starts} starts (the start ladder's first draw: {draw_words(table, n_starts, guess_words)})")
         out, used = escalated(out, solve, circuit, table, features, freq, z, n_starts, seed, registry, int(max_steps))
     out = restarted_inward(out, lambda u: solve(u[None])[0], table, z, inv_re, inv_im, weighting, lambda o: one_spectrum_chi2(solvers.chi2_x, args, o))
     out = canonical_order(circuit, table, freq, out, registry)
@@ -182,9 +185,8 @@ def fit(
     (notes,) = data_notes(freq, z[None], np.asarray(out.z_model)[None], None if sigma is None else sigma[None], weighting, source, kk_misfit,
                           remainder=is_remainder(data.attrs), attrs=data.attrs, misfit_out=misfits, n_free=int(table.free_index.size))
     misfit = misfits[0]
-    given = np.isfinite(table.values[table.free_index])
-    start = "the given start" if given.all() and given.size else "the given start, the other parameters' from the data" if given.any() else "the data-driven start"
-    result = fit_result(circuit, table, freq, z, out, weighting, used, time.perf_counter() - t0, registry, chi2_at_x=chi2_at_x, extra_notes=notes, start=start, weights=(inv_re, inv_im))
+    result = fit_result(circuit, table, freq, z, out, weighting, used, time.perf_counter() - t0, registry, chi2_at_x=chi2_at_x, extra_notes=notes, start=start, weights=(inv_re, inv_im),
+                        starts_words=starts_words(table, n_starts, used, guess_words))
     # a misfit the user's fixed value or bound explains is told so, not blamed on the model (as a batch's)
     checked = constraint_misfit_notes(circuit, table, registry, freq, z, result.z_model, sigma, result.values, result.at_bound, misfit, kk_misfit.get(0), weighting=weighting, fit=fit, attrs=data.attrs)
     if checked != misfit:
@@ -200,6 +202,20 @@ def data_source(data: xr.Dataset) -> str | None:
 
 
 register_spectrum_fit(fit)  # (BatchFitResult.fit_of refits one spectrum with it)
+
+
+def starts_words(table, n_starts: int, used: int, start: str) -> str:
+    """What the ``used`` starts of a fit were, after "best of {used} starts: " in its message:
+    one draw of ``n_starts`` (`starts.draw_words`, ``start`` among them), and, where the start
+    ladder climbed (``used`` > ``n_starts``), that it escalated to ``used`` and why (the
+    rule of `escalated`). ``start``: the guess in a list ("the given start"). Until
+    2026-12-02 the message said "best of 336 starts" after a progress line of "draws of 16
+    starts", and not that the given start was among them."""
+    draw = draw_words(table, n_starts, start)
+    if used <= n_starts:
+        return draw
+    return (f"the start ladder's first draw of {n_starts}, escalated to {used} ({used // n_starts} draws) as the best fit stayed above "
+            f"{KK_MISFIT_FACTOR:g} × the misfit of a Kramers–Kronig-consistent model; each draw {draw}")
 
 
 def escalated(out, solve, circuit, table, features, freq, z, n_starts: int, seed: int, registry, max_steps: int):
@@ -218,8 +234,11 @@ def escalated(out, solve, circuit, table, features, freq, z, n_starts: int, seed
         if rung:
             if target is None:
                 target = climb_target(freq, z)[0]
-            if rms_rel_of(out.z_model, z) <= target:
+            rms_rel = float(rms_rel_of(out.z_model, z))
+            if rms_rel <= target:
                 break
+            say(f"the best of {calls * n_starts} starts misses the data by {rms_rel * 100:.3g}% rms_rel, above {target * 100:.2g}% "
+                f"({KK_MISFIT_FACTOR:g} × the misfit of a Kramers–Kronig-consistent model): escalated to {(calls + multiple) * n_starts} starts ({multiple} new draws of {n_starts})")
         seeds = [rung_seed(seed, rung, call) for call in range(multiple)]
         draws = [to_solver_space(table, x) for x in rung_draws(circuit, table, features, n_starts, seeds, registry)]
         calls += multiple

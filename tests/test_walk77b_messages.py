@@ -1,0 +1,198 @@
+"""Messages after a user walkthrough (walk77b, items 4 and 6; docs/cli.md, 2026-12-02):
+
+- a spectrum of a batch picked by position (``fit_of(0)``) is a `ParameterError` naming the
+  call with a real label, not Python's bare TypeError; alike ``unidentified_groups_of``,
+  ``comparison_of`` and a global fit's ``fit_of``;
+- ``impedax fit`` says its first line once (the check of a fixed value's misfit refits
+  silently) and its start counts agree: 16 in the ladder's first draw, escalated to 80 and
+  336 (rungs of 1, 4 and 16 draws of 16), which the status line explains;
+- ``--init`` with every free parameter given: the status says the given start is in each
+  draw, 8 times, since none of its parameters is jittered (7 copies + itself, 8 drawn);
+- a batch written with ``--out`` ends by naming that file, not ``--out FILE.csv … or --json``.
+
+Data: the REAL impedance.py exampleData.csv; SYNTHETIC R0 + R1 ∥ C1 stacks (formulas here)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import impedax as ix
+from impedax.cli import main
+from impedax.errors import ParameterError
+from impedax.fitting.least_squares.batch import SPECTRA_AS_COLUMNS
+
+REAL_CSV = Path(__file__).parent / "fixtures" / "real" / "exampleData.csv"
+# the walkthrough fitted R0-p(R1,CPE1)-Wo1; R0 + R1 ∥ C1 says the same lines and compiles
+# faster (and once for the whole module: the batch tests' fit_of uses the same single-fit solvers)
+MODEL = "R0 + R1 || C1"
+F = np.geomspace(1.0, 1e5, 30)
+
+
+def synthetic_stack(n: int, dim: str = "cycle", labels=None) -> xr.Dataset:
+    """SYNTHETIC: R0 + R1 ∥ C1 (R0 = 10 (1 + k) Ω, R1 = 100 Ω, C1 = 1 µF) with 0.2 % complex noise."""
+    rng = np.random.default_rng(7)
+    jw = 2j * np.pi * F
+    spectra = []
+    for k in range(n):
+        z = 10.0 * (1 + k) + 100.0 / (1 + 100.0 * 1e-6 * jw)
+        spectra.append(ix.make_spectrum(F, z * (1 + 0.002 * (rng.normal(size=F.size) + 1j * rng.normal(size=F.size)))))
+    return xr.concat(spectra, dim=dim).assign_coords({dim: list(range(1, n + 1)) if labels is None else labels})
+
+
+def stand_in(coords: dict) -> ix.BatchFitResult:
+    """A batch over ``coords`` (dimension → labels, None: no coordinate) holding only what the
+    label checks read: no fit is needed to call a method wrongly."""
+    sizes = {d: (3 if v is None else len(v)) for d, v in coords.items()}
+    ds = xr.Dataset({"rms_rel": (tuple(sizes), np.zeros(tuple(sizes.values())))}, coords={d: v for d, v in coords.items() if v is not None})
+    return ix.BatchFitResult(circuit=ix.parse("R0 + R1 || C1"), dataset=ds, weighting="modulus", warnings={})
+
+
+# --- 1. a spectrum by position --------------------------------------------------------------
+
+def test_fit_of_by_position_names_the_call_with_the_label_at_that_position():
+    batch = stand_in({"cycle": [1, 2, 3]})  # cycles count from 1: position 0 is cycle 1
+    with pytest.raises(ParameterError) as caught:
+        batch.fit_of(0)
+    text = str(caught.value)
+    assert text.startswith("fit_of takes the spectrum by its labels, one keyword per batch dimension (cycle), not by position: fit_of(cycle=1)")
+    assert "0 is not among the labels along cycle: the spectrum at position 0 is the one with cycle=1" in text
+    assert "(the labels along cycle: 1, 2, 3)" in text
+
+
+def test_a_positional_label_is_shown_as_its_keyword():
+    batch = stand_in({"cycle": [1, 2, 3]})
+    with pytest.raises(ParameterError, match=r"not by position: fit_of\(cycle=2\) \(the labels"):
+        batch.fit_of(2)  # 2 is a label: the keyword was left out
+
+
+def test_two_dimensions_and_no_coordinates_give_a_full_example():
+    batch = stand_in({"cell": ["a", "b"], "trial": None})
+    with pytest.raises(ParameterError, match=r"\(cell, trial\), not by position: fit_of\(cell='a', trial=0\)$"):
+        batch.fit_of("a", 0)
+
+
+def test_the_other_accessors_by_labels_refuse_a_position_alike():
+    batch = stand_in({"cycle": [5, 6]})
+    with pytest.raises(ParameterError, match=r"^unidentified_groups_of takes the spectrum by its labels.*unidentified_groups_of\(cycle=5\)"):
+        batch.unidentified_groups_of(0)
+    from impedax.fitting.batch_comparison import BatchComparison
+
+    comparison = SimpleNamespace(dims=batch.dims, dataset=batch.dataset)  # (what the check reads of a BatchComparison)
+    with pytest.raises(ParameterError, match=r"^comparison_of takes the spectrum by its labels.*comparison_of\(cycle=6\)"):
+        BatchComparison.comparison_of(comparison, 6)
+    shared = ix.SharedFitResult(circuit=batch.circuit, dataset=batch.dataset, weighting="modulus", warnings={})
+    with pytest.raises(ParameterError, match="would move the shared parameters"):
+        shared.fit_of(0)  # (its own message, however called)
+
+
+@pytest.mark.slow  # (a batch fit and a single fit compiled: 19 s measured on the shared 2-core machine; the stand-ins above cover the check)
+def test_a_fitted_batch_refuses_a_position_and_takes_the_label():
+    batch = ix.fit(MODEL, synthetic_stack(SPECTRA_AS_COLUMNS + 2))  # (the shape of the batch tests below: one compilation)
+    with pytest.raises(ParameterError, match=r"fit_of\(cycle=1\)"):
+        batch.fit_of(0)
+    one = batch.fit_of(cycle=2)  # oracle: the formula's R0 of the second spectrum, 20 Ω
+    assert one.values["R0"] == pytest.approx(20.0, rel=0.02)
+
+
+# --- 2 and 4. the progress lines and the start counts -----------------------------------------
+
+@pytest.fixture
+def progress_at_once(monkeypatch):
+    """Progress lines printed from the first (not after `PROGRESS_AFTER_S`)."""
+    import impedax.cli.common as common
+
+    monkeypatch.setattr(common, "PROGRESS_AFTER_S", 0.0)
+
+
+def test_fit_says_its_first_line_once_and_its_start_counts_agree(capsys, progress_at_once):
+    """R0 fixed at 0.015 Ω misses the REAL data (22 % rms_rel against the KK test's 0.2 %): the
+    ladder climbs 1, 4 and 16 draws of 16, i.e. 16 → 80 → 336 starts, said in that order."""
+    assert main(["fit", str(REAL_CSV), "--model", MODEL, "--fix", "R0=0.015"]) == 0
+    out, err = capsys.readouterr()
+    assert err.count("first fit compiles its solvers") == 1
+    first = err.index("16 starts (the start ladder's first draw: the data-driven start, 7 jittered copies of it and 8 drawn at random)")
+    to_80, to_336 = err.index("escalated to 80 starts (4 new draws of 16)"), err.index("escalated to 336 starts (16 new draws of 16)")
+    assert first < to_80 < to_336
+    assert "draws of 16 starts (the start ladder)" not in err
+    status = next(line for line in out.splitlines() if line.startswith("status"))
+    assert "best of 336 starts: the start ladder's first draw of 16, escalated to 336 (21 draws) as the best fit stayed above 1.2 × the misfit" in status
+
+
+def test_fit_with_every_value_given_says_the_given_start_is_in_each_draw(capsys):
+    """A start like the walkthrough's (impedance.py's initial_guess): every free parameter given,
+    so none is jittered and each draw of 16 holds it 8 times (itself + 7 copies) and 8 random."""
+    inits = ["R0=0.01", "R1=0.01", "C1=1m"]
+    assert main(["fit", str(REAL_CSV), "--model", MODEL, "--init", *inits, "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert "each draw the given start 8 times (every free parameter given: none to jitter) and 8 drawn at random" in doc["message"]
+    # (an RC misses the REAL data by far more than the KK test's 0.2 %: the ladder climbs to 336, and says so)
+    assert "best of 336 starts: the start ladder's first draw of 16, escalated to 336 (21 draws)" in doc["message"]
+
+
+def test_a_draw_in_words_counts_its_jittered_and_random_starts():
+    """`random_starts`: (n − 1)//2 jittered copies, the rest less the guess at random; only
+    parameters neither fixed nor given are jittered. Hand counts: 16 → 7 + 8, 5 → 2 + 2, 2 → 0 + 1."""
+    from impedax.fitting.least_squares.starts import draw_words
+    from impedax.fitting.parameters import ParameterTable
+
+    circuit = ix.parse("R0 + R1 || C1")
+    partial = ParameterTable.build(circuit, init={"R1": 100.0})
+    assert draw_words(partial, 16, "S") == "S, 7 jittered copies of it and 8 drawn at random"
+    assert draw_words(partial, 5, "S") == "S, 2 jittered copies of it and 2 drawn at random"
+    assert draw_words(partial, 2, "S") == "S and 1 drawn at random"
+    everything = ParameterTable.build(circuit, init={"R1": 100.0, "C1": 1e-6}, fixed={"R0": 10.0})
+    assert draw_words(everything, 16, "S") == "S 8 times (every free parameter given: none to jitter) and 8 drawn at random"
+
+
+# --- 3. the closing line of a batch written to a file ----------------------------------------
+
+@pytest.fixture
+def short_report(monkeypatch):
+    """Past `SPECTRA_AS_COLUMNS` + 1 spectra no per-spectrum rows (`SPECTRA_AS_ROWS` is 20:
+    lowered to keep the test fast, as tests/test_batch_report.py does)."""
+    from impedax.fitting import batch_comparison
+    from impedax.fitting.least_squares import batch as batch_module
+
+    monkeypatch.setattr(batch_module, "SPECTRA_AS_ROWS", SPECTRA_AS_COLUMNS + 1)
+    monkeypatch.setattr(batch_comparison, "SPECTRA_AS_ROWS", SPECTRA_AS_COLUMNS + 1)
+
+
+@pytest.mark.parametrize("out", ["batchW.json", None])
+def test_a_batch_written_with_out_names_its_file(tmp_path, capsys, short_report, out):
+    data = tmp_path / "stack.nc"
+    ix.save(synthetic_stack(SPECTRA_AS_COLUMNS + 2), data)
+    path = None if out is None else str(tmp_path / out)
+    assert main(["fit", str(data), "--model", MODEL, *([] if path is None else ["--out", path])]) == 0
+    text = capsys.readouterr().out
+    if path is None:  # (nothing written: the options that would)
+        assert "each spectrum's values, standard errors and rms_rel: --out FILE.csv (a row per spectrum and parameter) or --json" in text
+    else:
+        assert f'each spectrum\'s values, standard errors and rms_rel: written to {path} (its "spectra")' in text
+        assert "--json" not in text and "FILE.csv" not in text and Path(path).exists()
+
+
+def test_each_format_written_is_named_with_what_it_holds():
+    from impedax.cli.common import each_spectrum_written
+
+    assert each_spectrum_written("b.csv") == "written to b.csv (a row per spectrum and parameter)"
+    assert each_spectrum_written("b.CSV", rows="a row per spectrum and model") == "written to b.CSV (a row per spectrum and model)"
+    assert each_spectrum_written("b.nc") == "written to b.nc (netCDF: value, stderr and rms_rel over the batch's dimensions)"
+    assert each_spectrum_written("b.json") == 'written to b.json (its "spectra")'
+    assert each_spectrum_written(None) is None and each_spectrum_written("-") is None  # (- : the JSON on stdout, no report)
+
+
+@pytest.mark.slow  # (two models' batch fits: 22 s measured on the shared 2-core machine)
+def test_a_batch_comparison_written_with_out_names_its_file(tmp_path, capsys, short_report):
+    data = tmp_path / "stack.nc"
+    ix.save(synthetic_stack(SPECTRA_AS_COLUMNS + 2), data)
+    path = str(tmp_path / "cmp.json")
+    assert main(["compare", str(data), "--model", MODEL, "--model", "R0 + C1", "--out", path]) == 0
+    text = capsys.readouterr().out
+    assert f'each spectrum\'s winner and criteria: written to {path} (its "spectra"); one spectrum\'s full comparison: --select cycle=LABEL' in text
+    assert "or --json" not in text
