@@ -23,21 +23,91 @@ def labels_text(labels: Sequence) -> str:
     return shown + (f", ... ({len(labels)} in all)" if len(labels) > LABELS_SHOWN else "")
 
 
+# a quantity in a warning's text: a number, a space and a unit of `_SCALED_UNITS` with an SI
+# prefix (``1.58 kHz``, as `impedax.data.format_frequency` writes frequencies); the same quantity
+# with another prefix is the same wording (`_template`), and a range of it is one value scale
+_SCALED_UNITS = ("Hz",)
+_PREFIXES = {"G": 1e9, "M": 1e6, "k": 1e3, "": 1.0, "m": 1e-3, "µ": 1e-6, "u": 1e-6, "n": 1e-9}  # (SI prefixes)
+_QUANTITY = re.compile(r"(?<![\w.])([-+]?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?) (" + "|".join(p for p in _PREFIXES if p) + r")?(" + "|".join(_SCALED_UNITS) + r")(?!\w)")
+# a band of them: two quantities joined by a dash (``1 Hz – 5.01 Hz``, ``1 Hz–5 Hz``)
+_BAND = re.compile(_QUANTITY.pattern + r"( ?[–-] ?)" + _QUANTITY.pattern)
+# what `_spread` reads: bands, then lone quantities, then plain numbers
+_SLOT = re.compile(f"(?P<band>{_BAND.pattern})|(?P<quantity>{_QUANTITY.pattern})|(?P<number>{_NUMBER.pattern})")
+
+
+def _quantity(number: str, prefix: str | None, unit: str) -> tuple[float, str, str]:
+    """A quantity as (its value in ``unit``, its number as written, its prefixed unit)."""
+    return float(number) * _PREFIXES[prefix or ""], number, (prefix or "") + unit
+
+
+def _slots(text: str) -> tuple[list[str], list[tuple]]:
+    """``text`` cut at its bands, quantities and numbers (`_SLOT`): the text between them (one
+    more piece than slots), and each slot as ("band", low, high, dash), ("quantity", q) or
+    ("number", text), a quantity as `_quantity` gives it."""
+    pieces, slots, start = [], [], 0
+    for m in _SLOT.finditer(text):
+        pieces.append(text[start : m.start()])
+        start = m.end()
+        if m.group("band"):
+            low, high = _BAND.match(m.group("band")).groups()[:3], _BAND.match(m.group("band")).groups()[4:]
+            slots.append(("band", _quantity(*low), _quantity(*high), _BAND.match(m.group("band")).group(4)))
+        elif m.group("quantity"):
+            slots.append(("quantity", _quantity(*_QUANTITY.match(m.group("quantity")).groups())))
+        else:
+            slots.append(("number", m.group("number")))
+    return pieces + [text[start:]], slots
+
+
+def _quantity_range(quantities) -> str:
+    """Quantities (`_quantity`) as their range, the unit written once where both ends have it
+    (``1.58–10 kHz``) and at each end where not (``800 Hz – 1.2 kHz``); one quantity where all
+    are equal in value."""
+    low, high = min(quantities), max(quantities)
+    if low[0] == high[0]:
+        return f"{low[1]} {low[2]}"
+    if low[2] == high[2]:
+        return f"{low[1]}–{high[1]} {low[2]}"
+    return f"{low[1]} {low[2]} – {high[1]} {high[2]}"
+
+
+def _band_range(bands) -> str:
+    """Bands (low, high, dash) of one place in several spectra's warnings as one band: each
+    spectrum's band written as it is where all are the same (``1 Hz – 5.01 Hz``); else the band
+    that holds them all, then how its ends vary over the spectra, each end once with its unit
+    (``1.58–100 kHz (the spectra's lower ends 1.58–10 kHz, upper ends 7.94–100 kHz)``)."""
+    lows, highs = [b[0] for b in bands], [b[1] for b in bands]
+    if len({q[0] for q in lows}) == 1 and len({q[0] for q in highs}) == 1:
+        low, high, dash = bands[0]
+        return f"{low[1]} {low[2]}{dash}{high[1]} {high[2]}"
+    varying = [f"{end} ends {_quantity_range(qs)}" for end, qs in (("lower", lows), ("upper", highs)) if len({q[0] for q in qs}) > 1]
+    return f"{_quantity_range([min(lows), max(highs)])} (the spectra's {', '.join(varying)})"
+
+
 def _spread(texts: Sequence[str]) -> str:
-    """One text for warnings that differ only in their numbers: the numbers that differ
-    become their range (``r = -0.993 to -0.990``)."""
+    """One text for warnings that differ only in their numbers (and the SI prefixes of their
+    quantities, `_template`): the numbers that differ become their range (``r = -0.993 to
+    -0.990``), a quantity's with its unit once (``1.58–10 kHz``) and a band's as one band with
+    how its ends vary (`_band_range`; until 2026-12-02 each end was ranged number by number:
+    "at 1.58 to 10 kHz – 7.94 to 100 kHz")."""
     if len(set(texts)) == 1:
         return texts[0]
-    numbers = [_NUMBER.findall(t) for t in texts]
-    pieces = _NUMBER.split(texts[0])
+    cut = [_slots(t) for t in texts]
+    pieces, first = cut[0]
+    if any(len(slots) != len(first) or [s[0] for s in slots] != [s[0] for s in first] for _, slots in cut):
+        return texts[0]  # (not one wording: not reached, `_template` groups only texts of one)
     out = [pieces[0]]
     for i, piece in enumerate(pieces[1:]):
-        column = [n[i] for n in numbers]
-        if len(set(column)) == 1:
-            out.append(column[0])
+        column = [slots[i] for _, slots in cut]
+        kind = column[0][0]
+        if kind == "band":
+            out.append(_band_range([s[1:] for s in column]))
+        elif kind == "quantity":
+            quantities = [s[1] for s in column]
+            out.append(f"{quantities[0][1]} {quantities[0][2]}" if len(set(quantities)) == 1 else _quantity_range(quantities))
         else:
-            ordered = sorted(column, key=float)
-            out.append(f"{ordered[0]} to {ordered[-1]}")
+            numbers = [s[1] for s in column]
+            ordered = sorted(numbers, key=float)
+            out.append(numbers[0] if len(set(numbers)) == 1 else f"{ordered[0]} to {ordered[-1]}")
         out.append(piece)
     return "".join(out)
 
@@ -75,8 +145,10 @@ def _segments(text: str) -> list[str] | None:
 
 
 def _template(text: str) -> str:
-    """A text with its numbers as ``#``: texts of one wording have one template."""
-    return _NUMBER.sub("#", text)
+    """A text with its numbers as ``#`` and its quantities as ``# Hz`` whatever their SI prefix
+    (`_QUANTITY`; ``1 Hz`` and ``1.58 kHz`` were two kinds of warning until 2026-12-02): texts of
+    one wording have one template."""
+    return _NUMBER.sub("#", _QUANTITY.sub(lambda m: "# " + m.group(3), text))
 
 
 def _kind_key(text: str) -> str:

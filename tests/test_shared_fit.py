@@ -156,6 +156,23 @@ def test_keep_dimension_gives_one_global_fit_per_index(rng):
     assert float(r.values("R0").sel(session="b")) == pytest.approx(float(alone.values("R0")), rel=1e-7)
     assert float(r.values("R0").sel(session="a")) == pytest.approx(30.0, rel=0.05)
     assert r.summary()["shared"]["R0"]["value"] == pytest.approx([float(r.values("R0")[0]), float(r.values("R0")[1])])
+    # plot(x=): one series per session against the trials' numbers, shifted apart by 4 % of a step
+    import dataclasses
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    numbered = dataclasses.replace(r, dataset=r.dataset.assign_coords(trial=[10.0, 20.0, 30.0]))
+    fig = numbered.plot(x="trial", params=["R1"])
+    dots = [ln for ln in fig.axes[0].get_lines() if ln.get_marker() == "o"]
+    np.testing.assert_allclose([ln.get_xdata() for ln in dots], [[9.8, 19.8, 29.8], [10.2, 20.2, 30.2]])
+    np.testing.assert_allclose([ln.get_ydata() for ln in dots], r.values("R1").transpose("session", "trial").values)
+    assert [t.get_text() for t in fig.axes[0].get_legend().get_texts()] == ["session=a", "session=b"]
+    plt.close(fig)
+    with pytest.raises(ix.ParameterError, match="no numeric coordinate"):
+        r.plot(x="session")
 
 
 @pytest.mark.parametrize(
@@ -347,3 +364,56 @@ def test_cli_sample_shared_corner_and_no_band_plot(problem, tmp_path, capsys):
     assert png.stat().st_size > 1000 and "R0" in capsys.readouterr().out
     assert main(["sample", str(path), "--model", "R0 + R1 || C1", "--shared", "R0", "--plot", str(tmp_path / "bands.png")]) == 2
     assert "--plot is not available with --shared" in capsys.readouterr().err
+
+
+def test_table_and_csv_mark_the_shared_rows(problem, shared_fit, tmp_path):
+    # (walkthrough 2026-12-02: the CSV repeated the shared R0 on each trial's row unmarked, so
+    # averaging rows counted its one estimate 4 times)
+    rows = shared_fit.to_table()
+    assert list(rows[0])[list(rows[0]).index("fixed") + 1] == "shared"  # (after fixed; every other column kept)
+    assert {r["name"] for r in rows if r["shared"]} == {"R0"} and sum(r["shared"] for r in rows) == 4
+    assert [r["stderr"] for r in rows if r["shared"]] == [pytest.approx(shared_fit.summary()["shared"]["R0"]["stderr"])] * 4
+    path = tmp_path / "shared.csv"
+    ix.write_result(shared_fit, path)
+    header, *lines = path.read_text().splitlines()
+    columns = header.split(",")
+    assert {"value", "stderr", "fixed", "shared"} <= set(columns)
+    marked = [line.split(",")[columns.index("name")] for line in lines if line.split(",")[columns.index("shared")] == "true"]
+    assert marked == ["R0"] * 4
+
+
+def test_stderr_has_the_shape_of_values(problem, shared_fit):
+    _, z, _, _ = problem
+    _, se, _ = brute_force(z)  # the dense joint least squares' standard errors: the oracle
+    assert float(shared_fit.stderr("R0")) == pytest.approx(se[0], rel=1e-4)
+    assert shared_fit.stderr("R0").dims == shared_fit.values("R0").dims == ()
+    np.testing.assert_allclose(shared_fit.stderr("R1").values, se[1:5], rtol=1e-4)
+    assert shared_fit.stderr("R1").dims == shared_fit.values("R1").dims == ("trial",)
+    with pytest.raises(ix.ParameterError, match="R1"):
+        shared_fit.stderr("R7")
+
+
+def test_plot_against_a_numeric_coordinate(shared_fit):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig = shared_fit.plot(x="trial", params=["R1"])
+    ax = fig.axes[0]
+    assert ax.get_xlabel() == "trial"
+    (line,) = [ln for ln in ax.get_lines() if ln.get_marker() == "o"]
+    np.testing.assert_allclose(line.get_xdata(), [1, 2, 3, 4])  # (the trials' coordinate, one series)
+    np.testing.assert_allclose(line.get_ydata(), shared_fit.values("R1").values)
+    plt.close(fig)
+    with pytest.raises(ix.ParameterError, match=r"a dimension of the batch \(trial\)"):
+        shared_fit.plot(x="voltage")
+
+
+def test_bad_shared_arguments_are_caught_before_the_progress_line(problem):
+    lines = []
+    with pytest.raises(ix.ParameterError, match="unknown parameter 'R9'"):
+        ix.fit("R0 + R1 || C1", problem[0], shared=["R9"], progress=lines.append)
+    with pytest.raises(ix.ParameterError, match="'session' is not a dimension"):
+        ix.fit("R0 + R1 || C1", problem[0], shared=["R0"], over="session", progress=lines.append)
+    assert lines == []  # (the README: inputs are checked before any work; "fitting … together" came first until 2026-12-02)

@@ -11,7 +11,7 @@ from ..data import coordinate_labels, unit_text
 from . import font_size
 
 
-def plot_batch(batch, *, title: str | None = None, figsize: tuple[float, float] | None = None, params=None):
+def plot_batch(batch, *, title: str | None = None, figsize: tuple[float, float] | None = None, params=None, x: str | None = None):
     """One panel per free parameter (value ± stderr for each spectrum, in the order of the batch
     dimensions, the x axis marked with the spectra's labels; a value at its bound has no bar, as
     text and JSON give it no standard error, and an open square marked "at bound") and one for rms_rel; log scale
@@ -20,7 +20,11 @@ def plot_batch(batch, *, title: str | None = None, figsize: tuple[float, float] 
     (width, height) [in]: the figure's size, the panels keeping their proportions. ``params``:
     the parameters to draw, in that order (a list of names, or one name; None: every free one;
     added 2026-12-01), the rms_rel panel after them; an unknown name is a `ParameterError`
-    naming the circuit's parameters. Returns a matplotlib Figure."""
+    naming the circuit's parameters. ``x``: a batch dimension with a numeric coordinate
+    (``"voltage"``) to draw against, its coordinate on the x axis and one series (colour,
+    shifted sideways by a few % of the coordinate's smallest step so that bars of one x stay
+    apart) per label of the other dimensions (`_x_series`; added 2026-12-02). Returns a
+    matplotlib Figure."""
     import matplotlib.pyplot as plt
 
     from . import characters_across, label_spectra_axis, nyquist_panel_height, nyquist_shape, plain_linear_ticks, plain_log_ticks, prefixable_unit, prefixed_axis, wrap_model
@@ -41,6 +45,9 @@ def plot_batch(batch, *, title: str | None = None, figsize: tuple[float, float] 
     grid = fig.add_gridspec(rows + own_row, max(cols, 2), height_ratios=[2.6] * rows + ([fits_row] if own_row else []))
     axes = [fig.add_subplot(grid[i // cols, i % cols]) for i in range(len(panels))]
     index = np.arange(batch.n_spectra)
+    series = None if x is None else _x_series(batch, x)
+    for _, members, position in series or ():  # (each spectrum at its coordinate)
+        index = np.where(members, position, index)
     places = [coordinate_labels(ds, d) for d in batch.dims]
     labels = [", ".join(str(places[k][i]) for k, i in enumerate(at)) for at in np.ndindex(*(ds.sizes[d] for d in batch.dims))]
     specs = batch.circuit.parameter_specs(batch.registry)
@@ -59,7 +66,14 @@ def plot_batch(batch, *, title: str | None = None, figsize: tuple[float, float] 
         kept = ~loose
         barred = kept & ~at
         bars = None if err is None else _bounded_bars(y, np.where(np.isfinite(err), err, 0.0), _bounds(ds, name, specs[name]))[:, kept]
-        if barred.any() or not (kept & at).any():
+        if series is not None:  # (against a coordinate: each series its own colour)
+            all_bars = None if err is None else _bounded_bars(y, np.where(np.isfinite(err), err, 0.0), _bounds(ds, name, specs[name]))
+            for k, (label, members, position) in enumerate(series):
+                chosen = barred & members
+                ax.errorbar(position[chosen], y[chosen], yerr=None if all_bars is None else all_bars[:, chosen], fmt="o", ms=3, lw=0.8, capsize=1.5, color=f"C{k % 10}", label=label or None)
+            if len(series) > 1 and ax is axes[0]:
+                ax.legend(fontsize=font_size("legend", 6.5), loc="best", handlelength=1.0, borderaxespad=0.3)
+        elif barred.any() or not (kept & at).any():
             ax.errorbar(index[barred], y[barred], yerr=None if bars is None else bars[:, ~at[kept]], fmt="o", ms=3, lw=0.8, capsize=1.5)
         if (kept & at).any():  # (no bar: text and JSON give no standard error at a bound)
             ax.plot(index[kept & at], y[kept & at], "s", ms=3, mfc="none", color="C3", label="at bound (no stderr)")
@@ -82,7 +96,10 @@ def plot_batch(batch, *, title: str | None = None, figsize: tuple[float, float] 
                 prefixed_axis(ax.yaxis, label=ax.title)
             else:  # (σ 1760, 1770, not 6.4 under "1e-9+1.767766953e3"; rms_rel 1e-13, not 1.0 under "1e-13")
                 plain_linear_ticks(ax.yaxis)
-        label_spectra_axis(ax, labels, batch.dims)
+        if series is None:
+            label_spectra_axis(ax, labels, batch.dims)
+        else:
+            ax.set_xlabel(x, fontsize=font_size("label", 8))
         ax.grid(alpha=0.3, which="both")
     if with_fits:
         ax_nyq = fig.add_subplot(grid[rows, :] if own_row else grid[rows - 1, cols - left :])
@@ -90,6 +107,43 @@ def plot_batch(batch, *, title: str | None = None, figsize: tuple[float, float] 
     converged = float(ds["converged"].mean()) * 100
     fig.suptitle(title or wrap_model(f"{batch.model}: {batch.n_spectra} spectr{'um' if batch.n_spectra == 1 else 'a'}, {converged:.0f}% converged", characters_across(fig.get_figwidth() if figsize else 3.2 * cols, font_size("suptitle", 12))))
     return fig
+
+
+# the sideways shift between the series of `plot_batch(x=...)`, a fraction of the coordinate's
+# smallest step: bars of one x drawn apart (a choice of legibility, not of data)
+SERIES_SHIFT = 0.04
+
+
+def _x_series(batch, x) -> list[tuple[str, np.ndarray, np.ndarray]]:
+    """For `plot_batch(x=...)`: per label of the batch's dimensions other than ``x`` (in C
+    order), its text (``repeat=1``; empty for a batch over ``x`` alone), which spectra (flat, in
+    the batch's order) it holds and each spectrum's position (``x``'s coordinate, shifted by
+    `SERIES_SHIFT` of its smallest step per series). `ParameterError` unless ``x`` is a batch
+    dimension with a numeric coordinate."""
+    from ..errors import ParameterError
+
+    ds = batch.dataset
+    if not isinstance(x, str) or x not in batch.dims:
+        raise ParameterError(f"plot(x=...): a dimension of the batch ({', '.join(batch.dims)}), got {x!r}")
+    if x not in ds.coords or not np.issubdtype(ds[x].dtype, np.number):
+        raise ParameterError(f"plot(x={x!r}): {x} has no numeric coordinate to draw against; give the data one (data.assign_coords({x}=[...])) or leave x out")
+    shape = tuple(ds.sizes[d] for d in batch.dims)
+    axis = batch.dims.index(x)
+    coordinate = np.asarray(ds[x].values, float)
+    at = np.stack(np.unravel_index(np.arange(batch.n_spectra), shape)) if shape else np.zeros((0, 1), int)
+    others = [d for d in batch.dims if d != x]
+    steps = np.diff(np.unique(coordinate))
+    step = float(steps.min()) if steps.size else 1.0
+    groups = list(np.ndindex(*(ds.sizes[d] for d in others)))
+    out = []
+    for k, group in enumerate(groups):
+        members = np.ones(batch.n_spectra, bool)
+        for d, j in zip(others, group):
+            members &= at[batch.dims.index(d)] == j
+        shift = (k - (len(groups) - 1) / 2) * SERIES_SHIFT * step
+        label = ", ".join(f"{d}={coordinate_labels(ds, d)[j]}" for d, j in zip(others, group))
+        out.append((label, members, coordinate[at[axis]] + shift))
+    return out
 
 
 def _chosen(batch, params) -> list[str]:

@@ -172,6 +172,12 @@ class BatchFitResult:
         """Fitted values of parameter ``name`` over the batch dimensions."""
         return self.dataset["value"].sel(param=self._parameter(name, "values"))
 
+    def stderr(self, name: str) -> xr.DataArray:
+        """Standard errors of parameter ``name`` over the batch dimensions, the shape of
+        `values` (NaN where fixed, inf where undetermined; as ``stderr`` in `to_xarray`; added
+        2026-12-02): ``b.values(n).plot.line(x="voltage")`` with these as error bars."""
+        return self.dataset["stderr"].sel(param=self._parameter(name, "stderr"))
+
     def per_spectrum_starts(self, data: xr.Dataset, names) -> np.ndarray:
         """This batch's values as the starts of a new batch fit of ``data`` (``fit(..., init=batch)``):
         shape (*the data's extra dimensions, len(names)), each spectrum's own fitted values of the
@@ -342,14 +348,17 @@ class BatchFitResult:
         lines = [f"{self.n_spectra} {'spectrum' if self.n_spectra == 1 else 'spectra'} over {_dims_text(s['dims'])}: converged {s['converged_fraction'] * 100:.1f}%, median rms_rel {s['rms_rel_median'] * 100:.3g} %", *(f"note: {n}" for n in self.notes)]
         return result_html(self.model, rows, lines=lines)
 
-    def plot(self, *, title: str | None = None, figsize: tuple[float, float] | None = None, params=None):
+    def plot(self, *, title: str | None = None, figsize: tuple[float, float] | None = None, params=None, x: str | None = None):
         """Each free parameter (± stderr) and rms_rel across the spectra (matplotlib Figure;
         `plotting.fit.plot_batch`); ``figsize`` (width, height) [in] in place of the size that
         follows the number of panels; ``params`` (a list of names) draws those parameters only,
-        in that order (an unknown name: a `ParameterError` naming the circuit's parameters)."""
+        in that order (an unknown name: a `ParameterError` naming the circuit's parameters);
+        ``x`` (a batch dimension with a numeric coordinate, e.g. ``"voltage"``) draws them
+        against that coordinate, one series per label of the other dimensions (added 2026-12-02;
+        else the spectra are categories in the batch's order)."""
         from ...plotting.fit import plot_batch
 
-        return plot_batch(self, title=title, figsize=figsize, params=params)
+        return plot_batch(self, title=title, figsize=figsize, params=params, x=x)
 
     def summary(self) -> dict:
         """The JSON of ``impedax fit --json`` for several spectra (docs/fitting.md, "Batch fits")."""

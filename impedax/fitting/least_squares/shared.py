@@ -467,6 +467,25 @@ class SharedFitResult(BatchFitResult):
             return self.dataset["shared_value"].sel(shared_param=name)
         return super().values(name)
 
+    def stderr(self, name: str) -> xr.DataArray:
+        """Standard errors of ``name``, the shape of `values`: over the dimensions not shared over
+        for a shared parameter (``shared_stderr``), over all extra dimensions for the others."""
+        if name in self.shared:
+            return self.dataset["shared_stderr"].sel(shared_param=name)
+        return super().stderr(name)
+
+    def to_table(self) -> list[dict[str, object]]:
+        """`BatchFitResult.to_table` with a ``shared`` column after ``fixed`` (added 2026-12-02):
+        True on the rows of a shared parameter (the JSON's ``shared``), whose value and stderr
+        each row of its group repeats (one estimate, not one per spectrum: average the rows with
+        ``shared`` False only, or take one row per group)."""
+        out = []
+        for row in super().to_table():
+            at = list(row).index("fixed") + 1
+            items = list(row.items())
+            out.append(dict(items[:at] + [("shared", row["name"] in self.shared)] + items[at:]))
+        return out
+
     def _scalar_or_list(self, da: xr.DataArray):
         return float(da) if da.ndim == 0 else da.transpose(*self.keep).values.tolist()
 

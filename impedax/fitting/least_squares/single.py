@@ -26,7 +26,7 @@ from .constraints import constraint_misfit_notes, with_constraint_notes
 from .order import canonical_order
 from .per_spectrum import has_per_spectrum_values, split_fits
 from .result import BOUND_RESTARTS, FitResult, is_remainder, falling_inward, fit_result, unused_sigma_notes
-from .shared import SharedFitResult, fit_shared
+from .shared import SharedFitResult, fit_shared, shared_layout
 from .solvers import IDENTITY_DAMPING_STEPS, SCREEN_STEPS, SharedArgs, SolverStatus, SpectrumRows, better, padded_points, solver_args, tree_solver, trimmed, unscale
 from .starts import KK_MISFIT_FACTOR, SpectrumFeatures, draw_words, escalation_rungs, climb_target, guess_start, inward_start, rms_rel_of, rung_draws, rung_seed, to_solver_space
 
@@ -116,6 +116,8 @@ def fit(
             raise ParameterError("init: a BatchFitResult starts each spectrum of a batch fit from its own optimum; a shared fit (shared=) takes a mapping name → value or a FitResult")
         starts = batch_init.per_spectrum_starts(data, table.names)
     n_spectra = int(np.prod([data.sizes[d] for d in extra])) if extra else 1
+    if shared is not None or over is not None:  # (checked before the first progress line, as every argument: 2026-12-02)
+        shared_layout(table, extra, shared, over, source=source)
     say(f"fitting {circuit} to {counted(n_spectra, 'spectrum', 'spectra')} together (a circuit's first batch compiles its solvers)" if extra else f"fitting {circuit} (a circuit's first fit compiles its solvers)")
     # σ the weighting does not use is said in the result (`unused_sigma_notes`), a batch's as a single fit's
     sigma_notes = unused_sigma_notes("sigma" in data, weighting)
