@@ -403,11 +403,15 @@ class KKResult:
         if self.bad_bands:
             lines.append(self._rules_text())
             t, levels = self.thresholds, self.rule_levels
+            if self.noise_from == "sigma":  # (each point's own level: in units of its s)
+                level = {"point": f"{t['point']:.3g} s", "run": f"{t['run']:.3g} s", "window": f"{t['window_mean'] / math.sqrt(t['window']):.3g} s"}
+            else:
+                level = {rule: f"{value * 100:.3g} %" for rule, value in levels.items()}
             for (lo, hi), counts, points in zip(self.bad_bands, band_rule_counts(*self._rule_masks()), self.band_frequencies):
                 said = [
-                    f"{points_text(counts['point'])} with |Δ| > {levels['point'] * 100:.3g} % (point rule)" if counts["point"] else "",
-                    f"{points_text(counts['run'])} in runs of ≥ {int(t['run_length'])} with |Δ| > {levels['run'] * 100:.3g} % (run rule)" if counts["run"] else "",
-                    f"{points_text(counts['window'])} under a {int(t['window'])}-point mean of Δ' or Δ'' > {levels['window'] * 100:.3g} % (window rule)" if counts["window"] else "",
+                    f"{points_text(counts['point'])} with |Δ| > {level['point']} (point rule)" if counts["point"] else "",
+                    f"{points_text(counts['run'])} in runs of ≥ {int(t['run_length'])} with |Δ| > {level['run']} (run rule)" if counts["run"] else "",
+                    f"{points_text(counts['window'])} under a {int(t['window'])}-point mean of Δ' or Δ'' > {level['window']} (window rule)" if counts["window"] else "",
                 ]
                 said = "; ".join(x for x in said if x)
                 # (the measured points themselves: the edges lie halfway to the neighbours, and --exclude takes points)
