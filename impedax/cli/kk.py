@@ -22,6 +22,9 @@ def register(sub) -> None:
     p.add_argument("--max-rc", type=int, default=None, metavar="M", help="largest number of RC elements tried (default: N/2 for N frequencies, at most 100; on data sparser than about 7 points a decade, 3.5 per decade of the band; linear test only)")
     p.add_argument("--no-inductance", action="store_true", help="no series inductance in the KK model (linear test only)")
     p.add_argument("--no-capacitance", action="store_true", help="no series capacitance in the KK model (linear test only)")
+    p.add_argument("--noise", choices=("auto", "sigma", "residuals"), default=None,
+                   help="each point's noise: sigma = the data's sigma column (the chain weighted by 1/σ, each point judged against its σ), residuals = one estimate "
+                        "from the residuals; auto (default) = sigma when the data carry one (linear test only; docs/kk.md)")
     p.add_argument("--fmin", type=number_option, help="ignore data below this frequency [Hz]")
     p.add_argument("--fmax", type=number_option, help="ignore data above this frequency [Hz]")
     add_exclude_option(p)
@@ -30,7 +33,7 @@ def register(sub) -> None:
 
 
 # the options of the linear test's Voigt chain: Z-HIT has no chain, and refuses them
-LINEAR_ONLY = ("--c", "--max-rc", "--no-inductance", "--no-capacitance")
+LINEAR_ONLY = ("--c", "--max-rc", "--no-inductance", "--no-capacitance", "--noise")
 
 
 def run(args) -> int:
@@ -40,7 +43,7 @@ def run(args) -> int:
                          plan_outputs, result_writer, skipped_rows, with_source, WithSummaryKeys)
 
     if args.method == "zhit":
-        given = [flag for flag, value in zip(LINEAR_ONLY, (args.c, args.max_rc, args.no_inductance or None, args.no_capacitance or None)) if value is not None]
+        given = [flag for flag, value in zip(LINEAR_ONLY, (args.c, args.max_rc, args.no_inductance or None, args.no_capacitance or None, args.noise)) if value is not None]
         if given:
             raise ParameterError(
                 f"{', '.join(given)} set{'s' if len(given) == 1 else ''} the linear test's Voigt chain; --method zhit has none: "
@@ -56,7 +59,7 @@ def run(args) -> int:
 
         check_band_options(args.fmin, args.fmax)
         data = select_band(data, args.fmin, args.fmax, data_source(data) or args.data)  # (<stdin> for -, and any --select)
-    options = dict(c=0.85 if args.c is None else args.c, max_rc=args.max_rc, inductance=not args.no_inductance, capacitance=not args.no_capacitance)
+    options = dict(c=0.85 if args.c is None else args.c, max_rc=args.max_rc, inductance=not args.no_inductance, capacitance=not args.no_capacitance, noise=args.noise or "auto")
     source = data_source(data)
     record = command_provenance(args, source=source, data_files=[args.data], c=options["c"])
     several = any(d != "frequency" for d in data["Z"].dims)
@@ -95,7 +98,7 @@ def _next_command(args, result, data) -> tuple[str | None, list[str]]:
     if not drop.size:
         return None, []
     kept = np.setdiff1d(result.frequency, drop)
-    chain = [("--c", args.c), ("--max-rc", args.max_rc), ("--no-inductance", args.no_inductance or None), ("--no-capacitance", args.no_capacitance or None)]
+    chain = [("--c", args.c), ("--max-rc", args.max_rc), ("--no-inductance", args.no_inductance or None), ("--no-capacitance", args.no_capacitance or None), ("--noise", args.noise)]
     command = fit_command(args, kept=kept, masked=drop, data=data, program="impedax kk") + "".join(
         f" {flag}" if value is True else f" {flag} {shlex.quote(str(value))}" for flag, value in chain if value is not None)
     words = [str(w) for flag, value in run_options(args, kept=kept, masked=drop, data=data) if flag in ("--fmin", "--fmax", "--exclude") and value is not None for w in (flag, value)]
@@ -114,7 +117,8 @@ def _each_spectrum(batch) -> None:
     few = sum(not r.conclusive for r in batch.results)
     consistent = sum(bool(r.valid) and r.conclusive for r in batch.results)
     print(f"linear KK test of {counted(len(batch.results), 'spectrum', 'spectra')} over {', '.join(batch.dims)}: {consistent} KK-consistent, {len(batch.results) - few - consistent} not"
-          + (f", {few} inconclusive (too few frequencies to tell)" if few else ""))
+          + (f", {few} inconclusive (too few frequencies to tell)" if few else "")
+          + ("; noise: the data's sigma (each point judged against its σ; --noise residuals for one estimate)" if any(r.noise_from == "sigma" for r in batch.results) else ""))
     names = [", ".join(f"{d}={v}" for d, v in w.items()) for w in where]
     width = column_width(names, "spectrum")
     print(f"{'spectrum':<{width}}  {'verdict':<9} {'rms_rel':>9} {'noise':>9} {'M':>3}  bad bands [rules that flagged them]")
@@ -123,8 +127,11 @@ def _each_spectrum(batch) -> None:
         print(f"{name:<{width}}  {('valid' if r.valid else 'NOT valid') if r.conclusive else 'too few':<9} {r.rms_rel * 100:>8.3g}% {r.noise_estimate * 100:>8.3g}% {r.n_rc:>3}  {bands}")
     if any(r.bad_bands for r in batch.results):
         t = batch.results[0].thresholds
+        by_sigma = sum(r.noise_from == "sigma" for r in batch.results)
+        scale = ("s: each point's σ/|Z| from the data's sigma, at least " if by_sigma == len(batch.results) else
+                 "s: the largest of the noise estimate, " if not by_sigma else "s: each point's σ/|Z| where the data's sigma was used, else the largest of the noise estimate, ")
         print(f"rules: point = one |Δ| > {t['point']:.3g} s, run = ≥ {int(t['run_length'])} consecutive |Δ| > {t['run']:.3g} s, window = a {int(t['window'])}-point mean "
-              f"of Δ' or Δ'' > {t['window_mean'] / math.sqrt(t['window']):.3g} s (s: the largest of the noise estimate, {t['noise_floor'] * 100:.3g} % and the chain's own error; the levels: impedax kk --select)")
+              f"of Δ' or Δ'' > {t['window_mean'] / math.sqrt(t['window']):.3g} s ({scale}{t['noise_floor'] * 100:.3g} % and the chain's own error; the levels: impedax kk --select)")
     hints = [r.sign_hint for r in batch.results]
     with_hint = [i for i, h in enumerate(hints) if h]
     if with_hint:

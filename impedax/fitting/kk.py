@@ -28,10 +28,10 @@ from ..arguments import EXCLUDE_RTOL, MAX_BASIS, checked_arguments, count, flag,
 from ..data import checked_frequencies, concise_repr, format_frequency
 from ..errors import DataError, ImpedaxError, ParameterError
 from .grid import ResultGrid, refuse_result_names
-from .problem import frequency_and_z
+from .problem import frequency_and_z, frequency_z_and_sigma
 from .statistics import difference_noise, non_passive, residual_noise
 
-__all__ = ["KKResult", "KKBatchResult", "kk_test", "kk_test_batch", "kk_misfits", "kk_verdicts", "rejudged", "DEFAULT_THRESHOLDS", "CONCLUSIVE_POINTS_MIN", "RULE_NAMES", "BAND_MERGE_DECADES", "band_rules", "band_rule_counts", "points_text", "thresholds_for", "left_out_options", "frequency_text"]
+__all__ = ["KKResult", "KKBatchResult", "kk_test", "kk_test_batch", "kk_misfits", "kk_sigma_misfits", "kk_verdicts", "NOISE_SOURCES", "noise_shapes", "rejudged", "DEFAULT_THRESHOLDS", "CONCLUSIVE_POINTS_MIN", "RULE_NAMES", "BAND_MERGE_DECADES", "band_rules", "band_rule_counts", "points_text", "thresholds_for", "left_out_options", "frequency_text"]
 
 # below this many frequencies the chain (M ≤ N − 3 RC elements) is too stiff for the data, its
 # misfit is the chain's own and the noise estimate follows it: the test cannot fail
@@ -120,7 +120,9 @@ class KKResult:
     ``rms_rel = sqrt(mean |Δ|²)``; ``noise_estimate`` is the robust per-component standard
     deviation of the random part of Δ; ``bad_bands`` are [(f_min, f_max)] in Hz;
     ``chain_error`` is the default reference chain's own misfit on these frequencies
-    (`chain_error` of `reference_rc`), a floor of ``threshold_scale``; ``sign_hint``: why and how
+    (`chain_error` of `reference_rc`), a floor of ``threshold_scale``; ``noise_from``:
+    ``"sigma"`` when the chain was weighted by the data's stated σ and each point judged against
+    its own ``point_scale``, ``"residuals"`` when every point was judged against one scale; ``sign_hint``: why and how
     the imaginary part may be stored with the opposite sign (`io.sign_check.sign_hint`), or None.
     """
 
@@ -153,6 +155,10 @@ class KKResult:
     # (added 2026-12-02) the measured frequencies [Hz] of the stray points left out of the chain's
     # fit, ascending (`kk_test`; docs/kk.md, "Stray points"); they are judged like the others
     stray_frequencies: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    # (added 2026-12-02) each point's scale max(σ/|Z|, floors) when judged by the data's stated σ
+    # (data order; ``threshold_scale`` is then its median), None when judged by ``noise_estimate``
+    point_scale: np.ndarray | None = None
+    noise_from: str = "residuals"  # "sigma": the chain weighted by 1/σ and each point judged by its σ (`kk_test`'s ``noise``)
 
     def predict(self, freq) -> np.ndarray:
         """The KK fit's impedance [Ω] at ``freq`` [Hz]: R_0 + jωL + (1/C)/(jω) + Σ R_k/(1 +
@@ -206,6 +212,7 @@ class KKResult:
                 "series_inductance_h": self.series_inductance,
                 "inverse_series_capacitance_per_f": self.inverse_series_capacitance,
                 "chain_error": self.chain_error,
+                "noise_from": self.noise_from,
                 **{f"threshold_{k}": v for k, v in self.thresholds.items()},
             },
         )
@@ -223,6 +230,9 @@ class KKResult:
             # (added 2026-12-01) the report's notes on what the verdict rests on, and what to heed
             # (the key fit, compare and sample give): every note, and the sign hint
             "notes": self.notes, "warnings": self.notes + ([self.sign_hint] if self.sign_hint else []),
+            # (added 2026-12-02) "sigma": the chain weighted by the data's σ and each point judged by
+            # its σ/|Z| (the threshold keys then hold the median point's levels); "residuals": one noise estimate
+            "noise_from": self.noise_from,
         })
         out.update({key: getattr(self, attribute) for key, attribute in _JSON_KEYS_ADDED.items()})
         out["bad_band_frequencies_hz"] = [list(f) for f in self.band_frequencies]
@@ -279,11 +289,18 @@ class KKResult:
         t, s = self.thresholds, self.threshold_scale
         return {"point": t["point"] * s, "run": t["run"] * s, "window": t["window_mean"] * s / math.sqrt(t["window"])}
 
+    @property
+    def scale_per_point(self) -> np.ndarray:
+        """The scale s each point was judged against (data order): ``point_scale`` when judged by
+        the stated σ, else ``threshold_scale`` at every point."""
+        return np.broadcast_to(self.threshold_scale if self.point_scale is None else self.point_scale, self.frequency.shape)
+
     def _rule_masks(self) -> tuple[np.ndarray, dict[str, np.ndarray], np.ndarray]:
         """(this result's flags, each rule's flags, the frequencies) in frequency order, at
-        ``threshold_scale``: the arguments of `band_rule_counts`."""
+        each point's scale (`scale_per_point`): the arguments of `band_rule_counts`."""
         order = np.argsort(self.frequency)
-        masks = _rule_masks(self.residuals_real[order], self.residuals_imag[order], self.threshold_scale, self.thresholds)
+        scale = self.threshold_scale if self.point_scale is None else self.point_scale[order]
+        masks = _rule_masks(self.residuals_real[order], self.residuals_imag[order], scale, self.thresholds)
         return np.asarray(self.flagged, bool)[order], masks, self.frequency[order]
 
     @property
@@ -338,8 +355,8 @@ class KKResult:
             return False
         flag, masks, freq = self._rule_masks()
         order = np.argsort(self.frequency)
-        size = np.hypot(self.residuals_real, self.residuals_imag)[order]
-        level = self.rule_levels["point"] * MARGINAL_POINT_RATIO
+        size = (np.hypot(self.residuals_real, self.residuals_imag) / self.scale_per_point)[order]  # (in units of each point's s)
+        level = self.thresholds["point"] * MARGINAL_POINT_RATIO
         return all(j - i == 1 and not masks["run"][i] and not masks["window"][i] and size[i] < level for i, j in _band_spans(flag, freq))
 
     def next_step(self, command: str | None = None) -> list[str]:
@@ -351,7 +368,7 @@ class KKResult:
         if self.valid or self.sign_hint or not self.conclusive:
             return []
         words = self.suggested_options
-        size = np.hypot(self.residuals_real, self.residuals_imag) / self.threshold_scale
+        size = np.hypot(self.residuals_real, self.residuals_imag) / self.scale_per_point
         lines = []
         if self.marginal_points_only:
             where = ", ".join(f"{format_frequency(float(f))} at {s:.3g} s" for f, s in sorted(zip(self.frequency[self.flagged], size[self.flagged])))
@@ -394,16 +411,24 @@ class KKResult:
         if self.stray_frequencies.size:
             where = ", ".join(format_frequency(float(f)) for f in self.stray_frequencies)
             lines.append(f"left out of the chain's fit as stray (lone spikes over the point level): {where}; judged against the chain without them (docs/kk.md, \"Stray points\")")
+        if self.noise_from == "sigma":
+            scale = self.scale_per_point
+            lines.insert(3, f"noise: the data's sigma (the chain weighted by 1/σ; each point judged against its own σ/|Z|, {scale.min() * 100:.3g}–{scale.max() * 100:.3g} %; "
+                            "kk_test(noise='residuals') judges by the noise estimate instead)")
         if self.sparse_note:
             lines.append(self.sparse_note)
         if self.bad_bands:
             lines.append(self._rules_text())
             t, levels = self.thresholds, self.rule_levels
+            if self.noise_from == "sigma":  # (each point's own level: in units of its s)
+                level = {"point": f"{t['point']:.3g} s", "run": f"{t['run']:.3g} s", "window": f"{t['window_mean'] / math.sqrt(t['window']):.3g} s"}
+            else:
+                level = {rule: f"{value * 100:.3g} %" for rule, value in levels.items()}
             for (lo, hi), counts, points in zip(self.bad_bands, band_rule_counts(*self._rule_masks()), self.band_frequencies):
                 said = [
-                    f"{points_text(counts['point'])} with |Δ| > {levels['point'] * 100:.3g} % (point rule)" if counts["point"] else "",
-                    f"{points_text(counts['run'])} in runs of ≥ {int(t['run_length'])} with |Δ| > {levels['run'] * 100:.3g} % (run rule)" if counts["run"] else "",
-                    f"{points_text(counts['window'])} under a {int(t['window'])}-point mean of Δ' or Δ'' > {levels['window'] * 100:.3g} % (window rule)" if counts["window"] else "",
+                    f"{points_text(counts['point'])} with |Δ| > {level['point']} (point rule)" if counts["point"] else "",
+                    f"{points_text(counts['run'])} in runs of ≥ {int(t['run_length'])} with |Δ| > {level['run']} (run rule)" if counts["run"] else "",
+                    f"{points_text(counts['window'])} under a {int(t['window'])}-point mean of Δ' or Δ'' > {level['window']} (window rule)" if counts["window"] else "",
                 ]
                 said = "; ".join(x for x in said if x)
                 # (the measured points themselves: the edges lie halfway to the neighbours, and --exclude takes points)
@@ -439,6 +464,10 @@ class KKResult:
         """One line: the scale s and the level of each rule (`rule_levels`)."""
         t, levels = self.thresholds, self.rule_levels
         noise = self.noise_estimate if math.isfinite(self.noise_estimate) else 0.0
+        if self.noise_from == "sigma":
+            return (f"rules (on |Δ| = |Z − Z_kk|/|Z|, s = each point's σ/|Z| (at least the {t['noise_floor'] * 100:.3g} % floor and the chain's error), median {self.threshold_scale * 100:.3g} %): "
+                    f"point |Δ| > {t['point']:.3g} s; run of ≥ {int(t['run_length'])} with |Δ| > {t['run']:.3g} s; "
+                    f"window: mean of Δ' or Δ'' over {int(t['window'])} points > {t['window_mean'] / math.sqrt(t['window']):.3g} s (s averaged over the window)")
         why = "the noise estimate" if self.threshold_scale == noise else "the sparse data's chain error" if self.threshold_scale == self.chain_error else f"the {t['noise_floor'] * 100:.3g} % floor"
         return (
             f"rules (on |Δ| = |Z − Z_kk|/|Z|, s = {self.threshold_scale * 100:.3g} %, {why}): point |Δ| > {t['point']:.3g} s = {levels['point'] * 100:.3g} %; "
@@ -665,11 +694,13 @@ def _block_rows(n_spectra: int, n_columns: int) -> int:
     return max(16, _BLOCK_ELEMENTS // (2 * n_spectra * n_columns))
 
 
-def _streamed_qr(omega, z, tau, inductance, capacitance):
+def _streamed_qr(omega, z, tau, inductance, capacitance, noise_shape=None):
     """R factor of the weighted, stacked system [A | b] for a stack of spectra z (B, N), built
     block by block (TSQR: the R of the rows so far is stacked on the next block and
     re-factorised), so the full (2N, P) matrix never exists. Rows [Re; Im] weighted by 1/|Z|
-    (Schönleber 2014 eq 13). Returns (B, P+1, P+1)."""
+    (Schönleber 2014 eq 13), or, given ``noise_shape`` (B, N), by 1/(|Z|·noise_shape): the stated
+    σ/|Z| over its median (`noise_shapes`), so weights ∝ 1/σ on the scale of relative ones.
+    Returns (B, P+1, P+1)."""
     n_spectra, n = z.shape
     p = (1 + int(inductance) + int(capacitance)) + tau.size
     r = None  # (the first block is factorised alone: stacking zero rows on it costs a third more)
@@ -677,6 +708,8 @@ def _streamed_qr(omega, z, tau, inductance, capacitance):
     for start in range(0, n, step):
         stop = min(start + step, n)
         weight = 1.0 / np.abs(z[:, start:stop])  # (B, n_b)
+        if noise_shape is not None:
+            weight = weight / noise_shape[:, start:stop]
         design = _design(omega[start:stop], tau, inductance, capacitance)
         b = z[:, start:stop] * weight
         n_b = stop - start
@@ -690,7 +723,7 @@ def _streamed_qr(omega, z, tau, inductance, capacitance):
     return r
 
 
-def _solve_streamed(omega, z, tau, inductance, capacitance):
+def _solve_streamed(omega, z, tau, inductance, capacitance, noise_shape=None):
     """Weighted linear least squares of one M for a stack of spectra z (B, N).
 
     The columns are scaled to unit norm (the ω/|Z| inductance column and the RC columns then
@@ -699,7 +732,7 @@ def _solve_streamed(omega, z, tau, inductance, capacitance):
     coincident frequencies). Returns coefficients (B, P) and the residual sum of squares
     Σ|Δ|² (B,).
     """
-    r_aug = _streamed_qr(omega, z, tau, inductance, capacitance)
+    r_aug = _streamed_qr(omega, z, tau, inductance, capacitance, noise_shape)
     p = r_aug.shape[-1] - 1
     r, qtb, rho = r_aug[:, :p, :p], r_aug[:, :p, p], r_aug[:, p, p]
     scale = np.linalg.norm(r, axis=1)  # column norms of R = column norms of the weighted A
@@ -812,7 +845,7 @@ def _peaks(size, order) -> np.ndarray:
 _SCAN_AFTER_FIT = 20  # M values tried above the smallest non-underfitted M for µ < c
 
 
-def _kk_arrays(freq, z, *, c, max_rc, n_rc, inductance, capacitance, floor):
+def _kk_arrays(freq, z, *, c, max_rc, n_rc, inductance, capacitance, floor, noise_shape=None):
     """Fit candidate M for a stack z (B, N) and pick one per spectrum.
 
     M = ``n_rc`` when given. Otherwise the most flexible chain (M = max_rc) is fitted first as
@@ -822,7 +855,8 @@ def _kk_arrays(freq, z, *, c, max_rc, n_rc, inductance, capacitance, floor):
     either (the residual does not fall monotonically: with a lead inductance, M = 9 can leave
     6.9 % where M = 8 leaves 1.5 %). Without such an M, M_fit is used. About 10 + (M − M_fit)
     solves instead of one per M: the cost stays bounded at 10⁶ points. Returns per spectrum
-    (M, µ, µ-criterion met, τ, coefficients [R_0, (L), (1/C), R_1..R_M], Z_kk).
+    (M, µ, µ-criterion met, τ, coefficients [R_0, (L), (1/C), R_1..R_M], Z_kk). ``noise_shape``
+    (B, N): the σ weighting's (`_streamed_qr`), None for 1/|Z|.
     """
     batch, n = z.shape
     n_series = 1 + int(inductance) + int(capacitance)
@@ -835,7 +869,8 @@ def _kk_arrays(freq, z, *, c, max_rc, n_rc, inductance, capacitance, floor):
         """Coefficients, RSS and µ of M = m for the listed spectra (each pair solved once)."""
         todo = [i for i in spectra if (m, i) not in solved]
         if todo:
-            coef, rss = _solve_streamed(omega, z[todo], _time_constants(freq, m) if tau is None else tau, inductance, capacitance)
+            shape = None if noise_shape is None else noise_shape[todo]
+            coef, rss = _solve_streamed(omega, z[todo], _time_constants(freq, m) if tau is None else tau, inductance, capacitance, shape)
             solved.update({(m, i): (coef[k], rss[k], mu) for k, (i, mu) in enumerate(zip(todo, _mu(coef[:, n_series:]).tolist()))})
 
     solve(m_top, range(batch), tau_top)
@@ -1100,6 +1135,7 @@ def kk_test(
     inductance: bool = True,
     capacitance: bool = True,
     thresholds: Mapping[str, float] | None = None,
+    noise: str = "auto",
 ) -> KKResult:
     """Linear Kramers–Kronig test of one spectrum (Schönleber et al. 2014).
 
@@ -1131,15 +1167,25 @@ def kk_test(
     pair; for extra dimensions use `kk_test_batch`. ``inductance`` adds a series L (leads), and
     ``capacitance`` a series C (needed when the data are capacitive at the lowest frequency, e.g.
     blocking electrodes). Raises DataError/ParameterError on bad input.
+
+    ``noise`` (added 2026-12-02): where each point's noise comes from. ``"sigma"``: the data's
+    stated σ (their ``sigma`` variable, σ of Re and of Im in Ω): the chain is weighted by 1/σ
+    (scaled to relative weights, `noise_shapes`) instead of 1/|Z|, and each point's |Δ| is judged
+    against its own scale max(σ/|Z|, noise_floor, ``chain_error``) instead of the one global
+    estimate (`KKResult.point_scale`; the estimate is still reported). ``"residuals"``: the
+    global estimate, as before, whatever the data carry. ``"auto"`` (default): ``"sigma"`` when
+    the data carry σ. Noise that differs between bands (SYNTHETIC R_s + R_p ∥ CPE, 3 % below
+    10 Hz, 0.3 % above, with that σ: 0 of 12 spectra passed by the residuals, 12 of 12 by σ).
+    `KKResult.noise_from` says which was used.
     """
-    freq, z, dims, _, source = frequency_and_z(data)
+    freq, z, dims, _, source, sigma = frequency_z_and_sigma(data)
     if dims:
         raise DataError(
             f"Z has extra dimensions {dims}; kk_test takes one spectrum: use impedax.kk_test_batch(data) for one test per spectrum, or reduce them first (e.g. data.mean({dims[0]!r}))",
             path=source,
         )
-    return _run(freq, z[None, :], (), (), {}, c=c, max_rc=max_rc, n_rc=n_rc, inductance=inductance, capacitance=capacitance, thresholds=thresholds, source=source,
-                attrs=data.attrs if isinstance(data, xr.Dataset) else None).results[0]
+    return _run(freq, z[None, :], (), (), {}, c=c, max_rc=max_rc, n_rc=n_rc, inductance=inductance, capacitance=capacitance, thresholds=thresholds, noise=noise, source=source,
+                attrs=data.attrs if isinstance(data, xr.Dataset) else None, sigma=None if sigma is None else sigma[None, :]).results[0]
 
 
 def kk_test_batch(data, **options) -> KKBatchResult:
@@ -1150,9 +1196,9 @@ def kk_test_batch(data, **options) -> KKBatchResult:
     `KKBatchResult`. A batch dimension named as a variable or dimension of its Dataset
     (`BATCH_RESULT_NAMES`: ``rc``, ``band``, ``mu``, …) is a `DataError`, before any test.
     """
-    freq, z, dims, coords, source = frequency_and_z(data)
+    freq, z, dims, coords, source, sigma = frequency_z_and_sigma(data)
     refuse_result_names(dims, BATCH_RESULT_NAMES, "a KK batch result", source=source)
-    return _run(freq, z, z.shape[:-1], dims, coords, **_options_of_kk_test(options), source=source, attrs=data.attrs if isinstance(data, xr.Dataset) else None)
+    return _run(freq, z, z.shape[:-1], dims, coords, **_options_of_kk_test(options), source=source, attrs=data.attrs if isinstance(data, xr.Dataset) else None, sigma=sigma)
 
 
 def _options_of_kk_test(options: Mapping) -> dict:
@@ -1172,9 +1218,9 @@ def kk_misfits(data, **options) -> np.ndarray:
     """The ``rms_rel`` of `kk_test_batch`'s Voigt-chain fits (shape: the extra dimensions),
     without its flags, bands and sign check (~20 % less work), for a yardstick of what a
     Kramers–Kronig-consistent model leaves (the start ladder and the misfit notes)."""
-    freq, z, _, _, source = frequency_and_z(data)
+    freq, z, _, _, source, sigma = frequency_z_and_sigma(data)
     flat = z.reshape(-1, freq.size)
-    _, chosen = _chosen_chains(freq, flat, **_options_of_kk_test(options), source=source)
+    _, chosen, _ = _chosen_chains(freq, flat, **_options_of_kk_test(options), source=source, sigma=None if sigma is None else sigma.reshape(flat.shape))
     return np.array([_rms_rel(zi, z_kk) for zi, (*_, z_kk) in zip(flat, chosen)], float).reshape(z.shape[:-1])
 
 
@@ -1197,12 +1243,62 @@ def kk_verdicts(freq, z, attrs=None) -> list[tuple[bool | None, str | None, int 
     return [(bool(r.valid), r.sign_hint, int(r.n_rc) + series) for r in batch.results]
 
 
+def kk_sigma_misfits(freq, z, sigma) -> tuple[np.ndarray, np.ndarray]:
+    """χ²_red = Σ (ΔRe² + ΔIm²)/σ² / (2N − P) of `kk_test`'s Voigt chain weighted by the stated
+    ``sigma`` (B, N; σ of Re and of Im [Ω]) for each spectrum of z (B, N), and P, the chain's
+    linear parameters (M resistances, R_0, L and 1/C): what a Kramers–Kronig-consistent model
+    reaches under the same σ weighting as a fit's (`least_squares.result.misfit_notes`). Near 1
+    when σ states the noise; far above it when σ understates the noise somewhere, whatever the
+    model. NaN where the test cannot run."""
+    z = np.atleast_2d(np.asarray(z, complex))
+    sigma = np.broadcast_to(np.asarray(sigma, float), z.shape)
+    options = {**_options_of_kk_test({}), "noise": "sigma"}
+    try:
+        _, chosen, _ = _chosen_chains(np.asarray(freq, float), z, **options, sigma=sigma)
+    except ImpedaxError:
+        return np.full(len(z), np.nan), np.zeros(len(z), int)
+    series = 1 + int(bool(options["inductance"])) + int(bool(options["capacitance"]))
+    params = np.array([m + series for m, *_ in chosen], int)
+    dz = np.stack([z_kk for *_, z_kk in chosen]) - z
+    with np.errstate(all="ignore"):
+        chi2 = np.sum((dz.real**2 + dz.imag**2) / sigma**2, axis=-1)
+    return chi2 / np.maximum(2 * z.shape[-1] - params, 1), params
+
+
 def _rms_rel(z, z_kk) -> float:
     return float(np.sqrt(np.mean(np.abs((z - z_kk) / np.abs(z)) ** 2)))
 
 
-def _chosen_chains(freq, z, *, c, max_rc, n_rc, inductance, capacitance, thresholds, source=None):
-    """The validated thresholds (for N points) and `_kk_arrays`'s chain of each spectrum z (batch, N)."""
+NOISE_SOURCES = ("auto", "sigma", "residuals")
+"""The ``noise`` option of `kk_test`: where each point's noise comes from."""
+
+
+def noise_shapes(relative_sigma) -> np.ndarray:
+    """σ/|Z| (B, N) over each spectrum's median: the chain's σ weights 1/(|Z|·shape) are 1/σ up
+    to a constant that keeps them on the scale of the 1/|Z| ones (the noise floor and the
+    underfit bound of `_fits_like_reference` keep their meaning)."""
+    rel = np.atleast_2d(np.asarray(relative_sigma, float))
+    return rel / np.median(rel, axis=-1, keepdims=True)
+
+
+def _relative_sigma(noise, sigma, z, source=None) -> np.ndarray | None:
+    """The stated σ/|Z| (B, N) the test judges by (``noise``, `NOISE_SOURCES`), or None for the
+    residuals' own estimate."""
+    if not isinstance(noise, str) or noise not in NOISE_SOURCES:
+        raise ParameterError(f"noise must be one of {', '.join(repr(n) for n in NOISE_SOURCES)}, got {shown(noise)}")
+    if noise == "residuals" or (sigma is None and noise == "auto"):
+        return None
+    if sigma is None:
+        raise DataError("noise='sigma' needs a 'sigma' variable in the data (σ of Re and of Im in Ω: a sigma column, or make_spectrum(sigma=...))", path=source)
+    sigma = np.broadcast_to(np.asarray(sigma, float), np.shape(z))
+    if not np.all(np.isfinite(sigma) & (sigma > 0)):
+        raise DataError("the data's sigma must be finite and positive at every point for the KK test to weigh by it", path=source)
+    return sigma / np.abs(z)
+
+
+def _chosen_chains(freq, z, *, c, max_rc, n_rc, inductance, capacitance, thresholds, noise="auto", source=None, sigma=None):
+    """The validated thresholds (for N points), `_kk_arrays`'s chain of each spectrum z (batch, N),
+    and the stated σ/|Z| (batch, N) the chains were weighted by (`_relative_sigma`; None: 1/|Z|)."""
     c = _mu_limit(c)
     rules = dict(DEFAULT_THRESHOLDS)
     for key, value in (thresholds or {}).items():
@@ -1217,23 +1313,28 @@ def _chosen_chains(freq, z, *, c, max_rc, n_rc, inductance, capacitance, thresho
             raise ParameterError(f"{name} must be True or False, got {flag!r}")
     if np.any(np.abs(z) == 0):
         raise DataError(f"{zero_impedance_text(freq, z)}; the 1/|Z| weighting needs |Z| > 0", path=source)
+    relative_sigma = _relative_sigma(noise, sigma, z, source)
+    shape = None if relative_sigma is None else noise_shapes(relative_sigma)
     dense = freq.size > rules["reference_points"]  # (before `thresholds_for` raises it to N)
     rules = thresholds_for(rules, freq.size)
     floor = rules["noise_floor"] * (DENSE_CHAIN_FLOOR_SHARE if dense else 1.0)
     try:
-        return rules, _kk_arrays(freq, z, c=c, max_rc=max_rc, n_rc=n_rc, inductance=bool(inductance), capacitance=bool(capacitance), floor=floor)
+        return rules, _kk_arrays(freq, z, c=c, max_rc=max_rc, n_rc=n_rc, inductance=bool(inductance), capacitance=bool(capacitance), floor=floor, noise_shape=shape), relative_sigma
     except DataError as error:  # (too few frequencies): name the data
         if error.path is None and source is not None:
             raise DataError(str(error), path=source) from None
         raise
 
 
-def _run(freq, z, shape, dims, coords, *, c, max_rc, n_rc, inductance, capacitance, thresholds, source=None, attrs=None, sign_check=True) -> KKBatchResult:
+def _run(freq, z, shape, dims, coords, *, c, max_rc, n_rc, inductance, capacitance, thresholds, noise="auto", source=None, attrs=None, sign_check=True, sigma=None) -> KKBatchResult:
     """The tests of the spectra ``z`` (batch, N); ``sign_check``: each result's ``sign_hint``
     (`io.sign_check.sign_hint`, the test of conj(Z) with the same options; ``attrs``: the data's, for
-    how to fix the file)."""
+    how to fix the file); ``sigma``: the data's stated σ (batch, N) [Ω] or None, used as ``noise``
+    says (`kk_test`)."""
     flat = z.reshape(-1, freq.size)
-    rules, chosen = _chosen_chains(freq, flat, c=c, max_rc=max_rc, n_rc=n_rc, inductance=inductance, capacitance=capacitance, thresholds=thresholds, source=source)
+    sigma = None if sigma is None else np.broadcast_to(np.asarray(sigma, float), z.shape).reshape(flat.shape)
+    rules, chosen, relative_sigma = _chosen_chains(freq, flat, c=c, max_rc=max_rc, n_rc=n_rc, inductance=inductance, capacitance=capacitance, thresholds=thresholds,
+                                                   noise=noise, source=source, sigma=sigma)
     order = np.argsort(freq)
     n_series = 1 + int(inductance) + int(capacitance)
     # the default reference chain's misfit, whatever chain the user chose: a short one of their
@@ -1243,10 +1344,13 @@ def _run(freq, z, shape, dims, coords, *, c, max_rc, n_rc, inductance, capacitan
     dense = freq.size > {**DEFAULT_THRESHOLDS, **(thresholds or {})}["reference_points"]
     chain_floor_share = rules["noise_floor"] * (DENSE_CHAIN_FLOOR_SHARE if dense else 1.0)  # (the floor of `_chosen_chains`)
     results = []
-    for zi, (m, mu, reached, taus, coef, z_kk) in zip(flat, chosen):
+    for row, (zi, (m, mu, reached, taus, coef, z_kk)) in enumerate(zip(flat, chosen)):
+        # each point's own scale from the stated σ (`kk_test`'s ``noise``), else one for all
+        stated = None if relative_sigma is None else np.maximum(relative_sigma[row], floor)
+        shape_row = None if relative_sigma is None else noise_shapes(relative_sigma[row])
         residual = (zi - z_kk) / np.abs(zi)
-        noise = residual_noise(residual.real, residual.imag, order, coef.size)
-        scale = max(noise, floor) if math.isfinite(noise) else floor
+        noise_level = residual_noise(residual.real, residual.imag, order, coef.size)
+        scale = stated if stated is not None else max(noise_level, floor) if math.isfinite(noise_level) else floor
         # stray points far off pull the least-squares chain toward them and their neighbours off
         # it: the chain (M chosen again: such a point also loosens the χ² bound) is fitted without
         # them, every point judged against it (`SPIKE_SHARE_MAX`, `SPIKE_ROUNDS`)
@@ -1259,12 +1363,13 @@ def _run(freq, z, shape, dims, coords, *, c, max_rc, n_rc, inductance, capacitan
                 break
             left_out |= stray
             (m, mu, reached, taus, coef, _), = _kk_arrays(freq[~left_out], zi[None, ~left_out], c=_mu_limit(c), max_rc=max_rc, n_rc=n_rc, inductance=bool(inductance),
-                                                          capacitance=bool(capacitance), floor=chain_floor_share)
+                                                          capacitance=bool(capacitance), floor=chain_floor_share,
+                                                          noise_shape=None if shape_row is None else shape_row[:, ~left_out])
             z_kk = _evaluate(2 * np.pi * freq, taus, coef, bool(inductance), bool(capacitance))
             residual = (zi - z_kk) / np.abs(zi)
-            noise = residual_noise(residual.real, residual.imag, order, coef.size)
-            scale = max(noise, floor) if math.isfinite(noise) else floor
-        flagged, bands = _bad_bands(freq, residual.real, residual.imag, order, scale, rules)
+            noise_level = residual_noise(residual.real, residual.imag, order, coef.size)
+            scale = stated if stated is not None else max(noise_level, floor) if math.isfinite(noise_level) else floor
+        flagged, bands = _bad_bands(freq, residual.real, residual.imag, order, scale if stated is None else scale[order], rules)
         results.append(
             KKResult(
                 frequency=freq.copy(),
@@ -1278,8 +1383,10 @@ def _run(freq, z, shape, dims, coords, *, c, max_rc, n_rc, inductance, capacitan
                 mu_reached=reached,
                 n_rc_given=n_rc is not None,
                 rms_rel=_rms_rel(zi, z_kk),
-                noise_estimate=noise,
-                threshold_scale=scale,
+                noise_estimate=noise_level,
+                threshold_scale=scale if stated is None else float(np.median(stated)),
+                point_scale=None if stated is None else stated.copy(),
+                noise_from="residuals" if stated is None else "sigma",
                 valid=not bands,
                 bad_bands=bands,
                 time_constants=taus.copy(),
@@ -1296,9 +1403,10 @@ def _run(freq, z, shape, dims, coords, *, c, max_rc, n_rc, inductance, capacitan
     if sign_check:
         from ..io.sign_check import sign_hint
 
-        def retest(f, z_conj):
-            options = dict(c=c, max_rc=max_rc, n_rc=n_rc, inductance=inductance, capacitance=capacitance, thresholds=thresholds, source=source, sign_check=False)
-            return _run(f, z_conj[None, :], (), (), {}, **options).results[0]
+        def retest(f, z_conj, row_sigma=None):
+            options = dict(c=c, max_rc=max_rc, n_rc=n_rc, inductance=inductance, capacitance=capacitance, thresholds=thresholds, noise=noise, source=source, sign_check=False)
+            return _run(f, z_conj[None, :], (), (), {}, **options, sigma=row_sigma).results[0]
 
-        results = [dataclasses.replace(r, sign_hint=sign_hint(r, retest, "the KK test", attrs)) for r in results]
+        results = [dataclasses.replace(r, sign_hint=sign_hint(r, retest if sigma is None else (lambda f, zc, s=sigma[i]: retest(f, zc, s[None, :])), "the KK test", attrs))
+                   for i, r in enumerate(results)]
     return KKBatchResult(dims=dims, shape=shape, coords=coords, results=tuple(results))

@@ -287,6 +287,13 @@ def frequency_and_z(data):
     """The preamble of the array-based tests (KK, DRT, Z-HIT): (frequency (N,), Z (*extra, N),
     extra dims, extra coords, source) from a spectrum Dataset, a file path or a (frequency, Z)
     pair (`spectrum_of_pair`, as `fit` takes it), checked; `DataError` on anything else."""
+    return frequency_z_and_sigma(data)[:5]
+
+
+def frequency_z_and_sigma(data):
+    """`frequency_and_z`'s five, then the data's stated σ [Ω] (of Re and of Im) broadcast to Z's
+    shape (*extra, N), or None when the data carry no ``sigma`` variable (added 2026-12-02: the
+    KK test weighs and judges by it)."""
     if is_pair(data):
         data = spectrum_of_pair(data)
     if isinstance(data, (str, bytes)) or hasattr(data, "__fspath__") or isinstance(data, (xr.Dataset, xr.DataArray)):
@@ -294,5 +301,8 @@ def frequency_and_z(data):
         ds, dims = spectrum.data, spectrum.extra_dims
         z = ds["Z"].transpose(*dims, "frequency")
         coords = {d: np.asarray(ds[d].values) for d in dims if d in ds.coords}
-        return np.asarray(ds["frequency"].values, float), np.asarray(z.values, complex), dims, coords, spectrum.source
+        sigma = None
+        if "sigma" in ds.data_vars:
+            sigma = np.asarray(xr.broadcast(ds["sigma"], ds["Z"])[0].transpose(*dims, "frequency").values, float)
+        return np.asarray(ds["frequency"].values, float), np.asarray(z.values, complex), dims, coords, spectrum.source, sigma
     raise DataError(f"expected a spectrum Dataset, a file path or a (frequency, Z) pair of arrays, got {type(data).__name__}")

@@ -25,19 +25,29 @@ def plot_kk(result, *, title: str | None = None):
     if result.bad_bands:
         shade_bands([ax_mod, ax_ph, ax_res], result.bad_bands, label="not KK-consistent")
     levels = result.rule_levels
-    add_rule_levels(ax_res, point=levels["point"], run=levels["run"], run_length=int(result.thresholds["run_length"]), bands=result.bad_bands, band_rules=result.band_rules)
+    t = result.thresholds
+    # (judged by the data's σ: each point's own levels, t·σ/|Z|, added 2026-12-02)
+    per_point = None if getattr(result, "point_scale", None) is None else (result.frequency[order], result.point_scale[order] * t["point"], result.point_scale[order] * t["run"])
+    add_rule_levels(ax_res, point=levels["point"], run=levels["run"], run_length=int(t["run_length"]), bands=result.bad_bands, band_rules=result.band_rules, per_point=per_point)
     verdict = "valid" if result.valid else "not valid"
     fig.suptitle(title or f"linear KK test: {verdict}, rms_rel {result.rms_rel * 100:.2g} %, µ {result.mu:.2f}")
     return fig
 
 
-def add_rule_levels(ax, *, point: float, run: float, run_length: int, bands=(), band_rules=(), signed: bool = False) -> None:
+def add_rule_levels(ax, *, point: float, run: float, run_length: int, bands=(), band_rules=(), signed: bool = False, per_point=None) -> None:
     """Draw the level of the point rule and of the run rule (fractions, drawn in %) on a residual
     axis — at ± when the residual drawn is itself the signed quantity the rules test (``signed``,
     Z-HIT), above zero only when they test a magnitude (|Δ| of the KK test) — and write over each
-    of ``bands`` the rules (``band_rules``) that flagged it."""
+    of ``bands`` the rules (``band_rules``) that flagged it. ``per_point``: (frequencies, point
+    levels, run levels), each point's own levels (a KK test judged by the data's σ), drawn as
+    curves in place of ``point`` and ``run``."""
     signs = (-1, 1) if signed else (1,)
     what = "|residual|" if signed else "|Δ|"
+    if per_point is not None:
+        f, point_levels, run_levels = (np.asarray(a, float) for a in per_point)
+        ax.semilogx(f, point_levels * 100, color="tab:red", lw=0.7, ls="--", label=f"point rule: {what} > its level (from σ)")
+        ax.semilogx(f, run_levels * 100, color="tab:orange", lw=0.8, ls=":", label=f"run rule: ≥ {run_length} in a row > their level (from σ)")
+        point, run, signs = np.nan, np.nan, ()
     for sign in signs:
         ax.axhline(sign * point * 100, color="tab:red", lw=0.7, ls="--", label=f"point rule: {what} > {point * 100:.3g} %" if sign > 0 else None)
     if np.isfinite(run):

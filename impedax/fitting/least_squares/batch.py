@@ -30,7 +30,7 @@ from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, domi
 from .order import canonical_order
 from .branches import RELATIVE_ERROR_LIMIT, held_covariances, idle_branch_notes, settle_vanishing, vanishing_term_mask, undetermined, unidentified_stderr, undetermined_mask, vanishing_candidates, vanishing_parameters
 from .constraints import constraint_misfit_notes, with_constraint_notes
-from .result import stored_notes, COVARIANCE_NOTE, BOUND_RESTARTS, FIT_STATISTICS, bounds_attr, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, PARAMETER_UNIT_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, sigma_scale_notes, uneven_residual_notes, shown_stderr, stack_notes, vanishing_term_sides, weighting_notes, without_error
+from .result import stored_notes, COVARIANCE_NOTE, BOUND_RESTARTS, FIT_STATISTICS, bounds_attr, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, PARAMETER_UNIT_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, sigma_misstated, sigma_scale_notes, uneven_residual_notes, shown_stderr, stack_notes, vanishing_term_sides, weighting_notes, without_error
 from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, TreeSolvers, better, over_devices, padded_points, tree_solver, trimmed, unscale
 from .starts import SpectrumFeatures, climb_target, batch_outliers, escalation_rungs, guess_start, inward_start, rms_rel_of, rung_seed, rung_starts, to_solver_space, values_inside
 
@@ -1031,9 +1031,11 @@ def data_notes(freq, z, z_model, sigma, weighting: str, source: str, kk_misfits:
     b = len(z)
     inverse_weights = weights(z, sigma, weighting, source, freq)
     weighted = weighting_notes(weighting, freq, *dominant_points(z, *inverse_weights)) if weighting in ("unit", "proportional") else [()] * b
-    misfit = misfit_notes(freq, z, z_model, kk_misfits, sigma, attrs, weighting=weighting, n_free=n_free)
+    # (σ-weighted fits beyond σ: whether a KK-consistent chain under the same σ is too, σ then misstating the noise)
+    misstated, chain_chi2_red = sigma_misstated(freq, z, z_model, sigma, weighting, n_free)
+    misfit = misfit_notes(freq, z, z_model, kk_misfits, sigma, attrs, weighting=weighting, n_free=n_free, misstated=misstated)
     uneven = uneven_residual_notes(freq, z, z_model, *inverse_weights, weighting, misfit, has_sigma=sigma is not None)
-    scale = sigma_scale_notes(z, z_model, *inverse_weights, weighting, n_free, misfit)
+    scale = sigma_scale_notes(z, z_model, *inverse_weights, weighting, n_free, misfit, chain_chi2_red)
     if misfit_out is not None:
         misfit_out.extend(misfit)
     return [tuple(weighted[i]) + non_passive_notes(freq, z[i], None if sigma is None else sigma[i], remainder=remainder) + uneven[i] + scale[i] + misfit[i] for i in range(b)]

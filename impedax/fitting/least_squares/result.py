@@ -15,7 +15,7 @@ import xarray as xr
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
 from ...data import checked_frequencies, column_width, concise_repr, format_frequency, format_quantity, format_relative_error, unit_text
 from ...errors import DataError
-from ..kk import kk_verdicts
+from ..kk import kk_sigma_misfits, kk_verdicts
 from ..parameters import ParameterTable, data_scales
 from ..reductions import RESISTOR_LIKE_ALPHA
 from ..statistics import covariances, information_criteria, non_passive, uncertainties
@@ -25,7 +25,7 @@ from .starts import attainable_misfit, inward_start, rms_rel_of, well_inside
 
 __all__ = [
     "FitResult", "fit_result", "fit_notes", "parameter_groups", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes",
-    "misfit_notes", "uneven_residual_notes", "sigma_scale_notes", "sigma_unit_slip", "SIGMA_UNIT_SLIP_FACTOR", "SIGMA_UNIT_SLIP_FRACTION", "SIGMA_RELATIVE_Z", "unused_sigma_notes", "stored_notes", "chi2_red_range", "SIGMA_SCALE_FACTOR", "residual_band_rms", "UNEVEN_BAND_POINTS", "UNEVEN_RESIDUAL_RATIO", "UNEVEN_NOISE_NOTE", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "within_stated_noise", "misfit_hint", "MISFIT_HINT_FROM", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
+    "misfit_notes", "uneven_residual_notes", "sigma_scale_notes", "sigma_misstated", "SIGMA_CHAIN_CHI2_RATIO", "sigma_unit_slip", "SIGMA_UNIT_SLIP_FACTOR", "SIGMA_UNIT_SLIP_FRACTION", "SIGMA_RELATIVE_Z", "unused_sigma_notes", "stored_notes", "chi2_red_range", "SIGMA_SCALE_FACTOR", "residual_band_rms", "UNEVEN_BAND_POINTS", "UNEVEN_RESIDUAL_RATIO", "UNEVEN_NOISE_NOTE", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "within_stated_noise", "misfit_hint", "MISFIT_HINT_FROM", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
     "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "without_error", "near_bound_notes", "resistor_like_notes", "STDERR_NOTE", "LINEARISED_STDERR_NAME", "data_difference", "stored_bounds", "user_bounds",
     "embedded_fit", "fit_from_embedded", "bounds_attr", "unidentified_group_note", "FIT_STATISTICS",
 ]
@@ -938,7 +938,7 @@ def chi2_red_range(dof: int) -> tuple[float, float]:
     return float(chdtri(dof, 1.0 - SIGMA_SCALE_TAIL)) / dof, float(chdtri(dof, SIGMA_SCALE_TAIL)) / dof
 
 
-def sigma_scale_notes(z, z_model, inv_re, inv_im, weighting: str, n_free: int | None, misfit=None) -> list[tuple[str, ...]]:
+def sigma_scale_notes(z, z_model, inv_re, inv_im, weighting: str, n_free: int | None, misfit=None, chain_chi2_red=None) -> list[tuple[str, ...]]:
     """The warning of each fit z_model (B, N) weighted by the data's σ (``inv_re`` = ``inv_im``
     = 1/σ) whose χ²_red lies outside `chi2_red_range` and whose residuals are at least
     `SIGMA_SCALE_FACTOR`× σ, or that many times below it, in rms (√χ²_red): the standard errors
@@ -946,7 +946,10 @@ def sigma_scale_notes(z, z_model, inv_re, inv_im, weighting: str, n_free: int | 
     (overstated). A walkthrough's SYNTHETIC R0 + R1 ∥ C1 with σ stated 3× too small: χ²_red
     7.2, R0 6.5 stderr from the truth, and no word of it. Over σ it is left out where ``misfit``
     (`misfit_notes`) blames the model (which then explains the excess); ``n_free`` None (a
-    shared fit's spectrum) or fewer than one degree of freedom: no note."""
+    shared fit's spectrum) or fewer than one degree of freedom: no note. ``chain_chi2_red`` (B,;
+    `sigma_misstated`'s, NaN where not judged): where it marks σ as misstating the noise (a
+    Kramers–Kronig-consistent model weighted by the same σ also exceeds it), the note over σ says
+    so and no longer offers a missing effect as the other cause (added 2026-12-02)."""
     z = np.atleast_2d(z)
     out: list[tuple[str, ...]] = [()] * len(z)
     dof = 2 * z.shape[-1] - (n_free or 0)
@@ -960,6 +963,8 @@ def sigma_scale_notes(z, z_model, inv_re, inv_im, weighting: str, n_free: int | 
         if not math.isfinite(c):
             continue
         factor = math.sqrt(c)
+        chain = np.nan if chain_chi2_red is None else float(np.broadcast_to(chain_chi2_red, (len(z),))[i])
+        blamed = misfit is not None and misfit[i] and any(m in misfit[i][0] for m in MODEL_MISFIT_MARKS)
         slip = sigma_unit_slip(z[i], 1.0 / np.broadcast_to(np.atleast_2d(inv_re), z.shape)[i], factor)
         if slip:  # (before the model is blamed: a σ in the wrong unit weighs the points wrongly, and the misfit may be that)
             out[i] = (
@@ -968,7 +973,14 @@ def sigma_scale_notes(z, z_model, inv_re, inv_im, weighting: str, n_free: int | 
                 f"and a relative σ is given as sigma = rel·|Z| (e.g. make_spectrum(f, Z, sigma={_relative_example(z[i], 1.0 / np.broadcast_to(np.atleast_2d(inv_re), z.shape)[i])} * abs(Z)); a file's sigma column in Ω); "
                 f"until then the standard errors, which take σ as stated, are {factor:.2g}× too small, and the points are weighed by a wrong noise, so the fit's other warnings may be that weighting's",
             )
-        elif c > high and factor >= SIGMA_SCALE_FACTOR and not (misfit is not None and misfit[i] and any(m in misfit[i][0] for m in MODEL_MISFIT_MARKS)):
+        elif c > high and factor >= SIGMA_SCALE_FACTOR and not blamed and math.isfinite(chain):
+            out[i] = (
+                f"the residuals are {factor:.2g}× the data's sigma in rms (χ²_red {c:.3g}, where residuals of the stated σ give {low:.2f}–{high:.2f}), and a "
+                f"Kramers–Kronig-consistent model weighted by the same σ (the KK test's Voigt chain) leaves χ²_red {chain:.3g} too: σ misstates the noise, "
+                f"not the model: it understates it (in some band, or everywhere), and the standard errors, which take σ as stated, are then about {factor:.2g}× too small; "
+                "correct the sigma column (or weigh by modulus), then fit again",
+            )
+        elif c > high and factor >= SIGMA_SCALE_FACTOR and not blamed:
             out[i] = (
                 f"the residuals are {factor:.2g}× the data's sigma in rms (χ²_red {c:.3g}, where residuals of the stated σ give {low:.2f}–{high:.2f}): "
                 f"either σ understates the noise, and the standard errors, which take σ as stated, are then {factor:.2g}× too small, "
@@ -1187,7 +1199,54 @@ def gross_misfits(freq, z, z_model, known: dict[int, float] | None = None, *, si
     return gross[~within_stated_noise(z, z_model, sigma, weighting, n_free)[gross]]
 
 
-def misfit_notes(freq, z, z_model, known: dict[int, float] | None = None, sigma=None, attrs=None, weighting: str | None = None, n_free: int | None = None) -> list[tuple[str, ...]]:
+# a fit weighted by the data's σ whose χ²_red exceeds the stated noise is said to miss what a
+# Kramers–Kronig-consistent model weighted by the same σ reaches (`sigma_misstated`) only above
+# this multiple of that model's χ²_red (the 2× rms rule of `MODEL_MISFIT_OVER_CONSISTENT`, in χ²).
+# Measured 2026-12-02 on SYNTHETIC R_s + R_p ∥ CPE_p (51 points, 1 Hz–100 kHz, noise 3 % below
+# 10 Hz and 0.3 % above, the σ bands swapped; seeds 0–19): fit/chain χ²_red 0.86–2.14, the chain's
+# own 5.0–35, none blamed; with the right σ and C_p for the CPE: 1,042–2,299. The Gaussian AIC rule of
+# `misfit_beyond_noise` is no guide here: with σ misstated the chain spends its many parameters on
+# the points σ weighs most, and the rule blamed the right model
+SIGMA_CHAIN_CHI2_RATIO = MODEL_MISFIT_OVER_CONSISTENT**2
+
+
+def sigma_misstated(freq, z, z_model, sigma, weighting: str | None, n_free: int | None) -> tuple[np.ndarray, np.ndarray]:
+    """For each fit z_model (B, N) of spectra z weighted by their stated ``sigma`` (B, N; σ of
+    Re and of Im; ``weighting`` "sigma") whose χ²_red exceeds the stated noise (above
+    `chi2_red_range` and `SIGMA_SCALE_FACTOR`² : the fits `sigma_scale_notes` speaks of): the
+    χ²_red that the Kramers–Kronig test's Voigt chain reaches under the same σ weighting
+    (`kk.kk_sigma_misfits`; NaN for the other fits), and whether σ, not the model, is what the
+    residuals exceed: the chain's χ²_red is beyond that range too (no KK-consistent model meets
+    this σ) and the fit's is at most `SIGMA_CHAIN_CHI2_RATIO` × the chain's. A walkthrough's
+    SYNTHETIC R_s + R_p ∥ CPE_p with the σ of two noise bands swapped: fit χ²_red 23, the chain's
+    20, and it was told the misfit was the model's (the chain's rms_rel was set against the mean
+    stated σ/|Z|, which the too-large σ dominated). ((B,) bool, (B,) χ²_red)."""
+    z = np.atleast_2d(z)
+    chain = np.full(len(z), np.nan)
+    misstated = np.zeros(len(z), bool)
+    if weighting != "sigma" or sigma is None:
+        return misstated, chain
+    sigma = np.broadcast_to(np.asarray(sigma, float), z.shape)
+    dof = 2 * z.shape[-1] - (n_free or 0)
+    if dof < 1:
+        return misstated, chain
+    with np.errstate(all="ignore"):
+        dz = np.atleast_2d(z_model) - z
+        chi2_red = np.sum((dz.real**2 + dz.imag**2) / sigma**2, axis=-1) / dof
+    exceeds = np.isfinite(chi2_red) & (chi2_red > chi2_red_range(dof)[1]) & (chi2_red >= SIGMA_SCALE_FACTOR**2)
+    rows = np.flatnonzero(exceeds)
+    if not rows.size:
+        return misstated, chain
+    chain_rows, params = kk_sigma_misfits(freq, z[rows], sigma[rows])
+    chain[rows] = chain_rows
+    for k, i in enumerate(rows.tolist()):
+        c = chain_rows[k]
+        if math.isfinite(c) and c > max(chi2_red_range(max(2 * z.shape[-1] - int(params[k]), 1))[1], SIGMA_SCALE_FACTOR**2) and chi2_red[i] <= SIGMA_CHAIN_CHI2_RATIO * c:
+            misstated[i] = True
+    return misstated, np.where(misstated, chain, np.nan)
+
+
+def misfit_notes(freq, z, z_model, known: dict[int, float] | None = None, sigma=None, attrs=None, weighting: str | None = None, n_free: int | None = None, misstated=None) -> list[tuple[str, ...]]:
     """The misfit warning of each fit of spectra z (B, N) with models z_model (B, N) whose
     rms_rel is at least `MISFIT_CHECKED_FROM`: set against the rms_rel of the linear
     Kramers–Kronig test's Voigt chain (`starts.attainable_misfit`), either the model misses
@@ -1217,9 +1276,17 @@ def misfit_notes(freq, z, z_model, known: dict[int, float] | None = None, sigma=
     that weighting's, and the note over σ says to refit with ``sigma`` rather than blame the model
     (`SIGMA_EXCEEDED_UNWEIGHTED`). ``n_free``: the fits' number of free parameters (None: a
     shared fit's, not one spectrum's; the 2× rule alone then, as for a weighting other than
-    ``modulus``, whose fit does not minimise the rms_rel the rule weighs)."""
+    ``modulus``, whose fit does not minimise the rms_rel the rule weighs). ``misstated`` (B,
+    bool; `sigma_misstated`'s, computed when not given): fits weighted by σ whose residuals a
+    Kramers–Kronig-consistent model weighted by the same σ exceeds σ by as well: σ misstates the
+    noise, so no note blames the model; such a fit gets the note that the data limit it
+    (`sigma_scale_notes` and `uneven_residual_notes`, which that note leaves in place, say what is
+    wrong with σ; added 2026-12-02)."""
     rms, checked, kks = _checked_misfits(freq, z, z_model, known)
     at_noise = within_stated_noise(z, z_model, sigma, weighting, n_free)
+    sigma_wrong = np.zeros(rms.size, bool)  # (`sigma_misstated`: σ, not the model, is what the residuals exceed)
+    if checked.size and weighting == "sigma" and sigma is not None:
+        sigma_wrong = np.reshape(sigma_misstated(freq, z, z_model, sigma, weighting, n_free)[0] if misstated is None else np.asarray(misstated, bool), rms.shape)
     explained = np.zeros(rms.size, bool)
     ratio, noise_rms = np.full(rms.size, np.nan), np.full(rms.size, np.nan)
     if sigma is not None:
@@ -1236,7 +1303,7 @@ def misfit_notes(freq, z, z_model, known: dict[int, float] | None = None, sigma=
             continue
         if explained[i] and not rms[i] > MISFIT_RATIO_MAX * kk:
             continue
-        if rms[i] > MISFIT_RATIO_MAX * kk:
+        if rms[i] > MISFIT_RATIO_MAX * kk and not sigma_wrong[i]:
             out[i] = (
                 f"{MODEL_MISSES_STRUCTURE}: its rms_rel is over {MISFIT_RATIO_MAX:g}× the {kk * 100:.2g}% a Kramers–Kronig-consistent model "
                 "(the KK test's Voigt chain) reaches; a diagnosis (impedax diagnose) shows where it fails and which effect is missing",
@@ -1246,7 +1313,7 @@ def misfit_notes(freq, z, z_model, known: dict[int, float] | None = None, sigma=
                 f"the misfit exceeds the noise the data's sigma states (mean (ΔRe² + ΔIm²)/2σ² above {SIGMA_EXCEEDED:g}) while a Kramers–Kronig-consistent "
                 f"model (the KK test's Voigt chain) reaches {kk * 100:.2g}% (rms_rel), within that noise ({noise_rms[i] * 100:.2g}%); {SIGMA_EXCEEDED_UNWEIGHTED}",
             )
-        elif ratio[i] > SIGMA_EXCEEDED and kk <= math.sqrt(SIGMA_EXPLAINED) * noise_rms[i]:
+        elif ratio[i] > SIGMA_EXCEEDED and kk <= math.sqrt(SIGMA_EXPLAINED) * noise_rms[i] and not sigma_wrong[i]:
             out[i] = (
                 f"the misfit exceeds the noise the data's sigma states (mean (ΔRe² + ΔIm²)/2σ² above {SIGMA_EXCEEDED:g}) while a Kramers–Kronig-consistent "
                 f"model (the KK test's Voigt chain) reaches {kk * 100:.2g}% (rms_rel), within that noise ({noise_rms[i] * 100:.2g}%): {MISFIT_IS_MODELS}, "
@@ -1263,7 +1330,7 @@ def misfit_notes(freq, z, z_model, known: dict[int, float] | None = None, sigma=
         n_points = rows.shape[-1]
         same_metric = weighting in (None, "modulus")  # (the chain's 1/|Z| weighting: another one's fit need not minimise rms_rel)
         for (i, kk), (valid, hint, chain_params) in zip(data_limited.items(), kk_verdicts(freq, rows[list(data_limited)], attrs)):
-            if valid and misfit_beyond_chain(rms[i], kk, n_points, n_free if same_metric else None, chain_params):
+            if valid and not sigma_wrong[i] and misfit_beyond_chain(rms[i], kk, n_points, n_free if same_metric else None, chain_params):
                 beyond = (
                     f"this fit's rms_rel is over {MODEL_MISFIT_OVER_CONSISTENT:g}× that" if rms[i] > MODEL_MISFIT_OVER_CONSISTENT * kk
                     else f"this fit's χ² is over {1 + MODEL_MISFIT_NOISE_SHARE:g}× the chain's, its AIC more than {MODEL_MISFIT_DELTA_AIC:g} worse with the parameters counted"
