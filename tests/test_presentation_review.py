@@ -444,7 +444,7 @@ def test_compare_lists_a_warning_every_model_has_once():
     # Autolab's real spectrum (impedance.py's example): common circuits all stop near 12 %, and
     # each carried the same misfit note (it quotes the data's KK misfit, 0.33 %) under its name,
     # the same paragraph once per model (two here: a third, R0 + R1 || CPE1 + R2 || CPE2, cost the
-    # fast suite 4 s and showed nothing two do not)
+    # fast suite 2 s and showed nothing two do not)
     from pathlib import Path
 
     import impedax as ix

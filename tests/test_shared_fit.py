@@ -140,7 +140,7 @@ def test_noise_free_sharing_is_not_contradicted_by_rounding():
     assert float(r.dataset["rms_rel"].max()) < 1e-12
     assert r.warnings == {}
     # ... and a sharing the same noise-free spectra contradict is still told (the same sharing, so
-    # the same compiled program: sharing W1.sigma alone compiled a second one, ~5 s of the fast suite)
+    # the same compiled program: sharing W1.sigma alone compiled a second one)
     z = np.stack([rc_cpe_warburg_impedance(freq, 150.0, sigma=s) for s in (30.0, 50.0, 80.0)])
     r = ix.fit("R0 + R1 || CPE1 + W1", ix.make_spectrum(freq, z, dims=("trial",)), shared=["CPE1.alpha", "W1.sigma"])
     assert any("disagree with sharing CPE1.alpha, W1.sigma over trial" in w for ws in r.warnings.values() for w in ws)
