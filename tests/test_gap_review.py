@@ -444,6 +444,7 @@ def test_netcdf_keeps_warnings_and_paper_numbers(stationary, tmp_path):
     assert attrs["warnings"].split("\n") == list(result.warnings) and int(attrs["n_warnings"]) == len(result.warnings) >= 3
 
 
+@pytest.mark.slow  # (slow: 9 s, a pooled sampling of its own; the fast suite keeps test_models_gap.py::test_single_trial_has_no_paper_bounds, which checks the same attributes)
 def test_netcdf_paper_bounds_nan_with_one_spectrum_each():
     total, skin, ts = (ds.isel(trial=0) for ds in _measurements(n_trials=3))
     result = gap_analysis(total, skin, ts, area=AREA, method="pooled", steps=40, progress=False)

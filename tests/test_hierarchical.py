@@ -102,7 +102,10 @@ def test_progress_counts_every_step_once_and_changes_nothing(clean, clean_post, 
     """With ``progress`` every warm-up and draw step reaches the progress line once for all
     (vmapped) chains (the sampler runs in blocks of steps, the line advancing between them), and
     the draws are those of the run without it. A line marks
-    each phase: compiling, warm-up, draws (the compilation took 30–70 s with no other output)."""
+    each phase: compiling, warm-up, draws (the compilation took 30–70 s with no other output).
+    The run takes its steps in blocks of one (`BLOCK_SECONDS` 0: the line advances after every
+    step), so it also checks what test_blocks_of_one_step_draw_what_growing_blocks_draw does
+    (slow-marked: a third sampling of the fixture's): the cut into blocks changes no draw."""
     from impedax.fitting.bayes import hierarchical
 
     seen = []
@@ -113,14 +116,17 @@ def test_progress_counts_every_step_once_and_changes_nothing(clean, clean_post, 
             super().close()
 
     monkeypatch.setattr(hierarchical, "ProgressLine", Recording)
+    monkeypatch.setattr(hierarchical, "BLOCK_SECONDS", 0.0)
     post = sample_hierarchical(MODEL, clean, seed=1, progress=True, **SETTINGS)
     assert seen == [SETTINGS["warmup"] + SETTINGS["draws"]]
-    np.testing.assert_array_equal(post.mu, clean_post.mu)
+    for name in ("mu", "spread", "trial_values", "shared", "delta", "step_size"):
+        np.testing.assert_array_equal(getattr(post, name), getattr(clean_post, name), err_msg=name)
     err = capsys.readouterr().err
     phases = ["tracing and compiling the sampler", "compiled in", "warm-up done", f"drawing {SETTINGS['draws']} draws"]
     assert all(p in err for p in phases) and [err.index(p) for p in phases] == sorted(err.index(p) for p in phases)
 
 
+@pytest.mark.slow  # (slow: 9 s; the fast suite keeps test_progress_counts_every_step_once_and_changes_nothing, whose run also takes blocks of one step)
 def test_blocks_of_one_step_draw_what_growing_blocks_draw(clean, clean_post, monkeypatch):
     """The sampler runs its steps as calls of blocks that grow while a call is short
     (`BLOCK_SECONDS`); how the steps are cut into blocks changes no draw: one step per call

@@ -176,6 +176,8 @@ def test_single_trial_has_no_paper_bounds():
     assert result.summary()["paper_method"]["gap_bounds_um"] is None
     paper_row = [r for r in result.to_table() if r["method"] == "paper"][0]
     assert paper_row["u_m"] == result.paper.gap and paper_row["u_low_m"] is None and paper_row["u_high_m"] is None
+    attrs = result.to_xarray().attrs  # (the netCDF file's attributes: NaN bounds, a finite gap)
+    assert np.isnan(attrs["paper_gap_lower_um"]) and np.isnan(attrs["paper_gap_upper_um"]) and np.isfinite(attrs["paper_gap_um"])
     # its figure: no zero-width band of paper bounds; the histogram of u is drawn (bars of nonzero height)
     fig = result.plot()
     posterior_panel = next(ax for ax in fig.axes if ax.get_title().startswith("air-gap thickness"))  # (": NOT determined" here: C_gap runs to 0 on this one trial)

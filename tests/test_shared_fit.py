@@ -139,10 +139,11 @@ def test_noise_free_sharing_is_not_contradicted_by_rounding():
     r = ix.fit("R0 + R1 || CPE1 + W1", ix.make_spectrum(freq, z, dims=("trial",)), shared=["CPE1.alpha", "W1.sigma"])
     assert float(r.dataset["rms_rel"].max()) < 1e-12
     assert r.warnings == {}
-    # ... and a sharing the same noise-free spectra contradict is still told
+    # ... and a sharing the same noise-free spectra contradict is still told (the same sharing, so
+    # the same compiled program: sharing W1.sigma alone compiled a second one)
     z = np.stack([rc_cpe_warburg_impedance(freq, 150.0, sigma=s) for s in (30.0, 50.0, 80.0)])
-    r = ix.fit("R0 + R1 || CPE1 + W1", ix.make_spectrum(freq, z, dims=("trial",)), shared=["W1.sigma"])
-    assert any("disagree with sharing W1.sigma over trial" in w for ws in r.warnings.values() for w in ws)
+    r = ix.fit("R0 + R1 || CPE1 + W1", ix.make_spectrum(freq, z, dims=("trial",)), shared=["CPE1.alpha", "W1.sigma"])
+    assert any("disagree with sharing CPE1.alpha, W1.sigma over trial" in w for ws in r.warnings.values() for w in ws)
 
 
 def test_keep_dimension_gives_one_global_fit_per_index(rng):
