@@ -112,6 +112,7 @@ def register(sub) -> None:
     add_max_steps_option(p, 400, "each fit")
     add_output_options(p, plot="save data vs model with residuals", out=result_out_help("the result (.nc: parameters, covariance, spectra)") + "; .tex a LaTeX table of value ± standard error (one spectrum)", out_metavar="FILE.csv|.json|.nc|.tex")
     p.add_argument("--plot-params", nargs="+", metavar="NAME", help="the parameters --plot draws for several spectra, in that order (default: every free one)")
+    p.add_argument("--plot-x", metavar="DIM", help="for several spectra: --plot draws each parameter against DIM's numeric coordinate (e.g. voltage), with error bars, one series per label of the other dimensions (default: the spectra side by side)")
     p.set_defaults(run=run)
 
 
@@ -148,6 +149,8 @@ def run(args) -> int:
         raise ParameterError(f"--out {args.out}: a LaTeX table holds the fit of one spectrum, and {args.data} holds {n_spectra}: pick one with --select, or write .csv (a row per spectrum and parameter)")
     if plot_params is not None and n_spectra == 1:
         raise ParameterError(f"--plot-params picks the parameter panels of a figure of several spectra, and {args.data} holds one (its figure is data against model, no parameter panels): leave --plot-params out")
+    if args.plot_x is not None:  # (checked before the fit, as every argument: added 2026-12-02)
+        check_plot_x(args.plot_x, data, args.data, given_plot=bool(args.plot))
     try:  # (fit says its stages: the first line, then a batch's start search, local fits, statistics)
         result = fit(args.model, data, init=init, fixed=fixed, bounds=bounds or None, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, progress=progress, registry=args.registry, **sharing)
     finally:
@@ -157,7 +160,7 @@ def run(args) -> int:
     # (hints added 2026-12-02: a single fit's misfit that looks small and is many times what the data allow, `misfit_hint`)
     hint = misfit_hint(result) if isinstance(result, FitResult) else None
     read = WithSummaryKeys(result, {"skipped_rows": skipped_rows(data), **({"hints": [hint] if hint else []} if isinstance(result, FitResult) else {})})  # (the JSON's, as inspect --json's: added 2026-12-01)
-    outputs.save({"--out": latex_writer(result) if latex else result_writer(read, source, record), "--plot": figure_writer(result.plot if plot_params is None else lambda: result.plot(params=plot_params), source, **figure_options(args))})
+    outputs.save({"--out": latex_writer(result) if latex else result_writer(read, source, record), "--plot": figure_writer(result.plot if plot_params is None and args.plot_x is None else lambda: result.plot(params=plot_params, x=args.plot_x), source, **figure_options(args))})
     if outputs.uses_stdout:  # (the report, which ends with the result's notes, is not printed: σ unused is said on stderr, as before 2026-12-02)
         note_unused_sigma(data, "fit", args.weighting == "sigma", "--weighting sigma")
     else:  # (the report and the JSON carry the result's notes: σ the weighting does not use, once; added 2026-12-02)
@@ -173,3 +176,22 @@ def run(args) -> int:
     if isinstance(result, FitResult) and not result.converged:  # (the report's status line says it; stderr too, as with --json)
         print(f"impedax fit: warning: the fit did not converge: {command_line_words(result.message, 'fit')}", file=sys.stderr)
     return 0
+
+
+def check_plot_x(dim: str, data, path: str, *, given_plot: bool) -> None:
+    """``--plot-x DIM``'s checks before the fit: --plot is given, and DIM is a dimension of the
+    spectra of ``data`` (read from ``path``) with a numeric coordinate (`BatchFitResult.plot`'s
+    ``x``); `ParameterError` naming what to give otherwise."""
+    import numpy as np
+
+    from ..errors import ParameterError
+
+    if not given_plot:
+        raise ParameterError("--plot-x draws the parameters of the figure --plot FILE.png writes against a dimension: give --plot too")
+    dims = [d for d in data["Z"].dims if d != "frequency"]
+    if not dims or data["Z"].size == data.sizes["frequency"]:
+        raise ParameterError(f"--plot-x {dim}: {path} holds one spectrum (its figure is data against model, no parameter panels): leave --plot-x out")
+    if dim not in dims:
+        raise ParameterError(f"--plot-x {dim}: not a dimension of the spectra of {path} ({', '.join(dims)})")
+    if dim not in data.coords or not np.issubdtype(data[dim].dtype, np.number):
+        raise ParameterError(f"--plot-x {dim}: {dim} has no numeric coordinate in {path} to draw against (its labels are not numbers): leave --plot-x out")
