@@ -369,6 +369,13 @@ def _quantity_parts(value: float, unit: str, digits: int) -> tuple[str, float, s
     return f"{shown / scale:.{digits}g}", scale, f"{prefix}{label}"
 
 
+def value_span(values, spec: str = ".3g") -> str:
+    """``values`` as "a" when they agree in format ``spec`` (one value, or equal ones) and "a–b"
+    (their smallest and largest) when not: a report's figure of several walkers or points."""
+    lo, hi = format(float(np.min(values)), spec), format(float(np.max(values)), spec)
+    return lo if lo == hi else f"{lo}–{hi}"
+
+
 def format_quantity(value: float, unit: str, digits: int = 3) -> str:
     """``84 µF``, ``2.2 kΩ``, ``0.81`` (a value with an SI prefix, ``digits`` significant;
     dimensionless as it is)."""

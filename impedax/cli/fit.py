@@ -182,9 +182,8 @@ def check_plot_x(dim: str, data, path: str, *, given_plot: bool) -> None:
     """``--plot-x DIM``'s checks before the fit: --plot is given, and DIM is a dimension of the
     spectra of ``data`` (read from ``path``) with a numeric coordinate (`BatchFitResult.plot`'s
     ``x``); `ParameterError` naming what to give otherwise."""
-    import numpy as np
-
     from ..errors import ParameterError
+    from ..plotting.fit import numeric_coordinate
 
     if not given_plot:
         raise ParameterError("--plot-x draws the parameters of the figure --plot FILE.png writes against a dimension: give --plot too")
@@ -193,5 +192,5 @@ def check_plot_x(dim: str, data, path: str, *, given_plot: bool) -> None:
         raise ParameterError(f"--plot-x {dim}: {path} holds one spectrum (its figure is data against model, no parameter panels): leave --plot-x out")
     if dim not in dims:
         raise ParameterError(f"--plot-x {dim}: not a dimension of the spectra of {path} ({', '.join(dims)})")
-    if dim not in data.coords or not np.issubdtype(data[dim].dtype, np.number):
+    if not numeric_coordinate(data, dim):
         raise ParameterError(f"--plot-x {dim}: {dim} has no numeric coordinate in {path} to draw against (its labels are not numbers): leave --plot-x out")

@@ -114,6 +114,12 @@ def plot_batch(batch, *, title: str | None = None, figsize: tuple[float, float] 
 SERIES_SHIFT = 0.04
 
 
+def numeric_coordinate(ds, dim: str) -> bool:
+    """Whether ``dim`` has a coordinate of numbers in ``ds`` (a Dataset): what a batch's
+    parameters are drawn against (`plot_batch`'s ``x``; `impedax fit --plot-x`)."""
+    return dim in ds.coords and np.issubdtype(ds[dim].dtype, np.number)
+
+
 def _x_series(batch, x) -> list[tuple[str, np.ndarray, np.ndarray]]:
     """For `plot_batch(x=...)`: per label of the batch's dimensions other than ``x`` (in C
     order), its text (``repeat=1``; empty for a batch over ``x`` alone), which spectra (flat, in
@@ -125,7 +131,7 @@ def _x_series(batch, x) -> list[tuple[str, np.ndarray, np.ndarray]]:
     ds = batch.dataset
     if not isinstance(x, str) or x not in batch.dims:
         raise ParameterError(f"plot(x=...): a dimension of the batch ({', '.join(batch.dims)}), got {x!r}")
-    if x not in ds.coords or not np.issubdtype(ds[x].dtype, np.number):
+    if not numeric_coordinate(ds, x):
         raise ParameterError(f"plot(x={x!r}): {x} has no numeric coordinate to draw against; give the data one (data.assign_coords({x}=[...])) or leave x out")
     shape = tuple(ds.sizes[d] for d in batch.dims)
     axis = batch.dims.index(x)

@@ -13,7 +13,7 @@ from typing import Mapping, NamedTuple, Sequence
 import numpy as np
 
 from ...circuits import Circuit, Registry
-from ...data import unit_text
+from ...data import unit_text, value_span
 from ..reductions import reducing_bounds
 
 __all__ = [
@@ -111,12 +111,6 @@ def find_stragglers(log_prob: np.ndarray, acceptance: np.ndarray) -> Stragglers:
     )
 
 
-def _span(values, spec: str) -> str:
-    """"a" for one value or equal ones, "a–b" for a range (a report's figure of several walkers)."""
-    lo, hi = format(min(values), spec), format(max(values), spec)
-    return lo if lo == hi else f"{lo}–{hi}"
-
-
 def straggler_warnings(stragglers: Stragglers, n_walkers: int) -> list[str]:
     """The warning for a run's ``stragglers`` (`find_stragglers`) among its ``n_walkers``
     walkers: how many, how far below the others their log-probability lies, their acceptance
@@ -126,12 +120,12 @@ def straggler_warnings(stragglers: Stragglers, n_walkers: int) -> list[str]:
         return []
     k = len(stragglers.walkers)
     gaps = [g for g in stragglers.log_prob_gap if math.isfinite(g)]
-    gap_text = f"{_span(gaps, '.1f')} nats" if gaps else "infinitely far"
+    gap_text = f"{value_span(gaps, '.1f')} nats" if gaps else "infinitely far"
     if len(gaps) < k and gaps:
         gap_text += " (or infinitely far)"
     weight = f"a relative posterior density of e^-{min(gaps):.0f} or less" if gaps else "zero posterior density"
     accepted = [a for a in stragglers.acceptance if math.isfinite(a)]
-    acceptance = f"acceptance {_span(accepted, '.3f')} against a median {stragglers.others_acceptance:.3f} for the others" if accepted and math.isfinite(stragglers.others_acceptance) else ""
+    acceptance = f"acceptance {value_span(accepted, '.3f')} against a median {stragglers.others_acceptance:.3f} for the others" if accepted and math.isfinite(stragglers.others_acceptance) else ""
     indices = ", ".join(str(w) for w in stragglers.walkers)
     return [
         f"{k} of {n_walkers} walkers (walker{'s' if k != 1 else ''} {indices}) {'are stragglers' if k != 1 else 'is a straggler'}: {'their' if k != 1 else 'its'} median log-probability lies {gap_text} below "

@@ -13,7 +13,7 @@ import numpy as np
 import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
-from ...data import checked_frequencies, column_width, concise_repr, format_frequency, format_quantity, format_relative_error, unit_text
+from ...data import checked_frequencies, column_width, concise_repr, format_frequency, format_quantity, format_relative_error, unit_text, value_span
 from ...errors import DataError
 from ..kk import kk_sigma_misfits, kk_verdicts
 from ..parameters import ParameterTable, data_scales
@@ -1019,16 +1019,10 @@ def sigma_unit_slip(z, sigma, factor: float) -> str | None:
         fraction = float(np.median(sigma / modulus))
     relative = bool(np.all(sigma < 1.0)) and float(np.median(modulus)) >= SIGMA_RELATIVE_Z
     if relative:
-        return f"σ is {_span(sigma)} Ω, all below 1 Ω, while |Z| is {_span(modulus)} Ω: a fraction of |Z| read as ohms"
+        return f"σ is {value_span(sigma)} Ω, all below 1 Ω, while |Z| is {value_span(modulus)} Ω: a fraction of |Z| read as ohms"
     if fraction < SIGMA_UNIT_SLIP_FRACTION:
         return f"σ is in median {fraction:.2g} of |Z|, below what an impedance analyser resolves"
     return None
-
-
-def _span(values) -> str:
-    """The smallest and largest of ``values`` as text (one number when they agree to 3 digits)."""
-    lo, hi = f"{float(np.min(values)):.3g}", f"{float(np.max(values)):.3g}"
-    return lo if lo == hi else f"{lo}–{hi}"
 
 
 def _relative_example(z, sigma) -> str:

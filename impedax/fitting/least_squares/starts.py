@@ -30,7 +30,7 @@ from ..kk import kk_misfits
 from ..parameters import ParameterTable, Transform, to_internal
 
 __all__ = [
-    "SpectrumFeatures", "data_driven_guess", "data_driven_guesses", "random_starts", "draw_words", "guess_start", "multistart", "rung_starts", "rung_draws", "to_solver_space",
+    "SpectrumFeatures", "data_driven_guess", "data_driven_guesses", "random_starts", "start_split", "draw_words", "guess_start", "multistart", "rung_starts", "rung_draws", "to_solver_space",
     "INSIDE_FRACTION", "well_inside", "values_inside", "inward_start",
     "ESCALATION_RUNGS", "LARGE_CIRCUIT_FREE", "LARGE_CIRCUIT_RUNG", "escalation_rungs", "KK_MISFIT_FACTOR", "ESCALATION_FLOOR", "climb_target", "BATCH_OUTLIER_FACTOR", "attainable_misfit", "rms_rel_of", "rung_seed", "batch_outliers",
 ]
@@ -380,8 +380,7 @@ def random_starts(table: ParameterTable, features: SpectrumFeatures, guess: np.n
     rng = np.random.default_rng(seed)
     guesses = np.atleast_2d(guess)
     starts = np.repeat(guesses[:, None, :], n_starts, axis=1)
-    n_jitter = (n_starts - 1) // 2
-    n_random = max(n_starts - 1 - n_jitter, 0)
+    n_jitter, n_random = start_split(n_starts)
     fixed, given = table.fixed, ~np.isnan(table.values)
     exponent = _exponents(table)
     jittered, drawn = np.flatnonzero(~fixed & ~given), np.flatnonzero(~fixed)
@@ -430,14 +429,20 @@ def rung_starts(circuit, table, features, n_starts, seeds, registry) -> np.ndarr
     return to_solver_space(table, np.concatenate(rung_draws(circuit, table, features, n_starts, seeds, registry), axis=-2))
 
 
+def start_split(n_starts: int) -> tuple[int, int]:
+    """How `random_starts` fills one draw of ``n_starts`` beside the guess: (jittered copies of
+    it, starts drawn at random), (n − 1)//2 and the rest."""
+    n_jitter = (n_starts - 1) // 2
+    return n_jitter, max(n_starts - 1 - n_jitter, 0)
+
+
 def draw_words(table: ParameterTable, n_starts: int, start: str) -> str:
     """What one draw of ``n_starts`` starts (`random_starts`) holds, in words: ``start`` (the
     guess: "the given start", "the data-driven start"), its jittered copies and the starts drawn
     at random ("the given start, 7 jittered copies of it and 8 drawn at random"). Only the
     parameters neither fixed nor given are jittered: with every free one given, the copies are
     the given start again, and the words say so."""
-    n_jitter = (n_starts - 1) // 2
-    n_random = max(n_starts - 1 - n_jitter, 0)
+    n_jitter, n_random = start_split(n_starts)
     jittered = int(np.count_nonzero(~table.fixed & np.isnan(table.values)))
     if not n_jitter:
         copies = start
