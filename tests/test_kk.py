@@ -189,6 +189,8 @@ def test_batched_over_trials_matches_single_tests(rng):
     assert ds["residuals_real"].dims == ("session", "trial", "frequency")
     assert list(ds["trial"].values) == [10, 11, 12]
     assert bool(ds["valid"].sel(session="s1", trial=11)) is False
+    assert ds["point_scale"].dims == ("session", "trial", "frequency")  # (each spectrum's own estimate at every point)
+    np.testing.assert_array_equal(ds["point_scale"].values[0, :, 0], [batch[0, k].threshold_scale for k in range(3)])
     with pytest.raises(DataError, match="kk_test_batch"):
         ix.kk_test(data)
 

@@ -107,6 +107,9 @@ def test_kk_with_sigma_passes_causal_data_of_uneven_noise(seed):
     np.testing.assert_allclose(by_sigma.point_scale, np.maximum(sigma / np.abs(z), 0.002))
     by_residuals = ix.kk_test(data, noise="residuals")  # (the one global estimate: the noisy band reads as bad)
     assert not by_residuals.valid and by_residuals.noise_from == "residuals"
+    # the scales travel with the exports (added 2026-12-02): per point by σ, one value by the residuals
+    np.testing.assert_allclose(by_sigma.to_xarray()["point_scale"].values, np.maximum(sigma / np.abs(z), 0.002))
+    assert np.all(by_residuals.to_xarray()["point_scale"].values == by_residuals.threshold_scale)
 
 
 def test_kk_with_sigma_still_flags_a_drift():

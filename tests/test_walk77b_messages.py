@@ -133,6 +133,7 @@ def test_fit_with_every_value_given_says_the_given_start_is_in_each_draw(capsys)
     assert "each draw the given start 8 times (every free parameter given: none to jitter) and 8 drawn at random" in doc["message"]
     # (an RC misses the REAL data by far more than the KK test's 0.2 %: the ladder climbs to 336, and says so)
     assert "best of 336 starts: the start ladder's first draw of 16, escalated to 336 (21 draws)" in doc["message"]
+    assert doc["n_starts"] == 336  # (the JSON's count, added 2026-12-02: the one the message words)
 
 
 def test_a_draw_in_words_counts_its_jittered_and_random_starts():

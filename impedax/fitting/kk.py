@@ -193,6 +193,7 @@ class KKResult:
                 "residuals_real": ("frequency", self.residuals_real, {"units": "1", "long_name": RESIDUAL_LONG_NAMES[0]}),
                 "residuals_imag": ("frequency", self.residuals_imag, {"units": "1", "long_name": RESIDUAL_LONG_NAMES[1]}),
                 "flagged": ("frequency", self.flagged, {"long_name": "point flagged as not KK-consistent (a bad band may hold unflagged points)"}),
+                "point_scale": ("frequency", np.array(self.scale_per_point, float), {"units": "1", "long_name": POINT_SCALE_LONG_NAME}),  # (added 2026-12-02)
                 "bad_band_f_min": ("band", lo, {"units": "Hz"}),
                 "bad_band_f_max": ("band", hi, {"units": "Hz"}),
                 "time_constant": ("rc", self.time_constants, {"units": "s"}),
@@ -494,6 +495,8 @@ class KKResult:
 RESIDUAL_LONG_NAMES = ("(Z'_data - Z'_kk)/|Z_data|", "(Z''_data - Z''_kk)/|Z_data|")
 """The sign of ``residuals_real``/``residuals_imag``, data minus KK fit (Boukamp's; a circuit
 fit's residuals are model minus data: docs/physics.md), as their ``long_name``s."""
+POINT_SCALE_LONG_NAME = "scale s each point's residuals were judged against, relative to |Z_data| (its sigma/|Z| when judged by sigma, else the one noise estimate's)"
+"""``point_scale``'s ``long_name`` (`KKResult.scale_per_point`): the flags' thresholds are multiples of it."""
 
 BATCH_RESULT_NAMES = frozenset({
     "frequency", "band", "rc", "Z", "Z_kk", "residuals_real", "residuals_imag", "flagged", "bad_band_f_min", "bad_band_f_max", "time_constant", "resistance",
@@ -563,6 +566,7 @@ class KKBatchResult(ResultGrid):
                 "residuals_real": (per_freq, stack(lambda r: r.residuals_real), {"units": "1", "long_name": RESIDUAL_LONG_NAMES[0]}),
                 "residuals_imag": (per_freq, stack(lambda r: r.residuals_imag), {"units": "1", "long_name": RESIDUAL_LONG_NAMES[1]}),
                 "flagged": (per_freq, stack(lambda r: r.flagged).astype(bool)),
+                "point_scale": (per_freq, stack(lambda r: r.scale_per_point), {"units": "1", "long_name": POINT_SCALE_LONG_NAME}),  # (added 2026-12-02)
                 "bad_band_f_min": ((*dims, "band"), stack(lambda r: [b[0] for b in r.bad_bands], n_band), {"units": "Hz"}),
                 "bad_band_f_max": ((*dims, "band"), stack(lambda r: [b[1] for b in r.bad_bands], n_band), {"units": "Hz"}),
                 "time_constant": ((*dims, "rc"), stack(lambda r: r.time_constants, n_rc), {"units": "s"}),

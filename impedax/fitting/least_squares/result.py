@@ -239,6 +239,7 @@ class FitResult:
             "unidentified_groups": [list(g) for g in self.unidentified_groups],
             "weighting": self.weighting,
             "n_evaluations": self.n_evaluations,
+            "n_starts": self.n_starts,  # (added 2026-12-02: the starts the fit used, the start ladder's rungs included; the message words them)
             "user_bounds": bounds_attr(self.bounds),  # (added 2026-12-01: the bounds=, --bound, of free parameters; an open end inf, null in JSON)
             "notes": list(self.notes),  # (added 2026-12-02: advice that is not a warning, e.g. σ the weighting does not use)
         }
