@@ -5,6 +5,8 @@ SYNTHETIC spectra from the numpy formula R0 + R1 ∥ CPE1 written here (R0 = 0.0
 Q = 3.2, α = 0.85) with 0.3 % relative complex noise: the right circuit, so a fit misses the
 data only by what the user held."""
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -129,3 +131,34 @@ def test_a_constraint_within_twice_the_free_fit_is_still_named():
     close = ix.fit(MODEL, data, fixed={"R0": 0.0495}, n_starts=1)
     assert close.rms_rel > 0.02 and not any(CONSTRAINT_NOTE in w for w in close.warnings)
     assert any("limit the fit" in w for w in close.warnings), close.warnings
+
+
+def finger_khz_read_as_hz(seed):
+    """SYNTHETIC Meyer finger, C_s + C_i + R_sc ∥ C_sc + R_f (140 pF, 1.7 nF, 130 kΩ, 2.2 nF,
+    500 Ω), 1 % complex noise, measured 1 Hz – 100 kHz but written with its kHz numbers under
+    a Hz column (a walkthrough's file, 2026-12-02): at the labelled frequencies the data are
+    those of every capacitance 1000× larger."""
+    f_true = np.geomspace(1.0, 1e5, 40)
+    w = 2j * np.pi * f_true
+    z = 1 / (w * 140e-12) + 1 / (w * 1.7e-9) + 130e3 / (1 + w * 130e3 * 2.2e-9) + 500.0
+    rng = np.random.default_rng(seed)
+    return ix.make_spectrum(f_true / 1e3, z * (1 + 0.01 * (rng.standard_normal(z.size) + 1j * rng.standard_normal(z.size))))
+
+
+def test_a_wrong_fixed_value_that_drives_the_others_far_off_is_still_named():
+    """C_i fixed at the true 1.7 nF on the mislabelled data (they need 1000× the capacitance): the fit misses
+    them by thousands of per cent with C_s and C_sc driven to absurd values, from where one local
+    fit with C_i freed does not come back; from the data-driven guess it reaches ~1.5 %, so the
+    note names the fixed value and the diagnosis gives `constraint`, not a missing effect."""
+    data = finger_khz_read_as_hz(0)
+    model = "C_s + C_i + R_sc || C_sc + R_f"
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)  # (numpy's overflow in the covariance had leaked to stderr)
+        held = ix.fit(model, data, fixed={"C_i": 1.7e-9})
+    assert held.rms_rel > 10.0  # (over 1,000 %: the fixed C_i's impedance swamps the data)
+    assert any(w.startswith(CONSTRAINT_NOTE) and "C_i fixed at 1.7e-09" in w for w in held.warnings), held.warnings
+    free = ix.fit(model, data, n_starts=1)  # (what freeing C_i from the guess reaches: the note's claim)
+    series_c = 1 / (1 / free.values["C_s"] + 1 / free.values["C_i"])  # (C_s and C_i in series: only this is determined)
+    assert free.rms_rel < 0.03 and series_c == pytest.approx(1e3 / (1 / 140e-12 + 1 / 1.7e-9), rel=0.2)
+    verdict, reason = _constraint_verdict(held, data, ix.kk_test(data), 1e3)  # (what ix.diagnose(held) decides first)
+    assert verdict == Verdict.CONSTRAINT and "C_i fixed at 1.7e-09" in reason, reason

@@ -197,3 +197,20 @@ def test_a_start_far_out_on_a_warburg_time_constant_gives_a_result_not_a_linalg_
     r = ix.fit("R0 + CPE1 || (R1 + Ws1)", data, init=init, n_starts=1, max_steps=2000)
     assert np.isfinite(r.rms_rel) and r.rms_rel < 0.02
     assert any("Ws1.tau" in w and "not determined" in w for w in r.warnings), r.warnings
+
+
+def test_a_variance_beyond_float_range_is_inf_without_a_numpy_warning():
+    """A parameter the data barely touch (its Jacobian column 1e-152 of the others: variance
+    ~1e304) times a large reduced χ² (1e10, a fit that misses the data by far) overflows: the
+    variance is inf, the result says so, and numpy's RuntimeWarning does not reach the user's
+    terminal (a walkthrough's `impedax fit` printed one, 2026-12-02)."""
+    import warnings
+
+    from impedax.fitting.statistics import covariances
+
+    jac = np.random.default_rng(0).standard_normal((1, 20, 3))
+    jac[..., 2] *= 1e-152
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        cov, corr, _, _ = covariances(jac, np.array([1e10]), "modulus")
+    assert np.isinf(cov[0, 2, 2]) and np.all(np.isfinite(np.diag(cov[0])[:2]))

@@ -89,7 +89,8 @@ def covariances(jac: np.ndarray, chi2_red, weighting: str):
     s, vt = s.reshape(*batch, k), vt.reshape(*batch, k, k)
     if weighting != "sigma":
         chi2_red = np.asarray(chi2_red, float)
-        cov = cov * np.where(np.isfinite(chi2_red), chi2_red, 1.0)[..., None, None]
+        with np.errstate(over="ignore", invalid="ignore"):  # (an infinite variance stays infinite: said so)
+            cov = cov * np.where(np.isfinite(chi2_red), chi2_red, 1.0)[..., None, None]
     d = np.sqrt(np.clip(np.einsum("...ii->...i", cov), 0, None))
     with np.errstate(all="ignore"):
         corr = np.clip(np.nan_to_num(cov / (d[..., :, None] * d[..., None, :]), nan=0.0), -1, 1)

@@ -1877,7 +1877,8 @@ def _inside_text(value: float, lo: float, hi: float) -> str:
 def _constraint_verdict(user_fit: FitResult, spectrum: xr.Dataset, kk: KKResult | None, ratio: float) -> tuple[Verdict, str] | None:
     """`Verdict.CONSTRAINT` and its reason when the user's binding constraints on ``user_fit``
     (fixed values, a bounds= it sits on: `constraints.binding_constraints`) explain its misfit:
-    one local fit from its values with them released (`constraints.explaining_constraints`, on
+    one local fit with them released, from its values or else from the data-driven guess
+    (`constraints.explaining_constraints`, on
     the diagnosis' ``spectrum``, which also names only those whose release alone explains it)
     meets the fit's own rule (`constraints.constraint_explains` against the KK test's rms_rel),
     so no effect is named missing. None otherwise."""
@@ -1894,7 +1895,7 @@ def _constraint_verdict(user_fit: FitResult, spectrum: xr.Dataset, kk: KKResult 
     names = ", ".join(dict.fromkeys(n for n, _, _ in constraints))
     return Verdict.CONSTRAINT, (
         f"the residuals are {ratio:.3g}× the noise, but the misfit is a constraint you set, not a missing effect: with {constraint_words(constraints)} "
-        f"the fit reaches rms_rel {user_fit.rms_rel * 100:.3g} %, and one local fit from its values with {names} free reaches {released.rms_rel * 100:.3g} %; "
+        f"the fit reaches rms_rel {user_fit.rms_rel * 100:.3g} %, and one local fit with {names} free reaches {released.rms_rel * 100:.3g} %; "
         f"fit with {names} free, or check the value you set."
     )
 

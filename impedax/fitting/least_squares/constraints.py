@@ -2,7 +2,7 @@
 a fit held by a wrong fixed value or bound misses the data, and the misfit note
 (`result.misfit_notes`) would blame the model and send the user to a diagnosis for a missing
 effect. `constraint_misfit_notes` checks that cheaply (one local fit from the fit's own values
-with the binding constraints released) and, where freeing them explains the misfit, says so
+with the binding constraints released, and one from the data-driven guess where that fails) and, where freeing them explains the misfit, says so
 instead. docs/fitting.md, "Misfit notes"."""
 
 from __future__ import annotations
@@ -47,19 +47,21 @@ def constraint_words(constraints) -> str:
     return " and ".join(parts)
 
 
-def released_fit(circuit: Circuit, data, values: Mapping[str, float], fixed: Mapping[str, bool], bounds: Mapping[str, tuple[float, float]], constraints, *, weighting: str, registry: Registry, fit: Callable):
+def released_fit(circuit: Circuit, data, values: Mapping[str, float], fixed: Mapping[str, bool], bounds: Mapping[str, tuple[float, float]], constraints, *, weighting: str, registry: Registry, fit: Callable, from_guess: bool = False):
     """One local fit (``n_starts=1``) of ``data`` from ``values`` with ``constraints``
     (`binding_constraints`) released: their fixed values freed, their bounds back to the
     element's; every other fixed value and bound kept. A start on a bound it may not start on
-    is left to the data-driven guess. None where the fit cannot be made (an `ImpedaxError`).
-    ``fit``: `single.fit`, passed in (single.py imports this module)."""
+    is left to the data-driven guess; ``from_guess``: every free parameter from the guess (the
+    constrained fit's values may be far off: a wrong fixed capacitance drove the others of a
+    finger circuit to 10²¹ F, from where no local fit comes back). None where the fit cannot be
+    made (an `ImpedaxError`). ``fit``: `single.fit`, passed in (single.py imports this module)."""
     released = {n for n, _, _ in constraints}
     keep_fixed = {n: float(v) for n, v in values.items() if fixed.get(n, False) and n not in released}
     keep_bounds = {n: b for n, b in bounds.items() if n not in released}
     specs = circuit.parameter_specs(registry)
     init = {}
     for n, v in values.items():
-        if n in keep_fixed or not math.isfinite(v):
+        if from_guess or n in keep_fixed or not math.isfinite(v):
             continue
         lo, hi = keep_bounds.get(n, (specs[n].lower, specs[n].upper))
         if lo < v < hi or (v == hi and n not in keep_bounds and specs[n].upper_inclusive):
@@ -91,14 +93,20 @@ def explaining_constraints(circuit: Circuit, data, values: Mapping[str, float], 
     binding constraint released at once (`released_fit`) must explain it (`constraint_explains`
     on ``data``'s points); of several, those whose release alone explains it are named (a
     harmless ``--fix C_i`` beside the bound that holds the fit is not), all of them when none
-    alone does. One local fit per constraint more, only where the first explains."""
+    alone does. One local fit per constraint more, only where the first explains; a second
+    from the data-driven guess where the one from the fit's values does not explain (those
+    values may be far off, `released_fit`'s ``from_guess``; 2026-12-02: a finger spectrum with
+    ``--fix C_i=1.7n`` on data in kHz read as Hz (C_i 1000× larger) missed them by 7,300 % and was told a
+    missing effect, though C_i freed from the guess reaches 1.48 %)."""
     n_points = int(np.asarray(data["frequency"]).size)
 
     def explained(subset):
-        released = released_fit(circuit, data, values, fixed, bounds, subset, weighting=weighting, registry=registry, fit=fit)
         n_released = len({n for n, _, _ in subset})
-        ok = released is not None and constraint_explains(rms_constrained, released.rms_rel, kk, n_points, n_released)
-        return released if ok else None
+        for from_guess in (False, True):
+            released = released_fit(circuit, data, values, fixed, bounds, subset, weighting=weighting, registry=registry, fit=fit, from_guess=from_guess)
+            if released is not None and constraint_explains(rms_constrained, released.rms_rel, kk, n_points, n_released):
+                return released
+        return None
 
     released = explained(constraints)
     if released is None:
@@ -119,7 +127,7 @@ def constraint_note(constraints, kk: float) -> str:
     local minima give the same text, as `result.misfit_notes`)."""
     names = ", ".join(dict.fromkeys(n for n, _, _ in constraints))
     return (
-        f"the misfit is a constraint you set, not the model's: with {constraint_words(constraints)} the fit misses the data, and one local fit from its values "
+        f"the misfit is a constraint you set, not the model's: with {constraint_words(constraints)} the fit misses the data, and one local fit "
         f"with {names} free reaches what the data allow (a Kramers–Kronig-consistent model reaches {kk * 100:.2g}% rms_rel) and at least halves the misfit; "
         f"fit with {names} free, or check the value you set (no effect is missing for this misfit)"
     )
