@@ -10,6 +10,7 @@
 
 from __future__ import annotations
 
+import keyword
 import math
 import re
 from typing import Mapping, Sequence
@@ -194,13 +195,33 @@ def validate_spectrum(ds: xr.Dataset, *, source: str | None = None) -> xr.Datase
         raise DataError(f"{exc.detail} (changed in memory after impedax.load read the file, which passed this check)", path=source) from None
 
 
+# spellings of a frequency dimension other than impedax's ``frequency`` (lower case), named in the
+# advice to rename it; otherwise the advice names Z's last dimension, where impedax keeps frequency
+_FREQUENCY_ALIASES = ("freq", "f", "freqs", "frequencies", "frequency_hz", "freq_hz")
+
+
+def frequency_dimension_problem(dims: tuple[str, ...], has_dimension: bool = False) -> str:
+    """What is wrong with a ``Z`` over ``dims`` that lacks the ``frequency`` dimension (or, with
+    ``has_dimension``, its coordinate), and how to fix it: the one message of `impedax.save`
+    and `impedax.load` (added 2026-12-02: a file had said only "dataset has no variable 'Z'")."""
+    if has_dimension:
+        return "'Z' has a 'frequency' dimension but no coordinate on it: give it the frequencies in Hz, e.g. ds = ds.assign_coords(frequency=f_hz)"
+    if not dims:
+        return "'Z' has no 'frequency' dimension (it is a single number): a spectrum is Z over a 'frequency' dimension with a coordinate in Hz"
+    guess = str(next((d for d in dims if str(d).lower() in _FREQUENCY_ALIASES), dims[-1]))
+    rename = f"ds.rename({guess}=\"frequency\")" if guess.isidentifier() and not keyword.iskeyword(guess) else f"ds.rename({{{guess!r}: \"frequency\"}})"
+    found = ", ".join(repr(str(d)) for d in dims)
+    return f"'Z' has no 'frequency' dimension (its dimensions: {found}): name the frequency dimension 'frequency', with a coordinate in Hz, e.g. ds = {rename}"
+
+
 def _validated(ds: xr.Dataset, source: str) -> xr.Dataset:
     variables = ds.variables  # Variables, not DataArrays: this runs before every fit
     if "Z" not in variables:
-        raise DataError("dataset has no variable 'Z'", path=source)
+        names = ", ".join(repr(str(n)) for n in ds.data_vars) or "none"
+        raise DataError(f"dataset has no variable 'Z' (its data variables: {names})", path=source)
     z_var = variables["Z"]
     if "frequency" not in z_var.dims or "frequency" not in ds.coords:
-        raise DataError("'Z' must have a 'frequency' dimension with a coordinate in Hz", path=source)
+        raise DataError(frequency_dimension_problem(z_var.dims, "frequency" in z_var.dims), path=source)
     z = z_var.values
     if not np.iscomplexobj(z):
         raise DataError("'Z' must be complex (Z' + jZ'')", path=source)

@@ -6,8 +6,10 @@ import sys
 
 
 GAP_OUT_HELP = (
-    "save the gap result: .csv a table of C_gap [F] and u [m], one row per method (Bayesian, the paper's), each column named with its unit (c_gap_f, u_m, u_low_m, ..., gap_voltage_v [V] at the force maximum; the JSON gives u in µm and the gap voltage over frequency, gap_voltage_v), .json the --json summary, "
-    "then a bayes_parameter row per EDL parameter (value, low, high, unit, fit_value, fit_stderr); "
+    "save the gap result: .csv a table of C_gap [F] and u [m], one row per method (Bayesian, the paper's), each column named with its unit "
+    "(c_gap_f, u_m, u_low_m, ..., gap_voltage_v [V] and force_max_n [N] at force_max_frequency_hz, the force maximum; the JSON gives u in µm and "
+    "the gap voltage and force over frequency), sampling_unreliable and the warnings (one per line) on the bayes row, "
+    "then a bayes_parameter row per EDL parameter (value, low, high, unit, fit_value, fit_stderr); .json the --json summary; "
     ".nc the force bands with the gap summary as attributes, the EDL parameters and the draws of u (netCDF; read it back with impedax.io.read_netcdf); '-' the JSON to standard output. "
     "Each records impedax's version, these options and the three files (docs/io.md, Provenance)"
 )

@@ -90,6 +90,21 @@ def encode_dataset(ds: xr.Dataset) -> xr.Dataset:
     return xr.Dataset(data_vars, coords=coords, attrs=_encode_attrs(ds.attrs))
 
 
+def _unmarked_part(ds: xr.Dataset, name) -> str | None:
+    """``"real"`` or ``"imag"`` for a variable ``V__real`` or ``V__imag`` that another program
+    wrote without impedax's ``impedax_part`` mark, when its partner is there and ``V`` is not
+    (plain xarray following the layout above); else None, the variable kept as it is. Added
+    2026-12-02: such a file had said "dataset has no variable 'Z'" whatever else was wrong."""
+    name = str(name)
+    for part, other in (("real", "imag"), ("imag", "real")):
+        if name.endswith(f"__{part}"):
+            base = name[: -len(part) - 2]
+            partner = ds.variables.get(f"{base}__{other}")
+            if base and base not in ds.variables and partner is not None and "impedax_part" not in partner.attrs:
+                return part
+    return None
+
+
 def decode_dataset(ds: xr.Dataset) -> xr.Dataset:
     """Inverse of `encode_dataset` (the file it was read from kept in ``encoding["source"]``)."""
     out = xr.Dataset(attrs=_decode_attrs(ds.attrs))
@@ -97,7 +112,7 @@ def decode_dataset(ds: xr.Dataset) -> xr.Dataset:
     for name in list(ds.coords) + list(ds.data_vars):
         var = ds[name].variable
         attrs = dict(var.attrs)
-        part = attrs.pop("impedax_part", None)
+        part = attrs.pop("impedax_part", None) or _unmarked_part(ds, name)
         dtype = attrs.pop("impedax_dtype", None)
         attrs = _decode_attrs(attrs)
         if part == "imag":

@@ -44,19 +44,27 @@ from .gap_inputs import check_gap_inputs, condition_notes, position_notes, spect
 from .plausible import AIR_BREAKDOWN_V, DRIVE_VOLTAGE_V, FINGERTIP_AREA_M2
 from .sirin import SIRIN_AREA, SIRIN_DRIVE_V, PaperGapEstimate, gap_force_peak, gap_voltage, paper_gap_estimate, remainder_circuit, remaining_impedance, trial_mean, trial_remainders
 
-__all__ = ["GapAnalysis", "gap_analysis", "gap_remainder", "REMAINDER_KINDS", "GAP_TABLE_COLUMNS", "GAP_METHODS", "GAP_MIN_STEPS", "FINGERTIP_AREA_M2", "IDENTIFIED_C_REMAINDER", "C_GAP_BOUNDS_F", "HIERARCHICAL_AUTO_DRAWS", "GAP_DRAW_ALIASES", "GAP_SAVED_DRAWS", "gap_bounds", "check_fingertip_area"]
+__all__ = ["GapAnalysis", "gap_analysis", "gap_remainder", "REMAINDER_KINDS", "GAP_TABLE_COLUMNS", "GAP_METHODS", "GAP_MIN_STEPS", "FINGERTIP_AREA_M2", "IDENTIFIED_C_REMAINDER", "C_GAP_BOUNDS_F", "HIERARCHICAL_AUTO_DRAWS", "GAP_DRAW_ALIASES", "GAP_SAVED_DRAWS", "GAP_VARIABLE_LABELS", "gap_bounds", "check_fingertip_area"]
 
 GAP_METHODS = ("hierarchical", "pooled")
 _EP_PER_TRIAL = ("R_EP", "CPE_EP.Q", "C_EP")  # the contact's EP branch varies with each trial
 
 FORCE_CONVENTION = "peak"  # eq 1 at the voltage amplitude; the time average is half of it
 FORCE_CONDITIONS = "A taken as exact; skin and screen as their trial means, without their errors"
-GAP_TABLE_COLUMNS = ("method", "c_gap_f", "c_gap_low_f", "c_gap_high_f", "u_m", "u_low_m", "u_high_m", "gap_identified", "u_lower_bound_m", "u_lower_bound_withheld", "force_max_frequency_hz", "gap_voltage_v", "gap_voltage_low_v", "gap_voltage_high_v")
+GAP_TABLE_COLUMNS = (
+    "method", "c_gap_f", "c_gap_low_f", "c_gap_high_f", "u_m", "u_low_m", "u_high_m", "gap_identified", "u_lower_bound_m", "u_lower_bound_withheld",
+    "force_max_frequency_hz", "gap_voltage_v", "gap_voltage_low_v", "gap_voltage_high_v",
+    "force_max_n", "force_max_low_n", "force_max_high_n", "force_upper_bound_max_n", "sampling_unreliable", "n_warnings", "warnings", "alarms",
+)
 """The columns of `GapAnalysis.to_table` (``impedax gap --out FILE.csv``), each quantity's SI
-unit in its name (``_f`` farad, ``_m`` metre, ``_v`` volt); ``u_lower_bound_withheld`` says why u is not
-determined and yet no bound is given (`GapAnalysis.gap_bound_withheld`); ``gap_voltage_v`` (low,
-high: its 90 % interval) the amplitude of the gap voltage at ``force_max_frequency_hz``, where the
-median force with EP is largest (added 2026-12-01)."""
+unit in its name (``_f`` farad, ``_m`` metre, ``_v`` volt, ``_n`` newton, ``_hz`` hertz);
+``u_lower_bound_withheld`` says why u is not determined and yet no bound is given
+(`GapAnalysis.gap_bound_withheld`); ``gap_voltage_v`` (low, high: its 90 % interval) the
+amplitude of the gap voltage at ``force_max_frequency_hz``, where the median force with EP is
+largest (added 2026-12-01); ``force_max_n`` (low, high) the PEAK force there (`GapAnalysis.force_at_max`),
+``force_upper_bound_max_n`` the largest force the data allow when u is not determined,
+``sampling_unreliable`` the report's "SAMPLING UNRELIABLE", ``warnings`` and ``alarms`` (`GapAnalysis.alarms`)
+one per line in one cell, ``n_warnings`` how many warnings (added 2026-12-02)."""
 
 HIERARCHICAL_AUTO_DRAWS = 500
 # the names `GapAnalysis.draws` takes besides the parameters': those of its properties `gap` and `c_gap`
@@ -253,6 +261,7 @@ class GapAnalysis:
             "convention": FORCE_CONVENTION,
             "paper_method": {
                 "c_gap": self.paper.c_gap,
+                "c_gap_f": self.paper.c_gap,  # (the same F, its unit named: added 2026-12-02)
                 "gap_um": self.paper.gap * 1e6,
                 "gap_bounds_um": [self.paper.gap_lower * 1e6, self.paper.gap_upper * 1e6] if self.paper_has_bounds else None,
                 "gap_trials_um": [self.paper.gap_trial_min * 1e6, self.paper.gap_trial_max * 1e6] if np.isfinite(self.paper.gap_trial_min) else None,
@@ -275,6 +284,13 @@ class GapAnalysis:
             "sampling": self._sampling_summary(),
             "edl_parameters": self.edl_parameters,
             "settings": dict(self.settings) if self.settings is not None else None,
+            # (added 2026-12-02: the verdicts the report states, and keys with their unit beside the older ones without)
+            "force_max_n": self.force_at_max("with_ep"),
+            "force_max_without_ep_n": self.force_at_max("without_ep"),
+            "sampling_unreliable": self._sampling_unreliable(),
+            "alarms": list(self.alarms),
+            "c_gap_f": self.c_gap,
+            "v0_v": self.v0,
         }
 
     def _force_bound_summary(self) -> dict | None:
@@ -307,6 +323,17 @@ class GapAnalysis:
         i = int(np.argmax(band["median"].values))
         return {"frequency_hz": float(self.force["frequency"][i]), "value": float(band["gap_voltage_median"][i]),
                 "q05": float(band["gap_voltage_q05"][i]), "q95": float(band["gap_voltage_q95"][i])}
+
+    def force_at_max(self, branch: str = "with_ep") -> dict[str, float]:
+        """The PEAK force [N] (``value`` the posterior median, ``q05``, ``q95`` its 90 % band) at
+        ``frequency_hz``, where the median force of ``branch`` (``"with_ep"`` or ``"without_ep"``)
+        is largest on the force's frequency grid: the report's "force (peak …) max", the CSV's
+        ``force_max_n`` and the JSON's ``force_max_n`` (eq 1, F = ½ ε0 ε_gap A |ΔV_gap|²/u²).
+        Added 2026-12-02."""
+        band = self.force.sel(branch=branch)
+        i = int(np.argmax(band["median"].values))
+        return {"frequency_hz": float(self.force["frequency"][i]), "value": float(band["median"][i]),
+                "q05": float(band["q05"][i]), "q95": float(band["q95"][i])}
 
     def _sampling_summary(self) -> dict | None:
         """Hierarchical: the NUTS diagnostics (divergent transitions of all draws, the largest
@@ -353,18 +380,28 @@ class GapAnalysis:
         ``fit_value``, ``fit_stderr`` (the least-squares fit on the trial mean; added 2026-12-01).
         The bayes row also gives the gap voltage at the force maximum with EP
         (`gap_voltage_at_force_max`: ``gap_voltage_v``, ``_low_v``, ``_high_v`` at
-        ``force_max_frequency_hz``; added 2026-12-01)."""
+        ``force_max_frequency_hz``; added 2026-12-01), the PEAK force there (`force_at_max`:
+        ``force_max_n``, ``_low_n``, ``_high_n``), ``force_upper_bound_max_n`` (`force_upper_bound`'s
+        largest value, else empty), ``sampling_unreliable``, ``n_warnings`` and the ``warnings`` and
+        ``alarms`` (`alarms`), one per line in the cell (added 2026-12-02)."""
         p = self.paper
         c, g = self.c_gap, self.gap
         low, high = (p.gap_lower, p.gap_upper) if self.paper_has_bounds else (None, None)
         v = self.gap_voltage_at_force_max() or dict.fromkeys(("frequency_hz", "value", "q05", "q95"))
+        force = self.force_at_max("with_ep")
+        bayes = {
+            "method": "bayes", "c_gap_f": c["value"], "c_gap_low_f": c["q05"], "c_gap_high_f": c["q95"], "u_m": g["value"], "u_low_m": g["q05"], "u_high_m": g["q95"],
+            "gap_identified": self.gap_identified, "u_lower_bound_m": self.gap_lower_bound, "u_lower_bound_withheld": self.gap_bound_withheld,
+            "force_max_frequency_hz": force["frequency_hz"], "gap_voltage_v": v["value"], "gap_voltage_low_v": v["q05"], "gap_voltage_high_v": v["q95"],
+            "force_max_n": force["value"], "force_max_low_n": force["q05"], "force_max_high_n": force["q95"],
+            "force_upper_bound_max_n": None if self.force_upper_bound is None else float(self.force_upper_bound.max()),
+            # (verdicts as cells of the row they qualify, one per line: no comment line, which csv.DictReader would take for the header,
+            # and no extra rows, which would break reading the rows after bayes and paper as the parameters)
+            "sampling_unreliable": self._sampling_unreliable(), "n_warnings": len(self.warnings), "warnings": "\n".join(self.warnings), "alarms": "\n".join(self.alarms),
+        }
         return [
-            {"method": "bayes", "c_gap_f": c["value"], "c_gap_low_f": c["q05"], "c_gap_high_f": c["q95"], "u_m": g["value"], "u_low_m": g["q05"], "u_high_m": g["q95"],
-             "gap_identified": self.gap_identified, "u_lower_bound_m": self.gap_lower_bound, "u_lower_bound_withheld": self.gap_bound_withheld,
-             "force_max_frequency_hz": v["frequency_hz"], "gap_voltage_v": v["value"], "gap_voltage_low_v": v["q05"], "gap_voltage_high_v": v["q95"]},
-            {"method": "paper", "c_gap_f": p.c_gap, "c_gap_low_f": None, "c_gap_high_f": None, "u_m": p.gap, "u_low_m": low, "u_high_m": high,
-             "gap_identified": None, "u_lower_bound_m": None, "u_lower_bound_withheld": None,
-             "force_max_frequency_hz": None, "gap_voltage_v": None, "gap_voltage_low_v": None, "gap_voltage_high_v": None},
+            bayes,
+            {"method": "paper", **dict.fromkeys(GAP_TABLE_COLUMNS[1:]), "c_gap_f": p.c_gap, "u_m": p.gap, "u_low_m": low, "u_high_m": high},
             *({"method": "bayes_parameter", "parameter": name, "value": q["value"], "low": q["q05"], "high": q["q95"], "unit": q["unit"],
                "fit_value": q["fit_value"], "fit_stderr": q["fit_stderr"]} for name, q in self.edl_parameters.items()),
         ]
@@ -489,7 +526,9 @@ class GapAnalysis:
         ``setting_*`` it ran with (`settings`), the EDL parameters over ``parameter``
         (``parameter_value``, ``_q05``, ``_q95``, ``_fit_value``, ``_fit_stderr``, ``_unit``:
         `edl_parameters`) and u's draws ``u_draws`` [m] over ``draw`` (`u_draws`, at most
-        `GAP_SAVED_DRAWS`; added 2026-12-01); ``impedax_kind``
+        `GAP_SAVED_DRAWS`; added 2026-12-01); every variable has a ``long_name`` and, where it
+        has one unit, ``units`` (`GAP_VARIABLE_LABELS`; added 2026-12-02), and the attrs
+        ``sampling_unreliable`` (1/0) and ``alarms`` (`alarms`, one per line); ``impedax_kind``
         ``"gap_analysis"`` marks the file (``impedax.load`` refuses it as a spectrum and names
         `impedax.io.read_netcdf`, which reads it)."""
         out = self.force.copy()
@@ -511,6 +550,8 @@ class GapAnalysis:
             "force_upper_bound_max_n": float("nan") if self.force_upper_bound is None else float(self.force_upper_bound.max()),
             "n_warnings": len(self.warnings),
             "warnings": "\n".join(self.warnings),
+            "sampling_unreliable": int(self._sampling_unreliable()),
+            "alarms": "\n".join(self.alarms),
         })
         out.attrs.update({f"setting_{k}": v for k, v in (self.settings or {}).items() if v is not None})
         table = self.edl_parameters
@@ -520,7 +561,43 @@ class GapAnalysis:
         out["parameter_unit"] = ("parameter", [q["unit"] or "" for q in table.values()])
         out["parameter_value"].attrs["description"] = "posterior median (hierarchical: of the population median); q05/q95 the 90 % interval; fit_* the least-squares fit on the trial mean"
         out["u_draws"] = ("draw", self.u_draws(), {"units": "m", "description": f"posterior draws of the gap thickness u, thinned evenly to at most {GAP_SAVED_DRAWS}"})
-        return out
+        return _labelled(out)
+
+
+# what each variable of a saved gap analysis (`GapAnalysis.to_xarray`) is: long_name and SI units
+# (None: the variable has no single unit, as the parameters' own, or is text)
+_FORCE_BAND = "PEAK force (Sirin eq 1 at the drive amplitude v0) over frequency, {}"
+_VOLTAGE_BAND = "amplitude |ΔV_gap| of the voltage across C_gap for a drive of amplitude v0 (Sirin §2.4), {}"
+GAP_VARIABLE_LABELS = {
+    "frequency": ("frequency", "Hz"),
+    "branch": ("remainder model of the force: with_ep (the EDL model) or without_ep (C_gap alone)", None),
+    "median": (_FORCE_BAND.format("posterior median"), "N"),
+    "q05": (_FORCE_BAND.format("5 % quantile (lower end of the 90 % band)"), "N"),
+    "q95": (_FORCE_BAND.format("95 % quantile (upper end of the 90 % band)"), "N"),
+    "gap_voltage_median": (_VOLTAGE_BAND.format("posterior median"), "V"),
+    "gap_voltage_q05": (_VOLTAGE_BAND.format("5 % quantile"), "V"),
+    "gap_voltage_q95": (_VOLTAGE_BAND.format("95 % quantile"), "V"),
+    "parameter": ("parameter of the EDL model", None),
+    "parameter_value": ("posterior median of the parameter (its unit: parameter_unit)", None),
+    "parameter_q05": ("5 % posterior quantile of the parameter (its unit: parameter_unit)", None),
+    "parameter_q95": ("95 % posterior quantile of the parameter (its unit: parameter_unit)", None),
+    "parameter_fit_value": ("least-squares value on the trial-mean remainder (its unit: parameter_unit)", None),
+    "parameter_fit_stderr": ("standard error of the least-squares value (its unit: parameter_unit)", None),
+    "parameter_unit": ("SI unit of the parameter", None),
+    "u_draws": ("posterior draws of the gap thickness u", "m"),
+}
+"""What `GapAnalysis.to_xarray` labels each variable with: ``long_name``, and ``units`` where the
+variable has one (added 2026-12-02: only ``median`` had units, and the force's ``median``,
+``q05``, ``q95`` no name saying they are a force)."""
+
+
+def _labelled(ds: xr.Dataset) -> xr.Dataset:
+    """``ds`` with `GAP_VARIABLE_LABELS`' ``long_name`` and ``units`` on each variable it has
+    (the attrs already there kept, but for these two)."""
+    for name, (long_name, units) in GAP_VARIABLE_LABELS.items():
+        if name in ds.variables:
+            ds[name].attrs.update({"long_name": long_name, **({"units": units} if units else {})})
+    return ds
 
 
 def _volts_with_interval(q: Mapping[str, float]) -> str:
