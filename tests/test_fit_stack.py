@@ -12,7 +12,7 @@ import pytest
 
 import impedax as ix
 from impedax.fitting.least_squares.result import CORRELATION_LIMIT, fit_notes, stack_notes
-from impedax.fitting.statistics import covariances
+from impedax.fitting.statistics import _column_peaks, covariances
 from impedax.fitting.parameters import ParameterTable
 from spectra import CASES, noisy
 
@@ -94,6 +94,17 @@ def test_covariances_of_columns_beyond_the_square_root_of_the_float_range(rng):
     assert corr[0] == pytest.approx(corr[2], abs=1e-9)
     assert np.isnan(cov[1]).all()
     assert cov[2] == pytest.approx(inverse, rel=1e-10)
+
+
+@pytest.mark.parametrize("rows", [1, 2, 3, 7, 40, 114])
+def test_column_peaks_are_the_largest_entries_exactly(rows, rng):
+    """The equilibration's column scales (`_column_peaks`, by halving the rows) are NumPy's
+    column maxima bit for bit, for odd and even row counts, over 400 decades, a NaN included
+    (it propagates, as np.max's does): the covariances do not move by a rounding."""
+    magnitudes = np.abs(rng.normal(size=(6, rows, 5))) * 10.0 ** rng.uniform(-200, 200, (6, rows, 5))
+    magnitudes[2, rows // 2, 3] = np.nan
+    expected = np.array([[np.nan if np.isnan(column).any() else max(column.tolist()) for column in m.T] for m in magnitudes])
+    np.testing.assert_array_equal(_column_peaks(magnitudes), expected)
 
 
 # a circuit with a fixed parameter and bounds on either side: notes of every kind can be due

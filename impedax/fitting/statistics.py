@@ -46,11 +46,14 @@ def covariances(jac: np.ndarray, chi2_red, weighting: str):
     # a Jacobian with an inf or NaN entry (a start far out on a parameter's range) has no
     # covariance: NaN, said so by the result, never an exception from LAPACK
     finite = np.all(np.isfinite(jac), axis=(-2, -1))
-    jac = np.where(finite[:, None, None], jac, 0.0)
+    dtype = np.result_type(jac.dtype, 0.0)  # (np.where's, without its copy when all are finite)
+    jac = np.asarray(jac, dtype) if finite.all() else np.where(finite[:, None, None], jac, 0.0)
     # columns divided by their largest entry before squaring, so that sensitivities of 1e154
     # and more (JᵀJ would overflow) are equilibrated like any other
-    peak = np.max(np.abs(jac), axis=-2)
+    peak = _column_peaks(np.abs(jac))
     peak = np.where(peak > 0, peak, 1.0)
+    # (two quotients, not one: a matrix against its own transpose goes to another BLAS routine,
+    # whose rounding moved ill-conditioned covariances by 1e-10)
     gram = np.swapaxes(jac / peak[:, None, :], -1, -2) @ (jac / peak[:, None, :])
     norms = np.sqrt(np.einsum("bkk->bk", gram))
     scale = np.where(norms > 0, 1.0 / np.where(norms > 0, norms, 1.0), 1.0)
@@ -97,6 +100,21 @@ def covariances(jac: np.ndarray, chi2_red, weighting: str):
     k = jac.shape[-1]
     corr[..., np.arange(k), np.arange(k)] = 1.0
     return cov, corr, s, vt
+
+
+def _column_peaks(magnitudes: np.ndarray) -> np.ndarray:
+    """The largest entry of each column of a stack (B, M, K): ``np.max(magnitudes, axis=-2)``,
+    the same numbers (a maximum has no rounding), by halving the rows, ~5× faster for a batch's
+    (1000, 114, 8) stack, where NumPy reduces the short rows one element at a time."""
+    if not magnitudes.shape[-2]:
+        return np.max(magnitudes, axis=-2)  # (NumPy's error for an empty stack)
+    while magnitudes.shape[-2] > 1:
+        half = magnitudes.shape[-2] // 2
+        top = np.maximum(magnitudes[:, :half], magnitudes[:, half : 2 * half])
+        if magnitudes.shape[-2] % 2:  # (the odd row joins the last pair's)
+            top[:, -1] = np.maximum(top[:, -1], magnitudes[:, -1])
+        magnitudes = top
+    return magnitudes[:, 0]
 
 
 def null_sets(s: np.ndarray, vt: np.ndarray, names: Sequence[str]):

@@ -704,7 +704,7 @@ def falling_inward(table: ParameterTable, values: np.ndarray, jacobian: np.ndarr
         chi2 = np.sum(r**2, axis=-1)
         chi2_red = chi2 / max(n_res - k, 1)
         finite = np.isfinite(chi2) & np.all(np.isfinite(jac), axis=(-2, -1))
-        safe = np.where(finite[:, None, None], jac, 0.0)
+        safe = jac if finite.all() and jac.flags.c_contiguous else np.where(finite[:, None, None], jac, 0.0)  # (np.where's copy only where needed)
         g = np.einsum("bmk,bm->bk", safe, np.where(finite[:, None], r, 0.0))  # ½ ∂chi²/∂x
         h = np.einsum("bmk,bmk->bk", safe, safe)  # ½ ∂²chi²/∂x² (Gauss–Newton)
         step = np.where(h > 0, -g / h, 0.0)
@@ -897,13 +897,14 @@ def uneven_residual_notes(freq, z, z_model, inv_re, inv_im, weighting: str, misf
     if weighting not in UNEVEN_CHECKED_WEIGHTINGS or np.asarray(freq).size < 2 * UNEVEN_BAND_POINTS:
         return out
     rms, lo, hi = residual_band_rms(freq, z, z_model, inv_re, inv_im)
-    exact = at_rounding(z, z_model)
-    for i, row in enumerate(rms):
-        if (misfit is not None and misfit[i] and DATA_LIMIT_NOTE not in misfit[i][0]) or not np.all(np.isfinite(row)) or exact[i]:
+    # (the rule for every fit at once; text for those it flags)
+    louds, quiets = np.argmax(rms, axis=-1), np.argmin(rms, axis=-1)
+    every = np.arange(len(rms))
+    uneven = np.all(np.isfinite(rms), axis=-1) & ~at_rounding(z, z_model) & (rms[every, louds] > UNEVEN_RESIDUAL_RATIO * rms[every, quiets])
+    for i in np.flatnonzero(uneven).tolist():
+        if misfit is not None and misfit[i] and DATA_LIMIT_NOTE not in misfit[i][0]:
             continue
-        loud, quiet = int(np.argmax(row)), int(np.argmin(row))
-        if not row[loud] > UNEVEN_RESIDUAL_RATIO * row[quiet]:
-            continue
+        loud, quiet = int(louds[i]), int(quiets[i])
         loud_band, quiet_band = f"{format_frequency(lo[loud])} – {format_frequency(hi[loud])}", f"{format_frequency(lo[quiet])} – {format_frequency(hi[quiet])}"
         if weighting == "sigma":
             remedy = (f"the data's sigma understates the noise at {loud_band} or overstates it at {quiet_band}: check the sigma column "
