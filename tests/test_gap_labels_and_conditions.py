@@ -201,12 +201,13 @@ def test_cli_remaining_warns_of_the_voltages_it_averages(gripper, tmp_path, caps
 
 
 def test_gripper_pad_area_refusal_names_the_override(gripper, tmp_path, capsys):
-    """A 0.04 m² (20 cm × 20 cm) gripper pad: refused as no fingertip, and the message names the
+    """A 0.04 m² (20 cm × 20 cm) gripper pad: refused as an implausible contact area (a fingertip's
+    range named; since 2026-12-02 the pad is not called a fingertip), and the message names the
     way to analyse it, on the command line and in Python."""
     paths = _saved(tmp_path, gripper)
     assert main(["gap", *paths, "--area", "0.04", "--select", "material=glass", "--select", "voltage=100"]) == 2
     err = capsys.readouterr().err
-    assert "0.04 m² (40000 mm²) is not a plausible fingertip contact" in err and "--no-area-check" in err and "check_area=False" in err
+    assert "0.04 m² (40000 mm²) is not a plausible contact area (a fingertip's is" in err and "--no-area-check" in err and "check_area=False" in err
     assert "Traceback" not in err
     with pytest.raises(ParameterError, match=r"--no-area-check \(Python: gap_analysis\(\.\.\., check_area=False\)\)"):
         gap_analysis(*gripper, area=0.04, method="pooled", progress=False)

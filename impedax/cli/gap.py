@@ -36,7 +36,8 @@ def register(sub) -> None:
     p.add_argument("touchscreen", metavar="DATA_TS", help="touchscreen spectra")
     p.add_argument("--area", type=number_option, required=True, help="apparent contact area A [m²], e.g. 130e-6; outside 1e-6–1e-2 m² (1–10 000 mm², a fingertip) it is refused as a likely unit slip unless --no-area-check")
     p.add_argument("--no-area-check", action="store_true", help="analyse any positive --area, e.g. a contact other than a fingertip: one outside 1e-6–1e-2 m² gives a warning instead of an error")
-    p.add_argument("--v0", type=number_option, default=75.0, help="drive amplitude V0 [V] (default 75)")
+    p.add_argument("--v0", type=number_option, help="drive amplitude V0 [V], peak; default: the one voltage the total spectra carry (a --select voltage=500 "
+                   "or a scalar coordinate or attribute named voltage, V0, drive_voltage, ... in V), else 75 (Sirin et al.)")
     p.add_argument("--ep", type=str.upper, choices=("CPE", "C"), default="CPE", help="electrode-polarization branch: R_EP || CPE_EP (default) or R_EP || C_EP (its C_EP and C_gap are seen only as their sum, so C gives u's lower bound: analysed as R_EP || C_gap)")
     p.add_argument("--method", choices=("hierarchical", "pooled"), help="hierarchical model over the trials (default) or the pooled analysis of the trial means")
     p.add_argument("--pooled", action="store_true", help="same as --method pooled")
@@ -62,7 +63,7 @@ def run(args) -> int:
     from ..fitting.bayes.chain import AUTO_STEPS, auto_step_cap
     from ..arguments import GAP_MIN_STEPS
     from ..models.gap import HIERARCHICAL_AUTO_DRAWS, check_fingertip_area, gap_analysis
-    from ..models.gap_inputs import condition_notes
+    from ..models.gap_inputs import condition_notes, drive_voltage
     from .common import check_distinct_paths, check_memory, command_provenance, figure_options, figure_writer, load_selected_files, plan_outputs, print_result, remainder_with_paths, result_writer, spectrum_writer
 
     if args.pooled and args.method == "hierarchical":  # (argparse's exclusive groups let a default-valued --method through)
@@ -70,7 +71,7 @@ def run(args) -> int:
     args.method = "pooled" if args.pooled else args.method or "hierarchical"
     if not args.area > 0:
         raise ParameterError(f"--area must be positive (m²), got {args.area:g}")
-    if not args.v0 > 0:
+    if args.v0 is not None and not args.v0 > 0:
         raise ParameterError(f"--v0 must be positive (V), got {args.v0:g}")
     if not args.no_area_check:
         check_fingertip_area(args.area)  # (an option's error before any file's: gap_analysis checks it again)
@@ -89,11 +90,19 @@ def run(args) -> int:
     total, skin, touchscreen = load_selected_files([args.total, args.skin, args.touchscreen], args.select, args.readers)
     paths = {"total": args.total, "skin": args.skin, "touchscreen": args.touchscreen}
     check_distinct_paths(paths)  # (after reading: a bad file is named first)
-    for note in condition_notes(total, skin, touchscreen):  # (before minutes of sampling; the report and JSON repeat it)
+    drive = drive_voltage(total, args.v0)  # (gap_analysis finds the same; said here once, before minutes of sampling)
+    if drive.note:
+        print(f"impedax gap: note: {drive.note}", file=sys.stderr)
+    for note in [*drive.warnings, *condition_notes(total, skin, touchscreen, default_v0=drive.value if drive.source == "default" else None)]:  # (the report and JSON repeat them)
         print(f"impedax gap: warning: {note}", file=sys.stderr)
     result = gap_analysis(total, skin, touchscreen, area=args.area, v0=args.v0, ep=args.ep, steps=steps, seed=args.seed, method=args.method, progress=not args.quiet, check_area=not args.no_area_check)
-    record = command_provenance(args, source=paths, data_files=list(paths.values()), **{f"{k}_used": v for k, v in (getattr(result, "settings", None) or {}).items()})
-    outputs.save({"--out": result_writer(result, provenance=record), "--plot": figure_writer(result.plot, **figure_options(args)), "--remaining": spectrum_writer(lambda: remainder_with_paths(result.remaining, paths), record, args.remaining)})
+    from ..io.loader import STDIN, STDIN_NAME
+
+    shown = STDIN_NAME if args.total == STDIN else args.total
+    source = shown + (f" [{', '.join(args.select)}]" if args.select else "")  # (the figure's default title: the total file and the selection)
+    used = {**(getattr(result, "settings", None) or {}), "v0": getattr(result, "v0", args.v0)}  # (--v0 as run: given, the data's or the default)
+    record = command_provenance(args, source=paths, data_files=list(paths.values()), **{f"{k}_used": v for k, v in used.items()})
+    outputs.save({"--out": result_writer(result, provenance=record), "--plot": figure_writer(result.plot, source, **figure_options(args)), "--remaining": spectrum_writer(lambda: remainder_with_paths(result.remaining, paths), record, args.remaining)})
     if not outputs.uses_stdout:
         print_result(result, args.json, provenance=record, command="gap")
     if result.warnings and args.json:

@@ -37,12 +37,13 @@ from ..arguments import GAP_MIN_STEPS, MAX_WALKERS, checked_arguments, choice, c
 from ..errors import IN_MEMORY, CircuitError, DataError, ParameterError
 from ..constants import C_GAP_BOUNDS_F, EPSILON_0, EPSILON_AIR
 from ..fitting.bayes.chain import AUTO_STEPS, steps_rule
+from ..fitting.bayes.evidence import MODEL_COMPARISON_NOTE_LEADS
 from ..fitting.bayes.reparam import AREA_UNIT_ADVICE, PLAUSIBLE_GAP_M
 from ..fitting.least_squares.result import MISFIT_RATIO_MAX, REMAINDER_ATTRS, SUBTRACTION_CAUSE, gross_misfits, known_kk_misfits, listed_frequencies
 from ..fitting.statistics import non_passive
-from .gap_inputs import check_gap_inputs, condition_notes, position_notes, spectra_used
+from .gap_inputs import DriveVoltage, check_gap_inputs, condition_notes, drive_voltage, position_notes, spectra_used
 from .plausible import AIR_BREAKDOWN_V, DRIVE_VOLTAGE_V, FINGERTIP_AREA_M2
-from .sirin import SIRIN_AREA, SIRIN_DRIVE_V, PaperGapEstimate, gap_force_peak, gap_voltage, paper_gap_estimate, remainder_circuit, remaining_impedance, trial_mean, trial_remainders
+from .sirin import SIRIN_AREA, PaperGapEstimate, gap_force_peak, gap_voltage, paper_gap_estimate, remainder_circuit, remaining_impedance, trial_mean, trial_remainders
 
 __all__ = ["GapAnalysis", "gap_analysis", "gap_remainder", "REMAINDER_KINDS", "GAP_TABLE_COLUMNS", "GAP_METHODS", "GAP_MIN_STEPS", "FINGERTIP_AREA_M2", "IDENTIFIED_C_REMAINDER", "C_GAP_BOUNDS_F", "HIERARCHICAL_AUTO_DRAWS", "GAP_DRAW_ALIASES", "GAP_SAVED_DRAWS", "GAP_VARIABLE_LABELS", "gap_bounds", "check_fingertip_area"]
 
@@ -137,6 +138,9 @@ class GapAnalysis:
     """With `gap_lower_bound`: the PEAK force [N] over ``frequency`` with EP at u = that bound
     (`_force_upper_bound`): eq 1 goes as 1/u², so u ≥ the bound gives F ≤ this, the largest force
     the data allow; else None (u determined, or no bound). Added 2026-12-01."""
+    drive: DriveVoltage | None = None
+    """Where ``v0`` came from (`gap_inputs.drive_voltage`: the voltage the total spectra carry,
+    the one given, or the default); None: given. Added 2026-12-02."""
     settings: dict | None = None
     """What `gap_analysis` ran with, defaults included: ``eps_gap``, ``cutoff_hz``, ``seed``,
     ``steps`` (hierarchical: draws per chain; pooled: emcee steps, as run when ``"auto"``),
@@ -273,6 +277,7 @@ class GapAnalysis:
             "edl_rms_rel": self.edl_fit.rms_rel,
             "area_m2": self.area,
             "v0": self.v0,
+            **(self.drive or DriveVoltage(self.v0, "given")).summary(),
             "trials": self.trials,
             "warnings": list(self.warnings),
             "gap_identified": self.gap_identified,
@@ -431,7 +436,7 @@ class GapAnalysis:
             f"paper method    u = {p.gap * 1e6:.3f} µm  {bounds}",
             f"C_gap{' (prior-set)' if self._prior_set else '          '} = {c['value'] * 1e12:.1f} pF (90%: {c['q05'] * 1e12:.1f}–{c['q95'] * 1e12:.1f} pF); paper method {p.c_gap * 1e12:.1f} pF",
             f"fits            naive C_gap: rms_rel {format_percent(self.naive_fit.rms_rel)};  {self.edl_fit.model}: rms_rel {format_percent(self.edl_fit.rms_rel)}",
-            f"force (peak, V0 = {self.v0:g} V){self._force_qualifier()} with EP: max {format_quantity(float(peak[i]), 'N')} at {format_frequency(float(peak['frequency'][i]))}; "
+            f"force (peak, V0 = {self.v0:.4g} V){self._force_qualifier()} with EP: max {format_quantity(float(peak[i]), 'N')} at {format_frequency(float(peak['frequency'][i]))}; "
             f"without EP: max {format_quantity(float(bare[j]), 'N')} at {format_frequency(float(bare['frequency'][j]))}",
             f"force bands     {FORCE_CONDITIONS} (A = {self.area:g} m²)",
         ]
@@ -439,6 +444,7 @@ class GapAnalysis:
         if all(v is not None for _, v in voltages):
             lines.insert(-1, "gap voltage     |ΔV_gap| (amplitude) at each force maximum: " + "; ".join(
                 f"{what}: {_volts_with_interval(v)} at {format_frequency(v['frequency_hz'])}" for what, v in voltages))
+        lines.append(f"drive V0        {(self.drive or DriveVoltage(self.v0, 'given')).description}")
         bound_line = self._force_bound_line()
         if bound_line:
             lines.insert(next(k for k, line in enumerate(lines) if line.startswith("force (peak")) + 1, bound_line)
@@ -601,11 +607,15 @@ def _labelled(ds: xr.Dataset) -> xr.Dataset:
 
 
 def _volts_with_interval(q: Mapping[str, float]) -> str:
-    """``71.00 V (90%: 70.95–71.05 V)``: a voltage and its interval with decimals enough to tell
-    the interval's ends apart (two significant digits of its width, at least one decimal)."""
-    width = q["q95"] - q["q05"]
-    decimals = int(np.clip(1 - math.floor(math.log10(width) + 1e-9), 1, 6)) if width > 0 else 1
-    return f"{q['value']:.{decimals}f} V (90%: {q['q05']:.{decimals}f}–{q['q95']:.{decimals}f} V)"
+    """``71.00 V (90%: 70.95–71.05 V)``: a voltage and its interval to the fewest significant
+    digits, 3 or 4 (`VOLTAGE_DIGITS_MAX`), that tell the interval's ends apart; ends alike to 4
+    digits are printed once, ``100.0 V (90%: ≈ 100.0 V)`` (it printed "99.999927 V (90%:
+    99.999925–99.999928 V)", a precision no measured V0 has; 2026-12-02)."""
+    apart = _distinct_digits(q["q05"], q["q95"])
+    digits = apart or VOLTAGE_DIGITS_MAX
+    if not apart:
+        return f"{_volts(q['value'], digits)} V (90%: ≈ {_volts(q['q95'], digits)} V)"
+    return f"{_volts(q['value'], digits)} V (90%: {_volts(q['q05'], digits)}–{_volts(q['q95'], digits)} V)"
 
 
 def _trials_text(name: str, used: dict) -> str:
@@ -613,7 +623,9 @@ def _trials_text(name: str, used: dict) -> str:
     labels = ["/".join(map(str, v)) if isinstance(v, list) else str(v) for v in used["labels"]]
     shown = ", ".join(labels if len(labels) <= 8 else labels[:3] + ["…"] + labels[-2:])
     what = "/".join(f"{d} position" if d in used.get("by_position", ()) else d for d in used["dims"])
-    return f"{name} {used['count']}" + (f" ({what} {shown})" if labels else "")
+    _, selected, selection = str(used.get("source") or "").partition(" [")  # (`select_spectra`'s ``path [DIM=LABEL]``)
+    picked = f" [selected {selection}" if selected else ""
+    return f"{name} {used['count']}" + (f" ({what} {shown})" if labels else "") + picked
 
 
 def gap_bounds(area: float, eps_gap: float = EPSILON_AIR) -> tuple[float, float]:
@@ -633,7 +645,7 @@ def _gap_steps(value, name):
 
 
 @checked_arguments(
-    area=real(positive=True), v0=real(positive=True), ep=choice(("C", "CPE"), fold_case=True), eps_gap=real(positive=True), cutoff_hz=real(positive=True),
+    area=real(positive=True), v0=real(positive=True, optional=True), ep=choice(("C", "CPE"), fold_case=True), eps_gap=real(positive=True), cutoff_hz=real(positive=True),
     steps=_gap_steps, walkers=count(2, MAX_WALKERS, optional=True), seed=seed, progress=flag, check_area=flag,
 )
 def gap_analysis(
@@ -642,7 +654,7 @@ def gap_analysis(
     touchscreen: xr.Dataset,
     *,
     area: float = SIRIN_AREA,
-    v0: float = SIRIN_DRIVE_V,
+    v0: float | None = None,
     ep: str = "CPE",
     eps_gap: float = EPSILON_AIR,
     cutoff_hz: float = 30.0,
@@ -671,7 +683,10 @@ def gap_analysis(
     `HIERARCHICAL_AUTO_DRAWS`) or ``"pooled"`` (emcee on the trial means, ``steps`` steps;
     ``"auto"``, the default, runs until the chain is 50 autocorrelation times long, as
     `impedax.fitting.sample`); a number of ``steps`` is at least `GAP_MIN_STEPS`. u is sampled within `gap_bounds` (C_gap within
-    `C_GAP_BOUNDS_F` for any area). ``progress``: what runs and a progress line on stderr.
+    `C_GAP_BOUNDS_F` for any area). ``v0``: the drive's peak amplitude [V] of the force (eq 1);
+    None (default): the one voltage the total spectra carry (a scalar coordinate or attribute
+    whose name says voltage, as ``total.sel(voltage=500)`` leaves it), else `SIRIN_DRIVE_V`
+    (`gap_inputs.drive_voltage`; ``summary()["v0_from"]`` says which). ``progress``: what runs and a progress line on stderr.
     ``check_area``: refuse an ``area`` [m²] outside `FINGERTIP_AREA_M2` (a mistyped
     unit); False analyses any positive area, with a warning when it lies outside that range
     (``impedax gap --no-area-check``). A remainder with Re Z < 0 at more than half of its
@@ -684,15 +699,18 @@ def gap_analysis(
 
     if not area > 0:
         raise DataError(f"area must be positive (m²), got {area}")
-    notes = ([] if check_area else _fingertip_area_notes(area)) + _drive_voltage_notes(v0)
+    notes = [] if check_area else _fingertip_area_notes(area)
     if check_area:
         check_fingertip_area(area)
     if method not in GAP_METHODS:
         raise ParameterError(f"unknown gap method {method!r}; use one of {', '.join(GAP_METHODS)}")
     _check_single_edl_fit(edl_fit)
     total, skin, touchscreen = check_gap_inputs(total, skin, touchscreen)  # (sign, grids, distinct: DataError naming the file)
+    drive = drive_voltage(total, v0)
+    v0 = drive.value
+    notes += list(drive.warnings) + _drive_voltage_notes(v0, drive.source)
     trials = spectra_used(total, skin, touchscreen)
-    notes += condition_notes(total, skin, touchscreen) + position_notes(trials)
+    notes += condition_notes(total, skin, touchscreen, default_v0=v0 if drive.source == "default" else None) + position_notes(trials)
     remaining = _checked_remainder(total, skin, touchscreen)
     notes += _subtraction_notes(remaining)
     if method == "hierarchical":
@@ -722,7 +740,7 @@ def gap_analysis(
         warm = draws if warmup is None else warmup
         result = _hierarchical(total, skin, touchscreen, remaining, paper, naive, edl, circuit, reparametrization, area=area, v0=v0, ep=ep, eps_gap=eps_gap, steps=draws, warmup=warm, chains=chains, seed=seed, progress=progress, notes=notes, model_requested=str(requested))
         used = {"eps_gap": eps_gap, "cutoff_hz": cutoff_hz, "seed": seed, "steps": draws, "steps_requested": steps, "warmup": warm, "chains": chains}
-        return replace(result, trials=trials, settings=used)
+        return replace(result, trials=trials, settings=used, drive=drive)
     posterior = sample(
         circuit,
         remaining,
@@ -746,7 +764,7 @@ def gap_analysis(
     u_draws = posterior.parameter_draws()["u"]
     notes += _bound_notes(u_draws, reparametrization, area)
     notes += _gap_breakdown_notes(force, float(np.median(u_draws)), area, eps_gap)
-    sampled = [w for w in posterior.warnings if not w.startswith("least-squares start")]
+    sampled = _sampling_notes(posterior.warnings)
     notes += [f"EDL fit: {w}" for w in edl.warnings] + [f"sampling: {w}" for w in _correlation_advice(sampled, posterior.strong_correlations, posterior.parameter_draws(), circuit)]
     notes += _estimate_bound_notes("Bayesian gap thickness", float(np.median(u_draws)), paper, remaining, f"; draws span {_um(u_draws.min())}–{_um(u_draws.max())} µm")
     known_kk: dict[int, float] = {}
@@ -755,7 +773,15 @@ def gap_analysis(
     notes = _area_advice(notes, paper, lower is None and withheld is None)
     misfit = _misfit_text(edl, remaining, known_kk)
     used = {"eps_gap": eps_gap, "cutoff_hz": cutoff_hz, "seed": seed, "steps": posterior.settings.get("steps"), "steps_requested": steps, "walkers": posterior.settings.get("walkers", posterior.n_walkers)}
-    return GapAnalysis(remaining, paper, naive, edl, posterior, force, area, v0, ep, tuple(notes), model_requested=str(requested), trials=trials, gap_lower_bound=lower, gap_bound_withheld=withheld, edl_misfit=misfit, settings=used, force_upper_bound=bound_force)
+    return GapAnalysis(remaining, paper, naive, edl, posterior, force, area, v0, ep, tuple(notes), model_requested=str(requested), trials=trials, gap_lower_bound=lower, gap_bound_withheld=withheld, edl_misfit=misfit, settings=used, force_upper_bound=bound_force, drive=drive)
+
+
+def _sampling_notes(warnings) -> list[str]:
+    """The pooled sampling's warnings the gap analysis passes on: not the least-squares start's
+    (the EDL fit's own are), nor the Laplace evidence's and WAIC's (`MODEL_COMPARISON_NOTE_LEADS`),
+    which speak to comparing models, and the gap analysis compares none (a walkthrough's
+    ``impedax gap`` said "Do not compare models by this WAIC"; 2026-12-02)."""
+    return [w for w in warnings if not w.startswith(("least-squares start", *MODEL_COMPARISON_NOTE_LEADS))]
 
 
 U_CORRELATION_MATTERS = 0.25
@@ -917,7 +943,7 @@ def check_fingertip_area(area: float) -> None:
     low, high = FINGERTIP_AREA_M2
     if not low <= area <= high:
         raise ParameterError(
-            f"area = {area:g} m² ({area * 1e6:g} mm²) is not a plausible fingertip contact ({low:g}–{high:g} m², i.e. "
+            f"area = {area:g} m² ({area * 1e6:g} mm²) is not a plausible contact area (a fingertip's is {low:g}–{high:g} m², i.e. "
             f"{low * 1e6:g}–{high * 1e6:g} mm²): the area is in m², and an SI prefix scales m² (130m is 0.13 m²), so 130 mm² is 130e-6; "
             "for a contact other than a fingertip (a gripper pad, an electrode), --no-area-check (Python: gap_analysis(..., check_area=False)) analyses any positive area, with a warning"
         )
@@ -934,9 +960,10 @@ def _fingertip_area_notes(area: float) -> list[str]:
     ]
 
 
-def _drive_voltage_notes(v0: float) -> list[str]:
+def _drive_voltage_notes(v0: float, source: str = "given") -> list[str]:
     """A warning when the drive amplitude ``v0`` [V] lies outside `DRIVE_VOLTAGE_V`: the force of
-    eq 1 scales with V0² and has no breakdown of the air gap in it."""
+    eq 1 scales with V0² and has no breakdown of the air gap in it. ``source``: where it came
+    from (`gap_inputs.V0_SOURCES`)."""
     low, high = DRIVE_VOLTAGE_V
     if low <= v0 <= high:
         return []
@@ -946,7 +973,8 @@ def _drive_voltage_notes(v0: float) -> list[str]:
         if v0 > high
         else f"below {low:g} V, no electroadhesion drive (Sirin et al. 75 V): likely a unit slip (an SI prefix scales volts: 75m is 0.075 V)"
     )
-    return [f"v0 = {v0:g} V (--v0) is {why}; analysed as given: the force scales with V0²"]
+    said = "the voltage the total spectra carry" if source == "data" else "--v0"
+    return [f"v0 = {v0:g} V ({said}) is {why}; analysed as given: the force scales with V0²"]
 
 
 # the most significant digits a voltage interval of `_gap_breakdown_notes` is printed with; ends

@@ -17,12 +17,18 @@
 Every extra dimension of a file is averaged as replicates. A dimension whose name says nothing
 of replicates (`REPLICATE_DIM_WORDS`: ``voltage``, ``material``) may be a condition, which the
 average would mix: `condition_notes` warns of each and names ``--select DIM=LABEL``.
+
+The drive V0 follows the data (`drive_voltage`, added 2026-12-02): total spectra that carry one
+voltage (a scalar coordinate or attribute whose name says voltage: `VOLTAGE_NAME_WORDS`, as a
+``--select voltage=500`` leaves it) are analysed at that voltage, taken as the drive's peak
+amplitude, unless V0 is given.
 """
 
 from __future__ import annotations
 
 import math
 import re
+from dataclasses import dataclass
 
 import numpy as np
 import xarray as xr
@@ -31,8 +37,9 @@ from ..data import label_value
 from ..errors import DataError
 from ..io.sign_check import negative_real_evidence, negative_real_hint, opposite_sign_hint
 from ..io.table import SWEEP_RTOL
+from .sirin import SIRIN_DRIVE_V
 
-__all__ = ["GAP_INPUTS", "MAX_POSITIVE_SHARE", "REPLICATE_DIM_WORDS", "check_gap_inputs", "condition_notes", "position_notes", "spectra_used"]
+__all__ = ["GAP_INPUTS", "MAX_POSITIVE_SHARE", "REPLICATE_DIM_WORDS", "VOLTAGE_NAME_WORDS", "NOT_DRIVE_WORDS", "V0_SOURCES", "CarriedVoltage", "DriveVoltage", "carried_voltages", "check_gap_inputs", "condition_notes", "drive_voltage", "is_voltage_name", "position_notes", "spectra_used"]
 
 GAP_INPUTS = ("total", "skin", "touchscreen")
 MAX_POSITIVE_SHARE = 0.5
@@ -209,11 +216,13 @@ def is_replicate_dim(dim: str) -> bool:
     return any(w in REPLICATE_DIM_WORDS for w in _name_words(str(dim)))
 
 
-def condition_notes(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dataset) -> list[str]:
+def condition_notes(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dataset, *, default_v0: float | None = None) -> list[str]:
     """A warning for each extra dimension with more than one spectrum whose name says nothing
     of replicates (`is_replicate_dim`: ``voltage``, ``material``): the analysis averages it as
     replicates, so conditions would be mixed into one remainder (and, in ``impedax gap``, under
-    one drive V0). Each names the files that have it, its labels, and ``--select DIM=LABEL``."""
+    one drive V0). Each names the files that have it, its labels, and ``--select DIM=LABEL``.
+    ``default_v0`` [V]: the gap analysis's V0 is that default (none given, none carried,
+    `drive_voltage`), said in the warning of a dimension of the total whose name says voltage."""
     found: dict[str, dict] = {}
     for name, data in zip(GAP_INPUTS, (total, skin, touchscreen)):
         for dim in data["Z"].dims:
@@ -235,6 +244,8 @@ def condition_notes(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dataset
             f"{dim} ({what}) of {files} is averaged as replicates together with the trials, although its name is none of a replicate dimension "
             f"({', '.join(REPLICATE_DIM_WORDS)}): if {dim} is a condition (a voltage, a material), the spectra of different conditions are mixed into one remainder; "
             f"analyse one at a time with --select {dim}=LABEL (Python: data.sel({dim}=LABEL)), e.g. --select {dim}={labels[0]}"
+            + (f"; the force is computed at the default V0 = {default_v0:g} V, not at any of these voltages: a --select of one {dim} sets V0 to it, "
+               "or give --v0 (Python: v0)" if default_v0 is not None and "total" in entry["files"] and is_voltage_name(dim) else "")
         )
     return notes
 
@@ -253,3 +264,158 @@ def position_notes(trials: dict[str, dict]) -> list[str]:
                 f"0-based positions there but labels in {' and '.join(by_label)}: check that the same trials were meant (the report's 'spectra used')"
             )
     return notes
+
+
+VOLTAGE_NAME_WORDS = ("voltage", "volt", "v")
+"""A coordinate or attribute names a voltage when a word of its name (`_name_words`) is one of
+these: ``voltage``, ``drive_voltage``, ``V0``, ``v_drive``, ``Volts``."""
+NOT_DRIVE_WORDS = ("dc", "bias", "offset", "rms", "mv", "pp", "ocv", "ocp", "limit", "compliance", "max", "min", "range")
+"""... and is still not the drive amplitude V0 when a word of its name is one of these: a DC bias
+or offset (Gamry's ``VDC``, read as ``dc_voltage_v``), an rms or peak-to-peak value, or the
+potentiostat's small-signal amplitude (Gamry's ``VAC``, ``ac_voltage_mv_rms``), a limit."""
+_VOLTAGE_UNITS = {"V": 1.0, "volt": 1.0, "volts": 1.0, "kV": 1e3, "mV": 1e-3}  # a voltage label's units attribute → volts
+_NUMBER_IN_VOLTS = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(kV|mV|V)?\s*$")  # "500", "500 V", "0.5 kV"
+V0_SOURCES = ("data", "given", "default")
+"""Where the gap analysis's V0 came from (`DriveVoltage.source`, the JSON's ``v0_from``)."""
+V0_REL_TOL = 1e-3
+"""A given V0 and the voltage the spectra carry agree within this relative tolerance (a label
+of 500 and ``--v0 500.2``); beyond it a warning names both."""
+
+
+def is_voltage_name(name: str) -> bool:
+    """True when ``name`` says a drive voltage: a word of it in `VOLTAGE_NAME_WORDS`, none in
+    `NOT_DRIVE_WORDS`."""
+    words = _name_words(str(name))
+    not_drive = any(w in NOT_DRIVE_WORDS or w + "s" in NOT_DRIVE_WORDS for w in words)  # (the words lose a final s: "bias" is "bia")
+    return any(w in VOLTAGE_NAME_WORDS for w in words) and not not_drive
+
+
+def _format_volts(voltage: float) -> str:
+    """A voltage [V] to 4 significant digits, without trailing zeros (``500``, ``99.3``)."""
+    return f"{voltage:.4g}"
+
+
+@dataclass(frozen=True)
+class CarriedVoltage:
+    """A voltage the spectra carry: ``name`` (a scalar coordinate, or an attribute when
+    ``attribute``), the ``label`` as stored and its ``value`` in volts (NaN when it is no number,
+    or its units are not volts)."""
+
+    name: str
+    label: object
+    value: float
+    attribute: bool = False
+
+    @property
+    def text(self) -> str:
+        """``voltage = 500`` (``V0 = 0.5 kV``): the name and label as the data hold them."""
+        label = format(self.label, ".12g") if isinstance(self.label, float) else str(self.label)
+        return f"{self.name} = {label}"
+
+    @property
+    def text_in_volts(self) -> str:
+        """`text`, then the value in volts where the label alone does not give it (a label 0.5
+        with units kV: ``voltage = 0.5, 500 V``)."""
+        plain = _in_volts(self.label, None) == self.value
+        return self.text if plain or not math.isfinite(self.value) else f"{self.text}, {_format_volts(self.value)} V"
+
+
+def _in_volts(label, units) -> float:
+    """``label`` (a number, or text such as ``"500 V"``) in volts given the ``units`` attribute
+    (None: volts); NaN when it is no number or the units are no volts."""
+    scale = 1.0 if units is None else _VOLTAGE_UNITS.get(str(units).strip())
+    if scale is None:
+        return math.nan
+    if isinstance(label, (bool, np.bool_)):
+        return math.nan
+    if isinstance(label, (int, float, np.integer, np.floating)):
+        return float(label) * scale
+    match = _NUMBER_IN_VOLTS.match(str(label))
+    if not match:
+        return math.nan
+    return float(match.group(1)) * (_VOLTAGE_UNITS[match.group(2)] if match.group(2) else scale)
+
+
+def carried_voltages(data: xr.Dataset) -> list[CarriedVoltage]:
+    """The voltages ``data`` carries (`is_voltage_name`): coordinates of one value (a scalar
+    coordinate, as ``--select voltage=500`` or ``data.sel(voltage=500)`` leaves it, or a
+    dimension of one label), then number or text attributes (``V0: 500``), each once."""
+    out, seen = [], set()
+    for name, coord in data.coords.items():
+        if name == "frequency" or coord.size != 1 or not is_voltage_name(name):
+            continue
+        label = label_value(coord.values.reshape(-1)[0])
+        out.append(CarriedVoltage(str(name), label, _in_volts(label, coord.attrs.get("units", coord.attrs.get("unit")))))
+        seen.add(str(name))
+    for name, label in data.attrs.items():
+        if name in seen or not isinstance(label, (str, int, float, np.integer, np.floating)) or isinstance(label, (bool, np.bool_)) or not is_voltage_name(name):
+            continue
+        label = label_value(label) if not isinstance(label, str) else label
+        out.append(CarriedVoltage(str(name), label, _in_volts(label, None), attribute=True))
+    return out
+
+
+@dataclass(frozen=True)
+class DriveVoltage:
+    """The drive amplitude V0 [V] of a gap analysis (`drive_voltage`): ``value``; ``source``, one
+    of `V0_SOURCES`; ``carried``, the voltage the total spectra carry (None: none, or several
+    that disagree); ``warnings``, what the report and the JSON repeat; ``selected``, the carried
+    voltage is that of a ``--select``."""
+
+    value: float
+    source: str
+    carried: CarriedVoltage | None = None
+    warnings: tuple[str, ...] = ()
+    selected: bool = False  # (the carried voltage is that of a --select: the note says "the selected total spectra")
+
+    @property
+    def note(self) -> str | None:
+        """The one line ``impedax gap`` prints on stderr when V0 comes from the data."""
+        if self.source != "data":
+            return None
+        return f"V0 = {_format_volts(self.value)} V, the voltage the {'selected ' if self.selected else ''}total spectra carry ({self.carried.text_in_volts}), taken as the drive's peak amplitude; give --v0 to override"
+
+    @property
+    def description(self) -> str:
+        """Where V0 came from, for the report: the data's voltage is taken as the drive's peak
+        amplitude, the amplitude of eq 1 (docs/physics.md)."""
+        if self.source == "data":
+            return (f"{_format_volts(self.value)} V, the voltage the total spectra carry ({self.carried.text_in_volts}), "
+                    "taken as the drive's peak amplitude (eq 1); --v0 (Python: v0) overrides it")
+        if self.source == "given":
+            return f"{_format_volts(self.value)} V as given (--v0; Python: v0), the drive's peak amplitude"
+        return f"{_format_volts(self.value)} V, the default (Sirin et al.'s drive): the total spectra carry no one voltage; --v0 (Python: v0) sets it"
+
+    def summary(self) -> dict:
+        """The JSON's ``v0_from`` and ``v0_carried`` (``name``, ``label``, ``value_v``; None)."""
+        c = self.carried
+        return {"v0_from": self.source, "v0_carried": None if c is None else {"name": c.name, "label": c.label, "value_v": c.value if math.isfinite(c.value) else None}}
+
+
+def drive_voltage(total: xr.Dataset, v0: float | None = None) -> DriveVoltage:
+    """The drive amplitude V0 [V] of the gap analysis of ``total`` (docs/models.md, "The drive
+    V0 follows the data"): ``v0`` when given (a warning naming both when the total carries
+    another voltage, beyond `V0_REL_TOL`); else the one voltage the total spectra carry
+    (`carried_voltages`), taken as the peak amplitude of eq 1; else `SIRIN_DRIVE_V`, with a
+    warning when the total carries voltages that cannot serve (several that disagree, a label
+    that is no positive number of volts)."""
+    carried = carried_voltages(total)
+    values = {c.value for c in carried if math.isfinite(c.value)}
+    one = carried[0] if carried and len(values) == 1 and all(math.isfinite(c.value) for c in carried) else None
+    listed = ", ".join(c.text for c in carried)
+    if v0 is not None:
+        v0 = float(v0)
+        if one is not None and not math.isclose(v0, one.value, rel_tol=V0_REL_TOL):
+            return DriveVoltage(v0, "given", one, (
+                f"v0 = {_format_volts(v0)} V (--v0; Python: v0) differs from the voltage the total spectra carry ({one.text_in_volts}): "
+                f"the force is computed at the given {_format_volts(v0)} V; leave --v0 out to analyse at the data's {_format_volts(one.value)} V",))
+        return DriveVoltage(v0, "given", one)
+    default = SIRIN_DRIVE_V
+    if one is not None and one.value > 0:
+        selected = f"{one.name}=" in str(total.attrs.get("selection", ""))  # (`select_spectra` records ``DIM=LABEL``)
+        return DriveVoltage(one.value, "data", one, selected=selected)
+    if not carried:
+        return DriveVoltage(default, "default")
+    why = (f"voltages that disagree ({listed})" if len(values) > 1
+           else f"{listed}, which is no positive drive amplitude in volts")
+    return DriveVoltage(default, "default", None, (f"the total spectra carry {why}: V0 is the default {default:g} V; give --v0 (Python: v0)",))

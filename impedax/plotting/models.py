@@ -83,7 +83,7 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None, figsize: tuple[floa
     ax.legend(fontsize=font_size("legend", 7))
     ax = axes[2]
     unit = _force_bands(ax, gap.force, ep_label="with EP branch", scale="semilogx", alpha=0.2, suffix="median, 90% band")
-    ax.set(xlabel="frequency [Hz]", ylabel=f"peak force F_e [{unit}]", title=f"electrostatic force, V0 = {gap.v0:g} V (Sirin eq 1, peak)" + _force_title_note(gap))
+    ax.set(xlabel="frequency [Hz]", ylabel=f"peak force F_e [{unit}]", title=f"electrostatic force, V0 = {gap.v0:.4g} V (Sirin eq 1, peak)" + _force_title_note(gap))
     _legend(ax, _gap_voltage_axis(ax, gap.force), font_size("legend", 7))
     for a in axes:
         a.grid(alpha=0.3, which="both")

@@ -14,7 +14,7 @@ import numpy as np
 
 from .logprob import LogProbArgs, LogProbFunctions
 
-__all__ = ["LaplaceEvidence", "WAIC", "waic_cause", "START_BEYOND_SIGMA", "WAIC_FIT_DISTANCE", "WAIC_MAX_DRAWS", "WAIC_POINT_LIMIT", "WAIC_PARAMETER_FACTOR", "LAPLACE_WIDTH_RATIO", "laplace_evidence", "waic"]
+__all__ = ["LaplaceEvidence", "WAIC", "waic_cause", "START_BEYOND_SIGMA", "WAIC_FIT_DISTANCE", "WAIC_MAX_DRAWS", "WAIC_POINT_LIMIT", "WAIC_PARAMETER_FACTOR", "LAPLACE_WIDTH_RATIO", "laplace_evidence", "waic", "EVIDENCE_NOTE_LEAD", "WAIC_NOTE_LEAD", "MODEL_COMPARISON_NOTE_LEADS"]
 
 LAPLACE_WIDTH_RATIO = 2.0
 """The Laplace log evidence is flagged unreliable when, for some parameter, the Gaussian at the
@@ -63,6 +63,11 @@ class WAIC(NamedTuple):
 EVIDENCE_NOTE_LEAD = "Laplace log evidence "
 """How the notes of `laplace_evidence` begin, each saying the value is unreliable or undefined:
 `impedax.compare` marks the log evidence of a posterior that carries one."""
+WAIC_NOTE_LEAD = "WAIC "
+"""How the notes of `waic` begin, each saying the value is unreliable or undefined."""
+MODEL_COMPARISON_NOTE_LEADS = (EVIDENCE_NOTE_LEAD, WAIC_NOTE_LEAD)
+"""The leads of the notes that speak only to comparing models (the Laplace evidence, WAIC): a
+command that compares none (`impedax gap`) leaves them out of its warnings."""
 
 
 def laplace_evidence(chain_y, log_prob, args: LogProbArgs, functions: LogProbFunctions, lo_y, hi_y, names: Sequence[str] | None = None) -> LaplaceEvidence:
@@ -195,7 +200,7 @@ def waic(chain_y, args: LogProbArgs, functions: LogProbFunctions, excluded: Sequ
     if not np.all(np.isfinite(ll)):
         ll = ll[np.all(np.isfinite(ll), axis=1)]
         if ll.shape[0] < 2:
-            return WAIC(math.nan, math.nan, "WAIC undefined: non-finite likelihood at the draws")
+            return WAIC(math.nan, math.nan, f"{WAIC_NOTE_LEAD}undefined: non-finite likelihood at the draws")
     lppd = logsumexp(ll, axis=0) - math.log(ll.shape[0])
     p_i = ll.var(axis=0, ddof=1)
     total, p_waic = float(-2.0 * np.sum(lppd - p_i)), float(np.sum(p_i))
@@ -206,7 +211,7 @@ def waic(chain_y, args: LogProbArgs, functions: LogProbFunctions, excluded: Sequ
     names = list(names) if names is not None and len(names) == n_params else [f"parameter {k}" for k in range(n_params)]
     cause = waic_cause(chain_y, names, excluded=excluded, start_y=start_y, converged=converged, model_misfit=model_misfit)
     note = (
-        f"WAIC is unreliable: its effective number of parameters p_waic = {p_waic:.3g} is over {WAIC_PARAMETER_FACTOR:g} × the "
+        f"{WAIC_NOTE_LEAD}is unreliable: its effective number of parameters p_waic = {p_waic:.3g} is over {WAIC_PARAMETER_FACTOR:g} × the "
         f"{n_params} sampled parameters (near the data's best fit p_waic ≈ {n_params}; p_waic > {n_params} marks a badly misspecified "
         f"model or posterior, Vehtari, Gelman & Gabry 2017), and {high} of {p_i.size} points have a pointwise p_waic above {WAIC_POINT_LIMIT} "
         f"(largest {p_i.max():.3g}): the draws fit the data very differently from one another, because {cause}. Do not compare models by this WAIC"
