@@ -94,6 +94,8 @@ def test_gap_csv_gives_the_peak_force_and_the_verdicts(tmp_path):
         float(bayes["force_max_n"]), float(bayes["force_max_low_n"]), float(bayes["force_max_high_n"]), float(bayes["force_max_frequency_hz"]))
     assert summary["force_max_n"]["value"] == pytest.approx(max(summary["force_n"]["median"]), rel=1e-12)
 
+    # the drive the forces are for: a result built without its origin had V0 given
+    assert (float(bayes["v0_v"]), bayes["v0_from"]) == (V0, "given") == (summary["v0"], summary["v0_from"])
     # verdicts: R-hat 1.062 ≥ 1.05 is "SAMPLING UNRELIABLE"
     assert bayes["sampling_unreliable"] == "true" and summary["sampling_unreliable"] is True
     assert bayes["n_warnings"] == "2" and bayes["warnings"].split("\n") == list(WARNINGS) == summary["warnings"]
@@ -132,6 +134,7 @@ def test_gap_netcdf_labels_every_variable(tmp_path):
         assert attrs[name].get("units") == units.get(name), name
     assert "force" in attrs["q05"]["long_name"] and "5 %" in attrs["q05"]["long_name"]
     assert file_attrs["sampling_unreliable"] == 1 and file_attrs["alarms"].startswith("SAMPLING UNRELIABLE")
+    assert (file_attrs["v0"], file_attrs["v0_from"]) == (V0, "given")  # (added 2026-12-02)
     # (the result in memory is not changed by writing it)
     assert "units" not in result.force["q05"].attrs and result.force["median"].attrs == {"units": "N"} and result.force["frequency"].attrs == {}
     back = ix.io.read_netcdf(tmp_path / "gap.nc")

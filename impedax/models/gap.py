@@ -55,7 +55,7 @@ FORCE_CONDITIONS = "A taken as exact; skin and screen as their trial means, with
 GAP_TABLE_COLUMNS = (
     "method", "c_gap_f", "c_gap_low_f", "c_gap_high_f", "u_m", "u_low_m", "u_high_m", "gap_identified", "u_lower_bound_m", "u_lower_bound_withheld",
     "force_max_frequency_hz", "gap_voltage_v", "gap_voltage_low_v", "gap_voltage_high_v",
-    "force_max_n", "force_max_low_n", "force_max_high_n", "force_upper_bound_max_n", "sampling_unreliable", "n_warnings", "warnings", "alarms",
+    "force_max_n", "force_max_low_n", "force_max_high_n", "force_upper_bound_max_n", "v0_v", "v0_from", "sampling_unreliable", "n_warnings", "warnings", "alarms",
 )
 """The columns of `GapAnalysis.to_table` (``impedax gap --out FILE.csv``), each quantity's SI
 unit in its name (``_f`` farad, ``_m`` metre, ``_v`` volt, ``_n`` newton, ``_hz`` hertz);
@@ -65,7 +65,8 @@ amplitude of the gap voltage at ``force_max_frequency_hz``, where the median for
 largest (added 2026-12-01); ``force_max_n`` (low, high) the PEAK force there (`GapAnalysis.force_at_max`),
 ``force_upper_bound_max_n`` the largest force the data allow when u is not determined,
 ``sampling_unreliable`` the report's "SAMPLING UNRELIABLE", ``warnings`` and ``alarms`` (`GapAnalysis.alarms`)
-one per line in one cell, ``n_warnings`` how many warnings (added 2026-12-02)."""
+one per line in one cell, ``n_warnings`` how many warnings, ``v0_v`` the drive V0 the forces are for and
+``v0_from`` where it came from (data, given, default; the JSON's) (added 2026-12-02)."""
 
 HIERARCHICAL_AUTO_DRAWS = 500
 # the names `GapAnalysis.draws` takes besides the parameters': those of its properties `gap` and `c_gap`
@@ -236,6 +237,12 @@ class GapAnalysis:
         """Posterior median and 90% interval of the gap thickness u [m]."""
         return self._quantiles("u")
 
+    @property
+    def _drive(self) -> DriveVoltage:
+        """Where ``v0`` came from; a result made without it (read back from a file written before
+        2026-12-02, or built by hand) had it given."""
+        return self.drive or DriveVoltage(self.v0, "given")
+
     def summary(self) -> dict:
         """The JSON used by ``impedax gap --json``."""
         gap_um = {k: v * 1e6 for k, v in self.gap.items()}
@@ -277,7 +284,7 @@ class GapAnalysis:
             "edl_rms_rel": self.edl_fit.rms_rel,
             "area_m2": self.area,
             "v0": self.v0,
-            **(self.drive or DriveVoltage(self.v0, "given")).summary(),
+            **self._drive.summary(),
             "trials": self.trials,
             "warnings": list(self.warnings),
             "gap_identified": self.gap_identified,
@@ -400,6 +407,7 @@ class GapAnalysis:
             "force_max_frequency_hz": force["frequency_hz"], "gap_voltage_v": v["value"], "gap_voltage_low_v": v["q05"], "gap_voltage_high_v": v["q95"],
             "force_max_n": force["value"], "force_max_low_n": force["q05"], "force_max_high_n": force["q95"],
             "force_upper_bound_max_n": None if self.force_upper_bound is None else float(self.force_upper_bound.max()),
+            "v0_v": self.v0, "v0_from": self._drive.source,  # (the drive the forces are for, and where it came from: added 2026-12-02)
             # (verdicts as cells of the row they qualify, one per line: no comment line, which csv.DictReader would take for the header,
             # and no extra rows, which would break reading the rows after bayes and paper as the parameters)
             "sampling_unreliable": self._sampling_unreliable(), "n_warnings": len(self.warnings), "warnings": "\n".join(self.warnings), "alarms": "\n".join(self.alarms),
@@ -444,7 +452,7 @@ class GapAnalysis:
         if all(v is not None for _, v in voltages):
             lines.insert(-1, "gap voltage     |ΔV_gap| (amplitude) at each force maximum: " + "; ".join(
                 f"{what}: {_volts_with_interval(v)} at {format_frequency(v['frequency_hz'])}" for what, v in voltages))
-        lines.append(f"drive V0        {(self.drive or DriveVoltage(self.v0, 'given')).description}")
+        lines.append(f"drive V0        {self._drive.description}")
         bound_line = self._force_bound_line()
         if bound_line:
             lines.insert(next(k for k, line in enumerate(lines) if line.startswith("force (peak")) + 1, bound_line)
@@ -542,7 +550,7 @@ class GapAnalysis:
             if key in ("c_gap", "gap_um", "gap_um_new_trial") and value is not None:
                 for k, v in value.items():
                     out.attrs[f"{key}_{k}"] = v
-        out.attrs.update({"impedax_kind": "gap_analysis", "convention": FORCE_CONVENTION, "model": self.edl_fit.model, "model_requested": self.summary()["model_requested"], "area_m2": self.area, "v0": self.v0, "method": self.method})
+        out.attrs.update({"impedax_kind": "gap_analysis", "convention": FORCE_CONVENTION, "model": self.edl_fit.model, "model_requested": self.summary()["model_requested"], "area_m2": self.area, "v0": self.v0, "v0_from": self._drive.source, "method": self.method})
         if self.gap_spread is not None:
             out.attrs["gap_spread_relative"] = self.gap_spread["relative"]["value"]
         p, bounds = self.paper, self.paper_has_bounds
