@@ -188,7 +188,7 @@ def test_a_first_step_in_the_wrong_place_is_revisited():
     r = ix.refine(ix.make_spectrum(f, z), "R0 + R1 || C1", max_effects=3)
     assert sorted(s.effect for s in r.steps[1:]) == ["constant_phase", "diffusion"], r.report()
     assert ix.parse(r.final_model) == ix.parse("R0 + (R1 + W_d) || CPE1")
-    assert r.verdict == "adequate" and any("second path" in n and "it is kept" in n for n in r.notes)
+    assert r.verdict == "adequate" and any(n.startswith("the second path is kept in place of the first path's end.") for n in r.notes)
     assert r.final.values["CPE1.alpha"] == pytest.approx(0.78, abs=0.03)
 
 
@@ -222,7 +222,7 @@ def test_the_two_paths_are_compared_as_they_end_after_the_final_refit():
     notes = []
     kept = _second_path(greedy, greedy[0].diagnosis.best, 4, diagnosed, lambda text: None, notes, finished)
     assert [s.model for s in kept] == ["start", "B1", "B2"], notes
-    assert "A2 (AIC -150.0" in notes[0] and "it is kept" in notes[0]
+    assert "A2 (AIC -150.0" in notes[0] and notes[0].startswith("the second path is kept in place of")
 
 
 @pytest.mark.parametrize("leaving_end_aic, kept", [(-900.0, ["start", "D1"]), (-205.0, ["start", "K1"])])
@@ -247,7 +247,7 @@ def test_a_suggestion_that_leaves_an_element_out_gets_a_path_of_its_own(leaving_
     notes = []
     kept_path = _second_path(greedy, greedy[0].diagnosis.best, 4, diagnosed, lambda text: None, notes, lambda path, label, progress_label=None: path)
     assert [s.model for s in kept_path] == kept, notes
-    assert len(notes) == 1 and notes[0].startswith("a second path, starting from extra_relaxation")
+    assert len(notes) == 1 and notes[0].startswith("the second path ") and "The second path started from extra_relaxation" in notes[0], notes
     # max_effects=0: the greedy path took no step, and no other path is tried
     notes = []
     assert [s.model for s in _second_path(greedy[:1], greedy[0].diagnosis.best, 0, diagnosed, lambda text: None, notes, lambda path, label, progress_label=None: path)] == ["start"] and notes == []
@@ -284,10 +284,10 @@ def test_an_effect_undetermined_alone_gets_a_path_of_its_own(ep_own_aic, path):
 
     notes = []
     kept = _second_path(greedy, greedy[0].diagnosis.best, 4, diagnosed, lambda text: None, notes, lambda path, label, progress_label=None: path)
-    from_ep = [n for n in notes if "starting from electrode_polarization (EP, " in n]
+    from_ep = [n for n in notes if "started from electrode_polarization (EP, " in n]
     if path:
         assert [s.model for s in kept] == ["start", "EP", "EP+RS"], notes
-        assert len(from_ep) == 1 and "it is kept" in from_ep[0], notes
+        assert len(from_ep) == 1 and " is kept in place of " in from_ep[0], notes
     else:
         assert [s.model for s in kept] == ["start", "ARC", "ARC+RS+ARC2"] and not from_ep, notes
 
@@ -404,12 +404,12 @@ def test_a_path_of_cheaper_effects_is_kept_when_it_ends_as_good_with_fewer_param
     path = _second_path(greedy, greedy[0].diagnosis.best, 4, diagnosed, lambda text: None, notes, lambda path, label, progress_label=None: path)
     assert [s.model for s in path] == kept, notes
     if greedy_verdict == "adequate":  # a path from each cheaper effect; the one from CPE ends at 4 parameters, 866 AIC above
-        assert len(notes) == 2 and notes[0].startswith("a second path, starting from series_resistance"), notes
-        assert (": it is kept in place of the first path's end" in notes[0]) == (kept[-1] == "RS+CPE")
+        assert len(notes) == 2 and "The second path started from series_resistance" in notes[0], notes
+        assert notes[0].startswith("the second path is kept in place of the first path's end.") == (kept[-1] == "RS+CPE")
         assert ("do not tell the two apart" in notes[0]) == (end_k == 6)
         # compared with the end kept so far, named as its path (the first path's no longer, once the second replaced it)
         holder = "the second path" if kept[-1] == "RS+CPE" else "the first path"
-        assert notes[1].startswith("a third path, starting from constant_phase") and notes[1].endswith(f"{holder}'s end is kept"), notes
+        assert notes[1].startswith(f"the third path changes nothing: {holder}'s end is kept.") and "The third path started from constant_phase" in notes[1], notes
         assert f"against {holder}'s end {kept[-1]} (AIC" in notes[1], notes
     else:
         assert notes == []
@@ -445,7 +445,7 @@ def test_no_cheaper_path_repeats_the_single_effect_taken_in_place_of_a_pair():
     notes = []
     path = _second_path(greedy, picked, 1, diagnosed, lambda text: None, notes, lambda path, label, progress_label=None: path)
     assert [s.model for s in path] == ["start", "RS"] and "RS" not in started, (started, notes)
-    assert not any("instead of series_resistance" in n and "starting from series_resistance" in n for n in notes), notes
+    assert not any(n.count("started from series_resistance") > 1 for n in notes), notes
 
 
 @pytest.mark.slow
@@ -552,7 +552,7 @@ def test_a_first_step_that_left_an_element_out_is_tried_with_it_kept(keeping_end
         assert seen == [] and notes == []
     else:
         assert seen[0] == "L" and len(notes) == 1 and "R2 left out" in notes[0]
-        assert (": it is kept" in notes[0]) == (kept == "L+W")
+        assert notes[0].startswith("the second path is kept in place of") == (kept == "L+W")
 
 
 def test_the_final_refit_drops_steps_until_every_parameter_is_determined(monkeypatch):
@@ -803,9 +803,13 @@ def test_path_notes_are_numbered_as_reported_and_a_path_dropped_to_the_start_say
     path = _second_path(greedy, arc, 4, diagnosed, lambda text: None, notes, finished)
     assert [s.model for s in path] == ["start", "ARC"]
     assert notes[0].startswith("second path: CPE: the data do not determine Q"), notes
-    assert len(notes) == 2 and notes[1].startswith("a second path, starting from constant_phase"), notes
-    assert "drops every step it took (its note above) and so ends at the start, start (AIC -270.0, 3 parameters)" in notes[1]
-    assert notes[1].endswith("against the first path's end ARC (AIC -1266.6, 6 parameters): the first path's end is kept"), notes[1]
+    # the result first, in short sentences (one ~90-word sentence before, walkthrough 2026-12-02)
+    assert len(notes) == 2 and notes[1].startswith(
+        "the second path changes nothing: the first path's end is kept. "
+        "It drops every step it took (its note above). It ends at the start, start (AIC -270.0, 3 parameters), "
+        "against the first path's end ARC (AIC -1266.6, 6 parameters). The second path started from constant_phase"
+    ), notes[1]
+    assert max(len(sentence.split()) for sentence in notes[1].split(". ")) <= 25, notes[1]
     assert not any("third path" in n or "ARC2" in n for n in notes), notes
 
 
@@ -837,7 +841,7 @@ def test_progress_names_a_further_path_by_its_place_until_the_report_labels_it(m
         "further path 2 of 2: refitting the final model CPE from scratch",
         "further path 2 of 2: the report's second path",
     ], said
-    assert len(notes) == 1 and notes[0].startswith("a second path, starting from constant_phase"), notes
+    assert len(notes) == 1 and "The second path started from constant_phase" in notes[0], notes
 
 
 @pytest.mark.slow  # (~25 s: four further paths)
@@ -918,13 +922,13 @@ def test_a_further_path_of_the_same_effect_says_what_differs_not_the_effect_twic
     nested = NS(effect="extra_relaxation", added="R_relax || CPE_relax", where="nested in series with R1 (a layer behind that arc)", fit=NS(model="(R1 + R_relax || CPE_relax) || C1"))
     outer = NS(effect="extra_relaxation", added="R_relax || CPE_relax", where="in series with the whole circuit", fit=NS(model="R1 || C1 + R_relax || CPE_relax"))
     cpe = NS(effect="constant_phase", added="CPE1", where="in place of the ideal capacitor C1", fit=NS(model="R1 || CPE1"))
-    same = _starts_compared(nested, outer)
+    same = _starts_compared(nested, outer, "third path")
     assert same == (
-        "starting from extra_relaxation too, but adding R_relax || CPE_relax, nested in series with R1 (a layer behind that arc), giving (R1 + R_relax || CPE_relax) || C1, "
-        "where the first path added R_relax || CPE_relax, in series with the whole circuit, giving R1 || C1 + R_relax || CPE_relax"
+        "The third path started from extra_relaxation too, but added R_relax || CPE_relax, nested in series with R1 (a layer behind that arc), giving (R1 + R_relax || CPE_relax) || C1. "
+        "The first path added R_relax || CPE_relax, in series with the whole circuit, giving R1 || C1 + R_relax || CPE_relax."
     )
     assert same.count("extra_relaxation") == 1
     assert _starts_compared(cpe, outer) == (
-        "starting from constant_phase (CPE1, in place of the ideal capacitor C1), giving R1 || CPE1, "
-        "instead of the first path's extra_relaxation (R_relax || CPE_relax, in series with the whole circuit), giving R1 || C1 + R_relax || CPE_relax"
+        "The second path started from constant_phase (CPE1, in place of the ideal capacitor C1), giving R1 || CPE1. "
+        "The first path started from extra_relaxation (R_relax || CPE_relax, in series with the whole circuit), giving R1 || C1 + R_relax || CPE_relax."
     )

@@ -19,11 +19,11 @@ import numpy as np
 import xarray as xr
 
 from ..arguments import shown
-from ..data import SI_PREFIXES, si_prefix
+from ..data import SI_PREFIXES, format_frequency, format_quantity, si_prefix
 from ..errors import ParameterError
 from ..io.atomic import atomic_path
 
-__all__ = ["plot_spectrum", "model_curve", "dense_model", "plot_nyquist", "equal_aspect", "nyquist_frame", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "plot_bode", "save_figure", "FIGURE_DPI", "fitting_ylabel", "shade_bands", "refresh_legend", "legends_off_data", "drawn_points", "plain_log_ticks", "plain_linear_ticks", "PlainTicks", "prefixable_unit", "wrap_model", "characters_across", "font_size", "label_spectra_axis", "SpectraLocator", "plot_spectra"]
+__all__ = ["plot_spectrum", "model_curve", "dense_model", "plot_nyquist", "equal_aspect", "nyquist_frame", "tail_frame", "mark_tail", "nyquist_view", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "plot_bode", "save_figure", "FIGURE_DPI", "fitting_ylabel", "shade_bands", "refresh_legend", "legends_off_data", "drawn_points", "plain_log_ticks", "plain_linear_ticks", "PlainTicks", "prefixable_unit", "wrap_model", "characters_across", "font_size", "label_spectra_axis", "SpectraLocator", "plot_spectra"]
 
 
 # the rcParams key each kind of impedax's text follows (`font_size`)
@@ -142,7 +142,10 @@ def plot_nyquist(ax, data=None, model=None, *, data_label="data", model_label="m
         ax.plot(m[1].real, -m[1].imag, "-", lw=1.5, label=model_label)
     ax.set_xlabel("Z' [Ω]")
     ax.set_ylabel("−Z'' [Ω]")
-    equal_aspect(ax)
+    if d is not None:
+        nyquist_view(ax, d[1], *([m[1]] if m is not None else []), frequency=d[0])
+    else:
+        equal_aspect(ax)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=font_size("legend", 8))
 
@@ -153,7 +156,7 @@ def plot_nyquist(ax, data=None, model=None, *, data_label="data", model_label="m
 NYQUIST_EDGE_MARGIN = 0.03
 
 
-def equal_aspect(ax, *, frame: tuple[float, float, float, float] | None = None) -> None:
+def equal_aspect(ax, *, frame: tuple[float, float, float, float] | None = None, fill: bool = False) -> None:
     """Equal scales on a Nyquist panel ``ax``: an arc is drawn as the semicircle it is. The
     range that fills the panel beyond the data is put above a flat spectrum (right of a steep
     one), where matplotlib would widen it about the middle: half of a flat spectrum's panel
@@ -162,8 +165,10 @@ def equal_aspect(ax, *, frame: tuple[float, float, float, float] | None = None) 
     SI prefix of Ω (`prefixed_axis`). ``frame``: (Z' min, Z' max, −Z'' min, −Z'' max) the panel
     shows (`nyquist_frame`), in place of everything drawn on it; the panel's box narrows to
     its shape rather than widen the range past it (a frame that follows the data ends near
-    them, where a wide panel ran far beyond)."""
-    ax.set_aspect("equal", adjustable="datalim" if frame is None else "box")
+    them, where a wide panel ran far beyond). ``fill``: the panel keeps its box and the range
+    widens beyond ``frame`` as beyond the data without one (a capacitive tail's zoom,
+    `tail_frame`, 3 times taller than wide, would narrow the box to a strip)."""
+    ax.set_aspect("equal", adjustable="datalim" if frame is None or fill else "box")
     ax.apply_aspect = types.MethodType(functools.partial(_anchored_aspect, frame=frame), ax)
     prefixed_axis(ax.xaxis, along=(ax.yaxis,))
     prefixed_axis(ax.yaxis, along=(ax.xaxis,))
@@ -194,6 +199,89 @@ def nyquist_frame(z_data, *z_models, overshoot: float = MODEL_OVERSHOOT) -> tupl
             x0, x1 = min(x0, max(zm.real.min(), x0 - reach)), max(x1, min(zm.real.max(), x1 + reach))
             y0, y1 = min(y0, max((-zm.imag).min(), y0 - reach)), max(y1, min((-zm.imag).max(), y1 + reach))
     return float(x0), float(x1), float(y0), float(y1)
+
+
+# a Nyquist plot whose −Z'' spans this many times the Z' span of its structure or more has a
+# capacitive tail (a capacitance in series) that flattens everything else to a vertical line
+# at Z' ≈ 0: a SYNTHETIC finger (C_s + C_i in series with a skin R_sc || C_sc) reaches −Z'' =
+# 1.2 GΩ at 1 Hz beside Z' ≤ 130 kΩ (`tail_frame`). The real spectra of tests/fixtures/real
+# reach 2.8 (CHI), the battery benchmark 0.34, a blocking electrode's CPE line
+# tan(α·90°) (12.7 at α = 0.95, 100 at α = 0.9936), whose Z' grows with −Z'' and which reads as it is
+TAIL_RATIO = 100.0
+# ... the panel then shows −Z'' up to this many times that Z' span above the lowest −Z''
+TAIL_VIEW = 3.0
+
+
+def tail_frame(z_data, *z_models, overshoot: float = MODEL_OVERSHOOT) -> tuple[float, float, float, float] | None:
+    """(Z' min, Z' max, −Z'' min, −Z'' max) of a Nyquist panel zoomed on the structure of a
+    spectrum with a capacitive tail, or None for one of ordinary shape. The structure's Z' span
+    is that of the model curves ``z_models`` (noise-free) within the data's, else the data's
+    (complex Z ``z_data``); a tail is a −Z'' span of `TAIL_RATIO` times that or more (the
+    equal scales then draw the spectrum as a vertical line). The frame's −Z'' runs from the
+    lowest point (a model's by at most ``overshoot`` of the span below) to `TAIL_VIEW` spans
+    above it; its Z' over the structure and the data inside (`mark_tail` names where the tail
+    leaves it). impedance.py's ``plot_nyquist`` sets equal scales over all it draws, the whole tail."""
+    z = np.asarray(z_data, complex).ravel()
+    z = z[np.isfinite(z)]
+    if z.size < 2:
+        return None
+    x0, x1 = float(z.real.min()), float(z.real.max())
+    models = [m[np.isfinite(m)] for m in (np.asarray(m, complex).ravel() for m in z_models)]
+    models = [m for m in models if m.size]
+    if models:
+        curves = np.concatenate(models)
+        x0, x1 = max(x0, float(curves.real.min())), min(x1, float(curves.real.max()))
+    span = x1 - x0
+    y = -z.imag
+    if not span > 0 or np.ptp(y) < TAIL_RATIO * span:
+        return None
+    y0 = float(y.min())
+    for m in models:
+        y0 = min(y0, max(float((-m.imag).min()), y0 - overshoot * span))
+    top = y0 + TAIL_VIEW * span
+    inside = z[y <= top]  # (no shown point is cut at the sides)
+    return min(x0, float(inside.real.min(initial=x0))), max(x1, float(inside.real.max(initial=x1))), y0, top
+
+
+def mark_tail(ax, frame, z_data, frequency=None) -> None:
+    """An arrow on the top edge of a Nyquist panel zoomed by `tail_frame` (``frame``) where the
+    data (complex Z ``z_data``, at ``frequency`` [Hz] when known) leave it, and a line of text
+    saying so: how high −Z'' runs, and below which frequency the points lie beyond the top."""
+    from matplotlib.transforms import blended_transform_factory
+
+    z = np.asarray(z_data, complex).ravel()
+    f = None if frequency is None else np.asarray(frequency, float).ravel()
+    keep = np.isfinite(z) & (np.ones(z.size, bool) if f is None else np.isfinite(f))
+    z, f = z[keep], None if f is None else f[keep]
+    y = -z.imag
+    above = y > frame[3]
+    if not above.any():
+        return
+    # the arrow stands where the data leave: at the highest point still inside, within the frame
+    shown = np.flatnonzero(~above)
+    x = float(z.real[shown[np.argmax(y[shown])]]) if shown.size else 0.5 * (frame[0] + frame[1])
+    x = min(max(x, frame[0]), frame[1])
+    peak = int(np.argmax(y))
+    text = f"−Z'' runs off the top, to {format_quantity(float(y[peak]), 'Ω')}"
+    if f is not None:
+        text += f" at {format_frequency(float(f[peak]))}\n(every point below {format_frequency(float(f[above].max()))})"
+    where = blended_transform_factory(ax.transData, ax.transAxes)
+    ax.annotate("", xy=(x, 1.0), xycoords=where, xytext=(x, 0.88), textcoords=where, arrowprops=dict(arrowstyle="-|>", color="0.3", lw=1.2))
+    ax.annotate(text, xy=(x, 0.94), xycoords=where, xytext=(16, 0), textcoords="offset points", ha="left", va="center", fontsize=font_size("text", 8),
+                color="0.2", bbox=dict(boxstyle="round,pad=0.2", fc="white", ec="none", alpha=0.8))
+
+
+def nyquist_view(ax, z_data, *z_models, frequency=None, frame: tuple[float, float, float, float] | None = None) -> None:
+    """Equal scales on a Nyquist panel ``ax`` (`equal_aspect`): over ``frame`` (None: all that
+    is drawn), or, for data ``z_data`` with a capacitive tail beside the model curves
+    ``z_models`` (`tail_frame`), zoomed on the structure with the tail marked (`mark_tail`,
+    ``frequency`` [Hz] of the data when known)."""
+    zoom = tail_frame(z_data, *z_models)
+    if zoom is None:
+        equal_aspect(ax, frame=frame)
+        return
+    equal_aspect(ax, frame=zoom, fill=True)
+    mark_tail(ax, zoom, z_data, frequency)
 
 
 def _anchored_aspect(ax, position=None, *, frame=None) -> None:
@@ -481,7 +569,8 @@ def legends_off_data(fig) -> None:
     figure's constrained layout then makes room for it. Matplotlib's "best" spot is the least
     covering of nine, not one that covers nothing: the legend of the CHI refine's tall Nyquist
     panel sat on its high-|Z| data and fitted curve, and the diagnosis' |Z| legend on the
-    baseline. (Beside the frame, a legend of wrapped model names squeezed the panels to
+    baseline. Also each legend that reaches beyond its frame (`_sticks_out`: over the axis and
+    its tick labels). (Beside the frame, a legend of wrapped model names squeezed the panels to
     nothing.) A legend moved out changes the layout, so the others are checked again (at most
     `LEGEND_PASSES` times). Call it last (a legend redrawn after, `refresh_legend`, goes back inside)."""
     from matplotlib.transforms import offset_copy
@@ -489,7 +578,7 @@ def legends_off_data(fig) -> None:
     moved: set[int] = set()
     for _ in range(LEGEND_PASSES):
         fig.draw_without_rendering()
-        covering = [ax for ax in fig.axes if id(ax) not in moved and ax.get_legend() is not None and _covers_data(ax)]
+        covering = [ax for ax in fig.axes if id(ax) not in moved and ax.get_legend() is not None and (_covers_data(ax) or _sticks_out(ax))]
         if not covering:
             return
         for ax in covering:
@@ -518,6 +607,13 @@ def legends_off_data(fig) -> None:
 LEGEND_PASSES = 3
 """`legends_off_data` checks the legends again after moving some out (the panels narrow), at
 most this many times."""
+
+
+def _sticks_out(ax) -> bool:
+    """Whether ``ax``'s legend reaches beyond its frame (over the axis, its tick labels or the
+    panel beside): a legend of long model names in a narrow Nyquist panel (model comparison)."""
+    box, frame = ax.get_legend().get_window_extent(), ax.get_window_extent()
+    return box.x0 < frame.x0 - 0.5 or box.x1 > frame.x1 + 0.5 or box.y0 < frame.y0 - 0.5 or box.y1 > frame.y1 + 0.5
 
 
 def _covers_data(ax) -> bool:
@@ -569,7 +665,10 @@ def plot_spectra(spectra: Sequence, labels: Sequence[str], *, title: str | None 
         ax_mod.loglog(f, np.abs(z), "o-", **kw)
         ax_ph.semilogx(f, np.degrees(np.angle(z)), "o-", **kw)
     ax_nyq.set(xlabel="Z' [Ω]", ylabel="−Z'' [Ω]")
-    equal_aspect(ax_nyq)
+    if arrays:  # (a tail: each spectrum's highest point named, `mark_tail` of them all)
+        nyquist_view(ax_nyq, np.concatenate([z for _, z in arrays]), frequency=np.concatenate([f for f, _ in arrays]))
+    else:
+        equal_aspect(ax_nyq)
     ax_mod.set_ylabel("|Z| [Ω]")
     plain_log_ticks(ax_mod.yaxis)
     ax_ph.set(ylabel="phase [deg]", xlabel="frequency [Hz]")

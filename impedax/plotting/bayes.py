@@ -13,7 +13,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from ..data import si_prefix, unit_text
-from . import equal_aspect, font_size, nyquist_shape, plain_log_ticks, prefixable_unit, prefixed_axis, spectrum_layout
+from . import font_size, nyquist_view, nyquist_shape, plain_log_ticks, prefixable_unit, prefixed_axis, spectrum_layout
 
 __all__ = ["plot_posterior_bands", "plot_corner"]
 
@@ -34,7 +34,7 @@ def plot_posterior_bands(frequency, z_data, model_frequency, z_draws, *, title: 
     ax_nyq.plot(med.real, -med.imag, "-", color="tab:blue", lw=1.5, label="posterior median")
     ax_nyq.plot(z.real, -z.imag, "o", ms=3.5, mfc="none", color="k", label="data")
     ax_nyq.set(xlabel="Z' [Ω]", ylabel="−Z'' [Ω]", title="Nyquist")
-    equal_aspect(ax_nyq)
+    nyquist_view(ax_nyq, z, med, frequency=frequency)
     zp = None if z_predictive is None else np.asarray(z_predictive, complex)
     for ax, values, data_values, transform in ((ax_mod, np.abs(zs), np.abs(z), np.abs), (ax_ph, np.degrees(np.angle(zs)), np.degrees(np.angle(z)), lambda v: np.degrees(np.angle(v)))):
         if zp is not None:

@@ -12,7 +12,7 @@ def plot_comparison(comparison, *, figsize: tuple[float, float] | None = None):
     """Data with every model's fit (Nyquist, |Z|, phase), and each model's relative residuals,
     for a `Comparison`, in the layout of a single spectrum (`spectrum_layout`, which
     ``figsize`` (width, height) [in] sizes). Figure."""
-    from . import equal_aspect, model_curve, nyquist_frame, nyquist_shape, plain_log_ticks, spectrum_layout
+    from . import legends_off_data, model_curve, nyquist_frame, nyquist_shape, nyquist_view, plain_log_ticks, spectrum_layout
 
     ref = comparison.fits[0]
     f, z = ref.frequency, ref.z_data
@@ -36,7 +36,7 @@ def plot_comparison(comparison, *, figsize: tuple[float, float] | None = None):
         ax_ph.semilogx(f_model, np.degrees(np.angle(z_model)), ls=ls, label=label)
         ax_res.semilogx(f, np.abs(r.residuals) * 100, ".", ls=ls, label=label)
     ax_nyq.set(xlabel="Z' [Ω]", ylabel="−Z'' [Ω]", title="Nyquist")
-    equal_aspect(ax_nyq, frame=nyquist_frame(z, *curves))
+    nyquist_view(ax_nyq, z, *curves, frequency=f, frame=nyquist_frame(z, *curves))
     ax_nyq.legend(fontsize=font_size("legend", 7), loc="best")  # (data and every model; the Bode panels draw them alike)
     ax_mod.set(xlabel="frequency [Hz]", ylabel="|Z| [Ω]")
     plain_log_ticks(ax_mod.yaxis)
@@ -47,6 +47,7 @@ def plot_comparison(comparison, *, figsize: tuple[float, float] | None = None):
         ax.grid(alpha=0.3, which="both")
     ax_res.legend(fontsize=font_size("legend", 7))
     fig.suptitle(f"model comparison — best by AIC: {getattr(comparison, 'best_label_with_ties', comparison.best)}")  # ("X (tied with Y)": `Comparison.best_label_with_ties`)
+    legends_off_data(fig)  # (a legend of long model names wider than its panel spread over the axis and its tick labels)
     return fig
 
 

@@ -14,7 +14,7 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 
-from . import FLAT_NYQUIST, characters_across, equal_aspect, font_size, model_curve, nyquist_panel_height, nyquist_shape, plain_log_ticks, plot_spectrum, legends_off_data, refresh_legend, shade_bands, wrap_model
+from . import FLAT_NYQUIST, characters_across, font_size, nyquist_view, model_curve, nyquist_panel_height, nyquist_shape, plain_log_ticks, plot_spectrum, legends_off_data, refresh_legend, shade_bands, wrap_model
 
 __all__ = ["plot_diagnosis", "plot_refinement", "noise_levels", "NOISE_LEVEL_LABEL"]
 
@@ -200,8 +200,10 @@ def _refinement_nyquist(ax, refinement, legend_chars: int) -> None:
     if refinement.steps[0].diagnosis is not None:
         _mark_masked(ax, refinement.steps[0].diagnosis)
     drawn = [(first, "--", "tab:grey", "start")] + ([(last, "-", "tab:green", "final")] if len(refinement.steps) > 1 else [])
+    curves = []
     for fit, style, color, name in drawn:
         z = model_curve(fit)[1]
+        curves.append(z)
         ax.plot(z.real, -z.imag, style, lw=1.4, color=color, label=wrap_model(f"{name}: {fit.model} ({fit.rms_rel * 100:.3g} %)", legend_chars))
     # the panel is scaled to the data and the last model drawn (the first when it is alone): a
     # start far off (the demo's pure capacitor, a line to 165 MΩ beside an arc of 57 MΩ) runs
@@ -215,6 +217,6 @@ def _refinement_nyquist(ax, refinement, legend_chars: int) -> None:
         ax.autoscale_view()
     ax.set_xlabel("Z' [Ω]")
     ax.set_ylabel("−Z'' [Ω]")
-    equal_aspect(ax)
+    nyquist_view(ax, first.z_data, *curves, frequency=first.frequency)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=font_size("legend", 8))

@@ -271,7 +271,7 @@ def _plot_fits(ax, ds, dims, labels, model) -> None:
     panel's Z' range to 8 MΩ beside data that end at 3.1 MΩ."""
     import matplotlib as mpl
 
-    from . import dense_model, equal_aspect, nyquist_frame
+    from . import dense_model, nyquist_frame, nyquist_view
 
     z = ds["Z"].transpose(*dims, "frequency").values.reshape(-1, ds.sizes["frequency"])
     z_model = ds["Z_model"].transpose(*dims, "frequency").values.reshape(z.shape)
@@ -295,4 +295,4 @@ def _plot_fits(ax, ds, dims, labels, model) -> None:
     # beside the panel, where it covers no data (inside, the spectra's curves run everywhere)
     ax.legend(fontsize=font_size("legend", 7), title=", ".join(dims), title_fontsize=font_size("legend", 7), ncol=2 if drawn.size > 4 else 1, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     ax.grid(alpha=0.3)
-    equal_aspect(ax, frame=nyquist_frame(z[drawn], *curves))
+    nyquist_view(ax, z[drawn], *curves, frequency=np.broadcast_to(freq, z[drawn].shape), frame=nyquist_frame(z[drawn], *curves))

@@ -343,15 +343,17 @@ def _addition_text(s) -> str:
     return s.added if "+" in s.effect else f"{s.added}, {s.where}"
 
 
-def _starts_compared(alt, picked) -> str:
-    """How a further path's start ``alt`` differs from the first path's ``picked``, each with the
-    model it gives. Of one effect, the effect is named once and the two additions told apart: the
-    note read "starting from extra_relaxation (…) instead of extra_relaxation (…)" (Gamry's real
-    file, walkthrough 2026-12-02), the same name twice for two placements."""
+def _starts_compared(alt, picked, label: str = "second path") -> str:
+    """How the further path ``label``'s start ``alt`` differs from the first path's ``picked``,
+    each with the model it gives: two sentences. Of one effect, the effect is named once and the
+    two additions told apart: the note read "starting from extra_relaxation (…) instead of
+    extra_relaxation (…)" (Gamry's real file, walkthrough 2026-12-02), the same name twice for
+    two placements."""
     if alt.effect == picked.effect:
-        return (f"starting from {alt.effect} too, but adding {_addition_text(alt)}, giving {alt.fit.model}, "
-                f"where the first path added {_addition_text(picked)}, giving {picked.fit.model}")
-    return f"starting from {_first_step_text(alt)}, giving {alt.fit.model}, instead of the first path's {_first_step_text(picked)}, giving {picked.fit.model}"
+        return (f"The {label} started from {alt.effect} too, but added {_addition_text(alt)}, giving {alt.fit.model}. "
+                f"The first path added {_addition_text(picked)}, giving {picked.fit.model}.")
+    return (f"The {label} started from {_first_step_text(alt)}, giving {alt.fit.model}. "
+            f"The first path started from {_first_step_text(picked)}, giving {picked.fit.model}.")
 
 
 def effect_count(effect: str | None) -> int:
@@ -493,18 +495,24 @@ def _second_path(steps: list[RefinementStep], picked, limit: int, diagnosed, say
         slight = better and b.n_params > a.n_params and not own and noise_variance_explained(a, b, first) < NOISE_FRACTION_MIN
         better = better and not slight
         # a path whose every step was dropped (`_finish`) ends where every path starts: the start, not a model of its own
-        end = (f"drops every step it took (its note above) and so ends at the start, {other[-1].model} (AIC {b.aic:.1f}, {b.n_params} parameters)" if len(other) == 1
-               else f"ends at {other[-1].model} (AIC {b.aic:.1f}, {b.n_params} parameters)")
-        notes.append(
-            f"a {label}, {_starts_compared(alt, picked)}, "
-            f"{end}, against {holder}'s end {steps[-1].model} (AIC {a.aic:.1f}, {a.n_params} parameters): "
-            + (f"it is kept in place of {holder}'s end" if better else f"{holder}'s end is kept")
-            + (f" (it fits better by AIC, but with {b.n_params - a.n_params} more parameter(s) it explains under {NOISE_FRACTION_MIN:.0%} of the noise variance more)" if slight else "")
-            + (f"; the data do not tell the two apart (AIC within {DELTA_AIC_MIN:g}, as many parameters)" if tie else "")
-            + (f", and it keeps {', '.join(restored)}, which {holder} left out" if tie and better else "")
-            + (f" (it keeps {', '.join(restored)}, the starting circuit's, which {holder} left out: leaving {'them' if len(restored) > 1 else 'it'} out costs "
-               f"{a.aic - b.aic:.1f} of AIC, more than {DELTA_AIC_MIN:g}, the most refine lets an element go for)" if own else "")
-        )
+        end = (f"It drops every step it took (its note above). It ends at the start, {other[-1].model} (AIC {b.aic:.1f}, {b.n_params} parameters)" if len(other) == 1
+               else f"It ends at {other[-1].model} (AIC {b.aic:.1f}, {b.n_params} parameters)")
+        # short sentences, the result first (the note was one sentence of ~90 words, walkthrough
+        # 2026-12-02): what the path changed, the two ends, why, then where the two paths started
+        sentences = [
+            f"the {label} is kept in place of {holder}'s end." if better else f"the {label} changes nothing: {holder}'s end is kept.",
+            f"{end}, against {holder}'s end {steps[-1].model} (AIC {a.aic:.1f}, {a.n_params} parameters).",
+        ]
+        if slight:
+            sentences.append(f"It fits better by AIC, but with {b.n_params - a.n_params} more parameter(s) it explains under {NOISE_FRACTION_MIN:.0%} of the noise variance more.")
+        if tie:
+            sentences.append(f"The data do not tell the two apart (AIC within {DELTA_AIC_MIN:g}, as many parameters)"
+                             + (f"; it keeps {', '.join(restored)}, which {holder} left out." if better else "."))
+        if own:
+            sentences.append(f"It keeps {', '.join(restored)}, the starting circuit's, which {holder} left out: leaving {'them' if len(restored) > 1 else 'it'} out costs "
+                             f"{a.aic - b.aic:.1f} of AIC, more than {DELTA_AIC_MIN:g}, the most refine lets an element go for.")
+        sentences.append(_starts_compared(alt, picked, label))
+        notes.append(" ".join(sentences))
         if better:
             steps, holder = other, f"the {label}"
     return steps
