@@ -60,7 +60,7 @@ from .priors import Prior, PriorKind
 from .reparam import Reparametrization
 from .progress import ProgressLine, announce
 
-__all__ = ["HierarchicalPosterior", "sample_hierarchical", "hierarchical_log_density", "trial_scatter_noise", "HIERARCHICAL_PRIORS"]
+__all__ = ["HierarchicalPosterior", "sample_hierarchical", "hierarchical_log_density", "trial_scatter_noise", "HIERARCHICAL_PRIORS", "TARGET_ACCEPT"]
 
 HIERARCHICAL_PRIORS = {
     "mu": "normal(ln of the median per-trial least-squares value, 2)",
@@ -72,6 +72,9 @@ HIERARCHICAL_PRIORS = {
 
 MU_PRIOR_SD = 2.0
 """sd (in ln) of the prior of each population median μ_j about ln θ̂_j (module docstring)."""
+TARGET_ACCEPT = 0.85
+"""NUTS's target acceptance rate in the warm-up's step-size adaptation (`sample_hierarchical`'s
+default): higher targets take smaller steps, fewer divergent transitions, longer trajectories."""
 CENTRED_RATIO = 3.0
 """``parameterisation="auto"`` samples a per-trial quantity centred when the median relative
 standard error of its per-trial fits is below 1/CENTRED_RATIO of their spread (sd of ln)."""
@@ -1119,7 +1122,7 @@ def sample_hierarchical(
     chains: int = 4,
     warmup: int = 400,
     draws: int = 400,
-    target_accept: float = 0.85,
+    target_accept: float = TARGET_ACCEPT,
     parameterisation: str = "auto",
     seed: int = 0,
     registry: Registry = DEFAULT_REGISTRY,
