@@ -626,6 +626,61 @@ def test_the_baseline_runs_the_same_starts_whatever_the_catalog_and_the_solver_s
     assert damping == ["identity"] * copies + ["marquardt"] * copies
 
 
+def _ranking_stand_in(effect, delta_aic, n_params, removed=(), vanished=()):
+    """A `Suggestion` stand-in with what `_rank` reads: ΔAIC, the parameter count, the elements
+    left out (no finite Warburg, no DRT evidence, no warning)."""
+    from types import SimpleNamespace as NS
+
+    return NS(effect=effect, delta_aic=delta_aic, delta_bic=delta_aic, fit=NS(n_params=n_params, circuit=NS(element_names=())),
+              removed=removed, vanished=vanished, warning=None, significant=True, added="X", where="")
+
+
+def test_a_resistance_that_fell_to_zero_buys_no_parsimony():
+    """Within ΔAIC 10 the simpler candidate ranks first, and a series resistance that fell to zero
+    and was left out counts as kept (`_ranked_size`). The walkthrough's figures (2026-12-02;
+    SYNTHETIC Meyer finger, CPE skin α = 0.8, 1 % noise): W_d in series with R_f fallen to zero
+    (4 free parameters, ΔAIC −68.4) had been named before CPE_sc in place of C_sc (5, −72.1)."""
+    from impedax.fitting.diagnosis.diagnosis import _rank
+
+    w_d = _ranking_stand_in("diffusion", -68.4, 4, removed=("R_f",), vanished=("R_f",))
+    cpe = _ranking_stand_in("constant_phase", -72.1, 5)
+    relax = _ranking_stand_in("extra_relaxation", -69.1, 7)
+    assert [s.effect for s in _rank([w_d, relax, cpe])] == ["constant_phase", "diffusion", "extra_relaxation"]
+    # at a count of 5 each, the one that drops no element goes first, whichever fits better
+    cpe_worse = _ranking_stand_in("constant_phase", -66.0, 5)
+    assert [s.effect for s in _rank([w_d, cpe_worse])] == ["constant_phase", "diffusion"]
+    # a genuinely smaller candidate (nothing fell to zero) still goes first within 10 ...
+    w_d_kept = _ranking_stand_in("diffusion", -68.4, 4)
+    assert [s.effect for s in _rank([cpe, w_d_kept])] == ["diffusion", "constant_phase"]
+    # ... and so does the one whose resistance fell, against a larger one (5 counted against 6)
+    relax6 = _ranking_stand_in("extra_relaxation", -74.7, 6)
+    assert [s.effect for s in _rank([relax6, w_d])] == ["diffusion", "extra_relaxation"]
+    # beyond ΔAIC 10 the better fit goes first, as before
+    w_d_far = _ranking_stand_in("diffusion", -83.0, 4, removed=("R_f",), vanished=("R_f",))
+    assert [s.effect for s in _rank([cpe, w_d_far])] == ["diffusion", "constant_phase"]
+
+
+@pytest.mark.slow  # (a full diagnosis: ~40 s with compilation)
+def test_cpe_skin_of_a_finger_is_named_before_a_warburg_that_replaces_the_series_resistor():
+    """SYNTHETIC Meyer finger (C_s + C_i + R_sc ∥ CPE_sc + R_f, α = 0.8, the skin's corner that of
+    R_sc C_sc = 130 kΩ · 2.2 nF; 1 % noise on |Z|, seed 78: the walkthrough's draw, 2026-12-02)
+    diagnosed with an ideal C_sc and C_i fixed: W_d at the end, R_f fallen to zero (`_ranked_size`
+    counts it), had been named first; now CPE_sc in place of C_sc, which fits better."""
+    f = np.logspace(0, 5, 40)
+    jw = 2j * np.pi * f
+    c_s, c_i, r_sc, c_sc, r_f, alpha = 140e-12, 1.7e-9, 130e3, 2.2e-9, 500.0, 0.8
+    q = 1 / (r_sc * (1 / (r_sc * c_sc)) ** alpha)  # (the CPE's Q whose corner frequency is R_sc C_sc's)
+    z = 1 / (jw * c_s) + 1 / (jw * c_i) + 1 / (1 / r_sc + q * jw**alpha) + r_f
+    rng = np.random.default_rng(78)
+    z = z + 0.01 * np.abs(z) * (rng.standard_normal(40) + 1j * rng.standard_normal(40))
+    d = ix.diagnose((f, z), "C_s + C_i + R_sc || C_sc + R_f", fixed={"C_i": 1.7e-9})
+    listed = [(str(s.model), round(s.delta_aic, 1)) for s in d.suggestions]
+    assert d.verdict == "missing_effect" and str(d.best.model) == "C_s + C_i + R_sc || CPE_sc + R_f", listed
+    assert abs(d.best.fit.values["CPE_sc.alpha"] - alpha) < 0.05
+    w_d = next(s for s in d.suggestions if str(s.model) == "C_s + C_i + R_sc || C_sc + W_d")  # (the one named first before)
+    assert w_d.vanished == ("R_f",) and w_d.fit.n_params < d.best.fit.n_params and d.best.delta_aic < w_d.delta_aic, listed
+
+
 def test_the_report_says_which_rule_ranks_a_suggestion_before_one_with_a_lower_aic():
     """`_ranked_before` names the first of `_rank`'s rules that tells two suggestions apart:
     stand-ins with hand-set ΔAIC, parameter counts and removed elements."""
@@ -640,5 +695,8 @@ def test_the_report_says_which_rule_ranks_a_suggestion_before_one_with_a_lower_a
     assert _ranked_before(cpe, warburg) == "within ΔAIC 10 of each other the data barely tell them apart, and the simpler goes first (4 free parameters against 5)"
     dropped = suggestion("extra_relaxation", -120.0, 5, removed=("R0",), model="R1 || C1 + R_relax || C_relax")
     assert _ranked_before(cpe, dropped).startswith("it keeps every element of yours (R1 || C1 + R_relax || C_relax leaves R0 out")
-    fell = suggestion("extra_relaxation", -80.0, 4, removed=("R0",), vanished=("R0",))
+    fell = suggestion("extra_relaxation", -80.0, 3, removed=("R0",), vanished=("R0",))  # (4 with R0, which fell to zero, counted)
     assert _ranked_before(cpe, fell) == "within ΔAIC 10 of each other the data barely tell them apart, and the one that leaves no element out goes first"
+    fell_larger = suggestion("extra_relaxation", -80.0, 4, removed=("R0",), vanished=("R0",), model="R1 || C1 + W_d")
+    assert _ranked_before(cpe, fell_larger) == ("within ΔAIC 10 of each other the data barely tell them apart, and the simpler goes first "
+                                                "(4 free parameters against 5, counting R0, which fell to zero in R1 || C1 + W_d and was left out, as kept)")

@@ -18,7 +18,8 @@
 4. Candidates: every effect of the catalog (`impedax.fitting.diagnosis.effects`) proposes augmented
    circuits, fitted together warm-started through `fit_candidates` (one compilation) and
    ranked by ΔAIC; a candidate with more parameters outranks a simpler one only when it
-   lowers AIC by more than `DELTA_AIC_MIN` (the same rule as the verdict).
+   lowers AIC by more than `DELTA_AIC_MIN` (the same rule as the verdict; a series resistance
+   that fell to zero and was left out counts as kept, `_ranked_size`).
    With ``drt_evidence`` (default), the data's DRT (`impedax.fitting.drt.drt`) and the baseline's
    are compared first (`unexplained_peaks`): a peak the baseline does not explain gives
    ``extra_relaxation`` its τ and R, a distributed peak gives ``constant_phase`` its α (the
@@ -863,8 +864,9 @@ def _ranked_before(s: Suggestion, t: Suggestion) -> str:
         return f"it keeps every element of yours ({t.model} leaves {', '.join(sorted(set(t.removed) - set(t.vanished)))} out, which changes what your elements stand for)"
     if t.delta_aic < s.delta_aic - DELTA_AIC_MIN:
         return "see the ranking rules, docs/diagnosis.md"
-    if s.fit.n_params < t.fit.n_params:
-        return f"{margin} the simpler goes first ({counted(s.fit.n_params, 'free parameter')} against {t.fit.n_params})"
+    if _ranked_size(s) < _ranked_size(t):
+        fell = "".join(f", counting {', '.join(u.vanished)}, which fell to zero in {u.model} and was left out, as kept" for u in (s, t) if u.vanished)
+        return f"{margin} the simpler goes first ({counted(_ranked_size(s), 'free parameter')} against {_ranked_size(t)}{fell})"
     if t.removed and not s.removed:
         return f"{margin} the one that leaves no element out goes first"
     if _claims_finite_diffusion(t) and not _claims_finite_diffusion(s):
@@ -872,6 +874,18 @@ def _ranked_before(s: Suggestion, t: Suggestion) -> str:
     if s.effect == "extra_relaxation" and t.effect != "extra_relaxation":
         return f"{margin} the data's DRT backs the added arc"
     return f"{margin} of candidates that are the same fit within the noise, one that changes an idle element goes first"
+
+
+def _ranked_size(s: Suggestion) -> int:
+    """The free parameters `_rank`'s parsimony counts for candidate ``s``: its fit's, plus one for
+    each series resistance of the baseline that fell to zero in it and was left out
+    (`Suggestion.vanished`; `_series_resistance_dropped` drops free resistors only). The candidate
+    that kept it is the same fit with it at 0, and the ranking already counts ``s`` as keeping it
+    (it is not "left out"); leaving it out so that the other parameters are determined does not
+    make ``s`` the simpler explanation of the data. Before 2026-12-02 it did: on a SYNTHETIC Meyer
+    finger with CPE skin (α = 0.8, 1 % noise) W_d in series, R_f fallen to zero (4 parameters,
+    ΔAIC −68.4), was named before CPE_sc in place of C_sc (5, ΔAIC −72.1), the truth."""
+    return s.fit.n_params + len(s.vanished)
 
 
 def _claims_finite_diffusion(s: Suggestion) -> bool:
@@ -922,7 +936,8 @@ def _rank(cands: list[Suggestion], evidence: PeakEvidence | None = None, loose: 
     candidate is the same fit with that element at 0, so no element stands for anything
     else). Among candidates the data cannot tell apart (within `DELTA_AIC_MIN`), one that keeps
     every element goes first (R ∥ C + R ∥ C is the same function of frequency as
-    (R0 + R ∥ C) ∥ C), then the smaller, then one that drops no element at all, then one that
+    (R0 + R ∥ C) ∥ C), then the smaller (`_ranked_size`: a series resistance that fell to zero
+    and was left out counts as kept), then one that drops no element at all, then one that
     does not add a finite Warburg as diffusion (`_claims_finite_diffusion`: its 45° region is
     what tells it from an arc of as many parameters, and within `DELTA_AIC_MIN` the data do
     not show it decisively), then one the DRT backs (`_drt_supports`). When a candidate that
@@ -942,7 +957,7 @@ def _rank(cands: list[Suggestion], evidence: PeakEvidence | None = None, loose: 
         while rest:
             best_aic = rest[0].delta_aic
             close = [s for s in rest if s.delta_aic <= best_aic + DELTA_AIC_MIN]
-            pick = min(close, key=lambda s: (left_out(s), s.fit.n_params, bool(s.removed), _claims_finite_diffusion(s), not _drt_supports(s, evidence), s.delta_aic))
+            pick = min(close, key=lambda s: (left_out(s), _ranked_size(s), bool(s.removed), _claims_finite_diffusion(s), not _drt_supports(s, evidence), s.delta_aic))
             out.append(pick)
             rest.remove(pick)
         return out
