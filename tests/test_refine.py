@@ -555,6 +555,47 @@ def test_a_first_step_that_left_an_element_out_is_tried_with_it_kept(keeping_end
         assert notes[0].startswith("the second path is kept in place of") == (kept == "L+W")
 
 
+@pytest.mark.parametrize(
+    "vanished, end_aic, kept",
+    [(("R_f",), -754.1, "CPE_sc"), ((), -754.1, "W_d"), (("R_f",), -770.0, "W_d")],
+)
+def test_a_resistance_that_fell_to_zero_on_a_path_buys_no_parsimony(vanished, end_aic, kept):
+    """`_second_path` with stand-ins (the shape of the SYNTHETIC Meyer finger with CPE skin of the
+    walkthrough 2026-12-02, C_i fixed): the greedy path takes CPE_sc in place of C_sc and ends
+    adequate at 5 parameters, AIC −754.2; the cheaper path from W_d in series, R_f left out,
+    ends at 4 parameters, AIC −754.1. When R_f fell to zero (`Suggestion.vanished`) it counts
+    as kept, as in the ranking: 5 against 5, a tie, and the path that leaves nothing out stays.
+    R_f left out for another reason still saves its parameter; an end lower by more than 10 in
+    AIC is kept either way, its step recording what vanished."""
+    from types import SimpleNamespace as NS
+
+    from impedax.fitting.diagnosis.refinement import RefinementStep, _second_path
+
+    def suggestion(where, model, aic, k, effect, removed=(), vanished=()):
+        return NS(where=where, effect=effect, delta_aic=aic, added=model, fit=_fit_stand_in(model=model, aic=aic, n_params=k, converged=True), removed=removed, vanished=vanished, undetermined=())
+
+    cpe = suggestion("in place of C_sc", "CPE_sc", -72.1, 5, "constant_phase")
+    wd = suggestion("in series, and R_f left out (it fell to 0 Ω)", "W_d", -68.4, 4, "diffusion", ("R_f",), vanished)
+    first = NS(best=cpe, suggestions=(cpe, wd), candidates=(cpe, wd), solver_shape=None, noise=_STAND_IN_NOISE, baseline=NS(frequency=_STAND_IN_FREQUENCY, n_params=4))
+    greedy = [
+        RefinementStep(_fit_stand_in(model="start", aic=-686.0, n_params=4), None, None, first),
+        RefinementStep(_fit_stand_in(model="CPE_sc", aic=-754.2, n_params=5), "CPE_sc", "constant_phase", NS(solver_shape=None, verdict="adequate")),
+    ]
+
+    def diagnosed(fit, shape):  # the W_d path: its end is the model W_d gives, adequate
+        return NS(baseline=_fit_stand_in(model=fit.model, aic=end_aic if fit.model == "W_d" else fit.aic, n_params=fit.n_params, rms_rel=0.0121, bic=0.0, chi2_red=1.0), best=None, verdict="adequate", solver_shape=None)
+
+    notes = []
+    path = _second_path(greedy, cpe, 4, diagnosed, lambda text: None, notes, lambda path, label, progress_label=None: path)
+    assert path[-1].model == kept, notes
+    assert len(notes) == 1 and notes[0].startswith("the second path is kept") == (kept == "W_d"), notes
+    size_words = "4 parameters, 5 counting R_f, which fell to zero and was left out, as kept" if vanished else "4 parameters)"
+    assert f"It ends at W_d (AIC {end_aic:.1f}, {size_words}" in notes[0], notes
+    assert ("do not tell the two apart (AIC within 10, as many parameters)." in notes[0]) == (kept == "CPE_sc"), notes
+    if kept == "W_d":
+        assert path[-1].vanished == vanished and path[-1].as_json()["vanished"] == list(vanished)
+
+
 def test_the_final_refit_drops_steps_until_every_parameter_is_determined(monkeypatch):
     """`_finish` with stand-ins: a path that starts from a candidate with R0 undetermined (a
     left-out element kept, or an effect undetermined alone) keeps it undetermined after its

@@ -79,7 +79,7 @@ from .noise import NOISE_FLOOR, OUTLIER_MAX_FRACTION, NoiseModel, kk_indices, kk
 from .vanishing import idle_elements, share_words, vanished_terms
 
 __all__ = [
-    "Diagnosis", "Suggestion", "Verdict", "diagnose", "noise_variance_explained",
+    "Diagnosis", "Suggestion", "Verdict", "diagnose", "noise_variance_explained", "ranked_size",
     "DELTA_AIC_MIN", "NOISE_FRACTION_MIN", "NOISE_RATIO_MAX", "NOISE_FLOOR", "KK_INVALID_FRACTION", "KK_INVALID_RMS", "BASELINE_STEPS",
     "KK_COMPARABLE", "MASK_MAX_FRACTION", "OPEN_RESISTANCE_FACTOR", "ARC_ORDERS_MAX", "RELATIVE_ERROR_MAX", "CORRELATION_MAX", "CORRELATED_ERROR_MAX", "CORRELATION_SINGULAR",
 ]
@@ -885,7 +885,15 @@ def _ranked_size(s: Suggestion) -> int:
     make ``s`` the simpler explanation of the data. Before 2026-12-02 it did: on a SYNTHETIC Meyer
     finger with CPE skin (α = 0.8, 1 % noise) W_d in series, R_f fallen to zero (4 parameters,
     ΔAIC −68.4), was named before CPE_sc in place of C_sc (5, ΔAIC −72.1), the truth."""
-    return s.fit.n_params + len(s.vanished)
+    return ranked_size(s.fit, s.vanished)
+
+
+def ranked_size(fit: FitResult, vanished: Sequence[str] = ()) -> int:
+    """The size the parsimony rules compare (`_rank`'s and `refine`'s choice between its paths'
+    ends): ``fit``'s free parameters plus one for each of ``vanished``, the free series
+    resistances of the circuit it came from that fell to zero and were left out on the way
+    (`Suggestion.vanished`): each is counted as kept, as its one free parameter (`_ranked_size`)."""
+    return fit.n_params + len(vanished)
 
 
 def _claims_finite_diffusion(s: Suggestion) -> bool:

@@ -25,7 +25,7 @@ from ..reductions import capacitor_name
 from ..problem import WEIGHTINGS, circuit_parameters, open_spectrum
 from .bands import format_frequency
 from .catalog import EffectCatalog
-from .diagnosis import CANDIDATE_STEPS, DELTA_AIC_MIN, NOISE_FRACTION_MIN, Diagnosis, DRTMemo, Verdict, diagnose, left_out_options, left_out_words, noise_variance_explained, non_passive_points, require_points_for_diagnosis, undetermined_parameters, unidentified_note, verdict_scope_words
+from .diagnosis import CANDIDATE_STEPS, DELTA_AIC_MIN, NOISE_FRACTION_MIN, Diagnosis, DRTMemo, Verdict, diagnose, left_out_options, left_out_words, noise_variance_explained, non_passive_points, ranked_size, require_points_for_diagnosis, undetermined_parameters, unidentified_note, verdict_scope_words
 from .effects import DEFAULT_EFFECTS, placement
 from .vanishing import share_words, vanished_parameters, vanished_terms
 
@@ -40,7 +40,9 @@ class RefinementStep:
     step of `_pruned` that put a simpler element in place of one (a CPE at α = 1 → a C) has
     ``added`` that element, ``effect`` None and ``removed`` the one it replaced. ``same_fit``:
     the models of the other suggestions of the previous step's diagnosis that fit the data as
-    well within the noise (`Diagnosis.same_fits`): equally valid alternatives to this step."""
+    well within the noise (`Diagnosis.same_fits`): equally valid alternatives to this step.
+    ``vanished``: those of ``removed`` that fell to zero where the suggestion kept them
+    (`Suggestion.vanished`), which the choice between paths counts as kept (`_path_size`)."""
 
     __repr__ = concise_repr  # (the generated one printed every array)
 
@@ -51,6 +53,7 @@ class RefinementStep:
     removed: tuple[str, ...] = ()
     same_fit: tuple[str, ...] = ()
     where: str = ""  # the suggestion's placement in words (`Suggestion.where`), with why it left an element out
+    vanished: tuple[str, ...] = ()  # (added 2026-12-02)
 
     @property
     def model(self) -> str:
@@ -91,7 +94,7 @@ class RefinementStep:
         return f"− {', '.join(self.removed)} [simplified]" if self.removed else "(start)"
 
     def as_json(self) -> dict:
-        return {"model": self.model, "rms_rel": self.fit.rms_rel, "aic": self.fit.aic, "added": self.added, "effect": self.effect, "bic": self.fit.bic, "chi2_red": self.fit.chi2_red, "verdict": self.diagnosis.verdict if self.diagnosis else None, "removed": list(self.removed), "same_fit": list(self.same_fit), "where": self.where or None, "removal_reasons": self.removal_reasons}
+        return {"model": self.model, "rms_rel": self.fit.rms_rel, "aic": self.fit.aic, "added": self.added, "effect": self.effect, "bic": self.fit.bic, "chi2_red": self.fit.chi2_red, "verdict": self.diagnosis.verdict if self.diagnosis else None, "removed": list(self.removed), "same_fit": list(self.same_fit), "where": self.where or None, "removal_reasons": self.removal_reasons, "vanished": list(self.vanished)}
 
 
 @dataclass(frozen=True, eq=False)
@@ -395,7 +398,7 @@ def _greedy(steps: list[RefinementStep], best, limit: int, diagnosed, say, label
     while best is not None and added + effect_count(best.effect) <= limit:
         say(f"{label}step {len(steps)}: diagnosing {best.fit.model}")
         d = diagnosed(best.fit, steps[-1].diagnosis.solver_shape)
-        steps.append(RefinementStep(d.baseline, best.added, best.effect, d, tuple(best.removed), where=getattr(best, "where", "") or ""))
+        steps.append(RefinementStep(d.baseline, best.added, best.effect, d, tuple(best.removed), where=getattr(best, "where", "") or "", vanished=tuple(getattr(best, "vanished", ()))))
         added += effect_count(best.effect)
         best = _best_within(d, limit - added)
     return steps
@@ -407,7 +410,9 @@ def _second_path(steps: list[RefinementStep], picked, limit: int, diagnosed, say
     first diagnosis' best significant suggestion at another placement or of another effect
     (within `BRANCH_WINDOW` of AIC) is continued greedily too, and the better final model is
     kept (lower AIC by more than `DELTA_AIC_MIN`, or as good with fewer parameters, or as good
-    with as many while leaving out fewer elements: a subset of the other's). A first
+    with as many while leaving out fewer elements: a subset of the other's). Parameters are
+    counted as the ranking counts them (`_path_size`): a series resistance that fell to zero and
+    was left out counts as kept. A first
     step that fits a large misfit in the wrong place (a Warburg at the end where it belongs
     behind the charge transfer) is otherwise compensated by later, wrong additions. The paths
     are compared as they end after ``finished`` (the final refit from scratch, which may drop
@@ -478,9 +483,11 @@ def _second_path(steps: list[RefinementStep], picked, limit: int, diagnosed, say
         own_notes = len(notes)
         other = finished(_greedy(steps[:1], alt, limit, diagnosed, say, f"{trial}, "), f"{label}: ", f"{trial}: ")
         a, b = steps[-1].fit, other[-1].fit
-        tie = abs(b.aic - a.aic) <= DELTA_AIC_MIN and b.n_params == a.n_params
+        # sizes as the ranking counts them (`ranked_size`): a resistor that fell to zero and was left out counts as kept
+        size_a, size_b = _path_size(steps), _path_size(other)
+        tie = abs(b.aic - a.aic) <= DELTA_AIC_MIN and size_b == size_a
         kept_more = _elements_left_out(other) < _elements_left_out(steps)
-        better = b.aic < a.aic - DELTA_AIC_MIN or (b.aic <= a.aic + DELTA_AIC_MIN and b.n_params < a.n_params) or (tie and kept_more)
+        better = b.aic < a.aic - DELTA_AIC_MIN or (b.aic <= a.aic + DELTA_AIC_MIN and size_b < size_a) or (tie and kept_more)
         if _same_network(a, b) and not better:  # one model, under the same or other names, and not to be kept: nothing to compare, the first-found stays
             del notes[own_notes:]  # (its refit's notes speak of a path the report does not name)
             say(f"{trial}: ends at {holder}'s end, {a.model}, as one circuit; left out of the report")
@@ -491,20 +498,21 @@ def _second_path(steps: list[RefinementStep], picked, limit: int, diagnosed, say
         # but parameters that are the user's own elements, which the path before left out, are kept by
         # the rule that takes an element out (`_simplified`): it goes only when that costs at most DELTA_AIC_MIN
         restored = sorted(_elements_left_out(steps) - _elements_left_out(other))
-        own = better and bool(restored) and 0 < b.n_params - a.n_params <= _parameter_count(b, restored)
-        slight = better and b.n_params > a.n_params and not own and noise_variance_explained(a, b, first) < NOISE_FRACTION_MIN
+        # (a restored resistor that fell to zero on the path before is in that path's size already)
+        own = better and bool(restored) and 0 < size_b - size_a <= _parameter_count(b, set(restored) - set(_vanished_on(steps)))
+        slight = better and size_b > size_a and not own and noise_variance_explained(a, b, first) < NOISE_FRACTION_MIN
         better = better and not slight
         # a path whose every step was dropped (`_finish`) ends where every path starts: the start, not a model of its own
-        end = (f"It drops every step it took (its note above). It ends at the start, {other[-1].model} (AIC {b.aic:.1f}, {b.n_params} parameters)" if len(other) == 1
-               else f"It ends at {other[-1].model} (AIC {b.aic:.1f}, {b.n_params} parameters)")
+        end = (f"It drops every step it took (its note above). It ends at the start, {other[-1].model} (AIC {b.aic:.1f}, {_size_words(other)})" if len(other) == 1
+               else f"It ends at {other[-1].model} (AIC {b.aic:.1f}, {_size_words(other)})")
         # short sentences, the result first (the note was one sentence of ~90 words, walkthrough
         # 2026-12-02): what the path changed, the two ends, why, then where the two paths started
         sentences = [
             f"the {label} is kept in place of {holder}'s end." if better else f"the {label} changes nothing: {holder}'s end is kept.",
-            f"{end}, against {holder}'s end {steps[-1].model} (AIC {a.aic:.1f}, {a.n_params} parameters).",
+            f"{end}, against {holder}'s end {steps[-1].model} (AIC {a.aic:.1f}, {_size_words(steps)}).",
         ]
         if slight:
-            sentences.append(f"It fits better by AIC, but with {b.n_params - a.n_params} more parameter(s) it explains under {NOISE_FRACTION_MIN:.0%} of the noise variance more.")
+            sentences.append(f"It fits better by AIC, but with {size_b - size_a} more parameter(s) it explains under {NOISE_FRACTION_MIN:.0%} of the noise variance more.")
         if tie:
             sentences.append(f"The data do not tell the two apart (AIC within {DELTA_AIC_MIN:g}, as many parameters)"
                              + (f"; it keeps {', '.join(restored)}, which {holder} left out." if better else "."))
@@ -516,6 +524,31 @@ def _second_path(steps: list[RefinementStep], picked, limit: int, diagnosed, say
         if better:
             steps, holder = other, f"the {label}"
     return steps
+
+
+def _vanished_on(path: list[RefinementStep]) -> tuple[str, ...]:
+    """The series resistances the steps of ``path`` left out because they fell to zero
+    (`RefinementStep.vanished`) and that its end does not have again."""
+    end = getattr(getattr(path[-1].fit, "circuit", None), "element_names", ())
+    return tuple(dict.fromkeys(name for step in path for name in step.vanished if name not in end))
+
+
+def _path_size(path: list[RefinementStep]) -> int:
+    """The size `_second_path` compares the ends of its paths by: the end's free parameters, with
+    each resistance that fell to zero on the way and was left out counted as kept
+    (`diagnosis.ranked_size`, the ranking's count). Before 2026-12-02 the fit's own count: on a
+    SYNTHETIC Meyer finger with CPE skin, the path from W_d with R_f fallen to zero (4 parameters,
+    AIC −754.1) was kept in place of the first path's CPE_sc (5, AIC −754.2), the truth, "as good
+    with fewer parameters", although the ranking had put CPE_sc first for counting R_f as kept."""
+    return ranked_size(path[-1].fit, _vanished_on(path))
+
+
+def _size_words(path: list[RefinementStep]) -> str:
+    """A path end's size in a note: ``5 parameters``, or ``4 parameters, 5 counting R_f, which
+    fell to zero and was left out, as kept``."""
+    fell = _vanished_on(path)
+    words = f"{path[-1].fit.n_params} parameters"
+    return words + (f", {_path_size(path)} counting {', '.join(fell)}, which fell to zero and {'was' if len(fell) == 1 else 'were'} left out, as kept" if fell else "")
 
 
 def _parameter_count(fit, elements) -> int:
