@@ -499,7 +499,7 @@ POINT_SCALE_LONG_NAME = "scale s each point's residuals were judged against, rel
 """``point_scale``'s ``long_name`` (`KKResult.scale_per_point`): the flags' thresholds are multiples of it."""
 
 BATCH_RESULT_NAMES = frozenset({
-    "frequency", "band", "rc", "Z", "Z_kk", "residuals_real", "residuals_imag", "flagged", "bad_band_f_min", "bad_band_f_max", "time_constant", "resistance",
+    "frequency", "band", "rc", "Z", "Z_kk", "residuals_real", "residuals_imag", "flagged", "point_scale", "bad_band_f_min", "bad_band_f_max", "time_constant", "resistance",
     "n_rc", "mu", "rms_rel", "noise_estimate", "valid", "conclusive", "series_resistance", "series_inductance", "inverse_series_capacitance",
 })
 """The dimensions and variables of `KKBatchResult.to_xarray`'s Dataset: `kk_test_batch` refuses a
