@@ -20,7 +20,7 @@ from ..warning_groups import labels_text
 __all__ = [
     "parse_assignments", "prefixed_number", "number_option", "NUMBER_PREFIXES", "check_parameter_names", "emit_json", "to_jsonable", "add_model_argument", "add_output_options",
     "check_outputs", "save_outputs", "print_result", "each_spectrum_written", "result_out_help", "Output", "OutputPlan", "plan_outputs",
-    "memory_limit", "check_memory", "MEMORY_LIMIT_ENV", "add_select_option", "load_selected", "select_spectra", "load_selected_files", "labels_text", "dimension_labels",
+    "memory_limit", "check_memory", "MEMORY_LIMIT_ENV", "add_select_option", "load_selected", "select_spectra", "load_selected_files", "shown_path", "labels_text", "dimension_labels",
     "command_line_words", "naming_target", "part_of_joined", "announce_written", "option_words", "check_points", "check_band_options", "progress_printer", "PROGRESS_AFTER_S",
     "relative_noise", "fit_command", "exclude_points", "parse_bounds", "checked_bound_options", "command_provenance",
 ]
@@ -783,7 +783,7 @@ def _sweep_alone(exc, path: str, select: Sequence[str] | None, readers=None):
         raise exc
     item = items[0]
     label = _select_item(item)[1]
-    name = _shown_path(path)
+    name = shown_path(path)
     if label not in exc.labels:
         raise ParameterError(
             f"--select {item}: {name} holds {len(exc.labels)} {exc.dim}s on different frequency grids, each read alone: "
@@ -795,7 +795,7 @@ def _sweep_alone(exc, path: str, select: Sequence[str] | None, readers=None):
     return data
 
 
-def _shown_path(path: str) -> str:
+def shown_path(path: str) -> str:
     """``path`` as messages and a selection's ``source`` name it: ``<stdin>`` for ``-``."""
     from ..io.loader import STDIN, STDIN_NAME
 
@@ -806,7 +806,7 @@ def load_selected(path: str, select: Sequence[str] | None, *, single: str | None
     """The spectra of file ``path`` (`impedax.io.load` with ``readers``, None: the built-in
     ones), narrowed by ``--select DIM=LABEL`` items (`select_spectra`); ``warn`` prints the
     reader's `LOAD_WARNINGS` notes. Sweeps on different grids are read one alone (`_sweep_alone`)."""
-    return select_spectra(_load_noting(path, warn, select, readers), _shown_path(path), select, single=single, or_else=or_else)
+    return select_spectra(_load_noting(path, warn, select, readers), shown_path(path), select, single=single, or_else=or_else)
 
 
 def note_unused_sigma(data, command: str, used: bool, option: str) -> None:
@@ -834,7 +834,7 @@ def note_skipped_rows(data, command: str, path: str) -> None:
     rows = skipped_rows(data)
     if rows:
         shown = "; ".join(rows[:SKIPPED_ROWS_SHOWN]) + (f"; … ({len(rows)} ranges in all: impedax inspect lists them)" if len(rows) > SKIPPED_ROWS_SHOWN else "")
-        print(f"impedax {command}: note: {_shown_path(path)}: rows skipped as no impedance points: {shown}", file=sys.stderr)
+        print(f"impedax {command}: note: {shown_path(path)}: rows skipped as no impedance points: {shown}", file=sys.stderr)
 
 
 SKIPPED_ROWS_SHOWN = 3
@@ -872,7 +872,7 @@ def load_selected_files(paths: Sequence[str], select: Sequence[str] | None, read
             have = sorted({d for data in datasets for d in _extra_dims(data)})
             listed = f"their dimensions besides frequency: {', '.join(have)}" if have else "each holds one spectrum"
             raise ParameterError(f"--select {item}: none of {', '.join(paths)} has a dimension {dim!r} to select from; {listed}")
-    return [select_spectra(data, _shown_path(path), [item for item, dim in items if has(data, dim)]) for data, path in zip(datasets, paths)]
+    return [select_spectra(data, shown_path(path), [item for item, dim in items if has(data, dim)]) for data, path in zip(datasets, paths)]
 
 
 def _carried_value(data, dim: str):

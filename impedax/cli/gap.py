@@ -64,7 +64,7 @@ def run(args) -> int:
     from ..arguments import GAP_MIN_STEPS
     from ..models.gap import HIERARCHICAL_AUTO_DRAWS, check_fingertip_area, gap_analysis
     from ..models.gap_inputs import condition_notes, drive_voltage
-    from .common import check_distinct_paths, check_memory, command_provenance, figure_options, figure_writer, load_selected_files, plan_outputs, print_result, remainder_with_paths, result_writer, spectrum_writer
+    from .common import shown_path, check_distinct_paths, check_memory, command_provenance, figure_options, figure_writer, load_selected_files, plan_outputs, print_result, remainder_with_paths, result_writer, spectrum_writer
 
     if args.pooled and args.method == "hierarchical":  # (argparse's exclusive groups let a default-valued --method through)
         raise ParameterError("--pooled and --method hierarchical contradict each other: give one")
@@ -96,10 +96,7 @@ def run(args) -> int:
     for note in [*drive.warnings, *condition_notes(total, skin, touchscreen, default_v0=drive.value if drive.source == "default" else None)]:  # (the report and JSON repeat them)
         print(f"impedax gap: warning: {note}", file=sys.stderr)
     result = gap_analysis(total, skin, touchscreen, area=args.area, v0=args.v0, ep=args.ep, steps=steps, seed=args.seed, method=args.method, progress=not args.quiet, check_area=not args.no_area_check)
-    from ..io.loader import STDIN, STDIN_NAME
-
-    shown = STDIN_NAME if args.total == STDIN else args.total
-    source = shown + (f" [{', '.join(args.select)}]" if args.select else "")  # (the figure's default title: the total file and the selection)
+    source = shown_path(args.total) + (f" [{', '.join(args.select)}]" if args.select else "")  # (the figure's default title: the total file and the selection)
     used = {**(getattr(result, "settings", None) or {}), "v0": getattr(result, "v0", args.v0)}  # (--v0 as run: given, the data's or the default)
     record = command_provenance(args, source=paths, data_files=list(paths.values()), **{f"{k}_used": v for k, v in used.items()})
     outputs.save({"--out": result_writer(result, provenance=record), "--plot": figure_writer(result.plot, source, **figure_options(args)), "--remaining": spectrum_writer(lambda: remainder_with_paths(result.remaining, paths), record, args.remaining)})
