@@ -215,6 +215,8 @@ def test_saved_gap_analysis_is_named_by_load(stationary, tmp_path):
         ix.load(path)
     back = ix.io.read_netcdf(path)
     np.testing.assert_allclose(back["median"].values, result.force["median"].values, rtol=1e-12)
+    # every force band has its unit in memory too, not only the median (2026-12-02)
+    assert {k: result.force[k].attrs.get("units") for k in ("median", "q05", "q95", "gap_voltage_q05")} == {"median": "N", "q05": "N", "q95": "N", "gap_voltage_q05": "V"}
     # a file written before the kind was stored is recognised by its attrs
     old = result.to_xarray()
     del old.attrs["impedax_kind"]

@@ -1365,8 +1365,8 @@ def _band_dataset(force, voltage, freq) -> xr.Dataset:
 def _branches(bands) -> xr.Dataset:
     """The with-EP and without-EP bands (`_band_dataset`) over ``branch``, with their units."""
     force = xr.concat(bands, dim=xr.DataArray(["with_ep", "without_ep"], dims="branch"))
-    force["median"].attrs.update(units="N", convention=FORCE_CONVENTION)
     for k in ("median", "q05", "q95"):
+        force[k].attrs.update(units="N", convention=FORCE_CONVENTION)
         force[f"gap_voltage_{k}"].attrs.update(units="V", description="amplitude |ΔV_gap| of the voltage across C_gap for a drive of amplitude v0 (Sirin §2.4)")
     return force
 
