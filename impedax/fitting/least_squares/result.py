@@ -200,6 +200,12 @@ class FitResult:
         return information_criteria(self.chi2, 2 * self.n_points, self.n_params)[1]
 
     @property
+    def misses_structure(self) -> bool:
+        """Whether a warning says the model misses structure the data hold (`MODEL_MISFIT_MARKS`):
+        its values and standard errors are then this model's best, not the system's."""
+        return any(mark in w for w in self.warnings for mark in MODEL_MISFIT_MARKS)
+
+    @property
     def residuals(self) -> np.ndarray:
         with np.errstate(all="ignore"):  # an overflowed model is +inf: its residuals are too
             return (self.z_model - self.z_data) / np.abs(self.z_data)
