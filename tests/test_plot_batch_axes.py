@@ -162,3 +162,39 @@ def test_a_flat_panel_on_a_bound_does_not_reach_past_it():
     _window_flat(ax, np.array([0.5, 0.5]), None, (0.0, 1.0))  # (inside: centred as before)
     assert ax.get_ylim() == pytest.approx((0.495, 0.505))
     plt.close(fig)
+
+
+def finger_batch():
+    """SYNTHETIC fingertips (numpy): C_s 140 pF + C_i 1.7 nF + R_sc ∥ C_sc + R_f 500 Ω for three
+    skins (R_sc 80, 130, 200 kΩ; C_sc 2 nF), 41 points 1 Hz–1 MHz, 1 % noise (seed 5): −Z''
+    reaches ~1 GΩ beside Z' ≤ 200 kΩ, a capacitive tail."""
+    rng = np.random.default_rng(5)
+    f = np.logspace(0, 6, 41)
+    jw = 2j * np.pi * f
+    z = np.stack([1 / (jw * 140e-12) + 1 / (jw * 1.7e-9) + 1 / (1 / r + jw * 2e-9) + 500.0 for r in (80e3, 130e3, 200e3)])
+    z = z * (1 + 0.01 * (rng.standard_normal(z.shape) + 1j * rng.standard_normal(z.shape)) / np.sqrt(2))
+    data = ix.make_spectrum(f, z, dims=("skin",), coords={"skin": ["dry", "mid", "moist"]})
+    return ix.fit("C_s + C_i + R_sc || C_sc + R_f", data, fixed={"C_i": 1.7e-9}), f, z
+
+
+def test_a_batch_with_a_capacitive_tail_draws_the_phase_not_a_vertical_nyquist_line():
+    """A walkthrough's finger batch: even zoomed, the Nyquist panel drew every spectrum as one
+    vertical line at Z' ≈ 0 beside an axis to 1.9 MΩ; "auto" now draws the phase against
+    frequency (the data's circles at numpy's angle of Z), "nyquist" keeps the Nyquist panel."""
+    batch, f, z = finger_batch()
+    fig = batch.plot()
+    panel = fig.axes[-1]
+    assert panel.get_xscale() == "log" and panel.get_ylabel() == "phase [deg]" and "capacitive" not in panel.get_title() and "Nyquist panel shows a line" in panel.get_title()
+    circles = [ln for ln in panel.get_lines() if ln.get_marker() == "o"]
+    np.testing.assert_allclose(circles[0].get_xdata(), f)
+    np.testing.assert_allclose(circles[0].get_ydata(), np.degrees(np.angle(z[0])))
+    nyquist = batch.plot(spectra="nyquist").axes[-1]
+    assert nyquist.get_ylabel().startswith("−Z'' [")
+    plt.close("all")
+
+
+def test_an_ordinary_batch_keeps_its_nyquist_panel_and_a_wrong_choice_is_named(days_figure):
+    assert days_figure[0].axes[-1].get_ylabel().startswith("−Z'' [")
+    batch, _, _ = finger_batch()
+    with pytest.raises(ix.ParameterError, match=r"^spectra must be one of auto, nyquist, phase, got 'bode'"):
+        batch.plot(spectra="bode")

@@ -170,7 +170,7 @@ def test_keep_dimension_gives_one_global_fit_per_index(rng):
     dots = [ln for ln in fig.axes[0].get_lines() if ln.get_marker() == "o"]
     np.testing.assert_allclose([ln.get_xdata() for ln in dots], [[9.8, 19.8, 29.8], [10.2, 20.2, 30.2]])
     np.testing.assert_allclose([ln.get_ydata() for ln in dots], r.values("R1").transpose("session", "trial").values)
-    assert [t.get_text() for t in fig.axes[0].get_legend().get_texts()] == ["session=a", "session=b"]
+    assert [t.get_text() for t in fig.legends[0].get_texts()] == ["session=a", "session=b"]  # (below the panels since 2026-12-02)
     plt.close(fig)
     with pytest.raises(ix.ParameterError, match="no numeric coordinate"):
         r.plot(x="session")

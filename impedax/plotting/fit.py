@@ -7,11 +7,13 @@ import math
 
 import numpy as np
 
+from ..arguments import shown
 from ..data import coordinate_labels, unit_text
-from . import font_size
+from ..errors import ParameterError
+from . import TAIL_RATIO, font_size, tail_frame
 
 
-def plot_batch(batch, *, title: str | None = None, figsize: tuple[float, float] | None = None, params=None, x: str | None = None):
+def plot_batch(batch, *, title: str | None = None, figsize: tuple[float, float] | None = None, params=None, x: str | None = None, spectra: str = "auto"):
     """One panel per free parameter (value ± stderr for each spectrum, in the order of the batch
     dimensions, the x axis marked with the spectra's labels; a value at its bound has no bar, as
     text and JSON give it no standard error, and an open square marked "at bound") and one for rms_rel; log scale
@@ -23,8 +25,9 @@ def plot_batch(batch, *, title: str | None = None, figsize: tuple[float, float] 
     naming the circuit's parameters. ``x``: a batch dimension with a numeric coordinate
     (``"voltage"``) to draw against, its coordinate on the x axis and one series (colour,
     shifted sideways by a few % of the coordinate's smallest step so that bars of one x stay
-    apart) per label of the other dimensions (`_x_series`; added 2026-12-02). Returns a
-    matplotlib Figure."""
+    apart) per label of the other dimensions (`_x_series`; added 2026-12-02). ``spectra``:
+    the spectra panel, "nyquist", "phase" (against frequency) or "auto" (the phase where the
+    spectra have a capacitive tail, `phase_panel`; added 2026-12-02). Returns a matplotlib Figure."""
     import matplotlib.pyplot as plt
 
     from . import characters_across, label_spectra_axis, nyquist_panel_height, nyquist_shape, plain_linear_ticks, plain_log_ticks, prefixable_unit, prefixed_axis, wrap_model
@@ -36,11 +39,12 @@ def plot_batch(batch, *, title: str | None = None, figsize: tuple[float, float] 
     rows = math.ceil(len(panels) / cols)
     left = rows * cols - len(panels)  # free places in the last row
     with_fits = "Z" in ds
+    phase = phase_panel(ds, batch.dims, spectra)
     own_row = with_fits and left < 2
     width = 3.2 * max(cols, 2) if figsize is None else float(figsize[0])
     # (a row of its own as high as the drawn spectra's shape asks, `nyquist_panel_height`, from
     # `FITS_ROW`; its box narrows to that shape, `_plot_fits`)
-    fits_row = max(FITS_ROW, nyquist_panel_height(nyquist_shape(*((None, z) for z in _drawn_spectra(ds, batch.dims)[1])), width)) if own_row else 0.0
+    fits_row = (FITS_ROW if phase else max(FITS_ROW, nyquist_panel_height(nyquist_shape(*((None, z) for z in _drawn_spectra(ds, batch.dims)[1])), width))) if own_row else 0.0
     fig = plt.figure(figsize=figsize or (width, 2.6 * rows + fits_row), layout="constrained")
     grid = fig.add_gridspec(rows + own_row, max(cols, 2), height_ratios=[2.6] * rows + ([fits_row] if own_row else []))
     axes = [fig.add_subplot(grid[i // cols, i % cols]) for i in range(len(panels))]
@@ -71,8 +75,8 @@ def plot_batch(batch, *, title: str | None = None, figsize: tuple[float, float] 
             for k, (label, members, position) in enumerate(series):
                 chosen = barred & members
                 ax.errorbar(position[chosen], y[chosen], yerr=None if all_bars is None else all_bars[:, chosen], fmt="o", ms=3, lw=0.8, capsize=1.5, color=f"C{k % 10}", label=label or None)
-            if len(series) > 1 and ax is axes[0]:
-                ax.legend(fontsize=font_size("legend", 6.5), loc="best", handlelength=1.0, borderaxespad=0.3)
+            if len(series) > 1 and ax is axes[0]:  # (below the panels: inside the first one it covered its values)
+                fig.legend(*ax.get_legend_handles_labels(), fontsize=font_size("legend", 6.5), loc="outside lower center", ncol=min(len(series), 4), handlelength=1.0)
         elif barred.any() or not (kept & at).any():
             ax.errorbar(index[barred], y[barred], yerr=None if bars is None else bars[:, ~at[kept]], fmt="o", ms=3, lw=0.8, capsize=1.5)
         if (kept & at).any():  # (no bar: text and JSON give no standard error at a bound)
@@ -103,7 +107,7 @@ def plot_batch(batch, *, title: str | None = None, figsize: tuple[float, float] 
         ax.grid(alpha=0.3, which="both")
     if with_fits:
         ax_nyq = fig.add_subplot(grid[rows, :] if own_row else grid[rows - 1, cols - left :])
-        _plot_fits(ax_nyq, ds, batch.dims, labels, batch.circuit.compile(batch.registry))
+        _plot_fits(ax_nyq, ds, batch.dims, labels, batch.circuit.compile(batch.registry), phase)
     converged = float(ds["converged"].mean()) * 100
     fig.suptitle(title or wrap_model(f"{batch.model}: {batch.n_spectra} spectr{'um' if batch.n_spectra == 1 else 'a'}, {converged:.0f}% converged", characters_across(fig.get_figwidth() if figsize else 3.2 * cols, font_size("suptitle", 12))))
     return fig
@@ -263,12 +267,30 @@ def _drawn_spectra(ds, dims) -> tuple[np.ndarray, np.ndarray]:
     return drawn, z[drawn]
 
 
-def _plot_fits(ax, ds, dims, labels, model) -> None:
+def phase_panel(ds, dims, spectra: str) -> bool:
+    """Whether a batch's spectra panel draws the phase against frequency (``spectra`` "phase",
+    or "auto" where the drawn spectra have a capacitive tail beside their fits, `tail_frame`:
+    at equal scales even the zoomed Nyquist panel showed a SYNTHETIC finger's 8 spectra as one
+    vertical line at Z' ≈ 0 beside an axis to 1.9 MΩ) or a Nyquist panel ("nyquist")."""
+    if spectra not in SPECTRA_PANELS:
+        raise ParameterError(f"spectra must be one of {', '.join(SPECTRA_PANELS)}, got {shown(spectra)}")
+    if spectra != "auto" or "Z" not in ds:
+        return spectra == "phase"
+    drawn, z = _drawn_spectra(ds, dims)
+    z_model = ds["Z_model"].transpose(*dims, "frequency").values.reshape(-1, ds.sizes["frequency"])[drawn]
+    return tail_frame(z, z_model) is not None
+
+
+SPECTRA_PANELS = ("auto", "nyquist", "phase")
+
+
+def _plot_fits(ax, ds, dims, labels, model, phase: bool = False) -> None:
     """Nyquist panel of a batch: the data (circles) and the fit (a curve of the compiled
     ``model`` at each spectrum's values, `dense_model`) of up to `FITS_DRAWN` spectra, each
     pair in one colour along the batch's order, at equal scales over the range of what is drawn
     (`nyquist_frame`: the panel's box narrows to it). Before, the equal scales widened a wide
-    panel's Z' range to 8 MΩ beside data that end at 3.1 MΩ."""
+    panel's Z' range to 8 MΩ beside data that end at 3.1 MΩ. ``phase`` (`phase_panel`): the
+    phase against frequency instead."""
     import matplotlib as mpl
 
     from . import dense_model, nyquist_frame, nyquist_view
@@ -277,22 +299,33 @@ def _plot_fits(ax, ds, dims, labels, model) -> None:
     z_model = ds["Z_model"].transpose(*dims, "frequency").values.reshape(z.shape)
     n = len(z)
     drawn = _drawn_spectra(ds, dims)[0]
-    curves = []
     colours = mpl.colormaps["viridis"](np.linspace(0, 0.9, drawn.size))
     values = ds["value"].transpose(*dims, "param").values.reshape(n, -1)
     names = [str(p) for p in ds["param"].values]
     freq = ds["frequency"].values
-    for colour, i in zip(colours, drawn.tolist()):
-        ax.plot(z[i].real, -z[i].imag, "o", ms=2.5, mfc="none", color=colour, label=labels[i])
+    dense = []
+    for i in drawn.tolist():
         params = dict(zip(names, values[i].tolist()))
-        curve = dense_model(freq, z_model[i], lambda grid, params=params: model(params, grid))[1]
-        ax.plot(curve.real, -curve.imag, "-", lw=1.0, color=colour)
-        curves.append(curve)
-    ax.set_xlabel("Z' [Ω]", fontsize=font_size("label", 8))
-    ax.set_ylabel("−Z'' [Ω]", fontsize=font_size("label", 8))
+        dense.append(dense_model(freq, z_model[i], lambda grid, params=params: model(params, grid)))
+    curves = [curve for _, curve in dense]
+    for colour, i, (grid, curve) in zip(colours, drawn.tolist(), dense):
+        if phase:
+            ax.semilogx(freq, np.degrees(np.angle(z[i])), "o", ms=2.5, mfc="none", color=colour, label=labels[i])
+            ax.semilogx(grid, np.degrees(np.angle(curve)), "-", lw=1.0, color=colour)
+        else:
+            ax.plot(z[i].real, -z[i].imag, "o", ms=2.5, mfc="none", color=colour, label=labels[i])
+            ax.plot(curve.real, -curve.imag, "-", lw=1.0, color=colour)
     what = f"{drawn.size} of {n} spectra" if drawn.size < n else f"{n} spectr{'um' if n == 1 else 'a'}"
-    ax.set_title(f"data (○) and fits (—), {what}", fontsize=font_size("title", 9))
     # beside the panel, where it covers no data (inside, the spectra's curves run everywhere)
     ax.legend(fontsize=font_size("legend", 7), title=", ".join(dims), title_fontsize=font_size("legend", 7), ncol=2 if drawn.size > 4 else 1, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
-    ax.grid(alpha=0.3)
+    ax.grid(alpha=0.3, which="both" if phase else "major")
+    if phase:
+        ax.set_xlabel("frequency [Hz]", fontsize=font_size("label", 8))
+        ax.set_ylabel("phase [deg]", fontsize=font_size("label", 8))
+        tail = f"\n(at equal scales a Nyquist panel shows a line: −Z'' spans ≥ {TAIL_RATIO:g}× Z')" if tail_frame(z[drawn], *curves) is not None else ""
+        ax.set_title(f"phase of data (○) and fits (—), {what}{tail}", fontsize=font_size("title", 9))
+        return
+    ax.set_xlabel("Z' [Ω]", fontsize=font_size("label", 8))
+    ax.set_ylabel("−Z'' [Ω]", fontsize=font_size("label", 8))
+    ax.set_title(f"data (○) and fits (—), {what}", fontsize=font_size("title", 9))
     nyquist_view(ax, z[drawn], *curves, frequency=np.broadcast_to(freq, z[drawn].shape), frame=nyquist_frame(z[drawn], *curves))

@@ -348,17 +348,19 @@ class BatchFitResult:
         lines = [f"{self.n_spectra} {'spectrum' if self.n_spectra == 1 else 'spectra'} over {_dims_text(s['dims'])}: converged {s['converged_fraction'] * 100:.1f}%, median rms_rel {s['rms_rel_median'] * 100:.3g} %", *(f"note: {n}" for n in self.notes)]
         return result_html(self.model, rows, lines=lines)
 
-    def plot(self, *, title: str | None = None, figsize: tuple[float, float] | None = None, params=None, x: str | None = None):
+    def plot(self, *, title: str | None = None, figsize: tuple[float, float] | None = None, params=None, x: str | None = None, spectra: str = "auto"):
         """Each free parameter (± stderr) and rms_rel across the spectra (matplotlib Figure;
         `plotting.fit.plot_batch`); ``figsize`` (width, height) [in] in place of the size that
         follows the number of panels; ``params`` (a list of names) draws those parameters only,
         in that order (an unknown name: a `ParameterError` naming the circuit's parameters);
         ``x`` (a batch dimension with a numeric coordinate, e.g. ``"voltage"``) draws them
         against that coordinate, one series per label of the other dimensions (added 2026-12-02;
-        else the spectra are categories in the batch's order)."""
+        else the spectra are categories in the batch's order); ``spectra`` "nyquist", "phase" or
+        "auto" (the phase against frequency where a capacitive tail would draw the Nyquist
+        panel as a vertical line, as a finger's)."""
         from ...plotting.fit import plot_batch
 
-        return plot_batch(self, title=title, figsize=figsize, params=params, x=x)
+        return plot_batch(self, title=title, figsize=figsize, params=params, x=x, spectra=spectra)
 
     def summary(self) -> dict:
         """The JSON of ``impedax fit --json`` for several spectra (docs/fitting.md, "Batch fits")."""
