@@ -1,15 +1,21 @@
 """Progress of a long computation, said to whoever asked for it: ``fit(..., progress=print)``
 sets a callback for the call (`progress_to`), and the stages deep inside it (a batch's start
 search, its local fits, its statistics) say what they begin (`say`) without a callback
-threaded through every function between. No JAX here."""
+threaded through every function between. A public call given no callback reports on stderr once it has
+run `PROGRESS_AFTER_S` (`reported`), as the command line does. No JAX here."""
 
 from __future__ import annotations
 
 import contextlib
 import contextvars
+import functools
 from typing import Callable, Iterator
 
-__all__ = ["progress_to", "say", "silenced"]
+__all__ = ["progress_to", "say", "silenced", "reporting", "reported", "reports_progress", "quiet_beneath", "progress_printer", "PROGRESS_AFTER_S", "DelayedPrinter", "SilentPrinter"]
+
+PROGRESS_AFTER_S = 2.0
+"""Progress lines go to stderr once a run has taken this long (the CLI's and, by default, a
+Python call's: `reported`)."""
 
 _CALLBACK: contextvars.ContextVar[Callable[[str], None] | None] = contextvars.ContextVar("impedax_progress", default=None)
 
@@ -43,3 +49,133 @@ def silenced() -> contextlib.AbstractContextManager[None]:
 
 def _quiet(text: str) -> None:
     """`silenced`'s callback."""
+
+
+def reporting() -> bool:
+    """Whether an enclosing call has set a callback (`progress_to`, `silenced`)."""
+    return _CALLBACK.get() is not None
+
+
+@contextlib.contextmanager
+def reported(progress) -> Iterator[Callable[[str], None] | None]:
+    """The progress callback of a public call given ``progress``: a function is the caller's
+    own; False, none (`SilentPrinter`); None outside any reporting call (`reporting`), lines on
+    stderr once the call has run `PROGRESS_AFTER_S` (`progress_printer`), as the command line
+    prints them: a first batch fit or a diagnosis ran 12-50 s silent in Python (two
+    walkthroughs, 2026-12-02); None inside one, None (its callback stays). Within the block the
+    calls beneath report nothing of their own (`silenced`) unless they are given this callback:
+    a diagnosis says its stages, not those of each fit it makes, as on the command line."""
+    if progress is None and reporting():
+        yield None
+        return
+    printer = SilentPrinter() if progress is False else (progress_printer(PROGRESS_AFTER_S) if progress is None else progress)
+    try:
+        with silenced():
+            yield printer
+    finally:
+        close = getattr(printer, "close", None)
+        if progress is None and close is not None:
+            close()
+
+
+def reports_progress(function):
+    """``function`` (a public call with a keyword ``progress``) given its callback by `reported`
+    when no enclosing call reports (None: stderr after `PROGRESS_AFTER_S`; False: nothing); within
+    an enclosing call, its ``progress`` as given (False: nothing)."""
+
+    @functools.wraps(function)
+    def call(*args, progress=None, **kwargs):
+        if reporting():
+            if progress is False:
+                with silenced():
+                    return function(*args, progress=None, **kwargs)
+            return function(*args, progress=progress, **kwargs)
+        with reported(progress) as printer:
+            return function(*args, progress=printer, **kwargs)
+
+    return call
+
+
+def quiet_beneath(function):
+    """``function`` (a public call that says its own progress: a sampler's lines) with the calls
+    beneath it reporting nothing of their own (`silenced`) unless it gives them a callback, as
+    before `reported` (its start fit would say "fitting …" after the sampler's own line)."""
+
+    @functools.wraps(function)
+    def call(*args, **kwargs):
+        if reporting():
+            return function(*args, **kwargs)
+        with silenced():
+            return function(*args, **kwargs)
+
+    return call
+
+
+def progress_printer(after_s: float = PROGRESS_AFTER_S, stream=None, *, quiet: bool = False):
+    """A progress callback that prints its lines to stderr (``stream``) once ``after_s`` seconds
+    have passed. The lines said before then are printed, in order and with their own times, at
+    ``after_s`` or at the first line after it, whichever comes first (the first diagnosis says
+    its line at 0 s and may run for several seconds): a slow run is never silent past
+    ``after_s``, and every run starts with the same lines (until 2026-11-30 only the last of them
+    was kept: refine of AutoEIS's battery cycle 10 began at "[  1.8 s]   the DRT of the data…",
+    without its step 0 and baseline lines). Its ``close()`` ends the wait; a line is printed at
+    most once. ``quiet``: a printer that prints nothing (`SilentPrinter`)."""
+    if quiet:
+        return SilentPrinter()
+    return DelayedPrinter(after_s, stream)
+
+
+class SilentPrinter:
+    """The progress callback of ``--quiet`` and ``progress=False``: every line dropped."""
+
+    def __call__(self, text: str) -> None:
+        pass
+
+    def close(self) -> None:
+        pass
+
+
+class DelayedPrinter:
+    """`progress_printer`'s callback: lines on stderr (``stream``) once ``after_s`` seconds have passed."""
+
+    def __init__(self, after_s: float, stream=None) -> None:
+        import threading
+        import time
+
+        self._clock = time.monotonic
+        self._start = self._clock()
+        self._after_s = after_s
+        self._stream = stream
+        self._lock = threading.Lock()
+        self._pending: list[tuple[float, str]] = []  # the lines said before ``after_s``
+        self._timer = threading.Timer(after_s, self._flush)
+        self._timer.daemon = True
+        self._timer.start()
+
+    def _print(self, elapsed: float, text: str) -> None:
+        import sys
+
+        print(f"[{elapsed:5.1f} s] {text}", file=self._stream or sys.stderr, flush=True)
+
+    def _flush(self) -> None:
+        with self._lock:
+            for line in self._pending:
+                self._print(*line)
+            self._pending = []
+
+    def __call__(self, text: str) -> None:
+        elapsed = self._clock() - self._start
+        with self._lock:
+            if elapsed > self._after_s:
+                for line in self._pending:  # the timer has not run yet
+                    self._print(*line)
+                self._pending = []
+                self._print(elapsed, text)
+            else:
+                self._pending.append((elapsed, text))
+
+    def close(self) -> None:
+        """No line after this: the run is over (its result is about to be printed)."""
+        self._timer.cancel()
+        with self._lock:
+            self._pending = []

@@ -18,6 +18,7 @@ import sys
 import threading
 from typing import NoReturn
 
+from ..progress import silenced
 from .plugins import PLUGIN_OPTION, add_plugin_option
 
 _COMMAND_MODULES = ("simulate", "info", "fit", "compare", "sample", "kk", "drt", "diagnose", "refine", "force", "gap", "remaining", "draw", "inspect", "stack", "demo")
@@ -226,7 +227,8 @@ def main(argv: list[str] | None = None) -> int:
     written_before = _written_count()
     with _signal_handlers(command, own_process=own_process):
         try:
-            code = _run(argv, command)
+            with silenced():  # (each command gives its own printer to the calls it reports; the others say nothing)
+                code = _run(argv, command)
         except KeyboardInterrupt as exc:
             _remove_temporaries()
             signum = exc.signum if isinstance(exc, Interrupted) else signal.SIGINT

@@ -15,6 +15,7 @@ from typing import Callable, Iterable, Mapping, Sequence
 
 from ..arguments import EXCLUDE_RTOL, number_text
 from ..errors import DataError, ParameterError
+from ..progress import PROGRESS_AFTER_S as PROGRESS_AFTER_S_DEFAULT, DelayedPrinter, progress_printer as core_progress_printer
 from ..warning_groups import labels_text
 
 __all__ = [
@@ -1643,8 +1644,8 @@ def command_line_words(text: str, command: str | None = None) -> str:
 
 # --- progress of long runs ----------------------------------------------------------------------
 
-PROGRESS_AFTER_S = 2.0
-"""Progress lines go to stderr once a run has taken this long."""
+PROGRESS_AFTER_S = PROGRESS_AFTER_S_DEFAULT
+"""Progress lines go to stderr once a run has taken this long (`progress.PROGRESS_AFTER_S`)."""
 
 
 QUIET_HELP = "no progress lines on stderr (warnings and notes still go there)"
@@ -1658,72 +1659,12 @@ def add_quiet_option(parser) -> None:
 
 
 def progress_printer(after_s: float | None = None, stream=None, *, quiet: bool = False):
-    """A progress callback that prints its lines to stderr (``stream``) once ``after_s`` seconds
-    have passed. The lines said before then are printed, in order and with their own times, at
-    ``after_s`` or at the first line after it, whichever comes first (the first diagnosis says
-    its line at 0 s and may run for several seconds): a slow run is never silent past
-    ``after_s``, and every run starts with the same lines (until 2026-11-30 only the last of them
-    was kept: refine of AutoEIS's battery cycle 10 began at "[  1.8 s]   the DRT of the data…",
-    without its step 0 and baseline lines). Its ``close()`` ends the wait; a line is printed at
-    most once. ``after_s`` None: `PROGRESS_AFTER_S`; ``quiet`` (``--quiet``): a printer that
-    prints nothing."""
-    if quiet:
-        return _SilentProgress()
-    return _Progress(PROGRESS_AFTER_S if after_s is None else after_s, stream)
+    """The CLI's progress callback: `progress.progress_printer` after ``after_s`` seconds (None:
+    `PROGRESS_AFTER_S`); ``quiet`` (``--quiet``): a printer that prints nothing."""
+    return core_progress_printer(PROGRESS_AFTER_S if after_s is None else after_s, stream, quiet=quiet)
 
 
-class _SilentProgress:
-    """The progress callback of ``--quiet``: every line dropped."""
-
-    def __call__(self, text: str) -> None:
-        pass
-
-    def close(self) -> None:
-        pass
-
-
-class _Progress:
-    def __init__(self, after_s: float, stream=None) -> None:
-        import threading
-        import time
-
-        self._clock = time.monotonic
-        self._start = self._clock()
-        self._after_s = after_s
-        self._stream = stream
-        self._lock = threading.Lock()
-        self._pending: list[tuple[float, str]] = []  # the lines said before ``after_s``
-        self._timer = threading.Timer(after_s, self._flush)
-        self._timer.daemon = True
-        self._timer.start()
-
-    def _print(self, elapsed: float, text: str) -> None:
-        import sys
-
-        print(f"[{elapsed:5.1f} s] {text}", file=self._stream or sys.stderr, flush=True)
-
-    def _flush(self) -> None:
-        with self._lock:
-            for line in self._pending:
-                self._print(*line)
-            self._pending = []
-
-    def __call__(self, text: str) -> None:
-        elapsed = self._clock() - self._start
-        with self._lock:
-            if elapsed > self._after_s:
-                for line in self._pending:  # the timer has not run yet
-                    self._print(*line)
-                self._pending = []
-                self._print(elapsed, text)
-            else:
-                self._pending.append((elapsed, text))
-
-    def close(self) -> None:
-        """No line after this: the run is over (its result is about to be printed)."""
-        self._timer.cancel()
-        with self._lock:
-            self._pending = []
+_Progress = DelayedPrinter  # (the name tests and older code know)
 
 
 def check_distinct_paths(paths: dict[str, str]) -> None:

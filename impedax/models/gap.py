@@ -31,6 +31,7 @@ from typing import Callable, Mapping
 import numpy as np
 import xarray as xr
 
+from ..progress import quiet_beneath
 from ..circuits import parse
 from ..data import format_frequency, format_percent, format_quantity
 from ..arguments import GAP_MIN_STEPS, MAX_WALKERS, checked_arguments, choice, count, flag, real, seed
@@ -652,6 +653,7 @@ def _gap_steps(value, name):
     return value
 
 
+@quiet_beneath
 @checked_arguments(
     area=real(positive=True), v0=real(positive=True, optional=True), ep=choice(("C", "CPE"), fold_case=True), eps_gap=real(positive=True), cutoff_hz=real(positive=True),
     steps=_gap_steps, walkers=count(2, MAX_WALKERS, optional=True), seed=seed, progress=flag, check_area=flag,

@@ -33,6 +33,7 @@ from .diagnostics import CHAIN_TAU_MULTIPLE, integrated_autocorr
 from .evidence import START_BEYOND_SIGMA, laplace_evidence, waic
 from .logprob import NOISE_MODELS, LogProbArgs, LogProbFunctions, LogProbStructure, NoiseModel, log_prob_functions, start_weighting
 from .posterior import Posterior
+from ...progress import quiet_beneath
 from .progress import announce
 from .priors import DEFAULT_SPAN_DECADES, SIGMA_REL_PRIOR, Prior, check_prior_inside, coerce_priors, data_scale_range, default_prior
 from .reparam import Reparametrization
@@ -405,6 +406,7 @@ def _chain_fits_in_memory(arguments) -> None:
         raise ParameterError(f"steps × walkers = {steps * walkers:,} is above the limit {MAX_CHAIN_VALUES:,} (the chain is kept in memory); use fewer steps or walkers")
 
 
+@quiet_beneath
 @checked_arguments(
     _chain_fits_in_memory,
     priors=instance_of(Mapping, optional=True, what="a mapping name → Prior or 'kind:a,b'"), noise=choice(NOISE_MODELS, label="noise model", if_number="a number is a noise level, which diagnose and refine take; the proportional model samples it as sigma_rel"),

@@ -55,6 +55,7 @@ from typing import Callable, Mapping, NamedTuple, Sequence
 import numpy as np
 import xarray as xr
 
+from ...progress import reports_progress
 from ...arguments import MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice, count, flag, frequency, instance_of, noise_fraction, parameter_bounds, parameter_values, seed as seed_rule
 from ...circuits import Circuit, DEFAULT_REGISTRY, Element, Parallel, Registry, Series, parse
 from ...data import concise_repr, counted, format_quantity, make_spectrum
@@ -1969,6 +1970,7 @@ def _verdict(cands: Sequence[Suggestion], bands: Sequence[FailingBand], ratio: f
     return Verdict.ADEQUATE, reason
 
 
+@reports_progress
 @checked_arguments(circuit_parameters=circuit_parameters,
     effects=instance_of(EffectCatalog, what="an EffectCatalog (e.g. impedax.DEFAULT_EFFECTS)"), kk=instance_of(KKResult, optional=True),
     noise=noise_fraction, weighting=choice(WEIGHTINGS), registry=instance_of(Registry), fmin=frequency, fmax=frequency,

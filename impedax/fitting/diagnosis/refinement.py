@@ -12,6 +12,7 @@ from typing import Callable, Mapping
 import numpy as np
 import xarray as xr
 
+from ...progress import reports_progress
 from ...arguments import MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice, count, flag, frequency, instance_of, noise_fraction, parameter_bounds, parameter_values, seed as seed_rule
 from ...circuits import Circuit, DEFAULT_REGISTRY, Element, Registry, parse
 from ...data import concise_repr, format_quantity
@@ -885,6 +886,7 @@ as a step limit no candidate fit could converge within (with ``max_effects`` giv
 limit whatever its size, as ``impedax refine --max-steps`` passes it)."""
 
 
+@reports_progress
 @checked_arguments(
     circuit_parameters=circuit_parameters, max_steps=count(1, MAX_SOLVER_STEPS, optional=True), max_effects=count(0, 64, optional=True, why="each effect adds one element"),
     solver_steps=count(1, MAX_SOLVER_STEPS, optional=True), effects=instance_of(EffectCatalog, what="an EffectCatalog (e.g. impedax.DEFAULT_EFFECTS)"),

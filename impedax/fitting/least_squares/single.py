@@ -18,7 +18,7 @@ from ...arguments import MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ...data import counted
 from ...errors import IN_MEMORY, ParameterError
-from ...progress import progress_to, say
+from ...progress import PROGRESS_AFTER_S, progress_to, reports_progress, say
 from ..problem import WEIGHTINGS, circuit_parameters, open_spectrum, prepare_fit, residual_scale, weights
 from ..statistics import at_noise_floor, information_criteria
 from .batch import BatchFitResult, data_notes, fit_batch, register_spectrum_fit
@@ -33,6 +33,7 @@ from .starts import KK_MISFIT_FACTOR, SpectrumFeatures, draw_words, escalation_r
 __all__ = ["fit", "FitResult", "BatchFitResult", "SharedFitResult", "WEIGHTINGS", "information_criteria"]
 
 
+@reports_progress
 @checked_arguments(
     circuit_parameters=circuit_parameters, init=parameter_values(results=True, per_spectrum=True), fixed=parameter_values(per_spectrum=True), bounds=parameter_bounds, weighting=choice(WEIGHTINGS),
     fmin=frequency, fmax=frequency, n_starts=count(1, MAX_STARTS, why="starts are solved together in memory"),
@@ -89,11 +90,13 @@ def fit(
     ``progress`` (e.g. ``print``) is called with a line of text as each stage begins: the fit,
     more starts, a batch's start search, its local fits, its outliers' starts and its statistics
     (a circuit's first batch in a process compiles its solvers: 10–15 s on the 130 REAL battery
-    cycles, silent before 2026-12-01).
+    cycles, silent before 2026-12-01); None (default): the lines go to stderr once the fit has
+    run `progress.PROGRESS_AFTER_S` (2 s), as on the command line (`progress.reported`; silent
+    in Python before 2026-12-02); False: no lines.
     """
     if progress is not None:
         if not callable(progress):
-            raise ParameterError(f"progress must be a function of one line of text (e.g. print), got {type(progress).__name__}")
+            raise ParameterError(f"progress must be a function of one line of text (e.g. print), False (no lines) or None (lines on stderr once the fit has run {PROGRESS_AFTER_S:g} s), got {type(progress).__name__}")
         with progress_to(progress):
             return fit(circuit, data, init=init, fixed=fixed, bounds=bounds, weighting=weighting, fmin=fmin, fmax=fmax, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, shared=shared, over=over)
     t0 = time.perf_counter()
