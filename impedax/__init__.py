@@ -148,7 +148,7 @@ def clear_caches() -> None:
     for name, module in list(_sys.modules.items()):
         if module is not None and (name == __name__ or name.startswith(__name__ + ".")):
             for value in list(vars(module).values()):
-                if callable(getattr(value, "cache_clear", None)):
+                if not isinstance(value, type) and callable(getattr(value, "cache_clear", None)):  # (a class's is unbound)
                     value.cache_clear()
     if "jax" in _sys.modules:
         _sys.modules["jax"].clear_caches()

@@ -33,6 +33,18 @@ from .starts import KK_MISFIT_FACTOR, SpectrumFeatures, draw_words, escalation_r
 __all__ = ["fit", "FitResult", "BatchFitResult", "SharedFitResult", "WEIGHTINGS", "information_criteria"]
 
 
+class FittedCircuits(set):
+    """The (circuit, batch) pairs fitted in this process: the first fit's progress line says it
+    compiles its solvers, the later ones not (a walkthrough read "compiles" on every warm run).
+    ``impedax.clear_caches`` empties it with the compiled programs (`cache_clear`)."""
+
+    def cache_clear(self) -> None:
+        self.clear()
+
+
+FITTED_CIRCUITS = FittedCircuits()
+
+
 @reports_progress
 @checked_arguments(
     circuit_parameters=circuit_parameters, init=parameter_values(results=True, per_spectrum=True), fixed=parameter_values(per_spectrum=True), bounds=parameter_bounds, weighting=choice(WEIGHTINGS),
@@ -121,7 +133,10 @@ def fit(
     n_spectra = int(np.prod([data.sizes[d] for d in extra])) if extra else 1
     if shared is not None or over is not None:  # (checked before the first progress line, as every argument: 2026-12-02)
         shared_layout(table, extra, shared, over, source=source)
-    say(f"fitting {circuit} to {counted(n_spectra, 'spectrum', 'spectra')} together (a circuit's first batch compiles its solvers)" if extra else f"fitting {circuit} (a circuit's first fit compiles its solvers)")
+    first = (str(circuit), bool(extra)) not in FITTED_CIRCUITS
+    FITTED_CIRCUITS.add((str(circuit), bool(extra)))
+    say(f"fitting {circuit} to {counted(n_spectra, 'spectrum', 'spectra')} together" + (" (a circuit's first batch compiles its solvers)" if first else "") if extra
+        else f"fitting {circuit}" + (" (a circuit's first fit compiles its solvers)" if first else ""))
     # σ the weighting does not use is said in the result (`unused_sigma_notes`), a batch's as a single fit's
     sigma_notes = unused_sigma_notes("sigma" in data, weighting)
     if shared is not None or over is not None:
