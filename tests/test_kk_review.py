@@ -344,3 +344,26 @@ def test_messages_name_the_file_and_the_frequency(tmp_path, capsys):
     stack = ix.make_spectrum(f, np.stack([z + (z == 0), z]), dims=("trial",))
     with pytest.raises(DataError, match=r"Z is exactly zero at 500 Hz \(in 1 of 2 spectra\)"):
         ix.kk_test_batch(stack)
+
+
+
+def test_a_kk_batch_result_has_the_report_the_command_line_prints(capsys, tmp_path):
+    """`KKBatchResult.report()` (added 2026-12-02: a Python walkthrough found none) is the text
+    `impedax kk` prints for a stack: its first line counts the spectra, one row each after."""
+    import numpy as np
+
+    import impedax as ix
+    from impedax.cli import main
+
+    f = np.logspace(-1, 5, 40)
+    z = np.stack([10 + r / (1 + 2j * np.pi * f * r * 1e-5) for r in (100.0, 200.0, 300.0)])
+    rng = np.random.default_rng(4)
+    z = z * (1 + 0.005 * (rng.standard_normal(z.shape) + 1j * rng.standard_normal(z.shape)))
+    data = ix.make_spectrum(f, z, dims=("cell",), coords={"cell": ["a", "b", "c"]})
+    text = ix.kk_test_batch(data).report()
+    lines = text.splitlines()
+    assert lines[0].startswith("linear KK test of 3 spectra over cell: ") and [line.split()[0] for line in lines[2:5]] == ["cell=a", "cell=b", "cell=c"]
+    ix.save(data, tmp_path / "stack.nc")
+    capsys.readouterr()
+    assert main(["kk", str(tmp_path / "stack.nc")]) == 0
+    assert capsys.readouterr().out.startswith(text + "\n")

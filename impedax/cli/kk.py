@@ -76,7 +76,7 @@ def run(args) -> int:
         emit_json(with_source(read.summary(), source, record))
         return 0
     if several:
-        _each_spectrum(result)
+        print(result.report())
     else:
         print(result.report(command) if args.method == "linear" else result.report())
     note_skipped_rows(data, "kk", args.data)
@@ -103,37 +103,3 @@ def _next_command(args, result, data) -> tuple[str | None, list[str]]:
         f" {flag}" if value is True else f" {flag} {shlex.quote(str(value))}" for flag, value in chain if value is not None)
     words = [str(w) for flag, value in run_options(args, kept=kept, masked=drop, data=data) if flag in ("--fmin", "--fmax", "--exclude") and value is not None for w in (flag, value)]
     return command, words
-
-
-def _each_spectrum(batch) -> None:
-    """The KK test of every spectrum of a stack, one line per spectrum (each bad band with the
-    rules that flagged it) and, once, the hint of the first spectrum that has one (the JSON:
-    `KKBatchResult.summary`)."""
-    import math
-
-    from ..data import column_width, counted, format_frequency
-
-    where = batch.labels()
-    few = sum(not r.conclusive for r in batch.results)
-    consistent = sum(bool(r.valid) and r.conclusive for r in batch.results)
-    print(f"linear KK test of {counted(len(batch.results), 'spectrum', 'spectra')} over {', '.join(batch.dims)}: {consistent} KK-consistent, {len(batch.results) - few - consistent} not"
-          + (f", {few} inconclusive (too few frequencies to tell)" if few else "")
-          + ("; noise: the data's sigma (each point judged against its σ; --noise residuals for one estimate)" if any(r.noise_from == "sigma" for r in batch.results) else ""))
-    names = [", ".join(f"{d}={v}" for d, v in w.items()) for w in where]
-    width = column_width(names, "spectrum")
-    print(f"{'spectrum':<{width}}  {'verdict':<9} {'rms_rel':>9} {'noise':>9} {'M':>3}  bad bands [rules that flagged them]")
-    for name, r in zip(names, batch.results):
-        bands = "; ".join(f"{format_frequency(lo)} – {format_frequency(hi)} [{', '.join(rules)}]" for (lo, hi), rules in zip(r.bad_bands, r.band_rules)) or "none"
-        print(f"{name:<{width}}  {('valid' if r.valid else 'NOT valid') if r.conclusive else 'too few':<9} {r.rms_rel * 100:>8.3g}% {r.noise_estimate * 100:>8.3g}% {r.n_rc:>3}  {bands}")
-    if any(r.bad_bands for r in batch.results):
-        t = batch.results[0].thresholds
-        by_sigma = sum(r.noise_from == "sigma" for r in batch.results)
-        scale = ("s: each point's σ/|Z| from the data's sigma, at least " if by_sigma == len(batch.results) else
-                 "s: the largest of the noise estimate, " if not by_sigma else "s: each point's σ/|Z| where the data's sigma was used, else the largest of the noise estimate, ")
-        print(f"rules: point = one |Δ| > {t['point']:.3g} s, run = ≥ {int(t['run_length'])} consecutive |Δ| > {t['run']:.3g} s, window = a {int(t['window'])}-point mean "
-              f"of Δ' or Δ'' > {t['window_mean'] / math.sqrt(t['window']):.3g} s ({scale}{t['noise_floor'] * 100:.3g} % and the chain's own error; the levels: impedax kk --select)")
-    hints = [r.sign_hint for r in batch.results]
-    with_hint = [i for i, h in enumerate(hints) if h]
-    if with_hint:
-        listed = ", ".join(names[i] for i in with_hint[:3]) + (", …" if len(with_hint) > 3 else "")
-        print(f"hint: in {len(with_hint)} of {counted(len(hints), 'spectrum', 'spectra')} ({listed}): {hints[with_hint[0]]}")

@@ -25,7 +25,7 @@ import numpy as np
 import xarray as xr
 
 from ..arguments import EXCLUDE_RTOL, MAX_BASIS, checked_arguments, count, flag, instance_of, real, shown
-from ..data import checked_frequencies, concise_repr, format_frequency
+from ..data import checked_frequencies, column_width, concise_repr, counted, format_frequency
 from ..errors import DataError, ImpedaxError, ParameterError
 from .grid import ResultGrid, refuse_result_names
 from .problem import frequency_and_z, frequency_z_and_sigma
@@ -586,6 +586,38 @@ class KKBatchResult(ResultGrid):
         # (the settings, shared by every spectrum; each spectrum's series R, L and 1/C are variables)
         ds.attrs.update({k: v for k, v in first.to_xarray().attrs.items() if not k.startswith(("series", "inverse_series"))})
         return ds
+
+    def report(self) -> str:
+        """The KK test of every spectrum, one line per spectrum (each bad band with the rules that
+        flagged it) and, once, the hint of the first spectrum that has one: what ``impedax kk``
+        prints for several spectra (the JSON: `summary`; a method since 2026-12-02, a Python
+        walkthrough found none)."""
+        batch, lines = self, []
+        where = batch.labels()
+        few = sum(not r.conclusive for r in batch.results)
+        consistent = sum(bool(r.valid) and r.conclusive for r in batch.results)
+        lines.append(f"linear KK test of {counted(len(batch.results), 'spectrum', 'spectra')} over {', '.join(batch.dims)}: {consistent} KK-consistent, {len(batch.results) - few - consistent} not"
+                     + (f", {few} inconclusive (too few frequencies to tell)" if few else "")
+                     + ("; noise: the data's sigma (each point judged against its σ; --noise residuals for one estimate)" if any(r.noise_from == "sigma" for r in batch.results) else ""))
+        names = [", ".join(f"{d}={v}" for d, v in w.items()) for w in where]
+        width = column_width(names, "spectrum")
+        lines.append(f"{'spectrum':<{width}}  {'verdict':<9} {'rms_rel':>9} {'noise':>9} {'M':>3}  bad bands [rules that flagged them]")
+        for name, r in zip(names, batch.results):
+            bands = "; ".join(f"{format_frequency(lo)} – {format_frequency(hi)} [{', '.join(rules)}]" for (lo, hi), rules in zip(r.bad_bands, r.band_rules)) or "none"
+            lines.append(f"{name:<{width}}  {('valid' if r.valid else 'NOT valid') if r.conclusive else 'too few':<9} {r.rms_rel * 100:>8.3g}% {r.noise_estimate * 100:>8.3g}% {r.n_rc:>3}  {bands}")
+        if any(r.bad_bands for r in batch.results):
+            t = batch.results[0].thresholds
+            by_sigma = sum(r.noise_from == "sigma" for r in batch.results)
+            scale = ("s: each point's σ/|Z| from the data's sigma, at least " if by_sigma == len(batch.results) else
+                     "s: the largest of the noise estimate, " if not by_sigma else "s: each point's σ/|Z| where the data's sigma was used, else the largest of the noise estimate, ")
+            lines.append(f"rules: point = one |Δ| > {t['point']:.3g} s, run = ≥ {int(t['run_length'])} consecutive |Δ| > {t['run']:.3g} s, window = a {int(t['window'])}-point mean "
+                         f"of Δ' or Δ'' > {t['window_mean'] / math.sqrt(t['window']):.3g} s ({scale}{t['noise_floor'] * 100:.3g} % and the chain's own error; the levels: impedax kk --select)")
+        hints = [r.sign_hint for r in batch.results]
+        with_hint = [i for i, h in enumerate(hints) if h]
+        if with_hint:
+            listed = ", ".join(names[i] for i in with_hint[:3]) + (", …" if len(with_hint) > 3 else "")
+            lines.append(f"hint: in {len(with_hint)} of {counted(len(hints), 'spectrum', 'spectra')} ({listed}): {hints[with_hint[0]]}")
+        return "\n".join(lines)
 
 
 def _mu_limit(c) -> float:
