@@ -92,6 +92,8 @@ def test_a_parameter_at_its_bound_has_no_standard_error_anywhere(tmp_path):
     summary = json.loads(json.dumps(to_jsonable(r.summary()), allow_nan=False))
     assert summary["params"]["R0"]["stderr"] is None and summary["at_bound"] == ["R0"]
     assert summary["params"]["R1"]["stderr"] == pytest.approx(sd[1], rel=1e-6)
+    # (the linearisation's at the bound too, as curve_fit and impedance.py's conf_ give it: added 2026-12-02)
+    assert summary["params"]["R0"]["linearised_stderr"] == pytest.approx(sd[0], rel=1e-6)
     rows = {row["name"]: row for row in r.to_table()}
     assert rows["R0"]["stderr"] is None and rows["R1"]["stderr"] == pytest.approx(sd[1], rel=1e-6)
     write_result(r, tmp_path / "fit.csv")

@@ -113,7 +113,7 @@ def test_every_fit_json_gives_each_parameter_its_unit(good, tmp_path, capsys):
     summary = run_json(capsys, "fit", good, "--model", "R0 + R1 || CPE1", "--json", "--out", out)
     assert {n: p["unit"] for n, p in summary["params"].items()} == EXPECTED_UNITS
     assert {r["name"]: r["unit"] for r in rows_of(out)} == EXPECTED_UNITS  # (the CSV's, the same)
-    assert set(summary["params"]["R0"]) == {"value", "stderr", "fixed", "unit"}  # (keys only added)
+    assert set(summary["params"]["R0"]) == {"value", "stderr", "fixed", "unit", "linearised_stderr"}  # (keys only added; linearised_stderr 2026-12-02)
     compared = run_json(capsys, "compare", good, "--model", "R0 + R1 || C1", "--model", "R0 + R1 || CPE1", "--json")
     units = [{n: p["unit"] for n, p in m["params"].items()} for m in compared["models"]]
     assert units == [{"R0": "Ohm", "R1": "Ohm", "C1": "F"}, EXPECTED_UNITS]

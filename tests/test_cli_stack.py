@@ -90,7 +90,7 @@ def test_several_values_after_one_option_fit_as_the_repeated_options_do(days, ca
         results.append(json.loads(out))
     params = results[0]["params"]
     assert params == results[1]["params"]
-    assert params["R0"] == {"value": 20.0, "stderr": None, "fixed": True, "unit": "Ohm"}  # (unit: added 2026-12-01)
+    assert params["R0"] == {"value": 20.0, "stderr": None, "fixed": True, "unit": "Ohm", "linearised_stderr": None}  # (unit: added 2026-12-01; linearised_stderr 2026-12-02)
     assert results[0]["user_bounds"] == {"R1": [1e3, 1e6], "C1": [1e-9, 1e-3]}
     assert params["R1"]["value"] == pytest.approx(R1_BY_DAY[0], rel=0.03) and params["C1"]["value"] == pytest.approx(C1_TRUE, rel=0.03)
 

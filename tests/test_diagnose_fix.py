@@ -48,7 +48,7 @@ def test_diagnose_fix_holds_the_value_and_drops_the_note(finger, capsys):
     assert main(["diagnose", finger, "--model", MEYER, "--effects", "constant_phase", "--fix", "C_i=1.7n", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     held = out["baseline"]["params"]["C_i"]
-    assert held == {"value": pytest.approx(C_I, rel=1e-12), "stderr": None, "fixed": True, "unit": "F"}  # (unit: added 2026-12-01)
+    assert held == {"value": pytest.approx(C_I, rel=1e-12), "stderr": None, "fixed": True, "unit": "F", "linearised_stderr": None}  # (unit: added 2026-12-01; linearised_stderr 2026-12-02)
     assert out["baseline"]["n_params"] == 4
     assert not any("not separately determined" in n for n in out["notes"])
     # the suggestions' fits keep it too, wherever the candidate still has C_i

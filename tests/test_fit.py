@@ -324,8 +324,8 @@ def test_cli_fit_json_contract(rng, tmp_path, capsys):
     assert code == 0
     out = json.loads(capsys.readouterr().out)
     assert set(out) >= {"model", "n_points", "n_params", "params", "rms_rel", "chi2", "chi2_red", "aic", "bic", "converged", "message", "warnings"}
-    assert out["params"]["R0"] == {"value": 50.0, "stderr": None, "fixed": True, "unit": "Ohm"}  # (unit: added 2026-12-01)
-    assert set(out["params"]["R1"]) == {"value", "stderr", "fixed", "unit"} and out["n_params"] == 2
+    assert out["params"]["R0"] == {"value": 50.0, "stderr": None, "fixed": True, "unit": "Ohm", "linearised_stderr": None}  # (unit: added 2026-12-01; linearised_stderr 2026-12-02)
+    assert set(out["params"]["R1"]) == {"value", "stderr", "fixed", "unit", "linearised_stderr"} and out["n_params"] == 2
     # (n_starts: added 2026-12-02, the count the message words; a fit at the noise after its guess's local fit used that one start)
     assert out["n_starts"] == 1 and "(from the data-driven start)" in out["message"]
     assert (tmp_path / "p.png").exists() and ix.io.read_netcdf(tmp_path / "r.nc")["value"].size == 3

@@ -226,13 +226,16 @@ class FitResult:
     def summary(self) -> dict:
         """The JSON summary used by ``impedax fit --json``: each of ``params`` with its value,
         stderr, fixed and ``unit`` (the element spec's, as `to_table` and ``sample --json`` give
-        it; added 2026-12-01)."""
+        it; added 2026-12-01) and ``linearised_stderr`` (`linearised_stderr`: at a bound, the
+        linearisation's, what scipy's curve_fit and impedance.py's ``conf_`` give; added 2026-12-02)."""
         specs = self.circuit.parameter_specs(self.registry)
+        linearised = self.linearised_stderr
         return {
             "model": self.model,
             "n_points": self.n_points,
             "n_params": self.n_params,
-            "params": {n: {"value": self.values[n], "stderr": shown_stderr(self.stderr[n], self.fixed[n]), "fixed": self.fixed[n], "unit": specs[n].unit} for n in self.values},
+            "params": {n: {"value": self.values[n], "stderr": shown_stderr(self.stderr[n], self.fixed[n]), "fixed": self.fixed[n], "unit": specs[n].unit,
+                           "linearised_stderr": shown_stderr(linearised[n], self.fixed[n])} for n in self.values},
             "rms_rel": self.rms_rel,
             "chi2": self.chi2,
             "chi2_red": self.chi2_red,
