@@ -19,7 +19,7 @@ from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ...data import counted
 from ...errors import IN_MEMORY, ParameterError
 from ...progress import progress_to, say
-from ..problem import WEIGHTINGS, circuit_parameters, open_spectrum, prepare_fit, residual_scale, weights
+from ..problem import WEIGHTINGS, check_argument_order, circuit_parameters, open_spectrum, prepare_fit, residual_scale, weights
 from ..statistics import at_noise_floor, information_criteria
 from .batch import BatchFitResult, data_notes, fit_batch, register_spectrum_fit
 from .constraints import constraint_misfit_notes, with_constraint_notes
@@ -91,6 +91,7 @@ def fit(
     (a circuit's first batch in a process compiles its solvers: 10–15 s on the 130 REAL battery
     cycles, silent before 2026-12-01).
     """
+    check_argument_order("fit", circuit, data)
     if progress is not None:
         if not callable(progress):
             raise ParameterError(f"progress must be a function of one line of text (e.g. print), got {type(progress).__name__}")
