@@ -447,6 +447,24 @@ def read_impedance_py_model(args, command: str) -> None:
     model = getattr(args, "model", None)
     if getattr(args, "circuit_model", False) and isinstance(model, str):
         args.model = impedax_text(model, command, getattr(args, "registry", None))
+        if args.model != model:
+            note_impedance_py_weighting(command, getattr(args, "weighting", None))
+
+
+IMPEDANCE_PY_WEIGHTING_NOTE = (
+    "impedax weights the residuals by 1/|Z| by default (--weighting modulus, impedance.py's weight_by_modulus=True); "
+    "impedance.py's default is unweighted, here --weighting unit (docs/migrating.md, \"The default weighting differs\")"
+)
+
+
+def note_impedance_py_weighting(command: str, weighting: str | None) -> None:
+    """One note on stderr, after a model was read as impedance.py notation, when the command fits
+    with ``weighting`` "modulus" (impedax's default; None: the command has no --weighting): an
+    impedance.py user's numbers differ from impedance.py's default, unweighted fit (R0 0.015167
+    against 0.015642 on its REAL exampleData.csv, docs/migrating.md), and the header's
+    "weighting modulus" did not say so (a walkthrough, 2026-12-02)."""
+    if weighting == "modulus":
+        print(f"impedax {command}: note: {IMPEDANCE_PY_WEIGHTING_NOTE}", file=sys.stderr)
 
 
 def impedax_text(model: str, command: str, registry=None) -> str:
