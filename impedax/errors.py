@@ -13,6 +13,7 @@ __all__ = [
     "CircuitSyntaxError",
     "CircuitError",
     "DataError",
+    "ArgumentsSwapped",
     "SweepGridsDiffer",
     "ParameterError",
     "ArgumentNeeded",
@@ -136,6 +137,13 @@ class DataError(ImpedaxError, ValueError):
                 where += f", line {line}"
             where += ": "
         super().__init__(where + message)
+
+
+class ArgumentsSwapped(DataError, CircuitError):
+    """A circuit and a spectrum given in each other's places (``fit``, ``sample`` take
+    ``(circuit, data)``; ``diagnose``, ``refine`` take ``(data, circuit)``): the message names the
+    function and the call in its order. Both a `DataError` and a `CircuitError`, as the two
+    messages it replaces were."""
 
 
 class SweepGridsDiffer(DataError):

@@ -252,7 +252,7 @@ def test_circuit_text_in_the_data_slot_says_the_arguments_look_swapped(biologic)
         ix.diagnose(MODEL, biologic)
     with pytest.raises(DataError, match=r"look swapped \(refine takes \(data, circuit\)\)"):
         ix.refine(MODEL, biologic)
-    with pytest.raises(DataError, match="look swapped .*fit and sample take \\(circuit, data\\)"):
+    with pytest.raises(DataError, match=r"look swapped \(fit takes \(circuit, data\)\)"):
         ix.fit(biologic, MODEL)
     with pytest.raises(DataError, match="file not found"):  # a path that is no circuit: as before
         ix.fit(MODEL, "no_such_file.csv")
@@ -262,8 +262,39 @@ def test_a_dataset_in_the_circuit_slot_says_the_arguments_look_swapped(biologic)
     with pytest.raises(CircuitError) as e:
         ix.sample(biologic, "R0 + R1 || C1")
     text = str(e.value)
-    assert "look swapped" in text and "fit and sample take (circuit, data)" in text
+    assert "look swapped" in text and "sample takes (circuit, data)" in text
     assert len(text) < 200 and "Dimensions" not in text  # no Dataset repr
+
+
+# the walkthrough's swaps (2026-12-02): a Circuit object or impedance.py text in the data slot
+# and a spectrum in the circuit slot was told "data must be a spectrum Dataset … got
+# Series([Element('R0')…" or "file not found"; every function taking both names its own order
+SWAPS = [
+    ("fit", "(circuit, data)", "data", "a circuit"),
+    ("sample", "(circuit, data)", "data", "a circuit"),
+    ("diagnose", "(data, circuit)", "a circuit", "data"),
+    ("refine", "(data, circuit)", "a circuit", "data"),
+]
+
+
+@pytest.mark.parametrize("circuit", [ix.parse(MODEL), "R0-p(R1,CPE1)", MODEL], ids=["Circuit", "impedance.py-text", "impedax-text"])
+@pytest.mark.parametrize("spectrum", ["dataset", "path", "path-text"])
+@pytest.mark.parametrize("function, order, first, second", SWAPS, ids=[s[0] for s in SWAPS])
+def test_a_circuit_and_data_in_each_others_places_name_the_functions_order(biologic, circuit, spectrum, function, order, first, second):
+    data = {"dataset": biologic, "path": REAL / "exampleDataBioLogic.mpt", "path-text": str(REAL / "exampleDataBioLogic.mpt")}[spectrum]
+    swapped = (data, circuit) if order == "(circuit, data)" else (circuit, data)
+    with pytest.raises(ix.errors.ArgumentsSwapped) as e:
+        getattr(ix, function)(*swapped)
+    text = str(e.value)
+    assert text.startswith(f"the arguments look swapped ({function} takes {order}): the first argument looks like {first} ")
+    assert f"and the second like {second} " in text and text.endswith(f"call impedax.{function}{order}")
+    assert "Element(" not in text and "Dimensions" not in text and len(text) < 300
+    assert isinstance(e.value, DataError) and isinstance(e.value, CircuitError)  # (what the two messages it replaced were)
+
+
+def test_a_circuit_alone_where_the_data_go_says_where_it_goes():
+    with pytest.raises(DataError, match=r"got a circuit \('R0 \+ R1 \|\| CPE1'\): the circuit goes in the other argument \(fit and sample take \(circuit, data\), diagnose and refine take \(data, circuit\)\)"):
+        ix.refine(ix.parse(MODEL))
 
 
 # ---------------------------------------------------------------- 4. raw errors

@@ -77,10 +77,24 @@ def test_quiet_drops_the_progress_lines_and_keeps_the_json(command, tmp_path, ca
 
 
 def test_every_command_that_prints_progress_takes_quiet(capsys):
-    for command in ("fit", "compare", "drt", "diagnose", "refine", "sample", "gap"):
+    for command in ("fit", "compare", "drt", "diagnose", "refine", "sample", "gap", "kk"):
         with pytest.raises(SystemExit):
             main([command, "--help"])
         assert "--quiet" in capsys.readouterr().out, command
+
+
+def test_kk_takes_quiet_as_the_other_analysis_commands(capsys):
+    """`impedax kk --quiet` (a walkthrough, 2026-12-02: "unrecognized arguments: --quiet"): the same
+    report and JSON as without, and the notes (the REAL Parstat file's skipped DC rows) kept."""
+    with pytest.raises(SystemExit):
+        main(["kk", "--help"])
+    assert "--quiet" in capsys.readouterr().out
+    code, loud, loud_err = run(capsys, "kk", PARSTAT)
+    assert code == 0, loud_err
+    code, quiet, quiet_err = run(capsys, "kk", PARSTAT, "--quiet")
+    assert code == 0 and quiet == loud and quiet_err == loud_err and "rows skipped" in quiet_err
+    code, quiet_json, _ = run(capsys, "kk", PARSTAT, "--json", "--quiet")
+    assert code == 0 and json.loads(quiet_json)["skipped_rows"] == PARSTAT_SKIPPED
 
 
 def test_quiet_keeps_the_notes(capsys):

@@ -9,12 +9,13 @@ ideal R‖C's own DRT at the same λ.
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 import impedax as ix
-from impedax.fitting.drt.shape import BROAD_FACTOR, diffusion_slopes, reference_width
+from impedax.fitting.drt.shape import BROAD_FACTOR, diffusion_slopes, low_frequency_tail, reference_width
 
 F = np.logspace(-2, 5, 71)
 W = 2 * np.pi * F
@@ -88,3 +89,72 @@ def test_report_says_the_band_covers_noise_only():
     result = ix.drt((F, noisy(10 + rc(100, 1e-3), 0.01, 5)))
     assert "noise only: it leaves out the smoothing that lowers peaks" in result.report()
     assert "not the smoothing bias at peaks" in result.to_xarray().attrs["band"]
+
+
+# --- a tail of another slope than a Warburg's (a walkthrough, 2026-12-02) ----------------------
+# The REAL Gamry file's note said "−Im Z goes as ω^−½ … fit a Warburg"; its slope below 0.16 Hz
+# is −0.37, with the phase flat at −21°: a constant-phase tail. A CPE in series,
+# Z = 1/(Q (jω)^α) = ω^−α (cos(απ/2) − j sin(απ/2))/Q, has −Im Z = sin(απ/2)/(Q ω^α): slope −α.
+
+REAL = Path(__file__).parent / "fixtures" / "real"
+
+
+def series_cpe(alpha, q=1e-2):
+    """SYNTHETIC: 10 Ω + R‖C (100 Ω, 1 ms) + 1/(Q (jω)^α)."""
+    return 10 + rc(100, 1e-3) + 1 / (q * (1j * W) ** alpha)
+
+
+def loglog_slope_below(f, z, f_top):
+    """The oracle: numpy's least-squares slope of ln(−Im Z) against ln f for f ≤ f_top."""
+    low = f <= f_top
+    return np.polyfit(np.log(f[low]), np.log(-z.imag[low]), 1)[0]
+
+
+@pytest.mark.parametrize("alpha", [0.4, 0.6, 0.7])
+def test_a_series_cpe_tails_slope_is_minus_its_alpha(alpha):
+    tail = low_frequency_tail(F, series_cpe(alpha))
+    assert tail.slope == pytest.approx(-alpha, abs=1e-3) and tail.alpha == pytest.approx(alpha, abs=1e-3)
+    assert not tail.warburg and tail.below_hz == pytest.approx(0.1)
+    exact = low_frequency_tail(F, WARBURG)
+    assert exact.slope == pytest.approx(-0.5, abs=1e-3) and exact.warburg
+
+
+@pytest.mark.parametrize("seed", range(10))
+def test_the_warburg_tolerance_tells_a_noisy_warburg_from_a_cpe_a_tenth_away(seed):
+    """SYNTHETIC, 1 % noise (the constant's measurement: a Warburg of σ 50 Ω s^−½ scatters ± 0.02
+    about −0.5, always called one; a CPE α 0.4 or 0.6 ± 0.02 about −α, called one in ≤ 1 %)."""
+    assert low_frequency_tail(F, noisy(WARBURG, 0.01, seed)).warburg
+    for alpha in (0.4, 0.6):
+        tail = low_frequency_tail(F, noisy(series_cpe(alpha), 0.01, seed))
+        assert tail is not None and not tail.warburg and abs(tail.slope + alpha) < 0.06
+
+
+def test_the_real_gamry_tail_is_named_by_its_slope_not_as_a_warburg():
+    data = ix.load(REAL / "exampleDataGamry.DTA")
+    f, z = data.frequency.values, data.Z.values
+    slope = loglog_slope_below(f, z, 10 * f.min() * (1 + 1e-9))
+    assert slope == pytest.approx(-0.367, abs=0.005)  # the walkthrough's −0.38 below 0.16 Hz
+    result = ix.drt(data)
+    (note,) = [n for n in result.notes if "low-frequency part" in n]
+    assert note.startswith(f"the low-frequency part is a constant-phase tail: −Im Z goes as ω^−{-slope:.2f} (± ")
+    assert f"below 0.159 Hz, not a Warburg's ω^−0.5; a CPE in series has −Im Z ∝ ω^−α, here α ≈ {-slope:.2f}" in note
+    assert "ω^−½" not in note and "diffusion" not in note
+    suggestion = result.suggested_circuit()
+    assert "W1" not in suggestion.model and suggestion.model.endswith(" + CPE2")
+    alpha, q = suggestion.init["CPE2.alpha"], suggestion.init["CPE2.Q"]
+    assert alpha == pytest.approx(-slope, abs=1e-6)
+    # the start's −Im Z = sin(απ/2)/(Q ω^α) meets the data's at the lowest frequency within 15 %
+    low = np.argmin(f)
+    assert math.sin(alpha * math.pi / 2) / (q * (2 * math.pi * f[low]) ** alpha) == pytest.approx(-z.imag[low], rel=0.15)
+    assert any("constant-phase tail (the tail's CPE holds it)" in r for r in suggestion.reasons)
+
+
+def test_the_real_warburg_tail_of_impedance_pys_example_keeps_its_warburg():
+    data = ix.load(REAL / "exampleData.csv")
+    f, z = data.frequency.values, data.Z.values
+    slope = loglog_slope_below(f, z, 10 * f.min() * (1 + 1e-9))
+    assert slope == pytest.approx(-0.515, abs=0.005)
+    result = ix.drt(data)
+    (note,) = [n for n in result.notes if "low-frequency part" in n]
+    assert note.startswith(f"the low-frequency part looks like diffusion (a Warburg element): −Im Z goes as ω^−{-slope:.2f} (± ")
+    assert "a Warburg's ω^−0.5" in note and result.suggested_circuit().model.endswith(" + W1")

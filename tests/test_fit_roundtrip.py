@@ -85,6 +85,59 @@ def test_a_file_of_another_kind_or_damaged_is_named(single, batch, tmp_path):
         ix.FitResult.from_xarray(cut)
 
 
+# a result's .csv or .json loaded as a spectrum (a walkthrough, 2026-12-02: "not a recognised
+# spectrum file … no frequency column"): named, with the call that reads its .nc back; following
+# the message's own call gives the fit back (the oracle: the values written)
+@pytest.mark.parametrize("suffix", [".csv", ".json"])
+@pytest.mark.parametrize("kind", ["fit", "batch"])
+def test_a_results_csv_or_json_loaded_as_data_names_the_nc_that_reads_back(single, batch, kind, suffix, tmp_path):
+    result = single[1] if kind == "fit" else batch
+    what, reader = ("a least-squares fit", "ix.FitResult") if kind == "fit" else ("a batch of least-squares fits", "ix.BatchFitResult")
+    summary = tmp_path / f"out{suffix}"
+    ix.write_result(result, summary)
+    with pytest.raises(DataError) as e:
+        ix.load(summary)
+    text = str(e.value)
+    assert f"this file is the {suffix[1:].upper()} summary of {what} (write_result, impedax fit --out), not a spectrum" in text
+    assert f"ix.write_result(result, 'fit.nc') (impedax fit --out fit.nc), then {reader}.from_xarray(ix.load('fit.nc'))" in text
+    assert "no frequency column" not in text
+    ix.write_result(result, tmp_path / "out.nc")  # the .nc beside it: named by its path, and the call named reads it
+    with pytest.raises(DataError) as e:
+        ix.load(summary)
+    call = str(e.value).split("the form that reads back is the .nc beside it: ")[1]
+    assert call == f"{reader}.from_xarray(ix.load({str(tmp_path / 'out.nc')!r}))"
+    back = eval(call, {"ix": ix})
+    assert (back.values == result.values) if kind == "fit" else back.dataset["value"].equals(result.dataset["value"])
+
+
+@pytest.mark.parametrize("name, text, what", [
+    # the columns and keys docs/io.md ("Exporting results") gives each result's file
+    ("post.csv", "name,median,q05,q16,q84,q95,unit,autocorr,ess\nR0,1,0.9,0.95,1.05,1.1,Ohm,10,400\n", "a posterior"),
+    ("diag.csv", "section,name,value,stderr,unit,fixed,effect,model,rms_rel,delta_aic\nbaseline,R0,1,0.1,Ohm,false,,,,\n", "a diagnosis"),
+    ("ref.json", '{"steps": [], "final_model": "R0", "verdict": "adequate", "final_rms_rel": 0.01}', "a refinement"),
+    ("diag.json", '{"model": "R0", "baseline": {}, "kk": {}}', "a diagnosis"),
+    ("post.json", '{"model": "R0", "params": {}, "acceptance": 0.3}', "a posterior"),
+])
+def test_other_results_summaries_are_named_too(tmp_path, name, text, what):
+    (tmp_path / name).write_text(text)
+    with pytest.raises(DataError, match=f"summary of {what} .*not a spectrum.*the form that reads back is a .nc"):
+        ix.load(tmp_path / name)
+
+
+def test_a_table_that_is_no_result_keeps_its_message(tmp_path):
+    (tmp_path / "t.csv").write_text("name,value\nR0,1\n")
+    with pytest.raises(DataError, match="no frequency column"):
+        ix.load(tmp_path / "t.csv")
+
+
+def test_the_command_lines_csv_loaded_as_data_is_named(tmp_path):
+    out = tmp_path / "fit.csv"
+    run = subprocess.run([sys.executable, "-m", "impedax", "fit", str(REAL / "exampleDataGamry.DTA"), "--model", "R0-p(R1,CPE1)", "--out", str(out), "--quiet"], capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    with pytest.raises(DataError, match=r"summary of a least-squares fit .*ix.FitResult.from_xarray\(ix.load\('fit.nc'\)\)"):
+        ix.load(out)
+
+
 def test_a_fit_written_before_the_kind_was_stored_reads(single, batch):
     _, fit = single
     old = fit.to_xarray()

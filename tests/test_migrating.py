@@ -361,6 +361,30 @@ def test_cli_fix_hints_an_impedance_py_parameter_name(capsys):
     assert "unknown parameter 'CPE1_1'" in err and "did you mean CPE1.alpha?" in err
 
 
+WEIGHTING_NOTE = ("note: impedax weights the residuals by 1/|Z| by default (--weighting modulus, impedance.py's weight_by_modulus=True); "
+                  "impedance.py's default is unweighted, here --weighting unit")
+
+
+@pytest.mark.parametrize("command", ["fit", "diagnose", "refine"])
+def test_cli_says_once_that_the_default_weighting_is_not_impedance_pys(capsys, command):
+    """A walkthrough (2026-12-02): "read as impedance.py notation" said nothing of the weighting.
+    (The --fix error stops each run before any fit: the notes come first.)"""
+    assert main([command, str(EXAMPLE), "--model", "R0-p(R1,CPE1)", "--fix", "CPE1_1=0.9"]) == 2
+    assert capsys.readouterr().err.count(f"impedax {command}: {WEIGHTING_NOTE}") == 1
+    assert main([command, str(EXAMPLE), "--model", "R0-p(R1,CPE1)", "--weighting", "unit", "--fix", "CPE1_1=0.9"]) == 2  # (the note's option, as spelt)
+    err = capsys.readouterr().err
+    assert "read as impedance.py notation" in err and "weight_by_modulus" not in err and "unrecognized" not in err
+    assert main([command, str(EXAMPLE), "--model", "R0 + R1 || CPE1", "--fix", "CPE1_1=0.9"]) == 2  # impedax text: no note
+    assert "weight_by_modulus" not in capsys.readouterr().err
+
+
+def test_cli_weighting_note_once_for_several_models_and_not_where_nothing_is_weighted(capsys):
+    assert main(["compare", str(EXAMPLE), "--model", "R0-p(R1,C1)", "--model", "R0-p(R1,CPE1)", "--fix", "CPE1_1=0.9"]) == 2
+    assert capsys.readouterr().err.count(WEIGHTING_NOTE) == 1
+    assert main(["sample", str(EXAMPLE), "--model", "R0-p(R1,CPE1)", "--fix", "CPE1_1=0.9"]) == 2  # (sample's --noise is its own: no --weighting)
+    assert "weight_by_modulus" not in capsys.readouterr().err
+
+
 def test_cli_compare_reads_impedance_py_models(capsys):
     """compare's --model is a list: each impedance.py string read and named once."""
     assert main(["compare", str(EXAMPLE), "--model", "R0-p(R1,C1)", "--model", "R0 + R1 || CPE1", "--json"]) == 0

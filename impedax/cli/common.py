@@ -448,6 +448,24 @@ def read_impedance_py_model(args, command: str) -> None:
     model = getattr(args, "model", None)
     if getattr(args, "circuit_model", False) and isinstance(model, str):
         args.model = impedax_text(model, command, getattr(args, "registry", None))
+        if args.model != model:
+            note_impedance_py_weighting(command, getattr(args, "weighting", None))
+
+
+IMPEDANCE_PY_WEIGHTING_NOTE = (
+    "impedax weights the residuals by 1/|Z| by default (--weighting modulus, impedance.py's weight_by_modulus=True); "
+    "impedance.py's default is unweighted, here --weighting unit (docs/migrating.md, \"The default weighting differs\")"
+)
+
+
+def note_impedance_py_weighting(command: str, weighting: str | None) -> None:
+    """One note on stderr, after a model was read as impedance.py notation, when the command fits
+    with ``weighting`` "modulus" (impedax's default; None: the command has no --weighting): an
+    impedance.py user's numbers differ from impedance.py's default, unweighted fit (R0 0.015167
+    against 0.015642 on its REAL exampleData.csv, docs/migrating.md), and the header's
+    "weighting modulus" did not say so (a walkthrough, 2026-12-02)."""
+    if weighting == "modulus":
+        print(f"impedax {command}: note: {IMPEDANCE_PY_WEIGHTING_NOTE}", file=sys.stderr)
 
 
 def impedax_text(model: str, command: str, registry=None) -> str:
@@ -1654,7 +1672,8 @@ QUIET_HELP = "no progress lines on stderr (warnings and notes still go there)"
 def add_quiet_option(parser) -> None:
     """``--quiet``: no progress lines (`progress_printer`'s, a sampler's) on stderr; warnings and
     notes are still printed there (added 2026-12-01 to every command that prints progress: a
-    pipeline's log held 79 progress lines of one refine run under --json)."""
+    pipeline's log held 79 progress lines of one refine run under --json; to kk, which prints
+    none, on 2026-12-02, so that every analysis command takes it)."""
     parser.add_argument("--quiet", action="store_true", help=QUIET_HELP)
 
 

@@ -17,7 +17,7 @@ from ..arguments import shown
 from ..circuits import DEFAULT_REGISTRY, Circuit, from_impedance_py, parse
 from ..circuits.parser import ARGUMENT_ORDERS
 from ..data import format_frequency, make_spectrum, validate_spectrum
-from ..errors import IN_MEMORY, DataError, FitError, ImpedaxError, ParameterError
+from ..errors import IN_MEMORY, ArgumentsSwapped, DataError, FitError, ImpedaxError, ParameterError
 from ..io.table import ROLES
 from .parameters import ParameterTable
 
@@ -76,7 +76,7 @@ def open_spectrum(data: xr.Dataset | str | os.PathLike, *, fmin: float | None = 
     """
     data = spectrum_argument(data)
     if isinstance(data, str) and circuit_text(data):
-        order = ARGUMENT_ORDERS if single not in SWAPPABLE else f"{single} takes {SWAPPABLE[single]}"
+        order = ARGUMENT_ORDERS if single not in ARGUMENT_ORDER else f"{single} takes {ARGUMENT_ORDER[single]}"
         raise DataError(f"data {shown(data)} is circuit text, not a spectrum or a file: the arguments look swapped ({order})")
     if isinstance(data, xr.Dataset):
         source = str(data.attrs.get("source", "dataset"))
@@ -99,9 +99,6 @@ def open_spectrum(data: xr.Dataset | str | os.PathLike, *, fmin: float | None = 
     return spectrum
 
 
-# the functions that open their spectrum by name (``single=``) and take a circuit too, in this
-# order (named when the two look swapped; fit, which passes no name, gets `parser.ARGUMENT_ORDERS`)
-SWAPPABLE = {"sample": "(circuit, data)", "diagnose": "(data, circuit)", "refine": "(data, circuit)"}
 
 
 def circuit_parameters(arguments) -> tuple[tuple[str, ...], dict[str, str]]:
@@ -120,14 +117,65 @@ def circuit_parameters(arguments) -> tuple[tuple[str, ...], dict[str, str]]:
 
 def circuit_text(text: str) -> bool:
     """Whether a data argument ``text`` is circuit text rather than a path: no such file, and
-    it parses as a circuit of the default elements."""
+    it parses as a circuit of the default elements, in impedax's notation or impedance.py's
+    (``R0-p(R1,CPE1)``, which a walkthrough passed as data and was told "file not found")."""
     if os.path.exists(text) or text.strip() in ("", "-"):
         return False
-    try:
-        parse(text)
-    except ImpedaxError:
-        return False
-    return True
+    for reader in (parse, from_impedance_py):
+        try:
+            reader(text)
+        except ImpedaxError:
+            continue
+        return True
+    return False
+
+
+def looks_like_circuit(value) -> bool:
+    """Whether an argument is a circuit: a `Circuit`, or text that names no file and parses
+    as one (`circuit_text`)."""
+    return isinstance(value, Circuit) or (isinstance(value, str) and circuit_text(value))
+
+
+def looks_like_spectrum(value) -> bool:
+    """Whether an argument is a spectrum: a Dataset or DataArray, a path object, text naming an
+    existing file, or a (frequency, Z) pair of arrays."""
+    if isinstance(value, (xr.Dataset, xr.DataArray)) or hasattr(value, "__fspath__"):
+        return True
+    if isinstance(value, str):
+        return "\x00" not in value and os.path.isfile(value)
+    return is_pair(value)
+
+
+def _described(value) -> str:
+    """An argument named in a few words: a circuit by its text, a spectrum by its type or path."""
+    if isinstance(value, Circuit):
+        return shown(str(value))
+    if isinstance(value, str):
+        return shown(value)
+    return f"a {type(value).__name__}"
+
+
+# the public functions that take a circuit and a spectrum, in this order (named when the two look
+# swapped: `check_argument_order`, and `open_spectrum` for the functions that pass their name as
+# ``single``; fit, which passes none there, gets `parser.ARGUMENT_ORDERS`)
+ARGUMENT_ORDER = {"fit": "(circuit, data)", "sample": "(circuit, data)", "diagnose": "(data, circuit)", "refine": "(data, circuit)"}
+
+
+def check_argument_order(function: str, first, second) -> None:
+    """`ArgumentsSwapped` when ``function``'s two positional arguments (``first``, ``second`` in
+    its order, `ARGUMENT_ORDER`) hold a circuit and a spectrum in each other's places: the data
+    slot a circuit (a `Circuit` or circuit text) and the circuit slot a spectrum (a Dataset, a
+    path, a (frequency, Z) pair). A walkthrough's ``ix.diagnose(circuit, data)`` was told only
+    "data must be a spectrum Dataset … got Series([Element('R0')…"."""
+    order = ARGUMENT_ORDER[function]
+    circuit, data = (first, second) if order == "(circuit, data)" else (second, first)
+    if not (looks_like_circuit(data) and looks_like_spectrum(circuit)):
+        return
+    first_kind, second_kind = ("data", "a circuit") if order == "(circuit, data)" else ("a circuit", "data")
+    raise ArgumentsSwapped(
+        f"the arguments look swapped ({function} takes {order}): the first argument looks like {first_kind} ({_described(first)}) "
+        f"and the second like {second_kind} ({_described(second)}); call impedax.{function}{order}"
+    )
 
 
 MAX_MAGNITUDE = 1e100  # |Z| [Ω] and f [Hz] whose squares and products stay finite in float64
@@ -172,6 +220,9 @@ def spectrum_argument(data):
                 path=str(data.attrs.get("source", "DataArray")),
             )
         return data.to_dataset(name="Z")
+    if isinstance(data, Circuit):  # (a circuit alone, e.g. refine(circuit) with its default circuit)
+        raise DataError(f"data must be a spectrum Dataset, a file path or a (frequency, Z) pair of arrays, got a circuit ({shown(str(data))}): "
+                        f"the circuit goes in the other argument ({ARGUMENT_ORDERS})")
     raise DataError(
         f"data must be a spectrum Dataset (impedax.make_spectrum, impedax.load), a file path or a (frequency, Z) pair of arrays, got {shown(data)} ({type(data).__name__})"
     )

@@ -24,10 +24,85 @@ from .atomic import atomic_path, check_writable
 from ..arguments import shown
 from ..errors import IN_MEMORY, DataError, ParameterError
 
-__all__ = ["RESULT_FORMATS", "result_format", "result_table", "result_source", "write_result", "write_table", "write_json", "to_jsonable"]
+__all__ = ["RESULT_FORMATS", "written_result", "result_format", "result_table", "result_source", "write_result", "write_table", "write_json", "to_jsonable"]
 
 # extension → format of `write_result` (what each writes: docs/io.md)
 RESULT_FORMATS = {".csv": "csv", ".json": "json", ".nc": "netcdf"}
+
+
+# the results whose .csv or .json `written_result` recognises: (what the file holds, the call that
+# reads its .nc back), by the columns of the CSV (`result_table`) and the keys of the JSON
+# (``summary()``) their writers give them (docs/io.md, "Exporting results")
+_FIT = ("a least-squares fit", "fit", "ix.FitResult.from_xarray(ix.load({nc}))")
+_BATCH = ("a batch of least-squares fits", "fit", "ix.BatchFitResult.from_xarray(ix.load({nc}))")
+_POSTERIOR = ("a posterior", "sample", "ix.Posterior.from_xarray(ix.load({nc}))")
+_DIAGNOSIS = ("a diagnosis", "diagnose", "ix.Diagnosis.baseline_of(ix.load({nc})) (its baseline fit)")
+_REFINEMENT = ("a refinement", "refine", "ix.Refinement.final_fit_of(ix.load({nc})) (its final fit)")
+
+
+def _table_kind(header: Sequence[str], command: str | None) -> tuple[str, str, str] | None:
+    """What a result CSV with these columns holds (``command``: its provenance column's value)."""
+    if {"section", "name", "value"} <= set(header):  # (candidate columns only when there are candidates)
+        return _DIAGNOSIS
+    if {"name", "median", "q05", "q95"} <= set(header):
+        return _POSTERIOR
+    if {"name", "value", "stderr", "unit", "fixed"} <= set(header):
+        if header[0] != "name":  # (a batch's table: a column per extra dimension first)
+            return _BATCH
+        return _REFINEMENT if command == "impedax refine" else _FIT
+    return None
+
+
+def _summary_kind(summary: Mapping) -> tuple[str, str, str] | None:
+    """What a result JSON with these top-level keys holds."""
+    keys = set(summary)
+    if {"final_model", "steps", "verdict"} <= keys:
+        return _REFINEMENT
+    if {"baseline", "kk"} <= keys:
+        return _DIAGNOSIS
+    if {"model", "params", "acceptance"} <= keys:
+        return _POSTERIOR
+    if {"model", "params", "n_spectra"} <= keys:
+        return _BATCH
+    if {"model", "params", "n_points", "rms_rel"} <= keys:
+        return _FIT
+    return None
+
+
+def written_result(path: str | Path, head: str) -> str | None:
+    """For a result's ``.csv`` or ``.json`` (`write_result`, ``--out``) read where a spectrum is
+    expected (`impedax.load`): what it holds and that its ``.nc`` is the form that reads back,
+    with the call; None for any other file. ``head``: the file's first bytes as text (a JSON file
+    is read whole, up to `_common.max_file_bytes`). A walkthrough's ``ix.load("fit.csv")`` was told
+    "not a recognised spectrum file … no frequency column"."""
+    from ._common import max_file_bytes
+
+    path = Path(path)
+    kind = None
+    if head.lstrip().startswith("{"):
+        try:
+            if path.stat().st_size <= max_file_bytes():
+                summary = json.loads(path.read_text(encoding="utf-8"))
+                kind = _summary_kind(summary) if isinstance(summary, dict) else None
+        except (OSError, ValueError):
+            return None
+    else:
+        rows = list(csv.reader(io.StringIO(head)))
+        if len(rows) >= 2:  # (the header and a whole first row, for the provenance column)
+            header, first = [cell.strip() for cell in rows[0]], rows[1]
+            command = first[header.index("command")] if "command" in header and header.index("command") < len(first) else None
+            kind = _table_kind(header, command)
+    if kind is None:
+        return None
+    what, command, call = kind
+    nc = path.with_suffix(".nc")
+    if nc.is_file():
+        reload = f"the form that reads back is the .nc beside it: {call.format(nc=repr(str(nc)))}"
+    else:
+        name = f"{command}.nc"
+        reload = (f"the form that reads back is a .nc: write the result with ix.write_result(result, {name!r}) "
+                  f"(impedax {command} --out {name}), then {call.format(nc=repr(name))}")
+    return f"this file is the {path.suffix.lstrip('.').upper()} summary of {what} (write_result, impedax {command} --out), not a spectrum: it is to read, not to load back; {reload}"
 
 
 def result_format(path: str | Path, formats: Mapping[str, str] = RESULT_FORMATS) -> str:

@@ -21,6 +21,7 @@ from ..data import CHECKED_FILE, validate_spectrum
 from ..errors import IN_MEMORY, DataError, SweepGridsDiffer
 from ._common import MAX_FILE_BYTES, check_file, head_text
 from .csv import read_csv, write_csv
+from .export import written_result
 from .netcdf import NETCDF_FORMAT, not_a_spectrum, write_netcdf
 from .provenance import STDIN_NAME as PROVENANCE_STDIN_NAME
 from .registry import Reader
@@ -137,6 +138,9 @@ def load(path: str | os.PathLike, readers: Sequence[Reader] | None = None, *, sw
     try:
         ds = read_csv(path)
     except NoLayout as exc:
+        result = written_result(path, head_text(head))  # (a result's .csv or .json: say which and what reads back)
+        if result:
+            raise DataError(result, path=path) from None
         raise DataError(_unrecognised(exc.reason, tried, faults), path=exc.path, line=exc.line) from None
     return _checked(ds, path)
 

@@ -24,7 +24,7 @@ from ...errors import DataError, FitError, ParameterError
 from ..least_squares import FitResult, fit
 from ..least_squares.result import MODEL_MISFIT_MARKS, data_difference
 from ..parameters import checked_bounds, outside_bounds_message
-from ..problem import SIGMA_SOURCES, open_spectrum
+from ..problem import SIGMA_SOURCES, check_argument_order, open_spectrum
 from .chain import (
     AUTO_CHECK_STEPS, AUTO_MAX_STEPS, AUTO_STEPS, AUTO_TAU_CHANGE, auto_step_cap, ball_scales, length_settings, run_emcee, start_walkers, steps_rule,
     support_in_sampled_space, undetermined_span,
@@ -468,6 +468,7 @@ def sample(
     (`shared_posterior`; at most `MAX_JOINT_PARAMETERS` sampled parameters; the same chain-length
     rule), and returns a `SharedPosterior`.
     """
+    check_argument_order("sample", circuit, data)
     registry = DEFAULT_REGISTRY if registry is None else registry
     noise, burn = _check_settings(noise, steps, burn, thin)
     circuit = parse(circuit, registry)

@@ -71,7 +71,7 @@ from ..least_squares.constraints import binding_constraints, constraint_words, e
 from ..least_squares.result import bounds_attr, embedded_fit, fit_from_embedded
 from ..least_squares.starts import climb_target
 from ..parameters import ParameterTable
-from ..problem import WEIGHTINGS, circuit_parameters, open_spectrum
+from ..problem import WEIGHTINGS, check_argument_order, circuit_parameters, open_spectrum
 from ..statistics import information_criteria, non_passive
 from .bands import FailingBand, failing_bands, format_frequency, RUN_P
 from .catalog import BaselineContext, Effect, EffectCatalog, Proposal
@@ -2027,6 +2027,7 @@ def diagnose(
     solved once per run; default: one of this diagnosis' own). Thresholds and
     rules: module docstring and docs/diagnosis.md. Returns a `Diagnosis`.
     """
+    check_argument_order("diagnose", fit_or_data, circuit)
     if n_starts < 1 or max_steps < 1:
         raise ParameterError("n_starts and max_steps must be at least 1")
     if not isinstance(drt_evidence, bool):

@@ -23,7 +23,7 @@ from ..least_squares.result import BOUND_CHI2_FRACTION, RESIDUAL_LONG_NAME, boun
 from ..least_squares.starts import values_inside
 from ..parameters import ParameterTable
 from ..reductions import capacitor_name
-from ..problem import WEIGHTINGS, circuit_parameters, open_spectrum
+from ..problem import WEIGHTINGS, check_argument_order, circuit_parameters, open_spectrum
 from .bands import format_frequency
 from .catalog import EffectCatalog
 from .diagnosis import CANDIDATE_STEPS, DELTA_AIC_MIN, NOISE_FRACTION_MIN, Diagnosis, DRTMemo, Verdict, diagnose, left_out_options, left_out_words, noise_variance_explained, non_passive_points, ranked_size, require_points_for_diagnosis, undetermined_parameters, unidentified_note, verdict_scope_words
@@ -934,6 +934,7 @@ def refine(
     model can do without (`_simplified`); then any end loses a term its fit's flags say
     vanished (a resistor run open) and has a C in place of a CPE at α = 1 (`_pruned`). Returns a
     `Refinement`."""
+    check_argument_order("refine", data, circuit)
     if solver_steps is not None:
         if max_steps is not None:
             raise ParameterError("give max_steps (the step limit of the candidate fits; solver_steps is its older name), not both")

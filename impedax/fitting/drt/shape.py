@@ -5,15 +5,19 @@
 - **broad peak**: a peak inside the measured range whose FWHM is `BROAD_FACTOR` or more times
   that of one ideal R‖C at the same τ, solved at the same frequencies, weights and λ
   (`reference_width`): it may hold more than one relaxation, or a distributed one (a CPE).
-- **diffusion tail**: −Im Z ∝ ω^(−1/2) over the lowest decade of the data (`diffusion_slopes`),
-  the semi-infinite Warburg σ/√(jω), whose true γ = (σ/π)√τ rises with no peak: the DRT's
-  peaks at those τ are not separate arcs.
+- **low-frequency tail**: −Im Z ∝ ω^slope over the lowest decade of the data, slope between
+  −0.7 and −0.3 (`diffusion_slopes`, `low_frequency_tail`): a semi-infinite Warburg σ/√(jω)
+  when the slope is −0.5 within `WARBURG_TOLERANCE` (or 3 standard errors), whose true
+  γ = (σ/π)√τ rises with no peak; otherwise a constant-phase tail, a CPE in series
+  (−Im Z = sin(απ/2)/(Q ω^α): slope −α). Either way the DRT's peaks at those τ are not
+  separate arcs.
 """
 
 from __future__ import annotations
 
 import functools
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -21,7 +25,7 @@ from ...data import format_time
 from .basis import impedance_integrals, penalty_matrix
 from .peaks import find_peaks
 
-__all__ = ["BROAD_FACTOR", "WARBURG_SLOPE_RANGE", "diffusion_slopes", "diffusion_tail_tau", "reference_width", "shape_notes"]
+__all__ = ["BROAD_FACTOR", "WARBURG_SLOPE_RANGE", "WARBURG_TOLERANCE", "WARBURG_STDERRS", "LowFrequencyTail", "diffusion_slopes", "low_frequency_tail", "diffusion_tail_tau", "reference_width", "shape_notes"]
 
 BROAD_FACTOR = 1.4
 """A peak this many times as wide (FWHM, decades) as one R‖C's at the same λ is called broad.
@@ -30,8 +34,22 @@ decade apart 0.97–1.16×, 0.7 decade apart up to 1.34×; a merged pair 1 decad
 a ZARC α 0.8 1.3–2.0× (docs/drt.md, "Shape notes")."""
 
 WARBURG_SLOPE_RANGE = (-0.7, -0.3)
-"""d ln(−Im Z)/d ln ω of both halves of the lowest decade must lie here for a diffusion tail:
-a Warburg gives −0.5, an arc below its corner +1, a series C or an R‖C past its top −1 to −0.8."""
+"""d ln(−Im Z)/d ln ω of both halves of the lowest decade must lie here for a low-frequency tail
+(a Warburg or a CPE in series): a Warburg gives −0.5, an arc below its corner +1, a series C or
+an R‖C past its top −1 to −0.8."""
+
+WARBURG_TOLERANCE = 0.05
+WARBURG_STDERRS = 3.0
+"""A tail is a Warburg's when its slope over the lowest decade is −0.5 within
+max(`WARBURG_TOLERANCE`, `WARBURG_STDERRS` × its standard error); else a constant-phase tail.
+SYNTHETIC (R0 + R1‖C1 + σ/√(jω) and Randles, 10 mHz–100 kHz at 10 and 7 points a decade, noise
+1 % of |Z| on each part, 300 seeds): a Warburg dominating the lowest decade (σ 100 and 20 Ω s^−½,
+|Z|/|Im Z| 1.6–2.6) has slopes −0.500 ± 0.008 and ± 0.017–0.019, all called a Warburg; a weak one
+(σ 5, |Z|/|Im Z| 6.6) −0.50 ± 0.056–0.064, standard error ≈ 0.05, 96–98 % called (0.05 alone:
+57–62 %); a series CPE of α 0.4 or 0.6 of the same size ± 0.02, called a Warburg in ≤ 1 % at 10
+points a decade (α 0.4 at 7 a decade: 9 %), α 0.35 and 0.65 never. REAL: impedance.py's
+exampleData.csv −0.515 ± 0.004 (a Warburg), exampleDataGamry.DTA −0.367 ± 0.009 (before
+2026-12-02 called "ω^−½"; its phase stays at −20 to −22° there: a constant-phase tail)."""
 
 _ETA = 1e-10  # diagonal added to Γ so that it factors (as the DRT solve does, tikhonov.py)
 
@@ -53,14 +71,55 @@ def diffusion_slopes(frequency, impedance) -> tuple[float, float]:
     return out[0], out[1]
 
 
-def diffusion_tail_tau(result) -> float:
-    """τ [s] from which ``result``'s spectrum is a diffusion tail: 1/(2π · 10 f_min), the top of
-    the lowest decade, when both `diffusion_slopes` lie in `WARBURG_SLOPE_RANGE`; inf when not.
-    The DRT's peaks at or beyond it are the Warburg's, not arcs (`shape_notes`, `suggest`)."""
+@dataclass(frozen=True)
+class LowFrequencyTail:
+    """The lowest decade of a spectrum where −Im Z falls as a power of ω: ``slope`` = d ln(−Im Z)/
+    d ln ω fitted over the whole decade and its ``stderr`` (least squares in log–log), ``below_hz``
+    the decade's top (10 f_min), ``warburg``: the slope is a Warburg's −0.5 (`WARBURG_TOLERANCE`)."""
+
+    slope: float
+    stderr: float
+    below_hz: float
+    warburg: bool
+
+    @property
+    def alpha(self) -> float:
+        """The exponent of a CPE in series with this tail: −Im Z = sin(απ/2)/(Q ω^α), slope −α."""
+        return -self.slope
+
+    @property
+    def tau_s(self) -> float:
+        """τ [s] from which the DRT's peaks are the tail's: 1/(2π · ``below_hz``)."""
+        return 1.0 / (2 * math.pi * self.below_hz)
+
+    def words(self) -> str:
+        """"−Im Z goes as ω^−0.37 (± 0.01) below 0.159 Hz", the measured slope named."""
+        return f"−Im Z goes as ω^{self.slope:.2f} (± {self.stderr:.1g}) below {self.below_hz:.3g} Hz".replace("^-", "^−")
+
+
+def low_frequency_tail(frequency, impedance) -> LowFrequencyTail | None:
+    """The spectrum's low-frequency tail (`LowFrequencyTail`) when both `diffusion_slopes` lie in
+    `WARBURG_SLOPE_RANGE`; None when not."""
     lo, hi = WARBURG_SLOPE_RANGE
-    if not all(lo <= s <= hi for s in diffusion_slopes(result.frequency, result.impedance)):
-        return math.inf
-    return 1.0 / (2 * math.pi * float(result.frequency.min()) * 10.0)
+    if not all(lo <= s <= hi for s in diffusion_slopes(frequency, impedance)):
+        return None
+    f = np.asarray(frequency, float)
+    f_min = float(f.min())
+    inside = np.log10(f) <= math.log10(f_min) + 1.0 + 1e-9
+    x, y = np.log(f[inside]), np.log(-np.imag(np.asarray(impedance, complex)[inside]))
+    slope, intercept = np.polyfit(x, y, 1)
+    dof = max(x.size - 2, 1)
+    stderr = math.sqrt(float(np.sum((y - slope * x - intercept) ** 2)) / dof / float(np.sum((x - x.mean()) ** 2)))
+    warburg = abs(slope + 0.5) <= max(WARBURG_TOLERANCE, WARBURG_STDERRS * stderr)
+    return LowFrequencyTail(float(slope), stderr, 10.0 * f_min, bool(warburg))
+
+
+def diffusion_tail_tau(result) -> float:
+    """τ [s] from which ``result``'s spectrum is a low-frequency tail (a Warburg or a CPE in
+    series, `low_frequency_tail`): 1/(2π · 10 f_min), the top of the lowest decade; inf when it
+    has none. The DRT's peaks at or beyond it are the tail's, not arcs (`shape_notes`, `suggest`)."""
+    tail = low_frequency_tail(result.frequency, result.impedance)
+    return math.inf if tail is None else tail.tau_s
 
 
 @functools.lru_cache(maxsize=16)
@@ -115,21 +174,27 @@ def reference_width(result, tau_s: float) -> float:
 
 
 def shape_notes(result) -> tuple[str, ...]:
-    """The diffusion-tail note (when the lowest decade's −Im Z goes as ω^(−1/2)), then a
+    """The low-frequency-tail note (`low_frequency_tail`: a Warburg's or a CPE's), then a
     broad-peak note per peak inside the measured range (outside the tail's τ) `BROAD_FACTOR`
     times as wide as one R‖C's (`reference_width`). Empty for a signed DRT."""
     if result.signed or not result.peaks:
         return ()
     notes = []
-    tail_from = diffusion_tail_tau(result)
-    if not math.isinf(tail_from):
-        f_min = float(result.frequency.min())
+    tail = low_frequency_tail(result.frequency, result.impedance)
+    tail_from = math.inf if tail is None else tail.tau_s
+    if tail is not None:
         inside = [p for p in result.peaks if p.tau_s >= tail_from]
         named = f": the peak(s) at τ = {', '.join(format_time(p.tau_s, 3) for p in inside)} are not separate arcs" if inside else ""
-        notes.append(
-            f"the low-frequency part looks like diffusion (a Warburg element): −Im Z goes as ω^−½ below {10 * f_min:.3g} Hz, "
-            f"where the true γ = (σ/π)√τ rises with no peak{named}; fit a Warburg (W) there, not R‖C arcs"
-        )
+        if tail.warburg:
+            notes.append(
+                f"the low-frequency part looks like diffusion (a Warburg element): {tail.words()}, a Warburg's ω^−0.5, "
+                f"where the true γ = (σ/π)√τ rises with no peak{named}; fit a Warburg (W) there, not R‖C arcs"
+            )
+        else:
+            notes.append(
+                f"the low-frequency part is a constant-phase tail: {tail.words()}, not a Warburg's ω^−0.5; "
+                f"a CPE in series has −Im Z ∝ ω^−α, here α ≈ {tail.alpha:.2f}{named}; fit a CPE there (a Warburg is the case α = 0.5), not R‖C arcs"
+            )
     for p in result.peaks:
         if not p.inside_window or p.tau_s >= tail_from or not p.width_decades > 0:
             continue

@@ -3,9 +3,10 @@
 
 R0 (R_∞) + one R_k‖CPE_k per peak the report counts (`peaks.counted_peaks`: resolved and inside
 the measured τ window), started at R_k = the peak's R, α = 0.9, Q_k = τ_k^α / R_k (so that
-(R_k Q_k)^{1/α} = τ_k); a Warburg W1 in series when the data end in a diffusion tail
-(`shape.diffusion_tail_tau`; the peaks at the tail's τ are its own, not arcs); else a series CPE
-for a resolved peak beyond the slowest point (the data show only its arc's fast side,
+(R_k Q_k)^{1/α} = τ_k); a Warburg W1 in series when the data end in a diffusion tail, a CPE in
+series when they end in a constant-phase tail of another slope (`shape.low_frequency_tail`; the
+peaks at the tail's τ are its own, not arcs); else a series CPE for a resolved peak beyond the
+slowest point (the data show only its arc's fast side,
 R/(jωτ)^α); L1 when the DRT's L is a visible part of |Z| at the top frequency; a series C when
 the DRT fitted one. Unresolved peaks and peaks faster than the top frequency are left out.
 """
@@ -21,7 +22,7 @@ import numpy as np
 
 from ...data import format_quantity, format_time, format_uncertain
 from .peaks import RESOLVED_SIGMAS, counted_peaks
-from .shape import diffusion_tail_tau
+from .shape import low_frequency_tail
 
 __all__ = ["SuggestedCircuit", "suggest_circuit", "most_common_suggestion", "START_ALPHA", "R0_FLOOR_SHARE", "INDUCTIVE_SHARE"]
 
@@ -75,14 +76,16 @@ def suggest_circuit(result) -> SuggestedCircuit:
         parts.append("L1")
         init["L1"] = float(result.l_h)
         reasons.append(f"L1: the DRT's L = {format_quantity(result.l_h, 'H')}, ωL = {omega_max * result.l_h / z_top * 100:.2g} % of |Z| at the top frequency")
-    tail_from = diffusion_tail_tau(result)
+    tail = low_frequency_tail(result.frequency, result.impedance)
+    tail_from = math.inf if tail is None else tail.tau_s
+    tail_name = "W1" if tail is None or tail.warburg else "the tail's CPE"
     counted = {id(p) for p in counted_peaks(result.peaks)}
     slow_end = result.window[1]
     k, beyond = 0, None
     for p in result.peaks:
         at = f"the peak at τ = {format_time(p.tau_s)} ({format_uncertain(p.r_ohm, p.r_ohm_sd, 'Ω')})"
         if p.tau_s >= tail_from:
-            reasons.append(f"{at} left out: it lies in the diffusion tail (W1 holds it)")
+            reasons.append(f"{at} left out: it lies in the {'diffusion' if tail.warburg else 'constant-phase'} tail ({tail_name} holds it)")
         elif p.r_ohm <= 0:
             reasons.append(f"{at} left out: a negative R (signed DRT) is no R‖CPE arc")
         elif p.resolved and p.tau_s > slow_end and beyond is None:
@@ -103,10 +106,17 @@ def suggest_circuit(result) -> SuggestedCircuit:
         init |= {f"{name}.Q": beyond.tau_s**START_ALPHA / beyond.r_ohm, f"{name}.alpha": START_ALPHA}
         reasons.append(f"{name} in series: the peak at τ = {format_time(beyond.tau_s)} lies beyond the slowest point (τ {format_time(slow_end)}); "
                        "the data show only its arc's start, R/(jωτ)^α")
-    if not math.isinf(tail_from):
+    if tail is not None and tail.warburg:
         parts.append("W1")
         init["W1.sigma"] = _warburg_sigma(result)
-        reasons.append(f"W1: −Im Z goes as ω^−½ below {10 * float(result.frequency.min()):.3g} Hz (a diffusion tail)")
+        reasons.append(f"W1: {tail.words()}, a Warburg's ω^−0.5 (a diffusion tail)")
+    elif tail is not None:
+        # −Im Z = sin(απ/2)/(Q ω^α) of a CPE in series (its slope −α; a Warburg is α = 0.5)
+        name = f"CPE{k + 1 + (beyond is not None)}"
+        alpha = min(max(tail.alpha, 0.05), 1.0)
+        parts.append(name)
+        init |= {f"{name}.Q": _tail_cpe_q(result, alpha), f"{name}.alpha": alpha}
+        reasons.append(f"{name} in series: {tail.words()}, not a Warburg's ω^−0.5: a constant-phase tail, α ≈ {alpha:.2f}")
     if not math.isinf(result.c_f):
         parts.append(f"C{k + 1}")
         init[f"C{k + 1}"] = float(result.c_f)
@@ -125,6 +135,15 @@ def _warburg_sigma(result) -> float:
     low = f <= f.min() * math.sqrt(10.0)
     values = -np.imag(result.impedance[low]) * np.sqrt(2 * math.pi * f[low])
     return float(np.median(values[values > 0])) if np.any(values > 0) else 1.0
+
+
+def _tail_cpe_q(result, alpha: float) -> float:
+    """Q [F s^(α−1)] of a series CPE 1/(Q (jω)^α) from the lowest half decade: −Im Z =
+    sin(απ/2)/(Q ω^α), so Q = sin(απ/2)/(−Im Z·ω^α), the median over those points."""
+    f = np.asarray(result.frequency, float)
+    low = f <= f.min() * math.sqrt(10.0)
+    values = -np.imag(result.impedance[low]) * (2 * math.pi * f[low]) ** alpha
+    return math.sin(alpha * math.pi / 2) / float(np.median(values[values > 0])) if np.any(values > 0) else 1.0
 
 
 def _low_end_capacitance(result) -> float:

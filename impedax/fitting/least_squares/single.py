@@ -19,7 +19,7 @@ from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ...data import counted
 from ...errors import IN_MEMORY, ParameterError
 from ...progress import PROGRESS_AFTER_S, progress_to, reports_progress, say
-from ..problem import WEIGHTINGS, circuit_parameters, open_spectrum, prepare_fit, residual_scale, weights
+from ..problem import WEIGHTINGS, check_argument_order, circuit_parameters, open_spectrum, prepare_fit, residual_scale, weights
 from ..statistics import at_noise_floor, information_criteria
 from .batch import BatchFitResult, data_notes, fit_batch, register_spectrum_fit
 from .constraints import constraint_misfit_notes, with_constraint_notes
@@ -106,6 +106,7 @@ def fit(
     run `progress.PROGRESS_AFTER_S` (2 s), as on the command line (`progress.reported`; silent
     in Python before 2026-12-02); False: no lines.
     """
+    check_argument_order("fit", circuit, data)
     if progress is not None:
         if not callable(progress):
             raise ParameterError(f"progress must be a function of one line of text (e.g. print), False (no lines) or None (lines on stderr once the fit has run {PROGRESS_AFTER_S:g} s), got {type(progress).__name__}")
