@@ -18,6 +18,7 @@ from .comparison import DECISIVE_DELTA_AIC, common_source, NOISE_F, SAME_FIT_RMS
 from .least_squares import BatchFitResult, SharedFitResult
 from .least_squares.batch import SPECTRA_AS_ROWS, labels_by_keyword, labels_key
 from .least_squares.result import data_difference
+from .frozen import freeze_fields
 
 __all__ = ["BatchComparison", "compare_batches", "PER_SPECTRUM_CRITERIA", "SUM_NOTE"]
 
@@ -45,6 +46,9 @@ class SpectrumStatistics:
     aic: float
     bic: float
     weighting: str
+
+    def __post_init__(self):
+        freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`)
 
 
 def _spectra_flat(batch: BatchFitResult, dims: Sequence[str], name: str) -> np.ndarray:
@@ -180,6 +184,9 @@ class BatchComparison:
 
     batches: tuple[BatchFitResult, ...]
     dataset: xr.Dataset
+
+    def __post_init__(self):
+        freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`)
 
     @property
     def source(self) -> str | None:
@@ -386,7 +393,7 @@ class BatchComparison:
 
     def to_xarray(self) -> xr.Dataset:
         """``dataset``: the criteria over (model, *dims), the sums over model."""
-        return self.dataset
+        return self.dataset.copy(deep=True)
 
     @labels_by_keyword
     def comparison_of(self, **labels) -> Comparison:

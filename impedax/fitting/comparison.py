@@ -19,6 +19,7 @@ from .least_squares import BatchFitResult, FitResult
 from .least_squares.branches import undetermined
 from .bayes.evidence import EVIDENCE_NOTE_LEAD
 from .least_squares.result import BOUND_CHI2_FRACTION, data_difference, DATA_LIMIT_NOTE, SIGN_HINT_LEAD
+from .frozen import freeze_fields
 
 __all__ = ["compare", "Comparison", "WEAK_DELTA_AIC", "is_nested", "boundary_parameters", "undetermined_names", "criteria", "akaike_weights", "KNOWN_SIGMA", "UNKNOWN_VARIANCE", "TIE_CHI2_REL", "criteria_tie", "SIGMA_CHI2_RED_RANGE", "register_batch_compare"]
 
@@ -174,6 +175,9 @@ class Comparison:
     f_tests: tuple[dict, ...]
     fits: tuple[FitResult, ...]
     aic_form: str = UNKNOWN_VARIANCE  # `KNOWN_SIGMA` under weighting="sigma" (`criteria`)
+
+    def __post_init__(self):
+        freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`)
 
     @property
     def source(self) -> str | None:
@@ -480,7 +484,7 @@ class Comparison:
         table = self.to_table()
         for column in ("bounds", "undetermined"):
             data[column] = ("model", [row[column] for row in table])
-        return xr.Dataset(data, coords={"model": [r["label"] for r in self.rows]})
+        return xr.Dataset(data, coords={"model": [r["label"] for r in self.rows]}).copy(deep=True)
 
     def _repr_html_(self) -> str:
         """The notebook display, as `FitResult`'s: a row per model (its label, k, rms_rel,

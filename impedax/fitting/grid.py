@@ -12,6 +12,7 @@ import numpy as np
 
 from ..data import label_value
 from ..errors import DataError
+from .frozen import freeze_fields
 
 __all__ = ["ResultGrid", "refuse_result_names"]
 
@@ -40,6 +41,9 @@ class ResultGrid:
     shape: tuple[int, ...]
     coords: Mapping[str, np.ndarray]
     results: tuple
+
+    def __post_init__(self):
+        freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`)
 
     def __getitem__(self, index):
         index = index if isinstance(index, tuple) else (index,)

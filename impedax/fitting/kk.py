@@ -30,6 +30,7 @@ from ..errors import DataError, ImpedaxError, ParameterError
 from .grid import ResultGrid, refuse_result_names
 from .problem import frequency_and_z, frequency_z_and_sigma
 from .statistics import difference_noise, non_passive, residual_noise
+from .frozen import freeze_fields
 
 __all__ = ["KKResult", "KKBatchResult", "kk_test", "kk_test_batch", "kk_misfits", "kk_sigma_misfits", "kk_verdicts", "NOISE_SOURCES", "noise_shapes", "rejudged", "DEFAULT_THRESHOLDS", "CONCLUSIVE_POINTS_MIN", "RULE_NAMES", "BAND_MERGE_DECADES", "band_rules", "band_rule_counts", "points_text", "thresholds_for", "left_out_options", "frequency_text"]
 
@@ -160,6 +161,9 @@ class KKResult:
     point_scale: np.ndarray | None = None
     noise_from: str = "residuals"  # "sigma": the chain weighted by 1/σ and each point judged by its σ (`kk_test`'s ``noise``)
 
+    def __post_init__(self):
+        freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`)
+
     def predict(self, freq) -> np.ndarray:
         """The KK fit's impedance [Ω] at ``freq`` [Hz]: R_0 + jωL + (1/C)/(jω) + Σ R_k/(1 +
         jωτ_k) (Schönleber 2014 eq 7; L and 1/C zero when not fitted)."""
@@ -216,7 +220,7 @@ class KKResult:
                 "noise_from": self.noise_from,
                 **{f"threshold_{k}": v for k, v in self.thresholds.items()},
             },
-        )
+        ).copy(deep=True)
 
     def summary(self) -> dict:
         """The JSON of ``impedax kk --json`` (the keys are the public contract)."""
@@ -585,7 +589,7 @@ class KKBatchResult(ResultGrid):
         )
         # (the settings, shared by every spectrum; each spectrum's series R, L and 1/C are variables)
         ds.attrs.update({k: v for k, v in first.to_xarray().attrs.items() if not k.startswith(("series", "inverse_series"))})
-        return ds
+        return ds.copy(deep=True)
 
     def report(self) -> str:
         """The KK test of every spectrum, one line per spectrum (each bad band with the rules that

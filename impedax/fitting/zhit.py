@@ -45,6 +45,7 @@ from ..errors import DataError, ParameterError
 from .kk import CONCLUSIVE_POINTS_MIN, DEFAULT_THRESHOLDS, band_rule_counts, band_rules, bands_of_flags, long_runs, points_text, thresholds_for, zero_impedance_text
 from .problem import frequency_and_z
 from .statistics import difference_noise
+from .frozen import freeze_fields
 
 __all__ = ["ZHITResult", "zhit", "END_LAYER", "END_REACH", "CONCLUSIVE_PER_DECADE_MIN", "BIN_PER_DECADE", "REFERENCE_POINTS"]
 
@@ -111,6 +112,9 @@ class ZHITResult:
     end_slope_local: np.ndarray | None = field(default=None)
     sign_hint: str | None = None  # `io.sign_check.sign_hint`: Z'' may be stored with the opposite sign
 
+    def __post_init__(self):
+        freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`)
+
     @property
     def conclusive(self) -> bool:
         """Whether there are enough frequencies (`kk.CONCLUSIVE_POINTS_MIN`, and
@@ -138,7 +142,7 @@ class ZHITResult:
             coords={"frequency": ("frequency", self.frequency, {"units": "Hz"})},
             attrs={"method": "Z-HIT, first order (Ehm et al. 2000), smoothing-spline phase", "offset_ln_ohm": self.offset,
                    "point_threshold": self.threshold, "run_threshold": self.run_threshold, "run_length": self.run_length},
-        )
+        ).copy(deep=True)
 
     def summary(self) -> dict:
         """The JSON of ``impedax kk --method zhit --json`` (the keys are the public contract;

@@ -42,6 +42,7 @@ from ..fitting.bayes.evidence import MODEL_COMPARISON_NOTE_LEADS
 from ..fitting.bayes.reparam import AREA_UNIT_ADVICE, PLAUSIBLE_GAP_M
 from ..fitting.least_squares.result import MISFIT_RATIO_MAX, REMAINDER_ATTRS, SUBTRACTION_CAUSE, gross_misfits, known_kk_misfits, listed_frequencies
 from ..fitting.statistics import non_passive
+from ..fitting.frozen import freeze_fields
 from .gap_inputs import DriveVoltage, check_gap_inputs, condition_notes, drive_voltage, position_notes, spectra_used
 from .plausible import AIR_BREAKDOWN_V, DRIVE_VOLTAGE_V, FINGERTIP_AREA_M2
 from .sirin import SIRIN_AREA, PaperGapEstimate, gap_force_peak, gap_voltage, paper_gap_estimate, remainder_circuit, remaining_impedance, trial_mean, trial_remainders
@@ -147,6 +148,9 @@ class GapAnalysis:
     """What `gap_analysis` ran with, defaults included: ``eps_gap``, ``cutoff_hz``, ``seed``,
     ``steps`` (hierarchical: draws per chain; pooled: emcee steps, as run when ``"auto"``),
     ``steps_requested``, ``warmup`` and ``chains`` (hierarchical), ``walkers`` (pooled)."""
+
+    def __post_init__(self):
+        freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`)
 
     @property
     def gap_identified(self) -> bool:
@@ -576,7 +580,7 @@ class GapAnalysis:
         out["parameter_unit"] = ("parameter", [q["unit"] or "" for q in table.values()])
         out["parameter_value"].attrs["description"] = "posterior median (hierarchical: of the population median); q05/q95 the 90 % interval; fit_* the least-squares fit on the trial mean"
         out["u_draws"] = ("draw", self.u_draws(), {"units": "m", "description": f"posterior draws of the gap thickness u, thinned evenly to at most {GAP_SAVED_DRAWS}"})
-        return _labelled(out)
+        return _labelled(out).copy(deep=True)
 
 
 # what each variable of a saved gap analysis (`GapAnalysis.to_xarray`) is: long_name and SI units

@@ -55,6 +55,7 @@ from ...circuits import DEFAULT_REGISTRY, Circuit, Registry, compile_circuit, pa
 from ...data import column_width, make_spectrum
 from ...errors import DataError, FitError, ParameterError
 from ..derived import draw_indices
+from ..frozen import freeze_fields
 from .diagnostics import PiledUp, PriorEdges, prior_edges, reducing_bounds
 from .priors import Prior, PriorKind
 from .reparam import Reparametrization
@@ -677,6 +678,9 @@ class HierarchicalPosterior(PiledUp):
     mu_prior_centre: np.ndarray | None = None  # (K,) ln of the median of μ's prior
     shared_prior_centre: np.ndarray | None = None  # (S,) ln φ̂, the centre of a log-sampled shared parameter's prior
 
+    def __post_init__(self):
+        freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`)
+
     @property
     def model(self) -> str:
         return str(self.circuit)
@@ -891,7 +895,7 @@ class HierarchicalPosterior(PiledUp):
                 "reparametrization": self.reparametrization.describe() if self.reparametrization is not None else None,
             },
         )
-        return ds
+        return ds.copy(deep=True)
 
     @classmethod
     def from_xarray(cls, ds: xr.Dataset, *, reparametrization: Reparametrization | None = None, registry: Registry | None = None) -> "HierarchicalPosterior":

@@ -25,6 +25,7 @@ from ...errors import DataError, ParameterError
 from ..derived import QUANTILES, draw_indices, draws_band, needs_freq
 from ..least_squares import FitResult
 from ..least_squares.result import bounds_attr, shown_stderr, stored_bounds
+from ..frozen import freeze_fields
 from .chain import capped_at, length_text
 from .diagnostics import CHAIN_TAU_MULTIPLE, NO_STRAGGLERS, PiledUp, StrongCorrelation, Stragglers, chain_warnings, figure, hdi, integrated_autocorr, interval_warnings, kept_walkers, straggler_warnings, strong_correlations, walkers_text
 from .logprob import NOISE_MODELS, NoiseModel
@@ -98,6 +99,7 @@ class Posterior(PiledUp):
         object.__setattr__(self, "noise", NoiseModel(self.noise))
         if self.registry is None:
             object.__setattr__(self, "registry", DEFAULT_REGISTRY)
+        freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`)
 
     # -- basic views ----------------------------------------------------------------------
     @property
@@ -446,7 +448,7 @@ class Posterior(PiledUp):
             "free_param_2": free,
             "frequency": ("frequency", self.frequency, {"units": "Hz"}),
         }
-        return xr.Dataset(data, coords=coords, attrs=attrs)
+        return xr.Dataset(data, coords=coords, attrs=attrs).copy(deep=True)
 
     @classmethod
     def from_xarray(cls, ds: xr.Dataset, *, reparametrization: Reparametrization | None = None, registry: Registry | None = None) -> "Posterior":

@@ -38,6 +38,7 @@ from ..derived import QUANTILES, draws_band, needs_freq
 from ..least_squares import SharedFitResult, fit
 from ..parameters import ParameterTable
 from ..problem import SIGMA_SOURCES, open_spectrum
+from ..frozen import freeze_fields
 from .diagnostics import NO_STRAGGLERS, PiledUp, Stragglers, chain_warnings, figure, hdi, integrated_autocorr, interval_warnings, kept_walkers, straggler_warnings, walkers_text
 from .logprob import NOISE_MODELS, NoiseModel, start_weighting
 from .chain import AUTO_STEPS, auto_step_cap, ball_scales, capped_at, length_settings, length_text, run_emcee, start_walkers, support_in_sampled_space, undetermined_span
@@ -123,6 +124,9 @@ class SharedPosterior(PiledUp):
     settings: dict = field(default_factory=dict)
     registry: Registry = field(default=DEFAULT_REGISTRY, repr=False)
     stragglers: Stragglers = NO_STRAGGLERS
+
+    def __post_init__(self):
+        freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`)
 
     @property
     def model(self) -> str:
@@ -328,7 +332,7 @@ class SharedPosterior(PiledUp):
             "fit_variables": stored, "fit_dims": stored_dims, "straggler_walkers": list(self.stragglers.walkers), "stragglers": self.stragglers.to_attr(),
         }
         coords = {"walker": kept_walkers(self.n_walkers, self.stragglers), "draw": np.arange(self.n_draws), "param": list(self.names), **fit_coords}
-        return xr.Dataset(data, coords=coords, attrs=attrs)
+        return xr.Dataset(data, coords=coords, attrs=attrs).copy(deep=True)
 
     @classmethod
     def from_xarray(cls, ds: xr.Dataset, *, registry: Registry | None = None) -> "SharedPosterior":

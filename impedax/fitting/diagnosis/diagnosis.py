@@ -73,6 +73,7 @@ from ..least_squares.starts import climb_target
 from ..parameters import ParameterTable
 from ..problem import WEIGHTINGS, check_argument_order, circuit_parameters, open_spectrum
 from ..statistics import information_criteria, non_passive
+from ..frozen import freeze_fields
 from .bands import FailingBand, failing_bands, format_frequency, RUN_P
 from .catalog import BaselineContext, Effect, EffectCatalog, Proposal
 from .effects import DEFAULT_EFFECTS, FINITE_WARBURGS, IN_PLACE_OF_WARBURG, cited_where, element_parents
@@ -205,6 +206,9 @@ class Suggestion:
     removed: tuple[str, ...] = ()  # baseline elements left out (a series resistance that fell to zero)
     vanished: tuple[str, ...] = ()  # those of them that fell to zero where the candidate kept them (`Proposal.vanished`)
 
+    def __post_init__(self):
+        freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`)
+
     @property
     def model(self) -> str:
         return self.fit.model
@@ -270,6 +274,7 @@ class Diagnosis:
 
     def __post_init__(self):
         object.__setattr__(self, "verdict", Verdict(self.verdict))
+        freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`)
 
     @property
     def suggestions(self) -> tuple[Suggestion, ...]:
@@ -509,7 +514,7 @@ class Diagnosis:
         return ds.assign_attrs(impedax_kind="diagnosis", masked_points_hz=[float(f) for f in self.masked_points],
             masked_impedance_real_ohm=[float(np.real(z)) for z in self.masked_impedance], masked_impedance_imag_ohm=[float(np.imag(z)) for z in self.masked_impedance],
             notes=list(self.notes),
-        )
+        ).copy(deep=True)
 
     @staticmethod
     def baseline_of(ds: xr.Dataset, *, registry: Registry | None = None) -> FitResult:

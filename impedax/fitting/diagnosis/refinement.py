@@ -24,6 +24,7 @@ from ..least_squares.starts import values_inside
 from ..parameters import ParameterTable
 from ..reductions import capacitor_name
 from ..problem import WEIGHTINGS, check_argument_order, circuit_parameters, open_spectrum
+from ..frozen import freeze_fields
 from .bands import format_frequency
 from .catalog import EffectCatalog
 from .diagnosis import CANDIDATE_STEPS, DELTA_AIC_MIN, NOISE_FRACTION_MIN, Diagnosis, DRTMemo, Verdict, diagnose, left_out_options, left_out_words, noise_variance_explained, non_passive_points, ranked_size, require_points_for_diagnosis, undetermined_parameters, unidentified_note, verdict_scope_words
@@ -55,6 +56,9 @@ class RefinementStep:
     same_fit: tuple[str, ...] = ()
     where: str = ""  # the suggestion's placement in words (`Suggestion.where`), with why it left an element out
     vanished: tuple[str, ...] = ()  # (added 2026-12-02)
+
+    def __post_init__(self):
+        freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`)
 
     @property
     def model(self) -> str:
@@ -112,6 +116,7 @@ class Refinement:
 
     def __post_init__(self):
         object.__setattr__(self, "verdict", Verdict(self.verdict))
+        freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`)
 
     @property
     def final(self) -> FitResult:
@@ -252,7 +257,7 @@ class Refinement:
             attrs={"final_model": self.final_model, "verdict": str(self.verdict)},
         )
         ds = xr.merge([ds, embedded_fit(self.final, FINAL_FIT_PREFIX, f, z)], combine_attrs="no_conflicts")
-        return ds.assign_attrs(impedax_kind="refinement", masked_points_hz=[float(x) for x in self.masked_points], notes=list(self.notes))
+        return ds.assign_attrs(impedax_kind="refinement", masked_points_hz=[float(x) for x in self.masked_points], notes=list(self.notes)).copy(deep=True)
 
     @staticmethod
     def final_fit_of(ds: xr.Dataset, *, registry: Registry | None = None) -> FitResult:

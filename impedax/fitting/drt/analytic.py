@@ -21,6 +21,7 @@ import numpy as np
 
 from ...circuits.tree import Element, Parallel, Series
 from ...errors import CircuitError, ParameterError
+from ..frozen import freeze_fields
 
 # a ZARC with α ≥ 0.99 has a FWHM below 0.03 decade, finer than any τ grid it is drawn on:
 # it is reported as a delta (an R‖C) at its τ₀
@@ -75,6 +76,9 @@ class AnalyticDRT:
     circuit: str
     relaxations: tuple[tuple[float, float], ...] = ()  # (τ, R) per block: deltas and each continuous block's maximum
 
+    def __post_init__(self):
+        freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`)
+
     def to_xarray(self):
         import xarray as xr
 
@@ -89,7 +93,7 @@ class AnalyticDRT:
             },
             coords={"tau": ("tau", self.tau, {"units": "s"})},
             attrs={"circuit": self.circuit, "method": "closed-form DRT of the circuit's blocks"},
-        )
+        ).copy(deep=True)
 
 
 def _value(values, name):

@@ -10,6 +10,7 @@ import numpy as np
 
 from ...data import format_time, format_uncertain
 from ...errors import DataError
+from ..frozen import freeze_fields
 from .peaks import RESOLVED_SIGMAS, Peak
 from .result import DRTResult
 
@@ -47,6 +48,9 @@ class PeakEvidence:
     distributed: tuple[Peak, ...]
     text: str
     unresolved: tuple[Peak, ...] = ()
+
+    def __post_init__(self):
+        freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`)
 
     @property
     def n_explained(self) -> int:

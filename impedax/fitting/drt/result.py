@@ -13,6 +13,7 @@ from ...data import checked_frequencies, concise_repr, counted, format_quantity,
 from ...errors import IN_MEMORY
 from .peaks import Peak, counted_peaks
 from ..grid import ResultGrid
+from ..frozen import freeze_fields
 
 __all__ = ["DRTResult", "DRTBatchResult", "format_lambda"]
 
@@ -102,6 +103,9 @@ class DRTResult:
     dropped_peaks: tuple[Peak, ...] = ()
     difference_noise: float = math.nan
 
+    def __post_init__(self):
+        freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`)
+
     @property
     def basis(self):
         """The fitted Gaussian RBFs (`basis.RBFBasis`): centres ``basis_tau``, width from
@@ -189,7 +193,7 @@ class DRTResult:
                 "band": "90 % credible band: Gaussian posterior at the evidence-chosen band_lambda, widened to contain gamma; it covers the noise, not the smoothing bias at peaks (docs/drt.md)",
                 "source": self.source,
             },
-        )
+        ).copy(deep=True)
 
     @property
     def warnings(self) -> tuple[str, ...]:
@@ -525,7 +529,7 @@ class DRTBatchResult(ResultGrid):
         # per spectrum: the variables z_ref, lambda_choice, lambda_note, band_lambda)
         common = _common_attrs(first)
         ds.attrs.update(common)
-        return ds
+        return ds.copy(deep=True)
 
     def plot(self, *, title: str | None = None):
         """γ(τ) of every spectrum on one axes, coloured along the batch (a legend of the labels

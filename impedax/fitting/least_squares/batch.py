@@ -23,6 +23,7 @@ from ...data import column_width, concise_repr, coordinate_labels, counted, form
 from ...errors import DataError, ParameterError
 from ...progress import say, silenced
 from ...warning_groups import grouped_warnings, warning_kinds
+from ..frozen import freeze_fields
 from ..grid import refuse_result_names
 from ..parameters import ParameterTable
 from ..problem import residual_scale, weights
@@ -116,6 +117,9 @@ class BatchFitResult:
     source: str | None = field(default=None, repr=False)  # where the data came from (their ``attrs["source"]``), None if unknown: `impedax.write_result` records it
     notes: tuple[str, ...] = ()  # advice for every spectrum that is not a warning, as `FitResult.notes` (added 2026-12-02)
 
+    def __post_init__(self):
+        freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`); to_xarray hands out a copy
+
     @property
     def model(self) -> str:
         return str(self.circuit)
@@ -138,7 +142,7 @@ class BatchFitResult:
         a file is written with ``impedax.write_result(batch, "fits.nc")``, which encodes them."""
         specs = self.circuit.parameter_specs(self.registry)
         units = [specs[str(p)].unit if str(p) in specs else "" for p in self.dataset["param"].values]
-        return self.dataset.assign_coords(unit=("param", units, {"long_name": PARAMETER_UNIT_NAME})).assign_attrs(impedax_kind=self._KIND, warnings={k: list(v) for k, v in self.warnings.items()}, elapsed_s=float(self.elapsed_s), notes=list(self.notes))
+        return self.dataset.copy(deep=True).assign_coords(unit=("param", units, {"long_name": PARAMETER_UNIT_NAME})).assign_attrs(impedax_kind=self._KIND, warnings={k: list(v) for k, v in self.warnings.items()}, elapsed_s=float(self.elapsed_s), notes=list(self.notes))
 
     @classmethod
     def from_xarray(cls, ds: xr.Dataset, *, registry: Registry | None = None) -> "BatchFitResult":

@@ -15,6 +15,7 @@ import xarray as xr
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
 from ...data import checked_frequencies, column_width, concise_repr, format_frequency, format_quantity, format_relative_error, unit_text, value_span
 from ...errors import DataError
+from ..frozen import freeze_fields
 from ..kk import kk_sigma_misfits, kk_verdicts
 from ..parameters import ParameterTable, data_scales
 from ..reductions import RESISTOR_LIKE_ALPHA
@@ -139,6 +140,9 @@ class FitResult:
     bounds: dict[str, tuple[float, float]] = field(default_factory=dict, repr=False)  # the user's bounds of free parameters (`fit(bounds=...)`), those narrower than the element's (`constraints.user_bounds`)
     source: str | None = field(default=None, repr=False)  # where the data came from (their ``attrs["source"]``, `impedax.load`'s path), None if unknown: `impedax.write_result` records it
     notes: tuple[str, ...] = ()  # advice that is not a warning (`unused_sigma_notes`; added 2026-12-02)
+
+    def __post_init__(self):
+        freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`)
 
     @property
     def linearised_stderr(self) -> dict[str, float]:
@@ -393,7 +397,7 @@ class FitResult:
                 "n_evaluations": int(self.n_evaluations), "n_starts": int(self.n_starts), "elapsed_s": float(self.elapsed_s),
                 "bounds": bounds_attr(self.bounds), "notes": list(self.notes),
             },
-        )
+        ).copy(deep=True)  # (the user's to edit: the result's own arrays are read-only)
 
     @classmethod
     def from_xarray(cls, ds: xr.Dataset, *, registry: Registry | None = None) -> "FitResult":

@@ -1,0 +1,113 @@
+"""What a frozen result holds, made read-only (docs/fitting.md, "Results are read-only").
+
+A frozen dataclass refuses ``result.values = ...`` but not ``result.values["R0"] = 1`` nor
+``c = batch.values("C"); c *= 1e9``, which changed the result (and every report, derived
+quantity and file written from it afterwards) silently. As NumPy and xarray do for memory
+that must not change, a result's arrays carry NumPy's read-only flag (a write raises
+``ValueError: assignment destination is read-only``), its mappings refuse item assignment,
+and ``to_xarray`` hands out a copy the user may edit. The result takes its own copy of what
+it is given, so the caller's arrays (the data's ``Z``) stay writable.
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+
+import jax
+import numpy as np
+import xarray as xr
+
+__all__ = ["ReadOnlyDict", "freeze_fields", "read_only", "read_only_array", "read_only_dataset"]
+
+
+class ReadOnlyDict(dict):
+    """A dict that refuses to change: item assignment, deletion, ``update``, ``pop``, ``|=``
+    and the like raise TypeError (as ``types.MappingProxyType``). Unlike a mapping proxy it is
+    still a dict, so ``json.dumps``, ``pickle``, ``copy`` and ``dict(d)`` (an editable copy)
+    work as before, and a JAX pytree (`jax.tree_util`, ``jit`` arguments) with the leaves of
+    the equal dict, in the same order."""
+
+    def _refuse(self, *args, **kwargs):
+        raise TypeError("a result's mapping is read-only: dict(...) gives an editable copy")
+
+    __setitem__ = __delitem__ = __ior__ = clear = pop = popitem = setdefault = update = _refuse
+
+    def __reduce__(self):
+        return (ReadOnlyDict, (dict(self),))
+
+    def __copy__(self):
+        return self
+
+    def __deepcopy__(self, memo):
+        return ReadOnlyDict(copy.deepcopy(dict(self), memo))
+
+
+def _flatten(mapping: ReadOnlyDict):
+    keys = sorted(mapping)  # (a dict's leaf order: `jax.tree_util` sorts its keys)
+    return [mapping[k] for k in keys], (tuple(keys), tuple(mapping))
+
+
+def _unflatten(aux, leaves) -> ReadOnlyDict:
+    sorted_keys, order = aux
+    by_key = dict(zip(sorted_keys, leaves))
+    return ReadOnlyDict((k, by_key[k]) for k in order)
+
+
+jax.tree_util.register_pytree_node(ReadOnlyDict, _flatten, _unflatten)
+
+
+def read_only_array(array) -> np.ndarray:
+    """A read-only copy of ``array`` (itself if it is a NumPy array already read-only and owning its memory)."""
+    if isinstance(array, np.ndarray) and not array.flags.writeable and array.base is None:
+        return array
+    out = np.array(array)
+    out.flags.writeable = False
+    return out
+
+
+def read_only_dataset(ds: xr.Dataset) -> xr.Dataset:
+    """A copy of ``ds`` whose arrays are read-only (loaded from a file or dask if lazy) and
+    whose attributes are its own (deep-copied); the index coordinates xarray keeps immutable
+    already. ``ds`` itself is left as it was."""
+    out = ds.copy(deep=False)
+    for variable in out.variables.values():
+        if not isinstance(variable, xr.IndexVariable):
+            variable.data = read_only_array(variable.values)
+    out.attrs = copy.deepcopy(ds.attrs)
+    return out
+
+
+def read_only_data_array(da: xr.DataArray) -> xr.DataArray:
+    """A copy of ``da`` whose array and coordinates' arrays are read-only (`read_only_dataset`)."""
+    out = da.copy(deep=False)
+    for variable in (out.variable, *(out.coords[name].variable for name in out.coords)):
+        if not isinstance(variable, xr.IndexVariable):  # (an index coordinate, or a DataArray that is one, is immutable)
+            variable.data = read_only_array(variable.values)
+    out.attrs = copy.deepcopy(da.attrs)
+    return out
+
+
+def read_only(value):
+    """``value`` as a result keeps it: a NumPy array as a read-only copy, an xarray Dataset or
+    DataArray as one with read-only arrays, a dict as a `ReadOnlyDict` of read-only values, a
+    tuple as a tuple of read-only items; anything else (numbers, text, JAX arrays, circuits,
+    other frozen results) as it is."""
+    if isinstance(value, np.ndarray):
+        return read_only_array(value)
+    if isinstance(value, xr.Dataset):
+        return read_only_dataset(value)
+    if isinstance(value, xr.DataArray):
+        return read_only_data_array(value)
+    if type(value) is dict or type(value) is ReadOnlyDict:
+        return ReadOnlyDict((k, read_only(v)) for k, v in value.items())
+    if type(value) is tuple and any(isinstance(v, (np.ndarray, dict, tuple, xr.Dataset, xr.DataArray)) for v in value):
+        return tuple(read_only(v) for v in value)
+    return value
+
+
+def freeze_fields(result) -> None:
+    """Make every field of the frozen dataclass instance ``result`` read-only (`read_only`),
+    from its ``__post_init__``: what the constructor was given is copied, never frozen in place."""
+    for f in dataclasses.fields(result):
+        object.__setattr__(result, f.name, read_only(getattr(result, f.name)))
