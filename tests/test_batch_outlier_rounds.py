@@ -14,6 +14,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
+from impedax.fitting.kk import KKChains
 from impedax.fitting.least_squares import batch
 from impedax.fitting.least_squares.solvers import SolverOutput, SolverStatus
 
@@ -43,7 +44,7 @@ def _restarted(monkeypatch, misfit):
     monkeypatch.setattr(batch, "to_solver_space", lambda table, x: x)
     used = np.ones(B, int)
     z = np.broadcast_to(ARC, (B, N))
-    out = batch._outliers_restarted(_output(misfit), np.zeros((B, 1)), used, SimpleNamespace(kk_misfits={}), None, None, None, FREQ, z, 16, 0, np.ones(B), 400, None)
+    out = batch._outliers_restarted(_output(misfit), np.zeros((B, 1)), used, SimpleNamespace(kk_chains=KKChains()), None, None, None, FREQ, z, 16, 0, np.ones(B), 400, None)
     return out, used, given
 
 
@@ -76,5 +77,5 @@ def test_rounds_stop_when_the_rung_moved_nothing(monkeypatch):
     monkeypatch.setattr(batch, "_multistart_rung", rung)
     monkeypatch.setattr(batch, "_from_neighbours", lambda out, u, *rest: (out, u))
     z = np.broadcast_to(ARC, (B, N))
-    batch._outliers_restarted(_output(misfit), np.zeros((B, 1)), np.ones(B, int), SimpleNamespace(kk_misfits={}), None, None, None, FREQ, z, 16, 0, np.ones(B), 400, None)
+    batch._outliers_restarted(_output(misfit), np.zeros((B, 1)), np.ones(B, int), SimpleNamespace(kk_chains=KKChains()), None, None, None, FREQ, z, 16, 0, np.ones(B), 400, None)
     assert given == [[3]]

@@ -65,3 +65,33 @@ def test_kk_misfits_equal_the_batch_test_on_real_cycles():
     cycles = ix.load(CYCLES).isel(cycle=slice(0, 130, 13))
     batch = kk_test_batch(cycles)
     assert np.array_equal(kk_misfits(cycles), np.array([r.rms_rel for r in batch.results]))
+
+
+def test_chains_fitted_once_give_the_batch_tests_misfits_and_verdicts(monkeypatch):
+    """A fit call's `KKChains` fits each spectrum's chain once, for its misfit and for its full
+    test, and both are `kk_test_batch`'s on those spectra (REAL battery cycles, rows out of order)."""
+    cycles = ix.load(CYCLES)
+    freq, z = cycles["frequency"].values, cycles["Z"].transpose("cycle", "frequency").values
+    rows = [7, 64, 3]
+    batch = kk_test_batch(cycles.isel(cycle=rows))
+    fitted = []
+    arrays = kk._kk_arrays
+    monkeypatch.setattr(kk, "_kk_arrays", lambda f, stack, **options: fitted.append(len(stack)) or arrays(f, stack, **options))
+    chains = kk.KKChains()
+    misfits = chains.misfits(freq, z, rows)
+    verdicts = chains.verdicts(freq, z, rows[::-1])
+    assert fitted == [3]  # one stack of the three; the full test fitted none of its own (no stray points here)
+    np.testing.assert_allclose(misfits, [r.rms_rel for r in batch.results], rtol=1e-12)
+    series = 3  # (R_0, L and 1/C: kk_test's defaults)
+    assert verdicts == [(bool(r.valid), r.sign_hint, r.n_rc + series) for r in batch.results[::-1]]
+    assert chains.misfit(64) == misfits[1] and chains.misfit(5) is None
+
+
+def test_chains_where_the_test_cannot_run():
+    """Three frequencies are too few for the chain (R_0, L, 1/C and one RC): misfit 0, no verdict."""
+    freq = np.array([1.0, 10.0, 100.0])
+    z = np.array([[3 - 1j, 2 - 1j, 1 - 0.5j]])
+    chains = kk.KKChains()
+    assert chains.misfits(freq, z, [0]).tolist() == [0.0]
+    assert chains.verdicts(freq, z, [0]) == [(None, None, None)]
+    assert chains.misfit(0) == 0.0

@@ -40,6 +40,7 @@ from ..constants import C_GAP_BOUNDS_F, EPSILON_0, EPSILON_AIR
 from ..fitting.bayes.chain import AUTO_STEPS, steps_rule
 from ..fitting.bayes.evidence import MODEL_COMPARISON_NOTE_LEADS
 from ..fitting.bayes.reparam import AREA_UNIT_ADVICE, PLAUSIBLE_GAP_M
+from ..fitting.kk import KKChains
 from ..fitting.least_squares.result import MISFIT_RATIO_MAX, REMAINDER_ATTRS, SUBTRACTION_CAUSE, gross_misfits, known_kk_misfits, listed_frequencies
 from ..fitting.statistics import non_passive
 from ..fitting.frozen import freeze_fields
@@ -781,7 +782,7 @@ def gap_analysis(
     sampled = _sampling_notes(posterior.warnings)
     notes += [f"EDL fit: {w}" for w in edl.warnings] + [f"sampling: {w}" for w in _correlation_advice(sampled, posterior.strong_correlations, posterior.parameter_draws(), circuit)]
     notes += _estimate_bound_notes("Bayesian gap thickness", float(np.median(u_draws)), paper, remaining, f"; draws span {_um(u_draws.min())}–{_um(u_draws.max())} µm")
-    known_kk: dict[int, float] = {}
+    known_kk = KKChains()
     lower, withheld, merged = _identification(ep, str(requested), circuit, posterior.parameter_draws(), edl, posterior.piled_up, notes, remaining, area, eps_gap, known_kk)
     bound_force = _force_upper_bound(merged, lower, freq, z_skin, z_ts, area=area, v0=v0, eps_gap=eps_gap)
     notes = _area_advice(notes, paper, lower is None and withheld is None)
@@ -1412,14 +1413,14 @@ def _hierarchical(total, skin, touchscreen, remaining, paper, naive, edl, circui
     notes += _gap_breakdown_notes(force, float(np.median(pop["u"])), area, eps_gap)
     notes += [f"EDL fit: {w}" for w in edl.warnings] + [f"sampling: {w}" for w in post.warnings]
     notes += _estimate_bound_notes("population gap thickness", float(np.median(pop["u"])), paper, remaining)
-    known_kk: dict[int, float] = {}
+    known_kk = KKChains()
     lower, withheld, merged = _identification(ep, model_requested, circuit, pop, edl, {}, notes, remaining, area, eps_gap, known_kk)  # (the rule reads a single posterior's pile-up; the hierarchical one's, `HierarchicalPosterior.piled_up`, is of population medians, and only its warnings are passed on)
     bound_force = _force_upper_bound(merged, lower, freq, z_skin, z_ts, area=area, v0=v0, eps_gap=eps_gap)
     notes = _area_advice(notes, paper, lower is None and withheld is None)
     return GapAnalysis(remaining, paper, naive, edl, None, force, area, v0, ep, tuple(notes), method="hierarchical", hierarchical=post, model_requested=model_requested, gap_lower_bound=lower, gap_bound_withheld=withheld, edl_misfit=_misfit_text(edl, remaining, known_kk), force_upper_bound=bound_force)
 
 
-def _misfit_text(fitted, remaining: xr.Dataset, known_kk: dict[int, float]) -> str | None:
+def _misfit_text(fitted, remaining: xr.Dataset, known_kk: KKChains) -> str | None:
     """How a least-squares fit of the trial-mean remainder misses it grossly, by the rule of its
     misfit warning (`gross_misfits`: rms_rel ≥ `GROSS_MISFIT_FROM` and over `MISFIT_RATIO_MAX` ×
     what a Kramers–Kronig-consistent model reaches, ``known_kk`` its memory, and, for a fit
@@ -1439,10 +1440,10 @@ def _identification(ep, requested, circuit, draws, edl, piled_up, notes, remaini
     on the SYNTHETIC stationary example, 53 % off, its 0.165 µm lay above the true 0.139 µm);
     (None, None) when u is determined. ``piled_up``: the sampled parameters piled up against a
     prior's edge (`Posterior.piled_up`). ``ep="C"`` (merged capacitors): the sampled u's lower
-    end (`BOUND_QUANTILE`) is that bound. ``known_kk``: the remainder's KK misfit, once computed.
+    end (`BOUND_QUANTILE`) is that bound. ``known_kk``: the remainder's KK chain, once fitted (`kk.KKChains`).
     Third: the values of `IDENTIFIED_C_REMAINDER` fitted to the remainder when there is a bound
     (the force's upper bound takes its gap voltage: `_force_upper_bound`), else None."""
-    known_kk = {} if known_kk is None else known_kk
+    known_kk = KKChains() if known_kk is None else known_kk
     if ep == "C" and str(circuit) == IDENTIFIED_C_REMAINDER and str(requested) != str(circuit):
         misfit = _misfit_text(edl, remaining, known_kk)
         if misfit is None:

@@ -25,6 +25,7 @@ from ...progress import say, silenced
 from ...warning_groups import grouped_warnings, warning_kinds
 from ..frozen import freeze_fields
 from ..grid import refuse_result_names
+from ..kk import KKChains
 from ..parameters import ParameterTable
 from ..problem import residual_scale, weights
 from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, dominant_points, information_criteria, non_passive, null_sets
@@ -681,7 +682,7 @@ def _started_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting,
     target = None
     for rung, multiple in enumerate(escalation_rungs(len(table.free_names))):
         if rung and poor.size:
-            target = climb_target(freq, z[poor]) if target is None else target
+            target = climb_target(freq, z[poor], solver.kk_chains.misfits(freq, z, poor)) if target is None else target
             still = rms_rel_of(out.z_model[poor], z[poor]) > target
             poor, target = poor[still], target[still]
         if not poor.size:
@@ -713,7 +714,7 @@ def _outliers_restarted(out, u, used, solver, circuit, table, features, freq, z,
     tried = np.zeros(len(z), bool)
     out, u = _from_neighbours(out, u, solver, scale, max_steps)
     for _ in range(OUTLIER_ROUNDS):
-        poor = np.union1d(_poor_in_batch(out, z), gross_misfits(freq, z, out.z_model, solver.kk_misfits))
+        poor = np.union1d(_poor_in_batch(out, z), gross_misfits(freq, z, out.z_model, solver.kk_chains))
         poor = poor[~tried[poor]]
         if not poor.size:
             break
@@ -824,7 +825,7 @@ class _LaneRunner:
         self.n_points = n_points  # (before padding: `outputs` are cut back to them)
         self._placed: dict = {}
         self._shared_placed = None
-        self.kk_misfits: dict[int, float] = {}  # spectrum → its KK test's rms_rel (`result.known_kk_misfits`)
+        self.kk_chains = KKChains()  # spectrum → its KK test's chain, fitted once per call (`result.known_kk_misfits`, `result.misfit_notes`)
 
     def _groups(self, n: int, capacity: int, n_lanes: int) -> list[list[np.ndarray]]:
         """Problems 0..n-1 in chunks of at most ``capacity``, grouped one chunk per device: a
@@ -999,7 +1000,7 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
     stderr[np.ix_(regular, table.free_index)] = without_error(sides[regular], vanished, free_stderr)[0]
     z_model = np.array(out.z_model)
     misfit: list[tuple[str, ...]] = []
-    weighting_extra = data_notes(freq, z, z_model, sigma, weighting, source, solver.kk_misfits, remainder=remainder, attrs=attrs, misfit_out=misfit, n_free=int(table.free_index.size))
+    weighting_extra = data_notes(freq, z, z_model, sigma, weighting, source, solver.kk_chains, remainder=remainder, attrs=attrs, misfit_out=misfit, n_free=int(table.free_index.size))
     for i in np.flatnonzero(odd):
         r = fit_result(circuit, table, freq, z[i], out.row(i), weighting, int(used[i]), 0.0, registry, chi2_at_x=lambda p, s, i=i: solver.chi2_at_x(p, s + i), extra_notes=weighting_extra[i], weights=(inv_re[i], inv_im[i]))
         values[i] = [r.values[n] for n in names]
@@ -1014,7 +1015,7 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
     # a misfit the user's fixed value or bound explains is told so, not blamed on the model (as a single fit's)
     for i in [i for i in range(b) if misfit[i]]:
         at = tuple(n for n, side in zip(table.free_names, sides[i].tolist()) if side)
-        checked = constraint_misfit_notes(circuit, table, registry, freq, z[i], z_model[i], None if sigma is None else sigma[i], dict(zip(names, values[i].tolist())), at, misfit[i], solver.kk_misfits.get(i), weighting=weighting, fit=_spectrum_fit, attrs=attrs)
+        checked = constraint_misfit_notes(circuit, table, registry, freq, z[i], z_model[i], None if sigma is None else sigma[i], dict(zip(names, values[i].tolist())), at, misfit[i], solver.kk_chains.misfit(i), weighting=weighting, fit=_spectrum_fit, attrs=attrs)
         notes[i] = with_constraint_notes(notes[i], misfit[i], checked)
     at_bound = np.zeros(values.shape)
     at_bound[:, table.free_index] = sides != 0
@@ -1032,13 +1033,13 @@ _FEW_LANES, _FEW_CAPACITY = 8, 64
 _MANY_LANES_FROM = 4 * _LANES
 
 
-def data_notes(freq, z, z_model, sigma, weighting: str, source: str, kk_misfits: dict[int, float] | None = None, *, remainder: bool = False, attrs=None, misfit_out: list | None = None, n_free: int | None = None) -> list[tuple[str, ...]]:
+def data_notes(freq, z, z_model, sigma, weighting: str, source: str, kk_chains: KKChains | None = None, *, remainder: bool = False, attrs=None, misfit_out: list | None = None, n_free: int | None = None) -> list[tuple[str, ...]]:
     """The warnings of fits to spectra z (B, N) with models z_model (B, N) that concern the data
     rather than the parameters, one tuple per spectrum, as a single fit gives them: a weighting
     dominated by a few points (`weighting_notes`), points with Re Z < 0 (`non_passive_notes`)
     residuals uneven across the band (`uneven_residual_notes`), residuals beyond or below the
     stated σ (`sigma_scale_notes`)
-    and a gross misfit (`misfit_notes`; ``kk_misfits``: Kramers–Kronig misfits already known);
+    and a gross misfit (`misfit_notes`; ``kk_chains``: the fit call's Kramers–Kronig chains, `kk.KKChains`);
     ``remainder``: the spectra are a subtraction's remainder (`is_remainder`), Re Z < 0 its cause;
     ``attrs``: the data's, for how to fix a flipped sign (`misfit_notes`). ``misfit_out``: a list
     extended with each spectrum's misfit notes alone (the last of its notes); ``n_free``: each
@@ -1048,7 +1049,7 @@ def data_notes(freq, z, z_model, sigma, weighting: str, source: str, kk_misfits:
     weighted = weighting_notes(weighting, freq, *dominant_points(z, *inverse_weights)) if weighting in ("unit", "proportional") else [()] * b
     # (σ-weighted fits beyond σ: whether a KK-consistent chain under the same σ is too, σ then misstating the noise)
     misstated, chain_chi2_red = sigma_misstated(freq, z, z_model, sigma, weighting, n_free)
-    misfit = misfit_notes(freq, z, z_model, kk_misfits, sigma, attrs, weighting=weighting, n_free=n_free, misstated=misstated)
+    misfit = misfit_notes(freq, z, z_model, kk_chains, sigma, attrs, weighting=weighting, n_free=n_free, misstated=misstated)
     uneven = uneven_residual_notes(freq, z, z_model, *inverse_weights, weighting, misfit, has_sigma=sigma is not None)
     scale = sigma_scale_notes(z, z_model, *inverse_weights, weighting, n_free, misfit, chain_chi2_red)
     if misfit_out is not None:

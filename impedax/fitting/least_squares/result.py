@@ -16,7 +16,7 @@ from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, pa
 from ...data import checked_frequencies, column_width, concise_repr, format_frequency, format_quantity, format_relative_error, unit_text, value_span
 from ...errors import DataError
 from ..frozen import freeze_fields
-from ..kk import kk_sigma_misfits, kk_verdicts
+from ..kk import KKChains, kk_sigma_misfits
 from ..parameters import ParameterTable, data_scales
 from ..reductions import RESISTOR_LIKE_ALPHA
 from ..statistics import covariances, information_criteria, non_passive, uncertainties
@@ -1134,18 +1134,15 @@ def misfit_beyond_chain(rms: float, kk: float, n_points: int, n_free: int | None
     return misfit_beyond_noise(rms, kk, n_points, chain_params - n_free)
 
 
-def known_kk_misfits(freq, z, rows: np.ndarray, known: dict[int, float] | None) -> np.ndarray:
-    """`starts.attainable_misfit` of spectra ``z[rows]``, taking and filling ``known`` (row →
-    misfit; one fit call's memory: a batch asks twice, `gross_misfits` before its extra starts
-    and `misfit_notes` after, at ~0.5 ms per spectrum in a batch)."""
-    known = {} if known is None else known
-    missing = [int(i) for i in rows if int(i) not in known]
-    if missing:
-        known.update(zip(missing, attainable_misfit(freq, z[missing]).tolist()))
-    return np.array([known[int(i)] for i in rows], float)
+def known_kk_misfits(freq, z, rows: np.ndarray, known: KKChains | None) -> np.ndarray:
+    """`starts.attainable_misfit` of spectra ``z[rows]``, from and into ``known`` (one fit call's
+    memory of the KK test's chains, `kk.KKChains`: a batch asks up to three times, `gross_misfits`
+    before its extra starts, `misfit_notes` after and its full KK test, `kk.kk_verdicts`, of the
+    same chains, at ~0.5–1.4 ms per spectrum in a batch)."""
+    return (KKChains() if known is None else known).misfits(freq, z, rows)
 
 
-def _checked_misfits(freq, z, z_model, known: dict[int, float] | None, checked_from: float | None = None):
+def _checked_misfits(freq, z, z_model, known: KKChains | None, checked_from: float | None = None):
     """rms_rel (B,) of fits z_model of spectra z, the indices of those at ``checked_from``
     (default `MISFIT_CHECKED_FROM`) or more, and their KK test's misfits (`known_kk_misfits`)."""
     z, z_model = np.atleast_2d(z), np.atleast_2d(z_model)
@@ -1198,7 +1195,7 @@ def misfit_hint(fit) -> str | None:
             "the model misses structure the data hold, small as the misfit looks (a diagnosis shows where and what)")
 
 
-def gross_misfits(freq, z, z_model, known: dict[int, float] | None = None, *, sigma=None, weighting: str | None = None, n_free: int | None = None) -> np.ndarray:
+def gross_misfits(freq, z, z_model, known: KKChains | None = None, *, sigma=None, weighting: str | None = None, n_free: int | None = None) -> np.ndarray:
     """Indices of the fits of spectra z (B, N) that miss the data grossly: rms_rel at least
     `GROSS_MISFIT_FROM` and above `MISFIT_RATIO_MAX` × the KK test's misfit (`known_kk_misfits`,
     with ``known``), and, given the data's ``sigma`` and the fits' ``weighting`` and ``n_free``,
@@ -1255,7 +1252,7 @@ def sigma_misstated(freq, z, z_model, sigma, weighting: str | None, n_free: int 
     return misstated, np.where(misstated, chain, np.nan)
 
 
-def misfit_notes(freq, z, z_model, known: dict[int, float] | None = None, sigma=None, attrs=None, weighting: str | None = None, n_free: int | None = None, misstated=None) -> list[tuple[str, ...]]:
+def misfit_notes(freq, z, z_model, known: KKChains | None = None, sigma=None, attrs=None, weighting: str | None = None, n_free: int | None = None, misstated=None) -> list[tuple[str, ...]]:
     """The misfit warning of each fit of spectra z (B, N) with models z_model (B, N) whose
     rms_rel is at least `MISFIT_CHECKED_FROM`: set against the rms_rel of the linear
     Kramers–Kronig test's Voigt chain (`starts.attainable_misfit`), either the model misses
@@ -1290,7 +1287,9 @@ def misfit_notes(freq, z, z_model, known: dict[int, float] | None = None, sigma=
     Kramers–Kronig-consistent model weighted by the same σ exceeds σ by as well: σ misstates the
     noise, so no note blames the model; such a fit gets the note that the data limit it
     (`sigma_scale_notes` and `uneven_residual_notes`, which that note leaves in place, say what is
-    wrong with σ; added 2026-12-02)."""
+    wrong with σ; added 2026-12-02). ``known``: the fit call's `kk.KKChains` (its chains are fitted
+    once for the misfits and the full test)."""
+    known = KKChains() if known is None else known
     rms, checked, kks = _checked_misfits(freq, z, z_model, known)
     at_noise = within_stated_noise(z, z_model, sigma, weighting, n_free)
     sigma_wrong = np.zeros(rms.size, bool)  # (`sigma_misstated`: σ, not the model, is what the residuals exceed)
@@ -1338,7 +1337,7 @@ def misfit_notes(freq, z, z_model, known: dict[int, float] | None = None, sigma=
         rows = np.atleast_2d(z)
         n_points = rows.shape[-1]
         same_metric = weighting in (None, "modulus")  # (the chain's 1/|Z| weighting: another one's fit need not minimise rms_rel)
-        for (i, kk), (valid, hint, chain_params) in zip(data_limited.items(), kk_verdicts(freq, rows[list(data_limited)], attrs)):
+        for (i, kk), (valid, hint, chain_params) in zip(data_limited.items(), known.verdicts(freq, rows, list(data_limited), attrs)):
             if valid and not sigma_wrong[i] and misfit_beyond_chain(rms[i], kk, n_points, n_free if same_metric else None, chain_params):
                 beyond = (
                     f"this fit's rms_rel is over {MODEL_MISFIT_OVER_CONSISTENT:g}× that" if rms[i] > MODEL_MISFIT_OVER_CONSISTENT * kk

@@ -19,6 +19,7 @@ from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ...data import counted
 from ...errors import IN_MEMORY, ParameterError
 from ...progress import PROGRESS_AFTER_S, progress_to, reports_progress, say
+from ..kk import KKChains
 from ..problem import WEIGHTINGS, check_argument_order, circuit_parameters, open_spectrum, prepare_fit, residual_scale, weights
 from ..statistics import at_noise_floor, information_criteria
 from .batch import BatchFitResult, data_notes, fit_batch, register_spectrum_fit
@@ -191,25 +192,25 @@ def fit(
     guess_words = "the given start (the other parameters' from the data)" if given.any() and not given.all() else start  # (in a list of starts)
     (out,) = solve(guess_start(circuit, table, features, registry))
     used = 1
+    kk_chains = KKChains()  # (the KK test's chain, fitted once for the start ladder's target and the misfit notes)
     # the multistart also when the guess's fit took many steps: the guess was far from the
     # optimum it reached, which may be a local one (docs/fitting.md, "Starts")
     far = int(out.steps) > IDENTITY_DAMPING_STEPS
     if n_starts > 1 and (far or not at_noise_floor(freq, z, out.z_model, inv_re, inv_im, out.code)[()]):
         say(f"the fit from {start} is " + ("far from its start" if far else "not at the noise") + f": {n_starts} starts (the start ladder's first draw: {draw_words(table, n_starts, guess_words)})")
-        out, used = escalated(out, solve, circuit, table, features, freq, z, n_starts, seed, registry, int(max_steps))
+        out, used = escalated(out, solve, circuit, table, features, freq, z, n_starts, seed, registry, int(max_steps), kk_chains)
     out = restarted_inward(out, lambda u: solve(u[None])[0], table, z, inv_re, inv_im, weighting, lambda o: one_spectrum_chi2(solvers.chi2_x, args, o))
     out = canonical_order(circuit, table, freq, out, registry)
     chi2_at_x = one_spectrum_chi2(solvers.chi2_x, args, out)
     # the data's notes as a batch gives them (`batch.data_notes`: one assembly for both paths)
-    kk_misfit: dict[int, float] = {}
     misfits: list[tuple[str, ...]] = []
-    (notes,) = data_notes(freq, z[None], np.asarray(out.z_model)[None], None if sigma is None else sigma[None], weighting, source, kk_misfit,
+    (notes,) = data_notes(freq, z[None], np.asarray(out.z_model)[None], None if sigma is None else sigma[None], weighting, source, kk_chains,
                           remainder=is_remainder(data.attrs), attrs=data.attrs, misfit_out=misfits, n_free=int(table.free_index.size))
     misfit = misfits[0]
     result = fit_result(circuit, table, freq, z, out, weighting, used, time.perf_counter() - t0, registry, chi2_at_x=chi2_at_x, extra_notes=notes, start=start, weights=(inv_re, inv_im),
                         starts_words=starts_words(table, n_starts, used, guess_words))
     # a misfit the user's fixed value or bound explains is told so, not blamed on the model (as a batch's)
-    checked = constraint_misfit_notes(circuit, table, registry, freq, z, result.z_model, sigma, result.values, result.at_bound, misfit, kk_misfit.get(0), weighting=weighting, fit=fit, attrs=data.attrs)
+    checked = constraint_misfit_notes(circuit, table, registry, freq, z, result.z_model, sigma, result.values, result.at_bound, misfit, kk_chains.misfit(0), weighting=weighting, fit=fit, attrs=data.attrs)
     if checked != misfit:
         result = dataclasses.replace(result, warnings=with_constraint_notes(result.warnings, misfit, checked), elapsed_s=time.perf_counter() - t0)
     return dataclasses.replace(result, source=known_source, notes=sigma_notes)
@@ -239,7 +240,7 @@ def starts_words(table, n_starts: int, used: int, start: str) -> str:
             f"{KK_MISFIT_FACTOR:g} × the misfit of a Kramers–Kronig-consistent model; each draw {draw}")
 
 
-def escalated(out, solve, circuit, table, features, freq, z, n_starts: int, seed: int, registry, max_steps: int):
+def escalated(out, solve, circuit, table, features, freq, z, n_starts: int, seed: int, registry, max_steps: int, kk_chains: KKChains | None = None):
     """The fit ``out`` improved by the start ladder (`starts.escalation_rungs`): ``n_starts``
     starts, then, while its rms_rel exceeds `starts.climb_target` (`KK_MISFIT_FACTOR` × the
     misfit of a Kramers–Kronig-consistent model), 4× and 16× as many (new draws each rung;
@@ -248,13 +249,14 @@ def escalated(out, solve, circuit, table, features, freq, z, n_starts: int, seed
     of starts (n_starts, K): a rung runs as several calls of that one shape, so climbing
     compiles nothing new. A rung of several draws screens each and continues the best point
     of every draw to convergence side by side, ``n_starts`` of them per call (one lane each:
-    the lanes a draw's own continuation would leave idle); the best is kept. Returns (the best
-    output, the number of starts used)."""
+    the lanes a draw's own continuation would leave idle); the best is kept. ``kk_chains``: the
+    fit call's `kk.KKChains`, whose chain the target is read from. Returns (the best output, the
+    number of starts used)."""
     calls, target = 0, None
     for rung, multiple in enumerate(escalation_rungs(len(table.free_names))):
         if rung:
             if target is None:
-                target = climb_target(freq, z)[0]
+                target = climb_target(freq, z, None if kk_chains is None else kk_chains.misfits(freq, z[None], [0]))[0]
             rms_rel = float(rms_rel_of(out.z_model, z))
             if rms_rel <= target:
                 break

@@ -510,10 +510,11 @@ def attainable_misfit(freq, z) -> np.ndarray:
         return np.zeros(len(z))
 
 
-def climb_target(freq, z) -> np.ndarray:
+def climb_target(freq, z, attainable=None) -> np.ndarray:
     """The rms_rel (B,) above which a fit of spectra z (B, N) climbs the next rung:
-    `KK_MISFIT_FACTOR` × `attainable_misfit`, at least `ESCALATION_FLOOR`."""
-    return np.maximum(KK_MISFIT_FACTOR * attainable_misfit(freq, z), ESCALATION_FLOOR)
+    `KK_MISFIT_FACTOR` × `attainable_misfit` (``attainable``, when the fit call's `kk.KKChains`
+    knows it), at least `ESCALATION_FLOOR`."""
+    return np.maximum(KK_MISFIT_FACTOR * (attainable_misfit(freq, z) if attainable is None else np.asarray(attainable, float)), ESCALATION_FLOOR)
 
 
 def rms_rel_of(z_model, z) -> np.ndarray:
