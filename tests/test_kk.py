@@ -526,7 +526,9 @@ def test_cli_kk_names_the_points_diagnose_leaves_out_and_takes_a_band(capsys):
     assert main(["kk", str(path), "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["non_passive_hz"] == pytest.approx(negative.tolist())
     assert main(["kk", str(path)]) == 0
-    assert "note: 2 of 30 points have Re Z < 0 (1.12 MHz, 2 MHz)" in capsys.readouterr().out
+    out = capsys.readouterr().out
+    # (what was counted is said: below −5 % of |Z| and −3.4σ of the residuals' noise, Φ(−3.4)·30 ≈ 0.01)
+    assert "note: 2 of 30 points have Re Z < 0 by more than 5 % of |Z| and 3.4σ of the noise (the KK test's residuals;" in out and "(1.12 MHz, 2 MHz), which" in out
     assert main(["kk", str(path), "--fmax", "1M", "--json"]) == 0
     summary = json.loads(capsys.readouterr().out)
     assert summary["non_passive_hz"] == [] and max(summary["frequency_hz"]) < 1e6

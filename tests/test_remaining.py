@@ -163,7 +163,9 @@ def test_a_remainder_with_re_z_below_zero_blames_the_subtraction(tmp_path, capsy
     data = ix.load(out)
     (remainder_note,) = [w for w in ix.fit("R1 + C1", data).warnings if "Re Z < 0" in w]
     (plain_note,) = [w for w in ix.fit("R1 + C1", _without_paths(data)).warnings if "Re Z < 0" in w]
-    assert f"{TOP_NEGATIVE} of {f.size} points have Re Z < 0 ({shown})" in remainder_note and f"{TOP_NEGATIVE} of {f.size} points" in plain_note
+    # (what was counted is said: below −5 % of |Z| and below −kσ of the data's sigma, k = 3.06 for 9 points)
+    counted = f"{TOP_NEGATIVE} of {f.size} points have Re Z < 0 by more than 5 % of |Z| and 3.1σ of the noise (the data's sigma;"
+    assert remainder_note.startswith(counted) and f"({shown}), which no passive circuit reaches" in remainder_note and f"{TOP_NEGATIVE} of {f.size} points" in plain_note
     assert "in a remainder, the cause is the subtraction" in remainder_note and "measurement artifact" not in remainder_note
     assert "measurement artifact" in plain_note and "subtraction" not in plain_note
 

@@ -29,7 +29,7 @@ from ..data import checked_frequencies, column_width, concise_repr, counted, for
 from ..errors import DataError, ImpedaxError, ParameterError
 from .grid import ResultGrid, refuse_result_names
 from .problem import frequency_and_z, frequency_z_and_sigma
-from .statistics import difference_noise, non_passive, residual_noise
+from .statistics import KK_RESIDUAL_NOISE, difference_noise, non_passive, non_passive_words, residual_noise
 from .frozen import freeze_fields
 
 __all__ = ["KKResult", "KKBatchResult", "kk_test", "kk_test_batch", "kk_misfits", "kk_sigma_misfits", "kk_verdicts", "KKChains", "NOISE_SOURCES", "noise_shapes", "rejudged", "DEFAULT_THRESHOLDS", "CONCLUSIVE_POINTS_MIN", "RULE_NAMES", "BAND_MERGE_DECADES", "band_rules", "band_rule_counts", "points_text", "thresholds_for", "left_out_options", "frequency_text"]
@@ -174,9 +174,19 @@ class KKResult:
     @property
     def non_passive_frequencies(self) -> np.ndarray:
         """The frequencies [Hz] of the points whose Re Z < 0 beyond the noise
-        (`statistics.non_passive`): no passive circuit reaches them, the Voigt chain with
-        signed resistances does. `diagnose` and `refine` leave them out before their own test."""
-        return np.sort(self.frequency[non_passive(self.impedance)])
+        (`statistics.non_passive`, against `non_passive_noise`): no passive circuit reaches
+        them, the Voigt chain with signed resistances does. `diagnose` and `refine` leave them
+        out before their own test."""
+        return np.sort(self.frequency[non_passive(self.impedance, noise=self.non_passive_noise)])
+
+    @property
+    def non_passive_noise(self) -> np.ndarray | None:
+        """σ [Ω] of each component at each point that Re Z < 0 is judged against
+        (`statistics.non_passive`): the robust noise estimate of the residuals
+        (``noise_estimate``, first differences) × |Z|; None where it is not finite."""
+        if not math.isfinite(self.noise_estimate):
+            return None
+        return self.noise_estimate * np.abs(self.impedance)
 
     @property
     def conclusive(self) -> bool:
@@ -283,7 +293,8 @@ class KKResult:
         if not bad.size:
             return None
         where = ", ".join(format_frequency(f) for f in bad[:6]) + (", …" if bad.size > 6 else "")
-        return (f"{bad.size} of {self.frequency.size} points have Re Z < 0 ({where}), which no passive circuit reaches; they are "
+        noise_from = KK_RESIDUAL_NOISE if self.non_passive_noise is not None else None
+        return (f"{bad.size} of {self.frequency.size} points have {non_passive_words(noise_from, self.frequency.size)} ({where}), which no passive circuit reaches; they are "
                 "part of this test (impedax diagnose and refine leave them out before theirs: their verdicts may differ); leave them out with --fmin/--fmax")
 
     @property

@@ -72,7 +72,7 @@ from ..least_squares.result import bounds_attr, embedded_fit, fit_from_embedded
 from ..least_squares.starts import climb_target
 from ..parameters import ParameterTable
 from ..problem import WEIGHTINGS, check_argument_order, circuit_parameters, open_spectrum
-from ..statistics import information_criteria, non_passive
+from ..statistics import KK_RESIDUAL_NOISE, NOISE_OF_SIGMA, information_criteria, non_passive, non_passive_words, top_of_band
 from ..frozen import freeze_fields
 from .bands import FailingBand, failing_bands, format_frequency, RUN_P
 from .catalog import BaselineContext, Effect, EffectCatalog, Proposal
@@ -984,18 +984,34 @@ def _rank(cands: list[Suggestion], evidence: PeakEvidence | None = None, loose: 
 
 def non_passive_points(ds: xr.Dataset) -> np.ndarray:
     """Points (bool per frequency) the diagnosis leaves out as not passive: Re Z < 0 beyond
-    the noise (`statistics.non_passive`: below −5 % of |Z|, and below −3σ where the data give
-    σ).
+    the noise (`statistics.non_passive`: below −5 % of |Z|, and below −k σ, σ the data's own or
+    else the KK test's noise estimate (`non_passive_noise`), k = `statistics.chance_depth`: 3.6 at
+    61 points).
 
     Every element of the catalog is passive, so no circuit built from them has a negative
     real part (Re Z(jω) ≥ 0 for a passive one-port); such points are measurement artifacts
     (a phase error of the instrument near the top of its band is the usual cause). They are
     left out only while they are at most `MASK_MAX_FRACTION` of the points and leave
     `MIN_KEPT_POINTS`: a spectrum mostly below zero has a sign or reader problem to fix."""
-    bad = non_passive(ds["Z"].values, ds["sigma"].values if "sigma" in ds else None)
+    bad = non_passive(ds["Z"].values, ds["sigma"].values if "sigma" in ds else None, non_passive_noise(ds))
     if bad.mean() > MASK_MAX_FRACTION or (~bad).sum() < MIN_KEPT_POINTS:
         return np.zeros(bad.size, bool)
     return bad
+
+
+def non_passive_noise(ds: xr.Dataset) -> np.ndarray | None:
+    """σ [Ω] per point that `non_passive_points` judges Re Z < 0 against where the data state no
+    σ: the noise the Kramers–Kronig test's residuals show (`KKResult.non_passive_noise`, as
+    `impedax kk` judges them), so that noise alone is not left out as an artifact (a
+    SYNTHETIC finger spectrum with ~2 % noise, Re Z 0.01–0.3 % of |Z| below 1 kHz, had a point
+    beyond −5 % of |Z| in 1 of 12 spectra); None with σ, or where the test cannot run."""
+    if "sigma" in ds:
+        return None
+    try:
+        kk = kk_test(ds[["Z"]])
+    except ImpedaxError:
+        return None
+    return None if kk.non_passive_noise is None else np.abs(ds["Z"].values) * kk.noise_estimate
 
 
 def _fit_baseline(data, circuit: Circuit | str, effects: EffectCatalog, *, registry: Registry, fmin, fmax, weighting: str, n_starts: int, seed: int, shape: SolverShape | None, noise_given: bool, fixed: Mapping[str, float] | None = None,
@@ -1183,9 +1199,11 @@ def _data_problem(fit: FitResult, kk: KKResult | None, noise: NoiseModel, sign_h
     flagged points where it is comparable (the data's own misfit) are masked when they are at most
     `MASK_MAX_FRACTION` of the points and leave enough to fit (≥ 3 per free parameter and ≥ 8);
     a flagged point the model misses by more is kept, as the model's problem. ``sign_hint``: the KK test's
-    (`io.sign_check.sign_hint`: it fails almost everywhere but passes on conj(Z)); the reason
-    then blames the sign convention and gives the fix, not the measurement (a good cell whose
-    file stores −Z'' under Z'' was sent to be measured again)."""
+    (`io.sign_check.sign_hint`: it fails almost everywhere but passes on conj(Z)); the data are
+    then invalid whatever the share, and the reason blames the sign convention and gives the fix,
+    not the measurement (a good cell whose file stores −Z'' under Z'' was sent to be measured
+    again; a model of the right kind misses conj(Z) by far more than the KK chain does, so the
+    share was below `KK_INVALID_FRACTION` and conjugated SYNTHETIC finger data got "adequate")."""
     none = np.zeros(fit.n_points, bool)
     if kk is None or kk.valid:
         return DataProblem(None, none, None)
@@ -1196,10 +1214,11 @@ def _data_problem(fit: FitResult, kk: KKResult | None, noise: NoiseModel, sign_h
     dkk = np.hypot(kk.residuals_real[idx], kk.residuals_imag[idx])
     comparable = flagged & (dkk >= KK_COMPARABLE * np.abs(fit.residuals))
     share = float(np.mean(comparable))
-    if share >= KK_INVALID_FRACTION and sign_hint:
+    if sign_hint:  # (whatever the share: a model of the right kind misses conj(Z) by far more than the KK chain does)
+        where = (f"where the model fails (at {share * 100:.0f} % of the points the KK misfit is at least {KK_COMPARABLE:.0%} of the model's; "
+                 if share >= KK_INVALID_FRACTION else "(")
         return DataProblem(
-            f"the data themselves are not Kramers–Kronig consistent where the model fails (at {share * 100:.0f} % of the points the KK misfit is at least "
-            f"{KK_COMPARABLE:.0%} of the model's; KK rms_rel {kk.rms_rel * 100:.2g} %, model {fit.rms_rel * 100:.2g} %), most likely because of how the file "
+            f"the data themselves are not Kramers–Kronig consistent {where}KK rms_rel {kk.rms_rel * 100:.2g} %, model {fit.rms_rel * 100:.2g} %), most likely because of how the file "
             f"stores the sign, not the measurement: {sign_hint}; then diagnose again.",
             none, None,
         )
@@ -2050,9 +2069,14 @@ def diagnose(
     masked_z = dict(left_out)  # (each masked point's measured Z, for the figure)
     notes: list[str] = [unidentified_note(base)] if base.unidentified_groups else []
     if not_passive:
+        kk_noise_used = sigma is None and data is not None and non_passive_noise(data) is not None
+        every_f = np.concatenate([np.asarray(base.frequency, float), np.asarray(not_passive, float)])
+        cause = ("an instrument artifact, often a phase error at the top of its band" if top_of_band(every_f, np.arange(every_f.size) >= base.frequency.size)
+                 else "a measurement artifact below the top decade of the band, where an instrument's phase error seldom lies: check those points")
         notes.append(
-            f"{len(not_passive)} point(s) with Re Z < 0 beyond the noise ({', '.join(format_frequency(f) for f in not_passive[:6])}{', …' if len(not_passive) > 6 else ''}) "
-            "are left out of every fit and test: no passive circuit has a negative real part (an instrument artifact, often a phase error at the top of its band)"
+            f"{len(not_passive)} point(s) with {non_passive_words(NOISE_OF_SIGMA if sigma is not None else KK_RESIDUAL_NOISE if kk_noise_used else None, every_f.size)} "
+            f"({', '.join(format_frequency(f) for f in not_passive[:6])}{', …' if len(not_passive) > 6 else ''}) "
+            f"are left out of every fit and test: no passive circuit has a negative real part ({cause})"
         )
     if kk is None:
         say("the Kramers–Kronig test of the data")

@@ -1020,9 +1020,13 @@ def refine(
             if restarted is not None:
                 return restarted
             notes.append(why)
-    steps = _second_path(steps, picked, limit, diagnosed, say, notes, finished)
-    steps = _simplified(steps, used, n_starts=n_starts, seed=seed, diagnosed=diagnosed, reproduced=reproduced, say=say, notes=notes)
-    steps = _pruned(steps, used, n_starts=n_starts, seed=seed, diagnosed=diagnosed, reproduced=reproduced, say=say, notes=notes)
+    # (data whose stored sign the KK test doubts (`Diagnosis.sign_hint`) end at that verdict: no
+    # model is simplified or pruned on them; conjugated SYNTHETIC finger data lost C_s, R_sc and
+    # C_sc as "vanishing" before the verdict named the sign, 2026-12-02)
+    if not (stop.verdict == Verdict.DATA_INVALID and stop.sign_hint):
+        steps = _second_path(steps, picked, limit, diagnosed, say, notes, finished)
+        steps = _simplified(steps, used, n_starts=n_starts, seed=seed, diagnosed=diagnosed, reproduced=reproduced, say=say, notes=notes)
+        steps = _pruned(steps, used, n_starts=n_starts, seed=seed, diagnosed=diagnosed, reproduced=reproduced, say=say, notes=notes)
     steps = _with_alternatives(steps)
     last = steps[-1].diagnosis
     if last.verdict == Verdict.MISSING_EFFECT and last.best is not None and sum(effect_count(s.effect) for s in steps) + effect_count(last.best.effect) > limit:

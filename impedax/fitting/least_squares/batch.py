@@ -28,7 +28,7 @@ from ..grid import refuse_result_names
 from ..kk import KKChains
 from ..parameters import ParameterTable
 from ..problem import residual_scale, weights
-from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, dominant_points, information_criteria, non_passive, null_sets
+from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, dominant_points, fit_noise, information_criteria, non_passive, null_sets
 from .order import canonical_order
 from .branches import RELATIVE_ERROR_LIMIT, held_covariances, idle_branch_notes, settle_vanishing, vanishing_term_mask, undetermined, unidentified_stderr, undetermined_mask, vanishing_candidates, vanishing_parameters
 from .constraints import constraint_misfit_notes, with_constraint_notes
@@ -1054,8 +1054,10 @@ def data_notes(freq, z, z_model, sigma, weighting: str, source: str, kk_chains: 
     scale = sigma_scale_notes(z, z_model, *inverse_weights, weighting, n_free, misfit, chain_chi2_red)
     if misfit_out is not None:
         misfit_out.extend(misfit)
-    passive = ~np.any(non_passive(z, sigma), axis=-1)  # (the spectra `non_passive_notes` has nothing to say of)
-    return [tuple(weighted[i]) + (() if passive[i] else non_passive_notes(freq, z[i], None if sigma is None else sigma[i], remainder=remainder)) + uneven[i] + scale[i] + misfit[i] for i in range(b)]
+    noise = None if sigma is not None else fit_noise(freq, z, z_model, n_free or 0)  # (Re Z < 0 is judged against the noise the residuals show)
+    passive = ~np.any(non_passive(z, sigma, noise), axis=-1)  # (the spectra `non_passive_notes` has nothing to say of)
+    return [tuple(weighted[i]) + (() if passive[i] else non_passive_notes(freq, z[i], None if sigma is None else sigma[i], remainder=remainder, noise=None if noise is None else noise[i]))
+            + uneven[i] + scale[i] + misfit[i] for i in range(b)]
 
 
 RESULT_NAMES = frozenset({

@@ -16,7 +16,7 @@ from ...circuits import Circuit, Registry
 from ...errors import ImpedaxError
 from ...progress import silenced
 from ..parameters import ParameterTable
-from .result import MISFIT_CHECKED_FROM, MODEL_MISFIT_OVER_CONSISTENT, misfit_beyond_noise, user_bounds
+from .result import MISFIT_CHECKED_FROM, MODEL_MISFIT_OVER_CONSISTENT, SIGN_HINT_LEAD, misfit_beyond_noise, user_bounds
 
 __all__ = ["binding_constraints", "constraint_words", "released_fit", "constraint_explains", "explaining_constraints", "constraint_misfit_notes", "with_constraint_notes", "CONSTRAINT_MISFIT_GAIN"]
 
@@ -139,8 +139,9 @@ def constraint_misfit_notes(circuit: Circuit, table: ParameterTable, registry: R
     (`explaining_constraints` on the spectrum z (N,) at ``freq``, σ ``sigma``
     (N,) or None, against the fit's model ``z_model``; ``kk``: the KK test's misfit that
     `misfit_notes` used). Unchanged otherwise: no note, no binding constraint, or freeing them
-    does not explain the misfit. ``fit``: `single.fit` (`released_fit`)."""
-    if not misfit or kk is None or not kk > 0:
+    does not explain the misfit, or the note holds the KK test's sign hint (`result.SIGN_HINT_LEAD`:
+    freeing a constraint does not mend a stored sign). ``fit``: `single.fit` (`released_fit`)."""
+    if not misfit or kk is None or not kk > 0 or any(f"; {SIGN_HINT_LEAD}" in note for note in misfit):
         return misfit
     fixed = {n: bool(f) for n, f in zip(table.names, table.fixed)}
     bounds = user_bounds(table, circuit, registry)

@@ -19,14 +19,14 @@ from ..frozen import freeze_fields
 from ..kk import KKChains, kk_sigma_misfits
 from ..parameters import ParameterTable, data_scales
 from ..reductions import RESISTOR_LIKE_ALPHA
-from ..statistics import covariances, information_criteria, non_passive, uncertainties
+from ..statistics import FIT_RESIDUAL_NOISE, NOISE_OF_SIGMA, covariances, information_criteria, non_passive, non_passive_words, top_of_band, uncertainties
 from .branches import RELATIVE_ERROR_LIMIT, held_covariances, idle_branch_notes, settle_vanishing, vanishing_term_mask, undetermined, unidentified_stderr, undetermined_mask, vanishing_candidates, vanishing_parameters
 from .solvers import SolverOutput, SolverStatus
 from .starts import attainable_misfit, inward_start, rms_rel_of, well_inside
 
 __all__ = [
     "FitResult", "fit_result", "fit_notes", "parameter_groups", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes",
-    "misfit_notes", "uneven_residual_notes", "sigma_scale_notes", "sigma_misstated", "SIGMA_CHAIN_CHI2_RATIO", "sigma_unit_slip", "SIGMA_UNIT_SLIP_FACTOR", "SIGMA_UNIT_SLIP_FRACTION", "SIGMA_RELATIVE_Z", "unused_sigma_notes", "stored_notes", "chi2_red_range", "SIGMA_SCALE_FACTOR", "residual_band_rms", "UNEVEN_BAND_POINTS", "UNEVEN_RESIDUAL_RATIO", "UNEVEN_NOISE_NOTE", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "within_stated_noise", "misfit_hint", "MISFIT_HINT_FROM", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
+    "misfit_notes", "uneven_residual_notes", "sigma_scale_notes", "sigma_misstated", "SIGMA_CHAIN_CHI2_RATIO", "sigma_unit_slip", "SIGMA_UNIT_SLIP_FACTOR", "SIGMA_UNIT_SLIP_FRACTION", "SIGMA_RELATIVE_Z", "unused_sigma_notes", "stored_notes", "chi2_red_range", "SIGMA_SCALE_FACTOR", "residual_band_rms", "UNEVEN_BAND_POINTS", "UNEVEN_RESIDUAL_RATIO", "UNEVEN_NOISE_NOTE", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "SIGN_CAUSE_NOTE", "SIGNS_IN_DOUBT_SHARE", "signs_in_doubt", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "within_stated_noise", "misfit_hint", "MISFIT_HINT_FROM", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
     "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "without_error", "near_bound_notes", "resistor_like_notes", "STDERR_NOTE", "LINEARISED_STDERR_NAME", "data_difference", "stored_bounds", "user_bounds",
     "embedded_fit", "fit_from_embedded", "bounds_attr", "unidentified_group_note", "FIT_STATISTICS",
 ]
@@ -1083,6 +1083,26 @@ DATA_LIMIT_NOTE = "the data's noise, drift or artifacts limit the fit, not only 
 # ... followed, when the KK test says the imaginary part may be stored with the opposite sign
 # (`io.sign_check.sign_hint`), by this and the hint (`comparison` keeps it when it replaces the note)
 SIGN_HINT_LEAD = "hint: "
+# the note, in place of one blaming the model, on a fit whose data the KK test's sign hint explains
+# (`io.sign_check.sign_hint`), followed by `SIGN_HINT_LEAD` and the hint: a walkthrough's SYNTHETIC
+# finger spectrum (C_s + C_i + R_sc || C_sc + R_f, 1 % noise) stored as conj(Z), Z'' > 0 at 61 of 61
+# points, ended at rms_rel 107 % with C_s = 7.6e114 F and was told the model missed structure
+SIGN_CAUSE_NOTE = (
+    "the misfit is most likely how the data store the sign, not the model: a passive circuit does not follow them as stored, "
+    "and a diagnosis would look in vain for a missing effect"
+)
+# the share of the points at which Z'' > 0 (or Z' < 0) from which a fit blamed on the model has its
+# data's signs checked (the KK test of Z and conj(Z), ~50 ms; `misfit_notes`): it asks the KK
+# test's rule (`io.sign_check.sign_hint`), whose every path needs data stored with the wrong sign
+# at most points, and spares correctly signed capacitive data, which have neither
+SIGNS_IN_DOUBT_SHARE = 0.5
+
+
+def signs_in_doubt(z) -> bool:
+    """Whether a spectrum ``z`` (N,) has Z'' > 0 or Z' < 0 at at least `SIGNS_IN_DOUBT_SHARE`
+    of its points: only then may the KK test's sign hint explain a misfit (`misfit_notes`)."""
+    z = np.asarray(z, complex)
+    return bool(z.size) and bool(np.mean(z.imag > 0) >= SIGNS_IN_DOUBT_SHARE or np.mean(z.real < 0) >= SIGNS_IN_DOUBT_SHARE)
 # ... where the fit's weighting is not the data's sigma, the end of that note instead: a fit that
 # weighs points by |Z| spends its misfit where σ is large against |Z| (a remainder's noisy high
 # frequencies), so its residuals may exceed σ for the right model (a user's SYNTHETIC gap
@@ -1277,7 +1297,10 @@ def misfit_notes(freq, z, z_model, known: KKChains | None = None, sigma=None, at
     the note says so;
     else the note that the data limit the fit, ending with the KK test's hint when the data fail
     it almost everywhere but conj(Z) passes (``attrs``: the data's, for how to fix the file): a
-    Z'' stored with the opposite sign, not noise or drift, then limits it. ``weighting``: the
+    Z'' stored with the opposite sign, not noise or drift, then limits it. A note that would blame
+    the model is replaced by `SIGN_CAUSE_NOTE` and that hint where the KK test gives one (asked
+    where `signs_in_doubt`): the stored sign, not a missing effect, is then the likely cause
+    (added 2026-12-02: conjugated SYNTHETIC finger data were told the model missed structure). ``weighting``: the
     fits'; one other than ``sigma`` minimised another χ² than σ's, so residuals beyond σ may be
     that weighting's, and the note over σ says to refit with ``sigma`` rather than blame the model
     (`SIGMA_EXCEEDED_UNWEIGHTED`). ``n_free``: the fits' number of free parameters (None: a
@@ -1333,11 +1356,19 @@ def misfit_notes(freq, z, z_model, known: KKChains | None = None, sigma=None, at
                 f"of this fit's misfit: {DATA_LIMIT_NOTE}",
             )
             data_limited[i] = kk
-    if data_limited:  # (the full KK test, and conj(Z)'s only where it fails almost everywhere)
-        rows = np.atleast_2d(z)
+    rows = np.atleast_2d(z)
+    # the fits blamed on the model whose data's stored signs may be the cause instead (`SIGNS_IN_DOUBT_SHARE`)
+    sign_suspects = [i for i in checked.tolist() if out[i] and i not in data_limited and signs_in_doubt(rows[i])]
+    tested = list(data_limited) + sign_suspects
+    if tested:  # (the full KK test, and conj(Z)'s only where it fails almost everywhere)
         n_points = rows.shape[-1]
         same_metric = weighting in (None, "modulus")  # (the chain's 1/|Z| weighting: another one's fit need not minimise rms_rel)
-        for (i, kk), (valid, hint, chain_params) in zip(data_limited.items(), known.verdicts(freq, rows, list(data_limited), attrs)):
+        for i, (valid, hint, chain_params) in zip(tested, known.verdicts(freq, rows, tested, attrs)):
+            if i not in data_limited:
+                if hint:
+                    out[i] = (f"{SIGN_CAUSE_NOTE}; {SIGN_HINT_LEAD}{hint}",)
+                continue
+            kk = data_limited[i]
             if valid and not sigma_wrong[i] and misfit_beyond_chain(rms[i], kk, n_points, n_free if same_metric else None, chain_params):
                 beyond = (
                     f"this fit's rms_rel is over {MODEL_MISFIT_OVER_CONSISTENT:g}× that" if rms[i] > MODEL_MISFIT_OVER_CONSISTENT * kk
@@ -1373,19 +1404,28 @@ def listed_frequencies(freq, mask, shown: int = 6) -> str:
     return ", ".join(f"{f:.4g} Hz" for f in picked[:shown]) + (", …" if picked.size > shown else "")
 
 
-def non_passive_notes(freq, z, sigma=None, *, remainder: bool = False) -> tuple[str, ...]:
-    """A note naming the points with Re Z < 0 beyond the noise (`statistics.non_passive`),
-    which no passive circuit reaches: usually an instrument's phase error near the top of its
-    band; in a remainder (``remainder``, `is_remainder`) the subtraction's scatter."""
-    bad = non_passive(z, sigma)
+def non_passive_notes(freq, z, sigma=None, *, remainder: bool = False, noise=None) -> tuple[str, ...]:
+    """A note naming the points with Re Z < 0 beyond the noise (`statistics.non_passive`: below
+    −5 % of |Z| and −k σ, σ the data's ``sigma`` or else the ``noise`` a fit's residuals show,
+    `statistics.fit_noise`), which no passive circuit reaches, saying what was counted
+    (`statistics.non_passive_words`): an instrument's phase error when they lie in the top
+    decade of the band (`statistics.top_of_band`), a measurement artifact where they lie
+    elsewhere; in a remainder (``remainder``, `is_remainder`) the subtraction's scatter. (Until
+    2026-12-02 the 5 % rule alone, said as "Re Z < 0", flagged a noisy SYNTHETIC finger spectrum's
+    31.6 Hz point, 1 of its 13 with Re Z < 0, and blamed the top of the band.)"""
+    bad = non_passive(z, sigma, noise)
     if not bad.any():
         return ()
-    head = f"{int(bad.sum())} of {bad.size} points have Re Z < 0 ({listed_frequencies(freq, bad)}), which no passive circuit reaches: "
+    noise_from = NOISE_OF_SIGMA if sigma is not None else FIT_RESIDUAL_NOISE if noise is not None and np.any(np.asarray(noise) > 0) else None
+    head = (f"{int(bad.sum())} of {bad.size} points have {non_passive_words(noise_from, bad.size)} ({listed_frequencies(freq, bad)}), "
+            "which no passive circuit reaches: ")
     if remainder:
         return (head + f"in a remainder, the cause is {SUBTRACTION_CAUSE}; leave them out (fmin/fmax, or impedax fit --exclude); a remainder of the trial means (impedax remaining without --trials) scatters less",)
+    if top_of_band(freq, bad):
+        return (head + "a measurement artifact (often a phase error at the top of the instrument's band); leave them out (fmin/fmax) or check the file's sign convention",)
     return (
-        head + "a measurement artifact "
-        "(often a phase error at the top of the instrument's band); leave them out (fmin/fmax) or check the file's sign convention",
+        head + "a measurement artifact below the top decade of the band, where an instrument's phase error seldom lies: check those points "
+        "(an outlier, a sign convention changing within the file) and leave them out (impedax fit --exclude, or fmin/fmax)",
     )
 
 
