@@ -36,6 +36,8 @@ def add_spectrum_command(sub, name: str, *, help: str, description: str, plot_he
     add_fit_options(p)
     p.add_argument("--effects", metavar="ID,ID", help="only these effects (comma-separated ids; default: all)")
     p.add_argument("--noise", metavar="REL", help="relative noise level per component: a fraction of |Z| (0.05) or a percentage (5%%); default: from sigma or the KK residuals, which need 10 frequencies: on fewer give it")
+    p.add_argument("--keep-all-points", action="store_true", help="leave no point out as not Kramers-Kronig consistent: every fit takes every point of the band "
+                   "(but those with Re Z < 0); the data's KK problem is still reported, apart from the verdict (Python: mask=False)")
     add_output_options(p, json="machine-readable output", plot=plot_help, out=result_out_help(out_help))
     p.set_defaults(run=run)
     return p
@@ -97,7 +99,8 @@ def run(args) -> int:
     data = exclude_points(load_selected(args.data, args.select, single="impedax diagnose", readers=args.readers), args.exclude)
     progress = progress_printer(quiet=args.quiet)
     try:
-        result = diagnose(data, args.model, effects=effects, noise=noise, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, progress=progress, fixed=fixed or None, bounds=bounds or None, registry=args.registry)
+        result = diagnose(data, args.model, effects=effects, noise=noise, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, progress=progress, fixed=fixed or None, bounds=bounds or None, registry=args.registry,
+                           mask=not args.keep_all_points)
     finally:
         progress.close()
     source = data_source(data)

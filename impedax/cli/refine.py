@@ -47,6 +47,7 @@ def run(args) -> int:
         result = refine(
             data, args.model, max_effects=args.max_effects, max_steps=solver_steps, effects=effects, weighting=args.weighting, noise=noise,
             fmin=args.fmin, fmax=args.fmax, progress=progress, fixed=fixed or None, bounds=bounds or None, registry=args.registry,
+            mask=not args.keep_all_points,
         )
     finally:
         progress.close()

@@ -6,13 +6,14 @@
    Kramers–Kronig residuals (`kk_test`), plus a model-discrepancy floor from the KK residuals'
    structured part, floored at `NOISE_FLOOR`.
 2. Is it the data? ``data_invalid`` only when the KK misfit is comparable to the model's
-   (`KK_COMPARABLE`) over at least `KK_INVALID_FRACTION` of the points; otherwise the points the
-   KK test flags where it is (the data's own misfit) are masked (`Diagnosis.masked_points`, at
-   most `MASK_MAX_FRACTION`) and the rest is diagnosed; a flagged point the model misses by
-   more than 1/`KK_COMPARABLE`× the KK misfit stays in, as the model's problem. A
+   (`KK_COMPARABLE`) over at least `KK_INVALID_FRACTION` of the points; otherwise the run of
+   points the KK test flags at an end of the band is masked (`Diagnosis.masked_points`, at most
+   `KK_MASK_MAX_FRACTION`: the data's judgement, whatever the model) and the rest is diagnosed;
+   flagged points inside the band, or more, stay in and are reported beside the verdict
+   (`Diagnosis.kk_flagged_kept`). A
    ``data_invalid`` reason names the run the KK test passes (`kk_valid_run`), the trim that keeps
    it and whether the model misses it clearly (`Diagnosis.misses_valid_band`: refine then
-   starts again on it).
+   starts again on it when that leaves out at most `KK_MASK_MAX_FRACTION` of the points).
 3. Failing bands (`impedax.fitting.diagnosis.bands`): runs of one sign in Re or Im of the
    relative residual that are structured beyond the noise, each described in words.
 4. Candidates: every effect of the catalog (`impedax.fitting.diagnosis.effects`) proposes augmented
@@ -83,7 +84,7 @@ from .vanishing import idle_elements, share_words, vanished_terms
 __all__ = [
     "Diagnosis", "Suggestion", "Verdict", "diagnose", "noise_variance_explained", "ranked_size",
     "DELTA_AIC_MIN", "NOISE_FRACTION_MIN", "NOISE_RATIO_MAX", "NOISE_FLOOR", "KK_INVALID_FRACTION", "KK_INVALID_RMS", "BASELINE_STEPS",
-    "KK_COMPARABLE", "MASK_MAX_FRACTION", "OPEN_RESISTANCE_FACTOR", "ARC_ORDERS_MAX", "RELATIVE_ERROR_MAX", "CORRELATION_MAX", "CORRELATED_ERROR_MAX", "CORRELATION_SINGULAR",
+    "KK_COMPARABLE", "MASK_MAX_FRACTION", "KK_MASK_MAX_FRACTION", "OPEN_RESISTANCE_FACTOR", "ARC_ORDERS_MAX", "RELATIVE_ERROR_MAX", "CORRELATION_MAX", "CORRELATED_ERROR_MAX", "CORRELATION_SINGULAR",
 ]
 
 BASELINE_FIT_PREFIX = "baseline_fit_"
@@ -120,8 +121,24 @@ much of a sweep; a few erratic points do not)."""
 KK_INVALID_RMS = 0.02
 """Not used by the rule since the data problems are located point by point (a public name)."""
 MASK_MAX_FRACTION = 0.5
-"""The KK-flagged points are masked (left out of every fit of the diagnosis) when they are at
-most this fraction of the points; more, and the diagnosis keeps them with a note."""
+"""The points with Re Z < 0 are left out (`non_passive_points`) when they are at most this
+fraction of the points; more, and the diagnosis keeps them. (Until 2026-12-02 also the share of
+KK-flagged points left out: now `KK_MASK_MAX_FRACTION`.)"""
+KK_MASK_MAX_FRACTION = 0.25
+"""The points the KK test flags in a run that reaches an end of the band (with `END_ISLAND_MAX`)
+are left out of every fit when they are at most this fraction of the points; more, or flagged
+points inside the band, are kept and reported as the data's problem beside the verdict
+(`Diagnosis.kk_flagged_kept`). A quarter is the share `KK_INVALID_FRACTION` calls the data
+invalid: a diagnosis leaves out less than what would make it call the data invalid. Measured
+(2026-12-02): on Gamry's REAL example file the KK test flags 52 of 72 points (15.9 mHz–2.26 kHz,
+72 %), where Z-HIT flags 15.9–449 mHz and the test passes at 0.654 % rms above 0.5 Hz: the
+flags spread from the drifting low end through the chain's fit; AutoEIS's REAL test_data.txt
+34 % (23 of 67, 1 mHz–0.6 Hz at 0.4–1.2 %), whose model, refined without them, missed them by
+32 %; a SYNTHETIC drifting low end of 41 points, 15 and 16 of them (37 % and 39 %,
+`tests/test_diagnose_mask_ends.py`), the same situation.
+Until 2026-12-02 the left-out set was the flagged points whose KK misfit was at least
+`KK_COMPARABLE` × the model's there, so it followed the model: on Gamry's file 14 points from
+R0 + R1 ∥ CPE1 + W1, none from R0 + R1 ∥ CPE1."""
 MIN_KEPT_POINTS = 8
 """... and when at least this many points (and 3 per free parameter) are left to fit."""
 END_ISLAND_MAX = 2
@@ -266,6 +283,7 @@ class Diagnosis:
     kk_valid_band: tuple[float, float] | None = None  # data_invalid: the run of points [Hz, lowest and highest] the KK test passes (`kk_valid_run`), which --fmin/--fmax keep
     misses_valid_band: bool = False  # data_invalid: the model misses ``kk_valid_band`` clearly (an effect is missing there; refine starts again on it)
     not_passive_points: tuple[float, ...] = ()  # those of ``masked_points`` [Hz] left out for Re Z < 0 beyond the noise (the rest: the KK test's)
+    kk_flagged_kept: str | None = None  # why points the KK test flags were kept in every fit (inside the band, more than `KK_MASK_MAX_FRACTION`, or mask=False): the data's problem, reported beside the verdict
 
     @property
     def source(self) -> str | None:
@@ -374,6 +392,7 @@ class Diagnosis:
             "sign_hint": self.sign_hint,
             "kk_valid_band": list(self.kk_valid_band) if self.kk_valid_band is not None else None,
             "misses_valid_band": self.misses_valid_band,
+            "kk_flagged_kept": self.kk_flagged_kept,  # (added 2026-12-02) why KK-flagged points stayed in every fit, or null
             # (added 2026-12-02) what the verdict was judged on: the band [Hz] of the points kept, their number and how many were left out
             "verdict_band_hz": list(self.verdict_band), "n_points_judged": int(self.baseline.n_points), "n_points_left_out": len(self.masked_points),
         }
@@ -419,7 +438,7 @@ class Diagnosis:
             if not self.kk.conclusive:
                 kk_text = f"{b.n_points} frequencies are too few for the Kramers–Kronig test, and for the noise it estimates"
             kept = f"; without the {len(self.masked_points)} masked point(s) they are (KK rms_rel {self.kk_of_kept.rms_rel * 100:.3g} %)" if self.kk_of_kept is not None else ""
-            lines.append(f"data: {kk_text} (KK rms_rel {self.kk.rms_rel * 100:.3g} %){kept}.")
+            lines.append(f"data: {kk_text} (KK rms_rel {self.kk.rms_rel * 100:.3g} %){kept}" + (f"; {self.kk_flagged_kept}." if self.kk_flagged_kept else "."))
         lines.append(f"noise: σ ≈ {self.noise_level * 100:.3g} % per component (median; {format_range(self.noise)}; {self.noise_source}); the residuals are {self.noise_ratio:.3g}× the noise.")
         if self.masked_points:
             lines.append(f"masked: {len(self.masked_points)} point(s) left out of every fit as the data's own problem ({', '.join(format_frequency(f) for f in self.masked_points[:6])}{', …' if len(self.masked_points) > 6 else ''}; the notes say why).")
@@ -547,7 +566,7 @@ class Diagnosis:
 def _thresholds() -> dict[str, float]:
     return {
         "delta_aic_min": DELTA_AIC_MIN, "noise_fraction_min": NOISE_FRACTION_MIN, "noise_ratio_max": NOISE_RATIO_MAX, "same_fit_noise": SAME_FIT_NOISE, "run_p": RUN_P, "noise_floor": NOISE_FLOOR,
-        "kk_invalid_fraction": KK_INVALID_FRACTION, "kk_comparable": KK_COMPARABLE, "mask_max_fraction": MASK_MAX_FRACTION,
+        "kk_invalid_fraction": KK_INVALID_FRACTION, "kk_comparable": KK_COMPARABLE, "mask_max_fraction": MASK_MAX_FRACTION, "kk_mask_max_fraction": KK_MASK_MAX_FRACTION,
         "relative_error_max": RELATIVE_ERROR_MAX, "correlation_max": CORRELATION_MAX, "correlated_error_max": CORRELATED_ERROR_MAX, "correlation_singular": CORRELATION_SINGULAR,
     }
 
@@ -1144,6 +1163,7 @@ class DataProblem(NamedTuple):
     note: str | None
     valid_band: tuple[float, float] | None = None
     misses_valid_band: bool = False
+    kept: str | None = None  # why KK-flagged points were kept in every fit (inside the band, or too many), or None
 
 
 def kk_valid_run(frequency: np.ndarray, flagged: np.ndarray, n_params: int) -> np.ndarray | None:
@@ -1186,9 +1206,13 @@ def _valid_band_words(fit: FitResult, kk: KKResult, run: np.ndarray, dkk: np.nda
         f"({int(run.sum())} points, KK rms_rel {kk_rms * 100:.2g} %): trim the measurement to that band ({trim})"
     )
     if misses:
+        outside = float(np.mean(~run))
+        by_refine = "refine does so on its own" if outside <= KK_MASK_MAX_FRACTION else (
+            f"refine does not: the trim leaves out {outside * 100:.0f} % of the points, more than the {KK_MASK_MAX_FRACTION * 100:.0f} % it leaves out on its own"
+        )
         words += (
             f"; the model misses those points by {model_rms * 100:.3g} % rms, {model_rms / max(kk_rms, 1e-300):.2g}× the data's own misfit there "
-            f"and {ratio:.2g}× the noise: diagnose that band ({trim}) to find what is missing (refine does so on its own)"
+            f"and {ratio:.2g}× the noise: diagnose that band ({trim}) to find what is missing ({by_refine})"
         )
     return words + ".", misses
 
@@ -1196,9 +1220,10 @@ def _valid_band_words(fit: FitResult, kk: KKResult, run: np.ndarray, dkk: np.nda
 def _data_problem(fit: FitResult, kk: KKResult | None, noise: NoiseModel, sign_hint: str | None = None) -> DataProblem:
     """``data_invalid`` when the KK misfit is comparable to the model's (|Δ_kk| ≥ `KK_COMPARABLE`·|r|
     at a point the KK test flags) at at least `KK_INVALID_FRACTION` of the points; otherwise the
-    flagged points where it is comparable (the data's own misfit) are masked when they are at most
-    `MASK_MAX_FRACTION` of the points and leave enough to fit (≥ 3 per free parameter and ≥ 8);
-    a flagged point the model misses by more is kept, as the model's problem. ``sign_hint``: the KK test's
+    flagged run at either end of the band (`end_runs`, with `end_islands_masked`) is masked when
+    it is at most `KK_MASK_MAX_FRACTION` of the points and leaves enough to fit (≥ 3 per free
+    parameter and ≥ 8): which points, the data alone decide. Flagged points inside the band, or
+    a run beyond that share, are kept, and ``kept`` says why. ``sign_hint``: the KK test's
     (`io.sign_check.sign_hint`: it fails almost everywhere but passes on conj(Z)); the data are
     then invalid whatever the share, and the reason blames the sign convention and gives the fix,
     not the measurement (a good cell whose file stores −Z'' under Z'' was sent to be measured
@@ -1235,32 +1260,64 @@ def _data_problem(fit: FitResult, kk: KKResult | None, noise: NoiseModel, sign_h
             none, None,
             None if run is None else (float(fit.frequency[run].min()), float(fit.frequency[run].max())), misses,
         )
-    # only the points whose misfit is the data's own are masked: a flagged point the model misses
-    # by more than 1/`KK_COMPARABLE`× the KK misfit is the model's problem (AutoEIS's real
-    # test_data.txt: 23 points below 0.6 Hz flagged at 0.4–1.2 % KK misfit, missed by the start
-    # model by 10–60 %, were masked, and refine ended "adequate" on a model 60 % off there)
-    models_own = flagged & ~comparable
-    trimmed = end_islands_masked(comparable, fit.frequency)
-    n_left = int((~trimmed).sum())
-    kept_words = None if not models_own.any() else (
-        f"{int(models_own.sum())} point(s) the KK test flags ({format_frequency(float(np.min(fit.frequency[models_own])))}–{format_frequency(float(np.max(fit.frequency[models_own])))}) are kept: the model misses them by more than "
-        f"{1 / KK_COMPARABLE:.0f}× the data's own misfit there (the model's problem, not the data's)"
+    # what is left out is the data's judgement, not the model's: the flagged run at an end of the
+    # band (an instrument's limit, a drifting start or end of the sweep), at most
+    # `KK_MASK_MAX_FRACTION` of the points; flagged points inside the band, or more, are kept
+    ends = end_runs(end_islands_masked(flagged, fit.frequency), fit.frequency)
+    inside = flagged & ~ends
+    n_left = int((~ends).sum())
+    share_ends = float(np.mean(ends))
+    inside_words = None if not inside.any() else (
+        f"the KK test flags {int(inside.sum())} point(s) inside the band ({runs_words(inside, fit.frequency)}): kept in every fit, as the data's problem there, not left out"
     )
-    if trimmed.any() and float(np.mean(trimmed)) <= MASK_MAX_FRACTION and n_left >= max(MIN_KEPT_POINTS, 3 * fit.n_params):
-        island = trimmed & ~comparable
+    if ends.any() and share_ends <= KK_MASK_MAX_FRACTION and n_left >= max(MIN_KEPT_POINTS, 3 * fit.n_params):
+        island = ends & ~flagged
         island_words = None if not island.any() else (
             f"{int(island.sum())} point(s) at the end of the band ({', '.join(format_frequency(f) for f in np.sort(fit.frequency[island]))}) lie beyond the masked run "
             f"and are masked with it: the KK test does not flag them, but {END_ISLAND_MAX} or fewer points beyond a masked run carry its drift and a model "
             "fits them exactly, whatever it does over the run"
         )
-        words = [w for w in (island_words, kept_words) if w]
-        return DataProblem(None, trimmed, "; ".join(words) if words else None)
-    if not trimmed.any():
-        return DataProblem(None, none, kept_words and f"{kept_words}: diagnosed with every point")
-    return DataProblem(None, none, (
-        f"the KK test flags {np.mean(flagged) * 100:.0f} % of the points and the model's misfit is the data's own at {np.mean(trimmed) * 100:.0f} %, "
-        f"too many to leave out ({n_left} would be left for {counted(fit.n_params, 'free parameter')}): diagnosed with every point"
-    ))
+        words = [w for w in (island_words, inside_words) if w]
+        return DataProblem(None, ends, "; ".join(words) if words else None, kept=inside_words)
+    if not ends.any():
+        return DataProblem(None, none, inside_words and f"{inside_words}: diagnosed with every point", kept=inside_words)
+    why = (
+        f"leaving out the flagged run{'s' if len(runs_hz(ends, fit.frequency)) > 1 else ''} at the end of the band ({runs_words(ends, fit.frequency)}) would discard "
+        f"{share_ends * 100:.0f} % of the points, more than the {KK_MASK_MAX_FRACTION * 100:.0f} % a diagnosis leaves out"
+        if share_ends > KK_MASK_MAX_FRACTION else
+        f"leaving them out would leave {n_left} point(s) for {counted(fit.n_params, 'free parameter')}"
+    )
+    kept = f"the KK test flags {int(flagged.sum())} of {flagged.size} points ({runs_words(flagged, fit.frequency)}): kept in every fit, as the data's problem there, not left out: {why}"
+    return DataProblem(None, none, f"{kept}: diagnosed with every point", kept=kept)
+
+
+def runs_words(selected: np.ndarray, frequency: np.ndarray) -> str:
+    """The runs of `runs_hz` in words: ``"15.9 mHz–2.02 kHz, 5 kHz–8 kHz"``."""
+    return ", ".join(f"{format_frequency(lo)}–{format_frequency(hi)}" for lo, hi in runs_hz(selected, frequency))
+
+
+def runs_hz(selected: np.ndarray, frequency: np.ndarray) -> list[tuple[float, float]]:
+    """The runs of adjacent ``selected`` points (bool per point of ``frequency``, any order) in
+    frequency order, each as its (lowest, highest) frequency [Hz], low to high."""
+    order = np.argsort(frequency)
+    sel, f = np.asarray(selected, bool)[order], np.asarray(frequency, float)[order]
+    edges = np.flatnonzero(np.diff(np.concatenate(([0], sel.astype(int), [0]))))
+    return [(float(f[a]), float(f[b - 1])) for a, b in zip(edges[::2], edges[1::2])]
+
+
+def end_runs(selected: np.ndarray, frequency: np.ndarray) -> np.ndarray:
+    """``selected`` (bool per point of ``frequency``, any order) without its runs that reach
+    neither end of the band: the run from the lowest frequency up and the one from the highest
+    down, the bands an instrument's limit or a drifting start or end of the sweep spoils."""
+    order = np.argsort(frequency)
+    by_f = np.asarray(selected, bool)[order]
+    out_by_f = np.zeros_like(by_f)
+    for end, out in ((by_f, out_by_f), (by_f[::-1], out_by_f[::-1])):
+        n = int(np.argmin(end)) if not end.all() else end.size
+        out[:n] = True
+    out = np.empty_like(out_by_f)
+    out[order] = out_by_f
+    return out
 
 
 def end_islands_masked(masked: np.ndarray, frequency: np.ndarray) -> np.ndarray:
@@ -2107,21 +2164,23 @@ def diagnose(
         kk_bands = ()
     else:
         problem = _data_problem(base, kk, nm, sign_hint)
-        if not mask:
-            problem = problem._replace(masked=np.zeros_like(problem.masked), note=None)
+        if not mask and problem.masked.any():
+            kept = f"the KK test flags {int(np.sum(np.asarray(kk.flagged, bool)))} of {base.n_points} points: kept in every fit (mask=False; --keep-all-points)"
+            problem = problem._replace(masked=np.zeros_like(problem.masked), note=None, kept=kept)
     if problem.invalid is not None:
         bands = failing_bands(base, nm.sigma_rel, kk_bad_bands=kk_bands)
         return Diagnosis(base, kk if kk is not None else inconclusive, nm.sigma_rel, nm.source, bands, (), Verdict.DATA_INVALID, problem.invalid, tuple(notes), _thresholds(), None, nm.measurement, nm.discrepancy, not_passive, kk_as_tested=kk_as_tested, solver_shape=shape, masked_impedance=tuple(left_out.values()), sign_hint=sign_hint,
                          kk_valid_band=problem.valid_band, misses_valid_band=problem.misses_valid_band, not_passive_points=not_passive)
     if problem.note:
         notes.append(problem.note)
+    kk_flagged_kept = problem.kept
     keep = ~problem.masked
     masked = tuple(float(f) for f in base.frequency[problem.masked])
     masked_z.update(zip(masked, (complex(z) for z in base.z_data[problem.masked])))
     if masked:
         spectrum = spectrum.isel(frequency=np.nonzero(keep)[0])
         notes.append(f"{len(masked)} point(s) " + ("behind the failed KK test (without them it passes)" if located is not None else "the KK test flags as the data's own problem") + " are masked: every fit of this diagnosis leaves them out")
-    elif kk is not None and not kk.valid:
+    elif kk is not None and not kk.valid and problem.kept is None:
         notes.append("the KK test flags " + ", ".join(f"{format_frequency(lo)}–{format_frequency(hi)}" for lo, hi in kk.bad_bands) + ": misfits there may be data problems")
     sigma_rel, measurement = nm.sigma_rel[keep], nm.measurement[keep]
 
@@ -2183,5 +2242,5 @@ def diagnose(
     masked = tuple(sorted(masked + not_passive))
     return Diagnosis(
         base, kk if kk is not None else inconclusive, sigma_rel, nm.source, bands, tuple(cands), verdict, reason, tuple(notes), _thresholds(), evidence, measurement, nm.discrepancy, masked, kk_kept, kk_as_tested, shape,
-        tuple(masked_z[f] for f in masked), sign_hint, not_passive_points=not_passive,
+        tuple(masked_z[f] for f in masked), sign_hint, not_passive_points=not_passive, kk_flagged_kept=kk_flagged_kept,
     )

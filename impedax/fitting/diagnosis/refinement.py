@@ -27,7 +27,7 @@ from ..problem import WEIGHTINGS, check_argument_order, circuit_parameters, open
 from ..frozen import freeze_fields
 from .bands import format_frequency
 from .catalog import EffectCatalog
-from .diagnosis import CANDIDATE_STEPS, DELTA_AIC_MIN, NOISE_FRACTION_MIN, Diagnosis, DRTMemo, Verdict, diagnose, left_out_options, left_out_words, noise_variance_explained, non_passive_points, ranked_size, require_points_for_diagnosis, undetermined_parameters, unidentified_note, verdict_scope_words
+from .diagnosis import CANDIDATE_STEPS, DELTA_AIC_MIN, KK_MASK_MAX_FRACTION, NOISE_FRACTION_MIN, Diagnosis, DRTMemo, Verdict, diagnose, left_out_options, left_out_words, noise_variance_explained, non_passive_points, ranked_size, require_points_for_diagnosis, undetermined_parameters, unidentified_note, verdict_scope_words
 from .effects import DEFAULT_EFFECTS, placement
 from .vanishing import share_words, vanished_parameters, vanished_terms
 
@@ -146,6 +146,22 @@ class Refinement:
         start = self.steps[0].diagnosis
         return verdict_scope_words(self.final.frequency, self.masked_points, getattr(start, "not_passive_points", ()))
 
+    @property
+    def data_line(self) -> str:
+        """The report's line on the data, apart from the verdict on the model: where the first
+        diagnosis' KK test fails and whether those points were left out or kept in every fit
+        (`Diagnosis.kk_flagged_kept`); empty when the test passed or did not run."""
+        start = self.steps[0].diagnosis if self.steps else None
+        kk = getattr(start, "kk", None)
+        if kk is None or kk.valid or not getattr(kk, "conclusive", True):
+            return ""
+        flagged = int(np.sum(np.asarray(kk.flagged, bool)))
+        bands = ", ".join(f"{format_frequency(lo)}–{format_frequency(hi)}" for lo, hi in kk.bad_bands)
+        kept = getattr(start, "kk_flagged_kept", None)
+        left = len(self.masked_points) - len(getattr(start, "not_passive_points", ()))
+        how = f"; {kept}" if kept else f"; the KK test flags {flagged} of {kk.frequency.size} points" + (f", {left} point(s) left out of every fit (masked, below)" if left > 0 else "")
+        return f"data: NOT Kramers–Kronig consistent at {bands} (KK rms_rel {kk.rms_rel * 100:.3g} %){how}."
+
     def summary(self) -> dict:
         """The JSON of ``impedax refine --json``: the steps, the final model with its parameters
         (``final_params``, as ``impedax fit --json``'s ``params``) and what they do not determine,
@@ -166,6 +182,8 @@ class Refinement:
             "warnings": list(self.notes),
             # (added 2026-12-02) what the verdict was judged on: the band [Hz] of the final fit's points, their number and how many every fit left out
             "verdict_band_hz": list(self.verdict_band), "n_points_judged": int(final.frequency.size), "n_points_left_out": len(self.masked_points),
+            # (added 2026-12-02) the data's problem, apart from the verdict on the model: the report's "data:" line, or null
+            "data_problem": self.data_line or None,
         }
 
     def to_table(self) -> list[dict[str, object]]:
@@ -191,6 +209,9 @@ class Refinement:
         if len(self.steps) > 1:
             lines.append(f"rms_rel fell from {first.rms_rel * 100:.3g} % to {last.rms_rel * 100:.3g} % in {len(self.steps) - 1} step(s); AIC {first.aic:.1f} → {last.aic:.1f}.")
         last_d = self.steps[-1].diagnosis
+        data_line = self.data_line
+        if data_line:
+            lines.append(data_line)
         heading = last_d.verdict_heading if last_d is not None and last_d.verdict == self.verdict else self.verdict.upper()
         lines.append(f"verdict: {heading}{self.verdict_scope}" + (f" — {last_d.reason}" if last_d is not None else ""))
         lines += self._final_lines()
@@ -896,7 +917,7 @@ limit whatever its size, as ``impedax refine --max-steps`` passes it)."""
     circuit_parameters=circuit_parameters, max_steps=count(1, MAX_SOLVER_STEPS, optional=True), max_effects=count(0, 64, optional=True, why="each effect adds one element"),
     solver_steps=count(1, MAX_SOLVER_STEPS, optional=True), effects=instance_of(EffectCatalog, what="an EffectCatalog (e.g. impedax.DEFAULT_EFFECTS)"),
     weighting=choice(WEIGHTINGS), noise=noise_fraction, registry=instance_of(Registry), fmin=frequency, fmax=frequency,
-    n_starts=count(1, MAX_STARTS), seed=seed_rule, drt_evidence=flag, fixed=parameter_values(), bounds=parameter_bounds,
+    n_starts=count(1, MAX_STARTS), seed=seed_rule, drt_evidence=flag, fixed=parameter_values(), bounds=parameter_bounds, mask=flag,
 )
 def refine(
     data,
@@ -917,6 +938,7 @@ def refine(
     progress: Callable[[str], None] | None = None,
     fixed: Mapping[str, float] | None = None,
     bounds: Mapping[str, tuple[float, float]] | None = None,
+    mask: bool = True,
 ) -> Refinement:
     """Refine ``circuit`` (default `REFINE_START`) on ``data``: diagnose → add the best
     significant effect → refit, until the verdict is not ``missing_effect`` (or no suggestion
@@ -937,8 +959,11 @@ def refine(
     same points (reproducible with ``impedax fit``); a last step whose refit leaves parameters
     undetermined is dropped; an ``adequate`` end loses the elements it added that an adequate
     model can do without (`_simplified`); then any end loses a term its fit's flags say
-    vanished (a resistor run open) and has a C in place of a CPE at α = 1 (`_pruned`). Returns a
-    `Refinement`."""
+    vanished (a resistor run open) and has a C in place of a CPE at α = 1 (`_pruned`). ``mask``:
+    False keeps every point (but those with Re Z < 0) in every fit, as `diagnose`'s
+    ``mask=False`` and ``impedax refine --keep-all-points``: nothing is left out as not
+    Kramers–Kronig consistent, and refine does not start again on the band the KK test passes.
+    Returns a `Refinement`."""
     check_argument_order("refine", data, circuit)
     if solver_steps is not None:
         if max_steps is not None:
@@ -965,7 +990,7 @@ def refine(
     # the DRTs of the run's spectra, each solved once: the data's (the same at every step) and a
     # model's met again (a step's baseline is the fit the step before proposed)
     drts = DRTMemo()
-    first = diagnose(ds, circuit, effects=effects, noise=noise, weighting=weighting, registry=registry, n_starts=n_starts, max_steps=solver_steps, seed=seed, drt_evidence=drt_evidence, progress=within, drt_memo=drts, fixed=fixed, bounds=bounds)
+    first = diagnose(ds, circuit, effects=effects, noise=noise, weighting=weighting, registry=registry, n_starts=n_starts, max_steps=solver_steps, seed=seed, drt_evidence=drt_evidence, progress=within, drt_memo=drts, fixed=fixed, bounds=bounds, mask=mask)
     masked = first.masked_points
     # the KK test as the first diagnosis got it (before its local judgement, which every step
     # redoes): the discrepancy floor δ takes that test's flags, so each step has the first's noise
@@ -1007,12 +1032,21 @@ def refine(
     picked = _best_within(first, limit)
     steps = _greedy([RefinementStep(first.baseline, None, None, first)], picked, limit, diagnosed, say, "")
     stop = steps[-1].diagnosis
-    if stop.verdict == Verdict.DATA_INVALID and stop.misses_valid_band and stop.kk_valid_band is not None:
+    if mask and stop.verdict == Verdict.DATA_INVALID and stop.misses_valid_band and stop.kk_valid_band is not None:
         # the misfit left is the data's own over much of the band, but the model still misses the
-        # band the KK test passes: judge it there (`_on_valid_band`), not give up on the whole
+        # band the KK test passes: judge it there (`_on_valid_band`), not give up on the whole,
+        # when what it leaves out is at most the share a diagnosis leaves out (`KK_MASK_MAX_FRACTION`)
         lo, hi = stop.kk_valid_band
         band = ds.isel(frequency=np.nonzero((ds["frequency"].values >= lo) & (ds["frequency"].values <= hi))[0])
-        if 0 < band.sizes["frequency"] < ds.sizes["frequency"]:  # (each start again drops points: it ends)
+        outside = 1 - band.sizes["frequency"] / ds.sizes["frequency"]
+        if 0 < band.sizes["frequency"] < ds.sizes["frequency"] and outside > KK_MASK_MAX_FRACTION:
+            notes.append(
+                f"the KK test passes only {format_frequency(lo)}–{format_frequency(hi)} ({band.sizes['frequency']} of {ds.sizes['frequency']} points), where {stop.baseline.model} "
+                f"misses the data clearly; refine does not start again there: it would leave out {outside * 100:.0f} % of the points, more than the "
+                f"{KK_MASK_MAX_FRACTION * 100:.0f} % it leaves out as not Kramers–Kronig consistent (KK_MASK_MAX_FRACTION), so every point is kept and the data's problem is "
+                "reported beside the verdict (impedax refine --fmin/--fmax judges that band alone)"
+            )
+        elif 0 < band.sizes["frequency"] < ds.sizes["frequency"]:  # (each start again drops points: it ends)
             restarted, why = _on_valid_band(
                 ds, band, steps, circuit, say=say, max_steps=solver_steps, max_effects=limit, effects=effects, weighting=weighting, noise=noise, registry=registry,
                 n_starts=n_starts, seed=seed, drt_evidence=drt_evidence, fixed=fixed, bounds=bounds,
