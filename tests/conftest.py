@@ -24,6 +24,20 @@ import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
 
+_SLOW_LIST = os.path.join(os.path.dirname(__file__), "slow.txt")
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_collection_modifyitems(config, items):
+    """Mark slow the tests and files `tests/slow.txt` lists (the longest of the suite, timed by
+    tests/slow_list.py), before `-m 'not slow'` leaves them to `make test-all`."""
+    with open(_SLOW_LIST, encoding="utf-8") as listing:
+        listed = {line.strip() for line in listing if line.strip() and not line.startswith("#")}
+    for item in items:
+        if item.nodeid in listed or item.nodeid.split("::")[0] in listed:
+            item.add_marker(pytest.mark.slow)
+
+
 @pytest.fixture(autouse=True, scope="module")
 def _release_compiled_programs():
     """Each compiled program keeps its machine code in memory maps, and Linux allows a process
