@@ -22,7 +22,7 @@ from ...arguments import MAX_CHAIN_VALUES, MAX_WALKERS, checked_arguments, choic
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, parse
 from ...errors import DataError, FitError, ParameterError
 from ..least_squares import FitResult, fit
-from ..least_squares.result import MODEL_MISFIT_MARKS, data_difference
+from ..least_squares.result import data_difference, warnings_blame_model
 from ..parameters import checked_bounds, outside_bounds_message
 from ..problem import SIGMA_SOURCES, check_argument_order, open_spectrum
 from .chain import (
@@ -323,7 +323,7 @@ def _start_misfit(init: FitResult, noise: NoiseModel) -> bool | str:
     """Whether the least-squares start misses the data: True where its misfit note blames the
     model (`MODEL_MISFIT_MARKS`); `evidence.START_BEYOND_SIGMA` where only its χ²_red, with the
     data's σ, exceeds `CHI2_RED_MISFIT` (an understated σ or a missing effect); else False."""
-    if any(mark in w for w in init.warnings for mark in MODEL_MISFIT_MARKS):
+    if warnings_blame_model(init.warnings):
         return True
     beyond = noise is NoiseModel.SIGMA and init.weighting == "sigma" and math.isfinite(init.chi2_red) and init.chi2_red > CHI2_RED_MISFIT
     return START_BEYOND_SIGMA if beyond else False

@@ -32,7 +32,7 @@ from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, domi
 from .order import canonical_order
 from .branches import RELATIVE_ERROR_LIMIT, held_covariances, idle_branch_notes, settle_vanishing, vanishing_term_mask, undetermined, unidentified_stderr, undetermined_mask, vanishing_candidates, vanishing_parameters
 from .constraints import constraint_misfit_notes, with_constraint_notes
-from .result import stored_notes, COVARIANCE_NOTE, MODEL_MISFIT_MARKS, BOUND_RESTARTS, FIT_STATISTICS, bounds_attr, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, PARAMETER_UNIT_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, sigma_misstated, sigma_scale_notes, uneven_residual_notes, shown_stderr, stack_notes, vanishing_term_sides, weighting_notes, without_error
+from .result import stored_notes, warnings_blame_model, COVARIANCE_NOTE, BOUND_RESTARTS, FIT_STATISTICS, bounds_attr, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, PARAMETER_UNIT_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, sigma_misstated, sigma_scale_notes, uneven_residual_notes, shown_stderr, stack_notes, vanishing_term_sides, weighting_notes, without_error
 from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, TreeSolvers, better, over_devices, padded_points, tree_solver, trimmed, unscale
 from .starts import SpectrumFeatures, climb_target, batch_outliers, escalation_rungs, guess_start, inward_start, rms_rel_of, rung_seed, rung_starts, to_solver_space, values_inside
 
@@ -419,7 +419,7 @@ class BatchFitResult:
         """Per spectrum (bool over `dims`), whether a warning says its model misses structure the
         data hold (`result.MODEL_MISFIT_MARKS`), as `FitResult.misses_structure`."""
         ds = self.dataset
-        flags = [any(mark in w for w in self.warnings.get(key, ()) for mark in MODEL_MISFIT_MARKS) for key, _ in self.spectrum_keys()]
+        flags = [warnings_blame_model(self.warnings.get(key, ())) for key, _ in self.spectrum_keys()]
         shape = tuple(ds.sizes[d] for d in self.dims)
         return xr.DataArray(np.array(flags, bool).reshape(shape), dims=self.dims, coords={d: ds[d] for d in self.dims if d in ds.coords})
 
