@@ -1,8 +1,11 @@
 """Write `tests/slow.txt`, the tests `make test` leaves to `make test-all`, from a timed run.
 
-    make test-all PYTEST_ARGS='--durations=0' > durations.log
-    python tests/slow_list.py durations.log --seconds 2 --whole-file-setup 20 \\
-        --timed 'the whole suite, 2 cores, DATE' > tests/slow.txt
+    make test PYTEST_ARGS='--durations=0' > durations.log
+    python tests/slow_list.py durations.log --seconds 1.5 --whole-file-setup 15 \\
+        --keep tests/slow.txt --timed 'make test, 2 cores, DATE' > slow.txt && mv slow.txt tests/
+
+Repeat until `make test` is short enough: a test left out hands the compilation it paid for to
+the next test of its file, which may then cross the line.
 
 A test whose call took at least ``--seconds`` goes to the list; so does every test of a file
 whose module fixtures took at least ``--whole-file-setup`` seconds to set up (a costly fixture
@@ -39,16 +42,25 @@ def slow_ids(log_lines, seconds: float, whole_file_setup: float) -> tuple[list[s
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("log", help="output of a pytest run with --durations=0")
-    parser.add_argument("--seconds", type=float, default=2.0)
-    parser.add_argument("--whole-file-setup", type=float, default=20.0)
+    parser.add_argument("--seconds", type=float, default=1.5)
+    parser.add_argument("--whole-file-setup", type=float, default=15.0)
+    parser.add_argument("--keep", help="a list to add to (its entries stay listed)")
     parser.add_argument("--timed", default="", help="where and when the run was timed, for the list's header")
     args = parser.parse_args(argv)
     with open(args.log, encoding="utf-8") as log:
         files, tests = slow_ids(log, args.seconds, args.whole_file_setup)
-    print(f"# Tests `make test` leaves to `make test-all` (made by tests/slow_list.py: calls of at least {args.seconds:g} s,")
-    print(f"# and whole files whose module fixtures take at least {args.whole_file_setup:g} s to set up).")
-    if args.timed:
-        print(f"# Timed: {args.timed}.")
+    timings = []
+    if args.keep:  # its entries, and the runs it was made from
+        with open(args.keep, encoding="utf-8") as kept:
+            lines = [line.strip() for line in kept if line.strip()]
+        timings = [line for line in lines if line.startswith("# Timed:")]
+        listed = [line for line in lines if not line.startswith("#")]
+        files = sorted(set(files) | {entry for entry in listed if "::" not in entry})
+        tests = sorted(t for t in set(tests) | {entry for entry in listed if "::" in entry} if t.split("::")[0] not in files)
+    print("# Tests `make test` leaves to `make test-all`, made by tests/slow_list.py from timed runs: the calls that took at")
+    print("# least --seconds, and whole files whose module fixtures took at least --whole-file-setup seconds to set up.")
+    timings.append(f"# Timed: {args.timed or 'a run'}; --seconds {args.seconds:g} --whole-file-setup {args.whole_file_setup:g}.")
+    print(*timings, sep="\n")
     print("# One pytest node id or test file per line; tests/conftest.py marks them slow.")
     for line in files + tests:
         print(line)
