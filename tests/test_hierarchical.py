@@ -364,9 +364,10 @@ def test_prior_edges_of_the_population_medians_and_shared_parameters(tmp_path):
     stored) checks only what its bounds give: the shared parameter in a bounded (uniform) prior."""
     post = _constructed_edges_posterior()
     assert post.piled_up == {"R1": "both", "CPE1.alpha": "upper"}
-    edge_notes = [w for w in post.warnings if "piles up" in w]
+    edge_notes = [w for w in post.warnings if "not the data, sets" in w]
     assert len(edge_notes) == 3  # (one per side)
-    assert edge_notes[0].startswith("R1 (population median) piles up against the lower tail of its prior lognormal:100,2")
+    assert edge_notes[0].startswith("R1 (population median) follows its prior lognormal:100,2 into the lower tail (")
+    assert "the data do not cut that tail off, so the prior, not the data, sets the lower end of its 90 % interval" in edge_notes[0]
     assert any(w.startswith("CPE1.alpha piles up against its upper bound 1 (") and "the bound, not the data, sets the upper end of its 90 % interval" in w for w in edge_notes)
     assert post.summary()["piled_up"] == post.piled_up and all(w in post.summary()["warnings"] for w in edge_notes)
     path = tmp_path / "edges.nc"

@@ -415,7 +415,7 @@ def prior_edges(
             unit = f" {unit_text(units[i])}".rstrip()
             interval = f"the {side} end of its 90 % interval ({'q05' if side == 'lower' else 'q95'} = {q:.3g}{unit})"
             if not prior.bounded:
-                out.append(f"{n} piles up against the {side} tail of its prior {prior} ({where}): the prior, not the data, sets {interval}")
+                out.append(f"{n} follows its prior {prior} into the {side} tail ({where}): the data do not cut that tail off, so the prior, not the data, sets {interval}")
             elif end == bound and side in user_sides.get(n, ()):
                 out.append(
                     f"{n} piles up against its {side} bound {end:g}, the bound you set (bounds=, --bound) ({where}): your bound, not the data, sets {interval}; "
