@@ -18,7 +18,7 @@ import collections
 import re
 import sys
 
-DURATION = re.compile(r"^([\d.]+)s (setup|call|teardown)\s+(\S+)$")
+DURATION = re.compile(r"^([\d.]+)s (setup|call|teardown)\s+(.+)$")
 
 
 def slow_ids(log_lines, seconds: float, whole_file_setup: float) -> tuple[list[str], list[str]]:
