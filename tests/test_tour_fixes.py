@@ -12,6 +12,7 @@ import pytest
 
 import impedax as ix
 from impedax.errors import ParameterError
+from impedax.progress import DelayedPrinter
 
 matplotlib.use("Agg")
 CYCLES = Path(__file__).resolve().parents[1] / "examples" / "data" / "autoeis_battery_cycles.nc"
@@ -72,7 +73,7 @@ def test_fit_and_compare_say_what_runs(monkeypatch, capsys):
     # come once a run has taken 2 s (here at once)
     from impedax.cli import common, main
 
-    monkeypatch.setattr(common, "progress_printer", lambda after_s=0.0, stream=None, quiet=False: common._Progress(0.0, stream))
+    monkeypatch.setattr(common, "progress_printer", lambda after_s=0.0, stream=None, quiet=False: DelayedPrinter(0.0, stream))
     assert main(["fit", str(CYCLES), "--model", "R0 + R1 || CPE1 + R2 || CPE2 + W1", "--json"]) == 0
     err = capsys.readouterr().err
     assert "fitting R0 + R1 || CPE1 + R2 || CPE2 + W1 to 3 spectra together" in err

@@ -15,7 +15,7 @@ from typing import Callable, Iterable, Mapping, Sequence
 
 from ..arguments import EXCLUDE_RTOL, number_text
 from ..errors import DataError, ParameterError
-from ..progress import PROGRESS_AFTER_S as PROGRESS_AFTER_S_DEFAULT, DelayedPrinter, progress_printer as core_progress_printer
+from ..progress import PROGRESS_AFTER_S as PROGRESS_AFTER_S_DEFAULT, progress_printer as core_progress_printer
 from ..warning_groups import labels_text
 
 __all__ = [
@@ -1682,8 +1682,6 @@ def progress_printer(after_s: float | None = None, stream=None, *, quiet: bool =
     `PROGRESS_AFTER_S`); ``quiet`` (``--quiet``): a printer that prints nothing."""
     return core_progress_printer(PROGRESS_AFTER_S if after_s is None else after_s, stream, quiet=quiet)
 
-
-_Progress = DelayedPrinter  # (the name tests and older code know)
 
 
 def check_distinct_paths(paths: dict[str, str]) -> None:
