@@ -530,7 +530,8 @@ def without_error(sides: np.ndarray, vanished: np.ndarray, free_stderr: np.ndarr
 # why two parameters of one element correlate, by the pair of their names
 _PAIR_REASONS = {
     frozenset(("Q", "alpha")): " (a CPE's Q and α correlate when the data lie far from ω = 1 rad/s{})",
-    frozenset(("R", "tau")): " (a finite Warburg element's R and τ correlate where the data lie at ωτ ≫ 1: it acts there as an infinite Warburg, of which only R/√τ shows)",
+    # (Wo: Z = R coth(x)/x, x = √(jωτ), → R/(jωτ) + R/3 at ωτ ≪ 1, since coth x ≈ 1/x + x/3)
+    frozenset(("R", "tau")): " (a finite Warburg element's R and τ correlate where the data see only one of its limits: at ωτ ≫ 1 it acts as an infinite Warburg, of which only R/√τ shows; at ωτ ≪ 1 an open one (Wo) acts as a capacitor τ/R in series with R/3)",
 }
 WELL_DETERMINED = 0.1
 """Relative standard errors up to which a correlated CPE's Q and α are called well determined."""
