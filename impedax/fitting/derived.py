@@ -21,6 +21,7 @@ import xarray as xr
 from ..data import checked_frequencies
 from ..arguments import closest_name, count, shown, unknown_parameter
 from ..errors import ParameterError
+from .least_squares.branches import RELATIVE_ERROR_LIMIT
 
 __all__ = ["derive", "derive_fit", "derive_batch", "QUANTILES", "MISSES_STRUCTURE_WARNING", "band_dataset", "bind_frequency", "check_real", "needs_freq", "draws_band", "called"]
 
@@ -32,6 +33,18 @@ QUANTILES = {"q05": 0.05, "q16": 0.16, "median": 0.5, "q84": 0.84, "q95": 0.95}
 # was 120.5 mN, with no word
 MISSES_STRUCTURE_WARNING = ("the fit's model misses structure the data hold (its warnings say so): the band is that model's uncertainty, "
                             "not the quantity's, and can lie far from it; find what is missing first (impedax diagnose)")
+UNDETERMINED_WARNING = (f"its standard error exceeds {RELATIVE_ERROR_LIMIT:.0%} of its value: the data do not determine it (it rests on parameters "
+                        "the fit's warnings call undetermined or not separately determined); fix one of them at a value you know, or use impedax sample")
+
+
+def _undetermined(value: np.ndarray, stderr: np.ndarray) -> np.ndarray:
+    """Whether a derived quantity's relative standard error exceeds `RELATIVE_ERROR_LIMIT` or is
+    not finite (the rule a fit applies to its parameters), per spectrum (the leading axis of
+    ``value``, (spectra, *output)): for an output over frequency, at more than half its points,
+    so that a quantity crossing zero at a few frequencies is not flagged there."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        loose = ~(np.abs(stderr) <= RELATIVE_ERROR_LIMIT * np.abs(value))
+    return loose.reshape(len(loose), -1).mean(axis=1) > 0.5
 
 
 def _takes_freq(fn) -> bool:
@@ -105,7 +118,9 @@ def derive_fit(result, fn, freq=None) -> xr.Dataset:
     the bands are the normal quantiles value ± z·stderr (q05/q95: z = 1.645, q16/q84: 0.994).
     Returns a Dataset with ``value``, ``stderr``, ``median`` (= value), ``q05``, ``q16``,
     ``q84``, ``q95`` and, for outputs of at most one dimension, ``covariance``; attrs
-    ``misses_structure`` and ``warning`` when the fit's model misses structure the data hold.
+    ``misses_structure`` and ``warning`` when the fit's model misses structure the data hold;
+    ``undetermined`` and ``warning`` when the quantity's standard error exceeds its value (the
+    fit's rule for its parameters; at more than half the frequencies for an output over them).
     """
     if freq is None and needs_freq(fn):
         freq = result.frequency
@@ -147,6 +162,9 @@ def derive_fit(result, fn, freq=None) -> xr.Dataset:
     if getattr(result, "misses_structure", False):
         attrs["misses_structure"] = 1
         attrs["warning"] = MISSES_STRUCTURE_WARNING
+    if _undetermined(value[None], stderr[None])[0]:
+        attrs["undetermined"] = 1
+        attrs["warning"] = "; ".join(filter(None, [attrs.get("warning"), UNDETERMINED_WARNING]))
     return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
@@ -160,7 +178,8 @@ def derive_batch(batch, fn, freq=None) -> xr.Dataset:
     (and their labels) first in every variable, and ``at_bound`` (bool over those dimensions):
     whether the quantity depends on a parameter at its bound in that spectrum, where the band is
     the linearisation's (attrs ``at_bound`` name the parameters, ``note`` says so), and
-    ``misses_structure`` (bool, `BatchFitResult.misses_structure`; attrs ``warning`` counts them)."""
+    ``misses_structure`` (bool, `BatchFitResult.misses_structure`; attrs ``warning`` counts them)
+    and ``undetermined`` (bool: the quantity's standard error exceeds its value, as `derive_fit`)."""
     ds = batch.dataset
     dims = tuple(batch.dims)
     if freq is None and needs_freq(fn):
@@ -222,6 +241,10 @@ def derive_batch(batch, fn, freq=None) -> xr.Dataset:
         data["misses_structure"] = (dims, flags)
         if flags.any():
             attrs["warning"] = f"in {int(flags.sum())} of {flags.size} spectra (misses_structure): {MISSES_STRUCTURE_WARNING}"
+    loose = _undetermined(value, stderr)
+    data["undetermined"] = (dims, lead(loose))
+    if loose.any():
+        attrs["warning"] = "; ".join(filter(None, [attrs.get("warning"), f"in {int(loose.sum())} of {loose.size} spectra (undetermined): {UNDETERMINED_WARNING}"]))
     return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
