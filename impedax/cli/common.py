@@ -1683,7 +1683,6 @@ def progress_printer(after_s: float | None = None, stream=None, *, quiet: bool =
     return core_progress_printer(PROGRESS_AFTER_S if after_s is None else after_s, stream, quiet=quiet)
 
 
-
 def check_distinct_paths(paths: dict[str, str]) -> None:
     """A `ParameterError` when two of the three inputs name the same file (the same path, or
     two paths to one file); identical spectra in different files are refused by

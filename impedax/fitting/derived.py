@@ -21,7 +21,7 @@ import xarray as xr
 from ..data import checked_frequencies
 from ..arguments import closest_name, count, shown, unknown_parameter
 from ..errors import ParameterError
-from .least_squares.branches import RELATIVE_ERROR_LIMIT
+from .least_squares.branches import RELATIVE_ERROR_LIMIT, undetermined
 
 __all__ = ["derive", "derive_fit", "derive_batch", "QUANTILES", "MISSES_STRUCTURE_WARNING", "band_dataset", "bind_frequency", "check_real", "needs_freq", "draws_band", "called"]
 
@@ -38,12 +38,12 @@ UNDETERMINED_WARNING = (f"its standard error exceeds {RELATIVE_ERROR_LIMIT:.0%} 
 
 
 def _undetermined(value: np.ndarray, stderr: np.ndarray) -> np.ndarray:
-    """Whether a derived quantity's relative standard error exceeds `RELATIVE_ERROR_LIMIT` or is
-    not finite (the rule a fit applies to its parameters), per spectrum (the leading axis of
-    ``value``, (spectra, *output)): for an output over frequency, at more than half its points,
-    so that a quantity crossing zero at a few frequencies is not flagged there."""
-    with np.errstate(divide="ignore", invalid="ignore"):
-        loose = ~(np.abs(stderr) <= RELATIVE_ERROR_LIMIT * np.abs(value))
+    """Whether a derived quantity is undetermined by the rule a fit applies to its parameters
+    (`branches.undetermined`: relative standard error above `RELATIVE_ERROR_LIMIT`, or none
+    finite), per spectrum (the leading axis of ``value``, (spectra, *output)): for an output over
+    frequency, at more than half its points, so that a quantity crossing zero at a few
+    frequencies is not flagged there."""
+    loose = undetermined(value, stderr)
     return loose.reshape(len(loose), -1).mean(axis=1) > 0.5
 
 

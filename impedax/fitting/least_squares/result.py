@@ -1085,6 +1085,7 @@ def warnings_blame_model(warnings) -> bool:
     (`MODEL_MISFIT_MARKS`)."""
     return any(mark in w for w in warnings for mark in MODEL_MISFIT_MARKS)
 
+
 # the end of the note that the data, not only the model, limit a fit (`misfit_notes`): `comparison.compare`
 # replaces it where another model fits the same data significantly better
 DATA_LIMIT_NOTE = "the data's noise, drift or artifacts limit the fit, not only the model (see impedax kk)"
