@@ -1,7 +1,7 @@
 """Circuit language, element registry, compiler and probes.
 
 spec (what an element is) ← elements (the built-ins) ← tree ← parser ← convert (other
-notations); compile ← probes, program (the compiled forms). docs/circuits.md describes the
+notations), nesting (which circuit contains which); compile ← probes, program (the compiled forms). docs/circuits.md describes the
 language and how to add an element.
 """
 
@@ -26,6 +26,7 @@ from .program import (
 )
 from .spec import (
     DCPath as DCPath,
+    ElementLimit as ElementLimit,
     ElementSpec as ElementSpec,
     ParameterSpec as ParameterSpec,
     Registry as Registry,

@@ -14,7 +14,7 @@ import math
 
 import jax.numpy as jnp
 
-from .spec import DCPath, ElementSpec, ParameterSpec, Registry, StartRole
+from .spec import DCPath, ElementLimit, ElementSpec, ParameterSpec, Registry, StartRole
 
 __all__ = ["DEFAULT_REGISTRY"]
 
@@ -123,6 +123,69 @@ def _time_constant(default, description="time constant"):
     return _positive("tau", "s", default, description, StartRole.TIME_CONSTANT)
 
 
+# --- limits: the simpler elements each one contains (`ElementLimit`) -------------------------
+# Each returns the element's parameters that give the simpler one's impedance in the window
+# ω_min..ω_max to ~1e-7 relative or better; params may be numpy arrays (one value per spectrum).
+
+DEEP_DIFFUSION = 200.0
+"""ω_min·τ of a finite Warburg standing for the semi-infinite one: Re √(jωτ) ≥ 10 over the
+window, so coth and tanh differ from 1 by at most 2e^{-20} ≈ 4e-9."""
+GERISCHER_DEEP = 1e7
+"""ω_min·τ of a Gerischer standing for a Warburg: R/√(1 + jωτ) = R/√(jωτ)·(1 + 1/(jωτ))^{-1/2},
+off by at most 1/(2ωτ) = 5e-8."""
+FAST = 1e-7
+"""ω_max·τ of an element whose time constant has vanished (a Ws, Gerischer or relaxation
+standing for its resistance, a Wo for its capacitance): first-order terms ωτ/3 ≤ 3.3e-8."""
+
+
+def _warburg_as_finite(params, omega_min, omega_max):
+    """Wo or Ws as W (τ → ∞): Z → R/√(jωτ) = σ(1 − j)/√ω with R = σ√(2τ) (1/√j = (1 − j)/√2)."""
+    (sigma,) = params
+    tau = DEEP_DIFFUSION / omega_min
+    return (sigma * math.sqrt(2.0 * tau), tau + 0.0 * sigma)
+
+
+def _warburg_as_gerischer(params, omega_min, omega_max):
+    """G as W (τ → ∞): Z → R/√(jωτ), R = σ√(2τ) as `_warburg_as_finite`."""
+    (sigma,) = params
+    tau = GERISCHER_DEEP / omega_min
+    return (sigma * math.sqrt(2.0 * tau), tau + 0.0 * sigma)
+
+
+def _capacitor_as_open_warburg(params, omega_min, omega_max):
+    """Wo as C (τ → 0): coth(x)/x = 1/x² + 1/3 + O(x²), so Z → R/(jωτ) + R/3 = 1/(jωC) with
+    R = τ/C (R/3 is ωτ/3 of |Z| at ω)."""
+    (c,) = params
+    tau = FAST / omega_max
+    return (tau / c, tau + 0.0 * c)
+
+
+def _resistor_as_fast(*extra):
+    """An element R·f(jωτ, ...) with f → 1 as τ → 0 (Ws, G, a relaxation at α = β = 1) as R."""
+
+    def values(params, omega_min, omega_max):
+        (r,) = params
+        return (r, FAST / omega_max + 0.0 * r, *(value + 0.0 * r for value in extra))
+
+    return values
+
+
+def _capacitor_as_cpe(params, omega_min, omega_max):
+    """CPE as C (α = 1): Q = C."""
+    (c,) = params
+    return (c, 1.0 + 0.0 * c)
+
+
+def _cole_cole_as_havriliak_negami(params, omega_min, omega_max):
+    """HN as Cole–Cole (β = 1)."""
+    r, tau, alpha = params
+    return (r, tau, alpha, 1.0 + 0.0 * r)
+
+
+_AS_WARBURG = ElementLimit("W", "tau -> inf", _warburg_as_finite)
+_AS_RESISTOR = ElementLimit("R", "tau -> 0", _resistor_as_fast())
+
+
 # Boukamp's CDC letters: O is the finite-length Warburg with a transmissive boundary (tanh,
 # impedax Ws) and T the one with a reflective boundary (coth, impedax Wo).
 DEFAULT_REGISTRY = Registry(
@@ -153,6 +216,7 @@ DEFAULT_REGISTRY = Registry(
             ),
             _cpe, aliases=("Q",), admittance=_cpe_admittance,
             dc=DCPath.BLOCKS, draw="CPE", cdc="Q", impedance_py="CPE", program_capacity=4,
+            limits=(ElementLimit("C", "alpha = 1", _capacitor_as_cpe),),
         ),
         ElementSpec(
             "W", "semi-infinite Warburg", "Z = σ(1 − j)/√ω",
@@ -165,24 +229,28 @@ DEFAULT_REGISTRY = Registry(
             (_resistance("diffusion resistance"), _time_constant(1.0, "diffusion time constant")),
             _warburg_open,
             dc=DCPath.BLOCKS, cdc="T", impedance_py="Wo",
+            limits=(_AS_WARBURG, ElementLimit("C", "tau -> 0 at tau/R = C", _capacitor_as_open_warburg)),
         ),
         ElementSpec(
             "Ws", "finite Warburg, short (transmissive)", "Z = R tanh(√(jωτ))/√(jωτ)",
             (_resistance("diffusion resistance"), _time_constant(1.0, "diffusion time constant")),
             _warburg_short,
             dc=DCPath.CONDUCTS, cdc="O", impedance_py="Ws",
+            limits=(_AS_WARBURG, _AS_RESISTOR),
         ),
         ElementSpec(
             "G", "Gerischer", "Z = R/√(1 + jωτ)",
             (_resistance("Gerischer resistance"), _time_constant(1e-3)),
             _gerischer,
             dc=DCPath.CONDUCTS, cdc="G", impedance_py="G",
+            limits=(ElementLimit("W", "tau -> inf", _warburg_as_gerischer), _AS_RESISTOR),
         ),
         ElementSpec(
             "CC", "Cole–Cole relaxation", "Z = R/(1 + (jωτ)^α)",
             (_resistance("relaxation strength"), _time_constant(1e-3), _fraction("alpha", "broadening exponent")),
             _cole_cole,
             dc=DCPath.CONDUCTS, impedance_py="Zarc",
+            limits=(ElementLimit("R", "tau -> 0", _resistor_as_fast(1.0)),),
         ),
         ElementSpec(
             "HN", "Havriliak–Negami relaxation", "Z = R/(1 + (jωτ)^α)^β",
@@ -192,6 +260,7 @@ DEFAULT_REGISTRY = Registry(
             ),
             _havriliak_negami,
             dc=DCPath.CONDUCTS,
+            limits=(ElementLimit("CC", "beta = 1", _cole_cole_as_havriliak_negami), ElementLimit("R", "tau -> 0", _resistor_as_fast(1.0, 1.0))),
         ),
     )
 )

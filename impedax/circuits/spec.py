@@ -26,7 +26,7 @@ import numpy as np
 from ..arguments import number_text
 from ..errors import CircuitError
 
-__all__ = ["ParameterSpec", "ElementSpec", "Registry", "DCPath", "StartRole", "MAX_ELEMENT_PARAMS", "ADDING_AN_ELEMENT", "PASS_OWN_REGISTRY", "PASS_DECLARING_REGISTRY"]
+__all__ = ["ParameterSpec", "ElementLimit", "ElementSpec", "Registry", "DCPath", "StartRole", "MAX_ELEMENT_PARAMS", "ADDING_AN_ELEMENT", "PASS_OWN_REGISTRY", "PASS_DECLARING_REGISTRY"]
 
 # the words that send a user to declare an element of their own, in Python's terms (the
 # command line says the same in its own, --plugin FILE.py: `impedax.cli.common.plugin_words`)
@@ -164,6 +164,31 @@ class ParameterSpec:
 
 
 @dataclass(frozen=True)
+class ElementLimit:
+    """An element's reduction to a simpler element in a limit of its parameters: a Wo is a W
+    as τ → ∞, a CPE a capacitor at α = 1 (docs/circuits.md, "Elements that contain others").
+
+    ``symbol``: the simpler element; ``where``: the limit in words (``"tau -> inf"``);
+    ``values(params, omega_min, omega_max)``: this element's parameters (a tuple in declaration
+    order) that give the simpler element's impedance with parameters ``params`` (a tuple, of
+    numbers or of numpy arrays over spectra) within ω_min..ω_max [rad/s] to about 1e-6
+    relative: what a fit of the larger circuit starts from to reach at least the smaller one's
+    optimum (`impedax.circuits.nesting.carried_values`)."""
+
+    symbol: str
+    where: str
+    values: Callable[..., tuple]
+
+    def __post_init__(self):
+        if not isinstance(self.symbol, str) or not _SYMBOL_RE.match(self.symbol):
+            raise CircuitError(f"ElementLimit: symbol must be an element symbol (e.g. 'W'), got {_value_text(self.symbol)}")
+        if not isinstance(self.where, str):
+            raise CircuitError(f"ElementLimit {self.symbol}: where must be text (e.g. 'tau -> inf'), got {_value_text(self.where)}")
+        if not callable(self.values):
+            raise CircuitError(f"ElementLimit {self.symbol}: values must be a function f(params, omega_min, omega_max) -> this element's parameters, got {_value_text(self.values)}")
+
+
+@dataclass(frozen=True)
 class ElementSpec:
     """Declaration of one circuit element.
 
@@ -181,6 +206,9 @@ class ElementSpec:
       impedance.py; ``None``: the notation cannot express it and converters refuse it;
     * ``program_capacity``: slots reserved for it in the smallest padded program layout
       (`impedax.circuits.ProgramLayout.sized`; larger layouts multiply it).
+    * ``limits``: `ElementLimit` of each simpler element it reduces to (a Wo to a W as τ → ∞):
+      a circuit with the simpler one in its place is nested in it (model comparison), and a
+      fit of it can start from that circuit's optimum (`impedax.circuits.nesting`).
 
     ``parameters`` may be given as a list (or one `ParameterSpec` alone); formulas whose
     signature cannot take ω and one argument per parameter are refused when declared.
@@ -198,6 +226,7 @@ class ElementSpec:
     cdc: str | None = None
     impedance_py: str | None = None
     program_capacity: int = 2
+    limits: tuple[ElementLimit, ...] = ()
 
     def __post_init__(self):
         if not isinstance(self.symbol, str):
@@ -282,6 +311,10 @@ class ElementSpec:
                 raise CircuitError(f"element {self.symbol}: bad value {value!r}: {what}")
         if not isinstance(self.program_capacity, int) or self.program_capacity < 1:
             raise CircuitError(f"element {self.symbol}: program_capacity must be a positive integer")
+        limits = (self.limits,) if isinstance(self.limits, ElementLimit) else self.limits
+        if not isinstance(limits, (tuple, list)) or not all(isinstance(x, ElementLimit) for x in limits):
+            raise CircuitError(f"element {self.symbol}: limits must be a tuple of ElementLimit(symbol, where, values), got {_value_text(self.limits)}")
+        object.__setattr__(self, "limits", tuple(limits))
 
     def parameter_names(self, element_name: str) -> tuple[str, ...]:
         return tuple(p.full_name(element_name) for p in self.parameters)

@@ -14,10 +14,10 @@ import xarray as xr
 
 from ..data import column_width, concise_repr
 from ..errors import FitError
-from .comparison import DECISIVE_DELTA_AIC, common_source, NOISE_F, SAME_FIT_RMS, criteria_tie, WEAK_DELTA_AIC, Comparison, akaike_weights, compare, criteria, fit_label, is_nested, register_batch_compare, significant, unique_labels
+from .comparison import DECISIVE_DELTA_AIC, NESTED_WORSE_REL, common_source, NOISE_F, SAME_FIT_RMS, criteria_tie, WEAK_DELTA_AIC, Comparison, akaike_weights, compare, criteria, fit_label, is_nested, register_batch_compare, significant, unique_labels
 from .least_squares import BatchFitResult, SharedFitResult
 from .least_squares.batch import SPECTRA_AS_ROWS, labels_by_keyword, labels_key
-from .least_squares.result import data_difference
+from .least_squares.result import BOUND_CHI2_FRACTION, data_difference
 from .frozen import freeze_fields
 
 __all__ = ["BatchComparison", "compare_batches", "PER_SPECTRUM_CRITERIA", "SUM_NOTE"]
@@ -244,7 +244,7 @@ class BatchComparison:
         out = np.zeros(chi2.shape, bool)
         for w in range(len(self.batches)):
             for m in range(len(self.batches)):
-                if m == w or k[m] <= k[w] or not is_nested(self.batches[w].circuit, self.batches[m].circuit):
+                if m == w or k[m] <= k[w] or not is_nested(self.batches[w].circuit, self.batches[m].circuit, self.batches[m].registry):
                     continue
                 with np.errstate(divide="ignore", invalid="ignore"):
                     f_value = np.maximum(chi2[w] - chi2[m], 0.0) / (k[m] - k[w]) / (chi2[m] / (n - k[m]))
@@ -307,6 +307,40 @@ class BatchComparison:
         rival = np.where((np.arange(len(self.batches))[:, None] == best[None, :]) | reduces | self._same_as_winner(best) | np.isnan(delta), np.inf, delta)
         lead = np.where(np.isnan(runner_up), math.nan, rival.min(axis=0))
         return best, reduces, lead
+
+    def not_at_optimum(self) -> list[dict]:
+        """The pairs where a model fits some spectra worse than a model it contains (`is_nested`):
+        ``complex`` and ``simple`` (labels), ``spectra`` (how many: its χ² above the smaller
+        model's by more than the solver's tolerance, `comparison.NESTED_WORSE_REL`, or than the
+        fall a bound takes for none, `BOUND_CHI2_FRACTION` of its reduced χ², where one of its
+        parameters the smaller model lacks sits at a bound, as the single comparison's F-test
+        reads it), ``worst_chi2_ratio`` and ``note``. Its fits there did not reach their optimum,
+        which is at most the smaller model's: ``fit(LARGER, data, init=smaller_batch)`` starts
+        each spectrum there too (``impedax compare`` does so itself)."""
+        chi2, chi2_red = self._per_spectrum("chi2"), self._per_spectrum("chi2_red")
+        k = self.dataset["n_params"].values
+        out = []
+        for c, big in enumerate(self.batches):
+            names = [str(p) for p in big.dataset["param"].values]
+            at_bound = big.dataset["at_bound"].transpose("param", *self.dims).values.reshape(len(names), -1)
+            for s, small in enumerate(self.batches):
+                if s == c or k[c] <= k[s] or not is_nested(small.circuit, big.circuit, big.registry):
+                    continue
+                small_names = [str(p) for p in small.dataset["param"].values]
+                small_at_bound = small.dataset["at_bound"].transpose("param", *self.dims).values.reshape(len(small_names), -1)
+                extra_at_bound = np.zeros(chi2.shape[1], bool)  # (`boundary_parameters`: at a bound the smaller model does not hold it at)
+                for j, n in enumerate(names):
+                    extra_at_bound |= at_bound[j] & ~(small_at_bound[small_names.index(n)] if n in small_names else False)
+                excess = np.where(extra_at_bound, np.maximum(NESTED_WORSE_REL * chi2[s], BOUND_CHI2_FRACTION * chi2_red[c]), NESTED_WORSE_REL * chi2[s])
+                with np.errstate(invalid="ignore"):
+                    worse = chi2[c] - chi2[s] > excess
+                if worse.any():
+                    ratio = float(np.max(chi2[c][worse] / chi2[s][worse]))
+                    count = int(worse.sum())
+                    out.append({"complex": self.labels[c], "simple": self.labels[s], "spectra": count, "worst_chi2_ratio": ratio,
+                                "note": f"{self.labels[c]} fits worse than {self.labels[s]}, which it contains, on {count} of {self.n_spectra} spectra (χ² up to {ratio:.4g}×): "
+                                        f"its fits there did not reach their optimum; fit it with init= the {self.labels[s]} batch to start each spectrum there too (impedax compare does so)"})
+        return out
 
     def models(self) -> list[dict]:
         """Per model: ``model``, ``label``, ``n_params``, ``wins`` (spectra it is best on by AIC;
@@ -373,13 +407,15 @@ class BatchComparison:
         ``spectra`` (`spectra`), ``best``/``best_label`` (lowest summed AIC), ``ranked_by``
         ("aic_sum"), ``aic_form`` (`criteria`), ``weighting``, ``sizes`` (dimension → number of
         spectra), ``n_spectra``, ``weak_spectra`` (spectra whose winner leads by less than
-        `WEAK_DELTA_AIC`) and ``note`` (`SUM_NOTE`)."""
+        `WEAK_DELTA_AIC`), ``note`` (`SUM_NOTE`) and ``not_at_optimum`` (`not_at_optimum`: models
+        that fit some spectra worse than a model they contain; added 2026-12-02)."""
         spectra = self.spectra()
         return {
             "models": self.models(), "spectra": spectra, "best": self.best, "best_label": self.labels[self.best_index], "ranked_by": "aic_sum",
             "aic_form": self.dataset.attrs["aic_form"], "weighting": self.dataset.attrs["weighting"], "dims": list(self.dims),
             "sizes": {d: int(self.dataset.sizes[d]) for d in self.dims}, "n_spectra": self.n_spectra,
             "weak_spectra": sum(r["weak_evidence"] for r in spectra), "weak_threshold": WEAK_DELTA_AIC, "note": SUM_NOTE,
+            "not_at_optimum": self.not_at_optimum(),
         }
 
     def to_table(self) -> list[dict]:
@@ -424,7 +460,7 @@ class BatchComparison:
         lines += ["", SUM_NOTE + f"; wins count the spectra each model is best on by its own AIC; its lead there is the ΔAIC of the nearest rival "
                   f"that neither reduces to it nor is its fit in another writing (— where no rival is left), decisive from {DECISIVE_DELTA_AIC:g} (Burnham & Anderson 2002: essentially no support for the rival)"]
         reduced = self._reduced_lines()
-        lines += reduced
+        lines += reduced + [pair["note"] for pair in self.not_at_optimum()]
         weak = [m for m in models if m["weak_wins"]]
         if weak:
             lines.append(f"won by less than ΔAIC {WEAK_DELTA_AIC:g} (the data barely tell the models apart there): " + ", ".join(f"{m['weak_wins']} of {m['label']}'s {m['wins']}" for m in weak))

@@ -12,7 +12,8 @@ import numpy as np
 import xarray as xr
 
 from ..arguments import checked_arguments, sequence_of
-from ..circuits import Circuit, Element
+from ..circuits import DEFAULT_REGISTRY, Circuit, Registry
+from ..circuits.nesting import embedding
 from ..data import column_width
 from ..errors import FitError
 from .least_squares import BatchFitResult, FitResult
@@ -22,31 +23,6 @@ from .least_squares.result import BOUND_CHI2_FRACTION, data_difference, DATA_LIM
 from .frozen import freeze_fields
 
 __all__ = ["compare", "Comparison", "WEAK_DELTA_AIC", "is_nested", "boundary_parameters", "undetermined_names", "criteria", "akaike_weights", "KNOWN_SIGMA", "UNKNOWN_VARIANCE", "TIE_CHI2_REL", "criteria_tie", "SIGMA_CHI2_RED_RANGE", "register_batch_compare"]
-
-
-def _nested(a: Circuit, b: Circuit) -> bool:
-    """True when ``a`` is ``b`` with elements removed (a series element set to 0, a parallel
-    branch opened) and/or CPEs replaced by capacitors (α = 1)."""
-    if isinstance(a, Element) and isinstance(b, Element):
-        return a.symbol == b.symbol or (a.symbol == "C" and b.symbol in ("CPE", "Q"))
-    if isinstance(b, Element):
-        return False
-    if type(a) is type(b):
-        return _subsequence(a.children, b.children)
-    return any(_nested(a, child) for child in b.children)
-
-
-def _subsequence(small, big) -> bool:
-    """Each child of ``small`` nested in a distinct child of ``big``, in any order (impedances
-    in series and admittances in parallel add in any order: ``R1 || CPE1`` is nested in
-    ``CPE1 || (R1 + W1)``)."""
-
-    def match(i: int, used: frozenset) -> bool:
-        if i == len(small):
-            return True
-        return any(j not in used and _nested(small[i], big[j]) and match(i + 1, used | {j}) for j in range(len(big)))
-
-    return len(small) <= len(big) and match(0, frozenset())
 
 
 def fit_label(fit: FitResult) -> str:
@@ -161,9 +137,12 @@ def akaike_weights(values) -> tuple[np.ndarray, np.ndarray]:
     return delta, weights
 
 
-def is_nested(simple: Circuit, complex_: Circuit) -> bool:
-    """Whether ``simple`` is a special case of ``complex_`` (see `_nested`)."""
-    return _nested(simple, complex_) and len(list(simple.elements())) <= len(list(complex_.elements()))
+def is_nested(simple: Circuit, complex_: Circuit, registry: Registry = DEFAULT_REGISTRY) -> bool:
+    """Whether ``simple`` is a special case of ``complex_``: ``complex_`` with elements removed
+    (a series element set to 0, a parallel branch opened) and/or replaced by the simpler
+    elements they contain in a limit (a capacitor for a CPE at α = 1, a W for a Wo at τ → ∞:
+    `ElementSpec.limits`; `impedax.circuits.nesting.embedding`)."""
+    return len(list(simple.elements())) <= len(list(complex_.elements())) and embedding(simple, complex_, registry) is not None
 
 
 @dataclass(frozen=True, eq=False)
@@ -596,7 +575,7 @@ def compare(fits: Sequence) -> "Comparison | BatchComparison":  # (BatchComparis
 
     for i, s in enumerate(results):
         for j, c in enumerate(results):
-            if i == j or s.n_params >= c.n_params or not is_nested(s.circuit, c.circuit):
+            if i == j or s.n_params >= c.n_params or not is_nested(s.circuit, c.circuit, c.registry):
                 continue
             dk = c.n_params - s.n_params
             denom = c.chi2 / (n - c.n_params)
@@ -609,7 +588,8 @@ def compare(fits: Sequence) -> "Comparison | BatchComparison":  # (BatchComparis
             # 2e-6–2e-5 above R ∥ C's on SYNTHETIC R ∥ C spectra; the bound rule's own tolerance
             excess = max(NESTED_WORSE_REL * s.chi2, BOUND_CHI2_FRACTION * c.chi2_red) if on_boundary else NESTED_WORSE_REL * s.chi2
             if c.chi2 - s.chi2 > excess:
-                test.update(valid=False, reason="not_at_optimum", note=f"{labels[j]} fits worse than {labels[i]}, which it contains: its fit did not reach its optimum")
+                test.update(valid=False, reason="not_at_optimum", note=f"{labels[j]} fits worse than {labels[i]}, which it contains: its fit did not reach its optimum; "
+                            f"fit it with init= the {labels[i]} fit to start there too (impedax compare does so)")
             elif on_boundary:
                 test.update(valid=False, at_bound=on_boundary, **_boundary_note(s, c, labels[i], labels[j], on_boundary))
             elif c.chi2_red < EXACT_CHI2_RED:

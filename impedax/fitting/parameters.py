@@ -23,6 +23,7 @@ import numpy as np
 
 from ..arguments import number_text, unknown_parameter
 from ..circuits import Circuit, DEFAULT_REGISTRY, Registry
+from ..circuits.nesting import carried_values
 from ..errors import FitError, ParameterError
 from .reductions import reducing_bounds, resistor_like_exponents
 
@@ -75,14 +76,22 @@ def data_scales(unit: str, freq, z_abs) -> np.ndarray | None:
     return None
 
 
-def starting_values(init, names: tuple[str, ...]) -> Mapping[str, float] | None:
+def starting_values(init, names: tuple[str, ...], circuit: Circuit | None = None, registry: Registry = DEFAULT_REGISTRY) -> Mapping[str, float] | None:
     """``init`` as name → value: a mapping as given, or a fit result (anything with a
     ``values`` mapping, e.g. a `FitResult`) whose fitted values become the starts of the
-    parameters ``names`` that it has (the others are guessed from the data as usual)."""
+    parameters ``names`` that it has (the others are guessed from the data as usual). A fit of
+    a circuit nested in ``circuit`` (a W where ``circuit`` has a Wo, an element fewer) starts
+    the elements that stand for its own where its optimum lies (`nesting.carried_values`, over
+    the fit's frequency range), so the new fit ends no higher than it."""
     if init is None or isinstance(init, Mapping):
         return init
     values = getattr(init, "values", None)
     if isinstance(values, Mapping):
+        own = getattr(init, "circuit", None)
+        frequency = getattr(init, "frequency", None)
+        if circuit is not None and isinstance(own, Circuit) and frequency is not None and np.size(frequency):
+            omega = 2 * np.pi * np.asarray(frequency, float)
+            values = carried_values(own, values, circuit, float(omega.min()), float(omega.max()), registry)
         return {n: float(v) for n, v in values.items() if n in names}
     raise ParameterError(f"init: expected a mapping name → value or a FitResult, got {type(init).__name__}")
 
@@ -129,7 +138,8 @@ class ParameterTable:
     ) -> "ParameterTable":
         specs = circuit.parameter_specs(registry)
         names = tuple(specs)
-        init = starting_values(init, names)
+        from_fit = init is not None and not isinstance(init, Mapping)  # (a fit's values: on or past this fit's bounds they are moved, not refused)
+        init = starting_values(init, names, circuit, registry)
         for what, mapping in (("init", init), ("fixed", fixed), ("bounds", bounds)):
             for name in mapping or {}:
                 if name not in specs:
@@ -148,7 +158,11 @@ class ParameterTable:
                 i = names.index(name)
                 value = float(value)
                 ok = math.isfinite(value) and value > lower[i] and (value <= upper[i] if inclusive[i] else value < upper[i])
-                if not ok:
+                if not ok and what == "init" and from_fit:
+                    value = nudged_inside(value, lower[i], upper[i])
+                    if not math.isfinite(value):
+                        continue
+                elif not ok:
                     raise ParameterError(outside_bounds_message(what, name, value, lower[i], upper[i], bool(inclusive[i])))
                 values[i] = value
                 is_fixed[i] |= what == "fixed"
@@ -158,6 +172,19 @@ class ParameterTable:
         reductions = {n: (side, words) for n, (side, words) in reducing_bounds(circuit, registry).items() if not is_fixed[names.index(n)] and (upper if side == "upper" else lower)[names.index(n)] == getattr(specs[n], side)}
         resistor_like = {n: what for n, what in resistor_like_exponents(circuit, registry).items() if not is_fixed[names.index(n)]}
         return cls(names, tuple(specs[n].unit for n in names), lower, upper, kind, is_fixed, values, reductions, resistor_like)
+
+
+def nudged_inside(value: float, lower: float, upper: float) -> float:
+    """A fitted ``value`` on or past a bound moved 1e-6 (relative) inside it, as a start must
+    lie strictly inside (a smaller model's R0 at 0, a τ carried to 200/ω_min where the user
+    bounded it); NaN where no such move exists (no finite value, a bound at 0 from above)."""
+    if not math.isfinite(value):
+        return math.nan
+    if value <= lower:
+        value = lower * (1 + 1e-6) if lower > 0 else (lower + 1e-6 * (upper - lower) if math.isfinite(upper) else math.nan)
+    elif value >= upper:
+        value = upper * (1 - 1e-6) if upper > 0 else math.nan
+    return value if lower < value < upper else math.nan
 
 
 def checked_bounds(name: str, lower, upper, spec) -> tuple[float, float]:

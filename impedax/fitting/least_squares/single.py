@@ -86,9 +86,13 @@ def fit(
     starts were used (1: the guess alone). ``n_starts=1`` fits the guess alone (in a batch:
     one local fit per spectrum). docs/fitting.md, "Starts".
     ``init`` gives starting values by name, or is a `FitResult` whose values start the
-    parameters this circuit shares with it (e.g. refitting with one element added), or a
+    parameters this circuit shares with it (e.g. refitting with one element added; a fit of a
+    circuit nested in this one, a W where it has a Wo, starts the elements that stand for its
+    own at its optimum, `nesting.carried_values`, so this fit ends no higher), or a
     `BatchFitResult` over the same dimensions and labels as ``data``: each spectrum starts from
-    its own fitted values (with ``n_starts=1``, one local fit each; `BatchFitResult.per_spectrum_starts`).
+    its own fitted values, carried alike (with ``n_starts=1``, one local fit each; in a batch of
+    16 or more spectra each is also solved from the default start and the lower fit kept;
+    `BatchFitResult.per_spectrum_starts`).
     ``fixed`` pins parameters; ``bounds`` narrows them; a value of ``fixed`` or ``init`` may be an
     xarray.DataArray over some of the data's extra dimensions, labelled as the data, one value per
     spectrum (`per_spectrum.split_fits`: the spectra fitted in groups that share the values; added 2026-12-01); ``weighting`` is one of `WEIGHTINGS`.
@@ -131,7 +135,7 @@ def fit(
     if batch_init is not None:
         if shared is not None or over is not None:
             raise ParameterError("init: a BatchFitResult starts each spectrum of a batch fit from its own optimum; a shared fit (shared=) takes a mapping name → value or a FitResult")
-        starts = batch_init.per_spectrum_starts(data, table.names)
+        starts = batch_init.per_spectrum_starts(data, table.names, circuit)
     n_spectra = int(np.prod([data.sizes[d] for d in extra])) if extra else 1
     if shared is not None or over is not None:  # (checked before the first progress line, as every argument: 2026-12-02)
         shared_layout(table, extra, shared, over, source=source)
