@@ -160,14 +160,21 @@ def _capacitor_as_open_warburg(params, omega_min, omega_max):
     return (tau / c, tau + 0.0 * c)
 
 
-def _resistor_as_fast(*extra):
-    """An element R·f(jωτ, ...) with f → 1 as τ → 0 (Ws, G, a relaxation at α = β = 1) as R."""
+def _resistor_as_fast(params, omega_min, omega_max):
+    """Ws or G as R (τ → 0): R·f(jωτ) with f → 1. (Limits are module-level functions, not
+    closures: a fit pickles with its registry, and an unpickled spec is the same spec.)"""
+    (r,) = params
+    return (r, FAST / omega_max + 0.0 * r)
 
-    def values(params, omega_min, omega_max):
-        (r,) = params
-        return (r, FAST / omega_max + 0.0 * r, *(value + 0.0 * r for value in extra))
 
-    return values
+def _resistor_as_cole_cole(params, omega_min, omega_max):
+    """CC as R (τ → 0, α = 1)."""
+    return (*_resistor_as_fast(params, omega_min, omega_max), 1.0 + 0.0 * params[0])
+
+
+def _resistor_as_havriliak_negami(params, omega_min, omega_max):
+    """HN as R (τ → 0, α = β = 1)."""
+    return (*_resistor_as_cole_cole(params, omega_min, omega_max), 1.0 + 0.0 * params[0])
 
 
 def _capacitor_as_cpe(params, omega_min, omega_max):
@@ -183,7 +190,7 @@ def _cole_cole_as_havriliak_negami(params, omega_min, omega_max):
 
 
 _AS_WARBURG = ElementLimit("W", "tau -> inf", _warburg_as_finite)
-_AS_RESISTOR = ElementLimit("R", "tau -> 0", _resistor_as_fast())
+_AS_RESISTOR = ElementLimit("R", "tau -> 0", _resistor_as_fast)
 
 
 # Boukamp's CDC letters: O is the finite-length Warburg with a transmissive boundary (tanh,
@@ -250,7 +257,7 @@ DEFAULT_REGISTRY = Registry(
             (_resistance("relaxation strength"), _time_constant(1e-3), _fraction("alpha", "broadening exponent")),
             _cole_cole,
             dc=DCPath.CONDUCTS, impedance_py="Zarc",
-            limits=(ElementLimit("R", "tau -> 0", _resistor_as_fast(1.0)),),
+            limits=(ElementLimit("R", "tau -> 0", _resistor_as_cole_cole),),
         ),
         ElementSpec(
             "HN", "Havriliak–Negami relaxation", "Z = R/(1 + (jωτ)^α)^β",
@@ -260,7 +267,7 @@ DEFAULT_REGISTRY = Registry(
             ),
             _havriliak_negami,
             dc=DCPath.CONDUCTS,
-            limits=(ElementLimit("CC", "beta = 1", _cole_cole_as_havriliak_negami), ElementLimit("R", "tau -> 0", _resistor_as_fast(1.0, 1.0))),
+            limits=(ElementLimit("CC", "beta = 1", _cole_cole_as_havriliak_negami), ElementLimit("R", "tau -> 0", _resistor_as_havriliak_negami)),
         ),
     )
 )

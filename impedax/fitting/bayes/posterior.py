@@ -24,6 +24,7 @@ from ...data import checked_frequencies, column_width, concise_repr, unit_text
 from ...errors import DataError, ParameterError
 from ..derived import QUANTILES, draw_indices, draws_band, needs_freq
 from ..least_squares import FitResult
+from ..least_squares.branches import undetermined
 from ..least_squares.result import bounds_attr, shown_stderr, stored_bounds
 from ..frozen import freeze_fields
 from .chain import capped_at, length_text
@@ -50,6 +51,12 @@ def chain_figures(autocorr: Mapping[str, float], ess: Mapping[str, float], name:
 
 def _quantiles_by_name(q: xr.Dataset, names) -> dict[str, dict[str, float]]:
     return {n: {k: float(q[k].sel(param=n)) for k in SUMMARY_QUANTILES} for n in names}
+
+
+UNDETERMINED_MARK = "← NOT DETERMINED"
+UNDETERMINED_ROWS = ("not determined by the data (the least-squares start's rule: an unidentified group, or a relative standard error above 100 %); "
+                     "their intervals show where the priors take over, not a measurement: fix one of a group from another measurement, or report what the data fix")
+"""The report's mark on a row of `Posterior.undetermined` and the line under its table."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -230,8 +237,25 @@ class Posterior(PiledUp):
             table["hdi90_high"].append(hi)
         return xr.Dataset({k: ("param", v) for k, v in table.items()}, coords={"param": names})
 
+    @property
+    def undetermined(self) -> tuple[str, ...]:
+        """The sampled parameters the least-squares start found the data do not determine: in an
+        unidentified group (`FitResult.unidentified_groups`: C_EP and C_gap of R_EP ∥ C_EP ∥ C_gap,
+        which change Z only together) or with a relative standard error above 100 %
+        (`branches.undetermined`, the fits' rule); a reparametrized parameter through the one it
+        replaces (u for C_gap). Their intervals are where the priors take over, not a measurement:
+        on a SYNTHETIC pad (C_EP = 2 nF, C_gap = 120 pF, 1 % noise) u's 90 % interval was 1.8–9.4 µm
+        and the truth 30 µm (added 2026-12-02)."""
+        fit = self.fit
+        loose = {n for group in fit.unidentified_groups for n in group}
+        loose |= {n for n in fit.free_names if n not in fit.at_bound and bool(undetermined(fit.values[n], fit.stderr[n]))}
+        rp = self.reparametrization
+        stands_for = dict(zip(rp.names, rp.replaces)) if rp is not None and len(rp.names) == len(rp.replaces) else {}
+        return tuple(n for n in self.names if n in loose or stands_for.get(n) in loose)
+
     def summary(self) -> dict:
-        """The JSON summary used by ``impedax sample --json``."""
+        """The JSON summary used by ``impedax sample --json`` (``undetermined``: `undetermined`,
+        added 2026-12-02)."""
         q = self.quantiles()
         params = _quantiles_by_name(q, self.names)
         for n in self.names:
@@ -243,6 +267,7 @@ class Posterior(PiledUp):
             "autocorr": dict(self.autocorr),
             "ess": dict(self.ess),
             "warnings": list(self.warnings),
+            "undetermined": list(self.undetermined),
             "piled_up": self.piled_up,
             "straggler_walkers": list(self.stragglers.walkers),  # (added 2026-12-01: the run's walkers left out of the draws; as the .nc's attribute)
             "strong_correlations": [c.to_attr() for c in self.strong_correlations],  # (added 2026-12-01: the correlation warnings' pairs and r)
@@ -294,12 +319,16 @@ class Posterior(PiledUp):
             "",
             f"{'parameter':<{width}}  {'median':>11}  {'q05':>11}  {'q95':>11}  {'τ [steps]':>9}  {'ESS':>7}  {'unit':<{unit_width}}  prior",
         ]
+        loose = self.undetermined
         for i, n in enumerate(self.names):
             lines.append(
                 f"{n:<{width}}  {float(q['median'][i]):>11.5g}  {float(q['q05'][i]):>11.5g}  {float(q['q95'][i]):>11.5g}  {figure(self.autocorr[n], '9.3g'):>9}  {figure(self.ess[n], '7.0f'):>7}  {units[i]:<{unit_width}}  {self.priors[n]}"
+                + (f"  {UNDETERMINED_MARK}" if n in loose else "")
             )
         for (n, value), unit in zip(self.fixed.items(), fixed_units):  # (derived quantities such as the force depend on them too)
             lines.append(f"{n:<{width}}  {value:>11.5g}  {'(fixed)':>11}  {'':>11}  {'':>9}  {'':>7}  {unit:<{unit_width}}".rstrip())
+        if loose:
+            lines.append(f"← {', '.join(loose)}: {UNDETERMINED_ROWS}")
         for w in self.warnings:
             lines.append(f"warning: {w}")
         return "\n".join(lines)

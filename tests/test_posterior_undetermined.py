@@ -1,0 +1,32 @@
+"""A posterior's report and JSON mark the parameters the data do not determine
+(`Posterior.undetermined`): their intervals are the priors', not a measurement."""
+
+import numpy as np
+
+import impedax as ix
+
+
+def _pad(seed=3):
+    """SYNTHETIC electroadhesive pad: R_EP ∥ (C_EP + C_gap) with 1 % complex noise, written here;
+    C_EP and C_gap in parallel are one capacitor to the data."""
+    rng = np.random.default_rng(seed)
+    f = np.geomspace(10, 1e6, 40)
+    z = 1 / (1 / 50e6 + 2j * np.pi * f * (2e-9 + 120e-12))
+    return ix.make_spectrum(f, z * (1 + 0.01 * (rng.normal(size=f.size) + 1j * rng.normal(size=f.size)) / np.sqrt(2)))
+
+
+def test_an_unidentified_pair_is_marked_in_the_report_and_the_json_a_reparametrized_one_by_what_it_replaces():
+    post = ix.sample("R_EP || C_EP || C_gap", _pad(), reparametrization=ix.gap_thickness_reparametrization("C_gap", area=4e-4), steps=600, progress=False)
+    assert post.undetermined == ("C_EP", "u")
+    rows = {line.split()[0]: line for line in post.report().splitlines() if line.split() and line.split()[0] in post.names}
+    assert rows["u"].endswith("← NOT DETERMINED") and rows["C_EP"].endswith("← NOT DETERMINED")
+    assert "NOT DETERMINED" not in rows["R_EP"] and "NOT DETERMINED" not in rows["sigma_rel"]
+    assert "← C_EP, u: not determined by the data" in post.report()
+    assert post.summary()["undetermined"] == ["C_EP", "u"]
+    # what the data do fix: the sum of the two capacitors, 2.12 nF, within the noise
+    assert abs(post.fit.values["C_EP"] + post.fit.values["C_gap"] - 2.12e-9) < 0.03 * 2.12e-9
+
+
+def test_a_determined_model_has_no_mark():
+    post = ix.sample("R_EP || C_gap", _pad(), steps=600, progress=False)
+    assert post.undetermined == () and "NOT DETERMINED" not in post.report() and post.summary()["undetermined"] == []
