@@ -2,6 +2,7 @@
 (`Posterior.undetermined`): their intervals are the priors', not a measurement."""
 
 import numpy as np
+import pytest
 
 import impedax as ix
 
@@ -15,8 +16,13 @@ def _pad(seed=3):
     return ix.make_spectrum(f, z * (1 + 0.01 * (rng.normal(size=f.size) + 1j * rng.normal(size=f.size)) / np.sqrt(2)))
 
 
-def test_an_unidentified_pair_is_marked_in_the_report_and_the_json_a_reparametrized_one_by_what_it_replaces():
-    post = ix.sample("R_EP || C_EP || C_gap", _pad(), reparametrization=ix.gap_thickness_reparametrization("C_gap", area=4e-4), steps=600, progress=False)
+@pytest.fixture(scope="module")
+def pad_posterior():
+    return ix.sample("R_EP || C_EP || C_gap", _pad(), reparametrization=ix.gap_thickness_reparametrization("C_gap", area=4e-4), steps=600, progress=False)
+
+
+def test_an_unidentified_pair_is_marked_in_the_report_and_the_json_a_reparametrized_one_by_what_it_replaces(pad_posterior):
+    post = pad_posterior
     assert post.undetermined == ("C_EP", "u")
     rows = {line.split()[0]: line for line in post.report().splitlines() if line.split() and line.split()[0] in post.names}
     assert rows["u"].endswith("← NOT DETERMINED") and rows["C_EP"].endswith("← NOT DETERMINED")
@@ -30,3 +36,12 @@ def test_an_unidentified_pair_is_marked_in_the_report_and_the_json_a_reparametri
 def test_a_determined_model_has_no_mark():
     post = ix.sample("R_EP || C_gap", _pad(), steps=600, progress=False)
     assert post.undetermined == () and "NOT DETERMINED" not in post.report() and post.summary()["undetermined"] == []
+
+
+def test_derive_names_the_undetermined_parameters_a_quantity_rests_on(pad_posterior):
+    """The gap force rests on u (not determined here); R_EP's own square does not."""
+    post = pad_posterior
+    eps0 = 8.8541878128e-12
+    force = post.derive(lambda p: 0.5 * eps0 * 4e-4 * 200.0**2 / p["u"] ** 2)
+    assert force.attrs["undetermined"] == "u" and "priors take over" in force.attrs["warning"]
+    assert "undetermined" not in post.derive(lambda p: p["R_EP"] ** 2).attrs

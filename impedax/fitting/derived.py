@@ -23,7 +23,7 @@ from ..arguments import closest_name, count, shown, unknown_parameter
 from ..errors import ParameterError
 from .least_squares.branches import RELATIVE_ERROR_LIMIT, undetermined
 
-__all__ = ["derive", "derive_fit", "derive_batch", "QUANTILES", "MISSES_STRUCTURE_WARNING", "band_dataset", "bind_frequency", "check_real", "needs_freq", "draws_band", "called"]
+__all__ = ["derive", "derive_fit", "derive_batch", "QUANTILES", "MISSES_STRUCTURE_WARNING", "UNDETERMINED_WARNING", "band_dataset", "bind_frequency", "check_real", "needs_freq", "draws_band", "called"]
 
 QUANTILES = {"q05": 0.05, "q16": 0.16, "median": 0.5, "q84": 0.84, "q95": 0.95}
 

@@ -22,7 +22,7 @@ import xarray as xr
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
 from ...data import checked_frequencies, column_width, concise_repr, unit_text
 from ...errors import DataError, ParameterError
-from ..derived import QUANTILES, draw_indices, draws_band, needs_freq
+from ..derived import QUANTILES, bind_frequency, draw_indices, draws_band, needs_freq
 from ..least_squares import FitResult
 from ..least_squares.branches import undetermined
 from ..least_squares.result import bounds_attr, shown_stderr, stored_bounds
@@ -57,6 +57,7 @@ UNDETERMINED_MARK = "← NOT DETERMINED"
 UNDETERMINED_ROWS = ("not determined by the data (the least-squares start's rule: an unidentified group, or a relative standard error above 100 %); "
                      "their intervals show where the priors take over, not a measurement: fix one of a group from another measurement, or report what the data fix")
 """The report's mark on a row of `Posterior.undetermined` and the line under its table."""
+DERIVED_FROM_UNDETERMINED = "its interval shows where the priors take over, not a measurement; fix one of them at a value you know"
 
 
 @dataclass(frozen=True, eq=False)
@@ -340,10 +341,23 @@ class Posterior(PiledUp):
         call. Returns a Dataset with ``median``, ``q05``, ``q16``, ``q84``, ``q95``, ``mean``,
         ``sd`` (and ``draws`` over ``sample`` when ``draws=True``); ``freq`` defaults to the data's
         frequencies when ``fn`` takes one. ``max_draws`` evaluates an
-        evenly spaced subset instead of every draw."""
+        evenly spaced subset instead of every draw. Where ``fn`` depends on parameters the data
+        do not determine (`undetermined`: its derivative in them at the median draw is not zero),
+        ``attrs["undetermined"]`` names them and ``attrs["warning"]`` says the interval is the
+        priors' (added 2026-12-02)."""
         if freq is None and needs_freq(fn):
             freq = self.frequency
-        return draws_band(fn, freq, self.parameter_draws(), self.model, draws=draws, max_draws=max_draws, method="posterior draws")
+        params = self.parameter_draws()
+        band = draws_band(fn, freq, params, self.model, draws=draws, max_draws=max_draws, method="posterior draws")
+        loose = self.undetermined
+        if loose:
+            at = {k: jnp.asarray(np.median(np.asarray(v, float))) for k, v in params.items()}
+            slopes = jax.jacfwd(bind_frequency(fn, freq))(at)
+            used = [n for n in loose if n in slopes and bool(np.any(np.asarray(slopes[n]) != 0))]
+            if used:
+                band.attrs["undetermined"] = ", ".join(used)
+                band.attrs["warning"] = "; ".join(filter(None, [band.attrs.get("warning"), f"it depends on {', '.join(used)}, which the data do not determine (Posterior.undetermined): {DERIVED_FROM_UNDETERMINED}"]))
+        return band
 
     def predict(self, freq=None, *, max_draws: int = 400, noise: bool = False, copies: int = 1, seed: int = 0) -> np.ndarray:
         """Model impedance [Ω] (draws, frequency) over an evenly spaced subset of the draws.
