@@ -77,8 +77,10 @@ def test_fit_json_is_the_summary_and_netcdf_reopens(rc_fit, tmp_path):
 def test_batch_csv_has_a_row_per_spectrum_and_parameter_with_coordinates(rc_batch, tmp_path):
     ix.write_result(rc_batch, tmp_path / "batch.csv")
     rows = _read_csv(tmp_path / "batch.csv")
-    assert list(rows[0]) == ["cell", "name", "value", "stderr", "unit", "fixed", "rms_rel", "chi2", "chi2_red", "aic", "bic", "converged", "at_bound", "undetermined"]  # (goodness of fit and flags: added 2026-12-01)
+    assert list(rows[0]) == ["cell", "name", "value", "stderr", "unit", "fixed", "rms_rel", "chi2", "chi2_red", "aic", "bic", "converged", "at_bound", "undetermined", "warnings"]  # (goodness of fit and flags: added 2026-12-01; warnings 2026-12-02)
     assert [(r["cell"], r["name"]) for r in rows] == [(c, n) for c in "abc" for n in ("R0", "R1", "C1")]
+    for r in rows:  # each spectrum's warnings, on each of its rows
+        assert r["warnings"] == "; ".join(rc_batch.warnings.get(f"cell={r['cell']}", ()))
     for r in rows:
         assert float(r["value"]) == float(rc_batch.values(r["name"]).sel(cell=r["cell"]))
         assert float(r["stderr"]) == float(rc_batch.dataset["stderr"].sel(param=r["name"], cell=r["cell"]))
@@ -102,6 +104,9 @@ def test_csv_rows_flag_a_value_at_a_bound_or_undetermined_and_an_unconverged_spe
     assert {k for k, r in rows.items() if r["undetermined"] == "true"} == {("b", "R1")}
     assert {k for k, r in rows.items() if r["at_bound"] == "true"} == {("c", "C1")}
     assert {k for k, r in rows.items() if r["converged"] == "false"} == {("a", n) for n in ("R0", "R1", "C1")}
+    # a spectrum's warnings (here one written in by hand) in its rows' warnings column
+    warned = dataclasses.replace(edited, warnings={**edited.warnings, "cell=b": ("first note", "second note")})
+    assert {(r["cell"], r["warnings"]) for r in warned.to_table()} >= {("b", "first note; second note")}
     for (cell, name), r in rows.items():  # the same rule as the batch's own `undetermined`
         assert (r["undetermined"] == "true") == bool(edited.undetermined(name).sel(cell=cell))
     # a single fit's rows: its R1 made undetermined, its C1 put at a bound; R0 is fixed (never flagged)

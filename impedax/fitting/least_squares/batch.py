@@ -321,7 +321,9 @@ class BatchFitResult:
         spectrum's `SPECTRUM_STATISTICS` (rms_rel, chi2, chi2_red, aic, bic: the keys of a single
         fit's JSON; added 2026-12-01), repeated on each of its rows (`impedax.io.write_result` .csv),
         then the flags (added 2026-12-01, as `FitResult.to_table`): ``converged`` (the spectrum's),
-        ``at_bound`` and ``undetermined`` (this parameter's; the rule of `undetermined`)."""
+        ``at_bound`` and ``undetermined`` (this parameter's; the rule of `undetermined`), and
+        ``warnings``: the spectrum's warnings joined by "; " ("" if none; as a comparison's
+        table; added 2026-12-02)."""
         ds = self.dataset
         specs = self.circuit.parameter_specs(self.registry)
         names = [str(p) for p in ds["param"].values]
@@ -334,14 +336,16 @@ class BatchFitResult:
         flagged = undetermined(value, stderr) & ~at_bound & ~np.asarray(fixed, bool)
         statistics = self._spectrum_statistics()
         labels = [coordinate_labels(ds, d) for d in self.dims]
+        keys = [key for key, _ in self.spectrum_keys()]  # (C order, as np.ndindex)
         rows = []
-        for index in np.ndindex(*value.shape[:-1]):
+        for position, index in enumerate(np.ndindex(*value.shape[:-1])):
             where = {d: labels[i][j] for i, (d, j) in enumerate(zip(self.dims, index))}
             own = {k: float(a[index]) for k, a in statistics.items()}
+            warned = "; ".join(self.warnings.get(keys[position], ()))
             for p, n in enumerate(names):
                 rows.append({
                     **where, "name": n, "value": float(value[index + (p,)]), "stderr": shown_stderr(float(stderr[index + (p,)]), fixed[p]), "unit": specs[n].unit, "fixed": fixed[p], **own,
-                    "converged": bool(converged[index]), "at_bound": bool(at_bound[index + (p,)]), "undetermined": bool(flagged[index + (p,)]),
+                    "converged": bool(converged[index]), "at_bound": bool(at_bound[index + (p,)]), "undetermined": bool(flagged[index + (p,)]), "warnings": warned,
                 })
         return rows
 
