@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 
 import jax.numpy as jnp
+import numpy as np
 
 from .spec import DCPath, ElementLimit, ElementSpec, ParameterSpec, Registry, StartRole
 
@@ -142,14 +143,27 @@ def _warburg_as_finite(params, omega_min, omega_max):
     """Wo or Ws as W (τ → ∞): Z → R/√(jωτ) = σ(1 − j)/√ω with R = σ√(2τ) (1/√j = (1 − j)/√2)."""
     (sigma,) = params
     tau = DEEP_DIFFUSION / omega_min
-    return (sigma * math.sqrt(2.0 * tau), tau + 0.0 * sigma)
+    return (sigma * np.sqrt(2.0 * tau), tau + 0.0 * sigma)
 
 
 def _warburg_as_gerischer(params, omega_min, omega_max):
     """G as W (τ → ∞): Z → R/√(jωτ), R = σ√(2τ) as `_warburg_as_finite`."""
     (sigma,) = params
     tau = GERISCHER_DEEP / omega_min
-    return (sigma * math.sqrt(2.0 * tau), tau + 0.0 * sigma)
+    return (sigma * np.sqrt(2.0 * tau), tau + 0.0 * sigma)
+
+
+def _finite_warburg_toward_infinite(params, omega_min, omega_max):
+    """A Wo or Ws (R, τ) moved to its W limit with its Warburg coefficient σ = R/√(2τ) (its
+    impedance R/√(jωτ) at ωτ ≫ 1) kept."""
+    r, tau = params
+    return _warburg_as_finite((r / np.sqrt(2.0 * tau),), omega_min, omega_max)
+
+
+def _gerischer_toward_warburg(params, omega_min, omega_max):
+    """A G (R, τ) moved to its W limit with σ = R/√(2τ) kept (R/√(1 + jωτ) → R/√(jωτ))."""
+    r, tau = params
+    return _warburg_as_gerischer((r / np.sqrt(2.0 * tau),), omega_min, omega_max)
 
 
 def _capacitor_as_open_warburg(params, omega_min, omega_max):
@@ -189,7 +203,7 @@ def _cole_cole_as_havriliak_negami(params, omega_min, omega_max):
     return (r, tau, alpha, 1.0 + 0.0 * r)
 
 
-_AS_WARBURG = ElementLimit("W", "tau -> inf", _warburg_as_finite)
+_AS_WARBURG = ElementLimit("W", "tau -> inf", _warburg_as_finite, toward=_finite_warburg_toward_infinite)
 _AS_RESISTOR = ElementLimit("R", "tau -> 0", _resistor_as_fast)
 
 
@@ -250,7 +264,7 @@ DEFAULT_REGISTRY = Registry(
             (_resistance("Gerischer resistance"), _time_constant(1e-3)),
             _gerischer,
             dc=DCPath.CONDUCTS, cdc="G", impedance_py="G",
-            limits=(ElementLimit("W", "tau -> inf", _warburg_as_gerischer), _AS_RESISTOR),
+            limits=(ElementLimit("W", "tau -> inf", _warburg_as_gerischer, toward=_gerischer_toward_warburg), _AS_RESISTOR),
         ),
         ElementSpec(
             "CC", "Cole–Cole relaxation", "Z = R/(1 + (jωτ)^α)",

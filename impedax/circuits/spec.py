@@ -173,11 +173,16 @@ class ElementLimit:
     order) that give the simpler element's impedance with parameters ``params`` (a tuple, of
     numbers or of numpy arrays over spectra) within ω_min..ω_max [rad/s] to about 1e-6
     relative: what a fit of the larger circuit starts from to reach at least the smaller one's
-    optimum (`impedax.circuits.nesting.carried_values`)."""
+    optimum (`impedax.circuits.nesting.carried_values`). ``toward(params, omega_min,
+    omega_max)``, optional: this element's own parameters moved into the limit, keeping what the
+    data see of it (a Wo's R/√τ, its Warburg coefficient at high frequency, as τ → 200/ω_min): a
+    batch of fits also solves each spectrum from its optimum so moved, as a limit at τ → ∞ is one
+    no step of the solver reaches (`least_squares.batch`)."""
 
     symbol: str
     where: str
     values: Callable[..., tuple]
+    toward: Callable[..., tuple] | None = None
 
     def __post_init__(self):
         if not isinstance(self.symbol, str) or not _SYMBOL_RE.match(self.symbol):
@@ -186,6 +191,8 @@ class ElementLimit:
             raise CircuitError(f"ElementLimit {self.symbol}: where must be text (e.g. 'tau -> inf'), got {_value_text(self.where)}")
         if not callable(self.values):
             raise CircuitError(f"ElementLimit {self.symbol}: values must be a function f(params, omega_min, omega_max) -> this element's parameters, got {_value_text(self.values)}")
+        if self.toward is not None and not callable(self.toward):
+            raise CircuitError(f"ElementLimit {self.symbol}: toward must be None or a function f(params, omega_min, omega_max) -> this element's parameters, got {_value_text(self.toward)}")
 
 
 @dataclass(frozen=True)

@@ -330,7 +330,8 @@ class BatchComparison:
                 small_at_bound = small.dataset["at_bound"].transpose("param", *self.dims).values.reshape(len(small_names), -1)
                 extra_at_bound = np.zeros(chi2.shape[1], bool)  # (`boundary_parameters`: at a bound the smaller model does not hold it at)
                 for j, n in enumerate(names):
-                    extra_at_bound |= at_bound[j] & ~(small_at_bound[small_names.index(n)] if n in small_names else False)
+                    held = small_at_bound[small_names.index(n)].astype(bool) if n in small_names else np.zeros(chi2.shape[1], bool)
+                    extra_at_bound |= at_bound[j].astype(bool) & ~held
                 excess = np.where(extra_at_bound, np.maximum(NESTED_WORSE_REL * chi2[s], BOUND_CHI2_FRACTION * chi2_red[c]), NESTED_WORSE_REL * chi2[s])
                 with np.errstate(invalid="ignore"):
                     worse = chi2[c] - chi2[s] > excess
