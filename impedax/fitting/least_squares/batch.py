@@ -35,7 +35,7 @@ from .branches import RELATIVE_ERROR_LIMIT, held_covariances, idle_branch_notes,
 from .constraints import constraint_misfit_notes, with_constraint_notes
 from .result import stored_notes, warnings_blame_model, COVARIANCE_NOTE, BOUND_RESTARTS, FIT_STATISTICS, bounds_attr, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, PARAMETER_UNIT_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, sigma_misstated, sigma_scale_notes, uneven_residual_notes, shown_stderr, stack_notes, vanishing_term_sides, weighting_notes, without_error
 from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, TreeSolvers, better, over_devices, padded_points, tree_solver, trimmed, unscale
-from .starts import SpectrumFeatures, climb_target, batch_outliers, escalation_rungs, guess_start, inward_start, rms_rel_of, rung_seed, rung_starts, to_solver_space, values_inside
+from .starts import SpectrumFeatures, climb_target, batch_outliers, escalation_rungs, guess_start, inward_start, limit_starts, rms_rel_of, rung_seed, rung_starts, to_solver_space, values_inside
 
 __all__ = ["BatchFitResult", "fit_batch", "labels_by_keyword"]
 
@@ -727,31 +727,6 @@ def _also_solved_from(out: SolverOutput, u: np.ndarray, starts: np.ndarray, solv
     u = np.array(u)
     u[take] = u_own[take]
     return _merged(out, spectra, candidate), u
-
-
-def limit_starts(circuit: Circuit, table: ParameterTable, x: np.ndarray, freq, registry: Registry) -> list[np.ndarray]:
-    """Starts (B, P) for a batch's second local fit: each spectrum's optimum ``x`` (B, P) with one
-    element moved into a limit that keeps what the data see of it (`ElementLimit.toward`: a Wo at
-    τ → ∞ with its Warburg coefficient kept), one start per such limit of each element whose
-    parameters are all free. A limit at τ → ∞ is reached by no step of the solver, and the
-    reference spectrum's optimum, which every spectrum is offered, can hold the batch on the
-    other side: on the 130 REAL battery cycles the Wo model's fits ended above the W model's χ²
-    on 58 cycles (up to 1.40×), on none with this start solved too (2026-12-02)."""
-    omega = 2 * np.pi * np.asarray(freq, float)
-    out = []
-    for element in circuit.elements():
-        spec = registry[element.symbol]
-        index = [table.names.index(n) for n in spec.parameter_names(element.name)]
-        if table.fixed[index].any():
-            continue
-        for limit in spec.limits:
-            if limit.toward is None:
-                continue
-            moved = limit.toward(tuple(x[:, i] for i in index), float(omega.min()), float(omega.max()))
-            start = np.array(x, float)
-            start[:, index] = np.stack([np.broadcast_to(np.asarray(v, float), (x.shape[0],)) for v in moved], axis=-1)
-            out.append(start)
-    return out
 
 
 # rounds of `_outliers_restarted`: each offers the optima the last one found to the neighbours

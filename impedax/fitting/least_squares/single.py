@@ -29,7 +29,7 @@ from .per_spectrum import has_per_spectrum_values, split_fits
 from .result import BOUND_RESTARTS, FitResult, is_remainder, falling_inward, fit_result, unused_sigma_notes
 from .shared import SharedFitResult, fit_shared, shared_layout
 from .solvers import IDENTITY_DAMPING_STEPS, SCREEN_STEPS, SharedArgs, SolverStatus, SpectrumRows, better, padded_points, solver_args, tree_solver, trimmed, unscale
-from .starts import KK_MISFIT_FACTOR, SpectrumFeatures, draw_words, escalation_rungs, climb_target, guess_start, inward_start, rms_rel_of, rung_draws, rung_seed, to_solver_space
+from .starts import KK_MISFIT_FACTOR, SpectrumFeatures, draw_words, escalation_rungs, climb_target, guess_start, inward_start, limit_starts, rms_rel_of, rung_draws, rung_seed, to_solver_space
 
 __all__ = ["fit", "FitResult", "BatchFitResult", "SharedFitResult", "WEIGHTINGS", "information_criteria"]
 
@@ -82,7 +82,8 @@ def fit(
     stays above `starts.KK_MISFIT_FACTOR` (1.2) × the misfit of a Kramers–Kronig-consistent
     model, 4 and then 16 new draws follow (and 64 more for circuits of 12 or more free
     parameters): up to 21 × ``n_starts`` starts (85 × for the large circuits), 336 by
-    default, 42 for ``n_starts=2``. The best fit is kept; ``FitResult.n_starts`` says how many
+    default, 42 for ``n_starts=2``; after a ladder, one start more per element with a limit no
+    step reaches (a Wo at τ → ∞: `starts.limit_starts`). The best fit is kept; ``FitResult.n_starts`` says how many
     starts were used (1: the guess alone). ``n_starts=1`` fits the guess alone (in a batch:
     one local fit per spectrum). docs/fitting.md, "Starts".
     ``init`` gives starting values by name, or is a `FitResult` whose values start the
@@ -203,6 +204,9 @@ def fit(
     if n_starts > 1 and (far or not at_noise_floor(freq, z, out.z_model, inv_re, inv_im, out.code)[()]):
         say(f"the fit from {start} is " + ("far from its start" if far else "not at the noise") + f": {n_starts} starts (the start ladder's first draw: {draw_words(table, n_starts, guess_words)})")
         out, used = escalated(out, solve, circuit, table, features, freq, z, n_starts, seed, registry, int(max_steps), kk_chains)
+        for limit_start in limit_starts(circuit, table, np.asarray(out.x)[None], freq, registry):  # (an element's limit no step reaches, as a batch's)
+            (again,) = solve(guess_start(circuit, table, features, registry, starts=limit_start))
+            out, used = better(out, again), used + 1
     out = restarted_inward(out, lambda u: solve(u[None])[0], table, z, inv_re, inv_im, weighting, lambda o: one_spectrum_chi2(solvers.chi2_x, args, o))
     out = canonical_order(circuit, table, freq, out, registry)
     chi2_at_x = one_spectrum_chi2(solvers.chi2_x, args, out)
