@@ -58,7 +58,7 @@ import xarray as xr
 
 from ...progress import reports_progress
 from ...arguments import MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice, count, flag, frequency, instance_of, noise_fraction, parameter_bounds, parameter_values, seed as seed_rule
-from ...circuits import Circuit, DEFAULT_REGISTRY, Element, Parallel, Registry, Series, parse
+from ...circuits import Circuit, DCPath, DEFAULT_REGISTRY, Element, Parallel, Registry, Series, parse
 from ...data import concise_repr, counted, format_quantity, make_spectrum
 from ...errors import DataError, FitError, ImpedaxError, ParameterError
 from ..drt import PeakEvidence, drt, is_resolved, r_cpe_tau, unexplained_peaks
@@ -1610,28 +1610,60 @@ band (for R and C branches, |Z| of a group in series with others is at most the 
 
 
 def _parallel_resistors(circuit: Circuit, registry: Registry):
-    """Every resistor that is one of three or more branches of a parallel node (without it the
-    node stays a parallel group: R ∥ CPE ∥ C → CPE ∥ C, not R ∥ CPE → a lone CPE)."""
+    """(resistor, what is left without it) for every resistor that is one of three or more
+    branches of a parallel node (without it the node stays a parallel group: R ∥ CPE ∥ C →
+    CPE ∥ C; ``""``), or one of the two branches of a node in series with the whole circuit
+    beside a C or CPE, when the rest of the circuit already blocks DC (`_blocks_dc`): R_relax ∥
+    C_relax → C_relax in series (the words say so).
+
+    A two-branch node is reduced only there. Elsewhere leaving its resistor out takes away a DC
+    path the model has: behind an arc's resistor, (R1 + C_relax) ∥ CPE1 no longer closes on
+    R1; on a circuit that conducts, a series C makes a blocking electrode, and a series CPE of
+    α ≈ 0.5 the diffusion effect's Warburg — another effect under the name of the one that
+    proposed the node."""
+    top = circuit.children if isinstance(circuit, Series) else ()
     for node, i in parallel_branches(circuit):
-        if len(node.children) >= 3 and registry[node.children[i].symbol].symbol == "R":
-            yield node.children[i]
+        resistor = node.children[i]
+        if registry[resistor.symbol].symbol != "R":
+            continue
+        if len(node.children) >= 3:
+            yield resistor, ""
+            continue
+        other = node.children[1 - i]
+        blockers = [str(t) for t in top if t is not node and _blocks_dc(t, registry)]
+        if any(t is node for t in top) and isinstance(other, Element) and registry[other.symbol].symbol in ("C", "CPE") and blockers:
+            yield resistor, f"; {other.name} stands alone in series, where the circuit already blocks DC ({blockers[0]})"
+
+
+def _blocks_dc(circuit: Circuit, registry: Registry) -> bool:
+    """Does no DC current pass (|Z| → ∞ as ω → 0): an element whose spec says `DCPath.BLOCKS`
+    (C, CPE, W, Wo), a series chain with one, a parallel node all of whose branches block?"""
+    if isinstance(circuit, Element):
+        return registry[circuit.symbol].dc_path is DCPath.BLOCKS
+    if isinstance(circuit, Series):
+        return any(_blocks_dc(c, registry) for c in circuit.children)
+    return all(_blocks_dc(c, registry) for c in circuit.children)
 
 
 def _open_resistor_dropped(base: FitResult, proposals: list[tuple[Effect, Proposal]], fits: Sequence[FitResult]) -> list[tuple[Effect, Proposal]]:
     """For each candidate that lowers AIC by more than `DELTA_AIC_MIN` but leaves parameters
-    undetermined because a resistor it adds in parallel with two or more other branches
-    (`_parallel_resistors`) ran open (above `OPEN_RESISTANCE_FACTOR` × the data's largest
-    |Z|), the same candidate without that resistor, warm-started from the candidate's optimum.
+    undetermined because a resistor it adds in parallel with other branches
+    (`_parallel_resistors`: two or more others, or a C or CPE in series with a circuit that
+    blocks DC) ran open (above `OPEN_RESISTANCE_FACTOR` × the data's largest |Z|), the same
+    candidate without that resistor, warm-started from the candidate's optimum.
 
     On a finger whose gap leaks through a nearly resistive CPE (α ≈ 0.05–0.3), the electrode
     polarization R_EP ∥ CPE_EP ∥ C_gap fits best with R_EP → 3·10¹¹ Ω, which leaves R_EP and
     CPE_EP undetermined, so it was not proposed and a series arc was named; without R_EP,
-    CPE_EP ∥ C_gap fits as well with every parameter determined (SYNTHETIC dev draw)."""
+    CPE_EP ∥ C_gap fits as well with every parameter determined (SYNTHETIC dev draw). On
+    AutoEIS's battery cycle 22 (REAL) with ``R0 + R1 || CPE1 + R2 || CPE2 + W1``, R_relax ∥
+    C_relax at the end fits at 0.875 % with R_relax → 22 MΩ; the series C_relax it leaves
+    fits as well with every parameter determined."""
     out, seen = [], {str(p.circuit) for _, p in proposals} | {str(base.circuit)}
     baseline = set(base.circuit.element_names)
     for effect, p, cf, undetermined in _significant_but_undetermined(base, proposals, fits):
         z_max = float(np.max(np.abs(cf.z_data)))
-        for r in _parallel_resistors(p.circuit, cf.registry):
+        for r, left in _parallel_resistors(p.circuit, cf.registry):
             if r.name in baseline or r.name not in undetermined or cf.fixed.get(r.name, False) or not cf.values[r.name] > OPEN_RESISTANCE_FACTOR * z_max:
                 continue
             circuit = p.circuit.without(r.name)
@@ -1639,7 +1671,7 @@ def _open_resistor_dropped(base: FitResult, proposals: list[tuple[Effect, Propos
                 continue
             seen.add(str(circuit))
             added = " + ".join(n for n in circuit.element_names if n not in baseline)
-            why = f"{r.name} left out: it ran open ({format_quantity(float(cf.values[r.name]), 'Ω')}, over {OPEN_RESISTANCE_FACTOR:g}× the data's largest |Z|)"
+            why = f"{r.name} left out: it ran open ({format_quantity(float(cf.values[r.name]), 'Ω')}, over {OPEN_RESISTANCE_FACTOR:g}× the data's largest |Z|){left}"
             starts = ({k: float(v) for k, v in cf.values.items() if k != r.name},)
             out.append((effect, Proposal(p.effect, circuit, added, f"{p.where}, {why}", starts, removed=p.removed, band=p.band, vanished=p.vanished)))
     return out
