@@ -251,7 +251,7 @@ BAD_OPTIONS = [  # (id, argv template with {good} a valid spectrum file and {tmp
     ("gap-too-few-steps", ["gap", "{good}", "{good}", "{good}", "--area", "1e-4", "--steps", "0"], "--steps must be at least 20"),
     ("gap-unknown-branch", ["gap", "{good}", "{good}", "{good}", "--area", "1e-4", "--ep", "RC"], "invalid choice: 'RC'"),
     ("gap-pooled-and-hierarchical", ["gap", "{good}", "{good}", "{good}", "--area", "1e-4", "--pooled", "--method", "hierarchical"], "--pooled and --method hierarchical contradict each other"),
-    ("gap-missing-spectrum", ["gap", "{good}", "{good}", "--area", "1e-4"], "the following arguments are required: DATA_TS"),
+    ("gap-missing-spectrum", ["gap", "{good}", "{good}", "--area", "1e-4"], "give DATA_SKIN and DATA_TS both (the remainder total − skin − touchscreen) or neither"),
     ("draw-missing-output", ["draw", "R1"], "the following arguments are required: -o/--out"),
     ("inspect-unknown-flag", ["inspect", "{good}", "--bogus"], "unrecognized arguments: --bogus"),
     ("demo-unknown-flag", ["demo", "--bogus"], "unrecognized arguments: --bogus"),

@@ -1708,7 +1708,9 @@ def remainder_with_paths(remaining, paths: dict[str, str]):
     """The remainder Dataset with the paths of the three spectra it was subtracted from as its
     attrs (`REMAINDER_ATTRS`: total, skin, touchscreen), as ``impedax remaining`` and
     ``impedax gap --remaining`` both write it: a fit of the file then knows it is a remainder
-    (`is_remainder`) and blames Re Z < 0 on the subtraction, not the instrument."""
+    (`is_remainder`) and blames Re Z < 0 on the subtraction, not the instrument. A single
+    contact's (``impedax gap PAD``: ``paths`` holds the total alone) gets that path only, and is
+    no remainder: nothing was subtracted."""
     from ..fitting.least_squares.result import REMAINDER_ATTRS
 
-    return remaining.assign_attrs({k: str(paths[k]) for k in REMAINDER_ATTRS})
+    return remaining.assign_attrs({k: str(paths[k]) for k in REMAINDER_ATTRS if k in paths})

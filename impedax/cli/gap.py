@@ -1,4 +1,5 @@
-"""``impedax gap TOTAL SKIN TOUCHSCREEN --area A``: the Sirin et al. workflow end to end."""
+"""``impedax gap TOTAL [SKIN TOUCHSCREEN] --area A``: the Sirin et al. workflow end to end; with
+the total alone, a single contact (a gripper pad), nothing subtracted."""
 
 from __future__ import annotations
 
@@ -11,7 +12,7 @@ GAP_OUT_HELP = (
     "the gap voltage and force over frequency), sampling_unreliable and the warnings (one per line) on the bayes row, "
     "then a bayes_parameter row per EDL parameter (value, low, high, unit, fit_value, fit_stderr); .json the --json summary; "
     ".nc the force bands with the gap summary as attributes, the EDL parameters and the draws of u (netCDF; read it back with impedax.io.read_netcdf); '-' the JSON to standard output. "
-    "Each records impedax's version, these options and the three files (docs/io.md, Provenance)"
+    "Each records impedax's version, these options and the input files (docs/io.md, Provenance); single_contact (CSV column, JSON key, .nc attribute) says whether skin and screen were subtracted"
 )
 
 
@@ -22,8 +23,9 @@ def register(sub) -> None:
 
     p = sub.add_parser(
         "gap",
-        help="air-gap thickness, gap voltage and force from three spectra (Sirin et al.)",
-        description="Subtract skin and touchscreen from the total impedance, fit the EDL parallel model, "
+        help="air-gap thickness, gap voltage and force from three spectra (Sirin et al.), or one of a single contact",
+        description="Subtract skin and touchscreen from the total impedance (given the total alone: a single contact, "
+        "e.g. an electroadhesive gripper pad, whose total is the contact's impedance and takes the whole drive), fit the EDL parallel model, "
         "sample the gap thickness u and print it with its 90% credible interval next to the paper's method. "
         "Default (--method hierarchical): every total trial gets its own u and EP branch drawn from a population, "
         "with noise from the trial scatter and a sampled discrepancy floor; u is the population median, "
@@ -32,8 +34,8 @@ def register(sub) -> None:
     )
     accept_negative_numbers(p)  # (--area -1e-4: the value, refused by name, not argparse's "expected one argument")
     p.add_argument("total", metavar="DATA_TOTAL", help="finger-on-screen spectra (trials as an extra dimension)")
-    p.add_argument("skin", metavar="DATA_SKIN", help="skin spectra")
-    p.add_argument("touchscreen", metavar="DATA_TS", help="touchscreen spectra")
+    p.add_argument("skin", metavar="DATA_SKIN", nargs="?", help="skin spectra; leave out with DATA_TS for a single contact (nothing subtracted)")
+    p.add_argument("touchscreen", metavar="DATA_TS", nargs="?", help="touchscreen spectra; given with DATA_SKIN or not at all")
     p.add_argument("--area", type=number_option, required=True, help="apparent contact area A [m²], e.g. 130e-6; outside 1e-6–1e-2 m² (1–10 000 mm², a fingertip) it is refused as a likely unit slip unless --no-area-check")
     p.add_argument("--no-area-check", action="store_true", help="analyse any positive --area, e.g. a contact other than a fingertip: one outside 1e-6–1e-2 m² gives a warning instead of an error")
     p.add_argument("--v0", type=number_option, help="drive amplitude V0 [V], peak; default: the one voltage the total spectra carry (a --select voltage=500 "
@@ -49,11 +51,11 @@ def register(sub) -> None:
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     p.add_argument(
         "--select", action="append", metavar="DIM=LABEL",
-        help="narrow each of the three files that has dimension DIM to the spectra whose DIM is LABEL, e.g. one session of a "
+        help="narrow each of the input files that has dimension DIM to the spectra whose DIM is LABEL, e.g. one session of a "
         "file over session and trial; the remaining dimensions (and a list's or range's DIM) are the trials. " + SELECT_SYNTAX_HELP,
     )
     add_quiet_option(p)
-    p.add_argument("--remaining", metavar="FILE.nc|.csv", help="also save the trial-mean remainder total − skin − touchscreen that the EDL model is fitted to, as a spectrum (with sigma) that impedax fit reads; impedax remaining writes it without the sampling")
+    p.add_argument("--remaining", metavar="FILE.nc|.csv", help="also save the trial-mean remainder total − skin − touchscreen that the EDL model is fitted to (a single contact: the total's trial mean, nothing subtracted, attr single_contact 1), as a spectrum (with sigma) that impedax fit reads; impedax remaining writes it without the sampling")
     add_output_options(p, plot="save impedance, gap posterior and force bands", out=GAP_OUT_HELP)
     p.set_defaults(run=run)
 
@@ -69,6 +71,9 @@ def run(args) -> int:
     if args.pooled and args.method == "hierarchical":  # (argparse's exclusive groups let a default-valued --method through)
         raise ParameterError("--pooled and --method hierarchical contradict each other: give one")
     args.method = "pooled" if args.pooled else args.method or "hierarchical"
+    if args.skin is not None and args.touchscreen is None:  # (argparse fills DATA_SKIN first: one extra file is refused, whichever it is)
+        raise ParameterError("one spectrum file after DATA_TOTAL: give DATA_SKIN and DATA_TS both (the remainder total − skin − touchscreen) "
+                             "or neither (a single contact, e.g. a gripper pad: impedax gap PAD --area A)")
     if not args.area > 0:
         raise ParameterError(f"--area must be positive (m²), got {args.area:g}")
     if args.v0 is not None and not args.v0 > 0:
@@ -80,15 +85,15 @@ def run(args) -> int:
         raise ParameterError(f"--steps must be at least {GAP_MIN_STEPS}")
     outputs = plan_outputs(
         [("--out", args.out, "result"), ("--plot", args.plot, "figure"), ("--remaining", args.remaining, "spectrum")],
-        inputs=[args.total, args.skin, args.touchscreen], stdout="--json" if args.json else None,
+        inputs=[p for p in (args.total, args.skin, args.touchscreen) if p is not None], stdout="--json" if args.json else None,
     )
     # a chain keeps every step of every walker (chain): about 64 walkers × 8 parameters × 8 bytes, kept three times
     # (--steps auto: emcee's cap, pooled; HIERARCHICAL_AUTO_DRAWS, hierarchical)
     auto_length = auto_step_cap(64) if args.method == "pooled" else HIERARCHICAL_AUTO_DRAWS
     length = auto_length if steps == AUTO_STEPS else steps
     check_memory("--steps", length * 64 * 10 * 8 * 3, f"a gap-thickness chain of {'up to ' if steps == AUTO_STEPS and args.method == 'pooled' else ''}{length} steps")
-    total, skin, touchscreen = load_selected_files([args.total, args.skin, args.touchscreen], args.select, args.readers)
-    paths = {"total": args.total, "skin": args.skin, "touchscreen": args.touchscreen}
+    paths = {name: path for name, path in (("total", args.total), ("skin", args.skin), ("touchscreen", args.touchscreen)) if path is not None}
+    total, skin, touchscreen = (*load_selected_files(list(paths.values()), args.select, args.readers), None, None)[:3]  # (a single contact: the total alone)
     check_distinct_paths(paths)  # (after reading: a bad file is named first)
     drive = drive_voltage(total, args.v0)  # (gap_analysis finds the same; said here once, before minutes of sampling)
     if drive.note:

@@ -20,6 +20,13 @@ gap voltage and the electrostatic force, with uncertainty.
    drive of amplitude V0, as posterior bands, with and without the EP branch. The bands carry the
    posterior of the remainder only: they condition on the area A being exact and on the skin and
    screen trial means (their errors are not propagated).
+
+A single contact (skin and touchscreen None; ``impedax gap PAD.csv``; added 2026-12-02): an
+electroadhesive gripper pad on its target, whose measured impedance is the contact's own,
+R_EP ∥ CPE_EP ∥ C_gap. Nothing is subtracted (step 1 gives the total's trial means with their
+SEM), and the drive V0 falls across the contact alone: with z_skin = z_ts = 0 in the node
+voltages of eq 1, I = V0/Z_R and ΔV = V0, so C_gap, parallel to the EP branch, carries the whole
+V0 and F = ½ ε0 ε_gap A V0²/u² at every frequency, with EP and without.
 """
 
 from __future__ import annotations
@@ -44,7 +51,7 @@ from ..fitting.kk import KKChains
 from ..fitting.least_squares.result import MISFIT_RATIO_MAX, REMAINDER_ATTRS, SUBTRACTION_CAUSE, gross_misfits, known_kk_misfits, listed_frequencies
 from ..fitting.statistics import non_passive
 from ..fitting.frozen import freeze_fields
-from .gap_inputs import DriveVoltage, check_gap_inputs, condition_notes, drive_voltage, position_notes, spectra_used
+from .gap_inputs import DriveVoltage, check_gap_inputs, condition_notes, drive_voltage, is_single_contact, position_notes, present_inputs, spectra_used
 from .plausible import AIR_BREAKDOWN_V, DRIVE_VOLTAGE_V, FINGERTIP_AREA_M2
 from .sirin import SIRIN_AREA, PaperGapEstimate, gap_force_peak, gap_voltage, paper_gap_estimate, remainder_circuit, remaining_impedance, trial_mean, trial_remainders
 
@@ -55,10 +62,17 @@ _EP_PER_TRIAL = ("R_EP", "CPE_EP.Q", "C_EP")  # the contact's EP branch varies w
 
 FORCE_CONVENTION = "peak"  # eq 1 at the voltage amplitude; the time average is half of it
 FORCE_CONDITIONS = "A taken as exact; skin and screen as their trial means, without their errors"
+SINGLE_CONTACT_FORCE_CONDITIONS = "A taken as exact; a single contact: the drive V0 across the contact alone (no skin or screen in series)"
+"""`FORCE_CONDITIONS` of a single contact (`GapAnalysis.single_contact`)."""
+SINGLE_CONTACT_NOTE = (
+    "single contact (no skin or touchscreen given): the EDL model is fitted to the total itself, nothing subtracted, "
+    "and the drive V0 falls across the contact alone"
+)
+"""The report's ``mode`` line and the CSV's and figure's word for a single-contact analysis."""
 GAP_TABLE_COLUMNS = (
     "method", "c_gap_f", "c_gap_low_f", "c_gap_high_f", "u_m", "u_low_m", "u_high_m", "gap_identified", "u_lower_bound_m", "u_lower_bound_withheld",
     "force_max_frequency_hz", "gap_voltage_v", "gap_voltage_low_v", "gap_voltage_high_v",
-    "force_max_n", "force_max_low_n", "force_max_high_n", "force_upper_bound_max_n", "v0_v", "v0_from", "sampling_unreliable", "n_warnings", "warnings", "alarms",
+    "force_max_n", "force_max_low_n", "force_max_high_n", "force_upper_bound_max_n", "v0_v", "v0_from", "sampling_unreliable", "n_warnings", "warnings", "alarms", "single_contact",
 )
 """The columns of `GapAnalysis.to_table` (``impedax gap --out FILE.csv``), each quantity's SI
 unit in its name (``_f`` farad, ``_m`` metre, ``_v`` volt, ``_n`` newton, ``_hz`` hertz);
@@ -69,7 +83,8 @@ largest (added 2026-12-01); ``force_max_n`` (low, high) the PEAK force there (`G
 ``force_upper_bound_max_n`` the largest force the data allow when u is not determined,
 ``sampling_unreliable`` the report's "SAMPLING UNRELIABLE", ``warnings`` and ``alarms`` (`GapAnalysis.alarms`)
 one per line in one cell, ``n_warnings`` how many warnings, ``v0_v`` the drive V0 the forces are for and
-``v0_from`` where it came from (data, given, default; the JSON's) (added 2026-12-02)."""
+``v0_from`` where it came from (data, given, default; the JSON's) (added 2026-12-02); ``single_contact``
+true when nothing was subtracted (`GapAnalysis.single_contact`; added 2026-12-02)."""
 
 HIERARCHICAL_AUTO_DRAWS = 500
 # the names `GapAnalysis.draws` takes besides the parameters': those of its properties `gap` and `c_gap`
@@ -111,6 +126,9 @@ class GapAnalysis:
     amplitude of the gap voltage |ΔV_gap| [V] from the same draws (``gap_voltage_median``,
     ``gap_voltage_q05``, ``gap_voltage_q95``; `gap_voltage_at_force_max`); the bands
     condition on ``area`` being exact and on the skin and screen trial means (no error).
+
+    ``single_contact``: no skin or touchscreen was given, so ``remaining`` is the total's trial
+    mean itself and the force's drive falls across the contact alone (module docstring).
     """
 
     remaining: xr.Dataset
@@ -145,6 +163,8 @@ class GapAnalysis:
     drive: DriveVoltage | None = None
     """Where ``v0`` came from (`gap_inputs.drive_voltage`: the voltage the total spectra carry,
     the one given, or the default); None: given. Added 2026-12-02."""
+    single_contact: bool = False
+    """True when skin and touchscreen were None: nothing subtracted (added 2026-12-02)."""
     settings: dict | None = None
     """What `gap_analysis` ran with, defaults included: ``eps_gap``, ``cutoff_hz``, ``seed``,
     ``steps`` (hierarchical: draws per chain; pooled: emcee steps, as run when ``"auto"``),
@@ -283,7 +303,7 @@ class GapAnalysis:
                 "gap_bounds_um": [self.paper.gap_lower * 1e6, self.paper.gap_upper * 1e6] if self.paper_has_bounds else None,
                 "gap_trials_um": [self.paper.gap_trial_min * 1e6, self.paper.gap_trial_max * 1e6] if np.isfinite(self.paper.gap_trial_min) else None,
             },
-            "force_conditions": FORCE_CONDITIONS,
+            "force_conditions": self.force_conditions,
             "model": self.edl_fit.model,
             "model_requested": self.model_requested if self.model_requested is not None else self.edl_fit.model,
             "naive_rms_rel": self.naive_fit.rms_rel,
@@ -309,7 +329,26 @@ class GapAnalysis:
             "alarms": list(self.alarms),
             "c_gap_f": self.c_gap,
             "v0_v": self.v0,
+            "single_contact": self.single_contact,  # (added 2026-12-02: true when nothing was subtracted)
         }
+
+    def _whole_drive_text(self) -> str:
+        """A single contact whose C_gap takes the whole drive V0 at every frequency (C_gap
+        parallel to the rest of the model, as in the EDL models: the gap-voltage band is V0
+        within 1e-6): then the force is one value over frequency, with EP and without, and the
+        report's "max … at" names the first frequency only."""
+        if "gap_voltage_median" not in self.force:
+            return ""
+        volts = np.asarray(self.force["gap_voltage_median"].values, float)
+        if not np.allclose(volts, self.v0, rtol=1e-6, atol=0.0):
+            return ""
+        return "; C_gap, parallel to the EP branch, carries the whole V0 at every frequency, so the force, F = ½ ε0 ε_gap A V0²/u², is the same at every frequency, with EP and without"
+
+    @property
+    def force_conditions(self) -> str:
+        """What the force bands condition on (`FORCE_CONDITIONS`; a single contact's:
+        `SINGLE_CONTACT_FORCE_CONDITIONS`)."""
+        return SINGLE_CONTACT_FORCE_CONDITIONS if self.single_contact else FORCE_CONDITIONS
 
     def _force_bound_summary(self) -> dict | None:
         """The JSON's ``force_upper_bound_n``: the force [N] at u's lower bound over the force's
@@ -417,6 +456,7 @@ class GapAnalysis:
             # (verdicts as cells of the row they qualify, one per line: no comment line, which csv.DictReader would take for the header,
             # and no extra rows, which would break reading the rows after bayes and paper as the parameters)
             "sampling_unreliable": self._sampling_unreliable(), "n_warnings": len(self.warnings), "warnings": "\n".join(self.warnings), "alarms": "\n".join(self.alarms),
+            "single_contact": self.single_contact,
         }
         return [
             bayes,
@@ -452,8 +492,10 @@ class GapAnalysis:
             f"fits            naive C_gap: rms_rel {format_percent(self.naive_fit.rms_rel)};  {self.edl_fit.model}: rms_rel {format_percent(self.edl_fit.rms_rel)}",
             f"force (peak, V0 = {self.v0:.4g} V){self._force_qualifier()} with EP: max {format_quantity(float(peak[i]), 'N')} at {format_frequency(float(peak['frequency'][i]))}; "
             f"without EP: max {format_quantity(float(bare[j]), 'N')} at {format_frequency(float(bare['frequency'][j]))}",
-            f"force bands     {FORCE_CONDITIONS} (A = {self.area:g} m²)",
+            f"force bands     {self.force_conditions} (A = {self.area:g} m²)",
         ]
+        if self.single_contact:
+            lines.insert(next(k for k, line in enumerate(lines) if line.startswith("paper method")), f"mode            {SINGLE_CONTACT_NOTE}{self._whole_drive_text()}")
         voltages = [(what, self.gap_voltage_at_force_max(branch)) for what, branch in (("with EP", "with_ep"), ("without EP", "without_ep"))]
         if all(v is not None for _, v in voltages):
             lines.insert(-1, "gap voltage     |ΔV_gap| (amplitude) at each force maximum: " + "; ".join(
@@ -478,7 +520,7 @@ class GapAnalysis:
         if self.edl_misfit is not None:
             lines.insert(0, (
                 f"MODEL DOES NOT FIT: {self.edl_misfit}; u, its interval and the force below rest on a model the data reject: "
-                "check the three files (impedax remaining, impedax diagnose on the remainder) before reading any of them"
+                + ("check the file (impedax diagnose on it) before reading any of them" if self.single_contact else "check the three files (impedax remaining, impedax diagnose on the remainder) before reading any of them")
             ))
         if self._sampling_unreliable():
             lines.insert(0, (
@@ -572,6 +614,7 @@ class GapAnalysis:
             "warnings": "\n".join(self.warnings),
             "sampling_unreliable": int(self._sampling_unreliable()),
             "alarms": "\n".join(self.alarms),
+            "single_contact": int(self.single_contact),
         })
         out.attrs.update({f"setting_{k}": v for k, v in (self.settings or {}).items() if v is not None})
         table = self.edl_parameters
@@ -665,8 +708,8 @@ def _gap_steps(value, name):
 )
 def gap_analysis(
     total: xr.Dataset,
-    skin: xr.Dataset,
-    touchscreen: xr.Dataset,
+    skin: xr.Dataset | None = None,
+    touchscreen: xr.Dataset | None = None,
     *,
     area: float = SIRIN_AREA,
     v0: float | None = None,
@@ -685,7 +728,9 @@ def gap_analysis(
     check_area: bool = True,
 ) -> GapAnalysis:
     """Run the Sirin workflow (module docstring) on three spectrum Datasets with trial
-    dimensions, all on one frequency grid. ``ep`` picks the EP branch of the EDL model (any case):
+    dimensions, all on one frequency grid; ``skin`` and ``touchscreen`` None (the default): a
+    single contact, nothing subtracted (the total is the contact's impedance; the drive V0 falls
+    across it alone), exactly one of them None a `ParameterError`. ``ep`` picks the EP branch of the EDL model (any case):
     ``"CPE"`` (R_EP || CPE_EP || C_gap, default) or ``"C"`` (R_EP || C_EP || C_gap: two ideal
     capacitors in parallel are identified only as their sum, so it is fitted and sampled as
     `IDENTIFIED_C_REMAINDER`, R_EP || C_gap with C_gap standing for C_EP + C_gap, and a warning says that u
@@ -720,6 +765,7 @@ def gap_analysis(
     if method not in GAP_METHODS:
         raise ParameterError(f"unknown gap method {method!r}; use one of {', '.join(GAP_METHODS)}")
     _check_single_edl_fit(edl_fit)
+    single = is_single_contact(skin, touchscreen)
     total, skin, touchscreen = check_gap_inputs(total, skin, touchscreen)  # (sign, grids, distinct: DataError naming the file)
     drive = drive_voltage(total, v0)
     v0 = drive.value
@@ -755,7 +801,7 @@ def gap_analysis(
         warm = draws if warmup is None else warmup
         result = _hierarchical(total, skin, touchscreen, remaining, paper, naive, edl, circuit, reparametrization, area=area, v0=v0, ep=ep, eps_gap=eps_gap, steps=draws, warmup=warm, chains=chains, seed=seed, progress=progress, notes=notes, model_requested=str(requested))
         used = {"eps_gap": eps_gap, "cutoff_hz": cutoff_hz, "seed": seed, "steps": draws, "steps_requested": steps, "warmup": warm, "chains": chains}
-        return replace(result, trials=trials, settings=used, drive=drive)
+        return replace(result, trials=trials, settings=used, drive=drive, single_contact=single)
     posterior = sample(
         circuit,
         remaining,
@@ -768,8 +814,7 @@ def gap_analysis(
         progress=progress,
     )
     freq = remaining["frequency"].values
-    z_skin = trial_mean(skin)["Z"].values
-    z_ts = trial_mean(touchscreen)["Z"].values
+    z_skin, z_ts = _series_impedances(skin, touchscreen)
     bands = []
     for branch, model in (("with_ep", str(circuit)), ("without_ep", "C_gap")):
         q = posterior.derive(lambda p, f, m=model: gap_force_peak(p, f, z_skin, z_ts, area=area, v0=v0, remainder=m, eps_gap=eps_gap), freq)
@@ -777,18 +822,26 @@ def gap_analysis(
         bands.append(_band_dataset(q, v, freq))
     force = _branches(bands)
     u_draws = posterior.parameter_draws()["u"]
-    notes += _bound_notes(u_draws, reparametrization, area)
+    notes += _bound_notes(u_draws, reparametrization, area, single)
     notes += _gap_breakdown_notes(force, float(np.median(u_draws)), area, eps_gap)
     sampled = _sampling_notes(posterior.warnings)
-    notes += [f"EDL fit: {w}" for w in edl.warnings] + [f"sampling: {w}" for w in _correlation_advice(sampled, posterior.strong_correlations, posterior.parameter_draws(), circuit)]
+    notes += [f"EDL fit: {w}" for w in edl.warnings] + [f"sampling: {w}" for w in _correlation_advice(sampled, posterior.strong_correlations, posterior.parameter_draws(), circuit, single)]
     notes += _estimate_bound_notes("Bayesian gap thickness", float(np.median(u_draws)), paper, remaining, f"; draws span {_um(u_draws.min())}–{_um(u_draws.max())} µm")
     known_kk = KKChains()
     lower, withheld, merged = _identification(ep, str(requested), circuit, posterior.parameter_draws(), edl, posterior.piled_up, notes, remaining, area, eps_gap, known_kk)
     bound_force = _force_upper_bound(merged, lower, freq, z_skin, z_ts, area=area, v0=v0, eps_gap=eps_gap)
-    notes = _area_advice(notes, paper, lower is None and withheld is None)
+    notes = _area_advice(notes, paper, lower is None and withheld is None, _single(remaining))
     misfit = _misfit_text(edl, remaining, known_kk)
     used = {"eps_gap": eps_gap, "cutoff_hz": cutoff_hz, "seed": seed, "steps": posterior.settings.get("steps"), "steps_requested": steps, "walkers": posterior.settings.get("walkers", posterior.n_walkers)}
-    return GapAnalysis(remaining, paper, naive, edl, posterior, force, area, v0, ep, tuple(notes), model_requested=str(requested), trials=trials, gap_lower_bound=lower, gap_bound_withheld=withheld, edl_misfit=misfit, settings=used, force_upper_bound=bound_force, drive=drive)
+    return GapAnalysis(remaining, paper, naive, edl, posterior, force, area, v0, ep, tuple(notes), model_requested=str(requested), trials=trials, gap_lower_bound=lower, gap_bound_withheld=withheld, edl_misfit=misfit, settings=used, force_upper_bound=bound_force, drive=drive, single_contact=single)
+
+
+def _series_impedances(skin: xr.Dataset | None, touchscreen: xr.Dataset | None) -> tuple:
+    """Z_skin and Z_TS [Ω] in series with the contact for the gap voltage (`gap_voltage`): the
+    trial means over frequency, or 0.0 and 0.0 for a single contact (nothing in series)."""
+    if skin is None:
+        return 0.0, 0.0
+    return trial_mean(skin)["Z"].values, trial_mean(touchscreen)["Z"].values
 
 
 def _sampling_notes(warnings) -> list[str]:
@@ -817,14 +870,16 @@ def _check_single_edl_fit(edl_fit) -> None:
         )
 
 
-def _correlation_advice(warnings, correlations, draws: Mapping[str, np.ndarray], circuit) -> list[str]:
+def _correlation_advice(warnings, correlations, draws: Mapping[str, np.ndarray], circuit, single: bool = False) -> list[str]:
     """``warnings`` of the pooled sampling with the advice of each correlation warning
     (`diagnostics.CORRELATION_ADVICE`: ``--fix``, ``--prior``, options ``impedax gap`` does not
     have) replaced by what it means for u and what a user of the gap analysis can do: u's
     correlation r with each of the pair (in log space) and how much knowing it would narrow u's
     interval, 1 − √(1 − r²) (`U_CORRELATION_MATTERS`), and the Python call that fixes one. A
     correlation warning is known as the `StrongCorrelation.warning` of one of the posterior's
-    ``correlations`` (`Posterior.strong_correlations`: the pair and r), not by matching its words."""
+    ``correlations`` (`Posterior.strong_correlations`: the pair and r), not by matching its words.
+    ``single``: a single contact, whose call passes the total alone."""
+    inputs = "total" if single else "total, skin, touchscreen"
     u = np.log(np.asarray(draws["u"], float))
     q05, q50, q95 = np.exp(np.quantile(u, [0.05, 0.5, 0.95]))
     by_warning = {c.warning: c for c in correlations}
@@ -848,7 +903,7 @@ def _correlation_advice(warnings, correlations, draws: Mapping[str, np.ndarray],
         )
         out.append(
             f"{found.finding}; {verdict}; impedax gap has no --fix or --prior: in Python, fix one in the EDL fit the pooled sampling starts from, "
-            f"ix.models.gap_analysis(total, skin, touchscreen, area=…, method='pooled', edl_fit=ix.fit('{circuit}', ix.models.remaining_impedance(total, skin, touchscreen), fixed={{'{found.first}': …}}))"
+            f"ix.models.gap_analysis({inputs}, area=…, method='pooled', edl_fit=ix.fit('{circuit}', ix.models.remaining_impedance({inputs if not single else 'total, None, None'}), fixed={{'{found.first}': …}}))"
         )
     return out
 
@@ -918,8 +973,14 @@ def _paper_bound_notes(paper: PaperGapEstimate, remaining: xr.Dataset) -> list[s
     return [
         f"the paper method's u = {_um(u)} µm lies far outside its own bounds {_um(low)}–{_um(high)} µm "
         f"(by more than their width and {PAPER_BOUND_SLACK:.0%} of u): the lowest- and highest-impedance trials are far from bracketing the trial means, "
-        "so those bounds are no interval for u; check the three files (TOTAL SKIN SCREEN: the right measurements, in that order)"
+        + ("so those bounds are no interval for u; check the file's trials (one may be of another contact)" if _single(remaining)
+           else "so those bounds are no interval for u; check the three files (TOTAL SKIN SCREEN: the right measurements, in that order)")
     ]
+
+
+def _single(remaining: xr.Dataset) -> bool:
+    """The remainder is a single contact's total, nothing subtracted (`remaining_impedance`)."""
+    return bool(remaining.attrs.get("single_contact", 0))
 
 
 # the paper's bounds are called much narrower than the trials' own spread of u below this share
@@ -951,11 +1012,13 @@ def _paper_interval_notes(paper: PaperGapEstimate, remaining: xr.Dataset) -> lis
     if outside:
         found.append(f"lie {'below' if u > high else 'above'} its u = {_um4(u)} µm")
     if narrow:
-        found.append(f"are {_um4(high - low)} µm wide while single total trials (each minus the mean skin and screen) give u = {_um4(paper.gap_trial_min)}–{_um4(paper.gap_trial_max)} µm")
+        found.append(f"are {_um4(high - low)} µm wide while single total trials{'' if _single(remaining) else ' (each minus the mean skin and screen)'} give u = {_um4(paper.gap_trial_min)}–{_um4(paper.gap_trial_max)} µm")
+    why = ("since they come from the lowest- and highest-impedance trials alone, and the trial means need not lie between them; " if _single(remaining) else
+           "since the paper subtracts the lowest-impedance skin and screen from the lowest-impedance total (and the highest from the highest), "
+           "so the extremes of the three sets offset each other; ")
     return [
         f"the paper method's bounds {_um4(low)}–{_um4(high)} µm {' and '.join(found)}: they are no interval for u, "
-        "since the paper subtracts the lowest-impedance skin and screen from the lowest-impedance total (and the highest from the highest), "
-        "so the extremes of the three sets offset each other; read the Bayesian interval for u, or the single trials' range for its scatter (docs/models.md, \"The paper's bounds\")"
+        + why + "read the Bayesian interval for u, or the single trials' range for its scatter (docs/models.md, \"The paper's bounds\")"
     ]
 
 
@@ -1084,19 +1147,20 @@ REMAINDER_KINDS = ("mean", "trials")
 pooled sampling fit) or every total trial's remainder (what the hierarchical model fits)."""
 
 
-def _checked_remainder(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dataset) -> xr.Dataset:
+def _checked_remainder(total: xr.Dataset, skin: xr.Dataset | None, touchscreen: xr.Dataset | None) -> xr.Dataset:
     """`remaining_impedance` of inputs already through `check_gap_inputs`, refused when its sign
     says the files are in the wrong order (`_check_remainder_sign`), with the inputs' paths as
     its `REMAINDER_ATTRS` (each input's ``source`` as `impedax.load` sets it, else its ``path``,
     else `IN_MEMORY`): a fit of it, the EDL fit of `gap_analysis` too, then blames Re Z < 0 on
-    the subtraction, not on the instrument."""
+    the subtraction, not on the instrument. A single contact (skin and touchscreen None) gets the
+    total's path alone: nothing was subtracted, so it is no remainder (`is_remainder`)."""
     remaining = remaining_impedance(total, skin, touchscreen)
     _check_remainder_sign(remaining)
-    paths = (str(ds.attrs.get("source") or ds.attrs.get("path") or IN_MEMORY) for ds in (total, skin, touchscreen))
-    return remaining.assign_attrs(dict(zip(REMAINDER_ATTRS, paths)))
+    given = present_inputs(total, skin, touchscreen)
+    return remaining.assign_attrs({name: str(ds.attrs.get("source") or ds.attrs.get("path") or IN_MEMORY) for name, ds in given.items() if name in REMAINDER_ATTRS})
 
 
-def gap_remainder(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dataset, *, kind: str = "mean") -> tuple[xr.Dataset, list[str]]:
+def gap_remainder(total: xr.Dataset, skin: xr.Dataset | None = None, touchscreen: xr.Dataset | None = None, *, kind: str = "mean") -> tuple[xr.Dataset, list[str]]:
     """The remaining impedance Z_R = Z_total − Z_skin − Z_TS (Sirin eq 5) exactly as
     `gap_analysis` fits it, with no fit or sampling (``impedax remaining``), and the warnings
     on the inputs (a ``--select`` read by position in some files only).
@@ -1106,9 +1170,12 @@ def gap_remainder(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dataset, 
     ``sigma`` from their SEMs (the EDL least-squares fit and ``method="pooled"``); ``"trials"``:
     `trial_remainders`, each total trial minus the skin and screen means, with the total's
     trial dimensions (``method="hierarchical"``; its error modes are left out: a spectrum file
-    holds Z and sigma only). A spectrum Dataset in Ω over Hz, as `impedax.save` writes it."""
+    holds Z and sigma only). A spectrum Dataset in Ω over Hz, as `impedax.save` writes it.
+    ``skin`` and ``touchscreen`` None: a single contact, the total's trial means (or trials)
+    themselves, as `gap_analysis` fits them then."""
     if kind not in REMAINDER_KINDS:
         raise ParameterError(f"unknown remainder kind {kind!r}; use one of {', '.join(REMAINDER_KINDS)}")
+    is_single_contact(skin, touchscreen)
     notes = position_notes(spectra_used(total, skin, touchscreen))
     total, skin, touchscreen = check_gap_inputs(total, skin, touchscreen)
     notes = condition_notes(total, skin, touchscreen) + notes
@@ -1117,7 +1184,7 @@ def gap_remainder(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dataset, 
         return remaining, notes + _subtraction_notes(remaining)
     trials = trial_remainders(total, skin, touchscreen)
     trials = trials.drop_vars([v for v in ("common_error_modes", "trial_error_modes") if v in trials])
-    trials.attrs.update({k: v for k, v in remaining.attrs.items() if k.startswith("n_trials_") or k in REMAINDER_ATTRS})
+    trials.attrs.update({k: v for k, v in remaining.attrs.items() if k.startswith("n_trials_") or k in REMAINDER_ATTRS or k == "single_contact"})
     return trials, notes + _subtraction_notes(trials)
 
 
@@ -1131,10 +1198,11 @@ def _subtraction_notes(remaining: xr.Dataset) -> list[str]:
     if not bad.any():
         return []
     trials = [d for d in z.dims if d != "frequency"]
+    cause = "the measurement itself: nothing was subtracted from this single contact (impedax inspect and impedax diagnose on the file say more)" if _single(remaining) else SUBTRACTION_CAUSE
     return [
         f"the remainder has Re Z < 0 beyond its sigma at {int(bad.sum())} of {bad.size} frequencies ({listed_frequencies(remaining['frequency'].values, bad.values)})"
         + (" in some trials" if trials else "")
-        + f", which no passive contact gives: the cause is {SUBTRACTION_CAUSE}. A fit will flag these points; "
+        + f", which no passive contact gives: the cause is {cause}. A fit will flag these points; "
         "leave them out (impedax fit --exclude or --fmin/--fmax)" + (", or fit the trial means (impedax remaining without --trials)" if trials else "")
     ]
 
@@ -1143,6 +1211,8 @@ def _check_remainder_sign(remaining: xr.Dataset) -> None:
     """The remainder of a passive contact has Re Z ≥ 0; at most half of the points may dip below
     (noise where Im Z dominates). More means the three spectra are swapped (DataError)."""
     negative = int(np.sum(np.real(remaining["Z"].values) < 0))
+    if negative > remaining.sizes["frequency"] / 2 and _single(remaining):
+        raise DataError(f"the single contact's total has Re Z < 0 at {negative} of {remaining.sizes['frequency']} frequencies, which no passive contact has: check the file's sign convention (impedax inspect)")
     if negative > remaining.sizes["frequency"] / 2:
         raise DataError(f"the remainder total − skin − screen has Re Z < 0 at {negative} of {remaining.sizes['frequency']} frequencies: check the order of the files (TOTAL SKIN SCREEN)")
 
@@ -1156,7 +1226,7 @@ def _check_hierarchical_trials(remaining: xr.Dataset) -> None:
         raise DataError(f"the hierarchical gap analysis needs at least 3 total trials, got {n_trials}; use --pooled (Python: method='pooled')")
 
 
-def trial_remainder_sigma(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dataset) -> np.ndarray | None:
+def trial_remainder_sigma(total: xr.Dataset, skin: xr.Dataset | None, touchscreen: xr.Dataset | None) -> np.ndarray | None:
     """The noise sd [Ω] (frequency,) of one total trial's remainder Z_total,t − mean Z_skin −
     mean Z_TS, for Re and Im alike: σ_k² = s_total,k² + SEM_skin,k² + SEM_TS,k², the total
     trials' own scatter (sample sd) plus the two subtracted means' standard errors (each as
@@ -1164,12 +1234,13 @@ def trial_remainder_sigma(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.D
     likelihood's noise, |Z_tk| ν_k from the trials' scatter plus the shared error of the
     subtracted means (`impedax.fitting.bayes.hierarchical`), so the per-trial least-squares fits
     that centre its priors weight the points as it does. None when σ is zero at some frequency
-    (no input scatters there: a zero sd cannot weight a fit)."""
-    means = [trial_mean(ds) for ds in (total, skin, touchscreen)]
+    (no input scatters there: a zero sd cannot weight a fit). A single contact (skin and
+    touchscreen None): the total trials' scatter alone."""
+    means = [trial_mean(ds) for ds in present_inputs(total, skin, touchscreen).values()]
     n_total = means[0].attrs["n_trials"]
     if n_total < 2:
         return None
-    scale = (n_total, 1, 1)  # the total's SEM × √n is one trial's sd; the subtracted means keep their SEM
+    scale = (n_total, 1, 1)  # the total's SEM × √n is one trial's sd; the subtracted means keep their SEM (zip stops at the inputs given)
     var = sum(k * (m["sigma_real"].values ** 2 + m["sigma_imag"].values ** 2) / 2.0 for k, m in zip(scale, means))
     sigma = np.sqrt(var)
     return sigma if bool(np.all(sigma > 0)) else None
@@ -1214,10 +1285,12 @@ def _per_trial_centre_notes(batch, edl, reparametrization, per_trial) -> list[st
 
 
 def _has_bounds(remaining: xr.Dataset) -> bool:
-    return any(remaining.attrs.get(f"n_trials_{k}", 2) > 1 for k in ("total", "skin", "touchscreen"))
+    """Some input holds more than one spectrum (the inputs given: a single contact's total alone)."""
+    inputs = ("total",) if _single(remaining) else ("total", "skin", "touchscreen")
+    return any(remaining.attrs.get(f"n_trials_{k}", 2) > 1 for k in inputs)
 
 
-def _bound_notes(u_draws, reparametrization, area: float) -> list[str]:
+def _bound_notes(u_draws, reparametrization, area: float, single: bool = False) -> list[str]:
     """A warning for each prior bound of u (`gap_bounds`: C_gap at an end of `C_GAP_BOUNDS_F`)
     that holds ≥ `_BOUND_SHARE` of the draws within a factor `_BOUND_FACTOR`: there the prior,
     not the data, sets u and C_gap = ε0 ε_gap A/u."""
@@ -1232,7 +1305,7 @@ def _bound_notes(u_draws, reparametrization, area: float) -> list[str]:
         if share >= _BOUND_SHARE:
             notes.append(
                 f"the posterior of u piles up at the {side} bound of its prior, u = {bound * 1e6:.3g} µm (C_gap = {c_bound:g} F at A = {area:g} m²; {share:.0%} of the draws within a factor {_BOUND_FACTOR:g} of it): "
-                "u and C_gap are then set by the prior bound, not the data, and are unreliable; check the three spectra"
+                f"u and C_gap are then set by the prior bound, not the data, and are unreliable; check {'the spectrum' if single else 'the three spectra'}"
             )
     return notes
 
@@ -1323,7 +1396,7 @@ def _force_upper_bound(values: Mapping[str, float] | None, lower: float | None, 
                         attrs={"units": "N", "convention": FORCE_CONVENTION, "description": "peak force at u's lower bound: the largest the data allow (eq 1, F ∝ 1/u²)"})
 
 
-def _area_advice(notes: list[str], paper: PaperGapEstimate, identified: bool) -> list[str]:
+def _area_advice(notes: list[str], paper: PaperGapEstimate, identified: bool, single: bool = False) -> list[str]:
     """``notes`` with the advice "check the area's unit first" (`AREA_UNIT_ADVICE`, of u at a
     bound of its prior or outside `PLAUSIBLE_GAP_M`) replaced where the area's unit cannot be
     the cause: the paper's method gives an air gap (u within `PLAUSIBLE_GAP_M`) at this area,
@@ -1334,7 +1407,7 @@ def _area_advice(notes: list[str], paper: PaperGapEstimate, identified: bool) ->
         return notes
     instead = (
         f"the area's unit is not the cause (the paper's method gives u = {_um(paper.gap)} µm at A = {paper.area:g} m², an air gap): "
-        + ("u is not determined by these data (the warning 'u is NOT determined')" if not identified else "check the three spectra and the model")
+        + ("u is not determined by these data (the warning 'u is NOT determined')" if not identified else f"check {'the spectrum' if single else 'the three spectra'} and the model")
     )
     return [note[: note.index(AREA_UNIT_ADVICE)] + instead if AREA_UNIT_ADVICE in note else note for note in notes]
 
@@ -1404,19 +1477,18 @@ def _hierarchical(total, skin, touchscreen, remaining, paper, naive, edl, circui
     )
     notes += retry_notes
     freq = remaining["frequency"].values
-    z_skin = trial_mean(skin)["Z"].values
-    z_ts = trial_mean(touchscreen)["Z"].values
+    z_skin, z_ts = _series_impedances(skin, touchscreen)
     pop = post.population_parameters()
     step = max(1, post.n_draws // 1000)
     force = _force_bands({k: v[::step] for k, v in pop.items()}, freq, z_skin, z_ts, circuit, area=area, v0=v0, eps_gap=eps_gap)
-    notes += _bound_notes(pop["u"], reparametrization, area)
+    notes += _bound_notes(pop["u"], reparametrization, area, _single(remaining))
     notes += _gap_breakdown_notes(force, float(np.median(pop["u"])), area, eps_gap)
     notes += [f"EDL fit: {w}" for w in edl.warnings] + [f"sampling: {w}" for w in post.warnings]
     notes += _estimate_bound_notes("population gap thickness", float(np.median(pop["u"])), paper, remaining)
     known_kk = KKChains()
     lower, withheld, merged = _identification(ep, model_requested, circuit, pop, edl, {}, notes, remaining, area, eps_gap, known_kk)  # (the rule reads a single posterior's pile-up; the hierarchical one's, `HierarchicalPosterior.piled_up`, is of population medians, and only its warnings are passed on)
     bound_force = _force_upper_bound(merged, lower, freq, z_skin, z_ts, area=area, v0=v0, eps_gap=eps_gap)
-    notes = _area_advice(notes, paper, lower is None and withheld is None)
+    notes = _area_advice(notes, paper, lower is None and withheld is None, _single(remaining))
     return GapAnalysis(remaining, paper, naive, edl, None, force, area, v0, ep, tuple(notes), method="hierarchical", hierarchical=post, model_requested=model_requested, gap_lower_bound=lower, gap_bound_withheld=withheld, edl_misfit=_misfit_text(edl, remaining, known_kk), force_upper_bound=bound_force)
 
 

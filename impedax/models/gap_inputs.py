@@ -14,6 +14,10 @@
   Grids that agree are all given the total's frequencies.
 * identity: two of the three holding the same spectra (the same file given twice) are refused.
 
+A single contact (added 2026-12-02: an electroadhesive gripper pad, whose measured impedance is the
+contact's own) gives neither skin nor touchscreen (None): the total is checked alone. Exactly one
+of them is refused (`is_single_contact`, `ONE_PART_REFUSED`).
+
 Every extra dimension of a file is averaged as replicates. A dimension whose name says nothing
 of replicates (`REPLICATE_DIM_WORDS`: ``voltage``, ``material``) may be a condition, which the
 average would mix: `condition_notes` warns of each and names ``--select DIM=LABEL``.
@@ -34,12 +38,12 @@ import numpy as np
 import xarray as xr
 
 from ..data import label_value
-from ..errors import DataError
+from ..errors import DataError, ParameterError
 from ..io.sign_check import negative_real_evidence, negative_real_hint, opposite_sign_hint
 from ..io.table import SWEEP_RTOL
 from .sirin import SIRIN_DRIVE_V
 
-__all__ = ["GAP_INPUTS", "MAX_POSITIVE_SHARE", "REPLICATE_DIM_WORDS", "VOLTAGE_NAME_WORDS", "NOT_DRIVE_WORDS", "V0_SOURCES", "CarriedVoltage", "DriveVoltage", "carried_voltages", "check_gap_inputs", "condition_notes", "drive_voltage", "is_voltage_name", "position_notes", "spectra_used"]
+__all__ = ["GAP_INPUTS", "ONE_PART_REFUSED", "is_single_contact", "present_inputs", "MAX_POSITIVE_SHARE", "REPLICATE_DIM_WORDS", "VOLTAGE_NAME_WORDS", "NOT_DRIVE_WORDS", "V0_SOURCES", "CarriedVoltage", "DriveVoltage", "carried_voltages", "check_gap_inputs", "condition_notes", "drive_voltage", "is_voltage_name", "position_notes", "spectra_used"]
 
 GAP_INPUTS = ("total", "skin", "touchscreen")
 MAX_POSITIVE_SHARE = 0.5
@@ -166,18 +170,47 @@ def _check_distinct(named: dict[str, xr.Dataset]) -> None:
                 )
 
 
-def check_gap_inputs(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dataset) -> tuple[xr.Dataset, xr.Dataset, xr.Dataset]:
+ONE_PART_REFUSED = (
+    "give both the skin and the touchscreen spectra (the remainder total − skin − touchscreen, Sirin et al.), "
+    "or neither (a single contact, e.g. a gripper pad on its target: the total is the contact's own impedance, nothing subtracted)"
+)
+"""Why a gap analysis with exactly one of skin and touchscreen is refused: the two are the
+parts in series with the contact in Sirin et al.'s chain, and one alone says neither which
+part was measured nor that the other is negligible."""
+
+
+def is_single_contact(skin, touchscreen) -> bool:
+    """True when neither ``skin`` nor ``touchscreen`` is given (None): a single contact, whose
+    total is the contact's impedance; False when both are; exactly one is a `ParameterError`
+    (`ONE_PART_REFUSED`)."""
+    if (skin is None) != (touchscreen is None):
+        given, missing = ("skin", "touchscreen") if touchscreen is None else ("touchscreen", "skin")
+        raise ParameterError(f"a {given} spectrum without a {missing} spectrum: {ONE_PART_REFUSED}")
+    return skin is None
+
+
+def present_inputs(total, skin, touchscreen) -> dict[str, xr.Dataset]:
+    """The inputs given, by name (`GAP_INPUTS`): the total alone for a single contact."""
+    return {name: data for name, data in zip(GAP_INPUTS, (total, skin, touchscreen)) if data is not None}
+
+
+def check_gap_inputs(total: xr.Dataset, skin: xr.Dataset | None, touchscreen: xr.Dataset | None) -> tuple[xr.Dataset, xr.Dataset | None, xr.Dataset | None]:
     """The three inputs checked (module docstring) and sorted by frequency, skin and screen on
-    the total's frequencies; a `DataError` names the file at fault."""
-    named = {name: data.sortby("frequency") for name, data in zip(GAP_INPUTS, (total, skin, touchscreen))}
-    for name, data in zip(GAP_INPUTS, (total, skin, touchscreen)):
+    the total's frequencies; a `DataError` names the file at fault. ``skin`` and ``touchscreen``
+    None: a single contact, the total checked alone (its sign), and None, None returned; exactly
+    one of them None is a `ParameterError` (`is_single_contact`)."""
+    is_single_contact(skin, touchscreen)
+    given = present_inputs(total, skin, touchscreen)
+    named = {name: data.sortby("frequency") for name, data in given.items()}
+    for name, data in given.items():
         named[name].attrs = dict(data.attrs)
     _check_distinct(named)
     _check_grids(named)
     for name, data in named.items():
         _check_sign(name, data)
     freq = named["total"]["frequency"].values
-    return named["total"], named["skin"].assign_coords(frequency=freq), named["touchscreen"].assign_coords(frequency=freq)
+    parts = (named[name].assign_coords(frequency=freq) if name in named else None for name in ("skin", "touchscreen"))
+    return (named["total"], *parts)
 
 
 def _label(data: xr.Dataset, dims: list[str], index: tuple[int, ...]):
@@ -187,15 +220,15 @@ def _label(data: xr.Dataset, dims: list[str], index: tuple[int, ...]):
     return values[0] if len(values) == 1 else values
 
 
-def spectra_used(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dataset) -> dict[str, dict]:
+def spectra_used(total: xr.Dataset, skin: xr.Dataset | None, touchscreen: xr.Dataset | None) -> dict[str, dict]:
     """Per input, the spectra (trials) the analysis uses: ``count``; ``dims``, the trial
     dimensions; ``labels``, one per spectrum (its label along the one dimension, or the list of
     its labels along ``dims``; a position where a dimension has no labels); ``by_position``, the
     dimensions a ``--select`` picked by position because the file has no labels along them
     (where another file's labels were meant, a different spectrum); ``source``, the file and
-    selection."""
+    selection. Only the inputs given (the total alone for a single contact)."""
     out = {}
-    for name, data in zip(GAP_INPUTS, (total, skin, touchscreen)):
+    for name, data in present_inputs(total, skin, touchscreen).items():
         dims = [d for d in data["Z"].dims if d != "frequency"]
         shape = tuple(data.sizes[d] for d in dims)
         labels = [_label(data, dims, index) for index in np.ndindex(*shape)] if dims else []
@@ -216,7 +249,7 @@ def is_replicate_dim(dim: str) -> bool:
     return any(w in REPLICATE_DIM_WORDS for w in _name_words(str(dim)))
 
 
-def condition_notes(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dataset, *, default_v0: float | None = None) -> list[str]:
+def condition_notes(total: xr.Dataset, skin: xr.Dataset | None, touchscreen: xr.Dataset | None, *, default_v0: float | None = None) -> list[str]:
     """A warning for each extra dimension with more than one spectrum whose name says nothing
     of replicates (`is_replicate_dim`: ``voltage``, ``material``): the analysis averages it as
     replicates, so conditions would be mixed into one remainder (and, in ``impedax gap``, under
@@ -224,7 +257,7 @@ def condition_notes(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dataset
     ``default_v0`` [V]: the gap analysis's V0 is that default (none given, none carried,
     `drive_voltage`), said in the warning of a dimension of the total whose name says voltage."""
     found: dict[str, dict] = {}
-    for name, data in zip(GAP_INPUTS, (total, skin, touchscreen)):
+    for name, data in present_inputs(total, skin, touchscreen).items():
         for dim in data["Z"].dims:
             if dim == "frequency" or data.sizes[dim] < 2 or is_replicate_dim(dim):
                 continue

@@ -6,6 +6,11 @@ contact is Z_R = Z_total − Z_skin − Z_TS (eq 5), modeled as the EDL parallel
 R_EP ∥ C_EP ∥ C_gap (or R_EP ∥ CPE_EP ∥ C_gap): electrode polarization in parallel with the
 air-gap capacitance.
 
+A single contact (an electroadhesive gripper pad on its target: the measured impedance is the
+contact's, R_EP ∥ CPE_EP ∥ C_gap) has no skin and no touchscreen to subtract: pass None for both
+and the remainder is the total itself (`remaining_impedance`, `trial_remainders`,
+`paper_gap_estimate`); the gap voltage and force take z_skin = z_ts = 0 (`gap_voltage`).
+
 Force conventions: eq 1, F = ½ ε0 A ΔV_gap²/u², is evaluated at the voltage amplitude, so
 `gap_force_peak` is the PEAK force over a drive period; `gap_force_time_average` is its
 time average (½ of the peak for a sinusoid).
@@ -31,6 +36,7 @@ __all__ = [
     "SIRIN_AREA",
     "SIRIN_DRIVE_V",
     "SIRIN_C_GAP",
+    "SINGLE_CONTACT_QUANTITY",
     "trial_mean",
     "remaining_impedance",
     "trial_remainders",
@@ -101,7 +107,21 @@ def _same_frequencies(reference: np.ndarray, other: np.ndarray, name: str) -> No
         raise DataError(f"{name}: frequencies differ from the total spectrum's ({other.size} vs {reference.size} points); measure all three on one frequency grid")
 
 
-def remaining_impedance(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dataset, *, over: Sequence[str] | None = None) -> xr.Dataset:
+SINGLE_CONTACT_QUANTITY = "impedance of a single contact Z_R = Z_total (no skin or touchscreen subtracted)"
+"""The ``quantity`` attr of a remainder with nothing subtracted (skin and touchscreen None)."""
+
+
+def _present_parts(total, skin, touchscreen) -> dict[str, xr.Dataset]:
+    """The inputs given, checked as spectra, by name: skin and touchscreen both None are a
+    single contact, nothing to subtract; exactly one None is a `ParameterError` (the chain has
+    both in series; `gap_inputs.is_single_contact` says it for the gap analysis)."""
+    if (skin is None) != (touchscreen is None):
+        raise ParameterError("give both skin and touchscreen spectra, or neither (None, None: a single contact, nothing subtracted)")
+    given = {"total": total, "skin": skin, "touchscreen": touchscreen}
+    return {name: _spectrum(ds, name) for name, ds in given.items() if ds is not None or name == "total"}
+
+
+def remaining_impedance(total: xr.Dataset, skin: xr.Dataset | None, touchscreen: xr.Dataset | None, *, over: Sequence[str] | None = None) -> xr.Dataset:
     """Remaining impedance Z_R = Z_total − Z_skin − Z_TS (Sirin eq 5), complex, from the
     trial means, with its standard error.
 
@@ -117,15 +137,18 @@ def remaining_impedance(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dat
     per condition, every variable over (*conditions, frequency) and attrs ``condition_dims``.
     Skin and screen are averaged over all their dims but those conditions; one they share with
     the total pairs label by label (the same labels, else a DataError), one they lack is
-    subtracted from every condition alike.
+    subtracted from every condition alike. ``skin`` and ``touchscreen`` None: a single contact,
+    nothing subtracted; Z_R is the total's trial mean with its SEM (attrs ``single_contact`` 1,
+    no ``n_trials_skin``, ``n_trials_touchscreen``).
     """
-    parts = {"total": _spectrum(total, "total"), "skin": _spectrum(skin, "skin"), "touchscreen": _spectrum(touchscreen, "touchscreen")}
+    parts = _present_parts(total, skin, touchscreen)
+    subtracted = [name for name in parts if name != "total"]
     freq = parts["total"]["frequency"].values
-    for name in ("skin", "touchscreen"):
+    for name in subtracted:
         _same_frequencies(freq, parts[name]["frequency"].values, name)
     means = {"total": trial_mean(parts["total"], over=over)}
     kept = tuple(d for d in means["total"]["Z"].dims if d != "frequency")
-    for name in ("skin", "touchscreen"):
+    for name in subtracted:
         shared = [d for d in kept if d in parts[name]["Z"].dims]
         _same_conditions(parts["total"], parts[name], shared, name)
         means[name] = trial_mean(parts[name], over=[d for d in parts[name]["Z"].dims if d != "frequency" and d not in shared])
@@ -134,22 +157,23 @@ def remaining_impedance(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dat
     def spread(mean: xr.Dataset, name: str) -> np.ndarray:  # (*kept, frequency)
         return _over_conditions(mean[name], sizes)
 
-    z_r = spread(means["total"], "Z") - spread(means["skin"], "Z") - spread(means["touchscreen"], "Z")
+    z_r = spread(means["total"], "Z") - sum((spread(means[name], "Z") for name in subtracted), 0.0)
     var_re = sum(spread(m, "sigma_real") ** 2 for m in means.values())
     var_im = sum(spread(m, "sigma_imag") ** 2 for m in means.values())
     counts = {name: m.attrs["n_trials"] for name, m in means.items()}
     sigma = np.sqrt((var_re + var_im) / 2.0)
     have_sigma = all(n >= 2 for n in counts.values()) and bool(np.all(sigma > 0))
     sigma = sigma if have_sigma else None
+    single = not subtracted
     attrs = {
-        "quantity": "remaining impedance Z_R = Z_total - Z_skin - Z_TS (Sirin et al. eq 5), trial means",
-        "sigma_method": "SEM of Re and Im of each measurement over its trials, added in quadrature; sigma = sqrt((sigma_real^2 + sigma_imag^2)/2)"
+        "quantity": SINGLE_CONTACT_QUANTITY + ", trial means" if single else "remaining impedance Z_R = Z_total - Z_skin - Z_TS (Sirin et al. eq 5), trial means",
+        "sigma_method": ("SEM of Re and Im over the trials" if single else "SEM of Re and Im of each measurement over its trials, added in quadrature") + "; sigma = sqrt((sigma_real^2 + sigma_imag^2)/2)"
         if have_sigma
         else "not available: an input has a single spectrum, or the trials do not scatter",
-        "n_trials_total": counts["total"],
-        "n_trials_skin": counts["skin"],
-        "n_trials_touchscreen": counts["touchscreen"],
+        **{f"n_trials_{name}": n for name, n in counts.items()},
     }
+    if single:
+        attrs["single_contact"] = 1
     if kept:
         attrs["condition_dims"] = ", ".join(kept)
     coords = {d: parts["total"][d].values for d in kept if d in parts["total"].coords}
@@ -187,7 +211,7 @@ def _over_conditions(values: xr.DataArray, sizes: Mapping[str, int]) -> np.ndarr
     return values.variable.set_dims(dict(sizes)).transpose(*sizes).values
 
 
-def trial_remainders(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dataset) -> xr.Dataset:
+def trial_remainders(total: xr.Dataset, skin: xr.Dataset | None, touchscreen: xr.Dataset | None) -> xr.Dataset:
     """Remaining impedance of every total trial: Z_R,t = Z_total,t − mean Z_skin − mean Z_TS
     (Sirin eq 5 per trial; skin and screen are separate measurements, so only their means pair
     with a total trial). A spectrum Dataset with the total's dims; the skin and screen trial
@@ -199,19 +223,23 @@ def trial_remainders(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Datase
     by a whole smooth spectrum: ``trial_error_modes`` (trial_mode, frequency) holds that error
     as Σ_j ζ_tj m_j, m_j = (Z_j − mean)/√(n − 1), ζ_tj ~ N(0, 1) independent between trials.
     The hierarchical model marginalises the leading components of both (docs/bayesian.md,
-    "Errors shared by every trial")."""
-    parts = {"total": _spectrum(total, "total"), "skin": _spectrum(skin, "skin"), "touchscreen": _spectrum(touchscreen, "touchscreen")}
+    "Errors shared by every trial"). ``skin`` and ``touchscreen`` None: a single contact, each
+    total trial as measured, without error modes."""
+    parts = _present_parts(total, skin, touchscreen)
     freq = parts["total"]["frequency"].values
-    for name in ("skin", "touchscreen"):
-        _same_frequencies(freq, parts[name]["frequency"].values, name)
-    means = {name: trial_mean(parts[name]) for name in ("skin", "touchscreen")}
-    z = parts["total"]["Z"] - means["skin"]["Z"].values - means["touchscreen"]["Z"].values
+    means = {}
+    for name in parts:
+        if name != "total":
+            _same_frequencies(freq, parts[name]["frequency"].values, name)
+            means[name] = trial_mean(parts[name])
+    z = parts["total"]["Z"] - sum((m["Z"].values for m in means.values()), 0.0)
     dims = tuple(d for d in z.dims if d != "frequency")
     if not dims:
         raise DataError("total: a single spectrum; per-trial remainders need trials as an extra dimension")
     z = z.transpose(*dims, "frequency")
     coords = {d: z[d].values for d in dims if d in z.coords}
-    out = make_spectrum(freq, z.values, dims=dims, coords=coords, attrs={"quantity": "remaining impedance of each total trial, Z_total,t - mean Z_skin - mean Z_TS (Sirin eq 5 per trial)"}, source="trial_remainders")
+    quantity = SINGLE_CONTACT_QUANTITY + ", each total trial" if not means else "remaining impedance of each total trial, Z_total,t - mean Z_skin - mean Z_TS (Sirin eq 5 per trial)"
+    out = make_spectrum(freq, z.values, dims=dims, coords=coords, attrs={"quantity": quantity, **({"single_contact": 1} if not means else {})}, source="trial_remainders")
     modes, own = [], []
     for name in means:
         z_part = parts[name]["Z"].transpose(..., "frequency").values.reshape(-1, freq.size)
@@ -329,7 +357,7 @@ def _extreme_trial(ds: xr.Dataset, keep: np.ndarray, pick: str) -> np.ndarray:
     return flat[np.argmin(score) if pick == "lowest" else np.argmax(score)]
 
 
-def paper_gap_estimate(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dataset, *, area: float = SIRIN_AREA, cutoff_hz: float = 30.0, fmax_hz: float | None = None, eps_gap: float = EPSILON_AIR) -> PaperGapEstimate:
+def paper_gap_estimate(total: xr.Dataset, skin: xr.Dataset | None, touchscreen: xr.Dataset | None, *, area: float = SIRIN_AREA, cutoff_hz: float = 30.0, fmax_hz: float | None = None, eps_gap: float = EPSILON_AIR) -> PaperGapEstimate:
     """Sirin §2.3 end to end: Z_R from the trial means (eq 5), C_gap = mean |Y_R|/ω above the
     cutoff (`gap_capacitance_paper`), u = ε0 ε_gap A/C_gap; and the paper's bounds "from the
     lowest and highest impedances measured for skin, touchscreen and the total": for each of the
@@ -340,7 +368,8 @@ def paper_gap_estimate(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Data
     skin and screen are subtracted from the lowest total, so the extremes offset each other and
     the two values can lie close together, even both on one side of u (docs/models.md, "The
     paper's bounds"). ``gap_trial_min``/``gap_trial_max``: u of each total trial minus the mean
-    skin and screen (as `trial_remainders`), the trials' own spread, NaN with one total."""
+    skin and screen (as `trial_remainders`), the trials' own spread, NaN with one total.
+    ``skin`` and ``touchscreen`` None: a single contact, the total's trials as they are."""
     z_r = remaining_impedance(total, skin, touchscreen)
     freq = z_r["frequency"].values
     c_gap = gap_capacitance_paper(z_r, cutoff_hz=cutoff_hz, fmax_hz=fmax_hz)
@@ -348,14 +377,15 @@ def paper_gap_estimate(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Data
     if fmax_hz is not None:
         keep &= freq <= fmax_hz
     c_extreme = {}
+    subtracted = [ds for ds in (skin, touchscreen) if ds is not None]
     for pick in ("lowest", "highest"):
-        z = _extreme_trial(total, keep, pick) - _extreme_trial(skin, keep, pick) - _extreme_trial(touchscreen, keep, pick)
+        z = _extreme_trial(total, keep, pick) - sum((_extreme_trial(ds, keep, pick) for ds in subtracted), 0.0)
         c_extreme[pick] = gap_capacitance_paper(z, freq, cutoff_hz=cutoff_hz, fmax_hz=fmax_hz)
     gaps = sorted(float(gap_thickness(c, area=area, eps_gap=eps_gap)) for c in c_extreme.values())
     totals = _trial_rows(total)
     trial_min = trial_max = float("nan")
     if totals.shape[0] >= 2:
-        others = _trial_rows(skin).mean(axis=0) + _trial_rows(touchscreen).mean(axis=0)
+        others = sum((_trial_rows(ds).mean(axis=0) for ds in subtracted), 0.0)
         trial_gaps = [float(gap_thickness(gap_capacitance_paper(z - others, freq, cutoff_hz=cutoff_hz, fmax_hz=fmax_hz), area=area, eps_gap=eps_gap)) for z in totals]
         trial_min, trial_max = min(trial_gaps), max(trial_gaps)
     return PaperGapEstimate(
@@ -497,7 +527,9 @@ def gap_voltage(params: Mapping[str, object], freq, z_skin, z_ts, *, v0: float =
     printed eq 2, ΔV_gap = ΔV − R_EP[I − (I_gap + I_EP)], is not used: for three elements in
     parallel I − I_gap − I_EP is the R_EP current, so it gives zero. ``z_skin``, ``z_ts``: complex
     arrays over ``freq`` (measured means or models; an xarray DataArray such as
-    ``trial_mean(skin)["Z"]`` is taken as its values), one value or one per frequency. ``ep``:
+    ``trial_mean(skin)["Z"]`` is taken as its values), one value or one per frequency; 0 and 0
+    for a single contact with nothing in series (a gripper pad): I = V0/Z_R and ΔV = V0, so the
+    voltage across C_gap, parallel to the EP branch, is the whole drive V0. ``ep``:
     ``"auto"`` (default) reads the remainder from the parameter names (C_EP → ``"C"``,
     CPE_EP.* → ``"CPE"``); ``"C"``, ``"CPE"`` (any case) or None name it. Pure JAX: vmap over
     posterior draws (the names and shapes are checked at trace time).

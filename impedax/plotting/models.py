@@ -30,7 +30,7 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None, figsize: tuple[floa
     f = gap.remaining["frequency"].values
     z = gap.remaining["Z"].values
     ax = axes[0]
-    ax.loglog(f, np.abs(z), "o", mfc="none", ms=3.5, color="k", label="Z_R (mean of trials)")
+    ax.loglog(f, np.abs(z), "o", mfc="none", ms=3.5, color="k", label=("Z" if getattr(gap, "single_contact", False) else "Z_R") + " (mean of trials)")
     if "sigma" in gap.remaining:
         s = gap.remaining["sigma"].values
         ax.fill_between(f, np.maximum(np.abs(z) - s, np.abs(z) * 0.05), np.abs(z) + s, color="0.8", label="± SEM")
@@ -52,7 +52,8 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None, figsize: tuple[floa
             low, high = min(low, float(within.min())), max(high, float(within.max()))
     if data_low is not None:
         ax.set_ylim(low / 1.5, high * 1.5)
-    ax.set(xlabel="frequency [Hz]", ylabel="|Z_R| [Ω]", title="remaining impedance (Sirin eq 5)")
+    single = getattr(gap, "single_contact", False)  # (nothing subtracted: the total is the contact's impedance)
+    ax.set(xlabel="frequency [Hz]", ylabel="|Z| [Ω]" if single else "|Z_R| [Ω]", title="single contact: total, nothing subtracted" if single else "remaining impedance (Sirin eq 5)")
     plain_log_ticks(ax.yaxis)
     ax.legend(fontsize=font_size("legend", 7))
     ax = axes[1]
