@@ -189,3 +189,6 @@ def test_toward_moves_an_element_into_its_warburg_limit_keeping_its_high_frequen
     assert np.max(np.abs(z / NUMPY_Z["W"](omega, 30.0 / np.sqrt(0.8)) - 1)) < 1e-6
     with pytest.raises(CircuitError, match="toward must be None or a function"):
         ElementLimit("W", "tau -> inf", limit.values, toward=1.0)
+    # at the window's edge: the same coefficient, the knee at ω_min·τ = 3
+    r_edge, tau_edge = limit.edge((np.array([30.0]), np.array([0.4])), float(omega.min()), float(omega.max()))
+    assert tau_edge[0] == pytest.approx(3.0 / omega.min()) and r_edge[0] / np.sqrt(2 * tau_edge[0]) == pytest.approx(30.0 / np.sqrt(0.8))

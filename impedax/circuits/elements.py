@@ -166,6 +166,21 @@ def _gerischer_toward_warburg(params, omega_min, omega_max):
     return _warburg_as_gerischer((r / np.sqrt(2.0 * tau),), omega_min, omega_max)
 
 
+WINDOW_EDGE = 3.0
+"""ω_min·τ of a finite Warburg or Gerischer at the edge of its W limit: its knee just inside the
+window, where a fit that sits at the limit finds an optimum of finite τ nearby (on 130 REAL
+battery cycles the Ws model's batch fits stopped at the W limit on 16 cycles whose single fits
+reach τ ≈ 45 s, ω_min·τ ≈ 6, 2026-12-02)."""
+
+
+def _warburg_at_edge(params, omega_min, omega_max):
+    """A Wo, Ws or G (R, τ) moved to τ = `WINDOW_EDGE`/ω_min with its Warburg coefficient
+    σ = R/√(2τ) kept."""
+    r, tau = params
+    edge = WINDOW_EDGE / omega_min
+    return (r / np.sqrt(2.0 * tau) * np.sqrt(2.0 * edge), edge + 0.0 * r)
+
+
 def _capacitor_as_open_warburg(params, omega_min, omega_max):
     """Wo as C (τ → 0): coth(x)/x = 1/x² + 1/3 + O(x²), so Z → R/(jωτ) + R/3 = 1/(jωC) with
     R = τ/C (R/3 is ωτ/3 of |Z| at ω)."""
@@ -203,7 +218,7 @@ def _cole_cole_as_havriliak_negami(params, omega_min, omega_max):
     return (r, tau, alpha, 1.0 + 0.0 * r)
 
 
-_AS_WARBURG = ElementLimit("W", "tau -> inf", _warburg_as_finite, toward=_finite_warburg_toward_infinite)
+_AS_WARBURG = ElementLimit("W", "tau -> inf", _warburg_as_finite, toward=_finite_warburg_toward_infinite, edge=_warburg_at_edge)
 _AS_RESISTOR = ElementLimit("R", "tau -> 0", _resistor_as_fast)
 
 
@@ -264,7 +279,7 @@ DEFAULT_REGISTRY = Registry(
             (_resistance("Gerischer resistance"), _time_constant(1e-3)),
             _gerischer,
             dc=DCPath.CONDUCTS, cdc="G", impedance_py="G",
-            limits=(ElementLimit("W", "tau -> inf", _warburg_as_gerischer, toward=_gerischer_toward_warburg), _AS_RESISTOR),
+            limits=(ElementLimit("W", "tau -> inf", _warburg_as_gerischer, toward=_gerischer_toward_warburg, edge=_warburg_at_edge), _AS_RESISTOR),
         ),
         ElementSpec(
             "CC", "Cole–Cole relaxation", "Z = R/(1 + (jωτ)^α)",

@@ -177,12 +177,16 @@ class ElementLimit:
     omega_max)``, optional: this element's own parameters moved into the limit, keeping what the
     data see of it (a Wo's R/√τ, its Warburg coefficient at high frequency, as τ → 200/ω_min): a
     batch of fits also solves each spectrum from its optimum so moved, as a limit at τ → ∞ is one
-    no step of the solver reaches (`least_squares.batch`)."""
+    no step of the solver reaches (`least_squares.batch`). ``edge(params, omega_min, omega_max)``,
+    optional: the element just off its limit with the same kept, where it starts to differ from
+    the simpler one inside the window (a Wo's knee at ω_min·τ = 3): a start from which a fit at
+    the limit finds an optimum near it (`least_squares.starts.limit_starts`)."""
 
     symbol: str
     where: str
     values: Callable[..., tuple]
     toward: Callable[..., tuple] | None = None
+    edge: Callable[..., tuple] | None = None
 
     def __post_init__(self):
         if not isinstance(self.symbol, str) or not _SYMBOL_RE.match(self.symbol):
@@ -191,8 +195,9 @@ class ElementLimit:
             raise CircuitError(f"ElementLimit {self.symbol}: where must be text (e.g. 'tau -> inf'), got {_value_text(self.where)}")
         if not callable(self.values):
             raise CircuitError(f"ElementLimit {self.symbol}: values must be a function f(params, omega_min, omega_max) -> this element's parameters, got {_value_text(self.values)}")
-        if self.toward is not None and not callable(self.toward):
-            raise CircuitError(f"ElementLimit {self.symbol}: toward must be None or a function f(params, omega_min, omega_max) -> this element's parameters, got {_value_text(self.toward)}")
+        for name in ("toward", "edge"):
+            if getattr(self, name) is not None and not callable(getattr(self, name)):
+                raise CircuitError(f"ElementLimit {self.symbol}: {name} must be None or a function f(params, omega_min, omega_max) -> this element's parameters, got {_value_text(getattr(self, name))}")
 
 
 @dataclass(frozen=True)

@@ -35,7 +35,7 @@ COMMAND_HELP = {
     "diagnose": "where a model fails and which physical effect is missing",
     "refine": "diagnose, add the best missing effect, refit; repeat until adequate",
     "force": "electrostatic force spectrum of Meyer's or Vezzoli's model",
-    "gap": "air-gap thickness, gap voltage and force from three spectra (Sirin et al.)",
+    "gap": "air-gap thickness, gap voltage and force from three spectra (Sirin et al.), or one of a single contact",
     "remaining": "the remaining impedance total − skin − touchscreen as a spectrum file, as impedax gap fits it",
     "draw": "draw a model's circuit diagram",
     "inspect": "show what impedax reads from a spectrum file, and how",

@@ -177,11 +177,11 @@ class ParameterTable:
 def nudged_inside(value: float, lower: float, upper: float) -> float:
     """A fitted ``value`` on or past a bound moved 1e-6 (relative) inside it, as a start must
     lie strictly inside (a smaller model's R0 at 0, a τ carried to 200/ω_min where the user
-    bounded it); NaN where no such move exists (no finite value, a bound at 0 from above)."""
+    bounded it; a value at 0 of a (0, ∞) parameter to 1e-300); NaN where no such move exists."""
     if not math.isfinite(value):
         return math.nan
-    if value <= lower:
-        value = lower * (1 + 1e-6) if lower > 0 else (lower + 1e-6 * (upper - lower) if math.isfinite(upper) else math.nan)
+    if value <= lower:  # ((0, ∞) is fitted in log space: a start at 1e-300, as `starts._clip_inside` moves a batch's)
+        value = lower * (1 + 1e-6) if lower > 0 else (lower + 1e-6 * (upper - lower) if math.isfinite(upper) else (1e-300 if lower == 0 else math.nan))
     elif value >= upper:
         value = upper * (1 - 1e-6) if upper > 0 else math.nan
     return value if lower < value < upper else math.nan

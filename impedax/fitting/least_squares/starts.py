@@ -418,8 +418,9 @@ def guess_start(circuit, table, features, registry, starts=None) -> np.ndarray:
 def limit_starts(circuit: Circuit, table: ParameterTable, x: np.ndarray, freq, registry: Registry) -> list[np.ndarray]:
     """Starts (B, P) for a further local fit: each spectrum's optimum ``x`` (B, P) with one
     element moved into a limit that keeps what the data see of it (`ElementLimit.toward`: a Wo at
-    τ → ∞ with its Warburg coefficient kept), one start per such limit of each element whose
-    parameters are all free. A limit at τ → ∞ is reached by no step of the solver, and the
+    τ → ∞ with its Warburg coefficient kept) and, where the limit says so, at the edge of it
+    (`ElementLimit.edge`: the knee at ω_min·τ = 3, the same coefficient kept), for each element
+    whose parameters are all free. A limit at τ → ∞ is reached by no step of the solver, and the
     reference spectrum's optimum, which every spectrum is offered, can hold the batch on the
     other side: on the 130 REAL battery cycles the Wo model's batch fits ended above the W
     model's χ² on 58 cycles (up to 1.40×), on none with this start solved too, and single fits
@@ -432,12 +433,13 @@ def limit_starts(circuit: Circuit, table: ParameterTable, x: np.ndarray, freq, r
         if table.fixed[index].any():
             continue
         for limit in spec.limits:
-            if limit.toward is None:
-                continue
-            moved = limit.toward(tuple(x[:, i] for i in index), float(omega.min()), float(omega.max()))
-            start = np.array(x, float)
-            start[:, index] = np.stack([np.broadcast_to(np.asarray(v, float), (x.shape[0],)) for v in moved], axis=-1)
-            out.append(start)
+            for move in (limit.toward, limit.edge):
+                if move is None:
+                    continue
+                moved = move(tuple(x[:, i] for i in index), float(omega.min()), float(omega.max()))
+                start = np.array(x, float)
+                start[:, index] = np.stack([np.broadcast_to(np.asarray(v, float), (x.shape[0],)) for v in moved], axis=-1)
+                out.append(start)
     return out
 
 
