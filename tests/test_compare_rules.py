@@ -73,3 +73,16 @@ def test_no_f_test_where_the_larger_models_extra_parameter_sits_at_its_bound():
         assert f"F-test {rc.model}  ⊂  {larger.model}: no test: {larger.model} reduces to {rc.model}" in c.table()
     # without a valid test the misfit note's F-test evidence is not used (`_model_not_data`)
     assert not any("F-test p" in w for fit in c.fits for w in fit.warnings)
+
+
+def test_a_parameter_run_open_reads_as_infinity_in_the_boundary_note():
+    """An F-test not made because the larger model's R runs to its upper bound ∞ says "→ ∞",
+    not the float the solver stopped at (a walkthrough read "R1 = 2.11e+167 is at its bound")."""
+    from types import SimpleNamespace
+
+    from impedax.fitting.comparison import _boundary_note  # noqa: PLC2701 (the rule under test)
+
+    simple = SimpleNamespace(chi2=1.0, values={})
+    complex_ = SimpleNamespace(chi2=0.5, chi2_red=0.01, values={"R1": 2.11e167, "CPE1.alpha": 1.0})
+    note = _boundary_note(simple, complex_, "small", "large", ["R1", "CPE1.alpha"])["note"]
+    assert note.startswith("R1 → ∞, CPE1.alpha = 1 are at their bounds") and "e+167" not in note

@@ -658,13 +658,19 @@ def _boundary_note(simple: FitResult, complex_: FitResult, simple_label: str, co
     rule takes for no fall (`BOUND_CHI2_FRACTION` of the reduced χ²: L0 within two standard
     errors of 0 on a SYNTHETIC arc lowered χ² by 0.006 of it): the extra element does nothing;
     else "at_bound"."""
-    where = ", ".join(f"{n} = {complex_.values[n]:.3g}" for n in names)
+    # (a value at an infinite upper bound reads as that, not as its float: "R1 → ∞", where "R1 = 2.11e+167" was printed)
+    where = ", ".join(f"{n} → ∞" if complex_.values[n] > AT_INFINITY else f"{n} = {complex_.values[n]:.3g}" for n in names)
     at = "is at its bound" if len(names) == 1 else "are at their bounds"
     why = "an F-test with a parameter on its bound does not follow the F distribution (Self & Liang 1987)"
     if simple.chi2 - complex_.chi2 <= max(NESTED_WORSE_REL * simple.chi2, BOUND_CHI2_FRACTION * complex_.chi2_red):
         return {"reason": "reduces_to_simple",
                 "note": f"{complex_label} reduces to {simple_label}: {where} {at} and its χ² is no lower, so the extra element does nothing; {why}"}
     return {"reason": "at_bound", "note": f"{where} {at} in {complex_label}: {why}; compare the two by AIC"}
+
+
+AT_INFINITY = 1e30
+"""A parameter at a bound whose value exceeds this sits at its infinite upper bound (a resistor
+run open, fitted in log space to 1e+167 on a REAL file): the notes write it as → ∞."""
 
 
 SIGNIFICANTLY_BETTER_P = 0.01
