@@ -517,3 +517,13 @@ def test_a_fit_a_few_percent_off_is_told_whether_the_model_or_the_data_limit_it(
     assert any(w.startswith("the model misses structure the data hold") for w in short.warnings), short.warnings
     full = ix.fit("R0 + R1 || CPE1 + R2 || CPE2 + Wo1", data)
     assert full.rms_rel < 0.02 and not any("Kramers–Kronig-consistent" in w for w in full.warnings), full.warnings
+
+
+def test_the_r_tau_correlation_note_names_the_gerischer_and_each_limit():
+    """R and τ of a Gerischer correlate as a finite Warburg's do; the note names both limits and
+    no longer speaks of a finite Warburg alone (a walkthrough's G1 on the CH Instruments file)."""
+    from impedax.fitting.least_squares.result import correlated_note
+
+    note = correlated_note("G1.R", "G1.tau", 0.999)
+    assert "Gerischer acts as an infinite Warburg" in note and "ωτ ≪ 1" in note and "ωτ ≫ 1" in note
+    assert "the data barely tell them apart" in correlated_note("R1", "R2", -0.999)

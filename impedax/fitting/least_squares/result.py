@@ -531,7 +531,9 @@ def without_error(sides: np.ndarray, vanished: np.ndarray, free_stderr: np.ndarr
 _PAIR_REASONS = {
     frozenset(("Q", "alpha")): " (a CPE's Q and α correlate when the data lie far from ω = 1 rad/s{})",
     # (Wo: Z = R coth(x)/x, x = √(jωτ), → R/(jωτ) + R/3 at ωτ ≪ 1, since coth x ≈ 1/x + x/3)
-    frozenset(("R", "tau")): " (a finite Warburg element's R and τ correlate where the data see only one of its limits: at ωτ ≫ 1 it acts as an infinite Warburg, of which only R/√τ shows; at ωτ ≪ 1 an open one (Wo) acts as a capacitor τ/R in series with R/3)",
+    # (a Gerischer, a Ws or a relaxation has the pair too: a walkthrough's G1 was told of a finite Warburg)
+    frozenset(("R", "tau")): " (R and τ of one element correlate where the data see only one of its limits: at ωτ ≫ 1 a finite Warburg or a Gerischer acts as an infinite "
+                             "Warburg, of which only R/√τ shows, and a relaxation as R/(jωτ)^α; at ωτ ≪ 1 an open Warburg (Wo) acts as a capacitor τ/R in series with R/3, the others as R alone)",
 }
 WELL_DETERMINED = 0.1
 """Relative standard errors up to which a correlated CPE's Q and α are called well determined."""
