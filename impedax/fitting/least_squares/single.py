@@ -82,8 +82,8 @@ def fit(
     stays above `starts.KK_MISFIT_FACTOR` (1.2) × the misfit of a Kramers–Kronig-consistent
     model, 4 and then 16 new draws follow (and 64 more for circuits of 12 or more free
     parameters): up to 21 × ``n_starts`` starts (85 × for the large circuits), 336 by
-    default, 42 for ``n_starts=2``; after a ladder, one start more per element with a limit no
-    step reaches (a Wo at τ → ∞: `starts.limit_starts`). The best fit is kept; ``FitResult.n_starts`` says how many
+    default, 42 for ``n_starts=2``; after a ladder, two starts more per element with a limit no
+    step reaches (a Wo at τ → ∞ and at the limit's edge: `starts.limit_starts`). The best fit is kept; ``FitResult.n_starts`` says how many
     starts were used (1: the guess alone). ``n_starts=1`` fits the guess alone (in a batch:
     one local fit per spectrum). docs/fitting.md, "Starts".
     ``init`` gives starting values by name, or is a `FitResult` whose values start the
