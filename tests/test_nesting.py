@@ -192,3 +192,21 @@ def test_toward_moves_an_element_into_its_warburg_limit_keeping_its_high_frequen
     # at the window's edge: the same coefficient, the knee at ω_min·τ = 3
     r_edge, tau_edge = limit.edge((np.array([30.0]), np.array([0.4])), float(omega.min()), float(omega.max()))
     assert tau_edge[0] == pytest.approx(3.0 / omega.min()) and r_edge[0] / np.sqrt(2 * tau_edge[0]) == pytest.approx(30.0 / np.sqrt(0.8))
+
+
+def test_compare_of_one_spectrum_keeps_the_larger_models_own_search_where_it_ends_lower(capsys):
+    """REAL battery cycle 69: the Wo model started from the W fit sits at its W limit, while its
+    own search reaches a χ² 1 % lower; ``impedax compare`` keeps that lower fit (a walkthrough
+    was told the Wo fit 'did not reach its optimum' and to do what compare had done)."""
+    from pathlib import Path
+
+    from impedax.cli import main
+
+    path = Path(__file__).parents[1] / "benchmarks" / "data" / "autoeis_battery_130.nc"
+    wo, w = "R0 + R1 || CPE1 + R2 || CPE2 + Wo1", "R0 + R1 || CPE1 + R2 || CPE2 + W1"
+    assert main(["compare", str(path), "--select", "cycle=69", "--model", w, "--model", wo, "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    chi2 = {m["model"]: m["chi2"] for m in out["models"]}
+    own = ix.fit(wo, ix.load(path).sel(cycle=69), progress=False)
+    assert chi2[wo] <= own.chi2 * (1 + 1e-6) and chi2[wo] < chi2[w]
+    assert all(t["reason"] != "not_at_optimum" for t in out["f_tests"])

@@ -84,7 +84,11 @@ def run(args) -> int:
                 started_from[i], init = contained, fits[contained]
             also = f", also from the optimum of {circuits[contained]}, which it contains" if contained is not None else ""
             progress(f"fitting model {step + 1} of {len(circuits)}: {c}" + (f" to {counted(math.prod(data.sizes[d] for d in extra), 'spectrum', 'spectra')}" if extra else "") + also)
-            fits[i] = fit(c, data, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, init=init, fixed=own("--fix", ns), bounds=own_bounds or None, registry=args.registry)
+            options = dict(weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, fixed=own("--fix", ns), bounds=own_bounds or None, registry=args.registry)
+            fits[i] = fit(c, data, init=init, **options)
+            if contained is not None and not extra:  # (one spectrum: its own search too, the lower kept; a batch solves both starts itself)
+                default = fit(c, data, **options)
+                fits[i] = default if default.chi2 < fits[i].chi2 else fits[i]
     finally:
         progress.close()
     started = [{"model": str(circuits[i]), "from": str(circuits[j])} for i, j in sorted(started_from.items())]

@@ -674,9 +674,9 @@ def _started_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting,
     guesses = guess_start(circuit, table, features, registry, starts=starts)
     large = b >= REFERENCE_MIN_SPECTRA
     own_starts = None
+    if starts is not None and n_starts > 1:  # (solved apart below: each spectrum's own start and the default)
+        own_starts, guesses = guesses, guess_start(circuit, table, features, registry)
     if large and n_starts > 1:
-        if starts is not None:  # (solved apart below: each spectrum's own start and the default)
-            own_starts, guesses = guesses, guess_start(circuit, table, features, registry)
         say("the start search on a reference spectrum, whose optimum every spectrum is offered")
         with silenced():  # (it fits the reference as a stack of one: its stages are this one)
             guesses = _with_reference_start(guesses, solver, circuit, table, freq, z, sigma, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)

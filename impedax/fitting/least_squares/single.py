@@ -92,7 +92,7 @@ def fit(
     own at its optimum, `nesting.carried_values`, so this fit ends no higher), or a
     `BatchFitResult` over the same dimensions and labels as ``data``: each spectrum starts from
     its own fitted values, carried alike (with ``n_starts=1``, one local fit each; in a batch of
-    16 or more spectra each is also solved from the default start and the lower fit kept;
+    several spectra each is also solved from the default start and the lower fit kept;
     `BatchFitResult.per_spectrum_starts`).
     ``fixed`` pins parameters; ``bounds`` narrows them; a value of ``fixed`` or ``init`` may be an
     xarray.DataArray over some of the data's extra dimensions, labelled as the data, one value per
