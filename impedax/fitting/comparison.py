@@ -17,7 +17,7 @@ from ..circuits.nesting import embedding
 from ..data import column_width
 from ..errors import FitError
 from .least_squares import BatchFitResult, FitResult
-from .least_squares.branches import undetermined
+from .least_squares.branches import undetermined_names
 from .bayes.evidence import EVIDENCE_NOTE_LEAD
 from .least_squares.result import BOUND_CHI2_FRACTION, data_difference, DATA_LIMIT_NOTE, SIGN_HINT_LEAD
 from .frozen import freeze_fields
@@ -51,12 +51,6 @@ def unique_labels(labels: Sequence[str]) -> list[str]:
         seen[label] = seen.get(label, 0) + 1
         out.append(label if seen[label] == 1 else f"{label} ({seen[label]})")
     return out
-
-
-def undetermined_names(fit: FitResult) -> list[str]:
-    """The free parameters of ``fit`` the data do not determine: off their bounds, nonzero, with
-    a relative standard error above 100 % (`branches.undetermined`), as its warnings say."""
-    return [n for n in fit.free_names if n not in fit.at_bound and undetermined(fit.values[n], fit.stderr[n])]
 
 
 KNOWN_SIGMA = "chi2 + 2k"

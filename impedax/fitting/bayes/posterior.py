@@ -24,7 +24,7 @@ from ...data import checked_frequencies, column_width, concise_repr, unit_text
 from ...errors import DataError, ParameterError
 from ..derived import QUANTILES, bind_frequency, draw_indices, draws_band, needs_freq
 from ..least_squares import FitResult
-from ..least_squares.branches import undetermined
+from ..least_squares.branches import undetermined_names
 from ..least_squares.result import bounds_attr, shown_stderr, stored_bounds
 from ..frozen import freeze_fields
 from .chain import capped_at, length_text
@@ -243,13 +243,13 @@ class Posterior(PiledUp):
         """The sampled parameters the least-squares start found the data do not determine: in an
         unidentified group (`FitResult.unidentified_groups`: C_EP and C_gap of R_EP ∥ C_EP ∥ C_gap,
         which change Z only together) or with a relative standard error above 100 %
-        (`branches.undetermined`, the fits' rule); a reparametrized parameter through the one it
+        (`branches.undetermined_names`, the fits' rule); a reparametrized parameter through the one it
         replaces (u for C_gap). Their intervals are where the priors take over, not a measurement:
         on a SYNTHETIC pad (C_EP = 2 nF, C_gap = 120 pF, 1 % noise) u's 90 % interval was 1.8–9.4 µm
         and the truth 30 µm (added 2026-12-02)."""
         fit = self.fit
         loose = {n for group in fit.unidentified_groups for n in group}
-        loose |= {n for n in fit.free_names if n not in fit.at_bound and bool(undetermined(fit.values[n], fit.stderr[n]))}
+        loose |= set(undetermined_names(fit))
         rp = self.reparametrization
         stands_for = dict(zip(rp.names, rp.replaces)) if rp is not None and len(rp.names) == len(rp.replaces) else {}
         return tuple(n for n in self.names if n in loose or stands_for.get(n) in loose)

@@ -19,7 +19,7 @@ from ..parameters import ParameterTable
 from ..statistics import covariances
 
 __all__ = [
-    "IDLE_BRANCH_SHARE", "VANISHING_SHARE", "RELATIVE_ERROR_LIMIT", "IdleBranch", "undetermined", "undetermined_mask", "parallel_branches", "circuit_terms",
+    "IDLE_BRANCH_SHARE", "VANISHING_SHARE", "RELATIVE_ERROR_LIMIT", "IdleBranch", "undetermined", "undetermined_names", "undetermined_mask", "parallel_branches", "circuit_terms",
     "idle_branches", "idle_branch_notes", "is_idle_note", "vanishing_parameters", "VANISHED", "settle_vanishing", "vanishing_candidates", "unidentified_stderr",
     "vanishing_term_mask", "held_covariances",
 ]
@@ -46,6 +46,13 @@ def undetermined(value, stderr):
     v, e = np.asarray(value, float), np.asarray(stderr, float)
     with np.errstate(all="ignore"):
         return (v != 0) & (~np.isfinite(e) | (np.abs(e / v) > RELATIVE_ERROR_LIMIT))
+
+
+def undetermined_names(fit) -> list[str]:
+    """The free parameters of ``fit`` (a `FitResult`) the data do not determine: off their
+    bounds, nonzero, with a relative standard error above `RELATIVE_ERROR_LIMIT` (`undetermined`),
+    as its warnings say."""
+    return [n for n in fit.free_names if n not in fit.at_bound and undetermined(fit.values[n], fit.stderr[n])]
 
 
 def undetermined_mask(table: ParameterTable, values: np.ndarray, stderr: np.ndarray, sides: np.ndarray) -> np.ndarray:
