@@ -608,10 +608,10 @@ def _dims_text(dims: dict[str, int]) -> str:
     return " × ".join(f"{d} ({n})" for d, n in dims.items())
 
 
-def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source, starts=None) -> tuple[SolverOutput, np.ndarray, "_LaneRunner", np.ndarray]:
+def _solve_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source, starts=None, screened: list | None = None) -> tuple[SolverOutput, np.ndarray, "_LaneRunner", np.ndarray]:
     """`_started_stack`, then every converged fit left at a bound while chi² falls inward
     restarted from inside (`restarted_inward`); the last item flags the fits still so."""
-    out, used, solver = _started_stack(circuit, table, freq, z, sigma, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source, starts=starts)
+    out, used, solver = _started_stack(circuit, table, freq, z, sigma, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source, starts=starts, screened=screened)
     inv_re, inv_im = weights(z, sigma, weighting, source, freq)
     out, inward = restarted_inward(out, solver, table, z, inv_re, inv_im, weighting, residual_scale(z, inv_re, inv_im, weighting), max_steps)
     return out, used, solver, inward
@@ -646,7 +646,7 @@ def restarted_inward(out: SolverOutput, solver: "_LaneRunner", table: ParameterT
     return out, inward
 
 
-def _started_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source, starts=None) -> tuple[SolverOutput, np.ndarray, "_LaneRunner"]:
+def _started_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source, starts=None, screened: list | None = None) -> tuple[SolverOutput, np.ndarray, "_LaneRunner"]:
     """Solver outputs (arrays over B) for a stack of spectra z (B, N), the starts used, and
     the lane runner (for chi² at other points).
 
@@ -654,9 +654,11 @@ def _started_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting,
     `REFERENCE_MIN_SPECTRA`, ``n_starts`` ≥ 2) the reference spectrum's optimum; with
     ``n_starts`` = 1 from its guess (or the user's start) alone, one local fit each, as
     impedance.py's loop fits; ``starts`` (B, P), where finite, replace the guess (each spectrum
-    from its own earlier optimum, ``init=batch``). Then its neighbours' optima where they are better, then more
+    from its own earlier optimum, ``init=batch``). Then (large batches) the reference's other
+    minima (`_tried_runner_up`), its neighbours' optima where they are better, then more
     starts for the fits that are still poor (below; each rung's starts screened for
-    `SCREEN_STEPS` steps, the best continued to convergence). All solves go through the lane
+    `SCREEN_STEPS` steps, the best continued to convergence; ``screened``, a list, collects
+    each rung's screened points and their chi²). All solves go through the lane
     solver (`lm.work_queue`)."""
     b = z.shape[0]
     inv_re, inv_im = weights(z, sigma, weighting, source, freq)
@@ -673,26 +675,29 @@ def _started_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting,
 
     guesses = guess_start(circuit, table, features, registry, starts=starts)
     large = b >= REFERENCE_MIN_SPECTRA
-    own_starts = None
+    own_starts, runner_ups = None, ()
     if starts is not None and n_starts > 1:  # (solved apart below: each spectrum's own start and the default)
         own_starts, guesses = guesses, guess_start(circuit, table, features, registry)
     if large and n_starts > 1:
         say("the start search on a reference spectrum, whose optimum every spectrum is offered")
         with silenced():  # (it fits the reference as a stack of one: its stages are this one)
-            guesses = _with_reference_start(guesses, solver, circuit, table, freq, z, sigma, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
+            guesses, runner_ups = _with_reference_start(guesses, solver, circuit, table, freq, z, sigma, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
     say(f"local fits of the {counted(b, 'spectrum', 'spectra')}")
     spectra = np.arange(b)
     u, chi2, done, steps = solver.solve(guesses, spectra, np.full(b, max_steps))
     out = unscale(solver.outputs(u, spectra, done, steps, steps), scale)
     used = np.ones(b, int)
     if own_starts is not None:  # (the optimum of a nested fit, init=: `ParameterTable` carries it)
-        out, u = _also_solved_from(out, u, own_starts, solver, scale, max_steps)
+        out, u, _ = _also_solved_from(out, u, own_starts, solver, scale, max_steps)
         used += 1
     if n_starts < 2:
         return out, used, solver
     for limit_start in limit_starts(circuit, table, np.asarray(out.x), freq, registry):
-        out, u = _also_solved_from(out, u, guess_start(circuit, table, features, registry, starts=limit_start), solver, scale, max_steps)
+        out, u, _ = _also_solved_from(out, u, guess_start(circuit, table, features, registry, starts=limit_start), solver, scale, max_steps)
         used += 1
+    for u_other in runner_ups:
+        out, u, tried = _tried_runner_up(out, u, u_other, solver, z, scale, max_steps)
+        used[tried] += 1
     if large:
         return _outliers_restarted(out, u, used, solver, circuit, table, features, freq, z, n_starts, seed, scale, max_steps, registry), used, solver
     # more starts for the fits that are poor relative to what the data allow, as `fit`: the
@@ -708,25 +713,115 @@ def _started_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting,
         if not poor.size:
             break
         say(f"{poor.size} of the fits {'not at the noise' if not rung else 'still poor'}: {multiple * n_starts} more starts each")
-        out = _multistart_rung(out, solver, circuit, table, features, poor, n_starts, multiple, rung, seed, scale, max_steps, registry)
+        out = _multistart_rung(out, solver, circuit, table, features, poor, n_starts, multiple, rung, seed, scale, max_steps, registry, screened=screened)
         used[poor] = np.where(used[poor] > 1, used[poor], 0) + multiple * n_starts
     return out, used, solver
 
 
-def _also_solved_from(out: SolverOutput, u: np.ndarray, starts: np.ndarray, solver: "_LaneRunner", scale, max_steps: int) -> tuple[SolverOutput, np.ndarray]:
-    """``out`` (and its solver points ``u``) with each spectrum also solved from ``starts`` (B, K;
-    the solver's space), kept where that fit ends lower: each spectrum's own start (``init=``, a
-    batch of fits of this circuit or of one nested in it) or its optimum moved into an element's
-    limit (`limit_starts`). Both are solved: picking one start by its χ² kept the own start on
-    all of the 130 REAL battery cycles when a W fit started a Wo fit (each start at the W
-    optimum), and lost the finite-τ optima of the default search on 61 of them (χ² up to 2.1×)."""
-    spectra = np.arange(len(u))
-    u_own, _, done_own, steps_own = solver.solve(starts, spectra, np.full(spectra.size, max_steps))
-    candidate = unscale(solver.outputs(u_own, spectra, done_own, steps_own, np.asarray(out.steps_total) + steps_own), scale)
-    take = np.asarray(candidate.chi2) < np.asarray(out.chi2)
+def _also_solved_from(out: SolverOutput, u: np.ndarray, starts: np.ndarray, solver: "_LaneRunner", scale, max_steps: int, spectra: np.ndarray | None = None, budget: int | None = None) -> tuple[SolverOutput, np.ndarray, np.ndarray]:
+    """``out`` (and its solver points ``u``) with each spectrum (or those of ``spectra``) also
+    solved from ``starts`` (one row per spectrum solved; the solver's space), kept where that
+    fit ends lower: each spectrum's own start (``init=``, a batch of fits of this circuit or
+    of one nested in it), its optimum moved into an element's limit (`limit_starts`) or another
+    minimum of the reference spectrum (`_tried_runner_up`). Both are solved: picking one start
+    by its χ² kept the own start on all of the 130 REAL battery cycles when a W fit started a
+    Wo fit (each start at the W optimum), and lost the finite-τ optima of the default search on
+    61 of them (χ² up to 2.1×). ``budget``: at most that many steps each, and only the fits
+    that converged within them kept. Also returns the new fits' χ² divided by the old, per
+    spectrum solved (inf where not kept for want of convergence)."""
+    spectra = np.arange(len(u)) if spectra is None else spectra
+    u_own, _, done_own, steps_own = solver.solve(starts, spectra, np.full(spectra.size, max_steps if budget is None else min(budget, max_steps)))
+    candidate = unscale(solver.outputs(u_own, spectra, done_own, steps_own, np.asarray(out.steps_total)[spectra] + steps_own), np.asarray(scale)[spectra])
+    if budget is not None:
+        candidate = candidate._replace(chi2=np.where(done_own, candidate.chi2, np.inf))
+    with np.errstate(divide="ignore", invalid="ignore"):  # (a fit at χ² = 0: exact data)
+        ratio = np.asarray(candidate.chi2) / np.asarray(out.chi2)[spectra]
+    take = np.asarray(candidate.chi2) < np.asarray(out.chi2)[spectra]
     u = np.array(u)
-    u[take] = u_own[take]
-    return _merged(out, spectra, candidate), u
+    u[spectra[take]] = u_own[take]
+    return _merged(out, spectra, candidate), u, ratio
+
+
+# the reference spectrum's other minima (`_runner_ups`): at most this many, each within this
+# factor of its best chi² and apart from it and each other by this fraction of chi², found by
+# continuing this many of its ladder's screened points, the best from distinct basins
+RUNNER_UPS = 2
+RUNNER_UP_FACTOR = 10.0
+RUNNER_UP_DISTINCT_CHI2 = 0.01
+RUNNER_UP_CANDIDATES = 16
+# screened points closer than this in the solver's space (the largest coordinate difference;
+# a factor 1.35 in a parameter of logarithmic transform) count as one basin
+DISTINCT_BASIN = 0.3
+# a runner-up is first solved on this many spectra spread over the batch and this many of the
+# worst fits, and on the others only if it lowered one of those ...
+RUNNER_UP_SAMPLE = 16
+# ... by at least this fraction of chi² (1 % of rms_rel)
+RUNNER_UP_GAIN = 0.02
+# steps a spectrum's solve from a runner-up may take (a fit converges in 10–50; a lane from
+# another basin that runs on is in a valley, and held the whole solve to the step limit)
+RUNNER_UP_STEPS = 100
+
+
+def _runner_ups(u_best: np.ndarray, screened: list, solver: "_LaneRunner", max_steps: int) -> np.ndarray:
+    """Other minima (R, K; the solver's space) of a spectrum fitted alone with optimum
+    ``u_best``: the best screened points of its start ladder (``screened``: (points, chi²) of
+    each rung) from basins apart from the optimum and each other (`DISTINCT_BASIN`), continued
+    to convergence; the lowest ones within `RUNNER_UP_FACTOR` of the optimum's chi².
+
+    A batch's reference spectrum is the yardstick for all: where the batch holds two kinds of
+    spectra, the other kind's optimum is often the reference's second minimum. On AutoEIS's 130
+    REAL battery cycles with `R0 + R1 || CPE1 + R2 || CPE2 + Ws1` the reference (cycle 106) has
+    its optimum at Ws τ = 0.21 s and a second minimum 3.6× above it at τ = 46 s, the optimum of
+    27 later cycles (their χ² 0.34–0.99× that of the reference's basin); with `G1` in place of
+    `Ws1` the second minimum is the optimum of 46 cycles (χ² down to 0.11×)."""
+    k = u_best.size
+    if not screened:
+        return np.empty((0, k))
+    points = np.concatenate([p.reshape(-1, k) for p, _ in screened])
+    chi2 = np.concatenate([np.ravel(c) for _, c in screened])
+    picked = [u_best]
+    for i in np.argsort(np.where(np.isfinite(chi2), chi2, np.inf)):
+        if not np.isfinite(chi2[i]) or len(picked) > RUNNER_UP_CANDIDATES:
+            break
+        if all(np.max(np.abs(points[i] - p)) > DISTINCT_BASIN for p in picked):
+            picked.append(points[i])
+    if len(picked) == 1:
+        return np.empty((0, k))
+    # (the optimum solved with them: its chi² on the same scale, after a step or two)
+    u_end, chi2_end, _, _ = solver.solve(np.array(picked), np.zeros(len(picked), int), np.full(len(picked), max_steps))
+    chi2_end = np.where(np.isfinite(chi2_end), chi2_end, np.inf)
+    chi2_best, u_end, chi2_end = chi2_end[0], u_end[1:], chi2_end[1:]
+    kept, kept_chi2 = [], [chi2_best]
+    for i in np.argsort(chi2_end):
+        if len(kept) == RUNNER_UPS or not chi2_end[i] <= RUNNER_UP_FACTOR * chi2_best:
+            break
+        if all(abs(chi2_end[i] / c - 1) > RUNNER_UP_DISTINCT_CHI2 for c in kept_chi2):
+            kept.append(u_end[i])
+            kept_chi2.append(chi2_end[i])
+    return np.array(kept).reshape(-1, k)
+
+
+def _tried_runner_up(out: SolverOutput, u: np.ndarray, u_other: np.ndarray, solver: "_LaneRunner", z, scale, max_steps: int) -> tuple[SolverOutput, np.ndarray, np.ndarray]:
+    """``out`` with spectra also solved from ``u_other``, a second minimum of the reference
+    spectrum (`_runner_ups`), kept where lower: first on a sample (`RUNNER_UP_SAMPLE` spread
+    over the batch and as many of the worst fits by rms_rel), then on all the others if it
+    lowered a fit of the sample by `RUNNER_UP_GAIN`; each solve at most `RUNNER_UP_STEPS`
+    steps. Returns the outputs, solver points and the
+    spectra solved. On 1,000 noisy copies of one spectrum no copy prefers another minimum, and
+    the sample spares the batch that solve."""
+    b = len(u)
+    spread = np.unique(np.linspace(0, b - 1, min(b, RUNNER_UP_SAMPLE)).round().astype(int))
+    worst = np.argsort(rms_rel_of(out.z_model, z))[-RUNNER_UP_SAMPLE:]
+    sample = np.union1d(spread, worst)
+    out, u, ratio = _also_solved_from(out, u, np.broadcast_to(u_other, (sample.size, u_other.size)), solver, scale, max_steps, sample, RUNNER_UP_STEPS)
+    gained = int(np.sum(ratio < 1 - RUNNER_UP_GAIN))
+    if not gained:
+        say(f"another minimum of the reference spectrum tried on {sample.size} of the spectra: none lowered by {RUNNER_UP_GAIN:.0%} of χ² or more")
+        return out, u, sample
+    rest = np.setdiff1d(np.arange(b), sample)
+    say(f"another minimum of the reference spectrum lowered {gained} of {sample.size} fits: tried on the other {rest.size}")
+    out, u, _ = _also_solved_from(out, u, np.broadcast_to(u_other, (rest.size, u_other.size)), solver, scale, max_steps, rest, RUNNER_UP_STEPS)
+    return out, u, np.arange(b)
 
 
 # rounds of `_outliers_restarted`: each offers the optima the last one found to the neighbours
@@ -769,15 +864,19 @@ def _poor_in_batch(out: SolverOutput, z) -> np.ndarray:
     return batch_outliers(rms_rel_of(out.z_model, z), np.asarray(out.code) == SolverStatus.CONVERGED)
 
 
-def _multistart_rung(out, solver, circuit, table, features, poor, n_starts, multiple, rung, seed, scale, max_steps, registry) -> SolverOutput:
+def _multistart_rung(out, solver, circuit, table, features, poor, n_starts, multiple, rung, seed, scale, max_steps, registry, screened: list | None = None) -> SolverOutput:
     """``out`` with spectra ``poor`` improved by one rung of the start ladder: ``multiple``
     draws of ``n_starts`` starts each (as `fit` draws them), screened for `SCREEN_STEPS`
-    steps (at most ``max_steps``), the best of each spectrum continued to convergence and kept where it is better."""
+    steps (at most ``max_steps``), the best of each spectrum continued to convergence and kept
+    where it is better. ``screened`` (a list): the screened points (len(poor), starts, K) and
+    their chi² (len(poor), starts) are appended to it."""
     per = multiple * n_starts
     starts = rung_starts(circuit, table, features[poor], n_starts, [rung_seed(seed, rung, call) for call in range(multiple)], registry).reshape(poor.size * per, -1)
     owner = np.repeat(poor, per)
     u_s, chi2_s, _, steps_s = solver.solve(starts, owner, np.full(owner.size, min(SCREEN_STEPS, max_steps)), cold=True)
     chi2_s = np.where(np.isfinite(chi2_s), chi2_s, np.inf).reshape(poor.size, per)
+    if screened is not None:
+        screened.append((u_s.reshape(poor.size, per, -1), chi2_s))
     best = np.argmin(chi2_s, axis=1)
     u_best = u_s.reshape(poor.size, per, -1)[np.arange(poor.size), best]
     u_m, _, done_m, steps_m = solver.solve(u_best, poor, np.full(poor.size, max_steps))
@@ -831,21 +930,24 @@ def _from_neighbours(out, u, solver, scale, max_steps):
 REFERENCE_MIN_SPECTRA = 16
 
 
-def _with_reference_start(guesses, solver, circuit, table, freq, z, sigma, **options) -> np.ndarray:
+def _with_reference_start(guesses, solver, circuit, table, freq, z, sigma, **options) -> tuple[np.ndarray, np.ndarray]:
     """Spectra of one batch (trials, subjects, conditions) usually resemble each other: the fit
     of the most typical spectrum (closest to the median log|Z|) is a better start for most of
     them than their own data-driven guess. Each spectrum starts from whichever of the two has
-    the lower chi² on its data."""
+    the lower chi² on its data. Also returns the reference's other minima (`_runner_ups`)."""
     log_mag = np.log(np.abs(z))
     typical = int(np.argmin(np.sum((log_mag - np.median(log_mag, axis=0)) ** 2, axis=1)))
-    reference, _, _, _ = _solve_stack(circuit, table, freq, z[typical : typical + 1], None if sigma is None else sigma[typical : typical + 1], **options)
+    screened: list = []
+    reference, _, reference_solver, _ = _solve_stack(circuit, table, freq, z[typical : typical + 1], None if sigma is None else sigma[typical : typical + 1], screened=screened, **options)
     if not np.isfinite(reference.chi2[0]):
-        return guesses
-    u_ref = np.broadcast_to(to_solver_space(table, reference.x[0]), guesses.shape)
+        return guesses, np.empty((0, guesses.shape[1]))
+    u_best = to_solver_space(table, reference.x[0])
+    runner_ups = _runner_ups(u_best, screened, reference_solver, options["max_steps"])
+    u_ref = np.broadcast_to(u_best, guesses.shape)
     spectra = np.arange(len(z))
     chi2_ref, chi2_guess = solver.chi2_at([u_ref, guesses], spectra)
     take = chi2_ref < chi2_guess
-    return np.where(take[:, None], u_ref, guesses)
+    return np.where(take[:, None], u_ref, guesses), runner_ups
 
 
 class _LaneRunner:
