@@ -819,6 +819,9 @@ def _tried_runner_up(out: SolverOutput, u: np.ndarray, u_other: np.ndarray, solv
         say(f"another minimum of the reference spectrum tried on {sample.size} of the spectra: none lowered by {RUNNER_UP_GAIN:.0%} of χ² or more")
         return out, u, sample
     rest = np.setdiff1d(np.arange(b), sample)
+    if not rest.size:  # (a batch no larger than the sample)
+        say(f"another minimum of the reference spectrum lowered {gained} of the {b} fits")
+        return out, u, sample
     say(f"another minimum of the reference spectrum lowered {gained} of {sample.size} fits: tried on the other {rest.size}")
     out, u, _ = _also_solved_from(out, u, np.broadcast_to(u_other, (rest.size, u_other.size)), solver, scale, max_steps, rest, RUNNER_UP_STEPS)
     return out, u, np.arange(b)
