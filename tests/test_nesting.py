@@ -3,6 +3,7 @@
 the comparisons that say when a model fits worse than one it contains."""
 
 import json
+import math
 
 import numpy as np
 import pytest
@@ -210,3 +211,24 @@ def test_compare_of_one_spectrum_keeps_the_larger_models_own_search_where_it_end
     own = ix.fit(wo, ix.load(path).sel(cycle=69), progress=False)
     assert chi2[wo] <= own.chi2 * (1 + 1e-6) and chi2[wo] < chi2[w]
     assert all(t["reason"] != "not_at_optimum" for t in out["f_tests"])
+
+
+@pytest.mark.parametrize("value, lower, upper, moved", [
+    (0.0, 0.0, math.inf, 1e-300),  # R0 of a smaller model at 0: (0, ∞) is fitted in log space
+    (-3.0, 0.0, math.inf, 1e-300),
+    (1.0, 0.0, 1.0, 1 - 1e-6),  # an exponent at 1 where the larger model's bound excludes it
+    (2.0, 0.5, 1.0, 1 - 1e-6),
+    (0.5, 0.5, 1.0, 0.5 * (1 + 1e-6)),
+    (-1.0, -1.0, 1.0, -1 + 2e-6),  # 1e-6 of the span
+    (-5.0, -1.0, math.inf, -1 + 1e-6),  # (NaN before: no move was defined)
+    (0.0, -2.0, 0.0, -1e-6),
+    (math.nan, 0.0, 1.0, math.nan),
+])
+def test_a_carried_value_on_or_past_a_bound_moves_just_inside(value, lower, upper, moved):
+    """`parameters.nudged_inside`, the single-value form of the batch's `inner_edges`: a fitted
+    value carried to a larger model lands 1e-6 inside the bound it sits on or beyond (hand-derived
+    points)."""
+    from impedax.fitting.parameters import nudged_inside
+
+    got = nudged_inside(value, lower, upper)
+    assert (math.isnan(got) and math.isnan(moved)) or got == pytest.approx(moved, rel=1e-12, abs=1e-310)

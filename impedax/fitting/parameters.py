@@ -174,17 +174,29 @@ class ParameterTable:
         return cls(names, tuple(specs[n].unit for n in names), lower, upper, kind, is_fixed, values, reductions, resistor_like)
 
 
+def inner_edges(lower, upper) -> tuple[np.ndarray, np.ndarray]:
+    """The points just inside bounds (``lower``, ``upper``; arrays or numbers), where a start
+    on or past a bound is moved, as a start must lie strictly inside: 1e-6 of the bound
+    (relative; of the span or absolute where the bound is ≤ 0 or ≥ 0), 1e-300 for a (0, ∞)
+    parameter, which is fitted in log space (a floor of 1e-6 would lift every capacitance and
+    CPE Q guess to 1 µF); ∞ where there is no upper bound."""
+    lo, hi = np.asarray(lower, float), np.asarray(upper, float)
+    with np.errstate(invalid="ignore"):
+        low = np.where(lo > 0, lo * (1 + 1e-6), lo + 1e-6 * np.where(np.isfinite(hi), hi - lo, 1.0))
+        low = np.where((lo == 0) & ~np.isfinite(hi), 1e-300, low)
+        high = np.where(np.isfinite(hi), np.where(hi > 0, hi * (1 - 1e-6), hi - 1e-6), np.inf)
+    return low, high
+
+
 def nudged_inside(value: float, lower: float, upper: float) -> float:
-    """A fitted ``value`` on or past a bound moved 1e-6 (relative) inside it, as a start must
-    lie strictly inside (a smaller model's R0 at 0, a τ carried to 200/ω_min where the user
-    bounded it; a value at 0 of a (0, ∞) parameter to 1e-300); NaN where no such move exists."""
+    """A fitted ``value`` on or past a bound moved to the bound's `inner_edges`, as a start
+    must lie strictly inside (a smaller model's R0 at 0, a τ carried to 200/ω_min where the
+    user bounded it; a value at 0 of a (0, ∞) parameter to 1e-300); NaN where the value is
+    not finite."""
     if not math.isfinite(value):
         return math.nan
-    if value <= lower:  # ((0, ∞) is fitted in log space: a start at 1e-300, as `starts._clip_inside` moves a batch's)
-        value = lower * (1 + 1e-6) if lower > 0 else (lower + 1e-6 * (upper - lower) if math.isfinite(upper) else (1e-300 if lower == 0 else math.nan))
-    elif value >= upper:
-        value = upper * (1 - 1e-6) if upper > 0 else math.nan
-    return value if lower < value < upper else math.nan
+    low, high = (float(e) for e in inner_edges(lower, upper))
+    return min(max(value, low), high)
 
 
 def checked_bounds(name: str, lower, upper, spec) -> tuple[float, float]:

@@ -27,7 +27,7 @@ import numpy as np
 from ...circuits import Circuit, DEFAULT_REGISTRY, Element, Parallel, Registry, StartRole
 from ...errors import ImpedaxError
 from ..kk import kk_misfits
-from ..parameters import ParameterTable, Transform, to_internal
+from ..parameters import ParameterTable, Transform, inner_edges, to_internal
 
 __all__ = [
     "SpectrumFeatures", "data_driven_guess", "data_driven_guesses", "random_starts", "start_split", "draw_words", "guess_start", "multistart", "rung_starts", "rung_draws", "to_solver_space",
@@ -270,12 +270,7 @@ def _clip_inside(x, table: ParameterTable) -> np.ndarray:
     with np.errstate(invalid="ignore"):
         outside = (x < lo) | (x > hi)
     x = np.where(outside, well_inside(x, table, INSIDE_FRACTION), x)
-    # (0, ∞) is fitted in log space: any positive value is inside (a floor of lower + 1e-6
-    # would lift every capacitance and CPE Q guess to 1 µF)
-    span_lo = np.where(lo > 0, lo * (1 + 1e-6), lo + 1e-6 * np.where(np.isfinite(hi), hi - lo, 1.0))
-    span_lo = np.where((lo == 0) & ~np.isfinite(hi), 1e-300, span_lo)
-    span_hi = np.where(np.isfinite(hi), np.where(hi > 0, hi * (1 - 1e-6), hi - 1e-6), np.inf)
-    return np.clip(x, span_lo, span_hi)
+    return np.clip(x, *inner_edges(lo, hi))
 
 
 def values_inside(values: Mapping[str, float], table: ParameterTable) -> dict[str, float]:
