@@ -112,6 +112,12 @@ def run(args) -> int:
             if fit_result.bounds:  # (--bound: the table's rows do not show them either)
                 print(f"bounded in {fit_result.model}: " + ", ".join(f"{n} within {lo:g}..{hi:g}" for n, (lo, hi) in fit_result.bounds.items()))
         print("\n".join(warning_lines(comparison)))
+        if comparison.best_misfit_hint() is not None:  # (the table's line says it; the command that shows what is missing: added 2026-12-03)
+            import shlex
+
+            from .common import fit_command
+
+            print(f"hint: where the best model fails and which effect it misses: {fit_command(args, data=data, program='impedax diagnose')} --model {shlex.quote(comparison.best)}")
     if not args.json and not outputs.uses_stdout:
         note_skipped_rows(data, "compare", args.data)
     return 0

@@ -19,7 +19,7 @@ from ..errors import FitError
 from .least_squares import BatchFitResult, FitResult
 from .least_squares.branches import undetermined_names
 from .bayes.evidence import EVIDENCE_NOTE_LEAD
-from .least_squares.result import BOUND_CHI2_FRACTION, data_difference, DATA_LIMIT_NOTE, SIGN_HINT_LEAD
+from .least_squares.result import BOUND_CHI2_FRACTION, data_difference, DATA_LIMIT_NOTE, SIGN_HINT_LEAD, misfit_hint
 from .frozen import freeze_fields
 
 __all__ = ["compare", "Comparison", "WEAK_DELTA_AIC", "is_nested", "boundary_parameters", "undetermined_names", "criteria", "akaike_weights", "KNOWN_SIGMA", "UNKNOWN_VARIANCE", "TIE_CHI2_REL", "criteria_tie", "SIGMA_CHI2_RED_RANGE", "register_batch_compare"]
@@ -224,7 +224,19 @@ class Comparison:
             "weak_evidence": self.weak_evidence(),  # (added 2026-11-30: None when the best model's lead is clear)
             "reduces_to_best": self.reduces_to_best(),  # (added 2026-12-01: None when no model reduces to the best)
             "tied_with_best": [self.rows[i]["label"] for i in self.tied_with_best_indices()],  # (added 2026-12-01: [] when no AIC ties the best's)
+            "best_misfit_hint": self.best_misfit_hint(),  # (added 2026-12-03: None unless the best still misses structure, small as its misfit looks)
         }
+
+    def best_misfit_hint(self) -> str | None:
+        """The hint that the best model misses structure the data hold, small as its misfit
+        looks (`least_squares.result.misfit_hint`: a single fit weighted by |Z| with rms_rel
+        from 0.2 % to 2 % and above 5× a Kramers–Kronig-consistent model's); None otherwise.
+        Above 2 % the best fit's own warning says it. On impedance.py's REAL exampleData the
+        best of three battery models fits at 1.14 %, 6.3× the 0.18 % the Voigt chain reaches,
+        and the comparison said nothing of it: the best of the models given is not yet
+        adequate, and a diagnosis shows what is missing."""
+        fit = self.fits[self.best_index]
+        return misfit_hint(fit) if isinstance(fit, FitResult) else None
 
     def to_table(self) -> list[dict]:
         """One row per model, as ``compare --out FILE.csv`` writes them: the columns of the table
@@ -394,6 +406,9 @@ class Comparison:
         reduced = self.reduces_to_best()
         if reduced is not None:
             lines.append(reduced["note"])
+        hint = self.best_misfit_hint()
+        if hint is not None:
+            lines.append(f"{self.rows[best]['label']} (the best): {hint}")
         unreliable = [r["label"] for r in self.rows if r.get("log_evidence_reliable") is False]
         if unreliable:
             lines.append(f"{UNRELIABLE_MARK} log evidence unreliable or undefined by the posterior's own warnings (listed with the model's): {', '.join(unreliable)}; compare these models by WAIC")
