@@ -172,7 +172,7 @@ def run(args) -> int:
 
                 from .common import fit_command
 
-                print(f"hint: {hint}: {fit_command(args, data=data, program='impedax diagnose')} --model {shlex.quote(args.model)}")
+                print(f"next: {fit_command(args, data=data, program='impedax diagnose')} --model {shlex.quote(args.model)} (where the model fails and what it misses; the hint above)")
     if isinstance(result, FitResult) and not result.converged:  # (the report's status line says it; stderr too, as with --json)
         print(f"impedax fit: warning: the fit did not converge: {command_line_words(result.message, 'fit')}", file=sys.stderr)
     return 0

@@ -17,7 +17,8 @@ from ..errors import FitError
 from .comparison import DECISIVE_DELTA_AIC, NESTED_WORSE_REL, common_source, NOISE_F, SAME_FIT_RMS, criteria_tie, WEAK_DELTA_AIC, Comparison, akaike_weights, compare, criteria, fit_label, is_nested, register_batch_compare, significant, unique_labels
 from .least_squares import BatchFitResult, SharedFitResult
 from .least_squares.batch import SPECTRA_AS_ROWS, labels_by_keyword, labels_key
-from .least_squares.result import BOUND_CHI2_FRACTION, data_difference
+from .least_squares.result import BOUND_CHI2_FRACTION, MISFIT_CHECKED_FROM, MISFIT_HINT_FROM, MISFIT_RATIO_MAX, data_difference
+from .least_squares.starts import attainable_misfit
 from .frozen import freeze_fields
 
 __all__ = ["BatchComparison", "compare_batches", "PER_SPECTRUM_CRITERIA", "SUM_NOTE"]
@@ -417,7 +418,50 @@ class BatchComparison:
             "sizes": {d: int(self.dataset.sizes[d]) for d in self.dims}, "n_spectra": self.n_spectra,
             "weak_spectra": sum(r["weak_evidence"] for r in spectra), "weak_threshold": WEAK_DELTA_AIC, "note": SUM_NOTE,
             "not_at_optimum": self.not_at_optimum(),
+            "best_misfit_hints": self.best_misfit_hints(),  # (added 2026-12-03: None unless a winner still misses structure, small as its misfit looks)
         }
+
+    def best_misfit_hints(self) -> dict | None:
+        """The spectra whose winner (by its own AIC) misses structure the data hold, small as
+        its misfit looks, as `Comparison.best_misfit_hint` says it of one spectrum: weighted by
+        |Z|, rms_rel from `MISFIT_HINT_FROM` (0.2 %) to `MISFIT_CHECKED_FROM` (2 %, where each
+        fit's own warning takes over) and above `MISFIT_RATIO_MAX` (5) × what the Kramers–Kronig
+        test's Voigt chain reaches on that spectrum (`starts.attainable_misfit`, computed for
+        those spectra only). None when there is none. Keys: ``spectra`` (how many),
+        ``by_model`` (winner label → how many), ``worst`` (``labels``, ``model`` (label),
+        ``rms_rel``, ``chain_rms_rel``, ``ratio``: the spectrum of the largest ratio) and
+        ``note`` (the report's line)."""
+        if self.dataset.attrs["weighting"] != "modulus" or "Z" not in self.batches[0].dataset:
+            return None
+        best, _ = self._winners()
+        rms = self._per_spectrum("rms_rel")
+        spectra = np.arange(rms.shape[1])
+        winner_rms = np.where(best >= 0, rms[np.maximum(best, 0), spectra], np.nan)
+        with np.errstate(invalid="ignore"):
+            candidates = np.flatnonzero((winner_rms >= MISFIT_HINT_FROM) & (winner_rms < MISFIT_CHECKED_FROM))
+        if not candidates.size:
+            return None
+        data = self.batches[0].dataset
+        z = data["Z"].transpose(*self.dims, "frequency").values.reshape(rms.shape[1], -1)[candidates]
+        chain = attainable_misfit(data["frequency"].values, z)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ratio = np.where(chain > 0, winner_rms[candidates] / chain, np.nan)
+            hinted = ratio > MISFIT_RATIO_MAX
+        if not hinted.any():
+            return None
+        rows, ratio, chain = candidates[hinted], ratio[hinted], chain[hinted]
+        worst = int(np.argmax(ratio))
+        labels = _labels(self.batches[0])[rows[worst]]
+        by_model = {self.labels[m]: int(np.sum(best[rows] == m)) for m in np.unique(best[rows])}
+        where = ", ".join(f"{d}={v}" for d, v in labels.items())
+        note = (f"the best model misses structure the data hold on {len(rows)} of {self.n_spectra} spectra, small as the misfits look "
+                f"(rms_rel below {MISFIT_CHECKED_FROM * 100:g} % and over {MISFIT_RATIO_MAX:g}× what a Kramers–Kronig-consistent model reaches: "
+                + ", ".join(f"{label} on {n}" for label, n in by_model.items())
+                + f"); the worst, {where}: {self.labels[best[rows[worst]]]} at {winner_rms[rows[worst]] * 100:.3g} %, {ratio[worst]:.3g}× the chain's {chain[worst] * 100:.3g} % "
+                "(a diagnosis of that spectrum shows where and what)")
+        return {"spectra": int(len(rows)), "by_model": by_model,
+                "worst": {"labels": labels, "model": self.labels[best[rows[worst]]], "rms_rel": float(winner_rms[rows[worst]]), "chain_rms_rel": float(chain[worst]), "ratio": float(ratio[worst])},
+                "note": note}
 
     def to_table(self) -> list[dict]:
         """One row per spectrum and model (``compare --out FILE.csv``): the spectrum's labels,
@@ -462,6 +506,9 @@ class BatchComparison:
                   f"that neither reduces to it nor is its fit in another writing (— where no rival is left), decisive from {DECISIVE_DELTA_AIC:g} (Burnham & Anderson 2002: essentially no support for the rival)"]
         reduced = self._reduced_lines()
         lines += reduced + [pair["note"] for pair in self.not_at_optimum()]
+        hints = self.best_misfit_hints()
+        if hints is not None:
+            lines.append(hints["note"])
         weak = [m for m in models if m["weak_wins"]]
         if weak:
             lines.append(f"won by less than ΔAIC {WEAK_DELTA_AIC:g} (the data barely tell the models apart there): " + ", ".join(f"{m['weak_wins']} of {m['label']}'s {m['wins']}" for m in weak))

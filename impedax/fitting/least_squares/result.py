@@ -258,7 +258,8 @@ class FitResult:
         }
 
     def report(self) -> str:
-        """A readable table of the fit."""
+        """A readable table of the fit, its warnings and notes, and the hint that a misfit
+        which looks small misses structure the data hold (`misfit_hint`)."""
         specs = self.circuit.parameter_specs(self.registry)
         width = column_width(self.values, "parameter")
         lines = [
@@ -284,6 +285,9 @@ class FitResult:
             if not w.startswith("fit did not converge"):  # the status line says it once
                 lines.append(f"warning: {w}")
         lines += [f"note: {n}" for n in self.notes]
+        hint = misfit_hint(self)  # (added 2026-12-03: until then only the command line printed it)
+        if hint is not None:
+            lines.append(f"hint: {hint}")
         return "\n".join(lines)
 
     def to_table(self) -> list[dict[str, object]]:
