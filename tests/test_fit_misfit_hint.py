@@ -68,7 +68,7 @@ def test_a_comparison_whose_best_model_still_misses_structure_says_so_and_the_co
     assert main(argv) == 0
     out = capsys.readouterr().out
     assert f"{models[1]} (the best): rms_rel 1.14 % is 6." in out
-    command = next(line for line in out.splitlines() if line.startswith("hint: ")).split(": ", 2)[-1]
+    command = next(line for line in out.splitlines() if line.startswith("next: ")).removeprefix("next: ").split(" (where")[0]
     assert command.startswith("impedax diagnose ") and command.endswith(shlex.quote(models[1]))
     assert main(shlex.split(command)[1:] + ["--json"]) == 0
     assert json.loads(capsys.readouterr().out)["verdict"] == "missing_effect"

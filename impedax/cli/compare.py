@@ -120,7 +120,7 @@ def run(args) -> int:
 
             from .common import fit_command
 
-            print(f"hint: where the best model fails and which effect it misses: {fit_command(args, data=data, program='impedax diagnose')} --model {shlex.quote(comparison.best)}")
+            print(f"next: {fit_command(args, data=data, program='impedax diagnose')} --model {shlex.quote(comparison.best)} (where the best model fails and what it misses)")
     if not args.json and not outputs.uses_stdout:
         note_skipped_rows(data, "compare", args.data)
     return 0

@@ -806,9 +806,8 @@ def _tried_runner_up(out: SolverOutput, u: np.ndarray, u_other: np.ndarray, solv
     spectrum (`_runner_ups`), kept where lower: first on a sample (`RUNNER_UP_SAMPLE` spread
     over the batch and as many of the worst fits by rms_rel), then on all the others if it
     lowered a fit of the sample by `RUNNER_UP_GAIN`; each solve at most `RUNNER_UP_STEPS`
-    steps. Returns the outputs, solver points and the
-    spectra solved. On 1,000 noisy copies of one spectrum no copy prefers another minimum, and
-    the sample spares the batch that solve."""
+    steps. Returns the outputs, solver points and the spectra solved. On 1,000 noisy copies of
+    one spectrum no copy prefers another minimum, and the sample spares the batch that solve."""
     b = len(u)
     spread = np.unique(np.linspace(0, b - 1, min(b, RUNNER_UP_SAMPLE)).round().astype(int))
     worst = np.argsort(rms_rel_of(out.z_model, z))[-RUNNER_UP_SAMPLE:]
