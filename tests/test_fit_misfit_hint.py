@@ -152,7 +152,8 @@ def test_a_batch_hint_where_the_winner_misses_a_small_arc_and_none_where_it_is_t
     """SYNTHETIC: 16 noisy copies (0.05 %) of R0 + R1 ∥ C1 with and without a second arc of
     50 Ω at 11 Hz (numpy formula), R0 + R1 ∥ C1 against R0 + C1. With the arc the winner
     misses it at ~1.4 % on every copy, over 5× the KK test's chain (`ix.kk_test`, the oracle):
-    all 16 named; without it the winner fits at the noise: no hint."""
+    all 16 named, by the comparison and by the winner's batch of fits; without it the winner
+    fits at the noise: no hint."""
     f = np.geomspace(1.0, 1e5, 40)
     rng = np.random.default_rng(7)
     noise = 1 + 0.0005 * (rng.standard_normal((16, f.size)) + 1j * rng.standard_normal((16, f.size))) / np.sqrt(2)
@@ -161,9 +162,13 @@ def test_a_batch_hint_where_the_winner_misses_a_small_arc_and_none_where_it_is_t
         data = ix.make_spectrum(f, (arc + second) * noise, dims=("trial",))
         comparison = ix.compare([ix.fit("R0 + R1 || C1", data, progress=False), ix.fit("R0 + C1", data, progress=False)])
         hints = comparison.best_misfit_hints()
+        fits = comparison.batches[0]
         if not hinted:
             assert hints is None and comparison.summary()["best_misfit_hints"] is None
+            assert fits.misfit_hints() is None and "hint:" not in fits.report()
             continue
+        # (the batch of fits says it of its own fits: added 2026-12-03)
+        assert fits.misfit_hints()["spectra"] == 16 and f"hint: {fits.misfit_hints()['note']}" in fits.report()
         rms = comparison.dataset["rms_rel"].sel(model="R0 + R1 || C1").values
         chain = np.array([ix.kk_test(data.isel(trial=i)).rms_rel for i in range(16)])
         assert np.all((rms < 0.02) & (rms > 5 * chain))
@@ -190,3 +195,17 @@ def test_the_next_command_of_a_batch_comparison_finds_the_missing_arc(tmp_path, 
     first = json.loads(capsys.readouterr().out)["suggestions"][0]
     assert first["model"] == "R0 + R1 || C1 + R_relax || C_relax"
     assert first["values"]["R_relax"] == pytest.approx(50, rel=0.05) and first["values"]["C_relax"] == pytest.approx(3e-4, rel=0.05)
+
+
+@pytest.mark.slow  # (~10 s: a batch fit of 8 REAL cycles from the command line, twice)
+def test_a_batch_fit_from_the_command_line_names_its_worst_hidden_misfit(capsys):
+    """`impedax fit` of REAL cycles 15–22: the report's hint names the worst fit below 2 %, the
+    JSON has it as ``misfit_hints``, and the next line is the diagnose command for that cycle."""
+    argv = ["fit", BATTERY, "--select", "cycle=15:22", "--model", "R0 + R1 || CPE1 + R2 || CPE2 + W1", "--quiet"]
+    assert main(argv) == 0
+    lines = capsys.readouterr().out.splitlines()
+    hint = next(line for line in lines if line.startswith("hint: "))
+    words = shlex.split(next(line for line in lines if line.startswith("next: impedax diagnose ")).removeprefix("next: ").split(" (where")[0])
+    assert main(argv + ["--json"]) == 0
+    hints = json.loads(capsys.readouterr().out)["misfit_hints"]
+    assert hint == f"hint: {hints['note']}" and words[words.index("--select") + 1] == f"cycle={hints['worst']['labels']['cycle']}"

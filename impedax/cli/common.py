@@ -225,6 +225,20 @@ def fit_command(args=None, *, kept=None, masked=(), data=None, program: str = "i
     return " ".join([program, shlex.quote(data_file) if data_file else "DATA"] + [f"{flag} {shlex.quote(str(value))}" for flag, value in options if value is not None])
 
 
+def diagnose_command(args, data, labels: dict, model: str) -> str:
+    """``impedax diagnose FILE --select DIM=LABEL … --model MODEL`` for the spectrum of ``data``
+    (a batch the run read) with ``labels``, with the run's other options (`run_options`: a
+    --select list or range that held it becomes its label); a dimension without labels is
+    selected by position, as --select reads it."""
+    import shlex
+
+    one = data.isel({d: v for d, v in labels.items() if d not in data.coords}).sel({d: v for d, v in labels.items() if d in data.coords})
+    options = run_options(args, data=one)
+    selected = {item.partition("=")[0].strip() for flag, item in options if flag == "--select" and item is not None}
+    options += [("--select", f"{d}={v}") for d, v in labels.items() if d not in selected]
+    return " ".join(["impedax diagnose", shlex.quote(args.data)] + [f"{flag} {shlex.quote(str(value))}" for flag, value in options if value is not None] + ["--model", shlex.quote(model)])
+
+
 def run_options(args=None, *, kept=None, masked=(), data=None) -> list[tuple[str, object]]:
     """The (flag, value) options of `fit_command` (value None: not given)."""
     band = {"--fmin": getattr(args, "fmin", None), "--fmax": getattr(args, "fmax", None)}

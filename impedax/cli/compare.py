@@ -105,7 +105,9 @@ def run(args) -> int:
         print(comparison.report(each_spectrum_where=f"{where}; one spectrum's full comparison: {pick}"))
         hints = comparison.best_misfit_hints()
         if hints is not None:  # (the report's line says it; the command for its worst spectrum: added 2026-12-03)
-            print(f"next: {_diagnose_command(args, data, hints['worst']['labels'], comparison.batches[comparison.labels.index(hints['worst']['model'])].model)} (where the best model fails on the worst of those spectra and what it misses)")
+            from .common import diagnose_command
+
+            print(f"next: {diagnose_command(args, data, hints['worst']['labels'], comparison.batches[comparison.labels.index(hints['worst']['model'])].model)} (where the best model fails on the worst of those spectra and what it misses)")
     elif not outputs.uses_stdout:  # (--out -: the JSON went to standard output)
         print(comparison.table(warnings_below=True))  # (`warning_lines` prints them under it)
         for fit_result in comparison.fits:  # (the table's rows do not show what was held)
@@ -124,21 +126,6 @@ def run(args) -> int:
     if not args.json and not outputs.uses_stdout:
         note_skipped_rows(data, "compare", args.data)
     return 0
-
-
-def _diagnose_command(args, data, labels: dict, model: str) -> str:
-    """``impedax diagnose FILE --select DIM=LABEL … --model MODEL`` for the spectrum of ``data``
-    with ``labels``, with the run's other options (`common.run_options`: a --select list or range
-    that held it becomes its label)."""
-    import shlex
-
-    from .common import run_options
-
-    one = data.isel({d: v for d, v in labels.items() if d not in data.coords}).sel({d: v for d, v in labels.items() if d in data.coords})  # (a dimension without labels: positions)
-    options = run_options(args, data=one)
-    selected = {item.partition("=")[0].strip() for flag, item in options if flag == "--select" and item is not None}
-    options += [("--select", f"{d}={v}") for d, v in labels.items() if d not in selected]
-    return " ".join(["impedax diagnose", shlex.quote(args.data)] + [f"{flag} {shlex.quote(str(value))}" for flag, value in options if value is not None] + ["--model", shlex.quote(model)])
 
 
 def nesting_order(circuits, registry) -> list[int]:

@@ -119,7 +119,7 @@ def register(sub) -> None:
 def run(args) -> int:
     from pathlib import Path
 
-    from .. import FitResult, fit, parse
+    from .. import BatchFitResult, FitResult, fit, parse
     from ..fitting.least_squares.result import misfit_hint
     from ..errors import ParameterError
     from .common import check_parameter_names, checked_bound_options, command_line_words, command_provenance, data_source, exclude_points, figure_options, figure_writer, latex_writer, load_selected, note_skipped_rows, note_unused_sigma, parse_assignments, parse_bounds, plan_outputs, print_result, progress_printer, result_writer, skipped_rows, WithSummaryKeys, LATEX_SUFFIX
@@ -159,7 +159,9 @@ def run(args) -> int:
     record = command_provenance(args, source=source, data_files=[args.data])
     # (hints added 2026-12-02: a single fit's misfit that looks small and is many times what the data allow, `misfit_hint`)
     hint = misfit_hint(result) if isinstance(result, FitResult) else None
-    read = WithSummaryKeys(result, {"skipped_rows": skipped_rows(data), **({"hints": [hint] if hint else []} if isinstance(result, FitResult) else {})})  # (the JSON's, as inspect --json's: added 2026-12-01)
+    batch_hints = result.misfit_hints() if isinstance(result, BatchFitResult) else None  # (added 2026-12-03)
+    read = WithSummaryKeys(result, {"skipped_rows": skipped_rows(data), **({"hints": [hint] if hint else []} if isinstance(result, FitResult) else {}),
+                                    **({"misfit_hints": batch_hints} if isinstance(result, BatchFitResult) else {})})  # (the JSON's, as inspect --json's: added 2026-12-01)
     outputs.save({"--out": latex_writer(result) if latex else result_writer(read, source, record), "--plot": figure_writer(result.plot if plot_params is None and args.plot_x is None else lambda: result.plot(params=plot_params, x=args.plot_x), source, **figure_options(args))})
     if outputs.uses_stdout:  # (the report, which ends with the result's notes, is not printed: σ unused is said on stderr, as before 2026-12-02)
         note_unused_sigma(data, "fit", args.weighting == "sigma", "--weighting sigma")
@@ -173,6 +175,10 @@ def run(args) -> int:
                 from .common import fit_command
 
                 print(f"next: {fit_command(args, data=data, program='impedax diagnose')} --model {shlex.quote(args.model)} (where the model fails and what it misses; the hint above)")
+            if batch_hints is not None:  # (the report's hint names the worst spectrum; its diagnosis)
+                from .common import diagnose_command
+
+                print(f"next: {diagnose_command(args, data, batch_hints['worst']['labels'], args.model)} (where the model fails on the worst of those spectra and what it misses)")
     if isinstance(result, FitResult) and not result.converged:  # (the report's status line says it; stderr too, as with --json)
         print(f"impedax fit: warning: the fit did not converge: {command_line_words(result.message, 'fit')}", file=sys.stderr)
     return 0

@@ -17,8 +17,7 @@ from ..errors import FitError
 from .comparison import DECISIVE_DELTA_AIC, NESTED_WORSE_REL, common_source, NOISE_F, SAME_FIT_RMS, criteria_tie, WEAK_DELTA_AIC, Comparison, akaike_weights, compare, criteria, fit_label, is_nested, register_batch_compare, significant, unique_labels
 from .least_squares import BatchFitResult, SharedFitResult
 from .least_squares.batch import SPECTRA_AS_ROWS, labels_by_keyword, labels_key
-from .least_squares.result import BOUND_CHI2_FRACTION, MISFIT_CHECKED_FROM, MISFIT_HINT_FROM, MISFIT_RATIO_MAX, data_difference
-from .least_squares.starts import attainable_misfit
+from .least_squares.result import BOUND_CHI2_FRACTION, MISFIT_CHECKED_FROM, MISFIT_RATIO_MAX, data_difference, misfit_hint_spectra
 from .frozen import freeze_fields
 
 __all__ = ["BatchComparison", "compare_batches", "PER_SPECTRUM_CRITERIA", "SUM_NOTE"]
@@ -426,7 +425,7 @@ class BatchComparison:
         its misfit looks, as `Comparison.best_misfit_hint` says it of one spectrum: weighted by
         |Z|, rms_rel from `MISFIT_HINT_FROM` (0.2 %) to `MISFIT_CHECKED_FROM` (2 %, where each
         fit's own warning takes over) and above `MISFIT_RATIO_MAX` (5) × what the Kramers–Kronig
-        test's Voigt chain reaches on that spectrum (`starts.attainable_misfit`, computed for
+        test's Voigt chain reaches on that spectrum (`misfit_hint_spectra`: the chain fitted for
         those spectra only). None when there is none. Keys: ``spectra`` (how many),
         ``by_model`` (winner label → how many), ``worst`` (``labels``, ``model`` (label),
         ``rms_rel``, ``chain_rms_rel``, ``ratio``: the spectrum of the largest ratio) and
@@ -435,21 +434,12 @@ class BatchComparison:
             return None
         best, _ = self._winners()
         rms = self._per_spectrum("rms_rel")
-        spectra = np.arange(rms.shape[1])
-        winner_rms = np.where(best >= 0, rms[np.maximum(best, 0), spectra], np.nan)
-        with np.errstate(invalid="ignore"):
-            candidates = np.flatnonzero((winner_rms >= MISFIT_HINT_FROM) & (winner_rms < MISFIT_CHECKED_FROM))
-        if not candidates.size:
-            return None
+        winner_rms = np.where(best >= 0, rms[np.maximum(best, 0), np.arange(rms.shape[1])], np.nan)
         data = self.batches[0].dataset
-        z = data["Z"].transpose(*self.dims, "frequency").values.reshape(rms.shape[1], -1)[candidates]
-        chain = attainable_misfit(data["frequency"].values, z)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            ratio = np.where(chain > 0, winner_rms[candidates] / chain, np.nan)
-            hinted = ratio > MISFIT_RATIO_MAX
-        if not hinted.any():
+        z = data["Z"].transpose(*self.dims, "frequency").values.reshape(rms.shape[1], -1)
+        rows, ratio, chain = misfit_hint_spectra(data["frequency"].values, z, winner_rms)
+        if not rows.size:
             return None
-        rows, ratio, chain = candidates[hinted], ratio[hinted], chain[hinted]
         worst = int(np.argmax(ratio))
         labels = _labels(self.batches[0])[rows[worst]]
         by_model = {self.labels[m]: int(np.sum(best[rows] == m)) for m in np.unique(best[rows])}

@@ -33,7 +33,7 @@ from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, domi
 from .order import canonical_order
 from .branches import RELATIVE_ERROR_LIMIT, held_covariances, idle_branch_notes, settle_vanishing, vanishing_term_mask, undetermined, unidentified_stderr, undetermined_mask, vanishing_candidates, vanishing_parameters
 from .constraints import constraint_misfit_notes, with_constraint_notes
-from .result import stored_notes, warnings_blame_model, COVARIANCE_NOTE, BOUND_RESTARTS, FIT_STATISTICS, bounds_attr, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, PARAMETER_UNIT_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, sigma_misstated, sigma_scale_notes, uneven_residual_notes, shown_stderr, stack_notes, vanishing_term_sides, weighting_notes, without_error
+from .result import stored_notes, warnings_blame_model, misfit_hint_spectra, MISFIT_CHECKED_FROM, MISFIT_RATIO_MAX, COVARIANCE_NOTE, BOUND_RESTARTS, FIT_STATISTICS, bounds_attr, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, PARAMETER_UNIT_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, sigma_misstated, sigma_scale_notes, uneven_residual_notes, shown_stderr, stack_notes, vanishing_term_sides, weighting_notes, without_error
 from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, TreeSolvers, better, over_devices, padded_points, tree_solver, trimmed, unscale
 from .starts import SpectrumFeatures, climb_target, batch_outliers, escalation_rungs, guess_start, inward_start, limit_starts, rms_rel_of, rung_seed, rung_starts, to_solver_space, values_inside
 
@@ -500,7 +500,32 @@ class BatchFitResult:
         return rows
 
     def report(self) -> str:
-        return "\n".join(self._parameter_lines() + self._warning_lines())
+        """The parameter table (`_parameter_lines`), the warnings and notes, and the hint of the
+        fits that miss structure small as their misfits look (`misfit_hints`)."""
+        hints = self.misfit_hints()
+        return "\n".join(self._parameter_lines() + self._warning_lines() + ([] if hints is None else ["", f"hint: {hints['note']}"]))
+
+    def misfit_hints(self) -> dict | None:
+        """The fits that miss structure the data hold, small as their misfits look, as a single
+        fit's `misfit_hint` says it (weighted by |Z|, rms_rel from 0.2 % to 2 % and over 5× what
+        the Kramers–Kronig test's Voigt chain reaches on that spectrum; `misfit_hint_spectra`,
+        ~0.5 ms of chain per spectrum in that range, computed when asked): ``spectra`` (how
+        many), ``worst`` (``labels``, ``rms_rel``, ``chain_rms_rel``, ``ratio``: the largest
+        ratio's spectrum) and ``note``; None when there is none (added 2026-12-03: a batch's
+        warnings begin at 2 %, so these fits were told nothing)."""
+        if self.weighting != "modulus" or "Z" not in self.dataset:
+            return None
+        z = self.dataset["Z"].transpose(*self.dims, "frequency").values.reshape(self.n_spectra, -1)
+        rms = self.dataset["rms_rel"].transpose(*self.dims).values.reshape(-1)
+        rows, ratio, chain = misfit_hint_spectra(self.dataset["frequency"].values, z, rms)
+        if not rows.size:
+            return None
+        worst = int(np.argmax(ratio))
+        key, labels = list(self.spectrum_keys())[rows[worst]]
+        note = (f"{rows.size} of the {self.n_spectra} fits miss structure the data hold, small as their misfits look (rms_rel below {MISFIT_CHECKED_FROM * 100:g} % "
+                f"and over {MISFIT_RATIO_MAX:g}× what a Kramers–Kronig-consistent model reaches on that spectrum); the worst, {key}: {rms[rows[worst]] * 100:.3g} %, "
+                f"{ratio[worst]:.3g}× the chain's {chain[worst] * 100:.3g} % (a diagnosis of that spectrum shows where and what)")
+        return {"spectra": int(rows.size), "worst": {"labels": labels, "rms_rel": float(rms[rows[worst]]), "chain_rms_rel": float(chain[worst]), "ratio": float(ratio[worst])}, "note": note}
 
     def _parameter_lines(self) -> list[str]:
         """The header and the parameter table: one column per spectrum (value and relative

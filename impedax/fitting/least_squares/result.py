@@ -26,7 +26,7 @@ from .starts import attainable_misfit, inward_start, rms_rel_of, well_inside
 
 __all__ = [
     "FitResult", "fit_result", "fit_notes", "parameter_groups", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes",
-    "misfit_notes", "uneven_residual_notes", "sigma_scale_notes", "sigma_misstated", "SIGMA_CHAIN_CHI2_RATIO", "sigma_unit_slip", "SIGMA_UNIT_SLIP_FACTOR", "SIGMA_UNIT_SLIP_FRACTION", "SIGMA_RELATIVE_Z", "unused_sigma_notes", "stored_notes", "chi2_red_range", "SIGMA_SCALE_FACTOR", "residual_band_rms", "UNEVEN_BAND_POINTS", "UNEVEN_RESIDUAL_RATIO", "UNEVEN_NOISE_NOTE", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "warnings_blame_model", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "SIGN_CAUSE_NOTE", "SIGNS_IN_DOUBT_SHARE", "signs_in_doubt", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "within_stated_noise", "misfit_hint", "MISFIT_HINT_FROM", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
+    "misfit_notes", "uneven_residual_notes", "sigma_scale_notes", "sigma_misstated", "SIGMA_CHAIN_CHI2_RATIO", "sigma_unit_slip", "SIGMA_UNIT_SLIP_FACTOR", "SIGMA_UNIT_SLIP_FRACTION", "SIGMA_RELATIVE_Z", "unused_sigma_notes", "stored_notes", "chi2_red_range", "SIGMA_SCALE_FACTOR", "residual_band_rms", "UNEVEN_BAND_POINTS", "UNEVEN_RESIDUAL_RATIO", "UNEVEN_NOISE_NOTE", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "warnings_blame_model", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "SIGN_CAUSE_NOTE", "SIGNS_IN_DOUBT_SHARE", "signs_in_doubt", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "within_stated_noise", "misfit_hint", "misfit_hint_spectra", "MISFIT_HINT_FROM", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
     "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "without_error", "near_bound_notes", "resistor_like_notes", "STDERR_NOTE", "LINEARISED_STDERR_NAME", "data_difference", "stored_bounds", "user_bounds",
     "embedded_fit", "fit_from_embedded", "bounds_attr", "unidentified_group_note", "FIT_STATISTICS",
 ]
@@ -1228,6 +1228,24 @@ def misfit_hint(fit) -> str | None:
         return None
     return (f"rms_rel {fit.rms_rel * 100:.3g} % is {fit.rms_rel / chain:.3g}× the {chain * 100:.3g} % a Kramers–Kronig-consistent model reaches: "
             "the model misses structure the data hold, small as the misfit looks (a diagnosis shows where and what)")
+
+
+def misfit_hint_spectra(freq, z, rms_rel) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The spectra of a stack z (B, N) whose fits weighted by |Z|, of rms_rel (B,), earn
+    `misfit_hint`'s hint: rms_rel from `MISFIT_HINT_FROM` to `MISFIT_CHECKED_FROM` and above
+    `MISFIT_RATIO_MAX` × what the Kramers–Kronig test's Voigt chain reaches on that spectrum
+    (`starts.attainable_misfit`, fitted for those in the range only). Returns their indices, the
+    ratios and the chains' rms_rel."""
+    rms_rel = np.asarray(rms_rel, float)
+    with np.errstate(invalid="ignore"):
+        rows = np.flatnonzero((rms_rel >= MISFIT_HINT_FROM) & (rms_rel < MISFIT_CHECKED_FROM))
+    if not rows.size:
+        return rows, np.empty(0), np.empty(0)
+    chain = attainable_misfit(freq, np.asarray(z)[rows])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where(chain > 0, rms_rel[rows] / chain, np.nan)
+        hinted = ratio > MISFIT_RATIO_MAX
+    return rows[hinted], ratio[hinted], chain[hinted]
 
 
 def gross_misfits(freq, z, z_model, known: KKChains | None = None, *, sigma=None, weighting: str | None = None, n_free: int | None = None) -> np.ndarray:
