@@ -233,10 +233,9 @@ def diagnose_command(args, data, labels: dict, model: str) -> str:
     import shlex
 
     one = data.isel({d: v for d, v in labels.items() if d not in data.coords}).sel({d: v for d, v in labels.items() if d in data.coords})
-    options = run_options(args, data=one)
-    selected = {item.partition("=")[0].strip() for flag, item in options if flag == "--select" and item is not None}
-    options += [("--select", f"{d}={v}") for d, v in labels.items() if d not in selected]
-    return " ".join(["impedax diagnose", shlex.quote(args.data)] + [f"{flag} {shlex.quote(str(value))}" for flag, value in options if value is not None] + ["--model", shlex.quote(model)])
+    selected = {str(item).partition("=")[0].strip() for flag, item in run_options(args, data=one) if flag == "--select"}
+    others = "".join(f" --select {shlex.quote(f'{d}={v}')}" for d, v in labels.items() if d not in selected)
+    return f"{fit_command(args, data=one, program='impedax diagnose')}{others} --model {shlex.quote(model)}"
 
 
 def run_options(args=None, *, kept=None, masked=(), data=None) -> list[tuple[str, object]]:

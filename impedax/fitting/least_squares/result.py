@@ -1221,18 +1221,18 @@ def misfit_hint(fit) -> str | None:
     model misses structure the data hold though its misfit looks small (REAL ZPlot file,
     `R0 + R1 || CPE1`: 1.35 % against the chain's 0.137 %, a lead inductance missing; a
     beginner's walkthrough kept its values). None otherwise."""
-    if fit.weighting != "modulus" or not MISFIT_HINT_FROM <= fit.rms_rel < MISFIT_CHECKED_FROM:
+    if fit.weighting != "modulus":
         return None
-    chain = float(attainable_misfit(fit.frequency, np.asarray(fit.z_data)[None])[0])
-    if not chain > 0 or fit.rms_rel <= MISFIT_RATIO_MAX * chain:
+    rows, ratio, chain = misfit_hint_spectra(fit.frequency, np.asarray(fit.z_data)[None], [fit.rms_rel])
+    if not rows.size:
         return None
-    return (f"rms_rel {fit.rms_rel * 100:.3g} % is {fit.rms_rel / chain:.3g}× the {chain * 100:.3g} % a Kramers–Kronig-consistent model reaches: "
+    return (f"rms_rel {fit.rms_rel * 100:.3g} % is {ratio[0]:.3g}× the {chain[0] * 100:.3g} % a Kramers–Kronig-consistent model reaches: "
             "the model misses structure the data hold, small as the misfit looks (a diagnosis shows where and what)")
 
 
 def misfit_hint_spectra(freq, z, rms_rel) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The spectra of a stack z (B, N) whose fits weighted by |Z|, of rms_rel (B,), earn
-    `misfit_hint`'s hint: rms_rel from `MISFIT_HINT_FROM` to `MISFIT_CHECKED_FROM` and above
+    `misfit_hint`'s hint (the rule of it, for one spectrum and for a batch's): rms_rel from `MISFIT_HINT_FROM` to `MISFIT_CHECKED_FROM` and above
     `MISFIT_RATIO_MAX` × what the Kramers–Kronig test's Voigt chain reaches on that spectrum
     (`starts.attainable_misfit`, fitted for those in the range only). Returns their indices, the
     ratios and the chains' rms_rel."""
