@@ -358,13 +358,12 @@ def test_no_group_where_the_data_determine_every_parameter(problem, shared_fit):
     assert np.all((pooled < alone) & (pooled > alone / 4))
 
 
-def test_cli_sample_shared_corner_and_no_band_plot(problem, tmp_path, capsys):
+def test_cli_sample_shared_corner(problem, tmp_path, capsys):
+    # (the band figure, --plot, since 2026-12-03: tests/test_shared_posterior_bands.py)
     path, png = tmp_path / "three.nc", tmp_path / "corner.png"
     ix.save(problem[0].isel(trial=slice(0, 2)), path)
     assert main(["sample", str(path), "--model", "R0 + R1 || C1", "--shared", "R0", "--steps", "40", "--walkers", "16", "--quiet", "--corner", str(png)]) == 0
     assert png.stat().st_size > 1000 and "R0" in capsys.readouterr().out
-    assert main(["sample", str(path), "--model", "R0 + R1 || C1", "--shared", "R0", "--plot", str(tmp_path / "bands.png")]) == 2
-    assert "--plot is not available with --shared" in capsys.readouterr().err
 
 
 def test_table_and_csv_mark_the_shared_rows(problem, shared_fit, tmp_path):

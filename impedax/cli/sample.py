@@ -118,8 +118,6 @@ def run(args) -> int:
 
     circuit = parse(args.model, args.registry)  # syntax errors before anything else
     sharing = shared_arguments(args)
-    if sharing and args.plot:
-        raise ParameterError("--plot is not available with --shared (the joint posterior has no band figure yet); use --corner FILE.png or --out FILE.nc")
     priors = {}
     for text in args.prior or ():
         read = prefixed_prior(text)

@@ -15,7 +15,7 @@ import numpy as np
 from ..data import si_prefix, unit_text
 from . import font_size, nyquist_view, nyquist_shape, plain_log_ticks, prefixable_unit, prefixed_axis, spectrum_layout
 
-__all__ = ["plot_posterior_bands", "plot_corner"]
+__all__ = ["plot_posterior_bands", "plot_joint_posterior_bands", "plot_corner"]
 
 BAND_QUANTILES = (0.05, 0.16, 0.5, 0.84, 0.95)
 
@@ -27,13 +27,57 @@ def plot_posterior_bands(frequency, z_data, model_frequency, z_draws, *, title: 
     added, same shape) adds the 90% posterior predictive band as dashed lines. ``figsize``
     (width, height) [in]: the figure's size (`spectrum_layout`)."""
     f, zs, z = np.asarray(model_frequency, float), np.asarray(z_draws, complex), np.asarray(z_data, complex)
-    med = np.median(zs.real, axis=0) + 1j * np.median(zs.imag, axis=0)
-    fig, (ax_nyq, ax_mod, ax_ph, _) = spectrum_layout(nyquist_shape((frequency, z), (f, med)), False, figsize=figsize)
+    fig, (ax_nyq, ax_mod, ax_ph, _) = spectrum_layout(nyquist_shape((frequency, z), (f, _median(zs))), False, figsize=figsize)
+    _draw_bands((ax_nyq, ax_mod, ax_ph), frequency, z, f, zs, z_predictive, n_lines)
+    ax_nyq.set_title("Nyquist")
+    ax_ph.set_xlabel("frequency [Hz]")
+    ax_nyq.legend(fontsize=font_size("legend", 8))
+    ax_mod.legend(fontsize=font_size("legend", 8))
+    fig.suptitle(title)
+    return fig
+
+
+def plot_joint_posterior_bands(frequency, z_data, labels: Sequence[str], model_frequency, z_draws, *, title: str, n_lines: int = 40, z_predictive=None, figsize=None):
+    """`plot_posterior_bands` for several spectra of one joint posterior: one row per spectrum
+    (``labels``, e.g. "trial=3"), Nyquist, |Z| and phase side by side, the frequency axes shared
+    down each column. ``z_data`` (spectrum, frequency); ``z_draws`` and ``z_predictive``
+    (spectrum, draws, ``model_frequency``)."""
+    f, zs, z = np.asarray(model_frequency, float), np.asarray(z_draws, complex), np.asarray(z_data, complex)
+    zp = None if z_predictive is None else np.asarray(z_predictive, complex)
+    rows = len(labels)
+    fig, axes = plt.subplots(rows, 3, figsize=figsize or (12.0, 0.6 + 2.5 * rows), layout="constrained", squeeze=False, gridspec_kw={"width_ratios": [1, 1.2, 1.2]})
+    for i, label in enumerate(labels):
+        ax_nyq, ax_mod, ax_ph = axes[i]
+        if i:
+            ax_mod.sharex(axes[0, 1])
+            ax_ph.sharex(axes[0, 2])
+        _draw_bands((ax_nyq, ax_mod, ax_ph), frequency, z[i], f, zs[i], None if zp is None else zp[i], n_lines)
+        ax_nyq.set_title(label, loc="left", fontsize=font_size("title", 10))
+    for ax in axes[-1, 1:]:
+        ax.set_xlabel("frequency [Hz]")
+    axes[0, 0].legend(fontsize=font_size("legend", 8))
+    axes[0, 1].legend(fontsize=font_size("legend", 8))
+    fig.suptitle(title)
+    return fig
+
+
+def _median(zs: np.ndarray) -> np.ndarray:
+    """The median curve of complex draws (draws, frequency): Re and Im apart."""
+    return np.median(zs.real, axis=0) + 1j * np.median(zs.imag, axis=0)
+
+
+def _draw_bands(axes, frequency, z, f, zs, z_predictive, n_lines: int) -> None:
+    """One spectrum's data ``z`` at ``frequency`` and its posterior draws ``zs`` (draws, ``f``)
+    on (Nyquist, |Z|, phase) ``axes``: ``n_lines`` draws and the median on the Nyquist panel,
+    the 68% and 90% credible bands and the median on the Bode panels, and the 90% posterior
+    predictive band of ``z_predictive`` (None: none) as dashed lines."""
+    ax_nyq, ax_mod, ax_ph = axes
+    med = _median(zs)
     for k in np.linspace(0, zs.shape[0] - 1, min(n_lines, zs.shape[0])).astype(int):
         ax_nyq.plot(zs[k].real, -zs[k].imag, "-", color="tab:blue", alpha=0.08, lw=0.8)
     ax_nyq.plot(med.real, -med.imag, "-", color="tab:blue", lw=1.5, label="posterior median")
     ax_nyq.plot(z.real, -z.imag, "o", ms=3.5, mfc="none", color="k", label="data")
-    ax_nyq.set(xlabel="Z' [Ω]", ylabel="−Z'' [Ω]", title="Nyquist")
+    ax_nyq.set(xlabel="Z' [Ω]", ylabel="−Z'' [Ω]")
     nyquist_view(ax_nyq, z, med, frequency=frequency)
     zp = None if z_predictive is None else np.asarray(z_predictive, complex)
     for ax, values, data_values, transform in ((ax_mod, np.abs(zs), np.abs(z), np.abs), (ax_ph, np.degrees(np.angle(zs)), np.degrees(np.angle(z)), lambda v: np.degrees(np.angle(v)))):
@@ -49,13 +93,9 @@ def plot_posterior_bands(frequency, z_data, model_frequency, z_draws, *, title: 
         ax.set_xscale("log")
     ax_mod.set(yscale="log", ylabel="|Z| [Ω]")
     plain_log_ticks(ax_mod.yaxis)
-    ax_ph.set(ylabel="phase [deg]", xlabel="frequency [Hz]")
-    for ax in (ax_nyq, ax_mod, ax_ph):
+    ax_ph.set(ylabel="phase [deg]")
+    for ax in axes:
         ax.grid(alpha=0.3, which="both")
-    ax_nyq.legend(fontsize=font_size("legend", 8))
-    ax_mod.legend(fontsize=font_size("legend", 8))
-    fig.suptitle(title)
-    return fig
 
 
 # a log-sampled parameter whose draws span more than this factor (1st to 99th percentile) is

@@ -42,6 +42,25 @@ PREDICTIVE_COPIES = 10
 where one copy of 400 draws left the band's edges jagged by their sampling error."""
 
 
+def checked_copies(copies) -> None:
+    """`ParameterError` unless ``copies`` (noisy copies of each draw in a predictive) is a positive integer."""
+    if not isinstance(copies, (int, np.integer)) or isinstance(copies, bool) or copies < 1:
+        raise ParameterError(f"copies must be a positive integer, got {copies!r}")
+
+
+def sigma_between(freq, data_frequency, data_sigma) -> np.ndarray:
+    """The data's σ [Ω] (…, data frequency) at ``freq``: interpolated in log f, the end values beyond."""
+    log_f, log_data_f = np.log(np.asarray(freq, float)), np.log(np.asarray(data_frequency, float))
+    sigma = np.asarray(data_sigma, float)
+    return np.stack([np.interp(log_f, log_data_f, row) for row in sigma.reshape(-1, sigma.shape[-1])]).reshape(*sigma.shape[:-1], log_f.size)
+
+
+def with_noise(z: np.ndarray, sigma: np.ndarray, seed: int) -> np.ndarray:
+    """``z`` with the likelihood's noise: N(0, σ²) on Re and Im alike, independent draws (``seed``)."""
+    rng = np.random.default_rng(seed)
+    return z + sigma * (rng.standard_normal(z.shape) + 1j * rng.standard_normal(z.shape))
+
+
 def chain_figures(autocorr: Mapping[str, float], ess: Mapping[str, float], name: str) -> dict[str, float | None]:
     """A table row's ``autocorr`` (τ [steps]) and ``ess`` of parameter ``name``, None where
     unknown (the JSON's null; an empty CSV cell)."""
@@ -367,8 +386,8 @@ class Posterior(PiledUp):
         interpolated in log f (``sigma``), on Re and Im alike; ``copies`` noisy copies of each
         draw (rows: draws × copies) make the predictive quantiles smoother."""
         freq = self.frequency if freq is None else checked_frequencies(freq)
-        if noise and (not isinstance(copies, (int, np.integer)) or isinstance(copies, bool) or copies < 1):
-            raise ParameterError(f"copies must be a positive integer, got {copies!r}")
+        if noise:
+            checked_copies(copies)
         params = self.circuit_samples()
         total = self.n_walkers * self.n_draws
         pick = draw_indices(total, max_draws)
@@ -381,9 +400,8 @@ class Posterior(PiledUp):
         if self.noise == NoiseModel.PROPORTIONAL:
             sigma = self.parameter_draws()["sigma_rel"][pick][:, None] * np.abs(z)
         else:
-            sigma = np.broadcast_to(np.interp(np.log(freq), np.log(self.frequency), np.asarray(self.sigma, float)), z.shape)
-        rng = np.random.default_rng(seed)
-        return z + sigma * (rng.standard_normal(z.shape) + 1j * rng.standard_normal(z.shape))
+            sigma = np.broadcast_to(sigma_between(freq, self.frequency, self.sigma), z.shape)
+        return with_noise(z, sigma, seed)
 
     def to_table(self) -> list[dict[str, object]]:
         """The tidy table: one row per sampled parameter with name, median, q05, q16, q84, q95,

@@ -23,7 +23,7 @@ from __future__ import annotations
 import functools
 import math
 from dataclasses import dataclass, field
-from typing import Callable, Mapping, NamedTuple
+from typing import Callable, Mapping, NamedTuple, Sequence
 
 import jax
 import jax.numpy as jnp
@@ -32,9 +32,9 @@ import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
 from ...errors import DataError, ParameterError
-from ...data import column_width, counted, unit_text
+from ...data import checked_frequencies, column_width, counted, unit_text
 from ...warning_groups import grouped_warnings
-from ..derived import QUANTILES, draws_band, needs_freq
+from ..derived import QUANTILES, draw_indices, draws_band, needs_freq
 from ..least_squares import SharedFitResult, fit
 from ..parameters import ParameterTable
 from ..problem import SIGMA_SOURCES, open_spectrum
@@ -42,7 +42,7 @@ from ..frozen import freeze_fields
 from .diagnostics import NO_STRAGGLERS, PiledUp, Stragglers, chain_warnings, figure, hdi, integrated_autocorr, interval_warnings, kept_walkers, straggler_warnings, walkers_text
 from .logprob import NOISE_MODELS, NoiseModel, start_weighting
 from .chain import AUTO_STEPS, auto_step_cap, ball_scales, capped_at, length_settings, length_text, run_emcee, start_walkers, support_in_sampled_space, undetermined_span
-from .posterior import Posterior, chain_figures
+from .posterior import PREDICTIVE_COPIES, Posterior, chain_figures, checked_copies, sigma_between, with_noise
 from .priors import SIGMA_REL_PRIOR, Prior, check_prior_inside, coerce_priors, data_scale_range, default_prior, prior_log_density
 
 __all__ = ["SharedPosterior", "sample_shared", "MAX_JOINT_PARAMETERS"]
@@ -51,6 +51,10 @@ __all__ = ["SharedPosterior", "sample_shared", "MAX_JOINT_PARAMETERS"]
 # time grows roughly linearly with it); beyond this many sampled parameters it does not mix in
 # any practical run
 MAX_JOINT_PARAMETERS = 60
+
+# `SharedPosterior.plot` draws one row per spectrum: every spectrum up to this many, else this
+# many spread over them
+PLOTTED_SPECTRA = 6
 
 SUMMARY_QUANTILES = ("median", "q05", "q16", "q84", "q95")
 
@@ -274,6 +278,90 @@ class SharedPosterior(PiledUp):
             lines.append(f"{n:<{width}}  {float(q['median'][i]):>11.5g}  {float(q['q05'][i]):>11.5g}  {float(q['q95'][i]):>11.5g}  {figure(self.autocorr[n], '9.3g'):>9}  {figure(self.ess[n], '7.0f'):>7}  {unit_text(self.units[i])}")
         lines += [f"warning: {w}" for w in self.warnings]
         return "\n".join(lines)
+
+    # -- the spectra, and the model over the draws ---------------------------------------
+    @property
+    def frequency(self) -> np.ndarray:
+        """The data's frequencies [Hz]."""
+        return np.asarray(self.fit.dataset["frequency"].values, float)
+
+    @property
+    def z_data(self) -> np.ndarray:
+        """The data [Ω] (spectrum, frequency), spectra in the order of ``spectra``."""
+        return np.asarray(self.fit.dataset["Z"].transpose(*self.over, "frequency").values, complex).reshape(len(self.spectra), -1)
+
+    def _circuit_draws(self, pick: np.ndarray) -> dict[str, np.ndarray]:
+        """Every circuit parameter at the flat draws ``pick``, (spectrum, draw) each: a shared one
+        the same in every spectrum, a per-spectrum one (``R1[trial=3]``) in its own row, a fixed one
+        its value."""
+        flat = self.draws.reshape(-1, len(self.names))[pick]
+        shape = (len(self.spectra), len(pick))
+        out = {n: np.full(shape, v) for n, v in self.fixed.items()}
+        for i, name in enumerate(self.names):
+            if name == "sigma_rel":
+                continue
+            row, key = _spectrum_row(name, self.spectra), _circuit_name(name)
+            if row is None:
+                out[key] = np.broadcast_to(flat[:, i], shape).copy()
+            else:
+                out.setdefault(key, np.full(shape, np.nan))[row] = flat[:, i]
+        return out
+
+    def predict(self, freq=None, *, max_draws: int = 400, noise: bool = False, copies: int = 1, seed: int = 0) -> np.ndarray:
+        """Model impedance [Ω] (spectrum, draws, frequency) over an evenly spaced subset of the
+        joint draws, each spectrum with the shared parameters and its own (`Posterior.predict`
+        per spectrum). With ``noise`` each draw also carries the likelihood's noise, the
+        posterior predictive of new measurements: σ = sigma_rel·|Z_model| (``proportional``)
+        or each spectrum's σ interpolated in log f (``sigma``); ``copies`` noisy copies of
+        each draw (draws × copies along the second axis)."""
+        freq = self.frequency if freq is None else checked_frequencies(freq)
+        if noise:
+            checked_copies(copies)
+        pick = draw_indices(self.n_walkers * self.n_draws, max_draws)
+        params = self._circuit_draws(pick)
+        compiled = compile_circuit(self.circuit, self.registry)
+        fn = jax.jit(jax.vmap(lambda p, f: compiled(p, f), in_axes=(0, None)))
+        m = len(self.spectra)
+        z = np.asarray(fn({k: jnp.asarray(v.reshape(-1)) for k, v in params.items()}, jnp.asarray(freq))).reshape(m, len(pick), -1)
+        if not noise:
+            return z
+        z, pick = np.repeat(z, copies, axis=1), np.repeat(pick, copies)
+        if self.noise == NoiseModel.PROPORTIONAL:
+            sigma = self.samples["sigma_rel"][pick][None, :, None] * np.abs(z)
+        else:
+            data_sigma = self.fit.dataset["Z"].copy(data=np.asarray(self.sigma, float)).transpose(*self.over, "frequency").values.reshape(m, -1)
+            sigma = np.broadcast_to(sigma_between(freq, self.frequency, data_sigma)[:, None, :], z.shape)
+        return with_noise(z, sigma, seed)
+
+    def plot(self, *, spectra: Sequence[str] | None = None, title: str | None = None, n_lines: int = 40, figsize: tuple[float, float] | None = None):
+        """Each spectrum's data with its posterior bands, one row per spectrum: Nyquist (draws
+        as thin lines), Bode |Z| and phase with the 68% and 90% credible bands and the 90%
+        posterior predictive band (`Posterior.plot`'s panels; matplotlib Figure). ``spectra``:
+        the labels to draw (as ``spectra`` names them, "trial=3"); default: every spectrum up
+        to `PLOTTED_SPECTRA`, else that many spread evenly over them (the title says so).
+        ``figsize`` (width, height) [in] in place of the size that follows the rows."""
+        from ...plotting.bayes import plot_joint_posterior_bands
+
+        rows = self._plotted_rows(spectra)
+        labels = [self.spectra[i] for i in rows]
+        f = np.geomspace(self.frequency.min(), self.frequency.max(), 200)
+        shown = "" if len(rows) == len(self.spectra) else f", {len(rows)} of {len(self.spectra)} spectra"
+        return plot_joint_posterior_bands(
+            self.frequency, self.z_data[rows], labels, f, self.predict(f)[rows], n_lines=n_lines,
+            z_predictive=self.predict(f, noise=True, copies=PREDICTIVE_COPIES)[rows],
+            title=title or f"{self.model}: joint posterior bands ({self.n_walkers * self.n_draws} draws{shown})", figsize=figsize,
+        )
+
+    def _plotted_rows(self, spectra) -> list[int]:
+        """The rows of ``spectra`` (labels) in the data, or the default rows of `plot`."""
+        if spectra is None:
+            m = len(self.spectra)
+            return list(range(m)) if m <= PLOTTED_SPECTRA else sorted(set(np.linspace(0, m - 1, PLOTTED_SPECTRA).round().astype(int).tolist()))
+        labels = [spectra] if isinstance(spectra, str) else list(spectra)
+        unknown = [s for s in labels if s not in self.spectra]
+        if unknown or not labels:
+            raise ParameterError(f"spectra: {', '.join(map(repr, unknown)) or 'none given'}; this joint posterior's spectra are {', '.join(map(repr, self.spectra))}")
+        return [self.spectra.index(s) for s in labels]
 
     def corner(self, *, truths: Mapping[str, float] | None = None, bins: int = 30, max_points: int = 4000):
         """Corner plot of every sampled parameter (`Posterior.corner`; matplotlib Figure)."""
