@@ -86,3 +86,41 @@ def test_a_parameter_run_open_reads_as_infinity_in_the_boundary_note():
     complex_ = SimpleNamespace(chi2=0.5, chi2_red=0.01, values={"R1": 2.11e167, "CPE1.alpha": 1.0})
     note = _boundary_note(simple, complex_, "small", "large", ["R1", "CPE1.alpha"])["note"]
     assert note.startswith("R1 → ∞, CPE1.alpha = 1 are at their bounds") and "e+167" not in note
+
+
+def test_a_held_parameter_that_the_reduction_needs_breaks_the_nesting():
+    """SYNTHETIC one arc (R0 = 10, 100 Ω ∥ 1 µF, 0.5 % noise), written here. ``R0 + R1 || CPE1
+    + L1`` contains ``R0 + R1 || C1`` only with L1 free to reach 0: held at 100 µH (or at any
+    value) it does not, and no F-test is made between them (one was, F = 423, p = 3e-22 on REAL
+    ZPlot data, 2026-12-03); a parameter both hold at the same value keeps the nesting, at
+    different values breaks it; a parameter only the smaller model holds keeps it."""
+    f = np.geomspace(1.0, 1e5, 40)
+    rng = np.random.default_rng(7)
+    z = 10 + 100 / (1 + 2j * np.pi * f * 100e-6)
+    data = ix.make_spectrum(f, z * (1 + 0.005 * (rng.normal(size=f.size) + 1j * rng.normal(size=f.size)) / np.sqrt(2)))
+    rc = ix.fit("R0 + R1 || C1", data)
+    pairs = lambda c: {(t["simple"], t["complex"]) for t in c.f_tests}  # noqa: E731
+    held_l = ix.fit("R0 + R1 || CPE1 + L1", data, fixed={"L1": 1e-4})
+    assert pairs(ix.compare([rc, held_l])) == set()
+    assert "fits worse than" not in ix.compare([rc, held_l]).table(warnings_below=True)  # (no advice to start it from the R ∥ C fit: it cannot reach it)
+    free_l = ix.fit("R0 + R1 || CPE1 + L1", data)
+    (test,) = ix.compare([rc, free_l]).f_tests  # the same circuits with L1 free: nested, tested
+    assert (test["simple"], test["complex"]) == (rc.model, free_l.model)
+    # R0 held by both: at the same value nested (its F by hand), at another value not
+    rc_12, cpe_12, cpe_13 = ix.fit("R0 + R1 || C1", data, fixed={"R0": 12.0}), ix.fit("R0 + R1 || CPE1", data, fixed={"R0": 12.0}), ix.fit("R0 + R1 || CPE1", data, fixed={"R0": 13.0})
+    (test,) = ix.compare([rc_12, cpe_12]).f_tests
+    n = 2 * f.size
+    assert test["df1"] == 1 and test["df2"] == n - 3
+    if test["valid"]:
+        assert np.isclose(test["f"], max(rc_12.chi2 - cpe_12.chi2, 0.0) / (cpe_12.chi2 / (n - 3)), rtol=1e-9)
+    assert pairs(ix.compare([rc_12, cpe_13])) == set()
+    # held only in the smaller model: still a special case of the larger one
+    assert pairs(ix.compare([rc_12, ix.fit("R0 + R1 || CPE1", data)])) == {(rc_12.model, "R0 + R1 || CPE1")}
+    # a batch comparison follows the same rule (its not_at_optimum and reduction use it)
+    from impedax.fitting.comparison import nested_as_held
+    from impedax.circuits import parse
+
+    small, big = parse("R0 + R1 || C1"), parse("R0 + R1 || CPE1 + L1")
+    assert nested_as_held(small, {}, big, {}) and not nested_as_held(small, {}, big, {"L1": 1e-4})
+    assert nested_as_held(small, {"R0": np.array([1.0, 2.0])}, big, {"R0": np.array([1.0, 2.0])})
+    assert not nested_as_held(small, {"R0": np.array([1.0, 2.0])}, big, {"R0": np.array([1.0, 3.0])})

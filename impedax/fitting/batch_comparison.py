@@ -14,7 +14,7 @@ import xarray as xr
 
 from ..data import column_width, concise_repr
 from ..errors import FitError
-from .comparison import DECISIVE_DELTA_AIC, NESTED_WORSE_REL, common_source, NOISE_F, SAME_FIT_RMS, criteria_tie, WEAK_DELTA_AIC, Comparison, akaike_weights, compare, criteria, fit_label, is_nested, register_batch_compare, significant, unique_labels
+from .comparison import DECISIVE_DELTA_AIC, NESTED_WORSE_REL, common_source, NOISE_F, SAME_FIT_RMS, criteria_tie, WEAK_DELTA_AIC, Comparison, akaike_weights, compare, criteria, fit_label, nested_as_held, register_batch_compare, significant, unique_labels
 from .least_squares import BatchFitResult, SharedFitResult
 from .least_squares.batch import SPECTRA_AS_ROWS, labels_by_keyword, labels_key
 from .least_squares.result import BOUND_CHI2_FRACTION, MISFIT_CHECKED_FROM, MISFIT_RATIO_MAX, data_difference, misfit_hint_spectra
@@ -234,7 +234,7 @@ class BatchComparison:
     def _reduces_to_winner(self, best: np.ndarray) -> np.ndarray:
         """(model, spectrum): whether model m reduces to that spectrum's winner, as
         `Comparison.reduces_to_best_indices` decides for one spectrum: m contains the winner
-        (`is_nested`, more free parameters) and their F-test, F = ((χ²_s − χ²_c)/Δk)/(χ²_c/(n − k_c)),
+        (`nested_as_held`, more free parameters) and their F-test, F = ((χ²_s − χ²_c)/Δk)/(χ²_c/(n − k_c)),
         n = 2N, gives F ≤ `NOISE_F` (its extra parameters, e.g. a CPE's α on its bound 1, lower χ²
         no more than noise alone would). Its ΔAIC is then the 2 per parameter AIC charges, not
         a rival's."""
@@ -244,7 +244,7 @@ class BatchComparison:
         out = np.zeros(chi2.shape, bool)
         for w in range(len(self.batches)):
             for m in range(len(self.batches)):
-                if m == w or k[m] <= k[w] or not is_nested(self.batches[w].circuit, self.batches[m].circuit, self.batches[m].registry):
+                if m == w or k[m] <= k[w] or not _nested(self.batches[w], self.batches[m]):
                     continue
                 with np.errstate(divide="ignore", invalid="ignore"):
                     f_value = np.maximum(chi2[w] - chi2[m], 0.0) / (k[m] - k[w]) / (chi2[m] / (n - k[m]))
@@ -309,7 +309,7 @@ class BatchComparison:
         return best, reduces, lead
 
     def not_at_optimum(self) -> list[dict]:
-        """The pairs where a model fits some spectra worse than a model it contains (`is_nested`):
+        """The pairs where a model fits some spectra worse than a model it contains (`nested_as_held`):
         ``complex`` and ``simple`` (labels), ``spectra`` (how many: its χ² above the smaller
         model's by more than the solver's tolerance, `comparison.NESTED_WORSE_REL`, or than the
         fall a bound takes for none, `BOUND_CHI2_FRACTION` of its reduced χ², where one of its
@@ -324,7 +324,7 @@ class BatchComparison:
             names = [str(p) for p in big.dataset["param"].values]
             at_bound = big.dataset["at_bound"].transpose("param", *self.dims).values.reshape(len(names), -1)
             for s, small in enumerate(self.batches):
-                if s == c or k[c] <= k[s] or not is_nested(small.circuit, big.circuit, big.registry):
+                if s == c or k[c] <= k[s] or not _nested(small, big):
                     continue
                 small_names = [str(p) for p in small.dataset["param"].values]
                 small_at_bound = small.dataset["at_bound"].transpose("param", *self.dims).values.reshape(len(small_names), -1)
@@ -568,3 +568,14 @@ class BatchComparison:
 
 
 register_batch_compare(compare_batches)
+
+
+def _nested(small: BatchFitResult, big: BatchFitResult) -> bool:
+    """Whether the batch ``big``'s model contains ``small``'s as the two hold their parameters
+    (`comparison.nested_as_held`; a held value per spectrum compared spectrum by spectrum)."""
+
+    def held(batch):
+        ds = batch.dataset
+        return {str(p): ds["value"].sel(param=p).values for p in ds["param"].values if bool(ds["fixed"].sel(param=p).all())}
+
+    return nested_as_held(small.circuit, held(small), big.circuit, held(big), big.registry)

@@ -22,7 +22,7 @@ from .bayes.evidence import EVIDENCE_NOTE_LEAD
 from .least_squares.result import BOUND_CHI2_FRACTION, data_difference, DATA_LIMIT_NOTE, SIGN_HINT_LEAD, misfit_hint
 from .frozen import freeze_fields
 
-__all__ = ["compare", "Comparison", "WEAK_DELTA_AIC", "is_nested", "boundary_parameters", "undetermined_names", "criteria", "akaike_weights", "KNOWN_SIGMA", "UNKNOWN_VARIANCE", "TIE_CHI2_REL", "criteria_tie", "SIGMA_CHI2_RED_RANGE", "register_batch_compare"]
+__all__ = ["compare", "Comparison", "WEAK_DELTA_AIC", "is_nested", "nested_as_held", "boundary_parameters", "undetermined_names", "criteria", "akaike_weights", "KNOWN_SIGMA", "UNKNOWN_VARIANCE", "TIE_CHI2_REL", "criteria_tie", "SIGMA_CHI2_RED_RANGE", "register_batch_compare"]
 
 
 def fit_label(fit: FitResult) -> str:
@@ -137,6 +137,34 @@ def is_nested(simple: Circuit, complex_: Circuit, registry: Registry = DEFAULT_R
     elements they contain in a limit (a capacitor for a CPE at α = 1, a W for a Wo at τ → ∞:
     `ElementSpec.limits`; `impedax.circuits.nesting.embedding`)."""
     return len(list(simple.elements())) <= len(list(complex_.elements())) and embedding(simple, complex_, registry) is not None
+
+
+def nested_as_held(simple: Circuit, simple_held: Mapping[str, object], complex_: Circuit, complex_held: Mapping[str, object], registry: Registry = DEFAULT_REGISTRY) -> bool:
+    """`is_nested` for fits that hold parameters fixed (``*_held``: name → value, or values
+    over spectra): each parameter ``complex_`` holds must be held alike in ``simple``, on the
+    element of ``simple`` it stands for (same kind, `embedding`) and at the same value. A held
+    parameter of an element ``simple`` lacks, or reaches only through a limit, breaks the
+    nesting: the reduction needs it at its bound or limit, which a held value does not reach
+    (``R0 + R1 || CPE1 + L1`` with L1 held at 100 µH does not contain ``R0 + R1 || C1``: an
+    F-test between them compared models that are not nested, 2026-12-03)."""
+    if not is_nested(simple, complex_, registry):
+        return False
+    if not complex_held:
+        return True
+    standing = {}  # a parameter of ``complex_`` → the one of ``simple`` it stands for
+    for small, large, limit in embedding(simple, complex_, registry):
+        if limit is None:
+            standing.update(zip(registry[large.symbol].parameter_names(large.name), registry[small.symbol].parameter_names(small.name)))
+    for name, value in complex_held.items():
+        counterpart = standing.get(name)
+        if counterpart not in simple_held or not np.allclose(np.asarray(simple_held[counterpart], float), np.asarray(value, float), rtol=1e-12, atol=0.0):
+            return False
+    return True
+
+
+def held_values(fit: FitResult) -> dict[str, float]:
+    """The parameters ``fit`` holds fixed, name → value."""
+    return {n: fit.values[n] for n, held in fit.fixed.items() if held}
 
 
 @dataclass(frozen=True, eq=False)
@@ -584,7 +612,7 @@ def compare(fits: Sequence) -> "Comparison | BatchComparison":  # (BatchComparis
 
     for i, s in enumerate(results):
         for j, c in enumerate(results):
-            if i == j or s.n_params >= c.n_params or not is_nested(s.circuit, c.circuit, c.registry):
+            if i == j or s.n_params >= c.n_params or not nested_as_held(s.circuit, held_values(s), c.circuit, held_values(c), c.registry):
                 continue
             dk = c.n_params - s.n_params
             denom = c.chi2 / (n - c.n_params)
