@@ -70,3 +70,23 @@ def test_cli_fit_noise_free_json_has_no_stderr_for_unidentified(tmp_path, capsys
     params = json.loads(out.read_text())["params"]
     assert params["C_s"]["stderr"] is None and params["C_i"]["stderr"] is None
     assert params["R_f"]["stderr"] is not None and params["R_f"]["stderr"] > 0
+
+
+def test_two_near_null_directions_over_the_same_parameters_give_one_group():
+    """An SVD written here: two near-null right singular vectors, both over all four parameters
+    (components ±0.5), are one group and one warning, as are those of a Havriliak–Negami element
+    on REAL CHInstruments data (the group and its warning were listed twice until 2026-12-03)."""
+    from pathlib import Path
+
+    from impedax.fitting.statistics import null_sets
+
+    s = np.array([1.0, 0.5, 1e-14, 1e-15])
+    vt = np.array([[1, 0, 0, 0], [0, 1, 0, 0], [0.5, 0.5, 0.5, 0.5], [0.5, -0.5, 0.5, -0.5]], float)
+    groups, ratio = null_sets(s, vt, ["A", "B", "C", "D"])
+    assert groups == [["A", "B", "C", "D"]] and ratio == 1e-15
+    groups, _ = null_sets(s, np.array([[1, 0, 0, 0], [0, 1, 0, 0], [0.7, 0.7, 0.1, 0.1], [0.1, 0.1, 0.7, 0.7]], float), ["A", "B", "C", "D"])
+    assert groups == [["A", "B"], ["C", "D"]]  # (different parameters: two groups, as before)
+    real = Path(__file__).parent / "fixtures" / "real" / "exampleDataCHInstruments.txt"
+    fit = ix.fit("R0 + HN1 + L1", real)
+    assert len(fit.unidentified_groups) == len({tuple(g) for g in fit.unidentified_groups}) >= 1
+    assert len(fit.warnings) == len(set(fit.warnings))

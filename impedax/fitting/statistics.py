@@ -118,10 +118,16 @@ def _column_peaks(magnitudes: np.ndarray) -> np.ndarray:
 
 
 def null_sets(s: np.ndarray, vt: np.ndarray, names: Sequence[str]):
-    """Groups of parameters along near-null directions of one equilibrated Jacobian, and the
+    """Groups of parameters along near-null directions of one equilibrated Jacobian, each group
+    once (two directions over the same parameters, a Havriliak–Negami element's four on REAL
+    CHInstruments data, gave the group and its warning twice until 2026-12-03), and the
     smallest-to-largest singular value ratio."""
     s_max = s[0] if s.size and s[0] > 0 else 1.0
-    null = [[names[i] for i in np.flatnonzero(np.abs(vt[j]) > 0.2)] for j in np.flatnonzero(s < SINGULAR_RATIO_LIMIT * s_max)]
+    null = []
+    for j in np.flatnonzero(s < SINGULAR_RATIO_LIMIT * s_max):
+        group = [names[i] for i in np.flatnonzero(np.abs(vt[j]) > 0.2)]
+        if group not in null:
+            null.append(group)
     return null, float(s[-1] / s_max) if s.size else 1.0
 
 
