@@ -127,6 +127,20 @@ def test_fit_says_its_first_line_once_and_its_start_counts_agree(capsys, progres
     assert "best of 336 starts: the start ladder's first draw of 16, escalated to 336 (21 draws) as the best fit stayed above 1.2 × the misfit" in status
 
 
+def test_starts_at_an_elements_limit_are_counted_apart_from_the_ladder(capsys, progress_at_once):
+    """A G element has a limit no step reaches (`starts.limit_starts`: two starts more after the
+    ladder). On the REAL CHInstruments file ``R0 + G1`` climbs to 336 starts (21 draws of 16) and
+    tries the 2 at the limit: "best of 338", "escalated to 336 (21 draws)", "2 at an element's
+    limit" (the status said "escalated to 338 (21 draws)" until 2026-12-03)."""
+    real = REAL_CSV.parent / "exampleDataCHInstruments.txt"
+    assert main(["fit", str(real), "--model", "R0 + G1", "--json"]) == 0
+    out, err = capsys.readouterr()
+    doc = json.loads(out)
+    assert "escalated to 336 starts (16 new draws of 16)" in err and doc["n_starts"] == 338
+    assert "best of 338 starts: the start ladder's first draw of 16, escalated to 336 (21 draws) as" in doc["message"]
+    assert doc["message"].endswith("; and 2 at an element's limit)")
+
+
 def test_fit_with_every_value_given_says_the_given_start_is_in_each_draw(capsys):
     """A start like the walkthrough's (impedance.py's initial_guess): every free parameter given,
     so none is jittered and each draw of 16 holds it 8 times (itself + 7 copies) and 8 random."""

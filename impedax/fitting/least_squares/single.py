@@ -196,7 +196,7 @@ def fit(
     start = "the given start" if given.all() and given.size else "the given start, the other parameters' from the data" if given.any() else "the data-driven start"
     guess_words = "the given start (the other parameters' from the data)" if given.any() and not given.all() else start  # (in a list of starts)
     (out,) = solve(guess_start(circuit, table, features, registry))
-    used = 1
+    used, at_limits = 1, 0  # (starts in all, and of them those at an element's limit)
     kk_chains = KKChains()  # (the KK test's chain, fitted once for the start ladder's target and the misfit notes)
     # the multistart also when the guess's fit took many steps: the guess was far from the
     # optimum it reached, which may be a local one (docs/fitting.md, "Starts")
@@ -206,7 +206,7 @@ def fit(
         out, used = escalated(out, solve, circuit, table, features, freq, z, n_starts, seed, registry, int(max_steps), kk_chains)
         for limit_start in limit_starts(circuit, table, np.asarray(out.x)[None], freq, registry):  # (an element's limit no step reaches, as a batch's)
             (again,) = solve(guess_start(circuit, table, features, registry, starts=limit_start))
-            out, used = better(out, again), used + 1
+            out, used, at_limits = better(out, again), used + 1, at_limits + 1
     out = restarted_inward(out, lambda u: solve(u[None])[0], table, z, inv_re, inv_im, weighting, lambda o: one_spectrum_chi2(solvers.chi2_x, args, o))
     out = canonical_order(circuit, table, freq, out, registry)
     chi2_at_x = one_spectrum_chi2(solvers.chi2_x, args, out)
@@ -216,7 +216,7 @@ def fit(
                           remainder=is_remainder(data.attrs), attrs=data.attrs, misfit_out=misfits, n_free=int(table.free_index.size))
     misfit = misfits[0]
     result = fit_result(circuit, table, freq, z, out, weighting, used, time.perf_counter() - t0, registry, chi2_at_x=chi2_at_x, extra_notes=notes, start=start, weights=(inv_re, inv_im),
-                        starts_words=starts_words(table, n_starts, used, guess_words))
+                        starts_words=starts_words(table, n_starts, used, guess_words, at_limits))
     # a misfit the user's fixed value or bound explains is told so, not blamed on the model (as a batch's)
     checked = constraint_misfit_notes(circuit, table, registry, freq, z, result.z_model, sigma, result.values, result.at_bound, misfit, kk_chains.misfit(0), weighting=weighting, fit=fit, attrs=data.attrs)
     if checked != misfit:
@@ -234,18 +234,22 @@ def data_source(data: xr.Dataset) -> str | None:
 register_spectrum_fit(fit)  # (BatchFitResult.fit_of refits one spectrum with it)
 
 
-def starts_words(table, n_starts: int, used: int, start: str) -> str:
+def starts_words(table, n_starts: int, used: int, start: str, at_limits: int = 0) -> str:
     """What the ``used`` starts of a fit were, after "best of {used} starts: " in its message:
     one draw of ``n_starts`` (`starts.draw_words`, ``start`` among them), and, where the start
-    ladder climbed (``used`` > ``n_starts``), that it escalated to ``used`` and why (the
-    rule of `escalated`). ``start``: the guess in a list ("the given start"). Until
-    2026-12-02 the message said "best of 336 starts" after a progress line of "draws of 16
-    starts", and not that the given start was among them."""
+    ladder climbed, that it escalated and why (the rule of `escalated`); the last
+    ``at_limits`` of them are an element's limit (`starts.limit_starts`), said apart.
+    ``start``: the guess in a list ("the given start"). Until 2026-12-02 the message said "best
+    of 336 starts" after a progress line of "draws of 16 starts", and not that the given start
+    was among them; until 2026-12-03 it said "escalated to 338 (21 draws)" where the ladder's
+    21 draws of 16 are 336 and two more started at a G or Wo element's limit (REAL CHInstruments data, `R0 + G1`)."""
     draw = draw_words(table, n_starts, start)
-    if used <= n_starts:
-        return draw
-    return (f"the start ladder's first draw of {n_starts}, escalated to {used} ({used // n_starts} draws) as the best fit stayed above "
-            f"{KK_MISFIT_FACTOR:g} × the misfit of a Kramers–Kronig-consistent model; each draw {draw}")
+    ladder = used - at_limits
+    limits = f"; and {at_limits} at an element's limit" if at_limits else ""
+    if ladder <= n_starts:
+        return draw + limits
+    return (f"the start ladder's first draw of {n_starts}, escalated to {ladder} ({ladder // n_starts} draws) as the best fit stayed above "
+            f"{KK_MISFIT_FACTOR:g} × the misfit of a Kramers–Kronig-consistent model; each draw {draw}{limits}")
 
 
 def escalated(out, solve, circuit, table, features, freq, z, n_starts: int, seed: int, registry, max_steps: int, kk_chains: KKChains | None = None):
