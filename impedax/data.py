@@ -347,6 +347,13 @@ def format_frequency(f: float) -> str:
     return f"{f:.3g} Hz"  # (not reached: mHz takes every smaller value)
 
 
+def format_band(lo: float, hi: float, dash: str = "–") -> str:
+    """A band of frequencies [Hz] for text: ``4.68 Hz–6.08 Hz``; one frequency where the two
+    read the same (a run of one point: ``56.2 Hz``, not ``56.2 Hz–56.2 Hz``)."""
+    low, high = format_frequency(lo), format_frequency(hi)
+    return low if low == high else f"{low}{dash}{high}"
+
+
 def unit_text(unit: str) -> str:
     """A parameter's unit (its element spec's spelling) for text: ``Ohm`` as ``Ω``, also inside
     compound units (``Ω s^-1/2``), a CPE's ``alpha`` as ``α`` (``F s^(α-1)``); a dimensionless

@@ -25,7 +25,7 @@ import numpy as np
 import xarray as xr
 
 from ..arguments import EXCLUDE_RTOL, MAX_BASIS, checked_arguments, count, flag, instance_of, real, shown
-from ..data import checked_frequencies, column_width, concise_repr, counted, format_frequency
+from ..data import checked_frequencies, column_width, concise_repr, counted, format_band, format_frequency
 from ..errors import DataError, ImpedaxError, ParameterError
 from .grid import ResultGrid, refuse_result_names
 from .problem import frequency_and_z, frequency_z_and_sigma
@@ -397,7 +397,7 @@ class KKResult:
         spans = _band_spans(*self._rule_masks()[::2])
         inside = [(lo, hi) for (lo, hi), f, (i, j) in zip(self.bad_bands, self.band_frequencies, spans) if len(f) > FEW_BAND_POINTS and i > 0 and j < self.frequency.size]
         if inside or not words and not self.marginal_points_only:
-            what = ", ".join(f"{format_frequency(lo)} – {format_frequency(hi)}" for lo, hi in inside) if inside else "the bands"
+            what = ", ".join(format_band(lo, hi, ' – ') for lo, hi in inside) if inside else "the bands"
             lines.append(f"{'  ' if lines else 'next: '}{what}: too many points to leave out one by one: a disturbance during the sweep (drift, movement); measure again, or fit knowing it (docs/kk.md, \"What to do\")")
         return lines
 
@@ -449,7 +449,7 @@ class KKResult:
                 said = "; ".join(x for x in said if x)
                 # (the measured points themselves: the edges lie halfway to the neighbours, and --exclude takes points)
                 measured = f" (the point{'s' if len(points) > 1 else ''} at {', '.join(format_frequency(f) for f in points)})" if len(points) <= FEW_BAND_POINTS else ""
-                lines.append(f"  bad band: {format_frequency(lo)} – {format_frequency(hi)}{measured}" + (f": {said}" if said else ""))
+                lines.append(f"  bad band: {format_band(lo, hi, ' – ')}{measured}" + (f": {said}" if said else ""))
         if self.non_passive_note:
             lines.append(f"note: {self.non_passive_note}")
         if self.sign_hint:
@@ -495,7 +495,7 @@ class KKResult:
         from ..plotting.html import result_html
 
         rows = [{"quantity": k, "value": v} for k, v in (("RC elements M", self.n_rc), ("µ", self.mu), ("rms_rel [%]", f"{self.rms_rel * 100:.3g}"), ("noise estimate [%]", f"{self.noise_estimate * 100:.3g}"), ("valid", bool(self.valid)))]
-        rows += [{"quantity": "bad band", "value": f"{format_frequency(lo)} – {format_frequency(hi)}"} for lo, hi in self.bad_bands]
+        rows += [{"quantity": "bad band", "value": format_band(lo, hi, ' – ')} for lo, hi in self.bad_bands]
         return result_html("linear Kramers–Kronig test", rows)
 
     def plot(self, *, title: str | None = None):
@@ -618,7 +618,7 @@ class KKBatchResult(ResultGrid):
         width = column_width(names, "spectrum")
         lines.append(f"{'spectrum':<{width}}  {'verdict':<9} {'rms_rel':>9} {'noise':>9} {'M':>3}  bad bands [rules that flagged them]")
         for name, r in zip(names, batch.results):
-            bands = "; ".join(f"{format_frequency(lo)} – {format_frequency(hi)} [{', '.join(rules)}]" for (lo, hi), rules in zip(r.bad_bands, r.band_rules)) or "none"
+            bands = "; ".join(f"{format_band(lo, hi, ' – ')} [{', '.join(rules)}]" for (lo, hi), rules in zip(r.bad_bands, r.band_rules)) or "none"
             lines.append(f"{name:<{width}}  {('valid' if r.valid else 'NOT valid') if r.conclusive else 'too few':<9} {r.rms_rel * 100:>8.3g}% {r.noise_estimate * 100:>8.3g}% {r.n_rc:>3}  {bands}")
         if any(r.bad_bands for r in batch.results):
             t = batch.results[0].thresholds

@@ -184,11 +184,11 @@ def _verdict_where(refinement) -> str:
     `Refinement.verdict_scope`, short): ``adequate on 2.53 kHz – 200 kHz, 20 of 72 points``."""
     if not refinement.masked_points:
         return str(refinement.verdict)
-    from ..data import format_frequency
+    from ..data import format_band
 
     lo, hi = refinement.verdict_band
     n = refinement.final.frequency.size
-    return f"{refinement.verdict} on {format_frequency(lo)} – {format_frequency(hi)}, {n} of {n + len(refinement.masked_points)} points"
+    return f"{refinement.verdict} on {format_band(lo, hi, ' – ')}, {n} of {n + len(refinement.masked_points)} points"
 
 
 def _refinement_nyquist(ax, refinement, legend_chars: int) -> None:

@@ -109,6 +109,8 @@ def _where(f, i, j, n) -> str:
         return f"above {format_frequency(math.sqrt(lo * f[i - 1]))}"
     if i == 0 and j == n:
         return "over the whole band"
+    if format_frequency(lo) == format_frequency(hi):  # (one point: "at 56.2 Hz", not "between 56.2 Hz and 56.2 Hz")
+        return f"at {format_frequency(lo)}"
     return f"between {format_frequency(lo)} and {format_frequency(hi)}"
 
 

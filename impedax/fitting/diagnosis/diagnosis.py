@@ -75,6 +75,7 @@ from ..parameters import ParameterTable
 from ..problem import WEIGHTINGS, check_argument_order, circuit_parameters, open_spectrum
 from ..statistics import KK_RESIDUAL_NOISE, NOISE_OF_SIGMA, information_criteria, non_passive, non_passive_words, top_of_band
 from ..frozen import freeze_fields
+from ...data import format_band
 from .bands import FailingBand, failing_bands, format_frequency, RUN_P
 from .catalog import BaselineContext, Effect, EffectCatalog, Proposal
 from .effects import DEFAULT_EFFECTS, FINITE_WARBURGS, IN_PLACE_OF_WARBURG, cited_where, element_parents
@@ -434,7 +435,7 @@ class Diagnosis:
             fit_command = " ".join(["impedax fit DATA", left_out_words(left_out)]).strip()
         lines = [f"model {b.model}: rms_rel {b.rms_rel * 100:.3g} %, chi2_red {b.chi2_red:.3g}{self._chi2_red_basis()}, AIC {b.aic:.1f} ({b.n_points} points, {counted(b.n_params, 'free parameter')})"]
         if self.kk is not None:
-            kk_text = "the data are Kramers–Kronig consistent" if self.kk.valid else "the data are NOT Kramers–Kronig consistent in " + ", ".join(f"{format_frequency(lo)}–{format_frequency(hi)}" for lo, hi in self.kk.bad_bands)
+            kk_text = "the data are Kramers–Kronig consistent" if self.kk.valid else "the data are NOT Kramers–Kronig consistent in " + ", ".join(format_band(lo, hi) for lo, hi in self.kk.bad_bands)
             if not self.kk.conclusive:
                 kk_text = f"{b.n_points} frequencies are too few for the Kramers–Kronig test, and for the noise it estimates"
             kept = f"; without the {len(self.masked_points)} masked point(s) they are (KK rms_rel {self.kk_of_kept.rms_rel * 100:.3g} %)" if self.kk_of_kept is not None else ""
@@ -845,9 +846,9 @@ def _explain(effect, p: Proposal, base: FitResult, cand: FitResult, d_aic: float
     least halves the misfit (`_lowered_bands`)."""
     band_text = ""
     if fixed:
-        band_text = "; it removes the misfit at " + ", ".join(f"{format_frequency(lo)}–{format_frequency(hi)}" for lo, hi in fixed)
+        band_text = "; it removes the misfit at " + ", ".join(format_band(lo, hi) for lo, hi in fixed)
     if lowered:
-        band_text += ("; it lowers the misfit at " if not fixed else " and lowers it at ") + ", ".join(f"{format_frequency(lo)}–{format_frequency(hi)} (rms_rel there {before * 100:.2g} % → {after * 100:.2g} %)" for (lo, hi), before, after in lowered)
+        band_text += ("; it lowers the misfit at " if not fixed else " and lowers it at ") + ", ".join(f"{format_band(lo, hi)} (rms_rel there {before * 100:.2g} % → {after * 100:.2g} %)" for (lo, hi), before, after in lowered)
     values = _new_values(base, cand)
     what = p.where if "+" in effect.id else f"{p.added} {p.where}"  # (a pair's placement names each addition, `_paired`)
     return (
@@ -1200,7 +1201,7 @@ def _valid_band_words(fit: FitResult, kk: KKResult, run: np.ndarray, dkk: np.nda
     kk_rms = float(np.sqrt(np.mean(dkk[run] ** 2)))
     ratio = float(np.sqrt(np.mean(np.abs(fit.residuals[run]) ** 2 / (2 * noise.sigma_rel[run] ** 2))))
     misses = model_rms >= kk_rms / KK_COMPARABLE and ratio > NOISE_RATIO_MAX
-    failing = ", ".join(f"{format_frequency(lo)}–{format_frequency(hi)}" for lo, hi in kk.bad_bands)
+    failing = ", ".join(format_band(lo, hi) for lo, hi in kk.bad_bands)
     words = (
         f" The KK test fails at {failing} and passes at {format_frequency(float(f[run].min()))}–{format_frequency(float(f[run].max()))} "
         f"({int(run.sum())} points, KK rms_rel {kk_rms * 100:.2g} %): trim the measurement to that band ({trim})"
@@ -1293,7 +1294,7 @@ def _data_problem(fit: FitResult, kk: KKResult | None, noise: NoiseModel, sign_h
 
 def runs_words(selected: np.ndarray, frequency: np.ndarray) -> str:
     """The runs of `runs_hz` in words: ``"15.9 mHz–2.02 kHz, 5 kHz–8 kHz"``."""
-    return ", ".join(f"{format_frequency(lo)}–{format_frequency(hi)}" for lo, hi in runs_hz(selected, frequency))
+    return ", ".join(format_band(lo, hi) for lo, hi in runs_hz(selected, frequency))
 
 
 def runs_hz(selected: np.ndarray, frequency: np.ndarray) -> list[tuple[float, float]]:
@@ -2213,7 +2214,7 @@ def diagnose(
         spectrum = spectrum.isel(frequency=np.nonzero(keep)[0])
         notes.append(f"{len(masked)} point(s) " + ("behind the failed KK test (without them it passes)" if located is not None else "the KK test flags as the data's own problem") + " are masked: every fit of this diagnosis leaves them out")
     elif kk is not None and not kk.valid and problem.kept is None:
-        notes.append("the KK test flags " + ", ".join(f"{format_frequency(lo)}–{format_frequency(hi)}" for lo, hi in kk.bad_bands) + ": misfits there may be data problems")
+        notes.append("the KK test flags " + ", ".join(format_band(lo, hi) for lo, hi in kk.bad_bands) + ": misfits there may be data problems")
     sigma_rel, measurement = nm.sigma_rel[keep], nm.measurement[keep]
 
     if drt_evidence:
