@@ -237,3 +237,18 @@ def test_too_few_points_names_the_file_in_the_singular(tmp_path, capsys):
     assert code == 2 and f"error: {path}: 3 free parameters but only 2 real data values (1 frequency);" in err, err
     with pytest.raises(ix.FitError, match=r"^4 free parameters but only 4 real data values \(2 frequencies\)"):
         ix.fit("R0 + R1 || C1 + R2", ix.make_spectrum([10.0, 100.0], [120 - 35j, 110 - 20j]))  # in memory: no file to name
+
+
+def test_one_file_given_twice_is_refused_however_it_is_written(days, tmp_path, capsys):
+    """The same day twice would stand in the series as two measurements; the repeated name's
+    message sent the user to --coords, which then wrote the copies (2026-12-03 walkthrough)."""
+    paths, _ = days
+    first = paths[0]
+    again = tmp_path / "sub" / ".." / first.name  # (another path to the same file)
+    (tmp_path / "sub").mkdir()
+    out = tmp_path / "twice.nc"
+    assert main(["stack", str(first), str(paths[1]), str(again), "--coords", "1", "2", "3", "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert f"{again}: is given twice (files 1 and 3 of 3)" in err and not out.exists()
+    with pytest.raises(ix.DataError, match="is given twice"):
+        ix.stack_files([first, first], coords=[1, 2])

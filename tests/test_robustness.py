@@ -256,7 +256,7 @@ BAD_OPTIONS = [  # (id, argv template with {good} a valid spectrum file and {tmp
     ("inspect-unknown-flag", ["inspect", "{good}", "--bogus"], "unrecognized arguments: --bogus"),
     ("demo-unknown-flag", ["demo", "--bogus"], "unrecognized arguments: --bogus"),
     ("stack-coords-count", ["stack", "{good}", "{good}", "--coords", "1", "--out", "{tmp}/s.nc"], "--coords: 1 label for 2 files"),
-    ("stack-same-name-twice", ["stack", "{good}", "{good}", "--out", "{tmp}/s.nc"], "files 1 and 2 are both named 'good'"),
+    ("stack-same-file-twice", ["stack", "{good}", "{good}", "--out", "{tmp}/s.nc"], "is given twice (files 1 and 2 of 2)"),
     ("stack-out-csv", ["stack", "{good}", "{good}", "--coords", "1", "2", "--out", "{tmp}/s.csv"], "a stack of spectra is written as netCDF"),
     ("unknown-command", ["bogus"], "invalid choice: 'bogus'"),
 ]

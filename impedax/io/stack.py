@@ -57,6 +57,7 @@ def stack_files(paths: Sequence[str | os.PathLike], dim: str = "file", coords: S
         raise ParameterError(f"dim must be the name of the new dimension (text, e.g. 'day'), got {shown(dim)}")
     if dim == "frequency":
         raise ParameterError("dim: 'frequency' is every spectrum's own dimension; name the new one otherwise, e.g. 'day'")
+    _refuse_repeated(paths)
     # (standard input, "-", is named as load names it, <stdin>, and labelled "stdin"; added 2026-12-01)
     labels = stack_labels([STDIN_LABEL if str(p) == STDIN else Path(str(p)).stem for p in paths] if coords is None else coords, len(paths), given=coords is not None)
     spectra = [_spectra_of(path, dim, readers) for path in paths]
@@ -95,6 +96,20 @@ def stack_files(paths: Sequence[str | os.PathLike], dim: str = "file", coords: S
         if d in first.coords:
             stacked[d].attrs = dict(first[d].attrs)
     return stacked
+
+
+def _refuse_repeated(paths: Sequence) -> None:
+    """`DataError` when one file is given twice (the same file by any path to it): its spectrum
+    would stand in the series twice as two measurements. Until 2026-12-03 the message on the
+    repeated label sent the user to --coords, which then wrote the two copies without a word."""
+    seen: dict[str, int] = {}
+    for i, path in enumerate(paths):
+        if str(path) == STDIN:
+            continue
+        key = os.path.normcase(os.path.realpath(os.fspath(path)))
+        if key in seen:
+            raise DataError(f"is given twice (files {seen[key] + 1} and {i + 1} of {len(paths)}): each file is one measurement of the series; give each once", path=str(path))
+        seen[key] = i
 
 
 def stack_labels(values: Sequence, count: int, *, given: bool = True) -> np.ndarray:
