@@ -57,9 +57,10 @@ def stack_files(paths: Sequence[str | os.PathLike], dim: str = "file", coords: S
         raise ParameterError(f"dim must be the name of the new dimension (text, e.g. 'day'), got {shown(dim)}")
     if dim == "frequency":
         raise ParameterError("dim: 'frequency' is every spectrum's own dimension; name the new one otherwise, e.g. 'day'")
+    labels = None if coords is None else stack_labels(coords, len(paths))  # (the labels given are checked first, as any argument)
     _refuse_repeated(paths)
-    # (standard input, "-", is named as load names it, <stdin>, and labelled "stdin"; added 2026-12-01)
-    labels = stack_labels([STDIN_LABEL if str(p) == STDIN else Path(str(p)).stem for p in paths] if coords is None else coords, len(paths), given=coords is not None)
+    if labels is None:  # (standard input, "-", is named as load names it, <stdin>, and labelled "stdin"; added 2026-12-01)
+        labels = stack_labels([STDIN_LABEL if str(p) == STDIN else Path(str(p)).stem for p in paths], len(paths), given=False)
     spectra = [_spectra_of(path, dim, readers) for path in paths]
     paths = [STDIN_NAME if str(p) == STDIN else p for p in paths]
     first, first_path = spectra[0], str(paths[0])
