@@ -57,6 +57,11 @@ def test_fit_json_csv_nc_record_version_settings_and_source(rc_file, tmp_path, c
         assert record["data_files"] == [str(rc_file.resolve())]
         settings = record["settings"]
         assert settings["model"] == model and settings["weighting"] == "modulus" and settings["fix"] == ["R0=20"] and settings["fmin"] is None
+        # every setting is an option of the command (a parser's own flag, circuit_model, was listed until 2026-12-03)
+        from impedax.cli import _subparser, build_parser
+
+        options = {a.dest for a in _subparser(build_parser("fit"), "fit")._actions if a.option_strings}
+        assert set(settings) <= options, set(settings) - options
     with xr.open_dataset(outs[".nc"]) as ds:
         assert ds.attrs["impedax_version"] == ix.__version__
         back = ix.FitResult.from_xarray(ds.load())  # (the attributes added do not stop it reading back)

@@ -379,7 +379,7 @@ def with_source(summary: dict, source: str | None, provenance: Mapping | None = 
 # what `command_provenance` leaves out of a command's settings: where the outputs go, how they look and how
 # the run talks (not how the result was made), and the data files (its ``data_files``: DATA, FILE, gap's three)
 # (and what `--plugin` made: the files stay, as ``plugin``, when given)
-_NOT_SETTINGS = frozenset({"run", "command", "json", "out", "plot", "corner", "dpi", "title", "quiet", "remaining", "data", "file", "files", "total", "skin", "touchscreen", "registry", "readers"})
+_NOT_SETTINGS = frozenset({"run", "command", "json", "out", "plot", "corner", "dpi", "title", "quiet", "remaining", "data", "file", "files", "total", "skin", "touchscreen", "registry", "readers", "circuit_model"})  # (circuit_model: a parser flag, no option)
 
 
 def command_provenance(args, *, source=None, data_files: Sequence[str] = (), **used) -> dict:
