@@ -357,3 +357,21 @@ def test_alpha_at_one_names_the_capacitor_model_in_single_and_batch_fits():
     assert all(words in batch.warnings[f"trial={i}"] for i in range(3))
     capped = ix.fit(MODEL, ix.make_spectrum(f, z[0]), bounds={"CPE1.alpha": (0.5, 0.9)})
     assert "CPE1.alpha is at its upper bound 0.9" in capped.warnings and not any("capacitor" in w for w in capped.warnings)
+
+
+def test_a_fit_to_rounding_is_converged_though_a_vanishing_term_still_moves():
+    """Z = 5 Ω at every frequency (exact data, written here) fitted with R0 + R1 ∥ C1: R1 runs
+    toward 0 in log space, χ² falls in proportion at each step and the relative stopping rule is
+    never met; at rms_rel 1.9e-12 the fit matches the data to rounding and is converged, single
+    and batch alike (it said "raise --max-steps" until 2026-12-03). A fit stopped by its step
+    limit away from the data stays not converged."""
+    f = np.geomspace(1.0, 1e5, 30)
+    single = ix.fit("R0 + R1 || C1", ix.make_spectrum(f, np.full(30, 5.0 + 0j)))
+    assert single.converged and single.rms_rel < 1e-10 and abs(single.values["R0"] + single.values["R1"] - 5.0) < 1e-9  # (R1 ∥ C1 a resistor at these frequencies)
+    assert single.message.startswith("fits the data to rounding (rms_rel ") and "raise" not in single.message
+    assert not any("did not converge" in w for w in single.warnings)
+    batch = ix.fit("R0 + R1 || C1", ix.make_spectrum(f, np.full((3, 30), 5.0 + 0j), dims=("trial",)))
+    assert bool(batch.dataset["converged"].all())
+    arc = 10 + 100 / (1 + 2j * np.pi * f * 1e-4)  # (an RC arc the fit below stops short of)
+    short = ix.fit("R0 + R1 || C1", ix.make_spectrum(f, arc), init={"R0": 1.0, "R1": 1.0, "C1": 1e-9}, n_starts=1, max_steps=2)
+    assert short.rms_rel > 0.01 and not short.converged

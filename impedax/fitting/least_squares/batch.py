@@ -33,7 +33,7 @@ from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, domi
 from .order import canonical_order
 from .branches import RELATIVE_ERROR_LIMIT, held_covariances, idle_branch_notes, settle_vanishing, vanishing_term_mask, undetermined, unidentified_stderr, undetermined_mask, vanishing_candidates, vanishing_parameters
 from .constraints import constraint_misfit_notes, with_constraint_notes
-from .result import stored_notes, warnings_blame_model, misfit_hint_spectra, MISFIT_CHECKED_FROM, MISFIT_RATIO_MAX, COVARIANCE_NOTE, BOUND_RESTARTS, FIT_STATISTICS, bounds_attr, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, PARAMETER_UNIT_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, sigma_misstated, sigma_scale_notes, uneven_residual_notes, shown_stderr, stack_notes, vanishing_term_sides, weighting_notes, without_error
+from .result import settled_codes, stored_notes, warnings_blame_model, misfit_hint_spectra, MISFIT_CHECKED_FROM, MISFIT_RATIO_MAX, COVARIANCE_NOTE, BOUND_RESTARTS, FIT_STATISTICS, bounds_attr, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, PARAMETER_UNIT_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, sigma_misstated, sigma_scale_notes, uneven_residual_notes, shown_stderr, stack_notes, vanishing_term_sides, weighting_notes, without_error
 from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, TreeSolvers, better, over_devices, padded_points, tree_solver, trimmed, unscale
 from .starts import SpectrumFeatures, climb_target, batch_outliers, escalation_rungs, guess_start, inward_start, limit_starts, rms_rel_of, rung_seed, rung_starts, to_solver_space, values_inside
 
@@ -1105,7 +1105,7 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
     b, k, n_res = z.shape[0], len(table.free_names), 2 * len(freq)
     chi2 = np.array(out.chi2, float)  # copies: device_get's arrays are read-only
     finite = np.isfinite(chi2) & np.all(np.isfinite(out.z_model), axis=-1)
-    converged = finite & (np.asarray(out.code) == SolverStatus.CONVERGED)
+    converged = finite & (settled_codes(out.code, out.z_model, z) == SolverStatus.CONVERGED)
     values = np.array(out.x, float)
     stderr = np.full(values.shape, np.nan)
     inv_re, inv_im = weights(z, sigma, weighting, source, freq)
