@@ -908,7 +908,10 @@ def uneven_residual_notes(freq, z, z_model, inv_re, inv_im, weighting: str, misf
     structure concentrates its residuals where it fails, and that note says so and where to look;
     one over the data's σ already asks for the sigma weighting.
     The text names the bands and the threshold, not the fit's ratio, so that a batch's fit
-    gives a single fit's text (as `misfit_notes`). Its advice follows the weighting: under
+    gives a single fit's text (as `misfit_notes`), and whether the quiet band lies at lower or
+    higher frequencies, so that a batch's grouped line holds fits of one direction only (its
+    bands' envelopes overlapped when spectra loud at the low end and at the high end were one
+    kind: "larger at 21 mHz – 9.9 kHz than at 21 mHz – 4.36 Hz", REAL battery cycles, 2026-12-03). Its advice follows the weighting: under
     ``modulus`` to weigh by σ (``has_sigma``: the data carry one, which the fit did not use), the
     fit's and the sampler's way alike (the sampler's default noise model is the same σ ∝ |Z|, so
     it is no remedy); under ``sigma`` that the stated σ misstates the noise in one of the bands."""
@@ -934,7 +937,7 @@ def uneven_residual_notes(freq, z, z_model, inv_re, inv_im, weighting: str, misf
                       if has_sigma else
                       "if the noise is larger there, give sigma (a sigma column, or make_spectrum(sigma=...)) and weigh by it (impedax fit --weighting sigma; impedax sample --noise sigma)")
         out[i] = (
-            f"the weighted residuals are over {UNEVEN_RESIDUAL_RATIO:g}× larger (rms) at {loud_band} than at {quiet_band}: "
+            f"the weighted residuals are over {UNEVEN_RESIDUAL_RATIO:g}× larger (rms) at {loud_band} than at the {'lower' if lo[quiet] < lo[loud] else 'higher'} frequencies {quiet_band}: "
             f"{UNEVEN_NOISE_NOTE} ({weighting} weighting), so they are not to be trusted; {remedy}; "
             "if the model misses something there, a diagnosis (impedax diagnose) shows what",
         )
