@@ -122,6 +122,14 @@ def test_derive_linear_equals_linear_map_of_draws(rcpe):
     assert z_band["median"].shape == post.frequency.shape and np.all(z_band["q05"].values < z_band["q95"].values)
     with pytest.raises(ix.ParameterError, match="complex"):
         post.derive(lambda p, freq: ix.compile_circuit(post.circuit)(p, freq), f)
+    # a function undefined at some draws: NaN quantiles, and a warning counting those draws
+    # (the oracle: the draws where R1 − median(R1) is negative, whose log is NaN)
+    median_r1 = float(np.median(post.samples["R1"]))
+    undefined = post.derive(lambda p: jnp.log(p["R1"] - median_r1))
+    assert np.isnan(float(undefined["median"])) or np.isnan(float(undefined["q05"]))
+    assert undefined.attrs["non_finite_draws"] == int(np.count_nonzero(post.samples["R1"] <= median_r1))
+    assert "not finite (NaN or ±inf) at" in undefined.attrs["warning"]
+    assert "warning" not in out.attrs and "non_finite_draws" not in out.attrs
 
 
 @pytest.mark.parametrize("bad", [0, -1, 2.5, "10"])

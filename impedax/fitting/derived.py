@@ -291,7 +291,14 @@ def draws_band(fn, freq, params: dict, model: str, *, draws: bool, max_draws: in
     params = {k: v[pick] for k, v in params.items()}
     out = called(jax.jit(jax.vmap(g)), {k: jnp.asarray(v) for k, v in params.items()}, list(params), model)
     check_real(out)
-    return band_dataset(np.asarray(out, float), freq, keep_draws=draws, attrs={"method": method, "model": model})
+    out = np.asarray(out, float)
+    attrs = {"method": method, "model": model}
+    bad = int(np.count_nonzero(~np.all(np.isfinite(out.reshape(out.shape[0], -1)), axis=1)))
+    if bad:  # (2026-12-03: fn undefined at some draws gave NaN quantiles without a word)
+        attrs["non_finite_draws"] = bad
+        attrs["warning"] = (f"fn gives a value that is not finite (NaN or ±inf) at {bad} of {out.shape[0]} draws, so the quantiles are NaN where it does: "
+                            "fn is undefined there (a log or square root of a negative number, a division by zero); check it over the parameters' ranges")
+    return band_dataset(out, freq, keep_draws=draws, attrs=attrs)
 
 
 def _keywords_of(method) -> tuple[str, ...]:
