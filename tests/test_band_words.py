@@ -31,3 +31,13 @@ def test_single_points_of_real_data_are_named_once():
     for f in flagged:
         assert f"{f:.3g} Hz–{f:.3g} Hz" not in text and f"between {f:.3g} Hz and {f:.3g} Hz" not in text
     assert "at 56.2 Hz the data and the model differ" in text  # (the failing band 49.3–64.1 Hz holds one point of the model's misfit)
+
+
+def test_the_force_plots_peak_reads_with_an_si_prefix():
+    """The force spectrum's peak label: 33.1 kHz, as the text elsewhere (it read 3.314e+04 Hz)."""
+    from impedax.plotting.models import plot_force_spectrum
+
+    f = np.geomspace(10.0, 1e6, 5)
+    fig = plot_force_spectrum(f, np.ones(5) * 0.1, title="t", peak={"frequency_hz": 33140.0, "force_n": 0.1649, "at_band_edge": False})
+    (text,) = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+    assert text == "peak: 164.9 mN at 33.1 kHz"

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..data import format_quantity
+from ..data import format_frequency, format_quantity
 from . import font_size
 
 MODEL_MARGIN = 10.0
@@ -181,7 +181,7 @@ def plot_force_spectrum(freq, force, *, title: str, convention: str = "time-aver
     fig, ax = plt.subplots(figsize=(6, 4))
     ax.semilogx(freq, np.asarray(force) * 1e3, marker="o" if np.size(freq) < 3 else None)
     if peak is not None:
-        label = ("largest at the band's end" if peak["at_band_edge"] else "peak") + f": {peak['force_n'] * 1e3:.4g} mN at {peak['frequency_hz']:.4g} Hz"
+        label = ("largest at the band's end" if peak["at_band_edge"] else "peak") + f": {peak['force_n'] * 1e3:.4g} mN at {format_frequency(float(peak['frequency_hz']))}"
         ax.plot([peak["frequency_hz"]], [peak["force_n"] * 1e3], "v", color="C3", label=label)
         ax.legend(fontsize=font_size("legend", 8))
     ax.set_xlabel("frequency [Hz]")
