@@ -221,7 +221,7 @@ def test_the_misfit_note_says_which_kk_figure_it_quotes():
     gamry = Path(__file__).parent / "fixtures" / "real" / "exampleDataGamry.DTA"
     fit = ix.fit("R0 + R1 || CPE1", gamry)
     (note,) = [w for w in fit.warnings if "Kramers–Kronig-consistent model" in w]
-    assert "(the KK test's Voigt chain fitted to every point, as this fit is)" in note
+    assert "(the KK test's Voigt chain fitted to every point as this fit is)" in note
     quoted = float(re.search(r"the ([0-9.]+)% a Kramers", note).group(1)) / 100
     kk = ix.kk_test(gamry)
     assert kk.stray_frequencies.size >= 1 and quoted < kk.rms_rel  # (the chain on every point fits them better)

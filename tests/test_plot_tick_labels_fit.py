@@ -63,3 +63,21 @@ def test_a_corner_log_axis_over_a_decade_has_prefixed_labels_apart():
             assert_no_overlap(ax.xaxis, renderer)
             assert_no_overlap(ax.yaxis, renderer)
     plt.close(fig)
+
+
+def test_a_corner_axis_in_metres_counts_in_a_prefix():
+    """An air gap u of 2.8 µm (a `gap_thickness_reparametrization`'s unit, m): its axis reads
+    ``u [µm]`` with ticks 2.7 … 2.9 and no detached 1e−6, its title ``… µm`` (walkthrough
+    2026-12-03: ``u [m]`` under matplotlib's offset, titled ``2.8055 [2.8030, 2.8078] ×10⁻⁶ m``)."""
+    rng = np.random.default_rng(2)
+    u = rng.normal(2.8e-6, 0.01e-6, 4000)
+    fig = plot_corner(np.c_[rng.normal(5e7, 1e6, 4000), u], ["R_EP", "u"], [True, True], units=["Ohm", "m"])
+    fig.canvas.draw()
+    axes = np.array(fig.axes).reshape(2, 2)
+    assert axes[1, 1].get_xlabel() == "u [µm]" and axes[1, 0].get_ylabel() == "u [µm]"
+    assert axes[1, 1].xaxis.get_offset_text().get_text() == "" and axes[1, 0].yaxis.get_offset_text().get_text() == ""
+    ticks = [float(t.get_text().replace("\N{MINUS SIGN}", "-")) for t, _ in labels_in_view(axes[1, 1].xaxis, fig.canvas.get_renderer())]
+    assert ticks and all(2.7 <= t <= 2.9 for t in ticks), ticks
+    median = float(np.median(u)) * 1e6
+    assert axes[1, 1].get_title().startswith(f"u = {median:.3f}") and axes[1, 1].get_title().endswith(" µm")
+    plt.close(fig)

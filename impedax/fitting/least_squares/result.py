@@ -1503,7 +1503,7 @@ EXACT_RMS_REL = 1e-10
 """A fit whose rms_rel is below this matches its data to rounding: exact (noise-free) data."""
 
 
-KK_CHAIN_WORDS = "the KK test's Voigt chain fitted to every point, as this fit is"
+KK_CHAIN_WORDS = "the KK test's Voigt chain fitted to every point as this fit is"
 """How the misfit notes name the model they compare a fit with (`kk.KKChains`): a least-squares
 chain on every point, as the fit is. `impedax kk`'s rms_rel can be higher: it leaves stray points
 out of its chain and measures them against it (REAL Gamry data: 4.8 % here, 5.21 % there)."""
