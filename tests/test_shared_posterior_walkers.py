@@ -165,6 +165,16 @@ def test_a_joint_posterior_marks_a_parameter_its_start_leaves_undetermined(capac
     assert "← R2[trial=2]: not determined by the data" in post.report()
 
 
+def test_a_joint_posterior_repeats_its_start_fits_warnings_without_advising_to_sample(capacitor_and_open):
+    """The start fit's "α within 2 standard errors of its bound" ends "for an honest interval,
+    sample the posterior (impedax sample)": the posterior's report, that sample, leaves it out."""
+    advice = "for an honest interval, sample the posterior (impedax sample)"
+    assert any(advice in w for ws in capacitor_and_open.fit.warnings.values() for w in ws)  # (the case under test)
+    near = [w for w in capacitor_and_open.warnings if "lies within 2 standard errors of its upper bound 1" in w]
+    assert near and all(w.endswith("the ± is not symmetric there (no value lies beyond the bound)") for w in near)
+    assert not any("impedax sample" in w for w in capacitor_and_open.warnings)
+
+
 # --- (c) a well-determined joint posterior ------------------------------------------------------
 
 

@@ -25,7 +25,7 @@ from ...errors import DataError, ParameterError
 from ..derived import QUANTILES, bind_frequency, draw_indices, draws_band, needs_freq
 from ..least_squares import FitResult
 from ..least_squares.branches import left_to_priors
-from ..least_squares.result import bounds_attr, shown_stderr, stored_bounds
+from ..least_squares.result import bounds_attr, shown_stderr, stored_bounds, without_sample_advice
 from ..frozen import freeze_fields
 from .chain import capped_at, length_text
 from .diagnostics import CHAIN_TAU_MULTIPLE, NO_STRAGGLERS, PiledUp, StrongCorrelation, Stragglers, chain_warnings, figure, hdi, integrated_autocorr, interval_warnings, kept_walkers, straggler_warnings, strong_correlations, walkers_text
@@ -197,7 +197,7 @@ class Posterior(PiledUp):
         out.extend(self._interval_warnings())
         out.extend(implausible_gap_notes(self.reparametrization, {n: float(np.median(self.draws[..., i])) for i, n in enumerate(self.names)}))
         out.extend(self.notes)
-        out.extend(f"least-squares start: {w}" for w in self.fit.warnings)
+        out.extend(f"least-squares start: {without_sample_advice(w)}" for w in self.fit.warnings)
         return tuple(out)
 
     @functools.cached_property

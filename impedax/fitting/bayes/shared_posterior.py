@@ -37,7 +37,7 @@ from ...warning_groups import grouped_warnings
 from ..derived import QUANTILES, draw_indices, draws_band, needs_freq
 from ..least_squares import SharedFitResult, fit
 from ..least_squares.branches import left_to_priors
-from ..least_squares.result import parameter_groups
+from ..least_squares.result import parameter_groups, without_sample_advice
 from ..parameters import ParameterTable
 from ..problem import SIGMA_SOURCES, open_spectrum
 from ..frozen import freeze_fields
@@ -532,6 +532,7 @@ def _start_fit_warnings(warnings: Mapping[str, tuple[str, ...]], n_spectra: int)
     ``least-squares start (2 of 3 spectra: trial 0, 2): …``, ``(all 3 spectra)``, a global fit's
     own notes ``(shared over trial)`` — and, past the kinds a report lists, how many more (every
     text is in the start fit's warnings)."""
+    warnings = {k: tuple(without_sample_advice(w) for w in v) for k, v in warnings.items()}  # (this is the sample the advice asks for)
     return grouped_warnings(warnings, n_spectra, head="least-squares start", more="least-squares start: {n} more kinds of warning (every text: the posterior's fit.warnings)")
 
 
