@@ -143,9 +143,10 @@ def _band_text(band, prefix: str, i: int, scale: float, digits: int = 3) -> str:
     return f"{median:8.{digits}g} [{q05:.{digits}g}, {q95:.{digits}g}]"
 
 
-def run_demo(out: str | os.PathLike = "out", *, fast: bool = False, stream=None) -> Path:
+def run_demo(out: str | os.PathLike = "out", *, fast: bool = False, stream=None, quiet: bool = False) -> Path:
     """Run the demonstration; returns the path of ``report.html``. ``fast`` uses short MCMC
-    chains (for tests and CI)."""
+    chains (for tests and CI); ``quiet`` (``impedax demo --quiet``) leaves out the sampler's
+    progress lines."""
     import impedax as ix
     from impedax.models import example_spectra, remaining_impedance
     from impedax.models.gap import gap_analysis
@@ -215,7 +216,7 @@ def run_demo(out: str | os.PathLike = "out", *, fast: bool = False, stream=None)
         story.step(4, "Hierarchical Bayesian fit of the refined model: the gap thickness, its spread between trials, a new trial", short="Hierarchical Bayesian fit")
         if "C_gap" not in final.circuit.element_names:
             raise RuntimeError(f"the refined model {final.model} lost C_gap")
-        gap = gap_analysis(total, skin, screen, area=AREA, v0=V0, remainder=final.circuit, edl_fit=final, steps=150 if fast else 400, warmup=150 if fast else 400, progress=True)
+        gap = gap_analysis(total, skin, screen, area=AREA, v0=V0, remainder=final.circuit, edl_fit=final, steps=150 if fast else 400, warmup=150 if fast else 400, progress=not quiet)
         g, p, spread, new = gap.gap, gap.paper, gap.gap_spread, gap.gap_new_trial
         post = gap.hierarchical
         story.say(f"  Every one of the {n_trials} total trials gets its own u, R_EP and CPE_EP.Q, drawn from a log-normal population;")

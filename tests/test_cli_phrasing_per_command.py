@@ -30,7 +30,8 @@ def parser_options(command: str) -> set[str]:
 
 def every_trigger() -> str:
     """One text holding every Python phrase or keyword the phrasing translates."""
-    return "; ".join([*common._PHRASE_OF_CALL, common._INIT_PHRASE[0], "fix it with fixed={'C_i': VALUE}", "consider weighting='modulus'", "raise max_steps"])
+    return "; ".join([*common._PHRASE_OF_CALL, common._INIT_PHRASE[0], "fix it with fixed={'C_i': VALUE}", "consider weighting='modulus'", "raise max_steps",
+                      "use noise='proportional' otherwise", "(over='session', or several: over=['session', 'trial'])", "the steps steps='auto' runs"])
 
 
 def produced_flags(before: str, after: str) -> set[tuple[str, str | None]]:
@@ -100,3 +101,35 @@ def test_gap_report_names_no_option_gap_refuses(tmp_path, monkeypatch, capsys):
     assert "consider weighting='modulus'" in out and "--weighting" not in out and "--max-steps" not in out
     for flag in re.findall(r"--[a-z][\w-]*", out):
         assert flag in parser_options("gap")
+
+
+def two_dimensional(tmp_path):
+    """SYNTHETIC R ∥ CPE (R = 100 Ω, Q = 1 µF s^(α−1), α = 0.9) plus 10 Ω over session × trial,
+    saved as netCDF."""
+    f = np.geomspace(1, 1e5, 20)
+    z = 10 + 100 / (1 + 100 * 1e-6 * (2j * np.pi * f) ** 0.9)
+    path = str(tmp_path / "rem.nc")
+    ix.save(ix.make_spectrum(f, np.broadcast_to(z, (2, 2, f.size)).copy(), dims=("session", "trial"), coords={"session": [0, 1], "trial": [0, 1]}), path)
+    return path
+
+
+@pytest.mark.parametrize("command", ["fit", "sample"])
+def test_shared_over_several_dimensions_names_the_over_option(tmp_path, capsys, command):
+    """Data with two extra dimensions and no --over: the command line says --over (2026-12-03:
+    it said "(over='session' or a list)"); the Python API keeps its keyword."""
+    path = two_dimensional(tmp_path)
+    assert main([command, path, "--model", "R0 + R1 || CPE1", "--shared", "CPE1.alpha", "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert err.strip() == (f"impedax {command}: error: --over: the data have several extra dimensions (session, trial); "
+                           "say which the parameters are shared over (--over session, or several: --over session,trial)")
+    with pytest.raises(ParameterError, match=re.escape("(over='session', or several: over=['session', 'trial'])")):
+        ix.fit("R0 + R1 || CPE1", ix.load(path), shared=["CPE1.alpha"])
+
+
+def test_sample_noise_sigma_without_sigma_names_the_noise_option(capsys):
+    """--noise sigma on a file without σ: the option's words, not noise='sigma' (2026-12-03:
+    "--noise='sigma' needs ...; use noise='proportional' otherwise")."""
+    assert main(["sample", "tests/fixtures/real/exampleDataBioLogic.mpt", "--model", "R0 + R1 || CPE1", "--noise", "sigma", "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert ": --noise sigma needs a 'sigma' variable in the data" in err and err.rstrip().endswith("or a 'sigma' variable of a netCDF file; use --noise proportional otherwise")
+    assert "noise='" not in err and "make_spectrum" not in err

@@ -83,6 +83,28 @@ def test_every_command_that_prints_progress_takes_quiet(capsys):
         assert "--quiet" in capsys.readouterr().out, command
 
 
+def test_every_command_takes_quiet(capsys):
+    """Every subcommand, those without progress lines too (2026-12-03: `impedax simulate --quiet`
+    was "unrecognized arguments", though it writes notes and "wrote FILE" on stderr), read from
+    the parser's own list of subcommands."""
+    import argparse
+
+    from impedax.cli import build_parser
+
+    sub = next(a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction))
+    assert {"simulate", "info", "stack", "fit"} <= set(sub.choices)
+    for command, parser in sub.choices.items():
+        assert "--quiet" in {s for action in parser._actions for s in action.option_strings}, command
+
+
+def test_simulate_quiet_writes_the_same_and_keeps_its_notes(tmp_path, capsys):
+    code, loud, loud_err = run(capsys, "simulate", MODEL, "--param", "R0=10", "--points", "5")
+    assert code == 0
+    code, quiet, quiet_err = run(capsys, "simulate", MODEL, "--param", "R0=10", "--points", "5", "--quiet")
+    assert code == 0 and quiet == loud and quiet_err == loud_err
+    assert quiet_err.strip() == "impedax simulate: defaults used for R1=100, C1=1e-06"
+
+
 def test_kk_takes_quiet_as_the_other_analysis_commands(capsys):
     """`impedax kk --quiet` (a walkthrough, 2026-12-02: "unrecognized arguments: --quiet"): the same
     report and JSON as without, and the notes (the REAL Parstat file's skipped DC rows) kept."""

@@ -45,3 +45,25 @@ def test_derive_names_the_undetermined_parameters_a_quantity_rests_on(pad_poster
     force = post.derive(lambda p: 0.5 * eps0 * 4e-4 * 200.0**2 / p["u"] ** 2)
     assert force.attrs["undetermined"] == "u" and "priors take over" in force.attrs["warning"]
     assert "undetermined" not in post.derive(lambda p: p["R_EP"] ** 2).attrs
+
+
+def test_a_parameter_run_out_of_z_to_a_bound_is_left_to_the_priors():
+    """The rule of `Posterior.undetermined` and `SharedPosterior.undetermined` for one start-fit
+    parameter: a relative standard error above 100 % off a bound; at a bound only with an infinite
+    standard error (a vanishing term's, R2 open at ∞; other bounds give NaN)."""
+    from impedax.fitting.least_squares.branches import left_to_priors
+
+    assert left_to_priors(3.8e84, np.inf, True)  # R2 run to ∞ beside a CPE
+    assert not left_to_priors(1.0, np.nan, True)  # CPE2.alpha at 1: its bound note speaks for it
+    assert left_to_priors(2.0, 3.0, False) and not left_to_priors(2.0, 1.0, False)  # 150 % and 50 %
+
+
+def test_a_start_fit_warning_is_repeated_without_advising_to_sample(pad_posterior):
+    """The posterior is the sample the start fit's warning asks for: its report repeats the
+    warning without "for an honest interval, sample the posterior (impedax sample)"."""
+    import dataclasses
+
+    text = "CPE1.alpha = 0.781 ± 0.11 lies within 2 standard errors of its upper bound 1: the ± is not symmetric there (no value lies beyond the bound)"
+    post = dataclasses.replace(pad_posterior, fit=dataclasses.replace(pad_posterior.fit, warnings=(text + "; for an honest interval, sample the posterior (impedax sample)",)))
+    assert f"least-squares start: {text}" in post.warnings
+    assert not any("impedax sample" in w for w in post.warnings)

@@ -134,6 +134,47 @@ def test_undetermined_parameter_gets_a_wide_interval_and_a_named_warning(open_br
         assert not any(n in w for w in open_branch.warnings)
 
 
+@pytest.fixture(scope="module")
+def capacitor_and_open():
+    """R2 || CPE2 with α truly 1 (a capacitor) in every spectrum, R2 of trial 2 open (1e12 Ω)."""
+    return ix.sample("R0 + R1 || C1 + R2 || CPE2", spectra([50.0, 80.0, 1e12], alpha=1.0), shared=["R0"], over="trial", steps=300, seed=1, progress=False)
+
+
+def test_a_joint_posterior_words_an_exponent_at_one_as_a_single_spectrum_does(capacitor_and_open):
+    """α piled up against 1 where it is truly 1: a CPE that is a capacitor, as a single spectrum's
+    posterior says (`diagnostics.reducing_bounds`, keyed by circuit parameter), not "the data
+    would take larger values (is the model missing something?)" (before 2026-12-03, every
+    per-spectrum CPE2.alpha[trial=k])."""
+    piled = [w for w in capacitor_and_open.warnings if w.startswith("CPE2.alpha[trial=") and "piles up against its upper bound 1" in w]
+    assert piled  # (trial 0 and 2 with seed 1)
+    for w in piled:
+        name = w.split(" ")[0]
+        assert f"the data are consistent with {name} = 1, and CPE2 with alpha = 1 is a capacitor: the model with C2 in its place may be enough" in w
+        assert "missing something" not in w
+
+
+def test_a_joint_posterior_marks_a_parameter_its_start_leaves_undetermined(capacitor_and_open):
+    """The open R2 of trial 2 (run to ∞ by the start fit, no standard error) is marked in the
+    table, named under it and listed in the JSON, as a single spectrum's posterior does; the
+    determined R2 of trials 0 and 1 are not."""
+    post = capacitor_and_open
+    assert post.undetermined == ("R2[trial=2]",) and post.summary()["undetermined"] == ["R2[trial=2]"]
+    rows = {line.split()[0]: line for line in post.report().splitlines() if line.split() and line.split()[0] in post.names}
+    assert rows["R2[trial=2]"].endswith("← NOT DETERMINED")
+    assert not [n for n, line in rows.items() if "NOT DETERMINED" in line and n != "R2[trial=2]"]
+    assert "← R2[trial=2]: not determined by the data" in post.report()
+
+
+def test_a_joint_posterior_repeats_its_start_fits_warnings_without_advising_to_sample(capacitor_and_open):
+    """The start fit's "α within 2 standard errors of its bound" ends "for an honest interval,
+    sample the posterior (impedax sample)": the posterior's report, that sample, leaves it out."""
+    advice = "for an honest interval, sample the posterior (impedax sample)"
+    assert any(advice in w for ws in capacitor_and_open.fit.warnings.values() for w in ws)  # (the case under test)
+    near = [w for w in capacitor_and_open.warnings if "lies within 2 standard errors of its upper bound 1" in w]
+    assert near and all(w.endswith("the ± is not symmetric there (no value lies beyond the bound)") for w in near)
+    assert not any("impedax sample" in w for w in capacitor_and_open.warnings)
+
+
 # --- (c) a well-determined joint posterior ------------------------------------------------------
 
 
@@ -151,6 +192,7 @@ def test_determined_parameters_match_least_squares_without_spurious_warnings(det
         ratio = half / (1.645 * float(se.sel(param=base, trial=trial)))
         assert 0.5 < ratio < 2.0, (n, ratio)
     assert not [w for w in determined.warnings if "not the data, sets" in w or "linearised" in w]
+    assert determined.undetermined == () and "NOT DETERMINED" not in determined.report()
 
 
 def test_a_short_chain_is_not_converged_and_the_interval_warning_says_so(open_branch):

@@ -1535,6 +1535,8 @@ _PHRASE_OF_CALL: dict[str, tuple[str, tuple[str, ...]]] = {
     "(bounds=)": ("(--bound)", ("--bound",)),
     "leave them out (fmin/fmax)": ("leave them out (--fmin/--fmax)", ("--fmin", "--fmax")),
     "e.g. --noise 1% (noise=0.01)": ("e.g. --noise 1%", ("--noise",)),
+    # (`problem.SIGMA_SOURCES`: a command reads σ from the file's column or netCDF variable)
+    "or make_spectrum(sigma=...)": ("or a 'sigma' variable of a netCDF file", ()),
     # (a large batch's report: `least_squares.batch.EACH_SPECTRUM_WHERE`)
     "batch.to_table() or ix.write_result(batch, 'FILE.csv') (a row per spectrum and parameter), batch.summary()['spectra']":
         ("--out FILE.csv (a row per spectrum and parameter) or --json (\"spectra\")", ("--out", "--json")),
@@ -1550,9 +1552,18 @@ _COMMANDS_PRINTING_FIT_COMMAND = ("refine",)
 # sets with --fix NAME=VALUE
 _FIXED_KEYWORD = re.compile(r"fixed=\{'([^']+)': VALUE\}")
 
-# a weighting named as Python's keyword (``consider weighting='modulus'``), which the command
-# line sets with --weighting NAME
-_WEIGHTING_KEYWORD = re.compile(r"(?<![\w.-])weighting=(['\"])(unit|modulus|proportional|sigma)\1")
+# a keyword named with its value in Python's words (``consider weighting='modulus'``, ``use
+# noise='proportional'``, ``over='session'``, ``over=['session', 'trial']``, ``steps='auto'``),
+# which the command line sets with the option of its name: --weighting modulus, --noise
+# proportional, --over session, --over session,trial, --steps auto (2026-12-03: noise, over, steps)
+_VALUED_KEYWORDS = ("weighting", "noise", "over", "steps")
+_VALUED_KEYWORD = re.compile(r"(?<![\w.-])(" + "|".join(_VALUED_KEYWORDS) + r")=(?:(['\"])([\w.-]+)\2|\[((?:'[\w.-]+'(?:, )?)+)\])")
+
+
+def _valued_option(match: re.Match) -> str:
+    """``--KEYWORD VALUE`` of a `_VALUED_KEYWORD` match: a list's values joined by commas."""
+    keyword, value, listed = match.group(1), match.group(3), match.group(4)
+    return f"--{keyword} {value if value is not None else ','.join(v.strip(chr(39)) for v in listed.split(', '))}"
 
 
 def command_options(command: str) -> frozenset[str]:
@@ -1574,9 +1585,10 @@ def _command_options(command: str) -> frozenset[str]:
 
 def _phrased(text: str, command: str | None = None) -> str:
     """``text`` with the Python calls and keywords it names (`_PHRASE_OF_CALL`, ``fixed={'C_i':
-    VALUE}``, ``weighting='NAME'``) in the words of ``impedax command``, each only where that
-    command has the options the words name (`command_options`): ``impedax gap``, which has no
-    --weighting, keeps ``weighting='modulus'``. ``command`` None: every translation."""
+    VALUE}``, ``weighting='NAME'`` and the other `_VALUED_KEYWORDS`) in the words of ``impedax
+    command``, each only where that command has the options the words name (`command_options`):
+    ``impedax gap``, which has no --weighting, keeps ``weighting='modulus'``. ``command`` None:
+    every translation."""
     options = None if command is None else command_options(command)
 
     def has(*flags: str) -> bool:
@@ -1589,7 +1601,7 @@ def _phrased(text: str, command: str | None = None) -> str:
         text = text.replace(*_INIT_PHRASE)
     if has("--fix"):
         text = _FIXED_KEYWORD.sub(r"--fix \1=VALUE", text)
-    return _WEIGHTING_KEYWORD.sub(r"--weighting \2", text) if has("--weighting") else text
+    return _VALUED_KEYWORD.sub(lambda m: _valued_option(m) if has(f"--{m.group(1)}") else m.group(0), text)
 
 
 # per command, the Python keywords whose names the errors of the functions it calls start
@@ -1637,14 +1649,16 @@ def option_words(command: str, error: Exception) -> str:
     `OPTION_OF_KEYWORD_BY_COMMAND` that names what the message is about is replaced by the
     option that sets it — at the start of the message when followed by ``must``, ``:`` or ``=``
     (``max_rc must be ...`` → ``--max-rc must be ...``, ``fixed: unknown ...``), and a band's
-    ends anywhere as ``from fmin = 10 Hz``. Keywords inside a sentence otherwise stay (``use
-    noise='proportional'`` names Python's value). A file name that leads a `DataError` (``c:
-    line 3: ...``) is left as it is. An element of one's own is declared with --plugin
+    ends anywhere as ``from fmin = 10 Hz``; a keyword with its value anywhere as the option
+    with that value (``use noise='proportional'`` → ``use --noise proportional``, `_phrased`,
+    first: ``noise='sigma' needs`` → ``--noise sigma needs``). A file name that leads a
+    `DataError` (``c: line 3: ...``) is left as it is. An element of one's own is declared with --plugin
     (`plugin_words`)."""
     text = plugin_words(error)
     keywords = OPTION_OF_KEYWORD_BY_COMMAND.get(command, {})
     if not keywords:
         return text
+    text = _phrased(text, command)
     head = ""
     path = getattr(error, "path", None)
     if isinstance(error, DataError) and path is not None and text.startswith(str(path)):
@@ -1656,7 +1670,7 @@ def option_words(command: str, error: Exception) -> str:
     band = "|".join(k for k in ("fmin", "fmax") if k in keywords) or "(?!)"
     valued = re.compile(r"(?<![\w.'\"/-])(" + band + r")(?= = )")
     text = valued.sub(lambda m: keywords[m.group(1)], leading.sub(lambda m: keywords[m.group(1)], text))
-    return head + _phrased(text, command)
+    return head + text
 
 
 def command_line_words(text: str, command: str | None = None) -> str:

@@ -66,6 +66,8 @@ def _meyer_variant(requested: str | None, given: dict[str, float]) -> str:
 
 
 def register(sub) -> None:
+    from .common import add_quiet_option
+
     p = sub.add_parser(
         "force",
         help="electrostatic force spectrum of Meyer's or Vezzoli's model",
@@ -97,6 +99,7 @@ def register(sub) -> None:
         out_metavar="FILE.csv|.json",
         title_names="the paper, the equation and the force convention; the drive and any changed parameters go in a subtitle",
     )
+    add_quiet_option(p)  # (2026-12-03: every command takes --quiet, so a pipeline can pass it to each)
     p.set_defaults(run=run)
 
 

@@ -4,11 +4,14 @@ from __future__ import annotations
 
 
 def register(sub) -> None:
+    from .common import add_quiet_option
+
     from .common import add_model_argument
 
     p = sub.add_parser("info", help="list a model's parameters", description="List the parameters of MODEL with units, defaults and bounds.")
     add_model_argument(p, positional=True)
     p.add_argument("--json", action="store_true", help="machine-readable output")
+    add_quiet_option(p)  # (2026-12-03: every command takes --quiet, so a pipeline can pass it to each)
     p.set_defaults(run=run)
 
 

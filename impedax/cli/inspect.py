@@ -9,6 +9,8 @@ _HOW_KEYS = ("sign_convention", "units", "sweeps", "interpretation", "phase_unit
 
 
 def register(sub) -> None:
+    from .common import add_quiet_option
+
     from .common import add_output_options, add_select_option
 
     p = sub.add_parser(
@@ -20,6 +22,7 @@ def register(sub) -> None:
     p.add_argument("file", metavar="FILE", help="spectrum file")
     add_select_option(p)
     add_output_options(p, json="machine-readable output", plot="write a Nyquist and Bode preview of the data", out="also save the spectrum in impedax's canonical form", out_metavar="FILE.csv|.nc")
+    add_quiet_option(p)  # (2026-12-03: every command takes --quiet, so a pipeline can pass it to each)
     p.set_defaults(run=run)
 
 

@@ -7,6 +7,8 @@ import sys
 
 
 def register(sub) -> None:
+    from .common import add_quiet_option
+
     from .common import JSON_SUMMARY_HELP, SELECT_SYNTAX_HELP
 
     p = sub.add_parser(
@@ -33,6 +35,7 @@ def register(sub) -> None:
         "CSV to standard output when omitted or '-'",
     )
     p.add_argument("--json", action="store_true", help=JSON_SUMMARY_HELP + " (needs --out FILE): written, kind, n_trials, dims, spectra, frequencies, has_sigma, warnings, ...")
+    add_quiet_option(p)  # (2026-12-03: every command takes --quiet, so a pipeline can pass it to each)
     p.set_defaults(run=run)
 
 

@@ -6,7 +6,7 @@ import sys
 
 import numpy as np
 
-from .common import (JSON_SUMMARY_HELP, add_model_argument, add_output_options, check_json_with_spectrum_out, check_memory, check_points, command_provenance, emit_json, figure_options, figure_writer,
+from .common import (JSON_SUMMARY_HELP, add_model_argument, add_quiet_option, add_output_options, check_json_with_spectrum_out, check_memory, check_points, command_provenance, emit_json, figure_options, figure_writer,
                      model_and_values, number_option, plan_outputs, spectrum_summary, spectrum_writer)
 
 # memory per frequency while simulating and writing CSV: the frequencies, the complex impedance
@@ -22,6 +22,7 @@ def register(sub) -> None:
     p.add_argument("--fmax", type=number_option, default=1e6, help="highest frequency [Hz] (default 1e6)")
     p.add_argument("--points", type=int, default=None, help="number of frequencies (default 61; 1 when --fmin equals --fmax)")
     add_output_options(p, json=JSON_SUMMARY_HELP + " (needs --out FILE): written, model, parameters, parameter_units, defaulted, frequencies, ...", plot="also save Nyquist/Bode plots", out="output file (.csv or .nc); stdout when omitted or '-'", out_metavar="FILE.csv")
+    add_quiet_option(p)  # (2026-12-03: every command takes --quiet, so a pipeline can pass it to each)
     p.set_defaults(run=run)
 
 

@@ -9,6 +9,8 @@ import sys
 
 
 def register(sub) -> None:
+    from .common import add_quiet_option
+
     from .common import JSON_SUMMARY_HELP
 
     p = sub.add_parser(
@@ -25,6 +27,7 @@ def register(sub) -> None:
     p.add_argument("--coords", nargs="+", metavar="V", help="one label per FILE, in order: numbers when every one reads as a number (1 2 3, 0.5 1.5), else text; default: the file names without extension (day01)")
     p.add_argument("--out", required=True, metavar="OUT.nc", help="the stacked spectra (netCDF: .nc, .nc4, .cdf); written whole or not at all")
     p.add_argument("--json", action="store_true", help=JSON_SUMMARY_HELP + ": written, files, dim, labels, dims, spectra, frequencies, ...")
+    add_quiet_option(p)  # (2026-12-03: every command takes --quiet, so a pipeline can pass it to each)
     p.set_defaults(run=run)
 
 

@@ -18,7 +18,7 @@ from ..reductions import reducing_bounds
 
 __all__ = [
     "CHAIN_TAU_MULTIPLE", "ACCEPTANCE_STUCK", "GAUSSIAN_ACCEPTANCE", "CORRELATION_WARNING", "EDGE_BAND", "EDGE_DENSITY", "EDGE_MIN_DRAWS",
-    "INTERVAL_RATIO_WARNING", "CORRELATION_ADVICE", "StrongCorrelation", "strong_correlations", "integrated_autocorr", "flat_acceptance", "acceptance_ceiling", "hdi", "chain_warnings", "PriorEdges", "prior_edges", "reducing_bounds", "user_bound_sides", "PiledUp",
+    "INTERVAL_RATIO_WARNING", "CORRELATION_ADVICE", "StrongCorrelation", "strong_correlations", "integrated_autocorr", "flat_acceptance", "acceptance_ceiling", "hdi", "chain_warnings", "PriorEdges", "prior_edges", "reducing_bounds", "user_bound_sides", "circuit_name", "PiledUp",
     "acceptance_warnings", "interval_warnings", "figure", "STRAGGLER_LOG_PROB_GAP", "Stragglers", "NO_STRAGGLERS", "find_stragglers", "straggler_warnings", "walkers_text", "kept_walkers",
 ]
 
@@ -436,6 +436,12 @@ def prior_edges(
 
 
 
+def circuit_name(name: str) -> str:
+    """The circuit parameter of a sampled name: a joint posterior's per-spectrum ``R2[cycle=64]``
+    → ``R2``; any other name (``R2``, ``u``, ``sigma_rel``) is its own."""
+    return name.split("[")[0]
+
+
 class PiledUp:
     """The prior-edge check of a posterior (`Posterior`, `SharedPosterior`: they hold ``names``,
     ``units``, ``draws``, ``priors`` and ``bounds``), computed once for its warnings and its
@@ -447,7 +453,10 @@ class PiledUp:
         rp = getattr(self, "reparametrization", None)
         causes = dict(rp.bound_causes) if rp is not None else {}
         sides = user_bound_sides(getattr(self, "user_bounds", None) or {}, self.circuit, self.registry)
-        return prior_edges(self.names, self.units, self.draws.reshape(-1, len(self.names)), self.priors, *self.bounds, reducing_bounds(self.circuit, self.registry), causes, sides)
+        reductions = reducing_bounds(self.circuit, self.registry)
+        # (keyed by circuit parameter; a joint posterior's per-spectrum CPE2.alpha[cycle=64] is CPE2.alpha's)
+        by_name = lambda keyed: {n: keyed[circuit_name(n)] for n in self.names if circuit_name(n) in keyed}  # noqa: E731
+        return prior_edges(self.names, self.units, self.draws.reshape(-1, len(self.names)), self.priors, *self.bounds, by_name(reductions), causes, by_name(sides))
 
     @property
     def piled_up(self) -> dict[str, str]:

@@ -24,8 +24,8 @@ from ...data import checked_frequencies, column_width, concise_repr, unit_text
 from ...errors import DataError, ParameterError
 from ..derived import QUANTILES, bind_frequency, draw_indices, draws_band, needs_freq
 from ..least_squares import FitResult
-from ..least_squares.branches import undetermined_names
-from ..least_squares.result import bounds_attr, shown_stderr, stored_bounds
+from ..least_squares.branches import left_to_priors
+from ..least_squares.result import bounds_attr, shown_stderr, stored_bounds, without_sample_advice
 from ..frozen import freeze_fields
 from .chain import capped_at, length_text
 from .diagnostics import CHAIN_TAU_MULTIPLE, NO_STRAGGLERS, PiledUp, StrongCorrelation, Stragglers, chain_warnings, figure, hdi, integrated_autocorr, interval_warnings, kept_walkers, straggler_warnings, strong_correlations, walkers_text
@@ -73,7 +73,7 @@ def _quantiles_by_name(q: xr.Dataset, names) -> dict[str, dict[str, float]]:
 
 
 UNDETERMINED_MARK = "← NOT DETERMINED"
-UNDETERMINED_ROWS = ("not determined by the data (the least-squares start's rule: an unidentified group, or a relative standard error above 100 %); "
+UNDETERMINED_ROWS = ("not determined by the data (the least-squares start's rule: an unidentified group, a relative standard error above 100 %, or a term that vanishes from Z, such as a resistor open at ∞); "
                      "their intervals show where the priors take over, not a measurement: fix one of a group from another measurement, or report what the data fix")
 """The report's mark on a row of `Posterior.undetermined` and the line under its table."""
 DERIVED_FROM_UNDETERMINED = "its interval shows where the priors take over, not a measurement; fix one of them at a value you know"
@@ -197,7 +197,7 @@ class Posterior(PiledUp):
         out.extend(self._interval_warnings())
         out.extend(implausible_gap_notes(self.reparametrization, {n: float(np.median(self.draws[..., i])) for i, n in enumerate(self.names)}))
         out.extend(self.notes)
-        out.extend(f"least-squares start: {w}" for w in self.fit.warnings)
+        out.extend(f"least-squares start: {without_sample_advice(w)}" for w in self.fit.warnings)
         return tuple(out)
 
     @functools.cached_property
@@ -262,13 +262,14 @@ class Posterior(PiledUp):
         """The sampled parameters the least-squares start found the data do not determine: in an
         unidentified group (`FitResult.unidentified_groups`: C_EP and C_gap of R_EP ∥ C_EP ∥ C_gap,
         which change Z only together) or with a relative standard error above 100 %
-        (`branches.undetermined_names`, the fits' rule); a reparametrized parameter through the one it
-        replaces (u for C_gap). Their intervals are where the priors take over, not a measurement:
+        (the fits' rule), or run to a bound by a term that vanishes from Z (an infinite standard
+        error: R2 open at ∞) (`branches.left_to_priors`); a reparametrized parameter through the
+        one it replaces (u for C_gap). Their intervals are where the priors take over, not a measurement:
         on a SYNTHETIC pad (C_EP = 2 nF, C_gap = 120 pF, 1 % noise) u's 90 % interval was 1.8–9.4 µm
         and the truth 30 µm (added 2026-12-02)."""
         fit = self.fit
         loose = {n for group in fit.unidentified_groups for n in group}
-        loose |= set(undetermined_names(fit))
+        loose |= {n for n in fit.free_names if left_to_priors(fit.values[n], fit.stderr[n], n in fit.at_bound)}
         rp = self.reparametrization
         stands_for = dict(zip(rp.names, rp.replaces)) if rp is not None and len(rp.names) == len(rp.replaces) else {}
         return tuple(n for n in self.names if n in loose or stands_for.get(n) in loose)

@@ -36,13 +36,15 @@ from ...data import checked_frequencies, column_width, counted, unit_text
 from ...warning_groups import grouped_warnings
 from ..derived import QUANTILES, draw_indices, draws_band, needs_freq
 from ..least_squares import SharedFitResult, fit
+from ..least_squares.branches import left_to_priors
+from ..least_squares.result import parameter_groups, without_sample_advice
 from ..parameters import ParameterTable
 from ..problem import SIGMA_SOURCES, open_spectrum
 from ..frozen import freeze_fields
-from .diagnostics import NO_STRAGGLERS, PiledUp, Stragglers, chain_warnings, figure, hdi, integrated_autocorr, interval_warnings, kept_walkers, straggler_warnings, walkers_text
+from .diagnostics import NO_STRAGGLERS, PiledUp, circuit_name, Stragglers, chain_warnings, figure, hdi, integrated_autocorr, interval_warnings, kept_walkers, straggler_warnings, walkers_text
 from .logprob import NOISE_MODELS, NoiseModel, start_weighting
 from .chain import AUTO_STEPS, auto_step_cap, ball_scales, capped_at, length_settings, length_text, run_emcee, start_walkers, support_in_sampled_space, undetermined_span
-from .posterior import PREDICTIVE_COPIES, Posterior, chain_figures, checked_copies, sigma_between, with_noise
+from .posterior import PREDICTIVE_COPIES, UNDETERMINED_MARK, UNDETERMINED_ROWS, Posterior, chain_figures, checked_copies, sigma_between, with_noise
 from .priors import SIGMA_REL_PRIOR, Prior, check_prior_inside, coerce_priors, data_scale_range, default_prior, prior_log_density
 
 __all__ = ["SharedPosterior", "sample_shared", "MAX_JOINT_PARAMETERS"]
@@ -184,7 +186,7 @@ class SharedPosterior(PiledUp):
     def bounds(self) -> tuple[tuple[float, ...], tuple[float, ...]]:
         """(lower, upper) bounds of the sampled parameters: the circuit's, (0, ∞) for ``sigma_rel``."""
         specs = self.circuit.parameter_specs(self.registry)
-        pairs = [(specs[n].lower, specs[n].upper) if n in specs else (0.0, math.inf) for n in (_circuit_name(name) for name in self.names)]
+        pairs = [(specs[n].lower, specs[n].upper) if n in specs else (0.0, math.inf) for n in (circuit_name(name) for name in self.names)]
         return tuple(float(lo) for lo, _ in pairs), tuple(float(hi) for _, hi in pairs)
 
     @functools.cached_property
@@ -216,6 +218,25 @@ class SharedPosterior(PiledUp):
             at_bound=[n for n in names if start[n].at_bound],
             piled_up=[n for n in names if n in self._prior_edges.piled_up],
         )
+
+    @functools.cached_property
+    def undetermined(self) -> tuple[str, ...]:
+        """The sampled parameters the global least-squares start found the data do not determine,
+        by `Posterior.undetermined`'s rule applied in each one's spectrum: in one of its
+        unidentified groups (`SharedFitResult.unidentified_groups_of`), a relative standard error
+        above 100 %, or run to a bound by a term that vanishes from Z (`branches.left_to_priors`:
+        the battery cycles' R2[cycle=64] at ∞); a shared parameter by its global fit, in any
+        spectrum's group (added 2026-12-03)."""
+        stored = self.fit._stored_groups() or {}  # (a global fit saved before 2026-12-01 records none)
+        grouped = {label: {n for g in parameter_groups(stored.get(label, ())) for n in g} for label in self.spectra}
+        start = _start_of(self.fit.dataset, self.over, self.spectra, self.names)
+        out = []
+        for n, s in start.items():
+            row = _spectrum_row(n, self.spectra)
+            in_group = any(circuit_name(n) in g for g in grouped.values()) if row is None else circuit_name(n) in grouped[self.spectra[row]]
+            if in_group or left_to_priors(s.value, s.stderr, s.at_bound):
+                out.append(n)
+        return tuple(out)
 
     def quantiles(self) -> xr.Dataset:
         """median, q05, q16, q84, q95, mean, sd and the 90% HDI per sampled parameter."""
@@ -249,6 +270,7 @@ class SharedPosterior(PiledUp):
             "autocorr": dict(self.autocorr),
             "ess": dict(self.ess),
             "warnings": list(self.warnings),
+            "undetermined": list(self.undetermined),  # (added 2026-12-03, as `Posterior.summary`'s)
             "piled_up": self.piled_up,
             "straggler_walkers": list(self.stragglers.walkers),  # (added 2026-12-01, as `Posterior.summary`'s)
             "strong_correlations": [c.to_attr() for c in self.strong_correlations],  # (added 2026-12-01, as `Posterior.summary`'s)
@@ -274,8 +296,15 @@ class SharedPosterior(PiledUp):
             "",
             f"{'parameter':<{width}}  {'median':>11}  {'q05':>11}  {'q95':>11}  {'τ [steps]':>9}  {'ESS':>7}  unit",
         ]
+        loose = self.undetermined
+        unit_width = max(4, *(len(unit_text(u)) for u in self.units))
         for i, n in enumerate(self.names):
-            lines.append(f"{n:<{width}}  {float(q['median'][i]):>11.5g}  {float(q['q05'][i]):>11.5g}  {float(q['q95'][i]):>11.5g}  {figure(self.autocorr[n], '9.3g'):>9}  {figure(self.ess[n], '7.0f'):>7}  {unit_text(self.units[i])}")
+            lines.append(
+                f"{n:<{width}}  {float(q['median'][i]):>11.5g}  {float(q['q05'][i]):>11.5g}  {float(q['q95'][i]):>11.5g}  {figure(self.autocorr[n], '9.3g'):>9}  {figure(self.ess[n], '7.0f'):>7}  "
+                + (f"{unit_text(self.units[i]):<{unit_width}}  {UNDETERMINED_MARK}" if n in loose else unit_text(self.units[i]))
+            )
+        if loose:
+            lines.append(f"← {', '.join(loose)}: {UNDETERMINED_ROWS}")
         lines += [f"warning: {w}" for w in self.warnings]
         return "\n".join(lines)
 
@@ -300,7 +329,7 @@ class SharedPosterior(PiledUp):
         for i, name in enumerate(self.names):
             if name == "sigma_rel":
                 continue
-            row, key = _spectrum_row(name, self.spectra), _circuit_name(name)
+            row, key = _spectrum_row(name, self.spectra), circuit_name(name)
             if row is None:
                 out[key] = np.broadcast_to(flat[:, i], shape).copy()
             else:
@@ -503,6 +532,7 @@ def _start_fit_warnings(warnings: Mapping[str, tuple[str, ...]], n_spectra: int)
     ``least-squares start (2 of 3 spectra: trial 0, 2): …``, ``(all 3 spectra)``, a global fit's
     own notes ``(shared over trial)`` — and, past the kinds a report lists, how many more (every
     text is in the start fit's warnings)."""
+    warnings = {k: tuple(without_sample_advice(w) for w in v) for k, v in warnings.items()}  # (this is the sample the advice asks for)
     return grouped_warnings(warnings, n_spectra, head="least-squares start", more="least-squares start: {n} more kinds of warning (every text: the posterior's fit.warnings)")
 
 
@@ -512,11 +542,6 @@ class _Start(NamedTuple):
     value: float
     stderr: float  # linearised (at a bound: the linearisation's scale)
     at_bound: bool
-
-
-def _circuit_name(name: str) -> str:
-    """The circuit parameter of a sampled name (``R2[cycle=64]`` → ``R2``)."""
-    return name.split("[")[0]
 
 
 def _spectrum_row(name: str, spectra) -> int | None:
@@ -539,9 +564,9 @@ def _start_of(fit_ds: xr.Dataset, over, spectra, names) -> dict[str, _Start]:
     bound = table("at_bound").astype(bool) if "at_bound" in fit_ds else np.zeros(value.shape, bool)
     out = {}
     for n in names:
-        if _circuit_name(n) not in params:
+        if circuit_name(n) not in params:
             continue
-        i, row = params.index(_circuit_name(n)), _spectrum_row(n, spectra)
+        i, row = params.index(circuit_name(n)), _spectrum_row(n, spectra)
         r = 0 if row is None else row
         out[n] = _Start(float(value[r, i]), float(stderr[r, i]), bool(bound[:, i].any() if row is None else bound[row, i]))
     return out
@@ -559,7 +584,7 @@ def _start_covariance(fit_ds: xr.Dataset, over, spectra, names) -> np.ndarray:
     inner = [d for d in cov.dims if d not in over]
     free = [str(x) for x in fit_ds[inner[0]].values]
     values = np.asarray(cov.transpose(*over, *inner).values, float).reshape(len(spectra), len(free), len(free))
-    where = [(_spectrum_row(n, spectra), free.index(_circuit_name(n))) if "[" in n and _circuit_name(n) in free else None for n in names]
+    where = [(_spectrum_row(n, spectra), free.index(circuit_name(n))) if "[" in n and circuit_name(n) in free else None for n in names]
     for a, wa in enumerate(where):
         for b, wb in enumerate(where):
             if wa is not None and wb is not None and wa[0] == wb[0]:

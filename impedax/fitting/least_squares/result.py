@@ -90,6 +90,16 @@ ON_BOUND_FRACTION = 1e-4
 NUMERICALLY_ON_FRACTION = 1e-8
 
 
+SAMPLE_ADVICE = "; for an honest interval, sample the posterior (impedax sample)"
+"""The end of a fit's warning that its ± is not to be trusted near a bound; a posterior's report,
+which is that sample, repeats the warning without it (`without_sample_advice`)."""
+
+
+def without_sample_advice(text: str) -> str:
+    """A start fit's warning as a posterior's report repeats it: `SAMPLE_ADVICE` left out."""
+    return text.replace(SAMPLE_ADVICE, "")
+
+
 @dataclass(frozen=True, eq=False)
 class FitResult:
     """A least-squares fit of ``circuit`` to one spectrum. Immutable.
@@ -1567,7 +1577,7 @@ def near_bound_notes(table: ParameterTable, values: np.ndarray, stderr: np.ndarr
         u = f" {u}" if u else ""
         out.append((b, (
             f"{table.names[i]} = {value:.3g} ± {error:.2g}{u} lies within {BOUND_STDERR_FRACTION:g} standard errors of its {side} bound {bound:g}: "
-            "the ± is not symmetric there (no value lies beyond the bound); for an honest interval, sample the posterior (impedax sample)"
+            "the ± is not symmetric there (no value lies beyond the bound)" + SAMPLE_ADVICE
         )))
     return out
 

@@ -92,7 +92,7 @@ def shared_layout(table: ParameterTable, extra_dims: Sequence[str], shared, over
         raise DataError("shared parameters need data with extra dimensions (trial, session, ...) to share them over; these data hold one spectrum", path=source)
     if over is None:
         if len(extra_dims) != 1:
-            raise ParameterError(f"over: the data have several extra dimensions ({', '.join(extra_dims)}); say which the parameters are shared over (over='{extra_dims[0]}' or a list)")
+            raise ParameterError(f"over: the data have several extra dimensions ({', '.join(extra_dims)}); say which the parameters are shared over (over='{extra_dims[0]}', or several: over={list(map(str, extra_dims))})")
         over_dims = extra_dims
     else:
         over_dims = _as_names(over, "over")
