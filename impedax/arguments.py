@@ -37,6 +37,7 @@ __all__ = [
     "frequency",
     "noise_fraction",
     "flag",
+    "figure_size",
     "choice",
     "instance_of",
     "parameter_values",
@@ -188,6 +189,19 @@ def noise_fraction(value, name):
 def seed(value, name):
     """A random seed: an integer from 0 to `MAX_SEED`."""
     return count(0, MAX_SEED, why="seeds are 63-bit")(value, name)
+
+
+def figure_size(value, name):
+    """A figure's size ``(width, height)`` [in]: two positive finite numbers, or None (the
+    figure's own size). A 0 × 0 figure was returned without a word, and (0, 0) is what a
+    computed size that went wrong looks like."""
+    if value is None:
+        return None
+    if isinstance(value, (str, bytes)) or not isinstance(value, (Sequence, np.ndarray)) or len(value) != 2:
+        raise ParameterError(f"{name} must be (width, height) in inches, two positive numbers, e.g. (8, 6); got {shown(value)}")
+    if not all(_is_real(v) and math.isfinite(float(v)) and float(v) > 0 for v in value):
+        raise ParameterError(f"{name} must be (width, height) in inches, two positive finite numbers, e.g. (8, 6); got {shown(tuple(value))}")
+    return (float(value[0]), float(value[1]))
 
 
 def flag(value, name):

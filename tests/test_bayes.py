@@ -219,6 +219,39 @@ def test_plots(rcpe, tmp_path):
     assert (tmp_path / "corner.png").stat().st_size > 1000 and (tmp_path / "bands.png").stat().st_size > 1000
 
 
+def test_corner_draws_the_named_subset_and_checks_its_arguments(rcpe):
+    """(walkthrough 2026-12-03: truths={"R9": 1.0} drew nothing, truths={"R0": "a"} a line at 0,
+    bins=0 and n_lines=-1 raised numpy's ValueError, figsize=(0, 0) returned a 0 × 0 figure)."""
+    _, truth, _, post = rcpe
+    assert post.names == ("R0", "R1", "CPE1.Q", "CPE1.alpha", "sigma_rel")
+    fig = post.corner(params=["CPE1.alpha", "R1"])
+    shown = [ax for ax in fig.axes if ax.get_visible()]
+    assert len(shown) == 3  # 2 parameters: 2 + 1 panels
+    assert shown[-1].get_xlabel() == "R1 [Ω]" and shown[0].get_title().startswith("CPE1.alpha =")
+    assert "2 of 5 parameters" in fig._suptitle.get_text()
+    fig = post.corner(truths={"R0": truth["R0"]})
+    assert [line.get_xdata()[0] for line in fig.axes[0].get_lines() if line.get_color() == "tab:red"] == [truth["R0"]]
+    cases = [
+        (lambda: post.corner(truths={"R9": 1.0}), r"truths: unknown parameter 'R9'.*parameters: R0, R1, CPE1.Q, CPE1.alpha, sigma_rel"),
+        (lambda: post.corner(truths={"R0": "a"}), r"truths\['R0'\] must be a number, got 'a'"),
+        (lambda: post.corner(truths={"R0": float("nan")}), r"truths\['R0'\] must be finite"),
+        (lambda: post.corner(bins=0), "bins must be at least 1"),
+        (lambda: post.corner(bins=2.5), "bins must be an integer"),
+        (lambda: post.corner(params=["R1", "R9"]), "params: unknown parameter 'R9'"),
+        (lambda: post.corner(params=["R1", "R1"]), "params: R1 is named twice"),
+        (lambda: post.corner(params=[]), "params: no parameter names given"),
+        (lambda: post.plot(n_lines=-1), "n_lines must be at least 0"),
+        (lambda: post.plot(figsize=(0, 0)), r"figsize must be \(width, height\) in inches, two positive finite numbers.*got \(0, 0\)"),
+        (lambda: post.plot(figsize=(8, float("inf"))), "figsize must be"),
+        (lambda: post.plot(figsize=8), "figsize must be"),
+    ]
+    for call, fragment in cases:
+        with pytest.raises(ix.ParameterError, match=fragment):
+            call()
+    fig = post.plot(figsize=(7, 5), n_lines=0)
+    assert tuple(fig.get_size_inches()) == (7.0, 5.0)
+
+
 def test_bad_arguments(rcpe):
     text, _, data, post = rcpe
     cases = [
@@ -286,6 +319,17 @@ def test_gap_thickness_recovered():
     np.testing.assert_allclose(post.circuit_samples()["C_gap"], EPS0 * eps_r * area / post.samples["u"], rtol=1e-12)
     summary = post.summary()
     assert summary["params"]["u"]["unit"] == "m" and "C_gap" in summary["circuit_params"]
+    # the corner plot counts u in µm, as Ω, F and H get their prefix (walkthrough 2026-12-03: its
+    # title read "2.8055 [2.8030, 2.8078] ×10⁻⁶ m", its axis "u [m]" under matplotlib's 1e−6)
+    fig = post.corner()
+    fig.draw_without_rendering()
+    k, i = len(post.names), post.names.index("u")
+    title, bottom = fig.axes[i * k + i].get_title(), fig.axes[(k - 1) * k + i]
+    assert title.startswith("u = ") and title.endswith(" µm")
+    assert float(title.split()[2]) == pytest.approx(float(q["median"].sel(param="u")) * 1e6, rel=1e-3)
+    assert bottom.get_xlabel() == "u [µm]" and bottom.xaxis.get_offset_text().get_text() == ""
+    ticks = [float(t.get_text().replace("\N{MINUS SIGN}", "-")) for t in bottom.get_xticklabels() if t.get_text()]
+    assert ticks and all(1.0 < t < 5.0 for t in ticks)  # (the µm values, 2.76 … 2.82)
     # a prior on the physical parameter, given as text; priors on the replaced one are refused
     narrow = ix.sample("R_EP || CPE_EP || C_gap", data, reparametrization=gap, init=post.fit, priors={"u": "uniform:2.5e-6,3.5e-6"}, steps=60, burn=20, progress=False)
     assert np.all((narrow.samples["u"] > 2.5e-6) & (narrow.samples["u"] <= 3.5e-6))

@@ -329,6 +329,29 @@ def test_the_plot_draws_abs_delta_and_both_levels():
     assert any(line.get_label().startswith("run rule") for line in zfig.axes[2].get_lines())
 
 
+def test_the_rule_labels_stay_clear_of_the_residual_curves_and_the_legend():
+    """(walkthrough 2026-12-03, the CHI file: |Δ| at 3.9 % between 1 and 2 Hz ran behind
+    "point + run + window rule" on a range to 4.66 %, and looked cut off.) Every curve of the
+    residual panel stays in the y range and below each band's label; the legend overlaps none."""
+    result = ix.kk_test(ix.load(ROOT / "tests" / "fixtures" / "real" / "exampleDataCHInstruments.txt"))
+    fig = result.plot()
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    ax = next(a for a in fig.axes if a.get_ylabel().startswith("KK residual"))
+    labels = [t for t in ax.texts if t.get_text().endswith("rule")]
+    assert labels  # (the case: bands named by their rules)
+    low, high = ax.get_ylim()
+    legend = ax.get_legend().get_window_extent(renderer)
+    for line in ax.get_lines():
+        y = np.asarray(line.get_ydata(), float)
+        assert low <= y.min() and y.max() <= high, line.get_label()
+        top = ax.transData.transform((1.0, y.max()))[1]  # (display y of the curve's highest point)
+        for text in labels:
+            assert top < text.get_window_extent(renderer).y0, (line.get_label(), text.get_text())
+    for text in labels:
+        assert not legend.overlaps(text.get_window_extent(renderer)), text.get_text()
+
+
 # --- 5. messages ------------------------------------------------------------------------------
 
 def test_messages_name_the_file_and_the_frequency(tmp_path, capsys):

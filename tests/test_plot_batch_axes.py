@@ -198,3 +198,24 @@ def test_an_ordinary_batch_keeps_its_nyquist_panel_and_a_wrong_choice_is_named(d
     batch, _, _ = finger_batch()
     with pytest.raises(ix.ParameterError, match=r"^spectra must be one of auto, nyquist, phase, got 'bode'"):
         batch.plot(spectra="bode")
+
+
+def test_every_figure_taking_figsize_checks_it():
+    """(walkthrough 2026-12-03: figsize=(0, 0) returned a 0 × 0 figure without a word.) One
+    check (`impedax.arguments.figure_size`) for the batch figure, the single spectrum's layout
+    and the batch comparison: two positive finite numbers."""
+    from impedax.plotting import plot_spectrum
+    from impedax.plotting.comparison import plot_batch_comparison
+    from impedax.plotting.fit import plot_batch
+
+    f = np.logspace(0, 4, 12)
+    z = 20 + 1000 / (1 + 2j * np.pi * f * 1000 * 1e-6)
+    data = xr.Dataset({"Z": (("day", "frequency"), np.stack([z, 1.1 * z]))}, coords={"day": [1, 2], "frequency": f})
+    batch = ix.fit("R0 + R1 || C1", data)
+    for bad in [(0, 0), (8, -1), (8, float("nan")), (8,), "8x6", (True, 6)]:
+        for draw in (lambda: batch.plot(figsize=bad), lambda: plot_spectrum((f, z), figsize=bad), lambda: plot_batch_comparison(None, figsize=bad)):
+            with pytest.raises(ix.ParameterError, match=r"figsize must be \(width, height\) in inches"):
+                draw()
+    fig = plot_batch(batch, figsize=(9, 5))
+    assert tuple(fig.get_size_inches()) == (9.0, 5.0)
+    plt.close("all")

@@ -65,6 +65,55 @@ def test_a_corner_log_axis_over_a_decade_has_prefixed_labels_apart():
     plt.close(fig)
 
 
+def test_a_corner_of_twenty_parameters_keeps_its_labels_and_titles_apart():
+    """The walkthrough's joint posterior (2026-12-03): 20 parameters named as a shared fit names
+    them (``CPE1.Q[cycle=129]``) on one 16 in figure ran its y labels over each other, its x
+    labels together and its last title off the right edge. Now each panel keeps 1.5 in (31 in
+    in all) and a label longer than its panel puts the unit on a line of its own."""
+    rng = np.random.default_rng(3)
+    names = ["CPE1.alpha"] + [f"{p}[cycle={c}]" for c in (0, 64, 129) for p in ("R0", "R1", "CPE1.Q", "R2", "CPE2.Q", "CPE2.alpha")] + ["sigma_rel"]
+    units = [""] + ["Ohm", "Ohm", "F s^(alpha-1)", "Ohm", "F s^(alpha-1)", ""] * 3 + [""]
+    scale = [0.46] + [0.11, 1.7, 0.075, 2.7, 23.0, 0.95] * 3 + [0.034]
+    draws = np.array(scale) * (1 + 0.02 * rng.normal(size=(3000, 20)))
+    fig = plot_corner(draws, names, [False] * 20, units=units)
+    assert tuple(fig.get_size_inches()) == (31.0, 31.0)  # 1.5 in × 20 + 1 in
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    axes = np.array(fig.axes).reshape(20, 20)
+    ylabels = [axes[i, 0].yaxis.label.get_window_extent(renderer) for i in range(1, 20)]
+    xlabels = [axes[19, j].xaxis.label.get_window_extent(renderer) for j in range(20)]
+    for boxes in (ylabels, xlabels):
+        for a, b in zip(boxes, boxes[1:]):
+            assert not a.overlaps(b)
+    assert axes[19, 3].get_xlabel() == "CPE1.Q[cycle=0]\n[mF s^(α-1)]"  # (too long for its panel on one line; 75 mF)
+    figure = fig.bbox
+    for i in range(20):
+        title = axes[i, i].title.get_window_extent(renderer)
+        assert figure.x0 <= title.x0 and title.x1 <= figure.x1, names[i]
+    plt.close(fig)
+
+
+def test_a_log_axis_in_percent_has_no_si_prefixes():
+    """(walkthrough 2026-12-03: the comparison's "|relative residual| [%]" read 100, 0.01, 1µ,
+    100p, 10f — a micro-percent.) A % axis writes e-notation below 0.001; one in Ω keeps 10k."""
+    from impedax.plotting import plain_log_ticks
+
+    fig, (ax, ax_ohm) = plt.subplots(2, 1, figsize=(6, 6))
+    ax.semilogy(np.arange(5), [100, 1, 1e-6, 1e-10, 1e-14])
+    ax.set_ylabel("|relative residual| [%]")
+    plain_log_ticks(ax.yaxis)
+    ax_ohm.semilogy(np.arange(3), [10, 1e3, 1e5])
+    ax_ohm.set_ylabel("|Z| [Ω]")
+    plain_log_ticks(ax_ohm.yaxis)
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    texts = [t for t, _ in labels_in_view(ax.yaxis, renderer)]
+    assert texts and all(re.fullmatch(r"\d+(\.\d+)?|\d(\.\d+)?e-?\d+", t) for t in texts), texts
+    assert any("e-" in t and float(t) < 1e-8 for t in texts) and any(float(t) >= 1 and "e" not in t for t in texts)  # (1e-13 … 1e-5, 0.001 … 10)
+    assert "10k" in [t for t, _ in labels_in_view(ax_ohm.yaxis, renderer)]
+    plt.close(fig)
+
+
 def test_a_corner_axis_in_metres_counts_in_a_prefix():
     """An air gap u of 2.8 µm (a `gap_thickness_reparametrization`'s unit, m): its axis reads
     ``u [µm]`` with ticks 2.7 … 2.9 and no detached 1e−6, its title ``… µm`` (walkthrough
@@ -76,7 +125,7 @@ def test_a_corner_axis_in_metres_counts_in_a_prefix():
     axes = np.array(fig.axes).reshape(2, 2)
     assert axes[1, 1].get_xlabel() == "u [µm]" and axes[1, 0].get_ylabel() == "u [µm]"
     assert axes[1, 1].xaxis.get_offset_text().get_text() == "" and axes[1, 0].yaxis.get_offset_text().get_text() == ""
-    ticks = [float(t.get_text().replace("\N{MINUS SIGN}", "-")) for t, _ in labels_in_view(axes[1, 1].xaxis, fig.canvas.get_renderer())]
+    ticks = [float(t.replace("\N{MINUS SIGN}", "-")) for t, _ in labels_in_view(axes[1, 1].xaxis, fig.canvas.get_renderer())]
     assert ticks and all(2.7 <= t <= 2.9 for t in ticks), ticks
     median = float(np.median(u)) * 1e6
     assert axes[1, 1].get_title().startswith(f"u = {median:.3f}") and axes[1, 1].get_title().endswith(" µm")

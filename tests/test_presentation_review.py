@@ -694,7 +694,9 @@ def test_review_edge_cases_of_the_prefixes():
     assert interval_text(999.0, 984.0, 1017.0, "Ω") == "0.999 [0.984, 1.017] kΩ"
     # a compound unit led by F counts in a prefix, as its axis does (was "×10⁻⁵ F s^(α-1)" beside an axis in µF s^(α-1))
     assert interval_text(1.0e-5, 0.968e-5, 1.034e-5, "F s^(α-1)") == "10.00 [9.68, 10.34] µF s^(α-1)"
-    assert interval_text(1.0e-5, 0.968e-5, 1.034e-5, "m") == "1.000 [0.968, 1.034] ×10⁻⁵ m"
+    # metres too, since 2026-12-03 (an air gap read "2.8055 [2.8030, 2.8078] ×10⁻⁶ m"); another unit far from 1 keeps its power of ten
+    assert interval_text(1.0e-5, 0.968e-5, 1.034e-5, "m") == "10.00 [9.68, 10.34] µm"
+    assert interval_text(1.0e-5, 0.968e-5, 1.034e-5, "V") == "1.000 [0.968, 1.034] ×10⁻⁵ V"
     assert format_relative_error(float("nan")) == "—" and format_relative_error(99.996) == "1e+04%"
     # a label the user wrote with a prefix (values already in kΩ) is left as it is
     fig, ax = plt.subplots()

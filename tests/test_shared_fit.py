@@ -366,6 +366,35 @@ def test_cli_sample_shared_corner(problem, tmp_path, capsys):
     assert png.stat().st_size > 1000 and "R0" in capsys.readouterr().out
 
 
+def test_a_joint_corner_of_many_parameters_draws_the_shared_ones_and_the_first_spectrum_s(tmp_path, capsys):
+    """(walkthrough 2026-12-03: 20 parameters on one 16 in figure overprinted their labels.)
+    Five trials of R0 + R1 || C1 sharing R0: 12 names, beyond `CORNER_MAX_PARAMS` (10); by
+    default R0, trial 1's R1 and C1 and sigma_rel; ``params=`` / ``--corner-params`` any others."""
+    z, _, _ = rc_stack(np.random.default_rng(5), m=5)
+    path, out, png = tmp_path / "five.nc", tmp_path / "post.nc", tmp_path / "corner.png"
+    ix.save(ix.make_spectrum(FREQ, z, dims=("trial",), coords={"trial": [1, 2, 3, 4, 5]}), path)
+    base = ["sample", str(path), "--model", "R0 + R1 || C1", "--shared", "R0", "--steps", "30", "--walkers", "26", "--quiet"]
+    assert main(base + ["--corner", str(png), "--corner-params", "R0,R1[trial=3]", "--corner-params", "sigma_rel", "--out", str(out)]) == 0
+    assert png.stat().st_size > 1000
+    capsys.readouterr()
+    post = ix.SharedPosterior.from_xarray(ix.load(out))
+    assert len(post.names) == 12
+    fig = post.corner()
+    diagonal = [ax.get_title().split(" =")[0] for ax in fig.axes if ax.get_visible() and ax.get_title()]
+    assert diagonal == ["R0", "R1[trial=1]", "C1[trial=1]", "sigma_rel"]
+    assert "the shared parameters, trial=1's and the noise" in fig._suptitle.get_text() and "4 of 12 parameters" in fig._suptitle.get_text()
+    fig = post.corner(params=["R1[trial=5]", "R0"])
+    assert [ax.get_title().split(" =")[0] for ax in fig.axes if ax.get_visible() and ax.get_title()] == ["R1[trial=5]", "R0"]
+    with pytest.raises(ix.ParameterError, match=r"params: unknown parameter 'R1\[trial=9\]'"):
+        post.corner(params=["R1[trial=9]"])
+    # the command line names its option, before any output is written
+    bad = tmp_path / "bad.png"
+    assert main(base + ["--corner", str(bad), "--corner-params", "R0,R9"]) == 2
+    assert "--corner-params: unknown parameter 'R9'" in capsys.readouterr().err and not bad.exists()
+    assert main(base + ["--corner-params", "R0"]) == 2
+    assert "give --corner too" in capsys.readouterr().err
+
+
 def test_table_and_csv_mark_the_shared_rows(problem, shared_fit, tmp_path):
     # (walkthrough 2026-12-02: the CSV repeated the shared R0 on each trial's row unmarked, so
     # averaging rows counted its one estimate 4 times)

@@ -23,7 +23,7 @@ __all__ = [
     "check_outputs", "save_outputs", "print_result", "each_spectrum_written", "result_out_help", "Output", "OutputPlan", "plan_outputs",
     "memory_limit", "check_memory", "MEMORY_LIMIT_ENV", "add_select_option", "load_selected", "select_spectra", "load_selected_files", "shown_path", "labels_text", "dimension_labels",
     "command_line_words", "naming_target", "part_of_joined", "announce_written", "option_words", "check_points", "check_band_options", "progress_printer", "PROGRESS_AFTER_S",
-    "relative_noise", "fit_command", "exclude_points", "parse_bounds", "checked_bound_options", "command_provenance",
+    "relative_noise", "fit_command", "exclude_points", "parse_bounds", "checked_bound_options", "command_provenance", "comma_names",
 ]
 
 
@@ -155,6 +155,12 @@ def checked_bound_options(given: Mapping[str, tuple[float | None, float | None, 
             raise ParameterError("--" + outside_bounds_message("init", name, init[name], lo, hi, False, unit) + f" ({flag} {item})")
         out[name] = (lo, hi)
     return out
+
+
+def comma_names(items: Iterable[str] | None) -> list[str]:
+    """The names of a repeatable ``--option NAME[,NAME]`` (``--shared``, ``--corner-params``):
+    split at commas, blanks dropped, in the order given."""
+    return [n.strip() for item in items or () for n in item.split(",") if n.strip()]
 
 
 def check_parameter_names(names: Iterable[str], known: Iterable[str], flag: str, model: str, registry=None) -> None:
@@ -379,7 +385,7 @@ def with_source(summary: dict, source: str | None, provenance: Mapping | None = 
 # what `command_provenance` leaves out of a command's settings: where the outputs go, how they look and how
 # the run talks (not how the result was made), and the data files (its ``data_files``: DATA, FILE, gap's three)
 # (and what `--plugin` made: the files stay, as ``plugin``, when given)
-_NOT_SETTINGS = frozenset({"run", "command", "json", "out", "plot", "corner", "dpi", "title", "quiet", "remaining", "data", "file", "files", "total", "skin", "touchscreen", "registry", "readers", "circuit_model"})  # (circuit_model: a parser flag, no option)
+_NOT_SETTINGS = frozenset({"run", "command", "json", "out", "plot", "corner", "corner_params", "dpi", "title", "quiet", "remaining", "data", "file", "files", "total", "skin", "touchscreen", "registry", "readers", "circuit_model"})  # (circuit_model: a parser flag, no option)
 
 
 def command_provenance(args, *, source=None, data_files: Sequence[str] = (), **used) -> dict:

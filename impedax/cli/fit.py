@@ -85,12 +85,13 @@ def shared_arguments(args) -> dict:
     """The ``shared``/``over`` keywords of `impedax.fit` from ``--shared``/``--over`` (empty when
     neither was given)."""
     from ..errors import ParameterError
+    from .common import comma_names
 
     if args.shared is None and args.over is None:
         return {}
     if args.shared is None:
         raise ParameterError("--over needs --shared NAME[,NAME]: the parameters to share")
-    names = [n.strip() for item in args.shared for n in item.split(",") if n.strip()]
+    names = comma_names(args.shared)
     if not names:
         raise ParameterError("--shared: no parameter names given")
     over = None if args.over is None else [d.strip() for d in args.over.split(",") if d.strip()]

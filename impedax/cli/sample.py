@@ -38,6 +38,7 @@ def register(sub) -> None:
     p.add_argument("--max-steps", type=int, default=None, metavar="N", help="Levenberg–Marquardt step limit of the least-squares start fit (default 400; --steps is the sampler's)")
     add_quiet_option(p)
     add_plot_option(p, "save a corner plot of the draws", flag="--corner")
+    p.add_argument("--corner-params", action="append", metavar="NAME[,NAME]", help="the parameters --corner draws, in that order (R1,CPE1.Q; with --shared R1[cycle=64]; repeatable; default every one, with --shared beyond 10 the shared ones, the first spectrum's and sigma_rel)")
     add_output_options(p, json="print the result as JSON (progress lines still go to stderr: --quiet drops them)", plot="save data with posterior bands (Nyquist, Bode)", out=result_out_help("the posterior (.nc: draws, diagnostics, start fit, data; .csv: quantiles per parameter)"))
     p.set_defaults(run=run)
 
@@ -113,7 +114,7 @@ def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting import parse_prior
     from ..fitting.bayes.logprob import start_weighting
-    from .common import check_parameter_names, checked_bound_options, command_provenance, data_source, figure_options, figure_writer, load_selected, note_skipped_rows, note_unused_sigma, parse_assignments, parse_bounds, plan_outputs, print_result, result_writer, skipped_rows, WithSummaryKeys
+    from .common import check_parameter_names, checked_bound_options, comma_names, command_provenance, data_source, figure_options, figure_writer, load_selected, note_skipped_rows, note_unused_sigma, parse_assignments, parse_bounds, plan_outputs, print_result, result_writer, skipped_rows, WithSummaryKeys
     from .fit import check_max_steps, shared_arguments
 
     circuit = parse(args.model, args.registry)  # syntax errors before anything else
@@ -128,6 +129,11 @@ def run(args) -> int:
         if name in priors:
             raise ParameterError(f"--prior: {name} given twice")
         priors[name] = prior
+    corner_names = comma_names(args.corner_params) if args.corner_params is not None else None
+    if corner_names is not None and args.corner is None:
+        raise ParameterError("--corner-params chooses the parameters of --corner FILE: give --corner too")
+    if corner_names == []:
+        raise ParameterError("--corner-params: no parameter names given")
     outputs = plan_outputs(
         [("--out", args.out, "result"), ("--corner", args.corner, "figure"), ("--plot", args.plot, "figure")],
         inputs=[args.data], stdout="--json" if args.json else None,
@@ -162,7 +168,11 @@ def run(args) -> int:
         settled["walkers_used"] = chain.get("walkers", posterior.n_walkers)  # (the run's: with straggler walkers left out, the draws hold fewer)
     record = command_provenance(args, source=source, data_files=[args.data], **settled)
     read = WithSummaryKeys(posterior, {"skipped_rows": skipped_rows(data)})  # (the JSON's, as fit's and inspect --json's: added 2026-12-01)
-    outputs.save({"--out": result_writer(read, source, record), "--corner": figure_writer(lambda: posterior.corner(), source, **figure_options(args)), "--plot": figure_writer(lambda: posterior.plot(), source, **figure_options(args))})
+    if corner_names is not None:  # (before any output is written)
+        from ..plotting.bayes import corner_params
+
+        corner_params(corner_names, list(posterior.names), "--corner-params")
+    outputs.save({"--out": result_writer(read, source, record), "--corner": figure_writer(lambda: posterior.corner(params=corner_names), source, **figure_options(args)), "--plot": figure_writer(lambda: posterior.plot(), source, **figure_options(args))})
     if not outputs.uses_stdout:
         print_result(read, args.json, source, record, command="sample")
         if not args.json:

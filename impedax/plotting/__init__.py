@@ -18,7 +18,7 @@ from matplotlib.ticker import Formatter, Locator, MaxNLocator, ScalarFormatter
 import numpy as np
 import xarray as xr
 
-from ..arguments import shown
+from ..arguments import figure_size, shown
 from ..data import SI_PREFIXES, format_frequency, format_quantity, si_prefix
 from ..errors import ParameterError
 from ..io.atomic import atomic_path
@@ -305,7 +305,7 @@ def _anchored_aspect(ax, position=None, *, frame=None) -> None:
 
 
 class _PrefixedFormatter(ScalarFormatter):
-    """Tick labels of a linear axis in Ω, F or H (the unit in its label's brackets), counted in
+    """Tick labels of a linear axis in Ω, F, H or m (the unit in its label's brackets), counted in
     the SI prefix that suits the largest value in view of this axis and of ``along``: ``0.5,
     1.0, 1.5`` under ``Z' [MΩ]`` instead of ``0.5 1.0 1.5`` with a detached ``1e6``. Chosen
     anew at every draw (`set_locs`), so a zoom relabels the axis (and the axes that share it).
@@ -369,13 +369,14 @@ class _PrefixedFormatter(ScalarFormatter):
         return f"{value / self.scale:.5g}".replace("-", "\N{MINUS SIGN}")
 
 
-# the unit in an axis label's brackets that `prefixed_axis` scales: [Ω], [kΩ], [µF], and a
+# the unit in an axis label's brackets that `prefixed_axis` scales: [Ω], [kΩ], [µF], [m] → [µm]
+# (a gap thickness u, 2026-12-03: it read 2.8055 ×10⁻⁶ m beside matplotlib's 1e−6), and a
 # compound unit led by one of them, [F s^(α-1)] → [nF s^(α-1)] (a CPE's Q) ...
-_BRACKETED_UNIT = re.compile(r"\[(T|G|M|k|m|µ|n|p|f)?(Ω|F|H)((?: [^\]]*)?)\]")
+_BRACKETED_UNIT = re.compile(r"\[(T|G|M|k|m|µ|n|p|f)?(Ω|F|H|m)((?: [^\]]*)?)\]")
 
 
 def prefixed_axis(axis, *, along=(), label=None, max_bins="auto") -> None:
-    """Count the linear ``axis`` (``ax.xaxis``) of a quantity in Ω, F or H, named in its label's
+    """Count the linear ``axis`` (``ax.xaxis``) of a quantity in Ω, F, H or m, named in its label's
     brackets (``Z' [Ω]``), in the SI prefix that suits its values (`_PrefixedFormatter`), with
     as many ticks as their labels fit (`FittingLocator`, at most ``max_bins`` intervals);
     ``along``: axes that share the scale (a Nyquist panel's two); ``label``: the text that
@@ -450,7 +451,7 @@ class FittingLocator(MaxNLocator):
 
 def prefixable_unit(text: str) -> bool:
     """Whether ``text`` (an axis label or a panel's title) names a unit in brackets that
-    `prefixed_axis` counts in an SI prefix: ``[Ω]``, ``[F]``, ``[H]`` (or one of them prefixed),
+    `prefixed_axis` counts in an SI prefix: ``[Ω]``, ``[F]``, ``[H]``, ``[m]`` (or one of them prefixed),
     or a compound unit led by one (``[F s^(α-1)]``)."""
     return _BRACKETED_UNIT.search(text) is not None
 
@@ -716,7 +717,9 @@ def spectrum_layout(shape: float, with_residuals: bool, *, width: float = 11.0, 
     phase side by side below, the residuals across the bottom. Otherwise: the Nyquist panel
     down the left, |Z|, phase and residuals stacked on the right. The frequency axes are
     shared. ``figsize`` (width, height) [in]: the figure's size (the panels keep their
-    proportions), in place of ``width`` and the height the layout asks."""
+    proportions), in place of ``width`` and the height the layout asks (`figure_size`: two
+    positive numbers, else a `ParameterError`)."""
+    figsize = figure_size(figsize, "figsize")
     if figsize is not None:
         width = float(figsize[0])
     if shape <= FLAT_NYQUIST:
@@ -810,15 +813,18 @@ def _shortest_fitting(ax, forms: Sequence[str]) -> bool:
     return i > 0
 
 
-def _plain_number(x: float, prefix_from: float = 1e4) -> str:
+def _plain_number(x: float, prefix_from: float = 1e4, *, prefixes: bool = True) -> str:
     """A tick value as printed: ``0.2``, ``40``, ``2000``; from 10⁴ up and below 10⁻³ with an SI
     prefix (``10k``, ``2M``, ``500µ``), where ``1e+06`` beside ``100000`` read badly; beyond the
     prefixes (below 1 f, from 1000 T up) in plain exponent form (``1e-20``, ``1e+18``), not
     ``1e-05f``. ``prefix_from``: the value from which a prefix is written (1000: the minor
-    ticks of a log axis, 2k beside 20k)."""
+    ticks of a log axis, 2k beside 20k). ``prefixes`` False (an axis in %, which a prefix
+    misreads: "1µ" of a percent): the exponent form there too (``1e-6``, ``1e6``)."""
     if x == 0 or 1e-3 <= abs(x) < prefix_from:
         return f"{x:g}"
     smallest, largest = SI_PREFIXES[-1][0], SI_PREFIXES[0][0]
+    if not prefixes:
+        return re.sub(r"e\+?(-?)0*(\d)", r"e\1\2", f"{x:g}")
     if not smallest <= abs(x) < 1e3 * largest:
         return f"{x:g}"
     scale, prefix = si_prefix(abs(x))
@@ -831,12 +837,13 @@ def plain_log_ticks(axis) -> None:
     printed. Which ticks are labelled is matplotlib's choice, thinned where the labels of the
     minor ticks (an axis over about a decade) would not fit between each other (`_MinorLogLabels`);
     those count in an SI prefix from 1000 up (2k, 3k next to 10k, 20k: "2000 3000 4000 6000"
-    ran into one string beside "20k 30k")."""
+    ran into one string beside "20k 30k"). An axis in % (``[%]`` in its label, `percent_axis`)
+    gets no prefix: ``1e-6`` (2026-12-03: a comparison's residuals read "1µ, 100p" of a percent)."""
     from matplotlib.ticker import LogFormatter
 
     class _Plain(LogFormatter):
         def __call__(self, x, pos=None):
-            return _plain_number(x) if super().__call__(x, pos) else ""
+            return _plain_number(x, prefixes=not percent_axis(self.axis)) if super().__call__(x, pos) else ""
 
     class _MinorLogLabels(LogFormatter):
         def set_locs(self, locs=None):
@@ -844,10 +851,15 @@ def plain_log_ticks(axis) -> None:
             _thin_minor_labels(self)
 
         def __call__(self, x, pos=None):
-            return _plain_number(x, prefix_from=1e3) if super().__call__(x, pos) else ""
+            return _plain_number(x, prefix_from=1e3, prefixes=not percent_axis(self.axis)) if super().__call__(x, pos) else ""
 
     axis.set_major_formatter(_Plain())
     axis.set_minor_formatter(_MinorLogLabels(labelOnlyBase=False))
+
+
+def percent_axis(axis) -> bool:
+    """Whether ``axis`` (None: not yet placed) counts in percent: ``[%]`` in its label."""
+    return axis is not None and "[%]" in axis.get_label_text()
 
 
 # the sets of mantissas a log axis' minor ticks are labelled at, from the most to the fewest,
@@ -877,7 +889,7 @@ def _thin_minor_labels(formatter) -> None:
         if len(values) < 2:
             break
         where = np.log10(values) * per_decade
-        widths = [(len(_plain_number(v, prefix_from=1e3)) * LABEL_CHAR_EM if horizontal else 1.0) * size for v in values]
+        widths = [(len(_plain_number(v, prefix_from=1e3, prefixes=not percent_axis(axis))) * LABEL_CHAR_EM if horizontal else 1.0) * size for v in values]
         gaps = np.diff(where) - (np.array(widths[:-1]) + np.array(widths[1:])) / 2
         if np.all(gaps >= LABEL_GAP_EM * size):
             break

@@ -12,8 +12,10 @@ from typing import Mapping, Sequence
 import matplotlib.pyplot as plt
 import numpy as np
 
+from ..arguments import count, figure_size, real, shown, unknown_parameter
 from ..data import si_prefix, unit_text
-from . import font_size, nyquist_view, nyquist_shape, plain_log_ticks, prefixable_unit, prefixed_axis, spectrum_layout
+from ..errors import ParameterError
+from . import characters_across, font_size, nyquist_view, nyquist_shape, plain_log_ticks, prefixable_unit, prefixed_axis, spectrum_layout
 
 __all__ = ["plot_posterior_bands", "plot_joint_posterior_bands", "plot_corner"]
 
@@ -26,6 +28,7 @@ def plot_posterior_bands(frequency, z_data, model_frequency, z_draws, *, title: 
     |Z| and phase with the 68% and 90% credible bands; ``z_predictive`` (draws with the noise
     added, same shape) adds the 90% posterior predictive band as dashed lines. ``figsize``
     (width, height) [in]: the figure's size (`spectrum_layout`)."""
+    n_lines = count(0)(n_lines, "n_lines")
     f, zs, z = np.asarray(model_frequency, float), np.asarray(z_draws, complex), np.asarray(z_data, complex)
     fig, (ax_nyq, ax_mod, ax_ph, _) = spectrum_layout(nyquist_shape((frequency, z), (f, _median(zs))), False, figsize=figsize)
     _draw_bands((ax_nyq, ax_mod, ax_ph), frequency, z, f, zs, z_predictive, n_lines)
@@ -42,6 +45,7 @@ def plot_joint_posterior_bands(frequency, z_data, labels: Sequence[str], model_f
     (``labels``, e.g. "trial=3"), Nyquist, |Z| and phase side by side, the frequency axes shared
     down each column. ``z_data`` (spectrum, frequency); ``z_draws`` and ``z_predictive``
     (spectrum, draws, ``model_frequency``)."""
+    n_lines, figsize = count(0)(n_lines, "n_lines"), figure_size(figsize, "figsize")
     f, zs, z = np.asarray(model_frequency, float), np.asarray(z_draws, complex), np.asarray(z_data, complex)
     zp = None if z_predictive is None else np.asarray(z_predictive, complex)
     rows = len(labels)
@@ -103,6 +107,17 @@ def _draw_bands(axes, frequency, z, f, zs, z_predictive, n_lines: int) -> None:
 # 1.7975 to 1.81 hid 63.6 Ω
 LOG_AXIS_SPAN = 10.0
 
+# a corner plot's panel side [in] (`corner_figure_size`): 2 in up to 7 parameters; more share
+# 16 in down to 1.5 in each, and beyond 10 the figure grows, 1.5 in a panel (20 parameters on
+# 16 in left 0.8 in a panel, their labels overprinted and run together)
+CORNER_PANEL_IN = 2.0
+CORNER_MIN_PANEL_IN = 1.5
+CORNER_SHARED_IN = 16.0
+
+# the most parameters a corner plot draws by default (`SharedPosterior.corner`: beyond it, the
+# shared parameters, the first spectrum's and the noise's)
+CORNER_MAX_PARAMS = 10
+
 
 def plot_corner(
     draws,
@@ -114,22 +129,36 @@ def plot_corner(
     bins: int = 30,
     max_points: int = 4000,
     title: str = "posterior",
+    params: Sequence[str] | None = None,
 ):
     """Corner plot of ``draws`` (…, param) named ``names``: marginal histograms on the diagonal,
     titled with the median and the 90 % interval (5/50/95 % lines), and pairwise scatter
     below it, all in the parameters' own units (``units``, the element specs' spelling). A
     parameter sampled in log space (``log_scale``) whose draws span decades (`LOG_AXIS_SPAN`)
-    gets log axes; Ω, F and H axes count in an SI prefix. ``truths`` by name draws reference
-    lines. Histograms and titles use every draw; the scatter at most ``max_points`` evenly
-    spaced ones."""
+    gets log axes; Ω, F, H and m axes count in an SI prefix. ``truths`` by name draws reference
+    lines. ``params``: the names to draw, in that order (None: every one; the title says "k of
+    n parameters" for fewer). The figure grows with the panels (`corner_figure_size`), and a
+    label longer than its panel puts the unit on a line of its own. Histograms and titles use
+    every draw; the scatter at most ``max_points`` evenly spaced ones. ``bins`` ≥ 1,
+    ``max_points`` ≥ 1, a name of ``params`` or ``truths`` not among ``names`` and a truth that
+    is not a finite number are a `ParameterError`."""
+    bins, max_points = count(1)(bins, "bins"), count(1)(max_points, "max_points")
+    names = list(names)
+    picked = corner_params(params, names)
+    truths = _checked_truths(truths, names)
+    every = np.asarray(draws, float).reshape(-1, len(names))[:, picked]
+    log_scale = [log_scale[i] for i in picked]
+    units = None if units is None else [units[i] for i in picked]
+    subset = f"{len(picked)} of {len(names)} parameters; " if len(picked) < len(names) else ""
+    names = [names[i] for i in picked]
     k = len(names)
-    every = np.asarray(draws, float).reshape(-1, k)
     flat = every[np.linspace(0, every.shape[0] - 1, max_points).astype(int)] if every.shape[0] > max_points else every
     units = [unit_text(u) for u in units] if units is not None else [""] * k
     lo, hi = np.nanquantile(every, [0.01, 0.99], axis=0)
     logs = [bool(ls) and low > 0 and high > LOG_AXIS_SPAN * low for ls, low, high in zip(log_scale, lo, hi)]
-    labels = [f"{n} [{u}]" if u else n for n, u in zip(names, units)]
-    size = min(2.0 * k + 1, 16)
+    size = corner_figure_size(k)
+    label_chars = characters_across(0.95 * (size - 1) / k, font_size("label", 8))  # (a label along its panel: its length, the margins aside)
+    labels = [(f"{n} [{u}]" if len(f"{n} [{u}]") <= label_chars else f"{n}\n[{u}]") if u else n for n, u in zip(names, units)]
     fig, axes = plt.subplots(k, k, figsize=(size, size), squeeze=False, layout="constrained")
     quantiles: dict[int, tuple[float, float, float]] = {}  # (the diagonal's median, q05, q95: titled once every panel is drawn)
     title_chars = int(0.85 * size / k * 72 / (font_size("title", 7) * 0.6))  # characters of the titles' 7 pt (≈ 0.6 em wide) a panel holds
@@ -181,18 +210,60 @@ def plot_corner(
         shown_top = None if logs[i] else max(abs(v) for v in axes[k - 1, i].get_xlim())
         text = f"{names[i]} = {interval_text(q50, q05, q95, units[i], significant=logs[i], top=shown_top)}"
         axes[i, i].set_title(text if len(text) <= title_chars else text.replace(" = ", " =\n", 1), fontsize=font_size("title", 7))  # (a long one on two lines, within its panel)
-    shown = f"{every.shape[0]} draws" + (f"; {flat.shape[0]} in the scatter" if flat.shape[0] < every.shape[0] else "")
+    shown = f"{subset}{every.shape[0]} draws" + (f"; {flat.shape[0]} in the scatter" if flat.shape[0] < every.shape[0] else "")
     fig.suptitle(f"{title} ({shown})", fontsize=font_size("suptitle", 9))
     return fig
 
 
+def corner_figure_size(k: int) -> float:
+    """The side [in] of a corner plot of ``k`` parameters: `CORNER_PANEL_IN` a panel and an
+    inch of margins, at most `CORNER_SHARED_IN` while that leaves `CORNER_MIN_PANEL_IN` a panel,
+    then `CORNER_MIN_PANEL_IN` a panel."""
+    return min(CORNER_PANEL_IN * k + 1, max(CORNER_SHARED_IN, CORNER_MIN_PANEL_IN * k + 1))
+
+
+def corner_params(params, names: Sequence[str], what: str = "params") -> list[int]:
+    """The positions in ``names`` of the corner plot's ``params`` (names, or one name; None:
+    all). An unknown name (with the closest known one), a name twice or none at all is a
+    `ParameterError` naming ``what`` (the keyword, or ``--corner-params``)."""
+    if params is None:
+        return list(range(len(names)))
+    chosen = [params] if isinstance(params, str) else params
+    if not isinstance(chosen, Sequence) or not all(isinstance(n, str) for n in chosen):
+        raise ParameterError(f"{what} must be a list of parameter names, e.g. {list(names[:2])}; got {shown(params)}")
+    if not chosen:
+        raise ParameterError(f"{what}: no parameter names given (parameters: {', '.join(names)})")
+    for n in chosen:
+        if n not in names:
+            raise unknown_parameter(what, n, names)
+        if list(chosen).count(n) > 1:
+            raise ParameterError(f"{what}: {n} is named twice; name each parameter once")
+    return [names.index(n) for n in chosen]
+
+
+def _checked_truths(truths, names: Sequence[str]) -> dict[str, float]:
+    """``truths`` (name → value) of a corner plot, checked: a mapping of ``names`` to finite
+    numbers, else a `ParameterError` naming the unknown name (with the posterior's names) or the
+    value that is not a number (a truth of "a" was drawn at 0; one of an unknown name not at all)."""
+    if truths is None:
+        return {}
+    if not isinstance(truths, Mapping):
+        raise ParameterError(f"truths must be a mapping of parameter names to values, e.g. {{{names[0]!r}: 1.0}}; got {shown(truths)}")
+    checked = {}
+    for name, value in truths.items():
+        if name not in names:
+            raise unknown_parameter("truths", name, names)
+        checked[name] = real()(value, f"truths[{name!r}]")
+    return checked
+
+
 def interval_text(median: float, low: float, high: float, unit: str = "", *, significant: bool = False, top: float | None = None) -> str:
     """``63.57 [63.10, 64.04] Ω``, ``4.80 [4.70, 4.90] MΩ``: a median and its interval in one
-    SI prefix (Ω, F, H, or a compound unit led by one, as `prefixed_axis` counts an axis:
+    SI prefix (Ω, F, H, m, or a compound unit led by one, as `prefixed_axis` counts an axis:
     ``86.0 [79.8, 92.4] µF s^(α-1)``; chosen by the largest of the three, so 999 [984, 1017] Ω
     reads 0.999 [0.984, 1.017] kΩ, or by ``top``, the largest value the panel's axis shows, so
     title and axis use one prefix), or with a shared power of ten for another unit far from 1
-    (``1.000 [0.968, 1.034] ×10⁻⁵ m``), with the decimals that give the interval's
+    (``1.000 [0.968, 1.034] ×10⁻⁵ V``), with the decimals that give the interval's
     half-width two significant digits; ``significant``: three significant digits each, for an
     interval over decades (``1.2 [0.013, 95.1] kΩ``)."""
     if top is None or not np.isfinite(top):

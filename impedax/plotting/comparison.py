@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..arguments import figure_size
 from ..data import counted
 from . import font_size, label_spectra_axis
 
@@ -58,6 +59,7 @@ def plot_batch_comparison(comparison, *, figsize: tuple[float, float] | None = N
     import matplotlib.pyplot as plt
     import matplotlib.ticker
 
+    figsize = figure_size(figsize, "figsize")
     rows = comparison.spectra()
     index = np.arange(len(rows))
     fig, ax = plt.subplots(figsize=figsize or (11, 4.5))

@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 
-from ..arguments import shown
+from ..arguments import figure_size, shown
 from ..data import coordinate_labels, unit_text
 from ..errors import ParameterError
 from . import TAIL_RATIO, font_size, tail_frame
@@ -32,6 +32,7 @@ def plot_batch(batch, *, title: str | None = None, figsize: tuple[float, float] 
 
     from . import characters_across, label_spectra_axis, nyquist_panel_height, nyquist_shape, plain_linear_ticks, plain_log_ticks, prefixable_unit, prefixed_axis, wrap_model
 
+    figsize = figure_size(figsize, "figsize")
     ds = batch.dataset
     free = [str(p) for p, fixed in zip(ds["param"].values, ds["fixed"].values) if not fixed] if params is None else _chosen(batch, params)
     panels = free + ["rms_rel"]

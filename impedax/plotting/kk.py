@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.transforms import blended_transform_factory
 
-from . import dense_model, font_size, nyquist_shape, plot_bode, plot_nyquist, plot_residuals, refresh_legend, shade_bands, spectrum_layout
+from . import dense_model, drawn_points, font_size, nyquist_shape, plot_bode, plot_nyquist, plot_residuals, refresh_legend, shade_bands, spectrum_layout
 
 
 def plot_kk(result, *, title: str | None = None):
@@ -28,10 +28,35 @@ def plot_kk(result, *, title: str | None = None):
     t = result.thresholds
     # (judged by the data's σ: each point's own levels, t·σ/|Z|, added 2026-12-02)
     per_point = None if getattr(result, "point_scale", None) is None else (result.frequency[order], result.point_scale[order] * t["point"], result.point_scale[order] * t["run"])
-    add_rule_levels(ax_res, point=levels["point"], run=levels["run"], run_length=int(t["run_length"]), bands=result.bad_bands, band_rules=result.band_rules, per_point=per_point)
     verdict = "valid" if result.valid else "not valid"
-    fig.suptitle(title or f"linear KK test: {verdict}, rms_rel {result.rms_rel * 100:.2g} %, µ {result.mu:.2f}")
+    fig.suptitle(title or f"linear KK test: {verdict}, rms_rel {result.rms_rel * 100:.2g} %, µ {result.mu:.2f}")  # (before the legend is placed off the labels on the final layout)
+    add_rule_levels(ax_res, point=levels["point"], run=levels["run"], run_length=int(t["run_length"]), bands=result.bad_bands, band_rules=result.band_rules, per_point=per_point)
     return fig
+
+
+# where a band's rule label hangs from [axes fraction], and the room kept under it
+# (`room_for_band_labels`) [× its font size]: a label of 7 pt with its box and a gap
+BAND_LABEL_TOP = 0.97
+BAND_LABEL_ROOM_EM = 2.0
+
+
+def room_for_band_labels(ax, fontsize: float) -> None:
+    """Raise the top of ``ax``'s y range so that every curve stays below the bands' rule labels
+    hung from its top (`BAND_LABEL_TOP`, `BAND_LABEL_ROOM_EM` of ``fontsize`` [pt] under
+    them): the KK test's |Δ| at 3.9 % ran behind "point + run + window rule" on a range to 4.66 %.
+    The panel's height is taken before the layout shrinks it, so the room is a little larger
+    than needed, never smaller. Nothing is clipped: the range already holds every curve."""
+    low, high = ax.get_ylim()
+    top = ax.dataLim.y1
+    height_pt = ax.get_position().height * ax.get_figure().get_figheight() * 72.0
+    if not (np.isfinite(top) and high > low and height_pt > 0):
+        return
+    free = BAND_LABEL_TOP - BAND_LABEL_ROOM_EM * fontsize / height_pt  # (the highest axes fraction a curve may reach)
+    if free <= 0.5:  # (a panel too small for the labels: as it was)
+        return
+    needed = low + (top - low) / free
+    if needed > high:
+        ax.set_ylim(low, needed)
 
 
 def add_rule_levels(ax, *, point: float, run: float, run_length: int, bands=(), band_rules=(), signed: bool = False, per_point=None) -> None:
@@ -54,11 +79,46 @@ def add_rule_levels(ax, *, point: float, run: float, run_length: int, bands=(), 
         for sign in signs:
             ax.axhline(sign * run * 100, color="tab:orange", lw=0.8, ls=":", label=f"run rule: ≥ {run_length} in a row > {run * 100:.3g} %" if sign > 0 else None)
     on_top = blended_transform_factory(ax.transData, ax.transAxes)
-    for (lo, hi), rules in zip(bands, band_rules):
-        if rules:
-            ax.text(float(np.sqrt(lo * hi)), 0.97, " + ".join(rules) + " rule", transform=on_top, ha="center", va="top", fontsize=font_size("text", 7), color="tab:red",
-                    bbox={"boxstyle": "round,pad=0.15", "facecolor": "white", "edgecolor": "none", "alpha": 0.8})
+    named = [(lo, hi, rules) for (lo, hi), rules in zip(bands, band_rules) if rules]
+    labels = []
+    for lo, hi, rules in named:
+        labels.append(ax.text(float(np.sqrt(lo * hi)), BAND_LABEL_TOP, " + ".join(rules) + " rule", transform=on_top, ha="center", va="top", fontsize=font_size("text", 7), color="tab:red",
+                bbox={"boxstyle": "round,pad=0.15", "facecolor": "white", "edgecolor": "none", "alpha": 0.8}))
+    if named:
+        room_for_band_labels(ax, font_size("text", 7))
     if ax.get_legend() is None:
         ax.legend(fontsize=font_size("legend", 8), ncol=2)
     else:
         refresh_legend(ax)
+    if labels:
+        legend_clear_of(ax, labels)
+
+
+# the places `legend_clear_of` tries, in turn
+LEGEND_PLACES = ("lower right", "lower left", "lower center", "center right", "center left", "upper right", "upper left", "center")
+
+
+def legend_clear_of(ax, texts) -> None:
+    """Move ``ax``'s legend off ``texts`` (the bands' rule labels): matplotlib's "best" spot
+    avoids lines, not texts, and the KK legend sat on "point + run + window rule" once the range
+    made room for it (`room_for_band_labels`). The first of `LEGEND_PLACES` that overlaps none
+    and covers the fewest drawn points (`drawn_points`), fixed (a "best" spot chosen anew at the
+    next draw could land on them again)."""
+    legend = ax.get_legend()
+    if legend is None:
+        return
+    fig = ax.get_figure()
+    fig.draw_without_rendering()
+    renderer = fig.canvas.get_renderer()
+    boxes = [t.get_window_extent(renderer).expanded(1.1, 1.5) for t in texts]  # (a margin: the layout may still move them a little)
+    points = drawn_points(ax)
+    best = None
+    for place in LEGEND_PLACES:
+        legend.set_loc(place)
+        box = legend.get_window_extent(renderer)
+        if any(box.overlaps(b) for b in boxes):
+            continue
+        covered = int(np.sum((points[:, 0] >= box.x0) & (points[:, 0] <= box.x1) & (points[:, 1] >= box.y0) & (points[:, 1] <= box.y1)))
+        if best is None or covered < best[0]:
+            best = (covered, place)
+    legend.set_loc(best[1] if best else "best")

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..arguments import figure_size
 from ..data import format_frequency, format_quantity
 from . import font_size
 
@@ -26,7 +27,7 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None, figsize: tuple[floa
     from ..data import format_percent
     from . import model_curve, plain_log_ticks
 
-    fig, axes = plt.subplots(1, 3, figsize=figsize or GAP_FIGSIZE, layout="constrained")
+    fig, axes = plt.subplots(1, 3, figsize=figure_size(figsize, "figsize") or GAP_FIGSIZE, layout="constrained")
     f = gap.remaining["frequency"].values
     z = gap.remaining["Z"].values
     ax = axes[0]

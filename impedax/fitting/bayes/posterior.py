@@ -12,7 +12,7 @@ from __future__ import annotations
 import functools
 import math
 from dataclasses import dataclass, field
-from typing import Callable, Mapping
+from typing import Callable, Mapping, Sequence
 
 import jax
 import jax.numpy as jnp
@@ -446,14 +446,16 @@ class Posterior(PiledUp):
             title=title or f"{self.model}: posterior bands ({self.n_walkers * self.n_draws} draws)", figsize=figsize,
         )
 
-    def corner(self, *, truths: Mapping[str, float] | None = None, bins: int = 30, max_points: int = 4000):
+    def corner(self, *, truths: Mapping[str, float] | None = None, bins: int = 30, max_points: int = 4000, params: Sequence[str] | None = None):
         """Corner plot: marginal histograms on the diagonal, titled with the median and 90 %
         interval, and pairwise scatter below it, in the parameters' units (log axes for a
         log-sampled parameter over decades; `impedax.plotting.bayes.plot_corner`). ``truths``
-        draws reference lines."""
+        (name → value) draws reference lines; ``params``: the parameters to draw, in that order
+        (default every one). An unknown name, a truth that is not a number, ``bins`` < 1 are a
+        `ParameterError`."""
         from ...plotting.bayes import plot_corner
 
-        return plot_corner(self.draws, self.names, self.log_scale, units=self.units, truths=truths, bins=bins, max_points=max_points, title=f"{self.model}: posterior")
+        return plot_corner(self.draws, self.names, self.log_scale, units=self.units, truths=truths, bins=bins, max_points=max_points, title=f"{self.model}: posterior", params=params)
 
     # -- storage --------------------------------------------------------------------------
     def to_xarray(self) -> xr.Dataset:

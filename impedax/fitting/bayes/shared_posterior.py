@@ -392,11 +392,25 @@ class SharedPosterior(PiledUp):
             raise ParameterError(f"spectra: {', '.join(map(repr, unknown)) or 'none given'}; this joint posterior's spectra are {', '.join(map(repr, self.spectra))}")
         return [self.spectra.index(s) for s in labels]
 
-    def corner(self, *, truths: Mapping[str, float] | None = None, bins: int = 30, max_points: int = 4000):
-        """Corner plot of every sampled parameter (`Posterior.corner`; matplotlib Figure)."""
-        from ...plotting.bayes import plot_corner
+    def corner(self, *, truths: Mapping[str, float] | None = None, bins: int = 30, max_points: int = 4000, params: Sequence[str] | None = None):
+        """Corner plot of the sampled parameters (`Posterior.corner`; matplotlib Figure).
+        ``params``: the names to draw, in that order (``"R1[cycle=64]"``); default every one up
+        to `CORNER_MAX_PARAMS`, beyond that the shared parameters, the first spectrum's own and
+        the noise's (`default_corner_params`; the title says which)."""
+        from ...plotting.bayes import CORNER_MAX_PARAMS, plot_corner
 
-        return plot_corner(self.draws, self.names, self.log_scale, units=self.units, truths=truths, bins=bins, max_points=max_points, title=f"{self.model}: joint posterior")
+        title = f"{self.model}: joint posterior"
+        if params is None and len(self.names) > CORNER_MAX_PARAMS:
+            params = self.default_corner_params()
+            title += f", the shared parameters, {self.spectra[0]}'s and the noise (others: params=, --corner-params)"
+        return plot_corner(self.draws, self.names, self.log_scale, units=self.units, truths=truths, bins=bins, max_points=max_points, title=title, params=params)
+
+    def default_corner_params(self) -> list[str]:
+        """The parameters `corner` draws by default beyond `CORNER_MAX_PARAMS`: the shared ones,
+        the first spectrum's own (``R1[cycle=0]``) and the noise's (``sigma_rel``), as ``names``
+        orders them: one spectrum's correlations with the shared values, where 20 parameters
+        on one figure could not be read."""
+        return [n for n in self.names if _spectrum_row(n, self.spectra) in (None, 0)]
 
     def to_table(self) -> list[dict[str, object]]:
         """One row per sampled parameter: name, the summary quantiles, unit, and (added
