@@ -41,7 +41,7 @@ import xarray as xr
 from ..progress import quiet_beneath
 from ..circuits import parse
 from ..data import format_frequency, format_percent, format_quantity, si_prefix
-from ..arguments import GAP_MIN_STEPS, MAX_WALKERS, checked_arguments, choice, count, flag, real, seed
+from ..arguments import GAP_MIN_STEPS, MAX_WALKERS, checked_arguments, choice, count, flag, real, relative_permittivity_number, seed
 from ..errors import IN_MEMORY, CircuitError, DataError, ParameterError
 from ..constants import C_GAP_BOUNDS_F, EPSILON_0, EPSILON_AIR
 from ..fitting.bayes.chain import AUTO_STEPS, steps_rule
@@ -797,7 +797,7 @@ def _gap_steps(value, name):
 
 @quiet_beneath
 @checked_arguments(
-    area=real(positive=True), v0=real(positive=True, optional=True), ep=choice(("C", "CPE"), fold_case=True), eps_gap=real(positive=True), cutoff_hz=real(positive=True),
+    area=real(positive=True), v0=real(positive=True, optional=True), ep=choice(("C", "CPE"), fold_case=True), eps_gap=relative_permittivity_number, cutoff_hz=real(positive=True),
     steps=_gap_steps, walkers=count(2, MAX_WALKERS, optional=True), seed=seed, progress=flag, check_area=flag,
 )
 def gap_analysis(
