@@ -314,6 +314,56 @@ def test_force_warns_of_an_implausible_drive_thickness_or_resistivity_and_comput
         assert document["force_n"][0] == pytest.approx(_eq10(440.0, **{name: given}), rel=1e-9)
 
 
+@pytest.mark.parametrize("param", ["eps_i=0.5", "eps_s=0.9", "eps_i=8.85e-12"])
+def test_force_refuses_a_relative_permittivity_below_1(tmp_path, capsys, param):
+    """No material's relative permittivity is below vacuum's 1 (2026-12-03: eps_i=0.5 computed
+    without a word); 8.85e-12 is ε0, an absolute permittivity in F/m given for a relative one."""
+    out = tmp_path / "force.csv"
+    code, _, err = _run(["force", "vezzoli", "--param", param, "--points", "3", "--out", str(out)], capsys)
+    name, value = param.split("=")
+    assert code == 2 and f"--param {name} = {float(value):g} is below 1" in err and "relative permittivity" in err
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("param, high", [("eps_s=1e9", 100 * 2340.0), ("eps_i=5000", 100 * 36.0)])
+def test_force_warns_of_a_very_large_relative_permittivity_and_computes(capsys, param, high):
+    """ε_s 1e9 or ε_i 5000 is warned about as h_i, h_s, rho_s are (stderr and the JSON's warnings),
+    and computed as given (eq 10 by hand); the range's top is 100× the paper's value (Table 2's
+    ε_s 2340, Fig 9's largest ε_i 36), and no unit slip is suggested (ε_r has no unit)."""
+    code, out, err = _run(["force", "vezzoli", "--param", param, "--fmin", "440", "--fmax", "440", "--points", "1", "--json"], capsys)
+    assert code == 0
+    document = json.loads(out)
+    [warning] = [w for w in document["warnings"] if "implausible" in w]
+    name, value = param.split("=")
+    assert warning.startswith(f"--param {name}=") and f"{name} = {float(value):g} is implausible (plausible 1–{high:g}" in warning and "unit slip" not in warning
+    assert f"warning: {warning}" in err
+    assert document["force_n"][0] == pytest.approx(_eq10(440.0, **{name: float(value)}), rel=1e-9)
+
+
+@pytest.mark.filterwarnings("ignore:Vezzoli eq 8 assumes")  # (eps_s = 1 puts C_i/C_s above eq 8's 0.1: warned, not the point here)
+def test_the_force_models_refuse_a_relative_permittivity_below_1_in_python():
+    """The same rule in Python for every permittivity of the force models: Vezzoli's eps_i, eps_s,
+    Meyer's MeyerPhysical and static forces (eps_i, eps_sc) and Sirin's eps_gap; 1 itself (vacuum)
+    is accepted."""
+    from impedax.errors import ParameterError
+    from impedax.models import meyer, sirin, vezzoli
+
+    calls = {
+        "eps_i": lambda e: vezzoli.electrovibration_force(440.0, eps_i=e),
+        "eps_s": lambda e: vezzoli.voltage_for_force(0.01, 440.0, eps_s=e),
+        "MeyerPhysical.eps_sc": lambda e: meyer.MeyerPhysical(eps_sc=e),
+        "eps_sc": lambda e: meyer.static_force_f2(10.0, area=1e-4, d_sc=2e-4, eps_sc=e),
+        "eps_gap": lambda e: sirin.gap_thickness(413e-12, eps_gap=e),
+    }
+    for name, call in calls.items():
+        with pytest.raises(ParameterError, match=rf"^{re.escape(name)} = 0\.5 is below 1: a relative permittivity"):
+            call(0.5)
+        call(1.0)
+    with pytest.raises(ParameterError, match="eps_gap = 0.5 is below 1"):
+        f, *spectra = sirin_measurements(np.random.default_rng(0), 2)
+        gap_analysis(*(ix.make_spectrum(f, z, dims=("trial",)) for z in spectra), area=130e-6, eps_gap=0.5, progress=False)
+
+
 def test_force_paper_values_give_no_plausibility_warning_and_eq8_warning_stays(capsys):
     """Fig 8's 1 µm insulator is plausible (no unit-slip warning) yet outside eq 8's C_i ≪ C_s:
     C_i/C_s = 3.35·350/(2340·1) = 0.501, still warned about; Table 2 and 140 V warn of nothing."""

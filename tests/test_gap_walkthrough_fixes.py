@@ -16,6 +16,7 @@ import xarray as xr
 import impedax as ix
 from impedax.cli import main
 from impedax.models.gap import GapAnalysis, _gap_breakdown_notes, _paper_interval_notes
+from impedax.data import format_quantity
 from impedax.models.sirin import paper_gap_estimate, remaining_impedance
 from spectra import sirin_scattered_measurements
 
@@ -180,3 +181,99 @@ def _force_with_gap_voltage(median, q05, q95):
 def test_breakdown_interval_shows_its_ends_apart(band, shown):
     (note,) = _gap_breakdown_notes(_force_with_gap_voltage(*band), 3.5e-6, AREA, EPS_AIR)
     assert shown in note and "941–941" not in note
+
+
+# --- 2026-12-03 walkthrough: a u that is no air gap, and the correlation advice's call ---------------
+
+U_PRIOR = (EPS0 * EPS_AIR * AREA / 100e-6, EPS0 * EPS_AIR * AREA / 1e-15)  # u at C_gap = 100 µF and 1 fF (the prior's bounds)
+
+
+def _pooled_stub(u):
+    """A pooled `GapAnalysis` built by hand around the draws ``u`` [m] (no fit, no sampling): the
+    SYNTHETIC remainder of `_stub_analysis` (u = 3.5 µm, so the paper's method gives an air gap)."""
+    base = _stub_analysis(rhat_max=1.0)
+    post = SimpleNamespace(parameter_draws=lambda: {"u": u, "C_gap": EPS0 * EPS_AIR * AREA / u, "R_EP": np.full(u.size, 5e7)})
+    force = base.force.assign({f"gap_voltage_{k}": base.force[k] * 0 + 75.0 for k in ("median", "q05", "q95")})
+    return replace(base, method="pooled", hierarchical=None, posterior=post, force=force)
+
+
+@pytest.mark.parametrize(("u_median", "verdict", "head"), [
+    (3.5e-6, None, "gap thickness u = 3.4"),
+    (2e-3, "lies outside the air gaps a contact can hold (1 nm–1 mm)", "sampled u (NO AIR GAP) = 2 mm"),
+    (U_PRIOR[0] * 1.2, "piles up at the lower bound of its prior (C_gap = 100 µF: the prior sets it, not the data) and lies outside", "sampled u (prior-set) = "),
+])
+def test_a_u_that_is_no_air_gap_is_an_alarm_and_not_identified(u_median, verdict, head):
+    """u outside 1 nm–1 mm, or piled up at a bound of its prior (C_gap at 100 µF or 1 fF: u =
+    ε0 ε A/C written here), opens the report with "NO AIR GAP", is among the alarms and makes
+    gap_identified (and force_determined) false; a u of 3.5 µm does none of this. The paper's
+    u here is an air gap, so the advice is not the area's unit."""
+    u = u_median * np.exp(0.01 * np.random.default_rng(1).standard_normal(400))
+    gap = _pooled_stub(u)
+    lines = gap.report().splitlines()
+    assert next(x for x in lines if "u (" in x or x.startswith("gap thickness")).startswith(head)
+    if verdict is None:
+        assert gap.gap_identified and gap.alarms == () and gap.gap_implausible is None
+        return
+    assert not gap.gap_identified  # (the JSON's gap_identified and force_determined)
+    assert verdict in gap.gap_implausible and gap.alarms == (f"NO AIR GAP: {gap.gap_implausible}; u, C_gap and the force are no measurement",)
+    assert lines[0].startswith(f"NO AIR GAP: {gap.gap_implausible}") and "the area's unit is not the cause" in lines[0]
+    assert " of a u that is no air gap, NO ESTIMATE of the force:" in gap.report() if verdict.startswith("lies outside") else " of the prior-set u, NO ESTIMATE" in gap.report()
+
+
+def test_the_walkthrough_s_u_of_a_metre_is_no_air_gap_and_its_capacitances_have_their_prefix():
+    """The walkthrough's run (`impedax gap FILE --area 130e-6 --pooled --steps 50`, a single
+    BioLogic spectrum): u = 1.15 m piled up at the prior's upper bound (C_gap = 1 fF) was
+    reported as "gap thickness u = 1150016.575 µm", "C_gap = 0.0 pF (90%: 0.0–0.0 pF)", the
+    paper's u as "0.000 µm", and the JSON said gap_identified true, alarms []. The paper's C_gap
+    in numpy (Sirin §2.3: the mean |Y|/ω above 30 Hz) is 22.8 µF, its u 0.05 nm."""
+    path = "tests/fixtures/real/exampleDataBioLogic.mpt"
+    data = ix.load(path)
+    f, z = data["frequency"].values, data["Z"].values.ravel()
+    keep = f >= CUTOFF_HZ
+    c_paper = np.mean(1.0 / (2 * np.pi * f[keep] * np.abs(z[keep])))
+    u_paper = EPS0 * EPS_AIR * 130e-6 / c_paper
+    assert 1e-11 < u_paper < 1e-10  # (the oracle: no air gap)
+    gap = ix.models.gap_analysis(data, area=130e-6, method="pooled", steps=50, progress=False)
+    s = gap.summary()
+    u_upper = EPS0 * EPS_AIR * 130e-6 / 1e-15
+    assert s["gap_um"]["value"] == pytest.approx(u_upper * 1e6, rel=0.02)  # (at the bound: the alarm's case)
+    assert not s["gap_identified"] and not s["force_determined"] and s["gap_implausible"].startswith("u = 1.15 m (posterior median) piles up at the upper bound")
+    assert s["paper_method"]["gap_implausible"].startswith(f"the paper method's u = {format_quantity(u_paper, 'm')} (C_gap = {format_quantity(c_paper, 'F')})")
+    assert [a.split(":")[0] for a in s["alarms"]] == ["NO AIR GAP", "PAPER METHOD"]
+    lines = gap.report().splitlines()
+    assert lines[0].startswith("NO AIR GAP: u = 1.15 m") and "check the area's unit first" in lines[0] and lines[1].startswith("PAPER METHOD: NO AIR GAP")
+    assert lines[2].startswith("sampled u (prior-set) = 1.15 m  (90% interval of the draws: ")
+    assert any(x.startswith(f"paper method    u = {format_quantity(u_paper, 'm')} (NO AIR GAP)") for x in lines)
+    (c_line,) = [x for x in lines if x.startswith("C_gap")]
+    assert c_line.startswith("C_gap (prior-set) = 1.00") and " fF (90%: 1" in c_line and f"paper method {c_paper * 1e6:.4g} µF" in c_line and "pF" not in c_line
+
+
+def test_the_correlation_advice_call_fits_with_the_weighting_its_sampling_needs():
+    """The call the correlation advice prints (2026-12-03 walkthrough): run as printed on trial
+    means with their SEM, its ``ix.fit`` was weighted by |Z| and the pooled sampling, whose
+    likelihood is the SEM's χ² (noise ``sigma``), warned "init was fitted with weighting
+    'modulus' …". The call now passes the analysis's weighting; its fit, run as printed (the
+    ``…`` filled in), starts the sampling without that warning. SYNTHETIC draws for the advice;
+    SYNTHETIC trials written in numpy for the run (`spectra.sirin_scattered_measurements`)."""
+    import re
+
+    from impedax.fitting.bayes.diagnostics import chain_warnings, strong_correlations
+    from impedax.models.gap import _correlation_advice
+
+    z = np.random.default_rng(5).standard_normal((3, 4000))
+    ln_r, ln_u = 17.7 + 0.01 * z[0], np.log(3.5e-6) + 0.0015 * z[2]
+    ln_q = -19.6 + 0.98 * (ln_r - 17.7) + 0.002 * z[1]
+    chain = np.stack([ln_r, ln_q, ln_u], axis=-1).reshape(40, 100, 3)
+    names = ["R_EP", "CPE_EP.Q", "u"]
+    raw = [w for w in chain_warnings(names, [True] * 3, chain, dict.fromkeys(names, 1.0), 1, 0.3) if "strongly correlated" in w]
+    draws = {"R_EP": np.exp(ln_r), "CPE_EP.Q": np.exp(ln_q), "u": np.exp(ln_u)}
+    (said,) = _correlation_advice(raw, strong_correlations(names, [True] * 3, chain), draws, "R_EP || CPE_EP || C_gap", weighting="sigma")
+    call = re.search(r"edl_fit=(ix\.fit\(.*\))\)$", said)[1]
+    assert call.endswith("fixed={'R_EP': …}, weighting='sigma')")
+
+    _, (total, skin, screen), spectra = _scattered(3)
+    assert "sigma" in remaining_impedance(*spectra)  # (the trial means' SEM: the sampling's noise is "sigma")
+    edl_fit = eval(call.replace("…", "5e7"), {"ix": ix, "total": spectra[0], "skin": spectra[1], "touchscreen": spectra[2]})
+    assert edl_fit.weighting == "sigma"
+    result = ix.models.gap_analysis(*spectra, area=AREA, method="pooled", edl_fit=edl_fit, steps=50, progress=False)
+    assert not any("init was fitted with weighting" in w for w in result.warnings), result.warnings

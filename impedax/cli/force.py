@@ -27,6 +27,9 @@ POINT_BYTES = 1024
 
 
 MEYER_VARIANTS = ("rc", "cpe")
+RELATIVE_PERMITTIVITIES = frozenset({"eps_i", "eps_s"})
+"""The ``--param`` values that are relative permittivities (vezzoli's; meyer's circuit has none):
+below 1 they are refused."""
 
 
 def _defaults(model: str, variant: str = "rc", alpha: float | None = None) -> dict[str, float]:
@@ -107,8 +110,10 @@ def _parameters(model: str, items, check: bool = True, variant: str | None = Non
     """The parameters (the paper's, overridden by ``--param``; Meyer's ``variant`` as
     `_meyer_variant`), those given, and warnings: a value given outside its plausible range
     (`models.plausible`) is a ParameterError, or with ``check`` False (``--no-param-check``) a
-    warning; the drive (v_a, v_m) and Vezzoli's h_i, h_s, rho_s (`WARNED_ONLY`) are always only
-    warned about, as gap's --v0. CPE_sc.alpha outside (0, 1] is always refused."""
+    warning; the drive (v_a, v_m) and Vezzoli's h_i, h_s, rho_s, eps_i, eps_s (`WARNED_ONLY`) are
+    always only warned about, as gap's --v0. CPE_sc.alpha outside (0, 1] and a relative
+    permittivity below 1 (`RELATIVE_PERMITTIVITIES`, `arguments.relative_permittivity`) are always refused."""
+    from ..arguments import relative_permittivity
     from ..errors import ParameterError
     from ..models.plausible import WARNED_ONLY, implausible_cpe_message, implausible_message
 
@@ -131,6 +136,8 @@ def _parameters(model: str, items, check: bool = True, variant: str | None = Non
     for name, value in given.items():
         if not (math.isfinite(value) and value > 0):
             raise ParameterError(f"--param {name}={value:g}: must be positive {listing}")
+        if name in RELATIVE_PERMITTIVITIES:
+            relative_permittivity(value, f"--param {name}")
     notes = []
     for name, value in given.items():
         message = implausible_message(model, name, value)

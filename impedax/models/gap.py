@@ -40,8 +40,8 @@ import xarray as xr
 
 from ..progress import quiet_beneath
 from ..circuits import parse
-from ..data import format_frequency, format_percent, format_quantity
-from ..arguments import GAP_MIN_STEPS, MAX_WALKERS, checked_arguments, choice, count, flag, real, seed
+from ..data import format_frequency, format_percent, format_quantity, si_prefix
+from ..arguments import GAP_MIN_STEPS, MAX_WALKERS, checked_arguments, choice, count, flag, real, relative_permittivity_number, seed
 from ..errors import IN_MEMORY, CircuitError, DataError, ParameterError
 from ..constants import C_GAP_BOUNDS_F, EPSILON_0, EPSILON_AIR
 from ..fitting.bayes.chain import AUTO_STEPS, steps_rule
@@ -108,6 +108,8 @@ EP_ALPHA_IDEAL = 0.95
 capacitor in parallel with C_gap: only their sum is determined, and u is not (`_gap_identification`)."""
 _BOUND_FACTOR = 2.0  # draws of u within this factor of a prior bound count as "at the bound" ...
 _BOUND_SHARE = 0.1  # ... and this share of them means the posterior piles up there
+NO_AIR_GAP = "NO AIR GAP"
+"""The alarm of a u at a bound of its prior or outside `PLAUSIBLE_GAP_M` (`GapAnalysis.alarms`)."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -177,8 +179,46 @@ class GapAnalysis:
     def gap_identified(self) -> bool:
         """False when the data do not determine u apart from the EP branch (a lower bound,
         `gap_lower_bound`, or none where its model misfits: `gap_bound_withheld`): ``ep="C"``,
-        or a fit/posterior that cannot split C_gap from the EP element (`_gap_identification`)."""
+        or a fit/posterior that cannot split C_gap from the EP element (`_gap_identification`);
+        and, since 2026-12-03, when the sampled u is no air gap (`gap_implausible`: at a bound
+        of its prior, or outside `PLAUSIBLE_GAP_M`)."""
+        return self._split_determined and self.gap_implausible is None
+
+    @property
+    def _split_determined(self) -> bool:
+        """The data tell C_gap from the EP branch: no `gap_lower_bound`, no `gap_bound_withheld`."""
         return self.gap_lower_bound is None and self.gap_bound_withheld is None
+
+    @property
+    def _u_piled_bounds(self) -> list[tuple[str, float, float, float]]:
+        """The prior bounds of u its draws pile up at (`_piled_bounds`, the rule of the warning
+        "the posterior of u piles up at the … bound of its prior")."""
+        eps_gap = (self.settings or {}).get("eps_gap", EPSILON_AIR)
+        return _piled_bounds(self.draws("u"), *gap_bounds(self.area, eps_gap))
+
+    @property
+    def gap_implausible(self) -> str | None:
+        """Why the sampled u is no air gap, else None: ≥ `_BOUND_SHARE` of its draws lie within
+        `_BOUND_FACTOR` of a bound of its prior (`_piled_bounds`: the prior, not the data, sets u
+        and C_gap), or its median lies outside `PLAUSIBLE_GAP_M` (1 nm–1 mm). Then
+        `gap_identified` is False and `alarms` says so (added 2026-12-03: u = 1.15 m, piled up at
+        the upper bound, was reported as "gap thickness u" with ``gap_identified: true``)."""
+        median = self.gap["value"]
+        low, high = PLAUSIBLE_GAP_M
+        reasons = [f"piles up at the {side} bound of its prior (C_gap = {format_quantity(c_bound, 'F')}: the prior sets it, not the data)" for side, _, c_bound, _ in self._u_piled_bounds]
+        if not low <= median <= high:
+            reasons.append(f"lies outside the air gaps a contact can hold ({format_quantity(low, 'm')}–{format_quantity(high, 'm')})")
+        return f"u = {format_quantity(median, 'm')} (posterior median) " + " and ".join(reasons) if reasons else None
+
+    @property
+    def paper_gap_implausible(self) -> str | None:
+        """Why the paper method's u is no air gap (outside `PLAUSIBLE_GAP_M`), else None; `alarms`
+        says so (added 2026-12-03: its u = 0.05 nm printed as "u = 0.000 µm")."""
+        low, high = PLAUSIBLE_GAP_M
+        u = self.paper.gap
+        if low <= u <= high:
+            return None
+        return f"the paper method's u = {format_quantity(u, 'm')} (C_gap = {format_quantity(self.paper.c_gap, 'F')}) lies outside the air gaps a contact can hold ({format_quantity(low, 'm')}–{format_quantity(high, 'm')})"
 
     def _all_draws(self) -> dict[str, np.ndarray]:
         """Posterior draws of every parameter (hierarchical: of a typical trial, the population
@@ -302,6 +342,7 @@ class GapAnalysis:
                 "gap_um": self.paper.gap * 1e6,
                 "gap_bounds_um": [self.paper.gap_lower * 1e6, self.paper.gap_upper * 1e6] if self.paper_has_bounds else None,
                 "gap_trials_um": [self.paper.gap_trial_min * 1e6, self.paper.gap_trial_max * 1e6] if np.isfinite(self.paper.gap_trial_min) else None,
+                "gap_implausible": self.paper_gap_implausible,  # (added 2026-12-03)
             },
             "force_conditions": self.force_conditions,
             "model": self.edl_fit.model,
@@ -314,6 +355,7 @@ class GapAnalysis:
             "trials": self.trials,
             "warnings": list(self.warnings),
             "gap_identified": self.gap_identified,
+            "gap_implausible": self.gap_implausible,  # (added 2026-12-03: why u is no air gap, else null; gap_identified is then false)
             "gap_um_lower_bound": None if self.gap_lower_bound is None else self.gap_lower_bound * 1e6,
             "gap_bound_withheld": self.gap_bound_withheld,
             "edl_misfit": self.edl_misfit,
@@ -414,14 +456,19 @@ class GapAnalysis:
     @property
     def alarms(self) -> tuple[str, ...]:
         """The states that void the result, as the report's first lines name them, short (the
-        figure's red banner): "MODEL DOES NOT FIT" (`edl_misfit`) and "SAMPLING UNRELIABLE"
-        (hierarchical NUTS diagnostics); empty when neither holds. An undetermined u is marked
-        apart (`gap_identified`). Added 2026-12-02."""
+        figure's red banner): "MODEL DOES NOT FIT" (`edl_misfit`), "SAMPLING UNRELIABLE"
+        (hierarchical NUTS diagnostics), and since 2026-12-03 "NO AIR GAP" (`gap_implausible`) and
+        "PAPER METHOD: NO AIR GAP" (`paper_gap_implausible`); empty when none holds. A u the
+        data do not split from the EP branch is marked apart (`gap_identified`). Added 2026-12-02."""
         out = []
         if self.edl_misfit is not None:
             out.append("MODEL DOES NOT FIT: u, its interval and the force rest on a model the data reject")
         if self._sampling_unreliable():
             out.append(f"{self._sampling_alarm()}: the bands may be wrong")
+        if self.gap_implausible is not None:
+            out.append(f"{NO_AIR_GAP}: {self.gap_implausible}; u, C_gap and the force are no measurement")
+        if self.paper_gap_implausible is not None:
+            out.append(f"PAPER METHOD: {NO_AIR_GAP}: {self.paper_gap_implausible}; its u and C_gap are no measurement")
         return tuple(out)
 
     def to_table(self) -> list[dict[str, object]]:
@@ -471,24 +518,26 @@ class GapAnalysis:
         i = int(np.argmax(peak.values))
         bare = self.force.sel(branch="without_ep")["median"]  # (C_gap alone: the JSON's force_without_ep_n)
         j = int(np.argmax(bare.values))
-        band = f"{g['q05'] * 1e6:.3f}–{g['q95'] * 1e6:.3f} µm"
+        band = _gap_range(g["q05"], g["q95"])
         if self.gap_identified:
             head, interval = "gap thickness u", f"90% credible interval {band}"
-        else:  # (the range first, then what it is not: after "not of the gap" it read as the gap's)
+        elif self._prior_set:  # (the range first, then what it is not: after "not of the gap" it read as the gap's)
             head, interval = "sampled u (prior-set)", f"90% interval of the draws: {band}, set by the priors, not a range of the gap"
+        else:
+            head, interval = "sampled u (NO AIR GAP)" if self.gap_implausible is not None else "sampled u", f"90% interval of the draws: {band}, not a range of the gap"
         if self.hierarchical is not None:
             spread, new = self.gap_spread, self.gap_new_trial
             lines = [
-                f"{head} = {g['value'] * 1e6:.3f} µm  (population median of the trials; {interval}, hierarchical Bayesian, {self.edl_fit.model})",
+                f"{head} = {_gap_length(g['value'])}  (population median of the trials; {interval}, hierarchical Bayesian, {self.edl_fit.model})",
                 f"between trials  u varies by {spread['relative']['value']:.1%} (sd of ln u; 90%: {spread['relative']['q05']:.1%}–{spread['relative']['q95']:.1%}), ≈ {spread['sd_m'] * 1e6:.3f} µm",
                 f"a new trial     u in {new['q05'] * 1e6:.3f}–{new['q95'] * 1e6:.3f} µm (90% predictive interval)",
             ]
         else:
-            lines = [f"{head} = {g['value'] * 1e6:.3f} µm  ({interval}, {self._pooled_noise_text()}; {self.edl_fit.model})"]
-        bounds = f"(bounds {p.gap_lower * 1e6:.3f}–{p.gap_upper * 1e6:.3f} µm from the lowest/highest impedances{'; no interval for u, see the warning' if self.paper_bounds_no_interval else ''})" if self.paper_has_bounds else "bounds n/a (one trial)"
+            lines = [f"{head} = {_gap_length(g['value'])}  ({interval}, {self._pooled_noise_text()}; {self.edl_fit.model})"]
+        bounds = f"(bounds {_gap_range(p.gap_lower, p.gap_upper)} from the lowest/highest impedances{'; no interval for u, see the warning' if self.paper_bounds_no_interval else ''})" if self.paper_has_bounds else "bounds n/a (one trial)"
         lines += [
-            f"paper method    u = {p.gap * 1e6:.3f} µm  {bounds}",
-            f"C_gap{' (prior-set)' if self._prior_set else '          '} = {c['value'] * 1e12:.1f} pF (90%: {c['q05'] * 1e12:.1f}–{c['q95'] * 1e12:.1f} pF); paper method {p.c_gap * 1e12:.1f} pF",
+            f"paper method    u = {_gap_length(p.gap)}{f' ({NO_AIR_GAP})' if self.paper_gap_implausible is not None else ''}  {bounds}",
+            f"C_gap{' (prior-set)' if self._prior_set else '          '} = {_capacitance_with_interval(c)}; paper method {format_quantity(p.c_gap, 'F', CAPACITANCE_DIGITS)}",
             f"fits            naive C_gap: rms_rel {format_percent(self.naive_fit.rms_rel)};  {self.edl_fit.model}: rms_rel {format_percent(self.edl_fit.rms_rel)}",
             f"force (peak, V0 = {self.v0:.4g} V){self._force_qualifier()} with EP: max {format_quantity(float(peak[i]), 'N')} at {format_frequency(float(peak['frequency'][i]))}; "
             f"without EP: max {format_quantity(float(bare[j]), 'N')} at {format_frequency(float(bare['frequency'][j]))}",
@@ -506,17 +555,20 @@ class GapAnalysis:
             lines.insert(next(k for k, line in enumerate(lines) if line.startswith("force (peak")) + 1, bound_line)
         if self.trials:
             lines.append("spectra used    " + "; ".join(_trials_text(k, v) for k, v in self.trials.items()))
-        if not self.gap_identified:
-            if self.gap_lower_bound is not None:
-                lines.insert(0, (
-                    f"GAP NOT DETERMINED: C_gap and the EP branch are seen only as their sum, so the data give only a LOWER BOUND u ≥ {self.gap_lower_bound * 1e6:.3f} µm "
-                    "(all the capacitance counted as C_gap); the u and interval below are set by the priors and the split, not the data"
-                ))
-            else:
-                lines.insert(0, (
-                    f"GAP NOT DETERMINED, AND NO BOUND: C_gap and the EP branch are not told apart, and {self.gap_bound_withheld}; "
-                    "the u and interval below are set by the priors and the split, not the data"
-                ))
+        if self.gap_lower_bound is not None:
+            lines.insert(0, (
+                f"GAP NOT DETERMINED: C_gap and the EP branch are seen only as their sum, so the data give only a LOWER BOUND u ≥ {self.gap_lower_bound * 1e6:.3f} µm "
+                "(all the capacitance counted as C_gap); the u and interval below are set by the priors and the split, not the data"
+            ))
+        elif self.gap_bound_withheld is not None:
+            lines.insert(0, (
+                f"GAP NOT DETERMINED, AND NO BOUND: C_gap and the EP branch are not told apart, and {self.gap_bound_withheld}; "
+                "the u and interval below are set by the priors and the split, not the data"
+            ))
+        if self.paper_gap_implausible is not None:
+            lines.insert(0, f"PAPER METHOD: {NO_AIR_GAP}: {self.paper_gap_implausible}; its u and C_gap below are no measurement")
+        if self.gap_implausible is not None:
+            lines.insert(0, f"{NO_AIR_GAP}: {self.gap_implausible}; u, C_gap and the force below are no measurement: {self._implausible_advice()}")
         if self.edl_misfit is not None:
             lines.insert(0, (
                 f"MODEL DOES NOT FIT: {self.edl_misfit}; u, its interval and the force below rest on a model the data reject: "
@@ -532,9 +584,20 @@ class GapAnalysis:
 
     @property
     def _prior_set(self) -> bool:
-        """u and C_gap are set by the priors (u not determined), not by the data: every case of
-        an undetermined u but ``--ep C``, whose C_gap is the summed capacitance C_EP + C_gap."""
-        return not self.gap_identified and not (self.ep == "C" and self.edl_fit.model == IDENTIFIED_C_REMAINDER)
+        """u and C_gap are set by the priors, not by the data: u piled up at a bound of its prior
+        (`_u_piled_bounds`), or not split from the EP branch, but with ``--ep C``, whose C_gap is the
+        summed capacitance C_EP + C_gap."""
+        if self._u_piled_bounds:
+            return True
+        return not self._split_determined and not (self.ep == "C" and self.edl_fit.model == IDENTIFIED_C_REMAINDER)
+
+    def _implausible_advice(self) -> str:
+        """What to check when u is no air gap (`gap_implausible`): the area's unit first, unless the
+        paper's method gives an air gap at this area, which a unit slip would not (`_area_advice`)."""
+        files = "the spectrum" if self.single_contact else "the three spectra"
+        if self.paper_gap_implausible is None:
+            return f"the area's unit is not the cause (the paper's method gives u = {_gap_length(self.paper.gap)} at A = {self.area:g} m², an air gap): check {files} and the model"
+        return f"{AREA_UNIT_ADVICE}, A = {self.area:g} m² ({self.area * 1e6:g} mm²; 200 mm² is 200e-6 m²), then {files}"
 
     def _force_qualifier(self) -> str:
         """What the sampled force line is when u is not determined: with ``--ep C`` the force at
@@ -543,9 +606,11 @@ class GapAnalysis:
         determined")."""
         if self.gap_identified:
             return ""
-        if not self._prior_set:
-            return " at the gap of the summed capacitance (u's smallest value, so the force's largest),"
-        return " of the prior-set u, NO ESTIMATE of the force:"
+        if self._prior_set:
+            return " of the prior-set u, NO ESTIMATE of the force:"
+        if self._split_determined:
+            return " of a u that is no air gap, NO ESTIMATE of the force:"
+        return " at the gap of the summed capacitance (u's smallest value, so the force's largest),"
 
     def _force_bound_line(self) -> str | None:
         """The report's ``force bound`` line when u is not determined: the largest force the data
@@ -663,6 +728,35 @@ def _labelled(ds: xr.Dataset) -> xr.Dataset:
     return ds
 
 
+def _gap_length(u: float) -> str:
+    """A gap thickness u [m] as the report gives it: ``2.805 µm`` within `PLAUSIBLE_GAP_M`, else
+    with the SI prefix of its size, ``1.15 m``, ``50.6 pm`` (which printed "1150016.575 µm" and
+    "0.000 µm"; 2026-12-03)."""
+    low, high = PLAUSIBLE_GAP_M
+    return f"{u * 1e6:.3f} µm" if low <= u <= high else format_quantity(u, "m")
+
+
+def _gap_range(low: float, high: float) -> str:
+    """``2.797–2.814 µm``, or ``1.14 m–1.15 m`` when an end is no air gap (`_gap_length`)."""
+    a, b = PLAUSIBLE_GAP_M
+    if a <= low <= b and a <= high <= b:
+        return f"{low * 1e6:.3f}–{high * 1e6:.3f} µm"
+    return f"{_gap_length(low)}–{_gap_length(high)}"
+
+
+CAPACITANCE_DIGITS = 4
+"""Significant digits of C_gap in the report: 221.3 pF (90%: 220.9–221.8 pF), as the 0.1 pF it had."""
+
+
+def _capacitance_with_interval(q: Mapping[str, float]) -> str:
+    """``221.3 pF (90%: 220.9–221.8 pF)``, ``1.001 fF (90%: 1–1.008 fF)``: C_gap [F] and its
+    interval in the SI prefix of its median (`si_prefix`), `CAPACITANCE_DIGITS` significant
+    (it printed "0.0 pF (90%: 0.0–0.0 pF)" for 1 fF; 2026-12-03)."""
+    scale, prefix = si_prefix(abs(q["value"])) if q["value"] else (1e-12, "p")
+    n = CAPACITANCE_DIGITS
+    return f"{q['value'] / scale:.{n}g} {prefix}F (90%: {q['q05'] / scale:.{n}g}–{q['q95'] / scale:.{n}g} {prefix}F)"
+
+
 def _volts_with_interval(q: Mapping[str, float]) -> str:
     """``71.00 V (90%: 70.95–71.05 V)``: a voltage and its interval to the fewest significant
     digits, 3 or 4 (`VOLTAGE_DIGITS_MAX`), that tell the interval's ends apart; ends alike to 4
@@ -703,7 +797,7 @@ def _gap_steps(value, name):
 
 @quiet_beneath
 @checked_arguments(
-    area=real(positive=True), v0=real(positive=True, optional=True), ep=choice(("C", "CPE"), fold_case=True), eps_gap=real(positive=True), cutoff_hz=real(positive=True),
+    area=real(positive=True), v0=real(positive=True, optional=True), ep=choice(("C", "CPE"), fold_case=True), eps_gap=relative_permittivity_number, cutoff_hz=real(positive=True),
     steps=_gap_steps, walkers=count(2, MAX_WALKERS, optional=True), seed=seed, progress=flag, check_area=flag,
 )
 def gap_analysis(
@@ -825,7 +919,7 @@ def gap_analysis(
     notes += _bound_notes(u_draws, reparametrization, area, single)
     notes += _gap_breakdown_notes(force, float(np.median(u_draws)), area, eps_gap)
     sampled = _sampling_notes(posterior.warnings)
-    notes += [f"EDL fit: {w}" for w in edl.warnings] + [f"sampling: {w}" for w in _correlation_advice(sampled, posterior.strong_correlations, posterior.parameter_draws(), circuit, single)]
+    notes += [f"EDL fit: {w}" for w in edl.warnings] + [f"sampling: {w}" for w in _correlation_advice(sampled, posterior.strong_correlations, posterior.parameter_draws(), circuit, single, weighting=weighting)]
     notes += _estimate_bound_notes("Bayesian gap thickness", float(np.median(u_draws)), paper, remaining, f"; draws span {_um(u_draws.min())}–{_um(u_draws.max())} µm")
     known_kk = KKChains()
     lower, withheld, merged = _identification(ep, str(requested), circuit, posterior.parameter_draws(), edl, posterior.piled_up, notes, remaining, area, eps_gap, known_kk)
@@ -870,7 +964,7 @@ def _check_single_edl_fit(edl_fit) -> None:
         )
 
 
-def _correlation_advice(warnings, correlations, draws: Mapping[str, np.ndarray], circuit, single: bool = False) -> list[str]:
+def _correlation_advice(warnings, correlations, draws: Mapping[str, np.ndarray], circuit, single: bool = False, *, weighting: str = "modulus") -> list[str]:
     """``warnings`` of the pooled sampling with the advice of each correlation warning
     (`diagnostics.CORRELATION_ADVICE`: ``--fix``, ``--prior``, options ``impedax gap`` does not
     have) replaced by what it means for u and what a user of the gap analysis can do: u's
@@ -878,7 +972,11 @@ def _correlation_advice(warnings, correlations, draws: Mapping[str, np.ndarray],
     interval, 1 − √(1 − r²) (`U_CORRELATION_MATTERS`), and the Python call that fixes one. A
     correlation warning is known as the `StrongCorrelation.warning` of one of the posterior's
     ``correlations`` (`Posterior.strong_correlations`: the pair and r), not by matching its words.
-    ``single``: a single contact, whose call passes the total alone."""
+    ``single``: a single contact, whose call passes the total alone. ``weighting``: that of the
+    analysis's own EDL fit, the χ² of its sampling's noise model (``"sigma"`` for a remainder
+    with SEM, noise ``sigma``; ``"modulus"`` for noise proportional to |Z|), which the call's fit
+    passes so that it starts the sampling as that fit does (2026-12-03: without it the call's
+    ``ix.fit`` was weighted by |Z| and the sampling warned that init needs weighting 'sigma')."""
     inputs = "total" if single else "total, skin, touchscreen"
     u = np.log(np.asarray(draws["u"], float))
     q05, q50, q95 = np.exp(np.quantile(u, [0.05, 0.5, 0.95]))
@@ -903,7 +1001,7 @@ def _correlation_advice(warnings, correlations, draws: Mapping[str, np.ndarray],
         )
         out.append(
             f"{found.finding}; {verdict}; impedax gap has no --fix or --prior: in Python, fix one in the EDL fit the pooled sampling starts from, "
-            f"ix.models.gap_analysis({inputs}, area=…, method='pooled', edl_fit=ix.fit('{circuit}', ix.models.remaining_impedance({inputs if not single else 'total, None, None'}), fixed={{'{found.first}': …}}))"
+            f"ix.models.gap_analysis({inputs}, area=…, method='pooled', edl_fit=ix.fit('{circuit}', ix.models.remaining_impedance({inputs if not single else 'total, None, None'}), fixed={{'{found.first}': …}}, weighting='{weighting}'))"
         )
     return out
 
@@ -1290,24 +1388,28 @@ def _has_bounds(remaining: xr.Dataset) -> bool:
     return any(remaining.attrs.get(f"n_trials_{k}", 2) > 1 for k in inputs)
 
 
-def _bound_notes(u_draws, reparametrization, area: float, single: bool = False) -> list[str]:
-    """A warning for each prior bound of u (`gap_bounds`: C_gap at an end of `C_GAP_BOUNDS_F`)
-    that holds ≥ `_BOUND_SHARE` of the draws within a factor `_BOUND_FACTOR`: there the prior,
-    not the data, sets u and C_gap = ε0 ε_gap A/u."""
+def _piled_bounds(u_draws, lower: float, upper: float) -> list[tuple[str, float, float, float]]:
+    """(side, bound [m], C_gap there [F], share of the draws) for each prior bound of u,
+    ``lower`` and ``upper`` (`gap_bounds`: C_gap at an end of `C_GAP_BOUNDS_F`), that holds ≥
+    `_BOUND_SHARE` of ``u_draws`` within a factor `_BOUND_FACTOR`: there the prior, not the
+    data, sets u and C_gap = ε0 ε_gap A/u."""
     u = np.asarray(u_draws, dtype=np.float64).ravel()
-    notes = []
     c_low, c_high = C_GAP_BOUNDS_F
-    for side, bound, c_bound, near in (
-        ("lower", reparametrization.lower[0], c_high, u <= reparametrization.lower[0] * _BOUND_FACTOR),
-        ("upper", reparametrization.upper[0], c_low, u >= reparametrization.upper[0] / _BOUND_FACTOR),
-    ):
+    out = []
+    for side, bound, c_bound, near in (("lower", lower, c_high, u <= lower * _BOUND_FACTOR), ("upper", upper, c_low, u >= upper / _BOUND_FACTOR)):
         share = float(np.mean(near))
         if share >= _BOUND_SHARE:
-            notes.append(
-                f"the posterior of u piles up at the {side} bound of its prior, u = {bound * 1e6:.3g} µm (C_gap = {c_bound:g} F at A = {area:g} m²; {share:.0%} of the draws within a factor {_BOUND_FACTOR:g} of it): "
-                f"u and C_gap are then set by the prior bound, not the data, and are unreliable; check {'the spectrum' if single else 'the three spectra'}"
-            )
-    return notes
+            out.append((side, float(bound), c_bound, share))
+    return out
+
+
+def _bound_notes(u_draws, reparametrization, area: float, single: bool = False) -> list[str]:
+    """A warning for each prior bound of u the draws pile up at (`_piled_bounds`)."""
+    return [
+        f"the posterior of u piles up at the {side} bound of its prior, u = {bound * 1e6:.3g} µm (C_gap = {c_bound:g} F at A = {area:g} m²; {share:.0%} of the draws within a factor {_BOUND_FACTOR:g} of it): "
+        f"u and C_gap are then set by the prior bound, not the data, and are unreliable; check {'the spectrum' if single else 'the three spectra'}"
+        for side, bound, c_bound, share in _piled_bounds(u_draws, reparametrization.lower[0], reparametrization.upper[0])
+    ]
 
 
 def _gap_identification(edl, piled_up: Mapping[str, str], alpha_draws, ep_q: str | None = None) -> str | None:

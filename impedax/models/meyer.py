@@ -28,7 +28,7 @@ import numpy as np
 import xarray as xr
 
 from ..circuits import Circuit, current_through, parse, voltage_across
-from ..arguments import checked_arguments, numeric_array, require_parameters, shown, variants_named
+from ..arguments import checked_arguments, numeric_array, relative_permittivity, require_parameters, shown, variants_named
 from ..errors import DataError, ParameterError
 from ..constants import EPSILON_0
 
@@ -85,6 +85,10 @@ class MeyerPhysical:
     area: float = math.pi * (4e-3) ** 2
     r_f: float = 500.0
     c_s: float = 140e-12
+
+    def __post_init__(self):
+        for name in ("eps_sc", "eps_i"):  # (below vacuum's 1: unphysical; 2026-12-03)
+            relative_permittivity(getattr(self, name), f"MeyerPhysical.{name}")
 
     @property
     def r_sc(self) -> float:
@@ -364,18 +368,21 @@ def _force_phasors(params, freq, area, v_a, variant):
     return series**2 / (2.0 * area * EPSILON_0), minus, v_f + q_c
 
 
+@checked_arguments(eps_i=relative_permittivity, eps_sc=relative_permittivity)
 def static_force_series(v_f, *, area: float, d_i: float, eps_i: float, d_sc: float, eps_sc: float):
     """Thesis eq 3.7: force [N] of two dielectrics in series with no leaked charge,
     F = ε0 A V_F² / (2 (d_i/ε_i + d_sc/ε_sc)²)."""
     return EPSILON_0 * area * jnp.asarray(v_f) ** 2 / (2.0 * (d_i / eps_i + d_sc / eps_sc) ** 2)
 
 
+@checked_arguments(eps_sc=relative_permittivity)
 def static_force_f1(v_f, *, area: float, d_sc: float, eps_sc: float):
     """Thesis eq 3.8 (zero insulator thickness; the form Meyer argues is right for a solid
     dielectric slab): F1 = ε0 A V_F² / (2 (d_sc/ε_sc)²) = Q²/(2 ε0 A)."""
     return EPSILON_0 * area * jnp.asarray(v_f) ** 2 / (2.0 * (d_sc / eps_sc) ** 2)
 
 
+@checked_arguments(eps_sc=relative_permittivity)
 def static_force_f2(v_f, *, area: float, d_sc: float, eps_sc: float):
     """Thesis eq 3.9 (the textbook parallel-plate form, correct only for a dielectric fluid):
     F2 = ε0 ε_sc A V_F² / (2 d_sc²) = Q²/(2 ε0 ε_sc A) = F1/ε_sc."""

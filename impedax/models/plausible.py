@@ -43,7 +43,7 @@ without breaking down, and below ~5 µm field emission lowers the breakdown furt
 voltage above it makes eq 1's force (no breakdown in it) unreachable."""
 MEYER_FACTOR = 1e3
 """Meyer's circuit values are plausible within this factor either way of the thesis's."""
-VEZZOLI_RANGES = {"h_i": (1e-7, 9e-4), "h_s": (1e-5, 5e-3), "rho_s": (3e2, 3e6)}
+VEZZOLI_RANGES = {"h_i": (1e-7, 9e-4), "h_s": (1e-5, 5e-3), "rho_s": (3e2, 3e6), "eps_i": (1.0, 3.6e3), "eps_s": (1.0, 2.34e5)}
 """Plausible values of Vezzoli et al.'s insulator thickness h_i [m], stratum corneum thickness
 h_s [m] and its resistivity ρ_s [Ω m] (docs/physics.md, "Vezzoli" and, for Fig 8's h_s, which the
 paper does not print, "impedax's own choices and derived values"; the paper's Table 2 and Figs 8–10):
@@ -53,13 +53,15 @@ Fig 8's 100–500 µm (the fingertip's range, after Fruhstorfer 2000): 10 µm–
 way of Table 2's 3.0e4 Ω m, the paper's one value (at 440 Hz; it varies between subjects and with
 frequency, Yamamoto 1976), which moves eq 8's corner 1/(2π ε0 ε_s ρ_s) (256 Hz with Table 2)
 over 2.6 Hz–26 kHz, past the paper's 100 Hz–10 kHz. A dropped µ (90 for 90 µm, ×10⁶) or k (30 for
-30 kΩ m, ×10³) falls outside each."""
+30 kΩ m, ×10³) falls outside each. The relative permittivities (added 2026-12-03; below 1 they
+are refused, `arguments.relative_permittivity`): ε_i up to 100× the paper's largest insulator,
+ε_i = 36 (Fig 9), 3600; ε_s up to 100× Table 2's 2340 (as ρ_s), 2.34e5."""
 DRIVE_PARAMETERS = {"meyer": "v_a", "vezzoli": "v_m"}
 """The drive amplitude's name in each model: plausible within `DRIVE_VOLTAGE_V`."""
 WARNED_ONLY = frozenset({*DRIVE_PARAMETERS.values(), *VEZZOLI_RANGES})
 """Parameters whose implausible value is a warning, not an error (a rig may drive other voltages,
 a film and a skin may be thinner or thicker than the papers'); the others are refused."""
-PARAMETER_UNITS = {"C_s": "F", "C_i": "F", "C_sc": "F", "R_sc": "Ω", "R_f": "Ω", "area": "m²", "CPE_sc.Q": "F s^(α−1)", "CPE_sc.alpha": "", "v_a": "V", "v_m": "V", "h_i": "m", "h_s": "m", "rho_s": "Ω m"}
+PARAMETER_UNITS = {"C_s": "F", "C_i": "F", "C_sc": "F", "R_sc": "Ω", "R_f": "Ω", "area": "m²", "CPE_sc.Q": "F s^(α−1)", "CPE_sc.alpha": "", "v_a": "V", "v_m": "V", "h_i": "m", "h_s": "m", "rho_s": "Ω m", "eps_i": "", "eps_s": ""}
 
 
 def plausible_range(model: str, name: str) -> tuple[float, float] | None:
@@ -88,6 +90,8 @@ _RANGE_REASONS = {
     "h_i": "10× beyond the paper's insulators, 1 µm (Figs 8–10) to Table 2's 90 µm film",
     "h_s": "10× beyond Fig 8's stratum corneum, 100–500 µm",
     "rho_s": "100× either way of Table 2's 30 kΩ m at 440 Hz",
+    "eps_i": "up to 100× the paper's largest insulator permittivity, ε_i = 36 (Fig 9)",
+    "eps_s": "up to 100× Table 2's ε_s = 2340 (the stratum corneum at 440 Hz)",
 }
 
 
@@ -131,6 +135,8 @@ def implausible_message(model: str, name: str, value: float) -> str | None:
     unit = PARAMETER_UNITS.get(name, "")
     if name == "area":
         where = f"a fingertip's apparent contact is {low:g}–{high:g} m² ({low * 1e6:g}–{high * 1e6:g} mm²)"
+    elif name in WARNED_ONLY and not unit:  # (a relative permittivity: no unit, so no unit slip)
+        return f"{name} = {value:g} is implausible (plausible {low:g}–{high:g}, {_RANGE_REASONS[name]})"
     elif name in WARNED_ONLY:
         where = f"plausible {_shown(low, unit)}–{_shown(high, unit)}, {_RANGE_REASONS[name]}"
         return f"{name} = {_shown(value, unit)} is implausible ({where}), most likely a unit slip{_intended(value, low, high, unit, _REFERENCES.get(name))}"

@@ -28,7 +28,7 @@ import xarray as xr
 
 from ..circuits import Circuit, compile_circuit, parse, voltage_across
 from ..data import label_value, make_spectrum, validate_spectrum
-from ..arguments import checked_arguments, numeric_array, require_parameters, shown, variants_named
+from ..arguments import checked_arguments, numeric_array, relative_permittivity, require_parameters, shown, variants_named
 from ..errors import DataError, ParameterError
 from ..constants import EPSILON_0, EPSILON_AIR
 
@@ -300,7 +300,7 @@ def gap_capacitance_paper(z_r, freq=None, *, cutoff_hz: float = 30.0, fmax_hz: f
     return float(np.mean(1.0 / (2.0 * np.pi * f[keep] * np.abs(z[keep]))))
 
 
-@checked_arguments(c_gap=numeric_array(positive=True), area=numeric_array(positive=True), eps_gap=numeric_array(positive=True))
+@checked_arguments(c_gap=numeric_array(positive=True), area=numeric_array(positive=True), eps_gap=relative_permittivity)
 def gap_thickness(c_gap, *, area: float = SIRIN_AREA, eps_gap: float = EPSILON_AIR):
     """Average air-gap thickness u = ε0 ε_gap A / C_gap [m] (Sirin §2.3); works on floats,
     numpy and JAX arrays (e.g. posterior draws of C_gap)."""

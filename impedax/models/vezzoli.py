@@ -24,7 +24,7 @@ import jax.numpy as jnp
 import numpy as np
 import xarray as xr
 
-from ..arguments import checked_arguments, numeric_array, shown
+from ..arguments import checked_arguments, numeric_array, relative_permittivity, shown
 from ..errors import ParameterError
 from ..constants import EPSILON_0
 
@@ -134,7 +134,7 @@ def _mean_force(freq, h_i, h_s, area, eps_i, eps_s, rho_s, v_m):
     return EPSILON_0 * area * v_m**2 / (4.0 * _geometry(h_i, h_s, eps_i, eps_s)) * wt**2 / (1.0 + wt**2)
 
 
-@checked_arguments(freq=numeric_array(positive=True), h_i=numeric_array(positive=True), h_s=numeric_array(positive=True), area=numeric_array(positive=True), eps_i=numeric_array(positive=True), eps_s=numeric_array(positive=True), rho_s=numeric_array(positive=True), v_m=numeric_array())
+@checked_arguments(freq=numeric_array(positive=True), h_i=numeric_array(positive=True), h_s=numeric_array(positive=True), area=numeric_array(positive=True), eps_i=relative_permittivity, eps_s=relative_permittivity, rho_s=numeric_array(positive=True), v_m=numeric_array())
 def electrovibration_force(freq, *, h_i=TABLE2["h_i"], h_s=TABLE2["h_s"], area=TABLE2["area"], eps_i=TABLE2["eps_i"], eps_s=TABLE2["eps_s"], rho_s=TABLE2["rho_s"], v_m=TABLE2["v_m"]):
     """Eq 10, TIME-AVERAGED force [N] for v(t) = V_m cos ωt:
     F_e = ε0 A V_m² / (4 (h_i + h_s)(h_i/ε_i + h_s/ε_s)) · (ωτ)²/(1 + (ωτ)²), τ = ε0 ε_s ρ_s.
@@ -144,7 +144,7 @@ def electrovibration_force(freq, *, h_i=TABLE2["h_i"], h_s=TABLE2["h_s"], area=T
     return _mean_force(freq, h_i, h_s, area, eps_i, eps_s, rho_s, v_m)
 
 
-@checked_arguments(freq=numeric_array(positive=True), h_i=numeric_array(positive=True), h_s=numeric_array(positive=True), area=numeric_array(positive=True), eps_i=numeric_array(positive=True), eps_s=numeric_array(positive=True), rho_s=numeric_array(positive=True), v_m=numeric_array())
+@checked_arguments(freq=numeric_array(positive=True), h_i=numeric_array(positive=True), h_s=numeric_array(positive=True), area=numeric_array(positive=True), eps_i=relative_permittivity, eps_s=relative_permittivity, rho_s=numeric_array(positive=True), v_m=numeric_array())
 def electrovibration_force_peak(freq, *, h_i=TABLE2["h_i"], h_s=TABLE2["h_s"], area=TABLE2["area"], eps_i=TABLE2["eps_i"], eps_s=TABLE2["eps_s"], rho_s=TABLE2["rho_s"], v_m=TABLE2["v_m"]):
     """PEAK force [N]: the largest instantaneous force of eq 7 over a period, = 2 × eq 10.
 
@@ -158,7 +158,7 @@ def electrovibration_force_peak(freq, *, h_i=TABLE2["h_i"], h_s=TABLE2["h_s"], a
     return 2.0 * _mean_force(freq, h_i, h_s, area, eps_i, eps_s, rho_s, v_m)
 
 
-@checked_arguments(force=numeric_array(), freq=numeric_array(positive=True), h_i=numeric_array(positive=True), h_s=numeric_array(positive=True), area=numeric_array(positive=True), eps_i=numeric_array(positive=True), eps_s=numeric_array(positive=True), rho_s=numeric_array(positive=True))
+@checked_arguments(force=numeric_array(), freq=numeric_array(positive=True), h_i=numeric_array(positive=True), h_s=numeric_array(positive=True), area=numeric_array(positive=True), eps_i=relative_permittivity, eps_s=relative_permittivity, rho_s=numeric_array(positive=True))
 def voltage_for_force(force, freq, *, h_i=TABLE2["h_i"], h_s=TABLE2["h_s"], area=TABLE2["area"], eps_i=TABLE2["eps_i"], eps_s=TABLE2["eps_s"], rho_s=TABLE2["rho_s"]):
     """Eq 10 solved for the amplitude [V] giving a time-averaged ``force`` [N] (Fig 10):
     V_m = √(4 F (h_i + h_s)(h_i/ε_i + h_s/ε_s)(1 + (ωτ)²) / (ε0 A (ωτ)²)). Warns as

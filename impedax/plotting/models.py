@@ -80,7 +80,9 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None, figsize: tuple[floa
         bound = gap.gap_lower_bound * 1e6
         ax.axvline(bound, color="tab:red", lw=2, label=f"lower bound u ≥ {bound:.3g} µm (all that the data give)")
         ax.axvspan(bound, ax.get_xlim()[1], color="tab:red", alpha=0.06)
-    title = "air-gap thickness" if identified else "air-gap thickness: NOT determined (lower bound only)" if bounded else "air-gap thickness: NOT determined (no bound: the model misfits)"
+    title = ("air-gap thickness" if identified else "air-gap thickness: NOT determined (lower bound only)" if bounded
+             else "air-gap thickness: NOT determined (no bound: the model misfits)" if getattr(gap, "gap_bound_withheld", None) is not None
+             else "air-gap thickness: NO AIR GAP (see the heading)")
     ax.set(xlabel="gap thickness u [µm]", ylabel="draws" if wide else "density", title=title)
     ax.legend(fontsize=font_size("legend", 7))
     ax = axes[2]

@@ -20,7 +20,7 @@ from typing import Callable, Mapping
 
 import numpy as np
 
-from ...arguments import number_text
+from ...arguments import number_text, relative_permittivity
 from ...errors import ArgumentNeeded, ParameterError
 from ...constants import C_GAP_BOUNDS_F, EPSILON_0, EPSILON_AIR
 
@@ -160,6 +160,7 @@ def gap_thickness_bounds(area: float, eps_r: float = EPSILON_AIR) -> tuple[float
     the upper and lower ends of `C_GAP_BOUNDS_F` (1 fF–100 µF), so every area bounds C_gap alike
     and the same data give the same C_gap whatever the area (11.5 pm–1.15 m at 130 mm²)."""
     _check_positive(area=area, eps_r=eps_r)
+    relative_permittivity(eps_r, "eps_r")
     c_low, c_high = C_GAP_BOUNDS_F
     return EPSILON_0 * eps_r * area / c_high, EPSILON_0 * eps_r * area / c_low
 
@@ -173,6 +174,7 @@ def gap_thickness_reparametrization(element: str = "C_gap", *, area: float, eps_
     the wrong unit: the warning says so (`bound_causes`).
     """
     _check_positive(area=area, eps_r=eps_r)
+    relative_permittivity(eps_r, "eps_r")
     default_lower, default_upper = gap_thickness_bounds(area, eps_r)
     lower = default_lower if lower is None else lower
     upper = default_upper if upper is None else upper
