@@ -204,7 +204,7 @@ def test_select_reports_the_spectra_used_per_file(tmp_path, capsys):
     assert trials["total"]["count"] == 3 and trials["total"]["labels"] == [2, 3, 4] and trials["total"]["dims"] == ["trial"]
     assert trials["skin"]["count"] == 2 and trials["skin"]["labels"] == [2, 3]  # (the skin file holds trials 1-3)
     assert trials["touchscreen"]["labels"] == [2, 3, 4] and trials["touchscreen"]["by_position"] == []
-    assert "spectra used    total 3 (trial 2, 3, 4); skin 2 (trial 2, 3); touchscreen 3 (trial 2, 3, 4)" in text
+    assert "spectra used    total 3 (trial 2, 3, 4) [selected trial=2:4]; skin 2 (trial 2, 3) [selected trial=2:4]; touchscreen 3 (trial 2, 3, 4) [selected trial=2:4]" in text  # (the selection named since 2026-12-02)
     assert "positions" not in text
 
 
