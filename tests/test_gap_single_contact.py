@@ -14,6 +14,7 @@ from cli_run import run
 from impedax.cli import main
 from impedax.models.gap import gap_analysis
 from impedax.models.sirin import gap_force_peak, gap_voltage, remaining_impedance
+from impedax.data import format_frequency, format_quantity
 
 EPS0 = 8.8541878128e-12
 EPS_AIR = 1.00059
@@ -129,6 +130,11 @@ def test_single_contact_pooled_recovers_the_gap_and_the_force():
     assert out["single_contact"] is True and out["force_conditions"].startswith("A taken as exact; a single contact")
     report = result.report()
     assert "mode            single contact (no skin or touchscreen given)" in report and "the same at every frequency" in report
+    # a flat force has no frequency of its maximum: its value at every frequency (it read "max … at 1 Hz")
+    (line,) = [ln for ln in report.splitlines() if ln.startswith("force (peak")]
+    flat = format_quantity(float(force["median"][0]), "N")
+    f = result.force["frequency"].values
+    assert line.endswith(f"with EP: {flat} at every frequency ({format_frequency(f.min())}–{format_frequency(f.max())}); without EP: {flat} at every frequency ({format_frequency(f.min())}–{format_frequency(f.max())})"), line
     assert "skin and screen as their trial means" not in report
     assert result.to_xarray().attrs["single_contact"] == 1
 

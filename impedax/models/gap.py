@@ -40,7 +40,7 @@ import xarray as xr
 
 from ..progress import quiet_beneath
 from ..circuits import parse
-from ..data import format_frequency, format_percent, format_quantity, si_prefix
+from ..data import format_band, format_frequency, format_percent, format_quantity, si_prefix
 from ..arguments import GAP_MIN_STEPS, MAX_WALKERS, checked_arguments, choice, count, flag, real, relative_permittivity_number, seed
 from ..errors import IN_MEMORY, CircuitError, DataError, ParameterError
 from ..constants import C_GAP_BOUNDS_F, EPSILON_0, EPSILON_AIR
@@ -515,9 +515,7 @@ class GapAnalysis:
     def report(self) -> str:
         g, c, p = self.gap, self.c_gap, self.paper
         peak = self.force.sel(branch="with_ep")["median"]
-        i = int(np.argmax(peak.values))
         bare = self.force.sel(branch="without_ep")["median"]  # (C_gap alone: the JSON's force_without_ep_n)
-        j = int(np.argmax(bare.values))
         band = _gap_range(g["q05"], g["q95"])
         if self.gap_identified:
             head, interval = "gap thickness u", f"90% credible interval {band}"
@@ -539,8 +537,7 @@ class GapAnalysis:
             f"paper method    u = {_gap_length(p.gap)}{f' ({NO_AIR_GAP})' if self.paper_gap_implausible is not None else ''}  {bounds}",
             f"C_gap{' (prior-set)' if self._prior_set else '          '} = {_capacitance_with_interval(c)}; paper method {format_quantity(p.c_gap, 'F', CAPACITANCE_DIGITS)}",
             f"fits            naive C_gap: rms_rel {format_percent(self.naive_fit.rms_rel)};  {self.edl_fit.model}: rms_rel {format_percent(self.edl_fit.rms_rel)}",
-            f"force (peak, V0 = {self.v0:.4g} V){self._force_qualifier()} with EP: max {format_quantity(float(peak[i]), 'N')} at {format_frequency(float(peak['frequency'][i]))}; "
-            f"without EP: max {format_quantity(float(bare[j]), 'N')} at {format_frequency(float(bare['frequency'][j]))}",
+            f"force (peak, V0 = {self.v0:.4g} V){self._force_qualifier()} with EP: {_force_maximum_text(peak)}; without EP: {_force_maximum_text(bare)}",
             f"force bands     {self.force_conditions} (A = {self.area:g} m²)",
         ]
         if self.single_contact:
@@ -767,6 +764,23 @@ def _volts_with_interval(q: Mapping[str, float]) -> str:
     if not apart:
         return f"{_volts(q['value'], digits)} V (90%: ≈ {_volts(q['q95'], digits)} V)"
     return f"{_volts(q['value'], digits)} V (90%: {_volts(q['q05'], digits)}–{_volts(q['q95'], digits)} V)"
+
+
+FLAT_FORCE_REL = 1e-3
+"""A force whose median varies over the band by less than this fraction of its maximum is flat
+(`_force_maximum_text`): a single contact's force without EP is ½ ε0 ε_gap A V0²/u² at every
+frequency, to rounding."""
+
+
+def _force_maximum_text(median: xr.DataArray) -> str:
+    """``max 408 mN at 1 Hz`` of a median force over frequency; a flat one (`FLAT_FORCE_REL`)
+    ``2.835 N at every frequency (1 Hz–100 kHz)``: its maximum's frequency is rounding's choice
+    (a single contact's force without EP read "max 2.835 N at 1 Hz", 2026-12-03)."""
+    values, freq = np.asarray(median.values, float), np.asarray(median["frequency"].values, float)
+    i = int(np.argmax(values))
+    if values.size > 1 and np.all(np.isfinite(values)) and values.max() - values.min() <= FLAT_FORCE_REL * abs(values.max()):
+        return f"{format_quantity(float(values[i]), 'N')} at every frequency ({format_band(float(freq.min()), float(freq.max()))})"
+    return f"max {format_quantity(float(values[i]), 'N')} at {format_frequency(float(freq[i]))}"
 
 
 def _trials_text(name: str, used: dict) -> str:
