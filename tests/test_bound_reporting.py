@@ -320,3 +320,21 @@ def test_a_narrow_valley_between_two_elements_points_to_the_posterior():
 
     assert correlated_note("R1", "R2", -0.999).endswith("the data barely tell them apart; in so narrow a valley the linearised ± may understate their spread: impedax sample gives the posterior's")
     assert "narrow a valley" not in correlated_note("CPE1.Q", "CPE1.alpha", -0.995, (0.01, 0.02))
+
+
+def test_a_value_within_1e4_of_its_upper_bound_is_said_to_be_near_that_bound():
+    """`near_bound_notes` names the side `bound_sides` found: α = 1 − 8.4e-15 ± 1.5e-15 is within
+    1e-4 of its upper bound 1, but more than 2 standard errors away from it, and was said to lie
+    "within 2 standard errors of its lower bound 0" (REAL data.ods, 2026-12-03). Values by hand."""
+    from impedax.fitting.least_squares.result import near_bound_notes
+    from impedax.fitting.parameters import ParameterTable
+
+    table = ParameterTable.build(ix.parse("R0 + R1 || CPE1"))
+    assert list(table.names) == ["R0", "R1", "CPE1.Q", "CPE1.alpha"]
+    values = np.array([[10.0, 100.0, 1e-5, 1 - 8.4e-15]])
+    stderr = np.array([[0.1, 1.0, 1e-7, 1.5e-15]])
+    (note,) = [n for _, n in near_bound_notes(table, values, stderr, np.zeros((1, 4), np.int8))]
+    assert note.startswith("CPE1.alpha = 1 ± 1.5e-15 lies 8.4e-15 from its upper bound 1:"), note
+    stderr[0, 3] = 1e-14  # (now within 2 standard errors: the words of before)
+    (note,) = [n for _, n in near_bound_notes(table, values, stderr, np.zeros((1, 4), np.int8))]
+    assert note.startswith("CPE1.alpha = 1 ± 1e-14 lies within 2 standard errors of its upper bound 1:"), note

@@ -1566,17 +1566,21 @@ def near_bound_notes(table: ParameterTable, values: np.ndarray, stderr: np.ndarr
     not the symmetric interval it reads as; a statistician's audit found 103 of 122 such R0
     values (true 1 mΩ) reported without a word. The note names the posterior as the honest one."""
     values, stderr = np.atleast_2d(values), np.atleast_2d(stderr)
-    near = (bound_sides(table, values, stderr) != 0) & (np.asarray(sides) == 0) & ~undetermined_mask(table, values, stderr, sides)
+    candidates = bound_sides(table, values, stderr)
+    near = (candidates != 0) & (np.asarray(sides) == 0) & ~undetermined_mask(table, values, stderr, sides)
     out = []
     for b, j in np.argwhere(near).tolist():
         i = table.free_index[j]
         value, error = float(values[b, i]), float(stderr[b, i])
-        lo, hi = float(table.lower[i]), float(table.upper[i])
-        side, bound = ("upper", hi) if math.isfinite(hi) and abs(hi - value) <= BOUND_STDERR_FRACTION * error else ("lower", lo)
+        # the side `bound_sides` found: α = 1 − 8e-15 ± 1.5e-15 is within 1e-4 of its upper bound 1,
+        # not 2 standard errors of it, and was said to be near its lower bound 0 (REAL data.ods, 2026-12-03)
+        side, bound = ("upper", float(table.upper[i])) if candidates[b, j] > 0 else ("lower", float(table.lower[i]))
         u = unit_text(table.units[i])
         u = f" {u}" if u else ""
+        within = (f"within {BOUND_STDERR_FRACTION:g} standard errors of" if abs(bound - value) <= BOUND_STDERR_FRACTION * error else
+                  f"{abs(bound - value):.2g} from")  # (within 1e-4 of it, more standard errors away: `bound_sides`)
         out.append((b, (
-            f"{table.names[i]} = {value:.3g} ± {error:.2g}{u} lies within {BOUND_STDERR_FRACTION:g} standard errors of its {side} bound {bound:g}: "
+            f"{table.names[i]} = {value:.3g} ± {error:.2g}{u} lies {within} its {side} bound {bound:g}: "
             "the ± is not symmetric there (no value lies beyond the bound)" + SAMPLE_ADVICE
         )))
     return out
