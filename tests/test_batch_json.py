@@ -246,3 +246,15 @@ def test_each_warning_kind_gives_its_spectra_labels_as_dicts(batch):
     misfit = next(k for k in kinds if "misses structure" in k["warning"])
     assert misfit["spectra"] == ["cycle=40"] and misfit["labels"] == [{"cycle": 40}]
     json.dumps(kinds)  # (plain JSON values)
+
+
+def test_a_batch_whose_labels_repeat_is_refused():
+    """Ten spectra labelled cycle=1 were fitted, their warnings folded into one entry and
+    fit_of(cycle=1) gave one of them without a word (2026-12-03 walkthrough); now one DataError
+    names the dimension and the repeated label, before any fit."""
+    f = np.geomspace(1.0, 1e5, 20)
+    z = 10 + 100 / (1 + 2j * np.pi * f * 1e-4)  # (R0 + R1 ∥ C1 written here)
+    data = ix.make_spectrum(f, np.tile(z, (3, 1)), dims=("cycle",), coords={"cycle": [1, 1, 2]})
+    with pytest.raises(ix.DataError, match=r"the labels along cycle repeat \(1\): each spectrum of a batch is found by its label"):
+        ix.fit(MODEL, data)
+    assert ix.fit(MODEL, data.assign_coords(cycle=[1, 2, 3])).n_spectra == 3

@@ -268,6 +268,7 @@ def fit_problem(circuit, spectrum: Spectrum, *, init, fixed, bounds, registry) -
     """`prepare_fit` on a spectrum already opened (`open_spectrum`): for many circuits on one spectrum."""
     circuit = parse(circuit, registry)
     data, source = spectrum.data, spectrum.source
+    _refuse_repeated_labels(data, source)
     table = ParameterTable.build(circuit, registry=registry, init=init, fixed=fixed, bounds=bounds)
     n_points = data.sizes["frequency"]
     k = int((~table.fixed).sum())
@@ -278,6 +279,21 @@ def fit_problem(circuit, spectrum: Spectrum, *, init, fixed, bounds, registry) -
         where = "" if source in (None, "", "dataset", IN_MEMORY) else f"{source}: "  # (the file, when the data came from one)
         raise FitError(f"{where}{k} free parameters but only {2 * n_points} real data values ({frequencies}); fix parameters or use more data" + (" (a wider band)" if spectrum.band else ""))
     return FitProblem(circuit, data, table, source)
+
+
+def _refuse_repeated_labels(data: xr.Dataset, source) -> None:
+    """`DataError` when a dimension of a batch repeats a label: its fits are kept and found by
+    label (warnings by spectrum, `fit_of`, ``init=batch``), and ten spectra labelled cycle=1 were
+    fitted, their warnings folded into one entry and `fit_of(cycle=1)` gave one of them without a
+    word (2026-12-03)."""
+    for d in data["Z"].dims:
+        if d == "frequency" or d not in data.coords:
+            continue
+        index = data.get_index(d)
+        if index.has_duplicates:
+            repeated = ", ".join(str(v) for v in index[index.duplicated()].unique()[:5])
+            raise DataError(f"the labels along {d} repeat ({repeated}): each spectrum of a batch is found by its label; give each its own "
+                            f"(Python: data.assign_coords({d}=range({data.sizes[d]}))) or fit them apart (impedax fit --select {d}=LABEL picks one label's)", path=source)
 
 
 SIGMA_SOURCES = (
