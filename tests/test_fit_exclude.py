@@ -126,3 +126,17 @@ def test_kk_and_drt_take_the_exclude_that_refine_recommends(capsys, monkeypatch)
     for command in ("kk", "drt"):
         assert main([command, str(BIOLOGIC), "--exclude", "5.0"]) == 2
         assert "--exclude 5.0: no measured frequency within 0.5 % of 5 Hz" in capsys.readouterr().err
+
+
+def test_a_repeated_exclude_joins_its_lists(capsys):
+    """``--exclude 5.34 --exclude 56.2`` leaves out both points, as ``--exclude 5.34,56.2`` does
+    (the last one alone was kept, without a word: 2026-12-03 walkthrough). REAL BioLogic data:
+    43 points, the oracle the frequencies read from the file."""
+    freq = ix.load(BIOLOGIC)["frequency"].values
+    assert main(["kk", str(BIOLOGIC), "--exclude", "5.34", "--exclude", "56.2", "--json"]) == 0
+    kept = np.array(json.loads(capsys.readouterr().out)["frequency_hz"])
+    assert kept.size == freq.size - 2
+    for gone in (5.34, 56.2):
+        assert np.min(np.abs(kept / gone - 1)) > 0.005 and np.min(np.abs(freq / gone - 1)) < 0.005
+    assert main(["kk", str(BIOLOGIC), "--exclude", "5.34,56.2", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["frequency_hz"] == kept.tolist()

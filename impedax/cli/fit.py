@@ -29,8 +29,16 @@ def add_fit_options(p) -> None:
 
 def add_exclude_option(p) -> None:
     """``--exclude F,F``, as `impedax.cli.common.exclude_points` reads it (fit, compare,
-    diagnose, refine, kk, drt: the points refine and diagnose masked can be left out of each)."""
-    p.add_argument("--exclude", metavar="F,F", help="leave out these measured frequencies [Hz], comma-separated (5.34,56.2,1.12M): each names the nearest "
+    diagnose, refine, kk, drt: the points refine and diagnose masked can be left out of each);
+    repeated, the lists join (until 2026-12-03 the last one alone was kept, without a word)."""
+    import argparse
+
+    class Joined(argparse.Action):
+        def __call__(self, parser, namespace, values, option_string=None):
+            before = getattr(namespace, self.dest, None)
+            setattr(namespace, self.dest, f"{before},{values}" if before else values)
+
+    p.add_argument("--exclude", metavar="F,F", action=Joined, help="leave out these measured frequencies [Hz], comma-separated (5.34,56.2,1.12M), or --exclude repeated: each names the nearest "
                    "measured frequency within 0.5 %%, so values copied from a report match (the masked points diagnose and refine print)")
 
 
