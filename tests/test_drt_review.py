@@ -237,6 +237,15 @@ def test_the_r_inf_advice_can_be_followed_on_a_real_file(capsys):
     assert code == 0 and "R_inf = " in out and "warning: R_inf" not in out
 
 
+def test_min_peak_fraction_says_one_range_in_python():
+    """5 was "at most 1" and 1.0 "in [0, 1)" (2026-12-03 walkthrough): one range, as the CLI's."""
+    for value in (5, 1.0):
+        with pytest.raises(ix.ParameterError, match=r"min_peak_fraction must be at least 0 and below 1 \(a share of the DRT's area, e.g. 0.05\), got "):
+            drt((F, TWO_ARCS), min_peak_fraction=value)
+    with pytest.raises(ix.ParameterError, match="min_peak_fraction must be at least 0, got -0.1"):
+        drt((F, TWO_ARCS), min_peak_fraction=-0.1)
+
+
 def test_min_peak_fraction_from_the_command_line(two_arcs_file, capsys):
     payload = json.loads(run(capsys, two_arcs_file, "--min-peak-fraction", "0.2", "--json")[1])
     assert len(payload["peaks"]) == 1 and [round(math.log10(p["tau_s"])) for p in payload["dropped_peaks"]] == [-4]

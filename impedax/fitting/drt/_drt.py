@@ -129,10 +129,19 @@ def _lambda_note(method: str, choice: float, index: int) -> str:
     return ""
 
 
+def _share_below_one(value: float, name: str) -> float:
+    """A share of the DRT's area (``min_peak_fraction``): at least 0 (checked before) and below 1,
+    one message for both ends, as the command line's (it said "at most 1" for 5 and "in [0, 1)"
+    for 1.0 until 2026-12-03)."""
+    if value >= 1:
+        raise ParameterError(f"{name} must be at least 0 and below 1 (a share of the DRT's area, e.g. 0.05), got {value:g}")
+    return value
+
+
 @checked_arguments(
     signed=flag, derivative=count(1, 2), inductance=flag, points_per_decade=real(minimum=1, maximum=1000), extend_decades=real(minimum=0, maximum=10),
     fwhm_steps=real(positive=True, maximum=100), output_points_per_decade=real(minimum=1, maximum=10_000), max_iter=count(1, 100_000),
-    min_peak_fraction=real(minimum=0, maximum=1),
+    min_peak_fraction=lambda value, name: _share_below_one(real(minimum=0)(value, name), name),
 )
 def drt(
     data,
@@ -200,8 +209,6 @@ def drt(
             raise ParameterError(f"{name} must be True or False, got {flag!r}")
     if not (isinstance(capacitance, (bool, np.bool_)) or capacitance == "auto"):
         raise ParameterError(f"capacitance must be True, False or 'auto', got {capacitance!r}")
-    if not (isinstance(min_peak_fraction, (int, float)) and 0 <= min_peak_fraction < 1):
-        raise ParameterError(f"min_peak_fraction must be in [0, 1), got {min_peak_fraction!r}")
     for name, value, low in (("points_per_decade", points_per_decade, 1.0), ("extend_decades", extend_decades, 0.0), ("fwhm_steps", fwhm_steps, 0.5), ("output_points_per_decade", output_points_per_decade, 1.0)):
         if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= low):
             raise ParameterError(f"{name} must be a number ≥ {low:g}, got {value!r}")
