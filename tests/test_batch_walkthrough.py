@@ -51,11 +51,26 @@ def test_a_batch_read_back_from_netcdf_starts_the_next(tmp_path, cycles, first):
     assert np.all(again.dataset["chi2"].values <= first.dataset["chi2"].values * (1 + 1e-6))
 
 
+def test_a_part_of_the_batch_or_its_dates_read_back_start_by_label(tmp_path, cycles, first):
+    """Three of the four cycles take their own fits (the suggested data.sel(...) raised a
+    KeyError on such a part); dates written to a file come back in ns where the data hold µs,
+    and were refused as labels "not in" the batch (2026-12-03 walkthrough)."""
+    part = ix.fit(MODEL, cycles.isel(cycle=[3, 0, 2]), init=first, n_starts=1)
+    for label in cycles["cycle"].values[[3, 0, 2]]:
+        assert float(part.values("R1").sel(cycle=label)) == pytest.approx(float(first.values("R1").sel(cycle=label)), rel=1e-4)
+    dates = cycles.assign_coords(cycle=np.array(["2024-01-01", "2024-01-02", "2024-01-03", "2024-01-04"], dtype="datetime64[us]"))
+    dated = ix.fit(MODEL, dates)
+    ix.write_result(dated, tmp_path / "dated.nc")
+    saved = ix.BatchFitResult.from_xarray(ix.load(tmp_path / "dated.nc"))
+    again = ix.fit(MODEL, dates, init=saved, n_starts=1)
+    assert np.all(again.dataset["chi2"].values <= dated.dataset["chi2"].values * (1 + 1e-6))
+
+
 @pytest.mark.parametrize(
     "pick, message",
     [
         (lambda d: d.isel(cycle=0), "for one spectrum use one of its fits, e.g. init=batch.fit_of(cycle=…)"),
-        (lambda d: d.isel(cycle=[0, 1, 2]), "the batch of fits has 4 spectra along cycle, the data 3"),
+        (lambda d: d.isel(cycle=[0, 1, 2]).drop_vars("cycle"), "the batch of fits has 4 spectra along cycle, the data 3, and without labels along cycle they are matched by position"),
         (lambda d: d.assign_coords(cycle=d["cycle"].values + 100), "not in it: 110, 111, 112, 113"),
         (lambda d: d.rename(cycle="cell"), "the batch of fits is over cycle but the data's spectra are over cell"),
     ],

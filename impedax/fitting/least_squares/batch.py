@@ -202,15 +202,19 @@ class BatchFitResult:
             )
         value = ds["value"].transpose("param", *extra)
         for d in extra:
-            if data.sizes[d] != ds.sizes[d]:
-                raise ParameterError(f"init: the batch of fits has {ds.sizes[d]} spectra along {d}, the data {data.sizes[d]}: init=batch needs the same spectra (select them, e.g. data.sel({d}=batch.dataset.{d}))")
             if d in data.coords and d in ds.coords:
-                ours, theirs = np.asarray(ds[d].values), np.asarray(data[d].values)
-                missing = [v for v in theirs.tolist() if v not in ours.tolist()]
-                if missing or len(set(ours.tolist())) != ours.size:
+                # labels matched by value (pandas' index: dates in ns and in µs alike, as a file
+                # read back holds them), the data's a subset of the batch's or all of them (2026-12-03)
+                ours, theirs = ds.get_index(d), data.get_index(d)
+                missing = theirs[~theirs.isin(ours)]
+                if len(missing) or ours.has_duplicates:
                     shown = ", ".join(map(str, missing[:5])) + (", …" if len(missing) > 5 else "")
-                    raise ParameterError(f"init: the data's labels along {d} are not the batch of fits' ({'not in it: ' + shown if missing else 'its labels repeat'}); init=batch starts each spectrum from the fit with the same label")
-                value = value.sel({d: theirs})  # each spectrum takes the fit with its label
+                    raise ParameterError(f"init: the data's labels along {d} are not the batch of fits' ({'not in it: ' + shown if len(missing) else 'its labels repeat'}); "
+                                         "init=batch starts each spectrum from the fit with the same label: fit the spectra it has no fit for without init=")
+                value = value.isel({d: ours.get_indexer(theirs)})  # each spectrum takes the fit with its label
+            elif data.sizes[d] != ds.sizes[d]:
+                raise ParameterError(f"init: the batch of fits has {ds.sizes[d]} spectra along {d}, the data {data.sizes[d]}, and without labels along {d} they are matched by position: "
+                                     f"init=batch needs as many (label {d} in both, e.g. data.assign_coords({d}=...), to match a part of the batch by label)")
         own = {str(p): value.sel(param=p).values for p in ds["param"].values}
         if circuit is not None:
             omega = 2 * np.pi * np.asarray(ds["frequency"].values, float)
