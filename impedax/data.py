@@ -179,6 +179,14 @@ def checked_frequencies(freq, name: str = "freq", *, ndim_max: int | None = 1, s
 # the Dataset.encoding key `impedax.load` sets to the file whose data passed `validate_spectrum`
 CHECKED_FILE = "impedax_checked_file"
 
+# what to do about a non-finite Z, one spectrum (False) or a batch (True): every check runs as the
+# data are read, before --select or --exclude could act (2026-12-03: the message offered nothing)
+NON_FINITE_ADVICE = {
+    False: "; leave that point out of the file (Python: out of the arrays given to make_spectrum)",
+    True: "; every spectrum needs a value at every frequency: leave that point or spectrum out of the file (Python: out of the arrays given to "
+          "make_spectrum); spectra measured on different sweeps are analysed apart, not padded with NaN to one grid",
+}
+
 
 def validate_spectrum(ds: xr.Dataset, *, source: str | None = None) -> xr.Dataset:
     """Check the data model; raise `DataError` naming the problem. Returns ``ds`` unchanged.
@@ -192,7 +200,10 @@ def validate_spectrum(ds: xr.Dataset, *, source: str | None = None) -> xr.Datase
     except DataError as exc:
         if ds.encoding.get(CHECKED_FILE) != source:
             raise
-        raise DataError(f"{exc.detail} (changed in memory after impedax.load read the file, which passed this check)", path=source) from None
+        detail = exc.detail
+        for advice in NON_FINITE_ADVICE.values():  # (the file is not at fault here)
+            detail = detail.replace(advice, "")
+        raise DataError(f"{detail} (changed in memory after impedax.load read the file, which passed this check)", path=source) from None
 
 
 # spellings of a frequency dimension other than impedax's ``frequency`` (lower case), named in the
@@ -248,7 +259,8 @@ def _validated(ds: xr.Dataset, source: str) -> xr.Dataset:
     _check_units(z_var, "Z", OHMS, "ohm", RESISTANCE_SCALES, source)
     if not np.all(np.isfinite(z)):
         idx = np.argwhere(~np.isfinite(z))[0]
-        raise DataError(f"Z has a non-finite value at {point_text(ds, z_var.dims, idx)}: {z[tuple(idx)]}", path=source)
+        remedy = NON_FINITE_ADVICE[any(d != "frequency" for d in z_var.dims)]
+        raise DataError(f"Z has a non-finite value at {point_text(ds, z_var.dims, idx)}: {z[tuple(idx)]}{remedy}", path=source)
     if "sigma" in variables:
         _check_sigma(ds, variables["sigma"], z_var, source)
     return ds

@@ -128,6 +128,12 @@ def test_a_loaded_file_changed_in_memory_is_not_blamed(tmp_path):
     with pytest.raises(ix.DataError) as built:  # (data built in a session: no such note)
         ix.fit(RC, ix.make_spectrum(FREQ, rc_impedance(FREQ)).assign(Z=("frequency", np.where(FREQ == FREQ[3], np.nan, rc_impedance(FREQ)))))
     assert "changed in memory" not in str(built.value)
+    assert str(built.value).endswith("(point 3): (nan+0j); leave that point out of the file (Python: out of the arrays given to make_spectrum)")
+    assert "leave that point out" not in str(info.value)  # (the file passed: no advice to edit it)
+    z = np.stack([rc_impedance(FREQ), rc_impedance(FREQ)])
+    z[1, 3] = np.nan  # (a stack padded with NaN: what to do, 2026-12-03)
+    with pytest.raises(ix.DataError, match=r"spectrum #1, f=.* \(point 3\): \(nan\+0j\); every spectrum needs a value at every frequency: .*not padded with NaN to one grid$"):
+        ix.make_spectrum(FREQ, z, dims=("spectrum",))
 
 
 def test_zero_modulus_in_a_batch_names_the_spectrum_and_the_point():
