@@ -106,13 +106,16 @@ def test_a_held_parameter_that_the_reduction_needs_breaks_the_nesting():
     free_l = ix.fit("R0 + R1 || CPE1 + L1", data)
     (test,) = ix.compare([rc, free_l]).f_tests  # the same circuits with L1 free: nested, tested
     assert (test["simple"], test["complex"]) == (rc.model, free_l.model)
-    # R0 held by both: at the same value nested (its F by hand), at another value not
-    rc_12, cpe_12, cpe_13 = ix.fit("R0 + R1 || C1", data, fixed={"R0": 12.0}), ix.fit("R0 + R1 || CPE1", data, fixed={"R0": 12.0}), ix.fit("R0 + R1 || CPE1", data, fixed={"R0": 13.0})
+    # R0 held by both: at the same value nested (its F by hand), at another value not; on a
+    # SYNTHETIC CPE arc (α = 0.85, written here), so that the CPE's α lies off its bound and the test is made
+    arc = 10 + 100 / (1 + (2j * np.pi * f * 1e-4) ** 0.85)
+    cpe_data = ix.make_spectrum(f, arc * (1 + 0.005 * (rng.normal(size=f.size) + 1j * rng.normal(size=f.size)) / np.sqrt(2)))
+    rc_12, cpe_12 = ix.fit("R0 + R1 || C1", cpe_data, fixed={"R0": 12.0}), ix.fit("R0 + R1 || CPE1", cpe_data, fixed={"R0": 12.0})
     (test,) = ix.compare([rc_12, cpe_12]).f_tests
     n = 2 * f.size
-    assert test["df1"] == 1 and test["df2"] == n - 3
-    if test["valid"]:
-        assert np.isclose(test["f"], max(rc_12.chi2 - cpe_12.chi2, 0.0) / (cpe_12.chi2 / (n - 3)), rtol=1e-9)
+    assert test["df1"] == 1 and test["df2"] == n - 3 and test["valid"]
+    assert np.isclose(test["f"], max(rc_12.chi2 - cpe_12.chi2, 0.0) / (cpe_12.chi2 / (n - 3)), rtol=1e-9)
+    rc_12, cpe_13 = ix.fit("R0 + R1 || C1", data, fixed={"R0": 12.0}), ix.fit("R0 + R1 || CPE1", data, fixed={"R0": 13.0})
     assert pairs(ix.compare([rc_12, cpe_13])) == set()
     # held only in the smaller model: still a special case of the larger one
     assert pairs(ix.compare([rc_12, ix.fit("R0 + R1 || CPE1", data)])) == {(rc_12.model, "R0 + R1 || CPE1")}
