@@ -86,29 +86,42 @@ def bounds_option(args, fixed: dict[str, float]) -> dict[str, tuple[float, float
 
 def run(args) -> int:
     from ..fitting import diagnose
-    from .common import command_provenance, data_source, exclude_points, figure_options, figure_writer, fit_command, load_selected, note_skipped_rows, plan_outputs, print_result, progress_printer, relative_noise, result_writer, skipped_rows, WithSummaryKeys
+    from .common import fit_command, note_skipped_rows, print_result
+
+    outputs, data, result, read, source, record = run_spectrum_command(args, "diagnose", diagnose)
+    if not outputs.uses_stdout:
+        print_result(read, args.json, source, record, command="diagnose", fit_command=fit_command(args, kept=result.baseline.frequency, masked=result.masked_points, data=data))
+        if not args.json:
+            note_skipped_rows(data, "diagnose", args.data)
+    return 0
+
+
+def run_spectrum_command(args, command: str, analyse, **settings):
+    """What ``impedax diagnose`` and ``impedax refine`` share: the outputs planned and the options
+    checked before the data are read (--max-steps, --noise, --effects, --fix, --bound), the one
+    spectrum read (--select, --exclude), ``analyse(data, model, ..., **settings)`` run with a
+    progress printer, and its result and figure written (--out, --plot). Returns the planned
+    outputs, the data, the result, the result with the JSON's extra keys, the source and the
+    provenance record."""
+    from .common import command_provenance, data_source, exclude_points, figure_options, figure_writer, load_selected, plan_outputs, progress_printer, relative_noise, result_writer, skipped_rows, WithSummaryKeys
     from .fit import check_max_steps, note_solver_step_limit
 
     outputs = plan_outputs([("--out", args.out, "result"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     max_steps = check_max_steps(args.max_steps)
-    note_solver_step_limit(max_steps, "diagnose")
+    note_solver_step_limit(max_steps, command)
     noise = relative_noise(args.noise)
     effects = effects_option(args.effects)
     fixed = fixed_option(args)
     bounds = bounds_option(args, fixed)
-    data = exclude_points(load_selected(args.data, args.select, single="impedax diagnose", readers=args.readers), args.exclude)
+    data = exclude_points(load_selected(args.data, args.select, single=f"impedax {command}", readers=args.readers), args.exclude)
     progress = progress_printer(quiet=args.quiet)
     try:
-        result = diagnose(data, args.model, effects=effects, noise=noise, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, progress=progress, fixed=fixed or None, bounds=bounds or None, registry=args.registry,
-                           mask=not args.keep_all_points)
+        result = analyse(data, args.model, effects=effects, noise=noise, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, progress=progress,
+                         fixed=fixed or None, bounds=bounds or None, registry=args.registry, mask=not args.keep_all_points, **settings)
     finally:
         progress.close()
     source = data_source(data)
     record = command_provenance(args, source=source, data_files=[args.data])
     read = WithSummaryKeys(result, {"skipped_rows": skipped_rows(data)})  # (the JSON's, as fit's and inspect --json's: added 2026-12-01)
     outputs.save({"--out": result_writer(read, source, record), "--plot": figure_writer(result.plot, source, **figure_options(args))})
-    if not outputs.uses_stdout:
-        print_result(read, args.json, source, record, command="diagnose", fit_command=fit_command(args, kept=result.baseline.frequency, masked=result.masked_points, data=data))
-        if not args.json:
-            note_skipped_rows(data, "diagnose", args.data)
-    return 0
+    return outputs, data, result, read, source, record

@@ -28,33 +28,12 @@ def register(sub) -> None:
 def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting import refine
-    from .common import command_provenance, data_source, exclude_points, figure_options, figure_writer, load_selected, note_skipped_rows, plan_outputs, print_result, progress_printer, relative_noise, result_writer, skipped_rows, WithSummaryKeys
-    from .diagnose import bounds_option, effects_option, fixed_option
-    from .fit import check_max_steps, note_solver_step_limit
+    from .common import note_skipped_rows, print_result
+    from .diagnose import run_spectrum_command
 
-    outputs = plan_outputs([("--out", args.out, "result"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     if args.max_effects < 0:
         raise ParameterError(f"--max-effects must be 0 or more, got {args.max_effects}")
-    solver_steps = check_max_steps(args.max_steps)
-    note_solver_step_limit(solver_steps, "refine")
-    noise = relative_noise(args.noise)
-    effects = effects_option(args.effects)
-    fixed = fixed_option(args)
-    bounds = bounds_option(args, fixed)
-    data = exclude_points(load_selected(args.data, args.select, single="impedax refine", readers=args.readers), args.exclude)
-    progress = progress_printer(quiet=args.quiet)
-    try:
-        result = refine(
-            data, args.model, max_effects=args.max_effects, max_steps=solver_steps, effects=effects, weighting=args.weighting, noise=noise,
-            fmin=args.fmin, fmax=args.fmax, progress=progress, fixed=fixed or None, bounds=bounds or None, registry=args.registry,
-            mask=not args.keep_all_points,
-        )
-    finally:
-        progress.close()
-    source = data_source(data)
-    record = command_provenance(args, source=source, data_files=[args.data])
-    read = WithSummaryKeys(result, {"skipped_rows": skipped_rows(data)})  # (the JSON's, as fit's and inspect --json's: added 2026-12-01)
-    outputs.save({"--out": result_writer(read, source, record), "--plot": figure_writer(result.plot, source, **figure_options(args))})
+    outputs, data, result, read, source, record = run_spectrum_command(args, "refine", refine, max_effects=args.max_effects)
     if not outputs.uses_stdout:
         print_result(read, args.json, source, record, command="refine")
         line = reproduce_line(result, args, data)
