@@ -67,7 +67,7 @@ def run(args) -> int:
     source = data_source(data)
     record = command_provenance(args, source=source, data_files=[args.data], c=options["c"])
     several = any(d != "frequency" for d in data["Z"].dims)
-    result = kk_test_batch(data, **options) if several else zhit(data) if args.method == "zhit" else kk_test(data, **options)
+    result = kk_test_batch(data, **options) if several else zhit(data) if args.method == "zhit" else kk_test(data, **options, find_passing_band=True)
     # the reader's skipped rows in the JSON, as inspect --json gives them (added 2026-12-01); --out as
     # fit's and drt's (added 2026-12-01: docs/io.md listed kk --out, which kk refused)
     command, options = _next_command(args, result, data) if not several and args.method == "linear" else (None, None)

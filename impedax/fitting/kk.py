@@ -32,7 +32,7 @@ from .problem import frequency_and_z, frequency_z_and_sigma
 from .statistics import KK_RESIDUAL_NOISE, difference_noise, non_passive, non_passive_words, residual_noise
 from .frozen import freeze_fields
 
-__all__ = ["KKResult", "KKBatchResult", "kk_test", "kk_test_batch", "kk_misfits", "kk_sigma_misfits", "kk_verdicts", "KKChains", "NOISE_SOURCES", "noise_shapes", "rejudged", "DEFAULT_THRESHOLDS", "CONCLUSIVE_POINTS_MIN", "RULE_NAMES", "BAND_MERGE_DECADES", "band_rules", "band_rule_counts", "points_text", "thresholds_for", "left_out_options", "frequency_text"]
+__all__ = ["KKResult", "KKBatchResult", "kk_test", "kk_test_batch", "passing_band", "kk_misfits", "kk_sigma_misfits", "kk_verdicts", "KKChains", "NOISE_SOURCES", "noise_shapes", "rejudged", "DEFAULT_THRESHOLDS", "CONCLUSIVE_POINTS_MIN", "RULE_NAMES", "BAND_MERGE_DECADES", "band_rules", "band_rule_counts", "points_text", "thresholds_for", "left_out_options", "frequency_text"]
 
 # below this many frequencies the chain (M ≤ N − 3 RC elements) is too stiff for the data, its
 # misfit is the chain's own and the noise estimate follows it: the test cannot fail
@@ -84,7 +84,7 @@ _JSON_KEYS = {
 # (added 2026-12-02) per band its flagged measured frequencies, the options that leave the
 # failing points out, and whether only marginal isolated points are left
 _JSON_KEYS_ADDED = {"bad_band_frequencies_hz": "band_frequencies", "suggested_options": "suggested_options", "marginal_points_only": "marginal_points_only",
-                    "stray_points_hz": "stray_frequencies"}
+                    "stray_points_hz": "stray_frequencies", "passing_band_hz": "passing_band", "passing_rms_rel": "passing_rms_rel"}
 # added keys (never renamed): the method, units in the name (``_hz``; ``_rel`` = a fraction of |Z|)
 # and the rules that flagged each band with their levels (`KKResult.summary`)
 
@@ -108,6 +108,19 @@ the onset of negative R where Schönleber's rule stops (a reading of µ, no pape
 exampleData.csv without the series C: M = 32, µ = 0.038, 16 of 32 R negative; SYNTHETIC
 100 Ω + 1 kΩ‖1 ms at 0.5 % noise, 61 points, seeds 0–4: µ 0.52–0.82 at M = 18–20, all valid
 (impedax's M is the first with µ < c that fits the data, docs/kk.md "Choosing M"; `KKResult.mu_words`)."""
+
+PASSING_BAND_EVERY_SPLIT = 8
+"""When the test fails and no point can be left out by the rules of `KKResult.excludable_frequencies`
+(a band at an end too wide, or a band inside), `kk_test(find_passing_band=True)` tests again
+without points at the ends: every split between the low and the high end of up to this many
+points in all (at most 44 tests), then a staircase through the larger trims (one test per step:
+a trim that passes is narrowed at the high end, one that fails widened at the low end; at most
+one test per point), keeping at least half of the points and `CONCLUSIVE_POINTS_MIN`. The fewest
+points left out win, then the lowest rms_rel. On the REAL files of impedance.py and AutoEIS
+(2026-12-03): Parstat passes at 10 Hz–2.51 kHz without its 6 highest points (0.31 %, where the
+whole fails at 18.9 %), PowerSuite without its 2 highest (2.5 %), CH Instruments without its 20
+lowest and its highest (0.26 %); every split tested ever found no narrower trim on these; Gamry
+passes on no such band (82 tests, 0.4 s)."""
 
 RULE_NAMES = ("point", "run", "window")
 """The validity rules (`kk_test`), as `KKResult.band_rules` names them."""
@@ -160,6 +173,12 @@ class KKResult:
     # (data order; ``threshold_scale`` is then its median), None when judged by ``noise_estimate``
     point_scale: np.ndarray | None = None
     noise_from: str = "residuals"  # "sigma": the chain weighted by 1/σ and each point judged by its σ (`kk_test`'s ``noise``)
+    # (added 2026-12-03) `kk_test(find_passing_band=True)` of a failed test with no point to leave
+    # out by the bands' rules: the lowest and highest measured frequency [Hz] of the band, left by
+    # leaving points out at the ends, on which the test passes, and its rms_rel there; None when not
+    # searched or none found (`PASSING_BAND_EVERY_SPLIT`)
+    passing_band: tuple[float, float] | None = None
+    passing_rms_rel: float | None = None
 
     def __post_init__(self):
         freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`)
@@ -228,6 +247,7 @@ class KKResult:
                 "inverse_series_capacitance_per_f": self.inverse_series_capacitance,
                 "chain_error": self.chain_error,
                 "noise_from": self.noise_from,
+                **({} if self.passing_band is None else {"passing_band_hz": list(self.passing_band), "passing_rms_rel": self.passing_rms_rel}),
                 **{f"threshold_{k}": v for k, v in self.thresholds.items()},
             },
         ).copy(deep=True)
@@ -251,6 +271,7 @@ class KKResult:
         })
         out.update({key: getattr(self, attribute) for key, attribute in _JSON_KEYS_ADDED.items()})
         out["bad_band_frequencies_hz"] = [list(f) for f in self.band_frequencies]
+        out["passing_band_hz"] = None if self.passing_band is None else list(self.passing_band)
         return out
 
     def to_table(self) -> list[dict[str, object]]:
@@ -338,7 +359,16 @@ class KKResult:
         points of each band of at most `FEW_BAND_POINTS` inside the range (``--exclude``). Empty
         when the test passed, when the sign hint explains the failure, or when that would leave
         fewer than half of the points or fewer than `CONCLUSIVE_POINTS_MIN` (leaving points out is
-        then no remedy)."""
+        then no remedy). When those rules leave nothing out and a ``passing_band`` was found,
+        the points outside it."""
+        by_bands = self._excludable_by_bands()
+        if by_bands.size or self.passing_band is None:
+            return by_bands
+        lo, hi = self.passing_band
+        return np.sort(self.frequency[(self.frequency < lo) | (self.frequency > hi)])
+
+    def _excludable_by_bands(self) -> np.ndarray:
+        """`excludable_frequencies` by the bad bands' rules alone."""
         if self.valid or self.sign_hint:
             return np.zeros(0)
         flag, _, freq = self._rule_masks()
@@ -391,11 +421,20 @@ class KKResult:
             lines.append(f"next: stop leaving points out: {'the point is' if np.count_nonzero(self.flagged) == 1 else 'each point is'} isolated and just over the point level "
                          f"({where}; level {self.thresholds['point']:.3g} s): the tail of the data's own scatter; without it the chain refits and another such point "
                          "may cross the level (docs/kk.md, \"When to stop\"). Fit with or without it")
+        elif words and not self._excludable_by_bands().size:  # (the band found by testing again without points at the ends)
+            lo, hi = self.passing_band
+            low, high = int(np.count_nonzero(self.frequency < lo)), int(np.count_nonzero(self.frequency > hi))
+            ends = " and ".join(x for x in (f"the {points_text(low)} below it" if low else "", f"the {points_text(high)} above it" if high else "") if x)
+            lines.append(f"next: the test passes on {format_band(lo, hi)} (KK rms_rel {self.passing_rms_rel * 100:.2g} %), leaving out {ends}: "
+                         f"trim the measurement to it: {command if command else ' '.join(words)}")
+            lines.append("  impedax fit, diagnose and refine take the same options")
         elif words:
             lines.append(f"next: leave them out and test again: {command if command else ' '.join(words)}")
             lines.append("  impedax fit, diagnose and refine take the same options; impedax refine leaves the KK-flagged points out by itself")
         spans = _band_spans(*self._rule_masks()[::2])
         inside = [(lo, hi) for (lo, hi), f, (i, j) in zip(self.bad_bands, self.band_frequencies, spans) if len(f) > FEW_BAND_POINTS and i > 0 and j < self.frequency.size]
+        if self.passing_band is not None and not self._excludable_by_bands().size:
+            inside = []  # (the trim leaves them out too)
         if inside or not words and not self.marginal_points_only:
             what = ", ".join(format_band(lo, hi, ' – ') for lo, hi in inside) if inside else "the bands"
             lines.append(f"{'  ' if lines else 'next: '}{what}: too many points to leave out one by one: a disturbance during the sweep (drift, movement); measure again, or fit knowing it (docs/kk.md, \"What to do\")")
@@ -1175,7 +1214,7 @@ def bands_of_flags(freq_sorted, flag) -> tuple[tuple[float, float], ...]:
 
 @checked_arguments(
     max_rc=count(1, MAX_BASIS, optional=True), n_rc=count(1, MAX_BASIS, optional=True), inductance=flag, capacitance=flag,
-    thresholds=instance_of(Mapping, optional=True, what="a mapping name → number"),
+    thresholds=instance_of(Mapping, optional=True, what="a mapping name → number"), find_passing_band=flag,
 )
 def kk_test(
     data,
@@ -1187,6 +1226,7 @@ def kk_test(
     capacitance: bool = True,
     thresholds: Mapping[str, float] | None = None,
     noise: str = "auto",
+    find_passing_band: bool = False,
 ) -> KKResult:
     """Linear Kramers–Kronig test of one spectrum (Schönleber et al. 2014).
 
@@ -1228,6 +1268,13 @@ def kk_test(
     the data carry σ. Noise that differs between bands (SYNTHETIC R_s + R_p ∥ CPE, 3 % below
     10 Hz, 0.3 % above, with that σ: 0 of 12 spectra passed by the residuals, 12 of 12 by σ).
     `KKResult.noise_from` says which was used.
+
+    ``find_passing_band`` (added 2026-12-03): when the test fails and the bands' rules leave no
+    point out (`KKResult.excludable_frequencies`: a failing band at an end too wide to drop, or
+    one inside), test again without points at the ends (`PASSING_BAND_EVERY_SPLIT`, at most one
+    test per point beyond the first 44) and report the widest band found on which the test passes
+    (`KKResult.passing_band`, its rms_rel `passing_rms_rel`); its points outside are then the
+    ones to leave out. ``impedax kk`` on one spectrum does this.
     """
     freq, z, dims, _, source, sigma = frequency_z_and_sigma(data)
     if dims:
@@ -1235,8 +1282,63 @@ def kk_test(
             f"Z has extra dimensions {dims}; kk_test takes one spectrum: use impedax.kk_test_batch(data) for one test per spectrum, or reduce them first (e.g. data.mean({dims[0]!r}))",
             path=source,
         )
-    return _run(freq, z[None, :], (), (), {}, c=c, max_rc=max_rc, n_rc=n_rc, inductance=inductance, capacitance=capacitance, thresholds=thresholds, noise=noise, source=source,
-                attrs=data.attrs if isinstance(data, xr.Dataset) else None, sigma=None if sigma is None else sigma[None, :]).results[0]
+    options = dict(c=c, max_rc=max_rc, n_rc=n_rc, inductance=inductance, capacitance=capacitance, thresholds=thresholds, noise=noise)
+    sigma = None if sigma is None else sigma[None, :]
+    result = _run(freq, z[None, :], (), (), {}, **options, source=source, attrs=data.attrs if isinstance(data, xr.Dataset) else None, sigma=sigma).results[0]
+    if not find_passing_band or result.valid or result.sign_hint or not result.conclusive or result.excludable_frequencies.size or result.marginal_points_only:
+        return result
+    found = passing_band(freq, z, sigma=None if sigma is None else sigma[0], min_points=max(CONCLUSIVE_POINTS_MIN, math.ceil(freq.size / 2)), **options)
+    return result if found is None else dataclasses.replace(result, passing_band=found[:2], passing_rms_rel=found[2].rms_rel)
+
+
+def passing_band(freq, z, *, sigma=None, min_points: int = CONCLUSIVE_POINTS_MIN, **options) -> tuple[float, float, KKResult] | None:
+    """The widest band, left by leaving points out at the ends of (``freq`` [Hz], ``z`` [Ω]),
+    on which the test passes (`PASSING_BAND_EVERY_SPLIT`: every split of up to 8 points in all,
+    then a staircase; the fewest points left out, then the lowest rms_rel), keeping at least
+    ``min_points``: its lowest and highest frequency and its test; None when none passes.
+    ``sigma``: the data's stated σ per point [Ω] or None; ``options``: `kk_test`'s."""
+    order = np.argsort(freq)
+    f, zs = np.asarray(freq, float)[order], np.asarray(z, complex)[order]
+    stated = None if sigma is None else np.asarray(sigma, float)[order]
+    options = _options_of_kk_test(options)
+    n = f.size
+    most = n - max(int(min_points), CONCLUSIVE_POINTS_MIN)
+    tested: dict[tuple[int, int], KKResult | None] = {}
+
+    def test(low: int, high: int) -> KKResult | None:
+        if (low, high) not in tested:
+            keep = slice(low, n - high)
+            try:
+                result = _run(f[keep], zs[keep][None, :], (), (), {}, **options, sign_check=False, sigma=None if stated is None else stated[keep][None, :]).results[0]
+            except ImpedaxError:  # (a chain the user's max_rc or n_rc cannot give on fewer points)
+                result = None
+            tested[low, high] = result if result is not None and result.valid else None
+        return tested[low, high]
+
+    for total in range(1, min(most, PASSING_BAND_EVERY_SPLIT) + 1):
+        passed = [(r.rms_rel, low, r) for low in range(total + 1) if (r := test(low, total - low)) is not None]
+        if passed:
+            _, low, result = min(passed, key=lambda p: p[:2])
+            return float(f[low]), float(f[n - 1 - (total - low)]), result
+    found = []
+    low, high = 0, most
+    while low <= most:
+        high = min(high, most - low)
+        if low + high <= PASSING_BAND_EVERY_SPLIT:  # (tested above: none passed)
+            low += 1
+            continue
+        result = test(low, high)
+        if result is None:
+            low += 1
+            continue
+        found.append((low + high, result.rms_rel, low, high, result))
+        if high == 0:
+            break
+        high -= 1
+    if not found:
+        return None
+    _, _, low, high, result = min(found, key=lambda p: p[:4])
+    return float(f[low]), float(f[n - 1 - high]), result
 
 
 def kk_test_batch(data, **options) -> KKBatchResult:
@@ -1253,13 +1355,17 @@ def kk_test_batch(data, **options) -> KKBatchResult:
 
 
 def _options_of_kk_test(options: Mapping) -> dict:
-    """``options`` checked against `kk_test`'s keywords, with its defaults filled in."""
+    """``options`` checked against `kk_test`'s keywords, with its defaults filled in
+    (``find_passing_band`` is one spectrum's: refused)."""
+    if options.get("find_passing_band"):
+        raise ParameterError("kk_test_batch: find_passing_band searches one spectrum at a time: give kk_test one spectrum (data.isel(...) or data.sel(...)) for it")
+    options = {k: v for k, v in options.items() if k != "find_passing_band"}
     try:
         bound = inspect.signature(kk_test).bind(None, **options)
     except TypeError as exc:
         raise ParameterError(f"kk_test_batch: {exc} (it takes the options of kk_test)") from None
     bound.apply_defaults()
-    return {name: value for name, value in bound.arguments.items() if name != "data"}
+    return {name: value for name, value in bound.arguments.items() if name not in ("data", "find_passing_band")}
 
 
 kk_test_batch.__signature__ = inspect.signature(kk_test).replace(return_annotation="KKBatchResult")

@@ -62,7 +62,7 @@ from ...circuits import Circuit, DCPath, DEFAULT_REGISTRY, Element, Parallel, Re
 from ...data import concise_repr, counted, format_quantity, make_spectrum
 from ...errors import DataError, FitError, ImpedaxError, ParameterError
 from ..drt import PeakEvidence, drt, is_resolved, r_cpe_tau, unexplained_peaks
-from ..kk import CONCLUSIVE_POINTS_MIN, KKResult, frequency_text, kk_test, left_out_options  # (frequency_text, left_out_options: here before 2026-12-02)
+from ..kk import CONCLUSIVE_POINTS_MIN, KKResult, frequency_text, kk_test, left_out_options, passing_band  # (frequency_text, left_out_options: here before 2026-12-02)
 from ..least_squares import BatchFitResult, FitResult, fit
 from ..least_squares.result import RESIDUAL_LONG_NAME
 from ..least_squares.branches import is_idle_note, parallel_branches
@@ -1188,9 +1188,10 @@ def kk_valid_run(frequency: np.ndarray, flagged: np.ndarray, n_params: int) -> n
     return run
 
 
-def _valid_band_words(fit: FitResult, kk: KKResult, run: np.ndarray, dkk: np.ndarray, noise: NoiseModel) -> tuple[str, bool]:
+def _valid_band_words(fit: FitResult, kk: KKResult, run: np.ndarray, dkk: np.ndarray, noise: NoiseModel, *, retested: bool = False) -> tuple[str, bool]:
     """What a ``data_invalid`` reason adds when part of the band passes the KK test (``run``,
-    `kk_valid_run`): where it fails, where it passes, the exact ``--fmin``/``--fmax`` that keep
+    `kk_valid_run`, or with ``retested`` the band `kk.passing_band` found by testing again
+    without points at the ends, ``dkk`` then that test's): where it fails, where it passes, the exact ``--fmin``/``--fmax`` that keep
     the passing run, and whether the model misses clearly there — its rms_rel at least
     1/`KK_COMPARABLE`× the KK misfit there (the rule that keeps a flagged point as the model's
     problem) and above `NOISE_RATIO_MAX` × the noise (a missing effect, not the data's).
@@ -1204,7 +1205,7 @@ def _valid_band_words(fit: FitResult, kk: KKResult, run: np.ndarray, dkk: np.nda
     failing = ", ".join(format_band(lo, hi) for lo, hi in kk.bad_bands)
     words = (
         f" The KK test fails at {failing} and passes at {format_frequency(float(f[run].min()))}–{format_frequency(float(f[run].max()))} "
-        f"({int(run.sum())} points, KK rms_rel {kk_rms * 100:.2g} %): trim the measurement to that band ({trim})"
+        f"({int(run.sum())} points, KK rms_rel {kk_rms * 100:.2g} %{', tested again without the points outside' if retested else ''}): trim the measurement to that band ({trim})"
     )
     if misses:
         outside = float(np.mean(~run))
@@ -1253,7 +1254,15 @@ def _data_problem(fit: FitResult, kk: KKResult | None, noise: NoiseModel, sign_h
         # clearly lacks an effect there (Gamry's real file: KK fails below 2.3 kHz, passes above at
         # 0.46 %, where R0 + (R1 + R_relax ∥ CPE_relax) ∥ C1 misses by 6.45 %: C1 wants a CPE)
         run = kk_valid_run(fit.frequency, flagged, fit.n_params)
-        band_words, misses = _valid_band_words(fit, kk, run, dkk, noise) if run is not None else ("", False)
+        retested = run is None  # (no run the test passes: tested again without points at the ends, `kk.passing_band`; REAL Parstat: 10 Hz–2.51 kHz)
+        if retested:
+            found = passing_band(fit.frequency, fit.z_data, min_points=max(MIN_KEPT_POINTS, 3 * fit.n_params, math.ceil(fit.n_points / 2)))
+            if found is not None:
+                lo, hi, passing = found
+                run = (fit.frequency >= lo) & (fit.frequency <= hi)
+                dkk = np.zeros(fit.n_points)
+                dkk[run] = np.hypot(passing.residuals_real, passing.residuals_imag)[np.searchsorted(passing.frequency, fit.frequency[run])]
+        band_words, misses = _valid_band_words(fit, kk, run, dkk, noise, retested=retested) if run is not None else ("", False)
         return DataProblem(
             f"the data themselves are not Kramers–Kronig consistent where the model fails: at {share * 100:.0f} % of the points the KK misfit is at least "
             f"{KK_COMPARABLE:.0%} of the model's (KK rms_rel {kk.rms_rel * 100:.2g} %, model {fit.rms_rel * 100:.2g} %): drift, movement or a non-stationary "
