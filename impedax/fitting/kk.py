@@ -115,12 +115,12 @@ PASSING_BAND_EVERY_SPLIT = 8
 without points at the ends: every split between the low and the high end of up to this many
 points in all (at most 44 tests), then a staircase through the larger trims (one test per step:
 a trim that passes is narrowed at the high end, one that fails widened at the low end; at most
-one test per point), keeping at least half of the points and `CONCLUSIVE_POINTS_MIN`. The fewest
+two tests per point), keeping at least half of the points and `CONCLUSIVE_POINTS_MIN`. The fewest
 points left out win, then the lowest rms_rel. On the REAL files of impedance.py and AutoEIS
 (2026-12-03): Parstat passes at 10 Hz–2.51 kHz without its 6 highest points (0.31 %, where the
 whole fails at 18.9 %), PowerSuite without its 2 highest (2.5 %), CH Instruments without its 20
-lowest and its highest (0.26 %); every split tested ever found no narrower trim on these; Gamry
-passes on no such band (82 tests, 0.4 s)."""
+lowest and its highest (0.26 %), the trims a test of every split finds too; Gamry passes on no
+such band (under 0.5 s of search)."""
 
 RULE_NAMES = ("point", "run", "window")
 """The validity rules (`kk_test`), as `KKResult.band_rules` names them."""
@@ -1272,7 +1272,7 @@ def kk_test(
     ``find_passing_band`` (added 2026-12-03): when the test fails and the bands' rules leave no
     point out (`KKResult.excludable_frequencies`: a failing band at an end too wide to drop, or
     one inside), test again without points at the ends (`PASSING_BAND_EVERY_SPLIT`, at most one
-    test per point beyond the first 44) and report the widest band found on which the test passes
+    tests per point beyond the first 44) and report the widest band found on which the test passes
     (`KKResult.passing_band`, its rms_rel `passing_rms_rel`); its points outside are then the
     ones to leave out. ``impedax kk`` on one spectrum does this.
     """
