@@ -446,3 +446,16 @@ def test_bad_shared_arguments_are_caught_before_the_progress_line(problem):
     with pytest.raises(ix.ParameterError, match="'session' is not a dimension"):
         ix.fit("R0 + R1 || C1", problem[0], shared=["R0"], over="session", progress=lines.append)
     assert lines == []  # (the README: inputs are checked before any work; "fitting … together" came first until 2026-12-02)
+
+
+def test_a_global_fit_per_group_names_its_groups_in_the_grouped_warning_line():
+    """R0, R1 shared over trial, one global fit per session: each fit's note is filed under
+    "shared over trial (session=a)" and "(session=b)", and the report's line names both fits
+    (until 2026-12-03: "2 of 4 spectra: shared over trial (session a), b)")."""
+    pairs = [series_pair_data(0.01, seed) for seed in (7, 8)]
+    z = np.stack([data["Z"].values for data, _ in pairs])
+    data = ix.make_spectrum(FREQ, z, dims=("session", "trial"), coords={"session": ["a", "b"], "trial": [1, 2]})
+    r = ix.fit(SERIES_PAIR, data, shared=["R0", "R1"], over="trial")
+    assert set(r.warnings) >= {"shared over trial (session=a)", "shared over trial (session=b)"}
+    (line,) = [ln for ln in r.report().splitlines() if "not separately determined" in ln]
+    assert line.startswith("warning (shared over trial (session a, b)): shared " + PAIR_WORDS)

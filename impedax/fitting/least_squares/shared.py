@@ -38,6 +38,7 @@ from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit
 from ...arguments import closest_name
 from ...data import column_width, concise_repr, coordinate_labels, format_relative_error, unit_text
 from ...errors import DataError, ParameterError
+from ...warning_groups import scope_key
 from ..parameters import ParameterTable, to_internal
 from ..problem import residual_scale, weights
 from ..statistics import SINGULAR_RATIO_LIMIT, information_criteria
@@ -921,5 +922,5 @@ def _result_dataset(circuit, data, table, layout: SharedLayout, extra, keep_shap
     for gi, index in enumerate(np.ndindex(*keep_shape)):
         if group_notes[gi]:
             label = ", ".join(labels[d][i] for d, i in zip(layout.keep, index))
-            warnings[f"shared over {', '.join(layout.over)}" + (f" ({label})" if label else "")] = group_notes[gi]
+            warnings[scope_key(layout.over, label)] = group_notes[gi]
     return ds, warnings
