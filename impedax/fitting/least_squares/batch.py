@@ -184,16 +184,28 @@ class BatchFitResult:
         2026-12-02): ``b.values(n).plot.line(x="voltage")`` with these as error bars."""
         return self.dataset["stderr"].sel(param=self._parameter(name, "stderr"))
 
-    def per_spectrum_starts(self, data: xr.Dataset, names, circuit: Circuit | None = None) -> np.ndarray:
+    def per_spectrum_starts(self, data: xr.Dataset | None = None, names=None, circuit: Circuit | None = None) -> np.ndarray:
         """This batch's values as the starts of a new batch fit of ``data`` (``fit(..., init=batch)``):
         shape (*the data's extra dimensions, len(names)), each spectrum's own fitted values of the
-        parameters ``names`` holds (NaN for the others: their data-driven guess); with the new
+        parameters ``names`` holds (NaN for the others: their data-driven guess); without ``data``
+        this batch's own spectra, without ``names`` this batch's parameters in its order (2026-12-03;
+        before, a bare call was Python's TypeError); with the new
         fit's ``circuit`` when this batch's circuit is nested in it (a W where it has a Wo), each
         spectrum's optimum carried into it (`nesting.carried_values`). The data must be
         over the same dimensions with the same sizes and labels (coordinates), in any order (a
         spectrum takes the fit with its labels); otherwise a `ParameterError` says what differs."""
-        extra = tuple(d for d in data["Z"].dims if d != "frequency")
         ds = self.dataset
+        if data is None:
+            data = ds
+        elif not isinstance(data, xr.Dataset) or "Z" not in data:
+            raise ParameterError(f"per_spectrum_starts: data= takes the spectra to start (an xarray Dataset with Z, as impedax.load gives), not {type(data).__name__}; "
+                                 "leave it out for this batch's own spectra")
+        if names is None:
+            names = [str(p) for p in ds["param"].values]
+        elif isinstance(names, str) or not all(isinstance(n, str) for n in names):
+            raise ParameterError(f"per_spectrum_starts: names= takes a list of parameter names (e.g. {[str(p) for p in ds['param'].values[:2]]}), not {names!r}; "
+                                 "leave it out for this batch's parameters")
+        extra = tuple(d for d in data["Z"].dims if d != "frequency")
         if set(extra) != set(self.dims):
             raise ParameterError(
                 f"init: the batch of fits is over {' × '.join(self.dims)} but the data's spectra are over {' × '.join(extra) or 'nothing (one spectrum)'}; "
