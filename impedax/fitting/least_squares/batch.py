@@ -6,6 +6,7 @@ dask="parallelized")``, so the same call scales out on a ``dask.distributed`` cl
 
 from __future__ import annotations
 
+import datetime
 import functools
 import math
 import time
@@ -287,15 +288,41 @@ class BatchFitResult:
         position = {}
         for dim, label in labels.items():
             if dim in ds.coords:
-                found = np.flatnonzero(ds[dim].values == label)
-                if not found.size:
-                    raise ParameterError(f"{dim}={label!r} is not among the batch's labels ({', '.join(map(str, ds[dim].values[:10].tolist()))}{', …' if ds.sizes[dim] > 10 else ''})")
-                position[dim] = int(found[0])
+                position[dim] = self._label_position(dim, label)
             else:
                 if not (isinstance(label, (int, np.integer)) and 0 <= label < ds.sizes[dim]):
                     raise ParameterError(f"{dim}={label!r}: {dim} has no coordinates; give a position from 0 to {ds.sizes[dim] - 1}")
                 position[dim] = int(label)
         return position
+
+    def _label_position(self, dim: str, label) -> int:
+        """The position of ``label`` along ``dim`` (a dimension with coordinates), labels compared
+        by value: along dates any form of the date (an ISO text "2024-01-02T10:00", a
+        ``numpy.datetime64`` in any unit, a ``datetime.datetime``, a ``pandas.Timestamp``: all
+        read by ``pandas.Timestamp``; until 2026-12-03 only a ``Timestamp`` was found); a
+        `ParameterError` naming the labels nearest to it (in time or value; else the first ones)."""
+        import pandas as pd
+
+        index = self.dataset.get_index(dim)
+        wanted = label
+        if isinstance(index, pd.DatetimeIndex):
+            try:
+                wanted = pd.Timestamp(label) if isinstance(label, (str, datetime.date, np.datetime64)) else None
+            except (TypeError, ValueError):
+                wanted = None
+        found = [] if wanted is None else np.flatnonzero(index == wanted)
+        if len(found):
+            return int(found[0])
+        labels = list(index)
+        shown = lambda v: v.isoformat() if isinstance(v, pd.Timestamp) else str(label_value(v))  # noqa: E731
+        numeric = index.dtype.kind in "iuf" and isinstance(label, (int, float, np.integer, np.floating)) and not isinstance(label, (bool, np.bool_))
+        if wanted is not None and (isinstance(index, pd.DatetimeIndex) or numeric):
+            labels = sorted(labels, key=lambda v: abs(v - wanted))
+            nearby = "nearest labels: " + ", ".join(map(shown, labels[:5]))
+        else:
+            nearby = "its labels: " + ", ".join(map(shown, labels[:10])) + (", …" if len(labels) > 10 else "")
+        what = "an ISO date ('2024-01-02T10:00'), a numpy.datetime64, datetime or pandas.Timestamp" if isinstance(index, pd.DatetimeIndex) else None
+        raise ParameterError(f"{dim}={label!r} is not among the batch's labels ({nearby})" + (f"; a {dim} label is {what}" if what and wanted is None else ""))
 
     @labels_by_keyword
     def unidentified_groups_of(self, **labels) -> tuple[tuple[str, ...], ...]:
