@@ -28,8 +28,9 @@ def register(sub) -> None:
     p.add_argument("--json", action="store_true", help="print the comparison as JSON")
     add_plot_option(p, "save data with every model's fit and residuals (several spectra: each model's ΔAIC per spectrum)")
     p.add_argument(
-        "--out", metavar="FILE.csv|.json",
-        help="also write the comparison to FILE: .csv one row per model (the table's columns; several spectra: per spectrum and model), .json the --json document; '-' the JSON to standard output",
+        "--out", metavar="FILE.csv|.json|.nc",
+        help="also write the comparison to FILE: .csv one row per model (the table's columns; several spectra: per spectrum and model), .json the --json document, "
+        ".nc (several spectra) the comparison with every model's fits, read back with BatchComparison.from_xarray; '-' the JSON to standard output",
     )
     p.set_defaults(run=run)
 
@@ -68,6 +69,7 @@ def run(args) -> int:
     if extra and math.prod(data.sizes[d] for d in extra) == 1:  # (a list or range that picks one: that spectrum, as before)
         data = data.isel({d: 0 for d in extra})
         extra = []
+    out_path(args.out, several=bool(extra))  # (.nc: a comparison over several spectra only, said before any fit)
 
     def own(flag, ns):
         return {k: v for k, v in given[flag].items() if k in ns} or None
@@ -101,7 +103,7 @@ def run(args) -> int:
         emit_json(with_source(comparison.summary(), source, record))
     elif extra and not outputs.uses_stdout:  # several spectra: the `BatchComparison`'s report
         pick = f"--select {extra[0]}=LABEL" + (" for each dimension" if len(extra) > 1 else "")
-        where = each_spectrum_written(args.out, rows="a row per spectrum and model") or "--out FILE.csv (a row per spectrum and model) or --json's spectra"  # (not the options the run used)
+        where = each_spectrum_written(args.out, rows="a row per spectrum and model", netcdf="each model's criteria and fits over the spectra") or "--out FILE.csv (a row per spectrum and model) or --json's spectra"  # (not the options the run used)
         print(comparison.report(each_spectrum_where=f"{where}; one spectrum's full comparison: {pick}"))
         hints = comparison.best_misfit_hints()
         if hints is not None:  # (the report's line says it; the command for its worst spectrum: added 2026-12-03)
@@ -151,11 +153,13 @@ def largest_contained(i: int, circuits, fits, registry) -> int | None:
 
 
 OUT_SUFFIXES = (".csv", ".json")
+BATCH_OUT_SUFFIXES = (".nc",)  # (a comparison over several spectra only: `BatchComparison.from_xarray` reads it back; added 2026-12-03)
 
 
-def out_path(path: str | None) -> str | None:
-    """``--out``: a FILE whose extension is not .csv or .json is refused before any fit
-    (`DataError`, exit 2); None and ``-`` (the JSON to standard output) pass as given."""
+def out_path(path: str | None, several: bool = True) -> str | None:
+    """``--out``: a FILE whose extension is not .csv or .json (or .nc, for a comparison over
+    several spectra: ``several``) is refused before any fit (`DataError`, exit 2); None and ``-``
+    (the JSON to standard output) pass as given."""
     from pathlib import Path
 
     from ..errors import DataError
@@ -163,8 +167,10 @@ def out_path(path: str | None) -> str | None:
     if path is None or path == "-" or not path.strip():
         return path  # (`plan_outputs` says "empty file name")
     suffix = Path(path).suffix.lower()
-    if suffix not in OUT_SUFFIXES:
-        raise DataError(f"--out: unknown extension {suffix or '(none)'!r} for a comparison; use .csv (one row per model) or .json (the --json document)", path=path)
+    if suffix in BATCH_OUT_SUFFIXES and not several:
+        raise DataError(f"--out: {suffix} is for a comparison over several spectra (a file of several, or a --select leaving several); for one spectrum use .csv (one row per model) or .json (the --json document)", path=path)
+    if suffix not in (*OUT_SUFFIXES, *BATCH_OUT_SUFFIXES):
+        raise DataError(f"--out: unknown extension {suffix or '(none)'!r} for a comparison; use .csv (one row per model) or .json (the --json document), or .nc over several spectra", path=path)
     return path
 
 
