@@ -77,11 +77,12 @@ def run(args) -> int:
     progress = progress_printer(quiet=args.quiet)  # (three models took 6-12 s without a word)
     fits: list = [None] * len(circuits)
     started_from: dict[int, int] = {}
+    held = [own("--fix", ns) for ns in names]  # (each model's --fix: what nests, as the comparison judges it)
     try:
-        for step, i in enumerate(nesting_order(circuits, args.registry)):
+        for step, i in enumerate(nesting_order(circuits, args.registry, held)):
             c, ns, own_bounds = circuits[i], names[i], bounds[i]
             init = own("--init", ns)
-            contained = None if init is not None else largest_contained(i, circuits, fits, args.registry)
+            contained = None if init is not None else largest_contained(i, circuits, fits, args.registry, held)
             if contained is not None:  # (its optimum carried in: the larger model never ends above it, `fit(init=)`)
                 started_from[i], init = contained, fits[contained]
             also = f", also from the optimum of {circuits[contained]}, which it contains" if contained is not None else ""
@@ -130,26 +131,34 @@ def run(args) -> int:
     return 0
 
 
-def nesting_order(circuits, registry) -> list[int]:
+def nesting_order(circuits, registry, held=None) -> list[int]:
     """The positions of ``circuits`` in the order to fit them: a model after every model nested
-    in it (`is_nested`; each contains more of the others than any model nested in it does), the
-    order given among the rest."""
-    from ..fitting import is_nested
-
-    contained = [sum(j != i and is_nested(circuits[j], circuits[i], registry) for j in range(len(circuits))) for i in range(len(circuits))]
+    in it (`comparison.nested_as_held`, ``held``: each model's parameters held by ``--fix``, name
+    → value; each contains more of the others than any model nested in it does), the order given
+    among the rest. A held parameter the reduction needs breaks the nesting, as the comparison
+    judges it (``--fix L1=3u``: R0 + R1 || CPE1 + L1 no longer contains R0 + R1 || C1; until
+    2026-12-03 the command nested by circuit alone)."""
+    contained = [sum(j != i and _nested(j, i, circuits, registry, held) for j in range(len(circuits))) for i in range(len(circuits))]
     return sorted(range(len(circuits)), key=lambda i: (contained[i], i))
 
 
-def largest_contained(i: int, circuits, fits, registry) -> int | None:
+def largest_contained(i: int, circuits, fits, registry, held=None) -> int | None:
     """Of the models already fitted (``fits[j]`` not None), the one with the most parameters
-    that model ``i`` contains (`is_nested`: a W where it has a Wo, an element fewer),
-    or None: model ``i`` also starts from its optimum. On the 130 REAL battery cycles the Wo model
-    fitted from its default starts ended above the W model's χ² on 58 cycles (up to 1.40×),
-    though a Wo at τ → ∞ is that W."""
-    from ..fitting import is_nested
-
-    nested = [j for j, f in enumerate(fits) if f is not None and j != i and is_nested(circuits[j], circuits[i], registry)]
+    that model ``i`` contains with the parameters each holds (``held``, `nesting_order`; a W
+    where it has a Wo, an element fewer), or None: model ``i`` also starts from its optimum. On
+    the 130 REAL battery cycles the Wo model fitted from its default starts ended above the W
+    model's χ² on 58 cycles (up to 1.40×), though a Wo at τ → ∞ is that W."""
+    nested = [j for j, f in enumerate(fits) if f is not None and j != i and _nested(j, i, circuits, registry, held)]
     return max(nested, key=lambda j: (len(circuits[j].parameter_names(registry)), -j)) if nested else None
+
+
+def _nested(j: int, i: int, circuits, registry, held) -> bool:
+    """Whether model ``j`` is nested in model ``i`` with the parameters each holds (``held``:
+    one mapping per model, or None for none), by the comparison's rule (`nested_as_held`)."""
+    from ..fitting.comparison import nested_as_held
+
+    held = held or [{}] * len(circuits)
+    return nested_as_held(circuits[j], held[j] or {}, circuits[i], held[i] or {}, registry)
 
 
 OUT_SUFFIXES = (".csv", ".json")
