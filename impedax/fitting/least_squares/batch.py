@@ -54,6 +54,9 @@ def register_spectrum_fit(fit: Callable) -> None:
     _spectrum_fit = fit
 
 
+_COMPUTED_HERE = object()  # (`BatchFitResult.report`'s misfit_hints not given: it computes them)
+
+
 def labels_by_keyword(method: Callable) -> Callable:
     """A method that picks one spectrum by its labels, one keyword per batch dimension
     (``fit_of(cycle=64)``), made to refuse a positional argument with a `ParameterError` that
@@ -542,10 +545,12 @@ class BatchFitResult:
             rows.append({**{d: c for d, c in label.items() if d not in own and d != "labels"}, "labels": label, **own})
         return rows
 
-    def report(self) -> str:
+    def report(self, *, misfit_hints=_COMPUTED_HERE) -> str:
         """The parameter table (`_parameter_lines`), the warnings and notes, and the hint of the
-        fits that miss structure small as their misfits look (`misfit_hints`)."""
-        hints = self.misfit_hints()
+        fits that miss structure small as their misfits look (`misfit_hints`; ``misfit_hints=``
+        what that method returned already, dict or None, so that a caller that has them does not
+        run the Kramers–Kronig chains again, as ``impedax fit`` did until 2026-12-03)."""
+        hints = self.misfit_hints() if misfit_hints is _COMPUTED_HERE else misfit_hints
         return "\n".join(self._parameter_lines() + self._warning_lines() + ([] if hints is None else ["", f"hint: {hints['note']}"]))
 
     def misfit_hints(self) -> dict | None:
