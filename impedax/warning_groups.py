@@ -9,7 +9,7 @@ from __future__ import annotations
 import re
 from typing import Mapping, Sequence
 
-__all__ = ["grouped_warnings", "warning_kinds", "MORE_KINDS", "labels_text", "WARNING_GROUPS_SHOWN", "LABELS_SHOWN"]
+__all__ = ["grouped_warnings", "warning_kinds", "MORE_KINDS", "labels_text", "scope_key", "WARNING_GROUPS_SHOWN", "LABELS_SHOWN"]
 
 WARNING_GROUPS_SHOWN = 12  # kinds of warning a batch's text lists
 LABELS_SHOWN = 8  # labels of a dimension shown in messages
@@ -123,6 +123,45 @@ def _spectra_text(places: Sequence[str]) -> str:
     return shown + (f"; ... ({len(places)} in all)" if len(places) > LABELS_SHOWN else "")
 
 
+_SCOPE = re.compile(r"shared over (?P<over>[^()]*?)(?: \((?P<label>.*)\))?")  # (`scope_key`)
+
+
+def scope_key(over: Sequence[str], label: str = "") -> str:
+    """The key a global fit files its own notes under: ``shared over trial``, and with the labels
+    of the group it is the fit of when the data have dimensions not shared over
+    (``shared over cycle (group=a)``); not a spectrum's key, though it may hold ``=``."""
+    return f"shared over {', '.join(over)}" + (f" ({label})" if label else "")
+
+
+def _is_spectrum(key: str) -> bool:
+    """Whether a warnings key names a spectrum (``cycle=3``), not a global fit (`scope_key`)."""
+    return "=" in key and not _SCOPE.fullmatch(key)
+
+
+def _scopes_text(scopes: Sequence[str]) -> str:
+    """Global fits' keys (`scope_key`) as one text: each dimension set shared over once, with the
+    groups it is over as spectra are named (`_spectra_text`): ``shared over cycle (group a, b)``
+    for "shared over cycle (group=a)" and "shared over cycle (group=b)" (until 2026-12-03 they were
+    counted as spectra and their labels cut at "=": "2 of 6 spectra: shared over cycle (group a), b)")."""
+    by_over: dict[str, list[str]] = {}
+    for key in scopes:
+        m = _SCOPE.fullmatch(key)
+        by_over.setdefault(m.group("over"), []).append(m.group("label") or "")
+    parts = []
+    for over, labels in by_over.items():
+        labelled = [label for label in labels if label]
+        parts.append(f"shared over {over}" + (f" ({_spectra_text(labelled)})" if labelled else ""))
+    return "; ".join(parts)
+
+
+def _places_text(places: Sequence[str]) -> str:
+    """Keys of warnings named as `_spectra_text` names spectra, and global fits' keys as
+    `_scopes_text`, the spectra first."""
+    spectra = [p for p in places if _is_spectrum(p)]
+    scopes = [p for p in places if not _is_spectrum(p)]
+    return "; ".join(([_spectra_text(spectra)] if spectra else []) + ([_scopes_text(scopes)] if scopes else []))
+
+
 def _segments(text: str) -> list[str] | None:
     """``text`` cut into the pieces outside and inside its top-level brackets, alternately (the
     first outside, possibly empty): ``"a (b (c)) d"`` → ``["a ", "(b (c))", " d"]``; None when its
@@ -191,7 +230,7 @@ def _kind_text(members: Sequence[tuple[str, str]]) -> str:
     for wording, pieces in zip(wordings[1:], cut[1:]):
         differ = [i for i in range(1, len(first[0]), 2) if _template(pieces[0][i]) != _template(first[0][i])]
         places = list(dict.fromkeys(place for place, _ in wording))
-        where = _spectra_text(places) if all("=" in p for p in places) else "; ".join(places)
+        where = _places_text(places)
         text += f"; in {where}: " + " ".join(_spread([c[i] for c in pieces]) for i in differ)
     return text
 
@@ -217,10 +256,10 @@ def warning_kinds(warnings: Mapping[str, Sequence[str]]) -> list[dict]:
     out = []
     for members in _kinds(warnings):
         places = list(dict.fromkeys(place for place, _ in members))
-        spectra = [p for p in places if "=" in p]  # (a global fit's own notes are filed under "shared over trial")
+        spectra = [p for p in places if _is_spectrum(p)]  # (a global fit's own notes are filed under `scope_key`s)
         kind = {"warning": _kind_text(members), "spectra": spectra, "n_spectra": len(spectra)}
         if len(spectra) < len(places):
-            kind["scope"] = [p for p in places if "=" not in p]
+            kind["scope"] = [p for p in places if not _is_spectrum(p)]
         wordings = _wordings(members)
         if len(wordings) > 1:
             kind["wordings"] = [{"warning": _spread([t for _, t in w]), "spectra": list(dict.fromkeys(p for p, _ in w))} for w in wordings]
@@ -244,14 +283,18 @@ def grouped_warnings(warnings: Mapping[str, Sequence[str]], n_spectra: int, *, h
     lines = []
     for members in ordered[:WARNING_GROUPS_SHOWN]:
         places = list(dict.fromkeys(place for place, _ in members))
-        if not any("=" in p for p in places):  # not spectra: a global fit's own notes ("shared over trial")
-            where = "; ".join(places)
-        elif len(places) == n_spectra:
+        spectra_of = [p for p in places if _is_spectrum(p)]
+        scopes = [p for p in places if not _is_spectrum(p)]
+        if not spectra_of:  # not spectra: global fits' own notes (`scope_key`)
+            where = _scopes_text(scopes)
+        elif len(spectra_of) == n_spectra:
             where = "the 1 spectrum" if n_spectra == 1 else f"all {n_spectra} spectra"
-        elif spectra is not None and 2 * len(places) > n_spectra and (others := [p for p in spectra if p not in set(places)]):
-            where = f"{len(places)} of {n_spectra} spectra: all but {_spectra_text(others)}"
+        elif spectra is not None and 2 * len(spectra_of) > n_spectra and (others := [p for p in spectra if p not in set(spectra_of)]):
+            where = f"{len(spectra_of)} of {n_spectra} spectra: all but {_spectra_text(others)}"
         else:
-            where = f"{len(places)} of {n_spectra} spectra: {_spectra_text(places)}"
+            where = f"{len(spectra_of)} of {n_spectra} spectra: {_spectra_text(spectra_of)}"
+        if spectra_of and scopes:
+            where += f"; {_scopes_text(scopes)}"
         lines.append(f"{head} ({where}): {_kind_text(members)}")
     if len(ordered) > WARNING_GROUPS_SHOWN:
         lines.append(more.format(n=len(ordered) - WARNING_GROUPS_SHOWN))

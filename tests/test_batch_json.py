@@ -100,6 +100,26 @@ def test_date_labels_are_written_as_text(stack):
     assert sorted({r["cycle"] for r in result.to_table()}) == [str(t) for t in times]
 
 
+def test_fit_of_takes_a_date_in_any_form_and_names_the_nearest_dates(stack):
+    """`fit_of(cycle=...)` on a batch over dates finds the spectrum by the date's value, given
+    as a user would type it (only a pandas.Timestamp was found before 2026-12-03); a date it has
+    no fit for is a ParameterError naming the nearest dates, nearest first."""
+    import datetime
+
+    import pandas as pd
+
+    times = np.array(["2026-11-01T10:00", "2026-11-02T10:00", "2026-11-03T10:00", "2026-11-04T10:00"], dtype="datetime64[ns]")
+    result = ix.fit(MODEL, stack.assign_coords(cycle=times))
+    alone = ix.fit(MODEL, stack.isel(cycle=1)).values["R1"]  # (the spectrum stored second)
+    for label in ("2026-11-02T10:00", "2026-11-02 10:00:00", np.datetime64("2026-11-02T10:00", "s"), datetime.datetime(2026, 11, 2, 10), pd.Timestamp("2026-11-02T10:00")):
+        assert result.fit_of(cycle=label).values["R1"] == pytest.approx(alone, rel=1e-5), label
+    with pytest.raises(ix.ParameterError) as info:
+        result.fit_of(cycle="2026-11-03")  # (midnight: 10 h before the third, 14 h after the second)
+    assert str(info.value) == "cycle='2026-11-03' is not among the batch's labels (nearest labels: 2026-11-03T10:00:00, 2026-11-02T10:00:00, 2026-11-04T10:00:00, 2026-11-01T10:00:00)"
+    with pytest.raises(ix.ParameterError, match=r"cycle='last week' is not among .*; a cycle label is an ISO date"):
+        result.fit_of(cycle="last week")
+
+
 def test_a_date_label_is_selected_by_its_iso_text(stack, tmp_path, capsys):
     """`--select cycle=2026-11-02T10:00` finds the spectrum whose label is that date (stored to
     the nanosecond: its full text has ':' and '.', which --select had read as a range)."""

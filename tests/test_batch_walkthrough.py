@@ -36,6 +36,12 @@ def test_a_batch_starts_each_spectrum_of_the_next_from_its_own_optimum(cycles, f
     # a spectrum takes the fit with its label, in whatever order the data list them
     backwards = cycles.isel(cycle=[3, 2, 1, 0])
     assert np.array_equal(first.per_spectrum_starts(backwards, names), starts[::-1])
+    # without arguments: this batch's own spectra and parameters (a bare call was Python's TypeError)
+    assert np.array_equal(first.per_spectrum_starts(), starts)
+    with pytest.raises(ix.ParameterError, match=r"data= takes the spectra to start .* not list; leave it out"):
+        first.per_spectrum_starts(names)
+    with pytest.raises(ix.ParameterError, match=r"names= takes a list of parameter names .* not 'R0'; leave it out"):
+        first.per_spectrum_starts(cycles, "R0")
     again = ix.fit(MODEL, backwards, init=first, n_starts=1)
     # started at the optimum, each local fit stays there
     for label in cycles["cycle"].values:

@@ -349,3 +349,44 @@ def test_the_other_writing_of_the_winner_is_no_rival_for_its_lead(batches, cc_ba
     cc_row = next(m for m in comparison.models() if m["model"] == cc_batch.model)
     assert cc_row["decisive_wins"] >= N_EACH
     assert f"{cpe.model} is the same fit as {cc_batch.model} on" in comparison.report()
+
+
+def _same_batch(read, written):
+    """Every field of two batches of fits equal (datasets by value and attrs, the circuit by its text)."""
+    import dataclasses
+
+    for f in dataclasses.fields(written):
+        a, b = getattr(read, f.name), getattr(written, f.name)
+        if isinstance(b, xr.Dataset):
+            assert a.equals(b) and a.attrs == b.attrs, f.name
+        elif f.name == "circuit":
+            assert str(a) == str(b)
+        else:
+            assert a == b, f.name
+
+
+def test_a_batch_comparison_written_to_nc_reads_back_whole(comparison, stack, tmp_path, capsys):
+    """`BatchComparison.from_xarray` (added 2026-12-03; a .nc of a batch comparison had no
+    reader): written with write_result and with ``impedax compare --out x.nc``, read back with
+    every field equal: the criteria dataset and each batch of fits."""
+    path = tmp_path / "comparison.nc"
+    ix.write_result(comparison, path)
+    back = ix.fitting.BatchComparison.from_xarray(ix.io.read_netcdf(path))
+    assert back.dataset.equals(comparison.dataset) and back.dataset.attrs == comparison.dataset.attrs
+    assert len(back.batches) == len(comparison.batches) == 2
+    for read, written in zip(back.batches, comparison.batches):
+        _same_batch(read, written)
+    assert back.report() == comparison.report() and back.summary() == comparison.summary()
+    with pytest.raises(ix.DataError, match=r"holds a comparison of models over many spectra .* BatchComparison.from_xarray"):
+        ix.load(path)
+    # the command line's --out x.nc: the same comparison, its data's file as source (24 spectra:
+    # past the report's rows, its closing line says what the file holds)
+    data, out = tmp_path / "subjects.nc", tmp_path / "cli.nc"
+    ix.save(xr.concat([stack, stack.assign_coords(subject=[f"t{i}" for i in range(2 * N_EACH)])], "subject"), data)
+    assert main(["compare", str(data), "--model", RC, "--model", CPE, "--out", str(out), "--quiet"]) == 0
+    assert f"written to {out} (netCDF: each model's criteria and fits over the spectra)" in capsys.readouterr().out
+    cli = ix.fitting.BatchComparison.from_xarray(xr.open_dataset(out))
+    assert [b.model for b in cli.batches] == [RC, CPE] and cli.batches[0].source == str(data)
+    np.testing.assert_array_equal(cli.dataset["aic"].values, xr.open_dataset(out)["aic"].values)
+    with pytest.raises(ix.DataError, match="a saved batch of least-squares fits, not a comparison"):
+        ix.fitting.BatchComparison.from_xarray(comparison.batches[0].to_xarray())

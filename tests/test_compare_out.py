@@ -74,7 +74,7 @@ def test_out_dash_prints_the_json_and_nothing_else(workdir, capsys):
     "path, fragment",
     [
         ("c.txt", "unknown extension '.txt' for a comparison; use .csv (one row per model) or .json"),
-        ("c.nc", "unknown extension '.nc' for a comparison"),
+        ("c.nc", "--out: .nc is for a comparison over several spectra (a file of several, or a --select leaving several); for one spectrum use .csv"),
         ("c", "unknown extension '(none)' for a comparison"),
         ("missing/c.csv", "directory missing does not exist"),
         ("arc.csv/c.csv", "arc.csv is a file"),

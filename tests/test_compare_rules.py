@@ -127,3 +127,36 @@ def test_a_held_parameter_that_the_reduction_needs_breaks_the_nesting():
     assert nested_as_held(small, {}, big, {}) and not nested_as_held(small, {}, big, {"L1": 1e-4})
     assert nested_as_held(small, {"R0": np.array([1.0, 2.0])}, big, {"R0": np.array([1.0, 2.0])})
     assert not nested_as_held(small, {"R0": np.array([1.0, 2.0])}, big, {"R0": np.array([1.0, 3.0])})
+
+
+def test_the_compare_command_nests_its_models_with_the_held_parameters_as_the_comparison_does(tmp_path, capsys):
+    """``impedax compare`` fits a model after the models it contains and starts it from their
+    optimum (`nesting_order`, `largest_contained`); with ``--fix L1=100u`` the L model no longer
+    contains R0 + R1 || C1 (`nested_as_held`: L1 held off 0), so it is fitted in the order given
+    and not started from the R ∥ C optimum (until 2026-12-03 the command nested by circuit alone,
+    the comparison by circuit and held values). SYNTHETIC one arc (R0 = 10, 100 Ω ∥ 1 µF, 0.5 %
+    noise), written here."""
+    import json
+
+    from impedax.circuits import DEFAULT_REGISTRY, parse
+    from impedax.cli import main
+    from impedax.cli.compare import largest_contained, nesting_order
+
+    big, small = "R0 + R1 || CPE1 + L1", "R0 + R1 || C1"
+    circuits = [parse(big), parse(small)]
+    assert nesting_order(circuits, DEFAULT_REGISTRY) == [1, 0] and largest_contained(0, circuits, [None, "fitted"], DEFAULT_REGISTRY) == 1
+    held = [{"L1": 1e-4}, None]  # (as the command gives each model its --fix: None where it has none of them)
+    assert nesting_order(circuits, DEFAULT_REGISTRY, held) == [0, 1] and largest_contained(0, circuits, [None, "fitted"], DEFAULT_REGISTRY, held) is None
+    both_r0 = [{"R0": 12.0}, {"R0": 12.0}]  # (held alike in both: still nested)
+    assert nesting_order(circuits, DEFAULT_REGISTRY, both_r0) == [1, 0] and largest_contained(0, circuits, [None, "fitted"], DEFAULT_REGISTRY, both_r0) == 1
+    f = np.geomspace(1.0, 1e5, 40)
+    rng = np.random.default_rng(7)
+    z = 10 + 100 / (1 + 2j * np.pi * f * 100e-6)
+    path = tmp_path / "arc.csv"
+    ix.save(ix.make_spectrum(f, z * (1 + 0.005 * (rng.normal(size=f.size) + 1j * rng.normal(size=f.size)) / np.sqrt(2))), path)
+    argv = ["compare", str(path), "--model", big, "--model", small, "--json"]
+    assert main(argv) == 0
+    assert json.loads(capsys.readouterr().out)["started_from_contained"] == [{"model": big, "from": small}]
+    assert main([*argv, "--fix", "L1=100u"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["started_from_contained"] == [] and out["f_tests"] == []

@@ -226,3 +226,23 @@ def test_the_misfit_note_says_which_kk_figure_it_quotes():
     kk = ix.kk_test(gamry)
     assert kk.stray_frequencies.size >= 1 and quoted < kk.rms_rel  # (the chain on every point fits them better)
     assert abs(quoted - 0.048) < 0.001 and abs(kk.rms_rel - 0.0521) < 0.001
+
+
+def test_the_batch_fit_command_computes_its_hints_once_and_prints_the_report_of_the_result(monkeypatch, capsys):
+    """`impedax fit` of REAL cycles 0–2 (text): the hints the command computes for its "next:"
+    line are the ones the report prints, computed once (each run of `misfit_hints` fits a KK
+    chain to every spectrum; the report computed them again until 2026-12-03); the text is the
+    Python report of the same fit followed by that line."""
+    from impedax.cli.common import command_line_words
+    from impedax.fitting.least_squares.batch import BatchFitResult
+
+    model = "R0 + R1 || CPE1 + R2 || CPE2 + W1"
+    expected = ix.fit(model, ix.load(BATTERY).sel(cycle=[0, 1, 2]))
+    hints = expected.misfit_hints()
+    assert hints is not None  # (these cycles have the hint: the line is printed)
+    calls, original = [], BatchFitResult.misfit_hints
+    monkeypatch.setattr(BatchFitResult, "misfit_hints", lambda self: calls.append(1) or original(self))
+    assert main(["fit", BATTERY, "--select", "cycle=0:2", "--model", model, "--quiet"]) == 0
+    out = capsys.readouterr().out
+    assert len(calls) == 1
+    assert out.startswith(command_line_words(expected.report(), "fit") + "\n") and f"hint: {hints['note']}" in out

@@ -446,3 +446,44 @@ def test_bad_shared_arguments_are_caught_before_the_progress_line(problem):
     with pytest.raises(ix.ParameterError, match="'session' is not a dimension"):
         ix.fit("R0 + R1 || C1", problem[0], shared=["R0"], over="session", progress=lines.append)
     assert lines == []  # (the README: inputs are checked before any work; "fitting … together" came first until 2026-12-02)
+
+
+def test_a_global_fit_per_group_names_its_groups_in_the_grouped_warning_line():
+    """R0, R1 shared over trial, one global fit per session: each fit's note is filed under
+    "shared over trial (session=a)" and "(session=b)", and the report's line names both fits
+    (until 2026-12-03: "2 of 4 spectra: shared over trial (session a), b)")."""
+    pairs = [series_pair_data(0.01, seed) for seed in (7, 8)]
+    z = np.stack([data["Z"].values for data, _ in pairs])
+    data = ix.make_spectrum(FREQ, z, dims=("session", "trial"), coords={"session": ["a", "b"], "trial": [1, 2]})
+    r = ix.fit(SERIES_PAIR, data, shared=["R0", "R1"], over="trial")
+    assert set(r.warnings) >= {"shared over trial (session=a)", "shared over trial (session=b)"}
+    (line,) = [ln for ln in r.report().splitlines() if "not separately determined" in ln]
+    assert line.startswith("warning (shared over trial (session a, b)): shared " + PAIR_WORDS)
+
+
+def test_two_near_null_directions_over_the_same_parameters_give_one_group_in_a_global_fit():
+    """`joint_null_sets` by the rule of `null_sets` (fixed there 2026-12-03): two near-null
+    directions over the same parameters are one group, whether they move each spectrum's own
+    parameters or the shared ones alone. A Jacobian written here from its SVD: unit-norm-equal
+    columns (a Hadamard Vt), singular values 1, 1, 1e-14, 1e-15, both null rows over all four
+    parameters (components ±0.5); then the REAL CHInstruments spectrum, twice, L1 shared, whose
+    Havriliak–Negami element has two such directions (listed and warned twice before)."""
+    from pathlib import Path
+
+    from impedax.fitting.least_squares.shared import joint_null_sets
+
+    hadamard = 0.5 * np.array([[1, 1, 1, 1], [1, -1, 1, -1], [1, 1, -1, -1], [1, -1, -1, 1]], float)
+    u, _ = np.linalg.qr(np.random.default_rng(1).normal(size=(10, 4)))
+    jac = np.stack([u @ np.diag([1.0, 1.0, 1e-14, 1e-15]) @ hadamard] * 2)
+    names = ["A", "B", "C", "D"]
+    alone = joint_null_sets(jac, [], [0, 1, 2, 3], names)  # (every parameter shared)
+    assert alone.shared_groups == [names] and alone.groups == [[names], [names]]
+    own = joint_null_sets(jac, [0, 1, 2, 3], [], names)  # (every parameter each spectrum's own)
+    assert own.groups == [[names], [names]] and own.shared_groups == []
+    real = ix.load(Path(__file__).parent / "fixtures" / "real" / "exampleDataCHInstruments.txt")
+    twice = ix.make_spectrum(real["frequency"].values, np.stack([real["Z"].values] * 2), dims=("copy",), coords={"copy": [0, 1]})
+    r = ix.fit("R0 + HN1 + L1", twice, shared=["L1"], over="copy")
+    hn = ("HN1.R", "HN1.tau", "HN1.alpha", "HN1.beta")
+    for copy in (0, 1):
+        assert r.unidentified_groups_of(copy=copy) == (hn,)
+        assert sum("are not separately determined" in w for w in r.warnings[f"copy={copy}"]) == 1

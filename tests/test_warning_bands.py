@@ -77,3 +77,24 @@ def test_a_stack_of_synthetic_spectra_whose_loud_band_moves_gives_one_line_with_
     found = [hertz(loud.group(k), loud.group(k + 1)) for k in range(1, 13, 2)]
     expected = [lows.min(), highs.max(), lows.min(), lows.max(), highs.min(), highs.max()]
     np.testing.assert_allclose(found, expected, rtol=5e-3)  # (three significant digits)
+
+
+NOT_DETERMINED = "shared R0, R1 are not separately determined by the data"
+
+
+def test_global_fits_keys_are_not_counted_as_spectra_nor_cut_at_their_labels():
+    """A global fit per group (``shared over cycle (group=a)``) files its notes under a key
+    holding ``=``: the line names those fits, not "2 of 6 spectra: shared over cycle (group a), b)"."""
+    warnings = {"shared over cycle (group=a)": (NOT_DETERMINED,), "shared over cycle (group=b)": (NOT_DETERMINED,)}
+    spectra = [f"group={g}, cycle={c}" for g in "ab" for c in range(3)]
+    assert grouped_warnings(warnings, 6, spectra=spectra) == [f"warning (shared over cycle (group a, b)): {NOT_DETERMINED}"]
+    (kind,) = warning_kinds(warnings)
+    assert kind["spectra"] == [] and kind["n_spectra"] == 0
+    assert kind["scope"] == ["shared over cycle (group=a)", "shared over cycle (group=b)"]
+    # groups of several dimensions, and spectra with a global fit in one kind: spectra counted, the fit named after them
+    two = {"shared over cycle (group=a, cell=1)": (NOT_DETERMINED,), "shared over cycle (group=b, cell=1)": (NOT_DETERMINED,)}
+    assert grouped_warnings(two, 12) == [f"warning (shared over cycle (group=a, cell=1; group=b, cell=1)): {NOT_DETERMINED}"]
+    mixed = {"group=a, cycle=0": ("R2 is at its bound",), "group=b, cycle=2": ("R2 is at its bound",), "shared over cycle (group=a)": ("R2 is at its bound",)}
+    assert grouped_warnings(mixed, 6, spectra=spectra) == ["warning (2 of 6 spectra: group=a, cycle=0; group=b, cycle=2; shared over cycle (group a)): R2 is at its bound"]
+    # one dimension shared over with no other: the key as it was
+    assert grouped_warnings({"shared over trial": (NOT_DETERMINED,)}, 4) == [f"warning (shared over trial): {NOT_DETERMINED}"]

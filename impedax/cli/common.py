@@ -1511,10 +1511,10 @@ def print_result(result, as_json: bool, source: str | None = None, provenance: M
     print(command_line_words(text, command))
 
 
-def each_spectrum_written(out: str | None, rows: str = "a row per spectrum and parameter") -> str | None:
+def each_spectrum_written(out: str | None, rows: str = "a row per spectrum and parameter", netcdf: str = "value, stderr and rms_rel over the batch's dimensions") -> str | None:
     """Where a run's ``--out`` FILE holds each spectrum's results, in the words of a batch
     report's closing line ("written to fits.csv (a row per spectrum and parameter)"; ``rows``:
-    what a CSV row is); None without a file (no ``--out``, or ``-``: the JSON went to standard
+    what a CSV row is; ``netcdf``: what a .nc holds); None without a file (no ``--out``, or ``-``: the JSON went to standard
     output and no report is printed). Until 2026-12-02 a run with ``--out batch.json`` still
     ended by suggesting ``--out FILE.csv … or --json``."""
     if not out or out == "-":
@@ -1525,7 +1525,7 @@ def each_spectrum_written(out: str | None, rows: str = "a row per spectrum and p
     if suffix == ".json":
         return f'written to {out} (its "spectra")'
     if suffix == ".nc":
-        return f"written to {out} (netCDF: value, stderr and rms_rel over the batch's dimensions)"
+        return f"written to {out} (netCDF: {netcdf})"
     return None
 
 

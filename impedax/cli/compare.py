@@ -28,8 +28,9 @@ def register(sub) -> None:
     p.add_argument("--json", action="store_true", help="print the comparison as JSON")
     add_plot_option(p, "save data with every model's fit and residuals (several spectra: each model's ΔAIC per spectrum)")
     p.add_argument(
-        "--out", metavar="FILE.csv|.json",
-        help="also write the comparison to FILE: .csv one row per model (the table's columns; several spectra: per spectrum and model), .json the --json document; '-' the JSON to standard output",
+        "--out", metavar="FILE.csv|.json|.nc",
+        help="also write the comparison to FILE: .csv one row per model (the table's columns; several spectra: per spectrum and model), .json the --json document, "
+        ".nc (several spectra) the comparison with every model's fits, read back with BatchComparison.from_xarray; '-' the JSON to standard output",
     )
     p.set_defaults(run=run)
 
@@ -68,6 +69,7 @@ def run(args) -> int:
     if extra and math.prod(data.sizes[d] for d in extra) == 1:  # (a list or range that picks one: that spectrum, as before)
         data = data.isel({d: 0 for d in extra})
         extra = []
+    out_path(args.out, several=bool(extra))  # (.nc: a comparison over several spectra only, said before any fit)
 
     def own(flag, ns):
         return {k: v for k, v in given[flag].items() if k in ns} or None
@@ -75,11 +77,12 @@ def run(args) -> int:
     progress = progress_printer(quiet=args.quiet)  # (three models took 6-12 s without a word)
     fits: list = [None] * len(circuits)
     started_from: dict[int, int] = {}
+    held = [own("--fix", ns) for ns in names]  # (each model's --fix: what nests, as the comparison judges it)
     try:
-        for step, i in enumerate(nesting_order(circuits, args.registry)):
+        for step, i in enumerate(nesting_order(circuits, args.registry, held)):
             c, ns, own_bounds = circuits[i], names[i], bounds[i]
             init = own("--init", ns)
-            contained = None if init is not None else largest_contained(i, circuits, fits, args.registry)
+            contained = None if init is not None else largest_contained(i, circuits, fits, args.registry, held)
             if contained is not None:  # (its optimum carried in: the larger model never ends above it, `fit(init=)`)
                 started_from[i], init = contained, fits[contained]
             also = f", also from the optimum of {circuits[contained]}, which it contains" if contained is not None else ""
@@ -101,7 +104,7 @@ def run(args) -> int:
         emit_json(with_source(comparison.summary(), source, record))
     elif extra and not outputs.uses_stdout:  # several spectra: the `BatchComparison`'s report
         pick = f"--select {extra[0]}=LABEL" + (" for each dimension" if len(extra) > 1 else "")
-        where = each_spectrum_written(args.out, rows="a row per spectrum and model") or "--out FILE.csv (a row per spectrum and model) or --json's spectra"  # (not the options the run used)
+        where = each_spectrum_written(args.out, rows="a row per spectrum and model", netcdf="each model's criteria and fits over the spectra") or "--out FILE.csv (a row per spectrum and model) or --json's spectra"  # (not the options the run used)
         print(comparison.report(each_spectrum_where=f"{where}; one spectrum's full comparison: {pick}"))
         hints = comparison.best_misfit_hints()
         if hints is not None:  # (the report's line says it; the command for its worst spectrum: added 2026-12-03)
@@ -128,34 +131,44 @@ def run(args) -> int:
     return 0
 
 
-def nesting_order(circuits, registry) -> list[int]:
+def nesting_order(circuits, registry, held=None) -> list[int]:
     """The positions of ``circuits`` in the order to fit them: a model after every model nested
-    in it (`is_nested`; each contains more of the others than any model nested in it does), the
-    order given among the rest."""
-    from ..fitting import is_nested
-
-    contained = [sum(j != i and is_nested(circuits[j], circuits[i], registry) for j in range(len(circuits))) for i in range(len(circuits))]
+    in it (`comparison.nested_as_held`, ``held``: each model's parameters held by ``--fix``, name
+    → value; each contains more of the others than any model nested in it does), the order given
+    among the rest. A held parameter the reduction needs breaks the nesting, as the comparison
+    judges it (``--fix L1=3u``: R0 + R1 || CPE1 + L1 no longer contains R0 + R1 || C1; until
+    2026-12-03 the command nested by circuit alone)."""
+    contained = [sum(j != i and _nested(j, i, circuits, registry, held) for j in range(len(circuits))) for i in range(len(circuits))]
     return sorted(range(len(circuits)), key=lambda i: (contained[i], i))
 
 
-def largest_contained(i: int, circuits, fits, registry) -> int | None:
+def largest_contained(i: int, circuits, fits, registry, held=None) -> int | None:
     """Of the models already fitted (``fits[j]`` not None), the one with the most parameters
-    that model ``i`` contains (`is_nested`: a W where it has a Wo, an element fewer),
-    or None: model ``i`` also starts from its optimum. On the 130 REAL battery cycles the Wo model
-    fitted from its default starts ended above the W model's χ² on 58 cycles (up to 1.40×),
-    though a Wo at τ → ∞ is that W."""
-    from ..fitting import is_nested
-
-    nested = [j for j, f in enumerate(fits) if f is not None and j != i and is_nested(circuits[j], circuits[i], registry)]
+    that model ``i`` contains with the parameters each holds (``held``, `nesting_order`; a W
+    where it has a Wo, an element fewer), or None: model ``i`` also starts from its optimum. On
+    the 130 REAL battery cycles the Wo model fitted from its default starts ended above the W
+    model's χ² on 58 cycles (up to 1.40×), though a Wo at τ → ∞ is that W."""
+    nested = [j for j, f in enumerate(fits) if f is not None and j != i and _nested(j, i, circuits, registry, held)]
     return max(nested, key=lambda j: (len(circuits[j].parameter_names(registry)), -j)) if nested else None
 
 
+def _nested(j: int, i: int, circuits, registry, held) -> bool:
+    """Whether model ``j`` is nested in model ``i`` with the parameters each holds (``held``:
+    one mapping per model, or None for none), by the comparison's rule (`nested_as_held`)."""
+    from ..fitting.comparison import nested_as_held
+
+    held = held or [{}] * len(circuits)
+    return nested_as_held(circuits[j], held[j] or {}, circuits[i], held[i] or {}, registry)
+
+
 OUT_SUFFIXES = (".csv", ".json")
+BATCH_OUT_SUFFIXES = (".nc",)  # (a comparison over several spectra only: `BatchComparison.from_xarray` reads it back; added 2026-12-03)
 
 
-def out_path(path: str | None) -> str | None:
-    """``--out``: a FILE whose extension is not .csv or .json is refused before any fit
-    (`DataError`, exit 2); None and ``-`` (the JSON to standard output) pass as given."""
+def out_path(path: str | None, several: bool = True) -> str | None:
+    """``--out``: a FILE whose extension is not .csv or .json (or .nc, for a comparison over
+    several spectra: ``several``) is refused before any fit (`DataError`, exit 2); None and ``-``
+    (the JSON to standard output) pass as given."""
     from pathlib import Path
 
     from ..errors import DataError
@@ -163,8 +176,10 @@ def out_path(path: str | None) -> str | None:
     if path is None or path == "-" or not path.strip():
         return path  # (`plan_outputs` says "empty file name")
     suffix = Path(path).suffix.lower()
-    if suffix not in OUT_SUFFIXES:
-        raise DataError(f"--out: unknown extension {suffix or '(none)'!r} for a comparison; use .csv (one row per model) or .json (the --json document)", path=path)
+    if suffix in BATCH_OUT_SUFFIXES and not several:
+        raise DataError(f"--out: {suffix} is for a comparison over several spectra (a file of several, or a --select leaving several); for one spectrum use .csv (one row per model) or .json (the --json document)", path=path)
+    if suffix not in (*OUT_SUFFIXES, *BATCH_OUT_SUFFIXES):
+        raise DataError(f"--out: unknown extension {suffix or '(none)'!r} for a comparison; use .csv (one row per model) or .json (the --json document), or .nc over several spectra", path=path)
     return path
 
 

@@ -30,6 +30,12 @@ SUM_NOTE = "AIC summed over the spectra: the spectra are independent, so the joi
 summed over independent data sets; each spectrum keeps its own noise scale)."""
 
 
+BATCH_PREFIX = "batch{}_"
+"""What `BatchComparison.to_xarray` names each batch's variables, dimensions and attributes
+with, ``.format(position)``: ``batch0_value``."""
+
+_COMPARISON_ATTRS = ("aic_form", "weighting", "note")  # (`compare_batches`'s own attrs of ``dataset``)
+
 EACH_SPECTRUM_WHERE = "comparison.to_table() or summary()['spectra']; one spectrum's full comparison: comparison_of(DIM=LABEL)"
 """Where `BatchComparison.report` sends the reader beyond `SPECTRA_AS_ROWS` spectra."""
 
@@ -463,8 +469,51 @@ class BatchComparison:
                 for s, r in enumerate(self.spectra()) for j, m in enumerate(r["models"])]
 
     def to_xarray(self) -> xr.Dataset:
-        """``dataset``: the criteria over (model, *dims), the sums over model."""
-        return self.dataset.copy(deep=True)
+        """``dataset`` (the criteria over (model, *dims), the sums over model) and each batch of
+        fits in full (`BatchFitResult.to_xarray`, its variables, dimensions other than the
+        batch's and ``frequency``, and attributes named `BATCH_PREFIX` + its own: ``batch0_value``
+        over ``batch0_param``, ...; added 2026-12-03), ``impedax_kind`` "batch_comparison":
+        `BatchComparison.from_xarray` reads it back."""
+        keep = {*self.dims, "frequency"}
+        parts = [self.dataset.copy(deep=True)]
+        for i, batch in enumerate(self.batches):
+            prefix = BATCH_PREFIX.format(i)
+            saved = batch.to_xarray()
+            renamed = saved.rename({n: prefix + str(n) for n in (*saved.variables, *saved.dims) if n not in keep})
+            renamed.attrs = {prefix + k: v for k, v in saved.attrs.items()}
+            parts.append(renamed)
+        out = xr.merge(parts, combine_attrs="drop", join="exact", compat="identical")
+        return out.assign_attrs({**self.dataset.attrs, **{k: v for part in parts[1:] for k, v in part.attrs.items()}, "impedax_kind": "batch_comparison", "n_batches": len(self.batches)})
+
+    @classmethod
+    def from_xarray(cls, ds: xr.Dataset, *, registry=None) -> "BatchComparison":
+        """Rebuild a comparison from `BatchComparison.to_xarray` output: as returned, read back by
+        `impedax.io.read_netcdf`, or opened as stored (``xr.open_dataset`` of a file
+        `impedax.write_result` or ``impedax compare ... --out FILE.nc`` wrote); each batch as its
+        own ``from_xarray`` rebuilds it (``registry``: the one the circuits' elements are in).
+        A file that is not a complete saved comparison of batches raises one `DataError` naming it."""
+        from ..io.netcdf import damaged_result, saved_result  # (io is imported only here: rarely needed)
+
+        ds = saved_result(ds, "batch_comparison", variables=(*PER_SPECTRUM_CRITERIA, "circuit", "n_params", "aic_sum"), attrs=("n_batches", "aic_form"))
+        with damaged_result("batch_comparison", ds):
+            batches = []
+            for i in range(int(ds.attrs["n_batches"])):
+                prefix = BATCH_PREFIX.format(i)
+                own = [n for n in ds.data_vars if str(n).startswith(prefix)]
+                if not own:
+                    raise ValueError(f"no batch of fits stored under {prefix!r}")
+                one = ds[own]
+                one = one.rename({n: str(n)[len(prefix):] for n in (*one.variables, *one.dims) if str(n).startswith(prefix)})
+                one.attrs = {k[len(prefix):]: v for k, v in ds.attrs.items() if k.startswith(prefix)}
+                if "source" in ds.attrs or "saved_from" in ds.attrs:  # (the data's file, which `write_result` records once)
+                    one.attrs.update({k: ds.attrs[k] for k in ("source", "saved_from") if k in ds.attrs})
+                one.encoding["source"] = ds.encoding.get("source")
+                kind = SharedFitResult if one.attrs.get("impedax_kind") == SharedFitResult._KIND else BatchFitResult
+                batches.append(kind.from_xarray(one, registry=registry))
+            own = [n for n in ds.data_vars if not any(str(n).startswith(BATCH_PREFIX.format(i)) for i in range(len(batches)))]
+            dataset = ds[own].drop_vars([c for c in ds[own].coords if c not in ("model", *batches[0].dims)])
+            dataset.attrs = {k: v for k, v in ds.attrs.items() if k in _COMPARISON_ATTRS}
+            return cls(tuple(batches), dataset)
 
     @labels_by_keyword
     def comparison_of(self, **labels) -> Comparison:

@@ -123,12 +123,18 @@ def null_sets(s: np.ndarray, vt: np.ndarray, names: Sequence[str]):
     CHInstruments data, gave the group and its warning twice until 2026-12-03), and the
     smallest-to-largest singular value ratio."""
     s_max = s[0] if s.size and s[0] > 0 else 1.0
-    null = []
+    null: list[list[str]] = []
     for j in np.flatnonzero(s < SINGULAR_RATIO_LIMIT * s_max):
-        group = [names[i] for i in np.flatnonzero(np.abs(vt[j]) > 0.2)]
-        if group not in null:
-            null.append(group)
+        add_null_group(null, [names[i] for i in np.flatnonzero(np.abs(vt[j]) > 0.2)])
     return null, float(s[-1] / s_max) if s.size else 1.0
+
+
+def add_null_group(groups: list[list[str]], group: list[str]) -> None:
+    """Add the parameters of one near-null direction to ``groups`` unless a direction over the
+    same parameters gave it already: two such directions are one group and one warning
+    (`null_sets`; `shared.joint_null_sets` alike since 2026-12-03)."""
+    if group not in groups:
+        groups.append(group)
 
 
 def uncertainties(jac: np.ndarray, chi2_red: float, weighting: str, names: Sequence[str]):

@@ -6,6 +6,7 @@ dask="parallelized")``, so the same call scales out on a ``dask.distributed`` cl
 
 from __future__ import annotations
 
+import datetime
 import functools
 import math
 import time
@@ -51,6 +52,9 @@ def register_spectrum_fit(fit: Callable) -> None:
     """Let `BatchFitResult.fit_of` refit one spectrum with ``fit`` (`single.fit`)."""
     global _spectrum_fit
     _spectrum_fit = fit
+
+
+_COMPUTED_HERE = object()  # (`BatchFitResult.report`'s misfit_hints not given: it computes them)
 
 
 def labels_by_keyword(method: Callable) -> Callable:
@@ -184,16 +188,28 @@ class BatchFitResult:
         2026-12-02): ``b.values(n).plot.line(x="voltage")`` with these as error bars."""
         return self.dataset["stderr"].sel(param=self._parameter(name, "stderr"))
 
-    def per_spectrum_starts(self, data: xr.Dataset, names, circuit: Circuit | None = None) -> np.ndarray:
+    def per_spectrum_starts(self, data: xr.Dataset | None = None, names=None, circuit: Circuit | None = None) -> np.ndarray:
         """This batch's values as the starts of a new batch fit of ``data`` (``fit(..., init=batch)``):
         shape (*the data's extra dimensions, len(names)), each spectrum's own fitted values of the
-        parameters ``names`` holds (NaN for the others: their data-driven guess); with the new
+        parameters ``names`` holds (NaN for the others: their data-driven guess); without ``data``
+        this batch's own spectra, without ``names`` this batch's parameters in its order (2026-12-03;
+        before, a bare call was Python's TypeError); with the new
         fit's ``circuit`` when this batch's circuit is nested in it (a W where it has a Wo), each
         spectrum's optimum carried into it (`nesting.carried_values`). The data must be
         over the same dimensions with the same sizes and labels (coordinates), in any order (a
         spectrum takes the fit with its labels); otherwise a `ParameterError` says what differs."""
-        extra = tuple(d for d in data["Z"].dims if d != "frequency")
         ds = self.dataset
+        if data is None:
+            data = ds
+        elif not isinstance(data, xr.Dataset) or "Z" not in data:
+            raise ParameterError(f"per_spectrum_starts: data= takes the spectra to start (an xarray Dataset with Z, as impedax.load gives), not {type(data).__name__}; "
+                                 "leave it out for this batch's own spectra")
+        if names is None:
+            names = [str(p) for p in ds["param"].values]
+        elif isinstance(names, str) or not all(isinstance(n, str) for n in names):
+            raise ParameterError(f"per_spectrum_starts: names= takes a list of parameter names (e.g. {[str(p) for p in ds['param'].values[:2]]}), not {names!r}; "
+                                 "leave it out for this batch's parameters")
+        extra = tuple(d for d in data["Z"].dims if d != "frequency")
         if set(extra) != set(self.dims):
             raise ParameterError(
                 f"init: the batch of fits is over {' × '.join(self.dims)} but the data's spectra are over {' × '.join(extra) or 'nothing (one spectrum)'}; "
@@ -275,15 +291,41 @@ class BatchFitResult:
         position = {}
         for dim, label in labels.items():
             if dim in ds.coords:
-                found = np.flatnonzero(ds[dim].values == label)
-                if not found.size:
-                    raise ParameterError(f"{dim}={label!r} is not among the batch's labels ({', '.join(map(str, ds[dim].values[:10].tolist()))}{', …' if ds.sizes[dim] > 10 else ''})")
-                position[dim] = int(found[0])
+                position[dim] = self._label_position(dim, label)
             else:
                 if not (isinstance(label, (int, np.integer)) and 0 <= label < ds.sizes[dim]):
                     raise ParameterError(f"{dim}={label!r}: {dim} has no coordinates; give a position from 0 to {ds.sizes[dim] - 1}")
                 position[dim] = int(label)
         return position
+
+    def _label_position(self, dim: str, label) -> int:
+        """The position of ``label`` along ``dim`` (a dimension with coordinates), labels compared
+        by value: along dates any form of the date (an ISO text "2024-01-02T10:00", a
+        ``numpy.datetime64`` in any unit, a ``datetime.datetime``, a ``pandas.Timestamp``: all
+        read by ``pandas.Timestamp``; until 2026-12-03 only a ``Timestamp`` was found); a
+        `ParameterError` naming the labels nearest to it (in time or value; else the first ones)."""
+        import pandas as pd
+
+        index = self.dataset.get_index(dim)
+        wanted = label
+        if isinstance(index, pd.DatetimeIndex):
+            try:
+                wanted = pd.Timestamp(label) if isinstance(label, (str, datetime.date, np.datetime64)) else None
+            except (TypeError, ValueError):
+                wanted = None
+        found = [] if wanted is None else np.flatnonzero(index == wanted)
+        if len(found):
+            return int(found[0])
+        labels = list(index)
+        shown = lambda v: v.isoformat() if isinstance(v, pd.Timestamp) else str(label_value(v))  # noqa: E731
+        numeric = index.dtype.kind in "iuf" and isinstance(label, (int, float, np.integer, np.floating)) and not isinstance(label, (bool, np.bool_))
+        if wanted is not None and (isinstance(index, pd.DatetimeIndex) or numeric):
+            labels = sorted(labels, key=lambda v: abs(v - wanted))
+            nearby = "nearest labels: " + ", ".join(map(shown, labels[:5]))
+        else:
+            nearby = "its labels: " + ", ".join(map(shown, labels[:10])) + (", …" if len(labels) > 10 else "")
+        what = "an ISO date ('2024-01-02T10:00'), a numpy.datetime64, datetime or pandas.Timestamp" if isinstance(index, pd.DatetimeIndex) else None
+        raise ParameterError(f"{dim}={label!r} is not among the batch's labels ({nearby})" + (f"; a {dim} label is {what}" if what and wanted is None else ""))
 
     @labels_by_keyword
     def unidentified_groups_of(self, **labels) -> tuple[tuple[str, ...], ...]:
@@ -503,10 +545,12 @@ class BatchFitResult:
             rows.append({**{d: c for d, c in label.items() if d not in own and d != "labels"}, "labels": label, **own})
         return rows
 
-    def report(self) -> str:
+    def report(self, *, misfit_hints=_COMPUTED_HERE) -> str:
         """The parameter table (`_parameter_lines`), the warnings and notes, and the hint of the
-        fits that miss structure small as their misfits look (`misfit_hints`)."""
-        hints = self.misfit_hints()
+        fits that miss structure small as their misfits look (`misfit_hints`; ``misfit_hints=``
+        what that method returned already, dict or None, so that a caller that has them does not
+        run the Kramers–Kronig chains again, as ``impedax fit`` did until 2026-12-03)."""
+        hints = self.misfit_hints() if misfit_hints is _COMPUTED_HERE else misfit_hints
         return "\n".join(self._parameter_lines() + self._warning_lines() + ([] if hints is None else ["", f"hint: {hints['note']}"]))
 
     def misfit_hints(self) -> dict | None:

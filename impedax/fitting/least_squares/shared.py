@@ -38,9 +38,10 @@ from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit
 from ...arguments import closest_name
 from ...data import column_width, concise_repr, coordinate_labels, format_relative_error, unit_text
 from ...errors import DataError, ParameterError
+from ...warning_groups import scope_key
 from ..parameters import ParameterTable, to_internal
 from ..problem import residual_scale, weights
-from ..statistics import SINGULAR_RATIO_LIMIT, information_criteria
+from ..statistics import SINGULAR_RATIO_LIMIT, add_null_group, information_criteria
 from .batch import BatchFitResult, data_notes, fit_batch
 from .branches import idle_branch_notes, idle_branches, settle_vanishing, undetermined, undetermined_mask, unidentified_stderr, vanishing_candidates, vanishing_parameters
 from .result import BOUND_CHI2_FRACTION, LINEARISED_STDERR_NAME, STDERR_NOTE, at_rounding, bound_note, bound_sides, fit_notes, is_remainder, NUMERICALLY_ON_FRACTION, on_bound, shown_stderr, stack_notes, unidentified_group_note, vanishing_term_sides, without_error
@@ -359,7 +360,9 @@ def joint_null_sets(jac: np.ndarray, own: Sequence[int], shared: Sequence[int], 
     vector of the shared columns with what each spectrum's own columns explain projected out,
     ((I − U_iU_iᵀ) S̃_i)_i stacked (the square root of the Schur complement, without squaring the
     condition number as JᵀJ does). Its singular value is ‖J̃v‖/‖v‖ of v = (x, y). An
-    overflowed Jacobian (an inf or NaN entry) has none, as a single fit's."""
+    overflowed Jacobian (an inf or NaN entry) has none, as a single fit's. Two directions over
+    the same parameters are one group (`statistics.add_null_group`, as `null_sets`; until
+    2026-12-03 a Havriliak–Negami element's four parameters were listed and warned twice)."""
     jac = np.asarray(jac, float)
     own, shared = np.asarray(own, int), np.asarray(shared, int)
     m = jac.shape[0]
@@ -381,7 +384,7 @@ def joint_null_sets(jac: np.ndarray, own: Sequence[int], shared: Sequence[int], 
         u, s, vt = np.zeros((m, jac.shape[1], 0)), np.zeros((m, 0)), np.zeros((m, 0, 0))
     kept = s >= limit
     for i, j in np.argwhere(~kept).tolist():
-        groups[i].append([own_names[c] for c in np.flatnonzero(np.abs(vt[i, j]) > _NULL_COMPONENT)])
+        add_null_group(groups[i], [own_names[c] for c in np.flatnonzero(np.abs(vt[i, j]) > _NULL_COMPONENT)])
         ratios[i] = min(ratios[i], float(s[i, j]) / s_max)
     # directions that move the shared parameters
     if not shared.size:
@@ -400,14 +403,14 @@ def joint_null_sets(jac: np.ndarray, own: Sequence[int], shared: Sequence[int], 
         norms = np.linalg.norm(seen, axis=1, keepdims=True)
         spectrum_members = np.abs(seen) > _NULL_COMPONENT * np.where(norms > 0, norms, np.inf)
         if not spectrum_members[:, own].any():  # shared parameters alone: one group for the global fit
-            shared_groups.append(members)
+            add_null_group(shared_groups, members)
             shared_ratio = min(shared_ratio, size)
             for i in range(m):
-                groups[i].append(members)
+                add_null_group(groups[i], members)
                 ratios[i] = min(ratios[i], size)
             continue
         for i in np.flatnonzero(spectrum_members.any(axis=1)).tolist():
-            groups[i].append([names[c] for c in np.flatnonzero(spectrum_members[i])])
+            add_null_group(groups[i], [names[c] for c in np.flatnonzero(spectrum_members[i])])
             ratios[i] = min(ratios[i], size)
     return JointNullSets(groups, ratios, shared_groups, shared_ratio)
 
@@ -921,5 +924,5 @@ def _result_dataset(circuit, data, table, layout: SharedLayout, extra, keep_shap
     for gi, index in enumerate(np.ndindex(*keep_shape)):
         if group_notes[gi]:
             label = ", ".join(labels[d][i] for d, i in zip(layout.keep, index))
-            warnings[f"shared over {', '.join(layout.over)}" + (f" ({label})" if label else "")] = group_notes[gi]
+            warnings[scope_key(layout.over, label)] = group_notes[gi]
     return ds, warnings
