@@ -189,6 +189,25 @@ def test_an_unknown_sampling_keyword_names_the_one_meant(call, expected):
     assert str(caught.value) == expected
 
 
+def test_a_derived_function_that_calls_float_on_a_parameter_is_named_with_the_fix(rcpe):
+    """fn(params) calling float() on a traced value leaked JAX's ConcretizationTypeError (from
+    deep inside JAX, naming neither fn nor the fix), from a posterior's vmap and a fit's jacfwd alike."""
+    _, _, _, post = rcpe
+
+    def gap_of_capacitance(p):  # a user's gap from a capacitance, written with float()
+        return 8.8541878128e-12 * 1e-4 / float(p["CPE1.Q"])
+
+    expected = ("derive: fn (gap_of_capacitance) must be written with "
+                "jax.numpy operations on its arguments (params[, freq]) and must not convert them to Python floats or NumPy arrays (float(), int(), "
+                "np.asarray(), an if on a value): JAX traces it over the draws and for its derivatives; write jnp.where(...) for a choice")
+    for result in (post, post.fit):
+        with pytest.raises(ix.ParameterError) as caught:
+            ix.derive(result, gap_of_capacitance)
+        assert str(caught.value) == expected
+    with pytest.raises(ix.ParameterError, match=r"^derive: fn \(<lambda>\) must be written with jax.numpy operations"):
+        post.derive(lambda p, freq: np.asarray(p["R1"]) * freq, np.array([1.0, 10.0]))
+
+
 def test_delta_method_of_linear_function_is_j_sigma_jt(rcpe):
     _, _, data, post = rcpe
     result = post.fit
