@@ -46,6 +46,8 @@ __all__ = [
     "require_parameters",
     "unknown_parameter",
     "closest_name",
+    "unknown_keyword_message",
+    "refuse_unknown_keywords",
     "impedance_py_parameter",
     "numeric_array",
     "relative_permittivity",
@@ -661,6 +663,45 @@ written in impedance.py's words is answered with impedax's, not with the nearest
 IMPEDANCE_PY_EXAMPLES = {"constants": _constants_example, "initial_guess": _initial_guess_example}
 
 
+OTHER_SAMPLER_KEYWORDS = {
+    "num_warmup": ("warmup", "burn"),  # NumPyro
+    "tune": ("warmup", "burn"),  # PyMC
+    "num_samples": ("draws", "steps"),  # NumPyro
+    "nsteps": ("steps", "draws"),  # emcee's run_mcmc
+    "num_chains": ("chains", "walkers"),  # NumPyro
+    "nwalkers": ("walkers", "chains"),  # emcee
+    "random_seed": ("seed",),  # PyMC
+    "rng_key": ("seed",),  # NumPyro, JAX
+}
+"""Other samplers' keywords → the impedax keywords that mean the same, in order of preference
+(the first a function takes is named): ``num_warmup`` is no spelling of ``burn``, so difflib
+alone named nothing for `sample(num_warmup=500)` (2026-12-03)."""
+
+
+def unknown_keyword_message(label: str, key, known: Sequence[str]) -> str:
+    """The message for a keyword ``key`` that ``label`` (a function, as ``sample()``) does not
+    take, with the one of ``known`` it most likely means: another sampler's name for it
+    (`OTHER_SAMPLER_KEYWORDS`, ``num_warmup`` → ``burn`` or ``warmup``), else the closest
+    spelling (difflib), else the keywords taken."""
+    known = list(known)
+    meant = next((k for k in OTHER_SAMPLER_KEYWORDS.get(key, ()) if k in known), None) if isinstance(key, str) else None
+    if meant is not None:
+        return f"{label} has no argument {key!r}; did you mean {meant}? ({key} is another library's name; impedax's is {meant})"
+    close = difflib.get_close_matches(key, known, n=1) if isinstance(key, str) else []
+    if close:
+        return f"{label} has no argument {shown(key)}; did you mean {close[0]}?"
+    text = f"{label} has no argument {shown(key)} (it takes {', '.join(known)})"
+    return text if len(text) <= MAX_MESSAGE else text[: MAX_MESSAGE - 2] + "…)"
+
+
+def refuse_unknown_keywords(label: str, given: Mapping, known: Sequence[str]) -> None:
+    """A `ParameterError` (`unknown_keyword_message`) for the first keyword of ``given`` not in
+    ``known``: for a function that takes ``**options`` and checks them itself."""
+    for key in given:
+        if key not in known:
+            raise ParameterError(unknown_keyword_message(label, key, known))
+
+
 def _binding_message(label: str, signature: inspect.Signature, n_positional: int, kwargs: Mapping, exc: TypeError, parameters=None) -> str:
     names = list(signature.parameters)
     takes_any_keyword = any(p.kind is p.VAR_KEYWORD for p in signature.parameters.values())
@@ -673,9 +714,7 @@ def _binding_message(label: str, signature: inspect.Signature, n_positional: int
                 if example:
                     write = f"{write.partition(', e.g. ')[0]}, here {example}"
                 return f"{label}() has no argument {key!r}: for impedance.py's {key}= write {write} (docs/migrating.md)"
-            close = difflib.get_close_matches(key, names, n=1)
-            hint = f"; did you mean {close[0]}?" if close else ""
-            return f"{label}() has no argument {shown(key)}{hint}"
+            return unknown_keyword_message(f"{label}()", key, names)
     positional = [p for p in signature.parameters.values() if p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD)]
     if n_positional > len(positional) and not any(p.kind is p.VAR_POSITIONAL for p in signature.parameters.values()):
         return f"{label}() takes {len(positional)} positional arguments ({', '.join(p.name for p in positional)}), got {n_positional}; pass the others by name"

@@ -160,6 +160,54 @@ def test_derive_refuses_a_keyword_its_path_does_not_take(rcpe):
     assert out["draws"].size == 5
 
 
+@pytest.mark.parametrize(
+    "call, expected",
+    [
+        # another library's keyword: the impedax keyword that means the same (NumPyro's num_warmup is the burn-in)
+        (lambda: ix.sample("R0 + R1 || C1", None, num_warmup=500), "sample() has no argument 'num_warmup'; did you mean burn? (num_warmup is another library's name; impedax's is burn)"),
+        (lambda: ix.sample("R0 + R1 || C1", None, num_samples=500), "sample() has no argument 'num_samples'; did you mean steps? (num_samples is another library's name; impedax's is steps)"),
+        ("hierarchical", "sample_hierarchical() has no argument 'num_warmup'; did you mean warmup? (num_warmup is another library's name; impedax's is warmup)"),
+        # a misspelling: the closest keyword
+        (lambda: ix.sample("R0 + R1 || C1", None, wakers=8), "sample() has no argument 'wakers'; did you mean walkers?"),
+        ("hierarchical-typo", "sample_hierarchical() has no argument 'chain'; did you mean chains?"),
+        # no close one: the keywords it takes
+        ("log-density", "hierarchical_log_density() has no argument 'num_warmup' (it takes session_dim, reparametrization, fixed, discrepancy, session_spread_scale, parameterisation, registry, init)"),
+    ],
+)
+def test_an_unknown_sampling_keyword_names_the_one_meant(call, expected):
+    """sample_hierarchical(num_warmup=500) raised Python's bare TypeError; sample(num_warmup=500)
+    named no keyword at all, though burn is its burn-in."""
+    from impedax.fitting.bayes.hierarchical import hierarchical_log_density, sample_hierarchical
+
+    calls = {
+        "hierarchical": lambda: sample_hierarchical("R0 + R1 || C1", None, per_trial=["R1"], num_warmup=500),
+        "hierarchical-typo": lambda: sample_hierarchical("R0 + R1 || C1", None, per_trial=["R1"], chain=2),
+        "log-density": lambda: hierarchical_log_density("R0 + R1 || C1", None, per_trial=["R1"], num_warmup=5),
+    }
+    with pytest.raises(ix.ParameterError) as caught:
+        calls.get(call, call)() if isinstance(call, str) else call()
+    assert str(caught.value) == expected
+
+
+def test_a_derived_function_that_calls_float_on_a_parameter_is_named_with_the_fix(rcpe):
+    """fn(params) calling float() on a traced value leaked JAX's ConcretizationTypeError (from
+    deep inside JAX, naming neither fn nor the fix), from a posterior's vmap and a fit's jacfwd alike."""
+    _, _, _, post = rcpe
+
+    def gap_of_capacitance(p):  # a user's gap from a capacitance, written with float()
+        return 8.8541878128e-12 * 1e-4 / float(p["CPE1.Q"])
+
+    expected = ("derive: fn (gap_of_capacitance) must be written with "
+                "jax.numpy operations on its arguments (params[, freq]) and must not convert them to Python floats or NumPy arrays (float(), int(), "
+                "np.asarray(), an if on a value): JAX traces it over the draws and for its derivatives; write jnp.where(...) for a choice")
+    for result in (post, post.fit):
+        with pytest.raises(ix.ParameterError) as caught:
+            ix.derive(result, gap_of_capacitance)
+        assert str(caught.value) == expected
+    with pytest.raises(ix.ParameterError, match=r"^derive: fn \(<lambda>\) must be written with jax.numpy operations"):
+        post.derive(lambda p, freq: np.asarray(p["R1"]) * freq, np.array([1.0, 10.0]))
+
+
 def test_delta_method_of_linear_function_is_j_sigma_jt(rcpe):
     _, _, data, post = rcpe
     result = post.fit

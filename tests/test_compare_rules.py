@@ -2,6 +2,7 @@
 one impedance function marked as one fit, and F-tests it cannot make said so."""
 
 import numpy as np
+import pytest
 
 import impedax as ix
 
@@ -160,3 +161,37 @@ def test_the_compare_command_nests_its_models_with_the_held_parameters_as_the_co
     assert main([*argv, "--fix", "L1=100u"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["started_from_contained"] == [] and out["f_tests"] == []
+
+
+def test_a_pair_nested_by_a_limit_on_the_edge_of_the_space_takes_the_chi_bar_squared_p_value():
+    """W ⊂ Wo (τ → ∞) and C ⊂ CPE (α = 1, α ≤ 1) put the smaller model on the boundary of the
+    larger one's space, where F's reference is the 50:50 mixture of 0 and F(1, df2) (Self & Liang
+    1987): p = ½ F.sf(F, 1, df2), half the plain F-test's. An element added (W1.sigma, interior
+    here) keeps the plain p. SYNTHETIC spectra, written here."""
+    from scipy import stats
+
+    f = np.geomspace(0.05, 1e5, 60)
+    s = 2j * np.pi * f
+    rng = np.random.default_rng(11)
+    noise = lambda: 1 + 0.01 * (rng.normal(size=f.size) + 1j * rng.normal(size=f.size)) / np.sqrt(2)  # noqa: E731
+    # a finite-length diffusion (Wo: R 200 Ω, τ 2 s) behind an arc, and an arc with α = 0.93
+    x = np.sqrt(s * 2.0)
+    wo_data = ix.make_spectrum(f, (10 + 100 / (1 + s * 1e-4) + 200 / np.tanh(x) / x) * noise())
+    arc_data = ix.make_spectrum(f, (10 + 100 / (1 + (s * 1e-3) ** 0.93)) * noise())
+    pairs = [(wo_data, "R0 + R1 || C1 + W1", "R0 + R1 || C1 + Wo1", ["Wo1: tau -> inf"]), (arc_data, "R0 + R1 || C1", "R0 + R1 || CPE1", ["CPE1: alpha = 1"])]
+    for data, small, large, limits in pairs:
+        simple, larger = ix.fit(small, data), ix.fit(large, data, init=ix.fit(small, data))
+        (test,) = ix.compare([simple, larger]).f_tests
+        assert test["valid"] and test["boundary_limits"] == limits, test
+        n = 2 * data.sizes["frequency"]
+        df2 = n - larger.n_params
+        f_value = (simple.chi2 - larger.chi2) / (larger.n_params - simple.n_params) / (larger.chi2 / df2)
+        assert test["f"] == pytest.approx(f_value, rel=1e-9)
+        assert test["p_value"] == pytest.approx(0.5 * stats.f.sf(f_value, 1, df2), rel=1e-9)
+        assert "50:50 chi-bar-squared mixture (Self & Liang 1987)" in test["note"]
+        assert f"p = {test['p_value']:.3g} ({test['note']})" in ix.compare([simple, larger]).report()
+    # an element added, not a limit: the plain F-test
+    simple, larger = ix.fit("R0 + R1 || C1", wo_data), ix.fit("R0 + R1 || C1 + W1", wo_data)
+    (test,) = ix.compare([simple, larger]).f_tests
+    assert test["boundary_limits"] == [] and test["note"] is None
+    assert test["p_value"] == pytest.approx(stats.f.sf(test["f"], test["df1"], test["df2"]), rel=1e-12)

@@ -5,6 +5,7 @@ nested models fitted to the same data, the F-test of the extra parameters (docs/
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass, replace
 from typing import Callable, Mapping, Sequence
 
@@ -22,7 +23,7 @@ from .bayes.evidence import EVIDENCE_NOTE_LEAD
 from .least_squares.result import BOUND_CHI2_FRACTION, data_difference, DATA_LIMIT_NOTE, SIGN_HINT_LEAD, misfit_hint
 from .frozen import freeze_fields
 
-__all__ = ["compare", "Comparison", "WEAK_DELTA_AIC", "is_nested", "nested_as_held", "boundary_parameters", "undetermined_names", "criteria", "akaike_weights", "KNOWN_SIGMA", "UNKNOWN_VARIANCE", "TIE_CHI2_REL", "criteria_tie", "SIGMA_CHI2_RED_RANGE", "register_batch_compare"]
+__all__ = ["compare", "Comparison", "WEAK_DELTA_AIC", "is_nested", "nested_as_held", "boundary_parameters", "boundary_limits", "chi_bar_squared_p_value", "undetermined_names", "criteria", "akaike_weights", "KNOWN_SIGMA", "UNKNOWN_VARIANCE", "TIE_CHI2_REL", "criteria_tie", "SIGMA_CHI2_RED_RANGE", "register_batch_compare"]
 
 
 def fit_label(fit: FitResult) -> str:
@@ -442,7 +443,7 @@ class Comparison:
             lines.append(f"{UNRELIABLE_MARK} log evidence unreliable or undefined by the posterior's own warnings (listed with the model's): {', '.join(unreliable)}; compare these models by WAIC")
         lines += self._criteria_lines()
         for t in self.f_tests:
-            test = f"F = {t['f']:.3g}, p = {t['p_value']:.3g}" if t.get("valid", True) else f"no test: {t['note']}"
+            test = (f"F = {t['f']:.3g}, p = {t['p_value']:.3g}" + (f" ({t['note']})" if t.get("note") else "")) if t.get("valid", True) else f"no test: {t['note']}"
             lines.append(f"F-test {t.get('simple_label', t['simple'])}  ⊂  {t.get('complex_label', t['complex'])}: {test}")
         return "\n".join(lines)
 
@@ -555,7 +556,10 @@ def compare(fits: Sequence) -> "Comparison | BatchComparison":  # (BatchComparis
     n ln(χ²/n) + 2k otherwise; AICc = AIC + 2k(k + 1)/(n − k − 1), NaN where undefined), ΔAIC
     (to the lowest) and Akaike weights w_i = exp(−ΔAIC_i/2)/Σ exp(−ΔAIC_j/2), the same from
     AICc (``delta_aicc``, ``akaike_weight_aicc``), and an F-test for each nested pair:
-    F = ((χ²_s − χ²_c)/(k_c − k_s)) / (χ²_c/(n − k_c)), not made (``valid`` false, ``reason``
+    F = ((χ²_s − χ²_c)/(k_c − k_s)) / (χ²_c/(n − k_c)), its p from the F distribution, or, where the
+    smaller model is the larger one at a limit on the edge of its space (a W for a Wo at τ → ∞,
+    `boundary_limits`), from the chi-bar-squared mixture (`chi_bar_squared_p_value`, Self & Liang
+    1987: half the F-test's p for one such limit; ``note`` says so), not made (``valid`` false, ``reason``
     and ``note`` say why) when the larger model fits worse, sits with a parameter at its bound
     (`boundary_parameters`) or fits to rounding. AIC ranks. Items may also be posteriors
     with a ``fit`` attribute; their ``log_evidence`` and ``waic`` become extra columns.
@@ -617,8 +621,10 @@ def compare(fits: Sequence) -> "Comparison | BatchComparison":  # (BatchComparis
             dk = c.n_params - s.n_params
             denom = c.chi2 / (n - c.n_params)
             f_value = max(s.chi2 - c.chi2, 0.0) / dk / denom if denom > 0 else math.inf
-            test = {"simple": s.model, "complex": c.model, "f": float(f_value), "df1": dk, "df2": n - c.n_params, "p_value": float(stats.f.sf(f_value, dk, n - c.n_params)), "valid": True, "note": None,
-                    "simple_label": labels[i], "complex_label": labels[j], "reason": None, "at_bound": []}
+            limits = boundary_limits(s.circuit, c.circuit, c.registry)
+            test = {"simple": s.model, "complex": c.model, "f": float(f_value), "df1": dk, "df2": n - c.n_params, "p_value": chi_bar_squared_p_value(f_value, dk, n - c.n_params, len(limits)),
+                    "valid": True, "note": _mixture_note(limits, labels[i], labels[j]) if limits else None, "simple_label": labels[i], "complex_label": labels[j], "reason": None, "at_bound": [],
+                    "boundary_limits": limits}
             on_boundary = boundary_parameters(s, c)
             # with a parameter at its bound, a hair of excess is the bound's, not a fit short of its
             # optimum: a start on the bound is nudged inside (`fit_of`), and α = 0.999999 left χ²
@@ -675,6 +681,61 @@ its optimum (the test is then not made for that bound, `boundary_parameters`).""
 EXACT_CHI2_RED = 1e-20
 """Below this reduced χ² a fit is exact to rounding (noise-free data): an F-test compares
 rounding errors."""
+
+
+_LIMIT_RE = re.compile(r"\s*([A-Za-z_]\w*)\s*(?:->|=)\s*(inf|[-+]?[0-9.]+(?:e[-+]?[0-9]+)?)\b")
+"""The parameter and its value at the start of an `ElementLimit`'s ``where`` ("tau -> inf", "alpha = 1")."""
+
+
+def boundary_limits(simple: Circuit, complex_: Circuit, registry: Registry = DEFAULT_REGISTRY) -> list[str]:
+    """The limits by which ``simple`` sits in ``complex_`` (`embedding`) at the boundary of
+    ``complex_``'s parameter space, each taking one parameter away: a Wo's τ → ∞ (a W), a CPE's
+    α = 1 (a capacitor, α ∈ (0, 1]), an HN's β = 1; as "element: where" ("Wo1: tau -> inf").
+    There the smaller model is a point on the edge of the larger one's space, and each such limit
+    makes the reference distribution of F a mixture (`chi_bar_squared_p_value`). A limit that
+    takes more than one parameter away (a Cole–Cole at τ → 0, a resistor: α is then not
+    identified) is not counted: no mixture of this kind holds there."""
+    out = []
+    for small, large, limit in embedding(simple, complex_, registry) or ():
+        if limit is None:
+            continue
+        spec, simpler = registry[large.symbol], registry[small.symbol]
+        match = _LIMIT_RE.match(limit.where)
+        if match is None or len(spec.parameters) - len(simpler.parameters) != 1:
+            continue
+        name, value = match.group(1), math.inf if match.group(2) == "inf" else float(match.group(2))
+        parameter = next((p for p in spec.parameters if (p.suffix or spec.symbol.lower()) == name), None)
+        if parameter is not None and value in (parameter.lower, parameter.upper):
+            out.append(f"{large.name}: {limit.where}")
+    return out
+
+
+def chi_bar_squared_p_value(f_value: float, df1: int, df2: int, n_boundary: int = 0) -> float:
+    """The p-value of F (``df1``, ``df2``) when ``n_boundary`` of the df1 constraints put the
+    smaller model on the boundary of the larger one's space (`boundary_limits`). The statistic
+    T = df1·F is then a chi-bar-squared mixture (Self & Liang 1987, J. Am. Stat. Assoc. 82, 605;
+    Stram & Lee 1994, Biometrics 50, 1171): P(T ≥ t) = Σ_j C(q, j) 2⁻ᑫ P(d_j·F_{d_j, df2} ≥ t), d_j = df1 − q + j, a term
+    with d_j = 0 (the point mass at T = 0) adding nothing; for one boundary constraint and
+    df1 = 1, half the F-test's p. The weights C(q, j) 2⁻ᑫ take the boundary parameters'
+    estimates as uncorrelated. ``n_boundary`` 0: the F-test's own p, F.sf(F, df1, df2)."""
+    from scipy import stats
+
+    q = min(int(n_boundary), int(df1))
+    t = float(f_value) * df1
+    if q and t <= 0:  # (no fall in χ²: the point mass at T = 0 counts, P(T ≥ 0) = 1)
+        return 1.0
+    total = 0.0
+    for j in range(q + 1):
+        d = df1 - q + j
+        if d > 0:
+            total += math.comb(q, j) / 2**q * float(stats.f.sf(t / d, d, df2))
+    return total
+
+
+def _mixture_note(limits: Sequence[str], simple_label: str, complex_label: str) -> str:
+    """The note of a valid F-test whose smaller model sits on the boundary of the larger one's space."""
+    mixture = "the 50:50 chi-bar-squared mixture (Self & Liang 1987)" if len(limits) == 1 else "the chi-bar-squared mixture (Self & Liang 1987)"
+    return f"{simple_label} is {complex_label} at the edge of its parameter space ({'; '.join(limits)}): p is from {mixture}, not the plain F distribution"
 
 
 def boundary_parameters(simple: FitResult, complex_: FitResult) -> list[str]:

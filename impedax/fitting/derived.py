@@ -66,16 +66,29 @@ def bind_frequency(fn, freq):
     if freq is None:
         if needs_freq(fn):
             raise ParameterError("derive: the function takes a frequency argument; pass freq=...")
-
-        def g(params):
-            return jnp.asarray(fn(params))
+        arguments = ()
     else:
-        f = jnp.asarray(checked_frequencies(freq))
+        arguments = (jnp.asarray(checked_frequencies(freq)),)
 
-        def g(params):
-            return jnp.asarray(fn(params, f))
+    def g(params):
+        return jnp.asarray(fn(params, *arguments))
 
     return g
+
+
+TRACED_VALUE_CONVERSIONS = (jax.errors.ConcretizationTypeError, jax.errors.TracerArrayConversionError, jax.errors.TracerIntegerConversionError, jax.errors.TracerBoolConversionError)
+"""What JAX raises when a function it traces turns a traced value into a Python or NumPy value
+(``float(p["C1"])``, ``np.asarray(...)``, ``if p["R1"] > 0``): `derive` calls ``fn`` under
+`jax.vmap` (draws) and `jax.jacfwd` (the delta method), where the values are tracers."""
+
+
+def traced_conversion_message(fn) -> str:
+    """The message for a ``fn`` that converted a traced value (`TRACED_VALUE_CONVERSIONS`),
+    naming it: the JAX error came from deep inside JAX and named neither fn nor the fix."""
+    name = getattr(fn, "__name__", None) or type(fn).__name__
+    return (f"derive: fn ({name}) must be written with jax.numpy operations on its arguments (params[, freq]) and must not convert them "
+            "to Python floats or NumPy arrays (float(), int(), np.asarray(), an if on a value): JAX traces it over the draws and for its "
+            "derivatives; write jnp.where(...) for a choice")
 
 
 def _has_default_second(fn) -> bool:
@@ -134,10 +147,10 @@ def derive_fit(result, fn, freq=None) -> xr.Dataset:
         return g(params)
 
     x0 = jnp.asarray([result.values[n] for n in free])
-    value = called(of_free, x0, list(result.values), result.model)
+    value = called(of_free, x0, list(result.values), result.model, fn)
     check_real(value)
     value = np.asarray(value, float)
-    jac = np.asarray(jax.jacfwd(of_free)(x0), float).reshape(value.size, len(free))
+    jac = np.asarray(called(jax.jacfwd(of_free), x0, list(result.values), result.model, fn), float).reshape(value.size, len(free))
     cov = jac @ np.asarray(result.covariance, float) @ jac.T
     stderr = np.sqrt(np.clip(np.diag(cov), 0, None)).reshape(value.shape)
     from scipy import stats
@@ -200,12 +213,12 @@ def derive_batch(batch, fn, freq=None) -> xr.Dataset:
 
     x0 = jnp.asarray(values[:, free_index])
     base = jnp.asarray(values)
-    value = called(lambda x: jax.vmap(of_free)(x, base), x0, names, batch.model)
+    value = called(lambda x: jax.vmap(of_free)(x, base), x0, names, batch.model, fn)
     check_real(value)
     value = np.asarray(value, float)
     out_shape = value.shape[1:]
     m = int(np.prod(out_shape))
-    jac = np.asarray(jax.vmap(jax.jacfwd(of_free))(x0, base), float).reshape(len(values), m, len(free))
+    jac = np.asarray(called(lambda x: jax.vmap(jax.jacfwd(of_free))(x, base), x0, names, batch.model, fn), float).reshape(len(values), m, len(free))
     cov = jac @ covariance @ np.swapaxes(jac, -1, -2)
     stderr = np.sqrt(np.clip(np.einsum("bii->bi", cov), 0, None)).reshape(value.shape)
     from scipy import stats
@@ -265,14 +278,19 @@ def _spectrum_covariances(batch, free: list[str]) -> np.ndarray:
     return out
 
 
-def called(g, x, known, model):
-    """``g(x)`` with a parameter name ``fn`` asked for that the model has not (a KeyError from
-    inside JAX's trace) as one `ParameterError` naming it and the closest known name."""
+def called(g, x, known, model, fn):
+    """``g(x)``, a call of the user's ``fn`` under JAX (vmap over draws, jacfwd), with what fn
+    got wrong there as one `ParameterError`: a parameter name the model has not (a KeyError from
+    inside JAX's trace), named with the closest known name; a traced value turned into a Python
+    or NumPy one (`TRACED_VALUE_CONVERSIONS`), naming fn and how to write it
+    (`traced_conversion_message`). Raised here, outside JAX, so that JAX adds nothing to them."""
 
     try:
         return g(x)
     except KeyError as exc:
         raise unknown_parameter("derive: fn asked for", exc.args[0] if exc.args else "?", known, model) from None
+    except TRACED_VALUE_CONVERSIONS:
+        raise ParameterError(traced_conversion_message(fn)) from None
 
 
 def draw_indices(total: int, max_draws: int | None) -> np.ndarray:
@@ -289,7 +307,7 @@ def draws_band(fn, freq, params: dict, model: str, *, draws: bool, max_draws: in
     g = bind_frequency(fn, freq)
     pick = draw_indices(len(next(iter(params.values()))), max_draws)
     params = {k: v[pick] for k, v in params.items()}
-    out = called(jax.jit(jax.vmap(g)), {k: jnp.asarray(v) for k, v in params.items()}, list(params), model)
+    out = called(jax.jit(jax.vmap(g)), {k: jnp.asarray(v) for k, v in params.items()}, list(params), model, fn)
     check_real(out)
     out = np.asarray(out, float)
     attrs = {"method": method, "model": model}

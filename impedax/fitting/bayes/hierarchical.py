@@ -51,6 +51,7 @@ import jax.numpy as jnp
 import numpy as np
 import xarray as xr
 
+from ...arguments import checked_arguments, refuse_unknown_keywords
 from ...circuits import DEFAULT_REGISTRY, Circuit, Registry, compile_circuit, parse
 from ...data import column_width, make_spectrum
 from ...errors import DataError, FitError, ParameterError
@@ -1113,6 +1114,7 @@ def _total_sd(basis, rest) -> np.ndarray:
     return np.sqrt(np.stack([(b.real**2).sum(axis=0), (b.imag**2).sum(axis=0)]) + np.asarray(rest))
 
 
+@checked_arguments()
 def sample_hierarchical(
     circuit: Circuit | str,
     data: xr.Dataset,
@@ -1193,9 +1195,7 @@ def hierarchical_log_density(circuit: Circuit | str, data: xr.Dataset, *, per_tr
     `sample_hierarchical` (``session_dim``, ``reparametrization``, ``fixed``, ``discrepancy``,
     ``session_spread_scale``, ``parameterisation``, ``registry``, ``init``)."""
     opts = dict(session_dim=None, reparametrization=None, fixed=None, discrepancy=True, session_spread_scale=0.1, parameterisation="auto", registry=DEFAULT_REGISTRY, init=None)
-    unknown = set(options) - set(opts)
-    if unknown:
-        raise ParameterError(f"hierarchical_log_density: unknown option(s) {', '.join(sorted(unknown))}")
+    refuse_unknown_keywords("hierarchical_log_density()", options, list(opts))
     opts.update(options)
     circuit = parse(circuit, opts["registry"]) if isinstance(circuit, str) else circuit
     lay, dat, init_pos, _ = _setup(circuit, data, per_trial=per_trial, chains=1, seed=seed, **opts)

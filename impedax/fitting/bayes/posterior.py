@@ -22,7 +22,7 @@ import xarray as xr
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
 from ...data import checked_frequencies, column_width, concise_repr, unit_text
 from ...errors import DataError, ParameterError
-from ..derived import QUANTILES, bind_frequency, draw_indices, draws_band, needs_freq
+from ..derived import QUANTILES, bind_frequency, called, draw_indices, draws_band, needs_freq
 from ..least_squares import FitResult
 from ..least_squares.branches import left_to_priors
 from ..least_squares.result import bounds_attr, shown_stderr, stored_bounds, without_sample_advice
@@ -372,7 +372,7 @@ class Posterior(PiledUp):
         loose = self.undetermined
         if loose:
             at = {k: jnp.asarray(np.median(np.asarray(v, float))) for k, v in params.items()}
-            slopes = jax.jacfwd(bind_frequency(fn, freq))(at)
+            slopes = called(jax.jacfwd(bind_frequency(fn, freq)), at, list(params), self.model, fn)
             used = [n for n in loose if n in slopes and bool(np.any(np.asarray(slopes[n]) != 0))]
             if used:
                 band.attrs["undetermined"] = ", ".join(used)
