@@ -83,6 +83,41 @@ def test_remaining_is_read_by_fit(tmp_path, capsys, synthetic_parts):
     assert summary["weighting"] == "sigma" and summary["n_points"] == 9 and summary["source"].endswith("rem.csv")
 
 
+@pytest.mark.parametrize("trials", [False, True])
+def test_remaining_of_the_total_alone_is_a_single_contact_s_trial_mean(tmp_path, capsys, synthetic_parts, trials):
+    """The total alone (a gripper pad, as ``impedax gap PAD``): nothing subtracted, the trial mean
+    with sigma = √((SEM_Re² + SEM_Im²)/2) by hand, or the trials themselves; the three-file
+    command's checks and JSON (until 2026-12-03 ``impedax remaining`` needed three files)."""
+    total = _datasets(synthetic_parts)[0]
+    path = tmp_path / "pad.nc"
+    ix.save(total, path)
+    out = tmp_path / "rem.nc"
+    assert main(["remaining", str(path), *(["--trials"] if trials else []), "--out", str(out), "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["single_contact"] is True and summary["n_trials"] == {"total": N_TRIALS} and summary["source"] == {"total": str(path)}
+    written = ix.load(out)
+    z = synthetic_parts["total"][1]
+    if trials:
+        np.testing.assert_allclose(written["Z"].values, z, rtol=1e-12)
+    else:
+        sigma = np.sqrt((z.real.std(0, ddof=1) ** 2 + z.imag.std(0, ddof=1) ** 2) / N_TRIALS / 2)
+        np.testing.assert_allclose(written["Z"].values, z.mean(0), rtol=1e-12)
+        np.testing.assert_allclose(written["sigma"].values, sigma, rtol=1e-12)
+    assert written.attrs["single_contact"] == 1 and "skin" not in written.attrs
+    assert main(["remaining", str(path)]) == 0  # the text line says what it wrote
+    captured = capsys.readouterr()
+    assert "a single contact, Z_total at 9 frequencies from 4 total spectra (their trial mean, sigma from their standard errors" in captured.err
+    assert captured.out.startswith("frequency_hz,z_real_ohm,z_imag_ohm,sigma_ohm")
+
+
+def test_remaining_refuses_one_file_after_the_total(tmp_path, capsys, synthetic_parts):
+    total, skin, _ = saved_gap_files(tmp_path, _datasets(synthetic_parts))
+    out = tmp_path / "rem.nc"
+    assert main(["remaining", total, skin, "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "one spectrum file after DATA_TOTAL: give DATA_SKIN and DATA_TS both" in err and "impedax remaining PAD" in err and not out.exists()
+
+
 def test_remaining_trials_to_csv_is_refused_before_any_file(tmp_path, capsys, synthetic_parts):
     paths = saved_gap_files(tmp_path, _datasets(synthetic_parts))
     out = tmp_path / "trials.csv"

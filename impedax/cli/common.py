@@ -1716,6 +1716,17 @@ def progress_printer(after_s: float | None = None, stream=None, *, quiet: bool =
     return core_progress_printer(PROGRESS_AFTER_S if after_s is None else after_s, stream, quiet=quiet)
 
 
+def contact_paths(args, command: str) -> dict[str, str]:
+    """The spectrum files of ``impedax gap`` and ``impedax remaining`` by role: total, skin and
+    touchscreen, or the total alone (a single contact, nothing subtracted). One file after
+    DATA_TOTAL is a `ParameterError` (argparse fills DATA_SKIN first, whichever file it is)."""
+    if args.skin is not None and args.touchscreen is None:
+        example = "impedax gap PAD --area A" if command == "gap" else "impedax remaining PAD"
+        raise ParameterError(f"one spectrum file after DATA_TOTAL: give DATA_SKIN and DATA_TS both (the remainder total − skin − touchscreen) "
+                             f"or neither (a single contact, e.g. a gripper pad: {example})")
+    return {name: path for name, path in (("total", args.total), ("skin", args.skin), ("touchscreen", args.touchscreen)) if path is not None}
+
+
 def check_distinct_paths(paths: dict[str, str]) -> None:
     """A `ParameterError` when two of the three inputs name the same file (the same path, or
     two paths to one file); identical spectra in different files are refused by

@@ -66,14 +66,12 @@ def run(args) -> int:
     from ..arguments import GAP_MIN_STEPS
     from ..models.gap import HIERARCHICAL_AUTO_DRAWS, check_fingertip_area, gap_analysis
     from ..models.gap_inputs import condition_notes, drive_voltage
-    from .common import shown_path, check_distinct_paths, check_memory, command_provenance, figure_options, figure_writer, load_selected_files, plan_outputs, print_result, remainder_with_paths, result_writer, spectrum_writer
+    from .common import shown_path, check_distinct_paths, contact_paths, check_memory, command_provenance, figure_options, figure_writer, load_selected_files, plan_outputs, print_result, remainder_with_paths, result_writer, spectrum_writer
 
     if args.pooled and args.method == "hierarchical":  # (argparse's exclusive groups let a default-valued --method through)
         raise ParameterError("--pooled and --method hierarchical contradict each other: give one")
     args.method = "pooled" if args.pooled else args.method or "hierarchical"
-    if args.skin is not None and args.touchscreen is None:  # (argparse fills DATA_SKIN first: one extra file is refused, whichever it is)
-        raise ParameterError("one spectrum file after DATA_TOTAL: give DATA_SKIN and DATA_TS both (the remainder total − skin − touchscreen) "
-                             "or neither (a single contact, e.g. a gripper pad: impedax gap PAD --area A)")
+    paths = contact_paths(args, "gap")
     if not args.area > 0:
         raise ParameterError(f"--area must be positive (m²), got {args.area:g}")
     if args.v0 is not None and not args.v0 > 0:
@@ -85,14 +83,13 @@ def run(args) -> int:
         raise ParameterError(f"--steps must be at least {GAP_MIN_STEPS}")
     outputs = plan_outputs(
         [("--out", args.out, "result"), ("--plot", args.plot, "figure"), ("--remaining", args.remaining, "spectrum")],
-        inputs=[p for p in (args.total, args.skin, args.touchscreen) if p is not None], stdout="--json" if args.json else None,
+        inputs=list(paths.values()), stdout="--json" if args.json else None,
     )
     # a chain keeps every step of every walker (chain): about 64 walkers × 8 parameters × 8 bytes, kept three times
     # (--steps auto: emcee's cap, pooled; HIERARCHICAL_AUTO_DRAWS, hierarchical)
     auto_length = auto_step_cap(64) if args.method == "pooled" else HIERARCHICAL_AUTO_DRAWS
     length = auto_length if steps == AUTO_STEPS else steps
     check_memory("--steps", length * 64 * 10 * 8 * 3, f"a gap-thickness chain of {'up to ' if steps == AUTO_STEPS and args.method == 'pooled' else ''}{length} steps")
-    paths = {name: path for name, path in (("total", args.total), ("skin", args.skin), ("touchscreen", args.touchscreen)) if path is not None}
     total, skin, touchscreen = (*load_selected_files(list(paths.values()), args.select, args.readers), None, None)[:3]  # (a single contact: the total alone)
     check_distinct_paths(paths)  # (after reading: a bad file is named first)
     drive = drive_voltage(total, args.v0)  # (gap_analysis finds the same; said here once, before minutes of sampling)

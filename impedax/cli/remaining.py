@@ -1,5 +1,6 @@
-"""``impedax remaining TOTAL SKIN TOUCHSCREEN --out FILE``: the remainder Z_total − Z_skin − Z_TS
-that ``impedax gap`` fits (Sirin eq 5), written as a spectrum file, with no fit or sampling."""
+"""``impedax remaining TOTAL [SKIN TOUCHSCREEN] --out FILE``: the remainder Z_total − Z_skin − Z_TS
+that ``impedax gap`` fits (Sirin eq 5), written as a spectrum file, with no fit or sampling; the
+total alone is a single contact, its trial means (or trials) as ``impedax gap PAD`` fits them."""
 
 from __future__ import annotations
 
@@ -13,16 +14,17 @@ def register(sub) -> None:
 
     p = sub.add_parser(
         "remaining",
-        help="the remaining impedance total − skin − touchscreen as a spectrum file, as impedax gap fits it",
+        help="the remaining impedance total − skin − touchscreen (or a single contact's trial mean) as a spectrum file, as impedax gap fits it",
         description="Subtract the skin and touchscreen spectra from the total (Sirin eq 5) with impedax gap's checks "
         "(sign, one frequency grid, three different files) and write the remainder as a spectrum that impedax fit, "
-        "compare, diagnose, refine, sample and drt read. Default: the trial means with sigma from their standard errors, "
+        "compare, diagnose, refine, sample and drt read. The total alone is a single contact (a gripper pad): nothing is subtracted, "
+        "the remainder is its trial means, as impedax gap PAD fits them. Default: the trial means with sigma from their standard errors, "
         "what gap's least-squares fits and --pooled fit; --trials: every total trial minus the skin and screen means, "
         "what gap's hierarchical model fits (the total's trial dimensions, so .nc). No fit, no sampling.",
     )
     p.add_argument("total", metavar="DATA_TOTAL", help="finger-on-screen spectra (trials as an extra dimension)")
-    p.add_argument("skin", metavar="DATA_SKIN", help="skin spectra")
-    p.add_argument("touchscreen", metavar="DATA_TS", help="touchscreen spectra")
+    p.add_argument("skin", metavar="DATA_SKIN", nargs="?", help="skin spectra; leave out with DATA_TS for a single contact (nothing subtracted)")
+    p.add_argument("touchscreen", metavar="DATA_TS", nargs="?", help="touchscreen spectra; given with DATA_SKIN or not at all")
     p.add_argument("--trials", action="store_true", help="one remainder per total trial (Z_total,t − mean Z_skin − mean Z_TS) instead of the trial means; needs --out FILE.nc")
     p.add_argument(
         "--select", action="append", metavar="DIM=LABEL",
@@ -45,15 +47,15 @@ def run(args) -> int:
     from ..errors import ParameterError
     from ..io import write_csv
     from ..models.gap import gap_remainder
-    from .common import check_distinct_paths, check_json_with_spectrum_out, command_provenance, emit_json, load_selected_files, plan_outputs, remainder_with_paths, spectrum_summary, spectrum_writer
+    from .common import check_distinct_paths, check_json_with_spectrum_out, command_provenance, contact_paths, emit_json, load_selected_files, plan_outputs, remainder_with_paths, spectrum_summary, spectrum_writer
 
+    paths = contact_paths(args, "remaining")
     out = None if args.out == "-" else args.out
     if args.trials and (out is None or Path(out).suffix.lower() != ".nc"):
         raise ParameterError(f"--trials writes one spectrum per total trial, which only netCDF holds: give --out FILE.nc (got {'standard output' if out is None else out})")
     check_json_with_spectrum_out(args.json, out, "remaining")
-    outputs = plan_outputs([("--out", out, "spectrum")], inputs=[args.total, args.skin, args.touchscreen], stdout="--json" if args.json else None)
-    total, skin, touchscreen = load_selected_files([args.total, args.skin, args.touchscreen], args.select, args.readers)
-    paths = {"total": args.total, "skin": args.skin, "touchscreen": args.touchscreen}
+    outputs = plan_outputs([("--out", out, "spectrum")], inputs=list(paths.values()), stdout="--json" if args.json else None)
+    total, skin, touchscreen = (*load_selected_files(list(paths.values()), args.select, args.readers), None, None)[:3]  # (a single contact: the total alone)
     check_distinct_paths(paths)
     remaining, notes = gap_remainder(total, skin, touchscreen, kind="trials" if args.trials else "mean")
     remaining = remainder_with_paths(remaining, paths)
@@ -65,10 +67,15 @@ def run(args) -> int:
         print(f"impedax remaining: warning: {note}", file=sys.stderr)
     if args.json:  # (added 2026-12-01: what a pipeline reads of the run; docs/robustness.md, "JSON for programs")
         emit_json({"command": "remaining", "written": list(written), "kind": "trials" if args.trials else "mean",
-                   "n_trials": {k: int(remaining.attrs[f"n_trials_{k}"]) for k in ("total", "skin", "touchscreen")}, **spectrum_summary(remaining),
+                   "n_trials": {k: int(remaining.attrs[f"n_trials_{k}"]) for k in paths}, "single_contact": len(paths) == 1, **spectrum_summary(remaining),
                    "warnings": [str(n) for n in notes], "source": paths, "provenance": record})
         return 0
-    counts = ", ".join(f"{remaining.attrs[f'n_trials_{k}']} {k}" for k in ("total", "skin", "touchscreen"))
-    what = "every total trial minus the skin and screen means" if args.trials else "trial means" + (", sigma from their standard errors: fit with --weighting sigma to use it" if "sigma" in remaining else ", no sigma (an input has one spectrum or no scatter)")
+    counts = ", ".join(f"{remaining.attrs[f'n_trials_{k}']} {k}" for k in paths)
+    sigma = ", sigma from their standard errors: fit with --weighting sigma to use it" if "sigma" in remaining else ", no sigma (an input has one spectrum or no scatter)"
+    if len(paths) == 1:
+        what = "the total's trials, nothing subtracted" if args.trials else "their trial mean" + sigma
+        print(f"impedax remaining: a single contact, Z_total at {remaining.sizes['frequency']} frequencies from {counts} spectra ({what})", file=sys.stderr)
+        return 0
+    what = "every total trial minus the skin and screen means" if args.trials else "trial means" + sigma
     print(f"impedax remaining: Z_total − Z_skin − Z_TS at {remaining.sizes['frequency']} frequencies from {counts} spectra ({what})", file=sys.stderr)
     return 0
