@@ -152,9 +152,9 @@ def test_max_draws_picks_evenly_spaced_draws_including_both_ends(rcpe):
 def test_derive_refuses_a_keyword_its_path_does_not_take(rcpe):
     # a least-squares fit took draws=True and max_draws=5 and ignored them (the delta method has no draws)
     _, _, _, post = rcpe
-    with pytest.raises(ix.ParameterError, match=r"^derive: keywords 'draws', 'max_draws' are not taken for a least-squares fit \(delta method\): it takes no keywords besides freq; draws and max_draws are a posterior's$"):
+    with pytest.raises(ix.ParameterError, match=r"^derive: keywords 'draws', 'max_draws' are not taken for a least-squares fit \(delta method\): it takes the keyword constants besides freq; draws and max_draws are a posterior's$"):
         ix.derive(post.fit, lambda p: p["R0"], draws=True, max_draws=5)
-    with pytest.raises(ix.ParameterError, match=r"^derive: keyword 'max_draw' is not taken for a Posterior \(posterior draws\): it takes the keywords draws, max_draws; did you mean max_draws\?$"):
+    with pytest.raises(ix.ParameterError, match=r"^derive: keyword 'max_draw' is not taken for a Posterior \(posterior draws\): it takes the keywords draws, max_draws besides freq; did you mean max_draws\?$"):
         ix.derive(post, lambda p: p["R0"], max_draw=5)
     out = ix.derive(post, lambda p: p["R0"], draws=True, max_draws=5)  # the posterior's own keywords still pass
     assert out["draws"].size == 5

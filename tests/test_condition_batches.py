@@ -58,7 +58,7 @@ def gap_of(p):
 
 
 def test_derive_of_a_batch_refuses_a_posteriors_keyword(two_element_batch):
-    with pytest.raises(ix.ParameterError, match=r"^derive: keyword 'draws' is not taken for a batch of fits \(delta method per spectrum\): it takes no keywords besides freq"):
+    with pytest.raises(ix.ParameterError, match=r"^derive: keyword 'draws' is not taken for a batch of fits \(delta method per spectrum\): it takes the keyword constants besides freq"):
         ix.derive(two_element_batch, gap_of, draws=True)
 
 
@@ -83,6 +83,46 @@ def test_derive_of_a_batch_is_each_spectrums_derive_over_the_batch_dimensions(tw
             # and the truth within 4 standard errors (1 % noise)
             assert abs(float(here["value"]) - gap(m, v)) < 4 * float(here["stderr"])
     assert not derived["at_bound"].any()
+
+
+def test_derive_of_a_batch_takes_a_drive_voltage_per_spectrum_as_a_constant(two_element_batch):
+    """``constants={"V0": DataArray over voltage}``: each spectrum's fn sees its own V0, held
+    exactly. Oracle, by hand: F = ε0 A V0² / (2u²) = C² V0² / (2 ε0 A), σ_F = C V0² σ_C / (ε0 A)
+    (until 2026-12-03 fn saw the fitted parameters only, so a per-spectrum V0 needed a loop)."""
+    batch = two_element_batch
+    volts = xr.DataArray(list(VOLTS), dims="voltage", coords={"voltage": list(VOLTS)})
+
+    def force(p):
+        return EPS0 * AREA * p["V0"] ** 2 / (2 * gap_of(p) ** 2)
+
+    derived = ix.derive(batch, force, constants={"V0": volts[::-1]})  # (matched by label, in any order)
+    c_gap, c_err = batch.values("C_gap"), batch.dataset["stderr"].sel(param="C_gap")
+    for m in MATERIALS:
+        for v in VOLTS:
+            here = derived.sel(material=m, voltage=v)
+            c, s = float(c_gap.sel(material=m, voltage=v)), float(c_err.sel(material=m, voltage=v))
+            assert float(here["value"]) == pytest.approx(c**2 * v**2 / (2 * EPS0 * AREA), rel=1e-12)
+            assert float(here["stderr"]) == pytest.approx(c * v**2 * s / (EPS0 * AREA), rel=1e-9)
+            assert float(here["constant_V0"]) == v
+    assert derived["jacobian"]["free_param"].values.tolist() == ["R_EP", "C_gap"]  # (V0 held: no column of its own)
+    # a number is every spectrum's; on a single fit, the closure's value
+    same = ix.derive(batch, force, constants={"V0": 100.0})
+    assert np.allclose(same["value"].values, c_gap.transpose("material", "voltage").values ** 2 * 100.0**2 / (2 * EPS0 * AREA), rtol=1e-12)
+    one = batch.fit_of(material="glass", voltage=50.0)
+    assert float(ix.derive(one, force, constants={"V0": 100.0})["value"]) == pytest.approx(float(ix.derive(one, lambda p: force({**p, "V0": 100.0}))["value"]), rel=1e-14)
+    # what is refused, naming it
+    with pytest.raises(ix.ParameterError, match=r"constants\['C_gap'\] has the name of a parameter of R_EP \|\| C_gap"):
+        ix.derive(batch, force, constants={"C_gap": 1.0})
+    with pytest.raises(ix.ParameterError, match=r"constants\['V0'\].*150"):
+        ix.derive(batch, force, constants={"V0": xr.DataArray([50.0, 200.0], dims="voltage", coords={"voltage": [50.0, 200.0]})})
+    with pytest.raises(ix.ParameterError, match=r"constants\['V0'\] is a DataArray over voltage; a single fit has one spectrum: give a number"):
+        ix.derive(one, force, constants={"V0": volts})
+    with pytest.raises(ix.ParameterError, match=r"constants\['V0'\] must be finite"):
+        ix.derive(batch, force, constants={"V0": float("nan")})
+    with pytest.raises(ix.ParameterError, match=r"fn asked for: unknown parameter 'V1' for R_EP \|\| C_gap \(parameters: R_EP, C_gap, V0\)"):
+        ix.derive(batch, lambda p: p["V1"] * p["C_gap"], constants={"V0": 1.0})
+    with pytest.raises(ix.ParameterError, match=r"keyword 'constant' is not taken .*did you mean constants\?"):
+        ix.derive(batch, force, constant={"V0": 1.0})
 
 
 def test_derive_of_a_batch_over_frequency_and_of_a_batch_saved_without_covariances(two_element_batch):

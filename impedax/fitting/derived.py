@@ -12,6 +12,7 @@ every variable gains the batch's dimensions (`derive_batch`).
 from __future__ import annotations
 
 import inspect
+from collections.abc import Mapping
 
 import jax
 import jax.numpy as jnp
@@ -23,7 +24,7 @@ from ..arguments import closest_name, count, shown, unknown_parameter
 from ..errors import ParameterError
 from .least_squares.branches import RELATIVE_ERROR_LIMIT, undetermined
 
-__all__ = ["derive", "derive_fit", "derive_batch", "QUANTILES", "MISSES_STRUCTURE_WARNING", "UNDETERMINED_WARNING", "band_dataset", "bind_frequency", "check_real", "needs_freq", "draws_band", "called"]
+__all__ = ["derive", "derive_fit", "derive_batch", "batch_constants", "QUANTILES", "MISSES_STRUCTURE_WARNING", "UNDETERMINED_WARNING", "band_dataset", "bind_frequency", "check_real", "needs_freq", "draws_band", "called"]
 
 QUANTILES = {"q05": 0.05, "q16": 0.16, "median": 0.5, "q84": 0.84, "q95": 0.95}
 
@@ -123,9 +124,10 @@ def band_dataset(draws: np.ndarray, freq=None, *, keep_draws: bool = False, attr
     return xr.Dataset(data, coords=coords, attrs=dict(attrs or {}))
 
 
-def derive_fit(result, fn, freq=None) -> xr.Dataset:
+def derive_fit(result, fn, freq=None, constants=None) -> xr.Dataset:
     """Delta-method propagation of a least-squares fit to ``fn(params[, freq])`` (``freq``
-    defaults to the fitted frequencies when ``fn`` takes one).
+    defaults to the fitted frequencies when ``fn`` takes one); ``constants`` (name → number) are
+    in ``params`` beside the fitted values, held exactly (`batch_constants` for a batch's).
 
     Var[g] = J Σ Jᵀ (J = ∂g/∂θ_free by JAX at the fitted values, Σ = ``result.covariance``);
     the bands are the normal quantiles value ± z·stderr (q05/q95: z = 1.645, q16/q84: 0.994).
@@ -140,6 +142,7 @@ def derive_fit(result, fn, freq=None) -> xr.Dataset:
     g = bind_frequency(fn, freq)
     free = list(result.free_names)
     base = {n: jnp.asarray(v) for n, v in result.values.items()}
+    base.update({n: jnp.asarray(v[()]) for n, v in batch_constants(constants, list(base), result.model, None).items()})
 
     def of_free(x):
         params = dict(base)
@@ -147,10 +150,10 @@ def derive_fit(result, fn, freq=None) -> xr.Dataset:
         return g(params)
 
     x0 = jnp.asarray([result.values[n] for n in free])
-    value = called(of_free, x0, list(result.values), result.model, fn)
+    value = called(of_free, x0, list(base), result.model, fn)
     check_real(value)
     value = np.asarray(value, float)
-    jac = np.asarray(called(jax.jacfwd(of_free), x0, list(result.values), result.model, fn), float).reshape(value.size, len(free))
+    jac = np.asarray(called(jax.jacfwd(of_free), x0, list(base), result.model, fn), float).reshape(value.size, len(free))
     cov = jac @ np.asarray(result.covariance, float) @ jac.T
     stderr = np.sqrt(np.clip(np.diag(cov), 0, None)).reshape(value.shape)
     from scipy import stats
@@ -181,7 +184,7 @@ def derive_fit(result, fn, freq=None) -> xr.Dataset:
     return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
-def derive_batch(batch, fn, freq=None) -> xr.Dataset:
+def derive_batch(batch, fn, freq=None, constants=None) -> xr.Dataset:
     """`derive_fit` of every spectrum of a batch of fits (`BatchFitResult`, `SharedFitResult`) in
     one vmapped call: Var[g] = J Σ Jᵀ per spectrum, J = ∂g/∂θ_free at its fitted values (its fixed
     ones too, which may differ between spectra) and Σ its ``covariance`` (a batch saved before
@@ -192,7 +195,10 @@ def derive_batch(batch, fn, freq=None) -> xr.Dataset:
     whether the quantity depends on a parameter at its bound in that spectrum, where the band is
     the linearisation's (attrs ``at_bound`` name the parameters, ``note`` says so), and
     ``misses_structure`` (bool, `BatchFitResult.misses_structure`; attrs ``warning`` counts them)
-    and ``undetermined`` (bool: the quantity's standard error exceeds its value, as `derive_fit`)."""
+    and ``undetermined`` (bool: the quantity's standard error exceeds its value, as `derive_fit`).
+    ``constants`` (name → a number, or a DataArray of one value per spectrum over some of the
+    batch's dimensions: a drive voltage per ``voltage`` label) are in ``params`` beside each
+    spectrum's fitted values, held exactly (`batch_constants`)."""
     ds = batch.dataset
     dims = tuple(batch.dims)
     if freq is None and needs_freq(fn):
@@ -205,20 +211,24 @@ def derive_batch(batch, fn, freq=None) -> xr.Dataset:
     values = ds["value"].transpose(*dims, "param").values.reshape(-1, len(names)).astype(float)
     covariance = _spectrum_covariances(batch, free).reshape(-1, len(free), len(free))
     free_index = np.array([names.index(n) for n in free], int)
+    held = batch_constants(constants, names, batch.model, batch)
+    known = names + list(held)
 
-    def of_free(x, base):
+    def of_free(x, base, extra):
         params = {n: base[i] for i, n in enumerate(names)}
         params.update({n: x[j] for j, n in enumerate(free)})
+        params.update(extra)
         return g(params)
 
     x0 = jnp.asarray(values[:, free_index])
     base = jnp.asarray(values)
-    value = called(lambda x: jax.vmap(of_free)(x, base), x0, names, batch.model, fn)
+    extra = {n: jnp.asarray(v.reshape(-1)) for n, v in held.items()}
+    value = called(lambda x: jax.vmap(of_free)(x, base, extra), x0, known, batch.model, fn)
     check_real(value)
     value = np.asarray(value, float)
     out_shape = value.shape[1:]
     m = int(np.prod(out_shape))
-    jac = np.asarray(called(lambda x: jax.vmap(jax.jacfwd(of_free))(x, base), x0, names, batch.model, fn), float).reshape(len(values), m, len(free))
+    jac = np.asarray(called(lambda x: jax.vmap(jax.jacfwd(of_free))(x, base, extra), x0, known, batch.model, fn), float).reshape(len(values), m, len(free))
     cov = jac @ covariance @ np.swapaxes(jac, -1, -2)
     stderr = np.sqrt(np.clip(np.einsum("bii->bi", cov), 0, None)).reshape(value.shape)
     from scipy import stats
@@ -242,6 +252,8 @@ def derive_batch(batch, fn, freq=None) -> xr.Dataset:
     bounded_here = at_bound & depends
     data["at_bound"] = (dims, lead(bounded_here.any(axis=1)))
     attrs = {"method": "delta method per spectrum: Var = J Σ Jᵀ", "model": batch.model}
+    if held:
+        data.update({f"constant_{n}": (dims, v) for n, v in held.items()})
     bounded = [n for j, n in enumerate(free) if bounded_here[:, j].any()]
     if bounded:
         attrs["at_bound"] = ", ".join(bounded)
@@ -259,6 +271,42 @@ def derive_batch(batch, fn, freq=None) -> xr.Dataset:
     if loose.any():
         attrs["warning"] = "; ".join(filter(None, [attrs.get("warning"), f"in {int(loose.sum())} of {loose.size} spectra (undetermined): {UNDETERMINED_WARNING}"]))
     return xr.Dataset(data, coords=coords, attrs=attrs)
+
+
+def batch_constants(constants, names: list[str], model: str, batch) -> dict[str, np.ndarray]:
+    """The ``constants=`` of `derive`: name → value held in ``params`` beside the fitted ones,
+    each as an array over the batch's dimensions (shape () for a single fit, ``batch`` None). A
+    number is the same for every spectrum; a DataArray over some of the batch's dimensions gives
+    one value per spectrum, matched by label (`per_spectrum.aligned_values`, as ``fixed=``). A
+    name of a parameter, a value that is not a finite real number, or a DataArray for a single
+    fit is a `ParameterError` naming it."""
+    from .least_squares.per_spectrum import aligned_values
+
+    if constants is None:
+        return {}
+    if not isinstance(constants, Mapping):
+        raise ParameterError(f"derive: constants must be a mapping of name → value (constants={{'V0': 200.0}}), got {type(constants).__name__}")
+    dims = () if batch is None else tuple(batch.dims)
+    shape = () if batch is None else tuple(batch.dataset.sizes[d] for d in dims)
+    out = {}
+    for name, value in constants.items():
+        label = f"constants[{name!r}]"
+        if name in names:
+            raise ParameterError(f"derive: {label} has the name of a parameter of {model}, which fn already gets fitted: give the constant another name")
+        if isinstance(value, xr.DataArray) and value.ndim:
+            if batch is None:
+                raise ParameterError(f"derive: {label} is a DataArray over {', '.join(map(str, value.dims))}; a single fit has one spectrum: give a number")
+            value = aligned_values(value, batch.dataset, dims, label, str(batch.dataset.attrs.get("source", "")))
+        if isinstance(value, xr.DataArray):
+            value = value.expand_dims({d: batch.dataset.sizes[d] for d in dims if d not in value.dims}).transpose(*dims).values
+        try:
+            array = np.broadcast_to(np.asarray(value, dtype=float), shape)
+        except (TypeError, ValueError):
+            raise ParameterError(f"derive: {label} must be a real number or a DataArray of one number per spectrum over the batch's dimensions ({', '.join(dims) or 'none'}), got {shown(value)}") from None
+        if not np.all(np.isfinite(array)):
+            raise ParameterError(f"derive: {label} must be finite, got {shown(value)}")
+        out[name] = np.array(array)
+    return out
 
 
 def _spectrum_covariances(batch, free: list[str]) -> np.ndarray:
@@ -335,8 +383,8 @@ def _refuse_keywords(kwargs, taken: tuple[str, ...], path: str) -> None:
         return
     close = closest_name(str(unknown[0]), taken) if taken else None
     hint = f"; did you mean {close}?" if close else ""
-    takes = f"the keywords {', '.join(taken)}" if taken else "no keywords besides freq"
-    also = "" if taken else "; draws and max_draws are a posterior's"
+    takes = f"the keyword{'s' if len(taken) > 1 else ''} {', '.join(taken)} besides freq"
+    also = "" if "draws" in taken else "; draws and max_draws are a posterior's"
     raise ParameterError(f"derive: {'keywords' if len(unknown) > 1 else 'keyword'} {', '.join(shown(k) for k in unknown)} {'are' if len(unknown) > 1 else 'is'} not taken for {path}: it takes {takes}{also}{hint}")
 
 
@@ -345,15 +393,16 @@ def derive(result, fn, freq=None, **kwargs) -> xr.Dataset:
     posterior (all draws, one vmapped call), `derive_fit` (delta method) for a `FitResult`,
     `derive_batch` (the delta method per spectrum, over the batch's dimensions) for a
     `BatchFitResult` or `SharedFitResult`. Keywords beyond ``freq`` are the posterior's
-    (``draws``, ``max_draws``); one the chosen path does not take is a `ParameterError` naming
+    (``draws``, ``max_draws``) or the fits' (``constants``: values held in ``params``, one per
+    spectrum of a batch, `batch_constants`); one the chosen path does not take is a `ParameterError` naming
     it and the keywords that path takes (a fit's delta method has no draws to keep or thin)."""
     if hasattr(result, "draws") and hasattr(result, "derive"):
         _refuse_keywords(kwargs, _keywords_of(result.derive), f"a {type(result).__name__} (posterior draws)")
         return result.derive(fn, freq, **kwargs)
     if hasattr(result, "covariance") and hasattr(result, "free_names"):
-        _refuse_keywords(kwargs, (), "a least-squares fit (delta method)")
-        return derive_fit(result, fn, freq)
+        _refuse_keywords(kwargs, ("constants",), "a least-squares fit (delta method)")
+        return derive_fit(result, fn, freq, **kwargs)
     if callable(getattr(result, "spectrum_keys", None)) and isinstance(getattr(result, "dataset", None), xr.Dataset):
-        _refuse_keywords(kwargs, (), "a batch of fits (delta method per spectrum)")
-        return derive_batch(result, fn, freq)
+        _refuse_keywords(kwargs, ("constants",), "a batch of fits (delta method per spectrum)")
+        return derive_batch(result, fn, freq, **kwargs)
     raise ParameterError(f"derive: expected a FitResult, a BatchFitResult or a Posterior, got {type(result).__name__}")
