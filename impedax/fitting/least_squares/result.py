@@ -361,11 +361,12 @@ class FitResult:
         rows = [{k: v for k, v in ({**row, "stderr": "at bound"} if row["name"] in self.at_bound else row).items() if k not in ("converged", *FIT_STATISTICS)} for row in self.to_table()]
         return result_html(self.model, rows, lines=lines, figure=self.plot)
 
-    def derive(self, fn, freq=None):
-        """Propagate the fit to ``fn(params[, freq])`` by the delta method (`derive_fit`)."""
+    def derive(self, fn, freq=None, *, constants=None):
+        """Propagate the fit to ``fn(params[, freq])`` by the delta method (`derive_fit`;
+        ``constants``: numbers held in ``params`` beside the fitted values)."""
         from ..derived import derive_fit
 
-        return derive_fit(self, fn, freq)
+        return derive_fit(self, fn, freq, constants)
 
     def plot(self, *, title: str | None = None, bands=None, figsize: tuple[float, float] | None = None):
         """Data vs model: Nyquist, Bode and relative residuals (matplotlib Figure);
