@@ -36,7 +36,7 @@ COMMAND_HELP = {
     "refine": "diagnose, add the best missing effect, refit; repeat until adequate",
     "force": "electrostatic force spectrum of Meyer's or Vezzoli's model",
     "gap": "air-gap thickness, gap voltage and force from three spectra (Sirin et al.), or one of a single contact",
-    "remaining": "the remaining impedance total − skin − touchscreen as a spectrum file, as impedax gap fits it",
+    "remaining": "the remaining impedance total − skin − touchscreen (or a single contact's trial mean) as a spectrum file, as impedax gap fits it",
     "draw": "draw a model's circuit diagram",
     "inspect": "show what impedax reads from a spectrum file, and how",
     "stack": "several files of one spectrum each as one series (a new dimension) in a netCDF file",
