@@ -124,3 +124,17 @@ def test_the_fit_command_keeps_the_band_the_drt_was_taken_on(capsys):
     assert words[:3] == ["impedax", "fit", path] and words[words.index("--fmin") + 1] == "5000.0"
     assert main(words[1:] + ["--json", "--quiet"]) == 0
     assert json.loads(capsys.readouterr().out)["n_points"] == int(np.sum(ix.load(path)["frequency"].values >= 5000))
+
+
+def test_a_flat_spectrum_has_no_peak_and_suggests_a_resistor_alone():
+    """Noise-free 100 Ω (a flat spectrum): γ is the solve's round-off (it once made a 60 nΩ
+    "peak" and an R‖CPE from it); a 10 mΩ R‖C beside it (10⁻⁴ of |Z|) is still a peak."""
+    flat = ix.drt((FREQ, np.full(FREQ.size, 100.0 + 0j)))
+    assert flat.flat and flat.peaks == () and flat.dropped_peaks == ()
+    assert flat.suggested_circuit().model == "R0"
+    assert flat.suggested_circuit().init["R0"] == pytest.approx(100.0, rel=1e-6)
+    assert any("flat" in n for n in flat.notes)
+    small = ix.drt((FREQ, 100.0 + 0.01 / (1 + 1j * OMEGA * 1e-3)))  # τ = 1 ms, inside 10 mHz–100 kHz
+    assert not small.flat and len(small.peaks) == 1
+    assert small.peaks[0].r_ohm == pytest.approx(0.01, rel=0.05)
+    assert small.peaks[0].tau_s == pytest.approx(1e-3, rel=0.3)

@@ -14,7 +14,7 @@ from ..problem import frequency_and_z
 from ..statistics import residual_noise
 from ..stored import QUICK_COMPILE, StoredProgram
 from .basis import impedance_integrals, penalty_matrix, rbf_basis
-from .peaks import split_peaks
+from .peaks import below_roundoff, split_peaks
 from .result import BATCH_RESULT_NAMES, LAMBDA_FLOOR as _LAMBDA_FLOOR, DRTBatchResult, DRTResult, format_lambda  # λ chosen below the floor is raised to it
 from .tikhonov import LAMBDA_METHODS, quantile_band, solve_batch
 
@@ -263,6 +263,8 @@ def drt(
             draws = np.maximum(draws, 0.0)
         gamma = out["gamma"][i] * scale
         peaks, dropped = split_peaks(ln_tau_out, gamma, signed=bool(signed), window=window, samples=draws, min_rel_resistance=float(min_peak_fraction))
+        if below_roundoff(ln_tau_out, gamma, scale):
+            peaks, dropped = (), ()  # round-off of a flat spectrum, not a polarisation
         choice = float(math.exp(out["log_lambda_choice"][i])) if fixed is None else math.nan
         results.append(
             DRTResult(

@@ -11,7 +11,7 @@ import xarray as xr
 
 from ...data import checked_frequencies, concise_repr, counted, format_quantity, format_time, format_uncertain
 from ...errors import IN_MEMORY
-from .peaks import Peak, counted_peaks
+from .peaks import ROUNDOFF_SHARE, Peak, below_roundoff, counted_peaks
 from ..grid import ResultGrid
 from ..frozen import freeze_fields
 
@@ -228,7 +228,17 @@ class DRTResult:
         then `shape.shape_notes` (a diffusion tail, peaks broader than one R‖C's)."""
         from .shape import shape_notes
 
-        return self._negative_l_notes() + shape_notes(self)
+        return self._flat_notes() + self._negative_l_notes() + shape_notes(self)
+
+    @property
+    def flat(self) -> bool:
+        """γ is round-off: ∫|γ| d ln τ < `peaks.ROUNDOFF_SHARE` · max|Z| (a resistor; no peaks)."""
+        return below_roundoff(np.log(self.tau), self.gamma, self.z_ref)
+
+    def _flat_notes(self) -> tuple[str, ...]:
+        if self.flat:
+            return (f"∫|γ| d ln τ is below {ROUNDOFF_SHARE:g} of max|Z|: the spectrum is flat (a resistor); γ holds the solve's round-off, no peak",)
+        return ()
 
     def _negative_l_notes(self) -> tuple[str, ...]:
         if self.l_h < 0 and not any(w.startswith("L = ") for w in self.warnings):

@@ -8,7 +8,7 @@ series when they end in a constant-phase tail of another slope (`shape.low_frequ
 peaks at the tail's τ are its own, not arcs); else a series CPE for a resolved peak beyond the
 slowest point (the data show only its arc's fast side,
 R/(jωτ)^α); L1 when the DRT's L is a visible part of |Z| at the top frequency; a series C when
-the DRT fitted one. Unresolved peaks and peaks faster than the top frequency are left out.
+the DRT fitted one; R0 alone for a flat spectrum (`DRTResult.flat`). Unresolved peaks and peaks faster than the top frequency are left out.
 """
 
 from __future__ import annotations
@@ -121,6 +121,8 @@ def suggest_circuit(result) -> SuggestedCircuit:
         parts.append(f"C{k + 1}")
         init[f"C{k + 1}"] = float(result.c_f)
         reasons.append(f"C{k + 1}: the DRT's series C = {format_quantity(result.c_f, 'F')}")
+    elif k == 0 and beyond is None and math.isinf(tail_from) and result.flat:
+        reasons.append("R0 alone: the spectrum is flat (∫|γ| is round-off, docs/drt.md \"Peaks\"); it has no arc, tail or capacitive end to fit")
     elif k == 0 and beyond is None and math.isinf(tail_from):
         parts.append("C1")
         init["C1"] = _low_end_capacitance(result)
