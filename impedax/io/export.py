@@ -38,10 +38,14 @@ _BATCH = ("a batch of least-squares fits", "fit", "ix.BatchFitResult.from_xarray
 _POSTERIOR = ("a posterior", "sample", "ix.Posterior.from_xarray(ix.load({nc}))")
 _DIAGNOSIS = ("a diagnosis", "diagnose", "ix.Diagnosis.baseline_of(ix.load({nc})) (its baseline fit)")
 _REFINEMENT = ("a refinement", "refine", "ix.Refinement.final_fit_of(ix.load({nc})) (its final fit)")
+_DRT = ("a DRT (γ over τ)", "drt", "xarray.open_dataset({nc})")
+_KK = ("a Kramers–Kronig test", "kk", "xarray.open_dataset({nc})")
 
 
 def _table_kind(header: Sequence[str], command: str | None) -> tuple[str, str, str] | None:
     """What a result CSV with these columns holds (``command``: its provenance column's value)."""
+    if {"tau_s", "gamma_ohm"} <= set(header):
+        return _DRT
     if {"section", "name", "value"} <= set(header):  # (candidate columns only when there are candidates)
         return _DIAGNOSIS
     if {"name", "median", "q05", "q95"} <= set(header):
@@ -56,6 +60,10 @@ def _table_kind(header: Sequence[str], command: str | None) -> tuple[str, str, s
 def _summary_kind(summary: Mapping) -> tuple[str, str, str] | None:
     """What a result JSON with these top-level keys holds."""
     keys = set(summary)
+    if {"tau_s", "gamma_ohm", "peaks"} <= keys:
+        return _DRT
+    if {"mu", "n_rc", "bad_bands"} <= keys:
+        return _KK
     if {"final_model", "steps", "verdict"} <= keys:
         return _REFINEMENT
     if {"baseline", "kk"} <= keys:

@@ -1,0 +1,32 @@
+"""A DRT's or a KK test's written summary (write_result, ``--out``) given where a spectrum is
+expected is named as what it is (io.export.written_result), as a fit's is
+(tests/test_fit_roundtrip.py, a slow file). Spectra: SYNTHETIC closed forms."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import impedax as ix
+from impedax.errors import DataError
+
+
+@pytest.mark.parametrize("suffix, what", [(".csv", "a DRT"), (".json", "a DRT")])
+def test_a_drt_output_given_as_data_is_named(tmp_path, suffix, what):
+    """`ix.drt(...)` written with write_result, then loaded where a spectrum is expected: it was
+    told only that the table has no frequency column (a walkthrough's DRT CSV fed to fit)."""
+    f = np.geomspace(0.1, 1e5, 41)
+    z = 10 + 100 / (1 + 2j * np.pi * f * 1e-3)  # SYNTHETIC R‖C, closed form
+    out = tmp_path / f"g{suffix}"
+    ix.write_result(ix.drt((f, z)), out)
+    with pytest.raises(DataError, match=f"summary of {what} .*impedax drt --out.*not a spectrum"):
+        ix.load(out)
+
+
+def test_a_kk_json_given_as_data_is_named(tmp_path):
+    f = np.geomspace(0.1, 1e5, 41)
+    z = 10 + 100 / (1 + 2j * np.pi * f * 1e-3)
+    out = tmp_path / "kk.json"
+    ix.write_result(ix.kk_test((f, z)), out)
+    with pytest.raises(DataError, match="summary of a Kramers–Kronig test .*impedax kk --out.*not a spectrum"):
+        ix.load(out)
