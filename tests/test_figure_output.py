@@ -276,3 +276,14 @@ def test_fit_out_tex_refuses_several_spectra(tmp_path, capsys):
     assert code == 2
     assert "a LaTeX table holds the fit of one spectrum" in err and "holds 2" in err and "Traceback" not in err
     assert not (tmp_path / "fit.tex").exists()
+
+
+def test_the_drt_figure_names_its_file_as_the_other_commands_do(spectrum_csv, tmp_path, monkeypatch):
+    """impedax drt --plot passed no source to its figure: its title named no file."""
+    import impedax.plotting
+
+    saved = []
+    monkeypatch.setattr(impedax.plotting, "save_figure", lambda fig, path, **kw: saved.append(fig))
+    assert main(["drt", str(spectrum_csv), "--plot", str(tmp_path / "drt.png")]) == 0
+    assert len(saved) == 1 and saved[0]._suptitle is not None
+    assert spectrum_csv.name in saved[0]._suptitle.get_text()

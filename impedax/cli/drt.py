@@ -83,7 +83,7 @@ def run(args) -> int:
         progress(f"drawing {args.plot}")
     record = command_provenance(args, source=source, data_files=[args.data])
     read = WithSummaryKeys(result, {"skipped_rows": skipped_rows(data)})  # (the JSON's, as inspect --json's: added 2026-12-01)
-    outputs.save({"--out": lambda path: _save(read, path, source, record), "--plot": figure_writer(result.plot, **figure_options(args))})
+    outputs.save({"--out": lambda path: _save(read, path, source, record), "--plot": figure_writer(result.plot, source, **figure_options(args))})
     progress.close()
     if outputs.uses_stdout:
         return 0
