@@ -390,3 +390,40 @@ def test_a_kk_batch_result_has_the_report_the_command_line_prints(capsys, tmp_pa
     capsys.readouterr()
     assert main(["kk", str(tmp_path / "stack.nc")]) == 0
     assert capsys.readouterr().out.startswith(text + "\n")
+
+
+def test_a_kk_batch_with_a_failing_spectrum_ends_with_a_next_line_that_runs(capsys, tmp_path):
+    """SYNTHETIC: three R‖C arcs at 0.5 % noise, cell b with one point 20 % off. The stack's
+    report says how to go on (it had no next: line, the single test has one): the command it
+    names tests cell b alone and that run names the point to leave out."""
+    f = np.logspace(-1, 5, 40)
+    z = np.stack([10 + r / (1 + 2j * np.pi * f * r * 1e-5) for r in (100.0, 200.0, 300.0)])
+    rng = np.random.default_rng(4)
+    z = z * (1 + 0.005 * (rng.standard_normal(z.shape) + 1j * rng.standard_normal(z.shape)))
+    z[1, 20] *= 1.2
+    data = ix.make_spectrum(f, z, dims=("cell",), coords={"cell": ["a", "b", "c"]})
+    path = tmp_path / "stack.nc"
+    ix.save(data, path)
+    capsys.readouterr()
+    assert main(["kk", str(path)]) == 0
+    last = capsys.readouterr().out.strip().splitlines()[-1]
+    assert last.startswith(f"next: impedax kk {path} --select cell=b tests cell=b alone (1 of 3 not valid) and names the points to leave out;") and "save the data" not in last
+    assert main(last.removeprefix("next: impedax ").split(" tests ")[0].split()) == 0
+    single = capsys.readouterr().out
+    assert "next: leave them out and test again:" in single and "--exclude" in single
+    assert "standard input is read once" in ix.kk_test_batch(data).report("-").splitlines()[-1]
+
+
+def test_the_next_line_of_data_from_standard_input_says_to_save_them_first(capsys, monkeypatch):
+    """SYNTHETIC R‖C at 0.5 % noise with one point 20 % off, given on standard input: the
+    suggested ``impedax kk - --exclude …`` cannot be pasted as it is (the input is spent)."""
+    import io
+
+    f = np.logspace(-1, 5, 40)
+    z = noisy(10 + 200 / (1 + 2j * np.pi * f * 200 * 1e-5), 0.005, 4)
+    z[20] *= 1.2
+    text = "frequency,Zreal,Zimag\n" + "".join(f"{a!r},{b!r},{c!r}\n" for a, b, c in zip(f.tolist(), z.real.tolist(), z.imag.tolist()))
+    monkeypatch.setattr("sys.stdin", io.TextIOWrapper(io.BytesIO(text.encode())))
+    assert main(["kk", "-"]) == 0
+    next_line = next(line for line in capsys.readouterr().out.splitlines() if line.startswith("next:"))
+    assert "impedax kk - --exclude" in next_line and "standard input is read once" in next_line

@@ -71,6 +71,8 @@ def run(args) -> int:
     # the reader's skipped rows in the JSON, as inspect --json gives them (added 2026-12-01); --out as
     # fit's and drt's (added 2026-12-01: docs/io.md listed kk --out, which kk refused)
     command, options = _next_command(args, result, data) if not several and args.method == "linear" else (None, None)
+    if command and args.data == "-":
+        command += "  (with the data saved to a file, named in place of -: standard input is read once)"
     added = {"skipped_rows": skipped_rows(data)} if options is None else {"skipped_rows": skipped_rows(data), "suggested_options": options}
     read = WithSummaryKeys(result, added)
     outputs.save({"--out": result_writer(read, source, record), "--plot": figure_writer(lambda: result.plot(), source, **figure_options(args))})  # (a batch has no plot: --plot takes one spectrum)
@@ -80,7 +82,7 @@ def run(args) -> int:
         emit_json(with_source(read.summary(), source, record))
         return 0
     if several:
-        print(result.report())
+        print(result.report(args.data))
     else:
         print(result.report(command) if args.method == "linear" else result.report())
     note_skipped_rows(data, "kk", args.data)

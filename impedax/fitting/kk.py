@@ -510,7 +510,7 @@ class KKResult:
         counts = f"{np.count_nonzero(r < 0)} of {r.size} R negative, {share}"
         if 1 - self.mu >= NEGATIVE_SHARE_FAR * (1 - self.c):
             why = "" if self.n_rc_given else "; no smaller M both fitted the data and had µ < c, docs/kk.md \"Choosing M\""
-            return f" (µ far below c = {self.c:g}: many negative R ({counts}): the chain may follow the noise at this M{why})"
+            return f" (µ far below c = {self.c:g}: many negative R ({counts}): the chain may follow the noise at this M, or make up with negative R for its fixed τ grid missing the data's time constants, as on noise-free data{why})"
         if self.n_rc_given:
             return f" (µ < c = {self.c:g}: {counts})"
         return f" (µ < c = {self.c:g}: negative R are starting to appear ({counts}), Schönleber's sign that the chain follows the data, not yet their noise)"
@@ -641,11 +641,13 @@ class KKBatchResult(ResultGrid):
         ds.attrs.update({k: v for k, v in first.to_xarray().attrs.items() if not k.startswith(("series", "inverse_series"))})
         return ds.copy(deep=True)
 
-    def report(self) -> str:
+    def report(self, data_path: str | None = None) -> str:
         """The KK test of every spectrum, one line per spectrum (each bad band with the rules that
-        flagged it) and, once, the hint of the first spectrum that has one: what ``impedax kk``
-        prints for several spectra (the JSON: `summary`; a method since 2026-12-02, a Python
-        walkthrough found none)."""
+        flagged it), once, the hint of the first spectrum that has one, and, when a spectrum
+        failed, a ``next:`` line: ``impedax kk DATA_PATH --select …`` tests the first failing
+        one alone and names the points to leave out (``data_path``: the file the run read; "-"
+        or None: save the data to a file first). What ``impedax kk`` prints for several spectra
+        (the JSON: `summary`; a method since 2026-12-02, a Python walkthrough found none)."""
         batch, lines = self, []
         where = batch.labels()
         few = sum(not r.conclusive for r in batch.results)
@@ -671,6 +673,16 @@ class KKBatchResult(ResultGrid):
         if with_hint:
             listed = ", ".join(names[i] for i in with_hint[:3]) + (", …" if len(with_hint) > 3 else "")
             lines.append(f"hint: in {len(with_hint)} of {counted(len(hints), 'spectrum', 'spectra')} ({listed}): {hints[with_hint[0]]}")
+        failed = [i for i, r in enumerate(batch.results) if r.conclusive and not r.valid and not r.sign_hint]
+        if failed:
+            import shlex
+
+            selects = " ".join(f"--select {shlex.quote(f'{d}={v}')}" for d, v in where[failed[0]].items())
+            path = shlex.quote(str(data_path)) if data_path not in (None, "-") else "FILE"
+            save = "" if path != "FILE" else " (save the data to FILE first: standard input is read once)"
+            name = ", ".join(f"{d}={v}" for d, v in where[failed[0]].items())
+            lines.append(f"next: impedax kk {path} {selects} tests {name} alone ({len(failed)} of {len(batch.results)} not valid) and names the points to leave out{save}; "
+                         "impedax refine leaves each spectrum's KK-flagged points out by itself")
         return "\n".join(lines)
 
 
