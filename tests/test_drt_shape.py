@@ -158,3 +158,14 @@ def test_the_real_warburg_tail_of_impedance_pys_example_keeps_its_warburg():
     (note,) = [n for n in result.notes if "low-frequency part" in n]
     assert note.startswith(f"the low-frequency part looks like diffusion (a Warburg element): −Im Z goes as ω^−{-slope:.2f} (± ")
     assert "a Warburg's ω^−0.5" in note and result.suggested_circuit().model.endswith(" + W1")
+
+
+def test_a_broad_peak_not_told_from_zero_gets_no_broad_peak_note():
+    """The merged peak of the test above, marked as not told from zero (a ripple the report
+    lists but does not count): it gets no advice to fit two arcs there."""
+    import dataclasses
+
+    merged = ix.drt((F, noisy(10 + rc(100, 1e-3) + rc(100, 1e-2), 0.01, 6)), lam=1.0)
+    assert any("as wide as one R‖C" in n for n in merged.notes)
+    ripples = dataclasses.replace(merged, peaks=tuple(dataclasses.replace(p, resolved=False) for p in merged.peaks))
+    assert not any("as wide as one R‖C" in n for n in ripples.notes), ripples.notes

@@ -175,7 +175,7 @@ def reference_width(result, tau_s: float) -> float:
 
 def shape_notes(result) -> tuple[str, ...]:
     """The low-frequency-tail note (`low_frequency_tail`: a Warburg's or a CPE's), then a
-    broad-peak note per peak inside the measured range (outside the tail's τ) `BROAD_FACTOR`
+    broad-peak note per counted peak (resolved, inside the measured range; outside the tail's τ) `BROAD_FACTOR`
     times as wide as one R‖C's (`reference_width`). Empty for a signed DRT."""
     if result.signed or not result.peaks:
         return ()
@@ -196,7 +196,7 @@ def shape_notes(result) -> tuple[str, ...]:
                 f"a CPE in series has −Im Z ∝ ω^−α, here α ≈ {tail.alpha:.2f}{named}; fit a CPE there (a Warburg is the case α = 0.5), not R‖C arcs"
             )
     for p in result.peaks:
-        if not p.inside_window or p.tau_s >= tail_from or not p.width_decades > 0:
+        if not p.inside_window or not p.resolved or p.tau_s >= tail_from or not p.width_decades > 0:
             continue
         ref = reference_width(result, p.tau_s)
         if ref > 0 and p.width_decades >= BROAD_FACTOR * ref:
