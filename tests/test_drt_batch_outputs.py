@@ -184,3 +184,21 @@ def test_the_json_names_the_file_read_as_kk_does(cycles, tmp_path, capsys):
     assert json.loads(capsys.readouterr().out)["source"] == f"{path} [cycle=2]"  # (the same key and text)
     code, _, _ = run(capsys, path, "--out", str(tmp_path / "d.json"))
     assert code == 0 and json.loads((tmp_path / "d.json").read_text())["source"] == path
+
+
+def test_the_batch_dataset_holds_what_each_spectrums_dataset_holds(cycles):
+    """The batch .nc lacked the residuals, the peaks' standard deviations, C and the noise
+    estimates of the single-spectrum .nc: each now equals the single DRT's of that cycle, and
+    the residuals are (Z − Z_fit)/|Z| of the numbers written."""
+    path, spectra = cycles
+    data = ix.load(path)
+    batch = drt(data).to_xarray()
+    for i in range(2):
+        one = drt(data.isel(cycle=i)).to_xarray()
+        n = one.sizes["peak"]
+        for name in ("residuals", "peak_r_sd", "peak_log10_tau_sd", "capacitance", "residual_sigma", "difference_noise"):
+            got = batch[name].isel(cycle=i).values
+            got = got[:n] if "peak" in batch[name].dims else got
+            np.testing.assert_allclose(got, one[name].values, rtol=1e-9, err_msg=name)
+        z, fit = batch["Z"].isel(cycle=i).values, batch["Z_fit"].isel(cycle=i).values
+        np.testing.assert_allclose(batch["residuals"].isel(cycle=i).values, (z - fit) / np.abs(z), rtol=1e-12)

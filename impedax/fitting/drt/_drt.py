@@ -242,7 +242,6 @@ def drt(
     omega = 2 * np.pi * freq
     tau_out = np.exp(ln_tau_out)
     window = (1.0 / omega.max(), 1.0 / omega.min())
-    rng = np.random.default_rng(0)
     # the draws' factor u·√|s| of every covariance at once (one batched eigh; the same numbers as
     # `Generator.multivariate_normal(method="eigh")` spectrum by spectrum, at half its time)
     eig_s, eig_u = np.linalg.eigh(out["covariance"])
@@ -257,7 +256,9 @@ def drt(
         l_h = float(series.get("l", 0.0) * scale / omega.max())
         inv_c = float(series.get("c", 0.0))
         c_f = math.inf if inv_c <= 0 else 1.0 / (inv_c * omega.min() * scale)
-        # draws of γ for the peaks' uncertainty (Gaussian of the band, conditional on the active set)
+        # draws of γ for the peaks' uncertainty (Gaussian of the band, conditional on the active set);
+        # a generator per spectrum: a spectrum's peaks are the same alone or at any place in a batch
+        rng = np.random.default_rng(0)
         draws = (x + rng.standard_normal((_SAMPLES, x.size)) @ factors[i].T) @ phi.T * scale
         if not signed:
             draws = np.maximum(draws, 0.0)

@@ -413,6 +413,7 @@ model minus data: docs/physics.md), as their ``long_name``."""
 BATCH_RESULT_NAMES = frozenset({
     "tau", "frequency", "peak", "gamma", "gamma_q05", "gamma_q95", "Z", "Z_fit", "peak_tau", "peak_r", "peak_width", "peak_inside_window",
     "peak_resolved", "dropped_r", "r_inf", "inductance", "lam", "rms_rel", "z_ref", "lambda_choice", "band_lambda", "lambda_note",
+    "residuals", "peak_log10_tau_sd", "peak_r_sd", "capacitance", "residual_sigma", "difference_noise",
 })
 """The dimensions and variables of `DRTBatchResult.to_xarray`'s Dataset: `drt` refuses a batch
 dimension of one of these names (`grid.refuse_result_names`), where ``to_xarray`` had failed
@@ -521,6 +522,12 @@ class DRTBatchResult(ResultGrid):
                 "gamma_q95": ((*dims, "tau"), stack(lambda r: r.gamma_q95), {"units": "ohm"}),
                 "Z": ((*dims, "frequency"), stack(lambda r: r.impedance), {"units": "ohm"}),
                 "Z_fit": ((*dims, "frequency"), stack(lambda r: r.z_fit), {"units": "ohm"}),
+                "residuals": ((*dims, "frequency"), stack(lambda r: r.residuals), {"units": "1", "long_name": RESIDUAL_LONG_NAME}),
+                "peak_log10_tau_sd": ((*dims, "peak"), stack(lambda r: np.array([p.log10_tau_sd for p in r.peaks]), n_peak), {"units": "decades"}),
+                "peak_r_sd": ((*dims, "peak"), stack(lambda r: np.array([p.r_ohm_sd for p in r.peaks]), n_peak), {"units": "ohm"}),
+                "capacitance": (dims, stack(lambda r: r.c_f), {"units": "F"}),
+                "residual_sigma": (dims, stack(lambda r: r.noise_estimate), {"units": "1", "long_name": "residual standard deviation of the DRT fit (relative)"}),
+                "difference_noise": (dims, stack(lambda r: r.difference_noise), {"units": "1", "long_name": "first-difference noise estimate of the residuals (the KK test's)"}),
                 "peak_tau": ((*dims, "peak"), stack(lambda r: np.array([p.tau_s for p in r.peaks]), n_peak), {"units": "s"}),
                 "peak_r": ((*dims, "peak"), stack(lambda r: np.array([p.r_ohm for p in r.peaks]), n_peak), {"units": "ohm"}),
                 "peak_width": ((*dims, "peak"), stack(lambda r: np.array([p.width_decades for p in r.peaks]), n_peak), {"units": "decades"}),
