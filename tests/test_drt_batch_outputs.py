@@ -202,3 +202,13 @@ def test_the_batch_dataset_holds_what_each_spectrums_dataset_holds(cycles):
             np.testing.assert_allclose(got, one[name].values, rtol=1e-9, err_msg=name)
         z, fit = batch["Z"].isel(cycle=i).values, batch["Z_fit"].isel(cycle=i).values
         np.testing.assert_allclose(batch["residuals"].isel(cycle=i).values, (z - fit) / np.abs(z), rtol=1e-12)
+
+
+def test_a_drt_batch_repr_is_one_line(cycles):
+    """The generated repr printed every spectrum's arrays; now one line: the count, the counted
+    peaks (two arcs per cycle, τ 1 ms and 1 s) and the fits' rms_rel."""
+    path, _ = cycles
+    batch = drt(path)
+    low, high = (f"{v * 100:.3g}" for v in sorted(r.rms_rel for r in batch.results))
+    span = low if low == high else f"{low}–{high}"
+    assert repr(batch) == f"DRTBatchResult(2 spectra over cycle: 2 counted peak(s), rms_rel {span} %)"

@@ -427,3 +427,18 @@ def test_the_next_line_of_data_from_standard_input_says_to_save_them_first(capsy
     assert main(["kk", "-"]) == 0
     next_line = next(line for line in capsys.readouterr().out.splitlines() if line.startswith("next:"))
     assert "impedax kk - --exclude" in next_line and "standard input is read once" in next_line
+
+
+def test_a_kk_result_has_warnings_as_a_fit_has_and_a_batch_a_one_line_repr():
+    """`KKResult.warnings` (the JSON's key had it; the object had none): the notes, then the sign
+    hint of a flipped Im Z (numpy's conj of an R‖C). A stack's repr is one line of verdicts (it
+    printed every spectrum's arrays)."""
+    f = np.geomspace(0.1, 1e5, 41)
+    z = 10 + 100 / (1 + 2j * np.pi * f * 1e-3)
+    flipped = ix.kk_test((f, np.conj(z)))
+    assert flipped.sign_hint and flipped.warnings[-1] == flipped.sign_hint
+    assert list(flipped.warnings) == flipped.summary()["warnings"]
+    sparse = ix.kk_test((f[::8], z[::8]))  # 6 points: inconclusive, a note
+    assert sparse.warnings and sparse.warnings[0].startswith("inconclusive")
+    batch = ix.kk_test_batch(ix.make_spectrum(f, np.stack([z, np.conj(z)]), dims=("cell",), coords={"cell": ["a", "b"]}))
+    assert repr(batch) == "KKBatchResult(2 spectra over cell: 1 KK-consistent, 1 not)"

@@ -264,7 +264,7 @@ class KKResult:
             "window_threshold_rel": levels["window"], "window": int(self.thresholds["window"]), "sign_hint": self.sign_hint,
             # (added 2026-12-01) the report's notes on what the verdict rests on, and what to heed
             # (the key fit, compare and sample give): every note, and the sign hint
-            "notes": self.notes, "warnings": self.notes + ([self.sign_hint] if self.sign_hint else []),
+            "notes": self.notes, "warnings": list(self.warnings),
             # (added 2026-12-02) "sigma": the chain weighted by the data's σ and each point judged by
             # its σ/|Z| (the threshold keys then hold the median point's levels); "residuals": one noise estimate
             "noise_from": self.noise_from,
@@ -294,6 +294,12 @@ class KKResult:
         (`non_passive_note`)."""
         notes = [] if self.conclusive else [f"inconclusive: {self.frequency.size} frequencies are too few for the test (it needs {CONCLUSIVE_POINTS_MIN})"]
         return notes + [n for n in (self.sparse_note, self.non_passive_note) if n]
+
+    @property
+    def warnings(self) -> tuple[str, ...]:
+        """What to heed, as `FitResult.warnings` (the JSON's ``warnings``): every note, then the
+        sign hint (a flipped sign of Im Z)."""
+        return tuple(self.notes) + ((self.sign_hint,) if self.sign_hint else ())
 
     @property
     def sparse_note(self) -> str | None:
@@ -570,6 +576,15 @@ class KKBatchResult(ResultGrid):
     """
 
     results: tuple[KKResult, ...]
+
+    def __repr__(self) -> str:
+        """One line: how many spectra over which dimensions, and the verdicts (the generated
+        repr printed every spectrum's arrays)."""
+        few = sum(not r.conclusive for r in self.results)
+        consistent = sum(bool(r.valid) and r.conclusive for r in self.results)
+        inconclusive = f", {few} inconclusive" if few else ""
+        return (f"KKBatchResult({counted(len(self.results), 'spectrum', 'spectra')} over {', '.join(self.dims)}: "
+                f"{consistent} KK-consistent, {len(self.results) - few - consistent} not{inconclusive})")
 
     @property
     def valid(self) -> np.ndarray:

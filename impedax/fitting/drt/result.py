@@ -406,6 +406,12 @@ def _peak_count_text(peaks) -> str:
     return f"{n} peak(s)" + (f" (+{more} listed, outside the measured range or not told from zero, not counted)" if more else "")
 
 
+def _span(low, high, form: str) -> str:
+    """``low``–``high`` in ``form``, or one value when they are equal as written."""
+    a, b = form.format(low), form.format(high)
+    return a if a == b else f"{a}–{b}"
+
+
 RESIDUAL_LONG_NAME = "(Z_data - Z_fit)/|Z_data|"
 """The sign of `DRTResult.residuals`, data minus DRT model (the KK test's; a circuit fit's are
 model minus data: docs/physics.md), as their ``long_name``."""
@@ -426,6 +432,14 @@ class DRTBatchResult(ResultGrid):
     in one vmapped solve. ``results`` in C order over ``dims``; ``batch[i, j]`` gives one."""
 
     results: tuple[DRTResult, ...]
+
+    def __repr__(self) -> str:
+        """One line: how many spectra over which dimensions, their counted peaks and rms_rel
+        (the generated repr printed every spectrum's arrays)."""
+        peaks = [len(counted_peaks(r.peaks)) for r in self.results]
+        rms = [r.rms_rel * 100 for r in self.results]
+        return (f"DRTBatchResult({counted(len(self.results), 'spectrum', 'spectra')} over {', '.join(self.dims)}: "
+                f"{_span(min(peaks), max(peaks), '{}')} counted peak(s), rms_rel {_span(min(rms), max(rms), '{:.3g}')} %)")
 
     @property
     def gamma(self) -> np.ndarray:
