@@ -155,7 +155,6 @@ def test_mu_far_below_c_is_read_as_many_negative_r():
     assert "the chain may follow the noise at this M" in first and "not yet their noise" not in first and "few negative" not in first
 
 
-
 def test_mu_far_below_c_on_noise_free_data_names_the_grid_not_only_noise():
     """SYNTHETIC, noise-free 10 Ω + 100 Ω‖1 µF (closed form), 61 points 1 Hz–1 MHz: µ falls far
     below c with no noise to follow (negative R make up for the τ grid missing τ = 100 µs), and
@@ -166,6 +165,8 @@ def test_mu_far_below_c_on_noise_free_data_names_the_grid_not_only_noise():
     assert result.mu < 0.7 and bool(result.valid)
     first = result.report().splitlines()[0]
     assert "µ far below c" in first and "fixed τ grid missing the data's time constants, as on noise-free data" in first
+
+
 @pytest.mark.parametrize("resistances, words", [
     ([60.0, 40.0, -20.0], "µ < c = 0.85: negative R are starting to appear (1 of 3 R negative, Σ|R<0| = 20 % of Σ R≥0), Schönleber's sign"),  # µ = 0.80
     ([60.0, 40.0, -29.0], "µ < c = 0.85: negative R are starting to appear (1 of 3 R negative, Σ|R<0| = 29 % of Σ R≥0)"),  # µ = 0.71

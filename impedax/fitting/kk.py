@@ -580,11 +580,15 @@ class KKBatchResult(ResultGrid):
     def __repr__(self) -> str:
         """One line: how many spectra over which dimensions, and the verdicts (the generated
         repr printed every spectrum's arrays)."""
-        few = sum(not r.conclusive for r in self.results)
-        consistent = sum(bool(r.valid) and r.conclusive for r in self.results)
+        few, consistent = self._verdict_counts()
         inconclusive = f", {few} inconclusive" if few else ""
         return (f"KKBatchResult({counted(len(self.results), 'spectrum', 'spectra')} over {', '.join(self.dims)}: "
                 f"{consistent} KK-consistent, {len(self.results) - few - consistent} not{inconclusive})")
+
+    def _verdict_counts(self) -> tuple[int, int]:
+        """(inconclusive, KK-consistent) spectra: the counts of `report`'s first line and the repr."""
+        few = sum(not r.conclusive for r in self.results)
+        return few, sum(bool(r.valid) and r.conclusive for r in self.results)
 
     @property
     def valid(self) -> np.ndarray:
@@ -665,8 +669,7 @@ class KKBatchResult(ResultGrid):
         (the JSON: `summary`; a method since 2026-12-02, a Python walkthrough found none)."""
         batch, lines = self, []
         where = batch.labels()
-        few = sum(not r.conclusive for r in batch.results)
-        consistent = sum(bool(r.valid) and r.conclusive for r in batch.results)
+        few, consistent = batch._verdict_counts()
         lines.append(f"linear KK test of {counted(len(batch.results), 'spectrum', 'spectra')} over {', '.join(batch.dims)}: {consistent} KK-consistent, {len(batch.results) - few - consistent} not"
                      + (f", {few} inconclusive (too few frequencies to tell)" if few else "")
                      + ("; noise: the data's sigma (each point judged against its σ; --noise residuals for one estimate)" if any(r.noise_from == "sigma" for r in batch.results) else ""))
