@@ -252,3 +252,51 @@ def test_one_file_given_twice_is_refused_however_it_is_written(days, tmp_path, c
     assert f"{again}: is given twice (files 1 and 3 of 3)" in err and not out.exists()
     with pytest.raises(ix.DataError, match="is given twice"):
         ix.stack_files([first, first], coords=[1, 2])
+
+
+# --- 4. --common-frequencies: files whose grids differ by a skipped point (added 2026-12-04) ----
+
+def test_common_frequencies_keep_the_points_every_file_has_and_name_the_rest(days, tmp_path, capsys):
+    """SYNTHETIC: day 2 skipped two frequencies of the plan (0.398 Hz and 251 Hz), day 3's
+    frequencies read 0.03 % high (inside the 0.1 % a grid is matched within). The series keeps
+    the 29 frequencies every day has, at day 1's values, each day's own measured Z there (the
+    formula at that day's own frequencies, nothing interpolated), and names what it left out."""
+    paths, _ = days
+    skipped = [3, 17]
+    freq2, freq3 = np.delete(FREQ, skipped), FREQ * (1 + 3e-4)
+    z2 = write_day(paths[1], R1_BY_DAY[1], seed=12, freq=freq2, noise=0.0)
+    z3 = write_day(paths[2], R1_BY_DAY[2], seed=13, freq=freq3, noise=0.0)
+    with pytest.raises(ix.DataError, match=r"its frequency grid differs .*--common-frequencies; common_frequencies=True"):
+        ix.stack_files(paths)
+    series = ix.stack_files(paths, common_frequencies=True)
+    kept = np.delete(np.arange(FREQ.size), skipped)
+    np.testing.assert_array_equal(series["frequency"].values, FREQ[kept])
+    np.testing.assert_allclose(series["Z"].values[1], z2, rtol=1e-15)
+    np.testing.assert_allclose(series["Z"].values[2], z3[kept], rtol=1e-15)
+    np.testing.assert_allclose(series["Z"].values[2], rc_impedance(freq3[kept], R0_TRUE, R1_BY_DAY[2], C1_TRUE), rtol=1e-12)
+    left_out = {str(paths[0]): FREQ[skipped].tolist(), str(paths[2]): freq3[skipped].tolist()}
+    assert series.attrs["frequencies_left_out"] == left_out
+    out = tmp_path / "days.nc"
+    code, printed, err = run(["stack", *paths, "--common-frequencies", "--out", out, "--json"], capsys)
+    assert code == 0, err
+    assert json.loads(printed)["frequencies_left_out"] == left_out and json.loads(printed)["frequencies"] == 29
+    assert f"note: {paths[0]}: 2 frequencies not in every file left out (398 mHz, 251 Hz)" in err, err
+    assert f"note: {paths[2]}: 2 frequencies not in every file left out (398 mHz, 251 Hz)" in err and str(paths[1]) + ":" not in err
+    assert ix.load(out).attrs["frequencies_left_out"] == left_out  # (kept in the file)
+    # files on one grid lose nothing and carry no record of it
+    same_grid = tmp_path / "day04.csv"
+    write_day(same_grid, 15e3, seed=4)
+    alike = ix.stack_files([paths[0], same_grid], common_frequencies=True)
+    assert "frequencies_left_out" not in alike.attrs and alike.sizes["frequency"] == FREQ.size
+
+
+def test_common_frequencies_refuse_files_not_measured_on_one_plan(days, tmp_path, capsys):
+    """SYNTHETIC: 31 frequencies against 12 over the same decades, which share 2 (the ends): a
+    file would keep under half its points, so the stack is refused naming it, nothing written."""
+    paths, _ = days
+    sparse = tmp_path / "sparse.csv"
+    write_day(sparse, 15e3, seed=5, freq=np.geomspace(0.1, 1e5, 12))
+    out = tmp_path / "days.nc"
+    code, _, err = run(["stack", paths[0], sparse, "--common-frequencies", "--out", out], capsys)
+    assert code == 2 and f"error: {paths[0]}: shares only 2 of its 31 frequencies with the other files (within 0.1%): under half" in err, err
+    assert "Traceback" not in err and not out.exists()

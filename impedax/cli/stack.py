@@ -20,11 +20,14 @@ def register(sub) -> None:
         "(NAME, frequency), in the order given, which impedax fit, kk and drt then analyse as a batch. Files that each hold "
         "spectra over the same dimensions (per-material files over voltage) give Z over (NAME, those dimensions, frequency), "
         "the spectra lined up by their labels. The files must share "
-        "one frequency grid (within 0.1 %). Labels along NAME: --coords, else the file names without extension.",
+        "one frequency grid (within 0.1 %), or, with --common-frequencies, the frequencies every file has are kept and the rest left out. Labels along NAME: --coords, else the file names without extension.",
     )
     p.add_argument("files", nargs="+", metavar="FILE", help="spectrum files, one spectrum each (or each over the same dimensions), in the order of the series")
     p.add_argument("--dim", default="file", metavar="NAME", help="name of the new dimension (default: file), e.g. day")
     p.add_argument("--coords", nargs="+", metavar="V", help="one label per FILE, in order: numbers when every one reads as a number (1 2 3, 0.5 1.5), else text; default: the file names without extension (day01)")
+    p.add_argument("--common-frequencies", action="store_true",
+                   help="files whose grids differ (a point skipped in one sweep): keep the frequencies every file has (within 0.1 %%) and leave out the rest, "
+                   "naming them; measured points only, nothing interpolated; a file that would keep under half its points is refused")
     p.add_argument("--out", required=True, metavar="OUT.nc", help="the stacked spectra (netCDF: .nc, .nc4, .cdf); written whole or not at all")
     p.add_argument("--json", action="store_true", help=JSON_SUMMARY_HELP + ": written, files, dim, labels, dims, spectra, frequencies, ...")
     add_quiet_option(p)  # (2026-12-03: every command takes --quiet, so a pipeline can pass it to each)
@@ -34,7 +37,8 @@ def register(sub) -> None:
 def run(args) -> int:
     from pathlib import Path
 
-    from ..data import counted
+    from ..data import counted, format_frequency
+    from ..warning_groups import labels_text
     from ..errors import DataError
     from ..io.loader import NETCDF_SUFFIXES
     from ..io.stack import stack_files
@@ -43,12 +47,16 @@ def run(args) -> int:
     if Path(args.out).suffix.lower() not in NETCDF_SUFFIXES:
         raise DataError(f"--out: a stack of spectra is written as netCDF: give a {', '.join(NETCDF_SUFFIXES)} name (a CSV file holds one spectrum)", path=args.out)
     outputs = plan_outputs([("--out", args.out, "spectrum")], inputs=args.files)
-    stacked = stack_files(args.files, dim=args.dim, coords=args.coords, readers=args.readers)
+    stacked = stack_files(args.files, dim=args.dim, coords=args.coords, readers=args.readers, common_frequencies=args.common_frequencies)
+    left_out = stacked.attrs.get("frequencies_left_out", {})
+    for path, frequencies in left_out.items():
+        print(f"note: {path}: {counted(len(frequencies), 'frequency', 'frequencies')} not in every file left out ({labels_text([format_frequency(f) for f in frequencies])})", file=sys.stderr)
     record = command_provenance(args, source=data_source(stacked), data_files=args.files)
     written = outputs.save({"--out": spectrum_writer(lambda: stacked, record)})
     labels = stacked[args.dim].values.tolist()
     if args.json:  # (added 2026-12-01: what a pipeline reads of the run; docs/robustness.md, "JSON for programs")
-        emit_json(with_source({"command": "stack", "written": list(written), "files": [str(f) for f in args.files], "dim": args.dim, "labels": labels, **spectrum_summary(stacked)},
+        emit_json(with_source({"command": "stack", "written": list(written), "files": [str(f) for f in args.files], "dim": args.dim, "labels": labels, **spectrum_summary(stacked),
+                               "frequencies_left_out": left_out},
                               data_source(stacked), record))
         return 0
     shown = ", ".join(map(str, labels)) if len(labels) <= 6 else f"{', '.join(map(str, labels[:3]))}, …, {labels[-1]}"
@@ -58,3 +66,4 @@ def run(args) -> int:
     print(f"impedax stack: {counted(n, 'spectrum', 'spectra')} at {stacked.sizes['frequency']} frequencies along {args.dim!r} ({shown}){over}; "
           f"fit them as a batch: impedax fit {args.out} --model MODEL", file=sys.stderr)
     return 0
+

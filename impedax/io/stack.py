@@ -26,7 +26,8 @@ STDIN_LABEL = "stdin"
 """The label of standard input (``-``) along the new dimension when no ``coords`` are given."""
 
 
-def stack_files(paths: Sequence[str | os.PathLike], dim: str = "file", coords: Sequence | None = None, *, readers: Sequence | None = None) -> xr.Dataset:
+def stack_files(paths: Sequence[str | os.PathLike], dim: str = "file", coords: Sequence | None = None, *, readers: Sequence | None = None,
+                common_frequencies: bool = False) -> xr.Dataset:
     """The spectra of ``paths`` (each read by `impedax.load`) as one spectrum Dataset with Z over
     (``dim``, frequency), in the order given; files that each hold spectra over the same extra
     dimensions (per-material files over voltage) give Z over (``dim``, *those dimensions*,
@@ -44,6 +45,12 @@ def stack_files(paths: Sequence[str | os.PathLike], dim: str = "file", coords: S
     join (missing, unreadable, other dimensions or labels than the first file's, already over
     ``dim``, another grid, sigma in some files only).
     ``readers``: as `impedax.load`'s (None: the built-in ones).
+
+    ``common_frequencies`` (added 2026-12-04): files whose grids differ keep the frequencies every
+    file has (each within `SWEEP_RTOL` of the first file's) and leave out the rest, measured
+    points only (nothing is interpolated); ``attrs["frequencies_left_out"]`` maps each file that
+    lost points to their frequencies [Hz]. A file that would keep fewer than half its points
+    (`COMMON_SHARE_MIN`) is a `DataError` naming it: those files were not measured on one plan.
     """
     if isinstance(paths, (str, bytes, os.PathLike)):
         raise ParameterError(f"paths must be a list of files, got the single {shown(str(paths))}: give [path] for one file")
@@ -66,6 +73,9 @@ def stack_files(paths: Sequence[str | os.PathLike], dim: str = "file", coords: S
     first, first_path = spectra[0], str(paths[0])
     extra = tuple(d for d in first["Z"].dims if d != "frequency")
     spectra = [_aligned(ds, path, first, first_path, extra) for ds, path in zip(spectra, paths)]
+    if common_frequencies:
+        spectra, left_out = _on_common_frequencies(spectra, paths, first_path)
+        first = spectra[0]
     f0 = first["frequency"].values
     order0 = np.argsort(f0)
     z = np.empty((len(paths), *(first.sizes[d] for d in extra), f0.size), complex)
@@ -86,6 +96,8 @@ def stack_files(paths: Sequence[str | os.PathLike], dim: str = "file", coords: S
         attrs.pop(key, None)
     attrs["sources"] = [str(p) for p in paths]
     attrs["stacked_along"] = dim
+    if common_frequencies and left_out:
+        attrs["frequencies_left_out"] = left_out
     records = [ds.attrs.get("columns") for ds in spectra]
     if "columns" not in attrs and any(isinstance(r, dict) for r in records):
         # the files' readers recorded different columns (Hz here, kHz there): each file's record,
@@ -224,6 +236,51 @@ def _check_grid(f: np.ndarray, f0: np.ndarray, path, first_path: str) -> None:
         where = f"the first {n} frequencies agree, then {'this file' if f.size > f0.size else Path(first_path).name} goes on"
     raise DataError(
         f"its frequency grid differs from {first_path}'s ({f.size} vs {f0.size} points, {where}); "
-        f"spectra stack only on one grid (within {SWEEP_RTOL:.1%}): measure them so, or fit the files one by one",
+        f"spectra stack only on one grid (within {SWEEP_RTOL:.1%}): measure them so, keep the frequencies every file has "
+        f"(impedax stack --common-frequencies; common_frequencies=True), or fit the files one by one",
         path=path,
     )
+
+
+COMMON_SHARE_MIN = 0.5
+"""`stack_files` with ``common_frequencies`` refuses a file that would keep less than this share
+of its points: a sweep plan of 10 points per decade stacked with one of 5 shares half the
+first's points, and files that share fewer were not measured on one plan."""
+
+
+def _on_common_frequencies(spectra: list[xr.Dataset], paths: Sequence, first_path: str) -> tuple[list[xr.Dataset], dict[str, list[float]]]:
+    """``spectra`` each cut to the frequencies every one has, each matched to the first file's
+    within `SWEEP_RTOL` (the nearest on a log scale); and, by file path, the frequencies [Hz] of
+    each file that were left out (files that lost none are absent). `DataError` naming a file
+    that keeps fewer than `COMMON_SHARE_MIN` of its points, or whose points match one of the first
+    file's twice."""
+    f0 = spectra[0]["frequency"].values
+    matches = []  # per file: for each of the first file's points, the index of its match here (-1: none)
+    for ds, path in zip(spectra, paths):
+        f = ds["frequency"].values
+        order = np.argsort(f)
+        log_f = np.log(f[order])
+        at = np.clip(np.searchsorted(log_f, np.log(f0)), 1, max(f.size - 1, 1))
+        nearer = np.where(np.abs(log_f[at - 1] - np.log(f0)) <= np.abs(log_f[np.minimum(at, f.size - 1)] - np.log(f0)), at - 1, np.minimum(at, f.size - 1))
+        index = order[nearer]
+        matched = np.abs(f[index] / f0 - 1) <= SWEEP_RTOL
+        if np.unique(index[matched]).size != np.count_nonzero(matched):
+            raise DataError(f"two of {first_path}'s frequencies match one of this file's within {SWEEP_RTOL:.1%}: the grids cannot be lined up point by point", path=path)
+        matches.append(np.where(matched, index, -1))
+    kept = np.all(np.array(matches) >= 0, axis=0)
+    left_out: dict[str, list[float]] = {}
+    cut = []
+    for ds, path, match in zip(spectra, paths, matches):
+        n = ds.sizes["frequency"]
+        if np.count_nonzero(kept) < COMMON_SHARE_MIN * n:
+            raise DataError(
+                f"shares only {np.count_nonzero(kept)} of its {n} frequencies with the other files (within {SWEEP_RTOL:.1%}): under half, so the files were not "
+                f"measured on one sweep plan; fit them one by one",
+                path=path,
+            )
+        index = match[kept]
+        dropped = np.setdiff1d(np.arange(n), index)
+        if dropped.size:
+            left_out[str(path)] = sorted(float(v) for v in ds["frequency"].values[dropped])
+        cut.append(ds.isel(frequency=index))
+    return cut, left_out
