@@ -30,3 +30,15 @@ def test_a_kk_json_given_as_data_is_named(tmp_path):
     ix.write_result(ix.kk_test((f, z)), out)
     with pytest.raises(DataError, match="summary of a Kramers–Kronig test .*impedax kk --out.*not a spectrum"):
         ix.load(out)
+
+
+@pytest.mark.parametrize("analysis, what, command", [(ix.drt, "a batch of DRTs", "drt"), (ix.kk_test_batch, "a batch of Kramers–Kronig tests", "kk")])
+def test_a_batch_json_given_as_data_is_named(tmp_path, analysis, what, command):
+    """A stack's DRT or KK summary holds each spectrum's under "spectra"; it was told "no
+    frequency column" (2026-12-04). Two SYNTHETIC R‖C spectra, closed forms."""
+    f = np.geomspace(0.1, 1e5, 41)
+    z = np.array([10 + r / (1 + 2j * np.pi * f * r * 1e-5) for r in (100.0, 150.0)])
+    out = tmp_path / "stack.json"
+    ix.write_result(analysis(ix.make_spectrum(f, z, dims=("cell",))), out)
+    with pytest.raises(DataError, match=f"JSON summary of {what} .*impedax {command} --out.*not a spectrum"):
+        ix.load(out)

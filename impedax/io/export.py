@@ -40,6 +40,8 @@ _DIAGNOSIS = ("a diagnosis", "diagnose", "ix.Diagnosis.baseline_of(ix.load({nc})
 _REFINEMENT = ("a refinement", "refine", "ix.Refinement.final_fit_of(ix.load({nc})) (its final fit)")
 _DRT = ("a DRT (γ over τ)", "drt", "xarray.open_dataset({nc})")
 _KK = ("a Kramers–Kronig test", "kk", "xarray.open_dataset({nc})")
+_DRT_BATCH = ("a batch of DRTs (γ over τ)", "drt", "xarray.open_dataset({nc})")
+_KK_BATCH = ("a batch of Kramers–Kronig tests", "kk", "xarray.open_dataset({nc})")
 
 
 def _table_kind(header: Sequence[str], command: str | None) -> tuple[str, str, str] | None:
@@ -60,6 +62,13 @@ def _table_kind(header: Sequence[str], command: str | None) -> tuple[str, str, s
 def _summary_kind(summary: Mapping) -> tuple[str, str, str] | None:
     """What a result JSON with these top-level keys holds."""
     keys = set(summary)
+    spectra = summary.get("spectra")
+    if {"n_spectra", "spectra"} <= keys and isinstance(spectra, list) and spectra and isinstance(spectra[0], dict):
+        # a batch of DRTs or KK tests: each spectrum's summary as a single one's (a batch of fits has its params at the top)
+        if _summary_kind(spectra[0]) is _DRT:
+            return _DRT_BATCH
+        if _summary_kind(spectra[0]) is _KK:
+            return _KK_BATCH
     if {"tau_s", "gamma_ohm", "peaks"} <= keys:
         return _DRT
     if {"mu", "n_rc", "bad_bands"} <= keys:
