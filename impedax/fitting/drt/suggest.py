@@ -7,7 +7,8 @@ the measured τ window), started at R_k = the peak's R, α = 0.9, Q_k = τ_k^α 
 series when they end in a constant-phase tail of another slope (`shape.low_frequency_tail`; the
 peaks at the tail's τ are its own, not arcs); else a series CPE for a resolved peak beyond the
 slowest point (the data show only its arc's fast side,
-R/(jωτ)^α); L1 when the DRT's L is a visible part of |Z| at the top frequency; a series C when
+R/(jωτ)^α); L1 when the DRT's L is a visible part of |Z| at the top frequency (5 %, or 3× the
+noise); a series C when
 the DRT fitted one; R0 alone for a flat spectrum (`DRTResult.flat`). Unresolved peaks and peaks faster than the top frequency are left out.
 """
 
@@ -24,7 +25,7 @@ from ...data import format_quantity, format_time, format_uncertain
 from .peaks import RESOLVED_SIGMAS, counted_peaks
 from .shape import low_frequency_tail
 
-__all__ = ["SuggestedCircuit", "suggest_circuit", "most_common_suggestion", "START_ALPHA", "R0_FLOOR_SHARE", "INDUCTIVE_SHARE"]
+__all__ = ["SuggestedCircuit", "suggest_circuit", "most_common_suggestion", "START_ALPHA", "R0_FLOOR_SHARE", "INDUCTIVE_SHARE", "INDUCTIVE_NOISE_MULTIPLE", "INDUCTIVE_SHARE_MIN"]
 
 START_ALPHA = 0.9
 """The CPE exponent each arc starts at (the registry's default for CPE.alpha)."""
@@ -37,6 +38,24 @@ INDUCTIVE_SHARE = 0.05
 """An inductor L1 joins the circuit when ω_max·L is at least this share of |Z| at the top
 frequency: the share at which `DRTResult.warnings` names a negative L (below it, L is noise
 about 0 or a lead the fit does not need)."""
+INDUCTIVE_NOISE_MULTIPLE = 4.0
+"""Below `INDUCTIVE_SHARE`, L1 also joins when ω_max·L is at least this many times the DRT's
+noise (the larger of its residual σ and the first-difference noise, both relative to |Z|) and at
+least `INDUCTIVE_SHARE_MIN` of |Z|: a lead's inductance is then a clear part of the top points.
+A REAL ZPlot file: ω_max·L = 4.9 % of |Z| against a residual σ of 0.89 %; R0 + R1 ∥ CPE1 fits it
+at rms_rel 1.35 %, with L1 at 0.35 % (AIC −383 → −494), and the 5 % rule alone left L1 out."""
+INDUCTIVE_SHARE_MIN = 0.005
+"""The least share of |Z| at the top frequency an inductance's ω_max·L must have to join the
+circuit, however low the noise (noise-free data: a DRT's L of rounding size is no lead)."""
+
+
+def _inductance_shows(share: float, result) -> bool:
+    """Whether an inductance whose ω_max·L is ``share`` of |Z| at the top frequency is a visible
+    part of the data of the DRT ``result``: at least `INDUCTIVE_SHARE`, or at least
+    `INDUCTIVE_NOISE_MULTIPLE` × the DRT's noise and `INDUCTIVE_SHARE_MIN`."""
+    noises = [v for v in (result.noise_estimate, result.difference_noise) if math.isfinite(v)]
+    noise = max(noises) if noises else math.inf
+    return share >= INDUCTIVE_SHARE or share >= max(INDUCTIVE_NOISE_MULTIPLE * noise, INDUCTIVE_SHARE_MIN)
 
 
 @dataclass(frozen=True)
@@ -72,7 +91,7 @@ def suggest_circuit(result) -> SuggestedCircuit:
     init = {"R0": max(float(result.r_inf_ohm), R0_FLOOR_SHARE * float(result.z_ref))}
     parts, reasons = ["R0"], [f"R0: the series resistance R_inf = {format_quantity(result.r_inf_ohm, 'Ω', 4)}"]
     omega_max = 2 * math.pi * float(result.frequency.max())
-    if result.l_h > 0 and omega_max * result.l_h >= INDUCTIVE_SHARE * z_top:
+    if result.l_h > 0 and _inductance_shows(omega_max * result.l_h / z_top, result):
         parts.append("L1")
         init["L1"] = float(result.l_h)
         reasons.append(f"L1: the DRT's L = {format_quantity(result.l_h, 'H')}, ωL = {omega_max * result.l_h / z_top * 100:.2g} % of |Z| at the top frequency")
