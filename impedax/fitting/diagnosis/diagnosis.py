@@ -1641,8 +1641,13 @@ def _parallel_resistors(circuit: Circuit, registry: Registry):
             continue
         other = node.children[1 - i]
         blockers = [str(t) for t in top if t is not node and _blocks_dc(t, registry)]
-        if any(t is node for t in top) and isinstance(other, Element) and registry[other.symbol].symbol in ("C", "CPE") and blockers:
+        if not (any(t is node for t in top) and isinstance(other, Element) and registry[other.symbol].symbol in ("C", "CPE")):
+            continue
+        if blockers:
             yield resistor, f"; {other.name} stands alone in series, where the circuit already blocks DC ({blockers[0]})"
+        else:  # (2026-12-04: the open resistor is the data's, which show no DC path through the node)
+            yield resistor, (f"; {other.name} stands alone in series: the data show no DC path through {resistor.name} ∥ {other.name} over the band, so its arc "
+                             f"closes below the lowest frequency, or never (a blocking interface: an insulating layer, a coating, a blocking electrode)")
 
 
 def _blocks_dc(circuit: Circuit, registry: Registry) -> bool:
