@@ -66,4 +66,3 @@ def run(args) -> int:
     print(f"impedax stack: {counted(n, 'spectrum', 'spectra')} at {stacked.sizes['frequency']} frequencies along {args.dim!r} ({shown}){over}; "
           f"fit them as a batch: impedax fit {args.out} --model MODEL", file=sys.stderr)
     return 0
-

@@ -259,10 +259,10 @@ def _on_common_frequencies(spectra: list[xr.Dataset], paths: Sequence, first_pat
     for ds, path in zip(spectra, paths):
         f = ds["frequency"].values
         order = np.argsort(f)
-        log_f = np.log(f[order])
-        at = np.clip(np.searchsorted(log_f, np.log(f0)), 1, max(f.size - 1, 1))
-        nearer = np.where(np.abs(log_f[at - 1] - np.log(f0)) <= np.abs(log_f[np.minimum(at, f.size - 1)] - np.log(f0)), at - 1, np.minimum(at, f.size - 1))
-        index = order[nearer]
+        log_f, target = np.log(f[order]), np.log(f0)
+        above = np.clip(np.searchsorted(log_f, target), 0, f.size - 1)  # (the neighbours of each target in the sorted grid)
+        below = np.clip(above - 1, 0, f.size - 1)
+        index = order[np.where(np.abs(log_f[below] - target) <= np.abs(log_f[above] - target), below, above)]
         matched = np.abs(f[index] / f0 - 1) <= SWEEP_RTOL
         if np.unique(index[matched]).size != np.count_nonzero(matched):
             raise DataError(f"two of {first_path}'s frequencies match one of this file's within {SWEEP_RTOL:.1%}: the grids cannot be lined up point by point", path=path)

@@ -7,7 +7,7 @@ the measured τ window), started at R_k = the peak's R, α = 0.9, Q_k = τ_k^α 
 series when they end in a constant-phase tail of another slope (`shape.low_frequency_tail`; the
 peaks at the tail's τ are its own, not arcs); else a series CPE for a resolved peak beyond the
 slowest point (the data show only its arc's fast side,
-R/(jωτ)^α); L1 when the DRT's L is a visible part of |Z| at the top frequency (5 %, or 3× the
+R/(jωτ)^α); L1 when the DRT's L is a visible part of |Z| at the top frequency (5 %, or 4× the
 noise); a series C when
 the DRT fitted one; R0 alone for a flat spectrum (`DRTResult.flat`). Unresolved peaks and peaks faster than the top frequency are left out.
 """
