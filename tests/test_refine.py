@@ -973,3 +973,21 @@ def test_a_further_path_of_the_same_effect_says_what_differs_not_the_effect_twic
         "The second path started from constant_phase (CPE1, in place of the ideal capacitor C1), giving R1 || CPE1. "
         "The first path started from extra_relaxation (R_relax || CPE_relax, in series with the whole circuit), giving R1 || C1 + R_relax || CPE_relax."
     )
+
+
+@pytest.mark.slow  # (15-25 s)
+def test_a_tie_is_not_won_by_an_element_kept_only_at_zero():
+    """REAL Gamry file (impedance.py's example), R0 + R1 || CPE1: both paths add R_relax ∥
+    CPE_relax behind R1; the first leaves R0 out (it fell to 9e-40 Ω), the second keeps it at
+    that value. The tie rule kept the second path for "keeping R0", and the pruning then took R0
+    out again: the report showed a step "− R0 [simplified]" back to the first path's end, under
+    a note that the second path was kept (2026-12-04). Now the first path's end stands, with no
+    pruning step, and the note says the second path changes nothing."""
+    from pathlib import Path
+
+    data = ix.load(Path(__file__).parent / "fixtures" / "real" / "exampleDataGamry.DTA")
+    r = ix.refine(data, "R0 + R1 || CPE1")
+    assert [s.model for s in r.steps] == ["R0 + R1 || CPE1", "(R1 + R_relax || CPE_relax) || CPE1"], r.report()
+    assert not any("is kept in place of" in n for n in r.notes), r.notes
+    assert any(n.startswith("the second path changes nothing") for n in r.notes), r.notes
+    assert "R0" not in r.final.circuit.element_names

@@ -513,7 +513,11 @@ def _second_path(steps: list[RefinementStep], picked, limit: int, diagnosed, say
         # sizes as the ranking counts them (`ranked_size`): a resistor that fell to zero and was left out counts as kept
         size_a, size_b = _path_size(steps), _path_size(other)
         tie = abs(b.aic - a.aic) <= DELTA_AIC_MIN and size_b == size_a
-        kept_more = _elements_left_out(other) < _elements_left_out(steps)
+        restored = sorted(_elements_left_out(steps) - _elements_left_out(other))
+        # an element the other path keeps only as a vanished term (R0 at 0) is not kept: the pruning
+        # takes it out again (Gamry's file: a tie kept the second path for its R0 = 9e-40 Ω, which
+        # the pruning then left out, back at the first path's end, the note saying the reverse)
+        kept_more = _elements_left_out(other) < _elements_left_out(steps) and bool(set(restored) - _vanishing_elements(b))
         better = b.aic < a.aic - DELTA_AIC_MIN or (b.aic <= a.aic + DELTA_AIC_MIN and size_b < size_a) or (tie and kept_more)
         if _same_network(a, b) and not better:  # one model, under the same or other names, and not to be kept: nothing to compare, the first-found stays
             del notes[own_notes:]  # (its refit's notes speak of a path the report does not name)
@@ -524,7 +528,6 @@ def _second_path(steps: list[RefinementStep], picked, limit: int, diagnosed, say
         # more parameters are kept by the rules that add one: AIC and a quarter of the noise variance;
         # but parameters that are the user's own elements, which the path before left out, are kept by
         # the rule that takes an element out (`_simplified`): it goes only when that costs at most DELTA_AIC_MIN
-        restored = sorted(_elements_left_out(steps) - _elements_left_out(other))
         # (a restored resistor that fell to zero on the path before is in that path's size already)
         own = better and bool(restored) and 0 < size_b - size_a <= _parameter_count(b, set(restored) - set(_vanished_on(steps)))
         slight = better and size_b > size_a and not own and noise_variance_explained(a, b, first) < NOISE_FRACTION_MIN
@@ -551,6 +554,13 @@ def _second_path(steps: list[RefinementStep], picked, limit: int, diagnosed, say
         if better:
             steps, holder = other, f"the {label}"
     return steps
+
+
+def _vanishing_elements(fit: FitResult) -> set[str]:
+    """The elements of ``fit``'s circuit in a term that vanished (`vanishing.vanished_terms`: a
+    resistor at 0 in series, a branch that carries nothing), which `_pruned` leaves out."""
+    names = set(fit.circuit.element_names)
+    return {e for _, reduced, _ in vanished_terms(fit) for e in names - set(reduced.element_names)}
 
 
 def _vanished_on(path: list[RefinementStep]) -> tuple[str, ...]:
