@@ -1624,13 +1624,16 @@ def _parallel_resistors(circuit: Circuit, registry: Registry):
     branches of a parallel node (without it the node stays a parallel group: R ∥ CPE ∥ C →
     CPE ∥ C; ``""``), or one of the two branches of a node in series with the whole circuit
     beside a C or CPE, when the rest of the circuit already blocks DC (`_blocks_dc`): R_relax ∥
-    C_relax → C_relax in series (the words say so).
+    C_relax → C_relax in series (the words say so), or beside a C when it conducts (since
+    2026-12-04: the open resistor is the data's word that no DC current passes; the words name
+    a blocking capacitance).
 
     A two-branch node is reduced only there. Elsewhere leaving its resistor out takes away a DC
     path the model has: behind an arc's resistor, (R1 + C_relax) ∥ CPE1 no longer closes on
-    R1; on a circuit that conducts, a series C makes a blocking electrode, and a series CPE of
-    α ≈ 0.5 the diffusion effect's Warburg — another effect under the name of the one that
-    proposed the node."""
+    R1; on a circuit that conducts, a series CPE, of any α, takes up other effects' misfit at
+    the low end under this one's name (SYNTHETIC dev2 two/rc_cpe_w, a CPE and a Warburg
+    missing from R0 + R1 ∥ C1: R0 + R1 ∥ C1 + CPE_relax, α = 0.36, was named before the
+    Warburg)."""
     top = circuit.children if isinstance(circuit, Series) else ()
     for node, i in parallel_branches(circuit):
         resistor = node.children[i]
@@ -1645,9 +1648,9 @@ def _parallel_resistors(circuit: Circuit, registry: Registry):
             continue
         if blockers:
             yield resistor, f"; {other.name} stands alone in series, where the circuit already blocks DC ({blockers[0]})"
-        else:  # (2026-12-04: the open resistor is the data's, which show no DC path through the node)
+        elif registry[other.symbol].symbol == "C":  # (2026-12-04: the open resistor is the data's, which show no DC path through the node)
             yield resistor, (f"; {other.name} stands alone in series: the data show no DC path through {resistor.name} ∥ {other.name} over the band, so its arc "
-                             f"closes below the lowest frequency, or never (a blocking interface: an insulating layer, a coating, a blocking electrode)")
+                             f"closes below the lowest frequency, or never (a blocking capacitance: an insulating layer, a coating, a blocking electrode)")
 
 
 def _blocks_dc(circuit: Circuit, registry: Registry) -> bool:
