@@ -283,6 +283,12 @@ def test_common_frequencies_keep_the_points_every_file_has_and_name_the_rest(day
     assert f"note: {paths[0]}: 2 frequencies not in every file left out (398 mHz, 251 Hz)" in err, err
     assert f"note: {paths[2]}: 2 frequencies not in every file left out (398 mHz, 251 Hz)" in err and str(paths[1]) + ":" not in err
     assert ix.load(out).attrs["frequencies_left_out"] == left_out  # (kept in the file)
+    code, printed, _ = run(["inspect", out], capsys)
+    assert f"  left out of {paths[0]} by the stack (not in every file): 398 mHz, 251 Hz" in printed, printed
+    code, printed, _ = run(["inspect", out, "--json"], capsys)
+    assert json.loads(printed)["frequencies_left_out"] == left_out
+    code, printed, _ = run(["inspect", paths[1], "--json"], capsys)
+    assert json.loads(printed)["frequencies_left_out"] == {}
     # files on one grid lose nothing and carry no record of it
     same_grid = tmp_path / "day04.csv"
     write_day(same_grid, 15e3, seed=4)

@@ -752,7 +752,7 @@ def test_an_open_resistor_beside_a_capacitor_is_left_out_where_the_circuit_condu
     # R_relax ∥ C_relax runs open here too. Until 2026-12-04 no candidate left R_relax out (a
     # series C turns a conducting circuit into a blocking one) and R0 + CPE1 + Ws_d was named at
     # 5.1 %; the generating circuit, C_relax alone in series, fits to the noise, and its placement
-    # says that the data show no DC path (a blocking interface, or an arc below the band)
+    # says that the data show no DC path (a blocking capacitance, or an arc below the band)
     from impedax.fitting.diagnosis.diagnosis import OPEN_RESISTANCE_FACTOR
 
     data = _battery_with_series_capacitor(100.0, warburg_sigma=None)

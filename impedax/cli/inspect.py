@@ -29,6 +29,7 @@ def register(sub) -> None:
 def run(args) -> int:
     import numpy as np
 
+    from ..data import format_frequency
     from ..errors import DataError
     from ..io.loader import NETCDF_SUFFIXES
     from ..io.netcdf import RESULT_KINDS, result_kind
@@ -70,6 +71,9 @@ def run(args) -> int:
         # another: "columns" is {} then): each file's record as "columns" holds it, by file path
         # as in attrs "sources"; {} when the files agree or nothing was stacked
         "columns_by_file": _columns_by_file(ds),
+        # (added 2026-12-04) files stacked with --common-frequencies: the frequencies [Hz] each file
+        # lost, by file path; {} when none was left out or nothing was stacked
+        "frequencies_left_out": _frequencies_left_out(ds),
         "skipped_rows": skipped,
         # the labels `--select DIM=LABEL` picks a spectrum by (positions where a dimension has none)
         "labels": {d: dimension_labels(ds, d) for d in extra},
@@ -117,6 +121,8 @@ def run(args) -> int:
         print(f"    {line}")
     if len(skipped) > 20:
         print(f"    ... and {len(skipped) - 20} more")
+    for path, frequencies in summary["frequencies_left_out"].items():
+        print(f"  left out of {path} by the stack (not in every file): {labels_text([format_frequency(f) for f in frequencies])}")
     for key, value in summary["attrs"].items():
         # (a dimension's labels are listed above: the reader's text of them would repeat it)
         if key not in ("format", "data_format", "source", "path", *_HOW_KEYS, *extra):
@@ -146,6 +152,15 @@ def _column_record(record) -> dict[str, dict]:
     if not isinstance(record, dict):
         return {}
     return {str(role): {str(k): (v.item() if hasattr(v, "item") else v) for k, v in entry.items()} for role, entry in record.items() if isinstance(entry, dict)}
+
+
+def _frequencies_left_out(ds) -> dict[str, list[float]]:
+    """``attrs["frequencies_left_out"]`` (`impedax.stack_files` with ``common_frequencies``) as
+    JSON values: file path → the frequencies [Hz] the stack left out of it."""
+    record = ds.attrs.get("frequencies_left_out")
+    if not isinstance(record, dict):
+        return {}
+    return {str(path): [float(f) for f in frequencies] for path, frequencies in record.items() if isinstance(frequencies, (list, tuple))}
 
 
 def _columns_by_file(ds) -> dict[str, dict[str, dict]]:
