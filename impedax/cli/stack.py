@@ -38,11 +38,10 @@ def run(args) -> int:
     from pathlib import Path
 
     from ..data import counted, format_frequency
-    from ..warning_groups import labels_text
     from ..errors import DataError
     from ..io.loader import NETCDF_SUFFIXES
     from ..io.stack import stack_files
-    from .common import command_provenance, data_source, emit_json, plan_outputs, spectrum_summary, spectrum_writer, with_source
+    from .common import command_provenance, data_source, emit_json, labels_text, plan_outputs, spectrum_summary, spectrum_writer, with_source
 
     if Path(args.out).suffix.lower() not in NETCDF_SUFFIXES:
         raise DataError(f"--out: a stack of spectra is written as netCDF: give a {', '.join(NETCDF_SUFFIXES)} name (a CSV file holds one spectrum)", path=args.out)
