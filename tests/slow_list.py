@@ -20,6 +20,11 @@ import sys
 
 DURATION = re.compile(r"^([\d.]+)s (setup|call|teardown)\s+(.+)$")
 
+NEVER_SLOW = ("tests/test_architecture.py",)
+"""Files kept in `make test` whatever their tests take: the architecture checks (import cycles,
+private names) guard every change, in ~3 s. Listed slow from 2026-12-02, they let an import
+cycle land on 2026-12-03 that only `make test-all` saw."""
+
 
 def slow_ids(log_lines, seconds: float, whole_file_setup: float) -> tuple[list[str], list[str]]:
     """(whole files, single test ids) to mark slow, from pytest's ``--durations=0`` lines."""
@@ -34,8 +39,8 @@ def slow_ids(log_lines, seconds: float, whole_file_setup: float) -> tuple[list[s
             call[node_id] += duration
         elif phase == "setup":
             setup_by_file[node_id.split("::")[0]] += duration
-    files = sorted(f for f, total in setup_by_file.items() if total >= whole_file_setup)
-    tests = sorted(n for n, duration in call.items() if duration >= seconds and n.split("::")[0] not in files)
+    files = sorted(f for f, total in setup_by_file.items() if total >= whole_file_setup and f not in NEVER_SLOW)
+    tests = sorted(n for n, duration in call.items() if duration >= seconds and n.split("::")[0] not in files and n.split("::")[0] not in NEVER_SLOW)
     return files, tests
 
 
@@ -55,8 +60,8 @@ def main(argv=None) -> int:
             lines = [line.strip() for line in kept if line.strip()]
         timings = [line for line in lines if line.startswith("# Timed:")]
         listed = [line for line in lines if not line.startswith("#")]
-        files = sorted(set(files) | {entry for entry in listed if "::" not in entry})
-        tests = sorted(t for t in set(tests) | {entry for entry in listed if "::" in entry} if t.split("::")[0] not in files)
+        files = sorted(set(files) | {entry for entry in listed if "::" not in entry and entry not in NEVER_SLOW})
+        tests = sorted(t for t in set(tests) | {entry for entry in listed if "::" in entry} if t.split("::")[0] not in files and t.split("::")[0] not in NEVER_SLOW)
     print("# Tests `make test` leaves to `make test-all`, made by tests/slow_list.py from timed runs: the calls that took at")
     print("# least --seconds, and whole files whose module fixtures took at least --whole-file-setup seconds to set up.")
     timings.append(f"# Timed: {args.timed or 'a run'}; --seconds {args.seconds:g} --whole-file-setup {args.whole_file_setup:g}.")

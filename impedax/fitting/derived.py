@@ -277,10 +277,10 @@ def batch_constants(constants, names: list[str], model: str, batch) -> dict[str,
     """The ``constants=`` of `derive`: name → value held in ``params`` beside the fitted ones,
     each as an array over the batch's dimensions (shape () for a single fit, ``batch`` None). A
     number is the same for every spectrum; a DataArray over some of the batch's dimensions gives
-    one value per spectrum, matched by label (`per_spectrum.aligned_values`, as ``fixed=``). A
+    one value per spectrum, matched by label (`grid.aligned_values`, as ``fixed=``). A
     name of a parameter, a value that is not a finite real number, or a DataArray for a single
     fit is a `ParameterError` naming it."""
-    from .least_squares.per_spectrum import aligned_values
+    from .grid import aligned_values
 
     if constants is None:
         return {}

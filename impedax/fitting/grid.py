@@ -1,7 +1,9 @@
 """`ResultGrid`: one method's results for every spectrum of a Dataset with extra dimensions
 (trial, session, ...), held in C order over those dimensions; the batch results of the KK test
 and the DRT are grids. `refuse_result_names`: the check, shared by every batch analysis, that
-no batch dimension has the name of its result's own variables and dimensions."""
+no batch dimension has the name of its result's own variables and dimensions. `aligned_values`:
+a value given per spectrum (a DataArray over the data's extra dimensions) matched to the data's
+labels, as `fit`'s ``fixed=``/``init=`` and `derive`'s ``constants=`` take them."""
 
 from __future__ import annotations
 
@@ -10,11 +12,14 @@ from typing import Collection, Mapping, Sequence
 
 import numpy as np
 
+import xarray as xr
+
+from ..arguments import shown
 from ..data import label_value
-from ..errors import DataError
+from ..errors import IN_MEMORY, DataError, ParameterError
 from .frozen import freeze_fields
 
-__all__ = ["ResultGrid", "refuse_result_names"]
+__all__ = ["ResultGrid", "refuse_result_names", "aligned_values"]
 
 
 def refuse_result_names(batch_dims: Sequence[str], result_names: Collection[str], result: str, *, source: object = None) -> None:
@@ -63,3 +68,46 @@ class ResultGrid:
     def per_spectrum(self, name: str, dtype=float) -> np.ndarray:
         """Attribute ``name`` of every result as an array over ``dims``."""
         return np.array([getattr(r, name) for r in self.results], dtype=dtype).reshape(self.shape)
+
+
+def aligned_values(value, data: xr.Dataset, extra: tuple[str, ...], label: str, source: str):
+    """``value`` as it is when a number; a DataArray over some of the data's extra dimensions
+    ``extra`` with the data's labels along each (in any order; reordered as the data's), or over
+    a dimension without labels of the same size and none of its own. Else a `ParameterError`
+    naming ``label`` (``fixed['C_EP']``) and what differs."""
+    if not isinstance(value, xr.DataArray):
+        return value
+    if not value.ndim:
+        return float(value)
+    where = f" of {source}" if source not in (None, "", "dataset", IN_MEMORY) else ""  # (the file, when the data came from one)
+    unknown = [d for d in value.dims if d not in extra]
+    if unknown:
+        have = ", ".join(extra) if extra else "none: the data hold one spectrum"
+        raise ParameterError(
+            f"{label} is a DataArray over {', '.join(map(str, value.dims))}; one value per spectrum is over the data's extra dimensions "
+            f"({have}){where}, and {', '.join(map(str, unknown))} is not one of them" + ("; one value per frequency is not a fit parameter" if "frequency" in unknown else "")
+        )
+    for d in value.dims:
+        ours = data[d].values.tolist() if d in data.coords else None
+        theirs = value[d].values.tolist() if d in value.coords else None
+        if ours is None:
+            if value.sizes[d] != data.sizes[d] or theirs is not None:
+                raise ParameterError(f"{label}: the data{where} have {data.sizes[d]} spectra along {d} without labels; give {data.sizes[d]} values along {d} without coordinates, in the data's order")
+            continue
+        if theirs is None:
+            raise ParameterError(f"{label} has no labels along {d}; the data's are {_labels_text(ours)}: label it, e.g. xr.DataArray(values, dims={d!r}, coords={{{d!r}: data[{d!r}].values}})")
+        missing = [v for v in ours if v not in theirs]
+        alien = [v for v in theirs if v not in ours]
+        if missing or alien or len(set(map(_label_key, theirs))) != len(theirs):
+            said = "; ".join(part for part in (f"not in the data: {_labels_text(alien)}" if alien else "", f"missing: {_labels_text(missing)}" if missing else "") if part) or "its labels repeat"
+            raise ParameterError(f"{label}: its labels along {d} ({_labels_text(theirs)}) are not the data's ({_labels_text(ours)}){where}: {said}; give one value for each spectrum, labelled as the data")
+        value = value.sel({d: data[d].values})  # (the data's order)
+    return value
+
+
+def _label_key(label):
+    return label if isinstance(label, (str, int, float)) else shown(label)
+
+
+def _labels_text(labels: list) -> str:
+    return ", ".join(map(str, labels[:6])) + (f", … ({len(labels)} in all)" if len(labels) > 6 else "")

@@ -14,8 +14,7 @@ from typing import Callable, Mapping
 import numpy as np
 import xarray as xr
 
-from ...arguments import shown
-from ...errors import IN_MEMORY, ParameterError
+from ..grid import aligned_values
 from .batch import BatchFitResult
 
 __all__ = ["has_per_spectrum_values", "split_fits"]
@@ -49,41 +48,6 @@ def split_fits(fit: Callable, circuit, data: xr.Dataset, source: str, *, fixed, 
     return joined(parts, over, sizes)
 
 
-def aligned_values(value, data: xr.Dataset, extra: tuple[str, ...], label: str, source: str):
-    """``value`` as it is when a number; a DataArray over some of the data's extra dimensions
-    ``extra`` with the data's labels along each (in any order; reordered as the data's), or over
-    a dimension without labels of the same size and none of its own. Else a `ParameterError`
-    naming ``label`` (``fixed['C_EP']``) and what differs."""
-    if not isinstance(value, xr.DataArray):
-        return value
-    if not value.ndim:
-        return float(value)
-    where = f" of {source}" if source not in (None, "", "dataset", IN_MEMORY) else ""  # (the file, when the data came from one)
-    unknown = [d for d in value.dims if d not in extra]
-    if unknown:
-        have = ", ".join(extra) if extra else "none: the data hold one spectrum"
-        raise ParameterError(
-            f"{label} is a DataArray over {', '.join(map(str, value.dims))}; one value per spectrum is over the data's extra dimensions "
-            f"({have}){where}, and {', '.join(map(str, unknown))} is not one of them" + ("; one value per frequency is not a fit parameter" if "frequency" in unknown else "")
-        )
-    for d in value.dims:
-        ours = data[d].values.tolist() if d in data.coords else None
-        theirs = value[d].values.tolist() if d in value.coords else None
-        if ours is None:
-            if value.sizes[d] != data.sizes[d] or theirs is not None:
-                raise ParameterError(f"{label}: the data{where} have {data.sizes[d]} spectra along {d} without labels; give {data.sizes[d]} values along {d} without coordinates, in the data's order")
-            continue
-        if theirs is None:
-            raise ParameterError(f"{label} has no labels along {d}; the data's are {_text(ours)}: label it, e.g. xr.DataArray(values, dims={d!r}, coords={{{d!r}: data[{d!r}].values}})")
-        missing = [v for v in ours if v not in theirs]
-        alien = [v for v in theirs if v not in ours]
-        if missing or alien or len(set(map(_key, theirs))) != len(theirs):
-            said = "; ".join(part for part in (f"not in the data: {_text(alien)}" if alien else "", f"missing: {_text(missing)}" if missing else "") if part) or "its labels repeat"
-            raise ParameterError(f"{label}: its labels along {d} ({_text(theirs)}) are not the data's ({_text(ours)}){where}: {said}; give one value for each spectrum, labelled as the data")
-        value = value.sel({d: data[d].values})  # (the data's order)
-    return value
-
-
 def joined(parts: list[BatchFitResult], dims: tuple[str, ...], sizes: list[int]) -> BatchFitResult:
     """One `BatchFitResult` of ``parts`` (C order over ``dims`` of ``sizes``, each a batch with
     those dimensions of length 1): the datasets concatenated along each dimension (the variables
@@ -104,11 +68,3 @@ def joined(parts: list[BatchFitResult], dims: tuple[str, ...], sizes: list[int])
     for r in rows:
         warnings.update(r.warnings)
     return dataclasses.replace(first, dataset=dataset, warnings=warnings, elapsed_s=sum(r.elapsed_s for r in rows))
-
-
-def _key(label):
-    return label if isinstance(label, (str, int, float)) else shown(label)
-
-
-def _text(labels: list) -> str:
-    return ", ".join(map(str, labels[:6])) + (f", … ({len(labels)} in all)" if len(labels) > 6 else "")
