@@ -478,7 +478,7 @@ def test_correlation_notes_give_the_pair_its_own_reason(rng):
     result = ix.fit("R0 + Wo1", ix.make_spectrum(f, noisy(z, 0.005, rng)))
     (note,) = [w for w in result.warnings if w.startswith("Wo1.R and Wo1.tau are strongly correlated")]
     assert "only R/√τ shows" in note and "CPE" not in note
-    assert "at ωτ ≪ 1 an open one (Wo) acts as a capacitor τ/R in series with R/3" in note  # (coth x ≈ 1/x + x/3)
+    assert "at ωτ ≪ 1 an open Warburg (Wo) acts as a capacitor τ/R in series with R/3" in note  # (coth x ≈ 1/x + x/3)
     assert result.values["Wo1.R"] / np.sqrt(result.values["Wo1.tau"]) == pytest.approx(50 * np.sqrt(2), rel=0.05)
 
 

@@ -78,19 +78,24 @@ def test_the_diagnose_advice_leaves_out_the_masked_points_and_reaches_the_promis
 
 
 @pytest.mark.slow  # (an end-to-end run of ~10 s: make test-all; the fast suite's 15-minute budget)
-def test_the_refine_reproduce_line_leaves_out_the_interior_masked_points(tmp_path, capsys):
+def test_refine_keeps_the_interior_points_the_kk_test_flags_and_its_final_fit_reproduces(tmp_path, capsys):
+    """BioLogic's real file: the KK test flags 4 points inside the band (5.34, 56.2, 123, 270 Hz).
+    Since 2026-12-02 refine leaves out only a flagged run at an end of the band, so these are kept
+    and named on the data line (until then they were masked, and the reproduce line carried
+    --exclude); the final fit is then ``impedax fit`` of the final model on every point, or the
+    line refine prints, with no --exclude."""
     summary = tmp_path / "refinement.json"
     assert main(["refine", str(BIOLOGIC), "--out", str(summary)]) == 0
     text = capsys.readouterr().out
     refinement = json.loads(summary.read_text())
-    masked = refinement["masked_points"]
-    assert len(masked) == 4  # (5.34, 56.2, 123, 270 Hz)
-    line = next(x for x in text.splitlines() if x.startswith("to reproduce the final fit"))
-    argv = _command(line)
-    excluded = [float(x) for x in argv[argv.index("--exclude") + 1].split(",")]
-    assert excluded == pytest.approx(sorted(masked), rel=5e-3) and "--fmin" not in argv and "--fmax" not in argv
+    assert refinement["masked_points"] == []
+    data_line = next(x for x in text.splitlines() if x.startswith("data: "))
+    assert "the KK test flags 4 point(s) inside the band (5.34 Hz, 56.2 Hz, 123 Hz, 270 Hz): kept in every fit" in data_line
+    line = next((x for x in text.splitlines() if x.startswith("to reproduce the final fit")), None)
+    argv = _command(line) if line else ["fit", str(BIOLOGIC), "--model", refinement["final_model"]]
+    assert not {"--exclude", "--fmin", "--fmax"} & set(argv), argv
     out = _run_json(argv, capsys)
-    assert out["model"] == refinement["final_model"]
+    assert out["model"] == refinement["final_model"] and out["n_points"] == refinement["n_points_judged"]
     assert out["rms_rel"] == pytest.approx(refinement["final_rms_rel"], rel=1e-4)
 
 

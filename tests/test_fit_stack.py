@@ -181,7 +181,7 @@ def test_one_spectrum_of_a_batch_as_a_whole_fit():
         assert value == pytest.approx(float(batch.dataset["value"].sel(param=name, cycle=64)), rel=1e-4)
     assert one.rms_rel == pytest.approx(float(batch.dataset["rms_rel"].sel(cycle=64)), rel=1e-4)
     np.testing.assert_array_equal(one.z_data, ds["Z"].sel(cycle=64).values)
-    with pytest.raises(ix.ParameterError, match=r"cycle=5 is not among the batch's labels \(0, 64, 129\)"):
+    with pytest.raises(ix.ParameterError, match=r"cycle=5 is not among the batch's labels \(nearest labels: 0, 64, 129\)"):
         batch.fit_of(cycle=5)
     with pytest.raises(ix.ParameterError, match=r"one label for each batch dimension \(cycle\); unknown: trial; missing: cycle"):
         batch.fit_of(trial=1)

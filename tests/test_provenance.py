@@ -318,7 +318,7 @@ def test_stack_out_records_every_file(rc_file, tmp_path, capsys):
     assert main(["stack", str(rc_file), str(second), "--dim", "day", "--coords", "1", "2", "--out", str(out)]) == 0
     capsys.readouterr()
     record = _nc_record(out)
-    assert record["command"] == "impedax stack" and record["settings"] == {"dim": "day", "coords": ["1", "2"]}
+    assert record["command"] == "impedax stack" and record["settings"] == {"dim": "day", "coords": ["1", "2"], "common_frequencies": False}
     assert record["data_files"] == [str(rc_file.resolve()), str(second.resolve())]
     assert ix.load(out).sizes["day"] == 2  # (the stack reads back as before)
 
