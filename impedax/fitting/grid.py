@@ -11,7 +11,6 @@ from dataclasses import dataclass
 from typing import Collection, Mapping, Sequence
 
 import numpy as np
-
 import xarray as xr
 
 from ..arguments import shown

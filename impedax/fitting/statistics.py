@@ -289,8 +289,8 @@ def residual_noise(residual_real: np.ndarray, residual_imag: np.ndarray, order: 
     `difference_noise` of the first differences of Re and Im in frequency order (``order``),
     which a smooth (drift-like) deviation barely changes, inflated by √(2N/(2N − P)) for the P
     fitted (or effective) parameters; NaN below 3 points. Residuals of several spectra on one
-    grid (B, N) give one σ per spectrum, in one pass (a batch of 1,000 fits spent ~20 ms
-    calling it per spectrum)."""
+    grid (B, N) give one σ per spectrum, in one pass (called spectrum by spectrum, a batch of
+    1,000 fits of 57 points spent 26.5 ms in it, in one pass 4.6 ms)."""
     n = residual_real.shape[-1]
     if n < 3:
         return math.nan if residual_real.ndim < 2 else np.full(residual_real.shape[:-1], np.nan)
