@@ -26,7 +26,7 @@ def _fit_stand_in(**fields):
     from types import SimpleNamespace as NS
 
     # (no parameter at a bound, no infinite standard error: no term of it vanished, `vanishing.vanished_terms`)
-    fields = {"circuit": ix.parse("R0 + L_lead"), "at_bound": (), "free_names": (), "stderr": {}} | fields
+    fields = {"at_bound": (), "free_names": (), "stderr": {}} | fields
     return NS(frequency=_STAND_IN_FREQUENCY, residuals=np.full(_STAND_IN_FREQUENCY.size, np.exp(fields["aic"] / 400) + 0j), **fields)
 
 

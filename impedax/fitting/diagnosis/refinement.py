@@ -559,8 +559,9 @@ def _second_path(steps: list[RefinementStep], picked, limit: int, diagnosed, say
 def _vanishing_elements(fit: FitResult) -> set[str]:
     """The elements of ``fit``'s circuit in a term that vanished (`vanishing.vanished_terms`: a
     resistor at 0 in series, a branch that carries nothing), which `_pruned` leaves out."""
-    names = set(fit.circuit.element_names)
-    return {e for _, reduced, _ in vanished_terms(fit) for e in names - set(reduced.element_names)}
+    terms = vanished_terms(fit)  # (none unless a parameter is flagged: most fits end here)
+    names = set(fit.circuit.element_names) if terms else set()
+    return {e for _, reduced, _ in terms for e in names - set(reduced.element_names)}
 
 
 def _vanished_on(path: list[RefinementStep]) -> tuple[str, ...]:
