@@ -214,3 +214,25 @@ def test_a_variance_beyond_float_range_is_inf_without_a_numpy_warning():
         warnings.simplefilter("error", RuntimeWarning)
         cov, corr, _, _ = covariances(jac, np.array([1e10]), "modulus")
     assert np.isinf(cov[0, 2, 2]) and np.all(np.isfinite(np.diag(cov[0])[:2]))
+
+
+def test_fit_noise_of_a_stack_is_each_spectrum_s_own():
+    """`statistics.fit_noise` of many spectra in one pass: per spectrum, 1.4826·median|d|/√2 of the
+    first differences d of Re and Im of the relative residuals in frequency order, × √(2N/(2N − P)),
+    × |Z| (written here per row, apart from the code); a row that cannot be estimated gives 0."""
+    from impedax.fitting.statistics import fit_noise
+
+    rng = np.random.default_rng(5)
+    f = np.geomspace(1e5, 0.1, 40)  # (high to low, as files list them)
+    z = (10 + rng.normal(size=(6, f.size))) * np.exp(-1j * rng.uniform(0, 1, (6, f.size)))
+    z_model = z * (1 + 0.01 * rng.normal(size=z.shape) + 0.01j * rng.normal(size=z.shape))
+    z_model[4, 7] = np.nan
+    out = fit_noise(f, z, z_model, 5)
+    order = np.argsort(f)
+    for i in range(6):
+        rel = ((z[i] - z_model[i]) / np.abs(z[i]))[order]
+        d = np.concatenate([np.diff(rel.real), np.diff(rel.imag)])
+        sigma = 1.482602218505602 * np.median(np.abs(d)) / np.sqrt(2) * np.sqrt(80 / 75)
+        expected = 0.0 if not np.isfinite(sigma) else sigma
+        np.testing.assert_allclose(out[i], expected * np.abs(z[i]), rtol=1e-12)
+    assert np.all(out[4] == 0) and np.all(out[[0, 1, 2, 3, 5]] > 0)
