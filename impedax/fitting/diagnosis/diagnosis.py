@@ -1888,18 +1888,21 @@ def _inductive_top(base: FitResult, sigma_rel: np.ndarray) -> int:
 
 def _lead_behind(base: FitResult, cands: Sequence[Suggestion], proposals: list[tuple[Effect, Proposal]], spectrum: xr.Dataset, effects: EffectCatalog, shape: SolverShape, sigma_rel: np.ndarray, bands: Sequence[FailingBand], *, with_drt: bool, drts: DRTMemo, max_params: int, n_starts: int, max_steps: int, seed: int, say=lambda text: None) -> tuple[list[tuple[Effect, Proposal]], list[FitResult], SolverShape]:
     """A lead inductance hidden behind the effect named first: when the data's top is inductive
-    (`_inductive_top`) and no ``series_inductance`` candidate is significant, ``series_inductance``
-    on top of the best significant suggestion (a pair, `_paired`), kept when it is significant
+    (`_inductive_top`) and the best significant suggestion holds no ``series_inductance``,
+    ``series_inductance`` on top of it (a pair, `_paired`), kept when it is significant
     against that suggestion by the usual rules (ΔAIC, noise variance explained, determined,
     plausible). A lone L cannot help while the model also lacks a high-frequency arc: on
     VersaStudio's REAL spectrum with ``R0 + R1 || CPE1`` (+4.7° at 100 kHz, a ~10 Ω arc at
     20–50 kHz the baseline does not make) L_lead alone lowers rms_rel 6.65 → 6.64 % and is
-    undetermined; behind the nested R ∥ CPE it is 14 µH, determined, and lowers AIC by 75."""
-    if "series_inductance" not in effects.ids() or any(s.significant and "series_inductance" in s.effect.split("+") for s in cands):
-        return [], [], shape
+    undetermined; behind the nested R ∥ CPE it is 14 µH, determined, and lowers AIC by 75. Where
+    it helps alone but far less than the effect named first, the pair says both are missing: on
+    exampleData.csv (REAL) from ``R0 + R1 || C1``, L_lead alone −25.8 in AIC (8th), the arc
+    −159.8 at 12.6 %, both −528.0 at 2.65 % (docs/diagnosis.md, section 5)."""
     best = next((s for s in cands if s.significant), None)
+    if "series_inductance" not in effects.ids() or best is None or "series_inductance" in best.effect.split("+"):
+        return [], [], shape
     by_circuit = {str(p.circuit): (e, p) for e, p in proposals}
-    if best is None or str(best.fit.circuit) not in by_circuit or _inductive_top(base, sigma_rel) < INDUCTIVE_TOP_POINTS:
+    if str(best.fit.circuit) not in by_circuit or _inductive_top(base, sigma_rel) < INDUCTIVE_TOP_POINTS:
         return [], [], shape
     first, p1 = by_circuit[str(best.fit.circuit)]
     ctx = _context(best.fit, _drt_evidence(best.fit, [], drts) if with_drt else None)

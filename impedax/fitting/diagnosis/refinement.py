@@ -433,9 +433,10 @@ def _greedy(steps: list[RefinementStep], best, limit: int, diagnosed, say, label
 
 def _second_path(steps: list[RefinementStep], picked, limit: int, diagnosed, say, notes: list[str], finished) -> list[RefinementStep]:
     """A second look at the first choice ``picked`` (the suggestion the greedy path started from)
-    when the greedy path added two effects or more: the
+    when the greedy path added two effects or more (a lead pair in one step counts as two): the
     first diagnosis' best significant suggestion at another placement or of another effect
-    (within `BRANCH_WINDOW` of AIC) is continued greedily too, and the better final model is
+    (within `BRANCH_WINDOW` of AIC; of a lead pair, from the effect under its L, which starts a
+    path too: `_lead_base`) is continued greedily too, and the better final model is
     kept (lower AIC by more than `DELTA_AIC_MIN`, or as good with fewer parameters, or as good
     with as many while leaving out fewer elements: a subset of the other's). Parameters are
     counted as the ranking counts them (`_path_size`): a series resistance that fell to zero and
@@ -483,11 +484,18 @@ def _second_path(steps: list[RefinementStep], picked, limit: int, diagnosed, say
     elements). From C_gap on the SYNTHETIC Sirin remainder, the path of C_gap → CPE_gap reached
     R_EP ∥ C_EP ∥ CPE_gap, the kept R_EP ∥ CPE_EP ∥ C_gap, and was noted as a tie."""
     first = steps[0].diagnosis
-    alternatives = [s for s in first.suggestions if (placement(s.where) != placement(picked.where) or s.effect != picked.effect) and s.delta_aic <= picked.delta_aic + BRANCH_WINDOW][:1] if len(steps) >= 3 else []
-    leaving = [s for s in first.suggestions if s.removed and not picked.removed and s.delta_aic < picked.delta_aic - DELTA_AIC_MIN and all(s is not t for t in alternatives)] if len(steps) >= 2 else []
+    # a lead pair stands for the suggestion under its L (`_lead_base`): that suggestion starts a path
+    # too, and the window is measured from it, as the lead's own gain tells no first effect from another
+    # (a path whose one step took a lead pair has added two effects: it gets the second look too)
+    base = _lead_base(first, picked)
+    reference = picked if base is None else base
+    second_look = len(steps) >= 3 or (base is not None and len(steps) >= 2)
+    alternatives = [s for s in first.suggestions if s is not base and s is not picked and (placement(s.where) != placement(reference.where) or s.effect != reference.effect) and s.delta_aic <= reference.delta_aic + BRANCH_WINDOW][:1] if second_look else []
+    alternatives = ([base] if base is not None and second_look else []) + alternatives
+    leaving = [s for s in first.suggestions if s.removed and not picked.removed and s.delta_aic < reference.delta_aic - DELTA_AIC_MIN and all(s is not t for t in alternatives)] if len(steps) >= 2 else []
     hidden = [
         c for c in first.candidates
-        if c.undetermined and c.fit.converged and c.delta_aic < picked.delta_aic - DELTA_AIC_MIN
+        if c.undetermined and c.fit.converged and c.delta_aic < reference.delta_aic - DELTA_AIC_MIN
         and all(c.delta_aic < s.delta_aic - DELTA_AIC_MIN for s in first.suggestions if s.effect == c.effect)
     ] if len(steps) >= 2 else []
     keeping = _kept_in_place(first, picked, alternatives + hidden + leaving) if len(steps) >= 2 else []
@@ -554,6 +562,25 @@ def _second_path(steps: list[RefinementStep], picked, limit: int, diagnosed, say
         if better:
             steps, holder = other, f"the {label}"
     return steps
+
+
+def _lead_base(first: Diagnosis, picked):
+    """The suggestion of ``first`` that ``picked`` adds a series inductance to, when ``picked`` is
+    such a pair (`diagnosis._lead_behind`: ``constant_phase+series_inductance``), else None (also
+    when there is no ``picked``: the greedy path took no step). The pair's ΔAIC is mostly the
+    lead's (impedance.py's REAL Autolab spectrum from ``R0 + R1 || C1``: CPE1 −42.6 alone and
+    −280.0 with L_lead, Ws_d −42.1): measured from the pair, no other first effect was within
+    `BRANCH_WINDOW`, and the path from Ws_d, which ends 74 lower in AIC, was never tried."""
+    head, _, last = (picked.effect or "").rpartition("+") if picked is not None else ("", "", "")
+    if last != "series_inductance" or not head:
+        return None
+    circuit = picked.fit.circuit
+
+    def under(s) -> bool:  # picked's circuit is s's with one element more, the lead, and nothing moved
+        extra = set(circuit.element_names) - set(s.fit.circuit.element_names)
+        return len(extra) == 1 and str(circuit.without(extra.pop())) == str(s.fit.circuit)
+
+    return next((s for s in first.suggestions if s.effect == head and under(s)), None)
 
 
 def _vanishing_elements(fit: FitResult) -> set[str]:
