@@ -151,6 +151,36 @@ def test_a_usage_error_is_its_message_first_then_one_short_usage_line(files, arg
         assert "did you mean" not in lines[0]
 
 
+@pytest.mark.parametrize(
+    "args, hint",
+    [
+        (["fit", "{one}", "R0 + R1 || C1"], "required: --model; a circuit follows --model: impedax fit DATA --model 'R0 + R1 || C1'"),
+        (["fit", "R0-p(R1,C1)", "{one}"], "required: --model; a circuit follows --model: impedax fit DATA --model 'R0-p(R1,C1)'"),
+        (["sample", "{one}", "--weighting", "modulus", "R1"], "required: --model; a circuit follows --model: impedax sample DATA --model R1"),
+        (["compare", "{one}", "R0 + R1 || C1", "R0 + R1 || CPE1"],
+         "required: --model; a circuit follows its own --model: impedax compare DATA --model 'R0 + R1 || C1' --model 'R0 + R1 || CPE1'"),
+        (["refine", "{one}", "R0 + R1 || C1"], "unrecognized arguments: R0 + R1 || C1; a circuit follows --model: impedax refine DATA --model 'R0 + R1 || C1'"),
+    ],
+)
+def test_a_circuit_given_without_model_is_shown_after_it(files, args, hint, capsys):
+    """A walkthrough (2026-12-04): ``impedax fit DATA 'R0 + R1 || CPE1'`` was told only
+    "the following arguments are required: --model", and ``refine`` (whose --model is optional)
+    "unrecognized arguments"; now the command as it should have been typed."""
+    with pytest.raises(SystemExit) as info:
+        main([a.format(**files) for a in args])
+    first = capsys.readouterr().err.splitlines()[0]
+    assert info.value.code == 2 and first.replace("the following arguments are required", "required").endswith(hint), first
+
+
+@pytest.mark.parametrize("args", [["fit", "{one}"], ["fit", "{one}", "--fmax", "5e3"], ["fit", "{one}", "--weighting", "modulus"], ["fit", "{one}", "{one}"]])
+def test_no_circuit_hint_where_no_word_reads_as_a_circuit(files, args, capsys):
+    """An option's value (5e3, modulus) and an existing file are no circuit."""
+    with pytest.raises(SystemExit) as info:
+        main([a.format(**files) for a in args])
+    first = capsys.readouterr().err.splitlines()[0]
+    assert info.value.code == 2 and "--model" in first and "a circuit follows" not in first, first
+
+
 def test_the_program_names_the_misspelt_flag_and_its_hint_on_the_first_line_of_stderr():
     # the real program (exit status, stderr as a terminal shows it) on a REAL file
     import subprocess

@@ -13,6 +13,7 @@ import gc
 import importlib
 import os
 import re
+import shlex
 import signal
 import sys
 import threading
@@ -70,7 +71,23 @@ class CommandLineParser(argparse.ArgumentParser):
         return super().parse_known_args(args, namespace)
 
     def error(self, message: str) -> NoReturn:
-        self.exit(2, f"{self.prog}: error: {message}{self._misspelt_required_hint(message)}\n{self.short_usage()}\n")
+        hint = self._misspelt_required_hint(message) + self._circuit_without_option_hint(message)
+        self.exit(2, f"{self.prog}: error: {message}{hint}\n{self.short_usage()}\n")
+
+    def _circuit_without_option_hint(self, message: str) -> str:
+        """``; a circuit follows --model: impedax fit DATA --model 'R0 + R1 || C1'`` when
+        ``--model`` is missing and a word given where no option takes it reads as a circuit
+        (``impedax fit data.csv 'R0 + R1 || C1'``, `circuit_words`); argparse said only
+        "required: --model"."""
+        if not message.startswith("the following arguments are required") or "--model" not in message:
+            return ""
+        loose, taker = [], None  # (words no option takes; the option whose value comes next)
+        for word in getattr(self, "_words", ()):
+            action = self._option_string_actions.get(word)
+            if taker is None and not word.startswith("-"):
+                loose.append(word)
+            taker = action if action is not None and action.nargs != 0 else None
+        return model_option_hint(self.prog, circuit_words(loose))
 
     def _misspelt_required_hint(self, message: str) -> str:
         """``; did you mean --model? (--models is not an option of impedax compare)`` when a
@@ -325,6 +342,26 @@ def closest_options(words: list[str], options: list[str]) -> list[str]:
     return hints
 
 
+# a word that reads as circuit text: element names joined by +, ||, | or -, with parentheses or
+# impedance.py's p(...,...), s(...,...); no ".", "/", "=" (a file name, a path, a NAME=VALUE)
+_CIRCUIT_WORD_RE = re.compile(r"[A-Za-z][A-Za-z0-9_]*(?:\s*(?:\+|\|\||\||-|,|\(|\))\s*[A-Za-z0-9_()\s]*)+|[A-Za-z]+_?[0-9]+")
+
+
+def circuit_words(words) -> list[str]:
+    """The words of ``words`` that read as circuit text and name no existing file:
+    ``R0 + R1 || C1``, ``R0-p(R1,C1)``, ``R1``."""
+    return [w for w in words if _CIRCUIT_WORD_RE.fullmatch(w.strip()) and any(c.isalpha() for c in w) and not os.path.exists(w)]
+
+
+def model_option_hint(prog: str, circuits: list[str]) -> str:
+    """``; a circuit follows --model: impedax fit DATA --model 'R0 + R1 || C1'`` (each after its
+    own --model when there are several), or "" for no ``circuits``."""
+    if not circuits:
+        return ""
+    given = " ".join(f"--model {shlex.quote(c)}" for c in circuits)
+    return f"; a circuit follows {'its own ' if len(circuits) > 1 else ''}--model: {prog} DATA {given}"
+
+
 def _refuse_unknown(parser: argparse.ArgumentParser, command: str, unknown: list[str], model=None) -> NoReturn:
     """Exit 2 with "unrecognized arguments" naming the closest option of that command for each
     unknown one (``--maxsteps`` → ``--max-steps``), then the command's own short usage line
@@ -346,6 +383,8 @@ def _refuse_unknown(parser: argparse.ArgumentParser, command: str, unknown: list
     elif assignments and takers:  # (fit R1=5: which of --init, --fix, ... was meant is the user's to say, unless a misspelt one is named)
         example = next((h for h in hints if h in takers), takers[0])
         hint += f"; a NAME=VALUE follows its option ({', '.join(takers)}): e.g. {example} {' '.join(assignments)}"
+    if "--model" in sub._option_string_actions:  # (refine DATA 'R0 + R1 || C1': its --model is optional)
+        hint += model_option_hint(sub.prog, circuit_words(unknown))
     files = [item for item in unknown if not item.startswith("-") and os.path.isfile(item)]
     if files and command in SERIES_COMMANDS:  # (fit day01.csv day02.csv: one DATA per run)
         hint += f"; {command} reads one DATA file: join files of one spectrum each into one series with impedax stack FILE ... --out SERIES.nc, then impedax {command} SERIES.nc"
