@@ -181,6 +181,18 @@ def test_no_circuit_hint_where_no_word_reads_as_a_circuit(files, args, capsys):
     assert info.value.code == 2 and "--model" in first and "a circuit follows" not in first, first
 
 
+@pytest.mark.parametrize("command", ["fit", "diagnose", "refine", "sample", "simulate", "info", "draw"])
+def test_a_second_model_is_refused_where_the_command_takes_one(files, command, capsys):
+    """argparse kept the last --model in silence: ``diagnose --model A --model B`` diagnosed B
+    (a walkthrough, 2026-12-04). compare takes several (its own test files)."""
+    data = [files["one"]] if command in ("fit", "diagnose", "refine", "sample") else []
+    with pytest.raises(SystemExit) as info:
+        main([command, *data, "--model", "R0 + R1 || C1", "--model", "R0 + R1 || CPE1"])
+    first = capsys.readouterr().err.splitlines()[0]
+    assert info.value.code == 2
+    assert first == f"impedax {command}: error: --model given twice ('R0 + R1 || C1' and 'R0 + R1 || CPE1'): impedax {command} takes one model; impedax compare fits several to one spectrum"
+
+
 def test_the_program_names_the_misspelt_flag_and_its_hint_on_the_first_line_of_stderr():
     # the real program (exit status, stderr as a terminal shows it) on a REAL file
     import subprocess

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import argparse
 import decimal
 import functools
 import json
@@ -449,9 +450,20 @@ def add_model_argument(parser, *, positional: bool = False, default: str | None 
     if positional:
         add_positional_model(parser, help=help_text)
     elif default is not None:
-        parser.add_argument("--model", default=default, metavar="MODEL", help=f"{help_text}; default '{default}'")
+        parser.add_argument("--model", action=OneModel, default=default, metavar="MODEL", help=f"{help_text}; default '{default}'")
     else:
-        parser.add_argument("--model", required=True, metavar="MODEL", help=help_text)
+        parser.add_argument("--model", action=OneModel, required=True, metavar="MODEL", help=help_text)
+
+
+class OneModel(argparse.Action):
+    """``--model`` of a command that takes one model: a second one is refused (exit 2) where
+    argparse kept the last in silence (``diagnose --model A --model B`` diagnosed B alone)."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        before = getattr(namespace, self.dest, None)
+        if before is not None and before is not self.default:  # (until one is given it holds the default itself)
+            parser.error(f"--model given twice ({before!r} and {values!r}): {parser.prog} takes one model; impedax compare fits several to one spectrum")
+        setattr(namespace, self.dest, values)
 
 
 def looks_like_impedance_py(text: str) -> bool:
@@ -514,7 +526,7 @@ def add_positional_model(parser, **kwargs) -> None:
     """MODEL as the first argument, or as ``--model MODEL`` (the spelling of the commands that
     fit); `positional_model` reads the one given. ``kwargs`` go to both (``choices``, ``help``)."""
     parser.add_argument("model", metavar="MODEL", nargs="?", **kwargs)
-    parser.add_argument("--model", dest="model_option", metavar="MODEL", **{**kwargs, "help": "the same as MODEL"})
+    parser.add_argument("--model", dest="model_option", action=OneModel, metavar="MODEL", **{**kwargs, "help": "the same as MODEL"})
 
 
 def positional_model(parser, args) -> None:
