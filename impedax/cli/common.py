@@ -462,7 +462,8 @@ class OneModel(argparse.Action):
     def __call__(self, parser, namespace, values, option_string=None):
         before = getattr(namespace, self.dest, None)
         if before is not None and before is not self.default:  # (until one is given it holds the default itself)
-            parser.error(f"--model given twice ({before!r} and {values!r}): {parser.prog} takes one model; impedax compare fits several to one spectrum")
+            several = "; impedax compare fits several to one spectrum" if any(a.dest == "data" for a in parser._actions) else ""
+            parser.error(f"--model given twice ({before!r} and {values!r}): {parser.prog} takes one model{several}")
         setattr(namespace, self.dest, values)
 
 
