@@ -3,6 +3,8 @@ column and message fragments are written by hand from the input."""
 
 from __future__ import annotations
 
+import json
+
 import pytest
 
 import impedax as ix
@@ -224,8 +226,8 @@ def test_cli_fit_lower_case_names_exit_2_with_the_hint(tmp_path, capsys, model, 
     assert f"  {shown}\n  {' ' * caret}^\n" in err and f"hint: {hint}" in err and "Traceback" not in err
 
 
-def test_cli_fit_reads_p_space_group(tmp_path, capsys):
-    # SYNTHETIC spectrum of R0 + R1 || C1 (R0 = 10 Ω, R1 = 100 Ω, C1 = 1 µF), 1 % noise, seed 7
+def rc_spectrum_csv(tmp_path):
+    """A SYNTHETIC spectrum of R + R || C (10 Ω, 100 Ω, 1 µF) from its closed form, 1 % noise, seed 7."""
     import numpy as np
 
     f = np.logspace(5, -1, 25)
@@ -233,5 +235,92 @@ def test_cli_fit_reads_p_space_group(tmp_path, capsys):
     z = z * (1 + 0.01 * np.random.default_rng(7).standard_normal(f.size))
     data = tmp_path / "spectrum.csv"
     data.write_text("freq,zreal,zimag\n" + "".join(f"{a:.6e},{b.real:.6e},{b.imag:.6e}\n" for a, b in zip(f, z)))
+    return data
+
+
+def test_cli_fit_reads_p_space_group(tmp_path, capsys):
+    data = rc_spectrum_csv(tmp_path)
     assert main(["fit", str(data), "--model", "R0-p (R1,C1)"]) == 0
     assert "read as impedance.py notation: R0 + R1 || C1" in capsys.readouterr().err
+
+
+# --- Boukamp's CDC (pyimpspec's and older programs' notation) where impedax text goes -----------
+
+CDC = "this reads as Boukamp's circuit description code (CDC), which has no element names; in Python it is passed as "
+
+
+@pytest.mark.parametrize(
+    "text, column, reason",
+    [
+        ("R(RC)", 0, "element 'R' needs a number or a label"),
+        ("R(C[RW])", 3, "unexpected character '['"),
+        (" R ( Q ) ", 1, "element 'R' needs a number or a label"),
+    ],
+)
+def test_cdc_text_is_named_with_the_call_that_reads_it(text, column, reason):
+    err = syntax_error(text)
+    assert_caret(err, text, column)
+    assert err.reason.startswith(reason)
+    assert err.hint == CDC + f"ix.from_cdc({text!r}) (the command line reads it by itself)"
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "R(RX)",  # X is no CDC letter
+        "R(Rc)",  # lower case
+        "R(RC)+",  # an impedax operator
+        "",
+        "()",
+    ],
+)
+def test_text_that_is_no_cdc_gets_no_cdc_hint(text):
+    assert not ix.circuits.looks_like_cdc(text)
+    with pytest.raises(ix.CircuitSyntaxError) as caught:
+        ix.parse(text)
+    assert "circuit description code" not in str(caught.value)
+
+
+def test_valid_impedax_and_impedance_py_text_never_looks_like_cdc():
+    # every impedax element name carries a number or a label, and so does impedance.py's
+    for text in ("R0 + R1 || C1", "R_f + R_sc || CPE_sc", "R0-p(R1,C1)", "L0 + R0 + R1 || CPE1 + W1"):
+        assert not ix.circuits.looks_like_cdc(text)
+
+
+@pytest.mark.parametrize("text", ["R1/C1", "R0 + R1//C1"])
+def test_a_slash_is_answered_with_the_parallel_operator(text):
+    err = syntax_error(text)
+    assert_caret(err, text, text.index("/"))
+    assert err.hint == "parallel is written '||': R1 || C1"
+
+
+@pytest.mark.parametrize(
+    "cdc, impedax_text",
+    [
+        ("R(RC)", "R1 + R2 || C1"),
+        ("R(C[RW])", "R1 + C1 || (R2 + W1)"),  # bracket convention
+        ("R(C(RW))", "R1 + C1 || (R2 + W1)"),  # classic convention: the same Randles circuit
+    ],
+)
+def test_cli_info_reads_cdc_and_says_how(capsys, cdc, impedax_text):
+    assert main(["info", cdc]) == 0
+    captured = capsys.readouterr()
+    assert f"impedax info: read as Boukamp's circuit description code (CDC): {impedax_text}\n" in captured.err
+    assert f"model: {impedax_text}" in captured.out
+
+
+def test_cli_fit_reads_cdc_without_the_impedance_py_weighting_note(tmp_path, capsys):
+    data = rc_spectrum_csv(tmp_path)
+    assert main(["fit", str(data), "--model", "R(RC)", "--json"]) == 0
+    captured = capsys.readouterr()
+    assert "read as Boukamp's circuit description code (CDC): R1 + R2 || C1" in captured.err
+    assert "weight_by_modulus" not in captured.err  # that note is for impedance.py's users
+    params = json.loads(captured.out)["params"]
+    assert params["R1"]["value"] == pytest.approx(10, rel=0.05) and params["R2"]["value"] == pytest.approx(100, rel=0.05)
+    assert params["C1"]["value"] == pytest.approx(1e-6, rel=0.05)
+
+
+def test_cli_cdc_that_does_not_read_exits_2_with_the_cdc_readers_caret(capsys):
+    assert main(["info", "R(RC"]) == 2
+    err = capsys.readouterr().err
+    assert "  R(RC\n" in err and "Traceback" not in err

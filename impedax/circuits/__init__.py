@@ -14,7 +14,7 @@ from .convert import (
     to_impedance_py as to_impedance_py,
 )
 from .elements import DEFAULT_REGISTRY as DEFAULT_REGISTRY
-from .parser import parse as parse, tokenize as tokenize
+from .parser import looks_like_cdc as looks_like_cdc, parse as parse, tokenize as tokenize
 from .probes import current_through as current_through, voltage_across as voltage_across
 from .program import (
     PROGRAM_SCALES as PROGRAM_SCALES,

@@ -199,6 +199,8 @@ def lookalike(ch: str) -> str | None:
 
 def _character_hint(ch: str) -> str:
     ascii_twin = lookalike(ch)
+    if ch == "/":  # the parallel sign of papers (R//C) and of some instruments' software (R1+C2/R2)
+        return "parallel is written '||': R1 || C1"
     if ascii_twin is None:
         return "expected an element such as R1 or C_gap, '(' , '+' or '||'"
     if ascii_twin == "-":  # '-' is series in impedance.py's notation; impedax writes '+'
@@ -386,4 +388,21 @@ def require_text(source) -> str:
 @functools.lru_cache(maxsize=256)
 def _parse_text(text: str, registry: Registry) -> Circuit:
     # circuits are immutable, so a repeated text (a fit per spectrum) is parsed once
-    return _Parser(text, registry).parse()
+    try:
+        return _Parser(text, registry).parse()
+    except CircuitSyntaxError as exc:
+        if not looks_like_cdc(text, registry):
+            raise
+        raise CircuitSyntaxError(exc.source, exc.column, exc.reason, CDC_HINT.format(call=f"{CDC_CALL}({_call_text(text)})"), unknown_symbol=exc.unknown_symbol) from None
+
+
+CDC_CALL = "ix.from_cdc"  # the reader of Boukamp's circuit description code, as docs/circuits.md writes it
+CDC_HINT = "this reads as Boukamp's circuit description code (CDC), which has no element names; in Python it is passed as {call} (the command line reads it by itself)"
+_CDC_TEXT_RE = re.compile(r"[\sA-Z()\[\]]*[A-Z][\sA-Z()\[\]]*\Z")
+
+
+def looks_like_cdc(text: str, registry: Registry = DEFAULT_REGISTRY) -> bool:
+    """Whether ``text`` is written in Boukamp's circuit description code (``R(RC)``, ``R(C[RW])``):
+    only capital letters, each one of ``registry``'s CDC letters, brackets and spaces. impedax
+    text never is (its element names carry a number or a label), nor is impedance.py's."""
+    return _CDC_TEXT_RE.match(text) is not None and all(ch in registry.by_cdc for ch in text if ch.isalpha())

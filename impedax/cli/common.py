@@ -475,12 +475,13 @@ def looks_like_impedance_py(text: str) -> bool:
 
 def read_impedance_py_model(args, command: str) -> None:
     """``args.model`` of a command that takes a circuit (`add_model_argument`) as impedax text
-    (`impedax_text`: an impedance.py string read through `impedax.from_impedance_py`, with the
-    elements of ``args.registry``, the --plugin files' too)."""
+    (`impedax_text`: an impedance.py string read through `impedax.from_impedance_py`, a CDC
+    string through `impedax.from_cdc`, with the elements of ``args.registry``, the --plugin
+    files' too)."""
     model = getattr(args, "model", None)
     if getattr(args, "circuit_model", False) and isinstance(model, str):
         args.model = impedax_text(model, command, getattr(args, "registry", None))
-        if args.model != model:
+        if args.model != model and looks_like_impedance_py(model):
             note_impedance_py_weighting(command, getattr(args, "weighting", None))
 
 
@@ -502,16 +503,21 @@ def note_impedance_py_weighting(command: str, weighting: str | None) -> None:
 
 def impedax_text(model: str, command: str, registry=None) -> str:
     """``model`` as impedax circuit text: itself, or, for an impedance.py string that is no
-    impedax text (`looks_like_impedance_py`), its impedax text (`impedax.from_impedance_py`), with
-    one note on stderr saying how it was read. A string that neither reads is refused with the
-    impedax parser's message when it holds impedax's operators (``+``, ``|``: impedax text with a
-    stray ``-``), else the impedance.py reader's."""
-    if not looks_like_impedance_py(model):
-        return model
-    from ..circuits import DEFAULT_REGISTRY, from_impedance_py, parse
+    impedax text (`looks_like_impedance_py`), its impedax text (`impedax.from_impedance_py`), and
+    for a Boukamp CDC string (`impedax.circuits.looks_like_cdc`: ``R(RC)``, never impedax text)
+    its impedax text (`impedax.from_cdc`), with one note on stderr saying how it was read. A
+    string that neither reads is refused with the impedax parser's message when it holds
+    impedax's operators (``+``, ``|``: impedax text with a stray ``-``), else the other reader's."""
+    from ..circuits import DEFAULT_REGISTRY, from_cdc, from_impedance_py, looks_like_cdc, parse
     from ..errors import CircuitSyntaxError
 
     registry = registry or DEFAULT_REGISTRY
+    if looks_like_cdc(model, registry):
+        text = str(from_cdc(model, registry))
+        print(f"impedax {command}: read as Boukamp's circuit description code (CDC): {text}", file=sys.stderr)
+        return text
+    if not looks_like_impedance_py(model):
+        return model
     try:
         parse(model, registry)
         return model
