@@ -578,7 +578,8 @@ def checked_arguments(*relations: Callable[[Mapping[str, object]], None], circui
             try:
                 bound = signature.bind(*args, **kwargs)
             except TypeError as exc:
-                raise ParameterError(_binding_message(label, signature, len(args), kwargs, exc, _parameters_of_call(signature, args, kwargs, circuit_parameters))) from None
+                message = _arrays_pair_hint(label, signature, args) or _binding_message(label, signature, len(args), kwargs, exc, _parameters_of_call(signature, args, kwargs, circuit_parameters))
+                raise ParameterError(message) from None
             arguments = bound.arguments
             for name, rule in rules.items():
                 if name in arguments:
@@ -702,6 +703,29 @@ def refuse_unknown_keywords(label: str, given: Mapping, known: Sequence[str]) ->
             raise ParameterError(unknown_keyword_message(label, key, known))
 
 
+def _positional_count(positional: list) -> str:
+    return f"{len(positional)} positional argument{'' if len(positional) == 1 else 's'}"
+
+
+def _arrays_pair_hint(label: str, signature: inspect.Signature, args: tuple) -> str | None:
+    """For a call that gave a spectrum as two positional arrays, frequency then Z, where one
+    ``data`` argument goes (``fit(circuit, f, Z)``, as impedance.py's ``circuit.fit(f, Z)``):
+    the message that says to pass them as the pair (frequency, Z); else None."""
+    positional = [p.name for p in signature.parameters.values() if p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD)]
+    where = [k for k, name in enumerate(positional) if name == "data" or name.endswith("_data")]
+    if len(args) <= len(positional) or not where or where[0] + 1 >= len(args):
+        return None
+    i = where[0]
+    try:
+        frequency, z = (np.asarray(a) if isinstance(a, (np.ndarray, list, tuple)) else None for a in args[i : i + 2])
+    except (TypeError, ValueError):  # ragged or otherwise no array: the general message
+        return None
+    if frequency is None or z is None or frequency.ndim != 1 or z.ndim < 1 or z.shape[-1] != frequency.size:
+        return None
+    call = ", ".join("(frequency, Z)" if k == i else name for k, name in enumerate(positional))
+    return f"{label}() takes {_positional_count(positional)} ({', '.join(positional)}), got {len(args)}: a spectrum given as arrays is one argument, the pair (frequency, Z): {label}({call})"
+
+
 def _binding_message(label: str, signature: inspect.Signature, n_positional: int, kwargs: Mapping, exc: TypeError, parameters=None) -> str:
     names = list(signature.parameters)
     takes_any_keyword = any(p.kind is p.VAR_KEYWORD for p in signature.parameters.values())
@@ -717,7 +741,7 @@ def _binding_message(label: str, signature: inspect.Signature, n_positional: int
             return unknown_keyword_message(f"{label}()", key, names)
     positional = [p for p in signature.parameters.values() if p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD)]
     if n_positional > len(positional) and not any(p.kind is p.VAR_POSITIONAL for p in signature.parameters.values()):
-        return f"{label}() takes {len(positional)} positional arguments ({', '.join(p.name for p in positional)}), got {n_positional}; pass the others by name"
+        return f"{label}() takes {_positional_count(positional)} ({', '.join(p.name for p in positional)}), got {n_positional}; pass the others by name"
     filled = {p.name for p in positional[:n_positional]} | set(kwargs)
     missing = [p.name for p in signature.parameters.values() if p.default is p.empty and p.kind not in (p.VAR_POSITIONAL, p.VAR_KEYWORD) and p.name not in filled]
     if missing:

@@ -560,6 +560,8 @@ API_CASES = [
     ("fit-registry-string", "fit", lambda s: ix.fit(RC, s.good, registry="x"), P, "registry must be Registry"),
     ("fit-unknown-keyword", "fit", lambda s: ix.fit(RC, s.good, max_step=3), P, "fit() has no argument 'max_step'; did you mean max_steps?"),
     ("fit-too-many-positional", "fit", lambda s: ix.fit(RC, s.good, None), P, "fit() takes 2 positional arguments"),
+    ("fit-frequency-and-z-apart", "fit", lambda s: ix.fit(RC, s.good.frequency.values, s.good.Z.values), P, "a spectrum given as arrays is one argument, the pair (frequency, Z): fit(circuit, (frequency, Z))"),
+    ("kk-frequency-and-z-apart", "fit", lambda s: ix.kk_test(list(s.good.frequency.values), list(s.good.Z.values)), P, "kk_test() takes 1 positional argument (data), got 2: a spectrum given as arrays is one argument, the pair (frequency, Z): kk_test((frequency, Z))"),
     ("fit-missing-data", "fit", lambda s: ix.fit(RC), P, "fit() needs the argument data"),
     # sample
     ("sample-data-none", "sample", lambda s: ix.sample(RC, None, steps=10), D, "data must be a spectrum Dataset"),
