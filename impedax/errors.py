@@ -147,9 +147,10 @@ class ArgumentsSwapped(DataError, CircuitError):
 
 
 class SweepGridsDiffer(DataError):
-    """A file holding several sweeps one after another on different frequency grids, which
-    impedax will not merge into one spectrum. ``dim`` ('sweep' or 'cycle'), ``labels`` (one
-    per sweep) and `spectrum` (one sweep alone) let a caller read one of them:
+    """A file holding several sweeps one after another (or sheets, curves, measurements) on
+    different frequency grids, which impedax will not merge into one spectrum. ``dim`` ('sweep',
+    'cycle', 'sheet', ...), ``labels`` (one per sweep) and `spectrum` (one sweep alone) let a
+    caller read one of them:
     ``impedax.io.load(path, sweep=LABEL)``, ``--select sweep=LABEL`` in the CLI."""
 
     def __init__(self, message: str, *, path: object, line: int | None, dim: str, spectra: dict, found: str = ""):

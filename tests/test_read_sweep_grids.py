@@ -122,3 +122,42 @@ def test_workbook_sheet_of_sweeps_on_different_grids(tmp_path, capsys):
     assert main(["inspect", str(two), "--select", "sweep=1"]) == 2
     err = capsys.readouterr().err
     assert f"line {LINE_OF_DAY2}: the table holds 2 sweeps on different frequency grids" in err and "save each sweep to a sheet or file of its own" in err
+
+
+def test_workbook_sheets_on_different_grids_are_read_one_alone(tmp_path, capsys):
+    """SYNTHETIC workbook of two sheets, one arc each, on grids of 50 and 30 points (two sessions
+    of one cell): refused as a stack, with the offer; --select sheet=LABEL and
+    load(path, sweep=LABEL) read one, on its own grid, and a fit of it recovers its arc."""
+    openpyxl = pytest.importorskip("openpyxl")
+    grids = {"monday": F_DAY1, "tuesday": np.logspace(5, -2, 30)}
+    workbook = openpyxl.Workbook()
+    workbook.remove(workbook.active)
+    for k, (name, f) in enumerate(grids.items()):
+        table = workbook.create_sheet(name)
+        table.append(["Frequency (Hz)", "Z' (Ohm)", "Z'' (Ohm)"])
+        for fi, zi in zip(f.tolist(), rc_arc(f, seed=k).tolist()):
+            table.append([fi, zi.real, zi.imag])
+    path = tmp_path / "sessions.xlsx"
+    workbook.save(path)
+
+    with pytest.raises(ix.SweepGridsDiffer) as caught:
+        ix.load(path)
+    assert str(caught.value) == (
+        f"{path}: sheet 'tuesday' (30 points) has a different frequency grid from sheet 'monday' (50 points): read one alone, "
+        "--select sheet=monday (Python: impedax.io.load(path, sweep='monday')), or export each to a file"
+    )
+    assert caught.value.labels == ["monday", "tuesday"]
+    tuesday = ix.load(path, sweep="tuesday")
+    np.testing.assert_allclose(tuesday["frequency"].values, grids["tuesday"], rtol=1e-15)
+    np.testing.assert_allclose(tuesday["Z"].values, rc_arc(grids["tuesday"], seed=1), rtol=1e-12)
+    assert tuesday.attrs["sweeps"] == "sheet tuesday of 2, read alone: the file's sheets are on different frequency grids"
+    assert tuesday.attrs["format"] == "spreadsheet"
+
+    assert main(["fit", str(path), "--model", "R0 + R1 || C1", "--select", "sheet=tuesday", "--json"]) == 0
+    params = json.loads(capsys.readouterr().out)["params"]
+    for name, true in (("R0", R0), ("R1", R1), ("C1", C1)):
+        assert params[name]["value"] == pytest.approx(true, rel=0.02)  # 0.3 % noise on 30 points
+    assert main(["inspect", str(path)]) == 2
+    assert "read one alone, --select sheet=monday" in capsys.readouterr().err
+    assert main(["inspect", str(path), "--select", "sheet=monday,tuesday"]) == 2  # one grid at a time
+    assert "give one label (sheet: monday, tuesday)" in capsys.readouterr().err

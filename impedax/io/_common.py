@@ -13,6 +13,7 @@ import errno
 import math
 import os
 import re
+import shlex
 import stat
 from pathlib import Path
 from typing import Mapping, Sequence
@@ -21,7 +22,7 @@ import numpy as np
 import xarray as xr
 
 from ..data import make_spectrum
-from ..errors import DataError
+from ..errors import DataError, SweepGridsDiffer
 
 __all__ = [
     "UNIT_CELL", "MAX_FILE_BYTES", "MAX_FILE_BYTES_ENV", "max_file_bytes", "check_file", "read_bytes", "read_text", "decode_text", "head_text", "number",
@@ -404,11 +405,7 @@ def stack(path: Path, spectra: Sequence[tuple[str, xr.Dataset]], dim: str) -> xr
     for label, ds in spectra[1:]:
         f = ds["frequency"].values
         if f.shape != f0.shape or not np.array_equal(f, f0):
-            raise DataError(
-                f"{dim} {label!r} ({f.size} points) has a different frequency grid from {dim} {label0!r} ({f0.size} points); "
-                f"impedax holds one grid per spectrum: export the {dim}s to separate files",
-                path=path,
-            )
+            raise _grids_differ(path, spectra, dim, f"{dim} {label!r} ({f.size} points) has a different frequency grid from {dim} {label0!r} ({f0.size} points)")
         same_labels = all((d in ds.coords) == (d in first.coords) and (d not in first.coords or np.array_equal(ds[d].values, first[d].values)) for d in inner)
         if tuple(d for d in ds["Z"].dims if d != "frequency") != inner or any(ds.sizes[d] != first.sizes[d] for d in inner) or not same_labels:
             raise DataError(
@@ -421,6 +418,21 @@ def stack(path: Path, spectra: Sequence[tuple[str, xr.Dataset]], dim: str) -> xr
         f0, np.stack([ds["Z"].transpose(*inner, "frequency").values for _, ds in spectra]), dims=(dim, *inner), coords=coords,
         attrs=merged_attrs([(label, ds.attrs) for label, ds in spectra], dim), source=str(path),
     )
+
+
+def _grids_differ(path: Path, spectra: Sequence[tuple[str, xr.Dataset]], dim: str, found: str) -> SweepGridsDiffer:
+    """The error for a file's spectra (sheets, curves, measurements) on different frequency
+    grids, which impedax will not stack: ``found`` (which two differ) and how to read one alone;
+    it carries each as a spectrum of its own (`SweepGridsDiffer`), so that ``--select DIM=LABEL``
+    and ``impedax.io.load(path, sweep=LABEL)`` read it."""
+    labels = [str(label) for label, _ in spectra]
+    message = f"{found}: read one alone, --select {shlex.quote(f'{dim}={labels[0]}')} (Python: impedax.io.load(path, sweep={labels[0]!r})), or export each to a file"
+    alone = {}
+    for label, ds in zip(labels, (ds for _, ds in spectra)):
+        ds = ds.assign_coords({dim: label})
+        ds.attrs = {**ds.attrs, "sweeps": f"{dim} {label} of {len(labels)}, read alone: the file's {dim}s are on different frequency grids"}
+        alone[label] = ds
+    return SweepGridsDiffer(message, path=path, line=None, dim=dim, spectra=alone, found=found)
 
 
 def merged_attrs(parts: Sequence[tuple[str, Mapping]], dim: str) -> dict:

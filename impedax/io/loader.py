@@ -98,7 +98,8 @@ def load(path: str | os.PathLike, readers: Sequence[Reader] | None = None, *, sw
     A table of several sweeps one after another on different frequency grids is never merged
     into one spectrum: it raises `SweepGridsDiffer` (where the second starts, each sweep's
     points), unless ``sweep`` names one of them (its label: '0', '1', … or the cycle number),
-    which is then read alone. On a file whose sweeps share a grid (a ``sweep`` or ``cycle``
+    which is then read alone; so are a file's sheets, curves or measurements on different
+    grids (``sweep``: a sheet's name, a curve's label). On a file whose sweeps share a grid (a ``sweep`` or ``cycle``
     dimension) ``sweep`` picks that one; on a file of one spectrum it is an error.
     """
     if isinstance(path, xr.Dataset):
