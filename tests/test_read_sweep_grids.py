@@ -161,3 +161,19 @@ def test_workbook_sheets_on_different_grids_are_read_one_alone(tmp_path, capsys)
     assert "read one alone, --select sheet=monday" in capsys.readouterr().err
     assert main(["inspect", str(path), "--select", "sheet=monday,tuesday"]) == 2  # one grid at a time
     assert "give one label (sheet: monday, tuesday)" in capsys.readouterr().err
+
+
+def test_labone_sweeps_on_different_grids_are_read_one_alone_with_their_format(tmp_path):
+    """SYNTHETIC LabOne CSV (the layout of tests/test_robustness.py's labone case): two sweeps of
+    one flat 1 − 1j Ω on the grids 1, 2, 3 Hz and 1, 3, 5 Hz."""
+    path = tmp_path / "dev1_imps.csv"
+    path.write_text(
+        "chunk;timestamp;size;fieldname\n0;1;3;frequency;1;2;3\n0;1;3;realz;1;1;1\n0;1;3;imagz;-1;-1;-1\n"
+        "1;1;3;frequency;1;3;5\n1;1;3;realz;1;1;1\n1;1;3;imagz;-1;-1;-1\n"
+    )
+    with pytest.raises(ix.SweepGridsDiffer, match=r"sweep '1' \(3 points\) has a different frequency grid from sweep '0' \(3 points\): read one alone, --select sweep=0"):
+        ix.load(path)
+    second = ix.load(path, sweep="1")
+    np.testing.assert_array_equal(np.sort(second["frequency"].values), [1.0, 3.0, 5.0])
+    np.testing.assert_array_equal(second["Z"].values, np.full(3, 1 - 1j))
+    assert second.attrs["format"] == "Zurich Instruments LabOne CSV"

@@ -92,6 +92,8 @@ def read_labone_csv(path: str | Path) -> xr.Dataset:
     if cut_field is not None:
         values, line, name = cut_field
         check_last_field_digits(values, path, line, name=name)
+    for _, sweep in sweeps:  # (on each: a sweep read alone, its grid not the others', keeps them too)
+        sweep.attrs.update({"format": "Zurich Instruments LabOne CSV", "instrument": "Zurich Instruments"})
     ds = stack(path, sweeps, "sweep")
     ds.attrs.update({"format": "Zurich Instruments LabOne CSV", "instrument": "Zurich Instruments"})
     device = re.search(r"dev\d+", path.name, re.I)
