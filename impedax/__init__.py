@@ -75,6 +75,7 @@ _LAZY = {
     "StartRole": (".circuits", "StartRole"),
     "compile_circuit": (".circuits", "compile_circuit"),
     "current_through": (".circuits", "current_through"),
+    "from_autoeis": (".circuits", "from_autoeis"),
     "from_cdc": (".circuits", "from_cdc"),
     "from_impedance_py": (".circuits", "from_impedance_py"),
     "parse": (".circuits", "parse"),

@@ -1,4 +1,4 @@
-"""Circuits in other tools' notations: impedance.py strings and Boukamp's CDC, read and written.
+"""Circuits in other tools' notations: impedance.py strings, Boukamp's CDC and AutoEIS strings, read and written.
 
 Expected trees and strings are written out by hand from the notations' definitions; the
 bracket-convention writer is also checked against pyimpspec's CDC parser (another package's
@@ -14,7 +14,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import impedax as ix
-from impedax.circuits import CDCConvention, Element, Parallel, Series, from_cdc, from_impedance_py, to_cdc, to_impedance_py
+from impedax.circuits import CDCConvention, Element, Parallel, Series, from_autoeis, from_cdc, from_impedance_py, to_cdc, to_impedance_py
 
 # --- impedance.py ---------------------------------------------------------------------------
 
@@ -29,12 +29,21 @@ READS = [
     (from_cdc, "R(C[RW])", "R1 + C1 || (R2 + W1)"),
     (from_cdc, "R(C[R(CR)])", "R1 + C1 || (R2 + C2 || R3)"),
     (from_cdc, "LOTG", "L1 + Ws1 + Wo1 + G1"),
+    # AutoEIS's documented example (its circuit notation page): '-' series, [a,b] parallel, P a CPE
+    (from_autoeis, "R1-C2-[R3,P4]-[R5,[R6,C7]]", "R1 + C2 + R3 || CPE4 + R5 || R6 || C7"),
+    (from_autoeis, "R1-[R2-P3,C4] - L5", "R1 + (R2 + CPE3) || C4 + L5"),
+    (from_autoeis, "P1", "CPE1"),
 ]
 REFUSED = [
     (from_impedance_py, "R0-TLMQ1", "no impedax equivalent"),
     (from_impedance_py, "R0-p(R1,C1", "closing p"),
     (from_cdc, "R(RX)", "unknown CDC element"),
     (from_cdc, "R(RC", "unclosed group"),
+    (from_autoeis, "R1-[R2,P3", r"expected '\]' closing \["),
+    (from_autoeis, "R1-[R2]", r"\[\.\.\.\] needs at least two branches"),
+    (from_autoeis, "R1-[R2,X3]", "AutoEIS element 'X' has no impedax equivalent"),
+    (from_autoeis, "R1-p(R2,C3)", r"expected an element such as R1 or \["),  # (impedance.py's group)
+    (from_autoeis, "R1-R1", "duplicate element name 'R1'"),
 ]
 
 
@@ -217,6 +226,17 @@ def test_written_cdc_means_the_same_circuit_to_pyimpspec(text):
     f = np.logspace(-1, 6, 15)
     ours = np.asarray(ix.compile_circuit(c)(values, f))
     np.testing.assert_allclose(ours, theirs.get_impedances(f), rtol=1e-10)
+
+
+def test_autoeis_cpe_has_the_cpe_impedance_of_its_w_and_n():
+    # AutoEIS's CPE: Z = 1/(Q (jω)^α), Q its P·w and α its P·n; R1-[R2,P3] by hand
+    c = from_autoeis("R1-[R2,P3]")
+    assert c.parameter_names() == ("R1", "R2", "CPE3.Q", "CPE3.alpha")
+    values = {"R1": 10.0, "R2": 250.0, "CPE3.Q": 3e-5, "CPE3.alpha": 0.85}
+    for f in (0.1, 10.0, 1e4):
+        cpe = 1 / (3e-5 * (2j * math.pi * f) ** 0.85)
+        expected = 10.0 + 1 / (1 / 250.0 + 1 / cpe)
+        assert complex(ix.compile_circuit(c)(values, np.array([f]))[0]) == pytest.approx(expected, rel=1e-12)
 
 
 def test_randles_read_from_classic_cdc_has_the_randles_impedance():

@@ -324,3 +324,41 @@ def test_cli_cdc_that_does_not_read_exits_2_with_the_cdc_readers_caret(capsys):
     assert main(["info", "R(RC"]) == 2
     err = capsys.readouterr().err
     assert "  R(RC\n" in err and "Traceback" not in err
+
+
+# --- AutoEIS's and EC-Lab's notations on the command line --------------------------------------
+
+
+@pytest.mark.parametrize(
+    "model, note",
+    [
+        ("R1-[R2,P3]", "read as AutoEIS notation: R1 + R2 || CPE3"),
+        ("R1-C2-[R3,P4]-[R5,[R6,C7]]", "read as AutoEIS notation: R1 + C2 + R3 || CPE4 + R5 || R6 || C7"),
+        ("R1-P2", "read as AutoEIS notation: R1 + CPE2"),  # P is no impedance.py symbol
+        ("R1+Q2/R2", "read with '/' as parallel (EC-Lab's notation): R1 + Q2 || R2"),
+        ("C1/R1+C2/R2", "read with '/' as parallel (EC-Lab's notation): C1 || R1 + C2 || R2"),  # '/' binds closer than '+'
+        ("C1/(R1+C2/R2)", "read with '/' as parallel (EC-Lab's notation): C1 || (R1 + C2 || R2)"),
+        ("R0 + R1//C1", "read with '/' as parallel (EC-Lab's notation): R0 + R1 || C1"),
+    ],
+)
+def test_cli_info_reads_autoeis_and_ec_lab_notation_and_says_how(capsys, model, note):
+    assert main(["info", model]) == 0
+    captured = capsys.readouterr()
+    assert f"impedax info: {note}\n" in captured.err
+    assert f"model: {note.rpartition(': ')[2]}" in captured.out
+
+
+def test_autoeis_text_in_python_is_named_with_the_call_that_reads_it():
+    err = syntax_error("R1-[R2,P3]")
+    assert_caret(err, "R1-[R2,P3]", 2)
+    assert err.hint == "series is written '+' and parallel '||'; in Python an AutoEIS string is passed as ix.from_autoeis('R1-[R2,P3]') (the command line reads it by itself)"
+    for text in ("R0-p(R1,C1)", "R0 + R1 || C1", "R(C[RW])"):  # impedance.py, impedax, CDC
+        assert not ix.circuits.looks_like_autoeis(text)
+
+
+def test_cli_compare_reads_each_notation_and_notes_the_weighting_only_for_impedance_py(tmp_path, capsys):
+    data = rc_spectrum_csv(tmp_path)
+    assert main(["compare", str(data), "--model", "R1-[R2,C3]", "--model", "R(RQ)", "--json"]) == 0
+    err = capsys.readouterr().err
+    assert "read as AutoEIS notation: R1 + R2 || C3" in err and "read as Boukamp's circuit description code (CDC): R1 + R2 || CPE1" in err
+    assert "weight_by_modulus" not in err

@@ -133,7 +133,7 @@ BAD_MODELS = [  # (id, model, message fragment)
     ("syntax-error-at-the-end", "R1 + C1 +", "found end of input"),
     ("stray-closing-parenthesis", "R1 + C1)", "unbalanced ')'"),
     ("single-bar", "R1 | C1", "a single '|' is not an operator"),
-    ("slash-for-parallel", "R0 + R1//C1", "parallel is written '||': R1 || C1"),
+    ("slash-beside-bars", "R0 + R1 || C1/R2", "parallel is written '||': R1 || C1"),  # ('/' alone is read as parallel, with a note)
     ("cdc-unclosed-group", "R(RC", "unclosed group, expected ')'"),  # (CDC that reads is read, with a note)
     ("dash-for-series", "R0 + R1-C1", "series is written '+'"),  # ('R1-C1' alone is read as impedance.py notation)
     ("mixed-notation-p-group", "R0 + p(R1,C1)", "p(a,b) is a || b in impedax's notation, and the two notations cannot be mixed"),

@@ -8,13 +8,14 @@ language and how to add an element.
 from .compile import CompiledCircuit as CompiledCircuit, compile_circuit as compile_circuit
 from .convert import (
     CDCConvention as CDCConvention,
+    from_autoeis as from_autoeis,
     from_cdc as from_cdc,
     from_impedance_py as from_impedance_py,
     to_cdc as to_cdc,
     to_impedance_py as to_impedance_py,
 )
 from .elements import DEFAULT_REGISTRY as DEFAULT_REGISTRY
-from .parser import looks_like_cdc as looks_like_cdc, parse as parse, tokenize as tokenize
+from .parser import looks_like_autoeis as looks_like_autoeis, looks_like_cdc as looks_like_cdc, parse as parse, tokenize as tokenize
 from .probes import current_through as current_through, voltage_across as voltage_across
 from .program import (
     PROGRAM_SCALES as PROGRAM_SCALES,

@@ -26,7 +26,7 @@ from .parser import IMPEDANCE_PY_GROUP_RE, MAX_ELEMENTS, MAX_NESTING, impedance_
 from .spec import ADDING_AN_ELEMENT, Registry
 from .tree import Circuit, Element, parallel, series
 
-__all__ = ["CDCConvention", "from_cdc", "from_impedance_py", "to_cdc", "to_impedance_py"]
+__all__ = ["CDCConvention", "from_autoeis", "from_cdc", "from_impedance_py", "to_cdc", "to_impedance_py"]
 
 _IMPEDANCE_PY_ELEMENT_RE = re.compile(r"([A-Za-z]+)_?([0-9]+)")
 
@@ -99,17 +99,28 @@ class _ImpedancePyReader:
     def series(self) -> Circuit:
         return series(*self.separated("-", self.item))
 
+    # the notation's words, in messages: its parallel group's opening and closing, an example element
+    opening, closing, example, notation = "p(", ")", "R0", "impedance.py"
+
+    def group_at(self) -> int | None:
+        """Where the inside of a parallel group starting at ``self.pos`` begins, or None."""
+        group = IMPEDANCE_PY_GROUP_RE.match(self.src, self.pos)
+        return group.end() if group else None
+
+    def spec_of(self, sym: str):
+        return self.registry.by_impedance_py.get(sym)
+
     def item(self) -> Circuit:
         src = self.src
         self.skip()
-        group = IMPEDANCE_PY_GROUP_RE.match(src, self.pos)
-        if group:
-            return self.parallel_group(group.end())
+        inside = self.group_at()
+        if inside is not None:
+            return self.parallel_group(inside)
         m = _IMPEDANCE_PY_ELEMENT_RE.match(src, self.pos)
         if m is None:
-            raise CircuitSyntaxError(src, self.pos, "expected an element such as R0 or p(", None)
+            raise CircuitSyntaxError(src, self.pos, f"expected an element such as {self.example} or {self.opening}", None)
         sym, digits = m.groups()
-        spec = self.registry.by_impedance_py.get(sym)
+        spec = self.spec_of(sym)
         spelled = impedance_py_spelling(sym, self.registry)
         if spec is None and spelled is not None:  # cpe1, zarc1: symbols are case-sensitive
             meant = self.registry.by_impedance_py[spelled].symbol
@@ -117,8 +128,8 @@ class _ImpedancePyReader:
             raise CircuitSyntaxError(src, self.pos, f"unknown impedance.py element {sym!r} in {m.group()!r}", f"symbols are case-sensitive: did you mean {spelled}{digits}{also}?")
         if spec is None:
             raise CircuitSyntaxError(
-                src, self.pos, f"impedance.py element {sym!r} has no impedax equivalent",
-                "supported: " + ", ".join(self.registry.by_impedance_py)
+                src, self.pos, f"{self.notation} element {sym!r} has no impedax equivalent",
+                "supported: " + ", ".join(self.supported())
                 + f"; register your own: ElementSpec(..., impedance_py={sym!r}) {ADDING_AN_ELEMENT}",
             )
         name = f"{spec.symbol}{digits}"
@@ -130,21 +141,65 @@ class _ImpedancePyReader:
         self.pos = m.end()
         return Element(spec.symbol, name)
 
+    def supported(self) -> list[str]:
+        return list(self.registry.by_impedance_py)
+
     def parallel_group(self, inside: int) -> Circuit:
-        """The group whose ``p(`` starts at ``self.pos`` and ends before ``inside``."""
+        """The group whose opening (``p(``) starts at ``self.pos`` and ends before ``inside``."""
         src, start = self.src, self.pos
+        group = f"{self.opening}...{self.closing}"
         if self.depth >= MAX_NESTING:
-            raise CircuitSyntaxError(src, start, f"p(...) nested deeper than {MAX_NESTING} levels")
+            raise CircuitSyntaxError(src, start, f"{group} nested deeper than {MAX_NESTING} levels")
         self.depth += 1
         self.pos = inside
         parts = self.separated(",", self.series)
-        if self.pos >= len(src) or src[self.pos] != ")":
-            raise CircuitSyntaxError(src, self.pos, "expected ')' closing p(", f"p( opened at column {start + 1}")
+        if self.pos >= len(src) or src[self.pos] != self.closing:
+            raise CircuitSyntaxError(src, self.pos, f"expected '{self.closing}' closing {self.opening}", f"{self.opening} opened at column {start + 1}")
         self.pos += 1
         self.depth -= 1
         if len(parts) < 2:
-            raise CircuitSyntaxError(src, start, "p(...) needs at least two branches")
+            raise CircuitSyntaxError(src, start, f"{group} needs at least two branches")
         return parallel(*parts)
+
+
+def from_autoeis(text: str, registry: Registry = DEFAULT_REGISTRY) -> Circuit:
+    """Convert an AutoEIS circuit string (``R1-C2-[R3,P4]``) into an impedax circuit.
+
+    ``-`` is series and ``[a, b, ...]`` parallel; ``P`` is AutoEIS's constant phase element
+    (``P4`` → ``CPE4``, its ``P4w``, ``P4n`` are ``CPE4.Q``, ``CPE4.alpha``), and the other
+    symbols (``R``, ``C``, ``L``) are read as in impedance.py strings (`from_impedance_py`).
+    """
+    src = require_text(text)
+    if not src.strip():
+        raise CircuitSyntaxError(src, 0, "empty circuit")
+    return _AutoEISReader(src, registry).read()
+
+
+# AutoEIS's symbols that are not impedance.py's, and the impedance.py symbol of the same element
+_AUTOEIS_SYMBOLS = {"P": "CPE"}
+
+
+class _AutoEISReader(_ImpedancePyReader):
+    """An AutoEIS string: impedance.py's grammar with ``[a,b]`` for ``p(a,b)`` and ``P`` for ``CPE``."""
+
+    opening, closing, example, notation = "[", "]", "R1", "AutoEIS"
+
+    def group_at(self) -> int | None:
+        return self.pos + 1 if self.src.startswith("[", self.pos) else None
+
+    def spec_of(self, sym: str):
+        return self.registry.by_impedance_py.get(_AUTOEIS_SYMBOLS.get(sym, sym))
+
+    def supported(self) -> list[str]:
+        own = {impedance_py: autoeis for autoeis, impedance_py in _AUTOEIS_SYMBOLS.items()}
+        return [own.get(sym, sym) for sym in self.registry.by_impedance_py]
+
+    def read(self) -> Circuit:
+        out = self.series()
+        if self.pos != len(self.src):
+            ch = self.src[self.pos]
+            raise CircuitSyntaxError(self.src, self.pos, f"unexpected {ch!r}", "AutoEIS strings use '-' and [a,b]")
+        return out
 
 
 def from_cdc(text: str, registry: Registry = DEFAULT_REGISTRY, *, convention: CDCConvention | str = CDCConvention.AUTO) -> Circuit:

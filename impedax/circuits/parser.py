@@ -110,12 +110,27 @@ def _notation_hint(source: str, ch: str, registry: Registry) -> str:
     has_group = IMPEDANCE_PY_GROUP_RE.search(source) is not None
     if has_group and ("+" in source or "||" in source):
         return "p(a,b) is a || b in impedax's notation, and the two notations cannot be mixed: write the whole string in one, " + _in_one_notation(source, registry)
+    if looks_like_autoeis(source):
+        return f"series is written '+' and parallel '||'; in Python an AutoEIS string is passed as {AUTOEIS_CALL}({_call_text(source)}) (the command line reads it by itself)"
     call = f"in Python an impedance.py string is passed as {IMPEDANCE_PY_CALL}({_call_text(source)}) (the command line reads it by itself)"
     if ch == "-":
         return "series is written '+'; " + call
     if has_group:
         return "p(a,b) is impedance.py's notation for a || b; " + call
     return "series is written '+'"
+
+
+AUTOEIS_CALL = "ix.from_autoeis"  # the reader of AutoEIS strings, as docs/circuits.md writes it
+_AUTOEIS_CPE_RE = re.compile(r"(?<![A-Za-z0-9_])P[0-9]")  # AutoEIS's CPE, P4 (no impedance.py or impedax symbol)
+
+
+def looks_like_autoeis(text: str) -> bool:
+    """Whether ``text`` is written in AutoEIS's notation (``R1-C2-[R3,P4]``): ``[a,b]`` groups or
+    its CPE symbol ``P``, and none of impedax's operators or impedance.py's ``p(``. impedax text
+    never holds ``[`` or ``,``; CDC has ``[`` but no ``,`` and no numbers."""
+    if "+" in text or "|" in text or IMPEDANCE_PY_GROUP_RE.search(text):
+        return False
+    return ("[" in text and "," in text) or _AUTOEIS_CPE_RE.search(text) is not None
 
 
 def _in_one_notation(source: str, registry: Registry) -> str:

@@ -501,20 +501,34 @@ def note_impedance_py_weighting(command: str, weighting: str | None) -> None:
         print(f"impedax {command}: note: {IMPEDANCE_PY_WEIGHTING_NOTE}", file=sys.stderr)
 
 
+# the parallel sign of EC-Lab's circuits (R1+Q2/R2, C1/(R1+C2/R2): '/' binds closer than '+',
+# as impedax's '||' does) and of papers (R1//C1)
+SLASHES = re.compile(r"\s*/+\s*")
+
+
 def impedax_text(model: str, command: str, registry=None) -> str:
     """``model`` as impedax circuit text: itself, or, for an impedance.py string that is no
     impedax text (`looks_like_impedance_py`), its impedax text (`impedax.from_impedance_py`), and
-    for a Boukamp CDC string (`impedax.circuits.looks_like_cdc`: ``R(RC)``, never impedax text)
-    its impedax text (`impedax.from_cdc`), with one note on stderr saying how it was read. A
+    so for a Boukamp CDC string (`impedax.circuits.looks_like_cdc`: ``R(RC)``, never impedax text;
+    `impedax.from_cdc`) and an AutoEIS string (`impedax.circuits.looks_like_autoeis`:
+    ``R1-[R2,P3]``; `impedax.from_autoeis`) and impedax text with EC-Lab's ``/`` for ``||``
+    (`SLASHES`), with one note on stderr saying how it was read. A
     string that neither reads is refused with the impedax parser's message when it holds
     impedax's operators (``+``, ``|``: impedax text with a stray ``-``), else the other reader's."""
-    from ..circuits import DEFAULT_REGISTRY, from_cdc, from_impedance_py, looks_like_cdc, parse
+    from ..circuits import DEFAULT_REGISTRY, from_autoeis, from_cdc, from_impedance_py, looks_like_autoeis, looks_like_cdc, parse
     from ..errors import CircuitSyntaxError
 
     registry = registry or DEFAULT_REGISTRY
-    if looks_like_cdc(model, registry):
-        text = str(from_cdc(model, registry))
-        print(f"impedax {command}: read as Boukamp's circuit description code (CDC): {text}", file=sys.stderr)
+    other = ((from_cdc, "Boukamp's circuit description code (CDC)") if looks_like_cdc(model, registry)
+             else (from_autoeis, "AutoEIS notation") if looks_like_autoeis(model) else None)
+    if other is not None:
+        reader, notation = other
+        text = str(reader(model, registry))
+        print(f"impedax {command}: read as {notation}: {text}", file=sys.stderr)
+        return text
+    if not looks_like_impedance_py(model) and "/" in model and "|" not in model:
+        text = str(parse(SLASHES.sub(" || ", model), registry))
+        print(f"impedax {command}: read with '/' as parallel (EC-Lab's notation): {text}", file=sys.stderr)
         return text
     if not looks_like_impedance_py(model):
         return model
