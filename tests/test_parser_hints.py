@@ -362,3 +362,14 @@ def test_cli_compare_reads_each_notation_and_notes_the_weighting_only_for_impeda
     err = capsys.readouterr().err
     assert "read as AutoEIS notation: R1 + R2 || C3" in err and "read as Boukamp's circuit description code (CDC): R1 + R2 || CPE1" in err
     assert "weight_by_modulus" not in err
+
+
+def test_a_users_element_p_is_impedax_text_not_an_autoeis_cpe(tmp_path, capsys):
+    plugin = tmp_path / "mine.py"  # a user's element whose symbol is AutoEIS's CPE letter
+    plugin.write_text(
+        "import impedax as ix\n"
+        "ELEMENTS = [ix.ElementSpec('P', 'my resistor', 'Z = R', (ix.ParameterSpec('R', 'Ohm', 1.0),), lambda w, r: r + 0 * w)]\n"
+    )
+    assert main(["--plugin", str(plugin), "info", "P1"]) == 0
+    captured = capsys.readouterr()
+    assert "AutoEIS" not in captured.err and "model: P1" in captured.out and "P1.R" in captured.out

@@ -507,39 +507,36 @@ SLASHES = re.compile(r"\s*/+\s*")
 
 
 def impedax_text(model: str, command: str, registry=None) -> str:
-    """``model`` as impedax circuit text: itself, or, for an impedance.py string that is no
-    impedax text (`looks_like_impedance_py`), its impedax text (`impedax.from_impedance_py`), and
-    so for a Boukamp CDC string (`impedax.circuits.looks_like_cdc`: ``R(RC)``, never impedax text;
-    `impedax.from_cdc`) and an AutoEIS string (`impedax.circuits.looks_like_autoeis`:
-    ``R1-[R2,P3]``; `impedax.from_autoeis`) and impedax text with EC-Lab's ``/`` for ``||``
-    (`SLASHES`), with one note on stderr saying how it was read. A
-    string that neither reads is refused with the impedax parser's message when it holds
-    impedax's operators (``+``, ``|``: impedax text with a stray ``-``), else the other reader's."""
+    """``model`` as impedax circuit text: itself when it parses; else, read in the notation it is
+    written in, with one note on stderr saying how: Boukamp's CDC (`impedax.circuits.looks_like_cdc`,
+    ``R(RC)``: `impedax.from_cdc`), AutoEIS's (`impedax.circuits.looks_like_autoeis`,
+    ``R1-[R2,P3]``: `impedax.from_autoeis`), impedance.py's (`looks_like_impedance_py`,
+    ``R0-p(R1,C1)``: `impedax.from_impedance_py`), or impedax text with EC-Lab's ``/`` for
+    ``||`` (`SLASHES`, ``R1+Q2/R2``). A string that neither reads is refused with that reader's
+    message, or the impedax parser's when it holds impedax's operators (``+``, ``|``: impedax
+    text with a stray ``-``) or looks like no other notation."""
     from ..circuits import DEFAULT_REGISTRY, from_autoeis, from_cdc, from_impedance_py, looks_like_autoeis, looks_like_cdc, parse
     from ..errors import CircuitSyntaxError
 
     registry = registry or DEFAULT_REGISTRY
-    other = ((from_cdc, "Boukamp's circuit description code (CDC)") if looks_like_cdc(model, registry)
-             else (from_autoeis, "AutoEIS notation") if looks_like_autoeis(model) else None)
-    if other is not None:
-        reader, notation = other
-        text = str(reader(model, registry))
-        print(f"impedax {command}: read as {notation}: {text}", file=sys.stderr)
-        return text
-    if not looks_like_impedance_py(model) and "/" in model and "|" not in model:
-        text = str(parse(SLASHES.sub(" || ", model), registry))
-        print(f"impedax {command}: read with '/' as parallel (EC-Lab's notation): {text}", file=sys.stderr)
-        return text
-    if not looks_like_impedance_py(model):
-        return model
     try:
         parse(model, registry)
-        return model
-    except CircuitSyntaxError:
+        return model  # (impedax text first: a user's element P1 is no AutoEIS CPE)
+    except CircuitSyntaxError as exc:
+        impedax_error = exc
+    if looks_like_cdc(model, registry):
+        text, notation = str(from_cdc(model, registry)), "as Boukamp's circuit description code (CDC)"
+    elif looks_like_autoeis(model):
+        text, notation = str(from_autoeis(model, registry)), "as AutoEIS notation"
+    elif looks_like_impedance_py(model):
         if "+" in model or "|" in model:
-            raise
-    text = str(from_impedance_py(model, registry))
-    print(f"impedax {command}: read as impedance.py notation: {text}", file=sys.stderr)
+            raise impedax_error
+        text, notation = str(from_impedance_py(model, registry)), "as impedance.py notation"
+    elif "/" in model and "|" not in model:
+        text, notation = str(parse(SLASHES.sub(" || ", model), registry)), "with '/' as parallel (EC-Lab's notation)"
+    else:
+        return model  # (the command's own parse gives the error)
+    print(f"impedax {command}: read {notation}: {text}", file=sys.stderr)
     return text
 
 
