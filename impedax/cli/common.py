@@ -445,7 +445,8 @@ def emit_json(obj) -> None:
 def add_model_argument(parser, *, positional: bool = False, default: str | None = None) -> None:
     """MODEL (``positional``: first argument, or --model as the commands that fit take it) or
     --model, required unless a ``default`` is given."""
-    help_text = "circuit text, e.g. 'R0 + R1 || C1', an impedance.py string, 'R0-p(R1,C1)', or Boukamp's CDC, 'R(RC)' (quote it in the shell)"
+    help_text = ("circuit text, e.g. 'R0 + R1 || C1', or the same in impedance.py's, AutoEIS's, CDC or EC-Lab notation: "
+                 "'R0-p(R1,C1)', 'R0-[R1,C1]', 'R(RC)', 'R0+R1/C1' (quote it in the shell)")
     parser.set_defaults(circuit_model=True)  # (read by `read_impedance_py_model`)
     if positional:
         add_positional_model(parser, help=help_text)

@@ -19,7 +19,7 @@ def register(sub) -> None:
     )
     p.add_argument("data", metavar="DATA", help="spectrum file: one spectrum, or several (compared spectrum by spectrum and summed)")
     add_select_option(p)
-    p.add_argument("--model", action="append", required=True, metavar="MODEL", help="circuit text, an impedance.py string or Boukamp's CDC (give two or more)")
+    p.add_argument("--model", action="append", required=True, metavar="MODEL", help="circuit text, or in impedance.py's, AutoEIS's, CDC or EC-Lab notation (give two or more)")
     p.add_argument("--fix", action="append", metavar="NAME=VALUE", help="hold a parameter fixed in every model that has it; several after one --fix (--fix R1=1M R0=20) or --fix repeated")
     p.add_argument("--init", action="append", metavar="NAME=VALUE", help="starting value in every model that has the parameter; several after one --init (--init R1=43k C2=5u) or --init repeated")
     add_bound_option(p, " in every model that has the parameter")
