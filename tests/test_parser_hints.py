@@ -373,3 +373,10 @@ def test_a_users_element_p_is_impedax_text_not_an_autoeis_cpe(tmp_path, capsys):
     assert main(["--plugin", str(plugin), "info", "P1"]) == 0
     captured = capsys.readouterr()
     assert "AutoEIS" not in captured.err and "model: P1" in captured.out and "P1.R" in captured.out
+
+
+def test_an_autoeis_string_with_a_dash_before_p_gets_no_impedance_py_weighting_note(tmp_path, capsys):
+    data = rc_spectrum_csv(tmp_path)  # ('1-P' is also what marks impedance.py's series)
+    assert main(["fit", str(data), "--model", "R1-P2", "--quiet"]) == 0
+    err = capsys.readouterr().err
+    assert "read as AutoEIS notation: R1 + CPE2" in err and "weight_by_modulus" not in err

@@ -476,14 +476,21 @@ def looks_like_impedance_py(text: str) -> bool:
 
 def read_impedance_py_model(args, command: str) -> None:
     """``args.model`` of a command that takes a circuit (`add_model_argument`) as impedax text
-    (`impedax_text`: an impedance.py string read through `impedax.from_impedance_py`, a CDC
-    string through `impedax.from_cdc`, with the elements of ``args.registry``, the --plugin
-    files' too)."""
+    (`impedax_text`: a string in another notation read by its reader, with the elements of
+    ``args.registry``, the --plugin files' too)."""
     model = getattr(args, "model", None)
     if getattr(args, "circuit_model", False) and isinstance(model, str):
         args.model = impedax_text(model, command, getattr(args, "registry", None))
-        if args.model != model and looks_like_impedance_py(model):
+        if read_as_impedance_py(model, args.model):
             note_impedance_py_weighting(command, getattr(args, "weighting", None))
+
+
+def read_as_impedance_py(given: str, text: str) -> bool:
+    """Whether `impedax_text` read the model ``given`` as impedance.py notation (into ``text``):
+    what the note on impedance.py's default weighting follows."""
+    from ..circuits import looks_like_autoeis
+
+    return text != given and looks_like_impedance_py(given) and not looks_like_autoeis(given)
 
 
 IMPEDANCE_PY_WEIGHTING_NOTE = (
