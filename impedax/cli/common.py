@@ -480,17 +480,9 @@ def read_impedance_py_model(args, command: str) -> None:
     ``args.registry``, the --plugin files' too)."""
     model = getattr(args, "model", None)
     if getattr(args, "circuit_model", False) and isinstance(model, str):
-        args.model = impedax_text(model, command, getattr(args, "registry", None))
-        if read_as_impedance_py(model, args.model):
+        args.model, notation = impedax_text(model, command, getattr(args, "registry", None))
+        if notation == IMPEDANCE_PY_NOTATION:
             note_impedance_py_weighting(command, getattr(args, "weighting", None))
-
-
-def read_as_impedance_py(given: str, text: str) -> bool:
-    """Whether `impedax_text` read the model ``given`` as impedance.py notation (into ``text``):
-    what the note on impedance.py's default weighting follows."""
-    from ..circuits import looks_like_autoeis
-
-    return text != given and looks_like_impedance_py(given) and not looks_like_autoeis(given)
 
 
 IMPEDANCE_PY_WEIGHTING_NOTE = (
@@ -514,38 +506,45 @@ def note_impedance_py_weighting(command: str, weighting: str | None) -> None:
 SLASHES = re.compile(r"\s*/+\s*")
 
 
-def impedax_text(model: str, command: str, registry=None) -> str:
-    """``model`` as impedax circuit text: itself when it parses; else, read in the notation it is
-    written in, with one note on stderr saying how: Boukamp's CDC (`impedax.circuits.looks_like_cdc`,
-    ``R(RC)``: `impedax.from_cdc`), AutoEIS's (`impedax.circuits.looks_like_autoeis`,
-    ``R1-[R2,P3]``: `impedax.from_autoeis`), impedance.py's (`looks_like_impedance_py`,
-    ``R0-p(R1,C1)``: `impedax.from_impedance_py`), or impedax text with EC-Lab's ``/`` for
-    ``||`` (`SLASHES`, ``R1+Q2/R2``). A string that neither reads is refused with that reader's
-    message, or the impedax parser's when it holds impedax's operators (``+``, ``|``: impedax
-    text with a stray ``-``) or looks like no other notation."""
+# how `impedax_text` says it read a model written in another notation
+CDC_NOTATION = "as Boukamp's circuit description code (CDC)"
+AUTOEIS_NOTATION = "as AutoEIS notation"
+IMPEDANCE_PY_NOTATION = "as impedance.py notation"  # (the one the note on impedance.py's default weighting follows)
+EC_LAB_NOTATION = "with '/' as parallel (EC-Lab's notation)"
+
+
+def impedax_text(model: str, command: str, registry=None) -> tuple[str, str | None]:
+    """``model`` as impedax circuit text, and how it was read (None: as impedax text): itself
+    when it parses; else, read in the notation it is written in, with one note on stderr saying
+    how: Boukamp's CDC (`impedax.circuits.looks_like_cdc`, ``R(RC)``: `impedax.from_cdc`),
+    AutoEIS's (`impedax.circuits.looks_like_autoeis`, ``R1-[R2,P3]``: `impedax.from_autoeis`),
+    impedance.py's (`looks_like_impedance_py`, ``R0-p(R1,C1)``: `impedax.from_impedance_py`), or
+    impedax text with EC-Lab's ``/`` for ``||`` (`SLASHES`, ``R1+Q2/R2``). A string that neither
+    reads is refused with that reader's message, or the impedax parser's when it holds impedax's
+    operators (``+``, ``|``: impedax text with a stray ``-``) or looks like no other notation."""
     from ..circuits import DEFAULT_REGISTRY, from_autoeis, from_cdc, from_impedance_py, looks_like_autoeis, looks_like_cdc, parse
     from ..errors import CircuitSyntaxError
 
     registry = registry or DEFAULT_REGISTRY
     try:
         parse(model, registry)
-        return model  # (impedax text first: a user's element P1 is no AutoEIS CPE)
+        return model, None  # (impedax text first: a user's element P1 is no AutoEIS CPE)
     except CircuitSyntaxError as exc:
         impedax_error = exc
     if looks_like_cdc(model, registry):
-        text, notation = str(from_cdc(model, registry)), "as Boukamp's circuit description code (CDC)"
+        text, notation = str(from_cdc(model, registry)), CDC_NOTATION
     elif looks_like_autoeis(model):
-        text, notation = str(from_autoeis(model, registry)), "as AutoEIS notation"
+        text, notation = str(from_autoeis(model, registry)), AUTOEIS_NOTATION
     elif looks_like_impedance_py(model):
         if "+" in model or "|" in model:
             raise impedax_error
-        text, notation = str(from_impedance_py(model, registry)), "as impedance.py notation"
+        text, notation = str(from_impedance_py(model, registry)), IMPEDANCE_PY_NOTATION
     elif "/" in model and "|" not in model:
-        text, notation = str(parse(SLASHES.sub(" || ", model), registry)), "with '/' as parallel (EC-Lab's notation)"
+        text, notation = str(parse(SLASHES.sub(" || ", model), registry)), EC_LAB_NOTATION
     else:
-        return model  # (the command's own parse gives the error)
+        return model, None  # (the command's own parse gives the error)
     print(f"impedax {command}: read {notation}: {text}", file=sys.stderr)
-    return text
+    return text, notation
 
 
 def add_positional_model(parser, **kwargs) -> None:

@@ -41,13 +41,14 @@ def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting.problem import open_spectrum
     from ..arguments import closest_name
-    from .common import checked_bound_options, command_provenance, data_source, each_spectrum_written, emit_json, exclude_points, figure_options, figure_writer, impedax_text, load_selected, note_impedance_py_weighting, note_skipped_rows, note_unused_sigma, parse_assignments, parse_bounds, plan_outputs, progress_printer, read_as_impedance_py, result_writer, skipped_rows, with_source, WithSummaryKeys
+    from .common import checked_bound_options, command_provenance, data_source, each_spectrum_written, emit_json, exclude_points, figure_options, figure_writer, impedax_text, IMPEDANCE_PY_NOTATION, load_selected, note_impedance_py_weighting, note_skipped_rows, note_unused_sigma, parse_assignments, parse_bounds, plan_outputs, progress_printer, result_writer, skipped_rows, with_source, WithSummaryKeys
     from .fit import check_max_steps
 
     if len(args.model) < 2:
         raise ParameterError("compare needs at least two --model options")
-    given, args.model = args.model, [impedax_text(m, "compare", args.registry) for m in args.model]
-    if any(read_as_impedance_py(m, t) for m, t in zip(given, args.model)):  # (the weighting said once)
+    read = [impedax_text(m, "compare", args.registry) for m in args.model]
+    args.model = [text for text, _ in read]
+    if any(notation == IMPEDANCE_PY_NOTATION for _, notation in read):  # (the weighting said once)
         note_impedance_py_weighting("compare", args.weighting)
     circuits = [parse(m, args.registry) for m in args.model]  # all syntax errors before any fitting
     refuse_same_circuits(args.model, circuits, args.registry)
