@@ -454,7 +454,8 @@ def closest_name(name: str, known: Sequence[str], *, impedance_py_symbols: Mappi
     element (case aside) whose attribute starts with the typed one (``CPE1.a`` →
     ``CPE1.alpha``, not the closer spelling ``CPE1.Q``); else the impedax name of an
     impedance.py parameter name (`impedance_py_parameter`: ``CPE1_1`` → ``CPE1.alpha``, ``W1`` →
-    ``W1.sigma``); else the closest spelling (`difflib`)."""
+    ``W1.sigma``) or of an AutoEIS one (`autoeis_parameter`: ``P4n`` → ``CPE4.alpha``); else
+    the closest spelling (`difflib`)."""
     known = list(known)
     folded = [k for k in known if k.casefold() == name.casefold()]
     if folded:
@@ -465,7 +466,7 @@ def closest_name(name: str, known: Sequence[str], *, impedance_py_symbols: Mappi
         started = [k for k in same_element if k.partition(".")[2].casefold().startswith(attribute.casefold())]
         if started:
             return started[0]
-    meant = impedance_py_parameter(name, known, impedance_py_symbols)
+    meant = impedance_py_parameter(name, known, impedance_py_symbols) or autoeis_parameter(name, known)
     if meant:
         return " or ".join(meant)
     close = difflib.get_close_matches(name, known, n=1)
@@ -496,6 +497,27 @@ def impedance_py_parameter(name: str, known: Sequence[str], impedance_py_symbols
     if index is None:
         return parameters
     return [parameters[int(index)]] if int(index) < len(parameters) else []
+
+
+# an AutoEIS CPE parameter name: its element's number and w (the magnitude Q) or n (the
+# exponent α), in the order CPE declares them (P4w, P4n; a bare P4 names both)
+_AUTOEIS_CPE_PARAMETER_RE = re.compile(r"P([0-9]+)([wn]?)")
+
+
+def autoeis_parameter(name: str, known: Sequence[str]) -> list[str]:
+    """The parameters of ``known`` (a circuit's) that the AutoEIS parameter name ``name`` means,
+    or []: AutoEIS's constant phase element ``P4`` is impedax's ``CPE4`` (`from_autoeis`), its
+    ``P4w`` is ``CPE4.Q`` and ``P4n`` ``CPE4.alpha``; a bare ``P4`` gives both. (AutoEIS names
+    the other elements' parameters by the element, ``R1``, as impedance.py does:
+    `impedance_py_parameter`.)"""
+    match = _AUTOEIS_CPE_PARAMETER_RE.fullmatch(name) if isinstance(name, str) else None
+    if match is None:
+        return []
+    number, suffix = match.groups()
+    parameters = [k for k in known if k.partition(".")[0] == f"CPE{number}"]
+    if not suffix or len(parameters) != 2:
+        return parameters
+    return [parameters["wn".index(suffix)]]
 
 
 def unknown_parameter(what: str, name, known, circuit: object = None, *, impedance_py_symbols: Mapping[str, str] | None = None) -> ParameterError:

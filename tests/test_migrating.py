@@ -361,6 +361,37 @@ def test_cli_fix_hints_an_impedance_py_parameter_name(capsys):
     assert "unknown parameter 'CPE1_1'" in err and "did you mean CPE1.alpha?" in err
 
 
+AUTOEIS_NAME_HINTS = [
+    ("fixed", "P3n", "CPE3.alpha"),  # AutoEIS's CPE exponent n
+    ("init", "P3w", "CPE3.Q"),  # its magnitude w
+    ("fixed", "P3", "CPE3.Q or CPE3.alpha"),  # a bare element: both
+    ("bounds", "P3n", "CPE3.alpha"),
+]
+
+
+@pytest.mark.parametrize(("keyword", "name", "meant"), AUTOEIS_NAME_HINTS)
+def test_an_autoeis_parameter_name_is_answered_with_impedaxs(keyword, name, meant):
+    # AutoEIS's documentation: "the corresponding CPE is parameterized by P4w and P4n", Q and α
+    circuit = ix.from_autoeis("R1-[R2,P3]")
+    value = (0.5, 1.0) if keyword == "bounds" else 0.8
+    with pytest.raises(ix.ParameterError, match=rf"unknown parameter '{name}'.*; did you mean {meant}\?"):
+        ix.fit(circuit, synthetic_rc(), **{keyword: {name: value}})
+
+
+def test_an_autoeis_name_of_an_element_the_circuit_lacks_gets_no_cpe_hint():
+    from impedax.arguments import closest_name
+
+    assert closest_name("P4n", ["R1", "R2", "CPE3.Q", "CPE3.alpha"]) is None  # no CPE4
+    assert closest_name("P3x", ["R1", "CPE3.Q", "CPE3.alpha"]) is None  # AutoEIS has no suffix x
+
+
+def test_cli_fix_hints_an_autoeis_parameter_name(capsys):
+    assert main(["fit", str(EXAMPLE), "--model", "R1-[R2,P3]", "--fix", "P3n=0.9"]) == 2
+    err = capsys.readouterr().err
+    assert "read as AutoEIS notation: R1 + R2 || CPE3" in err
+    assert "unknown parameter 'P3n'" in err and "did you mean CPE3.alpha?" in err
+
+
 WEIGHTING_NOTE = ("note: impedax weights the residuals by 1/|Z| by default (--weighting modulus, impedance.py's weight_by_modulus=True); "
                   "impedance.py's default is unweighted, here --weighting unit")
 
