@@ -201,8 +201,9 @@ def validate_spectrum(ds: xr.Dataset, *, source: str | None = None) -> xr.Datase
         if ds.encoding.get(CHECKED_FILE) != source:
             raise
         detail = exc.detail
-        for advice in NON_FINITE_ADVICE.values():  # (the file is not at fault here)
-            detail = detail.replace(advice, "")
+        for advice in NON_FINITE_ADVICE.values():  # (the file is not at fault here, xarray's dropna is the remedy)
+            if advice in detail:
+                detail = detail.replace(advice, "") + _dropna_advice(ds)
         raise DataError(f"{detail} (changed in memory after impedax.load read the file, which passed this check)", path=source) from None
 
 
@@ -334,6 +335,21 @@ def coordinate_labels(ds, dim: str) -> list:
     if dim not in ds.coords:
         return list(range(ds.sizes[dim]))
     return [label_value(v) for v in ds[dim].values]
+
+
+def _dropna_advice(ds: xr.Dataset) -> str:
+    """How xarray leaves out the first non-finite point of Z in a Dataset changed in memory (a
+    point masked as NaN by hand): ``ds.dropna('frequency')``, which for a stack leaves that
+    frequency out of every spectrum, or the spectrum alone without it
+    (``ds.sel(cycle=64).dropna('frequency')``; by position where a dimension has no labels)."""
+    z = ds.variables["Z"]
+    idx = np.argwhere(~np.isfinite(z.values))[0]
+    others = [(dim, int(i)) for dim, i in zip(z.dims, idx) if dim != "frequency"]
+    if not others:
+        return "; ds.dropna('frequency') leaves it out"
+    labelled = all(dim in ds.coords and isinstance(ds[dim].values[i].item(), int | float | str) for dim, i in others)  # (else by position)
+    chosen = ", ".join(f"{dim}={ds[dim].values[i].item()!r}" if labelled else f"{dim}={i}" for dim, i in others)
+    return f"; ds.dropna('frequency') leaves that frequency out of every spectrum, ds.{'sel' if labelled else 'isel'}({chosen}).dropna('frequency') out of that spectrum alone"
 
 
 def point_text(ds: xr.Dataset, dims, idx) -> str:

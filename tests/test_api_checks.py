@@ -135,6 +135,28 @@ def test_a_loaded_file_changed_in_memory_is_not_blamed(tmp_path):
     with pytest.raises(ix.DataError, match=r"spectrum #1, f=.* \(point 3\): \(nan\+0j\); every spectrum needs a value at every frequency: .*not padded with NaN to one grid$"):
         ix.make_spectrum(FREQ, z, dims=("spectrum",))
 
+def test_a_point_masked_in_memory_is_answered_with_the_dropna_that_leaves_it_out(tmp_path):
+    """A NaN set by hand in a loaded stack (a point masked as bad) names xarray's remedy; the
+    remedy, followed, fits, and recovers the RC's values (closed form, 30 of its 31 points)."""
+    path = tmp_path / "stack.nc"
+    z = np.stack([rc_impedance(FREQ), rc_impedance(FREQ, r1=2e3)])
+    ix.save(xr.Dataset({"Z": (("cycle", "frequency"), z)}, coords={"cycle": [12, 64], "frequency": FREQ}), path)
+    data = ix.load(path)
+    data["Z"].values[1, 3] = np.nan
+    with pytest.raises(ix.DataError) as info:
+        ix.fit(RC, data)
+    assert ("(point 3): (nan+0j); ds.dropna('frequency') leaves that frequency out of every spectrum, "
+            "ds.sel(cycle=64).dropna('frequency') out of that spectrum alone (changed in memory") in str(info.value)
+    alone = ix.fit(RC, data.sel(cycle=64).dropna("frequency"))
+    assert alone.params["R1"] == pytest.approx(2e3, rel=1e-6)
+    both = ix.fit(RC, data.dropna("frequency"))
+    assert data.dropna("frequency").sizes["frequency"] == 30
+    np.testing.assert_allclose(both.to_xarray()["value"].sel(param="R1").values, [1e3, 2e3], rtol=1e-6)
+    data = ix.load(path).sel(cycle=12)
+    data["Z"].values[5] = np.nan
+    with pytest.raises(ix.DataError, match=re.escape("(point 5): (nan+0j); ds.dropna('frequency') leaves it out (changed in memory")):
+        ix.fit(RC, data)
+
 
 def test_zero_modulus_in_a_batch_names_the_spectrum_and_the_point():
     z = np.stack([rc_impedance(FREQ), rc_impedance(FREQ)])
