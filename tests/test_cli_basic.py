@@ -53,7 +53,7 @@ def test_info_json(capsys):
         (["simulate", "R1", "--param", "R1=abc"], "is not a number"),
         (["simulate", "R1", "--param", "R1"], "expected NAME=VALUE"),
         (["simulate", "R1", "--fmin", "0"], "positive"),
-        (["simulate", "R1", "--fmin", "10", "--fmax", "1"], "below fmin"),
+        (["simulate", "R1", "--fmin", "10", "--fmax", "1"], "--fmax (1 Hz) is below --fmin (10 Hz)"),
         (["simulate", "R1", "--out", "/nonexistent/dir/x.csv"], "does not exist"),
         (["info", "R1 + + C1"], "expected an element"),
     ],
