@@ -130,15 +130,18 @@ def test_fit_says_its_first_line_once_and_its_start_counts_agree(capsys, progres
 def test_starts_at_an_elements_limit_are_counted_apart_from_the_ladder(capsys, progress_at_once):
     """A G element has a limit no step reaches (`starts.limit_starts`: two starts more after the
     ladder). On the REAL CHInstruments file ``R0 + G1`` climbs to 336 starts (21 draws of 16) and
-    tries the 2 at the limit: "best of 338", "escalated to 336 (21 draws)", "2 at an element's
-    limit" (the status said "escalated to 338 (21 draws)" until 2026-12-03)."""
+    tries the 2 at the limit: "best of 338", "escalated to 336 (21 draws)", "2 from the best fit
+    with an element moved to its limit" (the status said "escalated to 338 (21 draws)" until
+    2026-12-03; "2 at an element's limit" until 2026-12-04, when 2 of each draw's 8 random starts
+    began to hold G at its limit too)."""
     real = REAL_CSV.parent / "exampleDataCHInstruments.txt"
     assert main(["fit", str(real), "--model", "R0 + G1", "--json"]) == 0
     out, err = capsys.readouterr()
     doc = json.loads(out)
     assert "escalated to 336 starts (16 new draws of 16)" in err and doc["n_starts"] == 338
     assert "best of 338 starts: the start ladder's first draw of 16, escalated to 336 (21 draws) as" in doc["message"]
-    assert doc["message"].endswith("; and 2 at an element's limit)")
+    assert "each draw the data-driven start, 7 jittered copies of it and 8 drawn at random (2 of them with an element at its limit)" in doc["message"]
+    assert doc["message"].endswith("; and 2 from the best fit with an element moved to its limit)")
 
 
 def test_fit_with_every_value_given_says_the_given_start_is_in_each_draw(capsys):
@@ -166,6 +169,41 @@ def test_a_draw_in_words_counts_its_jittered_and_random_starts():
     assert draw_words(partial, 2, "S") == "S and 1 drawn at random"
     everything = ParameterTable.build(circuit, init={"R1": 100.0, "C1": 1e-6}, fixed={"R0": 10.0})
     assert draw_words(everything, 16, "S") == "S 8 times (every free parameter given: none to jitter) and 8 drawn at random"
+    assert draw_words(partial, 16, "S", 2) == "S, 7 jittered copies of it and 8 drawn at random (2 of them with an element at its limit)"
+
+
+def test_a_draw_holds_elements_at_their_limits_in_every_fourth_random_start():
+    """`starts._some_at_limits`: of a draw's 8 random starts, the 4th and 8th hold the first G or
+    Wo at its W limit (τ = GERISCHER_DEEP/ω_min for a G, DEEP_DIFFUSION/ω_min for a Wo), the
+    3rd and 7th the second; the Warburg coefficient
+    σ = R/√(2τ) of the drawn values is kept (hand formula), every other start is as drawn."""
+    from impedax.fitting.least_squares.starts import SpectrumFeatures, limit_draw_count, rung_draws
+    from impedax.fitting.parameters import ParameterTable
+
+    freq = np.geomspace(0.05, 1e4, 30)
+    z = 1.0 + 1.0 / np.sqrt(1 + 2j * np.pi * freq)  # (any spectrum: the draws are scaled to it)
+    circuit = ix.parse("R0 + G1 + Wo1")
+    table = ParameterTable.build(circuit)
+    features = SpectrumFeatures(freq, z)
+    plain = ParameterTable.build(ix.parse("R0 + R1"))
+    assert limit_draw_count(circuit, table, ix.DEFAULT_REGISTRY, 16) == 4 and limit_draw_count(ix.parse("R0 + R1"), plain, ix.DEFAULT_REGISTRY, 16) == 0
+    (draw,) = rung_draws(circuit, table, features, 16, [0], ix.DEFAULT_REGISTRY)
+    from impedax.circuits.elements import DEEP_DIFFUSION, GERISCHER_DEEP
+
+    omega_min = 2 * np.pi * freq.min()
+    g_tau, wo_tau = table.names.index("G1.tau"), table.names.index("Wo1.tau")
+    random = draw[8:]  # (the guess and 7 jittered copies first)
+    np.testing.assert_allclose(random[[3, 7], g_tau], GERISCHER_DEEP / omega_min, rtol=1e-12)
+    np.testing.assert_allclose(random[[2, 6], wo_tau], DEEP_DIFFUSION / omega_min, rtol=1e-12)
+    assert np.all(random[[0, 1, 2, 4, 5, 6], g_tau] < 20 / omega_min) and np.all(random[[0, 1, 3, 4, 5, 7], wo_tau] < 20 / omega_min)
+    # the same draw without the moves: the same numbers (one Generator, one seed), σ kept
+    from impedax.fitting.least_squares.starts import _draw_ranges, data_driven_guess, random_starts
+
+    as_drawn = random_starts(table, features, data_driven_guess(circuit, table, features, ix.DEFAULT_REGISTRY), 16, 0, ranges=_draw_ranges(table, features))[8:]
+    g_r = table.names.index("G1.R")
+    sigma_drawn = as_drawn[[3, 7], g_r] / np.sqrt(2 * as_drawn[[3, 7], g_tau])
+    np.testing.assert_allclose(random[[3, 7], g_r] / np.sqrt(2 * random[[3, 7], g_tau]), sigma_drawn, rtol=1e-9)
+    np.testing.assert_array_equal(np.delete(random, [2, 3, 6, 7], axis=0), np.delete(as_drawn, [2, 3, 6, 7], axis=0))
 
 
 # --- 3. the closing line of a batch written to a file ----------------------------------------

@@ -29,7 +29,7 @@ from .per_spectrum import has_per_spectrum_values, split_fits
 from .result import BOUND_RESTARTS, FitResult, is_remainder, falling_inward, fit_result, unused_sigma_notes
 from .shared import SharedFitResult, fit_shared, shared_layout
 from .solvers import IDENTITY_DAMPING_STEPS, SCREEN_STEPS, SharedArgs, SolverStatus, SpectrumRows, better, padded_points, solver_args, tree_solver, trimmed, unscale
-from .starts import KK_MISFIT_FACTOR, SpectrumFeatures, draw_words, escalation_rungs, climb_target, guess_start, inward_start, limit_starts, rms_rel_of, rung_draws, rung_seed, to_solver_space
+from .starts import KK_MISFIT_FACTOR, SpectrumFeatures, draw_words, escalation_rungs, climb_target, guess_start, inward_start, limit_draw_count, limit_starts, rms_rel_of, rung_draws, rung_seed, to_solver_space
 
 __all__ = ["fit", "FitResult", "BatchFitResult", "SharedFitResult", "WEIGHTINGS", "information_criteria"]
 
@@ -202,7 +202,7 @@ def fit(
     # optimum it reached, which may be a local one (docs/fitting.md, "Starts")
     far = int(out.steps) > IDENTITY_DAMPING_STEPS
     if n_starts > 1 and (far or not at_noise_floor(freq, z, out.z_model, inv_re, inv_im, out.code)[()]):
-        say(f"the fit from {start} is " + ("far from its start" if far else "not at the noise") + f": {n_starts} starts (the start ladder's first draw: {draw_words(table, n_starts, guess_words)})")
+        say(f"the fit from {start} is " + ("far from its start" if far else "not at the noise") + f": {n_starts} starts (the start ladder's first draw: {draw_words(table, n_starts, guess_words, limit_draw_count(circuit, table, registry, n_starts))})")
         out, used = escalated(out, solve, circuit, table, features, freq, z, n_starts, seed, registry, int(max_steps), kk_chains)
         for limit_start in limit_starts(circuit, table, np.asarray(out.x)[None], freq, registry):  # (an element's limit no step reaches, as a batch's)
             (again,) = solve(guess_start(circuit, table, features, registry, starts=limit_start))
@@ -216,7 +216,7 @@ def fit(
                           remainder=is_remainder(data.attrs), attrs=data.attrs, misfit_out=misfits, n_free=int(table.free_index.size))
     misfit = misfits[0]
     result = fit_result(circuit, table, freq, z, out, weighting, used, time.perf_counter() - t0, registry, chi2_at_x=chi2_at_x, extra_notes=notes, start=start, weights=(inv_re, inv_im),
-                        starts_words=starts_words(table, n_starts, used, guess_words, at_limits))
+                        starts_words=starts_words(table, n_starts, used, guess_words, at_limits, limit_draw_count(circuit, table, registry, n_starts)))
     # a misfit the user's fixed value or bound explains is told so, not blamed on the model (as a batch's)
     checked = constraint_misfit_notes(circuit, table, registry, freq, z, result.z_model, sigma, result.values, result.at_bound, misfit, kk_chains.misfit(0), weighting=weighting, fit=fit, attrs=data.attrs)
     if checked != misfit:
@@ -234,18 +234,20 @@ def data_source(data: xr.Dataset) -> str | None:
 register_spectrum_fit(fit)  # (BatchFitResult.fit_of refits one spectrum with it)
 
 
-def starts_words(table, n_starts: int, used: int, start: str, at_limits: int = 0) -> str:
+def starts_words(table, n_starts: int, used: int, start: str, at_limits: int = 0, at_limit_in_draw: int = 0) -> str:
     """What the ``used`` starts of a fit were, after "best of {used} starts: " in its message:
     one draw of ``n_starts`` (`starts.draw_words`, ``start`` among them), and, where the start
     ladder climbed, that it escalated and why (the rule of `escalated`); the last
-    ``at_limits`` of them are an element's limit (`starts.limit_starts`), said apart.
+    ``at_limits`` of them are the best fit with an element moved to its limit
+    (`starts.limit_starts`), said apart; ``at_limit_in_draw`` of each draw's random starts hold
+    an element at its limit (`starts.limit_draw_count`).
     ``start``: the guess in a list ("the given start"). Until 2026-12-02 the message said "best
     of 336 starts" after a progress line of "draws of 16 starts", and not that the given start
     was among them; until 2026-12-03 it said "escalated to 338 (21 draws)" where the ladder's
     21 draws of 16 are 336 and two more started at a G or Wo element's limit (REAL CHInstruments data, `R0 + G1`)."""
-    draw = draw_words(table, n_starts, start)
+    draw = draw_words(table, n_starts, start, at_limit_in_draw)
     ladder = used - at_limits
-    limits = f"; and {at_limits} at an element's limit" if at_limits else ""
+    limits = f"; and {at_limits} from the best fit with an element moved to its limit" if at_limits else ""
     if ladder <= n_starts:
         return draw + limits
     return (f"the start ladder's first draw of {n_starts}, escalated to {ladder} ({ladder // n_starts} draws) as the best fit stayed above "
