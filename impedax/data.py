@@ -611,6 +611,14 @@ def concise_repr(result) -> str:
     return f"{type(result).__name__}({', '.join(parts)})"
 
 
+
+def report_text(result) -> str:
+    """``str(result)``, what ``print(result)`` shows: its ``report()``, the text the command line
+    prints (the repr stays `concise_repr`; a walkthrough of 2026-12-04 found ``print(fit)``
+    giving the fields, the first thing a user types)."""
+    return result.report()
+
+
 def format_relative_error(ratio: float) -> str:
     """A relative standard error for a table: ``3.8%``, ``0.52%``, ``126%`` (whole percent from
     10 %, where ``1.3e+02%`` read badly), ``1.2e+12%`` from 10⁴ % up; ``—`` when not finite."""

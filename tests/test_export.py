@@ -256,6 +256,19 @@ def test_repr_html_shows_the_table_and_the_figure(rc_fit, rc_batch):
     assert "relaxation times" in ix.drt(_rc_data())._repr_html_()
 
 
+
+def test_print_of_a_result_is_its_report_and_its_repr_stays_short(rc_fit, rc_batch):
+    """``print(fit)`` is the first thing a user types (a walkthrough of 2026-12-04 found it
+    printing the dataclass's fields): every result prints its report; ``repr`` stays one line."""
+    data = _rc_data()
+    refinement = Refinement(steps=(RefinementStep(fit=rc_fit, added=None, effect=None, diagnosis=None),), verdict="adequate")
+    results = [rc_fit, rc_batch, refinement, ix.kk_test(data), ix.zhit(data), ix.drt(data)]
+    for result in results:
+        assert str(result) == result.report() and f"{result}" == result.report()
+        assert repr(result).startswith(type(result).__name__ + "(") and "\n" not in repr(result)
+    assert str(rc_fit).startswith("model      R0 + R1 || C1") and "parameter" in str(rc_fit)
+
+
 def test_result_html_escapes_every_text():
     html = result_html("<script>x</script>", [{"na<me": "R&D", "value": 1.5}], lines=["a > b"])
     assert "<script>" not in html and "&lt;script&gt;" in html

@@ -12,7 +12,7 @@ from typing import Sequence
 import numpy as np
 import xarray as xr
 
-from ..data import column_width, concise_repr
+from ..data import column_width, concise_repr, report_text
 from ..errors import FitError
 from .comparison import DECISIVE_DELTA_AIC, NESTED_WORSE_REL, common_source, NOISE_F, SAME_FIT_RMS, criteria_tie, WEAK_DELTA_AIC, Comparison, akaike_weights, compare, criteria, fit_label, nested_as_held, register_batch_compare, significant, unique_labels
 from .least_squares import BatchFitResult, SharedFitResult
@@ -187,6 +187,7 @@ class BatchComparison:
     Immutable."""
 
     __repr__ = concise_repr
+    __str__ = report_text  # (print(result): its report)
 
     batches: tuple[BatchFitResult, ...]
     dataset: xr.Dataset

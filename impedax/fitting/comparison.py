@@ -15,7 +15,7 @@ import xarray as xr
 from ..arguments import checked_arguments, sequence_of
 from ..circuits import DEFAULT_REGISTRY, Circuit, Registry
 from ..circuits.nesting import embedding
-from ..data import column_width
+from ..data import column_width, report_text
 from ..errors import FitError
 from .least_squares import BatchFitResult, FitResult
 from .least_squares.branches import undetermined_names
@@ -172,6 +172,8 @@ def held_values(fit: FitResult) -> dict[str, float]:
 class Comparison:
     """The comparison table, one row per model in the order given; ``best`` has the lowest AIC
     (AIC ranks; ``aic_form`` says which AIC, `criteria`; `best_aicc_index` the lowest AICc)."""
+
+    __str__ = report_text  # (print(result): its report)
 
     rows: tuple[dict, ...]
     f_tests: tuple[dict, ...]

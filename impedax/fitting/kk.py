@@ -25,7 +25,7 @@ import numpy as np
 import xarray as xr
 
 from ..arguments import EXCLUDE_RTOL, MAX_BASIS, checked_arguments, count, flag, instance_of, real, shown
-from ..data import checked_frequencies, column_width, concise_repr, counted, format_band, format_frequency
+from ..data import checked_frequencies, column_width, concise_repr, report_text, counted, format_band, format_frequency
 from ..errors import DataError, ImpedaxError, ParameterError
 from .grid import ResultGrid, refuse_result_names
 from .problem import frequency_and_z, frequency_z_and_sigma
@@ -141,6 +141,7 @@ class KKResult:
     """
 
     __repr__ = concise_repr  # (the generated one printed every array)
+    __str__ = report_text  # (print(result): its report)
 
     frequency: np.ndarray
     impedance: np.ndarray

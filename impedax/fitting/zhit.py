@@ -40,7 +40,7 @@ import numpy as np
 import xarray as xr
 
 from ..arguments import checked_arguments, count, real
-from ..data import concise_repr, format_frequency
+from ..data import concise_repr, report_text, format_frequency
 from ..errors import DataError, ParameterError
 from .kk import CONCLUSIVE_POINTS_MIN, DEFAULT_THRESHOLDS, band_rule_counts, band_rules, bands_of_flags, long_runs, points_text, thresholds_for, zero_impedance_text
 from .problem import frequency_and_z
@@ -94,6 +94,7 @@ class ZHITResult:
     """
 
     __repr__ = concise_repr  # (the generated one printed every array)
+    __str__ = report_text  # (print(result): its report)
 
     frequency: np.ndarray
     impedance: np.ndarray

@@ -40,7 +40,7 @@ import xarray as xr
 
 from ..progress import quiet_beneath
 from ..circuits import parse
-from ..data import format_band, format_frequency, format_percent, format_quantity, si_prefix
+from ..data import report_text, format_band, format_frequency, format_percent, format_quantity, si_prefix
 from ..arguments import GAP_MIN_STEPS, MAX_WALKERS, checked_arguments, choice, count, flag, real, relative_permittivity_number, seed
 from ..errors import IN_MEMORY, CircuitError, DataError, ParameterError
 from ..constants import C_GAP_BOUNDS_F, EPSILON_0, EPSILON_AIR
@@ -132,6 +132,8 @@ class GapAnalysis:
     ``single_contact``: no skin or touchscreen was given, so ``remaining`` is the total's trial
     mean itself and the force's drive falls across the contact alone (module docstring).
     """
+
+    __str__ = report_text  # (print(result): its report)
 
     remaining: xr.Dataset
     paper: PaperGapEstimate

@@ -53,7 +53,7 @@ import xarray as xr
 
 from ...arguments import checked_arguments, refuse_unknown_keywords
 from ...circuits import DEFAULT_REGISTRY, Circuit, Registry, compile_circuit, parse
-from ...data import column_width, make_spectrum
+from ...data import column_width, make_spectrum, report_text
 from ...errors import DataError, FitError, ParameterError
 from ..derived import draw_indices
 from ..frozen import freeze_fields
@@ -650,6 +650,8 @@ class HierarchicalPosterior(PiledUp):
     priors of μ and of the log-sampled shared parameters (None: not recorded, a file written
     before 2026-11-30), which the prior-edge check (`piled_up`) needs for those.
     """
+
+    __str__ = report_text  # (print(result): its report)
 
     circuit: Circuit
     trial_names: tuple[str, ...]

@@ -20,7 +20,7 @@ import numpy as np
 import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
-from ...data import checked_frequencies, column_width, concise_repr, unit_text
+from ...data import checked_frequencies, column_width, concise_repr, report_text, unit_text
 from ...errors import DataError, ParameterError
 from ..derived import QUANTILES, bind_frequency, called, draw_indices, draws_band, needs_freq
 from ..least_squares import FitResult
@@ -96,6 +96,7 @@ class Posterior(PiledUp):
     """
 
     __repr__ = concise_repr  # (the generated one printed every array)
+    __str__ = report_text  # (print(result): its report)
 
     circuit: Circuit
     names: tuple[str, ...]

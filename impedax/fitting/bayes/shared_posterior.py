@@ -32,7 +32,7 @@ import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
 from ...errors import DataError, ParameterError
-from ...data import checked_frequencies, column_width, counted, unit_text
+from ...data import checked_frequencies, column_width, counted, report_text, unit_text
 from ...warning_groups import grouped_warnings
 from ..derived import QUANTILES, draw_indices, draws_band, needs_freq
 from ..least_squares import SharedFitResult, fit
@@ -111,6 +111,8 @@ class SharedPosterior(PiledUp):
     the log-posterior, ``fit`` the global least-squares fit the walkers started from (its
     ``dataset["Z"]`` the data), ``sigma`` the data's σ [Ω] if it has one (shaped as that Z),
     ``stragglers`` the run's walkers left out of the draws (`find_stragglers`)."""
+
+    __str__ = report_text  # (print(result): its report)
 
     circuit: Circuit
     shared: tuple[str, ...]

@@ -59,7 +59,7 @@ import xarray as xr
 from ...progress import reports_progress
 from ...arguments import MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice, count, flag, frequency, instance_of, noise_fraction, parameter_bounds, parameter_values, seed as seed_rule
 from ...circuits import Circuit, DCPath, DEFAULT_REGISTRY, Element, Parallel, Registry, Series, parse
-from ...data import concise_repr, counted, format_quantity, make_spectrum
+from ...data import concise_repr, report_text, counted, format_quantity, make_spectrum
 from ...errors import DataError, FitError, ImpedaxError, ParameterError
 from ..drt import PeakEvidence, drt, is_resolved, r_cpe_tau, unexplained_peaks
 from ..kk import CONCLUSIVE_POINTS_MIN, KKResult, frequency_text, kk_test, left_out_options, passing_band  # (frequency_text, left_out_options: here before 2026-12-02)
@@ -261,6 +261,7 @@ class Diagnosis:
     (`PeakEvidence`), or None when the DRT was off or could not be computed."""
 
     __repr__ = concise_repr  # (the generated one printed every array)
+    __str__ = report_text  # (print(result): its report)
 
     baseline: FitResult
     kk: KKResult | None

@@ -15,7 +15,7 @@ import xarray as xr
 from ...progress import reports_progress
 from ...arguments import MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice, count, flag, frequency, instance_of, noise_fraction, parameter_bounds, parameter_values, seed as seed_rule
 from ...circuits import Circuit, DEFAULT_REGISTRY, Element, Registry, parse
-from ...data import concise_repr, format_quantity
+from ...data import concise_repr, report_text, format_quantity
 from ...errors import CircuitError, ParameterError
 from ..least_squares import FitResult, fit
 from ..least_squares.candidates import fit_candidates
@@ -107,6 +107,7 @@ class Refinement:
     """Outcome of `refine`: the steps (first: the user's model), the final model and verdict."""
 
     __repr__ = concise_repr  # (the generated one printed every array)
+    __str__ = report_text  # (print(result): its report)
 
     steps: tuple[RefinementStep, ...]
     verdict: Verdict

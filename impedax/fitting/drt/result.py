@@ -9,7 +9,7 @@ from typing import Mapping
 import numpy as np
 import xarray as xr
 
-from ...data import checked_frequencies, concise_repr, counted, format_quantity, format_time, format_uncertain
+from ...data import checked_frequencies, concise_repr, report_text, counted, format_quantity, format_time, format_uncertain
 from ...errors import IN_MEMORY
 from .peaks import ROUNDOFF_SHARE, Peak, below_roundoff, counted_peaks
 from ..grid import ResultGrid
@@ -68,6 +68,7 @@ class DRTResult:
     """
 
     __repr__ = concise_repr  # (the generated one printed every array)
+    __str__ = report_text  # (print(result): its report)
 
     frequency: np.ndarray
     impedance: np.ndarray
@@ -430,6 +431,8 @@ with xarray's "conflicting sizes for dimension 'tau'"."""
 class DRTBatchResult(ResultGrid):
     """DRTs of every spectrum of a Dataset with extra dimensions (trial, session, ...), computed
     in one vmapped solve. ``results`` in C order over ``dims``; ``batch[i, j]`` gives one."""
+
+    __str__ = report_text  # (print(result): its report)
 
     results: tuple[DRTResult, ...]
 

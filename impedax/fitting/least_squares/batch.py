@@ -21,7 +21,7 @@ import xarray as xr
 from ...arguments import unknown_parameter
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ...circuits.nesting import carried_values
-from ...data import column_width, concise_repr, coordinate_labels, counted, format_relative_error, label_value, unit_text
+from ...data import column_width, concise_repr, report_text, coordinate_labels, counted, format_relative_error, label_value, unit_text
 from ...errors import DataError, ParameterError
 from ...progress import say, silenced
 from ...warning_groups import grouped_warnings, warning_kinds
@@ -113,6 +113,7 @@ class BatchFitResult:
     """
 
     __repr__ = concise_repr  # (the generated one printed every array)
+    __str__ = report_text  # (print(result): its report)
 
     circuit: Circuit
     dataset: xr.Dataset

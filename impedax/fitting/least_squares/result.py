@@ -13,7 +13,7 @@ import numpy as np
 import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
-from ...data import checked_frequencies, column_width, concise_repr, format_frequency, format_quantity, format_relative_error, unit_text, value_span
+from ...data import checked_frequencies, column_width, concise_repr, report_text, format_frequency, format_quantity, format_relative_error, unit_text, value_span
 from ...errors import DataError
 from ..frozen import freeze_fields
 from ..kk import KKChains, kk_sigma_misfits
@@ -125,6 +125,7 @@ class FitResult:
     """
 
     __repr__ = concise_repr  # (the generated one printed every array)
+    __str__ = report_text  # (print(result): its report)
 
     circuit: Circuit
     values: dict[str, float]

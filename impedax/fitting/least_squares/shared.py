@@ -36,7 +36,7 @@ import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit
 from ...arguments import closest_name
-from ...data import column_width, concise_repr, coordinate_labels, format_relative_error, unit_text
+from ...data import column_width, concise_repr, report_text, coordinate_labels, format_relative_error, unit_text
 from ...errors import DataError, ParameterError
 from ...warning_groups import scope_key
 from ..parameters import ParameterTable, to_internal
@@ -438,6 +438,7 @@ class SharedFitResult(BatchFitResult):
     (shared − independent; negative favours sharing), ``f_statistic``, ``f_pvalue``."""
 
     __repr__ = concise_repr  # (the generated one printed every array)
+    __str__ = report_text  # (print(result): its report)
 
     def fit_of(self, *positional, **labels):
         """Not for a global fit: one spectrum refitted alone would move the shared parameters
