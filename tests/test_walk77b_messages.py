@@ -252,3 +252,23 @@ def test_a_batch_comparison_written_with_out_names_its_file(tmp_path, capsys, sh
     text = capsys.readouterr().out
     assert f'each spectrum\'s winner and criteria: written to {path} (its "spectra"); one spectrum\'s full comparison: --select cycle=LABEL' in text
     assert "or --json" not in text
+
+
+def test_a_gerischer_fitted_to_a_warburg_is_told_why_its_r_and_tau_go_together():
+    """SYNTHETIC R0 + W (closed form Z = R0 + σ(1 − j)/√ω, 1 % noise) fitted with R0 + G1: the
+    G runs to its W limit (τ ≫ 1/ω_min), where only R/√τ shows; the note on the pair says why
+    (`_PAIR_REASONS`), not only "fix one of them" (REAL battery cycle 64's G, 2026-12-04)."""
+    from impedax.fitting.least_squares.result import unidentified_group_note
+
+    freq = np.geomspace(0.01, 1e4, 50)
+    omega = 2 * np.pi * freq
+    rng = np.random.default_rng(3)
+    z = 5.0 + 20.0 * (1 - 1j) / np.sqrt(omega)
+    z = z * (1 + 0.01 * (rng.normal(size=z.size) + 1j * rng.normal(size=z.size)) / np.sqrt(2))
+    fit = ix.fit("R0 + G1", ix.make_spectrum(freq, z))
+    assert fit.values["G1.tau"] * omega.min() > 100  # (at its limit)
+    sigma = fit.values["G1.R"] / np.sqrt(2 * fit.values["G1.tau"])
+    assert sigma == pytest.approx(20.0, rel=0.05)
+    pair = [w for w in fit.warnings if "G1.R" in w and "G1.tau" in w]
+    assert pair and "are not separately determined" in pair[0] and "a finite Warburg or a Gerischer acts as an infinite Warburg, of which only R/√τ shows" in pair[0]
+    assert unidentified_group_note(("R0", "R1"), 1e-9).endswith("fix one of them")  # (two elements: no such reason)

@@ -1485,8 +1485,19 @@ def unidentified_group_note(group, ratio: float) -> str:
         return f"{group[0]} is not determined by the data (near-singular Jacobian, singular-value ratio {ratio:.1e}): Z hardly changes with it"
     return (
         f"{', '.join(group)} are not separately determined by the data (near-singular Jacobian, "
-        f"singular-value ratio {ratio:.1e}): only a combination of them changes Z; fix one of them"
+        f"singular-value ratio {ratio:.1e}): only a combination of them changes Z; fix one of them{_one_element_reason(group)}"
     )
+
+
+def _one_element_reason(group) -> str:
+    """Why a group of two parameters of one element goes together, where `_PAIR_REASONS` says
+    so without numbers (R and τ: an element seen in one of its limits), else "". On REAL battery
+    cycle 64 a G at τ = 8.6e8 s (its W limit) was told only to fix R or τ (2026-12-04)."""
+    if len(group) != 2:
+        return ""
+    (owner_a, _, name_a), (owner_b, _, name_b) = (str(n).rpartition(".") for n in group)
+    why = _PAIR_REASONS.get(frozenset((name_a, name_b)), "") if owner_a and owner_a == owner_b else ""
+    return "" if "{}" in why else why
 
 
 def diagnose_identifiability(names, values, stderr, corr, null_sets, ratio, at_bound=()) -> list[str]:
