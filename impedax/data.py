@@ -611,7 +611,6 @@ def concise_repr(result) -> str:
     return f"{type(result).__name__}({', '.join(parts)})"
 
 
-
 def report_text(result) -> str:
     """``str(result)``, what ``print(result)`` shows: its ``report()``, the text the command line
     prints (the repr stays `concise_repr`; a walkthrough of 2026-12-04 found ``print(fit)``

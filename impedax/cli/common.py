@@ -1692,9 +1692,9 @@ def option_words(command: str, error: Exception) -> str:
     `OPTION_OF_KEYWORD_BY_COMMAND` that names what the message is about is replaced by the
     option that sets it — at the start of the message when followed by ``must``, ``:`` or ``=``
     (``max_rc must be ...`` → ``--max-rc must be ...``, ``fixed: unknown ...``), and a band's
-    ends anywhere as ``from fmin = 10 Hz`` or ``fmax (1 Hz) is below fmin (100 Hz)``; a keyword with its value anywhere as the option
-    with that value (``use noise='proportional'`` → ``use --noise proportional``, `_phrased`,
-    first: ``noise='sigma' needs`` → ``--noise sigma needs``). A file name that leads a
+    ends anywhere as ``from fmin = 10 Hz`` or ``fmax (1 Hz) is below fmin (100 Hz)``; a keyword
+    with its value anywhere as the option with that value (``use noise='proportional'`` → ``use
+    --noise proportional``, `_phrased`, first: ``noise='sigma' needs`` → ``--noise sigma needs``). A file name that leads a
     `DataError` (``c: line 3: ...``) is left as it is. An element of one's own is declared with --plugin
     (`plugin_words`)."""
     text = plugin_words(error)
