@@ -227,3 +227,17 @@ def test_a_large_batch_reaches_the_optimum_its_reference_finds_only_with_256_sta
     f, z = one["frequency"].values, one["Z"].values.ravel()
     batch = ix.fit(TRAP_MODEL, ix.make_spectrum(f, np.tile(z, (16, 1)), dims=("trial",)))
     np.testing.assert_array_less(batch.dataset["rms_rel"].values, 1.02 * BEST_KNOWN[case]["rms_rel"] + 1e-4)
+
+
+@pytest.mark.slow  # (two fits up the whole ladder, ~5 s: make test-all runs it)
+def test_a_gerischer_reaches_its_warburg_limit_on_real_cycle_64():
+    """REAL battery cycle 64 (AutoEIS): G contains W as τ → ∞ (R/√(1 + jωτ) → R/√(jωτ)), so the
+    G model's optimum is at most the W model's. Its default fit stopped at rms_rel 1.173 % with
+    the roles of G1 and R2 ∥ CPE2 swapped against the W model's 1.130 %; the ladder's random
+    starts with G at its limit (`starts._some_at_limits`, 2026-12-04) reach it."""
+    cycles = ix.load(Path(__file__).parent.parent / "examples" / "data" / "autoeis_battery_cycles.nc")
+    one = cycles.sel(cycle=64)
+    with_w = ix.fit("R0 + R1 || CPE1 + R2 || CPE2 + W1", one)
+    with_g = ix.fit("R0 + R1 || CPE1 + R2 || CPE2 + G1", one)
+    assert with_g.rms_rel <= with_w.rms_rel * (1 + 1e-4) and with_w.rms_rel == pytest.approx(0.0113, rel=0.01)
+    assert with_g.values["G1.tau"] * 2 * np.pi * float(one.frequency.min()) > 100  # (at the limit)
