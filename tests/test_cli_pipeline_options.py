@@ -94,7 +94,19 @@ def test_every_command_takes_quiet(capsys):
     sub = next(a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction))
     assert {"simulate", "info", "stack", "fit"} <= set(sub.choices)
     for command, parser in sub.choices.items():
-        assert "--quiet" in {s for action in parser._actions for s in action.option_strings}, command
+        options = {s for action in parser._actions for s in action.option_strings}
+        assert "--quiet" in options and "-q" in options, command  # (-q for short: 2026-12-04)
+
+
+def test_q_is_quiet_for_short(tmp_path, capsys, monkeypatch):
+    """A walkthrough typed ``-q`` and got "unrecognized arguments": it is --quiet's short form."""
+    monkeypatch.setattr(common, "PROGRESS_AFTER_S", 0.0)
+    data = write_rc(tmp_path / "rc.csv")
+    code, short, err = run(capsys, "fit", data, "--model", MODEL, "--json", "-q")
+    assert code == 0, err
+    assert not PROGRESS_LINE.search(err) and "unrecognized" not in err
+    code, long, _ = run(capsys, "fit", data, "--model", MODEL, "--json", "--quiet")
+    assert without_times(json.loads(short)) == without_times(json.loads(long))
 
 
 def test_simulate_quiet_writes_the_same_and_keeps_its_notes(tmp_path, capsys):

@@ -1743,8 +1743,9 @@ def add_quiet_option(parser) -> None:
     """``--quiet``: no progress lines (`progress_printer`'s, a sampler's) on stderr; warnings and
     notes are still printed there (added 2026-12-01 to every command that prints progress: a
     pipeline's log held 79 progress lines of one refine run under --json; to kk, which prints
-    none, on 2026-12-02, so that every analysis command takes it)."""
-    parser.add_argument("--quiet", action="store_true", help=QUIET_HELP)
+    none, on 2026-12-02, so that every analysis command takes it); ``-q`` for short, the
+    convention a walkthrough reached for (2026-12-04)."""
+    parser.add_argument("-q", "--quiet", action="store_true", help=QUIET_HELP)
 
 
 def progress_printer(after_s: float | None = None, stream=None, *, quiet: bool = False):
