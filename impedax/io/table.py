@@ -110,13 +110,23 @@ ANGULAR_SCALE = 1 / (2 * np.pi)
 ANGULAR_UNIT = "rad/s"
 
 
+# a name and rad/s after a slash, the unit's own slash in it: ``omega/rad/s``, ``ω / (rad/s)``
+# (`UNIT_CELL` reads a unit after a slash only when it holds no slash)
+_SLASHED_RAD_PER_SECOND = re.compile(r"^(?P<name>.*?\S)\s*/\s*(?:\(\s*rad\s*/\s*s(?:ec)?\s*\)|rad\s*/\s*s(?:ec)?)\s*$", re.IGNORECASE)
+
+
 def _angular(cell: str) -> bool:
     """Whether a header cell names an angular frequency ω in rad/s: ``omega``, ``ω``, ``angular
     frequency`` without a unit or with rad/s, and ``w``, ``f``, ``frequency`` with rad/s
-    (``w (rad/s)``, ``ω/rad s-1``, ``Frequency (rad/s)``)."""
+    (``w (rad/s)``, ``ω/rad s-1``, ``Frequency (rad/s)``, ``omega/rad/s``: 2026-12-04, refused
+    before with the advice to name it 'omega')."""
+    slashed = _SLASHED_RAD_PER_SECOND.match(unquoted(cell))
     m = UNIT_CELL.match(unquoted(cell))
-    name, unit = (m.group("name"), m.group("u1") if m.group("u1") is not None else m.group("u2")) if m else (unquoted(cell), "")
-    if m and not re.sub(r"\s+", "", unit or "").lower() in _RAD_PER_SECOND:
+    if slashed:
+        name, unit = slashed.group("name"), "rad/s"
+    else:
+        name, unit = (m.group("name"), m.group("u1") if m.group("u1") is not None else m.group("u2")) if m else (unquoted(cell), "")
+    if m and not slashed and not re.sub(r"\s+", "", unit or "").lower() in _RAD_PER_SECOND:
         name, unit = unquoted(cell), ""  # ('omega (Hz)' is no angular frequency with a unit)
     if "Ω" in name or "Ω" in name:  # (the ohm sign, which lower() would turn into ω)
         return False
