@@ -58,17 +58,19 @@ def check_max_steps(n: int) -> int:
 def note_solver_step_limit(n: int, command: str) -> None:
     """One stderr note when ``--max-steps N`` of ``diagnose`` or ``refine`` is below
     `SCREEN_STEPS` (40), the Levenberg–Marquardt steps every start of a fit is screened for:
-    a solver limit that small is no sensible one, and it most likely meant refine's number of
-    effects (``--max-effects``; ``--max-steps`` was that number before issue 14, and
+    a solver limit that small is no sensible one, and under ``refine`` it most likely meant its
+    number of effects (``--max-effects``; ``--max-steps`` was that number before issue 14, and
     ``impedax.refine(max_steps=3)`` is refused for it). The value is still used as the step limit."""
     import sys
 
     from ..fitting.least_squares.solvers import SCREEN_STEPS
 
     if n < SCREEN_STEPS:
+        # (diagnose adds no effect: its note says what the limit does, not refine's option; a
+        # walkthrough of 2026-12-04 found refine's words under diagnose)
+        meant = "the number of effects refine may add is --max-effects" if command == "refine" else "so few steps stop most fits before they converge"
         print(
-            f"impedax {command}: note: --max-steps {n} is the solver's step limit per fit (below the {SCREEN_STEPS} steps each start is screened for); "
-            f"the number of effects refine may add is --max-effects",
+            f"impedax {command}: note: --max-steps {n} is the solver's step limit per fit (below the {SCREEN_STEPS} steps each start is screened for); {meant}",
             file=sys.stderr,
         )
 
