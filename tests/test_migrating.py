@@ -102,10 +102,20 @@ NAME_HINTS = [
 ]
 
 
-@pytest.mark.parametrize(("keyword", "name", "meant"), NAME_HINTS)
-def test_an_impedance_py_parameter_name_is_answered_with_impedaxs(keyword, name, meant):
-    circuit = ix.from_impedance_py("R0-p(R1,CPE1)-Wo1-W1-Zarc1")
-    value = (0.0, 1.0) if keyword == "bounds" else 0.5
+AUTOEIS_NAME_HINTS = [
+    ("fixed", "P3n", "CPE3.alpha"),  # AutoEIS's CPE exponent n
+    ("init", "P3w", "CPE3.Q"),  # its magnitude w
+    ("fixed", "P3", "CPE3.Q or CPE3.alpha"),  # a bare element: both
+    ("bounds", "P3n", "CPE3.alpha"),
+]
+# AutoEIS's documentation: "the corresponding CPE is parameterized by P4w and P4n", Q and α
+OTHER_TOOLS_CIRCUITS = {"impedance.py": lambda: ix.from_impedance_py("R0-p(R1,CPE1)-Wo1-W1-Zarc1"), "AutoEIS": lambda: ix.from_autoeis("R1-[R2,P3]")}
+
+
+@pytest.mark.parametrize(("tool", "keyword", "name", "meant"), [("impedance.py", *row) for row in NAME_HINTS] + [("AutoEIS", *row) for row in AUTOEIS_NAME_HINTS])
+def test_another_tools_parameter_name_is_answered_with_impedaxs(tool, keyword, name, meant):
+    circuit = OTHER_TOOLS_CIRCUITS[tool]()
+    value = (0.5, 1.0) if keyword == "bounds" else 0.5
     with pytest.raises(ix.ParameterError, match=rf"unknown parameter '{name}'.*; did you mean {meant}\?"):
         ix.fit(circuit, synthetic_rc(), **{keyword: {name: value}})
 
@@ -359,23 +369,6 @@ def test_cli_fix_hints_an_impedance_py_parameter_name(capsys):
     err = capsys.readouterr().err
     assert "read as impedance.py notation: R0 + R1 || CPE1" in err
     assert "unknown parameter 'CPE1_1'" in err and "did you mean CPE1.alpha?" in err
-
-
-AUTOEIS_NAME_HINTS = [
-    ("fixed", "P3n", "CPE3.alpha"),  # AutoEIS's CPE exponent n
-    ("init", "P3w", "CPE3.Q"),  # its magnitude w
-    ("fixed", "P3", "CPE3.Q or CPE3.alpha"),  # a bare element: both
-    ("bounds", "P3n", "CPE3.alpha"),
-]
-
-
-@pytest.mark.parametrize(("keyword", "name", "meant"), AUTOEIS_NAME_HINTS)
-def test_an_autoeis_parameter_name_is_answered_with_impedaxs(keyword, name, meant):
-    # AutoEIS's documentation: "the corresponding CPE is parameterized by P4w and P4n", Q and α
-    circuit = ix.from_autoeis("R1-[R2,P3]")
-    value = (0.5, 1.0) if keyword == "bounds" else 0.8
-    with pytest.raises(ix.ParameterError, match=rf"unknown parameter '{name}'.*; did you mean {meant}\?"):
-        ix.fit(circuit, synthetic_rc(), **{keyword: {name: value}})
 
 
 def test_an_autoeis_name_of_an_element_the_circuit_lacks_gets_no_cpe_hint():

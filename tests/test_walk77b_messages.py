@@ -197,9 +197,9 @@ def test_a_draw_holds_elements_at_their_limits_in_every_fourth_random_start():
     np.testing.assert_allclose(random[[2, 6], wo_tau], DEEP_DIFFUSION / omega_min, rtol=1e-12)
     assert np.all(random[[0, 1, 2, 4, 5, 6], g_tau] < 20 / omega_min) and np.all(random[[0, 1, 3, 4, 5, 7], wo_tau] < 20 / omega_min)
     # the same draw without the moves: the same numbers (one Generator, one seed), σ kept
-    from impedax.fitting.least_squares.starts import _draw_ranges, data_driven_guess, random_starts
+    from impedax.fitting.least_squares.starts import data_driven_guess, random_starts
 
-    as_drawn = random_starts(table, features, data_driven_guess(circuit, table, features, ix.DEFAULT_REGISTRY), 16, 0, ranges=_draw_ranges(table, features))[8:]
+    as_drawn = random_starts(table, features, data_driven_guess(circuit, table, features, ix.DEFAULT_REGISTRY), 16, 0)[8:]
     g_r = table.names.index("G1.R")
     sigma_drawn = as_drawn[[3, 7], g_r] / np.sqrt(2 * as_drawn[[3, 7], g_tau])
     np.testing.assert_allclose(random[[3, 7], g_r] / np.sqrt(2 * random[[3, 7], g_tau]), sigma_drawn, rtol=1e-9)
