@@ -47,6 +47,10 @@ def test_the_band_that_passes_is_found_by_leaving_out_the_fewest_points_at_the_e
     assert found.suggested_options[0] == "--fmax" and f[-7] < float(found.suggested_options[1]) < f[-6]
     lines = found.next_step()
     assert lines[0].startswith("next: the test passes on 10 Hz–2.51 kHz (KK rms_rel 0.31 %), leaving out the 6 points above it: trim the measurement to it: --fmax ")
+    # the whole band's flags reach into the band that passes: the report says why those points pass there
+    inside = np.asarray(found.flagged, bool) & (found.frequency <= f[-7])
+    assert 10 < np.count_nonzero(inside) < np.count_nonzero(found.flagged)
+    assert lines[1].startswith(f"  the {np.count_nonzero(inside)} points flagged within it (") and lines[1].endswith("pass there: fitted to every point, the chain was pulled off them by the 6 points above it")
     assert not any("measure again" in line for line in lines)
     # the verdict itself is the whole band's
     assert not found.valid and found.bad_bands == plain.bad_bands and found.rms_rel == plain.rms_rel

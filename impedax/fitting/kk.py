@@ -434,6 +434,11 @@ class KKResult:
             ends = " and ".join(x for x in (f"the {points_text(low)} below it" if low else "", f"the {points_text(high)} above it" if high else "") if x)
             lines.append(f"next: the test passes on {format_band(lo, hi)} (KK rms_rel {self.passing_rms_rel * 100:.2g} %), leaving out {ends}: "
                          f"trim the measurement to it: {command if command else ' '.join(words)}")
+            cleared = np.asarray(self.flagged, bool) & (self.frequency >= lo) & (self.frequency <= hi)
+            if cleared.any():  # (the bad band reaches into the passing one: why the same points pass there)
+                f_cleared = self.frequency[cleared]
+                lines.append(f"  the {points_text(int(cleared.sum()))} flagged within it ({format_band(float(f_cleared.min()), float(f_cleared.max()))}) pass there: "
+                             f"fitted to every point, the chain was pulled off them by {ends}")
             lines.append("  impedax fit, diagnose and refine take the same options")
         elif words:
             lines.append(f"next: leave them out and test again: {command if command else ' '.join(words)}")
