@@ -78,7 +78,7 @@ from ..frozen import freeze_fields
 from ...data import format_band
 from .bands import FailingBand, failing_bands, format_frequency, RUN_P
 from .catalog import BaselineContext, Effect, EffectCatalog, Proposal
-from .effects import DEFAULT_EFFECTS, FINITE_WARBURGS, IN_PLACE_OF_WARBURG, cited_where, element_parents
+from .effects import DEFAULT_EFFECTS, FINITE_WARBURGS, IN_PLACE_OF_WARBURG, ArcBeyondBand, added_resistors, arcs_beyond_band, cited_where, element_parents
 from .noise import NOISE_FLOOR, OUTLIER_MAX_FRACTION, NoiseModel, kk_indices, kk_judged_locally, kk_outliers, noise_model, sigma_origin
 from .vanishing import idle_elements, share_words, vanished_terms
 
@@ -239,6 +239,13 @@ class Suggestion:
     def aic(self) -> float:
         return self.fit.aic
 
+    @property
+    def beyond_band(self) -> tuple[ArcBeyondBand, ...]:
+        """The arcs this ``extra_relaxation`` candidate adds that relax outside the band its fit
+        saw (`effects.arcs_beyond_band`): the data see one flank of each, not the arc."""
+        circuit, registry = self.fit.circuit, self.fit.registry
+        return arcs_beyond_band(circuit, self.fit.values, registry, added_resistors(self.effect, self.added, circuit, registry), self.fit.frequency)
+
     def as_json(self, same_fit: Sequence[Suggestion] = ()) -> dict:
         """The JSON of a suggestion; ``same_fit``: the other suggestions that are the same fit
         within the noise (`Diagnosis.same_fits`), given by their models as refine's steps[].same_fit."""
@@ -250,6 +257,7 @@ class Suggestion:
             "values": {k: float(v) for k, v in self.fit.values.items()}, "removed": list(self.removed),
             "vanished": list(self.vanished), "same_fit": [t.model for t in same_fit],
             "units": {k: spec.unit for k, spec in self.fit.circuit.parameter_specs(self.fit.registry).items()},  # (of "values", as fit --json's params give them: added 2026-12-01)
+            "beyond_band": [a.as_json() for a in self.beyond_band],  # (added 2026-12-04: added arcs that relax outside the band)
         }
 
 
@@ -1808,7 +1816,7 @@ def _suggestions(base: FitResult, proposals: list[tuple[Effect, Proposal]], fits
         after = failing_bands(cf, sigma_rel)
         fixed_bands = tuple((b.f_min, b.f_max) for b in bands if not any(a.f_min < b.f_max and a.f_max > b.f_min for a in after))
         lowered = _lowered_bands(base, cf, bands, fixed_bands)
-        p = dataclasses.replace(p, where=cited_where(effect.id, p, cf.values, cf.registry, evidence))
+        p = dataclasses.replace(p, where=cited_where(effect.id, p, cf.values, cf.registry, evidence, cf.frequency))
         out.append(Suggestion(effect.id, p.added, p.where, cf, d_aic, d_bic, significant, _explain(effect, p, base, cf, d_aic, d_bic, fixed_bands, lowered), fixed_bands, undetermined, warning, p.removed, p.vanished))
     return out
 

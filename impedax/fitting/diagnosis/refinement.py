@@ -5,6 +5,7 @@ so the result reproduces with ``impedax fit`` of the final model string."""
 from __future__ import annotations
 
 import math
+import re
 import warnings
 from dataclasses import dataclass, replace
 from typing import Callable, Mapping
@@ -28,7 +29,7 @@ from ..frozen import freeze_fields
 from .bands import format_frequency
 from .catalog import EffectCatalog
 from .diagnosis import CANDIDATE_STEPS, DELTA_AIC_MIN, KK_MASK_MAX_FRACTION, NOISE_FRACTION_MIN, Diagnosis, DRTMemo, Verdict, diagnose, left_out_options, left_out_words, noise_variance_explained, non_passive_points, ranked_size, require_points_for_diagnosis, undetermined_parameters, unidentified_note, verdict_scope_words
-from .effects import DEFAULT_EFFECTS, placement
+from .effects import DEFAULT_EFFECTS, ArcBeyondBand, added_resistors, arcs_beyond_band, placement
 from .vanishing import share_words, vanished_parameters, vanished_terms
 
 __all__ = ["Refinement", "RefinementStep", "refine", "capacitor_name"]
@@ -140,6 +141,14 @@ class Refinement:
         return float(np.min(f)), float(np.max(f))
 
     @property
+    def beyond_band(self) -> tuple[ArcBeyondBand, ...]:
+        """The arcs the steps added (``extra_relaxation``) that the final fit puts outside the band
+        it saw (`effects.arcs_beyond_band`): the data see one flank of each, not the arc."""
+        final = self.final
+        resistors = [n for s in self.steps if s.added and s.effect for n in added_resistors(s.effect, s.added, final.circuit, final.registry)]
+        return arcs_beyond_band(final.circuit, final.values, final.registry, dict.fromkeys(resistors), final.frequency)
+
+    @property
     def verdict_scope(self) -> str:
         """The band and the number of points the verdict was judged on when points were left
         out (`diagnosis.verdict_scope_words`): `` on 2.53 kHz – 200 kHz (20 of 72 points; the
@@ -185,6 +194,8 @@ class Refinement:
             "verdict_band_hz": list(self.verdict_band), "n_points_judged": int(final.frequency.size), "n_points_left_out": len(self.masked_points),
             # (added 2026-12-02) the data's problem, apart from the verdict on the model: the report's "data:" line, or null
             "data_problem": self.data_line or None,
+            # (added 2026-12-04) the added arcs the final fit puts outside the band it saw
+            "final_beyond_band": [a.as_json() for a in self.beyond_band],
         }
 
     def to_table(self) -> list[dict[str, object]]:
@@ -232,6 +243,9 @@ class Refinement:
             how = "fixed" if final.fixed[n] else "at its bound" if n in final.at_bound else f"± {e / abs(v) * 100:.2g} %" if math.isfinite(e) and v else "no error"
             shown.append(f"{n} = {format_quantity(v, specs[n].unit)} ({how})")
         lines = [f"final fit {final.model}: " + ", ".join(shown)]
+        for arc in self.beyond_band:  # (an added arc the data see one flank of: not offered as a relaxation they resolve)
+            step = next((i for i, s in enumerate(self.steps) if s.added and arc.resistor in re.findall(r"[A-Za-z_]\w*", s.added)), None)
+            lines.append(f"{f'step {step} adds' if step is not None else 'the final model has'} {arc.elements}, outside the band: {arc.sentence()}; {arc.remedy()}")
         for i, step in enumerate(self.steps):
             reasons = step.removal_reasons
             if step.removed and step.added and step.effect:  # (an effect step that took an element out says why, as every simplification's note does)

@@ -1,0 +1,115 @@
+"""An arc a diagnosis adds that relaxes outside the measured band is flagged, not offered as a
+relaxation the data resolve (`effects.arcs_beyond_band`, `Suggestion.beyond_band`,
+`Refinement.beyond_band`).
+
+Oracles: the relaxation frequency 1/(2πτ) of R ∥ C (τ = RC) and of R ∥ CPE (τ = (RQ)^(1/α)),
+computed here by hand from the fitted values; the band of the REAL Scribner ZPlot file of
+impedance.py (MIT; 3 kHz–300 kHz), where refine from ``R0 + R1 || CPE1`` adds an R ∥ C that
+relaxes near 2.2 MHz; and a SYNTHETIC two-arc spectrum whose missing arc lies inside the band
+(nothing beyond it to flag)."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import impedax as ix
+from impedax.fitting.diagnosis.effects import added_resistors, arcs_beyond_band, placement
+
+ZPLOT = Path(__file__).parent / "fixtures" / "real" / "exampleDataZPlot.z"
+
+
+def test_relaxation_frequencies_and_sides_match_hand_values():
+    circuit = ix.parse("R0 + R1 || C1 + R2 || CPE2 + R3 || C3 + R4 || C4")
+    values = {"R0": 10.0, "R1": 100.0, "C1": 1e-9, "R2": 1e3, "CPE2.Q": 1e-2, "CPE2.alpha": 0.8, "R3": 50.0, "C3": 1e-6, "R4": 100.0, "C4": 1e-8}
+    band = np.logspace(0, 5, 26)  # 1 Hz – 100 kHz
+    arcs = arcs_beyond_band(circuit, values, ix.DEFAULT_REGISTRY, ("R1", "R2", "R3", "R4", "R0"), band)
+    # R1 ∥ C1: τ = 100 Ω · 1 nF = 1e-7 s, 1.59 MHz, 15.9× above 100 kHz; R2 ∥ CPE2: τ = (10)^(1/0.8)
+    # = 17.78 s, 8.95 mHz, 112× below 1 Hz; R3 ∥ C3 at 3.18 kHz is inside; R4 ∥ C4 at 159 kHz is
+    # 1.59× above, within BEYOND_BAND_FACTOR = 2 (the data reach 80 % of its peak); R0 is no arc
+    assert [(a.resistor, a.capacitance, a.side) for a in arcs] == [("R1", "C1", "above"), ("R2", "CPE2", "below")]
+    assert arcs[0].frequency_hz == pytest.approx(1 / (2 * math.pi * 1e-7), rel=1e-12)
+    assert arcs[0].factor == pytest.approx(1e7 / (2 * math.pi) / 1e5, rel=1e-12)
+    assert arcs[1].tau_s == pytest.approx(10.0 ** (1 / 0.8), rel=1e-12)
+    assert arcs[1].factor == pytest.approx(2 * math.pi * 10.0 ** 1.25, rel=1e-12)
+    # above, the arc acts as its resistor and its capacitance is the extrapolation; below, the reverse
+    assert arcs[0].as_json()["extrapolated"] == "C1" and arcs[1].as_json()["extrapolated"] == "R2"
+    assert "low-frequency flank" in arcs[0].sentence() and "high-frequency flank" in arcs[1].sentence()
+    assert "1.59 MHz, 16× above the band's top, 100 kHz" in arcs[0].sentence()
+    assert "a band reaching past 1.59 MHz" in arcs[0].remedy() and "a band reaching below 8.95 mHz" in arcs[1].remedy()
+
+
+def test_only_an_added_relaxation_is_judged_and_its_words_leave_the_placement():
+    circuit = ix.parse("R0 || C_stray + R1 || C1 + R_relax || C_relax")
+    # a stray capacitance is meant to lie beyond the band: only extra_relaxation's arcs count
+    assert added_resistors("stray_capacitance", "C_stray", circuit, ix.DEFAULT_REGISTRY) == ()
+    assert added_resistors("extra_relaxation", "R_relax || C_relax", circuit, ix.DEFAULT_REGISTRY) == ("R_relax",)
+    assert added_resistors("extra_relaxation+diffusion", "R_relax || C_relax", circuit, ix.DEFAULT_REGISTRY) == ("R_relax",)
+    arc = arcs_beyond_band(circuit, {"R_relax": 150.0, "C_relax": 4.75e-10}, ix.DEFAULT_REGISTRY, ("R_relax",), [3e3, 3e5])[0]
+    where = "in series with the whole circuit" + arc.words() + ", and R0 left out (it fell to 132 µΩ: the data do not reach a series-resistance plateau)"
+    assert placement(where) == "in series with the whole circuit, and R0 left out (it fell to 132 µΩ: the data do not reach a series-resistance plateau)"
+
+
+@pytest.fixture(scope="module")
+def zplot():
+    return ix.load(ZPLOT)
+
+
+def test_diagnose_flags_the_real_zplot_arc_above_the_band(zplot):
+    band = (float(zplot.frequency.min()), float(zplot.frequency.max()))
+    assert band == (3e3, 3e5)
+    d = ix.diagnose(zplot, "R0 + R1 || CPE1 + L_lead")
+    best = d.suggestions[0]
+    assert best.effect == "extra_relaxation" and "R_relax" in best.fit.values
+    v = best.fit.values
+    f_hand = 1 / (2 * math.pi * v["R_relax"] * v["C_relax"])
+    assert f_hand > 2 * band[1]  # (near 2.2 MHz: the oracle of what is flagged)
+    (arc,) = best.beyond_band
+    assert (arc.resistor, arc.capacitance, arc.side) == ("R_relax", "C_relax", "above")
+    assert arc.frequency_hz == pytest.approx(f_hand, rel=1e-9)
+    assert "above the band's top, 300 kHz" in best.where and "not a relaxation the data resolve" in best.explanation
+    entry = json.loads(json.dumps(d.summary()))["suggestions"][0]
+    assert entry["beyond_band"][0]["side"] == "above" and entry["beyond_band"][0]["frequency_hz"] == pytest.approx(f_hand, rel=1e-9)
+    assert entry["beyond_band"][0]["band_hz"] == [3e3, 3e5]
+    # the nested arc of the second placement relaxes inside the band: nothing to flag
+    nested = next(s for s in d.candidates if s.effect == "extra_relaxation" and "nested" in s.where and "C_relax" in s.fit.values)
+    assert 3e3 <= 1 / (2 * math.pi * nested.fit.values["R_relax"] * nested.fit.values["C_relax"]) <= 3e5
+    assert nested.beyond_band == () and "relaxes at" not in nested.where
+
+
+def test_refine_reports_the_real_zplot_arc_it_added_outside_the_band(zplot):
+    r = ix.refine(zplot, "R0 + R1 || CPE1")
+    assert "R_relax" in r.final.values
+    v = r.final.values
+    f_hand = 1 / (2 * math.pi * v["R_relax"] * v["C_relax"])
+    summary = json.loads(json.dumps(r.summary()))
+    assert [(a["elements"], a["side"]) for a in summary["final_beyond_band"]] == [(["R_relax", "C_relax"], "above")]
+    assert summary["final_beyond_band"][0]["frequency_hz"] == pytest.approx(f_hand, rel=1e-9)
+    step = next(i for i, s in enumerate(r.steps) if s.added and "R_relax" in s.added)
+    assert f"step {step} adds R_relax || C_relax, outside the band: fitted τ" in r.report()
+    assert "a band reaching past" in r.report()
+
+
+def _two_arcs(f, r0=20.0, r1=500.0, c1=1e-6, r2=300.0, c2=1e-8):
+    """R0 + R1 ∥ C1 + R2 ∥ C2 written out: arcs at 318 Hz and 53 kHz."""
+    w = 2 * np.pi * f
+    return r0 + r1 / (1 + 1j * w * r1 * c1) + r2 / (1 + 1j * w * r2 * c2)
+
+
+def test_a_missing_arc_inside_the_band_is_not_flagged():
+    """SYNTHETIC: the second arc (53 kHz) lies inside 1 Hz–1 MHz; the diagnosis names it, unflagged."""
+    f = np.logspace(0, 6, 49)
+    rng = np.random.default_rng(3)
+    z = _two_arcs(f)
+    z = z + 0.003 * np.abs(z) * (rng.standard_normal(f.size) + 1j * rng.standard_normal(f.size))
+    ds = xr.Dataset({"Z": ("frequency", z)}, coords={"frequency": f})
+    d = ix.diagnose(ds, "R0 + R1 || C1")
+    best = d.suggestions[0]
+    assert best.effect == "extra_relaxation"
+    assert best.beyond_band == () and "relaxes at" not in best.where
+    assert all(s.beyond_band == () for s in d.candidates if s.effect == "extra_relaxation" and s.significant)
