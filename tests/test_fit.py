@@ -67,10 +67,25 @@ def test_weightings_and_sigma(rng):
     with_sigma = data.assign(sigma=("frequency", sigma))
     r = ix.fit(text, with_sigma, weighting="sigma")
     assert 0.6 < r.chi2_red < 1.5  # true chi²: known noise
+    # only a sigma-weighted chi2_red is against the noise: the others say what they are against
+    assert f"chi2_red {r.chi2_red:.4g}    AIC" in r.report()
+    for weighting, scale in (("modulus", "|Z|"), ("unit", "1 Ω"), ("proportional", "|Re Z| and |Im Z|")):
+        other = ix.fit(text, data, weighting=weighting)
+        assert f"chi2_red {other.chi2_red:.4g} (relative to {scale}, not to the noise)    AIC" in other.report(), weighting
     with pytest.raises(ix.DataError, match="needs a 'sigma'"):
         ix.fit(text, data, weighting="sigma")
     with pytest.raises(ix.ParameterError, match="unknown weighting"):
         ix.fit(text, data, weighting="bogus")
+
+
+def test_a_chi2_red_not_weighted_by_sigma_says_what_it_is_measured_against(rng):
+    """Modulus weighting (the default): chi2_red ≈ the squared relative noise (1e-4 here), not 1,
+    and the report says it is relative to |Z| (the slow test above checks every weighting)."""
+    text, _, data = _data("rc", rng)
+    r = ix.fit(text, data)
+    assert r.weighting == "modulus" and r.chi2_red < 1e-3
+    assert f"chi2_red {r.chi2_red:.4g} (relative to |Z|, not to the noise)    AIC" in r.report()
+    assert "relative to |Z|, not to the noise" in r._repr_html_()
 
 
 def test_residuals_squared_once_chi2_matches_definition(rng):

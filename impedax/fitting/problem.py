@@ -28,6 +28,10 @@ WEIGHTINGS = {
     "sigma": "divided by the per-point standard deviation `sigma` of the data (true chi²)",
 }
 
+WEIGHTING_SCALES = {"modulus": "|Z|", "proportional": "|Re Z| and |Im Z|", "unit": "1 Ω"}
+"""What each weighting of `WEIGHTINGS` but sigma divides the residuals by: the scale a chi2_red
+is measured against when it is not the noise (`FitResult.report`, `Diagnosis.report`)."""
+
 
 @dataclass(frozen=True, eq=False)
 class Spectrum:

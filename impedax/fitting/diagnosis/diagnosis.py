@@ -72,7 +72,7 @@ from ..least_squares.constraints import binding_constraints, constraint_words, e
 from ..least_squares.result import bounds_attr, embedded_fit, fit_from_embedded
 from ..least_squares.starts import climb_target
 from ..parameters import ParameterTable
-from ..problem import WEIGHTINGS, check_argument_order, circuit_parameters, open_spectrum
+from ..problem import WEIGHTING_SCALES, WEIGHTINGS, check_argument_order, circuit_parameters, open_spectrum
 from ..statistics import KK_RESIDUAL_NOISE, NOISE_OF_SIGMA, information_criteria, non_passive, non_passive_words, top_of_band
 from ..frozen import freeze_fields
 from ...data import format_band
@@ -746,11 +746,6 @@ def _held_at_bounds(cov: np.ndarray, bound: Sequence[int]) -> np.ndarray:
     held = np.zeros_like(cov)
     held[np.ix_(free, free)] = held_corr * np.outer(sd[free], sd[free])
     return held
-
-
-WEIGHTING_SCALES = {"modulus": "|Z|", "proportional": "|Re Z| and |Im Z|", "unit": "1 Ω"}
-"""What each weighting (`problem.WEIGHTINGS` but sigma) divides the residuals by, as
-`Diagnosis.report` says of a chi2_red that is not against the noise."""
 
 
 def _noise_ratio(fit: FitResult, noise: np.ndarray) -> float:

@@ -18,6 +18,7 @@ from ...errors import DataError
 from ..frozen import freeze_fields
 from ..kk import KKChains, kk_sigma_misfits
 from ..parameters import ParameterTable, data_scales
+from ..problem import WEIGHTING_SCALES
 from ..reductions import RESISTOR_LIKE_ALPHA
 from ..statistics import FIT_RESIDUAL_NOISE, NOISE_OF_SIGMA, covariances, information_criteria, non_passive, non_passive_words, top_of_band, uncertainties
 from .branches import RELATIVE_ERROR_LIMIT, held_covariances, idle_branch_notes, settle_vanishing, vanishing_term_mask, undetermined, unidentified_stderr, undetermined_mask, vanishing_candidates, vanishing_parameters
@@ -268,6 +269,13 @@ class FitResult:
             "notes": list(self.notes),  # (added 2026-12-02: advice that is not a warning, e.g. σ the weighting does not use)
         }
 
+    def _chi2_red_basis(self) -> str:
+        """`` (relative to |Z|, not to the noise)`` after a chi2_red that is not weighted by the
+        data's sigma: ≈ 1 means a fit to the noise only with sigma weighting (a walkthrough read
+        modulus weighting's 1e-4 as a fit far below the noise). Empty with sigma weighting."""
+        scale = WEIGHTING_SCALES.get(self.weighting)
+        return f" (relative to {scale}, not to the noise)" if scale else ""
+
     def report(self) -> str:
         """A readable table of the fit, its warnings and notes, and the hint that a misfit
         which looks small misses structure the data hold (`misfit_hint`)."""
@@ -276,7 +284,7 @@ class FitResult:
         lines = [
             f"model      {self.model}",
             f"weighting  {self.weighting}    points {self.n_points}    free parameters {self.n_params}",
-            f"rms_rel    {self.rms_rel * 100:.3g} %    chi2 {self.chi2:.4g}    chi2_red {self.chi2_red:.4g}    AIC {self.aic:.2f}    BIC {self.bic:.2f}",
+            f"rms_rel    {self.rms_rel * 100:.3g} %    chi2 {self.chi2:.4g}    chi2_red {self.chi2_red:.4g}{self._chi2_red_basis()}    AIC {self.aic:.2f}    BIC {self.bic:.2f}",
             f"status     {'converged' if self.converged else 'NOT converged'}: {self.message}",
             "",
             f"{'parameter':<{width}}  {'value':>12}  {'stderr':>10}  {'rel':>8}  unit",
@@ -356,7 +364,7 @@ class FitResult:
         from ...plotting.html import result_html
 
         status = "converged" if self.converged else "NOT converged"
-        lines = [f"rms_rel {self.rms_rel * 100:.3g} %, chi2_red {self.chi2_red:.4g}, AIC {self.aic:.2f} ({self.n_points} points, {status})", *self.warnings, *(f"note: {n}" for n in self.notes)]
+        lines = [f"rms_rel {self.rms_rel * 100:.3g} %, chi2_red {self.chi2_red:.4g}{self._chi2_red_basis()}, AIC {self.aic:.2f} ({self.n_points} points, {status})", *self.warnings, *(f"note: {n}" for n in self.notes)]
         # as the text table: a parameter at a bound has no meaningful linearised error to show
         # (and the status line above says whether the fit converged)
         rows = [{k: v for k, v in ({**row, "stderr": "at bound"} if row["name"] in self.at_bound else row).items() if k not in ("converged", *FIT_STATISTICS)} for row in self.to_table()]
