@@ -241,3 +241,8 @@ def test_a_gerischer_reaches_its_warburg_limit_on_real_cycle_64():
     with_g = ix.fit("R0 + R1 || CPE1 + R2 || CPE2 + G1", one)
     assert with_g.rms_rel <= with_w.rms_rel * (1 + 1e-4) and with_w.rms_rel == pytest.approx(0.0113, rel=0.01)
     assert with_g.values["G1.tau"] * 2 * np.pi * float(one.frequency.min()) > 100  # (at the limit)
+    # G1 at its W limit says so, and names W1 with the W model's own σ (its fit: the oracle)
+    note = next(w for w in with_g.warnings if "acts as a semi-infinite Warburg" in w)
+    sigma = float(note.split("σ = R/√(2τ) = ")[1].split(" Ω")[0])
+    assert "the model with W1 in its place" in note and sigma == pytest.approx(with_w.values["W1.sigma"], rel=0.02)
+    assert not any("acts as a semi-infinite Warburg" in w for w in with_w.warnings)

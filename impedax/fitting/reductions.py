@@ -6,9 +6,11 @@ so below `RESISTOR_LIKE_ALPHA` (`resistor_like_exponents`)."""
 
 from __future__ import annotations
 
+import numpy as np
+
 from ..circuits import Circuit, Registry
 
-__all__ = ["capacitor_name", "replacement_name", "reducing_bounds", "resistor_like_exponents", "RESISTOR_LIKE_ALPHA"]
+__all__ = ["capacitor_name", "replacement_name", "reducing_bounds", "resistor_like_exponents", "RESISTOR_LIKE_ALPHA", "warburg_deviation", "warburg_like_elements", "WARBURG_LIKE_DEVIATION"]
 
 
 def capacitor_name(name: str, taken) -> str:
@@ -17,10 +19,14 @@ def capacitor_name(name: str, taken) -> str:
     return replacement_name(name, "C", taken)
 
 
-def replacement_name(name: str, symbol: str, taken) -> str:
-    """The name of a ``symbol`` element (C, R) put in the place of the CPE ``name``: CPE1 → C1,
-    CPE_relax → C_relax; the next number (C_relax2, ...; R3 for CPE2 beside R2) when taken."""
-    label = name[4:] if name.startswith("CPE_") else name[3:] if name.startswith("CPE") else name[2:] if name.startswith("Q_") else name[1:] if name.startswith("Q") else name
+def replacement_name(name: str, symbol: str, taken, own: str = "CPE") -> str:
+    """The name of a ``symbol`` element (C, R, W) put in the place of the ``own`` element ``name``
+    (a CPE by default): CPE1 → C1, CPE_relax → C_relax, G1 → W1, Wo_d → W_d; the next number
+    (C_relax2, ...; R3 for CPE2 beside R2) when taken."""
+    if own == "CPE":
+        label = name[4:] if name.startswith("CPE_") else name[3:] if name.startswith("CPE") else name[2:] if name.startswith("Q_") else name[1:] if name.startswith("Q") else name
+    else:
+        label = name[len(own) + 1:] if name.startswith(own + "_") else name[len(own):] if name.startswith(own) else name
     if label.isdigit() or not label:
         k = int(label) if label else 1
         while f"{symbol}{k}" in taken:
@@ -70,4 +76,46 @@ def resistor_like_exponents(circuit: Circuit, registry: Registry) -> dict[str, t
             continue
         q, alpha = registry[e.symbol].parameter_names(e.name)
         out[alpha] = (e.name, q, replacement_name(e.name, "R", circuit.element_names) if has_resistor else None)
+    return out
+
+
+WARBURG_LIKE_DEVIATION = 1e-3
+"""The largest relative difference over the band between a finite Warburg (Wo, Ws) or a Gerischer
+and the semi-infinite Warburg R/√(jωτ) = σ(1 − j)/√ω (σ = R/√(2τ)) it tends to as τ → ∞, under
+which it is said to act as that W (`warburg_deviation`): 0.1 %, below the noise of most
+measurements. On AutoEIS's REAL battery cycle 64 the G model's optimum has G1.tau = 8.6e8 s,
+4e-9 off (2026-12-04)."""
+
+
+def warburg_deviation(symbol: str, omega_tau):
+    """|Z/Z_W − 1| of a Wo, Ws or G at ω·τ = ``omega_tau`` (largest at the band's lowest ω):
+    G: (1 + 1/(jωτ))^(−1/2) − 1; Wo: coth(x) − 1; Ws: tanh(x) − 1, x = √(jωτ). NaN for other
+    symbols (an element of the user's with a W limit: no closed form here)."""
+    y = np.asarray(omega_tau, float)
+    x = np.sqrt(1j * y)
+    with np.errstate(all="ignore"):
+        if symbol == "G":
+            return np.abs((1 + 1 / (1j * y)) ** -0.5 - 1)
+        if symbol == "Wo":
+            return np.abs(1 / np.tanh(x) - 1)
+        if symbol == "Ws":
+            return np.abs(np.tanh(x) - 1)
+    return np.full(y.shape, np.nan)
+
+
+def warburg_like_elements(circuit: Circuit, registry: Registry) -> dict[str, tuple[str, str, str, str, str]]:
+    """{tau: (element, R parameter, name of the W that would take its place, σ's unit, element
+    symbol)} of ``circuit``'s Wo, Ws and G, which reduce to a semi-infinite Warburg W as τ → ∞,
+    the W named as `replacement_name` names it (G1 → W1); {} when ``registry`` has no W: what a
+    fit's note says when the element is within `WARBURG_LIKE_DEVIATION` of that W over the band
+    (`least_squares.result.warburg_like_notes`)."""
+    if "W" not in registry or registry["W"].symbol != "W":
+        return {}
+    sigma_unit = registry["W"].parameters[0].unit
+    out = {}
+    for e in circuit.elements():
+        spec = registry[e.symbol]
+        names = spec.parameter_names(e.name)
+        if spec.symbol in ("Wo", "Ws", "G") and len(names) == 2:
+            out[names[1]] = (e.name, names[0], replacement_name(e.name, "W", circuit.element_names, own=spec.symbol), sigma_unit, spec.symbol)
     return out

@@ -19,7 +19,7 @@ from ..frozen import freeze_fields
 from ..kk import KKChains, kk_sigma_misfits
 from ..parameters import ParameterTable, data_scales
 from ..problem import WEIGHTING_SCALES
-from ..reductions import RESISTOR_LIKE_ALPHA
+from ..reductions import RESISTOR_LIKE_ALPHA, WARBURG_LIKE_DEVIATION, warburg_deviation
 from ..statistics import FIT_RESIDUAL_NOISE, NOISE_OF_SIGMA, covariances, information_criteria, non_passive, non_passive_words, top_of_band, uncertainties
 from .branches import RELATIVE_ERROR_LIMIT, held_covariances, idle_branch_notes, settle_vanishing, vanishing_term_mask, undetermined, unidentified_stderr, undetermined_mask, vanishing_candidates, vanishing_parameters
 from .solvers import SolverOutput, SolverStatus
@@ -28,7 +28,7 @@ from .starts import attainable_misfit, inward_start, rms_rel_of, well_inside
 __all__ = [
     "FitResult", "fit_result", "fit_notes", "parameter_groups", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes",
     "misfit_notes", "uneven_residual_notes", "sigma_scale_notes", "sigma_misstated", "SIGMA_CHAIN_CHI2_RATIO", "sigma_unit_slip", "SIGMA_UNIT_SLIP_FACTOR", "SIGMA_UNIT_SLIP_FRACTION", "SIGMA_RELATIVE_Z", "unused_sigma_notes", "stored_notes", "chi2_red_range", "SIGMA_SCALE_FACTOR", "residual_band_rms", "UNEVEN_BAND_POINTS", "UNEVEN_RESIDUAL_RATIO", "UNEVEN_NOISE_NOTE", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "warnings_blame_model", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "SIGN_CAUSE_NOTE", "SIGNS_IN_DOUBT_SHARE", "signs_in_doubt", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "within_stated_noise", "misfit_hint", "misfit_hint_spectra", "MISFIT_HINT_FROM", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
-    "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "without_error", "near_bound_notes", "resistor_like_notes", "STDERR_NOTE", "LINEARISED_STDERR_NAME", "data_difference", "stored_bounds", "user_bounds",
+    "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "without_error", "near_bound_notes", "resistor_like_notes", "warburg_like_notes", "STDERR_NOTE", "LINEARISED_STDERR_NAME", "data_difference", "stored_bounds", "user_bounds",
     "embedded_fit", "fit_from_embedded", "bounds_attr", "unidentified_group_note", "FIT_STATISTICS",
 ]
 
@@ -1574,6 +1574,7 @@ def fit_notes(
     if finite:
         notes += [note for _, note in near_bound_notes(table, x, e, sides)]
     notes += [note for _, note in resistor_like_notes(table, x, freq)]
+    notes += [note for _, note in warburg_like_notes(table, x, freq)]
     if not converged:
         notes.insert(0, f"fit did not converge: {message}")
     return tuple(notes)
@@ -1632,6 +1633,30 @@ def resistor_like_notes(table: ParameterTable, values: np.ndarray, freq=None) ->
     return out
 
 
+def warburg_like_notes(table: ParameterTable, values: np.ndarray, freq=None) -> list[tuple[int, str]]:
+    """(fit, note) for each free τ of a Wo, Ws or G (``table.warburg_like``) of fits with values
+    (B, P) that acts as a semi-infinite Warburg over the whole band of ``freq`` [Hz]: within
+    `WARBURG_LIKE_DEVIATION` of it at the lowest frequency, where they differ most
+    (`reductions.warburg_deviation`). The note names the W that may take its place with its
+    σ = R/√(2τ), as the α = 1 bound note names a CPE's C. On REAL battery cycle 64 a G at
+    τ = 8.6e8 s was told only that R and τ go together (2026-12-04)."""
+    if freq is None or not np.size(freq):
+        return []
+    values = np.atleast_2d(np.asarray(values, float))
+    omega_min = 2 * math.pi * float(np.min(freq))
+    out = []
+    for tau_name, (element, r_name, warburg, sigma_unit, symbol) in table.warburg_like.items():
+        t, r = table.names.index(tau_name), table.names.index(r_name)
+        deviation = warburg_deviation(symbol, omega_min * values[:, t])
+        for b in np.flatnonzero(deviation <= WARBURG_LIKE_DEVIATION).tolist():
+            tau, resistance = float(values[b, t]), float(values[b, r])
+            out.append((b, (
+                f"{element} acts as a semi-infinite Warburg over the whole band (ω_min·τ = {omega_min * tau:.2g}: its Z is within {float(deviation[b]):.1g} of R/√(jωτ)): "
+                f"the model with {warburg} in its place, σ = R/√(2τ) = {format_quantity(resistance / math.sqrt(2 * tau), sigma_unit)}, may be enough, with one parameter fewer"
+            )))
+    return out
+
+
 def stack_notes(
     table: ParameterTable, values: np.ndarray, stderr: np.ndarray, corr: np.ndarray, sides: np.ndarray | None = None, *, freq=None, z=None,
 ) -> dict[int, tuple[str, ...]]:
@@ -1662,6 +1687,8 @@ def stack_notes(
     for b, note in near_bound_notes(table, values, stderr, sides):
         notes[b].append(note)
     for b, note in resistor_like_notes(table, values, freq):
+        notes[b].append(note)
+    for b, note in warburg_like_notes(table, values, freq):
         notes[b].append(note)
     return {b: tuple(n) for b, n in notes.items()}
 
