@@ -5,8 +5,8 @@ relaxation the data resolve (`effects.arcs_beyond_band`, `Suggestion.beyond_band
 Oracles: the relaxation frequency 1/(2πτ) of R ∥ C (τ = RC) and of R ∥ CPE (τ = (RQ)^(1/α)),
 computed here by hand from the fitted values; the band of the REAL Scribner ZPlot file of
 impedance.py (MIT; 3 kHz–300 kHz), where refine from ``R0 + R1 || CPE1`` adds an R ∥ C that
-relaxes near 2.2 MHz; and a SYNTHETIC two-arc spectrum whose missing arc lies inside the band
-(nothing beyond it to flag)."""
+relaxes near 2.2 MHz; and the SYNTHETIC evaluation set's arc built above its band (flagged)
+and one inside it (nothing to flag)."""
 
 from __future__ import annotations
 
@@ -16,7 +16,6 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-import xarray as xr
 
 import impedax as ix
 from impedax.fitting.diagnosis.effects import added_resistors, arcs_beyond_band, placement
@@ -95,21 +94,23 @@ def test_refine_reports_the_real_zplot_arc_it_added_outside_the_band(zplot):
     assert "a band reaching past" in r.report()
 
 
-def _two_arcs(f, r0=20.0, r1=500.0, c1=1e-6, r2=300.0, c2=1e-8):
-    """R0 + R1 ∥ C1 + R2 ∥ C2 written out: arcs at 318 Hz and 53 kHz."""
-    w = 2 * np.pi * f
-    return r0 + r1 / (1 + 1j * w * r1 * c1) + r2 / (1 + 1j * w * r2 * c2)
+def _evaluation_case(name):
+    from evaluation_set import cases
+
+    return next(c for c in cases("dev") if c.name == name)
 
 
-def test_a_missing_arc_inside_the_band_is_not_flagged():
-    """SYNTHETIC: the second arc (53 kHz) lies inside 1 Hz–1 MHz; the diagnosis names it, unflagged."""
-    f = np.logspace(0, 6, 49)
-    rng = np.random.default_rng(3)
-    z = _two_arcs(f)
-    z = z + 0.003 * np.abs(z) * (rng.standard_normal(f.size) + 1j * rng.standard_normal(f.size))
-    ds = xr.Dataset({"Z": ("frequency", z)}, coords={"frequency": f})
-    d = ix.diagnose(ds, "R0 + R1 || C1")
+@pytest.mark.parametrize("name, flagged", [("extra_relaxation/edge", True), ("extra_relaxation/rc#0", False)])
+def test_the_evaluation_sets_arc_above_the_band_is_flagged_and_one_inside_is_not(name, flagged):
+    """SYNTHETIC (tests/evaluation_set.py, numpy formulas): the edge template's missing arc is
+    built at 1/(2π·300 Ω·2 nF) = 265 kHz, above its 0.1 Hz–100 kHz band; rc#0's lies inside.
+    Both are named first; only the edge one is flagged, above, and more than 2× past the top."""
+    case = _evaluation_case(name)
+    d = ix.diagnose(ix.make_spectrum(case.frequency, case.z), case.circuit)
     best = d.suggestions[0]
     assert best.effect == "extra_relaxation"
-    assert best.beyond_band == () and "relaxes at" not in best.where
-    assert all(s.beyond_band == () for s in d.candidates if s.effect == "extra_relaxation" and s.significant)
+    if flagged:
+        (arc,) = best.beyond_band
+        assert arc.side == "above" and arc.frequency_hz > 2 * case.frequency.max() and "above the band's top, 100 kHz" in best.where
+    else:
+        assert best.beyond_band == () and "relaxes at" not in best.where
