@@ -1,5 +1,5 @@
 """An arc a diagnosis adds that relaxes outside the measured band is flagged, not offered as a
-relaxation the data resolve (`effects.arcs_beyond_band`, `Suggestion.beyond_band`,
+relaxation the data resolve (`arcs.arcs_beyond_band`, `Suggestion.beyond_band`,
 `Refinement.beyond_band`).
 
 Oracles: the relaxation frequency 1/(2πτ) of R ∥ C (τ = RC) and of R ∥ CPE (τ = (RQ)^(1/α)),
@@ -18,7 +18,8 @@ import numpy as np
 import pytest
 
 import impedax as ix
-from impedax.fitting.diagnosis.effects import added_resistors, arcs_beyond_band, placement
+from impedax.fitting.arcs import arcs_beyond_band
+from impedax.fitting.diagnosis.effects import added_resistors, placement
 
 ZPLOT = Path(__file__).parent / "fixtures" / "real" / "exampleDataZPlot.z"
 
@@ -27,7 +28,7 @@ def test_relaxation_frequencies_and_sides_match_hand_values():
     circuit = ix.parse("R0 + R1 || C1 + R2 || CPE2 + R3 || C3 + R4 || C4")
     values = {"R0": 10.0, "R1": 100.0, "C1": 1e-9, "R2": 1e3, "CPE2.Q": 1e-2, "CPE2.alpha": 0.8, "R3": 50.0, "C3": 1e-6, "R4": 100.0, "C4": 1e-8}
     band = np.logspace(0, 5, 26)  # 1 Hz – 100 kHz
-    arcs = arcs_beyond_band(circuit, values, ix.DEFAULT_REGISTRY, ("R1", "R2", "R3", "R4", "R0"), band)
+    arcs = arcs_beyond_band(circuit, values, ix.DEFAULT_REGISTRY, band)
     # R1 ∥ C1: τ = 100 Ω · 1 nF = 1e-7 s, 1.59 MHz, 15.9× above 100 kHz; R2 ∥ CPE2: τ = (10)^(1/0.8)
     # = 17.78 s, 8.95 mHz, 112× below 1 Hz; R3 ∥ C3 at 3.18 kHz is inside; R4 ∥ C4 at 159 kHz is
     # 1.59× above, within BEYOND_BAND_FACTOR = 2 (the data reach 80 % of its peak); R0 is no arc
@@ -49,7 +50,7 @@ def test_only_an_added_relaxation_is_judged_and_its_words_leave_the_placement():
     assert added_resistors("stray_capacitance", "C_stray", circuit, ix.DEFAULT_REGISTRY) == ()
     assert added_resistors("extra_relaxation", "R_relax || C_relax", circuit, ix.DEFAULT_REGISTRY) == ("R_relax",)
     assert added_resistors("extra_relaxation+diffusion", "R_relax || C_relax", circuit, ix.DEFAULT_REGISTRY) == ("R_relax",)
-    arc = arcs_beyond_band(circuit, {"R_relax": 150.0, "C_relax": 4.75e-10}, ix.DEFAULT_REGISTRY, ("R_relax",), [3e3, 3e5])[0]
+    arc = arcs_beyond_band(circuit, {"R_relax": 150.0, "C_relax": 4.75e-10}, ix.DEFAULT_REGISTRY, [3e3, 3e5], ("R_relax",))[0]
     where = "in series with the whole circuit" + arc.words() + ", and R0 left out (it fell to 132 µΩ: the data do not reach a series-resistance plateau)"
     assert placement(where) == "in series with the whole circuit, and R0 left out (it fell to 132 µΩ: the data do not reach a series-resistance plateau)"
 
@@ -114,3 +115,43 @@ def test_the_evaluation_sets_arc_above_the_band_is_flagged_and_one_inside_is_not
         assert arc.side == "above" and arc.frequency_hz > 2 * case.frequency.max() and "above the band's top, 100 kHz" in best.where
     else:
         assert best.beyond_band == () and "relaxes at" not in best.where
+
+
+def test_a_fit_names_its_own_arc_outside_the_band_single_and_batch_alike():
+    """SYNTHETIC R0 + R1 ∥ C1 + R2 ∥ C2 written out: R1 ∥ C1 at 159 Hz inside 1 Hz–100 kHz, R2 ∥ C2
+    at 1/(2π·200 Ω·0.5 nF) = 1.59 MHz, 16× above the top. The fit warns of R2 ∥ C2 alone, at the
+    frequency its own values give; a batch of two copies says the same of each."""
+    f = np.logspace(0, 5, 41)
+    rng = np.random.default_rng(11)
+    w = 2 * np.pi * f
+    z = 20.0 + 1e3 / (1 + 1j * w * 1e3 * 1e-6) + 200.0 / (1 + 1j * w * 200.0 * 5e-10)
+    z = z * (1 + 0.001 * (rng.standard_normal(f.size) + 1j * rng.standard_normal(f.size)))
+    circuit = "R0 + R1 || C1 + R2 || C2"
+    single = ix.fit(circuit, ix.make_spectrum(f, z))
+    v = single.values
+    named = [x for x in single.warnings if "relaxes at" in x]
+    f_hand = {k: 1 / (2 * math.pi * v[f"R{k}"] * v[f"C{k}"]) for k in (1, 2)}  # (the fit may swap the two blocks' names)
+    (high,) = [k for k in (1, 2) if f_hand[k] > 2 * f.max()]
+    (low,) = [k for k in (1, 2) if k != high]
+    assert f_hand[low] < f.max()
+    assert len(named) == 1 and named[0].startswith(f"R{high} || C{high}: fitted τ = ")
+    assert f"{f_hand[high] / f.max():.2g}× above the band's top, 100 kHz" in named[0] and f"C{high} is an extrapolation" in named[0]
+    batch = ix.fit(circuit, ix.make_spectrum(f, np.stack([z, z]), dims=("copy",)))
+    for ws in batch.warnings.values():
+        assert [x for x in ws if "relaxes at" in x] == named
+    # a fixed capacitance is the user's choice: no note (C2 at the truth makes R2 ∥ C2 the high block)
+    held = ix.fit(circuit, ix.make_spectrum(f, z), fixed={"C2": 5e-10})
+    assert not any("relaxes at" in x for x in held.warnings)
+
+
+def test_a_block_with_a_parameter_at_a_bound_or_undetermined_is_left_to_those_notes():
+    """R1 ∥ C1 at 1.59 MHz above 1 Hz–100 kHz (τ = 1e-7 s by hand): noted when every parameter
+    is settled, not when R1 is at a bound or undetermined (an open branch's notes say why)."""
+    from impedax.fitting.least_squares.result import arc_beyond_band_notes
+    from impedax.fitting.parameters import ParameterTable
+
+    table = ParameterTable.build(ix.parse("R0 + R1 || C1"))
+    values = np.array([[10.0, 100.0, 1e-9]] * 2)  # (R0, R1, C1)
+    settled = np.array([[True, True, True], [True, False, True]])
+    notes = arc_beyond_band_notes(table, values, np.logspace(0, 5, 11), settled)
+    assert [b for b, _ in notes] == [0] and notes[0][1].startswith("R1 || C1: fitted τ = 100 ns: it relaxes at 1.59 MHz, 16× above")

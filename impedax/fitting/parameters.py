@@ -25,6 +25,7 @@ from ..arguments import number_text, unknown_parameter
 from ..circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ..circuits.nesting import carried_values
 from ..errors import FitError, ParameterError
+from .arcs import circuit_arcs
 from .reductions import reducing_bounds, resistor_like_exponents, warburg_like_elements
 
 __all__ = ["ParameterTable", "Transform", "starting_values", "to_external", "external_of_kind", "to_internal", "data_scales", "CPE_Q_UNIT", "checked_bounds", "outside_bounds_message"]
@@ -109,6 +110,7 @@ class ParameterTable:
     values: np.ndarray  # fixed values and user starts (NaN where no start was given)
     reductions: Mapping[str, tuple[str, str]] = field(default_factory=dict)  # {name: (side, words)}: free parameters whose element's own bound on that side makes it a simpler one (`reductions.reducing_bounds`), as the bound notes name it
     resistor_like: Mapping[str, tuple[str, str, str | None]] = field(default_factory=dict)  # {alpha: (CPE, Q, R or None)}: free CPE exponents, whose element acts nearly as a resistor below `reductions.RESISTOR_LIKE_ALPHA` (`reductions.resistor_like_exponents`), as the fits' notes name it
+    arcs: tuple[tuple[str, str, str, tuple[str, ...]], ...] = ()  # (R, C or CPE, its symbol, its parameters) of each R ∥ C and R ∥ CPE block with every parameter free (`arcs.circuit_arcs`), whose relaxation frequency the fits' notes hold against the band
     warburg_like: Mapping[str, tuple[str, str, str, str, str]] = field(default_factory=dict)  # {tau: (element, R, W, σ's unit, symbol)}: free τ of a Wo, Ws or G with its R free, which acts as a W within `reductions.WARBURG_LIKE_DEVIATION` (`reductions.warburg_like_elements`), as the fits' notes name it
 
     @functools.cached_property
@@ -173,7 +175,11 @@ class ParameterTable:
         reductions = {n: (side, words) for n, (side, words) in reducing_bounds(circuit, registry).items() if not is_fixed[names.index(n)] and (upper if side == "upper" else lower)[names.index(n)] == getattr(specs[n], side)}
         resistor_like = {n: what for n, what in resistor_like_exponents(circuit, registry).items() if not is_fixed[names.index(n)]}
         warburg_like = {n: what for n, what in warburg_like_elements(circuit, registry).items() if not is_fixed[names.index(n)] and not is_fixed[names.index(what[1])]}
-        return cls(names, tuple(specs[n].unit for n in names), lower, upper, kind, is_fixed, values, reductions, resistor_like, warburg_like)
+        arcs = tuple(
+            (r, c, symbol, params) for r, c, symbol in circuit_arcs(circuit, registry)
+            for params in [registry[symbol].parameter_names(c) if symbol == "CPE" else (c,)] if not any(is_fixed[names.index(n)] for n in (r, *params))
+        )
+        return cls(names, tuple(specs[n].unit for n in names), lower, upper, kind, is_fixed, values, reductions, resistor_like, arcs, warburg_like)
 
 
 def inner_edges(lower, upper) -> tuple[np.ndarray, np.ndarray]:

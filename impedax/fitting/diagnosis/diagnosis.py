@@ -74,11 +74,12 @@ from ..least_squares.starts import climb_target
 from ..parameters import ParameterTable
 from ..problem import WEIGHTING_SCALES, WEIGHTINGS, check_argument_order, circuit_parameters, open_spectrum
 from ..statistics import KK_RESIDUAL_NOISE, NOISE_OF_SIGMA, information_criteria, non_passive, non_passive_words, top_of_band
+from ..arcs import ArcBeyondBand, arcs_beyond_band
 from ..frozen import freeze_fields
 from ...data import format_band
 from .bands import FailingBand, failing_bands, format_frequency, RUN_P
 from .catalog import BaselineContext, Effect, EffectCatalog, Proposal
-from .effects import DEFAULT_EFFECTS, FINITE_WARBURGS, IN_PLACE_OF_WARBURG, ArcBeyondBand, added_resistors, arcs_beyond_band, cited_where, element_parents
+from .effects import DEFAULT_EFFECTS, FINITE_WARBURGS, IN_PLACE_OF_WARBURG, added_resistors, cited_where, element_parents
 from .noise import NOISE_FLOOR, OUTLIER_MAX_FRACTION, NoiseModel, kk_indices, kk_judged_locally, kk_outliers, noise_model, sigma_origin
 from .vanishing import idle_elements, share_words, vanished_terms
 
@@ -242,9 +243,9 @@ class Suggestion:
     @property
     def beyond_band(self) -> tuple[ArcBeyondBand, ...]:
         """The arcs this ``extra_relaxation`` candidate adds that relax outside the band its fit
-        saw (`effects.arcs_beyond_band`): the data see one flank of each, not the arc."""
+        saw (`arcs.arcs_beyond_band`): the data see one flank of each, not the arc."""
         circuit, registry = self.fit.circuit, self.fit.registry
-        return arcs_beyond_band(circuit, self.fit.values, registry, added_resistors(self.effect, self.added, circuit, registry), self.fit.frequency)
+        return arcs_beyond_band(circuit, self.fit.values, registry, self.fit.frequency, added_resistors(self.effect, self.added, circuit, registry))
 
     def as_json(self, same_fit: Sequence[Suggestion] = ()) -> dict:
         """The JSON of a suggestion; ``same_fit``: the other suggestions that are the same fit

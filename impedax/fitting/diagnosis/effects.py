@@ -12,7 +12,6 @@ starts — the baseline fit's values and data-driven guesses for the new element
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
 from typing import Mapping
 
 import numpy as np
@@ -20,11 +19,11 @@ import numpy as np
 from ...circuits import Circuit, DCPath, Element, Parallel, Registry, Series
 
 from ...data import format_quantity
+from ..arcs import arcs_beyond_band
 from ..drt import PeakEvidence, r_cpe_tau
-from .bands import format_frequency
 from .catalog import BaselineContext, Effect, EffectCatalog, Proposal
 
-__all__ = ["DEFAULT_EFFECTS", "FINITE_WARBURGS", "IN_PLACE_OF_WARBURG", "ArcBeyondBand", "added_resistors", "arcs_beyond_band", "cited_where", "drt_citation", "element_parents", "placement"]
+__all__ = ["DEFAULT_EFFECTS", "FINITE_WARBURGS", "IN_PLACE_OF_WARBURG", "added_resistors", "cited_where", "drt_citation", "element_parents", "placement"]
 
 
 # --- tree helpers ---------------------------------------------------------------------------
@@ -309,7 +308,7 @@ the measured window) is named as that peak (`drt_citation`)."""
 _RELAX_PLACEMENT = re.compile(r"in series with the whole circuit|nested in series with \S+ \(a layer behind that arc\)")
 # `drt_citation`'s words (left out before they are given again: `cited_where` is idempotent)
 _CITATION = re.compile(r" \(fitted τ = [^()]*, within half a decade of the data's DRT peak at [^()]* that the model does not explain\)")
-# `ArcBeyondBand.words` (left out before they are given again, as `_CITATION`)
+# `arcs.ArcBeyondBand.words` (left out before they are given again, as `_CITATION`)
 _BEYOND = re.compile(r" \(fitted τ = [^()]*: it relaxes at [^()]*: not a relaxation the data resolve\)")
 
 
@@ -370,95 +369,6 @@ def drt_citation(effect_id: str, proposal: Proposal, values: Mapping[str, float]
     return f" (fitted τ = {format_quantity(tau, 's')}, within half a decade of the data's DRT peak at {format_quantity(peak.tau_s, 's')} that the model does not explain)"
 
 
-@dataclass(frozen=True)
-class ArcBeyondBand:
-    """An arc (R ∥ C or R ∥ CPE) whose relaxation frequency 1/(2πτ) lies outside the band
-    ``band_hz`` its fit saw: ``side`` "above" its top or "below" its bottom. Above, the data see
-    only its low-frequency flank, where it acts as its resistor, so its capacitance is an
-    extrapolation; below, only its high-frequency flank, where it acts as its capacitance, so
-    its resistance is (ZARC: Z = R/(1 + (jωτ)^α), τ = RC or (RQ)^(1/α))."""
-
-    resistor: str
-    capacitance: str
-    tau_s: float
-    band_hz: tuple[float, float]
-
-    @property
-    def frequency_hz(self) -> float:
-        return 1.0 / (2 * np.pi * self.tau_s)
-
-    @property
-    def side(self) -> str:
-        return "above" if self.frequency_hz > self.band_hz[1] else "below"
-
-    @property
-    def factor(self) -> float:
-        """How far outside, as a ratio of frequencies (> 1)."""
-        return self.frequency_hz / self.band_hz[1] if self.side == "above" else self.band_hz[0] / self.frequency_hz
-
-    @property
-    def elements(self) -> str:
-        return f"{self.resistor} || {self.capacitance}"
-
-    def sentence(self) -> str:
-        """``fitted τ = 71 ns: it relaxes at 2.24 MHz, 7.5× above the band's top, 300 kHz, so the
-        data see only the low-frequency flank of its arc, where it acts as a resistance, and
-        C_relax is an extrapolation: not a relaxation the data resolve``."""
-        if self.side == "above":
-            edge, flank, acts, guessed = "top", "low", "a resistance", self.capacitance
-        else:
-            edge, flank, acts, guessed = "bottom", "high", "its capacitance", self.resistor
-        return (
-            f"fitted τ = {format_quantity(self.tau_s, 's')}: it relaxes at {format_frequency(self.frequency_hz)}, {self.factor:.2g}× {self.side} the band's {edge}, "
-            f"{format_frequency(self.band_hz[1] if self.side == 'above' else self.band_hz[0])}, so the data see only the {flank}-frequency flank of its arc, where it acts as "
-            f"{acts}, and {guessed} is an extrapolation: not a relaxation the data resolve"
-        )
-
-    def words(self) -> str:
-        """`sentence` in parentheses, as a suggestion's placement carries it."""
-        return f" ({self.sentence()})"
-
-    def remedy(self) -> str:
-        """What would resolve the arc: ``a band reaching past 2.24 MHz would show its peak``."""
-        return f"a band reaching {'past' if self.side == 'above' else 'below'} {format_frequency(self.frequency_hz)} would show its peak"
-
-    def as_json(self) -> dict:
-        return {
-            "elements": [self.resistor, self.capacitance], "tau_s": self.tau_s, "frequency_hz": self.frequency_hz, "side": self.side,
-            "band_hz": list(self.band_hz), "extrapolated": self.capacitance if self.side == "above" else self.resistor,
-        }
-
-
-BEYOND_BAND_FACTOR = 2.0
-"""How far outside the band (a ratio of frequencies) an arc's relaxation frequency 1/(2πτ) must
-lie to be flagged (`arcs_beyond_band`): nearer, the data reach its flank up to 80 % of its peak
-−Z'' (an R ∥ C's −Z''/max = 2ωτ/(1 + (ωτ)²) = 0.8 at ωτ = 1/2), close enough to place it."""
-
-
-def arcs_beyond_band(circuit: Circuit, values: Mapping[str, float], registry: Registry, resistors, frequency) -> tuple[ArcBeyondBand, ...]:
-    """The arcs of ``circuit`` whose resistor is one of ``resistors`` (R ∥ C or R ∥ CPE in one
-    parallel block, `_arc_tau`) and whose relaxation frequency 1/(2πτ) lies outside the band of
-    ``frequency`` [Hz] by more than `BEYOND_BAND_FACTOR`, in the order of ``resistors``."""
-    f = np.asarray(frequency, float)
-    if f.size == 0:
-        return ()
-    band = (float(np.min(f)), float(np.max(f)))
-    parents = element_parents(circuit)
-    out = []
-    for name in resistors:
-        parent = parents.get(name)
-        if not isinstance(parent, Parallel) or _symbol(registry, circuit.element(name)) != "R":
-            continue
-        tau = _arc_tau(circuit, values, registry, name)
-        if not (np.isfinite(tau) and tau > 0):
-            continue
-        beside = next(x.name for x in parent.children if isinstance(x, Element) and _symbol(registry, x) in ("C", "CPE"))
-        arc = ArcBeyondBand(name, beside, float(tau), band)
-        if not band[0] / BEYOND_BAND_FACTOR <= arc.frequency_hz <= band[1] * BEYOND_BAND_FACTOR:
-            out.append(arc)
-    return tuple(out)
-
-
 def added_resistors(effect_id: str, added: str, circuit: Circuit, registry: Registry) -> tuple[str, ...]:
     """The resistors of the arcs an ``extra_relaxation`` candidate (alone or in a pair) adds, named
     in its ``added`` text; () for other effects, whose R ∥ C (a stray capacitance across a
@@ -470,7 +380,7 @@ def added_resistors(effect_id: str, added: str, circuit: Circuit, registry: Regi
 
 
 def placement(where: str) -> str:
-    """A suggestion's ``where`` without `drt_citation`'s and `ArcBeyondBand.words`' words: the
+    """A suggestion's ``where`` without `drt_citation`'s and `arcs.ArcBeyondBand.words`' words: the
     placement alone, the same for every candidate placed there whatever its fit (an R ∥ C and an
     R ∥ CPE in one place)."""
     return _BEYOND.sub("", _CITATION.sub("", where))
@@ -479,12 +389,12 @@ def placement(where: str) -> str:
 def cited_where(effect_id: str, proposal: Proposal, values: Mapping[str, float], registry: Registry, evidence: PeakEvidence | None, frequency=()) -> str:
     """``proposal.where`` for the fitted candidate: `drt_citation` after the placement's words
     (before what a derived candidate appends: ", and R0 left out (…)"), then the words of each
-    added arc that relaxes outside the band of ``frequency`` [Hz] (`arcs_beyond_band`); words
+    added arc that relaxes outside the band of ``frequency`` [Hz] (`arcs.arcs_beyond_band`); words
     already there are replaced, so that this is idempotent."""
     where = proposal.where
     if "extra_relaxation" in effect_id.split("+"):
         where = placement(where)
-    beyond = arcs_beyond_band(proposal.circuit, values, registry, added_resistors(effect_id, proposal.added, proposal.circuit, registry), frequency)
+    beyond = arcs_beyond_band(proposal.circuit, values, registry, frequency, added_resistors(effect_id, proposal.added, proposal.circuit, registry))
     note = drt_citation(effect_id, proposal, values, registry, evidence) + "".join(a.words() for a in beyond)
     if not note:
         return where

@@ -25,11 +25,12 @@ from ..least_squares.starts import values_inside
 from ..parameters import ParameterTable
 from ..reductions import capacitor_name
 from ..problem import WEIGHTINGS, check_argument_order, circuit_parameters, open_spectrum
+from ..arcs import ArcBeyondBand, arcs_beyond_band
 from ..frozen import freeze_fields
 from .bands import format_frequency
 from .catalog import EffectCatalog
 from .diagnosis import CANDIDATE_STEPS, DELTA_AIC_MIN, KK_MASK_MAX_FRACTION, NOISE_FRACTION_MIN, Diagnosis, DRTMemo, Verdict, diagnose, left_out_options, left_out_words, noise_variance_explained, non_passive_points, ranked_size, require_points_for_diagnosis, undetermined_parameters, unidentified_note, verdict_scope_words
-from .effects import DEFAULT_EFFECTS, ArcBeyondBand, added_resistors, arcs_beyond_band, placement
+from .effects import DEFAULT_EFFECTS, added_resistors, placement
 from .vanishing import share_words, vanished_parameters, vanished_terms
 
 __all__ = ["Refinement", "RefinementStep", "refine", "capacitor_name"]
@@ -143,10 +144,10 @@ class Refinement:
     @property
     def beyond_band(self) -> tuple[ArcBeyondBand, ...]:
         """The arcs the steps added (``extra_relaxation``) that the final fit puts outside the band
-        it saw (`effects.arcs_beyond_band`): the data see one flank of each, not the arc."""
+        it saw (`arcs.arcs_beyond_band`): the data see one flank of each, not the arc."""
         final = self.final
         resistors = [n for s in self.steps if s.added and s.effect for n in added_resistors(s.effect, s.added, final.circuit, final.registry)]
-        return arcs_beyond_band(final.circuit, final.values, final.registry, dict.fromkeys(resistors), final.frequency)
+        return arcs_beyond_band(final.circuit, final.values, final.registry, final.frequency, resistors)
 
     @property
     def verdict_scope(self) -> str:

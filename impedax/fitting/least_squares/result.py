@@ -15,6 +15,7 @@ import xarray as xr
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
 from ...data import checked_frequencies, column_width, concise_repr, report_text, format_frequency, format_quantity, format_relative_error, unit_text, value_span
 from ...errors import DataError
+from ..arcs import BEYOND_BAND_FACTOR, ArcBeyondBand, arc_taus
 from ..frozen import freeze_fields
 from ..kk import KKChains, kk_sigma_misfits
 from ..parameters import ParameterTable, data_scales
@@ -28,7 +29,7 @@ from .starts import attainable_misfit, inward_start, rms_rel_of, well_inside
 __all__ = [
     "FitResult", "fit_result", "fit_notes", "parameter_groups", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes",
     "misfit_notes", "uneven_residual_notes", "sigma_scale_notes", "sigma_misstated", "SIGMA_CHAIN_CHI2_RATIO", "sigma_unit_slip", "SIGMA_UNIT_SLIP_FACTOR", "SIGMA_UNIT_SLIP_FRACTION", "SIGMA_RELATIVE_Z", "unused_sigma_notes", "stored_notes", "chi2_red_range", "SIGMA_SCALE_FACTOR", "residual_band_rms", "UNEVEN_BAND_POINTS", "UNEVEN_RESIDUAL_RATIO", "UNEVEN_NOISE_NOTE", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "warnings_blame_model", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "SIGN_CAUSE_NOTE", "SIGNS_IN_DOUBT_SHARE", "signs_in_doubt", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "within_stated_noise", "misfit_hint", "misfit_hint_spectra", "MISFIT_HINT_FROM", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
-    "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "without_error", "near_bound_notes", "resistor_like_notes", "warburg_like_notes", "STDERR_NOTE", "LINEARISED_STDERR_NAME", "data_difference", "stored_bounds", "user_bounds",
+    "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "without_error", "near_bound_notes", "resistor_like_notes", "warburg_like_notes", "arc_beyond_band_notes", "STDERR_NOTE", "LINEARISED_STDERR_NAME", "data_difference", "stored_bounds", "user_bounds",
     "embedded_fit", "fit_from_embedded", "bounds_attr", "unidentified_group_note", "FIT_STATISTICS",
 ]
 
@@ -1575,6 +1576,7 @@ def fit_notes(
         notes += [note for _, note in near_bound_notes(table, x, e, sides)]
     notes += [note for _, note in resistor_like_notes(table, x, freq)]
     notes += [note for _, note in warburg_like_notes(table, x, freq)]
+    notes += [note for _, note in arc_beyond_band_notes(table, x, freq, _settled(table, x, e, sides))]
     if not converged:
         notes.insert(0, f"fit did not converge: {message}")
     return tuple(notes)
@@ -1657,6 +1659,42 @@ def warburg_like_notes(table: ParameterTable, values: np.ndarray, freq=None) -> 
     return out
 
 
+def _settled(table: ParameterTable, values: np.ndarray, stderr: np.ndarray, sides) -> np.ndarray:
+    """(B, P) True for the parameters of fits with values and stderr (B, P) and bound sides (B, K)
+    that are neither at a bound nor undetermined (fixed ones included): those whose value says
+    something (`arc_beyond_band_notes` holds no other against the band)."""
+    values = np.atleast_2d(values)
+    settled = np.ones(values.shape, bool)
+    settled[:, table.free_index] = (np.asarray(sides) == 0) & ~undetermined_mask(table, values, np.atleast_2d(stderr), sides)
+    return settled
+
+
+def arc_beyond_band_notes(table: ParameterTable, values: np.ndarray, freq=None, settled=None) -> list[tuple[int, str]]:
+    """(fit, note) for each R ∥ C or R ∥ CPE block (``table.arcs``) of fits with values (B, P)
+    whose relaxation frequency 1/(2πτ) lies outside the band of ``freq`` [Hz] by more than
+    `arcs.BEYOND_BAND_FACTOR`: the data see one flank of it, and its C (above the band) or its
+    R (below) is an extrapolation of the model (`arcs.ArcBeyondBand`). On the REAL ZPlot file
+    (3 kHz–300 kHz) refine's R_relax ∥ C_relax relaxes at 2.24 MHz (2026-12-04). ``settled``
+    (B, P): a block with a parameter not settled (`_settled`: at a bound, undetermined) is left
+    to the notes that say so (an open branch's R1 at ∞ has no relaxation frequency to speak of)."""
+    if freq is None or not np.size(freq) or not table.arcs:
+        return []
+    values = np.atleast_2d(np.asarray(values, float))
+    settled = np.ones(values.shape, bool) if settled is None else np.atleast_2d(settled)
+    band = (float(np.min(freq)), float(np.max(freq)))
+    out = []
+    for r_name, c_name, symbol, params in table.arcs:
+        tau = arc_taus(symbol, values[:, table.names.index(r_name)], *(values[:, table.names.index(n)] for n in params))
+        with np.errstate(all="ignore"):
+            f = 1 / (2 * math.pi * tau)
+        block = [table.names.index(n) for n in (r_name, *params)]
+        outside = np.isfinite(tau) & (tau > 0) & ((f > band[1] * BEYOND_BAND_FACTOR) | (f < band[0] / BEYOND_BAND_FACTOR)) & settled[:, block].all(axis=1)
+        for b in np.flatnonzero(outside).tolist():
+            arc = ArcBeyondBand(r_name, c_name, float(tau[b]), band)
+            out.append((b, f"{arc.elements}: {arc.sentence()}; {arc.remedy()}"))
+    return out
+
+
 def stack_notes(
     table: ParameterTable, values: np.ndarray, stderr: np.ndarray, corr: np.ndarray, sides: np.ndarray | None = None, *, freq=None, z=None,
 ) -> dict[int, tuple[str, ...]]:
@@ -1689,6 +1727,8 @@ def stack_notes(
     for b, note in resistor_like_notes(table, values, freq):
         notes[b].append(note)
     for b, note in warburg_like_notes(table, values, freq):
+        notes[b].append(note)
+    for b, note in arc_beyond_band_notes(table, values, freq, _settled(table, values, stderr, sides)):
         notes[b].append(note)
     return {b: tuple(n) for b, n in notes.items()}
 
