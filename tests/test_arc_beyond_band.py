@@ -155,3 +155,17 @@ def test_a_block_with_a_parameter_at_a_bound_or_undetermined_is_left_to_those_no
     settled = np.array([[True, True, True], [True, False, True]])
     notes = arc_beyond_band_notes(table, values, np.logspace(0, 5, 11), settled)
     assert [b for b, _ in notes] == [0] and notes[0][1].startswith("R1 || C1: fitted τ = 100 ns: it relaxes at 1.59 MHz, 16× above")
+
+
+def test_a_resistor_run_open_has_no_relaxation_time_and_no_numpy_warning():
+    """R·C beyond floating point (a resistor run open, 1e300 Ω) is τ = inf, quietly: the random
+    command lines of the robustness test reached it."""
+    import warnings
+
+    from impedax.fitting.arcs import arc_taus
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert np.isinf(arc_taus("C", 1e300, 1e300)) and np.isinf(arc_taus("CPE", 1e300, 1e300, 0.5))
+        assert np.isnan(arc_taus("C", 0.0, 1e-6)) and np.isnan(arc_taus("CPE", 100.0, 1e-6, 0.0))
+    assert float(arc_taus("CPE", 100.0, 1e-6, 0.8)) == pytest.approx(1e-4 ** 1.25, rel=1e-12)

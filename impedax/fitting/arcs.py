@@ -108,12 +108,13 @@ def arc_taus(symbol: str, r, c_or_q, alpha=None) -> np.ndarray:
     """τ [s] of R ∥ C (RC) or of R ∥ CPE ((RQ)^(1/α)) for arrays of values; NaN where RQ ≤ 0 or
     α ≤ 0, inf where a small α puts it beyond floating point."""
     r, c = np.asarray(r, float), np.asarray(c_or_q, float)
-    if symbol == "C":
-        return np.where(r * c > 0, r * c, np.nan)
-    a = np.asarray(alpha, float)
-    ok = (r * c > 0) & (a > 0)
-    with np.errstate(all="ignore"):
-        return np.where(ok, np.exp(np.log(np.where(ok, r * c, 1.0)) / np.where(ok, a, 1.0)), np.nan)
+    with np.errstate(all="ignore"):  # (a resistor run open times its C overflows to inf: no arc to speak of)
+        rc = r * c
+        if symbol == "C":
+            return np.where(rc > 0, rc, np.nan)
+        a = np.asarray(alpha, float)
+        ok = (rc > 0) & (a > 0)
+        return np.where(ok, np.exp(np.log(np.where(ok, rc, 1.0)) / np.where(ok, a, 1.0)), np.nan)
 
 
 def _parameter_names(capacitance: str, symbol: str, registry: Registry) -> tuple[str, ...]:
