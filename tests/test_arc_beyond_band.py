@@ -73,6 +73,7 @@ def test_diagnose_flags_the_real_zplot_arc_above_the_band(zplot):
     assert (arc.resistor, arc.capacitance, arc.side) == ("R_relax", "C_relax", "above")
     assert arc.frequency_hz == pytest.approx(f_hand, rel=1e-9)
     assert "above the band's top, 300 kHz" in best.where and "not a relaxation the data resolve" in best.explanation
+    assert d.reason.endswith(f"though R_relax || C_relax relaxes at {arc.frequency_hz / 1e6:.3g} MHz, above the band: the data see one flank of it.")
     entry = json.loads(json.dumps(d.summary()))["suggestions"][0]
     assert entry["beyond_band"][0]["side"] == "above" and entry["beyond_band"][0]["frequency_hz"] == pytest.approx(f_hand, rel=1e-9)
     assert entry["beyond_band"][0]["band_hz"] == [3e3, 3e5]
@@ -114,7 +115,7 @@ def test_the_evaluation_sets_arc_above_the_band_is_flagged_and_one_inside_is_not
         (arc,) = best.beyond_band
         assert arc.side == "above" and arc.frequency_hz > 2 * case.frequency.max() and "above the band's top, 100 kHz" in best.where
     else:
-        assert best.beyond_band == () and "relaxes at" not in best.where
+        assert best.beyond_band == () and "relaxes at" not in best.where and "relaxes at" not in d.reason
 
 
 def test_a_fit_names_its_own_arc_outside_the_band_single_and_batch_alike():

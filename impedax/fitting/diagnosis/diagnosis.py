@@ -2096,6 +2096,8 @@ def _verdict(cands: Sequence[Suggestion], bands: Sequence[FailingBand], ratio: f
             reason += f"; no single effect explains them with determined parameters, but adding {best.effect.replace('+', ' and ')} together ({best.added}) lowers AIC by {-best.delta_aic:.1f}."
         else:
             reason += f"; adding {best.effect} ({best.added}) lowers AIC by {-best.delta_aic:.1f}."
+        for arc in best.beyond_band:  # (the first line a user reads: an arc the data see one flank of is no resolved relaxation)
+            reason = reason[:-1] + f", though {arc.elements} relaxes at {format_quantity(arc.frequency_hz, 'Hz')}, {arc.side} the band: the data see one flank of it."
         return Verdict.MISSING_EFFECT, reason
     if _beyond_single_effects(bands, ratio):
         return Verdict.ADEQUATE, (
