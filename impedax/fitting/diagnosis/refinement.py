@@ -5,7 +5,6 @@ so the result reproduces with ``impedax fit`` of the final model string."""
 from __future__ import annotations
 
 import math
-import re
 import warnings
 from dataclasses import dataclass, replace
 from typing import Callable, Mapping
@@ -245,7 +244,7 @@ class Refinement:
             shown.append(f"{n} = {format_quantity(v, specs[n].unit)} ({how})")
         lines = [f"final fit {final.model}: " + ", ".join(shown)]
         for arc in self.beyond_band:  # (an added arc the data see one flank of: not offered as a relaxation they resolve)
-            step = next((i for i, s in enumerate(self.steps) if s.added and arc.resistor in re.findall(r"[A-Za-z_]\w*", s.added)), None)
+            step = next((i for i, s in enumerate(self.steps) if s.added and s.effect and arc.resistor in added_resistors(s.effect, s.added, self.final.circuit, self.final.registry)), None)
             lines.append(f"{f'step {step} adds' if step is not None else 'the final model has'} {arc.elements}, outside the band: {arc.sentence()}; {arc.remedy()}")
         for i, step in enumerate(self.steps):
             reasons = step.removal_reasons

@@ -21,6 +21,7 @@ import numpy as np
 
 from ...circuits.tree import Element, Parallel, Series
 from ...errors import CircuitError, ParameterError
+from ..arcs import arc_taus
 from ..frozen import freeze_fields
 
 # a ZARC with α ≥ 0.99 has a FWHM below 0.03 decade, finer than any τ grid it is drawn on:
@@ -41,12 +42,9 @@ def zarc_drt(tau, r: float, tau0: float, alpha: float) -> np.ndarray:
 
 
 def r_cpe_tau(r: float, q: float, alpha: float) -> float:
-    """τ₀ = (RQ)^{1/α} [s] of R in parallel with a CPE 1/(Q (jω)^α); inf when α near 0 puts it
+    """τ₀ = (RQ)^{1/α} [s] of R in parallel with a CPE 1/(Q (jω)^α) (`arcs.arc_taus`); inf when α near 0 puts it
     beyond floating point, nan unless RQ > 0 and α > 0."""
-    if not (r * q > 0 and alpha > 0):
-        return float("nan")
-    with np.errstate(over="ignore"):
-        return float(np.exp(np.log(r * q) / alpha))
+    return float(arc_taus("CPE", r, q, alpha))
 
 
 def r_cpe_drt(tau, r: float, q: float, alpha: float) -> np.ndarray:
