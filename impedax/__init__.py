@@ -77,6 +77,7 @@ _LAZY = {
     "current_through": (".circuits", "current_through"),
     "from_autoeis": (".circuits", "from_autoeis"),
     "from_cdc": (".circuits", "from_cdc"),
+    "from_ec_lab": (".circuits", "from_ec_lab"),
     "from_impedance_py": (".circuits", "from_impedance_py"),
     "parse": (".circuits", "parse"),
     "to_cdc": (".circuits", "to_cdc"),

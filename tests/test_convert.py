@@ -14,7 +14,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import impedax as ix
-from impedax.circuits import CDCConvention, Element, Parallel, Series, from_autoeis, from_cdc, from_impedance_py, to_cdc, to_impedance_py
+from impedax.circuits import CDCConvention, Element, Parallel, Series, from_autoeis, from_cdc, from_ec_lab, from_impedance_py, to_cdc, to_impedance_py
 
 # --- impedance.py ---------------------------------------------------------------------------
 
@@ -33,6 +33,12 @@ READS = [
     (from_autoeis, "R1-C2-[R3,P4]-[R5,[R6,C7]]", "R1 + C2 + R3 || CPE4 + R5 || R6 || C7"),
     (from_autoeis, "R1-[R2-P3,C4] - L5", "R1 + (R2 + CPE3) || C4 + L5"),
     (from_autoeis, "P1", "CPE1"),
+    # EC-Lab: '/' parallel, binding closer than '+'; its Wd and M are impedax's Ws and Wo
+    (from_ec_lab, "R1+Q2/(R2+Wd2)", "R1 + Q2 || (R2 + Ws2)"),
+    (from_ec_lab, "L1+R1+C2/(R2+M2)", "L1 + R1 + C2 || (R2 + Wo2)"),
+    (from_ec_lab, "C1/R1+C2/R2", "C1 || R1 + C2 || R2"),
+    (from_ec_lab, "R0 + R1//C1 + W2 + G3", "R0 + R1 || C1 + W2 + G3"),
+    (from_ec_lab, "R1+Wd2", "R1 + Ws2"),
 ]
 REFUSED = [
     (from_impedance_py, "R0-TLMQ1", "no impedax equivalent"),
@@ -44,6 +50,9 @@ REFUSED = [
     (from_autoeis, "R1-[R2,X3]", "AutoEIS element 'X' has no impedax equivalent"),
     (from_autoeis, "R1-p(R2,C3)", r"expected an element such as R1 or \["),  # (impedance.py's group)
     (from_autoeis, "R1-R1", "duplicate element name 'R1'"),
+    (from_ec_lab, "R1+Ma2/R2", r"EC-Lab's Ma \(modified restricted diffusion\) has no built-in impedax element"),
+    (from_ec_lab, "R1+Q2/(R2", "expected '\\)'"),
+    (from_ec_lab, " ", "empty circuit"),
 ]
 
 
@@ -257,3 +266,30 @@ def test_cdc_garbage_raises_only_impedax_errors_and_what_reads_round_trips(text)
     except ix.ImpedaxError:
         return
     assert from_cdc(c.to_cdc()) == c
+
+
+def test_ec_lab_circuits_evaluate_as_ec_labs_own_formulas():
+    """EC-Lab's manual (ZFit, section 4.3.1.1.4): Wd = R_d tanh(√(τ_d jω))/√(τ_d jω), M =
+    R_d coth(√(τ_d jω))/√(τ_d jω), Q = 1/(Q (jω)^a): a supercapacitor's L1 + R1 + C2/(R2 + M2)
+    and a Randles cell with Wd, written out here by hand."""
+    f = np.logspace(-3, 5, 41)
+    s = 2j * np.pi * f
+    values = {"L1": 98.45e-9, "R1": 31.61e-3, "C2": 15.59e-3, "R2": 4.23e-3, "Wo2.R": 37.89e-3, "Wo2.tau": 1.044}
+    x = np.sqrt(values["Wo2.tau"] * s)
+    m2 = values["Wo2.R"] / (np.tanh(x) * x)
+    expected = s * values["L1"] + values["R1"] + 1 / (s * values["C2"] + 1 / (values["R2"] + m2))
+    ours = np.asarray(ix.compile_circuit(from_ec_lab("L1+R1+C2/(R2+M2)"))(values, f))
+    assert np.allclose(ours, expected, rtol=1e-12, atol=0)
+
+    values = {"R1": 10.0, "Q2.Q": 2e-5, "Q2.alpha": 0.9, "R2": 50.0, "Ws2.R": 80.0, "Ws2.tau": 0.3}
+    x = np.sqrt(values["Ws2.tau"] * s)
+    wd2 = values["Ws2.R"] * np.tanh(x) / x
+    expected = values["R1"] + 1 / (values["Q2.Q"] * s ** values["Q2.alpha"] + 1 / (values["R2"] + wd2))
+    ours = np.asarray(ix.compile_circuit(from_ec_lab("R1+Q2/(R2+Wd2)"))(values, f))
+    assert np.allclose(ours, expected, rtol=1e-12, atol=0)
+
+
+def test_a_users_element_named_as_an_ec_lab_symbol_stays_the_users():
+    mine = ix.Registry((*ix.DEFAULT_REGISTRY.specs, ix.ElementSpec("M", "my resistor", "Z = R", (ix.ParameterSpec("R", "Ohm", 1.0),), lambda w, r: r + 0 * w)))
+    assert from_ec_lab("R1+M2/C3", mine) == ix.parse("R1 + M2 || C3", mine)
+    assert from_ec_lab("R1+M2/C3") == ix.parse("R1 + Wo2 || C3")

@@ -288,10 +288,28 @@ def test_valid_impedax_and_impedance_py_text_never_looks_like_cdc():
 
 
 @pytest.mark.parametrize("text", ["R1/C1", "R0 + R1//C1"])
-def test_a_slash_is_answered_with_the_parallel_operator(text):
+def test_a_slash_is_answered_with_the_parallel_operator_and_the_ec_lab_reader(text):
     err = syntax_error(text)
     assert_caret(err, text, text.index("/"))
+    assert err.hint == f"parallel is written '||': R1 || C1; in Python an EC-Lab string is passed as ix.from_ec_lab({text!r}) (the command line reads it by itself)"
+
+
+def test_a_slash_beside_bars_is_in_no_notation_and_gets_no_reader():
+    err = syntax_error("R0 + R1 || C1/R2")
     assert err.hint == "parallel is written '||': R1 || C1"
+
+
+@pytest.mark.parametrize(
+    "text, hint",
+    [
+        ("R1 + Wd2", "EC-Lab's Wd is impedax's Ws (Z = R tanh(√(jωτ))/√(jωτ)): Ws2"),
+        ("R1 + M2", "EC-Lab's M is impedax's Wo (Z = R coth(√(jωτ))/√(jωτ)): Wo2"),
+    ],
+)
+def test_ec_labs_diffusion_elements_are_named_with_impedaxs(text, hint):
+    err = syntax_error(text)
+    assert_caret(err, text, 5)
+    assert err.hint == f"{hint}; in Python an EC-Lab string is passed as ix.from_ec_lab(...) (the command line reads it by itself)"
 
 
 @pytest.mark.parametrize(
@@ -339,6 +357,9 @@ def test_cli_cdc_that_does_not_read_exits_2_with_the_cdc_readers_caret(capsys):
         ("C1/R1+C2/R2", "read with '/' as parallel (EC-Lab's notation): C1 || R1 + C2 || R2"),  # '/' binds closer than '+'
         ("C1/(R1+C2/R2)", "read with '/' as parallel (EC-Lab's notation): C1 || (R1 + C2 || R2)"),
         ("R0 + R1//C1", "read with '/' as parallel (EC-Lab's notation): R0 + R1 || C1"),
+        ("R1+Q2/(R2+Wd2)", "read as EC-Lab notation (its Wd is impedax's Ws, with the same R and tau; '/' as parallel): R1 + Q2 || (R2 + Ws2)"),
+        ("R1 + M2", "read as EC-Lab notation (its M is impedax's Wo, with the same R and tau): R1 + Wo2"),
+        ("R1+Wd2+M3", "read as EC-Lab notation (its Wd is impedax's Ws and its M is impedax's Wo, with the same R and tau): R1 + Ws2 + Wo3"),
     ],
 )
 def test_cli_info_reads_autoeis_and_ec_lab_notation_and_says_how(capsys, model, note):
@@ -380,3 +401,21 @@ def test_an_autoeis_string_with_a_dash_before_p_gets_no_impedance_py_weighting_n
     assert main(["fit", str(data), "--model", "R1-P2", "--quiet"]) == 0
     err = capsys.readouterr().err
     assert "read as AutoEIS notation: R1 + CPE2" in err and "weight_by_modulus" not in err
+
+
+def test_cli_refuses_an_ec_lab_element_impedax_lacks_by_name(capsys):
+    assert main(["info", "R1+Ma2/R2"]) == 2
+    err = capsys.readouterr().err
+    assert "EC-Lab's Ma (modified restricted diffusion) has no built-in impedax element at column 4\n  R1+Ma2/R2\n     ^" in err
+    assert "Traceback" not in err
+
+
+def test_cli_keeps_a_users_element_m_and_reads_no_ec_lab_notation(tmp_path, capsys):
+    plugin = tmp_path / "mine.py"  # a user's element whose symbol is EC-Lab's restricted diffusion
+    plugin.write_text(
+        "import impedax as ix\n"
+        "ELEMENTS = [ix.ElementSpec('M', 'my resistor', 'Z = R', (ix.ParameterSpec('R', 'Ohm', 1.0),), lambda w, r: r + 0 * w)]\n"
+    )
+    assert main(["--plugin", str(plugin), "info", "R1 + M2"]) == 0
+    captured = capsys.readouterr()
+    assert "EC-Lab" not in captured.err and "model: R1 + M2" in captured.out and "M2.R" in captured.out

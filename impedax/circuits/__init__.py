@@ -10,6 +10,7 @@ from .convert import (
     CDCConvention as CDCConvention,
     from_autoeis as from_autoeis,
     from_cdc as from_cdc,
+    from_ec_lab as from_ec_lab,
     from_impedance_py as from_impedance_py,
     to_cdc as to_cdc,
     to_impedance_py as to_impedance_py,

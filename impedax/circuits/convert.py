@@ -22,11 +22,22 @@ import re
 
 from ..errors import CircuitError, CircuitSyntaxError
 from .elements import DEFAULT_REGISTRY
-from .parser import IMPEDANCE_PY_GROUP_RE, MAX_ELEMENTS, MAX_NESTING, impedance_py_spelling, lookalike, parse, require_text
+from .parser import (
+    EC_LAB_NAME_RE,
+    EC_LAB_WITHOUT_EQUIVALENT,
+    IMPEDANCE_PY_GROUP_RE,
+    MAX_ELEMENTS,
+    MAX_NESTING,
+    ec_lab_symbols,
+    impedance_py_spelling,
+    lookalike,
+    parse,
+    require_text,
+)
 from .spec import ADDING_AN_ELEMENT, Registry
 from .tree import Circuit, Element, parallel, series
 
-__all__ = ["CDCConvention", "from_autoeis", "from_cdc", "from_impedance_py", "to_cdc", "to_impedance_py"]
+__all__ = ["CDCConvention", "from_autoeis", "from_cdc", "from_ec_lab", "from_impedance_py", "to_cdc", "to_impedance_py"]
 
 _IMPEDANCE_PY_ELEMENT_RE = re.compile(r"([A-Za-z]+)_?([0-9]+)")
 
@@ -200,6 +211,35 @@ class _AutoEISReader(_ImpedancePyReader):
             ch = self.src[self.pos]
             raise CircuitSyntaxError(self.src, self.pos, f"unexpected {ch!r}", "AutoEIS strings use '-' and [a,b]")
         return out
+
+
+def from_ec_lab(text: str, registry: Registry = DEFAULT_REGISTRY) -> Circuit:
+    """Convert an EC-Lab circuit string (``R1+Q2/(R2+Wd2)``) into an impedax circuit.
+
+    ``+`` is series and ``/`` parallel, binding closer than ``+`` as impedax's ``||`` does
+    (``C1/R1+C2/R2`` is ``C1 || R1 + C2 || R2``; a run of slashes, papers' ``R1//C1``, is one
+    sign); parentheses group. EC-Lab's Wd and M are impedax's Ws and Wo, the same formulas with
+    the same parameters R and tau (`EC_LAB_SYMBOLS`), where ``registry`` declares no element of
+    that symbol; the other symbols are read as impedax's (R, C, L, Q the CPE, W, G). An EC-Lab
+    element that impedax does not build in (Ma, Mg, Ga, Gb, La, Winf) is refused by name.
+    """
+    src = require_text(text)
+    if not src.strip():
+        raise CircuitSyntaxError(src, 0, "empty circuit")
+    for m in EC_LAB_NAME_RE.finditer(src):
+        symbol = m.group(1)
+        if symbol in EC_LAB_WITHOUT_EQUIVALENT and symbol not in registry:
+            raise CircuitSyntaxError(
+                src, m.start(), f"EC-Lab's {symbol} ({EC_LAB_WITHOUT_EQUIVALENT[symbol]}) has no built-in impedax element",
+                f"register one {ADDING_AN_ELEMENT}",
+            )
+    renamed = ec_lab_symbols(src, registry)
+    impedax_text = EC_LAB_NAME_RE.sub(lambda m: renamed.get(m.group(1), m.group(1)) + m.group(2), src)
+    return parse(EC_LAB_PARALLEL_RE.sub(" || ", impedax_text), registry)
+
+
+# the parallel sign of EC-Lab's circuits (R1+Q2/R2) and of papers (R1//C1): a run of slashes
+EC_LAB_PARALLEL_RE = re.compile(r"\s*/+\s*")
 
 
 def from_cdc(text: str, registry: Registry = DEFAULT_REGISTRY, *, convention: CDCConvention | str = CDCConvention.AUTO) -> Circuit:

@@ -74,7 +74,7 @@ def tokenize(source: str, registry: Registry = DEFAULT_REGISTRY) -> list[Token]:
             m = _IDENT_RE.match(source, i)
             if m is None:
                 _check_spaced_name(source, i, tokens)
-                raise CircuitSyntaxError(source, i, f"unexpected character {describe_character(ch)}", _character_hint(ch))
+                raise CircuitSyntaxError(source, i, f"unexpected character {describe_character(ch)}", _character_hint(ch, source))
             tokens.append(Token("element", m.group(), i))
             i = m.end()
     tokens.append(Token("end", "", n))
@@ -212,10 +212,12 @@ def lookalike(ch: str) -> str | None:
     return normal if normal != ch and normal.isascii() and normal.isprintable() and normal.strip() else None
 
 
-def _character_hint(ch: str) -> str:
+def _character_hint(ch: str, source: str) -> str:
     ascii_twin = lookalike(ch)
-    if ch == "/":  # the parallel sign of papers (R//C) and of some instruments' software (R1+C2/R2)
-        return "parallel is written '||': R1 || C1"
+    if ch == "/":  # the parallel sign of papers (R//C) and of EC-Lab's circuits (R1+C2/R2)
+        if "|" in source:  # (both signs: in neither notation)
+            return "parallel is written '||': R1 || C1"
+        return f"parallel is written '||': R1 || C1; in Python an EC-Lab string is passed as {EC_LAB_CALL}({_call_text(source)}) (the command line reads it by itself)"
     if ascii_twin is None:
         return "expected an element such as R1 or C_gap, '(' , '+' or '||'"
     if ascii_twin == "-":  # '-' is series in impedance.py's notation; impedax writes '+'
@@ -257,6 +259,36 @@ def _split_element(source: str, tok: Token, registry: Registry) -> str:
 IMPEDANCE_PY_WITHOUT_EQUIVALENT = ("Gs", "K", "La", "T", "TLMQ")
 
 
+# EC-Lab's element symbols for impedax's elements of another symbol, with the same formula and
+# parameters (R, tau): its ZFit manual's Wd, R_d tanh(√(τ_d jω))/√(τ_d jω), is impedax's Ws, and
+# its M (restricted linear diffusion), R_d coth(√(τ_d jω))/√(τ_d jω), impedax's Wo. Its R, C, L,
+# Q, W and G are impedax's symbols (`from_ec_lab`).
+EC_LAB_SYMBOLS = {"Wd": "Ws", "M": "Wo"}
+# EC-Lab's elements that no built-in impedax element implements, by what they are
+EC_LAB_WITHOUT_EQUIVALENT = {
+    "Ma": "modified restricted diffusion", "Mg": "anomalous diffusion", "Ga": "modified Gerischer",
+    "Gb": "modified Gerischer", "La": "modified inductor", "Winf": "convective diffusion",
+}
+EC_LAB_CALL = "ix.from_ec_lab"  # the reader of EC-Lab strings, as docs/circuits.md writes it
+
+
+def ec_lab_symbols(text: str, registry: Registry) -> dict[str, str]:
+    """EC-Lab's symbols in ``text`` that name an impedax element by another symbol
+    (`EC_LAB_SYMBOLS`, ``{"Wd": "Ws"}``), where ``registry`` has no element of that symbol (a
+    user's element M stays the user's)."""
+    found = {}
+    for m in EC_LAB_NAME_RE.finditer(text):
+        letters = m.group(1)
+        if letters in EC_LAB_SYMBOLS and letters not in registry and EC_LAB_SYMBOLS[letters] in registry:
+            found[letters] = EC_LAB_SYMBOLS[letters]
+    return found
+
+
+# an element name: the letters that open it (its symbol: Wd of Wd2, R of R_ct) and the rest; not
+# the letters of a number (1e-3)
+EC_LAB_NAME_RE = re.compile(r"(?<![\w.])([A-Za-z]+)(\w*)")
+
+
 def _symbol_hint(letters: str, rest: str, registry: Registry) -> str:
     spec = registry.by_impedance_py.get(letters)
     if spec is not None:  # Zarc1: impedance.py's name of CC
@@ -267,6 +299,10 @@ def _symbol_hint(letters: str, rest: str, registry: Registry) -> str:
         spec = registry.by_impedance_py[spelled]
         name = f"{spec.symbol}{rest}" if rest.isdigit() or rest.startswith("_") else f"e.g. {spec.symbol}1"
         return f"symbols are case-sensitive, and impedance.py's {spelled} is impedax's {spec.symbol}: {name}"
+    if letters in EC_LAB_SYMBOLS and EC_LAB_SYMBOLS[letters] in registry:  # Wd2: EC-Lab's Ws
+        spec = registry[EC_LAB_SYMBOLS[letters]]
+        name = f"{spec.symbol}{rest}" if rest.isdigit() or rest.startswith("_") else f"e.g. {spec.symbol}1"
+        return f"EC-Lab's {letters} is impedax's {spec.symbol} ({spec.equation}): {name}; in Python an EC-Lab string is passed as {EC_LAB_CALL}(...) (the command line reads it by itself)"
     if letters in IMPEDANCE_PY_WITHOUT_EQUIVALENT:
         return f"impedance.py's {letters} has no built-in impedax element: register one with impedance_py={letters!r} {ADDING_AN_ELEMENT}"
     if letters.upper() in registry or letters.capitalize() in registry:

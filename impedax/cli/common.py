@@ -501,16 +501,25 @@ def note_impedance_py_weighting(command: str, weighting: str | None) -> None:
         print(f"impedax {command}: note: {IMPEDANCE_PY_WEIGHTING_NOTE}", file=sys.stderr)
 
 
-# the parallel sign of EC-Lab's circuits (R1+Q2/R2, C1/(R1+C2/R2): '/' binds closer than '+',
-# as impedax's '||' does) and of papers (R1//C1)
-SLASHES = re.compile(r"\s*/+\s*")
-
-
 # how `impedax_text` says it read a model written in another notation
 CDC_NOTATION = "as Boukamp's circuit description code (CDC)"
 AUTOEIS_NOTATION = "as AutoEIS notation"
 IMPEDANCE_PY_NOTATION = "as impedance.py notation"  # (the one the note on impedance.py's default weighting follows)
 EC_LAB_NOTATION = "with '/' as parallel (EC-Lab's notation)"
+
+
+def ec_lab_notation(model: str, registry) -> str:
+    """How `impedax_text` says it read ``model`` as EC-Lab notation: `EC_LAB_NOTATION`, or with
+    the EC-Lab symbols it read as impedax's (``as EC-Lab notation (its Wd is impedax's Ws, with
+    the same R and tau; '/' as parallel)``)."""
+    from ..circuits.parser import ec_lab_symbols
+
+    renamed = ec_lab_symbols(model, registry)
+    if not renamed:
+        return EC_LAB_NOTATION
+    symbols = " and ".join(f"its {ec} is impedax's {ours}" for ec, ours in renamed.items())
+    slash = "; '/' as parallel" if "/" in model else ""
+    return f"as EC-Lab notation ({symbols}, with the same R and tau{slash})"
 
 
 def impedax_text(model: str, command: str, registry=None) -> tuple[str, str | None]:
@@ -519,10 +528,11 @@ def impedax_text(model: str, command: str, registry=None) -> tuple[str, str | No
     how: Boukamp's CDC (`impedax.circuits.looks_like_cdc`, ``R(RC)``: `impedax.from_cdc`),
     AutoEIS's (`impedax.circuits.looks_like_autoeis`, ``R1-[R2,P3]``: `impedax.from_autoeis`),
     impedance.py's (`looks_like_impedance_py`, ``R0-p(R1,C1)``: `impedax.from_impedance_py`), or
-    impedax text with EC-Lab's ``/`` for ``||`` (`SLASHES`, ``R1+Q2/R2``). A string that neither
+    EC-Lab's (a ``/`` and no ``|``, or its Wd or M: ``R1+Q2/(R2+Wd2)``, `impedax.from_ec_lab`). A string that neither
     reads is refused with that reader's message, or the impedax parser's when it holds impedax's
     operators (``+``, ``|``: impedax text with a stray ``-``) or looks like no other notation."""
-    from ..circuits import DEFAULT_REGISTRY, from_autoeis, from_cdc, from_impedance_py, looks_like_autoeis, looks_like_cdc, parse
+    from ..circuits import DEFAULT_REGISTRY, from_autoeis, from_cdc, from_ec_lab, from_impedance_py, looks_like_autoeis, looks_like_cdc, parse
+    from ..circuits.parser import ec_lab_symbols
     from ..errors import CircuitSyntaxError
 
     registry = registry or DEFAULT_REGISTRY
@@ -539,8 +549,8 @@ def impedax_text(model: str, command: str, registry=None) -> tuple[str, str | No
         if "+" in model or "|" in model:
             raise impedax_error
         text, notation = str(from_impedance_py(model, registry)), IMPEDANCE_PY_NOTATION
-    elif "/" in model and "|" not in model:
-        text, notation = str(parse(SLASHES.sub(" || ", model), registry)), EC_LAB_NOTATION
+    elif not ("/" in model and "|" in model) and ("/" in model or ec_lab_symbols(model, registry)):  # (both signs: neither notation)
+        text, notation = str(from_ec_lab(model, registry)), ec_lab_notation(model, registry)
     else:
         return model, None  # (the command's own parse gives the error)
     print(f"impedax {command}: read {notation}: {text}", file=sys.stderr)
