@@ -213,3 +213,20 @@ def test_a_warburg_absent_from_exact_data_is_not_reported_determined():
     assert "W1.sigma" in r.at_bound and r.to_table()[-1]["stderr"] is None, r.report()
     notes = chain_notes(r.warnings)
     assert len(notes) == 1 and notes[0].startswith("W1 takes at most "), r.warnings
+
+
+def test_a_resistor_run_open_to_floating_points_end_is_coded_open_without_an_overflow_warning():
+    # R1 = 1e308 beside a CPE (random command lines reached it): ten times it lies beyond float64;
+    # taken as ∞, its branch carries no current at all, so the code is +1 (open), as at 1e12
+    import warnings
+
+    from impedax.fitting.least_squares.branches import vanishing_parameters
+    from impedax.fitting.parameters import ParameterTable
+
+    circuit = ix.parse("R1 || CPE1")
+    table = ParameterTable.build(circuit)
+    for r1 in (1e12, 1e308):
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            codes = vanishing_parameters(circuit, ix.DEFAULT_REGISTRY, table, np.array([[r1, 2e-5, 0.85]]), F, np.ones((1, 3), bool))
+        assert dict(zip(table.free_names, codes[0].tolist()))["R1"] == 1, r1

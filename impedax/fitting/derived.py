@@ -112,13 +112,28 @@ def _dims(shape, freq) -> tuple[tuple[str, ...], dict]:
     return tuple(f"dim_{i}" for i in range(len(shape))), {}
 
 
+def mean_and_sd(draws: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Mean and standard deviation (ddof = 1; 0 for one draw) of ``draws`` (S, ...) over the
+    draws, each column scaled by its largest |draw| first: the draws of a parameter the data do
+    not determine reach 1e220 (an open branch's R), whose squares lie beyond float64, and
+    ``np.std`` overflowed to inf with a RuntimeWarning there."""
+    draws = np.asarray(draws, float)
+    with np.errstate(invalid="ignore"):  # (a column of NaN or inf is left to itself)
+        scale = np.max(np.abs(draws), axis=0) if draws.shape[0] else np.ones(draws.shape[1:])
+    scale = np.where(np.isfinite(scale) & (scale > 0), scale, 1.0)
+    scaled = draws / scale
+    sd = scaled.std(axis=0, ddof=1) * scale if draws.shape[0] > 1 else np.zeros(draws.shape[1:])
+    return scaled.mean(axis=0) * scale, sd
+
+
 def band_dataset(draws: np.ndarray, freq=None, *, keep_draws: bool = False, attrs=None) -> xr.Dataset:
     """Quantile bands (and optionally the draws, dim ``sample``) of ``draws`` (S, ...)."""
     dims, coords = _dims(draws.shape[1:], freq)
     qs = np.quantile(draws, list(QUANTILES.values()), axis=0)
     data = {k: (dims, q) for k, q in zip(QUANTILES, qs)}
-    data["mean"] = (dims, draws.mean(axis=0))
-    data["sd"] = (dims, draws.std(axis=0, ddof=1) if draws.shape[0] > 1 else np.zeros(draws.shape[1:]))
+    mean, sd = mean_and_sd(draws)
+    data["mean"] = (dims, mean)
+    data["sd"] = (dims, sd)
     if keep_draws:
         data["draws"] = (("sample",) + dims, draws)
     return xr.Dataset(data, coords=coords, attrs=dict(attrs or {}))

@@ -11,9 +11,11 @@ from dataclasses import dataclass
 from typing import Mapping, NamedTuple, Sequence
 
 import numpy as np
+import xarray as xr
 
 from ...circuits import Circuit, Registry
 from ...data import unit_text, value_span
+from ..derived import QUANTILES, mean_and_sd
 from ..reductions import reducing_bounds
 
 __all__ = [
@@ -212,6 +214,23 @@ def hdi(x: np.ndarray, mass: float = 0.9) -> tuple[float, float]:
     widths = x[k - 1:] - x[: n - k + 1]
     i = int(np.argmin(widths))
     return float(x[i]), float(x[i + k - 1])
+
+
+def draws_table(draws: Mapping[str, np.ndarray]) -> xr.Dataset:
+    """median, q05, q16, q84, q95, mean, sd and the 90 % HDI (`hdi90_low`, `hdi90_high`) of
+    each named parameter's draws, over dim ``param``."""
+    table = {k: [] for k in (*QUANTILES, "mean", "sd", "hdi90_low", "hdi90_high")}
+    for x in draws.values():
+        x = np.asarray(x, float)
+        for k, q in QUANTILES.items():
+            table[k].append(float(np.quantile(x, q)))
+        mean, sd = mean_and_sd(x)
+        table["mean"].append(float(mean))
+        table["sd"].append(float(sd))
+        lo, hi = hdi(x)
+        table["hdi90_low"].append(lo)
+        table["hdi90_high"].append(hi)
+    return xr.Dataset({k: ("param", v) for k, v in table.items()}, coords={"param": list(draws)})
 
 
 def acceptance_warnings(mean_acceptance: float, n_params: int) -> list[str]:

@@ -22,13 +22,13 @@ import xarray as xr
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
 from ...data import checked_frequencies, column_width, concise_repr, report_text, unit_text
 from ...errors import DataError, ParameterError
-from ..derived import QUANTILES, bind_frequency, called, draw_indices, draws_band, needs_freq
+from ..derived import bind_frequency, called, draw_indices, draws_band, needs_freq
 from ..least_squares import FitResult
 from ..least_squares.branches import left_to_priors
 from ..least_squares.result import bounds_attr, shown_stderr, stored_bounds, without_sample_advice
 from ..frozen import freeze_fields
 from .chain import capped_at, length_text
-from .diagnostics import CHAIN_TAU_MULTIPLE, NO_STRAGGLERS, PiledUp, StrongCorrelation, Stragglers, chain_warnings, figure, hdi, integrated_autocorr, interval_warnings, kept_walkers, straggler_warnings, strong_correlations, walkers_text
+from .diagnostics import CHAIN_TAU_MULTIPLE, NO_STRAGGLERS, PiledUp, StrongCorrelation, Stragglers, chain_warnings, draws_table, figure, integrated_autocorr, interval_warnings, kept_walkers, straggler_warnings, strong_correlations, walkers_text
 from .logprob import NOISE_MODELS, NoiseModel
 from .priors import Prior
 from .reparam import Reparametrization, implausible_gap_notes, rebuild
@@ -244,19 +244,7 @@ class Posterior(PiledUp):
     def quantiles(self, *, circuit: bool = False) -> xr.Dataset:
         """median, q05, q16, q84, q95, mean, sd and the 90% HDI per parameter (``circuit=True``:
         the circuit's parameters, derived through the reparametrization)."""
-        draws = self.circuit_samples() if circuit else self.samples
-        names = list(draws)
-        table = {k: [] for k in (*QUANTILES, "mean", "sd", "hdi90_low", "hdi90_high")}
-        for n in names:
-            x = np.asarray(draws[n], float)
-            for k, q in QUANTILES.items():
-                table[k].append(float(np.quantile(x, q)))
-            table["mean"].append(float(x.mean()))
-            table["sd"].append(float(x.std(ddof=1)) if x.size > 1 else 0.0)
-            lo, hi = hdi(x)
-            table["hdi90_low"].append(lo)
-            table["hdi90_high"].append(hi)
-        return xr.Dataset({k: ("param", v) for k, v in table.items()}, coords={"param": names})
+        return draws_table(self.circuit_samples() if circuit else self.samples)
 
     @property
     def undetermined(self) -> tuple[str, ...]:

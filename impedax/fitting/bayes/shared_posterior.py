@@ -34,14 +34,14 @@ from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, pa
 from ...errors import DataError, ParameterError
 from ...data import checked_frequencies, column_width, counted, report_text, unit_text
 from ...warning_groups import grouped_warnings
-from ..derived import QUANTILES, draw_indices, draws_band, needs_freq
+from ..derived import draw_indices, draws_band, needs_freq
 from ..least_squares import SharedFitResult, fit
 from ..least_squares.branches import left_to_priors
 from ..least_squares.result import parameter_groups, without_sample_advice
 from ..parameters import ParameterTable
 from ..problem import SIGMA_SOURCES, open_spectrum
 from ..frozen import freeze_fields
-from .diagnostics import NO_STRAGGLERS, PiledUp, circuit_name, Stragglers, chain_warnings, figure, hdi, integrated_autocorr, interval_warnings, kept_walkers, straggler_warnings, walkers_text
+from .diagnostics import NO_STRAGGLERS, PiledUp, circuit_name, Stragglers, chain_warnings, draws_table, figure, integrated_autocorr, interval_warnings, kept_walkers, straggler_warnings, walkers_text
 from .logprob import NOISE_MODELS, NoiseModel, start_weighting
 from .chain import AUTO_STEPS, auto_step_cap, ball_scales, capped_at, length_settings, length_text, run_emcee, start_walkers, support_in_sampled_space, undetermined_span
 from .posterior import PREDICTIVE_COPIES, UNDETERMINED_MARK, UNDETERMINED_ROWS, Posterior, chain_figures, checked_copies, sigma_between, with_noise
@@ -242,16 +242,7 @@ class SharedPosterior(PiledUp):
 
     def quantiles(self) -> xr.Dataset:
         """median, q05, q16, q84, q95, mean, sd and the 90% HDI per sampled parameter."""
-        table = {k: [] for k in (*QUANTILES, "mean", "sd", "hdi90_low", "hdi90_high")}
-        for x in self.samples.values():
-            for k, q in QUANTILES.items():
-                table[k].append(float(np.quantile(x, q)))
-            table["mean"].append(float(x.mean()))
-            table["sd"].append(float(x.std(ddof=1)) if x.size > 1 else 0.0)
-            lo, hi = hdi(x)
-            table["hdi90_low"].append(lo)
-            table["hdi90_high"].append(hi)
-        return xr.Dataset({k: ("param", v) for k, v in table.items()}, coords={"param": list(self.names)})
+        return draws_table(self.samples)
 
     def _by_name(self, q: xr.Dataset, names) -> dict[str, dict]:
         return {

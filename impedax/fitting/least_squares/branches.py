@@ -246,7 +246,8 @@ def vanishing_parameters(circuit: Circuit, registry: Registry, table: ParameterT
                     if not (table.lower[i] == 0 and table.upper[i] == np.inf):  # a scale (R, C, Q ...), not an exponent
                         continue
                     moved = values[rows].copy()
-                    moved[:, i] *= factor
+                    with np.errstate(over="ignore"):  # (a value near float64's end moved to inf: its share is no smaller)
+                        moved[:, i] *= factor
                     code[_shares(node, registry, table, moved, omega)[c] < 0.5 * share[rows]] = side
                 found[rows, k] = np.where(found[rows, k] == 0, code, found[rows, k])
     return found
