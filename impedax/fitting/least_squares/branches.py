@@ -103,6 +103,14 @@ def is_idle_note(text: str) -> bool:
     return _IDLE_NOTE_WORDS in text
 
 
+def idle_note_reduced(text: str) -> str | None:
+    """The circuit without the idle term that idle note ``text`` names (`IdleBranch.reduced`),
+    or None when ``text`` is no idle note."""
+    if not is_idle_note(text):
+        return None
+    return text.partition(_IDLE_NOTE_WORDS)[0].rpartition("so the data cannot determine it: ")[2] or None
+
+
 class IdleBranch(NamedTuple):
     """An ``element`` (or a sub-circuit, by its text) of fit ``row`` that carries at most
     ``share`` of the current through its parallel ``block`` at every frequency or, ``series``
