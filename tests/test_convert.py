@@ -293,3 +293,22 @@ def test_a_users_element_named_as_an_ec_lab_symbol_stays_the_users():
     mine = ix.Registry((*ix.DEFAULT_REGISTRY.specs, ix.ElementSpec("M", "my resistor", "Z = R", (ix.ParameterSpec("R", "Ohm", 1.0),), lambda w, r: r + 0 * w)))
     assert from_ec_lab("R1+M2/C3", mine) == ix.parse("R1 + M2 || C3", mine)
     assert from_ec_lab("R1+M2/C3") == ix.parse("R1 + Wo2 || C3")
+
+
+@pytest.mark.parametrize(
+    "text, column, in_message",
+    [
+        ("R1+Q2/(R2+Wd2", 13, "the '(' at column 7 is not closed"),  # (end of input; the hint's column on the typed text too)
+        ("R1+Q2/(R2+M2)+X3", 14, "unknown element symbol 'X'"),
+        ("R1 // Q2 / R2 + + C3", 16, "expected an element or '('"),
+        ("R1+Q2/R2+Wd2+Wd2", 13, "(first at column 10)"),
+    ],
+)
+def test_an_ec_lab_string_that_does_not_read_is_shown_as_typed(text, column, in_message):
+    """The parse error of `from_ec_lab` shows the text as typed (not as rewritten, with '||' for
+    '/' and Ws for Wd), its caret and every column it names on that text."""
+    with pytest.raises(ix.CircuitSyntaxError) as caught:
+        from_ec_lab(text)
+    err = caught.value
+    assert err.source == text and err.column == column
+    assert f"\n  {text}\n  {' ' * column}^" in str(err) and in_message in str(err)

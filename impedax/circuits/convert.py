@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import enum
 import re
+from collections.abc import Mapping
 
 from ..errors import CircuitError, CircuitSyntaxError
 from .elements import DEFAULT_REGISTRY
@@ -233,13 +234,37 @@ def from_ec_lab(text: str, registry: Registry = DEFAULT_REGISTRY) -> Circuit:
                 src, m.start(), f"EC-Lab's {symbol} ({EC_LAB_WITHOUT_EQUIVALENT[symbol]}) has no built-in impedax element",
                 f"register one {ADDING_AN_ELEMENT}",
             )
-    renamed = ec_lab_symbols(src, registry)
-    impedax_text = EC_LAB_NAME_RE.sub(lambda m: renamed.get(m.group(1), m.group(1)) + m.group(2), src)
-    return parse(EC_LAB_PARALLEL_RE.sub(" || ", impedax_text), registry)
+    impedax_text, origin = _ec_lab_as_impedax(src, ec_lab_symbols(src, registry))
+    try:
+        return parse(impedax_text, registry)
+    except CircuitSyntaxError as exc:  # (the caret, and a column a hint names, on the text as typed)
+        at = lambda column: origin[min(column, len(origin) - 1)]  # noqa: E731
+        typed = lambda text: text and re.sub(r"(?<=column )(\d+)", lambda m: str(at(int(m.group()) - 1) + 1), text)  # noqa: E731
+        raise CircuitSyntaxError(src, at(exc.column), typed(exc.reason), typed(exc.hint), unknown_symbol=exc.unknown_symbol) from None
 
 
-# the parallel sign of EC-Lab's circuits (R1+Q2/R2) and of papers (R1//C1): a run of slashes
-EC_LAB_PARALLEL_RE = re.compile(r"\s*/+\s*")
+# what `from_ec_lab` rewrites: a run of slashes (with the spaces around it), the parallel sign of
+# EC-Lab's circuits (R1+Q2/R2) and of papers (R1//C1), or the symbol that opens an element name
+_EC_LAB_REWRITTEN_RE = re.compile(r"(?P<slash>\s*/+\s*)|(?<![\w.])(?P<symbol>[A-Za-z]+)")
+
+
+def _ec_lab_as_impedax(src: str, renamed: Mapping[str, str]) -> tuple[str, list[int]]:
+    """EC-Lab text ``src`` as impedax text (``/`` → ``||``, the ``renamed`` symbols), and for
+    each of its characters (and its end) the offset in ``src`` it comes from."""
+    out, origin, i = [], [], 0
+    for m in _EC_LAB_REWRITTEN_RE.finditer(src):
+        out.append(src[i:m.start()])
+        origin.extend(range(i, m.start()))
+        if m.group("slash"):
+            new, start, width = " || ", src.index("/", m.start()), 1
+        else:
+            new, start, width = renamed.get(m.group("symbol"), m.group("symbol")), m.start(), len(m.group("symbol"))
+        out.append(new)
+        origin.extend(start + min(k, width - 1) for k in range(len(new)))
+        i = m.end()
+    out.append(src[i:])
+    origin.extend(range(i, len(src) + 1))
+    return "".join(out), origin
 
 
 def from_cdc(text: str, registry: Registry = DEFAULT_REGISTRY, *, convention: CDCConvention | str = CDCConvention.AUTO) -> Circuit:
