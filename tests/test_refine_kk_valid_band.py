@@ -12,6 +12,7 @@ import pytest
 import impedax as ix
 from impedax.fitting.diagnosis.diagnosis import MIN_KEPT_POINTS, _data_problem, kk_valid_run
 from impedax.fitting.diagnosis.noise import kk_judged_locally, noise_model
+from impedax.data import format_band
 from impedax.fitting.kk import kk_test
 
 REAL = Path(__file__).parent / "fixtures" / "real"
@@ -224,3 +225,32 @@ def test_refinement_report_and_json_say_where_the_verdict_was_judged():
     from impedax.plotting.diagnosis import _verdict_where
 
     assert _verdict_where(r) == "adequate on 2.5 kHz – 200 kHz, 20 of 72 points" and _verdict_where(whole) == "adequate"
+
+
+@pytest.mark.slow  # (3–10 s: a diagnosis of the 72 points)
+def test_a_missing_effect_over_data_the_kk_test_fails_names_the_passing_band_and_the_data_floor():
+    """REAL exampleDataGamry.DTA with R0 + R1 || CPE1 (a walkthrough): the KK test flags 52 of 72
+    points, too many to leave out, and the verdict named extra_relaxation with no word of it; the
+    next refine step then found the data invalid. The data line now names the band the test
+    passes with its trim, and the reason says the candidate's fit reaches the data's own misfit."""
+    data = ix.load(REAL / "exampleDataGamry.DTA")
+    f = data["frequency"].values
+    d = ix.diagnose(data, "R0 + R1 || CPE1")
+    assert d.verdict == "missing_effect"
+    best = next(s for s in d.suggestions if s.significant)
+    kk = kk_test(data)  # (the oracle of "as close as the data allow": the KK test run by itself)
+    assert best.fit.rms_rel <= 2 * kk.rms_rel
+    assert f"With it the fit ({best.fit.rms_rel * 100:.3g} %) is as close as the data allow (the KK test's own misfit is {kk.rms_rel * 100:.3g} %)" in d.reason
+    low = f[f > 2.3e3].min()
+    assert f"diagnose {format_band(low, f.max())}, where the test passes, alone" in d.reason
+    assert f"the KK test passes at {format_band(low, f.max())} (20 points" in d.kk_flagged_kept
+    assert 2.26e3 < _fmin_of(d.kk_flagged_kept) <= low
+    # the band it names passes the KK test by itself
+    assert kk_test(data.sel(frequency=f[f >= _fmin_of(d.kk_flagged_kept)])).valid
+
+
+@pytest.mark.slow  # (2–6 s)
+def test_a_missing_effect_over_sound_data_says_nothing_of_a_data_floor():
+    data = ix.load(REAL / "exampleDataZPlot.z")  # (KK valid at 0.137 %)
+    d = ix.diagnose(data, "R0 + R1 || CPE1")
+    assert d.verdict == "missing_effect" and "as close as the data allow" not in d.reason and d.kk_flagged_kept is None
