@@ -177,6 +177,20 @@ def test_which_peak_is_cited(peaks, tau, cited):
         assert _seconds(*m.group(1, 2)) == pytest.approx(tau, rel=0.006)
 
 
+def test_a_peak_the_drt_does_not_tell_from_zero_is_never_cited():
+    """REAL PowerSuite: the DRT line calls the 4.8 ms peak a ripple (R ≈ 99 ± 55 kΩ), and the
+    top suggestion cited it in support two lines below; a resolved peak nearby is cited instead."""
+    ripple, resolved = _peak(0.1, 2.0), _peak(0.3, 1.0)
+    values = {"R0": 1.0, "R_relax": 2.0, "C_relax": 0.1 / 2.0}
+    alone = PeakEvidence(data_peaks=(ripple,), model_peaks=(), explained=(), unexplained=(ripple,), nearest_model_tau=(math.nan,), distributed=(), text="", unresolved=(ripple,))
+    assert drt_citation("extra_relaxation", ARC, values, ix.DEFAULT_REGISTRY, alone) == ""
+    assert _CITED.search(drt_citation("extra_relaxation", ARC, values, ix.DEFAULT_REGISTRY, _evidence(ripple)))  # (the same peak, resolved)
+    both = PeakEvidence(data_peaks=(ripple, resolved), model_peaks=(), explained=(), unexplained=(ripple, resolved), nearest_model_tau=(math.nan, math.nan),
+                        distributed=(), text="", unresolved=(ripple,))
+    m = _CITED.search(drt_citation("extra_relaxation", ARC, {**values, "C_relax": 0.2 / 2.0}, ix.DEFAULT_REGISTRY, both))
+    assert m and _seconds(*m.group(3, 4)) == pytest.approx(0.3, rel=0.006)
+
+
 def test_a_cpe_arc_uses_its_own_time_constant():
     tau, alpha = 0.1, 0.8
     values = {"R0": 1.0, "R_relax": 2.0, "CPE_relax.Q": tau**alpha / 2.0, "CPE_relax.alpha": alpha}

@@ -346,7 +346,9 @@ def drt_citation(effect_id: str, proposal: Proposal, values: Mapping[str, float]
     `` (fitted τ = 20 ms, within half a decade of the data's DRT peak at 32.2 ms that the model
     does not explain)``, or "" (other effects, pairs of effects, no DRT evidence, no such peak).
 
-    The peak must be one the baseline does not explain, lie inside the measured window
+    The peak must be one the baseline does not explain, whose R the DRT tells from zero (not
+    in ``evidence.unresolved``: REAL PowerSuite's 4.8 ms peak, 99 ± 55 kΩ, which the DRT line
+    calls a ripple, was cited in support two lines below it), lie inside the measured window
     (``Peak.inside_window``) and lie within `DRT_CITE_DECADES` of the fitted arc's τ (R·C, or
     (R·Q)^(1/α) for R ∥ CPE): the peak the warm start came from (the largest unexplained one)
     when it qualifies, else the qualifying peak nearest the fitted τ. Named before the fit,
@@ -362,7 +364,8 @@ def drt_citation(effect_id: str, proposal: Proposal, values: Mapping[str, float]
     if not (np.isfinite(tau) and tau > 0):
         return ""
     largest = sorted(evidence.unexplained, key=lambda q: -q.r_ohm)[:1]  # the warm start's first peak
-    near = [p for p in _unexplained_in_window(evidence) if abs(np.log10(tau / p.tau_s)) <= DRT_CITE_DECADES]
+    ripples = {id(p) for p in evidence.unresolved}  # (the DRT line calls them not told from zero: no evidence to cite)
+    near = [p for p in _unexplained_in_window(evidence) if abs(np.log10(tau / p.tau_s)) <= DRT_CITE_DECADES and id(p) not in ripples]
     if not near:
         return ""
     peak = largest[0] if any(p is largest[0] for p in near) else min(near, key=lambda p: abs(np.log10(tau / p.tau_s)))
