@@ -395,6 +395,9 @@ class Diagnosis:
                 {"effect": s.effect, "model": s.model, "rms_rel": s.rms_rel, "aic": s.aic, "delta_aic": s.delta_aic, "delta_bic": s.delta_bic, "significant": s.significant, "undetermined": list(s.undetermined), "warning": s.warning}
                 for s in self.candidates
             ],
+            # (added 2026-12-04) what a suggestion's or candidate's delta_aic and delta_bic weigh the residuals by: each point's noise
+            # (the "noise" entry's per_frequency), not the fit's own weighting that its "aic" uses, so they are no differences of "aic"
+            "delta_aic_weighting": "noise",
             "thresholds": dict(self.thresholds),
             "notes": list(self.notes),
             "warnings": self.warnings,
