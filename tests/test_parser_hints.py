@@ -419,3 +419,26 @@ def test_cli_keeps_a_users_element_m_and_reads_no_ec_lab_notation(tmp_path, caps
     assert main(["--plugin", str(plugin), "info", "R1 + M2"]) == 0
     captured = capsys.readouterr()
     assert "EC-Lab" not in captured.err and "model: R1 + M2" in captured.out and "M2.R" in captured.out
+
+
+@pytest.mark.parametrize(
+    "text, hint",
+    [
+        ("R0 + CPEE1", "did you mean CPE1 (or CPE_E1, an element CPE with a label)?"),  # a letter doubled
+        ("R0 + RR1", "did you mean R1 (or R_R1, an element R with a label)?"),
+        ("R0 + Wss1", "did you mean Ws1 (or Ws_s1, an element Ws with a label)?"),
+        ("R0 + CP1", "did you mean CPE1 (or C_P1, an element C with a label)?"),  # a letter dropped
+        ("R0 + CPF1", "did you mean CPE1 (or C_PF1, an element C with a label)?"),  # one replaced
+        ("R0 + Csc1", "did you mean C_sc1?"),  # a label, as before
+        ("R0 + Rx1", "did you mean R_x1?"),  # (an x is no doubled R)
+        ("R0 + Wx1", "did you mean W_x1?"),  # (Wo or Ws: two letters replaced by any)
+    ],
+)
+def test_a_slip_of_the_keyboard_in_a_symbol_is_answered_with_the_symbol(text, hint):
+    err = syntax_error(text)
+    assert_caret(err, text, 5)
+    assert err.hint.endswith("; else " + hint), err.hint
+
+
+def test_a_lone_unknown_letter_gets_the_list_not_a_guess():
+    assert syntax_error("R0 + X1").hint.endswith("known symbols: C, CC, CPE, G, HN, L, Q, R, W, Wo, Ws")

@@ -314,11 +314,24 @@ def _symbol_hint(letters: str, rest: str, registry: Registry) -> str:
     for sym in registry.symbols():  # letters swapped: CEP1 is CPE1 (not C with label EP1)
         if len(sym) == len(letters) > 1 and sorted(sym) == sorted(letters):
             return f"{own}{'else ' if own else ''}did you mean {sym}{rest}?"
-    for sym in registry.symbols():  # longest first, so CPE wins over C
-        if letters.startswith(sym) and len(letters) > len(sym):
-            label = letters[len(sym):] + rest.lstrip("_")
-            return f"{own}{'else ' if own else ''}did you mean {sym}_{label}?"
+    labelled = next((f"{sym}_{letters[len(sym):]}{rest.lstrip('_')}" for sym in registry.symbols() if letters.startswith(sym) and len(letters) > len(sym)), None)  # (longest first, so CPE wins over C)
+    typed = [sym for sym in registry.symbols() if _one_edit_apart(letters, sym)]  # a letter doubled, dropped or mistyped: CPEE1, CP1, Wss1
+    if typed:
+        return f"{own}{'else ' if own else ''}did you mean {max(typed, key=len)}{rest}" + (f" (or {labelled}, an element {labelled.partition('_')[0]} with a label)?" if labelled else "?")
+    if labelled:
+        return f"{own}{'else ' if own else ''}did you mean {labelled}?"
     return f"{own}known symbols: " + ", ".join(sorted(registry.symbols()))
+
+
+def _one_edit_apart(typed: str, symbol: str) -> bool:
+    """Whether ``typed`` is ``symbol`` with one slip of the keyboard: a letter doubled (CPEE,
+    RR, Wss), a letter dropped (CP, from two letters on) or one replaced (CPF, from three on: in
+    shorter symbols any letter would do, X for C). Case counts."""
+    if len(typed) == len(symbol) + 1:
+        return any(typed[:i] + typed[i + 1:] == symbol and typed[i] == typed[i - 1] for i in range(1, len(typed)))
+    if len(typed) + 1 == len(symbol):
+        return len(typed) >= 2 and any(symbol[:i] + symbol[i + 1:] == typed for i in range(len(symbol)))
+    return len(typed) == len(symbol) >= 3 and sum(x != y for x, y in zip(typed, symbol)) == 1
 
 
 def impedance_py_spelling(letters: str, registry: Registry) -> str | None:
