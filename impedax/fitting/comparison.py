@@ -367,6 +367,17 @@ class Comparison:
             if t.get("reason") == "reduces_to_simple" or (t.get("valid", True) and t["f"] <= NOISE_F):
                 if complex_ not in out or ties.index(simple) < ties.index(out[complex_]):
                     out[complex_] = simple
+        # the same fit as a model that reduces (``same_fit_as``): its χ² is that model's, no lower
+        # than the best's, though no F-test nests it (REAL ZPlot: R0 + R1 || C1 + R2 || C2, its two
+        # arcs at one τ, is R0 + R1 || CPE1 + W1's fit, which reduces to R0 + R1 || CPE1; it was the
+        # best's "rival" by ΔAIC 2.00, the penalty of one extra parameter)
+        grown = True
+        while grown:
+            grown = False
+            for i, r in enumerate(self.rows):
+                j = position.get(r.get("same_fit_as"))
+                if i not in out and i not in ties and j in out and r["n_params"] >= self.rows[best]["n_params"]:
+                    out[i], grown = out[j], True
         return out
 
     def reduces_to_best(self) -> dict | None:

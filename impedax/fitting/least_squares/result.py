@@ -5,6 +5,7 @@ outputs with its uncertainties and warnings; the warning rules are shared with b
 from __future__ import annotations
 
 import collections
+import itertools
 import math
 from dataclasses import dataclass, field
 from typing import Callable
@@ -1567,6 +1568,9 @@ def fit_notes(
     at_bound = at_bound_names(table, sides)
     notes = diagnose_identifiability(list(free_names), values, stderr, corr, null_sets, ratio, at_bound) if finite else []
     x = np.array([[values[n] for n in table.names]])
+    if finite:  # (a group's note comes first in `diagnose_identifiability`, one per group)
+        for k, note in same_arc_notes(table, x[0], null_sets).items():
+            notes[k] = note
     e = np.array([[stderr[n] for n in table.names]])
     sides = np.asarray(sides)[None]
     z_rows = None if z is None else np.asarray(z)[None]
@@ -1667,6 +1671,38 @@ def _settled(table: ParameterTable, values: np.ndarray, stderr: np.ndarray, side
     settled = np.ones(values.shape, bool)
     settled[:, table.free_index] = (np.asarray(sides) == 0) & ~undetermined_mask(table, values, np.atleast_2d(stderr), sides)
     return settled
+
+
+SAME_TAU_RTOL = 0.01
+"""Two R ∥ C (or R ∥ CPE of one α) blocks whose τ agree within this relative tolerance, their
+parameters in one near-null direction of the fit, are one arc to the data (`same_arc_notes`)."""
+
+
+def same_arc_notes(table: ParameterTable, values: np.ndarray, null_sets) -> dict[int, str]:
+    """{position of a group in ``null_sets``: its note} for each near-null group holding every
+    parameter of two arcs (``table.arcs``) that relax at the same τ within `SAME_TAU_RTOL` (and
+    share α, for R ∥ CPE), at one fit's ``values`` (P,): the data see one arc where the model has
+    two, and fixing one parameter, as the group's note advises, leaves the rest undetermined.
+    On the REAL ZPlot file R0 + R1 || C1 + R2 || C2 ended with both at τ = 15.6 µs, and --fix
+    R2=10 as advised sent C2 to 3e10 F (a walkthrough, 2026-12-04)."""
+    out = {}
+    at = {n: float(values[table.names.index(n)]) for n in table.names}
+    arcs = [(r, c, symbol, params, float(arc_taus(symbol, at[r], *(at[n] for n in params)))) for r, c, symbol, params in table.arcs]
+    for k, group in enumerate(null_sets):
+        members = set(group)
+        for i, j in itertools.combinations(range(len(arcs)), 2):
+            (r1, c1, s1, p1, tau1), (r2, c2, s2, p2, tau2) = arcs[i], arcs[j]
+            same = s1 == s2 and np.isfinite(tau1) and np.isfinite(tau2) and abs(tau1 - tau2) <= SAME_TAU_RTOL * max(tau1, tau2)
+            if s1 == "CPE":
+                same = same and abs(at[p1[1]] - at[p2[1]]) <= SAME_TAU_RTOL
+            if same and {r1, *p1, r2, *p2} <= members:
+                out[k] = (
+                    f"{r1} || {c1} and {r2} || {c2} relax at the same τ = {format_quantity(tau1, 's')} ({format_frequency(1 / (2 * math.pi * tau1))}): "
+                    f"the data see one arc where the model has two, so {', '.join(group)} are not separately determined; drop one of the two arcs "
+                    "(fixing one of its parameters leaves the others undetermined)"
+                )
+                break
+    return out
 
 
 def arc_beyond_band_notes(table: ParameterTable, values: np.ndarray, freq=None, settled=None) -> list[tuple[int, str]]:
