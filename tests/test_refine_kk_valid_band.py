@@ -133,6 +133,10 @@ def test_refine_of_the_real_gamry_file_keeps_every_point_and_reports_the_data_ap
     assert "refine does not start again there: it would leave out 72 % of the points, more than the 25 %" in report
     data_line = next(x for x in report.splitlines() if x.startswith("data:"))
     assert data_line.startswith("data: NOT Kramers–Kronig consistent at 15.9 mHz–2.26 kHz") and "would discard 72 % of the points" in data_line
+    # the first diagnosis names the band the test passes; the final verdict names it for the final
+    # model, so the data line does not say it twice (on CH Instruments' file the two differed)
+    assert "the KK test passes at 2.53 kHz–200 kHz" in r.steps[0].diagnosis.kk_flagged_kept
+    assert r.verdict == "data_invalid" and "the KK test passes at" not in data_line
     summary = r.summary()
     assert summary["data_problem"] == data_line and summary["n_points_left_out"] == 0 and summary["n_points_judged"] == 72
     # the final model, by numpy on every point, is the fit the report gives (no hidden subset)

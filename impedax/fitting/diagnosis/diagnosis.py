@@ -1310,11 +1310,16 @@ def _data_problem(fit: FitResult, kk: KKResult | None, noise: NoiseModel, sign_h
     run = kk_valid_run(fit.frequency, flagged, fit.n_params) if share_ends > KK_MASK_MAX_FRACTION else None
     if run is not None:  # (REAL Gamry: 72 % flagged; a missing effect named over the whole band, refine's next step then found the data invalid)
         f = fit.frequency
-        kept += (f"; the KK test passes at {format_band(float(f[run].min()), float(f[run].max()))} ({int(run.sum())} points, KK rms_rel "
+        kept += (f"{KEPT_PASSING_LEAD}{format_band(float(f[run].min()), float(f[run].max()))} ({int(run.sum())} points, KK rms_rel "
                  f"{np.sqrt(np.mean(dkk[run] ** 2)) * 100:.2g} %): diagnose that band alone ({left_out_words(left_out_options(f[run], f[~run]))}) "
                  "to see what the model lacks where the data are sound")
     passing = None if run is None else (float(fit.frequency[run].min()), float(fit.frequency[run].max()))
     return DataProblem(None, none, f"{kept}: diagnosed with every point", kept=kept, kept_passing_band=passing)
+
+
+KEPT_PASSING_LEAD = "; the KK test passes at "
+"""How `DataProblem.kept` (`Diagnosis.kk_flagged_kept`) goes on to name the run the KK test passes
+when the flagged run kept is too long to leave out."""
 
 
 def _kk_floor_words(best: FitResult, kk: KKResult, passing_band: tuple[float, float] | None) -> str:

@@ -28,7 +28,7 @@ from ..arcs import ArcBeyondBand, arcs_beyond_band
 from ..frozen import freeze_fields
 from .bands import format_frequency
 from .catalog import EffectCatalog
-from .diagnosis import CANDIDATE_STEPS, DELTA_AIC_MIN, KK_MASK_MAX_FRACTION, NOISE_FRACTION_MIN, Diagnosis, DRTMemo, Verdict, diagnose, left_out_options, left_out_words, noise_variance_explained, non_passive_points, ranked_size, require_points_for_diagnosis, undetermined_parameters, unidentified_note, verdict_scope_words
+from .diagnosis import CANDIDATE_STEPS, DELTA_AIC_MIN, KEPT_PASSING_LEAD, KK_MASK_MAX_FRACTION, NOISE_FRACTION_MIN, Diagnosis, DRTMemo, Verdict, diagnose, left_out_options, left_out_words, noise_variance_explained, non_passive_points, ranked_size, require_points_for_diagnosis, undetermined_parameters, unidentified_note, verdict_scope_words
 from .effects import DEFAULT_EFFECTS, added_resistors, placement
 from .vanishing import share_words, vanished_parameters, vanished_terms
 
@@ -168,6 +168,8 @@ class Refinement:
         flagged = int(np.sum(np.asarray(kk.flagged, bool)))
         bands = ", ".join(f"{format_frequency(lo)}–{format_frequency(hi)}" for lo, hi in kk.bad_bands)
         kept = getattr(start, "kk_flagged_kept", None)
+        if kept and getattr(self.steps[-1].diagnosis, "kk_valid_band", None) is not None:  # (the verdict names the band it passes, for the final model)
+            kept = kept.partition(KEPT_PASSING_LEAD)[0]
         left = len(self.masked_points) - len(getattr(start, "not_passive_points", ()))
         how = f"; {kept}" if kept else f"; the KK test flags {flagged} of {kk.frequency.size} points" + (f", {left} point(s) left out of every fit (masked, below)" if left > 0 else "")
         return f"data: NOT Kramers–Kronig consistent at {bands} (KK rms_rel {kk.rms_rel * 100:.3g} %){how}."
