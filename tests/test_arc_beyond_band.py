@@ -170,3 +170,21 @@ def test_a_resistor_run_open_has_no_relaxation_time_and_no_numpy_warning():
         assert np.isinf(arc_taus("C", 1e300, 1e300)) and np.isinf(arc_taus("CPE", 1e300, 1e300, 0.5))
         assert np.isnan(arc_taus("C", 0.0, 1e-6)) and np.isnan(arc_taus("CPE", 100.0, 1e-6, 0.0))
     assert float(arc_taus("CPE", 100.0, 1e-6, 0.8)) == pytest.approx(1e-4 ** 1.25, rel=1e-12)
+
+
+def test_an_arc_far_beyond_the_band_is_named_by_what_it_acts_as_not_by_its_figures():
+    """Refine on REAL CH Instruments data printed "τ = 8.02e+33 s: it relaxes at 1.98e-35 Hz,
+    5e+33× below the band's bottom" (a walkthrough): beyond FAR_BEYOND_FACTOR the arc acts as
+    one of its elements alone, and the words say which."""
+    from impedax.fitting.arcs import FAR_BEYOND_FACTOR, ArcBeyondBand
+
+    band = (0.1, 1e5)
+    below = ArcBeyondBand("R_relax2", "CPE_relax2", 8.02e33, band)
+    assert below.factor > FAR_BEYOND_FACTOR and below.side == "below"
+    assert below.sentence().startswith("it relaxes more than 1000× below the band's bottom, 100 mHz (fitted τ = 8.02e+33 s), so over the whole band it acts as CPE_relax2 alone")
+    assert "e-35 Hz" not in below.sentence() and below.remedy() == "the model with CPE_relax2 alone in place of R_relax2 || CPE_relax2 may be enough"
+    above = ArcBeyondBand("R_x", "C_x", 1e-15, band)  # 1/(2π·1 fs) = 1.6e14 Hz, 1.6e9× the top
+    assert "acts as R_x alone and C_x does not show in the data" in above.sentence() and "R_x alone in place of R_x || C_x" in above.remedy()
+    # at most FAR_BEYOND_FACTOR outside: the figures, as before
+    near = ArcBeyondBand("R_x", "C_x", 1 / (2 * np.pi * band[0] / 900), band)
+    assert near.factor == pytest.approx(900) and near.sentence().startswith("fitted τ = ") and near.remedy().startswith("a band reaching below")

@@ -19,12 +19,18 @@ import numpy as np
 from ..circuits import Circuit, Element, Parallel, Registry
 from ..data import format_quantity
 
-__all__ = ["ArcBeyondBand", "BEYOND_BAND_FACTOR", "arc_taus", "arcs_beyond_band", "circuit_arcs"]
+__all__ = ["ArcBeyondBand", "BEYOND_BAND_FACTOR", "FAR_BEYOND_FACTOR", "arc_taus", "arcs_beyond_band", "circuit_arcs"]
 
 BEYOND_BAND_FACTOR = 2.0
 """How far outside the band (a ratio of frequencies) an arc's relaxation frequency 1/(2πτ) must
 lie to be flagged (`arcs_beyond_band`): nearer, the data reach its flank up to 80 % of its peak
 −Z'' (an R ∥ C's −Z''/max = 2ωτ/(1 + (ωτ)²) = 0.8 at ωτ = 1/2), close enough to place it."""
+
+FAR_BEYOND_FACTOR = 1e3
+"""Beyond this ratio of frequencies outside the band an arc's τ is no number the data tell: it
+acts as its resistor (above) or its capacitance (below) alone, and `ArcBeyondBand` says that
+instead of the figures (refine on REAL CH Instruments data printed "τ = 8.02e+33 s: it relaxes
+at 1.98e-35 Hz, 5e+33× below the band's bottom"; a walkthrough, 2026-12-04)."""
 
 
 @dataclass(frozen=True)
@@ -65,6 +71,13 @@ class ArcBeyondBand:
         data see only the low-frequency flank of its arc, where it acts as a resistance, and
         C_relax is an extrapolation: not a relaxation the data resolve``."""
         edge, flank, acts = ("top", "low", "a resistance") if self.side == "above" else ("bottom", "high", "its capacitance")
+        if self.factor > FAR_BEYOND_FACTOR:
+            alone = self.resistor if self.side == "above" else self.capacitance
+            return (
+                f"it relaxes more than {FAR_BEYOND_FACTOR:.0f}× {self.side} the band's {edge}, {format_quantity(self.band_hz[1] if self.side == 'above' else self.band_hz[0], 'Hz')} "
+                f"(fitted τ = {format_quantity(self.tau_s, 's')}), so over the whole band it acts as {alone} alone and {self.extrapolated} does not show in the data: "
+                "not a relaxation the data resolve"
+            )
         return (
             f"fitted τ = {format_quantity(self.tau_s, 's')}: it relaxes at {format_quantity(self.frequency_hz, 'Hz')}, {self.factor:.2g}× {self.side} the band's {edge}, "
             f"{format_quantity(self.band_hz[1] if self.side == 'above' else self.band_hz[0], 'Hz')}, so the data see only the {flank}-frequency flank of its arc, where it acts as "
@@ -76,7 +89,11 @@ class ArcBeyondBand:
         return f" ({self.sentence()})"
 
     def remedy(self) -> str:
-        """What would resolve the arc: ``a band reaching past 2.24 MHz would show its peak``."""
+        """What would resolve the arc: ``a band reaching past 2.24 MHz would show its peak``; for
+        an arc beyond `FAR_BEYOND_FACTOR`, the element it acts as alone."""
+        if self.factor > FAR_BEYOND_FACTOR:
+            alone = self.resistor if self.side == "above" else self.capacitance
+            return f"the model with {alone} alone in place of {self.elements} may be enough"
         return f"a band reaching {'past' if self.side == 'above' else 'below'} {format_quantity(self.frequency_hz, 'Hz')} would show its peak"
 
     def as_json(self) -> dict:

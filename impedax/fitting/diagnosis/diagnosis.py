@@ -74,7 +74,7 @@ from ..least_squares.starts import climb_target
 from ..parameters import ParameterTable
 from ..problem import WEIGHTING_SCALES, WEIGHTINGS, check_argument_order, circuit_parameters, open_spectrum
 from ..statistics import KK_RESIDUAL_NOISE, NOISE_OF_SIGMA, information_criteria, non_passive, non_passive_words, top_of_band
-from ..arcs import ArcBeyondBand, arcs_beyond_band
+from ..arcs import FAR_BEYOND_FACTOR, ArcBeyondBand, arcs_beyond_band
 from ..frozen import freeze_fields
 from ...data import format_band
 from .bands import FailingBand, failing_bands, format_frequency, RUN_P
@@ -2129,7 +2129,9 @@ def _verdict(cands: Sequence[Suggestion], bands: Sequence[FailingBand], ratio: f
         else:
             reason += f"; adding {best.effect} ({best.added}) lowers AIC by {-best.delta_aic:.1f}."
         for arc in best.beyond_band:  # (the first line a user reads: an arc the data see one flank of is no resolved relaxation)
-            reason = reason[:-1] + f", though {arc.elements} relaxes at {format_quantity(arc.frequency_hz, 'Hz')}, {arc.side} the band: the data see one flank of it."
+            reason = reason[:-1] + (f", though {arc.elements} relaxes far {arc.side} the band: it acts as {arc.resistor if arc.side == 'above' else arc.capacitance} alone there."
+                                    if arc.factor > FAR_BEYOND_FACTOR else
+                                    f", though {arc.elements} relaxes at {format_quantity(arc.frequency_hz, 'Hz')}, {arc.side} the band: the data see one flank of it.")
         return Verdict.MISSING_EFFECT, reason
     if _beyond_single_effects(bands, ratio):
         return Verdict.ADEQUATE, (
