@@ -33,7 +33,7 @@ V0 = 75.0  # V drive amplitude, Sirin et al.
 #: output is (`impedax.io.atomic.check_writable`: a read-only file is refused, a link is
 #: written through), so a run is not lost at its end.
 OUTPUT_NAMES = (
-    "remaining_impedance.nc", "step2_naive_fit.png", "step3_refinement.png", "refined_circuit.png",
+    "total_sliding.nc", "skin.nc", "touchscreen.nc", "remaining_impedance.nc", "step2_naive_fit.png", "step3_refinement.png", "refined_circuit.png",
     "step4_gap_and_force.png", "force_bands.nc", "step5_force.png", "report.html",
 )
 
@@ -176,8 +176,12 @@ def run_demo(out: str | os.PathLike = "out", *, fast: bool = False, stream=None,
         story.say("  The gap acts as a capacitor; its thickness u sets the force. Subtracting skin and screen from the total")
         story.say("  leaves the impedance of the gap region: Z_R = Z_total − Z_skin − Z_TS (mean of the trials ± standard error).")
         remaining = remaining_impedance(total, skin, screen)
+        for name, spectrum in (("total_sliding", total), ("skin", skin), ("touchscreen", screen)):
+            ix.save(spectrum, staging / f"{name}.nc")
         ix.save(remaining, staging / "remaining_impedance.nc")
-        story.say("  The remaining impedance goes to remaining_impedance.nc (written with the other outputs at the end).")
+        story.say("  The remaining impedance goes to remaining_impedance.nc, and the three measurements to total_sliding.nc, skin.nc and")
+        story.say("  touchscreen.nc (written with the other outputs at the end): impedax gap total_sliding.nc skin.nc touchscreen.nc --area 130e-6")
+        story.say("  runs the gap and force analysis of steps 4–5 on them from the command line.")
 
         story.step(2, "Fit the naive model: the air gap as a pure capacitor", short="Fit the naive model")
         naive = ix.fit("C_gap", remaining, weighting="sigma")

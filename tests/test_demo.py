@@ -58,10 +58,17 @@ def test_demo_writes_everything(demo):
     code, text, out = demo
     assert code == 0
     names = {p.name for p in out.iterdir()}
-    assert names == {"report.html", "remaining_impedance.nc", "force_bands.nc", "step2_naive_fit.png", "step3_refinement.png", "refined_circuit.png", "step4_gap_and_force.png", "step5_force.png"}
+    inputs = {"total_sliding.nc", "skin.nc", "touchscreen.nc"}  # (the embedded SYNTHETIC spectra, for impedax gap on the command line)
+    assert names == inputs | {"report.html", "remaining_impedance.nc", "force_bands.nc", "step2_naive_fit.png", "step3_refinement.png", "refined_circuit.png", "step4_gap_and_force.png", "step5_force.png"}
     report = (out / "report.html").read_text()
-    for name in names - {"report.html", "remaining_impedance.nc", "force_bands.nc"}:
+    for name in names - inputs - {"report.html", "remaining_impedance.nc", "force_bands.nc"}:
         assert name in report
+    from impedax.models.synthetic import example_spectra
+
+    for name, embedded in zip(sorted(inputs), (example_spectra()[k] for k in ("skin", "total_sliding", "touchscreen"))):
+        written = ix.load(out / name)
+        np.testing.assert_array_equal(written["Z"].values, embedded["Z"].values)
+    assert "impedax gap total_sliding.nc skin.nc touchscreen.nc --area 130e-6" in text
     assert text.strip().splitlines()[-1] == f"Report: {(out / 'report.html').resolve()}"
 
 

@@ -65,7 +65,7 @@ def run(args) -> int:
     from ..fitting.bayes.chain import AUTO_STEPS, auto_step_cap
     from ..arguments import GAP_MIN_STEPS
     from ..models.gap import HIERARCHICAL_AUTO_DRAWS, check_fingertip_area, gap_analysis
-    from ..models.gap_inputs import condition_notes, drive_voltage
+    from ..models.gap_inputs import check_not_a_remainder, condition_notes, drive_voltage
     from .common import shown_path, check_distinct_paths, contact_paths, check_memory, command_provenance, figure_options, figure_writer, load_selected_files, plan_outputs, print_result, remainder_with_paths, result_writer, spectrum_writer
 
     if args.pooled and args.method == "hierarchical":  # (argparse's exclusive groups let a default-valued --method through)
@@ -92,6 +92,7 @@ def run(args) -> int:
     check_memory("--steps", length * 64 * 10 * 8 * 3, f"a gap-thickness chain of {'up to ' if steps == AUTO_STEPS and args.method == 'pooled' else ''}{length} steps")
     total, skin, touchscreen = (*load_selected_files(list(paths.values()), args.select, args.readers), None, None)[:3]  # (a single contact: the total alone)
     check_distinct_paths(paths)  # (after reading: a bad file is named first)
+    check_not_a_remainder(total, skin, touchscreen)  # (gap_analysis checks it again; here before the notes on the drive)
     drive = drive_voltage(total, args.v0)  # (gap_analysis finds the same; said here once, before minutes of sampling)
     if drive.note:
         print(f"impedax gap: note: {drive.note}", file=sys.stderr)

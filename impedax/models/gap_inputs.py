@@ -189,6 +189,36 @@ def is_single_contact(skin, touchscreen) -> bool:
     return skin is None
 
 
+def is_remainder_file(attrs) -> bool:
+    """Whether a spectrum's ``attrs`` mark it a remainder Z_total − Z_skin − Z_TS that impedax
+    wrote (`impedax remaining`, `gap --remaining`, the demo's remaining_impedance.nc): the paths
+    of the three it came from (`REMAINDER_ATTRS`) or the trial counts of skin and touchscreen,
+    and not a single contact's trial mean (``single_contact``)."""
+    from ..fitting.least_squares.result import is_remainder
+
+    if str(attrs.get("single_contact", "0")) not in ("0", "False", "false"):
+        return False
+    return is_remainder(attrs) or ("n_trials_skin" in attrs and "n_trials_touchscreen" in attrs)
+
+
+def check_not_a_remainder(total, skin, touchscreen) -> None:
+    """Refuse a remainder given as a single contact's total (`is_remainder_file`): its gap would
+    take the whole drive V0, where it takes V0·Z_R/Z_total, and the force was overstated (17 % at
+    its peak, 2.6× at 2.5 kHz on the demo's remaining_impedance.nc, with no frequency dependence
+    left; a walkthrough, 2026-12-04). A `DataError` naming the file and the three spectra to give."""
+    if skin is not None or touchscreen is not None or not is_remainder_file(total.attrs):
+        return
+    source = total.attrs.get("source") or total.attrs.get("path")
+    made_from = [f"{k} {total.attrs[k]}" for k in ("total", "skin", "touchscreen") if k in total.attrs]
+    raise DataError(
+        "this is a remainder Z_total − Z_skin − Z_TS (" + (f"made from {', '.join(made_from)}" if made_from else "its attributes say so")
+        + "), not a single contact's total: the gap voltage is V0·Z_R/Z_total, so the force needs the total it was subtracted from. "
+        "Give the three spectra (impedax gap TOTAL SKIN TOUCHSCREEN; impedax demo writes its own as total_sliding.nc, skin.nc and touchscreen.nc); "
+        "the remainder alone is for impedax fit and sample (C_gap, whence u = ε0 ε_gap A / C_gap)",
+        path=source,
+    )
+
+
 def present_inputs(total, skin, touchscreen) -> dict[str, xr.Dataset]:
     """The inputs given, by name (`GAP_INPUTS`): the total alone for a single contact."""
     return {name: data for name, data in zip(GAP_INPUTS, (total, skin, touchscreen)) if data is not None}
