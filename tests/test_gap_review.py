@@ -419,6 +419,9 @@ def test_no_lower_bound_of_u_from_a_model_that_misses_the_data(stationary, tmp_p
     assert lines[1].startswith("GAP NOT DETERMINED, AND NO BOUND") and "LOWER BOUND" not in result.report()
     assert not any("u ≥" in w for w in result.warnings)
     assert any(w.startswith("u is NOT determined by these data") and "no lower bound is given" in w for w in result.warnings)
+    # nor does the force line call its force the largest (a walkthrough's --ep C run said so under the alarm)
+    force_line = next(x for x in lines if x.startswith("force"))
+    assert "so the force's largest" not in result.report() and "NO ESTIMATE" in force_line, force_line
     bayes = result.to_table()[0]
     assert bayes["u_lower_bound_m"] is None and bayes["u_lower_bound_withheld"] == s["gap_bound_withheld"]
     write_result(result, tmp_path / "gap.nc")
@@ -695,3 +698,22 @@ def test_gap_voltage_beyond_air_breakdown_is_warned():
     notes = _gap_breakdown_notes(force(65e3), u, area, 1.00059)
     assert len(notes) == 1 and "at the force's peak (250 Hz) the air gap carries 6.5e+04 V across u = 5 µm" in notes[0]
     assert _gap_breakdown_notes(force(300.0), u, area, 1.00059) == []
+
+
+@pytest.mark.slow  # (5–15 s: a pooled run)
+def test_ep_c_with_its_bound_withheld_calls_the_force_no_estimate_nor_bound():
+    """`--ep C` on the shipped SYNTHETIC sliding data (a walkthrough, 2026-12-04): R_EP || C_gap
+    misses the remainder, so the report opens "GAP NOT DETERMINED, AND NO BOUND" and says the force
+    bounds nothing, while its force line called the force at the summed capacitance's gap "u's
+    smallest value, so the force's largest"."""
+    from impedax.models.synthetic import example_spectra
+
+    s = example_spectra()
+    total, skin, ts = (s[k].isel(session=0) for k in ("total_sliding", "skin", "touchscreen"))
+    result = gap_analysis(total, skin, ts, area=AREA, ep="C", method="pooled", steps=40, progress=False)
+    report = result.report()
+    assert result.gap_bound_withheld is not None and "GAP NOT DETERMINED, AND NO BOUND" in report
+    force_line = next(x for x in report.splitlines() if x.startswith("force ") and "with EP" in x)
+    assert "so the force's largest" not in report and "NO ESTIMATE of the force nor its bound" in force_line, force_line
+    [ep_c] = [w for w in result.warnings if w.startswith("--ep C (Python: ep='C')")]
+    assert "the force its upper bound — not here: that model misses the remainder, so its u bounds nothing and the force drawn from it is no estimate nor bound" in ep_c

@@ -609,6 +609,8 @@ class GapAnalysis:
             return " of the prior-set u, NO ESTIMATE of the force:"
         if self._split_determined:
             return " of a u that is no air gap, NO ESTIMATE of the force:"
+        if self.gap_bound_withheld is not None:  # (the summed capacitance's model misses the data: its gap bounds nothing, as the report's alarm says)
+            return " at the gap of the summed capacitance, which bounds nothing here (u may lie below it), NO ESTIMATE of the force nor its bound:"
         return " at the gap of the summed capacitance (u's smallest value, so the force's largest),"
 
     def _force_bound_line(self) -> str | None:
@@ -1247,12 +1249,15 @@ def _gap_breakdown_notes(force: xr.Dataset, u: float, area: float, eps_gap: floa
     return []
 
 
-def _merged_capacitors_note() -> str:
-    """The warning of ``ep="C"`` (see `IDENTIFIED_C_REMAINDER`)."""
+def _merged_capacitors_note(*, withheld: bool = False) -> str:
+    """The warning of ``ep="C"`` (see `IDENTIFIED_C_REMAINDER`); ``withheld``: the merged model
+    misses the remainder (`_identification`), so its promise of a bound is taken back (a
+    walkthrough's run said "the force its upper bound" under "GAP NOT DETERMINED, AND NO BOUND")."""
+    promise = ("u is then the smallest gap thickness this model allows (larger if part of the capacitance belongs to the EP branch) and the force its upper bound"
+               + (" — not here: that model misses the remainder, so its u bounds nothing and the force drawn from it is no estimate nor bound (the report's first lines say why)" if withheld else ""))
     return (
         f"--ep C (Python: ep='C'): in R_EP || C_EP || C_gap the two ideal capacitors are seen only as their sum (1/Z = 1/R_EP + jω(C_EP + C_gap) at every frequency), "
-        f"so the data cannot split it; analysed as {IDENTIFIED_C_REMAINDER} with C_gap standing for C_EP + C_gap, as the paper's method counts it: u is then the smallest "
-        "gap thickness this model allows (larger if part of the capacitance belongs to the EP branch) and the force its upper bound; "
+        f"so the data cannot split it; analysed as {IDENTIFIED_C_REMAINDER} with C_gap standing for C_EP + C_gap, as the paper's method counts it: {promise}; "
         "--ep CPE (the default) has an EP branch the data tell from C_gap"
     )
 
@@ -1641,6 +1646,8 @@ def _identification(ep, requested, circuit, draws, edl, piled_up, notes, remaini
             return float(np.quantile(np.asarray(draws["u"]), BOUND_QUANTILE)), None, dict(edl.values)
         withheld = _withheld_text(misfit)
         notes.insert(0, f"u is NOT determined by --ep C (C_EP and C_gap are seen only as their sum), and no lower bound is given: {withheld}")
+        # (--ep C's own note promised u's smallest value and the force's upper bound: not here)
+        notes[:] = [_merged_capacitors_note(withheld=True) if n == _merged_capacitors_note() else n for n in notes]
         return None, withheld, None
     if not any(n.startswith(("CPE_EP.", "C_EP")) for n in circuit.parameter_names()):
         return None, None, None  # no EP element beside C_gap to confuse it with
