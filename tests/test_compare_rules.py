@@ -157,7 +157,11 @@ def test_the_compare_command_nests_its_models_with_the_held_parameters_as_the_co
     ix.save(ix.make_spectrum(f, z * (1 + 0.005 * (rng.normal(size=f.size) + 1j * rng.normal(size=f.size)) / np.sqrt(2))), path)
     argv = ["compare", str(path), "--model", big, "--model", small, "--json"]
     assert main(argv) == 0
-    assert json.loads(capsys.readouterr().out)["started_from_contained"] == [{"model": big, "from": small}]
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["started_from_contained"] == [{"model": big, "from": small}]
+    # no --init: no message speaks of a start the user gave (a walkthrough read "the given start 8
+    # times (every free parameter given ...)"); the one carried in is named by its model
+    assert not any("given" in m["message"] for m in doc["models"]), [m["message"] for m in doc["models"]]
     assert main([*argv, "--fix", "L1=100u"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["started_from_contained"] == [] and out["f_tests"] == []

@@ -4,6 +4,7 @@ spectrum or spectrum by spectrum over several (`BatchComparison`)."""
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 
 def register(sub) -> None:
@@ -92,7 +93,8 @@ def run(args) -> int:
             fits[i] = fit(c, data, init=init, **options)
             if contained is not None and not extra:  # (one spectrum: its own search too, the lower kept; a batch solves both starts itself)
                 default = fit(c, data, **options)
-                fits[i] = default if default.chi2 < fits[i].chi2 else fits[i]
+                # (the start carried in is no start the user gave: its message names where it came from)
+                fits[i] = default if default.chi2 < fits[i].chi2 else replace(fits[i], message=fits[i].message.replace("the given start", f"the optimum of {circuits[contained]}").replace("every free parameter given", "every free parameter set by it"))
     finally:
         progress.close()
     started = [{"model": str(circuits[i]), "from": str(circuits[j])} for i, j in sorted(started_from.items())]
