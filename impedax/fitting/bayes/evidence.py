@@ -12,9 +12,10 @@ from typing import NamedTuple, Sequence
 import jax.numpy as jnp
 import numpy as np
 
+from ...data import format_frequency
 from .logprob import LogProbArgs, LogProbFunctions
 
-__all__ = ["LaplaceEvidence", "WAIC", "waic_cause", "START_BEYOND_SIGMA", "WAIC_FIT_DISTANCE", "WAIC_MAX_DRAWS", "WAIC_POINT_LIMIT", "WAIC_PARAMETER_FACTOR", "LAPLACE_WIDTH_RATIO", "laplace_evidence", "waic", "EVIDENCE_NOTE_LEAD", "WAIC_NOTE_LEAD", "MODEL_COMPARISON_NOTE_LEADS"]
+__all__ = ["LaplaceEvidence", "WAIC", "waic_cause", "START_BEYOND_SIGMA", "START_UNEVEN_NOISE", "WAIC_FIT_DISTANCE", "WAIC_MAX_DRAWS", "WAIC_POINT_LIMIT", "WAIC_PARAMETER_FACTOR", "LAPLACE_WIDTH_RATIO", "laplace_evidence", "waic", "EVIDENCE_NOTE_LEAD", "WAIC_NOTE_LEAD", "MODEL_COMPARISON_NOTE_LEADS"]
 
 LAPLACE_WIDTH_RATIO = 2.0
 """The Laplace log evidence is flagged unreliable when, for some parameter, the Gaussian at the
@@ -140,6 +141,14 @@ above 1 with the data's σ (no misfit note blames the model): a σ that understa
 does that as well as a model that misses structure."""
 
 
+START_UNEVEN_NOISE = "uneven noise"
+"""``model_misfit`` of `waic_cause` when the start fit's residuals, under a noise model of one
+relative level (``proportional``), are several times larger in one band than elsewhere (its
+`least_squares.result.UNEVEN_NOISE_NOTE`): the likelihood's σ is too small there. On the shipped
+SYNTHETIC skin (noise ~4× larger at 1–5 Hz) p_waic was 13 for 5 parameters with the chain
+converged, and the warning told the user to run more steps (a walkthrough, 2026-12-04)."""
+
+
 def waic_cause(chain_y, names: Sequence[str], *, excluded: Sequence[str] = (), start_y=None, converged: bool = True, model_misfit: bool | str = False) -> str:
     """Why the draws of ``chain_y`` (walker, draw, param; sampled space; parameters ``names``)
     fit the data so differently from one another that p_waic is large, in words, from what
@@ -163,7 +172,14 @@ def waic_cause(chain_y, names: Sequence[str], *, excluded: Sequence[str] = (), s
         away = [n for n, d in zip(names, distance) if n not in excluded and np.isfinite(d) and d > WAIC_FIT_DISTANCE]
         if away:
             causes.append(f"the posterior sits away from the data's best fit: the median of {', '.join(away)} lies over {WAIC_FIT_DISTANCE:g} posterior standard deviations from the least-squares value (a prior that excludes it, or a chain still moving)")
-    if model_misfit == START_BEYOND_SIGMA and not excluded and not away:
+    if model_misfit == START_UNEVEN_NOISE and not excluded and not away:
+        causes.insert(
+            0,
+            "the noise model gives every point one relative σ, while the start fit's residuals are several times larger in one band (see its note): "
+            "there σ is too small, and the draws' small moves change those points' log-likelihood by much more than one; give the data's σ "
+            "(a sigma column, --noise sigma) or leave that band out before comparing models by WAIC — more steps do not mend it"
+        )
+    elif model_misfit == START_BEYOND_SIGMA and not excluded and not away:
         causes.insert(
             0,
             "the start fit's residuals are several times the data's sigma (see its note): either σ understates the noise, so that the likelihood is too narrow "
@@ -182,6 +198,16 @@ def waic_cause(chain_y, names: Sequence[str], *, excluded: Sequence[str] = (), s
     if not causes:
         return "the posterior sits away from the data's best fit, or the model misfits the data — a prior that excludes where the data put a parameter, or a chain still moving from its start (run more steps)"
     return "; ".join(causes)
+
+
+def _at_points(args: LogProbArgs, p_i: np.ndarray) -> str:
+    """``", at 1 Hz, 1.26 Hz, …"``: the frequencies of the points whose pointwise p_waic exceeds
+    `WAIC_POINT_LIMIT`, highest first (at most 4), or "" when the frequencies are not one per point."""
+    freq = np.asarray(getattr(args, "freq", ()), float).ravel()
+    if freq.size != p_i.size:
+        return ""
+    high = [k for k in np.argsort(-p_i) if p_i[k] > WAIC_POINT_LIMIT]
+    return ", at " + ", ".join(format_frequency(float(freq[k])) for k in high[:4]) + (", …" if len(high) > 4 else "") if high else ""
 
 
 def waic(chain_y, args: LogProbArgs, functions: LogProbFunctions, excluded: Sequence[str] = (), *, names: Sequence[str] | None = None, start_y=None, converged: bool = True, model_misfit: bool | str = False) -> WAIC:
@@ -214,6 +240,6 @@ def waic(chain_y, args: LogProbArgs, functions: LogProbFunctions, excluded: Sequ
         f"{WAIC_NOTE_LEAD}is unreliable: its effective number of parameters p_waic = {p_waic:.3g} is over {WAIC_PARAMETER_FACTOR:g} × the "
         f"{n_params} sampled parameters (near the data's best fit p_waic ≈ {n_params}; p_waic > {n_params} marks a badly misspecified "
         f"model or posterior, Vehtari, Gelman & Gabry 2017), and {high} of {p_i.size} points have a pointwise p_waic above {WAIC_POINT_LIMIT} "
-        f"(largest {p_i.max():.3g}): the draws fit the data very differently from one another, because {cause}. Do not compare models by this WAIC"
+        f"(largest {p_i.max():.3g}{_at_points(args, p_i)}): the draws fit the data very differently from one another, because {cause}. Do not compare models by this WAIC"
     )
     return WAIC(total, p_waic, note, high)

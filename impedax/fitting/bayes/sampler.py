@@ -22,7 +22,7 @@ from ...arguments import MAX_CHAIN_VALUES, MAX_WALKERS, checked_arguments, choic
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, parse
 from ...errors import DataError, FitError, ParameterError
 from ..least_squares import FitResult, fit
-from ..least_squares.result import data_difference, warnings_blame_model
+from ..least_squares.result import UNEVEN_NOISE_NOTE, data_difference, warnings_blame_model
 from ..parameters import checked_bounds, outside_bounds_message
 from ..problem import SIGMA_SOURCES, check_argument_order, open_spectrum
 from .chain import (
@@ -30,7 +30,7 @@ from .chain import (
     support_in_sampled_space, undetermined_span,
 )
 from .diagnostics import CHAIN_TAU_MULTIPLE, integrated_autocorr
-from .evidence import START_BEYOND_SIGMA, laplace_evidence, waic
+from .evidence import START_BEYOND_SIGMA, START_UNEVEN_NOISE, laplace_evidence, waic
 from .logprob import NOISE_MODELS, LogProbArgs, LogProbFunctions, LogProbStructure, NoiseModel, log_prob_functions, start_weighting
 from .posterior import Posterior
 from ...progress import quiet_beneath
@@ -321,10 +321,13 @@ noise: χ²_red of a model that fits has mean 1 and sd √(2/(2N − k)), 0.14 f
 
 def _start_misfit(init: FitResult, noise: NoiseModel) -> bool | str:
     """Whether the least-squares start misses the data: True where its misfit note blames the
-    model (`MODEL_MISFIT_MARKS`); `evidence.START_BEYOND_SIGMA` where only its χ²_red, with the
+    model (`MODEL_MISFIT_MARKS`); `evidence.START_UNEVEN_NOISE` where, under one relative noise
+    level, its residuals are uneven (its `UNEVEN_NOISE_NOTE`); `evidence.START_BEYOND_SIGMA` where only its χ²_red, with the
     data's σ, exceeds `CHI2_RED_MISFIT` (an understated σ or a missing effect); else False."""
     if warnings_blame_model(init.warnings):
         return True
+    if noise is NoiseModel.PROPORTIONAL and any(UNEVEN_NOISE_NOTE in w for w in init.warnings):
+        return START_UNEVEN_NOISE
     beyond = noise is NoiseModel.SIGMA and init.weighting == "sigma" and math.isfinite(init.chi2_red) and init.chi2_red > CHI2_RED_MISFIT
     return START_BEYOND_SIGMA if beyond else False
 
