@@ -62,6 +62,12 @@ class ArcBeyondBand:
         return f"{self.resistor} || {self.capacitance}"
 
     @property
+    def acts_as(self) -> str:
+        """The element the arc acts as over the band when far from it (`FAR_BEYOND_FACTOR`): its
+        resistor above the band, its capacitance below."""
+        return self.resistor if self.side == "above" else self.capacitance
+
+    @property
     def extrapolated(self) -> str:
         """The element whose value only the flank the data miss would fix."""
         return self.capacitance if self.side == "above" else self.resistor
@@ -72,10 +78,9 @@ class ArcBeyondBand:
         C_relax is an extrapolation: not a relaxation the data resolve``."""
         edge, flank, acts = ("top", "low", "a resistance") if self.side == "above" else ("bottom", "high", "its capacitance")
         if self.factor > FAR_BEYOND_FACTOR:
-            alone = self.resistor if self.side == "above" else self.capacitance
             return (
                 f"it relaxes more than {FAR_BEYOND_FACTOR:.0f}× {self.side} the band's {edge}, {format_quantity(self.band_hz[1] if self.side == 'above' else self.band_hz[0], 'Hz')} "
-                f"(fitted τ = {format_quantity(self.tau_s, 's')}), so over the whole band it acts as {alone} alone and {self.extrapolated} does not show in the data: "
+                f"(fitted τ = {format_quantity(self.tau_s, 's')}), so over the whole band it acts as {self.acts_as} alone and {self.extrapolated} does not show in the data: "
                 "not a relaxation the data resolve"
             )
         return (
@@ -92,8 +97,7 @@ class ArcBeyondBand:
         """What would resolve the arc: ``a band reaching past 2.24 MHz would show its peak``; for
         an arc beyond `FAR_BEYOND_FACTOR`, the element it acts as alone."""
         if self.factor > FAR_BEYOND_FACTOR:
-            alone = self.resistor if self.side == "above" else self.capacitance
-            return f"the model with {alone} alone in place of {self.elements} may be enough"
+            return f"the model with {self.acts_as} alone in place of {self.elements} may be enough"
         return f"a band reaching {'past' if self.side == 'above' else 'below'} {format_quantity(self.frequency_hz, 'Hz')} would show its peak"
 
     def as_json(self) -> dict:

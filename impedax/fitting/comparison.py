@@ -273,9 +273,7 @@ class Comparison:
         names = undetermined_names(self.fits[best])
         if not names:
             return None
-        fit = self.fits[best]
-        texts = [w for ws in fit.warnings.values() for w in ws] if isinstance(fit.warnings, Mapping) else fit.warnings
-        reduced = list(dict.fromkeys(r for r in map(idle_note_reduced, texts) if r))
+        reduced = list(dict.fromkeys(r for r in map(idle_note_reduced, _warning_texts(self.fits[best])) if r))
         determined = self.best_determined_index
         label = self.rows[best]["label"]
         delta = None if determined is None else self.rows[determined]["delta_aic"]
@@ -445,7 +443,7 @@ class Comparison:
     def warnings_by_model(self) -> tuple[list[str], list[list[str]]]:
         """The warnings every model has (the data's own Kramers–Kronig misfit, quoted alike for
         each), and each model's others, in the order of `fits` (a batch's warnings flattened)."""
-        texts = [[w for ws in fit.warnings.values() for w in ws] if isinstance(fit.warnings, Mapping) else list(fit.warnings) for fit in self.fits]
+        texts = [_warning_texts(fit) for fit in self.fits]
         common = [w for w in texts[0] if all(w in t for t in texts[1:])] if len(texts) > 1 else []
         return common, [[w for w in t if w not in common] for t in texts]
 
@@ -830,6 +828,11 @@ DECISIVE_DELTA_AIC = 10.0
 least this: Burnham & Anderson (2002, Model Selection and Multimodel Inference, §2.6) give a model
 ΔAIC > 10 behind the best essentially no support, the standard evidence between non-nested models
 (R_EP ∥ C_gap against CPE_EP ∥ C_gap: rms_rel only 1.29× apart, ΔAIC 61)."""
+
+
+def _warning_texts(fit) -> list[str]:
+    """A fit's warnings as one list (a batch's flattened over its spectra)."""
+    return [w for ws in fit.warnings.values() for w in ws] if isinstance(fit.warnings, Mapping) else list(fit.warnings)
 
 
 def _model_not_data(fit: FitResult, i: int, results: Sequence[FitResult], labels: Sequence[str], tests: Sequence[dict], aics: Sequence[float]) -> FitResult:

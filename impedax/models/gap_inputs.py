@@ -39,6 +39,7 @@ import xarray as xr
 
 from ..data import label_value
 from ..errors import DataError, ParameterError
+from ..fitting.least_squares.result import is_remainder
 from ..io.sign_check import negative_real_evidence, negative_real_hint, opposite_sign_hint
 from ..io.table import SWEEP_RTOL
 from .sirin import SIRIN_DRIVE_V
@@ -194,8 +195,6 @@ def is_remainder_file(attrs) -> bool:
     wrote (`impedax remaining`, `gap --remaining`, the demo's remaining_impedance.nc): the paths
     of the three it came from (`REMAINDER_ATTRS`) or the trial counts of skin and touchscreen,
     and not a single contact's trial mean (``single_contact``)."""
-    from ..fitting.least_squares.result import is_remainder
-
     if str(attrs.get("single_contact", "0")) not in ("0", "False", "false"):
         return False
     return is_remainder(attrs) or ("n_trials_skin" in attrs and "n_trials_touchscreen" in attrs)

@@ -1308,12 +1308,10 @@ def _data_problem(fit: FitResult, kk: KKResult | None, noise: NoiseModel, sign_h
     )
     kept = f"the KK test flags {int(flagged.sum())} of {flagged.size} points ({runs_words(flagged, fit.frequency)}): kept in every fit, as the data's problem there, not left out: {why}"
     run = kk_valid_run(fit.frequency, flagged, fit.n_params) if share_ends > KK_MASK_MAX_FRACTION else None
-    if run is not None:  # (REAL Gamry: 72 % flagged; a missing effect named over the whole band, refine's next step then found the data invalid)
-        f = fit.frequency
-        kept += (f"{KEPT_PASSING_LEAD}{format_band(float(f[run].min()), float(f[run].max()))} ({int(run.sum())} points, KK rms_rel "
-                 f"{np.sqrt(np.mean(dkk[run] ** 2)) * 100:.2g} %): diagnose that band alone ({left_out_words(left_out_options(f[run], f[~run]))}) "
-                 "to see what the model lacks where the data are sound")
     passing = None if run is None else (float(fit.frequency[run].min()), float(fit.frequency[run].max()))
+    if run is not None:  # (REAL Gamry: 72 % flagged; a missing effect named over the whole band, refine's next step then found the data invalid)
+        kept += (f"{KEPT_PASSING_LEAD}{format_band(*passing)} ({int(run.sum())} points, KK rms_rel {np.sqrt(np.mean(dkk[run] ** 2)) * 100:.2g} %): "
+                 f"diagnose that band alone ({left_out_words(left_out_options(fit.frequency[run], fit.frequency[~run]))}) to see what the model lacks where the data are sound")
     return DataProblem(None, none, f"{kept}: diagnosed with every point", kept=kept, kept_passing_band=passing)
 
 
@@ -2129,7 +2127,7 @@ def _verdict(cands: Sequence[Suggestion], bands: Sequence[FailingBand], ratio: f
         else:
             reason += f"; adding {best.effect} ({best.added}) lowers AIC by {-best.delta_aic:.1f}."
         for arc in best.beyond_band:  # (the first line a user reads: an arc the data see one flank of is no resolved relaxation)
-            reason = reason[:-1] + (f", though {arc.elements} relaxes far {arc.side} the band: it acts as {arc.resistor if arc.side == 'above' else arc.capacitance} alone there."
+            reason = reason[:-1] + (f", though {arc.elements} relaxes far {arc.side} the band: it acts as {arc.acts_as} alone there."
                                     if arc.factor > FAR_BEYOND_FACTOR else
                                     f", though {arc.elements} relaxes at {format_quantity(arc.frequency_hz, 'Hz')}, {arc.side} the band: the data see one flank of it.")
         return Verdict.MISSING_EFFECT, reason
