@@ -352,7 +352,7 @@ def test_compare_s_best_mark_says_when_the_best_fit_has_warnings():
 
     assert twice.best_index == 0 and twice.best_determined_index == 1
     assert sum("(best by AIC)" in line for line in warning_lines(twice)) == 1  # (both rows had it)
-    assert "leaves R1 undetermined; there is no other model" in ix.compare([best]).table()
+    assert "R0 + R1 || CPE1 leaves R1 undetermined: the data hold R0 + CPE1, the model without it, which fits the same (its warnings say so); there is no other model" in ix.compare([best]).table()
 
 
 def test_bound_notes_write_compound_units_with_omega():
