@@ -139,6 +139,42 @@ def test_blocks_of_one_step_draw_what_growing_blocks_draw(clean, clean_post, mon
         np.testing.assert_array_equal(getattr(post, name), getattr(clean_post, name), err_msg=name)
 
 
+def test_a_small_block_capacity_draws_the_same(clean, clean_post, monkeypatch):
+    """A call runs at most `BLOCK_CAPACITY` steps, its keys, schedule and draws in arrays of that
+    length: with a capacity of 8 the 200 warm-up steps and 200 draws run as 25 + 25 calls and
+    give the fixture's run (one block of up to 128 steps) bit for bit."""
+    from impedax.fitting.bayes import hierarchical
+
+    monkeypatch.setattr(hierarchical, "BLOCK_CAPACITY", 8)
+    monkeypatch.setattr(hierarchical, "BLOCK_SECONDS", 1e9)
+    post = sample_hierarchical(MODEL, clean, seed=1, **SETTINGS)
+    for name in ("mu", "spread", "trial_values", "shared", "delta", "step_size"):
+        np.testing.assert_array_equal(getattr(post, name), getattr(clean_post, name), err_msg=name)
+
+
+def test_a_new_number_of_steps_compiles_nothing(clean, clean_post, monkeypatch):
+    """The compiled sampler does not depend on the numbers of warm-up steps and draws (a new
+    ``--steps`` used to compile it again, ~30 s on the Sirin remainders): after the fixture's
+    run, one of 60 + 300 steps on the same data adds no entry to the program's cache of
+    compilations, and returns its 300 draws per chain."""
+    from impedax.fitting.bayes import hierarchical
+
+    seen = []
+    original = hierarchical._compiled_sampler
+
+    def recording(*args):
+        sampler = original(*args)
+        seen.append((sampler, sampler.run._cache_size()))
+        return sampler
+
+    monkeypatch.setattr(hierarchical, "_compiled_sampler", recording)
+    post = sample_hierarchical(MODEL, clean, seed=2, **{**SETTINGS, "warmup": 60, "draws": 300})
+    assert post.mu.shape[:2] == (SETTINGS["chains"], 300)
+    [(sampler, compiled_before)] = seen
+    assert compiled_before >= 1  # the fixture's run compiled it, and this run found it
+    assert sampler.run._cache_size() == compiled_before
+
+
 def test_the_sampler_is_kept_in_the_persistent_cache(clean_post):
     """The sampler's program is in JAX's persistent cache (the suite's own, tests/conftest.py)
     after a run: it holds no host callback, which JAX refuses to store, so a new process reads

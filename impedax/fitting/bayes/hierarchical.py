@@ -445,6 +445,12 @@ it: every process compiled again, 30–70 s; docs/bayesian.md, "Compilation"). A
 step, doubling while a call takes less than this [s]: the line moves a few times a second, and
 the ~1 ms a call costs stays below 1 % of the run."""
 
+BLOCK_CAPACITY = 256
+"""The most steps one call runs: a call's per-step inputs (keys, the warm-up schedule) and its
+draws are arrays of this length, so the compiled program does not depend on the numbers of
+warm-up steps and draws (a new ``--steps`` compiled the sampler again: ~30 s on the Sirin
+remainders)."""
+
 
 def _chain_devices(chains: int) -> int:
     """How many JAX devices (one per core) share the chains: the most that divide them evenly."""
@@ -459,6 +465,8 @@ class _Sampler(NamedTuple):
     end − 1 into ``out`` (positions, divergent, integration steps, acceptance, step size). One
     program for the three: the log density's gradient and the NUTS kernel compile once (three
     programs of their own took 32 s of XLA against 21.5 s for one, Sirin remainders).
+    The per-step arrays hold one block (`BLOCK_CAPACITY` steps): ``warm_keys``, ``run_keys``,
+    ``schedule`` and ``out`` at step i are entry i − begin.
     ``state_of(init, data)``: the state's shapes (`jax.eval_shape`); ``over_chains``: the
     placement of per-chain arrays (given so to the first call too, or the second would compile
     again for the new placement)."""
@@ -506,14 +514,14 @@ def _compiled_sampler(lay: _Layout, session_scale: float, target_accept: float, 
 
         def warm_step(i, carry):
             chain, adaptation = carry
-            chain, info = kernel(warm_keys[i], chain, logdensity, adaptation.step_size, adaptation.inverse_mass_matrix)
-            return chain, adapt_step(adaptation, schedule[i], chain.position, chain.logdensity_grad, info.acceptance_rate, i)
+            chain, info = kernel(warm_keys[i - begin], chain, logdensity, adaptation.step_size, adaptation.inverse_mass_matrix)
+            return chain, adapt_step(adaptation, schedule[i - begin], chain.position, chain.logdensity_grad, info.acceptance_rate, i)
 
         def draw_step(i, carry):
             (chain, adaptation), (positions, divergent, n_steps, accept, _) = carry
             step_size, inverse_mass_matrix = adapt_final(adaptation)
-            chain, info = kernel(run_keys[i], chain, logdensity, step_size, inverse_mass_matrix)
-            put = lambda buf, x: jax.lax.dynamic_update_index_in_dim(buf, x, i, 0)  # noqa: E731
+            chain, info = kernel(run_keys[i - begin], chain, logdensity, step_size, inverse_mass_matrix)
+            put = lambda buf, x: jax.lax.dynamic_update_index_in_dim(buf, x, i - begin, 0)  # noqa: E731
             return (chain, adaptation), (jax.tree_util.tree_map(put, positions, chain.position), put(divergent, info.is_divergent), put(n_steps, info.num_integration_steps), put(accept, info.acceptance_rate), step_size)
 
         return jax.lax.switch(phase, [
@@ -547,48 +555,71 @@ def _first_metric_step(warmup: int) -> int:
 
 
 def _run_blocks(block, total: int, phases: _Phases, offset: int) -> None:
-    """Run ``total`` steps as calls ``block(begin, end)`` of growing blocks (`BLOCK_SECONDS`),
-    the progress line advancing to ``offset + end`` after each."""
+    """Run ``total`` steps as calls ``block(begin, end)`` of growing blocks (`BLOCK_SECONDS`, at
+    most `BLOCK_CAPACITY` steps), the progress line advancing to ``offset + end`` after each."""
     begin, size = 0, 1
     while begin < total:
         end = min(begin + size, total)
         t = time.perf_counter()
         jax.block_until_ready(block(begin, end))
         if time.perf_counter() - t < BLOCK_SECONDS:
-            size *= 2
+            size = min(2 * size, BLOCK_CAPACITY)
         phases.advance_to(offset + end)
         begin = end
+
+
+def _block_of(steps: np.ndarray, begin: int, end: int, axis: int) -> np.ndarray:
+    """Entries begin … end − 1 of ``steps`` along ``axis`` (the step axis), zero-padded to
+    `BLOCK_CAPACITY` entries."""
+    piece = np.zeros(steps.shape[:axis] + (BLOCK_CAPACITY,) + steps.shape[axis + 1:], steps.dtype)
+    index = (slice(None),) * axis
+    piece[index + (slice(0, end - begin),)] = steps[index + (slice(begin, end),)]
+    return piece
 
 
 def _sample(lay: _Layout, dat: _Data, init_pos, keys, session_scale: float, warmup: int, draws: int, target_accept: float, n_devices: int, phases):
     """(positions, divergent, integration steps, acceptance, step size) of every chain: the
     program of `_compiled_sampler`, compiled (or read from JAX's persistent cache) before the
-    first step, run in blocks."""
+    first step, run in blocks; each block's keys and schedule go in, and its draws come out, as
+    arrays of `BLOCK_CAPACITY` steps, so that every number of steps runs the one program."""
     sampler = _compiled_sampler(lay, session_scale, target_accept, n_devices)
-    schedule = _warmup_engine(target_accept)[3](warmup)
+    schedule = np.asarray(_warmup_engine(target_accept)[3](warmup)).reshape(warmup, 2)
     split = jax.vmap(jax.random.split)(keys)  # each chain's (warm-up key, draws key)
-    warm_keys = jax.vmap(lambda k: jax.random.split(k, warmup))(split[:, 0])
-    run_keys = jax.vmap(lambda k: jax.random.split(k, draws))(split[:, 1])
+    warm_keys = np.asarray(jax.vmap(lambda k: jax.random.split(k, warmup))(split[:, 0]))
+    run_keys = np.asarray(jax.vmap(lambda k: jax.random.split(k, draws))(split[:, 1]))
     chains = keys.shape[0]
-    out = (
-        jax.tree_util.tree_map(lambda x: jnp.zeros((chains, draws) + x.shape[1:], x.dtype), init_pos),
-        jnp.zeros((chains, draws), bool), jnp.zeros((chains, draws), int), jnp.zeros((chains, draws)), jnp.zeros(chains),
+    block_out = (
+        jax.tree_util.tree_map(lambda x: jnp.zeros((chains, BLOCK_CAPACITY) + x.shape[1:], x.dtype), init_pos),
+        jnp.zeros((chains, BLOCK_CAPACITY), bool), jnp.zeros((chains, BLOCK_CAPACITY), int), jnp.zeros((chains, BLOCK_CAPACITY)), jnp.zeros(chains),
     )
+    # the run's arrays on the host, every draw (the step size, one per chain, as it is)
+    out = jax.tree_util.tree_map(lambda x: np.zeros((chains, draws) + x.shape[2:], x.dtype) if x.ndim > 1 else np.zeros(x.shape, x.dtype), block_out)
     state = jax.tree_util.tree_map(lambda s: jnp.zeros(s.shape, s.dtype), jax.eval_shape(sampler.state_of, init_pos, dat))
-    state, init_pos, warm_keys, run_keys, out = jax.device_put((state, init_pos, warm_keys, run_keys, out), sampler.over_chains)
-    carry = list(sampler.run(START, state, init_pos, warm_keys, run_keys, schedule, out, 0, 0, dat))
+    no_keys = _block_of(warm_keys[:, :0], 0, 0, 1)
+    state, init_pos, no_keys, block_out = jax.device_put((state, init_pos, no_keys, block_out), sampler.over_chains)
+    no_schedule = _block_of(schedule[:0], 0, 0, 0)
+    carry = list(sampler.run(START, state, init_pos, no_keys, no_keys, no_schedule, block_out, 0, 0, dat))
     jax.block_until_ready(carry)
 
-    def block(phase):
-        def call(begin, end):
-            carry[:] = sampler.run(phase, carry[0], init_pos, warm_keys, run_keys, schedule, carry[1], begin, end, dat)
-            return carry
+    def warm(begin, end):
+        keys_now = jax.device_put(_block_of(warm_keys, begin, end, 1), sampler.over_chains)
+        carry[:] = sampler.run(WARM, carry[0], init_pos, keys_now, no_keys, _block_of(schedule, begin, end, 0), carry[1], begin, end, dat)
+        return carry
 
-        return call
+    def draw(begin, end):
+        keys_now = jax.device_put(_block_of(run_keys, begin, end, 1), sampler.over_chains)
+        carry[:] = sampler.run(DRAW, carry[0], init_pos, no_keys, keys_now, no_schedule, carry[1], begin, end, dat)
+        leaves, got = jax.tree_util.tree_leaves(out), jax.tree_util.tree_leaves(carry[1])
+        for kept, block in zip(leaves, got):
+            if kept.ndim > 1:
+                kept[:, begin:end] = np.asarray(block)[:, : end - begin]
+            else:
+                kept[...] = np.asarray(block)
+        return carry
 
-    _run_blocks(block(WARM), warmup, phases, 0)
-    _run_blocks(block(DRAW), draws, phases, warmup)
-    return carry[1]
+    _run_blocks(warm, warmup, phases, 0)
+    _run_blocks(draw, draws, phases, warmup)
+    return out
 
 
 def _ess(x: np.ndarray) -> np.ndarray:
