@@ -10,6 +10,7 @@ import math
 
 import numpy as np
 import pytest
+import xarray as xr
 
 import impedax as ix
 from impedax.cli import main
@@ -37,6 +38,18 @@ def test_fit_of_flipped_data_says_the_sign_may_be_flipped(flipped_fit):
     assert "passes on conj(Z)" in note and "data.assign(Z=data['Z'].conj())" in note
     # the hint is the KK test's own, word for word
     assert note.endswith(ix.kk_test((FREQ, FLIPPED)).sign_hint)
+
+
+def test_the_sign_hint_leads_the_warnings_of_single_and_batch_fits(flipped_fit):
+    """The flipped sign is the cause: its note comes before the warnings that follow from it (a
+    parameter at its bound, uneven residuals), in a single fit and in each fit of a batch."""
+    assert flipped_fit.warnings[0].endswith(ix.kk_test((FREQ, FLIPPED)).sign_hint)
+    assert len(flipped_fit.warnings) > 1  # (there are others to come after it)
+    stacked = xr.concat([ix.make_spectrum(FREQ, FLIPPED), ix.make_spectrum(FREQ, np.conj(TRUTH))], dim="cell")
+    batch = ix.fit(MODEL, stacked)
+    assert len(batch.warnings) == 2
+    for warnings, z in zip(batch.warnings.values(), (FLIPPED, np.conj(TRUTH))):
+        assert SIGN_HINT_LEAD in warnings[0] and warnings[0].endswith(ix.kk_test((FREQ, z)).sign_hint), warnings
 
 
 def test_correctly_signed_data_limited_by_noise_get_no_sign_hint():

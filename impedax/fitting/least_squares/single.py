@@ -26,7 +26,7 @@ from .batch import BatchFitResult, data_notes, fit_batch, register_spectrum_fit
 from .constraints import constraint_misfit_notes, with_constraint_notes
 from .order import canonical_order
 from .per_spectrum import has_per_spectrum_values, split_fits
-from .result import BOUND_RESTARTS, FitResult, is_remainder, falling_inward, fit_result, unused_sigma_notes
+from .result import BOUND_RESTARTS, FitResult, is_remainder, falling_inward, fit_result, sign_notes_first, unused_sigma_notes
 from .shared import SharedFitResult, fit_shared, shared_layout
 from .solvers import IDENTITY_DAMPING_STEPS, SCREEN_STEPS, SharedArgs, SolverStatus, SpectrumRows, better, padded_points, solver_args, tree_solver, trimmed, unscale
 from .starts import KK_MISFIT_FACTOR, SpectrumFeatures, draw_words, escalation_rungs, climb_target, guess_start, inward_start, limit_draw_count, limit_starts, rms_rel_of, rung_draws, rung_seed, to_solver_space
@@ -221,7 +221,7 @@ def fit(
     checked = constraint_misfit_notes(circuit, table, registry, freq, z, result.z_model, sigma, result.values, result.at_bound, misfit, kk_chains.misfit(0), weighting=weighting, fit=fit, attrs=data.attrs)
     if checked != misfit:
         result = dataclasses.replace(result, warnings=with_constraint_notes(result.warnings, misfit, checked), elapsed_s=time.perf_counter() - t0)
-    return dataclasses.replace(result, source=known_source, notes=sigma_notes)
+    return dataclasses.replace(result, source=known_source, notes=sigma_notes, warnings=sign_notes_first(result.warnings))
 
 
 def data_source(data: xr.Dataset) -> str | None:
