@@ -348,6 +348,11 @@ def parameter_values(*, results: bool = False, per_spectrum: bool = False) -> Ru
                     f"to start each spectrum of a batch from its own values pass the BatchFitResult itself ({name}=batch)"
                     + (", or an xarray.DataArray over the data's extra dimensions (one value per spectrum)" if per_spectrum else "")
                 )
+            if per_spectrum and np.ndim(number) > 0 and not isinstance(number, (str, bytes)):
+                raise ParameterError(
+                    f"{name}[{shown(key)}] must be a number, got an array of shape {np.shape(number)}: for one value per spectrum of a batch give an "
+                    f"xarray.DataArray over the data's extra dimensions (e.g. xr.DataArray(values, dims='cycle', coords={{'cycle': data.cycle}}))"
+                )
             out[key] = real()(number, f"{name}[{shown(key)}]")
         return out
 

@@ -72,7 +72,8 @@ def make_spectrum(
         # (quoting the dims the caller gave: 'frequency', which impedax adds, is in neither)
         raise DataError(f"Z has {Z.ndim} dimensions but dims={dims!r} were given (Z's dimensions before frequency: {Z.ndim - 1})", path=source)
     if Z.shape[-1] != frequency.size:
-        raise DataError(f"Z has {Z.shape[-1]} values along frequency but there are {frequency.size} frequencies", path=source)
+        turned = f" (Z's shape {Z.shape}: frequency must be its last axis; Z.T if the frequencies run down its rows)" if frequency.size in Z.shape[:-1] else ""
+        raise DataError(f"Z has {Z.shape[-1]} values along frequency but there are {frequency.size} frequencies{turned}", path=source)
     data_vars = {"Z": (all_dims, Z, {"units": "ohm", "long_name": "complex impedance Z' + jZ''"})}
     if sigma is not None:
         sigma = _numbers(sigma, np.float64, "sigma", source, real="a standard deviation [Ω] per point, for Re and Im alike")

@@ -437,6 +437,7 @@ def test_fit_takes_a_frequency_z_pair_like_kk_test():
         ((np.r_[FREQ[:-1], FREQ[0]], noisy_rc()), "duplicate frequency 1 Hz at points 0, 30"),
         ((FREQ, np.abs(noisy_rc())), "Z must be complex"),
         ((FREQ, noisy_rc()[:-1]), "Z has 30 values along frequency but there are 31 frequencies"),
+        ((FREQ, np.stack([noisy_rc()] * 2, axis=-1)), "Z has 2 values along frequency but there are 31 frequencies (Z's shape (31, 2): frequency must be its last axis; Z.T"),
     ],
 )
 @pytest.mark.parametrize("method", ["fit", "kk_test", "drt", "diagnose", "sample"])

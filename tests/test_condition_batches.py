@@ -182,6 +182,15 @@ def test_a_dataarray_not_over_the_datas_spectra_is_refused_by_name(value, expect
     assert expected in str(caught.value), str(caught.value)
 
 
+@pytest.mark.parametrize("value", [np.array([1e-9, 3e-9]), [1e-9, 3e-9]])
+def test_a_bare_array_of_fixed_values_says_to_label_it(value):
+    """An array (or list) in fixed= is refused before any fit, with how to give one value per
+    spectrum (a walkthrough's note: the message said only "must be a number")."""
+    with pytest.raises(ix.ParameterError) as caught:
+        ix.fit("R_EP || C_EP || C_gap", gripper_data(), fixed={"C_EP": value})
+    assert "fixed['C_EP'] must be a number, got an array of shape (2,): for one value per spectrum of a batch give an xarray.DataArray" in str(caught.value)
+
+
 def test_a_function_of_one_spectrum_refuses_a_dataarray_and_says_where_it_belongs():
     one = gripper_data().isel(material=0, voltage=0)
     c_ep = xr.DataArray([1e-9, 3e-9], dims="material", coords={"material": list(MATERIALS)})

@@ -320,7 +320,13 @@ def _is_numbers(value) -> bool:
 
 
 def compile_circuit(circuit: Circuit | str, registry: Registry = DEFAULT_REGISTRY) -> CompiledCircuit:
-    """Compile ``circuit`` once into a pure ``fn(params, freq) -> Z`` (no string work when called)."""
+    """Compile ``circuit`` (a `Circuit` or its text) once into a pure ``fn(params, freq) -> Z``
+    (`CompiledCircuit`; no string work when called): ``params`` maps each name of
+    ``parameter_names`` to a value in SI units, ``freq`` is in Hz, Z in Ω. Each element gives
+    its own impedance at ω = 2πf (its spec's formula, e.g. the CPE's Z = 1/(Q (jω)^α)); a
+    series node sums impedances, Z = Σ Z_i, and a parallel node admittances, 1/Z = Σ 1/Z_i
+    (docs/circuits.md). Unknown element types and repeated names raise `CircuitError` (in
+    text: `CircuitSyntaxError` from `parse`, with a caret)."""
     circuit = parse(circuit, registry)
     check_element_names(circuit, registry)
     check_user_elements(dict.fromkeys(registry[e.symbol] for e in circuit.elements()))

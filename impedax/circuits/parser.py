@@ -417,6 +417,9 @@ class _Parser:
 def parse(text: str, registry: Registry = DEFAULT_REGISTRY) -> Circuit:
     """Parse circuit text such as ``"R_f + R_sc || CPE_sc"`` into an immutable `Circuit`
     (a `Circuit` is returned as it is, so every function taking a circuit accepts either).
+    ``+`` joins in series, ``||`` in parallel and binds tighter (``R0 + R1 || C1`` is R0 in
+    series with R1 ∥ C1); brackets group. An element is its type and a label (``R1``,
+    ``CPE_sc``); the grammar is in docs/circuits.md.
 
     Raises `CircuitSyntaxError` (with column, caret and hint) on invalid input.
     """
