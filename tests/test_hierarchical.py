@@ -142,7 +142,7 @@ def test_blocks_of_one_step_draw_what_growing_blocks_draw(clean, clean_post, mon
 def test_a_small_block_capacity_draws_the_same(clean, clean_post, monkeypatch):
     """A call runs at most `BLOCK_CAPACITY` steps, its keys, schedule and draws in arrays of that
     length: with a capacity of 8 the 200 warm-up steps and 200 draws run as 25 + 25 calls and
-    give the fixture's run (one block of up to 128 steps) bit for bit."""
+    give the fixture's run (blocks doubling from one step while a call is short) bit for bit."""
     from impedax.fitting.bayes import hierarchical
 
     monkeypatch.setattr(hierarchical, "BLOCK_CAPACITY", 8)
