@@ -42,3 +42,25 @@ def test_a_batch_json_given_as_data_is_named(tmp_path, analysis, what, command):
     ix.write_result(analysis(ix.make_spectrum(f, z, dims=("cell",))), out)
     with pytest.raises(DataError, match=f"JSON summary of {what} .*impedax {command} --out.*not a spectrum"):
         ix.load(out)
+
+
+def test_a_drt_csv_with_carriage_returns_alone_is_named(tmp_path):
+    """A result's CSV saved with bare carriage returns as line ends (an old Mac editor's) is
+    named as a DRT's summary too: the csv module alone stops at a bare ``\\r``."""
+    f = np.geomspace(0.1, 1e5, 41)
+    z = 10 + 100 / (1 + 2j * np.pi * f * 1e-3)  # SYNTHETIC R‖C, closed form
+    out = tmp_path / "g.csv"
+    ix.write_result(ix.drt((f, z)), out)
+    out.write_bytes(out.read_bytes().replace(b"\r\n", b"\n").replace(b"\n", b"\r"))
+    with pytest.raises(DataError, match="summary of a DRT .*not a spectrum"):
+        ix.load(out)
+
+
+def test_a_bare_carriage_return_in_the_first_line_is_a_data_error(tmp_path):
+    """``a\\rb`` as a file's first line ended in "_csv.Error: new-line character seen in
+    unquoted field" from the result-file check, exit 1 (a KK/DRT walkthrough, 2026-12-05)."""
+    path = tmp_path / "cr.txt"
+    path.write_bytes(b"a\rb\n")
+    with pytest.raises(DataError, match=r"cr\.txt, line 1: not a recognised spectrum file"):
+        ix.load(path)
+

@@ -112,6 +112,7 @@ BAD_FILES = [  # (id, file name, content or None for a missing file, message fra
     ("utf32-text", "utf32.csv", (HEADER + "1,2,-3\n").encode("utf-32"), "not a recognised spectrum file"),
     ("ebcdic-text", "ebcdic.csv", (HEADER + "1,2,-3\n").encode("cp500"), "not a recognised spectrum file"),
     ("nul-bytes-in-text", "nul.csv", (HEADER + "1,2,-3\n").encode().replace(b"2", b"\x00"), "binary file"),
+    ("bare-carriage-return", "cr.txt", b"a\rb\n", "not a recognised spectrum file"),
 ]
 HDF5_WITHOUT_H5PY = ("hdf5-without-h5py", "sweep.h5", b"\x89HDF\r\n\x1a\n" + bytes(100), "pip install h5py")
 if importlib.util.find_spec("h5py") is None:

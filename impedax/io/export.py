@@ -104,7 +104,9 @@ def written_result(path: str | Path, head: str) -> str | None:
         except (OSError, ValueError):
             return None
     else:
-        rows = list(csv.reader(io.StringIO(head)))
+        # (lines split as Python splits them: a bare carriage return ends a line here as in the
+        # readers, where the csv module would stop at it with "new-line character seen")
+        rows = list(csv.reader(head.splitlines()))
         if len(rows) >= 2:  # (the header and a whole first row, for the provenance column)
             header, first = [cell.strip() for cell in rows[0]], rows[1]
             command = first[header.index("command")] if "command" in header and header.index("command") < len(first) else None
