@@ -20,7 +20,7 @@ import numpy as np
 
 __all__ = [
     "POSITIVE_SHARE", "FAILED_SHARE", "positive_imaginary_evidence", "negative_real_evidence", "conjugate_evidence", "opposite_sign_hint",
-    "negative_real_hint", "sign_hint",
+    "negative_real_hint", "imaginary_flipped_too", "sign_hint", "values_sign_hint",
 ]
 
 POSITIVE_SHARE = 0.9
@@ -75,6 +75,15 @@ def negative_real_evidence(freq, z) -> str | None:
     if negative < POSITIVE_SHARE * z.size:
         return None
     return f"Z' < 0 at {negative} of {z.size} points, which no passive impedance has"
+
+
+def imaginary_flipped_too(freq, z) -> bool:
+    """With Z' < 0 nearly everywhere (`negative_real_evidence`): whether Z'' is negated too (the
+    whole of Z is: −Z). Asked of the spectrum with its real part put right, −conj(Z), whose
+    phase is a passive cell's if only Z' was flipped; ``z`` itself has a phase near ±180° there,
+    which `positive_imaginary_evidence` reads as |Z| that should rise (a REAL-shaped −Z got the
+    real-part hint, whose fix gave conj(Z))."""
+    return positive_imaginary_evidence(freq, -np.conj(np.asarray(z, complex))) is not None
 
 
 def negative_real_hint(evidence: str | None, imaginary_too: bool = False) -> str | None:
@@ -148,6 +157,16 @@ def sign_hint(result, retest: Callable[[np.ndarray, np.ndarray], object], name: 
     falls (`positive_imaginary_evidence`)."""
     real = negative_real_evidence(result.frequency, result.impedance)
     if real:
-        return negative_real_hint(real, imaginary_too=positive_imaginary_evidence(result.frequency, result.impedance) is not None)
+        return negative_real_hint(real, imaginary_too=imaginary_flipped_too(result.frequency, result.impedance))
     evidence = conjugate_evidence(result, retest, name) or positive_imaginary_evidence(result.frequency, result.impedance)
     return opposite_sign_hint(evidence, attrs)
+
+
+def values_sign_hint(freq, z, attrs=None) -> str | None:
+    """`sign_hint` from a spectrum's values alone, for an analysis with no validity test to
+    repeat on conj(Z) (the DRT): `negative_real_hint` when Z' < 0 nearly everywhere, else
+    `opposite_sign_hint` when Z'' > 0 nearly everywhere while |Z| falls; None otherwise."""
+    real = negative_real_evidence(freq, z)
+    if real:
+        return negative_real_hint(real, imaginary_too=imaginary_flipped_too(freq, z))
+    return opposite_sign_hint(positive_imaginary_evidence(freq, z), attrs)

@@ -9,6 +9,7 @@ import numpy as np
 
 from ...arguments import checked_arguments, count, flag, real
 from ...errors import DataError, ParameterError
+from ...io.sign_check import values_sign_hint
 from ..grid import refuse_result_names
 from ..problem import frequency_and_z
 from ..statistics import residual_noise
@@ -214,6 +215,7 @@ def drt(
             raise ParameterError(f"{name} must be a number ≥ {low:g}, got {value!r}")
 
     freq, z, dims, coords, source = frequency_and_z(data)
+    attrs = getattr(data, "attrs", None)  # (a Dataset's: how its reader took the Z'' column, for the sign hint's fix)
     refuse_result_names(dims, BATCH_RESULT_NAMES, "a DRT batch result", source=source)
     if freq.size < 5:
         raise DataError(f"the DRT needs at least 5 frequencies, got {freq.size}", path=source)
@@ -302,6 +304,7 @@ def drt(
                 z_ref=float(scale),
                 source=source,
                 options=options,
+                sign_hint=values_sign_hint(freq, flat[i], attrs),
             )
         )
     if not dims:

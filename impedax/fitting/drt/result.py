@@ -64,7 +64,8 @@ class DRTResult:
     from it ("" when nothing did); ``peaks`` sorted by τ, ``dropped_peaks`` the peaks below
     the cut-off whose area no reported peak holds; ``noise_estimate`` the fit's residual σ
     (relative), ``difference_noise`` the KK test's first-difference estimate on the same
-    residuals.
+    residuals; ``sign_hint`` why and how Z'' (or Z', or Z) may be stored with the opposite sign
+    (`io.sign_check.values_sign_hint`), or None.
     """
 
     __repr__ = concise_repr  # (the generated one printed every array)
@@ -103,6 +104,7 @@ class DRTResult:
     lambda_note: str = ""
     dropped_peaks: tuple[Peak, ...] = ()
     difference_noise: float = math.nan
+    sign_hint: str | None = None  # `io.sign_check.values_sign_hint`: Z'' (or Z') may be stored with the opposite sign
 
     def __post_init__(self):
         freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`)
@@ -191,6 +193,7 @@ class DRTResult:
                 "derivative_order": self.derivative,
                 "basis_fwhm_decades": self.basis_fwhm_decades,
                 "band_lambda": self.band_lambda,
+                **({"sign_hint": self.sign_hint} if self.sign_hint else {}),
                 "band": "90 % credible band: Gaussian posterior at the evidence-chosen band_lambda, widened to contain gamma; it covers the noise, not the smoothing bias at peaks (docs/drt.md)",
                 "source": self.source,
             },
@@ -202,10 +205,11 @@ class DRTResult:
         frequency (a passive cell has R_∞ ≥ 0), L < 0 beyond 5 % of that |Z| (the high end more
         capacitive than the arcs), and rms_rel above `DRT_MISFIT_MAX` and above
         `MISFIT_NOISE_RATIO` × √2 × ``difference_noise`` (γ does not reproduce the data, by
-        more than the noise explains)."""
+        more than the noise explains). ``sign_hint`` leads when there is one: a sign stored flipped
+        is the cause of the rest (no passive cell's γ reproduces conj(Z))."""
         top = int(np.argmax(self.frequency))
         z_top = abs(self.impedance[top])
-        out = []
+        out = [self.sign_hint] if self.sign_hint else []
         if self.r_inf_ohm < -0.01 * z_top:
             out.append(
                 f"R_inf = {format_quantity(self.r_inf_ohm, 'Ω')} is negative, which no passive cell has: the data stop before the high-frequency "
@@ -322,6 +326,7 @@ class DRTResult:
             "n_resolved_peaks": len(counted_peaks(self.peaks)),
             "rms_rel": self.rms_rel,
             "warnings": list(self.warnings),
+            "sign_hint": self.sign_hint,
             "c_f": None if math.isinf(self.c_f) else self.c_f,
             "r_pol_ohm": self.polarization_resistance,
             "residual_sigma": self.noise_estimate,
@@ -485,6 +490,10 @@ class DRTBatchResult(ResultGrid):
                 f"  {', '.join(f'{d}={v}' for d, v in where.items())}: rms_rel {one.rms_rel * 100:.3g} %, R_inf {one.r_inf_ohm:.4g} Ω, "
                 f"R_pol {one.polarization_resistance:.4g} Ω, peaks {peaks}{dropped}{note}"
             )
+        hinted = [(where, one.sign_hint) for where, one in zip(self.labels(), self.results) if one.sign_hint]
+        if hinted:  # (as the KK batch report's hint line: the first spectrum's hint, the others counted)
+            listed = "; ".join(", ".join(f"{d}={v}" for d, v in where.items()) for where, _ in hinted[:3]) + ("; …" if len(hinted) > 3 else "")
+            lines.append(f"warning: in {len(hinted)} of {counted(len(self.results), 'spectrum', 'spectra')} ({listed}): {hinted[0][1]}")
         return "\n".join(lines)
 
     def _lambda_notes(self):

@@ -147,6 +147,8 @@ def suggest_circuit(result) -> SuggestedCircuit:
         init["C1"] = _low_end_capacitance(result)
         reasons.append("C1: no arc is resolved inside the measured τ window; R0 + C1 fits a spectrum that stays resistive (C1 grows) "
                        "or turns capacitive at its low end; measure lower frequencies to see an arc")
+    if result.sign_hint:  # (the parts stand, but they were read off data no passive cell gives)
+        reasons.insert(0, "read off data whose sign looks flipped (the DRT's sign_hint): correct the sign first, then run the DRT again")
     return SuggestedCircuit(" + ".join(parts), init, tuple(reasons))
 
 
@@ -176,7 +178,8 @@ def _low_end_capacitance(result) -> float:
 
 def most_common_suggestion(results) -> tuple[SuggestedCircuit, int]:
     """(the suggestion whose model most spectra of ``results`` share — the first spectrum's of
-    them, with its starts —, how many share it); ties go to the model met first."""
-    suggestions = [r.suggested_circuit() for r in results]
+    them, with its starts —, how many share it); ties go to the model met first. Spectra with a
+    ``sign_hint`` (a sign stored flipped) take part only when every spectrum has one."""
+    suggestions = [r.suggested_circuit() for r in ([r for r in results if not r.sign_hint] or results)]
     model, count = Counter(s.model for s in suggestions).most_common(1)[0]
     return next(s for s in suggestions if s.model == model), count
