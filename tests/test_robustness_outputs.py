@@ -471,3 +471,21 @@ def test_canonical_csv_is_read_as_arrays_with_the_same_result(workdir):
     with pytest.raises(ix.DataError, match=r"line 27: duplicate frequency 1 Hz \(also on line 2\)"):
         ix.load(path)
 
+
+
+def test_every_out_that_can_go_to_standard_output_says_so_in_its_help():
+    """`--out -` works for these commands (`OUTPUT_KINDS` with a ``stdout_suffix``); their help
+    names '-' and what it prints (drt's and inspect's said nothing of it until 2026-12-05,
+    and drt's prints CSV where kk's prints JSON)."""
+    import argparse
+
+    from impedax.cli import build_parser
+
+    subparsers = next(a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction))
+    helps = {name: next((a.help for a in sub._actions if "--out" in a.option_strings), None) for name, sub in subparsers.choices.items()}
+    to_stdout = {"simulate", "fit", "compare", "sample", "kk", "drt", "diagnose", "refine", "force", "gap", "remaining", "inspect"}
+    for name in to_stdout:
+        assert "'-'" in helps[name], (name, helps[name])
+    assert "'-' the CSV to standard output" in helps["drt"] and "'-' the CSV to standard output" in helps["inspect"]
+    assert "'-' the JSON to standard output" in helps["kk"]
+    assert {n for n, h in helps.items() if h and "'-'" not in h} == {"draw", "stack", "demo"}  # (binary or folder outputs)

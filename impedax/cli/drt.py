@@ -55,7 +55,7 @@ def register(sub) -> None:
     add_exclude_option(p)
     p.add_argument("--json", action="store_true", help="machine-readable output")
     add_plot_option(p, "save gamma vs tau with peaks and band, and the fit on Nyquist/Bode")
-    p.add_argument("--out", metavar="FILE.csv|.json|.nc", help="save gamma over tau with its band (CSV), the --json summary (JSON) or gamma, its band and the fit (netCDF), as impedax.write_result does")
+    p.add_argument("--out", metavar="FILE.csv|.json|.nc", help="save gamma over tau with its band (CSV), the --json summary (JSON) or gamma, its band and the fit (netCDF), as impedax.write_result does; '-' the CSV to standard output (--json prints the JSON)")
     add_quiet_option(p)
     p.set_defaults(run=run)
 

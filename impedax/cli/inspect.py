@@ -21,7 +21,7 @@ def register(sub) -> None:
     )
     p.add_argument("file", metavar="FILE", help="spectrum file")
     add_select_option(p)
-    add_output_options(p, json="machine-readable output", plot="write a Nyquist and Bode preview of the data", out="also save the spectrum in impedax's canonical form", out_metavar="FILE.csv|.nc")
+    add_output_options(p, json="machine-readable output", plot="write a Nyquist and Bode preview of the data", out="also save the spectrum in impedax's canonical form; '-' the CSV to standard output", out_metavar="FILE.csv|.nc")
     add_quiet_option(p)  # (2026-12-03: every command takes --quiet, so a pipeline can pass it to each)
     p.set_defaults(run=run)
 
