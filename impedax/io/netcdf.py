@@ -2,7 +2,10 @@
 
 netCDF3 has no complex type: each complex variable V is stored as ``V__real`` and
 ``V__imag`` and joined again on reading; non-scalar attrs are stored as JSON text; int64
-arrays are stored as int32 or float64 with their dtype restored on reading.
+arrays are stored as int32 or float64 with their dtype restored on reading. A variable of no
+values whose zero-length dimension netCDF3 cannot hold (it has one such dimension, the record
+dimension, and only first in each variable) is stored as a scalar marked ``impedax_empty`` (its
+dimensions and their lengths) and made again on reading.
 """
 
 from __future__ import annotations
@@ -78,14 +81,34 @@ def _encode_array(da: xr.DataArray, name: str = "") -> dict[str, xr.DataArray]:
     return {"": da.assign_attrs(attrs)}
 
 
+_EMPTY = "impedax_empty"  # (a variable of no values stored as a scalar: its [[dimension, length], ...])
+
+
+def _empty_placeholder(da: xr.DataArray, name) -> dict[str, xr.DataArray]:
+    """A variable of no values as a scalar that netCDF3 can hold, marked with its dimensions and
+    lengths (`_EMPTY`) and dtype. A KK batch's bad bands, (cell, band) with no band in any cell,
+    wrote a file no reader opened: band was taken as the record dimension, second in the
+    variable (2026-12-05)."""
+    attrs = _encode_attrs({**da.attrs, _EMPTY: [[str(d), int(n)] for d, n in zip(da.dims, da.shape)]}, f"variable {name!r}")
+    return {"": xr.DataArray(np.float64(0.0), attrs={**attrs, "impedax_dtype": str(da.dtype)})}
+
+
 def encode_dataset(ds: xr.Dataset) -> xr.Dataset:
     """A netCDF3-storable copy of ``ds`` (see module docstring)."""
+    empty_dims = [d for d, n in ds.sizes.items() if n == 0]
+
+    def encoded(da: xr.DataArray, name) -> dict[str, xr.DataArray]:
+        record = len(empty_dims) == 1 and da.dims[:1] == (empty_dims[0],)  # (netCDF3's one record dimension, first)
+        if da.size == 0 and not record:
+            return _empty_placeholder(da, name)
+        return _encode_array(da, name)
+
     data_vars, coords = {}, {}
     for name, da in ds.coords.items():
-        for suffix, part in _encode_array(xr.DataArray(da.variable), name).items():
+        for suffix, part in encoded(xr.DataArray(da.variable), name).items():
             coords[name + suffix] = part.variable
     for name, da in ds.data_vars.items():
-        for suffix, part in _encode_array(da, name).items():
+        for suffix, part in encoded(da, name).items():
             data_vars[name + suffix] = part.variable
     return xr.Dataset(data_vars, coords=coords, attrs=_encode_attrs(ds.attrs))
 
@@ -115,6 +138,21 @@ def decode_dataset(ds: xr.Dataset) -> xr.Dataset:
         part = attrs.pop("impedax_part", None) or _unmarked_part(ds, name)
         dtype = attrs.pop("impedax_dtype", None)
         attrs = _decode_attrs(attrs)
+        empty = attrs.pop(_EMPTY, None)
+        if empty is not None:  # (`_empty_placeholder`)
+            try:
+                dims, shape = zip(*[(str(d), int(n)) for d, n in empty]) if empty else ((), ())
+                values = np.empty(shape, dtype=np.dtype(dtype or "float64"))
+            except (TypeError, ValueError):
+                raise DataError(f"variable {name!r}: its {_EMPTY} attribute {empty!r} is not a list of [dimension, length] pairs with a dtype") from None
+            if values.size:
+                raise DataError(f"variable {name!r}: its {_EMPTY} attribute gives {values.size} values where it marks a variable of none")
+            new = xr.Variable(dims, values, attrs)
+            if name in ds.coords:
+                coords[name] = new
+            else:
+                out[name] = new
+            continue
         if part == "imag":
             continue
         if part == "real":
@@ -295,7 +333,8 @@ def read_netcdf(path: str | Path) -> xr.Dataset:
         # the engine's own text spans several lines and suggests libraries impedax does not use
         detail = (str(exc).strip().splitlines() or [type(exc).__name__])[0].replace(str(path), "the file")[:120]
         raise DataError(f"not a readable netCDF file, damaged or truncated ({detail}); impedax reads the netCDF3 files that impedax save writes", path=path) from None
-    empty = [f"{name!r}" for name, n in ds.sizes.items() if n == 0]
+    # (a spectrum's dimensions only: a saved KK test with no bad band has a band dimension of length 0)
+    empty = [f"{name!r}" for name in (ds["Z"].dims if "Z" in ds.variables else ()) if ds.sizes[name] == 0]
     if empty:
         raise DataError(f"dimension {', '.join(empty)} has length 0: the file holds no spectrum", path=path)
     return ds
