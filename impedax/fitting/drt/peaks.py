@@ -143,6 +143,23 @@ def _vertex(ln_tau, values, k) -> float:
     return float(ln_tau[k] + min(max(shift, -h / 2), h / 2))
 
 
+def _vertices(ln_tau, rows, k) -> np.ndarray:
+    """`_vertex` of each row of ``rows`` (S, K) at its index ``k`` (S,): the draws' peak τ
+    between grid points, as the peak's own. On the grid alone (20 points a decade) the draws of
+    a clean spectrum's peak all fell on one point and ``log10_tau_sd`` was exactly 0, printed
+    "±0.00 dec" (a KK/DRT walkthrough, 2026-12-05)."""
+    k = np.asarray(k)
+    inner = (k > 0) & (k < rows.shape[1] - 1)
+    at = np.clip(k, 1, rows.shape[1] - 2)
+    picked = np.arange(rows.shape[0])
+    y0, y1, y2 = rows[picked, at - 1], rows[picked, at], rows[picked, at + 1]
+    denom = y0 - 2 * y1 + y2
+    h = ln_tau[at] - ln_tau[at - 1]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        shift = np.where(inner & (denom < 0), 0.5 * h * (y0 - y2) / np.where(denom < 0, denom, -1.0), 0.0)
+    return ln_tau[k] + np.clip(shift, -h / 2, h / 2)
+
+
 def _fwhm(ln_tau, values, k, lo, hi) -> float:
     half = values[k] / 2.0
 
@@ -168,7 +185,7 @@ def _peak(ln_tau, gamma, sign, k, lo, hi, samples, window) -> Peak:
     tau_sd = r_sd = float("nan")
     if samples is not None and samples.shape[0] > 1:
         part = sign * samples[:, lo : hi + 1]
-        tau_sd = float(np.std(ln_tau[lo : hi + 1][np.argmax(part, axis=1)]) / _LN10)
+        tau_sd = float(np.std(_vertices(ln_tau, sign * samples, lo + np.argmax(part, axis=1))) / _LN10)
         r_sd = float(np.std(np.trapezoid(part, ln_tau[lo : hi + 1], axis=1)))
     tau = math.exp(_vertex(ln_tau, values, k))
     return Peak(
