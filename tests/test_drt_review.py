@@ -266,3 +266,23 @@ def test_min_peak_fraction_from_the_command_line(two_arcs_file, capsys):
 def test_bad_band_and_cut_off_options_exit_2_naming_the_option(two_arcs_file, capsys, argv, message):
     code, out, err = run(capsys, two_arcs_file, *argv)
     assert code == 2 and out == "" and "Traceback" not in err and message in err, err
+
+
+@pytest.mark.parametrize("f_max, open_arc", [(159.0, True), (60.0, True), (1e5, False)])
+def test_a_negative_l_of_a_band_cut_through_an_arc_names_the_arc(f_max, open_arc):
+    """SYNTHETIC 10 Ω + 100 Ω (τ 1 ms) + 200 Ω (τ 1 s), exact, measured from 0.1 Hz to f_max:
+    cut through the fast arc (−Z''/|Z| = 64 % and 33 % at the top, from the closed form), the
+    DRT's L is negative and the warning blamed only a stray capacitance or a cable; it now
+    says that the data end inside an arc, with that share. To 100 kHz: no negative-L warning."""
+    f = np.geomspace(0.1, f_max, 41)
+    omega = 2 * np.pi * f
+    z = 10 + 100 / (1 + 1j * omega * 1e-3) + 200 / (1 + 1j * omega * 1.0)
+    result = drt((f, z))
+    negative_l = [w for w in result.warnings if w.startswith("L = ")]
+    if not open_arc:
+        assert not negative_l and result.l_h > -1e-6
+        return
+    share = -z[-1].imag / abs(z[-1])
+    (warning,) = negative_l
+    assert f"the data end inside an arc (−Z'' is still {share * 100:.0f} % of |Z| at the top frequency)" in warning
+    assert "read R_inf as an upper bound of the series resistance" in warning and result.r_inf_ohm > 10

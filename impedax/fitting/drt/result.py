@@ -216,7 +216,13 @@ class DRTResult:
                 "limit or carry an instrument's phase error there; leave the top points out (`data.sel(frequency=slice(None, f))`, or impedax drt --fmax) or check the sign convention"
             )
         if self.l_h < 0 and 2 * math.pi * float(self.frequency[top]) * -self.l_h > 0.05 * z_top:
-            out.append(f"L = {format_quantity(self.l_h, 'H')} is negative: the high-frequency end is more capacitive than the arcs explain (stray capacitance, or a cable's phase error)")
+            top_share = -float(self.impedance[top].imag) / z_top
+            if top_share >= OPEN_ARC_SHARE:  # (the band ends inside an arc: Gamry's REAL file, 86 %)
+                cause = (f"; the data end inside an arc (−Z'' is still {top_share * 100:.0f} % of |Z| at the top frequency): an arc above the measured band or a stray "
+                         "capacitance, which R_inf and L stand in for; measure higher frequencies, or read R_inf as an upper bound of the series resistance")
+            else:
+                cause = " (stray capacitance, or a cable's phase error)"
+            out.append(f"L = {format_quantity(self.l_h, 'H')} is negative: the high-frequency end is more capacitive than the arcs explain{cause}")
         noise_misfit = math.sqrt(2.0) * self.difference_noise
         if self.rms_rel > DRT_MISFIT_MAX and not self.rms_rel <= MISFIT_NOISE_RATIO * noise_misfit:
             out.append(
@@ -403,6 +409,11 @@ def _setting_variables(dims: tuple, shape: tuple, results) -> dict:
         "lambda_note": (dims, column([r.lambda_note for r in results], object), {"long_name": "what moved lam from lambda_choice ('' when nothing did)"}),
     }
 
+
+OPEN_ARC_SHARE = 0.1
+"""A negative L's warning says that the data end inside an arc when −Z'' at the top frequency
+is at least this share of |Z| there (a spectrum measured to its high-frequency limit ends near
+the real axis: 1.6 % on a SYNTHETIC two-arc spectrum to 100 kHz; Gamry's REAL file ends at 86 %)."""
 
 PEAK_SD_WORDS = "± from the noise alone: the smoothing's bias, at times larger, is not in it"
 """What the peaks' ± hold (docs/drt.md, "Credible band and calibration"). A KK/DRT walkthrough
