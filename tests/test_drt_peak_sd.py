@@ -22,7 +22,8 @@ def test_the_tau_sd_is_not_quantised_by_the_grid():
     result = ix.drt((FREQ, z))
     sds = [p.log10_tau_sd for p in result.peaks]
     assert len(sds) == 2 and all(0 < sd < 0.05 for sd in sds), sds  # (below the grid's 0.05-decade step, above 0)
-    assert "±0.00 dec" not in result.report()
+    assert "±0.00 dec" not in result.report() and "±0 dec" not in result.report()
+    assert f"±{result.peaks[0].log10_tau_sd:.2g} dec)" in result.report()  # (two significant digits: 0.004 read "±0.00")
 
 
 def test_the_tau_sd_covers_the_spread_over_repeated_spectra():

@@ -104,6 +104,8 @@ def test_python_and_the_command_line_write_the_same_drt_files(tmp_path, battery,
     assert from_python.pop("source") == str(source)  # (write_result names the result's own source by default: 2026-12-01)
     assert written.pop("provenance")["command"] == "impedax drt" and "provenance" not in from_python  # (docs/io.md, "Provenance")
     assert written.pop("skipped_rows") == [] and "skipped_rows" not in from_python  # (the reader's, from the command line: 2026-12-01)
+    assert "kk_note" in written and "kk_note" not in from_python  # (the command line's KK test: 2026-12-05)
+    written.pop("kk_note")
     assert written == expected == from_python
     for name in ("py.nc", "cli.nc"):
         saved = read_netcdf(tmp_path / name)
@@ -123,6 +125,8 @@ def test_a_batch_writes_label_columns_and_its_json_is_the_commands(tmp_path, bat
     assert printed.pop("source") == str(source)  # (the command line names the file it read, as kk and fit: 2026-12-01)
     assert printed.pop("provenance")["command"] == "impedax drt"
     assert printed.pop("skipped_rows") == []  # (the reader's, from the command line: 2026-12-01)
+    assert "kk_note" in printed  # (the command line's KK test: 2026-12-05)
+    printed.pop("kk_note")
     assert printed == json.loads(json.dumps(to_jsonable(batch.summary())))
     assert printed["dims"] == ["cycle"] and printed["sizes"] == {"cycle": 2} and [s["labels"] for s in printed["spectra"]] == [{"cycle": 3}, {"cycle": 7}]
     assert _same_table(tmp_path / "py.csv", tmp_path / "cli.csv")

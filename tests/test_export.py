@@ -290,6 +290,8 @@ def test_check_results_json_is_the_command_lines_json(command, tmp_path, capsys)
     assert printed.pop("source") == str(tmp_path / "rc.nc")
     assert printed.pop("provenance")["command"] == f"impedax {command[0]}"  # (and what made it: docs/io.md, "Provenance")
     assert printed.pop("skipped_rows") == []  # (the reader's, which the file's data carry: added 2026-12-01)
+    if command == ["drt"]:
+        assert printed.pop("kk_note") is None  # (the command line's KK test of these sound data: added 2026-12-05)
     assert isinstance(written, dict) and written == printed
 
 

@@ -82,7 +82,8 @@ def run(args) -> int:
     if args.plot:  # (the slowest output: ~1 s for 130 curves)
         progress(f"drawing {args.plot}")
     record = command_provenance(args, source=source, data_files=[args.data])
-    read = WithSummaryKeys(result, {"skipped_rows": skipped_rows(data)})  # (the JSON's, as inspect --json's: added 2026-12-01)
+    kk_note = _kk_note(result, data, args)
+    read = WithSummaryKeys(result, {"skipped_rows": skipped_rows(data), "kk_note": kk_note})  # (the JSON's, as inspect --json's: added 2026-12-01; kk_note 2026-12-05)
     outputs.save({"--out": lambda path: _save(read, path, source, record), "--plot": figure_writer(result.plot, source, **figure_options(args))})
     progress.close()
     if outputs.uses_stdout:
@@ -91,9 +92,48 @@ def run(args) -> int:
         emit_json(with_source(read.summary(), source, record))
     else:
         print(result.report())
+        if kk_note:
+            print(f"note: {kk_note}")
         print(_suggestion_line(result, args, data))
         note_skipped_rows(data, "drt", args.data)
     return 0
+
+
+def _kk_note(result, data, args) -> str | None:
+    """Where the data fail the linear KK test (`impedax.kk_test`, default options), said beside
+    the DRT, or None: γ fitted to a drift or disturbance holds it as peaks, so the peaks there are
+    no evidence of arcs (a walkthrough's drifting spectrum got a third arc from the DRT and no word
+    of the data, 2026-12-05). Not said when the DRT gives a sign hint (the hint is the cause),
+    nor for a spectrum too short for a conclusive test."""
+    from ..data import format_band, format_frequency, format_time
+    from ..fitting.kk import kk_test, kk_test_batch
+
+    results = getattr(result, "results", (result,))
+    if all(r.sign_hint for r in results):
+        return None
+    extra = [d for d in data["Z"].dims if d != "frequency"]
+    tests = kk_test_batch(data).results if extra else (kk_test(data),)
+    failed = [i for i, (r, t) in enumerate(zip(results, tests)) if t.conclusive and not t.valid and not r.sign_hint]
+    if not failed:
+        return None
+    command = f"impedax kk {shlex_quote(args.data)}" + "".join(f" --select {shlex_quote(s)}" for s in (args.select or ()))
+    if not extra:
+        bands = tests[0].bad_bands
+        inside = [p for p in results[0].peaks if any(lo <= p.frequency_hz <= hi for lo, hi in bands)]
+        listed = ", ".join(f"τ = {format_time(p.tau_s)} (f = {format_frequency(p.frequency_hz)})" for p in inside)
+        peaks = f"; the peak{'s' if len(inside) > 1 else ''} at {listed} {'lie' if len(inside) > 1 else 'lies'} there" if inside else ""
+        return (f"the data fail the Kramers–Kronig test at {', '.join(format_band(lo, hi) for lo, hi in bands)} ({command} says what to leave out): "
+                f"γ there holds their drift or disturbance as well as any relaxation{peaks}")
+    labels = result.labels()
+    named = "; ".join(", ".join(f"{d}={v}" for d, v in labels[i].items()) for i in failed[:3]) + ("; …" if len(failed) > 3 else "")
+    return (f"{len(failed)} of {len(results)} spectra fail the Kramers–Kronig test ({named}; {command} lists their bands): "
+            "their γ holds drift or disturbance as well as any relaxation")
+
+
+def shlex_quote(text: str) -> str:
+    import shlex
+
+    return shlex.quote(str(text))
 
 
 def _suggestion_line(result, args, data) -> str:

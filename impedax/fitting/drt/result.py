@@ -294,7 +294,7 @@ class DRTResult:
         for p in self.peaks:
             where = ("" if p.inside_window else "  (outside the measured range)") + ("" if p.resolved else "  (R not told from zero: a ripple, not counted)")
             lines.append(
-                f"  τ = {format_time(p.tau_s)} (f = {format_quantity(p.frequency_hz, 'Hz')}, ±{p.log10_tau_sd:.2f} dec)  R = {format_uncertain(p.r_ohm, p.r_ohm_sd, 'Ω')}  "
+                f"  τ = {format_time(p.tau_s)} (f = {format_quantity(p.frequency_hz, 'Hz')}, ±{p.log10_tau_sd:.2g} dec)  R = {format_uncertain(p.r_ohm, p.r_ohm_sd, 'Ω')}  "
                 f"width {p.width_decades:.2f} dec{where}"
             )
         if self.dropped_peaks:

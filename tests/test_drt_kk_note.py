@@ -1,0 +1,72 @@
+"""`impedax drt` says where the data fail the Kramers–Kronig test, beside the DRT (JSON
+``kk_note``): γ fitted to a drift holds it as peaks. The oracle of the band is `ix.kk_test` run
+on the same data; the spectra are SYNTHETIC closed forms with a drift written here, and a
+spectrum with nothing wrong gets no note."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+import impedax as ix
+from impedax.cli import main
+from impedax.data import format_band
+
+FREQ = np.geomspace(0.01, 1e5, 71)
+OMEGA = 2 * np.pi * FREQ
+# SYNTHETIC 10 Ω + 100 Ω (τ 1 ms) + 300 Ω (τ 3 s), 0.3 % noise
+_RNG = np.random.default_rng(1)
+CLEAN = (10 + 100 / (1 + 1j * OMEGA * 1e-3) + 300 / (1 + 1j * OMEGA * 3.0)) * (1 + 0.003 * (_RNG.standard_normal(71) + 1j * _RNG.standard_normal(71)) / np.sqrt(2))
+DRIFT = np.zeros(71)
+DRIFT[:15] = 0.08 * np.linspace(1, 0, 15)  # +8 % at 10 mHz, falling to 0 over the 15 lowest points
+DRIFTED = CLEAN * (1 + DRIFT)
+
+
+@pytest.fixture()
+def files(tmp_path):
+    paths = {}
+    for name, z in (("clean", CLEAN), ("drifted", DRIFTED)):
+        paths[name] = tmp_path / f"{name}.csv"
+        ix.save(ix.make_spectrum(FREQ, z), paths[name])
+    paths["cells"] = tmp_path / "cells.nc"
+    ix.save(ix.make_spectrum(FREQ, np.stack([CLEAN, DRIFTED]), dims=("cell",)), paths["cells"])
+    return paths
+
+
+def test_a_drifting_spectrum_gets_the_kk_band_and_the_peak_inside_it(files, capsys):
+    kk = ix.kk_test((FREQ, DRIFTED))
+    assert not kk.valid
+    bands = ", ".join(format_band(lo, hi) for lo, hi in kk.bad_bands)
+    assert main(["drt", str(files["drifted"])]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    (note,) = [line for line in lines if line.startswith("note: the data fail")]
+    assert note.startswith(f"note: the data fail the Kramers–Kronig test at {bands} (impedax kk {files['drifted']} says what to leave out)")
+    slow = max(ix.drt((FREQ, DRIFTED)).peaks, key=lambda p: p.tau_s)  # (the 3 s arc's peak, at 49 mHz, inside the band)
+    assert f"the peak at τ = {ix.data.format_time(slow.tau_s)}" in note and note.endswith("lies there")
+    assert lines[-1].startswith("starting circuit from the DRT")  # (the note comes before it)
+    assert main(["drt", str(files["drifted"]), "--json"]) == 0
+    assert f"note: {json.loads(capsys.readouterr().out)['kk_note']}" == note
+
+
+def test_a_sound_spectrum_gets_no_note(files, capsys):
+    assert ix.kk_test((FREQ, CLEAN)).valid
+    assert main(["drt", str(files["clean"])]) == 0
+    assert "Kramers–Kronig test at" not in capsys.readouterr().out
+    assert main(["drt", str(files["clean"]), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["kk_note"] is None
+
+
+def test_a_batch_names_the_spectra_that_fail(files, capsys):
+    assert main(["drt", str(files["cells"])]) == 0
+    out = capsys.readouterr().out
+    assert f"note: 1 of 2 spectra fail the Kramers–Kronig test (cell=1; impedax kk {files['cells']} lists their bands)" in out
+
+
+def test_a_flipped_sign_gets_its_hint_not_the_note(tmp_path, capsys):
+    path = tmp_path / "flipped.csv"
+    ix.save(ix.make_spectrum(FREQ, np.conj(CLEAN)), path)
+    assert main(["drt", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "opposite sign" in out and "fail the Kramers–Kronig test" not in out
