@@ -105,6 +105,8 @@ def _kk_note(result, data, args) -> str | None:
     no evidence of arcs (a walkthrough's drifting spectrum got a third arc from the DRT and no word
     of the data, 2026-12-05). Not said when the DRT gives a sign hint (the hint is the cause),
     nor for a spectrum too short for a conclusive test."""
+    import shlex
+
     from ..data import format_band, format_frequency, format_time
     from ..fitting.kk import kk_test, kk_test_batch
 
@@ -116,7 +118,7 @@ def _kk_note(result, data, args) -> str | None:
     failed = [i for i, (r, t) in enumerate(zip(results, tests)) if t.conclusive and not t.valid and not r.sign_hint]
     if not failed:
         return None
-    command = f"impedax kk {shlex_quote(args.data)}" + "".join(f" --select {shlex_quote(s)}" for s in (args.select or ()))
+    command = f"impedax kk {shlex.quote(str(args.data))}" + "".join(f" --select {shlex.quote(s)}" for s in (args.select or ()))
     if not extra:
         bands = tests[0].bad_bands
         inside = [p for p in results[0].peaks if any(lo <= p.frequency_hz <= hi for lo, hi in bands)]
@@ -128,12 +130,6 @@ def _kk_note(result, data, args) -> str | None:
     named = "; ".join(", ".join(f"{d}={v}" for d, v in labels[i].items()) for i in failed[:3]) + ("; …" if len(failed) > 3 else "")
     return (f"{len(failed)} of {len(results)} spectra fail the Kramers–Kronig test ({named}; {command} lists their bands): "
             "their γ holds drift or disturbance as well as any relaxation")
-
-
-def shlex_quote(text: str) -> str:
-    import shlex
-
-    return shlex.quote(str(text))
 
 
 def _suggestion_line(result, args, data) -> str:

@@ -968,6 +968,7 @@ def _peaks(size, order) -> np.ndarray:
     out[order] = peak
     return out
 
+
 def _neighbours_off(size, left_out, order, level) -> bool:
     """Whether a stray point's neighbour (in frequency order, not itself left out) stays over the
     point level (``level``: the point rule's |Δ|, per point or one) against the chain fitted
