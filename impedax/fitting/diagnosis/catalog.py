@@ -5,7 +5,9 @@ a proposal function looks at and the `Proposal` it returns. The effects themselv
 
 from __future__ import annotations
 
+import difflib
 import math
+import re
 from dataclasses import dataclass, field
 from typing import Callable, Iterator, Mapping
 
@@ -142,7 +144,25 @@ class EffectCatalog:
         for e in self.effects:
             if e.id == effect_id:
                 return e
-        raise ParameterError(f"unknown effect {effect_id!r}; known: {', '.join(self.ids())}")
+        guess = self.closest(effect_id)
+        raise ParameterError(f"unknown effect {effect_id!r}" + (f" (did you mean {guess}?)" if guess else "") + f"; known: {', '.join(self.ids())}")
+
+    def closest(self, word: str) -> str | None:
+        """The effect id a mistyped ``word`` most likely means, or None: the id spelt with
+        hyphens, spaces or capitals (``constant-phase``), the id or title nearest by
+        `difflib` or the only one holding it (``inductance``), or the one effect whose circuit change names ``word`` as an element
+        (``CPE``: ``replace an ideal C by a CPE``)."""
+        key = str(word).strip().lower().replace("-", "_").replace(" ", "_")
+        by_name = {e.id: e.id for e in self.effects} | {e.title.lower().replace("-", "_").replace(" ", "_"): e.id for e in self.effects}
+        near = difflib.get_close_matches(key, list(by_name), n=1, cutoff=0.75)
+        if near:
+            return by_name[near[0]]
+        holding = {i for name, i in by_name.items() if len(key) >= 4 and key in name}
+        if len(holding) == 1:
+            return holding.pop()
+        element = str(word).strip()
+        naming = [e.id for e in self.effects if len(element) >= 2 and re.search(rf"(?<!\w){re.escape(element)}(?!\w)", e.change)]
+        return naming[0] if len(naming) == 1 else None
 
     def ids(self) -> tuple[str, ...]:
         return tuple(e.id for e in self.effects)

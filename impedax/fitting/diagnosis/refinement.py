@@ -28,7 +28,7 @@ from ..arcs import ArcBeyondBand, arcs_beyond_band
 from ..frozen import freeze_fields
 from .bands import format_frequency
 from .catalog import EffectCatalog
-from .diagnosis import CANDIDATE_STEPS, DELTA_AIC_MIN, KEPT_PASSING_LEAD, KK_MASK_MAX_FRACTION, NOISE_FRACTION_MIN, Diagnosis, DRTMemo, Verdict, diagnose, left_out_options, left_out_words, noise_variance_explained, non_passive_points, ranked_size, require_points_for_diagnosis, undetermined_parameters, unidentified_note, verdict_scope_words
+from .diagnosis import CANDIDATE_STEPS, DELTA_AIC_MIN, KEPT_PASSING_LEAD, beyond_catalog_words, KK_MASK_MAX_FRACTION, NOISE_FRACTION_MIN, Diagnosis, DRTMemo, Verdict, diagnose, left_out_options, left_out_words, noise_variance_explained, non_passive_points, ranked_size, require_points_for_diagnosis, undetermined_parameters, unidentified_note, verdict_scope_words
 from .effects import DEFAULT_EFFECTS, added_resistors, placement
 from .vanishing import share_words, vanished_parameters, vanished_terms
 
@@ -190,8 +190,12 @@ class Refinement:
             "final_from_values": self.final_from_values,
             "final_converged": bool(final.converged),  # (added 2026-12-01: the final fit's, as fit --json's converged)
             # (added 2026-12-01) what to heed before trusting the final model, the key fit, compare and
-            # sample give: every note of a refinement is such (dropped steps, other paths, refits)
-            "warnings": list(self.notes),
+            # sample give (`warnings`)
+            "warnings": self.warnings,
+            # (added 2026-12-05) the last diagnosis' reason for the verdict (the report's verdict line), the data's sign hint
+            # (`Diagnosis.sign_hint`: with it the verdict is data_invalid) and the catalog's effects effects= left out
+            "reason": last.reason if last is not None else None, "sign_hint": self.sign_hint,
+            "effects_left_out": list(last.effects_left_out) if last is not None else [],
             # (added 2026-12-02) what the verdict was judged on: the band [Hz] of the final fit's points, their number and how many every fit left out
             "verdict_band_hz": list(self.verdict_band), "n_points_judged": int(final.frequency.size), "n_points_left_out": len(self.masked_points),
             # (added 2026-12-02) the data's problem, apart from the verdict on the model: the report's "data:" line, or null
@@ -199,6 +203,23 @@ class Refinement:
             # (added 2026-12-04) the added arcs the final fit puts outside the band it saw
             "final_beyond_band": [a.as_json() for a in self.beyond_band],
         }
+
+    @property
+    def sign_hint(self) -> str | None:
+        """The first diagnosis' `Diagnosis.sign_hint`: Z'' (or Z) may be stored with the
+        opposite sign; None when the values look right."""
+        return next((s.diagnosis.sign_hint for s in self.steps if s.diagnosis is not None and s.diagnosis.sign_hint), None)
+
+    @property
+    def warnings(self) -> list[str]:
+        """What to heed before trusting the final model (JSON ``warnings``): the sign hint, the
+        notes but those saying a further path changed nothing (information, not a warning), and
+        the last diagnosis' warning of an adequate verdict beyond the catalog
+        (`diagnosis.beyond_catalog_words`; a refine --effects ending at 12 % had none,
+        walkthrough 2026-12-05)."""
+        last = self.steps[-1].diagnosis if self.steps else None
+        beyond = [beyond_catalog_words(last.noise_ratio, last.effects_left_out)] if last is not None and last.beyond_catalog and self.verdict == last.verdict else []
+        return ([self.sign_hint] if self.sign_hint else []) + [n for n in self.notes if UNCHANGED_WORDS not in n] + beyond
 
     def to_table(self) -> list[dict[str, object]]:
         """The tidy table of the final model's parameters (`FitResult.to_table`)."""
@@ -303,6 +324,10 @@ class Refinement:
         `impedax.io.read_netcdf`), as a `FitResult`."""
         return fit_from_embedded(ds, FINAL_FIT_PREFIX, registry=registry)
 
+
+UNCHANGED_WORDS = " changes nothing: "
+"""What the note of a further path that changed nothing says (`_second_path`): information,
+not one of `Refinement.warnings`."""
 
 MAIN_PATH = "the refinement"
 """How `_reproduced`'s note names the path it refits: the refinement's own (greedy) path."""
@@ -563,7 +588,7 @@ def _second_path(steps: list[RefinementStep], picked, limit: int, diagnosed, say
         # short sentences, the result first (the note was one sentence of ~90 words, walkthrough
         # 2026-12-02): what the path changed, the two ends, why, then where the two paths started
         sentences = [
-            f"the {label} is kept in place of {holder}'s end." if better else f"the {label} changes nothing: {holder}'s end is kept.",
+            f"the {label} is kept in place of {holder}'s end." if better else f"the {label}{UNCHANGED_WORDS}{holder}'s end is kept.",
             f"{end}, against {holder}'s end {steps[-1].model} (AIC {a.aic:.1f}, {_size_words(steps)}).",
         ]
         if slight:
