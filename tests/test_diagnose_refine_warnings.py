@@ -123,3 +123,32 @@ def test_cli_effects_typo_exits_2_with_the_hint(tmp_path, capsys):
     data = write(tmp_path / "d.csv", NOTHING_MISSING)
     assert main(["diagnose", data, "--model", MODEL, "--effects", "CPE"]) == 2
     assert "unknown effect 'CPE' (did you mean constant_phase?)" in capsys.readouterr().err
+
+
+# SYNTHETIC sparse spectrum (21 points over 6.5 decades) of R0 + R1 ∥ CPE1 + L1 at 0.1 % complex
+# noise (0.071 % per component): the Kramers–Kronig chain the noise is estimated from misses the
+# shape between the points and puts σ at 0.12–0.19 %, so an adequate model's residuals sit far below it
+SPARSE = np.geomspace(3e5, 0.1, 21)
+SPARSE_TRUTH = 150 + 1 / (1 / 500 + 3.3e-8 * (1j * 2 * np.pi * SPARSE) ** 0.99) + 1j * 2 * np.pi * SPARSE * 3.3e-6
+TRUE_SIGMA = 0.001 / np.sqrt(2)
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_residuals_far_below_an_estimate_too_high_get_a_note(seed):
+    z = noisy(SPARSE_TRUTH, seed, rel=0.001)
+    d = ix.diagnose(ix.make_spectrum(SPARSE, z), "R0 + R1 || CPE1 + L1")
+    assert d.verdict == "adequate" and d.noise_level > 1.4 * TRUE_SIGMA  # (the oracle: the estimate is too high)
+    (note,) = [n for n in d.notes if "× the noise estimated" in n]
+    assert "the verdict is lenient" in note and "--noise REL" in note and note in d.warnings
+    # the true noise given: judged against it, no such note
+    given = ix.diagnose(ix.make_spectrum(SPARSE, z), "R0 + R1 || CPE1 + L1", noise=float(TRUE_SIGMA))
+    assert not any("× the noise" in n for n in given.notes)
+
+
+def test_noise_free_data_are_said_to_be_below_the_floor_and_sound_noise_gets_no_note():
+    clean = ix.diagnose(ix.make_spectrum(FREQ, RC), MODEL)
+    (note,) = [n for n in clean.notes if "× the noise floor" in n]
+    assert "nearly noise-free" in note
+    noisy_estimate = ix.diagnose(ix.make_spectrum(FREQ, NOTHING_MISSING), MODEL)
+    assert 0.5 * 0.005 / np.sqrt(2) < noisy_estimate.noise_level < 2 * 0.005 / np.sqrt(2)  # (an estimate near the truth ...)
+    assert not any("× the noise" in n for n in noisy_estimate.notes)  # (... and no note)
