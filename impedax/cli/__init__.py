@@ -71,8 +71,21 @@ class CommandLineParser(argparse.ArgumentParser):
         return super().parse_known_args(args, namespace)
 
     def error(self, message: str) -> NoReturn:
-        hint = self._misspelt_required_hint(message) + self._circuit_without_option_hint(message)
+        hint = self._misspelt_required_hint(message) + self._circuit_without_option_hint(message) + self._dash_value_hint(message)
         self.exit(2, f"{self.prog}: error: {message}{hint}\n{self.short_usage()}\n")
+
+    def _dash_value_hint(self, message: str) -> str:
+        """``; its value -1% starts with '-', which reads as an option: write --noise=-1%`` when
+        argparse found no value after an option because the next word starts with '-' (a
+        negative value it does not take for a number: ``--noise -1%``)."""
+        found = re.match(r"argument (\S+): expected one argument", message)
+        if found is None:
+            return ""
+        words = getattr(self, "_words", [])
+        for option, value in zip(words, words[1:]):
+            if option in found.group(1).split("/") and value.startswith("-") and value not in self._option_string_actions:
+                return f"; its value {value} starts with '-', which reads as an option: write {option}={value}"
+        return ""
 
     def _circuit_without_option_hint(self, message: str) -> str:
         """``; a circuit follows --model: impedax fit DATA --model 'R0 + R1 || C1'`` when
