@@ -152,3 +152,13 @@ def test_noise_free_data_are_said_to_be_below_the_floor_and_sound_noise_gets_no_
     noisy_estimate = ix.diagnose(ix.make_spectrum(FREQ, NOTHING_MISSING), MODEL)
     assert 0.5 * 0.005 / np.sqrt(2) < noisy_estimate.noise_level < 2 * 0.005 / np.sqrt(2)  # (an estimate near the truth ...)
     assert not any("× the noise" in n for n in noisy_estimate.notes)  # (... and no note)
+
+
+def test_a_missing_effect_under_the_noise_overall_is_called_systematic():
+    """A small second arc (2 Ω of 650 Ω, τ = 2 ms) on the sparse spectrum: missing, though the
+    residuals are under the (too high) noise estimate; the reason says they are not noise alone
+    rather than "0.63× the noise; adding …"."""
+    omega = 2 * np.pi * SPARSE
+    d = ix.diagnose(ix.make_spectrum(SPARSE, noisy(SPARSE_TRUTH + 2 / (1 + 1j * omega * 2e-3), 0, rel=0.001)), "R0 + R1 || CPE1 + L1")
+    assert d.verdict == "missing_effect" and d.noise_ratio < 1 and d.best.effect == "extra_relaxation"
+    assert d.reason.startswith(f"the residuals are {d.noise_ratio:.3g}× the noise overall, yet ")
