@@ -162,3 +162,18 @@ def test_a_missing_effect_under_the_noise_overall_is_called_systematic():
     d = ix.diagnose(ix.make_spectrum(SPARSE, noisy(SPARSE_TRUTH + 2 / (1 + 1j * omega * 2e-3), 0, rel=0.001)), "R0 + R1 || CPE1 + L1")
     assert d.verdict == "missing_effect" and d.noise_ratio < 1 and d.best.effect == "extra_relaxation"
     assert d.reason.startswith(f"the residuals are {d.noise_ratio:.3g}× the noise overall, yet ")
+
+
+def test_real_biologic_bands_of_the_data_and_points_kept_inside_are_explained():
+    """REAL BioLogic example file (impedance.py 1.7, MIT): its one structured band is where the
+    KK test flags the data, so the verdict does not say "no structured band" bare; the 4 flagged
+    points kept inside the band come with why and the --exclude that leaves them out."""
+    data = ix.load("tests/fixtures/real/exampleDataBioLogic.mpt")
+    d = ix.diagnose(data, "R0 + R1 || CPE1")
+    assert d.verdict == "adequate" and d.failing_bands and all(b.data_problem for b in d.failing_bands)
+    assert "with no structured band but where the KK test flags the data" in d.reason
+    kept = d.kk_flagged_kept
+    assert "a diagnosis leaves out only a flagged run at an end of the band" in kept
+    excluded = [float(x) for x in kept.split("--exclude ")[1].split(" ")[0].split(",")]
+    flagged = np.sort(d.kk.frequency[np.asarray(d.kk.flagged, bool)])
+    np.testing.assert_allclose(excluded, flagged, rtol=1e-5)  # (exactly the points the KK test flags)

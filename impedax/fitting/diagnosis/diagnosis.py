@@ -2197,7 +2197,7 @@ def _verdict(cands: Sequence[Suggestion], bands: Sequence[FailingBand], ratio: f
             "with determined, plausible parameters: what is left is beyond the catalog (or the model discrepancy floor)."
         )
     reason = (
-        f"the residuals are {ratio:.3g}× the noise" + (" with no structured band" if not model_bands else " (small structure only)")
+        f"the residuals are {ratio:.3g}× the noise" + ((" with no structured band but where the KK test flags the data" if bands else " with no structured band") if not model_bands else " (small structure only)")
         + f", and no effect lowers AIC by more than {DELTA_AIC_MIN:g} while explaining at least {NOISE_FRACTION_MIN:.0%} of the noise variance."
     )
     return Verdict.ADEQUATE, reason
