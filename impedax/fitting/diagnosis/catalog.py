@@ -149,9 +149,9 @@ class EffectCatalog:
 
     def closest(self, word: str) -> str | None:
         """The effect id a mistyped ``word`` most likely means, or None: the id spelt with
-        hyphens, spaces or capitals (``constant-phase``), the id or title nearest by
-        `difflib` or the only one holding it (``inductance``), or the one effect whose circuit change names ``word`` as an element
-        (``CPE``: ``replace an ideal C by a CPE``)."""
+        hyphens, spaces or capitals (``constant-phase``), the id or title nearest by `difflib`
+        or the only one holding it (``inductance``), or the one effect whose circuit change
+        names ``word`` as an element (``CPE``: ``replace an ideal C by a CPE``)."""
         key = str(word).strip().lower().replace("-", "_").replace(" ", "_")
         by_name = {e.id: e.id for e in self.effects} | {e.title.lower().replace("-", "_").replace(" ", "_"): e.id for e in self.effects}
         near = difflib.get_close_matches(key, list(by_name), n=1, cutoff=0.75)

@@ -28,7 +28,7 @@ from ..arcs import ArcBeyondBand, arcs_beyond_band
 from ..frozen import freeze_fields
 from .bands import format_frequency
 from .catalog import EffectCatalog
-from .diagnosis import CANDIDATE_STEPS, DELTA_AIC_MIN, KEPT_PASSING_LEAD, beyond_catalog_words, KK_MASK_MAX_FRACTION, NOISE_FRACTION_MIN, Diagnosis, DRTMemo, Verdict, diagnose, left_out_options, left_out_words, noise_variance_explained, non_passive_points, ranked_size, require_points_for_diagnosis, undetermined_parameters, unidentified_note, verdict_scope_words
+from .diagnosis import CANDIDATE_STEPS, DELTA_AIC_MIN, KEPT_PASSING_LEAD, KK_MASK_MAX_FRACTION, NOISE_FRACTION_MIN, Diagnosis, DRTMemo, Verdict, beyond_catalog_words, diagnose, left_out_options, left_out_words, noise_variance_explained, non_passive_points, ranked_size, require_points_for_diagnosis, undetermined_parameters, unidentified_note, verdict_scope_words
 from .effects import DEFAULT_EFFECTS, added_resistors, placement
 from .vanishing import share_words, vanished_parameters, vanished_terms
 
