@@ -188,3 +188,18 @@ def test_an_arc_far_beyond_the_band_is_named_by_what_it_acts_as_not_by_its_figur
     # at most FAR_BEYOND_FACTOR outside: the figures, as before
     near = ArcBeyondBand("R_x", "C_x", 1 / (2 * np.pi * band[0] / 900), band)
     assert near.factor == pytest.approx(900) and near.sentence().startswith("fitted τ = ") and near.remedy().startswith("a band reaching below")
+
+
+def test_refine_names_a_start_arc_the_final_fit_puts_outside_the_band(zplot):
+    """From the default start the REAL ZPlot file ends with the start's R1 ∥ C1 at about
+    2.2 MHz (R0 left out: it acts as the series resistance), above 3 kHz–300 kHz; the report and
+    the JSON name it, with the frequency 1/(2π R1 C1) computed here."""
+    r = ix.refine(zplot)
+    v = r.final.values
+    assert "R0" not in v and {"R1", "C1"} <= set(v)  # (the path this test is about)
+    f_hand = 1 / (2 * math.pi * v["R1"] * v["C1"])
+    assert f_hand > 2 * 3e5
+    summary = json.loads(json.dumps(r.summary()))
+    (entry,) = [a for a in summary["final_beyond_band"] if a["elements"] == ["R1", "C1"]]
+    assert entry["side"] == "above" and entry["frequency_hz"] == pytest.approx(f_hand, rel=1e-9)
+    assert "the final model has R1 || C1, outside the band" in r.report() and "where it acts as a resistance" in r.report()
