@@ -995,3 +995,33 @@ def test_a_tie_is_not_won_by_an_element_kept_only_at_zero():
     assert not any("is kept in place of" in n for n in r.notes), r.notes
     assert any(n.startswith("the second path changes nothing") for n in r.notes), r.notes
     assert "R0" not in r.final.circuit.element_names
+
+
+def test_a_path_ending_at_the_same_circuit_at_a_better_optimum_says_so():
+    """`_second_path` with stand-ins: the second path (R2 ∥ CPE2 first, then R4 ∥ C4) ends at
+    the first path's circuit (R1 ∥ C1, then R3 ∥ CPE3) under other names, 50 lower in AIC: it is kept, and the note says it is the
+    same circuit at a better optimum, not "kept in place of the first path's end" beside two
+    identical models (walkthrough 2026-12-05)."""
+    from types import SimpleNamespace as NS
+
+    from impedax.fitting.diagnosis.refinement import RefinementStep, _second_path
+
+    def step(model, aic, k, diagnosis=None, added=None):
+        return RefinementStep(_fit_stand_in(model=model, aic=aic, n_params=k, circuit=ix.parse(model)), added, "extra_relaxation" if added else None, diagnosis)
+
+    def suggestion(where, model, aic, k):
+        return NS(where=where, effect="extra_relaxation", delta_aic=aic, added=model, fit=_fit_stand_in(model=model, aic=aic, n_params=k, circuit=ix.parse(model)), removed=(), undetermined=())
+
+    chosen, other = suggestion("in series", "R0 + R1 || C1", -100.0, 3), suggestion("nested", "R0 + R2 || CPE2", -95.0, 4)
+    first = NS(best=chosen, suggestions=(chosen, other), candidates=(chosen, other), solver_shape=None, noise=_STAND_IN_NOISE, baseline=NS(frequency=_STAND_IN_FREQUENCY, n_params=1))
+    greedy = [step("R0", 0.0, 1, first), step("R0 + R1 || C1", -100.0, 3, NS(solver_shape=None), "r1"),
+              step("R0 + R1 || C1 + R3 || CPE3", -110.0, 6, NS(solver_shape=None, verdict="adequate"), "r3")]
+
+    def diagnosed(fit, shape):  # the second path: R2 ∥ CPE2, then R4 ∥ C4, then adequate
+        nxt = {"R0 + R2 || CPE2": suggestion("in series", "R0 + R2 || CPE2 + R4 || C4", -160.0, 6)}.get(fit.model)
+        return NS(baseline=fit, best=nxt, verdict="missing_effect" if nxt else "adequate", solver_shape=None)
+
+    notes = []
+    kept = _second_path(greedy, greedy[0].diagnosis.best, 4, diagnosed, lambda text: None, notes, lambda path, label, progress_label=None: path)
+    assert kept[-1].model == "R0 + R2 || CPE2 + R4 || C4", notes
+    assert notes[0].startswith("the second path ends at the first path's circuit at a better optimum, which is kept."), notes

@@ -592,7 +592,8 @@ def _second_path(steps: list[RefinementStep], picked, limit: int, diagnosed, say
         # short sentences, the result first (the note was one sentence of ~90 words, walkthrough
         # 2026-12-02): what the path changed, the two ends, why, then where the two paths started
         sentences = [
-            f"the {label} is kept in place of {holder}'s end." if better else f"the {label}{UNCHANGED_WORDS}{holder}'s end is kept.",
+            (f"the {label} ends at {holder}'s circuit at a better optimum, which is kept." if _same_network(a, b) else f"the {label} is kept in place of {holder}'s end.")
+            if better else f"the {label}{UNCHANGED_WORDS}{holder}'s end is kept.",
             f"{end}, against {holder}'s end {steps[-1].model} (AIC {a.aic:.1f}, {_size_words(steps)}).",
         ]
         if slight:
