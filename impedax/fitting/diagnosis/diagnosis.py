@@ -2187,14 +2187,10 @@ def _verdict(cands: Sequence[Suggestion], bands: Sequence[FailingBand], ratio: f
                                     f", though {arc.elements} relaxes at {format_quantity(arc.frequency_hz, 'Hz')}, {arc.side} the band: the data see one flank of it.")
         return Verdict.MISSING_EFFECT, reason
     if _beyond_single_effects(bands, ratio):
-        if left_out:
-            return Verdict.ADEQUATE, (
-                f"the residuals are {ratio:.3g}× the noise and structured in {len(model_bands)} band(s), but no effect tried explains them "
-                f"with determined, plausible parameters; {untried_words(left_out)}: diagnose again with them."
-            )
         return Verdict.ADEQUATE, (
-            f"the residuals are {ratio:.3g}× the noise and structured in {len(model_bands)} band(s), but no effect of the catalog explains them "
-            "with determined, plausible parameters: what is left is beyond the catalog (or the model discrepancy floor)."
+            f"the residuals are {ratio:.3g}× the noise and structured in {len(model_bands)} band(s), but no effect {'tried' if left_out else 'of the catalog'} explains them "
+            "with determined, plausible parameters" + (f"; {untried_words(left_out)}: diagnose again with them." if left_out else
+                                                        ": what is left is beyond the catalog (or the model discrepancy floor).")
         )
     reason = (
         f"the residuals are {ratio:.3g}× the noise" + ((" with no structured band but where the KK test flags the data" if bands else " with no structured band") if not model_bands else " (small structure only)")
@@ -2392,8 +2388,9 @@ def diagnose(
             bands, cands, verdict, reason = judged(base)
     if verdict == Verdict.MISSING_EFFECT and kk_flagged_kept and kk is not None and not kk.valid:
         reason += _kk_floor_words(next(s.fit for s in cands if s.significant), kk, problem.kept_passing_band)
-    if verdict == Verdict.ADEQUATE and noise is None and sigma is None and _noise_ratio(base, sigma_rel) < NOISE_RATIO_LOW:
-        notes.append(low_ratio_words(_noise_ratio(base, sigma_rel), sigma_rel, base.n_points))
+    ratio = _noise_ratio(base, sigma_rel)
+    if verdict == Verdict.ADEQUATE and noise is None and sigma is None and ratio < NOISE_RATIO_LOW:
+        notes.append(low_ratio_words(ratio, sigma_rel, base.n_points))
     # an element of the user's circuit that the data do not need (its fit's idle note: Wo1 with R at 0)
     idle = [f"the baseline fit: {w}" for w in base.warnings if is_idle_note(w)]
     notes += idle
