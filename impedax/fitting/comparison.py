@@ -22,6 +22,7 @@ from .least_squares.branches import idle_note_reduced, undetermined_names
 from .bayes.evidence import EVIDENCE_NOTE_LEAD
 from .least_squares.result import BOUND_CHI2_FRACTION, data_difference, DATA_LIMIT_NOTE, SIGN_HINT_LEAD, misfit_hint
 from .frozen import freeze_fields
+from .statistics import KNOWN_SIGMA, UNKNOWN_VARIANCE, known_noise_criteria
 
 __all__ = ["compare", "Comparison", "WEAK_DELTA_AIC", "is_nested", "nested_as_held", "boundary_parameters", "boundary_limits", "chi_bar_squared_p_value", "undetermined_names", "criteria", "akaike_weights", "KNOWN_SIGMA", "UNKNOWN_VARIANCE", "TIE_CHI2_REL", "criteria_tie", "SIGMA_CHI2_RED_RANGE", "register_batch_compare"]
 
@@ -54,11 +55,6 @@ def unique_labels(labels: Sequence[str]) -> list[str]:
     return out
 
 
-KNOWN_SIGMA = "chi2 + 2k"
-"""`criteria`' AIC under ``weighting="sigma"``: the data's sigma is the noise, −2 ln L = χ² + const."""
-UNKNOWN_VARIANCE = "n ln(chi2/n) + 2k"
-"""`criteria`' AIC under the other weightings: the weights are relative, the noise scale is
-estimated (σ̂² = χ²/n), −2 ln L = n ln(χ²/n) + const (lmfit's convention, `FitResult.aic`)."""
 SIGMA_CHI2_RED_RANGE = (0.5, 2.0)
 """Under ``weighting="sigma"`` the table says so when the lowest reduced χ² of the models is
 outside this range: the sigma do not describe the scatter about the best-fitting model, and ΔAIC
@@ -112,7 +108,7 @@ def criteria(fit: FitResult) -> dict:
     `batch_comparison.SpectrumStatistics`)."""
     n, k, chi2 = 2 * fit.n_points, fit.n_params, float(fit.chi2)
     if fit.weighting == "sigma":
-        aic, bic, form = chi2 + 2 * k, chi2 + k * math.log(n), KNOWN_SIGMA
+        (aic, bic), form = known_noise_criteria(chi2, n, k), KNOWN_SIGMA
     else:
         aic, bic, form = float(fit.aic), float(fit.bic), UNKNOWN_VARIANCE
     aicc = aic + 2 * k * (k + 1) / (n - k - 1) if n - k - 1 > 0 else math.nan
@@ -247,7 +243,7 @@ class Comparison:
         i = self.best_aicc_index
         j = self.best_determined_index
         return {
-            "models": [{**f.summary(), **r} for f, r in zip(self.fits, self.rows)], "best": self.best, "best_determined": self.best_determined,
+            "models": [{**f.summary(), **r, "aic_form": self.aic_form} for f, r in zip(self.fits, self.rows)], "best": self.best, "best_determined": self.best_determined,
             "f_tests": [dict(t) for t in self.f_tests], "ranked_by": "aic", "aic_form": self.aic_form, "best_aicc": None if i is None else self.rows[i]["model"],
             # (the models' labels: the model text with the fixed values, `fit_label`)
             "best_label": self.rows[self.best_index]["label"], "best_determined_label": None if j is None else self.rows[j]["label"],

@@ -8,7 +8,7 @@ from typing import Sequence
 
 import numpy as np
 
-__all__ = ["difference_noise", "residual_noise", "information_criteria", "covariances", "null_sets", "uncertainties", "at_noise_floor", "dominant_points", "non_passive", "fit_noise", "chance_depth", "non_passive_words", "top_of_band", "NOISE_OF_SIGMA", "FIT_RESIDUAL_NOISE", "KK_RESIDUAL_NOISE", "SINGULAR_RATIO_LIMIT", "DOMINANT_FRACTION", "NON_PASSIVE_MARGIN", "NON_PASSIVE_CHANCE"]
+__all__ = ["difference_noise", "residual_noise", "information_criteria", "known_noise_criteria", "KNOWN_SIGMA", "UNKNOWN_VARIANCE", "covariances", "null_sets", "uncertainties", "at_noise_floor", "dominant_points", "non_passive", "fit_noise", "chance_depth", "non_passive_words", "top_of_band", "NOISE_OF_SIGMA", "FIT_RESIDUAL_NOISE", "KK_RESIDUAL_NOISE", "SINGULAR_RATIO_LIMIT", "DOMINANT_FRACTION", "NON_PASSIVE_MARGIN", "NON_PASSIVE_CHANCE"]
 
 # a Jacobian direction whose singular value is below this fraction of the largest is not
 # determined by the data (its parameters are reported together)
@@ -29,6 +29,20 @@ def information_criteria(chi2: float, n_residuals: int, n_free: int) -> tuple[fl
         return base + 2 * n_free, base + n_free * np.log(n)
     base = n * math.log(max(chi2, 1e-300) / n)
     return base + 2 * n_free, base + n_free * math.log(n)
+
+
+KNOWN_SIGMA = "chi2 + 2k"
+"""The AIC form of a fit weighted by the data's sigma taken as the noise: −2 ln L = χ² + const
+(`known_noise_criteria`; ``impedax compare``'s under ``weighting="sigma"``)."""
+UNKNOWN_VARIANCE = "n ln(chi2/n) + 2k"
+"""The AIC form of `information_criteria`: the weights are relative and the noise scale is
+estimated (σ̂² = χ²/n), −2 ln L = n ln(χ²/n) + const (lmfit's convention, `FitResult.aic`)."""
+
+
+def known_noise_criteria(chi2: float, n_residuals: int, n_free: int) -> tuple[float, float]:
+    """AIC = χ² + 2k and BIC = χ² + k ln n (`KNOWN_SIGMA`): the criteria of a fit whose weights
+    are the data's σ, taken as the noise, so that χ² is −2 ln L up to a constant."""
+    return chi2 + 2 * n_free, chi2 + n_free * math.log(n_residuals)
 
 
 def covariances(jac: np.ndarray, chi2_red, weighting: str):

@@ -22,7 +22,7 @@ from ..kk import KKChains, kk_sigma_misfits
 from ..parameters import ParameterTable, data_scales
 from ..problem import WEIGHTING_SCALES
 from ..reductions import RESISTOR_LIKE_ALPHA, WARBURG_LIKE_DEVIATION, warburg_deviation
-from ..statistics import FIT_RESIDUAL_NOISE, NOISE_OF_SIGMA, covariances, information_criteria, non_passive, non_passive_words, top_of_band, uncertainties
+from ..statistics import FIT_RESIDUAL_NOISE, KNOWN_SIGMA, NOISE_OF_SIGMA, UNKNOWN_VARIANCE, covariances, information_criteria, known_noise_criteria, non_passive, non_passive_words, top_of_band, uncertainties
 from .branches import RELATIVE_ERROR_LIMIT, held_covariances, idle_branch_notes, settle_vanishing, vanishing_term_mask, undetermined, unidentified_stderr, undetermined_mask, vanishing_candidates, vanishing_parameters
 from .solvers import SolverOutput, SolverStatus
 from .starts import attainable_misfit, inward_start, rms_rel_of, well_inside
@@ -218,6 +218,22 @@ class FitResult:
         return information_criteria(self.chi2, 2 * self.n_points, self.n_params)[1]
 
     @property
+    def known_noise_criteria(self) -> tuple[float, float] | None:
+        """AIC = χ² + 2k and BIC = χ² + k ln n (`statistics.KNOWN_SIGMA`) of a fit weighted by the
+        data's sigma, the σ taken as the noise: what ``impedax compare`` ranks such fits by.
+        None under the other weightings, where `aic` and `bic` (n ln(χ²/n) + 2k) are the only
+        form (a walkthrough saw fit print AIC −24.13 and compare 80.52 for one fit, unexplained)."""
+        return known_noise_criteria(self.chi2, 2 * self.n_points, self.n_params) if self.weighting == "sigma" else None
+
+    def _criteria_text(self) -> str:
+        """The report's AIC and BIC, with their form under sigma weighting, where compare's differs."""
+        text = f"AIC {self.aic:.2f}    BIC {self.bic:.2f}"
+        known = self.known_noise_criteria
+        if known is None:
+            return text
+        return text + f" (n ln(χ²/n) + 2k; σ as the known noise, as impedax compare ranks: AIC {known[0]:.2f}, BIC {known[1]:.2f})"
+
+    @property
     def misses_structure(self) -> bool:
         """Whether a warning says the model misses structure the data hold (`MODEL_MISFIT_MARKS`):
         its values and standard errors are then this model's best, not the system's."""
@@ -259,6 +275,8 @@ class FitResult:
             "chi2_red": self.chi2_red,
             "aic": self.aic,
             "bic": self.bic,
+            "aic_form": UNKNOWN_VARIANCE,  # (added 2026-12-05: the form of aic and bic; under weighting sigma, compare's are the *_known_noise keys)
+            **({"aic_known_noise": known[0], "bic_known_noise": known[1], "known_noise_form": KNOWN_SIGMA} if (known := self.known_noise_criteria) else {}),
             "converged": self.converged,
             "message": self.message,
             "at_bound": list(self.at_bound),
@@ -286,7 +304,7 @@ class FitResult:
         lines = [
             f"model      {self.model}",
             f"weighting  {self.weighting}    points {self.n_points}    free parameters {self.n_params}",
-            f"rms_rel    {self.rms_rel * 100:.3g} %    chi2 {self.chi2:.4g}    chi2_red {self.chi2_red:.4g}{self._chi2_red_basis()}    AIC {self.aic:.2f}    BIC {self.bic:.2f}",
+            f"rms_rel    {self.rms_rel * 100:.3g} %    chi2 {self.chi2:.4g}    chi2_red {self.chi2_red:.4g}{self._chi2_red_basis()}    {self._criteria_text()}",
             f"status     {'converged' if self.converged else 'NOT converged'}: {self.message}",
             "",
             f"{'parameter':<{width}}  {'value':>12}  {'stderr':>10}  {'rel':>8}  unit",
@@ -879,6 +897,11 @@ UNEVEN_RESIDUAL_RATIO = 4.0
 # unit and proportional weights are not meant as one (`weighting_notes` speaks for them)
 UNEVEN_CHECKED_WEIGHTINGS = ("modulus", "sigma")
 UNEVEN_NOISE_NOTE = "the standard errors assume the noise is uniform after the weighting"
+SIGMA_BAND_WORDS = "the data's sigma understates the noise at"
+"""The words of `uneven_residual_notes`' warning under sigma weighting (the stated σ misstates the
+noise in one band), by which a caller whose σ is known to hold more than noise recognises it."""
+SIGMA_OVERSTATES_WORDS = "σ overstates the noise"
+"""The words of `sigma_scale_notes`' warning of residuals far below σ, likewise."""
 
 
 # a fit whose residuals are, in rms, at most this fraction of |Z| matches its data to rounding
@@ -952,7 +975,7 @@ def uneven_residual_notes(freq, z, z_model, inv_re, inv_im, weighting: str, misf
         loud, quiet = int(louds[i]), int(quiets[i])
         loud_band, quiet_band = f"{format_frequency(lo[loud])} – {format_frequency(hi[loud])}", f"{format_frequency(lo[quiet])} – {format_frequency(hi[quiet])}"
         if weighting == "sigma":
-            remedy = (f"the data's sigma understates the noise at {loud_band} or overstates it at {quiet_band}: check the sigma column "
+            remedy = (f"{SIGMA_BAND_WORDS} {loud_band} or overstates it at {quiet_band}: check the sigma column "
                       "there (impedax sample --noise sigma takes σ as stated too)")
         else:
             remedy = ("if the noise is larger there, weigh by σ: the data carry a sigma column, which this weighting does not use (impedax fit --weighting sigma; impedax sample --noise sigma)"
@@ -1036,7 +1059,7 @@ def sigma_scale_notes(z, z_model, inv_re, inv_im, weighting: str, n_free: int | 
         elif c < low and factor <= 1.0 / SIGMA_SCALE_FACTOR:
             out[i] = (
                 f"the residuals are {factor:.2g}× the data's sigma in rms (χ²_red {c:.3g}, where residuals of the stated σ give {low:.2f}–{high:.2f}): "
-                f"σ overstates the noise (or the model follows the noise with too many parameters), and the standard errors, which take σ as stated, are then {1 / factor:.2g}× too large",
+                f"{SIGMA_OVERSTATES_WORDS} (or the model follows the noise with too many parameters), and the standard errors, which take σ as stated, are then {1 / factor:.2g}× too large",
             )
     return out
 
