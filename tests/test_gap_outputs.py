@@ -52,7 +52,7 @@ def _stub(*, rhat_max=1.062, hierarchical=True, warnings=WARNINGS):
     rng = np.random.default_rng(78)
     spectra = [ix.make_spectrum(FREQ, np.stack([zz * (1 + 0.015 * rng.standard_normal()) for _ in range(3)]), dims=("repeat",))
                for zz in (z + 2e3, np.full(FREQ.size, 1e3 + 0j), np.full(FREQ.size, 1e3 + 0j))]
-    fit = SimpleNamespace(frequency=FREQ, z_model=z, rms_rel=0.015, model="R_EP || C_gap", values={"R_EP": 5e7, "C_gap": c_gap},
+    fit = SimpleNamespace(frequency=FREQ, z_model=z, rms_rel=0.015, chi2_red=0.1, weighting="sigma", model="R_EP || C_gap", values={"R_EP": 5e7, "C_gap": c_gap},
                           stderr={"R_EP": 1e6, "C_gap": 1e-12}, to_table=lambda: [{"name": "R_EP", "unit": "Ohm"}, {"name": "C_gap", "unit": "F"}])
     u = GAP * np.exp(0.02 * rng.standard_normal(400))
     draws = {"u": u, "C_gap": EPS0 * EPS_AIR * AREA / u, "R_EP": 5e7 * np.exp(0.05 * rng.standard_normal(400))}
@@ -187,3 +187,15 @@ def test_plain_xarray_file_in_impedax_layout_loads(tmp_path):
     ds = ix.load(path)
     np.testing.assert_array_equal(ds["Z"].values, z)
     assert "Z__real" not in ds.variables
+
+
+def test_gap_json_says_what_its_interval_covers_and_the_edl_fits_chi2():
+    """`interval_covers`: the pooled interval is of these trials' mean u only, the hierarchical one
+    of the population's median with the spread between trials; `edl_chi2_red` beside rms_rel, and
+    the report's fits line says why it lies below 1 (the stub's σ is the SEM of 3 repeats)."""
+    pooled, hierarchical = _stub(hierarchical=False), _stub()
+    assert "not for the population's" in pooled.summary()["interval_covers"]
+    assert "spread between trials" in hierarchical.summary()["interval_covers"] and "not for" not in hierarchical.summary()["interval_covers"]
+    assert pooled.summary()["edl_chi2_red"] == 0.1
+    fits = next(line for line in pooled.report().splitlines() if line.startswith("fits"))
+    assert "χ²_red 0.1 against the trial means' SEM, below 1 as expected" in fits

@@ -98,7 +98,7 @@ def _stub_analysis(*, rhat_max, divergences=0, misfit=None):
     c_gap = EPS0 * EPS_AIR * AREA / 3.5e-6
     z = 1.0 / (1.0 / 5e7 + 2j * np.pi * f * c_gap)
     spectra = [ix.make_spectrum(f, np.stack([zz, zz * 1.01]), dims=("trial",)) for zz in (z + 2e3, np.full(f.size, 1e3 + 0j), np.full(f.size, 1e3 + 0j))]
-    fit = SimpleNamespace(frequency=f, z_model=z, rms_rel=0.02, model="R_EP || C_gap")
+    fit = SimpleNamespace(frequency=f, z_model=z, rms_rel=0.02, chi2_red=0.1, weighting="sigma", model="R_EP || C_gap")
     u = 3.5e-6 * np.exp(0.01 * np.random.default_rng(0).standard_normal(200))
     post = SimpleNamespace(
         population_parameters=lambda: {"u": u, "C_gap": EPS0 * EPS_AIR * AREA / u, "R_EP": np.full(u.size, 5e7)},

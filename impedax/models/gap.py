@@ -48,7 +48,7 @@ from ..fitting.bayes.chain import AUTO_STEPS, steps_rule
 from ..fitting.bayes.evidence import MODEL_COMPARISON_NOTE_LEADS
 from ..fitting.bayes.reparam import AREA_UNIT_ADVICE, PLAUSIBLE_GAP_M
 from ..fitting.kk import KKChains
-from ..fitting.least_squares.result import MISFIT_RATIO_MAX, REMAINDER_ATTRS, SUBTRACTION_CAUSE, gross_misfits, known_kk_misfits, listed_frequencies
+from ..fitting.least_squares.result import MISFIT_RATIO_MAX, REMAINDER_ATTRS, SIGMA_BAND_WORDS, SIGMA_OVERSTATES_WORDS, SUBTRACTION_CAUSE, gross_misfits, known_kk_misfits, listed_frequencies
 from ..fitting.statistics import non_passive
 from ..fitting.frozen import freeze_fields
 from .gap_inputs import DriveVoltage, check_gap_inputs, check_not_a_remainder, condition_notes, drive_voltage, is_single_contact, position_notes, present_inputs, spectra_used
@@ -321,6 +321,7 @@ class GapAnalysis:
             "c_gap": self.c_gap,
             "gap_um": gap_um,
             "gap_um_population": gap_um if self.hierarchical is not None else None,
+            "interval_covers": self._interval_covers(),  # (added 2026-12-05: what gap_um's q05–q95 holds; pooled: the trial means' noise only)
             "gap_um_spread": spread["sd_m"] * 1e6 if spread else None,
             "gap_spread_relative": spread["relative"] if spread else None,
             "gap_um_new_trial": {k: new[k] * 1e6 for k in ("q05", "q95")} if new else None,
@@ -351,6 +352,7 @@ class GapAnalysis:
             "model_requested": self.model_requested if self.model_requested is not None else self.edl_fit.model,
             "naive_rms_rel": self.naive_fit.rms_rel,
             "edl_rms_rel": self.edl_fit.rms_rel,
+            "edl_chi2_red": self.edl_fit.chi2_red,  # (added 2026-12-05: against the remainder's sigma under sigma weighting, the trial means' SEM)
             "area_m2": self.area,
             "v0": self.v0,
             **self._drive.summary(),
@@ -538,7 +540,7 @@ class GapAnalysis:
         lines += [
             f"paper method    u = {_gap_length(p.gap)}{f' ({NO_AIR_GAP})' if self.paper_gap_implausible is not None else ''}  {bounds}",
             f"C_gap{' (prior-set)' if self._prior_set else '          '} = {_capacitance_with_interval(c)}; paper method {format_quantity(p.c_gap, 'F', CAPACITANCE_DIGITS)}",
-            f"fits            naive C_gap: rms_rel {format_percent(self.naive_fit.rms_rel)};  {self.edl_fit.model}: rms_rel {format_percent(self.edl_fit.rms_rel)}",
+            f"fits            naive C_gap: rms_rel {format_percent(self.naive_fit.rms_rel)};  {self.edl_fit.model}: rms_rel {format_percent(self.edl_fit.rms_rel)}{_edl_chi2_text(self.edl_fit, self.remaining)}",
             f"force (peak, V0 = {self.v0:.4g} V){self._force_qualifier()} with EP: {_force_maximum_text(peak)}; without EP: {_force_maximum_text(bare)}",
             f"force bands     {self.force_conditions} (A = {self.area:g} m²)",
         ]
@@ -625,6 +627,17 @@ class GapAnalysis:
             f"force bound     F ≤ {format_quantity(bound['max'], 'N')} (peak, with EP, largest at {format_frequency(bound['max_frequency_hz'])}): "
             f"eq 1 at u's lower bound {self.gap_lower_bound * 1e6:.3f} µm, the smallest u and so the largest force the data allow (F ∝ 1/u²)"
         )
+
+    def _interval_covers(self) -> str:
+        """What u's 90 % interval holds (``interval_covers`` in the JSON): the hierarchical one the
+        spread between trials and the model discrepancy; the pooled one the noise of the trial means
+        only (`_pooled_noise_text`): an interval for these trials' mean u, not for the population's.
+        SYNTHETIC Sirin example of seed 1: pooled 2.759–2.775 µm holds the 30 trials' true mean u,
+        2.764 µm, not the median 2.789 µm they were drawn about (their u scatter by 6.4 %); the
+        hierarchical 2.705–2.815 µm holds both."""
+        if self.hierarchical is not None:
+            return "the population median of the trials' u: the spread between trials and the model discrepancy included"
+        return self._pooled_noise_text() + "; an interval for these trials' mean u, not for the population's (impedax gap without --pooled gives that)"
 
     def _pooled_noise_text(self) -> str:
         """What the pooled interval's noise is: the trial means' SEM (``sigma`` of the
@@ -938,7 +951,7 @@ def gap_analysis(
     notes += _bound_notes(u_draws, reparametrization, area, single)
     notes += _gap_breakdown_notes(force, float(np.median(u_draws)), area, eps_gap)
     sampled = _sampling_notes(posterior.warnings)
-    notes += [f"EDL fit: {w}" for w in edl.warnings] + [f"sampling: {w}" for w in _correlation_advice(sampled, posterior.strong_correlations, posterior.parameter_draws(), circuit, single, weighting=weighting)]
+    notes += _edl_fit_warnings(edl, remaining) + [f"sampling: {w}" for w in _correlation_advice(sampled, posterior.strong_correlations, posterior.parameter_draws(), circuit, single, weighting=weighting)]
     notes += _estimate_bound_notes("Bayesian gap thickness", float(np.median(u_draws)), paper, remaining, f"; draws span {_um(u_draws.min())}–{_um(u_draws.max())} µm")
     known_kk = KKChains()
     lower, withheld, merged = _identification(ep, str(requested), circuit, posterior.parameter_draws(), edl, posterior.piled_up, notes, remaining, area, eps_gap, known_kk)
@@ -1337,6 +1350,34 @@ def _check_remainder_sign(remaining: xr.Dataset) -> None:
         raise DataError(f"the remainder total − skin − screen has Re Z < 0 at {negative} of {remaining.sizes['frequency']} frequencies: check the order of the files (TOTAL SKIN SCREEN)")
 
 
+def _sem_of_varying_trials(fitted, remaining: xr.Dataset) -> bool:
+    """Whether ``fitted`` weighs the remainder by its ``sigma`` and that sigma is the standard error
+    of means over two or more trials (`remaining_impedance`): it then holds the contact's variation
+    between trials (u, R_EP and CPE_EP differ from touch to touch), not the measurement noise
+    alone, and one model of the mean absorbs most of that variation."""
+    return fitted.weighting == "sigma" and "sigma" in remaining and int(remaining.attrs.get("n_trials_total", 0)) >= 2
+
+
+def _edl_fit_warnings(edl, remaining: xr.Dataset) -> list[str]:
+    """The EDL fit's warnings for the gap analysis, each as ``EDL fit: …``, without those that
+    read residuals below the trial means' SEM as a σ misstating the noise (`SIGMA_OVERSTATES_WORDS`,
+    and the uneven-band warning under sigma weighting, `SIGMA_BAND_WORDS`) when that sigma is the
+    SEM of varying trials (`_sem_of_varying_trials`): there residuals far below it are expected,
+    smallest where the variation dominates the SEM (SYNTHETIC Sirin example, seed 1, which matches
+    the model exactly: residuals 0.36× the SEM, "σ overstates the noise" warned). The report's
+    fits line states the χ²_red and why instead (`GapAnalysis.report`)."""
+    expected = _sem_of_varying_trials(edl, remaining)
+    return [f"EDL fit: {w}" for w in edl.warnings if not (expected and (SIGMA_OVERSTATES_WORDS in w or SIGMA_BAND_WORDS in w))]
+
+
+def _edl_chi2_text(fitted, remaining: xr.Dataset) -> str:
+    """The EDL fit's χ²_red against the trial means' SEM, and why it lies below 1 (`_edl_fit_warnings`)."""
+    if not _sem_of_varying_trials(fitted, remaining):
+        return ""
+    return (f" (χ²_red {fitted.chi2_red:.3g} against the trial means' SEM"
+            + (", below 1 as expected: the SEM holds the contact's variation between trials, which the fit of the mean absorbs)" if fitted.chi2_red < 1 else ")"))
+
+
 def _check_hierarchical_trials(remaining: xr.Dataset) -> None:
     """The hierarchical model needs ≥ 3 total trials; checked before any fit."""
     n_trials = int(remaining.attrs.get("n_trials_total", 0))
@@ -1607,7 +1648,7 @@ def _hierarchical(total, skin, touchscreen, remaining, paper, naive, edl, circui
     force = _force_bands({k: v[::step] for k, v in pop.items()}, freq, z_skin, z_ts, circuit, area=area, v0=v0, eps_gap=eps_gap)
     notes += _bound_notes(pop["u"], reparametrization, area, _single(remaining))
     notes += _gap_breakdown_notes(force, float(np.median(pop["u"])), area, eps_gap)
-    notes += [f"EDL fit: {w}" for w in edl.warnings] + [f"sampling: {w}" for w in post.warnings]
+    notes += _edl_fit_warnings(edl, remaining) + [f"sampling: {w}" for w in post.warnings]
     notes += _estimate_bound_notes("population gap thickness", float(np.median(pop["u"])), paper, remaining)
     known_kk = KKChains()
     lower, withheld, merged = _identification(ep, model_requested, circuit, pop, edl, {}, notes, remaining, area, eps_gap, known_kk)  # (the rule reads a single posterior's pile-up; the hierarchical one's, `HierarchicalPosterior.piled_up`, is of population medians, and only its warnings are passed on)
