@@ -113,8 +113,9 @@ def test_area_unit_advice_only_where_the_area_can_be_the_cause(ideal_ep):
     note = f"sampling: u = 0.00372 m (posterior median) is no air gap (1e-09–0.001 m is): {AREA_UNIT_ADVICE}, A = 0.0004 m², then the data"
     replaced = _area_advice([note, "other"], result.paper, identified=False)
     assert replaced[1] == "other" and AREA_UNIT_ADVICE not in replaced[0]
-    assert replaced[0].endswith(f"the area's unit is not the cause (the paper's method gives u = {result.paper.gap * 1e6:.3g} µm at A = {AREA:g} m², an air gap): "
-                                "u is not determined by these data (the warning 'u is NOT determined')")
+    assert replaced[0].endswith(f"the area's unit is not the cause: at A = {AREA:g} m² the paper's method gives u = {result.paper.gap * 1e6:.3f} µm, "
+                                "within 1 nm–1 mm, which a unit slip of A (10⁶×) would not: u is not determined by these data (the warning 'u is NOT determined')")
+    assert "an air gap" not in replaced[0]  # (beside the alarm NO AIR GAP it read as a contradiction)
     assert _area_advice([note], result.paper, identified=True)[0].endswith("check the three spectra and the model")
     from dataclasses import replace
 
@@ -137,3 +138,13 @@ def test_determined_u_keeps_its_force_report():
     assert s["force_determined"] is True and s["force_upper_bound_n"] is None
     assert np.isnan(result.to_xarray().attrs["force_upper_bound_max_n"])
     assert result.gap["value"] == pytest.approx(U_TRUE, rel=0.05)
+
+
+def test_a_lower_bound_beyond_any_air_gap_prints_with_its_prefix():
+    """u ≥ 18.8 mm (a resistive remainder's summed capacitance), not "u ≥ 18796.913 µm"; a bound
+    within an air gap keeps µm to three decimals."""
+    far = 0.0187969
+    note = _unidentified_note("the remainder is resistive", far, np.linspace(1.0, 1.1, 100) * far, (1e-12, 10.0))
+    assert "u ≥ 18.8 mm (" in note and "µm" not in note.split("(")[0]
+    near = _unidentified_note("the remainder is resistive", 2.5e-6, np.linspace(1.0, 1.1, 100) * 2.5e-6, (1e-12, 10.0))
+    assert "u ≥ 2.500 µm (" in near

@@ -308,7 +308,7 @@ def test_bound_notes_name_the_capacitance_bound():
     rp = gap_thickness_reparametrization("C_gap", area=AREA, lower=low, upper=high)
     at_top = np.full(100, high * 0.9)
     notes = _bound_notes(at_top, rp, AREA)
-    assert len(notes) == 1 and "upper bound" in notes[0] and "C_gap = 1e-15 F" in notes[0] and f"u = {high * 1e6:.3g} µm" in notes[0]
+    assert len(notes) == 1 and "upper bound" in notes[0] and "C_gap = 1e-15 F" in notes[0] and f"u = {high:.3g} m (" in notes[0]  # (u far beyond an air gap in m, not "1.15e+06 µm"; 2026-12-05)
     assert _bound_notes(np.full(100, 2.8e-6), rp, AREA) == []
 
 

@@ -558,7 +558,7 @@ class GapAnalysis:
             lines.append("spectra used    " + "; ".join(_trials_text(k, v) for k, v in self.trials.items()))
         if self.gap_lower_bound is not None:
             lines.insert(0, (
-                f"GAP NOT DETERMINED: C_gap and the EP branch are seen only as their sum, so the data give only a LOWER BOUND u ≥ {self.gap_lower_bound * 1e6:.3f} µm "
+                f"GAP NOT DETERMINED: C_gap and the EP branch are seen only as their sum, so the data give only a LOWER BOUND u ≥ {_gap_length(self.gap_lower_bound)} "
                 "(all the capacitance counted as C_gap); the u and interval below are set by the priors and the split, not the data"
             ))
         elif self.gap_bound_withheld is not None:
@@ -597,7 +597,7 @@ class GapAnalysis:
         paper's method gives an air gap at this area, which a unit slip would not (`_area_advice`)."""
         files = "the spectrum" if self.single_contact else "the three spectra"
         if self.paper_gap_implausible is None:
-            return f"the area's unit is not the cause (the paper's method gives u = {_gap_length(self.paper.gap)} at A = {self.area:g} m², an air gap): check {files} and the model"
+            return f"{_area_unit_ruled_out(self.paper.gap, self.area)}: check {files} and the model"
         return f"{AREA_UNIT_ADVICE}, A = {self.area:g} m² ({self.area * 1e6:g} mm²; 200 mm² is 200e-6 m²), then {files}"
 
     def _force_qualifier(self) -> str:
@@ -625,7 +625,7 @@ class GapAnalysis:
         bound = self._force_bound_summary()
         return (
             f"force bound     F ≤ {format_quantity(bound['max'], 'N')} (peak, with EP, largest at {format_frequency(bound['max_frequency_hz'])}): "
-            f"eq 1 at u's lower bound {self.gap_lower_bound * 1e6:.3f} µm, the smallest u and so the largest force the data allow (F ∝ 1/u²)"
+            f"eq 1 at u's lower bound {_gap_length(self.gap_lower_bound)}, the smallest u and so the largest force the data allow (F ∝ 1/u²)"
         )
 
     def _interval_covers(self) -> str:
@@ -952,7 +952,7 @@ def gap_analysis(
     notes += _gap_breakdown_notes(force, float(np.median(u_draws)), area, eps_gap)
     sampled = _sampling_notes(posterior.warnings)
     notes += _edl_fit_warnings(edl, remaining) + [f"sampling: {w}" for w in _correlation_advice(sampled, posterior.strong_correlations, posterior.parameter_draws(), circuit, single, weighting=weighting)]
-    notes += _estimate_bound_notes("Bayesian gap thickness", float(np.median(u_draws)), paper, remaining, f"; draws span {_um(u_draws.min())}–{_um(u_draws.max())} µm")
+    notes += _estimate_bound_notes("Bayesian gap thickness", float(np.median(u_draws)), paper, remaining, f"; draws span {_um_range(u_draws.min(), u_draws.max())}")
     known_kk = KKChains()
     lower, withheld, merged = _identification(ep, str(requested), circuit, posterior.parameter_draws(), edl, posterior.piled_up, notes, remaining, area, eps_gap, known_kk)
     bound_force = _force_upper_bound(merged, lower, freq, z_skin, z_ts, area=area, v0=v0, eps_gap=eps_gap)
@@ -1028,7 +1028,7 @@ def _correlation_advice(warnings, correlations, draws: Mapping[str, np.ndarray],
         narrowing = 1.0 - math.sqrt(1.0 - min(1.0, max(r * r for r in rs.values())))
         correlations = " and ".join(f"{r:+.2f} with {n}" for n, r in rs.items())
         verdict = ("this matters little to u" if narrowing < U_CORRELATION_MATTERS else "this widens u's interval") + (
-            f": u's interval {_um(q05)}–{_um(q95)} µm (±{(q95 - q05) / (2 * q50):.2%}) already carries it, u's correlation (log space) is {correlations}, "
+            f": u's interval {_um_range(q05, q95)} (±{(q95 - q05) / (2 * q50):.2%}) already carries it, u's correlation (log space) is {correlations}, "
             f"so knowing either exactly would narrow it by at most {narrowing:.0%} (√(1 − r²))"
         )
         out.append(
@@ -1038,9 +1038,20 @@ def _correlation_advice(warnings, correlations, draws: Mapping[str, np.ndarray],
     return out
 
 
-def _um(length_m: float) -> str:
-    """A length [m] in µm with 3 significant digits (bounds 0.126–0.134, not 0.13–0.13)."""
-    return f"{length_m * 1e6:.3g}"
+def _um(length_m: float, digits: int = 3) -> str:
+    """A gap length [m] with its unit: in µm to ``digits`` significant digits (bounds 0.126–0.134,
+    not 0.13–0.13) within `PLAUSIBLE_GAP_M`, else with the SI prefix of its size (``1.14 m``, not
+    ``1.14e+06 µm``; a resistive remainder's notes, 2026-12-05)."""
+    low, high = PLAUSIBLE_GAP_M
+    return f"{length_m * 1e6:.{digits}g} µm" if low <= length_m <= high else format_quantity(length_m, "m", digits)
+
+
+def _um_range(low_m: float, high_m: float, digits: int = 3) -> str:
+    """``2.15–2.21 µm``, or ``926 mm–1.15 m`` when an end is no air gap (`_um`)."""
+    a, b = PLAUSIBLE_GAP_M
+    if a <= low_m <= b and a <= high_m <= b:
+        return f"{low_m * 1e6:.{digits}g}–{high_m * 1e6:.{digits}g} µm"
+    return f"{_um(low_m, digits)}–{_um(high_m, digits)}"
 
 
 # the hierarchical sampling is called unreliable (the report's first line, the figure's banner)
@@ -1101,7 +1112,7 @@ def _paper_bound_notes(paper: PaperGapEstimate, remaining: xr.Dataset) -> list[s
     if not _has_bounds(remaining) or not _far_outside(u, low, high):
         return []
     return [
-        f"the paper method's u = {_um(u)} µm lies far outside its own bounds {_um(low)}–{_um(high)} µm "
+        f"the paper method's u = {_um(u)} lies far outside its own bounds {_um_range(low, high)} "
         f"(by more than their width and {PAPER_BOUND_SLACK:.0%} of u): the lowest- and highest-impedance trials are far from bracketing the trial means, "
         + ("so those bounds are no interval for u; check the file's trials (one may be of another contact)" if _single(remaining)
            else "so those bounds are no interval for u; check the three files (TOTAL SKIN SCREEN: the right measurements, in that order)")
@@ -1120,11 +1131,6 @@ def _single(remaining: xr.Dataset) -> bool:
 PAPER_BOUND_NARROW = 0.25
 
 
-def _um4(length_m: float) -> str:
-    """A length [m] in µm with 4 significant digits (the paper's bounds can lie 0.2 % apart)."""
-    return f"{length_m * 1e6:.4g}"
-
-
 def _paper_interval_notes(paper: PaperGapEstimate, remaining: xr.Dataset) -> list[str]:
     """A warning that the paper's bounds are no interval for u when its u lies outside them, or
     when they are narrower than `PAPER_BOUND_NARROW` × the range of single-trial u: the lowest
@@ -1140,14 +1146,14 @@ def _paper_interval_notes(paper: PaperGapEstimate, remaining: xr.Dataset) -> lis
         return []
     found = []
     if outside:
-        found.append(f"lie {'below' if u > high else 'above'} its u = {_um4(u)} µm")
+        found.append(f"lie {'below' if u > high else 'above'} its u = {_um(u, 4)}")
     if narrow:
-        found.append(f"are {_um4(high - low)} µm wide while single total trials{'' if _single(remaining) else ' (each minus the mean skin and screen)'} give u = {_um4(paper.gap_trial_min)}–{_um4(paper.gap_trial_max)} µm")
+        found.append(f"are {_um(high - low, 4)} wide while single total trials{'' if _single(remaining) else ' (each minus the mean skin and screen)'} give u = {_um_range(paper.gap_trial_min, paper.gap_trial_max, 4)}")
     why = ("since they come from the lowest- and highest-impedance trials alone, and the trial means need not lie between them; " if _single(remaining) else
            "since the paper subtracts the lowest-impedance skin and screen from the lowest-impedance total (and the highest from the highest), "
            "so the extremes of the three sets offset each other; ")
     return [
-        f"the paper method's bounds {_um4(low)}–{_um4(high)} µm {' and '.join(found)}: they are no interval for u, "
+        f"the paper method's bounds {_um_range(low, high, 4)} {' and '.join(found)}: they are no interval for u, "
         + why + "read the Bayesian interval for u, or the single trials' range for its scatter (docs/models.md, \"The paper's bounds\")"
     ]
 
@@ -1158,7 +1164,7 @@ def _estimate_bound_notes(what: str, u: float, paper: PaperGapEstimate, remainin
     paper's own u, so a small miss says nothing."""
     if not _has_bounds(remaining) or not _far_outside(u, paper.gap_lower, paper.gap_upper):
         return []
-    return [f"the {what} {_um(u)} µm lies far outside the paper method's bounds ({_um(paper.gap_lower)}–{_um(paper.gap_upper)} µm{detail}): the two methods disagree (the figure's air-gap thickness panel shows both)"]
+    return [f"the {what} {_um(u)} lies far outside the paper method's bounds ({_um_range(paper.gap_lower, paper.gap_upper)}{detail}): the two methods disagree (the figure's air-gap thickness panel shows both)"]
 
 
 def _naive_runaway_notes(naive) -> list[str]:
@@ -1253,10 +1259,10 @@ def _gap_breakdown_notes(force: xr.Dataset, u: float, area: float, eps_gap: floa
     threshold = f"the ~{AIR_BREAKDOWN_V:g} V at which air breaks down (Paschen minimum, 1 atm)"
     unmodelled = "which eq 1's force does not model; check --v0 (Python: v0)"
     if v_median > AIR_BREAKDOWN_V:
-        return [f"{where}{interval} across u = {u * 1e6:.3g} µm, above {threshold}: the gap would spark, {unmodelled}"]
+        return [f"{where}{interval} across u = {_um(u)}, above {threshold}: the gap would spark, {unmodelled}"]
     if v_high > AIR_BREAKDOWN_V:
         return [
-            f"{where}{interval} across u = {u * 1e6:.3g} µm: the median is below {threshold}, but the upper end of the 90% interval "
+            f"{where}{interval} across u = {_um(u)}: the median is below {threshold}, but the upper end of the 90% interval "
             f"({_volts(v_high, digits)} V) is above it: the gap may spark (more than 5% of the posterior), {unmodelled}"
         ]
     return []
@@ -1469,7 +1475,7 @@ def _piled_bounds(u_draws, lower: float, upper: float) -> list[tuple[str, float,
 def _bound_notes(u_draws, reparametrization, area: float, single: bool = False) -> list[str]:
     """A warning for each prior bound of u the draws pile up at (`_piled_bounds`)."""
     return [
-        f"the posterior of u piles up at the {side} bound of its prior, u = {bound * 1e6:.3g} µm (C_gap = {c_bound:g} F at A = {area:g} m²; {share:.0%} of the draws within a factor {_BOUND_FACTOR:g} of it): "
+        f"the posterior of u piles up at the {side} bound of its prior, u = {_um(bound)} (C_gap = {c_bound:g} F at A = {area:g} m²; {share:.0%} of the draws within a factor {_BOUND_FACTOR:g} of it): "
         f"u and C_gap are then set by the prior bound, not the data, and are unreliable; check {'the spectrum' if single else 'the three spectra'}"
         for side, bound, c_bound, share in _piled_bounds(u_draws, reparametrization.lower[0], reparametrization.upper[0])
     ]
@@ -1535,13 +1541,13 @@ def _unidentified_note(reason: str, bound: float, u_draws, u_prior: tuple[float,
     if median > _BOUND_FACTOR * bound:
         ratio = median / bound
         sampled += (
-            f": the sampled u's median, {median * 1e6:.4g} µm, lies {ratio:.3g}× above the bound, which puts the force about {ratio * ratio:.3g}× below the largest the data allow"
+            f": the sampled u's median, {_gap_length(median)}, lies {ratio:.3g}× above the bound, which puts the force about {ratio * ratio:.3g}× below the largest the data allow"
             + (f" (its draws run to the upper edge of u's prior, {u_prior_upper:.3g} m, where the force is smallest)" if at_top else "")
             + ": a force drawn from it is at best a lower bound, not an upper one"
         )
     return (
         f"u is NOT determined by these data: {reason}, so C_gap and the EP branch are seen only as their sum; "
-        f"u ≥ {bound * 1e6:.3f} µm (the gap of the summed capacitance, fitted as {IDENTIFIED_C_REMAINDER}, at the upper end C + {BOUND_STDERRS:g} stderr of its fit) is all they give, "
+        f"u ≥ {_gap_length(bound)} (the gap of the summed capacitance, fitted as {IDENTIFIED_C_REMAINDER}, at the upper end C + {BOUND_STDERRS:g} stderr of its fit) is all they give, "
         "and the reported u and its interval come from the priors (JSON gap_identified false, gap_um_lower_bound). "
         "The force is NOT determined either: eq 1 goes as 1/u², so u ≥ that bound gives only an upper bound of the force, the force at u = the bound "
         f"(the report's 'force bound', JSON force_upper_bound_n); {sampled}"
@@ -1561,6 +1567,16 @@ def _force_upper_bound(values: Mapping[str, float] | None, lower: float | None, 
                         attrs={"units": "N", "convention": FORCE_CONVENTION, "description": "peak force at u's lower bound: the largest the data allow (eq 1, F ∝ 1/u²)"})
 
 
+def _area_unit_ruled_out(paper_gap: float, area: float) -> str:
+    """Why the area's unit cannot make u no air gap: at this area the paper's method gives a u
+    within `PLAUSIBLE_GAP_M`, which a unit slip of A (10⁶× for mm² read as m²) would move out of
+    it. Worded so that it does not call the contact an air gap beside the alarm NO AIR GAP (it
+    said "…, an air gap" there; walkthrough 2026-12-05, a resistive remainder)."""
+    low, high = PLAUSIBLE_GAP_M
+    return (f"the area's unit is not the cause: at A = {area:g} m² the paper's method gives u = {_gap_length(paper_gap)}, "
+            f"within {format_quantity(low, 'm')}–{format_quantity(high, 'm')}, which a unit slip of A (10⁶×) would not")
+
+
 def _area_advice(notes: list[str], paper: PaperGapEstimate, identified: bool, single: bool = False) -> list[str]:
     """``notes`` with the advice "check the area's unit first" (`AREA_UNIT_ADVICE`, of u at a
     bound of its prior or outside `PLAUSIBLE_GAP_M`) replaced where the area's unit cannot be
@@ -1571,7 +1587,7 @@ def _area_advice(notes: list[str], paper: PaperGapEstimate, identified: bool, si
     if not low <= paper.gap <= high:
         return notes
     instead = (
-        f"the area's unit is not the cause (the paper's method gives u = {_um(paper.gap)} µm at A = {paper.area:g} m², an air gap): "
+        f"{_area_unit_ruled_out(paper.gap, paper.area)}: "
         + ("u is not determined by these data (the warning 'u is NOT determined')" if not identified else f"check {'the spectrum' if single else 'the three spectra'} and the model")
     )
     return [note[: note.index(AREA_UNIT_ADVICE)] + instead if AREA_UNIT_ADVICE in note else note for note in notes]
