@@ -358,3 +358,19 @@ def test_meyer_cpe_implausible_q_computes_with_no_param_check(capsys):
 def test_vezzoli_has_no_variant(capsys):
     assert main(["force", "vezzoli", "--variant", "cpe"]) == 2
     assert "only meyer has variants" in capsys.readouterr().err
+
+
+def test_meyer_area_alone_scales_the_force_as_one_over_area_and_says_so(capsys):
+    """eq 3.6's prefactor is 1/(2 A ε0): with C_i, C_sc, R_sc held, halving A doubles F at every
+    frequency; the warning says so and gives the elements of eq 3.13 scaled to the area."""
+    base = _json(capsys, "meyer", "--fmin", "1e3", "--fmax", "1e6", "--points", "31")
+    assert base["warnings"] == []
+    half = _json(capsys, "meyer", "--fmin", "1e3", "--fmax", "1e6", "--points", "31", "--param", f"area={AREA / 2!r}")
+    np.testing.assert_allclose(half["force_n"], 2.0 * np.asarray(base["force_n"]), rtol=1e-12)
+    (note,) = half["warnings"]
+    assert "changes only eq 3.6's 1/A" in note and "× 2" in note
+    scaled = dict(re.findall(r"(C_i|C_sc|R_sc)=([0-9.e+-]+)", note))
+    assert float(scaled["C_i"]) == pytest.approx(THESIS["C_i"] / 2, rel=1e-3) and float(scaled["C_sc"]) == pytest.approx(THESIS["C_sc"] / 2, rel=1e-3)
+    assert float(scaled["R_sc"]) == pytest.approx(THESIS["R_sc"] * 2, rel=1e-3)
+    given = _json(capsys, "meyer", "--points", "11", "--param", f"area={AREA / 2!r}", f"C_i={THESIS['C_i'] / 2!r}")
+    assert given["warnings"] == []  # (an element of the area given: the user chose the values)

@@ -251,7 +251,8 @@ def test_gap_json_gives_the_frequency_of_the_force_without_ep(stationary):
     assert bare["frequency_hz"] == with_ep["frequency_hz"] and len(bare["median"]) == len(bare["frequency_hz"])
     j = int(np.argmax(bare["median"]))
     line = next(x for x in result.report().splitlines() if x.startswith("force (peak"))
-    assert line.endswith(f"without EP: max {format_quantity(bare['median'][j], 'N')} at {format_frequency(bare['frequency_hz'][j])}")
+    assert line.endswith(f"without EP: max {format_quantity(bare['median'][j], 'N')} at {format_frequency(bare['frequency_hz'][j])}, the band's lower end (it may rise past it)")  # (its largest at 1 Hz, the band's end: 2026-12-05)
+    assert j == 0 and s["force_max_without_ep_n"]["band_edge"] == "fmin" and s["force_max_n"]["band_edge"] is None
 
 
 def test_report_and_figure_scale_the_force_unit(stationary):
@@ -263,7 +264,7 @@ def test_report_and_figure_scale_the_force_unit(stationary):
     # the maximum without EP on the same line (the JSON's force_without_ep_n)
     bare = result.force.sel(branch="without_ep")["median"]
     j = int(np.argmax(bare.values))
-    assert line.split("; ")[-1] == f"without EP: max {format_quantity(float(bare[j]), 'N')} at {format_frequency(float(bare['frequency'][j]))}"
+    assert line.split("; ")[-1] == f"without EP: max {format_quantity(float(bare[j]), 'N')} at {format_frequency(float(bare['frequency'][j]))}, the band's lower end (it may rise past it)"
     assert not np.isclose(bare.values.max(), peak.max())  # (two branches, two maxima: the line can tell them apart)
     fig = result.plot()
     ax = fig.axes[2]

@@ -84,7 +84,7 @@ def register(sub) -> None:
     )
     accept_negative_numbers(p)  # (--fmin -10: the value, refused by name, not argparse's "expected one argument")
     add_positional_model(p, choices=_MODELS, help="which paper's model")
-    p.add_argument("--param", action="append", metavar="NAME=VALUE", help="override a parameter; several after one --param (--param v_a=100 area=1e-4) or --param repeated; an area outside 1e-6–1e-2 m² (as impedax gap) or a meyer capacitance or resistance beyond 1000× either way of the thesis value (for CPE_sc.Q: its capacitance at 1 kHz, Q (2π·1 kHz)^(alpha−1), against C_sc's) is refused as a likely unit slip unless --no-param-check; a drive v_a or v_m outside 1 V–2 kV (as impedax gap --v0) or vezzoli's h_i outside 100 nm–900 µm, h_s outside 10 µm–5 mm or rho_s outside 300–3e6 ohm m gives a warning")
+    p.add_argument("--param", action="append", metavar="NAME=VALUE", help="override a parameter; several after one --param (--param v_a=100 area=1e-4) or --param repeated; an area outside 1e-6–1e-2 m² (as impedax gap) or a meyer capacitance or resistance beyond 1000× either way of the thesis value (for CPE_sc.Q: its capacitance at 1 kHz, Q (2π·1 kHz)^(alpha−1), against C_sc's) is refused as a likely unit slip unless --no-param-check; a drive v_a or v_m outside 1 V–2 kV (as impedax gap --v0) or vezzoli's h_i outside 100 nm–900 µm, h_s outside 10 µm–5 mm or rho_s outside 300–3e6 ohm m gives a warning; meyer's area given alone scales the force as 1/A (C_i, C_sc, R_sc keep the thesis's values: a warning gives them scaled to the area)")
     p.add_argument("--variant", type=str.lower, choices=MEYER_VARIANTS, help="meyer's stratum corneum: rc (R_sc || C_sc, thesis Fig 3.3) or cpe (R_sc || CPE_sc, the fractional variant of Fig 5.3; parameters CPE_sc.Q, CPE_sc.alpha); default: cpe when a --param names CPE_sc.Q or CPE_sc.alpha, else rc")
     p.add_argument("--no-param-check", action="store_true", help="compute with any positive --param value: an implausible one gives a warning instead of an error")
     p.add_argument("--fmin", type=number_option, default=None, help="lowest frequency [Hz] (meyer 10, vezzoli 1)")
@@ -214,8 +214,33 @@ def _inside_default_band(model: str, freq: np.ndarray) -> np.ndarray:
     return np.clip(freq, low, high)
 
 
-def _notes(model: str, params: dict[str, float]) -> list[str]:
-    """Warnings on the parameters: vezzoli's C_i/C_s against eq 8's condition C_i ≪ C_s."""
+# meyer's elements that thesis eq 3.13 derives from the contact area (`MeyerPhysical`): the
+# capacitances grow with A, R_sc falls as 1/A (C_s, the cable, and R_f, the body, do not)
+_AREA_SCALED = {"C_i": 1, "C_sc": 1, "CPE_sc.Q": 1, "R_sc": -1}
+
+
+def _area_alone_note(params: dict[str, float], given: dict[str, float]) -> str | None:
+    """meyer: a --param area without any of the elements eq 3.13 derives from it keeps their
+    thesis values, so eq 3.6's 1/(2 A ε0) makes F ∝ 1/A, where a contact of that area, its layers
+    unchanged, has C_i, C_sc ∝ A and R_sc ∝ 1/A (a walkthrough halved A and saw the force
+    double, 2026-12-05). None otherwise."""
+    from ..models.meyer import THESIS_PHYSICAL
+
+    if "area" not in given or any(name in given for name in _AREA_SCALED):
+        return None
+    ratio = params["area"] / THESIS_PHYSICAL.area
+    scaled = " ".join(f"{name}={params[name] * ratio**power:.4g}" for name, power in _AREA_SCALED.items() if name in params)
+    return (f"--param area={params['area']:g} changes only eq 3.6's 1/A: the elements eq 3.13 derives from the area keep the thesis's values "
+            f"for its {THESIS_PHYSICAL.area * 1e6:.4g} mm² contact, so the force is that contact's × {1 / ratio:.4g}; for a contact of this area with the same layers, "
+            f"give them scaled too: --param area={params['area']:g} {scaled} (capacitances × A/A0, R_sc × A0/A)")
+
+
+def _notes(model: str, params: dict[str, float], given: dict[str, float] | None = None) -> list[str]:
+    """Warnings on the parameters: meyer's area given alone (`_area_alone_note`); vezzoli's
+    C_i/C_s against eq 8's condition C_i ≪ C_s."""
+    if model == "meyer":
+        note = _area_alone_note(params, given or {})
+        return [note] if note else []
     if model != "vezzoli":
         return []
     from ..models.vezzoli import eq8_validity_message
@@ -331,7 +356,7 @@ def run(args) -> int:
     fmax = high if args.fmax is None else args.fmax
     points = check_points(args.points, fmin, fmax, default=161)
     check_memory("--points", points * POINT_BYTES, f"a force spectrum of {points} frequencies")
-    notes = param_notes + _notes(args.model, params)
+    notes = param_notes + _notes(args.model, params, given)
     freq = log_frequencies(fmin, fmax, points)
     force = _finite_force(args.model, params, given, freq, args.convention)
     from ..models.peak import force_maximum

@@ -434,9 +434,12 @@ class GapAnalysis:
         ``force_max_n`` and the JSON's ``force_max_n`` (eq 1, F = ½ ε0 ε_gap A |ΔV_gap|²/u²).
         Added 2026-12-02."""
         band = self.force.sel(branch=branch)
-        i = int(np.argmax(band["median"].values))
+        shape = force_maximum_shape(band["median"])
+        i = shape["index"]
         return {"frequency_hz": float(self.force["frequency"][i]), "value": float(band["median"][i]),
-                "q05": float(band["q05"][i]), "q95": float(band["q95"][i])}
+                "q05": float(band["q05"][i]), "q95": float(band["q95"][i]),
+                # (added 2026-12-05: "fmin"/"fmax" when the largest force is at an end of the band, else null; the plateau it lies on, else null)
+                "band_edge": shape["band_edge"], "plateau_hz": list(shape["plateau_hz"]) if shape["plateau_hz"] else None}
 
     def _sampling_summary(self) -> dict | None:
         """Hierarchical: the NUTS diagnostics (divergent transitions of all draws, the largest
@@ -789,14 +792,57 @@ FLAT_FORCE_REL = 1e-3
 frequency, to rounding."""
 
 
-def _force_maximum_text(median: xr.DataArray) -> str:
-    """``max 408 mN at 1 Hz`` of a median force over frequency; a flat one (`FLAT_FORCE_REL`)
-    ``2.835 N at every frequency (1 Hz–100 kHz)``: its maximum's frequency is rounding's choice
-    (a single contact's force without EP read "max 2.835 N at 1 Hz", 2026-12-03)."""
+FORCE_PLATEAU_REL = 0.01
+"""The force's maximum lies on a plateau (`force_maximum_shape`) where the median stays within this
+fraction of it over more than `FORCE_PLATEAU_SPAN` in frequency: where on the plateau the grid's
+largest value falls is then rounding's and noise's choice, not a peak (the SYNTHETIC Sirin
+example's force without EP: within 1 % of its largest from 1 Hz to about 3 kHz, reported as
+"max 407 mN at 1 Hz"; walkthrough 2026-12-05)."""
+FORCE_PLATEAU_SPAN = 10.0
+
+
+def force_maximum_shape(median: xr.DataArray) -> dict:
+    """Where the median force over frequency is largest and what kind of maximum it is:
+    ``index`` of the grid's largest value, ``band_edge`` ``"fmin"`` or ``"fmax"`` when that is an
+    end of the band (the force may still rise past it) else None, and ``plateau_hz`` (low, high):
+    the contiguous frequencies about it within `FORCE_PLATEAU_REL` of it, when they span more than
+    `FORCE_PLATEAU_SPAN`, else None."""
     values, freq = np.asarray(median.values, float), np.asarray(median["frequency"].values, float)
     i = int(np.argmax(values))
+    edge = ("fmin" if freq[i] == freq.min() else "fmax") if values.size > 1 and freq[i] in (freq.min(), freq.max()) else None
+    plateau = None
+    if values.size > 1 and np.all(np.isfinite(values)):
+        near = values >= (1.0 - FORCE_PLATEAU_REL) * values[i]
+        a, b = i, i
+        while a > 0 and near[a - 1]:
+            a -= 1
+        while b < values.size - 1 and near[b + 1]:
+            b += 1
+        low, high = sorted((float(freq[a]), float(freq[b])))
+        if high > FORCE_PLATEAU_SPAN * low:
+            plateau = (low, high)
+    return {"index": i, "band_edge": edge, "plateau_hz": plateau}
+
+
+def _force_maximum_text(median: xr.DataArray) -> str:
+    """``max 408 mN at 31.6 Hz`` of a median force over frequency; a flat one (`FLAT_FORCE_REL`)
+    ``2.835 N at every frequency (1 Hz–100 kHz)``: its maximum's frequency is rounding's choice
+    (a single contact's force without EP read "max 2.835 N at 1 Hz", 2026-12-03); one on a
+    plateau (`force_maximum_shape`) ``407 mN on a plateau over 1 Hz–3.16 kHz (within 1%;
+    largest at 1 Hz, the band's lower end)``; one at an end of the band ``max 1.2 N at 1 Hz, the
+    band's lower end (it may rise past it)``."""
+    values, freq = np.asarray(median.values, float), np.asarray(median["frequency"].values, float)
+    shape = force_maximum_shape(median)
+    i = shape["index"]
     if values.size > 1 and np.all(np.isfinite(values)) and values.max() - values.min() <= FLAT_FORCE_REL * abs(values.max()):
         return f"{format_quantity(float(values[i]), 'N')} at every frequency ({format_band(float(freq.min()), float(freq.max()))})"
+    end = {"fmin": "the band's lower end", "fmax": "the band's upper end"}.get(shape["band_edge"])
+    if shape["plateau_hz"] is not None:
+        low, high = shape["plateau_hz"]
+        return (f"{format_quantity(float(values[i]), 'N')} on a plateau over {format_band(low, high)} (within {FORCE_PLATEAU_REL:.0%}; "
+                f"largest at {format_frequency(float(freq[i]))}{', ' + end if end else ''})")
+    if end:
+        return f"max {format_quantity(float(values[i]), 'N')} at {format_frequency(float(freq[i]))}, {end} (it may rise past it)"
     return f"max {format_quantity(float(values[i]), 'N')} at {format_frequency(float(freq[i]))}"
 
 
