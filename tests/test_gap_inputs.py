@@ -398,3 +398,17 @@ def test_force_negative_frequency_reaches_the_check(capsys):
     code, _, err = _run(["force", "meyer", "--fmin", "-1e1", "--points", "3"], capsys)
     assert code == 2
     assert "fmin=-10" in err and "expected one argument" not in err
+
+
+@pytest.mark.parametrize("model, param", [("vezzoli", "v_m=5000"), ("meyer", "v_a=5k"), ("meyer", "v_a=20k")])
+def test_a_drive_of_a_few_kilovolts_is_a_high_voltage_drive_not_a_unit_slip(capsys, model, param):
+    """2–20 kV (up to 10× the papers' largest drive) is warned about as a high-voltage drive; the
+    force is computed as given (eq 10 ∝ V², checked by hand for vezzoli); no "5 V was likely meant"."""
+    code, out, err = _run(["force", model, "--param", param, "--fmin", "440", "--fmax", "440", "--points", "1", "--json"], capsys)
+    assert code == 0
+    document = json.loads(out)
+    [warning] = [w for w in document["warnings"] if param.split("=")[0] in w]
+    assert "is above the plausible 1 V–2 kV" in warning and "high-voltage drive" in warning
+    assert "likely meant" not in warning and "most likely a unit slip" not in warning
+    if model == "vezzoli":
+        assert document["force_n"][0] == pytest.approx(_eq10(np.array([440.0]), v_m=5000.0)[0], rel=1e-9)

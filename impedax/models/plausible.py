@@ -103,6 +103,11 @@ def _shown(value: float, unit: str) -> str:
     return f"{value / scale:.4g} {prefix}{unit}"
 
 
+DRIVE_SLIP_FACTOR = 10.0
+"""A drive voltage above `DRIVE_VOLTAGE_V` by up to this factor (2–20 kV) is warned about as a
+high-voltage drive, not as a unit slip (`implausible_message`)."""
+
+
 def _intended(value: float, low: float, high: float, unit: str, centre: float | None = None) -> str:
     """What a value outside ``low``–``high`` likely meant: the SI prefix that brings it inside
     (nearest ``centre``, by default the range's middle, in log), or for an area the mm² or cm²
@@ -137,6 +142,11 @@ def implausible_message(model: str, name: str, value: float) -> str | None:
         where = f"a fingertip's apparent contact is {low:g}–{high:g} m² ({low * 1e6:g}–{high * 1e6:g} mm²)"
     elif name in WARNED_ONLY and not unit:  # (a relative permittivity: no unit, so no unit slip)
         return f"{name} = {value:g} is implausible (plausible {low:g}–{high:g}, {_RANGE_REASONS[name]})"
+    elif name in WARNED_ONLY and unit == "V" and high < value <= DRIVE_SLIP_FACTOR * high:
+        # (a drive of a few kV is a high-voltage drive as grippers use, not a unit slip: 5000 read
+        # as "5 (5 V) was likely meant", i.e. millivolts, which nobody writes for a drive; 2026-12-05)
+        return (f"{name} = {_shown(value, unit)} is above the plausible {_shown(low, unit)}–{_shown(high, unit)} ({_RANGE_REASONS[name]}): "
+                "a high-voltage drive, as some electroadhesive grippers use, not a unit slip; the value is in V")
     elif name in WARNED_ONLY:
         where = f"plausible {_shown(low, unit)}–{_shown(high, unit)}, {_RANGE_REASONS[name]}"
         return f"{name} = {_shown(value, unit)} is implausible ({where}), most likely a unit slip{_intended(value, low, high, unit, _REFERENCES.get(name))}"
