@@ -42,7 +42,7 @@ def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting.problem import open_spectrum
     from ..arguments import closest_name
-    from .common import checked_bound_options, command_provenance, data_source, each_spectrum_written, emit_json, exclude_points, figure_options, figure_writer, impedax_text, IMPEDANCE_PY_NOTATION, load_selected, note_impedance_py_weighting, note_skipped_rows, note_unused_sigma, parse_assignments, parse_bounds, plan_outputs, progress_printer, result_writer, skipped_rows, with_source, WithSummaryKeys
+    from .common import check_bounds, checked_bound_options, command_provenance, data_source, each_spectrum_written, emit_json, exclude_points, figure_options, figure_writer, impedax_text, IMPEDANCE_PY_NOTATION, load_selected, note_impedance_py_weighting, note_skipped_rows, note_unused_sigma, parse_assignments, parse_bounds, plan_outputs, progress_printer, result_writer, skipped_rows, with_source, WithSummaryKeys
     from .fit import check_max_steps
 
     if len(args.model) < 2:
@@ -63,6 +63,8 @@ def run(args) -> int:
                 raise ParameterError(f"{flag}: no model has a parameter {name!r}" + (f"; did you mean {close}?" if close else "") + f" (parameters: {', '.join(everywhere)})")
     # each model's bounds, checked against its own elements (a name every model has is one element's parameter)
     bounds = [checked_bound_options({k: v for k, v in given["--bound"].items() if k in ns}, c.parameter_specs(args.registry), init=given["--init"], fixed=given["--fix"]) for c, ns in zip(circuits, names)]
+    for c, ns in zip(circuits, names):  # (each fixed value within its element's bounds, before the data are read: no note printed before the refusal)
+        check_bounds({k: v for k, v in given["--fix"].items() if k in ns}, c.parameter_specs(args.registry), "--fix")
     outputs = plan_outputs([("--out", out_path(args.out), "result"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     max_steps = check_max_steps(args.max_steps)
     data = open_spectrum(exclude_points(load_selected(args.data, args.select, readers=args.readers), args.exclude)).data

@@ -114,7 +114,7 @@ def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting import parse_prior
     from ..fitting.bayes.logprob import start_weighting
-    from .common import check_parameter_names, checked_bound_options, comma_names, command_provenance, data_source, figure_options, figure_writer, load_selected, note_skipped_rows, note_unused_sigma, parse_assignments, parse_bounds, plan_outputs, print_result, result_writer, skipped_rows, WithSummaryKeys
+    from .common import check_bounds, check_parameter_names, checked_bound_options, comma_names, command_provenance, data_source, figure_options, figure_writer, load_selected, note_skipped_rows, note_unused_sigma, parse_assignments, parse_bounds, plan_outputs, print_result, result_writer, skipped_rows, WithSummaryKeys
     from .fit import check_max_steps, shared_arguments
 
     circuit = parse(args.model, args.registry)  # syntax errors before anything else
@@ -143,6 +143,7 @@ def run(args) -> int:
     given_bounds = parse_bounds(args.bound)
     for flag, given in (("--init", init), ("--fix", fixed), ("--bound", given_bounds)):
         check_parameter_names(given, circuit.parameter_names(args.registry), flag, args.model, args.registry)
+    check_bounds(fixed, circuit.parameter_specs(args.registry), "--fix")  # (before the data are read and the start is fitted: nothing printed before the refusal)
     bounds = checked_bound_options(given_bounds, circuit.parameter_specs(args.registry), init=init, fixed=fixed)
     if sharing and (init or args.max_steps is not None):
         raise ParameterError("--init and --max-steps are not available with --shared (the joint posterior starts from its own global fit); --fix is available")
