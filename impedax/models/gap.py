@@ -795,9 +795,9 @@ frequency, to rounding."""
 FORCE_PLATEAU_REL = 0.01
 """The force's maximum lies on a plateau (`force_maximum_shape`) where the median stays within this
 fraction of it over more than `FORCE_PLATEAU_SPAN` in frequency: where on the plateau the grid's
-largest value falls is then rounding's and noise's choice, not a peak (the SYNTHETIC Sirin
-example's force without EP: within 1 % of its largest from 1 Hz to about 3 kHz, reported as
-"max 407 mN at 1 Hz"; walkthrough 2026-12-05)."""
+largest value falls is then rounding's and noise's choice, not a peak (a SYNTHETIC remainder of
+tests/test_gap_force_bound.py: the force with EP within 1 % of its largest, 412 mN, from 1 Hz to
+22.4 Hz, was reported as "max 412 mN at 1 Hz"; walkthrough 2026-12-05)."""
 FORCE_PLATEAU_SPAN = 10.0
 
 
@@ -828,7 +828,7 @@ def _force_maximum_text(median: xr.DataArray) -> str:
     """``max 408 mN at 31.6 Hz`` of a median force over frequency; a flat one (`FLAT_FORCE_REL`)
     ``2.835 N at every frequency (1 Hz–100 kHz)``: its maximum's frequency is rounding's choice
     (a single contact's force without EP read "max 2.835 N at 1 Hz", 2026-12-03); one on a
-    plateau (`force_maximum_shape`) ``407 mN on a plateau over 1 Hz–3.16 kHz (within 1%;
+    plateau (`force_maximum_shape`) ``412 mN on a plateau over 1 Hz–22.4 Hz (within 1%;
     largest at 1 Hz, the band's lower end)``; one at an end of the band ``max 1.2 N at 1 Hz, the
     band's lower end (it may rise past it)``."""
     values, freq = np.asarray(median.values, float), np.asarray(median["frequency"].values, float)
