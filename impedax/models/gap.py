@@ -1415,8 +1415,8 @@ def _edl_fit_warnings(edl, remaining: xr.Dataset) -> list[str]:
     read residuals below the trial means' SEM as a σ misstating the noise (`SIGMA_OVERSTATES_WORDS`,
     and the uneven-band warning under sigma weighting, `SIGMA_BAND_WORDS`) when that sigma is the
     SEM of varying trials (`_sem_of_varying_trials`): there residuals far below it are expected,
-    smallest where the variation dominates the SEM (SYNTHETIC Sirin example, seed 1, which matches
-    the model exactly: residuals 0.36× the SEM, "σ overstates the noise" warned). The report's
+    smallest where the variation dominates the SEM (SYNTHETIC Sirin example, seed 1, drawn from
+    the model itself: residuals 0.36× the SEM, "σ overstates the noise" warned). The report's
     fits line states the χ²_red and why instead (`GapAnalysis.report`)."""
     expected = _sem_of_varying_trials(edl, remaining)
     return [f"EDL fit: {w}" for w in edl.warnings if not (expected and (SIGMA_OVERSTATES_WORDS in w or SIGMA_BAND_WORDS in w))]
