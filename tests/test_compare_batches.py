@@ -390,3 +390,25 @@ def test_a_batch_comparison_written_to_nc_reads_back_whole(comparison, stack, tm
     np.testing.assert_array_equal(cli.dataset["aic"].values, xr.open_dataset(out)["aic"].values)
     with pytest.raises(ix.DataError, match="a saved batch of least-squares fits, not a comparison"):
         ix.fitting.BatchComparison.from_xarray(comparison.batches[0].to_xarray())
+
+
+def test_the_figure_draws_a_model_that_reduces_to_the_best_hollow_there(comparison, batches):
+    """Where the CPE reduces to the RC winner (F by hand ≤ 1), the figure draws its ΔAIC ~2 hollow
+    and says why in the legend, so it shows no weak win where the table counts a decisive one
+    (a walkthrough's figure showed four wins under ΔAIC 4 beside "decisive 2"; 2026-12-05)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    rc, cpe = batches
+    n = 2 * FREQ.size
+    f_by_hand = np.maximum(rc.dataset["chi2"].values - cpe.dataset["chi2"].values, 0.0) / (cpe.dataset["chi2"].values / (n - 4))
+    rows = comparison.spectra()
+    reducing = {i for i, r in enumerate(rows) if r["best"] == RC and f_by_hand[i] <= 1.0}
+    fig = comparison.plot()
+    ax = fig.axes[0]
+    hollow = {int(x) for line in ax.get_lines() if line.get_markerfacecolor() == "none" for x in line.get_xdata()}
+    assert reducing and hollow == reducing
+    assert any("reduces to the spectrum's best" in t.get_text() for t in ax.get_legend().get_texts())
+    plt.close(fig)

@@ -65,11 +65,21 @@ def plot_batch_comparison(comparison, *, figsize: tuple[float, float] | None = N
     fig, ax = plt.subplots(figsize=figsize or (11, 4.5))
     markers = ("o", "s", "^", "D", "v")
     summed = {m["label"]: m for m in comparison.models()}
+    any_reduced = False
     for k, label in enumerate(comparison.labels):
         delta = np.array([r["models"][k]["delta_aic"] for r in rows], float)
+        # (where the model reduces to the spectrum's best, its ΔAIC is AIC's charge for idle
+        # parameters, no rival's lead, as the table's lead column takes it: drawn hollow, so that
+        # the figure does not show a weak win where the table counts a decisive one)
+        reduced = np.array([label in r["reduces_to_best"] for r in rows], bool)
+        any_reduced |= bool(reduced.any())
         m = summed[label]
         # (markers alone: the spectra are independent, a line between them would suggest a trend)
-        ax.plot(index, delta, marker=markers[k % len(markers)], ms=5, ls="none", label=f"{label} (best on {m['wins']} of {len(rows)}, ΔΣAIC {m['delta_aic_sum']:.1f})")
+        (line,) = ax.plot(index[~reduced], delta[~reduced], marker=markers[k % len(markers)], ms=5, ls="none", label=f"{label} (best on {m['wins']} of {len(rows)}, ΔΣAIC {m['delta_aic_sum']:.1f})")
+        if reduced.any():
+            ax.plot(index[reduced], delta[reduced], marker=markers[k % len(markers)], ms=5, ls="none", mfc="none", color=line.get_color())
+    if any_reduced:
+        ax.plot([], [], marker="o", ms=5, ls="none", mfc="none", color="0.3", label="hollow: reduces to the spectrum's best (its ΔAIC is the charge for idle parameters, no rival's)")
     # (4: `fitting.comparison.WEAK_DELTA_AIC`, which this lower layer may not import)
     ax.axhline(4.0, color="0.5", ls=":", lw=1, label="ΔAIC 4 (weaker support beyond, Burnham & Anderson 2002)")
     ax.set_yscale("symlog", linthresh=10.0, linscale=2.0)
