@@ -287,3 +287,13 @@ def test_the_drt_figure_names_its_file_as_the_other_commands_do(spectrum_csv, tm
     assert main(["drt", str(spectrum_csv), "--plot", str(tmp_path / "drt.png")]) == 0
     assert len(saved) == 1 and saved[0]._suptitle is not None
     assert spectrum_csv.name in saved[0]._suptitle.get_text()
+
+
+def test_dpi_above_the_cap_is_refused_before_any_work(spectrum_csv, tmp_path, capsys):
+    """--dpi 3000 drew for 38 s in 3.9 GB (walkthrough 2026-12-05): above 1200 it is refused, exit 2, nothing written."""
+    with pytest.raises(SystemExit) as exc:
+        main(["fit", str(spectrum_csv), "--model", "R0", "--plot", str(tmp_path / "x.png"), "--dpi", "3000"])
+    assert exc.value.code == 2
+    err = capsys.readouterr().err
+    assert "--dpi: 3000 dots per inch is more than the 1200 print needs" in err and "vector format" in err
+    assert not (tmp_path / "x.png").exists()
