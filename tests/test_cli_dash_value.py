@@ -44,3 +44,16 @@ def test_an_option_missing_its_value_at_the_end_gets_no_dash_hint(data_file, cap
     code, err = run(["diagnose", data_file, "--model", "R0 + R1 || C1", "--noise"], capsys)
     assert code == 2
     assert "expected one argument" in err and "starts with '-'" not in err
+
+
+def test_info_with_two_words_is_not_told_to_give_data(capsys):
+    """`impedax info R0 R1`: info reads no DATA, so the hint is not "impedax info DATA --model R1"
+    (walkthrough 2026-12-05) but that it takes one circuit, quoted when of several words."""
+    from impedax.cli import main
+
+    try:
+        code = main(["info", "R0", "R1"])
+    except SystemExit as exc:
+        code = exc.code
+    err = capsys.readouterr().err
+    assert code == 2 and "DATA" not in err and "takes one circuit and no data file" in err

@@ -372,7 +372,13 @@ def model_option_hint(prog: str, circuits: list[str]) -> str:
     if not circuits:
         return ""
     given = " ".join(f"--model {shlex.quote(c)}" for c in circuits)
+    if prog.split()[-1] in NO_DATA_COMMANDS:  # (impedax info R0 R1: info reads no DATA; one circuit, quoted)
+        return f"; {prog} takes one circuit and no data file: quote a circuit of several words as one ({prog} 'R0 + R1 || C1'), or run {prog} once per circuit"
     return f"; a circuit follows {'its own ' if len(circuits) > 1 else ''}--model: {prog} DATA {given}"
+
+
+NO_DATA_COMMANDS = ("info",)
+"""Commands with a --model that read no data file (`model_option_hint`)."""
 
 
 def _refuse_unknown(parser: argparse.ArgumentParser, command: str, unknown: list[str], model=None) -> NoReturn:
