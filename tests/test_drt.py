@@ -559,3 +559,17 @@ def test_the_drt_model_predicts_with_a_series_capacitance_and_for_a_scalar():
     z_between = 20.0 + 2200.0 / (1 + (1j * w * 2e-3) ** 0.9) + 1 / (1j * w * 50e-6)
     assert np.max(np.abs(result.predict(between) - z_between) / np.abs(z_between)) < 1e-2
     assert np.shape(result.predict(10.0)) == () and result.predict(10.0) == pytest.approx(result.predict(np.array([10.0]))[0], rel=1e-14)
+
+
+def test_a_signed_drt_of_one_arc_gives_it_the_whole_area():
+    """A signed DRT of one exact arc, 10 Ω + 100 Ω ∥ 100 µF (τ = 10 ms): its one peak's R is the
+    whole axis' area, lobes of the other sign included, so it equals R_pol and the true 100 Ω
+    (it kept its positive lobe alone, 128.4 Ω, and suggested R1 = 128.4; walkthrough 2026-12-05)."""
+    f = np.logspace(-2, 5, 71)
+    z = 10.0 + 100.0 / (1.0 + 2j * np.pi * f * 100.0 * 100e-6)
+    result = drt((f, z), signed=True)
+    from impedax.fitting.drt.peaks import counted_peaks
+
+    (peak,) = counted_peaks(result.peaks)
+    assert peak.r_ohm == pytest.approx(100.0, rel=0.02) and peak.r_ohm == pytest.approx(result.polarization_resistance, rel=0.005)
+    assert abs(math.log10(peak.tau_s / 1e-2)) < 0.05

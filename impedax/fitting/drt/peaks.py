@@ -214,7 +214,7 @@ def split_peaks(ln_tau, gamma, *, signed, window, samples=None, min_rel_height=0
     previous peak to the minimum towards the next. ``dropped``: the peaks below the cut-off
     whose area no reported peak holds (farther than `MERGE_DECADES` from any), each with the
     area of its own window; empty for a signed DRT, where every peak's R is its share of the
-    whole τ axis. ``samples`` (S, K): draws of γ for the peaks' standard deviations.
+    whole τ axis (a single peak's: all of it). ``samples`` (S, K): draws of γ for the peaks' standard deviations.
     ``window``: the measured (τ_min, τ_max). Sorted by τ."""
     ln_tau = np.asarray(ln_tau, float)
     gamma = np.asarray(gamma, float)
@@ -241,6 +241,13 @@ def split_peaks(ln_tau, gamma, *, signed, window, samples=None, min_rel_height=0
                 peaks = [dataclasses.replace(p, r_ohm=r, resolved=_told_from_zero(r, p.r_ohm_sd)) for p, r in zip(peaks, shares)]
                 break
             peaks.pop(smallest)
+    if signed and len(peaks) == 1:
+        # ... and a single peak's share is the whole axis, its lobes included (it kept the area
+        # of its positive lobe alone: 128.4 Ω for an exact 100 Ω ∥ 100 µF arc whose R_pol read
+        # 99.87 Ω, and passed it on as the suggested fit's R1; walkthrough 2026-12-05)
+        (p,) = peaks
+        r = float(np.trapezoid(gamma, ln_tau))
+        peaks = [dataclasses.replace(p, r_ohm=r, resolved=_told_from_zero(r, p.r_ohm_sd))]
     return tuple(peaks), tuple(dropped)
 
 
