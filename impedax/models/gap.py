@@ -427,12 +427,12 @@ class GapAnalysis:
         return {"frequency_hz": float(self.force["frequency"][i]), "value": float(band["gap_voltage_median"][i]),
                 "q05": float(band["gap_voltage_q05"][i]), "q95": float(band["gap_voltage_q95"][i])}
 
-    def force_at_max(self, branch: str = "with_ep") -> dict[str, float]:
+    def force_at_max(self, branch: str = "with_ep") -> dict:
         """The PEAK force [N] (``value`` the posterior median, ``q05``, ``q95`` its 90 % band) at
         ``frequency_hz``, where the median force of ``branch`` (``"with_ep"`` or ``"without_ep"``)
         is largest on the force's frequency grid: the report's "force (peak …) max", the CSV's
-        ``force_max_n`` and the JSON's ``force_max_n`` (eq 1, F = ½ ε0 ε_gap A |ΔV_gap|²/u²).
-        Added 2026-12-02."""
+        ``force_max_n`` and the JSON's ``force_max_n`` (eq 1, F = ½ ε0 ε_gap A |ΔV_gap|²/u²),
+        with ``band_edge`` and ``plateau_hz`` (`force_maximum_shape`). Added 2026-12-02."""
         band = self.force.sel(branch=branch)
         shape = force_maximum_shape(band["median"])
         i = shape["index"]
