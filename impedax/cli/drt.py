@@ -144,6 +144,8 @@ def _suggestion_line(result, args, data) -> str:
     results = getattr(result, "results", (result,))
     if all(r.sign_hint for r in results):  # (a circuit read off conj(Z) starts a fit of the wrong data)
         return "starting circuit from the DRT: none while the sign looks flipped (the warning above); correct it, then run impedax drt again"
+    if all(r.over_smoothed for r in results):  # (peaks of a γ smoothed past the data: too broad and too few)
+        return "starting circuit from the DRT: none while λ over-smooths the data (the warning above); run impedax drt again with a smaller --lam, or --lam auto"
     suggestion, count = most_common_suggestion(results)
     share = "" if len(results) == 1 else f" (the one {count} of {len(results)} spectra suggest, starts from the first of them)"
     return f"starting circuit from the DRT{share}: {suggestion.model} — fit it with: {fit_command(args, data=data)} {suggestion.fit_options()}"

@@ -113,6 +113,25 @@ def _check_finite(x: np.ndarray, fixed: float | None, source: str, lam: np.ndarr
     )
 
 
+def _with_automatic_lambda(results: list, solve, design_re, design_im, flat, z_ref) -> list:
+    """``results`` of a fixed λ with, on each that misfits (`DRTResult.misfits`), the λ the
+    automatic choice gives the same spectrum and γ's rms_rel there (``auto_lambda``,
+    ``auto_rms_rel``): `DRTResult.over_smoothed` tells a λ that smooths the data away from data
+    no γ reproduces. One more call of the compiled solve (NaN: chosen, as ``lam='auto'``)."""
+    import dataclasses
+
+    out = {k: np.asarray(v) for k, v in solve(np.full(len(results), math.nan)).items()}
+    mended = []
+    for i, one in enumerate(results):
+        if one.misfits:
+            x = out["x"][i]
+            z_fit = (design_re @ x + 1j * (design_im @ x)) * z_ref[i]
+            rms = float(np.sqrt(np.mean(np.abs((flat[i] - z_fit) / flat[i]) ** 2)))
+            one = dataclasses.replace(one, auto_lambda=float(math.exp(out["log_lambda"][i])), auto_rms_rel=rms)
+        mended.append(one)
+    return mended
+
+
 def _lambda_note(method: str, choice: float, index: int) -> str:
     """How an automatic λ ended where it did, when not simply at the criterion's optimum
     ("" then): raised to `_LAMBDA_FLOOR`, or at the top of the grid. ``index``: the grid
@@ -307,6 +326,10 @@ def drt(
                 sign_hint=values_sign_hint(freq, flat[i], attrs),
             )
         )
+    if fixed is not None and any(r.misfits for r in results):
+        results = _with_automatic_lambda(results, lambda log_lambda: _stored_solve(lam_method, bool(signed), int(max_iter))(
+            design_re, design_im, weights, zn.real, zn.imag, gamma_penalty, r_inv, mask, phi, _LOG_LAMBDA_GRID, log_lambda, math.log(_LAMBDA_FLOOR),
+        ), design_re, design_im, flat, z_ref)
     if not dims:
         return results[0]
     return DRTBatchResult(dims=dims, shape=z.shape[:-1], coords=coords, results=tuple(results))

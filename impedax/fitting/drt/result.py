@@ -36,6 +36,11 @@ def format_lambda(value: float, digits: int = 3) -> str:
 # a DRT fit worse than this (rms_rel) does not reproduce the data (`DRTResult.warnings`)
 DRT_MISFIT_MAX = 0.05
 
+OVER_SMOOTHED_FACTOR = 3.0
+"""A fixed λ over-smooths (`DRTResult.over_smoothed`) when the automatic λ reproduces the same
+spectrum this many times better, or within the noise: a SYNTHETIC 10 Ω + 100 Ω ∥ 100 µF
+spectrum at λ = 10⁶ misfits by 70 %, at gcv's λ by 1.1 % (tests/test_drt_over_smoothed.py)."""
+
 MISFIT_NOISE_RATIO = 1.5
 """... and rms_rel must also exceed this many times the misfit the noise alone gives,
 √2 × ``difference_noise`` (rms_rel is of the complex residual, σ per part): on SYNTHETIC R‖C
@@ -105,6 +110,8 @@ class DRTResult:
     dropped_peaks: tuple[Peak, ...] = ()
     difference_noise: float = math.nan
     sign_hint: str | None = None  # `io.sign_check.values_sign_hint`: Z'' (or Z') may be stored with the opposite sign
+    auto_lambda: float = math.nan  # a fixed λ that misfits: the λ ``lambda_method`` would choose (nan otherwise)
+    auto_rms_rel: float = math.nan  # … and γ's rms_rel at it (`over_smoothed`)
 
     def __post_init__(self):
         freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`)
@@ -223,14 +230,34 @@ class DRTResult:
             else:
                 cause = " (stray capacitance, or a cable's phase error)"
             out.append(f"L = {format_quantity(self.l_h, 'H')} is negative: the high-frequency end is more capacitive than the arcs explain{cause}")
-        noise_misfit = math.sqrt(2.0) * self.difference_noise
-        if self.rms_rel > DRT_MISFIT_MAX and not self.rms_rel <= MISFIT_NOISE_RATIO * noise_misfit:
-            out.append(
-                f"γ reproduces the data to only {self.rms_rel * 100:.3g} % (rms_rel), more than the noise explains (first-difference noise "
-                f"{self.difference_noise * 100:.2g} %, which alone gives rms_rel ≈ {noise_misfit * 100:.2g} %): the data are not Kramers–Kronig consistent in part "
-                "(impedax kk)" + ("" if self.signed else " or need γ < 0 somewhere (signed=True, --signed)")
-            )
+        if self.misfits:
+            noise_misfit = math.sqrt(2.0) * self.difference_noise
+            short = (f"γ reproduces the data to only {self.rms_rel * 100:.3g} % (rms_rel), more than the noise explains (first-difference noise "
+                     f"{self.difference_noise * 100:.2g} %, which alone gives rms_rel ≈ {noise_misfit * 100:.2g} %)")
+            if self.over_smoothed:
+                out.append(
+                    f"{short}: λ = {format_lambda(self.lam)} as given over-smooths them; at λ = {format_lambda(self.auto_lambda)}, the automatic "
+                    f"choice, γ reproduces them to {self.auto_rms_rel * 100:.3g} %: give a smaller λ (lam, --lam) or let it be chosen (lam='auto', --lam auto); "
+                    "peaks read off this γ come out too broad, and close ones merge"
+                )
+            else:
+                out.append(f"{short}: the data are not Kramers–Kronig consistent in part (impedax kk)" + ("" if self.signed else " or need γ < 0 somewhere (signed=True, --signed)"))
         return tuple(out)
+
+    @property
+    def misfits(self) -> bool:
+        """γ does not reproduce the data: rms_rel above `DRT_MISFIT_MAX` and above
+        `MISFIT_NOISE_RATIO` × √2 × ``difference_noise`` (more than the noise explains)."""
+        return self.rms_rel > DRT_MISFIT_MAX and not self.rms_rel <= MISFIT_NOISE_RATIO * math.sqrt(2.0) * self.difference_noise
+
+    @property
+    def over_smoothed(self) -> bool:
+        """A fixed λ is the cause of the misfit (`misfits`), not the data: at the λ
+        ``lambda_method`` chooses (``auto_lambda``, smaller) γ reproduces the same spectrum to
+        `OVER_SMOOTHED_FACTOR` × less, or within the noise (docs/drt.md, "Choosing λ")."""
+        if not (self.lambda_method == "fixed" and self.misfits and math.isfinite(self.auto_rms_rel) and self.auto_lambda < self.lam):
+            return False
+        return self.auto_rms_rel * OVER_SMOOTHED_FACTOR <= self.rms_rel or not (self.auto_rms_rel > DRT_MISFIT_MAX and not self.auto_rms_rel <= MISFIT_NOISE_RATIO * math.sqrt(2.0) * self.difference_noise)
 
     @property
     def notes(self) -> tuple[str, ...]:
@@ -340,6 +367,9 @@ class DRTResult:
             "converged": self.converged,
             "lambda_choice": self.lambda_choice,
             "lambda_note": self.lambda_note or None,
+            "over_smoothed": self.over_smoothed,
+            "auto_lambda": self.auto_lambda,
+            "auto_rms_rel": self.auto_rms_rel,
             "lambda_floor": LAMBDA_FLOOR,
             "lambda_scale": "relative to z_ref_ohm^2 (z_ref_ohm = max|Z|; residuals relative to |Z|)",
             "z_ref_ohm": self.z_ref,
@@ -510,7 +540,34 @@ class DRTBatchResult(ResultGrid):
         if hinted:  # (as the KK batch report's hint line: the first spectrum's hint, the others counted)
             listed = "; ".join(", ".join(f"{d}={v}" for d, v in where.items()) for where, _ in hinted[:3]) + ("; …" if len(hinted) > 3 else "")
             lines.append(f"warning: in {len(hinted)} of {counted(len(self.results), 'spectrum', 'spectra')} ({listed}): {hinted[0][1]}")
+        lines += self._misfit_warnings()
         return "\n".join(lines)
+
+    def _misfit_warnings(self) -> list[str]:
+        """The report's warnings on the spectra γ does not reproduce (`DRTResult.misfits`): those
+        a fixed λ over-smooths (`DRTResult.over_smoothed`), then the others (their data)."""
+        labels = self.labels()
+
+        def named(indices) -> str:
+            return "; ".join(", ".join(f"{d}={v}" for d, v in labels[i].items()) for i in indices[:3]) + ("; …" if len(indices) > 3 else "")
+
+        def span(values) -> str:
+            lo, hi = min(values) * 100, max(values) * 100
+            return f"{lo:.3g} %" if f"{lo:.3g}" == f"{hi:.3g}" else f"{lo:.3g}–{hi:.3g} %"
+
+        total = counted(len(self.results), "spectrum", "spectra")
+        smoothed = [i for i, r in enumerate(self.results) if r.over_smoothed]
+        others = [i for i, r in enumerate(self.results) if r.misfits and not r.over_smoothed and not r.sign_hint]
+        out = []
+        if smoothed:
+            first = self.results[smoothed[0]]
+            out.append(f"warning: λ = {format_lambda(first.lam)} as given over-smooths {len(smoothed)} of {total} ({named(smoothed)}): γ reproduces them to "
+                       f"{span([self.results[i].rms_rel for i in smoothed])}, at the automatic λ to {span([self.results[i].auto_rms_rel for i in smoothed])}; "
+                       "give a smaller λ (--lam) or let it be chosen (--lam auto)")
+        if others:
+            out.append(f"warning: γ reproduces {len(others)} of {total} ({named(others)}) to only {span([self.results[i].rms_rel for i in others])}, more than their noise explains: "
+                       "their data are not Kramers–Kronig consistent in part (impedax kk)" + ("" if self.results[0].signed else " or need γ < 0 somewhere (--signed)"))
+        return out
 
     def _lambda_notes(self):
         """(the summary line's words on the spectra whose λ was raised to the floor, the note

@@ -149,6 +149,8 @@ def suggest_circuit(result) -> SuggestedCircuit:
                        "or turns capacitive at its low end; measure lower frequencies to see an arc")
     if result.sign_hint:  # (the parts stand, but they were read off data no passive cell gives)
         reasons.insert(0, "read off data whose sign looks flipped (the DRT's sign_hint): correct the sign first, then run the DRT again")
+    if result.over_smoothed:  # (the parts stand, but they were read off a γ smoothed past the data)
+        reasons.insert(0, f"read off a DRT whose λ = {result.lam:.3g} over-smooths the data (its warning): run the DRT again at a smaller λ or the automatic one")
     return SuggestedCircuit(" + ".join(parts), init, tuple(reasons))
 
 
@@ -179,7 +181,8 @@ def _low_end_capacitance(result) -> float:
 def most_common_suggestion(results) -> tuple[SuggestedCircuit, int]:
     """(the suggestion whose model most spectra of ``results`` share — the first spectrum's of
     them, with its starts —, how many share it); ties go to the model met first. Spectra with a
-    ``sign_hint`` (a sign stored flipped) take part only when every spectrum has one."""
-    suggestions = [r.suggested_circuit() for r in ([r for r in results if not r.sign_hint] or results)]
+    ``sign_hint`` (a sign stored flipped) or an over-smoothing fixed λ (`DRTResult.over_smoothed`)
+    take part only when every spectrum has one."""
+    suggestions = [r.suggested_circuit() for r in ([r for r in results if not (r.sign_hint or r.over_smoothed)] or results)]
     model, count = Counter(s.model for s in suggestions).most_common(1)[0]
     return next(s for s in suggestions if s.model == model), count
