@@ -41,6 +41,14 @@ OVER_SMOOTHED_FACTOR = 3.0
 spectrum this many times better, or within the noise: a SYNTHETIC 10 Ω + 100 Ω ∥ 100 µF
 spectrum at λ = 10⁶ misfits by 70 %, at gcv's λ by 1.1 % (tests/test_drt_over_smoothed.py)."""
 
+SPARSE_POINTS_PER_DECADE = 2.0
+"""Below this many frequencies a decade (N over the measured band's decades) the DRT warns
+(`DRTResult.sparse_warning`): its residuals there hold the smoothing's misfit as well as the
+noise, so neither noise estimate is the noise, and the automatic λ smooths more. SYNTHETIC exact
+100 Ω + 1 kΩ/(1 + jωτ) spectra over 1 Hz–100 kHz (τ = 0.3, 1, 3 ms): at 1.2 a decade (6 points)
+λ = 0.35–1.1, rms_rel 11–13 % beside a first-difference "noise" of 9–12 % and peak τ 30–50 %
+long; at 1.4 τ 19–33 % long; at 1.8 8–11 %; at 2 and above 2–7 % (tests/test_drt_sparse.py)."""
+
 MISFIT_NOISE_RATIO = 1.5
 """... and rms_rel must also exceed this many times the misfit the noise alone gives,
 √2 × ``difference_noise`` (rms_rel is of the complex residual, σ per part): on SYNTHETIC R‖C
@@ -230,6 +238,8 @@ class DRTResult:
             else:
                 cause = " (stray capacitance, or a cable's phase error)"
             out.append(f"L = {format_quantity(self.l_h, 'H')} is negative: the high-frequency end is more capacitive than the arcs explain{cause}")
+        if self.sparse_warning:
+            out.append(self.sparse_warning)
         if self.misfits:
             noise_misfit = math.sqrt(2.0) * self.difference_noise
             short = (f"γ reproduces the data to only {self.rms_rel * 100:.3g} % (rms_rel), more than the noise explains (first-difference noise "
@@ -243,6 +253,23 @@ class DRTResult:
             else:
                 out.append(f"{short}: the data are not Kramers–Kronig consistent in part (impedax kk)" + ("" if self.signed else " or need γ < 0 somewhere (signed=True, --signed)"))
         return tuple(out)
+
+    @property
+    def points_per_decade(self) -> float:
+        """Frequencies a decade over the measured band (N / decades; inf for one frequency)."""
+        decades = math.log10(float(self.frequency.max() / self.frequency.min()))
+        return self.frequency.size / decades if decades > 0 else math.inf
+
+    @property
+    def sparse_warning(self) -> str | None:
+        """On data sparser than `SPARSE_POINTS_PER_DECADE`: what the DRT cannot tell there (the
+        noise from the smoothing's misfit; a peak's τ and width as closely). None otherwise."""
+        if self.points_per_decade >= SPARSE_POINTS_PER_DECADE:
+            return None
+        return (f"sparse data: at {self.points_per_decade:.2g} points a decade the residuals hold the smoothing's misfit as well as the noise (rms_rel "
+                f"{self.rms_rel * 100:.3g} % need not be noise), and {'the automatic' if self.lambda_method != 'fixed' else 'a'} λ smooths more: peaks come out broader and "
+                f"their τ less sure (on SYNTHETIC exact R‖C spectra at 1.2 a decade, τ came out 30–50 % long); measure at least {SPARSE_POINTS_PER_DECADE:g} "
+                "points a decade, or fit a circuit to these points (impedax fit)")
 
     @property
     def misfits(self) -> bool:
@@ -544,8 +571,9 @@ class DRTBatchResult(ResultGrid):
         return "\n".join(lines)
 
     def _misfit_warnings(self) -> list[str]:
-        """The report's warnings on the spectra γ does not reproduce (`DRTResult.misfits`): those
-        a fixed λ over-smooths (`DRTResult.over_smoothed`), then the others (their data)."""
+        """The report's warnings on sparse data (`DRTResult.sparse_warning`, one grid for all), then
+        on the spectra γ does not reproduce (`DRTResult.misfits`): those a fixed λ over-smooths
+        (`DRTResult.over_smoothed`), then the others (their data)."""
         labels = self.labels()
 
         def named(indices) -> str:
@@ -558,7 +586,8 @@ class DRTBatchResult(ResultGrid):
         total = counted(len(self.results), "spectrum", "spectra")
         smoothed = [i for i, r in enumerate(self.results) if r.over_smoothed]
         others = [i for i, r in enumerate(self.results) if r.misfits and not r.over_smoothed and not r.sign_hint]
-        out = []
+        sparse = self.results[0].sparse_warning  # (one frequency grid: every spectrum's or none)
+        out = [f"warning: {sparse}"] if sparse else []
         if smoothed:
             first = self.results[smoothed[0]]
             out.append(f"warning: λ = {format_lambda(first.lam)} as given over-smooths {len(smoothed)} of {total} ({named(smoothed)}): γ reproduces them to "
