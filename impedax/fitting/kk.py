@@ -469,6 +469,11 @@ class KKResult:
         misfit_words = ("about what a sound model can reach" if self.valid else
                         # (next to "NOT valid" the figure is no promise: it holds the failing points' misfit)
                         "failing points included: no circuit is expected to fit closer, and reaching it would not make the data sound")
+        if self.sparse_note:  # (on a sparse grid the figure is the chain's own approximation: a circuit may fit far closer)
+            misfit_words = (f"on these sparse points mostly the chain's own approximation, which fits one exact relaxation only to {self.chain_error * 100:.2g} %: "
+                            "no bound for a circuit, which may fit far closer")
+        elif not self.conclusive:
+            misfit_words = "from too few points to say what a sound model can reach"
         lines = [
             f"linear KK test: M = {self.n_rc} RC elements, µ = {self.mu:.3f}{mu_note}{self.mu_words}",
             "  (a chain of M R‖C in series, which is Kramers–Kronig consistent by construction, fitted to the data: Schönleber et al. 2014; docs/kk.md)",
