@@ -459,6 +459,9 @@ class KKResult:
         ``command``, the run's command line with the suggested options, in place of the options
         alone)."""
         verdict = "valid (KK-consistent)" if self.valid else "NOT valid: data are not KK-consistent"
+        if self.conclusive and self.marginal_points_only:  # (beside "next: stop leaving points out", which calls them the scatter's tail)
+            verdict = (f"NOT valid by the point rule alone, and only just: {'an isolated point' if np.count_nonzero(self.flagged) == 1 else 'isolated points'} barely over its level, "
+                       "the tail of the data's own scatter more than a sign that the data are not KK-consistent")
         if not self.conclusive:
             verdict = f"inconclusive: {self.frequency.size} frequencies are too few for the test (it needs {CONCLUSIVE_POINTS_MIN})" + ("" if self.valid else "; it flags the bands below")
         mu_note = "" if self.mu_reached else f" (µ ≥ c={self.c:g} at the M given)" if self.n_rc_given else (
@@ -482,7 +485,10 @@ class KKResult:
         ]
         if self.stray_frequencies.size:
             where = ", ".join(format_frequency(float(f)) for f in self.stray_frequencies)
-            lines.append(f"left out of the chain's fit as stray (lone spikes over the point level): {where}; judged against the chain without them (docs/kk.md, \"Stray points\")")
+            kept = [f for f in self.frequency[self.flagged] if f not in set(self.stray_frequencies)]  # (flagged against that chain, not lone spikes of the chain with them)
+            also = (f"; {', '.join(format_frequency(float(f)) for f in sorted(kept))}, kept in it, fail{'s' if len(kept) == 1 else ''} against it too"
+                    if kept and len(kept) <= FEW_BAND_POINTS else "")
+            lines.append(f"left out of the chain's fit as stray (lone spikes over the point level): {where}; judged against the chain without them{also} (docs/kk.md, \"Stray points\")")
         if self.noise_from == "sigma":
             scale = self.scale_per_point
             lines.insert(3, f"noise: the data's sigma (the chain weighted by 1/σ; each point judged against its own σ/|Z|, {scale.min() * 100:.3g}–{scale.max() * 100:.3g} %; "
