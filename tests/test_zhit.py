@@ -137,3 +137,16 @@ def test_dense_modulus_drift_is_still_flagged():
         result = ix.zhit((F_DENSE, z))
         assert not result.valid and result.flagged[0]
         assert np.all(F_DENSE[result.flagged] < 1e-2)  # nowhere else
+
+
+@pytest.mark.parametrize(("level", "floored"), [(0.0, True), (0.03, False)])
+def test_the_report_states_the_rules_and_the_floor_they_rest_on(level, floored):
+    """The 1 % floor of s was not stated (a walkthrough, 2026-12-05): exact data's noise estimate
+    of a few 0.01 % sat beside a 5 % point level with no word why. At 3 % noise s is the noise."""
+    result = ix.zhit((F, noisy(EXACT["R||C"], level, 0)))
+    line = next(x for x in result.report().splitlines() if x.startswith("rules"))
+    s = max(result.noise_estimate, 0.01)  # by hand: s = max(noise estimate, floor)
+    assert f"s = {s * 100:.3g} %" in line
+    assert ("the 1 % floor" in line) is floored and (f"s = {s * 100:.3g} %, the noise estimate)" in line) is not floored
+    assert f"point |residual| > 5.03 s = {result.threshold * 100:.3g} %" in line  # (5 raised for 71 points, as the linear test)
+    assert result.threshold == pytest.approx(5.03 * s, rel=1e-3)

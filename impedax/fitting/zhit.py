@@ -112,6 +112,7 @@ class ZHITResult:
     band_rules: tuple[tuple[str, ...], ...] = ()
     end_slope_local: np.ndarray | None = field(default=None)
     sign_hint: str | None = None  # `io.sign_check.sign_hint`: Z'' may be stored with the opposite sign
+    noise_floor: float = 0.01  # s = max(noise_estimate, noise_floor): the floor `zhit` was given (added 2026-12-05)
 
     def __post_init__(self):
         freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`)
@@ -157,6 +158,8 @@ class ZHITResult:
             "frequency_hz": self.frequency, "modulus_zhit_ohm": self.modulus, "residuals_modulus": self.residuals,
             "end_slope_local_hz": np.sort(self.frequency[end_local]), "sign_hint": self.sign_hint,
             "notes": self.notes, "warnings": self.notes + ([self.sign_hint] if self.sign_hint else []),  # (added 2026-12-01, as the linear test's)
+            # (added 2026-12-05) s = max(noise estimate, floor), what the rules' levels are multiples of
+            "noise_floor_rel": self.noise_floor, "threshold_scale_rel": max(self.noise_estimate, self.noise_floor),
         }
 
     def to_table(self) -> list[dict[str, object]]:
@@ -176,13 +179,29 @@ class ZHITResult:
             return []
         return [f"inconclusive: {self.frequency.size} frequencies are too few for Z-HIT (it needs {CONCLUSIVE_POINTS_MIN}, and {CONCLUSIVE_PER_DECADE_MIN:g} a decade)"]
 
+    @property
+    def rules_text(self) -> str:
+        """The rules' levels and the scale s they rest on, naming the floor when it, not the
+        noise estimate, sets s (the reconstruction's own error at sharp corners: `zhit`)."""
+        scale = max(self.noise_estimate, self.noise_floor)
+        why = (f"the {self.noise_floor * 100:.3g} % floor (noise_floor: Z-HIT's own approximation error, up to ≈ 1–1.5 % at ideal R‖C corners), "
+               f"above the noise estimate" if self.noise_floor >= self.noise_estimate else "the noise estimate")
+        return (f"rules (on |residual| = (|Z| − |Z| from the phase)/|Z|, s = {scale * 100:.3g} %, {why}): point |residual| > {self.point_multiple:.3g} s = {self.threshold * 100:.3g} %; "
+                f"run of ≥ {self.run_length} with |residual| > {self.run_threshold / scale:.3g} s = {self.run_threshold * 100:.3g} %")
+
+    @property
+    def point_multiple(self) -> float:
+        """The point rule's multiple of s (5, raised beyond `REFERENCE_POINTS` frequencies)."""
+        return self.threshold / max(self.noise_estimate, self.noise_floor)
+
     def report(self) -> str:
-        """rms_rel, noise estimate, verdict, the bad bands with the rule that flagged each."""
+        """rms_rel, noise estimate, verdict, the rules' levels and their scale, the bad bands with
+        the rule that flagged each."""
         verdict = "valid (|Z| and phase consistent)" if self.valid else "NOT valid: |Z| and phase disagree"
         if not self.conclusive:
             verdict = (f"inconclusive: {self.frequency.size} frequencies are too few for Z-HIT (it needs {CONCLUSIVE_POINTS_MIN}, "
                        f"and {CONCLUSIVE_PER_DECADE_MIN:g} a decade)") + ("" if self.valid else "; it flags the bands below")
-        lines = [f"Z-HIT: rms_rel = {self.rms_rel * 100:.3g} %, noise estimate = {self.noise_estimate * 100:.3g} %", f"verdict: {verdict}"]
+        lines = [f"Z-HIT: rms_rel = {self.rms_rel * 100:.3g} %, noise estimate = {self.noise_estimate * 100:.3g} %", f"verdict: {verdict}", self.rules_text]
         order = np.argsort(self.frequency)
         masks = _rule_masks(np.abs(self.residuals[order]), self.threshold, self.run_threshold, self.run_length)
         flag = np.asarray(self.flagged, bool)[order]
@@ -345,5 +364,5 @@ def _zhit(freq, z, *, noise_floor: float, point: float, run: float, run_length: 
         frequency=freq.copy(), impedance=z.copy(), modulus=modulus, residuals=residual,
         rms_rel=float(np.sqrt(np.mean(residual**2))), noise_estimate=noise, threshold=point * scale,
         flagged=flagged, bad_bands=bands, valid=not bands, offset=offset, run_threshold=run * scale, run_length=int(run_length),
-        band_rules=band_rules(flag, masks, freq[order]), end_slope_local=local,
+        band_rules=band_rules(flag, masks, freq[order]), end_slope_local=local, noise_floor=float(noise_floor),
     )
