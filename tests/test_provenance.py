@@ -296,6 +296,23 @@ def test_simulate_out_records_the_model_and_its_values(tmp_path, capsys):
     assert record["settings"]["params_used"] == {"R0": 10.0, "R1": 100.0, "C1": 1e-6}
 
 
+def test_simulate_help_names_every_column_its_out_file_writes(tmp_path, capsys):
+    """`impedax simulate --help` named three CSV columns while --out wrote fifteen (a
+    walkthrough, 2026-12-05): it now names the three of standard output and each provenance
+    column of --out, read here from a file it wrote."""
+    with pytest.raises(SystemExit):
+        main(["simulate", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert main(["simulate", "R0 + R1 || C1", "--points", "3", "--out", str(tmp_path / "s.csv")]) == 0
+    capsys.readouterr()
+    columns = next(csv.reader((tmp_path / "s.csv").open(newline="")))
+    assert "three columns on standard output" in text
+    for name in columns:
+        assert (name in text) or (name.startswith("setting_") and "setting_*" in text), name
+    assert main(["simulate", "R0 + R1 || C1", "--points", "3"]) == 0
+    assert next(csv.reader(io.StringIO(capsys.readouterr().out))) == ["frequency_hz", "z_real_ohm", "z_imag_ohm"]
+
+
 def test_inspect_json_and_out_record_the_file(rc_file, tmp_path, capsys):
     """`impedax inspect --json` and its --out (netCDF, CSV) name the command and the file read."""
     assert main(["inspect", str(rc_file), "--json"]) == 0

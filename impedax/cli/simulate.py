@@ -15,7 +15,10 @@ POINT_BYTES = 1024
 
 
 def register(sub) -> None:
-    p = sub.add_parser("simulate", help="write a model's spectrum as CSV", description="Evaluate MODEL at log-spaced frequencies (both ends included) and write frequency_hz,z_real_ohm,z_imag_ohm.")
+    p = sub.add_parser("simulate", help="write a model's spectrum as CSV", description=("Evaluate MODEL at log-spaced frequencies (both ends included) and write frequency_hz,z_real_ohm,z_imag_ohm: "
+                                "those three columns on standard output; a --out FILE.csv adds the provenance columns after them (impedax_version, "
+                                "written_utc, command, source, data_files, then setting_* for each option: docs/io.md, \"Provenance\"); "
+                                "impedax reads the file back as a spectrum."))
     add_model_argument(p, positional=True)
     p.add_argument("--param", action="append", metavar="NAME=VALUE", help="parameter value; several after one --param (--param R0=10 C1=1u) or --param repeated; unspecified ones take their defaults")
     p.add_argument("--fmin", type=number_option, default=1.0, help="lowest frequency [Hz] (default 1)")
