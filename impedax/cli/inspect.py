@@ -135,8 +135,7 @@ def run(args) -> int:
         from .common import fit_command
 
         run = argparse.Namespace(**{**vars(args), "data": args.file})  # (the file, --select and --plugin of this run)
-        kk, drt = (fit_command(run, data=ds, program=f"impedax {name}") for name in ("kk", "drt"))
-        print(f"next: {kk} (are the data themselves sound?), then {drt} (how many arcs; it ends with a starting circuit to fit)")
+        print(_next_line(run, ds))
     return 0
 
 
@@ -318,3 +317,22 @@ def _preview(ds, fmt, name: str | None = None):
     spectra = [(freq, stacked.values[i]) for i in positions]
     drawn = f"{n} spectr{'um' if n == 1 else 'a'}" if len(positions) == n else f"{len(positions)} of {n} spectra, evenly spread (pick others with --select)"
     return plot_spectra(spectra, labels, title=wrap_model(f"{head} — {drawn}", width), legend_title=", ".join(extra))
+
+
+def _next_line(run, data) -> str:
+    """The report's last line: what to run next on these points. ``impedax kk`` then ``impedax
+    drt``; on fewer points than the DRT takes (`DRT_POINTS_MIN`), a fit of at most 2N real
+    parameters (1 point was told to run `impedax kk`, which needs 4: a walkthrough, 2026-12-05);
+    below `kk.CONCLUSIVE_POINTS_MIN` the KK test's verdict is inconclusive, and the line says so."""
+    from ..fitting.drt._drt import DRT_POINTS_MIN
+    from ..fitting.kk import CONCLUSIVE_POINTS_MIN
+    from .common import fit_command
+
+    n = int(data.sizes["frequency"])
+    kk, drt, fit = (fit_command(run, data=data, program=f"impedax {name}") for name in ("kk", "drt", "fit"))
+    if n < DRT_POINTS_MIN:
+        return (f"next: {n} frequenc{'y is' if n == 1 else 'ies are'} too few for impedax kk (a verdict needs {CONCLUSIVE_POINTS_MIN}) and impedax drt "
+                f"(it needs {DRT_POINTS_MIN}): measure more frequencies, or fit a circuit of at most {2 * n} parameters (2 real numbers a point): "
+                f"{fit} --model {'R0' if n == 1 else repr('R0 + C1') if n == 2 else repr('R0 + R1 || C1')}")
+    few = f" (with {n} frequencies its verdict is inconclusive: it needs {CONCLUSIVE_POINTS_MIN})" if n < CONCLUSIVE_POINTS_MIN else ""
+    return f"next: {kk} (are the data themselves sound?){few}, then {drt} (how many arcs; it ends with a starting circuit to fit)"

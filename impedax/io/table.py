@@ -136,6 +136,21 @@ def _angular(cell: str) -> bool:
     return key in ANGULAR_NAMES
 
 
+_PREFIXED_SUFFIX = re.compile(r"^(?P<name>.+?)_(?P<unit>[mµμukKMG](?:Hz|hz|HZ|Ohms?|ohms?|OHMS?))$")
+
+
+def _prefixed_suffix(name: str) -> tuple[str | None, str]:
+    """The role and unit of a name ending in a prefixed unit suffix, read in the name's own case
+    (``z_real_mohm`` → ``('real', 'mohm')``: milliohm; ``freq_kHz`` → kHz; an all-capitals
+    ``_MOHM`` is ambiguous, `unit_scale` says so); ``(None, '')`` otherwise. `_SUFFIX_UNITS`
+    holds the unprefixed ones, read from the lowercased key."""
+    m = _PREFIXED_SUFFIX.match(name.strip())
+    if m is None:
+        return None, ""
+    role = _ROLE_OF_NAME.get(_squash(_key(m.group("name"))))
+    return (role, m.group("unit")) if role is not None else (None, "")
+
+
 def role_of(cell: str) -> tuple[str, float, str] | None:
     """``(role, scale to SI, unit)`` of a header cell named as in `ROLES`, or ``None`` when it
     names no role (generic names: `fallback_role`). An angular frequency (`_angular`) is the
@@ -145,6 +160,8 @@ def role_of(cell: str) -> tuple[str, float, str] | None:
     name, unit = split_header_cell(cell)
     key = _key(name)
     role, suffix_unit = _named(key, _ROLE_OF_NAME)
+    if role is None and not unit:
+        role, suffix_unit = _prefixed_suffix(name)
     if role is None:
         m = UNIT_CELL.match(unquoted(cell))
         if m and _named(_key(m.group("name")), _ROLE_OF_NAME)[0] is not None:  # a role with a unit we do not know

@@ -27,6 +27,10 @@ _SAMPLES = 200  # Gaussian draws for the peaks' standard deviations
 _TAIL_WIDTH = math.sqrt(math.log(1e5))  # the output grid reaches this far past the outer centres, in units of 1/ε
 
 
+DRT_POINTS_MIN = 5
+"""The fewest frequencies `drt` takes (10 real equations for R_∞, L and a few RBFs)."""
+
+
 @functools.lru_cache(maxsize=8)
 def _stored_solve(method: str, signed: bool, max_iter: int) -> StoredProgram:
     """`tikhonov.solve_batch` for these options, kept across processes (`stored`)."""
@@ -236,8 +240,8 @@ def drt(
     freq, z, dims, coords, source = frequency_and_z(data)
     attrs = getattr(data, "attrs", None)  # (a Dataset's: how its reader took the Z'' column, for the sign hint's fix)
     refuse_result_names(dims, BATCH_RESULT_NAMES, "a DRT batch result", source=source)
-    if freq.size < 5:
-        raise DataError(f"the DRT needs at least 5 frequencies, got {freq.size}", path=source)
+    if freq.size < DRT_POINTS_MIN:
+        raise DataError(f"the DRT needs at least {DRT_POINTS_MIN} frequencies, got {freq.size}", path=source)
     if np.any(np.abs(z) == 0):
         raise DataError("Z is exactly zero at some frequency; the relative weighting 1/|Z| needs |Z| > 0", path=source)
     use_c = _needs_capacitance(freq, z) if capacitance == "auto" else bool(capacitance)
