@@ -745,20 +745,25 @@ def _labelled(ds: xr.Dataset) -> xr.Dataset:
     return ds
 
 
-def _gap_length(u: float) -> str:
-    """A gap thickness u [m] as the report gives it: ``2.805 µm`` within `PLAUSIBLE_GAP_M`, else
-    with the SI prefix of its size, ``1.15 m``, ``50.6 pm`` (which printed "1150016.575 µm" and
-    "0.000 µm"; 2026-12-03)."""
+def _gap_length(u: float, digits: int | None = None) -> str:
+    """A gap thickness u [m] as the report gives it: within `PLAUSIBLE_GAP_M` in µm, to 3
+    decimals (``2.805 µm``) or to ``digits`` significant digits (bounds 0.126–0.134, not
+    0.13–0.13); else with the SI prefix of its size, ``1.15 m``, ``50.6 pm`` (which printed
+    "1150016.575 µm" and "0.000 µm"; 2026-12-03; a resistive remainder's notes, 2026-12-05)."""
     low, high = PLAUSIBLE_GAP_M
-    return f"{u * 1e6:.3f} µm" if low <= u <= high else format_quantity(u, "m")
+    if low <= u <= high:
+        return f"{u * 1e6:.3f} µm" if digits is None else f"{u * 1e6:.{digits}g} µm"
+    return format_quantity(u, "m") if digits is None else format_quantity(u, "m", digits)
 
 
-def _gap_range(low: float, high: float) -> str:
-    """``2.797–2.814 µm``, or ``1.14 m–1.15 m`` when an end is no air gap (`_gap_length`)."""
+def _gap_range(low: float, high: float, digits: int | None = None) -> str:
+    """``2.797–2.814 µm`` (``2.15–2.21 µm`` to 3 ``digits``), or ``1.14 m–1.15 m`` when an end
+    is no air gap (`_gap_length`)."""
     a, b = PLAUSIBLE_GAP_M
     if a <= low <= b and a <= high <= b:
-        return f"{low * 1e6:.3f}–{high * 1e6:.3f} µm"
-    return f"{_gap_length(low)}–{_gap_length(high)}"
+        form = ".3f" if digits is None else f".{digits}g"
+        return f"{low * 1e6:{form}}–{high * 1e6:{form}} µm"
+    return f"{_gap_length(low, digits)}–{_gap_length(high, digits)}"
 
 
 CAPACITANCE_DIGITS = 4
@@ -998,7 +1003,7 @@ def gap_analysis(
     notes += _gap_breakdown_notes(force, float(np.median(u_draws)), area, eps_gap)
     sampled = _sampling_notes(posterior.warnings)
     notes += _edl_fit_warnings(edl, remaining) + [f"sampling: {w}" for w in _correlation_advice(sampled, posterior.strong_correlations, posterior.parameter_draws(), circuit, single, weighting=weighting)]
-    notes += _estimate_bound_notes("Bayesian gap thickness", float(np.median(u_draws)), paper, remaining, f"; draws span {_um_range(u_draws.min(), u_draws.max())}")
+    notes += _estimate_bound_notes("Bayesian gap thickness", float(np.median(u_draws)), paper, remaining, f"; draws span {_gap_range(u_draws.min(), u_draws.max(), 3)}")
     known_kk = KKChains()
     lower, withheld, merged = _identification(ep, str(requested), circuit, posterior.parameter_draws(), edl, posterior.piled_up, notes, remaining, area, eps_gap, known_kk)
     bound_force = _force_upper_bound(merged, lower, freq, z_skin, z_ts, area=area, v0=v0, eps_gap=eps_gap)
@@ -1074,7 +1079,7 @@ def _correlation_advice(warnings, correlations, draws: Mapping[str, np.ndarray],
         narrowing = 1.0 - math.sqrt(1.0 - min(1.0, max(r * r for r in rs.values())))
         correlations = " and ".join(f"{r:+.2f} with {n}" for n, r in rs.items())
         verdict = ("this matters little to u" if narrowing < U_CORRELATION_MATTERS else "this widens u's interval") + (
-            f": u's interval {_um_range(q05, q95)} (±{(q95 - q05) / (2 * q50):.2%}) already carries it, u's correlation (log space) is {correlations}, "
+            f": u's interval {_gap_range(q05, q95, 3)} (±{(q95 - q05) / (2 * q50):.2%}) already carries it, u's correlation (log space) is {correlations}, "
             f"so knowing either exactly would narrow it by at most {narrowing:.0%} (√(1 − r²))"
         )
         out.append(
@@ -1082,22 +1087,6 @@ def _correlation_advice(warnings, correlations, draws: Mapping[str, np.ndarray],
             f"ix.models.gap_analysis({inputs}, area=…, method='pooled', edl_fit=ix.fit('{circuit}', ix.models.remaining_impedance({inputs if not single else 'total, None, None'}), fixed={{'{found.first}': …}}, weighting='{weighting}'))"
         )
     return out
-
-
-def _um(length_m: float, digits: int = 3) -> str:
-    """A gap length [m] with its unit: in µm to ``digits`` significant digits (bounds 0.126–0.134,
-    not 0.13–0.13) within `PLAUSIBLE_GAP_M`, else with the SI prefix of its size (``1.14 m``, not
-    ``1.14e+06 µm``; a resistive remainder's notes, 2026-12-05)."""
-    low, high = PLAUSIBLE_GAP_M
-    return f"{length_m * 1e6:.{digits}g} µm" if low <= length_m <= high else format_quantity(length_m, "m", digits)
-
-
-def _um_range(low_m: float, high_m: float, digits: int = 3) -> str:
-    """``2.15–2.21 µm``, or ``926 mm–1.15 m`` when an end is no air gap (`_um`)."""
-    a, b = PLAUSIBLE_GAP_M
-    if a <= low_m <= b and a <= high_m <= b:
-        return f"{low_m * 1e6:.{digits}g}–{high_m * 1e6:.{digits}g} µm"
-    return f"{_um(low_m, digits)}–{_um(high_m, digits)}"
 
 
 # the hierarchical sampling is called unreliable (the report's first line, the figure's banner)
@@ -1158,7 +1147,7 @@ def _paper_bound_notes(paper: PaperGapEstimate, remaining: xr.Dataset) -> list[s
     if not _has_bounds(remaining) or not _far_outside(u, low, high):
         return []
     return [
-        f"the paper method's u = {_um(u)} lies far outside its own bounds {_um_range(low, high)} "
+        f"the paper method's u = {_gap_length(u, 3)} lies far outside its own bounds {_gap_range(low, high, 3)} "
         f"(by more than their width and {PAPER_BOUND_SLACK:.0%} of u): the lowest- and highest-impedance trials are far from bracketing the trial means, "
         + ("so those bounds are no interval for u; check the file's trials (one may be of another contact)" if _single(remaining)
            else "so those bounds are no interval for u; check the three files (TOTAL SKIN SCREEN: the right measurements, in that order)")
@@ -1192,14 +1181,14 @@ def _paper_interval_notes(paper: PaperGapEstimate, remaining: xr.Dataset) -> lis
         return []
     found = []
     if outside:
-        found.append(f"lie {'below' if u > high else 'above'} its u = {_um(u, 4)}")
+        found.append(f"lie {'below' if u > high else 'above'} its u = {_gap_length(u, 4)}")
     if narrow:
-        found.append(f"are {_um(high - low, 4)} wide while single total trials{'' if _single(remaining) else ' (each minus the mean skin and screen)'} give u = {_um_range(paper.gap_trial_min, paper.gap_trial_max, 4)}")
+        found.append(f"are {_gap_length(high - low, 4)} wide while single total trials{'' if _single(remaining) else ' (each minus the mean skin and screen)'} give u = {_gap_range(paper.gap_trial_min, paper.gap_trial_max, 4)}")
     why = ("since they come from the lowest- and highest-impedance trials alone, and the trial means need not lie between them; " if _single(remaining) else
            "since the paper subtracts the lowest-impedance skin and screen from the lowest-impedance total (and the highest from the highest), "
            "so the extremes of the three sets offset each other; ")
     return [
-        f"the paper method's bounds {_um_range(low, high, 4)} {' and '.join(found)}: they are no interval for u, "
+        f"the paper method's bounds {_gap_range(low, high, 4)} {' and '.join(found)}: they are no interval for u, "
         + why + "read the Bayesian interval for u, or the single trials' range for its scatter (docs/models.md, \"The paper's bounds\")"
     ]
 
@@ -1210,7 +1199,7 @@ def _estimate_bound_notes(what: str, u: float, paper: PaperGapEstimate, remainin
     paper's own u, so a small miss says nothing."""
     if not _has_bounds(remaining) or not _far_outside(u, paper.gap_lower, paper.gap_upper):
         return []
-    return [f"the {what} {_um(u)} lies far outside the paper method's bounds ({_um_range(paper.gap_lower, paper.gap_upper)}{detail}): the two methods disagree (the figure's air-gap thickness panel shows both)"]
+    return [f"the {what} {_gap_length(u, 3)} lies far outside the paper method's bounds ({_gap_range(paper.gap_lower, paper.gap_upper, 3)}{detail}): the two methods disagree (the figure's air-gap thickness panel shows both)"]
 
 
 def _naive_runaway_notes(naive) -> list[str]:
@@ -1305,10 +1294,10 @@ def _gap_breakdown_notes(force: xr.Dataset, u: float, area: float, eps_gap: floa
     threshold = f"the ~{AIR_BREAKDOWN_V:g} V at which air breaks down (Paschen minimum, 1 atm)"
     unmodelled = "which eq 1's force does not model; check --v0 (Python: v0)"
     if v_median > AIR_BREAKDOWN_V:
-        return [f"{where}{interval} across u = {_um(u)}, above {threshold}: the gap would spark, {unmodelled}"]
+        return [f"{where}{interval} across u = {_gap_length(u, 3)}, above {threshold}: the gap would spark, {unmodelled}"]
     if v_high > AIR_BREAKDOWN_V:
         return [
-            f"{where}{interval} across u = {_um(u)}: the median is below {threshold}, but the upper end of the 90% interval "
+            f"{where}{interval} across u = {_gap_length(u, 3)}: the median is below {threshold}, but the upper end of the 90% interval "
             f"({_volts(v_high, digits)} V) is above it: the gap may spark (more than 5% of the posterior), {unmodelled}"
         ]
     return []
@@ -1521,7 +1510,7 @@ def _piled_bounds(u_draws, lower: float, upper: float) -> list[tuple[str, float,
 def _bound_notes(u_draws, reparametrization, area: float, single: bool = False) -> list[str]:
     """A warning for each prior bound of u the draws pile up at (`_piled_bounds`)."""
     return [
-        f"the posterior of u piles up at the {side} bound of its prior, u = {_um(bound)} (C_gap = {c_bound:g} F at A = {area:g} m²; {share:.0%} of the draws within a factor {_BOUND_FACTOR:g} of it): "
+        f"the posterior of u piles up at the {side} bound of its prior, u = {_gap_length(bound, 3)} (C_gap = {c_bound:g} F at A = {area:g} m²; {share:.0%} of the draws within a factor {_BOUND_FACTOR:g} of it): "
         f"u and C_gap are then set by the prior bound, not the data, and are unreliable; check {'the spectrum' if single else 'the three spectra'}"
         for side, bound, c_bound, share in _piled_bounds(u_draws, reparametrization.lower[0], reparametrization.upper[0])
     ]
