@@ -59,7 +59,7 @@ import xarray as xr
 from ...progress import reports_progress
 from ...arguments import MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice, count, flag, frequency, instance_of, noise_fraction, parameter_bounds, parameter_values, seed as seed_rule
 from ...circuits import Circuit, DCPath, DEFAULT_REGISTRY, Element, Parallel, Registry, Series, parse
-from ...data import concise_repr, report_text, counted, format_quantity, make_spectrum
+from ...data import concise_repr, report_text, counted, format_quantity, make_spectrum, unit_text
 from ...errors import DataError, FitError, ImpedaxError, ParameterError
 from ..drt import PeakEvidence, drt, is_resolved, r_cpe_tau, unexplained_peaks
 from ..kk import CONCLUSIVE_POINTS_MIN, KKResult, frequency_text, kk_test, left_out_options, passing_band  # (frequency_text, left_out_options: here before 2026-12-02)
@@ -491,6 +491,7 @@ class Diagnosis:
             starts = _start_words(best) + _fixed_words(best) + bound_words(best)
             lines.append(f"  to apply 1. from its fitted values (a fit from scratch may stop in another minimum): {fit_command} --model '{best.model}' {starts}")
             lines += _without_vanished_lines(best, fit_command)
+            lines += _at_bound_lines(best)
             if self.masked_points:  # (impedax fit takes every point the file holds unless told)
                 lines.append(
                     f"     note: this diagnosis left out {len(self.masked_points)} point(s) ({', '.join(format_frequency(f) for f in self.masked_points[:6])}{', …' if len(self.masked_points) > 6 else ''}); "
@@ -859,6 +860,27 @@ def _lowered_bands(base: FitResult, cand: FitResult, bands: Sequence[FailingBand
     return out
 
 
+EVIDENCE_ALPHA_AGREEMENT = 0.15
+"""A fitted exponent within this of the one a DRT peak's width implies agrees with it
+(`_evidence_words`)."""
+
+
+def _evidence_words(p: Proposal, cand: FitResult) -> str:
+    """`Proposal.evidence` in brackets when the fit ``cand`` agrees with what it expects (each
+    value of `Proposal.expected` within `EVIDENCE_ALPHA_AGREEMENT`), else what the fit did
+    instead: REAL Autolab file, R0 + R1 ∥ C1 → CPE: "the DRT peak … α ≈ 0.80" stood beside a
+    fitted α = 0.404, a CPE spanning several processes (a walkthrough, 2026-12-05); "" without
+    evidence."""
+    if not p.evidence:
+        return ""
+    off = {k: (v, float(cand.values[k])) for k, v in p.expected.items() if k in cand.values and abs(float(cand.values[k]) - v) > EVIDENCE_ALPHA_AGREEMENT}
+    if not off:
+        return f" ({p.evidence})"
+    name, (want, got) = next(iter(off.items()))
+    return (f" (the data's DRT peak there implies {name} ≈ {want:.2f}, but the fit took {got:.2f}: the CPE spans more than that one peak, "
+            "several processes or a tail, not the peak's width alone)")
+
+
 def _explain(effect, p: Proposal, base: FitResult, cand: FitResult, d_aic: float, d_bic: float, fixed, lowered=()) -> str:
     """The suggestion in the terms of the user's circuit and data: what is added where, its
     fitted values with units, the error it removes, the bands it fixes and those where it at
@@ -870,6 +892,7 @@ def _explain(effect, p: Proposal, base: FitResult, cand: FitResult, d_aic: float
         band_text += ("; it lowers the misfit at " if not fixed else " and lowers it at ") + ", ".join(f"{format_band(lo, hi)} (rms_rel there {before * 100:.2g} % → {after * 100:.2g} %)" for (lo, hi), before, after in lowered)
     values = _new_values(base, cand)
     what = p.where if "+" in effect.id else f"{p.added} {p.where}"  # (a pair's placement names each addition, `_paired`)
+    what += _evidence_words(p, cand)
     return (
         f"{effect.title}: adding {what}" + (f" ({values})" if values else "")
         + f" lowers rms_rel from {base.rms_rel * 100:.3g} % to {cand.rms_rel * 100:.3g} % (ΔAIC {d_aic:+.1f}, ΔBIC {d_bic:+.1f}){band_text}."
@@ -1437,7 +1460,8 @@ def _fit_proposals(base: FitResult, spectrum: xr.Dataset, ctx: BaselineContext, 
                 if again.chi2 < fits[1 + i].chi2:
                     fits[1 + i] = again
         restart_stalled()  # a leader refitted past a candidate that contains it
-        pruned = _series_resistance_dropped(base, proposals, fits[1:]) + _negligible_branch_dropped(base, proposals, fits[1:]) + _open_resistor_dropped(base, proposals, fits[1:])
+        pruned = (_series_resistance_dropped(base, proposals, fits[1:]) + _series_element_vanished(base, proposals, fits[1:])
+                  + _negligible_branch_dropped(base, proposals, fits[1:]) + _open_resistor_dropped(base, proposals, fits[1:]))
         added = []
         if pruned:  # a pruned circuit already among the proposals keeps the better of its two fits
             if say is not None:
@@ -1573,6 +1597,46 @@ def _series_resistance_dropped(base: FitResult, proposals: list[tuple[Effect, Pr
     return out
 
 
+VANISHING_SYMBOLS = ("W", "L")
+"""Elements of one parameter whose impedance goes to 0 with it (a Warburg's σ, an inductance):
+in series with the whole circuit, such an element of the user's that falls to 0 in a candidate
+is no longer needed there (`_series_element_vanished`)."""
+
+
+def _series_element_vanished(base: FitResult, proposals: list[tuple[Effect, Proposal]], fits: Sequence[FitResult]) -> list[tuple[Effect, Proposal]]:
+    """For each candidate that lowers AIC by more than `DELTA_AIC_MIN` but leaves undetermined
+    the one parameter of a baseline element of `VANISHING_SYMBOLS` in series with the whole
+    circuit, fallen to zero (at its bound, or within its standard error of 0), the same
+    candidate without that element, warm-started from the candidate's optimum: the added
+    element took over what it stood for. A SYNTHETIC Randles spectrum (R0 + (R1 + W) ∥ C1,
+    σ = 30 Ω s^-½, 0.5 % noise) fitted as R0 + R1 ∥ C1 + W1: the candidate with a Warburg in
+    R1's branch lowered AIC by 70 while W1.sigma fell to 0.09 ± 3.87, and was set aside as "the
+    data do not determine W1.sigma"; the verdict read ADEQUATE (a walkthrough, 2026-12-05)."""
+    out, seen = [], {str(base.circuit)}
+    baseline = set(base.circuit.element_names)
+    for (effect, p), cf in zip(proposals, fits):
+        top = _series_with_all(p.circuit)
+        if len(top) < 2 or not (np.isfinite(cf.chi2) and cf.aic < base.aic - DELTA_AIC_MIN):
+            continue
+        undetermined = undetermined_parameters(cf)
+        for node in top:
+            if not isinstance(node, Element) or cf.registry[node.symbol].symbol not in VANISHING_SYMBOLS or node.name not in baseline:
+                continue
+            (name,) = cf.registry[node.symbol].parameter_names(node.name)
+            if name not in undetermined or cf.fixed.get(name, False):
+                continue
+            value, error = float(cf.values[name]), float(cf.linearised_stderr[name])
+            if not (name in cf.at_bound or (math.isfinite(error) and value <= error)):
+                continue
+            unit = cf.circuit.parameter_specs(cf.registry)[name].unit
+            how = f"it fell to {format_quantity(value, unit_text(unit))}" + (f" ± {format_quantity(error, unit_text(unit))}" if math.isfinite(error) else "")
+            left = _left_out(effect, p, cf, node, f"{how}: {p.added} took over what it stood for", fell=True)
+            if str(left[1].circuit) not in seen:
+                seen.add(str(left[1].circuit))
+                out.append(left)
+    return out
+
+
 FELL_SHARE_OF_ERROR = 0.1
 """A series resistance left out of a candidate "fell to" its value when at its bound 0 or below
 this share of its standard error (251 µΩ ± 19.6 Ω: the log transform approaching 0); within its
@@ -1599,7 +1663,8 @@ def _left_out(effect: Effect, p: Proposal, cf: FitResult, element: Element, why:
     gone = set(cf.registry[element.symbol].parameter_names(element.name))
     starts = ({k: float(x) for k, x in cf.values.items() if k not in gone},)
     vanished = p.vanished + ((element.name,) if fell else ())
-    return effect, Proposal(p.effect, p.circuit.without(element.name), p.added, f"{p.where}, and {element.name} left out ({why})", starts, removed=p.removed + (element.name,), band=p.band, vanished=vanished)
+    return effect, Proposal(p.effect, p.circuit.without(element.name), p.added, f"{p.where}, and {element.name} left out ({why})", starts, removed=p.removed + (element.name,), band=p.band, vanished=vanished,
+                            expected=p.expected, evidence=p.evidence)
 
 
 def _resistor_capacitor_blocks(circuit: Circuit, registry: Registry):
@@ -1739,7 +1804,8 @@ def _open_resistor_dropped(base: FitResult, proposals: list[tuple[Effect, Propos
             added = " + ".join(n for n in circuit.element_names if n not in baseline)
             why = f"{r.name} left out: it ran open ({format_quantity(float(cf.values[r.name]), 'Ω')}, over {OPEN_RESISTANCE_FACTOR:g}× the data's largest |Z|){left}"
             starts = ({k: float(v) for k, v in cf.values.items() if k != r.name},)
-            out.append((effect, Proposal(p.effect, circuit, added, f"{p.where}, {why}", starts, removed=p.removed, band=p.band, vanished=p.vanished)))
+            out.append((effect, Proposal(p.effect, circuit, added, f"{p.where}, {why}", starts, removed=p.removed, band=p.band, vanished=p.vanished,
+                                                 expected=p.expected, evidence=p.evidence)))
     return out
 
 
@@ -1884,7 +1950,8 @@ def _paired(first: Effect, p1: Proposal, second: Effect, p2: Proposal) -> tuple[
     )
     where = f"{p1.added} {p1.where}, and {p2.added} {p2.where}"
     band = (min(p1.band[0], p2.band[0]), max(p1.band[1], p2.band[1]))
-    return effect, Proposal(effect.id, p2.circuit, f"{p1.added} and {p2.added}", where, p2.starts, p1.removed + p2.removed, band, p1.vanished + p2.vanished)
+    return effect, Proposal(effect.id, p2.circuit, f"{p1.added} and {p2.added}", where, p2.starts, p1.removed + p2.removed, band, p1.vanished + p2.vanished,
+                            expected={**p1.expected, **p2.expected}, evidence=p1.evidence or p2.evidence)
 
 
 def _effect_pairs(base: FitResult, cands: Sequence[Suggestion], proposals: list[tuple[Effect, Proposal]], spectrum: xr.Dataset, effects: EffectCatalog, shape: SolverShape, *, with_drt: bool, drts: DRTMemo, max_params: int, n_starts: int, max_steps: int, seed: int, say=None) -> tuple[list[tuple[Effect, Proposal]], list[FitResult], SolverShape]:
@@ -2104,6 +2171,16 @@ def _constraint_verdict(user_fit: FitResult, spectrum: xr.Dataset, kk: KKResult 
         f"the fit reaches rms_rel {user_fit.rms_rel * 100:.3g} %, and one local fit with {names} free reaches {released.rms_rel * 100:.3g} %; "
         f"fit with {names} free, or check the value you set."
     )
+
+
+def _at_bound_lines(fit: FitResult) -> list[str]:
+    """Under the "to apply" line: the suggestion's fit's own warnings on parameters at a bound
+    (`FitResult.at_bound`), which its command prints when run (a suggested model carried
+    ``--init CPE2.alpha=1`` with no word; `impedax fit` then warned "CPE2.alpha is at its upper
+    bound 1 …": a walkthrough, 2026-12-05). Those of a term that vanished are said above."""
+    vanished = {n for _, _, names in vanished_terms(fit) for n in names}
+    names = [n for n in fit.at_bound if n not in vanished]
+    return [f"     note: in this fit {w}" for w in fit.warnings if any(w.startswith(f"{n} ") for n in names)]
 
 
 def _without_vanished_lines(fit: FitResult, fit_command: str) -> list[str]:

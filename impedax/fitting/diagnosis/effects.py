@@ -217,17 +217,19 @@ def _constant_phase(circuit: Circuit, ctx: BaselineContext) -> list[Proposal]:
         alphas, where = (0.85, 0.7, 0.55), f"in place of the ideal capacitor {e.name}"
         # a distributed DRT peak at this arc's τ: start first at the α its width implies
         drt_peak = _distributed_alpha(ctx, 1.0 / w_c) if r_sib else None
+        expected, evidence = {}, ""
         if drt_peak is not None:
             tau_peak, alpha_drt = drt_peak
             alphas = (alpha_drt,) + tuple(a for a in alphas if abs(a - alpha_drt) > 0.05)[:2]
-            where += f" (the data's DRT peak at τ ≈ {tau_peak:.2g} s is wider than an R‖C's: α ≈ {alpha_drt:.2f})"
+            expected = {f"{name}.alpha": alpha_drt}
+            evidence = f"the data's DRT peak at τ ≈ {tau_peak:.2g} s is wider than an R‖C's: α ≈ {alpha_drt:.2f}"
         starts = []
         for alpha in alphas:
             start = {k: v for k, v in ctx.start().items() if k != e.name}
             start[f"{name}.Q"] = c * w_c ** (1 - alpha)
             start[f"{name}.alpha"] = alpha
             starts.append(start)
-        out.append(Proposal("constant_phase", circuit.replace(e.name, Element("CPE", name)), name, where, tuple(starts)))
+        out.append(Proposal("constant_phase", circuit.replace(e.name, Element("CPE", name)), name, where, tuple(starts), expected=expected, evidence=evidence))
     return out
 
 

@@ -246,7 +246,10 @@ class Refinement:
         first, last = self.steps[0].fit, self.final
         lines = [self.table(), ""]
         if len(self.steps) > 1:
-            lines.append(f"rms_rel fell from {first.rms_rel * 100:.3g} % to {last.rms_rel * 100:.3g} % in {len(self.steps) - 1} step(s); AIC {first.aic:.1f} → {last.aic:.1f}.")
+            before, after = f"{first.rms_rel * 100:.3g}", f"{last.rms_rel * 100:.3g}"
+            # (a step that only simplified leaves rms_rel as it was: "fell from 1.4 % to 1.4 %" read oddly; walkthrough 2026-12-05)
+            moved = (f"fell from {before} % to {after} %" if last.rms_rel < first.rms_rel else f"rose from {before} % to {after} %") if before != after else f"stayed at {after} %"
+            lines.append(f"rms_rel {moved} in {len(self.steps) - 1} step(s); AIC {first.aic:.1f} → {last.aic:.1f}.")
         last_d = self.steps[-1].diagnosis
         data_line = self.data_line
         if data_line:
