@@ -1569,11 +1569,7 @@ def _series_resistance_dropped(base: FitResult, proposals: list[tuple[Effect, Pr
     (`_series_with_all`). The pruned circuit may already be a proposal (the stray capacitance
     proposes one); `_fit_proposals` then keeps the better of the two fits."""
     out, seen = [], {str(base.circuit)}
-    for (effect, p), cf in zip(proposals, fits):
-        top = _series_with_all(p.circuit)
-        if len(top) < 2 or not (np.isfinite(cf.chi2) and cf.aic < base.aic - DELTA_AIC_MIN):
-            continue
-        undetermined = undetermined_parameters(cf)
+    for effect, p, cf, top, undetermined in _significant_with_series(base, proposals, fits):
         for node in top:
             name = node.name if isinstance(node, Element) else None
             if name is None or cf.registry[node.symbol].symbol != "R" or name not in undetermined or cf.fixed.get(name, False):
@@ -1597,6 +1593,17 @@ def _series_resistance_dropped(base: FitResult, proposals: list[tuple[Effect, Pr
     return out
 
 
+def _significant_with_series(base: FitResult, proposals: list[tuple[Effect, Proposal]], fits: Sequence[FitResult]):
+    """(effect, proposal, its fit, the elements in series with the whole circuit
+    (`_series_with_all`), the fit's undetermined parameters) of each candidate with at least two
+    such elements that lowers AIC by more than `DELTA_AIC_MIN`: the candidates whose series
+    elements `_series_resistance_dropped` and `_series_element_vanished` look at."""
+    for (effect, p), cf in zip(proposals, fits):
+        top = _series_with_all(p.circuit)
+        if len(top) >= 2 and np.isfinite(cf.chi2) and cf.aic < base.aic - DELTA_AIC_MIN:
+            yield effect, p, cf, top, undetermined_parameters(cf)
+
+
 VANISHING_SYMBOLS = ("W", "L")
 """Elements of one parameter whose impedance goes to 0 with it (a Warburg's σ, an inductance):
 in series with the whole circuit, such an element of the user's that falls to 0 in a candidate
@@ -1614,11 +1621,7 @@ def _series_element_vanished(base: FitResult, proposals: list[tuple[Effect, Prop
     data do not determine W1.sigma"; the verdict read ADEQUATE (a walkthrough, 2026-12-05)."""
     out, seen = [], {str(base.circuit)}
     baseline = set(base.circuit.element_names)
-    for (effect, p), cf in zip(proposals, fits):
-        top = _series_with_all(p.circuit)
-        if len(top) < 2 or not (np.isfinite(cf.chi2) and cf.aic < base.aic - DELTA_AIC_MIN):
-            continue
-        undetermined = undetermined_parameters(cf)
+    for effect, p, cf, top, undetermined in _significant_with_series(base, proposals, fits):
         for node in top:
             if not isinstance(node, Element) or cf.registry[node.symbol].symbol not in VANISHING_SYMBOLS or node.name not in baseline:
                 continue
