@@ -266,8 +266,9 @@ class DRTResult:
         noise from the smoothing's misfit; a peak's τ and width as closely). None otherwise."""
         if self.points_per_decade >= SPARSE_POINTS_PER_DECADE:
             return None
+        smooths = ", and the automatic λ smooths more" if self.lambda_method != "fixed" else ""
         return (f"sparse data: at {self.points_per_decade:.2g} points a decade the residuals hold the smoothing's misfit as well as the noise (rms_rel "
-                f"{self.rms_rel * 100:.3g} % need not be noise), and {'the automatic' if self.lambda_method != 'fixed' else 'a'} λ smooths more: peaks come out broader and "
+                f"{self.rms_rel * 100:.3g} % need not be noise){smooths}: peaks come out broader and "
                 f"their τ less sure (on SYNTHETIC exact R‖C spectra at 1.2 a decade, τ came out 30–50 % long); measure at least {SPARSE_POINTS_PER_DECADE:g} "
                 "points a decade, or fit a circuit to these points (impedax fit)")
 
@@ -275,7 +276,7 @@ class DRTResult:
     def misfits(self) -> bool:
         """γ does not reproduce the data: rms_rel above `DRT_MISFIT_MAX` and above
         `MISFIT_NOISE_RATIO` × √2 × ``difference_noise`` (more than the noise explains)."""
-        return self.rms_rel > DRT_MISFIT_MAX and not self.rms_rel <= MISFIT_NOISE_RATIO * math.sqrt(2.0) * self.difference_noise
+        return _beyond_noise(self.rms_rel, self.difference_noise)
 
     @property
     def over_smoothed(self) -> bool:
@@ -284,7 +285,7 @@ class DRTResult:
         `OVER_SMOOTHED_FACTOR` × less, or within the noise (docs/drt.md, "Choosing λ")."""
         if not (self.lambda_method == "fixed" and self.misfits and math.isfinite(self.auto_rms_rel) and self.auto_lambda < self.lam):
             return False
-        return self.auto_rms_rel * OVER_SMOOTHED_FACTOR <= self.rms_rel or not (self.auto_rms_rel > DRT_MISFIT_MAX and not self.auto_rms_rel <= MISFIT_NOISE_RATIO * math.sqrt(2.0) * self.difference_noise)
+        return self.auto_rms_rel * OVER_SMOOTHED_FACTOR <= self.rms_rel or not _beyond_noise(self.auto_rms_rel, self.difference_noise)
 
     @property
     def notes(self) -> tuple[str, ...]:
@@ -431,6 +432,12 @@ class DRTResult:
         from ...plotting.drt import plot_drt
 
         return plot_drt(self, overlay=overlay, title=title)
+
+
+def _beyond_noise(rms_rel: float, difference_noise: float) -> bool:
+    """A DRT's misfit ``rms_rel`` is more than the noise explains: above `DRT_MISFIT_MAX` and
+    above `MISFIT_NOISE_RATIO` × √2 × ``difference_noise`` (`DRTResult.misfits`)."""
+    return rms_rel > DRT_MISFIT_MAX and not rms_rel <= MISFIT_NOISE_RATIO * math.sqrt(2.0) * difference_noise
 
 
 def _suggestion_keys(suggestion) -> dict:
