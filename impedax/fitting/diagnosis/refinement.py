@@ -599,6 +599,9 @@ def _second_path(steps: list[RefinementStep], picked, limit: int, diagnosed, say
             if better else f"the {label}{UNCHANGED_WORDS}{holder}'s end is kept.",
             f"{end}, against {holder}'s end {steps[-1].model} (AIC {a.aic:.1f}, {_size_words(steps)}).",
         ]
+        if better and b.aic > a.aic:  # (kept by parsimony: the note named the higher AIC and no rule, a walkthrough 2026-12-05)
+            sentences.append(f"Its AIC is {b.aic - a.aic:.1f} higher, within {DELTA_AIC_MIN:g}, where the data barely tell the two apart, "
+                             f"and it has {size_a - size_b} fewer parameter(s): the simpler is kept.")
         if slight:
             sentences.append(f"It fits better by AIC, but with {size_b - size_a} more parameter(s) it explains under {NOISE_FRACTION_MIN:.0%} of the noise variance more.")
         if tie:
