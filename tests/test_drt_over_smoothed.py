@@ -93,3 +93,13 @@ def test_the_cli_withholds_the_suggested_circuit(tmp_path, capsys):
     assert main(["drt", str(path), "--lam", "1e6", "--json"]) == 0
     record = json.loads(capsys.readouterr().out)
     assert record["over_smoothed"] is True and record["auto_lambda"] < 1e6
+
+
+def test_a_real_spectrum_at_an_over_smoothing_lambda_is_named_so():
+    """REAL: impedance.py's ZPlot example at λ = 1; the automatic λ reproduces it at least 3× better."""
+    from pathlib import Path
+
+    path = Path(__file__).parent / "fixtures" / "real" / "exampleDataZPlot.z"
+    fixed, auto = ix.drt(path, lam=1.0), ix.drt(path)
+    assert fixed.misfits and fixed.rms_rel >= OVER_SMOOTHED_FACTOR * auto.rms_rel
+    assert fixed.over_smoothed and any("over-smooths" in w for w in fixed.warnings)

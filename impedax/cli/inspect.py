@@ -324,7 +324,7 @@ def _next_line(run, data) -> str:
     drt``; on fewer points than the DRT takes (`DRT_POINTS_MIN`), a fit of at most 2N real
     parameters (1 point was told to run `impedax kk`, which needs 4: a walkthrough, 2026-12-05);
     below `kk.CONCLUSIVE_POINTS_MIN` the KK test's verdict is inconclusive, and the line says so."""
-    from ..fitting.drt._drt import DRT_POINTS_MIN
+    from ..fitting.drt import DRT_POINTS_MIN
     from ..fitting.kk import CONCLUSIVE_POINTS_MIN
     from .common import fit_command
 

@@ -6,7 +6,7 @@ fitted circuit does not explain (evidence for the diagnosis), and `suggest_circu
 circuit read off the peaks (`DRTResult.suggested_circuit`). See docs/drt.md.
 """
 
-from ._drt import drt as drt
+from ._drt import DRT_POINTS_MIN as DRT_POINTS_MIN, drt as drt
 from .peaks import Peak as Peak
 from .result import DRTBatchResult as DRTBatchResult, DRTResult as DRTResult
 from .analytic import (
