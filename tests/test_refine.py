@@ -1025,3 +1025,34 @@ def test_a_path_ending_at_the_same_circuit_at_a_better_optimum_says_so():
     kept = _second_path(greedy, greedy[0].diagnosis.best, 4, diagnosed, lambda text: None, notes, lambda path, label, progress_label=None: path)
     assert kept[-1].model == "R0 + R2 || CPE2 + R4 || C4", notes
     assert notes[0].startswith("the second path ends at the first path's circuit at a better optimum, which is kept."), notes
+
+
+def test_a_path_ending_at_the_same_circuit_at_the_same_optimum_is_left_out():
+    """`_second_path` with stand-ins: the second path ends at the first path's circuit under
+    other names at the same AIC, the first path counting a series R that fell to zero as kept
+    (one parameter more by `_path_size`). It is one optimum, not a better one: the path is left
+    out of the report and the first path's end stays (REAL Gamry above 2.5 kHz, where the note
+    said "at a better optimum" beside AIC −448.7 twice; a walkthrough, 2026-12-05)."""
+    from types import SimpleNamespace as NS
+
+    from impedax.fitting.diagnosis.refinement import RefinementStep, _second_path
+
+    def step(model, aic, k, diagnosis=None, added=None, vanished=()):
+        return RefinementStep(_fit_stand_in(model=model, aic=aic, n_params=k, circuit=ix.parse(model)), added, "extra_relaxation" if added else None, diagnosis, removed=vanished, vanished=vanished)
+
+    def suggestion(where, model, aic, k):
+        return NS(where=where, effect="extra_relaxation", delta_aic=aic, added=model, fit=_fit_stand_in(model=model, aic=aic, n_params=k, circuit=ix.parse(model)), removed=(), undetermined=())
+
+    chosen, other = suggestion("in series", "R1 || C1", -100.0, 2), suggestion("nested", "R0 + R2 || C2", -95.0, 3)
+    first = NS(best=chosen, suggestions=(chosen, other), candidates=(chosen, other), solver_shape=None, noise=_STAND_IN_NOISE, baseline=NS(frequency=_STAND_IN_FREQUENCY, n_params=1))
+    greedy = [step("R0", 0.0, 1, first), step("R1 || C1", -100.0, 2, NS(solver_shape=None), "r1", vanished=("R0",)),
+              step("R1 || C1 + R3 || CPE3", -110.0, 5, NS(solver_shape=None, verdict="adequate"), "r3")]
+
+    def diagnosed(fit, shape):  # the second path: R0 + R2 ∥ C2, then R4 ∥ CPE4 in series with R0 gone, adequate at the same AIC
+        nxt = {"R0 + R2 || C2": suggestion("in series", "R2 || C2 + R4 || CPE4", -110.0, 5)}.get(fit.model)
+        return NS(baseline=fit, best=nxt, verdict="missing_effect" if nxt else "adequate", solver_shape=None)
+
+    notes = []
+    kept = _second_path(greedy, greedy[0].diagnosis.best, 4, diagnosed, lambda text: None, notes, lambda path, label, progress_label=None: path)
+    assert kept[-1].model == "R1 || C1 + R3 || CPE3", notes
+    assert not any("better optimum" in n or "kept in place of" in n for n in notes), notes

@@ -30,6 +30,7 @@ from .bands import format_frequency
 from .catalog import EffectCatalog
 from .diagnosis import CANDIDATE_STEPS, DELTA_AIC_MIN, KEPT_PASSING_LEAD, KK_MASK_MAX_FRACTION, NOISE_FRACTION_MIN, Diagnosis, DRTMemo, Verdict, beyond_catalog_words, diagnose, left_out_options, left_out_words, noise_variance_explained, non_passive_points, ranked_size, require_points_for_diagnosis, undetermined_parameters, unidentified_note, verdict_scope_words
 from .effects import DEFAULT_EFFECTS, added_resistors, placement
+from .unsupported import unsupported_terms
 from .vanishing import share_words, vanished_parameters, vanished_terms
 
 __all__ = ["Refinement", "RefinementStep", "refine", "capacitor_name"]
@@ -400,6 +401,13 @@ BRANCH_WINDOW = 40.0
 """`refine`'s second path starts from the first diagnosis' best suggestion at another placement
 (or of another effect) when it is within this much AIC of the chosen one."""
 
+SAME_OPTIMUM_AIC = 0.1
+"""Two ends of one circuit (`_same_network`) whose AIC differs by at most this are one optimum
+(the notes print AIC to 0.1): a further path ending there is left out of the report, whatever
+the two paths count as kept on the way. On REAL Gamry above 2.5 kHz the third path ended at
+the first path's circuit at AIC −448.7 too and was kept "at a better optimum", for the first
+path counting R0, which fell to zero on it, as kept (a walkthrough, 2026-12-05)."""
+
 PATH_LABELS = ("second path", "third path", "fourth path", "fifth path", "sixth path", "seventh path")
 """The names of `_second_path`'s further paths, in the order the notes report them (the greedy
 path is "the first path"): a path the report leaves out (the kept end's circuit under other
@@ -576,6 +584,7 @@ def _second_path(steps: list[RefinementStep], picked, limit: int, diagnosed, say
         # the pruning then left out, back at the first path's end, the note saying the reverse)
         kept_more = _elements_left_out(other) < _elements_left_out(steps) and bool(set(restored) - _vanishing_elements(b))
         better = b.aic < a.aic - DELTA_AIC_MIN or (b.aic <= a.aic + DELTA_AIC_MIN and size_b < size_a) or (tie and kept_more)
+        better = better and not (_same_network(a, b) and b.aic >= a.aic - SAME_OPTIMUM_AIC)  # (one circuit: better only at a lower optimum)
         if _same_network(a, b) and not better:  # one model, under the same or other names, and not to be kept: nothing to compare, the first-found stays
             del notes[own_notes:]  # (its refit's notes speak of a path the report does not name)
             say(f"{trial}: ends at {holder}'s end, {a.model}, as one circuit; left out of the report")
@@ -933,6 +942,11 @@ def _pruned(steps: list[RefinementStep], used: xr.Dataset, *, n_starts: int, see
     one change per step, until none is left. Whatever the verdict: the final model is one
     ``impedax fit`` reproduces with every parameter it keeps determined.
 
+    When nothing vanished, a term the data do not support (`unsupported.unsupported_terms`: an
+    arc seen on one flank only, an element holding an undetermined parameter) is taken out
+    the same way when the simpler model's AIC is not higher, and an ``adequate`` end stays
+    ``adequate``: the term bought no fit for its parameters.
+
     On CHInstruments' spectrum refine ended at R0 + R1 || C1 + (R_relax + R_relax2 ||
     CPE_relax2) || CPE_relax with R1 = 1.8e255 Ω (at its bound ∞: R1 carried 7e-252 of the
     current through R1 || C1), reproducible only from those values; without R1 it reaches the
@@ -950,9 +964,16 @@ def _pruned(steps: list[RefinementStep], used: xr.Dataset, *, n_starts: int, see
                             f"{branch.element} {what} {branch.block} over the band ({held}): its term vanished, and {{final}}, the model without it,"))
         for cpe, c, circuit, init in _capacitors(last):
             changes.append((c, (cpe,), circuit, init, f"{cpe}.alpha is at its upper bound 1, where {cpe} is an ideal capacitor: {{final}}, with {c} in its place,"))
+        by_aic = not changes  # (what vanished first: taking it out changes no fit)
+        if by_aic:
+            # (the simplest first: a redundant arc goes whole, not its R in one step and its C in the next)
+            for term in sorted(unsupported_terms(last), key=lambda t: len(t.reduced.parameter_names(last.registry))):
+                changes.append((None, term.removed, term.reduced, {k: v for k, v in last.values.items() if k in term.reduced.parameter_names(last.registry)},
+                                f"{term.why}: {{final}}, without {', '.join(term.removed)},"))
         if not changes:
             break
-        say(f"pruning: fitting {last.model} without what vanished or is at a bound ({', '.join(n for _, r, _, _, _ in changes for n in r)})")
+        what = "a term the data do not support" if by_aic else "what vanished or is at a bound"
+        say(f"pruning: fitting {last.model} without {what} ({'; '.join(', '.join(r) for _, r, _, _, _ in changes)})")
         kept = False
         fixed_all = {k: v for k, v in last.values.items() if last.fixed[k]}
         for added, removed, circuit, init, why in changes:
@@ -966,20 +987,25 @@ def _pruned(steps: list[RefinementStep], used: xr.Dataset, *, n_starts: int, see
                 trial = fit(circuit, used, init=start, fixed=fixed, bounds=bounds, weighting=last.weighting, registry=last.registry, n_starts=1, seed=seed)
             except (ParameterError, CircuitError):
                 continue
+            if by_aic and not trial.aic <= last.aic + DELTA_AIC_MIN:  # (far above from the last model's values: no refit from scratch)
+                continue
             say(f"pruning: refitting {trial.model} from scratch")
             final, note = reproduced(used, trial, n_starts=n_starts, seed=seed)
             tolerance = BOUND_CHI2_FRACTION * last.chi2_red + 2 * last.n_points * 1e-28  # (`result.confirm_bounds`)
-            if not (np.isfinite(final.chi2) and final.chi2 <= last.chi2 + tolerance and final.n_params < last.n_params):
+            as_good = final.aic <= last.aic if by_aic else final.chi2 <= last.chi2 + tolerance
+            if not (np.isfinite(final.chi2) and as_good and final.n_params < last.n_params):
                 continue
             if undetermined_parameters(final) - undetermined_parameters(last):
                 continue
             say(f"pruning: diagnosing {final.model}")
             d = diagnosed(final, steps[-1].diagnosis.solver_shape) if steps[-1].diagnosis is not None else None
+            if by_aic and steps[-1].diagnosis is not None and steps[-1].diagnosis.verdict == Verdict.ADEQUATE and (d is None or d.verdict != Verdict.ADEQUATE):
+                continue
             # the notes' fits from their values concern models no longer final: only the final's reproduce line is due
             notes[:] = [n.replace(" (pass init=)", "") for n in notes]
             change = f"{', '.join(removed)} is replaced by {added}" if added else f"{', '.join(removed)} {'is' if len(removed) == 1 else 'are'} taken out"
             notes.append(
-                why.replace("{final}", final.model) + f" fits as well as {last.model} (rms_rel {last.rms_rel * 100:.3g} % → {final.rms_rel * 100:.3g} %, "
+                why.replace("{final}", final.model) + f" {'is as good by AIC as' if by_aic else 'fits as well as'} {last.model} (rms_rel {last.rms_rel * 100:.3g} % → {final.rms_rel * 100:.3g} %, "
                 f"AIC {last.aic:.1f} → {final.aic:.1f}) with {last.n_params - final.n_params} parameter(s) fewer: {change}"
                 + (f"; {note}" if note else "")
             )
